@@ -1,0 +1,335 @@
+//! Dense linear algebra through faer: symmetric eigendecomposition (all, largest k,
+//! smallest k), thin SVD, minimum-norm least squares and the generalized symmetric-definite
+//! eigenproblem `A v = lambda B v`.
+//!
+//! Matrices are `faer::Mat<f64>` / `MatRef<f64>`. Every function checks that its input is
+//! non-empty and finite (and symmetric where required) and returns an [`Error`] naming the
+//! argument otherwise.
+
+use faer::{Mat, MatRef, Side};
+
+use crate::error::{Error, Result};
+
+/// Eigenvalues and eigenvectors of a symmetric matrix.
+#[derive(Clone, Debug)]
+pub struct SymEigen {
+    /// Eigenvalues, in the order documented by the function that returned them.
+    pub values: Vec<f64>,
+    /// Unit eigenvectors as columns, in the same order as `values`.
+    pub vectors: Mat<f64>,
+}
+
+/// Thin singular value decomposition `A = U diag(s) V'`.
+#[derive(Clone, Debug)]
+pub struct Svd {
+    /// `m x r` left singular vectors, `r = min(m, n)`.
+    pub u: Mat<f64>,
+    /// `r` singular values, non-increasing.
+    pub s: Vec<f64>,
+    /// `n x r` right singular vectors.
+    pub v: Mat<f64>,
+}
+
+/// Errors unless `a` is non-empty and finite.
+pub fn check_matrix(name: &'static str, a: MatRef<'_, f64>) -> Result<()> {
+    if a.nrows() == 0 || a.ncols() == 0 {
+        return Err(Error::Empty(name));
+    }
+    for j in 0..a.ncols() {
+        for i in 0..a.nrows() {
+            if !a[(i, j)].is_finite() {
+                return Err(Error::NonFinite {
+                    name,
+                    index: i * a.ncols() + j,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Errors unless `a` is square, finite and symmetric to a relative tolerance of 1e-8.
+pub fn check_symmetric(name: &'static str, a: MatRef<'_, f64>) -> Result<()> {
+    check_matrix(name, a)?;
+    let n = a.nrows();
+    if a.ncols() != n {
+        return Err(Error::ShapeMismatch(format!(
+            "`{name}` must be square, got {}x{}",
+            n,
+            a.ncols()
+        )));
+    }
+    let mut scale = 0.0f64;
+    let mut asym = 0.0f64;
+    for j in 0..n {
+        for i in 0..n {
+            scale = scale.max(a[(i, j)].abs());
+            asym = asym.max((a[(i, j)] - a[(j, i)]).abs());
+        }
+    }
+    if asym > 1e-8 * scale.max(f64::MIN_POSITIVE) {
+        return Err(Error::invalid(
+            name,
+            format!("must be symmetric; max |A - A'| = {asym:e} (max |A| = {scale:e})"),
+        ));
+    }
+    Ok(())
+}
+
+/// All eigenpairs of the symmetric matrix `a`, eigenvalues in non-decreasing order.
+pub fn eigh(a: MatRef<'_, f64>) -> Result<SymEigen> {
+    check_symmetric("a", a)?;
+    let e = a
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|e| Error::Numerical(format!("symmetric eigendecomposition failed: {e:?}")))?;
+    let values = (0..a.nrows()).map(|i| e.S()[i]).collect();
+    Ok(SymEigen {
+        values,
+        vectors: e.U().to_owned(),
+    })
+}
+
+fn select(e: SymEigen, k: usize, largest: bool) -> Result<SymEigen> {
+    let n = e.values.len();
+    if k == 0 || k > n {
+        return Err(Error::invalid(
+            "k",
+            format!("must be between 1 and the matrix size {n}, got {k}"),
+        ));
+    }
+    let idx: Vec<usize> = if largest {
+        (n - k..n).rev().collect()
+    } else {
+        (0..k).collect()
+    };
+    Ok(SymEigen {
+        values: idx.iter().map(|&i| e.values[i]).collect(),
+        vectors: Mat::from_fn(n, k, |r, c| e.vectors[(r, idx[c])]),
+    })
+}
+
+/// The `k` largest eigenpairs of the symmetric `a`, eigenvalues in non-increasing order.
+pub fn eigh_largest(a: MatRef<'_, f64>, k: usize) -> Result<SymEigen> {
+    select(eigh(a)?, k, true)
+}
+
+/// The `k` smallest eigenpairs of the symmetric `a`, eigenvalues in non-decreasing order.
+pub fn eigh_smallest(a: MatRef<'_, f64>, k: usize) -> Result<SymEigen> {
+    select(eigh(a)?, k, false)
+}
+
+/// Thin SVD of `a` (`m x n`), singular values non-increasing.
+pub fn svd(a: MatRef<'_, f64>) -> Result<Svd> {
+    check_matrix("a", a)?;
+    let d = a
+        .thin_svd()
+        .map_err(|e| Error::Numerical(format!("SVD did not converge: {e:?}")))?;
+    let r = a.nrows().min(a.ncols());
+    Ok(Svd {
+        u: d.U().to_owned(),
+        s: (0..r).map(|i| d.S()[i]).collect(),
+        v: d.V().to_owned(),
+    })
+}
+
+/// Minimum-norm least-squares solution `X` of `A X = B` (`a`: `m x n`, `b`: `m x k`),
+/// through the SVD with singular values below `rcond * s_max` treated as zero (`rcond =
+/// None` uses `eps * max(m, n)`, numpy's `lstsq` default). Handles over- and
+/// under-determined and rank-deficient systems.
+pub fn lstsq(a: MatRef<'_, f64>, b: MatRef<'_, f64>, rcond: Option<f64>) -> Result<Mat<f64>> {
+    check_matrix("a", a)?;
+    check_matrix("b", b)?;
+    if b.nrows() != a.nrows() {
+        return Err(Error::ShapeMismatch(format!(
+            "a has {} rows but b has {}",
+            a.nrows(),
+            b.nrows()
+        )));
+    }
+    let d = svd(a)?;
+    let rcond = rcond.unwrap_or(f64::EPSILON * a.nrows().max(a.ncols()) as f64);
+    if !(rcond.is_finite() && rcond >= 0.0) {
+        return Err(Error::invalid("rcond", format!("must be finite and >= 0, got {rcond}")));
+    }
+    let cut = rcond * d.s.first().copied().unwrap_or(0.0);
+    // X = V diag(1/s) U' B over the kept singular values.
+    let utb = d.u.transpose() * b;
+    let scaled = Mat::from_fn(utb.nrows(), utb.ncols(), |i, j| {
+        if d.s[i] > cut {
+            utb[(i, j)] / d.s[i]
+        } else {
+            0.0
+        }
+    });
+    Ok(&d.v * &scaled)
+}
+
+/// Generalized symmetric-definite eigenproblem `A v = lambda B v` with `B` positive
+/// definite: through the Cholesky factor `B = L L'`, the standard problem
+/// `L^-1 A L^-T w = lambda w`, and `v = L^-T w`. Eigenvalues non-decreasing; eigenvectors
+/// `B`-orthonormal (`V' B V = I`).
+///
+/// Errors: `a`, `b` not symmetric or of different size; `b` not positive definite.
+pub fn eigh_generalized(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Result<SymEigen> {
+    check_symmetric("a", a)?;
+    check_symmetric("b", b)?;
+    if a.nrows() != b.nrows() {
+        return Err(Error::ShapeMismatch(format!(
+            "a is {0}x{0} but b is {1}x{1}",
+            a.nrows(),
+            b.nrows()
+        )));
+    }
+    let llt = b
+        .llt(Side::Lower)
+        .map_err(|_| Error::invalid("b", "must be positive definite (Cholesky failed)"))?;
+    let l = llt.L();
+    // X = L^-1 A, then C = L^-1 X' = L^-1 A L^-T.
+    let mut x = a.to_owned();
+    l.solve_lower_triangular_in_place(x.as_mut());
+    let mut c = x.transpose().to_owned();
+    l.solve_lower_triangular_in_place(c.as_mut());
+    let n = c.nrows();
+    let c = Mat::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]));
+    let e = eigh(c.as_ref())?;
+    let mut v = e.vectors;
+    l.transpose().solve_upper_triangular_in_place(v.as_mut());
+    Ok(SymEigen {
+        values: e.values,
+        vectors: v,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::Rng;
+
+    fn random(m: usize, n: usize, seed: u64) -> Mat<f64> {
+        let mut r = crate::rng::seeded(seed);
+        Mat::from_fn(m, n, |_, _| r.random_range(-1.0..1.0))
+    }
+
+    fn spd(n: usize, seed: u64) -> Mat<f64> {
+        let g = random(n, n, seed);
+        let mut a = &g * g.transpose();
+        for i in 0..n {
+            a[(i, i)] += n as f64;
+        }
+        a
+    }
+
+    fn max_abs(m: &Mat<f64>) -> f64 {
+        let mut v = 0.0f64;
+        for j in 0..m.ncols() {
+            for i in 0..m.nrows() {
+                v = v.max(m[(i, j)].abs());
+            }
+        }
+        v
+    }
+
+    #[test]
+    fn eigh_reconstructs_and_orders() {
+        let a = spd(30, 1);
+        let e = eigh(a.as_ref()).unwrap();
+        assert!(e.values.windows(2).all(|w| w[0] <= w[1]));
+        let d = Mat::from_fn(30, 30, |i, j| if i == j { e.values[i] } else { 0.0 });
+        let rec = &e.vectors * &d * e.vectors.transpose();
+        assert!(max_abs(&(&rec - &a)) < 1e-10);
+        let big = eigh_largest(a.as_ref(), 3).unwrap();
+        assert_eq!(big.values, vec![e.values[29], e.values[28], e.values[27]]);
+        // A v = lambda v for the selected pairs.
+        let av = &a * &big.vectors;
+        for c in 0..3 {
+            for r in 0..30 {
+                assert!((av[(r, c)] - big.values[c] * big.vectors[(r, c)]).abs() < 1e-9);
+            }
+        }
+        let small = eigh_smallest(a.as_ref(), 2).unwrap();
+        assert_eq!(small.values, vec![e.values[0], e.values[1]]);
+        assert!(eigh_largest(a.as_ref(), 31).is_err());
+        assert!(eigh_largest(a.as_ref(), 0).is_err());
+    }
+
+    #[test]
+    fn known_eigenvalues_of_the_1d_laplacian() {
+        // tridiag(-1, 2, -1) of size n: lambda_k = 2 - 2 cos(k pi / (n + 1)).
+        let n = 12;
+        let a = Mat::from_fn(n, n, |i, j| {
+            if i == j {
+                2.0
+            } else if i.abs_diff(j) == 1 {
+                -1.0
+            } else {
+                0.0
+            }
+        });
+        let e = eigh(a.as_ref()).unwrap();
+        for (k, v) in e.values.iter().enumerate() {
+            let exact = 2.0 - 2.0 * ((k + 1) as f64 * std::f64::consts::PI / (n + 1) as f64).cos();
+            assert!((v - exact).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn svd_reconstructs_and_lstsq_matches_normal_equations() {
+        let a = random(40, 7, 3);
+        let d = svd(a.as_ref()).unwrap();
+        assert!(d.s.windows(2).all(|w| w[0] >= w[1]));
+        let s = Mat::from_fn(7, 7, |i, j| if i == j { d.s[i] } else { 0.0 });
+        assert!(max_abs(&(&d.u * &s * d.v.transpose() - &a)) < 1e-12);
+        let b = random(40, 2, 4);
+        let x = lstsq(a.as_ref(), b.as_ref(), None).unwrap();
+        // Normal equations: A'(Ax - b) = 0.
+        let g = a.transpose() * (&a * &x - &b);
+        assert!(max_abs(&g) < 1e-10);
+        // Rank-deficient: duplicate column gives the minimum-norm solution (equal split).
+        let a2 = Mat::from_fn(5, 2, |i, _| (i + 1) as f64);
+        let b2 = Mat::from_fn(5, 1, |i, _| 2.0 * (i + 1) as f64);
+        let x2 = lstsq(a2.as_ref(), b2.as_ref(), None).unwrap();
+        assert!((x2[(0, 0)] - 1.0).abs() < 1e-10 && (x2[(1, 0)] - 1.0).abs() < 1e-10);
+        assert!(lstsq(a.as_ref(), random(3, 1, 1).as_ref(), None).is_err());
+    }
+
+    #[test]
+    fn generalized_eigen_satisfies_the_pencil() {
+        let n = 15;
+        let a = {
+            let g = random(n, n, 5);
+            &g + g.transpose()
+        };
+        let b = spd(n, 6);
+        let e = eigh_generalized(a.as_ref(), b.as_ref()).unwrap();
+        let av = &a * &e.vectors;
+        let bv = &b * &e.vectors;
+        for c in 0..n {
+            for r in 0..n {
+                assert!((av[(r, c)] - e.values[c] * bv[(r, c)]).abs() < 1e-9);
+            }
+        }
+        let vbv = e.vectors.transpose() * &b * &e.vectors;
+        assert!(max_abs(&(&vbv - Mat::<f64>::identity(n, n))) < 1e-9);
+        // B = I reduces to the standard problem.
+        let std = eigh(a.as_ref()).unwrap();
+        let gi = eigh_generalized(a.as_ref(), Mat::<f64>::identity(n, n).as_ref()).unwrap();
+        for (x, y) in std.values.iter().zip(&gi.values) {
+            assert!((x - y).abs() < 1e-10);
+        }
+    }
+
+    #[test]
+    fn bad_matrices_are_rejected() {
+        let nonsym = Mat::from_fn(3, 3, |i, j| (i * 3 + j) as f64);
+        assert!(eigh(nonsym.as_ref()).is_err());
+        let rect = Mat::<f64>::zeros(2, 3);
+        assert!(matches!(eigh(rect.as_ref()), Err(Error::ShapeMismatch(_))));
+        let mut nan = spd(3, 1);
+        nan[(1, 1)] = f64::NAN;
+        assert!(matches!(eigh(nan.as_ref()), Err(Error::NonFinite { .. })));
+        assert!(matches!(svd(Mat::<f64>::zeros(0, 3).as_ref()), Err(Error::Empty(_))));
+        let indefinite = Mat::from_fn(2, 2, |i, j| if i == j { -1.0 } else { 0.0 });
+        assert!(eigh_generalized(spd(2, 1).as_ref(), indefinite.as_ref()).is_err());
+        assert!(eigh_generalized(spd(2, 1).as_ref(), spd(3, 1).as_ref()).is_err());
+    }
+}

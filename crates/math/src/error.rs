@@ -1,0 +1,160 @@
+//! The one error type of `wscg-math`, shared by the paper crates through `wscg_math::Error`.
+//!
+//! Every variant names what went wrong and, where it applies, the argument or file that caused
+//! it, so that a message can be shown to a user as it is (the Python bindings map I/O and format
+//! errors to `OSError` and everything else to `ValueError`).
+
+use std::path::{Path, PathBuf};
+
+/// Errors returned by `wscg-math` and by the paper crates built on it.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// An argument is out of its allowed range or otherwise unusable.
+    #[error("invalid argument `{name}`: {reason}")]
+    InvalidArgument {
+        /// Name of the argument as the caller knows it.
+        name: &'static str,
+        /// What is wrong and what is allowed.
+        reason: String,
+    },
+    /// Two inputs (or an input and a declared size) disagree in shape.
+    #[error("shape mismatch: {0}")]
+    ShapeMismatch(String),
+    /// An input holds NaN or an infinity where finite numbers are required.
+    #[error("`{name}` contains a non-finite value (NaN or infinity) at flat index {index}")]
+    NonFinite {
+        /// Name of the argument.
+        name: &'static str,
+        /// Flat index of the first offending element.
+        index: usize,
+    },
+    /// An input has no elements where at least one is required.
+    #[error("`{0}` is empty")]
+    Empty(&'static str),
+    /// The operating system refused a read or write.
+    #[error("cannot access {path}: {source}")]
+    Io {
+        /// The file concerned.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file was read but its content is malformed, truncated or not what its format requires.
+    #[error("cannot decode {path}: {reason}")]
+    Format {
+        /// The file concerned.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A file format or element type that is not supported.
+    #[error("unsupported format: {0}")]
+    UnsupportedFormat(String),
+    /// A size limit (guarding against hostile files or absurd requests) would be exceeded.
+    #[error("limit exceeded: {0}")]
+    LimitExceeded(String),
+    /// A numerical method failed (matrix not positive definite, no convergence, ...).
+    #[error("numerical failure: {0}")]
+    Numerical(String),
+}
+
+/// `Result` with [`Error`] as the error type.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// Shorthand for [`Error::InvalidArgument`].
+    pub fn invalid(name: &'static str, reason: impl Into<String>) -> Self {
+        Error::InvalidArgument {
+            name,
+            reason: reason.into(),
+        }
+    }
+
+    /// Shorthand for [`Error::Io`].
+    pub fn io(path: impl AsRef<Path>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.as_ref().to_path_buf(),
+            source,
+        }
+    }
+
+    /// Shorthand for [`Error::Format`].
+    pub fn format(path: impl AsRef<Path>, reason: impl Into<String>) -> Self {
+        Error::Format {
+            path: path.as_ref().to_path_buf(),
+            reason: reason.into(),
+        }
+    }
+
+    /// True for errors about files (I/O, decoding, unsupported formats): the Python bindings
+    /// raise `OSError` for these and `ValueError` for the rest.
+    pub fn is_io(&self) -> bool {
+        matches!(
+            self,
+            Error::Io { .. } | Error::Format { .. } | Error::UnsupportedFormat(_)
+        )
+    }
+}
+
+/// Returns [`Error::NonFinite`] naming `name` if any element of `data` is NaN or infinite.
+pub fn ensure_finite<T: Copy + Into<f64>>(name: &'static str, data: &[T]) -> Result<()> {
+    match data.iter().position(|&v| !v.into().is_finite()) {
+        Some(index) => Err(Error::NonFinite { name, index }),
+        None => Ok(()),
+    }
+}
+
+/// Returns [`Error::Empty`] naming `name` if `len` is zero.
+pub fn ensure_nonempty(name: &'static str, len: usize) -> Result<()> {
+    if len == 0 {
+        Err(Error::Empty(name))
+    } else {
+        Ok(())
+    }
+}
+
+/// Returns [`Error::InvalidArgument`] unless `value` is finite and strictly positive.
+pub fn ensure_positive(name: &'static str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            name,
+            format!("must be a finite number > 0, got {value}"),
+        ))
+    }
+}
+
+/// Reads a whole file, mapping the failure to [`Error::Io`] naming the path.
+pub fn read_file(path: &Path) -> Result<Vec<u8>> {
+    std::fs::read(path).map_err(|e| Error::io(path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finite_check_reports_first_bad_index() {
+        let e = ensure_finite("x", &[1.0f32, 2.0, f32::NAN, f32::INFINITY]).unwrap_err();
+        assert!(matches!(e, Error::NonFinite { name: "x", index: 2 }));
+        assert!(e.to_string().contains("`x`"));
+        assert!(ensure_finite("x", &[0.0f64, -1.0]).is_ok());
+    }
+
+    #[test]
+    fn positive_check_rejects_zero_nan_and_negative() {
+        for v in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(ensure_positive("sigma", v).is_err(), "{v}");
+        }
+        assert!(ensure_positive("sigma", 1e-9).is_ok());
+    }
+
+    #[test]
+    fn io_errors_are_classified() {
+        assert!(Error::format("a.png", "truncated").is_io());
+        assert!(!Error::invalid("k", "too large").is_io());
+        assert!(Error::Empty("x").to_string().contains("empty"));
+    }
+}

@@ -1,0 +1,355 @@
+//! Fast Fourier transforms in 1, 2, 3 and N dimensions (rustfft), with numpy's conventions.
+//!
+//! Arrays are C-ordered (last axis fastest), as in numpy. The forward transform is
+//! `X[k] = sum_n x[n] exp(-2 pi i k n / N)`; the inverse uses `+i`. Scaling follows
+//! `numpy.fft`'s `norm` argument ([`Norm`]): `Backward` (default: no scaling forward,
+//! `1/N` inverse), `Ortho` (`1/sqrt(N)` both ways, a unitary transform) and `Forward`.
+//! Lines along each axis are transformed in parallel with rayon.
+
+use std::sync::Arc;
+
+use num_complex::Complex;
+use rayon::prelude::*;
+use rustfft::{Fft, FftNum, FftPlanner};
+
+use crate::error::{Error, Result};
+
+/// Transform direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// `exp(-2 pi i k n / N)`.
+    Forward,
+    /// `exp(+2 pi i k n / N)`.
+    Inverse,
+}
+
+/// Normalisation, as numpy's `norm=` argument.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Norm {
+    /// No scaling forward, `1/N` on the inverse (numpy's default).
+    #[default]
+    Backward,
+    /// `1/sqrt(N)` both ways: the transform is unitary (Parseval holds exactly).
+    Ortho,
+    /// `1/N` forward, no scaling on the inverse.
+    Forward,
+}
+
+impl Norm {
+    fn factor(self, dir: Direction, n: usize) -> f64 {
+        let n = n as f64;
+        match (self, dir) {
+            (Norm::Backward, Direction::Forward) | (Norm::Forward, Direction::Inverse) => 1.0,
+            (Norm::Backward, Direction::Inverse) | (Norm::Forward, Direction::Forward) => 1.0 / n,
+            (Norm::Ortho, _) => 1.0 / n.sqrt(),
+        }
+    }
+}
+
+fn check_shape(len: usize, shape: &[usize]) -> Result<()> {
+    if shape.is_empty() {
+        return Err(Error::invalid("shape", "needs at least one axis"));
+    }
+    if shape.contains(&0) {
+        return Err(Error::Empty("fft input (an axis has length 0)"));
+    }
+    let n: usize = shape.iter().product();
+    if n != len {
+        return Err(Error::ShapeMismatch(format!(
+            "fft data has {len} values but shape {shape:?} holds {n}"
+        )));
+    }
+    Ok(())
+}
+
+/// In-place N-dimensional FFT of C-ordered `data` with the given `shape`, over every axis.
+///
+/// Errors: empty axes or a `shape` whose product differs from `data.len()`.
+pub fn fftn<T: FftNum>(
+    data: &mut [Complex<T>],
+    shape: &[usize],
+    dir: Direction,
+    norm: Norm,
+) -> Result<()> {
+    let axes: Vec<usize> = (0..shape.len()).collect();
+    fft_axes(data, shape, &axes, dir, norm)
+}
+
+/// In-place FFT over the listed `axes` only (each at most once).
+pub fn fft_axes<T: FftNum>(
+    data: &mut [Complex<T>],
+    shape: &[usize],
+    axes: &[usize],
+    dir: Direction,
+    norm: Norm,
+) -> Result<()> {
+    check_shape(data.len(), shape)?;
+    let mut seen = vec![false; shape.len()];
+    for &a in axes {
+        if a >= shape.len() || seen[a] {
+            return Err(Error::invalid(
+                "axes",
+                format!("{axes:?} is not a list of distinct axes of a {}-D array", shape.len()),
+            ));
+        }
+        seen[a] = true;
+    }
+    let mut planner = FftPlanner::<T>::new();
+    let fdir = match dir {
+        Direction::Forward => rustfft::FftDirection::Forward,
+        Direction::Inverse => rustfft::FftDirection::Inverse,
+    };
+    let mut total = 1usize;
+    for &a in axes {
+        let plan = planner.plan_fft(shape[a], fdir);
+        transform_axis(data, shape, a, &plan);
+        total *= shape[a];
+    }
+    let f = norm.factor(dir, total);
+    if f != 1.0 {
+        let f = T::from_f64(f).expect("a float type represents the scale");
+        data.par_iter_mut().for_each(|v| *v = *v * f);
+    }
+    Ok(())
+}
+
+/// Transforms every line of `data` along `axis` with `plan` (no scaling).
+fn transform_axis<T: FftNum>(
+    data: &mut [Complex<T>],
+    shape: &[usize],
+    axis: usize,
+    plan: &Arc<dyn Fft<T>>,
+) {
+    let n = shape[axis];
+    let stride: usize = shape[axis + 1..].iter().product();
+    let scratch_len = plan.get_inplace_scratch_len();
+    let run_lines = |lines: &mut [Complex<T>]| {
+        lines.par_chunks_mut(n).for_each_init(
+            || vec![Complex::new(T::zero(), T::zero()); scratch_len],
+            |scratch, line| plan.process_with_scratch(line, scratch),
+        );
+    };
+    if stride == 1 {
+        run_lines(data);
+        return;
+    }
+    // Strided axis: transpose each (n x stride) block so lines become contiguous.
+    let mut tmp = vec![Complex::new(T::zero(), T::zero()); n * stride];
+    for block in data.chunks_mut(n * stride) {
+        tmp.par_chunks_mut(n).enumerate().for_each(|(i, line)| {
+            for (j, v) in line.iter_mut().enumerate() {
+                *v = block[j * stride + i];
+            }
+        });
+        run_lines(&mut tmp);
+        block
+            .par_chunks_mut(stride)
+            .enumerate()
+            .for_each(|(j, row)| {
+                for (i, v) in row.iter_mut().enumerate() {
+                    *v = tmp[i * n + j];
+                }
+            });
+    }
+}
+
+/// One-dimensional FFT returning a new vector.
+pub fn fft1<T: FftNum>(input: &[Complex<T>], dir: Direction, norm: Norm) -> Result<Vec<Complex<T>>> {
+    let mut out = input.to_vec();
+    fftn(&mut out, &[input.len()], dir, norm)?;
+    Ok(out)
+}
+
+/// Two-dimensional FFT of a `rows x cols` C-ordered array, in place.
+pub fn fft2<T: FftNum>(
+    data: &mut [Complex<T>],
+    rows: usize,
+    cols: usize,
+    dir: Direction,
+    norm: Norm,
+) -> Result<()> {
+    fftn(data, &[rows, cols], dir, norm)
+}
+
+/// Three-dimensional FFT of an `n0 x n1 x n2` C-ordered array, in place.
+pub fn fft3<T: FftNum>(
+    data: &mut [Complex<T>],
+    dims: [usize; 3],
+    dir: Direction,
+    norm: Norm,
+) -> Result<()> {
+    fftn(data, &dims, dir, norm)
+}
+
+/// Moves the zero-frequency element to the centre of every axis (numpy's `fftshift`).
+pub fn fftshift<T: Copy + Send + Sync>(data: &[T], shape: &[usize]) -> Result<Vec<T>> {
+    roll(data, shape, |n| n / 2)
+}
+
+/// Inverse of [`fftshift`] (numpy's `ifftshift`); differs from it for odd lengths.
+pub fn ifftshift<T: Copy + Send + Sync>(data: &[T], shape: &[usize]) -> Result<Vec<T>> {
+    roll(data, shape, |n| n - n / 2)
+}
+
+/// Cyclic shift of every axis by `shift(len)`: `out[(i + s) % n] = in[i]`.
+fn roll<T: Copy + Send + Sync>(
+    data: &[T],
+    shape: &[usize],
+    shift: impl Fn(usize) -> usize + Sync,
+) -> Result<Vec<T>> {
+    check_shape(data.len(), shape)?;
+    let nd = shape.len();
+    let mut strides = vec![1usize; nd];
+    for a in (0..nd.saturating_sub(1)).rev() {
+        strides[a] = strides[a + 1] * shape[a + 1];
+    }
+    let shifts: Vec<usize> = shape.iter().map(|&n| shift(n)).collect();
+    let out: Vec<T> = (0..data.len())
+        .into_par_iter()
+        .map(|dst| {
+            let mut rem = dst;
+            let mut src = 0;
+            for a in 0..nd {
+                let i = rem / strides[a];
+                rem %= strides[a];
+                let n = shape[a];
+                src += ((i + n - shifts[a]) % n) * strides[a];
+            }
+            data[src]
+        })
+        .collect();
+    Ok(out)
+}
+
+/// Sample frequencies of an FFT of length `n` with sample spacing `d` (numpy's `fftfreq`).
+pub fn fftfreq(n: usize, d: f64) -> Vec<f64> {
+    let half = n.div_ceil(2);
+    (0..n)
+        .map(|i| {
+            let k = if i < half { i as f64 } else { i as f64 - n as f64 };
+            k / (n as f64 * d)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng;
+    use rand::Rng;
+
+    type C = Complex<f64>;
+
+    fn random(n: usize, seed: u64) -> Vec<C> {
+        let mut r = rng::seeded(seed);
+        (0..n)
+            .map(|_| C::new(r.random_range(-1.0..1.0), r.random_range(-1.0..1.0)))
+            .collect()
+    }
+
+    /// Naive separable DFT over every axis of a C-ordered array.
+    fn naive(data: &[C], shape: &[usize], sign: f64) -> Vec<C> {
+        let mut cur = data.to_vec();
+        for axis in 0..shape.len() {
+            let n = shape[axis];
+            let stride: usize = shape[axis + 1..].iter().product();
+            let mut next = vec![C::new(0.0, 0.0); cur.len()];
+            for (idx, out) in next.iter_mut().enumerate() {
+                let k = (idx / stride) % n;
+                let base = idx - k * stride;
+                for j in 0..n {
+                    let ang = sign * 2.0 * std::f64::consts::PI * (k * j) as f64 / n as f64;
+                    *out += cur[base + j * stride] * C::new(ang.cos(), ang.sin());
+                }
+            }
+            cur = next;
+        }
+        cur
+    }
+
+    fn max_err(a: &[C], b: &[C]) -> f64 {
+        a.iter().zip(b).map(|(x, y)| (x - y).norm()).fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn matches_naive_dft_in_1_2_3_dimensions() {
+        for shape in [vec![17usize], vec![12, 7], vec![5, 6, 9], vec![3, 4, 5, 2]] {
+            let n: usize = shape.iter().product();
+            let x = random(n, n as u64);
+            let mut y = x.clone();
+            fftn(&mut y, &shape, Direction::Forward, Norm::Backward).unwrap();
+            assert!(max_err(&y, &naive(&x, &shape, -1.0)) < 1e-9, "{shape:?}");
+            let mut z = x.clone();
+            fftn(&mut z, &shape, Direction::Inverse, Norm::Backward).unwrap();
+            let r: Vec<C> = naive(&x, &shape, 1.0).iter().map(|v| v / n as f64).collect();
+            assert!(max_err(&z, &r) < 1e-9, "{shape:?}");
+        }
+    }
+
+    #[test]
+    fn round_trip_and_parseval_with_ortho() {
+        let shape = [16, 10, 6];
+        let x = random(960, 3);
+        let mut y = x.clone();
+        fft3(&mut y, shape, Direction::Forward, Norm::Ortho).unwrap();
+        let ex: f64 = x.iter().map(|v| v.norm_sqr()).sum();
+        let ey: f64 = y.iter().map(|v| v.norm_sqr()).sum();
+        assert!((ex - ey).abs() < 1e-9 * ex);
+        fft3(&mut y, shape, Direction::Inverse, Norm::Ortho).unwrap();
+        assert!(max_err(&x, &y) < 1e-12);
+        let mut z = x.clone();
+        fft2(&mut z, 96, 10, Direction::Forward, Norm::Forward).unwrap();
+        fft2(&mut z, 96, 10, Direction::Inverse, Norm::Forward).unwrap();
+        assert!(max_err(&x, &z) < 1e-12);
+    }
+
+    #[test]
+    fn f32_transform_of_a_cosine_is_two_spikes() {
+        let n = 64;
+        let x: Vec<Complex<f32>> = (0..n)
+            .map(|i| Complex::new((2.0 * std::f32::consts::PI * 5.0 * i as f32 / n as f32).cos(), 0.0))
+            .collect();
+        let y = fft1(&x, Direction::Forward, Norm::Backward).unwrap();
+        for (k, v) in y.iter().enumerate() {
+            let expect = if k == 5 || k == n - 5 { n as f32 / 2.0 } else { 0.0 };
+            assert!((v.re - expect).abs() < 1e-3 && v.im.abs() < 1e-3, "k={k} {v}");
+        }
+    }
+
+    #[test]
+    fn partial_axes_transform_only_those() {
+        let shape = [4, 6];
+        let x = random(24, 9);
+        let mut y = x.clone();
+        fft_axes(&mut y, &shape, &[1], Direction::Forward, Norm::Backward).unwrap();
+        for r in 0..4 {
+            let row = naive(&x[r * 6..r * 6 + 6], &[6], -1.0);
+            assert!(max_err(&row, &y[r * 6..r * 6 + 6]) < 1e-10);
+        }
+        assert!(fft_axes(&mut y, &shape, &[1, 1], Direction::Forward, Norm::Backward).is_err());
+        assert!(fft_axes(&mut y, &shape, &[2], Direction::Forward, Norm::Backward).is_err());
+    }
+
+    #[test]
+    fn shifts_match_numpy() {
+        // numpy.fft.fftshift(np.arange(5)) == [3, 4, 0, 1, 2]
+        assert_eq!(fftshift(&[0, 1, 2, 3, 4], &[5]).unwrap(), vec![3, 4, 0, 1, 2]);
+        assert_eq!(ifftshift(&[0, 1, 2, 3, 4], &[5]).unwrap(), vec![2, 3, 4, 0, 1]);
+        assert_eq!(fftshift(&[0, 1, 2, 3], &[4]).unwrap(), vec![2, 3, 0, 1]);
+        let a: Vec<usize> = (0..12).collect();
+        let s = fftshift(&a, &[3, 4]).unwrap();
+        assert_eq!(ifftshift(&s, &[3, 4]).unwrap(), a);
+        // Row 0 of the shifted 3x4 grid is old row 2, shifted by 2: [10, 11, 8, 9].
+        assert_eq!(&s[0..4], &[10, 11, 8, 9]);
+        assert_eq!(fftfreq(5, 0.5), vec![0.0, 0.4, 0.8, -0.8, -0.4]);
+    }
+
+    #[test]
+    fn bad_shapes_are_rejected() {
+        let mut x = random(10, 1);
+        assert!(fftn(&mut x, &[3, 3], Direction::Forward, Norm::Backward).is_err());
+        assert!(fftn(&mut x, &[], Direction::Forward, Norm::Backward).is_err());
+        let mut e: Vec<C> = vec![];
+        assert!(fftn(&mut e, &[0], Direction::Forward, Norm::Backward).is_err());
+    }
+}

@@ -1,0 +1,495 @@
+//! [`Image`]: a row-major H x W x C pixel buffer, and its file IO.
+//!
+//! Pixels are stored interleaved, row after row: the value of channel `c` at row `y`, column
+//! `x` is `data[(y * width + x) * channels + c]`, the layout of a C-ordered numpy array of
+//! shape `(H, W, C)`. Files are read through the `image` crate: 8- and 16-bit PNG, JPEG,
+//! OpenEXR and Radiance HDR. Integer formats are scaled to `[0, 1]` on load (`v / 255`,
+//! `v / 65535`); floating-point formats keep their values.
+
+use std::io::Cursor;
+use std::path::Path;
+
+use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Limits};
+use ndarray::{Array3, ArrayView3};
+
+use crate::error::{ensure_finite, read_file, Error, Result};
+
+/// Largest width or height accepted when decoding a file (a guard against hostile headers).
+pub const MAX_DECODE_SIDE: u32 = 1 << 16;
+/// Largest number of bytes a decoder may allocate for one file.
+pub const MAX_DECODE_BYTES: u64 = 4 << 30;
+
+/// A row-major H x W x C image (f32 by default).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image<T = f32> {
+    height: usize,
+    width: usize,
+    channels: usize,
+    data: Vec<T>,
+}
+
+impl<T: Copy> Image<T> {
+    /// Wraps `data` (length `height * width * channels`, interleaved, row-major).
+    ///
+    /// Errors: a zero dimension ([`Error::Empty`]) or a length that does not match
+    /// ([`Error::ShapeMismatch`]).
+    pub fn new(height: usize, width: usize, channels: usize, data: Vec<T>) -> Result<Self> {
+        if height == 0 || width == 0 || channels == 0 {
+            return Err(Error::Empty("image (height, width and channels must be > 0)"));
+        }
+        let n = height
+            .checked_mul(width)
+            .and_then(|v| v.checked_mul(channels))
+            .ok_or_else(|| Error::LimitExceeded(format!("image {height}x{width}x{channels}")))?;
+        if data.len() != n {
+            return Err(Error::ShapeMismatch(format!(
+                "image data has {} values, expected {height}x{width}x{channels} = {n}",
+                data.len()
+            )));
+        }
+        Ok(Self {
+            height,
+            width,
+            channels,
+            data,
+        })
+    }
+
+    /// An image with every value equal to `value`.
+    pub fn filled(height: usize, width: usize, channels: usize, value: T) -> Result<Self> {
+        let n = height.saturating_mul(width).saturating_mul(channels);
+        Self::new(height, width, channels, vec![value; n])
+    }
+
+    /// Builds a single-channel image from `f(y, x)`.
+    pub fn from_fn(height: usize, width: usize, f: impl Fn(usize, usize) -> T) -> Result<Self> {
+        let mut data = Vec::with_capacity(height.saturating_mul(width));
+        for y in 0..height {
+            for x in 0..width {
+                data.push(f(y, x));
+            }
+        }
+        Self::new(height, width, 1, data)
+    }
+
+    /// Number of rows.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+    /// Number of columns.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+    /// Number of channels.
+    pub fn channels(&self) -> usize {
+        self.channels
+    }
+    /// `(height, width, channels)`.
+    pub fn shape(&self) -> (usize, usize, usize) {
+        (self.height, self.width, self.channels)
+    }
+    /// The interleaved values.
+    pub fn data(&self) -> &[T] {
+        &self.data
+    }
+    /// The interleaved values, mutable.
+    pub fn data_mut(&mut self) -> &mut [T] {
+        &mut self.data
+    }
+    /// Consumes the image, returning its values.
+    pub fn into_data(self) -> Vec<T> {
+        self.data
+    }
+    /// Value of channel `c` at `(y, x)`. Panics when out of bounds.
+    pub fn at(&self, y: usize, x: usize, c: usize) -> T {
+        self.data[(y * self.width + x) * self.channels + c]
+    }
+    /// Sets channel `c` at `(y, x)`. Panics when out of bounds.
+    pub fn set(&mut self, y: usize, x: usize, c: usize, v: T) {
+        self.data[(y * self.width + x) * self.channels + c] = v;
+    }
+    /// All channels of the pixel at `(y, x)`.
+    pub fn pixel(&self, y: usize, x: usize) -> &[T] {
+        let i = (y * self.width + x) * self.channels;
+        &self.data[i..i + self.channels]
+    }
+    /// Channel `c` as a single-channel image.
+    pub fn channel(&self, c: usize) -> Result<Image<T>> {
+        if c >= self.channels {
+            return Err(Error::invalid(
+                "channel",
+                format!("{c} is out of range for an image with {} channels", self.channels),
+            ));
+        }
+        let data = self.data.iter().skip(c).step_by(self.channels).copied().collect();
+        Image::new(self.height, self.width, 1, data)
+    }
+    /// Applies `f` to every value.
+    pub fn map<U: Copy>(&self, f: impl Fn(T) -> U) -> Image<U> {
+        Image {
+            height: self.height,
+            width: self.width,
+            channels: self.channels,
+            data: self.data.iter().map(|&v| f(v)).collect(),
+        }
+    }
+    /// Copies into an ndarray of shape `(H, W, C)`.
+    pub fn to_ndarray(&self) -> Array3<T> {
+        Array3::from_shape_vec((self.height, self.width, self.channels), self.data.clone())
+            .expect("image shape is consistent by construction")
+    }
+    /// Copies from an ndarray view of shape `(H, W, C)` in any memory order.
+    pub fn from_ndarray(a: ArrayView3<T>) -> Result<Self> {
+        let (h, w, c) = a.dim();
+        Self::new(h, w, c, a.iter().copied().collect())
+    }
+    /// Returns `Ok` if both images have the same shape, [`Error::ShapeMismatch`] otherwise.
+    pub fn ensure_same_shape<U: Copy>(&self, other: &Image<U>) -> Result<()> {
+        if self.shape() == other.shape() {
+            Ok(())
+        } else {
+            Err(Error::ShapeMismatch(format!(
+                "images have shapes {:?} and {:?}",
+                self.shape(),
+                other.shape()
+            )))
+        }
+    }
+}
+
+impl Image<f32> {
+    /// Errors with [`Error::NonFinite`] naming `name` if any value is NaN or infinite.
+    pub fn ensure_finite(&self, name: &'static str) -> Result<()> {
+        ensure_finite(name, &self.data)
+    }
+
+    /// Luminance (Rec. 709 weights) of an RGB(A) image; a one- or two-channel image returns
+    /// its first channel. Alpha is dropped.
+    pub fn to_gray(&self) -> Image<f32> {
+        if self.channels < 3 {
+            return self.channel(0).expect("channel 0 exists");
+        }
+        let data = self
+            .data
+            .chunks_exact(self.channels)
+            .map(|p| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2])
+            .collect();
+        Image {
+            height: self.height,
+            width: self.width,
+            channels: 1,
+            data,
+        }
+    }
+
+    /// Converts a decoded [`DynamicImage`]: integer formats scaled to `[0, 1]`, float formats
+    /// kept. Channels: L = 1, LA = 2, RGB = 3, RGBA = 4.
+    pub fn from_dynamic(img: &DynamicImage) -> Self {
+        let (w, h) = (img.width() as usize, img.height() as usize);
+        let (channels, data): (usize, Vec<f32>) = match img {
+            DynamicImage::ImageLuma8(b) => (1, b.iter().map(|&v| v as f32 / 255.0).collect()),
+            DynamicImage::ImageLumaA8(b) => (2, b.iter().map(|&v| v as f32 / 255.0).collect()),
+            DynamicImage::ImageRgb8(b) => (3, b.iter().map(|&v| v as f32 / 255.0).collect()),
+            DynamicImage::ImageRgba8(b) => (4, b.iter().map(|&v| v as f32 / 255.0).collect()),
+            DynamicImage::ImageLuma16(b) => (1, b.iter().map(|&v| v as f32 / 65535.0).collect()),
+            DynamicImage::ImageLumaA16(b) => {
+                (2, b.iter().map(|&v| v as f32 / 65535.0).collect())
+            }
+            DynamicImage::ImageRgb16(b) => (3, b.iter().map(|&v| v as f32 / 65535.0).collect()),
+            DynamicImage::ImageRgba16(b) => {
+                (4, b.iter().map(|&v| v as f32 / 65535.0).collect())
+            }
+            DynamicImage::ImageRgb32F(b) => (3, b.as_raw().clone()),
+            DynamicImage::ImageRgba32F(b) => (4, b.as_raw().clone()),
+            other => (4, other.to_rgba32f().into_raw()),
+        };
+        Image {
+            height: h,
+            width: w,
+            channels,
+            data,
+        }
+    }
+
+    /// Converts to a [`DynamicImage`] of the given [`PixelDepth`]. Integer depths clamp to
+    /// `[0, 1]` and round; two-channel images become luma + alpha.
+    pub fn to_dynamic(&self, depth: PixelDepth) -> Result<DynamicImage> {
+        let (w, h) = (self.width as u32, self.height as u32);
+        let q8 = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+        let q16 = |v: f32| (v.clamp(0.0, 1.0) * 65535.0).round() as u16;
+        let bad = || Error::ShapeMismatch(format!("image of shape {:?}", self.shape()));
+        let img = match (depth, self.channels) {
+            (PixelDepth::U8, 1) => DynamicImage::ImageLuma8(
+                ImageBuffer::from_raw(w, h, self.data.iter().map(|&v| q8(v)).collect())
+                    .ok_or_else(bad)?,
+            ),
+            (PixelDepth::U8, 2) => DynamicImage::ImageLumaA8(
+                ImageBuffer::from_raw(w, h, self.data.iter().map(|&v| q8(v)).collect())
+                    .ok_or_else(bad)?,
+            ),
+            (PixelDepth::U8, 3) => DynamicImage::ImageRgb8(
+                ImageBuffer::from_raw(w, h, self.data.iter().map(|&v| q8(v)).collect())
+                    .ok_or_else(bad)?,
+            ),
+            (PixelDepth::U8, 4) => DynamicImage::ImageRgba8(
+                ImageBuffer::from_raw(w, h, self.data.iter().map(|&v| q8(v)).collect())
+                    .ok_or_else(bad)?,
+            ),
+            (PixelDepth::U16, 1) => DynamicImage::ImageLuma16(
+                ImageBuffer::from_raw(w, h, self.data.iter().map(|&v| q16(v)).collect())
+                    .ok_or_else(bad)?,
+            ),
+            (PixelDepth::U16, 2) => DynamicImage::ImageLumaA16(
+                ImageBuffer::from_raw(w, h, self.data.iter().map(|&v| q16(v)).collect())
+                    .ok_or_else(bad)?,
+            ),
+            (PixelDepth::U16, 3) => DynamicImage::ImageRgb16(
+                ImageBuffer::from_raw(w, h, self.data.iter().map(|&v| q16(v)).collect())
+                    .ok_or_else(bad)?,
+            ),
+            (PixelDepth::U16, 4) => DynamicImage::ImageRgba16(
+                ImageBuffer::from_raw(w, h, self.data.iter().map(|&v| q16(v)).collect())
+                    .ok_or_else(bad)?,
+            ),
+            (PixelDepth::F32, 3) => {
+                DynamicImage::ImageRgb32F(ImageBuffer::from_raw(w, h, self.data.clone()).ok_or_else(bad)?)
+            }
+            (PixelDepth::F32, 4) => {
+                DynamicImage::ImageRgba32F(ImageBuffer::from_raw(w, h, self.data.clone()).ok_or_else(bad)?)
+            }
+            (PixelDepth::F32, 1 | 2) => {
+                let rgb: Vec<f32> = self
+                    .data
+                    .chunks_exact(self.channels)
+                    .flat_map(|p| [p[0], p[0], p[0]])
+                    .collect();
+                DynamicImage::ImageRgb32F(ImageBuffer::from_raw(w, h, rgb).ok_or_else(bad)?)
+            }
+            (_, c) => {
+                return Err(Error::invalid(
+                    "image",
+                    format!("{c} channels cannot be encoded; use 1 to 4"),
+                ))
+            }
+        };
+        Ok(img)
+    }
+
+    /// Decodes an image from bytes in memory (format guessed from the content).
+    /// `origin` names the source in error messages.
+    pub fn decode(bytes: &[u8], origin: &Path) -> Result<Self> {
+        let mut reader = ImageReader::new(Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| Error::io(origin, e))?;
+        if reader.format().is_none() {
+            return Err(Error::format(
+                origin,
+                "not a recognised image (PNG, JPEG, OpenEXR or Radiance HDR)",
+            ));
+        }
+        let mut limits = Limits::default();
+        limits.max_image_width = Some(MAX_DECODE_SIDE);
+        limits.max_image_height = Some(MAX_DECODE_SIDE);
+        limits.max_alloc = Some(MAX_DECODE_BYTES);
+        reader.limits(limits);
+        let img = reader.decode().map_err(|e| match e {
+            image::ImageError::Limits(l) => {
+                Error::LimitExceeded(format!("{}: {l}", origin.display()))
+            }
+            image::ImageError::Unsupported(u) => {
+                Error::UnsupportedFormat(format!("{}: {u}", origin.display()))
+            }
+            other => Error::format(origin, other.to_string()),
+        })?;
+        Ok(Self::from_dynamic(&img))
+    }
+
+    /// Loads PNG (8/16-bit), JPEG, OpenEXR or Radiance HDR. Integer formats are scaled to
+    /// `[0, 1]`. The file is only read.
+    pub fn load(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref();
+        let bytes = read_file(path)?;
+        Self::decode(&bytes, path)
+    }
+
+    /// Saves by extension: `.png` (8-bit), `.jpg`/`.jpeg` (8-bit, 1 or 3 channels), `.exr`
+    /// (32-bit float) and `.hdr` (RGB float). Use [`Image::save_with_depth`] for 16-bit PNG.
+    pub fn save(&self, path: impl AsRef<Path>) -> Result<()> {
+        let path = path.as_ref();
+        let depth = match format_of(path)? {
+            ImageFormat::OpenExr | ImageFormat::Hdr => PixelDepth::F32,
+            _ => PixelDepth::U8,
+        };
+        self.save_with_depth(path, depth)
+    }
+
+    /// Saves with an explicit pixel depth (e.g. `PixelDepth::U16` for a 16-bit PNG).
+    pub fn save_with_depth(&self, path: impl AsRef<Path>, depth: PixelDepth) -> Result<()> {
+        let path = path.as_ref();
+        let format = format_of(path)?;
+        self.ensure_finite("image")?;
+        let allowed = match format {
+            ImageFormat::Png => matches!(depth, PixelDepth::U8 | PixelDepth::U16),
+            ImageFormat::Jpeg => depth == PixelDepth::U8 && matches!(self.channels, 1 | 3),
+            ImageFormat::OpenExr => depth == PixelDepth::F32,
+            ImageFormat::Hdr => depth == PixelDepth::F32 && self.channels == 3,
+            _ => false,
+        };
+        if !allowed {
+            return Err(Error::UnsupportedFormat(format!(
+                "{} cannot hold a {}-channel image at depth {depth:?}",
+                path.display(),
+                self.channels
+            )));
+        }
+        let img = self.to_dynamic(depth)?;
+        img.save_with_format(path, format).map_err(|e| match e {
+            image::ImageError::IoError(io) => Error::io(path, io),
+            other => Error::format(path, other.to_string()),
+        })
+    }
+}
+
+/// Sample depth used when encoding an [`Image`] to a file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixelDepth {
+    /// 8 bits per sample, `[0, 1]` mapped to `0..=255`.
+    U8,
+    /// 16 bits per sample, `[0, 1]` mapped to `0..=65535`.
+    U16,
+    /// 32-bit float samples (OpenEXR, HDR).
+    F32,
+}
+
+fn format_of(path: &Path) -> Result<ImageFormat> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "png" => Ok(ImageFormat::Png),
+        "jpg" | "jpeg" => Ok(ImageFormat::Jpeg),
+        "exr" => Ok(ImageFormat::OpenExr),
+        "hdr" => Ok(ImageFormat::Hdr),
+        _ => Err(Error::UnsupportedFormat(format!(
+            "extension {ext:?} of {}; supported: png, jpg, jpeg, exr, hdr",
+            path.display()
+        ))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ramp(h: usize, w: usize, c: usize) -> Image {
+        let n = h * w * c;
+        Image::new(h, w, c, (0..n).map(|i| i as f32 / (n - 1) as f32).collect()).unwrap()
+    }
+
+    #[test]
+    fn layout_is_row_major_interleaved() {
+        let img = ramp(2, 3, 2);
+        assert_eq!(img.at(1, 2, 1), img.data()[(3 + 2) * 2 + 1]);
+        assert_eq!(img.pixel(1, 0), &img.data()[6..8]);
+        let a = img.to_ndarray();
+        assert_eq!(a[[1, 2, 1]], img.at(1, 2, 1));
+        assert_eq!(Image::from_ndarray(a.view()).unwrap(), img);
+        // A transposed (non-contiguous) view is copied in logical order.
+        let t = a.view().permuted_axes([1, 0, 2]);
+        let it = Image::from_ndarray(t).unwrap();
+        assert_eq!(it.at(2, 1, 1), img.at(1, 2, 1));
+    }
+
+    #[test]
+    fn bad_shapes_are_rejected() {
+        assert!(matches!(Image::new(2, 2, 1, vec![0.0f32; 3]), Err(Error::ShapeMismatch(_))));
+        assert!(matches!(Image::<f32>::new(0, 2, 1, vec![]), Err(Error::Empty(_))));
+        assert!(ramp(2, 2, 1).channel(1).is_err());
+        assert!(ramp(2, 2, 1).ensure_same_shape(&ramp(2, 3, 1)).is_err());
+    }
+
+    #[test]
+    fn png8_png16_exr_hdr_round_trips() {
+        let dir = tempfile::tempdir().unwrap();
+        for c in [1, 2, 3, 4] {
+            let img = ramp(5, 7, c);
+            let p = dir.path().join(format!("a{c}.png"));
+            img.save(&p).unwrap();
+            let back = Image::load(&p).unwrap();
+            assert_eq!(back.shape(), img.shape());
+            for (a, b) in img.data().iter().zip(back.data()) {
+                assert!((a - b).abs() <= 0.5 / 255.0 + 1e-6);
+            }
+            let p16 = dir.path().join(format!("b{c}.png"));
+            img.save_with_depth(&p16, PixelDepth::U16).unwrap();
+            let back = Image::load(&p16).unwrap();
+            for (a, b) in img.data().iter().zip(back.data()) {
+                assert!((a - b).abs() <= 0.5 / 65535.0 + 1e-7);
+            }
+        }
+        // Float formats keep values outside [0, 1].
+        let hdrimg = ramp(4, 6, 3).map(|v| v * 40.0 + 0.01);
+        let p = dir.path().join("c.exr");
+        hdrimg.save(&p).unwrap();
+        let back = Image::load(&p).unwrap();
+        assert_eq!(back.channels(), 3);
+        for (a, b) in hdrimg.data().iter().zip(back.data()) {
+            assert!((a - b).abs() <= 1e-6 * a.abs().max(1.0));
+        }
+        let p = dir.path().join("d.hdr");
+        hdrimg.save(&p).unwrap();
+        let back = Image::load(&p).unwrap();
+        // RGBE keeps about 8 bits of mantissa relative to the largest channel.
+        for (pa, pb) in hdrimg.data().chunks(3).zip(back.data().chunks(3)) {
+            let m = pa.iter().cloned().fold(0.0f32, f32::max);
+            for (a, b) in pa.iter().zip(pb) {
+                assert!((a - b).abs() <= m / 128.0, "{a} {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn jpeg_round_trip_is_close() {
+        let dir = tempfile::tempdir().unwrap();
+        let img = Image::from_fn(32, 32, |y, x| (x as f32 + y as f32) / 62.0).unwrap();
+        let p = dir.path().join("g.jpg");
+        img.save(&p).unwrap();
+        let back = Image::load(&p).unwrap();
+        let err: f32 = img
+            .data()
+            .iter()
+            .zip(back.data())
+            .map(|(a, b)| (a - b).abs())
+            .sum::<f32>()
+            / 1024.0;
+        assert!(err < 0.02, "mean abs error {err}");
+        assert!(ramp(4, 4, 2).save(dir.path().join("x.jpg")).is_err());
+    }
+
+    #[test]
+    fn bad_files_give_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        assert!(matches!(Image::load(dir.path().join("missing.png")), Err(Error::Io { .. })));
+        let garbage = dir.path().join("garbage.png");
+        std::fs::write(&garbage, b"this is not an image at all").unwrap();
+        assert!(Image::load(&garbage).unwrap_err().is_io());
+        // Truncated PNG: a valid file cut in half.
+        let good = dir.path().join("good.png");
+        ramp(64, 64, 3).save(&good).unwrap();
+        let bytes = std::fs::read(&good).unwrap();
+        let cut = dir.path().join("cut.png");
+        std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+        assert!(Image::load(&cut).unwrap_err().is_io());
+        assert!(ramp(2, 2, 1).save(dir.path().join("a.tiff")).is_err());
+        let nan = Image::new(1, 1, 1, vec![f32::NAN]).unwrap();
+        assert!(nan.save(dir.path().join("nan.png")).is_err());
+    }
+
+    #[test]
+    fn gray_uses_rec709() {
+        let img = Image::new(1, 1, 3, vec![1.0, 0.0, 0.0]).unwrap();
+        assert!((img.to_gray().at(0, 0, 0) - 0.2126).abs() < 1e-7);
+    }
+}

@@ -1,0 +1,34 @@
+//! # wscg-math
+//!
+//! Shared types and numerics of the wscg workspace: what two or more paper crates need, and
+//! only that.
+//!
+//! - [`image`]: [`Image`], an H x W x C row-major buffer with PNG/JPEG/16-bit PNG/EXR/HDR IO.
+//! - [`volume`]: [`Volume`], an X x Y x Z grid with voxel spacing, trilinear sampling, gradients,
+//!   raw, NIfTI and `.npy` IO.
+//! - [`mesh`]: [`TriMesh`] with adjacency, normals, areas, OBJ and PLY IO.
+//! - [`sparse`]: CSR matrices (faer storage) and a preconditioned conjugate gradient written
+//!   against the [`sparse::LinOp`] operator trait.
+//! - [`dense`]: symmetric eigen, SVD, least squares and the generalized symmetric eigenproblem
+//!   through faer.
+//! - [`fft`]: 1-D, 2-D and 3-D FFTs (rustfft) with numpy's normalisation conventions.
+//! - [`filter`], [`resize`]: separable Gaussian and box filters, area and bilinear resizing.
+//! - [`metrics`]: MSE, RMSE, PSNR, SSIM (Wang et al. 2004), Dice.
+//! - [`rng`]: seeded, portable random generation.
+//! - [`progress`]: a progress-reporting trait that the CLI renders as progress bars.
+//! - [`error`]: the one [`Error`] type.
+
+pub mod error;
+
+pub use error::{Error, Result};
+pub mod dense;
+pub mod fft;
+pub mod filter;
+pub mod image;
+pub mod mesh;
+pub mod metrics;
+pub mod progress;
+pub mod resize;
+pub mod rng;
+pub mod sparse;
+pub mod volume;

@@ -1,0 +1,1 @@
+pub use wscg_math as math;
