@@ -1,1 +1,15 @@
+//! # wscg
+//!
+//! Software for the papers of the Journal of WSCG, vol. 23: each paper's method as a library
+//! crate, re-exported here, plus the demos and the gallery that the `wscg` command line runs.
+//!
+//! | module | crate | contents |
+//! |---|---|---|
+//! | [`math`] | `wscg-math` | shared types and numerics (images, volumes, meshes, solvers, FFT, metrics) |
+//!
+//! The paper crates are added to this table as they land (see the README).
+
 pub use wscg_math as math;
+
+pub mod demo;
+pub mod gallery;

@@ -1,1 +1,19 @@
-fn main(){}
+//! The `wscg` command line: each paper's method on the user's files, demos on built-in data,
+//! and the gallery. Run `wscg --help`.
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+mod cli;
+
+fn main() -> ExitCode {
+    let args = cli::Cli::parse();
+    match cli::run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -109,9 +109,7 @@ impl Real for f64 {
 /// [`MAX_VOXELS`] ([`Error::LimitExceeded`]).
 fn voxel_count(dims: [usize; 3]) -> Result<usize> {
     if dims.contains(&0) {
-        return Err(Error::Empty(
-            "volume dims (nx, ny and nz must all be > 0)",
-        ));
+        return Err(Error::Empty("volume dims (nx, ny and nz must all be > 0)"));
     }
     dims.iter()
         .try_fold(1usize, |acc, &d| acc.checked_mul(d))
@@ -323,7 +321,11 @@ impl<T> Volume<T> {
     /// # Panics
     /// If `z >= nz` (a programming error).
     pub fn slice_z(&self, z: usize) -> &[T] {
-        assert!(z < self.dims[2], "slice z = {z} outside nz = {}", self.dims[2]);
+        assert!(
+            z < self.dims[2],
+            "slice z = {z} outside nz = {}",
+            self.dims[2]
+        );
         let n = self.dims[0] * self.dims[1];
         &self.data[z * n..(z + 1) * n]
     }
@@ -417,20 +419,18 @@ impl<T: Real> Volume<T> {
                 || None,
                 |acc: Option<(T, T)>, &v| match acc {
                     None => Some((v, v)),
-                    Some((lo, hi)) => Some((
-                        if v < lo { v } else { lo },
-                        if v > hi { v } else { hi },
-                    )),
+                    Some((lo, hi)) => {
+                        Some((if v < lo { v } else { lo }, if v > hi { v } else { hi }))
+                    }
                 },
             )
             .reduce(
                 || None,
                 |a, b| match (a, b) {
                     (None, x) | (x, None) => x,
-                    (Some((l1, h1)), Some((l2, h2))) => Some((
-                        if l2 < l1 { l2 } else { l1 },
-                        if h2 > h1 { h2 } else { h1 },
-                    )),
+                    (Some((l1, h1)), Some((l2, h2))) => {
+                        Some((if l2 < l1 { l2 } else { l1 }, if h2 > h1 { h2 } else { h1 }))
+                    }
                 },
             )
     }
@@ -1006,10 +1006,13 @@ impl Volume<f32> {
 fn npy_header_end(path: &Path, bytes: &[u8]) -> Result<usize> {
     const MAGIC: &[u8] = b"\x93NUMPY";
     if bytes.len() < 10 || &bytes[..6] != MAGIC {
-        return Err(Error::format(path, "not a .npy file (missing \\x93NUMPY magic)"));
+        return Err(Error::format(
+            path,
+            "not a .npy file (missing \\x93NUMPY magic)",
+        ));
     }
     let (len, start) = match bytes[6] {
-        1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
+        1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10usize),
         2 | 3 if bytes.len() >= 12 => (
             u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
             12,
@@ -1183,7 +1186,10 @@ fn read_nifti_stream(
         || vox_offset < (NIFTI1_HEADER_BYTES as f32)
         || vox_offset as u64 > MAX_NIFTI_VOX_OFFSET
     {
-        return Err(Error::format(path, format!("invalid vox_offset {vox_offset}")));
+        return Err(Error::format(
+            path,
+            format!("invalid vox_offset {vox_offset}"),
+        ));
     }
     let vox_offset = vox_offset as u64;
     if let Some(len) = file_len {
@@ -1201,12 +1207,14 @@ fn read_nifti_stream(
 
     // Skip extensions, then read exactly the voxel data.
     let skip = vox_offset - NIFTI1_HEADER_BYTES as u64;
-    let skipped = io::copy(&mut reader.take(skip), &mut io::sink())
-        .map_err(|e| read_error(path, e))?;
+    let skipped =
+        io::copy(&mut reader.take(skip), &mut io::sink()).map_err(|e| read_error(path, e))?;
     if skipped != skip {
         return Err(Error::format(
             path,
-            format!("truncated: the stream ends inside the header extensions (vox_offset {vox_offset})"),
+            format!(
+                "truncated: the stream ends inside the header extensions (vox_offset {vox_offset})"
+            ),
         ));
     }
     // Reserve up front only what an uncompressed file has shown it holds; a compressed stream
@@ -1269,4 +1277,705 @@ fn read_nifti_stream(
         }
     });
     Volume::new(dims, spacing, data)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ndarray_npy::WriteNpyExt;
+
+    /// 3 x 4 x 5 volume with unique values v = x + 10 y + 100 z.
+    fn unique_volume(spacing: [f64; 3]) -> Volume<f32> {
+        Volume::from_fn([3, 4, 5], spacing, |x, y, z| (x + 10 * y + 100 * z) as f32).unwrap()
+    }
+
+    fn approx(a: f64, b: f64, tol: f64) -> bool {
+        (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))
+    }
+
+    // ---------------------------------------------------------------- construction
+
+    #[test]
+    fn layout_is_x_fastest() {
+        let v = unique_volume([1.0; 3]);
+        assert_eq!(v.dims(), [3, 4, 5]);
+        assert_eq!(v.len(), 60);
+        assert!(!v.is_empty());
+        for z in 0..5 {
+            for y in 0..4 {
+                for x in 0..3 {
+                    let i = x + 3 * (y + 4 * z);
+                    assert_eq!(v.index(x, y, z), i);
+                    assert_eq!(v.data()[i], (x + 10 * y + 100 * z) as f32);
+                    assert_eq!(v.at(x, y, z), v.data()[i]);
+                    assert_eq!(v.get(x, y, z), Some(v.data()[i]));
+                }
+            }
+        }
+        assert_eq!(v.get(3, 0, 0), None);
+        assert_eq!(v.get(0, 4, 0), None);
+        assert_eq!(v.get(0, 0, 5), None);
+        assert_eq!(v.checked_index(0, 0, 5), None);
+        assert_eq!(v.slice_z(2)[3 + 1], v.at(1, 1, 2));
+    }
+
+    #[test]
+    fn new_checks_arguments() {
+        assert!(Volume::new([2, 2, 2], [1.0; 3], vec![0.0f32; 8]).is_ok());
+        assert!(matches!(
+            Volume::new([2, 2, 2], [1.0; 3], vec![0.0f32; 7]),
+            Err(Error::ShapeMismatch(_))
+        ));
+        assert!(matches!(
+            Volume::new([2, 0, 2], [1.0; 3], Vec::<f32>::new()),
+            Err(Error::Empty(_))
+        ));
+        for bad in [f64::NAN, 0.0, -1.0, f64::INFINITY] {
+            let e = Volume::new([1, 1, 1], [1.0, bad, 1.0], vec![0.0f32]).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    Error::InvalidArgument {
+                        name: "spacing",
+                        ..
+                    }
+                ),
+                "{bad}: {e}"
+            );
+        }
+        assert!(matches!(
+            Volume::filled([usize::MAX, 2, 1], [1.0; 3], 0u8),
+            Err(Error::LimitExceeded(_))
+        ));
+        assert!(matches!(
+            Volume::filled([100_000, 100_000, 100_000], [1.0; 3], 0u8),
+            Err(Error::LimitExceeded(_))
+        ));
+        let f = Volume::filled([2, 3, 4], [0.5, 1.0, 2.0], 7u16).unwrap();
+        assert!(f.data().iter().all(|&v| v == 7));
+        assert_eq!(f.extent(), [1.0, 3.0, 8.0]);
+    }
+
+    #[test]
+    fn set_map_min_max_and_finite_check() {
+        let mut v = unique_volume([1.0; 3]);
+        v.set(1, 2, 3, -5.0);
+        assert_eq!(v.at(1, 2, 3), -5.0);
+        assert_eq!(v.min_max(), Some((-5.0, 432.0)));
+        v.set(0, 0, 0, f32::NAN);
+        assert_eq!(v.min_max(), Some((-5.0, 432.0)));
+        assert!(matches!(
+            v.ensure_finite("vol"),
+            Err(Error::NonFinite {
+                name: "vol",
+                index: 0
+            })
+        ));
+        let all_nan = Volume::filled([2, 2, 2], [1.0; 3], f64::NAN).unwrap();
+        assert_eq!(all_nan.min_max(), None);
+        let doubled = unique_volume([1.0; 3]).map(|x| 2.0 * x as f64);
+        assert_eq!(doubled.at(1, 2, 3), 2.0 * 321.0);
+        assert!(doubled.ensure_finite("d").is_ok());
+    }
+
+    #[test]
+    #[should_panic(expected = "outside")]
+    fn at_panics_outside() {
+        unique_volume([1.0; 3]).at(0, 4, 0);
+    }
+
+    // ---------------------------------------------------------------- sampling
+
+    const A: f64 = 1.25;
+    const B: f64 = -0.75;
+    const C: f64 = 2.5;
+    const D: f64 = 0.375;
+
+    fn affine(x: f64, y: f64, z: f64) -> f64 {
+        A + B * x + C * y + D * z
+    }
+
+    #[test]
+    fn trilinear_is_exact_on_voxels_and_affine_functions() {
+        let v = Volume::from_fn([6, 5, 7], [0.5, 1.5, 3.0], |x, y, z| {
+            affine(x as f64, y as f64, z as f64)
+        })
+        .unwrap();
+        for z in 0..7 {
+            for y in 0..5 {
+                for x in 0..6 {
+                    let p = [x as f64, y as f64, z as f64];
+                    assert_eq!(v.trilinear(p), v.at(x, y, z));
+                }
+            }
+        }
+        // Pseudo-random interior points.
+        let mut s = 12345u64;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..500 {
+            let p = [5.0 * next(), 4.0 * next(), 6.0 * next()];
+            let want = affine(p[0], p[1], p[2]);
+            assert!(approx(v.trilinear(p), want, 1e-14), "{p:?}");
+            let w = [p[0] * 0.5, p[1] * 1.5, p[2] * 3.0];
+            assert!(approx(v.trilinear_world(w), want, 1e-13), "{w:?}");
+        }
+        // f32 volumes agree to f32 precision.
+        let v32 = v.map(|x| x as f32);
+        let p = [1.3, 2.7, 4.1];
+        assert!(approx(v32.trilinear(p) as f64, affine(1.3, 2.7, 4.1), 1e-6));
+    }
+
+    #[test]
+    fn trilinear_reproduces_multilinear_function() {
+        // x*y*z is trilinear, so it is reproduced exactly; a wrong weighting would not.
+        let v = Volume::from_fn([4, 4, 4], [1.0; 3], |x, y, z| (x * y * z) as f64).unwrap();
+        let p = [1.25, 2.5, 0.75];
+        assert!(approx(v.trilinear(p), 1.25 * 2.5 * 0.75, 1e-14));
+    }
+
+    #[test]
+    fn trilinear_clamps_to_border() {
+        let v = Volume::from_fn([3, 4, 5], [1.0; 3], |x, y, z| {
+            affine(x as f64, y as f64, z as f64)
+        })
+        .unwrap();
+        assert_eq!(v.trilinear([-3.0, 1.0, 2.0]), v.at(0, 1, 2));
+        assert_eq!(v.trilinear([10.0, 1.0, 2.0]), v.at(2, 1, 2));
+        assert_eq!(v.trilinear([2.0, 3.0, 99.0]), v.at(2, 3, 4));
+        assert!(approx(
+            v.trilinear([-1.0, 1.5, 2.0]),
+            affine(0.0, 1.5, 2.0),
+            1e-14
+        ));
+        assert!(v.trilinear([f64::NAN, 0.0, 0.0]).is_nan());
+        // A single-voxel axis is constant.
+        let flat = Volume::from_fn([3, 3, 1], [1.0; 3], |x, y, _| (x + y) as f64).unwrap();
+        assert_eq!(flat.trilinear([1.0, 1.0, 0.7]), 2.0);
+        assert_eq!(flat.gradient_at(1, 1, 0)[2], 0.0);
+    }
+
+    #[test]
+    fn gradient_of_affine_is_exact_with_anisotropic_spacing_everywhere() {
+        let spacing = [0.5, 2.0, 3.0];
+        let v = Volume::from_fn([5, 4, 6], spacing, |x, y, z| {
+            affine(x as f64, y as f64, z as f64)
+        })
+        .unwrap();
+        let want = [B / spacing[0], C / spacing[1], D / spacing[2]];
+        let [gx, gy, gz] = v.gradient_volume();
+        for z in 0..6 {
+            for y in 0..4 {
+                for x in 0..5 {
+                    let g = v.gradient_at(x, y, z);
+                    for a in 0..3 {
+                        assert!(approx(g[a], want[a], 1e-13), "{x} {y} {z} axis {a}");
+                    }
+                    assert_eq!([gx.at(x, y, z), gy.at(x, y, z), gz.at(x, y, z)], g);
+                }
+            }
+        }
+        assert_eq!(gx.spacing(), spacing);
+        for p in [[0.3, 2.9, 4.4], [-1.0, 0.0, 9.0], [4.0, 3.0, 5.0]] {
+            let g = v.gradient_trilinear(p);
+            for a in 0..3 {
+                assert!(approx(g[a], want[a], 1e-13), "{p:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn gradient_uses_central_inside_and_one_sided_on_borders() {
+        // f = x^2 with spacing 2: central (x+1)^2-(x-1)^2 / 4 = x; border (1-0)/2, (16-9)/2.
+        let v = Volume::from_fn([5, 1, 1], [2.0, 1.0, 1.0], |x, _, _| (x * x) as f64).unwrap();
+        let gx: Vec<f64> = (0..5).map(|x| v.gradient_at(x, 0, 0)[0]).collect();
+        assert_eq!(gx, vec![0.5, 1.0, 2.0, 3.0, 3.5]);
+        // Interpolated gradient between voxels 1 and 2 is the mean of their gradients.
+        assert_eq!(v.gradient_trilinear([1.5, 0.0, 0.0])[0], 1.5);
+        assert_eq!(v.gradient_trilinear([2.0, 0.0, 0.0])[0], 2.0);
+    }
+
+    // ---------------------------------------------------------------- ndarray
+
+    #[test]
+    fn zyx_views_follow_numpy_order() {
+        let v = unique_volume([1.0, 2.0, 3.0]);
+        let a = v.to_zyx();
+        assert_eq!(a.dim(), (5, 4, 3));
+        assert_eq!(a[[4, 2, 1]], v.at(1, 2, 4));
+        assert_eq!(v.view_zyx()[[3, 1, 2]], v.at(2, 1, 3));
+        let back = Volume::from_zyx(a.view(), v.spacing()).unwrap();
+        assert_eq!(back, v);
+        // A Fortran-ordered array with the same logical indexing gives the same volume.
+        let f = Array3::from_shape_fn((5, 4, 3).f(), |(z, y, x)| (x + 10 * y + 100 * z) as f32);
+        assert_eq!(Volume::from_zyx(f.view(), v.spacing()).unwrap(), v);
+        assert_eq!(v.clone().into_zyx(), a);
+        let empty = Array3::<f32>::zeros((0, 2, 2));
+        assert!(Volume::from_zyx(empty.view(), [1.0; 3]).is_err());
+    }
+
+    // ---------------------------------------------------------------- raw
+
+    #[test]
+    fn raw_reads_every_type_with_known_bytes() {
+        let dir = tempfile::tempdir().unwrap();
+        let cases: [(RawType, Vec<u8>, [f32; 2]); 7] = [
+            (RawType::U8, vec![7, 250], [7.0, 250.0]),
+            (
+                RawType::U16Le,
+                vec![0x01, 0x02, 0xff, 0xff],
+                [513.0, 65535.0],
+            ),
+            (
+                RawType::U16Be,
+                vec![0x01, 0x02, 0xff, 0xfe],
+                [258.0, 65534.0],
+            ),
+            (RawType::I16Le, vec![0x01, 0x02, 0xfe, 0xff], [513.0, -2.0]),
+            (
+                RawType::I16Be,
+                vec![0x01, 0x02, 0x80, 0x00],
+                [258.0, -32768.0],
+            ),
+            (
+                RawType::F32Le,
+                [1.5f32.to_le_bytes(), (-2.25f32).to_le_bytes()].concat(),
+                [1.5, -2.25],
+            ),
+            (
+                RawType::F32Be,
+                [1.5f32.to_be_bytes(), (-2.25f32).to_be_bytes()].concat(),
+                [1.5, -2.25],
+            ),
+        ];
+        for (t, bytes, want) in cases {
+            assert_eq!(bytes.len(), 2 * t.bytes_per_voxel());
+            let p = dir.path().join(format!("v_{t}.raw"));
+            std::fs::write(&p, &bytes).unwrap();
+            let v = Volume::read_raw(&p, [2, 1, 1], [1.0, 2.0, 3.0], t).unwrap();
+            assert_eq!(v.data(), &want, "{t}");
+            assert_eq!(v.spacing(), [1.0, 2.0, 3.0]);
+            assert_eq!(t.name().parse::<RawType>().unwrap(), t);
+            // Reader leaves the file alone.
+            assert_eq!(std::fs::read(&p).unwrap(), bytes);
+        }
+        assert!("u32".parse::<RawType>().is_err());
+    }
+
+    #[test]
+    fn raw_round_trip_and_size_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let v = unique_volume([0.5, 1.0, 2.0]);
+        let p = dir.path().join("v.raw");
+        v.write_raw_f32_le(&p).unwrap();
+        assert_eq!(std::fs::metadata(&p).unwrap().len(), 60 * 4);
+        let bytes = std::fs::read(&p).unwrap();
+        // x fastest on disk: second value is voxel (1, 0, 0), fourth is (0, 1, 0).
+        assert_eq!(f32::from_le_bytes(bytes[4..8].try_into().unwrap()), 1.0);
+        assert_eq!(f32::from_le_bytes(bytes[12..16].try_into().unwrap()), 10.0);
+        let back = Volume::read_raw(&p, [3, 4, 5], [0.5, 1.0, 2.0], RawType::F32Le).unwrap();
+        assert_eq!(back, v);
+
+        let short = dir.path().join("short.raw");
+        std::fs::write(&short, &bytes[..100]).unwrap();
+        let e = Volume::read_raw(&short, [3, 4, 5], [1.0; 3], RawType::F32Le).unwrap_err();
+        let msg = e.to_string();
+        assert!(matches!(e, Error::Format { .. }), "{msg}");
+        assert!(
+            msg.contains("truncated: expected 240 bytes, found 100"),
+            "{msg}"
+        );
+        assert!(msg.contains("short.raw"), "{msg}");
+        // Too long is an error too.
+        assert!(Volume::read_raw(&p, [3, 4, 4], [1.0; 3], RawType::F32Le).is_err());
+        // Missing file.
+        let e = Volume::read_raw(
+            dir.path().join("nope.raw"),
+            [1, 1, 1],
+            [1.0; 3],
+            RawType::U8,
+        )
+        .unwrap_err();
+        assert!(matches!(e, Error::Io { .. }));
+        assert!(Volume::read_raw(&p, [3, 4, 5], [f64::NAN, 1.0, 1.0], RawType::F32Le).is_err());
+    }
+
+    // ---------------------------------------------------------------- NIfTI
+
+    #[test]
+    fn nifti_round_trip_preserves_values_dims_spacing_and_axis_order() {
+        let dir = tempfile::tempdir().unwrap();
+        let v = unique_volume([0.7, 1.25, 3.0]);
+        for name in ["vol.nii", "vol.nii.gz", "my.scan.v2.nii", "UPPER.NII.GZ"] {
+            let p = dir.path().join(name);
+            v.write_nifti(&p).unwrap();
+            assert!(p.exists(), "{name}");
+            let back = Volume::read_nifti(&p).unwrap();
+            assert_eq!(back.dims(), [3, 4, 5], "{name}");
+            assert_eq!(back.spacing(), [0.7, 1.25, 3.0], "{name}");
+            assert_eq!(back.data(), v.data(), "{name}");
+            assert_eq!(back.at(2, 1, 4), 412.0);
+            let via_read = Volume::read(&p, None).unwrap();
+            assert_eq!(via_read, back);
+            let respaced = Volume::read(&p, Some([2.0; 3])).unwrap();
+            assert_eq!(respaced.spacing(), [2.0; 3]);
+        }
+        // Only the requested files exist: no temporaries left, nothing renamed.
+        let mut names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(
+            names,
+            ["UPPER.NII.GZ", "my.scan.v2.nii", "vol.nii", "vol.nii.gz"]
+        );
+    }
+
+    #[test]
+    fn nifti_file_layout_matches_the_standard() {
+        // Check the bytes on disk, not only our own round trip: dims at offset 40, pixdim at
+        // 76, float32 datatype, x-fastest data from vox_offset 352.
+        let dir = tempfile::tempdir().unwrap();
+        let v = unique_volume([0.5, 1.0, 2.0]);
+        let p = dir.path().join("v.nii");
+        v.write_nifti(&p).unwrap();
+        let b = std::fs::read(&p).unwrap();
+        let i16_at = |o: usize| i16::from_le_bytes([b[o], b[o + 1]]);
+        let f32_at = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());
+        assert_eq!(i32::from_le_bytes(b[0..4].try_into().unwrap()), 348);
+        assert_eq!(
+            [i16_at(40), i16_at(42), i16_at(44), i16_at(46)],
+            [3, 3, 4, 5]
+        );
+        assert_eq!(i16_at(70), 16); // NIFTI_TYPE_FLOAT32
+        assert_eq!([f32_at(80), f32_at(84), f32_at(88)], [0.5, 1.0, 2.0]);
+        assert_eq!(f32_at(108), 352.0);
+        assert_eq!(&b[344..348], b"n+1\0");
+        let data: Vec<f32> = b[352..]
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        assert_eq!(data, v.data());
+    }
+
+    fn patch(bytes: &mut [u8], offset: usize, new: &[u8]) {
+        bytes[offset..offset + new.len()].copy_from_slice(new);
+    }
+
+    #[test]
+    fn nifti_applies_scaling_integer_types_and_4d_with_one_frame() {
+        let dir = tempfile::tempdir().unwrap();
+        // int16 data written by the nifti crate, logical shape [x, y, z, t=1].
+        let a = ndarray::Array4::from_shape_fn((3, 4, 5, 1), |(x, y, z, _)| {
+            (x as i16) - 10 * (y as i16) + 100 * (z as i16)
+        });
+        let p = dir.path().join("i16.nii");
+        nifti::writer::WriterOptions::new(&p)
+            .write_nifti(&a)
+            .unwrap();
+        let v = Volume::read_nifti(&p).unwrap();
+        assert_eq!(v.dims(), [3, 4, 5]);
+        assert_eq!(v.at(2, 3, 4), (2 - 30 + 400) as f32);
+        assert_eq!(v.at(1, 0, 0), 1.0);
+
+        // Patch scl_slope = 2, scl_inter = 10 (offsets 112, 116).
+        let mut b = std::fs::read(&p).unwrap();
+        patch(&mut b, 112, &2.0f32.to_le_bytes());
+        patch(&mut b, 116, &10.0f32.to_le_bytes());
+        // pixdim[2] = 0 -> spacing 1; pixdim[3] = NaN -> spacing 1; pixdim[1] = -0.5 -> 0.5.
+        patch(&mut b, 80, &(-0.5f32).to_le_bytes());
+        patch(&mut b, 84, &0.0f32.to_le_bytes());
+        patch(&mut b, 88, &f32::NAN.to_le_bytes());
+        let q = dir.path().join("scaled.nii");
+        std::fs::write(&q, &b).unwrap();
+        let s = Volume::read_nifti(&q).unwrap();
+        assert_eq!(s.at(2, 3, 4), 2.0 * 372.0 + 10.0);
+        assert_eq!(s.spacing(), [0.5, 1.0, 1.0]);
+
+        // A real 4-D series (t = 2) is refused.
+        let a2 = ndarray::Array4::<f32>::zeros((3, 4, 5, 2));
+        let p2 = dir.path().join("t2.nii");
+        nifti::writer::WriterOptions::new(&p2)
+            .write_nifti(&a2)
+            .unwrap();
+        assert!(matches!(
+            Volume::read_nifti(&p2),
+            Err(Error::UnsupportedFormat(_))
+        ));
+        // A 2-D image is refused.
+        let a3 = ndarray::Array2::<f32>::zeros((3, 4));
+        let p3 = dir.path().join("2d.nii");
+        nifti::writer::WriterOptions::new(&p3)
+            .write_nifti(&a3)
+            .unwrap();
+        assert!(Volume::read_nifti(&p3).is_err());
+    }
+
+    /// Minimal gzip (stored deflate blocks) so tests can compress without extra crates.
+    fn gzip_stored(data: &[u8]) -> Vec<u8> {
+        fn crc32(data: &[u8]) -> u32 {
+            let mut c = 0xffff_ffffu32;
+            for &b in data {
+                c ^= b as u32;
+                for _ in 0..8 {
+                    c = if c & 1 != 0 {
+                        (c >> 1) ^ 0xedb8_8320
+                    } else {
+                        c >> 1
+                    };
+                }
+            }
+            !c
+        }
+        let mut out = vec![0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 255];
+        let chunks: Vec<&[u8]> = data.chunks(65535).collect();
+        for (i, ch) in chunks.iter().enumerate() {
+            out.push(u8::from(i + 1 == chunks.len()));
+            let len = ch.len() as u16;
+            out.extend_from_slice(&len.to_le_bytes());
+            out.extend_from_slice(&(!len).to_le_bytes());
+            out.extend_from_slice(ch);
+        }
+        out.extend_from_slice(&crc32(data).to_le_bytes());
+        out.extend_from_slice(&(data.len() as u32).to_le_bytes());
+        out
+    }
+
+    #[test]
+    fn nifti_hostile_headers_fail_without_allocating() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("ok.nii");
+        unique_volume([1.0; 3]).write_nifti(&p).unwrap();
+        let good = std::fs::read(&p).unwrap();
+        // Our gzip helper produces files the reader accepts.
+        let gz_ok = dir.path().join("ok_gz.nii.gz");
+        std::fs::write(&gz_ok, gzip_stored(&good)).unwrap();
+        assert_eq!(
+            Volume::read_nifti(&gz_ok).unwrap(),
+            Volume::read_nifti(&p).unwrap()
+        );
+
+        // 10^12 voxels: over the limit.
+        let mut huge = good.clone();
+        for o in [42, 44, 46] {
+            patch(&mut huge, o, &10_000i16.to_le_bytes());
+        }
+        // 10^8 voxels (400 MB): under the limit, but the file cannot hold it.
+        let mut big = good.clone();
+        for (o, d) in [(42, 1000i16), (44, 1000), (46, 100)] {
+            patch(&mut big, o, &d.to_le_bytes());
+        }
+        for (name, bytes, limit) in [
+            ("huge.nii", huge.clone(), true),
+            ("huge.nii.gz", gzip_stored(&huge), true),
+            ("big.nii", big.clone(), false),
+            ("big.nii.gz", gzip_stored(&big), false),
+        ] {
+            let q = dir.path().join(name);
+            std::fs::write(&q, &bytes).unwrap();
+            let e = Volume::read_nifti(&q).unwrap_err();
+            if limit {
+                assert!(matches!(e, Error::LimitExceeded(_)), "{name}: {e}");
+            } else {
+                assert!(matches!(e, Error::Format { .. }), "{name}: {e}");
+                assert!(e.to_string().contains(name), "{name}: {e}");
+            }
+        }
+
+        // Truncated data, garbage, wrong datatype, hostile vox_offset, truncated gzip.
+        let mut bad_type = good.clone();
+        patch(&mut bad_type, 70, &128i16.to_le_bytes()); // RGB24
+        let mut bad_offset = good.clone();
+        patch(&mut bad_offset, 108, &1.0e30f32.to_le_bytes());
+        let gz = gzip_stored(&good);
+        let cases: Vec<(&str, Vec<u8>)> = vec![
+            ("cut.nii", good[..good.len() - 1].to_vec()),
+            ("cut_header.nii", good[..200].to_vec()),
+            ("garbage.nii", b"this is not a nifti file at all".repeat(20)),
+            ("empty.nii", Vec::new()),
+            ("rgb.nii", bad_type),
+            ("offset.nii", bad_offset),
+            ("cut.nii.gz", gz[..gz.len() / 2].to_vec()),
+        ];
+        for (name, bytes) in cases {
+            let q = dir.path().join(name);
+            std::fs::write(&q, &bytes).unwrap();
+            let e = Volume::read_nifti(&q).unwrap_err();
+            assert!(e.is_io(), "{name}: {e}");
+            assert!(e.to_string().contains(name), "{name}: {e}");
+            // Readers leave inputs unchanged.
+            assert_eq!(std::fs::read(&q).unwrap(), bytes);
+        }
+        let e = Volume::read_nifti(dir.path().join("missing.nii")).unwrap_err();
+        assert!(matches!(e, Error::Io { .. }));
+        assert!(e.to_string().contains("missing.nii"));
+    }
+
+    #[test]
+    fn nifti_writer_checks_the_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let v = unique_volume([1.0; 3]);
+        assert!(matches!(
+            v.write_nifti(dir.path().join("v.hdr")),
+            Err(Error::UnsupportedFormat(_))
+        ));
+        assert!(matches!(
+            v.write_nifti(dir.path().join("no_ext")),
+            Err(Error::UnsupportedFormat(_))
+        ));
+        assert!(matches!(
+            v.write_nifti(dir.path().join("missing_dir").join("v.nii")),
+            Err(Error::Io { .. })
+        ));
+    }
+
+    // ---------------------------------------------------------------- npy
+
+    #[test]
+    fn npy_round_trip_uses_zyx_convention() {
+        let dir = tempfile::tempdir().unwrap();
+        let v = unique_volume([0.5, 1.0, 2.0]);
+        let p = dir.path().join("v.npy");
+        v.write_npy(&p).unwrap();
+        let arr: Array3<f32> = ndarray_npy::read_npy(&p).unwrap();
+        assert_eq!(arr.dim(), (5, 4, 3));
+        for ((z, y, x), &a) in arr.indexed_iter() {
+            assert_eq!(a, v.at(x, y, z));
+        }
+        let header = String::from_utf8_lossy(&std::fs::read(&p).unwrap()[..128]).into_owned();
+        assert!(header.contains("(5, 4, 3)"), "{header}");
+        assert!(header.contains("'fortran_order': False"), "{header}");
+        let back = Volume::read_npy(&p, [0.5, 1.0, 2.0]).unwrap();
+        assert_eq!(back, v);
+        assert_eq!(Volume::read(&p, Some([0.5, 1.0, 2.0])).unwrap(), v);
+        assert_eq!(Volume::read(&p, None).unwrap().spacing(), [1.0; 3]);
+    }
+
+    #[test]
+    fn npy_reads_other_dtypes_and_fortran_order() {
+        let dir = tempfile::tempdir().unwrap();
+        let f = |z: usize, y: usize, x: usize| x + 10 * y + 100 * z;
+        let want = unique_volume([1.0; 3]);
+        let check = |name: &str, write: &dyn Fn(&Path)| {
+            let p = dir.path().join(name);
+            write(&p);
+            assert_eq!(Volume::read_npy(&p, [1.0; 3]).unwrap(), want, "{name}");
+        };
+        check("f64.npy", &|p| {
+            ndarray_npy::write_npy(
+                p,
+                &Array3::from_shape_fn((5, 4, 3), |(z, y, x)| f(z, y, x) as f64),
+            )
+            .unwrap()
+        });
+        check("u16.npy", &|p| {
+            ndarray_npy::write_npy(
+                p,
+                &Array3::from_shape_fn((5, 4, 3), |(z, y, x)| f(z, y, x) as u16),
+            )
+            .unwrap()
+        });
+        check("i16_fortran.npy", &|p| {
+            let a = Array3::from_shape_fn((5, 4, 3).f(), |(z, y, x)| f(z, y, x) as i16);
+            ndarray_npy::write_npy(p, &a).unwrap()
+        });
+        let small =
+            Volume::from_fn([3, 4, 5], [1.0; 3], |x, y, z| (x + 3 * y + 12 * z) as f32).unwrap();
+        let p = dir.path().join("u8.npy");
+        let a = Array3::from_shape_fn((5, 4, 3), |(z, y, x)| (x + 3 * y + 12 * z) as u8);
+        let mut file = File::create(&p).unwrap();
+        a.write_npy(&mut file).unwrap();
+        drop(file);
+        assert_eq!(Volume::read_npy(&p, [1.0; 3]).unwrap(), small);
+    }
+
+    #[test]
+    fn npy_bad_files_are_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let p2 = dir.path().join("flat.npy");
+        ndarray_npy::write_npy(&p2, &ndarray::Array2::<f32>::zeros((4, 5))).unwrap();
+        let e = Volume::read_npy(&p2, [1.0; 3]).unwrap_err();
+        assert!(e.to_string().contains("3-D"), "{e}");
+        assert!(e.to_string().contains("flat.npy"), "{e}");
+
+        let pb = dir.path().join("bool.npy");
+        ndarray_npy::write_npy(&pb, &Array3::from_elem((2, 2, 2), true)).unwrap();
+        assert!(matches!(
+            Volume::read_npy(&pb, [1.0; 3]),
+            Err(Error::UnsupportedFormat(_))
+        ));
+
+        let good = dir.path().join("good.npy");
+        unique_volume([1.0; 3]).write_npy(&good).unwrap();
+        let bytes = std::fs::read(&good).unwrap();
+        let cut = dir.path().join("cut.npy");
+        std::fs::write(&cut, &bytes[..bytes.len() - 3]).unwrap();
+        assert!(matches!(
+            Volume::read_npy(&cut, [1.0; 3]),
+            Err(Error::Format { .. })
+        ));
+        // Hostile shapes in the header: an error before any allocation of that size.
+        let start = bytes.windows(9).position(|w| w == b"(5, 4, 3)").unwrap();
+        for (shape, limit) in [
+            (&b"(99999, 999, 999)"[..], true),
+            (b"(1000, 999, 100)", false),
+        ] {
+            let mut hb = bytes[..start].to_vec();
+            hb.extend_from_slice(shape);
+            hb.extend_from_slice(&bytes[start + 9..]);
+            // Keep the declared header length right: drop as many padding spaces as added.
+            let nl = hb.iter().position(|&c| c == b'\n').unwrap();
+            hb.drain(nl - (shape.len() - 9)..nl);
+            let hp = dir.path().join("hostile.npy");
+            std::fs::write(&hp, &hb).unwrap();
+            let e = Volume::read_npy(&hp, [1.0; 3]).unwrap_err();
+            if limit {
+                assert!(matches!(e, Error::LimitExceeded(_)), "{e}");
+            } else {
+                assert!(matches!(e, Error::Format { .. }), "{e}");
+                assert!(e.to_string().contains("truncated"), "{e}");
+            }
+        }
+        // Header length field pointing past the end of the file.
+        let mut lie = bytes.clone();
+        patch(&mut lie, 8, &u16::MAX.to_le_bytes());
+        let lp = dir.path().join("lie.npy");
+        std::fs::write(&lp, &lie).unwrap();
+        assert!(matches!(
+            Volume::read_npy(&lp, [1.0; 3]),
+            Err(Error::Format { .. })
+        ));
+
+        let garbage = dir.path().join("garbage.npy");
+        std::fs::write(&garbage, b"not numpy").unwrap();
+        assert!(matches!(
+            Volume::read_npy(&garbage, [1.0; 3]),
+            Err(Error::Format { .. })
+        ));
+        assert!(matches!(
+            Volume::read_npy(dir.path().join("missing.npy"), [1.0; 3]),
+            Err(Error::Io { .. })
+        ));
+        assert!(Volume::read_npy(&good, [0.0, 1.0, 1.0]).is_err());
+    }
+
+    #[test]
+    fn read_dispatch_rejects_unknown_extensions() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("v.mhd");
+        std::fs::write(&p, b"x").unwrap();
+        let e = Volume::read(&p, None).unwrap_err();
+        let msg = e.to_string();
+        assert!(matches!(e, Error::UnsupportedFormat(_)));
+        assert!(
+            msg.contains(".mhd") && msg.contains(".nii.gz") && msg.contains(".npy"),
+            "{msg}"
+        );
+        assert!(Volume::read(dir.path().join("v.nii"), None).is_err());
+    }
 }

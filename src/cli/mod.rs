@@ -1,0 +1,106 @@
+//! Command-line definitions and dispatch.
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+use wscg::demo;
+use wscg_math::{Error, Result};
+
+mod math;
+mod progress;
+
+/// wscg: the methods of the Journal of WSCG vol. 23 papers on your own data.
+#[derive(Parser, Debug)]
+#[command(name = "wscg", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run one demo on built-in data (`wscg demo --list` names them).
+    Demo {
+        /// Demo name.
+        name: Option<String>,
+        /// Output folder for its pictures (default: wscg-demo-NAME).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// List the demos and exit.
+        #[arg(long)]
+        list: bool,
+    },
+    /// Run every demo and write an HTML report (DIR/index.html).
+    Gallery {
+        /// Output folder.
+        #[arg(long, default_value = "gallery")]
+        out: PathBuf,
+        /// Run only these demos (repeatable).
+        #[arg(long)]
+        only: Vec<String>,
+    },
+    /// Shared numerics on image files: metrics, filtering, resizing, spectra.
+    #[command(subcommand)]
+    Math(math::MathCommand),
+}
+
+/// Runs the parsed command.
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Demo { name, out, list } => {
+            if list || name.is_none() {
+                for d in demo::registry() {
+                    println!("{:<16} paper {:<3} {}", d.name, d.paper, d.title);
+                }
+                return Ok(());
+            }
+            let name = name.unwrap_or_default();
+            let d = demo::find(&name).ok_or_else(|| unknown_demo(&name))?;
+            let out = out.unwrap_or_else(|| PathBuf::from(format!("wscg-demo-{name}")));
+            std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
+            let report = (d.run)(&out, &progress::Bars::new(d.name))?;
+            println!("{}\n", report.summary);
+            for r in &report.table {
+                println!("{:<52} ours {:<28} reference {:<12} {}", r.quantity, r.ours, r.reference, r.note);
+            }
+            for (k, v) in &report.timings {
+                println!("{k:<52} {v:.4}");
+            }
+            println!("\nfigures written to {}", out.display());
+            Ok(())
+        }
+        Command::Gallery { out, only } => {
+            let mut demos = demo::registry();
+            if !only.is_empty() {
+                for n in &only {
+                    if demo::find(n).is_none() {
+                        return Err(unknown_demo(n));
+                    }
+                }
+                demos.retain(|d| only.iter().any(|n| n == d.name));
+            }
+            let entries = wscg::gallery::run(&out, &demos, &|d| Box::new(progress::Bars::new(d.name)))?;
+            let failed: Vec<_> = entries.iter().filter(|e| e.result.is_err()).collect();
+            for e in &failed {
+                if let Err(err) = &e.result {
+                    eprintln!("demo {} failed: {err}", e.demo.name);
+                }
+            }
+            println!("gallery written to {}", out.join("index.html").display());
+            if failed.is_empty() {
+                Ok(())
+            } else {
+                Err(Error::Numerical(format!("{} demo(s) failed", failed.len())))
+            }
+        }
+        Command::Math(cmd) => math::run(cmd),
+    }
+}
+
+fn unknown_demo(name: &str) -> Error {
+    let names: Vec<_> = demo::registry().iter().map(|d| d.name).collect();
+    Error::invalid(
+        "name",
+        format!("no demo named {name:?}; available: {}", names.join(", ")),
+    )
+}
