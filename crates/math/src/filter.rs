@@ -80,7 +80,7 @@ pub fn gaussian_kernel(sigma: f64, truncate: f64) -> Result<Vec<f64>> {
 }
 
 fn check_kernel(name: &'static str, k: &[f64]) -> Result<()> {
-    if k.is_empty() || k.len() % 2 == 0 {
+    if k.is_empty() || k.len().is_multiple_of(2) {
         return Err(Error::invalid(
             name,
             format!("kernel length must be odd (centred), got {}", k.len()),

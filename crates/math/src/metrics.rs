@@ -202,7 +202,7 @@ mod tests {
 
     fn noisy(seed: u64, sigma: f64) -> (Image, Image) {
         let clean =
-            Image::from_fn(64, 80, |y, x| (0.5 + 0.4 * ((x as f32) / 7.0).sin() * ((y as f32) / 5.0).cos()) as f32)
+            Image::from_fn(64, 80, |y, x| 0.5 + 0.4 * ((x as f32) / 7.0).sin() * ((y as f32) / 5.0).cos())
                 .unwrap();
         let n = rng::normal_vec(seed, 64 * 80, 0.0, sigma).unwrap();
         let d: Vec<f32> = clean.data().iter().zip(&n).map(|(&c, &e)| c + e as f32).collect();

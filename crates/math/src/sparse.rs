@@ -383,7 +383,7 @@ pub fn pcg(
     while rnorm > target && it < max_iter {
         a.apply(&p, &mut ap);
         let pap = dot(&p, &ap);
-        if !(pap > 0.0) || !pap.is_finite() {
+        if pap.is_nan() || pap <= 0.0 || pap.is_infinite() {
             return Err(Error::Numerical(format!(
                 "conjugate gradient broke down at iteration {it}: p'Ap = {pap:e}; the operator \
                  must be symmetric positive definite"
