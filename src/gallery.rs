@@ -82,9 +82,9 @@ pub fn render(entries: &[Entry]) -> String {
         } else {
             format!("paper {}", d.paper)
         };
-        let _ = write!(
+        let _ = writeln!(
             h,
-            "<section id=\"{}\"><h2>{} <small>({}, demo <code>{}</code>, {:.2} s)</small></h2>\n",
+            "<section id=\"{}\"><h2>{} <small>({}, demo <code>{}</code>, {:.2} s)</small></h2>",
             escape(d.name),
             escape(d.title),
             escape(&paper),

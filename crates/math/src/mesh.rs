@@ -912,11 +912,7 @@ impl TriMesh {
         let file = File::create(path).map_err(io)?;
         let mut out = BufWriter::new(file);
         self.write_obj_to(&mut out).map_err(io)?;
-        out.flush().map_err(io)?;
-        out.into_inner()
-            .map_err(|e| io(e.into_error()))?
-            .sync_all()
-            .map_err(io)
+        out.flush().map_err(io)
     }
 
     fn write_obj_to(&self, out: &mut impl Write) -> std::io::Result<()> {
@@ -1007,11 +1003,7 @@ impl TriMesh {
         let file = File::create(path).map_err(io)?;
         let mut out = BufWriter::new(file);
         self.write_ply_to(&mut out, encoding).map_err(io)?;
-        out.flush().map_err(io)?;
-        out.into_inner()
-            .map_err(|e| io(e.into_error()))?
-            .sync_all()
-            .map_err(io)
+        out.flush().map_err(io)
     }
 
     fn write_ply_to(&self, out: &mut impl Write, encoding: PlyEncoding) -> std::io::Result<()> {
@@ -1317,18 +1309,21 @@ fn parse_obj(text: &str) -> std::result::Result<TriMesh, String> {
     }
     let nv = positions.len();
 
+    if let Some(&(_, n)) = corner_normals
+        .iter()
+        .find(|&&(_, n)| n as usize >= normals.len())
+    {
+        return Err(format!(
+            "a face refers to normal {} but the file has {} `vn` lines",
+            u64::from(n) + 1,
+            normals.len()
+        ));
+    }
     let vertex_normals = if !corner_normals.is_empty() && !corner_without_normal {
         const NONE: u32 = u32::MAX;
         let mut slot = vec![NONE; nv];
         let mut per_vertex = true;
         for &(v, n) in &corner_normals {
-            if n as usize >= normals.len() {
-                return Err(format!(
-                    "a face refers to normal {} but the file has {} `vn` lines",
-                    u64::from(n) + 1,
-                    normals.len()
-                ));
-            }
             // Out-of-range vertices are reported by TriMesh::new below.
             let Some(s) = slot.get_mut(v as usize) else {
                 continue;
@@ -1831,9 +1826,7 @@ mod tests {
         let fnormals = m.face_normals();
         assert_eq!(fnormals[0], [0.0, 0.0, -1.0]);
         let s = 1.0 / 3f64.sqrt();
-        for k in 0..3 {
-            assert!((fnormals[3][k] - s).abs() < 1e-15);
-        }
+        assert!(fnormals[3].iter().all(|v| (v - s).abs() < 1e-15));
         let (lo, hi) = m.bounding_box().unwrap();
         assert_eq!((lo, hi), ([0.0; 3], [1.0; 3]));
         assert_eq!(m.centroid().unwrap(), [0.25; 3]);
@@ -2250,6 +2243,36 @@ mod tests {
         let c = m.colors.unwrap();
         assert_eq!(c[0], [1.0, 0.0, 0.0]);
         assert!((c[3][1] - 0.2).abs() < 1e-7);
+    }
+
+    #[test]
+    fn ply_reader_reads_big_endian_binary() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("be.ply");
+        let mut bytes = b"ply\nformat binary_big_endian 1.0\nelement vertex 3\n\
+            property float x\nproperty float y\nproperty float z\n\
+            property float nx\nproperty float ny\nproperty float nz\n\
+            element face 1\nproperty list uchar short vertex_indices\nend_header\n"
+            .to_vec();
+        for p in [[0.0f32, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]] {
+            for v in p.iter().chain(&[0.0, 0.0, 1.0]) {
+                bytes.extend_from_slice(&v.to_be_bytes());
+            }
+        }
+        bytes.push(3);
+        for i in [0i16, 1, 2] {
+            bytes.extend_from_slice(&i.to_be_bytes());
+        }
+        std::fs::write(&path, &bytes).unwrap();
+        let m = TriMesh::read(&path).unwrap();
+        assert_eq!(
+            m.positions,
+            vec![[0.0; 3], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]
+        );
+        assert_eq!(m.faces, vec![[0, 1, 2]]);
+        assert_eq!(m.normals, Some(vec![[0.0, 0.0, 1.0]; 3]));
+        assert_eq!(m.colors, None);
+        assert_eq!(m.total_area(), 2.0);
     }
 
     #[test]
