@@ -47,9 +47,29 @@ fn bench_pcg(c: &mut Criterion) {
 
 fn bench_ssim(c: &mut Criterion) {
     let n = 2048;
-    let a = Image::new(n, n, 1, rng::uniform_vec(2, n * n, 0.0, 1.0).unwrap().into_iter().map(|v| v as f32).collect()).unwrap();
+    let a = Image::new(
+        n,
+        n,
+        1,
+        rng::uniform_vec(2, n * n, 0.0, 1.0)
+            .unwrap()
+            .into_iter()
+            .map(|v| v as f32)
+            .collect(),
+    )
+    .unwrap();
     let noise = rng::normal_vec(3, n * n, 0.0, 0.05).unwrap();
-    let b = Image::new(n, n, 1, a.data().iter().zip(&noise).map(|(&p, &e)| p + e as f32).collect()).unwrap();
+    let b = Image::new(
+        n,
+        n,
+        1,
+        a.data()
+            .iter()
+            .zip(&noise)
+            .map(|(&p, &e)| p + e as f32)
+            .collect(),
+    )
+    .unwrap();
     let mut g = c.benchmark_group("ssim");
     g.sample_size(10);
     g.bench_function("ssim_2048x2048", |bch| {

@@ -16,7 +16,17 @@ fn main() -> wscg::math::Result<()> {
         0.5 + 0.3 * ((x as f32) / 9.0).sin() * ((y as f32) / 13.0).cos()
     })?;
     let noise = rng::normal_vec(42, h * w, 0.0, 0.05)?;
-    let noisy = Image::new(h, w, 1, clean.data().iter().zip(&noise).map(|(&c, &e)| c + e as f32).collect())?;
+    let noisy = Image::new(
+        h,
+        w,
+        1,
+        clean
+            .data()
+            .iter()
+            .zip(&noise)
+            .map(|(&c, &e)| c + e as f32)
+            .collect(),
+    )?;
     let denoised = gaussian_filter(&noisy, 1.5, 4.0, Border::Reflect)?;
     let p = SsimParams::default();
     println!(
@@ -32,7 +42,11 @@ fn main() -> wscg::math::Result<()> {
     );
 
     // The spectrum's energy equals the image's (Parseval, with the unitary normalisation).
-    let mut f: Vec<Complex<f64>> = clean.data().iter().map(|&v| Complex::new(v as f64, 0.0)).collect();
+    let mut f: Vec<Complex<f64>> = clean
+        .data()
+        .iter()
+        .map(|&v| Complex::new(v as f64, 0.0))
+        .collect();
     fft::fft2(&mut f, h, w, Direction::Forward, Norm::Ortho)?;
     let e1: f64 = clean.data().iter().map(|&v| (v as f64).powi(2)).sum();
     let e2: f64 = f.iter().map(|c| c.norm_sqr()).sum();
@@ -41,7 +55,13 @@ fn main() -> wscg::math::Result<()> {
     // Jacobi-preconditioned CG on a 3-D Poisson problem.
     let a = CsrMatrix::laplacian_3d(48, 48, 48)?;
     let b = vec![1.0; a.nrows()];
-    let res = pcg(&a, &b, InitialGuess::Zero, &Jacobi::new(&a.diagonal())?, &PcgOptions::default())?;
+    let res = pcg(
+        &a,
+        &b,
+        InitialGuess::Zero,
+        &Jacobi::new(&a.diagonal())?,
+        &PcgOptions::default(),
+    )?;
     println!(
         "PCG: {} iterations, relative residual {:.2e}, converged {}",
         res.iterations, res.relative_residual, res.converged

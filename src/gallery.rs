@@ -93,7 +93,11 @@ pub fn render(entries: &[Entry]) -> String {
         );
         match &e.result {
             Err(err) => {
-                let _ = writeln!(h, "<p class=\"err\">failed: {}</p>", escape(&err.to_string()));
+                let _ = writeln!(
+                    h,
+                    "<p class=\"err\">failed: {}</p>",
+                    escape(&err.to_string())
+                );
             }
             Ok(r) => {
                 let _ = writeln!(h, "<p>{}</p>", escape(&r.summary));
@@ -155,10 +159,23 @@ mod tests {
     fn failing_demos_are_reported_and_text_is_escaped() {
         let dir = tempfile::tempdir().unwrap();
         let demos = [
-            Demo { name: "good", paper: "01", title: "Good", run: ok_demo },
-            Demo { name: "bad", paper: "02", title: "Bad", run: bad_demo },
+            Demo {
+                name: "good",
+                paper: "01",
+                title: "Good",
+                run: ok_demo,
+            },
+            Demo {
+                name: "bad",
+                paper: "02",
+                title: "Bad",
+                run: bad_demo,
+            },
         ];
-        let entries = run(dir.path(), &demos, &|_| Box::new(wscg_math::progress::NoProgress)).unwrap();
+        let entries = run(dir.path(), &demos, &|_| {
+            Box::new(wscg_math::progress::NoProgress)
+        })
+        .unwrap();
         assert!(entries[0].result.is_ok() && entries[1].result.is_err());
         let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
         assert!(html.contains("a &lt;b&gt; &amp; c"));

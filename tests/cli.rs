@@ -34,7 +34,11 @@ fn gallery_writes_an_index_with_the_math_demo() {
         .arg(dir.path())
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
     assert!(html.contains("id=\"math\""));
     assert!(html.contains("Parseval"));
@@ -50,7 +54,10 @@ fn unknown_demo_is_a_clear_error() {
     let out = wscg().args(["demo", "no-such-demo"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("no demo named") && err.contains("math"), "{err}");
+    assert!(
+        err.contains("no demo named") && err.contains("math"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -59,10 +66,18 @@ fn metrics_command_reports_psnr_of_files() {
     let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
     write_test_image(&a, 0.0);
     write_test_image(&b, 0.0);
-    let out = wscg().args(["math", "metrics"]).arg(&a).arg(&b).output().unwrap();
+    let out = wscg()
+        .args(["math", "metrics"])
+        .arg(&a)
+        .arg(&b)
+        .output()
+        .unwrap();
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("psnr inf") && text.contains("ssim 1.000000"), "{text}");
+    assert!(
+        text.contains("psnr inf") && text.contains("ssim 1.000000"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -108,16 +123,34 @@ fn bad_files_give_errors_not_crashes() {
     std::fs::write(&garbage, b"not a png").unwrap();
     let missing = dir.path().join("missing.png");
     for (a, b) in [(&garbage, &garbage), (&missing, &missing)] {
-        let out = wscg().args(["math", "metrics"]).arg(a).arg(b).output().unwrap();
+        let out = wscg()
+            .args(["math", "metrics"])
+            .arg(a)
+            .arg(b)
+            .output()
+            .unwrap();
         assert_eq!(out.status.code(), Some(2));
         assert!(String::from_utf8_lossy(&out.stderr).starts_with("error: "));
     }
     let ok = dir.path().join("ok.png");
     write_test_image(&ok, 0.0);
     let other = dir.path().join("other.png");
-    Image::filled(10, 10, 1, 0.5f32).unwrap().save(&other).unwrap();
-    let out = wscg().args(["math", "metrics"]).arg(&ok).arg(&other).output().unwrap();
+    Image::filled(10, 10, 1, 0.5f32)
+        .unwrap()
+        .save(&other)
+        .unwrap();
+    let out = wscg()
+        .args(["math", "metrics"])
+        .arg(&ok)
+        .arg(&other)
+        .output()
+        .unwrap();
     assert!(String::from_utf8_lossy(&out.stderr).contains("shape mismatch"));
-    let out = wscg().args(["math", "blur", "--sigma", "-1"]).arg(&ok).arg(dir.path().join("x.png")).output().unwrap();
+    let out = wscg()
+        .args(["math", "blur", "--sigma", "-1"])
+        .arg(&ok)
+        .arg(dir.path().join("x.png"))
+        .output()
+        .unwrap();
     assert!(String::from_utf8_lossy(&out.stderr).contains("sigma"));
 }

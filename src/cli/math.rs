@@ -90,8 +90,18 @@ pub fn run(cmd: MathCommand) -> Result<()> {
             a.ensure_same_shape(&b)?;
             let m = mse(a.data(), b.data())?;
             let p = psnr(a.data(), b.data(), data_range)?;
-            let s = ssim(&a, &b, &SsimParams { data_range, ..Default::default() })?;
-            println!("mse  {m:.6e}\nrmse {:.6e}\npsnr {p:.4} dB\nssim {s:.6}", m.sqrt());
+            let s = ssim(
+                &a,
+                &b,
+                &SsimParams {
+                    data_range,
+                    ..Default::default()
+                },
+            )?;
+            println!(
+                "mse  {m:.6e}\nrmse {:.6e}\npsnr {p:.4} dB\nssim {s:.6}",
+                m.sqrt()
+            );
             Ok(())
         }
         MathCommand::Blur {
@@ -129,7 +139,11 @@ pub fn run(cmd: MathCommand) -> Result<()> {
             check_output(&input, &output)?;
             let g = Image::load(&input)?.to_gray();
             let (h, w, _) = g.shape();
-            let mut c: Vec<Complex<f64>> = g.data().iter().map(|&v| Complex::new(v as f64, 0.0)).collect();
+            let mut c: Vec<Complex<f64>> = g
+                .data()
+                .iter()
+                .map(|&v| Complex::new(v as f64, 0.0))
+                .collect();
             fft::fft2(&mut c, h, w, Direction::Forward, Norm::Backward)?;
             let mag: Vec<f32> = fft::fftshift(&c, &[h, w])?
                 .iter()

@@ -61,7 +61,10 @@ pub fn run(cli: Cli) -> Result<()> {
             let report = (d.run)(&out, &progress::Bars::new(d.name))?;
             println!("{}\n", report.summary);
             for r in &report.table {
-                println!("{:<52} ours {:<28} reference {:<12} {}", r.quantity, r.ours, r.reference, r.note);
+                println!(
+                    "{:<52} ours {:<28} reference {:<12} {}",
+                    r.quantity, r.ours, r.reference, r.note
+                );
             }
             for (k, v) in &report.timings {
                 println!("{k:<52} {v:.4}");
@@ -79,7 +82,8 @@ pub fn run(cli: Cli) -> Result<()> {
                 }
                 demos.retain(|d| only.iter().any(|n| n == d.name));
             }
-            let entries = wscg::gallery::run(&out, &demos, &|d| Box::new(progress::Bars::new(d.name)))?;
+            let entries =
+                wscg::gallery::run(&out, &demos, &|d| Box::new(progress::Bars::new(d.name)))?;
             let failed: Vec<_> = entries.iter().filter(|e| e.result.is_err()).collect();
             for e in &failed {
                 if let Err(err) = &e.result {

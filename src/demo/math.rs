@@ -63,7 +63,11 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.advance(1);
 
     // FFT and Parseval's identity.
-    let mut spec: Vec<Complex<f64>> = img.data().iter().map(|&v| Complex::new(v as f64, 0.0)).collect();
+    let mut spec: Vec<Complex<f64>> = img
+        .data()
+        .iter()
+        .map(|&v| Complex::new(v as f64, 0.0))
+        .collect();
     rep.time("fft2 512x512 (s)", || {
         fft::fft2(&mut spec, N, N, Direction::Forward, Norm::Backward)
     })?;
@@ -93,7 +97,12 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let mut noisy_01 = None;
     for (k, sigma) in [0.01, 0.02, 0.05, 0.1].into_iter().enumerate() {
         let noise = rng::normal_vec(k as u64, N * N, 0.0, sigma)?;
-        let data: Vec<f32> = img.data().iter().zip(&noise).map(|(&v, &e)| v + e as f32).collect();
+        let data: Vec<f32> = img
+            .data()
+            .iter()
+            .zip(&noise)
+            .map(|(&v, &e)| v + e as f32)
+            .collect();
         let noisy = Image::new(N, N, 1, data)?;
         let p = psnr(img.data(), noisy.data(), 1.0)?;
         let s = ssim(&img, &noisy, &params)?;
@@ -108,11 +117,14 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         }
     }
     let noisy = noisy_01.expect("sigma 0.1 is in the sweep");
-    noisy.map(|v| v.clamp(0.0, 1.0)).save(out.join("noisy.png"))?;
+    noisy
+        .map(|v| v.clamp(0.0, 1.0))
+        .save(out.join("noisy.png"))?;
     let den = rep.time("gaussian_filter sigma=1 512x512 (s)", || {
         gaussian_filter(&noisy, 1.0, 4.0, Border::Reflect)
     })?;
-    den.map(|v| v.clamp(0.0, 1.0)).save(out.join("denoised.png"))?;
+    den.map(|v| v.clamp(0.0, 1.0))
+        .save(out.join("denoised.png"))?;
     rep.figures.push(Figure {
         file: "noisy.png".into(),
         caption: "Gaussian noise, sigma = 0.1".into(),
@@ -163,7 +175,12 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let res = rep.time("pcg Poisson 64^3 (s)", || {
         pcg(&a, &b, InitialGuess::Zero, &jac, &opts)
     })?;
-    let err = res.x.iter().zip(&u).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+    let err = res
+        .x
+        .iter()
+        .zip(&u)
+        .map(|(p, q)| (p - q).abs())
+        .fold(0.0, f64::max);
     rep.table.push(Row::new(
         "PCG 64^3 Poisson: max |x - x_exact|",
         format!("{err:.2e} ({} iterations)", res.iterations),

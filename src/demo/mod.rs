@@ -67,7 +67,8 @@ impl Report {
     pub fn time<T>(&mut self, label: &str, f: impl FnOnce() -> T) -> T {
         let t = Instant::now();
         let v = f();
-        self.timings.push((label.to_string(), t.elapsed().as_secs_f64()));
+        self.timings
+            .push((label.to_string(), t.elapsed().as_secs_f64()));
         v
     }
 }

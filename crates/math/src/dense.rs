@@ -149,7 +149,10 @@ pub fn lstsq(a: MatRef<'_, f64>, b: MatRef<'_, f64>, rcond: Option<f64>) -> Resu
     let d = svd(a)?;
     let rcond = rcond.unwrap_or(f64::EPSILON * a.nrows().max(a.ncols()) as f64);
     if !(rcond.is_finite() && rcond >= 0.0) {
-        return Err(Error::invalid("rcond", format!("must be finite and >= 0, got {rcond}")));
+        return Err(Error::invalid(
+            "rcond",
+            format!("must be finite and >= 0, got {rcond}"),
+        ));
     }
     let cut = rcond * d.s.first().copied().unwrap_or(0.0);
     // X = V diag(1/s) U' B over the kept singular values.
@@ -327,7 +330,10 @@ mod tests {
         let mut nan = spd(3, 1);
         nan[(1, 1)] = f64::NAN;
         assert!(matches!(eigh(nan.as_ref()), Err(Error::NonFinite { .. })));
-        assert!(matches!(svd(Mat::<f64>::zeros(0, 3).as_ref()), Err(Error::Empty(_))));
+        assert!(matches!(
+            svd(Mat::<f64>::zeros(0, 3).as_ref()),
+            Err(Error::Empty(_))
+        ));
         let indefinite = Mat::from_fn(2, 2, |i, j| if i == j { -1.0 } else { 0.0 });
         assert!(eigh_generalized(spd(2, 1).as_ref(), indefinite.as_ref()).is_err());
         assert!(eigh_generalized(spd(2, 1).as_ref(), spd(3, 1).as_ref()).is_err());

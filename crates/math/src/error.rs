@@ -138,7 +138,13 @@ mod tests {
     #[test]
     fn finite_check_reports_first_bad_index() {
         let e = ensure_finite("x", &[1.0f32, 2.0, f32::NAN, f32::INFINITY]).unwrap_err();
-        assert!(matches!(e, Error::NonFinite { name: "x", index: 2 }));
+        assert!(matches!(
+            e,
+            Error::NonFinite {
+                name: "x",
+                index: 2
+            }
+        ));
         assert!(e.to_string().contains("`x`"));
         assert!(ensure_finite("x", &[0.0f64, -1.0]).is_ok());
     }

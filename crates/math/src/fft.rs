@@ -89,7 +89,10 @@ pub fn fft_axes<T: FftNum>(
         if a >= shape.len() || seen[a] {
             return Err(Error::invalid(
                 "axes",
-                format!("{axes:?} is not a list of distinct axes of a {}-D array", shape.len()),
+                format!(
+                    "{axes:?} is not a list of distinct axes of a {}-D array",
+                    shape.len()
+                ),
             ));
         }
         seen[a] = true;
@@ -154,7 +157,11 @@ fn transform_axis<T: FftNum>(
 }
 
 /// One-dimensional FFT returning a new vector.
-pub fn fft1<T: FftNum>(input: &[Complex<T>], dir: Direction, norm: Norm) -> Result<Vec<Complex<T>>> {
+pub fn fft1<T: FftNum>(
+    input: &[Complex<T>],
+    dir: Direction,
+    norm: Norm,
+) -> Result<Vec<Complex<T>>> {
     let mut out = input.to_vec();
     fftn(&mut out, &[input.len()], dir, norm)?;
     Ok(out)
@@ -226,7 +233,11 @@ pub fn fftfreq(n: usize, d: f64) -> Vec<f64> {
     let half = n.div_ceil(2);
     (0..n)
         .map(|i| {
-            let k = if i < half { i as f64 } else { i as f64 - n as f64 };
+            let k = if i < half {
+                i as f64
+            } else {
+                i as f64 - n as f64
+            };
             k / (n as f64 * d)
         })
         .collect()
@@ -268,7 +279,10 @@ mod tests {
     }
 
     fn max_err(a: &[C], b: &[C]) -> f64 {
-        a.iter().zip(b).map(|(x, y)| (x - y).norm()).fold(0.0, f64::max)
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).norm())
+            .fold(0.0, f64::max)
     }
 
     #[test]
@@ -281,7 +295,10 @@ mod tests {
             assert!(max_err(&y, &naive(&x, &shape, -1.0)) < 1e-9, "{shape:?}");
             let mut z = x.clone();
             fftn(&mut z, &shape, Direction::Inverse, Norm::Backward).unwrap();
-            let r: Vec<C> = naive(&x, &shape, 1.0).iter().map(|v| v / n as f64).collect();
+            let r: Vec<C> = naive(&x, &shape, 1.0)
+                .iter()
+                .map(|v| v / n as f64)
+                .collect();
             assert!(max_err(&z, &r) < 1e-9, "{shape:?}");
         }
     }
@@ -307,12 +324,24 @@ mod tests {
     fn f32_transform_of_a_cosine_is_two_spikes() {
         let n = 64;
         let x: Vec<Complex<f32>> = (0..n)
-            .map(|i| Complex::new((2.0 * std::f32::consts::PI * 5.0 * i as f32 / n as f32).cos(), 0.0))
+            .map(|i| {
+                Complex::new(
+                    (2.0 * std::f32::consts::PI * 5.0 * i as f32 / n as f32).cos(),
+                    0.0,
+                )
+            })
             .collect();
         let y = fft1(&x, Direction::Forward, Norm::Backward).unwrap();
         for (k, v) in y.iter().enumerate() {
-            let expect = if k == 5 || k == n - 5 { n as f32 / 2.0 } else { 0.0 };
-            assert!((v.re - expect).abs() < 1e-3 && v.im.abs() < 1e-3, "k={k} {v}");
+            let expect = if k == 5 || k == n - 5 {
+                n as f32 / 2.0
+            } else {
+                0.0
+            };
+            assert!(
+                (v.re - expect).abs() < 1e-3 && v.im.abs() < 1e-3,
+                "k={k} {v}"
+            );
         }
     }
 
@@ -333,8 +362,14 @@ mod tests {
     #[test]
     fn shifts_match_numpy() {
         // numpy.fft.fftshift(np.arange(5)) == [3, 4, 0, 1, 2]
-        assert_eq!(fftshift(&[0, 1, 2, 3, 4], &[5]).unwrap(), vec![3, 4, 0, 1, 2]);
-        assert_eq!(ifftshift(&[0, 1, 2, 3, 4], &[5]).unwrap(), vec![2, 3, 4, 0, 1]);
+        assert_eq!(
+            fftshift(&[0, 1, 2, 3, 4], &[5]).unwrap(),
+            vec![3, 4, 0, 1, 2]
+        );
+        assert_eq!(
+            ifftshift(&[0, 1, 2, 3, 4], &[5]).unwrap(),
+            vec![2, 3, 4, 0, 1]
+        );
         assert_eq!(fftshift(&[0, 1, 2, 3], &[4]).unwrap(), vec![2, 3, 0, 1]);
         let a: Vec<usize> = (0..12).collect();
         let s = fftshift(&a, &[3, 4]).unwrap();

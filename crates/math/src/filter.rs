@@ -163,7 +163,13 @@ pub fn per_channel(
     let (h, w, c) = img.shape();
     let mut out = vec![0.0f32; h * w * c];
     for ch in 0..c {
-        let plane: Vec<f64> = img.data().iter().skip(ch).step_by(c).map(|&v| v as f64).collect();
+        let plane: Vec<f64> = img
+            .data()
+            .iter()
+            .skip(ch)
+            .step_by(c)
+            .map(|&v| v as f64)
+            .collect();
         let res = f(&plane, h, w)?;
         for (o, v) in out.iter_mut().skip(ch).step_by(c).zip(res) {
             *o = v as f32;
@@ -238,7 +244,12 @@ mod tests {
             }
         }
         let c = Image::filled(5, 7, 3, 0.25f32).unwrap();
-        for b in [Border::Reflect, Border::Mirror, Border::Nearest, Border::Wrap] {
+        for b in [
+            Border::Reflect,
+            Border::Mirror,
+            Border::Nearest,
+            Border::Wrap,
+        ] {
             let f = box_filter(&c, 2, b).unwrap();
             assert!(f.data().iter().all(|v| (v - 0.25).abs() < 1e-6));
         }

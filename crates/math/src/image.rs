@@ -35,7 +35,9 @@ impl<T: Copy> Image<T> {
     /// ([`Error::ShapeMismatch`]).
     pub fn new(height: usize, width: usize, channels: usize, data: Vec<T>) -> Result<Self> {
         if height == 0 || width == 0 || channels == 0 {
-            return Err(Error::Empty("image (height, width and channels must be > 0)"));
+            return Err(Error::Empty(
+                "image (height, width and channels must be > 0)",
+            ));
         }
         let n = height
             .checked_mul(width)
@@ -118,10 +120,19 @@ impl<T: Copy> Image<T> {
         if c >= self.channels {
             return Err(Error::invalid(
                 "channel",
-                format!("{c} is out of range for an image with {} channels", self.channels),
+                format!(
+                    "{c} is out of range for an image with {} channels",
+                    self.channels
+                ),
             ));
         }
-        let data = self.data.iter().skip(c).step_by(self.channels).copied().collect();
+        let data = self
+            .data
+            .iter()
+            .skip(c)
+            .step_by(self.channels)
+            .copied()
+            .collect();
         Image::new(self.height, self.width, 1, data)
     }
     /// Applies `f` to every value.
@@ -192,13 +203,9 @@ impl Image<f32> {
             DynamicImage::ImageRgb8(b) => (3, b.iter().map(|&v| v as f32 / 255.0).collect()),
             DynamicImage::ImageRgba8(b) => (4, b.iter().map(|&v| v as f32 / 255.0).collect()),
             DynamicImage::ImageLuma16(b) => (1, b.iter().map(|&v| v as f32 / 65535.0).collect()),
-            DynamicImage::ImageLumaA16(b) => {
-                (2, b.iter().map(|&v| v as f32 / 65535.0).collect())
-            }
+            DynamicImage::ImageLumaA16(b) => (2, b.iter().map(|&v| v as f32 / 65535.0).collect()),
             DynamicImage::ImageRgb16(b) => (3, b.iter().map(|&v| v as f32 / 65535.0).collect()),
-            DynamicImage::ImageRgba16(b) => {
-                (4, b.iter().map(|&v| v as f32 / 65535.0).collect())
-            }
+            DynamicImage::ImageRgba16(b) => (4, b.iter().map(|&v| v as f32 / 65535.0).collect()),
             DynamicImage::ImageRgb32F(b) => (3, b.as_raw().clone()),
             DynamicImage::ImageRgba32F(b) => (4, b.as_raw().clone()),
             other => (4, other.to_rgba32f().into_raw()),
@@ -251,12 +258,12 @@ impl Image<f32> {
                 ImageBuffer::from_raw(w, h, self.data.iter().map(|&v| q16(v)).collect())
                     .ok_or_else(bad)?,
             ),
-            (PixelDepth::F32, 3) => {
-                DynamicImage::ImageRgb32F(ImageBuffer::from_raw(w, h, self.data.clone()).ok_or_else(bad)?)
-            }
-            (PixelDepth::F32, 4) => {
-                DynamicImage::ImageRgba32F(ImageBuffer::from_raw(w, h, self.data.clone()).ok_or_else(bad)?)
-            }
+            (PixelDepth::F32, 3) => DynamicImage::ImageRgb32F(
+                ImageBuffer::from_raw(w, h, self.data.clone()).ok_or_else(bad)?,
+            ),
+            (PixelDepth::F32, 4) => DynamicImage::ImageRgba32F(
+                ImageBuffer::from_raw(w, h, self.data.clone()).ok_or_else(bad)?,
+            ),
             (PixelDepth::F32, 1 | 2) => {
                 let rgb: Vec<f32> = self
                     .data
@@ -404,8 +411,14 @@ mod tests {
 
     #[test]
     fn bad_shapes_are_rejected() {
-        assert!(matches!(Image::new(2, 2, 1, vec![0.0f32; 3]), Err(Error::ShapeMismatch(_))));
-        assert!(matches!(Image::<f32>::new(0, 2, 1, vec![]), Err(Error::Empty(_))));
+        assert!(matches!(
+            Image::new(2, 2, 1, vec![0.0f32; 3]),
+            Err(Error::ShapeMismatch(_))
+        ));
+        assert!(matches!(
+            Image::<f32>::new(0, 2, 1, vec![]),
+            Err(Error::Empty(_))
+        ));
         assert!(ramp(2, 2, 1).channel(1).is_err());
         assert!(ramp(2, 2, 1).ensure_same_shape(&ramp(2, 3, 1)).is_err());
     }
@@ -471,7 +484,10 @@ mod tests {
     #[test]
     fn bad_files_give_errors() {
         let dir = tempfile::tempdir().unwrap();
-        assert!(matches!(Image::load(dir.path().join("missing.png")), Err(Error::Io { .. })));
+        assert!(matches!(
+            Image::load(dir.path().join("missing.png")),
+            Err(Error::Io { .. })
+        ));
         let garbage = dir.path().join("garbage.png");
         std::fs::write(&garbage, b"this is not an image at all").unwrap();
         assert!(Image::load(&garbage).unwrap_err().is_io());

@@ -6,7 +6,7 @@
 //! - [`image`]: [`Image`], an H x W x C row-major buffer with PNG/JPEG/16-bit PNG/EXR/HDR IO.
 //! - [`volume`]: [`Volume`], an X x Y x Z grid with voxel spacing, trilinear sampling, gradients,
 //!   raw, NIfTI and `.npy` IO.
-//! - [`mesh`]: [`TriMesh`] with adjacency, normals, areas, OBJ and PLY IO.
+//! - [`mesh`]: [`TriMesh`] with adjacency, normals, areas, OBJ and PLY (ascii and binary) IO.
 //! - [`sparse`]: CSR matrices (faer storage) and a preconditioned conjugate gradient written
 //!   against the [`sparse::LinOp`] operator trait.
 //! - [`dense`]: symmetric eigen, SVD, least squares and the generalized symmetric eigenproblem
@@ -20,7 +20,6 @@
 
 pub mod error;
 
-pub use error::{Error, Result};
 pub mod dense;
 pub mod fft;
 pub mod filter;
@@ -32,3 +31,8 @@ pub mod resize;
 pub mod rng;
 pub mod sparse;
 pub mod volume;
+
+pub use error::{Error, Result};
+pub use image::Image;
+pub use mesh::{Adjacency, PlyEncoding, TriMesh};
+pub use volume::Volume;

@@ -93,7 +93,13 @@ impl Default for SsimParams {
 }
 
 /// SSIM map of two `h x w` planes (eq. 13 of Wang et al. 2004 at every pixel), uncropped.
-pub fn ssim_map_plane(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) -> Result<Vec<f64>> {
+pub fn ssim_map_plane(
+    a: &[f64],
+    b: &[f64],
+    h: usize,
+    w: usize,
+    p: &SsimParams,
+) -> Result<Vec<f64>> {
     check_pair(a, b)?;
     if a.len() != h * w {
         return Err(Error::ShapeMismatch(format!(
@@ -123,8 +129,7 @@ pub fn ssim_map_plane(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) 
             let vx = uxx[i] - mx * mx;
             let vy = uyy[i] - my * my;
             let vxy = uxy[i] - mx * my;
-            ((2.0 * mx * my + c1) * (2.0 * vxy + c2))
-                / ((mx * mx + my * my + c1) * (vx + vy + c2))
+            ((2.0 * mx * my + c1) * (2.0 * vxy + c2)) / ((mx * mx + my * my + c1) * (vx + vy + c2))
         })
         .collect())
 }
@@ -148,8 +153,20 @@ pub fn ssim(a: &Image<f32>, b: &Image<f32>, p: &SsimParams) -> Result<f64> {
     }
     let mut total = 0.0;
     for ch in 0..c {
-        let pa: Vec<f64> = a.data().iter().skip(ch).step_by(c).map(|&v| v as f64).collect();
-        let pb: Vec<f64> = b.data().iter().skip(ch).step_by(c).map(|&v| v as f64).collect();
+        let pa: Vec<f64> = a
+            .data()
+            .iter()
+            .skip(ch)
+            .step_by(c)
+            .map(|&v| v as f64)
+            .collect();
+        let pb: Vec<f64> = b
+            .data()
+            .iter()
+            .skip(ch)
+            .step_by(c)
+            .map(|&v| v as f64)
+            .collect();
         let map = ssim_map_plane(&pa, &pb, h, w, p)?;
         let (mut s, mut n) = (0.0, 0usize);
         for y in radius..h - radius {
@@ -201,11 +218,17 @@ mod tests {
     use crate::rng;
 
     fn noisy(seed: u64, sigma: f64) -> (Image, Image) {
-        let clean =
-            Image::from_fn(64, 80, |y, x| 0.5 + 0.4 * ((x as f32) / 7.0).sin() * ((y as f32) / 5.0).cos())
-                .unwrap();
+        let clean = Image::from_fn(64, 80, |y, x| {
+            0.5 + 0.4 * ((x as f32) / 7.0).sin() * ((y as f32) / 5.0).cos()
+        })
+        .unwrap();
         let n = rng::normal_vec(seed, 64 * 80, 0.0, sigma).unwrap();
-        let d: Vec<f32> = clean.data().iter().zip(&n).map(|(&c, &e)| c + e as f32).collect();
+        let d: Vec<f32> = clean
+            .data()
+            .iter()
+            .zip(&n)
+            .map(|(&c, &e)| c + e as f32)
+            .collect();
         let noisy = Image::new(64, 80, 1, d).unwrap();
         (clean, noisy)
     }
@@ -236,7 +259,10 @@ mod tests {
         assert!((s - s2).abs() < 1e-12, "symmetric");
         assert!(s < 0.8 && s > 0.0, "{s}");
         let (_, n_small) = noisy(5, 0.02);
-        assert!(ssim(&c, &n_small, &p).unwrap() > s, "less noise, higher SSIM");
+        assert!(
+            ssim(&c, &n_small, &p).unwrap() > s,
+            "less noise, higher SSIM"
+        );
         // A constant shift only changes the luminance term: for mean-free structure with
         // shift d on plane mean mu: l = (2 mu (mu+d) + C1)/(mu^2 + (mu+d)^2 + C1) everywhere.
         let flat = Image::filled(20, 20, 1, 0.5f32).unwrap();
@@ -252,8 +278,14 @@ mod tests {
         let small = Image::filled(8, 8, 1, 0.0f32).unwrap();
         assert!(ssim(&small, &small, &SsimParams::default()).is_err());
         let other = Image::filled(64, 81, 1, 0.0f32).unwrap();
-        assert!(matches!(ssim(&c, &other, &SsimParams::default()), Err(Error::ShapeMismatch(_))));
-        let bad = SsimParams { data_range: 0.0, ..Default::default() };
+        assert!(matches!(
+            ssim(&c, &other, &SsimParams::default()),
+            Err(Error::ShapeMismatch(_))
+        ));
+        let bad = SsimParams {
+            data_range: 0.0,
+            ..Default::default()
+        };
         assert!(ssim(&c, &c, &bad).is_err());
         let mut nan = c.clone();
         nan.set(3, 3, 0, f32::NAN);

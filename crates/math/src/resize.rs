@@ -82,26 +82,30 @@ pub fn resize(
     let ty = taps(h, height, method);
     // Horizontal pass: h x width x c.
     let mut tmp = vec![0.0f64; h * width * c];
-    tmp.par_chunks_mut(width * c).enumerate().for_each(|(y, row)| {
-        let src = &img.data()[y * w * c..(y + 1) * w * c];
-        for (x, t) in tx.iter().enumerate() {
-            for &(i, wt) in t {
-                for ch in 0..c {
-                    row[x * c + ch] += wt * src[i * c + ch] as f64;
+    tmp.par_chunks_mut(width * c)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let src = &img.data()[y * w * c..(y + 1) * w * c];
+            for (x, t) in tx.iter().enumerate() {
+                for &(i, wt) in t {
+                    for ch in 0..c {
+                        row[x * c + ch] += wt * src[i * c + ch] as f64;
+                    }
                 }
             }
-        }
-    });
+        });
     // Vertical pass.
     let mut out = vec![0.0f32; height * width * c];
-    out.par_chunks_mut(width * c).enumerate().for_each(|(y, row)| {
-        let mut acc = vec![0.0f64; width * c];
-        for &(i, wt) in &ty[y] {
-            let src = &tmp[i * width * c..(i + 1) * width * c];
-            acc.iter_mut().zip(src).for_each(|(a, &s)| *a += wt * s);
-        }
-        row.iter_mut().zip(acc).for_each(|(o, a)| *o = a as f32);
-    });
+    out.par_chunks_mut(width * c)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let mut acc = vec![0.0f64; width * c];
+            for &(i, wt) in &ty[y] {
+                let src = &tmp[i * width * c..(i + 1) * width * c];
+                acc.iter_mut().zip(src).for_each(|(a, &s)| *a += wt * s);
+            }
+            row.iter_mut().zip(acc).for_each(|(o, a)| *o = a as f32);
+        });
     Image::new(height, width, c, out)
 }
 
@@ -129,7 +133,8 @@ mod tests {
     #[test]
     fn area_resize_preserves_the_mean_for_any_factor() {
         let img = Image::from_fn(37, 23, |y, x| ((y * 7 + x * 3) % 11) as f32 / 10.0).unwrap();
-        let mean = |i: &Image| i.data().iter().map(|&v| v as f64).sum::<f64>() / i.data().len() as f64;
+        let mean =
+            |i: &Image| i.data().iter().map(|&v| v as f64).sum::<f64>() / i.data().len() as f64;
         for (h, w) in [(10, 7), (37, 23), (74, 50), (5, 19)] {
             let r = resize(&img, h, w, Interpolation::Area).unwrap();
             assert!((mean(&r) - mean(&img)).abs() < 1e-5, "{h}x{w}");

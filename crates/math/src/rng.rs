@@ -36,19 +36,24 @@ pub fn stream(seed: u64, stream: u64) -> Rng {
 /// Errors: `std` negative or non-finite, `mean` non-finite.
 pub fn normal_vec(seed: u64, n: usize, mean: f64, std: f64) -> Result<Vec<f64>> {
     if !mean.is_finite() {
-        return Err(Error::invalid("mean", format!("must be finite, got {mean}")));
+        return Err(Error::invalid(
+            "mean",
+            format!("must be finite, got {mean}"),
+        ));
     }
     let dist = Normal::new(mean, std)
         .ok()
         .filter(|_| std.is_finite() && std >= 0.0)
         .ok_or_else(|| Error::invalid("std", format!("must be finite and >= 0, got {std}")))?;
     let mut out = vec![0.0; n];
-    out.par_chunks_mut(BLOCK).enumerate().for_each(|(b, chunk)| {
-        let mut r = stream(seed, b as u64);
-        for v in chunk {
-            *v = dist.sample(&mut r);
-        }
-    });
+    out.par_chunks_mut(BLOCK)
+        .enumerate()
+        .for_each(|(b, chunk)| {
+            let mut r = stream(seed, b as u64);
+            for v in chunk {
+                *v = dist.sample(&mut r);
+            }
+        });
     Ok(out)
 }
 
@@ -63,12 +68,14 @@ pub fn uniform_vec(seed: u64, n: usize, lo: f64, hi: f64) -> Result<Vec<f64>> {
         ));
     }
     let mut out = vec![0.0; n];
-    out.par_chunks_mut(BLOCK).enumerate().for_each(|(b, chunk)| {
-        let mut r = stream(seed, b as u64);
-        for v in chunk {
-            *v = r.random_range(lo..hi);
-        }
-    });
+    out.par_chunks_mut(BLOCK)
+        .enumerate()
+        .for_each(|(b, chunk)| {
+            let mut r = stream(seed, b as u64);
+            for v in chunk {
+                *v = r.random_range(lo..hi);
+            }
+        });
     Ok(out)
 }
 
@@ -90,7 +97,10 @@ mod tests {
     #[test]
     fn same_seed_same_values_independent_of_threads() {
         let a = normal_vec(7, 10_000, 1.0, 2.0).unwrap();
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
         let b = pool.install(|| normal_vec(7, 10_000, 1.0, 2.0).unwrap());
         assert_eq!(a, b);
         assert_ne!(a, normal_vec(8, 10_000, 1.0, 2.0).unwrap());

@@ -57,7 +57,10 @@ impl Jacobi {
         if let Some(i) = diagonal.iter().position(|&d| !(d.is_finite() && d > 0.0)) {
             return Err(Error::invalid(
                 "diagonal",
-                format!("Jacobi needs a positive diagonal; entry {i} is {}", diagonal[i]),
+                format!(
+                    "Jacobi needs a positive diagonal; entry {i} is {}",
+                    diagonal[i]
+                ),
             ));
         }
         Ok(Self {
@@ -85,7 +88,11 @@ impl CsrMatrix {
     /// Builds from `(row, col, value)` triplets; duplicate entries are summed.
     ///
     /// Errors: an index out of range, a non-finite value.
-    pub fn from_triplets(nrows: usize, ncols: usize, triplets: &[(usize, usize, f64)]) -> Result<Self> {
+    pub fn from_triplets(
+        nrows: usize,
+        ncols: usize,
+        triplets: &[(usize, usize, f64)],
+    ) -> Result<Self> {
         for (k, &(i, j, v)) in triplets.iter().enumerate() {
             if i >= nrows || j >= ncols {
                 return Err(Error::invalid(
@@ -100,8 +107,10 @@ impl CsrMatrix {
                 });
             }
         }
-        let t: Vec<Triplet<usize, usize, f64>> =
-            triplets.iter().map(|&(i, j, v)| Triplet::new(i, j, v)).collect();
+        let t: Vec<Triplet<usize, usize, f64>> = triplets
+            .iter()
+            .map(|&(i, j, v)| Triplet::new(i, j, v))
+            .collect();
         let inner = SparseRowMat::try_new_from_triplets(nrows, ncols, &t)
             .map_err(|e| Error::invalid("triplets", format!("{e:?}")))?;
         Ok(Self { inner })
@@ -217,12 +226,7 @@ impl CsrMatrix {
     pub fn diagonal(&self) -> Vec<f64> {
         let (p, c, v) = (self.indptr(), self.indices(), self.values());
         (0..self.nrows().min(self.ncols()))
-            .map(|i| {
-                (p[i]..p[i + 1])
-                    .filter(|&k| c[k] == i)
-                    .map(|k| v[k])
-                    .sum()
-            })
+            .map(|i| (p[i]..p[i + 1]).filter(|&k| c[k] == i).map(|k| v[k]).sum())
             .collect()
     }
     /// Dense copy (for tests and small problems).
@@ -311,7 +315,11 @@ pub struct PcgResult {
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.par_iter().with_min_len(MIN_LEN).zip(b).map(|(x, y)| x * y).sum()
+    a.par_iter()
+        .with_min_len(MIN_LEN)
+        .zip(b)
+        .map(|(x, y)| x * y)
+        .sum()
 }
 
 /// Preconditioned conjugate gradient for symmetric positive definite `a`
@@ -461,14 +469,31 @@ mod tests {
         let llt = dense.llt(Side::Lower).unwrap();
         let bm = Mat::from_fn(n, 1, |i, _| b[i]);
         let xd = llt.solve(&bm);
-        let res = pcg(&a, &b, InitialGuess::Zero, &Jacobi::new(&a.diagonal()).unwrap(), &PcgOptions { tol: 1e-12, max_iter: None }).unwrap();
+        let res = pcg(
+            &a,
+            &b,
+            InitialGuess::Zero,
+            &Jacobi::new(&a.diagonal()).unwrap(),
+            &PcgOptions {
+                tol: 1e-12,
+                max_iter: None,
+            },
+        )
+        .unwrap();
         assert!(res.converged);
-        let err = (0..n).map(|i| (res.x[i] - xd[(i, 0)]).abs()).fold(0.0, f64::max);
+        let err = (0..n)
+            .map(|i| (res.x[i] - xd[(i, 0)]).abs())
+            .fold(0.0, f64::max);
         let scale = (0..n).map(|i| xd[(i, 0)].abs()).fold(0.0, f64::max);
         assert!(err < 1e-9 * scale, "max error {err}");
         // Residual reported matches the true residual.
         let ax = a.mul_vec(&res.x).unwrap();
-        let true_res = ax.iter().zip(&b).map(|(p, q)| (p - q).powi(2)).sum::<f64>().sqrt()
+        let true_res = ax
+            .iter()
+            .zip(&b)
+            .map(|(p, q)| (p - q).powi(2))
+            .sum::<f64>()
+            .sqrt()
             / b.iter().map(|v| v * v).sum::<f64>().sqrt();
         assert!((true_res - res.relative_residual).abs() < 1e-10);
     }
@@ -478,11 +503,26 @@ mod tests {
         let n = 300;
         let a = random_spd(n, 2);
         let b = vec![1.0; n];
-        let opts = PcgOptions { tol: 1e-10, max_iter: Some(5000) };
+        let opts = PcgOptions {
+            tol: 1e-10,
+            max_iter: Some(5000),
+        };
         let plain = pcg(&a, &b, InitialGuess::Zero, &IdentityPrecond, &opts).unwrap();
-        let jac = pcg(&a, &b, InitialGuess::Zero, &Jacobi::new(&a.diagonal()).unwrap(), &opts).unwrap();
+        let jac = pcg(
+            &a,
+            &b,
+            InitialGuess::Zero,
+            &Jacobi::new(&a.diagonal()).unwrap(),
+            &opts,
+        )
+        .unwrap();
         assert!(plain.converged && jac.converged);
-        assert!(jac.iterations < plain.iterations, "{} vs {}", jac.iterations, plain.iterations);
+        assert!(
+            jac.iterations < plain.iterations,
+            "{} vs {}",
+            jac.iterations,
+            plain.iterations
+        );
         let warm = pcg(&a, &b, InitialGuess::Given(&jac.x), &IdentityPrecond, &opts).unwrap();
         assert_eq!(warm.iterations, 0);
     }
@@ -491,11 +531,29 @@ mod tests {
     fn laplacian_3d_solves_a_manufactured_problem() {
         let (nx, ny, nz) = (12, 10, 8);
         let a = CsrMatrix::laplacian_3d(nx, ny, nz).unwrap();
-        assert_eq!(a.nnz(), 7 * nx * ny * nz - 2 * (ny * nz + nx * nz + nx * ny));
+        assert_eq!(
+            a.nnz(),
+            7 * nx * ny * nz - 2 * (ny * nz + nx * nz + nx * ny)
+        );
         let xs: Vec<f64> = (0..a.nrows()).map(|i| ((i % 7) as f64).sin()).collect();
         let b = a.mul_vec(&xs).unwrap();
-        let res = pcg(&a, &b, InitialGuess::Zero, &IdentityPrecond, &PcgOptions { tol: 1e-11, max_iter: None }).unwrap();
-        let err = res.x.iter().zip(&xs).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+        let res = pcg(
+            &a,
+            &b,
+            InitialGuess::Zero,
+            &IdentityPrecond,
+            &PcgOptions {
+                tol: 1e-11,
+                max_iter: None,
+            },
+        )
+        .unwrap();
+        let err = res
+            .x
+            .iter()
+            .zip(&xs)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
         assert!(err < 1e-8, "{err}");
         // CG on an n-dimensional SPD system converges in at most n steps in exact arithmetic;
         // for this well-conditioned grid it needs far fewer.
@@ -518,20 +576,74 @@ mod tests {
     #[test]
     fn bad_systems_are_rejected() {
         let a = CsrMatrix::from_triplets(2, 2, &[(0, 0, 1.0), (1, 1, -1.0)]).unwrap();
-        let e = pcg(&a, &[0.0, 1.0], InitialGuess::Zero, &IdentityPrecond, &PcgOptions::default());
+        let e = pcg(
+            &a,
+            &[0.0, 1.0],
+            InitialGuess::Zero,
+            &IdentityPrecond,
+            &PcgOptions::default(),
+        );
         assert!(matches!(e, Err(Error::Numerical(_))));
         assert!(Jacobi::new(&a.diagonal()).is_err());
         let r = CsrMatrix::from_triplets(2, 3, &[(0, 0, 1.0)]).unwrap();
-        assert!(pcg(&r, &[1.0, 1.0], InitialGuess::Zero, &IdentityPrecond, &PcgOptions::default()).is_err());
+        assert!(pcg(
+            &r,
+            &[1.0, 1.0],
+            InitialGuess::Zero,
+            &IdentityPrecond,
+            &PcgOptions::default()
+        )
+        .is_err());
         let ok = CsrMatrix::laplacian_3d(2, 2, 2).unwrap();
-        assert!(pcg(&ok, &[1.0; 7], InitialGuess::Zero, &IdentityPrecond, &PcgOptions::default()).is_err());
-        assert!(pcg(&ok, &[f64::NAN; 8], InitialGuess::Zero, &IdentityPrecond, &PcgOptions::default()).is_err());
-        assert!(pcg(&ok, &[1.0; 8], InitialGuess::Given(&[0.0; 3]), &IdentityPrecond, &PcgOptions::default()).is_err());
-        let bad_tol = PcgOptions { tol: 0.0, max_iter: None };
-        assert!(pcg(&ok, &[1.0; 8], InitialGuess::Zero, &IdentityPrecond, &bad_tol).is_err());
+        assert!(pcg(
+            &ok,
+            &[1.0; 7],
+            InitialGuess::Zero,
+            &IdentityPrecond,
+            &PcgOptions::default()
+        )
+        .is_err());
+        assert!(pcg(
+            &ok,
+            &[f64::NAN; 8],
+            InitialGuess::Zero,
+            &IdentityPrecond,
+            &PcgOptions::default()
+        )
+        .is_err());
+        assert!(pcg(
+            &ok,
+            &[1.0; 8],
+            InitialGuess::Given(&[0.0; 3]),
+            &IdentityPrecond,
+            &PcgOptions::default()
+        )
+        .is_err());
+        let bad_tol = PcgOptions {
+            tol: 0.0,
+            max_iter: None,
+        };
+        assert!(pcg(
+            &ok,
+            &[1.0; 8],
+            InitialGuess::Zero,
+            &IdentityPrecond,
+            &bad_tol
+        )
+        .is_err());
         // Too few iterations: reported, not an error.
-        let few = PcgOptions { tol: 1e-14, max_iter: Some(1) };
-        let res = pcg(&CsrMatrix::laplacian_3d(5, 5, 5).unwrap(), &[1.0; 125], InitialGuess::Zero, &IdentityPrecond, &few).unwrap();
+        let few = PcgOptions {
+            tol: 1e-14,
+            max_iter: Some(1),
+        };
+        let res = pcg(
+            &CsrMatrix::laplacian_3d(5, 5, 5).unwrap(),
+            &[1.0; 125],
+            InitialGuess::Zero,
+            &IdentityPrecond,
+            &few,
+        )
+        .unwrap();
         assert!(!res.converged && res.iterations == 1);
     }
 }
