@@ -48,8 +48,10 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         summary: format!(
             "A {N}x{N} zone plate is transformed with the 2-D FFT, degraded with Gaussian noise \
              of known standard deviation (PSNR must match -20 log10 sigma), denoised with a \
-             Gaussian filter, resized by area averaging; icosphere meshes and a sampled distance field are checked against their analytic values, and a 64^3 Poisson system with a known \
-             discrete solution is solved by Jacobi-preconditioned conjugate gradient."
+             Gaussian filter and resized by area averaging; icosphere meshes and a sampled \
+             distance field are checked against their analytic values, and a 64^3 Poisson \
+             system with a manufactured solution is solved by Jacobi-preconditioned conjugate \
+             gradient."
         ),
         ..Default::default()
     };
