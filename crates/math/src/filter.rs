@@ -147,8 +147,11 @@ fn horizontal(src: &[f64], h: usize, w: usize, k: &[f64], border: Border) -> Vec
                     .map(i as isize - r as isize, w)
                     .map_or(cval, |sx| s[sx]);
             }
-            for (x, o) in row.iter_mut().enumerate() {
-                *o = k.iter().zip(&pad[x..x + k.len()]).map(|(a, b)| a * b).sum();
+            // Accumulate tap by tap so the inner loop runs along the row (vectorises).
+            for (j, &kj) in k.iter().enumerate() {
+                row.iter_mut()
+                    .zip(&pad[j..j + w])
+                    .for_each(|(o, &v)| *o += kj * v);
             }
         },
     );

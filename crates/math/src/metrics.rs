@@ -12,7 +12,7 @@
 use rayon::prelude::*;
 
 use crate::error::{ensure_finite, ensure_positive, Error, Result};
-use crate::filter::{gaussian_kernel, separable_plane, Border};
+use crate::filter::{gaussian_kernel, Border};
 use crate::image::Image;
 
 fn check_pair<T: Copy + Into<f64>>(a: &[T], b: &[T]) -> Result<()> {
@@ -92,14 +92,34 @@ impl Default for SsimParams {
     }
 }
 
-/// SSIM map of two `h x w` planes (eq. 13 of Wang et al. 2004 at every pixel), uncropped.
-pub fn ssim_map_plane(
-    a: &[f64],
-    b: &[f64],
-    h: usize,
-    w: usize,
-    p: &SsimParams,
-) -> Result<Vec<f64>> {
+/// Per-thread row buffers of the streaming SSIM.
+struct RowBufs {
+    /// Vertically filtered moments of one row: mean a, mean b, a^2, b^2, ab.
+    v: [Vec<f64>; 5],
+    /// The same after the horizontal pass.
+    hz: [Vec<f64>; 5],
+    /// A row padded by the kernel radius on both sides.
+    pad: Vec<f64>,
+}
+
+impl RowBufs {
+    fn new(w: usize, r: usize) -> Self {
+        Self {
+            v: std::array::from_fn(|_| vec![0.0; w]),
+            hz: std::array::from_fn(|_| vec![0.0; w]),
+            pad: vec![0.0; w + 2 * r],
+        }
+    }
+}
+
+/// Validated inputs of the SSIM kernels: the window and the stabilising constants.
+struct SsimSetup {
+    k: Vec<f64>,
+    c1: f64,
+    c2: f64,
+}
+
+fn ssim_setup(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) -> Result<SsimSetup> {
     check_pair(a, b)?;
     if a.len() != h * w {
         return Err(Error::ShapeMismatch(format!(
@@ -110,28 +130,115 @@ pub fn ssim_map_plane(
     ensure_positive("data_range", p.data_range)?;
     ensure_positive("k1", p.k1)?;
     ensure_positive("k2", p.k2)?;
-    let k = gaussian_kernel(p.sigma, p.truncate)?;
-    let filt = |v: &[f64]| separable_plane(v, h, w, &k, &k, Border::Reflect);
-    let prod = |f: &(dyn Fn(f64, f64) -> f64 + Sync)| -> Vec<f64> {
-        a.par_iter().zip(b).map(|(&x, &y)| f(x, y)).collect()
-    };
-    let ux = filt(a)?;
-    let uy = filt(b)?;
-    let uxx = filt(&prod(&|x, _| x * x))?;
-    let uyy = filt(&prod(&|_, y| y * y))?;
-    let uxy = filt(&prod(&|x, y| x * y))?;
-    let c1 = (p.k1 * p.data_range).powi(2);
-    let c2 = (p.k2 * p.data_range).powi(2);
-    Ok((0..h * w)
+    Ok(SsimSetup {
+        k: gaussian_kernel(p.sigma, p.truncate)?,
+        c1: (p.k1 * p.data_range).powi(2),
+        c2: (p.k2 * p.data_range).powi(2),
+    })
+}
+
+/// SSIM (eq. 13 of Wang et al. 2004) of every pixel of row `y`, written to `out`.
+///
+/// The local moments are Gaussian-filtered on the fly, row by row, so no full-size
+/// intermediate planes are allocated: the five moments of the rows under the window are
+/// accumulated vertically, then filtered horizontally (`reflect` borders throughout).
+fn ssim_row(
+    a: &[f64],
+    b: &[f64],
+    h: usize,
+    w: usize,
+    s: &SsimSetup,
+    y: usize,
+    buf: &mut RowBufs,
+    out: &mut [f64],
+) {
+    let r = s.k.len() / 2;
+    for v in buf.v.iter_mut() {
+        v.fill(0.0);
+    }
+    for (j, &kj) in s.k.iter().enumerate() {
+        let sy = Border::Reflect
+            .map(y as isize + j as isize - r as isize, h)
+            .expect("reflect maps every index");
+        let ra = &a[sy * w..sy * w + w];
+        let rb = &b[sy * w..sy * w + w];
+        let [v0, v1, v2, v3, v4] = &mut buf.v;
+        for x in 0..w {
+            let (p, q) = (ra[x], rb[x]);
+            v0[x] += kj * p;
+            v1[x] += kj * q;
+            v2[x] += kj * p * p;
+            v3[x] += kj * q * q;
+            v4[x] += kj * p * q;
+        }
+    }
+    for (v, hz) in buf.v.iter().zip(buf.hz.iter_mut()) {
+        for (i, p) in buf.pad.iter_mut().enumerate() {
+            *p = v[Border::Reflect
+                .map(i as isize - r as isize, w)
+                .expect("reflect maps every index")];
+        }
+        hz.fill(0.0);
+        for (j, &kj) in s.k.iter().enumerate() {
+            hz.iter_mut()
+                .zip(&buf.pad[j..j + w])
+                .for_each(|(o, &v)| *o += kj * v);
+        }
+    }
+    let [ux, uy, uxx, uyy, uxy] = &buf.hz;
+    for x in 0..w {
+        let (mx, my) = (ux[x], uy[x]);
+        let vx = uxx[x] - mx * mx;
+        let vy = uyy[x] - my * my;
+        let vxy = uxy[x] - mx * my;
+        out[x] = ((2.0 * mx * my + s.c1) * (2.0 * vxy + s.c2))
+            / ((mx * mx + my * my + s.c1) * (vx + vy + s.c2));
+    }
+}
+
+/// SSIM map of two `h x w` planes (eq. 13 of Wang et al. 2004 at every pixel), uncropped.
+pub fn ssim_map_plane(
+    a: &[f64],
+    b: &[f64],
+    h: usize,
+    w: usize,
+    p: &SsimParams,
+) -> Result<Vec<f64>> {
+    let s = ssim_setup(a, b, h, w, p)?;
+    let r = s.k.len() / 2;
+    let mut map = vec![0.0; h * w];
+    map.par_chunks_mut(w).enumerate().for_each_init(
+        || RowBufs::new(w, r),
+        |buf, (y, out)| ssim_row(a, b, h, w, &s, y, buf, out),
+    );
+    Ok(map)
+}
+
+/// Mean SSIM of two `h x w` planes over the map cropped by the window radius (scikit-image's
+/// averaging), without storing the map.
+pub fn ssim_plane(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) -> Result<f64> {
+    let s = ssim_setup(a, b, h, w, p)?;
+    let r = s.k.len() / 2;
+    if h <= 2 * r || w <= 2 * r {
+        return Err(Error::invalid(
+            "a, b",
+            format!(
+                "images of {h}x{w} are smaller than the {0}x{0} SSIM window",
+                2 * r + 1
+            ),
+        ));
+    }
+    let total: f64 = (r..h - r)
         .into_par_iter()
-        .map(|i| {
-            let (mx, my) = (ux[i], uy[i]);
-            let vx = uxx[i] - mx * mx;
-            let vy = uyy[i] - my * my;
-            let vxy = uxy[i] - mx * my;
-            ((2.0 * mx * my + c1) * (2.0 * vxy + c2)) / ((mx * mx + my * my + c1) * (vx + vy + c2))
-        })
-        .collect())
+        .map_init(
+            || (RowBufs::new(w, r), vec![0.0; w]),
+            |(buf, out), y| {
+                ssim_row(a, b, h, w, &s, y, buf, out);
+                out[r..w - r].iter().sum::<f64>()
+            },
+        )
+        .sum();
+    Ok(total / ((h - 2 * r) * (w - 2 * r)) as f64)
 }
 
 /// Mean SSIM of two images of equal shape (channels averaged), as scikit-image's
@@ -143,14 +250,6 @@ pub fn ssim_map_plane(
 pub fn ssim(a: &Image<f32>, b: &Image<f32>, p: &SsimParams) -> Result<f64> {
     a.ensure_same_shape(b)?;
     let (h, w, c) = a.shape();
-    let radius = (p.truncate * p.sigma + 0.5) as usize;
-    let win = 2 * radius + 1;
-    if h < win || w < win {
-        return Err(Error::invalid(
-            "a, b",
-            format!("images of {h}x{w} are smaller than the {win}x{win} SSIM window"),
-        ));
-    }
     let mut total = 0.0;
     for ch in 0..c {
         let pa: Vec<f64> = a
@@ -167,13 +266,7 @@ pub fn ssim(a: &Image<f32>, b: &Image<f32>, p: &SsimParams) -> Result<f64> {
             .step_by(c)
             .map(|&v| v as f64)
             .collect();
-        let map = ssim_map_plane(&pa, &pb, h, w, p)?;
-        let (mut s, mut n) = (0.0, 0usize);
-        for y in radius..h - radius {
-            s += map[y * w + radius..y * w + w - radius].iter().sum::<f64>();
-            n += w - 2 * radius;
-        }
-        total += s / n as f64;
+        total += ssim_plane(&pa, &pb, h, w, p)?;
     }
     Ok(total / c as f64)
 }
@@ -270,6 +363,47 @@ mod tests {
         let c1 = 1e-4;
         let expect = (2.0 * 0.5 * 0.6 + c1) / (0.25 + 0.36 + c1);
         assert!((ssim(&flat, &shifted, &p).unwrap() - expect).abs() < 1e-6);
+    }
+
+    #[test]
+    fn streaming_map_equals_filtering_full_planes() {
+        use crate::filter::separable_plane;
+        let (c, n) = noisy(9, 0.1);
+        let (h, w) = (64, 80);
+        let a: Vec<f64> = c.data().iter().map(|&v| v as f64).collect();
+        let b: Vec<f64> = n.data().iter().map(|&v| v as f64).collect();
+        let p = SsimParams::default();
+        let k = gaussian_kernel(p.sigma, p.truncate).unwrap();
+        let f = |v: &[f64]| separable_plane(v, h, w, &k, &k, Border::Reflect).unwrap();
+        let prod = |g: &dyn Fn(f64, f64) -> f64| -> Vec<f64> {
+            a.iter().zip(&b).map(|(&x, &y)| g(x, y)).collect()
+        };
+        let (ux, uy) = (f(&a), f(&b));
+        let (uxx, uyy, uxy) = (
+            f(&prod(&|x, _| x * x)),
+            f(&prod(&|_, y| y * y)),
+            f(&prod(&|x, y| x * y)),
+        );
+        let map = ssim_map_plane(&a, &b, h, w, &p).unwrap();
+        let (c1, c2) = (1e-4, 9e-4);
+        for i in 0..h * w {
+            let (vx, vy, vxy) = (
+                uxx[i] - ux[i] * ux[i],
+                uyy[i] - uy[i] * uy[i],
+                uxy[i] - ux[i] * uy[i],
+            );
+            let e = ((2.0 * ux[i] * uy[i] + c1) * (2.0 * vxy + c2))
+                / ((ux[i] * ux[i] + uy[i] * uy[i] + c1) * (vx + vy + c2));
+            assert!((map[i] - e).abs() < 1e-10, "pixel {i}");
+        }
+        let mut s = 0.0;
+        for y in 5..h - 5 {
+            for x in 5..w - 5 {
+                s += map[y * w + x];
+            }
+        }
+        let mean = s / ((h - 10) * (w - 10)) as f64;
+        assert!((ssim_plane(&a, &b, h, w, &p).unwrap() - mean).abs() < 1e-12);
     }
 
     #[test]
