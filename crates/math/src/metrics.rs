@@ -113,13 +113,23 @@ impl RowBufs {
 }
 
 /// Validated inputs of the SSIM kernels: the window and the stabilising constants.
-struct SsimSetup {
+struct SsimSetup<'a> {
+    a: &'a [f64],
+    b: &'a [f64],
+    h: usize,
+    w: usize,
     k: Vec<f64>,
     c1: f64,
     c2: f64,
 }
 
-fn ssim_setup(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) -> Result<SsimSetup> {
+fn ssim_setup<'a>(
+    a: &'a [f64],
+    b: &'a [f64],
+    h: usize,
+    w: usize,
+    p: &SsimParams,
+) -> Result<SsimSetup<'a>> {
     check_pair(a, b)?;
     if a.len() != h * w {
         return Err(Error::ShapeMismatch(format!(
@@ -131,6 +141,10 @@ fn ssim_setup(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) -> Resul
     ensure_positive("k1", p.k1)?;
     ensure_positive("k2", p.k2)?;
     Ok(SsimSetup {
+        a,
+        b,
+        h,
+        w,
         k: gaussian_kernel(p.sigma, p.truncate)?,
         c1: (p.k1 * p.data_range).powi(2),
         c2: (p.k2 * p.data_range).powi(2),
@@ -142,16 +156,8 @@ fn ssim_setup(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) -> Resul
 /// The local moments are Gaussian-filtered on the fly, row by row, so no full-size
 /// intermediate planes are allocated: the five moments of the rows under the window are
 /// accumulated vertically, then filtered horizontally (`reflect` borders throughout).
-fn ssim_row(
-    a: &[f64],
-    b: &[f64],
-    h: usize,
-    w: usize,
-    s: &SsimSetup,
-    y: usize,
-    buf: &mut RowBufs,
-    out: &mut [f64],
-) {
+fn ssim_row(s: &SsimSetup, y: usize, buf: &mut RowBufs, out: &mut [f64]) {
+    let (a, b, h, w) = (s.a, s.b, s.h, s.w);
     let r = s.k.len() / 2;
     for v in buf.v.iter_mut() {
         v.fill(0.0);
@@ -209,7 +215,7 @@ pub fn ssim_map_plane(
     let mut map = vec![0.0; h * w];
     map.par_chunks_mut(w).enumerate().for_each_init(
         || RowBufs::new(w, r),
-        |buf, (y, out)| ssim_row(a, b, h, w, &s, y, buf, out),
+        |buf, (y, out)| ssim_row(&s, y, buf, out),
     );
     Ok(map)
 }
@@ -233,7 +239,7 @@ pub fn ssim_plane(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) -> R
         .map_init(
             || (RowBufs::new(w, r), vec![0.0; w]),
             |(buf, out), y| {
-                ssim_row(a, b, h, w, &s, y, buf, out);
+                ssim_row(&s, y, buf, out);
                 out[r..w - r].iter().sum::<f64>()
             },
         )
