@@ -166,13 +166,7 @@ pub fn per_channel(
     let (h, w, c) = img.shape();
     let mut out = vec![0.0f32; h * w * c];
     for ch in 0..c {
-        let plane: Vec<f64> = img
-            .data()
-            .iter()
-            .skip(ch)
-            .step_by(c)
-            .map(|&v| v as f64)
-            .collect();
+        let plane = img.plane_f64(ch);
         let res = f(&plane, h, w)?;
         for (o, v) in out.iter_mut().skip(ch).step_by(c).zip(res) {
             *o = v as f32;

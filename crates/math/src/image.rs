@@ -174,6 +174,18 @@ impl Image<f32> {
         ensure_finite(name, &self.data)
     }
 
+    /// Channel `c` as an f64 plane of `height * width` values (row-major). Panics if
+    /// `c >= channels` (a programming error).
+    pub fn plane_f64(&self, c: usize) -> Vec<f64> {
+        assert!(c < self.channels, "channel {c} of {}", self.channels);
+        self.data
+            .iter()
+            .skip(c)
+            .step_by(self.channels)
+            .map(|&v| v as f64)
+            .collect()
+    }
+
     /// Luminance (Rec. 709 weights) of an RGB(A) image; a one- or two-channel image returns
     /// its first channel. Alpha is dropped.
     pub fn to_gray(&self) -> Image<f32> {

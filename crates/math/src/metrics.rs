@@ -15,17 +15,21 @@ use crate::error::{ensure_finite, ensure_positive, Error, Result};
 use crate::filter::{gaussian_kernel, Border};
 use crate::image::Image;
 
-fn check_pair<T: Copy + Into<f64>>(a: &[T], b: &[T]) -> Result<()> {
-    if a.len() != b.len() {
+/// Errors unless `a` and `b` have the same, non-zero length (`what` names them).
+fn check_lengths(what: &'static str, a: usize, b: usize) -> Result<()> {
+    if a != b {
         return Err(Error::ShapeMismatch(format!(
-            "inputs have {} and {} values",
-            a.len(),
-            b.len()
+            "{what} have {a} and {b} elements"
         )));
     }
-    if a.is_empty() {
-        return Err(Error::Empty("input"));
+    if a == 0 {
+        return Err(Error::Empty(what));
     }
+    Ok(())
+}
+
+fn check_pair<T: Copy + Into<f64>>(a: &[T], b: &[T]) -> Result<()> {
+    check_lengths("inputs", a.len(), b.len())?;
     ensure_finite("a", a)?;
     ensure_finite("b", b)
 }
@@ -258,20 +262,7 @@ pub fn ssim(a: &Image<f32>, b: &Image<f32>, p: &SsimParams) -> Result<f64> {
     let (h, w, c) = a.shape();
     let mut total = 0.0;
     for ch in 0..c {
-        let pa: Vec<f64> = a
-            .data()
-            .iter()
-            .skip(ch)
-            .step_by(c)
-            .map(|&v| v as f64)
-            .collect();
-        let pb: Vec<f64> = b
-            .data()
-            .iter()
-            .skip(ch)
-            .step_by(c)
-            .map(|&v| v as f64)
-            .collect();
+        let (pa, pb) = (a.plane_f64(ch), b.plane_f64(ch));
         total += ssim_plane(&pa, &pb, h, w, p)?;
     }
     Ok(total / c as f64)
@@ -282,16 +273,7 @@ pub fn ssim(a: &Image<f32>, b: &Image<f32>, p: &SsimParams) -> Result<f64> {
 ///
 /// Errors: different lengths or zero length.
 pub fn dice(a: &[bool], b: &[bool]) -> Result<f64> {
-    if a.len() != b.len() {
-        return Err(Error::ShapeMismatch(format!(
-            "masks have {} and {} elements",
-            a.len(),
-            b.len()
-        )));
-    }
-    if a.is_empty() {
-        return Err(Error::Empty("mask"));
-    }
+    check_lengths("masks", a.len(), b.len())?;
     let (inter, na, nb) = a
         .par_iter()
         .zip(b)

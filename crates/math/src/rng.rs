@@ -45,16 +45,26 @@ pub fn normal_vec(seed: u64, n: usize, mean: f64, std: f64) -> Result<Vec<f64>> 
         .ok()
         .filter(|_| std.is_finite() && std >= 0.0)
         .ok_or_else(|| Error::invalid("std", format!("must be finite and >= 0, got {std}")))?;
-    let mut out = vec![0.0; n];
+    Ok(par_fill(seed, n, |r| dist.sample(r)))
+}
+
+/// `n` values drawn by `sample`, in blocks of [`BLOCK`] with one stream per block, so the
+/// output depends on the seed only, not on the thread count.
+pub fn par_fill<T: Send + Default + Clone>(
+    seed: u64,
+    n: usize,
+    sample: impl Fn(&mut Rng) -> T + Sync,
+) -> Vec<T> {
+    let mut out = vec![T::default(); n];
     out.par_chunks_mut(BLOCK)
         .enumerate()
         .for_each(|(b, chunk)| {
             let mut r = stream(seed, b as u64);
             for v in chunk {
-                *v = dist.sample(&mut r);
+                *v = sample(&mut r);
             }
         });
-    Ok(out)
+    out
 }
 
 /// `n` samples uniform in `[lo, hi)`, filled in parallel.
@@ -67,16 +77,7 @@ pub fn uniform_vec(seed: u64, n: usize, lo: f64, hi: f64) -> Result<Vec<f64>> {
             format!("need finite lo < hi, got [{lo}, {hi})"),
         ));
     }
-    let mut out = vec![0.0; n];
-    out.par_chunks_mut(BLOCK)
-        .enumerate()
-        .for_each(|(b, chunk)| {
-            let mut r = stream(seed, b as u64);
-            for v in chunk {
-                *v = r.random_range(lo..hi);
-            }
-        });
-    Ok(out)
+    Ok(par_fill(seed, n, |r| r.random_range(lo..hi)))
 }
 
 /// A uniformly random permutation of `0..n` (Fisher-Yates).
