@@ -1,1 +1,22 @@
+//! Python bindings of wscg: the native module `wscg._native`, one submodule per crate.
+//!
+//! The Python package (`py/python/wscg`) wraps these functions: it coerces inputs to
+//! C-contiguous arrays of the dtype the native side expects, documents every function and
+//! re-exports them as `wscg.math`, ... Errors from Rust become `ValueError` (bad arguments)
+//! or `OSError` (files); a Rust panic surfaces as pyo3's `PanicException`, never a crash.
 
+use pyo3::prelude::*;
+
+mod convert;
+mod errors;
+mod math;
+
+/// The native extension module.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    let sub = PyModule::new(m.py(), "math")?;
+    math::register(&sub)?;
+    m.add_submodule(&sub)?;
+    Ok(())
+}

@@ -1,0 +1,17 @@
+"""wscg: software for the papers of the Journal of WSCG, vol. 23.
+
+Graphics, imaging, vision, biometrics, medical volumes and animation, implemented in Rust
+and exposed to Python with numpy arrays in and out. One submodule per field:
+
+- :mod:`wscg.math`: shared numerics (image, volume and mesh IO, FFT, filters, resizing,
+  metrics, sparse and dense linear algebra, seeded random numbers).
+
+Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
+"""
+
+from . import _native
+from . import math
+
+__version__: str = _native.__version__
+
+__all__ = ["math", "__version__"]

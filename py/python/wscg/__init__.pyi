@@ -1,0 +1,4 @@
+from . import math as math
+
+__version__: str
+__all__: list[str]

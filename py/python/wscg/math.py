@@ -1,0 +1,932 @@
+"""Shared numerics of wscg: metrics, filters, resizing, FFT, linear algebra, random numbers
+and image / volume / mesh files.
+
+Every function takes numpy arrays (any numeric dtype, any memory layout: inputs are
+converted, never modified) and returns new numpy arrays. Bad arguments raise
+``ValueError`` naming the argument; file problems raise ``OSError``. Heavy work runs in
+Rust with the GIL released.
+
+Conventions
+-----------
+- Images are ``(H, W)`` or ``(H, W, C)`` arrays. Files load as float32 in ``[0, 1]`` for
+  8/16-bit formats.
+- Volumes are 3-D arrays indexed ``[z, y, x]``; voxel spacing is given in the same axis
+  order, ``(dz, dy, dx)``.
+- Meshes are ``vertices`` ``(N, 3)`` float64 and ``faces`` ``(M, 3)`` integer arrays.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from ._native import math as _m
+
+__all__ = [
+    "mse", "rmse", "psnr", "ssim", "dice",
+    "gaussian_filter", "box_filter", "resize",
+    "fftn", "ifftn", "fft2", "ifft2", "fftshift", "ifftshift", "fftfreq",
+    "cg", "solve_cg", "laplacian_3d",
+    "eigh", "eigh_generalized", "svd", "lstsq",
+    "normal", "uniform", "permutation",
+    "load_image", "save_image", "load_volume", "save_volume", "read_raw_volume",
+    "read_mesh", "write_mesh",
+]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def _real(x, name: str, dtype=np.float64) -> np.ndarray:
+    """``x`` as a C-contiguous array of ``dtype`` (a copy when needed)."""
+    a = np.asarray(x)
+    if np.iscomplexobj(a):
+        raise ValueError(f"`{name}` must be real-valued, got dtype {a.dtype}")
+    if not (np.issubdtype(a.dtype, np.number) or a.dtype == np.bool_):
+        raise ValueError(f"`{name}` must be a numeric array, got dtype {a.dtype}")
+    return np.ascontiguousarray(a, dtype=dtype)
+
+
+def _complex(x, name: str) -> np.ndarray:
+    a = np.asarray(x)
+    if not (np.issubdtype(a.dtype, np.number) or a.dtype == np.bool_):
+        raise ValueError(f"`{name}` must be a numeric array, got dtype {a.dtype}")
+    return np.ascontiguousarray(a, dtype=np.complex128)
+
+
+def _path(p, name: str = "path") -> str:
+    try:
+        return os.fspath(p)
+    except TypeError:
+        raise TypeError(f"`{name}` must be a str or os.PathLike, got {type(p).__name__}") from None
+
+
+# ---------------------------------------------------------------- metrics
+
+
+def mse(a, b) -> float:
+    """Mean squared error of two arrays of the same shape.
+
+    Parameters
+    ----------
+    a, b : array_like
+        Arrays of equal shape (any numeric dtype).
+
+    Returns
+    -------
+    float
+        ``mean((a - b) ** 2)``.
+
+    Raises
+    ------
+    ValueError
+        Shapes differ, arrays are empty or hold NaN/inf.
+
+    Examples
+    --------
+    >>> mse([0.0, 0.0], [3.0, 4.0])
+    12.5
+    """
+    return _m.mse(_real(a, "a"), _real(b, "b"))
+
+
+def rmse(a, b) -> float:
+    """Root mean squared error ``sqrt(mse(a, b))``.
+
+    Parameters
+    ----------
+    a, b : array_like
+        Arrays of equal shape.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        As :func:`mse`.
+    """
+    return float(np.sqrt(mse(a, b)))
+
+
+def psnr(a, b, data_range: float = 1.0) -> float:
+    """Peak signal-to-noise ratio in dB, ``10 log10(data_range**2 / mse)``.
+
+    Parameters
+    ----------
+    a, b : array_like
+        Reference and test arrays of equal shape.
+    data_range : float, default 1.0
+        Dynamic range of the data (1 for images in [0, 1], 255 for 8-bit values).
+
+    Returns
+    -------
+    float
+        PSNR in dB; ``inf`` for identical inputs.
+
+    Raises
+    ------
+    ValueError
+        Shapes differ, empty input, NaN/inf, ``data_range <= 0``.
+
+    Notes
+    -----
+    Equals ``skimage.metrics.peak_signal_noise_ratio(a, b, data_range=data_range)``.
+    """
+    return _m.psnr(_real(a, "a"), _real(b, "b"), float(data_range))
+
+
+def ssim(a, b, data_range: float = 1.0, sigma: float = 1.5, truncate: float = 3.5,
+         k1: float = 0.01, k2: float = 0.03) -> float:
+    """Mean structural similarity (SSIM) of two images.
+
+    Parameters
+    ----------
+    a, b : array_like
+        Images of equal shape, ``(H, W)`` or ``(H, W, C)`` (channels are averaged).
+    data_range : float, default 1.0
+        Dynamic range ``R`` of the data.
+    sigma : float, default 1.5
+        Standard deviation of the Gaussian window.
+    truncate : float, default 3.5
+        Window radius in standard deviations (11 x 11 at sigma 1.5).
+    k1, k2 : float, default 0.01, 0.03
+        Stabilising constants, ``C1 = (k1 R)^2``, ``C2 = (k2 R)^2``.
+
+    Returns
+    -------
+    float
+        Mean SSIM over the image, cropped by the window radius.
+
+    Raises
+    ------
+    ValueError
+        Shapes differ, images smaller than the window, NaN/inf, bad parameters.
+
+    Notes
+    -----
+    SSIM (eq. 13 of the reference) is computed from Gaussian-weighted local means,
+    variances and covariance with ``reflect`` borders. The result equals
+    ``skimage.metrics.structural_similarity(a, b, data_range=R, gaussian_weights=True,
+    sigma=1.5, use_sample_covariance=False, channel_axis=-1 for colour)``.
+
+    References
+    ----------
+    Z. Wang, A. C. Bovik, H. R. Sheikh, E. P. Simoncelli, "Image quality assessment: from
+    error visibility to structural similarity", IEEE TIP 13(4), 2004,
+    :doi:`10.1109/TIP.2003.819861`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.linspace(0, 1, 64 * 64).reshape(64, 64)
+    >>> round(ssim(img, img), 6)
+    1.0
+    """
+    return _m.ssim(_real(a, "a"), _real(b, "b"), float(data_range), float(sigma),
+                   float(truncate), float(k1), float(k2))
+
+
+def dice(a, b, label: Optional[int] = None) -> float:
+    """Dice coefficient ``2 |A & B| / (|A| + |B|)`` of two masks.
+
+    Parameters
+    ----------
+    a, b : array_like
+        Boolean masks of equal shape, or label maps when ``label`` is given.
+    label : int, optional
+        Compare the regions ``a == label`` and ``b == label``.
+
+    Returns
+    -------
+    float
+        In [0, 1]; two empty masks give 1.
+
+    Raises
+    ------
+    ValueError
+        Shapes differ or the masks are empty arrays.
+    """
+    a, b = np.asarray(a), np.asarray(b)
+    if label is not None:
+        a, b = a == label, b == label
+    return _m.dice(np.ascontiguousarray(a, dtype=bool), np.ascontiguousarray(b, dtype=bool))
+
+
+# ---------------------------------------------------------------- filters and resizing
+
+
+def gaussian_filter(image, sigma: float, truncate: float = 4.0, mode: str = "reflect",
+                    cval: float = 0.0) -> np.ndarray:
+    """Gaussian blur of every channel of an image.
+
+    Parameters
+    ----------
+    image : array_like
+        ``(H, W)`` or ``(H, W, C)``; channels are filtered independently.
+    sigma : float
+        Standard deviation in pixels (> 0).
+    truncate : float, default 4.0
+        Kernel radius ``int(truncate * sigma + 0.5)``.
+    mode : {'reflect', 'mirror', 'nearest', 'wrap', 'constant'}, default 'reflect'
+        Border handling, as in ``scipy.ndimage``.
+    cval : float, default 0.0
+        Value outside the image for ``mode='constant'``.
+
+    Returns
+    -------
+    ndarray of float64, same shape as ``image``.
+
+    Raises
+    ------
+    ValueError
+        Bad shape, NaN/inf, ``sigma <= 0``, unknown ``mode``.
+
+    Notes
+    -----
+    Equals ``scipy.ndimage.gaussian_filter(image, sigma=(sigma, sigma[, 0]), truncate=...,
+    mode=..., cval=...)``.
+    """
+    return _m.gaussian_filter(_real(image, "image"), float(sigma), float(truncate), mode,
+                              float(cval))
+
+
+def box_filter(image, radius: int, mode: str = "reflect", cval: float = 0.0) -> np.ndarray:
+    """Mean over a ``(2 radius + 1)^2`` window of every channel.
+
+    Parameters
+    ----------
+    image : array_like
+        ``(H, W)`` or ``(H, W, C)``.
+    radius : int
+        Window radius (>= 0).
+    mode : {'reflect', 'mirror', 'nearest', 'wrap', 'constant'}, default 'reflect'
+        Border handling.
+    cval : float, default 0.0
+        Value outside for ``mode='constant'``.
+
+    Returns
+    -------
+    ndarray of float64, same shape as ``image``.
+
+    Raises
+    ------
+    ValueError
+        Bad shape, NaN/inf, negative radius, unknown ``mode``.
+
+    Notes
+    -----
+    Equals ``scipy.ndimage.uniform_filter(image, size=(2r+1, 2r+1[, 1]), mode=...)``.
+    """
+    if int(radius) < 0:
+        raise ValueError(f"`radius` must be >= 0, got {radius}")
+    return _m.box_filter(_real(image, "image"), int(radius), mode, float(cval))
+
+
+def resize(image, shape: Tuple[int, int], method: str = "area") -> np.ndarray:
+    """Resizes an image to ``shape = (height, width)``.
+
+    Parameters
+    ----------
+    image : array_like
+        ``(H, W)`` or ``(H, W, C)``.
+    shape : (int, int)
+        Output height and width (> 0).
+    method : {'area', 'bilinear'}, default 'area'
+        ``'area'``: exact area-weighted mean of the covered input pixels (block mean for
+        integer factors, OpenCV's ``INTER_AREA`` when downscaling). ``'bilinear'``:
+        interpolation with half-pixel centres, clamped at the border (``INTER_LINEAR``).
+
+    Returns
+    -------
+    ndarray of float32, ``(height, width[, C])``.
+
+    Raises
+    ------
+    ValueError
+        Bad shape, zero output size, NaN/inf, unknown ``method``.
+    """
+    h, w = (int(v) for v in shape)
+    if h <= 0 or w <= 0:
+        raise ValueError(f"`shape` must be positive, got {shape}")
+    return _m.resize(_real(image, "image"), h, w, method)
+
+
+# ---------------------------------------------------------------- FFT
+
+
+def _axes(x: np.ndarray, axes) -> Optional[list]:
+    if axes is None:
+        return None
+    out = []
+    for a in axes:
+        a = int(a)
+        if a < -x.ndim or a >= x.ndim:
+            raise ValueError(f"`axes` entry {a} is out of range for a {x.ndim}-D array")
+        out.append(a % x.ndim)
+    return out
+
+
+def fftn(x, axes: Optional[Sequence[int]] = None, norm: str = "backward") -> np.ndarray:
+    """N-dimensional discrete Fourier transform.
+
+    Parameters
+    ----------
+    x : array_like
+        Input (real or complex), any number of dimensions.
+    axes : sequence of int, optional
+        Axes to transform (default: all).
+    norm : {'backward', 'ortho', 'forward'}, default 'backward'
+        Scaling, as numpy's ``norm`` argument.
+
+    Returns
+    -------
+    ndarray of complex128, same shape as ``x``.
+
+    Raises
+    ------
+    ValueError
+        Empty axis, repeated or out-of-range axes, unknown ``norm``.
+
+    Notes
+    -----
+    ``X[k] = sum_n x[n] exp(-2 pi i k n / N)`` along each axis; equals ``numpy.fft.fftn``.
+    """
+    xc = _complex(x, "x")
+    return _m.fftn(xc, _axes(xc, axes), False, norm)
+
+
+def ifftn(x, axes: Optional[Sequence[int]] = None, norm: str = "backward") -> np.ndarray:
+    """Inverse N-dimensional DFT (``numpy.fft.ifftn``); see :func:`fftn`.
+
+    Parameters
+    ----------
+    x : array_like
+        Spectrum.
+    axes : sequence of int, optional
+        Axes to transform (default: all).
+    norm : {'backward', 'ortho', 'forward'}, default 'backward'
+        Scaling.
+
+    Returns
+    -------
+    ndarray of complex128.
+    """
+    xc = _complex(x, "x")
+    return _m.fftn(xc, _axes(xc, axes), True, norm)
+
+
+def fft2(x, axes: Sequence[int] = (-2, -1), norm: str = "backward") -> np.ndarray:
+    """Two-dimensional DFT over ``axes`` (default the last two), as ``numpy.fft.fft2``.
+
+    Parameters
+    ----------
+    x : array_like
+        At least 2-D.
+    axes : (int, int), default (-2, -1)
+        The two axes.
+    norm : {'backward', 'ortho', 'forward'}, default 'backward'
+        Scaling.
+
+    Returns
+    -------
+    ndarray of complex128.
+    """
+    return fftn(x, axes=axes, norm=norm)
+
+
+def ifft2(x, axes: Sequence[int] = (-2, -1), norm: str = "backward") -> np.ndarray:
+    """Inverse two-dimensional DFT, as ``numpy.fft.ifft2``.
+
+    Parameters
+    ----------
+    x : array_like
+        At least 2-D.
+    axes : (int, int), default (-2, -1)
+        The two axes.
+    norm : {'backward', 'ortho', 'forward'}, default 'backward'
+        Scaling.
+
+    Returns
+    -------
+    ndarray of complex128.
+    """
+    return ifftn(x, axes=axes, norm=norm)
+
+
+def _shift(x, inverse: bool) -> np.ndarray:
+    a = np.asarray(x)
+    if a.ndim == 0:
+        raise ValueError("`x` must have at least one dimension")
+    if np.iscomplexobj(a):
+        return _m.fftshift_c(np.ascontiguousarray(a, dtype=np.complex128), inverse)
+    return _m.fftshift_f(_real(a, "x"), inverse)
+
+
+def fftshift(x) -> np.ndarray:
+    """Moves the zero frequency to the centre of every axis (``numpy.fft.fftshift``).
+
+    Parameters
+    ----------
+    x : array_like
+        Real or complex array.
+
+    Returns
+    -------
+    ndarray (float64 or complex128), same shape.
+    """
+    return _shift(x, False)
+
+
+def ifftshift(x) -> np.ndarray:
+    """Inverse of :func:`fftshift` (``numpy.fft.ifftshift``).
+
+    Parameters
+    ----------
+    x : array_like
+        Real or complex array.
+
+    Returns
+    -------
+    ndarray (float64 or complex128), same shape.
+    """
+    return _shift(x, True)
+
+
+def fftfreq(n: int, d: float = 1.0) -> np.ndarray:
+    """Sample frequencies of a length-``n`` DFT with spacing ``d`` (``numpy.fft.fftfreq``).
+
+    Parameters
+    ----------
+    n : int
+        Transform length (> 0).
+    d : float, default 1.0
+        Sample spacing (> 0).
+
+    Returns
+    -------
+    ndarray of float64, length ``n``.
+    """
+    if int(n) <= 0:
+        raise ValueError(f"`n` must be > 0, got {n}")
+    return _m.fftfreq(int(n), float(d))
+
+
+# ---------------------------------------------------------------- sparse linear algebra
+
+
+def cg(indptr, indices, data, b, shape: Optional[Tuple[int, int]] = None, x0=None,
+       tol: float = 1e-8, maxiter: Optional[int] = None,
+       preconditioner: Optional[str] = "jacobi"):
+    """Preconditioned conjugate gradient for a sparse SPD matrix in CSR form.
+
+    Parameters
+    ----------
+    indptr, indices, data : array_like
+        CSR arrays (as ``scipy.sparse.csr_matrix``: row pointers of length ``n + 1``,
+        column indices and values). Duplicates are summed.
+    b : array_like
+        Right-hand side, length ``n``.
+    shape : (int, int), optional
+        Matrix shape; default ``(n, n)`` with ``n = len(indptr) - 1``.
+    x0 : array_like, optional
+        Initial guess (warm start); default zeros.
+    tol : float, default 1e-8
+        Stop when ``||b - A x|| <= tol ||b||``.
+    maxiter : int, optional
+        Iteration limit; default ``10 n``.
+    preconditioner : {'jacobi', None}, default 'jacobi'
+        Diagonal (Jacobi) preconditioning or none.
+
+    Returns
+    -------
+    x : ndarray of float64
+        Solution estimate.
+    info : dict
+        ``iterations``, ``relative_residual`` and ``converged``.
+
+    Raises
+    ------
+    ValueError
+        Inconsistent CSR arrays, length mismatch, NaN, ``tol <= 0``, a matrix that is not
+        positive definite (the iteration breaks down).
+
+    Notes
+    -----
+    Hestenes-Stiefel CG with a preconditioner (Saad, *Iterative Methods for Sparse Linear
+    Systems*, alg. 9.1). Not converging within ``maxiter`` is reported in ``info``, as
+    ``scipy.sparse.linalg.cg`` reports it in its return code. A warning is issued too.
+    """
+    indptr = np.ascontiguousarray(indptr, dtype=np.int64)
+    n = len(indptr) - 1
+    nrows, ncols = (n, n) if shape is None else (int(shape[0]), int(shape[1]))
+    if nrows != n:
+        raise ValueError(f"`shape` {shape} does not match len(indptr) - 1 = {n}")
+    x, info = _m.cg(indptr, np.ascontiguousarray(indices, dtype=np.int64),
+                    _real(data, "data"), ncols, _real(b, "b"),
+                    None if x0 is None else _real(x0, "x0"), float(tol),
+                    None if maxiter is None else int(maxiter), preconditioner)
+    if not info["converged"]:
+        import warnings
+        warnings.warn(f"cg did not converge: relative residual {info['relative_residual']:.3e} "
+                      f"after {info['iterations']} iterations (tol {tol})", RuntimeWarning,
+                      stacklevel=2)
+    return x, info
+
+
+def solve_cg(a, b, **kwargs):
+    """:func:`cg` on a ``scipy.sparse`` matrix (or anything with ``tocsr()``).
+
+    Parameters
+    ----------
+    a : scipy.sparse matrix or array
+        Symmetric positive definite matrix.
+    b : array_like
+        Right-hand side.
+    **kwargs
+        Passed to :func:`cg` (``x0``, ``tol``, ``maxiter``, ``preconditioner``).
+
+    Returns
+    -------
+    x, info
+        As :func:`cg`.
+    """
+    if not hasattr(a, "tocsr"):
+        raise ValueError("`a` must be a scipy.sparse matrix (with a tocsr() method)")
+    csr = a.tocsr()
+    return cg(csr.indptr, csr.indices, csr.data, b, shape=csr.shape, **kwargs)
+
+
+def laplacian_3d(nx: int, ny: int, nz: int):
+    """CSR arrays of the 7-point Laplacian of an ``nx x ny x nz`` grid (Dirichlet).
+
+    Parameters
+    ----------
+    nx, ny, nz : int
+        Grid size (> 0); unknowns are ordered with x fastest.
+
+    Returns
+    -------
+    indptr, indices, data : ndarray
+        int64, int64 and float64 CSR arrays (diagonal 6, neighbours -1): symmetric positive
+        definite, for tests and benchmarks.
+    """
+    for name, v in (("nx", nx), ("ny", ny), ("nz", nz)):
+        if int(v) <= 0:
+            raise ValueError(f"`{name}` must be > 0, got {v}")
+    return _m.laplacian_3d(int(nx), int(ny), int(nz))
+
+
+# ---------------------------------------------------------------- dense linear algebra
+
+
+def eigh(a, k: Optional[int] = None, which: str = "largest"):
+    """Eigenpairs of a real symmetric matrix.
+
+    Parameters
+    ----------
+    a : array_like
+        Symmetric ``(n, n)`` matrix.
+    k : int, optional
+        Number of eigenpairs (default: all).
+    which : {'largest', 'smallest'}, default 'largest'
+        Which end of the spectrum; values come in that order (descending for
+        ``'largest'``, ascending for ``'smallest'``).
+
+    Returns
+    -------
+    values : ndarray, (k,)
+    vectors : ndarray, (n, k)
+        Unit eigenvectors as columns.
+
+    Raises
+    ------
+    ValueError
+        Not square, not symmetric, NaN/inf, ``k`` out of range, unknown ``which``.
+    """
+    if which not in ("largest", "smallest"):
+        raise ValueError(f"{which!r} is not a valid `which`. Valid values are 'largest', 'smallest'")
+    return _m.eigh(_real(a, "a"), None if k is None else int(k), which)
+
+
+def eigh_generalized(a, b):
+    """Generalized symmetric-definite eigenproblem ``A v = lambda B v``.
+
+    Parameters
+    ----------
+    a : array_like
+        Symmetric ``(n, n)``.
+    b : array_like
+        Symmetric positive definite ``(n, n)``.
+
+    Returns
+    -------
+    values : ndarray, (n,)
+        Ascending.
+    vectors : ndarray, (n, n)
+        ``B``-orthonormal eigenvectors as columns (``V.T @ B @ V = I``).
+
+    Raises
+    ------
+    ValueError
+        Shapes, asymmetry, NaN, ``b`` not positive definite.
+
+    Notes
+    -----
+    Cholesky ``B = L L^T``, then the standard problem for ``L^-1 A L^-T``; eigenvalues equal
+    ``scipy.linalg.eigh(a, b)``.
+    """
+    return _m.eigh_generalized(_real(a, "a"), _real(b, "b"))
+
+
+def svd(a):
+    """Thin singular value decomposition ``a = u @ diag(s) @ vt``.
+
+    Parameters
+    ----------
+    a : array_like
+        ``(m, n)`` matrix.
+
+    Returns
+    -------
+    u : ndarray, (m, r)
+    s : ndarray, (r,)
+        Non-increasing, ``r = min(m, n)``.
+    vt : ndarray, (r, n)
+
+    Raises
+    ------
+    ValueError
+        Not 2-D, empty, NaN/inf.
+    """
+    return _m.svd(_real(a, "a"))
+
+
+def lstsq(a, b, rcond: Optional[float] = None) -> np.ndarray:
+    """Minimum-norm least-squares solution of ``a @ x = b``.
+
+    Parameters
+    ----------
+    a : array_like
+        ``(m, n)`` matrix.
+    b : array_like
+        ``(m,)`` or ``(m, k)``.
+    rcond : float, optional
+        Relative cut-off for small singular values (default ``eps * max(m, n)``, numpy's).
+
+    Returns
+    -------
+    ndarray
+        ``(n,)`` or ``(n, k)``, matching ``b``.
+
+    Raises
+    ------
+    ValueError
+        Shapes, NaN/inf, negative ``rcond``.
+    """
+    b = _real(b, "b")
+    one = b.ndim == 1
+    x = _m.lstsq(_real(a, "a"), b.reshape(-1, 1) if one else b,
+                 None if rcond is None else float(rcond))
+    return x[:, 0] if one else x
+
+
+# ---------------------------------------------------------------- random numbers
+
+
+def normal(seed: int, n: int, mean: float = 0.0, std: float = 1.0) -> np.ndarray:
+    """``n`` normal samples from a seeded, portable generator (ChaCha8).
+
+    Parameters
+    ----------
+    seed : int
+        Seed (>= 0); the same seed gives the same values on every machine and thread count.
+    n : int
+        Number of samples.
+    mean, std : float
+        Distribution parameters (``std >= 0``).
+
+    Returns
+    -------
+    ndarray of float64.
+    """
+    return _m.normal(int(seed), int(n), float(mean), float(std))
+
+
+def uniform(seed: int, n: int, low: float = 0.0, high: float = 1.0) -> np.ndarray:
+    """``n`` samples uniform in ``[low, high)`` from a seeded generator.
+
+    Parameters
+    ----------
+    seed : int
+        Seed (>= 0).
+    n : int
+        Number of samples.
+    low, high : float
+        Bounds, ``low < high``.
+
+    Returns
+    -------
+    ndarray of float64.
+    """
+    return _m.uniform(int(seed), int(n), float(low), float(high))
+
+
+def permutation(seed: int, n: int) -> np.ndarray:
+    """A seeded random permutation of ``range(n)``.
+
+    Parameters
+    ----------
+    seed : int
+        Seed (>= 0).
+    n : int
+        Length.
+
+    Returns
+    -------
+    ndarray of int64.
+    """
+    return _m.permutation(int(seed), int(n))
+
+
+# ---------------------------------------------------------------- files
+
+
+def load_image(path: PathLike) -> np.ndarray:
+    """Reads a PNG (8/16-bit), JPEG, OpenEXR or Radiance HDR image.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file (only read).
+
+    Returns
+    -------
+    ndarray of float32
+        ``(H, W)`` for grey images, ``(H, W, C)`` otherwise; integer formats scaled to
+        ``[0, 1]``, float formats unchanged.
+
+    Raises
+    ------
+    OSError
+        Missing, unreadable, truncated or unsupported file.
+    """
+    return _m.load_image(_path(path))
+
+
+def save_image(path: PathLike, image, bit_depth: Optional[int] = None) -> None:
+    """Writes an image; the format follows the extension (png, jpg/jpeg, exr, hdr).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Output file.
+    image : array_like
+        ``(H, W)`` or ``(H, W, C)`` with C in 1..4; values in ``[0, 1]`` for integer formats
+        (clamped), any finite values for exr/hdr.
+    bit_depth : {8, 16, 32}, optional
+        8 (default for png/jpeg), 16 (png only) or 32 (float, exr/hdr).
+
+    Raises
+    ------
+    ValueError
+        Bad shape, NaN/inf.
+    OSError
+        Unsupported extension or depth for the format, unwritable path.
+    """
+    _m.save_image(_path(path), _real(image, "image"), None if bit_depth is None else int(bit_depth))
+
+
+def load_volume(path: PathLike, spacing: Optional[Tuple[float, float, float]] = None):
+    """Reads a NIfTI (.nii, .nii.gz) or .npy volume.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file (only read).
+    spacing : (dz, dy, dx), optional
+        Voxel size; replaces the NIfTI header's, default 1 for .npy.
+
+    Returns
+    -------
+    volume : ndarray of float32
+        Indexed ``[z, y, x]`` (a .npy file is read in that order; NIfTI data is converted).
+    spacing : (dz, dy, dx)
+
+    Raises
+    ------
+    OSError
+        Missing, malformed, truncated or unsupported file.
+    """
+    return _m.load_volume(_path(path), None if spacing is None else tuple(float(s) for s in spacing))
+
+
+def read_raw_volume(path: PathLike, shape: Tuple[int, int, int], dtype: str,
+                    spacing: Tuple[float, float, float] = (1.0, 1.0, 1.0)):
+    """Reads a headerless raw volume.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file; its size must equal ``prod(shape) * bytes per voxel``.
+    shape : (nz, ny, nx)
+        Grid size; the file stores x fastest.
+    dtype : {'u8', 'u16le', 'u16be', 'i16le', 'i16be', 'f32le', 'f32be'}
+        Voxel type and byte order.
+    spacing : (dz, dy, dx), default (1, 1, 1)
+
+    Returns
+    -------
+    volume : ndarray of float32, ``(nz, ny, nx)``
+    spacing : (dz, dy, dx)
+
+    Raises
+    ------
+    ValueError
+        Unknown ``dtype``, bad shape or spacing.
+    OSError
+        Missing or wrongly sized file.
+    """
+    nz, ny, nx = (int(v) for v in shape)
+    return _m.read_raw_volume(_path(path), (nz, ny, nx), dtype,
+                              tuple(float(s) for s in spacing))
+
+
+def save_volume(path: PathLike, volume, spacing: Tuple[float, float, float] = (1.0, 1.0, 1.0)) -> None:
+    """Writes a volume as .nii / .nii.gz (NIfTI-1, float32), .npy or .raw (f32 little endian).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Output file; the extension picks the format.
+    volume : array_like
+        3-D array indexed ``[z, y, x]``.
+    spacing : (dz, dy, dx), default (1, 1, 1)
+        Voxel size (> 0).
+
+    Raises
+    ------
+    ValueError
+        Not 3-D, bad spacing.
+    OSError
+        Unsupported extension, unwritable path.
+    """
+    _m.save_volume(_path(path), _real(volume, "volume", np.float32), tuple(float(s) for s in spacing))
+
+
+def read_mesh(path: PathLike) -> dict:
+    """Reads a triangle mesh from .obj or .ply (ascii or binary).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file (only read). Polygons are triangulated as fans.
+
+    Returns
+    -------
+    dict
+        ``vertices`` (N, 3) float64, ``faces`` (M, 3) int64, and ``normals`` (N, 3) float64 /
+        ``colors`` (N, 3) float32 in [0, 1] when the file has them.
+
+    Raises
+    ------
+    OSError
+        Missing, malformed or truncated file, indices out of range, unknown extension.
+    """
+    return _m.read_mesh(_path(path))
+
+
+def write_mesh(path: PathLike, vertices, faces, colors=None, normals=None,
+               binary: bool = True) -> None:
+    """Writes a triangle mesh as .obj or .ply.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Output file; the extension picks the format.
+    vertices : array_like, (N, 3)
+    faces : array_like of int, (M, 3)
+        Vertex indices, 0-based.
+    colors : array_like, (N, 3), optional
+        Per-vertex RGB in [0, 1].
+    normals : array_like, (N, 3), optional
+        Per-vertex normals.
+    binary : bool, default True
+        Binary little-endian PLY (ignored for OBJ).
+
+    Raises
+    ------
+    ValueError
+        Bad shapes, NaN, indices out of range or repeated within a face.
+    OSError
+        Unsupported extension, unwritable path.
+    """
+    faces = np.asarray(faces)
+    if not np.issubdtype(faces.dtype, np.integer):
+        raise ValueError(f"`faces` must be an integer array, got dtype {faces.dtype}")
+    _m.write_mesh(_path(path), _real(vertices, "vertices"),
+                  np.ascontiguousarray(faces, dtype=np.int64),
+                  None if colors is None else _real(colors, "colors", np.float32),
+                  None if normals is None else _real(normals, "normals"), bool(binary))

@@ -1,0 +1,64 @@
+//! numpy <-> Rust conversions shared by the binding modules.
+//!
+//! The Python wrappers pass C-contiguous arrays of the expected dtype, so the native side
+//! borrows their memory without copying; a non-contiguous array (from a direct call to the
+//! native module) is copied.
+
+use std::borrow::Cow;
+
+use numpy::ndarray::{ArrayD, IxDyn};
+use numpy::{Element, IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use crate::errors::value_error;
+
+/// The array's values in C order, borrowed when contiguous, copied otherwise.
+pub fn values<'a, T: Element + Clone>(a: &'a PyReadonlyArrayDyn<'_, T>) -> Cow<'a, [T]> {
+    match a.as_slice() {
+        Ok(s) => Cow::Borrowed(s),
+        Err(_) => Cow::Owned(a.as_array().iter().cloned().collect()),
+    }
+}
+
+/// A new numpy array of `shape` holding `data` (C order).
+pub fn array<'py, T: Element>(
+    py: Python<'py>,
+    shape: &[usize],
+    data: Vec<T>,
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
+    let a = ArrayD::from_shape_vec(IxDyn(shape), data)
+        .map_err(|e| value_error(format!("internal shape error: {e}")))?;
+    Ok(a.into_pyarray(py))
+}
+
+/// `(height, width, channels)` of an image array of shape `(H, W)` or `(H, W, C)`.
+pub fn image_dims(name: &str, shape: &[usize]) -> PyResult<(usize, usize, usize)> {
+    match *shape {
+        [h, w] => Ok((h, w, 1)),
+        [h, w, c] => Ok((h, w, c)),
+        _ => Err(value_error(format!(
+            "`{name}` must be a 2-D (H, W) or 3-D (H, W, C) array, got shape {shape:?}"
+        ))),
+    }
+}
+
+/// Errors unless the two arrays have the same shape.
+pub fn same_shape(a: &[usize], b: &[usize]) -> PyResult<()> {
+    if a == b {
+        Ok(())
+    } else {
+        Err(value_error(format!(
+            "shape mismatch: inputs have shapes {a:?} and {b:?}"
+        )))
+    }
+}
+
+/// Channel `c` of interleaved `(h, w, channels)` data as a plane.
+pub fn plane(data: &[f64], channels: usize, c: usize) -> Vec<f64> {
+    data.iter().skip(c).step_by(channels).copied().collect()
+}
+
+/// Shape of a readonly array as a vector.
+pub fn shape_of<T: Element>(a: &PyReadonlyArrayDyn<'_, T>) -> Vec<usize> {
+    a.shape().to_vec()
+}

@@ -1,0 +1,689 @@
+//! `wscg._native.math`: bindings of `wscg-math`. The documented public functions are the
+//! wrappers in `python/wscg/math.py`, which coerce inputs and call these.
+
+use std::path::PathBuf;
+
+use num_complex::Complex64;
+use numpy::ndarray::ArrayView3;
+use numpy::{PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wscg_math::dense::{self, SymEigen};
+use wscg_math::fft::{self, Direction, Norm};
+use wscg_math::filter::{gaussian_kernel, separable_plane, Border};
+use wscg_math::image::{Image, PixelDepth};
+use wscg_math::mesh::{PlyEncoding, TriMesh};
+use wscg_math::metrics::{self, SsimParams};
+use wscg_math::resize::{resize as resize_image, Interpolation};
+use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, Jacobi, PcgOptions};
+use wscg_math::volume::{RawType, Volume};
+use wscg_math::{rng, Error};
+
+use crate::convert::{array, image_dims, plane, same_shape, shape_of, values};
+use crate::errors::{value_error, IntoPy};
+
+type Arr<'py, T> = Bound<'py, PyArrayDyn<T>>;
+
+// ---------------------------------------------------------------- metrics
+
+#[pyfunction]
+fn mse(py: Python<'_>, a: PyReadonlyArrayDyn<f64>, b: PyReadonlyArrayDyn<f64>) -> PyResult<f64> {
+    same_shape(a.shape(), b.shape())?;
+    let (va, vb) = (values(&a), values(&b));
+    py.detach(|| metrics::mse(&va, &vb)).py_err()
+}
+
+#[pyfunction]
+fn psnr(
+    py: Python<'_>,
+    a: PyReadonlyArrayDyn<f64>,
+    b: PyReadonlyArrayDyn<f64>,
+    data_range: f64,
+) -> PyResult<f64> {
+    same_shape(a.shape(), b.shape())?;
+    let (va, vb) = (values(&a), values(&b));
+    py.detach(|| metrics::psnr(&va, &vb, data_range)).py_err()
+}
+
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn ssim(
+    py: Python<'_>,
+    a: PyReadonlyArrayDyn<f64>,
+    b: PyReadonlyArrayDyn<f64>,
+    data_range: f64,
+    sigma: f64,
+    truncate: f64,
+    k1: f64,
+    k2: f64,
+) -> PyResult<f64> {
+    same_shape(a.shape(), b.shape())?;
+    let (h, w, c) = image_dims("a", a.shape())?;
+    let (va, vb) = (values(&a), values(&b));
+    let p = SsimParams {
+        data_range,
+        sigma,
+        truncate,
+        k1,
+        k2,
+    };
+    py.detach(|| {
+        let mut total = 0.0;
+        for ch in 0..c {
+            total += metrics::ssim_plane(&plane(&va, c, ch), &plane(&vb, c, ch), h, w, &p)?;
+        }
+        Ok(total / c as f64)
+    })
+    .py_err()
+}
+
+#[pyfunction]
+fn dice(a: PyReadonlyArrayDyn<bool>, b: PyReadonlyArrayDyn<bool>) -> PyResult<f64> {
+    same_shape(a.shape(), b.shape())?;
+    metrics::dice(&values(&a), &values(&b)).py_err()
+}
+
+// ---------------------------------------------------------------- filters and resizing
+
+fn border(mode: &str, cval: f64) -> PyResult<Border> {
+    Ok(match mode {
+        "reflect" => Border::Reflect,
+        "mirror" => Border::Mirror,
+        "nearest" => Border::Nearest,
+        "wrap" => Border::Wrap,
+        "constant" => Border::Constant(cval),
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid mode. Valid modes are 'reflect', 'mirror', \
+                 'nearest', 'wrap', 'constant'"
+            )))
+        }
+    })
+}
+
+/// Filters every channel of an `(H, W)` or `(H, W, C)` array with the separable kernel `k`.
+fn filter_channels<'py>(
+    py: Python<'py>,
+    img: &PyReadonlyArrayDyn<f64>,
+    k: &[f64],
+    b: Border,
+) -> PyResult<Arr<'py, f64>> {
+    let shape = shape_of(img);
+    let (h, w, c) = image_dims("image", &shape)?;
+    let v = values(img);
+    wscg_math::error::ensure_finite("image", &v).py_err()?;
+    let out = py
+        .detach(|| -> wscg_math::Result<Vec<f64>> {
+            let mut out = vec![0.0; v.len()];
+            for ch in 0..c {
+                let res = separable_plane(&plane(&v, c, ch), h, w, k, k, b)?;
+                for (o, r) in out.iter_mut().skip(ch).step_by(c).zip(res) {
+                    *o = r;
+                }
+            }
+            Ok(out)
+        })
+        .py_err()?;
+    array(py, &shape, out)
+}
+
+#[pyfunction]
+fn gaussian_filter<'py>(
+    py: Python<'py>,
+    image: PyReadonlyArrayDyn<f64>,
+    sigma: f64,
+    truncate: f64,
+    mode: &str,
+    cval: f64,
+) -> PyResult<Arr<'py, f64>> {
+    let k = gaussian_kernel(sigma, truncate).py_err()?;
+    filter_channels(py, &image, &k, border(mode, cval)?)
+}
+
+#[pyfunction]
+fn box_filter<'py>(
+    py: Python<'py>,
+    image: PyReadonlyArrayDyn<f64>,
+    radius: usize,
+    mode: &str,
+    cval: f64,
+) -> PyResult<Arr<'py, f64>> {
+    let n = 2 * radius + 1;
+    filter_channels(py, &image, &vec![1.0 / n as f64; n], border(mode, cval)?)
+}
+
+fn to_image(name: &str, shape: &[usize], v: &[f64]) -> PyResult<Image<f32>> {
+    let (h, w, c) = image_dims(name, shape)?;
+    Image::new(h, w, c, v.iter().map(|&x| x as f32).collect()).py_err()
+}
+
+fn image_out<'py, T: numpy::Element>(
+    py: Python<'py>,
+    two_d: bool,
+    img: Image<T>,
+) -> PyResult<Arr<'py, T>>
+where
+    T: Copy,
+{
+    let (h, w, c) = img.shape();
+    let shape: Vec<usize> = if two_d && c == 1 {
+        vec![h, w]
+    } else {
+        vec![h, w, c]
+    };
+    array(py, &shape, img.into_data())
+}
+
+#[pyfunction]
+fn resize<'py>(
+    py: Python<'py>,
+    image: PyReadonlyArrayDyn<f64>,
+    height: usize,
+    width: usize,
+    method: &str,
+) -> PyResult<Arr<'py, f32>> {
+    let m = match method {
+        "area" => Interpolation::Area,
+        "bilinear" => Interpolation::Bilinear,
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid method. Valid methods are 'area', 'bilinear'"
+            )))
+        }
+    };
+    let shape = shape_of(&image);
+    let img = to_image("image", &shape, &values(&image))?;
+    let out = py.detach(|| resize_image(&img, height, width, m)).py_err()?;
+    image_out(py, shape.len() == 2, out)
+}
+
+// ---------------------------------------------------------------- FFT
+
+fn norm(s: &str) -> PyResult<Norm> {
+    match s {
+        "backward" => Ok(Norm::Backward),
+        "ortho" => Ok(Norm::Ortho),
+        "forward" => Ok(Norm::Forward),
+        other => Err(value_error(format!(
+            "{other:?} is not a valid norm. Valid norms are 'backward', 'ortho', 'forward'"
+        ))),
+    }
+}
+
+#[pyfunction]
+#[pyo3(signature = (x, axes, inverse, norm_mode))]
+fn fftn<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArrayDyn<Complex64>,
+    axes: Option<Vec<usize>>,
+    inverse: bool,
+    norm_mode: &str,
+) -> PyResult<Arr<'py, Complex64>> {
+    let shape = shape_of(&x);
+    if shape.is_empty() {
+        return Err(value_error("`x` must have at least one dimension"));
+    }
+    let axes = axes.unwrap_or_else(|| (0..shape.len()).collect());
+    let n = norm(norm_mode)?;
+    let dir = if inverse {
+        Direction::Inverse
+    } else {
+        Direction::Forward
+    };
+    let mut data = values(&x).into_owned();
+    py.detach(|| fft::fft_axes(&mut data, &shape, &axes, dir, n))
+        .py_err()?;
+    array(py, &shape, data)
+}
+
+#[pyfunction]
+fn fftshift_c<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArrayDyn<Complex64>,
+    inverse: bool,
+) -> PyResult<Arr<'py, Complex64>> {
+    let shape = shape_of(&x);
+    let v = values(&x);
+    let out = if inverse {
+        fft::ifftshift(&v, &shape)
+    } else {
+        fft::fftshift(&v, &shape)
+    }
+    .py_err()?;
+    array(py, &shape, out)
+}
+
+#[pyfunction]
+fn fftshift_f<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArrayDyn<f64>,
+    inverse: bool,
+) -> PyResult<Arr<'py, f64>> {
+    let shape = shape_of(&x);
+    let v = values(&x);
+    let out = if inverse {
+        fft::ifftshift(&v, &shape)
+    } else {
+        fft::fftshift(&v, &shape)
+    }
+    .py_err()?;
+    array(py, &shape, out)
+}
+
+#[pyfunction]
+fn fftfreq<'py>(py: Python<'py>, n: usize, d: f64) -> PyResult<Arr<'py, f64>> {
+    if n == 0 {
+        return Err(value_error("`n` must be > 0"));
+    }
+    wscg_math::error::ensure_positive("d", d).py_err()?;
+    array(py, &[n], fft::fftfreq(n, d))
+}
+
+// ---------------------------------------------------------------- sparse
+
+fn indices_usize(name: &'static str, v: &[i64]) -> PyResult<Vec<usize>> {
+    v.iter()
+        .map(|&i| {
+            usize::try_from(i)
+                .map_err(|_| value_error(format!("`{name}` holds a negative value {i}")))
+        })
+        .collect()
+}
+
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn cg<'py>(
+    py: Python<'py>,
+    indptr: PyReadonlyArrayDyn<i64>,
+    indices: PyReadonlyArrayDyn<i64>,
+    data: PyReadonlyArrayDyn<f64>,
+    ncols: usize,
+    b: PyReadonlyArrayDyn<f64>,
+    x0: Option<PyReadonlyArrayDyn<f64>>,
+    tol: f64,
+    maxiter: Option<usize>,
+    preconditioner: Option<&str>,
+) -> PyResult<(Arr<'py, f64>, Bound<'py, PyDict>)> {
+    let p = indices_usize("indptr", &values(&indptr))?;
+    let c = indices_usize("indices", &values(&indices))?;
+    if p.is_empty() {
+        return Err(value_error("`indptr` must have length nrows + 1 >= 1"));
+    }
+    let a = CsrMatrix::from_csr_arrays(p.len() - 1, ncols, &p, &c, &values(&data)).py_err()?;
+    let bv = values(&b);
+    let x0v = x0.as_ref().map(|x| values(x));
+    let guess = match &x0v {
+        Some(x) => InitialGuess::Given(x),
+        None => InitialGuess::Zero,
+    };
+    let opts = PcgOptions {
+        tol,
+        max_iter: maxiter,
+    };
+    let res = match preconditioner {
+        None | Some("none") => py.detach(|| pcg(&a, &bv, guess, &IdentityPrecond, &opts)),
+        Some("jacobi") => {
+            let j = Jacobi::new(&a.diagonal()).py_err()?;
+            py.detach(|| pcg(&a, &bv, guess, &j, &opts))
+        }
+        Some(other) => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid preconditioner. Valid values are 'jacobi', None"
+            )))
+        }
+    }
+    .py_err()?;
+    let info = PyDict::new(py);
+    info.set_item("iterations", res.iterations)?;
+    info.set_item("relative_residual", res.relative_residual)?;
+    info.set_item("converged", res.converged)?;
+    let n = res.x.len();
+    Ok((array(py, &[n], res.x)?, info))
+}
+
+type Csr<'py> = (Arr<'py, i64>, Arr<'py, i64>, Arr<'py, f64>);
+
+#[pyfunction]
+fn laplacian_3d(py: Python<'_>, nx: usize, ny: usize, nz: usize) -> PyResult<Csr<'_>> {
+    let a = py
+        .detach(|| CsrMatrix::laplacian_3d(nx, ny, nz))
+        .py_err()?;
+    let p: Vec<i64> = a.indptr().iter().map(|&v| v as i64).collect();
+    let c: Vec<i64> = a.indices().iter().map(|&v| v as i64).collect();
+    Ok((
+        array(py, &[p.len()], p)?,
+        array(py, &[c.len()], c)?,
+        array(py, &[a.nnz()], a.values().to_vec())?,
+    ))
+}
+
+// ---------------------------------------------------------------- dense
+
+fn mat(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<faer::Mat<f64>> {
+    let shape = a.shape();
+    if shape.len() != 2 {
+        return Err(value_error(format!(
+            "`{name}` must be a 2-D array, got shape {shape:?}"
+        )));
+    }
+    let (r, c) = (shape[0], shape[1]);
+    let v = values(a);
+    Ok(faer::Mat::from_fn(r, c, |i, j| v[i * c + j]))
+}
+
+fn mat_out<'py>(py: Python<'py>, m: &faer::Mat<f64>) -> PyResult<Arr<'py, f64>> {
+    let (r, c) = (m.nrows(), m.ncols());
+    let mut v = Vec::with_capacity(r * c);
+    for i in 0..r {
+        for j in 0..c {
+            v.push(m[(i, j)]);
+        }
+    }
+    array(py, &[r, c], v)
+}
+
+type Eig<'py> = (Arr<'py, f64>, Arr<'py, f64>);
+
+fn eig_out(py: Python<'_>, e: SymEigen) -> PyResult<Eig<'_>> {
+    let n = e.values.len();
+    Ok((array(py, &[n], e.values)?, mat_out(py, &e.vectors)?))
+}
+
+#[pyfunction]
+#[pyo3(signature = (a, k, which))]
+fn eigh<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArrayDyn<f64>,
+    k: Option<usize>,
+    which: &str,
+) -> PyResult<Eig<'py>> {
+    let m = mat("a", &a)?;
+    let e = py
+        .detach(|| match (k, which) {
+            (None, "smallest") => dense::eigh(m.as_ref()),
+            (None, "largest") => dense::eigh(m.as_ref())
+                .and_then(|e| dense::eigh_largest(m.as_ref(), e.values.len())),
+            (Some(k), "largest") => dense::eigh_largest(m.as_ref(), k),
+            (Some(k), "smallest") => dense::eigh_smallest(m.as_ref(), k),
+            (_, other) => Err(Error::invalid(
+                "which",
+                format!("{other:?} is not valid; use 'largest' or 'smallest'"),
+            )),
+        })
+        .py_err()?;
+    eig_out(py, e)
+}
+
+#[pyfunction]
+fn eigh_generalized<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArrayDyn<f64>,
+    b: PyReadonlyArrayDyn<f64>,
+) -> PyResult<Eig<'py>> {
+    let (ma, mb) = (mat("a", &a)?, mat("b", &b)?);
+    let e = py
+        .detach(|| dense::eigh_generalized(ma.as_ref(), mb.as_ref()))
+        .py_err()?;
+    eig_out(py, e)
+}
+
+#[pyfunction]
+fn svd<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArrayDyn<f64>,
+) -> PyResult<(Arr<'py, f64>, Arr<'py, f64>, Arr<'py, f64>)> {
+    let m = mat("a", &a)?;
+    let d = py.detach(|| dense::svd(m.as_ref())).py_err()?;
+    let vt = d.v.transpose().to_owned();
+    let n = d.s.len();
+    Ok((mat_out(py, &d.u)?, array(py, &[n], d.s)?, mat_out(py, &vt)?))
+}
+
+#[pyfunction]
+fn lstsq<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArrayDyn<f64>,
+    b: PyReadonlyArrayDyn<f64>,
+    rcond: Option<f64>,
+) -> PyResult<Arr<'py, f64>> {
+    let (ma, mb) = (mat("a", &a)?, mat("b", &b)?);
+    let x = py
+        .detach(|| dense::lstsq(ma.as_ref(), mb.as_ref(), rcond))
+        .py_err()?;
+    mat_out(py, &x)
+}
+
+// ---------------------------------------------------------------- random numbers
+
+#[pyfunction]
+fn normal(py: Python<'_>, seed: u64, n: usize, mean: f64, std: f64) -> PyResult<Arr<'_, f64>> {
+    let v = py.detach(|| rng::normal_vec(seed, n, mean, std)).py_err()?;
+    array(py, &[n], v)
+}
+
+#[pyfunction]
+fn uniform(py: Python<'_>, seed: u64, n: usize, low: f64, high: f64) -> PyResult<Arr<'_, f64>> {
+    let v = py.detach(|| rng::uniform_vec(seed, n, low, high)).py_err()?;
+    array(py, &[n], v)
+}
+
+#[pyfunction]
+fn permutation(py: Python<'_>, seed: u64, n: usize) -> PyResult<Arr<'_, i64>> {
+    let v: Vec<i64> = rng::permutation(seed, n).into_iter().map(|i| i as i64).collect();
+    array(py, &[n], v)
+}
+
+// ---------------------------------------------------------------- images
+
+#[pyfunction]
+fn load_image(py: Python<'_>, path: PathBuf) -> PyResult<Arr<'_, f32>> {
+    let img = py.detach(|| Image::load(&path)).py_err()?;
+    image_out(py, true, img)
+}
+
+#[pyfunction]
+fn save_image(
+    py: Python<'_>,
+    path: PathBuf,
+    image: PyReadonlyArrayDyn<f64>,
+    bit_depth: Option<u32>,
+) -> PyResult<()> {
+    let img = to_image("image", image.shape(), &values(&image))?;
+    let depth = match bit_depth {
+        None => None,
+        Some(8) => Some(PixelDepth::U8),
+        Some(16) => Some(PixelDepth::U16),
+        Some(32) => Some(PixelDepth::F32),
+        Some(other) => {
+            return Err(value_error(format!(
+                "bit_depth {other} is not valid. Valid values are 8, 16, 32"
+            )))
+        }
+    };
+    py.detach(|| match depth {
+        None => img.save(&path),
+        Some(d) => img.save_with_depth(&path, d),
+    })
+    .py_err()
+}
+
+// ---------------------------------------------------------------- volumes
+
+/// Python spacing (dz, dy, dx) to Rust spacing [sx, sy, sz].
+fn spacing_xyz(s: (f64, f64, f64)) -> [f64; 3] {
+    [s.2, s.1, s.0]
+}
+
+fn volume_out(py: Python<'_>, v: Volume<f32>) -> PyResult<(Arr<'_, f32>, (f64, f64, f64))> {
+    let [sx, sy, sz] = v.spacing();
+    let [nx, ny, nz] = v.dims();
+    let data = v.into_data();
+    Ok((array(py, &[nz, ny, nx], data)?, (sz, sy, sx)))
+}
+
+#[pyfunction]
+#[pyo3(signature = (path, spacing))]
+fn load_volume(
+    py: Python<'_>,
+    path: PathBuf,
+    spacing: Option<(f64, f64, f64)>,
+) -> PyResult<(Arr<'_, f32>, (f64, f64, f64))> {
+    let v = py
+        .detach(|| Volume::read(&path, spacing.map(spacing_xyz)))
+        .py_err()?;
+    volume_out(py, v)
+}
+
+#[pyfunction]
+fn read_raw_volume<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    shape: (usize, usize, usize),
+    dtype: &str,
+    spacing: (f64, f64, f64),
+) -> PyResult<(Arr<'py, f32>, (f64, f64, f64))> {
+    let t: RawType = dtype.parse().py_err()?;
+    let dims = [shape.2, shape.1, shape.0];
+    let v = py
+        .detach(|| Volume::read_raw(&path, dims, spacing_xyz(spacing), t))
+        .py_err()?;
+    volume_out(py, v)
+}
+
+#[pyfunction]
+fn save_volume(
+    py: Python<'_>,
+    path: PathBuf,
+    volume: PyReadonlyArrayDyn<f32>,
+    spacing: (f64, f64, f64),
+) -> PyResult<()> {
+    let shape = volume.shape().to_vec();
+    if shape.len() != 3 {
+        return Err(value_error(format!(
+            "`volume` must be a 3-D array indexed [z, y, x], got shape {shape:?}"
+        )));
+    }
+    let data = values(&volume);
+    let view = ArrayView3::from_shape((shape[0], shape[1], shape[2]), &data)
+        .map_err(|e| value_error(e.to_string()))?;
+    let vol = Volume::from_zyx(view, spacing_xyz(spacing)).py_err()?;
+    let name = path.to_string_lossy().to_ascii_lowercase();
+    py.detach(|| {
+        if name.ends_with(".nii") || name.ends_with(".nii.gz") {
+            vol.write_nifti(&path)
+        } else if name.ends_with(".npy") {
+            vol.write_npy(&path)
+        } else if name.ends_with(".raw") {
+            vol.write_raw_f32_le(&path)
+        } else {
+            Err(Error::UnsupportedFormat(format!(
+                "{}: volumes are written as .nii, .nii.gz, .npy or .raw",
+                path.display()
+            )))
+        }
+    })
+    .py_err()
+}
+
+// ---------------------------------------------------------------- meshes
+
+fn rows3<T: Copy>(name: &str, a: &[T], shape: &[usize]) -> PyResult<Vec<[T; 3]>> {
+    if shape.len() != 2 || shape[1] != 3 {
+        return Err(value_error(format!(
+            "`{name}` must have shape (N, 3), got {shape:?}"
+        )));
+    }
+    Ok(a.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+}
+
+#[pyfunction]
+fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
+    let m = py.detach(|| TriMesh::read(&path)).py_err()?;
+    let d = PyDict::new(py);
+    let nv = m.positions.len();
+    d.set_item("vertices", array(py, &[nv, 3], m.positions.concat())?)?;
+    let faces: Vec<i64> = m.faces.iter().flatten().map(|&i| i as i64).collect();
+    d.set_item("faces", array(py, &[m.faces.len(), 3], faces)?)?;
+    if let Some(n) = m.normals {
+        d.set_item("normals", array(py, &[nv, 3], n.concat())?)?;
+    }
+    if let Some(c) = m.colors {
+        d.set_item("colors", array(py, &[nv, 3], c.concat())?)?;
+    }
+    Ok(d)
+}
+
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn write_mesh(
+    py: Python<'_>,
+    path: PathBuf,
+    vertices: PyReadonlyArrayDyn<f64>,
+    faces: PyReadonlyArrayDyn<i64>,
+    colors: Option<PyReadonlyArrayDyn<f32>>,
+    normals: Option<PyReadonlyArrayDyn<f64>>,
+    binary: bool,
+) -> PyResult<()> {
+    let pos = rows3("vertices", &values(&vertices), vertices.shape())?;
+    let f64faces = rows3("faces", &values(&faces), faces.shape())?;
+    let faces: Vec<[u32; 3]> = f64faces
+        .iter()
+        .map(|f| {
+            let conv = |i: i64| {
+                u32::try_from(i)
+                    .map_err(|_| value_error(format!("`faces` holds an invalid index {i}")))
+            };
+            Ok([conv(f[0])?, conv(f[1])?, conv(f[2])?])
+        })
+        .collect::<PyResult<_>>()?;
+    let mut mesh = TriMesh::new(pos, faces).py_err()?;
+    if let Some(c) = colors {
+        mesh = mesh.with_colors(rows3("colors", &values(&c), c.shape())?).py_err()?;
+    }
+    if let Some(n) = normals {
+        mesh = mesh.with_normals(rows3("normals", &values(&n), n.shape())?).py_err()?;
+    }
+    let is_ply = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+    py.detach(|| {
+        if is_ply && !binary {
+            mesh.write_ply(&path, PlyEncoding::Ascii)
+        } else {
+            mesh.write(&path)
+        }
+    })
+    .py_err()
+}
+
+/// Adds every function of this module to `m`.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(mse, m)?)?;
+    m.add_function(wrap_pyfunction!(psnr, m)?)?;
+    m.add_function(wrap_pyfunction!(ssim, m)?)?;
+    m.add_function(wrap_pyfunction!(dice, m)?)?;
+    m.add_function(wrap_pyfunction!(gaussian_filter, m)?)?;
+    m.add_function(wrap_pyfunction!(box_filter, m)?)?;
+    m.add_function(wrap_pyfunction!(resize, m)?)?;
+    m.add_function(wrap_pyfunction!(fftn, m)?)?;
+    m.add_function(wrap_pyfunction!(fftshift_c, m)?)?;
+    m.add_function(wrap_pyfunction!(fftshift_f, m)?)?;
+    m.add_function(wrap_pyfunction!(fftfreq, m)?)?;
+    m.add_function(wrap_pyfunction!(cg, m)?)?;
+    m.add_function(wrap_pyfunction!(laplacian_3d, m)?)?;
+    m.add_function(wrap_pyfunction!(eigh, m)?)?;
+    m.add_function(wrap_pyfunction!(eigh_generalized, m)?)?;
+    m.add_function(wrap_pyfunction!(svd, m)?)?;
+    m.add_function(wrap_pyfunction!(lstsq, m)?)?;
+    m.add_function(wrap_pyfunction!(normal, m)?)?;
+    m.add_function(wrap_pyfunction!(uniform, m)?)?;
+    m.add_function(wrap_pyfunction!(permutation, m)?)?;
+    m.add_function(wrap_pyfunction!(load_image, m)?)?;
+    m.add_function(wrap_pyfunction!(save_image, m)?)?;
+    m.add_function(wrap_pyfunction!(load_volume, m)?)?;
+    m.add_function(wrap_pyfunction!(read_raw_volume, m)?)?;
+    m.add_function(wrap_pyfunction!(save_volume, m)?)?;
+    m.add_function(wrap_pyfunction!(read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(write_mesh, m)?)?;
+    Ok(())
+}
