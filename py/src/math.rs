@@ -193,7 +193,9 @@ fn resize<'py>(
     };
     let shape = shape_of(&image);
     let img = to_image("image", &shape, &values(&image))?;
-    let out = py.detach(|| resize_image(&img, height, width, m)).py_err()?;
+    let out = py
+        .detach(|| resize_image(&img, height, width, m))
+        .py_err()?;
     image_out(py, shape.len() == 2, out)
 }
 
@@ -345,9 +347,7 @@ type Csr<'py> = (Arr<'py, i64>, Arr<'py, i64>, Arr<'py, f64>);
 
 #[pyfunction]
 fn laplacian_3d(py: Python<'_>, nx: usize, ny: usize, nz: usize) -> PyResult<Csr<'_>> {
-    let a = py
-        .detach(|| CsrMatrix::laplacian_3d(nx, ny, nz))
-        .py_err()?;
+    let a = py.detach(|| CsrMatrix::laplacian_3d(nx, ny, nz)).py_err()?;
     let p: Vec<i64> = a.indptr().iter().map(|&v| v as i64).collect();
     let c: Vec<i64> = a.indices().iter().map(|&v| v as i64).collect();
     Ok((
@@ -463,13 +463,18 @@ fn normal(py: Python<'_>, seed: u64, n: usize, mean: f64, std: f64) -> PyResult<
 
 #[pyfunction]
 fn uniform(py: Python<'_>, seed: u64, n: usize, low: f64, high: f64) -> PyResult<Arr<'_, f64>> {
-    let v = py.detach(|| rng::uniform_vec(seed, n, low, high)).py_err()?;
+    let v = py
+        .detach(|| rng::uniform_vec(seed, n, low, high))
+        .py_err()?;
     array(py, &[n], v)
 }
 
 #[pyfunction]
 fn permutation(py: Python<'_>, seed: u64, n: usize) -> PyResult<Arr<'_, i64>> {
-    let v: Vec<i64> = rng::permutation(seed, n).into_iter().map(|i| i as i64).collect();
+    let v: Vec<i64> = rng::permutation(seed, n)
+        .into_iter()
+        .map(|i| i as i64)
+        .collect();
     array(py, &[n], v)
 }
 
@@ -638,10 +643,14 @@ fn write_mesh(
         .collect::<PyResult<_>>()?;
     let mut mesh = TriMesh::new(pos, faces).py_err()?;
     if let Some(c) = colors {
-        mesh = mesh.with_colors(rows3("colors", &values(&c), c.shape())?).py_err()?;
+        mesh = mesh
+            .with_colors(rows3("colors", &values(&c), c.shape())?)
+            .py_err()?;
     }
     if let Some(n) = normals {
-        mesh = mesh.with_normals(rows3("normals", &values(&n), n.shape())?).py_err()?;
+        mesh = mesh
+            .with_normals(rows3("normals", &values(&n), n.shape())?)
+            .py_err()?;
     }
     let is_ply = path
         .extension()
