@@ -157,14 +157,11 @@ fn to_image(name: &str, shape: &[usize], v: &[f64]) -> PyResult<Image<f32>> {
     Image::new(h, w, c, v.iter().map(|&x| x as f32).collect()).py_err()
 }
 
-fn image_out<'py, T: numpy::Element>(
+fn image_out<'py, T: numpy::Element + Copy>(
     py: Python<'py>,
     two_d: bool,
     img: Image<T>,
-) -> PyResult<Arr<'py, T>>
-where
-    T: Copy,
-{
+) -> PyResult<Arr<'py, T>> {
     let (h, w, c) = img.shape();
     let shape: Vec<usize> = if two_d && c == 1 {
         vec![h, w]
