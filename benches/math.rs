@@ -1,5 +1,5 @@
 //! Criterion benchmarks of the shared math crate. Workload names match
-//! `benches/peers/math.py`, which times the Python binding against numpy, scipy and
+//! `benches/peers/wscg_math.py`, which times the Python binding against numpy, scipy and
 //! scikit-image on the same inputs.
 
 use std::hint::black_box;

@@ -2,7 +2,7 @@
 # Side-by-side benchmarks: our Python binding against the library a user would otherwise
 # pick, on the same inputs. Sets up its own virtualenv of peer libraries, builds the wscg
 # wheel into it in release mode, runs every benches/peers/<name>.py (or the ones named on
-# the command line, e.g. `run.sh math`) and prints one table per script:
+# the command line, e.g. `run.sh wscg_math`; a script must not be named after a standard module) and prints one table per script:
 # workload, ours (s), peer (s), ratio peer/ours (> 1 means wscg is faster).
 #
 # Environment: WSCG_PEERS_VENV (default benches/peers/.venv), CARGO_TARGET_DIR.

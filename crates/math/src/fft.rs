@@ -126,33 +126,60 @@ fn transform_axis<T: FftNum>(
     let n = shape[axis];
     let stride: usize = shape[axis + 1..].iter().product();
     let scratch_len = plan.get_inplace_scratch_len();
-    let run_lines = |lines: &mut [Complex<T>]| {
-        lines.par_chunks_mut(n).for_each_init(
+    if stride == 1 {
+        data.par_chunks_mut(n).for_each_init(
             || vec![Complex::new(T::zero(), T::zero()); scratch_len],
             |scratch, line| plan.process_with_scratch(line, scratch),
         );
-    };
-    if stride == 1 {
-        run_lines(data);
         return;
     }
-    // Strided axis: transpose each (n x stride) block so lines become contiguous.
-    let mut tmp = vec![Complex::new(T::zero(), T::zero()); n * stride];
+    // Strided axis: each task gathers a group of COLS adjacent lines (contiguous runs of
+    // each row) into a buffer, transforms them there and writes them back.
+    const COLS: usize = 16;
+    let zero = Complex::new(T::zero(), T::zero());
     for block in data.chunks_mut(n * stride) {
-        tmp.par_chunks_mut(n).enumerate().for_each(|(i, line)| {
-            for (j, v) in line.iter_mut().enumerate() {
-                *v = block[j * stride + i];
-            }
-        });
-        run_lines(&mut tmp);
-        block
-            .par_chunks_mut(stride)
-            .enumerate()
-            .for_each(|(j, row)| {
-                for (i, v) in row.iter_mut().enumerate() {
-                    *v = tmp[i * n + j];
+        let base = SharedMut(block.as_mut_ptr());
+        (0..stride.div_ceil(COLS)).into_par_iter().for_each_init(
+            || (vec![zero; COLS * n], vec![zero; scratch_len]),
+            |(buf, scratch), g| {
+                let c0 = g * COLS;
+                let bw = COLS.min(stride - c0);
+                for j in 0..n {
+                    // SAFETY: rows have `stride` elements and c0 + bw <= stride, so the run is
+                    // inside `block`; tasks touch disjoint column ranges [c0, c0 + bw).
+                    let row = unsafe { std::slice::from_raw_parts(base.at(j * stride + c0), bw) };
+                    for (b, &v) in row.iter().enumerate() {
+                        buf[b * n + j] = v;
+                    }
                 }
-            });
+                for line in buf.chunks_mut(n).take(bw) {
+                    plan.process_with_scratch(line, scratch);
+                }
+                for j in 0..n {
+                    // SAFETY: as above; no other task reads or writes these elements.
+                    let row =
+                        unsafe { std::slice::from_raw_parts_mut(base.at(j * stride + c0), bw) };
+                    for (b, v) in row.iter_mut().enumerate() {
+                        *v = buf[b * n + j];
+                    }
+                }
+            },
+        );
+    }
+}
+
+/// A pointer into a buffer whose disjoint parts are written by several rayon tasks.
+struct SharedMut<T>(*mut T);
+
+// SAFETY: used only for tasks that access disjoint elements (see `transform_axis`).
+unsafe impl<T: Send> Send for SharedMut<T> {}
+unsafe impl<T: Send> Sync for SharedMut<T> {}
+
+impl<T> SharedMut<T> {
+    /// Pointer to element `i`.
+    fn at(&self, i: usize) -> *mut T {
+        // SAFETY: callers stay inside the buffer.
+        unsafe { self.0.add(i) }
     }
 }
 

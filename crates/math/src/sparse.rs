@@ -9,7 +9,7 @@
 //! result (`converged == false`), not as an error, as `scipy.sparse.linalg.cg` does.
 //! Vector operations and the CSR product run in parallel with rayon.
 
-use faer::sparse::{SparseRowMat, Triplet};
+use faer::sparse::{SparseRowMat, SymbolicSparseRowMat, Triplet};
 use faer::Mat;
 use rayon::prelude::*;
 
@@ -145,6 +145,35 @@ impl CsrMatrix {
         }
         if indptr.windows(2).any(|w| w[1] < w[0]) {
             return Err(Error::invalid("indptr", "must be non-decreasing"));
+        }
+        if let Some(k) = indices.iter().position(|&j| j >= ncols) {
+            return Err(Error::invalid(
+                "indices",
+                format!(
+                    "entry {k} is column {} of a matrix with {ncols} columns",
+                    indices[k]
+                ),
+            ));
+        }
+        ensure_finite("data", data)?;
+        let canonical = (0..nrows).all(|i| {
+            indices[indptr[i]..indptr[i + 1]]
+                .windows(2)
+                .all(|w| w[0] < w[1])
+        });
+        if canonical {
+            // Sorted, duplicate-free rows (scipy's canonical format): adopt the arrays as
+            // they are; the checks above are exactly faer's invariants.
+            let symbolic = SymbolicSparseRowMat::new_checked(
+                nrows,
+                ncols,
+                indptr.to_vec(),
+                None,
+                indices.to_vec(),
+            );
+            return Ok(Self {
+                inner: SparseRowMat::new(symbolic, data.to_vec()),
+            });
         }
         let mut t = Vec::with_capacity(data.len());
         for i in 0..nrows {
@@ -570,6 +599,15 @@ mod tests {
         assert!(CsrMatrix::from_csr_arrays(2, 3, &[0, 2], &[0], &[1.0]).is_err());
         assert!(CsrMatrix::from_csr_arrays(2, 3, &[0, 2, 1], &[0, 1], &[1.0, 1.0]).is_err());
         assert!(CsrMatrix::from_triplets(2, 2, &[(2, 0, 1.0)]).is_err());
+        // Canonical arrays (sorted, unique) take the direct path and give the same matrix.
+        let l = CsrMatrix::laplacian_3d(3, 4, 2).unwrap();
+        let c = CsrMatrix::from_csr_arrays(24, 24, l.indptr(), l.indices(), l.values()).unwrap();
+        assert_eq!(
+            (c.indptr(), c.indices(), c.values()),
+            (l.indptr(), l.indices(), l.values())
+        );
+        assert!(CsrMatrix::from_csr_arrays(2, 2, &[0, 1, 2], &[0, 2], &[1.0, 1.0]).is_err());
+        assert!(CsrMatrix::from_csr_arrays(2, 2, &[0, 1, 2], &[0, 1], &[1.0, f64::NAN]).is_err());
         assert!(CsrMatrix::from_triplets(2, 2, &[(0, 0, f64::NAN)]).is_err());
     }
 
