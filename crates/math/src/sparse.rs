@@ -343,12 +343,19 @@ pub struct PcgResult {
     pub converged: bool,
 }
 
+/// Sums per-chunk partial results in chunk order: the total does not depend on the number
+/// of threads (rayon's adaptive splitting would change the rounding).
+fn ordered_sum(partials: Vec<f64>) -> f64 {
+    partials.iter().sum()
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.par_iter()
-        .with_min_len(MIN_LEN)
-        .zip(b)
-        .map(|(x, y)| x * y)
-        .sum()
+    ordered_sum(
+        a.par_chunks(MIN_LEN)
+            .zip(b.par_chunks(MIN_LEN))
+            .map(|(x, y)| x.iter().zip(y).map(|(p, q)| p * q).sum())
+            .collect(),
+    )
 }
 
 /// Preconditioned conjugate gradient for symmetric positive definite `a`
@@ -427,13 +434,27 @@ pub fn pcg(
             )));
         }
         let alpha = rz / pap;
-        x.par_iter_mut()
-            .with_min_len(MIN_LEN)
-            .zip(r.par_iter_mut().zip(p.par_iter().zip(&ap)))
-            .for_each(|(x, (r, (p, ap)))| {
-                *x += alpha * p;
-                *r -= alpha * ap;
-            });
+        // x += alpha p and r -= alpha A p, accumulating |r|^2 in the same pass.
+        let rr = ordered_sum(
+            x.par_chunks_mut(MIN_LEN)
+                .zip(r.par_chunks_mut(MIN_LEN))
+                .zip(p.par_chunks(MIN_LEN).zip(ap.par_chunks(MIN_LEN)))
+                .map(|((x, r), (p, ap))| {
+                    let mut acc = 0.0;
+                    for i in 0..x.len() {
+                        x[i] += alpha * p[i];
+                        r[i] -= alpha * ap[i];
+                        acc += r[i] * r[i];
+                    }
+                    acc
+                })
+                .collect(),
+        );
+        rnorm = rr.sqrt();
+        if rnorm <= target {
+            it += 1;
+            break;
+        }
         precond.apply(&r, &mut z);
         let rz_new = dot(&r, &z);
         let beta = rz_new / rz;
@@ -442,7 +463,6 @@ pub fn pcg(
             .with_min_len(MIN_LEN)
             .zip(&z)
             .for_each(|(p, z)| *p = z + beta * *p);
-        rnorm = dot(&r, &r).sqrt();
         it += 1;
     }
     Ok(PcgResult {
@@ -554,6 +574,27 @@ mod tests {
         );
         let warm = pcg(&a, &b, InitialGuess::Given(&jac.x), &IdentityPrecond, &opts).unwrap();
         assert_eq!(warm.iterations, 0);
+    }
+
+    #[test]
+    fn result_is_identical_for_any_thread_count() {
+        let a = CsrMatrix::laplacian_3d(30, 30, 30).unwrap();
+        let b: Vec<f64> = (0..a.nrows())
+            .map(|i| ((i * 13) % 17) as f64 - 8.0)
+            .collect();
+        let opts = PcgOptions {
+            tol: 1e-9,
+            max_iter: None,
+        };
+        let jac = Jacobi::new(&a.diagonal()).unwrap();
+        let many = pcg(&a, &b, InitialGuess::Zero, &jac, &opts).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let one = pool.install(|| pcg(&a, &b, InitialGuess::Zero, &jac, &opts).unwrap());
+        assert_eq!(many.x, one.x);
+        assert_eq!(many.iterations, one.iterations);
     }
 
     #[test]
