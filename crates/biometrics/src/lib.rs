@@ -1,0 +1,16 @@
+//! # wscg-biometrics
+//!
+//! Image-based biometrics from the Journal of WSCG vol. 23.
+//!
+//! - [`subspace`]: paper 01, Damavandinejadmonfared and Varadharajan, "A New Extension to
+//!   Kernel Entropy Component Analysis for Image-based Authentication Systems": FDKECA
+//!   (feature-dependent kernel entropy component analysis) with the baselines it is compared
+//!   against (PCA, KPCA, KECA), the 1-NN recognition pipeline of its section 5, and the
+//!   accuracy-versus-dimension protocol of its section 6.
+//! - [`data`]: generated data sets with known labels (synthetic finger veins).
+//!
+//! Data matrices hold **one sample per row** (`n x d`, as scikit-learn); the paper writes
+//! samples as columns.
+
+pub mod data;
+pub mod subspace;

@@ -1,0 +1,110 @@
+//! PCA baseline (paper 01, section 2.1).
+//!
+//! The covariance `C = Xc' Xc / N` (eq. 1, with the paper's `1/N`) is decomposed as
+//! `V Delta V'`; the projection is `y = V_l' (x - mean)`, or the paper's whitened
+//! `Delta_l^{-1/2} V_l' (x - mean)` when `whiten` is set (off by default: classic
+//! eigenfaces, whose nearest-neighbour distances whitening would change). When `N < d` the
+//! SVD of `Xc` is used instead (at most `min(N, d)` components).
+
+use faer::{Mat, MatRef};
+use serde::{Deserialize, Serialize};
+use wscg_math::image::Image;
+use wscg_math::{dense, Error, Result};
+
+use super::{
+    check_components, check_data, check_query, column_means, columns, from_columns, subtract_mean,
+    Projector,
+};
+
+/// A fitted PCA.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pca {
+    /// Mean of the training rows.
+    pub mean: Vec<f64>,
+    /// Principal axes (unit vectors of length `d`), by decreasing variance.
+    pub components: Vec<Vec<f64>>,
+    /// Variances `delta_i` (eigenvalues of `Xc' Xc / N`) of the kept axes.
+    pub variances: Vec<f64>,
+    /// Whether [`Projector::transform`] divides by `sqrt(delta_i)`.
+    pub whiten: bool,
+}
+
+impl Pca {
+    /// Fits PCA to the `N x d` matrix `x`, keeping `n_components` axes (default all
+    /// available: `d`, or `min(N, d)` when `N < d`).
+    pub fn fit(x: MatRef<'_, f64>, n_components: Option<usize>, whiten: bool) -> Result<Self> {
+        check_data("x", x, 2)?;
+        let (n, d) = (x.nrows(), x.ncols());
+        let mean = column_means(x);
+        let xc = subtract_mean(x, &mean);
+        let (components, variances): (Vec<Vec<f64>>, Vec<f64>) = if n >= d {
+            let c = xc.transpose() * &xc;
+            let c = Mat::from_fn(d, d, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]) / n as f64);
+            let l = check_components(n_components, d)?;
+            let e = dense::eigh_largest(c.as_ref(), l)?;
+            let idx: Vec<usize> = (0..l).collect();
+            (
+                columns(e.vectors.as_ref(), &idx),
+                e.values.iter().map(|&v| v.max(0.0)).collect(),
+            )
+        } else {
+            let s = dense::svd(xc.as_ref())?;
+            let l = check_components(n_components, s.s.len())?;
+            let idx: Vec<usize> = (0..l).collect();
+            (
+                columns(s.v.as_ref(), &idx),
+                s.s[..l].iter().map(|v| v * v / n as f64).collect(),
+            )
+        };
+        if whiten {
+            if let Some(i) = variances.iter().position(|&v| v <= 1e-12 * variances[0]) {
+                return Err(Error::invalid(
+                    "n_components",
+                    format!("component {i} has zero variance and cannot be whitened"),
+                ));
+            }
+        }
+        Ok(Self {
+            mean,
+            components,
+            variances,
+            whiten,
+        })
+    }
+
+    /// The same model with the first `l` axes.
+    pub fn truncated(&self, l: usize) -> Result<Self> {
+        let l = check_components(Some(l), self.components.len())?;
+        let mut m = self.clone();
+        m.components.truncate(l);
+        m.variances.truncate(l);
+        Ok(m)
+    }
+
+    /// The first `k` axes as min-max scaled `height x width` images (eigenfaces).
+    pub fn axis_images(&self, k: usize, height: usize, width: usize) -> Result<Vec<Image>> {
+        super::fdkeca::axis_images(&self.components, k, height, width)
+    }
+}
+
+impl Projector for Pca {
+    fn transform(&self, x: MatRef<'_, f64>) -> Result<Mat<f64>> {
+        check_query(x, self.mean.len())?;
+        let mut y = subtract_mean(x, &self.mean) * from_columns(self.mean.len(), &self.components);
+        if self.whiten {
+            for j in 0..y.ncols() {
+                let s = self.variances[j].sqrt();
+                for i in 0..y.nrows() {
+                    y[(i, j)] /= s;
+                }
+            }
+        }
+        Ok(y)
+    }
+    fn n_components(&self) -> usize {
+        self.components.len()
+    }
+    fn input_dim(&self) -> usize {
+        self.mean.len()
+    }
+}
