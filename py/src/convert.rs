@@ -12,6 +12,9 @@ use pyo3::prelude::*;
 
 use crate::errors::value_error;
 
+/// A numpy array bound to the interpreter.
+pub type Arr<'py, T> = Bound<'py, PyArrayDyn<T>>;
+
 /// The array's values in C order, borrowed when contiguous, copied otherwise.
 pub fn values<'a, T: Element + Clone>(a: &'a PyReadonlyArrayDyn<'_, T>) -> Cow<'a, [T]> {
     match a.as_slice() {
@@ -61,4 +64,29 @@ pub fn plane(data: &[f64], channels: usize, c: usize) -> Vec<f64> {
 /// Shape of a readonly array as a vector.
 pub fn shape_of<T: Element>(a: &PyReadonlyArrayDyn<'_, T>) -> Vec<usize> {
     a.shape().to_vec()
+}
+
+/// A 2-D float64 array as a faer matrix (copied).
+pub fn mat(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<faer::Mat<f64>> {
+    let shape = a.shape();
+    if shape.len() != 2 {
+        return Err(value_error(format!(
+            "`{name}` must be a 2-D array, got shape {shape:?}"
+        )));
+    }
+    let (r, c) = (shape[0], shape[1]);
+    let v = values(a);
+    Ok(faer::Mat::from_fn(r, c, |i, j| v[i * c + j]))
+}
+
+/// A faer matrix as a new 2-D numpy array.
+pub fn mat_out<'py>(py: Python<'py>, m: &faer::Mat<f64>) -> PyResult<Arr<'py, f64>> {
+    let (r, c) = (m.nrows(), m.ncols());
+    let mut v = Vec::with_capacity(r * c);
+    for i in 0..r {
+        for j in 0..c {
+            v.push(m[(i, j)]);
+        }
+    }
+    array(py, &[r, c], v)
 }

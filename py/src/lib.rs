@@ -7,6 +7,7 @@
 
 use pyo3::prelude::*;
 
+mod biometrics;
 mod convert;
 mod errors;
 mod math;
@@ -17,6 +18,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     let sub = PyModule::new(m.py(), "math")?;
     math::register(&sub)?;
+    m.add_submodule(&sub)?;
+    let sub = PyModule::new(m.py(), "biometrics")?;
+    biometrics::register(&sub)?;
     m.add_submodule(&sub)?;
     Ok(())
 }

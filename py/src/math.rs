@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use num_complex::Complex64;
 use numpy::ndarray::ArrayView3;
-use numpy::{PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_math::dense::{self, SymEigen};
@@ -19,10 +19,8 @@ use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, Jacobi, P
 use wscg_math::volume::{RawType, Volume};
 use wscg_math::{rng, Error};
 
-use crate::convert::{array, image_dims, plane, same_shape, shape_of, values};
+use crate::convert::{array, image_dims, mat, mat_out, plane, same_shape, shape_of, values, Arr};
 use crate::errors::{value_error, IntoPy};
-
-type Arr<'py, T> = Bound<'py, PyArrayDyn<T>>;
 
 // ---------------------------------------------------------------- metrics
 
@@ -355,29 +353,6 @@ fn laplacian_3d(py: Python<'_>, nx: usize, ny: usize, nz: usize) -> PyResult<Csr
 }
 
 // ---------------------------------------------------------------- dense
-
-fn mat(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<faer::Mat<f64>> {
-    let shape = a.shape();
-    if shape.len() != 2 {
-        return Err(value_error(format!(
-            "`{name}` must be a 2-D array, got shape {shape:?}"
-        )));
-    }
-    let (r, c) = (shape[0], shape[1]);
-    let v = values(a);
-    Ok(faer::Mat::from_fn(r, c, |i, j| v[i * c + j]))
-}
-
-fn mat_out<'py>(py: Python<'py>, m: &faer::Mat<f64>) -> PyResult<Arr<'py, f64>> {
-    let (r, c) = (m.nrows(), m.ncols());
-    let mut v = Vec::with_capacity(r * c);
-    for i in 0..r {
-        for j in 0..c {
-            v.push(m[(i, j)]);
-        }
-    }
-    array(py, &[r, c], v)
-}
 
 type Eig<'py> = (Arr<'py, f64>, Arr<'py, f64>);
 

@@ -131,6 +131,18 @@ pub fn read_file(path: &Path) -> Result<Vec<u8>> {
     std::fs::read(path).map_err(|e| Error::io(path, e))
 }
 
+/// Maps errors of a decoding reader: corrupt or truncated data is a format error, the rest
+/// I/O.
+pub fn read_error(path: &Path, e: std::io::Error) -> Error {
+    use std::io::ErrorKind;
+    match e.kind() {
+        ErrorKind::InvalidData | ErrorKind::InvalidInput | ErrorKind::UnexpectedEof => {
+            Error::format(path, format!("corrupt or truncated data: {e}"))
+        }
+        _ => Error::io(path, e),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

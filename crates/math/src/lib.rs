@@ -26,6 +26,7 @@ pub mod filter;
 pub mod image;
 pub mod mesh;
 pub mod metrics;
+pub mod npy;
 pub mod progress;
 pub mod resize;
 pub mod rng;

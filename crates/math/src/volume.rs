@@ -38,7 +38,7 @@ use ndarray::{Array3, ArrayView3, ArrayViewMut3, Ix3, ShapeBuilder};
 use nifti::{IntoNdArray, NiftiError, NiftiHeader, NiftiType};
 use rayon::prelude::*;
 
-use crate::error::{ensure_positive, read_file, Error, Result};
+use crate::error::{ensure_positive, read_error, Error, Result};
 
 /// Largest number of voxels a volume may have (`2^33`, e.g. 2048 x 2048 x 2048, 32 GiB as
 /// `f32`). Constructors and readers refuse larger requests with [`Error::LimitExceeded`], so a
@@ -802,16 +802,6 @@ fn f32_to_f64_decimal(v: f32) -> f64 {
     v.to_string().parse().unwrap_or(v as f64)
 }
 
-/// Maps errors of a decoding reader: corrupt compressed data is a format error, the rest I/O.
-fn read_error(path: &Path, e: io::Error) -> Error {
-    match e.kind() {
-        io::ErrorKind::InvalidData | io::ErrorKind::InvalidInput | io::ErrorKind::UnexpectedEof => {
-            Error::format(path, format!("corrupt or truncated data: {e}"))
-        }
-        _ => Error::io(path, e),
-    }
-}
-
 /// Reads up to `n` bytes (fewer at end of stream) without trusting `n` for the allocation
 /// beyond `reserve`.
 fn read_up_to(reader: &mut impl Read, n: u64, reserve: usize) -> io::Result<Vec<u8>> {
@@ -955,14 +945,10 @@ impl Volume<f32> {
     /// that is not 3-D or has an empty axis; [`Error::UnsupportedFormat`] for other dtypes;
     /// [`Error::LimitExceeded`] above [`MAX_VOXELS`]; invalid `spacing` as [`Volume::new`].
     pub fn read_npy(path: impl AsRef<Path>, spacing: [f64; 3]) -> Result<Self> {
-        use ndarray_npy::npy::header::Header;
         let path = path.as_ref();
         check_spacing(spacing)?;
-        let bytes = read_file(path)?;
-        let data_start = npy_header_end(path, &bytes)?;
-        let header = Header::from_reader(&mut &bytes[..])
-            .map_err(|e| Error::format(path, format!("invalid .npy header: {e}")))?;
-        let shape = &header.shape;
+        let arr = crate::npy::read::<f32>(path)?;
+        let shape = &arr.shape;
         if shape.len() != 3 {
             return Err(Error::format(
                 path,
@@ -979,93 +965,9 @@ impl Volume<f32> {
                 format!("the array of shape {shape:?} has an empty axis"),
             ));
         }
-        let n = voxel_count(dims)?;
-        let payload = bytes.len() - data_start;
-        if n > payload {
-            return Err(Error::format(
-                path,
-                format!(
-                    "truncated: shape {shape:?} needs at least {n} bytes of data, found {payload}"
-                ),
-            ));
-        }
-        let data = read_npy_values(path, &bytes)?.ok_or_else(|| {
-            Error::UnsupportedFormat(format!(
-                "{}: .npy dtype {} is not supported. Supported dtypes are float32, float64, \
-                 uint8, int8, uint16, int16, uint32, int32, uint64 and int64",
-                path.display(),
-                header.type_descriptor
-            ))
-        })?;
-        Volume::new(dims, spacing, data)
+        voxel_count(dims)?;
+        Volume::new(dims, spacing, arr.data)
     }
-}
-
-/// Checks the `.npy` preamble and returns the offset of the array data; guards the header
-/// length against the file size before the npy crate allocates it.
-fn npy_header_end(path: &Path, bytes: &[u8]) -> Result<usize> {
-    const MAGIC: &[u8] = b"\x93NUMPY";
-    if bytes.len() < 10 || &bytes[..6] != MAGIC {
-        return Err(Error::format(
-            path,
-            "not a .npy file (missing \\x93NUMPY magic)",
-        ));
-    }
-    let (len, start) = match bytes[6] {
-        1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10usize),
-        2 | 3 if bytes.len() >= 12 => (
-            u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
-            12,
-        ),
-        2 | 3 => return Err(Error::format(path, "truncated .npy header")),
-        v => {
-            return Err(Error::format(
-                path,
-                format!("unsupported .npy format version {v}"),
-            ))
-        }
-    };
-    match start.checked_add(len) {
-        Some(end) if end <= bytes.len() => Ok(end),
-        _ => Err(Error::format(
-            path,
-            format!(
-                "truncated .npy header: declares {len} header bytes, file has {}",
-                bytes.len()
-            ),
-        )),
-    }
-}
-
-/// Decodes the `.npy` data as `f32` in logical `[z, y, x]` order (x fastest), trying each
-/// supported element type; `Ok(None)` when the dtype is none of them.
-fn read_npy_values(path: &Path, bytes: &[u8]) -> Result<Option<Vec<f32>>> {
-    use ndarray_npy::{ReadNpyError, ReadNpyExt, ReadableElement};
-
-    fn attempt<A: ReadableElement + Copy>(
-        path: &Path,
-        bytes: &[u8],
-        conv: fn(A) -> f32,
-    ) -> Option<Result<Vec<f32>>> {
-        match Array3::<A>::read_npy(bytes) {
-            Ok(a) => Some(Ok(a.iter().map(|&v| conv(v)).collect())),
-            Err(ReadNpyError::WrongDescriptor(_)) => None,
-            Err(ReadNpyError::Io(e)) => Some(Err(read_error(path, e))),
-            Err(e) => Some(Err(Error::format(path, e.to_string()))),
-        }
-    }
-
-    macro_rules! try_types {
-        ($($t:ty),*) => {
-            $(
-                if let Some(r) = attempt::<$t>(path, bytes, |v| v as f32) {
-                    return r.map(Some);
-                }
-            )*
-        };
-    }
-    try_types!(f32, f64, u8, i8, u16, i16, u32, i32, u64, i64);
-    Ok(None)
 }
 
 /// Reads a NIfTI-1 single-file stream (already decompressed). `file_len` is the size of an

@@ -5,13 +5,15 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
 
 - :mod:`wscg.math`: shared numerics (image, volume and mesh IO, FFT, filters, resizing,
   metrics, sparse and dense linear algebra, seeded random numbers).
+- :mod:`wscg.biometrics`: paper 01, FDKECA with PCA, kernel PCA and KECA baselines and 1-NN
+  recognition (scikit-learn-style estimators).
 
 Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import math
+from . import biometrics, math
 
 __version__: str = _native.__version__
 
-__all__ = ["math", "__version__"]
+__all__ = ["biometrics", "math", "__version__"]

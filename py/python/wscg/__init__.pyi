@@ -1,3 +1,4 @@
+from . import biometrics as biometrics
 from . import math as math
 
 __version__: str

@@ -8,12 +8,13 @@
 
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use wscg_math::{rng, Error, Result};
 
 use super::{check_query, Projector};
 
 /// Distance of the nearest-neighbour rule.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Metric {
     /// Euclidean distance (the default, as in the authors' earlier PCA finger-vein work).
     #[default]
@@ -36,16 +37,24 @@ fn check_labels(x: MatRef<'_, f64>, labels: &[u32]) -> Result<()> {
     Ok(())
 }
 
-/// For every test row and each `l` in the sorted `dims`, the label of the nearest training
-/// row using the first `l` columns. Distances are accumulated column by column, so the whole
-/// sweep costs one pass over the `max(dims)` columns. Ties go to the lowest training index.
-fn predict_prefixes(
+/// The nearest training row of one query and its distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Neighbour {
+    /// Row index in the training set (ties go to the lowest index).
+    pub index: usize,
+    /// Euclidean distance, or cosine distance `1 - cos`.
+    pub distance: f64,
+}
+
+/// For every test row and each `l` in the sorted `dims`, the nearest training row using the
+/// first `l` columns. Distances are accumulated column by column, so the whole sweep costs
+/// one pass over the `max(dims)` columns.
+fn nearest_prefixes(
     train: MatRef<'_, f64>,
-    labels: &[u32],
     test: MatRef<'_, f64>,
     dims: &[usize],
     metric: Metric,
-) -> Vec<Vec<u32>> {
+) -> Vec<Vec<Neighbour>> {
     let n = train.nrows();
     let lmax = dims.last().copied().unwrap_or(0);
     (0..test.nrows())
@@ -89,7 +98,14 @@ fn predict_prefixes(
                     let best = (0..n)
                         .min_by(|&a, &b| score(a).total_cmp(&score(b)).then(a.cmp(&b)))
                         .expect("training set is not empty");
-                    out.push(labels[best]);
+                    let distance = match metric {
+                        Metric::Euclidean => score(best).sqrt(),
+                        Metric::Cosine => score(best),
+                    };
+                    out.push(Neighbour {
+                        index: best,
+                        distance,
+                    });
                     next += 1;
                 }
             }
@@ -113,6 +129,28 @@ fn check_dims(dims: &[usize], available: usize) -> Result<Vec<usize>> {
     }
 }
 
+/// The nearest row of `train` (same width) for every row of `test`.
+///
+/// Errors: width mismatch, empty training set, NaN.
+pub fn nearest_neighbours(
+    train: MatRef<'_, f64>,
+    test: MatRef<'_, f64>,
+    metric: Metric,
+) -> Result<Vec<Neighbour>> {
+    if train.nrows() == 0 {
+        return Err(Error::Empty("train"));
+    }
+    if train.ncols() == 0 {
+        return Err(Error::invalid("train", "has no columns"));
+    }
+    check_query(test, train.ncols())?;
+    wscg_math::dense::check_matrix("train", train)?;
+    Ok(nearest_prefixes(train, test, &[train.ncols()], metric)
+        .into_iter()
+        .map(|v| v[0])
+        .collect())
+}
+
 /// 1-NN labels of the rows of `test` against `train` (same width).
 ///
 /// Errors: width mismatch, label count, empty training set, NaN.
@@ -123,17 +161,10 @@ pub fn nn_classify(
     metric: Metric,
 ) -> Result<Vec<u32>> {
     check_labels(train, labels)?;
-    check_query(test, train.ncols())?;
-    wscg_math::dense::check_matrix("train", train)?;
-    if train.ncols() == 0 {
-        return Err(Error::invalid("train", "has no columns"));
-    }
-    Ok(
-        predict_prefixes(train, labels, test, &[train.ncols()], metric)
-            .into_iter()
-            .map(|v| v[0])
-            .collect(),
-    )
+    Ok(nearest_neighbours(train, test, metric)?
+        .into_iter()
+        .map(|nb| labels[nb.index])
+        .collect())
 }
 
 /// Fraction of `pred` equal to `truth`.
@@ -162,12 +193,16 @@ pub fn accuracy_curve(
     check_labels(ztest, ytest)?;
     check_query(ztest, ztrain.ncols())?;
     let dims = check_dims(dims, ztrain.ncols())?;
-    let preds = predict_prefixes(ztrain, ytrain, ztest, &dims, metric);
+    let nearest = nearest_prefixes(ztrain, ztest, &dims, metric);
     Ok(dims
         .iter()
         .enumerate()
         .map(|(k, &l)| {
-            let correct = preds.iter().zip(ytest).filter(|(p, &y)| p[k] == y).count();
+            let correct = nearest
+                .iter()
+                .zip(ytest)
+                .filter(|(p, &y)| ytrain[p[k].index] == y)
+                .count();
             (l, correct as f64 / ytest.len() as f64)
         })
         .collect())
@@ -244,10 +279,13 @@ pub fn select_dimension_cv(
 }
 
 /// The section 5 pipeline: a fitted projection plus the projected, labelled training set.
+/// Serialisable (with serde) when the projection is.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SubspaceClassifier<P: Projector> {
     /// The projection.
     pub projector: P,
-    /// Projected training rows.
+    /// Projected training rows (`N x l`).
+    #[serde(with = "super::serde_mat")]
     pub train: Mat<f64>,
     /// Their labels.
     pub labels: Vec<u32>,
@@ -268,9 +306,18 @@ impl<P: Projector> SubspaceClassifier<P> {
         })
     }
 
+    /// The nearest projected training row of every row of `x`.
+    pub fn nearest(&self, x: MatRef<'_, f64>) -> Result<Vec<Neighbour>> {
+        let z = self.projector.transform(x)?;
+        nearest_neighbours(self.train.as_ref(), z.as_ref(), self.metric)
+    }
+
     /// Labels of new rows (1-NN in the subspace).
     pub fn predict(&self, x: MatRef<'_, f64>) -> Result<Vec<u32>> {
-        let z = self.projector.transform(x)?;
-        nn_classify(self.train.as_ref(), &self.labels, z.as_ref(), self.metric)
+        Ok(self
+            .nearest(x)?
+            .into_iter()
+            .map(|nb| self.labels[nb.index])
+            .collect())
     }
 }

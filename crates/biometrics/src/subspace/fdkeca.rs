@@ -88,28 +88,12 @@ impl Fdkeca {
     /// Errors: `N < 2`, `d = 0`, NaN/inf, bad kernel parameters, `n_components` 0 or > d,
     /// all feature vectors identical under the median heuristic.
     pub fn fit(x: MatRef<'_, f64>, p: &FdkecaParams) -> Result<Self> {
-        check_data("x", x, 2)?;
         let (n, d) = (x.nrows(), x.ncols());
+        let fk = feature_kernel(x, &p.kernel, p.center)?;
         let l = check_components(p.n_components, d)?;
-        let mean = if p.center {
-            column_means(x)
-        } else {
-            vec![0.0; d]
-        };
-        let xc = subtract_mean(x, &mean);
-        let g = xc.transpose() * &xc;
-        let g = Mat::from_fn(d, d, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
-        let kernel = resolve(&p.kernel, g.as_ref(), n)?;
-        let k = kernel_from_gram(g.as_ref(), &kernel);
-        debug_assert_eq!(k.nrows(), d, "the FDKECA kernel is d x d");
+        let (mean, k, kernel) = (fk.mean, fk.k, fk.kernel);
         let e = dense::eigh(k.as_ref())?;
-        let lambda: Vec<f64> = e.values.iter().map(|&v| v.max(0.0)).collect();
-        let psi: Vec<f64> = (0..d)
-            .map(|i| {
-                let s: f64 = (0..d).map(|r| e.vectors[(r, i)]).sum();
-                lambda[i] * s * s
-            })
-            .collect();
+        let (lambda, psi) = super::entropy_terms(&e);
         let order = match p.ordering {
             Ordering::Entropy => order_desc(&psi, &lambda),
             Ordering::Eigenvalue => order_desc(&lambda, &psi),
@@ -149,6 +133,12 @@ impl Fdkeca {
         Ok(m)
     }
 
+    /// Reconstructs images from projections `y` (`m x l`): `x = mean + A y` (the axes are
+    /// orthonormal, so this is the least-squares pre-image; exact at `l = d`).
+    pub fn inverse_transform(&self, y: MatRef<'_, f64>) -> Result<Mat<f64>> {
+        super::reconstruct(&self.mean, &self.axes, None, y)
+    }
+
     /// The first `k` axes as `height x width` images, each min-max scaled to `[0, 1]` (the
     /// paper's eigenface view, section 4). Errors when `height * width != d` or `k` is out
     /// of range.
@@ -165,6 +155,38 @@ impl Fdkeca {
     pub fn from_json(s: &str) -> Result<Self> {
         serde_json::from_str(s).map_err(|e| Error::invalid("json", e.to_string()))
     }
+}
+
+/// The feature-space kernel of a data matrix (step 1 of section 3.1).
+#[derive(Clone, Debug)]
+pub struct FeatureKernel {
+    /// Column means subtracted (zeros when not centring).
+    pub mean: Vec<f64>,
+    /// `K_tt' = k(f_t, f_t')`, `d x d` (eq. 10).
+    pub k: Mat<f64>,
+    /// The kernel with data-dependent parameters resolved.
+    pub kernel: ResolvedKernel,
+}
+
+/// Builds FDKECA's `d x d` kernel between the feature vectors (columns of the centred `x`)
+/// from one GEMM `G = Xc' Xc`.
+///
+/// Errors: `N < 2`, `d = 0`, NaN/inf, bad kernel parameters, all feature vectors identical
+/// under the median heuristic.
+pub fn feature_kernel(x: MatRef<'_, f64>, kernel: &Kernel, center: bool) -> Result<FeatureKernel> {
+    check_data("x", x, 2)?;
+    let (n, d) = (x.nrows(), x.ncols());
+    let mean = if center {
+        column_means(x)
+    } else {
+        vec![0.0; d]
+    };
+    let xc = subtract_mean(x, &mean);
+    let g = xc.transpose() * &xc;
+    let g = Mat::from_fn(d, d, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
+    let kernel = resolve(kernel, g.as_ref(), n)?;
+    let k = kernel_from_gram(g.as_ref(), &kernel);
+    Ok(FeatureKernel { mean, k, kernel })
 }
 
 /// Axes (each of length `height * width`) as min-max scaled images.

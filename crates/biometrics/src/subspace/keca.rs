@@ -42,13 +42,7 @@ impl Keca {
         let sk = sample_kernel(x, kernel)?;
         let n = x.nrows();
         let e = dense::eigh(sk.k.as_ref())?;
-        let lambda: Vec<f64> = e.values.iter().map(|&v| v.max(0.0)).collect();
-        let psi: Vec<f64> = (0..n)
-            .map(|i| {
-                let s: f64 = (0..n).map(|r| e.vectors[(r, i)]).sum();
-                lambda[i] * s * s
-            })
-            .collect();
+        let (lambda, psi) = super::entropy_terms(&e);
         let lmax = lambda.iter().cloned().fold(0.0, f64::max);
         let order: Vec<usize> = order_desc(&psi, &lambda)
             .into_iter()
@@ -74,6 +68,16 @@ impl Keca {
             eigenvectors: super::columns(e.vectors.as_ref(), keep),
             kernel_sum,
         })
+    }
+
+    /// The same model with its first `l` components (no refit).
+    pub fn truncated(&self, l: usize) -> Result<Self> {
+        let l = check_components(Some(l), self.eigenvalues.len())?;
+        let mut m = self.clone();
+        m.eigenvalues.truncate(l);
+        m.eigenvectors.truncate(l);
+        m.entropy_terms.truncate(l);
+        Ok(m)
     }
 
     /// Training embedding `(D_l^{1/2} E_l')'` (`N x l`).

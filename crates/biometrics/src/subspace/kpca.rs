@@ -99,6 +99,15 @@ impl KernelPca {
         })
     }
 
+    /// The same model with its first `l` components (no refit).
+    pub fn truncated(&self, l: usize) -> Result<Self> {
+        let l = check_components(Some(l), self.eigenvalues.len())?;
+        let mut m = self.clone();
+        m.eigenvalues.truncate(l);
+        m.eigenvectors.truncate(l);
+        Ok(m)
+    }
+
     /// Training embedding `E_l D_l^{1/2}` (`N x l`).
     pub fn embedding(&self) -> Mat<f64> {
         Mat::from_fn(self.train.len(), self.eigenvalues.len(), |i, j| {

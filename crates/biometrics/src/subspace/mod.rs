@@ -18,17 +18,22 @@ pub mod fdkeca;
 pub mod keca;
 pub mod kernel;
 pub mod kpca;
+pub mod model;
 pub mod pca;
+pub mod recognizer;
+pub mod serde_mat;
 
 pub use classify::{
-    accuracy, accuracy_curve, best_dimension, nn_classify, select_dimension_cv, Metric,
-    SubspaceClassifier,
+    accuracy, accuracy_curve, best_dimension, nearest_neighbours, nn_classify, select_dimension_cv,
+    Metric, Neighbour, SubspaceClassifier,
 };
 pub use fdkeca::{Fdkeca, FdkecaParams, Ordering};
 pub use keca::Keca;
 pub use kernel::{Gamma, Kernel, ResolvedKernel, Sigma};
 pub use kpca::KernelPca;
+pub use model::{Method, Model};
 pub use pca::Pca;
+pub use recognizer::{Identification, Recognizer};
 
 /// A fitted linear or kernel projection `R^d -> R^l`.
 pub trait Projector: Sync {
@@ -119,4 +124,47 @@ pub fn order_desc(key: &[f64], tie: &[f64]) -> Vec<usize> {
             .then(a.cmp(&b))
     });
     idx
+}
+
+/// Pre-image of projected rows under orthonormal axes: `x = mean + sum_j y_j s_j a_j`, with
+/// `s_j = scale[j]` (1 when `scale` is `None`). Errors when `y` is not `m x axes.len()`.
+pub fn reconstruct(
+    mean: &[f64],
+    axes: &[Vec<f64>],
+    scale: Option<&[f64]>,
+    y: MatRef<'_, f64>,
+) -> Result<Mat<f64>> {
+    if y.ncols() != axes.len() {
+        return Err(Error::ShapeMismatch(format!(
+            "y has {} columns but the model has {} components",
+            y.ncols(),
+            axes.len()
+        )));
+    }
+    wscg_math::dense::check_matrix("y", y)?;
+    let d = mean.len();
+    let a = Mat::from_fn(axes.len(), d, |j, t| {
+        axes[j][t] * scale.map_or(1.0, |s| s[j])
+    });
+    let mut x = y * a;
+    for i in 0..x.nrows() {
+        for (t, m) in mean.iter().enumerate() {
+            x[(i, t)] += m;
+        }
+    }
+    Ok(x)
+}
+
+/// Eigenvalues clipped at 0 and the Renyi-entropy terms `psi_i = lambda_i (1' e_i)^2` of a
+/// symmetric eigendecomposition (eq. 9; KECA over samples, FDKECA over features).
+pub fn entropy_terms(e: &wscg_math::dense::SymEigen) -> (Vec<f64>, Vec<f64>) {
+    let n = e.vectors.nrows();
+    let lambda: Vec<f64> = e.values.iter().map(|&v| v.max(0.0)).collect();
+    let psi = (0..e.vectors.ncols())
+        .map(|i| {
+            let s: f64 = (0..n).map(|r| e.vectors[(r, i)]).sum();
+            lambda[i] * s * s
+        })
+        .collect();
+    (lambda, psi)
 }

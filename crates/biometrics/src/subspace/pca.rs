@@ -81,6 +81,15 @@ impl Pca {
         Ok(m)
     }
 
+    /// Reconstructs rows from projections `y` (`m x l`): `x = mean + V_l y` (eigenface
+    /// reconstruction; undoes the whitening when set).
+    pub fn inverse_transform(&self, y: MatRef<'_, f64>) -> Result<Mat<f64>> {
+        let scale: Option<Vec<f64>> = self
+            .whiten
+            .then(|| self.variances.iter().map(|v| v.sqrt()).collect());
+        super::reconstruct(&self.mean, &self.components, scale.as_deref(), y)
+    }
+
     /// The first `k` axes as min-max scaled `height x width` images (eigenfaces).
     pub fn axis_images(&self, k: usize, height: usize, width: usize) -> Result<Vec<Image>> {
         super::fdkeca::axis_images(&self.components, k, height, width)

@@ -1,0 +1,200 @@
+//! numpy `.npy` files of any dimension and the common numeric dtypes.
+//!
+//! [`read`] accepts float32, float64, uint8, int8, uint16, int16, uint32, int32, uint64 and
+//! int64 (either byte order, C or Fortran layout) and returns the values in C order
+//! (last axis fastest) converted to `f32` or `f64`. [`write_f64`] writes a C-order float64
+//! array. Malformed or truncated files are [`Error::Format`], other dtypes
+//! [`Error::UnsupportedFormat`], never a panic.
+
+use std::fs::File;
+use std::io::{self, Write};
+use std::path::Path;
+
+use ndarray::{ArrayD, ArrayViewD, IxDyn};
+use ndarray_npy::npy::header::Header;
+use ndarray_npy::{ReadNpyError, ReadNpyExt, ReadableElement, WriteNpyExt};
+
+use crate::error::{read_error, read_file, Error, Result};
+
+/// The dtype names [`read`] accepts, for error messages.
+pub const SUPPORTED_DTYPES: &str =
+    "float32, float64, uint8, int8, uint16, int16, uint32, int32, uint64 and int64";
+
+/// An element type `.npy` values can be converted to.
+pub trait NpyTarget: Copy {
+    /// The value `v` in this type (rounded for `f32`).
+    fn from_f64(v: f64) -> Self;
+}
+
+impl NpyTarget for f32 {
+    fn from_f64(v: f64) -> Self {
+        v as f32
+    }
+}
+
+impl NpyTarget for f64 {
+    fn from_f64(v: f64) -> Self {
+        v
+    }
+}
+
+/// An n-dimensional array read from a `.npy` file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NpyArray<T> {
+    /// The array's shape, as numpy reports it.
+    pub shape: Vec<usize>,
+    /// The values in C order (last axis fastest).
+    pub data: Vec<T>,
+}
+
+/// Reads a `.npy` file, converting its values to `T`.
+///
+/// Errors: [`Error::Io`] when the file cannot be read, [`Error::Format`] for a malformed or
+/// truncated file, [`Error::UnsupportedFormat`] for dtypes outside [`SUPPORTED_DTYPES`].
+pub fn read<T: NpyTarget>(path: impl AsRef<Path>) -> Result<NpyArray<T>> {
+    let path = path.as_ref();
+    let bytes = read_file(path)?;
+    let data_start = header_end(path, &bytes)?;
+    let header = Header::from_reader(&mut &bytes[..])
+        .map_err(|e| Error::format(path, format!("invalid .npy header: {e}")))?;
+    let count = header
+        .shape
+        .iter()
+        .try_fold(1usize, |a, &b| a.checked_mul(b))
+        .ok_or_else(|| Error::format(path, format!("shape {:?} overflows", header.shape)))?;
+    let payload = bytes.len() - data_start;
+    if count > payload {
+        return Err(Error::format(
+            path,
+            format!(
+                "truncated: shape {:?} needs at least {count} bytes of data, found {payload}",
+                header.shape
+            ),
+        ));
+    }
+    let data = values::<T>(path, &bytes)?.ok_or_else(|| {
+        Error::UnsupportedFormat(format!(
+            "{}: .npy dtype {} is not supported. Supported dtypes are {SUPPORTED_DTYPES}",
+            path.display(),
+            header.type_descriptor
+        ))
+    })?;
+    Ok(NpyArray {
+        shape: header.shape,
+        data,
+    })
+}
+
+/// Writes `data` (C order) as a float64 `.npy` array of the given shape.
+///
+/// Errors: [`Error::ShapeMismatch`] when the shape does not hold `data.len()` values,
+/// [`Error::Io`] when the file cannot be written.
+pub fn write_f64(path: impl AsRef<Path>, shape: &[usize], data: &[f64]) -> Result<()> {
+    let path = path.as_ref();
+    let view = ArrayViewD::from_shape(IxDyn(shape), data).map_err(|_| {
+        Error::ShapeMismatch(format!(
+            "{} values do not fill an array of shape {shape:?}",
+            data.len()
+        ))
+    })?;
+    let file = File::create(path).map_err(|e| Error::io(path, e))?;
+    let mut writer = io::BufWriter::new(file);
+    view.write_npy(&mut writer).map_err(|e| match e {
+        ndarray_npy::WriteNpyError::Io(e) => Error::io(path, e),
+        e => Error::io(path, io::Error::other(e.to_string())),
+    })?;
+    writer.flush().map_err(|e| Error::io(path, e))
+}
+
+/// Checks the `.npy` preamble and returns the offset of the array data; guards the header
+/// length against the file size before the npy crate allocates it.
+fn header_end(path: &Path, bytes: &[u8]) -> Result<usize> {
+    const MAGIC: &[u8] = b"\x93NUMPY";
+    if bytes.len() < 10 || &bytes[..6] != MAGIC {
+        return Err(Error::format(
+            path,
+            "not a .npy file (missing \\x93NUMPY magic)",
+        ));
+    }
+    let (len, start) = match bytes[6] {
+        1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10usize),
+        2 | 3 if bytes.len() >= 12 => (
+            u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
+            12,
+        ),
+        2 | 3 => return Err(Error::format(path, "truncated .npy header")),
+        v => {
+            return Err(Error::format(
+                path,
+                format!("unsupported .npy format version {v}"),
+            ))
+        }
+    };
+    match start.checked_add(len) {
+        Some(end) if end <= bytes.len() => Ok(end),
+        _ => Err(Error::format(
+            path,
+            format!(
+                "truncated .npy header: declares {len} header bytes, file has {}",
+                bytes.len()
+            ),
+        )),
+    }
+}
+
+/// Decodes the data in C order, trying each supported element type; `Ok(None)` when the
+/// dtype is none of them.
+fn values<T: NpyTarget>(path: &Path, bytes: &[u8]) -> Result<Option<Vec<T>>> {
+    fn attempt<A: ReadableElement + Copy, T: NpyTarget>(
+        path: &Path,
+        bytes: &[u8],
+        conv: fn(A) -> f64,
+    ) -> Option<Result<Vec<T>>> {
+        match ArrayD::<A>::read_npy(bytes) {
+            Ok(a) => Some(Ok(a.iter().map(|&v| T::from_f64(conv(v))).collect())),
+            Err(ReadNpyError::WrongDescriptor(_)) => None,
+            Err(ReadNpyError::Io(e)) => Some(Err(read_error(path, e))),
+            Err(e) => Some(Err(Error::format(path, e.to_string()))),
+        }
+    }
+
+    macro_rules! try_types {
+        ($($t:ty),*) => {
+            $(
+                if let Some(r) = attempt::<$t, T>(path, bytes, |v| v as f64) {
+                    return r.map(Some);
+                }
+            )*
+        };
+    }
+    try_types!(f64, f32, u8, i8, u16, i16, u32, i32, u64, i64);
+    Ok(None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_and_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.npy");
+        let data: Vec<f64> = (0..24).map(|v| v as f64 * 0.5 - 3.0).collect();
+        write_f64(&p, &[2, 3, 4], &data).unwrap();
+        let a = read::<f64>(&p).unwrap();
+        assert_eq!(a.shape, vec![2, 3, 4]);
+        assert_eq!(a.data, data);
+        assert!(matches!(
+            write_f64(&p, &[5, 5], &data),
+            Err(Error::ShapeMismatch(_))
+        ));
+        let bytes = std::fs::read(&p).unwrap();
+        std::fs::write(&p, &bytes[..bytes.len() - 9]).unwrap();
+        assert!(matches!(read::<f64>(&p), Err(Error::Format { .. })));
+        std::fs::write(&p, b"not numpy").unwrap();
+        assert!(matches!(read::<f32>(&p), Err(Error::Format { .. })));
+        assert!(read::<f64>(dir.path().join("missing.npy"))
+            .unwrap_err()
+            .is_io());
+    }
+}
