@@ -184,7 +184,7 @@ pub fn feature_kernel(x: MatRef<'_, f64>, kernel: &Kernel, center: bool) -> Resu
     let xc = subtract_mean(x, &mean);
     let g = xc.transpose() * &xc;
     let g = Mat::from_fn(d, d, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
-    let kernel = resolve(kernel, g.as_ref(), n)?;
+    let kernel = resolve(kernel, g.as_ref(), n, "features")?;
     let k = kernel_from_gram(g.as_ref(), &kernel);
     Ok(FeatureKernel { mean, k, kernel })
 }

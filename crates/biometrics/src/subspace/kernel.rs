@@ -148,8 +148,9 @@ pub fn validate(kernel: &Kernel) -> Result<()> {
 }
 
 /// Median of the non-zero pairwise distances `sqrt(n_i + n_j - 2 g_ij)`, `i < j`, from a
-/// Gram matrix. Errors when every distance is zero ("all vectors identical").
-pub fn median_distance(gram: MatRef<'_, f64>) -> Result<f64> {
+/// Gram matrix (the mean of the two middle values for an even count, as `numpy.median`).
+/// Errors when every distance is zero ("all vectors identical").
+pub fn median_distance(gram: MatRef<'_, f64>, what: &str) -> Result<f64> {
     let n = gram.nrows();
     let mut d: Vec<f64> = (0..n)
         .into_par_iter()
@@ -157,25 +158,35 @@ pub fn median_distance(gram: MatRef<'_, f64>) -> Result<f64> {
             (i + 1..n).map(move |j| (gram[(i, i)] + gram[(j, j)] - 2.0 * gram[(i, j)]).max(0.0))
         })
         .filter(|&v| v > 1e-24 * (1.0 + gram[(0, 0)].abs()))
+        .map(f64::sqrt)
         .collect();
     if d.is_empty() {
         return Err(Error::invalid(
             "x",
-            "all vectors are identical (every pairwise distance is 0), so the median \
-             heuristic gives sigma = 0; pass a fixed sigma or vary the data",
+            format!(
+                "all {what} identical (every pairwise distance is 0), so the median \
+                 heuristic gives sigma = 0; pass a fixed sigma or vary the data"
+            ),
         ));
     }
-    let mid = d.len() / 2;
-    let (_, m, _) = d.select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
-    Ok(m.sqrt())
+    let (count, mid) = (d.len(), d.len() / 2);
+    let (lower, m, _) = d.select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
+    let m = *m;
+    if count % 2 == 1 {
+        return Ok(m);
+    }
+    let below = lower.iter().copied().fold(f64::MIN, f64::max);
+    Ok(0.5 * (below + m))
 }
 
 /// Fixes the data-dependent parameters of `kernel` on the training Gram matrix `gram`
-/// (inner products of the training vectors, each of length `vector_len`).
+/// (inner products of the training vectors, each of length `vector_len`; `what` names the
+/// vectors in errors, "features" or "samples").
 pub fn resolve(
     kernel: &Kernel,
     gram: MatRef<'_, f64>,
     vector_len: usize,
+    what: &str,
 ) -> Result<ResolvedKernel> {
     validate(kernel)?;
     Ok(match *kernel {
@@ -195,7 +206,7 @@ pub fn resolve(
         Kernel::Gaussian { sigma } => ResolvedKernel::Gaussian {
             sigma: match sigma {
                 Sigma::Fixed(s) => s,
-                Sigma::Median { scale } => scale * median_distance(gram)?,
+                Sigma::Median { scale } => scale * median_distance(gram, what)?,
             },
         },
     })
@@ -268,10 +279,14 @@ mod tests {
         // Points 0, 1, 3 on a line: distances 1, 2, 3 -> median 2.
         let x = Mat::from_fn(3, 1, |i, _| [0.0, 1.0, 3.0][i]);
         let g = &x * x.transpose();
-        assert!((median_distance(g.as_ref()).unwrap() - 2.0).abs() < 1e-12);
+        assert!((median_distance(g.as_ref(), "samples").unwrap() - 2.0).abs() < 1e-12);
+        // Points 0, 1, 3, 7: distances 1, 2, 3, 4, 6, 7 -> median (3 + 4) / 2.
+        let x4 = Mat::from_fn(4, 1, |i, _| [0.0, 1.0, 3.0, 7.0][i]);
+        let g4 = &x4 * x4.transpose();
+        assert!((median_distance(g4.as_ref(), "samples").unwrap() - 3.5).abs() < 1e-12);
         let same = Mat::from_fn(3, 2, |_, j| j as f64);
         let gs = &same * same.transpose();
-        assert!(median_distance(gs.as_ref()).is_err());
+        assert!(median_distance(gs.as_ref(), "samples").is_err());
         assert!(validate(&Kernel::Gaussian {
             sigma: Sigma::Fixed(0.0)
         })
@@ -300,6 +315,7 @@ mod tests {
             },
             g.as_ref(),
             8,
+            "samples",
         )
         .unwrap();
         assert_eq!(

@@ -29,7 +29,7 @@ pub(crate) fn sample_kernel(x: MatRef<'_, f64>, kernel: &Kernel) -> Result<Sampl
     let g = x * x.transpose();
     let n = x.nrows();
     let g = Mat::from_fn(n, n, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
-    let kernel = resolve(kernel, g.as_ref(), x.ncols())?;
+    let kernel = resolve(kernel, g.as_ref(), x.ncols(), "samples")?;
     let k = kernel_from_gram(g.as_ref(), &kernel);
     let rows = (0..n)
         .map(|i| (0..x.ncols()).map(|j| x[(i, j)]).collect())
