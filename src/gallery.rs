@@ -65,7 +65,7 @@ pub fn render(entries: &[Entry]) -> String {
          body{font-family:sans-serif;max-width:1200px;margin:auto;padding:1em;color:#222}\
          table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;padding:4px 8px;text-align:left}\
          th{background:#eee}figure{display:inline-block;margin:0.5em;vertical-align:top}\
-         figure img{max-width:280px;border:1px solid #ccc}figcaption{font-size:0.85em;max-width:280px}\
+         figure img{max-width:280px;image-rendering:pixelated;border:1px solid #ccc}figcaption{font-size:0.85em;max-width:280px}\
          .err{color:#a00}nav a{margin-right:1em}</style></head><body>\n\
          <h1>wscg gallery</h1>\n<p>Demos of the papers of the Journal of WSCG vol. 23 on built-in \
          data. Each table lists our measured figure next to the paper's reported figure (or an \
@@ -104,7 +104,7 @@ pub fn render(entries: &[Entry]) -> String {
                 for f in &r.figures {
                     let _ = writeln!(
                         h,
-                        "<figure><img src=\"{0}/{1}\" alt=\"{2}\"><figcaption>{2}</figcaption></figure>",
+                        "<figure><a href=\"{0}/{1}\"><img src=\"{0}/{1}\" alt=\"{2}\"></a><figcaption>{2}</figcaption></figure>",
                         escape(d.name),
                         escape(&f.file),
                         escape(&f.caption)

@@ -8,6 +8,8 @@ use std::time::Instant;
 use wscg_math::progress::Progress;
 use wscg_math::Result;
 
+pub mod biometrics;
+pub mod figures;
 pub mod math;
 
 /// A picture written by a demo.
@@ -88,7 +90,7 @@ pub struct Demo {
 
 /// Every demo, in gallery order.
 pub fn registry() -> Vec<Demo> {
-    vec![math::DEMO]
+    vec![math::DEMO, biometrics::DEMO]
 }
 
 /// The demo named `name`, if any.

@@ -580,7 +580,7 @@ def feature_kernel(X, kernel: str = "rbf", sigma=None, sigma_scale: float = 1.0,
 
 
 def make_finger_veins(subjects: int = 200, samples: int = 10, size=(10, 20),
-                      canvas=(40, 80), max_shift: float = 2.0,
+                      canvas=(40, 80), max_shift: float = 3.5,
                       max_rotation_deg: float = 3.0, noise: float = 0.03, blur: float = 1.0,
                       seed: int = 0) -> Tuple[np.ndarray, np.ndarray]:
     """Synthetic finger-vein images, a stand-in for the paper's private database
@@ -588,7 +588,8 @@ def make_finger_veins(subjects: int = 200, samples: int = 10, size=(10, 20),
 
     Each subject has 3 to 6 dark veins (smooth random curves along the finger) on a bright
     background drawn at ``canvas`` size; each sample is shifted, rotated, rescaled in
-    brightness, noised, blurred and area-downsampled to ``size``.
+    brightness, noised, blurred and area-downsampled to ``size``. The shift (in canvas
+    pixels) sets the difficulty: the default 3.5 puts PCA near 90 % on the 5/5 protocol.
 
     Returns
     -------

@@ -6,9 +6,15 @@
 //! Rom splines through random control points), with a Gaussian cross-profile of width 1.5 to
 //! 3 pixels and depth 0.2 to 0.5, on a bright, smoothly varying background, drawn on a
 //! 40 x 80 canvas. Each sample of a subject is the template under a random rigid motion
-//! (shift up to 2 pixels, rotation up to 3 degrees), gain in [0.8, 1.2] and offset in
+//! (shift up to 3.5 pixels, rotation up to 3 degrees), gain in [0.8, 1.2] and offset in
 //! [-0.05, 0.05], with Gaussian noise (sigma 0.03), blurred (sigma 1 pixel) and area-
 //! downsampled to 10 x 20 (d = 200). Every value is drawn from a seeded generator.
+//!
+//! Difficulty: the blur and the 16-pixel area average remove almost all of the additive
+//! noise (raising it from 0.03 to 0.15 leaves 1-NN accuracy unchanged), so the misalignment
+//! sets how hard recognition is. The default shift of 3.5 canvas pixels puts PCA's best
+//! accuracy on the 5/5 protocol at 90-94 % over seeds 0-2, inside the 85-95 % band of the
+//! paper's own PCA figures (95.3 % on its database); 2 pixels gives 98.5 %.
 
 use faer::Mat;
 use rand::Rng;
@@ -29,7 +35,7 @@ pub struct FingerVeinParams {
     pub canvas: (usize, usize),
     /// Output height x width (10 x 20).
     pub size: (usize, usize),
-    /// Largest shift in canvas pixels (2).
+    /// Largest shift in canvas pixels (3.5).
     pub max_shift: f64,
     /// Largest rotation in degrees (3).
     pub max_rotation_deg: f64,
@@ -48,7 +54,7 @@ impl Default for FingerVeinParams {
             samples: 10,
             canvas: (40, 80),
             size: (10, 20),
-            max_shift: 2.0,
+            max_shift: 3.5,
             max_rotation_deg: 3.0,
             noise: 0.03,
             blur: 1.0,

@@ -20,6 +20,7 @@ pub mod kernel;
 pub mod kpca;
 pub mod model;
 pub mod pca;
+pub mod protocol;
 pub mod recognizer;
 pub mod serde_mat;
 
@@ -33,6 +34,7 @@ pub use kernel::{Gamma, Kernel, ResolvedKernel, Sigma};
 pub use kpca::KernelPca;
 pub use model::{Method, Model};
 pub use pca::Pca;
+pub use protocol::{evaluate, ProtocolOptions, ProtocolResult};
 pub use recognizer::{Identification, Recognizer};
 
 /// A fitted linear or kernel projection `R^d -> R^l`.
