@@ -21,7 +21,7 @@ fn help_lists_the_commands() {
     let out = wscg().arg("--help").output().unwrap();
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    for cmd in ["demo", "gallery", "math"] {
+    for cmd in ["demo", "gallery", "math", "biometrics"] {
         assert!(text.contains(cmd), "{cmd} missing from --help:\n{text}");
     }
 }
@@ -153,4 +153,166 @@ fn bad_files_give_errors_not_crashes() {
         .output()
         .unwrap();
     assert!(String::from_utf8_lossy(&out.stderr).contains("sigma"));
+}
+
+/// A gallery of synthetic finger veins: one folder per identity, `samples` PNGs each.
+fn write_vein_gallery(root: &Path, subjects: usize, samples: usize) {
+    use wscg::biometrics::data::{finger_veins, FingerVeinParams};
+    let data = finger_veins(&FingerVeinParams {
+        subjects,
+        samples,
+        seed: 4,
+        ..Default::default()
+    })
+    .unwrap();
+    for i in 0..data.x.nrows() {
+        let dir = root.join(format!("person{:02}", data.labels[i]));
+        std::fs::create_dir_all(&dir).unwrap();
+        let px: Vec<f32> = (0..200)
+            .map(|j| data.x[(i, j)].clamp(0.0, 1.0) as f32)
+            .collect();
+        Image::new(10, 20, 1, px)
+            .unwrap()
+            .save(dir.join(format!("{}.png", i % samples)))
+            .unwrap();
+    }
+}
+
+#[test]
+fn biometrics_fit_identify_evaluate_and_axes() {
+    let dir = tempfile::tempdir().unwrap();
+    let gallery = dir.path().join("gallery");
+    write_vein_gallery(&gallery, 8, 6);
+    let model = dir.path().join("model.json");
+    let out = wscg()
+        .args([
+            "biometrics",
+            "fdkeca",
+            "fit",
+            "--components",
+            "30",
+            "--gallery",
+        ])
+        .arg(&gallery)
+        .arg("--out")
+        .arg(&model)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Every gallery image is identified as its own folder at distance 0.
+    let out = wscg()
+        .args(["biometrics", "fdkeca", "identify", "--model"])
+        .arg(&model)
+        .arg(gallery.join("person03"))
+        .arg(gallery.join("person05").join("2.png"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = text.lines().skip(1).collect();
+    assert_eq!(lines.len(), 7, "{text}");
+    for (k, line) in lines.iter().enumerate() {
+        let cells: Vec<&str> = line.split('\t').collect();
+        let want = if k < 6 { "person03" } else { "person05" };
+        assert_eq!(cells[1], want, "{line}");
+        assert!(cells[2].parse::<f64>().unwrap() < 1e-6, "{line}");
+    }
+    let out = wscg()
+        .args([
+            "biometrics",
+            "fdkeca",
+            "evaluate",
+            "--train-per-identity",
+            "3",
+        ])
+        .args(["--max-dim", "40", "--folds", "3", "--gallery"])
+        .arg(&gallery)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    for m in ["FDKECA", "PCA", "KPCA", "KECA"] {
+        assert!(
+            text.lines().any(|l| l.starts_with(m)),
+            "{m} missing:\n{text}"
+        );
+    }
+    let axes = dir.path().join("axes");
+    let out = wscg()
+        .args(["biometrics", "fdkeca", "axes", "--count", "4", "--model"])
+        .arg(&model)
+        .arg("--out")
+        .arg(&axes)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let a = Image::load(axes.join("axis_004.png")).unwrap();
+    assert_eq!(a.shape(), (10, 20, 1));
+}
+
+#[test]
+fn biometrics_bad_input_fails_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    let junk = dir.path().join("junk.json");
+    std::fs::write(&junk, "not json").unwrap();
+    let cases: Vec<Vec<std::ffi::OsString>> = vec![
+        vec![
+            "fit".into(),
+            "--gallery".into(),
+            dir.path().join("missing").into(),
+            "--out".into(),
+            dir.path().join("m.json").into(),
+        ],
+        vec![
+            "fit".into(),
+            "--gallery".into(),
+            dir.path().into(),
+            "--out".into(),
+            dir.path().join("m.json").into(),
+        ],
+        vec![
+            "identify".into(),
+            "--model".into(),
+            junk.clone().into(),
+            dir.path().into(),
+        ],
+        vec![
+            "axes".into(),
+            "--model".into(),
+            junk.into(),
+            "--out".into(),
+            dir.path().join("a").into(),
+        ],
+    ];
+    for args in cases {
+        let out = wscg()
+            .args(["biometrics", "fdkeca"])
+            .args(&args)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{args:?} succeeded");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("error"), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("junk.json")).unwrap(),
+        "not json"
+    );
 }

@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand};
 use wscg::demo;
 use wscg_math::{Error, Result};
 
+mod biometrics;
 mod math;
 mod progress;
 
@@ -39,6 +40,9 @@ enum Command {
         #[arg(long)]
         only: Vec<String>,
     },
+    /// Biometrics (paper 01: FDKECA) on your own images or .npy data.
+    #[command(subcommand)]
+    Biometrics(biometrics::BiometricsCommand),
     /// Shared numerics on image files: metrics, filtering, resizing, spectra.
     #[command(subcommand)]
     Math(math::MathCommand),
@@ -98,6 +102,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Math(cmd) => math::run(cmd),
+        Command::Biometrics(cmd) => biometrics::run(cmd),
     }
 }
 
