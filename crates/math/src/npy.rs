@@ -47,11 +47,21 @@ pub struct NpyArray<T> {
     pub data: Vec<T>,
 }
 
+/// Largest element count [`read`] accepts (`2^33`).
+pub const MAX_ELEMENTS: usize = 1 << 33;
+
 /// Reads a `.npy` file, converting its values to `T`.
 ///
 /// Errors: [`Error::Io`] when the file cannot be read, [`Error::Format`] for a malformed or
-/// truncated file, [`Error::UnsupportedFormat`] for dtypes outside [`SUPPORTED_DTYPES`].
+/// truncated file, [`Error::UnsupportedFormat`] for dtypes outside [`SUPPORTED_DTYPES`],
+/// [`Error::LimitExceeded`] above [`MAX_ELEMENTS`] values.
 pub fn read<T: NpyTarget>(path: impl AsRef<Path>) -> Result<NpyArray<T>> {
+    read_with_limit(path, MAX_ELEMENTS)
+}
+
+/// [`read`] with a caller-chosen limit on the number of values, checked against the
+/// declared shape before any data is decoded.
+pub fn read_with_limit<T: NpyTarget>(path: impl AsRef<Path>, limit: usize) -> Result<NpyArray<T>> {
     let path = path.as_ref();
     let bytes = read_file(path)?;
     let data_start = header_end(path, &bytes)?;
@@ -62,6 +72,13 @@ pub fn read<T: NpyTarget>(path: impl AsRef<Path>) -> Result<NpyArray<T>> {
         .iter()
         .try_fold(1usize, |a, &b| a.checked_mul(b))
         .ok_or_else(|| Error::format(path, format!("shape {:?} overflows", header.shape)))?;
+    if count > limit {
+        return Err(Error::LimitExceeded(format!(
+            "{}: shape {:?} holds {count} values, more than the limit of {limit}",
+            path.display(),
+            header.shape
+        )));
+    }
     let payload = bytes.len() - data_start;
     if count > payload {
         return Err(Error::format(

@@ -947,7 +947,7 @@ impl Volume<f32> {
     pub fn read_npy(path: impl AsRef<Path>, spacing: [f64; 3]) -> Result<Self> {
         let path = path.as_ref();
         check_spacing(spacing)?;
-        let arr = crate::npy::read::<f32>(path)?;
+        let arr = crate::npy::read_with_limit::<f32>(path, MAX_VOXELS)?;
         let shape = &arr.shape;
         if shape.len() != 3 {
             return Err(Error::format(

@@ -74,12 +74,17 @@ impl KernelPca {
             .collect();
         let mean = col_means.iter().sum::<f64>() / n as f64;
         let kc = Mat::from_fn(n, n, |i, j| k[(i, j)] - col_means[i] - col_means[j] + mean);
-        let e = dense::eigh(kc.as_ref())?;
-        let lmax = e.values.last().copied().unwrap_or(0.0);
+        // With a requested l only the top l eigenpairs are computed (as scikit-learn's
+        // "dense" solver does); otherwise all, to find the numerical rank.
+        let e = match n_components {
+            Some(l) if l >= 1 && l <= n => dense::eigh_largest(kc.as_ref(), l)?,
+            _ => dense::eigh_largest(kc.as_ref(), n)?,
+        };
+        let lmax = e.values.first().copied().unwrap_or(0.0);
         let available = e
             .values
             .iter()
-            .filter(|&&v| v > 1e-12 * lmax && v > 0.0)
+            .take_while(|&&v| v > 1e-12 * lmax && v > 0.0)
             .count();
         if available == 0 {
             return Err(Error::invalid(
@@ -88,7 +93,7 @@ impl KernelPca {
             ));
         }
         let l = check_components(n_components, available)?;
-        let idx: Vec<usize> = (n - l..n).rev().collect();
+        let idx: Vec<usize> = (0..l).collect();
         Ok(Self {
             train: sk.rows,
             kernel: sk.kernel,
