@@ -178,45 +178,47 @@ fn write_vein_gallery(root: &Path, subjects: usize, samples: usize) {
     }
 }
 
+/// Runs `wscg biometrics fdkeca ARGS...`, asserts success and returns standard output.
+fn fdkeca_ok(args: &[&std::ffi::OsStr]) -> String {
+    let out = wscg()
+        .args(["biometrics", "fdkeca"])
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 #[test]
 fn biometrics_fit_identify_evaluate_and_axes() {
     let dir = tempfile::tempdir().unwrap();
     let gallery = dir.path().join("gallery");
     write_vein_gallery(&gallery, 8, 6);
     let model = dir.path().join("model.json");
-    let out = wscg()
-        .args([
-            "biometrics",
-            "fdkeca",
-            "fit",
-            "--components",
-            "30",
-            "--gallery",
-        ])
-        .arg(&gallery)
-        .arg("--out")
-        .arg(&model)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let os = |s: &'static str| std::ffi::OsStr::new(s);
+    fdkeca_ok(&[
+        os("fit"),
+        os("--components"),
+        os("30"),
+        os("--gallery"),
+        gallery.as_os_str(),
+        os("--out"),
+        model.as_os_str(),
+    ]);
     // Every gallery image is identified as its own folder at distance 0.
-    let out = wscg()
-        .args(["biometrics", "fdkeca", "identify", "--model"])
-        .arg(&model)
-        .arg(gallery.join("person03"))
-        .arg(gallery.join("person05").join("2.png"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8_lossy(&out.stdout);
+    let one = gallery.join("person05").join("2.png");
+    let folder = gallery.join("person03");
+    let text = fdkeca_ok(&[
+        os("identify"),
+        os("--model"),
+        model.as_os_str(),
+        folder.as_os_str(),
+        one.as_os_str(),
+    ]);
     let lines: Vec<&str> = text.lines().skip(1).collect();
     assert_eq!(lines.len(), 7, "{text}");
     for (k, line) in lines.iter().enumerate() {
@@ -225,24 +227,17 @@ fn biometrics_fit_identify_evaluate_and_axes() {
         assert_eq!(cells[1], want, "{line}");
         assert!(cells[2].parse::<f64>().unwrap() < 1e-6, "{line}");
     }
-    let out = wscg()
-        .args([
-            "biometrics",
-            "fdkeca",
-            "evaluate",
-            "--train-per-identity",
-            "3",
-        ])
-        .args(["--max-dim", "40", "--folds", "3", "--gallery"])
-        .arg(&gallery)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = fdkeca_ok(&[
+        os("evaluate"),
+        os("--train-per-identity"),
+        os("3"),
+        os("--max-dim"),
+        os("40"),
+        os("--folds"),
+        os("3"),
+        os("--gallery"),
+        gallery.as_os_str(),
+    ]);
     for m in ["FDKECA", "PCA", "KPCA", "KECA"] {
         assert!(
             text.lines().any(|l| l.starts_with(m)),
@@ -250,18 +245,15 @@ fn biometrics_fit_identify_evaluate_and_axes() {
         );
     }
     let axes = dir.path().join("axes");
-    let out = wscg()
-        .args(["biometrics", "fdkeca", "axes", "--count", "4", "--model"])
-        .arg(&model)
-        .arg("--out")
-        .arg(&axes)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    fdkeca_ok(&[
+        os("axes"),
+        os("--count"),
+        os("4"),
+        os("--model"),
+        model.as_os_str(),
+        os("--out"),
+        axes.as_os_str(),
+    ]);
     let a = Image::load(axes.join("axis_004.png")).unwrap();
     assert_eq!(a.shape(), (10, 20, 1));
 }

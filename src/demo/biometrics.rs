@@ -46,24 +46,6 @@ const COLORS: [[f32; 3]; 4] = [
     [0.85, 0.55, 0.0],
 ];
 
-fn methods() -> [Method; 4] {
-    [
-        Method::Fdkeca(FdkecaParams::default()),
-        Method::Pca {
-            n_components: None,
-            whiten: false,
-        },
-        Method::KernelPca {
-            kernel: Kernel::default(),
-            n_components: Some(200),
-        },
-        Method::Keca {
-            kernel: Kernel::default(),
-            n_components: Some(200),
-        },
-    ]
-}
-
 fn rows(x: &Mat<f64>, idx: &[usize]) -> Mat<f64> {
     Mat::from_fn(idx.len(), x.ncols(), |i, j| x[(idx[i], j)])
 }
@@ -83,7 +65,7 @@ fn protocol(
     let ytr: Vec<u32> = tr.iter().map(|&i| data.labels[i]).collect();
     let yte: Vec<u32> = te.iter().map(|&i| data.labels[i]).collect();
     let opt = ProtocolOptions::default();
-    methods()
+    Method::table1(Some(200))
         .iter()
         .map(|m| {
             let r = evaluate(m, xtr.as_ref(), &ytr, xte.as_ref(), &yte, &opt);

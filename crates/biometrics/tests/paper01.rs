@@ -281,22 +281,7 @@ fn finger_vein_generator_is_deterministic() {
 /// three seeds, all four methods over l = 1..200, paper and validated protocols.
 #[test]
 fn recognition_on_synthetic_finger_veins() {
-    let k = Kernel::default();
-    let methods = [
-        Method::Pca {
-            n_components: None,
-            whiten: false,
-        },
-        Method::Fdkeca(FdkecaParams::default()),
-        Method::KernelPca {
-            kernel: k,
-            n_components: Some(200),
-        },
-        Method::Keca {
-            kernel: k,
-            n_components: Some(200),
-        },
-    ];
+    let methods = Method::table1(Some(200));
     let opt = ProtocolOptions::default();
     println!("seed method  max acc %  (l)   validated %  (l)");
     for seed in 0..3 {

@@ -23,28 +23,10 @@ fn rows(x: &Mat<f64>, idx: &[usize]) -> Mat<f64> {
     Mat::from_fn(idx.len(), x.ncols(), |i, j| x[(idx[i], j)])
 }
 
-fn methods() -> Vec<Method> {
-    vec![
-        Method::Fdkeca(FdkecaParams::default()),
-        Method::Pca {
-            n_components: None,
-            whiten: false,
-        },
-        Method::KernelPca {
-            kernel: Kernel::default(),
-            n_components: Some(30),
-        },
-        Method::Keca {
-            kernel: Kernel::default(),
-            n_components: Some(30),
-        },
-    ]
-}
-
 #[test]
 fn models_round_trip_through_json_and_truncate() {
     let data = veins(6, 6);
-    for method in methods() {
+    for method in Method::table1(Some(30)) {
         let m = method.fit(data.x.as_ref()).unwrap();
         assert_eq!(m.name(), method.name());
         let back = Model::from_json(&m.to_json().unwrap()).unwrap();

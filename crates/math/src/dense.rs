@@ -110,8 +110,10 @@ fn select(e: SymEigen, k: usize, largest: bool) -> Result<SymEigen> {
 
 /// The `k` largest eigenpairs of the symmetric `a`, eigenvalues in non-increasing order.
 ///
-/// For `k <= n / 4` only the wanted eigenpairs are computed (tridiagonalisation, bisection,
-/// inverse iteration: [`crate::eigh_partial`]); otherwise the full decomposition is taken.
+/// For `k <= n / 4` only the wanted eigenpairs are computed: by block Krylov iteration when
+/// its residual test passes ([`crate::eigh_krylov`]; fast for quickly decaying spectra such
+/// as kernel matrices), else by tridiagonalisation, bisection and inverse iteration
+/// ([`crate::eigh_partial`]); for larger `k` the full decomposition is taken.
 pub fn eigh_largest(a: MatRef<'_, f64>, k: usize) -> Result<SymEigen> {
     selected(a, k, true)
 }
@@ -125,6 +127,11 @@ pub fn eigh_smallest(a: MatRef<'_, f64>, k: usize) -> Result<SymEigen> {
 fn selected(a: MatRef<'_, f64>, k: usize, largest: bool) -> Result<SymEigen> {
     check_symmetric("a", a)?;
     if k >= 1 && 4 * k <= a.nrows() {
+        if largest {
+            if let Some(e) = crate::eigh_krylov::eigh_largest_krylov(a, k) {
+                return Ok(e);
+            }
+        }
         crate::eigh_partial::eigh_selected(a, k, largest)
     } else {
         select(eigh(a)?, k, largest)

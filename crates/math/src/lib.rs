@@ -21,6 +21,7 @@
 pub mod error;
 
 pub mod dense;
+pub mod eigh_krylov;
 pub mod eigh_partial;
 pub mod fft;
 pub mod filter;

@@ -253,6 +253,24 @@ class _Subspace:
         self._model = None if js is None else _b.Model.from_json(js)
 
 
+class _KernelParams:
+    """Kernel parameters shared by FDKECA, KernelPCA and KECA."""
+
+    def _init_kernel(self, kernel, sigma, sigma_scale, degree, gamma, coef0) -> None:
+        self.kernel = kernel
+        self.sigma = sigma
+        self.sigma_scale = sigma_scale
+        self.degree = degree
+        self.gamma = gamma
+        self.coef0 = coef0
+
+    def _kernel_spec(self, **extra) -> dict:
+        spec = _kernel_spec(self.kernel, self.sigma, self.sigma_scale, self.degree,
+                            self.gamma, self.coef0)
+        spec.update(method=self._method, n_components=self.n_components, **extra)
+        return spec
+
+
 class _Linear(_Subspace):
     """Models with image-space axes: reconstruction and eigen-images."""
 
@@ -279,7 +297,7 @@ class _Linear(_Subspace):
         return _b.axis_images(model, k, int(shape[0]), int(shape[1]))
 
 
-class FDKECA(_Linear):
+class FDKECA(_Linear, _KernelParams):
     """Feature-dependent kernel entropy component analysis (paper 01, section 3).
 
     Parameters
@@ -338,22 +356,13 @@ class FDKECA(_Linear):
                  degree: int = 2, gamma: Union[float, str, None] = None, coef0: float = 1.0,
                  ordering: str = "entropy", center: bool = True, metric: str = "euclidean"):
         self.n_components = n_components
-        self.kernel = kernel
-        self.sigma = sigma
-        self.sigma_scale = sigma_scale
-        self.degree = degree
-        self.gamma = gamma
-        self.coef0 = coef0
+        self._init_kernel(kernel, sigma, sigma_scale, degree, gamma, coef0)
         self.ordering = ordering
         self.center = center
         self.metric = metric
 
     def _spec(self) -> dict:
-        spec = _kernel_spec(self.kernel, self.sigma, self.sigma_scale, self.degree,
-                            self.gamma, self.coef0)
-        spec.update(method="fdkeca", n_components=self.n_components,
-                    ordering=self.ordering, center=bool(self.center))
-        return spec
+        return self._kernel_spec(ordering=self.ordering, center=bool(self.center))
 
     def _set_attributes(self, info: dict) -> None:
         super()._set_attributes(info)
@@ -403,7 +412,7 @@ class PCA(_Linear):
         self.variances_ = info["variances"]
 
 
-class _SampleKernel(_Subspace):
+class _SampleKernel(_Subspace, _KernelParams):
     _param_names = ("n_components", "kernel", "sigma", "sigma_scale", "degree", "gamma",
                     "coef0", "metric")
 
@@ -412,19 +421,11 @@ class _SampleKernel(_Subspace):
                  degree: int = 2, gamma: Union[float, str, None] = None, coef0: float = 1.0,
                  metric: str = "euclidean"):
         self.n_components = n_components
-        self.kernel = kernel
-        self.sigma = sigma
-        self.sigma_scale = sigma_scale
-        self.degree = degree
-        self.gamma = gamma
-        self.coef0 = coef0
+        self._init_kernel(kernel, sigma, sigma_scale, degree, gamma, coef0)
         self.metric = metric
 
     def _spec(self) -> dict:
-        spec = _kernel_spec(self.kernel, self.sigma, self.sigma_scale, self.degree,
-                            self.gamma, self.coef0)
-        spec.update(method=self._method, n_components=self.n_components)
-        return spec
+        return self._kernel_spec()
 
     def _set_attributes(self, info: dict) -> None:
         super()._set_attributes(info)

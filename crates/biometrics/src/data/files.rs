@@ -26,6 +26,28 @@ pub struct IdentityImages {
     pub files: Vec<PathBuf>,
 }
 
+impl IdentityImages {
+    /// Bundles rows `x` of images of `shape` with their labels, names and sources.
+    pub fn new(
+        x: Mat<f64>,
+        labels: Vec<u32>,
+        (height, width): (usize, usize),
+        names: Vec<String>,
+        files: Vec<PathBuf>,
+    ) -> Self {
+        Self {
+            images: LabelledImages {
+                x,
+                labels,
+                height,
+                width,
+            },
+            names,
+            files,
+        }
+    }
+}
+
 fn is_image(p: &Path) -> bool {
     p.is_file()
         && p.extension()
@@ -125,17 +147,8 @@ pub fn load_identity_folder(root: &Path, size: Option<(usize, usize)>) -> Result
             ),
         ));
     }
-    let (x, (height, width)) = load_images(&files, size)?;
-    Ok(IdentityImages {
-        images: LabelledImages {
-            x,
-            labels,
-            height,
-            width,
-        },
-        names,
-        files,
-    })
+    let (x, shape) = load_images(&files, size)?;
+    Ok(IdentityImages::new(x, labels, shape, names, files))
 }
 
 /// Reads an `n x d` matrix from a `.npy` file holding a 2-D array `(n, d)` or a stack of
@@ -192,7 +205,7 @@ pub fn read_npy_labels(path: &Path) -> Result<(Vec<u32>, Vec<String>)> {
 /// Reads a labelled data set from `x.npy` and `labels.npy` (see [`read_npy_matrix`] and
 /// [`read_npy_labels`]). Errors when the label count differs from the row count.
 pub fn read_npy_dataset(x_path: &Path, labels_path: &Path) -> Result<IdentityImages> {
-    let (x, (height, width)) = read_npy_matrix(x_path)?;
+    let (x, shape) = read_npy_matrix(x_path)?;
     let (labels, names) = read_npy_labels(labels_path)?;
     if labels.len() != x.nrows() {
         return Err(Error::ShapeMismatch(format!(
@@ -202,14 +215,5 @@ pub fn read_npy_dataset(x_path: &Path, labels_path: &Path) -> Result<IdentityIma
             x_path.display()
         )));
     }
-    Ok(IdentityImages {
-        images: LabelledImages {
-            x,
-            labels,
-            height,
-            width,
-        },
-        names,
-        files: Vec::new(),
-    })
+    Ok(IdentityImages::new(x, labels, shape, names, Vec::new()))
 }

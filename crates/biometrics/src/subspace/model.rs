@@ -46,6 +46,28 @@ impl Method {
         }
     }
 
+    /// The four methods of the paper's Table 1 with their default parameters (Gaussian
+    /// kernels with the median heuristic), FDKECA first; KPCA and KECA keep
+    /// `kernel_components` components (the paper uses the first 200).
+    pub fn table1(kernel_components: Option<usize>) -> [Method; 4] {
+        let kernel = Kernel::default();
+        [
+            Method::Fdkeca(FdkecaParams::default()),
+            Method::Pca {
+                n_components: None,
+                whiten: false,
+            },
+            Method::KernelPca {
+                kernel,
+                n_components: kernel_components,
+            },
+            Method::Keca {
+                kernel,
+                n_components: kernel_components,
+            },
+        ]
+    }
+
     /// Fits the method to the rows of `x`.
     pub fn fit(&self, x: MatRef<'_, f64>) -> Result<Model> {
         Ok(match *self {
