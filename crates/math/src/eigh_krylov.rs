@@ -9,7 +9,8 @@
 
 use faer::{Mat, MatRef};
 
-use crate::dense::{eigh, SymEigen};
+use crate::dense::SymEigen;
+use crate::eigh_partial::eigh_selected;
 
 /// Relative residual a Ritz pair must reach.
 const TOL: f64 = 1e-13;
@@ -19,7 +20,7 @@ const STALL: f64 = 1e-3;
 /// Orthonormalises the columns of `w` against the columns of `v` (two passes of block
 /// Gram-Schmidt) and then among themselves (QR). Columns that vanish (the Krylov space is
 /// invariant) are dropped.
-fn orthonormal_block(v: &Mat<f64>, mut w: Mat<f64>) -> Mat<f64> {
+fn orthonormal_block(v: MatRef<'_, f64>, mut w: Mat<f64>) -> Mat<f64> {
     for _ in 0..2 {
         if v.ncols() > 0 {
             let c = v.transpose() * &w;
@@ -36,17 +37,6 @@ fn orthonormal_block(v: &Mat<f64>, mut w: Mat<f64>) -> Mat<f64> {
     Mat::from_fn(q.nrows(), keep.len(), |i, j| q[(i, keep[j])])
 }
 
-fn hcat(a: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
-    let n = a.nrows().max(b.nrows());
-    Mat::from_fn(n, a.ncols() + b.ncols(), |i, j| {
-        if j < a.ncols() {
-            a[(i, j)]
-        } else {
-            b[(i, j - a.ncols())]
-        }
-    })
-}
-
 /// The `k` largest eigenpairs (non-increasing) of the symmetric `a`, or `None` when the
 /// residual test is not met within the basis-size budget.
 pub fn eigh_largest_krylov(a: MatRef<'_, f64>, k: usize) -> Option<SymEigen> {
@@ -58,30 +48,49 @@ pub fn eigh_largest_krylov(a: MatRef<'_, f64>, k: usize) -> Option<SymEigen> {
     let max_basis = (n / 2).min(16 * b);
     let start = crate::rng::normal_vec(0x6b72_796c, n * b, 0.0, 1.0).ok()?;
     let mut q = orthonormal_block(
-        &Mat::zeros(n, 0),
+        Mat::zeros(n, 0).as_ref(),
         Mat::from_fn(n, b, |i, j| start[i * b + j]),
     );
-    let mut v = Mat::<f64>::zeros(n, 0);
-    let mut av = Mat::<f64>::zeros(n, 0);
+    // Basis V, A V and the projected matrix H = V' A V, grown block by block.
+    let mut v = Mat::<f64>::zeros(n, max_basis);
+    let mut av = Mat::<f64>::zeros(n, max_basis);
+    let mut h = Mat::<f64>::zeros(max_basis, max_basis);
+    let mut m = 0;
+    let (mut blocks, mut next_check) = (0usize, 0usize);
+    let mut last: Option<(usize, f64)> = None;
     loop {
+        let nb = q.ncols();
+        if m + nb > max_basis {
+            return None;
+        }
         let aq = a * &q;
-        v = hcat(&v, &q);
-        av = hcat(&av, &aq);
-        let h = v.transpose() * &av;
-        let h = Mat::from_fn(h.nrows(), h.ncols(), |i, j| 0.5 * (h[(i, j)] + h[(j, i)]));
-        let e = eigh(h.as_ref()).ok()?;
-        let m = e.values.len();
-        if m >= k {
-            let cols: Vec<usize> = (m - k..m).rev().collect();
-            let y = Mat::from_fn(m, k, |i, j| e.vectors[(i, cols[j])]);
-            let theta: Vec<f64> = cols.iter().map(|&c| e.values[c]).collect();
-            let norm = e
-                .values
-                .iter()
-                .fold(0.0f64, |s, x| s.max(x.abs()))
-                .max(f64::MIN_POSITIVE);
-            let u = &v * &y;
-            let mut r = &av * &y;
+        v.as_mut().submatrix_mut(0, m, n, nb).copy_from(&q);
+        av.as_mut().submatrix_mut(0, m, n, nb).copy_from(&aq);
+        let m1 = m + nb;
+        // New column block V' (A Q), mirrored into the new row block.
+        let col = v.as_ref().submatrix(0, 0, n, m1).transpose() * &aq;
+        for j in 0..nb {
+            for i in 0..m1 {
+                h[(i, m + j)] = col[(i, j)];
+                h[(m + j, i)] = col[(i, j)];
+            }
+        }
+        for j in 0..nb {
+            for i in 0..nb {
+                let s = 0.5 * (col[(m + i, j)] + col[(m + j, i)]);
+                h[(m + i, m + j)] = s;
+            }
+        }
+        m = m1;
+        blocks += 1;
+        if m >= 2 * k && blocks >= next_check {
+            // Top k Ritz pairs (the largest Ritz value bounds |A| from below).
+            let e = eigh_selected(h.as_ref().submatrix(0, 0, m, m), k, true).ok()?;
+            let y = e.vectors;
+            let theta = e.values;
+            let norm = theta[0].abs().max(f64::MIN_POSITIVE);
+            let u = v.as_ref().submatrix(0, 0, n, m) * &y;
+            let mut r = av.as_ref().submatrix(0, 0, n, m) * &y;
             for (j, t) in theta.iter().enumerate() {
                 for i in 0..n {
                     r[(i, j)] -= t * u[(i, j)];
@@ -97,14 +106,23 @@ pub fn eigh_largest_krylov(a: MatRef<'_, f64>, k: usize) -> Option<SymEigen> {
                 });
             }
             // A flat spectrum: convergence would need most of the space; give up early.
-            if v.ncols() >= 4 * b && worst > STALL * norm {
+            if m >= 4 * b && worst > STALL * norm {
                 return None;
             }
+            // Residuals fall geometrically per block: skip the Rayleigh-Ritz steps that
+            // cannot converge yet.
+            let rel = worst / norm;
+            next_check = blocks + 1;
+            if let Some((prev_blocks, prev)) = last {
+                let rate = (rel / prev).powf(1.0 / (blocks - prev_blocks) as f64);
+                if rate < 0.9 {
+                    let needed = ((TOL / rel).ln() / rate.ln()).floor() as usize;
+                    next_check = blocks + needed.max(1);
+                }
+            }
+            last = Some((blocks, rel));
         }
-        if v.ncols() + b > max_basis {
-            return None;
-        }
-        q = orthonormal_block(&v, aq);
+        q = orthonormal_block(v.as_ref().submatrix(0, 0, n, m), aq);
         if q.ncols() == 0 {
             return None;
         }
