@@ -83,7 +83,8 @@ pub fn eigh_largest_krylov(a: MatRef<'_, f64>, k: usize) -> Option<SymEigen> {
         }
         m = m1;
         blocks += 1;
-        if m >= 2 * k && blocks >= next_check {
+        let last_chance = m + b > max_basis;
+        if m >= 2 * k && (blocks >= next_check || last_chance) {
             // Top k Ritz pairs (the largest Ritz value bounds |A| from below).
             let e = eigh_selected(h.as_ref().submatrix(0, 0, m, m), k, true).ok()?;
             let y = e.vectors;
