@@ -1,0 +1,26 @@
+//! # wscg-cloth
+//!
+//! Paper 02 of WSCG vol. 23: Francu and Moldoveanu, "Cloth Simulation Using Soft Constraints".
+//! Implicit Euler on stiff springs and the projection of *regularized* constraints
+//! `c(x) + eps lambda = 0` (`eps = 1/k`) solve the same problem (section 2); on that result the
+//! paper builds a one-parameter family of projection integrators (`alpha`, `beta`, sections
+//! 5-6) that loses less energy than implicit Euler, and a damping along the constraint
+//! directions.
+//!
+//! - [`model`]: particles, pinned vertices and link constraints, with builders for grids and
+//!   chains.
+//! - [`solver`]: the soft-projection step (eq. E4 of our specification, the paper's eqs. 17
+//!   and 20 with the accumulated-multiplier term), in the XPBD-consistent `Accumulate` mode or
+//!   the paper's printed `PaperReset` mode.
+//! - [`energy`]: kinetic, gravitational and elastic energy.
+//!
+//! Units: metres, kilograms, seconds; a link's stiffness `k` in N/m, its compliance `1/k` in
+//! m/N, the damping parameter `gamma = d/k` in seconds.
+
+pub mod energy;
+pub mod model;
+pub mod solver;
+
+pub use energy::Energy;
+pub use model::{ClothModel, Link};
+pub use solver::{LambdaMode, Method, Sim, SolverConfig, StepStats};

@@ -1,0 +1,262 @@
+//! The simulated system: particles (positions, velocities, inverse masses, zero for pinned
+//! particles), gravity, and soft link constraints `c = |x_i - x_j| - rest` with compliance
+//! `1/k` (paper section 8).
+
+use nalgebra::Vector3;
+use wscg_math::{Error, Result};
+
+/// A distance constraint between two particles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Link {
+    /// First particle.
+    pub i: usize,
+    /// Second particle.
+    pub j: usize,
+    /// Rest length (m, > 0).
+    pub rest: f64,
+    /// Compliance `eps = 1/k` (m/N, >= 0; 0 is a hard constraint).
+    pub compliance: f64,
+}
+
+/// Particles and constraints.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClothModel {
+    /// Positions (m).
+    pub x: Vec<Vector3<f64>>,
+    /// Velocities (m/s).
+    pub v: Vec<Vector3<f64>>,
+    /// Inverse masses (1/kg); 0 pins a particle.
+    pub inv_mass: Vec<f64>,
+    /// Link constraints, solved in this order by Gauss-Seidel.
+    pub links: Vec<Link>,
+    /// Gravity (m/s^2).
+    pub gravity: Vector3<f64>,
+}
+
+fn finite3(name: &'static str, v: &[Vector3<f64>]) -> Result<()> {
+    match v.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+        Some(i) => Err(Error::NonFinite { name, index: 3 * i }),
+        None => Ok(()),
+    }
+}
+
+impl ClothModel {
+    /// A model from particle positions and masses (kg; `f64::INFINITY` or a `pinned` index
+    /// makes a particle immovable); velocities start at zero, gravity is 9.81 m/s^2 along -y.
+    ///
+    /// Errors: empty input, length mismatch, non-finite positions, negative or NaN masses,
+    /// zero mass of a free particle, pinned index out of range.
+    pub fn new(x: Vec<Vector3<f64>>, mass: &[f64], pinned: &[usize]) -> Result<Self> {
+        if x.is_empty() {
+            return Err(Error::Empty("positions"));
+        }
+        if mass.len() != x.len() {
+            return Err(Error::ShapeMismatch(format!(
+                "{} masses for {} particles",
+                mass.len(),
+                x.len()
+            )));
+        }
+        let mut inv_mass = Vec::with_capacity(mass.len());
+        for (i, &m) in mass.iter().enumerate() {
+            if m.is_nan() || m <= 0.0 {
+                return Err(Error::invalid(
+                    "mass",
+                    format!("particle {i} has mass {m}; masses must be positive"),
+                ));
+            }
+            inv_mass.push(1.0 / m);
+        }
+        for &p in pinned {
+            *inv_mass.get_mut(p).ok_or_else(|| {
+                Error::invalid(
+                    "pinned",
+                    format!("index {p} is out of range for {} particles", x.len()),
+                )
+            })? = 0.0;
+        }
+        let n = x.len();
+        let m = Self {
+            x,
+            v: vec![Vector3::zeros(); n],
+            inv_mass,
+            links: Vec::new(),
+            gravity: Vector3::new(0.0, -9.81, 0.0),
+        };
+        m.validate()?;
+        Ok(m)
+    }
+
+    /// Adds a link with stiffness `k` (N/m; `f64::INFINITY` for a hard constraint) and rest
+    /// length `rest` (the current distance when `None`).
+    ///
+    /// Errors: index out of range, `i == j`, a rest length that is not positive, `k <= 0`.
+    pub fn add_link(&mut self, i: usize, j: usize, k: f64, rest: Option<f64>) -> Result<()> {
+        let n = self.x.len();
+        if i >= n || j >= n {
+            return Err(Error::invalid(
+                "link",
+                format!("particle index ({i}, {j}) out of range for {n} particles"),
+            ));
+        }
+        if i == j {
+            return Err(Error::invalid(
+                "link",
+                format!("joins particle {i} to itself"),
+            ));
+        }
+        if k.is_nan() || k <= 0.0 {
+            return Err(Error::invalid(
+                "k",
+                format!("stiffness must be > 0, got {k}"),
+            ));
+        }
+        let rest = rest.unwrap_or_else(|| (self.x[i] - self.x[j]).norm());
+        if !(rest.is_finite() && rest > 0.0) {
+            return Err(Error::invalid(
+                "rest",
+                format!("rest length of link ({i}, {j}) must be > 0, got {rest}"),
+            ));
+        }
+        self.links.push(Link {
+            i,
+            j,
+            rest,
+            compliance: 1.0 / k,
+        });
+        Ok(())
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Whether there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Checks sizes, finiteness and constraint indices.
+    pub fn validate(&self) -> Result<()> {
+        let n = self.x.len();
+        if self.v.len() != n || self.inv_mass.len() != n {
+            return Err(Error::ShapeMismatch(format!(
+                "{n} positions, {} velocities, {} inverse masses",
+                self.v.len(),
+                self.inv_mass.len()
+            )));
+        }
+        finite3("positions", &self.x)?;
+        finite3("velocities", &self.v)?;
+        wscg_math::error::ensure_finite("gravity", self.gravity.as_slice())?;
+        if let Some(i) = self
+            .inv_mass
+            .iter()
+            .position(|w| !(w.is_finite() && *w >= 0.0))
+        {
+            return Err(Error::invalid(
+                "inv_mass",
+                format!("particle {i} has inverse mass {}", self.inv_mass[i]),
+            ));
+        }
+        for l in &self.links {
+            let bad_rest = l.rest.is_nan() || l.rest <= 0.0;
+            let bad_compliance = l.compliance.is_nan() || l.compliance < 0.0;
+            if l.i >= n || l.j >= n || l.i == l.j || bad_rest || bad_compliance {
+                return Err(Error::invalid("links", format!("invalid link {l:?}")));
+            }
+        }
+        Ok(())
+    }
+
+    /// A vertical chain hanging from its pinned top particle: `n` particles of `mass` spaced
+    /// `rest` apart along -y, joined by links of stiffness `k`.
+    pub fn chain(n: usize, mass: f64, rest: f64, k: f64) -> Result<Self> {
+        if n < 2 {
+            return Err(Error::invalid("n", "a chain needs at least 2 particles"));
+        }
+        let x = (0..n)
+            .map(|i| Vector3::new(0.0, -(i as f64) * rest, 0.0))
+            .collect();
+        let mut m = Self::new(x, &vec![mass; n], &[0])?;
+        for i in 0..n - 1 {
+            m.add_link(i, i + 1, k, Some(rest))?;
+        }
+        Ok(m)
+    }
+
+    /// A horizontal `nx x ny` grid of particles in the x-z plane (`size` metres), total mass
+    /// `total_mass`, with the quad-grid links of the paper's section 8: structural links to
+    /// the next particle in each direction (stiffness `k_stretch`), shear links on both
+    /// diagonals (`k_shear`) and bending links to the particle two steps away (`k_bend`).
+    /// Links with stiffness `None` are left out. The two corners of the first row are pinned.
+    pub fn grid(
+        nx: usize,
+        ny: usize,
+        size: (f64, f64),
+        total_mass: f64,
+        k_stretch: f64,
+        k_shear: Option<f64>,
+        k_bend: Option<f64>,
+    ) -> Result<Self> {
+        if nx < 2 || ny < 2 {
+            return Err(Error::invalid(
+                "nx, ny",
+                "a grid needs at least 2 x 2 particles",
+            ));
+        }
+        if !(size.0 > 0.0 && size.1 > 0.0) {
+            return Err(Error::invalid("size", "must be positive"));
+        }
+        let id = |i: usize, j: usize| j * nx + i;
+        let x = (0..ny)
+            .flat_map(|j| {
+                (0..nx).map(move |i| {
+                    Vector3::new(
+                        size.0 * i as f64 / (nx - 1) as f64,
+                        0.0,
+                        size.1 * j as f64 / (ny - 1) as f64,
+                    )
+                })
+            })
+            .collect();
+        let n = nx * ny;
+        let mut m = Self::new(
+            x,
+            &vec![total_mass / n as f64; n],
+            &[id(0, 0), id(nx - 1, 0)],
+        )?;
+        for j in 0..ny {
+            for i in 0..nx {
+                if i + 1 < nx {
+                    m.add_link(id(i, j), id(i + 1, j), k_stretch, None)?;
+                }
+                if j + 1 < ny {
+                    m.add_link(id(i, j), id(i, j + 1), k_stretch, None)?;
+                }
+            }
+        }
+        if let Some(k) = k_shear {
+            for j in 0..ny - 1 {
+                for i in 0..nx - 1 {
+                    m.add_link(id(i, j), id(i + 1, j + 1), k, None)?;
+                    m.add_link(id(i + 1, j), id(i, j + 1), k, None)?;
+                }
+            }
+        }
+        if let Some(k) = k_bend {
+            for j in 0..ny {
+                for i in 0..nx {
+                    if i + 2 < nx {
+                        m.add_link(id(i, j), id(i + 2, j), k, None)?;
+                    }
+                    if j + 2 < ny {
+                        m.add_link(id(i, j), id(i, j + 2), k, None)?;
+                    }
+                }
+            }
+        }
+        Ok(m)
+    }
+}

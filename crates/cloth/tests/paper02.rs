@@ -1,0 +1,274 @@
+//! Acceptance checks of paper 02 (cloth with soft constraints), section 4 of its
+//! specification: the closed-form linear and damped oscillators, iteration independence of
+//! the accumulated multipliers, the relaxation identity, energy ordering and bad input.
+
+use nalgebra::Vector3;
+use wscg_cloth::{ClothModel, LambdaMode, Method, Sim, SolverConfig};
+
+const H: f64 = 1.0 / 60.0;
+
+/// One 1 kg particle on a link (k = 100 N/m, rest 1 m) to a pinned anchor, stretched 5 cm
+/// along x, no gravity.
+fn oscillator(cfg: SolverConfig) -> Sim {
+    let mut m = ClothModel::new(
+        vec![Vector3::zeros(), Vector3::new(1.05, 0.0, 0.0)],
+        &[1.0, 1.0],
+        &[0],
+    )
+    .unwrap();
+    m.gravity = Vector3::zeros();
+    m.add_link(0, 1, 100.0, Some(1.0)).unwrap();
+    Sim::new(m, cfg).unwrap()
+}
+
+fn state(sim: &Sim) -> (f64, f64) {
+    let m = sim.model();
+    (m.x[1].x - 1.0, m.v[1].x)
+}
+
+/// Check 1: the (alpha, beta) scheme reproduces its closed-form amplification.
+#[test]
+fn linear_oscillator_matches_closed_form() {
+    let w2 = 100.0;
+    for (alpha, beta) in [(1.0, 1.0), (0.6, 0.6), (0.55, 0.55), (0.5, 0.5)] {
+        let mut runs = Vec::new();
+        for iterations in [1, 25] {
+            let mut sim = oscillator(SolverConfig {
+                alpha,
+                beta,
+                iterations,
+                ..Default::default()
+            });
+            let (mut x, mut v) = (0.05, 0.0);
+            for step in 0..1000 {
+                let xn = ((1.0 - H * H * beta * (1.0 - alpha) * w2) * x + H * v)
+                    / (1.0 + H * H * alpha * beta * w2);
+                let vn = v - H * w2 * ((1.0 - alpha) * x + alpha * xn);
+                (x, v) = (xn, vn);
+                sim.step(H).unwrap();
+                let (sx, sv) = state(&sim);
+                let scale = 0.05f64.max(x.abs());
+                assert!(
+                    (sx - x).abs() <= 1e-12 * scale && (sv - v).abs() <= 1e-12 * scale / H,
+                    "alpha {alpha} iterations {iterations} step {step}: ({sx}, {sv}) vs ({x}, {v})"
+                );
+            }
+            runs.push(state(&sim));
+        }
+        // Linear problem: 1 and 25 accumulated iterations give the same state.
+        assert!((runs[0].0 - runs[1].0).abs() <= 1e-14 && (runs[0].1 - runs[1].1).abs() <= 1e-13);
+    }
+    // alpha = beta = 1/2 conserves the oscillator's energy: drift < 1e-10 over 1e4 steps.
+    let mut sim = oscillator(SolverConfig {
+        alpha: 0.5,
+        beta: 0.5,
+        ..Default::default()
+    });
+    let e0 = sim.energy().total;
+    sim.run(H, 10_000).unwrap();
+    let drift = (sim.energy().total - e0).abs() / e0;
+    assert!(drift < 1e-10, "energy drift {drift}");
+    // alpha = beta = 1: the state is the 2 x 2 step matrix to the power n, whose spectral
+    // radius is (1 + w^2 h^2)^(-1/2).
+    let mut sim = oscillator(SolverConfig::default());
+    let d = 1.0 + H * H * w2;
+    let step = [[1.0 / d, H / d], [-H * w2 / d, 1.0 / d]];
+    let (mut x, mut v) = (0.05, 0.0);
+    for _ in 0..500 {
+        (x, v) = (
+            step[0][0] * x + step[0][1] * v,
+            step[1][0] * x + step[1][1] * v,
+        );
+    }
+    sim.run(H, 500).unwrap();
+    let (sx, sv) = state(&sim);
+    assert!((sx - x).abs() <= 1e-12 * 0.05 && (sv - v).abs() <= 1e-12 * 0.05 / H);
+    // Eigenvalues of the step matrix have modulus det^(1/2) = (1 + w^2 h^2)^(-1/2).
+    let det = step[0][0] * step[1][1] - step[0][1] * step[1][0];
+    assert!((det.sqrt() - d.powf(-0.5)).abs() < 1e-15);
+}
+
+/// Check 2: constraint damping gamma = 10 h against its closed form.
+#[test]
+fn damped_oscillator_matches_closed_form() {
+    let (w2, gamma) = (100.0, 10.0 * H);
+    let mut sim = oscillator(SolverConfig {
+        gamma,
+        ..Default::default()
+    });
+    let (mut x, mut v) = (0.05f64, 0.0f64);
+    for step in 0..1000 {
+        v = (v - H * w2 * x) / (1.0 + w2 * H * (H + gamma));
+        x += H * v;
+        sim.step(H).unwrap();
+        let (sx, sv) = state(&sim);
+        assert!(
+            (sx - x).abs() <= 1e-12 * 0.05 && (sv - v).abs() <= 1e-12 * 0.05 / H,
+            "step {step}: ({sx}, {sv}) vs ({x}, {v})"
+        );
+    }
+}
+
+/// Elongation of each link of a settled chain.
+fn chain_elongations(iterations: usize, mode: LambdaMode) -> Vec<f64> {
+    let model = ClothModel::chain(10, 0.1, 0.1, 100.0).unwrap();
+    let mut sim = Sim::new(
+        model,
+        SolverConfig {
+            iterations,
+            gamma: 0.1,
+            lambda_mode: mode,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    sim.run(H, 30 * 60).unwrap();
+    let m = sim.model();
+    m.links
+        .iter()
+        .map(|l| (m.x[l.i] - m.x[l.j]).norm() - l.rest)
+        .collect()
+}
+
+/// Check 3: with accumulated multipliers the static elongation is the spring's, whatever the
+/// iteration count; the paper's printed update stiffens the chain as iterations grow.
+#[test]
+fn chain_elongation_is_iteration_independent_only_with_accumulation() {
+    let (m, g, k) = (0.1, 9.81, 100.0);
+    for iterations in [50, 500] {
+        let e = chain_elongations(iterations, LambdaMode::Accumulate);
+        for (j, ej) in e.iter().enumerate() {
+            let below = (9 - j) as f64;
+            let want = below * m * g / k;
+            assert!(
+                (ej - want).abs() <= 1e-6,
+                "iterations {iterations}, link {j}: {ej} vs {want}"
+            );
+        }
+    }
+    let total = |it| -> f64 { chain_elongations(it, LambdaMode::PaperReset).iter().sum() };
+    let (e1, e5, e25) = (total(1), total(5), total(25));
+    println!("PaperReset total elongation: 1 it {e1:.6}, 5 it {e5:.6}, 25 it {e25:.6} m");
+    assert!(e1 > e5 && e5 > e25, "{e1} {e5} {e25}");
+    // The spring value is 0.1 * 9.81 * (9 + 8 + ... + 1) / 100 = 0.44145 m.
+    assert!(e25 < 0.5 * 0.44145);
+}
+
+/// Check 5: one PaperReset iteration on a single link equals one plain-PBD projection with
+/// relaxation w = (1 + (h^2 k A)^-1)^-1.
+#[test]
+fn paper_reset_iteration_is_relaxed_pbd() {
+    let k = 250.0;
+    let build = || {
+        let mut m = ClothModel::new(
+            vec![Vector3::new(0.0, 0.0, 0.0), Vector3::new(0.3, 0.9, 0.2)],
+            &[0.5, 2.0],
+            &[],
+        )
+        .unwrap();
+        m.gravity = Vector3::zeros();
+        m.add_link(0, 1, k, Some(0.7)).unwrap();
+        m
+    };
+    let a = 1.0 / 0.5 + 1.0 / 2.0;
+    let omega = 1.0 / (1.0 + 1.0 / (H * H * k * a));
+    let mut soft = Sim::new(
+        build(),
+        SolverConfig {
+            iterations: 1,
+            lambda_mode: LambdaMode::PaperReset,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let mut pbd = Sim::new(
+        build(),
+        SolverConfig {
+            iterations: 1,
+            method: Method::PlainPbd { stiffness: omega },
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    soft.step(H).unwrap();
+    pbd.step(H).unwrap();
+    for p in 0..2 {
+        let d = (soft.model().x[p] - pbd.model().x[p]).norm();
+        assert!(d <= 1e-14, "particle {p}: {d}");
+    }
+}
+
+/// Check 8 (energy ordering, Fig. 4): the energy-preserving alpha = beta = 0.6 loses less
+/// energy than regularized PBD (alpha = beta = 1) on a hanging 10 x 10 cloth with k = 2 N/m.
+#[test]
+fn alpha_beta_scheme_loses_less_energy_than_implicit_euler() {
+    let loss = |ab: f64| {
+        let model = ClothModel::grid(10, 10, (1.0, 1.0), 0.1, 2.0, Some(2.0), Some(2.0)).unwrap();
+        let mut sim = Sim::new(
+            model,
+            SolverConfig {
+                alpha: ab,
+                beta: ab,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let e0 = sim.energy().total;
+        sim.run(H, 600).unwrap();
+        e0 - sim.energy().total
+    };
+    let (l06, l1) = (loss(0.6), loss(1.0));
+    println!("energy lost over 10 s: alpha = beta = 0.6: {l06:.5} J, 1.0: {l1:.5} J");
+    assert!(l06 < l1 && l1 > 0.0);
+}
+
+#[test]
+fn bad_input_is_rejected() {
+    let ok = || oscillator(SolverConfig::default());
+    let mut sim = ok();
+    assert!(sim.step(0.0).is_err() && sim.step(-H).is_err() && sim.step(f64::NAN).is_err());
+    for cfg in [
+        SolverConfig {
+            alpha: 0.0,
+            ..Default::default()
+        },
+        SolverConfig {
+            beta: 1.5,
+            ..Default::default()
+        },
+        SolverConfig {
+            gamma: -1.0,
+            ..Default::default()
+        },
+        SolverConfig {
+            iterations: 0,
+            ..Default::default()
+        },
+        SolverConfig {
+            method: Method::PlainPbd { stiffness: 0.0 },
+            ..Default::default()
+        },
+    ] {
+        assert!(Sim::new(ok().model().clone(), cfg).is_err(), "{cfg:?}");
+    }
+    let p = vec![Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)];
+    assert!(ClothModel::new(p.clone(), &[1.0], &[]).is_err());
+    assert!(ClothModel::new(p.clone(), &[1.0, -1.0], &[]).is_err());
+    assert!(ClothModel::new(p.clone(), &[1.0, f64::NAN], &[]).is_err());
+    assert!(ClothModel::new(p.clone(), &[1.0, 1.0], &[5]).is_err());
+    assert!(ClothModel::new(vec![Vector3::new(f64::NAN, 0.0, 0.0)], &[1.0], &[]).is_err());
+    assert!(ClothModel::new(Vec::new(), &[], &[]).is_err());
+    let mut m = ClothModel::new(p, &[1.0, 1.0], &[]).unwrap();
+    assert!(m.add_link(0, 0, 1.0, None).is_err());
+    assert!(m.add_link(0, 2, 1.0, None).is_err());
+    assert!(m.add_link(0, 1, 0.0, None).is_err());
+    assert!(m.add_link(0, 1, 1.0, Some(0.0)).is_err());
+    // A diverging step leaves the state unchanged.
+    let mut m = ok().model().clone();
+    m.links[0].compliance = 1e-300;
+    m.x[1] = Vector3::new(1e300, 0.0, 0.0);
+    let mut sim = Sim::new(m.clone(), SolverConfig::default()).unwrap();
+    assert!(sim.step(H).is_err());
+    assert_eq!(sim.model(), &m);
+    assert_eq!(sim.steps(), 0);
+}
