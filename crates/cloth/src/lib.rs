@@ -12,11 +12,14 @@
 //! - [`solver`]: the soft-projection step (eq. E4 of our specification, the paper's eqs. 17
 //!   and 20 with the accumulated-multiplier term), in the XPBD-consistent `Accumulate` mode or
 //!   the paper's printed `PaperReset` mode.
+//! - [`baselines`]: symplectic Euler, linearised implicit Euler by conjugate gradients and
+//!   velocity-projection damping, the comparisons of the paper's Figs. 1 and 5.
 //! - [`energy`]: kinetic, gravitational and elastic energy.
 //!
 //! Units: metres, kilograms, seconds; a link's stiffness `k` in N/m, its compliance `1/k` in
 //! m/N, the damping parameter `gamma = d/k` in seconds.
 
+pub mod baselines;
 pub mod energy;
 pub mod model;
 pub mod solver;

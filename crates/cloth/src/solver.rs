@@ -25,6 +25,7 @@
 use nalgebra::Vector3;
 use wscg_math::{Error, Result};
 
+use crate::baselines;
 use crate::energy::Energy;
 use crate::model::ClothModel;
 
@@ -48,6 +49,18 @@ pub enum Method {
         /// PBD stiffness `k` in `(0, 1]`.
         stiffness: f64,
     },
+    /// Symplectic Euler with `substeps` explicit substeps per step (energy reference).
+    SymplecticEuler {
+        /// Substeps per step (>= 1).
+        substeps: usize,
+    },
+    /// One linearised implicit Euler step solved by conjugate gradients (baseline).
+    ImplicitEulerCg {
+        /// Relative residual tolerance.
+        tol: f64,
+        /// Iteration cap.
+        max_iter: usize,
+    },
 }
 
 /// Parameters of a [`Sim`].
@@ -65,6 +78,9 @@ pub struct SolverConfig {
     pub gamma: f64,
     /// Multiplier mode (default accumulate).
     pub lambda_mode: LambdaMode,
+    /// Velocity-projection damping factor `k_d` in `[0, 1]` applied after each step (the
+    /// baseline of the paper's Fig. 5; default 0).
+    pub velocity_damping: f64,
 }
 
 impl Default for SolverConfig {
@@ -76,6 +92,7 @@ impl Default for SolverConfig {
             beta: 1.0,
             gamma: 0.0,
             lambda_mode: LambdaMode::Accumulate,
+            velocity_damping: 0.0,
         }
     }
 }
@@ -97,13 +114,31 @@ impl SolverConfig {
         if self.iterations == 0 {
             return Err(Error::invalid("iterations", "must be >= 1"));
         }
-        if let Method::PlainPbd { stiffness } = self.method {
-            if !(stiffness > 0.0 && stiffness <= 1.0) {
+        match self.method {
+            Method::PlainPbd { stiffness } if !(stiffness > 0.0 && stiffness <= 1.0) => {
                 return Err(Error::invalid(
                     "stiffness",
                     format!("PBD stiffness must be in (0, 1], got {stiffness}"),
-                ));
+                ))
             }
+            Method::SymplecticEuler { substeps: 0 } => {
+                return Err(Error::invalid("substeps", "must be >= 1"))
+            }
+            Method::ImplicitEulerCg { tol, max_iter }
+                if tol.is_nan() || tol <= 0.0 || max_iter == 0 =>
+            {
+                return Err(Error::invalid(
+                    "tol, max_iter",
+                    "CG needs tol > 0 and max_iter >= 1",
+                ))
+            }
+            _ => {}
+        }
+        if !(0.0..=1.0).contains(&self.velocity_damping) {
+            return Err(Error::invalid(
+                "velocity_damping",
+                format!("must be in [0, 1], got {}", self.velocity_damping),
+            ));
         }
         Ok(())
     }
@@ -118,11 +153,22 @@ pub struct StepStats {
 }
 
 /// The result of one step, committed only when finite.
-struct Stepped {
-    x: Vec<Vector3<f64>>,
-    v: Vec<Vector3<f64>>,
-    lambda: Vec<f64>,
-    stats: StepStats,
+pub(crate) struct Stepped {
+    pub(crate) x: Vec<Vector3<f64>>,
+    pub(crate) v: Vec<Vector3<f64>>,
+    pub(crate) lambda: Vec<f64>,
+    pub(crate) stats: StepStats,
+}
+
+impl Stepped {
+    pub(crate) fn new(x: Vec<Vector3<f64>>, v: Vec<Vector3<f64>>, lambda: Vec<f64>) -> Self {
+        Self {
+            x,
+            v,
+            lambda,
+            stats: StepStats::default(),
+        }
+    }
 }
 
 /// A running simulation.
@@ -182,13 +228,22 @@ impl Sim {
         }
         let Stepped {
             x,
-            v,
+            mut v,
             lambda,
             stats,
         } = match self.cfg.method {
             Method::SoftProjection => self.soft_projection(h),
             Method::PlainPbd { stiffness } => self.plain_pbd(h, stiffness),
+            Method::SymplecticEuler { substeps } => {
+                baselines::symplectic_euler(&self.model, h, substeps)?
+            }
+            Method::ImplicitEulerCg { tol, max_iter } => {
+                baselines::implicit_euler_cg(&self.model, h, tol, max_iter)?
+            }
         };
+        if self.cfg.velocity_damping > 0.0 {
+            baselines::project_velocities(&self.model, &x, &mut v, self.cfg.velocity_damping);
+        }
         let finite = |p: &[Vector3<f64>]| p.iter().all(|q| q.iter().all(|c| c.is_finite()));
         if !(finite(&x) && finite(&v)) {
             return Err(Error::Numerical(format!(
