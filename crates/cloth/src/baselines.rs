@@ -13,8 +13,8 @@ use wscg_math::{Error, Result};
 use crate::model::ClothModel;
 use crate::solver::Stepped;
 
-/// Elastic spring forces `-sum J' c / eps` at positions `x` (soft links only).
-pub fn spring_forces(m: &ClothModel, x: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+/// Elastic forces `-sum J' C^-1 c` at positions `x`: soft links and membrane triangles.
+pub fn elastic_forces(m: &ClothModel, x: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
     let mut f = vec![Vector3::zeros(); x.len()];
     for l in m.links.iter().filter(|l| l.compliance > 0.0) {
         let d = x[l.i] - x[l.j];
@@ -25,6 +25,9 @@ pub fn spring_forces(m: &ClothModel, x: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
         let g = d * (-(len - l.rest) / (l.compliance * len));
         f[l.i] += g;
         f[l.j] -= g;
+    }
+    for t in &m.tris {
+        crate::fem::add_forces(t, x, &mut f);
     }
     f
 }
@@ -46,7 +49,7 @@ pub(crate) fn symplectic_euler(m: &ClothModel, h: f64, substeps: usize) -> Resul
     let mut x = m.x.clone();
     let mut v = m.v.clone();
     for _ in 0..substeps.max(1) {
-        let f = spring_forces(m, &x);
+        let f = elastic_forces(m, &x);
         for p in 0..x.len() {
             let w = m.inv_mass[p];
             if w > 0.0 {
@@ -55,7 +58,7 @@ pub(crate) fn symplectic_euler(m: &ClothModel, h: f64, substeps: usize) -> Resul
             x[p] += v[p] * hs;
         }
     }
-    Ok(Stepped::new(x, v, vec![0.0; m.links.len()]))
+    Ok(Stepped::new(x, v, vec![0.0; m.constraint_rows()]))
 }
 
 /// `(M + h^2 J' C^-1 J)` on the free degrees of freedom (identity on pinned ones), at the
@@ -63,6 +66,8 @@ pub(crate) fn symplectic_euler(m: &ClothModel, h: f64, substeps: usize) -> Resul
 struct ImplicitOperator<'a> {
     m: &'a ClothModel,
     dirs: Vec<Vector3<f64>>,
+    /// Strain gradients of each triangle at the candidate state.
+    tri_grads: Vec<[[Vector3<f64>; 3]; 3]>,
     h2: f64,
 }
 
@@ -93,6 +98,15 @@ impl LinOp for ImplicitOperator<'_> {
             }
             if m.inv_mass[l.j] > 0.0 {
                 out[l.j] -= n * s;
+            }
+        }
+        for (t, g) in m.tris.iter().zip(&self.tri_grads) {
+            let jp = Vector3::from_fn(|k, _| (0..3).map(|q| g[k][q].dot(&at(t.idx[q]))).sum());
+            let s = t.elasticity() * jp * (t.area * self.h2);
+            for q in 0..3 {
+                if m.inv_mass[t.idx[q]] > 0.0 {
+                    out[t.idx[q]] += g[0][q] * s[0] + g[1][q] * s[1] + g[2][q] * s[2];
+                }
             }
         }
         for (q, o) in out.iter().enumerate() {
@@ -135,14 +149,20 @@ pub(crate) fn implicit_euler_cg(
             }
         })
         .collect();
-    let f = spring_forces(m, &xt);
+    let f = elastic_forces(m, &xt);
     let b: Vec<f64> = (0..n)
         .flat_map(|q| {
             let r = if free(q) { f[q] * h } else { Vector3::zeros() };
             [r.x, r.y, r.z]
         })
         .collect();
-    let op = ImplicitOperator { m, dirs, h2: h * h };
+    let tri_grads = m.tris.iter().map(|t| t.strain(&xt).grad).collect();
+    let op = ImplicitOperator {
+        m,
+        dirs,
+        tri_grads,
+        h2: h * h,
+    };
     let sol = pcg(
         &op,
         &b,
@@ -156,7 +176,7 @@ pub(crate) fn implicit_euler_cg(
     let dv = |q: usize| Vector3::new(sol.x[3 * q], sol.x[3 * q + 1], sol.x[3 * q + 2]);
     let x = (0..n).map(|q| xt[q] + dv(q) * h).collect();
     let v = (0..n).map(|q| vt[q] + dv(q)).collect();
-    Ok(Stepped::new(x, v, vec![0.0; m.links.len()]))
+    Ok(Stepped::new(x, v, vec![0.0; m.constraint_rows()]))
 }
 
 /// Reduces each link's relative velocity along the link by the factor `kd` in `[0, 1]`,

@@ -9,7 +9,8 @@ pub struct Energy {
     pub kinetic: f64,
     /// `-sum m g . x` over free particles.
     pub gravity: f64,
-    /// `sum 1/2 c^2 / eps` over soft links (`1/2 c' C^-1 c`).
+    /// `sum 1/2 c^2 / eps` over soft links plus the StVK energy of the membrane triangles
+    /// (`1/2 c' C^-1 c`).
     pub elastic: f64,
     /// The sum of the three.
     pub total: f64,
@@ -34,7 +35,8 @@ impl Energy {
                 let c = (model.x[l.i] - model.x[l.j]).norm() - l.rest;
                 0.5 * c * c / l.compliance
             })
-            .sum();
+            .sum::<f64>()
+            + model.tris.iter().map(|t| t.energy(&model.x)).sum::<f64>();
         Self {
             kinetic,
             gravity,

@@ -9,6 +9,7 @@
 //!
 //! - [`model`]: particles, pinned vertices and link constraints, with builders for grids and
 //!   chains.
+//! - [`fem`]: StVK membrane triangles as soft constraints (section 9).
 //! - [`solver`]: the soft-projection step (eq. E4 of our specification, the paper's eqs. 17
 //!   and 20 with the accumulated-multiplier term), in the XPBD-consistent `Accumulate` mode or
 //!   the paper's printed `PaperReset` mode.
@@ -21,9 +22,11 @@
 
 pub mod baselines;
 pub mod energy;
+pub mod fem;
 pub mod model;
 pub mod solver;
 
 pub use energy::Energy;
+pub use fem::FemTri;
 pub use model::{ClothModel, Link};
 pub use solver::{LambdaMode, Method, Sim, SolverConfig, StepStats};

@@ -5,6 +5,8 @@
 use nalgebra::Vector3;
 use wscg_math::{Error, Result};
 
+use crate::fem::FemTri;
+
 /// A distance constraint between two particles.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Link {
@@ -29,6 +31,8 @@ pub struct ClothModel {
     pub inv_mass: Vec<f64>,
     /// Link constraints, solved in this order by Gauss-Seidel.
     pub links: Vec<Link>,
+    /// StVK membrane triangles (solved after the links).
+    pub tris: Vec<FemTri>,
     /// Gravity (m/s^2).
     pub gravity: Vector3<f64>,
 }
@@ -81,6 +85,7 @@ impl ClothModel {
             v: vec![Vector3::zeros(); n],
             inv_mass,
             links: Vec::new(),
+            tris: Vec::new(),
             gravity: Vector3::new(0.0, -9.81, 0.0),
         };
         m.validate()?;
@@ -127,6 +132,35 @@ impl ClothModel {
         Ok(())
     }
 
+    /// Adds a StVK membrane triangle with Young's modulus `young` (N/m) and Poisson ratio
+    /// `poisson`; rest coordinates `uv` default to the triangle's current shape in its own
+    /// plane.
+    ///
+    /// Errors: indices out of range or repeated, degenerate rest triangle, bad material.
+    pub fn add_fem_triangle(
+        &mut self,
+        idx: [usize; 3],
+        uv: Option<[[f64; 2]; 3]>,
+        young: f64,
+        poisson: f64,
+    ) -> Result<()> {
+        let n = self.x.len();
+        if idx.iter().any(|&p| p >= n) || idx[0] == idx[1] || idx[1] == idx[2] || idx[0] == idx[2] {
+            return Err(Error::invalid(
+                "triangle",
+                format!("indices {idx:?} must be distinct and below {n}"),
+            ));
+        }
+        let uv = uv.unwrap_or_else(|| FemTri::local_uv(idx.map(|p| self.x[p])));
+        self.tris.push(FemTri::new(idx, uv, young, poisson)?);
+        Ok(())
+    }
+
+    /// Number of constraint rows: one per link, three per triangle.
+    pub fn constraint_rows(&self) -> usize {
+        self.links.len() + 3 * self.tris.len()
+    }
+
     /// Number of particles.
     pub fn len(&self) -> usize {
         self.x.len()
@@ -167,6 +201,14 @@ impl ClothModel {
                 return Err(Error::invalid("links", format!("invalid link {l:?}")));
             }
         }
+        for t in &self.tris {
+            if t.idx.iter().any(|&p| p >= n) {
+                return Err(Error::invalid(
+                    "tris",
+                    format!("invalid triangle {:?}", t.idx),
+                ));
+            }
+        }
         Ok(())
     }
 
@@ -182,6 +224,36 @@ impl ClothModel {
         let mut m = Self::new(x, &vec![mass; n], &[0])?;
         for i in 0..n - 1 {
             m.add_link(i, i + 1, k, Some(rest))?;
+        }
+        Ok(m)
+    }
+
+    /// A horizontal `nx x ny` grid of StVK membrane triangles (two per quad, rest
+    /// coordinates = the grid's `(x, z)`, so `u` is the warp and `v` the weft direction) with
+    /// Young's modulus `young` (N/m) and Poisson ratio `poisson`, total mass `total_mass`;
+    /// the two corners of the first row are pinned.
+    pub fn fem_grid(
+        nx: usize,
+        ny: usize,
+        size: (f64, f64),
+        total_mass: f64,
+        young: f64,
+        poisson: f64,
+    ) -> Result<Self> {
+        let mut m = Self::grid(nx, ny, size, total_mass, 1.0, None, None)?;
+        m.links.clear();
+        let id = |i: usize, j: usize| j * nx + i;
+        let uv = |p: usize, m: &Self| [m.x[p].x, m.x[p].z];
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                for t in [
+                    [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
+                    [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
+                ] {
+                    let r = t.map(|p| uv(p, &m));
+                    m.add_fem_triangle(t, Some(r), young, poisson)?;
+                }
+            }
         }
         Ok(m)
     }

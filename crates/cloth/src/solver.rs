@@ -22,7 +22,7 @@
 //! **Plain PBD** (Mueller et al. 2007, the baseline): hard projection scaled by a stiffness
 //! factor `k' = 1 - (1 - k)^(1/N)` per iteration, velocities `(x' - x)/h`.
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix2, Vector2, Vector3};
 use wscg_math::{Error, Result};
 
 use crate::baselines;
@@ -176,7 +176,7 @@ impl Stepped {
 pub struct Sim {
     model: ClothModel,
     cfg: SolverConfig,
-    /// Multipliers (N) of the last step, per link.
+    /// Multipliers of the last step: one per link (N), then three per triangle.
     lambda: Vec<f64>,
     steps: u64,
 }
@@ -186,7 +186,7 @@ impl Sim {
     pub fn new(model: ClothModel, cfg: SolverConfig) -> Result<Self> {
         model.validate()?;
         cfg.validate()?;
-        let lambda = vec![0.0; model.links.len()];
+        let lambda = vec![0.0; model.constraint_rows()];
         Ok(Self {
             model,
             cfg,
@@ -205,7 +205,7 @@ impl Sim {
         &self.cfg
     }
 
-    /// Multipliers of the last step (N), per link.
+    /// Multipliers of the last step: one per link (N), then `(uu, vv, uv)` per triangle.
     pub fn multipliers(&self) -> &[f64] {
         &self.lambda
     }
@@ -294,6 +294,9 @@ impl Sim {
                 f[l.i] += g;
                 f[l.j] -= g;
             }
+            for t in &m.tris {
+                crate::fem::add_forces(t, &m.x, &mut f);
+            }
         }
         let (mut x, mut v): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) =
             m.x.iter()
@@ -310,8 +313,11 @@ impl Sim {
                     }
                 })
                 .unzip();
-        let mut lambda = vec![0.0; m.links.len()];
+        let nl = m.links.len();
+        let mut lambda = vec![0.0; nl + 3 * m.tris.len()];
         let mut max_residual = 0.0f64;
+        let accumulate = lambda_mode == LambdaMode::Accumulate;
+        let (sx, sv) = (beta * h * h, h);
         for it in 0..iterations {
             let last = it + 1 == iterations;
             for (k, l) in m.links.iter().enumerate() {
@@ -344,6 +350,63 @@ impl Sim {
                 x[l.j] -= dp * (beta * h * h * wj);
                 v[l.i] += dp * (h * wi);
                 v[l.j] -= dp * (h * wj);
+            }
+            for (t_i, t) in m.tris.iter().enumerate() {
+                let (c2, c_shear) = t.compliance();
+                let w = t.idx.map(|p| m.inv_mass[p]);
+                let k0 = nl + 3 * t_i;
+                // Stretch pair (e_uu, e_vv), a 2 x 2 block.
+                let st = t.strain(&x);
+                let dot = |a: usize, b: usize| {
+                    (0..3)
+                        .map(|p| w[p] * st.grad[a][p].dot(&st.grad[b][p]))
+                        .sum::<f64>()
+                };
+                let jv = |a: usize| (0..3).map(|p| st.grad[a][p].dot(&v[t.idx[p]])).sum::<f64>();
+                let a2 = Matrix2::new(dot(0, 0), dot(0, 1), dot(1, 0), dot(1, 1));
+                let s2 = a2 * (alpha * h * (beta * h + gamma)) + c2;
+                let lam2 = Vector2::new(lambda[k0], lambda[k0 + 1]);
+                let mut rhs2 = Vector2::new(
+                    alpha * (st.e[0] + gamma * jv(0)),
+                    alpha * (st.e[1] + gamma * jv(1)),
+                );
+                if accumulate {
+                    rhs2 += c2 * lam2;
+                }
+                if last {
+                    max_residual = max_residual.max(rhs2.amax());
+                }
+                if let Some(inv) = s2.try_inverse() {
+                    let dl = -(inv * rhs2);
+                    lambda[k0] += dl[0];
+                    lambda[k0 + 1] += dl[1];
+                    for p in 0..3 {
+                        let g = st.grad[0][p] * dl[0] + st.grad[1][p] * dl[1];
+                        x[t.idx[p]] += g * (sx * w[p]);
+                        v[t.idx[p]] += g * (sv * w[p]);
+                    }
+                }
+                // Shear g_uv, a 1 x 1 block, at the updated positions.
+                let st = t.strain(&x);
+                let a1: f64 = (0..3).map(|p| w[p] * st.grad[2][p].norm_squared()).sum();
+                let jv2: f64 = (0..3).map(|p| st.grad[2][p].dot(&v[t.idx[p]])).sum();
+                let s1 = alpha * h * (beta * h + gamma) * a1 + c_shear;
+                let mut rhs = alpha * (st.e[2] + gamma * jv2);
+                if accumulate {
+                    rhs += c_shear * lambda[k0 + 2];
+                }
+                if last {
+                    max_residual = max_residual.max(rhs.abs());
+                }
+                if s1 > 0.0 {
+                    let dl = -rhs / s1;
+                    lambda[k0 + 2] += dl;
+                    for p in 0..3 {
+                        let g = st.grad[2][p] * dl;
+                        x[t.idx[p]] += g * (sx * w[p]);
+                        v[t.idx[p]] += g * (sv * w[p]);
+                    }
+                }
             }
         }
         Stepped {
@@ -388,7 +451,7 @@ impl Sim {
             }
         }
         let v = x.iter().zip(&m.x).map(|(a, b)| (a - b) / h).collect();
-        let lambda = vec![0.0; m.links.len()];
+        let lambda = vec![0.0; m.constraint_rows()];
         Stepped {
             x,
             v,
