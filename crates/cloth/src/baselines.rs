@@ -2,11 +2,11 @@
 //! - symplectic Euler with explicit spring forces and small substeps, the energy reference;
 //! - implicit Euler with one linearised Newton step (Baraff and Witkin 1998), the system
 //!   `(M + h^2 J' C^-1 J) dv = h f(x~)` (the Gauss-Newton stiffness, as the paper) solved by
-//!   conjugate gradients;
+//!   conjugate gradients, rollers enforced by Baraff and Witkin's velocity filters;
 //! - the "velocity projection" damping of Fig. 5: after a step, each link's relative velocity
 //!   along its direction is reduced by a factor `k_d`.
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use wscg_math::sparse::{pcg, IdentityPrecond, InitialGuess, LinOp, PcgOptions};
 use wscg_math::{Error, Result};
 
@@ -45,6 +45,12 @@ fn require_soft(m: &ClothModel, method: &str) -> Result<()> {
 /// Symplectic Euler over `substeps` substeps of `h / substeps`.
 pub(crate) fn symplectic_euler(m: &ClothModel, h: f64, substeps: usize) -> Result<Stepped> {
     require_soft(m, "symplectic Euler")?;
+    if !m.rollers.is_empty() {
+        return Err(Error::invalid(
+            "method",
+            "symplectic Euler does not support rollers",
+        ));
+    }
     let hs = h / substeps.max(1) as f64;
     let mut x = m.x.clone();
     let mut v = m.v.clone();
@@ -61,13 +67,42 @@ pub(crate) fn symplectic_euler(m: &ClothModel, h: f64, substeps: usize) -> Resul
     Ok(Stepped::new(x, v, vec![0.0; m.constraint_rows()]))
 }
 
-/// `(M + h^2 J' C^-1 J)` on the free degrees of freedom (identity on pinned ones), at the
-/// link directions of the candidate state.
+/// Per-particle velocity filters of Baraff and Witkin (1998): the identity for a free
+/// particle, zero for a pinned one, and the projection onto the rollers' planes for a
+/// particle on rollers.
+fn filters(m: &ClothModel) -> Vec<Matrix3<f64>> {
+    let mut normals: Vec<Vec<Vector3<f64>>> = vec![Vec::new(); m.len()];
+    for r in &m.rollers {
+        // Gram-Schmidt against the particle's earlier normals.
+        let mut n = r.normal;
+        for e in &normals[r.p] {
+            n -= e * e.dot(&n);
+        }
+        if n.norm() > 1e-9 {
+            normals[r.p].push(n.normalize());
+        }
+    }
+    (0..m.len())
+        .map(|q| {
+            if m.inv_mass[q] > 0.0 {
+                normals[q]
+                    .iter()
+                    .fold(Matrix3::identity(), |s, n| s - n * n.transpose())
+            } else {
+                Matrix3::zeros()
+            }
+        })
+        .collect()
+}
+
+/// `S (M + h^2 J' C^-1 J) S + (I - S)` with the filters `S` (symmetric positive definite),
+/// the Jacobians taken at the candidate state.
 struct ImplicitOperator<'a> {
     m: &'a ClothModel,
     dirs: Vec<Vector3<f64>>,
     /// Strain gradients of each triangle at the candidate state.
     tri_grads: Vec<[[Vector3<f64>; 3]; 3]>,
+    filters: Vec<Matrix3<f64>>,
     h2: f64,
 }
 
@@ -80,43 +115,41 @@ impl LinOp for ImplicitOperator<'_> {
     }
     fn apply(&self, p: &[f64], y: &mut [f64]) {
         let m = self.m;
-        let at = |q: usize| Vector3::new(p[3 * q], p[3 * q + 1], p[3 * q + 2]);
+        let raw = |q: usize| Vector3::new(p[3 * q], p[3 * q + 1], p[3 * q + 2]);
+        let fp: Vec<Vector3<f64>> = (0..m.len()).map(|q| self.filters[q] * raw(q)).collect();
         let mut out: Vec<Vector3<f64>> = (0..m.len())
             .map(|q| {
                 let w = m.inv_mass[q];
                 if w > 0.0 {
-                    at(q) / w
+                    fp[q] / w
                 } else {
-                    at(q)
+                    Vector3::zeros()
                 }
             })
             .collect();
         for (l, n) in m.links.iter().zip(&self.dirs) {
-            let s = self.h2 / l.compliance * n.dot(&(at(l.i) - at(l.j)));
-            if m.inv_mass[l.i] > 0.0 {
-                out[l.i] += n * s;
-            }
-            if m.inv_mass[l.j] > 0.0 {
-                out[l.j] -= n * s;
-            }
+            let s = self.h2 / l.compliance * n.dot(&(fp[l.i] - fp[l.j]));
+            out[l.i] += n * s;
+            out[l.j] -= n * s;
         }
         for (t, g) in m.tris.iter().zip(&self.tri_grads) {
-            let jp = Vector3::from_fn(|k, _| (0..3).map(|q| g[k][q].dot(&at(t.idx[q]))).sum());
+            let jp = Vector3::from_fn(|k, _| (0..3).map(|q| g[k][q].dot(&fp[t.idx[q]])).sum());
             let s = t.elasticity() * jp * (t.area * self.h2);
             for q in 0..3 {
-                if m.inv_mass[t.idx[q]] > 0.0 {
-                    out[t.idx[q]] += g[0][q] * s[0] + g[1][q] * s[1] + g[2][q] * s[2];
-                }
+                out[t.idx[q]] += g[0][q] * s[0] + g[1][q] * s[1] + g[2][q] * s[2];
             }
         }
         for (q, o) in out.iter().enumerate() {
-            y[3 * q..3 * q + 3].copy_from_slice(o.as_slice());
+            let r = self.filters[q] * o + (raw(q) - fp[q]);
+            y[3 * q..3 * q + 3].copy_from_slice(r.as_slice());
         }
     }
 }
 
 /// One linearised implicit Euler step solved by conjugate gradients to `tol` (relative
-/// residual) in at most `max_iter` iterations.
+/// residual) in at most `max_iter` iterations. Rollers are enforced by filtering the
+/// velocity change (Baraff and Witkin 1998), so particles on rollers must start on their
+/// planes.
 pub(crate) fn implicit_euler_cg(
     m: &ClothModel,
     h: f64,
@@ -125,11 +158,11 @@ pub(crate) fn implicit_euler_cg(
 ) -> Result<Stepped> {
     require_soft(m, "implicit Euler")?;
     let n = m.len();
-    let free = |q: usize| m.inv_mass[q] > 0.0;
+    let filters = filters(m);
     let vt: Vec<Vector3<f64>> = (0..n)
         .map(|q| {
-            if free(q) {
-                m.v[q] + m.gravity * h
+            if m.inv_mass[q] > 0.0 {
+                filters[q] * (m.v[q] + m.gravity * h)
             } else {
                 m.v[q]
             }
@@ -152,7 +185,7 @@ pub(crate) fn implicit_euler_cg(
     let f = elastic_forces(m, &xt);
     let b: Vec<f64> = (0..n)
         .flat_map(|q| {
-            let r = if free(q) { f[q] * h } else { Vector3::zeros() };
+            let r = filters[q] * f[q] * h;
             [r.x, r.y, r.z]
         })
         .collect();
@@ -161,6 +194,7 @@ pub(crate) fn implicit_euler_cg(
         m,
         dirs,
         tri_grads,
+        filters,
         h2: h * h,
     };
     let sol = pcg(

@@ -28,5 +28,5 @@ pub mod solver;
 
 pub use energy::Energy;
 pub use fem::FemTri;
-pub use model::{ClothModel, Link};
+pub use model::{ClothModel, Link, Roller};
 pub use solver::{LambdaMode, Method, Sim, SolverConfig, StepStats};

@@ -20,6 +20,18 @@ pub struct Link {
     pub compliance: f64,
 }
 
+/// A hard equality constraint `n . x_p = offset` on one particle: a roller that lets the
+/// particle slide in the plane (boundary conditions of the FEM patch test).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Roller {
+    /// Particle.
+    pub p: usize,
+    /// Unit plane normal.
+    pub normal: Vector3<f64>,
+    /// Plane offset (m).
+    pub offset: f64,
+}
+
 /// Particles and constraints.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ClothModel {
@@ -33,6 +45,8 @@ pub struct ClothModel {
     pub links: Vec<Link>,
     /// StVK membrane triangles (solved after the links).
     pub tris: Vec<FemTri>,
+    /// Rollers (hard plane constraints on single particles, solved last).
+    pub rollers: Vec<Roller>,
     /// Gravity (m/s^2).
     pub gravity: Vector3<f64>,
 }
@@ -86,6 +100,7 @@ impl ClothModel {
             inv_mass,
             links: Vec::new(),
             tris: Vec::new(),
+            rollers: Vec::new(),
             gravity: Vector3::new(0.0, -9.81, 0.0),
         };
         m.validate()?;
@@ -156,9 +171,34 @@ impl ClothModel {
         Ok(())
     }
 
-    /// Number of constraint rows: one per link, three per triangle.
+    /// Adds a roller keeping particle `p` on the plane `normal . x = offset`.
+    ///
+    /// Errors: index out of range, a zero or non-finite normal, a non-finite offset.
+    pub fn add_roller(&mut self, p: usize, normal: Vector3<f64>, offset: f64) -> Result<()> {
+        if p >= self.x.len() {
+            return Err(Error::invalid(
+                "roller",
+                format!("particle {p} out of range"),
+            ));
+        }
+        let len = normal.norm();
+        if !(len.is_finite() && len > 0.0 && offset.is_finite()) {
+            return Err(Error::invalid(
+                "roller",
+                "needs a finite non-zero normal and offset",
+            ));
+        }
+        self.rollers.push(Roller {
+            p,
+            normal: normal / len,
+            offset: offset / len,
+        });
+        Ok(())
+    }
+
+    /// Number of constraint rows: one per link, three per triangle, one per roller.
     pub fn constraint_rows(&self) -> usize {
-        self.links.len() + 3 * self.tris.len()
+        self.links.len() + 3 * self.tris.len() + self.rollers.len()
     }
 
     /// Number of particles.
@@ -200,6 +240,9 @@ impl ClothModel {
             if l.i >= n || l.j >= n || l.i == l.j || bad_rest || bad_compliance {
                 return Err(Error::invalid("links", format!("invalid link {l:?}")));
             }
+        }
+        if let Some(r) = self.rollers.iter().find(|r| r.p >= n) {
+            return Err(Error::invalid("rollers", format!("invalid roller {r:?}")));
         }
         for t in &self.tris {
             if t.idx.iter().any(|&p| p >= n) {

@@ -297,6 +297,10 @@ impl Sim {
             for t in &m.tris {
                 crate::fem::add_forces(t, &m.x, &mut f);
             }
+            let r0 = m.links.len() + 3 * m.tris.len();
+            for (r, &stored) in m.rollers.iter().zip(&self.lambda[r0..]) {
+                f[r.p] += r.normal * stored;
+            }
         }
         let (mut x, mut v): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) =
             m.x.iter()
@@ -314,7 +318,7 @@ impl Sim {
                 })
                 .unzip();
         let nl = m.links.len();
-        let mut lambda = vec![0.0; nl + 3 * m.tris.len()];
+        let mut lambda = vec![0.0; m.constraint_rows()];
         let mut max_residual = 0.0f64;
         let accumulate = lambda_mode == LambdaMode::Accumulate;
         let (sx, sv) = (beta * h * h, h);
@@ -407,6 +411,24 @@ impl Sim {
                         v[t.idx[p]] += g * (sv * w[p]);
                     }
                 }
+            }
+            // Rollers: hard (eps = 0) plane constraints.
+            let r0 = nl + 3 * m.tris.len();
+            for (k, r) in m.rollers.iter().enumerate() {
+                let w = m.inv_mass[r.p];
+                let s1 = alpha * h * (beta * h + gamma) * w;
+                if s1 <= 0.0 {
+                    continue;
+                }
+                let c = r.normal.dot(&x[r.p]) - r.offset;
+                let rhs = alpha * (c + gamma * r.normal.dot(&v[r.p]));
+                if last {
+                    max_residual = max_residual.max(rhs.abs());
+                }
+                let dl = -rhs / s1;
+                lambda[r0 + k] += dl;
+                x[r.p] += r.normal * (dl * sx * w);
+                v[r.p] += r.normal * (dl * sv * w);
             }
         }
         Stepped {

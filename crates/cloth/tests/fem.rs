@@ -97,3 +97,137 @@ fn rest_shape_has_zero_strain_and_degenerate_triangles_fail() {
     )
     .is_err());
 }
+
+/// A jittered `n x n` triangulation of the unit square in the x-z plane (jitter 0.3 of the
+/// spacing on interior vertices), with StVK triangles (`young`, `poisson`) or edge links of
+/// stiffness `young` when `links` is set; rest coordinates are the jittered `(x, z)`.
+fn jittered_sheet(n: usize, young: f64, poisson: f64, links: bool) -> wscg_cloth::ClothModel {
+    use wscg_cloth::ClothModel;
+    let mut m = ClothModel::grid(n, n, (1.0, 1.0), 1.0, 1.0, None, None).unwrap();
+    m.links.clear();
+    m.inv_mass = vec![(n * n) as f64; n * n];
+    m.gravity = Vector3::zeros();
+    let jit = rng::uniform_vec(11, 2 * n * n, -0.3, 0.3).unwrap();
+    let sp = 1.0 / (n - 1) as f64;
+    for j in 1..n - 1 {
+        for i in 1..n - 1 {
+            let p = j * n + i;
+            m.x[p].x += jit[2 * p] * sp;
+            m.x[p].z += jit[2 * p + 1] * sp;
+        }
+    }
+    let id = |i: usize, j: usize| j * n + i;
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            for t in [
+                [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
+                [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
+            ] {
+                if links {
+                    for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                        if !m
+                            .links
+                            .iter()
+                            .any(|l| (l.i, l.j) == (a, b) || (l.i, l.j) == (b, a))
+                        {
+                            m.add_link(a, b, young, None).unwrap();
+                        }
+                    }
+                } else {
+                    let uv = t.map(|p| [m.x[p].x, m.x[p].z]);
+                    m.add_fem_triangle(t, Some(uv), young, poisson).unwrap();
+                }
+            }
+        }
+    }
+    // Rollers: left edge on x = 0, right edge on x = 1.01; one left vertex fully pinned;
+    // every vertex stays in the y = 0 plane.
+    for j in 0..n {
+        m.add_roller(id(0, j), Vector3::x(), 0.0).unwrap();
+        m.add_roller(id(n - 1, j), Vector3::x(), 1.01).unwrap();
+        m.x[id(n - 1, j)].x = 1.01;
+    }
+    for p in 0..n * n {
+        m.add_roller(p, Vector3::y(), 0.0).unwrap();
+    }
+    m.inv_mass[id(0, 0)] = 0.0;
+    m
+}
+
+/// Green strains `(e_xx, e_zz)` of the triangle `t` at positions `x`, with rest coordinates
+/// `rest` (the strain in the world axes, whatever the triangle's rest map).
+fn world_strain(t: &FemTri, rest: &[Vector3<f64>], x: &[Vector3<f64>]) -> (f64, f64) {
+    let axis = FemTri::new(t.idx, t.idx.map(|p| [rest[p].x, rest[p].z]), 1.0, 0.0).unwrap();
+    let e = axis.strain(x).e;
+    (e[0], e[1])
+}
+
+/// Run to rest under linearised implicit Euler (its fixed point is the exact equilibrium
+/// `f(x) = 0`).
+fn settle(model: wscg_cloth::ClothModel) -> wscg_cloth::Sim {
+    use wscg_cloth::{Method, Sim, SolverConfig};
+    let mut sim = Sim::new(
+        model,
+        SolverConfig {
+            method: Method::ImplicitEulerCg {
+                tol: 1e-12,
+                max_iter: 2000,
+            },
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    for _ in 0..4000 {
+        sim.step(0.05).unwrap();
+        let vmax = sim.model().v.iter().map(|v| v.amax()).fold(0.0, f64::max);
+        if vmax < 1e-10 {
+            break;
+        }
+    }
+    sim
+}
+
+/// Check 7: the FEM patch test. Uniaxial stretch of 1 % between rollers gives every
+/// triangle the exact StVK uniaxial-stress strains `e_xx = (1.01^2 - 1)/2` and
+/// `e_zz = -nu e_xx`; a spring network on the same mesh does not.
+#[test]
+fn fem_patch_test_and_poisson_effect() {
+    let nu = 0.3;
+    let rest = jittered_sheet(30, 1000.0, nu, false);
+    // Rest positions: the right edge was moved onto its roller at x = 1.01.
+    let mut rest_x = rest.x.clone();
+    for j in 0..30 {
+        rest_x[j * 30 + 29].x = 1.0;
+    }
+    let sim = settle(rest.clone());
+    let m = sim.model();
+    let exx = 0.5 * (1.01f64 * 1.01 - 1.0);
+    let mut worst = (0.0f64, 0.0f64);
+    for t in &m.tris {
+        let (a, b) = world_strain(t, &rest_x, &m.x);
+        worst.0 = worst.0.max((a - exx).abs() / exx);
+        worst.1 = worst.1.max((b + nu * exx).abs() / (nu * exx));
+    }
+    println!(
+        "FEM patch test after {} steps: max rel. error e_xx {:.2e}, e_zz {:.2e}",
+        sim.steps(),
+        worst.0,
+        worst.1
+    );
+    assert!(worst.0 <= 1e-6 && worst.1 <= 1e-6, "{worst:?}");
+
+    // The same sheet as a spring network: report the spread of e_xx.
+    let springs = jittered_sheet(30, 1000.0, nu, true);
+    let sim = settle(springs);
+    let m = sim.model();
+    let strains: Vec<f64> = rest
+        .tris
+        .iter()
+        .map(|t| world_strain(t, &rest_x, &m.x).0)
+        .collect();
+    let mean = strains.iter().sum::<f64>() / strains.len() as f64;
+    let sd =
+        (strains.iter().map(|s| (s - mean).powi(2)).sum::<f64>() / strains.len() as f64).sqrt();
+    println!("edge links: e_xx mean {mean:.5}, std/mean {:.3}", sd / mean);
+    assert!(sd / mean > 10.0 * worst.0);
+}
