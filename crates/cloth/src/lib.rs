@@ -15,12 +15,15 @@
 //!   the paper's printed `PaperReset` mode.
 //! - [`baselines`]: symplectic Euler, linearised implicit Euler by conjugate gradients and
 //!   velocity-projection damping, the comparisons of the paper's Figs. 1 and 5.
+//! - [`constraint_space`]: the global constraint-space system `(h^2 J W J' + C)` solved by
+//!   Conjugate Residuals (section 7).
 //! - [`energy`]: kinetic, gravitational and elastic energy.
 //!
 //! Units: metres, kilograms, seconds; a link's stiffness `k` in N/m, its compliance `1/k` in
 //! m/N, the damping parameter `gamma = d/k` in seconds.
 
 pub mod baselines;
+pub mod constraint_space;
 pub mod energy;
 pub mod fem;
 pub mod model;

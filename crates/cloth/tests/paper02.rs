@@ -364,3 +364,58 @@ fn velocity_projection_scales_relative_normal_velocity() {
     )
     .is_err());
 }
+
+/// Check 10: Conjugate Residuals on the constraint-space system of a 20 x 20 cloth (links
+/// and membrane triangles): monotone residual, 1e-10 within m iterations, and the dense
+/// solution to 1e-9.
+#[test]
+fn conjugate_residual_on_constraint_space_system() {
+    use faer::linalg::solvers::Solve;
+    use wscg_cloth::constraint_space::ConstraintSystem;
+    use wscg_math::sparse::{conjugate_residual, InitialGuess, PcgOptions};
+    for fem in [false, true] {
+        let mut model = if fem {
+            ClothModel::fem_grid(20, 20, (1.0, 1.0), 0.1, 1000.0, 0.3).unwrap()
+        } else {
+            ClothModel::grid(20, 20, (1.0, 1.0), 0.1, 2000.0, Some(500.0), Some(50.0)).unwrap()
+        };
+        // A deformed state: let the cloth fall for a few steps.
+        let cfg = SolverConfig::default();
+        let mut sim = Sim::new(model.clone(), cfg).unwrap();
+        sim.run(H, 20).unwrap();
+        model = sim.model().clone();
+        let sys = ConstraintSystem::new(&model, &model.x, H * H);
+        let m = sys.len();
+        let b: Vec<f64> = (0..m)
+            .map(|i| ((i * 37) % 11) as f64 * 1e-3 - 5e-3)
+            .collect();
+        let cr = conjugate_residual(
+            &sys,
+            &b,
+            InitialGuess::Zero,
+            &PcgOptions {
+                tol: 1e-10,
+                max_iter: Some(m),
+            },
+        )
+        .unwrap();
+        assert!(cr.converged, "fem {fem}: {} iterations", cr.iterations);
+        assert!(cr
+            .residuals
+            .windows(2)
+            .all(|w| w[1] <= w[0] * (1.0 + 1e-10)));
+        let dense = sys.dense();
+        let a = faer::Mat::from_fn(m, m, |i, j| dense[i * m + j]);
+        let rhs = faer::Mat::from_fn(m, 1, |i, _| b[i]);
+        let x = a.partial_piv_lu().solve(&rhs);
+        let err = (0..m)
+            .map(|i| (x[(i, 0)] - cr.x[i]).abs())
+            .fold(0.0, f64::max);
+        let scale = (0..m).map(|i| x[(i, 0)].abs()).fold(0.0, f64::max);
+        println!(
+            "fem {fem}: m = {m}, CR iterations {}, max error {err:.2e} (|x| {scale:.2e})",
+            cr.iterations
+        );
+        assert!(err <= 1e-9 * scale.max(1.0), "fem {fem}: {err}");
+    }
+}
