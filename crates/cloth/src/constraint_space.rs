@@ -76,6 +76,45 @@ impl ConstraintSystem {
         self.rows.is_empty()
     }
 
+    /// `W J' p`: the per-particle effect of multipliers `p`.
+    pub fn w_jt(&self, p: &[f64]) -> Vec<Vector3<f64>> {
+        let mut f = vec![Vector3::zeros(); self.inv_mass.len()];
+        for (row, &pk) in self.rows.iter().zip(p) {
+            for &(q, g) in &row.parts {
+                f[q] += g * (pk * self.inv_mass[q]);
+            }
+        }
+        f
+    }
+
+    /// `J' p` (no mass weighting).
+    pub fn jt(&self, p: &[f64]) -> Vec<Vector3<f64>> {
+        let mut f = vec![Vector3::zeros(); self.inv_mass.len()];
+        for (row, &pk) in self.rows.iter().zip(p) {
+            for &(q, g) in &row.parts {
+                f[q] += g * pk;
+            }
+        }
+        f
+    }
+
+    /// `J f` for per-particle vectors `f`.
+    pub fn j(&self, f: &[Vector3<f64>]) -> Vec<f64> {
+        self.rows
+            .iter()
+            .map(|row| row.parts.iter().map(|&(q, g)| g.dot(&f[q])).sum())
+            .collect()
+    }
+
+    /// Adds `C p` to `y`.
+    pub fn add_compliance(&self, p: &[f64], y: &mut [f64]) {
+        for &(r0, size, c) in &self.blocks {
+            for a in 0..size {
+                y[r0 + a] += (0..size).map(|b| c[(a, b)] * p[r0 + b]).sum::<f64>();
+            }
+        }
+    }
+
     /// The dense matrix (for checks and small problems), row-major `m x m`.
     pub fn dense(&self) -> Vec<f64> {
         let m = self.len();
@@ -102,20 +141,96 @@ impl LinOp for ConstraintSystem {
         self.rows.len()
     }
     fn apply(&self, p: &[f64], y: &mut [f64]) {
-        // f = W J' p, then y = scale J f + C p.
-        let mut f = vec![Vector3::zeros(); self.inv_mass.len()];
-        for (row, &pk) in self.rows.iter().zip(p) {
-            for &(q, g) in &row.parts {
-                f[q] += g * (pk * self.inv_mass[q]);
-            }
-        }
+        // y = scale J (W J' p) + C p.
+        let f = self.w_jt(p);
         for (k, row) in self.rows.iter().enumerate() {
             y[k] = self.scale * row.parts.iter().map(|&(q, g)| g.dot(&f[q])).sum::<f64>();
         }
-        for &(r0, size, c) in &self.blocks {
-            for a in 0..size {
-                y[r0 + a] += (0..size).map(|b| c[(a, b)] * p[r0 + b]).sum::<f64>();
-            }
+        self.add_compliance(p, y);
+    }
+}
+
+/// Constraint values at `x`: one per link (`|x_i - x_j| - rest`), three per triangle (the
+/// strains), in the row order of [`ConstraintSystem`].
+pub fn constraint_values(m: &ClothModel, x: &[Vector3<f64>]) -> Vec<f64> {
+    let mut c: Vec<f64> = m
+        .links
+        .iter()
+        .map(|l| (x[l.i] - x[l.j]).norm() - l.rest)
+        .collect();
+    for t in &m.tris {
+        c.extend(t.strain(x).e);
+    }
+    c
+}
+
+/// Exact implicit Euler through the constraint space (the Schur complement of the KKT Newton
+/// step with `K ~ M/h^2`): each outer iteration solves
+/// `(h^2 A + C) dl = -(c + C lambda) + h^2 J W g` by Conjugate Residuals and moves
+/// `dx = h^2 W (J' dl - g)`, where `g = M (x - x~)/h^2 - J' lambda` is the momentum residual.
+/// With `primal_residual = false`, `g` is dropped: the XPBD fixed point `c + C lambda = 0`,
+/// which is not the implicit Euler minimiser when the constraint gradients rotate.
+pub(crate) fn global_step(
+    m: &ClothModel,
+    h: f64,
+    outer: usize,
+    tol: f64,
+    primal_residual: bool,
+) -> wscg_math::Result<crate::solver::Stepped> {
+    use wscg_math::sparse::{conjugate_residual, InitialGuess, PcgOptions};
+    if m.links.iter().any(|l| l.compliance == 0.0) || !m.rollers.is_empty() {
+        return Err(wscg_math::Error::invalid(
+            "method",
+            "the global constraint solve needs soft constraints only",
+        ));
+    }
+    let xt = crate::newton::inertial_target(m, h);
+    let mut x = xt.clone();
+    let mut lambda = vec![0.0; m.links.len() + 3 * m.tris.len()];
+    let h2 = h * h;
+    for _ in 0..outer {
+        let sys = ConstraintSystem::new(m, &x, h2);
+        let g: Vec<Vector3<f64>> = if primal_residual {
+            let jl = sys.jt(&lambda);
+            (0..m.len())
+                .map(|q| {
+                    let w = m.inv_mass[q];
+                    if w > 0.0 {
+                        (x[q] - xt[q]) / (w * h2) - jl[q]
+                    } else {
+                        Vector3::zeros()
+                    }
+                })
+                .collect()
+        } else {
+            vec![Vector3::zeros(); m.len()]
+        };
+        let wg: Vec<Vector3<f64>> = g.iter().zip(&m.inv_mass).map(|(gq, &w)| gq * w).collect();
+        let jwg = sys.j(&wg);
+        let mut rhs = constraint_values(m, &x);
+        sys.add_compliance(&lambda, &mut rhs);
+        for (r, j) in rhs.iter_mut().zip(&jwg) {
+            *r = -*r + h2 * j;
+        }
+        let sol = conjugate_residual(
+            &sys,
+            &rhs,
+            InitialGuess::Zero,
+            &PcgOptions {
+                tol,
+                max_iter: Some(10 * rhs.len().max(1)),
+            },
+        )?;
+        let wjd = sys.w_jt(&sol.x);
+        for q in 0..m.len() {
+            x[q] += (wjd[q] - wg[q]) * h2;
+        }
+        for (l, d) in lambda.iter_mut().zip(&sol.x) {
+            *l += d;
         }
     }
+    let v = x.iter().zip(&m.x).map(|(a, b)| (a - b) / h).collect();
+    let mut full = lambda;
+    full.resize(m.constraint_rows(), 0.0);
+    Ok(crate::solver::Stepped::new(x, v, full))
 }

@@ -10,6 +10,8 @@
 //! - [`model`]: particles, pinned vertices and link constraints, with builders for grids and
 //!   chains.
 //! - [`fem`]: StVK membrane triangles as soft constraints (section 9).
+//! - [`newton`]: exact implicit Euler, the Newton minimiser of the incremental potential
+//!   (the reference of the paper's section 2 equivalence).
 //! - [`solver`]: the soft-projection step (eq. E4 of our specification, the paper's eqs. 17
 //!   and 20 with the accumulated-multiplier term), in the XPBD-consistent `Accumulate` mode or
 //!   the paper's printed `PaperReset` mode.
@@ -27,6 +29,7 @@ pub mod constraint_space;
 pub mod energy;
 pub mod fem;
 pub mod model;
+pub mod newton;
 pub mod solver;
 
 pub use energy::Energy;

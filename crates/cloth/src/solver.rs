@@ -54,6 +54,21 @@ pub enum Method {
         /// Substeps per step (>= 1).
         substeps: usize,
     },
+    /// Global solves of the constraint-space system by Conjugate Residuals (paper section
+    /// 7), `iterations` outer iterations, `alpha = beta = 1`, `gamma = 0`; with `primal_residual` the
+    /// momentum residual is kept and the result is exact implicit Euler.
+    GlobalCr {
+        /// Keep the momentum residual (exact implicit Euler).
+        primal_residual: bool,
+        /// Relative tolerance of each CR solve.
+        tol: f64,
+    },
+    /// Exact implicit Euler: Newton's method on the incremental potential to a gradient
+    /// norm `tol` (N) (the reference of the paper's section 2).
+    ImplicitEulerNewton {
+        /// Gradient-norm tolerance.
+        tol: f64,
+    },
     /// One linearised implicit Euler step solved by conjugate gradients (baseline).
     ImplicitEulerCg {
         /// Relative residual tolerance.
@@ -120,6 +135,21 @@ impl SolverConfig {
                     "stiffness",
                     format!("PBD stiffness must be in (0, 1], got {stiffness}"),
                 ))
+            }
+            Method::GlobalCr { tol, .. }
+                if tol.is_nan()
+                    || tol <= 0.0
+                    || self.alpha != 1.0
+                    || self.beta != 1.0
+                    || self.gamma != 0.0 =>
+            {
+                return Err(Error::invalid(
+                    "method",
+                    "the global CR solve needs tol > 0, alpha = beta = 1 and gamma = 0",
+                ))
+            }
+            Method::ImplicitEulerNewton { tol } if tol.is_nan() || tol <= 0.0 => {
+                return Err(Error::invalid("tol", "Newton tolerance must be > 0"))
             }
             Method::SymplecticEuler { substeps: 0 } => {
                 return Err(Error::invalid("substeps", "must be >= 1"))
@@ -240,6 +270,17 @@ impl Sim {
             Method::ImplicitEulerCg { tol, max_iter } => {
                 baselines::implicit_euler_cg(&self.model, h, tol, max_iter)?
             }
+            Method::ImplicitEulerNewton { tol } => crate::newton::step(&self.model, h, tol)?,
+            Method::GlobalCr {
+                primal_residual,
+                tol,
+            } => crate::constraint_space::global_step(
+                &self.model,
+                h,
+                self.cfg.iterations,
+                tol,
+                primal_residual,
+            )?,
         };
         if self.cfg.velocity_damping > 0.0 {
             baselines::project_velocities(&self.model, &x, &mut v, self.cfg.velocity_damping);

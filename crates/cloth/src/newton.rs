@@ -1,0 +1,206 @@
+//! Exact implicit Euler: the minimiser of the incremental potential (the paper's eq. 4,
+//! E1 of our specification)
+//! `Phi(x) = (1/2h^2) (x - x~)' M (x - x~) + U(x)`, `x~ = x^n + h v^n + h^2 g`,
+//! found by Newton's method with a backtracking line search. The Hessian of each link is
+//! projected to be positive semi-definite (`k (n n' + max(0, 1 - rest/len) (I - n n'))`);
+//! membrane triangles use their Gauss-Newton part `J' C^-1 J`. The Newton systems are solved
+//! by conjugate gradients. This is the reference the paper's equivalence claim (section 2)
+//! is checked against; it is also usable as an integrator.
+
+use nalgebra::{Matrix3, Vector3};
+use wscg_math::sparse::{pcg, IdentityPrecond, InitialGuess, LinOp, PcgOptions};
+use wscg_math::{Error, Result};
+
+use crate::baselines::elastic_forces;
+use crate::energy::Energy;
+use crate::model::ClothModel;
+use crate::solver::Stepped;
+
+fn free(m: &ClothModel, q: usize) -> bool {
+    m.inv_mass[q] > 0.0
+}
+
+/// `Phi` at positions `x`.
+pub fn incremental_potential(
+    m: &ClothModel,
+    x: &[Vector3<f64>],
+    xt: &[Vector3<f64>],
+    h: f64,
+) -> f64 {
+    let inertia: f64 = (0..m.len())
+        .filter(|&q| free(m, q))
+        .map(|q| (x[q] - xt[q]).norm_squared() / m.inv_mass[q])
+        .sum::<f64>()
+        / (2.0 * h * h);
+    let mut at = m.clone();
+    at.x = x.to_vec();
+    inertia + Energy::of(&at).elastic
+}
+
+/// The candidate `x~ = x + h v + h^2 g` (pinned particles: `x + h v`).
+pub fn inertial_target(m: &ClothModel, h: f64) -> Vec<Vector3<f64>> {
+    (0..m.len())
+        .map(|q| {
+            let g = if free(m, q) {
+                m.gravity
+            } else {
+                Vector3::zeros()
+            };
+            m.x[q] + (m.v[q] + g * h) * h
+        })
+        .collect()
+}
+
+struct Hessian<'a> {
+    m: &'a ClothModel,
+    links: Vec<Matrix3<f64>>,
+    tri_grads: Vec<[[Vector3<f64>; 3]; 3]>,
+    inv_h2: f64,
+}
+
+impl LinOp for Hessian<'_> {
+    fn nrows(&self) -> usize {
+        3 * self.m.len()
+    }
+    fn ncols(&self) -> usize {
+        3 * self.m.len()
+    }
+    fn apply(&self, p: &[f64], y: &mut [f64]) {
+        let m = self.m;
+        let at = |q: usize| {
+            if free(m, q) {
+                Vector3::new(p[3 * q], p[3 * q + 1], p[3 * q + 2])
+            } else {
+                Vector3::zeros()
+            }
+        };
+        let mut out: Vec<Vector3<f64>> = (0..m.len())
+            .map(|q| {
+                if free(m, q) {
+                    at(q) * (self.inv_h2 / m.inv_mass[q])
+                } else {
+                    Vector3::new(p[3 * q], p[3 * q + 1], p[3 * q + 2])
+                }
+            })
+            .collect();
+        for (l, k) in m.links.iter().zip(&self.links) {
+            let f = k * (at(l.i) - at(l.j));
+            if free(m, l.i) {
+                out[l.i] += f;
+            }
+            if free(m, l.j) {
+                out[l.j] -= f;
+            }
+        }
+        for (t, g) in m.tris.iter().zip(&self.tri_grads) {
+            let jp = Vector3::from_fn(|k, _| (0..3).map(|q| g[k][q].dot(&at(t.idx[q]))).sum());
+            let s = t.elasticity() * jp * t.area;
+            for q in 0..3 {
+                if free(m, t.idx[q]) {
+                    out[t.idx[q]] += g[0][q] * s[0] + g[1][q] * s[1] + g[2][q] * s[2];
+                }
+            }
+        }
+        for (q, o) in out.iter().enumerate() {
+            y[3 * q..3 * q + 3].copy_from_slice(o.as_slice());
+        }
+    }
+}
+
+/// Minimises `Phi` from the start `x0` to a gradient norm `tol` (N); returns the minimiser.
+pub fn minimize(
+    m: &ClothModel,
+    xt: &[Vector3<f64>],
+    x0: &[Vector3<f64>],
+    h: f64,
+    tol: f64,
+    max_newton: usize,
+) -> Result<Vec<Vector3<f64>>> {
+    if m.links.iter().any(|l| l.compliance == 0.0) || !m.rollers.is_empty() {
+        return Err(Error::invalid(
+            "method",
+            "the Newton implicit Euler needs soft constraints only (no hard links or rollers)",
+        ));
+    }
+    let n = m.len();
+    let inv_h2 = 1.0 / (h * h);
+    let mut x = x0.to_vec();
+    for q in 0..n {
+        if !free(m, q) {
+            x[q] = xt[q];
+        }
+    }
+    for _ in 0..max_newton {
+        // Gradient of Phi: M (x - x~)/h^2 - f(x).
+        let f = elastic_forces(m, &x);
+        let grad: Vec<Vector3<f64>> = (0..n)
+            .map(|q| {
+                if free(m, q) {
+                    (x[q] - xt[q]) * (inv_h2 / m.inv_mass[q]) - f[q]
+                } else {
+                    Vector3::zeros()
+                }
+            })
+            .collect();
+        let gnorm = grad.iter().map(|g| g.norm_squared()).sum::<f64>().sqrt();
+        if gnorm <= tol {
+            return Ok(x);
+        }
+        let links = m
+            .links
+            .iter()
+            .map(|l| {
+                let d = x[l.i] - x[l.j];
+                let len = d.norm().max(1e-12);
+                let nn = (d / len) * (d / len).transpose();
+                let k = 1.0 / l.compliance;
+                (nn + (Matrix3::identity() - nn) * (1.0 - l.rest / len).max(0.0)) * k
+            })
+            .collect();
+        let tri_grads = m.tris.iter().map(|t| t.strain(&x).grad).collect();
+        let hess = Hessian {
+            m,
+            links,
+            tri_grads,
+            inv_h2,
+        };
+        let b: Vec<f64> = grad.iter().flat_map(|g| [-g.x, -g.y, -g.z]).collect();
+        let sol = pcg(
+            &hess,
+            &b,
+            InitialGuess::Zero,
+            &IdentityPrecond,
+            &PcgOptions {
+                tol: 1e-14,
+                max_iter: Some(20 * 3 * n),
+            },
+        )?;
+        let dir: Vec<Vector3<f64>> = (0..n)
+            .map(|q| Vector3::new(sol.x[3 * q], sol.x[3 * q + 1], sol.x[3 * q + 2]))
+            .collect();
+        // Backtracking (Armijo) line search on Phi.
+        let phi0 = incremental_potential(m, &x, xt, h);
+        let slope: f64 = grad.iter().zip(&dir).map(|(g, d)| g.dot(d)).sum();
+        let mut step = 1.0;
+        loop {
+            let trial: Vec<Vector3<f64>> = x.iter().zip(&dir).map(|(a, d)| a + d * step).collect();
+            if incremental_potential(m, &trial, xt, h) <= phi0 + 1e-4 * step * slope || step < 1e-12
+            {
+                x = trial;
+                break;
+            }
+            step *= 0.5;
+        }
+    }
+    Err(Error::Numerical(format!(
+        "Newton's method did not reach |grad Phi| <= {tol:e} in {max_newton} iterations"
+    )))
+}
+
+/// One exact implicit Euler step.
+pub(crate) fn step(m: &ClothModel, h: f64, tol: f64) -> Result<Stepped> {
+    let xt = inertial_target(m, h);
+    let x = minimize(m, &xt, &xt, h, tol, 100)?;
+    let v = x.iter().zip(&m.x).map(|(a, b)| (a - b) / h).collect();
+    Ok(Stepped::new(x, v, vec![0.0; m.constraint_rows()]))
+}
