@@ -70,7 +70,7 @@ pub(crate) fn symplectic_euler(m: &ClothModel, h: f64, substeps: usize) -> Resul
 /// Per-particle velocity filters of Baraff and Witkin (1998): the identity for a free
 /// particle, zero for a pinned one, and the projection onto the rollers' planes for a
 /// particle on rollers.
-fn filters(m: &ClothModel) -> Vec<Matrix3<f64>> {
+pub(crate) fn filters(m: &ClothModel) -> Vec<Matrix3<f64>> {
     let mut normals: Vec<Vec<Vector3<f64>>> = vec![Vec::new(); m.len()];
     for r in &m.rollers {
         // Gram-Schmidt against the particle's earlier normals.
@@ -97,13 +97,45 @@ fn filters(m: &ClothModel) -> Vec<Matrix3<f64>> {
 
 /// `S (M + h^2 J' C^-1 J) S + (I - S)` with the filters `S` (symmetric positive definite),
 /// the Jacobians taken at the candidate state.
-struct ImplicitOperator<'a> {
+pub(crate) struct ImplicitOperator<'a> {
     m: &'a ClothModel,
     dirs: Vec<Vector3<f64>>,
     /// Strain gradients of each triangle at the candidate state.
     tri_grads: Vec<[[Vector3<f64>; 3]; 3]>,
     filters: Vec<Matrix3<f64>>,
     h2: f64,
+}
+
+impl<'a> ImplicitOperator<'a> {
+    /// The operator with the Jacobians taken at positions `x`.
+    pub(crate) fn at(
+        m: &'a ClothModel,
+        x: &[Vector3<f64>],
+        filters: Vec<Matrix3<f64>>,
+        h2: f64,
+    ) -> Self {
+        let dirs = m
+            .links
+            .iter()
+            .map(|l| {
+                let d = x[l.i] - x[l.j];
+                let len = d.norm();
+                if len < 1e-12 {
+                    Vector3::zeros()
+                } else {
+                    d / len
+                }
+            })
+            .collect();
+        let tri_grads = m.tris.iter().map(|t| t.strain(x).grad).collect();
+        Self {
+            m,
+            dirs,
+            tri_grads,
+            filters,
+            h2,
+        }
+    }
 }
 
 impl LinOp for ImplicitOperator<'_> {
@@ -169,19 +201,6 @@ pub(crate) fn implicit_euler_cg(
         })
         .collect();
     let xt: Vec<Vector3<f64>> = (0..n).map(|q| m.x[q] + vt[q] * h).collect();
-    let dirs = m
-        .links
-        .iter()
-        .map(|l| {
-            let d = xt[l.i] - xt[l.j];
-            let len = d.norm();
-            if len < 1e-12 {
-                Vector3::zeros()
-            } else {
-                d / len
-            }
-        })
-        .collect();
     let f = elastic_forces(m, &xt);
     let b: Vec<f64> = (0..n)
         .flat_map(|q| {
@@ -189,14 +208,7 @@ pub(crate) fn implicit_euler_cg(
             [r.x, r.y, r.z]
         })
         .collect();
-    let tri_grads = m.tris.iter().map(|t| t.strain(&xt).grad).collect();
-    let op = ImplicitOperator {
-        m,
-        dirs,
-        tri_grads,
-        filters,
-        h2: h * h,
-    };
+    let op = ImplicitOperator::at(m, &xt, filters, h * h);
     let sol = pcg(
         &op,
         &b,

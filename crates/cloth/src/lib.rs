@@ -10,6 +10,7 @@
 //! - [`model`]: particles, pinned vertices and link constraints, with builders for grids and
 //!   chains.
 //! - [`fem`]: StVK membrane triangles as soft constraints (section 9).
+//! - [`ncg`]: the paper's nonlinear conjugate gradient implicit solver (Algorithm 1).
 //! - [`newton`]: exact implicit Euler, the Newton minimiser of the incremental potential
 //!   (the reference of the paper's section 2 equivalence).
 //! - [`solver`]: the soft-projection step (eq. E4 of our specification, the paper's eqs. 17
@@ -29,10 +30,12 @@ pub mod constraint_space;
 pub mod energy;
 pub mod fem;
 pub mod model;
+pub mod ncg;
 pub mod newton;
 pub mod solver;
 
 pub use energy::Energy;
 pub use fem::FemTri;
 pub use model::{ClothModel, Link, Roller};
+pub use ncg::NcgVariant;
 pub use solver::{LambdaMode, Method, Sim, SolverConfig, StepStats};

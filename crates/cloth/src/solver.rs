@@ -63,6 +63,12 @@ pub enum Method {
         /// Relative tolerance of each CR solve.
         tol: f64,
     },
+    /// The paper's nonlinear conjugate gradient implicit solver (Algorithm 1), `iterations`
+    /// iterations.
+    Ncg {
+        /// Residual variant.
+        variant: crate::ncg::NcgVariant,
+    },
     /// Exact implicit Euler: Newton's method on the incremental potential to a gradient
     /// norm `tol` (N) (the reference of the paper's section 2).
     ImplicitEulerNewton {
@@ -271,6 +277,9 @@ impl Sim {
                 baselines::implicit_euler_cg(&self.model, h, tol, max_iter)?
             }
             Method::ImplicitEulerNewton { tol } => crate::newton::step(&self.model, h, tol)?,
+            Method::Ncg { variant } => {
+                crate::ncg::step(&self.model, h, self.cfg.iterations, variant)?
+            }
             Method::GlobalCr {
                 primal_residual,
                 tol,

@@ -476,14 +476,22 @@ fn soft_projection_equivalence_with_implicit_euler() {
         1,
     );
     let d_linear = dist(&linear, &reference);
+    let ncg = one_step(
+        Method::Ncg {
+            variant: wscg_cloth::NcgVariant::Consistent,
+        },
+        3000,
+    );
+    let d_ncg = dist(&ncg, &reference);
     println!(
         "step displacement {disp:.3e} m; distance to the IE minimiser: global CR (primal) \
          {d_global:.2e} m, XPBD GS converged {d_xpbd:.2e} m ({:.1} % of the step, Phi higher by \
-         {:.3e}), linearised IE {d_linear:.2e} m",
+         {:.3e}), linearised IE {d_linear:.2e} m, NCG consistent {d_ncg:.2e} m",
         100.0 * d_xpbd / disp,
         phi(&xpbd) - phi(&reference)
     );
     assert!(d_global <= 1e-8, "global CR {d_global}");
+    assert!(d_ncg <= 1e-7, "NCG {d_ncg}");
     assert!(phi(&xpbd) >= phi(&reference) - 1e-12);
     assert!(phi(&linear) >= phi(&reference) - 1e-12);
 }
