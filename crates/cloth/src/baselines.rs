@@ -99,38 +99,57 @@ pub(crate) fn filters(m: &ClothModel) -> Vec<Matrix3<f64>> {
 /// the Jacobians taken at the candidate state.
 pub(crate) struct ImplicitOperator<'a> {
     m: &'a ClothModel,
-    dirs: Vec<Vector3<f64>>,
+    /// Stiffness block of each link (`k n n'` for Gauss-Newton).
+    link_k: Vec<Matrix3<f64>>,
     /// Strain gradients of each triangle at the candidate state.
     tri_grads: Vec<[[Vector3<f64>; 3]; 3]>,
     filters: Vec<Matrix3<f64>>,
     h2: f64,
 }
 
+/// Stiffness block of a link at positions `x`: the Gauss-Newton part `k n n'`, plus with
+/// `geometric` the positive part of the geometric term, `k max(0, 1 - rest/len) (I - n n')`
+/// (the link Hessian projected to be positive semi-definite).
+pub(crate) fn link_stiffness(
+    m: &ClothModel,
+    x: &[Vector3<f64>],
+    geometric: bool,
+) -> Vec<Matrix3<f64>> {
+    m.links
+        .iter()
+        .map(|l| {
+            let d = x[l.i] - x[l.j];
+            let len = d.norm();
+            if len < 1e-12 {
+                return Matrix3::zeros();
+            }
+            let n = d / len;
+            let nn = n * n.transpose();
+            let k = 1.0 / l.compliance;
+            let geo = if geometric {
+                (Matrix3::identity() - nn) * (1.0 - l.rest / len).max(0.0)
+            } else {
+                Matrix3::zeros()
+            };
+            (nn + geo) * k
+        })
+        .collect()
+}
+
 impl<'a> ImplicitOperator<'a> {
-    /// The operator with the Jacobians taken at positions `x`.
+    /// `M + h2 K` with the Jacobians taken at positions `x` (`geometric`: see
+    /// [`link_stiffness`]).
     pub(crate) fn at(
         m: &'a ClothModel,
         x: &[Vector3<f64>],
         filters: Vec<Matrix3<f64>>,
         h2: f64,
+        geometric: bool,
     ) -> Self {
-        let dirs = m
-            .links
-            .iter()
-            .map(|l| {
-                let d = x[l.i] - x[l.j];
-                let len = d.norm();
-                if len < 1e-12 {
-                    Vector3::zeros()
-                } else {
-                    d / len
-                }
-            })
-            .collect();
         let tri_grads = m.tris.iter().map(|t| t.strain(x).grad).collect();
         Self {
             m,
-            dirs,
+            link_k: link_stiffness(m, x, geometric),
             tri_grads,
             filters,
             h2,
@@ -159,10 +178,10 @@ impl LinOp for ImplicitOperator<'_> {
                 }
             })
             .collect();
-        for (l, n) in m.links.iter().zip(&self.dirs) {
-            let s = self.h2 / l.compliance * n.dot(&(fp[l.i] - fp[l.j]));
-            out[l.i] += n * s;
-            out[l.j] -= n * s;
+        for (l, k) in m.links.iter().zip(&self.link_k) {
+            let f = k * (fp[l.i] - fp[l.j]) * self.h2;
+            out[l.i] += f;
+            out[l.j] -= f;
         }
         for (t, g) in m.tris.iter().zip(&self.tri_grads) {
             let jp = Vector3::from_fn(|k, _| (0..3).map(|q| g[k][q].dot(&fp[t.idx[q]])).sum());
@@ -208,7 +227,7 @@ pub(crate) fn implicit_euler_cg(
             [r.x, r.y, r.z]
         })
         .collect();
-    let op = ImplicitOperator::at(m, &xt, filters, h * h);
+    let op = ImplicitOperator::at(m, &xt, filters, h * h, false);
     let sol = pcg(
         &op,
         &b,

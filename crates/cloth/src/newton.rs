@@ -7,11 +7,11 @@
 //! by conjugate gradients. This is the reference the paper's equivalence claim (section 2)
 //! is checked against; it is also usable as an integrator.
 
-use nalgebra::{Matrix3, Vector3};
-use wscg_math::sparse::{pcg, IdentityPrecond, InitialGuess, LinOp, PcgOptions};
+use nalgebra::Vector3;
+use wscg_math::sparse::{pcg, IdentityPrecond, InitialGuess, PcgOptions};
 use wscg_math::{Error, Result};
 
-use crate::baselines::elastic_forces;
+use crate::baselines::{elastic_forces, filters, ImplicitOperator};
 use crate::energy::Energy;
 use crate::model::ClothModel;
 use crate::solver::Stepped;
@@ -49,62 +49,6 @@ pub fn inertial_target(m: &ClothModel, h: f64) -> Vec<Vector3<f64>> {
             m.x[q] + (m.v[q] + g * h) * h
         })
         .collect()
-}
-
-struct Hessian<'a> {
-    m: &'a ClothModel,
-    links: Vec<Matrix3<f64>>,
-    tri_grads: Vec<[[Vector3<f64>; 3]; 3]>,
-    inv_h2: f64,
-}
-
-impl LinOp for Hessian<'_> {
-    fn nrows(&self) -> usize {
-        3 * self.m.len()
-    }
-    fn ncols(&self) -> usize {
-        3 * self.m.len()
-    }
-    fn apply(&self, p: &[f64], y: &mut [f64]) {
-        let m = self.m;
-        let at = |q: usize| {
-            if free(m, q) {
-                Vector3::new(p[3 * q], p[3 * q + 1], p[3 * q + 2])
-            } else {
-                Vector3::zeros()
-            }
-        };
-        let mut out: Vec<Vector3<f64>> = (0..m.len())
-            .map(|q| {
-                if free(m, q) {
-                    at(q) * (self.inv_h2 / m.inv_mass[q])
-                } else {
-                    Vector3::new(p[3 * q], p[3 * q + 1], p[3 * q + 2])
-                }
-            })
-            .collect();
-        for (l, k) in m.links.iter().zip(&self.links) {
-            let f = k * (at(l.i) - at(l.j));
-            if free(m, l.i) {
-                out[l.i] += f;
-            }
-            if free(m, l.j) {
-                out[l.j] -= f;
-            }
-        }
-        for (t, g) in m.tris.iter().zip(&self.tri_grads) {
-            let jp = Vector3::from_fn(|k, _| (0..3).map(|q| g[k][q].dot(&at(t.idx[q]))).sum());
-            let s = t.elasticity() * jp * t.area;
-            for q in 0..3 {
-                if free(m, t.idx[q]) {
-                    out[t.idx[q]] += g[0][q] * s[0] + g[1][q] * s[1] + g[2][q] * s[2];
-                }
-            }
-        }
-        for (q, o) in out.iter().enumerate() {
-            y[3 * q..3 * q + 3].copy_from_slice(o.as_slice());
-        }
-    }
 }
 
 /// Minimises `Phi` from the start `x0` to a gradient norm `tol` (N); returns the minimiser.
@@ -146,25 +90,12 @@ pub fn minimize(
         if gnorm <= tol {
             return Ok(x);
         }
-        let links = m
-            .links
+        // The Newton system (M/h^2 + K) dx = -grad, scaled by h^2.
+        let hess = ImplicitOperator::at(m, &x, filters(m), h * h, true);
+        let b: Vec<f64> = grad
             .iter()
-            .map(|l| {
-                let d = x[l.i] - x[l.j];
-                let len = d.norm().max(1e-12);
-                let nn = (d / len) * (d / len).transpose();
-                let k = 1.0 / l.compliance;
-                (nn + (Matrix3::identity() - nn) * (1.0 - l.rest / len).max(0.0)) * k
-            })
+            .flat_map(|g| [-g.x * h * h, -g.y * h * h, -g.z * h * h])
             .collect();
-        let tri_grads = m.tris.iter().map(|t| t.strain(&x).grad).collect();
-        let hess = Hessian {
-            m,
-            links,
-            tri_grads,
-            inv_h2,
-        };
-        let b: Vec<f64> = grad.iter().flat_map(|g| [-g.x, -g.y, -g.z]).collect();
         let sol = pcg(
             &hess,
             &b,
