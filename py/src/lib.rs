@@ -8,6 +8,7 @@
 use pyo3::prelude::*;
 
 mod biometrics;
+mod cloth;
 mod convert;
 mod errors;
 mod math;
@@ -21,6 +22,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_submodule(&sub)?;
     let sub = PyModule::new(m.py(), "biometrics")?;
     biometrics::register(&sub)?;
+    m.add_submodule(&sub)?;
+    let sub = PyModule::new(m.py(), "cloth")?;
+    cloth::register(&sub)?;
     m.add_submodule(&sub)?;
     Ok(())
 }

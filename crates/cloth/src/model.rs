@@ -271,6 +271,89 @@ impl ClothModel {
         Ok(m)
     }
 
+    /// A cloth from a triangle mesh: `total_mass` lumped to the vertices by area (a third of
+    /// each adjacent triangle's), gravity along -y. With `young = Some(E)` every face becomes
+    /// a StVK membrane triangle (Poisson ratio `poisson`, rest shape = the given one);
+    /// otherwise every edge becomes a link of stiffness `k_edge`, and with `k_bend` a bending
+    /// link joins the opposite vertices of the two faces of every interior edge.
+    ///
+    /// Errors: empty input, face index out of range or repeated, degenerate faces, bad
+    /// material, non-finite vertices, a vertex in no face.
+    pub fn from_trimesh(
+        vertices: &[Vector3<f64>],
+        faces: &[[usize; 3]],
+        total_mass: f64,
+        young: Option<(f64, f64)>,
+        k_edge: f64,
+        k_bend: Option<f64>,
+    ) -> Result<Self> {
+        if faces.is_empty() {
+            return Err(Error::Empty("faces"));
+        }
+        if !(total_mass.is_finite() && total_mass > 0.0) {
+            return Err(Error::invalid(
+                "total_mass",
+                format!("must be > 0, got {total_mass}"),
+            ));
+        }
+        let n = vertices.len();
+        finite3("vertices", vertices)?;
+        let mut area = vec![0.0; n];
+        for (fi, f) in faces.iter().enumerate() {
+            if f.iter().any(|&p| p >= n) || f[0] == f[1] || f[1] == f[2] || f[0] == f[2] {
+                return Err(Error::invalid(
+                    "faces",
+                    format!("face {fi} {f:?} has repeated or out-of-range indices ({n} vertices)"),
+                ));
+            }
+            let a = 0.5
+                * (vertices[f[1]] - vertices[f[0]])
+                    .cross(&(vertices[f[2]] - vertices[f[0]]))
+                    .norm();
+            if a < 1e-14 {
+                return Err(Error::invalid("faces", format!("face {fi} is degenerate")));
+            }
+            for &p in f {
+                area[p] += a / 3.0;
+            }
+        }
+        if let Some(p) = area.iter().position(|&a| a == 0.0) {
+            return Err(Error::invalid(
+                "vertices",
+                format!("vertex {p} is in no face"),
+            ));
+        }
+        let total: f64 = area.iter().sum();
+        let mass: Vec<f64> = area.iter().map(|a| total_mass * a / total).collect();
+        let mut m = Self::new(vertices.to_vec(), &mass, &[])?;
+        match young {
+            Some((e, nu)) => {
+                for f in faces {
+                    m.add_fem_triangle(*f, None, e, nu)?;
+                }
+            }
+            None => {
+                let mut edges: std::collections::BTreeMap<(usize, usize), Vec<usize>> =
+                    Default::default();
+                for f in faces {
+                    for k in 0..3 {
+                        let (a, b, c) = (f[k], f[(k + 1) % 3], f[(k + 2) % 3]);
+                        edges.entry((a.min(b), a.max(b))).or_default().push(c);
+                    }
+                }
+                for (&(a, b), opposite) in &edges {
+                    m.add_link(a, b, k_edge, None)?;
+                    if let (Some(kb), [c, d]) = (k_bend, opposite.as_slice()) {
+                        if c != d {
+                            m.add_link(*c, *d, kb, None)?;
+                        }
+                    }
+                }
+            }
+        }
+        Ok(m)
+    }
+
     /// A horizontal `nx x ny` grid of StVK membrane triangles (two per quad, rest
     /// coordinates = the grid's `(x, z)`, so `u` is the warp and `v` the weft direction) with
     /// Young's modulus `young` (N/m) and Poisson ratio `poisson`, total mass `total_mass`;

@@ -547,3 +547,34 @@ fn constraint_damping_settles_faster() {
     println!("steps to settle: gamma = 0: {plain}, gamma = 10h: {damped}, velocity projection 0.5: {projected}");
     assert!(2 * damped <= plain, "{damped} vs {plain}");
 }
+
+/// Meshes: area-lumped masses, edge and bending links, membrane triangles, bad faces.
+#[test]
+fn cloth_from_triangle_mesh() {
+    let v = [
+        Vector3::new(0.0, 0.0, 0.0),
+        Vector3::new(1.0, 0.0, 0.0),
+        Vector3::new(1.0, 0.0, 1.0),
+        Vector3::new(0.0, 0.0, 1.0),
+    ];
+    let f = [[0, 1, 2], [0, 2, 3]];
+    let m = ClothModel::from_trimesh(&v, &f, 0.6, None, 100.0, Some(1.0)).unwrap();
+    let mass: Vec<f64> = m.inv_mass.iter().map(|w| 1.0 / w).collect();
+    for (got, want) in mass.iter().zip([0.2, 0.1, 0.2, 0.1]) {
+        assert!((got - want).abs() < 1e-12, "{mass:?}");
+    }
+    // Five edges and one bending link across the shared diagonal (vertices 1 and 3).
+    assert_eq!(m.links.len(), 6);
+    assert!(m
+        .links
+        .iter()
+        .any(|l| (l.i, l.j) == (1, 3) && (l.compliance - 1.0).abs() < 1e-15));
+    let fem = ClothModel::from_trimesh(&v, &f, 0.6, Some((500.0, 0.3)), 0.0, None).unwrap();
+    assert_eq!((fem.links.len(), fem.tris.len()), (0, 2));
+    assert!(fem.tris.iter().all(|t| (t.area - 0.5).abs() < 1e-12));
+    assert!(ClothModel::from_trimesh(&v, &[], 0.6, None, 1.0, None).is_err());
+    assert!(ClothModel::from_trimesh(&v, &[[0, 1, 7]], 0.6, None, 1.0, None).is_err());
+    assert!(ClothModel::from_trimesh(&v, &[[0, 1, 1]], 0.6, None, 1.0, None).is_err());
+    assert!(ClothModel::from_trimesh(&v, &[[0, 1, 2]], 0.6, None, 1.0, None).is_err()); // vertex 3 unused
+    assert!(ClothModel::from_trimesh(&v, &f, -1.0, None, 1.0, None).is_err());
+}

@@ -7,13 +7,14 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
   metrics, sparse and dense linear algebra, seeded random numbers).
 - :mod:`wscg.biometrics`: paper 01, FDKECA with PCA, kernel PCA and KECA baselines and 1-NN
   recognition (scikit-learn-style estimators).
+- :mod:`wscg.cloth`: paper 02, cloth simulation with soft constraints.
 
 Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, math
+from . import biometrics, cloth, math
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "math", "__version__"]
+__all__ = ["biometrics", "cloth", "math", "__version__"]

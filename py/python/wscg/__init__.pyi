@@ -1,4 +1,5 @@
 from . import biometrics as biometrics
+from . import cloth as cloth
 from . import math as math
 
 __version__: str

@@ -1,0 +1,369 @@
+//! `wscg._native.cloth`: bindings of `wscg-cloth` (paper 02, cloth with soft constraints).
+//! The documented API is `python/wscg/cloth.py`.
+
+use nalgebra::Vector3;
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wscg_cloth::{ClothModel, LambdaMode, Method, NcgVariant, Sim, SolverConfig};
+
+use crate::convert::{array, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+fn points(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<Vector3<f64>>> {
+    match a.shape() {
+        [_, 3] => Ok(values(a)
+            .chunks_exact(3)
+            .map(|c| Vector3::new(c[0], c[1], c[2]))
+            .collect()),
+        s => Err(value_error(format!(
+            "`{name}` must have shape (n, 3), got {s:?}"
+        ))),
+    }
+}
+
+fn points_out<'py>(py: Python<'py>, p: &[Vector3<f64>]) -> PyResult<Arr<'py, f64>> {
+    array(
+        py,
+        &[p.len(), 3],
+        p.iter().flat_map(|v| [v.x, v.y, v.z]).collect(),
+    )
+}
+
+/// A cloth: particles and constraints.
+#[pyclass(module = "wscg._native.cloth", name = "Model")]
+#[derive(Clone)]
+pub struct PyModel {
+    inner: ClothModel,
+}
+
+#[pymethods]
+impl PyModel {
+    /// Positions `(n, 3)`.
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        points_out(py, &self.inner.x)
+    }
+
+    /// Velocities `(n, 3)`.
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        points_out(py, &self.inner.v)
+    }
+
+    /// Sets the velocities `(n, 3)`.
+    fn set_velocities(&mut self, v: PyReadonlyArrayDyn<f64>) -> PyResult<()> {
+        let v = points("velocities", &v)?;
+        if v.len() != self.inner.len() {
+            return Err(value_error(format!(
+                "{} velocities for {} particles",
+                v.len(),
+                self.inner.len()
+            )));
+        }
+        let mut m = self.inner.clone();
+        m.v = v;
+        m.validate().py_err()?;
+        self.inner = m;
+        Ok(())
+    }
+
+    /// Inverse masses `(n,)` (0 for pinned particles).
+    #[getter]
+    fn inv_mass<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        array(py, &[self.inner.len()], self.inner.inv_mass.clone())
+    }
+
+    /// Number of links, triangles and rollers.
+    #[getter]
+    fn counts(&self) -> (usize, usize, usize) {
+        (
+            self.inner.links.len(),
+            self.inner.tris.len(),
+            self.inner.rollers.len(),
+        )
+    }
+
+    /// Pins the listed particles (they no longer move).
+    fn pin(&mut self, indices: Vec<usize>) -> PyResult<()> {
+        let n = self.inner.len();
+        if let Some(&p) = indices.iter().find(|&&p| p >= n) {
+            return Err(value_error(format!(
+                "pin index {p} out of range for {n} particles"
+            )));
+        }
+        for p in indices {
+            self.inner.inv_mass[p] = 0.0;
+        }
+        Ok(())
+    }
+
+    /// Sets gravity (m/s^2).
+    fn set_gravity(&mut self, g: (f64, f64, f64)) -> PyResult<()> {
+        let g = Vector3::new(g.0, g.1, g.2);
+        wscg_math::error::ensure_finite("gravity", g.as_slice()).py_err()?;
+        self.inner.gravity = g;
+        Ok(())
+    }
+
+    /// Adds a link of stiffness `k` (N/m) between particles `i` and `j`.
+    #[pyo3(signature = (i, j, k, rest=None))]
+    fn add_link(&mut self, i: usize, j: usize, k: f64, rest: Option<f64>) -> PyResult<()> {
+        self.inner.add_link(i, j, k, rest).py_err()
+    }
+
+    /// Adds a roller keeping particle `p` on the plane `normal . x = offset`.
+    fn add_roller(&mut self, p: usize, normal: (f64, f64, f64), offset: f64) -> PyResult<()> {
+        self.inner
+            .add_roller(p, Vector3::new(normal.0, normal.1, normal.2), offset)
+            .py_err()
+    }
+
+    /// Energy of the state: kinetic, gravity, elastic, total (J).
+    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        energy_dict(py, &wscg_cloth::Energy::of(&self.inner))
+    }
+}
+
+fn energy_dict<'py>(py: Python<'py>, e: &wscg_cloth::Energy) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("kinetic", e.kinetic)?;
+    d.set_item("gravity", e.gravity)?;
+    d.set_item("elastic", e.elastic)?;
+    d.set_item("total", e.total)?;
+    Ok(d)
+}
+
+/// Free particles without constraints (see `wscg.cloth.particles`).
+#[pyfunction]
+fn particles(
+    positions: PyReadonlyArrayDyn<f64>,
+    masses: PyReadonlyArrayDyn<f64>,
+    pinned: Vec<usize>,
+) -> PyResult<PyModel> {
+    let x = points("positions", &positions)?;
+    let m = values(&masses);
+    let inner = ClothModel::new(x, &m, &pinned).py_err()?;
+    Ok(PyModel { inner })
+}
+
+/// A rectangular grid cloth (see `wscg.cloth.grid`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn grid(
+    nx: usize,
+    ny: usize,
+    size: (f64, f64),
+    mass: f64,
+    model: &str,
+    k_stretch: f64,
+    k_shear: Option<f64>,
+    k_bend: Option<f64>,
+    young: f64,
+    poisson: f64,
+) -> PyResult<PyModel> {
+    let inner = match model {
+        "links" => ClothModel::grid(nx, ny, size, mass, k_stretch, k_shear, k_bend),
+        "fem" => ClothModel::fem_grid(nx, ny, size, mass, young, poisson),
+        other => {
+            return Err(value_error(format!(
+                "`model` must be 'links' or 'fem', got {other:?}"
+            )))
+        }
+    }
+    .py_err()?;
+    Ok(PyModel { inner })
+}
+
+/// A cloth from a triangle mesh (see `wscg.cloth.from_mesh`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn from_mesh(
+    vertices: PyReadonlyArrayDyn<f64>,
+    faces: PyReadonlyArrayDyn<i64>,
+    mass: f64,
+    model: &str,
+    young: f64,
+    poisson: f64,
+    k_edge: f64,
+    k_bend: Option<f64>,
+) -> PyResult<PyModel> {
+    let v = points("vertices", &vertices)?;
+    let f: Vec<[usize; 3]> = match faces.shape() {
+        [_, 3] => values(&faces)
+            .chunks_exact(3)
+            .map(|c| {
+                let idx = |x: i64| {
+                    usize::try_from(x).map_err(|_| value_error(format!("negative face index {x}")))
+                };
+                Ok([idx(c[0])?, idx(c[1])?, idx(c[2])?])
+            })
+            .collect::<PyResult<_>>()?,
+        s => {
+            return Err(value_error(format!(
+                "`faces` must have shape (m, 3), got {s:?}"
+            )))
+        }
+    };
+    let material = match model {
+        "fem" => Some((young, poisson)),
+        "links" => None,
+        other => {
+            return Err(value_error(format!(
+                "`model` must be 'links' or 'fem', got {other:?}"
+            )))
+        }
+    };
+    let inner = ClothModel::from_trimesh(&v, &f, mass, material, k_edge, k_bend).py_err()?;
+    Ok(PyModel { inner })
+}
+
+/// A running simulation.
+#[pyclass(module = "wscg._native.cloth", name = "Sim")]
+pub struct PySim {
+    inner: Sim,
+}
+
+fn method_from(name: &str, spec: &Bound<'_, PyDict>) -> PyResult<Method> {
+    let get = |k: &str, d: f64| -> PyResult<f64> {
+        Ok(match spec.get_item(k)? {
+            Some(v) if !v.is_none() => v.extract()?,
+            _ => d,
+        })
+    };
+    Ok(match name {
+        "soft" => Method::SoftProjection,
+        "pbd" => Method::PlainPbd {
+            stiffness: get("stiffness", 1.0)?,
+        },
+        "symplectic" => Method::SymplecticEuler {
+            substeps: get("substeps", 64.0)? as usize,
+        },
+        "ie_cg" => Method::ImplicitEulerCg {
+            tol: get("tol", 1e-8)?,
+            max_iter: get("max_iter", 1000.0)? as usize,
+        },
+        "ie_newton" => Method::ImplicitEulerNewton {
+            tol: get("tol", 1e-9)?,
+        },
+        "global_cr" => Method::GlobalCr {
+            primal_residual: get("primal_residual", 1.0)? != 0.0,
+            tol: get("tol", 1e-10)?,
+        },
+        "ncg" => Method::Ncg {
+            variant: NcgVariant::Consistent,
+        },
+        "ncg_paper" => Method::Ncg {
+            variant: NcgVariant::Paper,
+        },
+        other => {
+            return Err(value_error(format!(
+                "unknown method {other:?}; use 'soft', 'pbd', 'symplectic', 'ie_cg', \
+                 'ie_newton', 'global_cr', 'ncg' or 'ncg_paper'"
+            )))
+        }
+    })
+}
+
+#[pymethods]
+impl PySim {
+    #[new]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        model: &PyModel,
+        method: &str,
+        iterations: usize,
+        alpha: f64,
+        beta: f64,
+        gamma: f64,
+        lambda_mode: &str,
+        velocity_damping: f64,
+        options: &Bound<'_, PyDict>,
+    ) -> PyResult<Self> {
+        let cfg = SolverConfig {
+            method: method_from(method, options)?,
+            iterations,
+            alpha,
+            beta,
+            gamma,
+            lambda_mode: match lambda_mode {
+                "accumulate" => LambdaMode::Accumulate,
+                "paper" => LambdaMode::PaperReset,
+                other => {
+                    return Err(value_error(format!(
+                        "`lambda_mode` must be 'accumulate' or 'paper', got {other:?}"
+                    )))
+                }
+            },
+            velocity_damping,
+        };
+        Ok(Self {
+            inner: Sim::new(model.inner.clone(), cfg).py_err()?,
+        })
+    }
+
+    /// Advances `n` steps of `h` seconds; returns the energies after each step as a
+    /// `(n, 4)` array (kinetic, gravity, elastic, total).
+    fn step<'py>(&mut self, py: Python<'py>, h: f64, n: usize) -> PyResult<Arr<'py, f64>> {
+        let sim = &mut self.inner;
+        let rows = py
+            .detach(|| -> wscg_math::Result<Vec<f64>> {
+                let mut out = Vec::with_capacity(4 * n);
+                for _ in 0..n {
+                    sim.step(h)?;
+                    let e = sim.energy();
+                    out.extend([e.kinetic, e.gravity, e.elastic, e.total]);
+                }
+                Ok(out)
+            })
+            .py_err()?;
+        array(py, &[n, 4], rows)
+    }
+
+    /// Positions `(n, 3)`.
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        points_out(py, &self.inner.model().x)
+    }
+
+    /// Velocities `(n, 3)`.
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        points_out(py, &self.inner.model().v)
+    }
+
+    /// Constraint multipliers of the last step.
+    #[getter]
+    fn multipliers<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        let l = self.inner.multipliers();
+        array(py, &[l.len()], l.to_vec())
+    }
+
+    /// Steps taken.
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.inner.steps()
+    }
+
+    /// Current energy.
+    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        energy_dict(py, &self.inner.energy())
+    }
+
+    /// The current state as a model.
+    fn model(&self) -> PyModel {
+        PyModel {
+            inner: self.inner.model().clone(),
+        }
+    }
+}
+
+/// Registers the submodule's functions and classes.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyModel>()?;
+    m.add_class::<PySim>()?;
+    m.add_function(wrap_pyfunction!(particles, m)?)?;
+    m.add_function(wrap_pyfunction!(grid, m)?)?;
+    m.add_function(wrap_pyfunction!(from_mesh, m)?)?;
+    Ok(())
+}
