@@ -308,3 +308,56 @@ fn biometrics_bad_input_fails_cleanly() {
         "not json"
     );
 }
+
+#[test]
+fn cloth_simulate_writes_frames_and_energy() {
+    use wscg::math::TriMesh;
+    let dir = tempfile::tempdir().unwrap();
+    // A vertical 1 m x 1 m sheet in the x-y plane: the top row (highest y) is pinned.
+    let mesh = TriMesh::grid(6, 6, 1.0, 1.0).unwrap();
+    let path = dir.path().join("sheet.obj");
+    mesh.write_obj(&path).unwrap();
+    let before = std::fs::read(&path).unwrap();
+    let out_dir = dir.path().join("frames");
+    for material in ["fem", "links"] {
+        let out = wscg()
+            .args([
+                "cloth",
+                "simulate",
+                "--frames",
+                "20",
+                "--material",
+                material,
+                "--mesh",
+            ])
+            .arg(&path)
+            .arg("--out")
+            .arg(&out_dir)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let last = TriMesh::read(out_dir.join("frame_0019.obj")).unwrap();
+        assert_eq!(last.num_vertices(), mesh.num_vertices());
+        // The sheet stretches under gravity: its bottom sinks, its pinned top stays.
+        let low = |m: &TriMesh| m.positions.iter().map(|p| p[1]).fold(f64::MAX, f64::min);
+        let high = |m: &TriMesh| m.positions.iter().map(|p| p[1]).fold(f64::MIN, f64::max);
+        assert!(low(&last) < low(&mesh) - 1e-6, "{material}");
+        assert!((high(&last) - high(&mesh)).abs() < 1e-12);
+        let csv = std::fs::read_to_string(out_dir.join("energy.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 21);
+    }
+    assert_eq!(std::fs::read(&path).unwrap(), before, "input modified");
+    let bad = wscg()
+        .args(["cloth", "simulate", "--pin", "999", "--mesh"])
+        .arg(&path)
+        .arg("--out")
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("pin"));
+}

@@ -7,6 +7,7 @@ use wscg::demo;
 use wscg_math::{Error, Result};
 
 mod biometrics;
+mod cloth;
 mod math;
 mod progress;
 
@@ -43,6 +44,9 @@ enum Command {
     /// Biometrics (paper 01: FDKECA) on your own images or .npy data.
     #[command(subcommand)]
     Biometrics(biometrics::BiometricsCommand),
+    /// Cloth simulation with soft constraints (paper 02) on your own mesh.
+    #[command(subcommand)]
+    Cloth(cloth::ClothCommand),
     /// Shared numerics on image files: metrics, filtering, resizing, spectra.
     #[command(subcommand)]
     Math(math::MathCommand),
@@ -103,6 +107,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Math(cmd) => math::run(cmd),
         Command::Biometrics(cmd) => biometrics::run(cmd),
+        Command::Cloth(cmd) => cloth::run(cmd),
     }
 }
 
