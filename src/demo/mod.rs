@@ -9,6 +9,7 @@ use wscg_math::progress::Progress;
 use wscg_math::Result;
 
 pub mod biometrics;
+pub mod cloth;
 pub mod figures;
 pub mod math;
 
@@ -90,7 +91,7 @@ pub struct Demo {
 
 /// Every demo, in gallery order.
 pub fn registry() -> Vec<Demo> {
-    vec![math::DEMO, biometrics::DEMO]
+    vec![math::DEMO, biometrics::DEMO, cloth::DEMO]
 }
 
 /// The demo named `name`, if any.
