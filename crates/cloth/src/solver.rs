@@ -372,6 +372,8 @@ impl Sim {
         let mut max_residual = 0.0f64;
         let accumulate = lambda_mode == LambdaMode::Accumulate;
         let (sx, sv) = (beta * h * h, h);
+        let tri_compliance: Vec<(Matrix2<f64>, f64)> =
+            m.tris.iter().map(|t| t.compliance()).collect();
         for it in 0..iterations {
             let last = it + 1 == iterations;
             for (k, l) in m.links.iter().enumerate() {
@@ -405,8 +407,7 @@ impl Sim {
                 v[l.i] += dp * (h * wi);
                 v[l.j] -= dp * (h * wj);
             }
-            for (t_i, t) in m.tris.iter().enumerate() {
-                let (c2, c_shear) = t.compliance();
+            for (t_i, (t, &(c2, c_shear))) in m.tris.iter().zip(&tri_compliance).enumerate() {
                 let w = t.idx.map(|p| m.inv_mass[p]);
                 let k0 = nl + 3 * t_i;
                 // Stretch pair (e_uu, e_vv), a 2 x 2 block.
