@@ -263,34 +263,20 @@ fn biometrics_bad_input_fails_cleanly() {
     let dir = tempfile::tempdir().unwrap();
     let junk = dir.path().join("junk.json");
     std::fs::write(&junk, "not json").unwrap();
-    let cases: Vec<Vec<std::ffi::OsString>> = vec![
-        vec![
-            "fit".into(),
-            "--gallery".into(),
-            dir.path().join("missing").into(),
-            "--out".into(),
-            dir.path().join("m.json").into(),
-        ],
-        vec![
-            "fit".into(),
-            "--gallery".into(),
-            dir.path().into(),
-            "--out".into(),
-            dir.path().join("m.json").into(),
-        ],
-        vec![
-            "identify".into(),
-            "--model".into(),
-            junk.clone().into(),
-            dir.path().into(),
-        ],
-        vec![
-            "axes".into(),
-            "--model".into(),
-            junk.into(),
-            "--out".into(),
-            dir.path().join("a").into(),
-        ],
+    let d = dir.path();
+    let argv = |items: &[&std::ffi::OsStr]| -> Vec<std::ffi::OsString> {
+        items.iter().map(|s| s.to_os_string()).collect()
+    };
+    let (fit, identify, axes) = ("fit".as_ref(), "identify".as_ref(), "axes".as_ref());
+    let (gallery, out, model) = ("--gallery".as_ref(), "--out".as_ref(), "--model".as_ref());
+    let missing = d.join("missing");
+    let m_json = d.join("m.json");
+    let a_dir = d.join("a");
+    let cases = [
+        argv(&[fit, gallery, missing.as_os_str(), out, m_json.as_os_str()]),
+        argv(&[fit, gallery, d.as_os_str(), out, m_json.as_os_str()]),
+        argv(&[identify, model, junk.as_os_str(), d.as_os_str()]),
+        argv(&[axes, model, junk.as_os_str(), out, a_dir.as_os_str()]),
     ];
     for args in cases {
         let out = wscg()

@@ -224,31 +224,40 @@ pub struct PySim {
     inner: Sim,
 }
 
+/// The option `key` of `spec`, or `default` when absent or None.
+fn opt<'py, T: FromPyObjectOwned<'py>>(
+    spec: &Bound<'py, PyDict>,
+    key: &str,
+    default: T,
+) -> PyResult<T> {
+    match spec.get_item(key)? {
+        Some(v) if !v.is_none() => v.extract::<T>().map_err(|e| {
+            let e: PyErr = e.into();
+            value_error(format!("option `{key}`: {e}"))
+        }),
+        _ => Ok(default),
+    }
+}
+
 fn method_from(name: &str, spec: &Bound<'_, PyDict>) -> PyResult<Method> {
-    let get = |k: &str, d: f64| -> PyResult<f64> {
-        Ok(match spec.get_item(k)? {
-            Some(v) if !v.is_none() => v.extract()?,
-            _ => d,
-        })
-    };
     Ok(match name {
         "soft" => Method::SoftProjection,
         "pbd" => Method::PlainPbd {
-            stiffness: get("stiffness", 1.0)?,
+            stiffness: opt(spec, "stiffness", 1.0)?,
         },
         "symplectic" => Method::SymplecticEuler {
-            substeps: get("substeps", 64.0)? as usize,
+            substeps: opt(spec, "substeps", 64usize)?,
         },
         "ie_cg" => Method::ImplicitEulerCg {
-            tol: get("tol", 1e-8)?,
-            max_iter: get("max_iter", 1000.0)? as usize,
+            tol: opt(spec, "tol", 1e-8)?,
+            max_iter: opt(spec, "max_iter", 1000usize)?,
         },
         "ie_newton" => Method::ImplicitEulerNewton {
-            tol: get("tol", 1e-9)?,
+            tol: opt(spec, "tol", 1e-10)?,
         },
         "global_cr" => Method::GlobalCr {
-            primal_residual: get("primal_residual", 1.0)? != 0.0,
-            tol: get("tol", 1e-10)?,
+            primal_residual: opt(spec, "primal_residual", true)?,
+            tol: opt(spec, "tol", 1e-10)?,
         },
         "ncg" => Method::Ncg {
             variant: NcgVariant::Consistent,

@@ -12,8 +12,8 @@ use wscg_biometrics::data::files::{
 };
 use wscg_biometrics::data::{split_per_subject, IdentityImages};
 use wscg_biometrics::subspace::{
-    evaluate, FdkecaParams, Gamma, Kernel, Method, Metric as NnMetric, Model, Ordering,
-    ProtocolOptions, Recognizer, Sigma,
+    evaluate, select_rows, FdkecaParams, Gamma, Kernel, Method, Metric as NnMetric, Model,
+    Ordering, ProtocolOptions, Recognizer, Sigma,
 };
 use wscg_math::progress::Progress;
 use wscg_math::{Error, Result};
@@ -248,10 +248,6 @@ fn load(data: &DataArgs) -> Result<IdentityImages> {
     }
 }
 
-fn pick(x: &Mat<f64>, idx: &[usize]) -> Mat<f64> {
-    Mat::from_fn(idx.len(), x.ncols(), |i, j| x[(idx[i], j)])
-}
-
 /// Runs a `wscg biometrics` command.
 pub fn run(cmd: BiometricsCommand) -> Result<()> {
     let BiometricsCommand::Fdkeca(cmd) = cmd;
@@ -328,7 +324,10 @@ pub fn run(cmd: BiometricsCommand) -> Result<()> {
             let ds = load(&data)?;
             let img = &ds.images;
             let (tr, te) = split_per_subject(&img.labels, train_per_identity, seed)?;
-            let (xtr, xte) = (pick(&img.x, &tr), pick(&img.x, &te));
+            let (xtr, xte) = (
+                select_rows(img.x.as_ref(), &tr),
+                select_rows(img.x.as_ref(), &te),
+            );
             let ytr: Vec<u32> = tr.iter().map(|&i| img.labels[i]).collect();
             let yte: Vec<u32> = te.iter().map(|&i| img.labels[i]).collect();
             let opt = ProtocolOptions {

@@ -136,7 +136,7 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
             tol: 1e-8,
             max_iter: 1000,
         },
-        MethodName::IeNewton => Method::ImplicitEulerNewton { tol: 1e-8 },
+        MethodName::IeNewton => Method::ImplicitEulerNewton { tol: 1e-10 },
     };
     let mut sim = Sim::new(
         model,

@@ -8,8 +8,8 @@ use std::time::Instant;
 use faer::Mat;
 use wscg_biometrics::data::{finger_veins, split_per_subject, FingerVeinParams, LabelledImages};
 use wscg_biometrics::subspace::{
-    evaluate, Fdkeca, FdkecaParams, Gamma, Kernel, Method, Ordering, Pca, ProtocolOptions,
-    ProtocolResult,
+    evaluate, select_rows, Fdkeca, FdkecaParams, Gamma, Kernel, Method, Ordering, Pca,
+    ProtocolOptions, ProtocolResult,
 };
 use wscg_math::image::Image;
 use wscg_math::progress::Progress;
@@ -46,10 +46,6 @@ const COLORS: [[f32; 3]; 4] = [
     [0.85, 0.55, 0.0],
 ];
 
-fn rows(x: &Mat<f64>, idx: &[usize]) -> Mat<f64> {
-    Mat::from_fn(idx.len(), x.ncols(), |i, j| x[(idx[i], j)])
-}
-
 fn grey(v: &[f64], h: usize, w: usize) -> Result<Image> {
     Image::new(h, w, 1, v.iter().map(|&x| x as f32).collect())
 }
@@ -61,7 +57,10 @@ fn protocol(
     progress: &dyn Progress,
 ) -> Result<Vec<ProtocolResult>> {
     let (tr, te) = split_per_subject(&data.labels, train, 0)?;
-    let (xtr, xte) = (rows(&data.x, &tr), rows(&data.x, &te));
+    let (xtr, xte) = (
+        select_rows(data.x.as_ref(), &tr),
+        select_rows(data.x.as_ref(), &te),
+    );
     let ytr: Vec<u32> = tr.iter().map(|&i| data.labels[i]).collect();
     let yte: Vec<u32> = te.iter().map(|&i| data.labels[i]).collect();
     let opt = ProtocolOptions::default();

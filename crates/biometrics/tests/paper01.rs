@@ -92,7 +92,7 @@ fn full_rotation_keeps_nearest_neighbours() {
     let x = structured(120, 20, 3);
     let labels: Vec<u32> = (0..120).map(|i| (i % 7) as u32).collect();
     let (tr, te): (Vec<usize>, Vec<usize>) = (0..120).partition(|i| i % 2 == 0);
-    let pick = |idx: &[usize]| Mat::from_fn(idx.len(), 20, |i, j| x[(idx[i], j)]);
+    let pick = |idx: &[usize]| select_rows(x.as_ref(), idx);
     let (xtr, xte) = (pick(&tr), pick(&te));
     let ytr: Vec<u32> = tr.iter().map(|&i| labels[i]).collect();
     let raw = nn_classify(xtr.as_ref(), &ytr, xte.as_ref(), Metric::Euclidean).unwrap();
@@ -210,7 +210,7 @@ fn accuracy_curve_and_cv_selection() {
         centre + r.random_range(-1.0..1.0)
     });
     let (tr, te): (Vec<usize>, Vec<usize>) = (0..n).partition(|i| i % 3 != 0 || *i < 45);
-    let pick = |idx: &[usize]| Mat::from_fn(idx.len(), 6, |i, j| x[(idx[i], j)]);
+    let pick = |idx: &[usize]| select_rows(x.as_ref(), idx);
     let ytr: Vec<u32> = tr.iter().map(|&i| labels[i]).collect();
     let yte: Vec<u32> = te.iter().map(|&i| labels[i]).collect();
     let pca = Pca::fit(pick(&tr).as_ref(), None, false).unwrap();
@@ -291,8 +291,7 @@ fn recognition_on_synthetic_finger_veins() {
         })
         .unwrap();
         let (tr, te) = split_per_subject(&data.labels, 5, seed).unwrap();
-        let d = data.x.ncols();
-        let pick = |idx: &[usize]| Mat::from_fn(idx.len(), d, |i, j| data.x[(idx[i], j)]);
+        let pick = |idx: &[usize]| select_rows(data.x.as_ref(), idx);
         let (xtr, xte) = (pick(&tr), pick(&te));
         let ytr: Vec<u32> = tr.iter().map(|&i| data.labels[i]).collect();
         let yte: Vec<u32> = te.iter().map(|&i| data.labels[i]).collect();

@@ -19,10 +19,6 @@ fn veins(subjects: usize, samples: usize) -> wscg_biometrics::data::LabelledImag
     .unwrap()
 }
 
-fn rows(x: &Mat<f64>, idx: &[usize]) -> Mat<f64> {
-    Mat::from_fn(idx.len(), x.ncols(), |i, j| x[(idx[i], j)])
-}
-
 #[test]
 fn models_round_trip_through_json_and_truncate() {
     let data = veins(6, 6);
@@ -98,7 +94,10 @@ fn linear_models_reconstruct_exactly_at_full_rank() {
 fn recognizer_identifies_saves_and_loads() {
     let data = veins(20, 6);
     let (tr, te) = split_per_subject(&data.labels, 3, 1).unwrap();
-    let (xtr, xte) = (rows(&data.x, &tr), rows(&data.x, &te));
+    let (xtr, xte) = (
+        select_rows(data.x.as_ref(), &tr),
+        select_rows(data.x.as_ref(), &te),
+    );
     let ytr: Vec<u32> = tr.iter().map(|&i| data.labels[i]).collect();
     let yte: Vec<u32> = te.iter().map(|&i| data.labels[i]).collect();
     let names: Vec<String> = (0..20).map(|s| format!("subject-{s:02}")).collect();

@@ -103,7 +103,7 @@ pub(crate) struct ImplicitOperator<'a> {
     link_k: Vec<Matrix3<f64>>,
     /// Strain gradients of each triangle at the candidate state.
     tri_grads: Vec<[[Vector3<f64>; 3]; 3]>,
-    filters: Vec<Matrix3<f64>>,
+    filters: &'a [Matrix3<f64>],
     h2: f64,
 }
 
@@ -142,7 +142,7 @@ impl<'a> ImplicitOperator<'a> {
     pub(crate) fn at(
         m: &'a ClothModel,
         x: &[Vector3<f64>],
-        filters: Vec<Matrix3<f64>>,
+        filters: &'a [Matrix3<f64>],
         h2: f64,
         geometric: bool,
     ) -> Self {
@@ -227,7 +227,7 @@ pub(crate) fn implicit_euler_cg(
             [r.x, r.y, r.z]
         })
         .collect();
-    let op = ImplicitOperator::at(m, &xt, filters, h * h, false);
+    let op = ImplicitOperator::at(m, &xt, &filters, h * h, false);
     let sol = pcg(
         &op,
         &b,

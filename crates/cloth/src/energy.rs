@@ -1,5 +1,7 @@
 //! Energy diagnostics of a model state (the curves of the paper's Figs. 1, 4 and 5).
 
+use nalgebra::Vector3;
+
 use crate::model::ClothModel;
 
 /// Energy of a state, in joules.
@@ -27,16 +29,7 @@ impl Energy {
                 gravity -= model.gravity.dot(x) / w;
             }
         }
-        let elastic = model
-            .links
-            .iter()
-            .filter(|l| l.compliance > 0.0)
-            .map(|l| {
-                let c = (model.x[l.i] - model.x[l.j]).norm() - l.rest;
-                0.5 * c * c / l.compliance
-            })
-            .sum::<f64>()
-            + model.tris.iter().map(|t| t.energy(&model.x)).sum::<f64>();
+        let elastic = elastic_energy(model, &model.x);
         Self {
             kinetic,
             gravity,
@@ -44,4 +37,19 @@ impl Energy {
             total: kinetic + gravity + elastic,
         }
     }
+}
+
+/// Elastic energy `1/2 c' C^-1 c` of `model`'s constraints at positions `x` (soft links and
+/// membrane triangles).
+pub fn elastic_energy(model: &ClothModel, x: &[Vector3<f64>]) -> f64 {
+    model
+        .links
+        .iter()
+        .filter(|l| l.compliance > 0.0)
+        .map(|l| {
+            let c = (x[l.i] - x[l.j]).norm() - l.rest;
+            0.5 * c * c / l.compliance
+        })
+        .sum::<f64>()
+        + model.tris.iter().map(|t| t.energy(x)).sum::<f64>()
 }

@@ -368,18 +368,9 @@ impl ClothModel {
     ) -> Result<Self> {
         let mut m = Self::grid(nx, ny, size, total_mass, 1.0, None, None)?;
         m.links.clear();
-        let id = |i: usize, j: usize| j * nx + i;
-        let uv = |p: usize, m: &Self| [m.x[p].x, m.x[p].z];
-        for j in 0..ny - 1 {
-            for i in 0..nx - 1 {
-                for t in [
-                    [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
-                    [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
-                ] {
-                    let r = t.map(|p| uv(p, &m));
-                    m.add_fem_triangle(t, Some(r), young, poisson)?;
-                }
-            }
+        for t in grid_triangles(nx, ny) {
+            let r = t.map(|p| [m.x[p].x, m.x[p].z]);
+            m.add_fem_triangle(t, Some(r), young, poisson)?;
         }
         Ok(m)
     }
@@ -425,16 +416,21 @@ impl ClothModel {
             &vec![total_mass / n as f64; n],
             &[id(0, 0), id(nx - 1, 0)],
         )?;
-        for j in 0..ny {
-            for i in 0..nx {
-                if i + 1 < nx {
-                    m.add_link(id(i, j), id(i + 1, j), k_stretch, None)?;
-                }
-                if j + 1 < ny {
-                    m.add_link(id(i, j), id(i, j + 1), k_stretch, None)?;
+        // Links to the particle `step` away along each grid axis.
+        let axis_links = |m: &mut Self, step: usize, k: f64| -> Result<()> {
+            for j in 0..ny {
+                for i in 0..nx {
+                    if i + step < nx {
+                        m.add_link(id(i, j), id(i + step, j), k, None)?;
+                    }
+                    if j + step < ny {
+                        m.add_link(id(i, j), id(i, j + step), k, None)?;
+                    }
                 }
             }
-        }
+            Ok(())
+        };
+        axis_links(&mut m, 1, k_stretch)?;
         if let Some(k) = k_shear {
             for j in 0..ny - 1 {
                 for i in 0..nx - 1 {
@@ -444,17 +440,23 @@ impl ClothModel {
             }
         }
         if let Some(k) = k_bend {
-            for j in 0..ny {
-                for i in 0..nx {
-                    if i + 2 < nx {
-                        m.add_link(id(i, j), id(i + 2, j), k, None)?;
-                    }
-                    if j + 2 < ny {
-                        m.add_link(id(i, j), id(i, j + 2), k, None)?;
-                    }
-                }
-            }
+            axis_links(&mut m, 2, k)?;
         }
         Ok(m)
     }
+}
+
+/// The triangles of an `nx x ny` particle grid (row-major indices `j * nx + i`), two per
+/// quad split along the `(i, j)-(i+1, j+1)` diagonal, counter-clockwise seen from +y.
+pub fn grid_triangles(nx: usize, ny: usize) -> Vec<[usize; 3]> {
+    let id = |i: usize, j: usize| j * nx + i;
+    (0..ny.saturating_sub(1))
+        .flat_map(|j| (0..nx.saturating_sub(1)).map(move |i| (i, j)))
+        .flat_map(|(i, j)| {
+            [
+                [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
+                [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
+            ]
+        })
+        .collect()
 }

@@ -78,7 +78,7 @@ pub(crate) fn step(
         if delta == 0.0 {
             break;
         }
-        let op = ImplicitOperator::at(m, &x, filt.clone(), h * h, false);
+        let op = ImplicitOperator::at(m, &x, &filt, h * h, false);
         for (q, dq) in d.iter().enumerate() {
             flat[3 * q..3 * q + 3].copy_from_slice(dq.as_slice());
         }

@@ -69,10 +69,10 @@ pub enum Method {
         /// Residual variant.
         variant: crate::ncg::NcgVariant,
     },
-    /// Exact implicit Euler: Newton's method on the incremental potential to a gradient
-    /// norm `tol` (N) (the reference of the paper's section 2).
+    /// Exact implicit Euler: Newton's method on the incremental potential to a relative
+    /// gradient tolerance `tol` (the reference of the paper's section 2).
     ImplicitEulerNewton {
-        /// Gradient-norm tolerance.
+        /// Relative gradient tolerance (e.g. 1e-10).
         tol: f64,
     },
     /// One linearised implicit Euler step solved by conjugate gradients (baseline).

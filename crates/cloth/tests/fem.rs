@@ -117,27 +117,20 @@ fn jittered_sheet(n: usize, young: f64, poisson: f64, links: bool) -> wscg_cloth
         }
     }
     let id = |i: usize, j: usize| j * n + i;
-    for j in 0..n - 1 {
-        for i in 0..n - 1 {
-            for t in [
-                [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
-                [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
-            ] {
-                if links {
-                    for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-                        if !m
-                            .links
-                            .iter()
-                            .any(|l| (l.i, l.j) == (a, b) || (l.i, l.j) == (b, a))
-                        {
-                            m.add_link(a, b, young, None).unwrap();
-                        }
-                    }
-                } else {
-                    let uv = t.map(|p| [m.x[p].x, m.x[p].z]);
-                    m.add_fem_triangle(t, Some(uv), young, poisson).unwrap();
+    for t in wscg_cloth::model::grid_triangles(n, n) {
+        if links {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                if !m
+                    .links
+                    .iter()
+                    .any(|l| (l.i, l.j) == (a, b) || (l.i, l.j) == (b, a))
+                {
+                    m.add_link(a, b, young, None).unwrap();
                 }
             }
+        } else {
+            let uv = t.map(|p| [m.x[p].x, m.x[p].z]);
+            m.add_fem_triangle(t, Some(uv), young, poisson).unwrap();
         }
     }
     // Rollers: left edge on x = 0, right edge on x = 1.01; one left vertex fully pinned;

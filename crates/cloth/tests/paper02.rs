@@ -453,7 +453,7 @@ fn soft_projection_equivalence_with_implicit_euler() {
             .map(|(p, q)| (p - q).amax())
             .fold(0.0, f64::max)
     };
-    let reference = one_step(Method::ImplicitEulerNewton { tol: 1e-9 }, 1);
+    let reference = one_step(Method::ImplicitEulerNewton { tol: 1e-10 }, 1);
     let xt = inertial_target(&model, H);
     let disp = dist(&reference, &model.x);
     let phi = |x: &[Vector3<f64>]| incremental_potential(&model, x, &xt, H);

@@ -96,7 +96,8 @@ def _kernel_spec(kernel, sigma, sigma_scale, degree, gamma, coef0) -> dict:
 
 
 class _Subspace:
-    """Shared estimator machinery; subclasses set ``_method`` and ``_param_names``."""
+    """Shared estimator machinery; subclasses set ``_method`` and ``_param_names`` and
+    define ``_spec()``, the parameters passed to the native ``fit``."""
 
     _method = ""
     _param_names: Tuple[str, ...] = ()
@@ -117,9 +118,6 @@ class _Subspace:
     def __repr__(self) -> str:
         args = ", ".join(f"{k}={getattr(self, k)!r}" for k in self._param_names)
         return f"{type(self).__name__}({args})"
-
-    def _spec(self) -> dict:
-        raise NotImplementedError
 
     # -- fitting
     def fit(self, X, y=None):
@@ -153,7 +151,11 @@ class _Subspace:
         self._set_attributes(self._model.info())
         if y is not None:
             self.classes_ = classes
-            self._gallery = self._model.transform(Xm)
+            # Kernel methods already hold the training projections (E D^1/2); linear ones
+            # project in one product.
+            embedding = getattr(self, "embedding_", None)
+            self._gallery = (np.ascontiguousarray(embedding) if embedding is not None
+                             else self._model.transform(Xm))
             self._gallery_codes = codes
         else:
             self.classes_ = None

@@ -252,8 +252,7 @@ pub fn select_dimension_cv(
     let mut sum: Option<Vec<(usize, f64)>> = None;
     for f in 0..folds {
         let (tr, va): (Vec<usize>, Vec<usize>) = (0..x.nrows()).partition(|&i| fold_of[i] != f);
-        let pick = |idx: &[usize]| Mat::from_fn(idx.len(), x.ncols(), |i, j| x[(idx[i], j)]);
-        let (xtr, xva) = (pick(&tr), pick(&va));
+        let (xtr, xva) = (super::select_rows(x, &tr), super::select_rows(x, &va));
         let ytr: Vec<u32> = tr.iter().map(|&i| y[i]).collect();
         let yva: Vec<u32> = va.iter().map(|&i| y[i]).collect();
         let model = fit(xtr.as_ref())?;

@@ -104,6 +104,11 @@ pub fn check_components(requested: Option<usize>, available: usize) -> Result<us
     }
 }
 
+/// The rows `idx` of `x`, in that order (a train/test split, a cross-validation fold).
+pub fn select_rows(x: MatRef<'_, f64>, idx: &[usize]) -> Mat<f64> {
+    Mat::from_fn(idx.len(), x.ncols(), |i, j| x[(idx[i], j)])
+}
+
 /// Columns of `m` as vectors.
 pub fn columns(m: MatRef<'_, f64>, idx: &[usize]) -> Vec<Vec<f64>> {
     idx.iter()
