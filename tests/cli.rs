@@ -9,6 +9,17 @@ fn wscg() -> Command {
     Command::new(env!("CARGO_BIN_EXE_wscg"))
 }
 
+/// Runs `wscg ARGS...`, asserts success and returns standard output.
+fn wscg_ok<S: AsRef<std::ffi::OsStr> + std::fmt::Debug>(args: &[S]) -> String {
+    let out = wscg().args(args).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 fn write_test_image(path: &Path, shift: f32) {
     Image::from_fn(48, 64, |y, x| ((x + 2 * y) as f32 / 160.0 + shift).min(1.0))
         .unwrap()
@@ -29,16 +40,14 @@ fn help_lists_the_commands() {
 #[test]
 fn gallery_writes_an_index_with_the_math_demo() {
     let dir = tempfile::tempdir().unwrap();
-    let out = wscg()
-        .args(["gallery", "--only", "math", "--out"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let o = std::ffi::OsStr::new;
+    wscg_ok(&[
+        o("gallery"),
+        o("--only"),
+        o("math"),
+        o("--out"),
+        dir.path().as_os_str(),
+    ]);
     let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
     assert!(html.contains("id=\"math\""));
     assert!(html.contains("Parseval"));
@@ -180,17 +189,12 @@ fn write_vein_gallery(root: &Path, subjects: usize, samples: usize) {
 
 /// Runs `wscg biometrics fdkeca ARGS...`, asserts success and returns standard output.
 fn fdkeca_ok(args: &[&std::ffi::OsStr]) -> String {
-    let out = wscg()
-        .args(["biometrics", "fdkeca"])
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
+    let o = std::ffi::OsStr::new;
+    let full: Vec<&std::ffi::OsStr> = [o("biometrics"), o("fdkeca")]
+        .into_iter()
+        .chain(args.iter().copied())
+        .collect();
+    wscg_ok(&full)
 }
 
 #[test]
@@ -306,26 +310,19 @@ fn cloth_simulate_writes_frames_and_energy() {
     let before = std::fs::read(&path).unwrap();
     let out_dir = dir.path().join("frames");
     for material in ["fem", "links"] {
-        let out = wscg()
-            .args([
-                "cloth",
-                "simulate",
-                "--frames",
-                "20",
-                "--material",
-                material,
-                "--mesh",
-            ])
-            .arg(&path)
-            .arg("--out")
-            .arg(&out_dir)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let o = std::ffi::OsStr::new;
+        wscg_ok(&[
+            o("cloth"),
+            o("simulate"),
+            o("--frames"),
+            o("20"),
+            o("--material"),
+            o(material),
+            o("--mesh"),
+            path.as_os_str(),
+            o("--out"),
+            out_dir.as_os_str(),
+        ]);
         let last = TriMesh::read(out_dir.join("frame_0019.obj")).unwrap();
         assert_eq!(last.num_vertices(), mesh.num_vertices());
         // The sheet stretches under gravity: its bottom sinks, its pinned top stays.
