@@ -1,16 +1,19 @@
 //! Criterion benchmarks of paper 02 (cloth with soft constraints): one time step of the
-//! scenes of the specification's performance targets.
+//! scenes of the specification's performance targets, sequential and graph-coloured
+//! Gauss-Seidel on one and on all threads.
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use wscg::cloth::{ClothModel, Method, NcgVariant, Sim, SolverConfig};
+use nalgebra::Vector3;
+use wscg::cloth::{grid_triangles, ClothModel, Method, NcgVariant, Relaxation, Sim, SolverConfig};
 
-fn sim(model: &ClothModel, method: Method) -> Sim {
+fn sim(model: &ClothModel, method: Method, relaxation: Relaxation) -> Sim {
     let mut s = Sim::new(
         model.clone(),
         SolverConfig {
             method,
+            relaxation,
             ..Default::default()
         },
     )
@@ -20,39 +23,78 @@ fn sim(model: &ClothModel, method: Method) -> Sim {
     s
 }
 
+/// A dress-size membrane: an `n x n` grid (1 m) of StVK triangles with bending links, the two
+/// top corners pinned.
+fn fem_with_bending(n: usize) -> ClothModel {
+    let v: Vec<Vector3<f64>> = (0..n * n)
+        .map(|p| {
+            let (i, j) = (p % n, p / n);
+            Vector3::new(i as f64, 0.0, j as f64) / (n - 1) as f64
+        })
+        .collect();
+    let mut m = ClothModel::from_trimesh(
+        &v,
+        &grid_triangles(n, n),
+        0.1,
+        Some((1000.0, 0.3)),
+        0.0,
+        Some(50.0),
+    )
+    .unwrap();
+    m.inv_mass[0] = 0.0;
+    m.inv_mass[n - 1] = 0.0;
+    m
+}
+
 fn bench_steps(c: &mut Criterion) {
     let h = 1.0 / 60.0;
     let mut g = c.benchmark_group("paper02");
     g.sample_size(20);
     let links =
         ClothModel::grid(40, 40, (1.0, 1.0), 0.1, 2000.0, Some(2000.0), Some(2000.0)).unwrap();
-    let fem = ClothModel::fem_grid(83, 83, (1.0, 1.0), 0.1, 1000.0, 0.3).unwrap();
-    for (name, model, method) in [
-        (
-            "soft step 40x40 links 25 it",
-            &links,
-            Method::SoftProjection,
-        ),
+    let fem = fem_with_bending(83);
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let gs = Relaxation::GaussSeidel;
+    let colored = Relaxation::ColoredGaussSeidel;
+    let soft = Method::SoftProjection;
+    for (name, model, method, relaxation) in [
+        ("soft step 40x40 links 25 it", &links, soft, gs),
+        ("soft step 40x40 links 25 it colored", &links, soft, colored),
         (
             "NCG step 40x40 links 25 it",
             &links,
             Method::Ncg {
                 variant: NcgVariant::Consistent,
             },
+            gs,
         ),
         (
             "PBD step 40x40 links 25 it",
             &links,
             Method::PlainPbd { stiffness: 1.0 },
+            gs,
         ),
+        ("soft step 83x83 FEM+bending 25 it", &fem, soft, gs),
         (
-            "soft step 83x83 FEM (dress size) 25 it",
+            "soft step 83x83 FEM+bending 25 it colored",
             &fem,
-            Method::SoftProjection,
+            soft,
+            colored,
         ),
     ] {
-        let mut s = sim(model, method);
-        g.bench_function(name, |b| b.iter(|| black_box(s.step(h).unwrap())));
+        let mut s = sim(model, method, relaxation);
+        g.bench_function(format!("{name} 1 thread"), |b| {
+            one.install(|| b.iter(|| black_box(s.step(h).unwrap())))
+        });
+        if relaxation == colored {
+            g.bench_function(
+                format!("{name} {} threads", rayon::current_num_threads()),
+                |b| b.iter(|| black_box(s.step(h).unwrap())),
+            );
+        }
     }
     g.finish();
 }

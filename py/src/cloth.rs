@@ -5,7 +5,7 @@ use nalgebra::Vector3;
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use wscg_cloth::{ClothModel, LambdaMode, Method, NcgVariant, Sim, SolverConfig};
+use wscg_cloth::{ClothModel, LambdaMode, Method, NcgVariant, Relaxation, Sim, SolverConfig};
 
 use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy};
@@ -274,6 +274,25 @@ fn method_from(name: &str, spec: &Bound<'_, PyDict>) -> PyResult<Method> {
     })
 }
 
+fn relaxation_from(spec: &Bound<'_, PyDict>) -> PyResult<Relaxation> {
+    let name: String = opt(spec, "relaxation", "gauss_seidel".to_string())?;
+    Ok(match name.as_str() {
+        "gauss_seidel" => Relaxation::GaussSeidel,
+        "colored" => Relaxation::ColoredGaussSeidel,
+        "jacobi" => Relaxation::Jacobi {
+            omega: opt(spec, "omega", 0.15)?,
+        },
+        "sor" => Relaxation::Sor {
+            omega: opt(spec, "omega", 1.5)?,
+        },
+        other => {
+            return Err(value_error(format!(
+                "unknown relaxation {other:?}; use 'gauss_seidel', 'colored', 'jacobi' or 'sor'"
+            )))
+        }
+    })
+}
+
 #[pymethods]
 impl PySim {
     #[new]
@@ -305,6 +324,7 @@ impl PySim {
                 }
             },
             velocity_damping,
+            relaxation: relaxation_from(options)?,
         };
         Ok(Self {
             inner: Sim::new(model.inner.clone(), cfg).py_err()?,

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Subcommand, ValueEnum};
 use nalgebra::Vector3;
-use wscg_cloth::{ClothModel, LambdaMode, Method, NcgVariant, Sim, SolverConfig};
+use wscg_cloth::{ClothModel, LambdaMode, Method, NcgVariant, Relaxation, Sim, SolverConfig};
 use wscg_math::progress::Progress;
 use wscg_math::{Error, Result, TriMesh};
 
@@ -33,6 +33,18 @@ pub enum MethodName {
     IeCg,
     /// Exact implicit Euler by Newton's method (reference).
     IeNewton,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum RelaxationName {
+    /// Sequential Gauss-Seidel.
+    Gs,
+    /// Graph-coloured Gauss-Seidel, colour classes in parallel.
+    Colored,
+    /// Jacobi with relaxation --omega.
+    Jacobi,
+    /// Successive over-relaxation with --omega.
+    Sor,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -94,6 +106,12 @@ pub struct SimulateArgs {
     /// Use the paper's printed multiplier reset instead of accumulation.
     #[arg(long)]
     paper_reset: bool,
+    /// Constraint sweep of the soft projection.
+    #[arg(long, value_enum, default_value_t = RelaxationName::Gs)]
+    relaxation: RelaxationName,
+    /// Relaxation factor of Jacobi (default 0.15) or SOR (default 1.5).
+    #[arg(long)]
+    omega: Option<f64>,
 }
 
 /// Runs a `wscg cloth` command.
@@ -152,6 +170,16 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
                 LambdaMode::Accumulate
             },
             velocity_damping: 0.0,
+            relaxation: match a.relaxation {
+                RelaxationName::Gs => Relaxation::GaussSeidel,
+                RelaxationName::Colored => Relaxation::ColoredGaussSeidel,
+                RelaxationName::Jacobi => Relaxation::Jacobi {
+                    omega: a.omega.unwrap_or(0.15),
+                },
+                RelaxationName::Sor => Relaxation::Sor {
+                    omega: a.omega.unwrap_or(1.5),
+                },
+            },
         },
     )?;
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;

@@ -16,6 +16,8 @@
 //! - [`solver`]: the soft-projection step (eq. E4 of our specification, the paper's eqs. 17
 //!   and 20 with the accumulated-multiplier term), in the XPBD-consistent `Accumulate` mode or
 //!   the paper's printed `PaperReset` mode.
+//! - [`projection`]: the constraint sweeps of the soft projection: Gauss-Seidel, SOR,
+//!   Jacobi and graph-coloured parallel Gauss-Seidel (section 7).
 //! - [`baselines`]: symplectic Euler, linearised implicit Euler by conjugate gradients and
 //!   velocity-projection damping, the comparisons of the paper's Figs. 1 and 5.
 //! - [`constraint_space`]: the global constraint-space system `(h^2 J W J' + C)` solved by
@@ -32,10 +34,12 @@ pub mod fem;
 pub mod model;
 pub mod ncg;
 pub mod newton;
+pub mod projection;
 pub mod solver;
 
 pub use energy::Energy;
 pub use fem::FemTri;
-pub use model::{ClothModel, Link, Roller};
+pub use model::{grid_triangles, ClothModel, Link, Roller};
 pub use ncg::NcgVariant;
+pub use projection::Relaxation;
 pub use solver::{LambdaMode, Method, Sim, SolverConfig, StepStats};

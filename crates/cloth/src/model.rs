@@ -274,8 +274,9 @@ impl ClothModel {
     /// A cloth from a triangle mesh: `total_mass` lumped to the vertices by area (a third of
     /// each adjacent triangle's), gravity along -y. With `young = Some(E)` every face becomes
     /// a StVK membrane triangle (Poisson ratio `poisson`, rest shape = the given one);
-    /// otherwise every edge becomes a link of stiffness `k_edge`, and with `k_bend` a bending
-    /// link joins the opposite vertices of the two faces of every interior edge.
+    /// otherwise every edge becomes a link of stiffness `k_edge`. With `k_bend`, in both
+    /// cases, a bending link joins the opposite vertices of the two faces of every interior
+    /// edge (the bending model of the specification for irregular meshes).
     ///
     /// Errors: empty input, face index out of range or repeated, degenerate faces, bad
     /// material, non-finite vertices, a vertex in no face.
@@ -326,28 +327,25 @@ impl ClothModel {
         let total: f64 = area.iter().sum();
         let mass: Vec<f64> = area.iter().map(|a| total_mass * a / total).collect();
         let mut m = Self::new(vertices.to_vec(), &mass, &[])?;
-        match young {
-            Some((e, nu)) => {
-                for f in faces {
-                    m.add_fem_triangle(*f, None, e, nu)?;
-                }
+        if let Some((e, nu)) = young {
+            for f in faces {
+                m.add_fem_triangle(*f, None, e, nu)?;
             }
-            None => {
-                let mut edges: std::collections::BTreeMap<(usize, usize), Vec<usize>> =
-                    Default::default();
-                for f in faces {
-                    for k in 0..3 {
-                        let (a, b, c) = (f[k], f[(k + 1) % 3], f[(k + 2) % 3]);
-                        edges.entry((a.min(b), a.max(b))).or_default().push(c);
-                    }
-                }
-                for (&(a, b), opposite) in &edges {
-                    m.add_link(a, b, k_edge, None)?;
-                    if let (Some(kb), [c, d]) = (k_bend, opposite.as_slice()) {
-                        if c != d {
-                            m.add_link(*c, *d, kb, None)?;
-                        }
-                    }
+        }
+        let mut edges: std::collections::BTreeMap<(usize, usize), Vec<usize>> = Default::default();
+        for f in faces {
+            for k in 0..3 {
+                let (a, b, c) = (f[k], f[(k + 1) % 3], f[(k + 2) % 3]);
+                edges.entry((a.min(b), a.max(b))).or_default().push(c);
+            }
+        }
+        for (&(a, b), opposite) in &edges {
+            if young.is_none() {
+                m.add_link(a, b, k_edge, None)?;
+            }
+            if let (Some(kb), [c, d]) = (k_bend, opposite.as_slice()) {
+                if c != d {
+                    m.add_link(*c, *d, kb, None)?;
                 }
             }
         }

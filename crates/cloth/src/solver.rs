@@ -22,12 +22,13 @@
 //! **Plain PBD** (Mueller et al. 2007, the baseline): hard projection scaled by a stiffness
 //! factor `k' = 1 - (1 - k)^(1/N)` per iteration, velocities `(x' - x)/h`.
 
-use nalgebra::{Matrix2, Vector2, Vector3};
+use nalgebra::Vector3;
 use wscg_math::{Error, Result};
 
 use crate::baselines;
 use crate::energy::Energy;
 use crate::model::ClothModel;
+use crate::projection::{self, Prepared, Relaxation, StepConsts, VelocityFrame};
 
 /// How the constraint multipliers enter each iteration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -102,6 +103,9 @@ pub struct SolverConfig {
     /// Velocity-projection damping factor `k_d` in `[0, 1]` applied after each step (the
     /// baseline of the paper's Fig. 5; default 0).
     pub velocity_damping: f64,
+    /// How each sweep of the soft projection visits the constraints (default sequential
+    /// Gauss-Seidel).
+    pub relaxation: Relaxation,
 }
 
 impl Default for SolverConfig {
@@ -114,6 +118,7 @@ impl Default for SolverConfig {
             gamma: 0.0,
             lambda_mode: LambdaMode::Accumulate,
             velocity_damping: 0.0,
+            relaxation: Relaxation::GaussSeidel,
         }
     }
 }
@@ -170,6 +175,21 @@ impl SolverConfig {
             }
             _ => {}
         }
+        match self.relaxation {
+            Relaxation::Jacobi { omega } if !(omega > 0.0 && omega <= 1.0) => {
+                return Err(Error::invalid(
+                    "omega",
+                    format!("Jacobi relaxation factor must be in (0, 1], got {omega}"),
+                ))
+            }
+            Relaxation::Sor { omega } if !(omega > 0.0 && omega < 2.0) => {
+                return Err(Error::invalid(
+                    "omega",
+                    format!("SOR relaxation factor must be in (0, 2), got {omega}"),
+                ))
+            }
+            _ => {}
+        }
         if !(0.0..=1.0).contains(&self.velocity_damping) {
             return Err(Error::invalid(
                 "velocity_damping",
@@ -215,6 +235,8 @@ pub struct Sim {
     /// Multipliers of the last step: one per link (N), then three per triangle.
     lambda: Vec<f64>,
     steps: u64,
+    /// The constraints in the layout of the projection sweeps.
+    prep: Prepared,
 }
 
 impl Sim {
@@ -223,11 +245,13 @@ impl Sim {
         model.validate()?;
         cfg.validate()?;
         let lambda = vec![0.0; model.constraint_rows()];
+        let prep = Prepared::new(&model, cfg.relaxation == Relaxation::ColoredGaussSeidel);
         Ok(Self {
             model,
             cfg,
             lambda,
             steps: 0,
+            prep,
         })
     }
 
@@ -244,6 +268,12 @@ impl Sim {
     /// Multipliers of the last step: one per link (N), then `(uu, vv, uv)` per triangle.
     pub fn multipliers(&self) -> &[f64] {
         &self.lambda
+    }
+
+    /// Number of colour classes of the links and of the triangles used by
+    /// [`Relaxation::ColoredGaussSeidel`].
+    pub fn color_classes(&self) -> (usize, usize) {
+        self.prep.colors()
     }
 
     /// Steps taken so far.
@@ -268,7 +298,9 @@ impl Sim {
             lambda,
             stats,
         } = match self.cfg.method {
-            Method::SoftProjection => self.soft_projection(h),
+            Method::SoftProjection => {
+                Self::soft_projection(&self.model, &self.cfg, &self.lambda, &mut self.prep, h)
+            }
             Method::PlainPbd { stiffness } => self.plain_pbd(h, stiffness),
             Method::SymplecticEuler { substeps } => {
                 baselines::symplectic_euler(&self.model, h, substeps)?
@@ -316,8 +348,13 @@ impl Sim {
         Ok(())
     }
 
-    fn soft_projection(&self, h: f64) -> Stepped {
-        let m = &self.model;
+    fn soft_projection(
+        m: &ClothModel,
+        cfg: &SolverConfig,
+        stored_lambda: &[f64],
+        prep: &mut Prepared,
+        h: f64,
+    ) -> Stepped {
         let SolverConfig {
             alpha,
             beta,
@@ -325,11 +362,11 @@ impl Sim {
             lambda_mode,
             iterations,
             ..
-        } = self.cfg;
+        } = *cfg;
         // Elastic force at x^n: soft links from -c/eps, hard links from the stored multiplier.
         let mut f = vec![Vector3::zeros(); m.len()];
         if alpha < 1.0 {
-            for (l, &stored) in m.links.iter().zip(&self.lambda) {
+            for (l, &stored) in m.links.iter().zip(stored_lambda) {
                 let d = m.x[l.i] - m.x[l.j];
                 let len = d.norm();
                 if len < 1e-12 {
@@ -348,7 +385,7 @@ impl Sim {
                 crate::fem::add_forces(t, &m.x, &mut f);
             }
             let r0 = m.links.len() + 3 * m.tris.len();
-            for (r, &stored) in m.rollers.iter().zip(&self.lambda[r0..]) {
+            for (r, &stored) in m.rollers.iter().zip(&stored_lambda[r0..]) {
                 f[r.p] += r.normal * stored;
             }
         }
@@ -367,120 +404,46 @@ impl Sim {
                     }
                 })
                 .unzip();
-        let nl = m.links.len();
+        let x0 = x.clone();
         let mut lambda = vec![0.0; m.constraint_rows()];
-        let mut max_residual = 0.0f64;
-        let accumulate = lambda_mode == LambdaMode::Accumulate;
-        let (sx, sv) = (beta * h * h, h);
-        let tri_compliance: Vec<(Matrix2<f64>, f64)> =
-            m.tris.iter().map(|t| t.compliance()).collect();
-        for it in 0..iterations {
-            let last = it + 1 == iterations;
-            for (k, l) in m.links.iter().enumerate() {
-                let (wi, wj) = (m.inv_mass[l.i], m.inv_mass[l.j]);
-                let a = wi + wj;
-                let d = x[l.i] - x[l.j];
-                let len = d.norm();
-                if len < 1e-12 {
-                    continue;
-                }
-                let n = d / len;
-                let c = len - l.rest;
-                let jv = n.dot(&(v[l.i] - v[l.j]));
-                let acc_term = match lambda_mode {
-                    LambdaMode::Accumulate => l.compliance * lambda[k],
-                    LambdaMode::PaperReset => 0.0,
-                };
-                let s = alpha * h * (beta * h + gamma) * a + l.compliance;
-                if s <= 0.0 {
-                    continue;
-                }
-                let rhs = alpha * (c + gamma * jv) + acc_term;
-                if last {
-                    max_residual = max_residual.max(rhs.abs());
-                }
-                let dl = -rhs / s;
-                lambda[k] += dl;
-                let dp = n * dl;
-                x[l.i] += dp * (beta * h * h * wi);
-                x[l.j] -= dp * (beta * h * h * wj);
-                v[l.i] += dp * (h * wi);
-                v[l.j] -= dp * (h * wj);
+        let omega = match cfg.relaxation {
+            Relaxation::Jacobi { omega } | Relaxation::Sor { omega } => omega,
+            _ => 1.0,
+        };
+        let k = StepConsts {
+            alpha,
+            s_coef: alpha * h * (beta * h + gamma),
+            sx: beta * h * h,
+            gamma,
+            inv_bh: 1.0 / (beta * h),
+            accumulate: lambda_mode == LambdaMode::Accumulate,
+            omega,
+        };
+        prep.prepare_step(&k, &m.inv_mass);
+        let vf = VelocityFrame { x0: &x0, v0: &v };
+        let r0 = m.links.len() + 3 * m.tris.len();
+        let mut scratch = Vec::new();
+        let mut max_residual = 0.0;
+        let prep = &*prep;
+        let mut sweeps = || {
+            for _ in 0..iterations {
+                let (lam_el, lam_roll) = lambda.split_at_mut(r0);
+                max_residual =
+                    projection::sweep(prep, cfg.relaxation, &mut x, &mut scratch, lam_el, &k, vf);
+                let r = projection::project_rollers(m, &mut x, lam_roll, &k, vf);
+                max_residual = max_residual.max(r);
             }
-            for (t_i, (t, &(c2, c_shear))) in m.tris.iter().zip(&tri_compliance).enumerate() {
-                let w = t.idx.map(|p| m.inv_mass[p]);
-                let k0 = nl + 3 * t_i;
-                // Stretch pair (e_uu, e_vv), a 2 x 2 block.
-                let st = t.strain(&x);
-                let dot = |a: usize, b: usize| {
-                    (0..3)
-                        .map(|p| w[p] * st.grad[a][p].dot(&st.grad[b][p]))
-                        .sum::<f64>()
-                };
-                let jv = |a: usize| (0..3).map(|p| st.grad[a][p].dot(&v[t.idx[p]])).sum::<f64>();
-                let a2 = Matrix2::new(dot(0, 0), dot(0, 1), dot(1, 0), dot(1, 1));
-                let s2 = a2 * (alpha * h * (beta * h + gamma)) + c2;
-                let lam2 = Vector2::new(lambda[k0], lambda[k0 + 1]);
-                let mut rhs2 = Vector2::new(
-                    alpha * (st.e[0] + gamma * jv(0)),
-                    alpha * (st.e[1] + gamma * jv(1)),
-                );
-                if accumulate {
-                    rhs2 += c2 * lam2;
-                }
-                if last {
-                    max_residual = max_residual.max(rhs2.amax());
-                }
-                if let Some(inv) = s2.try_inverse() {
-                    let dl = -(inv * rhs2);
-                    lambda[k0] += dl[0];
-                    lambda[k0 + 1] += dl[1];
-                    for p in 0..3 {
-                        let g = st.grad[0][p] * dl[0] + st.grad[1][p] * dl[1];
-                        x[t.idx[p]] += g * (sx * w[p]);
-                        v[t.idx[p]] += g * (sv * w[p]);
-                    }
-                }
-                // Shear g_uv, a 1 x 1 block, at the updated positions.
-                let st = t.strain(&x);
-                let a1: f64 = (0..3).map(|p| w[p] * st.grad[2][p].norm_squared()).sum();
-                let jv2: f64 = (0..3).map(|p| st.grad[2][p].dot(&v[t.idx[p]])).sum();
-                let s1 = alpha * h * (beta * h + gamma) * a1 + c_shear;
-                let mut rhs = alpha * (st.e[2] + gamma * jv2);
-                if accumulate {
-                    rhs += c_shear * lambda[k0 + 2];
-                }
-                if last {
-                    max_residual = max_residual.max(rhs.abs());
-                }
-                if s1 > 0.0 {
-                    let dl = -rhs / s1;
-                    lambda[k0 + 2] += dl;
-                    for p in 0..3 {
-                        let g = st.grad[2][p] * dl;
-                        x[t.idx[p]] += g * (sx * w[p]);
-                        v[t.idx[p]] += g * (sv * w[p]);
-                    }
-                }
-            }
-            // Rollers: hard (eps = 0) plane constraints.
-            let r0 = nl + 3 * m.tris.len();
-            for (k, r) in m.rollers.iter().enumerate() {
-                let w = m.inv_mass[r.p];
-                let s1 = alpha * h * (beta * h + gamma) * w;
-                if s1 <= 0.0 {
-                    continue;
-                }
-                let c = r.normal.dot(&x[r.p]) - r.offset;
-                let rhs = alpha * (c + gamma * r.normal.dot(&v[r.p]));
-                if last {
-                    max_residual = max_residual.max(rhs.abs());
-                }
-                let dl = -rhs / s1;
-                lambda[r0 + k] += dl;
-                x[r.p] += r.normal * (dl * sx * w);
-                v[r.p] += r.normal * (dl * sv * w);
-            }
+        };
+        if cfg.relaxation == Relaxation::ColoredGaussSeidel {
+            // Run the sweeps on a worker of the thread pool, so that each colour class is a
+            // cheap fork-join rather than a hand-off from an outside thread.
+            rayon::scope(|_| sweeps());
+        } else {
+            sweeps();
+        }
+        // v = v~ + (x - x~) / (beta h): the velocity updates of all corrections at once.
+        for ((vp, xp), x0p) in v.iter_mut().zip(&x).zip(&x0) {
+            *vp += (xp - x0p) * k.inv_bh;
         }
         Stepped {
             x,
