@@ -22,12 +22,15 @@
 //!   velocity-projection damping, the comparisons of the paper's Figs. 1 and 5.
 //! - [`constraint_space`]: the global constraint-space system `(h^2 J W J' + C)` solved by
 //!   Conjugate Residuals (section 7).
+//! - [`collision`]: planes, spheres, capsules, triangle meshes (parry) and self contacts as
+//!   inequality constraints with Coulomb friction (section 10).
 //! - [`energy`]: kinetic, gravitational and elastic energy.
 //!
 //! Units: metres, kilograms, seconds; a link's stiffness `k` in N/m, its compliance `1/k` in
 //! m/N, the damping parameter `gamma = d/k` in seconds.
 
 pub mod baselines;
+pub mod collision;
 pub mod constraint_space;
 pub mod energy;
 pub mod fem;
@@ -37,6 +40,7 @@ pub mod newton;
 pub mod projection;
 pub mod solver;
 
+pub use collision::{Collider, Collisions, MeshCollider};
 pub use energy::Energy;
 pub use fem::FemTri;
 pub use model::{grid_triangles, ClothModel, Link, Roller};

@@ -26,6 +26,7 @@ use nalgebra::Vector3;
 use wscg_math::{Error, Result};
 
 use crate::baselines;
+use crate::collision::{CollisionState, Collisions, StepContacts};
 use crate::energy::Energy;
 use crate::model::ClothModel;
 use crate::projection::{self, Prepared, Relaxation, StepConsts, VelocityFrame};
@@ -206,6 +207,10 @@ pub struct StepStats {
     /// Largest constraint residual `|alpha (c + gamma J v) + Lambda|` met in the last sweep
     /// (m): the correction the last sweep still had to make (0 when converged).
     pub max_residual: f64,
+    /// Contacts found at the start of the step (obstacle contacts and particle pairs).
+    pub contacts: usize,
+    /// Largest contact penetration corrected in the last iteration (m).
+    pub max_penetration: f64,
 }
 
 /// The result of one step, committed only when finite.
@@ -237,6 +242,8 @@ pub struct Sim {
     steps: u64,
     /// The constraints in the layout of the projection sweeps.
     prep: Prepared,
+    /// Obstacles and self-collision settings.
+    collisions: CollisionState,
 }
 
 impl Sim {
@@ -252,6 +259,7 @@ impl Sim {
             lambda,
             steps: 0,
             prep,
+            collisions: CollisionState::default(),
         })
     }
 
@@ -268,6 +276,31 @@ impl Sim {
     /// Multipliers of the last step: one per link (N), then `(uu, vv, uv)` per triangle.
     pub fn multipliers(&self) -> &[f64] {
         &self.lambda
+    }
+
+    /// Sets the obstacles and self-collision handling (the projection integrators, soft and
+    /// plain PBD, solve contacts in their iteration loop).
+    ///
+    /// Errors: invalid settings, or an integrator without contact handling.
+    pub fn set_collisions(&mut self, collisions: Collisions) -> Result<()> {
+        collisions.validate()?;
+        let projection = matches!(
+            self.cfg.method,
+            Method::SoftProjection | Method::PlainPbd { .. }
+        );
+        if collisions.is_active() && !projection {
+            return Err(Error::invalid(
+                "collisions",
+                "contacts are solved by the projection integrators (soft, pbd) only",
+            ));
+        }
+        self.collisions = CollisionState::new(collisions, &self.model);
+        Ok(())
+    }
+
+    /// The collision settings.
+    pub fn collisions(&self) -> &Collisions {
+        &self.collisions.settings
     }
 
     /// Number of colour classes of the links and of the triangles used by
@@ -298,9 +331,14 @@ impl Sim {
             lambda,
             stats,
         } = match self.cfg.method {
-            Method::SoftProjection => {
-                Self::soft_projection(&self.model, &self.cfg, &self.lambda, &mut self.prep, h)
-            }
+            Method::SoftProjection => Self::soft_projection(
+                &self.model,
+                &self.cfg,
+                &self.lambda,
+                &mut self.prep,
+                &self.collisions,
+                h,
+            ),
             Method::PlainPbd { stiffness } => self.plain_pbd(h, stiffness),
             Method::SymplecticEuler { substeps } => {
                 baselines::symplectic_euler(&self.model, h, substeps)?
@@ -353,6 +391,7 @@ impl Sim {
         cfg: &SolverConfig,
         stored_lambda: &[f64],
         prep: &mut Prepared,
+        collisions: &CollisionState,
         h: f64,
     ) -> Stepped {
         let SolverConfig {
@@ -405,6 +444,8 @@ impl Sim {
                 })
                 .unzip();
         let x0 = x.clone();
+        let contacts = collisions.detect(m, &x);
+        let mut max_penetration = 0.0;
         let mut lambda = vec![0.0; m.constraint_rows()];
         let omega = match cfg.relaxation {
             Relaxation::Jacobi { omega } | Relaxation::Sor { omega } => omega,
@@ -432,6 +473,7 @@ impl Sim {
                     projection::sweep(prep, cfg.relaxation, &mut x, &mut scratch, lam_el, &k, vf);
                 let r = projection::project_rollers(m, &mut x, lam_roll, &k, vf);
                 max_residual = max_residual.max(r);
+                max_penetration = collisions.project(&contacts, m, &mut x);
             }
         };
         if cfg.relaxation == Relaxation::ColoredGaussSeidel {
@@ -449,7 +491,11 @@ impl Sim {
             x,
             v,
             lambda,
-            stats: StepStats { max_residual },
+            stats: StepStats {
+                max_residual,
+                contacts: contacts.as_ref().map_or(0, StepContacts::len),
+                max_penetration,
+            },
         }
     }
 
@@ -467,7 +513,9 @@ impl Sim {
                 m.x[p] + (m.v[p] + g * h) * h
             })
             .collect();
+        let contacts = self.collisions.detect(m, &x);
         let mut max_residual = 0.0f64;
+        let mut max_penetration = 0.0;
         for it in 0..n_it {
             for l in &m.links {
                 let (wi, wj) = (m.inv_mass[l.i], m.inv_mass[l.j]);
@@ -485,6 +533,7 @@ impl Sim {
                 x[l.i] -= dp * wi;
                 x[l.j] += dp * wj;
             }
+            max_penetration = self.collisions.project(&contacts, m, &mut x);
         }
         let v = x.iter().zip(&m.x).map(|(a, b)| (a - b) / h).collect();
         let lambda = vec![0.0; m.constraint_rows()];
@@ -492,7 +541,11 @@ impl Sim {
             x,
             v,
             lambda,
-            stats: StepStats { max_residual },
+            stats: StepStats {
+                max_residual,
+                contacts: contacts.as_ref().map_or(0, StepContacts::len),
+                max_penetration,
+            },
         }
     }
 }

@@ -70,7 +70,8 @@ def from_mesh(vertices, faces, mass: float = 0.1, model: str = "fem", young: flo
     """A cloth from a triangle mesh (``vertices`` ``(n, 3)``, ``faces`` ``(m, 3)``), with
     ``mass`` lumped to the vertices by area. ``model="fem"`` makes every face a StVK
     membrane triangle with the mesh's shape at rest; ``model="links"`` makes every edge a link
-    (``k_edge``) plus, with ``k_bend``, a bending link across every interior edge."""
+    (``k_edge``). With ``k_bend`` (N/m), in both models, a bending link joins the opposite
+    vertices of the two faces of every interior edge."""
     v = np.ascontiguousarray(np.asarray(vertices, dtype=np.float64))
     f = np.ascontiguousarray(np.asarray(faces, dtype=np.int64))
     m = _c.from_mesh(v, f, float(mass), model, float(young), float(poisson), float(k_edge),
@@ -100,6 +101,14 @@ class Sim:
         the iteration count); ``"paper"`` resets them as the paper's printed equations do.
     velocity_damping : float in [0, 1], default 0
         The velocity-projection damping baseline.
+    relaxation : {"gauss_seidel", "colored", "jacobi", "sor"}, default "gauss_seidel"
+        How each sweep of the soft projection visits the constraints: sequential
+        Gauss-Seidel in creation order, graph-coloured Gauss-Seidel (colour classes in
+        parallel on all threads), Jacobi (stable for ``omega`` below about the inverse of the
+        number of constraints at a particle; default 0.15) or SOR (``omega`` in (0, 2),
+        default 1.5).
+    omega : float, optional
+        Relaxation factor of Jacobi and SOR.
     **options
         Method options: ``stiffness`` (pbd), ``substeps`` (symplectic), ``tol``,
         ``max_iter`` (ie_cg), ``tol`` (ie_newton, global_cr), ``primal_residual``
@@ -108,9 +117,13 @@ class Sim:
 
     def __init__(self, model: "Model", method: str = "soft", iterations: int = 25,
                  alpha: float = 1.0, beta: float = 1.0, gamma: float = 0.0,
-                 lambda_mode: str = "accumulate", velocity_damping: float = 0.0, **options):
+                 lambda_mode: str = "accumulate", velocity_damping: float = 0.0,
+                 relaxation: str = "gauss_seidel", omega: Optional[float] = None, **options):
+        options = dict(options, relaxation=str(relaxation))
+        if omega is not None:
+            options["omega"] = float(omega)
         self._sim = _c.Sim(model, method, int(iterations), float(alpha), float(beta),
-                           float(gamma), lambda_mode, float(velocity_damping), dict(options))
+                           float(gamma), lambda_mode, float(velocity_damping), options)
 
     def step(self, h: float = 1.0 / 60.0, n: int = 1) -> np.ndarray:
         """Advances ``n`` steps of ``h`` seconds; returns the energy after each step as an
