@@ -343,4 +343,44 @@ fn cloth_simulate_writes_frames_and_energy() {
         .unwrap();
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("pin"));
+
+    // A floor above the sheet's bottom row pushes it up to floor + thickness.
+    let o = std::ffi::OsStr::new;
+    let floor_dir = dir.path().join("floor");
+    wscg_ok(&[
+        o("cloth"),
+        o("simulate"),
+        o("--frames"),
+        o("5"),
+        o("--floor"),
+        o("0.05"),
+        o("--thickness"),
+        o("0.01"),
+        o("--sphere"),
+        o("0.5,-3,0,0.2"),
+        o("--mesh"),
+        path.as_os_str(),
+        o("--out"),
+        floor_dir.as_os_str(),
+    ]);
+    let last = TriMesh::read(floor_dir.join("frame_0004.obj")).unwrap();
+    let low = last.positions.iter().map(|p| p[1]).fold(f64::MAX, f64::min);
+    assert!(low >= 0.06 - 1e-9, "{low}");
+    for extra in [
+        ["--sphere", "0,0,0,-1"],
+        ["--collider", "/nonexistent/body.obj"],
+        ["--thickness", "0"],
+    ] {
+        let bad = wscg()
+            .args(["cloth", "simulate", "--frames", "2", "--mesh"])
+            .arg(&path)
+            .arg("--out")
+            .arg(&floor_dir)
+            .args(extra)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&bad.stderr);
+        assert!(!bad.status.success(), "{extra:?}");
+        assert!(!err.contains("panicked"), "{extra:?}: {err}");
+    }
 }

@@ -5,7 +5,10 @@ use nalgebra::Vector3;
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use wscg_cloth::{ClothModel, LambdaMode, Method, NcgVariant, Relaxation, Sim, SolverConfig};
+use wscg_cloth::{
+    ClothModel, Collider, Collisions, LambdaMode, MeshCollider, Method, NcgVariant, Relaxation,
+    Sim, SolverConfig,
+};
 
 use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy};
@@ -175,6 +178,101 @@ fn grid(
     Ok(PyModel { inner })
 }
 
+/// Triangles `(m, 3)` of non-negative indices.
+fn faces_in(faces: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<[usize; 3]>> {
+    match faces.shape() {
+        [_, 3] => values(faces)
+            .chunks_exact(3)
+            .map(|c| {
+                let idx = |x: i64| {
+                    usize::try_from(x).map_err(|_| value_error(format!("negative face index {x}")))
+                };
+                Ok([idx(c[0])?, idx(c[1])?, idx(c[2])?])
+            })
+            .collect(),
+        s => Err(value_error(format!(
+            "`faces` must have shape (m, 3), got {s:?}"
+        ))),
+    }
+}
+
+fn point(name: &str, p: [f64; 3]) -> PyResult<Vector3<f64>> {
+    let v = Vector3::from(p);
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(v)
+    } else {
+        Err(value_error(format!("`{name}` must be finite, got {p:?}")))
+    }
+}
+
+/// A static obstacle (see `wscg.cloth.plane`, `sphere`, `capsule`, `mesh_collider`).
+#[pyclass(module = "wscg._native.cloth", name = "Collider")]
+#[derive(Clone)]
+pub struct PyCollider {
+    inner: Collider,
+}
+
+#[pymethods]
+impl PyCollider {
+    /// Signed distance to the surface of each point `(n, 3)` (negative inside).
+    fn signed_distance<'py>(
+        &self,
+        py: Python<'py>,
+        p: PyReadonlyArrayDyn<f64>,
+    ) -> PyResult<Arr<'py, f64>> {
+        let p = points("points", &p)?;
+        let d = p.iter().map(|q| self.inner.signed_distance(q).0).collect();
+        array(py, &[p.len()], d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("{:?}", self.inner)
+    }
+}
+
+/// The half-space above the plane through `point` with outward `normal`.
+#[pyfunction]
+fn plane(normal: [f64; 3], point_on: [f64; 3]) -> PyResult<PyCollider> {
+    let inner = Collider::plane(point("normal", normal)?, point("point", point_on)?).py_err()?;
+    Ok(PyCollider { inner })
+}
+
+/// A solid ball.
+#[pyfunction]
+fn sphere(center: [f64; 3], radius: f64) -> PyResult<PyCollider> {
+    let inner = Collider::Sphere {
+        center: point("center", center)?,
+        radius,
+    };
+    inner.validate().py_err()?;
+    Ok(PyCollider { inner })
+}
+
+/// A solid capsule around the segment `a`-`b`.
+#[pyfunction]
+fn capsule(a: [f64; 3], b: [f64; 3], radius: f64) -> PyResult<PyCollider> {
+    let inner = Collider::Capsule {
+        a: point("a", a)?,
+        b: point("b", b)?,
+        radius,
+    };
+    inner.validate().py_err()?;
+    Ok(PyCollider { inner })
+}
+
+/// A closed triangle mesh obstacle with outward normals.
+#[pyfunction]
+fn mesh_collider(
+    vertices: PyReadonlyArrayDyn<f64>,
+    faces: PyReadonlyArrayDyn<i64>,
+) -> PyResult<PyCollider> {
+    let v = points("vertices", &vertices)?;
+    let f = faces_in(&faces)?;
+    Ok(PyCollider {
+        inner: Collider::Mesh(MeshCollider::new(&v, &f).py_err()?),
+    })
+}
+
 /// A cloth from a triangle mesh (see `wscg.cloth.from_mesh`).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
@@ -189,22 +287,7 @@ fn from_mesh(
     k_bend: Option<f64>,
 ) -> PyResult<PyModel> {
     let v = points("vertices", &vertices)?;
-    let f: Vec<[usize; 3]> = match faces.shape() {
-        [_, 3] => values(&faces)
-            .chunks_exact(3)
-            .map(|c| {
-                let idx = |x: i64| {
-                    usize::try_from(x).map_err(|_| value_error(format!("negative face index {x}")))
-                };
-                Ok([idx(c[0])?, idx(c[1])?, idx(c[2])?])
-            })
-            .collect::<PyResult<_>>()?,
-        s => {
-            return Err(value_error(format!(
-                "`faces` must have shape (m, 3), got {s:?}"
-            )))
-        }
-    };
+    let f = faces_in(&faces)?;
     let material = match model {
         "fem" => Some((young, poisson)),
         "links" => None,
@@ -349,6 +432,24 @@ impl PySim {
         array(py, &[n, 4], rows)
     }
 
+    /// Sets the obstacles, thickness, friction and self contacts.
+    fn set_collisions(
+        &mut self,
+        colliders: Vec<PyRef<'_, PyCollider>>,
+        thickness: f64,
+        friction: f64,
+        self_collision: bool,
+    ) -> PyResult<()> {
+        self.inner
+            .set_collisions(Collisions {
+                colliders: colliders.iter().map(|c| c.inner.clone()).collect(),
+                thickness,
+                friction,
+                self_collision,
+            })
+            .py_err()
+    }
+
     /// Positions `(n, 3)`.
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
@@ -394,5 +495,10 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(particles, m)?)?;
     m.add_function(wrap_pyfunction!(grid, m)?)?;
     m.add_function(wrap_pyfunction!(from_mesh, m)?)?;
+    m.add_class::<PyCollider>()?;
+    m.add_function(wrap_pyfunction!(plane, m)?)?;
+    m.add_function(wrap_pyfunction!(sphere, m)?)?;
+    m.add_function(wrap_pyfunction!(capsule, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_collider, m)?)?;
     Ok(())
 }

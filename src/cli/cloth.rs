@@ -1,7 +1,8 @@
 //! `wscg cloth simulate`: paper 02 on the user's own garment mesh.
 //!
 //! Reads an OBJ or PLY triangle mesh, pins the listed vertices (or the highest ones), runs
-//! the chosen integrator and writes one OBJ per output frame (`frame_0000.obj`, ...) plus an
+//! the chosen integrator (with optional obstacles: a floor, spheres, capsules, closed meshes,
+//! and self contacts) and writes one OBJ per output frame (`frame_0000.obj`, ...) plus an
 //! `energy.csv` with the kinetic, gravitational, elastic and total energy of every frame.
 
 use std::io::Write;
@@ -9,7 +10,10 @@ use std::path::PathBuf;
 
 use clap::{Args, Subcommand, ValueEnum};
 use nalgebra::Vector3;
-use wscg_cloth::{ClothModel, LambdaMode, Method, NcgVariant, Relaxation, Sim, SolverConfig};
+use wscg_cloth::{
+    ClothModel, Collider, Collisions, LambdaMode, MeshCollider, Method, NcgVariant, Relaxation,
+    Sim, SolverConfig,
+};
 use wscg_math::progress::Progress;
 use wscg_math::{Error, Result, TriMesh};
 
@@ -112,18 +116,90 @@ pub struct SimulateArgs {
     /// Relaxation factor of Jacobi (default 0.15) or SOR (default 1.5).
     #[arg(long)]
     omega: Option<f64>,
+    /// A floor: the plane y = FLOOR.
+    #[arg(long, allow_hyphen_values = true)]
+    floor: Option<f64>,
+    /// A sphere obstacle `cx,cy,cz,r` (repeatable).
+    #[arg(long, allow_hyphen_values = true)]
+    sphere: Vec<String>,
+    /// A capsule obstacle `ax,ay,az,bx,by,bz,r` (repeatable).
+    #[arg(long, allow_hyphen_values = true)]
+    capsule: Vec<String>,
+    /// A closed triangle mesh obstacle (.obj or .ply, outward normals; repeatable).
+    #[arg(long)]
+    collider: Vec<PathBuf>,
+    /// Cloth thickness kept from obstacles and between layers (m).
+    #[arg(long, default_value_t = 0.005)]
+    thickness: f64,
+    /// Coulomb friction coefficient against obstacles.
+    #[arg(long, default_value_t = 0.3)]
+    friction: f64,
+    /// Keep particles that share no constraint `thickness` apart.
+    #[arg(long)]
+    self_collision: bool,
+}
+
+/// The obstacles named on the command line.
+fn colliders(a: &SimulateArgs) -> Result<Vec<Collider>> {
+    let mut out = Vec::new();
+    if let Some(y) = a.floor {
+        out.push(Collider::plane(Vector3::y(), Vector3::new(0.0, y, 0.0))?);
+    }
+    for s in &a.sphere {
+        let s = numbers("sphere", s, 4)?;
+        out.push(Collider::Sphere {
+            center: Vector3::new(s[0], s[1], s[2]),
+            radius: s[3],
+        });
+    }
+    for c in &a.capsule {
+        let c = numbers("capsule", c, 7)?;
+        out.push(Collider::Capsule {
+            a: Vector3::new(c[0], c[1], c[2]),
+            b: Vector3::new(c[3], c[4], c[5]),
+            radius: c[6],
+        });
+    }
+    for path in &a.collider {
+        let (v, f) = read_mesh(path)?;
+        out.push(Collider::Mesh(MeshCollider::new(&v, &f)?));
+    }
+    Ok(out)
+}
+
+/// `n` comma-separated numbers of option `name`.
+fn numbers(name: &'static str, text: &str, n: usize) -> Result<Vec<f64>> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|e| Error::invalid(name, format!("{text:?}: {e}")))?;
+    if v.len() != n {
+        return Err(Error::invalid(
+            name,
+            format!("{text:?}: expected {n} comma-separated numbers"),
+        ));
+    }
+    Ok(v)
+}
+
+/// Vertices and triangles of an OBJ/PLY file.
+fn read_mesh(path: &std::path::Path) -> Result<(Vec<Vector3<f64>>, Vec<[usize; 3]>)> {
+    let mesh = TriMesh::read(path)?;
+    let v = mesh
+        .positions
+        .iter()
+        .map(|p| Vector3::new(p[0], p[1], p[2]))
+        .collect();
+    let f = mesh.faces.iter().map(|f| f.map(|i| i as usize)).collect();
+    Ok((v, f))
 }
 
 /// Runs a `wscg cloth` command.
 pub fn run(cmd: ClothCommand) -> Result<()> {
     let ClothCommand::Simulate(a) = cmd;
     let mesh = TriMesh::read(&a.mesh)?;
-    let v: Vec<Vector3<f64>> = mesh
-        .positions
-        .iter()
-        .map(|p| Vector3::new(p[0], p[1], p[2]))
-        .collect();
-    let faces: Vec<[usize; 3]> = mesh.faces.iter().map(|f| f.map(|i| i as usize)).collect();
+    let (v, faces) = read_mesh(&a.mesh)?;
     let material = match a.material {
         Material::Fem => Some((a.young, a.poisson)),
         Material::Links => None,
@@ -182,6 +258,12 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
             },
         },
     )?;
+    sim.set_collisions(Collisions {
+        colliders: colliders(&a)?,
+        thickness: a.thickness,
+        friction: a.friction,
+        self_collision: a.self_collision,
+    })?;
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
     let csv_path = a.out.join("energy.csv");
     let mut csv = std::fs::File::create(&csv_path).map_err(|e| Error::io(&csv_path, e))?;

@@ -15,7 +15,10 @@ Implicit Euler on stiff springs equals the projection of *regularized* constrain
   ``"symplectic"`` (explicit, option ``substeps``), ``"ie_cg"`` (one linearised implicit
   Euler step by CG) and ``"ie_newton"`` (exact implicit Euler by Newton's method);
 - membrane triangles with StVK elasticity (Young's modulus in N/m, Poisson ratio) as soft
-  constraints (``model="fem"``), or link networks (``model="links"``).
+  constraints (``model="fem"``), or link networks (``model="links"``);
+- collisions (``Sim.set_collisions``) with :func:`plane`, :func:`sphere`, :func:`capsule`
+  and closed triangle meshes (:func:`mesh_collider`), Coulomb friction and self contacts,
+  solved in the projection loop of ``"soft"`` and ``"pbd"``.
 
 Units: metres, kilograms, seconds; stiffness in N/m. Positions and velocities are
 ``(n, 3)`` float64 arrays. Bad arguments raise ``ValueError``; a diverging step raises
@@ -30,9 +33,35 @@ import numpy as np
 
 from ._native import cloth as _c
 
-__all__ = ["Model", "Sim", "particles", "grid", "from_mesh"]
+__all__ = ["Model", "Sim", "Collider", "particles", "grid", "from_mesh", "plane", "sphere",
+           "capsule", "mesh_collider"]
 
 Model = _c.Model
+Collider = _c.Collider
+
+
+def plane(normal, point=(0.0, 0.0, 0.0)) -> "Collider":
+    """The solid half-space below the plane through ``point`` with outward ``normal`` (a
+    floor: ``plane((0, 1, 0), (0, y, 0))``)."""
+    return _c.plane([float(c) for c in normal], [float(c) for c in point])
+
+
+def sphere(center, radius: float) -> "Collider":
+    """A solid ball."""
+    return _c.sphere([float(c) for c in center], float(radius))
+
+
+def capsule(a, b, radius: float) -> "Collider":
+    """A solid capsule: the points within ``radius`` of the segment ``a``-``b``."""
+    return _c.capsule([float(c) for c in a], [float(c) for c in b], float(radius))
+
+
+def mesh_collider(vertices, faces) -> "Collider":
+    """A closed triangle mesh obstacle (``vertices`` ``(n, 3)``, ``faces`` ``(m, 3)``, outward
+    counter-clockwise winding), queried through a bounding volume hierarchy."""
+    v = np.ascontiguousarray(np.asarray(vertices, dtype=np.float64))
+    f = np.ascontiguousarray(np.asarray(faces, dtype=np.int64))
+    return _c.mesh_collider(v, f)
 
 
 def particles(positions, masses, pinned: Optional[Sequence[int]] = None) -> "Model":
@@ -124,6 +153,16 @@ class Sim:
             options["omega"] = float(omega)
         self._sim = _c.Sim(model, method, int(iterations), float(alpha), float(beta),
                            float(gamma), lambda_mode, float(velocity_damping), options)
+
+    def set_collisions(self, colliders: Sequence["Collider"] = (), thickness: float = 0.005,
+                       friction: float = 0.3, self_collision: bool = False) -> None:
+        """Sets the obstacles (from :func:`plane`, :func:`sphere`, :func:`capsule`,
+        :func:`mesh_collider`), the cloth ``thickness`` (m) kept from them and between
+        layers, the Coulomb ``friction`` coefficient and whether particles that share no
+        constraint repel each other (``self_collision``). Contacts are inequality
+        constraints solved in the iteration loop (methods ``"soft"`` and ``"pbd"``)."""
+        self._sim.set_collisions(list(colliders), float(thickness), float(friction),
+                                 bool(self_collision))
 
     def step(self, h: float = 1.0 / 60.0, n: int = 1) -> np.ndarray:
         """Advances ``n`` steps of ``h`` seconds; returns the energy after each step as an
