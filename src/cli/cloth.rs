@@ -183,8 +183,11 @@ fn numbers(name: &'static str, text: &str, n: usize) -> Result<Vec<f64>> {
     Ok(v)
 }
 
+/// Vertices and triangles of a mesh.
+type MeshData = (Vec<Vector3<f64>>, Vec<[usize; 3]>);
+
 /// Vertices and triangles of an OBJ/PLY file.
-fn read_mesh(path: &std::path::Path) -> Result<(Vec<Vector3<f64>>, Vec<[usize; 3]>)> {
+fn read_mesh(path: &std::path::Path) -> Result<MeshData> {
     let mesh = TriMesh::read(path)?;
     let v = mesh
         .positions
