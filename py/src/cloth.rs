@@ -335,6 +335,7 @@ fn method_from(name: &str, spec: &Bound<'_, PyDict>) -> PyResult<Method> {
             tol: opt(spec, "tol", 1e-8)?,
             max_iter: opt(spec, "max_iter", 1000usize)?,
         },
+        "ie_direct" => Method::ImplicitEulerDirect,
         "ie_newton" => Method::ImplicitEulerNewton {
             tol: opt(spec, "tol", 1e-10)?,
         },
@@ -351,7 +352,7 @@ fn method_from(name: &str, spec: &Bound<'_, PyDict>) -> PyResult<Method> {
         other => {
             return Err(value_error(format!(
                 "unknown method {other:?}; use 'soft', 'pbd', 'symplectic', 'ie_cg', \
-                 'ie_newton', 'global_cr', 'ncg' or 'ncg_paper'"
+                 'ie_direct', 'ie_newton', 'global_cr', 'ncg' or 'ncg_paper'"
             )))
         }
     })

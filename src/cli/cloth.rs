@@ -35,6 +35,8 @@ pub enum MethodName {
     Pbd,
     /// One linearised implicit Euler step by conjugate gradients (baseline).
     IeCg,
+    /// One linearised implicit Euler step by sparse Cholesky (baseline).
+    IeDirect,
     /// Exact implicit Euler by Newton's method (reference).
     IeNewton,
 }
@@ -233,6 +235,7 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
             tol: 1e-8,
             max_iter: 1000,
         },
+        MethodName::IeDirect => Method::ImplicitEulerDirect,
         MethodName::IeNewton => Method::ImplicitEulerNewton { tol: 1e-10 },
     };
     let mut sim = Sim::new(

@@ -2,12 +2,13 @@
 //! - symplectic Euler with explicit spring forces and small substeps, the energy reference;
 //! - implicit Euler with one linearised Newton step (Baraff and Witkin 1998), the system
 //!   `(M + h^2 J' C^-1 J) dv = h f(x~)` (the Gauss-Newton stiffness, as the paper) solved by
-//!   conjugate gradients, rollers enforced by Baraff and Witkin's velocity filters;
+//!   conjugate gradients or by a sparse Cholesky factorisation (the paper's "exact" solve),
+//!   rollers enforced by Baraff and Witkin's velocity filters;
 //! - the "velocity projection" damping of Fig. 5: after a step, each link's relative velocity
 //!   along its direction is reduced by a factor `k_d`.
 
 use nalgebra::{Matrix3, Vector3};
-use wscg_math::sparse::{pcg, IdentityPrecond, InitialGuess, LinOp, PcgOptions};
+use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, LinOp, PcgOptions};
 use wscg_math::{Error, Result};
 
 use crate::model::ClothModel;
@@ -157,6 +158,63 @@ impl<'a> ImplicitOperator<'a> {
     }
 }
 
+impl ImplicitOperator<'_> {
+    /// The operator assembled as a sparse `3n x 3n` matrix (the same entries `apply` uses).
+    pub(crate) fn assemble(&self) -> Result<CsrMatrix> {
+        let m = self.m;
+        let mut t: Vec<(usize, usize, f64)> = Vec::new();
+        // Adds `S_a B S_b` at block (a, b).
+        let mut block = |a: usize, b: usize, blk: Matrix3<f64>| {
+            let v = self.filters[a] * blk * self.filters[b];
+            for r in 0..3 {
+                for c in 0..3 {
+                    if v[(r, c)] != 0.0 {
+                        t.push((3 * a + r, 3 * b + c, v[(r, c)]));
+                    }
+                }
+            }
+        };
+        for q in 0..m.len() {
+            let w = m.inv_mass[q];
+            let mass = if w > 0.0 { 1.0 / w } else { 0.0 };
+            block(q, q, Matrix3::identity() * mass);
+        }
+        for (l, k) in m.links.iter().zip(&self.link_k) {
+            let k = k * self.h2;
+            block(l.i, l.i, k);
+            block(l.j, l.j, k);
+            block(l.i, l.j, -k);
+            block(l.j, l.i, -k);
+        }
+        for (tri, g) in m.tris.iter().zip(&self.tri_grads) {
+            let e = tri.elasticity() * (tri.area * self.h2);
+            for a in 0..3 {
+                for b in 0..3 {
+                    let mut blk = Matrix3::zeros();
+                    for k in 0..3 {
+                        for l in 0..3 {
+                            blk += g[k][a] * g[l][b].transpose() * e[(k, l)];
+                        }
+                    }
+                    block(tri.idx[a], tri.idx[b], blk);
+                }
+            }
+        }
+        // (I - S) on the diagonal.
+        for (q, s) in self.filters.iter().enumerate() {
+            let v = Matrix3::identity() - s;
+            for r in 0..3 {
+                for c in 0..3 {
+                    if v[(r, c)] != 0.0 {
+                        t.push((3 * q + r, 3 * q + c, v[(r, c)]));
+                    }
+                }
+            }
+        }
+        CsrMatrix::from_triplets(3 * m.len(), 3 * m.len(), &t)
+    }
+}
+
 impl LinOp for ImplicitOperator<'_> {
     fn nrows(&self) -> usize {
         3 * self.m.len()
@@ -197,15 +255,23 @@ impl LinOp for ImplicitOperator<'_> {
     }
 }
 
-/// One linearised implicit Euler step solved by conjugate gradients to `tol` (relative
-/// residual) in at most `max_iter` iterations. Rollers are enforced by filtering the
-/// velocity change (Baraff and Witkin 1998), so particles on rollers must start on their
-/// planes.
-pub(crate) fn implicit_euler_cg(
+/// How the linearised implicit Euler system is solved.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum LinearSolve {
+    /// Conjugate gradients to a relative residual `tol` in at most `max_iter` iterations.
+    Cg { tol: f64, max_iter: usize },
+    /// Sparse Cholesky factorisation (the paper's "exact" solve).
+    Cholesky,
+}
+
+/// One linearised implicit Euler step (Baraff and Witkin 1998):
+/// `(M + h^2 J' C^-1 J) dv = h f(x~)` around the candidate `x~ = x + h (v + h g)`, then
+/// `x = x~ + h dv`, `v = v~ + dv`. Rollers are enforced by filtering the velocity change, so
+/// particles on rollers must start on their planes.
+pub(crate) fn implicit_euler_linearised(
     m: &ClothModel,
     h: f64,
-    tol: f64,
-    max_iter: usize,
+    solve: LinearSolve,
 ) -> Result<Stepped> {
     require_soft(m, "implicit Euler")?;
     let n = m.len();
@@ -228,17 +294,23 @@ pub(crate) fn implicit_euler_cg(
         })
         .collect();
     let op = ImplicitOperator::at(m, &xt, &filters, h * h, false);
-    let sol = pcg(
-        &op,
-        &b,
-        InitialGuess::Zero,
-        &IdentityPrecond,
-        &PcgOptions {
-            tol,
-            max_iter: Some(max_iter),
-        },
-    )?;
-    let dv = |q: usize| Vector3::new(sol.x[3 * q], sol.x[3 * q + 1], sol.x[3 * q + 2]);
+    let sol = match solve {
+        LinearSolve::Cg { tol, max_iter } => {
+            pcg(
+                &op,
+                &b,
+                InitialGuess::Zero,
+                &IdentityPrecond,
+                &PcgOptions {
+                    tol,
+                    max_iter: Some(max_iter),
+                },
+            )?
+            .x
+        }
+        LinearSolve::Cholesky => op.assemble()?.cholesky_solve(&b)?,
+    };
+    let dv = |q: usize| Vector3::new(sol[3 * q], sol[3 * q + 1], sol[3 * q + 2]);
     let x = (0..n).map(|q| xt[q] + dv(q) * h).collect();
     let v = (0..n).map(|q| vt[q] + dv(q)).collect();
     Ok(Stepped::new(x, v, vec![0.0; m.constraint_rows()]))

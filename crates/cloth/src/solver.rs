@@ -25,7 +25,7 @@
 use nalgebra::Vector3;
 use wscg_math::{Error, Result};
 
-use crate::baselines;
+use crate::baselines::{self, LinearSolve};
 use crate::collision::{CollisionState, Collisions, StepContacts};
 use crate::energy::Energy;
 use crate::model::ClothModel;
@@ -77,6 +77,9 @@ pub enum Method {
         /// Relative gradient tolerance (e.g. 1e-10).
         tol: f64,
     },
+    /// One linearised implicit Euler step solved by a sparse Cholesky factorisation (the
+    /// paper's "exact" baseline).
+    ImplicitEulerDirect,
     /// One linearised implicit Euler step solved by conjugate gradients (baseline).
     ImplicitEulerCg {
         /// Relative residual tolerance.
@@ -343,8 +346,13 @@ impl Sim {
             Method::SymplecticEuler { substeps } => {
                 baselines::symplectic_euler(&self.model, h, substeps)?
             }
-            Method::ImplicitEulerCg { tol, max_iter } => {
-                baselines::implicit_euler_cg(&self.model, h, tol, max_iter)?
+            Method::ImplicitEulerCg { tol, max_iter } => baselines::implicit_euler_linearised(
+                &self.model,
+                h,
+                LinearSolve::Cg { tol, max_iter },
+            )?,
+            Method::ImplicitEulerDirect => {
+                baselines::implicit_euler_linearised(&self.model, h, LinearSolve::Cholesky)?
             }
             Method::ImplicitEulerNewton { tol } => crate::newton::step(&self.model, h, tol)?,
             Method::Ncg { variant } => {

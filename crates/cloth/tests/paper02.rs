@@ -273,28 +273,72 @@ fn bad_input_is_rejected() {
     assert_eq!(sim.steps(), 0);
 }
 
-/// The linearised implicit Euler baseline is exact on the linear oscillator: it equals the
-/// alpha = beta = 1 closed form.
+/// The linearised implicit Euler baselines (CG and sparse Cholesky) are exact on the linear
+/// oscillator: they equal the alpha = beta = 1 closed form.
 #[test]
-fn implicit_euler_cg_matches_closed_form_on_linear_oscillator() {
-    let mut sim = oscillator(SolverConfig {
-        method: Method::ImplicitEulerCg {
+fn linearised_implicit_euler_matches_closed_form_on_linear_oscillator() {
+    for method in [
+        Method::ImplicitEulerCg {
             tol: 1e-14,
             max_iter: 50,
         },
-        ..Default::default()
-    });
-    let (mut x, mut v) = (0.05f64, 0.0f64);
-    let d = 1.0 + H * H * 100.0;
-    for _ in 0..300 {
-        (x, v) = ((x + H * v) / d, (v - H * 100.0 * x) / d);
-        sim.step(H).unwrap();
+        Method::ImplicitEulerDirect,
+    ] {
+        let mut sim = oscillator(SolverConfig {
+            method,
+            ..Default::default()
+        });
+        let (mut x, mut v) = (0.05f64, 0.0f64);
+        let d = 1.0 + H * H * 100.0;
+        for _ in 0..300 {
+            (x, v) = ((x + H * v) / d, (v - H * 100.0 * x) / d);
+            sim.step(H).unwrap();
+        }
+        let (sx, sv) = state(&sim);
+        assert!(
+            (sx - x).abs() <= 1e-10 && (sv - v).abs() <= 1e-9,
+            "{method:?}: ({sx}, {sv}) vs ({x}, {v})"
+        );
     }
-    let (sx, sv) = state(&sim);
+}
+
+/// The Cholesky and CG solves of the linearised step agree on a membrane with links,
+/// pinned particles and rollers.
+#[test]
+fn direct_and_cg_linearised_steps_agree() {
+    let mut model = ClothModel::fem_grid(9, 9, (1.0, 1.0), 0.1, 800.0, 0.3).unwrap();
+    model.add_link(0, 80, 300.0, None).unwrap();
+    model
+        .add_roller(40, Vector3::new(0.0, 0.0, 1.0), model.x[40].z)
+        .unwrap();
+    let run = |method| {
+        let mut sim = Sim::new(
+            model.clone(),
+            SolverConfig {
+                method,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        sim.run(H, 20).unwrap();
+        sim.model().x.clone()
+    };
+    let cg = run(Method::ImplicitEulerCg {
+        tol: 1e-14,
+        max_iter: 5000,
+    });
+    let direct = run(Method::ImplicitEulerDirect);
+    let d = cg
+        .iter()
+        .zip(&direct)
+        .map(|(p, q)| (p - q).amax())
+        .fold(0.0, f64::max);
+    assert!(d < 1e-10, "{d}");
     assert!(
-        (sx - x).abs() <= 1e-10 && (sv - v).abs() <= 1e-9,
-        "({sx}, {sv}) vs ({x}, {v})"
+        (direct[40].z - model.x[40].z).abs() < 1e-12,
+        "roller violated"
     );
+    assert!(direct[80].y < -0.1, "the cloth did not fall");
 }
 
 /// Check 8, reference part: symplectic Euler with h/64 substeps keeps the hanging cloth's
@@ -476,6 +520,9 @@ fn soft_projection_equivalence_with_implicit_euler() {
         1,
     );
     let d_linear = dist(&linear, &reference);
+    let direct = one_step(Method::ImplicitEulerDirect, 1);
+    let d_direct = dist(&direct, &reference);
+    assert!(dist(&direct, &linear) < 1e-10);
     let ncg = one_step(
         Method::Ncg {
             variant: wscg_cloth::NcgVariant::Consistent,
@@ -486,7 +533,8 @@ fn soft_projection_equivalence_with_implicit_euler() {
     println!(
         "step displacement {disp:.3e} m; distance to the IE minimiser: global CR (primal) \
          {d_global:.2e} m, XPBD GS converged {d_xpbd:.2e} m ({:.1} % of the step, Phi higher by \
-         {:.3e}), linearised IE {d_linear:.2e} m, NCG consistent {d_ncg:.2e} m",
+         {:.3e}), linearised IE {d_linear:.2e} m (CG), {d_direct:.2e} m (Cholesky), NCG \
+         consistent {d_ncg:.2e} m",
         100.0 * d_xpbd / disp,
         phi(&xpbd) - phi(&reference)
     );

@@ -13,7 +13,7 @@ Implicit Euler on stiff springs equals the projection of *regularized* constrain
   Euler with the momentum residual);
 - baselines ``"pbd"`` (plain position-based dynamics, option ``stiffness``),
   ``"symplectic"`` (explicit, option ``substeps``), ``"ie_cg"`` (one linearised implicit
-  Euler step by CG) and ``"ie_newton"`` (exact implicit Euler by Newton's method);
+  Euler step by CG), ``"ie_direct"`` (the same step by sparse Cholesky) and ``"ie_newton"`` (exact implicit Euler by Newton's method);
 - membrane triangles with StVK elasticity (Young's modulus in N/m, Poisson ratio) as soft
   constraints (``model="fem"``), or link networks (``model="links"``);
 - collisions (``Sim.set_collisions``) with :func:`plane`, :func:`sphere`, :func:`capsule`
