@@ -15,6 +15,8 @@ if ! "$venv/bin/python" -c 'import sys' >/dev/null 2>&1; then
   python3 -m venv "$venv"
 fi
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r benches/peers/requirements.txt
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps \
+  -r benches/peers/requirements-nodeps.txt
 VIRTUAL_ENV=$venv PATH="$venv/bin:$PATH" "$venv/bin/maturin" develop --release --quiet \
   --manifest-path py/Cargo.toml
 if [ $# -gt 0 ]; then

@@ -143,3 +143,98 @@ mod tests {
         assert!(line_plot(&[], (10, 10), (1.0, 1.0), (0.0, 1.0), (&[], &[])).is_err());
     }
 }
+
+/// A triangle mesh to draw: positions, triangles and an RGB colour.
+pub struct Shape<'a> {
+    /// Vertex positions.
+    pub positions: &'a [nalgebra::Vector3<f64>],
+    /// Triangles (vertex indices).
+    pub faces: &'a [[usize; 3]],
+    /// Surface colour.
+    pub color: [f32; 3],
+}
+
+/// Renders the shapes on a white `size x size` canvas: orthographic view along `view` (from
+/// the eye into the scene, `y` up), z-buffered, two-sided Lambert shading with a light
+/// from the eye's upper left. The view is fitted to the shapes' bounding box.
+pub fn shaded_meshes(shapes: &[Shape], view: nalgebra::Vector3<f64>, size: usize) -> Result<Image> {
+    use nalgebra::Vector3;
+    let f = view
+        .try_normalize(1e-12)
+        .ok_or_else(|| Error::invalid("view", "must be non-zero"))?;
+    let r = f
+        .cross(&Vector3::y())
+        .try_normalize(1e-9)
+        .unwrap_or_else(Vector3::x);
+    let u = r.cross(&f);
+    let light = (u + r * -0.5 - f).normalize();
+    let pts: Vec<Vec<Vector3<f64>>> = shapes
+        .iter()
+        .map(|s| {
+            s.positions
+                .iter()
+                .map(|p| Vector3::new(p.dot(&r), p.dot(&u), p.dot(&f)))
+                .collect()
+        })
+        .collect();
+    let all = || pts.iter().flatten();
+    let (x0, x1) = all().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.x), a.1.max(p.x)));
+    let (y0, y1) = all().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.y), a.1.max(p.y)));
+    if !(x1 >= x0 && y1 >= y0) {
+        return Err(Error::Empty("shapes"));
+    }
+    let span = (x1 - x0).max(y1 - y0).max(1e-12);
+    let scale = 0.9 * size as f64 / span;
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let to_px = |p: &Vector3<f64>| {
+        (
+            0.5 * size as f64 + (p.x - cx) * scale,
+            0.5 * size as f64 - (p.y - cy) * scale,
+        )
+    };
+    let mut img = Image::filled(size, size, 3, 1.0f32)?;
+    let mut depth = vec![f64::INFINITY; size * size];
+    for (shape, p) in shapes.iter().zip(&pts) {
+        for t in shape.faces {
+            let (a, b, c) = (p[t[0]], p[t[1]], p[t[2]]);
+            let n = (b - a).cross(&(c - a));
+            let Some(n) = n.try_normalize(1e-300) else {
+                continue;
+            };
+            let world_n = r * n.x + u * n.y + f * n.z;
+            let shade = (0.3 + 0.7 * world_n.dot(&light).abs()) as f32;
+            let q = [to_px(&a), to_px(&b), to_px(&c)];
+            let area =
+                (q[1].0 - q[0].0) * (q[2].1 - q[0].1) - (q[2].0 - q[0].0) * (q[1].1 - q[0].1);
+            if area.abs() < 1e-12 {
+                continue;
+            }
+            let xs = q.iter().map(|v| v.0);
+            let ys = q.iter().map(|v| v.1);
+            let lo_x = xs.clone().fold(f64::MAX, f64::min).floor().max(0.0) as usize;
+            let hi_x = (xs.fold(f64::MIN, f64::max).ceil() as usize).min(size - 1);
+            let lo_y = ys.clone().fold(f64::MAX, f64::min).floor().max(0.0) as usize;
+            let hi_y = (ys.fold(f64::MIN, f64::max).ceil() as usize).min(size - 1);
+            for py in lo_y..=hi_y {
+                for px in lo_x..=hi_x {
+                    let (sx, sy) = (px as f64 + 0.5, py as f64 + 0.5);
+                    let w0 = ((q[1].0 - sx) * (q[2].1 - sy) - (q[2].0 - sx) * (q[1].1 - sy)) / area;
+                    let w1 = ((q[2].0 - sx) * (q[0].1 - sy) - (q[0].0 - sx) * (q[2].1 - sy)) / area;
+                    let w2 = 1.0 - w0 - w1;
+                    if w0 < 0.0 || w1 < 0.0 || w2 < 0.0 {
+                        continue;
+                    }
+                    let z = w0 * a.z + w1 * b.z + w2 * c.z;
+                    let k = py * size + px;
+                    if z < depth[k] {
+                        depth[k] = z;
+                        for ch in 0..3 {
+                            img.set(py, px, ch, shape.color[ch] * shade);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(img)
+}
