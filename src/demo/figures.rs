@@ -115,35 +115,6 @@ pub fn line_plot(
     Ok(img)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn montage_places_tiles() {
-        let a = Image::filled(2, 3, 1, 0.0f32).unwrap();
-        let m = montage(&[a.clone(), a.clone(), a], 2, 2).unwrap();
-        assert_eq!(m.shape(), (2 * (4 + 2) + 2, 2 * (6 + 2) + 2, 1));
-        assert_eq!(m.at(2, 2, 0), 0.0);
-        assert_eq!(m.at(0, 0, 0), 1.0);
-        // The fourth cell is empty.
-        assert_eq!(m.at(8 + 1, 10 + 1, 0), 1.0);
-        assert!(montage(&[], 2, 1).is_err());
-    }
-
-    #[test]
-    fn plot_draws_lines_inside_frame() {
-        let s = Series {
-            points: vec![(0.0, 0.0), (1.0, 1.0)],
-            color: [1.0, 0.0, 0.0],
-        };
-        let img = line_plot(&[s], (50, 50), (0.0, 1.0), (0.0, 1.0), (&[], &[])).unwrap();
-        assert_eq!(img.at(25, 25, 0), 1.0);
-        assert_eq!(img.at(25, 25, 1), 0.0);
-        assert!(line_plot(&[], (10, 10), (1.0, 1.0), (0.0, 1.0), (&[], &[])).is_err());
-    }
-}
-
 /// A triangle mesh to draw: positions, triangles and an RGB colour.
 pub struct Shape<'a> {
     /// Vertex positions.
@@ -237,4 +208,73 @@ pub fn shaded_meshes(shapes: &[Shape], view: nalgebra::Vector3<f64>, size: usize
         }
     }
     Ok(img)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn montage_places_tiles() {
+        let a = Image::filled(2, 3, 1, 0.0f32).unwrap();
+        let m = montage(&[a.clone(), a.clone(), a], 2, 2).unwrap();
+        assert_eq!(m.shape(), (2 * (4 + 2) + 2, 2 * (6 + 2) + 2, 1));
+        assert_eq!(m.at(2, 2, 0), 0.0);
+        assert_eq!(m.at(0, 0, 0), 1.0);
+        // The fourth cell is empty.
+        assert_eq!(m.at(8 + 1, 10 + 1, 0), 1.0);
+        assert!(montage(&[], 2, 1).is_err());
+    }
+
+    #[test]
+    fn plot_draws_lines_inside_frame() {
+        let s = Series {
+            points: vec![(0.0, 0.0), (1.0, 1.0)],
+            color: [1.0, 0.0, 0.0],
+        };
+        let img = line_plot(&[s], (50, 50), (0.0, 1.0), (0.0, 1.0), (&[], &[])).unwrap();
+        assert_eq!(img.at(25, 25, 0), 1.0);
+        assert_eq!(img.at(25, 25, 1), 0.0);
+        assert!(line_plot(&[], (10, 10), (1.0, 1.0), (0.0, 1.0), (&[], &[])).is_err());
+    }
+
+    #[test]
+    fn shaded_meshes_draws_the_nearer_surface() {
+        use nalgebra::Vector3;
+        // Two unit squares facing the viewer (looking along -z), the red one nearer.
+        let square = |z: f64| {
+            vec![
+                Vector3::new(0.0, 0.0, z),
+                Vector3::new(1.0, 0.0, z),
+                Vector3::new(1.0, 1.0, z),
+                Vector3::new(0.0, 1.0, z),
+            ]
+        };
+        let faces = [[0, 1, 2], [0, 2, 3]];
+        let (near, far) = (square(1.0), square(0.0));
+        let img = shaded_meshes(
+            &[
+                Shape {
+                    positions: &far,
+                    faces: &faces,
+                    color: [0.0, 0.0, 1.0],
+                },
+                Shape {
+                    positions: &near,
+                    faces: &faces,
+                    color: [1.0, 0.0, 0.0],
+                },
+            ],
+            Vector3::new(0.0, 0.0, -1.0),
+            40,
+        )
+        .unwrap();
+        assert!(img.at(20, 20, 0) > 0.2 && img.at(20, 20, 2) == 0.0);
+        // The squares fill 90 % of the canvas; the corners stay white.
+        assert_eq!(img.at(0, 0, 1), 1.0);
+        let covered = (0..40 * 40)
+            .filter(|k| img.at(k / 40, k % 40, 1) < 1.0)
+            .count();
+        assert!((covered as f64 - 36.0 * 36.0).abs() < 80.0, "{covered}");
+    }
 }
