@@ -5,7 +5,6 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use nalgebra::Vector3;
 use wscg::cloth::{grid_triangles, ClothModel, Method, NcgVariant, Relaxation, Sim, SolverConfig};
 
 fn sim(model: &ClothModel, method: Method, relaxation: Relaxation) -> Sim {
@@ -24,25 +23,10 @@ fn sim(model: &ClothModel, method: Method, relaxation: Relaxation) -> Sim {
 }
 
 /// A dress-size membrane: an `n x n` grid (1 m) of StVK triangles with bending links, the two
-/// top corners pinned.
+/// corners of the first row pinned.
 fn fem_with_bending(n: usize) -> ClothModel {
-    let v: Vec<Vector3<f64>> = (0..n * n)
-        .map(|p| {
-            let (i, j) = (p % n, p / n);
-            Vector3::new(i as f64, 0.0, j as f64) / (n - 1) as f64
-        })
-        .collect();
-    let mut m = ClothModel::from_trimesh(
-        &v,
-        &grid_triangles(n, n),
-        0.1,
-        Some((1000.0, 0.3)),
-        0.0,
-        Some(50.0),
-    )
-    .unwrap();
-    m.inv_mass[0] = 0.0;
-    m.inv_mass[n - 1] = 0.0;
+    let mut m = ClothModel::fem_grid(n, n, (1.0, 1.0), 0.1, 1000.0, 0.3).unwrap();
+    m.add_bending_links(&grid_triangles(n, n), 50.0).unwrap();
     m
 }
 

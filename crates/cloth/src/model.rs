@@ -332,24 +332,30 @@ impl ClothModel {
                 m.add_fem_triangle(*f, None, e, nu)?;
             }
         }
-        let mut edges: std::collections::BTreeMap<(usize, usize), Vec<usize>> = Default::default();
-        for f in faces {
-            for k in 0..3 {
-                let (a, b, c) = (f[k], f[(k + 1) % 3], f[(k + 2) % 3]);
-                edges.entry((a.min(b), a.max(b))).or_default().push(c);
-            }
-        }
-        for (&(a, b), opposite) in &edges {
-            if young.is_none() {
+        if young.is_none() {
+            for (a, b) in mesh_edges(faces).into_keys() {
                 m.add_link(a, b, k_edge, None)?;
             }
-            if let (Some(kb), [c, d]) = (k_bend, opposite.as_slice()) {
+        }
+        if let Some(kb) = k_bend {
+            m.add_bending_links(faces, kb)?;
+        }
+        Ok(m)
+    }
+
+    /// Adds a bending link of stiffness `k` (N/m, rest length = current distance) between
+    /// the opposite vertices of the two triangles of every interior edge of `faces`.
+    ///
+    /// Errors: indices out of range, `k <= 0`, coincident opposite vertices.
+    pub fn add_bending_links(&mut self, faces: &[[usize; 3]], k: f64) -> Result<()> {
+        for opposite in mesh_edges(faces).into_values() {
+            if let [c, d] = opposite.as_slice() {
                 if c != d {
-                    m.add_link(*c, *d, kb, None)?;
+                    self.add_link(*c, *d, k, None)?;
                 }
             }
         }
-        Ok(m)
+        Ok(())
     }
 
     /// A horizontal `nx x ny` grid of StVK membrane triangles (two per quad, rest
@@ -442,6 +448,19 @@ impl ClothModel {
         }
         Ok(m)
     }
+}
+
+/// The edges of a triangle mesh (sorted vertex pairs, in order) with the vertex opposite
+/// the edge in each adjacent triangle.
+fn mesh_edges(faces: &[[usize; 3]]) -> std::collections::BTreeMap<(usize, usize), Vec<usize>> {
+    let mut edges: std::collections::BTreeMap<(usize, usize), Vec<usize>> = Default::default();
+    for f in faces {
+        for k in 0..3 {
+            let (a, b, c) = (f[k], f[(k + 1) % 3], f[(k + 2) % 3]);
+            edges.entry((a.min(b), a.max(b))).or_default().push(c);
+        }
+    }
+    edges
 }
 
 /// The triangles of an `nx x ny` particle grid (row-major indices `j * nx + i`), two per

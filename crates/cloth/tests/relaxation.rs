@@ -3,7 +3,7 @@
 //! race-free, so its result does not depend on the number of threads.
 
 use nalgebra::Vector3;
-use wscg_cloth::{grid_triangles, ClothModel, Relaxation, Sim, SolverConfig};
+use wscg_cloth::{grid_triangles, ClothModel, Relaxation, Sim, SolverConfig, StepStats};
 
 const H: f64 = 1.0 / 60.0;
 
@@ -11,20 +11,8 @@ const H: f64 = 1.0 / 60.0;
 /// plane with a random perturbation: under tension the step's minimiser is unique (StVK and
 /// bending links under compression have several, which different sweep orders may pick).
 fn membrane(n: usize) -> ClothModel {
-    let v: Vec<Vector3<f64>> = (0..n * n)
-        .map(|p| Vector3::new((p % n) as f64, 0.0, (p / n) as f64) / (n - 1) as f64)
-        .collect();
-    let mut m = ClothModel::from_trimesh(
-        &v,
-        &grid_triangles(n, n),
-        0.1,
-        Some((500.0, 0.3)),
-        0.0,
-        Some(20.0),
-    )
-    .unwrap();
-    m.inv_mass[0] = 0.0;
-    m.inv_mass[n - 1] = 0.0;
+    let mut m = ClothModel::fem_grid(n, n, (1.0, 1.0), 0.1, 500.0, 0.3).unwrap();
+    m.add_bending_links(&grid_triangles(n, n), 20.0).unwrap();
     let r = wscg_math::rng::uniform_vec(3, 3 * n * n, -1.0, 1.0).unwrap();
     for q in 0..n * n {
         if m.inv_mass[q] > 0.0 {
@@ -36,6 +24,16 @@ fn membrane(n: usize) -> ClothModel {
 }
 
 fn run(model: &ClothModel, relaxation: Relaxation, iterations: usize, steps: usize) -> Sim {
+    run_stats(model, relaxation, iterations, steps).0
+}
+
+/// The simulation after `steps` steps and the statistics of the last one.
+fn run_stats(
+    model: &ClothModel,
+    relaxation: Relaxation,
+    iterations: usize,
+    steps: usize,
+) -> (Sim, StepStats) {
     let mut sim = Sim::new(
         model.clone(),
         SolverConfig {
@@ -45,8 +43,11 @@ fn run(model: &ClothModel, relaxation: Relaxation, iterations: usize, steps: usi
         },
     )
     .unwrap();
-    sim.run(H, steps).unwrap();
-    sim
+    let mut stats = StepStats::default();
+    for _ in 0..steps {
+        stats = sim.step(H).unwrap();
+    }
+    (sim, stats)
 }
 
 fn dist(a: &Sim, b: &Sim) -> f64 {
@@ -107,16 +108,7 @@ fn all_sweeps_converge_on_a_membrane() {
     let gs = run(&model, Relaxation::GaussSeidel, 3000, 1);
     let moved = dist(&gs, &run(&model, Relaxation::GaussSeidel, 1, 0));
     for (relaxation, iterations) in sweeps() {
-        let mut sim = Sim::new(
-            model.clone(),
-            SolverConfig {
-                iterations,
-                relaxation,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let stats = sim.step(H).unwrap();
+        let (sim, stats) = run_stats(&model, relaxation, iterations, 1);
         let d = dist(&sim, &gs);
         println!(
             "{relaxation:?}: residual {:.1e}, {d:.2e} m from Gauss-Seidel (step {moved:.2e} m)",
