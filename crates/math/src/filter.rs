@@ -55,7 +55,7 @@ impl Border {
         })
     }
 
-    fn cval(self) -> f64 {
+    pub(crate) fn cval(self) -> f64 {
         match self {
             Border::Constant(v) => v,
             _ => 0.0,

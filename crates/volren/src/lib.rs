@@ -13,9 +13,11 @@
 //! - [`gradient_octree`]: edge voxels, the pointer-less octree, its 1-bit-per-node structure,
 //!   the client's lossless rebuild, the paper's eq. 1 addressing and ROI restriction.
 //! - [`wavelet`]: the block Haar transform and its byte coding.
+//! - [`phantoms`]: analytic head and thorax volumes with their transfer functions.
 
 pub mod gradient_octree;
 pub mod normal_code;
+pub mod phantoms;
 pub mod tf;
 pub mod wavelet;
 

@@ -326,3 +326,27 @@ fn wavelet_round_trip_pooling_and_resolutions() {
     long.blocks.push(0);
     assert!(decode_lowres(&long, 2).is_err());
 }
+
+#[test]
+fn phantom_packages_and_sizes() {
+    // Check 5 (size) and the first part of check 9 on the head phantom at the paper's size.
+    use wscg_volren::phantoms::{head, head_tfs};
+    let v = head([256, 256, 112], 1).unwrap();
+    let tfs = head_tfs();
+    let raw = v.len();
+    let low = encode_blocks(&v, &tfs[0], &HaarQuant::default(), 2).unwrap();
+    let mats = MaterialTable::from_tfs(&tfs).unwrap();
+    let go = GradientOctree::build(&v, &mats, EdgeRule::Boundary).unwrap();
+    let (bits, b) = go.structure.occupancy();
+    let structure = bits.len() + b.iter().map(Vec::len).sum::<usize>();
+    let leaves = 3 * (go.leaves.len() - 1);
+    println!(
+        "head {raw} B: V_W {} B ({:.2} %), octree structure {structure} B, leaves {leaves} B \
+         ({:.1} % of raw)",
+        low.blocks.len(),
+        100.0 * low.blocks.len() as f64 / raw as f64,
+        100.0 * (structure + leaves) as f64 / raw as f64
+    );
+    assert!(low.blocks.len() as f64 <= 0.016 * raw as f64);
+    assert!(structure + leaves < raw);
+}
