@@ -414,17 +414,17 @@ impl<T: Real> Volume<T> {
         border: crate::filter::Border,
     ) -> Result<Self> {
         let mut out = self.clone();
-        for axis in 0..3 {
-            if !(sigma[axis].is_finite() && sigma[axis] >= 0.0) {
+        for (axis, &s) in sigma.iter().enumerate() {
+            if !(s.is_finite() && s >= 0.0) {
                 return Err(Error::invalid(
                     "sigma",
-                    format!("must be finite and >= 0, got {}", sigma[axis]),
+                    format!("must be finite and >= 0, got {s}"),
                 ));
             }
-            if sigma[axis] == 0.0 {
+            if s == 0.0 {
                 continue;
             }
-            let k = crate::filter::gaussian_kernel(sigma[axis], truncate)?;
+            let k = crate::filter::gaussian_kernel(s, truncate)?;
             out = out.correlate_axis(axis, &k, border);
         }
         Ok(out)
@@ -439,7 +439,7 @@ impl<T: Real> Volume<T> {
         let src = &self.data;
         // One task per line along `axis`.
         let starts: Vec<usize> = (0..self.data.len())
-            .filter(|&i| (i / stride) % n == 0)
+            .filter(|&i| (i / stride).is_multiple_of(n))
             .collect();
         let lines: Vec<(usize, Vec<T>)> = starts
             .par_iter()
