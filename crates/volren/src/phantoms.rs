@@ -29,6 +29,26 @@ const SHEPP_LOGAN: [[f64; 10]; 10] = [
     [0.1, 0.023, 0.046, 0.02, 0.06, -0.605, 0.0, 0.0, 0.0, 0.0],
 ];
 
+/// An ellipsoid of the head table: rotation, semi-axes, centre, value.
+struct Ellipsoid {
+    rot: [[f64; 3]; 3],
+    axes: [f64; 3],
+    centre: [f64; 3],
+    value: f64,
+}
+
+impl Ellipsoid {
+    fn contains(&self, p: [f64; 3]) -> bool {
+        (0..3)
+            .map(|i| {
+                let q: f64 = (0..3).map(|j| self.rot[i][j] * p[j]).sum();
+                ((q - self.centre[i]) / self.axes[i]).powi(2)
+            })
+            .sum::<f64>()
+            <= 1.0
+    }
+}
+
 /// Voxel centre `i` of `n` in `[-1, 1]`.
 fn coord(i: usize, n: usize) -> f64 {
     -1.0 + (2 * i + 1) as f64 / n as f64
@@ -71,7 +91,7 @@ fn rasterise(
 
 /// The 3-D modified Shepp-Logan head (the paper's skull is 256 x 256 x 112).
 pub fn head(dims: [usize; 3], seed: u64) -> Result<Volume<u8>> {
-    let ellipsoids: Vec<([[f64; 3]; 3], [f64; 3], [f64; 3], f64)> = SHEPP_LOGAN
+    let ellipsoids: Vec<Ellipsoid> = SHEPP_LOGAN
         .iter()
         .map(|e| {
             let (phi, theta, psi) = (e[7].to_radians(), e[8].to_radians(), e[9].to_radians());
@@ -89,22 +109,19 @@ pub fn head(dims: [usize; 3], seed: u64) -> Result<Volume<u8>> {
                 [-sf * cp - ct * cf * sp, -sf * sp + ct * cf * cp, cp * st],
                 [st * sf, -st * cf, ct],
             ];
-            (rot, [e[1], e[2], e[3]], [e[4], e[5], e[6]], e[0])
+            Ellipsoid {
+                rot,
+                axes: [e[1], e[2], e[3]],
+                centre: [e[4], e[5], e[6]],
+                value: e[0],
+            }
         })
         .collect();
     rasterise(dims, 0.7, 2.0, seed, |p, _| {
         let v: f64 = ellipsoids
             .iter()
-            .filter(|(rot, ax, c, _)| {
-                (0..3)
-                    .map(|i| {
-                        let q: f64 = (0..3).map(|j| rot[i][j] * p[j]).sum();
-                        ((q - c[i]) / ax[i]).powi(2)
-                    })
-                    .sum::<f64>()
-                    <= 1.0
-            })
-            .map(|e| e.3)
+            .filter(|e| e.contains(p))
+            .map(|e| e.value)
             .sum();
         255.0 * v.clamp(0.0, 1.0)
     })
