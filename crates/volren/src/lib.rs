@@ -13,13 +13,17 @@
 //! - [`gradient_octree`]: edge voxels, the pointer-less octree, its 1-bit-per-node structure,
 //!   the client's lossless rebuild, the paper's eq. 1 addressing and ROI restriction.
 //! - [`wavelet`]: the block Haar transform and its byte coding.
+//! - [`package`]: the static and ROI packages (versioned, CRC-checked wire format), the
+//!   server and the client's data.
 //! - [`phantoms`]: analytic head and thorax volumes with their transfer functions.
 
 pub mod gradient_octree;
 pub mod normal_code;
+pub mod package;
 pub mod phantoms;
 pub mod tf;
 pub mod wavelet;
 
 pub use gradient_octree::{GoStructure, GradientOctree, Roi};
+pub use package::{HybridClient, HybridServer, ServerOpts};
 pub use tf::{MaterialTable, PlTf};
