@@ -15,15 +15,19 @@
 //! - [`wavelet`]: the block Haar transform and its byte coding.
 //! - [`package`]: the static and ROI packages (versioned, CRC-checked wire format), the
 //!   server and the client's data.
+//! - [`render`]: the client's two-level ray caster, the baselines' renderers and the
+//!   full-resolution reference.
 //! - [`phantoms`]: analytic head and thorax volumes with their transfer functions.
 
 pub mod gradient_octree;
 pub mod normal_code;
 pub mod package;
 pub mod phantoms;
+pub mod render;
 pub mod tf;
 pub mod wavelet;
 
 pub use gradient_octree::{GoStructure, GradientOctree, Roi};
 pub use package::{HybridClient, HybridServer, ServerOpts};
+pub use render::{render_reference, Camera, RenderOpts};
 pub use tf::{MaterialTable, PlTf};

@@ -1,0 +1,447 @@
+//! The client's two-level ray caster (paper 03, section 5) and the comparison renderers.
+//!
+//! A ray is cut into the parts outside and inside the ROI box. Outside, the low-resolution
+//! volume `V_W` is sampled trilinearly every `context_step` voxels and coloured by the
+//! canonical transfer function without lighting (as the paper's figures). Inside, the ray
+//! steps `step` voxels through the restricted Gradient Octree: a nil voxel adds nothing, a
+//! stored one is coloured by the ROI transfer function at its material's representative
+//! density and shaded with its decoded normal, `c (k_a + k_d |n.l|) + k_s |n.l|^32` under a
+//! headlight. Samples composite front to back with the opacity corrected to the step,
+//! `alpha = 1 - (1 - a)^(step / 1 voxel)`, and the ray stops at 98 % opacity.
+//!
+//! Coordinates are continuous voxel coordinates: voxel `(i, j, k)` covers `[i, i + 1) x ...`.
+//! [`render_reference`] is the full-resolution counterpart (trilinear densities, gradients by
+//! central differences) that the comparisons measure against.
+
+use rayon::prelude::*;
+use wscg_math::{Error, Image, Result, Volume};
+
+use crate::gradient_octree::{lookup, GoStructure, Roi};
+use crate::normal_code::decode_voxel;
+use crate::package::HybridClient;
+use crate::tf::{MaterialTable, PlTf};
+
+type V3 = [f64; 3];
+
+fn sub(a: V3, b: V3) -> V3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: V3, b: V3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: V3, b: V3) -> V3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn normalize(a: V3) -> Option<V3> {
+    let l = dot(a, a).sqrt();
+    (l > 1e-12 && l.is_finite()).then(|| a.map(|c| c / l))
+}
+
+/// A perspective pinhole camera in voxel coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub eye: V3,
+    /// Point looked at.
+    pub target: V3,
+    /// Up direction.
+    pub up: V3,
+    /// Vertical field of view (degrees, in (0, 180)).
+    pub fov_deg: f64,
+    /// Image width (pixels).
+    pub width: usize,
+    /// Image height (pixels).
+    pub height: usize,
+}
+
+impl Camera {
+    /// A camera looking at the centre of a `dims` volume from the direction given by
+    /// `azimuth` and `elevation` (degrees), far enough for the volume to fill about 80 % of a
+    /// `size x size` image at a 30 degree field of view; `z` is up.
+    pub fn orbit(dims: [usize; 3], azimuth: f64, elevation: f64, size: usize) -> Self {
+        let c = dims.map(|d| d as f64 / 2.0);
+        let radius = 0.5 * dims.iter().map(|&d| (d * d) as f64).sum::<f64>().sqrt();
+        let dist = radius / (15f64.to_radians().tan() * 0.8);
+        let (a, e) = (azimuth.to_radians(), elevation.to_radians());
+        let dir = [e.cos() * a.cos(), e.cos() * a.sin(), e.sin()];
+        Self {
+            eye: [
+                c[0] + dist * dir[0],
+                c[1] + dist * dir[1],
+                c[2] + dist * dir[2],
+            ],
+            target: c,
+            up: [0.0, 0.0, 1.0],
+            fov_deg: 30.0,
+            width: size,
+            height: size,
+        }
+    }
+
+    fn validate(&self) -> Result<()> {
+        let finite = |v: V3| v.iter().all(|c| c.is_finite());
+        if self.width == 0 || self.height == 0 || self.width * self.height > 1 << 26 {
+            return Err(Error::invalid(
+                "camera",
+                format!("image size {}x{}", self.width, self.height),
+            ));
+        }
+        let fov_ok = self.fov_deg > 0.0 && self.fov_deg < 180.0;
+        if !(finite(self.eye) && finite(self.target) && finite(self.up) && fov_ok) {
+            return Err(Error::invalid(
+                "camera",
+                "needs finite vectors and a fov in (0, 180)",
+            ));
+        }
+        let f = normalize(sub(self.target, self.eye))
+            .ok_or_else(|| Error::invalid("camera", "eye and target coincide"))?;
+        if normalize(cross(f, self.up)).is_none() {
+            return Err(Error::invalid(
+                "camera",
+                "up is parallel to the view direction",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Unit direction of the ray through the centre of pixel `(px, py)`.
+    fn ray(&self, px: usize, py: usize) -> V3 {
+        let f = normalize(sub(self.target, self.eye)).expect("validated");
+        let r = normalize(cross(f, self.up)).expect("validated");
+        let u = cross(r, f);
+        let t = (0.5 * self.fov_deg).to_radians().tan();
+        let aspect = self.width as f64 / self.height as f64;
+        let sx = (2.0 * (px as f64 + 0.5) / self.width as f64 - 1.0) * t * aspect;
+        let sy = (1.0 - 2.0 * (py as f64 + 0.5) / self.height as f64) * t;
+        normalize([0, 1, 2].map(|i| f[i] + sx * r[i] + sy * u[i])).expect("non-zero")
+    }
+}
+
+/// Ray-casting parameters (the paper's choices where it gives them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOpts {
+    /// Step inside the ROI and of the reference renderer (voxels).
+    pub step: f64,
+    /// Step through the low-resolution context (voxels; half a `V_W` voxel at `w_l = 2`).
+    pub context_step: f64,
+    /// Opacity at which a ray stops.
+    pub early_stop: f32,
+    /// Background colour.
+    pub background: [f32; 3],
+    /// Ambient, diffuse and specular weights of the shading.
+    pub ka: f32,
+    /// Diffuse weight.
+    pub kd: f32,
+    /// Specular weight (exponent 32).
+    pub ks: f32,
+}
+
+impl Default for RenderOpts {
+    fn default() -> Self {
+        Self {
+            step: 0.5,
+            context_step: 2.0,
+            early_stop: 0.98,
+            background: [0.0; 3],
+            ka: 0.3,
+            kd: 0.7,
+            ks: 0.2,
+        }
+    }
+}
+
+impl RenderOpts {
+    fn validate(&self) -> Result<()> {
+        let ok = |v: f64| v.is_finite() && v > 0.0 && v <= 64.0;
+        if !(ok(self.step) && ok(self.context_step)) {
+            return Err(Error::invalid("opts", "steps must be in (0, 64] voxels"));
+        }
+        Ok(())
+    }
+}
+
+/// Entry and exit of a ray through the box `[lo, hi]`.
+fn slab(o: V3, d: V3, lo: V3, hi: V3) -> Option<(f64, f64)> {
+    let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
+    for a in 0..3 {
+        if d[a].abs() < 1e-15 {
+            if o[a] < lo[a] || o[a] > hi[a] {
+                return None;
+            }
+            continue;
+        }
+        let (mut ta, mut tb) = ((lo[a] - o[a]) / d[a], (hi[a] - o[a]) / d[a]);
+        if ta > tb {
+            std::mem::swap(&mut ta, &mut tb);
+        }
+        t0 = t0.max(ta);
+        t1 = t1.min(tb);
+    }
+    (t0 < t1).then_some((t0, t1))
+}
+
+/// Front-to-back accumulation.
+struct Accum {
+    c: [f32; 3],
+    a: f32,
+}
+
+impl Accum {
+    fn add(&mut self, rgba: [f32; 4], step: f64) {
+        let alpha = 1.0 - (1.0 - rgba[3].clamp(0.0, 1.0)).powf(step as f32);
+        let w = (1.0 - self.a) * alpha;
+        for (c, v) in self.c.iter_mut().zip(rgba) {
+            *c += w * v;
+        }
+        self.a += w;
+    }
+}
+
+/// Shading of a colour with normal `n` under a headlight along `-d`.
+fn shade(rgba: [f32; 4], n: [f32; 3], d: V3, o: &RenderOpts) -> [f32; 4] {
+    let ndl = (n[0] as f64 * d[0] + n[1] as f64 * d[1] + n[2] as f64 * d[2]).abs() as f32;
+    let diffuse = o.ka + o.kd * ndl;
+    let spec = o.ks * ndl.powi(32);
+    [
+        rgba[0] * diffuse + spec,
+        rgba[1] * diffuse + spec,
+        rgba[2] * diffuse + spec,
+        rgba[3],
+    ]
+}
+
+/// What a ray samples in a segment.
+#[derive(Clone, Copy)]
+enum Source<'a> {
+    /// The low-resolution volume (`factor` voxels per `V_W` voxel) under `tf`, unlit.
+    Context {
+        lowres: &'a Volume<f32>,
+        factor: f64,
+        tf: &'a PlTf,
+    },
+    /// A (restricted) Gradient Octree under `tf`, shaded with the stored normals.
+    Octree {
+        structure: &'a GoStructure,
+        leaves: &'a [[u8; 3]],
+        mats: &'a MaterialTable,
+        tf: &'a PlTf,
+    },
+    /// The full-resolution volume under `tf`, shaded with its gradient when `lit`.
+    Full {
+        v: &'a Volume<f32>,
+        tf: &'a PlTf,
+        lit: bool,
+    },
+}
+
+impl Source<'_> {
+    fn sample(&self, p: V3, d: V3, o: &RenderOpts) -> Option<[f32; 4]> {
+        match *self {
+            Source::Context { lowres, factor, tf } => {
+                let q = p.map(|c| c / factor - 0.5);
+                Some(tf.eval(lowres.trilinear(q)))
+            }
+            Source::Octree {
+                structure,
+                leaves,
+                mats,
+                tf,
+            } => {
+                let v = p.map(|c| c.max(0.0).floor() as u32);
+                let (m, n) = decode_voxel(lookup(structure, leaves, v)?);
+                let rgba = tf.eval(mats.representative(m)?);
+                Some(shade(rgba, n, d, o))
+            }
+            Source::Full { v, tf, lit } => {
+                let q = p.map(|c| c - 0.5);
+                let rgba = tf.eval(v.trilinear(q));
+                if rgba[3] <= 0.0 {
+                    return None;
+                }
+                if !lit {
+                    return Some(rgba);
+                }
+                let g = v.gradient_trilinear(q);
+                let l = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+                let n = if l > 1e-6 { g.map(|c| c / l) } else { [0.0; 3] };
+                Some(shade(rgba, n, d, o))
+            }
+        }
+    }
+}
+
+/// Casts every pixel: the volume box `dims`, with `inside` sampled in the ROI box and
+/// `outside` elsewhere (`roi = None`: `outside` everywhere).
+fn cast(
+    dims: [usize; 3],
+    cam: &Camera,
+    opts: &RenderOpts,
+    roi: Option<(&Roi, Source, f64)>,
+    outside: (Source, f64),
+) -> Result<Image<f32>> {
+    cam.validate()?;
+    opts.validate()?;
+    let hi = dims.map(|d| d as f64);
+    let (w, h) = (cam.width, cam.height);
+    let mut data = vec![0.0f32; w * h * 4];
+    data.par_chunks_mut(w * 4)
+        .enumerate()
+        .for_each(|(py, row)| {
+            for px in 0..w {
+                let d = cam.ray(px, py);
+                let mut acc = Accum {
+                    c: [0.0; 3],
+                    a: 0.0,
+                };
+                if let Some((t0, t1)) = slab(cam.eye, d, [0.0; 3], hi) {
+                    let mut segments = vec![(t0, t1, outside)];
+                    if let Some((r, inside, step)) = &roi {
+                        let lo = r.min.map(|c| c as f64);
+                        let up = r.max.map(|c| c as f64);
+                        if let Some((r0, r1)) = slab(cam.eye, d, lo, up) {
+                            let (r0, r1) = (r0.max(t0), r1.min(t1));
+                            if r0 < r1 {
+                                segments = vec![
+                                    (t0, r0, outside),
+                                    (r0, r1, (*inside, *step)),
+                                    (r1, t1, outside),
+                                ];
+                            }
+                        }
+                    }
+                    'ray: for (s0, s1, (src, step)) in segments {
+                        let n = ((s1 - s0) / step).ceil().max(0.0) as usize;
+                        for k in 0..n {
+                            let t = s0 + (k as f64 + 0.5) * step;
+                            if t >= s1 {
+                                break;
+                            }
+                            let p = [0, 1, 2].map(|i| cam.eye[i] + t * d[i]);
+                            if let Some(rgba) = src.sample(p, d, opts) {
+                                acc.add(rgba, step);
+                                if acc.a >= opts.early_stop {
+                                    break 'ray;
+                                }
+                            }
+                        }
+                    }
+                }
+                for k in 0..3 {
+                    row[4 * px + k] = acc.c[k] + (1.0 - acc.a) * opts.background[k];
+                }
+                row[4 * px + 3] = acc.a;
+            }
+        });
+    Image::new(h, w, 4, data)
+}
+
+fn tf_index(tfs: &[PlTf], k: usize) -> Result<&PlTf> {
+    tfs.get(k)
+        .ok_or_else(|| Error::invalid("roi_tf", format!("transfer function {k} of {}", tfs.len())))
+}
+
+impl HybridClient {
+    fn context(&self) -> Source<'_> {
+        Source::Context {
+            lowres: &self.lowres,
+            factor: self.lowres_factor as f64,
+            tf: &self.tfs[self.canonical],
+        }
+    }
+
+    fn roi_source<'a>(&'a self, tf: &'a PlTf) -> Option<(&'a Roi, Source<'a>)> {
+        self.roi.as_ref().map(|(r, s, leaves)| {
+            (
+                r,
+                Source::Octree {
+                    structure: s,
+                    leaves,
+                    mats: &self.materials,
+                    tf,
+                },
+            )
+        })
+    }
+
+    /// The hybrid image: `V_W` under the canonical transfer function outside the ROI, the
+    /// octree under transfer function `roi_tf` inside (the context only without a ROI).
+    /// RGBA, `height x width x 4`.
+    ///
+    /// Errors: bad camera or options, `roi_tf` out of range.
+    pub fn render(&self, cam: &Camera, roi_tf: usize, opts: &RenderOpts) -> Result<Image<f32>> {
+        let tf = tf_index(&self.tfs, roi_tf)?;
+        let roi = self.roi_source(tf).map(|(r, s)| (r, s, opts.step));
+        cast(
+            self.dims,
+            cam,
+            opts,
+            roi,
+            (self.context(), opts.context_step),
+        )
+    }
+
+    /// The Gradient-Octree baseline: the ROI's octree alone under `roi_tf`, nothing outside
+    /// (with the ROI set to the whole volume, the paper's full Gradient Octree viewer).
+    ///
+    /// Errors: no ROI set, bad camera or options, `roi_tf` out of range.
+    pub fn render_octree(
+        &self,
+        cam: &Camera,
+        roi_tf: usize,
+        opts: &RenderOpts,
+    ) -> Result<Image<f32>> {
+        let tf = tf_index(&self.tfs, roi_tf)?;
+        let (_, src) = self
+            .roi_source(tf)
+            .ok_or_else(|| Error::invalid("roi", "no ROI package received"))?;
+        cast(self.dims, cam, opts, None, (src, opts.step))
+    }
+
+    /// The wavelet-context baseline: `V_W` everywhere, no ROI.
+    pub fn render_context(&self, cam: &Camera, opts: &RenderOpts) -> Result<Image<f32>> {
+        cast(
+            self.dims,
+            cam,
+            opts,
+            None,
+            (self.context(), opts.context_step),
+        )
+    }
+}
+
+/// The full-resolution reference ("VrMed"): trilinear densities and central-difference
+/// gradients. With `roi = None`, `tf` everywhere, shaded. With `roi = Some((box, roi_tf))`,
+/// the full-resolution counterpart of the hybrid image: `tf` unlit outside the box (as the
+/// hybrid's context) and `roi_tf` shaded inside.
+///
+/// Errors: empty volume, bad camera or options.
+pub fn render_reference(
+    v: &Volume<u8>,
+    tf: &PlTf,
+    roi: Option<(&Roi, &PlTf)>,
+    cam: &Camera,
+    opts: &RenderOpts,
+) -> Result<Image<f32>> {
+    if v.dims().contains(&0) {
+        return Err(Error::Empty("volume"));
+    }
+    let f = v.map(|d| d as f32);
+    let inside = roi.map(|(r, t)| {
+        let src = Source::Full {
+            v: &f,
+            tf: t,
+            lit: true,
+        };
+        (r, src, opts.step)
+    });
+    let outside = Source::Full {
+        v: &f,
+        tf,
+        lit: roi.is_none(),
+    };
+    cast(v.dims(), cam, opts, inside, (outside, opts.step))
+}
