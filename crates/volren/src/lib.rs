@@ -15,11 +15,13 @@
 //! - [`wavelet`]: the block Haar transform and its byte coding.
 //! - [`package`]: the static and ROI packages (versioned, CRC-checked wire format), the
 //!   server and the client's data.
+//! - [`net`]: the server and client over TCP.
 //! - [`render`]: the client's two-level ray caster, the baselines' renderers and the
 //!   full-resolution reference.
 //! - [`phantoms`]: analytic head and thorax volumes with their transfer functions.
 
 pub mod gradient_octree;
+pub mod net;
 pub mod normal_code;
 pub mod package;
 pub mod phantoms;

@@ -126,3 +126,31 @@ fn bad_packages_are_rejected() {
     };
     assert!(HybridServer::new(&v, head_tfs(), 0, opts).is_err());
 }
+
+#[test]
+fn packages_travel_over_a_loopback_socket() {
+    use std::sync::Arc;
+    use wscg_volren::net::{serve, RemoteServer};
+    let s = Arc::new(server());
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = listener.local_addr().unwrap();
+    let srv = Arc::clone(&s);
+    let handle = std::thread::spawn(move || serve(srv, listener, Some(1)));
+    let mut remote = RemoteServer::connect(addr).unwrap();
+    let stat = remote.static_package().unwrap();
+    assert_eq!(
+        stat,
+        s.static_package(),
+        "static package changed in transit"
+    );
+    let mut client = HybridClient::from_static(&stat).unwrap();
+    let roi = remote.roi_package([20, 30, 5], [50, 60, 30]).unwrap();
+    assert_eq!(roi, s.roi_package([20, 30, 5], [50, 60, 30]).unwrap());
+    client.set_roi(&roi).unwrap();
+    // A bad ROI is answered with the server's error, and the connection stays usable.
+    let err = remote.roi_package([90, 0, 0], [10, 10, 10]).unwrap_err();
+    assert!(err.to_string().contains("roi"), "{err}");
+    assert_eq!(remote.static_package().unwrap(), stat);
+    remote.close().unwrap();
+    handle.join().unwrap().unwrap();
+}
