@@ -369,6 +369,31 @@ impl Image<f32> {
     }
 }
 
+impl Image<f32> {
+    /// JPEG bytes of a 1- or 3-channel image at `quality` (1..=100), values clamped to
+    /// `[0, 1]` (baseline JPEG, as a thin client would receive).
+    ///
+    /// Errors: another channel count, quality outside 1..=100, non-finite pixels.
+    pub fn encode_jpeg(&self, quality: u8) -> Result<Vec<u8>> {
+        if !matches!(self.channels, 1 | 3) || !(1..=100).contains(&quality) {
+            return Err(Error::invalid(
+                "jpeg",
+                format!(
+                    "needs 1 or 3 channels and quality 1..=100, got {} and {quality}",
+                    self.channels
+                ),
+            ));
+        }
+        self.ensure_finite("image")?;
+        let img = self.to_dynamic(PixelDepth::U8)?;
+        let mut out = Vec::new();
+        image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, quality)
+            .encode_image(&img)
+            .map_err(|e| Error::invalid("jpeg", e.to_string()))?;
+        Ok(out)
+    }
+}
+
 /// Sample depth used when encoding an [`Image`] to a file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PixelDepth {
@@ -405,6 +430,23 @@ mod tests {
     fn ramp(h: usize, w: usize, c: usize) -> Image {
         let n = h * w * c;
         Image::new(h, w, c, (0..n).map(|i| i as f32 / (n - 1) as f32).collect()).unwrap()
+    }
+
+    #[test]
+    fn jpeg_bytes_decode_to_the_image() {
+        let img = ramp(16, 24, 3);
+        let bytes = img.encode_jpeg(95).unwrap();
+        let back = Image::decode(&bytes, Path::new("mem.jpg")).unwrap();
+        assert_eq!(back.shape(), (16, 24, 3));
+        let err = back
+            .data()
+            .iter()
+            .zip(img.data())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0f32, f32::max);
+        assert!(err < 0.05, "{err}");
+        assert!(ramp(4, 4, 2).encode_jpeg(80).is_err());
+        assert!(img.encode_jpeg(0).is_err());
     }
 
     #[test]

@@ -30,6 +30,6 @@ pub mod tf;
 pub mod wavelet;
 
 pub use gradient_octree::{GoStructure, GradientOctree, Roi};
-pub use package::{HybridClient, HybridServer, ServerOpts};
+pub use package::{HybridClient, HybridServer, ServerOpts, SizeReport};
 pub use render::{render_reference, Camera, RenderOpts};
 pub use tf::{MaterialTable, PlTf};

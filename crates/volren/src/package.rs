@@ -20,7 +20,7 @@
 //! package built for another volume is refused; a client also checks the leaf count against
 //! the one it derives from the structure and the ROI before reading the leaves.
 
-use wscg_math::{Error, Result, Volume};
+use wscg_math::{Error, Image, Result, Volume};
 
 use crate::gradient_octree::{EdgeRule, GoStructure, GradientOctree, Roi};
 use crate::tf::{MaterialTable, PlTf};
@@ -212,12 +212,48 @@ fn read_tfs(r: &mut Reader) -> Result<Vec<PlTf>> {
 /// The server: the volume, its transfer functions, wavelet package and Gradient Octree.
 #[derive(Clone, Debug)]
 pub struct HybridServer {
+    volume: Volume<u8>,
     dims: [usize; 3],
     tfs: Vec<PlTf>,
     canonical: usize,
     wavelet: WaveletPackage,
     octree: GradientOctree,
     id: u64,
+    opts: ServerOpts,
+}
+
+/// Bytes each scheme sends (paper 03, Tables 1 and 2), all measured on serialized buffers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SizeReport {
+    /// The raw volume (Volume Viewer [5]): one byte a voxel.
+    pub raw: usize,
+    /// The wavelet scheme [1]: the block stream with all 4 steps for the whole volume.
+    pub wavelets: usize,
+    /// The Gradient Octree [2]: its structure and every leaf.
+    pub gradient_octree: usize,
+    /// The hybrid static package.
+    pub hybrid_static: usize,
+    /// The hybrid ROI package.
+    pub hybrid_roi: usize,
+    /// One JPEG frame (quality 85) of a thin client [6], if a viewport was given.
+    pub thin_client_frame: Option<usize>,
+}
+
+impl SizeReport {
+    /// Hybrid bytes: static plus ROI package.
+    pub fn hybrid(&self) -> usize {
+        self.hybrid_static + self.hybrid_roi
+    }
+
+    /// `bytes / raw`.
+    pub fn rate(&self, bytes: usize) -> f64 {
+        bytes as f64 / self.raw as f64
+    }
+
+    /// Frames of the thin client that cost as much as `bytes` (`None` without a frame size).
+    pub fn break_even(&self, bytes: usize) -> Option<f64> {
+        self.thin_client_frame.map(|f| bytes as f64 / f as f64)
+    }
 }
 
 impl HybridServer {
@@ -257,12 +293,14 @@ impl HybridServer {
             .collect();
         let id = fnv1a([dims_bytes.as_slice(), v.data(), tf_bytes.0.as_slice()]);
         Ok(Self {
+            volume: v.clone(),
             dims: v.dims(),
             tfs,
             canonical,
             wavelet,
             octree,
             id,
+            opts,
         })
     }
 
@@ -294,6 +332,62 @@ impl HybridServer {
         w.bytes(&bits);
         b.iter().for_each(|l| w.bytes(l));
         frame(KIND_STATIC, w.0)
+    }
+
+    /// The bytes of every scheme for `roi` and, with `thin_client = Some(camera)`, the JPEG
+    /// size of one full-resolution frame (canonical transfer function outside the ROI,
+    /// `roi_tf` inside) at the camera's viewport.
+    ///
+    /// Errors: a bad ROI, camera or `roi_tf`.
+    pub fn size_report(
+        &self,
+        min: [u32; 3],
+        max: [u32; 3],
+        roi_tf: usize,
+        thin_client: Option<&crate::render::Camera>,
+    ) -> Result<SizeReport> {
+        let roi = Roi::snapped(min, max, self.dims)?;
+        let tf = self.tfs.get(roi_tf).ok_or_else(|| {
+            Error::invalid(
+                "roi_tf",
+                format!("{roi_tf} of {} transfer functions", self.tfs.len()),
+            )
+        })?;
+        let full = encode_blocks(&self.volume, &self.tfs[self.canonical], &self.opts.quant, 4)?;
+        let (bits, b) = self.octree.structure.occupancy();
+        let go = bits.len()
+            + b.iter().map(Vec::len).sum::<usize>()
+            + self.roi_package([0; 3], self.dims.map(|d| d as u32))?.len();
+        let thin = match thin_client {
+            Some(cam) => {
+                let img = crate::render::render_reference(
+                    &self.volume,
+                    &self.tfs[self.canonical],
+                    Some((&roi, tf)),
+                    cam,
+                    &crate::render::RenderOpts::default(),
+                )?;
+                let rgb = Image::new(
+                    img.height(),
+                    img.width(),
+                    3,
+                    img.data()
+                        .chunks_exact(4)
+                        .flat_map(|c| [c[0], c[1], c[2]])
+                        .collect(),
+                )?;
+                Some(rgb.encode_jpeg(85)?.len())
+            }
+            None => None,
+        };
+        Ok(SizeReport {
+            raw: self.volume.len(),
+            wavelets: full.blocks.len(),
+            gradient_octree: go,
+            hybrid_static: self.static_package().len(),
+            hybrid_roi: self.roi_package(min, max)?.len(),
+            thin_client_frame: thin,
+        })
     }
 
     /// The dynamic package of `roi` (snapped outward to multiples of 16 and clamped).

@@ -3,10 +3,11 @@
 //! given seed.
 //!
 //! - [`head`]: the 3-D modified Shepp-Logan phantom (ten ellipsoids, Schabel's `phantom3d`
-//!   table) on `[-1, 1]^3`, densities `round(255 clamp(v, 0, 1))`, Gaussian blur of 0.7 voxel and
-//!   noise of standard deviation 2.
+//!   table) on `[-1, 1]^3`, densities `round(255 clamp(v, 0, 1))`, noise of standard deviation
+//!   2, then a Gaussian blur of 0.7 voxel (the blur after the noise makes it spatially
+//!   correlated, as CT noise is).
 //! - [`thorax`]: an elliptic-cylinder body with a skin layer, two lungs with vessel tubes, a
-//!   heart, a spine cut into vertebrae and twelve rib pairs; blur of 1 voxel, noise 3.
+//!   heart, a spine cut into vertebrae and twelve rib pairs; noise 3, then a blur of 1 voxel.
 
 use rayon::prelude::*;
 use wscg_math::filter::Border;
@@ -54,7 +55,7 @@ fn coord(i: usize, n: usize) -> f64 {
     -1.0 + (2 * i + 1) as f64 / n as f64
 }
 
-/// Samples `f` on `[-1, 1]^3` (voxel centres), blurs, adds noise, rounds to u8.
+/// Samples `f` on `[-1, 1]^3` (voxel centres), adds Gaussian noise, blurs, rounds to u8.
 fn rasterise(
     dims: [usize; 3],
     blur: f64,
@@ -78,13 +79,14 @@ fn rasterise(
                 }
             }
         });
+    // Noise first, then the blur: the noise comes out spatially correlated, as in CT.
+    let n = wscg_math::rng::normal_vec(seed, data.len(), 0.0, noise)?;
+    data.iter_mut().zip(&n).for_each(|(d, e)| *d += *e as f32);
     let v = Volume::new(dims, [1.0; 3], data)?.gaussian_filter([blur; 3], 4.0, Border::Reflect)?;
-    let n = wscg_math::rng::normal_vec(seed, v.len(), 0.0, noise)?;
     let out = v
         .data()
         .iter()
-        .zip(&n)
-        .map(|(&d, &e)| (d as f64 + e).round().clamp(0.0, 255.0) as u8)
+        .map(|&d| (d as f64).round().clamp(0.0, 255.0) as u8)
         .collect();
     Volume::new(dims, [1.0; 3], out)
 }
