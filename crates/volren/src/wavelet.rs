@@ -188,21 +188,26 @@ pub fn preprocess(v: &Volume<u8>, canonical: &PlTf) -> Result<Volume<f32>> {
         })
         .collect();
     for (b, blk) in blocks {
-        let (bx, by, bz) = (b % nb[0], b / nb[0] % nb[1], b / (nb[0] * nb[1]));
-        for z in 0..BLOCK {
-            for y in 0..BLOCK {
-                for x in 0..BLOCK {
-                    out.set(
-                        bx * BLOCK + x,
-                        by * BLOCK + y,
-                        bz * BLOCK + z,
-                        blk[x + BLOCK * (y + BLOCK * z)],
-                    );
-                }
+        put_block(&mut out, nb, b, BLOCK, &blk);
+    }
+    Ok(out)
+}
+
+/// Writes the `side^3` values of block `b` (raster index in an `nb` grid of blocks) into `out`.
+fn put_block(out: &mut Volume<f32>, nb: [usize; 3], b: usize, side: usize, values: &[f32]) {
+    let origin = [b % nb[0], b / nb[0] % nb[1], b / (nb[0] * nb[1])].map(|c| c * side);
+    for z in 0..side {
+        for y in 0..side {
+            for x in 0..side {
+                out.set(
+                    origin[0] + x,
+                    origin[1] + y,
+                    origin[2] + z,
+                    values[x + side * (y + side * z)],
+                );
             }
         }
     }
-    Ok(out)
 }
 
 /// Separable `[1, 2, 1] / 4` inside a 16^3 block, clamped borders.
@@ -412,19 +417,7 @@ pub fn decode_lowres(p: &WaveletPackage, w_l: u8) -> Result<Volume<f32>> {
                 ))
             }
         };
-        let (bx, by, bz) = (b % nb[0], b / nb[0] % nb[1], b / (nb[0] * nb[1]));
-        for z in 0..side {
-            for y in 0..side {
-                for x in 0..side {
-                    out.set(
-                        bx * side + x,
-                        by * side + y,
-                        bz * side + z,
-                        values[x + side * (y + side * z)],
-                    );
-                }
-            }
-        }
+        put_block(&mut out, nb, b, side, &values);
     }
     if rd.pos != p.blocks.len() {
         return Err(Error::invalid(
