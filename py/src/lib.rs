@@ -12,6 +12,7 @@ mod cloth;
 mod convert;
 mod errors;
 mod math;
+mod volren;
 
 /// The native extension module.
 #[pymodule]
@@ -25,6 +26,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_submodule(&sub)?;
     let sub = PyModule::new(m.py(), "cloth")?;
     cloth::register(&sub)?;
+    m.add_submodule(&sub)?;
+    let sub = PyModule::new(m.py(), "volren")?;
+    volren::register(&sub)?;
     m.add_submodule(&sub)?;
     Ok(())
 }

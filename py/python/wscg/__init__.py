@@ -8,13 +8,15 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
 - :mod:`wscg.biometrics`: paper 01, FDKECA with PCA, kernel PCA and KECA baselines and 1-NN
   recognition (scikit-learn-style estimators).
 - :mod:`wscg.cloth`: paper 02, cloth simulation with soft constraints.
+- :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
+  wavelets, Gradient Octree, client/server packages, ray casting).
 
 Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, math
+from . import biometrics, cloth, math, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "math", "__version__"]
+__all__ = ["biometrics", "cloth", "math", "volren", "__version__"]

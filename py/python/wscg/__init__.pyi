@@ -1,6 +1,7 @@
 from . import biometrics as biometrics
 from . import cloth as cloth
 from . import math as math
+from . import volren as volren
 
 __version__: str
 __all__: list[str]

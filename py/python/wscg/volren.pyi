@@ -1,0 +1,43 @@
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+Roi = Tuple[int, int, int, int, int, int]
+
+__all__: list[str]
+
+def orbit_camera(shape: Sequence[int], azimuth: float = 30.0, elevation: float = 20.0,
+                 fov_deg: float = 30.0) -> dict: ...
+
+class HybridServer:
+    leaf_count: int
+    node_counts: List[int]
+    def __init__(self, volume: npt.ArrayLike, tfs: Sequence[npt.ArrayLike], canonical: int = 0,
+                 steps_sent: int = 2, delta: float = 2.0) -> None: ...
+    def static_package(self) -> bytes: ...
+    def roi_package(self, roi: Roi) -> bytes: ...
+    def size_report(self, roi: Roi, roi_tf: int = 1, thin_client_view: Optional[dict] = None,
+                    viewport: Tuple[int, int] = (1080, 1920)) -> dict: ...
+
+class HybridClient:
+    roi: Optional[Roi]
+    lowres: npt.NDArray[np.float32]
+    shape: Tuple[int, int, int]
+    def __init__(self, static_package: bytes) -> None: ...
+    def set_roi(self, roi_package: bytes) -> None: ...
+    def clear_roi(self) -> None: ...
+    def render(self, eye: Sequence[float], target: Sequence[float],
+               up: Sequence[float] = ..., fov_deg: float = 30.0,
+               size: Tuple[int, int] = (512, 512), roi_tf: int = 1,
+               mode: str = "hybrid") -> npt.NDArray[np.float32]: ...
+
+def render_reference(volume: npt.ArrayLike, tf: npt.ArrayLike, eye: Sequence[float],
+                     target: Sequence[float], up: Sequence[float] = ...,
+                     fov_deg: float = 30.0, size: Tuple[int, int] = (512, 512),
+                     roi: Optional[Roi] = None,
+                     roi_tf: Optional[npt.ArrayLike] = None) -> npt.NDArray[np.float32]: ...
+def phantom(name: str = "head", shape: Optional[Tuple[int, int, int]] = None,
+            seed: int = 0) -> npt.NDArray[np.uint8]: ...
+def phantom_tfs(name: str = "head") -> List[npt.NDArray[np.float64]]: ...
+def octree_address(ijk: Sequence[int], r: int) -> Tuple[Tuple[int, int, int], List[int]]: ...

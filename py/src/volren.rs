@@ -1,0 +1,358 @@
+//! `wscg._native.volren`: bindings of `wscg-volren` (paper 03, hybrid ROI visualisation).
+//! The documented API is `python/wscg/volren.py`.
+
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+use wscg_math::Volume;
+use wscg_volren::gradient_octree::octree_address as address;
+use wscg_volren::phantoms;
+use wscg_volren::wavelet::HaarQuant;
+use wscg_volren::{
+    render_reference as reference, Camera, HybridClient, HybridServer, PlTf, RenderOpts, Roi,
+    ServerOpts,
+};
+
+use crate::convert::{array, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+/// A `[z, y, x]` uint8 array as a volume.
+fn volume_in(a: &PyReadonlyArrayDyn<u8>) -> PyResult<Volume<u8>> {
+    match *a.shape() {
+        [nz, ny, nx] => Volume::new([nx, ny, nz], [1.0; 3], values(a).into_owned()).py_err(),
+        ref s => Err(value_error(format!(
+            "`volume` must be a 3-D uint8 array indexed [z, y, x], got shape {s:?}"
+        ))),
+    }
+}
+
+fn volume_out<'py, T: numpy::Element + Clone>(
+    py: Python<'py>,
+    v: &Volume<T>,
+) -> PyResult<Arr<'py, T>> {
+    let [nx, ny, nz] = v.dims();
+    array(py, &[nz, ny, nx], v.data().to_vec())
+}
+
+/// A transfer function from an `(n, 5)` array of `(density, r, g, b, a)` rows.
+fn tf_in(a: &PyReadonlyArrayDyn<f64>) -> PyResult<PlTf> {
+    match *a.shape() {
+        [_, 5] => {
+            let pts = values(a)
+                .chunks_exact(5)
+                .map(|r| {
+                    (
+                        r[0] as f32,
+                        [r[1] as f32, r[2] as f32, r[3] as f32, r[4] as f32],
+                    )
+                })
+                .collect();
+            PlTf::new(pts).py_err()
+        }
+        ref s => Err(value_error(format!(
+            "a transfer function is an (n, 5) array (density, r, g, b, a), got shape {s:?}"
+        ))),
+    }
+}
+
+fn tf_out<'py>(py: Python<'py>, t: &PlTf) -> PyResult<Arr<'py, f64>> {
+    let data = t
+        .points()
+        .iter()
+        .flat_map(|(d, c)| {
+            [
+                *d as f64,
+                c[0] as f64,
+                c[1] as f64,
+                c[2] as f64,
+                c[3] as f64,
+            ]
+        })
+        .collect();
+    array(py, &[t.points().len(), 5], data)
+}
+
+/// A camera from Python: eye, target, up, vertical field of view (degrees), width, height.
+type View = ([f64; 3], [f64; 3], [f64; 3], f64, usize, usize);
+
+/// `(x0, x1, y0, y1, z0, z1)` as min and max corners.
+fn roi_in(r: (u32, u32, u32, u32, u32, u32)) -> ([u32; 3], [u32; 3]) {
+    ([r.0, r.2, r.4], [r.1, r.3, r.5])
+}
+
+#[allow(clippy::too_many_arguments)]
+fn camera(
+    eye: [f64; 3],
+    target: [f64; 3],
+    up: [f64; 3],
+    fov_deg: f64,
+    width: usize,
+    height: usize,
+) -> Camera {
+    Camera {
+        eye,
+        target,
+        up,
+        fov_deg,
+        width,
+        height,
+    }
+}
+
+fn image_out<'py>(py: Python<'py>, img: wscg_math::Image<f32>) -> PyResult<Arr<'py, f32>> {
+    let (h, w, c) = img.shape();
+    array(py, &[h, w, c], img.into_data())
+}
+
+/// The hybrid server (see `wscg.volren.HybridServer`).
+#[pyclass(module = "wscg._native.volren", name = "HybridServer")]
+pub struct PyServer {
+    inner: HybridServer,
+}
+
+#[pymethods]
+impl PyServer {
+    #[new]
+    fn new(
+        py: Python<'_>,
+        volume: PyReadonlyArrayDyn<u8>,
+        tfs: Vec<PyReadonlyArrayDyn<f64>>,
+        canonical: usize,
+        steps_sent: u8,
+        delta: f32,
+    ) -> PyResult<Self> {
+        let v = volume_in(&volume)?;
+        let tfs = tfs.iter().map(tf_in).collect::<PyResult<Vec<_>>>()?;
+        let opts = ServerOpts {
+            steps_sent,
+            quant: HaarQuant { delta: [delta; 4] },
+            ..Default::default()
+        };
+        let inner = py
+            .detach(|| HybridServer::new(&v, tfs, canonical, opts))
+            .py_err()?;
+        Ok(Self { inner })
+    }
+
+    fn static_package<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        PyBytes::new(py, &self.inner.static_package())
+    }
+
+    fn roi_package<'py>(
+        &self,
+        py: Python<'py>,
+        roi: (u32, u32, u32, u32, u32, u32),
+    ) -> PyResult<Bound<'py, PyBytes>> {
+        let (lo, hi) = roi_in(roi);
+        Ok(PyBytes::new(py, &self.inner.roi_package(lo, hi).py_err()?))
+    }
+
+    /// Stored (edge) voxels of the Gradient Octree.
+    #[getter]
+    fn leaf_count(&self) -> usize {
+        self.inner.octree().leaves.len() - 1
+    }
+
+    /// Grey nodes per octree level 32, 64, ..., R.
+    #[getter]
+    fn node_counts(&self) -> Vec<usize> {
+        self.inner.octree().structure.node_counts()
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn size_report<'py>(
+        &self,
+        py: Python<'py>,
+        roi: (u32, u32, u32, u32, u32, u32),
+        roi_tf: usize,
+        view: Option<View>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (lo, hi) = roi_in(roi);
+        let cam = view.map(|(e, t, u, f, w, h)| camera(e, t, u, f, w, h));
+        let r = py
+            .detach(|| self.inner.size_report(lo, hi, roi_tf, cam.as_ref()))
+            .py_err()?;
+        let d = PyDict::new(py);
+        d.set_item("raw", r.raw)?;
+        d.set_item("wavelets", r.wavelets)?;
+        d.set_item("gradient_octree", r.gradient_octree)?;
+        d.set_item("hybrid_static", r.hybrid_static)?;
+        d.set_item("hybrid_roi", r.hybrid_roi)?;
+        d.set_item("hybrid", r.hybrid())?;
+        d.set_item("thin_client_frame", r.thin_client_frame)?;
+        Ok(d)
+    }
+}
+
+/// The hybrid client (see `wscg.volren.HybridClient`).
+#[pyclass(module = "wscg._native.volren", name = "HybridClient")]
+pub struct PyClient {
+    inner: HybridClient,
+}
+
+#[pymethods]
+impl PyClient {
+    #[new]
+    fn new(py: Python<'_>, package: &[u8]) -> PyResult<Self> {
+        let inner = py.detach(|| HybridClient::from_static(package)).py_err()?;
+        Ok(Self { inner })
+    }
+
+    fn set_roi(&mut self, package: &[u8]) -> PyResult<()> {
+        self.inner.set_roi(package).py_err()
+    }
+
+    fn clear_roi(&mut self) {
+        self.inner.clear_roi();
+    }
+
+    /// The ROI box `(x0, x1, y0, y1, z0, z1)` or None.
+    #[getter]
+    fn roi(&self) -> Option<(u32, u32, u32, u32, u32, u32)> {
+        self.inner.roi.as_ref().map(|(r, _, _)| {
+            let Roi { min, max } = *r;
+            (min[0], max[0], min[1], max[1], min[2], max[2])
+        })
+    }
+
+    /// The low-resolution volume `[z, y, x]` (float32).
+    #[getter]
+    fn lowres<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f32>> {
+        volume_out(py, &self.inner.lowres)
+    }
+
+    /// Volume shape `(z, y, x)`.
+    #[getter]
+    fn shape(&self) -> (usize, usize, usize) {
+        let [nx, ny, nz] = self.inner.dims;
+        (nz, ny, nx)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        mode: &str,
+        eye: [f64; 3],
+        target: [f64; 3],
+        up: [f64; 3],
+        fov_deg: f64,
+        width: usize,
+        height: usize,
+        roi_tf: usize,
+    ) -> PyResult<Arr<'py, f32>> {
+        let cam = camera(eye, target, up, fov_deg, width, height);
+        let o = RenderOpts::default();
+        let c = &self.inner;
+        let img = py
+            .detach(|| match mode {
+                "hybrid" => c.render(&cam, roi_tf, &o),
+                "context" => c.render_context(&cam, &o),
+                "octree" => c.render_octree(&cam, roi_tf, &o),
+                other => Err(wscg_math::Error::invalid(
+                    "mode",
+                    format!("{other:?}; use 'hybrid', 'context' or 'octree'"),
+                )),
+            })
+            .py_err()?;
+        image_out(py, img)
+    }
+}
+
+/// Full-resolution reference rendering (see `wscg.volren.render_reference`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn render_reference<'py>(
+    py: Python<'py>,
+    volume: PyReadonlyArrayDyn<u8>,
+    tf: PyReadonlyArrayDyn<f64>,
+    eye: [f64; 3],
+    target: [f64; 3],
+    up: [f64; 3],
+    fov_deg: f64,
+    width: usize,
+    height: usize,
+    roi: Option<(u32, u32, u32, u32, u32, u32)>,
+    roi_tf: Option<PyReadonlyArrayDyn<f64>>,
+) -> PyResult<Arr<'py, f32>> {
+    let v = volume_in(&volume)?;
+    let tf = tf_in(&tf)?;
+    let roi = match (roi, roi_tf) {
+        (Some(r), Some(t)) => {
+            let (lo, hi) = roi_in(r);
+            Some((Roi::snapped(lo, hi, v.dims()).py_err()?, tf_in(&t)?))
+        }
+        (None, None) => None,
+        _ => return Err(value_error("`roi` and `roi_tf` go together")),
+    };
+    let cam = camera(eye, target, up, fov_deg, width, height);
+    let img = py
+        .detach(|| {
+            reference(
+                &v,
+                &tf,
+                roi.as_ref().map(|(r, t)| (r, t)),
+                &cam,
+                &RenderOpts::default(),
+            )
+        })
+        .py_err()?;
+    image_out(py, img)
+}
+
+/// The head phantom `[z, y, x]` (uint8).
+#[pyfunction]
+fn phantom_head(py: Python<'_>, shape: (usize, usize, usize), seed: u64) -> PyResult<Arr<'_, u8>> {
+    let v = py
+        .detach(|| phantoms::head([shape.2, shape.1, shape.0], seed))
+        .py_err()?;
+    volume_out(py, &v)
+}
+
+/// The thorax phantom `[z, y, x]` (uint8).
+#[pyfunction]
+fn phantom_thorax(
+    py: Python<'_>,
+    shape: (usize, usize, usize),
+    seed: u64,
+) -> PyResult<Arr<'_, u8>> {
+    let v = py
+        .detach(|| phantoms::thorax([shape.2, shape.1, shape.0], seed))
+        .py_err()?;
+    volume_out(py, &v)
+}
+
+/// Transfer functions of a phantom ("head" or "thorax").
+#[pyfunction]
+fn phantom_tfs<'py>(py: Python<'py>, name: &str) -> PyResult<Vec<Arr<'py, f64>>> {
+    let tfs = match name {
+        "head" => phantoms::head_tfs(),
+        "thorax" => phantoms::thorax_tfs(),
+        other => return Err(value_error(format!("unknown phantom {other:?}"))),
+    };
+    tfs.iter().map(|t| tf_out(py, t)).collect()
+}
+
+/// Eq. 1 addressing: the level-32 cell and the slots of voxel `(x, y, z)` in a cube of side
+/// `r`.
+#[pyfunction]
+fn octree_address(ijk: [u32; 3], r: usize) -> PyResult<([u32; 3], Vec<u8>)> {
+    if !r.is_power_of_two() || r < 32 || ijk.iter().any(|&c| c as usize >= r) {
+        return Err(value_error(format!(
+            "needs r a power of two >= 32 and a voxel inside the cube, got r = {r}, {ijk:?}"
+        )));
+    }
+    Ok(address(ijk, r))
+}
+
+/// Registers the submodule's functions and classes.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyServer>()?;
+    m.add_class::<PyClient>()?;
+    m.add_function(wrap_pyfunction!(render_reference, m)?)?;
+    m.add_function(wrap_pyfunction!(phantom_head, m)?)?;
+    m.add_function(wrap_pyfunction!(phantom_thorax, m)?)?;
+    m.add_function(wrap_pyfunction!(phantom_tfs, m)?)?;
+    m.add_function(wrap_pyfunction!(octree_address, m)?)?;
+    Ok(())
+}
