@@ -384,3 +384,114 @@ fn cloth_simulate_writes_frames_and_energy() {
         assert!(!err.contains("panicked"), "{extra:?}: {err}");
     }
 }
+
+#[test]
+fn volren_serve_and_view_a_roi() {
+    use std::io::BufRead;
+    let dir = tempfile::tempdir().unwrap();
+    let vol = wscg::volren::phantoms::head([64, 64, 32], 3).unwrap();
+    let npy = dir.path().join("head.npy");
+    vol.map(|d| d as f32).write_npy(&npy).unwrap();
+    let tf = dir.path().join("tf.json");
+    std::fs::write(
+        &tf,
+        r#"{"canonical": 0, "tfs": [
+            [[30, 0.9, 0.6, 0.5, 0.0], [60, 0.9, 0.6, 0.5, 0.05], [110, 0.9, 0.6, 0.5, 0.05],
+             [120, 0.9, 0.6, 0.5, 0.0]],
+            [[180, 1, 1, 0.9, 0.0], [255, 1, 1, 0.9, 0.8]]]}"#,
+    )
+    .unwrap();
+    let before = std::fs::read(&npy).unwrap();
+    // In-process server.
+    let local = dir.path().join("local.png");
+    let (v, t, o) = (
+        npy.to_str().unwrap(),
+        tf.to_str().unwrap(),
+        local.to_str().unwrap(),
+    );
+    let out = wscg_ok(&[
+        "volren",
+        "roi-view",
+        "--volume",
+        v,
+        "--tf",
+        t,
+        "--roi",
+        "16:48,16:48,0:32",
+        "--size",
+        "48",
+        "--out",
+        o,
+    ]);
+    assert!(out.contains("ROI package"), "{out}");
+    assert_eq!(
+        wscg::math::Image::load(&local).unwrap().shape(),
+        (48, 48, 3)
+    );
+    // A real server on a free port, one connection.
+    let mut child = wscg()
+        .args([
+            "volren",
+            "roi-serve",
+            "--volume",
+            v,
+            "--tf",
+            t,
+            "--addr",
+            "127.0.0.1:0",
+        ])
+        .args(["--connections", "1"])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let addr = line
+        .trim()
+        .strip_prefix("listening on ")
+        .unwrap()
+        .to_string();
+    let remote = dir.path().join("remote.png");
+    wscg_ok(&[
+        "volren",
+        "roi-view",
+        "--server",
+        &addr,
+        "--roi",
+        "16:48,16:48,0:32",
+        "--size",
+        "48",
+        "--out",
+        remote.to_str().unwrap(),
+    ]);
+    assert!(child.wait().unwrap().success());
+    assert_eq!(
+        wscg::math::Image::load(&remote).unwrap(),
+        wscg::math::Image::load(&local).unwrap(),
+        "served and local images differ"
+    );
+    assert_eq!(std::fs::read(&npy).unwrap(), before, "input modified");
+    // Bad input: a malformed ROI, a ROI outside the volume, a broken TF file, no TF.
+    std::fs::write(dir.path().join("bad.json"), "{\"tfs\": [[[10, 1, 1]]]}").unwrap();
+    let bad_tf = dir.path().join("bad.json");
+    for extra in [
+        vec!["--tf", t, "--roi", "1:2:3"],
+        vec!["--tf", t, "--roi", "200:300,0:10,0:10"],
+        vec!["--tf", bad_tf.to_str().unwrap()],
+        vec![],
+    ] {
+        let out = wscg()
+            .args(["volren", "roi-view", "--volume", v, "--out", o])
+            .args(&extra)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{extra:?}");
+        assert!(
+            err.contains("error") && !err.contains("panicked"),
+            "{extra:?}: {err}"
+        );
+    }
+}

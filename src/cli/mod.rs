@@ -10,6 +10,7 @@ mod biometrics;
 mod cloth;
 mod math;
 mod progress;
+mod volren;
 
 /// wscg: the methods of the Journal of WSCG vol. 23 papers on your own data.
 #[derive(Parser, Debug)]
@@ -47,6 +48,9 @@ enum Command {
     /// Cloth simulation with soft constraints (paper 02) on your own mesh.
     #[command(subcommand)]
     Cloth(cloth::ClothCommand),
+    /// Hybrid ROI visualisation of medical volumes (paper 03): serve and view.
+    #[command(subcommand)]
+    Volren(volren::VolrenCommand),
     /// Shared numerics on image files: metrics, filtering, resizing, spectra.
     #[command(subcommand)]
     Math(math::MathCommand),
@@ -108,6 +112,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Math(cmd) => math::run(cmd),
         Command::Biometrics(cmd) => biometrics::run(cmd),
         Command::Cloth(cmd) => cloth::run(cmd),
+        Command::Volren(cmd) => volren::run(cmd),
     }
 }
 
