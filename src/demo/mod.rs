@@ -12,6 +12,7 @@ pub mod biometrics;
 pub mod cloth;
 pub mod figures;
 pub mod math;
+pub mod volren;
 
 /// A picture written by a demo.
 #[derive(Clone, Debug)]
@@ -91,7 +92,7 @@ pub struct Demo {
 
 /// Every demo, in gallery order.
 pub fn registry() -> Vec<Demo> {
-    vec![math::DEMO, biometrics::DEMO, cloth::DEMO]
+    vec![math::DEMO, biometrics::DEMO, cloth::DEMO, volren::DEMO]
 }
 
 /// The demo named `name`, if any.
