@@ -345,6 +345,25 @@ fn octree_address(ijk: [u32; 3], r: usize) -> PyResult<([u32; 3], Vec<u8>)> {
     Ok(address(ijk, r))
 }
 
+/// The 4-step block Haar transform of `(n, 16, 16, 16)` blocks indexed `[block, z, y, x]`:
+/// `(n, 4096)` packed coefficients.
+#[pyfunction]
+fn haar_blocks<'py>(py: Python<'py>, blocks: PyReadonlyArrayDyn<f32>) -> PyResult<Arr<'py, f32>> {
+    let n = match *blocks.shape() {
+        [n, 16, 16, 16] => n,
+        ref s => {
+            return Err(value_error(format!(
+                "`blocks` must have shape (n, 16, 16, 16), got {s:?}"
+            )))
+        }
+    };
+    let data = values(&blocks);
+    let out = py
+        .detach(|| wscg_volren::wavelet::forward_blocks(&data))
+        .py_err()?;
+    array(py, &[n, 4096], out)
+}
+
 /// Registers the submodule's functions and classes.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyServer>()?;
@@ -354,5 +373,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(phantom_thorax, m)?)?;
     m.add_function(wrap_pyfunction!(phantom_tfs, m)?)?;
     m.add_function(wrap_pyfunction!(octree_address, m)?)?;
+    m.add_function(wrap_pyfunction!(haar_blocks, m)?)?;
     Ok(())
 }

@@ -96,3 +96,29 @@ def test_bad_input():
     for fn in bad:
         with pytest.raises(ValueError):
             fn()
+
+
+def test_block_haar_matches_pywavelets():
+    """Our averaging Haar equals PyWavelets' orthonormal one up to the per-level scale:
+    step j's mean and details times (2 sqrt 2)^j are pywt's level-j coefficients."""
+    pywt = pytest.importorskip("pywt")
+    rng = np.random.default_rng(0)
+    blocks = rng.uniform(0, 255, (3, 16, 16, 16)).astype(np.float32)
+    ours = V.haar_blocks(blocks).astype(np.float64)
+    ref = pywt.wavedecn(blocks.astype(np.float64), "haar", mode="periodization", level=4,
+                        axes=(1, 2, 3))
+    s = 2 * np.sqrt(2)
+    np.testing.assert_allclose(ours[:, 0] * s ** 4, ref[0][:, 0, 0, 0], rtol=1e-5)
+    offset = 1
+    for level, det in enumerate(ref[1:]):  # coarse (step 4) to fine (step 1)
+        j = 4 - level
+        n = 16 >> j
+        got = ours[:, offset:offset + 7 * n ** 3].reshape(3, n, n, n, 7)  # [z, y, x, k]
+        offset += 7 * n ** 3
+        for k in range(1, 8):
+            u, v, w = (k >> 2) & 1, (k >> 1) & 1, k & 1
+            key = ("d" if w else "a") + ("d" if v else "a") + ("d" if u else "a")
+            np.testing.assert_allclose(got[..., k - 1] * s ** j, det[key], rtol=1e-4,
+                                       atol=1e-3)
+    with pytest.raises(ValueError):
+        V.haar_blocks(np.zeros((2, 8, 8, 8)))

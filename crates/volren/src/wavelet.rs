@@ -125,6 +125,41 @@ pub fn forward_block(block: &[f32]) -> BlockCoefficients {
     }
 }
 
+/// Number of coefficients of a block: the root and every detail.
+pub const PACKED: usize = BLOCK3;
+
+impl BlockCoefficients {
+    /// The coefficients as one vector of 4096: the root, then the details of steps 4, 3, 2,
+    /// 1, each step's parents in raster order with their 7 details in order `k + 1 = 4u +
+    /// 2v + w`.
+    pub fn packed(&self) -> Vec<f32> {
+        let mut out = Vec::with_capacity(PACKED);
+        out.push(self.root);
+        for d in self.details.iter().rev() {
+            out.extend(d.iter().flatten());
+        }
+        out
+    }
+}
+
+/// The forward transform of many 16^3 blocks (x fastest inside a block), in parallel:
+/// [`BlockCoefficients::packed`] of each.
+///
+/// Errors: a length that is not a multiple of 4096.
+pub fn forward_blocks(blocks: &[f32]) -> Result<Vec<f32>> {
+    if !blocks.len().is_multiple_of(BLOCK3) {
+        return Err(Error::ShapeMismatch(format!(
+            "{} values are not whole 16^3 blocks",
+            blocks.len()
+        )));
+    }
+    let mut out = vec![0.0f32; blocks.len()];
+    out.par_chunks_mut(BLOCK3)
+        .zip(blocks.par_chunks(BLOCK3))
+        .for_each(|(o, b)| o.copy_from_slice(&forward_block(b).packed()));
+    Ok(out)
+}
+
 /// The inverse of `steps` (0..=4) transform steps: the block at `2^steps` per side.
 pub fn inverse_block(c: &BlockCoefficients, steps: usize) -> Vec<f32> {
     let mut values = vec![c.root];

@@ -30,7 +30,7 @@ import numpy as np
 from ._native import volren as _v
 
 __all__ = ["HybridServer", "HybridClient", "render_reference", "phantom", "phantom_tfs",
-           "octree_address", "orbit_camera"]
+           "octree_address", "orbit_camera", "haar_blocks"]
 
 Roi = Tuple[int, int, int, int, int, int]
 
@@ -199,3 +199,12 @@ def octree_address(ijk: Sequence[int], r: int) -> Tuple[Tuple[int, int, int], Li
     and the child slot taken at each level 32, 64, ..., r/2."""
     cell, slots = _v.octree_address([int(c) for c in ijk], int(r))
     return tuple(cell), list(slots)
+
+
+def haar_blocks(blocks) -> np.ndarray:
+    """The server's 4-step 3-D Haar transform (averaging normalisation) of ``(n, 16, 16, 16)``
+    blocks indexed ``[block, z, y, x]``: an ``(n, 4096)`` float32 array per block holding the
+    root (the block mean), then the details of steps 4, 3, 2, 1 (coarse to fine), each step's
+    parents in raster order (x fastest) with 7 details ``k = 4u + 2v + w`` (u, v, w the x,
+    y, z difference bits)."""
+    return _v.haar_blocks(np.ascontiguousarray(np.asarray(blocks, dtype=np.float32)))
