@@ -350,9 +350,10 @@ pub struct GradientOctree {
     pub leaves: Vec<[u8; 3]>,
 }
 
-/// Unit normal at voxel `(x, y, z)`: central differences of the density (one-sided at the
-/// border); where they vanish, of the indicator of the voxel's material; else +z.
-fn normal(v: &Volume<u8>, mats: &MaterialTable, p: [usize; 3]) -> [f32; 3] {
+/// Unit normal the octree stores for voxel `(x, y, z)`: central differences of the density
+/// (one-sided at the border); where they vanish, of the indicator of the voxel's material;
+/// else +z. Panics if the voxel is outside the volume.
+pub fn normal(v: &Volume<u8>, mats: &MaterialTable, p: [usize; 3]) -> [f32; 3] {
     let dims = v.dims();
     let m0 = mats.material(v.at(p[0], p[1], p[2]));
     let diff = |f: &dyn Fn(usize, usize, usize) -> f32| -> [f32; 3] {

@@ -223,12 +223,14 @@ enum Source<'a> {
         factor: f64,
         tf: &'a PlTf,
     },
-    /// A (restricted) Gradient Octree under `tf`, shaded with the stored normals.
+    /// A (restricted) Gradient Octree under `tf`, shaded with the stored normals, or with
+    /// the unquantised normals of `exact` (the volume the octree was built from).
     Octree {
         structure: &'a GoStructure,
         leaves: &'a [[u8; 3]],
         mats: &'a MaterialTable,
         tf: &'a PlTf,
+        exact: Option<&'a Volume<u8>>,
     },
     /// The full-resolution volume under `tf`, shaded with its gradient when `lit`.
     Full {
@@ -250,9 +252,13 @@ impl Source<'_> {
                 leaves,
                 mats,
                 tf,
+                exact,
             } => {
                 let v = p.map(|c| c.max(0.0).floor() as u32);
-                let (m, n) = decode_voxel(lookup(structure, leaves, v)?);
+                let (m, mut n) = decode_voxel(lookup(structure, leaves, v)?);
+                if let Some(vol) = exact {
+                    n = crate::gradient_octree::normal(vol, mats, v.map(|c| c as usize));
+                }
                 let rgba = tf.eval(mats.representative(m)?);
                 Some(shade(rgba, n, d, o))
             }
@@ -353,7 +359,11 @@ impl HybridClient {
         }
     }
 
-    fn roi_source<'a>(&'a self, tf: &'a PlTf) -> Option<(&'a Roi, Source<'a>)> {
+    fn roi_source<'a>(
+        &'a self,
+        tf: &'a PlTf,
+        exact: Option<&'a Volume<u8>>,
+    ) -> Option<(&'a Roi, Source<'a>)> {
         self.roi.as_ref().map(|(r, s, leaves)| {
             (
                 r,
@@ -362,6 +372,7 @@ impl HybridClient {
                     leaves,
                     mats: &self.materials,
                     tf,
+                    exact,
                 },
             )
         })
@@ -373,8 +384,39 @@ impl HybridClient {
     ///
     /// Errors: bad camera or options, `roi_tf` out of range.
     pub fn render(&self, cam: &Camera, roi_tf: usize, opts: &RenderOpts) -> Result<Image<f32>> {
+        self.render_with(cam, roi_tf, opts, None)
+    }
+
+    /// [`HybridClient::render`] with the ROI shaded by unquantised normals computed from
+    /// `volume` (the server's volume): the reference that measures the normal code's loss.
+    ///
+    /// Errors: as `render`, and a volume of other dims than the client's.
+    pub fn render_exact_normals(
+        &self,
+        volume: &Volume<u8>,
+        cam: &Camera,
+        roi_tf: usize,
+        opts: &RenderOpts,
+    ) -> Result<Image<f32>> {
+        if volume.dims() != self.dims {
+            return Err(Error::ShapeMismatch(format!(
+                "volume {:?} for a client of {:?}",
+                volume.dims(),
+                self.dims
+            )));
+        }
+        self.render_with(cam, roi_tf, opts, Some(volume))
+    }
+
+    fn render_with(
+        &self,
+        cam: &Camera,
+        roi_tf: usize,
+        opts: &RenderOpts,
+        exact: Option<&Volume<u8>>,
+    ) -> Result<Image<f32>> {
         let tf = tf_index(&self.tfs, roi_tf)?;
-        let roi = self.roi_source(tf).map(|(r, s)| (r, s, opts.step));
+        let roi = self.roi_source(tf, exact).map(|(r, s)| (r, s, opts.step));
         cast(
             self.dims,
             cam,
@@ -396,7 +438,7 @@ impl HybridClient {
     ) -> Result<Image<f32>> {
         let tf = tf_index(&self.tfs, roi_tf)?;
         let (_, src) = self
-            .roi_source(tf)
+            .roi_source(tf, None)
             .ok_or_else(|| Error::invalid("roi", "no ROI package received"))?;
         cast(self.dims, cam, opts, None, (src, opts.step))
     }

@@ -68,6 +68,12 @@ fn hybrid_rendering_is_consistent_and_helps_in_the_roi() {
     let p_c = psnr(&r, &rgb(&context, &mask), 1.0).unwrap();
     println!("{covered} ROI pixels: PSNR hybrid {p_h:.2} dB, context only {p_c:.2} dB");
     assert!(p_h >= p_c + 2.0, "hybrid {p_h} vs context {p_c}");
+    // Check 7c: the 18-bit normals cost little: on ROI pixels the hybrid image is within
+    // 40 dB PSNR of the same rendering with unquantised normals.
+    let exact = client.render_exact_normals(&v, &cam, 1, &opts).unwrap();
+    let p_n = psnr(&rgb(&exact, &mask), &rgb(&hybrid, &mask), 1.0).unwrap();
+    println!("quantised vs exact normals on ROI pixels: PSNR {p_n:.2} dB");
+    assert!(p_n >= 40.0, "{p_n}");
     // Bad input.
     assert!(client.render(&cam, 7, &opts).is_err());
     let mut bad = cam;

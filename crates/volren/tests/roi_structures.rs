@@ -350,3 +350,48 @@ fn phantom_packages_and_sizes() {
     assert!(low.blocks.len() as f64 <= 0.016 * raw as f64);
     assert!(structure + leaves < raw);
 }
+
+/// Check 2 on the phantoms: exhaustive on the head (256 x 256 x 112), 10^6 random voxels of
+/// the thorax (256^3): stored iff an edge voxel, with its material, and the client's rebuild
+/// equals the server's structure.
+#[test]
+fn phantom_lookups_are_exact() {
+    use wscg_volren::phantoms::{head, head_tfs, thorax, thorax_tfs};
+    for (v, tfs, exhaustive) in [
+        (head([256, 256, 112], 1).unwrap(), head_tfs(), true),
+        (thorax([256; 3], 2).unwrap(), thorax_tfs(), false),
+    ] {
+        let mats = MaterialTable::from_tfs(&tfs).unwrap();
+        let go = GradientOctree::build(&v, &mats, EdgeRule::Boundary).unwrap();
+        let (bits, b) = go.structure.occupancy();
+        assert_eq!(
+            GoStructure::from_occupancy(go.structure.r, &bits, &b).unwrap(),
+            go.structure
+        );
+        let edges = edge_set(&v, &mats);
+        assert_eq!(go.leaves.len() - 1, edges.len());
+        let r = go.structure.r as u32;
+        let check = |p: [u32; 3]| {
+            let got = go.lookup(p);
+            assert_eq!(got.is_some(), edges.contains(&p), "{p:?}");
+            if let Some(code) = got {
+                let m = mats.material(v.at(p[0] as usize, p[1] as usize, p[2] as usize));
+                assert_eq!(decode_voxel(code).0, m, "{p:?}");
+            }
+        };
+        if exhaustive {
+            for z in 0..r {
+                for y in 0..r {
+                    for x in 0..r {
+                        check([x, y, z]);
+                    }
+                }
+            }
+        } else {
+            let u = wscg_math::rng::uniform_vec(13, 3_000_000, 0.0, r as f64).unwrap();
+            for q in u.chunks(3) {
+                check([q[0] as u32, q[1] as u32, q[2] as u32]);
+            }
+        }
+    }
+}
