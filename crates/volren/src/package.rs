@@ -425,6 +425,10 @@ pub struct HybridClient {
     pub structure: GoStructure,
     /// The current ROI: box, restricted structure and leaf data (row 0 unused).
     pub roi: Option<(Roi, GoStructure, Vec<[u8; 3]>)>,
+    /// Empty-space cells of the context: `CONTEXT_CELL^3` voxels of `V_W` each, true where
+    /// the canonical transfer function is transparent over every density a trilinear sample
+    /// inside the cell can take.
+    pub(crate) context_empty: crate::render::EmptyCells,
     id: u64,
 }
 
@@ -476,6 +480,7 @@ impl HybridClient {
         }
         r.done()?;
         let structure = GoStructure::from_occupancy(side, bits, &levels)?;
+        let context_empty = crate::render::EmptyCells::new(&lowres, &tfs[canonical]);
         Ok(Self {
             dims,
             tfs,
@@ -485,6 +490,7 @@ impl HybridClient {
             lowres_factor: 1 << (4 - steps_sent as usize),
             structure,
             roi: None,
+            context_empty,
             id,
         })
     }

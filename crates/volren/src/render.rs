@@ -41,6 +41,61 @@ fn normalize(a: V3) -> Option<V3> {
     (l > 1e-12 && l.is_finite()).then(|| a.map(|c| c / l))
 }
 
+/// Side of an empty-space cell, in voxels of the sampled volume.
+pub const CELL: usize = 4;
+
+/// Empty-space cells of a volume for one transfer function: cell `c` covers the voxels
+/// `[c CELL, (c + 1) CELL)` and is empty when the transfer function is transparent over the
+/// range of the voxels `[c CELL - 1, (c + 1) CELL]` (all a trilinear sample in the cell
+/// reads). Skipping a sample in an empty cell changes no pixel.
+#[derive(Clone, Debug, Default)]
+pub struct EmptyCells {
+    dims: [usize; 3],
+    empty: Vec<bool>,
+}
+
+impl EmptyCells {
+    /// The cells of `v` under `tf`.
+    pub fn new(v: &Volume<f32>, tf: &PlTf) -> Self {
+        let vd = v.dims();
+        let dims = vd.map(|d| d.div_ceil(CELL));
+        let empty = (0..dims[0] * dims[1] * dims[2])
+            .into_par_iter()
+            .map(|c| {
+                let cell = [c % dims[0], c / dims[0] % dims[1], c / (dims[0] * dims[1])];
+                let lo = cell.map(|x| (x * CELL).saturating_sub(1));
+                let hi: Vec<usize> = (0..3)
+                    .map(|a| ((cell[a] + 1) * CELL).min(vd[a] - 1))
+                    .collect();
+                let (mut mn, mut mx) = (f32::MAX, f32::MIN);
+                for z in lo[2]..=hi[2] {
+                    for y in lo[1]..=hi[1] {
+                        for x in lo[0]..=hi[0] {
+                            let d = v.at(x, y, z);
+                            mn = mn.min(d);
+                            mx = mx.max(d);
+                        }
+                    }
+                }
+                tf.max_opacity(mn, mx) <= 0.0
+            })
+            .collect();
+        Self { dims, empty }
+    }
+
+    /// Whether the sample at voxel coordinate `q` (the trilinear argument) lies in an empty
+    /// cell.
+    #[inline]
+    fn skip(&self, q: V3) -> bool {
+        if self.empty.is_empty() {
+            return false;
+        }
+        let c: [usize; 3] =
+            std::array::from_fn(|a| ((q[a].max(0.0) as usize) / CELL).min(self.dims[a] - 1));
+        self.empty[c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])]
+    }
+}
+
 /// A perspective pinhole camera in voxel coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -190,9 +245,48 @@ struct Accum {
     a: f32,
 }
 
+/// `t^step` with the common steps in closed form (no `powf`).
+#[inline]
+fn pow_step(t: f32, step: f64) -> f32 {
+    if step == 0.5 {
+        t.sqrt()
+    } else if step == 1.0 {
+        t
+    } else if step == 2.0 {
+        t * t
+    } else {
+        t.powf(step as f32)
+    }
+}
+
+/// Trilinear interpolation of `v` at voxel coordinate `q` (voxel centres at integers),
+/// clamped to the border: [`Volume::trilinear`] without its generic conversions.
+#[inline]
+fn trilinear(v: &Volume<f32>, q: V3) -> f32 {
+    let d = v.dims();
+    let data = v.data();
+    let mut i0 = [0usize; 3];
+    let mut i1 = [0usize; 3];
+    let mut f = [0f32; 3];
+    for a in 0..3 {
+        let x = q[a].clamp(0.0, (d[a] - 1) as f64);
+        let fl = x.floor();
+        i0[a] = fl as usize;
+        i1[a] = (i0[a] + 1).min(d[a] - 1);
+        f[a] = (x - fl) as f32;
+    }
+    let at = |x: usize, y: usize, z: usize| data[x + d[0] * (y + d[1] * z)];
+    let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+    let c00 = lerp(at(i0[0], i0[1], i0[2]), at(i1[0], i0[1], i0[2]), f[0]);
+    let c10 = lerp(at(i0[0], i1[1], i0[2]), at(i1[0], i1[1], i0[2]), f[0]);
+    let c01 = lerp(at(i0[0], i0[1], i1[2]), at(i1[0], i0[1], i1[2]), f[0]);
+    let c11 = lerp(at(i0[0], i1[1], i1[2]), at(i1[0], i1[1], i1[2]), f[0]);
+    lerp(lerp(c00, c10, f[1]), lerp(c01, c11, f[1]), f[2])
+}
+
 impl Accum {
     fn add(&mut self, rgba: [f32; 4], step: f64) {
-        let alpha = 1.0 - (1.0 - rgba[3].clamp(0.0, 1.0)).powf(step as f32);
+        let alpha = 1.0 - pow_step(1.0 - rgba[3].clamp(0.0, 1.0), step);
         let w = (1.0 - self.a) * alpha;
         for (c, v) in self.c.iter_mut().zip(rgba) {
             *c += w * v;
@@ -222,6 +316,7 @@ enum Source<'a> {
         lowres: &'a Volume<f32>,
         factor: f64,
         tf: &'a PlTf,
+        empty: &'a EmptyCells,
     },
     /// A (restricted) Gradient Octree under `tf`, shaded with the stored normals, or with
     /// the unquantised normals of `exact` (the volume the octree was built from).
@@ -243,9 +338,17 @@ enum Source<'a> {
 impl Source<'_> {
     fn sample(&self, p: V3, d: V3, o: &RenderOpts) -> Option<[f32; 4]> {
         match *self {
-            Source::Context { lowres, factor, tf } => {
+            Source::Context {
+                lowres,
+                factor,
+                tf,
+                empty,
+            } => {
                 let q = p.map(|c| c / factor - 0.5);
-                Some(tf.eval(lowres.trilinear(q)))
+                if empty.skip(q) {
+                    return None;
+                }
+                Some(tf.eval(trilinear(lowres, q)))
             }
             Source::Octree {
                 structure,
@@ -304,14 +407,15 @@ fn cast(
                     a: 0.0,
                 };
                 if let Some((t0, t1)) = slab(cam.eye, d, [0.0; 3], hi) {
-                    let mut segments = vec![(t0, t1, outside)];
+                    // At most three segments: before, inside and after the ROI box.
+                    let mut segments = [(t0, t1, outside), (t1, t1, outside), (t1, t1, outside)];
                     if let Some((r, inside, step)) = &roi {
                         let lo = r.min.map(|c| c as f64);
                         let up = r.max.map(|c| c as f64);
                         if let Some((r0, r1)) = slab(cam.eye, d, lo, up) {
                             let (r0, r1) = (r0.max(t0), r1.min(t1));
                             if r0 < r1 {
-                                segments = vec![
+                                segments = [
                                     (t0, r0, outside),
                                     (r0, r1, (*inside, *step)),
                                     (r1, t1, outside),
@@ -356,6 +460,7 @@ impl HybridClient {
             lowres: &self.lowres,
             factor: self.lowres_factor as f64,
             tf: &self.tfs[self.canonical],
+            empty: &self.context_empty,
         }
     }
 

@@ -77,6 +77,16 @@ impl PlTf {
         std::array::from_fn(|c| c0[c] + t * (c1[c] - c0[c]))
     }
 
+    /// The largest opacity on the closed interval `[lo, hi]` (exact: the function is linear
+    /// between control points).
+    pub fn max_opacity(&self, lo: f32, hi: f32) -> f32 {
+        self.points
+            .iter()
+            .filter(|(d, _)| *d > lo && *d < hi)
+            .map(|(_, c)| c[3])
+            .fold(self.eval(lo)[3].max(self.eval(hi)[3]), f32::max)
+    }
+
     /// Whether the opacity is zero on the closed interval `[lo, hi]` (the function is linear
     /// between control points, so checking the ends and the points inside suffices).
     pub fn transparent_on(&self, lo: f32, hi: f32) -> bool {
