@@ -592,3 +592,49 @@ pub fn render_reference(
     };
     cast(v.dims(), cam, opts, inside, (outside, opts.step))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn empty_cells_never_skip_a_visible_sample() {
+        let u = wscg_math::rng::uniform_vec(21, 20 * 18 * 14, 0.0, 1.0).unwrap();
+        // Mostly dark with bright islands, so that some cells are empty and some are not.
+        let v = Volume::from_fn([20, 18, 14], [1.0; 3], |x, y, z| {
+            let r = u[x + 20 * (y + 18 * z)];
+            if r > 0.97 {
+                200.0
+            } else {
+                10.0 * r as f32
+            }
+        })
+        .unwrap();
+        let tf = PlTf::new(vec![
+            (50.0, [1.0, 1.0, 1.0, 0.0]),
+            (60.0, [1.0, 1.0, 1.0, 0.5]),
+        ])
+        .unwrap();
+        let cells = EmptyCells::new(&v, &tf);
+        let q = wscg_math::rng::uniform_vec(22, 3 * 20000, -1.0, 21.0).unwrap();
+        let (mut skipped, mut visible) = (0, 0);
+        for p in q.chunks(3) {
+            let p = [p[0], p[1], p[2]];
+            let a = tf.eval(trilinear(&v, p))[3];
+            if cells.skip(p) {
+                skipped += 1;
+                assert_eq!(a, 0.0, "skipped a visible sample at {p:?}");
+            }
+            visible += usize::from(a > 0.0);
+        }
+        assert!(
+            skipped > 1000 && visible > 100,
+            "{skipped} skipped, {visible} visible"
+        );
+        // The fast trilinear equals the volume's.
+        for p in q.chunks(3).take(500) {
+            let p = [p[0], p[1], p[2]];
+            assert!((trilinear(&v, p) - v.trilinear(p)).abs() < 1e-4);
+        }
+    }
+}
