@@ -548,6 +548,48 @@ impl HybridClient {
         cast(self.dims, cam, opts, None, (src, opts.step))
     }
 
+    /// The wavelet scheme's client (baseline [1] of the paper): with every wavelet step
+    /// received (`full`, the `w_l = 4` decode of a package sent with 4 steps), the decoded
+    /// full-resolution volume under `roi_tf` inside the ROI box and `V_W` under the canonical
+    /// transfer function outside, both unlit.
+    ///
+    /// Errors: no ROI set, `full` of another size than the client's padded volume, bad camera,
+    /// options or `roi_tf`.
+    pub fn render_wavelet_scheme(
+        &self,
+        full: &Volume<f32>,
+        cam: &Camera,
+        roi_tf: usize,
+        opts: &RenderOpts,
+    ) -> Result<Image<f32>> {
+        let tf = tf_index(&self.tfs, roi_tf)?;
+        let (roi, _, _) = self
+            .roi
+            .as_ref()
+            .ok_or_else(|| Error::invalid("roi", "no ROI package received"))?;
+        let padded = self.lowres.dims().map(|d| d * self.lowres_factor);
+        if full.dims() != padded {
+            return Err(Error::ShapeMismatch(format!(
+                "full-resolution decode {:?} for a padded volume {padded:?}",
+                full.dims()
+            )));
+        }
+        let empty = EmptyCells::new(full, tf);
+        let inside = Source::Context {
+            lowres: full,
+            factor: 1.0,
+            tf,
+            empty: &empty,
+        };
+        cast(
+            self.dims,
+            cam,
+            opts,
+            Some((roi, inside, opts.step)),
+            (self.context(), opts.context_step),
+        )
+    }
+
     /// The wavelet-context baseline: `V_W` everywhere, no ROI.
     pub fn render_context(&self, cam: &Camera, opts: &RenderOpts) -> Result<Image<f32>> {
         cast(
