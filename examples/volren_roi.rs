@@ -3,7 +3,6 @@
 //!
 //! `cargo run --release --example volren_roi -- [out.png]`
 
-use wscg::math::Image;
 use wscg::volren::phantoms::{head, head_tfs};
 use wscg::volren::{Camera, HybridClient, HybridServer, RenderOpts, ServerOpts};
 
@@ -24,12 +23,7 @@ fn main() -> wscg::math::Result<()> {
         1,
         &RenderOpts::default(),
     )?;
-    let rgb: Vec<f32> = img
-        .data()
-        .chunks_exact(4)
-        .flat_map(|c| [c[0], c[1], c[2]])
-        .collect();
-    Image::new(img.height(), img.width(), 3, rgb)?.save(&out)?;
+    wscg::volren::render::rgb(&img)?.save(&out)?;
     println!(
         "raw volume {} B, static package {} B, ROI package {} B; image written to {out}",
         volume.len(),

@@ -80,15 +80,8 @@ fn roi_in(r: (u32, u32, u32, u32, u32, u32)) -> ([u32; 3], [u32; 3]) {
     ([r.0, r.2, r.4], [r.1, r.3, r.5])
 }
 
-#[allow(clippy::too_many_arguments)]
-fn camera(
-    eye: [f64; 3],
-    target: [f64; 3],
-    up: [f64; 3],
-    fov_deg: f64,
-    width: usize,
-    height: usize,
-) -> Camera {
+fn camera(v: View) -> Camera {
+    let (eye, target, up, fov_deg, width, height) = v;
     Camera {
         eye,
         target,
@@ -159,7 +152,6 @@ impl PyServer {
         self.inner.octree().structure.node_counts()
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn size_report<'py>(
         &self,
         py: Python<'py>,
@@ -168,7 +160,7 @@ impl PyServer {
         view: Option<View>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (lo, hi) = roi_in(roi);
-        let cam = view.map(|(e, t, u, f, w, h)| camera(e, t, u, f, w, h));
+        let cam = view.map(camera);
         let r = py
             .detach(|| self.inner.size_report(lo, hi, roi_tf, cam.as_ref()))
             .py_err()?;
@@ -228,20 +220,14 @@ impl PyClient {
         (nz, ny, nx)
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
         py: Python<'py>,
         mode: &str,
-        eye: [f64; 3],
-        target: [f64; 3],
-        up: [f64; 3],
-        fov_deg: f64,
-        width: usize,
-        height: usize,
+        view: View,
         roi_tf: usize,
     ) -> PyResult<Arr<'py, f32>> {
-        let cam = camera(eye, target, up, fov_deg, width, height);
+        let cam = camera(view);
         let o = RenderOpts::default();
         let c = &self.inner;
         let img = py
@@ -261,17 +247,11 @@ impl PyClient {
 
 /// Full-resolution reference rendering (see `wscg.volren.render_reference`).
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
 fn render_reference<'py>(
     py: Python<'py>,
     volume: PyReadonlyArrayDyn<u8>,
     tf: PyReadonlyArrayDyn<f64>,
-    eye: [f64; 3],
-    target: [f64; 3],
-    up: [f64; 3],
-    fov_deg: f64,
-    width: usize,
-    height: usize,
+    view: View,
     roi: Option<(u32, u32, u32, u32, u32, u32)>,
     roi_tf: Option<PyReadonlyArrayDyn<f64>>,
 ) -> PyResult<Arr<'py, f32>> {
@@ -285,7 +265,7 @@ fn render_reference<'py>(
         (None, None) => None,
         _ => return Err(value_error("`roi` and `roi_tf` go together")),
     };
-    let cam = camera(eye, target, up, fov_deg, width, height);
+    let cam = camera(view);
     let img = py
         .detach(|| {
             reference(

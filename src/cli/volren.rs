@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use clap::{Args, Subcommand};
-use wscg_math::{Error, Image, Result, Volume};
+use wscg_math::{Error, Result, Volume};
 use wscg_volren::net::{serve, RemoteServer};
 use wscg_volren::{Camera, HybridClient, HybridServer, PlTf, RenderOpts, ServerOpts};
 
@@ -240,16 +240,7 @@ pub fn run(cmd: VolrenCommand) -> Result<()> {
             }
             let cam = Camera::orbit(client.dims, a.azimuth, a.elevation, a.size);
             let img = client.render(&cam, a.roi_tf, &RenderOpts::default())?;
-            let rgb = Image::new(
-                img.height(),
-                img.width(),
-                3,
-                img.data()
-                    .chunks_exact(4)
-                    .flat_map(|c| [c[0], c[1], c[2]])
-                    .collect(),
-            )?;
-            rgb.save(&a.out)?;
+            wscg_volren::render::rgb(&img)?.save(&a.out)?;
             println!(
                 "static package {} bytes, ROI package {} bytes; image written to {}",
                 stat.len(),

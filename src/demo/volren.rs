@@ -8,6 +8,7 @@ use std::path::Path;
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
 use wscg_volren::phantoms::{head, head_tfs};
+use wscg_volren::render::rgb;
 use wscg_volren::{
     render_reference, Camera, HybridClient, HybridServer, RenderOpts, Roi, ServerOpts,
 };
@@ -22,18 +23,6 @@ pub const DEMO: Demo = Demo {
     title: "Hybrid ROI-based visualisation of medical volumes: packages, sizes and images",
     run,
 };
-
-fn rgb(img: &Image<f32>) -> Result<Image<f32>> {
-    Image::new(
-        img.height(),
-        img.width(),
-        3,
-        img.data()
-            .chunks_exact(4)
-            .flat_map(|c| [c[0], c[1], c[2]])
-            .collect(),
-    )
-}
 
 fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let dims = [256, 256, 112];
@@ -91,24 +80,17 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.advance(1);
     let mb = |b: usize| format!("{:.2} MB ({:.1} %)", b as f64 / 1e6, 100.0 * r.rate(b));
     let paper = "Table 1, skull 256 x 256 x 112";
-    rep.table.push(Row::new(
-        "raw volume (Volume Viewer)",
-        mb(r.raw),
-        "7.3 MB (100 %)",
-        paper,
-    ));
-    rep.table.push(Row::new(
-        "wavelet scheme, all steps",
-        mb(r.wavelets),
-        "1.91 MB (32 %)",
-        paper,
-    ));
-    rep.table.push(Row::new(
-        "Gradient Octree, whole volume",
-        mb(r.gradient_octree),
-        "3.8 MB (22 %)",
-        paper,
-    ));
+    for (scheme, bytes, reported) in [
+        ("raw volume (Volume Viewer)", r.raw, "7.3 MB (100 %)"),
+        ("wavelet scheme, all steps", r.wavelets, "1.91 MB (32 %)"),
+        (
+            "Gradient Octree, whole volume",
+            r.gradient_octree,
+            "3.8 MB (22 %)",
+        ),
+    ] {
+        rep.table.push(Row::new(scheme, mb(bytes), reported, paper));
+    }
     rep.table.push(Row::new(
         "hybrid: static + ROI package",
         format!(

@@ -20,7 +20,7 @@
 //! package built for another volume is refused; a client also checks the leaf count against
 //! the one it derives from the structure and the ROI before reading the leaves.
 
-use wscg_math::{Error, Image, Result, Volume};
+use wscg_math::{Error, Result, Volume};
 
 use crate::gradient_octree::{EdgeRule, GoStructure, GradientOctree, Roi};
 use crate::tf::{MaterialTable, PlTf};
@@ -367,16 +367,7 @@ impl HybridServer {
                     cam,
                     &crate::render::RenderOpts::default(),
                 )?;
-                let rgb = Image::new(
-                    img.height(),
-                    img.width(),
-                    3,
-                    img.data()
-                        .chunks_exact(4)
-                        .flat_map(|c| [c[0], c[1], c[2]])
-                        .collect(),
-                )?;
-                Some(rgb.encode_jpeg(85)?.len())
+                Some(crate::render::rgb(&img)?.encode_jpeg(85)?.len())
             }
             None => None,
         };

@@ -41,6 +41,16 @@ fn normalize(a: V3) -> Option<V3> {
     (l > 1e-12 && l.is_finite()).then(|| a.map(|c| c / l))
 }
 
+/// The RGB channels of an RGBA rendering (for saving or encoding).
+pub fn rgb(img: &Image<f32>) -> Result<Image<f32>> {
+    let data = img
+        .data()
+        .chunks_exact(4)
+        .flat_map(|c| [c[0], c[1], c[2]])
+        .collect();
+    Image::new(img.height(), img.width(), 3, data)
+}
+
 /// Side of an empty-space cell, in voxels of the sampled volume.
 pub const CELL: usize = 4;
 

@@ -50,6 +50,12 @@ def _roi(r) -> Roi:
     return r  # type: ignore[return-value]
 
 
+def _view(eye, target, up, fov_deg, size) -> tuple:
+    """The native camera tuple: eye, target, up, fov (degrees), width, height."""
+    v3 = lambda a: [float(c) for c in a]  # noqa: E731
+    return (v3(eye), v3(target), v3(up), float(fov_deg), int(size[1]), int(size[0]))
+
+
 def orbit_camera(shape: Sequence[int], azimuth: float = 30.0, elevation: float = 20.0,
                  fov_deg: float = 30.0) -> dict:
     """A camera (keyword arguments of the render functions) looking at the centre of a volume
@@ -114,8 +120,8 @@ class HybridServer:
         view = None
         if thin_client_view is not None:
             c = thin_client_view
-            view = (tuple(c["eye"]), tuple(c["target"]), tuple(c.get("up", (0, 0, 1))),
-                    float(c.get("fov_deg", 30.0)), int(viewport[1]), int(viewport[0]))
+            view = _view(c["eye"], c["target"], c.get("up", (0.0, 0.0, 1.0)),
+                         c.get("fov_deg", 30.0), viewport)
         return self._s.size_report(_roi(roi), int(roi_tf), view)
 
 
@@ -156,9 +162,7 @@ class HybridClient:
         octree under ``roi_tf`` inside; ``"context"``: the low-resolution volume only (the
         wavelet baseline); ``"octree"``: the ROI's octree only (the Gradient Octree
         baseline when the ROI covers the volume)."""
-        return self._c.render(mode, [float(c) for c in eye], [float(c) for c in target],
-                              [float(c) for c in up], float(fov_deg), int(size[1]),
-                              int(size[0]), int(roi_tf))
+        return self._c.render(mode, _view(eye, target, up, fov_deg, size), int(roi_tf))
 
 
 def render_reference(volume, tf, eye, target, up=(0.0, 0.0, 1.0), fov_deg: float = 30.0,
@@ -168,9 +172,7 @@ def render_reference(volume, tf, eye, target, up=(0.0, 0.0, 1.0), fov_deg: float
     gradients, Phong shading) under ``tf``; with ``roi`` and ``roi_tf``, the full-resolution
     counterpart of the hybrid image (``tf`` unlit outside the box, ``roi_tf`` shaded
     inside)."""
-    return _v.render_reference(_volume(volume), _tf(tf), [float(c) for c in eye],
-                               [float(c) for c in target], [float(c) for c in up],
-                               float(fov_deg), int(size[1]), int(size[0]),
+    return _v.render_reference(_volume(volume), _tf(tf), _view(eye, target, up, fov_deg, size),
                                None if roi is None else _roi(roi),
                                None if roi_tf is None else _tf(roi_tf))
 
