@@ -57,8 +57,24 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let hybrid = rep.time("client: hybrid frame 256 x 256 (s)", || {
         client.render(&cam, 1, &opts)
     })?;
-    let context = client.render_context(&cam, &opts)?;
+    let context = rep.time("wavelet context alone, frame 256 x 256 (s)", || {
+        client.render_context(&cam, &opts)
+    })?;
     let octree = client.render_octree(&cam, 1, &opts)?;
+    // The Gradient Octree scheme's client: the whole octree received, rendered everywhere.
+    let mut go_client = HybridClient::from_static(&stat)?;
+    go_client.set_roi(&server.roi_package([0; 3], dims.map(|d| d as u32))?)?;
+    rep.time("Gradient Octree scheme, frame 256 x 256 (s)", || {
+        go_client.render_octree(&cam, 1, &opts)
+    })?;
+    // The wavelet scheme's client: every step received, full resolution inside the ROI.
+    let full = wscg_volren::wavelet::decode_lowres(
+        &wscg_volren::wavelet::encode_blocks(&v, &tfs[0], &Default::default(), 4)?,
+        4,
+    )?;
+    rep.time("wavelet scheme, frame 256 x 256 (s)", || {
+        client.render_wavelet_scheme(&full, &cam, 1, &opts)
+    })?;
     let reference = rep.time("reference full-resolution frame 256 x 256 (s)", || {
         render_reference(&v, &tfs[0], Some((&roi, &tfs[1])), &cam, &opts)
     })?;
