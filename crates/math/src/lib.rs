@@ -14,6 +14,7 @@
 //! - [`fft`]: 1-D, 2-D and 3-D FFTs (rustfft) with numpy's normalisation conventions.
 //! - [`filter`], [`resize`]: separable Gaussian and box filters, area and bilinear resizing.
 //! - [`metrics`]: MSE, RMSE, PSNR, SSIM (Wang et al. 2004), Dice.
+//! - [`knn`]: a kd-tree with exact k-nearest and nearest-point queries.
 //! - [`rng`]: seeded, portable random generation.
 //! - [`progress`]: a progress-reporting trait that the CLI renders as progress bars.
 //! - [`error`]: the one [`Error`] type.
@@ -26,6 +27,7 @@ pub mod eigh_partial;
 pub mod fft;
 pub mod filter;
 pub mod image;
+pub mod knn;
 pub mod mesh;
 pub mod metrics;
 pub mod npy;

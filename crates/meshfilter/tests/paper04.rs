@@ -1,0 +1,153 @@
+//! Acceptance checks of paper 04 (joint bilateral mesh denoising) on synthetic meshes with
+//! exact ground truth.
+
+use wscg_math::TriMesh;
+use wscg_meshfilter::metrics::{corresponding_error, mean_error, mean_vertex_distance};
+use wscg_meshfilter::synth::{add_noise, colored_cube, colored_plane, icosphere, NOISE_SEED};
+use wscg_meshfilter::{jbmd, jbmd_trace, JbmdParams};
+
+fn radii(p: &[[f64; 3]]) -> (f64, f64) {
+    let r: Vec<f64> = p
+        .iter()
+        .map(|q| (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt())
+        .collect();
+    let m = r.iter().sum::<f64>() / r.len() as f64;
+    let s = (r.iter().map(|x| (x - m).powi(2)).sum::<f64>() / r.len() as f64).sqrt();
+    (m, s)
+}
+
+#[test]
+fn clean_plane_is_unchanged() {
+    // Check 1: a noise-free open plane with a frozen boundary stays put.
+    let m = colored_plane(20).unwrap();
+    let mvd = mean_vertex_distance(&m).unwrap();
+    let out = jbmd(&m, &JbmdParams::from_mvd(mvd)).unwrap();
+    let d = corresponding_error(&out, &m.positions, None).unwrap();
+    assert!(d < 1e-12, "{d}");
+}
+
+#[test]
+fn sphere_keeps_its_radius_with_anti_shrinking() {
+    // Checks 3 (second part) and 6 on S3.
+    let s = icosphere(4).unwrap();
+    let mvd = mean_vertex_distance(&s).unwrap();
+    let noisy = add_noise(&s, 0.5 * mvd, false, NOISE_SEED).unwrap();
+    let (_, noisy_std) = radii(&noisy.positions);
+    let p = JbmdParams {
+        k: 40,
+        iterations: 15,
+        ..JbmdParams::from_mvd(mvd)
+    };
+    let (mean, std) = radii(&jbmd(&noisy, &p).unwrap());
+    let no_as = JbmdParams {
+        anti_shrink: false,
+        ..p
+    };
+    let (mean_shrunk, _) = radii(&jbmd(&noisy, &no_as).unwrap());
+    println!(
+        "sphere: radius {mean:.4} +- {std:.4} (noisy +- {noisy_std:.4}); without anti-shrinking \
+         {mean_shrunk:.4}"
+    );
+    assert!((0.995..=1.005).contains(&mean), "{mean}");
+    assert!(std <= 0.3 * noisy_std, "{std} vs {noisy_std}");
+    assert!(mean_shrunk < 0.97, "{mean_shrunk}");
+}
+
+#[test]
+fn cube_converges_below_the_noise() {
+    // Check 2 on S1 (n = 30, noise 0.5 MVD along the normals, k = 40, 15 iterations).
+    let cube = colored_cube(30).unwrap();
+    assert_eq!((cube.num_vertices(), cube.num_faces()), (5402, 10800));
+    let mvd = mean_vertex_distance(&cube).unwrap();
+    let noisy = add_noise(&cube, 0.5 * mvd, false, NOISE_SEED).unwrap();
+    let p = JbmdParams {
+        k: 40,
+        iterations: 15,
+        ..JbmdParams::from_mvd(mvd)
+    };
+    let mut me = Vec::new();
+    jbmd_trace(&noisy, &p, |_, x, _| {
+        me.push(mean_error(x, &cube.positions).unwrap() / mvd)
+    })
+    .unwrap();
+    let noisy_me = mean_error(&noisy.positions, &cube.positions).unwrap() / mvd;
+    println!("noisy ME {noisy_me:.3} MVD; JBMD ME by iteration {me:.3?}");
+    assert!(me[14] <= 0.17, "{}", me[14]);
+    for w in me[2..].windows(2) {
+        assert!(w[1] <= w[0] * 1.01, "ME rose: {w:?}");
+    }
+}
+
+#[test]
+fn mean_error_matches_brute_force_and_scale_invariance() {
+    // Check 8.
+    let a = wscg_math::rng::uniform_vec(1, 3 * 2000, -1.0, 1.0).unwrap();
+    let b = wscg_math::rng::uniform_vec(2, 3 * 2000, -1.0, 1.0).unwrap();
+    let x: Vec<[f64; 3]> = a.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let g: Vec<[f64; 3]> = b.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let brute = x
+        .iter()
+        .map(|p| {
+            g.iter()
+                .map(|q| {
+                    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .sum::<f64>()
+        / x.len() as f64;
+    assert!((mean_error(&x, &g).unwrap() - brute).abs() < 1e-12);
+    // Check 9: scaling the mesh and the ranges by 1000 scales the output.
+    let s = icosphere(3).unwrap();
+    let mvd = mean_vertex_distance(&s).unwrap();
+    let noisy = add_noise(&s, 0.5 * mvd, false, 5).unwrap();
+    let mut big = noisy.clone();
+    big.positions
+        .iter_mut()
+        .for_each(|p| *p = p.map(|c| 1000.0 * c));
+    let p = JbmdParams::from_mvd(mvd);
+    let pb = JbmdParams {
+        sigma_d: 1000.0 * p.sigma_d,
+        sigma_o: 1000.0 * p.sigma_o,
+        ..p
+    };
+    let small = jbmd(&noisy, &p).unwrap();
+    let large = jbmd(&big, &pb).unwrap();
+    for (a, b) in small.iter().zip(&large) {
+        for k in 0..3 {
+            assert!(
+                (1000.0 * a[k] - b[k]).abs() <= 1e-9 * 1000.0,
+                "{a:?} vs {b:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn bad_input_is_rejected() {
+    let m = icosphere(1).unwrap();
+    let p = JbmdParams::from_mvd(0.1);
+    assert!(jbmd(&TriMesh::new(vec![], vec![]).unwrap(), &p).is_err());
+    let mut nan = m.clone();
+    nan.positions[3][1] = f64::NAN;
+    assert!(jbmd(&nan, &p).is_err());
+    for bad in [
+        JbmdParams { sigma_d: 0.0, ..p },
+        JbmdParams { sigma_o: -1.0, ..p },
+        JbmdParams {
+            sigma_c: f64::NAN,
+            ..p
+        },
+        JbmdParams { lambda: 0.0, ..p },
+        JbmdParams { lambda: 1.5, ..p },
+        JbmdParams { k: 0, ..p },
+        JbmdParams {
+            k: m.num_vertices(),
+            ..p
+        },
+    ] {
+        assert!(jbmd(&m, &bad).is_err(), "{bad:?}");
+    }
+    assert!(colored_cube(0).is_err());
+    assert!(add_noise(&m, -1.0, false, 1).is_err());
+}
