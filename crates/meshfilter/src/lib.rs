@@ -9,6 +9,8 @@
 //!
 //! - [`params`]: the parameters, the paper's Table 1 presets and MVD-relative defaults.
 //! - [`jbmd`]: the method, with the paper's ablations as switches.
+//! - [`bmd`]: bilateral mesh denoising of Fleishman et al. (2003), with and without volume
+//!   preservation, the baseline the paper extends.
 //! - [`smoothing`]: the Laplacian, Taubin and HC-Laplacian baselines.
 //! - [`metrics`]: the paper's mean error (eq. 3), corresponding-vertex error, mean vertex
 //!   distance.
@@ -17,6 +19,7 @@
 //! Meshes are [`wscg_math::TriMesh`] (colours in `[0, 1]`; the colour range `sigma_c` is on
 //! the paper's 0-255 scale).
 
+pub mod bmd;
 pub mod jbmd;
 pub mod metrics;
 pub mod params;

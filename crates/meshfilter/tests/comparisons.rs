@@ -1,0 +1,226 @@
+//! Paper 04's comparisons (checks 3-5 and 7): the anti-shrinking and colour ablations and the
+//! baselines at their best swept settings, on the noisy coloured cube S1 (n = 30, noise of
+//! 0.5 MVD along the normals, k = 40, 15 iterations), and the colour-edge sanity check.
+
+use wscg_math::TriMesh;
+use wscg_meshfilter::bmd::{bmd_trace, BmdParams};
+use wscg_meshfilter::metrics::{corresponding_error, mean_error, mean_vertex_distance};
+use wscg_meshfilter::smoothing::laplacian;
+use wscg_meshfilter::synth::{add_noise, colored_cube, colored_plane, NOISE_SEED};
+use wscg_meshfilter::{jbmd_trace, JbmdParams};
+
+const N: usize = 30;
+
+struct Scene {
+    gt: TriMesh,
+    noisy: TriMesh,
+    mvd: f64,
+    /// Vertices within 1/n of a cube edge.
+    band: Vec<bool>,
+}
+
+fn scene() -> Scene {
+    let gt = colored_cube(N).unwrap();
+    let mvd = mean_vertex_distance(&gt).unwrap();
+    let noisy = add_noise(&gt, 0.5 * mvd, false, NOISE_SEED).unwrap();
+    let tol = 1.0 / N as f64 + 1e-9;
+    let band = gt
+        .positions
+        .iter()
+        .map(|p| p.iter().filter(|&&c| c <= tol || c >= 1.0 - tol).count() >= 2)
+        .collect();
+    Scene {
+        gt,
+        noisy,
+        mvd,
+        band,
+    }
+}
+
+/// ME and edge-band error (both in MVD) after every iteration.
+fn curves(s: &Scene, p: &JbmdParams) -> (Vec<f64>, Vec<f64>) {
+    let (mut me, mut eb) = (Vec::new(), Vec::new());
+    jbmd_trace(&s.noisy, p, |_, x, _| {
+        me.push(mean_error(x, &s.gt.positions).unwrap() / s.mvd);
+        eb.push(corresponding_error(x, &s.gt.positions, Some(&s.band)).unwrap() / s.mvd);
+    })
+    .unwrap();
+    (me, eb)
+}
+
+fn params(s: &Scene) -> JbmdParams {
+    JbmdParams {
+        k: 40,
+        iterations: 15,
+        ..JbmdParams::from_mvd(s.mvd)
+    }
+}
+
+#[test]
+fn ablations_and_baselines() {
+    let s = scene();
+    let p = params(&s);
+    let (me, eb) = curves(&s, &p);
+    // Check 3: without anti-shrinking, as good early, clearly worse late.
+    let (me_nas, _) = curves(
+        &s,
+        &JbmdParams {
+            anti_shrink: false,
+            ..p
+        },
+    );
+    println!(
+        "JBMD ME {:.3} edge band {:.3}; no anti-shrink ME {me_nas:.3?}",
+        me[14], eb[14]
+    );
+    for it in 0..2 {
+        assert!(
+            me_nas[it] <= me[it] * 1.02,
+            "iteration {}: {} vs {}",
+            it + 1,
+            me_nas[it],
+            me[it]
+        );
+    }
+    assert!(me_nas[14] >= 1.3 * me[14], "{} vs {}", me_nas[14], me[14]);
+    // Check 2, no decay: the error turns back up.
+    let (me_nd, _) = curves(&s, &JbmdParams { lambda: 1.0, ..p });
+    let (arg, min) =
+        me_nd.iter().enumerate().fold(
+            (0, f64::INFINITY),
+            |b, (i, &v)| if v < b.1 { (i, v) } else { b },
+        );
+    println!(
+        "no decay: min {min:.3} at iteration {}, ME(15) {:.3}",
+        arg + 1,
+        me_nd[14]
+    );
+    // argmin at iteration <= 6 (index < 6).
+    assert!(arg < 6 && me_nd[14] >= 1.15 * min);
+    // Check 4: colour helps, most at the edges.
+    let (me_nc, eb_nc) = curves(
+        &s,
+        &JbmdParams {
+            use_color: false,
+            ..p
+        },
+    );
+    println!("no colour: ME {:.3} edge band {:.3}", me_nc[14], eb_nc[14]);
+    assert!(me[14] <= 0.97 * me_nc[14]);
+    assert!(eb[14] <= 0.9 * eb_nc[14]);
+    // Check 5: the baselines at their ME-optimal settings (sweep over parameters and
+    // iterations 1..15), compared on the edge band; BMD also globally.
+    let mut best_lap = (f64::INFINITY, f64::INFINITY);
+    for l in 1..=10 {
+        let lambda = l as f64 / 10.0;
+        let mut pos = s.noisy.positions.clone();
+        for _ in 0..15 {
+            let mut m = s.noisy.clone();
+            m.positions = pos;
+            pos = laplacian(&m, lambda, 1).unwrap();
+            let e = mean_error(&pos, &s.gt.positions).unwrap() / s.mvd;
+            if e < best_lap.0 {
+                let b = corresponding_error(&pos, &s.gt.positions, Some(&s.band)).unwrap() / s.mvd;
+                best_lap = (e, b);
+            }
+        }
+    }
+    let mut best_bmd = (f64::INFINITY, f64::INFINITY);
+    for sc in [1.0, 2.0] {
+        for ss in [0.25, 0.5, 1.0] {
+            for volume_preserve in [false, true] {
+                let bp = BmdParams {
+                    sigma_c: sc * s.mvd,
+                    sigma_s: ss * s.mvd,
+                    iterations: 15,
+                    volume_preserve,
+                };
+                bmd_trace(&s.noisy, &bp, |_, x| {
+                    let e = mean_error(x, &s.gt.positions).unwrap() / s.mvd;
+                    if e < best_bmd.0 {
+                        let b =
+                            corresponding_error(x, &s.gt.positions, Some(&s.band)).unwrap() / s.mvd;
+                        best_bmd = (e, b);
+                    }
+                })
+                .unwrap();
+            }
+        }
+    }
+    println!("best Laplacian (ME, edge band) {best_lap:.3?}; best BMD {best_bmd:.3?}");
+    assert!(eb[14] <= 0.75 * best_lap.1, "{} vs {}", eb[14], best_lap.1);
+    assert!(eb[14] <= 0.75 * best_bmd.1, "{} vs {}", eb[14], best_bmd.1);
+    assert!(me[14] <= best_bmd.0, "{} vs {}", me[14], best_bmd.0);
+}
+
+#[test]
+fn colour_edge_without_geometric_edge_is_smoothed() {
+    // Check 7: a noisy plane with a colour step and no geometric edge.
+    let plane = colored_plane(40).unwrap();
+    let mvd = mean_vertex_distance(&plane).unwrap();
+    let noisy = add_noise(&plane, 0.5 * mvd, false, NOISE_SEED).unwrap();
+    let out = wscg_meshfilter::jbmd(
+        &noisy,
+        &JbmdParams {
+            k: 40,
+            iterations: 15,
+            ..JbmdParams::from_mvd(mvd)
+        },
+    )
+    .unwrap();
+    let me0 = mean_error(&noisy.positions, &plane.positions).unwrap();
+    let me1 = mean_error(&out, &plane.positions).unwrap();
+    // Mean height on each side of the colour edge, away from the frozen boundary.
+    let side = |left: bool| {
+        let z: Vec<f64> = out
+            .iter()
+            .filter(|p| {
+                (0.1..0.9).contains(&p[1]) && (p[0] < 0.5) == left && (p[0] - 0.5).abs() < 0.1
+            })
+            .map(|p| p[2])
+            .collect();
+        z.iter().sum::<f64>() / z.len() as f64
+    };
+    let step = (side(true) - side(false)).abs();
+    println!(
+        "plane: ME {:.3} -> {:.3} MVD, step across the colour edge {:.4} MVD",
+        me0 / mvd,
+        me1 / mvd,
+        step / mvd
+    );
+    assert!(me1 <= 0.5 * me0);
+    assert!(step < 0.1 * mvd);
+}
+
+#[test]
+fn clean_cube_stays_sharp() {
+    // Check 1 on the noise-free cube: flat regions do not move, the edges stay close.
+    let s = scene();
+    let p = params(&s);
+    let clean = s.gt.clone();
+    let one = wscg_meshfilter::jbmd(&clean, &JbmdParams { iterations: 1, ..p }).unwrap();
+    let far = 8.0 / N as f64;
+    for (a, b) in one.iter().zip(&clean.positions) {
+        // Distance to the nearest cube edge: the second smallest distance to a face plane.
+        let mut d: Vec<f64> = b.iter().map(|&c| c.min(1.0 - c)).collect();
+        d.sort_by(f64::total_cmp);
+        if d[1] > far {
+            let m = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
+            assert!(m <= 1e-12, "{b:?} moved {m}");
+        }
+    }
+    let band = |p: &JbmdParams| {
+        let x = wscg_meshfilter::jbmd(&clean, p).unwrap();
+        (
+            mean_error(&x, &clean.positions).unwrap() / s.mvd,
+            corresponding_error(&x, &clean.positions, Some(&s.band)).unwrap() / s.mvd,
+        )
+    };
+    let (me, eb) = band(&p);
+    let (_, eb_nas) = band(&JbmdParams {
+        anti_shrink: false,
+        ..p
+    });
+    println!("clean cube after 15 iterations: ME {me:.3}, edge band {eb:.3}; without anti-shrinking {eb_nas:.3}");
+    assert!(me <= 0.08 && eb <= 0.2 && eb_nas > 0.5);
+}
