@@ -90,3 +90,41 @@ pub fn mat_out<'py>(py: Python<'py>, m: &faer::Mat<f64>) -> PyResult<Arr<'py, f6
     }
     array(py, &[r, c], v)
 }
+
+/// Rows of an `(N, 3)` array.
+pub fn rows3<T: Copy>(name: &str, a: &[T], shape: &[usize]) -> PyResult<Vec<[T; 3]>> {
+    if shape.len() != 2 || shape[1] != 3 {
+        return Err(value_error(format!(
+            "`{name}` must have shape (N, 3), got {shape:?}"
+        )));
+    }
+    Ok(a.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+}
+
+/// A triangle mesh from `(V, 3)` vertices, `(F, 3)` faces and optional `(V, 3)` colours in
+/// `[0, 1]`.
+pub fn mesh_in(
+    vertices: &PyReadonlyArrayDyn<f64>,
+    faces: &PyReadonlyArrayDyn<i64>,
+    colors: Option<&PyReadonlyArrayDyn<f32>>,
+) -> PyResult<wscg_math::TriMesh> {
+    use crate::errors::IntoPy;
+    let pos = rows3("vertices", &values(vertices), vertices.shape())?;
+    let faces: Vec<[u32; 3]> = rows3("faces", &values(faces), faces.shape())?
+        .iter()
+        .map(|f| {
+            let conv = |i: i64| {
+                u32::try_from(i)
+                    .map_err(|_| value_error(format!("`faces` holds an invalid index {i}")))
+            };
+            Ok([conv(f[0])?, conv(f[1])?, conv(f[2])?])
+        })
+        .collect::<PyResult<_>>()?;
+    let mut mesh = wscg_math::TriMesh::new(pos, faces).py_err()?;
+    if let Some(c) = colors {
+        mesh = mesh
+            .with_colors(rows3("colors", &values(c), c.shape())?)
+            .py_err()?;
+    }
+    Ok(mesh)
+}

@@ -12,6 +12,7 @@ mod cloth;
 mod convert;
 mod errors;
 mod math;
+mod meshfilter;
 mod volren;
 
 /// The native extension module.
@@ -26,6 +27,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_submodule(&sub)?;
     let sub = PyModule::new(m.py(), "cloth")?;
     cloth::register(&sub)?;
+    m.add_submodule(&sub)?;
+    let sub = PyModule::new(m.py(), "meshfilter")?;
+    meshfilter::register(&sub)?;
     m.add_submodule(&sub)?;
     let sub = PyModule::new(m.py(), "volren")?;
     volren::register(&sub)?;

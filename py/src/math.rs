@@ -19,7 +19,9 @@ use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, Jacobi, P
 use wscg_math::volume::{RawType, Volume};
 use wscg_math::{rng, Error};
 
-use crate::convert::{array, image_dims, mat, mat_out, plane, same_shape, shape_of, values, Arr};
+use crate::convert::{
+    array, image_dims, mat, mat_out, mesh_in, plane, rows3, same_shape, shape_of, values, Arr,
+};
 use crate::errors::{value_error, IntoPy};
 
 // ---------------------------------------------------------------- metrics
@@ -564,15 +566,6 @@ fn save_volume(
 
 // ---------------------------------------------------------------- meshes
 
-fn rows3<T: Copy>(name: &str, a: &[T], shape: &[usize]) -> PyResult<Vec<[T; 3]>> {
-    if shape.len() != 2 || shape[1] != 3 {
-        return Err(value_error(format!(
-            "`{name}` must have shape (N, 3), got {shape:?}"
-        )));
-    }
-    Ok(a.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
-}
-
 #[pyfunction]
 fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     let m = py.detach(|| TriMesh::read(&path)).py_err()?;
@@ -601,24 +594,7 @@ fn write_mesh(
     normals: Option<PyReadonlyArrayDyn<f64>>,
     binary: bool,
 ) -> PyResult<()> {
-    let pos = rows3("vertices", &values(&vertices), vertices.shape())?;
-    let f64faces = rows3("faces", &values(&faces), faces.shape())?;
-    let faces: Vec<[u32; 3]> = f64faces
-        .iter()
-        .map(|f| {
-            let conv = |i: i64| {
-                u32::try_from(i)
-                    .map_err(|_| value_error(format!("`faces` holds an invalid index {i}")))
-            };
-            Ok([conv(f[0])?, conv(f[1])?, conv(f[2])?])
-        })
-        .collect::<PyResult<_>>()?;
-    let mut mesh = TriMesh::new(pos, faces).py_err()?;
-    if let Some(c) = colors {
-        mesh = mesh
-            .with_colors(rows3("colors", &values(&c), c.shape())?)
-            .py_err()?;
-    }
+    let mut mesh = mesh_in(&vertices, &faces, colors.as_ref())?;
     if let Some(n) = normals {
         mesh = mesh
             .with_normals(rows3("normals", &values(&n), n.shape())?)

@@ -8,6 +8,8 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
 - :mod:`wscg.biometrics`: paper 01, FDKECA with PCA, kernel PCA and KECA baselines and 1-NN
   recognition (scikit-learn-style estimators).
 - :mod:`wscg.cloth`: paper 02, cloth simulation with soft constraints.
+- :mod:`wscg.meshfilter`: paper 04, joint bilateral mesh denoising with colour (and its
+  bilateral and Laplacian baselines).
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -15,8 +17,8 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, math, volren
+from . import biometrics, cloth, math, meshfilter, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "math", "volren", "__version__"]
+__all__ = ["biometrics", "cloth", "math", "meshfilter", "volren", "__version__"]
