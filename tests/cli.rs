@@ -495,3 +495,93 @@ fn volren_serve_and_view_a_roi() {
         );
     }
 }
+
+#[test]
+fn meshfilter_denoises_a_coloured_mesh() {
+    use wscg::meshfilter::metrics::{mean_error, mean_vertex_distance};
+    use wscg::meshfilter::synth::{add_noise, colored_cube, NOISE_SEED};
+    let dir = tempfile::tempdir().unwrap();
+    let clean = colored_cube(12).unwrap();
+    let mvd = mean_vertex_distance(&clean).unwrap();
+    let noisy = add_noise(&clean, 0.5 * mvd, false, NOISE_SEED).unwrap();
+    let input = dir.path().join("noisy.ply");
+    noisy.write(&input).unwrap();
+    let before = std::fs::read(&input).unwrap();
+    let noisy_me = mean_error(
+        &wscg::math::TriMesh::read(&input).unwrap().positions,
+        &clean.positions,
+    )
+    .unwrap();
+    let read_back = wscg::math::TriMesh::read(&input).unwrap();
+    let expected = |method: &str| -> Vec<[f64; 3]> {
+        use wscg::meshfilter::{bmd, smoothing, JbmdParams};
+        let m = &read_back;
+        match method {
+            "jbmd" => wscg::meshfilter::jbmd(
+                m,
+                &JbmdParams {
+                    iterations: 5,
+                    ..JbmdParams::from_mvd(mean_vertex_distance(m).unwrap())
+                },
+            ),
+            "bmd" => {
+                let d = mean_vertex_distance(m).unwrap();
+                bmd::bmd(
+                    m,
+                    &bmd::BmdParams {
+                        sigma_c: d,
+                        sigma_s: 0.5 * d,
+                        iterations: 5,
+                        volume_preserve: false,
+                    },
+                )
+            }
+            "laplacian" => smoothing::laplacian(m, 0.5, 5),
+            "taubin" => smoothing::taubin(m, 0.5, -0.53, 5),
+            _ => smoothing::hc_laplacian(m, 0.0, 0.5, 5),
+        }
+        .unwrap()
+    };
+    for method in ["jbmd", "bmd", "laplacian", "taubin", "hc"] {
+        let out = dir.path().join(format!("{method}.ply"));
+        let o = std::ffi::OsStr::new;
+        wscg_ok(&[
+            o("meshfilter"),
+            o("denoise"),
+            o("--mesh"),
+            input.as_os_str(),
+            o("--out"),
+            out.as_os_str(),
+            o("--method"),
+            o(method),
+            o("--iterations"),
+            o("5"),
+        ]);
+        let got = wscg::math::TriMesh::read(&out).unwrap();
+        assert_eq!(got.num_faces(), clean.num_faces());
+        assert!(got.colors.is_some(), "{method}: colours dropped");
+        // The command runs the library's method with the documented defaults.
+        for (a, b) in got.positions.iter().zip(expected(method)) {
+            assert!(
+                (0..3).all(|k| (a[k] - b[k]).abs() < 1e-6),
+                "{method}: {a:?} vs {b:?}"
+            );
+        }
+        if method == "jbmd" {
+            let me = mean_error(&got.positions, &clean.positions).unwrap();
+            assert!(me < 0.7 * noisy_me, "{me} vs {noisy_me}");
+        }
+    }
+    assert_eq!(std::fs::read(&input).unwrap(), before, "input modified");
+    let bad = wscg()
+        .args(["meshfilter", "denoise", "--mesh"])
+        .arg(&input)
+        .args(["--out", "/tmp/x.ply", "--k", "0"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        !bad.status.success() && err.contains('k') && !err.contains("panicked"),
+        "{err}"
+    );
+}

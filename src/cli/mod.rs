@@ -9,6 +9,7 @@ use wscg_math::{Error, Result};
 mod biometrics;
 mod cloth;
 mod math;
+mod meshfilter;
 mod progress;
 mod volren;
 
@@ -48,6 +49,9 @@ enum Command {
     /// Cloth simulation with soft constraints (paper 02) on your own mesh.
     #[command(subcommand)]
     Cloth(cloth::ClothCommand),
+    /// Mesh denoising (paper 04: joint bilateral with colour) on your own OBJ/PLY mesh.
+    #[command(subcommand)]
+    Meshfilter(meshfilter::MeshfilterCommand),
     /// Hybrid ROI visualisation of medical volumes (paper 03): serve and view.
     #[command(subcommand)]
     Volren(volren::VolrenCommand),
@@ -113,6 +117,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Biometrics(cmd) => biometrics::run(cmd),
         Command::Cloth(cmd) => cloth::run(cmd),
         Command::Volren(cmd) => volren::run(cmd),
+        Command::Meshfilter(cmd) => meshfilter::run(cmd),
     }
 }
 
