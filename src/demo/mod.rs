@@ -12,6 +12,7 @@ pub mod biometrics;
 pub mod cloth;
 pub mod figures;
 pub mod math;
+pub mod meshfilter;
 pub mod volren;
 
 /// A picture written by a demo.
@@ -92,7 +93,13 @@ pub struct Demo {
 
 /// Every demo, in gallery order.
 pub fn registry() -> Vec<Demo> {
-    vec![math::DEMO, biometrics::DEMO, cloth::DEMO, volren::DEMO]
+    vec![
+        math::DEMO,
+        biometrics::DEMO,
+        cloth::DEMO,
+        volren::DEMO,
+        meshfilter::DEMO,
+    ]
 }
 
 /// The demo named `name`, if any.
