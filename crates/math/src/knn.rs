@@ -36,9 +36,10 @@ pub struct KdTree {
     nodes: Vec<Node>,
 }
 
-/// A candidate in the bounded max-heap of a k-nearest query.
+/// A candidate of a k-nearest query (squared distance, index): the scratch heap of
+/// [`KdTree::knn_indices`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Cand(f64, usize);
+pub struct Cand(f64, usize);
 
 impl Eq for Cand {}
 impl PartialOrd for Cand {
@@ -176,6 +177,25 @@ impl KdTree {
         }
     }
 
+    /// The indices of the `k` points nearest to `q` (leaving out `exclude`), in no particular
+    /// order, written to `out` (cleared first); `heap` is scratch space reused across calls.
+    pub fn knn_indices(
+        &self,
+        q: &[f64; 3],
+        k: usize,
+        exclude: Option<usize>,
+        heap: &mut BinaryHeap<Cand>,
+        out: &mut Vec<u32>,
+    ) {
+        out.clear();
+        heap.clear();
+        if k == 0 {
+            return;
+        }
+        self.search(0, q, k, exclude, heap);
+        out.extend(heap.drain().map(|c| c.1 as u32));
+    }
+
     /// The point nearest to `q`: `(index, distance)`.
     pub fn nearest(&self, q: &[f64; 3]) -> (usize, f64) {
         self.knn(q, 1, None)[0]
@@ -212,6 +232,18 @@ mod tests {
             assert_eq!(tree.nearest(&p).1, brute_nearest(&pts, &p));
         }
         assert_eq!(tree.knn(&[0.0; 3], 5000, None).len(), pts.len());
+        // The unsorted variant returns the same set.
+        let (mut heap, mut out) = (BinaryHeap::new(), Vec::new());
+        let p = [0.1, 0.0, -0.3];
+        tree.knn_indices(&p, 12, Some(7), &mut heap, &mut out);
+        let mut a: Vec<u32> = tree
+            .knn(&p, 12, Some(7))
+            .iter()
+            .map(|x| x.0 as u32)
+            .collect();
+        a.sort_unstable();
+        out.sort_unstable();
+        assert_eq!(a, out);
         assert!(KdTree::new(&[]).is_err());
         assert!(KdTree::new(&[[0.0, f64::NAN, 0.0]]).is_err());
     }

@@ -23,11 +23,6 @@ use wscg_math::{Error, Result, TriMesh};
 
 use crate::params::JbmdParams;
 
-#[inline]
-fn gauss(t: f64, s: f64) -> f64 {
-    (-0.5 * (t / s) * (t / s)).exp()
-}
-
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
@@ -106,23 +101,27 @@ pub fn jbmd_trace(
     let moving = movable(mesh);
     let mut work = mesh.clone();
     let mut sigma_o = p.sigma_o;
-    let mut neighbors: Vec<Vec<u32>> = Vec::new();
+    // Neighbours of vertex i: neighbors[i * k..(i + 1) * k] (fewer never happens: k < n).
+    let mut neighbors: Vec<u32> = Vec::new();
+    let k = p.k;
+    // exp(-0.5 (d^2 / s_d^2 + o^2 / s_o^2 + c^2 / s_c^2)): one exponential per neighbour.
+    let (id2, ic2) = (0.5 / (p.sigma_d * p.sigma_d), 0.5 / (p.sigma_c * p.sigma_c));
     let mut stats = Vec::with_capacity(p.iterations);
     for it in 0..p.iterations {
         let normals = work.vertex_normals();
         let v = &work.positions;
         if it == 0 || p.rebuild_neighbors {
             let tree = KdTree::new(v)?;
-            neighbors = (0..v.len())
-                .into_par_iter()
-                .map(|i| {
-                    tree.knn(&v[i], p.k, Some(i))
-                        .into_iter()
-                        .map(|(j, _)| j as u32)
-                        .collect()
-                })
-                .collect();
+            neighbors.resize(v.len() * k, 0);
+            neighbors.par_chunks_mut(k).enumerate().for_each_init(
+                || (std::collections::BinaryHeap::new(), Vec::with_capacity(k)),
+                |(heap, out), (i, nb)| {
+                    tree.knn_indices(&v[i], k, Some(i), heap, out);
+                    nb.copy_from_slice(out);
+                },
+            );
         }
+        let io2 = 0.5 / (sigma_o * sigma_o);
         // Pass 1: signed shifts along the normals.
         let shift: Vec<f64> = (0..v.len())
             .into_par_iter()
@@ -132,14 +131,16 @@ pub fn jbmd_trace(
                     return 0.0;
                 }
                 let (mut sw, mut swo) = (0.0, 0.0);
-                for &j in &neighbors[i] {
+                for &j in &neighbors[i * k..(i + 1) * k] {
                     let j = j as usize;
                     let d = sub(v[j], v[i]);
                     let o = dot(n, d);
-                    let mut w = gauss(norm(d), p.sigma_d) * gauss(o, sigma_o);
+                    let mut e = dot(d, d) * id2 + o * o * io2;
                     if let Some(c) = &colors {
-                        w *= gauss(norm(sub(c[i], c[j])), p.sigma_c);
+                        let dc = sub(c[i], c[j]);
+                        e += dot(dc, dc) * ic2;
                     }
+                    let w = (-e).exp();
                     sw += w;
                     swo += w * o;
                 }
@@ -166,9 +167,10 @@ pub fn jbmd_trace(
                         return v1[i];
                     }
                     let (mut sw, mut sx) = (0.0, 0.0);
-                    for &j in &neighbors[i] {
+                    for &j in &neighbors[i * k..(i + 1) * k] {
                         let j = j as usize;
-                        let w = gauss(norm(sub(v1[j], v1[i])), p.sigma_d);
+                        let d = sub(v1[j], v1[i]);
+                        let w = (-dot(d, d) * id2).exp();
                         sw += w;
                         sx += w * shift[j];
                     }
