@@ -151,3 +151,28 @@ fn bad_input_is_rejected() {
     assert!(colored_cube(0).is_err());
     assert!(add_noise(&m, -1.0, false, 1).is_err());
 }
+
+#[test]
+fn sphere_beats_the_best_laplacian() {
+    // Check 5 on S3: JBMD ME(15) <= the best Laplacian ME over lambda and iterations.
+    let s = icosphere(4).unwrap();
+    let mvd = mean_vertex_distance(&s).unwrap();
+    let noisy = add_noise(&s, 0.5 * mvd, false, NOISE_SEED).unwrap();
+    let p = JbmdParams {
+        k: 40,
+        iterations: 15,
+        ..JbmdParams::from_mvd(mvd)
+    };
+    let ours = mean_error(&jbmd(&noisy, &p).unwrap(), &s.positions).unwrap() / mvd;
+    let mut best = f64::INFINITY;
+    for l in 1..=10 {
+        let mut pos = noisy.clone();
+        for _ in 0..15 {
+            pos.positions =
+                wscg_meshfilter::smoothing::laplacian(&pos, l as f64 / 10.0, 1).unwrap();
+            best = best.min(mean_error(&pos.positions, &s.positions).unwrap() / mvd);
+        }
+    }
+    println!("sphere: JBMD ME {ours:.3} MVD, best Laplacian {best:.3}");
+    assert!(ours <= best, "{ours} vs {best}");
+}
