@@ -7,9 +7,8 @@ use std::path::Path;
 use nalgebra::Vector3;
 use wscg_math::progress::Progress;
 use wscg_math::{Result, TriMesh};
-use wscg_meshfilter::bmd::{bmd_trace, BmdParams};
 use wscg_meshfilter::metrics::{corresponding_error, mean_error, mean_vertex_distance};
-use wscg_meshfilter::smoothing::laplacian;
+use wscg_meshfilter::sweep::{sweep, Setting};
 use wscg_meshfilter::synth::{add_noise, colored_cube, NOISE_SEED};
 use wscg_meshfilter::{jbmd_trace, JbmdParams};
 
@@ -38,6 +37,15 @@ fn view(mesh: &TriMesh, positions: &[[f64; 3]]) -> Result<wscg_math::Image> {
         Vector3::new(-1.0, -0.8, -1.3),
         240,
     )
+}
+
+/// A curve's points `(iteration, value)`, iterations from 1.
+fn curve_points(curve: &[f64]) -> Vec<(f64, f64)> {
+    curve
+        .iter()
+        .enumerate()
+        .map(|(i, e)| ((i + 1) as f64, *e))
+        .collect()
 }
 
 fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
@@ -127,92 +135,48 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
             "specification's calibration of the same algorithm",
         ));
         series.push(Series {
-            points: curve
-                .iter()
-                .enumerate()
-                .map(|(i, e)| ((i + 1) as f64, *e))
-                .collect(),
+            points: curve_points(&curve),
             color,
         });
         progress.advance(1);
     }
     // Baselines at their ME-optimal settings over a sweep and iterations 1..15.
-    let mut best_bmd = (f64::INFINITY, 0.0, Vec::new(), Vec::new());
-    for sc in [1.0, 2.0] {
-        for ss in [0.25, 0.5, 1.0] {
-            for volume_preserve in [false, true] {
-                let p = BmdParams {
-                    sigma_c: sc * mvd,
-                    sigma_s: ss * mvd,
-                    iterations: ITERS,
-                    volume_preserve,
-                };
-                let mut curve = Vec::new();
-                let mut best_here = (f64::INFINITY, 0.0, Vec::new());
-                bmd_trace(&noisy, &p, |_, x| {
-                    if let Ok(e) = errors(x) {
-                        curve.push(e.0);
-                        if e.0 < best_here.0 {
-                            best_here = (e.0, e.1, x.to_vec());
-                        }
-                    }
-                })?;
-                if best_here.0 < best_bmd.0 {
-                    best_bmd = (best_here.0, best_here.1, best_here.2, curve);
-                }
-            }
-        }
-    }
+    let me = |x: &[[f64; 3]]| errors(x).map_or(f64::INFINITY, |e| e.0);
+    let best_bmd = sweep(&noisy, &Setting::bmd_grid(mvd), ITERS, me)?;
     progress.advance(1);
-    let mut best_lap = (f64::INFINITY, 0.0, Vec::new(), Vec::new());
-    for l in 1..=10 {
-        let mut pos = noisy.positions.clone();
-        let mut curve = Vec::new();
-        let mut best_here = (f64::INFINITY, 0.0, Vec::new());
-        for _ in 0..ITERS {
-            let mut m = noisy.clone();
-            m.positions = pos;
-            pos = laplacian(&m, l as f64 / 10.0, 1)?;
-            let e = errors(&pos)?;
-            curve.push(e.0);
-            if e.0 < best_here.0 {
-                best_here = (e.0, e.1, pos.clone());
-            }
-        }
-        if best_here.0 < best_lap.0 {
-            best_lap = (best_here.0, best_here.1, best_here.2, curve);
-        }
-    }
+    let best_lap = sweep(&noisy, &Setting::laplacian_grid(), ITERS, me)?;
     progress.advance(1);
+    let mut swept = Vec::new();
     for (name, b, color, reported) in [
         (
             "BMD, best swept setting",
-            &best_bmd,
+            best_bmd,
             [0.4, 0.4, 0.4],
             "0.215 / 0.375",
         ),
         (
             "Laplacian, best swept setting",
-            &best_lap,
+            best_lap,
             [0.6, 0.2, 0.7],
             "0.150 / 0.33",
         ),
     ] {
+        let b = b.ok_or(wscg_math::Error::Empty("sweep"))?;
+        let (e, band_e) = errors(&b.positions)?;
         rep.table.push(Row::new(
-            format!("{name}: best ME / edge band there (MVD)"),
-            format!("{:.3} / {:.3}", b.0, b.1),
+            format!(
+                "{name}: best ME / edge band there (MVD; {:?}, iteration {})",
+                b.setting, b.iteration
+            ),
+            format!("{e:.3} / {band_e:.3}"),
             reported,
             "specification's calibration",
         ));
         series.push(Series {
-            points: b
-                .3
-                .iter()
-                .enumerate()
-                .map(|(i, e)| ((i + 1) as f64, *e))
-                .collect(),
+            points: curve_points(&b.curve),
             color,
         });
+        swept.push(b.positions);
     }
     let (noisy_me, noisy_band) = errors(&noisy.positions)?;
     rep.table.push(Row::new(
@@ -246,8 +210,8 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let tiles = [
         view(&gt, &noisy.positions)?,
         view(&gt, &jbmd_result)?,
-        view(&gt, &best_bmd.2)?,
-        view(&gt, &best_lap.2)?,
+        view(&gt, &swept[0])?,
+        view(&gt, &swept[1])?,
     ];
     montage(&tiles, 4, 1)?.save(out.join("cubes.png"))?;
     rep.figures.push(Figure {

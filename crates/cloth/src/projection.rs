@@ -539,42 +539,43 @@ fn colored(
     let xs = Shared::new(x);
     let ll = Shared::new(lam_links);
     let lt = Shared::new(lam_tris);
+    let links = par_classes(&prep.links, &prep.link_classes, xs, |l, pos| {
+        let c = l.k as usize;
+        let (dl, r) = project_link(l, ll.read(c), pos, k, vf);
+        ll.add_to(c, dl);
+        r
+    });
+    let tris = par_classes(&prep.tris, &prep.tri_classes, xs, |t, pos| {
+        let c = 3 * t.k as usize;
+        let lam = [lt.read(c), lt.read(c + 1), lt.read(c + 2)];
+        let (dl, r) = project_tri(t, lam, pos, k, vf);
+        for (q, d) in dl.iter().enumerate() {
+            lt.add_to(c + q, *d);
+        }
+        r
+    });
+    links.max(tris)
+}
+
+/// Projects the colour classes (ranges of `items`) one after the other, the constraints of a
+/// class in parallel; `project` returns a constraint's residual. Returns the largest.
+fn par_classes<T: Sync>(
+    items: &[T],
+    classes: &[std::ops::Range<usize>],
+    xs: Shared<V3>,
+    project: impl Fn(&T, &mut Shared<V3>) -> f64 + Sync,
+) -> f64 {
     let mut res = 0.0f64;
-    for class in &prep.link_classes {
-        let class = &prep.links[class.clone()];
+    for class in classes {
+        let class = &items[class.clone()];
         let r = class
             .par_chunks(chunk_len(class.len()))
             .map(|chunk| {
                 let mut pos = xs;
-                let mut r = 0.0f64;
-                for l in chunk {
-                    let c = l.k as usize;
-                    let (dl, rr) = project_link(l, ll.read(c), &mut pos, k, vf);
-                    ll.add_to(c, dl);
-                    r = r.max(rr);
-                }
-                r
-            })
-            .reduce(|| 0.0, f64::max);
-        res = res.max(r);
-    }
-    for class in &prep.tri_classes {
-        let class = &prep.tris[class.clone()];
-        let r = class
-            .par_chunks(chunk_len(class.len()))
-            .map(|chunk| {
-                let mut pos = xs;
-                let mut r = 0.0f64;
-                for t in chunk {
-                    let c = 3 * t.k as usize;
-                    let lam = [lt.read(c), lt.read(c + 1), lt.read(c + 2)];
-                    let (dl, rr) = project_tri(t, lam, &mut pos, k, vf);
-                    for (q, d) in dl.iter().enumerate() {
-                        lt.add_to(c + q, *d);
-                    }
-                    r = r.max(rr);
-                }
-                r
+                chunk
+                    .iter()
+                    .map(|c| project(c, &mut pos))
+                    .fold(0.0, f64::max)
             })
             .reduce(|| 0.0, f64::max);
         res = res.max(r);

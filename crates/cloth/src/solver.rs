@@ -233,6 +233,27 @@ impl Stepped {
             stats: StepStats::default(),
         }
     }
+
+    /// The result of a projection step, with its residual and contact statistics.
+    fn projected(
+        x: Vec<Vector3<f64>>,
+        v: Vec<Vector3<f64>>,
+        lambda: Vec<f64>,
+        max_residual: f64,
+        contacts: &Option<StepContacts>,
+        max_penetration: f64,
+    ) -> Self {
+        Self {
+            x,
+            v,
+            lambda,
+            stats: StepStats {
+                max_residual,
+                contacts: contacts.as_ref().map_or(0, StepContacts::len),
+                max_penetration,
+            },
+        }
+    }
 }
 
 /// A running simulation.
@@ -495,16 +516,7 @@ impl Sim {
         for ((vp, xp), x0p) in v.iter_mut().zip(&x).zip(&x0) {
             *vp += (xp - x0p) * k.inv_bh;
         }
-        Stepped {
-            x,
-            v,
-            lambda,
-            stats: StepStats {
-                max_residual,
-                contacts: contacts.as_ref().map_or(0, StepContacts::len),
-                max_penetration,
-            },
-        }
+        Stepped::projected(x, v, lambda, max_residual, &contacts, max_penetration)
     }
 
     fn plain_pbd(&self, h: f64, stiffness: f64) -> Stepped {
@@ -545,15 +557,6 @@ impl Sim {
         }
         let v = x.iter().zip(&m.x).map(|(a, b)| (a - b) / h).collect();
         let lambda = vec![0.0; m.constraint_rows()];
-        Stepped {
-            x,
-            v,
-            lambda,
-            stats: StepStats {
-                max_residual,
-                contacts: contacts.as_ref().map_or(0, StepContacts::len),
-                max_penetration,
-            },
-        }
+        Stepped::projected(x, v, lambda, max_residual, &contacts, max_penetration)
     }
 }

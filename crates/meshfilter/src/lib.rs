@@ -14,6 +14,7 @@
 //! - [`smoothing`]: the Laplacian, Taubin and HC-Laplacian baselines.
 //! - [`metrics`]: the paper's mean error (eq. 3), corresponding-vertex error, mean vertex
 //!   distance.
+//! - [`sweep`]: the grid search of the paper's comparisons (best setting and iteration).
 //! - [`synth`]: synthetic coloured meshes with exact ground truth, and noise.
 //!
 //! Meshes are [`wscg_math::TriMesh`] (colours in `[0, 1]`; the colour range `sigma_c` is on
@@ -24,6 +25,7 @@ pub mod jbmd;
 pub mod metrics;
 pub mod params;
 pub mod smoothing;
+pub mod sweep;
 pub mod synth;
 
 pub use jbmd::{jbmd, jbmd_trace};

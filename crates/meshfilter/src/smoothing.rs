@@ -3,13 +3,13 @@
 //! work on the 1-ring and keep boundary vertices fixed, like the method.
 
 use rayon::prelude::*;
+use wscg_math::mesh::Adjacency;
 use wscg_math::{Error, Result, TriMesh};
 
 use crate::jbmd::{check_mesh, movable};
 
 /// One umbrella step `v + f (mean(1-ring) - v)` of every movable vertex.
-fn umbrella(mesh: &TriMesh, pos: &[[f64; 3]], f: f64, moving: &[bool]) -> Vec<[f64; 3]> {
-    let adj = mesh.vertex_adjacency();
+fn umbrella(adj: &Adjacency, pos: &[[f64; 3]], f: f64, moving: &[bool]) -> Vec<[f64; 3]> {
     (0..pos.len())
         .into_par_iter()
         .map(|i| {
@@ -44,12 +44,23 @@ fn check_factor(name: &'static str, v: f64) -> Result<()> {
 ///
 /// Errors: invalid mesh, `lambda` zero, non-finite or above 2 in magnitude.
 pub fn laplacian(mesh: &TriMesh, lambda: f64, iterations: usize) -> Result<Vec<[f64; 3]>> {
+    laplacian_trace(mesh, lambda, iterations, |_, _| {})
+}
+
+/// [`laplacian`] calling `observe(iteration, positions)` after every step.
+pub fn laplacian_trace(
+    mesh: &TriMesh,
+    lambda: f64,
+    iterations: usize,
+    mut observe: impl FnMut(usize, &[[f64; 3]]),
+) -> Result<Vec<[f64; 3]>> {
     check_mesh(mesh)?;
     check_factor("lambda", lambda)?;
-    let moving = movable(mesh);
+    let (adj, moving) = (mesh.vertex_adjacency(), movable(mesh));
     let mut pos = mesh.positions.clone();
-    for _ in 0..iterations {
-        pos = umbrella(mesh, &pos, lambda, &moving);
+    for it in 0..iterations {
+        pos = umbrella(&adj, &pos, lambda, &moving);
+        observe(it + 1, &pos);
     }
     Ok(pos)
 }
@@ -61,11 +72,11 @@ pub fn taubin(mesh: &TriMesh, lambda: f64, mu: f64, iterations: usize) -> Result
     check_mesh(mesh)?;
     check_factor("lambda", lambda)?;
     check_factor("mu", mu)?;
-    let moving = movable(mesh);
+    let (adj, moving) = (mesh.vertex_adjacency(), movable(mesh));
     let mut pos = mesh.positions.clone();
     for _ in 0..iterations {
-        pos = umbrella(mesh, &pos, lambda, &moving);
-        pos = umbrella(mesh, &pos, mu, &moving);
+        pos = umbrella(&adj, &pos, lambda, &moving);
+        pos = umbrella(&adj, &pos, mu, &moving);
     }
     Ok(pos)
 }
@@ -89,7 +100,7 @@ pub fn hc_laplacian(
     let orig = &mesh.positions;
     let mut q = orig.clone();
     for _ in 0..iterations {
-        let p = umbrella(mesh, &q, 1.0, &moving);
+        let p = umbrella(&adj, &q, 1.0, &moving);
         let b: Vec<[f64; 3]> = (0..p.len())
             .map(|i| {
                 std::array::from_fn(|a| p[i][a] - (alpha * orig[i][a] + (1.0 - alpha) * q[i][a]))

@@ -3,9 +3,8 @@
 //! 0.5 MVD along the normals, k = 40, 15 iterations), and the colour-edge sanity check.
 
 use wscg_math::TriMesh;
-use wscg_meshfilter::bmd::{bmd_trace, BmdParams};
 use wscg_meshfilter::metrics::{corresponding_error, mean_error, mean_vertex_distance};
-use wscg_meshfilter::smoothing::laplacian;
+use wscg_meshfilter::sweep::{sweep, Setting};
 use wscg_meshfilter::synth::{add_noise, colored_cube, colored_plane, NOISE_SEED};
 use wscg_meshfilter::{jbmd_trace, JbmdParams};
 
@@ -110,43 +109,17 @@ fn ablations_and_baselines() {
     assert!(eb[14] <= 0.9 * eb_nc[14]);
     // Check 5: the baselines at their ME-optimal settings (sweep over parameters and
     // iterations 1..15), compared on the edge band; BMD also globally.
-    let mut best_lap = (f64::INFINITY, f64::INFINITY);
-    for l in 1..=10 {
-        let lambda = l as f64 / 10.0;
-        let mut pos = s.noisy.positions.clone();
-        for _ in 0..15 {
-            let mut m = s.noisy.clone();
-            m.positions = pos;
-            pos = laplacian(&m, lambda, 1).unwrap();
-            let e = mean_error(&pos, &s.gt.positions).unwrap() / s.mvd;
-            if e < best_lap.0 {
-                let b = corresponding_error(&pos, &s.gt.positions, Some(&s.band)).unwrap() / s.mvd;
-                best_lap = (e, b);
-            }
-        }
-    }
-    let mut best_bmd = (f64::INFINITY, f64::INFINITY);
-    for sc in [1.0, 2.0] {
-        for ss in [0.25, 0.5, 1.0] {
-            for volume_preserve in [false, true] {
-                let bp = BmdParams {
-                    sigma_c: sc * s.mvd,
-                    sigma_s: ss * s.mvd,
-                    iterations: 15,
-                    volume_preserve,
-                };
-                bmd_trace(&s.noisy, &bp, |_, x| {
-                    let e = mean_error(x, &s.gt.positions).unwrap() / s.mvd;
-                    if e < best_bmd.0 {
-                        let b =
-                            corresponding_error(x, &s.gt.positions, Some(&s.band)).unwrap() / s.mvd;
-                        best_bmd = (e, b);
-                    }
-                })
-                .unwrap();
-            }
-        }
-    }
+    let best = |grid: Vec<Setting>| {
+        let b = sweep(&s.noisy, &grid, 15, |x| {
+            mean_error(x, &s.gt.positions).unwrap() / s.mvd
+        })
+        .unwrap()
+        .unwrap();
+        let band = corresponding_error(&b.positions, &s.gt.positions, Some(&s.band)).unwrap();
+        (b.error, band / s.mvd)
+    };
+    let best_lap = best(Setting::laplacian_grid());
+    let best_bmd = best(Setting::bmd_grid(s.mvd));
     println!("best Laplacian (ME, edge band) {best_lap:.3?}; best BMD {best_bmd:.3?}");
     assert!(eb[14] <= 0.75 * best_lap.1, "{} vs {}", eb[14], best_lap.1);
     assert!(eb[14] <= 0.75 * best_bmd.1, "{} vs {}", eb[14], best_bmd.1);

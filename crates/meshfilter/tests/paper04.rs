@@ -164,15 +164,44 @@ fn sphere_beats_the_best_laplacian() {
         ..JbmdParams::from_mvd(mvd)
     };
     let ours = mean_error(&jbmd(&noisy, &p).unwrap(), &s.positions).unwrap() / mvd;
-    let mut best = f64::INFINITY;
-    for l in 1..=10 {
-        let mut pos = noisy.clone();
-        for _ in 0..15 {
-            pos.positions =
-                wscg_meshfilter::smoothing::laplacian(&pos, l as f64 / 10.0, 1).unwrap();
-            best = best.min(mean_error(&pos.positions, &s.positions).unwrap() / mvd);
-        }
-    }
+    let best = wscg_meshfilter::sweep::sweep(
+        &noisy,
+        &wscg_meshfilter::sweep::Setting::laplacian_grid(),
+        15,
+        |x| mean_error(x, &s.positions).unwrap() / mvd,
+    )
+    .unwrap()
+    .unwrap()
+    .error;
     println!("sphere: JBMD ME {ours:.3} MVD, best Laplacian {best:.3}");
     assert!(ours <= best, "{ours} vs {best}");
+}
+
+#[test]
+fn sweep_returns_the_lowest_error_over_settings_and_iterations() {
+    use wscg_meshfilter::smoothing::laplacian;
+    use wscg_meshfilter::sweep::{sweep, Setting};
+    let s = icosphere(2).unwrap();
+    let noisy = add_noise(&s, 0.02, false, 9).unwrap();
+    let err = |x: &[[f64; 3]]| mean_error(x, &s.positions).unwrap();
+    let grid = Setting::laplacian_grid();
+    let best = sweep(&noisy, &grid, 6, err).unwrap().unwrap();
+    // Brute force over the same grid and iterations, by independent calls.
+    let mut brute = (f64::INFINITY, 0.0, 0);
+    for g in &grid {
+        let Setting::Laplacian { lambda } = *g else {
+            unreachable!()
+        };
+        for it in 1..=6 {
+            let e = err(&laplacian(&noisy, lambda, it).unwrap());
+            if e < brute.0 {
+                brute = (e, lambda, it);
+            }
+        }
+    }
+    assert_eq!(best.setting, Setting::Laplacian { lambda: brute.1 });
+    assert_eq!(best.iteration, brute.2);
+    assert!((best.error - brute.0).abs() < 1e-15);
+    assert_eq!(best.curve.len(), 6);
+    assert_eq!(best.positions, laplacian(&noisy, brute.1, brute.2).unwrap());
 }
