@@ -9,6 +9,7 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 use crate::error::{Error, Result};
+use crate::vec3::dist2;
 
 /// Leaves hold at most this many points.
 const LEAF: usize = 8;
@@ -51,10 +52,6 @@ impl Ord for Cand {
     fn cmp(&self, o: &Self) -> Ordering {
         self.0.total_cmp(&o.0).then(self.1.cmp(&o.1))
     }
-}
-
-fn dist2(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
 }
 
 impl KdTree {
@@ -148,7 +145,7 @@ impl KdTree {
                     if Some(i) == exclude {
                         continue;
                     }
-                    let c = Cand(dist2(&self.points[i], q), i);
+                    let c = Cand(dist2(self.points[i], *q), i);
                     if heap.len() < k {
                         heap.push(c);
                     } else if c < *heap.peek().expect("k > 0") {
@@ -221,7 +218,7 @@ mod tests {
                 .iter()
                 .enumerate()
                 .filter(|(i, _)| Some(*i) != exclude)
-                .map(|(i, x)| (i, dist2(x, &p).sqrt()))
+                .map(|(i, x)| (i, dist2(*x, p).sqrt()))
                 .collect();
             brute.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
             let got = tree.knn(&p, 12, exclude);
@@ -250,7 +247,7 @@ mod tests {
 
     fn brute_nearest(pts: &[[f64; 3]], p: &[f64; 3]) -> f64 {
         pts.iter()
-            .map(|x| dist2(x, p).sqrt())
+            .map(|x| dist2(*x, *p).sqrt())
             .fold(f64::INFINITY, f64::min)
     }
 }

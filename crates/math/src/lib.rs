@@ -15,6 +15,7 @@
 //! - [`filter`], [`resize`]: separable Gaussian and box filters, area and bilinear resizing.
 //! - [`metrics`]: MSE, RMSE, PSNR, SSIM (Wang et al. 2004), Dice.
 //! - [`knn`]: a kd-tree with exact k-nearest and nearest-point queries.
+//! - [`vec3`]: small helpers on `[f64; 3]` points and vectors.
 //! - [`rng`]: seeded, portable random generation.
 //! - [`progress`]: a progress-reporting trait that the CLI renders as progress bars.
 //! - [`error`]: the one [`Error`] type.
@@ -35,6 +36,7 @@ pub mod progress;
 pub mod resize;
 pub mod rng;
 pub mod sparse;
+pub mod vec3;
 pub mod volume;
 
 pub use error::{Error, Result};

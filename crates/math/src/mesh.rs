@@ -56,6 +56,7 @@ use ply_rs::writer::Writer as PlyWriter;
 use rayon::prelude::*;
 
 use crate::error::{ensure_finite, ensure_positive, read_file, Error, Result};
+use crate::vec3::{add, cross, dot, norm, normalized_or_zero, sub};
 
 /// Largest subdivision level accepted by [`TriMesh::icosphere`] (level 10 has 10,485,762
 /// vertices and 20,971,520 faces).
@@ -67,50 +68,6 @@ const SUM_CHUNK: usize = 4096;
 
 /// Smallest number of items per rayon task for cheap per-face or per-vertex work.
 const PAR_MIN_LEN: usize = 2048;
-
-// ------------------------------------------------------------------------------------------
-// Small vector helpers
-// ------------------------------------------------------------------------------------------
-
-#[inline]
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-#[inline]
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-#[inline]
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-#[inline]
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-#[inline]
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
-/// `a / |a|`, or the zero vector when `|a|` is zero or not finite.
-#[inline]
-fn normalized_or_zero(a: [f64; 3]) -> [f64; 3] {
-    let n = norm(a);
-    if n > 0.0 && n.is_finite() {
-        [a[0] / n, a[1] / n, a[2] / n]
-    } else {
-        [0.0; 3]
-    }
-}
 
 /// Key of the undirected edge `{a, b}`: smaller index in the high 32 bits.
 #[inline]

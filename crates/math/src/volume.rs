@@ -512,6 +512,7 @@ impl<T: Real> Volume<T> {
     /// `mode="nearest"`). At integer points the voxel value is returned exactly; any function
     /// `a + b x + c y + d z` (indeed any multilinear one) is reproduced exactly up to
     /// rounding. A non-finite coordinate gives NaN.
+    #[inline]
     pub fn trilinear(&self, p: [f64; 3]) -> T {
         T::from_f64(self.trilinear_f64(p))
     }
@@ -524,6 +525,7 @@ impl<T: Real> Volume<T> {
         self.trilinear([p_world[0] / s[0], p_world[1] / s[1], p_world[2] / s[2]])
     }
 
+    #[inline]
     fn trilinear_f64(&self, p: [f64; 3]) -> f64 {
         if !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()) {
             return f64::NAN;

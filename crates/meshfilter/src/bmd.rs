@@ -8,6 +8,7 @@
 //! `(V_0 / V_n)^(1/3)` (`V` the signed volume).
 
 use rayon::prelude::*;
+use wscg_math::vec3::{add_scaled, dot, sub};
 use wscg_math::{Error, Result, TriMesh};
 
 use crate::jbmd::{check_mesh, movable};
@@ -23,10 +24,6 @@ pub struct BmdParams {
     pub iterations: usize,
     /// Rescale to the initial volume after every iteration.
     pub volume_preserve: bool,
-}
-
-fn gauss(t: f64, s: f64) -> f64 {
-    (-0.5 * (t / s) * (t / s)).exp()
 }
 
 /// Runs bilateral mesh denoising, calling `observe(iteration, positions)` after each
@@ -57,6 +54,7 @@ pub fn bmd_trace(
     let adj = mesh.vertex_adjacency();
     let moving = movable(mesh);
     let rho2 = (2.0 * p.sigma_c).powi(2);
+    let (ic2, is2) = (0.5 / (p.sigma_c * p.sigma_c), 0.5 / (p.sigma_s * p.sigma_s));
     let mut work = mesh.clone();
     for it in 0..p.iterations {
         let normals = work.vertex_normals();
@@ -81,20 +79,21 @@ pub fn bmd_trace(
                             if !seen.insert(b) {
                                 continue;
                             }
-                            let d: [f64; 3] = std::array::from_fn(|k| pos[i][k] - pos[b][k]);
-                            let t2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                            let d = sub(pos[i], pos[b]);
+                            let t2 = dot(d, d);
                             if t2 > rho2 {
                                 continue;
                             }
                             stack.push(b);
-                            let h = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
-                            let w = gauss(t2.sqrt(), p.sigma_c) * gauss(h, p.sigma_s);
+                            let h = dot(n, d);
+                            // G(t; sigma_c) G(h; sigma_s) as one exponential.
+                            let w = (-t2 * ic2 - h * h * is2).exp();
                             sw += w;
                             swh += w * h;
                         }
                     }
                     let s = if sw > 1e-300 { swh / sw } else { 0.0 };
-                    std::array::from_fn(|k| pos[i][k] - s * n[k])
+                    add_scaled(pos[i], -s, n)
                 },
             )
             .collect();

@@ -19,21 +19,10 @@
 
 use rayon::prelude::*;
 use wscg_math::knn::KdTree;
+use wscg_math::vec3::{add_scaled, dist, dist2, dot, sub};
 use wscg_math::{Error, Result, TriMesh};
 
 use crate::params::JbmdParams;
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
 
 /// Vertices that the filter moves: used by a face, not on the boundary.
 pub fn movable(mesh: &TriMesh) -> Vec<bool> {
@@ -137,8 +126,7 @@ pub fn jbmd_trace(
                     let o = dot(n, d);
                     let mut e = dot(d, d) * id2 + o * o * io2;
                     if let Some(c) = &colors {
-                        let dc = sub(c[i], c[j]);
-                        e += dot(dc, dc) * ic2;
+                        e += dist2(c[i], c[j]) * ic2;
                     }
                     let w = (-e).exp();
                     sw += w;
@@ -152,10 +140,7 @@ pub fn jbmd_trace(
             })
             .collect();
         let v1: Vec<[f64; 3]> = (0..v.len())
-            .map(|i| {
-                let (n, s) = (normals[i], shift[i]);
-                [v[i][0] + s * n[0], v[i][1] + s * n[1], v[i][2] + s * n[2]]
-            })
+            .map(|i| add_scaled(v[i], shift[i], normals[i]))
             .collect();
         // Pass 2: local anti-shrinking by the neighbours' own shifts.
         let next: Vec<[f64; 3]> = if p.anti_shrink {
@@ -169,17 +154,12 @@ pub fn jbmd_trace(
                     let (mut sw, mut sx) = (0.0, 0.0);
                     for &j in &neighbors[i * k..(i + 1) * k] {
                         let j = j as usize;
-                        let d = sub(v1[j], v1[i]);
-                        let w = (-dot(d, d) * id2).exp();
+                        let w = (-dist2(v1[j], v1[i]) * id2).exp();
                         sw += w;
                         sx += w * shift[j];
                     }
                     let back = if sw > 1e-300 { sx / sw } else { 0.0 };
-                    [
-                        v1[i][0] - back * n[0],
-                        v1[i][1] - back * n[1],
-                        v1[i][2] - back * n[2],
-                    ]
+                    add_scaled(v1[i], -back, n)
                 })
                 .collect()
         } else {
@@ -188,7 +168,7 @@ pub fn jbmd_trace(
         let max_move = next
             .iter()
             .zip(v)
-            .map(|(a, b)| norm(sub(*a, *b)))
+            .map(|(a, b)| dist(*a, *b))
             .fold(0.0, f64::max);
         work.positions = next;
         let st = IterStats { sigma_o, max_move };

@@ -4,6 +4,7 @@
 
 use rayon::prelude::*;
 use wscg_math::knn::KdTree;
+use wscg_math::vec3::dist;
 use wscg_math::{Error, Result, TriMesh};
 
 /// Paper eq. 3: `(1/n) sum_i min_p |x_i - g_p|`, the mean distance from every vertex to the
@@ -34,7 +35,7 @@ pub fn corresponding_error(x: &[[f64; 3]], gt: &[[f64; 3]], mask: Option<&[bool]
     let (mut sum, mut n) = (0.0, 0usize);
     for (i, (a, b)) in x.iter().zip(gt).enumerate() {
         if mask.is_none_or(|m| m[i]) {
-            sum += ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+            sum += dist(*a, *b);
             n += 1;
         }
     }
@@ -55,10 +56,7 @@ pub fn mean_vertex_distance(mesh: &TriMesh) -> Result<f64> {
     let p = &mesh.positions;
     let sum: f64 = edges
         .iter()
-        .map(|e| {
-            let (a, b) = (p[e[0] as usize], p[e[1] as usize]);
-            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-        })
+        .map(|e| dist(p[e[0] as usize], p[e[1] as usize]))
         .sum();
     Ok(sum / edges.len() as f64)
 }

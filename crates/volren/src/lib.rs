@@ -20,6 +20,7 @@
 //!   full-resolution reference.
 //! - [`phantoms`]: analytic head and thorax volumes with their transfer functions.
 
+mod bytes;
 pub mod gradient_octree;
 pub mod net;
 pub mod normal_code;

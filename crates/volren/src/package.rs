@@ -22,6 +22,7 @@
 
 use wscg_math::{Error, Result, Volume};
 
+use crate::bytes::{Reader, Writer};
 use crate::gradient_octree::{EdgeRule, GoStructure, GradientOctree, Roi};
 use crate::tf::{MaterialTable, PlTf};
 use crate::wavelet::{decode_lowres, encode_blocks, HaarQuant, WaveletPackage};
@@ -105,72 +106,6 @@ fn unframe(bytes: &[u8], kind: u8) -> Result<&[u8]> {
         return Err(bad("CRC mismatch (corrupted package)"));
     }
     Ok(payload)
-}
-
-/// Little-endian writer.
-#[derive(Default)]
-struct Writer(Vec<u8>);
-
-impl Writer {
-    fn u8(&mut self, v: u8) {
-        self.0.push(v);
-    }
-    fn u16(&mut self, v: u16) {
-        self.0.extend_from_slice(&v.to_le_bytes());
-    }
-    fn u32(&mut self, v: u32) {
-        self.0.extend_from_slice(&v.to_le_bytes());
-    }
-    fn u64(&mut self, v: u64) {
-        self.0.extend_from_slice(&v.to_le_bytes());
-    }
-    fn f32(&mut self, v: f32) {
-        self.0.extend_from_slice(&v.to_le_bytes());
-    }
-    fn bytes(&mut self, b: &[u8]) {
-        self.0.extend_from_slice(b);
-    }
-}
-
-/// Bounds-checked little-endian reader.
-struct Reader<'a> {
-    b: &'a [u8],
-    pos: usize,
-}
-
-impl<'a> Reader<'a> {
-    fn take(&mut self, n: usize) -> Result<&'a [u8]> {
-        match self.pos.checked_add(n).filter(|&e| e <= self.b.len()) {
-            Some(e) => {
-                let s = &self.b[self.pos..e];
-                self.pos = e;
-                Ok(s)
-            }
-            None => Err(bad(format!("truncated payload at byte {}", self.pos))),
-        }
-    }
-    fn u8(&mut self) -> Result<u8> {
-        Ok(self.take(1)?[0])
-    }
-    fn u16(&mut self) -> Result<u16> {
-        Ok(u16::from_le_bytes(self.take(2)?.try_into().expect("2")))
-    }
-    fn u32(&mut self) -> Result<u32> {
-        Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4")))
-    }
-    fn u64(&mut self) -> Result<u64> {
-        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8")))
-    }
-    fn f32(&mut self) -> Result<f32> {
-        Ok(f32::from_le_bytes(self.take(4)?.try_into().expect("4")))
-    }
-    fn done(&self) -> Result<()> {
-        if self.pos == self.b.len() {
-            Ok(())
-        } else {
-            Err(bad(format!("{} bytes left over", self.b.len() - self.pos)))
-        }
-    }
 }
 
 /// FNV-1a over byte slices.
@@ -428,10 +363,7 @@ impl HybridClient {
     ///
     /// Errors: any malformed, truncated or corrupted package.
     pub fn from_static(bytes: &[u8]) -> Result<Self> {
-        let mut r = Reader {
-            b: unframe(bytes, KIND_STATIC)?,
-            pos: 0,
-        };
+        let mut r = Reader::new(unframe(bytes, KIND_STATIC)?, "package");
         let id = r.u64()?;
         let dims = [r.u32()?, r.u32()?, r.u32()?].map(|d| d as usize);
         if dims.contains(&0) || dims.iter().any(|&d| d > 1 << 16) {
@@ -492,10 +424,7 @@ impl HybridClient {
     /// Errors: malformed, truncated or corrupted package, another volume's package, a ROI
     /// outside the volume, a leaf count that does not match.
     pub fn set_roi(&mut self, bytes: &[u8]) -> Result<()> {
-        let mut r = Reader {
-            b: unframe(bytes, KIND_ROI)?,
-            pos: 0,
-        };
+        let mut r = Reader::new(unframe(bytes, KIND_ROI)?, "package");
         if r.u64()? != self.id {
             return Err(bad("ROI package of another volume (volume id mismatch)"));
         }

@@ -24,6 +24,7 @@
 use rayon::prelude::*;
 use wscg_math::{Error, Result, Volume};
 
+use crate::bytes::Reader;
 use crate::tf::PlTf;
 
 /// Block side.
@@ -171,6 +172,12 @@ pub fn inverse_block(c: &BlockCoefficients, steps: usize) -> Vec<f32> {
     values
 }
 
+/// The parents of steps 1..=4 (index `j - 1`) in Morton order, computed once per encode or
+/// decode.
+fn morton_orders() -> [Vec<usize>; STEPS] {
+    std::array::from_fn(|j| morton_order(BLOCK >> (j + 1)))
+}
+
 /// Raster indices of an `n^3` grid in Morton order (x the high bit of each level).
 fn morton_order(n: usize) -> Vec<usize> {
     let bits = n.trailing_zeros();
@@ -298,15 +305,21 @@ fn check_steps(name: &'static str, w: u8) -> Result<()> {
 }
 
 /// Codes one block's coefficients for `w` steps sent.
-fn code_block(c: &BlockCoefficients, blk: &[f32], q: &HaarQuant, w: usize, out: &mut Vec<u8>) {
+fn code_block(
+    c: &BlockCoefficients,
+    blk: &[f32],
+    q: &HaarQuant,
+    w: usize,
+    orders: &[Vec<usize>; STEPS],
+    out: &mut Vec<u8>,
+) {
     if blk.iter().all(|&x| x == 0.0) {
         out.push(0);
         return;
     }
     let mut coded = vec![2u8, c.root.round().clamp(0.0, 255.0) as u8];
     for j in (STEPS + 1 - w..=STEPS).rev() {
-        let n = BLOCK >> j;
-        for p in morton_order(n) {
+        for &p in &orders[j - 1] {
             let qd = c.details[j - 1][p]
                 .map(|d| (d / q.delta[j - 1]).round().clamp(-128.0, 127.0) as i8);
             let mask = (0..7)
@@ -341,12 +354,14 @@ pub fn encode_blocks(
     }
     let pre = preprocess(v, canonical)?;
     let nb = pre.dims().map(|d| d / BLOCK);
+    let orders = morton_orders();
     let coded: Vec<Vec<u8>> = (0..nb[0] * nb[1] * nb[2])
         .into_par_iter()
         .map(|b| {
             let blk = block_of(&pre, [b % nb[0], b / nb[0] % nb[1], b / (nb[0] * nb[1])]);
             let mut out = Vec::new();
-            code_block(&forward_block(&blk), &blk, q, w_sent as usize, &mut out);
+            let c = forward_block(&blk);
+            code_block(&c, &blk, q, w_sent as usize, &orders, &mut out);
             out
         })
         .collect();
@@ -356,32 +371,6 @@ pub fn encode_blocks(
         quant: *q,
         blocks: coded.concat(),
     })
-}
-
-/// A bounds-checked reader over the block stream.
-struct Reader<'a> {
-    bytes: &'a [u8],
-    pos: usize,
-}
-
-impl Reader<'_> {
-    fn take(&mut self, n: usize) -> Result<&[u8]> {
-        let end = self.pos.checked_add(n).filter(|&e| e <= self.bytes.len());
-        match end {
-            Some(e) => {
-                let s = &self.bytes[self.pos..e];
-                self.pos = e;
-                Ok(s)
-            }
-            None => Err(Error::invalid(
-                "wavelet package",
-                format!("truncated at byte {} (needs {n} more)", self.pos),
-            )),
-        }
-    }
-    fn byte(&mut self) -> Result<u8> {
-        Ok(self.take(1)?[0])
-    }
 }
 
 /// Decodes `w_l` steps (1..=steps sent): the low-resolution volume of `ceil(dims / 16) *
@@ -405,12 +394,10 @@ pub fn decode_lowres(p: &WaveletPackage, w_l: u8) -> Result<Volume<f32>> {
     let nb = p.dims.map(|d| d.div_ceil(BLOCK));
     let out_dims = nb.map(|b| b * side);
     let mut out = Volume::filled(out_dims, [1.0 * (BLOCK / side) as f64; 3], 0.0f32)?;
-    let mut rd = Reader {
-        bytes: &p.blocks,
-        pos: 0,
-    };
+    let mut rd = Reader::new(&p.blocks, "wavelet package");
+    let orders = morton_orders();
     for b in 0..nb[0] * nb[1] * nb[2] {
-        let values: Vec<f32> = match rd.byte()? {
+        let values: Vec<f32> = match rd.u8()? {
             0 => vec![0.0; side * side * side],
             1 => {
                 let raw = rd.take(1 << (3 * ws))?;
@@ -421,23 +408,19 @@ pub fn decode_lowres(p: &WaveletPackage, w_l: u8) -> Result<Volume<f32>> {
                 )
             }
             2 => {
-                let root = rd.byte()? as f32;
+                let root = rd.u8()? as f32;
                 let mut details = vec![Vec::new(); STEPS];
                 for j in (STEPS + 1 - ws..=STEPS).rev() {
                     let n = BLOCK >> j;
-                    let order = morton_order(n);
                     let mut d = vec![[0.0f32; 7]; n * n * n];
-                    for p_idx in order {
-                        let mask = rd.byte()?;
+                    for &p_idx in &orders[j - 1] {
+                        let mask = rd.u8()?;
                         if mask & 0x80 != 0 {
-                            return Err(Error::invalid(
-                                "wavelet package",
-                                format!("corrupted significance mask {mask:#04x}"),
-                            ));
+                            return Err(rd.bad(format!("corrupted significance mask {mask:#04x}")));
                         }
                         for (k, dk) in d[p_idx].iter_mut().enumerate() {
                             if mask >> k & 1 == 1 {
-                                *dk = rd.byte()? as i8 as f32 * p.quant.delta[j - 1];
+                                *dk = rd.u8()? as i8 as f32 * p.quant.delta[j - 1];
                             }
                         }
                     }
@@ -445,24 +428,11 @@ pub fn decode_lowres(p: &WaveletPackage, w_l: u8) -> Result<Volume<f32>> {
                 }
                 inverse_block(&BlockCoefficients { root, details }, w)
             }
-            h => {
-                return Err(Error::invalid(
-                    "wavelet package",
-                    format!("unknown block header {h} in block {b}"),
-                ))
-            }
+            h => return Err(rd.bad(format!("unknown block header {h} in block {b}"))),
         };
         put_block(&mut out, nb, b, side, &values);
     }
-    if rd.pos != p.blocks.len() {
-        return Err(Error::invalid(
-            "wavelet package",
-            format!(
-                "{} bytes left after the last block",
-                p.blocks.len() - rd.pos
-            ),
-        ));
-    }
+    rd.done()?;
     Ok(out)
 }
 
