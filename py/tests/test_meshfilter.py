@@ -65,20 +65,85 @@ def test_jbmd_matches_the_numpy_reference():
     assert M.mean_error(ours, v) < 0.6 * M.mean_error(noisy, v)
 
 
-def test_baselines_and_metric():
-    v, f, _ = M.synthetic("sphere", 3)
+def _rings(v, f):
+    """1-ring neighbour lists."""
+    nb = [set() for _ in range(len(v))]
+    for a, b, c in f:
+        nb[a] |= {b, c}
+        nb[b] |= {a, c}
+        nb[c] |= {a, b}
+    return [sorted(x) for x in nb]
+
+
+def _umbrella(v, rings, fixed, lam):
+    m = np.array([v[r].mean(0) for r in rings])
+    out = v + lam * (m - v)
+    out[fixed] = v[fixed]
+    return out
+
+
+def test_laplacian_family_matches_numpy():
+    """Laplacian, Taubin and HC-Laplacian equal direct numpy implementations of their
+    update rules (an open grid, so the frozen boundary is exercised)."""
+    v, f, _ = M.synthetic("plane", 8)
+    v = M.add_noise(v, f, 0.02, isotropic=True, seed=2)
+    rings, fixed = _rings(v, f), _boundary(v, f)
+    ref = v.copy()
+    for _ in range(3):
+        ref = _umbrella(ref, rings, fixed, 0.4)
+    np.testing.assert_allclose(M.laplacian(v, f, 0.4, 3), ref, atol=1e-14)
+    ref = v.copy()
+    for _ in range(3):
+        ref = _umbrella(_umbrella(ref, rings, fixed, 0.5), rings, fixed, -0.53)
+    np.testing.assert_allclose(M.taubin(v, f, 0.5, -0.53, 3), ref, atol=1e-14)
+    # HC (Vollmer et al. 1999): p = L(q); b = p - (a o + (1 - a) q); q = p - (beta b + (1 -
+    # beta) mean(b over the ring)).
+    alpha, beta, q = 0.1, 0.6, v.copy()
+    for _ in range(3):
+        p = _umbrella(q, rings, fixed, 1.0)
+        bb = p - (alpha * v + (1 - alpha) * q)
+        mb = np.array([bb[r].mean(0) for r in rings])
+        q = p - (beta * bb + (1 - beta) * mb)
+        q[fixed] = p[fixed]
+    np.testing.assert_allclose(M.hc_laplacian(v, f, alpha, beta, 3), q, atol=1e-14)
+
+
+def test_bilateral_matches_numpy_and_keeps_volume():
+    """One BMD iteration equals a direct implementation (neighbours within 2 sigma_c on the
+    connected surface, Fleishman's weights); volume preservation keeps the volume."""
+    v, f, _ = M.synthetic("sphere", 2)
     d = M.mvd(v, f)
     noisy = M.add_noise(v, f, 0.3 * d, seed=1)
-    for out in [M.laplacian(noisy, f, 0.5, 3), M.taubin(noisy, f, 0.5, -0.53, 3),
-                M.hc_laplacian(noisy, f, 0.0, 0.5, 3),
-                M.bilateral(noisy, f, d, 0.5 * d, 3, volume_preserve=True)]:
-        assert out.shape == v.shape
-        assert M.mean_error(out, v) < M.mean_error(noisy, v)
-    # Volume preservation keeps the enclosed volume.
+    sc, ss = 1.5 * d, 0.5 * d
+    rings, n = _rings(noisy, f), _normals(noisy, f)
+    ref = noisy.copy()
+    for i in range(len(noisy)):
+        seen, stack, sw, swh = {i}, [i], 0.0, 0.0
+        while stack:
+            a = stack.pop()
+            for b in rings[a]:
+                if b in seen:
+                    continue
+                seen.add(b)
+                t = np.linalg.norm(noisy[i] - noisy[b])
+                if t > 2 * sc:
+                    continue
+                stack.append(b)
+                h = n[i] @ (noisy[i] - noisy[b])
+                w = np.exp(-t * t / (2 * sc * sc) - h * h / (2 * ss * ss))
+                sw, swh = sw + w, swh + w * h
+        ref[i] = noisy[i] - n[i] * swh / sw
+    np.testing.assert_allclose(M.bilateral(noisy, f, sc, ss, 1, volume_preserve=False), ref,
+                               atol=1e-12)
     vol = lambda x: np.einsum("ij,ij->i", x[f[:, 0]], np.cross(x[f[:, 1]], x[f[:, 2]])).sum() / 6  # noqa: E731
-    kept = M.bilateral(noisy, f, d, 0.5 * d, 5, volume_preserve=True)
+    kept = M.bilateral(noisy, f, sc, ss, 5, volume_preserve=True)
+    shrunk = M.bilateral(noisy, f, sc, ss, 5, volume_preserve=False)
     assert abs(vol(kept) - vol(noisy)) < 1e-9 * abs(vol(noisy))
-    # The metric equals a brute-force nearest-vertex mean.
+    assert vol(shrunk) < 0.99 * vol(noisy)
+
+
+def test_mean_error_matches_brute_force():
+    v, _, _ = M.synthetic("sphere", 3)
     x = np.random.default_rng(0).normal(size=(300, 3))
     brute = np.linalg.norm(x[:, None, :] - v[None, :, :], axis=2).min(1).mean()
     assert M.mean_error(x, v) == pytest.approx(brute, abs=1e-12)
