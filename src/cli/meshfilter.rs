@@ -74,6 +74,10 @@ pub struct DenoiseArgs {
     /// Taubin mu (default -0.53), HC beta (default 0.5).
     #[arg(long, allow_hyphen_values = true)]
     factor2: Option<f64>,
+    /// JBMD: the paper's Table 1 ranges for one of its meshes (fandisk, lion, allegorie,
+    /// person1, person2), in the mesh's own units, instead of the MVD-relative defaults.
+    #[arg(long)]
+    preset: Option<String>,
     /// BMD: rescale to the initial volume after every iteration.
     #[arg(long)]
     volume_preserve: bool,
@@ -86,7 +90,7 @@ pub fn run(cmd: MeshfilterCommand) -> Result<()> {
     let mvd = mean_vertex_distance(&mesh)?;
     let positions = match a.method {
         MethodName::Jbmd => {
-            let p = JbmdParams {
+            let mut p = JbmdParams {
                 sigma_d: a.sigma_d.unwrap_or(2.0) * mvd,
                 sigma_o: a.sigma_o.unwrap_or(0.5) * mvd,
                 sigma_c: a.sigma_c,
@@ -97,6 +101,16 @@ pub fn run(cmd: MeshfilterCommand) -> Result<()> {
                 use_color: !a.no_color,
                 rebuild_neighbors: true,
             };
+            if let Some(name) = &a.preset {
+                let t = JbmdParams::preset(name).ok_or_else(|| {
+                    wscg_math::Error::invalid(
+                        "preset",
+                        format!("{name:?}: use fandisk, lion, allegorie, person1 or person2"),
+                    )
+                })?;
+                (p.sigma_d, p.sigma_o, p.sigma_c, p.lambda) =
+                    (t.sigma_d, t.sigma_o, t.sigma_c, t.lambda);
+            }
             jbmd(&mesh, &p)?
         }
         MethodName::Bmd => bmd(

@@ -9,7 +9,7 @@ use wscg_math::progress::Progress;
 use wscg_math::{Result, TriMesh};
 use wscg_meshfilter::metrics::{corresponding_error, mean_error, mean_vertex_distance};
 use wscg_meshfilter::sweep::{sweep, Setting};
-use wscg_meshfilter::synth::{add_noise, colored_cube, NOISE_SEED};
+use wscg_meshfilter::synth::{add_noise, colored_cube, cube_edge_band, NOISE_SEED};
 use wscg_meshfilter::{jbmd_trace, JbmdParams};
 
 use super::figures::{line_plot, montage, shaded_meshes, Series, Shape};
@@ -65,12 +65,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let gt = colored_cube(30)?;
     let mvd = mean_vertex_distance(&gt)?;
     let noisy = add_noise(&gt, 0.5 * mvd, false, NOISE_SEED)?;
-    let tol = 1.0 / 30.0 + 1e-9;
-    let band: Vec<bool> = gt
-        .positions
-        .iter()
-        .map(|p| p.iter().filter(|&&c| c <= tol || c >= 1.0 - tol).count() >= 2)
-        .collect();
+    let band = cube_edge_band(30, &gt.positions);
     let errors = |x: &[[f64; 3]]| -> Result<(f64, f64)> {
         Ok((
             mean_error(x, &gt.positions)? / mvd,

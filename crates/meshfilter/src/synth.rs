@@ -58,6 +58,16 @@ pub fn colored_cube(n: usize) -> Result<TriMesh> {
     TriMesh::new(pos, faces)?.with_colors(col)
 }
 
+/// The vertices of [`colored_cube`]`(n)` within one grid step `1/n` of a cube edge (the
+/// "edge band" where sharp features are judged).
+pub fn cube_edge_band(n: usize, positions: &[[f64; 3]]) -> Vec<bool> {
+    let tol = 1.0 / n as f64 + 1e-9;
+    positions
+        .iter()
+        .map(|p| p.iter().filter(|&&c| c <= tol || c >= 1.0 - tol).count() >= 2)
+        .collect()
+}
+
 /// An icosphere of radius 1 (`subdivisions`; 4 gives 2562 vertices), one colour.
 pub fn icosphere(subdivisions: u32) -> Result<TriMesh> {
     let m = TriMesh::icosphere(subdivisions, 1.0)?;

@@ -5,7 +5,7 @@
 use wscg_math::TriMesh;
 use wscg_meshfilter::metrics::{corresponding_error, mean_error, mean_vertex_distance};
 use wscg_meshfilter::sweep::{sweep, Setting};
-use wscg_meshfilter::synth::{add_noise, colored_cube, colored_plane, NOISE_SEED};
+use wscg_meshfilter::synth::{add_noise, colored_cube, colored_plane, cube_edge_band, NOISE_SEED};
 use wscg_meshfilter::{jbmd_trace, JbmdParams};
 
 const N: usize = 30;
@@ -22,12 +22,7 @@ fn scene() -> Scene {
     let gt = colored_cube(N).unwrap();
     let mvd = mean_vertex_distance(&gt).unwrap();
     let noisy = add_noise(&gt, 0.5 * mvd, false, NOISE_SEED).unwrap();
-    let tol = 1.0 / N as f64 + 1e-9;
-    let band = gt
-        .positions
-        .iter()
-        .map(|p| p.iter().filter(|&&c| c <= tol || c >= 1.0 - tol).count() >= 2)
-        .collect();
+    let band = cube_edge_band(N, &gt.positions);
     Scene {
         gt,
         noisy,

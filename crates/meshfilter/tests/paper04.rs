@@ -205,3 +205,20 @@ fn sweep_returns_the_lowest_error_over_settings_and_iterations() {
     assert_eq!(best.curve.len(), 6);
     assert_eq!(best.positions, laplacian(&noisy, brute.1, brute.2).unwrap());
 }
+
+#[test]
+fn table1_presets() {
+    // The paper's Table 1: sigma_d, sigma_o, sigma_c, lambda per mesh.
+    for (name, want) in [
+        ("fandisk", [0.1, 0.05, 30.0, 0.8]),
+        ("lion", [1.0, 0.5, 30.0, 0.6]),
+        ("allegorie", [0.0008, 0.0004, 35.0, 0.7]),
+        ("person1", [0.01, 0.005, 20.0, 0.7]),
+        ("person2", [0.01, 0.005, 20.0, 0.7]),
+    ] {
+        let p = JbmdParams::preset(name).unwrap();
+        assert_eq!([p.sigma_d, p.sigma_o, p.sigma_c, p.lambda], want, "{name}");
+        assert!(p.anti_shrink && p.use_color);
+    }
+    assert!(JbmdParams::preset("bunny").is_none());
+}

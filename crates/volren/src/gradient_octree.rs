@@ -83,14 +83,6 @@ impl Roi {
         Ok(roi)
     }
 
-    /// The whole volume.
-    pub fn all(dims: [usize; 3]) -> Self {
-        Roi {
-            min: [0; 3],
-            max: dims.map(|d| d as u32),
-        }
-    }
-
     /// Whether the cube `[lo, lo + size)^3` meets the box.
     #[inline]
     pub fn meets_cube(&self, lo: [u32; 3], size: u32) -> bool {
@@ -101,11 +93,6 @@ impl Roi {
     #[inline]
     pub fn contains(&self, p: [u32; 3]) -> bool {
         (0..3).all(|a| p[a] >= self.min[a] && p[a] < self.max[a])
-    }
-
-    /// Number of voxels in the box.
-    pub fn voxels(&self) -> u64 {
-        (0..3).map(|a| (self.max[a] - self.min[a]) as u64).product()
     }
 }
 

@@ -239,11 +239,6 @@ impl HybridServer {
         })
     }
 
-    /// The volume's id (carried by every package).
-    pub fn volume_id(&self) -> u64 {
-        self.id
-    }
-
     /// The Gradient Octree.
     pub fn octree(&self) -> &GradientOctree {
         &self.octree

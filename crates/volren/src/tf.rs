@@ -158,11 +158,6 @@ impl MaterialTable {
         self.lut[d as usize]
     }
 
-    /// Number of materials (ids 1..=count).
-    pub fn count(&self) -> usize {
-        self.intervals.len()
-    }
-
     /// The density a client uses to colour material `m` (the interval's midpoint, clamped to
     /// 255); `None` for the null material or an unknown id.
     pub fn representative(&self, m: u8) -> Option<f32> {
