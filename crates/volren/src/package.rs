@@ -148,7 +148,6 @@ fn read_tfs(r: &mut Reader) -> Result<Vec<PlTf>> {
 #[derive(Clone, Debug)]
 pub struct HybridServer {
     volume: Volume<u8>,
-    dims: [usize; 3],
     tfs: Vec<PlTf>,
     canonical: usize,
     wavelet: WaveletPackage,
@@ -229,7 +228,6 @@ impl HybridServer {
         let id = fnv1a([dims_bytes.as_slice(), v.data(), tf_bytes.0.as_slice()]);
         Ok(Self {
             volume: v.clone(),
-            dims: v.dims(),
             tfs,
             canonical,
             wavelet,
@@ -248,7 +246,7 @@ impl HybridServer {
     pub fn static_package(&self) -> Vec<u8> {
         let mut w = Writer::default();
         w.u64(self.id);
-        self.dims.iter().for_each(|&d| w.u32(d as u32));
+        self.volume.dims().iter().for_each(|&d| w.u32(d as u32));
         w.u8(self.canonical as u8);
         write_tfs(&mut w, &self.tfs);
         let p = &self.wavelet;
@@ -276,7 +274,7 @@ impl HybridServer {
         roi_tf: usize,
         thin_client: Option<&crate::render::Camera>,
     ) -> Result<SizeReport> {
-        let roi = Roi::snapped(min, max, self.dims)?;
+        let roi = Roi::snapped(min, max, self.volume.dims())?;
         let tf = self.tfs.get(roi_tf).ok_or_else(|| {
             Error::invalid(
                 "roi_tf",
@@ -287,7 +285,9 @@ impl HybridServer {
         let (bits, b) = self.octree.structure.occupancy();
         let go = bits.len()
             + b.iter().map(Vec::len).sum::<usize>()
-            + self.roi_package([0; 3], self.dims.map(|d| d as u32))?.len();
+            + self
+                .roi_package([0; 3], self.volume.dims().map(|d| d as u32))?
+                .len();
         let thin = match thin_client {
             Some(cam) => {
                 let img = crate::render::render_reference(
@@ -315,7 +315,7 @@ impl HybridServer {
     ///
     /// Errors: an inverted ROI or one outside the volume.
     pub fn roi_package(&self, min: [u32; 3], max: [u32; 3]) -> Result<Vec<u8>> {
-        let roi = Roi::snapped(min, max, self.dims)?;
+        let roi = Roi::snapped(min, max, self.volume.dims())?;
         let leaves = self.octree.roi_leaves(&roi);
         let mut w = Writer::default();
         w.u64(self.id);
