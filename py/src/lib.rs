@@ -19,20 +19,18 @@ mod volren;
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    let sub = PyModule::new(m.py(), "math")?;
-    math::register(&sub)?;
-    m.add_submodule(&sub)?;
-    let sub = PyModule::new(m.py(), "biometrics")?;
-    biometrics::register(&sub)?;
-    m.add_submodule(&sub)?;
-    let sub = PyModule::new(m.py(), "cloth")?;
-    cloth::register(&sub)?;
-    m.add_submodule(&sub)?;
-    let sub = PyModule::new(m.py(), "meshfilter")?;
-    meshfilter::register(&sub)?;
-    m.add_submodule(&sub)?;
-    let sub = PyModule::new(m.py(), "volren")?;
-    volren::register(&sub)?;
-    m.add_submodule(&sub)?;
+    type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
+    let subs: [(&str, Register); 5] = [
+        ("math", math::register),
+        ("biometrics", biometrics::register),
+        ("cloth", cloth::register),
+        ("meshfilter", meshfilter::register),
+        ("volren", volren::register),
+    ];
+    for (name, register) in subs {
+        let sub = PyModule::new(m.py(), name)?;
+        register(&sub)?;
+        m.add_submodule(&sub)?;
+    }
     Ok(())
 }
