@@ -5,7 +5,7 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use wscg_math::TriMesh;
 use wscg_meshfilter::bmd::{bmd, BmdParams};
-use wscg_meshfilter::metrics::{mean_error as me, mean_vertex_distance};
+use wscg_meshfilter::metrics::{mean_error as me, mean_vertex_distance, surface_error as se};
 use wscg_meshfilter::{smoothing, synth, JbmdParams};
 
 use crate::convert::{array, mesh_in, rows3, values, Arr};
@@ -116,6 +116,17 @@ fn mean_error(x: PyReadonlyArrayDyn<f64>, gt: PyReadonlyArrayDyn<f64>) -> PyResu
     me(&x, &g).py_err()
 }
 
+/// Mean distance to the ground-truth surface (parry BVH projection).
+#[pyfunction]
+fn surface_error(
+    x: PyReadonlyArrayDyn<f64>,
+    vertices: PyReadonlyArrayDyn<f64>,
+    faces: PyReadonlyArrayDyn<i64>,
+) -> PyResult<f64> {
+    let x = rows3("x", &values(&x), x.shape())?;
+    se(&x, &mesh_in(&vertices, &faces, None)?).py_err()
+}
+
 /// Mean vertex distance (mean edge length).
 #[pyfunction]
 fn mvd(vertices: PyReadonlyArrayDyn<f64>, faces: PyReadonlyArrayDyn<i64>) -> PyResult<f64> {
@@ -159,6 +170,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(bilateral, m)?)?;
     m.add_function(wrap_pyfunction!(smooth, m)?)?;
     m.add_function(wrap_pyfunction!(mean_error, m)?)?;
+    m.add_function(wrap_pyfunction!(surface_error, m)?)?;
     m.add_function(wrap_pyfunction!(mvd, m)?)?;
     m.add_function(wrap_pyfunction!(synthetic, m)?)?;
     m.add_function(wrap_pyfunction!(add_noise, m)?)?;

@@ -149,6 +149,35 @@ def test_mean_error_matches_brute_force():
     assert M.mean_error(x, v) == pytest.approx(brute, abs=1e-12)
 
 
+def _point_triangle_distance(p, a, b, c):
+    """Distance from points ``p`` (m, 3) to every triangle (t, 3) as an (m, t) array: the
+    minimum over the interior (barycentric projection) and the three edges."""
+    p = p[:, None, :]
+    n = np.cross(b - a, c - a)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    h = np.einsum("mtj,tj->mt", p - a, n)
+    q = p - h[..., None] * n
+    inside = np.ones(h.shape, bool)
+    for u, w in ((a, b), (b, c), (c, a)):
+        inside &= np.einsum("mtj,tj->mt", np.cross(w - u, q - u), n) >= 0
+    d = np.where(inside, np.abs(h), np.inf)
+    for u, w in ((a, b), (b, c), (c, a)):
+        e = w - u
+        t = np.clip(np.einsum("mtj,tj->mt", p - u, e) / np.einsum("tj,tj->t", e, e), 0, 1)
+        d = np.minimum(d, np.linalg.norm(p - (u + t[..., None] * e), axis=2))
+    return d
+
+
+def test_surface_error_matches_brute_force():
+    v, f, _ = M.synthetic("sphere", 2)
+    gt = M.add_noise(v, f, 0.05, seed=3)
+    x = np.random.default_rng(1).normal(scale=0.7, size=(400, 3))
+    brute = _point_triangle_distance(x, gt[f[:, 0]], gt[f[:, 1]], gt[f[:, 2]]).min(1).mean()
+    assert M.surface_error(x, gt, f) == pytest.approx(brute, abs=2e-6)
+    assert M.surface_error(gt, gt, f) < 1e-6
+    assert M.surface_error(x, gt, f) < M.mean_error(x, gt)
+
+
 def test_bad_input():
     v, f, c = M.synthetic("cube", 4)
     bad = [
@@ -165,6 +194,9 @@ def test_bad_input():
         lambda: M.laplacian(v, f, 0.0),
         lambda: M.synthetic("torus"),
         lambda: M.add_noise(v, f, -1.0),
+        lambda: M.surface_error(np.zeros((0, 3)), v, f),
+        lambda: M.surface_error(v[:, :2], v, f),
+        lambda: M.surface_error(v, v, np.zeros((0, 3), int)),
     ]
     for fn in bad:
         with pytest.raises(ValueError):

@@ -2,7 +2,9 @@
 //! exact ground truth.
 
 use wscg_math::TriMesh;
-use wscg_meshfilter::metrics::{corresponding_error, mean_error, mean_vertex_distance};
+use wscg_meshfilter::metrics::{
+    corresponding_error, mean_error, mean_vertex_distance, surface_error,
+};
 use wscg_meshfilter::synth::{add_noise, colored_cube, colored_plane, icosphere, NOISE_SEED};
 use wscg_meshfilter::{jbmd, jbmd_trace, JbmdParams};
 
@@ -121,6 +123,49 @@ fn mean_error_matches_brute_force_and_scale_invariance() {
             );
         }
     }
+}
+
+#[test]
+fn surface_error_is_the_distance_to_the_cube() {
+    // Point-to-surface metric: the exact distance to the boundary of [0, 1]^3, for points
+    // outside (distance to the box) and inside (distance to the nearest face), far from the
+    // cube's vertices so that the nearest-vertex metric differs.
+    let cube = colored_cube(7).unwrap();
+    let a = wscg_math::rng::uniform_vec(3, 3 * 3000, -0.5, 1.5).unwrap();
+    let x: Vec<[f64; 3]> = a.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let exact = x
+        .iter()
+        .map(|p| {
+            let out = p.map(|c| (-c).max(c - 1.0).max(0.0));
+            let d = (out[0] * out[0] + out[1] * out[1] + out[2] * out[2]).sqrt();
+            if d > 0.0 {
+                d
+            } else {
+                p.iter().map(|&c| c.min(1.0 - c)).fold(f64::INFINITY, f64::min)
+            }
+        })
+        .sum::<f64>()
+        / x.len() as f64;
+    let got = surface_error(&x, &cube).unwrap();
+    assert!((got - exact).abs() < 1e-6, "{got} vs {exact}");
+    // The surface contains the vertices: the nearest-vertex error can only be larger.
+    let nearest_vertex = mean_error(&x, &cube.positions).unwrap();
+    assert!(nearest_vertex > got, "{nearest_vertex} vs {got}");
+    // Tangential drift on a face is free for the surface metric.
+    let slid: Vec<[f64; 3]> = cube
+        .positions
+        .iter()
+        .map(|p| {
+            if p[2] >= 1.0 && p[0] > 0.1 && p[0] < 0.9 {
+                [p[0] + 0.05, p[1], p[2]]
+            } else {
+                *p
+            }
+        })
+        .collect();
+    assert!(surface_error(&slid, &cube).unwrap() < 1e-7);
+    assert!(surface_error(&[], &cube).is_err());
+    assert!(surface_error(&[[f64::NAN, 0.0, 0.0]], &cube).is_err());
 }
 
 #[test]

@@ -21,8 +21,8 @@ import numpy as np
 
 from ._native import meshfilter as _m
 
-__all__ = ["jbmd", "bilateral", "laplacian", "taubin", "hc_laplacian", "mean_error", "mvd",
-           "synthetic", "add_noise"]
+__all__ = ["jbmd", "bilateral", "laplacian", "taubin", "hc_laplacian", "mean_error",
+           "surface_error", "mvd", "synthetic", "add_noise"]
 
 
 def _v(v) -> np.ndarray:
@@ -88,6 +88,14 @@ def mean_error(x, gt) -> float:
     """Paper eq. 3: the mean distance from every vertex of ``x`` to the nearest vertex of
     ``gt``."""
     return _m.mean_error(_v(x), _v(gt))
+
+
+def surface_error(x, vertices, faces) -> float:
+    """The mean distance from every vertex of ``x`` to the ground-truth *surface*
+    ``(vertices, faces)`` (nearest point on any triangle, not only the nearest vertex), so
+    that tangential drift along a face costs nothing. Single-precision BVH queries relative
+    to the mesh centre: exact to about 1e-7 of the mesh size."""
+    return _m.surface_error(_v(x), _v(vertices), _f(faces))
 
 
 def synthetic(name: str = "cube", n: int = 30) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
