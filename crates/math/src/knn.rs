@@ -1,64 +1,171 @@
 //! Nearest neighbours of 3-D points: a static, balanced kd-tree (median splits on the axis of
-//! largest spread) with exact k-nearest and nearest-point queries.
+//! largest spread, built in parallel) with exact k-nearest and nearest-point queries.
 //!
-//! Used by the mesh filters (k-nearest vertices), the error metrics (nearest ground-truth
-//! vertex) and anything else that needs exact Euclidean neighbours. Queries are independent
-//! and can run in parallel over one tree.
+//! Used by the mesh filters (the k-nearest-vertex graph of a mesh), the error metrics
+//! (nearest ground-truth vertex) and anything else that needs exact Euclidean neighbours.
+//! The points are stored in tree order so that a leaf is one contiguous run, nodes in
+//! pre-order so that a left child follows its parent, and the search prunes with the
+//! incremental distance to a cell (Arya and Mount) against the current k-th candidate. Ties
+//! are broken by point index, so results do not depend on the traversal.
+//!
+//! The k nearest neighbours of *every* point of a set at once are
+//! [`knn_graph`](crate::knn_graph::knn_graph), on a uniform grid.
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::vec3::dist2;
 
 /// Leaves hold at most this many points.
 const LEAF: usize = 8;
+/// Subtrees with more points than this are built in parallel.
+const PAR_BUILD: usize = 1 << 12;
+/// `axis` of a leaf node.
+const LEAF_AXIS: u32 = 3;
+/// "No point excluded".
+const NONE: u32 = u32::MAX;
 
-#[derive(Clone, Debug)]
-enum Node {
-    Leaf {
-        start: usize,
-        end: usize,
-    },
-    Split {
-        axis: usize,
-        value: f64,
-        left: usize,
-        right: usize,
-    },
+/// A node: a split (`axis` 0..3 at `value`, right child `right`; the left child is the next
+/// node) or a leaf (points `start..end` in tree order).
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    value: f64,
+    axis: u32,
+    right: u32,
+    start: u32,
+    end: u32,
 }
 
 /// A kd-tree over a fixed set of points.
 #[derive(Clone, Debug)]
 pub struct KdTree {
+    /// The points in tree order.
     points: Vec<[f64; 3]>,
-    /// Point indices, grouped by leaf.
-    order: Vec<usize>,
+    /// Original index of every point in tree order.
+    ids: Vec<u32>,
     nodes: Vec<Node>,
 }
 
-/// A candidate of a k-nearest query (squared distance, index): the scratch heap of
-/// [`KdTree::knn_indices`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Cand(f64, usize);
-
-impl Eq for Cand {}
-impl PartialOrd for Cand {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
+/// Nodes of the tree over `m` points.
+fn node_count(m: usize) -> usize {
+    if m <= LEAF {
+        1
+    } else {
+        1 + node_count(m / 2) + node_count(m - m / 2)
     }
 }
-impl Ord for Cand {
-    fn cmp(&self, o: &Self) -> Ordering {
-        self.0.total_cmp(&o.0).then(self.1.cmp(&o.1))
+
+/// Builds the subtree over `ids` (tree-order positions `start..`) into `nodes`, whose first
+/// entry has global index `base`.
+fn build(pts: &[[f64; 3]], ids: &mut [u32], nodes: &mut [Node], base: usize, start: usize) {
+    let m = ids.len();
+    if m <= LEAF {
+        nodes[0] = Node {
+            value: 0.0,
+            axis: LEAF_AXIS,
+            right: 0,
+            start: start as u32,
+            end: (start + m) as u32,
+        };
+        return;
+    }
+    let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+    for &i in ids.iter() {
+        let p = pts[i as usize];
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    let axis = (0..3)
+        .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
+        .unwrap_or(0);
+    let mid = m / 2;
+    ids.select_nth_unstable_by(mid, |&a, &b| {
+        pts[a as usize][axis].total_cmp(&pts[b as usize][axis])
+    });
+    let value = pts[ids[mid] as usize][axis];
+    let nl = node_count(mid);
+    let (head, rest) = nodes.split_at_mut(1);
+    let (left_nodes, right_nodes) = rest.split_at_mut(nl);
+    head[0] = Node {
+        value,
+        axis: axis as u32,
+        right: (base + 1 + nl) as u32,
+        start: 0,
+        end: 0,
+    };
+    let (left_ids, right_ids) = ids.split_at_mut(mid);
+    if m > PAR_BUILD {
+        rayon::join(
+            || build(pts, left_ids, left_nodes, base + 1, start),
+            || build(pts, right_ids, right_nodes, base + 1 + nl, start + mid),
+        );
+    } else {
+        build(pts, left_ids, left_nodes, base + 1, start);
+        build(pts, right_ids, right_nodes, base + 1 + nl, start + mid);
+    }
+}
+
+/// The `k` best candidates `(squared distance, index)` so far, sorted, nearest first.
+pub(crate) struct Best {
+    pub(crate) k: usize,
+    pub(crate) items: Vec<(f64, u32)>,
+}
+
+impl Best {
+    pub(crate) fn new(k: usize) -> Self {
+        Self {
+            k,
+            items: Vec::with_capacity(k + 1),
+        }
+    }
+
+    pub(crate) fn clear(&mut self) {
+        self.items.clear();
+    }
+
+    /// The squared distance a candidate must not exceed to enter.
+    #[inline]
+    pub(crate) fn bound(&self) -> f64 {
+        if self.items.len() < self.k {
+            f64::INFINITY
+        } else {
+            self.items[self.k - 1].0
+        }
+    }
+
+    #[inline]
+    pub(crate) fn offer(&mut self, d2: f64, id: u32) {
+        let full = self.items.len() == self.k;
+        if full {
+            let w = self.items[self.k - 1];
+            if d2 > w.0 || (d2 == w.0 && id > w.1) {
+                return;
+            }
+            self.items.pop();
+        }
+        let mut pos = self.items.len();
+        while pos > 0 {
+            let p = self.items[pos - 1];
+            if p.0 < d2 || (p.0 == d2 && p.1 < id) {
+                break;
+            }
+            pos -= 1;
+        }
+        self.items.insert(pos, (d2, id));
     }
 }
 
 impl KdTree {
-    /// Builds the tree. Errors: no points, non-finite coordinates.
+    /// Builds the tree. Errors: no points, non-finite coordinates, more than `u32::MAX - 1`
+    /// points.
     pub fn new(points: &[[f64; 3]]) -> Result<Self> {
         if points.is_empty() {
             return Err(Error::Empty("points"));
+        }
+        if points.len() >= NONE as usize {
+            return Err(Error::invalid("points", "too many for a kd-tree"));
         }
         if let Some(i) = points.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
             return Err(Error::NonFinite {
@@ -66,46 +173,25 @@ impl KdTree {
                 index: 3 * i,
             });
         }
-        let mut t = Self {
-            points: points.to_vec(),
-            order: (0..points.len()).collect(),
-            nodes: Vec::new(),
-        };
-        t.build(0, points.len());
-        Ok(t)
-    }
-
-    fn build(&mut self, start: usize, end: usize) -> usize {
-        let id = self.nodes.len();
-        if end - start <= LEAF {
-            self.nodes.push(Node::Leaf { start, end });
-            return id;
-        }
-        let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
-        for &i in &self.order[start..end] {
-            for a in 0..3 {
-                lo[a] = lo[a].min(self.points[i][a]);
-                hi[a] = hi[a].max(self.points[i][a]);
-            }
-        }
-        let axis = (0..3)
-            .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
-            .unwrap_or(0);
-        let mid = (start + end) / 2;
-        let pts = &self.points;
-        self.order[start..end]
-            .select_nth_unstable_by(mid - start, |&a, &b| pts[a][axis].total_cmp(&pts[b][axis]));
-        let value = self.points[self.order[mid]][axis];
-        self.nodes.push(Node::Leaf { start, end });
-        let left = self.build(start, mid);
-        let right = self.build(mid, end);
-        self.nodes[id] = Node::Split {
-            axis,
-            value,
-            left,
-            right,
-        };
-        id
+        let n = points.len();
+        let mut ids: Vec<u32> = (0..n as u32).collect();
+        let mut nodes = vec![
+            Node {
+                value: 0.0,
+                axis: LEAF_AXIS,
+                right: 0,
+                start: 0,
+                end: 0,
+            };
+            node_count(n)
+        ];
+        build(points, &mut ids, &mut nodes, 0, 0);
+        let sorted = ids.par_iter().map(|&i| points[i as usize]).collect();
+        Ok(Self {
+            points: sorted,
+            ids,
+            nodes,
+        })
     }
 
     /// Number of points.
@@ -118,90 +204,75 @@ impl KdTree {
         self.points.is_empty()
     }
 
-    /// The `k` points nearest to `q` as `(index, distance)`, nearest first (ties by index),
-    /// leaving out the point `exclude` if given. Fewer than `k` when the tree is smaller.
-    pub fn knn(&self, q: &[f64; 3], k: usize, exclude: Option<usize>) -> Vec<(usize, f64)> {
-        if k == 0 {
-            return Vec::new();
+    /// Fills `best` with the nearest points to `q` other than `exclude` (an original index).
+    fn search(&self, q: &[f64; 3], exclude: u32, best: &mut Best) {
+        best.clear();
+        if best.k > 0 {
+            self.descend(0, q, 0.0, &mut [0.0; 3], exclude, best);
         }
-        let mut heap = BinaryHeap::with_capacity(k + 1);
-        self.search(0, q, k, exclude, &mut heap);
-        let mut out: Vec<(usize, f64)> = heap.into_iter().map(|c| (c.1, c.0.sqrt())).collect();
-        out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-        out
     }
 
-    fn search(
+    fn descend(
         &self,
         node: usize,
         q: &[f64; 3],
-        k: usize,
-        exclude: Option<usize>,
-        heap: &mut BinaryHeap<Cand>,
+        rd: f64,
+        off: &mut [f64; 3],
+        exclude: u32,
+        best: &mut Best,
     ) {
-        match self.nodes[node] {
-            Node::Leaf { start, end } => {
-                for &i in &self.order[start..end] {
-                    if Some(i) == exclude {
-                        continue;
-                    }
-                    let c = Cand(dist2(self.points[i], *q), i);
-                    if heap.len() < k {
-                        heap.push(c);
-                    } else if c < *heap.peek().expect("k > 0") {
-                        heap.pop();
-                        heap.push(c);
-                    }
+        let n = self.nodes[node];
+        if n.axis == LEAF_AXIS {
+            let (s, e) = (n.start as usize, n.end as usize);
+            for (p, &id) in self.points[s..e].iter().zip(&self.ids[s..e]) {
+                let d2 = dist2(*p, *q);
+                if d2 <= best.bound() && id != exclude {
+                    best.offer(d2, id);
                 }
             }
-            Node::Split {
-                axis,
-                value,
-                left,
-                right,
-            } => {
-                let d = q[axis] - value;
-                let (near, far) = if d < 0.0 {
-                    (left, right)
-                } else {
-                    (right, left)
-                };
-                self.search(near, q, k, exclude, heap);
-                if heap.len() < k || d * d <= heap.peek().expect("non-empty").0 {
-                    self.search(far, q, k, exclude, heap);
-                }
-            }
+            return;
+        }
+        let a = n.axis as usize;
+        let d = q[a] - n.value;
+        let (near, far) = if d < 0.0 {
+            (node + 1, n.right as usize)
+        } else {
+            (n.right as usize, node + 1)
+        };
+        self.descend(near, q, rd, off, exclude, best);
+        let old = off[a];
+        let rd_far = rd - old * old + d * d;
+        if rd_far <= best.bound() {
+            off[a] = d;
+            self.descend(far, q, rd_far, off, exclude, best);
+            off[a] = old;
         }
     }
 
-    /// The indices of the `k` points nearest to `q` (leaving out `exclude`), in no particular
-    /// order, written to `out` (cleared first); `heap` is scratch space reused across calls.
-    pub fn knn_indices(
-        &self,
-        q: &[f64; 3],
-        k: usize,
-        exclude: Option<usize>,
-        heap: &mut BinaryHeap<Cand>,
-        out: &mut Vec<u32>,
-    ) {
-        out.clear();
-        heap.clear();
-        if k == 0 {
-            return;
-        }
-        self.search(0, q, k, exclude, heap);
-        out.extend(heap.drain().map(|c| c.1 as u32));
+    /// The `k` points nearest to `q` as `(index, distance)`, nearest first (ties by index),
+    /// leaving out the point `exclude` if given. Fewer than `k` when the tree is smaller.
+    pub fn knn(&self, q: &[f64; 3], k: usize, exclude: Option<usize>) -> Vec<(usize, f64)> {
+        let mut best = Best::new(k);
+        self.search(q, exclude.map_or(NONE, |e| e as u32), &mut best);
+        best.items
+            .iter()
+            .map(|&(d2, i)| (i as usize, d2.sqrt()))
+            .collect()
     }
 
     /// The point nearest to `q`: `(index, distance)`.
     pub fn nearest(&self, q: &[f64; 3]) -> (usize, f64) {
-        self.knn(q, 1, None)[0]
+        let mut best = Best::new(1);
+        self.search(q, NONE, &mut best);
+        let (d2, i) = best.items[0];
+        (i as usize, d2.sqrt())
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::knn_graph::knn_graph;
 
     #[test]
     fn knn_matches_brute_force() {
@@ -229,20 +300,43 @@ mod tests {
             assert_eq!(tree.nearest(&p).1, brute_nearest(&pts, &p));
         }
         assert_eq!(tree.knn(&[0.0; 3], 5000, None).len(), pts.len());
-        // The unsorted variant returns the same set.
-        let (mut heap, mut out) = (BinaryHeap::new(), Vec::new());
-        let p = [0.1, 0.0, -0.3];
-        tree.knn_indices(&p, 12, Some(7), &mut heap, &mut out);
-        let mut a: Vec<u32> = tree
-            .knn(&p, 12, Some(7))
-            .iter()
-            .map(|x| x.0 as u32)
-            .collect();
-        a.sort_unstable();
-        out.sort_unstable();
-        assert_eq!(a, out);
+        // The graph of the points: every row is the point's own query.
+        let graph = knn_graph(&pts, 12).unwrap();
+        for i in (0..pts.len()).step_by(37) {
+            let own: Vec<u32> = tree
+                .knn(&pts[i], 12, Some(i))
+                .iter()
+                .map(|x| x.0 as u32)
+                .collect();
+            assert_eq!(&graph[12 * i..12 * (i + 1)], &own[..]);
+        }
+        assert!(knn_graph(&pts, 0).is_err());
+        assert!(knn_graph(&pts, pts.len()).is_err());
         assert!(KdTree::new(&[]).is_err());
         assert!(KdTree::new(&[[0.0, f64::NAN, 0.0]]).is_err());
+    }
+
+    #[test]
+    fn parallel_build_matches_brute_force() {
+        // Enough points for the parallel build; a grid has many exact ties, broken by index.
+        let mut pts = Vec::new();
+        for i in 0..30 {
+            for j in 0..30 {
+                for l in 0..12 {
+                    pts.push([i as f64, j as f64 * 0.5, l as f64 * 2.0]);
+                }
+            }
+        }
+        let graph = knn_graph(&pts, 10).unwrap();
+        for i in (0..pts.len()).step_by(101) {
+            let mut brute: Vec<(f64, u32)> = (0..pts.len())
+                .filter(|&j| j != i)
+                .map(|j| (dist2(pts[i], pts[j]), j as u32))
+                .collect();
+            brute.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let want: Vec<u32> = brute[..10].iter().map(|c| c.1).collect();
+            assert_eq!(&graph[10 * i..10 * (i + 1)], &want[..]);
+        }
     }
 
     fn brute_nearest(pts: &[[f64; 3]], p: &[f64; 3]) -> f64 {

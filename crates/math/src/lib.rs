@@ -29,6 +29,7 @@ pub mod fft;
 pub mod filter;
 pub mod image;
 pub mod knn;
+pub mod knn_graph;
 pub mod mesh;
 pub mod metrics;
 pub mod npy;

@@ -18,7 +18,7 @@
 //! normal is undefined stay in place.
 
 use rayon::prelude::*;
-use wscg_math::knn::KdTree;
+use wscg_math::knn_graph::knn_graph;
 use wscg_math::vec3::{add_scaled, dist, dist2, dot, sub};
 use wscg_math::{Error, Result, TriMesh};
 
@@ -100,15 +100,7 @@ pub fn jbmd_trace(
         let normals = work.vertex_normals();
         let v = &work.positions;
         if it == 0 || p.rebuild_neighbors {
-            let tree = KdTree::new(v)?;
-            neighbors.resize(v.len() * k, 0);
-            neighbors.par_chunks_mut(k).enumerate().for_each_init(
-                || (std::collections::BinaryHeap::new(), Vec::with_capacity(k)),
-                |(heap, out), (i, nb)| {
-                    tree.knn_indices(&v[i], k, Some(i), heap, out);
-                    nb.copy_from_slice(out);
-                },
-            );
+            neighbors = knn_graph(v, k)?;
         }
         let io2 = 0.5 / (sigma_o * sigma_o);
         // Pass 1: signed shifts along the normals.

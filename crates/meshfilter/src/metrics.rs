@@ -6,9 +6,9 @@ use parry3d::math::Vector as PVec;
 use parry3d::query::PointQuery;
 use parry3d::shape::TriMesh as ParryMesh;
 use rayon::prelude::*;
+use wscg_math::error::ensure_finite;
 use wscg_math::knn::KdTree;
 use wscg_math::vec3::dist;
-use wscg_math::error::ensure_finite;
 use wscg_math::{Error, Result, TriMesh};
 
 /// Paper eq. 3: `(1/n) sum_i min_p |x_i - g_p|`, the mean distance from every vertex to the
@@ -40,7 +40,9 @@ pub fn surface_error(x: &[[f64; 3]], gt: &TriMesh) -> Result<f64> {
     }
     gt.validate()?;
     ensure_finite("x", x.as_flattened())?;
-    let (lo, hi) = gt.bounding_box().ok_or(Error::Empty("ground-truth vertices"))?;
+    let (lo, hi) = gt
+        .bounding_box()
+        .ok_or(Error::Empty("ground-truth vertices"))?;
     let c = [0, 1, 2].map(|a| 0.5 * (lo[a] + hi[a]));
     let local = |p: &[f64; 3]| {
         PVec::new(
@@ -49,11 +51,8 @@ pub fn surface_error(x: &[[f64; 3]], gt: &TriMesh) -> Result<f64> {
             (p[2] - c[2]) as f32,
         )
     };
-    let mesh = ParryMesh::new(
-        gt.positions.iter().map(local).collect(),
-        gt.faces.clone(),
-    )
-    .map_err(|e| Error::invalid("ground truth", format!("invalid mesh: {e:?}")))?;
+    let mesh = ParryMesh::new(gt.positions.iter().map(local).collect(), gt.faces.clone())
+        .map_err(|e| Error::invalid("ground truth", format!("invalid mesh: {e:?}")))?;
     let sum: f64 = x
         .par_iter()
         .map(|p| {

@@ -141,7 +141,9 @@ fn surface_error_is_the_distance_to_the_cube() {
             if d > 0.0 {
                 d
             } else {
-                p.iter().map(|&c| c.min(1.0 - c)).fold(f64::INFINITY, f64::min)
+                p.iter()
+                    .map(|&c| c.min(1.0 - c))
+                    .fold(f64::INFINITY, f64::min)
             }
         })
         .sum::<f64>()
