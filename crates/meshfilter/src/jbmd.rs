@@ -132,6 +132,7 @@ pub fn jbmd_trace(
             })
             .collect();
         let v1: Vec<[f64; 3]> = (0..v.len())
+            .into_par_iter()
             .map(|i| add_scaled(v[i], shift[i], normals[i]))
             .collect();
         // Pass 2: local anti-shrinking by the neighbours' own shifts.
@@ -158,10 +159,10 @@ pub fn jbmd_trace(
             v1
         };
         let max_move = next
-            .iter()
+            .par_iter()
             .zip(v)
             .map(|(a, b)| dist(*a, *b))
-            .fold(0.0, f64::max);
+            .reduce(|| 0.0, f64::max);
         work.positions = next;
         let st = IterStats { sigma_o, max_move };
         observe(it + 1, &work.positions, &st);
