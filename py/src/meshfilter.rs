@@ -133,11 +133,13 @@ fn mvd(vertices: PyReadonlyArrayDyn<f64>, faces: PyReadonlyArrayDyn<i64>) -> PyR
     mean_vertex_distance(&mesh_in(&vertices, &faces, None)?).py_err()
 }
 
-/// Synthetic meshes: "cube" (n), "sphere" (subdivisions), "plane" (n).
+/// Synthetic meshes: "cube" (n), "cad" (n per unit length), "sphere" (subdivisions),
+/// "plane" (n).
 #[pyfunction]
 fn synthetic<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<MeshArrays<'py>> {
     let m = match name {
         "cube" => synth::colored_cube(n),
+        "cad" => synth::cad_part(n).map(|p| p.mesh),
         "sphere" => synth::icosphere(n as u32),
         "plane" => synth::colored_plane(n),
         other => Err(wscg_math::Error::invalid(
@@ -147,6 +149,17 @@ fn synthetic<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<MeshArrays<
     }
     .py_err()?;
     mesh_out(py, m)
+}
+
+/// The CAD part's per-vertex labels: (patch, crease band).
+#[pyfunction]
+fn cad_labels<'py>(py: Python<'py>, n: usize) -> PyResult<(Arr<'py, i64>, Arr<'py, bool>)> {
+    let p = synth::cad_part(n).py_err()?;
+    let nv = p.patch.len();
+    Ok((
+        array(py, &[nv], p.patch.iter().map(|&x| i64::from(x)).collect())?,
+        array(py, &[nv], p.crease_band)?,
+    ))
 }
 
 /// Noise along the vertex normals (or isotropic).
@@ -173,6 +186,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(surface_error, m)?)?;
     m.add_function(wrap_pyfunction!(mvd, m)?)?;
     m.add_function(wrap_pyfunction!(synthetic, m)?)?;
+    m.add_function(wrap_pyfunction!(cad_labels, m)?)?;
     m.add_function(wrap_pyfunction!(add_noise, m)?)?;
     Ok(())
 }

@@ -25,6 +25,28 @@ def test_jbmd_matches_the_numpy_reference():
     assert M.mean_error(ours, v) < 0.6 * M.mean_error(noisy, v)
 
 
+def test_cad_part_and_its_labels():
+    v, f, c = M.synthetic("cad", 10)
+    patch, crease = M.cad_labels(10)
+    assert len(patch) == len(crease) == len(v)
+    fillet = v[patch == 5]
+    np.testing.assert_allclose(np.hypot(fillet[:, 0] - 0.5, fillet[:, 1] - 1.5), 0.5, atol=1e-12)
+    # One colour per patch.
+    for p in range(7):
+        assert len(np.unique(c[patch == p], axis=0)) == 1
+    # The open extrusion's boundary loops stay, JBMD equals the numpy reference there too.
+    d = M.mvd(v, f)
+    noisy = M.add_noise(v, f, 0.5 * d, seed=5)
+    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, sigma_o=0.5 * d, k=20, iterations=3)
+    ref = reference_jbmd(noisy, f, c, 2 * d, 0.5 * d, 30.0, 0.8, 20, 3)
+    np.testing.assert_allclose(ours, ref, atol=1e-9)
+    ends = (v[:, 2] == 0.0) | (v[:, 2] == 1.0)
+    np.testing.assert_array_equal(ours[ends], noisy[ends])
+    assert M.mean_error(ours, v) < 0.6 * M.mean_error(noisy, v)
+    with pytest.raises(ValueError):
+        M.cad_labels(0)
+
+
 def _rings(v, f):
     """1-ring neighbour lists."""
     nb = [set() for _ in range(len(v))]

@@ -1,6 +1,8 @@
 //! Synthetic coloured meshes with exact ground truth (paper 04's test data are private or
-//! unavailable): a coloured cube with sharp edges whose colour edges coincide with them, an
-//! icosphere, a plane with a colour step; and Gaussian noise along the vertex normals.
+//! unavailable): a coloured cube with sharp edges whose colour edges coincide with them (S1
+//! of the specification), a fandisk-like CAD part with convex and concave creases and a
+//! fillet (S2), an icosphere (S3), a plane with a colour step; and Gaussian noise along the
+//! vertex normals.
 
 use std::collections::HashMap;
 
@@ -91,6 +93,146 @@ pub fn colored_plane(n: usize) -> Result<TriMesh> {
         })
         .collect();
     m.with_colors(c)
+}
+
+/// One piece of the CAD part's profile.
+#[derive(Clone, Copy, Debug)]
+enum Piece {
+    Line([f64; 2], [f64; 2]),
+    /// Centre, radius, start and end angle (radians).
+    Arc([f64; 2], f64, f64, f64),
+}
+
+impl Piece {
+    fn length(&self) -> f64 {
+        match *self {
+            Piece::Line(a, b) => (b[0] - a[0]).hypot(b[1] - a[1]),
+            Piece::Arc(_, r, t0, t1) => r * (t1 - t0).abs(),
+        }
+    }
+
+    /// The point at parameter `t` in `[0, 1]`.
+    fn at(&self, t: f64) -> [f64; 2] {
+        match *self {
+            Piece::Line(a, b) => [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])],
+            Piece::Arc(c, r, t0, t1) => {
+                let th = t0 + t * (t1 - t0);
+                [c[0] + r * th.cos(), c[1] + r * th.sin()]
+            }
+        }
+    }
+}
+
+/// Centre (x, y) of the CAD part's fillet, a quarter circle of radius [`FILLET_RADIUS`].
+pub const FILLET_CENTER: [f64; 2] = [0.5, 1.5];
+/// Radius of the CAD part's fillet.
+pub const FILLET_RADIUS: f64 = 0.5;
+/// Profile patch of the fillet in [`CadPart::patch`].
+pub const FILLET_PATCH: u8 = 5;
+
+/// The profile of the CAD part, counter-clockwise: bottom, right side, step (its end is a
+/// concave crease), riser, top, the fillet (tangent to the top and the left side), left side.
+fn cad_profile() -> [Piece; 7] {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    [
+        Piece::Line([0.0, 0.0], [3.0, 0.0]),
+        Piece::Line([3.0, 0.0], [3.0, 1.0]),
+        Piece::Line([3.0, 1.0], [1.5, 1.0]),
+        Piece::Line([1.5, 1.0], [1.5, 2.0]),
+        Piece::Line([1.5, 2.0], [0.5, 2.0]),
+        Piece::Arc(FILLET_CENTER, FILLET_RADIUS, FRAC_PI_2, PI),
+        Piece::Line([0.0, 1.5], [0.0, 0.0]),
+    ]
+}
+
+/// Colours of the CAD part's seven patches (`[0, 1]` RGB).
+const PATCH_COLORS: [[f32; 3]; 7] = [
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, 0.0, 1.0],
+    [1.0, 1.0, 0.0],
+    [0.0, 1.0, 1.0],
+    [1.0, 0.0, 1.0],
+    [1.0, 0.5, 0.0],
+];
+
+/// The fandisk-like CAD part S2 with its per-vertex ground-truth labels.
+#[derive(Clone, Debug)]
+pub struct CadPart {
+    /// The mesh, coloured by patch.
+    pub mesh: TriMesh,
+    /// Profile patch of every vertex (0..7, [`FILLET_PATCH`] the fillet); a vertex where two
+    /// patches meet belongs to the patch that starts there.
+    pub patch: Vec<u8>,
+    /// Vertices within one sample spacing of a sharp crease (the four convex and the concave
+    /// profile corners), by arc length along the profile.
+    pub crease_band: Vec<bool>,
+}
+
+/// S2 of the specification: a 2-D profile of straight segments with four convex corners, one
+/// concave corner and a quarter-circle fillet (tangent at both ends), extruded along z over
+/// `[0, 1]`; `n` samples per unit length, regular on every patch (vertices exactly on the
+/// analytic surface), one colour per patch. The extrusion is open: its two boundary loops
+/// (z = 0 and z = 1) are what the filters hold fixed. `n = 20` gives 4116 vertices.
+///
+/// Errors: `n` outside `1..=500`.
+pub fn cad_part(n: usize) -> Result<CadPart> {
+    if n == 0 || n > 500 {
+        return Err(Error::invalid("n", format!("must be in 1..=500, got {n}")));
+    }
+    let pieces = cad_profile();
+    let h = 1.0 / n as f64;
+    // Profile samples: (x, y, patch, arc length from the start).
+    let mut prof: Vec<([f64; 2], u8, f64)> = Vec::new();
+    let mut corners = Vec::new();
+    let mut s0 = 0.0;
+    for (p, piece) in pieces.iter().enumerate() {
+        let len = piece.length();
+        let m = ((len / h).round() as usize).max(1);
+        // Two lines meet at a crease; the arc's ends are tangent joins.
+        if matches!(
+            (piece, pieces[(p + pieces.len() - 1) % pieces.len()]),
+            (Piece::Line(..), Piece::Line(..))
+        ) {
+            corners.push(s0);
+        }
+        for i in 0..m {
+            let t = i as f64 / m as f64;
+            prof.push((piece.at(t), p as u8, s0 + t * len));
+        }
+        s0 += len;
+    }
+    let total = s0;
+    let np = prof.len();
+    let mut pos = Vec::with_capacity(np * (n + 1));
+    let (mut col, mut patch, mut band) = (Vec::new(), Vec::new(), Vec::new());
+    for j in 0..=n {
+        let z = j as f64 / n as f64;
+        for &(xy, p, s) in &prof {
+            pos.push([xy[0], xy[1], z]);
+            col.push(PATCH_COLORS[p as usize]);
+            patch.push(p);
+            let near = corners.iter().any(|&c: &f64| {
+                let d = (s - c).abs();
+                d.min(total - d) <= h * (1.0 + 1e-9)
+            });
+            band.push(near);
+        }
+    }
+    let mut faces = Vec::with_capacity(2 * np * n);
+    for j in 0..n {
+        for i in 0..np {
+            let id = |i: usize, j: usize| (j * np + i % np) as u32;
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            faces.push([a, b, c]);
+            faces.push([a, c, d]);
+        }
+    }
+    Ok(CadPart {
+        mesh: TriMesh::new(pos, faces)?.with_colors(col)?,
+        patch,
+        crease_band: band,
+    })
 }
 
 /// Default noise seed of the specification.

@@ -1,11 +1,15 @@
 //! Paper 04's comparisons (checks 3-5 and 7): the anti-shrinking and colour ablations and the
 //! baselines at their best swept settings, on the noisy coloured cube S1 (n = 30, noise of
-//! 0.5 MVD along the normals, k = 40, 15 iterations), and the colour-edge sanity check.
+//! 0.5 MVD along the normals, k = 40, 15 iterations), the same edge comparisons on the CAD
+//! part S2 with its fillet, and the colour-edge sanity check.
 
 use wscg_math::TriMesh;
 use wscg_meshfilter::metrics::{corresponding_error, mean_error, mean_vertex_distance};
 use wscg_meshfilter::sweep::{sweep, Setting};
-use wscg_meshfilter::synth::{add_noise, colored_cube, colored_plane, cube_edge_band, NOISE_SEED};
+use wscg_meshfilter::synth::{
+    add_noise, cad_part, colored_cube, colored_plane, cube_edge_band, FILLET_CENTER, FILLET_PATCH,
+    FILLET_RADIUS, NOISE_SEED,
+};
 use wscg_meshfilter::{jbmd_trace, JbmdParams};
 
 const N: usize = 30;
@@ -48,6 +52,63 @@ fn params(s: &Scene) -> JbmdParams {
         iterations: 15,
         ..JbmdParams::from_mvd(s.mvd)
     }
+}
+
+/// A baseline at its ME-optimal setting and iteration: (ME, edge-band error), in MVD.
+fn best_swept(s: &Scene, grid: Vec<Setting>) -> (f64, f64) {
+    let b = sweep(&s.noisy, &grid, 15, |x| {
+        mean_error(x, &s.gt.positions).unwrap() / s.mvd
+    })
+    .unwrap()
+    .unwrap();
+    let band = corresponding_error(&b.positions, &s.gt.positions, Some(&s.band)).unwrap();
+    (b.error, band / s.mvd)
+}
+
+#[test]
+fn cad_part_creases_and_fillet() {
+    // Checks 4 and 5 on S2, where creases (four convex, one concave) are colour edges and the
+    // fillet's tangent joins are colour edges without a crease; and the fillet keeps its
+    // radius (check 6's tolerance, relative).
+    let part = cad_part(20).unwrap();
+    let gt = part.mesh;
+    let mvd = mean_vertex_distance(&gt).unwrap();
+    let noisy = add_noise(&gt, 0.5 * mvd, false, NOISE_SEED).unwrap();
+    let s = Scene {
+        gt,
+        noisy,
+        mvd,
+        band: part.crease_band,
+    };
+    let p = params(&s);
+    let (me, eb) = curves(&s, &p);
+    let (_, eb_nc) = curves(
+        &s,
+        &JbmdParams {
+            use_color: false,
+            ..p
+        },
+    );
+    let best_lap = best_swept(&s, Setting::laplacian_grid());
+    let best_bmd = best_swept(&s, Setting::bmd_grid(s.mvd));
+    let out = wscg_meshfilter::jbmd(&s.noisy, &p).unwrap();
+    let radii: Vec<f64> = out
+        .iter()
+        .zip(&part.patch)
+        .filter(|(_, &patch)| patch == FILLET_PATCH)
+        .map(|(q, _)| (q[0] - FILLET_CENTER[0]).hypot(q[1] - FILLET_CENTER[1]))
+        .collect();
+    let radius = radii.iter().sum::<f64>() / radii.len() as f64;
+    println!(
+        "S2: JBMD ME {:.3} crease band {:.3}; no colour band {:.3}; best Laplacian {best_lap:.3?}, \
+         best BMD {best_bmd:.3?}; fillet radius {radius:.4}",
+        me[14], eb[14], eb_nc[14]
+    );
+    assert!(eb[14] <= 0.9 * eb_nc[14], "{} vs {}", eb[14], eb_nc[14]);
+    assert!(eb[14] <= 0.75 * best_lap.1, "{} vs {}", eb[14], best_lap.1);
+    assert!(eb[14] <= 0.75 * best_bmd.1, "{} vs {}", eb[14], best_bmd.1);
+    assert!(me[14] <= best_bmd.0, "{} vs {}", me[14], best_bmd.0);
+    assert!((radius / FILLET_RADIUS - 1.0).abs() <= 0.005, "{radius}");
 }
 
 #[test]
@@ -104,17 +165,8 @@ fn ablations_and_baselines() {
     assert!(eb[14] <= 0.9 * eb_nc[14]);
     // Check 5: the baselines at their ME-optimal settings (sweep over parameters and
     // iterations 1..15), compared on the edge band; BMD also globally.
-    let best = |grid: Vec<Setting>| {
-        let b = sweep(&s.noisy, &grid, 15, |x| {
-            mean_error(x, &s.gt.positions).unwrap() / s.mvd
-        })
-        .unwrap()
-        .unwrap();
-        let band = corresponding_error(&b.positions, &s.gt.positions, Some(&s.band)).unwrap();
-        (b.error, band / s.mvd)
-    };
-    let best_lap = best(Setting::laplacian_grid());
-    let best_bmd = best(Setting::bmd_grid(s.mvd));
+    let best_lap = best_swept(&s, Setting::laplacian_grid());
+    let best_bmd = best_swept(&s, Setting::bmd_grid(s.mvd));
     println!("best Laplacian (ME, edge band) {best_lap:.3?}; best BMD {best_bmd:.3?}");
     assert!(eb[14] <= 0.75 * best_lap.1, "{} vs {}", eb[14], best_lap.1);
     assert!(eb[14] <= 0.75 * best_bmd.1, "{} vs {}", eb[14], best_bmd.1);

@@ -269,3 +269,38 @@ fn table1_presets() {
     }
     assert!(JbmdParams::preset("bunny").is_none());
 }
+
+#[test]
+fn cad_part_lies_on_its_analytic_surface() {
+    use wscg_meshfilter::synth::{cad_part, FILLET_CENTER, FILLET_PATCH, FILLET_RADIUS};
+    let s2 = cad_part(20).unwrap();
+    let m = &s2.mesh;
+    assert_eq!(m.num_vertices(), 4116);
+    // Every vertex on its patch: the fillet on its circle, the others on their lines.
+    // (axis, value) of the straight patches, in profile order.
+    let lines = [(1, 0.0), (0, 3.0), (1, 1.0), (0, 1.5), (1, 2.0), (0, 0.0)];
+    for (p, &patch) in m.positions.iter().zip(&s2.patch) {
+        if patch == FILLET_PATCH {
+            let r = (p[0] - FILLET_CENTER[0]).hypot(p[1] - FILLET_CENTER[1]);
+            assert!((r - FILLET_RADIUS).abs() < 1e-12);
+            assert!(p[0] <= FILLET_CENTER[0] + 1e-12 && p[1] >= FILLET_CENTER[1] - 1e-12);
+        } else {
+            let (axis, value) = lines[patch as usize - usize::from(patch > FILLET_PATCH)];
+            assert!((p[axis] - value).abs() < 1e-12, "{p:?} patch {patch}");
+        }
+    }
+    // Outward orientation: the bottom's normals point down, the fillet's away from its axis.
+    let normals = m.vertex_normals();
+    for ((p, n), &patch) in m.positions.iter().zip(&normals).zip(&s2.patch) {
+        if patch == 0 && p[0] > 0.2 && p[0] < 2.8 {
+            assert!(n[1] < -0.999, "{n:?}");
+        }
+        if patch == FILLET_PATCH {
+            let out = [p[0] - FILLET_CENTER[0], p[1] - FILLET_CENTER[1]];
+            assert!(out[0] * n[0] + out[1] * n[1] > 0.0);
+        }
+    }
+    // Five creases (two sample rows each side, one on the corner) times 21 layers.
+    assert_eq!(s2.crease_band.iter().filter(|&&b| b).count(), 5 * 3 * 21);
+    assert!(cad_part(0).is_err());
+}

@@ -22,7 +22,7 @@ import numpy as np
 from ._native import meshfilter as _m
 
 __all__ = ["jbmd", "bilateral", "laplacian", "taubin", "hc_laplacian", "mean_error",
-           "surface_error", "mvd", "synthetic", "add_noise"]
+           "surface_error", "mvd", "synthetic", "cad_labels", "add_noise"]
 
 
 def _v(v) -> np.ndarray:
@@ -101,10 +101,20 @@ def surface_error(x, vertices, faces) -> float:
 def synthetic(name: str = "cube", n: int = 30) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(vertices, faces, colors)`` of a synthetic mesh with exact ground truth:
     ``"cube"`` (unit cube, ``n x n`` grid per face, one saturated colour per face),
-    ``"sphere"`` (unit icosphere, ``n`` subdivisions) or ``"plane"`` (unit square with a
-    colour step at x = 0.5). Colours are 0..255 float32."""
+    ``"cad"`` (a fandisk-like extruded profile with four convex creases, a concave one and
+    a quarter-circle fillet, ``n`` samples per unit length, one colour per patch, open at
+    z = 0 and z = 1; labels from :func:`cad_labels`), ``"sphere"`` (unit icosphere, ``n``
+    subdivisions) or ``"plane"`` (unit square with a colour step at x = 0.5). Colours are
+    0..255 float32."""
     v, f, c = _m.synthetic(name, int(n))
     return v, f, c * 255.0
+
+
+def cad_labels(n: int = 20) -> Tuple[np.ndarray, np.ndarray]:
+    """Per-vertex ground-truth labels of ``synthetic("cad", n)``: the profile patch (0..6;
+    5 is the fillet of radius 0.5 around the axis x = 0.5, y = 1.5) and the crease band (the
+    vertices within one sample spacing of a convex or concave crease)."""
+    return _m.cad_labels(int(n))
 
 
 def add_noise(vertices, faces, sigma: float, isotropic: bool = False,
