@@ -8,19 +8,21 @@ use std::collections::HashMap;
 
 use wscg_math::{Error, Result, TriMesh};
 
-/// Saturated colours of the cube's six faces (`[0, 1]` RGB).
-const FACE_COLORS: [[f32; 3]; 6] = [
+/// Saturated patch colours (`[0, 1]` RGB): the cube's six faces use the first six, the CAD
+/// part's seven patches all.
+const PALETTE: [[f32; 3]; 7] = [
     [1.0, 0.0, 0.0],
     [0.0, 1.0, 0.0],
     [0.0, 0.0, 1.0],
     [1.0, 1.0, 0.0],
     [0.0, 1.0, 1.0],
     [1.0, 0.0, 1.0],
+    [1.0, 0.5, 0.0],
 ];
 
 /// The unit cube `[0, 1]^3`, each face an `n x n` grid of quads split into two triangles
 /// (outward orientation), vertices shared along the edges; face `f` has colour
-/// `FACE_COLORS[f]` and an edge vertex keeps the colour of the first face that made it.
+/// `PALETTE[f]` and an edge vertex keeps the colour of the first face that made it.
 /// `n = 30` gives 5402 vertices and 10800 faces.
 ///
 /// Errors: `n == 0` or too many vertices.
@@ -45,7 +47,7 @@ pub fn colored_cube(n: usize) -> Result<TriMesh> {
             let key: [i64; 3] = std::array::from_fn(|a| o[a] * ni + i * u[a] + j * v[a]);
             *index.entry(key).or_insert_with(|| {
                 pos.push(key.map(|c| c as f64 / n as f64));
-                col.push(FACE_COLORS[f]);
+                col.push(PALETTE[f]);
                 (pos.len() - 1) as u32
             })
         };
@@ -145,17 +147,6 @@ fn cad_profile() -> [Piece; 7] {
     ]
 }
 
-/// Colours of the CAD part's seven patches (`[0, 1]` RGB).
-const PATCH_COLORS: [[f32; 3]; 7] = [
-    [1.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0],
-    [0.0, 0.0, 1.0],
-    [1.0, 1.0, 0.0],
-    [0.0, 1.0, 1.0],
-    [1.0, 0.0, 1.0],
-    [1.0, 0.5, 0.0],
-];
-
 /// The fandisk-like CAD part S2 with its per-vertex ground-truth labels.
 #[derive(Clone, Debug)]
 pub struct CadPart {
@@ -210,7 +201,7 @@ pub fn cad_part(n: usize) -> Result<CadPart> {
         let z = j as f64 / n as f64;
         for &(xy, p, s) in &prof {
             pos.push([xy[0], xy[1], z]);
-            col.push(PATCH_COLORS[p as usize]);
+            col.push(PALETTE[p as usize]);
             patch.push(p);
             let near = corners.iter().any(|&c: &f64| {
                 let d = (s - c).abs();
