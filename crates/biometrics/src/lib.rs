@@ -13,4 +13,5 @@
 //! samples as columns.
 
 pub mod data;
+pub mod sfa;
 pub mod subspace;

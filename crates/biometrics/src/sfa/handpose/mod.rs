@@ -1,0 +1,1 @@
+//! Synthetic hand poses and their physical features (in progress).

@@ -1,0 +1,1 @@
+//! Isomap (in progress).
