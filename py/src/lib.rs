@@ -13,6 +13,7 @@ mod convert;
 mod errors;
 mod math;
 mod meshfilter;
+mod sfa;
 mod volren;
 
 /// The native extension module.

@@ -17,6 +17,11 @@ training images), orders its eigenvectors by their Renyi-entropy contribution
 ``psi_i = lambda_i (1' e_i)^2`` and projects linearly, so its cost does not grow with the
 number of images beyond one ``O(n d^2)`` product. KPCA and KECA build ``n x n`` kernels.
 
+Paper 05 (Tewari et al., slow feature analysis for hand-pose classification):
+:class:`PerClassSFA` (the paper's class-wise SFA with its variance rule), :class:`GlobalSFA`
+(SFA fitted once on all classes, Berkes 2005), :class:`TemporalSFA`, :class:`KNN` and
+:func:`confusion_matrix` for the baselines of its Tables 3-6.
+
 Bad arguments raise ``ValueError`` naming the problem; the GIL is released while Rust works.
 """
 
@@ -32,6 +37,7 @@ __all__ = [
     "FDKECA", "PCA", "KernelPCA", "KECA",
     "nn_classify", "accuracy_curve", "best_dimension", "select_dimension_cv",
     "feature_kernel", "make_finger_veins", "split_per_subject",
+    "PerClassSFA", "GlobalSFA", "TemporalSFA", "KNN", "confusion_matrix",
 ]
 
 _METRICS = ("euclidean", "cosine")
@@ -611,3 +617,233 @@ def split_per_subject(labels, train_per_subject: int, seed: int = 0
     samples train and the rest test (the paper's 5/5 and 9/1 protocols)."""
     _, codes = _encode_labels(labels, len(np.asarray(labels)), "labels")
     return _b.split_per_subject(codes, int(train_per_subject), int(seed))
+
+
+# ---------------------------------------------------------------------------------------
+# Paper 05: slow feature analysis for hand-pose (and digit) classification.
+# ---------------------------------------------------------------------------------------
+
+_OBJECTIVES = ("within_minus_out", "within")
+
+
+class _SFAClassifier:
+    """Shared plumbing of :class:`PerClassSFA` and :class:`GlobalSFA`."""
+
+    _global = False
+
+    def get_params(self, deep: bool = True) -> dict:
+        return {k: getattr(self, k) for k in self._param_names}
+
+    def set_params(self, **params):
+        for k, v in params.items():
+            if k not in self._param_names:
+                raise ValueError(f"unknown parameter {k!r}")
+            setattr(self, k, v)
+        return self
+
+    def _fit(self, X, y, m: int, gamma, rule):
+        X, _ = _matrix(X)
+        self.classes_, codes = _encode_labels(y, X.shape[0])
+        if self.degree not in (1, 2):
+            raise ValueError(f"`degree` must be 1 or 2, got {self.degree}")
+        self._model = _b.sfa_fit(X, codes, int(self.pca_dims), int(m), int(self.degree),
+                                 bool(self.include_linear), gamma, float(self.shrinkage),
+                                 float(self.rank_tol), rule)
+        self.n_features_in_ = X.shape[1]
+        self.eigenvalues_, self.rank_ = self._model.eigenvalues()
+        return self
+
+    def _fitted(self):
+        if getattr(self, "_model", None) is None:
+            raise ValueError("the model is not fitted: call fit(X, y) first")
+        return self._model
+
+    def decision_function(self, X) -> np.ndarray:
+        """``(n, n_classes)`` scores, columns in ``classes_`` order; **smaller is better**
+        (the paper's ``Var_C``, eq. 16, or the negative Gaussian log-likelihood)."""
+        X, _ = _matrix(X)
+        return self._fitted().decision_scores(X)
+
+    def predict(self, X) -> np.ndarray:
+        """The class of smallest score for every row (eq. 17), ties to the first class."""
+        model = self._fitted()
+        X, _ = _matrix(X)
+        return self.classes_[model.predict(X)]
+
+    def score(self, X, y) -> float:
+        """Mean accuracy."""
+        return float(np.mean(self.predict(X) == np.asarray(y)))
+
+    def save(self, path) -> None:
+        """Writes the fitted model (JSON)."""
+        import json
+
+        with open(path, "w") as f:
+            json.dump({"params": self.get_params(), "classes": self.classes_.tolist(),
+                       "n_features_in": self.n_features_in_,
+                       "model": self._fitted().to_json()}, f)
+
+    @classmethod
+    def load(cls, path):
+        """Reads a model written by :meth:`save`."""
+        import json
+
+        with open(path) as f:
+            d = json.load(f)
+        obj = cls(**d["params"])
+        obj._model = _b.SfaModel.from_json(d["model"], cls._global)
+        obj.classes_ = np.asarray(d["classes"])
+        obj.n_features_in_ = d["n_features_in"]
+        obj.eigenvalues_, obj.rank_ = obj._model.eigenvalues()
+        return obj
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        if state.get("_model") is not None:
+            state["_model"] = state["_model"].to_json()
+        return state
+
+    def __setstate__(self, state):
+        if isinstance(state.get("_model"), str):
+            state["_model"] = _b.SfaModel.from_json(state["_model"], self._global)
+        self.__dict__.update(state)
+
+
+class PerClassSFA(_SFAClassifier):
+    """Class-wise slow feature analysis (paper 05, Tewari et al.): PCA to ``pca_dims``,
+    quadratic expansion, and per class ``m`` functions minimising the within-class
+    differences minus ``gamma`` times the differences to the other classes (eq. 14, in the
+    closed forms ``2 S_C`` and ``S_C + S_not + d d'``), under unit variance over all training
+    rows; a sample goes to the class whose centred responses have the least energy.
+
+    ``degree=2`` with ``include_linear=True`` expands ``d`` inputs to ``d + d(d+1)/2``
+    (665 for 35); ``include_linear=False`` gives the paper's literal 630. ``objective=
+    "within"`` drops the out-of-class term. ``shrinkage`` regularises the within-class
+    scatter (use 1e-3 or more when classes have fewer rows than expanded dimensions).
+    Directions of the expanded covariance below ``rank_tol`` times its largest eigenvalue
+    are dropped (``rank_`` reports how many remain).
+
+    Labels may be any values; ``predict`` returns them as given.
+    """
+
+    _param_names = ("pca_dims", "m", "degree", "include_linear", "objective", "gamma",
+                    "shrinkage", "rank_tol")
+
+    def __init__(self, pca_dims: int = 35, m: int = 10, degree: int = 2,
+                 include_linear: bool = True, objective: str = "within_minus_out",
+                 gamma: float = 1.0, shrinkage: float = 1e-6, rank_tol: float = 1e-10):
+        self.pca_dims, self.m, self.degree = pca_dims, m, degree
+        self.include_linear, self.objective, self.gamma = include_linear, objective, gamma
+        self.shrinkage, self.rank_tol = shrinkage, rank_tol
+        self._model = None
+
+    def fit(self, X, y):
+        """Fits to rows ``X`` (``(n, d)`` or an ``(n, h, w)`` image stack) and labels ``y``."""
+        if self.objective not in _OBJECTIVES:
+            raise ValueError(f"`objective` must be one of {_OBJECTIVES}, got {self.objective!r}")
+        gamma = float(self.gamma) if self.objective == "within_minus_out" else None
+        return self._fit(X, y, self.m, gamma, None)
+
+    def responses(self, X, cls) -> np.ndarray:
+        """The centred responses ``r_C = W_C'(z - mu_C)`` (``(n, m)``) of class ``cls``."""
+        X, _ = _matrix(X)
+        idx = np.flatnonzero(self.classes_ == cls)
+        if len(idx) == 0:
+            raise ValueError(f"{cls!r} is not a trained class")
+        return self._fitted().responses(X, int(idx[0]))
+
+
+class GlobalSFA(_SFAClassifier):
+    """SFA fitted once on all classes (the "Full dataset" row of paper 05's Table 1;
+    Berkes 2005): ``n_components`` shared functions minimising the class-weighted objective.
+    ``rule="variance"`` classifies by the nearest class mean in the paper's variance sense,
+    ``rule="gaussian"`` by class-conditional Gaussians on the outputs (Berkes). ``gamma=0``
+    is Berkes' SFA, equivalent to Fisher discriminant analysis."""
+
+    _global = True
+    _param_names = ("pca_dims", "n_components", "degree", "include_linear", "gamma",
+                    "shrinkage", "rank_tol", "rule")
+
+    def __init__(self, pca_dims: int = 35, n_components: int = 10, degree: int = 2,
+                 include_linear: bool = True, gamma: float = 1.0, shrinkage: float = 1e-6,
+                 rank_tol: float = 1e-10, rule: str = "variance"):
+        self.pca_dims, self.n_components, self.degree = pca_dims, n_components, degree
+        self.include_linear, self.gamma, self.shrinkage = include_linear, gamma, shrinkage
+        self.rank_tol, self.rule = rank_tol, rule
+        self._model = None
+
+    def fit(self, X, y):
+        """Fits to rows ``X`` and labels ``y``."""
+        if self.rule not in ("variance", "gaussian"):
+            raise ValueError(f"`rule` must be 'variance' or 'gaussian', got {self.rule!r}")
+        return self._fit(X, y, self.n_components, float(self.gamma), self.rule)
+
+    def transform(self, X) -> np.ndarray:
+        """The shared outputs ``W'z`` (``(n, n_components)``)."""
+        X, _ = _matrix(X)
+        return self._fitted().responses(X, 0)
+
+
+class TemporalSFA:
+    """Temporal slow feature analysis (Wiskott and Sejnowski 2002; paper 05, section 2.1):
+    the ``n_components`` slowest, decorrelated, unit-variance functions of the (quadratically
+    expanded, ``degree=2``) signal ``X`` with one time step per row. ``delta_values_`` are
+    the slowness values, ascending."""
+
+    def __init__(self, n_components: int = 2, degree: int = 2, include_linear: bool = True,
+                 rank_tol: float = 1e-10):
+        self.n_components, self.degree = n_components, degree
+        self.include_linear, self.rank_tol = include_linear, rank_tol
+        self._model = None
+
+    def fit(self, X, y=None):
+        X, _ = _matrix(X)
+        self._model = _b.temporal_sfa_fit(X, int(self.n_components), int(self.degree),
+                                          bool(self.include_linear), float(self.rank_tol))
+        self.delta_values_ = np.asarray(self._model.delta_values())
+        self.rank_ = self._model.rank()
+        return self
+
+    def transform(self, X) -> np.ndarray:
+        if self._model is None:
+            raise ValueError("the model is not fitted: call fit(X) first")
+        X, _ = _matrix(X)
+        return self._model.transform(X)
+
+    def fit_transform(self, X, y=None) -> np.ndarray:
+        return self.fit(X).transform(X)
+
+
+class KNN:
+    """k-nearest-neighbour classifier (Euclidean, majority vote) of paper 05's baselines.
+    Ties of the vote go to the class with the nearest member (``tie="nearest"``) or to the
+    smallest label (``tie="smallest"``, as scikit-learn's ``KNeighborsClassifier``)."""
+
+    def __init__(self, k: int = 5, tie: str = "nearest"):
+        self.k, self.tie = k, tie
+
+    def fit(self, X, y):
+        self._X, _ = _matrix(X)
+        self.classes_, self._codes = _encode_labels(y, self._X.shape[0])
+        return self
+
+    def predict(self, X) -> np.ndarray:
+        X, _ = _matrix(X)
+        return self.classes_[_b.knn_predict(self._X, self._codes, X, int(self.k), self.tie)]
+
+    def score(self, X, y) -> float:
+        return float(np.mean(self.predict(X) == np.asarray(y)))
+
+
+def confusion_matrix(y_true, y_pred, classes=None) -> Tuple[np.ndarray, np.ndarray]:
+    """Row-normalised confusion matrix in percent (row = true class, column = predicted),
+    the layout of paper 05's Tables 3-6, and the class order used."""
+    y_true, y_pred = np.asarray(y_true), np.asarray(y_pred)
+    classes = np.unique(np.concatenate([y_true, y_pred])) if classes is None else np.asarray(classes)
+    lookup = {c: i for i, c in enumerate(classes.tolist())}
+    try:
+        t = np.array([lookup[v] for v in y_true.tolist()], dtype=np.int64)
+        p = np.array([lookup[v] for v in y_pred.tolist()], dtype=np.int64)
+    except KeyError as e:
+        raise ValueError(f"label {e.args[0]!r} is not among the classes") from None
+    return _b.confusion_matrix(t, p, len(classes)), classes

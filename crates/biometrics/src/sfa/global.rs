@@ -154,9 +154,14 @@ impl GlobalSfa {
         ))
     }
 
-    /// Rejects `K` = 0 (kept for symmetry with the per-class model).
-    pub fn n_functions(&self) -> usize {
-        self.w.ncols()
+    /// The model as JSON.
+    pub fn to_json(&self) -> Result<String> {
+        serde_json::to_string(self).map_err(|e| Error::invalid("model", e.to_string()))
+    }
+
+    /// A model from [`Self::to_json`] output.
+    pub fn from_json(s: &str) -> Result<Self> {
+        serde_json::from_str(s).map_err(|e| Error::invalid("model", format!("not a model: {e}")))
     }
 }
 

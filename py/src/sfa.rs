@@ -1,0 +1,263 @@
+//! `wscg._native.biometrics` (paper 05 part): bindings of `wscg_biometrics::sfa`, class-wise
+//! and full-data-set slow feature analysis, temporal SFA, k-NN and the confusion matrix.
+//! The documented API is `python/wscg/biometrics.py` (`PerClassSFA`, `GlobalSFA`,
+//! `TemporalSFA`, `KNN`).
+
+use numpy::PyReadonlyArrayDyn;
+use pyo3::prelude::*;
+use wscg_biometrics::sfa::global::parse_rule;
+use wscg_biometrics::sfa::{
+    confusion_matrix as confusion, ClassObjective, ClassSfaConfig, GlobalSfa, Knn, KnnTie,
+    PerClassSfa, QuadraticExpansion, TemporalSfa,
+};
+
+use crate::convert::{array, mat, mat_out, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+fn codes(name: &str, a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<u32>> {
+    values(a)
+        .iter()
+        .map(|&v| u32::try_from(v).map_err(|_| value_error(format!("`{name}` holds {v}"))))
+        .collect()
+}
+
+fn expansion(degree: usize, include_linear: bool) -> PyResult<Option<QuadraticExpansion>> {
+    match degree {
+        1 => Ok(None),
+        2 => Ok(Some(QuadraticExpansion { include_linear })),
+        d => Err(value_error(format!("`degree` must be 1 or 2, got {d}"))),
+    }
+}
+
+enum Fitted {
+    PerClass(PerClassSfa),
+    Global(GlobalSfa),
+}
+
+/// A fitted class-wise or full-data-set SFA classifier.
+#[pyclass(module = "wscg._native.biometrics", name = "SfaModel", frozen)]
+pub struct PySfa {
+    inner: Fitted,
+}
+
+#[pymethods]
+impl PySfa {
+    /// `Var_C` (or the Gaussian score) per row and class, smaller is better.
+    fn decision_scores<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArrayDyn<f64>,
+    ) -> PyResult<Arr<'py, f64>> {
+        let x = mat("x", &x)?;
+        let s = py
+            .detach(|| match &self.inner {
+                Fitted::PerClass(m) => m.decision_scores(x.as_ref()),
+                Fitted::Global(m) => m.decision_scores(x.as_ref()),
+            })
+            .py_err()?;
+        mat_out(py, &s)
+    }
+
+    /// Predicted class codes.
+    fn predict<'py>(&self, py: Python<'py>, x: PyReadonlyArrayDyn<f64>) -> PyResult<Arr<'py, i64>> {
+        let x = mat("x", &x)?;
+        let p = py
+            .detach(|| match &self.inner {
+                Fitted::PerClass(m) => m.predict(x.as_ref()),
+                Fitted::Global(m) => m.predict(x.as_ref()),
+            })
+            .py_err()?;
+        let n = p.len();
+        array(py, &[n], p.into_iter().map(i64::from).collect())
+    }
+
+    /// Centred responses of one class code (`n x m`), class-wise models only.
+    fn responses<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArrayDyn<f64>,
+        class_code: u32,
+    ) -> PyResult<Arr<'py, f64>> {
+        let x = mat("x", &x)?;
+        let r = match &self.inner {
+            Fitted::PerClass(m) => py.detach(|| m.responses(x.as_ref(), class_code)).py_err()?,
+            Fitted::Global(m) => py.detach(|| m.transform(x.as_ref())).py_err()?,
+        };
+        mat_out(py, &r)
+    }
+
+    /// Eigenvalues: per class (class-wise) or of the shared functions, and the rank.
+    fn eigenvalues(&self) -> (Vec<Vec<f64>>, usize) {
+        match &self.inner {
+            Fitted::PerClass(m) => (m.lambdas.clone(), m.rank),
+            Fitted::Global(m) => (vec![m.lambdas.clone()], m.w.nrows()),
+        }
+    }
+
+    /// The model as JSON.
+    fn to_json(&self) -> PyResult<String> {
+        match &self.inner {
+            Fitted::PerClass(m) => m.to_json().py_err(),
+            Fitted::Global(m) => m.to_json().py_err(),
+        }
+    }
+
+    /// A model from `to_json` (`global` for a full-data-set model).
+    #[staticmethod]
+    fn from_json(s: &str, global: bool) -> PyResult<Self> {
+        let inner = if global {
+            Fitted::Global(GlobalSfa::from_json(s).py_err()?)
+        } else {
+            Fitted::PerClass(PerClassSfa::from_json(s).py_err()?)
+        };
+        Ok(Self { inner })
+    }
+}
+
+/// Fits class-wise SFA (`rule` None) or full-data-set SFA with `rule`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn sfa_fit(
+    py: Python<'_>,
+    x: PyReadonlyArrayDyn<f64>,
+    y: PyReadonlyArrayDyn<i64>,
+    pca_dims: usize,
+    m: usize,
+    degree: usize,
+    include_linear: bool,
+    gamma: Option<f64>,
+    shrinkage: f64,
+    rank_tol: f64,
+    rule: Option<&str>,
+) -> PyResult<PySfa> {
+    let x = mat("x", &x)?;
+    let y = codes("y", &y)?;
+    let cfg = ClassSfaConfig {
+        pca_dims,
+        expansion: expansion(degree, include_linear)?,
+        m_per_class: m,
+        objective: gamma.map_or(ClassObjective::WithinOnly, |gamma| {
+            ClassObjective::WithinMinusOutOfClass { gamma }
+        }),
+        shrinkage,
+        rank_tol,
+    };
+    let inner = match rule {
+        None => Fitted::PerClass(
+            py.detach(|| PerClassSfa::fit(x.as_ref(), &y, &cfg))
+                .py_err()?,
+        ),
+        Some(r) => {
+            let r = parse_rule(r).py_err()?;
+            Fitted::Global(
+                py.detach(|| GlobalSfa::fit(x.as_ref(), &y, &cfg, r))
+                    .py_err()?,
+            )
+        }
+    };
+    Ok(PySfa { inner })
+}
+
+/// A fitted temporal SFA.
+#[pyclass(module = "wscg._native.biometrics", name = "TemporalSfaModel", frozen)]
+pub struct PyTemporal {
+    inner: TemporalSfa,
+}
+
+#[pymethods]
+impl PyTemporal {
+    /// Slow features of the rows.
+    fn transform<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArrayDyn<f64>,
+    ) -> PyResult<Arr<'py, f64>> {
+        let x = mat("x", &x)?;
+        let y = py.detach(|| self.inner.transform(x.as_ref())).py_err()?;
+        mat_out(py, &y)
+    }
+
+    /// Delta values, ascending.
+    fn delta_values(&self) -> Vec<f64> {
+        self.inner.delta.clone()
+    }
+
+    /// Rank of the expanded covariance.
+    fn rank(&self) -> usize {
+        self.inner.rank
+    }
+}
+
+/// Fits temporal SFA to a time series (one step per row).
+#[pyfunction]
+fn temporal_sfa_fit(
+    py: Python<'_>,
+    x: PyReadonlyArrayDyn<f64>,
+    n_components: usize,
+    degree: usize,
+    include_linear: bool,
+    rank_tol: f64,
+) -> PyResult<PyTemporal> {
+    let x = mat("x", &x)?;
+    let e = expansion(degree, include_linear)?;
+    let inner = py
+        .detach(|| TemporalSfa::fit(x.as_ref(), n_components, e, rank_tol))
+        .py_err()?;
+    Ok(PyTemporal { inner })
+}
+
+/// k-NN labels (codes) of `test` against `train`.
+#[pyfunction]
+fn knn_predict<'py>(
+    py: Python<'py>,
+    train: PyReadonlyArrayDyn<f64>,
+    y: PyReadonlyArrayDyn<i64>,
+    test: PyReadonlyArrayDyn<f64>,
+    k: usize,
+    tie: &str,
+) -> PyResult<Arr<'py, i64>> {
+    let tie = match tie {
+        "nearest" => KnnTie::Nearest,
+        "smallest" => KnnTie::SmallestLabel,
+        other => {
+            return Err(value_error(format!(
+                "`tie` must be 'nearest' or 'smallest', got {other:?}"
+            )))
+        }
+    };
+    let (train, test, y) = (mat("x", &train)?, mat("x_test", &test)?, codes("y", &y)?);
+    let p = py
+        .detach(|| Knn::fit(train.as_ref(), &y, k, tie).and_then(|m| m.predict(test.as_ref())))
+        .py_err()?;
+    let n = p.len();
+    array(py, &[n], p.into_iter().map(i64::from).collect())
+}
+
+/// Row-normalised confusion matrix (percent) of class codes `0..n_classes`.
+#[pyfunction]
+fn confusion_matrix<'py>(
+    py: Python<'py>,
+    y_true: PyReadonlyArrayDyn<i64>,
+    y_pred: PyReadonlyArrayDyn<i64>,
+    n_classes: u32,
+) -> PyResult<Arr<'py, f64>> {
+    let classes: Vec<u32> = (0..n_classes).collect();
+    let m = confusion(
+        &codes("y_true", &y_true)?,
+        &codes("y_pred", &y_pred)?,
+        &classes,
+    )
+    .py_err()?;
+    mat_out(py, &m)
+}
+
+/// Registers the paper 05 functions into the biometrics submodule.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PySfa>()?;
+    m.add_class::<PyTemporal>()?;
+    m.add_function(wrap_pyfunction!(sfa_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(temporal_sfa_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(knn_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(confusion_matrix, m)?)?;
+    Ok(())
+}
