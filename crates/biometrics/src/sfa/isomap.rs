@@ -1,1 +1,996 @@
-//! Isomap (in progress).
+//! Isomap (Tenenbaum, de Silva and Langford, "A Global Geometric Framework for Nonlinear
+//! Dimensionality Reduction", Science 290, 2000), exact and landmark (de Silva and Tenenbaum,
+//! "Global Versus Local Methods in Nonlinear Dimensionality Reduction", NIPS 15, 2003), with
+//! out-of-sample projection: the "kNN on 9-D Isomap" baseline of paper 05 (section 4,
+//! Table 6).
+//!
+//! Data have one sample per row (`n x d`). The exact method follows scikit-learn's
+//! `sklearn.manifold.Isomap` (`path_method = "D"`, `neighbors_algorithm = "brute"`, Euclidean
+//! metric) step by step:
+//!
+//! 1. **Neighbourhood graph** (Tenenbaum et al., step 1): the `k = n_neighbors` nearest
+//!    training points of every point (itself excluded by index; ties broken by index), edge
+//!    `i - j` when `j` is among the neighbours of `i` *or* `i` among those of `j`, weighted by
+//!    the Euclidean distance (sklearn's `kneighbors_graph` + undirected `shortest_path`).
+//! 2. **Geodesics** (step 2): Dijkstra from every node over the graph (binary heap, sources in
+//!    parallel), `D = [d_G(i, j)]`. A disconnected graph is an error (sklearn >= 1.1 patches
+//!    the graph with extra edges and warns; we ask for a larger `n_neighbors` instead).
+//! 3. **Embedding** (step 3, classical MDS written as kernel PCA): `K = -D.^2 / 2`, double
+//!    centred `Kc = H K H` (sklearn's `KernelCenterer`), its `n_components` largest
+//!    eigenpairs `(lambda_c, v_c)`, training embedding `y_ic = v_c[i] sqrt(lambda_c)`.
+//!    As in sklearn's `KernelPCA`, eigenvalues below `1e-12 lambda_1` (or negative) are set to
+//!    0 (their component is 0 everywhere) and each eigenvector's sign is fixed so that its
+//!    largest-magnitude entry is positive (`svd_flip`).
+//! 4. **Out of sample** ([`Isomap::transform`], sklearn's `Isomap.transform`): a new point
+//!    `x` with nearest training points `N(x)` (`n_neighbors` of them, no exclusion) has
+//!    geodesics `d_G(x, j) = min_{i in N(x)} (|x - x_i| + D(i, j))`; its kernel row
+//!    `k = -d_G.^2 / 2` is centred with the training kernel's column means `c` and overall
+//!    mean `c_bar` (`k - mean(k) - c + c_bar`) and projected on `v_c / sqrt(lambda_c)`
+//!    (sklearn's `KernelPCA.transform`). A training point passed to `transform` is its own
+//!    nearest neighbour at distance 0, so it gets back its training embedding.
+//!
+//! Exact Isomap stores the `n x n` geodesic matrix and is refused above
+//! [`MAX_EXACT_POINTS`] points; **Landmark Isomap** (`n_landmarks = Some(m)`) computes
+//! geodesics from `m` landmarks only, embeds the landmarks by classical MDS of their `m x m`
+//! geodesics and places every point by distance-based triangulation (de Silva and
+//! Tenenbaum): `y_a = L^# (delta_mu - delta_a) / 2` with `delta_a` the squared geodesics from
+//! `a` to the landmarks, `delta_mu` their mean over landmarks and `L^#` the rows
+//! `v_c' / sqrt(lambda_c)`. That is the out-of-sample formula of step 4 applied to the
+//! landmark kernel (the row-mean term vanishes because `v_c` is orthogonal to `1`), so
+//! training points and new points go through the same code. Landmarks are chosen by
+//! **geodesic MaxMin** (farthest-point sampling, de Silva and Tenenbaum's recommended
+//! choice): the first is point 0, each next one the point farthest in geodesic distance from
+//! those already chosen (ties to the lowest index); the Dijkstra runs it needs are the ones
+//! the method needs anyway, so the choice is free but sequential.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use faer::{Mat, MatRef};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use wscg_math::{dense, Error, Result};
+
+use crate::subspace::{check_data, check_query, Projector};
+
+/// Largest training set accepted by exact Isomap (its `n x n` geodesic matrix is 200 MB at
+/// this size); above it set [`IsomapParams::n_landmarks`].
+pub const MAX_EXACT_POINTS: usize = 5000;
+
+/// Largest `n x n_landmarks` geodesic table (entries, 8 bytes each: 4 GiB) Landmark Isomap
+/// allocates.
+pub const MAX_GEODESIC_ENTRIES: usize = 1 << 29;
+
+/// Parameters of [`Isomap::fit`].
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct IsomapParams {
+    /// Neighbours per point in the graph and for out-of-sample points, `1 <= k < n`.
+    /// Default 8 (the paper does not say; spec section 2.7).
+    pub n_neighbors: usize,
+    /// Embedding dimension, `1 <= l <= n` (`<= n_landmarks` in landmark mode). Default 9
+    /// (the paper's "9-D Isomap").
+    pub n_components: usize,
+    /// `None`: exact Isomap (at most [`MAX_EXACT_POINTS`] points). `Some(m)`: Landmark
+    /// Isomap with `m` geodesic-MaxMin landmarks, `n_components <= m <= n`. Default `None`.
+    pub n_landmarks: Option<usize>,
+}
+
+impl Default for IsomapParams {
+    fn default() -> Self {
+        Self {
+            n_neighbors: 8,
+            n_components: 9,
+            n_landmarks: None,
+        }
+    }
+}
+
+/// A fitted Isomap (exact or landmark).
+///
+/// "Landmarks" below are all training points, in index order, for the exact method.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Isomap {
+    /// Neighbours per point (graph and out-of-sample).
+    n_neighbors: usize,
+    /// Training rows (`n x d`), for the neighbours of new points.
+    #[serde(with = "crate::subspace::serde_mat")]
+    train: Mat<f64>,
+    /// Landmark indices into the training rows (`None`: exact, every point).
+    landmarks: Option<Vec<usize>>,
+    /// Geodesic distances, row-major `n x m`: row `i` holds `d_G(x_i, landmark_c)`.
+    geodesic: Vec<f64>,
+    /// Column means of the uncentred landmark kernel `-D_m.^2 / 2` (length `m`).
+    k_col_means: Vec<f64>,
+    /// Overall mean of that kernel.
+    k_mean: f64,
+    /// Kept eigenvalues of the centred kernel, non-increasing, clipped (0 = dropped).
+    eigenvalues: Vec<f64>,
+    /// Matching unit eigenvectors (`m x l`).
+    #[serde(with = "crate::subspace::serde_mat")]
+    eigenvectors: Mat<f64>,
+    /// Training embedding (`n x l`).
+    #[serde(with = "crate::subspace::serde_mat")]
+    embedding: Mat<f64>,
+}
+
+impl Isomap {
+    /// Fits Isomap to the rows of `x` (`n x d`, finite, `n >= 2`).
+    ///
+    /// Errors: empty or non-finite `x`; `n_neighbors` not in `1..n`; `n_components` not in
+    /// `1..=n` (`1..=n_landmarks`); `n_landmarks` not in `2..=n`; more than
+    /// [`MAX_EXACT_POINTS`] points without landmarks; a disconnected neighbourhood graph (use
+    /// a larger `n_neighbors`); a geodesic kernel without positive eigenvalue (all samples
+    /// coincide).
+    pub fn fit(x: MatRef<'_, f64>, params: &IsomapParams) -> Result<Self> {
+        if x.nrows() == 0 {
+            return Err(Error::Empty("x"));
+        }
+        check_data("x", x, 2)?;
+        let n = x.nrows();
+        let k = params.n_neighbors;
+        if k == 0 {
+            return Err(Error::invalid("n_neighbors", "must be >= 1"));
+        }
+        if k >= n {
+            return Err(Error::invalid(
+                "n_neighbors",
+                format!("must be smaller than the number of samples n = {n}, got {k}"),
+            ));
+        }
+        let m = match params.n_landmarks {
+            None if n > MAX_EXACT_POINTS => {
+                return Err(Error::LimitExceeded(format!(
+                    "exact Isomap is limited to {MAX_EXACT_POINTS} points (it stores the n x n \
+                     geodesic matrix), got n = {n}; set n_landmarks (e.g. 2000) for Landmark \
+                     Isomap"
+                )))
+            }
+            None => n,
+            Some(m) if m < 2 || m > n => {
+                return Err(Error::invalid(
+                    "n_landmarks",
+                    format!("must be between 2 and the number of samples n = {n}, got {m}"),
+                ))
+            }
+            Some(m) => {
+                if n.checked_mul(m).is_none_or(|e| e > MAX_GEODESIC_ENTRIES) {
+                    return Err(Error::LimitExceeded(format!(
+                        "the {n} x {m} landmark geodesic table exceeds {MAX_GEODESIC_ENTRIES} \
+                         entries; use fewer landmarks"
+                    )));
+                }
+                m
+            }
+        };
+        let l = params.n_components;
+        if l == 0 || l > m {
+            let what = if params.n_landmarks.is_some() {
+                "n_landmarks"
+            } else {
+                "the number of samples n"
+            };
+            return Err(Error::invalid(
+                "n_components",
+                format!("must be between 1 and {what} = {m}, got {l}"),
+            ));
+        }
+
+        let nb = k_nearest(x, x, k, true);
+        let graph = Graph::from_neighbours(&nb, n);
+        let (count, largest) = graph.components();
+        if count > 1 {
+            return Err(Error::invalid(
+                "n_neighbors",
+                format!(
+                    "the symmetric {k}-nearest-neighbour graph has {count} connected components \
+                     (the largest holds {largest} of {n} points), so some geodesic distances \
+                     are infinite; use a larger n_neighbors"
+                ),
+            ));
+        }
+
+        let (landmarks, geodesic) = match params.n_landmarks {
+            None => (None, graph.all_pairs()),
+            Some(m) => {
+                let (idx, geo) = graph.maxmin_landmarks(m);
+                (Some(idx), geo)
+            }
+        };
+        // Landmark-to-landmark geodesics (exact: all pairs), symmetrised.
+        let lm = |a: usize| landmarks.as_ref().map_or(a, |v| v[a]);
+        let mds = Mds::fit(m, |a, b| geodesic[lm(a) * m + b], l)?;
+
+        let mut model = Self {
+            n_neighbors: k,
+            train: x.to_owned(),
+            landmarks,
+            geodesic,
+            k_col_means: mds.col_means,
+            k_mean: mds.mean,
+            eigenvalues: mds.values,
+            eigenvectors: mds.vectors,
+            embedding: Mat::zeros(0, 0),
+        };
+        model.embedding = if model.landmarks.is_none() {
+            // sklearn's KernelPCA.fit_transform: v_c sqrt(lambda_c).
+            let (v, s) = (&model.eigenvectors, &model.eigenvalues);
+            Mat::from_fn(n, l, |i, c| v[(i, c)] * s[c].sqrt())
+        } else {
+            // Distance-based triangulation of every point from its landmark geodesics.
+            let mut out = vec![0.0; n * l];
+            out.par_chunks_mut(l).enumerate().for_each_init(
+                || vec![0.0; m],
+                |dg, (i, o)| {
+                    dg.copy_from_slice(&model.geodesic[i * m..(i + 1) * m]);
+                    model.project(dg, o);
+                },
+            );
+            Mat::from_fn(n, l, |i, c| out[i * l + c])
+        };
+        Ok(model)
+    }
+
+    /// [`Isomap::fit`] and the training embedding (`n x n_components`).
+    pub fn fit_transform(x: MatRef<'_, f64>, params: &IsomapParams) -> Result<Mat<f64>> {
+        Ok(Self::fit(x, params)?.embedding)
+    }
+
+    /// Embeds the rows of `x` (`q x d`, `d` the training dimension) out of sample (module
+    /// docs, step 4; the landmark triangulation in landmark mode): `q x n_components`.
+    ///
+    /// Errors: `x` of the wrong width or non-finite; a model whose fields disagree (a
+    /// corrupt deserialised file).
+    pub fn transform(&self, x: MatRef<'_, f64>) -> Result<Mat<f64>> {
+        self.check_consistent()?;
+        check_query(x, self.train.ncols())?;
+        let (q, l, k) = (x.nrows(), self.eigenvalues.len(), self.n_neighbors);
+        if q == 0 {
+            return Ok(Mat::zeros(0, l));
+        }
+        let m = self.k_col_means.len();
+        let nb = k_nearest(x, self.train.as_ref(), k, false);
+        let mut out = vec![0.0; q * l];
+        out.par_chunks_mut(l).enumerate().for_each_init(
+            || vec![0.0; m],
+            |dg, (i, o)| {
+                dg.fill(f64::INFINITY);
+                for t in 0..k {
+                    let (j, dj) = (nb.idx[i * k + t], nb.dist[i * k + t]);
+                    for (g, &r) in dg.iter_mut().zip(&self.geodesic[j * m..(j + 1) * m]) {
+                        *g = g.min(dj + r);
+                    }
+                }
+                self.project(dg, o);
+            },
+        );
+        Ok(Mat::from_fn(q, l, |i, c| out[i * l + c]))
+    }
+
+    /// Training embedding (`n x n_components`).
+    pub fn embedding(&self) -> MatRef<'_, f64> {
+        self.embedding.as_ref()
+    }
+
+    /// Eigenvalues of the centred geodesic kernel, non-increasing; 0 marks a dropped
+    /// (non-positive or negligible) component.
+    pub fn eigenvalues(&self) -> &[f64] {
+        &self.eigenvalues
+    }
+
+    /// Geodesic distances (`n x m`): entry `(i, c)` is `d_G(x_i, landmark_c)`; the exact
+    /// method's full `n x n` matrix (sklearn's `dist_matrix_`) when there are no landmarks.
+    pub fn geodesic_distances(&self) -> MatRef<'_, f64> {
+        let m = self.k_col_means.len();
+        MatRef::from_row_major_slice(&self.geodesic, self.geodesic.len() / m.max(1), m)
+    }
+
+    /// Landmark indices into the training rows, in MaxMin order (`None` for exact Isomap).
+    pub fn landmarks(&self) -> Option<&[usize]> {
+        self.landmarks.as_deref()
+    }
+
+    /// Neighbours per point.
+    pub fn n_neighbors(&self) -> usize {
+        self.n_neighbors
+    }
+
+    /// Embedding dimension.
+    pub fn n_components(&self) -> usize {
+        self.eigenvalues.len()
+    }
+
+    /// Input dimension `d`.
+    pub fn input_dim(&self) -> usize {
+        self.train.ncols()
+    }
+
+    /// Number of training samples `n`.
+    pub fn n_samples(&self) -> usize {
+        self.train.nrows()
+    }
+
+    /// Kernel row `-dg.^2 / 2` of geodesics to the landmarks (overwritten), centred against
+    /// the training kernel and projected on `v_c / sqrt(lambda_c)` into `out`.
+    fn project(&self, dg: &mut [f64], out: &mut [f64]) {
+        let m = dg.len();
+        for v in dg.iter_mut() {
+            *v *= -0.5 * *v;
+        }
+        let row_mean = dg.iter().sum::<f64>() / m as f64;
+        for (v, c) in dg.iter_mut().zip(&self.k_col_means) {
+            *v = *v - c - row_mean + self.k_mean;
+        }
+        for (c, o) in out.iter_mut().enumerate() {
+            let lambda = self.eigenvalues[c];
+            *o = if lambda > 0.0 {
+                let v = self.eigenvectors.col_as_slice(c);
+                dg.iter().zip(v).map(|(a, b)| a * b).sum::<f64>() / lambda.sqrt()
+            } else {
+                0.0
+            };
+        }
+    }
+
+    /// Errors unless the fields agree in size (guards deserialised models).
+    fn check_consistent(&self) -> Result<()> {
+        let (n, d) = (self.train.nrows(), self.train.ncols());
+        let m = self.k_col_means.len();
+        let l = self.eigenvalues.len();
+        let landmarks_ok = match &self.landmarks {
+            None => m == n,
+            Some(v) => v.len() == m && v.iter().all(|&i| i < n),
+        };
+        let ok = n >= 2
+            && d >= 1
+            && (1..n).contains(&self.n_neighbors)
+            && m >= 1
+            && l >= 1
+            && landmarks_ok
+            && n.checked_mul(m) == Some(self.geodesic.len())
+            && self.eigenvectors.nrows() == m
+            && self.eigenvectors.ncols() == l
+            && self.embedding.nrows() == n
+            && self.embedding.ncols() == l;
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::invalid(
+                "model",
+                "inconsistent Isomap model (field sizes disagree); refit it",
+            ))
+        }
+    }
+}
+
+impl Projector for Isomap {
+    fn transform(&self, x: MatRef<'_, f64>) -> Result<Mat<f64>> {
+        Isomap::transform(self, x)
+    }
+    fn n_components(&self) -> usize {
+        Isomap::n_components(self)
+    }
+    fn input_dim(&self) -> usize {
+        Isomap::input_dim(self)
+    }
+}
+
+/// Classical MDS of an `m x m` geodesic matrix: the centred kernel's statistics and top
+/// eigenpairs.
+struct Mds {
+    col_means: Vec<f64>,
+    mean: f64,
+    values: Vec<f64>,
+    vectors: Mat<f64>,
+}
+
+impl Mds {
+    /// `dist(a, b)`: geodesic from landmark `b` to landmark `a` (symmetrised here).
+    fn fit(m: usize, dist: impl Fn(usize, usize) -> f64, l: usize) -> Result<Self> {
+        let mut k = Mat::from_fn(m, m, |a, b| {
+            let (u, v) = (dist(a, b), dist(b, a));
+            -0.25 * (u * u + v * v)
+        });
+        let col_means: Vec<f64> = (0..m)
+            .map(|j| k.col_as_slice(j).iter().sum::<f64>() / m as f64)
+            .collect();
+        let mean = col_means.iter().sum::<f64>() / m as f64;
+        for (j, cj) in col_means.iter().enumerate() {
+            for (i, ci) in col_means.iter().enumerate() {
+                k[(i, j)] += mean - ci - cj;
+            }
+        }
+        let e = dense::eigh_largest(k.as_ref(), l)?;
+        let top = e.values.first().copied().unwrap_or(0.0);
+        if top.is_nan() || top <= 0.0 {
+            return Err(Error::invalid(
+                "x",
+                "the centred geodesic kernel has no positive eigenvalue (all samples coincide)",
+            ));
+        }
+        // sklearn's _check_psd_eigenvalues: negative and tiny eigenvalues become 0.
+        let values = e
+            .values
+            .iter()
+            .map(|&v| if v < 1e-12 * top { 0.0 } else { v })
+            .collect();
+        let mut vectors = e.vectors;
+        // sklearn's svd_flip: the largest-magnitude entry of each eigenvector is positive.
+        for c in 0..vectors.ncols() {
+            let col = vectors.col_as_slice(c);
+            let mut arg = 0;
+            for (i, v) in col.iter().enumerate() {
+                if v.abs() > col[arg].abs() {
+                    arg = i;
+                }
+            }
+            if col[arg] < 0.0 {
+                for i in 0..m {
+                    vectors[(i, c)] = -vectors[(i, c)];
+                }
+            }
+        }
+        Ok(Self {
+            col_means,
+            mean,
+            values,
+            vectors,
+        })
+    }
+}
+
+/// The `k` nearest training rows of each query row, row-major `q x k`, nearest first.
+struct Neighbours {
+    k: usize,
+    idx: Vec<usize>,
+    dist: Vec<f64>,
+}
+
+/// Squared Euclidean norms of the rows of `x`.
+fn row_sq_norms(x: MatRef<'_, f64>) -> Vec<f64> {
+    let mut s = vec![0.0; x.nrows()];
+    for j in 0..x.ncols() {
+        for (i, si) in s.iter_mut().enumerate() {
+            *si += x[(i, j)] * x[(i, j)];
+        }
+    }
+    s
+}
+
+/// Brute-force `k` nearest neighbours of the rows of `query` among the rows of `train`
+/// (`k <= train.nrows()`, minus one with `exclude_self`, which skips `train` row `i` for
+/// query row `i`). Candidates come from `|q|^2 + |x|^2 - 2 q.x` (one matrix product per
+/// block of queries, queries in parallel); the `k` selected distances are then recomputed
+/// directly and sorted (ties by index).
+fn k_nearest(
+    query: MatRef<'_, f64>,
+    train: MatRef<'_, f64>,
+    k: usize,
+    exclude_self: bool,
+) -> Neighbours {
+    let (q, n, d) = (query.nrows(), train.nrows(), train.ncols());
+    let tsq = row_sq_norms(train);
+    let qsq = row_sq_norms(query);
+    let mut idx = vec![0usize; q * k];
+    let mut dist = vec![0.0; q * k];
+    // Blocks of at most ~4M Gram entries (32 MB).
+    let block = ((1usize << 22) / n.max(1)).clamp(16, 1024);
+    let order = |a: &(f64, usize), b: &(f64, usize)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+    let mut start = 0;
+    while start < q {
+        let len = block.min(q - start);
+        let g = train * query.subrows(start, len).transpose(); // n x len
+        let range = start * k..(start + len) * k;
+        idx[range.clone()]
+            .par_chunks_mut(k)
+            .zip(dist[range].par_chunks_mut(k))
+            .enumerate()
+            .for_each(|(b, (ib, db))| {
+                let i = start + b;
+                let gb = g.col_as_slice(b);
+                let mut cand: Vec<(f64, usize)> = gb
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, _)| !(exclude_self && j == i))
+                    .map(|(j, &gij)| ((tsq[j] + qsq[i] - 2.0 * gij).max(0.0), j))
+                    .collect();
+                if cand.len() > k {
+                    cand.select_nth_unstable_by(k - 1, order);
+                    cand.truncate(k);
+                }
+                for c in cand.iter_mut() {
+                    let s: f64 = (0..d)
+                        .map(|t| {
+                            let u = query[(i, t)] - train[(c.1, t)];
+                            u * u
+                        })
+                        .sum();
+                    c.0 = s.sqrt();
+                }
+                cand.sort_by(order);
+                for ((it, dt), &(dd, j)) in ib.iter_mut().zip(db.iter_mut()).zip(&cand) {
+                    *it = j;
+                    *dt = dd;
+                }
+            });
+        start += len;
+    }
+    Neighbours { k, idx, dist }
+}
+
+/// Undirected weighted graph in compressed sparse row form.
+struct Graph {
+    offsets: Vec<usize>,
+    targets: Vec<usize>,
+    weights: Vec<f64>,
+}
+
+/// Heap entry of Dijkstra's algorithm, ordered so that `BinaryHeap` pops the smallest
+/// distance first.
+struct Item {
+    dist: f64,
+    node: usize,
+}
+
+impl Ord for Item {
+    fn cmp(&self, other: &Self) -> Ordering {
+        other
+            .dist
+            .total_cmp(&self.dist)
+            .then(other.node.cmp(&self.node))
+    }
+}
+impl PartialOrd for Item {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl PartialEq for Item {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Item {}
+
+impl Graph {
+    /// The symmetric kNN graph: edge `i - j` if either is among the other's neighbours,
+    /// weighted by their distance.
+    fn from_neighbours(nb: &Neighbours, n: usize) -> Self {
+        let k = nb.k;
+        let mut adj: Vec<Vec<(usize, f64)>> = vec![Vec::with_capacity(2 * k); n];
+        for i in 0..n {
+            for t in 0..k {
+                let (j, w) = (nb.idx[i * k + t], nb.dist[i * k + t]);
+                adj[i].push((j, w));
+                adj[j].push((i, w));
+            }
+        }
+        let mut offsets = Vec::with_capacity(n + 1);
+        let mut targets = Vec::new();
+        let mut weights = Vec::new();
+        offsets.push(0);
+        for list in adj.iter_mut() {
+            list.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+            list.dedup_by_key(|e| e.0);
+            for &(j, w) in list.iter() {
+                targets.push(j);
+                weights.push(w);
+            }
+            offsets.push(targets.len());
+        }
+        Self {
+            offsets,
+            targets,
+            weights,
+        }
+    }
+
+    fn n(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Number of connected components and the size of the largest.
+    fn components(&self) -> (usize, usize) {
+        let n = self.n();
+        let mut seen = vec![false; n];
+        let mut stack = Vec::new();
+        let (mut count, mut largest) = (0, 0);
+        for s in 0..n {
+            if seen[s] {
+                continue;
+            }
+            count += 1;
+            seen[s] = true;
+            stack.push(s);
+            let mut size = 0;
+            while let Some(v) = stack.pop() {
+                size += 1;
+                for &u in &self.targets[self.offsets[v]..self.offsets[v + 1]] {
+                    if !seen[u] {
+                        seen[u] = true;
+                        stack.push(u);
+                    }
+                }
+            }
+            largest = largest.max(size);
+        }
+        (count, largest)
+    }
+
+    /// Shortest-path distances from `source` into `dist` (length `n`; unreachable: inf).
+    fn dijkstra(&self, source: usize, dist: &mut [f64], heap: &mut BinaryHeap<Item>) {
+        dist.fill(f64::INFINITY);
+        heap.clear();
+        dist[source] = 0.0;
+        heap.push(Item {
+            dist: 0.0,
+            node: source,
+        });
+        while let Some(Item { dist: d, node: v }) = heap.pop() {
+            if d > dist[v] {
+                continue;
+            }
+            let (lo, hi) = (self.offsets[v], self.offsets[v + 1]);
+            for (&u, &w) in self.targets[lo..hi].iter().zip(&self.weights[lo..hi]) {
+                let nd = d + w;
+                if nd < dist[u] {
+                    dist[u] = nd;
+                    heap.push(Item { dist: nd, node: u });
+                }
+            }
+        }
+    }
+
+    /// All-pairs geodesics, row-major `n x n` (Dijkstra from every node, in parallel).
+    fn all_pairs(&self) -> Vec<f64> {
+        let n = self.n();
+        let mut geo = vec![0.0; n * n];
+        geo.par_chunks_mut(n)
+            .enumerate()
+            .for_each_init(BinaryHeap::new, |heap, (s, row)| {
+                self.dijkstra(s, row, heap)
+            });
+        geo
+    }
+
+    /// `m` landmarks by geodesic MaxMin from node 0, and the geodesics from every node to
+    /// them, row-major `n x m`.
+    fn maxmin_landmarks(&self, m: usize) -> (Vec<usize>, Vec<f64>) {
+        let n = self.n();
+        let mut geo = vec![0.0; n * m];
+        let mut nearest = vec![f64::INFINITY; n];
+        let mut chosen = vec![false; n];
+        let mut row = vec![0.0; n];
+        let mut heap = BinaryHeap::new();
+        let mut landmarks = Vec::with_capacity(m);
+        let mut next = 0;
+        for c in 0..m {
+            landmarks.push(next);
+            chosen[next] = true;
+            self.dijkstra(next, &mut row, &mut heap);
+            for ((g, near), &r) in geo.chunks_mut(m).zip(nearest.iter_mut()).zip(&row) {
+                g[c] = r;
+                *near = near.min(r);
+            }
+            let mut best: Option<usize> = None;
+            for (i, (&near, &taken)) in nearest.iter().zip(&chosen).enumerate() {
+                let better = match best {
+                    None => true,
+                    Some(b) => near > nearest[b],
+                };
+                if !taken && better {
+                    best = Some(i);
+                }
+            }
+            if let Some(b) = best {
+                next = b;
+            }
+        }
+        (landmarks, geo)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+    use wscg_math::rng::uniform_vec;
+
+    /// Noise-free Swiss roll (sklearn's `make_swiss_roll` formula) and its parameter `t`.
+    fn swiss_roll(n: usize, seed: u64) -> (Mat<f64>, Vec<f64>) {
+        let u = uniform_vec(seed, n, 0.0, 1.0).unwrap();
+        let v = uniform_vec(seed + 1, n, 0.0, 1.0).unwrap();
+        let t: Vec<f64> = u.iter().map(|&u| 1.5 * PI * (1.0 + 2.0 * u)).collect();
+        let x = Mat::from_fn(n, 3, |i, j| match j {
+            0 => t[i] * t[i].cos(),
+            1 => 21.0 * v[i],
+            _ => t[i] * t[i].sin(),
+        });
+        (x, t)
+    }
+
+    /// Arc length of the spiral `(t cos t, t sin t)` from 0 to `t`.
+    fn arc_length(t: &[f64]) -> Vec<f64> {
+        t.iter()
+            .map(|&t| 0.5 * (t * (1.0 + t * t).sqrt() + t.asinh()))
+            .collect()
+    }
+
+    fn corr(a: &[f64], b: &[f64]) -> f64 {
+        let n = a.len() as f64;
+        let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+        let (mut c, mut va, mut vb) = (0.0, 0.0, 0.0);
+        for (x, y) in a.iter().zip(b) {
+            c += (x - ma) * (y - mb);
+            va += (x - ma) * (x - ma);
+            vb += (y - mb) * (y - mb);
+        }
+        c / (va * vb).sqrt()
+    }
+
+    fn col(m: MatRef<'_, f64>, c: usize) -> Vec<f64> {
+        (0..m.nrows()).map(|i| m[(i, c)]).collect()
+    }
+
+    /// Max over components of the smaller of |a - b| and |a + b| (equality up to sign).
+    fn max_diff_up_to_sign(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> f64 {
+        assert_eq!((a.nrows(), a.ncols()), (b.nrows(), b.ncols()));
+        (0..a.ncols())
+            .map(|c| {
+                let (mut plus, mut minus) = (0.0f64, 0.0f64);
+                for i in 0..a.nrows() {
+                    minus = minus.max((a[(i, c)] - b[(i, c)]).abs());
+                    plus = plus.max((a[(i, c)] + b[(i, c)]).abs());
+                }
+                plus.min(minus)
+            })
+            .fold(0.0, f64::max)
+    }
+
+    fn params(k: usize, l: usize, landmarks: Option<usize>) -> IsomapParams {
+        IsomapParams {
+            n_neighbors: k,
+            n_components: l,
+            n_landmarks: landmarks,
+        }
+    }
+
+    #[test]
+    fn swiss_roll_is_unrolled() {
+        let (x, t) = swiss_roll(800, 11);
+        let iso = Isomap::fit(x.as_ref(), &params(6, 2, None)).unwrap();
+        assert_eq!(iso.embedding().ncols(), 2);
+        let r = corr(&col(iso.embedding(), 0), &t).abs();
+        eprintln!("exact: |corr(y1, t)| = {r:.5}");
+        assert!(r > 0.99, "{r}");
+        // y1 is the arc length along the spiral (t itself correlates with it at only 0.992).
+        let ra = corr(&col(iso.embedding(), 0), &arc_length(&t)).abs();
+        eprintln!("exact: |corr(y1, arc length)| = {ra:.5}");
+        assert!(ra > 0.999, "{ra}");
+        // The second component spans the roll's height.
+        let h = col(x.as_ref(), 1);
+        let r2 = corr(&col(iso.embedding(), 1), &h).abs();
+        eprintln!("exact: |corr(y2, height)| = {r2:.5}");
+        assert!(r2 > 0.9, "{r2}");
+        assert!(iso.eigenvalues()[0] >= iso.eigenvalues()[1]);
+    }
+
+    #[test]
+    fn geodesics_and_embedding_match_brute_force() {
+        let n = 30;
+        let d = 4;
+        let u = uniform_vec(5, n * d, -1.0, 1.0).unwrap();
+        let x = Mat::from_fn(n, d, |i, j| u[i * d + j]);
+        let (k, l) = (5, 3);
+        let iso = Isomap::fit(x.as_ref(), &params(k, l, None)).unwrap();
+
+        // kNN graph by sorting all distances, then Floyd-Warshall.
+        let dist = |i: usize, j: usize| -> f64 {
+            (0..d)
+                .map(|t| (x[(i, t)] - x[(j, t)]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let mut fw = vec![vec![f64::INFINITY; n]; n];
+        for i in 0..n {
+            fw[i][i] = 0.0;
+            let mut others: Vec<usize> = (0..n).filter(|&j| j != i).collect();
+            others.sort_by(|&a, &b| dist(i, a).total_cmp(&dist(i, b)));
+            for &j in &others[..k] {
+                fw[i][j] = dist(i, j);
+                fw[j][i] = dist(i, j);
+            }
+        }
+        for via in 0..n {
+            for i in 0..n {
+                for j in 0..n {
+                    let c = fw[i][via] + fw[via][j];
+                    if c < fw[i][j] {
+                        fw[i][j] = c;
+                    }
+                }
+            }
+        }
+        let g = iso.geodesic_distances();
+        assert_eq!((g.nrows(), g.ncols()), (n, n));
+        let mut err = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                assert!(fw[i][j].is_finite());
+                err = err.max((g[(i, j)] - fw[i][j]).abs());
+            }
+        }
+        eprintln!("max |Dijkstra - Floyd-Warshall| = {err:e}");
+        assert!(err < 1e-12, "{err}");
+
+        // Double-centred -D^2/2 and its full eigendecomposition.
+        let kern = Mat::from_fn(n, n, |i, j| -0.5 * fw[i][j] * fw[i][j]);
+        let h = Mat::from_fn(n, n, |i, j| f64::from(u8::from(i == j)) - 1.0 / n as f64);
+        let kc = &h * &kern * &h;
+        let kc = Mat::from_fn(n, n, |i, j| 0.5 * (kc[(i, j)] + kc[(j, i)]));
+        let e = dense::eigh(kc.as_ref()).unwrap();
+        let mut worst = 0.0f64;
+        for c in 0..l {
+            let lambda = e.values[n - 1 - c];
+            let rel = (iso.eigenvalues()[c] - lambda).abs() / lambda;
+            assert!(
+                rel < 1e-10,
+                "eigenvalue {c}: {} vs {lambda}",
+                iso.eigenvalues()[c]
+            );
+            let (mut plus, mut minus) = (0.0f64, 0.0f64);
+            for i in 0..n {
+                let y = e.vectors[(i, n - 1 - c)] * lambda.sqrt();
+                minus = minus.max((iso.embedding()[(i, c)] - y).abs());
+                plus = plus.max((iso.embedding()[(i, c)] + y).abs());
+            }
+            worst = worst.max(plus.min(minus));
+        }
+        eprintln!("max embedding difference to the dense eigendecomposition = {worst:e}");
+        assert!(worst < 1e-8, "{worst}");
+        // Y'Y = diag(lambda).
+        let yty = iso.embedding().transpose() * iso.embedding();
+        for a in 0..l {
+            for b in 0..l {
+                let want = if a == b { iso.eigenvalues()[a] } else { 0.0 };
+                assert!((yty[(a, b)] - want).abs() < 1e-8 * iso.eigenvalues()[0]);
+            }
+        }
+    }
+
+    #[test]
+    fn transform_of_training_points_reproduces_embedding() {
+        let (x, t) = swiss_roll(800, 21);
+        let iso = Isomap::fit(x.as_ref(), &params(6, 3, None)).unwrap();
+        let y = iso.transform(x.as_ref()).unwrap();
+        let mut err = 0.0f64;
+        let mut scale = 0.0f64;
+        for i in 0..800 {
+            for c in 0..3 {
+                err = err.max((y[(i, c)] - iso.embedding()[(i, c)]).abs());
+                scale = scale.max(iso.embedding()[(i, c)].abs());
+            }
+        }
+        eprintln!("transform(train) vs embedding: max abs diff {err:e} (max |y| {scale:.2})");
+        assert!(err < 1e-8 * scale.max(1.0), "{err}");
+        // Held-out points of the same roll land where their t says.
+        let (xn, tn) = swiss_roll(200, 99);
+        let yn = iso.transform(xn.as_ref()).unwrap();
+        let r = corr(&col(yn.as_ref(), 0), &tn).abs();
+        let r_train = corr(&col(iso.embedding(), 0), &t).abs();
+        eprintln!("held-out |corr(y1, t)| = {r:.5} (train {r_train:.5})");
+        assert!(r > 0.98, "{r}");
+        // Empty query.
+        let y0 = iso.transform(Mat::<f64>::zeros(0, 3).as_ref()).unwrap();
+        assert_eq!((y0.nrows(), y0.ncols()), (0, 3));
+    }
+
+    #[test]
+    fn landmarks_match_exact_and_scale_down() {
+        let (x, t) = swiss_roll(800, 11);
+        let exact = Isomap::fit(x.as_ref(), &params(6, 2, None)).unwrap();
+        let all = Isomap::fit(x.as_ref(), &params(6, 2, Some(800))).unwrap();
+        let mut lm = all.landmarks().unwrap().to_vec();
+        assert_eq!(lm[0], 0);
+        lm.sort_unstable();
+        assert_eq!(lm, (0..800).collect::<Vec<_>>());
+        let diff = max_diff_up_to_sign(exact.embedding(), all.embedding());
+        eprintln!("landmarks = all points vs exact: max abs diff {diff:e}");
+        assert!(diff < 1e-8, "{diff}");
+        let xq = swiss_roll(50, 7).0;
+        let dq = max_diff_up_to_sign(
+            exact.transform(xq.as_ref()).unwrap().as_ref(),
+            all.transform(xq.as_ref()).unwrap().as_ref(),
+        );
+        eprintln!("landmarks = all points vs exact, transform: max abs diff {dq:e}");
+        assert!(dq < 1e-8, "{dq}");
+
+        let few = Isomap::fit(x.as_ref(), &params(6, 2, Some(200))).unwrap();
+        assert_eq!(few.landmarks().unwrap().len(), 200);
+        assert_eq!(few.geodesic_distances().ncols(), 200);
+        let r = corr(&col(few.embedding(), 0), &t).abs();
+        eprintln!("200 of 800 landmarks: |corr(y1, t)| = {r:.5}");
+        assert!(r > 0.98, "{r}");
+        // In landmark mode transform uses the same triangulation as the training embedding.
+        let y = few.transform(x.as_ref()).unwrap();
+        let e = max_diff_up_to_sign(y.as_ref(), few.embedding());
+        assert!(e < 1e-8, "{e}");
+    }
+
+    #[test]
+    fn model_round_trips_through_serde() {
+        let (x, _) = swiss_roll(100, 3);
+        let iso = Isomap::fit(x.as_ref(), &params(8, 2, Some(40))).unwrap();
+        let s = serde_json::to_string(&iso).unwrap();
+        let back: Isomap = serde_json::from_str(&s).unwrap();
+        assert_eq!(back, iso);
+        let y = back.transform(x.as_ref()).unwrap();
+        assert_eq!(y.ncols(), 2);
+        // A corrupted model is an error, not a panic.
+        let mut bad = iso.clone();
+        bad.geodesic.pop();
+        assert!(bad.transform(x.as_ref()).is_err());
+        let p = IsomapParams::default();
+        assert_eq!((p.n_neighbors, p.n_components, p.n_landmarks), (8, 9, None));
+    }
+
+    #[test]
+    fn bad_input_is_rejected() {
+        let (x, _) = swiss_roll(40, 1);
+        let p = params(5, 2, None);
+        assert!(matches!(
+            Isomap::fit(Mat::<f64>::zeros(0, 3).as_ref(), &p),
+            Err(Error::Empty("x"))
+        ));
+        assert!(Isomap::fit(Mat::<f64>::zeros(40, 0).as_ref(), &p).is_err());
+        let mut xn = x.clone();
+        xn[(3, 1)] = f64::NAN;
+        assert!(matches!(
+            Isomap::fit(xn.as_ref(), &p),
+            Err(Error::NonFinite { .. })
+        ));
+        for k in [0, 40, 41] {
+            let e = Isomap::fit(x.as_ref(), &params(k, 2, None)).unwrap_err();
+            assert!(e.to_string().contains("n_neighbors"), "{e}");
+        }
+        for l in [0, 41] {
+            let e = Isomap::fit(x.as_ref(), &params(5, l, None)).unwrap_err();
+            assert!(e.to_string().contains("n_components"), "{e}");
+        }
+        for m in [0, 1, 41] {
+            let e = Isomap::fit(x.as_ref(), &params(5, 2, Some(m))).unwrap_err();
+            assert!(e.to_string().contains("n_landmarks"), "{e}");
+        }
+        let e = Isomap::fit(x.as_ref(), &params(5, 3, Some(2))).unwrap_err();
+        assert!(e.to_string().contains("n_components"), "{e}");
+        // Two far clusters.
+        let u = uniform_vec(9, 20 * 2, 0.0, 1.0).unwrap();
+        let two = Mat::from_fn(20, 2, |i, j| {
+            u[i * 2 + j] + if i < 10 { 0.0 } else { 100.0 }
+        });
+        for lm in [None, Some(8)] {
+            let e = Isomap::fit(two.as_ref(), &params(3, 2, lm)).unwrap_err();
+            let msg = e.to_string();
+            assert!(msg.contains("2 connected components"), "{msg}");
+            assert!(msg.contains("larger n_neighbors"), "{msg}");
+        }
+        // All samples identical.
+        assert!(Isomap::fit(
+            Mat::<f64>::from_fn(10, 2, |_, _| 1.0).as_ref(),
+            &params(3, 1, None)
+        )
+        .is_err());
+        // Too many points for the exact method.
+        let big = Mat::<f64>::zeros(MAX_EXACT_POINTS + 1, 1);
+        let e = Isomap::fit(big.as_ref(), &params(5, 2, None)).unwrap_err();
+        assert!(e.to_string().contains("n_landmarks"), "{e}");
+        // Transform with the wrong width or NaN.
+        let iso = Isomap::fit(x.as_ref(), &p).unwrap();
+        assert!(matches!(
+            iso.transform(Mat::<f64>::zeros(2, 4).as_ref()),
+            Err(Error::ShapeMismatch(_))
+        ));
+        let mut q = Mat::<f64>::zeros(2, 3);
+        q[(1, 2)] = f64::INFINITY;
+        assert!(iso.transform(q.as_ref()).is_err());
+    }
+}

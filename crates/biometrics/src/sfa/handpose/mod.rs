@@ -1,1 +1,25 @@
-//! Synthetic hand poses and their physical features (in progress).
+//! Hand poses for paper 05 (§3.2): synthetic time-of-flight frames standing in for the
+//! paper's private PMD-Nano recordings, the paper's pre-processing and split / augmentation
+//! protocol, and the hand-crafted "physical" features of its KNN baseline (Table 4).
+//!
+//! - [`generate`]: the generator of the spec's §3.2 (five poses FIST, FLAT, INDEX, OPEN,
+//!   GRAB; 120 x 165 masks with depth, segmented from a simulated amplitude image as in the
+//!   paper's §3.2.1), mask rotation and downscaling, and [`split_protocol`] (§3.2.1 and the
+//!   spec's §2.7: split first, then augment the training frames only).
+//! - [`features`]: fingertip, palm centre and radius, convex ratio, concave depth, polar and
+//!   azimuth angle of the finger (§3.2.2, [RYZ11, PKK09, CLEL12]).
+//! - [`morphology`]: the mask geometry both use (connected components, exact Euclidean
+//!   distance transform, contour tracing, convex hull, convexity defects).
+//!
+//! **The data are synthetic**: the paper's recordings are not public, and no accuracy
+//! obtained on the generated frames is a measurement on real hands.
+
+pub mod features;
+pub mod generate;
+pub mod morphology;
+
+pub use features::{physical_features, physical_features_batch, FEATURE_NAMES, N_FEATURES};
+pub use generate::{
+    downscale, generate, rotate_mask, split_protocol, Split, SynthConfig, SynthData, CLASS_NAMES,
+    DOWNSCALE, N_CLASSES,
+};
