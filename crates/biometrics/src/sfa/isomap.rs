@@ -314,7 +314,7 @@ impl Isomap {
     fn project(&self, dg: &mut [f64], out: &mut [f64]) {
         let m = dg.len();
         for v in dg.iter_mut() {
-            *v *= -0.5 * *v;
+            *v = -0.5 * *v * *v;
         }
         let row_mean = dg.iter().sum::<f64>() / m as f64;
         for (v, c) in dg.iter_mut().zip(&self.k_col_means) {
@@ -399,7 +399,13 @@ impl Mds {
                 k[(i, j)] += mean - ci - cj;
             }
         }
-        let e = dense::eigh_largest(k.as_ref(), l)?;
+        if dense::check_matrix("kernel", k.as_ref()).is_err() {
+            return Err(Error::invalid(
+                "x",
+                "squared geodesic distances overflow f64; rescale the data",
+            ));
+        }
+        let e = top_eigenpairs(k.as_ref(), l)?;
         let top = e.values.first().copied().unwrap_or(0.0);
         if top.is_nan() || top <= 0.0 {
             return Err(Error::invalid(
@@ -436,6 +442,120 @@ impl Mds {
             vectors,
         })
     }
+}
+
+/// The `k` largest eigenpairs (non-increasing) of the symmetric `a`: block Lanczos with
+/// thick restart ([`thick_restart_lanczos`]) when `a` is large enough, else (or when that
+/// does not converge) [`dense::eigh_largest`].
+fn top_eigenpairs(a: MatRef<'_, f64>, k: usize) -> Result<dense::SymEigen> {
+    let b = k + 8;
+    if a.nrows() >= 8 * b {
+        if let Some(e) = thick_restart_lanczos(a, k, b) {
+            return Ok(e);
+        }
+    }
+    dense::eigh_largest(a, k)
+}
+
+/// Joins the columns of `a` and `b`.
+fn hcat(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
+    let (n, p) = (a.nrows(), a.ncols());
+    let mut c = Mat::zeros(n, p + b.ncols());
+    c.as_mut().submatrix_mut(0, 0, n, p).copy_from(a);
+    c.as_mut().submatrix_mut(0, p, n, b.ncols()).copy_from(b);
+    c
+}
+
+/// Orthonormal basis of the part of `span(w)` orthogonal to the orthonormal columns of `v`
+/// (columns of `w` normalised, two Gram-Schmidt passes, thin QR; directions that vanish are
+/// dropped).
+fn orthonormal_complement(v: MatRef<'_, f64>, mut w: Mat<f64>) -> Mat<f64> {
+    for j in 0..w.ncols() {
+        let norm = w.col(j).norm_l2();
+        if norm > 0.0 {
+            for x in w.col_as_slice_mut(j) {
+                *x /= norm;
+            }
+        }
+    }
+    for _ in 0..2 {
+        if v.ncols() > 0 {
+            let c = v.transpose() * &w;
+            w -= v * c;
+        }
+    }
+    let qr = w.qr();
+    let r = qr.thin_R();
+    let q = qr.compute_thin_Q();
+    let keep: Vec<usize> = (0..r.ncols().min(r.nrows()))
+        .filter(|&i| r[(i, i)].abs() > 1e-8)
+        .collect();
+    Mat::from_fn(q.nrows(), keep.len(), |i, j| q[(i, keep[j])])
+}
+
+/// The `k` largest eigenpairs of the symmetric `a` by block Lanczos (block size `b > k`)
+/// with thick restart: the basis grows by the orthonormalised residuals of the top `b` Ritz
+/// pairs (the next block-Krylov directions), Rayleigh-Ritz on `V' A V` each step, and on
+/// reaching `5 b` columns is cut back to the top `2 b` Ritz vectors. Every product with `a`
+/// is a matrix-matrix product (one pass over the `n x n` kernel serves `b` vectors).
+/// Accepted when every wanted Ritz pair has `|A u - theta u| <= 1e-11 max|theta|`; `None`
+/// when that takes more than `n / 2` products (then a dense method is as cheap).
+fn thick_restart_lanczos(a: MatRef<'_, f64>, k: usize, b: usize) -> Option<dense::SymEigen> {
+    const TOL: f64 = 1e-11;
+    let n = a.nrows();
+    let (max_basis, keep) = (5 * b, 2 * b);
+    let start = wscg_math::rng::normal_vec(0x1504_a9e5, n * b, 0.0, 1.0).ok()?;
+    let mut w = Mat::from_fn(n, b, |i, j| start[i * b + j]);
+    let mut v = Mat::<f64>::zeros(n, 0);
+    let mut av = Mat::<f64>::zeros(n, 0);
+    let mut products = 0;
+    while products <= n / 2 {
+        let q = orthonormal_complement(v.as_ref(), w);
+        if q.ncols() == 0 {
+            return None;
+        }
+        products += q.ncols();
+        let aq = a * &q;
+        v = hcat(v.as_ref(), q.as_ref());
+        av = hcat(av.as_ref(), aq.as_ref());
+        let m = v.ncols();
+        let h = v.transpose() * &av;
+        let h = Mat::from_fn(m, m, |i, j| 0.5 * (h[(i, j)] + h[(j, i)]));
+        let e = dense::eigh(h.as_ref()).ok()?;
+        let norm = e
+            .values
+            .iter()
+            .fold(0.0f64, |acc, x| acc.max(x.abs()))
+            .max(f64::MIN_POSITIVE);
+        let s = b.min(m);
+        // Top s Ritz pairs, descending.
+        let y = Mat::from_fn(m, s, |i, j| e.vectors[(i, m - 1 - j)]);
+        let theta: Vec<f64> = (0..s).map(|j| e.values[m - 1 - j]).collect();
+        let u = &v * &y;
+        let mut r = &av * &y;
+        for (j, t) in theta.iter().enumerate() {
+            for (x, ux) in r.col_as_slice_mut(j).iter_mut().zip(u.col_as_slice(j)) {
+                *x -= t * ux;
+            }
+        }
+        let worst = (0..k.min(s))
+            .map(|j| r.col(j).norm_l2())
+            .fold(0.0f64, f64::max);
+        if s >= k && worst <= TOL * norm {
+            return Some(dense::SymEigen {
+                values: theta[..k].to_vec(),
+                vectors: u.as_ref().subcols(0, k).to_owned(),
+            });
+        }
+        if m + b > max_basis {
+            let keep = keep.min(m);
+            let yk = Mat::from_fn(m, keep, |i, j| e.vectors[(i, m - 1 - j)]);
+            v = &v * &yk;
+            av = &av * &yk;
+        }
+        w = r;
+    }
+    None
 }
 
 /// The `k` nearest training rows of each query row, row-major `q x k`, nearest first.
@@ -790,40 +910,36 @@ mod tests {
                 .sum::<f64>()
                 .sqrt()
         };
-        let mut fw = vec![vec![f64::INFINITY; n]; n];
+        let mut fw = vec![f64::INFINITY; n * n];
         for i in 0..n {
-            fw[i][i] = 0.0;
+            fw[i * n + i] = 0.0;
             let mut others: Vec<usize> = (0..n).filter(|&j| j != i).collect();
             others.sort_by(|&a, &b| dist(i, a).total_cmp(&dist(i, b)));
             for &j in &others[..k] {
-                fw[i][j] = dist(i, j);
-                fw[j][i] = dist(i, j);
+                fw[i * n + j] = dist(i, j);
+                fw[j * n + i] = dist(i, j);
             }
         }
         for via in 0..n {
             for i in 0..n {
                 for j in 0..n {
-                    let c = fw[i][via] + fw[via][j];
-                    if c < fw[i][j] {
-                        fw[i][j] = c;
+                    let c = fw[i * n + via] + fw[via * n + j];
+                    if c < fw[i * n + j] {
+                        fw[i * n + j] = c;
                     }
                 }
             }
         }
+        let fw = Mat::from_fn(n, n, |i, j| fw[i * n + j]);
         let g = iso.geodesic_distances();
         assert_eq!((g.nrows(), g.ncols()), (n, n));
-        let mut err = 0.0f64;
-        for i in 0..n {
-            for j in 0..n {
-                assert!(fw[i][j].is_finite());
-                err = err.max((g[(i, j)] - fw[i][j]).abs());
-            }
-        }
+        assert!(fw.is_all_finite());
+        let err = (g - &fw).norm_max();
         eprintln!("max |Dijkstra - Floyd-Warshall| = {err:e}");
         assert!(err < 1e-12, "{err}");
 
         // Double-centred -D^2/2 and its full eigendecomposition.
-        let kern = Mat::from_fn(n, n, |i, j| -0.5 * fw[i][j] * fw[i][j]);
+        let kern = Mat::from_fn(n, n, |i, j| -0.5 * fw[(i, j)] * fw[(i, j)]);
         let h = Mat::from_fn(n, n, |i, j| f64::from(u8::from(i == j)) - 1.0 / n as f64);
         let kc = &h * &kern * &h;
         let kc = Mat::from_fn(n, n, |i, j| 0.5 * (kc[(i, j)] + kc[(j, i)]));

@@ -207,7 +207,7 @@ impl Whitening {
         }
         let e = dense::eigh(symmetrized(b.to_owned()).as_ref())?;
         let top = e.values.last().copied().unwrap_or(0.0);
-        if !(top > 0.0) {
+        if top.is_nan() || top <= 0.0 {
             return Err(Error::invalid(
                 "x",
                 "the (expanded) data have no variance (rank 0): all rows are equal",

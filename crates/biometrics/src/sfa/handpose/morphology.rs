@@ -1,0 +1,512 @@
+//! Geometry of binary masks, shared by the generator's segmentation and by the physical
+//! features: 8-connected components, the exact Euclidean distance transform, Moore-neighbour
+//! contour tracing, convex hulls and convexity defects.
+//!
+//! Conventions: masks are row-major `h x w` buffers, any non-zero byte is foreground; a pixel
+//! is identified with its centre, at integer coordinates `(x, y) = (column, row)`; the area
+//! outside the image is background.
+
+use wscg_math::{Error, Result};
+
+/// The eight neighbour offsets `(dx, dy)`, clockwise on screen (y pointing down), starting
+/// east: E, SE, S, SW, W, NW, N, NE.
+const DIRS: [(i64, i64); 8] = [
+    (1, 0),
+    (1, 1),
+    (0, 1),
+    (-1, 1),
+    (-1, 0),
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+];
+
+/// Index into [`DIRS`] of the offset `(dx, dy)` (each in `-1..=1`, not both 0).
+fn dir_index(dx: i64, dy: i64) -> usize {
+    match (dx, dy) {
+        (1, 0) => 0,
+        (1, 1) => 1,
+        (0, 1) => 2,
+        (-1, 1) => 3,
+        (-1, 0) => 4,
+        (-1, -1) => 5,
+        (0, -1) => 6,
+        _ => 7,
+    }
+}
+
+/// Checks that a buffer of `len` elements holds an `h x w` image.
+pub(crate) fn check_shape(name: &'static str, len: usize, h: usize, w: usize) -> Result<()> {
+    if h == 0 || w == 0 {
+        return Err(Error::invalid(
+            name,
+            format!("image size must be positive, got {h} x {w}"),
+        ));
+    }
+    match h.checked_mul(w) {
+        Some(n) if n == len => Ok(()),
+        _ => Err(Error::ShapeMismatch(format!(
+            "`{name}` has {len} elements, expected {h} x {w}"
+        ))),
+    }
+}
+
+/// The largest 8-connected component of `mask` as a 0/1 mask, with its area in pixels.
+///
+/// Ties go to the component reached first in row-major order. An empty mask gives an all-zero
+/// mask and area 0. Errors: `mask.len() != h * w` or a zero size.
+pub fn largest_component(mask: &[u8], h: usize, w: usize) -> Result<(Vec<u8>, usize)> {
+    check_shape("mask", mask.len(), h, w)?;
+    let mut label = vec![0u32; h * w];
+    let mut stack = Vec::new();
+    let (mut best_label, mut best_area) = (0u32, 0usize);
+    let mut next = 0u32;
+    for start in 0..h * w {
+        if mask[start] == 0 || label[start] != 0 {
+            continue;
+        }
+        next += 1;
+        label[start] = next;
+        stack.push(start);
+        let mut area = 0usize;
+        while let Some(i) = stack.pop() {
+            area += 1;
+            let (y, x) = (i / w, i % w);
+            for &(dx, dy) in &DIRS {
+                let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let j = ny as usize * w + nx as usize;
+                if mask[j] != 0 && label[j] == 0 {
+                    label[j] = next;
+                    stack.push(j);
+                }
+            }
+        }
+        if area > best_area {
+            best_area = area;
+            best_label = next;
+        }
+    }
+    let out = label
+        .iter()
+        .map(|&l| u8::from(best_area > 0 && l == best_label))
+        .collect();
+    Ok((out, best_area))
+}
+
+/// `mask` with its holes filled: background pixels that are not 4-connected to the image
+/// border (the background connectivity that goes with 8-connected foreground) become 1. The
+/// result is 0/1, the binary image of the filled outer contours (as OpenCV's `drawContours`
+/// with `FILLED` of the external contours). Errors: `mask.len() != h * w` or a zero size.
+pub fn fill_holes(mask: &[u8], h: usize, w: usize) -> Result<Vec<u8>> {
+    check_shape("mask", mask.len(), h, w)?;
+    // 0: background not reached (yet), 1: foreground, 2: background reached from the border.
+    let mut state: Vec<u8> = mask.iter().map(|&m| u8::from(m != 0)).collect();
+    let mut stack: Vec<usize> = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            if (y == 0 || x == 0 || y + 1 == h || x + 1 == w) && state[y * w + x] == 0 {
+                state[y * w + x] = 2;
+                stack.push(y * w + x);
+            }
+        }
+    }
+    while let Some(i) = stack.pop() {
+        let (y, x) = (i / w, i % w);
+        let mut visit = |j: usize| {
+            if state[j] == 0 {
+                state[j] = 2;
+                stack.push(j);
+            }
+        };
+        if x > 0 {
+            visit(i - 1);
+        }
+        if x + 1 < w {
+            visit(i + 1);
+        }
+        if y > 0 {
+            visit(i - w);
+        }
+        if y + 1 < h {
+            visit(i + w);
+        }
+    }
+    Ok(state.iter().map(|&s| u8::from(s != 2)).collect())
+}
+
+/// One-dimensional squared-distance transform of Felzenszwalb and Huttenlocher (2012):
+/// `d[q] = min_p (q - p)^2 + f[p]`, the lower envelope of parabolas rooted at the finite
+/// samples of `f` (infinite samples take no part; all infinite gives all infinite).
+fn dt_1d(f: &[f64], d: &mut [f64], v: &mut Vec<usize>, z: &mut Vec<f64>) {
+    v.clear();
+    z.clear();
+    for (q, &fq) in f.iter().enumerate() {
+        if !fq.is_finite() {
+            continue;
+        }
+        let qf = q as f64;
+        let mut s = f64::NEG_INFINITY;
+        while let Some(&p) = v.last() {
+            let pf = p as f64;
+            s = ((fq + qf * qf) - (f[p] + pf * pf)) / (2.0 * qf - 2.0 * pf);
+            // z holds the left boundary of each parabola's interval.
+            if s <= z[z.len() - 1] {
+                v.pop();
+                z.pop();
+                s = f64::NEG_INFINITY;
+            } else {
+                break;
+            }
+        }
+        v.push(q);
+        z.push(s);
+    }
+    if v.is_empty() {
+        d.fill(f64::INFINITY);
+        return;
+    }
+    let mut k = 0;
+    for (q, dq) in d.iter_mut().enumerate() {
+        let qf = q as f64;
+        while k + 1 < v.len() && z[k + 1] < qf {
+            k += 1;
+        }
+        let p = v[k];
+        let dp = qf - p as f64;
+        *dq = dp * dp + f[p];
+    }
+}
+
+/// Exact squared Euclidean distance of every pixel to the nearest background pixel (0 on the
+/// background; the area outside the image counts as background, so a pixel on the image edge
+/// has distance 1).
+///
+/// Felzenszwalb-Huttenlocher: the 1-D squared-distance transform along every row, then along
+/// every column of the result; `O(h w)`, exact (integer values held exactly in `f64`).
+/// Errors: `mask.len() != h * w` or a zero size.
+pub fn squared_distance_transform(mask: &[u8], h: usize, w: usize) -> Result<Vec<f64>> {
+    check_shape("mask", mask.len(), h, w)?;
+    let (mut v, mut z) = (Vec::new(), Vec::new());
+    // Rows, each padded with one background sample at both ends.
+    let mut f = vec![0.0; w + 2];
+    let mut d = vec![0.0; w + 2];
+    let mut rows = vec![0.0; h * w];
+    for y in 0..h {
+        for x in 0..w {
+            f[x + 1] = if mask[y * w + x] != 0 {
+                f64::INFINITY
+            } else {
+                0.0
+            };
+        }
+        dt_1d(&f, &mut d, &mut v, &mut z);
+        rows[y * w..(y + 1) * w].copy_from_slice(&d[1..w + 1]);
+    }
+    // Columns, padded likewise (the padding rows are all background, value 0).
+    let mut f = vec![0.0; h + 2];
+    let mut d = vec![0.0; h + 2];
+    let mut out = vec![0.0; h * w];
+    for x in 0..w {
+        for y in 0..h {
+            f[y + 1] = rows[y * w + x];
+        }
+        dt_1d(&f, &mut d, &mut v, &mut z);
+        for y in 0..h {
+            out[y * w + x] = d[y + 1];
+        }
+    }
+    Ok(out)
+}
+
+/// Exact Euclidean distance transform: the square root of [`squared_distance_transform`].
+pub fn distance_transform(mask: &[u8], h: usize, w: usize) -> Result<Vec<f64>> {
+    let mut d = squared_distance_transform(mask, h, w)?;
+    for v in &mut d {
+        *v = v.sqrt();
+    }
+    Ok(d)
+}
+
+/// Outer boundary of the 8-connected component holding the first foreground pixel in
+/// row-major order, traced clockwise on screen by Moore-neighbour tracing, as pixel
+/// coordinates `(x, y)`.
+///
+/// The trace starts at that first pixel and stops when the step from the start pixel to the
+/// second boundary pixel would repeat, so pixels on one-pixel-wide parts appear once per
+/// visit (as the contours of OpenCV's `findContours`). Holes are not traced. An empty mask
+/// gives an empty contour, a lone pixel a one-point contour. Errors: `mask.len() != h * w`
+/// or a zero size.
+pub fn trace_contour(mask: &[u8], h: usize, w: usize) -> Result<Vec<(i64, i64)>> {
+    check_shape("mask", mask.len(), h, w)?;
+    let Some(first) = mask.iter().position(|&m| m != 0) else {
+        return Ok(Vec::new());
+    };
+    let fg = |x: i64, y: i64| -> bool {
+        x >= 0 && y >= 0 && x < w as i64 && y < h as i64 && mask[y as usize * w + x as usize] != 0
+    };
+    // From `p`, whose neighbour in direction `back` is background, sweep clockwise to the
+    // next foreground neighbour; return it with the direction from it to the last background
+    // pixel of the sweep.
+    let step = |p: (i64, i64), back: usize| -> Option<((i64, i64), usize)> {
+        for k in 1..=8 {
+            let nd = (back + k) % 8;
+            let q = (p.0 + DIRS[nd].0, p.1 + DIRS[nd].1);
+            if fg(q.0, q.1) {
+                let pd = (back + k - 1) % 8;
+                let b = (p.0 + DIRS[pd].0, p.1 + DIRS[pd].1);
+                return Some((q, dir_index(b.0 - q.0, b.1 - q.1)));
+            }
+        }
+        None
+    };
+    let start = ((first % w) as i64, (first / w) as i64);
+    // The first foreground pixel has background to its west (and the whole row above).
+    let Some((second, back)) = step(start, 4) else {
+        return Ok(vec![start]);
+    };
+    let area = mask.iter().filter(|&&m| m != 0).count();
+    let cap = 4 * area + 8;
+    let mut contour = vec![start];
+    let (mut p, mut back) = (second, back);
+    while contour.len() < cap {
+        let Some((q, nb)) = step(p, back) else {
+            break;
+        };
+        if p == start && q == second {
+            break;
+        }
+        contour.push(p);
+        p = q;
+        back = nb;
+    }
+    Ok(contour)
+}
+
+fn cross(o: (i64, i64), a: (i64, i64), b: (i64, i64)) -> i64 {
+    (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+}
+
+/// Convex hull of integer points by Andrew's monotone chain: the vertices, without repeated or
+/// collinear points, counter-clockwise in `(x, y)` coordinates (clockwise on screen, where y
+/// points down). One point gives one vertex, collinear points their two ends, none gives none.
+pub fn convex_hull(points: &[(i64, i64)]) -> Vec<(i64, i64)> {
+    let mut p = points.to_vec();
+    p.sort_unstable();
+    p.dedup();
+    if p.len() <= 2 {
+        return p;
+    }
+    let mut hull: Vec<(i64, i64)> = Vec::with_capacity(2 * p.len());
+    for &pt in &p {
+        while hull.len() >= 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], pt) <= 0 {
+            hull.pop();
+        }
+        hull.push(pt);
+    }
+    let lower = hull.len() + 1;
+    for &pt in p.iter().rev().skip(1) {
+        while hull.len() >= lower && cross(hull[hull.len() - 2], hull[hull.len() - 1], pt) <= 0 {
+            hull.pop();
+        }
+        hull.push(pt);
+    }
+    hull.pop();
+    hull
+}
+
+fn gcd(mut a: i64, mut b: i64) -> i64 {
+    a = a.abs();
+    b = b.abs();
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+/// Number of lattice points (pixel centres) inside or on the convex polygon `hull` (vertices
+/// in order, as [`convex_hull`] returns them), by Pick's theorem: `A + B / 2 + 1` with `A` the
+/// polygon area and `B` the lattice points on its boundary. Exact integer arithmetic; also right
+/// for the degenerate hulls (one point, a segment). Zero for no vertices.
+pub fn hull_lattice_count(hull: &[(i64, i64)]) -> u64 {
+    match hull.len() {
+        0 => 0,
+        1 => 1,
+        n => {
+            let (mut twice_area, mut boundary) = (0i64, 0i64);
+            for i in 0..n {
+                let (a, b) = (hull[i], hull[(i + 1) % n]);
+                twice_area += a.0 * b.1 - b.0 * a.1;
+                boundary += gcd(b.0 - a.0, b.1 - a.1);
+            }
+            // Pick: 2A = 2I + B - 2, so 2A + B is even.
+            ((twice_area.abs() + boundary) / 2 + 1) as u64
+        }
+    }
+}
+
+/// Largest convexity-defect depth of a closed `contour` (as OpenCV's `convexityDefects`): for
+/// every pair of consecutive hull vertices, the largest distance of the contour points between
+/// them (in contour order) to the line through the two vertices. `hull` must hold points of the
+/// contour (as [`convex_hull`] of the contour gives). Zero when the hull has fewer than two
+/// vertices.
+pub fn max_defect_depth(contour: &[(i64, i64)], hull: &[(i64, i64)]) -> f64 {
+    let mut idx: Vec<usize> = hull
+        .iter()
+        .filter_map(|v| contour.iter().position(|p| p == v))
+        .collect();
+    idx.sort_unstable();
+    idx.dedup();
+    if idx.len() < 2 {
+        return 0.0;
+    }
+    let n = contour.len();
+    let mut best = 0.0f64;
+    for k in 0..idx.len() {
+        let (i0, i1) = (idx[k], idx[(k + 1) % idx.len()]);
+        let (a, b) = (contour[i0], contour[i1]);
+        let (ex, ey) = ((b.0 - a.0) as f64, (b.1 - a.1) as f64);
+        let len = (ex * ex + ey * ey).sqrt();
+        if len == 0.0 {
+            continue;
+        }
+        let mut j = (i0 + 1) % n;
+        while j != i1 {
+            let p = contour[j];
+            let c = ex * (p.1 - a.1) as f64 - ey * (p.0 - a.0) as f64;
+            best = best.max(c.abs() / len);
+            j = (j + 1) % n;
+        }
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::Rng;
+
+    fn brute_sq_dt(mask: &[u8], h: usize, w: usize) -> Vec<f64> {
+        // Background: every zero pixel plus the one-pixel ring around the image.
+        let mut bg = Vec::new();
+        for y in -1..=h as i64 {
+            for x in -1..=w as i64 {
+                let inside = x >= 0 && y >= 0 && x < w as i64 && y < h as i64;
+                if !inside || mask[y as usize * w + x as usize] == 0 {
+                    bg.push((x, y));
+                }
+            }
+        }
+        (0..h * w)
+            .map(|i| {
+                let (x, y) = ((i % w) as i64, (i / w) as i64);
+                bg.iter()
+                    .map(|&(bx, by)| ((bx - x).pow(2) + (by - y).pow(2)) as f64)
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn distance_transform_equals_brute_force() {
+        let mut r = wscg_math::rng::seeded(11);
+        for (h, w, p) in [(13, 17, 0.8), (20, 9, 0.95), (1, 6, 1.0), (7, 7, 0.3)] {
+            let mask: Vec<u8> = (0..h * w).map(|_| u8::from(r.random_bool(p))).collect();
+            let fast = squared_distance_transform(&mask, h, w).unwrap();
+            let slow = brute_sq_dt(&mask, h, w);
+            for (a, b) in fast.iter().zip(&slow) {
+                assert!((a - b).abs() <= 1e-12, "{a} vs {b}");
+            }
+            let e = distance_transform(&mask, h, w).unwrap();
+            for (a, b) in e.iter().zip(&slow) {
+                assert!((a - b.sqrt()).abs() <= 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn largest_component_uses_8_connectivity() {
+        // Two diagonal pixels (one 8-component of 2) and a pair of 3 pixels.
+        #[rustfmt::skip]
+        let m = [
+            1, 0, 0, 0, 0,
+            0, 1, 0, 1, 1,
+            0, 0, 0, 0, 1,
+        ];
+        let (c, area) = largest_component(&m, 3, 5).unwrap();
+        assert_eq!(area, 3);
+        assert_eq!(c, vec![0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 1]);
+        let (c, area) = largest_component(&[0; 6], 2, 3).unwrap();
+        assert_eq!((c, area), (vec![0; 6], 0));
+        assert!(largest_component(&m, 2, 5).is_err());
+    }
+
+    #[test]
+    fn holes_are_filled() {
+        // A ring with a one-pixel hole, a diagonal gap (closed for 8-connected foreground, so
+        // the pixel inside is a hole too) and a notch open to the outside.
+        #[rustfmt::skip]
+        let m = [
+            0, 0, 0, 0, 0, 0, 0,
+            0, 1, 1, 1, 0, 1, 0,
+            0, 1, 0, 1, 1, 0, 1,
+            0, 1, 1, 1, 0, 1, 0,
+            0, 0, 0, 0, 0, 0, 0,
+        ];
+        #[rustfmt::skip]
+        let want = [
+            0, 0, 0, 0, 0, 0, 0,
+            0, 1, 1, 1, 0, 1, 0,
+            0, 1, 1, 1, 1, 1, 1,
+            0, 1, 1, 1, 0, 1, 0,
+            0, 0, 0, 0, 0, 0, 0,
+        ];
+        assert_eq!(fill_holes(&m, 5, 7).unwrap(), want.to_vec());
+        assert_eq!(fill_holes(&[1, 0, 1], 1, 3).unwrap(), vec![1, 0, 1]);
+        assert!(fill_holes(&m, 5, 6).is_err());
+    }
+
+    #[test]
+    fn contour_of_a_square_and_of_a_line() {
+        // 3x3 square at (1..=3, 1..=3) in a 5x5 image: 8 boundary pixels, clockwise on screen.
+        let mut m = vec![0u8; 25];
+        for y in 1..4 {
+            for x in 1..4 {
+                m[y * 5 + x] = 1;
+            }
+        }
+        let c = trace_contour(&m, 5, 5).unwrap();
+        assert_eq!(
+            c,
+            vec![
+                (1, 1),
+                (2, 1),
+                (3, 1),
+                (3, 2),
+                (3, 3),
+                (2, 3),
+                (1, 3),
+                (1, 2)
+            ]
+        );
+        // A horizontal line is walked out and back.
+        let c = trace_contour(&[1, 1, 1], 1, 3).unwrap();
+        assert_eq!(c, vec![(0, 0), (1, 0), (2, 0), (1, 0)]);
+        assert_eq!(trace_contour(&[0, 1], 1, 2).unwrap(), vec![(1, 0)]);
+        assert!(trace_contour(&[0, 0], 1, 2).unwrap().is_empty());
+    }
+
+    #[test]
+    fn hull_and_lattice_count() {
+        let pts = [(0, 0), (4, 0), (4, 3), (0, 3), (2, 1), (2, 0)];
+        let h = convex_hull(&pts);
+        assert_eq!(h, vec![(0, 0), (4, 0), (4, 3), (0, 3)]);
+        assert_eq!(hull_lattice_count(&h), 20);
+        assert_eq!(hull_lattice_count(&convex_hull(&[(0, 0), (6, 3)])), 4);
+        assert_eq!(hull_lattice_count(&convex_hull(&[(5, 5)])), 1);
+        // Triangle (0,0), (4,0), (0,4): 15 lattice points.
+        assert_eq!(hull_lattice_count(&[(0, 0), (4, 0), (0, 4)]), 15);
+    }
+}
