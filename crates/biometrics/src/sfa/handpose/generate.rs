@@ -172,7 +172,10 @@ impl Jitter {
         ];
         for (name, a) in v {
             if !(a.is_finite() && a >= 0.0) {
-                return Err(Error::invalid(name, format!("must be finite and >= 0, got {a}")));
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and >= 0, got {a}"),
+                ));
             }
         }
         if self.scale >= 1.0 {
