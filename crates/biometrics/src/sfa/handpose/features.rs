@@ -67,8 +67,9 @@ pub const FEATURE_NAMES: [&str; N_FEATURES] = [
     "azimuth_deg",
 ];
 
-/// The physical features of one `h x w` mask (see the module docs for the definitions and the
-/// order): 9 values with a depth map (`h x w`, any unit, usually mm), 8 without.
+/// The physical features of one `h x w` mask (row-major, any non-zero byte is foreground; see
+/// the module docs for the definitions and the order): 9 values with a depth map (`h x w`, any
+/// unit, usually mm), 8 without.
 ///
 /// Errors: a size of zero, `mask` or `depth` not `h x w`, non-finite depth, a mask without
 /// foreground.

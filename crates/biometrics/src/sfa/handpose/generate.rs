@@ -25,12 +25,13 @@
 //!   folded across the palm (pointing at +50 degrees, over the knuckles); FLAT `s = 0.35`,
 //!   `e = 1` for all five (the scaled thumb angle, -23 degrees, puts the thumb against the
 //!   index: adducted); INDEX `s = 1`, index `e = 1`, the other fingers 0.2, thumb 0.35 folded
-//!   as in FIST; OPEN `s = 1.3`, `e = 1` (thumb at -85 degrees: abducted); GRAB `s = 1`,
+//!   as in FIST (the spec gives only the extension; folded is our choice); OPEN `s = 1.3`, `e = 1` (thumb at -85 degrees: abducted); GRAB `s = 1`,
 //!   `e ~ U[0.55, 0.7]` per frame for all five, with a round fingertip blob (disc of radius
 //!   0.75 x width) at each finger end.
 //! - **Per frame**: every finger's `e` +- U(0.08) (then at least 0.05) and angle +- U(5
 //!   degrees); the whole hand rotated by +- U(15 degrees), scaled by 1 +- U(0.1) and its palm
-//!   centre placed at `(W / 2, 0.6 H)` +- U(8) px in each axis.
+//!   centre placed at `(W / 2, 0.6 H)` +- U(8) px in each axis. (Optionally the spread
+//!   +- U(`Jitter::spread`), once per frame; 0 by default, as in the spec.)
 //! - **Rasterisation** is analytic: a pixel belongs to a primitive when its centre (integer
 //!   coordinates) lies in the transformed ellipse / capsule / disc; only the bounding box of
 //!   each primitive is visited.
@@ -50,14 +51,36 @@
 //!   at 700 mm, sloping by 0.2 mm per row), 0 for dropped-out pixels; the amplitude is
 //!   thresholded at that of skin at 450 mm, and the largest 8-connected component of the result
 //!   is kept, with its holes filled (the paper turns the chosen *contour* into the binary
-//!   image, so drop-outs inside the hand do not survive; [`fill_holes`]). The paper keeps "the closest contour greater than a threshold area"; the spec
-//!   says the largest. Here the hand (over 1000 px at the default size) is always the only
+//!   image, so drop-outs inside the hand do not survive; [`fill_holes`]). The paper keeps
+//!   "the closest contour greater than a threshold area"; the spec says the largest. Here the hand (over 1000 px at the default size) is always the only
 //!   component that would pass any sensible area threshold (flying pixels and the bits cut
 //!   off by noise are a few pixels), so the rule reduces to the largest component, which is
 //!   what is implemented, with no threshold so that no frame can come out empty. The depth
 //!   map is that of the kept pixels (filled drop-outs keep the depth of the surface there),
 //!   0 elsewhere. What survives of the impulse noise is therefore at the border: notches
 //!   where drop-outs hit boundary pixels and flying pixels touching the hand.
+//!
+//! The per-frame amplitudes above are those of [`Jitter::default`]; [`generate_with`] takes
+//! others.
+//!
+//! **Difficulty.** With the spec's amplitudes the classes are far apart: on the paper's protocol
+//! (seed 0, 3000 frames per class, split + augmentation of [`split_protocol`]) KNN (k = 5) on
+//! PCA-35 and the class-wise SFA (PCA-35, quadratic, m = 10, gamma = 1) both classify every
+//! test frame correctly, short of the spec's "PCA-35 KNN < 99 %" confusability check. Measured
+//! alternatives (same protocol, accuracy in % averaged over the classes; the SFA of
+//! [`crate::sfa::class_sfa`] as it stood when this generator was written):
+//!
+//! | jitter changed from the default | PCA-35 KNN | class SFA | lowest SFA class |
+//! |---|---|---|---|
+//! | none | 100.00 | 100.00 | 100.0 |
+//! | translation 20 px | 98.93 | 99.20 | 98.0 (OPEN) |
+//! | translation 25 px | 97.93 | 98.87 | 98.3 (OPEN) |
+//! | extension 0.12, finger angle 8, spread 0.2, rotation 20, scale 0.15, translation 12 | 93.20 | 96.40 | 89.7 (GRAB) |
+//! | extension 0.15, finger angle 10, spread 0.3 | 91.33 | 96.73 | 89.3 (GRAB) |
+//!
+//! A translation of +-25 px is the smallest change found that meets both the confusability
+//! check and the spec's SFA targets (>= 95 % per class, >= 96 % mean); larger pose variation
+//! brings the PCA-KNN baseline near the paper's 82 % but takes GRAB below 95 % for SFA.
 //!
 //! Frames are stored class by class (`n_per_class` frames of FIST, then FLAT, ...); within a
 //! class the subjects take consecutive equal blocks. Subject `s` is drawn from stream 0 of the
@@ -227,16 +250,16 @@ impl SynthData {
         self.height * self.width
     }
 
-    /// Mask of frame `i` (panics if `i >= len()`, as slice indexing).
-    pub fn mask(&self, i: usize) -> &[u8] {
+    /// Mask of frame `i` (`None` past the end).
+    pub fn mask(&self, i: usize) -> Option<&[u8]> {
         let p = self.frame_len();
-        &self.masks[i * p..(i + 1) * p]
+        self.masks.get(i * p..(i + 1) * p)
     }
 
-    /// Depth map of frame `i` (panics if `i >= len()`, as slice indexing).
-    pub fn depth_map(&self, i: usize) -> &[f32] {
+    /// Depth map of frame `i` (`None` past the end).
+    pub fn depth_map(&self, i: usize) -> Option<&[f32]> {
         let p = self.frame_len();
-        &self.depth[i * p..(i + 1) * p]
+        self.depth.get(i * p..(i + 1) * p)
     }
 
     fn check(&self) -> Result<()> {
@@ -696,7 +719,9 @@ pub fn generate(cfg: &SynthConfig) -> Result<SynthData> {
     generate_with(cfg, &Jitter::default())
 }
 
-/// [`generate`] with other per-frame variation amplitudes than the spec's.
+/// [`generate`] with other per-frame variation amplitudes than the spec's (see the module
+/// docs for measured effects on the classifiers). `generate_with(cfg, &Jitter::default())`
+/// is `generate(cfg)`.
 ///
 /// Errors: as [`generate`]; a [`Jitter`] amplitude negative or non-finite.
 pub fn generate_with(cfg: &SynthConfig, jitter: &Jitter) -> Result<SynthData> {
@@ -939,7 +964,7 @@ pub fn split_protocol(
         x.par_chunks_mut(dim)
             .zip(jobs)
             .try_for_each(|(out, &(f, angle))| -> Result<()> {
-                let m = data.mask(f);
+                let m = data.mask(f).ok_or(Error::Empty("frame"))?;
                 let d = if angle == 0.0 {
                     downscale(m, h, w, DOWNSCALE)?
                 } else {
@@ -1018,8 +1043,8 @@ mod tests {
         let mut width = [0.0f64; 5];
         let mut rise = [0.0f64; 5];
         for i in 0..d.len() {
-            let m = d.mask(i);
-            let z = d.depth_map(i);
+            let m = d.mask(i).unwrap();
+            let z = d.depth_map(i).unwrap();
             let a = m.iter().filter(|&&v| v == 1).count();
             assert!(a > 1000, "frame {i} area {a}");
             // Depth is in the camera's range on the hand and 0 elsewhere.
@@ -1097,6 +1122,37 @@ mod tests {
         ] {
             assert!(generate(&cfg).is_err(), "{cfg:?}");
         }
+        let cfg = SynthConfig {
+            n_per_class: 1,
+            ..SynthConfig::default()
+        };
+        for j in [
+            Jitter {
+                scale: 1.0,
+                ..Jitter::default()
+            },
+            Jitter {
+                translation_px: -1.0,
+                ..Jitter::default()
+            },
+            Jitter {
+                spread: f64::NAN,
+                ..Jitter::default()
+            },
+        ] {
+            assert!(generate_with(&cfg, &j).is_err(), "{j:?}");
+        }
+        assert_eq!(
+            generate_with(&cfg, &Jitter::default()).unwrap(),
+            generate(&cfg).unwrap()
+        );
+        let wide = Jitter {
+            translation_px: 25.0,
+            spread: 0.3,
+            ..Jitter::default()
+        };
+        let d = generate_with(&cfg, &wide).unwrap();
+        assert!((0..d.len()).all(|i| d.mask(i).unwrap().contains(&1)));
     }
 
     #[test]
@@ -1266,7 +1322,9 @@ mod tests {
         let f = s.train_index[0];
         assert_eq!(
             &s.train_x[..2200],
-            downscale(d.mask(f), 165, 120, 3).unwrap().as_slice()
+            downscale(d.mask(f).unwrap(), 165, 120, 3)
+                .unwrap()
+                .as_slice()
         );
         let test: std::collections::HashSet<usize> = s.test_index.iter().copied().collect();
         assert!(s.train_index.iter().all(|f| !test.contains(f)));

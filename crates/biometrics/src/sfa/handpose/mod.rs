@@ -2,10 +2,10 @@
 //! paper's private PMD-Nano recordings, the paper's pre-processing and split / augmentation
 //! protocol, and the hand-crafted "physical" features of its KNN baseline (Table 4).
 //!
-//! - [`generate`]: the generator of the spec's §3.2 (five poses FIST, FLAT, INDEX, OPEN,
-//!   GRAB; 120 x 165 masks with depth, segmented from a simulated amplitude image as in the
-//!   paper's §3.2.1), mask rotation and downscaling, and [`split_protocol`] (§3.2.1 and the
-//!   spec's §2.7: split first, then augment the training frames only).
+//! - [`generate`](mod@generate): the generator of the spec's §3.2 (five poses FIST, FLAT,
+//!   INDEX, OPEN, GRAB; 120 x 165 masks with depth, segmented from a simulated amplitude image
+//!   as in the paper's §3.2.1), mask rotation and downscaling, and [`split_protocol`] (§3.2.1
+//!   and the spec's §2.7: split first, then augment the training frames only).
 //! - [`features`]: fingertip, palm centre and radius, convex ratio, concave depth, polar and
 //!   azimuth angle of the finger (§3.2.2, [RYZ11, PKK09, CLEL12]).
 //! - [`morphology`]: the mask geometry both use (connected components, exact Euclidean
@@ -20,6 +20,6 @@ pub mod morphology;
 
 pub use features::{physical_features, physical_features_batch, FEATURE_NAMES, N_FEATURES};
 pub use generate::{
-    downscale, generate, rotate_mask, split_protocol, Split, SynthConfig, SynthData, CLASS_NAMES,
-    DOWNSCALE, N_CLASSES,
+    downscale, generate, generate_with, rotate_mask, split_protocol, Jitter, Split, SynthConfig,
+    SynthData, CLASS_NAMES, DOWNSCALE, N_CLASSES,
 };
