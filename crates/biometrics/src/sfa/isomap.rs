@@ -12,12 +12,15 @@
 //!    training points of every point (itself excluded by index; ties broken by index), edge
 //!    `i - j` when `j` is among the neighbours of `i` *or* `i` among those of `j`, weighted by
 //!    the Euclidean distance (sklearn's `kneighbors_graph` + undirected `shortest_path`).
-//! 2. **Geodesics** (step 2): Dijkstra from every node over the graph (binary heap, sources in
-//!    parallel), `D = [d_G(i, j)]`. A disconnected graph is an error (sklearn >= 1.1 patches
+//! 2. **Geodesics** (step 2): Dijkstra from every node over the graph (compressed sparse
+//!    rows, binary heap with decrease-key, sources in parallel), `D = [d_G(i, j)]`. A disconnected graph is an error (sklearn >= 1.1 patches
 //!    the graph with extra edges and warns; we ask for a larger `n_neighbors` instead).
 //! 3. **Embedding** (step 3, classical MDS written as kernel PCA): `K = -D.^2 / 2`, double
 //!    centred `Kc = H K H` (sklearn's `KernelCenterer`), its `n_components` largest
 //!    eigenpairs `(lambda_c, v_c)`, training embedding `y_ic = v_c[i] sqrt(lambda_c)`.
+//!    The eigenpairs come from a block Lanczos iteration with thick restart (residuals below
+//!    `1e-12 |lambda_1|`; sklearn uses ARPACK's Lanczos for the same job), with
+//!    [`wscg_math::dense::eigh_largest`] for small kernels or when it does not converge.
 //!    As in sklearn's `KernelPCA`, eigenvalues below `1e-12 lambda_1` (or negative) are set to
 //!    0 (their component is 0 everywhere) and each eigenvector's sign is fixed so that its
 //!    largest-magnitude entry is positive (`svd_flip`).
@@ -37,14 +40,13 @@
 //! `a` to the landmarks, `delta_mu` their mean over landmarks and `L^#` the rows
 //! `v_c' / sqrt(lambda_c)`. That is the out-of-sample formula of step 4 applied to the
 //! landmark kernel (the row-mean term vanishes because `v_c` is orthogonal to `1`), so
-//! training points and new points go through the same code. Landmarks are chosen by
-//! **geodesic MaxMin** (farthest-point sampling, de Silva and Tenenbaum's recommended
-//! choice): the first is point 0, each next one the point farthest in geodesic distance from
-//! those already chosen (ties to the lowest index); the Dijkstra runs it needs are the ones
-//! the method needs anyway, so the choice is free but sequential.
-
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+//! training points and new points go through the same code. Landmarks are chosen
+//! deterministically by **geodesic MaxMin** (farthest-point sampling, the alternative to a
+//! random choice that de Silva and Tenenbaum discuss): the first is point 0, each next one
+//! the point farthest in geodesic distance from those already chosen (ties to the lowest
+//! index). The choice uses pruned Dijkstra searches that only visit the points a new landmark
+//! brings closer (a fraction of a second for 2000 of 18500 points); the full Dijkstra runs
+//! from the landmarks then go in parallel.
 
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
@@ -97,7 +99,8 @@ pub struct Isomap {
     train: Mat<f64>,
     /// Landmark indices into the training rows (`None`: exact, every point).
     landmarks: Option<Vec<usize>>,
-    /// Geodesic distances, row-major `n x m`: row `i` holds `d_G(x_i, landmark_c)`.
+    /// Geodesic distances, row-major `m x n`: row `c` holds `d_G(landmark_c, x_j)` for every
+    /// training point `j` (exact: the symmetric `n x n` matrix).
     geodesic: Vec<f64>,
     /// Column means of the uncentred landmark kernel `-D_m.^2 / 2` (length `m`).
     k_col_means: Vec<f64>,
@@ -190,15 +193,16 @@ impl Isomap {
         }
 
         let (landmarks, geodesic) = match params.n_landmarks {
-            None => (None, graph.all_pairs()),
+            None => (None, graph.geodesics_from(&(0..n).collect::<Vec<_>>())),
             Some(m) => {
-                let (idx, geo) = graph.maxmin_landmarks(m);
+                let idx = graph.maxmin_landmarks(m);
+                let geo = graph.geodesics_from(&idx);
                 (Some(idx), geo)
             }
         };
         // Landmark-to-landmark geodesics (exact: all pairs), symmetrised.
         let lm = |a: usize| landmarks.as_ref().map_or(a, |v| v[a]);
-        let mds = Mds::fit(m, |a, b| geodesic[lm(a) * m + b], l)?;
+        let mds = Mds::fit(m, |a, b| geodesic[a * n + lm(b)], l)?;
 
         let mut model = Self {
             n_neighbors: k,
@@ -221,7 +225,9 @@ impl Isomap {
             out.par_chunks_mut(l).enumerate().for_each_init(
                 || vec![0.0; m],
                 |dg, (i, o)| {
-                    dg.copy_from_slice(&model.geodesic[i * m..(i + 1) * m]);
+                    for (c, g) in dg.iter_mut().enumerate() {
+                        *g = model.geodesic[c * n + i];
+                    }
                     model.project(dg, o);
                 },
             );
@@ -247,18 +253,18 @@ impl Isomap {
         if q == 0 {
             return Ok(Mat::zeros(0, l));
         }
-        let m = self.k_col_means.len();
+        let (n, m) = (self.train.nrows(), self.k_col_means.len());
         let nb = k_nearest(x, self.train.as_ref(), k, false);
         let mut out = vec![0.0; q * l];
         out.par_chunks_mut(l).enumerate().for_each_init(
             || vec![0.0; m],
             |dg, (i, o)| {
-                dg.fill(f64::INFINITY);
-                for t in 0..k {
-                    let (j, dj) = (nb.idx[i * k + t], nb.dist[i * k + t]);
-                    for (g, &r) in dg.iter_mut().zip(&self.geodesic[j * m..(j + 1) * m]) {
-                        *g = g.min(dj + r);
-                    }
+                let (idx, dist) = (&nb.idx[i * k..(i + 1) * k], &nb.dist[i * k..(i + 1) * k]);
+                for (g, row) in dg.iter_mut().zip(self.geodesic.chunks_exact(n)) {
+                    *g = idx
+                        .iter()
+                        .zip(dist)
+                        .fold(f64::INFINITY, |acc, (&j, &dj)| acc.min(dj + row[j]));
                 }
                 self.project(dg, o);
             },
@@ -279,9 +285,13 @@ impl Isomap {
 
     /// Geodesic distances (`n x m`): entry `(i, c)` is `d_G(x_i, landmark_c)`; the exact
     /// method's full `n x n` matrix (sklearn's `dist_matrix_`) when there are no landmarks.
+    /// Empty (`0 x 0`) for a model whose fields disagree in size.
     pub fn geodesic_distances(&self) -> MatRef<'_, f64> {
-        let m = self.k_col_means.len();
-        MatRef::from_row_major_slice(&self.geodesic, self.geodesic.len() / m.max(1), m)
+        let (n, m) = (self.train.nrows(), self.k_col_means.len());
+        if n.checked_mul(m) != Some(self.geodesic.len()) {
+            return MatRef::from_row_major_slice(&[], 0, 0);
+        }
+        MatRef::from_row_major_slice(&self.geodesic, m, n).transpose()
     }
 
     /// Landmark indices into the training rows, in MaxMin order (`None` for exact Isomap).
@@ -498,10 +508,10 @@ fn orthonormal_complement(v: MatRef<'_, f64>, mut w: Mat<f64>) -> Mat<f64> {
 /// pairs (the next block-Krylov directions), Rayleigh-Ritz on `V' A V` each step, and on
 /// reaching `5 b` columns is cut back to the top `2 b` Ritz vectors. Every product with `a`
 /// is a matrix-matrix product (one pass over the `n x n` kernel serves `b` vectors).
-/// Accepted when every wanted Ritz pair has `|A u - theta u| <= 1e-11 max|theta|`; `None`
-/// when that takes more than `n / 2` products (then a dense method is as cheap).
+/// Accepted when every wanted Ritz pair has `|A u - theta u| <= 1e-12 max|theta|`; `None`
+/// when that takes more than `max(n / 2, 40 b)` products (a dense method is then as cheap).
 fn thick_restart_lanczos(a: MatRef<'_, f64>, k: usize, b: usize) -> Option<dense::SymEigen> {
-    const TOL: f64 = 1e-11;
+    const TOL: f64 = 1e-12;
     let n = a.nrows();
     let (max_basis, keep) = (5 * b, 2 * b);
     let start = wscg_math::rng::normal_vec(0x1504_a9e5, n * b, 0.0, 1.0).ok()?;
@@ -509,7 +519,7 @@ fn thick_restart_lanczos(a: MatRef<'_, f64>, k: usize, b: usize) -> Option<dense
     let mut v = Mat::<f64>::zeros(n, 0);
     let mut av = Mat::<f64>::zeros(n, 0);
     let mut products = 0;
-    while products <= n / 2 {
+    while products <= (n / 2).max(40 * b) {
         let q = orthonormal_complement(v.as_ref(), w);
         if q.ncols() == 0 {
             return None;
@@ -579,8 +589,8 @@ fn row_sq_norms(x: MatRef<'_, f64>) -> Vec<f64> {
 /// Brute-force `k` nearest neighbours of the rows of `query` among the rows of `train`
 /// (`k <= train.nrows()`, minus one with `exclude_self`, which skips `train` row `i` for
 /// query row `i`). Candidates come from `|q|^2 + |x|^2 - 2 q.x` (one matrix product per
-/// block of queries, queries in parallel); the `k` selected distances are then recomputed
-/// directly and sorted (ties by index).
+/// block of queries, queries in parallel, a bounded sorted buffer per query); the `k`
+/// selected distances are then recomputed directly and sorted (ties by index).
 fn k_nearest(
     query: MatRef<'_, f64>,
     train: MatRef<'_, f64>,
@@ -607,14 +617,18 @@ fn k_nearest(
             .for_each(|(b, (ib, db))| {
                 let i = start + b;
                 let gb = g.col_as_slice(b);
-                let mut cand: Vec<(f64, usize)> = gb
-                    .iter()
-                    .enumerate()
-                    .filter(|&(j, _)| !(exclude_self && j == i))
-                    .map(|(j, &gij)| ((tsq[j] + qsq[i] - 2.0 * gij).max(0.0), j))
-                    .collect();
-                if cand.len() > k {
-                    cand.select_nth_unstable_by(k - 1, order);
+                // The k smallest (d^2, j), sorted; j increases, so ties keep the lower index.
+                let mut cand: Vec<(f64, usize)> = Vec::with_capacity(k + 1);
+                for (j, &gij) in gb.iter().enumerate() {
+                    if exclude_self && j == i {
+                        continue;
+                    }
+                    let d2 = (tsq[j] + qsq[i] - 2.0 * gij).max(0.0);
+                    if cand.len() == k && d2 >= cand[k - 1].0 {
+                        continue;
+                    }
+                    let at = cand.partition_point(|c| c.0 <= d2);
+                    cand.insert(at, (d2, j));
                     cand.truncate(k);
                 }
                 for c in cand.iter_mut() {
@@ -644,32 +658,98 @@ struct Graph {
     weights: Vec<f64>,
 }
 
-/// Heap entry of Dijkstra's algorithm, ordered so that `BinaryHeap` pops the smallest
-/// distance first.
-struct Item {
-    dist: f64,
-    node: usize,
+/// Marks a node that is not in the [`NodeHeap`].
+const NOT_IN_HEAP: usize = usize::MAX;
+
+/// Scratch of [`Graph::dijkstra`]: a binary min-heap of nodes keyed by their tentative
+/// distance (ties by node index), with every node's heap position for decrease-key, so
+/// the heap never holds more than `n` entries.
+#[derive(Default)]
+struct NodeHeap {
+    heap: Vec<usize>,
+    pos: Vec<usize>,
 }
 
-impl Ord for Item {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .dist
-            .total_cmp(&self.dist)
-            .then(other.node.cmp(&self.node))
+impl NodeHeap {
+    /// Empties the heap for a graph of `n` nodes (a finished search leaves every `pos` at
+    /// `NOT_IN_HEAP`, so only a size change costs `O(n)`).
+    fn reset(&mut self, n: usize) {
+        self.heap.clear();
+        if self.pos.len() != n {
+            self.pos.clear();
+            self.pos.resize(n, NOT_IN_HEAP);
+        }
+    }
+
+    fn less(dist: &[f64], a: usize, b: usize) -> bool {
+        dist[a] < dist[b] || (dist[a] == dist[b] && a < b)
+    }
+
+    fn sift_up(&mut self, dist: &[f64], mut i: usize) {
+        let v = self.heap[i];
+        while i > 0 {
+            let p = (i - 1) / 2;
+            let u = self.heap[p];
+            if !Self::less(dist, v, u) {
+                break;
+            }
+            self.heap[i] = u;
+            self.pos[u] = i;
+            i = p;
+        }
+        self.heap[i] = v;
+        self.pos[v] = i;
+    }
+
+    fn sift_down(&mut self, dist: &[f64], mut i: usize) {
+        let len = self.heap.len();
+        let v = self.heap[i];
+        loop {
+            let l = 2 * i + 1;
+            if l >= len {
+                break;
+            }
+            let r = l + 1;
+            let c = if r < len && Self::less(dist, self.heap[r], self.heap[l]) {
+                r
+            } else {
+                l
+            };
+            let u = self.heap[c];
+            if !Self::less(dist, u, v) {
+                break;
+            }
+            self.heap[i] = u;
+            self.pos[u] = i;
+            i = c;
+        }
+        self.heap[i] = v;
+        self.pos[v] = i;
+    }
+
+    /// Inserts `v`, or moves it up after `dist[v]` decreased.
+    fn push_or_decrease(&mut self, dist: &[f64], v: usize) {
+        let i = if self.pos[v] == NOT_IN_HEAP {
+            self.heap.push(v);
+            self.heap.len() - 1
+        } else {
+            self.pos[v]
+        };
+        self.sift_up(dist, i);
+    }
+
+    /// Removes and returns the node of smallest distance.
+    fn pop(&mut self, dist: &[f64]) -> Option<usize> {
+        let top = *self.heap.first()?;
+        let last = self.heap.pop()?;
+        self.pos[top] = NOT_IN_HEAP;
+        if !self.heap.is_empty() {
+            self.heap[0] = last;
+            self.sift_down(dist, 0);
+        }
+        Some(top)
     }
 }
-impl PartialOrd for Item {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl PartialEq for Item {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-impl Eq for Item {}
 
 impl Graph {
     /// The symmetric kNN graph: edge `i - j` if either is among the other's neighbours,
@@ -737,67 +817,65 @@ impl Graph {
     }
 
     /// Shortest-path distances from `source` into `dist` (length `n`; unreachable: inf).
-    fn dijkstra(&self, source: usize, dist: &mut [f64], heap: &mut BinaryHeap<Item>) {
+    fn dijkstra(&self, source: usize, dist: &mut [f64], heap: &mut NodeHeap) {
         dist.fill(f64::INFINITY);
-        heap.clear();
+        self.lower_from(source, dist, heap);
+    }
+
+    /// Lowers `dist[v]` to `min(dist[v], d_G(source, v))` for every node: Dijkstra seeded
+    /// with the current `dist` as upper bounds, so it only visits the nodes it improves.
+    /// That is exact: a path from `source` to `v` through a node `u` it cannot improve is no
+    /// shorter than `dist[u] + d_G(u, v) >= dist[v]` when `dist` holds distances to a set of
+    /// earlier sources (MaxMin) or infinity (plain Dijkstra).
+    fn lower_from(&self, source: usize, dist: &mut [f64], heap: &mut NodeHeap) {
+        heap.reset(dist.len());
         dist[source] = 0.0;
-        heap.push(Item {
-            dist: 0.0,
-            node: source,
-        });
-        while let Some(Item { dist: d, node: v }) = heap.pop() {
-            if d > dist[v] {
-                continue;
-            }
+        heap.push_or_decrease(dist, source);
+        while let Some(v) = heap.pop(dist) {
+            let d = dist[v];
             let (lo, hi) = (self.offsets[v], self.offsets[v + 1]);
             for (&u, &w) in self.targets[lo..hi].iter().zip(&self.weights[lo..hi]) {
+                // Weights are >= 0, so a settled node is never improved (nor re-queued).
                 let nd = d + w;
                 if nd < dist[u] {
                     dist[u] = nd;
-                    heap.push(Item { dist: nd, node: u });
+                    heap.push_or_decrease(dist, u);
                 }
             }
         }
     }
 
-    /// All-pairs geodesics, row-major `n x n` (Dijkstra from every node, in parallel).
-    fn all_pairs(&self) -> Vec<f64> {
+    /// Geodesics from each of `sources` to every node, row-major `sources.len() x n`
+    /// (Dijkstra per source, sources in parallel).
+    fn geodesics_from(&self, sources: &[usize]) -> Vec<f64> {
         let n = self.n();
-        let mut geo = vec![0.0; n * n];
+        let mut geo = vec![0.0; sources.len() * n];
         geo.par_chunks_mut(n)
-            .enumerate()
-            .for_each_init(BinaryHeap::new, |heap, (s, row)| {
+            .zip(sources.par_iter())
+            .for_each_init(NodeHeap::default, |heap, (row, &s)| {
                 self.dijkstra(s, row, heap)
             });
         geo
     }
 
-    /// `m` landmarks by geodesic MaxMin from node 0, and the geodesics from every node to
-    /// them, row-major `n x m`.
-    fn maxmin_landmarks(&self, m: usize) -> (Vec<usize>, Vec<f64>) {
+    /// `m` landmarks by geodesic MaxMin: node 0 first, then repeatedly the node farthest
+    /// from the chosen ones (ties to the lowest index). Each step only runs the pruned
+    /// search of [`Graph::lower_from`], so the choice costs far less than the `m` full
+    /// Dijkstra runs that follow it (in parallel, in [`Graph::geodesics_from`]).
+    fn maxmin_landmarks(&self, m: usize) -> Vec<usize> {
         let n = self.n();
-        let mut geo = vec![0.0; n * m];
         let mut nearest = vec![f64::INFINITY; n];
         let mut chosen = vec![false; n];
-        let mut row = vec![0.0; n];
-        let mut heap = BinaryHeap::new();
+        let mut heap = NodeHeap::default();
         let mut landmarks = Vec::with_capacity(m);
         let mut next = 0;
-        for c in 0..m {
+        for _ in 0..m {
             landmarks.push(next);
             chosen[next] = true;
-            self.dijkstra(next, &mut row, &mut heap);
-            for ((g, near), &r) in geo.chunks_mut(m).zip(nearest.iter_mut()).zip(&row) {
-                g[c] = r;
-                *near = near.min(r);
-            }
+            self.lower_from(next, &mut nearest, &mut heap);
             let mut best: Option<usize> = None;
             for (i, (&near, &taken)) in nearest.iter().zip(&chosen).enumerate() {
-                let better = match best {
-                    None => true,
-                    Some(b) => near > nearest[b],
-                };
-                if !taken && better {
+                if !taken && best.is_none_or(|b| near > nearest[b]) {
                     best = Some(i);
                 }
             }
@@ -805,7 +883,7 @@ impl Graph {
                 next = b;
             }
         }
-        (landmarks, geo)
+        landmarks
     }
 }
 
@@ -974,6 +1052,37 @@ mod tests {
     }
 
     #[test]
+    fn thick_restart_lanczos_matches_dense_eigh() {
+        // Symmetric, indefinite, slowly decaying spectrum with a near-tie at the cut.
+        let n = 300;
+        let g = wscg_math::rng::normal_vec(4, n * n, 0.0, 1.0).unwrap();
+        let q = Mat::from_fn(n, n, |i, j| g[i * n + j])
+            .qr()
+            .compute_thin_Q();
+        let lam: Vec<f64> = (0..n)
+            .map(|i| match i {
+                8 => 10.0 / 9.0 + 1e-3,
+                _ => 10.0 / (1.0 + i as f64) - 0.5,
+            })
+            .collect();
+        let a = Mat::from_fn(n, n, |i, j| {
+            (0..n).map(|t| q[(i, t)] * lam[t] * q[(j, t)]).sum::<f64>()
+        });
+        let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+        let k = 9;
+        let e = thick_restart_lanczos(a.as_ref(), k, k + 8).expect("converges");
+        let full = dense::eigh(a.as_ref()).unwrap();
+        for c in 0..k {
+            let want = full.values[n - 1 - c];
+            assert!((e.values[c] - want).abs() < 1e-11 * lam[0], "{c}");
+            let cos: f64 = (0..n)
+                .map(|i| e.vectors[(i, c)] * full.vectors[(i, n - 1 - c)])
+                .sum();
+            assert!(1.0 - cos.abs() < 1e-12, "{c}: {cos}");
+        }
+    }
+
+    #[test]
     fn transform_of_training_points_reproduces_embedding() {
         let (x, t) = swiss_roll(800, 21);
         let iso = Isomap::fit(x.as_ref(), &params(6, 3, None)).unwrap();
@@ -1045,6 +1154,7 @@ mod tests {
         let mut bad = iso.clone();
         bad.geodesic.pop();
         assert!(bad.transform(x.as_ref()).is_err());
+        assert_eq!(bad.geodesic_distances().nrows(), 0);
         let p = IsomapParams::default();
         assert_eq!((p.n_neighbors, p.n_components, p.n_landmarks), (8, 9, None));
     }
