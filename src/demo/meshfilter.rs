@@ -14,7 +14,7 @@ use wscg_meshfilter::sweep::{sweep, Setting};
 use wscg_meshfilter::synth::{
     add_noise, cad_part, colored_cube, cube_edge_band, FILLET_CENTER, FILLET_PATCH, NOISE_SEED,
 };
-use wscg_meshfilter::{jbmd_trace, JbmdParams};
+use wscg_meshfilter::{jbmd, jbmd_trace, JbmdParams};
 
 use super::figures::{line_plot, montage, shaded_meshes, Series, Shape};
 use super::{Demo, Figure, Report, Row};
@@ -267,16 +267,15 @@ fn cad_rows(rep: &mut Report, out: &Path) -> Result<()> {
         iterations: ITERS,
         ..JbmdParams::from_mvd(mvd)
     };
-    let (x, _) = jbmd_trace(&noisy, &p, |_, _, _| {})?;
+    let x = jbmd(&noisy, &p)?;
     row("noisy input", &noisy.positions)?;
     row("JBMD", &x)?;
-    let (nc, _) = jbmd_trace(
+    let nc = jbmd(
         &noisy,
         &JbmdParams {
             use_color: false,
             ..p
         },
-        |_, _, _| {},
     )?;
     row("JBMD without colour", &nc)?;
     let me = |x: &[[f64; 3]]| mean_error(x, &gt.positions).unwrap_or(f64::INFINITY);

@@ -13,7 +13,7 @@
 
 use rayon::prelude::*;
 
-use crate::error::{Error, Result};
+use crate::error::{ensure_finite, Error, Result};
 use crate::vec3::dist2;
 
 /// Leaves hold at most this many points.
@@ -167,12 +167,7 @@ impl KdTree {
         if points.len() >= NONE as usize {
             return Err(Error::invalid("points", "too many for a kd-tree"));
         }
-        if let Some(i) = points.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-            return Err(Error::NonFinite {
-                name: "points",
-                index: 3 * i,
-            });
-        }
+        ensure_finite("points", points.as_flattened())?;
         let n = points.len();
         let mut ids: Vec<u32> = (0..n as u32).collect();
         let mut nodes = vec![

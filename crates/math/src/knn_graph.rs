@@ -10,7 +10,7 @@
 
 use rayon::prelude::*;
 
-use crate::error::{Error, Result};
+use crate::error::{ensure_finite, Error, Result};
 use crate::knn::Best;
 use crate::vec3::dist2;
 
@@ -38,12 +38,7 @@ pub fn knn_graph(points: &[[f64; 3]], k: usize) -> Result<Vec<u32>> {
     if n >= u32::MAX as usize {
         return Err(Error::invalid("points", "too many for a neighbour graph"));
     }
-    if let Some(i) = points.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-        return Err(Error::NonFinite {
-            name: "points",
-            index: 3 * i,
-        });
-    }
+    ensure_finite("points", points.as_flattened())?;
     if k == 0 || k >= n {
         return Err(Error::invalid(
             "k",

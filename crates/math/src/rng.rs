@@ -80,15 +80,19 @@ pub fn uniform_vec(seed: u64, n: usize, lo: f64, hi: f64) -> Result<Vec<f64>> {
     Ok(par_fill(seed, n, |r| r.random_range(lo..hi)))
 }
 
-/// A uniformly random permutation of `0..n` (Fisher-Yates).
+/// A uniformly random permutation of `0..n`.
 pub fn permutation(seed: u64, n: usize) -> Vec<usize> {
-    let mut r = seeded(seed);
     let mut p: Vec<usize> = (0..n).collect();
-    for i in (1..n).rev() {
-        let j = r.random_range(0..=i);
-        p.swap(i, j);
-    }
+    shuffle(&mut p, &mut seeded(seed));
     p
+}
+
+/// Shuffles `v` in place (Fisher-Yates, from the last element down).
+pub fn shuffle<T>(v: &mut [T], r: &mut Rng) {
+    for i in (1..v.len()).rev() {
+        let j = r.random_range(0..=i);
+        v.swap(i, j);
+    }
 }
 
 #[cfg(test)]

@@ -101,14 +101,11 @@ def _kernel_spec(kernel, sigma, sigma_scale, degree, gamma, coef0) -> dict:
     }
 
 
-class _Subspace:
-    """Shared estimator machinery; subclasses set ``_method`` and ``_param_names`` and
-    define ``_spec()``, the parameters passed to the native ``fit``."""
+class _Params:
+    """The scikit-learn parameter protocol over the names in ``_param_names``."""
 
-    _method = ""
     _param_names: Tuple[str, ...] = ()
 
-    # -- scikit-learn parameter protocol
     def get_params(self, deep: bool = True) -> dict:
         """The constructor parameters (scikit-learn protocol)."""
         return {k: getattr(self, k) for k in self._param_names}
@@ -124,6 +121,13 @@ class _Subspace:
     def __repr__(self) -> str:
         args = ", ".join(f"{k}={getattr(self, k)!r}" for k in self._param_names)
         return f"{type(self).__name__}({args})"
+
+
+class _Subspace(_Params):
+    """Shared estimator machinery; subclasses set ``_method`` and ``_param_names`` and
+    define ``_spec()``, the parameters passed to the native ``fit``."""
+
+    _method = ""
 
     # -- fitting
     def fit(self, X, y=None):
@@ -626,20 +630,10 @@ def split_per_subject(labels, train_per_subject: int, seed: int = 0
 _OBJECTIVES = ("within_minus_out", "within")
 
 
-class _SFAClassifier:
+class _SFAClassifier(_Params):
     """Shared plumbing of :class:`PerClassSFA` and :class:`GlobalSFA`."""
 
     _global = False
-
-    def get_params(self, deep: bool = True) -> dict:
-        return {k: getattr(self, k) for k in self._param_names}
-
-    def set_params(self, **params):
-        for k, v in params.items():
-            if k not in self._param_names:
-                raise ValueError(f"unknown parameter {k!r}")
-            setattr(self, k, v)
-        return self
 
     def _fit(self, X, y, m: int, gamma, rule):
         X, _ = _matrix(X)
@@ -784,11 +778,13 @@ class GlobalSFA(_SFAClassifier):
         return self._fitted().responses(X, 0)
 
 
-class TemporalSFA:
+class TemporalSFA(_Params):
     """Temporal slow feature analysis (Wiskott and Sejnowski 2002; paper 05, section 2.1):
     the ``n_components`` slowest, decorrelated, unit-variance functions of the (quadratically
     expanded, ``degree=2``) signal ``X`` with one time step per row. ``delta_values_`` are
     the slowness values, ascending."""
+
+    _param_names = ("n_components", "degree", "include_linear", "rank_tol")
 
     def __init__(self, n_components: int = 2, degree: int = 2, include_linear: bool = True,
                  rank_tol: float = 1e-10):
@@ -814,10 +810,12 @@ class TemporalSFA:
         return self.fit(X).transform(X)
 
 
-class KNN:
+class KNN(_Params):
     """k-nearest-neighbour classifier (Euclidean, majority vote) of paper 05's baselines.
     Ties of the vote go to the class with the nearest member (``tie="nearest"``) or to the
     smallest label (``tie="smallest"``, as scikit-learn's ``KNeighborsClassifier``)."""
+
+    _param_names = ("k", "tie")
 
     def __init__(self, k: int = 5, tie: str = "nearest"):
         self.k, self.tie = k, tie

@@ -33,7 +33,8 @@ use serde::{Deserialize, Serialize};
 use wscg_math::{Error, Result};
 
 use super::expansion::QuadraticExpansion;
-use super::scatter::{map_blocks, symmetrized, ClassMoments, Whitening};
+use super::scatter::{project_blocks, symmetrized, ClassMoments, Whitening};
+use crate::subspace::classify::check_labels;
 use crate::subspace::{check_data, check_query, Pca, Projector};
 
 /// The objective minimised per class.
@@ -101,15 +102,11 @@ impl ClassSfaConfig {
 
 /// Validated training data: labels, classes with enough rows.
 pub(crate) fn check_training(x: MatRef<'_, f64>, y: &[u32], min_per_class: usize) -> Result<()> {
-    super::temporal::nonempty(x)?;
-    check_data("x", x, 2)?;
-    if y.len() != x.nrows() {
-        return Err(Error::ShapeMismatch(format!(
-            "{} labels for {} rows",
-            y.len(),
-            x.nrows()
-        )));
+    if x.nrows() == 0 {
+        return Err(Error::Empty("x"));
     }
+    check_data("x", x, 2)?;
+    check_labels(x, y)?;
     let (classes, rows) = super::scatter::group_labels(y);
     if classes.len() < 2 {
         return Err(Error::invalid("y", "needs at least 2 classes"));
@@ -242,30 +239,23 @@ impl PerClassSfa {
         self.pca.input_dim()
     }
 
-    /// The centred responses `z W - offsets` of every row to every class's functions
-    /// (`n x C m`), blocks of rows in parallel.
-    fn all_responses(&self, x: MatRef<'_, f64>) -> Result<Mat<f64>> {
+    /// The centred responses `z W - offsets` of every row to the functions in columns
+    /// `cols` of [`Self::w`], blocks of rows in parallel.
+    fn responses_of(&self, x: MatRef<'_, f64>, cols: std::ops::Range<usize>) -> Result<Mat<f64>> {
         check_query(x, self.input_dim())?;
         let xp = self.pca.transform(x)?;
-        let parts = map_blocks(xp.as_ref(), self.config.expansion, |z| &z * &self.w);
-        let cols = self.w.ncols();
-        let mut out = Mat::<f64>::zeros(x.nrows(), cols);
-        let mut row = 0;
-        for p in parts {
-            for i in 0..p.nrows() {
-                for j in 0..cols {
-                    out[(row + i, j)] = p[(i, j)] - self.offsets[j];
-                }
-            }
-            row += p.nrows();
+        let w = self.w.as_ref().subcols(cols.start, cols.len());
+        let mut r = project_blocks(xp.as_ref(), self.config.expansion, w);
+        for (j, o) in self.offsets[cols].iter().enumerate() {
+            r.col_mut(j).iter_mut().for_each(|v| *v -= o);
         }
-        Ok(out)
+        Ok(r)
     }
 
     /// `Var_C` (eq. 16) of every row for every class (`n x C`, columns in [`Self::classes`]
     /// order); smaller is better.
     pub fn decision_scores(&self, x: MatRef<'_, f64>) -> Result<Mat<f64>> {
-        let r = self.all_responses(x)?;
+        let r = self.responses_of(x, 0..self.w.ncols())?;
         let m = self.config.m_per_class;
         Ok(Mat::from_fn(x.nrows(), self.classes.len(), |i, c| {
             (0..m).map(|k| r[(i, c * m + k)].powi(2)).sum()
@@ -286,9 +276,8 @@ impl PerClassSfa {
             .classes
             .binary_search(&class)
             .map_err(|_| Error::invalid("class", format!("{class} is not a trained class")))?;
-        let r = self.all_responses(x)?;
         let m = self.config.m_per_class;
-        Ok(Mat::from_fn(x.nrows(), m, |i, k| r[(i, c * m + k)]))
+        self.responses_of(x, c * m..(c + 1) * m)
     }
 
     /// The model as JSON.

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use wscg_math::{dense, Error, Result};
 
 use super::class_sfa::{argmin_rows, check_training, fit_pca, whitened_objective, ClassSfaConfig};
-use super::scatter::{map_blocks, ClassMoments, Whitening};
+use super::scatter::{project_blocks, ClassMoments, Whitening};
 use crate::subspace::{check_query, Pca, Projector};
 
 /// How [`GlobalSfa`] turns its outputs into a class.
@@ -111,19 +111,11 @@ impl GlobalSfa {
     pub fn transform(&self, x: MatRef<'_, f64>) -> Result<Mat<f64>> {
         check_query(x, self.pca.input_dim())?;
         let xp = self.pca.transform(x)?;
-        let parts = map_blocks(xp.as_ref(), self.config.expansion, |z| &z * &self.w);
-        let k = self.w.ncols();
-        let mut out = Mat::<f64>::zeros(x.nrows(), k);
-        let mut row = 0;
-        for p in parts {
-            for i in 0..p.nrows() {
-                for j in 0..k {
-                    out[(row + i, j)] = p[(i, j)];
-                }
-            }
-            row += p.nrows();
-        }
-        Ok(out)
+        Ok(project_blocks(
+            xp.as_ref(),
+            self.config.expansion,
+            self.w.as_ref(),
+        ))
     }
 
     /// Per row and class the rule's score, smaller is better: `Var_C`, or the negative

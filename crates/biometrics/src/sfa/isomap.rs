@@ -53,6 +53,8 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use wscg_math::{dense, Error, Result};
 
+use super::neighbours::{k_nearest, Neighbours};
+use crate::subspace::kernel::center_kernel;
 use crate::subspace::{check_data, check_query, Projector};
 
 /// Largest training set accepted by exact Isomap (its `n x n` geodesic matrix is 200 MB at
@@ -400,15 +402,7 @@ impl Mds {
             let (u, v) = (dist(a, b), dist(b, a));
             -0.25 * (u * u + v * v)
         });
-        let col_means: Vec<f64> = (0..m)
-            .map(|j| k.col_as_slice(j).iter().sum::<f64>() / m as f64)
-            .collect();
-        let mean = col_means.iter().sum::<f64>() / m as f64;
-        for (j, cj) in col_means.iter().enumerate() {
-            for (i, ci) in col_means.iter().enumerate() {
-                k[(i, j)] += mean - ci - cj;
-            }
-        }
+        let (col_means, mean) = center_kernel(&mut k);
         if dense::check_matrix("kernel", k.as_ref()).is_err() {
             return Err(Error::invalid(
                 "x",
@@ -455,200 +449,13 @@ impl Mds {
 }
 
 /// The `k` largest eigenpairs (non-increasing) of the symmetric `a`: block Lanczos with
-/// thick restart ([`thick_restart_lanczos`]) when `a` is large enough, else (or when that
-/// does not converge) [`dense::eigh_largest`].
+/// thick restart ([`wscg_math::eigh_krylov::eigh_largest_restarted`]), or
+/// [`dense::eigh_largest`] for small kernels or when that does not converge.
 fn top_eigenpairs(a: MatRef<'_, f64>, k: usize) -> Result<dense::SymEigen> {
-    let b = k + 8;
-    if a.nrows() >= 8 * b {
-        if let Some(e) = thick_restart_lanczos(a, k, b) {
-            return Ok(e);
-        }
+    match wscg_math::eigh_krylov::eigh_largest_restarted(a, k) {
+        Some(e) => Ok(e),
+        None => dense::eigh_largest(a, k),
     }
-    dense::eigh_largest(a, k)
-}
-
-/// Joins the columns of `a` and `b`.
-fn hcat(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
-    let (n, p) = (a.nrows(), a.ncols());
-    let mut c = Mat::zeros(n, p + b.ncols());
-    c.as_mut().submatrix_mut(0, 0, n, p).copy_from(a);
-    c.as_mut().submatrix_mut(0, p, n, b.ncols()).copy_from(b);
-    c
-}
-
-/// Orthonormal basis of the part of `span(w)` orthogonal to the orthonormal columns of `v`
-/// (columns of `w` normalised, two Gram-Schmidt passes, thin QR; directions that vanish are
-/// dropped).
-fn orthonormal_complement(v: MatRef<'_, f64>, mut w: Mat<f64>) -> Mat<f64> {
-    for j in 0..w.ncols() {
-        let norm = w.col(j).norm_l2();
-        if norm > 0.0 {
-            for x in w.col_as_slice_mut(j) {
-                *x /= norm;
-            }
-        }
-    }
-    for _ in 0..2 {
-        if v.ncols() > 0 {
-            let c = v.transpose() * &w;
-            w -= v * c;
-        }
-    }
-    let qr = w.qr();
-    let r = qr.thin_R();
-    let q = qr.compute_thin_Q();
-    let keep: Vec<usize> = (0..r.ncols().min(r.nrows()))
-        .filter(|&i| r[(i, i)].abs() > 1e-8)
-        .collect();
-    Mat::from_fn(q.nrows(), keep.len(), |i, j| q[(i, keep[j])])
-}
-
-/// The `k` largest eigenpairs of the symmetric `a` by block Lanczos (block size `b > k`)
-/// with thick restart: the basis grows by the orthonormalised residuals of the top `b` Ritz
-/// pairs (the next block-Krylov directions), Rayleigh-Ritz on `V' A V` each step, and on
-/// reaching `5 b` columns is cut back to the top `2 b` Ritz vectors. Every product with `a`
-/// is a matrix-matrix product (one pass over the `n x n` kernel serves `b` vectors).
-/// Accepted when every wanted Ritz pair has `|A u - theta u| <= 1e-12 max|theta|`; `None`
-/// when that takes more than `max(n / 2, 40 b)` products (a dense method is then as cheap).
-fn thick_restart_lanczos(a: MatRef<'_, f64>, k: usize, b: usize) -> Option<dense::SymEigen> {
-    const TOL: f64 = 1e-12;
-    let n = a.nrows();
-    let (max_basis, keep) = (5 * b, 2 * b);
-    let start = wscg_math::rng::normal_vec(0x1504_a9e5, n * b, 0.0, 1.0).ok()?;
-    let mut w = Mat::from_fn(n, b, |i, j| start[i * b + j]);
-    let mut v = Mat::<f64>::zeros(n, 0);
-    let mut av = Mat::<f64>::zeros(n, 0);
-    let mut products = 0;
-    while products <= (n / 2).max(40 * b) {
-        let q = orthonormal_complement(v.as_ref(), w);
-        if q.ncols() == 0 {
-            return None;
-        }
-        products += q.ncols();
-        let aq = a * &q;
-        v = hcat(v.as_ref(), q.as_ref());
-        av = hcat(av.as_ref(), aq.as_ref());
-        let m = v.ncols();
-        let h = v.transpose() * &av;
-        let h = Mat::from_fn(m, m, |i, j| 0.5 * (h[(i, j)] + h[(j, i)]));
-        let e = dense::eigh(h.as_ref()).ok()?;
-        let norm = e
-            .values
-            .iter()
-            .fold(0.0f64, |acc, x| acc.max(x.abs()))
-            .max(f64::MIN_POSITIVE);
-        let s = b.min(m);
-        // Top s Ritz pairs, descending.
-        let y = Mat::from_fn(m, s, |i, j| e.vectors[(i, m - 1 - j)]);
-        let theta: Vec<f64> = (0..s).map(|j| e.values[m - 1 - j]).collect();
-        let u = &v * &y;
-        let mut r = &av * &y;
-        for (j, t) in theta.iter().enumerate() {
-            for (x, ux) in r.col_as_slice_mut(j).iter_mut().zip(u.col_as_slice(j)) {
-                *x -= t * ux;
-            }
-        }
-        let worst = (0..k.min(s))
-            .map(|j| r.col(j).norm_l2())
-            .fold(0.0f64, f64::max);
-        if s >= k && worst <= TOL * norm {
-            return Some(dense::SymEigen {
-                values: theta[..k].to_vec(),
-                vectors: u.as_ref().subcols(0, k).to_owned(),
-            });
-        }
-        if m + b > max_basis {
-            let keep = keep.min(m);
-            let yk = Mat::from_fn(m, keep, |i, j| e.vectors[(i, m - 1 - j)]);
-            v = &v * &yk;
-            av = &av * &yk;
-        }
-        w = r;
-    }
-    None
-}
-
-/// The `k` nearest training rows of each query row, row-major `q x k`, nearest first.
-struct Neighbours {
-    k: usize,
-    idx: Vec<usize>,
-    dist: Vec<f64>,
-}
-
-/// Squared Euclidean norms of the rows of `x`.
-fn row_sq_norms(x: MatRef<'_, f64>) -> Vec<f64> {
-    let mut s = vec![0.0; x.nrows()];
-    for j in 0..x.ncols() {
-        for (i, si) in s.iter_mut().enumerate() {
-            *si += x[(i, j)] * x[(i, j)];
-        }
-    }
-    s
-}
-
-/// Brute-force `k` nearest neighbours of the rows of `query` among the rows of `train`
-/// (`k <= train.nrows()`, minus one with `exclude_self`, which skips `train` row `i` for
-/// query row `i`). Candidates come from `|q|^2 + |x|^2 - 2 q.x` (one matrix product per
-/// block of queries, queries in parallel, a bounded sorted buffer per query); the `k`
-/// selected distances are then recomputed directly and sorted (ties by index).
-fn k_nearest(
-    query: MatRef<'_, f64>,
-    train: MatRef<'_, f64>,
-    k: usize,
-    exclude_self: bool,
-) -> Neighbours {
-    let (q, n, d) = (query.nrows(), train.nrows(), train.ncols());
-    let tsq = row_sq_norms(train);
-    let qsq = row_sq_norms(query);
-    let mut idx = vec![0usize; q * k];
-    let mut dist = vec![0.0; q * k];
-    // Blocks of at most ~4M Gram entries (32 MB).
-    let block = ((1usize << 22) / n.max(1)).clamp(16, 1024);
-    let order = |a: &(f64, usize), b: &(f64, usize)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
-    let mut start = 0;
-    while start < q {
-        let len = block.min(q - start);
-        let g = train * query.subrows(start, len).transpose(); // n x len
-        let range = start * k..(start + len) * k;
-        idx[range.clone()]
-            .par_chunks_mut(k)
-            .zip(dist[range].par_chunks_mut(k))
-            .enumerate()
-            .for_each(|(b, (ib, db))| {
-                let i = start + b;
-                let gb = g.col_as_slice(b);
-                // The k smallest (d^2, j), sorted; j increases, so ties keep the lower index.
-                let mut cand: Vec<(f64, usize)> = Vec::with_capacity(k + 1);
-                for (j, &gij) in gb.iter().enumerate() {
-                    if exclude_self && j == i {
-                        continue;
-                    }
-                    let d2 = (tsq[j] + qsq[i] - 2.0 * gij).max(0.0);
-                    if cand.len() == k && d2 >= cand[k - 1].0 {
-                        continue;
-                    }
-                    let at = cand.partition_point(|c| c.0 <= d2);
-                    cand.insert(at, (d2, j));
-                    cand.truncate(k);
-                }
-                for c in cand.iter_mut() {
-                    let s: f64 = (0..d)
-                        .map(|t| {
-                            let u = query[(i, t)] - train[(c.1, t)];
-                            u * u
-                        })
-                        .sum();
-                    c.0 = s.sqrt();
-                }
-                cand.sort_by(order);
-                for ((it, dt), &(dd, j)) in ib.iter_mut().zip(db.iter_mut()).zip(&cand) {
-                    *it = j;
-                    *dt = dd;
-                }
-            });
-        start += len;
-    }
-    Neighbours { k, idx, dist }
 }
 
 /// Undirected weighted graph in compressed sparse row form.
@@ -1048,37 +855,6 @@ mod tests {
                 let want = if a == b { iso.eigenvalues()[a] } else { 0.0 };
                 assert!((yty[(a, b)] - want).abs() < 1e-8 * iso.eigenvalues()[0]);
             }
-        }
-    }
-
-    #[test]
-    fn thick_restart_lanczos_matches_dense_eigh() {
-        // Symmetric, indefinite, slowly decaying spectrum with a near-tie at the cut.
-        let n = 300;
-        let g = wscg_math::rng::normal_vec(4, n * n, 0.0, 1.0).unwrap();
-        let q = Mat::from_fn(n, n, |i, j| g[i * n + j])
-            .qr()
-            .compute_thin_Q();
-        let lam: Vec<f64> = (0..n)
-            .map(|i| match i {
-                8 => 10.0 / 9.0 + 1e-3,
-                _ => 10.0 / (1.0 + i as f64) - 0.5,
-            })
-            .collect();
-        let a = Mat::from_fn(n, n, |i, j| {
-            (0..n).map(|t| q[(i, t)] * lam[t] * q[(j, t)]).sum::<f64>()
-        });
-        let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-        let k = 9;
-        let e = thick_restart_lanczos(a.as_ref(), k, k + 8).expect("converges");
-        let full = dense::eigh(a.as_ref()).unwrap();
-        for c in 0..k {
-            let want = full.values[n - 1 - c];
-            assert!((e.values[c] - want).abs() < 1e-11 * lam[0], "{c}");
-            let cos: f64 = (0..n)
-                .map(|i| e.vectors[(i, c)] * full.vectors[(i, n - 1 - c)])
-                .sum();
-            assert!(1.0 - cos.abs() < 1e-12, "{c}: {cos}");
         }
     }
 

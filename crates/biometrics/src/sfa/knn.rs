@@ -2,10 +2,11 @@
 //! distance, majority vote, and the confusion matrix in the layout of the paper's tables.
 
 use faer::{Mat, MatRef};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use wscg_math::{Error, Result};
 
+use super::neighbours::k_nearest;
+use crate::subspace::classify::check_labels;
 use crate::subspace::{check_data, check_query};
 
 /// How a tied vote is decided.
@@ -32,13 +33,7 @@ impl Knn {
     /// empty or non-finite rows.
     pub fn fit(x: MatRef<'_, f64>, y: &[u32], k: usize, tie: KnnTie) -> Result<Self> {
         check_data("x", x, 1)?;
-        if y.len() != x.nrows() {
-            return Err(Error::ShapeMismatch(format!(
-                "{} labels for {} rows",
-                y.len(),
-                x.nrows()
-            )));
-        }
+        check_labels(x, y)?;
         if k == 0 || k > x.nrows() {
             return Err(Error::invalid(
                 "k",
@@ -57,31 +52,14 @@ impl Knn {
     /// (distance ties by training index).
     pub fn predict(&self, x: MatRef<'_, f64>) -> Result<Vec<u32>> {
         check_query(x, self.train.ncols())?;
-        let n = self.train.nrows();
-        Ok((0..x.nrows())
-            .into_par_iter()
-            .map(|q| {
-                let mut d: Vec<(f64, usize)> = (0..n)
-                    .map(|i| {
-                        let d2: f64 = (0..x.ncols())
-                            .map(|j| (self.train[(i, j)] - x[(q, j)]).powi(2))
-                            .sum();
-                        (d2, i)
-                    })
-                    .collect();
-                d.select_nth_unstable_by(self.k - 1, |a, b| {
-                    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
-                });
-                let mut near = d[..self.k].to_vec();
-                near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                self.vote(&near)
-            })
-            .collect())
+        let nb = k_nearest(x, self.train.as_ref(), self.k, false);
+        Ok(nb.idx.chunks(self.k).map(|near| self.vote(near)).collect())
     }
 
-    fn vote(&self, near: &[(f64, usize)]) -> u32 {
+    /// The vote of the training rows `near`, nearest first.
+    fn vote(&self, near: &[usize]) -> u32 {
         let mut counts: Vec<(u32, usize, usize)> = Vec::new(); // (label, votes, first rank)
-        for (rank, &(_, i)) in near.iter().enumerate() {
+        for (rank, &i) in near.iter().enumerate() {
             let l = self.labels[i];
             match counts.iter_mut().find(|c| c.0 == l) {
                 Some(c) => c.1 += 1,

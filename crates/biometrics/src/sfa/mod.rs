@@ -8,6 +8,7 @@
 //! - [`global`]: SFA fitted once on all classes (Berkes 2005), the "Full dataset" row of
 //!   Table 1, with the variance and Gaussian decision rules.
 //! - [`knn`]: the k-NN baselines (Tables 4-6) and the confusion matrix.
+//! - [`neighbours`]: exact brute-force k-nearest rows (k-NN and Isomap).
 //! - [`isomap`]: Isomap (Tenenbaum 2000), exact and landmark, with out-of-sample
 //!   projection: the 9-D Isomap + kNN baseline of the paper's Table 6.
 //! - [`handpose`]: the synthetic hand-pose generator standing in for the private
@@ -19,6 +20,7 @@ pub mod global;
 pub mod handpose;
 pub mod isomap;
 pub mod knn;
+pub mod neighbours;
 pub mod scatter;
 pub mod temporal;
 

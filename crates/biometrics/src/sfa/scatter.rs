@@ -23,6 +23,10 @@ pub struct ClassMoments {
     pub sums: Vec<Vec<f64>>,
     /// Per-class second sums.
     pub second: Vec<Mat<f64>>,
+    /// First sums over all classes.
+    total_sum: Vec<f64>,
+    /// Second sums over all classes.
+    total_second: Mat<f64>,
 }
 
 /// Distinct labels, ascending, and the row indices of each.
@@ -52,20 +56,36 @@ fn blocks(
     }
 }
 
+/// The mean of `expand(x)` without expanding: the column means of `x` and, for the
+/// products, the entries of `x' x / N`, in the order of
+/// [`QuadraticExpansion::expand_row`].
+fn expanded_mean(x: MatRef<'_, f64>, e: Option<QuadraticExpansion>) -> Vec<f64> {
+    let n = x.nrows().max(1) as f64;
+    let d = x.ncols();
+    let means: Vec<f64> = (0..d).map(|j| x.col(j).iter().sum::<f64>() / n).collect();
+    let Some(e) = e else {
+        return means;
+    };
+    let g = x.transpose() * x;
+    let mut out = Vec::with_capacity(e.out_dim(d));
+    if e.include_linear {
+        out.extend_from_slice(&means);
+    }
+    for i in 0..d {
+        for j in i..d {
+            out.push(g[(i, j)] / n);
+        }
+    }
+    out
+}
+
 impl ClassMoments {
     /// Accumulates the moments of `expand(x)` per label of `y`, never holding more than
     /// [`CHUNK`] expanded rows.
     pub fn accumulate(x: MatRef<'_, f64>, y: &[u32], e: Option<QuadraticExpansion>) -> Self {
         let (classes, rows) = group_labels(y);
         let dim = e.map_or(x.ncols(), |e| e.out_dim(x.ncols()));
-        let all: Vec<usize> = (0..x.nrows()).collect();
-        let mut shift = vec![0.0; dim];
-        blocks(x, &all, e, |z| {
-            for (j, s) in shift.iter_mut().enumerate() {
-                *s += z.col(j).iter().sum::<f64>();
-            }
-        });
-        shift.iter_mut().for_each(|s| *s /= x.nrows().max(1) as f64);
+        let shift = expanded_mean(x, e);
         let mut sums = Vec::with_capacity(classes.len());
         let mut second = Vec::with_capacity(classes.len());
         for r in &rows {
@@ -85,12 +105,20 @@ impl ClassMoments {
             sums.push(s);
             second.push(symmetrized(m));
         }
+        let mut total_sum = vec![0.0; dim];
+        let mut total_second = Mat::<f64>::zeros(dim, dim);
+        for (sc, mc) in sums.iter().zip(&second) {
+            total_sum.iter_mut().zip(sc).for_each(|(a, b)| *a += b);
+            total_second += mc;
+        }
         Self {
             counts: rows.iter().map(Vec::len).collect(),
             classes,
             shift,
             sums,
             second,
+            total_sum,
+            total_second,
         }
     }
 
@@ -104,22 +132,9 @@ impl ClassMoments {
         self.counts.iter().sum()
     }
 
-    /// `(n, s, m)` summed over all classes.
-    fn pooled(&self) -> (usize, Vec<f64>, Mat<f64>) {
-        let dim = self.dim();
-        let mut s = vec![0.0; dim];
-        let mut m = Mat::<f64>::zeros(dim, dim);
-        for (sc, mc) in self.sums.iter().zip(&self.second) {
-            s.iter_mut().zip(sc).for_each(|(a, b)| *a += b);
-            m += mc;
-        }
-        (self.total(), s, m)
-    }
-
     /// The covariance of all rows (`1/N` normalisation).
     pub fn total_covariance(&self) -> Mat<f64> {
-        let (n, s, m) = self.pooled();
-        scatter(n, &s, &m)
+        scatter(self.total(), &self.total_sum, &self.total_second)
     }
 
     /// The mean of class `c` (index into [`Self::classes`]).
@@ -136,11 +151,11 @@ impl ClassMoments {
     /// mean difference `d = mu_c - mu_not` of class `c` (paper 05, eqs. 12-13 in closed
     /// form), with `pi_c = n_c / N`.
     pub fn class_terms(&self, c: usize) -> ClassTerms {
-        let (n, s, m) = self.pooled();
+        let (n, s, m) = (self.total(), &self.total_sum, &self.total_second);
         let nc = self.counts[c];
         let nn = n - nc;
         let s_not: Vec<f64> = s.iter().zip(&self.sums[c]).map(|(a, b)| a - b).collect();
-        let m_not = &m - &self.second[c];
+        let m_not = m - &self.second[c];
         let d = (0..self.dim())
             .map(|j| self.sums[c][j] / nc as f64 - if nn > 0 { s_not[j] / nn as f64 } else { 0.0 })
             .collect();
@@ -248,18 +263,26 @@ impl Whitening {
     }
 }
 
-/// Rows of `x` in parallel blocks, expanded, as `f(start, expanded block)` results in order.
-pub(crate) fn map_blocks<T: Send>(
+/// `expand(x) W` (`n x W.ncols()`), blocks of [`CHUNK`] rows expanded and multiplied in
+/// parallel, so the expanded rows are never all held at once.
+pub(crate) fn project_blocks(
     x: MatRef<'_, f64>,
     e: Option<QuadraticExpansion>,
-    f: impl Fn(Mat<f64>) -> T + Sync,
-) -> Vec<T> {
+    w: MatRef<'_, f64>,
+) -> Mat<f64> {
     let starts: Vec<usize> = (0..x.nrows()).step_by(CHUNK).collect();
-    starts
-        .into_par_iter()
-        .map(|s| {
-            let end = (s + CHUNK).min(x.nrows());
-            f(super::expansion::expand_opt(e, x.subrows(s, end - s)))
+    let parts: Vec<Mat<f64>> = starts
+        .par_iter()
+        .map(|&s| {
+            let len = CHUNK.min(x.nrows() - s);
+            super::expansion::expand_opt(e, x.subrows(s, len)) * w
         })
-        .collect()
+        .collect();
+    let mut out = Mat::<f64>::zeros(x.nrows(), w.ncols());
+    for (&s, p) in starts.iter().zip(&parts) {
+        out.as_mut()
+            .submatrix_mut(s, 0, p.nrows(), p.ncols())
+            .copy_from(p);
+    }
+    out
 }

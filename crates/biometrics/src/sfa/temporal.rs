@@ -15,7 +15,7 @@
 
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
-use wscg_math::{Error, Result};
+use wscg_math::Result;
 
 use super::expansion::{expand_opt, QuadraticExpansion};
 use super::scatter::{symmetrized, ClassMoments, Whitening};
@@ -95,14 +95,6 @@ impl TemporalSfa {
     pub fn delta_values(&self) -> &[f64] {
         &self.delta
     }
-}
-
-/// Rejects an empty input.
-pub(crate) fn nonempty(x: MatRef<'_, f64>) -> Result<()> {
-    if x.nrows() == 0 || x.ncols() == 0 {
-        return Err(Error::Empty("x"));
-    }
-    Ok(())
 }
 
 #[cfg(test)]

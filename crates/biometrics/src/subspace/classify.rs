@@ -23,7 +23,8 @@ pub enum Metric {
     Cosine,
 }
 
-fn check_labels(x: MatRef<'_, f64>, labels: &[u32]) -> Result<()> {
+/// Errors unless there is one label per row of `x` and at least one.
+pub(crate) fn check_labels(x: MatRef<'_, f64>, labels: &[u32]) -> Result<()> {
     if labels.len() != x.nrows() {
         return Err(Error::ShapeMismatch(format!(
             "{} labels for {} rows",

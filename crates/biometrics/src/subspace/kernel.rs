@@ -213,6 +213,23 @@ pub fn resolve(
 }
 
 /// The kernel matrix `K_ij = k(v_i, v_j)` from the Gram matrix of the vectors `v_i`.
+/// Double-centres the square symmetric kernel `k` in place, `K - 1K/N - K1/N + 1K1/N^2`
+/// (scikit-learn's `KernelCenterer`), and returns its column means and overall mean, which
+/// centre out-of-sample rows: `k_q - mean(k_q) - col_means + mean`.
+pub(crate) fn center_kernel(k: &mut Mat<f64>) -> (Vec<f64>, f64) {
+    let n = k.nrows();
+    let col_means: Vec<f64> = (0..n)
+        .map(|j| k.col_as_slice(j).iter().sum::<f64>() / n as f64)
+        .collect();
+    let mean = col_means.iter().sum::<f64>() / n as f64;
+    for (j, cj) in col_means.iter().enumerate() {
+        for (i, ci) in col_means.iter().enumerate() {
+            k[(i, j)] += mean - ci - cj;
+        }
+    }
+    (col_means, mean)
+}
+
 pub fn kernel_from_gram(gram: MatRef<'_, f64>, k: &ResolvedKernel) -> Mat<f64> {
     let n = gram.nrows();
     let diag: Vec<f64> = (0..n).map(|i| gram[(i, i)]).collect();

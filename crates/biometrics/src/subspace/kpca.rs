@@ -11,7 +11,9 @@ use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
 use wscg_math::{dense, Error, Result};
 
-use super::kernel::{cross_kernel, kernel_from_gram, resolve, Kernel, ResolvedKernel};
+use super::kernel::{
+    center_kernel, cross_kernel, kernel_from_gram, resolve, Kernel, ResolvedKernel,
+};
 use super::{check_components, check_data, check_query, from_columns, Projector};
 
 /// Training rows, the resolved kernel and the uncentred kernel matrix of a sample-kernel
@@ -68,12 +70,8 @@ impl KernelPca {
     pub fn fit(x: MatRef<'_, f64>, kernel: &Kernel, n_components: Option<usize>) -> Result<Self> {
         let sk = sample_kernel(x, kernel)?;
         let n = x.nrows();
-        let k = &sk.k;
-        let col_means: Vec<f64> = (0..n)
-            .map(|j| (0..n).map(|i| k[(i, j)]).sum::<f64>() / n as f64)
-            .collect();
-        let mean = col_means.iter().sum::<f64>() / n as f64;
-        let kc = Mat::from_fn(n, n, |i, j| k[(i, j)] - col_means[i] - col_means[j] + mean);
+        let mut kc = sk.k;
+        let (col_means, mean) = center_kernel(&mut kc);
         // With a requested l only the top l eigenpairs are computed (as scikit-learn's
         // "dense" solver does); otherwise all, to find the numerical rank.
         let e = match n_components {

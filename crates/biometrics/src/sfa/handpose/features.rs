@@ -47,8 +47,8 @@ use wscg_math::error::ensure_finite;
 use wscg_math::{Error, Result};
 
 use super::morphology::{
-    check_shape, convex_hull, hull_lattice_count, largest_component, max_defect_depth,
-    squared_distance_transform, trace_contour,
+    bounding_box, check_shape, convex_hull, hull_lattice_count, largest_component,
+    max_defect_depth, squared_distance_transform, trace_contour,
 };
 
 /// Number of physical features with depth (without depth: one fewer).
@@ -94,7 +94,8 @@ fn features_unchecked(mask: &[u8], depth: Option<&[f32]>, h: usize, w: usize) ->
     }
     // Work in the component's bounding box: the area outside the image is background for the
     // distance transform and the contour, so the crop changes nothing but the offsets.
-    let (ox, oy, cw, ch) = bounding_box(&full, h, w);
+    let (ox, x1, oy, y1) = bounding_box(&full, h, w, 0, |&m| m != 0).ok_or(Error::Empty("mask"))?;
+    let (cw, ch) = (x1 + 1 - ox, y1 + 1 - oy);
     let mut comp = Vec::with_capacity(cw * ch);
     for y in oy..oy + ch {
         comp.extend_from_slice(&full[y * w + ox..y * w + ox + cw]);
@@ -150,22 +151,6 @@ fn features_unchecked(mask: &[u8], depth: Option<&[f32]>, h: usize, w: usize) ->
         out.push(azimuth);
     }
     Ok(out)
-}
-
-/// `(x0, y0, width, height)` of the box holding the non-zero pixels of a non-empty mask.
-fn bounding_box(mask: &[u8], h: usize, w: usize) -> (usize, usize, usize, usize) {
-    let (mut x0, mut x1, mut y0, mut y1) = (w, 0, h, 0);
-    for y in 0..h {
-        let row = &mask[y * w..(y + 1) * w];
-        if let Some(first) = row.iter().position(|&m| m != 0) {
-            let last = row.iter().rposition(|&m| m != 0).unwrap_or(first);
-            x0 = x0.min(first);
-            x1 = x1.max(last);
-            y0 = y0.min(y);
-            y1 = y;
-        }
-    }
-    (x0, y0, x1 + 1 - x0, y1 + 1 - y0)
 }
 
 /// [`physical_features`] of `n` masks stored one after the other (`n x h x w`, with depth

@@ -96,7 +96,8 @@ use rayon::prelude::*;
 use wscg_math::rng::{self, Rng as SeededRng};
 use wscg_math::{Error, Result};
 
-use super::morphology::{check_shape, fill_holes, largest_component};
+use super::morphology::{bounding_box, check_shape, fill_holes, largest_component};
+use crate::sfa::scatter::group_labels;
 
 /// Names of the five poses, indexed by label.
 pub const CLASS_NAMES: [&str; 5] = ["FIST", "FLAT", "INDEX", "OPEN", "GRAB"];
@@ -686,29 +687,9 @@ fn render_frame(
     }
 }
 
-/// Inclusive box `(x0, x1, y0, y1)` of the finite entries of `z`, grown by `margin` and
-/// clipped to the image; `None` when there are none.
+/// Inclusive box `(x0, x1, y0, y1)` of the hand (finite depth) in `z`, grown by `margin`.
 fn hand_box(z: &[f32], h: usize, w: usize, margin: usize) -> Option<(usize, usize, usize, usize)> {
-    let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
-    for y in 0..h {
-        let row = &z[y * w..(y + 1) * w];
-        let Some(first) = row.iter().position(|v| v.is_finite()) else {
-            continue;
-        };
-        let last = row.iter().rposition(|v| v.is_finite()).unwrap_or(first);
-        x0 = x0.min(first);
-        x1 = x1.max(last);
-        y0 = y0.min(y);
-        y1 = y;
-    }
-    (x0 != usize::MAX).then(|| {
-        (
-            x0.saturating_sub(margin),
-            (x1 + margin).min(w - 1),
-            y0.saturating_sub(margin),
-            (y1 + margin).min(h - 1),
-        )
-    })
+    bounding_box(z, h, w, margin, |v| v.is_finite())
 }
 
 /// Generates the synthetic hand-pose data set (see the module docs), frames in parallel.
@@ -912,15 +893,12 @@ pub fn split_protocol(
 ) -> Result<Split> {
     data.check()?;
     let (h, w) = (data.height, data.width);
-    let mut classes: Vec<u32> = data.labels.clone();
-    classes.sort_unstable();
-    classes.dedup();
+    let (classes, frames) = group_labels(&data.labels);
     let mut r = rng::seeded(seed);
     let mut train = Vec::new();
     let mut test = Vec::new();
     let mut augment: Vec<(usize, f64)> = Vec::new();
-    for &c in &classes {
-        let mut idx: Vec<usize> = (0..data.len()).filter(|&i| data.labels[i] == c).collect();
+    for (&c, mut idx) in classes.iter().zip(frames) {
         if idx.len() <= test_per_class {
             return Err(Error::invalid(
                 "test_per_class",
@@ -939,11 +917,11 @@ pub fn split_protocol(
                 ),
             ));
         }
-        shuffle(&mut idx, &mut r);
+        rng::shuffle(&mut idx, &mut r);
         test.extend_from_slice(&idx[..test_per_class]);
         let mut tr = idx[test_per_class..].to_vec();
         train.extend_from_slice(&tr);
-        shuffle(&mut tr, &mut r);
+        rng::shuffle(&mut tr, &mut r);
         for &f in &tr[..augment_per_class] {
             let angle = r.random_range(10.0..=20.0);
             let sign = if r.random_bool(0.5) { 1.0 } else { -1.0 };
@@ -989,14 +967,6 @@ pub fn split_protocol(
         test_index: test,
         train_rotation: jobs.iter().map(|&(_, a)| a).collect(),
     })
-}
-
-/// Fisher-Yates shuffle.
-fn shuffle<T>(v: &mut [T], r: &mut SeededRng) {
-    for i in (1..v.len()).rev() {
-        let j = r.random_range(0..=i);
-        v.swap(i, j);
-    }
 }
 
 #[cfg(test)]
@@ -1098,6 +1068,24 @@ mod tests {
         .unwrap();
         assert_eq!(f.len(), 20 * 9);
         assert!(f.iter().all(|v| v.is_finite()));
+        // The extended index finger puts the fingertip far from the palm centre (in palm
+        // radii), the fist does not; spread fingers leave deeper convexity defects than a
+        // fist.
+        let mean = |class: usize, value: &dyn Fn(&[f64]) -> f64| {
+            (0..d.len())
+                .filter(|&i| d.labels[i] as usize == class)
+                .map(|i| value(&f[9 * i..9 * (i + 1)]))
+                .sum::<f64>()
+                / 4.0
+        };
+        let reach = |r: &[f64]| (r[0] - r[2]).hypot(r[1] - r[3]) / r[4];
+        let (fist, index, open) = (mean(0, &reach), mean(2, &reach), mean(3, &reach));
+        assert!(index > 1.5 * fist, "index {index} fist {fist}");
+        let (open_defect, fist_defect) = (mean(3, &|r| r[6]), mean(0, &|r| r[6]));
+        assert!(
+            open_defect > fist_defect,
+            "{open_defect} vs {fist_defect} (reach {open})"
+        );
     }
 
     #[test]

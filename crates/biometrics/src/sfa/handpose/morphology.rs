@@ -51,6 +51,38 @@ pub(crate) fn check_shape(name: &'static str, len: usize, h: usize, w: usize) ->
     }
 }
 
+/// Inclusive box `(x0, x1, y0, y1)` of the pixels of an `h x w` image (`v` row-major) for
+/// which `inside` holds, grown by `margin` and clipped to the image; `None` when there are
+/// none.
+pub fn bounding_box<T>(
+    v: &[T],
+    h: usize,
+    w: usize,
+    margin: usize,
+    inside: impl Fn(&T) -> bool,
+) -> Option<(usize, usize, usize, usize)> {
+    let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
+    for y in 0..h {
+        let row = &v[y * w..(y + 1) * w];
+        let Some(first) = row.iter().position(&inside) else {
+            continue;
+        };
+        let last = row.iter().rposition(&inside).unwrap_or(first);
+        x0 = x0.min(first);
+        x1 = x1.max(last);
+        y0 = y0.min(y);
+        y1 = y;
+    }
+    (x0 != usize::MAX).then(|| {
+        (
+            x0.saturating_sub(margin),
+            (x1 + margin).min(w - 1),
+            y0.saturating_sub(margin),
+            (y1 + margin).min(h - 1),
+        )
+    })
+}
+
 /// The largest 8-connected component of `mask` as a 0/1 mask, with its area in pixels.
 ///
 /// Ties go to the component reached first in row-major order. An empty mask gives an all-zero
