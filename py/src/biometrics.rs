@@ -13,7 +13,7 @@ use wscg_biometrics::subspace::{
 };
 use wscg_math::Error;
 
-use crate::convert::{array, mat, mat_out, values, Arr};
+use crate::convert::{array, mat, mat_map, mat_out, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// Reads an optional item of the spec dictionary.
@@ -110,7 +110,8 @@ fn metric_from(name: &str) -> PyResult<Metric> {
     }
 }
 
-fn labels_from(name: &str, a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<u32>> {
+/// A 1-D int64 label array as `u32` labels.
+pub(crate) fn labels_from(name: &str, a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<u32>> {
     if a.shape().len() != 1 {
         return Err(value_error(format!(
             "`{name}` must be a 1-D array, got shape {:?}",
@@ -187,9 +188,7 @@ impl PyModel {
         py: Python<'py>,
         x: PyReadonlyArrayDyn<f64>,
     ) -> PyResult<Arr<'py, f64>> {
-        let x = mat("x", &x)?;
-        let z = py.detach(|| self.inner.transform(x.as_ref())).py_err()?;
-        mat_out(py, &z)
+        mat_map(py, "x", &x, |x| self.inner.transform(x))
     }
 
     /// Maps projections back to image space (FDKECA, PCA).
@@ -198,11 +197,7 @@ impl PyModel {
         py: Python<'py>,
         y: PyReadonlyArrayDyn<f64>,
     ) -> PyResult<Arr<'py, f64>> {
-        let y = mat("y", &y)?;
-        let x = py
-            .detach(|| self.inner.inverse_transform(y.as_ref()))
-            .py_err()?;
-        mat_out(py, &x)
+        mat_map(py, "y", &y, |y| self.inner.inverse_transform(y))
     }
 
     /// The same model with its first `l` components.

@@ -91,6 +91,20 @@ pub fn mat_out<'py>(py: Python<'py>, m: &faer::Mat<f64>) -> PyResult<Arr<'py, f6
     array(py, &[r, c], v)
 }
 
+/// `f` applied to the 2-D float64 array `a` with the GIL released, its matrix result as a
+/// new numpy array; errors of either step as Python exceptions.
+pub fn mat_map<'py>(
+    py: Python<'py>,
+    name: &str,
+    a: &PyReadonlyArrayDyn<f64>,
+    f: impl FnOnce(faer::MatRef<'_, f64>) -> wscg_math::Result<faer::Mat<f64>> + Send,
+) -> PyResult<Arr<'py, f64>> {
+    use crate::errors::IntoPy;
+    let m = mat(name, a)?;
+    let out = py.detach(|| f(m.as_ref())).py_err()?;
+    mat_out(py, &out)
+}
+
 /// Rows of an `(N, 3)` array.
 pub fn rows3<T: Copy>(name: &str, a: &[T], shape: &[usize]) -> PyResult<Vec<[T; 3]>> {
     if shape.len() != 2 || shape[1] != 3 {

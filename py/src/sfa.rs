@@ -11,15 +11,9 @@ use wscg_biometrics::sfa::{
     PerClassSfa, QuadraticExpansion, TemporalSfa,
 };
 
-use crate::convert::{array, mat, mat_out, values, Arr};
+use crate::biometrics::labels_from;
+use crate::convert::{array, mat, mat_map, mat_out, Arr};
 use crate::errors::{value_error, IntoPy};
-
-fn codes(name: &str, a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<u32>> {
-    values(a)
-        .iter()
-        .map(|&v| u32::try_from(v).map_err(|_| value_error(format!("`{name}` holds {v}"))))
-        .collect()
-}
 
 fn expansion(degree: usize, include_linear: bool) -> PyResult<Option<QuadraticExpansion>> {
     match degree {
@@ -48,14 +42,10 @@ impl PySfa {
         py: Python<'py>,
         x: PyReadonlyArrayDyn<f64>,
     ) -> PyResult<Arr<'py, f64>> {
-        let x = mat("x", &x)?;
-        let s = py
-            .detach(|| match &self.inner {
-                Fitted::PerClass(m) => m.decision_scores(x.as_ref()),
-                Fitted::Global(m) => m.decision_scores(x.as_ref()),
-            })
-            .py_err()?;
-        mat_out(py, &s)
+        mat_map(py, "x", &x, |x| match &self.inner {
+            Fitted::PerClass(m) => m.decision_scores(x),
+            Fitted::Global(m) => m.decision_scores(x),
+        })
     }
 
     /// Predicted class codes.
@@ -78,12 +68,10 @@ impl PySfa {
         x: PyReadonlyArrayDyn<f64>,
         class_code: u32,
     ) -> PyResult<Arr<'py, f64>> {
-        let x = mat("x", &x)?;
-        let r = match &self.inner {
-            Fitted::PerClass(m) => py.detach(|| m.responses(x.as_ref(), class_code)).py_err()?,
-            Fitted::Global(m) => py.detach(|| m.transform(x.as_ref())).py_err()?,
-        };
-        mat_out(py, &r)
+        mat_map(py, "x", &x, |x| match &self.inner {
+            Fitted::PerClass(m) => m.responses(x, class_code),
+            Fitted::Global(m) => m.transform(x),
+        })
     }
 
     /// Eigenvalues: per class (class-wise) or of the shared functions, and the rank.
@@ -131,7 +119,7 @@ fn sfa_fit(
     rule: Option<&str>,
 ) -> PyResult<PySfa> {
     let x = mat("x", &x)?;
-    let y = codes("y", &y)?;
+    let y = labels_from("y", &y)?;
     let cfg = ClassSfaConfig {
         pca_dims,
         expansion: expansion(degree, include_linear)?,
@@ -172,9 +160,7 @@ impl PyTemporal {
         py: Python<'py>,
         x: PyReadonlyArrayDyn<f64>,
     ) -> PyResult<Arr<'py, f64>> {
-        let x = mat("x", &x)?;
-        let y = py.detach(|| self.inner.transform(x.as_ref())).py_err()?;
-        mat_out(py, &y)
+        mat_map(py, "x", &x, |x| self.inner.transform(x))
     }
 
     /// Delta values, ascending.
@@ -225,7 +211,11 @@ fn knn_predict<'py>(
             )))
         }
     };
-    let (train, test, y) = (mat("x", &train)?, mat("x_test", &test)?, codes("y", &y)?);
+    let (train, test, y) = (
+        mat("x", &train)?,
+        mat("x_test", &test)?,
+        labels_from("y", &y)?,
+    );
     let p = py
         .detach(|| Knn::fit(train.as_ref(), &y, k, tie).and_then(|m| m.predict(test.as_ref())))
         .py_err()?;
@@ -243,8 +233,8 @@ fn confusion_matrix<'py>(
 ) -> PyResult<Arr<'py, f64>> {
     let classes: Vec<u32> = (0..n_classes).collect();
     let m = confusion(
-        &codes("y_true", &y_true)?,
-        &codes("y_pred", &y_pred)?,
+        &labels_from("y_true", &y_true)?,
+        &labels_from("y_pred", &y_pred)?,
         &classes,
     )
     .py_err()?;
