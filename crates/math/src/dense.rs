@@ -1,5 +1,5 @@
-//! Dense linear algebra through faer: symmetric eigendecomposition (all, largest k,
-//! smallest k), thin SVD, minimum-norm least squares and the generalized symmetric-definite
+//! Dense linear algebra through faer: Gram matrices `X'X` (half the work of a general
+//! product), symmetric eigendecomposition (all, largest k, smallest k), thin SVD, minimum-norm least squares and the generalized symmetric-definite
 //! eigenproblem `A v = lambda B v`.
 //!
 //! Matrices are `faer::Mat<f64>` / `MatRef<f64>`. Every function checks that its input is
@@ -28,6 +28,71 @@ pub struct Svd {
     pub s: Vec<f64>,
     /// `n x r` right singular vectors.
     pub v: Mat<f64>,
+}
+
+/// Adds `alpha X'X` to the symmetric `acc` (`p x p` for `x` of `n x p`): only the lower
+/// triangle is computed (a symmetric rank-k update, half the flops of `x' * x`), then
+/// mirrored, so `acc` stays exactly symmetric.
+///
+/// # Panics
+/// When `acc` is not `p x p` (a programming error, not a data error).
+pub fn gram_accumulate(acc: &mut Mat<f64>, x: MatRef<'_, f64>, alpha: f64) {
+    use faer::linalg::matmul::triangular::{matmul, BlockStructure};
+    let p = x.ncols();
+    assert!(acc.nrows() == p && acc.ncols() == p, "gram_accumulate: acc is not p x p");
+    matmul(
+        acc.as_mut(),
+        BlockStructure::TriangularLower,
+        faer::Accum::Add,
+        x.transpose(),
+        BlockStructure::Rectangular,
+        x,
+        BlockStructure::Rectangular,
+        alpha,
+        faer::get_global_parallelism(),
+    );
+    for j in 1..p {
+        for i in 0..j {
+            acc[(i, j)] = acc[(j, i)];
+        }
+    }
+}
+
+/// `alpha (X - 1 mean')'(X - 1 mean)`, exactly symmetric: the scatter matrix of the rows of
+/// `x` about `mean` (`p` values). The rows are centred block by block into one reused buffer,
+/// so no centred copy of `x` is made.
+///
+/// # Panics
+/// When `mean.len() != x.ncols()`.
+pub fn centered_gram(x: MatRef<'_, f64>, mean: &[f64], alpha: f64) -> Mat<f64> {
+    use rayon::prelude::*;
+    let (n, p) = (x.nrows(), x.ncols());
+    assert_eq!(mean.len(), p, "centered_gram: mean has the wrong length");
+    let mut g = Mat::zeros(p, p);
+    // Blocks of about 2^22 values (32 MB).
+    let block = ((1usize << 22) / p.max(1)).clamp(64, n.max(64));
+    let mut buf = Mat::<f64>::zeros(block.min(n), p);
+    let mut start = 0;
+    while start < n {
+        let len = block.min(n - start);
+        let b = buf.as_mut().subrows_mut(0, len);
+        b.par_col_iter_mut().enumerate().for_each(|(j, c)| {
+            let src = x.col(j).subrows(start, len);
+            for (o, v) in c.iter_mut().zip(src.iter()) {
+                *o = v - mean[j];
+            }
+        });
+        gram_accumulate(&mut g, buf.as_ref().subrows(0, len), alpha);
+        start += len;
+    }
+    g
+}
+
+/// `alpha X'X`, exactly symmetric (see [`gram_accumulate`]).
+pub fn gram(x: MatRef<'_, f64>, alpha: f64) -> Mat<f64> {
+    let mut g = Mat::zeros(x.ncols(), x.ncols());
+    gram_accumulate(&mut g, x, alpha);
+    g
 }
 
 /// Errors unless `a` is non-empty and finite.
@@ -231,6 +296,35 @@ mod tests {
     fn random(m: usize, n: usize, seed: u64) -> Mat<f64> {
         let mut r = crate::rng::seeded(seed);
         Mat::from_fn(m, n, |_, _| r.random_range(-1.0..1.0))
+    }
+
+    #[test]
+    fn gram_equals_the_full_product_and_is_symmetric() {
+        let x = random(57, 23, 9);
+        let full = x.transpose() * &x;
+        let mut g = gram(x.as_ref(), 0.5);
+        for i in 0..23 {
+            for j in 0..23 {
+                assert!((g[(i, j)] - 0.5 * full[(i, j)]).abs() < 1e-12);
+                assert_eq!(g[(i, j)], g[(j, i)]);
+            }
+        }
+        gram_accumulate(&mut g, x.as_ref(), 0.5);
+        assert!((g[(3, 7)] - full[(3, 7)]).abs() < 1e-12);
+        // Centred, with more rows than one block (2^22 / 40 = 104857) holds.
+        let (n, p) = (110_000, 40);
+        let x = random(n, p, 10);
+        let mean: Vec<f64> = (0..p)
+            .map(|j| x.col(j).iter().sum::<f64>() / n as f64 + 0.25)
+            .collect();
+        let xc = Mat::from_fn(n, p, |i, j| x[(i, j)] - mean[j]);
+        let want = xc.transpose() * &xc;
+        let got = centered_gram(x.as_ref(), &mean, 1.0);
+        for i in 0..p {
+            for j in 0..p {
+                assert!((got[(i, j)] - want[(i, j)]).abs() < 1e-8 * want[(i, i)].abs());
+            }
+        }
     }
 
     fn spd(n: usize, seed: u64) -> Mat<f64> {

@@ -66,7 +66,7 @@ fn expanded_mean(x: MatRef<'_, f64>, e: Option<QuadraticExpansion>) -> Vec<f64> 
     let Some(e) = e else {
         return means;
     };
-    let g = x.transpose() * x;
+    let g = wscg_math::dense::gram(x, 1.0);
     let mut out = Vec::with_capacity(e.out_dim(d));
     if e.include_linear {
         out.extend_from_slice(&means);
@@ -100,10 +100,10 @@ impl ClassMoments {
                     }
                     s[j] += col_sum;
                 }
-                m += z.transpose() * &z;
+                wscg_math::dense::gram_accumulate(&mut m, z.as_ref(), 1.0);
             });
             sums.push(s);
-            second.push(symmetrized(m));
+            second.push(m);
         }
         let mut total_sum = vec![0.0; dim];
         let mut total_second = Mat::<f64>::zeros(dim, dim);

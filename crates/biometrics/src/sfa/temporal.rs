@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 use wscg_math::Result;
 
 use super::expansion::{expand_opt, QuadraticExpansion};
-use super::scatter::{symmetrized, ClassMoments, Whitening};
+use super::scatter::{ClassMoments, Whitening};
 use crate::subspace::{check_data, check_query};
 
 /// A fitted temporal SFA.
@@ -63,10 +63,10 @@ impl TemporalSfa {
             let end = (s + step + 1).min(t);
             let z = expand_opt(expansion, x.subrows(s, end - s));
             let dz = Mat::from_fn(z.nrows() - 1, dim, |i, j| z[(i + 1, j)] - z[(i, j)]);
-            a += dz.transpose() * &dz;
+            wscg_math::dense::gram_accumulate(&mut a, dz.as_ref(), 1.0);
             s = end - 1;
         }
-        let a = symmetrized(a * faer::Scale(1.0 / (t - 1) as f64));
+        let a = a * faer::Scale(1.0 / (t - 1) as f64);
         let (delta, w) = white.smallest(white.project(a.as_ref()).as_ref(), n_out)?;
         Ok(Self {
             expansion,

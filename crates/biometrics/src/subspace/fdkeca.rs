@@ -181,9 +181,7 @@ pub fn feature_kernel(x: MatRef<'_, f64>, kernel: &Kernel, center: bool) -> Resu
     } else {
         vec![0.0; d]
     };
-    let xc = subtract_mean(x, &mean);
-    let g = xc.transpose() * &xc;
-    let g = Mat::from_fn(d, d, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
+    let g = wscg_math::dense::centered_gram(x, &mean, 1.0);
     let kernel = resolve(kernel, g.as_ref(), n, "features")?;
     let k = kernel_from_gram(g.as_ref(), &kernel);
     Ok(FeatureKernel { mean, k, kernel })

@@ -80,15 +80,24 @@ pub fn check_query(x: MatRef<'_, f64>, d: usize) -> Result<()> {
 
 /// Column means of `x`.
 pub fn column_means(x: MatRef<'_, f64>) -> Vec<f64> {
+    use rayon::prelude::*;
     let n = x.nrows() as f64;
     (0..x.ncols())
-        .map(|j| (0..x.nrows()).map(|i| x[(i, j)]).sum::<f64>() / n)
+        .into_par_iter()
+        .map(|j| x.col(j).iter().sum::<f64>() / n)
         .collect()
 }
 
 /// `x - 1 mean'`.
 pub fn subtract_mean(x: MatRef<'_, f64>, mean: &[f64]) -> Mat<f64> {
-    Mat::from_fn(x.nrows(), x.ncols(), |i, j| x[(i, j)] - mean[j])
+    use rayon::prelude::*;
+    let mut out = Mat::<f64>::zeros(x.nrows(), x.ncols());
+    out.par_col_iter_mut().enumerate().for_each(|(j, c)| {
+        for (o, v) in c.iter_mut().zip(x.col(j).iter()) {
+            *o = v - mean[j];
+        }
+    });
+    out
 }
 
 /// Checks a requested number of components against what is available.

@@ -36,10 +36,8 @@ impl Pca {
         check_data("x", x, 2)?;
         let (n, d) = (x.nrows(), x.ncols());
         let mean = column_means(x);
-        let xc = subtract_mean(x, &mean);
         let (components, variances): (Vec<Vec<f64>>, Vec<f64>) = if n >= d {
-            let c = xc.transpose() * &xc;
-            let c = Mat::from_fn(d, d, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]) / n as f64);
+            let c = dense::centered_gram(x, &mean, 1.0 / n as f64);
             let l = check_components(n_components, d)?;
             let e = dense::eigh_largest(c.as_ref(), l)?;
             let idx: Vec<usize> = (0..l).collect();
@@ -48,7 +46,7 @@ impl Pca {
                 e.values.iter().map(|&v| v.max(0.0)).collect(),
             )
         } else {
-            let s = dense::svd(xc.as_ref())?;
+            let s = dense::svd(subtract_mean(x, &mean).as_ref())?;
             let l = check_components(n_components, s.s.len())?;
             let idx: Vec<usize> = (0..l).collect();
             (
@@ -99,7 +97,17 @@ impl Pca {
 impl Projector for Pca {
     fn transform(&self, x: MatRef<'_, f64>) -> Result<Mat<f64>> {
         check_query(x, self.mean.len())?;
-        let mut y = subtract_mean(x, &self.mean) * from_columns(self.mean.len(), &self.components);
+        // (x - 1 mean') V computed as x V - 1 (mean' V): no centred copy of x.
+        let v = from_columns(self.mean.len(), &self.components);
+        let mut y = x * &v;
+        let shift: Vec<f64> = (0..v.ncols())
+            .map(|j| v.col(j).iter().zip(&self.mean).map(|(a, b)| a * b).sum())
+            .collect();
+        for (j, s) in shift.iter().enumerate() {
+            for i in 0..y.nrows() {
+                y[(i, j)] -= s;
+            }
+        }
         if self.whiten {
             for j in 0..y.ncols() {
                 let s = self.variances[j].sqrt();

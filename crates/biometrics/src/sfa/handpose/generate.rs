@@ -30,8 +30,9 @@
 //!   0.75 x width) at each finger end.
 //! - **Per frame**: every finger's `e` +- U(0.08) (then at least 0.05) and angle +- U(5
 //!   degrees); the whole hand rotated by +- U(15 degrees), scaled by 1 +- U(0.1) and its palm
-//!   centre placed at `(W / 2, 0.6 H)` +- U(8) px in each axis. (Optionally the spread
-//!   +- U(`Jitter::spread`), once per frame; 0 by default, as in the spec.)
+//!   centre placed at `(W / 2, 0.6 H)` +- U(t) px in each axis, with `t = 25` by default and
+//!   `t = 8` in the spec (see *Difficulty* below). (Optionally the spread +-
+//!   U(`Jitter::spread`), once per frame; 0 by default, as in the spec.)
 //! - **Rasterisation** is analytic: a pixel belongs to a primitive when its centre (integer
 //!   coordinates) lies in the transformed ellipse / capsule / disc; only the bounding box of
 //!   each primitive is visited.
@@ -61,26 +62,30 @@
 //!   where drop-outs hit boundary pixels and flying pixels touching the hand.
 //!
 //! The per-frame amplitudes above are those of [`Jitter::default`]; [`generate_with`] takes
-//! others.
+//! others, [`Jitter::spec`] the spec's.
 //!
-//! **Difficulty.** With the spec's amplitudes the classes are far apart: on the paper's protocol
+//! **Difficulty, and where the default departs from the spec.** The spec asks for FLAT/OPEN
+//! and FIST/GRAB to be "genuinely confusable (check: PCA-35 KNN < 99 %)". With its amplitudes
+//! ([`Jitter::spec`], translation +-8 px) the classes are far apart: on the paper's protocol
 //! (seed 0, 3000 frames per class, split + augmentation of [`split_protocol`]) KNN (k = 5) on
 //! PCA-35 and the class-wise SFA (PCA-35, quadratic, m = 10, gamma = 1) both classify every
-//! test frame correctly, short of the spec's "PCA-35 KNN < 99 %" confusability check. Measured
-//! alternatives (same protocol, accuracy in % averaged over the classes; the SFA of
-//! [`crate::sfa::class_sfa`] as it stood when this generator was written):
+//! test frame correctly. Measured alternatives (same protocol, accuracy in % averaged over the
+//! classes):
 //!
-//! | jitter changed from the default | PCA-35 KNN | class SFA | lowest SFA class |
+//! | jitter changed from the spec's | PCA-35 KNN | class SFA | lowest SFA class |
 //! |---|---|---|---|
-//! | none | 100.00 | 100.00 | 100.0 |
+//! | none ([`Jitter::spec`]) | 100.00 | 100.00 | 100.0 |
 //! | translation 20 px | 98.93 | 99.20 | 98.0 (OPEN) |
-//! | translation 25 px | 97.93 | 98.87 | 98.3 (OPEN) |
+//! | translation 25 px ([`Jitter::default`]) | 97.93 | 98.87 | 98.3 (OPEN) |
 //! | extension 0.12, finger angle 8, spread 0.2, rotation 20, scale 0.15, translation 12 | 93.20 | 96.40 | 89.7 (GRAB) |
 //! | extension 0.15, finger angle 10, spread 0.3 | 91.33 | 96.73 | 89.3 (GRAB) |
 //!
-//! A translation of +-25 px is the smallest change found that meets both the confusability
-//! check and the spec's SFA targets (>= 95 % per class, >= 96 % mean); larger pose variation
-//! brings the PCA-KNN baseline near the paper's 82 % but takes GRAB below 95 % for SFA.
+//! The default therefore translates the hand by +-25 px, the smallest change found that makes
+//! the data confusable by the spec's own criterion; it also keeps the spec's SFA targets
+//! (>= 95 % per class, >= 96 % mean). Larger pose variation brings the PCA-KNN baseline near
+//! the paper's 82 % but takes GRAB below 95 % for the class-wise SFA. (The table was measured
+//! with the generator and classifiers of this crate; the acceptance test of the default row is
+//! `tests/paper05_handpose.rs`.)
 //!
 //! Frames are stored class by class (`n_per_class` frames of FIST, then FLAT, ...); within a
 //! class the subjects take consecutive equal blocks. Subject `s` is drawn from stream 0 of the
@@ -154,7 +159,7 @@ impl Default for SynthConfig {
 }
 
 /// Amplitudes of the per-frame variation (each value is drawn uniformly in `[-a, a]`); the
-/// defaults are the spec's (§3.2).
+/// defaults are the spec's (§3.2) but for the translation (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Jitter {
     /// Added to each finger's extension (0.08).
@@ -167,12 +172,25 @@ pub struct Jitter {
     pub rotation_deg: f64,
     /// Relative change of scale (0.1).
     pub scale: f64,
-    /// Shift of the palm centre along each axis, px (8).
+    /// Shift of the palm centre along each axis, px (25; the spec's 8 in [`Jitter::spec`]).
     pub translation_px: f64,
 }
 
 impl Default for Jitter {
+    /// The spec's amplitudes with the hand translated by +-25 px instead of +-8 px (see the
+    /// module docs, *Difficulty*).
     fn default() -> Self {
+        Self {
+            translation_px: 25.0,
+            ..Self::spec()
+        }
+    }
+}
+
+impl Jitter {
+    /// The amplitudes of the spec (§3.2): extension 0.08, finger angle 5 degrees, no spread
+    /// change, rotation 15 degrees, scale 0.1, translation 8 px.
+    pub fn spec() -> Self {
         Self {
             extension: 0.08,
             finger_angle_deg: 5.0,
@@ -182,9 +200,7 @@ impl Default for Jitter {
             translation_px: 8.0,
         }
     }
-}
 
-impl Jitter {
     fn validate(&self) -> Result<()> {
         let v = [
             ("jitter.extension", self.extension),
@@ -700,8 +716,8 @@ pub fn generate(cfg: &SynthConfig) -> Result<SynthData> {
     generate_with(cfg, &Jitter::default())
 }
 
-/// [`generate`] with other per-frame variation amplitudes than the spec's (see the module
-/// docs for measured effects on the classifiers). `generate_with(cfg, &Jitter::default())`
+/// [`generate`] with other per-frame variation amplitudes than the default ones (see the
+/// module docs for measured effects on the classifiers). `generate_with(cfg, &Jitter::default())`
 /// is `generate(cfg)`.
 ///
 /// Errors: as [`generate`]; a [`Jitter`] amplitude negative or non-finite.

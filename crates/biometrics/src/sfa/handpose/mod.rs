@@ -8,6 +8,9 @@
 //!   and the spec's §2.7: split first, then augment the training frames only).
 //! - [`features`]: fingertip, palm centre and radius, convex ratio, concave depth, polar and
 //!   azimuth angle of the finger (§3.2.2, [RYZ11, PKK09, CLEL12]).
+//! - [`protocol`]: the paper's comparison (Tables 3-6): class-wise SFA, KNN on physical
+//!   features, on PCA-35 and on 9-D Isomap, and full-data-set SFA on one split; the
+//!   rotation-robustness test rows.
 //! - [`morphology`]: the mask geometry both use (connected components, exact Euclidean
 //!   distance transform, contour tracing, convex hull, convexity defects).
 //!
@@ -17,9 +20,11 @@
 pub mod features;
 pub mod generate;
 pub mod morphology;
+pub mod protocol;
 
 pub use features::{physical_features, physical_features_batch, FEATURE_NAMES, N_FEATURES};
 pub use generate::{
     downscale, generate, generate_with, rotate_mask, split_protocol, Jitter, Split, SynthConfig,
     SynthData, CLASS_NAMES, DOWNSCALE, N_CLASSES,
 };
+pub use protocol::{compare, CompareConfig, Comparison, Method, MethodResult};

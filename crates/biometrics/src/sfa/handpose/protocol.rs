@@ -1,0 +1,487 @@
+//! The paper's hand-pose comparison (§3.2 and §4, Tables 3-6) on a [`SynthData`] set split by
+//! [`split_protocol`]: the class-wise SFA and its four baselines trained on the same frames and
+//! scored on the same test frames, each as a confusion matrix in the tables' layout.
+//!
+//! | method | table | input | classifier |
+//! |---|---|---|---|
+//! | [`Method::ClassSfa`] | 3 | downscaled masks (2200 values) | [`PerClassSfa`] (PCA-35, quadratic, m = 10, gamma = 1) |
+//! | [`Method::KnnPhysical`] | 4 | 9 physical features of the full-size mask and depth | KNN, k = 5, z-scored features |
+//! | [`Method::KnnPca`] | 5 | the same downscaled masks, PCA-35 | KNN, k = 5 |
+//! | [`Method::KnnIsomap`] | 6 | the same downscaled masks, 9-D Isomap | KNN, k = 5 |
+//! | [`Method::GlobalSfa`] | 1, row 2 | as class SFA | [`GlobalSfa`], 10 shared functions, variance rule |
+//!
+//! Choices where the paper is silent (following the spec's §2.7):
+//! - **Physical features** are computed on the original (unrotated) training frames, of which
+//!   `physical_per_class` per class (1500, the paper's "1500 samples from each class") are
+//!   drawn at random; each feature is z-scored with the training mean and standard deviation
+//!   (pixel coordinates, ratios and angles mix scales). Test frames are the split's.
+//! - **PCA-35 for KNN** is the PCA of the class-wise SFA's training rows, the same 35 axes.
+//! - **Isomap** (n_neighbors 8, 9 components) is fitted to `isomap_per_class` training rows per
+//!   class drawn at random (all of them when `None`), exact up to [`MAX_EXACT_POINTS`] points
+//!   and Landmark Isomap with `isomap_landmarks` landmarks above; the test rows are placed by
+//!   [`Isomap::transform`], and the KNN is trained on the embedded training rows.
+//! - The KNN votes break ties by the nearest neighbour ([`KnnTie::Nearest`]).
+//!
+//! [`MAX_EXACT_POINTS`]: crate::sfa::isomap::MAX_EXACT_POINTS
+
+use std::time::Instant;
+
+use faer::{Mat, MatRef};
+use rand::Rng;
+use rayon::prelude::*;
+use wscg_math::rng;
+use wscg_math::{Error, Result};
+
+use super::features::physical_features;
+use super::generate::{downscale, rotate_mask, Split, SynthData, CLASS_NAMES, DOWNSCALE};
+use crate::sfa::isomap::{Isomap, IsomapParams, MAX_EXACT_POINTS};
+use crate::sfa::scatter::group_labels;
+use crate::sfa::{
+    confusion_matrix, ClassSfaConfig, GlobalRule, GlobalSfa, Knn, KnnTie, PerClassSfa,
+};
+use crate::subspace::Projector;
+
+/// One of the compared classifiers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// The paper's class-wise SFA (Table 3).
+    ClassSfa,
+    /// KNN on the physical features (Table 4).
+    KnnPhysical,
+    /// KNN on PCA-35 (Table 5).
+    KnnPca,
+    /// KNN on 9-D Isomap (Table 6).
+    KnnIsomap,
+    /// SFA fitted once on all classes (Berkes 2005; Table 1, row 2).
+    GlobalSfa,
+}
+
+impl Method {
+    /// All five, in the order of the paper's tables.
+    pub const ALL: [Method; 5] = [
+        Method::ClassSfa,
+        Method::KnnPhysical,
+        Method::KnnPca,
+        Method::KnnIsomap,
+        Method::GlobalSfa,
+    ];
+
+    /// Title as printed above its table.
+    pub fn title(self) -> &'static str {
+        match self {
+            Method::ClassSfa => "Table 3: class-wise SFA",
+            Method::KnnPhysical => "Table 4: KNN on physical features",
+            Method::KnnPca => "Table 5: KNN on PCA-35",
+            Method::KnnIsomap => "Table 6: KNN on 9-D Isomap",
+            Method::GlobalSfa => "Full-dataset SFA (Berkes 2005)",
+        }
+    }
+
+    /// Short name (command line, Python): `sfa`, `physical`, `pca`, `isomap`, `global`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::ClassSfa => "sfa",
+            Method::KnnPhysical => "physical",
+            Method::KnnPca => "pca",
+            Method::KnnIsomap => "isomap",
+            Method::GlobalSfa => "global",
+        }
+    }
+
+    /// The method called `name` (see [`Method::name`]).
+    pub fn parse(name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| {
+                Error::invalid(
+                    "method",
+                    format!("unknown {name:?}; expected sfa, physical, pca, isomap or global"),
+                )
+            })
+    }
+}
+
+/// Parameters of [`compare`]; the defaults are the paper's (§3.2.2, §4) with the spec's
+/// choices where it is silent.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompareConfig {
+    /// The class-wise and full-data-set SFA (PCA-35, quadratic, 10 functions, gamma = 1).
+    pub sfa: ClassSfaConfig,
+    /// Neighbours of every KNN (5).
+    pub k: usize,
+    /// Training frames per class for the physical-feature KNN (1500).
+    pub physical_per_class: usize,
+    /// Isomap parameters (8 neighbours, 9 components; `n_landmarks` is set by
+    /// `isomap_landmarks` when the training set exceeds the exact limit).
+    pub isomap: IsomapParams,
+    /// Training rows per class for Isomap (`None`: all).
+    pub isomap_per_class: Option<usize>,
+    /// Landmarks of Landmark Isomap above the exact limit (2000).
+    pub isomap_landmarks: usize,
+    /// Decision rule of the full-data-set SFA (the paper-style variance rule).
+    pub global_rule: GlobalRule,
+    /// Seed of the random subsets (physical features, Isomap).
+    pub seed: u64,
+}
+
+impl Default for CompareConfig {
+    fn default() -> Self {
+        Self {
+            sfa: ClassSfaConfig::default(),
+            k: 5,
+            physical_per_class: 1500,
+            isomap: IsomapParams::default(),
+            isomap_per_class: None,
+            isomap_landmarks: 2000,
+            global_rule: GlobalRule::NearestMeanVariance,
+            seed: 0,
+        }
+    }
+}
+
+/// The result of one method.
+#[derive(Clone, Debug)]
+pub struct MethodResult {
+    /// Which method.
+    pub method: Method,
+    /// Confusion matrix in percent (row = true class, column = predicted), classes ascending.
+    pub confusion: Mat<f64>,
+    /// Predicted label of every test row.
+    pub predictions: Vec<u32>,
+    /// Seconds spent fitting (features and embedding included).
+    pub fit_seconds: f64,
+    /// Seconds spent predicting the test rows (features and embedding included).
+    pub predict_seconds: f64,
+}
+
+impl MethodResult {
+    /// Per-class accuracy in percent (the diagonal).
+    pub fn per_class(&self) -> Vec<f64> {
+        (0..self.confusion.nrows())
+            .map(|i| self.confusion[(i, i)])
+            .collect()
+    }
+
+    /// Mean of the per-class accuracies, percent (the paper's "diagonal mean").
+    pub fn mean(&self) -> f64 {
+        let d = self.per_class();
+        d.iter().sum::<f64>() / d.len().max(1) as f64
+    }
+}
+
+/// All results of [`compare`].
+#[derive(Clone, Debug)]
+pub struct Comparison {
+    /// Class labels, ascending (row / column order of every matrix).
+    pub classes: Vec<u32>,
+    /// Training rows (original + rotated).
+    pub n_train: usize,
+    /// Test rows.
+    pub n_test: usize,
+    /// One entry per method asked for, in the order asked.
+    pub results: Vec<MethodResult>,
+}
+
+impl Comparison {
+    /// The result of `method`, when it was run.
+    pub fn get(&self, method: Method) -> Option<&MethodResult> {
+        self.results.iter().find(|r| r.method == method)
+    }
+
+    /// Every matrix in the layout of the paper's Tables 3-6 (row = true class, % per
+    /// predicted class, then the diagonal mean), class names from [`CLASS_NAMES`] where the
+    /// labels are `0..5`.
+    pub fn format_tables(&self) -> String {
+        use std::fmt::Write;
+        let names: Vec<String> = self
+            .classes
+            .iter()
+            .map(|&c| {
+                CLASS_NAMES
+                    .get(c as usize)
+                    .map_or_else(|| c.to_string(), |s| (*s).to_string())
+            })
+            .collect();
+        let mut s = String::new();
+        for r in &self.results {
+            let _ = writeln!(s, "{}", r.method.title());
+            let _ = write!(s, "{:>8}", "");
+            for n in &names {
+                let _ = write!(s, "{n:>8}");
+            }
+            s.push('\n');
+            for (i, n) in names.iter().enumerate() {
+                let _ = write!(s, "{n:>8}");
+                for j in 0..names.len() {
+                    let _ = write!(s, "{:>8.1}", r.confusion[(i, j)]);
+                }
+                s.push('\n');
+            }
+            let _ = writeln!(
+                s,
+                "  diagonal mean {:.2} %  (fit {:.2} s, predict {:.3} s)\n",
+                r.mean(),
+                r.fit_seconds,
+                r.predict_seconds
+            );
+        }
+        s
+    }
+}
+
+/// `n` row-major rows of `dim` values (e.g. [`Split::train_x`]) as an `n x dim` matrix.
+pub fn rows_to_mat(v: &[f64], dim: usize) -> Mat<f64> {
+    let n = v.len() / dim.max(1);
+    Mat::from_fn(n, dim, |i, j| v[i * dim + j])
+}
+
+/// At most `per_class` row indices of each class of `y` (all when `None`), drawn at random
+/// without replacement and returned in increasing order.
+fn subset_per_class(y: &[u32], per_class: Option<usize>, seed: u64) -> Vec<usize> {
+    let (_, groups) = group_labels(y);
+    let mut r = rng::seeded(seed);
+    let mut out = Vec::new();
+    for mut g in groups {
+        if let Some(k) = per_class.filter(|&k| k < g.len()) {
+            rng::shuffle(&mut g, &mut r);
+            g.truncate(k);
+        }
+        out.extend(g);
+    }
+    out.sort_unstable();
+    out
+}
+
+/// Rows `idx` of `x`.
+fn take_rows(x: MatRef<'_, f64>, idx: &[usize]) -> Mat<f64> {
+    Mat::from_fn(idx.len(), x.ncols(), |i, j| x[(idx[i], j)])
+}
+
+/// Physical features (with depth) of the given frames, `frames.len() x 9`.
+fn frame_features(data: &SynthData, frames: &[usize]) -> Result<Mat<f64>> {
+    let (h, w) = (data.height, data.width);
+    let rows: Vec<Vec<f64>> = frames
+        .par_iter()
+        .map(|&f| {
+            let m = data.mask(f).ok_or(Error::Empty("frame"))?;
+            physical_features(m, data.depth_map(f), h, w)
+        })
+        .collect::<Result<_>>()?;
+    let d = rows.first().map_or(0, Vec::len);
+    Ok(Mat::from_fn(rows.len(), d, |i, j| rows[i][j]))
+}
+
+/// Column means and standard deviations (1 where a column is constant).
+fn zscore_params(x: MatRef<'_, f64>) -> (Vec<f64>, Vec<f64>) {
+    let n = x.nrows() as f64;
+    (0..x.ncols())
+        .map(|j| {
+            let mean = (0..x.nrows()).map(|i| x[(i, j)]).sum::<f64>() / n;
+            let var = (0..x.nrows())
+                .map(|i| (x[(i, j)] - mean).powi(2))
+                .sum::<f64>()
+                / n;
+            let sd = var.sqrt();
+            (mean, if sd > 0.0 { sd } else { 1.0 })
+        })
+        .unzip()
+}
+
+fn zscore(x: MatRef<'_, f64>, p: &(Vec<f64>, Vec<f64>)) -> Mat<f64> {
+    Mat::from_fn(x.nrows(), x.ncols(), |i, j| (x[(i, j)] - p.0[j]) / p.1[j])
+}
+
+/// Runs `f`, returning its value and the seconds it took.
+fn timed<T>(f: impl FnOnce() -> Result<T>) -> Result<(T, f64)> {
+    let t = Instant::now();
+    let v = f()?;
+    Ok((v, t.elapsed().as_secs_f64()))
+}
+
+/// Trains every method of `methods` on the training rows of `split` and scores it on the test
+/// rows (see the module docs). `data` must be the set `split` was made from (the physical
+/// features need the full-size masks and depth maps).
+///
+/// `progress` is called with each method before it runs.
+///
+/// Errors: an empty `methods`, `k == 0`, a `split` that does not belong to `data`, and the
+/// errors of the classifiers (e.g. too few training rows for the PCA or Isomap).
+pub fn compare(
+    data: &SynthData,
+    split: &Split,
+    cfg: &CompareConfig,
+    methods: &[Method],
+    mut progress: impl FnMut(Method),
+) -> Result<Comparison> {
+    if methods.is_empty() {
+        return Err(Error::Empty("methods"));
+    }
+    if cfg.k == 0 {
+        return Err(Error::invalid("k", "must be at least 1"));
+    }
+    let expected = (
+        data.height.div_ceil(DOWNSCALE),
+        data.width.div_ceil(DOWNSCALE),
+    );
+    if split.shape != expected
+        || split.train_index.iter().chain(&split.test_index).any(|&f| f >= data.len())
+    {
+        return Err(Error::ShapeMismatch(
+            "the split was not made from these frames".into(),
+        ));
+    }
+    let xtr = rows_to_mat(&split.train_x, split.dim);
+    let xte = rows_to_mat(&split.test_x, split.dim);
+    let (classes, _) = group_labels(&split.train_y);
+    let (ytr, yte) = (&split.train_y[..], &split.test_y[..]);
+    let mut results = Vec::new();
+    // The class-wise SFA's PCA is reused by the PCA-KNN.
+    let mut sfa_model: Option<PerClassSfa> = None;
+    for &method in methods {
+        progress(method);
+        let (pred, fit_seconds, predict_seconds) = match method {
+            Method::ClassSfa => {
+                let (model, tf) = timed(|| PerClassSfa::fit(xtr.as_ref(), ytr, &cfg.sfa))?;
+                let (p, tp) = timed(|| model.predict(xte.as_ref()))?;
+                sfa_model = Some(model);
+                (p, tf, tp)
+            }
+            Method::GlobalSfa => {
+                let (model, tf) =
+                    timed(|| GlobalSfa::fit(xtr.as_ref(), ytr, &cfg.sfa, cfg.global_rule))?;
+                let (p, tp) = timed(|| model.predict(xte.as_ref()))?;
+                (p, tf, tp)
+            }
+            Method::KnnPca => {
+                let ((pca, knn), tf) = timed(|| {
+                    let pca = match &sfa_model {
+                        Some(m) => m.pca.clone(),
+                        None => crate::subspace::Pca::fit(xtr.as_ref(), Some(cfg.sfa.pca_dims), false)?,
+                    };
+                    let ztr = pca.transform(xtr.as_ref())?;
+                    let knn = Knn::fit(ztr.as_ref(), ytr, cfg.k, KnnTie::Nearest)?;
+                    Ok((pca, knn))
+                })?;
+                let (p, tp) = timed(|| knn.predict(pca.transform(xte.as_ref())?.as_ref()))?;
+                (p, tf, tp)
+            }
+            Method::KnnPhysical => {
+                let originals: Vec<usize> = (0..ytr.len())
+                    .filter(|&i| split.train_rotation[i] == 0.0)
+                    .collect();
+                let y_orig: Vec<u32> = originals.iter().map(|&i| ytr[i]).collect();
+                let chosen: Vec<usize> = subset_per_class(&y_orig, Some(cfg.physical_per_class), cfg.seed)
+                    .into_iter()
+                    .map(|i| originals[i])
+                    .collect();
+                let ((zp, knn), tf) = timed(|| {
+                    let frames: Vec<usize> = chosen.iter().map(|&i| split.train_index[i]).collect();
+                    let f = frame_features(data, &frames)?;
+                    let zp = zscore_params(f.as_ref());
+                    let y: Vec<u32> = chosen.iter().map(|&i| ytr[i]).collect();
+                    let knn = Knn::fit(zscore(f.as_ref(), &zp).as_ref(), &y, cfg.k, KnnTie::Nearest)?;
+                    Ok((zp, knn))
+                })?;
+                let (p, tp) = timed(|| {
+                    let f = frame_features(data, &split.test_index)?;
+                    knn.predict(zscore(f.as_ref(), &zp).as_ref())
+                })?;
+                (p, tf, tp)
+            }
+            Method::KnnIsomap => {
+                let chosen = subset_per_class(ytr, cfg.isomap_per_class, cfg.seed.wrapping_add(1));
+                let ((iso, knn), tf) = timed(|| {
+                    let x = take_rows(xtr.as_ref(), &chosen);
+                    let mut params = cfg.isomap.clone();
+                    if x.nrows() > MAX_EXACT_POINTS && params.n_landmarks.is_none() {
+                        params.n_landmarks = Some(cfg.isomap_landmarks);
+                    }
+                    let iso = Isomap::fit(x.as_ref(), &params)?;
+                    let y: Vec<u32> = chosen.iter().map(|&i| ytr[i]).collect();
+                    let knn = Knn::fit(iso.embedding(), &y, cfg.k, KnnTie::Nearest)?;
+                    Ok((iso, knn))
+                })?;
+                let (p, tp) = timed(|| knn.predict(iso.transform(xte.as_ref())?.as_ref()))?;
+                (p, tf, tp)
+            }
+        };
+        results.push(MethodResult {
+            method,
+            confusion: confusion_matrix(yte, &pred, &classes)?,
+            predictions: pred,
+            fit_seconds,
+            predict_seconds,
+        });
+    }
+    Ok(Comparison {
+        classes,
+        n_train: ytr.len(),
+        n_test: yte.len(),
+        results,
+    })
+}
+
+/// The test rows of `split` with every test frame rotated about its centroid by an angle
+/// `~ U(lo, hi)` degrees with a random sign, then downscaled (the rotation-robustness check of
+/// the spec: `lo = 10`, `hi = 20`). Row order is that of `split.test_x`; deterministic given
+/// `seed`.
+///
+/// Errors: angles not finite or `lo > hi`, a `split` that does not belong to `data`.
+pub fn rotated_test_rows(
+    data: &SynthData,
+    split: &Split,
+    lo: f64,
+    hi: f64,
+    seed: u64,
+) -> Result<Vec<f64>> {
+    if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+        return Err(Error::invalid(
+            "angles",
+            format!("need finite lo <= hi, got {lo}, {hi}"),
+        ));
+    }
+    let mut r = rng::seeded(seed);
+    let angles: Vec<f64> = split
+        .test_index
+        .iter()
+        .map(|_| {
+            let a = if hi > lo { r.random_range(lo..=hi) } else { lo };
+            if r.random_bool(0.5) {
+                a
+            } else {
+                -a
+            }
+        })
+        .collect();
+    let (h, w) = (data.height, data.width);
+    let dim = split.dim;
+    let mut out = vec![0.0; split.test_index.len() * dim];
+    out.par_chunks_mut(dim)
+        .zip(split.test_index.par_iter().zip(&angles))
+        .try_for_each(|(o, (&f, &a))| -> Result<()> {
+            let m = data.mask(f).ok_or(Error::Empty("frame"))?;
+            let d = downscale(&rotate_mask(m, h, w, a)?, h, w, DOWNSCALE)?;
+            if d.len() != dim {
+                return Err(Error::ShapeMismatch(
+                    "the split was not made from these frames".into(),
+                ));
+            }
+            o.copy_from_slice(&d);
+            Ok(())
+        })?;
+    Ok(out)
+}
+
+/// The training rows of `split` without the rotated copies: `(rows, labels)`.
+pub fn unaugmented_training(split: &Split) -> (Vec<f64>, Vec<u32>) {
+    let dim = split.dim;
+    let keep: Vec<usize> = (0..split.train_y.len())
+        .filter(|&i| split.train_rotation[i] == 0.0)
+        .collect();
+    let mut x = Vec::with_capacity(keep.len() * dim);
+    for &i in &keep {
+        x.extend_from_slice(&split.train_x[i * dim..(i + 1) * dim]);
+    }
+    (x, keep.iter().map(|&i| split.train_y[i]).collect())
+}
