@@ -107,6 +107,16 @@ pub fn read_with_limit<T: NpyTarget>(path: impl AsRef<Path>, limit: usize) -> Re
 /// Errors: [`Error::ShapeMismatch`] when the shape does not hold `data.len()` values,
 /// [`Error::Io`] when the file cannot be written.
 pub fn write_f64(path: impl AsRef<Path>, shape: &[usize], data: &[f64]) -> Result<()> {
+    write(path, shape, data)
+}
+
+/// Writes `data` (C order) as a `.npy` array of the given shape, in the dtype of `T`
+/// (`u8`, `i64`, `f32`, `f64`, ...). Errors as [`write_f64`].
+pub fn write<T: ndarray_npy::WritableElement>(
+    path: impl AsRef<Path>,
+    shape: &[usize],
+    data: &[T],
+) -> Result<()> {
     let path = path.as_ref();
     let view = ArrayViewD::from_shape(IxDyn(shape), data).map_err(|_| {
         Error::ShapeMismatch(format!(

@@ -908,8 +908,46 @@ pub fn split_protocol(
     seed: u64,
 ) -> Result<Split> {
     data.check()?;
-    let (h, w) = (data.height, data.width);
-    let (classes, frames) = group_labels(&data.labels);
+    split_masks(
+        &data.masks,
+        &data.labels,
+        data.height,
+        data.width,
+        test_per_class,
+        augment_per_class,
+        seed,
+    )
+}
+
+/// [`split_protocol`] on any stack of `n` binary `h x w` masks (`masks` holds `n h w` bytes,
+/// non-zero = foreground) with one label each: the user's own silhouettes.
+///
+/// Errors: as [`split_protocol`]; `masks` not `labels.len() x h x w`; empty input.
+pub fn split_masks(
+    masks: &[u8],
+    labels: &[u32],
+    h: usize,
+    w: usize,
+    test_per_class: usize,
+    augment_per_class: usize,
+    seed: u64,
+) -> Result<Split> {
+    if labels.is_empty() {
+        return Err(Error::Empty("labels"));
+    }
+    let hw = h
+        .checked_mul(w)
+        .filter(|&p| p > 0)
+        .ok_or_else(|| Error::invalid("h, w", format!("bad frame size {h} x {w}")))?;
+    if labels.len().checked_mul(hw) != Some(masks.len()) {
+        return Err(Error::ShapeMismatch(format!(
+            "{} mask values for {} labels of {h} x {w} frames",
+            masks.len(),
+            labels.len()
+        )));
+    }
+    let mask = |f: usize| &masks[f * hw..(f + 1) * hw];
+    let (classes, frames) = group_labels(labels);
     let mut r = rng::seeded(seed);
     let mut train = Vec::new();
     let mut test = Vec::new();
@@ -958,7 +996,7 @@ pub fn split_protocol(
         x.par_chunks_mut(dim)
             .zip(jobs)
             .try_for_each(|(out, &(f, angle))| -> Result<()> {
-                let m = data.mask(f).ok_or(Error::Empty("frame"))?;
+                let m = mask(f);
                 let d = if angle == 0.0 {
                     downscale(m, h, w, DOWNSCALE)?
                 } else {
@@ -974,9 +1012,9 @@ pub fn split_protocol(
     let test_x = rows(&test_jobs)?;
     Ok(Split {
         train_x,
-        train_y: jobs.iter().map(|&(f, _)| data.labels[f]).collect(),
+        train_y: jobs.iter().map(|&(f, _)| labels[f]).collect(),
         test_x,
-        test_y: test.iter().map(|&f| data.labels[f]).collect(),
+        test_y: test.iter().map(|&f| labels[f]).collect(),
         dim,
         shape,
         train_index: jobs.iter().map(|&(f, _)| f).collect(),

@@ -24,7 +24,9 @@ pub mod protocol;
 
 pub use features::{physical_features, physical_features_batch, FEATURE_NAMES, N_FEATURES};
 pub use generate::{
-    downscale, generate, generate_with, rotate_mask, split_protocol, Jitter, Split, SynthConfig,
+    downscale, generate, generate_with, rotate_mask, split_masks, split_protocol, Jitter, Split, SynthConfig,
     SynthData, CLASS_NAMES, DOWNSCALE, N_CLASSES,
 };
-pub use protocol::{compare, CompareConfig, Comparison, Method, MethodResult};
+pub use protocol::{
+    compare, compare_masks, compare_rows, CompareConfig, Comparison, FeatureSets, Method, MethodResult,
+};

@@ -39,7 +39,7 @@ use crate::sfa::scatter::group_labels;
 use crate::sfa::{
     confusion_matrix, ClassSfaConfig, GlobalRule, GlobalSfa, Knn, KnnTie, PerClassSfa,
 };
-use crate::subspace::Projector;
+use crate::subspace::{Pca, Projector};
 
 /// One of the compared classifiers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -258,14 +258,22 @@ fn take_rows(x: MatRef<'_, f64>, idx: &[usize]) -> Mat<f64> {
     Mat::from_fn(idx.len(), x.ncols(), |i, j| x[(idx[i], j)])
 }
 
-/// Physical features (with depth) of the given frames, `frames.len() x 9`.
-fn frame_features(data: &SynthData, frames: &[usize]) -> Result<Mat<f64>> {
-    let (h, w) = (data.height, data.width);
+/// Physical features of the given frames of a mask stack (`h x w` each, with depth maps when
+/// given), `frames.len() x 9` (8 without depth).
+fn frame_features(
+    masks: &[u8],
+    depth: Option<&[f32]>,
+    h: usize,
+    w: usize,
+    frames: &[usize],
+) -> Result<Mat<f64>> {
+    let hw = h * w;
     let rows: Vec<Vec<f64>> = frames
         .par_iter()
         .map(|&f| {
-            let m = data.mask(f).ok_or(Error::Empty("frame"))?;
-            physical_features(m, data.depth_map(f), h, w)
+            let m = masks.get(f * hw..(f + 1) * hw).ok_or(Error::Empty("frame"))?;
+            let d = depth.and_then(|d| d.get(f * hw..(f + 1) * hw));
+            physical_features(m, d, h, w)
         })
         .collect::<Result<_>>()?;
     let d = rows.first().map_or(0, Vec::len);
@@ -299,6 +307,22 @@ fn timed<T>(f: impl FnOnce() -> Result<T>) -> Result<(T, f64)> {
     Ok((v, t.elapsed().as_secs_f64()))
 }
 
+/// Physical features for the Table 4 baseline, computed outside [`compare_rows`] (they need
+/// the full-size masks, not the downscaled rows).
+#[derive(Clone, Debug)]
+pub struct FeatureSets {
+    /// Training features (`n_train x f`).
+    pub train: Mat<f64>,
+    /// Labels of the training features.
+    pub train_y: Vec<u32>,
+    /// Features of the test rows, in test-row order (`n_test x f`).
+    pub test: Mat<f64>,
+    /// Seconds spent extracting the training features (added to the fit time).
+    pub train_seconds: f64,
+    /// Seconds spent extracting the test features (added to the predict time).
+    pub test_seconds: f64,
+}
+
 /// Trains every method of `methods` on the training rows of `split` and scores it on the test
 /// rows (see the module docs). `data` must be the set `split` was made from (the physical
 /// features need the full-size masks and depth maps).
@@ -312,6 +336,106 @@ pub fn compare(
     split: &Split,
     cfg: &CompareConfig,
     methods: &[Method],
+    progress: impl FnMut(Method),
+) -> Result<Comparison> {
+    let (h, w) = (data.height, data.width);
+    compare_masks(
+        &data.masks,
+        Some(&data.depth),
+        h,
+        w,
+        split,
+        cfg,
+        methods,
+        progress,
+    )
+}
+
+/// [`compare`] on any mask stack (`n x h x w` bytes, non-zero = foreground; depth maps
+/// optional: without them the physical features have 8 values) that `split` was made from
+/// by [`super::split_masks`].
+///
+/// Errors: as [`compare`]; `depth` not the size of `masks`.
+#[allow(clippy::too_many_arguments)]
+pub fn compare_masks(
+    masks: &[u8],
+    depth: Option<&[f32]>,
+    h: usize,
+    w: usize,
+    split: &Split,
+    cfg: &CompareConfig,
+    methods: &[Method],
+    progress: impl FnMut(Method),
+) -> Result<Comparison> {
+    let n = masks.len() / (h * w).max(1);
+    if split.shape != (h.div_ceil(DOWNSCALE), w.div_ceil(DOWNSCALE))
+        || split
+            .train_index
+            .iter()
+            .chain(&split.test_index)
+            .any(|&f| f >= n)
+    {
+        return Err(Error::ShapeMismatch(
+            "the split was not made from these frames".into(),
+        ));
+    }
+    if depth.is_some_and(|d| d.len() != masks.len()) {
+        return Err(Error::ShapeMismatch(
+            "the depth maps are not the size of the masks".into(),
+        ));
+    }
+    let physical = if methods.contains(&Method::KnnPhysical) {
+        let ytr = &split.train_y;
+        let originals: Vec<usize> = (0..ytr.len())
+            .filter(|&i| split.train_rotation[i] == 0.0)
+            .collect();
+        let y_orig: Vec<u32> = originals.iter().map(|&i| ytr[i]).collect();
+        let chosen: Vec<usize> =
+            subset_per_class(&y_orig, Some(cfg.physical_per_class), cfg.seed)
+                .into_iter()
+                .map(|i| originals[i])
+                .collect();
+        let frames: Vec<usize> = chosen.iter().map(|&i| split.train_index[i]).collect();
+        let (train, train_seconds) = timed(|| frame_features(masks, depth, h, w, &frames))?;
+        let (test, test_seconds) =
+            timed(|| frame_features(masks, depth, h, w, &split.test_index))?;
+        Some(FeatureSets {
+            train,
+            train_y: chosen.iter().map(|&i| ytr[i]).collect(),
+            test,
+            train_seconds,
+            test_seconds,
+        })
+    } else {
+        None
+    };
+    compare_rows(
+        rows_to_mat(&split.train_x, split.dim).as_ref(),
+        &split.train_y,
+        rows_to_mat(&split.test_x, split.dim).as_ref(),
+        &split.test_y,
+        cfg,
+        methods,
+        physical.as_ref(),
+        progress,
+    )
+}
+
+/// [`compare`] on any training and test rows (e.g. the user's own flattened silhouettes):
+/// `physical` supplies the features of [`Method::KnnPhysical`], which is refused without them.
+///
+/// Errors: an empty `methods`, `k == 0`, label counts, [`Method::KnnPhysical`] without
+/// `physical` (or with features whose rows do not match the labels), and the errors of the
+/// classifiers.
+#[allow(clippy::too_many_arguments)]
+pub fn compare_rows(
+    xtr: MatRef<'_, f64>,
+    ytr: &[u32],
+    xte: MatRef<'_, f64>,
+    yte: &[u32],
+    cfg: &CompareConfig,
+    methods: &[Method],
+    physical: Option<&FeatureSets>,
     mut progress: impl FnMut(Method),
 ) -> Result<Comparison> {
     if methods.is_empty() {
@@ -320,21 +444,14 @@ pub fn compare(
     if cfg.k == 0 {
         return Err(Error::invalid("k", "must be at least 1"));
     }
-    let expected = (
-        data.height.div_ceil(DOWNSCALE),
-        data.width.div_ceil(DOWNSCALE),
-    );
-    if split.shape != expected
-        || split.train_index.iter().chain(&split.test_index).any(|&f| f >= data.len())
-    {
-        return Err(Error::ShapeMismatch(
-            "the split was not made from these frames".into(),
-        ));
+    if yte.len() != xte.nrows() {
+        return Err(Error::ShapeMismatch(format!(
+            "{} test labels for {} test rows",
+            yte.len(),
+            xte.nrows()
+        )));
     }
-    let xtr = rows_to_mat(&split.train_x, split.dim);
-    let xte = rows_to_mat(&split.test_x, split.dim);
-    let (classes, _) = group_labels(&split.train_y);
-    let (ytr, yte) = (&split.train_y[..], &split.test_y[..]);
+    let (classes, _) = group_labels(ytr);
     let mut results = Vec::new();
     // The class-wise SFA's PCA is reused by the PCA-KNN.
     let mut sfa_model: Option<PerClassSfa> = None;
@@ -342,57 +459,55 @@ pub fn compare(
         progress(method);
         let (pred, fit_seconds, predict_seconds) = match method {
             Method::ClassSfa => {
-                let (model, tf) = timed(|| PerClassSfa::fit(xtr.as_ref(), ytr, &cfg.sfa))?;
-                let (p, tp) = timed(|| model.predict(xte.as_ref()))?;
+                let (model, tf) = timed(|| PerClassSfa::fit(xtr, ytr, &cfg.sfa))?;
+                let (p, tp) = timed(|| model.predict(xte))?;
                 sfa_model = Some(model);
                 (p, tf, tp)
             }
             Method::GlobalSfa => {
-                let (model, tf) =
-                    timed(|| GlobalSfa::fit(xtr.as_ref(), ytr, &cfg.sfa, cfg.global_rule))?;
-                let (p, tp) = timed(|| model.predict(xte.as_ref()))?;
+                let (model, tf) = timed(|| GlobalSfa::fit(xtr, ytr, &cfg.sfa, cfg.global_rule))?;
+                let (p, tp) = timed(|| model.predict(xte))?;
                 (p, tf, tp)
             }
             Method::KnnPca => {
                 let ((pca, knn), tf) = timed(|| {
                     let pca = match &sfa_model {
                         Some(m) => m.pca.clone(),
-                        None => crate::subspace::Pca::fit(xtr.as_ref(), Some(cfg.sfa.pca_dims), false)?,
+                        None => Pca::fit(xtr, Some(cfg.sfa.pca_dims), false)?,
                     };
-                    let ztr = pca.transform(xtr.as_ref())?;
-                    let knn = Knn::fit(ztr.as_ref(), ytr, cfg.k, KnnTie::Nearest)?;
+                    let knn = Knn::fit(pca.transform(xtr)?.as_ref(), ytr, cfg.k, KnnTie::Nearest)?;
                     Ok((pca, knn))
                 })?;
-                let (p, tp) = timed(|| knn.predict(pca.transform(xte.as_ref())?.as_ref()))?;
+                let (p, tp) = timed(|| knn.predict(pca.transform(xte)?.as_ref()))?;
                 (p, tf, tp)
             }
             Method::KnnPhysical => {
-                let originals: Vec<usize> = (0..ytr.len())
-                    .filter(|&i| split.train_rotation[i] == 0.0)
-                    .collect();
-                let y_orig: Vec<u32> = originals.iter().map(|&i| ytr[i]).collect();
-                let chosen: Vec<usize> = subset_per_class(&y_orig, Some(cfg.physical_per_class), cfg.seed)
-                    .into_iter()
-                    .map(|i| originals[i])
-                    .collect();
+                let f = physical.ok_or_else(|| {
+                    Error::invalid(
+                        "methods",
+                        "the physical-feature KNN needs the masks (features not given)",
+                    )
+                })?;
+                if f.test.nrows() != yte.len() {
+                    return Err(Error::ShapeMismatch(format!(
+                        "{} test feature rows for {} test labels",
+                        f.test.nrows(),
+                        yte.len()
+                    )));
+                }
                 let ((zp, knn), tf) = timed(|| {
-                    let frames: Vec<usize> = chosen.iter().map(|&i| split.train_index[i]).collect();
-                    let f = frame_features(data, &frames)?;
-                    let zp = zscore_params(f.as_ref());
-                    let y: Vec<u32> = chosen.iter().map(|&i| ytr[i]).collect();
-                    let knn = Knn::fit(zscore(f.as_ref(), &zp).as_ref(), &y, cfg.k, KnnTie::Nearest)?;
+                    let zp = zscore_params(f.train.as_ref());
+                    let z = zscore(f.train.as_ref(), &zp);
+                    let knn = Knn::fit(z.as_ref(), &f.train_y, cfg.k, KnnTie::Nearest)?;
                     Ok((zp, knn))
                 })?;
-                let (p, tp) = timed(|| {
-                    let f = frame_features(data, &split.test_index)?;
-                    knn.predict(zscore(f.as_ref(), &zp).as_ref())
-                })?;
-                (p, tf, tp)
+                let (p, tp) = timed(|| knn.predict(zscore(f.test.as_ref(), &zp).as_ref()))?;
+                (p, tf + f.train_seconds, tp + f.test_seconds)
             }
             Method::KnnIsomap => {
                 let chosen = subset_per_class(ytr, cfg.isomap_per_class, cfg.seed.wrapping_add(1));
                 let ((iso, knn), tf) = timed(|| {
-                    let x = take_rows(xtr.as_ref(), &chosen);
+                    let x = take_rows(xtr, &chosen);
                     let mut params = cfg.isomap.clone();
                     if x.nrows() > MAX_EXACT_POINTS && params.n_landmarks.is_none() {
                         params.n_landmarks = Some(cfg.isomap_landmarks);
@@ -402,7 +517,7 @@ pub fn compare(
                     let knn = Knn::fit(iso.embedding(), &y, cfg.k, KnnTie::Nearest)?;
                     Ok((iso, knn))
                 })?;
-                let (p, tp) = timed(|| knn.predict(iso.transform(xte.as_ref())?.as_ref()))?;
+                let (p, tp) = timed(|| knn.predict(iso.transform(xte)?.as_ref()))?;
                 (p, tf, tp)
             }
         };
@@ -435,6 +550,19 @@ pub fn rotated_test_rows(
     hi: f64,
     seed: u64,
 ) -> Result<Vec<f64>> {
+    rotated_mask_rows(&data.masks, data.height, data.width, split, lo, hi, seed)
+}
+
+/// [`rotated_test_rows`] for any mask stack `split` was made from.
+pub fn rotated_mask_rows(
+    masks: &[u8],
+    h: usize,
+    w: usize,
+    split: &Split,
+    lo: f64,
+    hi: f64,
+    seed: u64,
+) -> Result<Vec<f64>> {
     if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
         return Err(Error::invalid(
             "angles",
@@ -454,13 +582,13 @@ pub fn rotated_test_rows(
             }
         })
         .collect();
-    let (h, w) = (data.height, data.width);
+    let hw = h * w;
     let dim = split.dim;
     let mut out = vec![0.0; split.test_index.len() * dim];
     out.par_chunks_mut(dim)
         .zip(split.test_index.par_iter().zip(&angles))
         .try_for_each(|(o, (&f, &a))| -> Result<()> {
-            let m = data.mask(f).ok_or(Error::Empty("frame"))?;
+            let m = masks.get(f * hw..(f + 1) * hw).ok_or(Error::Empty("frame"))?;
             let d = downscale(&rotate_mask(m, h, w, a)?, h, w, DOWNSCALE)?;
             if d.len() != dim {
                 return Err(Error::ShapeMismatch(
