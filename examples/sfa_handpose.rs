@@ -36,7 +36,10 @@ fn main() -> wscg::math::Result<()> {
     );
     let cfg = Default::default();
     let methods: Vec<Method> = match std::env::args().nth(2) {
-        Some(list) => list.split(',').map(Method::parse).collect::<Result<_, _>>()?,
+        Some(list) => list
+            .split(',')
+            .map(Method::parse)
+            .collect::<Result<_, _>>()?,
         None => Method::ALL.to_vec(),
     };
     let res = compare(&data, &split, &cfg, &methods, |m| {
@@ -50,7 +53,11 @@ fn main() -> wscg::math::Result<()> {
     let plain_test = rows_to_mat(&split.test_x, split.dim);
     let (x_orig, y_orig) = unaugmented_training(&split);
     for (name, x, y) in [
-        ("with augmentation", split.train_x.clone(), split.train_y.clone()),
+        (
+            "with augmentation",
+            split.train_x.clone(),
+            split.train_y.clone(),
+        ),
         ("without augmentation", x_orig, y_orig),
     ] {
         let model = PerClassSfa::fit(rows_to_mat(&x, split.dim).as_ref(), &y, &cfg.sfa)?;

@@ -585,3 +585,139 @@ fn meshfilter_denoises_a_coloured_mesh() {
         "{err}"
     );
 }
+
+#[test]
+fn sfa_generate_fit_predict_evaluate_match_the_library() {
+    use wscg::biometrics::sfa::handpose::{downscale, generate, SynthConfig};
+    use wscg::biometrics::sfa::{ClassSfaConfig, PerClassSfa};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let data_dir = d.join("hands");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    wscg_ok(&[
+        "biometrics",
+        "sfa",
+        "generate",
+        "--out",
+        &s(&data_dir),
+        "--n-per-class",
+        "120",
+        "--png",
+        "2",
+    ]);
+    let (masks, labels) = (data_dir.join("masks.npy"), data_dir.join("labels.npy"));
+    assert!(data_dir.join("png/OPEN").is_dir());
+    let model = d.join("m.json");
+    wscg_ok(&[
+        "biometrics",
+        "sfa",
+        "fit",
+        "--npy",
+        &s(&masks),
+        "--labels",
+        &s(&labels),
+        "--pca-dims",
+        "8",
+        "--m",
+        "3",
+        "--out",
+        &s(&model),
+    ]);
+    let before = std::fs::read(&masks).unwrap();
+    let out = wscg_ok(&[
+        "biometrics",
+        "sfa",
+        "predict",
+        "--model",
+        &s(&model),
+        "--npy",
+        &s(&masks),
+    ]);
+    assert_eq!(std::fs::read(&masks).unwrap(), before, "input modified");
+    // The same model through the library: generated frames, downscaled by 3.
+    let data = generate(&SynthConfig {
+        n_per_class: 120,
+        ..SynthConfig::default()
+    })
+    .unwrap();
+    let (h, w) = (data.height, data.width);
+    let rows: Vec<f64> = (0..data.len())
+        .flat_map(|i| downscale(data.mask(i).unwrap(), h, w, 3).unwrap())
+        .collect();
+    let x = wscg::biometrics::sfa::handpose::protocol::rows_to_mat(&rows, rows.len() / data.len());
+    let cfg = ClassSfaConfig {
+        pca_dims: 8,
+        m_per_class: 3,
+        ..ClassSfaConfig::default()
+    };
+    let lib = PerClassSfa::fit(x.as_ref(), &data.labels, &cfg).unwrap();
+    let want = lib.predict(x.as_ref()).unwrap();
+    let got: Vec<u32> = out
+        .lines()
+        .skip(1)
+        .map(|l| l.split('\t').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(got, want);
+    let eval = wscg_ok(&[
+        "biometrics",
+        "sfa",
+        "evaluate",
+        "--npy",
+        &s(&masks),
+        "--labels",
+        &s(&labels),
+        "--test-per-class",
+        "20",
+        "--augment-per-class",
+        "20",
+        "--pca-dims",
+        "8",
+        "--m",
+        "3",
+        "--methods",
+        "sfa",
+        "pca",
+        "global",
+        "--rotated",
+    ]);
+    assert!(
+        eval.contains("Table 3: class-wise SFA") && eval.contains("Table 5"),
+        "{eval}"
+    );
+    assert!(eval.contains("rotated by"), "{eval}");
+    // Bad input: rows where images are expected, a missing file, too many functions.
+    for args in [
+        vec![
+            "evaluate",
+            "--npy",
+            "missing.npy",
+            "--labels",
+            "missing.npy",
+        ],
+        vec![
+            "fit",
+            "--npy",
+            &s(&masks),
+            "--labels",
+            &s(&labels),
+            "--m",
+            "1000",
+            "--out",
+            "x.json",
+        ],
+        vec!["predict", "--model", &s(&masks), "--npy", &s(&masks)],
+        vec!["generate", "--out", &s(&d.join("g")), "--n-per-class", "0"],
+    ] {
+        let out = wscg()
+            .args(["biometrics", "sfa"])
+            .args(&args)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{args:?} succeeded");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("error") && !err.contains("panicked"),
+            "{args:?}: {err}"
+        );
+    }
+}

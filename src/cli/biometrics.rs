@@ -25,6 +25,10 @@ pub enum BiometricsCommand {
     /// Paper 01: FDKECA and its baselines (PCA, KPCA, KECA) with 1-NN recognition.
     #[command(subcommand)]
     Fdkeca(FdkecaCommand),
+    /// Paper 05: class-wise slow feature analysis of silhouettes (hand poses) and its
+    /// baselines; the synthetic hand-pose generator.
+    #[command(subcommand)]
+    Sfa(super::sfa::SfaCommand),
 }
 
 #[derive(Subcommand, Debug)]
@@ -250,7 +254,10 @@ fn load(data: &DataArgs) -> Result<IdentityImages> {
 
 /// Runs a `wscg biometrics` command.
 pub fn run(cmd: BiometricsCommand) -> Result<()> {
-    let BiometricsCommand::Fdkeca(cmd) = cmd;
+    let cmd = match cmd {
+        BiometricsCommand::Fdkeca(cmd) => cmd,
+        BiometricsCommand::Sfa(cmd) => return super::sfa::run(cmd),
+    };
     match cmd {
         FdkecaCommand::Fit { data, model, out } => {
             let ds = load(&data)?;
@@ -397,7 +404,7 @@ pub fn run(cmd: BiometricsCommand) -> Result<()> {
 }
 
 /// Query paths: files as given, folders expanded to their images (sorted).
-fn expand_queries(queries: &[PathBuf]) -> Result<Vec<PathBuf>> {
+pub(super) fn expand_queries(queries: &[PathBuf]) -> Result<Vec<PathBuf>> {
     if queries.is_empty() {
         return Err(Error::Empty("queries"));
     }

@@ -11,6 +11,7 @@ mod cloth;
 mod math;
 mod meshfilter;
 mod progress;
+mod sfa;
 mod volren;
 
 /// wscg: the methods of the Journal of WSCG vol. 23 papers on your own data.
@@ -43,7 +44,7 @@ enum Command {
         #[arg(long)]
         only: Vec<String>,
     },
-    /// Biometrics (paper 01: FDKECA) on your own images or .npy data.
+    /// Biometrics (paper 01: FDKECA; paper 05: class-wise SFA) on your own images or .npy data.
     #[command(subcommand)]
     Biometrics(biometrics::BiometricsCommand),
     /// Cloth simulation with soft constraints (paper 02) on your own mesh.

@@ -54,7 +54,11 @@ fn hand_pose_tables_and_rotation_robustness() {
     for r in &res.results {
         for i in 0..5 {
             let row: f64 = (0..5).map(|j| r.confusion[(i, j)]).sum();
-            assert!((row - 100.0).abs() < 1e-9, "{:?} row {i} sums to {row}", r.method);
+            assert!(
+                (row - 100.0).abs() < 1e-9,
+                "{:?} row {i} sums to {row}",
+                r.method
+            );
         }
     }
     let sfa = res.get(Method::ClassSfa).unwrap();

@@ -39,7 +39,10 @@ pub struct Svd {
 pub fn gram_accumulate(acc: &mut Mat<f64>, x: MatRef<'_, f64>, alpha: f64) {
     use faer::linalg::matmul::triangular::{matmul, BlockStructure};
     let p = x.ncols();
-    assert!(acc.nrows() == p && acc.ncols() == p, "gram_accumulate: acc is not p x p");
+    assert!(
+        acc.nrows() == p && acc.ncols() == p,
+        "gram_accumulate: acc is not p x p"
+    );
     matmul(
         acc.as_mut(),
         BlockStructure::TriangularLower,

@@ -24,9 +24,10 @@ pub mod protocol;
 
 pub use features::{physical_features, physical_features_batch, FEATURE_NAMES, N_FEATURES};
 pub use generate::{
-    downscale, generate, generate_with, rotate_mask, split_masks, split_protocol, Jitter, Split, SynthConfig,
-    SynthData, CLASS_NAMES, DOWNSCALE, N_CLASSES,
+    downscale, generate, generate_with, rotate_mask, split_masks, split_protocol, Jitter, Split,
+    SynthConfig, SynthData, CLASS_NAMES, DOWNSCALE, N_CLASSES,
 };
 pub use protocol::{
-    compare, compare_masks, compare_rows, CompareConfig, Comparison, FeatureSets, Method, MethodResult,
+    compare, compare_masks, compare_rows, CompareConfig, Comparison, FeatureSets, Method,
+    MethodResult,
 };

@@ -193,7 +193,6 @@ impl Comparison {
     /// predicted class, then the diagonal mean), class names from [`CLASS_NAMES`] where the
     /// labels are `0..5`.
     pub fn format_tables(&self) -> String {
-        use std::fmt::Write;
         let names: Vec<String> = self
             .classes
             .iter()
@@ -203,18 +202,34 @@ impl Comparison {
                     .map_or_else(|| c.to_string(), |s| (*s).to_string())
             })
             .collect();
+        self.format_tables_with(&names)
+    }
+
+    /// [`Comparison::format_tables`] with the given class names (one per class, in the order
+    /// of [`Comparison::classes`]; missing names print as the label).
+    pub fn format_tables_with(&self, names: &[String]) -> String {
+        use std::fmt::Write;
+        let names: Vec<String> = (0..self.classes.len())
+            .map(|i| {
+                names
+                    .get(i)
+                    .cloned()
+                    .unwrap_or_else(|| self.classes[i].to_string())
+            })
+            .collect();
+        let width = names.iter().map(String::len).max().unwrap_or(0).max(7) + 1;
         let mut s = String::new();
         for r in &self.results {
             let _ = writeln!(s, "{}", r.method.title());
-            let _ = write!(s, "{:>8}", "");
+            let _ = write!(s, "{:>width$}", "");
             for n in &names {
-                let _ = write!(s, "{n:>8}");
+                let _ = write!(s, "{n:>width$}");
             }
             s.push('\n');
             for (i, n) in names.iter().enumerate() {
-                let _ = write!(s, "{n:>8}");
+                let _ = write!(s, "{n:>width$}");
                 for j in 0..names.len() {
-                    let _ = write!(s, "{:>8.1}", r.confusion[(i, j)]);
+                    let _ = write!(s, "{:>width$.1}", r.confusion[(i, j)]);
                 }
                 s.push('\n');
             }
@@ -271,7 +286,9 @@ fn frame_features(
     let rows: Vec<Vec<f64>> = frames
         .par_iter()
         .map(|&f| {
-            let m = masks.get(f * hw..(f + 1) * hw).ok_or(Error::Empty("frame"))?;
+            let m = masks
+                .get(f * hw..(f + 1) * hw)
+                .ok_or(Error::Empty("frame"))?;
             let d = depth.and_then(|d| d.get(f * hw..(f + 1) * hw));
             physical_features(m, d, h, w)
         })
@@ -390,15 +407,13 @@ pub fn compare_masks(
             .filter(|&i| split.train_rotation[i] == 0.0)
             .collect();
         let y_orig: Vec<u32> = originals.iter().map(|&i| ytr[i]).collect();
-        let chosen: Vec<usize> =
-            subset_per_class(&y_orig, Some(cfg.physical_per_class), cfg.seed)
-                .into_iter()
-                .map(|i| originals[i])
-                .collect();
+        let chosen: Vec<usize> = subset_per_class(&y_orig, Some(cfg.physical_per_class), cfg.seed)
+            .into_iter()
+            .map(|i| originals[i])
+            .collect();
         let frames: Vec<usize> = chosen.iter().map(|&i| split.train_index[i]).collect();
         let (train, train_seconds) = timed(|| frame_features(masks, depth, h, w, &frames))?;
-        let (test, test_seconds) =
-            timed(|| frame_features(masks, depth, h, w, &split.test_index))?;
+        let (test, test_seconds) = timed(|| frame_features(masks, depth, h, w, &split.test_index))?;
         Some(FeatureSets {
             train,
             train_y: chosen.iter().map(|&i| ytr[i]).collect(),
@@ -588,7 +603,9 @@ pub fn rotated_mask_rows(
     out.par_chunks_mut(dim)
         .zip(split.test_index.par_iter().zip(&angles))
         .try_for_each(|(o, (&f, &a))| -> Result<()> {
-            let m = masks.get(f * hw..(f + 1) * hw).ok_or(Error::Empty("frame"))?;
+            let m = masks
+                .get(f * hw..(f + 1) * hw)
+                .ok_or(Error::Empty("frame"))?;
             let d = downscale(&rotate_mask(m, h, w, a)?, h, w, DOWNSCALE)?;
             if d.len() != dim {
                 return Err(Error::ShapeMismatch(
