@@ -458,5 +458,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(finger_veins, m)?)?;
     m.add_function(wrap_pyfunction!(axis_images, m)?)?;
     m.add_function(wrap_pyfunction!(split_per_subject, m)?)?;
-    crate::sfa::register(m)
+    crate::sfa::register(m)?;
+    crate::handpose::register(m)
 }

@@ -11,6 +11,7 @@ mod biometrics;
 mod cloth;
 mod convert;
 mod errors;
+mod handpose;
 mod math;
 mod meshfilter;
 mod sfa;

@@ -70,6 +70,9 @@ pub enum SfaCommand {
         /// Query stack (n, h, w) or rows (n, d) in a .npy file instead of images.
         #[arg(long, conflicts_with = "queries")]
         npy: Option<PathBuf>,
+        /// Also write every score (n x classes, float64, smaller is better) to this .npy.
+        #[arg(long)]
+        scores: Option<PathBuf>,
     },
     /// The paper's protocol on labelled silhouettes: per class a random test set, rotated
     /// copies of training frames appended, class-wise SFA against KNN on physical features,
@@ -283,8 +286,11 @@ fn load(data: &SfaData) -> Result<Loaded> {
     }
 }
 
+/// Values, sample count and image shape (`None` for rows) of a `.npy` input.
+type Stack = (Vec<f32>, usize, Option<(usize, usize)>);
+
 /// A `.npy` stack `(n, h, w)` (images) or matrix `(n, d)` (rows).
-fn read_stack(path: &Path) -> Result<(Vec<f32>, usize, Option<(usize, usize)>)> {
+fn read_stack(path: &Path) -> Result<Stack> {
     let a = npy::read::<f32>(path)?;
     match a.shape[..] {
         [n, h, w] => Ok((a.data, n, Some((h, w)))),
@@ -441,6 +447,7 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             model,
             queries,
             npy: npy_path,
+            scores: scores_out,
         } => {
             let text = std::fs::read_to_string(&model).map_err(|e| Error::io(&model, e))?;
             let file: ModelFile = serde_json::from_str(&text)
@@ -486,6 +493,11 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             }
             let x = rows(&values, n, shape, file.downscale)?;
             let (pred, scores) = fitted.predict_scores(x.as_ref())?;
+            if let Some(p) = scores_out {
+                let (r, c) = (scores.nrows(), scores.ncols());
+                let v: Vec<f64> = (0..r * c).map(|t| scores[(t / c, t % c)]).collect();
+                npy::write(&p, &[r, c], &v)?;
+            }
             println!("query\tclass\tscore");
             for (i, (q, &p)) in names.iter().zip(&pred).enumerate() {
                 let name = file.names.get(p as usize).map_or("?", String::as_str);

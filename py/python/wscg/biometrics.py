@@ -20,7 +20,10 @@ number of images beyond one ``O(n d^2)`` product. KPCA and KECA build ``n x n`` 
 Paper 05 (Tewari et al., slow feature analysis for hand-pose classification):
 :class:`PerClassSFA` (the paper's class-wise SFA with its variance rule), :class:`GlobalSFA`
 (SFA fitted once on all classes, Berkes 2005), :class:`TemporalSFA`, :class:`KNN` and
-:func:`confusion_matrix` for the baselines of its Tables 3-6.
+:func:`confusion_matrix` and :class:`Isomap` for the baselines of its Tables 3-6; the synthetic
+hand-pose data (:func:`make_hand_poses`), the physical features (:func:`physical_features`),
+the paper's split (:func:`hand_pose_split`) and the whole comparison
+(:func:`hand_pose_comparison`).
 
 Bad arguments raise ``ValueError`` naming the problem; the GIL is released while Rust works.
 """
@@ -37,7 +40,10 @@ __all__ = [
     "FDKECA", "PCA", "KernelPCA", "KECA",
     "nn_classify", "accuracy_curve", "best_dimension", "select_dimension_cv",
     "feature_kernel", "make_finger_veins", "split_per_subject",
-    "PerClassSFA", "GlobalSFA", "TemporalSFA", "KNN", "confusion_matrix",
+    "PerClassSFA", "GlobalSFA", "TemporalSFA", "KNN", "confusion_matrix", "Isomap",
+    "HAND_POSE_CLASSES", "hand_pose_jitter", "make_hand_poses", "physical_features",
+    "rotate_mask", "downscale_mask", "hand_pose_split", "hand_pose_comparison",
+    "hand_pose_rotated_test",
 ]
 
 _METRICS = ("euclidean", "cosine")
@@ -845,3 +851,177 @@ def confusion_matrix(y_true, y_pred, classes=None) -> Tuple[np.ndarray, np.ndarr
     except KeyError as e:
         raise ValueError(f"label {e.args[0]!r} is not among the classes") from None
     return _b.confusion_matrix(t, p, len(classes)), classes
+
+
+class Isomap(_Params):
+    """Isomap (Tenenbaum et al. 2000): the "KNN on 9-D Isomap" baseline of paper 05
+    (Table 6). Exact Isomap follows scikit-learn's ``Isomap`` step by step (brute-force
+    neighbourhood graph, Dijkstra geodesics, kernel PCA of ``-D^2/2``, ``transform`` of new
+    points through their nearest training points), so ``embedding_`` equals sklearn's up to
+    the sign of each component. With ``n_landmarks`` it is Landmark Isomap (de Silva and
+    Tenenbaum 2003; geodesic MaxMin landmarks), for more than 5000 points.
+
+    A disconnected neighbourhood graph raises ``ValueError`` (use a larger
+    ``n_neighbors``)."""
+
+    _param_names = ("n_neighbors", "n_components", "n_landmarks")
+
+    def __init__(self, n_neighbors: int = 8, n_components: int = 9,
+                 n_landmarks: Optional[int] = None):
+        self.n_neighbors, self.n_components, self.n_landmarks = (
+            n_neighbors, n_components, n_landmarks)
+        self._model = None
+
+    def fit(self, X, y=None):
+        X, _ = _matrix(X)
+        nl = None if self.n_landmarks is None else int(self.n_landmarks)
+        self._model = _b.isomap_fit(X, int(self.n_neighbors), int(self.n_components), nl)
+        self.embedding_ = self._model.embedding()
+        self.eigenvalues_ = np.asarray(self._model.eigenvalues())
+        lm = self._model.landmarks()
+        self.landmarks_ = None if lm is None else np.asarray(lm)
+        self.n_features_in_ = X.shape[1]
+        return self
+
+    def transform(self, X) -> np.ndarray:
+        """Embedding of new rows (sklearn's ``Isomap.transform`` semantics)."""
+        if self._model is None:
+            raise ValueError("the model is not fitted: call fit(X) first")
+        X, _ = _matrix(X)
+        return self._model.transform(X)
+
+    def fit_transform(self, X, y=None) -> np.ndarray:
+        return self.fit(X).embedding_
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        if state.get("_model") is not None:
+            state["_model"] = state["_model"].to_json()
+        return state
+
+    def __setstate__(self, state):
+        if isinstance(state.get("_model"), str):
+            state["_model"] = _b.IsomapModel.from_json(state["_model"])
+        self.__dict__.update(state)
+
+
+HAND_POSE_CLASSES = ("FIST", "FLAT", "INDEX", "OPEN", "GRAB")
+_JITTER_KEYS = ("extension", "finger_angle_deg", "spread", "rotation_deg", "scale",
+                "translation_px")
+
+
+def hand_pose_jitter(preset: str = "default") -> dict:
+    """Per-frame variation amplitudes of :func:`make_hand_poses`: ``"default"`` (the spec's
+    with the hand translated by +-25 px, which makes FLAT/OPEN and FIST/GRAB confusable) or
+    ``"spec"`` (the spec's +-8 px)."""
+    default, spec = _b.jitter_presets()
+    if preset not in ("default", "spec"):
+        raise ValueError(f"`preset` must be 'default' or 'spec', got {preset!r}")
+    return dict(zip(_JITTER_KEYS, default if preset == "default" else spec))
+
+
+def make_hand_poses(n_per_class: int = 3000, subjects: int = 3, seed: int = 0,
+                    size: Tuple[int, int] = (165, 120), jitter: Optional[dict] = None):
+    """Synthetic time-of-flight hand poses standing in for paper 05's private recordings
+    (5 poses ``HAND_POSE_CLASSES``, frames stored class by class): returns ``(masks,
+    depth, labels, subjects)`` with ``masks`` uint8 ``(n, h, w)`` (0/1, segmented from a
+    simulated amplitude image as the paper does), ``depth`` float32 in mm (0 off the hand),
+    ``labels`` 0..4 and the subject of each frame. ``jitter`` overrides entries of
+    :func:`hand_pose_jitter`. Deterministic given ``seed``; **synthetic data**."""
+    amp = hand_pose_jitter()
+    for k, v in (jitter or {}).items():
+        if k not in amp:
+            raise ValueError(f"unknown jitter key {k!r}; expected one of {_JITTER_KEYS}")
+        amp[k] = float(v)
+    h, w = size
+    return _b.hand_poses(int(n_per_class), int(subjects), int(seed), int(w), int(h),
+                         [amp[k] for k in _JITTER_KEYS])
+
+
+def _masks(masks) -> np.ndarray:
+    m = np.asarray(masks)
+    if m.dtype == bool:
+        m = m.astype(np.uint8)
+    if m.dtype != np.uint8:
+        raise ValueError(f"`masks` must be uint8 or bool (0 = background), got {m.dtype}")
+    return np.ascontiguousarray(m)
+
+
+def physical_features(masks, depth=None) -> np.ndarray:
+    """The hand-crafted features of paper 05's Table 4 baseline, one row per mask of an
+    ``(n, h, w)`` stack (or one ``(h, w)`` mask): fingertip x, y; palm centre x, y; palm
+    radius; convex ratio; concave depth; finger polar angle; and, with ``depth`` (same
+    shape, float), the finger azimuth: 9 columns, 8 without depth."""
+    m = _masks(masks)
+    d = None if depth is None else np.ascontiguousarray(depth, dtype=np.float32)
+    return _b.physical_features(m, d)
+
+
+def rotate_mask(mask, degrees: float) -> np.ndarray:
+    """One binary mask rotated about its centroid by ``degrees`` (counter-clockwise as
+    displayed), nearest-neighbour resampling; stays 0/1."""
+    return _b.rotate_mask(_masks(mask), float(degrees))
+
+
+def downscale_mask(mask, factor: int = 3) -> np.ndarray:
+    """Area-average downscaling of one binary mask (paper 05: by 3, 120 x 165 -> 40 x 55)."""
+    return _b.downscale(_masks(mask), int(factor))
+
+
+def hand_pose_split(masks, labels, test_per_class: int = 300, augment_per_class: int = 1000,
+                    seed: int = 0) -> dict:
+    """The paper's protocol on a mask stack: per class ``test_per_class`` random test frames,
+    the rest train; then ``augment_per_class`` training frames per class rotated by
+    +-U(10, 20) degrees and appended. Rows are the masks downscaled by 3, flattened.
+    Returns a dict with ``X_train``, ``y_train``, ``X_test``, ``y_test``, ``train_index``,
+    ``test_index`` (source frames), ``train_rotation`` (degrees) and ``shape``."""
+    m = _masks(masks)
+    classes, codes = _encode_labels(labels, m.shape[0] if m.ndim == 3 else 1, "labels")
+    d = _b.hand_pose_split(m, codes, int(test_per_class), int(augment_per_class), int(seed))
+    d["y_train"] = classes[d["y_train"]]
+    d["y_test"] = classes[d["y_test"]]
+    return d
+
+
+def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", "pca",
+                         "isomap", "global"), test_per_class: int = 300,
+                         augment_per_class: int = 1000, seed: int = 0, pca_dims: int = 35,
+                         m: int = 10, gamma: float = 1.0, shrinkage: float = 1e-6, k: int = 5,
+                         physical_per_class: int = 1500, isomap_neighbors: int = 8,
+                         isomap_components: int = 9, isomap_per_class: Optional[int] = None,
+                         isomap_landmarks: int = 2000, global_rule: str = "variance") -> dict:
+    """Paper 05's comparison (Tables 3-6) on a mask stack: the split of
+    :func:`hand_pose_split`, then class-wise SFA (``"sfa"``), KNN on physical features
+    (``"physical"``, z-scored, ``physical_per_class`` original training frames per class),
+    KNN on PCA-35 (``"pca"``), KNN on Isomap (``"isomap"``; Landmark Isomap above 5000
+    rows) and full-data-set SFA (``"global"``). Returns ``{"classes", "y_test", "results"}``
+    with ``results[name] = {"confusion" (% per true class), "predictions", "accuracy"
+    (mean of the diagonal, %), "fit_seconds", "predict_seconds"}``."""
+    mk = _masks(masks)
+    classes, codes = _encode_labels(labels, mk.shape[0] if mk.ndim == 3 else 1, "labels")
+    d = None if depth is None else np.ascontiguousarray(depth, dtype=np.float32)
+    cls, y_test, res = _b.hand_pose_comparison(
+        mk, d, codes, [str(x) for x in methods], int(test_per_class), int(augment_per_class),
+        int(seed), (int(pca_dims), int(m), float(gamma), float(shrinkage)), int(k),
+        int(physical_per_class),
+        (int(isomap_neighbors), int(isomap_components),
+         None if isomap_per_class is None else int(isomap_per_class), int(isomap_landmarks)),
+        str(global_rule))
+    out = {"classes": classes[np.asarray(cls)], "y_test": classes[y_test], "results": {}}
+    for name, conf, pred, tf, tp in res:
+        out["results"][name] = {"confusion": conf, "predictions": classes[pred],
+                                "accuracy": float(np.mean(np.diag(conf))),
+                                "fit_seconds": tf, "predict_seconds": tp}
+    return out
+
+
+def hand_pose_rotated_test(masks, labels, test_per_class: int = 300,
+                           augment_per_class: int = 1000, seed: int = 0, angles=(10.0, 20.0),
+                           rotation_seed: int = 1) -> np.ndarray:
+    """The test rows of :func:`hand_pose_split` (same arguments) with every test frame
+    rotated by +-U(angles) degrees about its centroid: the rotation-robustness check."""
+    mk = _masks(masks)
+    _, codes = _encode_labels(labels, mk.shape[0] if mk.ndim == 3 else 1, "labels")
+    return _b.hand_pose_rotated_test(mk, codes, int(test_per_class), int(augment_per_class),
+                                     int(seed), float(angles[0]), float(angles[1]),
+                                     int(rotation_seed))

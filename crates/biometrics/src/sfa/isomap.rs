@@ -316,6 +316,17 @@ impl Isomap {
         self.train.ncols()
     }
 
+    /// The model as JSON.
+    pub fn to_json(&self) -> Result<String> {
+        serde_json::to_string(self).map_err(|e| Error::invalid("model", e.to_string()))
+    }
+
+    /// A model from [`Self::to_json`] output.
+    pub fn from_json(s: &str) -> Result<Self> {
+        serde_json::from_str(s)
+            .map_err(|e| Error::invalid("model", format!("not an Isomap model: {e}")))
+    }
+
     /// Number of training samples `n`.
     pub fn n_samples(&self) -> usize {
         self.train.nrows()

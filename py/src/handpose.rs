@@ -1,0 +1,370 @@
+//! `wscg._native.biometrics` (paper 05, data side): the synthetic hand-pose generator, the
+//! physical features, the split / augmentation protocol, the comparison of Tables 3-6, and
+//! Isomap. The documented API is `python/wscg/biometrics.py`.
+
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wscg_biometrics::sfa::handpose::protocol::{compare_masks, rotated_mask_rows};
+use wscg_biometrics::sfa::handpose::{
+    downscale as downscale_mask, generate_with, physical_features_batch, rotate_mask as rotate,
+    split_masks, CompareConfig, Jitter, Method, SynthConfig,
+};
+use wscg_biometrics::sfa::isomap::{Isomap, IsomapParams};
+use wscg_biometrics::sfa::ClassSfaConfig;
+
+use crate::biometrics::labels_from;
+use crate::convert::{array, mat_map, mat_out, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+/// `(n, h, w)` of a mask stack (a single `(h, w)` mask counts as `n = 1`).
+fn stack_dims(name: &str, shape: &[usize]) -> PyResult<(usize, usize, usize)> {
+    match *shape {
+        [h, w] => Ok((1, h, w)),
+        [n, h, w] => Ok((n, h, w)),
+        _ => Err(value_error(format!(
+            "`{name}` must be a 2-D (H, W) mask or a 3-D (N, H, W) stack, got shape {shape:?}"
+        ))),
+    }
+}
+
+/// `(masks, depth, labels, subjects)` as numpy arrays.
+type HandPoseArrays<'py> = (Arr<'py, u8>, Arr<'py, f32>, Arr<'py, i64>, Arr<'py, i64>);
+
+/// Generates the synthetic hand-pose set: `(masks, depth, labels, subjects)`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn hand_poses<'py>(
+    py: Python<'py>,
+    n_per_class: usize,
+    subjects: usize,
+    seed: u64,
+    width: usize,
+    height: usize,
+    jitter: [f64; 6],
+) -> PyResult<HandPoseArrays<'py>> {
+    let cfg = SynthConfig {
+        n_per_class,
+        subjects,
+        seed,
+        width,
+        height,
+    };
+    let j = Jitter {
+        extension: jitter[0],
+        finger_angle_deg: jitter[1],
+        spread: jitter[2],
+        rotation_deg: jitter[3],
+        scale: jitter[4],
+        translation_px: jitter[5],
+    };
+    let d = py.detach(|| generate_with(&cfg, &j)).py_err()?;
+    let (n, h, w) = (d.len(), d.height, d.width);
+    let labels = d.labels.iter().map(|&l| i64::from(l)).collect();
+    let subj = d.subjects.iter().map(|&l| i64::from(l)).collect();
+    Ok((
+        array(py, &[n, h, w], d.masks)?,
+        array(py, &[n, h, w], d.depth)?,
+        array(py, &[n], labels)?,
+        array(py, &[n], subj)?,
+    ))
+}
+
+/// The spec's per-frame amplitudes and the default ones, in `hand_poses`' jitter order.
+#[pyfunction]
+fn jitter_presets() -> ([f64; 6], [f64; 6]) {
+    let f = |j: Jitter| {
+        [
+            j.extension,
+            j.finger_angle_deg,
+            j.spread,
+            j.rotation_deg,
+            j.scale,
+            j.translation_px,
+        ]
+    };
+    (f(Jitter::default()), f(Jitter::spec()))
+}
+
+/// Physical features of a mask stack (optionally with depth): `(n, 9)` or `(n, 8)`.
+#[pyfunction]
+#[pyo3(signature = (masks, depth=None))]
+fn physical_features<'py>(
+    py: Python<'py>,
+    masks: PyReadonlyArrayDyn<u8>,
+    depth: Option<PyReadonlyArrayDyn<f32>>,
+) -> PyResult<Arr<'py, f64>> {
+    let (n, h, w) = stack_dims("masks", masks.shape())?;
+    let m = values(&masks);
+    let d = depth.as_ref().map(values);
+    if let Some(dep) = &depth {
+        if dep.shape() != masks.shape() {
+            return Err(value_error(format!(
+                "`depth` has shape {:?}, the masks {:?}",
+                dep.shape(),
+                masks.shape()
+            )));
+        }
+    }
+    let f = py
+        .detach(|| physical_features_batch(&m, d.as_deref(), n, h, w))
+        .py_err()?;
+    let k = f.len() / n.max(1);
+    array(py, &[n, k], f)
+}
+
+/// Rotates one mask about its centroid (degrees, counter-clockwise as displayed).
+#[pyfunction]
+fn rotate_mask<'py>(
+    py: Python<'py>,
+    mask: PyReadonlyArrayDyn<u8>,
+    degrees: f64,
+) -> PyResult<Arr<'py, u8>> {
+    let (n, h, w) = stack_dims("mask", mask.shape())?;
+    if n != 1 || mask.shape().len() != 2 {
+        return Err(value_error("`mask` must be one 2-D (H, W) mask"));
+    }
+    let out = rotate(&values(&mask), h, w, degrees).py_err()?;
+    array(py, &[h, w], out)
+}
+
+/// Area-average downscaling of one mask by an integer factor.
+#[pyfunction]
+fn downscale<'py>(
+    py: Python<'py>,
+    mask: PyReadonlyArrayDyn<u8>,
+    factor: usize,
+) -> PyResult<Arr<'py, f64>> {
+    if mask.shape().len() != 2 {
+        return Err(value_error("`mask` must be one 2-D (H, W) mask"));
+    }
+    let (h, w) = (mask.shape()[0], mask.shape()[1]);
+    let out = downscale_mask(&values(&mask), h, w, factor).py_err()?;
+    array(
+        py,
+        &[h.div_ceil(factor.max(1)), w.div_ceil(factor.max(1))],
+        out,
+    )
+}
+
+/// The paper's split and augmentation of a mask stack: a dict of arrays.
+#[pyfunction]
+fn hand_pose_split<'py>(
+    py: Python<'py>,
+    masks: PyReadonlyArrayDyn<u8>,
+    labels: PyReadonlyArrayDyn<i64>,
+    test_per_class: usize,
+    augment_per_class: usize,
+    seed: u64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (_, h, w) = stack_dims("masks", masks.shape())?;
+    let y = labels_from("labels", &labels)?;
+    let m = values(&masks);
+    let s = py
+        .detach(|| split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed))
+        .py_err()?;
+    let d = PyDict::new(py);
+    let i64s = |v: &[u32]| v.iter().map(|&l| i64::from(l)).collect::<Vec<_>>();
+    let idx = |v: &[usize]| v.iter().map(|&l| l as i64).collect::<Vec<_>>();
+    let (ntr, nte) = (s.train_y.len(), s.test_y.len());
+    d.set_item("X_train", array(py, &[ntr, s.dim], s.train_x)?)?;
+    d.set_item("y_train", array(py, &[ntr], i64s(&s.train_y))?)?;
+    d.set_item("X_test", array(py, &[nte, s.dim], s.test_x)?)?;
+    d.set_item("y_test", array(py, &[nte], i64s(&s.test_y))?)?;
+    d.set_item("train_index", array(py, &[ntr], idx(&s.train_index))?)?;
+    d.set_item("test_index", array(py, &[nte], idx(&s.test_index))?)?;
+    d.set_item("train_rotation", array(py, &[ntr], s.train_rotation)?)?;
+    d.set_item("shape", s.shape)?;
+    Ok(d)
+}
+
+/// The comparison of Tables 3-6 on a mask stack: `(classes, y_test, results, rotated)` with
+/// one `(name, confusion %, predictions, fit s, predict s)` per method and, when asked, the
+/// test rows rotated by +-U(10, 20) degrees.
+#[pyfunction]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn hand_pose_comparison<'py>(
+    py: Python<'py>,
+    masks: PyReadonlyArrayDyn<u8>,
+    depth: Option<PyReadonlyArrayDyn<f32>>,
+    labels: PyReadonlyArrayDyn<i64>,
+    methods: Vec<String>,
+    test_per_class: usize,
+    augment_per_class: usize,
+    seed: u64,
+    sfa: (usize, usize, f64, f64),
+    k: usize,
+    physical_per_class: usize,
+    isomap: (usize, usize, Option<usize>, usize),
+    global_rule: &str,
+) -> PyResult<(
+    Vec<i64>,
+    Arr<'py, i64>,
+    Vec<(String, Arr<'py, f64>, Arr<'py, i64>, f64, f64)>,
+)> {
+    let (_, h, w) = stack_dims("masks", masks.shape())?;
+    let y = labels_from("labels", &labels)?;
+    let methods: Vec<Method> = methods
+        .iter()
+        .map(|m| Method::parse(m))
+        .collect::<Result<_, _>>()
+        .py_err()?;
+    let m = values(&masks);
+    let d = depth.as_ref().map(values);
+    let cfg = CompareConfig {
+        sfa: ClassSfaConfig {
+            pca_dims: sfa.0,
+            m_per_class: sfa.1,
+            objective: wscg_biometrics::sfa::ClassObjective::WithinMinusOutOfClass { gamma: sfa.2 },
+            shrinkage: sfa.3,
+            ..ClassSfaConfig::default()
+        },
+        k,
+        physical_per_class,
+        isomap: IsomapParams {
+            n_neighbors: isomap.0,
+            n_components: isomap.1,
+            n_landmarks: None,
+        },
+        isomap_per_class: isomap.2,
+        isomap_landmarks: isomap.3,
+        global_rule: wscg_biometrics::sfa::global::parse_rule(global_rule).py_err()?,
+        seed,
+    };
+    let (split, res) = py
+        .detach(|| {
+            let split = split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed)?;
+            let res = compare_masks(&m, d.as_deref(), h, w, &split, &cfg, &methods, |_| {})?;
+            Ok::<_, wscg_math::Error>((split, res))
+        })
+        .py_err()?;
+    let mut out = Vec::new();
+    for r in res.results {
+        let n = r.predictions.len();
+        out.push((
+            r.method.name().to_string(),
+            mat_out(py, &r.confusion)?,
+            array(
+                py,
+                &[n],
+                r.predictions.iter().map(|&p| i64::from(p)).collect(),
+            )?,
+            r.fit_seconds,
+            r.predict_seconds,
+        ));
+    }
+    let yte = split.test_y.iter().map(|&l| i64::from(l)).collect();
+    Ok((
+        res.classes.iter().map(|&c| i64::from(c)).collect(),
+        array(py, &[split.test_y.len()], yte)?,
+        out,
+    ))
+}
+
+/// Test rows of the paper's split with every test frame rotated by +-U(lo, hi) degrees.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn hand_pose_rotated_test<'py>(
+    py: Python<'py>,
+    masks: PyReadonlyArrayDyn<u8>,
+    labels: PyReadonlyArrayDyn<i64>,
+    test_per_class: usize,
+    augment_per_class: usize,
+    seed: u64,
+    lo: f64,
+    hi: f64,
+    rotation_seed: u64,
+) -> PyResult<Arr<'py, f64>> {
+    let (_, h, w) = stack_dims("masks", masks.shape())?;
+    let y = labels_from("labels", &labels)?;
+    let m = values(&masks);
+    let (rows, n, dim) = py
+        .detach(|| {
+            let s = split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed)?;
+            let r = rotated_mask_rows(&m, h, w, &s, lo, hi, rotation_seed)?;
+            Ok::<_, wscg_math::Error>((r, s.test_y.len(), s.dim))
+        })
+        .py_err()?;
+    array(py, &[n, dim], rows)
+}
+
+/// A fitted Isomap.
+#[pyclass(module = "wscg._native.biometrics", name = "IsomapModel", frozen)]
+pub struct PyIsomap {
+    inner: Isomap,
+}
+
+#[pymethods]
+impl PyIsomap {
+    /// Embedding of new rows (sklearn's `Isomap.transform`).
+    fn transform<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArrayDyn<f64>,
+    ) -> PyResult<Arr<'py, f64>> {
+        mat_map(py, "x", &x, |x| self.inner.transform(x))
+    }
+
+    /// Training embedding.
+    fn embedding<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        mat_out(py, &self.inner.embedding().to_owned())
+    }
+
+    /// Kept eigenvalues of the centred geodesic kernel.
+    fn eigenvalues(&self) -> Vec<f64> {
+        self.inner.eigenvalues().to_vec()
+    }
+
+    /// Landmark indices (None for exact Isomap).
+    fn landmarks(&self) -> Option<Vec<usize>> {
+        self.inner.landmarks().map(<[usize]>::to_vec)
+    }
+
+    /// The model as JSON.
+    fn to_json(&self) -> PyResult<String> {
+        self.inner.to_json().py_err()
+    }
+
+    /// A model from `to_json`.
+    #[staticmethod]
+    fn from_json(s: &str) -> PyResult<Self> {
+        Ok(Self {
+            inner: Isomap::from_json(s).py_err()?,
+        })
+    }
+}
+
+/// Fits Isomap (exact, or Landmark Isomap with `n_landmarks`).
+#[pyfunction]
+#[pyo3(signature = (x, n_neighbors, n_components, n_landmarks=None))]
+fn isomap_fit(
+    py: Python<'_>,
+    x: PyReadonlyArrayDyn<f64>,
+    n_neighbors: usize,
+    n_components: usize,
+    n_landmarks: Option<usize>,
+) -> PyResult<PyIsomap> {
+    let x = crate::convert::mat("x", &x)?;
+    let p = IsomapParams {
+        n_neighbors,
+        n_components,
+        n_landmarks,
+    };
+    let inner = py.detach(|| Isomap::fit(x.as_ref(), &p)).py_err()?;
+    Ok(PyIsomap { inner })
+}
+
+/// Registers the hand-pose and Isomap functions into the biometrics submodule.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyIsomap>()?;
+    m.add_function(wrap_pyfunction!(isomap_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(hand_poses, m)?)?;
+    m.add_function(wrap_pyfunction!(jitter_presets, m)?)?;
+    m.add_function(wrap_pyfunction!(physical_features, m)?)?;
+    m.add_function(wrap_pyfunction!(rotate_mask, m)?)?;
+    m.add_function(wrap_pyfunction!(downscale, m)?)?;
+    m.add_function(wrap_pyfunction!(hand_pose_split, m)?)?;
+    m.add_function(wrap_pyfunction!(hand_pose_comparison, m)?)?;
+    m.add_function(wrap_pyfunction!(hand_pose_rotated_test, m)?)?;
+    Ok(())
+}
