@@ -13,6 +13,7 @@ pub mod cloth;
 pub mod figures;
 pub mod math;
 pub mod meshfilter;
+pub mod sfa;
 pub mod volren;
 
 /// A picture written by a demo.
@@ -96,6 +97,7 @@ pub fn registry() -> Vec<Demo> {
     vec![
         math::DEMO,
         biometrics::DEMO,
+        sfa::DEMO,
         cloth::DEMO,
         volren::DEMO,
         meshfilter::DEMO,
