@@ -113,6 +113,16 @@ fn physical_features<'py>(
     array(py, &[n, k], f)
 }
 
+/// `(h, w)` of one 2-D mask.
+fn mask_dims(mask: &PyReadonlyArrayDyn<u8>) -> PyResult<(usize, usize)> {
+    match *mask.shape() {
+        [h, w] => Ok((h, w)),
+        ref s => Err(value_error(format!(
+            "`mask` must be one 2-D (H, W) mask, got shape {s:?}"
+        ))),
+    }
+}
+
 /// Rotates one mask about its centroid (degrees, counter-clockwise as displayed).
 #[pyfunction]
 fn rotate_mask<'py>(
@@ -120,10 +130,7 @@ fn rotate_mask<'py>(
     mask: PyReadonlyArrayDyn<u8>,
     degrees: f64,
 ) -> PyResult<Arr<'py, u8>> {
-    let (n, h, w) = stack_dims("mask", mask.shape())?;
-    if n != 1 || mask.shape().len() != 2 {
-        return Err(value_error("`mask` must be one 2-D (H, W) mask"));
-    }
+    let (h, w) = mask_dims(&mask)?;
     let out = rotate(&values(&mask), h, w, degrees).py_err()?;
     array(py, &[h, w], out)
 }
@@ -135,10 +142,7 @@ fn downscale<'py>(
     mask: PyReadonlyArrayDyn<u8>,
     factor: usize,
 ) -> PyResult<Arr<'py, f64>> {
-    if mask.shape().len() != 2 {
-        return Err(value_error("`mask` must be one 2-D (H, W) mask"));
-    }
-    let (h, w) = (mask.shape()[0], mask.shape()[1]);
+    let (h, w) = mask_dims(&mask)?;
     let out = downscale_mask(&values(&mask), h, w, factor).py_err()?;
     array(
         py,

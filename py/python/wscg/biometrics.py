@@ -636,7 +636,23 @@ def split_per_subject(labels, train_per_subject: int, seed: int = 0
 _OBJECTIVES = ("within_minus_out", "within")
 
 
-class _SFAClassifier(_Params):
+class _JsonPickled:
+    """Pickling of estimators whose native model (``_model``) has ``to_json`` and a
+    ``_model_from_json`` counterpart."""
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        if state.get("_model") is not None:
+            state["_model"] = state["_model"].to_json()
+        return state
+
+    def __setstate__(self, state):
+        if isinstance(state.get("_model"), str):
+            state["_model"] = self._model_from_json(state["_model"])
+        self.__dict__.update(state)
+
+
+class _SFAClassifier(_Params, _JsonPickled):
     """Shared plumbing of :class:`PerClassSFA` and :class:`GlobalSFA`."""
 
     _global = False
@@ -697,16 +713,8 @@ class _SFAClassifier(_Params):
         obj.eigenvalues_, obj.rank_ = obj._model.eigenvalues()
         return obj
 
-    def __getstate__(self):
-        state = self.__dict__.copy()
-        if state.get("_model") is not None:
-            state["_model"] = state["_model"].to_json()
-        return state
-
-    def __setstate__(self, state):
-        if isinstance(state.get("_model"), str):
-            state["_model"] = _b.SfaModel.from_json(state["_model"], self._global)
-        self.__dict__.update(state)
+    def _model_from_json(self, text):
+        return _b.SfaModel.from_json(text, self._global)
 
 
 class PerClassSFA(_SFAClassifier):
@@ -853,7 +861,7 @@ def confusion_matrix(y_true, y_pred, classes=None) -> Tuple[np.ndarray, np.ndarr
     return _b.confusion_matrix(t, p, len(classes)), classes
 
 
-class Isomap(_Params):
+class Isomap(_Params, _JsonPickled):
     """Isomap (Tenenbaum et al. 2000): the "KNN on 9-D Isomap" baseline of paper 05
     (Table 6). Exact Isomap follows scikit-learn's ``Isomap`` step by step (brute-force
     neighbourhood graph, Dijkstra geodesics, kernel PCA of ``-D^2/2``, ``transform`` of new
@@ -893,16 +901,8 @@ class Isomap(_Params):
     def fit_transform(self, X, y=None) -> np.ndarray:
         return self.fit(X).embedding_
 
-    def __getstate__(self):
-        state = self.__dict__.copy()
-        if state.get("_model") is not None:
-            state["_model"] = state["_model"].to_json()
-        return state
-
-    def __setstate__(self, state):
-        if isinstance(state.get("_model"), str):
-            state["_model"] = _b.IsomapModel.from_json(state["_model"])
-        self.__dict__.update(state)
+    def _model_from_json(self, text):
+        return _b.IsomapModel.from_json(text)
 
 
 HAND_POSE_CLASSES = ("FIST", "FLAT", "INDEX", "OPEN", "GRAB")
