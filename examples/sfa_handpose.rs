@@ -6,12 +6,9 @@
 //! Run: `cargo run --release --example sfa_handpose [FRAMES_PER_CLASS [METHODS]]`, METHODS a
 //! comma-separated list of `sfa,physical,pca,isomap,global` (default: all).
 
-use wscg::biometrics::sfa::handpose::protocol::{
-    rotated_test_rows, rows_to_mat, unaugmented_training,
+use wscg::biometrics::sfa::handpose::{
+    compare, generate, rotation_robustness, split_protocol, CompareConfig, Method, SynthConfig,
 };
-use wscg::biometrics::sfa::handpose::{compare, generate, split_protocol, Method, SynthConfig};
-use wscg::biometrics::sfa::PerClassSfa;
-use wscg::biometrics::subspace::accuracy;
 
 fn main() -> wscg::math::Result<()> {
     let n_per_class = std::env::args()
@@ -34,7 +31,7 @@ fn main() -> wscg::math::Result<()> {
         split.train_y.len(),
         split.test_y.len()
     );
-    let cfg = Default::default();
+    let cfg = CompareConfig::default();
     let methods: Vec<Method> = match std::env::args().nth(2) {
         Some(list) => list
             .split(',')
@@ -49,26 +46,24 @@ fn main() -> wscg::math::Result<()> {
 
     // Rotation robustness: every test frame rotated by +-U(10, 20) degrees, for the model
     // trained with the rotated copies and for one trained on the original frames only.
-    let rotated = rows_to_mat(&rotated_test_rows(&data, &split, 10.0, 20.0, 1)?, split.dim);
-    let plain_test = rows_to_mat(&split.test_x, split.dim);
-    let (x_orig, y_orig) = unaugmented_training(&split);
-    for (name, x, y) in [
-        (
-            "with augmentation",
-            split.train_x.clone(),
-            split.train_y.clone(),
-        ),
-        ("without augmentation", x_orig, y_orig),
-    ] {
-        let model = PerClassSfa::fit(rows_to_mat(&x, split.dim).as_ref(), &y, &cfg.sfa)?;
-        let plain = accuracy(&model.predict(plain_test.as_ref())?, &split.test_y)?;
-        let rot = accuracy(&model.predict(rotated.as_ref())?, &split.test_y)?;
-        println!(
-            "class-wise SFA {name}: {:.2} % on the test frames, {:.2} % rotated (drop {:.2} pp)",
-            100.0 * plain,
-            100.0 * rot,
-            100.0 * (plain - rot)
-        );
+    let rot = rotation_robustness(
+        &data.masks,
+        data.height,
+        data.width,
+        &split,
+        &cfg.sfa,
+        res.class_sfa.as_ref(),
+        true,
+        1,
+    )?;
+    for (name, acc) in [("with", Some(rot.augmented)), ("without", rot.unaugmented)] {
+        if let Some((plain, rotated)) = acc {
+            println!(
+                "class-wise SFA {name} augmentation: {plain:.2} % on the test frames, \
+                 {rotated:.2} % rotated (drop {:.2} pp)",
+                plain - rotated
+            );
+        }
     }
     Ok(())
 }

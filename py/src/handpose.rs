@@ -5,10 +5,10 @@
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use wscg_biometrics::sfa::handpose::protocol::{compare_masks, rotated_mask_rows};
+use wscg_biometrics::sfa::handpose::protocol::compare_masks;
 use wscg_biometrics::sfa::handpose::{
     downscale as downscale_mask, generate_with, physical_features_batch, rotate_mask as rotate,
-    split_masks, CompareConfig, Jitter, Method, SynthConfig,
+    rotated_rows, split_masks, CompareConfig, Jitter, Method, SynthConfig, DOWNSCALE,
 };
 use wscg_biometrics::sfa::isomap::{Isomap, IsomapParams};
 use wscg_biometrics::sfa::ClassSfaConfig;
@@ -182,9 +182,8 @@ fn hand_pose_split<'py>(
     Ok(d)
 }
 
-/// The comparison of Tables 3-6 on a mask stack: `(classes, y_test, results, rotated)` with
-/// one `(name, confusion %, predictions, fit s, predict s)` per method and, when asked, the
-/// test rows rotated by +-U(10, 20) degrees.
+/// The comparison of Tables 3-6 on a mask stack: `(classes, y_test, results)` with one
+/// `(name, confusion %, predictions, fit s, predict s)` per method.
 #[pyfunction]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn hand_pose_comparison<'py>(
@@ -265,31 +264,23 @@ fn hand_pose_comparison<'py>(
     ))
 }
 
-/// Test rows of the paper's split with every test frame rotated by +-U(lo, hi) degrees.
+/// Rows of the given frames rotated by +-U(lo, hi) degrees and downscaled as the split does.
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
-fn hand_pose_rotated_test<'py>(
+fn rotated_frame_rows<'py>(
     py: Python<'py>,
     masks: PyReadonlyArrayDyn<u8>,
-    labels: PyReadonlyArrayDyn<i64>,
-    test_per_class: usize,
-    augment_per_class: usize,
-    seed: u64,
+    frames: Vec<usize>,
     lo: f64,
     hi: f64,
-    rotation_seed: u64,
+    seed: u64,
 ) -> PyResult<Arr<'py, f64>> {
     let (_, h, w) = stack_dims("masks", masks.shape())?;
-    let y = labels_from("labels", &labels)?;
     let m = values(&masks);
-    let (rows, n, dim) = py
-        .detach(|| {
-            let s = split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed)?;
-            let r = rotated_mask_rows(&m, h, w, &s, lo, hi, rotation_seed)?;
-            Ok::<_, wscg_math::Error>((r, s.test_y.len(), s.dim))
-        })
+    let rows = py
+        .detach(|| rotated_rows(&m, h, w, &frames, lo, hi, seed))
         .py_err()?;
-    array(py, &[n, dim], rows)
+    let dim = h.div_ceil(DOWNSCALE) * w.div_ceil(DOWNSCALE);
+    array(py, &[frames.len(), dim], rows)
 }
 
 /// A fitted Isomap.
@@ -369,6 +360,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(downscale, m)?)?;
     m.add_function(wrap_pyfunction!(hand_pose_split, m)?)?;
     m.add_function(wrap_pyfunction!(hand_pose_comparison, m)?)?;
-    m.add_function(wrap_pyfunction!(hand_pose_rotated_test, m)?)?;
+    m.add_function(wrap_pyfunction!(rotated_frame_rows, m)?)?;
     Ok(())
 }

@@ -73,8 +73,11 @@ def test_physical_features_of_a_disc():
     assert abs(f[0, 2] - 40) <= 1 and abs(f[0, 3] - 40) <= 1  # palm centre
     assert f[0, 5] >= 0.98  # convex ratio
     assert f[0, 6] <= 1.0  # concave depth
-    rot = B.rotate_mask(disc, 90.0)
-    assert abs(int(rot.sum()) - int(disc.sum())) <= 4
+    # A horizontal bar turned by 90 degrees about its centroid becomes a vertical one.
+    bar = np.zeros((61, 61), dtype=np.uint8)
+    bar[28:33, 10:51] = 1  # 5 rows x 41 columns, centroid (30, 30)
+    rows, cols = np.nonzero(B.rotate_mask(bar, 90.0))
+    assert (rows.min(), rows.max(), cols.min(), cols.max()) == (10, 50, 28, 32)
     small = B.downscale_mask(disc, 3)
     assert small.shape == (27, 27)
     assert abs(small.sum() * 9 - disc.sum()) < 1e-9
@@ -98,8 +101,15 @@ def test_split_and_comparison(hands):
     # The comparison's class-wise SFA is PerClassSFA on the split's rows.
     model = B.PerClassSFA(pca_dims=10, m=4).fit(s["X_train"], s["y_train"])
     np.testing.assert_array_equal(model.predict(s["X_test"]), r["results"]["sfa"]["predictions"])
-    rot = B.hand_pose_rotated_test(masks, labels, test_per_class=30, augment_per_class=40)
-    assert rot.shape == s["X_test"].shape and not np.array_equal(rot, s["X_test"])
+    # Rotated test rows: no rotation gives the split's rows exactly; a rotation keeps each
+    # hand's area (within resampling error) but moves its pixels.
+    same = B.hand_pose_rotated_test(masks, s["test_index"], angles=(0.0, 0.0))
+    np.testing.assert_array_equal(same, s["X_test"])
+    rot = B.hand_pose_rotated_test(masks, s["test_index"])
+    area, area_rot = s["X_test"].sum(axis=1), rot.sum(axis=1)
+    assert np.max(np.abs(area_rot / area - 1)) < 0.05
+    moved = np.abs(rot - s["X_test"]).sum(axis=1) / area
+    assert np.min(moved) > 0.05
 
 
 def _rows(masks):

@@ -94,18 +94,18 @@ pub enum FdkecaCommand {
 
 #[derive(Args, Debug)]
 pub struct DataArgs {
-    /// Gallery folder: one sub-folder of PNG/JPEG images per identity.
+    /// Gallery folder: one sub-folder of PNG/JPEG images per identity (class).
     #[arg(long, required_unless_present = "npy")]
-    gallery: Option<PathBuf>,
-    /// Data matrix (.npy, (n, d) or (n, h, w)) instead of a gallery folder.
+    pub(super) gallery: Option<PathBuf>,
+    /// Data (.npy): rows (n, d) or an image stack (n, h, w), instead of a gallery folder.
     #[arg(long, requires = "labels", conflicts_with = "gallery")]
-    npy: Option<PathBuf>,
+    pub(super) npy: Option<PathBuf>,
     /// Labels (.npy, 1-D integers) for --npy.
     #[arg(long)]
-    labels: Option<PathBuf>,
+    pub(super) labels: Option<PathBuf>,
     /// Resize gallery images to HxW (e.g. 10x20; default: the first image's size).
     #[arg(long, value_parser = parse_size)]
-    size: Option<(usize, usize)>,
+    pub(super) size: Option<(usize, usize)>,
 }
 
 #[derive(Args, Debug)]

@@ -12,18 +12,19 @@ use clap::{Args, Subcommand, ValueEnum};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 use wscg_biometrics::data::files::{load_identity_folder, read_npy_labels};
-use wscg_biometrics::sfa::handpose::protocol::{compare_masks, rotated_mask_rows, rows_to_mat};
+use wscg_biometrics::sfa::handpose::protocol::{compare_masks, rows_to_mat};
 use wscg_biometrics::sfa::handpose::{
-    downscale, generate_with, split_masks, CompareConfig, Jitter, Method, SynthConfig, CLASS_NAMES,
+    downscale, generate_with, rotation_robustness, split_masks, CompareConfig, Jitter, Method,
+    SynthConfig, CLASS_NAMES,
 };
 use wscg_biometrics::sfa::{
     ClassObjective, ClassSfaConfig, GlobalRule, GlobalSfa, PerClassSfa, QuadraticExpansion,
 };
-use wscg_biometrics::subspace::accuracy;
 use wscg_math::image::Image;
 use wscg_math::progress::Progress;
 use wscg_math::{npy, Error, Result};
 
+use super::biometrics::DataArgs;
 use super::progress::Bars;
 
 #[derive(Subcommand, Debug)]
@@ -108,15 +109,8 @@ pub enum SfaCommand {
 
 #[derive(Args, Debug)]
 pub struct SfaData {
-    /// Gallery folder: one sub-folder of PNG/JPEG silhouettes per class.
-    #[arg(long, required_unless_present = "npy")]
-    gallery: Option<PathBuf>,
-    /// Masks (.npy, (n, h, w)) or rows (n, d) instead of a gallery folder.
-    #[arg(long, requires = "labels", conflicts_with = "gallery")]
-    npy: Option<PathBuf>,
-    /// Labels (.npy, 1-D integers) for --npy.
-    #[arg(long)]
-    labels: Option<PathBuf>,
+    #[command(flatten)]
+    src: DataArgs,
     /// Downscaling factor of image inputs (fit / predict; evaluate always uses the paper's 3).
     #[arg(long, default_value_t = 3)]
     downscale: usize,
@@ -244,17 +238,21 @@ struct Loaded {
     names: Vec<String>,
 }
 
+/// The rows of `x`, row-major, as `f32`.
+fn row_values(x: &Mat<f64>) -> Vec<f32> {
+    (0..x.nrows())
+        .flat_map(|i| (0..x.ncols()).map(move |j| x[(i, j)] as f32))
+        .collect()
+}
+
 fn load(data: &SfaData) -> Result<Loaded> {
-    match (&data.gallery, &data.npy, &data.labels) {
+    let src = &data.src;
+    match (&src.gallery, &src.npy, &src.labels) {
         (Some(dir), None, _) => {
-            let ds = load_identity_folder(dir, None)?;
+            let ds = load_identity_folder(dir, src.size)?;
             let img = &ds.images;
-            let values = (0..img.x.nrows())
-                .flat_map(|i| (0..img.x.ncols()).map(move |j| (i, j)))
-                .map(|(i, j)| img.x[(i, j)] as f32)
-                .collect();
             Ok(Loaded {
-                values,
+                values: row_values(&img.x),
                 n: img.x.nrows(),
                 shape: Some((img.height, img.width)),
                 labels: img.labels.clone(),
@@ -469,10 +467,7 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
                     let files = super::biometrics::expand_queries(&queries)?;
                     let (x, _) =
                         wscg_biometrics::data::files::load_images(&files, file.image_shape)?;
-                    let v = (0..x.nrows())
-                        .flat_map(|i| (0..x.ncols()).map(move |j| (i, j)))
-                        .map(|(i, j)| x[(i, j)] as f32)
-                        .collect();
+                    let v = row_values(&x);
                     let names = files.iter().map(|f| f.display().to_string()).collect();
                     (v, x.nrows(), file.image_shape, names)
                 }
@@ -591,26 +586,20 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             bars.finish();
             print!("{}", res.format_tables_with(&ds.names));
             if rotated {
-                let rot =
-                    rotated_mask_rows(&masks, h, w, &split, 10.0, 20.0, seed.wrapping_add(1))?;
-                let m = PerClassSfa::fit(
-                    rows_to_mat(&split.train_x, split.dim).as_ref(),
-                    &split.train_y,
+                let rot = rotation_robustness(
+                    &masks,
+                    h,
+                    w,
+                    &split,
                     &cfg.sfa,
-                )?;
-                let plain = accuracy(
-                    &m.predict(rows_to_mat(&split.test_x, split.dim).as_ref())?,
-                    &split.test_y,
-                )?;
-                let acc = accuracy(
-                    &m.predict(rows_to_mat(&rot, split.dim).as_ref())?,
-                    &split.test_y,
+                    res.class_sfa.as_ref(),
+                    false,
+                    seed.wrapping_add(1),
                 )?;
                 println!(
                     "class-wise SFA on test frames rotated by +-U(10, 20) degrees: {:.2} % \
                      (unrotated {:.2} %)",
-                    100.0 * acc,
-                    100.0 * plain
+                    rot.augmented.1, rot.augmented.0
                 );
             }
             Ok(())

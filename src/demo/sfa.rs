@@ -4,12 +4,10 @@
 
 use std::path::Path;
 
-use wscg_biometrics::sfa::handpose::protocol::{rotated_test_rows, rows_to_mat};
 use wscg_biometrics::sfa::handpose::{
-    compare, generate, split_protocol, CompareConfig, Method, SynthConfig, CLASS_NAMES,
+    compare, generate, rotation_robustness, split_protocol, CompareConfig, Method, SynthConfig,
+    CLASS_NAMES,
 };
-use wscg_biometrics::sfa::PerClassSfa;
-use wscg_biometrics::subspace::accuracy;
 use wscg_math::image::Image;
 use wscg_math::progress::Progress;
 use wscg_math::Result;
@@ -116,17 +114,21 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
             ));
         }
     }
-    // Rotation robustness: every test frame rotated by +-U(10, 20) degrees.
-    let rotated = rows_to_mat(&rotated_test_rows(&data, &split, 10.0, 20.0, 1)?, split.dim);
-    let model = PerClassSfa::fit(
-        rows_to_mat(&split.train_x, split.dim).as_ref(),
-        &split.train_y,
+    // Rotation robustness: every test frame rotated by +-U(10, 20) degrees, with the model
+    // the comparison fitted.
+    let rot = rotation_robustness(
+        &data.masks,
+        h,
+        w,
+        &split,
         &CompareConfig::default().sfa,
+        res.class_sfa.as_ref(),
+        false,
+        1,
     )?;
-    let acc = accuracy(&model.predict(rotated.as_ref())?, &split.test_y)?;
     rep.table.push(Row::new(
         "class-wise SFA on test frames rotated by +-U(10, 20) degrees",
-        format!("{:.2} %", 100.0 * acc),
+        format!("{:.2} %", rot.augmented.1),
         "invariance claimed",
         "trained with 1000 rotated copies per class",
     ));

@@ -37,6 +37,12 @@ pub struct Svd {
 /// # Panics
 /// When `acc` is not `p x p` (a programming error, not a data error).
 pub fn gram_accumulate(acc: &mut Mat<f64>, x: MatRef<'_, f64>, alpha: f64) {
+    lower_accumulate(acc, x, alpha);
+    mirror_lower(acc);
+}
+
+/// Adds `alpha X'X` to the lower triangle (diagonal included) of `acc`.
+fn lower_accumulate(acc: &mut Mat<f64>, x: MatRef<'_, f64>, alpha: f64) {
     use faer::linalg::matmul::triangular::{matmul, BlockStructure};
     let p = x.ncols();
     assert!(
@@ -54,9 +60,13 @@ pub fn gram_accumulate(acc: &mut Mat<f64>, x: MatRef<'_, f64>, alpha: f64) {
         alpha,
         faer::get_global_parallelism(),
     );
-    for j in 1..p {
+}
+
+/// Copies the strict lower triangle of the square `a` onto its upper triangle.
+fn mirror_lower(a: &mut Mat<f64>) {
+    for j in 1..a.ncols() {
         for i in 0..j {
-            acc[(i, j)] = acc[(j, i)];
+            a[(i, j)] = a[(j, i)];
         }
     }
 }
@@ -85,9 +95,10 @@ pub fn centered_gram(x: MatRef<'_, f64>, mean: &[f64], alpha: f64) -> Mat<f64> {
                 *o = v - mean[j];
             }
         });
-        gram_accumulate(&mut g, buf.as_ref().subrows(0, len), alpha);
+        lower_accumulate(&mut g, buf.as_ref().subrows(0, len), alpha);
         start += len;
     }
+    mirror_lower(&mut g);
     g
 }
 

@@ -1015,13 +1015,15 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
     return out
 
 
-def hand_pose_rotated_test(masks, labels, test_per_class: int = 300,
-                           augment_per_class: int = 1000, seed: int = 0, angles=(10.0, 20.0),
-                           rotation_seed: int = 1) -> np.ndarray:
-    """The test rows of :func:`hand_pose_split` (same arguments) with every test frame
-    rotated by +-U(angles) degrees about its centroid: the rotation-robustness check."""
+def hand_pose_rotated_test(masks, test_index, angles=(10.0, 20.0),
+                           seed: int = 1) -> np.ndarray:
+    """Rows of the frames ``test_index`` of a mask stack (e.g. ``hand_pose_split(...)
+    ["test_index"]``), each rotated about its centroid by +-U(angles) degrees and downscaled
+    as :func:`hand_pose_split` does: the rotation-robustness check. ``angles=(0, 0)`` gives
+    the unrotated test rows."""
     mk = _masks(masks)
-    _, codes = _encode_labels(labels, mk.shape[0] if mk.ndim == 3 else 1, "labels")
-    return _b.hand_pose_rotated_test(mk, codes, int(test_per_class), int(augment_per_class),
-                                     int(seed), float(angles[0]), float(angles[1]),
-                                     int(rotation_seed))
+    idx = np.asarray(test_index)
+    if idx.ndim != 1 or (idx.size and idx.min() < 0):
+        raise ValueError("`test_index` must be a 1-D array of frame indices")
+    return _b.rotated_frame_rows(mk, [int(i) for i in idx], float(angles[0]), float(angles[1]),
+                                 int(seed))

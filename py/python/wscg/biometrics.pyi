@@ -178,7 +178,6 @@ def hand_pose_comparison(masks: npt.ArrayLike, labels: npt.ArrayLike,
                          physical_per_class: int = 1500, isomap_neighbors: int = 8,
                          isomap_components: int = 9, isomap_per_class: Optional[int] = None,
                          isomap_landmarks: int = 2000, global_rule: str = "variance") -> dict: ...
-def hand_pose_rotated_test(masks: npt.ArrayLike, labels: npt.ArrayLike,
-                           test_per_class: int = 300, augment_per_class: int = 1000,
-                           seed: int = 0, angles: Tuple[float, float] = ...,
-                           rotation_seed: int = 1) -> npt.NDArray[np.float64]: ...
+def hand_pose_rotated_test(masks: npt.ArrayLike, test_index: npt.ArrayLike,
+                           angles: Tuple[float, float] = ..., seed: int = 1
+                           ) -> npt.NDArray[np.float64]: ...

@@ -946,7 +946,6 @@ pub fn split_masks(
             labels.len()
         )));
     }
-    let mask = |f: usize| &masks[f * hw..(f + 1) * hw];
     let (classes, frames) = group_labels(labels);
     let mut r = rng::seeded(seed);
     let mut train = Vec::new();
@@ -977,9 +976,7 @@ pub fn split_masks(
         train.extend_from_slice(&tr);
         rng::shuffle(&mut tr, &mut r);
         for &f in &tr[..augment_per_class] {
-            let angle = r.random_range(10.0..=20.0);
-            let sign = if r.random_bool(0.5) { 1.0 } else { -1.0 };
-            augment.push((f, sign * angle));
+            augment.push((f, signed_angle(&mut r, 10.0, 20.0)));
         }
     }
     train.sort_unstable();
@@ -991,25 +988,9 @@ pub fn split_masks(
         .map(|&f| (f, 0.0))
         .chain(augment.iter().copied())
         .collect();
-    let rows = |jobs: &[(usize, f64)]| -> Result<Vec<f64>> {
-        let mut x = vec![0.0; jobs.len() * dim];
-        x.par_chunks_mut(dim)
-            .zip(jobs)
-            .try_for_each(|(out, &(f, angle))| -> Result<()> {
-                let m = mask(f);
-                let d = if angle == 0.0 {
-                    downscale(m, h, w, DOWNSCALE)?
-                } else {
-                    downscale(&rotate_mask(m, h, w, angle)?, h, w, DOWNSCALE)?
-                };
-                out.copy_from_slice(&d);
-                Ok(())
-            })?;
-        Ok(x)
-    };
-    let train_x = rows(&jobs)?;
+    let train_x = frame_rows(masks, h, w, &jobs)?;
     let test_jobs: Vec<(usize, f64)> = test.iter().map(|&f| (f, 0.0)).collect();
-    let test_x = rows(&test_jobs)?;
+    let test_x = frame_rows(masks, h, w, &test_jobs)?;
     Ok(Split {
         train_x,
         train_y: jobs.iter().map(|&(f, _)| labels[f]).collect(),
@@ -1021,6 +1002,73 @@ pub fn split_masks(
         test_index: test,
         train_rotation: jobs.iter().map(|&(_, a)| a).collect(),
     })
+}
+
+/// An angle `~ U(lo, hi)` degrees with a random sign (`lo` when `lo == hi`).
+fn signed_angle(r: &mut SeededRng, lo: f64, hi: f64) -> f64 {
+    let a = if hi > lo { r.random_range(lo..=hi) } else { lo };
+    if r.random_bool(0.5) {
+        a
+    } else {
+        -a
+    }
+}
+
+/// One row per `(frame, degrees)` job: the `h x w` mask of `frame` in the stack `masks`,
+/// rotated about its centroid by `degrees` (not at all for 0) and downscaled by
+/// [`DOWNSCALE`]; jobs in parallel.
+fn frame_rows(masks: &[u8], h: usize, w: usize, jobs: &[(usize, f64)]) -> Result<Vec<f64>> {
+    let hw = h * w;
+    let dim = h.div_ceil(DOWNSCALE) * w.div_ceil(DOWNSCALE);
+    let mut x = vec![0.0; jobs.len() * dim];
+    x.par_chunks_mut(dim)
+        .zip(jobs)
+        .try_for_each(|(out, &(f, angle))| -> Result<()> {
+            let m = masks
+                .get(f * hw..(f + 1) * hw)
+                .ok_or_else(|| Error::invalid("frames", format!("no frame {f} in the masks")))?;
+            let d = if angle == 0.0 {
+                downscale(m, h, w, DOWNSCALE)?
+            } else {
+                downscale(&rotate_mask(m, h, w, angle)?, h, w, DOWNSCALE)?
+            };
+            out.copy_from_slice(&d);
+            Ok(())
+        })?;
+    Ok(x)
+}
+
+/// The rows of the given frames of a mask stack (`n x h x w` bytes), each rotated about its
+/// centroid by an angle `~ U(lo, hi)` degrees with a random sign, then downscaled as
+/// [`split_protocol`] does: the rotation-robustness test of the spec (`lo = 10`, `hi = 20`,
+/// `frames` = [`Split::test_index`]). With `lo = hi = 0` the rows equal the unrotated ones.
+/// Deterministic given `seed`.
+///
+/// Errors: angles not finite or `lo > hi`, a zero size, a frame index past the stack.
+pub fn rotated_rows(
+    masks: &[u8],
+    h: usize,
+    w: usize,
+    frames: &[usize],
+    lo: f64,
+    hi: f64,
+    seed: u64,
+) -> Result<Vec<f64>> {
+    if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo <= hi) {
+        return Err(Error::invalid(
+            "angles",
+            format!("need finite 0 <= lo <= hi, got {lo}, {hi}"),
+        ));
+    }
+    if h == 0 || w == 0 {
+        return Err(Error::invalid("h, w", format!("bad frame size {h} x {w}")));
+    }
+    let mut r = rng::seeded(seed);
+    let jobs: Vec<(usize, f64)> = frames
+        .iter()
+        .map(|&f| (f, signed_angle(&mut r, lo, hi)))
+        .collect();
+    frame_rows(masks, h, w, &jobs)
 }
 
 #[cfg(test)]
@@ -1370,5 +1418,26 @@ mod tests {
         );
         let test: std::collections::HashSet<usize> = s.test_index.iter().copied().collect();
         assert!(s.train_index.iter().all(|f| !test.contains(f)));
+        // A rotated copy is the rotated, downscaled source frame.
+        let i = s.train_rotation.iter().position(|&a| a != 0.0).unwrap();
+        let (f, a) = (s.train_index[i], s.train_rotation[i]);
+        let want = downscale(
+            &rotate_mask(d.mask(f).unwrap(), 165, 120, a).unwrap(),
+            165,
+            120,
+            3,
+        );
+        assert_eq!(
+            &s.train_x[i * 2200..(i + 1) * 2200],
+            want.unwrap().as_slice()
+        );
+        // Rotated test rows: none at angle 0; otherwise the test frames rotated.
+        let same = rotated_rows(&d.masks, 165, 120, &s.test_index, 0.0, 0.0, 5).unwrap();
+        assert_eq!(same, s.test_x);
+        let rot = rotated_rows(&d.masks, 165, 120, &s.test_index, 10.0, 20.0, 5).unwrap();
+        assert_eq!(rot.len(), s.test_x.len());
+        assert_ne!(rot, s.test_x);
+        assert!(rotated_rows(&d.masks, 165, 120, &s.test_index, 20.0, 10.0, 5).is_err());
+        assert!(rotated_rows(&d.masks, 165, 120, &[d.len()], 10.0, 20.0, 5).is_err());
     }
 }

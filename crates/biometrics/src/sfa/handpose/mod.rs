@@ -10,7 +10,7 @@
 //!   azimuth angle of the finger (§3.2.2, [RYZ11, PKK09, CLEL12]).
 //! - [`protocol`]: the paper's comparison (Tables 3-6): class-wise SFA, KNN on physical
 //!   features, on PCA-35 and on 9-D Isomap, and full-data-set SFA on one split; the
-//!   rotation-robustness test rows.
+//!   rotation-robustness check.
 //! - [`morphology`]: the mask geometry both use (connected components, exact Euclidean
 //!   distance transform, contour tracing, convex hull, convexity defects).
 //!
@@ -24,10 +24,10 @@ pub mod protocol;
 
 pub use features::{physical_features, physical_features_batch, FEATURE_NAMES, N_FEATURES};
 pub use generate::{
-    downscale, generate, generate_with, rotate_mask, split_masks, split_protocol, Jitter, Split,
-    SynthConfig, SynthData, CLASS_NAMES, DOWNSCALE, N_CLASSES,
+    downscale, generate, generate_with, rotate_mask, rotated_rows, split_masks, split_protocol,
+    Jitter, Split, SynthConfig, SynthData, CLASS_NAMES, DOWNSCALE, N_CLASSES,
 };
 pub use protocol::{
-    compare, compare_masks, compare_rows, CompareConfig, Comparison, FeatureSets, Method,
-    MethodResult,
+    compare, compare_masks, compare_rows, rotation_robustness, CompareConfig, Comparison,
+    FeatureSets, Method, MethodResult, RotationCheck,
 };

@@ -27,19 +27,19 @@
 use std::time::Instant;
 
 use faer::{Mat, MatRef};
-use rand::Rng;
 use rayon::prelude::*;
 use wscg_math::rng;
 use wscg_math::{Error, Result};
 
 use super::features::physical_features;
-use super::generate::{downscale, rotate_mask, Split, SynthData, CLASS_NAMES, DOWNSCALE};
+use super::generate::{rotated_rows, Split, SynthData, CLASS_NAMES, DOWNSCALE};
 use crate::sfa::isomap::{Isomap, IsomapParams, MAX_EXACT_POINTS};
 use crate::sfa::scatter::group_labels;
 use crate::sfa::{
     confusion_matrix, ClassSfaConfig, GlobalRule, GlobalSfa, Knn, KnnTie, PerClassSfa,
 };
-use crate::subspace::{Pca, Projector};
+use crate::subspace::classify::accuracy;
+use crate::subspace::{column_means, select_rows, Pca, Projector};
 
 /// One of the compared classifiers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -181,6 +181,8 @@ pub struct Comparison {
     pub n_test: usize,
     /// One entry per method asked for, in the order asked.
     pub results: Vec<MethodResult>,
+    /// The fitted class-wise SFA, when [`Method::ClassSfa`] was run.
+    pub class_sfa: Option<PerClassSfa>,
 }
 
 impl Comparison {
@@ -248,7 +250,7 @@ impl Comparison {
 /// `n` row-major rows of `dim` values (e.g. [`Split::train_x`]) as an `n x dim` matrix.
 pub fn rows_to_mat(v: &[f64], dim: usize) -> Mat<f64> {
     let n = v.len() / dim.max(1);
-    Mat::from_fn(n, dim, |i, j| v[i * dim + j])
+    MatRef::from_row_major_slice(&v[..n * dim], n, dim).to_owned()
 }
 
 /// At most `per_class` row indices of each class of `y` (all when `None`), drawn at random
@@ -266,11 +268,6 @@ fn subset_per_class(y: &[u32], per_class: Option<usize>, seed: u64) -> Vec<usize
     }
     out.sort_unstable();
     out
-}
-
-/// Rows `idx` of `x`.
-fn take_rows(x: MatRef<'_, f64>, idx: &[usize]) -> Mat<f64> {
-    Mat::from_fn(idx.len(), x.ncols(), |i, j| x[(idx[i], j)])
 }
 
 /// Physical features of the given frames of a mask stack (`h x w` each, with depth maps when
@@ -300,17 +297,20 @@ fn frame_features(
 /// Column means and standard deviations (1 where a column is constant).
 fn zscore_params(x: MatRef<'_, f64>) -> (Vec<f64>, Vec<f64>) {
     let n = x.nrows() as f64;
-    (0..x.ncols())
-        .map(|j| {
-            let mean = (0..x.nrows()).map(|i| x[(i, j)]).sum::<f64>() / n;
-            let var = (0..x.nrows())
-                .map(|i| (x[(i, j)] - mean).powi(2))
-                .sum::<f64>()
-                / n;
-            let sd = var.sqrt();
-            (mean, if sd > 0.0 { sd } else { 1.0 })
+    let mean = column_means(x);
+    let sd = mean
+        .iter()
+        .enumerate()
+        .map(|(j, m)| {
+            let var = x.col(j).iter().map(|v| (v - m).powi(2)).sum::<f64>() / n;
+            if var > 0.0 {
+                var.sqrt()
+            } else {
+                1.0
+            }
         })
-        .unzip()
+        .collect();
+    (mean, sd)
 }
 
 fn zscore(x: MatRef<'_, f64>, p: &(Vec<f64>, Vec<f64>)) -> Mat<f64> {
@@ -522,7 +522,7 @@ pub fn compare_rows(
             Method::KnnIsomap => {
                 let chosen = subset_per_class(ytr, cfg.isomap_per_class, cfg.seed.wrapping_add(1));
                 let ((iso, knn), tf) = timed(|| {
-                    let x = take_rows(xtr, &chosen);
+                    let x = select_rows(xtr, &chosen);
                     let mut params = cfg.isomap.clone();
                     if x.nrows() > MAX_EXACT_POINTS && params.n_landmarks.is_none() {
                         params.n_landmarks = Some(cfg.isomap_landmarks);
@@ -549,84 +549,81 @@ pub fn compare_rows(
         n_train: ytr.len(),
         n_test: yte.len(),
         results,
+        class_sfa: sfa_model,
     })
 }
 
-/// The test rows of `split` with every test frame rotated about its centroid by an angle
-/// `~ U(lo, hi)` degrees with a random sign, then downscaled (the rotation-robustness check of
-/// the spec: `lo = 10`, `hi = 20`). Row order is that of `split.test_x`; deterministic given
-/// `seed`.
-///
-/// Errors: angles not finite or `lo > hi`, a `split` that does not belong to `data`.
-pub fn rotated_test_rows(
-    data: &SynthData,
-    split: &Split,
-    lo: f64,
-    hi: f64,
-    seed: u64,
-) -> Result<Vec<f64>> {
-    rotated_mask_rows(&data.masks, data.height, data.width, split, lo, hi, seed)
+/// Accuracies (%) of the rotation-robustness check: class-wise SFA on the unrotated test rows
+/// and on the same test frames rotated by `+-U(10, 20)` degrees ([`rotated_rows`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RotationCheck {
+    /// `(unrotated, rotated)` for the model trained with the rotated copies.
+    pub augmented: (f64, f64),
+    /// `(unrotated, rotated)` for the model trained on the original frames only, when asked.
+    pub unaugmented: Option<(f64, f64)>,
 }
 
-/// [`rotated_test_rows`] for any mask stack `split` was made from.
-pub fn rotated_mask_rows(
+impl RotationCheck {
+    /// Accuracy lost on rotated frames by the augmented model, percentage points.
+    pub fn augmented_drop(&self) -> f64 {
+        self.augmented.0 - self.augmented.1
+    }
+
+    /// The same for the unaugmented model.
+    pub fn unaugmented_drop(&self) -> Option<f64> {
+        self.unaugmented.map(|(a, b)| a - b)
+    }
+}
+
+/// The spec's rotation-robustness check (the paper's invariance claim): the class-wise SFA
+/// trained on `split` (pass the model [`compare`] fitted, [`Comparison::class_sfa`], to skip
+/// refitting it) scored on the test frames of the mask stack `masks` rotated by `+-U(10, 20)`
+/// degrees; with `unaugmented`, also a model trained without the rotated copies.
+///
+/// Errors: as [`rotated_rows`] and [`PerClassSfa::fit`].
+#[allow(clippy::too_many_arguments)]
+pub fn rotation_robustness(
     masks: &[u8],
     h: usize,
     w: usize,
     split: &Split,
-    lo: f64,
-    hi: f64,
+    sfa: &ClassSfaConfig,
+    fitted: Option<&PerClassSfa>,
+    unaugmented: bool,
     seed: u64,
-) -> Result<Vec<f64>> {
-    if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
-        return Err(Error::invalid(
-            "angles",
-            format!("need finite lo <= hi, got {lo}, {hi}"),
-        ));
-    }
-    let mut r = rng::seeded(seed);
-    let angles: Vec<f64> = split
-        .test_index
-        .iter()
-        .map(|_| {
-            let a = if hi > lo { r.random_range(lo..=hi) } else { lo };
-            if r.random_bool(0.5) {
-                a
-            } else {
-                -a
-            }
-        })
-        .collect();
-    let hw = h * w;
-    let dim = split.dim;
-    let mut out = vec![0.0; split.test_index.len() * dim];
-    out.par_chunks_mut(dim)
-        .zip(split.test_index.par_iter().zip(&angles))
-        .try_for_each(|(o, (&f, &a))| -> Result<()> {
-            let m = masks
-                .get(f * hw..(f + 1) * hw)
-                .ok_or(Error::Empty("frame"))?;
-            let d = downscale(&rotate_mask(m, h, w, a)?, h, w, DOWNSCALE)?;
-            if d.len() != dim {
-                return Err(Error::ShapeMismatch(
-                    "the split was not made from these frames".into(),
-                ));
-            }
-            o.copy_from_slice(&d);
-            Ok(())
-        })?;
-    Ok(out)
-}
-
-/// The training rows of `split` without the rotated copies: `(rows, labels)`.
-pub fn unaugmented_training(split: &Split) -> (Vec<f64>, Vec<u32>) {
-    let dim = split.dim;
-    let keep: Vec<usize> = (0..split.train_y.len())
-        .filter(|&i| split.train_rotation[i] == 0.0)
-        .collect();
-    let mut x = Vec::with_capacity(keep.len() * dim);
-    for &i in &keep {
-        x.extend_from_slice(&split.train_x[i * dim..(i + 1) * dim]);
-    }
-    (x, keep.iter().map(|&i| split.train_y[i]).collect())
+) -> Result<RotationCheck> {
+    let rotated = rows_to_mat(
+        &rotated_rows(masks, h, w, &split.test_index, 10.0, 20.0, seed)?,
+        split.dim,
+    );
+    let plain = rows_to_mat(&split.test_x, split.dim);
+    let score = |m: &PerClassSfa| -> Result<(f64, f64)> {
+        Ok((
+            100.0 * accuracy(&m.predict(plain.as_ref())?, &split.test_y)?,
+            100.0 * accuracy(&m.predict(rotated.as_ref())?, &split.test_y)?,
+        ))
+    };
+    let augmented = match fitted {
+        Some(m) => score(m)?,
+        None => score(&PerClassSfa::fit(
+            rows_to_mat(&split.train_x, split.dim).as_ref(),
+            &split.train_y,
+            sfa,
+        )?)?,
+    };
+    let unaugmented = if unaugmented {
+        let keep: Vec<usize> = (0..split.train_y.len())
+            .filter(|&i| split.train_rotation[i] == 0.0)
+            .collect();
+        let all = MatRef::from_row_major_slice(&split.train_x, split.train_y.len(), split.dim);
+        let x = select_rows(all, &keep);
+        let y: Vec<u32> = keep.iter().map(|&i| split.train_y[i]).collect();
+        Some(score(&PerClassSfa::fit(x.as_ref(), &y, sfa)?)?)
+    } else {
+        None
+    };
+    Ok(RotationCheck {
+        augmented,
+        unaugmented,
+    })
 }
