@@ -792,7 +792,18 @@ class GlobalSFA(_SFAClassifier):
         return self._fitted().responses(X, 0)
 
 
-class TemporalSFA(_Params):
+class _NativeTransform:
+    """``transform(X)`` through the fitted native model ``_model`` (for Isomap: the
+    embedding of new rows, sklearn's ``Isomap.transform`` semantics)."""
+
+    def transform(self, X) -> np.ndarray:
+        if getattr(self, "_model", None) is None:
+            raise ValueError("the model is not fitted: call fit(X) first")
+        X, _ = _matrix(X)
+        return self._model.transform(X)
+
+
+class TemporalSFA(_Params, _NativeTransform):
     """Temporal slow feature analysis (Wiskott and Sejnowski 2002; paper 05, section 2.1):
     the ``n_components`` slowest, decorrelated, unit-variance functions of the (quadratically
     expanded, ``degree=2``) signal ``X`` with one time step per row. ``delta_values_`` are
@@ -813,12 +824,6 @@ class TemporalSFA(_Params):
         self.delta_values_ = np.asarray(self._model.delta_values())
         self.rank_ = self._model.rank()
         return self
-
-    def transform(self, X) -> np.ndarray:
-        if self._model is None:
-            raise ValueError("the model is not fitted: call fit(X) first")
-        X, _ = _matrix(X)
-        return self._model.transform(X)
 
     def fit_transform(self, X, y=None) -> np.ndarray:
         return self.fit(X).transform(X)
@@ -861,7 +866,7 @@ def confusion_matrix(y_true, y_pred, classes=None) -> Tuple[np.ndarray, np.ndarr
     return _b.confusion_matrix(t, p, len(classes)), classes
 
 
-class Isomap(_Params, _JsonPickled):
+class Isomap(_Params, _NativeTransform, _JsonPickled):
     """Isomap (Tenenbaum et al. 2000): the "KNN on 9-D Isomap" baseline of paper 05
     (Table 6). Exact Isomap follows scikit-learn's ``Isomap`` step by step (brute-force
     neighbourhood graph, Dijkstra geodesics, kernel PCA of ``-D^2/2``, ``transform`` of new
@@ -890,13 +895,6 @@ class Isomap(_Params, _JsonPickled):
         self.landmarks_ = None if lm is None else np.asarray(lm)
         self.n_features_in_ = X.shape[1]
         return self
-
-    def transform(self, X) -> np.ndarray:
-        """Embedding of new rows (sklearn's ``Isomap.transform`` semantics)."""
-        if self._model is None:
-            raise ValueError("the model is not fitted: call fit(X) first")
-        X, _ = _matrix(X)
-        return self._model.transform(X)
 
     def fit_transform(self, X, y=None) -> np.ndarray:
         return self.fit(X).embedding_
