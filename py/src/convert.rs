@@ -66,17 +66,10 @@ pub fn shape_of<T: Element>(a: &PyReadonlyArrayDyn<'_, T>) -> Vec<usize> {
     a.shape().to_vec()
 }
 
-/// A 2-D float64 array as a faer matrix (copied).
+/// A 2-D float64 array as a faer matrix (copied, by a blocked transpose from C order).
 pub fn mat(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<faer::Mat<f64>> {
-    let shape = a.shape();
-    if shape.len() != 2 {
-        return Err(value_error(format!(
-            "`{name}` must be a 2-D array, got shape {shape:?}"
-        )));
-    }
-    let (r, c) = (shape[0], shape[1]);
-    let v = values(a);
-    Ok(faer::Mat::from_fn(r, c, |i, j| v[i * c + j]))
+    let (r, c) = dims2(name, a)?;
+    Ok(wscg_math::dense::from_row_major(&values(a), r, c))
 }
 
 /// A faer matrix as a new 2-D numpy array.
@@ -91,18 +84,50 @@ pub fn mat_out<'py>(py: Python<'py>, m: &faer::Mat<f64>) -> PyResult<Arr<'py, f6
     array(py, &[r, c], v)
 }
 
-/// `f` applied to the 2-D float64 array `a` with the GIL released, its matrix result as a
-/// new numpy array; errors of either step as Python exceptions.
+/// `(rows, cols)` of a 2-D array.
+pub fn dims2<T: Element>(name: &str, a: &PyReadonlyArrayDyn<'_, T>) -> PyResult<(usize, usize)> {
+    match *a.shape() {
+        [r, c] => Ok((r, c)),
+        ref s => Err(value_error(format!(
+            "`{name}` must be a 2-D array, got shape {s:?}"
+        ))),
+    }
+}
+
+/// The per-block results of `f`, a row-wise map (every output row depends on its input row
+/// only: projections, predictions), over the 2-D float64 array `a`, with the GIL released.
+/// The rows go through one reused column-major buffer
+/// ([`wscg_math::dense::map_row_blocks`]), so a large input is never copied whole.
+pub fn row_blocks<T: Send>(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArrayDyn<f64>,
+    f: impl Fn(faer::MatRef<'_, f64>) -> wscg_math::Result<T> + Send + Sync,
+) -> PyResult<Vec<T>> {
+    use crate::errors::IntoPy;
+    let (r, c) = dims2(name, a)?;
+    let v = values(a);
+    py.detach(|| wscg_math::dense::map_row_blocks(&v, r, c, &f))
+        .py_err()
+}
+
+/// [`row_blocks`] for a map to a matrix: the stacked result as a new `(rows, k)` array.
 pub fn mat_map<'py>(
     py: Python<'py>,
     name: &str,
     a: &PyReadonlyArrayDyn<f64>,
-    f: impl FnOnce(faer::MatRef<'_, f64>) -> wscg_math::Result<faer::Mat<f64>> + Send,
+    f: impl Fn(faer::MatRef<'_, f64>) -> wscg_math::Result<faer::Mat<f64>> + Send + Sync,
 ) -> PyResult<Arr<'py, f64>> {
-    use crate::errors::IntoPy;
-    let m = mat(name, a)?;
-    let out = py.detach(|| f(m.as_ref())).py_err()?;
-    mat_out(py, &out)
+    let blocks = row_blocks(py, name, a, f)?;
+    let k = blocks.first().map_or(0, |b| b.ncols());
+    let rows: usize = blocks.iter().map(|b| b.nrows()).sum();
+    let mut v = Vec::with_capacity(rows * k);
+    for b in &blocks {
+        for i in 0..b.nrows() {
+            v.extend((0..k).map(|j| b[(i, j)]));
+        }
+    }
+    array(py, &[rows, k], v)
 }
 
 /// Rows of an `(N, 3)` array.

@@ -12,7 +12,7 @@ use wscg_biometrics::sfa::{
 };
 
 use crate::biometrics::labels_from;
-use crate::convert::{array, mat, mat_map, mat_out, Arr};
+use crate::convert::{array, mat, mat_map, mat_out, row_blocks, Arr};
 use crate::errors::{value_error, IntoPy};
 
 fn expansion(degree: usize, include_linear: bool) -> PyResult<Option<QuadraticExpansion>> {
@@ -50,15 +50,15 @@ impl PySfa {
 
     /// Predicted class codes.
     fn predict<'py>(&self, py: Python<'py>, x: PyReadonlyArrayDyn<f64>) -> PyResult<Arr<'py, i64>> {
-        let x = mat("x", &x)?;
-        let p = py
-            .detach(|| match &self.inner {
-                Fitted::PerClass(m) => m.predict(x.as_ref()),
-                Fitted::Global(m) => m.predict(x.as_ref()),
-            })
-            .py_err()?;
-        let n = p.len();
-        array(py, &[n], p.into_iter().map(i64::from).collect())
+        let p: Vec<i64> = row_blocks(py, "x", &x, |x| match &self.inner {
+            Fitted::PerClass(m) => m.predict(x),
+            Fitted::Global(m) => m.predict(x),
+        })?
+        .into_iter()
+        .flatten()
+        .map(i64::from)
+        .collect();
+        array(py, &[p.len()], p)
     }
 
     /// Centred responses of one class code (`n x m`), class-wise models only.

@@ -86,6 +86,57 @@ fn linear_kernel_reduces_to_pca() {
 }
 
 #[test]
+fn constant_columns_leave_pca_unchanged() {
+    // PCA skips constant columns: with two constant columns inserted, the axes are those of
+    // the data without them, zero at the inserted positions, and the projections agree; asking
+    // for every axis completes the set with the constant columns' unit axes (variance 0).
+    let (n, d) = (150, 12);
+    let x = structured(n, d, 4);
+    let src = |j: usize| {
+        if j < 3 {
+            Some(j)
+        } else if j == 3 || j == 8 {
+            None
+        } else if j < 8 {
+            Some(j - 1)
+        } else {
+            Some(j - 2)
+        }
+    };
+    let wide = Mat::from_fn(n, d + 2, |i, j| {
+        src(j).map_or(if j == 3 { 0.0 } else { 2.5 }, |s| x[(i, s)])
+    });
+    let a = Pca::fit(x.as_ref(), Some(6), false).unwrap();
+    let b = Pca::fit(wide.as_ref(), Some(6), false).unwrap();
+    for k in 0..6 {
+        assert!((a.variances[k] - b.variances[k]).abs() <= 1e-12 * a.variances[0]);
+        let cos: f64 = (0..d + 2)
+            .filter_map(|j| src(j).map(|s| a.components[k][s] * b.components[k][j]))
+            .sum();
+        assert!(cos.abs() > 1.0 - 1e-10, "axis {k}: |cos| = {}", cos.abs());
+        assert_eq!((b.components[k][3], b.components[k][8]), (0.0, 0.0));
+    }
+    let (pa, pb) = (
+        a.transform(x.as_ref()).unwrap(),
+        b.transform(wide.as_ref()).unwrap(),
+    );
+    for k in 0..6 {
+        let sign = if (0..n).map(|i| pa[(i, k)] * pb[(i, k)]).sum::<f64>() < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        for i in 0..n {
+            assert!((pa[(i, k)] - sign * pb[(i, k)]).abs() < 1e-9);
+        }
+    }
+    let all = Pca::fit(wide.as_ref(), None, false).unwrap();
+    assert_eq!(all.components.len(), d + 2);
+    assert_eq!(&all.variances[d..], &[0.0, 0.0]);
+    assert_eq!((all.components[d][3], all.components[d + 1][8]), (1.0, 1.0));
+}
+
+#[test]
 fn full_rotation_keeps_nearest_neighbours() {
     // At l = d the projections are rotations of the centred data: 1-NN predictions must equal
     // raw-pixel 1-NN (no ties with continuous random data).

@@ -78,8 +78,19 @@ fn mirror_lower(a: &mut Mat<f64>) {
 /// # Panics
 /// When `mean.len() != x.ncols()`.
 pub fn centered_gram(x: MatRef<'_, f64>, mean: &[f64], alpha: f64) -> Mat<f64> {
+    let cols: Vec<usize> = (0..x.ncols()).collect();
+    centered_gram_of(x, &cols, mean, alpha)
+}
+
+/// [`centered_gram`] of the columns `cols` of `x` only (`q x q` for `q = cols.len()`,
+/// `mean` holding the `q` means of those columns): e.g. the non-constant columns, whose
+/// scatter is all a covariance needs.
+///
+/// # Panics
+/// When `mean.len() != cols.len()` or a column index is out of range.
+pub fn centered_gram_of(x: MatRef<'_, f64>, cols: &[usize], mean: &[f64], alpha: f64) -> Mat<f64> {
     use rayon::prelude::*;
-    let (n, p) = (x.nrows(), x.ncols());
+    let (n, p) = (x.nrows(), cols.len());
     assert_eq!(mean.len(), p, "centered_gram: mean has the wrong length");
     let mut g = Mat::zeros(p, p);
     // Blocks of about 2^22 values (32 MB).
@@ -89,10 +100,10 @@ pub fn centered_gram(x: MatRef<'_, f64>, mean: &[f64], alpha: f64) -> Mat<f64> {
     while start < n {
         let len = block.min(n - start);
         let b = buf.as_mut().subrows_mut(0, len);
-        b.par_col_iter_mut().enumerate().for_each(|(j, c)| {
-            let src = x.col(j).subrows(start, len);
+        b.par_col_iter_mut().enumerate().for_each(|(k, c)| {
+            let src = x.col(cols[k]).subrows(start, len);
             for (o, v) in c.iter_mut().zip(src.iter()) {
-                *o = v - mean[j];
+                *o = v - mean[k];
             }
         });
         lower_accumulate(&mut g, buf.as_ref().subrows(0, len), alpha);
@@ -100,6 +111,76 @@ pub fn centered_gram(x: MatRef<'_, f64>, mean: &[f64], alpha: f64) -> Mat<f64> {
     }
     mirror_lower(&mut g);
     g
+}
+
+/// The `rows x cols` matrix stored row by row in `v` (numpy's C order) as a column-major
+/// [`Mat`] (see [`copy_row_major`]).
+///
+/// # Panics
+/// When `v.len() != rows * cols`.
+pub fn from_row_major(v: &[f64], rows: usize, cols: usize) -> Mat<f64> {
+    let mut m = Mat::<f64>::zeros(rows, cols);
+    copy_row_major(v, m.as_mut());
+    m
+}
+
+/// Copies the matrix stored row by row in `v` into `dst` (same shape): a cache-blocked
+/// transpose, column blocks in parallel (several times faster than filling `dst` element by
+/// element from the strided source).
+///
+/// # Panics
+/// When `v.len() != dst.nrows() * dst.ncols()`.
+pub fn copy_row_major(v: &[f64], dst: faer::MatMut<'_, f64>) {
+    use rayon::prelude::*;
+    const COLS: usize = 32;
+    let (rows, cols) = (dst.nrows(), dst.ncols());
+    assert_eq!(v.len(), rows * cols, "copy_row_major: wrong length");
+    if rows == 0 || cols == 0 {
+        return;
+    }
+    dst.par_col_chunks_mut(COLS)
+        .enumerate()
+        .for_each(|(b, mut blk)| {
+            let j0 = b * COLS;
+            for i in 0..rows {
+                let src = &v[i * cols + j0..i * cols + j0 + blk.ncols()];
+                for (j, &x) in src.iter().enumerate() {
+                    blk[(i, j)] = x;
+                }
+            }
+        });
+}
+
+/// `f` applied to consecutive blocks of rows of the C-order `rows x cols` matrix `v`, each
+/// block copied into one reused column-major buffer of at most 16 MB: a row-wise map
+/// (projection, prediction) over a large input without a column-major copy of all of it.
+/// Returns the per-block results in order; stops at the first error.
+///
+/// # Panics
+/// When `v.len() != rows * cols`.
+pub fn map_row_blocks<T>(
+    v: &[f64],
+    rows: usize,
+    cols: usize,
+    mut f: impl FnMut(MatRef<'_, f64>) -> Result<T>,
+) -> Result<Vec<T>> {
+    assert_eq!(v.len(), rows * cols, "map_row_blocks: wrong length");
+    let block = ((1usize << 21) / cols.max(1)).clamp(64, rows.max(64));
+    let mut buf = Mat::<f64>::zeros(block.min(rows), cols);
+    let mut out = Vec::with_capacity(rows.div_ceil(block));
+    let mut start = 0;
+    loop {
+        let len = block.min(rows - start);
+        copy_row_major(
+            &v[start * cols..(start + len) * cols],
+            buf.as_mut().subrows_mut(0, len),
+        );
+        out.push(f(buf.as_ref().subrows(0, len))?);
+        start += len;
+        if start >= rows {
+            return Ok(out);
+        }
+    }
 }
 
 /// `alpha X'X`, exactly symmetric (see [`gram_accumulate`]).
@@ -310,6 +391,54 @@ mod tests {
     fn random(m: usize, n: usize, seed: u64) -> Mat<f64> {
         let mut r = crate::rng::seeded(seed);
         Mat::from_fn(m, n, |_, _| r.random_range(-1.0..1.0))
+    }
+
+    #[test]
+    fn from_row_major_is_the_c_order_matrix() {
+        // Widths below, at and above one column block of the transpose, and empty shapes.
+        for (r, c) in [(7, 5), (3, 32), (41, 70), (0, 4), (4, 0)] {
+            let v: Vec<f64> = (0..r * c).map(|k| k as f64 * 0.5 - 3.0).collect();
+            let m = from_row_major(&v, r, c);
+            assert_eq!((m.nrows(), m.ncols()), (r, c));
+            let sums = map_row_blocks(&v, r, c, |b| Ok((b.nrows(), b.sum()))).unwrap();
+            assert_eq!(sums.iter().map(|s| s.0).sum::<usize>(), r);
+            let total: f64 = v.iter().sum();
+            assert!((sums.iter().map(|s| s.1).sum::<f64>() - total).abs() < 1e-9);
+            for i in 0..r {
+                for j in 0..c {
+                    assert_eq!(m[(i, j)], v[i * c + j]);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn row_blocks_cover_the_rows_in_order() {
+        // 2^21 / 40000 < 64: blocks of 64 rows, the last one shorter.
+        let (r, c) = (150, 40_000);
+        let v: Vec<f64> = (0..r * c)
+            .map(|k| (k / c) as f64 + (k % c) as f64 * 1e-6)
+            .collect();
+        let blocks = map_row_blocks(&v, r, c, |b| {
+            Ok((b.nrows(), b[(0, 0)], b[(b.nrows() - 1, c - 1)]))
+        })
+        .unwrap();
+        assert_eq!(
+            blocks,
+            vec![
+                (64, 0.0, 63.0 + 0.039999),
+                (64, 64.0, 127.0 + 0.039999),
+                (22, 128.0, 149.0 + 0.039999)
+            ]
+        );
+        let err = map_row_blocks(&v, r, c, |b| {
+            if b[(0, 0)] > 0.0 {
+                Err(Error::invalid("x", "stop"))
+            } else {
+                Ok(())
+            }
+        });
+        assert!(err.is_err());
     }
 
     #[test]

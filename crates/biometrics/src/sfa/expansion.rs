@@ -49,21 +49,51 @@ impl QuadraticExpansion {
         }
     }
 
-    /// Expands every row of `x` (`n x d`) to `n x out_dim(d)`, rows in parallel.
+    /// The input columns `(i, j)` of every output column, in the order of
+    /// [`Self::expand_row`] (`j = None` for a linear term).
+    fn terms(&self, d: usize) -> Vec<(usize, Option<usize>)> {
+        let linear = (0..d).filter(|_| self.include_linear).map(|i| (i, None));
+        let products = (0..d).flat_map(|i| (i..d).map(move |j| (i, Some(j))));
+        linear.chain(products).collect()
+    }
+
+    /// Expands every row of `x` (`n x d`) to `n x out_dim(d)`: each output column is an input
+    /// column or the element-wise product of two, written contiguously, columns in parallel.
     pub fn expand(&self, x: MatRef<'_, f64>) -> Mat<f64> {
-        let (n, d) = (x.nrows(), x.ncols());
-        let big = self.out_dim(d);
-        let mut rows = vec![0.0; n * big];
-        rows.par_chunks_mut(big.max(1)).enumerate().for_each_init(
-            || vec![0.0; d],
-            |buf, (i, out)| {
-                for (c, b) in buf.iter_mut().enumerate() {
-                    *b = x[(i, c)];
+        let n = x.nrows();
+        // Column-major input, so that every input column is one contiguous slice.
+        let owned;
+        let x = if x.row_stride() == 1 {
+            x
+        } else {
+            owned = x.to_owned();
+            owned.as_ref()
+        };
+        let col = |i: usize| -> &[f64] {
+            x.col(i)
+                .try_as_col_major()
+                .map(|c| c.as_slice())
+                .expect("column-major")
+        };
+        let terms = self.terms(x.ncols());
+        let mut z = Mat::<f64>::zeros(n, terms.len());
+        z.par_col_iter_mut()
+            .zip(terms.par_iter())
+            .for_each(|(out, &(i, j))| {
+                let out = out
+                    .try_as_col_major_mut()
+                    .expect("fresh matrix")
+                    .as_slice_mut();
+                match j {
+                    None => out.copy_from_slice(col(i)),
+                    Some(j) => {
+                        for ((o, a), b) in out.iter_mut().zip(col(i)).zip(col(j)) {
+                            *o = a * b;
+                        }
+                    }
                 }
-                self.expand_row(buf, out);
-            },
-        );
-        Mat::from_fn(n, big, |i, j| rows[i * big + j])
+            });
+        z
     }
 }
 

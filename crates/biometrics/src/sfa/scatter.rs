@@ -51,7 +51,11 @@ fn blocks(
     mut f: impl FnMut(Mat<f64>),
 ) {
     for part in idx.chunks(CHUNK) {
-        let sub = Mat::from_fn(part.len(), x.ncols(), |i, j| x[(part[i], j)]);
+        let mut sub = Mat::<f64>::zeros(part.len(), x.ncols());
+        for j in 0..x.ncols() {
+            let (src, dst) = (x.col(j), sub.col_mut(j));
+            dst.iter_mut().zip(part).for_each(|(d, &r)| *d = src[r]);
+        }
         f(super::expansion::expand_opt(e, sub.as_ref()));
     }
 }

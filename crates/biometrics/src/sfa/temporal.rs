@@ -62,7 +62,13 @@ impl TemporalSfa {
         while s + 1 < t {
             let end = (s + step + 1).min(t);
             let z = expand_opt(expansion, x.subrows(s, end - s));
-            let dz = Mat::from_fn(z.nrows() - 1, dim, |i, j| z[(i + 1, j)] - z[(i, j)]);
+            let mut dz = Mat::<f64>::zeros(z.nrows() - 1, dim);
+            for j in 0..dim {
+                let (src, dst) = (z.col(j), dz.col_mut(j));
+                dst.iter_mut()
+                    .enumerate()
+                    .for_each(|(i, d)| *d = src[i + 1] - src[i]);
+            }
             wscg_math::dense::gram_accumulate(&mut a, dz.as_ref(), 1.0);
             s = end - 1;
         }

@@ -37,14 +37,8 @@ impl Pca {
         let (n, d) = (x.nrows(), x.ncols());
         let mean = column_means(x);
         let (components, variances): (Vec<Vec<f64>>, Vec<f64>) = if n >= d {
-            let c = dense::centered_gram(x, &mean, 1.0 / n as f64);
             let l = check_components(n_components, d)?;
-            let e = dense::eigh_largest(c.as_ref(), l)?;
-            let idx: Vec<usize> = (0..l).collect();
-            (
-                columns(e.vectors.as_ref(), &idx),
-                e.values.iter().map(|&v| v.max(0.0)).collect(),
-            )
+            covariance_axes(x, &mean, l)?
         } else {
             let s = dense::svd(subtract_mean(x, &mean).as_ref())?;
             let l = check_components(n_components, s.s.len())?;
@@ -92,6 +86,45 @@ impl Pca {
     pub fn axis_images(&self, k: usize, height: usize, width: usize) -> Result<Vec<Image>> {
         super::fdkeca::axis_images(&self.components, k, height, width)
     }
+}
+
+/// The `l` leading eigenpairs of the covariance of `x` (`n >= d`). Constant columns (image
+/// borders that are background in every sample, say) have zero rows and columns in the
+/// covariance: the eigenproblem is solved on the other columns only and the axes are padded
+/// with zeros there, which is exact and saves the quadratic cost of those columns. When
+/// `l` exceeds the number of varying columns, unit axes of constant columns (variance 0)
+/// complete the set.
+fn covariance_axes(
+    x: MatRef<'_, f64>,
+    mean: &[f64],
+    l: usize,
+) -> Result<(Vec<Vec<f64>>, Vec<f64>)> {
+    let (n, d) = (x.nrows(), x.ncols());
+    let (varying, constant): (Vec<usize>, Vec<usize>) =
+        (0..d).partition(|&j| x.col(j).iter().any(|&v| v != x[(0, j)]));
+    let mut axes = Vec::with_capacity(l);
+    let mut variances = Vec::with_capacity(l);
+    let q = varying.len().min(l);
+    if q > 0 {
+        let sub_mean: Vec<f64> = varying.iter().map(|&j| mean[j]).collect();
+        let c = dense::centered_gram_of(x, &varying, &sub_mean, 1.0 / n as f64);
+        let e = dense::eigh_largest(c.as_ref(), q)?;
+        for k in 0..q {
+            let mut axis = vec![0.0; d];
+            for (r, &j) in varying.iter().enumerate() {
+                axis[j] = e.vectors[(r, k)];
+            }
+            axes.push(axis);
+            variances.push(e.values[k].max(0.0));
+        }
+    }
+    for &j in constant.iter().take(l - q) {
+        let mut axis = vec![0.0; d];
+        axis[j] = 1.0;
+        axes.push(axis);
+        variances.push(0.0);
+    }
+    Ok((axes, variances))
 }
 
 impl Projector for Pca {

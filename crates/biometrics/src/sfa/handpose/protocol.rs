@@ -250,7 +250,7 @@ impl Comparison {
 /// `n` row-major rows of `dim` values (e.g. [`Split::train_x`]) as an `n x dim` matrix.
 pub fn rows_to_mat(v: &[f64], dim: usize) -> Mat<f64> {
     let n = v.len() / dim.max(1);
-    MatRef::from_row_major_slice(&v[..n * dim], n, dim).to_owned()
+    wscg_math::dense::from_row_major(&v[..n * dim], n, dim)
 }
 
 /// At most `per_class` row indices of each class of `y` (all when `None`), drawn at random
