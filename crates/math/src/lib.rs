@@ -23,6 +23,7 @@
 pub mod error;
 
 pub mod dense;
+pub mod distance;
 pub mod eigh_krylov;
 pub mod eigh_partial;
 pub mod fft;
@@ -31,6 +32,7 @@ pub mod image;
 pub mod knn;
 pub mod knn_graph;
 pub mod mesh;
+pub mod patchmatch;
 pub mod metrics;
 pub mod npy;
 pub mod progress;

@@ -169,88 +169,16 @@ pub fn fill_holes(mask: &[u8], h: usize, w: usize) -> Result<Vec<u8>> {
     Ok(state.iter().map(|&s| u8::from(s != 2)).collect())
 }
 
-/// One-dimensional squared-distance transform of Felzenszwalb and Huttenlocher (2012):
-/// `d[q] = min_p (q - p)^2 + f[p]`, the lower envelope of parabolas rooted at the finite
-/// samples of `f` (infinite samples take no part; all infinite gives all infinite).
-fn dt_1d(f: &[f64], d: &mut [f64], v: &mut Vec<usize>, z: &mut Vec<f64>) {
-    v.clear();
-    z.clear();
-    for (q, &fq) in f.iter().enumerate() {
-        if !fq.is_finite() {
-            continue;
-        }
-        let qf = q as f64;
-        let mut s = f64::NEG_INFINITY;
-        while let Some(&p) = v.last() {
-            let pf = p as f64;
-            s = ((fq + qf * qf) - (f[p] + pf * pf)) / (2.0 * qf - 2.0 * pf);
-            // z holds the left boundary of each parabola's interval.
-            if s <= z[z.len() - 1] {
-                v.pop();
-                z.pop();
-                s = f64::NEG_INFINITY;
-            } else {
-                break;
-            }
-        }
-        v.push(q);
-        z.push(s);
-    }
-    if v.is_empty() {
-        d.fill(f64::INFINITY);
-        return;
-    }
-    let mut k = 0;
-    for (q, dq) in d.iter_mut().enumerate() {
-        let qf = q as f64;
-        while k + 1 < v.len() && z[k + 1] < qf {
-            k += 1;
-        }
-        let p = v[k];
-        let dp = qf - p as f64;
-        *dq = dp * dp + f[p];
-    }
-}
-
 /// Exact squared Euclidean distance of every pixel to the nearest background pixel (0 on the
 /// background; the area outside the image counts as background, so a pixel on the image edge
 /// has distance 1).
 ///
-/// Felzenszwalb-Huttenlocher: the 1-D squared-distance transform along every row, then along
-/// every column of the result; `O(h w)`, exact (integer values held exactly in `f64`).
+/// Felzenszwalb-Huttenlocher ([`wscg_math::distance::squared_edt`]): `O(h w)`, exact.
 /// Errors: `mask.len() != h * w` or a zero size.
 pub fn squared_distance_transform(mask: &[u8], h: usize, w: usize) -> Result<Vec<f64>> {
     check_shape("mask", mask.len(), h, w)?;
-    let (mut v, mut z) = (Vec::new(), Vec::new());
-    // Rows, each padded with one background sample at both ends.
-    let mut f = vec![0.0; w + 2];
-    let mut d = vec![0.0; w + 2];
-    let mut rows = vec![0.0; h * w];
-    for y in 0..h {
-        for x in 0..w {
-            f[x + 1] = if mask[y * w + x] != 0 {
-                f64::INFINITY
-            } else {
-                0.0
-            };
-        }
-        dt_1d(&f, &mut d, &mut v, &mut z);
-        rows[y * w..(y + 1) * w].copy_from_slice(&d[1..w + 1]);
-    }
-    // Columns, padded likewise (the padding rows are all background, value 0).
-    let mut f = vec![0.0; h + 2];
-    let mut d = vec![0.0; h + 2];
-    let mut out = vec![0.0; h * w];
-    for x in 0..w {
-        for y in 0..h {
-            f[y + 1] = rows[y * w + x];
-        }
-        dt_1d(&f, &mut d, &mut v, &mut z);
-        for y in 0..h {
-            out[y * w + x] = d[y + 1];
-        }
-    }
-    Ok(out)
+    let background: Vec<bool> = mask.iter().map(|&m| m == 0).collect();
+    wscg_math::distance::squared_edt(&background, &[h, w], &[1.0, 1.0], true)
 }
 
 /// Exact Euclidean distance transform: the square root of [`squared_distance_transform`].

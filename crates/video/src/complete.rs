@@ -1,0 +1,196 @@
+//! The whole method of paper 06 (Fig. 3): stage 1 at the working resolution, stage 2
+//! refinement of its match list, stage 3 localized search up to full resolution.
+
+use std::time::Instant;
+
+use wscg_math::patchmatch::TargetSet;
+use wscg_math::progress::{NoProgress, Progress};
+use wscg_math::{Error, Result};
+
+use crate::field::{upscale_matches, MatchField};
+use crate::local::{localized_search, LocalConfig, LocalStats, UpscaleStep};
+use crate::lowres::{lowres_complete, sweep_once, LevelStats, LowResConfig};
+use crate::onion::onion_order;
+use crate::patch::{valid_sources, Cubes};
+use crate::pyramid::{downscale, working_factor};
+use crate::refine::{refine_matches, RefineConfig, RefineStats};
+use crate::search::{source_list, SearchMethod};
+use crate::video::{Mask3, Video};
+
+/// Parameters of the whole completion.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompletionConfig {
+    /// Stage 1.
+    pub low: LowResConfig,
+    /// Stage 2 (`None`: the no-refinement ablation of Fig. 5b).
+    pub refine: Option<RefineConfig>,
+    /// Stage 3.
+    pub local: LocalConfig,
+    /// Replace stage 3's localized search by exact global search at every finer level (an
+    /// ablation for small videos: the cost the paper avoids).
+    pub global_fine_search: bool,
+}
+
+impl Default for CompletionConfig {
+    fn default() -> Self {
+        Self {
+            low: LowResConfig::default(),
+            refine: Some(RefineConfig::default()),
+            local: LocalConfig::default(),
+            global_fine_search: false,
+        }
+    }
+}
+
+/// Statistics of a completion.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// Working resolution `(height, width)` of stage 1 and its down-scaling factor.
+    pub working_size: (usize, usize),
+    /// Factor from full to working resolution.
+    pub working_factor: usize,
+    /// Stage 1, coarsest level first.
+    pub lowres: Vec<LevelStats>,
+    /// Stage 2.
+    pub refine: Option<RefineStats>,
+    /// Stage 3, one entry per finer level.
+    pub local: Vec<LocalStats>,
+    /// Wall time of stages 1, 2 and 3 in seconds.
+    pub seconds: [f64; 3],
+}
+
+/// A completed video.
+#[derive(Clone, Debug)]
+pub struct Completion {
+    /// The video with the hole filled (known pixels bit-identical to the input).
+    pub video: Video,
+    /// For every hole pixel at full resolution, the source it was copied from.
+    pub matches: MatchField,
+    /// What each stage did.
+    pub stats: Stats,
+}
+
+/// Completes the hole `hole` of `video` (paper 06). See [`complete_video_with`].
+pub fn complete_video(video: &Video, hole: &Mask3, cfg: &CompletionConfig) -> Result<Completion> {
+    complete_video_with(video, hole, cfg, &NoProgress)
+}
+
+/// Errors unless `video` and `hole` can be completed with `cfg` (shape, patch, a known pixel).
+pub fn check_input(video: &Video, hole: &Mask3, cfg: &CompletionConfig) -> Result<()> {
+    video.check_mask(hole)?;
+    cfg.low.patch.check(video.dims())?;
+    if cfg.local.windows.is_empty() || cfg.local.windows.iter().any(|&w| w == 0 || w % 2 == 0) {
+        return Err(Error::invalid(
+            "windows",
+            format!("window widths must be odd and positive, got {:?}", cfg.local.windows),
+        ));
+    }
+    if cfg.low.target_width == 0 || cfg.low.iters.is_empty() {
+        return Err(Error::invalid("low", "target_width and iters must be positive"));
+    }
+    if hole.count() == hole.len_grid() {
+        return Err(Error::invalid(
+            "mask",
+            "the mask covers the whole video: no known pixel to fill from",
+        ));
+    }
+    Ok(())
+}
+
+/// Completes the hole of `video`: the known pixels are never written, each hole pixel takes
+/// the colour of one source pixel. Stage 1 ([`lowres_complete`]) runs at the working
+/// resolution (`width / round(width / 480)`), stage 2 ([`refine_matches`]) refines its match
+/// list, stage 3 ([`localized_search`]) climbs to full resolution. An empty hole returns the
+/// input unchanged. `progress` receives one stage per level.
+///
+/// Errors: mask and video shapes differ, bad patch or window sizes, a mask covering every
+/// pixel, a known region too thin to hold one source cube at some level.
+pub fn complete_video_with(video: &Video, hole: &Mask3, cfg: &CompletionConfig, progress: &dyn Progress) -> Result<Completion> {
+    check_input(video, hole, cfg)?;
+    let mut stats = Stats::default();
+    if hole.count() == 0 {
+        return Ok(Completion {
+            video: video.clone(),
+            matches: MatchField { targets: TargetSet::new(video.dims(), []), matches: Vec::new() },
+            stats,
+        });
+    }
+    let patch = cfg.low.patch;
+    let s0 = working_factor(video.width, cfg.low.target_width);
+    let (mut wv, wm) = downscale(video, hole, s0);
+    stats.working_factor = s0;
+    stats.working_size = (wv.height, wv.width);
+    let clock = Instant::now();
+    progress.begin(&format!("stage 1 at {} x {}", wv.width, wv.height), 1);
+    let (mut ml, low) = lowres_complete(&mut wv, &wm, &cfg.low)?;
+    progress.advance(1);
+    progress.finish();
+    stats.lowres = low;
+    stats.seconds[0] = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    if let Some(rc) = &cfg.refine {
+        progress.begin("match refinement", 1);
+        let sources = valid_sources(&wm, patch);
+        stats.refine = Some(refine_matches(&mut wv, &wm, &sources, &mut ml, patch, rc)?);
+        progress.advance(1);
+        progress.finish();
+    }
+    stats.seconds[1] = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let mut f = s0;
+    let mut current = wv;
+    while f > 1 {
+        let next = match cfg.local.step {
+            UpscaleStep::Double if f % 2 == 0 => f / 2,
+            _ => 1,
+        };
+        let (mut lv, lm) = downscale(video, hole, next);
+        progress.begin(&format!("localized search at {} x {}", lv.width, lv.height), cfg.local.windows.len() as u64);
+        let sources = valid_sources(&lm, patch);
+        let targets = TargetSet::new(lm.dims(), lm.points());
+        let up = upscale_matches(&ml, &targets, &sources, f / next).ok_or_else(|| {
+            Error::invalid(
+                "mask",
+                format!("no valid source cube at {} x {}: the known region is too thin", lv.width, lv.height),
+            )
+        })?;
+        let mut field = MatchField { targets, matches: up };
+        field.apply(&mut lv);
+        let st = if cfg.global_fine_search {
+            global_search(&mut lv, &lm, &sources, &mut field, cfg)?
+        } else {
+            localized_search(&mut lv, &lm, &sources, &mut field, patch, &cfg.local)?
+        };
+        progress.advance(cfg.local.windows.len() as u64);
+        progress.finish();
+        stats.local.push(st);
+        ml = field;
+        current = lv;
+        f = next;
+    }
+    stats.seconds[2] = clock.elapsed().as_secs_f64();
+    if ml.matches.iter().any(|m| !m.dist.is_finite()) {
+        ml.refresh(&Cubes { video: &current, sources: &valid_sources(hole, patch), patch, ignore: None });
+    }
+    Ok(Completion { video: current, matches: ml, stats })
+}
+
+/// The global-search ablation of stage 3: as many exact sweeps over every valid source as
+/// stage 3 has windows.
+fn global_search(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &mut MatchField, cfg: &CompletionConfig) -> Result<LocalStats> {
+    let order = onion_order(hole, &field.targets)?;
+    let list = source_list(sources);
+    let patch = cfg.low.patch;
+    let mut st = LocalStats {
+        size: (video.height, video.width),
+        hole_pixels: field.len(),
+        energy: Vec::new(),
+        candidates: 0,
+    };
+    for sweep in 0..cfg.local.windows.len() {
+        sweep_once(video, sources, &list, field, &order, patch, SearchMethod::Exact, 0, sweep, None);
+        st.candidates += (field.len() * list.len()) as u64;
+        st.energy.push(field.refresh(&Cubes { video, sources, patch, ignore: None }));
+    }
+    Ok(st)
+}

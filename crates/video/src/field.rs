@@ -1,0 +1,151 @@
+//! Match lists (paper 06: `ML` at the working resolution, `MLH` at finer ones): for every hole
+//! pixel, the centre of the source cube its colour was copied from; and their transfer from a
+//! coarse level to a finer one (section 3.4, Fig. 8).
+
+use rayon::prelude::*;
+use wscg_math::patchmatch::{Match, TargetSet, P3};
+
+use crate::patch::Cubes;
+use crate::video::{Mask3, Video};
+
+/// One match per hole pixel of a level.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MatchField {
+    /// The hole pixels, in scan order.
+    pub targets: TargetSet,
+    /// The match of each hole pixel (same order); `dist` is `D(w_p, w_p')` when last computed.
+    pub matches: Vec<Match>,
+}
+
+impl MatchField {
+    /// Number of matches.
+    pub fn len(&self) -> usize {
+        self.matches.len()
+    }
+
+    /// Whether there are no matches (no hole).
+    pub fn is_empty(&self) -> bool {
+        self.matches.is_empty()
+    }
+
+    /// The match of hole pixel `p`, if `p` is a hole pixel.
+    pub fn get(&self, p: P3) -> Option<Match> {
+        self.targets.rank(p).map(|i| self.matches[i])
+    }
+
+    /// Recomputes every `dist` with the current colours; returns the energy
+    /// `E = sum_p D(w_p, w_NN(p))` (the specification's additive form of eq. 1).
+    pub fn refresh(&mut self, cubes: &Cubes<'_>) -> f64 {
+        let targets = &self.targets;
+        self.matches.par_iter_mut().enumerate().for_each(|(i, m)| {
+            m.dist = cubes.ssd(targets.get(i), m.source, f32::INFINITY);
+        });
+        self.energy()
+    }
+
+    /// `sum_p dist(p)` of the stored distances.
+    pub fn energy(&self) -> f64 {
+        self.matches.iter().map(|m| m.dist as f64).sum()
+    }
+
+    /// Copies every match's source colour onto its hole pixel (single best match, no
+    /// blending: the paper's way of keeping grain and noise).
+    pub fn apply(&self, video: &mut Video) {
+        for (i, m) in self.matches.iter().enumerate() {
+            video.copy_pixel(self.targets.get(i), m.source);
+        }
+    }
+}
+
+/// The valid source nearest to `p` in its frame (Chebyshev rings of growing radius, scan order
+/// within a ring), then in the nearest frames; `None` when the level has no source at all.
+pub fn nearest_source(sources: &Mask3, p: P3) -> Option<P3> {
+    let [f, h, w] = sources.dims();
+    let max_r = h.max(w);
+    let t0 = p[0] as i64;
+    let (y0, x0) = (p[1] as i64, p[2] as i64);
+    for dt in 0..f as i64 {
+        let frames: Vec<i64> = if dt == 0 { vec![t0] } else { vec![t0 - dt, t0 + dt] };
+        let frames: Vec<i64> = frames.into_iter().filter(|&t| t >= 0 && t < f as i64).collect();
+        for r in 0..=max_r as i64 {
+            for &t in &frames {
+                for y in y0 - r..=y0 + r {
+                    if y < 0 || y >= h as i64 {
+                        continue;
+                    }
+                    let edge = y == y0 - r || y == y0 + r;
+                    let step = if edge { 1 } else { (2 * r).max(1) as usize };
+                    for x in (x0 - r..=x0 + r).step_by(step) {
+                        if x >= 0 && x < w as i64 && sources.contains([t as u32, y as u32, x as u32]) {
+                            return Some([t as u32, y as u32, x as u32]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    None
+}
+
+/// The matches of the finer level's hole pixels from the coarse level's (factor `s`): for
+/// `p_h = (t, y, x)`, `p_l = (t, y / s, x / s)` (a coarse hole pixel by the "any" rule) and
+/// `p'_h = (t'_l, s y'_l + y mod s, s x'_l + x mod s)` with `(t'_l, y'_l, x'_l) = ML[p_l]`: the
+/// offset inside the block keeps neighbouring fine pixels on neighbouring sources. An invalid
+/// `p'_h` is replaced by the nearest valid source ([`nearest_source`]). Distances are left
+/// infinite (not computed). `None` when the fine level has no valid source.
+pub fn upscale_matches(coarse: &MatchField, fine_targets: &TargetSet, fine_sources: &Mask3, s: usize) -> Option<Vec<Match>> {
+    let s32 = s as u32;
+    let dims = fine_targets.dims();
+    (0..fine_targets.len())
+        .into_par_iter()
+        .map(|i| {
+            let p = fine_targets.get(i);
+            let parent = [p[0], p[1] / s32, p[2] / s32];
+            let guess = coarse.get(parent).map(|m| {
+                [
+                    m.source[0],
+                    (m.source[1] * s32 + p[1] % s32).min(dims[1] as u32 - 1),
+                    (m.source[2] * s32 + p[2] % s32).min(dims[2] as u32 - 1),
+                ]
+            });
+            let source = match guess {
+                Some(g) if fine_sources.contains(g) => g,
+                Some(g) => nearest_source(fine_sources, g)?,
+                None => nearest_source(fine_sources, p)?,
+            };
+            Some(Match {
+                source,
+                dist: f32::INFINITY,
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nearest_source_searches_rings_then_frames() {
+        let src = Mask3::from_fn(3, 10, 10, |t, y, x| t == 2 && y == 7 && x == 1 || t == 0 && y == 2 && x == 9);
+        assert_eq!(nearest_source(&src, [0, 2, 2]), Some([0, 2, 9]));
+        assert_eq!(nearest_source(&src, [1, 7, 2]), Some([2, 7, 1]));
+        assert_eq!(nearest_source(&Mask3::empty(2, 3, 3), [0, 0, 0]), None);
+    }
+
+    #[test]
+    fn upscaling_keeps_the_offset_in_the_block() {
+        let dims = [1, 8, 8];
+        let coarse_hole = Mask3::from_fn(1, 4, 4, |_, y, x| y == 1 && x == 1);
+        let coarse = MatchField {
+            targets: TargetSet::new([1, 4, 4], coarse_hole.points()),
+            matches: vec![Match { source: [0, 3, 2], dist: 0.0 }],
+        };
+        let fine_hole = Mask3::from_fn(1, 8, 8, |_, y, x| (2..4).contains(&y) && (2..4).contains(&x));
+        let fine_targets = TargetSet::new(dims, fine_hole.points());
+        let all = Mask3::from_fn(1, 8, 8, |_, _, _| true);
+        let up = upscale_matches(&coarse, &fine_targets, &all, 2).unwrap();
+        let got: Vec<P3> = up.iter().map(|m| m.source).collect();
+        assert_eq!(got, vec![[0, 6, 4], [0, 6, 5], [0, 7, 4], [0, 7, 5]]);
+    }
+}

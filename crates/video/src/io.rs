@@ -1,0 +1,112 @@
+//! Frame folders: a video as the PNG/JPEG files of a folder in name order, a hole as one mask
+//! image (the same hole in every frame) or a folder of mask images (non-zero = hole).
+
+use std::path::{Path, PathBuf};
+
+use wscg_math::{Error, Result};
+
+use crate::video::{Mask3, Video};
+
+/// Image files (`.png`, `.jpg`, `.jpeg`, any case) of `dir`, sorted by name.
+pub fn frame_files(dir: &Path) -> Result<Vec<PathBuf>> {
+    let rd = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
+    let mut files: Vec<PathBuf> = rd
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.is_file()
+                && p.extension()
+                    .and_then(|e| e.to_str())
+                    .is_some_and(|e| matches!(e.to_ascii_lowercase().as_str(), "png" | "jpg" | "jpeg"))
+        })
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(Error::format(dir, "no .png or .jpg frames in the folder"));
+    }
+    Ok(files)
+}
+
+fn open(path: &Path) -> Result<image::DynamicImage> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    image::load_from_memory(&bytes).map_err(|e| Error::format(path, e.to_string()))
+}
+
+/// Reads the frames of `dir` as an RGB video.
+///
+/// Errors: unreadable folder or file, no frames, frames of different sizes.
+pub fn read_frames(dir: &Path) -> Result<Video> {
+    let files = frame_files(dir)?;
+    let mut data = Vec::new();
+    let mut size = None;
+    for f in &files {
+        let img = open(f)?.to_rgb8();
+        let s = (img.height() as usize, img.width() as usize);
+        match size {
+            None => size = Some(s),
+            Some(first) if first != s => {
+                return Err(Error::format(
+                    f,
+                    format!("frame of {} x {} where the first frame is {} x {}", s.1, s.0, first.1, first.0),
+                ))
+            }
+            _ => {}
+        }
+        data.extend_from_slice(img.as_raw());
+    }
+    let (h, w) = size.expect("at least one frame");
+    Video::new(files.len(), h, w, 3, data)
+}
+
+/// Reads a hole mask for a video of `frames x height x width`: a single image (the same hole in
+/// every frame) or a folder with one image per frame; a pixel is in the hole when any channel
+/// is non-zero.
+///
+/// Errors: unreadable input, a size or frame count that does not match the video.
+pub fn read_mask(path: &Path, frames: usize, height: usize, width: usize) -> Result<Mask3> {
+    let files = if path.is_dir() { frame_files(path)? } else { vec![path.to_path_buf()] };
+    if files.len() != 1 && files.len() != frames {
+        return Err(Error::format(
+            path,
+            format!("{} mask images for {frames} frames (give one image or one per frame)", files.len()),
+        ));
+    }
+    let mut planes = Vec::with_capacity(files.len());
+    for f in &files {
+        let rgb = open(f)?.to_rgb8();
+        if (rgb.height() as usize, rgb.width() as usize) != (height, width) {
+            return Err(Error::format(
+                f,
+                format!("mask of {} x {} for frames of {width} x {height}", rgb.width(), rgb.height()),
+            ));
+        }
+        planes.push(rgb.pixels().map(|p| p.0.iter().any(|&v| v != 0)).collect::<Vec<bool>>());
+    }
+    Ok(Mask3::from_fn(frames, height, width, |t, y, x| {
+        let plane = if planes.len() == 1 { &planes[0] } else { &planes[t] };
+        plane[y * width + x]
+    }))
+}
+
+/// Writes the frames of `video` as `frame_00000.png`, ... into `dir` (created if missing).
+///
+/// Errors: the folder cannot be created or a file written.
+pub fn write_frames(video: &Video, dir: &Path) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let mut out = Vec::with_capacity(video.frames);
+    for t in 0..video.frames {
+        let path = dir.join(format!("frame_{t:05}.png"));
+        let (w, h) = (video.width as u32, video.height as u32);
+        let res = if video.channels == 3 {
+            image::RgbImage::from_raw(w, h, video.frame(t).to_vec()).map(|i| i.save(&path))
+        } else {
+            image::GrayImage::from_raw(w, h, video.frame(t).to_vec()).map(|i| i.save(&path))
+        };
+        match res {
+            Some(Ok(())) => {}
+            Some(Err(e)) => return Err(Error::format(&path, e.to_string())),
+            None => return Err(Error::invalid("video", "frame buffer of the wrong size")),
+        }
+        out.push(path);
+    }
+    Ok(out)
+}

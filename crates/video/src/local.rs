@@ -1,0 +1,115 @@
+//! Stage 3 of paper 06 (section 3.4, Figs. 8-9): localized search completion at the finer
+//! resolutions. Each hole pixel searches exactly, on uncompressed data, only a small window
+//! `S` around its current match (17, 13, 9 then 5 pixels wide, re-centred after each
+//! iteration): at most 289 + 169 + 81 + 25 = 564 candidates per pixel instead of every cube
+//! of the video, and no search structure, so the memory is the video plus one match per hole
+//! pixel.
+
+use rayon::prelude::*;
+use wscg_math::patchmatch::Match;
+
+use crate::field::MatchField;
+use crate::onion::onion_order;
+use crate::patch::{Cubes, PatchSize};
+use crate::video::{Mask3, Video};
+
+/// How stage 3 climbs from the working resolution to the full one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UpscaleStep {
+    /// Doubling per level (480 -> 960 -> 1920); the last step takes what remains.
+    Double,
+    /// One step to full resolution (the paper's Fig. 8 shows this).
+    Direct,
+}
+
+/// Parameters of stage 3.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LocalConfig {
+    /// Window widths of the successive iterations (17, 13, 9, 5: Fig. 9).
+    pub windows: Vec<usize>,
+    /// Frames searched on each side of the match's frame (0: the match's frame only).
+    pub temporal_radius: usize,
+    /// Level schedule.
+    pub step: UpscaleStep,
+}
+
+impl Default for LocalConfig {
+    fn default() -> Self {
+        Self {
+            windows: vec![17, 13, 9, 5],
+            temporal_radius: 0,
+            step: UpscaleStep::Double,
+        }
+    }
+}
+
+/// What stage 3 did at one level.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LocalStats {
+    /// Frame size `(height, width)`.
+    pub size: (usize, usize),
+    /// Hole pixels.
+    pub hole_pixels: usize,
+    /// Energy after each window iteration.
+    pub energy: Vec<f64>,
+    /// Candidate cubes compared in total.
+    pub candidates: u64,
+}
+
+/// Runs the localized search on one level: `field` holds the up-scaled matches (`MLH`) and
+/// the hole colours of `video` their sources' colours. For each window width, hole pixels are
+/// visited shell by shell (each shell in parallel from the current state); each takes the
+/// best valid source in the window around its current match, and its colour.
+pub fn localized_search(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &mut MatchField, patch: PatchSize, cfg: &LocalConfig) -> wscg_math::Result<LocalStats> {
+    let order = onion_order(hole, &field.targets)?;
+    let dims = video.dims();
+    let mut st = LocalStats {
+        size: (video.height, video.width),
+        hole_pixels: field.len(),
+        energy: Vec::new(),
+        candidates: 0,
+    };
+    for &win in &cfg.windows {
+        let r = (win / 2) as i64;
+        let rt = cfg.temporal_radius as i64;
+        for shell in &order {
+            let new: Vec<(Match, u64)> = {
+                let cubes = Cubes { video, sources, patch, ignore: None };
+                shell
+                    .par_iter()
+                    .map(|&i| {
+                        let i = i as usize;
+                        let p = field.targets.get(i);
+                        let c = field.matches[i].source;
+                        let mut best = Match { source: c, dist: cubes.ssd(p, c, f32::INFINITY) };
+                        let mut n = 1u64;
+                        for t in (c[0] as i64 - rt).max(0)..=(c[0] as i64 + rt).min(dims[0] as i64 - 1) {
+                            for y in (c[1] as i64 - r).max(0)..=(c[1] as i64 + r).min(dims[1] as i64 - 1) {
+                                for x in (c[2] as i64 - r).max(0)..=(c[2] as i64 + r).min(dims[2] as i64 - 1) {
+                                    let s = [t as u32, y as u32, x as u32];
+                                    if s == c || !sources.contains(s) {
+                                        continue;
+                                    }
+                                    n += 1;
+                                    let d = cubes.ssd(p, s, best.dist);
+                                    if d < best.dist {
+                                        best = Match { source: s, dist: d };
+                                    }
+                                }
+                            }
+                        }
+                        (best, n)
+                    })
+                    .collect()
+            };
+            for (&i, (m, n)) in shell.iter().zip(new) {
+                let i = i as usize;
+                st.candidates += n;
+                field.matches[i] = m;
+                video.copy_pixel(field.targets.get(i), m.source);
+            }
+        }
+        st.energy.push(field.refresh(&Cubes { video, sources, patch, ignore: None }));
+    }
+    Ok(st)
+}

@@ -1,0 +1,253 @@
+//! Stage 1 of paper 06 (section 3.2, Fig. 3 stages 1.1-1.3): the dual inpainting-sampling
+//! filling-order completion at low resolution. A spatial pyramid of the working-resolution
+//! video (temporal resolution kept), the hole initialised by inpainting at the coarsest
+//! level, then per level a few sweeps in which every hole pixel, shell by shell from the
+//! outside ("3D hole-filling"), takes the centre colour of its single best-matching source
+//! cube. Matches are carried to the next finer level offset-preserving.
+
+use wscg_math::patchmatch::{Match, TargetSet, P3};
+use wscg_math::{Error, Result};
+
+use crate::field::{upscale_matches, MatchField};
+use crate::init::{initialize, InitMethod};
+use crate::onion::{onion_order, scanline_order};
+use crate::patch::{valid_sources, Cubes, PatchSize};
+use crate::pyramid::downscale;
+use crate::search::{exact_best, patchmatch_update, random_matches, source_list, SearchMethod};
+use crate::video::{Mask3, Video};
+
+/// Parameters of stage 1.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LowResConfig {
+    /// Width of the working resolution (480 in the paper: 1920 x 1080 is completed at
+    /// 480 x 270).
+    pub target_width: usize,
+    /// Pyramid levels below the working resolution included (`None`: halve while the next
+    /// level is at least 120 pixels wide and the hole is thicker than two patch radii).
+    pub levels: Option<usize>,
+    /// Patch extents.
+    pub patch: PatchSize,
+    /// Sweeps per level, coarsest first (the last value repeats for further levels).
+    pub iters: Vec<usize>,
+    /// Initial colours of the hole at the coarsest level.
+    pub init: InitMethod,
+    /// Best-match search.
+    pub search: SearchMethod,
+    /// Onion-peel filling order (`false`: scan-line order, the ablation).
+    pub onion_order: bool,
+    /// A level stops early when fewer than this fraction of matches change in a sweep...
+    pub min_changed: f64,
+    /// ...or the energy drops by less than this fraction.
+    pub min_energy_drop: f64,
+}
+
+impl Default for LowResConfig {
+    fn default() -> Self {
+        Self {
+            target_width: 480,
+            levels: None,
+            patch: PatchSize::default(),
+            iters: vec![10, 5, 3],
+            init: InitMethod::Harmonic2D,
+            search: SearchMethod::default(),
+            onion_order: true,
+            min_changed: 1e-3,
+            min_energy_drop: 5e-3,
+        }
+    }
+}
+
+/// What stage 1 did at one level.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LevelStats {
+    /// Frame size `(height, width)` of the level.
+    pub size: (usize, usize),
+    /// Hole pixels.
+    pub hole_pixels: usize,
+    /// Energy after each sweep.
+    pub energy: Vec<f64>,
+    /// Matches changed in each sweep.
+    pub changed: Vec<usize>,
+}
+
+/// The pyramid of stage 1: the working level first, then each coarser level.
+fn pyramid(video: &Video, hole: &Mask3, cfg: &LowResConfig) -> Vec<(Video, Mask3)> {
+    let mut levels = vec![(video.clone(), hole.clone())];
+    let r = cfg.patch.radius()[1].max(cfg.patch.radius()[2]) as f64;
+    loop {
+        let (v, m) = levels.last().expect("one level");
+        let next_w = v.width.div_ceil(2);
+        let more = match cfg.levels {
+            Some(l) => levels.len() <= l,
+            None => next_w >= 120 && hole_thickness(m) > 2.0 * r,
+        };
+        if !more || v.width < 2 || v.height < 2 {
+            break;
+        }
+        let (cv, cm) = downscale(v, m, 2);
+        if cfg.patch.check(cv.dims()).is_err() {
+            break;
+        }
+        levels.push((cv, cm));
+    }
+    levels
+}
+
+/// Largest distance of a hole pixel to the known region (voxel units; 0 without a hole).
+fn hole_thickness(hole: &Mask3) -> f64 {
+    let known: Vec<bool> = (0..hole.len_grid()).map(|i| !hole.contains_index(i)).collect();
+    match wscg_math::distance::squared_edt(&known, &hole.dims(), &[1.0; 3], false) {
+        Ok(d) => (0..d.len())
+            .filter(|&i| hole.contains_index(i))
+            .map(|i| d[i])
+            .fold(0.0f64, f64::max)
+            .sqrt(),
+        Err(_) => 0.0,
+    }
+}
+
+/// Stage 1 on the working-resolution `video` (hole pixels are overwritten with the
+/// completion): returns the match list `ML` and per-level statistics, coarsest level first.
+///
+/// Errors: a level without any valid source cube ("the known region is too thin for the
+/// patch"), a mask covering every pixel, bad patch sizes.
+pub fn lowres_complete(video: &mut Video, hole: &Mask3, cfg: &LowResConfig) -> Result<(MatchField, Vec<LevelStats>)> {
+    video.check_mask(hole)?;
+    cfg.patch.check(video.dims())?;
+    let levels = pyramid(video, hole, cfg);
+    let mut stats = Vec::new();
+    let mut prev: Option<MatchField> = None;
+    for (k, (lv, lm)) in levels.into_iter().enumerate().rev() {
+        let mut v = if k == 0 { video.clone() } else { lv };
+        let sources = valid_sources(&lm, cfg.patch);
+        let list = source_list(&sources);
+        if list.is_empty() {
+            return Err(Error::invalid(
+                "mask",
+                format!(
+                    "no valid {} x {} x {} source cube at {} x {}: the known region is too thin for the patch",
+                    cfg.patch.px, cfg.patch.py, cfg.patch.pt, v.width, v.height
+                ),
+            ));
+        }
+        let targets = TargetSet::new(lm.dims(), lm.points());
+        let seed = match cfg.search {
+            SearchMethod::PatchMatch3D { seed } => seed,
+            SearchMethod::Exact => 0,
+        };
+        let mut ignore = None;
+        let matches = match &prev {
+            None => {
+                initialize(&mut v, &lm, cfg.init);
+                if matches!(cfg.init, InitMethod::Random { .. }) {
+                    // Random colours carry no information: the first sweep compares only
+                    // known and already updated pixels.
+                    ignore = Some(lm.clone());
+                }
+                random_matches(&list, targets.len(), seed)
+            }
+            Some(coarse) => {
+                let up = upscale_matches(coarse, &targets, &sources, 2).ok_or_else(|| {
+                    Error::invalid("mask", "no valid source at a finer pyramid level")
+                })?;
+                for (i, m) in up.iter().enumerate() {
+                    v.copy_pixel(targets.get(i), m.source);
+                }
+                up
+            }
+        };
+        let mut field = MatchField { targets, matches };
+        let sweeps = cfg.iters.get(levels_index(&cfg.iters, stats.len())).copied().unwrap_or(1);
+        let order = if cfg.onion_order {
+            onion_order(&lm, &field.targets)?
+        } else {
+            scanline_order(&field.targets)
+        };
+        let mut st = LevelStats {
+            size: (v.height, v.width),
+            hole_pixels: field.len(),
+            energy: Vec::new(),
+            changed: Vec::new(),
+        };
+        for sweep in 0..sweeps {
+            let changed = sweep_once(&mut v, &sources, &list, &mut field, &order, cfg.patch, cfg.search, seed, sweep, ignore.as_mut());
+            ignore = None;
+            let e = field.refresh(&Cubes { video: &v, sources: &sources, patch: cfg.patch, ignore: None });
+            let last = st.energy.last().copied();
+            st.energy.push(e);
+            st.changed.push(changed);
+            let few = (changed as f64) < cfg.min_changed * field.len() as f64;
+            let flat = last.is_some_and(|l| l - e < cfg.min_energy_drop * l);
+            if few || flat {
+                break;
+            }
+        }
+        stats.push(st);
+        if k == 0 {
+            *video = v;
+        }
+        prev = Some(field);
+    }
+    Ok((prev.expect("at least the working level"), stats))
+}
+
+/// Index into `iters` for the `k`-th level processed (coarsest first).
+fn levels_index(iters: &[usize], k: usize) -> usize {
+    k.min(iters.len().saturating_sub(1))
+}
+
+/// One sweep over the shells: each shell's best matches are computed in parallel from the
+/// current state, then its pixels take their sources' colours (Jacobi inside a shell,
+/// Gauss-Seidel across shells, so the result does not depend on the thread count). With
+/// `ignore`, pixels leave the ignored set as they are updated. Returns the changed matches.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn sweep_once(
+    v: &mut Video,
+    sources: &Mask3,
+    list: &[P3],
+    field: &mut MatchField,
+    order: &[Vec<u32>],
+    patch: PatchSize,
+    search: SearchMethod,
+    seed: u64,
+    sweep: usize,
+    mut ignore: Option<&mut Mask3>,
+) -> usize {
+    use rayon::prelude::*;
+    let mut changed = 0;
+    for shell in order {
+        let new: Vec<Match> = {
+            let cubes = Cubes {
+                video: v,
+                sources,
+                patch,
+                ignore: ignore.as_deref(),
+            };
+            shell
+                .par_iter()
+                .map(|&i| {
+                    let i = i as usize;
+                    match search {
+                        SearchMethod::Exact => exact_best(&cubes, field.targets.get(i), list),
+                        SearchMethod::PatchMatch3D { .. } => {
+                            patchmatch_update(&cubes, &field.targets, &field.matches, i, seed, sweep)
+                        }
+                    }
+                })
+                .collect()
+        };
+        for (&i, m) in shell.iter().zip(new) {
+            let i = i as usize;
+            let t = field.targets.get(i);
+            if field.matches[i].source != m.source {
+                changed += 1;
+            }
+            field.matches[i] = m;
+            v.copy_pixel(t, m.source);
+            if let Some(ig) = ignore.as_deref_mut() {
+                ig.remove(t);
+            }
+        }
+    }
+    changed
+}

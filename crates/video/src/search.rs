@@ -1,0 +1,104 @@
+//! Best-match search for one hole pixel at the low resolutions (paper 06, section 3.2): exact
+//! search over every valid source, or space-time PatchMatch (Barnes et al. 2009 as in
+//! Newson et al. 2014) embedded in the filling order: the current match, the matches of the
+//! six grid neighbours shifted back (those in earlier shells were already updated in this
+//! sweep) and a random search around the best so far.
+
+use rayon::prelude::*;
+use wscg_math::patchmatch::{consider, random_search, step, target_rng, Match, TargetSet, P3};
+
+use crate::patch::Cubes;
+use crate::video::Mask3;
+
+/// How stage 1 finds the best source of a hole pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SearchMethod {
+    /// Every valid source, exact SSD (small videos and tests).
+    Exact,
+    /// Space-time PatchMatch inside the filling order (memory: one match per hole pixel).
+    PatchMatch3D {
+        /// Random-search seed.
+        seed: u64,
+    },
+}
+
+impl Default for SearchMethod {
+    fn default() -> Self {
+        Self::PatchMatch3D { seed: 0 }
+    }
+}
+
+/// The valid sources of a level as a list (for exact search and random starts).
+pub fn source_list(sources: &Mask3) -> Vec<P3> {
+    sources.points()
+}
+
+/// The exact best source of `t` among `sources` (ties to the first in scan order).
+pub fn exact_best(cubes: &Cubes<'_>, t: P3, sources: &[P3]) -> Match {
+    let mut best = Match {
+        source: sources[0],
+        dist: f32::INFINITY,
+    };
+    for &s in sources {
+        let d = cubes.ssd(t, s, best.dist);
+        if d < best.dist {
+            best = Match { source: s, dist: d };
+        }
+    }
+    best
+}
+
+/// Exact best sources of many targets, in parallel.
+pub fn exact_best_all(cubes: &Cubes<'_>, targets: &[P3], sources: &[P3]) -> Vec<Match> {
+    targets.par_iter().map(|&t| exact_best(cubes, t, sources)).collect()
+}
+
+/// One PatchMatch update of target `i` (position `t`): current match (distance recomputed
+/// with the current colours), propagation from the grid neighbours' matches in `ml`, random
+/// search with radii halving from the video extents.
+pub fn patchmatch_update(
+    cubes: &Cubes<'_>,
+    targets: &TargetSet,
+    ml: &[Match],
+    i: usize,
+    seed: u64,
+    sweep: usize,
+) -> Match {
+    let t = targets.get(i);
+    let dims = targets.dims();
+    let mut best = Match {
+        source: ml[i].source,
+        dist: cubes.ssd(t, ml[i].source, f32::INFINITY),
+    };
+    for axis in 0..3 {
+        for forward in [false, true] {
+            let Some(n) = step(dims, t, axis, forward) else {
+                continue;
+            };
+            let Some(j) = targets.rank(n) else {
+                continue;
+            };
+            if let Some(s) = step(dims, ml[j].source, axis, !forward) {
+                consider(cubes, t, s, &mut best);
+            }
+        }
+    }
+    let mut r = target_rng(seed, sweep, i);
+    let radius = [dims[0] as u32, dims[1] as u32, dims[2] as u32];
+    random_search(cubes, t, &mut best, radius, &mut r);
+    best
+}
+
+/// A random valid source for every target (PatchMatch's start), deterministic in `seed`.
+pub fn random_matches(sources: &[P3], n: usize, seed: u64) -> Vec<Match> {
+    use rand::Rng as _;
+    (0..n)
+        .map(|i| {
+            let mut r = wscg_math::rng::stream(seed, i as u64);
+            Match {
+                source: sources[r.random_range(0..sources.len())],
+                dist: f32::INFINITY,
+            }
+        })
+        .collect()
+}
