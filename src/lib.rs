@@ -15,6 +15,7 @@ pub use wscg_biometrics as biometrics;
 pub use wscg_cloth as cloth;
 pub use wscg_math as math;
 pub use wscg_meshfilter as meshfilter;
+pub use wscg_video as video;
 pub use wscg_volren as volren;
 
 pub mod demo;

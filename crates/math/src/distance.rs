@@ -71,7 +71,10 @@ pub fn squared_edt(
     if shape.is_empty() || shape.len() > 3 || weights.len() != shape.len() {
         return Err(Error::invalid(
             "shape",
-            format!("1 to 3 axes with one weight each, got shape {shape:?} and {} weights", weights.len()),
+            format!(
+                "1 to 3 axes with one weight each, got shape {shape:?} and {} weights",
+                weights.len()
+            ),
         ));
     }
     if shape.contains(&0) {
@@ -85,7 +88,10 @@ pub fn squared_edt(
         ));
     }
     if let Some(w) = weights.iter().find(|w| !(w.is_finite() && **w > 0.0)) {
-        return Err(Error::invalid("weights", format!("{w} is not finite and positive")));
+        return Err(Error::invalid(
+            "weights",
+            format!("{w} is not finite and positive"),
+        ));
     }
     let mut d: Vec<f64> = feature
         .iter()
@@ -100,7 +106,14 @@ pub fn squared_edt(
         let lines: Vec<Vec<f64>> = (0..outer * stride)
             .into_par_iter()
             .map_init(
-                || (vec![0.0; len + 2 * pad], vec![0.0; len + 2 * pad], Vec::new(), Vec::new()),
+                || {
+                    (
+                        vec![0.0; len + 2 * pad],
+                        vec![0.0; len + 2 * pad],
+                        Vec::new(),
+                        Vec::new(),
+                    )
+                },
                 |(f, out, v, z), line| {
                     let base = (line / stride) * len * stride + line % stride;
                     if pad == 1 {

@@ -176,7 +176,10 @@ pub fn random_search(
 /// A per-target random stream: deterministic in `(seed, iteration, target)` whatever the
 /// thread count.
 pub fn target_rng(seed: u64, iteration: usize, target: usize) -> rng::Rng {
-    rng::stream(seed ^ (iteration as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15), target as u64)
+    rng::stream(
+        seed ^ (iteration as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15),
+        target as u64,
+    )
 }
 
 /// Improves the field `nnf` (one [`Match`] per target of `targets`, distances current) by
@@ -332,7 +335,8 @@ mod tests {
                         continue;
                     }
                     let a = self.v[ty as usize * self.w + tx as usize];
-                    let b = self.v[(s[1] as i64 + dy) as usize * self.w + (s[2] as i64 + dx) as usize];
+                    let b =
+                        self.v[(s[1] as i64 + dy) as usize * self.w + (s[2] as i64 + dx) as usize];
                     d += (a - b) * (a - b);
                 }
             }
@@ -346,7 +350,12 @@ mod tests {
         let v = (0..h * w)
             .map(|i| (((i / w) % 7) * 5 + (i % w) % 5) as f32)
             .collect();
-        Img { h, w, v, hole: [15, 22, 20, 27] }
+        Img {
+            h,
+            w,
+            v,
+            hole: [15, 22, 20, 27],
+        }
     }
 
     #[test]
@@ -365,12 +374,19 @@ mod tests {
             })
             .collect();
         let before: Vec<f32> = nnf.iter().map(|m| m.dist).collect();
-        let p = PatchMatchParams { iterations: 8, seed: 3, max_radius: None };
+        let p = PatchMatchParams {
+            iterations: 8,
+            seed: 3,
+            max_radius: None,
+        };
         patchmatch(&img, &targets, &mut nnf, &p);
         for (i, m) in nnf.iter().enumerate() {
             assert!(img.is_source(m.source));
             assert!(m.dist <= before[i]);
-            assert_eq!(m.dist, img.distance(targets.get(i), m.source, f32::INFINITY));
+            assert_eq!(
+                m.dist,
+                img.distance(targets.get(i), m.source, f32::INFINITY)
+            );
         }
         // The texture repeats: (nearly) every target finds a zero-distance copy.
         let exact = nnf.iter().filter(|m| m.dist == 0.0).count();
@@ -378,9 +394,15 @@ mod tests {
         // Determinism with another thread count.
         let mut again: Vec<Match> = before
             .iter()
-            .map(|&d| Match { source: start, dist: d })
+            .map(|&d| Match {
+                source: start,
+                dist: d,
+            })
             .collect();
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
         pool.install(|| patchmatch(&img, &targets, &mut again, &p));
         assert_eq!(again, nnf);
     }
@@ -393,10 +415,24 @@ mod tests {
         let targets = TargetSet::new(dims, [[0, 10, 10], [0, 10, 11]]);
         let val = |q: P3, _c: usize| (q[1] * 100 + q[2]) as f32;
         let nnf = [
-            Match { source: [0, 30, 30], dist: 0.0 },
-            Match { source: [0, 20, 5], dist: 0.0 },
+            Match {
+                source: [0, 30, 30],
+                dist: 0.0,
+            },
+            Match {
+                source: [0, 20, 5],
+                dist: 0.0,
+            },
         ];
-        let out = vote(&targets, &nnf, &[1.0, 3.0], [0, 1, 1], &[[0, 10, 10], [0, 0, 0]], 1, val);
+        let out = vote(
+            &targets,
+            &nnf,
+            &[1.0, 3.0],
+            [0, 1, 1],
+            &[[0, 10, 10], [0, 0, 0]],
+            1,
+            val,
+        );
         // Target 0 proposes value at (30, 30); target 1 (offset -1 in x) at (20, 4).
         let want = (3030.0 + 3.0 * 2004.0) / 4.0;
         assert!((out[0].as_ref().unwrap()[0] - want).abs() < 1e-3);

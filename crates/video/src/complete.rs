@@ -82,11 +82,17 @@ pub fn check_input(video: &Video, hole: &Mask3, cfg: &CompletionConfig) -> Resul
     if cfg.local.windows.is_empty() || cfg.local.windows.iter().any(|&w| w == 0 || w % 2 == 0) {
         return Err(Error::invalid(
             "windows",
-            format!("window widths must be odd and positive, got {:?}", cfg.local.windows),
+            format!(
+                "window widths must be odd and positive, got {:?}",
+                cfg.local.windows
+            ),
         ));
     }
     if cfg.low.target_width == 0 || cfg.low.iters.is_empty() {
-        return Err(Error::invalid("low", "target_width and iters must be positive"));
+        return Err(Error::invalid(
+            "low",
+            "target_width and iters must be positive",
+        ));
     }
     if hole.count() == hole.len_grid() {
         return Err(Error::invalid(
@@ -105,13 +111,21 @@ pub fn check_input(video: &Video, hole: &Mask3, cfg: &CompletionConfig) -> Resul
 ///
 /// Errors: mask and video shapes differ, bad patch or window sizes, a mask covering every
 /// pixel, a known region too thin to hold one source cube at some level.
-pub fn complete_video_with(video: &Video, hole: &Mask3, cfg: &CompletionConfig, progress: &dyn Progress) -> Result<Completion> {
+pub fn complete_video_with(
+    video: &Video,
+    hole: &Mask3,
+    cfg: &CompletionConfig,
+    progress: &dyn Progress,
+) -> Result<Completion> {
     check_input(video, hole, cfg)?;
     let mut stats = Stats::default();
     if hole.count() == 0 {
         return Ok(Completion {
             video: video.clone(),
-            matches: MatchField { targets: TargetSet::new(video.dims(), []), matches: Vec::new() },
+            matches: MatchField {
+                targets: TargetSet::new(video.dims(), []),
+                matches: Vec::new(),
+            },
             stats,
         });
     }
@@ -145,16 +159,25 @@ pub fn complete_video_with(video: &Video, hole: &Mask3, cfg: &CompletionConfig, 
             _ => 1,
         };
         let (mut lv, lm) = downscale(video, hole, next);
-        progress.begin(&format!("localized search at {} x {}", lv.width, lv.height), cfg.local.windows.len() as u64);
+        progress.begin(
+            &format!("localized search at {} x {}", lv.width, lv.height),
+            cfg.local.windows.len() as u64,
+        );
         let sources = valid_sources(&lm, patch);
         let targets = TargetSet::new(lm.dims(), lm.points());
         let up = upscale_matches(&ml, &targets, &sources, f / next).ok_or_else(|| {
             Error::invalid(
                 "mask",
-                format!("no valid source cube at {} x {}: the known region is too thin", lv.width, lv.height),
+                format!(
+                    "no valid source cube at {} x {}: the known region is too thin",
+                    lv.width, lv.height
+                ),
             )
         })?;
-        let mut field = MatchField { targets, matches: up };
+        let mut field = MatchField {
+            targets,
+            matches: up,
+        };
         field.apply(&mut lv);
         let st = if cfg.global_fine_search {
             global_search(&mut lv, &lm, &sources, &mut field, cfg)?
@@ -170,14 +193,29 @@ pub fn complete_video_with(video: &Video, hole: &Mask3, cfg: &CompletionConfig, 
     }
     stats.seconds[2] = clock.elapsed().as_secs_f64();
     if ml.matches.iter().any(|m| !m.dist.is_finite()) {
-        ml.refresh(&Cubes { video: &current, sources: &valid_sources(hole, patch), patch, ignore: None });
+        ml.refresh(&Cubes {
+            video: &current,
+            sources: &valid_sources(hole, patch),
+            patch,
+            ignore: None,
+        });
     }
-    Ok(Completion { video: current, matches: ml, stats })
+    Ok(Completion {
+        video: current,
+        matches: ml,
+        stats,
+    })
 }
 
 /// The global-search ablation of stage 3: as many exact sweeps over every valid source as
 /// stage 3 has windows.
-fn global_search(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &mut MatchField, cfg: &CompletionConfig) -> Result<LocalStats> {
+fn global_search(
+    video: &mut Video,
+    hole: &Mask3,
+    sources: &Mask3,
+    field: &mut MatchField,
+    cfg: &CompletionConfig,
+) -> Result<LocalStats> {
     let order = onion_order(hole, &field.targets)?;
     let list = source_list(sources);
     let patch = cfg.low.patch;
@@ -188,9 +226,25 @@ fn global_search(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &mut M
         candidates: 0,
     };
     for sweep in 0..cfg.local.windows.len() {
-        sweep_once(video, sources, &list, field, &order, patch, SearchMethod::Exact, 0, sweep, None);
+        sweep_once(
+            video,
+            sources,
+            &list,
+            field,
+            &order,
+            patch,
+            SearchMethod::Exact,
+            0,
+            sweep,
+            None,
+        );
         st.candidates += (field.len() * list.len()) as u64;
-        st.energy.push(field.refresh(&Cubes { video, sources, patch, ignore: None }));
+        st.energy.push(field.refresh(&Cubes {
+            video,
+            sources,
+            patch,
+            ignore: None,
+        }));
     }
     Ok(st)
 }

@@ -65,8 +65,15 @@ pub fn nearest_source(sources: &Mask3, p: P3) -> Option<P3> {
     let t0 = p[0] as i64;
     let (y0, x0) = (p[1] as i64, p[2] as i64);
     for dt in 0..f as i64 {
-        let frames: Vec<i64> = if dt == 0 { vec![t0] } else { vec![t0 - dt, t0 + dt] };
-        let frames: Vec<i64> = frames.into_iter().filter(|&t| t >= 0 && t < f as i64).collect();
+        let frames: Vec<i64> = if dt == 0 {
+            vec![t0]
+        } else {
+            vec![t0 - dt, t0 + dt]
+        };
+        let frames: Vec<i64> = frames
+            .into_iter()
+            .filter(|&t| t >= 0 && t < f as i64)
+            .collect();
         for r in 0..=max_r as i64 {
             for &t in &frames {
                 for y in y0 - r..=y0 + r {
@@ -76,7 +83,10 @@ pub fn nearest_source(sources: &Mask3, p: P3) -> Option<P3> {
                     let edge = y == y0 - r || y == y0 + r;
                     let step = if edge { 1 } else { (2 * r).max(1) as usize };
                     for x in (x0 - r..=x0 + r).step_by(step) {
-                        if x >= 0 && x < w as i64 && sources.contains([t as u32, y as u32, x as u32]) {
+                        if x >= 0
+                            && x < w as i64
+                            && sources.contains([t as u32, y as u32, x as u32])
+                        {
                             return Some([t as u32, y as u32, x as u32]);
                         }
                     }
@@ -93,7 +103,12 @@ pub fn nearest_source(sources: &Mask3, p: P3) -> Option<P3> {
 /// offset inside the block keeps neighbouring fine pixels on neighbouring sources. An invalid
 /// `p'_h` is replaced by the nearest valid source ([`nearest_source`]). Distances are left
 /// infinite (not computed). `None` when the fine level has no valid source.
-pub fn upscale_matches(coarse: &MatchField, fine_targets: &TargetSet, fine_sources: &Mask3, s: usize) -> Option<Vec<Match>> {
+pub fn upscale_matches(
+    coarse: &MatchField,
+    fine_targets: &TargetSet,
+    fine_sources: &Mask3,
+    s: usize,
+) -> Option<Vec<Match>> {
     let s32 = s as u32;
     let dims = fine_targets.dims();
     (0..fine_targets.len())
@@ -127,7 +142,9 @@ mod tests {
 
     #[test]
     fn nearest_source_searches_rings_then_frames() {
-        let src = Mask3::from_fn(3, 10, 10, |t, y, x| t == 2 && y == 7 && x == 1 || t == 0 && y == 2 && x == 9);
+        let src = Mask3::from_fn(3, 10, 10, |t, y, x| {
+            t == 2 && y == 7 && x == 1 || t == 0 && y == 2 && x == 9
+        });
         assert_eq!(nearest_source(&src, [0, 2, 2]), Some([0, 2, 9]));
         assert_eq!(nearest_source(&src, [1, 7, 2]), Some([2, 7, 1]));
         assert_eq!(nearest_source(&Mask3::empty(2, 3, 3), [0, 0, 0]), None);
@@ -139,9 +156,14 @@ mod tests {
         let coarse_hole = Mask3::from_fn(1, 4, 4, |_, y, x| y == 1 && x == 1);
         let coarse = MatchField {
             targets: TargetSet::new([1, 4, 4], coarse_hole.points()),
-            matches: vec![Match { source: [0, 3, 2], dist: 0.0 }],
+            matches: vec![Match {
+                source: [0, 3, 2],
+                dist: 0.0,
+            }],
         };
-        let fine_hole = Mask3::from_fn(1, 8, 8, |_, y, x| (2..4).contains(&y) && (2..4).contains(&x));
+        let fine_hole = Mask3::from_fn(1, 8, 8, |_, y, x| {
+            (2..4).contains(&y) && (2..4).contains(&x)
+        });
         let fine_targets = TargetSet::new(dims, fine_hole.points());
         let all = Mask3::from_fn(1, 8, 8, |_, _, _| true);
         let up = upscale_matches(&coarse, &fine_targets, &all, 2).unwrap();

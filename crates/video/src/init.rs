@@ -52,7 +52,8 @@ pub fn initialize(video: &mut Video, hole: &Mask3, method: InitMethod) {
                 .enumerate()
                 .for_each(|(t, frame)| {
                     if hole.frame_any(t) {
-                        let inside = |y: usize, x: usize| hole.contains([t as u32, y as u32, x as u32]);
+                        let inside =
+                            |y: usize, x: usize| hole.contains([t as u32, y as u32, x as u32]);
                         harmonic(frame, [1, h, w], c, &|_, y, x| inside(y, x));
                     }
                 });
@@ -69,7 +70,12 @@ pub fn initialize(video: &mut Video, hole: &Mask3, method: InitMethod) {
 
 /// Red-black SOR for `Delta I = 0` on the points where `inside` holds, in a `dims` grid of
 /// `c`-channel bytes; neighbours outside the grid are left out of the stencil.
-fn harmonic(data: &mut [u8], dims: [usize; 3], c: usize, inside: &(dyn Fn(usize, usize, usize) -> bool + Sync)) {
+fn harmonic(
+    data: &mut [u8],
+    dims: [usize; 3],
+    c: usize,
+    inside: &(dyn Fn(usize, usize, usize) -> bool + Sync),
+) {
     let [f, h, w] = dims;
     let pts: Vec<[usize; 3]> = (0..f)
         .flat_map(|t| (0..h).flat_map(move |y| (0..w).map(move |x| [t, y, x])))
@@ -95,7 +101,11 @@ fn harmonic(data: &mut [u8], dims: [usize; 3], c: usize, inside: &(dyn Fn(usize,
     }
     for &p in &pts {
         for k in 0..c {
-            val[idx(p) * c + k] = if n > 0 { (mean[k] / n as f64) as f32 } else { 128.0 };
+            val[idx(p) * c + k] = if n > 0 {
+                (mean[k] / n as f64) as f32
+            } else {
+                128.0
+            };
         }
     }
     let omega = 1.9f32;
@@ -106,7 +116,8 @@ fn harmonic(data: &mut [u8], dims: [usize; 3], c: usize, inside: &(dyn Fn(usize,
                 let nb: Vec<[usize; 3]> = neighbours(p, dims).collect();
                 let i = idx(p);
                 for k in 0..c {
-                    let avg = nb.iter().map(|&q| val[idx(q) * c + k]).sum::<f32>() / nb.len() as f32;
+                    let avg =
+                        nb.iter().map(|&q| val[idx(q) * c + k]).sum::<f32>() / nb.len() as f32;
                     let d = omega * (avg - val[i * c + k]);
                     val[i * c + k] += d;
                     change = change.max(d.abs());
@@ -153,7 +164,9 @@ mod tests {
         let (h, w) = (20, 30);
         let data: Vec<u8> = (0..h * w).map(|i| (4 * (i % w) + 20) as u8).collect();
         let mut v = Video::new(1, h, w, 1, data.clone()).unwrap();
-        let hole = Mask3::from_fn(1, h, w, |_, y, x| (5..15).contains(&y) && (8..22).contains(&x));
+        let hole = Mask3::from_fn(1, h, w, |_, y, x| {
+            (5..15).contains(&y) && (8..22).contains(&x)
+        });
         for p in hole.points() {
             let o = v.offset(p);
             v.data[o] = 0;
@@ -164,7 +177,9 @@ mod tests {
         }
         let mut r = Video::new(1, h, w, 1, data.clone()).unwrap();
         initialize(&mut r, &hole, InitMethod::Random { seed: 1 });
-        let outside_same = (0..h * w).filter(|&i| !hole.contains_index(i)).all(|i| r.data[i] == data[i]);
+        let outside_same = (0..h * w)
+            .filter(|&i| !hole.contains_index(i))
+            .all(|i| r.data[i] == data[i]);
         assert!(outside_same);
     }
 }

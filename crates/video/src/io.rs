@@ -14,9 +14,9 @@ pub fn frame_files(dir: &Path) -> Result<Vec<PathBuf>> {
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| {
             p.is_file()
-                && p.extension()
-                    .and_then(|e| e.to_str())
-                    .is_some_and(|e| matches!(e.to_ascii_lowercase().as_str(), "png" | "jpg" | "jpeg"))
+                && p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+                    matches!(e.to_ascii_lowercase().as_str(), "png" | "jpg" | "jpeg")
+                })
         })
         .collect();
     files.sort();
@@ -46,7 +46,10 @@ pub fn read_frames(dir: &Path) -> Result<Video> {
             Some(first) if first != s => {
                 return Err(Error::format(
                     f,
-                    format!("frame of {} x {} where the first frame is {} x {}", s.1, s.0, first.1, first.0),
+                    format!(
+                        "frame of {} x {} where the first frame is {} x {}",
+                        s.1, s.0, first.1, first.0
+                    ),
                 ))
             }
             _ => {}
@@ -63,11 +66,18 @@ pub fn read_frames(dir: &Path) -> Result<Video> {
 ///
 /// Errors: unreadable input, a size or frame count that does not match the video.
 pub fn read_mask(path: &Path, frames: usize, height: usize, width: usize) -> Result<Mask3> {
-    let files = if path.is_dir() { frame_files(path)? } else { vec![path.to_path_buf()] };
+    let files = if path.is_dir() {
+        frame_files(path)?
+    } else {
+        vec![path.to_path_buf()]
+    };
     if files.len() != 1 && files.len() != frames {
         return Err(Error::format(
             path,
-            format!("{} mask images for {frames} frames (give one image or one per frame)", files.len()),
+            format!(
+                "{} mask images for {frames} frames (give one image or one per frame)",
+                files.len()
+            ),
         ));
     }
     let mut planes = Vec::with_capacity(files.len());
@@ -76,13 +86,25 @@ pub fn read_mask(path: &Path, frames: usize, height: usize, width: usize) -> Res
         if (rgb.height() as usize, rgb.width() as usize) != (height, width) {
             return Err(Error::format(
                 f,
-                format!("mask of {} x {} for frames of {width} x {height}", rgb.width(), rgb.height()),
+                format!(
+                    "mask of {} x {} for frames of {width} x {height}",
+                    rgb.width(),
+                    rgb.height()
+                ),
             ));
         }
-        planes.push(rgb.pixels().map(|p| p.0.iter().any(|&v| v != 0)).collect::<Vec<bool>>());
+        planes.push(
+            rgb.pixels()
+                .map(|p| p.0.iter().any(|&v| v != 0))
+                .collect::<Vec<bool>>(),
+        );
     }
     Ok(Mask3::from_fn(frames, height, width, |t, y, x| {
-        let plane = if planes.len() == 1 { &planes[0] } else { &planes[t] };
+        let plane = if planes.len() == 1 {
+            &planes[0]
+        } else {
+            &planes[t]
+        };
         plane[y * width + x]
     }))
 }

@@ -60,7 +60,14 @@ pub struct LocalStats {
 /// the hole colours of `video` their sources' colours. For each window width, hole pixels are
 /// visited shell by shell (each shell in parallel from the current state); each takes the
 /// best valid source in the window around its current match, and its colour.
-pub fn localized_search(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &mut MatchField, patch: PatchSize, cfg: &LocalConfig) -> wscg_math::Result<LocalStats> {
+pub fn localized_search(
+    video: &mut Video,
+    hole: &Mask3,
+    sources: &Mask3,
+    field: &mut MatchField,
+    patch: PatchSize,
+    cfg: &LocalConfig,
+) -> wscg_math::Result<LocalStats> {
     let order = onion_order(hole, &field.targets)?;
     let dims = video.dims();
     let mut st = LocalStats {
@@ -74,18 +81,32 @@ pub fn localized_search(video: &mut Video, hole: &Mask3, sources: &Mask3, field:
         let rt = cfg.temporal_radius as i64;
         for shell in &order {
             let new: Vec<(Match, u64)> = {
-                let cubes = Cubes { video, sources, patch, ignore: None };
+                let cubes = Cubes {
+                    video,
+                    sources,
+                    patch,
+                    ignore: None,
+                };
                 shell
                     .par_iter()
                     .map(|&i| {
                         let i = i as usize;
                         let p = field.targets.get(i);
                         let c = field.matches[i].source;
-                        let mut best = Match { source: c, dist: cubes.ssd(p, c, f32::INFINITY) };
+                        let mut best = Match {
+                            source: c,
+                            dist: cubes.ssd(p, c, f32::INFINITY),
+                        };
                         let mut n = 1u64;
-                        for t in (c[0] as i64 - rt).max(0)..=(c[0] as i64 + rt).min(dims[0] as i64 - 1) {
-                            for y in (c[1] as i64 - r).max(0)..=(c[1] as i64 + r).min(dims[1] as i64 - 1) {
-                                for x in (c[2] as i64 - r).max(0)..=(c[2] as i64 + r).min(dims[2] as i64 - 1) {
+                        for t in
+                            (c[0] as i64 - rt).max(0)..=(c[0] as i64 + rt).min(dims[0] as i64 - 1)
+                        {
+                            for y in
+                                (c[1] as i64 - r).max(0)..=(c[1] as i64 + r).min(dims[1] as i64 - 1)
+                            {
+                                for x in (c[2] as i64 - r).max(0)
+                                    ..=(c[2] as i64 + r).min(dims[2] as i64 - 1)
+                                {
                                     let s = [t as u32, y as u32, x as u32];
                                     if s == c || !sources.contains(s) {
                                         continue;
@@ -109,7 +130,12 @@ pub fn localized_search(video: &mut Video, hole: &Mask3, sources: &Mask3, field:
                 video.copy_pixel(field.targets.get(i), m.source);
             }
         }
-        st.energy.push(field.refresh(&Cubes { video, sources, patch, ignore: None }));
+        st.energy.push(field.refresh(&Cubes {
+            video,
+            sources,
+            patch,
+            ignore: None,
+        }));
     }
     Ok(st)
 }

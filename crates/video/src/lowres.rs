@@ -5,7 +5,7 @@
 //! outside ("3D hole-filling"), takes the centre colour of its single best-matching source
 //! cube. Matches are carried to the next finer level offset-preserving.
 
-use wscg_math::patchmatch::{Match, TargetSet, P3};
+use wscg_math::patchmatch::{patchmatch, Match, PatchMatchParams, TargetSet, P3};
 use wscg_math::{Error, Result};
 
 use crate::field::{upscale_matches, MatchField};
@@ -35,6 +35,13 @@ pub struct LowResConfig {
     pub search: SearchMethod,
     /// Onion-peel filling order (`false`: scan-line order, the ablation).
     pub onion_order: bool,
+    /// The first sweep at the coarsest level fills the hole causally: pixel after pixel in
+    /// the filling order, each comparing only known pixels and pixels already filled in that
+    /// sweep (the specification's weighted SSD with weight 0 for not yet visited hole pixels;
+    /// the paper: "space-time points in E or space-time points already processed during the
+    /// current iteration"). `false`: the first sweep compares with the inpainted colours,
+    /// shell by shell in parallel like the later sweeps.
+    pub causal_first_sweep: bool,
     /// A level stops early when fewer than this fraction of matches change in a sweep...
     pub min_changed: f64,
     /// ...or the energy drops by less than this fraction.
@@ -51,6 +58,7 @@ impl Default for LowResConfig {
             init: InitMethod::Harmonic2D,
             search: SearchMethod::default(),
             onion_order: true,
+            causal_first_sweep: true,
             min_changed: 1e-3,
             min_energy_drop: 5e-3,
         }
@@ -95,7 +103,9 @@ fn pyramid(video: &Video, hole: &Mask3, cfg: &LowResConfig) -> Vec<(Video, Mask3
 
 /// Largest distance of a hole pixel to the known region (voxel units; 0 without a hole).
 fn hole_thickness(hole: &Mask3) -> f64 {
-    let known: Vec<bool> = (0..hole.len_grid()).map(|i| !hole.contains_index(i)).collect();
+    let known: Vec<bool> = (0..hole.len_grid())
+        .map(|i| !hole.contains_index(i))
+        .collect();
     match wscg_math::distance::squared_edt(&known, &hole.dims(), &[1.0; 3], false) {
         Ok(d) => (0..d.len())
             .filter(|&i| hole.contains_index(i))
@@ -111,7 +121,11 @@ fn hole_thickness(hole: &Mask3) -> f64 {
 ///
 /// Errors: a level without any valid source cube ("the known region is too thin for the
 /// patch"), a mask covering every pixel, bad patch sizes.
-pub fn lowres_complete(video: &mut Video, hole: &Mask3, cfg: &LowResConfig) -> Result<(MatchField, Vec<LevelStats>)> {
+pub fn lowres_complete(
+    video: &mut Video,
+    hole: &Mask3,
+    cfg: &LowResConfig,
+) -> Result<(MatchField, Vec<LevelStats>)> {
     video.check_mask(hole)?;
     cfg.patch.check(video.dims())?;
     let levels = pyramid(video, hole, cfg);
@@ -131,19 +145,17 @@ pub fn lowres_complete(video: &mut Video, hole: &Mask3, cfg: &LowResConfig) -> R
             ));
         }
         let targets = TargetSet::new(lm.dims(), lm.points());
-        let seed = match cfg.search {
-            SearchMethod::PatchMatch3D { seed } => seed,
-            SearchMethod::Exact => 0,
+        let (seed, pm_iters) = match cfg.search {
+            SearchMethod::PatchMatch3D { seed, iters } => (seed, iters),
+            SearchMethod::Exact => (0, 0),
         };
         let mut ignore = None;
+        // Random colours carry no information: a random start always fills causally first.
+        let causal = prev.is_none()
+            && (cfg.causal_first_sweep || matches!(cfg.init, InitMethod::Random { .. }));
         let matches = match &prev {
             None => {
                 initialize(&mut v, &lm, cfg.init);
-                if matches!(cfg.init, InitMethod::Random { .. }) {
-                    // Random colours carry no information: the first sweep compares only
-                    // known and already updated pixels.
-                    ignore = Some(lm.clone());
-                }
                 random_matches(&list, targets.len(), seed)
             }
             Some(coarse) => {
@@ -157,7 +169,11 @@ pub fn lowres_complete(video: &mut Video, hole: &Mask3, cfg: &LowResConfig) -> R
             }
         };
         let mut field = MatchField { targets, matches };
-        let sweeps = cfg.iters.get(levels_index(&cfg.iters, stats.len())).copied().unwrap_or(1);
+        let sweeps = cfg
+            .iters
+            .get(levels_index(&cfg.iters, stats.len()))
+            .copied()
+            .unwrap_or(1);
         let order = if cfg.onion_order {
             onion_order(&lm, &field.targets)?
         } else {
@@ -170,9 +186,50 @@ pub fn lowres_complete(video: &mut Video, hole: &Mask3, cfg: &LowResConfig) -> R
             changed: Vec::new(),
         };
         for sweep in 0..sweeps {
-            let changed = sweep_once(&mut v, &sources, &list, &mut field, &order, cfg.patch, cfg.search, seed, sweep, ignore.as_mut());
+            if pm_iters > 0 && ignore.is_none() {
+                let cubes = Cubes {
+                    video: &v,
+                    sources: &sources,
+                    patch: cfg.patch,
+                    ignore: None,
+                };
+                field.refresh(&cubes);
+                let p = PatchMatchParams {
+                    iterations: pm_iters,
+                    seed: seed ^ (1000 * (stats.len() + 1) + sweep) as u64,
+                    max_radius: None,
+                };
+                patchmatch(&cubes, &field.targets, &mut field.matches, &p);
+            }
+            // The causal first sweep: one pixel at a time, comparing only known pixels and
+            // pixels already filled in this sweep.
+            let seq: Vec<Vec<u32>>;
+            let ord = if causal && sweep == 0 {
+                ignore = Some(lm.clone());
+                seq = order.iter().flatten().map(|&i| vec![i]).collect();
+                &seq
+            } else {
+                &order
+            };
+            let changed = sweep_once(
+                &mut v,
+                &sources,
+                &list,
+                &mut field,
+                ord,
+                cfg.patch,
+                cfg.search,
+                seed,
+                sweep,
+                ignore.as_mut(),
+            );
             ignore = None;
-            let e = field.refresh(&Cubes { video: &v, sources: &sources, patch: cfg.patch, ignore: None });
+            let e = field.refresh(&Cubes {
+                video: &v,
+                sources: &sources,
+                patch: cfg.patch,
+                ignore: None,
+            });
             let last = st.energy.last().copied();
             st.energy.push(e);
             st.changed.push(changed);
@@ -229,9 +286,14 @@ pub(crate) fn sweep_once(
                     let i = i as usize;
                     match search {
                         SearchMethod::Exact => exact_best(&cubes, field.targets.get(i), list),
-                        SearchMethod::PatchMatch3D { .. } => {
-                            patchmatch_update(&cubes, &field.targets, &field.matches, i, seed, sweep)
-                        }
+                        SearchMethod::PatchMatch3D { .. } => patchmatch_update(
+                            &cubes,
+                            &field.targets,
+                            &field.matches,
+                            i,
+                            seed,
+                            sweep,
+                        ),
                     }
                 })
                 .collect()

@@ -21,7 +21,10 @@ fn check(a: &Video, b: &Video, hole: &Mask3) -> Result<usize> {
     a.check_mask(hole)?;
     let n = hole.count();
     if n == 0 {
-        return Err(Error::invalid("mask", "the mask is empty: nothing to measure"));
+        return Err(Error::invalid(
+            "mask",
+            "the mask is empty: nothing to measure",
+        ));
     }
     Ok(n)
 }
@@ -47,7 +50,14 @@ pub fn ssim_masked(a: &Video, b: &Video, hole: &Mask3) -> Result<f64> {
             }
             let mut mean_map = vec![0.0; h * w];
             for k in 0..c {
-                let plane = |v: &Video| -> Vec<f64> { v.frame(t).iter().skip(k).step_by(c).map(|&x| x as f64).collect() };
+                let plane = |v: &Video| -> Vec<f64> {
+                    v.frame(t)
+                        .iter()
+                        .skip(k)
+                        .step_by(c)
+                        .map(|&x| x as f64)
+                        .collect()
+                };
                 let map = ssim_map_plane(&plane(a), &plane(b), h, w, &p)?;
                 for (m, v) in mean_map.iter_mut().zip(map) {
                     *m += v / c as f64;
@@ -70,10 +80,14 @@ pub fn ssim_masked(a: &Video, b: &Video, hole: &Mask3) -> Result<f64> {
             Ok((inner, ni, all, na))
         })
         .collect::<Result<_>>()?;
-    let (inner, ni, all, na) = per_frame
-        .iter()
-        .fold((0.0, 0, 0.0, 0), |s, v| (s.0 + v.0, s.1 + v.1, s.2 + v.2, s.3 + v.3));
-    Ok(if ni > 0 { inner / ni as f64 } else { all / na as f64 })
+    let (inner, ni, all, na) = per_frame.iter().fold((0.0, 0, 0.0, 0), |s, v| {
+        (s.0 + v.0, s.1 + v.1, s.2 + v.2, s.3 + v.3)
+    });
+    Ok(if ni > 0 {
+        inner / ni as f64
+    } else {
+        all / na as f64
+    })
 }
 
 /// PSNR (dB, data range 255) over the hole pixels and channels; infinite when equal there.
@@ -93,7 +107,11 @@ pub fn psnr_masked(a: &Video, b: &Video, hole: &Mask3) -> Result<f64> {
         })
         .sum();
     let mse = sse / (n * a.channels) as f64;
-    Ok(if mse == 0.0 { f64::INFINITY } else { 10.0 * (255.0f64 * 255.0 / mse).log10() })
+    Ok(if mse == 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (255.0f64 * 255.0 / mse).log10()
+    })
 }
 
 /// Temporal flicker: the mean absolute change `|V_{t+1} - V_t|` (grey levels, averaged over
@@ -113,9 +131,17 @@ pub fn flicker(v: &Video, hole: &Mask3) -> Result<f64> {
             let (mut s, mut n) = (0.0f64, 0usize);
             for y in 0..h {
                 for x in 0..w {
-                    let (p, q) = ([t as u32, y as u32, x as u32], [t as u32 + 1, y as u32, x as u32]);
+                    let (p, q) = (
+                        [t as u32, y as u32, x as u32],
+                        [t as u32 + 1, y as u32, x as u32],
+                    );
                     if hole.contains(p) || hole.contains(q) {
-                        s += v.pixel(p).iter().zip(v.pixel(q)).map(|(&a, &b)| (a as f64 - b as f64).abs()).sum::<f64>()
+                        s += v
+                            .pixel(p)
+                            .iter()
+                            .zip(v.pixel(q))
+                            .map(|(&a, &b)| (a as f64 - b as f64).abs())
+                            .sum::<f64>()
                             / c as f64;
                         n += 1;
                     }
@@ -125,7 +151,10 @@ pub fn flicker(v: &Video, hole: &Mask3) -> Result<f64> {
         })
         .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
     if n == 0 {
-        return Err(Error::invalid("mask", "the mask is empty: nothing to measure"));
+        return Err(Error::invalid(
+            "mask",
+            "the mask is empty: nothing to measure",
+        ));
     }
     Ok(sum / n as f64)
 }

@@ -13,7 +13,9 @@ use crate::video::Mask3;
 ///
 /// Errors: a hole without any known pixel in the video.
 pub fn onion_order(hole: &Mask3, targets: &TargetSet) -> Result<Vec<Vec<u32>>> {
-    let known: Vec<bool> = (0..hole.len_grid()).map(|i| !hole.contains_index(i)).collect();
+    let known: Vec<bool> = (0..hole.len_grid())
+        .map(|i| !hole.contains_index(i))
+        .collect();
     if !known.iter().any(|&k| k) {
         return Err(wscg_math::Error::invalid(
             "mask",
@@ -47,7 +49,9 @@ mod tests {
     #[test]
     fn shells_peel_a_box_from_the_outside() {
         // A 5 x 5 x 5 hole in the middle of 11^3: shells at distance 1, 2 and 3.
-        let hole = Mask3::from_fn(11, 11, 11, |t, y, x| [t, y, x].iter().all(|&v| (3..8).contains(&v)));
+        let hole = Mask3::from_fn(11, 11, 11, |t, y, x| {
+            [t, y, x].iter().all(|&v| (3..8).contains(&v))
+        });
         let targets = TargetSet::new(hole.dims(), hole.points());
         let shells = onion_order(&hole, &targets).unwrap();
         assert_eq!(shells.len(), 3);

@@ -34,7 +34,11 @@ impl Default for PatchSize {
 impl PatchSize {
     /// Half-sizes `(t, y, x)`.
     pub fn radius(&self) -> [u32; 3] {
-        [(self.pt / 2) as u32, (self.py / 2) as u32, (self.px / 2) as u32]
+        [
+            (self.pt / 2) as u32,
+            (self.py / 2) as u32,
+            (self.px / 2) as u32,
+        ]
     }
 
     /// Voxels per cube.
@@ -81,7 +85,11 @@ pub fn valid_sources(hole: &Mask3, patch: PatchSize) -> Mask3 {
                 let mut run = 0usize; // known pixels in a row ending at x
                 let mut ok = vec![0u32; w];
                 for x in 0..w {
-                    run = if hole.contains_index(base + y * w + x) { 0 } else { run + 1 };
+                    run = if hole.contains_index(base + y * w + x) {
+                        0
+                    } else {
+                        run + 1
+                    };
                     ok[x] = run as u32;
                 }
                 for x in rx..w.saturating_sub(rx) {
@@ -213,14 +221,21 @@ mod tests {
     fn sources_are_hole_free_cubes_inside_the_video() {
         let (f, h, w) = (7, 9, 11);
         let hole = Mask3::from_fn(f, h, w, |t, y, x| t == 3 && y == 4 && x == 5);
-        let p = PatchSize { px: 3, py: 5, pt: 3 };
+        let p = PatchSize {
+            px: 3,
+            py: 5,
+            pt: 3,
+        };
         let src = valid_sources(&hole, p);
         for t in 0..f {
             for y in 0..h {
                 for x in 0..w {
                     let inside = t >= 1 && t + 1 < f && y >= 2 && y + 2 < h && x >= 1 && x + 1 < w;
                     let touches = t.abs_diff(3) <= 1 && y.abs_diff(4) <= 2 && x.abs_diff(5) <= 1;
-                    assert_eq!(src.contains([t as u32, y as u32, x as u32]), inside && !touches);
+                    assert_eq!(
+                        src.contains([t as u32, y as u32, x as u32]),
+                        inside && !touches
+                    );
                 }
             }
         }
@@ -232,16 +247,31 @@ mod tests {
         let data: Vec<u8> = (0..f * h * w * 3).map(|i| (i * 7 % 251) as u8).collect();
         let v = Video::new(f, h, w, 3, data).unwrap();
         let hole = Mask3::empty(f, h, w);
-        let p = PatchSize { px: 3, py: 3, pt: 3 };
+        let p = PatchSize {
+            px: 3,
+            py: 3,
+            pt: 3,
+        };
         let src = valid_sources(&hole, p);
-        let cubes = Cubes { video: &v, sources: &src, patch: p, ignore: None };
+        let cubes = Cubes {
+            video: &v,
+            sources: &src,
+            patch: p,
+            ignore: None,
+        };
         let brute = |t: [i64; 3], s: [i64; 3]| {
             let (mut sum, mut n) = (0.0f64, 0.0f64);
             for a in -1..=1 {
                 for b in -1..=1 {
                     for c in -1..=1 {
                         let q = [t[0] + a, t[1] + b, t[2] + c];
-                        if q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= f as i64 || q[1] >= h as i64 || q[2] >= w as i64 {
+                        if q[0] < 0
+                            || q[1] < 0
+                            || q[2] < 0
+                            || q[0] >= f as i64
+                            || q[1] >= h as i64
+                            || q[2] >= w as i64
+                        {
                             continue;
                         }
                         let r = [s[0] + a, s[1] + b, s[2] + c];
@@ -249,17 +279,28 @@ mod tests {
                             v.pixel([q[0] as u32, q[1] as u32, q[2] as u32]),
                             v.pixel([r[0] as u32, r[1] as u32, r[2] as u32]),
                         );
-                        sum += x.iter().zip(y).map(|(&i, &j)| (i as f64 - j as f64).powi(2)).sum::<f64>();
+                        sum += x
+                            .iter()
+                            .zip(y)
+                            .map(|(&i, &j)| (i as f64 - j as f64).powi(2))
+                            .sum::<f64>();
                         n += 1.0;
                     }
                 }
             }
             sum / n
         };
-        for (t, s) in [([2, 3, 3], [1, 1, 1]), ([0, 0, 0], [3, 4, 5]), ([4, 5, 6], [2, 2, 2])] {
+        for (t, s) in [
+            ([2, 3, 3], [1, 1, 1]),
+            ([0, 0, 0], [3, 4, 5]),
+            ([4, 5, 6], [2, 2, 2]),
+        ] {
             let d = cubes.ssd(t, s, f32::INFINITY);
             let want = brute(t.map(|v| v as i64), s.map(|v| v as i64));
-            assert!((d as f64 - want).abs() < 1e-3 * want.max(1.0), "{t:?} {s:?}: {d} vs {want}");
+            assert!(
+                (d as f64 - want).abs() < 1e-3 * want.max(1.0),
+                "{t:?} {s:?}: {d} vs {want}"
+            );
             // Early exit returns a value at or above the bound.
             assert!(cubes.ssd(t, s, d / 4.0) >= d / 4.0);
         }

@@ -58,12 +58,24 @@ pub struct RefineStats {
 ///
 /// A replacement is accepted only when it lowers the pixel's own distance at the time, so
 /// no stored distance ever increases during an iteration.
-pub fn refine_matches(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &mut MatchField, patch: PatchSize, cfg: &RefineConfig) -> wscg_math::Result<RefineStats> {
+pub fn refine_matches(
+    video: &mut Video,
+    hole: &Mask3,
+    sources: &Mask3,
+    field: &mut MatchField,
+    patch: PatchSize,
+    cfg: &RefineConfig,
+) -> wscg_math::Result<RefineStats> {
     let mut st = RefineStats::default();
     if field.is_empty() || cfg.iterations == 0 {
         return Ok(st);
     }
-    field.refresh(&Cubes { video, sources, patch, ignore: None });
+    field.refresh(&Cubes {
+        video,
+        sources,
+        patch,
+        ignore: None,
+    });
     let mut d: Vec<f32> = field.matches.iter().map(|m| m.dist).collect();
     let mut sorted = d.clone();
     sorted.sort_by(|a, b| a.total_cmp(b));
@@ -85,7 +97,12 @@ pub fn refine_matches(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &
         let mut changed = 0;
         for shell in &order {
             let upd: Vec<Option<(usize, Match)>> = {
-                let cubes = Cubes { video, sources, patch, ignore: None };
+                let cubes = Cubes {
+                    video,
+                    sources,
+                    patch,
+                    ignore: None,
+                };
                 shell
                     .par_iter()
                     .map(|&i| {
@@ -94,7 +111,10 @@ pub fn refine_matches(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &
                             return None;
                         }
                         let p = field.targets.get(i);
-                        let mut best = Match { source: field.matches[i].source, dist: d[i] };
+                        let mut best = Match {
+                            source: field.matches[i].source,
+                            dist: d[i],
+                        };
                         let mut improved = false;
                         for &(dt, dy, dx) in &steps {
                             let qp = [p[0] as i64 + dt, p[1] as i64 + dy, p[2] as i64 + dx];
@@ -102,7 +122,9 @@ pub fn refine_matches(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &
                                 continue;
                             }
                             let qp = [qp[0] as u32, qp[1] as u32, qp[2] as u32];
-                            let Some(j) = field.targets.rank(qp) else { continue };
+                            let Some(j) = field.targets.rank(qp) else {
+                                continue;
+                            };
                             if d[j] > tau {
                                 continue;
                             }
@@ -118,11 +140,24 @@ pub fn refine_matches(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &
                             }
                             let dc = cubes.ssd(p, c, best.dist);
                             if dc < best.dist {
-                                best = Match { source: c, dist: dc };
+                                best = Match {
+                                    source: c,
+                                    dist: dc,
+                                };
                                 improved = true;
                             }
                         }
-                        Some((i, if improved { best } else { Match { source: field.matches[i].source, dist: d[i] } }))
+                        Some((
+                            i,
+                            if improved {
+                                best
+                            } else {
+                                Match {
+                                    source: field.matches[i].source,
+                                    dist: d[i],
+                                }
+                            },
+                        ))
                     })
                     .collect()
             };
@@ -140,7 +175,12 @@ pub fn refine_matches(video: &mut Video, hole: &Mask3, sources: &Mask3, field: &
         st.candidates.push(candidates);
         st.changed.push(changed);
         // Colours changed: recompute every distance for the next iteration.
-        field.refresh(&Cubes { video, sources, patch, ignore: None });
+        field.refresh(&Cubes {
+            video,
+            sources,
+            patch,
+            ignore: None,
+        });
         for (di, m) in d.iter_mut().zip(&field.matches) {
             *di = m.dist;
         }

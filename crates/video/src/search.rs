@@ -15,8 +15,12 @@ use crate::video::Mask3;
 pub enum SearchMethod {
     /// Every valid source, exact SSD (small videos and tests).
     Exact,
-    /// Space-time PatchMatch inside the filling order (memory: one match per hole pixel).
+    /// Space-time PatchMatch (memory: one match per hole pixel): before each sweep, `iters`
+    /// Jacobi PatchMatch iterations over the whole match list with the current colours, then
+    /// one PatchMatch update per pixel inside the filling order.
     PatchMatch3D {
+        /// Whole-field iterations before each sweep (5).
+        iters: usize,
         /// Random-search seed.
         seed: u64,
     },
@@ -24,7 +28,7 @@ pub enum SearchMethod {
 
 impl Default for SearchMethod {
     fn default() -> Self {
-        Self::PatchMatch3D { seed: 0 }
+        Self::PatchMatch3D { iters: 5, seed: 0 }
     }
 }
 
@@ -50,7 +54,10 @@ pub fn exact_best(cubes: &Cubes<'_>, t: P3, sources: &[P3]) -> Match {
 
 /// Exact best sources of many targets, in parallel.
 pub fn exact_best_all(cubes: &Cubes<'_>, targets: &[P3], sources: &[P3]) -> Vec<Match> {
-    targets.par_iter().map(|&t| exact_best(cubes, t, sources)).collect()
+    targets
+        .par_iter()
+        .map(|&t| exact_best(cubes, t, sources))
+        .collect()
 }
 
 /// One PatchMatch update of target `i` (position `t`): current match (distance recomputed

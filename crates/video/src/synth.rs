@@ -27,7 +27,9 @@ pub struct Clip {
 }
 
 fn hash(seed: u64, a: i64, b: i64) -> f64 {
-    let mut z = seed ^ (a as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (b as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
+    let mut z = seed
+        ^ (a as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (b as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^= z >> 31;
@@ -58,7 +60,9 @@ pub fn texture(seed: u64, y: f64, x: f64) -> [f64; 3] {
     let mut rgb = [0.0; 3];
     for (k, v) in rgb.iter_mut().enumerate() {
         let s = seed.wrapping_add(k as u64 * 1013);
-        *v = 0.5 * value_noise(s, y, x, 48.0) + 0.3 * value_noise(s ^ 7, y, x, 16.0) + 0.2 * value_noise(s ^ 13, y, x, 5.0);
+        *v = 0.5 * value_noise(s, y, x, 48.0)
+            + 0.3 * value_noise(s ^ 7, y, x, 16.0)
+            + 0.2 * value_noise(s ^ 13, y, x, 5.0);
     }
     // Oriented lines (30 degrees, period 37 px, 3 px wide).
     let u = x * 0.866 + y * 0.5;
@@ -88,7 +92,11 @@ pub fn periodic_texture(y: f64, x: f64, period: f64) -> [f64; 3] {
     let row = (y / 16.0).floor();
     let bx = x + if row as i64 % 2 == 0 { 0.0 } else { period };
     let mortar = (y - row * 16.0) < 3.0 || bx.rem_euclid(2.0 * period) < 3.0;
-    let base = if stripe { [200.0, 70.0, 60.0] } else { [60.0, 90.0, 190.0] };
+    let base = if stripe {
+        [200.0, 70.0, 60.0]
+    } else {
+        [60.0, 90.0, 190.0]
+    };
     if mortar {
         [230.0, 225.0, 215.0]
     } else {
@@ -100,7 +108,9 @@ fn check_dims(frames: usize, h: usize, w: usize) -> Result<()> {
     if frames == 0 || h < 16 || w < 16 {
         return Err(Error::invalid(
             "size",
-            format!("a clip needs frames >= 1 and frames of at least 16 x 16, got {frames} x {h} x {w}"),
+            format!(
+                "a clip needs frames >= 1 and frames of at least 16 x 16, got {frames} x {h} x {w}"
+            ),
         ));
     }
     Ok(())
@@ -108,24 +118,43 @@ fn check_dims(frames: usize, h: usize, w: usize) -> Result<()> {
 
 /// Renders `frames` frames of `h x w` with `colour(t, y, x)`; adds Gaussian noise of standard
 /// deviation `noise` (grey levels; independent per pixel and channel, seeded) when positive.
-fn render(frames: usize, h: usize, w: usize, noise: f64, seed: u64, colour: impl Fn(usize, f64, f64) -> [f64; 3] + Sync) -> Video {
+fn render(
+    frames: usize,
+    h: usize,
+    w: usize,
+    noise: f64,
+    seed: u64,
+    colour: impl Fn(usize, f64, f64) -> [f64; 3] + Sync,
+) -> Video {
     use rayon::prelude::*;
     let mut data = vec![0u8; frames * h * w * 3];
-    data.par_chunks_mut(w * 3).enumerate().for_each(|(row, out)| {
-        let (t, y) = (row / h, row % h);
-        for x in 0..w {
-            let c = colour(t, y as f64, x as f64);
-            for k in 0..3 {
-                let n = if noise > 0.0 {
-                    noise * normal(hash(seed ^ 0xABCD, (row * w + x) as i64, k as i64), hash(seed ^ 0x1234, (row * w + x) as i64, k as i64))
-                } else {
-                    0.0
-                };
-                out[x * 3 + k] = (c[k] + n).round().clamp(0.0, 255.0) as u8;
+    data.par_chunks_mut(w * 3)
+        .enumerate()
+        .for_each(|(row, out)| {
+            let (t, y) = (row / h, row % h);
+            for x in 0..w {
+                let c = colour(t, y as f64, x as f64);
+                for k in 0..3 {
+                    let n = if noise > 0.0 {
+                        noise
+                            * normal(
+                                hash(seed ^ 0xABCD, (row * w + x) as i64, k as i64),
+                                hash(seed ^ 0x1234, (row * w + x) as i64, k as i64),
+                            )
+                    } else {
+                        0.0
+                    };
+                    out[x * 3 + k] = (c[k] + n).round().clamp(0.0, 255.0) as u8;
+                }
             }
-        }
-    });
-    Video { frames, height: h, width: w, channels: 3, data }
+        });
+    Video {
+        frames,
+        height: h,
+        width: w,
+        channels: 3,
+        data,
+    }
 }
 
 /// Paints `colour` over the hole pixels of a copy of `clean`.
@@ -142,7 +171,15 @@ fn paint(clean: &Video, hole: &Mask3, colour: impl Fn(usize, usize, usize) -> [u
 /// G1: static camera over the texture, an opaque disc of `radius` px crossing the frame
 /// horizontally at `speed` px per frame (at mid height, starting `radius` px from the left
 /// edge), Gaussian noise of `noise` grey levels on every pixel.
-pub fn sprite_clip(frames: usize, h: usize, w: usize, radius: f64, speed: f64, noise: f64, seed: u64) -> Result<Clip> {
+pub fn sprite_clip(
+    frames: usize,
+    h: usize,
+    w: usize,
+    radius: f64,
+    speed: f64,
+    noise: f64,
+    seed: u64,
+) -> Result<Clip> {
     check_dims(frames, h, w)?;
     let clean = render(frames, h, w, noise, seed, |_, y, x| texture(seed, y, x));
     let cy = h as f64 / 2.0;
@@ -150,24 +187,60 @@ pub fn sprite_clip(frames: usize, h: usize, w: usize, radius: f64, speed: f64, n
         let cx = radius + speed * t as f64;
         (y as f64 - cy).powi(2) + (x as f64 - cx).powi(2) <= radius * radius
     });
-    let observed = paint(&clean, &hole, |_, y, x| [220, (y % 40 * 5) as u8, (x % 50 * 4) as u8]);
-    Ok(Clip { clean, observed, hole })
+    let observed = paint(&clean, &hole, |_, y, x| {
+        [220, (y % 40 * 5) as u8, (x % 50 * 4) as u8]
+    });
+    Ok(Clip {
+        clean,
+        observed,
+        hole,
+    })
 }
 
 /// G2: a `w x h` window panning right by `step` px per frame over the texture; a static
 /// `hole_w x hole_h` logo hole centred in the frame.
-pub fn pan_clip(frames: usize, h: usize, w: usize, step: f64, hole_h: usize, hole_w: usize, seed: u64) -> Result<Clip> {
+pub fn pan_clip(
+    frames: usize,
+    h: usize,
+    w: usize,
+    step: f64,
+    hole_h: usize,
+    hole_w: usize,
+    seed: u64,
+) -> Result<Clip> {
     check_dims(frames, h, w)?;
-    let clean = render(frames, h, w, 0.0, seed, |t, y, x| texture(seed, y, x + step * t as f64));
+    let clean = render(frames, h, w, 0.0, seed, |t, y, x| {
+        texture(seed, y, x + step * t as f64)
+    });
     let (y0, x0) = ((h - hole_h.min(h)) / 2, (w - hole_w.min(w)) / 2);
-    let hole = Mask3::from_fn(frames, h, w, |_, y, x| (y0..y0 + hole_h).contains(&y) && (x0..x0 + hole_w).contains(&x));
-    let observed = paint(&clean, &hole, |_, y, _| if (y - y0) % 10 < 5 { [250, 250, 250] } else { [10, 10, 10] });
-    Ok(Clip { clean, observed, hole })
+    let hole = Mask3::from_fn(frames, h, w, |_, y, x| {
+        (y0..y0 + hole_h).contains(&y) && (x0..x0 + hole_w).contains(&x)
+    });
+    let observed = paint(&clean, &hole, |_, y, _| {
+        if (y - y0) % 10 < 5 {
+            [250, 250, 250]
+        } else {
+            [10, 10, 10]
+        }
+    });
+    Ok(Clip {
+        clean,
+        observed,
+        hole,
+    })
 }
 
 /// G3: a zoom by `zoom` per frame about the frame centre (frame `t` shows the texture scaled
 /// by `zoom^t`); a disc hole of `radius` px moving right by `speed` px per frame.
-pub fn zoom_clip(frames: usize, h: usize, w: usize, zoom: f64, radius: f64, speed: f64, seed: u64) -> Result<Clip> {
+pub fn zoom_clip(
+    frames: usize,
+    h: usize,
+    w: usize,
+    zoom: f64,
+    radius: f64,
+    speed: f64,
+    seed: u64,
+) -> Result<Clip> {
     check_dims(frames, h, w)?;
     let (cy, cx) = (h as f64 / 2.0, w as f64 / 2.0);
     let clean = render(frames, h, w, 0.0, seed, |t, y, x| {
@@ -179,18 +252,30 @@ pub fn zoom_clip(frames: usize, h: usize, w: usize, zoom: f64, radius: f64, spee
         (y as f64 - cy).powi(2) + (x as f64 - hx).powi(2) <= radius * radius
     });
     let observed = paint(&clean, &hole, |_, _, _| [0, 255, 0]);
-    Ok(Clip { clean, observed, hole })
+    Ok(Clip {
+        clean,
+        observed,
+        hole,
+    })
 }
 
 /// G4: static camera on stripes of period `period` px over bricks, a static square hole of
 /// `side` px in the centre, hidden in every frame.
 pub fn periodic_clip(frames: usize, h: usize, w: usize, period: f64, side: usize) -> Result<Clip> {
     check_dims(frames, h, w)?;
-    let clean = render(frames, h, w, 0.0, 0, |_, y, x| periodic_texture(y, x, period));
+    let clean = render(frames, h, w, 0.0, 0, |_, y, x| {
+        periodic_texture(y, x, period)
+    });
     let (y0, x0) = ((h - side.min(h)) / 2, (w - side.min(w)) / 2);
-    let hole = Mask3::from_fn(frames, h, w, |_, y, x| (y0..y0 + side).contains(&y) && (x0..x0 + side).contains(&x));
+    let hole = Mask3::from_fn(frames, h, w, |_, y, x| {
+        (y0..y0 + side).contains(&y) && (x0..x0 + side).contains(&x)
+    });
     let observed = paint(&clean, &hole, |_, _, _| [0, 0, 0]);
-    Ok(Clip { clean, observed, hole })
+    Ok(Clip {
+        clean,
+        observed,
+        hole,
+    })
 }
 
 /// A standard normal deviate from two uniform numbers in `[0, 1)` (Box-Muller).
@@ -218,7 +303,10 @@ mod tests {
         // Outside the hole the observed clip is the clean one.
         for i in 0..c.hole.len_grid() {
             if !c.hole.contains_index(i) {
-                assert_eq!(&c.observed.data[i * 3..i * 3 + 3], &c.clean.data[i * 3..i * 3 + 3]);
+                assert_eq!(
+                    &c.observed.data[i * 3..i * 3 + 3],
+                    &c.clean.data[i * 3..i * 3 + 3]
+                );
             }
         }
         let g = sprite_clip(4, 32, 64, 6.0, 5.0, 0.0, 2).unwrap();

@@ -25,7 +25,13 @@ impl Video {
     ///
     /// Errors: a zero extent, channels other than 1 or 3, a data length that does not match,
     /// more than `u32::MAX` rows, columns or frames.
-    pub fn new(frames: usize, height: usize, width: usize, channels: usize, data: Vec<u8>) -> Result<Self> {
+    pub fn new(
+        frames: usize,
+        height: usize,
+        width: usize,
+        channels: usize,
+        data: Vec<u8>,
+    ) -> Result<Self> {
         if frames == 0 || height == 0 || width == 0 {
             return Err(Error::invalid(
                 "video",
@@ -38,7 +44,10 @@ impl Video {
                 format!("1 (grey) or 3 (RGB) channels expected, got {channels}"),
             ));
         }
-        if [frames, height, width].iter().any(|&v| v > u32::MAX as usize) {
+        if [frames, height, width]
+            .iter()
+            .any(|&v| v > u32::MAX as usize)
+        {
             return Err(Error::invalid("video", "extents above u32::MAX"));
         }
         let n = frames * height * width * channels;
@@ -61,7 +70,13 @@ impl Video {
     }
 
     /// A video filled with `value`.
-    pub fn filled(frames: usize, height: usize, width: usize, channels: usize, value: u8) -> Result<Self> {
+    pub fn filled(
+        frames: usize,
+        height: usize,
+        width: usize,
+        channels: usize,
+        value: u8,
+    ) -> Result<Self> {
         Self::new(
             frames,
             height,
@@ -166,7 +181,12 @@ impl Mask3 {
     }
 
     /// The set of points where `f(t, y, x)` holds.
-    pub fn from_fn(frames: usize, height: usize, width: usize, f: impl Fn(usize, usize, usize) -> bool) -> Self {
+    pub fn from_fn(
+        frames: usize,
+        height: usize,
+        width: usize,
+        f: impl Fn(usize, usize, usize) -> bool,
+    ) -> Self {
         let mut m = Self::empty(frames, height, width);
         for t in 0..frames {
             for y in 0..height {

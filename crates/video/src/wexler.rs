@@ -74,17 +74,25 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
     video.check_mask(hole)?;
     cfg.patch.check(video.dims())?;
     if hole.count() == hole.len_grid() {
-        return Err(Error::invalid("mask", "the mask covers the whole video: no known pixel to fill from"));
+        return Err(Error::invalid(
+            "mask",
+            "the mask covers the whole video: no known pixel to fill from",
+        ));
     }
     if hole.count() == 0 {
         return Ok(Completion {
             video: video.clone(),
-            matches: MatchField { targets: TargetSet::new(video.dims(), []), matches: Vec::new() },
+            matches: MatchField {
+                targets: TargetSet::new(video.dims(), []),
+                matches: Vec::new(),
+            },
             stats: Stats::default(),
         });
     }
     let mut factors = vec![1usize];
-    while video.width / (2 * factors.last().unwrap()) >= cfg.min_width.max(cfg.patch.px) && video.height / (2 * factors.last().unwrap()) >= cfg.patch.py {
+    while video.width / (2 * factors.last().unwrap()) >= cfg.min_width.max(cfg.patch.px)
+        && video.height / (2 * factors.last().unwrap()) >= cfg.patch.py
+    {
         factors.push(factors.last().unwrap() * 2);
     }
     let r = cfg.patch.radius();
@@ -95,7 +103,10 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
         let sources = valid_sources(&m, cfg.patch);
         let list = source_list(&sources);
         if list.is_empty() {
-            return Err(Error::invalid("mask", format!("no valid source cube at {} x {}", v.width, v.height)));
+            return Err(Error::invalid(
+                "mask",
+                format!("no valid source cube at {} x {}", v.width, v.height),
+            ));
         }
         let targets = dilated_targets(&m, r);
         let known_dist = centre_distances(&m, &targets)?;
@@ -107,7 +118,12 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
             Some(coarse) => upscale_matches(coarse, &targets, &sources, 2)
                 .ok_or_else(|| Error::invalid("mask", "no valid source at a finer level"))?,
         };
-        let level_iters = cfg.iters.get(factors.len() - 1 - k).or(cfg.iters.last()).copied().unwrap_or(1);
+        let level_iters = cfg
+            .iters
+            .get(factors.len() - 1 - k)
+            .or(cfg.iters.last())
+            .copied()
+            .unwrap_or(1);
         let hole_pts = m.points();
         if prev.is_some() {
             // Colours of the finer level from the up-scaled field.
@@ -115,13 +131,22 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
             vote_into(&mut v, &targets, &nnf, &known_dist, &hole_pts, r, cfg.decay);
         }
         for it in 0..level_iters {
-            let cubes = Cubes { video: &v, sources: &sources, patch: cfg.patch, ignore: None };
+            let cubes = Cubes {
+                video: &v,
+                sources: &sources,
+                patch: cfg.patch,
+                ignore: None,
+            };
             if cfg.patchmatch_iters == 0 {
                 let pts: Vec<P3> = (0..targets.len()).map(|i| targets.get(i)).collect();
                 nnf = exact_best_all(&cubes, &pts, &list);
             } else {
                 refresh(&v, &sources, cfg.patch, &targets, &mut nnf);
-                let p = PatchMatchParams { iterations: cfg.patchmatch_iters, seed: cfg.seed ^ ((k * 1000 + it) as u64), max_radius: None };
+                let p = PatchMatchParams {
+                    iterations: cfg.patchmatch_iters,
+                    seed: cfg.seed ^ ((k * 1000 + it) as u64),
+                    max_radius: None,
+                };
                 patchmatch(&cubes, &targets, &mut nnf, &p);
             }
             let before = v.data.clone();
@@ -131,11 +156,27 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
             }
         }
         refresh(&v, &sources, cfg.patch, &targets, &mut nnf);
-        let field = MatchField { targets, matches: nnf };
+        let field = MatchField {
+            targets,
+            matches: nnf,
+        };
         if k == 0 {
             let hole_targets = TargetSet::new(m.dims(), hole_pts.iter().copied());
-            let matches = (0..hole_targets.len()).map(|i| field.get(hole_targets.get(i)).expect("hole pixels are targets")).collect();
-            out = Some(Completion { video: v, matches: MatchField { targets: hole_targets, matches }, stats: Stats::default() });
+            let matches = (0..hole_targets.len())
+                .map(|i| {
+                    field
+                        .get(hole_targets.get(i))
+                        .expect("hole pixels are targets")
+                })
+                .collect();
+            out = Some(Completion {
+                video: v,
+                matches: MatchField {
+                    targets: hole_targets,
+                    matches,
+                },
+                stats: Stats::default(),
+            });
         }
         prev = Some(field);
     }
@@ -145,22 +186,49 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
 /// Recomputes the distances of a field with the current colours.
 fn refresh(v: &Video, sources: &Mask3, patch: PatchSize, targets: &TargetSet, nnf: &mut [Match]) {
     use rayon::prelude::*;
-    let cubes = Cubes { video: v, sources, patch, ignore: None };
-    nnf.par_iter_mut().enumerate().for_each(|(i, m)| m.dist = cubes.ssd(targets.get(i), m.source, f32::INFINITY));
+    let cubes = Cubes {
+        video: v,
+        sources,
+        patch,
+        ignore: None,
+    };
+    nnf.par_iter_mut()
+        .enumerate()
+        .for_each(|(i, m)| m.dist = cubes.ssd(targets.get(i), m.source, f32::INFINITY));
 }
 
 /// Distance of every target centre to the known region (0 on it).
 fn centre_distances(hole: &Mask3, targets: &TargetSet) -> Result<Vec<f32>> {
-    let known: Vec<bool> = (0..hole.len_grid()).map(|i| !hole.contains_index(i)).collect();
+    let known: Vec<bool> = (0..hole.len_grid())
+        .map(|i| !hole.contains_index(i))
+        .collect();
     let d2 = wscg_math::distance::squared_edt(&known, &hole.dims(), &[1.0; 3], false)?;
-    Ok((0..targets.len()).map(|i| d2[hole.index(targets.get(i))].sqrt() as f32).collect())
+    Ok((0..targets.len())
+        .map(|i| d2[hole.index(targets.get(i))].sqrt() as f32)
+        .collect())
 }
 
 /// Weighted voting of the hole pixels' colours.
-fn vote_into(v: &mut Video, targets: &TargetSet, nnf: &[Match], known_dist: &[f32], hole_pts: &[P3], r: [u32; 3], decay: f64) {
-    let mut d: Vec<f32> = nnf.iter().map(|m| m.dist).filter(|d| d.is_finite()).collect();
+fn vote_into(
+    v: &mut Video,
+    targets: &TargetSet,
+    nnf: &[Match],
+    known_dist: &[f32],
+    hole_pts: &[P3],
+    r: [u32; 3],
+    decay: f64,
+) {
+    let mut d: Vec<f32> = nnf
+        .iter()
+        .map(|m| m.dist)
+        .filter(|d| d.is_finite())
+        .collect();
     d.sort_by(|a, b| a.total_cmp(b));
-    let sigma2 = d.get((0.75 * d.len().saturating_sub(1) as f64) as usize).copied().unwrap_or(1.0).max(1e-6) as f64;
+    let sigma2 = d
+        .get((0.75 * d.len().saturating_sub(1) as f64) as usize)
+        .copied()
+        .unwrap_or(1.0)
+        .max(1e-6) as f64;
     let weights: Vec<f32> = nnf
         .iter()
         .zip(known_dist)
@@ -174,7 +242,9 @@ fn vote_into(v: &mut Video, targets: &TargetSet, nnf: &[Match], known_dist: &[f3
     let c = v.channels;
     let votes = {
         let vref: &Video = v;
-        vote(targets, nnf, &weights, r, hole_pts, c, |q, k| vref.pixel(q)[k] as f32)
+        vote(targets, nnf, &weights, r, hole_pts, c, |q, k| {
+            vref.pixel(q)[k] as f32
+        })
     };
     for (p, val) in hole_pts.iter().zip(votes) {
         if let Some(val) = val {
@@ -199,7 +269,9 @@ pub fn per_frame_patchmatch(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> 
             continue;
         }
         let v = Video::new(1, h, w, c, video.frame(t).to_vec())?;
-        let m = Mask3::from_fn(1, h, w, |_, y, x| hole.contains([t as u32, y as u32, x as u32]));
+        let m = Mask3::from_fn(1, h, w, |_, y, x| {
+            hole.contains([t as u32, y as u32, x as u32])
+        });
         let done = wexler_complete(&v, &m, &frame_cfg)?;
         let n = h * w * c;
         out.data[t * n..(t + 1) * n].copy_from_slice(&done.video.data);
