@@ -15,6 +15,7 @@ mod handpose;
 mod math;
 mod meshfilter;
 mod sfa;
+mod video;
 mod volren;
 
 /// The native extension module.
@@ -22,12 +23,13 @@ mod volren;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 5] = [
+    let subs: [(&str, Register); 6] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
         ("meshfilter", meshfilter::register),
         ("volren", volren::register),
+        ("video", video::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

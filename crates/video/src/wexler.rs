@@ -33,6 +33,9 @@ pub struct WexlerConfig {
     pub seed: u64,
     /// Base of the distance-to-`E` weight decay (1.3).
     pub decay: f64,
+    /// [`per_frame_patchmatch`] seeds frame `t` with `seed + t` (as separate runs of an image
+    /// tool would be) instead of `seed` for every frame.
+    pub seed_per_frame: bool,
 }
 
 impl Default for WexlerConfig {
@@ -44,6 +47,7 @@ impl Default for WexlerConfig {
             patchmatch_iters: 4,
             seed: 0,
             decay: 1.3,
+            seed_per_frame: false,
         }
     }
 }
@@ -272,6 +276,9 @@ pub fn per_frame_patchmatch(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> 
         let m = Mask3::from_fn(1, h, w, |_, y, x| {
             hole.contains([t as u32, y as u32, x as u32])
         });
+        if cfg.seed_per_frame {
+            frame_cfg.seed = cfg.seed.wrapping_add(t as u64);
+        }
         let done = wexler_complete(&v, &m, &frame_cfg)?;
         let n = h * w * c;
         out.data[t * n..(t + 1) * n].copy_from_slice(&done.video.data);

@@ -1,0 +1,347 @@
+//! `wscg._native.video`: bindings of `wscg-video` (paper 06, localized-search HD video
+//! completion). The documented API is `python/wscg/video.py`.
+
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wscg_video::metrics;
+use wscg_video::synth;
+use wscg_video::{
+    CompletionConfig, InitMethod, LocalConfig, LowResConfig, Mask3, PatchSize, RefineConfig,
+    SearchMethod, UpscaleStep, Video, WexlerConfig,
+};
+
+use crate::convert::{array, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+/// A `(F, H, W, C)` (C = 1 or 3) or `(F, H, W)` uint8 array as a video.
+fn video_in(name: &str, a: &PyReadonlyArrayDyn<u8>) -> PyResult<Video> {
+    let (f, h, w, c) = match *a.shape() {
+        [f, h, w] => (f, h, w, 1),
+        [f, h, w, c] => (f, h, w, c),
+        ref s => {
+            return Err(value_error(format!(
+                "`{name}` must be a (frames, height, width, channels) or (frames, height, width) uint8 array, got shape {s:?}"
+            )))
+        }
+    };
+    Video::new(f, h, w, c, values(a).into_owned()).py_err()
+}
+
+fn mask_in(a: &PyReadonlyArrayDyn<u8>, v: &Video) -> PyResult<Mask3> {
+    let s = a.shape();
+    if s != [v.frames, v.height, v.width] {
+        return Err(value_error(format!(
+            "`mask` has shape {s:?}, expected (frames, height, width) = ({}, {}, {}) of the video",
+            v.frames, v.height, v.width
+        )));
+    }
+    Mask3::from_bytes(v.frames, v.height, v.width, &values(a)).py_err()
+}
+
+fn video_out<'py>(py: Python<'py>, v: Video) -> PyResult<Arr<'py, u8>> {
+    let shape = [v.frames, v.height, v.width, v.channels];
+    array(py, &shape, v.data)
+}
+
+fn patch(p: (usize, usize, usize)) -> PatchSize {
+    PatchSize {
+        px: p.0,
+        py: p.1,
+        pt: p.2,
+    }
+}
+
+fn init_method(name: &str, seed: u64) -> PyResult<InitMethod> {
+    match name {
+        "harmonic2d" => Ok(InitMethod::Harmonic2D),
+        "harmonic3d" => Ok(InitMethod::Harmonic3D),
+        "random" => Ok(InitMethod::Random { seed }),
+        other => Err(value_error(format!(
+            "{other:?} is not a valid init. Valid inits are 'harmonic2d', 'harmonic3d', 'random'"
+        ))),
+    }
+}
+
+/// Localized-search video completion (see `wscg.video.complete_video`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn complete_video<'py>(
+    py: Python<'py>,
+    frames: PyReadonlyArrayDyn<u8>,
+    mask: PyReadonlyArrayDyn<u8>,
+    patch_size: (usize, usize, usize),
+    lowres_width: usize,
+    levels: Option<usize>,
+    iters: Vec<usize>,
+    init: &str,
+    search: &str,
+    patchmatch_iters: usize,
+    seed: u64,
+    onion_order: bool,
+    causal_first_sweep: bool,
+    refine_iters: usize,
+    windows: Vec<usize>,
+    temporal_radius: usize,
+    step: &str,
+    global_fine_search: bool,
+    return_matches: bool,
+) -> PyResult<(Arr<'py, u8>, Option<Arr<'py, i32>>, Bound<'py, PyDict>)> {
+    let v = video_in("frames", &frames)?;
+    let m = mask_in(&mask, &v)?;
+    let search = match search {
+        "patchmatch" => SearchMethod::PatchMatch3D {
+            iters: patchmatch_iters,
+            seed,
+        },
+        "exact" => SearchMethod::Exact,
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid search. Valid searches are 'patchmatch', 'exact'"
+            )))
+        }
+    };
+    let step = match step {
+        "double" => UpscaleStep::Double,
+        "direct" => UpscaleStep::Direct,
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid step. Valid steps are 'double', 'direct'"
+            )))
+        }
+    };
+    let cfg = CompletionConfig {
+        low: LowResConfig {
+            target_width: lowres_width,
+            levels,
+            patch: patch(patch_size),
+            iters,
+            init: init_method(init, seed)?,
+            search,
+            onion_order,
+            causal_first_sweep,
+            ..LowResConfig::default()
+        },
+        refine: (refine_iters > 0).then(|| RefineConfig {
+            iterations: refine_iters,
+            ..RefineConfig::default()
+        }),
+        local: LocalConfig {
+            windows,
+            temporal_radius,
+            step,
+        },
+        global_fine_search,
+    };
+    let out = py
+        .detach(|| wscg_video::complete_video(&v, &m, &cfg))
+        .py_err()?;
+    let stats = PyDict::new(py);
+    let s = &out.stats;
+    stats.set_item("working_size", s.working_size)?;
+    stats.set_item("working_factor", s.working_factor)?;
+    stats.set_item("seconds", s.seconds.to_vec())?;
+    stats.set_item(
+        "lowres_energy",
+        s.lowres
+            .iter()
+            .map(|l| l.energy.clone())
+            .collect::<Vec<_>>(),
+    )?;
+    stats.set_item(
+        "local_energy",
+        s.local.iter().map(|l| l.energy.clone()).collect::<Vec<_>>(),
+    )?;
+    stats.set_item(
+        "local_candidates",
+        s.local.iter().map(|l| l.candidates).collect::<Vec<_>>(),
+    )?;
+    if let Some(r) = &s.refine {
+        stats.set_item("refine_changed", r.changed.clone())?;
+        stats.set_item("refine_initial_set_mean", r.initial_set_mean)?;
+    }
+    stats.set_item("energy", out.matches.energy())?;
+    let matches = if return_matches {
+        let dims = [v.frames, v.height, v.width];
+        let mut dense = vec![-1i32; dims.iter().product::<usize>() * 3];
+        for (i, mt) in out.matches.matches.iter().enumerate() {
+            let p = out.matches.targets.get(i);
+            let k = m.index(p) * 3;
+            dense[k..k + 3].copy_from_slice(&mt.source.map(|c| c as i32));
+        }
+        Some(array(py, &[dims[0], dims[1], dims[2], 3], dense)?)
+    } else {
+        None
+    };
+    Ok((video_out(py, out.video)?, matches, stats))
+}
+
+fn wexler_cfg(
+    patch_size: (usize, usize, usize),
+    min_width: usize,
+    iters: Vec<usize>,
+    patchmatch_iters: usize,
+    seed: u64,
+    seed_per_frame: bool,
+) -> WexlerConfig {
+    WexlerConfig {
+        patch: patch(patch_size),
+        min_width,
+        iters,
+        patchmatch_iters,
+        seed,
+        seed_per_frame,
+        ..WexlerConfig::default()
+    }
+}
+
+/// Wexler et al. 2007 completion (see `wscg.video.wexler_complete`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn wexler_complete<'py>(
+    py: Python<'py>,
+    frames: PyReadonlyArrayDyn<u8>,
+    mask: PyReadonlyArrayDyn<u8>,
+    patch_size: (usize, usize, usize),
+    min_width: usize,
+    iters: Vec<usize>,
+    patchmatch_iters: usize,
+    seed: u64,
+) -> PyResult<Arr<'py, u8>> {
+    let v = video_in("frames", &frames)?;
+    let m = mask_in(&mask, &v)?;
+    let cfg = wexler_cfg(patch_size, min_width, iters, patchmatch_iters, seed, false);
+    let out = py
+        .detach(|| wscg_video::wexler_complete(&v, &m, &cfg))
+        .py_err()?;
+    video_out(py, out.video)
+}
+
+/// Per-frame PatchMatch inpainting (see `wscg.video.per_frame_patchmatch`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn per_frame_patchmatch<'py>(
+    py: Python<'py>,
+    frames: PyReadonlyArrayDyn<u8>,
+    mask: PyReadonlyArrayDyn<u8>,
+    patch_size: (usize, usize, usize),
+    min_width: usize,
+    iters: Vec<usize>,
+    patchmatch_iters: usize,
+    seed: u64,
+    seed_per_frame: bool,
+) -> PyResult<Arr<'py, u8>> {
+    let v = video_in("frames", &frames)?;
+    let m = mask_in(&mask, &v)?;
+    let cfg = wexler_cfg(
+        patch_size,
+        min_width,
+        iters,
+        patchmatch_iters,
+        seed,
+        seed_per_frame,
+    );
+    let out = py
+        .detach(|| wscg_video::per_frame_patchmatch(&v, &m, &cfg))
+        .py_err()?;
+    video_out(py, out)
+}
+
+/// `(ssim, psnr)` over the hole, or flicker (see `wscg.video`).
+#[pyfunction]
+fn measure(
+    a: PyReadonlyArrayDyn<u8>,
+    b: Option<PyReadonlyArrayDyn<u8>>,
+    mask: PyReadonlyArrayDyn<u8>,
+    what: &str,
+) -> PyResult<f64> {
+    let a = video_in("a", &a)?;
+    let m = mask_in(&mask, &a)?;
+    let b = b.map(|b| video_in("b", &b)).transpose()?;
+    match (what, b) {
+        ("ssim", Some(b)) => metrics::ssim_masked(&a, &b, &m).py_err(),
+        ("psnr", Some(b)) => metrics::psnr_masked(&a, &b, &m).py_err(),
+        ("flicker", _) => metrics::flicker(&a, &m).py_err(),
+        _ => Err(value_error(format!("unknown measure {what:?}"))),
+    }
+}
+
+/// Synthetic clips G1-G4 (see `wscg.video.synthetic`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn synthetic<'py>(
+    py: Python<'py>,
+    kind: &str,
+    frames: usize,
+    height: usize,
+    width: usize,
+    radius: f64,
+    speed: f64,
+    step: f64,
+    zoom: f64,
+    hole: (usize, usize),
+    period: f64,
+    noise: f64,
+    seed: u64,
+) -> PyResult<(Arr<'py, u8>, Arr<'py, u8>, Arr<'py, u8>)> {
+    let clip = match kind {
+        "sprite" => synth::sprite_clip(frames, height, width, radius, speed, noise, seed),
+        "pan" => synth::pan_clip(frames, height, width, step, hole.0, hole.1, seed),
+        "zoom" => synth::zoom_clip(frames, height, width, zoom, radius, speed, seed),
+        "periodic" => synth::periodic_clip(frames, height, width, period, hole.0),
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid clip. Valid clips are 'sprite', 'pan', 'zoom', 'periodic'"
+            )))
+        }
+    }
+    .py_err()?;
+    let m = clip.hole.to_bytes();
+    Ok((
+        video_out(py, clip.clean)?,
+        video_out(py, clip.observed)?,
+        array(py, &[frames, height, width], m)?,
+    ))
+}
+
+/// Frames of a folder (see `wscg.video.read_frames`).
+#[pyfunction]
+fn read_frames<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Arr<'py, u8>> {
+    let v = py.detach(|| wscg_video::io::read_frames(&path)).py_err()?;
+    video_out(py, v)
+}
+
+/// A mask image or folder (see `wscg.video.read_mask`).
+#[pyfunction]
+fn read_mask<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+    frames: usize,
+    height: usize,
+    width: usize,
+) -> PyResult<Arr<'py, u8>> {
+    let m = wscg_video::io::read_mask(&path, frames, height, width).py_err()?;
+    array(py, &[frames, height, width], m.to_bytes())
+}
+
+/// Writes frames as PNG files (see `wscg.video.write_frames`).
+#[pyfunction]
+fn write_frames(
+    frames: PyReadonlyArrayDyn<u8>,
+    path: std::path::PathBuf,
+) -> PyResult<Vec<std::path::PathBuf>> {
+    let v = video_in("frames", &frames)?;
+    wscg_video::io::write_frames(&v, &path).py_err()
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(complete_video, m)?)?;
+    m.add_function(wrap_pyfunction!(wexler_complete, m)?)?;
+    m.add_function(wrap_pyfunction!(per_frame_patchmatch, m)?)?;
+    m.add_function(wrap_pyfunction!(measure, m)?)?;
+    m.add_function(wrap_pyfunction!(synthetic, m)?)?;
+    m.add_function(wrap_pyfunction!(read_frames, m)?)?;
+    m.add_function(wrap_pyfunction!(read_mask, m)?)?;
+    m.add_function(wrap_pyfunction!(write_frames, m)?)?;
+    Ok(())
+}
