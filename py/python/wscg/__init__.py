@@ -10,6 +10,8 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
 - :mod:`wscg.cloth`: paper 02, cloth simulation with soft constraints.
 - :mod:`wscg.meshfilter`: paper 04, joint bilateral mesh denoising with colour (and its
   bilateral and Laplacian baselines).
+- :mod:`wscg.video`: paper 06, localized-search HD video completion (and the Wexler and
+  per-frame PatchMatch baselines).
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -17,8 +19,8 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, math, meshfilter, volren
+from . import biometrics, cloth, math, meshfilter, video, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "math", "meshfilter", "volren", "__version__"]
+__all__ = ["biometrics", "cloth", "math", "meshfilter", "video", "volren", "__version__"]

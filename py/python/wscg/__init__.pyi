@@ -2,6 +2,7 @@ from . import biometrics as biometrics
 from . import cloth as cloth
 from . import math as math
 from . import meshfilter as meshfilter
+from . import video as video
 from . import volren as volren
 
 __version__: str

@@ -1,0 +1,35 @@
+from typing import Any, Optional, Sequence, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+U8 = npt.NDArray[np.uint8]
+
+__all__: list[str]
+
+def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[int] = (5, 5, 5),
+                   lowres_width: int = 480, levels: Optional[int] = None,
+                   iters: Sequence[int] = (10, 5, 3), init: str = "harmonic2d",
+                   search: str = "patchmatch", patchmatch_iters: int = 5, seed: int = 0,
+                   onion_order: bool = True, causal_first_sweep: bool = True,
+                   refine_iters: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
+                   temporal_radius: int = 0, step: str = "double",
+                   global_fine_search: bool = False, return_matches: bool = False,
+                   return_stats: bool = False) -> Any: ...
+def wexler_complete(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[int] = (5, 5, 5),
+                    min_width: int = 64, iters: Sequence[int] = (10, 5, 3),
+                    patchmatch_iters: int = 4, seed: int = 0) -> U8: ...
+def per_frame_patchmatch(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[int] = (5, 5),
+                         min_width: int = 64, iters: Sequence[int] = (10, 5, 3),
+                         patchmatch_iters: int = 4, seed: int = 0,
+                         seed_per_frame: bool = True) -> U8: ...
+def ssim_masked(a: npt.ArrayLike, b: npt.ArrayLike, mask: npt.ArrayLike) -> float: ...
+def psnr_masked(a: npt.ArrayLike, b: npt.ArrayLike, mask: npt.ArrayLike) -> float: ...
+def flicker(frames: npt.ArrayLike, mask: npt.ArrayLike) -> float: ...
+def synthetic(kind: str, frames: int = 20, height: int = 180, width: int = 320,
+              radius: float = 25.0, speed: float = 8.0, step: float = 8.0, zoom: float = 1.003,
+              hole: Tuple[int, int] = (30, 40), period: float = 24.0, noise: float = 0.0,
+              seed: int = 0) -> Tuple[U8, U8, U8]: ...
+def read_frames(path: Any) -> U8: ...
+def read_mask(path: Any, frames: int, height: int, width: int) -> npt.NDArray[np.bool_]: ...
+def write_frames(frames: npt.ArrayLike, path: Any) -> list[str]: ...

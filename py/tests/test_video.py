@@ -1,0 +1,100 @@
+"""Paper 06 (localized-search video completion) from Python: SSIM parity with scikit-image
+(check 10), completion against OpenCV's per-frame inpainting (checks 1 and 3 at small
+sizes), invariants, frame IO and bad input."""
+
+import cv2
+import numpy as np
+import pytest
+from skimage.metrics import structural_similarity
+
+from wscg import video as V
+
+
+@pytest.fixture(scope="module")
+def pan():
+    return V.synthetic("pan", frames=12, height=90, width=160, step=6.0, hole=(16, 20), seed=4)
+
+
+def cv2_inpaint(observed, mask, flag):
+    return np.stack([cv2.inpaint(f, m.astype(np.uint8), 3, flag) for f, m in zip(observed, mask)])
+
+
+def test_ssim_parity_with_skimage():
+    rng = np.random.default_rng(0)
+    a = rng.integers(0, 256, (2, 40, 50, 3), dtype=np.uint8)
+    b = np.clip(a.astype(int) + rng.integers(-30, 31, a.shape), 0, 255).astype(np.uint8)
+    full = np.ones(a.shape[:3], bool)
+    ref = np.mean([structural_similarity(x, y, gaussian_weights=True, sigma=1.5,
+                                         use_sample_covariance=False, data_range=255,
+                                         channel_axis=-1) for x, y in zip(a, b)])
+    assert abs(V.ssim_masked(a, b, full) - ref) < 1e-4
+    assert V.ssim_masked(a, a, full) == pytest.approx(1.0)
+    assert V.psnr_masked(a, a, full) == np.inf
+
+
+def test_completion_beats_per_frame_inpainting(pan):
+    clean, observed, mask = pan
+    before = observed.copy()
+    out, matches, stats = V.complete_video(observed, mask, return_matches=True,
+                                           return_stats=True)
+    np.testing.assert_array_equal(observed, before)  # input untouched
+    np.testing.assert_array_equal(out[mask == 0], observed[mask == 0])
+    assert matches.shape == mask.shape + (3,)
+    assert (matches[mask == 0] == -1).all() and (matches[mask != 0] >= 0).all()
+    t, y, x = matches[mask != 0].T
+    np.testing.assert_array_equal(out[mask != 0], observed[t, y, x])
+    ours = V.ssim_masked(out, clean, mask)
+    telea = V.ssim_masked(cv2_inpaint(observed, mask, cv2.INPAINT_TELEA), clean, mask)
+    print(f"SSIM in the hole: ours {ours:.4f}, cv2 Telea {telea:.4f}")
+    assert ours >= telea + 0.15
+    assert stats["working_factor"] == 1 and stats["energy"] > 0
+
+
+def test_periodic_structure_against_navier_stokes():
+    clean, observed, mask = V.synthetic("periodic", frames=6, height=90, width=160,
+                                        period=24.0, hole=(16, 16))
+    ours = V.ssim_masked(V.complete_video(observed, mask), clean, mask)
+    ns = V.ssim_masked(cv2_inpaint(observed, mask, cv2.INPAINT_NS), clean, mask)
+    print(f"periodic SSIM in the hole: ours {ours:.4f}, cv2 NS {ns:.4f}")
+    assert ours > ns
+
+
+def test_baselines_and_flicker(pan):
+    clean, observed, mask = pan
+    w = V.wexler_complete(observed, mask)
+    assert V.ssim_masked(w, clean, mask) > 0.9
+    p = V.per_frame_patchmatch(observed, mask)
+    assert p.shape == observed.shape
+    assert V.flicker(clean, mask) >= 0.0
+
+
+def test_frames_round_trip(tmp_path, pan):
+    _, observed, mask = pan
+    files = V.write_frames(observed[:3], tmp_path / "frames")
+    assert len(files) == 3
+    np.testing.assert_array_equal(V.read_frames(tmp_path / "frames"), observed[:3])
+    cv2.imwrite(str(tmp_path / "mask.png"), (mask[0] * 255).astype(np.uint8))
+    m = V.read_mask(tmp_path / "mask.png", 3, *mask.shape[1:])
+    np.testing.assert_array_equal(m, np.broadcast_to(mask[0] != 0, m.shape))
+
+
+def test_bad_input(tmp_path, pan):
+    _, observed, mask = pan
+    with pytest.raises(ValueError, match="uint8"):
+        V.complete_video(observed.astype(np.float32), mask)
+    with pytest.raises(ValueError, match="mask"):
+        V.complete_video(observed, mask[:, :-1])
+    with pytest.raises(ValueError, match="whole video"):
+        V.complete_video(observed, np.ones_like(mask))
+    with pytest.raises(ValueError, match="odd"):
+        V.complete_video(observed, mask, patch=(4, 5, 5))
+    with pytest.raises(ValueError, match="valid search"):
+        V.complete_video(observed, mask, search="kd")
+    with pytest.raises(OSError):
+        V.read_frames(tmp_path / "missing")
+    (tmp_path / "bad").mkdir()
+    (tmp_path / "bad" / "a.png").write_bytes(b"not a png")
+    with pytest.raises(OSError):
+        V.read_frames(tmp_path / "bad")
+    same = V.complete_video(observed, np.zeros_like(mask))
+    np.testing.assert_array_equal(same, observed)
