@@ -721,3 +721,100 @@ fn sfa_generate_fit_predict_evaluate_match_the_library() {
         );
     }
 }
+
+#[test]
+fn video_synth_complete_measure() {
+    let dir = tempfile::tempdir().unwrap();
+    let clip = dir.path().join("clip");
+    wscg_ok(&[
+        "video",
+        "synth",
+        "--out",
+        clip.to_str().unwrap(),
+        "--kind",
+        "pan",
+        "--frames",
+        "10",
+        "--width",
+        "160",
+        "--height",
+        "96",
+    ]);
+    let frames = clip.join("frames");
+    let before: Vec<Vec<u8>> = (0..10)
+        .map(|t| std::fs::read(frames.join(format!("frame_{t:05}.png"))).unwrap())
+        .collect();
+    let done = dir.path().join("done");
+    wscg_ok(&[
+        "video",
+        "complete",
+        frames.to_str().unwrap(),
+        clip.join("mask").to_str().unwrap(),
+        "--out",
+        done.to_str().unwrap(),
+    ]);
+    // Inputs untouched, outputs complete and close to the ground truth in the hole.
+    for (t, b) in before.iter().enumerate() {
+        assert_eq!(
+            &std::fs::read(frames.join(format!("frame_{t:05}.png"))).unwrap(),
+            b
+        );
+    }
+    let report = wscg_ok(
+        &[
+            done.to_str().unwrap(),
+            clip.join("truth").to_str().unwrap(),
+            clip.join("mask").to_str().unwrap(),
+        ]
+        .iter()
+        .fold(vec!["video", "measure"], |mut v, s| {
+            v.push(s);
+            v
+        }),
+    );
+    let ssim: f64 = report
+        .lines()
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .last()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(ssim > 0.9, "{report}");
+    // A missing mask and a mask of the wrong size are clear errors.
+    let out = wscg()
+        .args([
+            "video",
+            "complete",
+            frames.to_str().unwrap(),
+            "nowhere.png",
+            "--out",
+        ])
+        .arg(dir.path().join("x"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("nowhere.png"));
+    let small = dir.path().join("small.png");
+    Image::filled(8, 8, 1, 1.0f32)
+        .unwrap()
+        .save(&small)
+        .unwrap();
+    let out = wscg()
+        .args([
+            "video",
+            "complete",
+            frames.to_str().unwrap(),
+            small.to_str().unwrap(),
+            "--out",
+        ])
+        .arg(dir.path().join("y"))
+        .output()
+        .unwrap();
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("mask of 8 x 8"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -12,6 +12,7 @@ mod math;
 mod meshfilter;
 mod progress;
 mod sfa;
+mod video;
 mod volren;
 
 /// wscg: the methods of the Journal of WSCG vol. 23 papers on your own data.
@@ -56,6 +57,9 @@ enum Command {
     /// Hybrid ROI visualisation of medical volumes (paper 03): serve and view.
     #[command(subcommand)]
     Volren(volren::VolrenCommand),
+    /// Video completion (paper 06: localized search) on your own frames.
+    #[command(subcommand)]
+    Video(video::VideoCommand),
     /// Shared numerics on image files: metrics, filtering, resizing, spectra.
     #[command(subcommand)]
     Math(math::MathCommand),
@@ -119,6 +123,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Cloth(cmd) => cloth::run(cmd),
         Command::Volren(cmd) => volren::run(cmd),
         Command::Meshfilter(cmd) => meshfilter::run(cmd),
+        Command::Video(cmd) => video::run(cmd),
     }
 }
 
