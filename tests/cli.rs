@@ -760,18 +760,13 @@ fn video_synth_complete_measure() {
             b
         );
     }
-    let report = wscg_ok(
-        &[
-            done.to_str().unwrap(),
-            clip.join("truth").to_str().unwrap(),
-            clip.join("mask").to_str().unwrap(),
-        ]
-        .iter()
-        .fold(vec!["video", "measure"], |mut v, s| {
-            v.push(s);
-            v
-        }),
-    );
+    let report = wscg_ok(&[
+        "video",
+        "measure",
+        done.to_str().unwrap(),
+        clip.join("truth").to_str().unwrap(),
+        clip.join("mask").to_str().unwrap(),
+    ]);
     let ssim: f64 = report
         .lines()
         .next()
