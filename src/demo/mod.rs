@@ -14,6 +14,7 @@ pub mod figures;
 pub mod math;
 pub mod meshfilter;
 pub mod sfa;
+pub mod video;
 pub mod volren;
 
 /// A picture written by a demo.
@@ -101,6 +102,7 @@ pub fn registry() -> Vec<Demo> {
         cloth::DEMO,
         volren::DEMO,
         meshfilter::DEMO,
+        video::DEMO,
     ]
 }
 
