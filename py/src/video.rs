@@ -87,7 +87,7 @@ fn complete_video<'py>(
     global_fine_search: bool,
     return_matches: bool,
 ) -> PyResult<(Arr<'py, u8>, Option<Arr<'py, i32>>, Bound<'py, PyDict>)> {
-    let v = video_in("frames", &frames)?;
+    let mut v = video_in("frames", &frames)?;
     let m = mask_in(&mask, &v)?;
     let search = match search {
         "patchmatch" => SearchMethod::PatchMatch3D {
@@ -133,11 +133,14 @@ fn complete_video<'py>(
         },
         global_fine_search,
     };
-    let out = py
-        .detach(|| wscg_video::complete_video(&v, &m, &cfg))
+    // The owned copy of the frames becomes the output: no second copy of the video.
+    let (field, s) = py
+        .detach(|| {
+            wscg_video::complete_in_place(&mut v, &m, &cfg, &wscg_math::progress::NoProgress)
+        })
         .py_err()?;
     let stats = PyDict::new(py);
-    let s = &out.stats;
+    let s = &s;
     stats.set_item("working_size", s.working_size)?;
     stats.set_item("working_factor", s.working_factor)?;
     stats.set_item("seconds", s.seconds.to_vec())?;
@@ -160,12 +163,12 @@ fn complete_video<'py>(
         stats.set_item("refine_changed", r.changed.clone())?;
         stats.set_item("refine_initial_set_mean", r.initial_set_mean)?;
     }
-    stats.set_item("energy", out.matches.energy())?;
-    let matches = if return_matches {
+    stats.set_item("energy", field.energy())?;
+    let dense = if return_matches {
         let dims = [v.frames, v.height, v.width];
         let mut dense = vec![-1i32; dims.iter().product::<usize>() * 3];
-        for (i, mt) in out.matches.matches.iter().enumerate() {
-            let p = out.matches.targets.get(i);
+        for (i, mt) in field.matches.iter().enumerate() {
+            let p = field.targets.get(i);
             let k = m.index(p) * 3;
             dense[k..k + 3].copy_from_slice(&mt.source.map(|c| c as i32));
         }
@@ -173,7 +176,7 @@ fn complete_video<'py>(
     } else {
         None
     };
-    Ok((video_out(py, out.video)?, matches, stats))
+    Ok((video_out(py, v)?, dense, stats))
 }
 
 fn wexler_cfg(

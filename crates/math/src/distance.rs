@@ -102,36 +102,42 @@ pub fn squared_edt(
         let stride: usize = shape[axis + 1..].iter().product();
         let outer = n / (len * stride);
         let pad = usize::from(border_is_feature);
-        // Lines along `axis`: computed in parallel into their own buffers, then scattered.
-        let lines: Vec<Vec<f64>> = (0..outer * stride)
-            .into_par_iter()
-            .map_init(
-                || {
-                    (
-                        vec![0.0; len + 2 * pad],
-                        vec![0.0; len + 2 * pad],
-                        Vec::new(),
-                        Vec::new(),
-                    )
-                },
-                |(f, out, v, z), line| {
-                    let base = (line / stride) * len * stride + line % stride;
-                    if pad == 1 {
-                        f[0] = 0.0;
-                        f[len + 1] = 0.0;
-                    }
-                    for i in 0..len {
-                        f[i + pad] = d[base + i * stride];
-                    }
-                    dt_1d(f, out, weights[axis], v, z);
-                    out[pad..pad + len].to_vec()
-                },
-            )
-            .collect();
-        for (line, vals) in lines.into_iter().enumerate() {
-            let base = (line / stride) * len * stride + line % stride;
-            for (i, v) in vals.into_iter().enumerate() {
-                d[base + i * stride] = v;
+        // Lines along `axis`, in batches: computed in parallel into their own buffers, then
+        // scattered (the batch bounds the extra memory).
+        let lines = outer * stride;
+        let batch = (1usize << 20).div_ceil(len).max(1);
+        for first in (0..lines).step_by(batch) {
+            let done: Vec<Vec<f64>> = (first..(first + batch).min(lines))
+                .into_par_iter()
+                .map_init(
+                    || {
+                        (
+                            vec![0.0; len + 2 * pad],
+                            vec![0.0; len + 2 * pad],
+                            Vec::new(),
+                            Vec::new(),
+                        )
+                    },
+                    |(f, out, v, z), line| {
+                        let base = (line / stride) * len * stride + line % stride;
+                        if pad == 1 {
+                            f[0] = 0.0;
+                            f[len + 1] = 0.0;
+                        }
+                        for i in 0..len {
+                            f[i + pad] = d[base + i * stride];
+                        }
+                        dt_1d(f, out, weights[axis], v, z);
+                        out[pad..pad + len].to_vec()
+                    },
+                )
+                .collect();
+            for (k, vals) in done.into_iter().enumerate() {
+                let line = first + k;
+                let base = (line / stride) * len * stride + line % stride;
+                for (i, v) in vals.into_iter().enumerate() {
+                    d[base + i * stride] = v;
+                }
             }
         }
     }

@@ -118,25 +118,54 @@ pub fn complete_video_with(
     progress: &dyn Progress,
 ) -> Result<Completion> {
     check_input(video, hole, cfg)?;
+    let mut out = video.clone();
+    let (matches, stats) = complete_in_place(&mut out, hole, cfg, progress)?;
+    Ok(Completion {
+        video: out,
+        matches,
+        stats,
+    })
+}
+
+/// [`complete_video_with`] writing the completion into `video`'s own hole pixels (its known
+/// pixels are only read): no copy of the video is made, so the peak memory is the video, one
+/// match per hole pixel and the working-resolution copy. On error `video` may hold a partial
+/// completion of its hole.
+pub fn complete_in_place(
+    video: &mut Video,
+    hole: &Mask3,
+    cfg: &CompletionConfig,
+    progress: &dyn Progress,
+) -> Result<(MatchField, Stats)> {
+    check_input(video, hole, cfg)?;
     let mut stats = Stats::default();
     if hole.count() == 0 {
-        return Ok(Completion {
-            video: video.clone(),
-            matches: MatchField {
+        return Ok((
+            MatchField {
                 targets: TargetSet::new(video.dims(), []),
                 matches: Vec::new(),
             },
             stats,
-        });
+        ));
     }
     let patch = cfg.low.patch;
     let s0 = working_factor(video.width, cfg.low.target_width);
-    let (mut wv, wm) = downscale(video, hole, s0);
     stats.working_factor = s0;
-    stats.working_size = (wv.height, wv.width);
     let clock = Instant::now();
+    // The working level: a down-scaled copy, or the video itself at factor 1.
+    let (mut owned, wm) = if s0 > 1 {
+        let (v, m) = downscale(video, hole, s0);
+        (Some(v), m)
+    } else {
+        (None, hole.clone())
+    };
+    let wv: &mut Video = match owned.as_mut() {
+        Some(v) => v,
+        None => &mut *video,
+    };
+    stats.working_size = (wv.height, wv.width);
     progress.begin(&format!("stage 1 at {} x {}", wv.width, wv.height), 1);
-    let (mut ml, low) = lowres_complete(&mut wv, &wm, &cfg.low)?;
+    let (mut ml, low) = lowres_complete(wv, &wm, &cfg.low)?;
     progress.advance(1);
     progress.finish();
     stats.lowres = low;
@@ -145,20 +174,31 @@ pub fn complete_video_with(
     if let Some(rc) = &cfg.refine {
         progress.begin("match refinement", 1);
         let sources = valid_sources(&wm, patch);
-        stats.refine = Some(refine_matches(&mut wv, &wm, &sources, &mut ml, patch, rc)?);
+        stats.refine = Some(refine_matches(wv, &wm, &sources, &mut ml, patch, rc)?);
         progress.advance(1);
         progress.finish();
     }
     stats.seconds[1] = clock.elapsed().as_secs_f64();
+    drop(owned);
     let clock = Instant::now();
     let mut f = s0;
-    let mut current = wv;
     while f > 1 {
         let next = match cfg.local.step {
             UpscaleStep::Double if f % 2 == 0 => f / 2,
             _ => 1,
         };
-        let (mut lv, lm) = downscale(video, hole, next);
+        // Intermediate levels are down-scaled copies (their hole colours are rewritten);
+        // the last level is the video itself.
+        let (mut level, lm) = if next > 1 {
+            let (v, m) = downscale(video, hole, next);
+            (Some(v), m)
+        } else {
+            (None, hole.clone())
+        };
+        let lv: &mut Video = match level.as_mut() {
+            Some(v) => v,
+            None => &mut *video,
+        };
         progress.begin(
             &format!("localized search at {} x {}", lv.width, lv.height),
             cfg.local.windows.len() as u64,
@@ -178,33 +218,28 @@ pub fn complete_video_with(
             targets,
             matches: up,
         };
-        field.apply(&mut lv);
+        field.apply(lv);
         let st = if cfg.global_fine_search {
-            global_search(&mut lv, &lm, &sources, &mut field, cfg)?
+            global_search(lv, &lm, &sources, &mut field, cfg)?
         } else {
-            localized_search(&mut lv, &lm, &sources, &mut field, patch, &cfg.local)?
+            localized_search(lv, &lm, &sources, &mut field, patch, &cfg.local)?
         };
         progress.advance(cfg.local.windows.len() as u64);
         progress.finish();
         stats.local.push(st);
         ml = field;
-        current = lv;
         f = next;
     }
     stats.seconds[2] = clock.elapsed().as_secs_f64();
     if ml.matches.iter().any(|m| !m.dist.is_finite()) {
         ml.refresh(&Cubes {
-            video: &current,
+            video,
             sources: &valid_sources(hole, patch),
             patch,
             ignore: None,
         });
     }
-    Ok(Completion {
-        video: current,
-        matches: ml,
-        stats,
-    })
+    Ok((ml, stats))
 }
 
 /// The global-search ablation of stage 3: as many exact sweeps over every valid source as

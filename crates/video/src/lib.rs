@@ -33,7 +33,9 @@ pub mod synth;
 pub mod video;
 pub mod wexler;
 
-pub use complete::{complete_video, complete_video_with, Completion, CompletionConfig, Stats};
+pub use complete::{
+    complete_in_place, complete_video, complete_video_with, Completion, CompletionConfig, Stats,
+};
 pub use field::MatchField;
 pub use init::InitMethod;
 pub use local::{LocalConfig, UpscaleStep};

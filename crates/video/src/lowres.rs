@@ -78,15 +78,15 @@ pub struct LevelStats {
     pub changed: Vec<usize>,
 }
 
-/// The pyramid of stage 1: the working level first, then each coarser level.
+/// The pyramid of stage 1 below the working level: each coarser level, finest first.
 fn pyramid(video: &Video, hole: &Mask3, cfg: &LowResConfig) -> Vec<(Video, Mask3)> {
-    let mut levels = vec![(video.clone(), hole.clone())];
+    let mut levels: Vec<(Video, Mask3)> = Vec::new();
     let r = cfg.patch.radius()[1].max(cfg.patch.radius()[2]) as f64;
     loop {
-        let (v, m) = levels.last().expect("one level");
+        let (v, m) = levels.last().map_or((video, hole), |(v, m)| (v, m));
         let next_w = v.width.div_ceil(2);
         let more = match cfg.levels {
-            Some(l) => levels.len() <= l,
+            Some(l) => levels.len() < l,
             None => next_w >= 120 && hole_thickness(m) > 2.0 * r,
         };
         if !more || v.width < 2 || v.height < 2 {
@@ -103,17 +103,9 @@ fn pyramid(video: &Video, hole: &Mask3, cfg: &LowResConfig) -> Vec<(Video, Mask3
 
 /// Largest distance of a hole pixel to the known region (voxel units; 0 without a hole).
 fn hole_thickness(hole: &Mask3) -> f64 {
-    let known: Vec<bool> = (0..hole.len_grid())
-        .map(|i| !hole.contains_index(i))
-        .collect();
-    match wscg_math::distance::squared_edt(&known, &hole.dims(), &[1.0; 3], false) {
-        Ok(d) => (0..d.len())
-            .filter(|&i| hole.contains_index(i))
-            .map(|i| d[i])
-            .fold(0.0f64, f64::max)
-            .sqrt(),
-        Err(_) => 0.0,
-    }
+    crate::onion::distance_to_known(hole, hole.points().into_iter())
+        .map(|d| d.into_iter().fold(0.0f64, f64::max))
+        .unwrap_or(0.0)
 }
 
 /// Stage 1 on the working-resolution `video` (hole pixels are overwritten with the
@@ -128,124 +120,140 @@ pub fn lowres_complete(
 ) -> Result<(MatchField, Vec<LevelStats>)> {
     video.check_mask(hole)?;
     cfg.patch.check(video.dims())?;
-    let levels = pyramid(video, hole, cfg);
+    let mut coarser = pyramid(video, hole, cfg);
     let mut stats = Vec::new();
     let mut prev: Option<MatchField> = None;
-    for (k, (lv, lm)) in levels.into_iter().enumerate().rev() {
-        let mut v = if k == 0 { video.clone() } else { lv };
-        let sources = valid_sources(&lm, cfg.patch);
-        let list = source_list(&sources);
-        if list.is_empty() {
-            return Err(Error::invalid(
-                "mask",
-                format!(
-                    "no valid {} x {} x {} source cube at {} x {}: the known region is too thin for the patch",
-                    cfg.patch.px, cfg.patch.py, cfg.patch.pt, v.width, v.height
-                ),
-            ));
+    while let Some((mut lv, lm)) = coarser.pop() {
+        let (field, st) = complete_level(&mut lv, &lm, prev.as_ref(), cfg, stats.len())?;
+        stats.push(st);
+        prev = Some(field);
+    }
+    let (field, st) = complete_level(video, hole, prev.as_ref(), cfg, stats.len())?;
+    stats.push(st);
+    Ok((field, stats))
+}
+
+/// One level of stage 1 (the `k`-th processed, coarsest first), in place on `v`.
+fn complete_level(
+    v: &mut Video,
+    lm: &Mask3,
+    prev: Option<&MatchField>,
+    cfg: &LowResConfig,
+    k: usize,
+) -> Result<(MatchField, LevelStats)> {
+    let sources = valid_sources(lm, cfg.patch);
+    if sources.count() == 0 {
+        return Err(Error::invalid(
+            "mask",
+            format!(
+                "no valid {} x {} x {} source cube at {} x {}: the known region is too thin for the patch",
+                cfg.patch.px, cfg.patch.py, cfg.patch.pt, v.width, v.height
+            ),
+        ));
+    }
+    // Exact search scans a list of every source; PatchMatch needs none.
+    let list = match cfg.search {
+        SearchMethod::Exact => source_list(&sources),
+        SearchMethod::PatchMatch3D { .. } => Vec::new(),
+    };
+    let targets = TargetSet::new(lm.dims(), lm.points());
+    let (seed, pm_iters) = match cfg.search {
+        SearchMethod::PatchMatch3D { seed, iters } => (seed, iters),
+        SearchMethod::Exact => (0, 0),
+    };
+    let mut ignore = None;
+    // Random colours carry no information: a random start always fills causally first.
+    let causal =
+        prev.is_none() && (cfg.causal_first_sweep || matches!(cfg.init, InitMethod::Random { .. }));
+    let matches = match prev {
+        None => {
+            initialize(v, lm, cfg.init);
+            random_matches(&sources, targets.len(), seed)
         }
-        let targets = TargetSet::new(lm.dims(), lm.points());
-        let (seed, pm_iters) = match cfg.search {
-            SearchMethod::PatchMatch3D { seed, iters } => (seed, iters),
-            SearchMethod::Exact => (0, 0),
-        };
-        let mut ignore = None;
-        // Random colours carry no information: a random start always fills causally first.
-        let causal = prev.is_none()
-            && (cfg.causal_first_sweep || matches!(cfg.init, InitMethod::Random { .. }));
-        let matches = match &prev {
-            None => {
-                initialize(&mut v, &lm, cfg.init);
-                random_matches(&list, targets.len(), seed)
+        Some(coarse) => {
+            let up = upscale_matches(coarse, &targets, &sources, 2).ok_or_else(|| {
+                Error::invalid("mask", "no valid source at a finer pyramid level")
+            })?;
+            for (i, m) in up.iter().enumerate() {
+                v.copy_pixel(targets.get(i), m.source);
             }
-            Some(coarse) => {
-                let up = upscale_matches(coarse, &targets, &sources, 2).ok_or_else(|| {
-                    Error::invalid("mask", "no valid source at a finer pyramid level")
-                })?;
-                for (i, m) in up.iter().enumerate() {
-                    v.copy_pixel(targets.get(i), m.source);
-                }
-                up
-            }
-        };
-        let mut field = MatchField { targets, matches };
-        let sweeps = cfg
-            .iters
-            .get(levels_index(&cfg.iters, stats.len()))
-            .copied()
-            .unwrap_or(1);
-        let order = if cfg.onion_order {
-            onion_order(&lm, &field.targets)?
-        } else {
-            scanline_order(&field.targets)
-        };
-        let mut st = LevelStats {
-            size: (v.height, v.width),
-            hole_pixels: field.len(),
-            energy: Vec::new(),
-            changed: Vec::new(),
-        };
-        for sweep in 0..sweeps {
-            if pm_iters > 0 && ignore.is_none() {
-                let cubes = Cubes {
-                    video: &v,
-                    sources: &sources,
-                    patch: cfg.patch,
-                    ignore: None,
-                };
-                field.refresh(&cubes);
-                let p = PatchMatchParams {
-                    iterations: pm_iters,
-                    seed: seed ^ (1000 * (stats.len() + 1) + sweep) as u64,
-                    max_radius: None,
-                };
-                patchmatch(&cubes, &field.targets, &mut field.matches, &p);
-            }
-            // The causal first sweep: one pixel at a time, comparing only known pixels and
-            // pixels already filled in this sweep.
-            let seq: Vec<Vec<u32>>;
-            let ord = if causal && sweep == 0 {
-                ignore = Some(lm.clone());
-                seq = order.iter().flatten().map(|&i| vec![i]).collect();
-                &seq
-            } else {
-                &order
-            };
-            let changed = sweep_once(
-                &mut v,
-                &sources,
-                &list,
-                &mut field,
-                ord,
-                cfg.patch,
-                cfg.search,
-                seed,
-                sweep,
-                ignore.as_mut(),
-            );
-            ignore = None;
-            let e = field.refresh(&Cubes {
-                video: &v,
+            up
+        }
+    };
+    let mut field = MatchField { targets, matches };
+    let sweeps = cfg
+        .iters
+        .get(levels_index(&cfg.iters, k))
+        .copied()
+        .unwrap_or(1);
+    let order = if cfg.onion_order {
+        onion_order(lm, &field.targets)?
+    } else {
+        scanline_order(&field.targets)
+    };
+    let mut st = LevelStats {
+        size: (v.height, v.width),
+        hole_pixels: field.len(),
+        energy: Vec::new(),
+        changed: Vec::new(),
+    };
+    for sweep in 0..sweeps {
+        // Whole-field PatchMatch with the current colours (before the causal first sweep:
+        // the inpainted ones, which is what the initialisation is for).
+        if pm_iters > 0 {
+            let cubes = Cubes {
+                video: v,
                 sources: &sources,
                 patch: cfg.patch,
                 ignore: None,
-            });
-            let last = st.energy.last().copied();
-            st.energy.push(e);
-            st.changed.push(changed);
-            let few = (changed as f64) < cfg.min_changed * field.len() as f64;
-            let flat = last.is_some_and(|l| l - e < cfg.min_energy_drop * l);
-            if few || flat {
-                break;
-            }
+            };
+            field.refresh(&cubes);
+            let p = PatchMatchParams {
+                iterations: pm_iters,
+                seed: seed ^ (1000 * (k + 1) + sweep) as u64,
+                max_radius: None,
+            };
+            patchmatch(&cubes, &field.targets, &mut field.matches, &p);
         }
-        stats.push(st);
-        if k == 0 {
-            *video = v;
+        // The causal first sweep: one pixel at a time, comparing only known pixels and
+        // pixels already filled in this sweep.
+        let seq: Vec<Vec<u32>>;
+        let ord = if causal && sweep == 0 {
+            ignore = Some(lm.clone());
+            seq = order.iter().flatten().map(|&i| vec![i]).collect();
+            &seq
+        } else {
+            &order
+        };
+        let changed = sweep_once(
+            v,
+            &sources,
+            &list,
+            &mut field,
+            ord,
+            cfg.patch,
+            cfg.search,
+            seed,
+            sweep,
+            ignore.as_mut(),
+        );
+        ignore = None;
+        let e = field.refresh(&Cubes {
+            video: v,
+            sources: &sources,
+            patch: cfg.patch,
+            ignore: None,
+        });
+        let last = st.energy.last().copied();
+        st.energy.push(e);
+        st.changed.push(changed);
+        let few = (changed as f64) < cfg.min_changed * field.len() as f64;
+        let flat = last.is_some_and(|l| l - e < cfg.min_energy_drop * l);
+        if few || flat {
+            break;
         }
-        prev = Some(field);
     }
-    Ok((prev.expect("at least the working level"), stats))
+    Ok((field, st))
 }
 
 /// Index into `iters` for the `k`-th level processed (coarsest first).

@@ -2,10 +2,64 @@
 //! distance to the known region `E`, outer shell first, so that every patch being updated
 //! sees known pixels or pixels already updated in the current iteration.
 
-use wscg_math::patchmatch::TargetSet;
+use wscg_math::patchmatch::{TargetSet, P3};
 use wscg_math::Result;
 
 use crate::video::Mask3;
+
+/// The exact 3-D Euclidean distance (voxel units) of every point of `points` to the known
+/// region `E` (0 for known points; the outside of the video does not count as `E`).
+///
+/// The transform runs on the hole's bounding box grown by one voxel only: every point outside
+/// the box is known, so the nearest known point of a hole pixel lies in the grown box. Memory
+/// is proportional to the box, not to the video.
+///
+/// Errors: a hole covering the whole video.
+pub fn distance_to_known(hole: &Mask3, points: impl Iterator<Item = P3>) -> Result<Vec<f64>> {
+    let pts = hole.points();
+    let dims = hole.dims();
+    if pts.len() == hole.len_grid() {
+        return Err(wscg_math::Error::invalid(
+            "mask",
+            "the mask covers the whole video: no known pixel to fill from",
+        ));
+    }
+    if pts.is_empty() {
+        return Ok(points.map(|_| 0.0).collect());
+    }
+    let mut lo = [u32::MAX; 3];
+    let mut hi = [0u32; 3];
+    for p in &pts {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    for a in 0..3 {
+        lo[a] = lo[a].saturating_sub(1);
+        hi[a] = (hi[a] + 1).min(dims[a] as u32 - 1);
+    }
+    let ext = [0, 1, 2].map(|a| (hi[a] - lo[a] + 1) as usize);
+    let idx = |p: P3| {
+        ((p[0] - lo[0]) as usize * ext[1] + (p[1] - lo[1]) as usize) * ext[2]
+            + (p[2] - lo[2]) as usize
+    };
+    let mut known = vec![true; ext.iter().product()];
+    for &p in &pts {
+        known[idx(p)] = false;
+    }
+    let d2 = wscg_math::distance::squared_edt(&known, &ext, &[1.0; 3], false)?;
+    Ok(points
+        .map(|p| {
+            let inside = (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]);
+            if inside {
+                d2[idx(p)].sqrt()
+            } else {
+                0.0
+            }
+        })
+        .collect())
+}
 
 /// The hole pixels (ranks in `targets`, the hole's points in scan order) grouped in shells:
 /// shell `k` holds the pixels whose exact 3-D Euclidean distance to `E` (voxel units, the
@@ -13,19 +67,9 @@ use crate::video::Mask3;
 ///
 /// Errors: a hole without any known pixel in the video.
 pub fn onion_order(hole: &Mask3, targets: &TargetSet) -> Result<Vec<Vec<u32>>> {
-    let known: Vec<bool> = (0..hole.len_grid())
-        .map(|i| !hole.contains_index(i))
-        .collect();
-    if !known.iter().any(|&k| k) {
-        return Err(wscg_math::Error::invalid(
-            "mask",
-            "the mask covers the whole video: no known pixel to fill from",
-        ));
-    }
-    let d2 = wscg_math::distance::squared_edt(&known, &hole.dims(), &[1.0; 3], false)?;
+    let d = distance_to_known(hole, (0..targets.len()).map(|i| targets.get(i)))?;
     let mut shells: Vec<Vec<u32>> = Vec::new();
-    for i in 0..targets.len() {
-        let d = d2[hole.index(targets.get(i))].sqrt();
+    for (i, d) in d.iter().enumerate() {
         let k = (d.ceil() as usize).max(1) - 1;
         if shells.len() <= k {
             shells.resize(k + 1, Vec::new());

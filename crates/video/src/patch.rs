@@ -76,7 +76,7 @@ pub fn valid_sources(hole: &Mask3, patch: PatchSize) -> Mask3 {
     let [f, h, w] = hole.dims();
     let [rt, ry, rx] = patch.radius().map(|r| r as usize);
     // Per frame: centres whose py x px rectangle is inside the frame and hole-free.
-    let frames: Vec<Vec<bool>> = (0..f)
+    let frames: Vec<Vec<u64>> = (0..f)
         .into_par_iter()
         .map(|t| {
             let base = t * h * w;
@@ -108,13 +108,19 @@ pub fn valid_sources(hole: &Mask3, patch: PatchSize) -> Mask3 {
                     out[y * w + x] = ok[y + ry] as usize >= 2 * ry + 1;
                 }
             }
-            out
+            // One bit per pixel: the per-frame sets stay 1/8 of a frame of bytes.
+            let mut bits = vec![0u64; (h * w).div_ceil(64)];
+            for (i, _) in out.iter().enumerate().filter(|(_, &o)| o) {
+                bits[i >> 6] |= 1 << (i & 63);
+            }
+            bits
         })
         .collect();
     let mut m = Mask3::empty(f, h, w);
+    let bit = |s: usize, i: usize| frames[s][i >> 6] >> (i & 63) & 1 == 1;
     for t in rt..f.saturating_sub(rt) {
         for i in 0..h * w {
-            if (t - rt..=t + rt).all(|s| frames[s][i]) {
+            if (t - rt..=t + rt).all(|s| bit(s, i)) {
                 m.insert_index(t * h * w + i);
             }
         }

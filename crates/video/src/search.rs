@@ -96,14 +96,30 @@ pub fn patchmatch_update(
     best
 }
 
-/// A random valid source for every target (PatchMatch's start), deterministic in `seed`.
-pub fn random_matches(sources: &[P3], n: usize, seed: u64) -> Vec<Match> {
+/// A random valid source for every target (PatchMatch's start), deterministic in `seed`:
+/// a uniformly drawn grid point if it is a source (up to 64 draws), else the first source at
+/// or after the last draw in scan order (wrapping). `sources` must not be empty.
+pub fn random_matches(sources: &Mask3, n: usize, seed: u64) -> Vec<Match> {
     use rand::Rng as _;
+    let dims = sources.dims();
+    let total = sources.len_grid();
     (0..n)
+        .into_par_iter()
         .map(|i| {
             let mut r = wscg_math::rng::stream(seed, i as u64);
+            let mut k = 0;
+            for _ in 0..64 {
+                k = r.random_range(0..total);
+                if sources.contains_index(k) {
+                    break;
+                }
+            }
+            let k = (0..total)
+                .map(|j| (k + j) % total)
+                .find(|&j| sources.contains_index(j))
+                .expect("a source");
             Match {
-                source: sources[r.random_range(0..sources.len())],
+                source: wscg_math::patchmatch::position(dims, k as u64),
                 dist: f32::INFINITY,
             }
         })

@@ -105,8 +105,7 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
     for (k, &f) in factors.iter().enumerate().rev() {
         let (mut v, m) = downscale(video, hole, f);
         let sources = valid_sources(&m, cfg.patch);
-        let list = source_list(&sources);
-        if list.is_empty() {
+        if sources.count() == 0 {
             return Err(Error::invalid(
                 "mask",
                 format!("no valid source cube at {} x {}", v.width, v.height),
@@ -117,7 +116,7 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
         let mut nnf = match &prev {
             None => {
                 initialize(&mut v, &m, InitMethod::Random { seed: cfg.seed });
-                random_matches(&list, targets.len(), cfg.seed)
+                random_matches(&sources, targets.len(), cfg.seed)
             }
             Some(coarse) => upscale_matches(coarse, &targets, &sources, 2)
                 .ok_or_else(|| Error::invalid("mask", "no valid source at a finer level"))?,
@@ -143,7 +142,7 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
             };
             if cfg.patchmatch_iters == 0 {
                 let pts: Vec<P3> = (0..targets.len()).map(|i| targets.get(i)).collect();
-                nnf = exact_best_all(&cubes, &pts, &list);
+                nnf = exact_best_all(&cubes, &pts, &source_list(&sources));
             } else {
                 refresh(&v, &sources, cfg.patch, &targets, &mut nnf);
                 let p = PatchMatchParams {
@@ -203,13 +202,8 @@ fn refresh(v: &Video, sources: &Mask3, patch: PatchSize, targets: &TargetSet, nn
 
 /// Distance of every target centre to the known region (0 on it).
 fn centre_distances(hole: &Mask3, targets: &TargetSet) -> Result<Vec<f32>> {
-    let known: Vec<bool> = (0..hole.len_grid())
-        .map(|i| !hole.contains_index(i))
-        .collect();
-    let d2 = wscg_math::distance::squared_edt(&known, &hole.dims(), &[1.0; 3], false)?;
-    Ok((0..targets.len())
-        .map(|i| d2[hole.index(targets.get(i))].sqrt() as f32)
-        .collect())
+    let d = crate::onion::distance_to_known(hole, (0..targets.len()).map(|i| targets.get(i)))?;
+    Ok(d.into_iter().map(|v| v as f32).collect())
 }
 
 /// Weighted voting of the hole pixels' colours.
