@@ -63,6 +63,9 @@ fn init_method(name: &str, seed: u64) -> PyResult<InitMethod> {
     }
 }
 
+/// The completed frames, the dense match field (when asked for) and the statistics.
+type Completed<'py> = (Arr<'py, u8>, Option<Arr<'py, i32>>, Bound<'py, PyDict>);
+
 /// Localized-search video completion (see `wscg.video.complete_video`).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
@@ -86,7 +89,7 @@ fn complete_video<'py>(
     step: &str,
     global_fine_search: bool,
     return_matches: bool,
-) -> PyResult<(Arr<'py, u8>, Option<Arr<'py, i32>>, Bound<'py, PyDict>)> {
+) -> PyResult<Completed<'py>> {
     let mut v = video_in("frames", &frames)?;
     let m = mask_in(&mask, &v)?;
     let search = match search {

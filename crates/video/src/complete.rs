@@ -184,7 +184,7 @@ pub fn complete_in_place(
     let mut f = s0;
     while f > 1 {
         let next = match cfg.local.step {
-            UpscaleStep::Double if f % 2 == 0 => f / 2,
+            UpscaleStep::Double if f.is_multiple_of(2) => f / 2,
             _ => 1,
         };
         // Intermediate levels are down-scaled copies (their hole colours are rewritten);

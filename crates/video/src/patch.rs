@@ -84,16 +84,16 @@ pub fn valid_sources(hole: &Mask3, patch: PatchSize) -> Mask3 {
             for y in 0..h {
                 let mut run = 0usize; // known pixels in a row ending at x
                 let mut ok = vec![0u32; w];
-                for x in 0..w {
+                for (x, o) in ok.iter_mut().enumerate() {
                     run = if hole.contains_index(base + y * w + x) {
                         0
                     } else {
                         run + 1
                     };
-                    ok[x] = run as u32;
+                    *o = run as u32;
                 }
                 for x in rx..w.saturating_sub(rx) {
-                    rows[y * w + x] = ok[x + rx] as usize >= 2 * rx + 1;
+                    rows[y * w + x] = ok[x + rx] as usize > 2 * rx;
                 }
             }
             let mut out = vec![false; h * w];
@@ -105,7 +105,7 @@ pub fn valid_sources(hole: &Mask3, patch: PatchSize) -> Mask3 {
                     ok[y] = run as u32;
                 }
                 for y in ry..h.saturating_sub(ry) {
-                    out[y * w + x] = ok[y + ry] as usize >= 2 * ry + 1;
+                    out[y * w + x] = ok[y + ry] as usize > 2 * ry;
                 }
             }
             // One bit per pixel: the per-frame sets stay 1/8 of a frame of bytes.

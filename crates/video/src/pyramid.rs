@@ -42,10 +42,9 @@ pub fn downscale(video: &Video, hole: &Mask3, factor: usize) -> (Video, Mask3) {
                         }
                     }
                     holes[cy * cw + cx] = any;
-                    if n > 0 {
-                        for k in 0..c {
-                            data[(cy * cw + cx) * c + k] = ((sum[k] + n / 2) / n) as u8;
-                        }
+                    let px = &mut data[(cy * cw + cx) * c..(cy * cw + cx + 1) * c];
+                    for (d, s) in px.iter_mut().zip(sum) {
+                        *d = (s + n / 2).checked_div(n).unwrap_or(0) as u8;
                     }
                 }
             }

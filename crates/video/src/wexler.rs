@@ -247,8 +247,8 @@ fn vote_into(
     for (p, val) in hole_pts.iter().zip(votes) {
         if let Some(val) = val {
             let o = v.offset(*p);
-            for k in 0..c {
-                v.data[o + k] = val[k].round().clamp(0.0, 255.0) as u8;
+            for (d, x) in v.data[o..o + c].iter_mut().zip(&val) {
+                *d = x.round().clamp(0.0, 255.0) as u8;
             }
         }
     }

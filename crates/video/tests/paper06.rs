@@ -321,7 +321,15 @@ fn bad_input_is_rejected() {
 /// Peak resident memory of this process (VmHWM, bytes).
 fn peak_rss() -> usize {
     let s = std::fs::read_to_string("/proc/self/status").unwrap();
-    let kb: usize = s.lines().find(|l| l.starts_with("VmHWM")).unwrap().split_whitespace().nth(1).unwrap().parse().unwrap();
+    let kb: usize = s
+        .lines()
+        .find(|l| l.starts_with("VmHWM"))
+        .unwrap()
+        .split_whitespace()
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
     kb * 1024
 }
 
