@@ -182,15 +182,25 @@ fn complete_video<'py>(
     Ok((video_out(py, v)?, dense, stats))
 }
 
-fn wexler_cfg(
+/// Wexler et al. 2007 completion, or per-frame PatchMatch inpainting with `per_frame` (see
+/// `wscg.video.wexler_complete` and `wscg.video.per_frame_patchmatch`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn wexler<'py>(
+    py: Python<'py>,
+    frames: PyReadonlyArrayDyn<u8>,
+    mask: PyReadonlyArrayDyn<u8>,
     patch_size: (usize, usize, usize),
     min_width: usize,
     iters: Vec<usize>,
     patchmatch_iters: usize,
     seed: u64,
+    per_frame: bool,
     seed_per_frame: bool,
-) -> WexlerConfig {
-    WexlerConfig {
+) -> PyResult<Arr<'py, u8>> {
+    let v = video_in("frames", &frames)?;
+    let m = mask_in(&mask, &v)?;
+    let cfg = WexlerConfig {
         patch: patch(patch_size),
         min_width,
         iters,
@@ -198,57 +208,15 @@ fn wexler_cfg(
         seed,
         seed_per_frame,
         ..WexlerConfig::default()
-    }
-}
-
-/// Wexler et al. 2007 completion (see `wscg.video.wexler_complete`).
-#[pyfunction]
-#[allow(clippy::too_many_arguments)]
-fn wexler_complete<'py>(
-    py: Python<'py>,
-    frames: PyReadonlyArrayDyn<u8>,
-    mask: PyReadonlyArrayDyn<u8>,
-    patch_size: (usize, usize, usize),
-    min_width: usize,
-    iters: Vec<usize>,
-    patchmatch_iters: usize,
-    seed: u64,
-) -> PyResult<Arr<'py, u8>> {
-    let v = video_in("frames", &frames)?;
-    let m = mask_in(&mask, &v)?;
-    let cfg = wexler_cfg(patch_size, min_width, iters, patchmatch_iters, seed, false);
+    };
     let out = py
-        .detach(|| wscg_video::wexler_complete(&v, &m, &cfg))
-        .py_err()?;
-    video_out(py, out.video)
-}
-
-/// Per-frame PatchMatch inpainting (see `wscg.video.per_frame_patchmatch`).
-#[pyfunction]
-#[allow(clippy::too_many_arguments)]
-fn per_frame_patchmatch<'py>(
-    py: Python<'py>,
-    frames: PyReadonlyArrayDyn<u8>,
-    mask: PyReadonlyArrayDyn<u8>,
-    patch_size: (usize, usize, usize),
-    min_width: usize,
-    iters: Vec<usize>,
-    patchmatch_iters: usize,
-    seed: u64,
-    seed_per_frame: bool,
-) -> PyResult<Arr<'py, u8>> {
-    let v = video_in("frames", &frames)?;
-    let m = mask_in(&mask, &v)?;
-    let cfg = wexler_cfg(
-        patch_size,
-        min_width,
-        iters,
-        patchmatch_iters,
-        seed,
-        seed_per_frame,
-    );
-    let out = py
-        .detach(|| wscg_video::per_frame_patchmatch(&v, &m, &cfg))
+        .detach(|| {
+            if per_frame {
+                wscg_video::per_frame_patchmatch(&v, &m, &cfg)
+            } else {
+                wscg_video::wexler_complete(&v, &m, &cfg).map(|c| c.video)
+            }
+        })
         .py_err()?;
     video_out(py, out)
 }
@@ -342,8 +310,7 @@ fn write_frames(
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(complete_video, m)?)?;
-    m.add_function(wrap_pyfunction!(wexler_complete, m)?)?;
-    m.add_function(wrap_pyfunction!(per_frame_patchmatch, m)?)?;
+    m.add_function(wrap_pyfunction!(wexler, m)?)?;
     m.add_function(wrap_pyfunction!(measure, m)?)?;
     m.add_function(wrap_pyfunction!(synthetic, m)?)?;
     m.add_function(wrap_pyfunction!(read_frames, m)?)?;

@@ -173,6 +173,31 @@ pub fn random_search(
     }
 }
 
+/// Propagation (Barnes et al. 2009): for each grid neighbour `t + e` of target `t` that is a
+/// target itself, with match `s` in `field`, tries `s - e` for `t`.
+pub fn propagate(
+    space: &impl PatchSpace,
+    targets: &TargetSet,
+    field: &[Match],
+    t: P3,
+    best: &mut Match,
+) {
+    let dims = space.dims();
+    for axis in 0..3 {
+        for forward in [false, true] {
+            let Some(n) = step(dims, t, axis, forward) else {
+                continue;
+            };
+            let Some(j) = targets.rank(n) else {
+                continue;
+            };
+            if let Some(s) = step(dims, field[j].source, axis, !forward) {
+                consider(space, t, s, best);
+            }
+        }
+    }
+}
+
 /// A per-target random stream: deterministic in `(seed, iteration, target)` whatever the
 /// thread count.
 pub fn target_rng(seed: u64, iteration: usize, target: usize) -> rng::Rng {
@@ -207,20 +232,7 @@ pub fn patchmatch(
             .map(|i| {
                 let t = targets.get(i);
                 let mut best = prev[i];
-                for axis in 0..3 {
-                    for forward in [false, true] {
-                        let Some(n) = step(dims, t, axis, forward) else {
-                            continue;
-                        };
-                        let Some(j) = targets.rank(n) else {
-                            continue;
-                        };
-                        // The neighbour at t + e matched s: try s - e for t.
-                        if let Some(s) = step(dims, prev[j].source, axis, !forward) {
-                            consider(space, t, s, &mut best);
-                        }
-                    }
-                }
+                propagate(space, targets, prev, t, &mut best);
                 let mut r = target_rng(params.seed, it, i);
                 random_search(space, t, &mut best, max_radius, &mut r);
                 best

@@ -232,12 +232,7 @@ pub fn complete_in_place(
     }
     stats.seconds[2] = clock.elapsed().as_secs_f64();
     if ml.matches.iter().any(|m| !m.dist.is_finite()) {
-        ml.refresh(&Cubes {
-            video,
-            sources: &valid_sources(hole, patch),
-            patch,
-            ignore: None,
-        });
+        ml.refresh(&Cubes::new(video, &valid_sources(hole, patch), patch));
     }
     Ok((ml, stats))
 }
@@ -274,12 +269,8 @@ fn global_search(
             None,
         );
         st.candidates += (field.len() * list.len()) as u64;
-        st.energy.push(field.refresh(&Cubes {
-            video,
-            sources,
-            patch,
-            ignore: None,
-        }));
+        st.energy
+            .push(field.refresh(&Cubes::new(video, sources, patch)));
     }
     Ok(st)
 }

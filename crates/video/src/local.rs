@@ -81,12 +81,7 @@ pub fn localized_search(
         let rt = cfg.temporal_radius as i64;
         for shell in &order {
             let new: Vec<(Match, u64)> = {
-                let cubes = Cubes {
-                    video,
-                    sources,
-                    patch,
-                    ignore: None,
-                };
+                let cubes = Cubes::new(video, sources, patch);
                 shell
                     .par_iter()
                     .map(|&i| {
@@ -130,12 +125,8 @@ pub fn localized_search(
                 video.copy_pixel(field.targets.get(i), m.source);
             }
         }
-        st.energy.push(field.refresh(&Cubes {
-            video,
-            sources,
-            patch,
-            ignore: None,
-        }));
+        st.energy
+            .push(field.refresh(&Cubes::new(video, sources, patch)));
     }
     Ok(st)
 }

@@ -201,12 +201,7 @@ fn complete_level(
         // Whole-field PatchMatch with the current colours (before the causal first sweep:
         // the inpainted ones, which is what the initialisation is for).
         if pm_iters > 0 {
-            let cubes = Cubes {
-                video: v,
-                sources: &sources,
-                patch: cfg.patch,
-                ignore: None,
-            };
+            let cubes = Cubes::new(v, &sources, cfg.patch);
             field.refresh(&cubes);
             let p = PatchMatchParams {
                 iterations: pm_iters,
@@ -238,12 +233,7 @@ fn complete_level(
             ignore.as_mut(),
         );
         ignore = None;
-        let e = field.refresh(&Cubes {
-            video: v,
-            sources: &sources,
-            patch: cfg.patch,
-            ignore: None,
-        });
+        let e = field.refresh(&Cubes::new(v, &sources, cfg.patch));
         let last = st.energy.last().copied();
         st.energy.push(e);
         st.changed.push(changed);

@@ -144,7 +144,17 @@ pub struct Cubes<'a> {
     pub ignore: Option<&'a Mask3>,
 }
 
-impl Cubes<'_> {
+impl<'a> Cubes<'a> {
+    /// The cubes of `video` compared over all their voxels.
+    pub fn new(video: &'a Video, sources: &'a Mask3, patch: PatchSize) -> Self {
+        Self {
+            video,
+            sources,
+            patch,
+            ignore: None,
+        }
+    }
+
     /// `D(w_t, w_s)` with early exit: once the partial sum proves `D >= bound`, returns it.
     pub fn ssd(&self, t: P3, s: P3, bound: f32) -> f32 {
         let v = self.video;
@@ -259,12 +269,7 @@ mod tests {
             pt: 3,
         };
         let src = valid_sources(&hole, p);
-        let cubes = Cubes {
-            video: &v,
-            sources: &src,
-            patch: p,
-            ignore: None,
-        };
+        let cubes = Cubes::new(&v, &src, p);
         let brute = |t: [i64; 3], s: [i64; 3]| {
             let (mut sum, mut n) = (0.0f64, 0.0f64);
             for a in -1..=1 {

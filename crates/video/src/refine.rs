@@ -70,12 +70,7 @@ pub fn refine_matches(
     if field.is_empty() || cfg.iterations == 0 {
         return Ok(st);
     }
-    field.refresh(&Cubes {
-        video,
-        sources,
-        patch,
-        ignore: None,
-    });
+    field.refresh(&Cubes::new(video, sources, patch));
     let mut d: Vec<f32> = field.matches.iter().map(|m| m.dist).collect();
     let mut sorted = d.clone();
     sorted.sort_by(|a, b| a.total_cmp(b));
@@ -97,12 +92,7 @@ pub fn refine_matches(
         let mut changed = 0;
         for shell in &order {
             let upd: Vec<Option<(usize, Match)>> = {
-                let cubes = Cubes {
-                    video,
-                    sources,
-                    patch,
-                    ignore: None,
-                };
+                let cubes = Cubes::new(video, sources, patch);
                 shell
                     .par_iter()
                     .map(|&i| {
@@ -175,12 +165,7 @@ pub fn refine_matches(
         st.candidates.push(candidates);
         st.changed.push(changed);
         // Colours changed: recompute every distance for the next iteration.
-        field.refresh(&Cubes {
-            video,
-            sources,
-            patch,
-            ignore: None,
-        });
+        field.refresh(&Cubes::new(video, sources, patch));
         for (di, m) in d.iter_mut().zip(&field.matches) {
             *di = m.dist;
         }

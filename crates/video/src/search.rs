@@ -5,7 +5,7 @@
 //! sweep) and a random search around the best so far.
 
 use rayon::prelude::*;
-use wscg_math::patchmatch::{consider, random_search, step, target_rng, Match, TargetSet, P3};
+use wscg_math::patchmatch::{propagate, random_search, target_rng, Match, TargetSet, P3};
 
 use crate::patch::Cubes;
 use crate::video::Mask3;
@@ -77,19 +77,7 @@ pub fn patchmatch_update(
         source: ml[i].source,
         dist: cubes.ssd(t, ml[i].source, f32::INFINITY),
     };
-    for axis in 0..3 {
-        for forward in [false, true] {
-            let Some(n) = step(dims, t, axis, forward) else {
-                continue;
-            };
-            let Some(j) = targets.rank(n) else {
-                continue;
-            };
-            if let Some(s) = step(dims, ml[j].source, axis, !forward) {
-                consider(cubes, t, s, &mut best);
-            }
-        }
-    }
+    propagate(cubes, targets, ml, t, &mut best);
     let mut r = target_rng(seed, sweep, i);
     let radius = [dims[0] as u32, dims[1] as u32, dims[2] as u32];
     random_search(cubes, t, &mut best, radius, &mut r);

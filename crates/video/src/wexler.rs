@@ -134,12 +134,7 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
             vote_into(&mut v, &targets, &nnf, &known_dist, &hole_pts, r, cfg.decay);
         }
         for it in 0..level_iters {
-            let cubes = Cubes {
-                video: &v,
-                sources: &sources,
-                patch: cfg.patch,
-                ignore: None,
-            };
+            let cubes = Cubes::new(&v, &sources, cfg.patch);
             if cfg.patchmatch_iters == 0 {
                 let pts: Vec<P3> = (0..targets.len()).map(|i| targets.get(i)).collect();
                 nnf = exact_best_all(&cubes, &pts, &source_list(&sources));
@@ -189,12 +184,7 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Resul
 /// Recomputes the distances of a field with the current colours.
 fn refresh(v: &Video, sources: &Mask3, patch: PatchSize, targets: &TargetSet, nnf: &mut [Match]) {
     use rayon::prelude::*;
-    let cubes = Cubes {
-        video: v,
-        sources,
-        patch,
-        ignore: None,
-    };
+    let cubes = Cubes::new(v, sources, patch);
     nnf.par_iter_mut()
         .enumerate()
         .for_each(|(i, m)| m.dist = cubes.ssd(targets.get(i), m.source, f32::INFINITY));

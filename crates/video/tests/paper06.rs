@@ -231,12 +231,7 @@ fn check9_invariants_and_determinism() {
     }
     // The stored distances are those of the final colours.
     let mut again = out.matches.clone();
-    let e = again.refresh(&Cubes {
-        video: &out.video,
-        sources: &sources,
-        patch: cfg.low.patch,
-        ignore: None,
-    });
+    let e = again.refresh(&Cubes::new(&out.video, &sources, cfg.low.patch));
     assert!((e - out.matches.energy()).abs() <= 1e-6 * e.max(1.0));
     // Same output with one thread and across runs.
     let pool = rayon::ThreadPoolBuilder::new()

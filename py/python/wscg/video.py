@@ -142,8 +142,8 @@ def wexler_complete(frames, mask, patch: Sequence[int] = (5, 5, 5), min_width: i
     covering a pixel. Slow at HD (the paper reports an hour per iteration)."""
     f = _frames(frames)
     m = _mask(mask, f)
-    out = _v.wexler_complete(f, m, _patch(patch), int(min_width), [int(i) for i in iters],
-                             int(patchmatch_iters), int(seed))
+    out = _v.wexler(f, m, _patch(patch), int(min_width), [int(i) for i in iters],
+                    int(patchmatch_iters), int(seed), False, False)
     return out.reshape(f.shape)
 
 
@@ -158,9 +158,8 @@ def per_frame_patchmatch(frames, mask, patch: Sequence[int] = (5, 5), min_width:
     p = tuple(int(v) for v in patch)
     if len(p) != 2:
         raise ValueError(f"`patch` must be (px, py), got {patch!r}")
-    out = _v.per_frame_patchmatch(f, m, (p[0], p[1], 1), int(min_width),
-                                  [int(i) for i in iters], int(patchmatch_iters), int(seed),
-                                  bool(seed_per_frame))
+    out = _v.wexler(f, m, (p[0], p[1], 1), int(min_width), [int(i) for i in iters],
+                    int(patchmatch_iters), int(seed), True, bool(seed_per_frame))
     return out.reshape(f.shape)
 
 
