@@ -98,9 +98,13 @@ fn complete_video<'py>(
             seed,
         },
         "exact" => SearchMethod::Exact,
+        "pca_kdtree" => SearchMethod::PcaKdTree(wscg_video::PcaKdParams {
+            seed,
+            ..Default::default()
+        }),
         other => {
             return Err(value_error(format!(
-                "{other:?} is not a valid search. Valid searches are 'patchmatch', 'exact'"
+                "{other:?} is not a valid search. Valid searches are 'patchmatch', 'pca_kdtree', 'exact'"
             )))
         }
     };

@@ -67,6 +67,19 @@ pub struct CompleteArgs {
     /// Random-search seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
+    /// Stage 1 search.
+    #[arg(long, value_enum, default_value_t = SearchName::Patchmatch)]
+    search: SearchName,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum SearchName {
+    /// Space-time PatchMatch (memory: one match per hole pixel).
+    Patchmatch,
+    /// The paper's PCA + kd-tree index (memory: 96 bytes per source at the working size).
+    PcaKdtree,
+    /// Exact search over every source (small videos).
+    Exact,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -148,9 +161,18 @@ fn complete(a: CompleteArgs) -> Result<()> {
             let mut cfg = CompletionConfig::default();
             cfg.low.patch = patch;
             cfg.low.target_width = a.lowres_width;
-            cfg.low.search = wscg_video::SearchMethod::PatchMatch3D {
-                iters: 5,
-                seed: a.seed,
+            cfg.low.search = match a.search {
+                SearchName::Patchmatch => wscg_video::SearchMethod::PatchMatch3D {
+                    iters: 5,
+                    seed: a.seed,
+                },
+                SearchName::PcaKdtree => {
+                    wscg_video::SearchMethod::PcaKdTree(wscg_video::PcaKdParams {
+                        seed: a.seed,
+                        ..Default::default()
+                    })
+                }
+                SearchName::Exact => wscg_video::SearchMethod::Exact,
             };
             cfg.refine = (a.refine_iters > 0).then(|| RefineConfig {
                 iterations: a.refine_iters,

@@ -14,7 +14,7 @@ use crate::onion::onion_order;
 use crate::patch::{valid_sources, Cubes};
 use crate::pyramid::{downscale, working_factor};
 use crate::refine::{refine_matches, RefineConfig, RefineStats};
-use crate::search::{source_list, SearchMethod};
+use crate::search::{source_list, Searcher};
 use crate::video::{Mask3, Video};
 
 /// Parameters of the whole completion.
@@ -247,7 +247,7 @@ fn global_search(
     cfg: &CompletionConfig,
 ) -> Result<LocalStats> {
     let order = onion_order(hole, &field.targets)?;
-    let list = source_list(sources);
+    let searcher = Searcher::Exact(source_list(sources));
     let patch = cfg.low.patch;
     let mut st = LocalStats {
         size: (video.height, video.width),
@@ -256,19 +256,8 @@ fn global_search(
         candidates: 0,
     };
     for sweep in 0..cfg.local.windows.len() {
-        sweep_once(
-            video,
-            sources,
-            &list,
-            field,
-            &order,
-            patch,
-            SearchMethod::Exact,
-            0,
-            sweep,
-            None,
-        );
-        st.candidates += (field.len() * list.len()) as u64;
+        sweep_once(video, sources, &searcher, field, &order, patch, sweep, None);
+        st.candidates += (field.len() * sources.count()) as u64;
         st.energy
             .push(field.refresh(&Cubes::new(video, sources, patch)));
     }

@@ -5,7 +5,7 @@
 //! outside ("3D hole-filling"), takes the centre colour of its single best-matching source
 //! cube. Matches are carried to the next finer level offset-preserving.
 
-use wscg_math::patchmatch::{patchmatch, Match, PatchMatchParams, TargetSet, P3};
+use wscg_math::patchmatch::{patchmatch, Match, PatchMatchParams, TargetSet};
 use wscg_math::{Error, Result};
 
 use crate::field::{upscale_matches, MatchField};
@@ -13,7 +13,7 @@ use crate::init::{initialize, InitMethod};
 use crate::onion::{onion_order, scanline_order};
 use crate::patch::{valid_sources, Cubes, PatchSize};
 use crate::pyramid::downscale;
-use crate::search::{exact_best, patchmatch_update, random_matches, source_list, SearchMethod};
+use crate::search::{random_matches, SearchMethod, Searcher};
 use crate::video::{Mask3, Video};
 
 /// Parameters of stage 1.
@@ -151,14 +151,12 @@ fn complete_level(
             ),
         ));
     }
-    // Exact search scans a list of every source; PatchMatch needs none.
-    let list = match cfg.search {
-        SearchMethod::Exact => source_list(&sources),
-        SearchMethod::PatchMatch3D { .. } => Vec::new(),
-    };
+    // The sources' cubes hold no hole pixel: the structure is built once per level.
+    let searcher = Searcher::new(cfg.search, v, &sources, cfg.patch)?;
     let targets = TargetSet::new(lm.dims(), lm.points());
     let (seed, pm_iters) = match cfg.search {
         SearchMethod::PatchMatch3D { seed, iters } => (seed, iters),
+        SearchMethod::PcaKdTree(p) => (p.seed, 0),
         SearchMethod::Exact => (0, 0),
     };
     let mut ignore = None;
@@ -223,12 +221,10 @@ fn complete_level(
         let changed = sweep_once(
             v,
             &sources,
-            &list,
+            &searcher,
             &mut field,
             ord,
             cfg.patch,
-            cfg.search,
-            seed,
             sweep,
             ignore.as_mut(),
         );
@@ -259,12 +255,10 @@ fn levels_index(iters: &[usize], k: usize) -> usize {
 pub(crate) fn sweep_once(
     v: &mut Video,
     sources: &Mask3,
-    list: &[P3],
+    searcher: &Searcher,
     field: &mut MatchField,
     order: &[Vec<u32>],
     patch: PatchSize,
-    search: SearchMethod,
-    seed: u64,
     sweep: usize,
     mut ignore: Option<&mut Mask3>,
 ) -> usize {
@@ -280,20 +274,7 @@ pub(crate) fn sweep_once(
             };
             shell
                 .par_iter()
-                .map(|&i| {
-                    let i = i as usize;
-                    match search {
-                        SearchMethod::Exact => exact_best(&cubes, field.targets.get(i), list),
-                        SearchMethod::PatchMatch3D { .. } => patchmatch_update(
-                            &cubes,
-                            &field.targets,
-                            &field.matches,
-                            i,
-                            seed,
-                            sweep,
-                        ),
-                    }
-                })
+                .map(|&i| searcher.best(&cubes, &field.targets, &field.matches, i as usize, sweep))
                 .collect()
         };
         for (&i, m) in shell.iter().zip(new) {

@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use wscg_math::patchmatch::{propagate, random_search, target_rng, Match, TargetSet, P3};
 
 use crate::patch::Cubes;
+use crate::pca_index::{PcaIndex, PcaKdParams};
 use crate::video::Mask3;
 
 /// How stage 1 finds the best source of a hole pixel.
@@ -24,6 +25,59 @@ pub enum SearchMethod {
         /// Random-search seed.
         seed: u64,
     },
+    /// The paper's search: PCA of the patches, a kd-tree over all valid sources, bounded
+    /// best-bin-first queries and exact re-ranking ([`crate::pca_index`]). Memory: `dims`
+    /// floats per valid source.
+    PcaKdTree(PcaKdParams),
+}
+
+/// The search structure of one level.
+pub(crate) enum Searcher {
+    /// Every valid source.
+    Exact(Vec<P3>),
+    /// PatchMatch updates.
+    PatchMatch {
+        /// Random-search seed.
+        seed: u64,
+    },
+    /// PCA + kd-tree index.
+    Pca(PcaIndex),
+}
+
+impl Searcher {
+    /// The structure `method` needs on a level.
+    pub(crate) fn new(
+        method: SearchMethod,
+        video: &crate::video::Video,
+        sources: &Mask3,
+        patch: crate::patch::PatchSize,
+    ) -> wscg_math::Result<Self> {
+        Ok(match method {
+            SearchMethod::Exact => Self::Exact(source_list(sources)),
+            SearchMethod::PatchMatch3D { seed, .. } => Self::PatchMatch { seed },
+            SearchMethod::PcaKdTree(p) => Self::Pca(PcaIndex::build(video, sources, patch, p)?),
+        })
+    }
+
+    /// The new match of target `i` in sweep `sweep`.
+    pub(crate) fn best(
+        &self,
+        cubes: &Cubes<'_>,
+        targets: &TargetSet,
+        ml: &[Match],
+        i: usize,
+        sweep: usize,
+    ) -> Match {
+        match self {
+            Self::Exact(list) => exact_best(cubes, targets.get(i), list),
+            Self::PatchMatch { seed } => patchmatch_update(cubes, targets, ml, i, *seed, sweep),
+            Self::Pca(index) => index.best(
+                cubes,
+                targets.get(i),
+                Some(ml[i].source).filter(|s| cubes.sources.contains(*s)),
+            ),
+        }
+    }
 }
 
 impl Default for SearchMethod {

@@ -104,23 +104,29 @@ fn check3_permanently_occluded_periodic_structure() {
 }
 
 #[test]
-#[ignore = "fails: with PatchMatch3D stage 1 leaves few matches that neighbours can improve (4 of 2400 pairs changed, refined-set mean 655.78 -> 655.77); the specification runs it with the PcaKdTree search, not implemented yet"]
 fn check4_refinement_lowers_the_worst_distances() {
-    // Refinement at the working resolution of a G2 clip: accepted replacements lower the
-    // pixel's distance (checked per pixel by the stage itself), the initially refined set
-    // gets closer, some pairs change, and the final SSIM is not worse.
+    // Stage 1 with the paper's PCA + kd-tree search on a G2 clip (working resolution 320 x
+    // 180): accepted replacements lower the pixel's distance (checked per pixel by the stage
+    // itself), the initially refined 15 % get >= 10 % closer after 4 iterations, >= 1 % of the
+    // pairs change, and the final SSIM is not worse than without refinement.
     let clip = pan_clip(16, 180, 320, 8.0, 40, 60, 7).unwrap();
-    let with = complete(&clip, &CompletionConfig::default());
+    let mut cfg = CompletionConfig::default();
+    cfg.low.search = SearchMethod::PcaKdTree(PcaKdParams::default());
+    let with = complete(&clip, &cfg);
     let without = complete(
         &clip,
         &CompletionConfig {
             refine: None,
-            ..Default::default()
+            ..cfg.clone()
         },
     );
     let st = with.stats.refine.clone().unwrap();
     let pairs = with.stats.lowres.last().unwrap().hole_pixels;
     let (before, after) = st.initial_set_mean;
+    println!(
+        "refined set {before:.1} -> {after:.1}, {} of {pairs} pairs changed",
+        st.pairs_changed
+    );
     assert!(
         after <= 0.9 * before,
         "mean d of the refined set {before:.1} -> {after:.1}"

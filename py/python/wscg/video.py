@@ -85,9 +85,11 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         Stage 1 sweeps per level, coarsest first.
     init : {'harmonic2d', 'harmonic3d', 'random'}
         Initial colours of the hole at the coarsest level.
-    search : {'patchmatch', 'exact'}
+    search : {'patchmatch', 'pca_kdtree', 'exact'}
         Stage 1 search: space-time PatchMatch (``patchmatch_iters`` whole-field iterations
-        before each sweep) or exact search (small videos).
+        before each sweep; memory: one match per hole pixel), the paper's PCA-24 + kd-tree
+        index with exact re-ranking (memory: 96 bytes per valid source), or exact search
+        (small videos).
     seed : int
         Seed of the random search.
     onion_order : bool
