@@ -812,4 +812,21 @@ fn video_synth_complete_measure() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // A file that is not a video (decoded by ffmpeg when present) is a clear error either way.
+    let not_video = dir.path().join("clip.mp4");
+    std::fs::write(&not_video, b"not a video").unwrap();
+    let out = wscg()
+        .args([
+            "video",
+            "complete",
+            not_video.to_str().unwrap(),
+            small.to_str().unwrap(),
+            "--out",
+        ])
+        .arg(dir.path().join("z"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("ffmpeg") && err.contains("clip.mp4"), "{err}");
 }

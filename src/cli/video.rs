@@ -10,7 +10,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Subcommand, ValueEnum};
 use wscg_math::Result;
-use wscg_video::io::{read_frames, read_mask, write_frames};
+use wscg_video::io::{read_frames, read_mask, read_video, write_frames};
 use wscg_video::metrics::{flicker, psnr_masked, ssim_masked};
 use wscg_video::synth;
 use wscg_video::{
@@ -42,7 +42,8 @@ pub enum MethodName {
 
 #[derive(Args, Debug)]
 pub struct CompleteArgs {
-    /// Folder of frames (.png/.jpg, in name order); only read.
+    /// Folder of frames (.png/.jpg, in name order), or a video file when ffmpeg is installed;
+    /// only read.
     frames: PathBuf,
     /// Hole mask: one image for all frames, or a folder of one image per frame.
     mask: PathBuf,
@@ -135,7 +136,7 @@ pub fn run(cmd: VideoCommand) -> Result<()> {
 }
 
 fn load(frames: &std::path::Path, mask: &std::path::Path) -> Result<(Video, wscg_video::Mask3)> {
-    let v = read_frames(frames)?;
+    let v = read_video(frames)?;
     let m = read_mask(mask, v.frames, v.height, v.width)?;
     Ok((v, m))
 }

@@ -60,6 +60,48 @@ pub fn read_frames(dir: &Path) -> Result<Video> {
     Video::new(files.len(), h, w, 3, data)
 }
 
+/// Reads a video: the frames of a folder ([`read_frames`]), or a video file decoded by the
+/// `ffmpeg` program (to PNG frames in a temporary folder, removed afterwards) when it is on the
+/// `PATH`.
+///
+/// Errors: as [`read_frames`]; a file when `ffmpeg` is not available or fails on it.
+pub fn read_video(path: &Path) -> Result<Video> {
+    if path.is_dir() || !path.exists() {
+        return read_frames(path);
+    }
+    let available = std::process::Command::new("ffmpeg")
+        .arg("-version")
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false);
+    if !available {
+        return Err(Error::UnsupportedFormat(format!(
+            "{} is a file: decoding a video file needs the ffmpeg program on the PATH (or give a folder of PNG/JPEG frames)",
+            path.display()
+        )));
+    }
+    let dir = std::env::temp_dir().join(format!(
+        "wscg-video-{}-{}",
+        std::process::id(),
+        path.file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("frames")
+    ));
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    let status = std::process::Command::new("ffmpeg")
+        .args(["-loglevel", "error", "-i"])
+        .arg(path)
+        .arg(dir.join("%06d.png"))
+        .status();
+    let result = match status {
+        Ok(s) if s.success() => read_frames(&dir),
+        Ok(s) => Err(Error::format(path, format!("ffmpeg failed ({s})"))),
+        Err(e) => Err(Error::io(path, e)),
+    };
+    let _ = std::fs::remove_dir_all(&dir);
+    result
+}
+
 /// Reads a hole mask for a video of `frames x height x width`: a single image (the same hole in
 /// every frame) or a folder with one image per frame; a pixel is in the hole when any channel
 /// is non-zero.
