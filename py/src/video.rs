@@ -57,8 +57,9 @@ fn init_method(name: &str, seed: u64) -> PyResult<InitMethod> {
         "harmonic2d" => Ok(InitMethod::Harmonic2D),
         "harmonic3d" => Ok(InitMethod::Harmonic3D),
         "random" => Ok(InitMethod::Random { seed }),
+        "telea" => Ok(InitMethod::Telea),
         other => Err(value_error(format!(
-            "{other:?} is not a valid init. Valid inits are 'harmonic2d', 'harmonic3d', 'random'"
+            "{other:?} is not a valid init. Valid inits are 'harmonic2d', 'harmonic3d', 'telea', 'random'"
         ))),
     }
 }
@@ -282,6 +283,38 @@ fn synthetic<'py>(
     ))
 }
 
+/// Fast-marching inpainting of one image (see `wscg.video.inpaint_telea`).
+#[pyfunction]
+fn inpaint_telea<'py>(
+    py: Python<'py>,
+    image: PyReadonlyArrayDyn<u8>,
+    mask: PyReadonlyArrayDyn<u8>,
+    radius: f32,
+) -> PyResult<Arr<'py, u8>> {
+    let shape = image.shape().to_vec();
+    let (h, w, c) = crate::convert::image_dims("image", &shape)?;
+    if mask.shape() != [h, w] {
+        return Err(value_error(format!(
+            "`mask` has shape {:?}, expected ({h}, {w})",
+            mask.shape()
+        )));
+    }
+    if !(radius.is_finite() && radius >= 1.0) {
+        return Err(value_error(format!(
+            "`radius` must be at least 1, got {radius}"
+        )));
+    }
+    let mut data = values(&image).into_owned();
+    let hole: Vec<bool> = values(&mask).iter().map(|&v| v != 0).collect();
+    if hole.iter().all(|&b| b) {
+        return Err(value_error(
+            "`mask` covers the whole image: no known pixel to fill from",
+        ));
+    }
+    py.detach(|| wscg_video::telea::telea(&mut data, h, w, c, &hole, radius));
+    array(py, &shape, data)
+}
+
 /// Frames of a folder (see `wscg.video.read_frames`).
 #[pyfunction]
 fn read_frames<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Arr<'py, u8>> {
@@ -317,6 +350,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(wexler, m)?)?;
     m.add_function(wrap_pyfunction!(measure, m)?)?;
     m.add_function(wrap_pyfunction!(synthetic, m)?)?;
+    m.add_function(wrap_pyfunction!(inpaint_telea, m)?)?;
     m.add_function(wrap_pyfunction!(read_frames, m)?)?;
     m.add_function(wrap_pyfunction!(read_mask, m)?)?;
     m.add_function(wrap_pyfunction!(write_frames, m)?)?;

@@ -17,6 +17,8 @@ pub enum InitMethod {
     Harmonic2D,
     /// `Delta I = 0` over the space-time volume (6-neighbour Laplacian).
     Harmonic3D,
+    /// Per frame, fast-marching inpainting (Telea 2004, radius 5).
+    Telea,
     /// Uniform random colours (Wexler et al. 2007).
     Random {
         /// Seed of the colours.
@@ -55,6 +57,21 @@ pub fn initialize(video: &mut Video, hole: &Mask3, method: InitMethod) {
                         let inside =
                             |y: usize, x: usize| hole.contains([t as u32, y as u32, x as u32]);
                         harmonic(frame, [1, h, w], c, &|_, y, x| inside(y, x));
+                    }
+                });
+        }
+        InitMethod::Telea => {
+            let (h, w, c) = (video.height, video.width, video.channels);
+            video
+                .data
+                .par_chunks_mut(h * w * c)
+                .enumerate()
+                .for_each(|(t, frame)| {
+                    if hole.frame_any(t) {
+                        let m: Vec<bool> = (0..h * w)
+                            .map(|i| hole.contains_index(t * h * w + i))
+                            .collect();
+                        crate::telea::telea(frame, h, w, c, &m, 5.0);
                     }
                 });
         }

@@ -31,6 +31,7 @@ pub mod pyramid;
 pub mod refine;
 pub mod search;
 pub mod synth;
+pub mod telea;
 pub mod video;
 pub mod wexler;
 

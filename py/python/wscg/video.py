@@ -25,7 +25,7 @@ import numpy as np
 
 from ._native import video as _v
 
-__all__ = ["complete_video", "wexler_complete", "per_frame_patchmatch", "ssim_masked",
+__all__ = ["complete_video", "wexler_complete", "per_frame_patchmatch", "inpaint_telea", "ssim_masked",
            "psnr_masked", "flicker", "synthetic", "read_frames", "read_mask", "write_frames"]
 
 
@@ -83,7 +83,7 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         at least 120 pixels wide and the hole is thicker than two patch radii).
     iters : sequence of int
         Stage 1 sweeps per level, coarsest first.
-    init : {'harmonic2d', 'harmonic3d', 'random'}
+    init : {'harmonic2d', 'harmonic3d', 'telea', 'random'}
         Initial colours of the hole at the coarsest level.
     search : {'patchmatch', 'pca_kdtree', 'exact'}
         Stage 1 search: space-time PatchMatch (``patchmatch_iters`` whole-field iterations
@@ -163,6 +163,19 @@ def per_frame_patchmatch(frames, mask, patch: Sequence[int] = (5, 5), min_width:
     out = _v.wexler(f, m, (p[0], p[1], 1), int(min_width), [int(i) for i in iters],
                     int(patchmatch_iters), int(seed), True, bool(seed_per_frame))
     return out.reshape(f.shape)
+
+
+def inpaint_telea(image, mask, radius: float = 5.0) -> np.ndarray:
+    """Fast-marching inpainting of one image (Telea 2004; one of stage 1's initialisations):
+    the hole is filled inwards in order of its distance to the known pixels, each pixel from
+    the first-order extrapolations of the known pixels within ``radius``. ``image``:
+    ``(H, W, C)`` or ``(H, W)`` uint8; ``mask``: ``(H, W)``, non-zero = hole. Compare
+    ``cv2.inpaint(image, mask, radius, cv2.INPAINT_TELEA)``."""
+    img = np.asarray(image)
+    if img.dtype != np.uint8 or img.ndim not in (2, 3):
+        raise ValueError(f"`image` must be an (H, W) or (H, W, C) uint8 array, got {img.dtype} {img.shape}")
+    m = np.ascontiguousarray(np.asarray(mask).astype(np.uint8))
+    return _v.inpaint_telea(np.ascontiguousarray(img), m, float(radius))
 
 
 def ssim_masked(a, b, mask) -> float:
