@@ -5,7 +5,6 @@
 //! SSD re-ranking of the few best candidates. Its matches are approximate, which is what the
 //! refinement of stage 2 repairs.
 
-use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 use faer::Mat;
@@ -15,6 +14,7 @@ use wscg_math::patchmatch::{Match, P3};
 use wscg_math::Result;
 
 use crate::patch::{Cubes, PatchSize};
+use crate::telea::MinEntry;
 use crate::video::{Mask3, Video};
 
 /// Parameters of the PCA + kd-tree search.
@@ -251,26 +251,12 @@ impl PcaIndex {
 
     /// Indices (tree order) of the approximately `rerank` nearest points to `q`.
     fn knn(&self, q: &[f32]) -> Vec<usize> {
-        #[derive(PartialEq)]
-        struct Entry(f32, usize);
-        impl Eq for Entry {}
-        impl PartialOrd for Entry {
-            fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-                Some(self.cmp(o))
-            }
-        }
-        impl Ord for Entry {
-            // A min-heap on the bound.
-            fn cmp(&self, o: &Self) -> Ordering {
-                o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
-            }
-        }
         let k = self.params.rerank.max(1);
         let mut best: Vec<(f32, usize)> = Vec::with_capacity(k + 1);
         let mut heap = BinaryHeap::new();
-        heap.push(Entry(0.0, 0));
+        heap.push(MinEntry(0.0, 0));
         let mut checks = 0;
-        while let Some(Entry(bound, mut node)) = heap.pop() {
+        while let Some(MinEntry(bound, mut node)) = heap.pop() {
             if best.len() == k && bound >= best[k - 1].0 {
                 break;
             }
@@ -288,7 +274,7 @@ impl PcaIndex {
                         } else {
                             (*right, *left)
                         };
-                        heap.push(Entry(bound.max(diff * diff), far));
+                        heap.push(MinEntry(bound.max(diff * diff), far));
                         node = near;
                     }
                     Node::Leaf { start, end } => {

@@ -17,16 +17,20 @@ enum Flag {
     Inside,
 }
 
-#[derive(PartialEq)]
-struct Item(f32, usize);
-impl Eq for Item {}
-impl PartialOrd for Item {
+/// A min-heap entry: a key and an index, smallest key first, ties to the smaller index (so
+/// that pops do not depend on insertion order).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct MinEntry(pub f32, pub usize);
+
+impl Eq for MinEntry {}
+
+impl PartialOrd for MinEntry {
     fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
         Some(self.cmp(o))
     }
 }
-impl Ord for Item {
-    // A min-heap on T, ties by index for determinism.
+
+impl Ord for MinEntry {
     fn cmp(&self, o: &Self) -> Ordering {
         o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
     }
@@ -77,13 +81,13 @@ pub fn telea(frame: &mut [u8], h: usize, w: usize, c: usize, hole: &[bool], radi
             t[i] = 0.0;
             if nb(i).iter().flatten().any(|&j| flag[j] == Flag::Inside) {
                 flag[i] = Flag::Band;
-                heap.push(Item(0.0, i));
+                heap.push(MinEntry(0.0, i));
             }
         }
     }
     let r = radius.max(1.0);
     let ri = r.ceil() as i64;
-    while let Some(Item(_, i)) = heap.pop() {
+    while let Some(MinEntry(_, i)) = heap.pop() {
         if flag[i] == Flag::Known && t[i] > 0.0 {
             continue;
         }
@@ -178,7 +182,7 @@ pub fn telea(frame: &mut [u8], h: usize, w: usize, c: usize, hole: &[bool], radi
                     }
                 }
                 flag[j] = Flag::Band;
-                heap.push(Item(tj, j));
+                heap.push(MinEntry(tj, j));
             } else if tj < t[j] {
                 t[j] = tj;
             }
