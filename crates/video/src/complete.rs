@@ -117,7 +117,6 @@ pub fn complete_video_with(
     cfg: &CompletionConfig,
     progress: &dyn Progress,
 ) -> Result<Completion> {
-    check_input(video, hole, cfg)?;
     let mut out = video.clone();
     let (matches, stats) = complete_in_place(&mut out, hole, cfg, progress)?;
     Ok(Completion {
@@ -231,9 +230,6 @@ pub fn complete_in_place(
         f = next;
     }
     stats.seconds[2] = clock.elapsed().as_secs_f64();
-    if ml.matches.iter().any(|m| !m.dist.is_finite()) {
-        ml.refresh(&Cubes::new(video, &valid_sources(hole, patch), patch));
-    }
     Ok((ml, stats))
 }
 

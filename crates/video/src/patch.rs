@@ -81,10 +81,11 @@ pub fn valid_sources(hole: &Mask3, patch: PatchSize) -> Mask3 {
         .map(|t| {
             let base = t * h * w;
             let mut rows = vec![false; h * w];
+            // Known pixels in a run ending at x (then at y): one buffer per frame.
+            let mut ok = vec![0u32; w.max(h)];
             for y in 0..h {
-                let mut run = 0usize; // known pixels in a row ending at x
-                let mut ok = vec![0u32; w];
-                for (x, o) in ok.iter_mut().enumerate() {
+                let mut run = 0usize;
+                for (x, o) in ok[..w].iter_mut().enumerate() {
                     run = if hole.contains_index(base + y * w + x) {
                         0
                     } else {
@@ -96,22 +97,20 @@ pub fn valid_sources(hole: &Mask3, patch: PatchSize) -> Mask3 {
                     rows[y * w + x] = ok[x + rx] as usize > 2 * rx;
                 }
             }
-            let mut out = vec![false; h * w];
-            for x in rx..w.saturating_sub(rx) {
-                let mut run = 0usize;
-                let mut ok = vec![0u32; h];
-                for y in 0..h {
-                    run = if rows[y * w + x] { run + 1 } else { 0 };
-                    ok[y] = run as u32;
-                }
-                for y in ry..h.saturating_sub(ry) {
-                    out[y * w + x] = ok[y + ry] as usize > 2 * ry;
-                }
-            }
             // One bit per pixel: the per-frame sets stay 1/8 of a frame of bytes.
             let mut bits = vec![0u64; (h * w).div_ceil(64)];
-            for (i, _) in out.iter().enumerate().filter(|(_, &o)| o) {
-                bits[i >> 6] |= 1 << (i & 63);
+            for x in rx..w.saturating_sub(rx) {
+                let mut run = 0usize;
+                for (y, o) in ok[..h].iter_mut().enumerate() {
+                    run = if rows[y * w + x] { run + 1 } else { 0 };
+                    *o = run as u32;
+                }
+                for y in ry..h.saturating_sub(ry) {
+                    if ok[y + ry] as usize > 2 * ry {
+                        let i = y * w + x;
+                        bits[i >> 6] |= 1 << (i & 63);
+                    }
+                }
             }
             bits
         })

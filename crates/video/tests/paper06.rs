@@ -255,10 +255,30 @@ fn ablations_and_baselines_run() {
     let mut cfg = CompletionConfig::default();
     cfg.low.onion_order = false;
     cfg.low.search = SearchMethod::Exact;
-    cfg.low.init = InitMethod::Harmonic3D;
     cfg.local.step = UpscaleStep::Direct;
-    let out = complete(&clip, &cfg);
-    assert!(ssim(&clip, &out.video) > 0.5);
+    cfg.low.target_width = 64;
+    // The ablations keep the method's invariants: each hole pixel holds the colour of its
+    // valid source, the known pixels are untouched, one stage-3 step (Direct) from 64 wide.
+    let sources = valid_sources(&clip.hole, cfg.low.patch);
+    for init in [InitMethod::Harmonic3D, InitMethod::Telea] {
+        cfg.low.init = init;
+        let out = complete(&clip, &cfg);
+        assert_eq!(out.stats.local.len(), 1);
+        for (i, m) in out.matches.matches.iter().enumerate() {
+            assert!(sources.contains(m.source));
+            assert_eq!(
+                out.video.pixel(out.matches.targets.get(i)),
+                clip.observed.pixel(m.source)
+            );
+        }
+        for i in (0..clip.hole.len_grid()).filter(|&i| !clip.hole.contains_index(i)) {
+            assert_eq!(
+                out.video.data[3 * i..3 * i + 3],
+                clip.observed.data[3 * i..3 * i + 3]
+            );
+        }
+        assert!(ssim(&clip, &out.video) > 0.5, "{init:?}");
+    }
     let w = wexler_complete(
         &clip.observed,
         &clip.hole,
