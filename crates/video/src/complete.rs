@@ -203,7 +203,7 @@ pub fn complete_in_place(
             cfg.local.windows.len() as u64,
         );
         let sources = valid_sources(&lm, patch);
-        let targets = TargetSet::new(lm.dims(), lm.points());
+        let targets = TargetSet::new(lm.dims(), lm.iter_points());
         let up = upscale_matches(&ml, &targets, &sources, f / next).ok_or_else(|| {
             Error::invalid(
                 "mask",

@@ -103,7 +103,7 @@ fn pyramid(video: &Video, hole: &Mask3, cfg: &LowResConfig) -> Vec<(Video, Mask3
 
 /// Largest distance of a hole pixel to the known region (voxel units; 0 without a hole).
 fn hole_thickness(hole: &Mask3) -> f64 {
-    crate::onion::distance_to_known(hole, hole.points().into_iter())
+    crate::onion::distance_to_known(hole, hole.iter_points())
         .map(|d| d.into_iter().fold(0.0f64, f64::max))
         .unwrap_or(0.0)
 }
@@ -153,7 +153,7 @@ fn complete_level(
     }
     // The sources' cubes hold no hole pixel: the structure is built once per level.
     let searcher = Searcher::new(cfg.search, v, &sources, cfg.patch)?;
-    let targets = TargetSet::new(lm.dims(), lm.points());
+    let targets = TargetSet::new(lm.dims(), lm.iter_points());
     let (seed, pm_iters) = match cfg.search {
         SearchMethod::PatchMatch3D { seed, iters } => (seed, iters),
         SearchMethod::PcaKdTree(p) => (p.seed, 0),

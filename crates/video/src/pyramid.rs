@@ -19,20 +19,18 @@ pub fn downscale(video: &Video, hole: &Mask3, factor: usize) -> (Video, Mask3) {
     }
     let (f, h, w, c) = (video.frames, video.height, video.width, video.channels);
     let (ch, cw) = (h.div_ceil(factor), w.div_ceil(factor));
-    let frames: Vec<(Vec<u8>, Vec<bool>)> = (0..f)
-        .into_par_iter()
-        .map(|t| {
-            let mut data = vec![0u8; ch * cw * c];
-            let mut holes = vec![false; ch * cw];
+    let mut data = vec![0u8; f * ch * cw * c];
+    data.par_chunks_mut(ch * cw * c)
+        .enumerate()
+        .for_each(|(t, frame)| {
             for cy in 0..ch {
                 for cx in 0..cw {
                     let mut sum = [0u32; 3];
-                    let (mut n, mut any) = (0u32, false);
+                    let mut n = 0u32;
                     for y in cy * factor..((cy + 1) * factor).min(h) {
                         for x in cx * factor..((cx + 1) * factor).min(w) {
                             let p = [t as u32, y as u32, x as u32];
                             if hole.contains(p) {
-                                any = true;
                                 continue;
                             }
                             for (s, &v) in sum.iter_mut().zip(video.pixel(p)) {
@@ -41,26 +39,13 @@ pub fn downscale(video: &Video, hole: &Mask3, factor: usize) -> (Video, Mask3) {
                             n += 1;
                         }
                     }
-                    holes[cy * cw + cx] = any;
-                    let px = &mut data[(cy * cw + cx) * c..(cy * cw + cx + 1) * c];
+                    let px = &mut frame[(cy * cw + cx) * c..(cy * cw + cx + 1) * c];
                     for (d, s) in px.iter_mut().zip(sum) {
                         *d = (s + n / 2).checked_div(n).unwrap_or(0) as u8;
                     }
                 }
             }
-            (data, holes)
-        })
-        .collect();
-    let mut mask = Mask3::empty(f, ch, cw);
-    let mut data = Vec::with_capacity(f * ch * cw * c);
-    for (t, (d, holes)) in frames.into_iter().enumerate() {
-        data.extend_from_slice(&d);
-        for (i, &is_hole) in holes.iter().enumerate() {
-            if is_hole {
-                mask.insert_index(t * ch * cw + i);
-            }
-        }
-    }
+        });
     let v = Video {
         frames: f,
         height: ch,
@@ -68,7 +53,7 @@ pub fn downscale(video: &Video, hole: &Mask3, factor: usize) -> (Video, Mask3) {
         channels: c,
         data,
     };
-    (v, mask)
+    (v, downscale_mask(hole, factor))
 }
 
 /// The hole alone down-scaled by `factor` with the "any" rule.
@@ -77,7 +62,7 @@ pub fn downscale_mask(hole: &Mask3, factor: usize) -> Mask3 {
     let (f, h, w) = (hole.frames, hole.height, hole.width);
     let (ch, cw) = (h.div_ceil(factor), w.div_ceil(factor));
     let mut m = Mask3::empty(f, ch, cw);
-    for p in hole.points() {
+    for p in hole.iter_points() {
         m.insert([p[0], p[1] / factor as u32, p[2] / factor as u32]);
     }
     m

@@ -160,12 +160,16 @@ fn render(
 /// Paints `colour` over the hole pixels of a copy of `clean`.
 fn paint(clean: &Video, hole: &Mask3, colour: impl Fn(usize, usize, usize) -> [u8; 3]) -> Video {
     let mut v = clean.clone();
-    for p in hole.points() {
+    paint_in_place(&mut v, hole, colour);
+    v
+}
+
+fn paint_in_place(v: &mut Video, hole: &Mask3, colour: impl Fn(usize, usize, usize) -> [u8; 3]) {
+    for p in hole.iter_points() {
         let o = v.offset(p);
         let c = colour(p[0] as usize, p[1] as usize, p[2] as usize);
         v.data[o..o + 3].copy_from_slice(&c);
     }
-    v
 }
 
 /// G1: static camera over the texture, an opaque disc of `radius` px crossing the frame
@@ -209,25 +213,57 @@ pub fn pan_clip(
     seed: u64,
 ) -> Result<Clip> {
     check_dims(frames, h, w)?;
-    let clean = render(frames, h, w, 0.0, seed, |t, y, x| {
-        texture(seed, y, x + step * t as f64)
-    });
-    let (y0, x0) = ((h - hole_h.min(h)) / 2, (w - hole_w.min(w)) / 2);
-    let hole = Mask3::from_fn(frames, h, w, |_, y, x| {
-        (y0..y0 + hole_h).contains(&y) && (x0..x0 + hole_w).contains(&x)
-    });
-    let observed = paint(&clean, &hole, |_, y, _| {
-        if (y - y0) % 10 < 5 {
-            [250, 250, 250]
-        } else {
-            [10, 10, 10]
-        }
-    });
+    let clean = pan_render(frames, h, w, step, seed);
+    let hole = logo_hole(frames, h, w, hole_h, hole_w);
+    let observed = paint(&clean, &hole, logo_colour(h, hole_h));
     Ok(Clip {
         clean,
         observed,
         hole,
     })
+}
+
+/// The input of [`pan_clip`] alone (the video with the logo, and the hole), without holding
+/// the ground truth: one copy of the video in memory, for large clips.
+pub fn pan_input(
+    frames: usize,
+    h: usize,
+    w: usize,
+    step: f64,
+    hole_h: usize,
+    hole_w: usize,
+    seed: u64,
+) -> Result<(Video, Mask3)> {
+    check_dims(frames, h, w)?;
+    let mut v = pan_render(frames, h, w, step, seed);
+    let hole = logo_hole(frames, h, w, hole_h, hole_w);
+    paint_in_place(&mut v, &hole, logo_colour(h, hole_h));
+    Ok((v, hole))
+}
+
+fn pan_render(frames: usize, h: usize, w: usize, step: f64, seed: u64) -> Video {
+    render(frames, h, w, 0.0, seed, |t, y, x| {
+        texture(seed, y, x + step * t as f64)
+    })
+}
+
+fn logo_hole(frames: usize, h: usize, w: usize, hole_h: usize, hole_w: usize) -> Mask3 {
+    let (y0, x0) = ((h - hole_h.min(h)) / 2, (w - hole_w.min(w)) / 2);
+    Mask3::from_fn(frames, h, w, |_, y, x| {
+        (y0..y0 + hole_h).contains(&y) && (x0..x0 + hole_w).contains(&x)
+    })
+}
+
+/// The logo: horizontal white and black bars 5 px high.
+fn logo_colour(h: usize, hole_h: usize) -> impl Fn(usize, usize, usize) -> [u8; 3] {
+    let y0 = (h - hole_h.min(h)) / 2;
+    move |_, y, _| {
+        if (y - y0) % 10 < 5 {
+            [250, 250, 250]
+        } else {
+            [10, 10, 10]
+        }
+    }
 }
 
 /// G3: a zoom by `zoom` per frame about the frame centre (frame `t` shows the texture scaled

@@ -275,18 +275,26 @@ impl Mask3 {
         self.bits.iter().map(|w| w.count_ones() as usize).sum()
     }
 
+    /// The points of the set in scan order, without collecting them.
+    pub fn iter_points(&self) -> impl Iterator<Item = P3> + '_ {
+        let (h, w) = (self.height, self.width);
+        self.bits.iter().enumerate().flat_map(move |(k, &word)| {
+            let mut bits = word;
+            std::iter::from_fn(move || {
+                if bits == 0 {
+                    return None;
+                }
+                let i = k * 64 + bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                Some([(i / (h * w)) as u32, ((i / w) % h) as u32, (i % w) as u32])
+            })
+        })
+    }
+
     /// The points of the set in scan order.
     pub fn points(&self) -> Vec<P3> {
-        let (h, w) = (self.height, self.width);
         let mut out = Vec::with_capacity(self.count());
-        for (k, &word) in self.bits.iter().enumerate() {
-            let mut bits = word;
-            while bits != 0 {
-                let i = k * 64 + bits.trailing_zeros() as usize;
-                out.push([(i / (h * w)) as u32, ((i / w) % h) as u32, (i % w) as u32]);
-                bits &= bits - 1;
-            }
-        }
+        out.extend(self.iter_points());
         out
     }
 

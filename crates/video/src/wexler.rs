@@ -67,7 +67,7 @@ fn dilated_targets(hole: &Mask3, r: [u32; 3]) -> TargetSet {
             }
         }
     }
-    TargetSet::new(dims, m.points())
+    TargetSet::new(dims, m.iter_points())
 }
 
 /// Completes `hole` in `video` by Wexler et al.'s method. The returned match field holds the
