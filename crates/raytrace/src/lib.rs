@@ -3,6 +3,11 @@
 //! Paper 07 (da Graça, Paljic and Diaz, "Evaluating stereoscopic visualization for predictive
 //! rendering"): the "virtual material workshop" for metallic-flake car paint.
 //!
+//! - [`spectral`]: spectra on the 380-780 nm grid, CIE observer and illuminants, colour
+//!   conversion, aluminium's optical constants, Fresnel equations.
 //! - [`paint`]: the flake microstructure of the binder layer (stack model, section 2.2).
+//! - [`stereo`]: the off-axis stereo rig of section 3.
 
 pub mod paint;
+pub mod spectral;
+pub mod stereo;
