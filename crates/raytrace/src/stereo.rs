@@ -134,7 +134,7 @@ impl StereoRig {
     /// Continuous pixel coordinates where `p` (in front of the eyes, `p.z > 0`) appears for
     /// `eye`; `None` for points at or behind the eye plane.
     pub fn project(&self, eye: Eye, p: Vector3<f64>) -> Option<(f64, f64)> {
-        if !(p.z > 0.0) {
+        if p.z.is_nan() || p.z <= 0.0 {
             return None;
         }
         let o = self.eye(eye);

@@ -5,7 +5,7 @@ use num_complex::Complex64;
 use wscg_math::{Error, Result};
 
 /// eV times nm (photon energy of a wavelength: `E = 1239.84 / lambda_nm`).
-const EV_NM: f64 = 1239.841_984;
+const EV_NM: f64 = 1_239.841_984;
 
 /// Complex index `n + i k` of aluminium at `lambda_nm` from the Lorentz-Drude model of Rakić
 /// et al. (Appl. Opt. 37, 1998): `eps(w) = 1 - f0 wp^2 / (w (w + i G0)) + sum_j f_j wp^2 /
