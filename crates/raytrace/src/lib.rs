@@ -8,6 +8,7 @@
 //! - [`paint`]: the flake microstructure of the binder layer (stack model, section 2.2).
 //! - [`stereo`]: the off-axis stereo rig of section 3.
 
+pub mod bvh;
 pub mod paint;
 pub mod spectral;
 pub mod stereo;

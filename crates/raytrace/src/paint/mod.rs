@@ -1,1 +1,20 @@
-//! Metallic-flake paint (paper 07, sections 2.2-2.3).
+//! Metallic-flake paint (paper 07, sections 2.2-2.3): the flake microstructure, the plate's
+//! layers and lamp, and the spectral renderer.
+
+pub mod flakes;
+pub mod layers;
+pub mod observer;
+pub mod plate;
+pub mod render;
+pub mod workshop;
+
+pub use flakes::{generate_tile, Flake, FlakeParams, FlakeTile, StackModel, TiltDist};
+pub use layers::{Coat, DiscLight, PlateStack};
+pub use observer::{
+    binocular_overlap, features, glint_stats, Condition, GlintStats, VirtualObserver,
+};
+pub use plate::{FlakePlate, PlacedFlake};
+pub use render::{
+    render, FlakeHit, Microstructure, NoFlakes, Plate, Rect, RenderSettings, XyzImage, NO_FLAKE,
+};
+pub use workshop::{plate_features, score_runs, WorkshopConfig, WorkshopScores};

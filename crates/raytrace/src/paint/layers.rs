@@ -1,0 +1,219 @@
+//! The painted plate's layers and the lamp (paper 07, section 2.3): air, a clear coat
+//! (dielectric), the binder holding the aluminium flakes, and a base ("a black surface to
+//! minimise the back-surface reflection"); a lamp of small angular size.
+
+use nalgebra::{Unit, Vector3};
+use wscg_math::{Error, Result};
+
+use crate::spectral::{daylight_d, MetalIor, Spectrum};
+
+/// The clear coat on top of the binder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coat {
+    /// Refractive index (> 1); 1.5 by default (not given in the paper).
+    pub ior: f64,
+    /// Thickness (µm); 40 by default (not given in the paper).
+    pub thickness_um: f64,
+}
+
+impl Default for Coat {
+    fn default() -> Self {
+        Self {
+            ior: 1.5,
+            thickness_um: 40.0,
+        }
+    }
+}
+
+/// The layers of the plate, top to bottom: optional clear coat, binder (with the flakes),
+/// base.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlateStack {
+    /// Plate size (mm): 150 x 100 in the paper.
+    pub size_mm: (f64, f64),
+    /// The clear coat (`None`: the binder meets the air).
+    pub coat: Option<Coat>,
+    /// Binder refractive index (>= 1; 1.5 by default, the same as the coat, so that the two
+    /// have no optical interface; 1 makes the binder optically air, for a bare base).
+    pub binder_ior: f64,
+    /// Binder thickness (µm): the flake layer, 20.24 in the paper.
+    pub binder_um: f64,
+    /// Binder absorption coefficient (1/mm); 0 by default.
+    pub binder_sigma_a_per_mm: f64,
+    /// Lambertian albedo of the base (0: the paper's black base).
+    pub base_albedo: f64,
+    /// The flakes' metal.
+    pub metal: MetalIor,
+}
+
+impl Default for PlateStack {
+    fn default() -> Self {
+        Self {
+            size_mm: (150.0, 100.0),
+            coat: Some(Coat::default()),
+            binder_ior: 1.5,
+            binder_um: 20.24,
+            binder_sigma_a_per_mm: 0.0,
+            base_albedo: 0.0,
+            metal: MetalIor::default(),
+        }
+    }
+}
+
+impl PlateStack {
+    /// Errors: a coat index <= 1, a binder index < 1, non-positive sizes or thicknesses, an
+    /// albedo outside [0, 1], a negative absorption, a bad metal index.
+    pub fn validate(&self) -> Result<()> {
+        let pos = |name: &'static str, v: f64| -> Result<()> {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(Error::invalid(
+                    name,
+                    format!("must be finite and positive, got {v}"),
+                ))
+            }
+        };
+        pos("size_mm", self.size_mm.0)?;
+        pos("size_mm", self.size_mm.1)?;
+        pos("binder_um", self.binder_um)?;
+        if let Some(c) = self.coat {
+            if !(c.ior.is_finite() && c.ior > 1.0) {
+                return Err(Error::invalid(
+                    "coat_ior",
+                    format!(
+                        "a clear coat's refractive index must exceed 1, got {}",
+                        c.ior
+                    ),
+                ));
+            }
+            pos("coat_um", c.thickness_um)?;
+        }
+        if !(self.binder_ior.is_finite() && self.binder_ior >= 1.0) {
+            return Err(Error::invalid(
+                "binder_ior",
+                format!("must be >= 1, got {}", self.binder_ior),
+            ));
+        }
+        if !(self.binder_sigma_a_per_mm.is_finite() && self.binder_sigma_a_per_mm >= 0.0) {
+            return Err(Error::invalid(
+                "binder_sigma_a_per_mm",
+                format!(
+                    "must be finite and >= 0, got {}",
+                    self.binder_sigma_a_per_mm
+                ),
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.base_albedo) {
+            return Err(Error::invalid(
+                "base_albedo",
+                format!("must lie in [0, 1], got {}", self.base_albedo),
+            ));
+        }
+        self.metal.validate()
+    }
+
+    /// Index of the medium right under the top surface.
+    pub fn top_ior(&self) -> f64 {
+        self.coat.map_or(self.binder_ior, |c| c.ior)
+    }
+
+    /// Height of the top surface above the base (µm).
+    pub fn top_um(&self) -> f64 {
+        self.binder_um + self.coat.map_or(0.0, |c| c.thickness_um)
+    }
+}
+
+/// A lamp of angular radius `angular_radius_deg` seen from the plate, of constant radiance
+/// over its disc: with mirror flakes a point (delta) light would never produce a glint. The
+/// paper's lamp is a SOLUX 4700K "directional light emitted from the top"; its geometry is not
+/// given: by default 45 degrees above the plate, from its top edge, and the CIE daylight
+/// spectrum of 4700 K (SOLUX is sold as a daylight simulator).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DiscLight {
+    /// Unit direction from the plate to the lamp's centre, in the plate frame (x right, y
+    /// towards the plate's top edge, z out of the plate).
+    pub dir_to_light: Unit<Vector3<f64>>,
+    /// Angular radius (degrees), 1 by default.
+    pub angular_radius_deg: f64,
+    /// Relative spectral radiance.
+    pub spectrum: Spectrum,
+    /// Factor on `spectrum`.
+    pub radiance_scale: f64,
+}
+
+impl Default for DiscLight {
+    fn default() -> Self {
+        let e = 45f64.to_radians();
+        Self {
+            dir_to_light: Unit::new_normalize(Vector3::new(0.0, e.cos(), e.sin())),
+            angular_radius_deg: 1.0,
+            spectrum: daylight_d(4700.0).expect("4700 K lies on the daylight locus"),
+            radiance_scale: 1.0,
+        }
+    }
+}
+
+impl DiscLight {
+    /// A lamp at `elevation_deg` above the plate, towards its top edge.
+    pub fn from_elevation(elevation_deg: f64, angular_radius_deg: f64) -> Self {
+        let e = elevation_deg.to_radians();
+        Self {
+            dir_to_light: Unit::new_normalize(Vector3::new(0.0, e.cos(), e.sin())),
+            angular_radius_deg,
+            ..Self::default()
+        }
+    }
+
+    /// Errors: an angular radius outside (0, 90) degrees, a lamp whose disc reaches below
+    /// the plate's horizon, a negative or non-finite scale or spectrum.
+    pub fn validate(&self) -> Result<()> {
+        let r = self.angular_radius_deg;
+        if !(r.is_finite() && r > 0.0 && r < 90.0) {
+            return Err(Error::invalid(
+                "angular_radius_deg",
+                format!("must lie in (0, 90), got {r}"),
+            ));
+        }
+        let elev = self.dir_to_light.z.clamp(-1.0, 1.0).asin().to_degrees();
+        if elev - r <= 0.0 {
+            return Err(Error::invalid(
+                "dir_to_light",
+                format!("the lamp's disc must lie above the plate: elevation {elev:.2} deg, radius {r} deg"),
+            ));
+        }
+        if !(self.radiance_scale.is_finite() && self.radiance_scale >= 0.0) {
+            return Err(Error::invalid("radiance_scale", "must be finite and >= 0"));
+        }
+        if let Some(index) = self
+            .spectrum
+            .v
+            .iter()
+            .position(|v| !(v.is_finite() && *v >= 0.0))
+        {
+            return Err(Error::NonFinite {
+                name: "light spectrum",
+                index,
+            });
+        }
+        Ok(())
+    }
+
+    /// Cosine of the angular radius.
+    pub fn cos_radius(&self) -> f64 {
+        self.angular_radius_deg.to_radians().cos()
+    }
+
+    /// Whether direction `d` (unit, plate frame) points into the lamp's disc.
+    pub fn contains(&self, d: &Vector3<f64>) -> bool {
+        d.dot(&self.dir_to_light) >= self.cos_radius()
+    }
+
+    /// Projected solid angle of the lamp divided by pi: `sin^2(r) cos(theta_c)` (exact for a
+    /// disc fully above the horizon). A white Lambertian surface under the lamp has radiance
+    /// `L * white_factor()`.
+    pub fn white_factor(&self) -> f64 {
+        let s = self.angular_radius_deg.to_radians().sin();
+        s * s * self.dir_to_light.z
+    }
+}

@@ -1,0 +1,620 @@
+//! Spectral rendering of the painted plate (paper 07, section 2.3: spectral ray tracing over
+//! 380-780 nm in 5 nm steps, aluminium flakes in a dielectric binder under a clear coat, a
+//! black base, a lamp of known spectrum).
+//!
+//! Every surface of the paint is specular (coat, flakes), so a camera ray follows one chain of
+//! mirror reflections and refractions; it gathers the lamp's radiance each time it leaves the
+//! plate in a direction inside the lamp's disc. The lamp's radiance is constant over its
+//! disc, so this test is exact: the only variance is the pixel footprint's sampling. The
+//! coat's internal reflection is followed deterministically (the escaping part is gathered,
+//! the reflected part continues with its Fresnel weight), the 81 wavelengths travel together
+//! (the geometry does not depend on the wavelength) and the flakes' spectral Fresnel factors
+//! are evaluated only for the chains that reach the lamp. The radiance factors `n^2` of
+//! entering and leaving the coat cancel for such chains.
+//!
+//! A base with a Lambertian albedo gets the lamp's light through the coat (the refracted
+//! disc, shadowed by the flakes) by light sampling, seen by the eye through the same chains;
+//! the light that reaches it after flake reflections (caustics) is not included.
+
+use nalgebra::Vector3;
+use num_complex::Complex64;
+use rand::Rng;
+use rayon::prelude::*;
+use wscg_math::{Error, Result};
+
+use super::layers::{DiscLight, PlateStack};
+use crate::spectral::{fresnel_conductor, fresnel_dielectric, tables, SpectralGrid};
+use crate::stereo::{Eye, StereoRig};
+
+/// A flake hit: distance along the ray, unit normal of the flake (either orientation), and a
+/// flake identifier unique over the plate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlakeHit {
+    /// Ray parameter of the hit (µm when the direction is a unit vector).
+    pub t: f64,
+    /// Unit normal of the flake's disc.
+    pub normal: Vector3<f64>,
+    /// Identifier of the flake.
+    pub id: u64,
+}
+
+/// What the renderer needs of the binder's microstructure: the nearest flake along a ray.
+/// Coordinates in µm: `x, y` in the plate's plane with the plate's centre at the origin (x
+/// right, y towards the plate's top edge), `z` from the base (0) to the binder's top.
+pub trait Microstructure: Send + Sync {
+    /// The nearest flake hit with `0 < t <= t_max` along `origin + t dir` (`dir` unit).
+    fn hit(&self, origin: &Vector3<f64>, dir: &Vector3<f64>, t_max: f64) -> Option<FlakeHit>;
+}
+
+/// A binder without flakes.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoFlakes;
+
+impl Microstructure for NoFlakes {
+    fn hit(&self, _: &Vector3<f64>, _: &Vector3<f64>, _: f64) -> Option<FlakeHit> {
+        None
+    }
+}
+
+/// A plate ready to render: its layers and its flakes. Build it once and render every view
+/// from it, so that the left and right eyes see the same microstructure.
+pub struct Plate {
+    /// The layers.
+    pub stack: PlateStack,
+    micro: Box<dyn Microstructure>,
+    /// `(n + i k) / n_binder` of the flakes at each wavelength of the visible grid.
+    rel_index: Vec<Complex64>,
+}
+
+impl Plate {
+    /// A plate from its layers and microstructure.
+    ///
+    /// Errors: invalid layers ([`PlateStack::validate`]).
+    pub fn new(stack: PlateStack, micro: Box<dyn Microstructure>) -> Result<Self> {
+        stack.validate()?;
+        let rel_index = SpectralGrid::VISIBLE
+            .wavelengths()
+            .map(|l| {
+                let (n, k) = stack.metal.nk(l);
+                Complex64::new(n, k) / stack.binder_ior
+            })
+            .collect();
+        Ok(Self {
+            stack,
+            micro,
+            rel_index,
+        })
+    }
+
+    /// The nearest flake along a ray (plate coordinates, µm).
+    pub fn hit(&self, origin: &Vector3<f64>, dir: &Vector3<f64>, t_max: f64) -> Option<FlakeHit> {
+        self.micro.hit(origin, dir, t_max)
+    }
+
+    /// Spectral reflectance of a flake at incidence cosine `cos` (wavelength index `i`).
+    pub fn flake_reflectance(&self, cos: f64, i: usize) -> f64 {
+        let e = self.rel_index[i];
+        fresnel_conductor(cos, e.re, e.im)
+    }
+}
+
+/// A rectangle of the plate (mm, plate centre at the origin, y up).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rect {
+    /// Left.
+    pub x0: f64,
+    /// Bottom.
+    pub y0: f64,
+    /// Right.
+    pub x1: f64,
+    /// Top.
+    pub y1: f64,
+}
+
+impl Rect {
+    /// The rectangle of size `w x h` centred at `(cx, cy)`.
+    pub fn centred(cx: f64, cy: f64, w: f64, h: f64) -> Self {
+        Self {
+            x0: cx - 0.5 * w,
+            y0: cy - 0.5 * h,
+            x1: cx + 0.5 * w,
+            y1: cy + 0.5 * h,
+        }
+    }
+}
+
+/// Rendering parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Samples per pixel (jittered over the pixel's footprint on the plate), 64.
+    pub spp: u32,
+    /// Most scattering events (flake reflections, internal reflections) per chain, 8.
+    pub max_depth: u32,
+    /// Seed of the pixel sampling (the microstructure has its own).
+    pub seed: u64,
+    /// Part of the plate to render (mm); `None`: the whole plate.
+    pub region_mm: Option<Rect>,
+    /// Magnification: 1 renders at the rig's screen pixel size (the plate at 1:1 scale on the
+    /// study's screen); 4 renders pixels four times smaller.
+    pub magnification: f64,
+    /// Draw the samples of a pixel independently instead of jittered on a grid (the grid is
+    /// used when `spp` is a square number and this is false).
+    pub independent_samples: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            spp: 64,
+            max_depth: 8,
+            seed: 0,
+            region_mm: None,
+            magnification: 1.0,
+            independent_samples: false,
+        }
+    }
+}
+
+/// Marks a pixel without a glint in [`XyzImage::flake_id`].
+pub const NO_FLAKE: u64 = u64::MAX;
+
+/// A rendered view: CIE XYZ per pixel, normalised so that a perfect white Lambertian plate
+/// under the same lamp has `Y = 1`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct XyzImage {
+    /// Width (pixels).
+    pub width: usize,
+    /// Height (pixels).
+    pub height: usize,
+    /// `X, Y, Z` per pixel, row-major, top row first.
+    pub xyz: Vec<f32>,
+    /// Per pixel, the first flake seen glinting directly ([`NO_FLAKE`] if none): a flake whose
+    /// single mirror reflection, between entering and leaving the plate, sends the camera
+    /// ray into the lamp (no other flake, no internal reflection in the chain).
+    pub flake_id: Vec<u64>,
+    /// Every flake seen glinting directly in the image, sorted.
+    pub glint_ids: Vec<u64>,
+    /// Pixel size on the plate (mm).
+    pub mm_per_px: f64,
+    /// The rendered region (mm).
+    pub region: Rect,
+    /// Luminance of the lamp itself in the same units (the largest `Y` a pixel can have).
+    pub lamp_y: f64,
+}
+
+impl XyzImage {
+    /// The `Y` channel.
+    pub fn luminance(&self) -> Vec<f32> {
+        self.xyz.chunks_exact(3).map(|p| p[1]).collect()
+    }
+}
+
+/// Mirror reflection of `d` about the unit normal `n`.
+fn reflect(d: &Vector3<f64>, n: &Vector3<f64>) -> Vector3<f64> {
+    d - n * (2.0 * d.dot(n))
+}
+
+/// Refraction through the horizontal interface: `d` crosses from index `n1` to `n2`; the
+/// horizontal components scale by `n1 / n2` (Snell). `None` under total internal reflection.
+fn refract_horizontal(d: &Vector3<f64>, n1: f64, n2: f64) -> Option<Vector3<f64>> {
+    let eta = n1 / n2;
+    let (x, y) = (d.x * eta, d.y * eta);
+    let s2 = x * x + y * y;
+    if s2 >= 1.0 {
+        return None;
+    }
+    Some(Vector3::new(x, y, (1.0 - s2).sqrt().copysign(d.z)))
+}
+
+/// Per-wavelength lamp weights `L(l) cmf(l) dl / Y_white` and the lamp's own `Y`.
+fn lamp_weights(light: &DiscLight) -> (Vec<[f64; 3]>, f64) {
+    let step = SpectralGrid::VISIBLE.step_nm;
+    let l: Vec<f64> = (0..81)
+        .map(|i| light.spectrum.at(SpectralGrid::VISIBLE.wavelength(i)) * light.radiance_scale)
+        .collect();
+    let y_lamp: f64 = (0..81).map(|i| l[i] * tables::CMF_Y[i] * step).sum();
+    let y_white = y_lamp * light.white_factor();
+    let norm = if y_white > 0.0 { 1.0 / y_white } else { 1.0 };
+    let w = (0..81)
+        .map(|i| {
+            let s = l[i] * step * norm;
+            [
+                tables::CMF_X[i] * s,
+                tables::CMF_Y[i] * s,
+                tables::CMF_Z[i] * s,
+            ]
+        })
+        .collect();
+    (w, y_lamp * norm)
+}
+
+/// Most scattering events per chain ([`RenderSettings::max_depth`]).
+pub const MAX_DEPTH: u32 = 16;
+
+/// One chain's scratch state: the flakes met so far.
+struct Chain {
+    cosines: [f64; MAX_DEPTH as usize + 1],
+    n: usize,
+    first_id: Option<u64>,
+    /// Internal reflections at the plate's interfaces so far.
+    bounces: u32,
+}
+
+struct Ctx<'a> {
+    plate: &'a Plate,
+    light: &'a DiscLight,
+    lamp: Vec<[f64; 3]>,
+    max_depth: u32,
+    /// Index of the wavelength used for the Russian-roulette estimate (560 nm).
+    mid: usize,
+}
+
+impl Ctx<'_> {
+    /// `weight * sum_l prod_k R(cos_k, l) lamp(l)`.
+    fn gather(&self, chain: &Chain, weight: f64, out: &mut [f64; 3]) {
+        if weight == 0.0 {
+            return;
+        }
+        for (i, lw) in self.lamp.iter().enumerate() {
+            let mut t = weight;
+            for &c in &chain.cosines[..chain.n] {
+                t *= self.plate.flake_reflectance(c, i);
+            }
+            for k in 0..3 {
+                out[k] += t * lw[k];
+            }
+        }
+    }
+
+    /// Radiance (XYZ, normalised) along one camera ray entering the plate at `(x, y)` (µm)
+    /// with direction `d` (plate frame, going down); the first glinting flake.
+    fn trace(
+        &self,
+        x: f64,
+        y: f64,
+        d: Vector3<f64>,
+        rng: &mut impl Rng,
+    ) -> ([f64; 3], Option<u64>) {
+        let st = &self.plate.stack;
+        let mut out = [0.0; 3];
+        let mut glint: Option<u64> = None;
+        let mut chain = Chain {
+            cosines: [0.0; MAX_DEPTH as usize + 1],
+            n: 0,
+            first_id: None,
+            bounces: 0,
+        };
+        let n_top = st.top_ior();
+        let nb = st.binder_ior;
+        let coat = st.coat.map_or(0.0, |c| c.thickness_um);
+        let t_bind = st.binder_um;
+        let z_top = t_bind + coat;
+        let sigma = st.binder_sigma_a_per_mm * 1e-3;
+        // Top surface: specular reflection of the lamp, then refraction into the plate.
+        let cos_i = -d.z;
+        let f = if n_top > 1.0 {
+            fresnel_dielectric(cos_i, n_top)
+        } else {
+            0.0
+        };
+        if f > 0.0 && self.light.contains(&Vector3::new(d.x, d.y, -d.z)) {
+            self.gather(&chain, f, &mut out);
+        }
+        let mut w = 1.0 - f;
+        let Some(mut dir) = refract_horizontal(&d, 1.0, n_top) else {
+            return (out, None);
+        };
+        let mut pos = Vector3::new(x, y, z_top);
+        let mut events = 0u32;
+        let mut proxy = 1.0;
+        loop {
+            // Through the coat (no flakes) down to the binder, or up to the top surface.
+            if pos.z > t_bind && dir.z < 0.0 {
+                let t = (pos.z - t_bind) / -dir.z;
+                pos += dir * t;
+                pos.z = t_bind;
+                if n_top != nb {
+                    let fc = fresnel_dielectric(-dir.z, nb / n_top);
+                    if rng.random::<f64>() < fc {
+                        dir.z = -dir.z;
+                        chain.bounces += 1;
+                        events += 1;
+                        if events > self.max_depth {
+                            break;
+                        }
+                        continue;
+                    }
+                    match refract_horizontal(&dir, n_top, nb) {
+                        Some(r) => dir = r,
+                        None => break,
+                    }
+                }
+            }
+            if pos.z >= z_top - 1e-9 && dir.z > 0.0 {
+                // Leaving through the top: gather if the escaping direction meets the lamp.
+                let ft = fresnel_dielectric(dir.z, 1.0 / n_top);
+                if ft < 1.0 {
+                    if let Some(out_dir) = refract_horizontal(&dir, n_top, 1.0) {
+                        if self.light.contains(&out_dir) {
+                            self.gather(&chain, w * (1.0 - ft), &mut out);
+                            if glint.is_none() && chain.n == 1 && chain.bounces == 0 {
+                                glint = chain.first_id;
+                            }
+                        }
+                    }
+                }
+                if n_top == 1.0 {
+                    break;
+                }
+                w *= ft;
+                dir.z = -dir.z;
+                chain.bounces += 1;
+                events += 1;
+                if events > self.max_depth {
+                    break;
+                }
+            } else if pos.z > t_bind + 1e-9 && dir.z > 0.0 {
+                // In the coat going up.
+                let t = (z_top - pos.z) / dir.z;
+                pos += dir * t;
+                pos.z = z_top;
+                continue;
+            } else {
+                // In the binder: the nearest flake, else the base or the binder's top.
+                let t_exit = if dir.z < 0.0 {
+                    pos.z / -dir.z
+                } else {
+                    (t_bind - pos.z) / dir.z
+                };
+                match self.plate.hit(&pos, &dir, t_exit) {
+                    Some(h) => {
+                        pos += dir * h.t;
+                        w *= (-sigma * h.t).exp();
+                        let c = dir.dot(&h.normal).abs();
+                        if chain.n < chain.cosines.len() {
+                            chain.cosines[chain.n] = c;
+                            chain.n += 1;
+                        }
+                        if chain.first_id.is_none() {
+                            chain.first_id = Some(h.id);
+                        }
+                        proxy *= self.plate.flake_reflectance(c, self.mid);
+                        dir = reflect(&dir, &h.normal);
+                        events += 1;
+                        if events > self.max_depth {
+                            break;
+                        }
+                    }
+                    None => {
+                        pos += dir * t_exit;
+                        w *= (-sigma * t_exit).exp();
+                        if dir.z < 0.0 {
+                            pos.z = 0.0;
+                            if st.base_albedo > 0.0 {
+                                let (weight, _) = self.base_direct(&pos, rng);
+                                self.gather(&chain, w * weight, &mut out);
+                            }
+                            break;
+                        }
+                        pos.z = t_bind;
+                        if n_top != nb {
+                            // Binder to coat.
+                            let fc = fresnel_dielectric(dir.z, n_top / nb);
+                            if rng.random::<f64>() < fc {
+                                dir.z = -dir.z;
+                                chain.bounces += 1;
+                                events += 1;
+                                if events > self.max_depth {
+                                    break;
+                                }
+                                continue;
+                            }
+                            match refract_horizontal(&dir, nb, n_top) {
+                                Some(r) => dir = r,
+                                None => break,
+                            }
+                        }
+                        if coat == 0.0 {
+                            pos.z = z_top;
+                        } else {
+                            pos.z = t_bind + 1e-7;
+                        }
+                    }
+                }
+            }
+            // Russian roulette on weak chains.
+            if w * proxy < 1e-4 {
+                if rng.random::<f64>() < 0.5 {
+                    break;
+                }
+                w *= 2.0;
+            }
+        }
+        (out, glint)
+    }
+
+    /// Light sampling of the lamp from a base point (µm): the achromatic factor of
+    /// `albedo / pi * E / n_base^2`, where `E` is the irradiance through the top surface
+    /// (and the coat-binder interface), shadowed by the flakes; one direction of the lamp's
+    /// disc, uniformly.
+    fn base_direct(&self, p: &Vector3<f64>, rng: &mut impl Rng) -> (f64, bool) {
+        let st = &self.plate.stack;
+        let light = self.light;
+        let cos_r = light.cos_radius();
+        let omega = 2.0 * std::f64::consts::PI * (1.0 - cos_r);
+        let ct = 1.0 - rng.random::<f64>() * (1.0 - cos_r);
+        let phi = 2.0 * std::f64::consts::PI * rng.random::<f64>();
+        let st_ = (1.0 - ct * ct).max(0.0).sqrt();
+        let a = light.dir_to_light.into_inner();
+        let helper = if a.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let u = a.cross(&helper).normalize();
+        let v = a.cross(&u);
+        let wdir = a * ct + (u * phi.cos() + v * phi.sin()) * st_;
+        if wdir.z <= 0.0 {
+            return (0.0, false);
+        }
+        let n_top = st.top_ior();
+        let nb = st.binder_ior;
+        let mut tr = 1.0;
+        if n_top > 1.0 {
+            tr *= 1.0 - fresnel_dielectric(wdir.z, n_top);
+        }
+        // Direction towards the lamp inside the coat and the binder (Snell invariant).
+        let Some(in_coat) = refract_horizontal(&wdir, 1.0, n_top) else {
+            return (0.0, false);
+        };
+        if n_top != nb {
+            tr *= 1.0 - fresnel_dielectric(in_coat.z, nb / n_top);
+        }
+        let Some(in_binder) = refract_horizontal(&wdir, 1.0, nb) else {
+            return (0.0, false);
+        };
+        let t_exit = st.binder_um / in_binder.z;
+        if self.plate.hit(p, &in_binder, t_exit).is_some() {
+            return (0.0, true);
+        }
+        let sigma = st.binder_sigma_a_per_mm * 1e-3;
+        tr *= (-sigma * t_exit).exp();
+        let e = omega * wdir.z * tr;
+        (st.base_albedo / std::f64::consts::PI * e / (nb * nb), false)
+    }
+}
+
+/// Renders `plate` under `light` for one eye of `rig`: the region's pixels (the rig's screen
+/// pixels divided by the magnification) each take `spp` jittered rays from the eye through
+/// their footprint on the plate, which lies in the zero-parallax plane at 1:1 scale. Pixels
+/// are computed in parallel with a random stream per pixel, so the image does not depend on
+/// the thread count.
+///
+/// Errors: invalid lamp or rig, `spp` = 0, a non-positive magnification, an empty region or
+/// one outside the plate.
+pub fn render(
+    plate: &Plate,
+    light: &DiscLight,
+    rig: &StereoRig,
+    eye: Eye,
+    s: &RenderSettings,
+) -> Result<XyzImage> {
+    light.validate()?;
+    rig.validate()?;
+    if s.spp == 0 {
+        return Err(Error::invalid(
+            "spp",
+            "at least one sample per pixel is needed",
+        ));
+    }
+    if !(1..=MAX_DEPTH).contains(&s.max_depth) {
+        return Err(Error::invalid(
+            "max_depth",
+            format!("must lie in 1..={MAX_DEPTH}, got {}", s.max_depth),
+        ));
+    }
+    if !(s.magnification.is_finite() && s.magnification > 0.0) {
+        return Err(Error::invalid(
+            "magnification",
+            format!("must be finite and positive, got {}", s.magnification),
+        ));
+    }
+    let (pw, ph) = plate.stack.size_mm;
+    let full = Rect::centred(0.0, 0.0, pw, ph);
+    let region = s.region_mm.unwrap_or(full);
+    let ok = [region.x0, region.y0, region.x1, region.y1]
+        .iter()
+        .all(|v| v.is_finite());
+    if !ok || region.x1 <= region.x0 || region.y1 <= region.y0 {
+        return Err(Error::invalid("region_mm", format!("{region:?} is empty")));
+    }
+    let eps = 1e-9;
+    if region.x0 < full.x0 - eps
+        || region.x1 > full.x1 + eps
+        || region.y0 < full.y0 - eps
+        || region.y1 > full.y1 + eps
+    {
+        return Err(Error::invalid(
+            "region_mm",
+            format!("{region:?} leaves the {pw} x {ph} mm plate"),
+        ));
+    }
+    let pitch = rig.pixel_pitch_m().0 * 1e3 / s.magnification;
+    let width = ((region.x1 - region.x0) / pitch).round().max(1.0) as usize;
+    let height = ((region.y1 - region.y0) / pitch).round().max(1.0) as usize;
+    let (lamp, lamp_y) = lamp_weights(light);
+    let ctx = Ctx {
+        plate,
+        light,
+        lamp,
+        max_depth: s.max_depth,
+        mid: 36,
+    };
+    let e = rig.eye(eye);
+    let a = rig.dist_m;
+    let (px_w, px_h) = (
+        (region.x1 - region.x0) / width as f64,
+        (region.y1 - region.y0) / height as f64,
+    );
+    let side = (s.spp as f64).sqrt().round() as u32;
+    let stratified = side * side == s.spp && !s.independent_samples;
+    let pixels: Vec<([f32; 3], u64, Vec<u64>)> = (0..width * height)
+        .into_par_iter()
+        .map(|idx| {
+            let (i, j) = (idx % width, idx / width);
+            let mut rng = wscg_math::rng::stream(s.seed, idx as u64);
+            let mut acc = [0.0f64; 3];
+            let mut first = NO_FLAKE;
+            let mut ids = Vec::new();
+            for k in 0..s.spp {
+                let (u, v) = if stratified {
+                    (
+                        ((k % side) as f64 + rng.random::<f64>()) / side as f64,
+                        ((k / side) as f64 + rng.random::<f64>()) / side as f64,
+                    )
+                } else {
+                    (rng.random::<f64>(), rng.random::<f64>())
+                };
+                let x_mm = region.x0 + (i as f64 + u) * px_w;
+                let y_mm = region.y1 - (j as f64 + v) * px_h;
+                let p = Vector3::new(x_mm * 1e-3, y_mm * 1e-3, a);
+                let de = (p - e).normalize();
+                let d = Vector3::new(de.x, de.y, -de.z);
+                let (c, id) = ctx.trace(x_mm * 1e3, y_mm * 1e3, d, &mut rng);
+                for q in 0..3 {
+                    acc[q] += c[q];
+                }
+                if let Some(id) = id {
+                    if first == NO_FLAKE {
+                        first = id;
+                    }
+                    ids.push(id);
+                }
+            }
+            ids.sort_unstable();
+            ids.dedup();
+            let n = s.spp as f64;
+            (acc.map(|v| (v / n) as f32), first, ids)
+        })
+        .collect();
+    let mut xyz = Vec::with_capacity(3 * pixels.len());
+    let mut flake_id = Vec::with_capacity(pixels.len());
+    let mut glint_ids = Vec::new();
+    for (c, f, ids) in pixels {
+        xyz.extend_from_slice(&c);
+        flake_id.push(f);
+        glint_ids.extend(ids);
+    }
+    glint_ids.sort_unstable();
+    glint_ids.dedup();
+    Ok(XyzImage {
+        width,
+        height,
+        xyz,
+        flake_id,
+        glint_ids,
+        mm_per_px: px_w,
+        region,
+        lamp_y,
+    })
+}
