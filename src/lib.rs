@@ -6,15 +6,22 @@
 //! | module | crate | contents |
 //! |---|---|---|
 //! | [`math`] | `wscg-math` | shared types and numerics (images, volumes, meshes, solvers, FFT, metrics) |
-//! | [`biometrics`] | `wscg-biometrics` | paper 01: FDKECA with PCA, KPCA, KECA baselines and 1-NN recognition |
-//! | [`cloth`] | `wscg-cloth` | paper 02: cloth with soft constraints (library in progress) |
+//! | [`biometrics`] | `wscg-biometrics` | paper 01: FDKECA; paper 05: slow feature analysis for hand poses |
+//! | [`cloth`] | `wscg-cloth` | paper 02: cloth with soft constraints |
+//! | [`volren`] | `wscg-volren` | paper 03: hybrid ROI visualisation of medical volumes |
+//! | [`meshfilter`] | `wscg-meshfilter` | paper 04: joint bilateral mesh denoising with colour |
+//! | [`video`] | `wscg-video` | paper 06: localized-search HD video completion |
+//! | [`raytrace`] | `wscg-raytrace` | paper 07: spectral metallic-flake paint, stereo rig, virtual observer |
+//! | [`doe`] | `wscg-doe` | paper 07: central composite designs, response surfaces, repeated-measures ANOVA |
 //!
 //! The paper crates are added to this table as they land (see the README).
 
 pub use wscg_biometrics as biometrics;
 pub use wscg_cloth as cloth;
+pub use wscg_doe as doe;
 pub use wscg_math as math;
 pub use wscg_meshfilter as meshfilter;
+pub use wscg_raytrace as raytrace;
 pub use wscg_video as video;
 pub use wscg_volren as volren;
 

@@ -72,7 +72,8 @@ impl Aabb {
 
 #[derive(Clone, Copy, Debug)]
 struct Node {
-    bounds: Aabb,
+    min: [f64; 3],
+    max: [f64; 3],
     /// Leaf: first index into `order`; inner: index of the second child (the first child
     /// follows its parent).
     offset: u32,
@@ -131,16 +132,20 @@ impl Bvh {
     where
         F: FnMut(u32, f64) -> Option<f64>,
     {
-        if self.nodes.is_empty() {
-            return None;
-        }
-        let inv = d.map(|v| 1.0 / v);
+        let ray = SlabRay {
+            o: [o.x, o.y, o.z],
+            inv: [1.0 / d.x, 1.0 / d.y, 1.0 / d.z],
+        };
         let mut best: Option<(u32, f64)> = None;
         let mut t_best = t_max;
-        let mut stack = [0u32; MAX_DEPTH];
+        // Subtrees still to visit, with the parameter at which the ray enters them.
+        let mut stack = [(0u32, 0.0f64); MAX_DEPTH];
         let mut sp = 0usize;
+        let root = self.nodes.first()?;
+        if ray.entry(root, t_best).is_infinite() {
+            return None;
+        }
         let mut node = 0u32;
-        self.nodes[0].bounds.slab(o, &inv, t_best)?;
         loop {
             let n = &self.nodes[node as usize];
             if n.count > 0 {
@@ -154,43 +159,61 @@ impl Bvh {
                 }
             } else {
                 let (a, b) = (node + 1, n.offset);
-                let ta = self.nodes[a as usize].bounds.slab(o, &inv, t_best);
-                let tb = self.nodes[b as usize].bounds.slab(o, &inv, t_best);
-                match (ta, tb) {
-                    (Some(x), Some(y)) => {
-                        let (near, far) = if x <= y { (a, b) } else { (b, a) };
-                        stack[sp] = far;
+                let ta = ray.entry(&self.nodes[a as usize], t_best);
+                let tb = ray.entry(&self.nodes[b as usize], t_best);
+                let (near, tn, far, tf) = if ta <= tb {
+                    (a, ta, b, tb)
+                } else {
+                    (b, tb, a, ta)
+                };
+                if tn.is_finite() {
+                    if tf.is_finite() {
+                        stack[sp] = (far, tf);
                         sp += 1;
-                        node = near;
-                        continue;
                     }
-                    (Some(_), None) => {
-                        node = a;
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        node = b;
-                        continue;
-                    }
-                    (None, None) => {}
+                    node = near;
+                    continue;
                 }
             }
-            // Pop the next subtree that the ray still reaches before the best hit.
+            // Pop the next subtree that the ray enters before the best hit.
             loop {
                 if sp == 0 {
                     return best;
                 }
                 sp -= 1;
-                let c = stack[sp];
-                if self.nodes[c as usize]
-                    .bounds
-                    .slab(o, &inv, t_best)
-                    .is_some()
-                {
+                let (c, t) = stack[sp];
+                if t <= t_best {
                     node = c;
                     break;
                 }
             }
+        }
+    }
+}
+
+/// A ray prepared for box tests.
+struct SlabRay {
+    o: [f64; 3],
+    inv: [f64; 3],
+}
+
+impl SlabRay {
+    /// Parameter at which the ray enters the node's box within `[0, t_max]`, or infinity.
+    #[inline(always)]
+    fn entry(&self, n: &Node, t_max: f64) -> f64 {
+        let mut t0 = 0.0f64;
+        let mut t1 = t_max;
+        for k in 0..3 {
+            let a = (n.min[k] - self.o[k]) * self.inv[k];
+            let b = (n.max[k] - self.o[k]) * self.inv[k];
+            // `min`/`max` ignore a NaN (0 * inf on a slab's plane).
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        if t0 <= t1 {
+            t0
+        } else {
+            f64::INFINITY
         }
     }
 }
@@ -211,7 +234,8 @@ impl Builder<'_> {
             .fold(Aabb::empty(), |b, &i| b.union(&self.boxes[i as usize]));
         let me = self.nodes.len() as u32;
         self.nodes.push(Node {
-            bounds,
+            min: [bounds.min.x, bounds.min.y, bounds.min.z],
+            max: [bounds.max.x, bounds.max.y, bounds.max.z],
             offset: lo as u32,
             count: (hi - lo) as u32,
         });
@@ -233,60 +257,61 @@ impl Builder<'_> {
     }
 }
 
-/// Partitions `order` by the best binned SAH plane and returns the size of the left part,
-/// or a median split along the widest axis when the centres coincide.
+/// Partitions `order` by the best binned SAH plane over the three axes and returns the size
+/// of the left part, or `None` when the centres coincide.
 fn sah_split(boxes: &[Aabb], centres: &[Vector3<f64>], order: &mut [u32]) -> Option<usize> {
     let cb = order.iter().fold(Aabb::empty(), |b, &i| {
         let c = centres[i as usize];
         b.union(&Aabb { min: c, max: c })
     });
     let ext = cb.max - cb.min;
-    let axis = (0..3)
-        .max_by(|&a, &b| ext[a].total_cmp(&ext[b]))
-        .unwrap_or(0);
-    if ext[axis] <= 0.0 {
-        return None;
-    }
-    let bin_of = |i: u32| -> usize {
+    let bin_of = |i: u32, axis: usize| -> usize {
         let f = (centres[i as usize][axis] - cb.min[axis]) / ext[axis];
         ((f * BINS as f64) as usize).min(BINS - 1)
     };
-    let mut counts = [0usize; BINS];
-    let mut bb = [Aabb::empty(); BINS];
-    for &i in order.iter() {
-        let b = bin_of(i);
-        counts[b] += 1;
-        bb[b] = bb[b].union(&boxes[i as usize]);
-    }
-    // Sweep from the right to get the right-hand areas, then from the left.
-    let mut right_area = [0.0; BINS];
-    let mut right_count = [0usize; BINS];
-    let (mut acc, mut cnt) = (Aabb::empty(), 0usize);
-    for b in (1..BINS).rev() {
-        acc = acc.union(&bb[b]);
-        cnt += counts[b];
-        right_area[b] = acc.area();
-        right_count[b] = cnt;
-    }
-    let (mut acc, mut cnt) = (Aabb::empty(), 0usize);
-    let mut best = (f64::INFINITY, 0usize);
-    for b in 0..BINS - 1 {
-        acc = acc.union(&bb[b]);
-        cnt += counts[b];
-        if cnt == 0 || right_count[b + 1] == 0 {
+    // (cost, axis, last bin of the left part)
+    let mut best = (f64::INFINITY, 0usize, 0usize);
+    for axis in 0..3 {
+        if ext[axis] <= 0.0 {
             continue;
         }
-        let cost = acc.area() * cnt as f64 + right_area[b + 1] * right_count[b + 1] as f64;
-        if cost < best.0 {
-            best = (cost, b);
+        let mut counts = [0usize; BINS];
+        let mut bb = [Aabb::empty(); BINS];
+        for &i in order.iter() {
+            let b = bin_of(i, axis);
+            counts[b] += 1;
+            bb[b] = bb[b].union(&boxes[i as usize]);
+        }
+        // Sweep from the right to get the right-hand areas, then from the left.
+        let mut right_area = [0.0; BINS];
+        let mut right_count = [0usize; BINS];
+        let (mut acc, mut cnt) = (Aabb::empty(), 0usize);
+        for b in (1..BINS).rev() {
+            acc = acc.union(&bb[b]);
+            cnt += counts[b];
+            right_area[b] = acc.area();
+            right_count[b] = cnt;
+        }
+        let (mut acc, mut cnt) = (Aabb::empty(), 0usize);
+        for b in 0..BINS - 1 {
+            acc = acc.union(&bb[b]);
+            cnt += counts[b];
+            if cnt == 0 || right_count[b + 1] == 0 {
+                continue;
+            }
+            let cost = acc.area() * cnt as f64 + right_area[b + 1] * right_count[b + 1] as f64;
+            if cost < best.0 {
+                best = (cost, axis, b);
+            }
         }
     }
     if !best.0.is_finite() {
         return None;
     }
+    let (_, axis, last) = best;
     let mut left = 0;
     for k in 0..order.len() {
-        if bin_of(order[k]) <= best.1 {
+        if bin_of(order[k], axis) <= last {
             order.swap(k, left);
             left += 1;
         }

@@ -609,13 +609,31 @@ fn bad_input_is_an_error() {
     };
     let e = generate_tile(&over, 0).unwrap_err().to_string();
     assert!(e.contains("overflow"), "{e}");
-    // Boolean flakes that cannot fit the layer.
+    // Tilts at which a flake would leave the layer are lowered to the largest that fits.
     let tall = FlakeParams {
         model: StackModel::Boolean,
+        radius_cv: 0.0,
         tilt: TiltDist::UniformCap { max_deg: 60.0 },
         ..p
     };
-    assert!(generate_tile(&tall, 0).is_err());
+    let t = generate_tile(&tall, 0).unwrap();
+    let limit = max_tilt(30.0, 0.5, 20.24);
+    assert!(
+        (limit.to_degrees() - 19.23).abs() < 0.01,
+        "{}",
+        limit.to_degrees()
+    );
+    let at_limit = t
+        .flakes
+        .iter()
+        .filter(|f| (f.tilt() - limit).abs() < 1e-12)
+        .count();
+    assert!(at_limit > t.flakes.len() / 2);
+    for f in &t.flakes {
+        assert!(f.tilt() <= limit + 1e-12);
+        let e = f.half_height(0.5);
+        assert!(f.c.z - e >= -1e-9 && f.c.z + e <= 20.24 + 1e-9);
+    }
     let bad_stack = PlateStack {
         coat: Some(Coat {
             ior: 0.9,

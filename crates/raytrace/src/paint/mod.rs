@@ -2,13 +2,14 @@
 //! layers and lamp, and the spectral renderer.
 
 pub mod flakes;
+pub mod grid;
 pub mod layers;
 pub mod observer;
 pub mod plate;
 pub mod render;
 pub mod workshop;
 
-pub use flakes::{generate_tile, Flake, FlakeParams, FlakeTile, StackModel, TiltDist};
+pub use flakes::{generate_tile, max_tilt, Flake, FlakeParams, FlakeTile, StackModel, TiltDist};
 pub use layers::{Coat, DiscLight, PlateStack};
 pub use observer::{
     binocular_overlap, features, glint_stats, Condition, GlintStats, VirtualObserver,

@@ -9,7 +9,8 @@
 //! mean glint area; for a stereo pair also the binocular overlap of the glinting flakes. The
 //! distance between a candidate and the reference is the Euclidean norm of the differences of
 //! the features' logarithms, each divided by its spread over renders of the reference with
-//! different seeds; the score is `10 (1 - exp(-D / 3))`.
+//! different seeds (floored at a just-noticeable difference); the score is
+//! `10 (1 - exp(-D / 3))`.
 
 use wscg_math::{Error, Result};
 
@@ -28,6 +29,8 @@ pub struct GlintStats {
     pub y99_over_median: f64,
     /// Mean area of a glint (mm²); 0 without glints.
     pub mean_glint_area_mm2: f64,
+    /// Mean of the glints' brightest pixels; 0 without glints.
+    pub mean_glint_peak_y: f64,
     /// Number of glints.
     pub glints: usize,
     /// Luminance threshold used: 4x the median, or any positive luminance when the median is 0.
@@ -61,7 +64,7 @@ pub fn glint_stats(y: &[f32], width: usize, height: usize, mm_per_px: f64) -> Re
     let y99 = q(0.99);
     let mean = y.iter().map(|&v| v as f64).sum::<f64>() / y.len() as f64;
     let threshold = 4.0 * median;
-    let (glints, pixels) = components(y, width, height, threshold as f32);
+    let (glints, pixels, peaks) = components(y, width, height, threshold as f32);
     let area_mm2 = (width * height) as f64 * mm_per_px * mm_per_px;
     Ok(GlintStats {
         glint_density_per_mm2: glints as f64 / area_mm2,
@@ -77,16 +80,22 @@ pub fn glint_stats(y: &[f32], width: usize, height: usize, mm_per_px: f64) -> Re
         } else {
             0.0
         },
+        mean_glint_peak_y: if glints > 0 {
+            peaks / glints as f64
+        } else {
+            0.0
+        },
         glints,
         threshold,
     })
 }
 
-/// Number of 8-connected groups of pixels above `threshold` and their total pixel count.
-fn components(y: &[f32], w: usize, h: usize, threshold: f32) -> (usize, usize) {
+/// Number of 8-connected groups of pixels above `threshold`, their total pixel count and the
+/// sum of their peak values.
+fn components(y: &[f32], w: usize, h: usize, threshold: f32) -> (usize, usize, f64) {
     let mut seen = vec![false; y.len()];
     let mut stack = Vec::new();
-    let (mut groups, mut pixels) = (0, 0);
+    let (mut groups, mut pixels, mut peaks) = (0, 0, 0.0);
     for start in 0..y.len() {
         if seen[start] || y[start] <= threshold {
             continue;
@@ -94,8 +103,10 @@ fn components(y: &[f32], w: usize, h: usize, threshold: f32) -> (usize, usize) {
         groups += 1;
         seen[start] = true;
         stack.push(start);
+        let mut peak = 0.0f32;
         while let Some(p) = stack.pop() {
             pixels += 1;
+            peak = peak.max(y[p]);
             let (px, py) = ((p % w) as isize, (p / w) as isize);
             for dy in -1..=1isize {
                 for dx in -1..=1isize {
@@ -111,8 +122,9 @@ fn components(y: &[f32], w: usize, h: usize, threshold: f32) -> (usize, usize) {
                 }
             }
         }
+        peaks += peak as f64;
     }
-    (groups, pixels)
+    (groups, pixels, peaks)
 }
 
 /// Binocular overlap of two sets of glinting flakes (sorted or not): `2 |L ∩ R| / (|L| + |R|)`
@@ -156,36 +168,38 @@ pub enum Condition {
 pub const FEATURE_NAMES: [&str; 5] = [
     "glint density",
     "mean luminance",
-    "Y99 / median",
+    "mean glint peak / lamp",
     "mean glint area",
     "binocular overlap",
 ];
 
-/// The observer's feature vector of a view: for [`Condition::Mono`] the four sparkle
-/// statistics of the cyclopean image; for [`Condition::Stereo`] their means over the two
-/// eyes and the binocular overlap of the glinting flakes. Every feature is floored at a tiny
-/// positive value so that its logarithm exists.
+/// The observer's feature vector of a view: for [`Condition::Mono`] four sparkle statistics
+/// of the cyclopean image (glint density, mean luminance, the glints' mean peak luminance
+/// over the lamp's, the mean glint area); for [`Condition::Stereo`] their means over the
+/// two eyes and the binocular overlap of the glinting flakes. Every feature is floored at a
+/// tiny positive value so that its logarithm exists.
+///
+/// The specification's `Y99 / median` is replaced by the glints' peak luminance: with mirror
+/// flakes under a small lamp most pixels are black, the median is 0 and the ratio is
+/// undefined, while the peak grows with the share of a pixel one flake covers, a cue to the
+/// flake size.
 ///
 /// Errors: a stereo condition without a right image, images of different sizes, bad
 /// luminances ([`glint_stats`]).
 pub fn features(first: &XyzImage, right: Option<&XyzImage>) -> Result<Vec<f64>> {
     let stats = |im: &XyzImage| glint_stats(&im.luminance(), im.width, im.height, im.mm_per_px);
     let a = stats(first)?;
-    let pack = |s: &GlintStats| {
+    let pack = |s: &GlintStats, lamp_y: f64| {
         [
             s.glint_density_per_mm2,
             s.mean_y,
-            if s.y99_over_median.is_finite() {
-                s.y99_over_median
-            } else {
-                0.0
-            },
+            s.mean_glint_peak_y / lamp_y,
             s.mean_glint_area_mm2,
         ]
     };
     let floor = |v: f64| v.max(1e-9);
     match right {
-        None => Ok(pack(&a).iter().map(|&v| floor(v)).collect()),
+        None => Ok(pack(&a, first.lamp_y).iter().map(|&v| floor(v)).collect()),
         Some(r) => {
             if (r.width, r.height) != (first.width, first.height) {
                 return Err(Error::ShapeMismatch(format!(
@@ -194,7 +208,7 @@ pub fn features(first: &XyzImage, right: Option<&XyzImage>) -> Result<Vec<f64>> 
                 )));
             }
             let b = stats(r)?;
-            let (pa, pb) = (pack(&a), pack(&b));
+            let (pa, pb) = (pack(&a, first.lamp_y), pack(&b, r.lamp_y));
             let mut f: Vec<f64> = (0..4).map(|k| floor(0.5 * (pa[k] + pb[k]))).collect();
             f.push(floor(binocular_overlap(&first.glint_ids, &r.glint_ids)));
             Ok(f)
@@ -207,18 +221,30 @@ pub fn features(first: &XyzImage, right: Option<&XyzImage>) -> Result<Vec<f64>> 
 pub struct VirtualObserver {
     /// Mean of the log features over the reference renders.
     pub mean_log: Vec<f64>,
-    /// Standard deviation of the log features over the reference renders (floored at 1e-3 of
-    /// a log unit so that a feature that never varies does not dominate).
+    /// Scale of each log feature: its standard deviation over the reference renders, but at
+    /// least the just-noticeable difference given to [`VirtualObserver::calibrate`].
     pub std_log: Vec<f64>,
 }
 
+/// Default just-noticeable difference of a feature, in log units (0.25: a change of about
+/// 28 %; Weber fractions of numerosity and brightness judgements are 0.1-0.3).
+pub const DEFAULT_JND_LOG: f64 = 0.25;
+
 impl VirtualObserver {
     /// Calibrates on the feature vectors of at least two renders of the reference plate
-    /// (different seeds).
+    /// (different seeds). Each feature's scale is its spread over the references, floored at
+    /// `jnd_log` (log units): the render noise of a 10 mm patch is far below what an observer
+    /// notices, and scaling by the noise alone saturates every score near 10.
     ///
     /// Errors: fewer than two references, vectors of different lengths, non-positive or
-    /// non-finite features.
-    pub fn calibrate(references: &[Vec<f64>]) -> Result<Self> {
+    /// non-finite features, a negative or non-finite `jnd_log`.
+    pub fn calibrate(references: &[Vec<f64>], jnd_log: f64) -> Result<Self> {
+        if !(jnd_log.is_finite() && jnd_log >= 0.0) {
+            return Err(Error::invalid(
+                "jnd_log",
+                format!("must be finite and >= 0, got {jnd_log}"),
+            ));
+        }
         if references.len() < 2 {
             return Err(Error::invalid(
                 "references",
@@ -245,7 +271,7 @@ impl VirtualObserver {
                     .map(|l| (l[k] - mean_log[k]).powi(2))
                     .sum::<f64>()
                     / (n - 1.0);
-                v.sqrt().max(1e-3)
+                v.sqrt().max(jnd_log).max(1e-3)
             })
             .collect();
         Ok(Self { mean_log, std_log })
@@ -322,12 +348,12 @@ mod tests {
     #[test]
     fn observer_scores_zero_at_the_reference_mean() {
         let refs = vec![vec![1.0, 2.0], vec![1.2, 1.8], vec![0.9, 2.2]];
-        let o = VirtualObserver::calibrate(&refs).unwrap();
+        let o = VirtualObserver::calibrate(&refs, 0.0).unwrap();
         let centre: Vec<f64> = o.mean_log.iter().map(|l| l.exp()).collect();
         assert!(o.score(&centre).unwrap().abs() < 1e-12);
         let far = o.score(&[10.0, 20.0]).unwrap();
         assert!(far > 9.0 && far < 10.0);
         assert!(o.distance(&[1.0]).is_err());
-        assert!(VirtualObserver::calibrate(&refs[..1]).is_err());
+        assert!(VirtualObserver::calibrate(&refs[..1], 0.0).is_err());
     }
 }

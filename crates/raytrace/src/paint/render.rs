@@ -228,6 +228,11 @@ fn lamp_weights(light: &DiscLight) -> (Vec<[f64; 3]>, f64) {
     (w, y_lamp * norm)
 }
 
+/// Chain weight (at 560 nm) below which Russian roulette may end a chain: the part of a
+/// camera ray reflected back into the plate by the top surface (4 % near normal incidence)
+/// is followed only now and then, with a weight that keeps the estimate unbiased.
+const ROULETTE_BELOW: f64 = 0.05;
+
 /// Most scattering events per chain ([`RenderSettings::max_depth`]).
 pub const MAX_DEPTH: u32 = 16;
 
@@ -422,12 +427,14 @@ impl Ctx<'_> {
                     }
                 }
             }
-            // Russian roulette on weak chains.
-            if w * proxy < 1e-4 {
-                if rng.random::<f64>() < 0.5 {
+            // Russian roulette on weak chains (unbiased: survivors carry 1 / q).
+            let tw = w * proxy;
+            if tw < ROULETTE_BELOW {
+                let q = (tw / ROULETTE_BELOW).max(0.05);
+                if rng.random::<f64>() >= q {
                     break;
                 }
-                w *= 2.0;
+                w /= q;
             }
         }
         (out, glint)

@@ -9,7 +9,7 @@ use wscg_math::{Error, Result};
 
 use super::flakes::FlakeParams;
 use super::layers::{DiscLight, PlateStack};
-use super::observer::{features, Condition, VirtualObserver};
+use super::observer::{features, Condition, VirtualObserver, DEFAULT_JND_LOG};
 use super::plate::FlakePlate;
 use super::render::{render, Plate, Rect, RenderSettings};
 use crate::stereo::{Eye, StereoRig};
@@ -34,6 +34,12 @@ pub struct WorkshopConfig {
     pub reference_renders: usize,
     /// Viewing condition.
     pub condition: Condition,
+    /// The observer's just-noticeable difference of a feature (log units), 0.25.
+    pub jnd_log: f64,
+    /// Draw the tile pool as large as the number of cells the region covers, so that the
+    /// rendered patch shows (nearly) no repeated tile, as the paper's plate of distinct
+    /// microstructures does; otherwise `base.tiles_in_pool` tiles. True.
+    pub distinct_cells: bool,
 }
 
 impl Default for WorkshopConfig {
@@ -51,6 +57,8 @@ impl Default for WorkshopConfig {
             },
             reference_renders: 4,
             condition: Condition::Stereo,
+            jnd_log: DEFAULT_JND_LOG,
+            distinct_cells: true,
         }
     }
 }
@@ -78,11 +86,21 @@ pub fn plate_features(
     seed: u64,
     cfg: &WorkshopConfig,
 ) -> Result<Vec<f64>> {
-    let params = FlakeParams {
+    let mut params = FlakeParams {
         radius_um,
         density,
         ..cfg.base
     };
+    if cfg.distinct_cells {
+        let r = cfg.settings.region_mm.unwrap_or(Rect::centred(
+            0.0,
+            0.0,
+            cfg.stack.size_mm.0,
+            cfg.stack.size_mm.1,
+        ));
+        let cells = |a: f64, b: f64| ((b - a) * 1e3 / params.tile_um).ceil() + 1.0;
+        params.tiles_in_pool = (cells(r.x0, r.x1) * cells(r.y0, r.y1)) as usize;
+    }
     let micro = FlakePlate::new(&params, cfg.stack.size_mm, seed)?;
     let plate = Plate::new(cfg.stack.clone(), Box::new(micro))?;
     let view = |eye| render(&plate, &cfg.light, &cfg.rig, eye, &cfg.settings);
@@ -132,7 +150,7 @@ pub fn score_runs(
         )?);
         progress.advance(1);
     }
-    let observer = VirtualObserver::calibrate(&reference_features)?;
+    let observer = VirtualObserver::calibrate(&reference_features, cfg.jnd_log)?;
     let mut features = Vec::with_capacity(runs.len());
     let mut scores = Vec::with_capacity(runs.len());
     for (i, &(r, d)) in runs.iter().enumerate() {
