@@ -682,3 +682,52 @@ fn bad_input_is_an_error() {
     assert!(render(&plate, &low, &rig, Eye::Left, &ok).is_err());
     assert!(FlakePlate::new(&p, (0.0, 10.0), 0).is_err());
 }
+
+/// Mean XYZ of an image.
+fn mean_xyz(img: &XyzImage) -> [f64; 3] {
+    let n = (img.width * img.height) as f64;
+    img.xyz.chunks_exact(3).fold([0.0; 3], |a, p| {
+        [a[0] + p[0] as f64 / n, a[1] + p[1] as f64 / n, a[2] + p[2] as f64 / n]
+    })
+}
+
+#[test]
+fn rgb_baseline_equals_spectral_for_grey_flakes_only() {
+    let rig = StereoRig::default();
+    let light = DiscLight::from_elevation(75.0, 3.0);
+    let micro = FlakePlate::new(&FlakeParams::default(), (150.0, 100.0), 12).unwrap();
+    let s = RenderSettings {
+        spp: 16,
+        region_mm: Some(Rect::centred(0.0, 0.0, 3.0, 3.0)),
+        magnification: 4.0,
+        ..RenderSettings::default()
+    };
+    let rgb = RenderSettings {
+        colour: ColourMode::Rgb,
+        ..s.clone()
+    };
+    let render_both = |metal: MetalIor| {
+        let stack = PlateStack {
+            metal,
+            ..PlateStack::default()
+        };
+        let plate = Plate::new(stack, Box::new(micro.clone())).unwrap();
+        (
+            render(&plate, &light, &rig, Eye::Cyclopean, &s).unwrap(),
+            render(&plate, &light, &rig, Eye::Cyclopean, &rgb).unwrap(),
+        )
+    };
+    // A metal of constant index: the three bands carry the lamp's colour exactly.
+    let (a, b) = render_both(MetalIor::Constant { n: 1.2, k: 7.0 });
+    let (ma, mb) = (mean_xyz(&a), mean_xyz(&b));
+    assert!(ma[1] > 0.0);
+    for k in 0..3 {
+        assert!((ma[k] / mb[k] - 1.0).abs() < 1e-9, "{ma:?} vs {mb:?}");
+    }
+    // Aluminium's reflectance varies over the spectrum: the RGB render's colour is off.
+    let (a, b) = render_both(MetalIor::AlRakicLd);
+    let (xa, xb) = (xyz_to_xy(mean_xyz(&a)), xyz_to_xy(mean_xyz(&b)));
+    let shift = (xa[0] - xb[0]).hypot(xa[1] - xb[1]);
+    eprintln!("aluminium glints: spectral xy {xa:?}, RGB xy {xb:?}, shift {shift:.5}");
+    assert!(shift > 1e-4 && shift < 0.02, "{shift}");
+}

@@ -16,6 +16,7 @@ pub use observer::{
 };
 pub use plate::{FlakePlate, PlacedFlake};
 pub use render::{
-    render, FlakeHit, Microstructure, NoFlakes, Plate, Rect, RenderSettings, XyzImage, NO_FLAKE,
+    render, ColourMode, FlakeHit, Microstructure, NoFlakes, Plate, Rect, RenderSettings, XyzImage,
+    NO_FLAKE, RGB_BAND_NM,
 };
 pub use workshop::{plate_features, score_runs, WorkshopConfig, WorkshopScores};

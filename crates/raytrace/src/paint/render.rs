@@ -23,7 +23,9 @@ use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
 use super::layers::{DiscLight, PlateStack};
-use crate::spectral::{fresnel_conductor, fresnel_dielectric, tables, SpectralGrid};
+use crate::spectral::{
+    fresnel_conductor, fresnel_dielectric, tables, xyz_to_rgb, SpectralGrid, XYZ_TO_SRGB,
+};
 use crate::stereo::{Eye, StereoRig};
 
 /// A flake hit: distance along the ray, unit normal of the flake (either orientation), and a
@@ -62,8 +64,6 @@ pub struct Plate {
     /// The layers.
     pub stack: PlateStack,
     micro: Box<dyn Microstructure>,
-    /// `(n + i k) / n_binder` of the flakes at each wavelength of the visible grid.
-    rel_index: Vec<Complex64>,
 }
 
 impl Plate {
@@ -72,18 +72,7 @@ impl Plate {
     /// Errors: invalid layers ([`PlateStack::validate`]).
     pub fn new(stack: PlateStack, micro: Box<dyn Microstructure>) -> Result<Self> {
         stack.validate()?;
-        let rel_index = SpectralGrid::VISIBLE
-            .wavelengths()
-            .map(|l| {
-                let (n, k) = stack.metal.nk(l);
-                Complex64::new(n, k) / stack.binder_ior
-            })
-            .collect();
-        Ok(Self {
-            stack,
-            micro,
-            rel_index,
-        })
+        Ok(Self { stack, micro })
     }
 
     /// The nearest flake along a ray (plate coordinates, µm).
@@ -91,10 +80,72 @@ impl Plate {
         self.micro.hit(origin, dir, t_max)
     }
 
-    /// Spectral reflectance of a flake at incidence cosine `cos` (wavelength index `i`).
-    pub fn flake_reflectance(&self, cos: f64, i: usize) -> f64 {
-        let e = self.rel_index[i];
-        fresnel_conductor(cos, e.re, e.im)
+    /// `(n + i k) / n_binder` of the flakes at `lambda_nm`: they sit in the binder.
+    pub fn relative_index(&self, lambda_nm: f64) -> Complex64 {
+        let (n, k) = self.stack.metal.nk(lambda_nm);
+        Complex64::new(n, k) / self.stack.binder_ior
+    }
+}
+
+/// How colour is carried along a chain.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ColourMode {
+    /// 81 wavelengths, 380-780 nm in 5 nm steps (the paper's renderer).
+    #[default]
+    Spectral,
+    /// The non-spectral baseline: three bands at the sRGB primaries' dominant wavelengths
+    /// (612, 549, 465 nm) weighted by the lamp's linear sRGB colour, as an RGB renderer
+    /// computes. Equal to the spectral render for a grey reflector; it differs where the
+    /// flakes' reflectance varies with the wavelength.
+    Rgb,
+}
+
+/// Wavelengths of the RGB baseline's bands (nm).
+pub const RGB_BAND_NM: [f64; 3] = [612.0, 549.0, 465.0];
+
+/// One band of the colour computation: the flakes' relative index there and the band's
+/// lamp weight in normalised XYZ.
+struct Band {
+    rel: Complex64,
+    xyz: [f64; 3],
+}
+
+/// The bands of `mode` and the lamp's own luminance, normalised so that a white Lambertian
+/// plate under the lamp has `Y = 1`.
+fn bands(plate: &Plate, light: &DiscLight, mode: ColourMode) -> (Vec<Band>, f64) {
+    let (w, lamp_y) = lamp_weights(light);
+    match mode {
+        ColourMode::Spectral => {
+            let b = w
+                .into_iter()
+                .enumerate()
+                .map(|(i, xyz)| Band {
+                    rel: plate.relative_index(SpectralGrid::VISIBLE.wavelength(i)),
+                    xyz,
+                })
+                .collect();
+            (b, lamp_y)
+        }
+        ColourMode::Rgb => {
+            let lamp_xyz = w
+                .iter()
+                .fold([0.0; 3], |a, x| [a[0] + x[0], a[1] + x[1], a[2] + x[2]]);
+            let rgb = xyz_to_rgb(lamp_xyz, &XYZ_TO_SRGB);
+            let to_xyz = nalgebra::Matrix3::from_fn(|r, c| XYZ_TO_SRGB[r][c])
+                .try_inverse()
+                .expect("the sRGB matrix is invertible");
+            let b = (0..3)
+                .map(|k| Band {
+                    rel: plate.relative_index(RGB_BAND_NM[k]),
+                    xyz: [
+                        to_xyz[(0, k)] * rgb[k],
+                        to_xyz[(1, k)] * rgb[k],
+                        to_xyz[(2, k)] * rgb[k],
+                    ],
+                })
+                .collect();
+            (b, lamp_y)
+        }
     }
 }
 
@@ -140,6 +191,8 @@ pub struct RenderSettings {
     /// Draw the samples of a pixel independently instead of jittered on a grid (the grid is
     /// used when `spp` is a square number and this is false).
     pub independent_samples: bool,
+    /// Spectral (the paper) or the RGB baseline.
+    pub colour: ColourMode,
 }
 
 impl Default for RenderSettings {
@@ -151,6 +204,7 @@ impl Default for RenderSettings {
             region_mm: None,
             magnification: 1.0,
             independent_samples: false,
+            colour: ColourMode::Spectral,
         }
     }
 }
@@ -248,10 +302,10 @@ struct Chain {
 struct Ctx<'a> {
     plate: &'a Plate,
     light: &'a DiscLight,
-    lamp: Vec<[f64; 3]>,
+    bands: Vec<Band>,
     max_depth: u32,
-    /// Index of the wavelength used for the Russian-roulette estimate (560 nm).
-    mid: usize,
+    /// Relative index at 560 nm, for the Russian-roulette estimate of a chain's weight.
+    mid: Complex64,
 }
 
 impl Ctx<'_> {
@@ -260,13 +314,13 @@ impl Ctx<'_> {
         if weight == 0.0 {
             return;
         }
-        for (i, lw) in self.lamp.iter().enumerate() {
+        for b in &self.bands {
             let mut t = weight;
             for &c in &chain.cosines[..chain.n] {
-                t *= self.plate.flake_reflectance(c, i);
+                t *= fresnel_conductor(c, b.rel.re, b.rel.im);
             }
             for k in 0..3 {
-                out[k] += t * lw[k];
+                out[k] += t * b.xyz[k];
             }
         }
     }
@@ -383,7 +437,7 @@ impl Ctx<'_> {
                         if chain.first_id.is_none() {
                             chain.first_id = Some(h.id);
                         }
-                        proxy *= self.plate.flake_reflectance(c, self.mid);
+                        proxy *= fresnel_conductor(c, self.mid.re, self.mid.im);
                         dir = reflect(&dir, &h.normal);
                         events += 1;
                         if events > self.max_depth {
@@ -549,13 +603,13 @@ pub fn render(
     let pitch = rig.pixel_pitch_m().0 * 1e3 / s.magnification;
     let width = ((region.x1 - region.x0) / pitch).round().max(1.0) as usize;
     let height = ((region.y1 - region.y0) / pitch).round().max(1.0) as usize;
-    let (lamp, lamp_y) = lamp_weights(light);
+    let (bands, lamp_y) = bands(plate, light, s.colour);
     let ctx = Ctx {
         plate,
         light,
-        lamp,
+        bands,
         max_depth: s.max_depth,
-        mid: 36,
+        mid: plate.relative_index(560.0),
     };
     let e = rig.eye(eye);
     let a = rig.dist_m;
