@@ -21,14 +21,7 @@ fn item<'py, T: FromPyObjectOwned<'py>>(
     spec: &Bound<'py, PyDict>,
     key: &str,
 ) -> PyResult<Option<T>> {
-    match spec.get_item(key)? {
-        None => Ok(None),
-        Some(v) if v.is_none() => Ok(None),
-        Some(v) => v.extract::<T>().map(Some).map_err(|e| {
-            let e: PyErr = e.into();
-            value_error(format!("`{key}`: {e}"))
-        }),
-    }
+    crate::convert::dict_item(spec, key)
 }
 
 /// The kernel described by `spec` (`kernel`, `sigma`, `sigma_scale`, `degree`, `gamma`,

@@ -313,13 +313,7 @@ fn opt<'py, T: FromPyObjectOwned<'py>>(
     key: &str,
     default: T,
 ) -> PyResult<T> {
-    match spec.get_item(key)? {
-        Some(v) if !v.is_none() => v.extract::<T>().map_err(|e| {
-            let e: PyErr = e.into();
-            value_error(format!("option `{key}`: {e}"))
-        }),
-        _ => Ok(default),
-    }
+    Ok(crate::convert::dict_item(spec, key)?.unwrap_or(default))
 }
 
 fn method_from(name: &str, spec: &Bound<'_, PyDict>) -> PyResult<Method> {

@@ -167,3 +167,18 @@ pub fn mesh_in(
     }
     Ok(mesh)
 }
+
+/// The entry `key` of a parameter dict, extracted as `T`; `None` when absent or `None`. A
+/// value of the wrong type is a `ValueError` naming the key.
+pub fn dict_item<'py, T: pyo3::conversion::FromPyObjectOwned<'py>>(
+    spec: &Bound<'py, pyo3::types::PyDict>,
+    key: &str,
+) -> PyResult<Option<T>> {
+    match spec.get_item(key)? {
+        Some(v) if !v.is_none() => v.extract::<T>().map(Some).map_err(|e| {
+            let e: PyErr = e.into();
+            value_error(format!("`{key}`: {e}"))
+        }),
+        _ => Ok(None),
+    }
+}

@@ -10,10 +10,12 @@ use pyo3::prelude::*;
 mod biometrics;
 mod cloth;
 mod convert;
+mod doe;
 mod errors;
 mod handpose;
 mod math;
 mod meshfilter;
+mod raytrace;
 mod sfa;
 mod video;
 mod volren;
@@ -23,13 +25,15 @@ mod volren;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 6] = [
+    let subs: [(&str, Register); 8] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
         ("meshfilter", meshfilter::register),
         ("volren", volren::register),
         ("video", video::register),
+        ("raytrace", raytrace::register),
+        ("doe", doe::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

@@ -12,6 +12,10 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
   bilateral and Laplacian baselines).
 - :mod:`wscg.video`: paper 06, localized-search HD video completion (and the Wexler and
   per-frame PatchMatch baselines).
+- :mod:`wscg.raytrace`: paper 07, spectral rendering of metallic-flake paint from its
+  microstructure, the off-axis stereo rig and the virtual observer.
+- :mod:`wscg.doe`: paper 07's study statistics (central composite designs, response
+  surfaces, repeated-measures ANOVA, Fisher's LSD).
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -19,8 +23,9 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, math, meshfilter, video, volren
+from . import biometrics, cloth, doe, math, meshfilter, raytrace, video, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "math", "meshfilter", "video", "volren", "__version__"]
+__all__ = ["biometrics", "cloth", "doe", "math", "meshfilter", "raytrace", "video", "volren",
+           "__version__"]

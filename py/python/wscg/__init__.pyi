@@ -1,7 +1,9 @@
 from . import biometrics as biometrics
 from . import cloth as cloth
+from . import doe as doe
 from . import math as math
 from . import meshfilter as meshfilter
+from . import raytrace as raytrace
 from . import video as video
 from . import volren as volren
 

@@ -1,0 +1,372 @@
+//! `wscg._native.raytrace`: bindings of `wscg-raytrace` (paper 07: metallic-flake paint,
+//! spectral rendering, stereo rig, virtual observer). The documented API is
+//! `python/wscg/raytrace.py`; it passes the plate's parameters as one dict whose keys are
+//! the Rust fields' names.
+
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wscg_math::progress::NoProgress;
+use wscg_raytrace::paint::{
+    self, binocular_overlap, glint_stats, Coat, ColourMode, Condition, DiscLight, FlakeParams,
+    FlakePlate, Plate, PlateStack, Rect, RenderSettings, StackModel, TiltDist, WorkshopConfig,
+};
+use wscg_raytrace::spectral::{self, daylight_d, MetalIor, SpectralGrid, Spectrum};
+use wscg_raytrace::stereo::{Eye, StereoRig};
+
+use pyo3::conversion::FromPyObjectOwned;
+
+use crate::convert::{array, dict_item, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+/// Reads typed entries of the parameter dict, with defaults.
+struct Cfg<'a, 'py>(&'a Bound<'py, PyDict>);
+
+impl<'py> Cfg<'_, 'py> {
+    fn get<T: FromPyObjectOwned<'py>>(&self, key: &str, default: T) -> PyResult<T> {
+        Ok(dict_item(self.0, key)?.unwrap_or(default))
+    }
+
+    fn opt<T: FromPyObjectOwned<'py>>(&self, key: &str) -> PyResult<Option<T>> {
+        dict_item(self.0, key)
+    }
+}
+
+fn flake_params(c: &Cfg) -> PyResult<FlakeParams> {
+    let d = FlakeParams::default();
+    let tilt = match c.get("tilt", "halfnormal".to_string())?.as_str() {
+        "halfnormal" => TiltDist::HalfNormal {
+            sigma_deg: c.get("tilt_deg", 8.0)?,
+        },
+        "cap" => TiltDist::UniformCap {
+            max_deg: c.get("tilt_deg", 8.0)?,
+        },
+        "flat" => TiltDist::Flat,
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid tilt. Valid tilts are 'halfnormal', 'cap', 'flat'"
+            )))
+        }
+    };
+    let model = match c.get("model", "boolean".to_string())?.as_str() {
+        "boolean" => StackModel::Boolean,
+        "deposit" => StackModel::Deposit,
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid model. Valid models are 'boolean', 'deposit'"
+            )))
+        }
+    };
+    Ok(FlakeParams {
+        radius_um: c.get("radius_um", d.radius_um)?,
+        radius_cv: c.get("radius_cv", d.radius_cv)?,
+        thickness_um: c.get("thickness_um", d.thickness_um)?,
+        density: c.get("density", d.density)?,
+        tilt,
+        layer_um: c.get("layer_um", d.layer_um)?,
+        tile_um: c.get("tile_um", d.tile_um)?,
+        model,
+        tiles_in_pool: c.get("tiles_in_pool", d.tiles_in_pool)?,
+        max_clamped_fraction: c.get("max_clamped_fraction", d.max_clamped_fraction)?,
+    })
+}
+
+fn stack(c: &Cfg, flakes: &FlakeParams) -> PyResult<PlateStack> {
+    let d = PlateStack::default();
+    let metal = match c.opt::<(f64, f64)>("metal_nk")? {
+        Some((n, k)) => MetalIor::Constant { n, k },
+        None => match c.get("metal", "al_k6".to_string())?.as_str() {
+            "al_k6" => MetalIor::AlRakicLdConstK { k: 6.0 },
+            "al" => MetalIor::AlRakicLd,
+            other => {
+                return Err(value_error(format!(
+                    "{other:?} is not a valid metal. Valid metals are 'al_k6' (the paper's k = 6), 'al' (Rakic), or give metal_nk=(n, k)"
+                )))
+            }
+        },
+    };
+    let coat_ior: f64 = c.get("coat_ior", 1.5)?;
+    let coat = (coat_ior != 1.0).then(|| -> PyResult<Coat> {
+        Ok(Coat {
+            ior: coat_ior,
+            thickness_um: c.get("coat_um", 40.0)?,
+        })
+    });
+    Ok(PlateStack {
+        size_mm: c.get("size_mm", d.size_mm)?,
+        coat: coat.transpose()?,
+        binder_ior: c.get("binder_ior", d.binder_ior)?,
+        binder_um: flakes.layer_um,
+        binder_sigma_a_per_mm: c.get("binder_sigma_a_per_mm", d.binder_sigma_a_per_mm)?,
+        base_albedo: c.get("base_albedo", d.base_albedo)?,
+        metal,
+    })
+}
+
+fn light(c: &Cfg) -> PyResult<DiscLight> {
+    let mut l = DiscLight::from_elevation(c.get("light_elevation_deg", 45.0)?, c.get("light_deg", 1.0)?);
+    if let Some(cct) = c.opt::<f64>("light_cct")? {
+        l.spectrum = daylight_d(cct).py_err()?;
+    }
+    if let Some(spd) = c.opt::<Vec<f64>>("light_spectrum")? {
+        l.spectrum = Spectrum::new(SpectralGrid::VISIBLE, spd).py_err()?;
+    }
+    l.radiance_scale = c.get("radiance_scale", 1.0)?;
+    Ok(l)
+}
+
+fn settings(c: &Cfg) -> PyResult<RenderSettings> {
+    let d = RenderSettings::default();
+    let region = c
+        .opt::<(f64, f64, f64, f64)>("region_mm")?
+        .map(|(x0, y0, x1, y1)| Rect { x0, y0, x1, y1 });
+    let colour = match c.get("colour", "spectral".to_string())?.as_str() {
+        "spectral" => ColourMode::Spectral,
+        "rgb" => ColourMode::Rgb,
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid colour mode. Valid modes are 'spectral', 'rgb'"
+            )))
+        }
+    };
+    Ok(RenderSettings {
+        spp: c.get("spp", d.spp)?,
+        max_depth: c.get("max_depth", d.max_depth)?,
+        seed: c.get("render_seed", d.seed)?,
+        region_mm: region,
+        magnification: c.get("magnification", d.magnification)?,
+        independent_samples: c.get("independent_samples", false)?,
+        colour,
+    })
+}
+
+fn eye_of(name: &str) -> PyResult<Eye> {
+    match name {
+        "left" => Ok(Eye::Left),
+        "right" => Ok(Eye::Right),
+        "cyclopean" => Ok(Eye::Cyclopean),
+        other => Err(value_error(format!(
+            "{other:?} is not a valid eye. Valid eyes are 'left', 'right', 'cyclopean', 'pair'"
+        ))),
+    }
+}
+
+/// One rendered view: XYZ (H, W, 3) float32, per-pixel flake ids (H, W) uint64, the glinting
+/// flakes, and a dict of scalars.
+type View<'py> = (Arr<'py, f32>, Arr<'py, u64>, Arr<'py, u64>, Bound<'py, PyDict>);
+
+/// Renders the plate of `params` for each of `eyes` (same microstructure for all).
+#[pyfunction]
+fn render_plate<'py>(
+    py: Python<'py>,
+    params: Bound<'py, PyDict>,
+    eyes: Vec<String>,
+) -> PyResult<Vec<View<'py>>> {
+    let c = Cfg(&params);
+    let fp = flake_params(&c)?;
+    let st = stack(&c, &fp)?;
+    let li = light(&c)?;
+    let s = settings(&c)?;
+    let seed: u64 = c.get("seed", 0)?;
+    let eyes = eyes.iter().map(|e| eye_of(e)).collect::<PyResult<Vec<_>>>()?;
+    let rig = StereoRig::default();
+    let images = py
+        .detach(|| -> wscg_math::Result<Vec<paint::XyzImage>> {
+            let micro = FlakePlate::new(&fp, st.size_mm, seed)?;
+            let plate = Plate::new(st, Box::new(micro))?;
+            eyes.iter()
+                .map(|&e| paint::render(&plate, &li, &rig, e, &s))
+                .collect()
+        })
+        .py_err()?;
+    images
+        .into_iter()
+        .map(|im| {
+            let info = PyDict::new(py);
+            info.set_item("mm_per_px", im.mm_per_px)?;
+            info.set_item("lamp_y", im.lamp_y)?;
+            info.set_item("region_mm", (im.region.x0, im.region.y0, im.region.x1, im.region.y1))?;
+            let (h, w) = (im.height, im.width);
+            let n = im.glint_ids.len();
+            Ok((
+                array(py, &[h, w, 3], im.xyz)?,
+                array(py, &[h, w], im.flake_id)?,
+                array(py, &[n], im.glint_ids)?,
+                info,
+            ))
+        })
+        .collect()
+}
+
+/// One tile of the microstructure as an (N, 7) array `cx, cy, cz, nx, ny, nz, r` and the
+/// number of clamped flakes.
+#[pyfunction]
+fn generate_tile<'py>(py: Python<'py>, params: Bound<'py, PyDict>) -> PyResult<(Arr<'py, f64>, usize)> {
+    let c = Cfg(&params);
+    let fp = flake_params(&c)?;
+    let seed: u64 = c.get("seed", 0)?;
+    let t = py.detach(|| paint::generate_tile(&fp, seed)).py_err()?;
+    let v: Vec<f64> = t
+        .flakes
+        .iter()
+        .flat_map(|f| [f.c.x, f.c.y, f.c.z, f.n.x, f.n.y, f.n.z, f.r])
+        .collect();
+    Ok((array(py, &[t.flakes.len(), 7], v)?, t.clamped))
+}
+
+/// Sparkle statistics of a luminance image.
+#[pyfunction]
+fn glint_statistics<'py>(
+    py: Python<'py>,
+    y: PyReadonlyArrayDyn<f32>,
+    mm_per_px: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let [h, w] = *y.shape() else {
+        return Err(value_error(format!("`y` must be a 2-D (H, W) array, got shape {:?}", y.shape())));
+    };
+    let s = glint_stats(&values(&y), w, h, mm_per_px).py_err()?;
+    let d = PyDict::new(py);
+    d.set_item("glint_density_per_mm2", s.glint_density_per_mm2)?;
+    d.set_item("mean_y", s.mean_y)?;
+    d.set_item("median_y", s.median_y)?;
+    d.set_item("y99_over_median", s.y99_over_median)?;
+    d.set_item("mean_glint_area_mm2", s.mean_glint_area_mm2)?;
+    d.set_item("mean_glint_peak_y", s.mean_glint_peak_y)?;
+    d.set_item("glints", s.glints)?;
+    d.set_item("threshold", s.threshold)?;
+    Ok(d)
+}
+
+/// Dice overlap of two sets of flake ids.
+#[pyfunction]
+fn overlap(left: PyReadonlyArrayDyn<u64>, right: PyReadonlyArrayDyn<u64>) -> f64 {
+    binocular_overlap(&values(&left), &values(&right))
+}
+
+/// The virtual workshop: scores of `runs` against the hidden reference.
+#[pyfunction]
+fn workshop<'py>(
+    py: Python<'py>,
+    params: Bound<'py, PyDict>,
+    reference: (f64, f64),
+    runs: Vec<(f64, f64)>,
+    condition: &str,
+    reference_renders: usize,
+    jnd_log: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let c = Cfg(&params);
+    let fp = flake_params(&c)?;
+    let condition = match condition {
+        "mono" => Condition::Mono,
+        "stereo" => Condition::Stereo,
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid condition. Valid conditions are 'mono', 'stereo'"
+            )))
+        }
+    };
+    let defaults = WorkshopConfig::default();
+    let mut s = settings(&c)?;
+    if s.region_mm.is_none() {
+        s.region_mm = defaults.settings.region_mm;
+    }
+    let cfg = WorkshopConfig {
+        base: fp,
+        stack: stack(&c, &fp)?,
+        light: if c.0.contains("light_elevation_deg")? {
+            light(&c)?
+        } else {
+            DiscLight {
+                angular_radius_deg: c.get("light_deg", 1.0)?,
+                ..defaults.light.clone()
+            }
+        },
+        settings: s,
+        reference_renders,
+        condition,
+        jnd_log,
+        ..defaults
+    };
+    let seed: u64 = c.get("seed", 0)?;
+    let ws = py
+        .detach(|| paint::score_runs(reference, &runs, &cfg, seed, &NoProgress))
+        .py_err()?;
+    let d = PyDict::new(py);
+    d.set_item("scores", ws.scores)?;
+    d.set_item("features", ws.features)?;
+    d.set_item("reference_features", ws.reference_features)?;
+    d.set_item("feature_names", paint::observer::FEATURE_NAMES.to_vec())?;
+    d.set_item("scale_log", ws.observer.std_log)?;
+    Ok(d)
+}
+
+/// Unpolarised Fresnel reflectance of a conductor, element-wise.
+#[pyfunction]
+fn fresnel_conductor(cos_i: Vec<f64>, n: f64, k: f64) -> Vec<f64> {
+    cos_i.iter().map(|&c| spectral::fresnel_conductor(c, n, k)).collect()
+}
+
+/// Unpolarised Fresnel reflectance of a dielectric interface, element-wise.
+#[pyfunction]
+fn fresnel_dielectric(cos_i: Vec<f64>, eta: f64) -> Vec<f64> {
+    cos_i.iter().map(|&c| spectral::fresnel_dielectric(c, eta)).collect()
+}
+
+/// Aluminium's `n + i k` (Rakic Lorentz-Drude) at the given wavelengths.
+#[pyfunction]
+fn aluminium_nk(lambda_nm: Vec<f64>) -> Vec<(f64, f64)> {
+    lambda_nm
+        .iter()
+        .map(|&l| {
+            let c = spectral::aluminium_rakic_ld(l);
+            (c.re, c.im)
+        })
+        .collect()
+}
+
+/// CIE daylight spectrum (81 values, 380-780 nm) at a correlated colour temperature.
+#[pyfunction]
+fn daylight(cct_k: f64) -> PyResult<Vec<f64>> {
+    Ok(daylight_d(cct_k).py_err()?.v)
+}
+
+/// XYZ of a spectrum on the 81-value visible grid.
+#[pyfunction]
+fn spectrum_to_xyz(spd: Vec<f64>) -> PyResult<(f64, f64, f64)> {
+    let s = Spectrum::new(SpectralGrid::VISIBLE, spd).py_err()?;
+    let x = spectral::to_xyz(&s).py_err()?;
+    Ok((x[0], x[1], x[2]))
+}
+
+/// The off-axis rig: projection of points (N, 3), metres, for one eye.
+#[pyfunction]
+fn project<'py>(py: Python<'py>, points: PyReadonlyArrayDyn<f64>, eye: &str) -> PyResult<Arr<'py, f64>> {
+    let e = eye_of(eye)?;
+    let pts = crate::convert::rows3("points", &values(&points), points.shape())?;
+    let rig = StereoRig::default();
+    let mut out = Vec::with_capacity(2 * pts.len());
+    for p in pts {
+        let (x, y) = rig
+            .project(e, nalgebra::Vector3::new(p[0], p[1], p[2]))
+            .unwrap_or((f64::NAN, f64::NAN));
+        out.extend([x, y]);
+    }
+    array(py, &[out.len() / 2, 2], out)
+}
+
+/// Registers the functions.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(render_plate, m)?)?;
+    m.add_function(wrap_pyfunction!(generate_tile, m)?)?;
+    m.add_function(wrap_pyfunction!(glint_statistics, m)?)?;
+    m.add_function(wrap_pyfunction!(overlap, m)?)?;
+    m.add_function(wrap_pyfunction!(workshop, m)?)?;
+    m.add_function(wrap_pyfunction!(fresnel_conductor, m)?)?;
+    m.add_function(wrap_pyfunction!(fresnel_dielectric, m)?)?;
+    m.add_function(wrap_pyfunction!(aluminium_nk, m)?)?;
+    m.add_function(wrap_pyfunction!(daylight, m)?)?;
+    m.add_function(wrap_pyfunction!(spectrum_to_xyz, m)?)?;
+    m.add_function(wrap_pyfunction!(project, m)?)?;
+    m.add("XYZ_TO_SRGB", spectral::XYZ_TO_SRGB.map(|r| r.to_vec()).to_vec())?;
+    Ok(())
+}

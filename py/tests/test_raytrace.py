@@ -1,0 +1,165 @@
+"""Paper 07 from Python: the paint renderer, the microstructure, the observer's statistics,
+the optics, the stereo rig and the study statistics, checked against independent numpy /
+scipy / scikit-image computations."""
+
+import numpy as np
+import pytest
+from scipy import stats
+from skimage.measure import label
+
+from wscg import doe, raytrace as rt
+
+SMALL = dict(region_mm=(-1.5, -1.5, 1.5, 1.5), magnification=4.0, spp=4)
+
+
+def test_pair_shares_the_microstructure_and_is_deterministic():
+    (l, li), (r, ri) = rt.render_plate("pair", return_info=True, light_deg=4.0,
+                                       light_elevation_deg=75.0, **SMALL)
+    assert l.shape == r.shape == (43, 43, 3) and l.dtype == np.float32
+    assert li["mm_per_px"] == pytest.approx(3.0 / 43)
+    ov = rt.binocular_overlap(li["glint_ids"], ri["glint_ids"])
+    assert 0.05 < ov < 0.95
+    again, info = rt.render_plate("left", return_info=True, light_deg=4.0,
+                                  light_elevation_deg=75.0, **SMALL)
+    np.testing.assert_array_equal(again, l)
+    # Every pixel's glinting flake is among the image's glinting flakes.
+    ids = info["flake_id"][info["flake_id"] != np.iinfo(np.uint64).max]
+    assert np.isin(ids, info["glint_ids"]).all() and ids.size > 0
+    # No pixel brighter than the lamp.
+    assert l[..., 1].max() <= info["lamp_y"] * (1 + 1e-6)
+
+
+def test_white_plate_is_srgb_white_under_d65():
+    from wscg.raytrace import daylight
+    img = rt.render_plate("cyclopean", out="srgb", coat_ior=1.0, binder_ior=1.0, base_albedo=1.0,
+                          density=0.0, light_cct=6504.0, light_elevation_deg=60.0,
+                          light_deg=2.0, **SMALL)
+    # CIE D65 is the daylight spectrum at 6504 K: the white plate is sRGB white.
+    assert np.abs(img.mean(axis=(0, 1)) - 1.0).max() < 0.01
+    assert daylight(6504.0).shape == (81,)
+
+
+def test_glint_stats_against_skimage_labels(rng):
+    y = (rng.random((60, 80)) < 0.03).astype(np.float32) * 5.0 + 0.1
+    s = rt.glint_stats(y, 0.05)
+    lab, n = label(y > 4 * np.median(y), connectivity=2, return_num=True)
+    assert s["glints"] == n
+    assert s["glint_density_per_mm2"] == pytest.approx(n / (60 * 80 * 0.05 ** 2))
+    assert s["mean_glint_area_mm2"] == pytest.approx((lab > 0).sum() / n * 0.05 ** 2)
+    with pytest.raises(ValueError):
+        rt.glint_stats(np.full((4, 4), np.nan), 0.1)
+
+
+def test_tile_statistics():
+    counts = []
+    for seed in range(40):
+        tile, clamped = rt.generate_tile(radius_um=20.0, density=3.0, seed=seed)
+        counts.append(len(tile))
+        assert clamped == 0
+        assert np.allclose(tile["nx"] ** 2 + tile["ny"] ** 2 + tile["nz"] ** 2, 1.0)
+    lam = 3.0 * 450.0 ** 2 / (np.pi * 400.0 * (1 + 0.15 ** 2))
+    assert abs(np.mean(counts) - lam) < 3 * np.sqrt(lam / 40)
+    tilts = np.degrees(np.arccos(tile["nz"]))
+    # Half-normal tilts of sigma 8 degrees (the default).
+    assert stats.kstest(tilts, stats.halfnorm(scale=8.0).cdf).pvalue > 0.001
+
+
+def test_fresnel_against_complex_formula():
+    cos = np.linspace(0.05, 1.0, 50)
+    n, k = 1.1, 6.0
+    eta = n + 1j * k
+    sin2 = 1 - cos ** 2
+    ct = np.sqrt(eta ** 2 - sin2) / eta
+    rs = (cos - eta * ct) / (cos + eta * ct)
+    rp = (eta * cos - ct) / (eta * cos + ct)
+    ref = 0.5 * (abs(rs) ** 2 + abs(rp) ** 2)
+    np.testing.assert_allclose(rt.fresnel_conductor(cos, n, k), ref, rtol=1e-10)
+    # Total internal reflection from glass to air beyond the critical angle.
+    assert rt.fresnel_dielectric([0.5], 1 / 1.5)[0] == pytest.approx(1.0)
+    nk = rt.aluminium_nk([550.0])
+    assert 0.5 < nk[0, 0] < 1.5 and 5.5 < nk[0, 1] < 7.0
+
+
+def test_stereo_parallax():
+    pts = np.array([[0.01, 0.02, 0.77], [0.05, -0.03, 1.2]])
+    l, r = rt.project(pts, "left"), rt.project(pts, "right")
+    np.testing.assert_allclose(l[0], r[0], atol=1e-9)
+    pitch = 0.53136 / 1920
+    assert r[1, 0] - l[1, 0] == pytest.approx(0.065 * (1.2 - 0.77) / 1.2 / pitch)
+
+
+def test_rgb_baseline_matches_spectral_for_a_grey_metal():
+    kw = dict(light_deg=3.0, light_elevation_deg=75.0, metal_nk=(1.2, 7.0), **SMALL)
+    a = rt.render_plate("cyclopean", **kw)
+    b = rt.render_plate("cyclopean", colour="rgb", **kw)
+    np.testing.assert_allclose(a.mean(axis=(0, 1)), b.mean(axis=(0, 1)), rtol=1e-5)
+
+
+def test_bad_paint_input():
+    for bad in [dict(radius_um=-1.0), dict(density=np.nan), dict(spp=0),
+                dict(region_mm=(1, 1, 1, 2)), dict(coat_ior=0.9), dict(model="foam"),
+                dict(metal="gold"), dict(light_cct=1000.0)]:
+        with pytest.raises(ValueError):
+            rt.render_plate("left", **{**SMALL, **bad})
+    with pytest.raises(ValueError):
+        rt.render_plate("nose")
+    with pytest.raises(ValueError):
+        rt.generate_tile(thickness_um=30.0)
+
+
+def test_ccd_is_the_papers_design():
+    x = doe.ccd(2, "inscribed", "rotatable", (3, 2))
+    phys = doe.decode(x, [15.0, 3.5], [45.0, 9.5])
+    rows = {tuple(np.round(r, 2)) for r in phys}
+    assert {(19.39, 4.38), (40.61, 8.62), (15.0, 6.5), (30.0, 9.5), (30.0, 6.5)} <= rows
+    assert (np.abs(phys - [30.0, 6.5]).sum(axis=1) < 1e-9).sum() == 5
+    np.testing.assert_allclose(doe.encode(phys, [15.0, 3.5], [45.0, 9.5]), x, atol=1e-12)
+
+
+def test_rsm_against_numpy_least_squares(rng):
+    x = doe.ccd(2, "inscribed", "rotatable", (3, 2))
+    y = 3 + x[:, 0] - 2 * x[:, 1] + 5 * x[:, 0] ** 2 + 2 * x[:, 1] ** 2 + rng.normal(0, 0.3, 13)
+    f = doe.fit_rsm(x, y, interaction=False)
+    a = np.column_stack([np.ones(13), x, x ** 2])
+    coef, *_ = np.linalg.lstsq(a, y, rcond=None)
+    np.testing.assert_allclose(f["coef"], coef, rtol=1e-9, atol=1e-12)
+    h = np.diag(a @ np.linalg.solve(a.T @ a, a.T))
+    np.testing.assert_allclose(f["leverage"], h, rtol=1e-9)
+    # PRESS by refitting without each run.
+    press = 0.0
+    for i in range(13):
+        keep = np.arange(13) != i
+        c, *_ = np.linalg.lstsq(a[keep], y[keep], rcond=None)
+        press += (y[i] - a[i] @ c) ** 2
+    assert f["press"] == pytest.approx(press, rel=1e-9)
+    resid = y - a @ coef
+    s2 = resid @ resid / (13 - 5)
+    se = np.sqrt(np.diag(np.linalg.inv(a.T @ a)) * s2)
+    np.testing.assert_allclose(f["p"], 2 * stats.t.sf(np.abs(coef / se), 8), rtol=1e-7)
+    assert all(e > 0 for e in f["canonical_eigs"])
+
+
+def test_anova_lsd_williams_panel(rng):
+    subj = rng.normal(0, 1, (26, 1, 1))
+    scores = 5 + subj + rng.normal(0, 1, (26, 2, 13))
+    scores[:, 1] -= 0.5
+    t = doe.rm_anova(scores)
+    # Two conditions: F of the condition equals the paired t statistic squared.
+    tt = stats.ttest_rel(scores[:, 0].mean(axis=1), scores[:, 1].mean(axis=1))
+    assert t["condition"]["F"] == pytest.approx(tt.statistic ** 2, rel=1e-9)
+    assert t["condition"]["p"] == pytest.approx(tt.pvalue, rel=1e-6)
+    l = doe.lsd(scores[:, 0], 0.05)
+    one = doe.rm_anova_oneway(scores[:, 0])
+    assert l["lsd"] == pytest.approx(stats.t.ppf(0.975, one["df_error"]) * np.sqrt(2 * one["ms_error"] / 26))
+    w = doe.williams(13)
+    assert w.shape == (26, 13)
+    assert all(sorted(r) == list(range(13)) for r in w)
+    ratios = doe.panel_pca(scores[:, 0].T)
+    ev = np.sort(np.linalg.eigvalsh(np.corrcoef(scores[:, 0].T, rowvar=False)))[::-1]
+    np.testing.assert_allclose(ratios[:3], (ev / ev.sum())[:3], rtol=1e-8)
+    with pytest.raises(ValueError):
+        doe.rm_anova(scores[0])
+    with pytest.raises(ValueError):
+        doe.fit_rsm(x=np.zeros((3, 2)), y=[1, 2, 3])
+    with pytest.raises(ValueError):
+        doe.ccd(1, "inscribed", "rotatable", 2)
