@@ -830,3 +830,42 @@ fn video_synth_complete_measure() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("ffmpeg") && err.contains("clip.mp4"), "{err}");
 }
+
+#[test]
+fn raytrace_paint_writes_a_stereo_pair_and_doe_fits_a_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("plate.png");
+    let args = [
+        "raytrace", "paint", "--eye", "pair", "--region", "-2", "-2", "2", "2",
+        "--magnification", "4", "--spp", "4", "--light-elevation", "75", "--light-deg", "3",
+        "--out",
+    ];
+    let mut a: Vec<String> = args.iter().map(|s| s.to_string()).collect();
+    a.push(out.display().to_string());
+    let text = wscg_ok(&a);
+    assert!(text.contains("flakes glinting directly"), "{text}");
+    let l = Image::<f32>::load(dir.path().join("plate_left.png")).unwrap();
+    let r = Image::<f32>::load(dir.path().join("plate_right.png")).unwrap();
+    assert_eq!((l.height(), l.width()), (58, 58));
+    // Same plate, different eyes: the glints differ in places.
+    assert!(l.data().iter().any(|&v| v > 0.5));
+    assert_ne!(l.data(), r.data());
+
+    // A surface with a known minimum at (-0.25, 0.1) is recovered exactly.
+    let design = wscg_ok(&["doe", "ccd"]);
+    let mut csv = String::from("x1,x2,y\n");
+    for line in design.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+        let y = 2.0 + 4.0 * (v[0] + 0.25).powi(2) + (v[1] - 0.1).powi(2);
+        csv.push_str(&format!("{},{},{y}\n", v[0], v[1]));
+    }
+    let path = dir.path().join("runs.csv");
+    std::fs::write(&path, csv).unwrap();
+    let fit = wscg_ok(&["doe", "fit", path.to_str().unwrap()]);
+    assert!(fit.contains("R2 1.0000"), "{fit}");
+    assert!(fit.contains("stationary point [-0.25"), "{fit}");
+    // Unreadable input is a clear error, not a crash.
+    let bad = wscg().args(["doe", "fit", "/nonexistent/runs.csv"]).output().unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("nonexistent"));
+}

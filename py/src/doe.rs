@@ -17,7 +17,10 @@ fn dmat(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<DMatrix<f64>> {
 }
 
 fn dmat_out<'py>(py: Python<'py>, m: &DMatrix<f64>) -> PyResult<Arr<'py, f64>> {
-    let v: Vec<f64> = m.row_iter().flat_map(|r| r.iter().copied().collect::<Vec<_>>()).collect();
+    let v: Vec<f64> = m
+        .row_iter()
+        .flat_map(|r| r.iter().copied().collect::<Vec<_>>())
+        .collect();
     array(py, &[m.nrows(), m.ncols()], v)
 }
 
@@ -112,8 +115,9 @@ fn fit_rsm_blocked<'py>(
     scores: PyReadonlyArrayDyn<f64>,
     interaction: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let f = wscg_doe::fit_quadratic_blocked(&dmat("x", &x)?, &dmat("scores", &scores)?, interaction)
-        .py_err()?;
+    let f =
+        wscg_doe::fit_quadratic_blocked(&dmat("x", &x)?, &dmat("scores", &scores)?, interaction)
+            .py_err()?;
     fit_dict(py, &f)
 }
 
@@ -164,7 +168,11 @@ fn rm_anova_oneway<'py>(
 
 /// Fisher's LSD on a (subjects, stimuli) array.
 #[pyfunction]
-fn lsd<'py>(py: Python<'py>, scores: PyReadonlyArrayDyn<f64>, alpha: f64) -> PyResult<Bound<'py, PyDict>> {
+fn lsd<'py>(
+    py: Python<'py>,
+    scores: PyReadonlyArrayDyn<f64>,
+    alpha: f64,
+) -> PyResult<Bound<'py, PyDict>> {
     let r = wscg_doe::lsd_pairs(&dmat("scores", &scores)?, alpha).py_err()?;
     let d = PyDict::new(py);
     d.set_item("alpha", r.alpha)?;

@@ -104,7 +104,10 @@ fn stack(c: &Cfg, flakes: &FlakeParams) -> PyResult<PlateStack> {
 }
 
 fn light(c: &Cfg) -> PyResult<DiscLight> {
-    let mut l = DiscLight::from_elevation(c.get("light_elevation_deg", 45.0)?, c.get("light_deg", 1.0)?);
+    let mut l = DiscLight::from_elevation(
+        c.get("light_elevation_deg", 45.0)?,
+        c.get("light_deg", 1.0)?,
+    );
     if let Some(cct) = c.opt::<f64>("light_cct")? {
         l.spectrum = daylight_d(cct).py_err()?;
     }
@@ -153,7 +156,12 @@ fn eye_of(name: &str) -> PyResult<Eye> {
 
 /// One rendered view: XYZ (H, W, 3) float32, per-pixel flake ids (H, W) uint64, the glinting
 /// flakes, and a dict of scalars.
-type View<'py> = (Arr<'py, f32>, Arr<'py, u64>, Arr<'py, u64>, Bound<'py, PyDict>);
+type View<'py> = (
+    Arr<'py, f32>,
+    Arr<'py, u64>,
+    Arr<'py, u64>,
+    Bound<'py, PyDict>,
+);
 
 /// Renders the plate of `params` for each of `eyes` (same microstructure for all).
 #[pyfunction]
@@ -168,7 +176,10 @@ fn render_plate<'py>(
     let li = light(&c)?;
     let s = settings(&c)?;
     let seed: u64 = c.get("seed", 0)?;
-    let eyes = eyes.iter().map(|e| eye_of(e)).collect::<PyResult<Vec<_>>>()?;
+    let eyes = eyes
+        .iter()
+        .map(|e| eye_of(e))
+        .collect::<PyResult<Vec<_>>>()?;
     let rig = StereoRig::default();
     let images = py
         .detach(|| -> wscg_math::Result<Vec<paint::XyzImage>> {
@@ -185,7 +196,10 @@ fn render_plate<'py>(
             let info = PyDict::new(py);
             info.set_item("mm_per_px", im.mm_per_px)?;
             info.set_item("lamp_y", im.lamp_y)?;
-            info.set_item("region_mm", (im.region.x0, im.region.y0, im.region.x1, im.region.y1))?;
+            info.set_item(
+                "region_mm",
+                (im.region.x0, im.region.y0, im.region.x1, im.region.y1),
+            )?;
             let (h, w) = (im.height, im.width);
             let n = im.glint_ids.len();
             Ok((
@@ -201,7 +215,10 @@ fn render_plate<'py>(
 /// One tile of the microstructure as an (N, 7) array `cx, cy, cz, nx, ny, nz, r` and the
 /// number of clamped flakes.
 #[pyfunction]
-fn generate_tile<'py>(py: Python<'py>, params: Bound<'py, PyDict>) -> PyResult<(Arr<'py, f64>, usize)> {
+fn generate_tile<'py>(
+    py: Python<'py>,
+    params: Bound<'py, PyDict>,
+) -> PyResult<(Arr<'py, f64>, usize)> {
     let c = Cfg(&params);
     let fp = flake_params(&c)?;
     let seed: u64 = c.get("seed", 0)?;
@@ -222,7 +239,10 @@ fn glint_statistics<'py>(
     mm_per_px: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let [h, w] = *y.shape() else {
-        return Err(value_error(format!("`y` must be a 2-D (H, W) array, got shape {:?}", y.shape())));
+        return Err(value_error(format!(
+            "`y` must be a 2-D (H, W) array, got shape {:?}",
+            y.shape()
+        )));
     };
     let s = glint_stats(&values(&y), w, h, mm_per_px).py_err()?;
     let d = PyDict::new(py);
@@ -303,13 +323,19 @@ fn workshop<'py>(
 /// Unpolarised Fresnel reflectance of a conductor, element-wise.
 #[pyfunction]
 fn fresnel_conductor(cos_i: Vec<f64>, n: f64, k: f64) -> Vec<f64> {
-    cos_i.iter().map(|&c| spectral::fresnel_conductor(c, n, k)).collect()
+    cos_i
+        .iter()
+        .map(|&c| spectral::fresnel_conductor(c, n, k))
+        .collect()
 }
 
 /// Unpolarised Fresnel reflectance of a dielectric interface, element-wise.
 #[pyfunction]
 fn fresnel_dielectric(cos_i: Vec<f64>, eta: f64) -> Vec<f64> {
-    cos_i.iter().map(|&c| spectral::fresnel_dielectric(c, eta)).collect()
+    cos_i
+        .iter()
+        .map(|&c| spectral::fresnel_dielectric(c, eta))
+        .collect()
 }
 
 /// Aluminium's `n + i k` (Rakic Lorentz-Drude) at the given wavelengths.
@@ -340,7 +366,11 @@ fn spectrum_to_xyz(spd: Vec<f64>) -> PyResult<(f64, f64, f64)> {
 
 /// The off-axis rig: projection of points (N, 3), metres, for one eye.
 #[pyfunction]
-fn project<'py>(py: Python<'py>, points: PyReadonlyArrayDyn<f64>, eye: &str) -> PyResult<Arr<'py, f64>> {
+fn project<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArrayDyn<f64>,
+    eye: &str,
+) -> PyResult<Arr<'py, f64>> {
     let e = eye_of(eye)?;
     let pts = crate::convert::rows3("points", &values(&points), points.shape())?;
     let rig = StereoRig::default();
@@ -367,6 +397,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(daylight, m)?)?;
     m.add_function(wrap_pyfunction!(spectrum_to_xyz, m)?)?;
     m.add_function(wrap_pyfunction!(project, m)?)?;
-    m.add("XYZ_TO_SRGB", spectral::XYZ_TO_SRGB.map(|r| r.to_vec()).to_vec())?;
+    m.add(
+        "XYZ_TO_SRGB",
+        spectral::XYZ_TO_SRGB.map(|r| r.to_vec()).to_vec(),
+    )?;
     Ok(())
 }

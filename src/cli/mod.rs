@@ -8,9 +8,11 @@ use wscg_math::{Error, Result};
 
 mod biometrics;
 mod cloth;
+mod doe;
 mod math;
 mod meshfilter;
 mod progress;
+mod raytrace;
 mod sfa;
 mod video;
 mod volren;
@@ -60,6 +62,12 @@ enum Command {
     /// Video completion (paper 06: localized search) on your own frames.
     #[command(subcommand)]
     Video(video::VideoCommand),
+    /// Metallic-flake paint rendering and the virtual material workshop (paper 07).
+    #[command(subcommand)]
+    Raytrace(raytrace::RaytraceCommand),
+    /// Designs and response surfaces of perceptual studies (paper 07's statistics).
+    #[command(subcommand)]
+    Doe(doe::DoeCommand),
     /// Shared numerics on image files: metrics, filtering, resizing, spectra.
     #[command(subcommand)]
     Math(math::MathCommand),
@@ -124,6 +132,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Volren(cmd) => volren::run(cmd),
         Command::Meshfilter(cmd) => meshfilter::run(cmd),
         Command::Video(cmd) => video::run(cmd),
+        Command::Raytrace(cmd) => raytrace::run(cmd),
+        Command::Doe(cmd) => doe::run(cmd),
     }
 }
 

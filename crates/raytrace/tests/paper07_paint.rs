@@ -687,7 +687,11 @@ fn bad_input_is_an_error() {
 fn mean_xyz(img: &XyzImage) -> [f64; 3] {
     let n = (img.width * img.height) as f64;
     img.xyz.chunks_exact(3).fold([0.0; 3], |a, p| {
-        [a[0] + p[0] as f64 / n, a[1] + p[1] as f64 / n, a[2] + p[2] as f64 / n]
+        [
+            a[0] + p[0] as f64 / n,
+            a[1] + p[1] as f64 / n,
+            a[2] + p[2] as f64 / n,
+        ]
     })
 }
 

@@ -16,7 +16,7 @@ pub use observer::{
 };
 pub use plate::{FlakePlate, PlacedFlake};
 pub use render::{
-    render, ColourMode, FlakeHit, Microstructure, NoFlakes, Plate, Rect, RenderSettings, XyzImage,
-    NO_FLAKE, RGB_BAND_NM,
+    render, render_with_progress, ColourMode, FlakeHit, Microstructure, NoFlakes, Plate, Rect,
+    RenderSettings, XyzImage, NO_FLAKE, RGB_BAND_NM,
 };
 pub use workshop::{plate_features, score_runs, WorkshopConfig, WorkshopScores};

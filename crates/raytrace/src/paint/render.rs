@@ -20,6 +20,8 @@ use nalgebra::Vector3;
 use num_complex::Complex64;
 use rand::Rng;
 use rayon::prelude::*;
+use wscg_math::image::Image;
+use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::{Error, Result};
 
 use super::layers::{DiscLight, PlateStack};
@@ -240,6 +242,21 @@ impl XyzImage {
     /// The `Y` channel.
     pub fn luminance(&self) -> Vec<f32> {
         self.xyz.chunks_exact(3).map(|p| p[1]).collect()
+    }
+
+    /// Display sRGB in `[0, 1]` (IEC 61966-2-1 matrix and transfer curve) of the XYZ values
+    /// times `exposure`; brighter values clip. The matrix `m` maps XYZ to the display's
+    /// linear RGB ([`XYZ_TO_SRGB`], or a display's calibration matrix as in the paper).
+    pub fn to_display(&self, exposure: f64, m: &[[f64; 3]; 3]) -> Result<Image<f32>> {
+        let data = self
+            .xyz
+            .chunks_exact(3)
+            .flat_map(|p| {
+                let rgb = xyz_to_rgb([p[0] as f64, p[1] as f64, p[2] as f64], m);
+                rgb.map(|v| crate::spectral::srgb_oetf((v * exposure).clamp(0.0, 1.0)) as f32)
+            })
+            .collect();
+        Image::new(self.height, self.width, 3, data)
     }
 }
 
@@ -560,6 +577,18 @@ pub fn render(
     eye: Eye,
     s: &RenderSettings,
 ) -> Result<XyzImage> {
+    render_with_progress(plate, light, rig, eye, s, &NoProgress)
+}
+
+/// [`render`], reporting the rows done to `progress`.
+pub fn render_with_progress(
+    plate: &Plate,
+    light: &DiscLight,
+    rig: &StereoRig,
+    eye: Eye,
+    s: &RenderSettings,
+    progress: &dyn Progress,
+) -> Result<XyzImage> {
     light.validate()?;
     rig.validate()?;
     if s.spp == 0 {
@@ -619,47 +648,55 @@ pub fn render(
     );
     let side = (s.spp as f64).sqrt().round() as u32;
     let stratified = side * side == s.spp && !s.independent_samples;
-    let pixels: Vec<([f32; 3], u64, Vec<u64>)> = (0..width * height)
-        .into_par_iter()
-        .map(|idx| {
-            let (i, j) = (idx % width, idx / width);
-            let mut rng = wscg_math::rng::stream(s.seed, idx as u64);
-            let mut acc = [0.0f64; 3];
-            let mut first = NO_FLAKE;
-            let mut ids = Vec::new();
-            for k in 0..s.spp {
-                let (u, v) = if stratified {
-                    (
-                        ((k % side) as f64 + rng.random::<f64>()) / side as f64,
-                        ((k / side) as f64 + rng.random::<f64>()) / side as f64,
-                    )
-                } else {
-                    (rng.random::<f64>(), rng.random::<f64>())
-                };
-                let x_mm = region.x0 + (i as f64 + u) * px_w;
-                let y_mm = region.y1 - (j as f64 + v) * px_h;
-                let p = Vector3::new(x_mm * 1e-3, y_mm * 1e-3, a);
-                let de = (p - e).normalize();
-                let d = Vector3::new(de.x, de.y, -de.z);
-                let (c, id) = ctx.trace(x_mm * 1e3, y_mm * 1e3, d, &mut rng);
-                for q in 0..3 {
-                    acc[q] += c[q];
-                }
-                if let Some(id) = id {
-                    if first == NO_FLAKE {
-                        first = id;
-                    }
-                    ids.push(id);
-                }
+    progress.begin("rendering rows", height as u64);
+    let pixel = |idx: usize| {
+        let (i, j) = (idx % width, idx / width);
+        let mut rng = wscg_math::rng::stream(s.seed, idx as u64);
+        let mut acc = [0.0f64; 3];
+        let mut first = NO_FLAKE;
+        let mut ids = Vec::new();
+        for k in 0..s.spp {
+            let (u, v) = if stratified {
+                (
+                    ((k % side) as f64 + rng.random::<f64>()) / side as f64,
+                    ((k / side) as f64 + rng.random::<f64>()) / side as f64,
+                )
+            } else {
+                (rng.random::<f64>(), rng.random::<f64>())
+            };
+            let x_mm = region.x0 + (i as f64 + u) * px_w;
+            let y_mm = region.y1 - (j as f64 + v) * px_h;
+            let p = Vector3::new(x_mm * 1e-3, y_mm * 1e-3, a);
+            let de = (p - e).normalize();
+            let d = Vector3::new(de.x, de.y, -de.z);
+            let (c, id) = ctx.trace(x_mm * 1e3, y_mm * 1e3, d, &mut rng);
+            for q in 0..3 {
+                acc[q] += c[q];
             }
-            ids.sort_unstable();
-            ids.dedup();
-            let n = s.spp as f64;
-            (acc.map(|v| (v / n) as f32), first, ids)
+            if let Some(id) = id {
+                if first == NO_FLAKE {
+                    first = id;
+                }
+                ids.push(id);
+            }
+        }
+        ids.sort_unstable();
+        ids.dedup();
+        let n = s.spp as f64;
+        (acc.map(|v| (v / n) as f32), first, ids)
+    };
+    let rows: Vec<Vec<([f32; 3], u64, Vec<u64>)>> = (0..height)
+        .into_par_iter()
+        .map(|j| {
+            let row = (j * width..(j + 1) * width).map(pixel).collect();
+            progress.advance(1);
+            row
         })
         .collect();
-    let mut xyz = Vec::with_capacity(3 * pixels.len());
-    let mut flake_id = Vec::with_capacity(pixels.len());
+    progress.finish();
+    let pixels = rows.into_iter().flatten();
+    let mut xyz = Vec::with_capacity(3 * width * height);
+    let mut flake_id = Vec::with_capacity(width * height);
     let mut glint_ids = Vec::new();
     for (c, f, ids) in pixels {
         xyz.extend_from_slice(&c);
