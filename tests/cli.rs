@@ -836,8 +836,23 @@ fn raytrace_paint_writes_a_stereo_pair_and_doe_fits_a_surface() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("plate.png");
     let args = [
-        "raytrace", "paint", "--eye", "pair", "--region", "-2", "-2", "2", "2",
-        "--magnification", "4", "--spp", "4", "--light-elevation", "75", "--light-deg", "3",
+        "raytrace",
+        "paint",
+        "--eye",
+        "pair",
+        "--region",
+        "-2",
+        "-2",
+        "2",
+        "2",
+        "--magnification",
+        "4",
+        "--spp",
+        "4",
+        "--light-elevation",
+        "75",
+        "--light-deg",
+        "3",
         "--out",
     ];
     let mut a: Vec<String> = args.iter().map(|s| s.to_string()).collect();
@@ -865,7 +880,10 @@ fn raytrace_paint_writes_a_stereo_pair_and_doe_fits_a_surface() {
     assert!(fit.contains("R2 1.0000"), "{fit}");
     assert!(fit.contains("stationary point [-0.25"), "{fit}");
     // Unreadable input is a clear error, not a crash.
-    let bad = wscg().args(["doe", "fit", "/nonexistent/runs.csv"]).output().unwrap();
+    let bad = wscg()
+        .args(["doe", "fit", "/nonexistent/runs.csv"])
+        .output()
+        .unwrap();
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("nonexistent"));
 }

@@ -13,6 +13,7 @@ pub mod cloth;
 pub mod figures;
 pub mod math;
 pub mod meshfilter;
+pub mod paint;
 pub mod sfa;
 pub mod video;
 pub mod volren;
@@ -103,6 +104,7 @@ pub fn registry() -> Vec<Demo> {
         volren::DEMO,
         meshfilter::DEMO,
         video::DEMO,
+        paint::DEMO,
     ]
 }
 
