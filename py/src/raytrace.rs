@@ -231,6 +231,45 @@ fn generate_tile<'py>(
     Ok((array(py, &[t.flakes.len(), 7], v)?, t.clamped))
 }
 
+/// The tile pool and the cells `(x0, y0, tile, quarter turns)`.
+type Layout<'py> = (Vec<Arr<'py, f64>>, Vec<(f64, f64, usize, u8)>);
+
+/// The plate's layout over a region (µm): the tile pool as (N, 7) arrays and, per cell,
+/// `(x0, y0, tile, quarter turns)`.
+#[pyfunction]
+fn plate_layout<'py>(
+    py: Python<'py>,
+    params: Bound<'py, PyDict>,
+    region_um: (f64, f64, f64, f64),
+) -> PyResult<Layout<'py>> {
+    let c = Cfg(&params);
+    let fp = flake_params(&c)?;
+    let st = stack(&c, &fp)?;
+    let seed: u64 = c.get("seed", 0)?;
+    let plate = py
+        .detach(|| FlakePlate::new(&fp, st.size_mm, seed))
+        .py_err()?;
+    let pool = plate
+        .pool()
+        .iter()
+        .map(|t| {
+            let v: Vec<f64> = t
+                .flakes
+                .iter()
+                .flat_map(|f| [f.c.x, f.c.y, f.c.z, f.n.x, f.n.y, f.n.z, f.r])
+                .collect();
+            array(py, &[t.flakes.len(), 7], v)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let (x0, y0, x1, y1) = region_um;
+    let cells = plate
+        .cells_in(x0, y0, x1, y1)
+        .into_iter()
+        .map(|((cx, cy), t, k)| (cx, cy, t, k))
+        .collect();
+    Ok((pool, cells))
+}
+
 /// Sparkle statistics of a luminance image.
 #[pyfunction]
 fn glint_statistics<'py>(
@@ -388,6 +427,7 @@ fn project<'py>(
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render_plate, m)?)?;
     m.add_function(wrap_pyfunction!(generate_tile, m)?)?;
+    m.add_function(wrap_pyfunction!(plate_layout, m)?)?;
     m.add_function(wrap_pyfunction!(glint_statistics, m)?)?;
     m.add_function(wrap_pyfunction!(overlap, m)?)?;
     m.add_function(wrap_pyfunction!(workshop, m)?)?;

@@ -163,3 +163,16 @@ def test_anova_lsd_williams_panel(rng):
         doe.fit_rsm(x=np.zeros((3, 2)), y=[1, 2, 3])
     with pytest.raises(ValueError):
         doe.ccd(1, "inscribed", "rotatable", 2)
+
+
+def test_plate_layout_places_the_pool_on_the_cells():
+    tiles, cells = rt.plate_layout((-0.5, -0.5, 0.5, 0.5), seed=4)
+    assert len(tiles) == 16 and all(t.dtype == rt.FLAKE_DTYPE for t in tiles)
+    # 1 x 1 mm at the plate's centre spans 3 x 3 cells of 450 µm (corners at -75 mm + 450 k).
+    assert len(cells) == 9
+    for x0, y0, t, k in cells:
+        assert 0 <= t < 16 and 0 <= k < 4
+        assert abs((x0 + 75000.0) / 450.0 - round((x0 + 75000.0) / 450.0)) < 1e-9
+    # Reproducible from the seed.
+    again, cells2 = rt.plate_layout((-0.5, -0.5, 0.5, 0.5), seed=4)
+    assert cells2 == cells and all(np.array_equal(a, b) for a, b in zip(tiles, again))

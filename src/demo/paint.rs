@@ -31,15 +31,21 @@ pub const DEMO: Demo = Demo {
 const LOW: [f64; 2] = [15.0, 3.5];
 const HIGH: [f64; 2] = [45.0, 9.5];
 
-fn mean_xyz(img: &XyzImage) -> [f64; 3] {
-    let n = (img.width * img.height) as f64;
-    img.xyz.chunks_exact(3).fold([0.0; 3], |a, p| {
-        [
-            a[0] + p[0] as f64 / n,
-            a[1] + p[1] as f64 / n,
-            a[2] + p[2] as f64 / n,
-        ]
-    })
+/// The spectral render of `s` and the RGB baseline's, cyclopean eye.
+fn spectral_and_rgb(
+    plate: &Plate,
+    light: &DiscLight,
+    s: &RenderSettings,
+    progress: &dyn Progress,
+) -> Result<(XyzImage, XyzImage)> {
+    let rig = StereoRig::default();
+    let spectral = render_with_progress(plate, light, &rig, Eye::Cyclopean, s, progress)?;
+    let rgb = RenderSettings {
+        colour: ColourMode::Rgb,
+        ..s.clone()
+    };
+    let rgb = render_with_progress(plate, light, &rig, Eye::Cyclopean, &rgb, progress)?;
+    Ok((spectral, rgb))
 }
 
 /// Area of the intersection of two discs of radius `r` whose centres are `d` apart, over the
@@ -102,24 +108,17 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         ..RenderSettings::default()
     };
     let mut views = Vec::new();
-    for eye in [Eye::Left, Eye::Right, Eye::Cyclopean] {
+    for eye in [Eye::Left, Eye::Right] {
         let img = rep.time(
             &format!("render 144 x 144 px, 64 spp, {eye:?} eye (s)"),
             || render_with_progress(&plate, &light, &rig, eye, &s, progress),
         )?;
         views.push(img);
     }
-    let rgb = render_with_progress(
-        &plate,
-        &light,
-        &rig,
-        Eye::Cyclopean,
-        &RenderSettings {
-            colour: ColourMode::Rgb,
-            ..s.clone()
-        },
-        progress,
-    )?;
+    let (cyclopean, rgb) = rep.time("render cyclopean eye, spectral and RGB (s)", || {
+        spectral_and_rgb(&plate, &light, &s, progress)
+    })?;
+    views.push(cyclopean);
     let tiles = views
         .iter()
         .chain(std::iter::once(&rgb))
@@ -186,19 +185,8 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         },
         Box::new(micro),
     )?;
-    let a = render_with_progress(&al, &light, &rig, Eye::Cyclopean, &s, progress)?;
-    let b = render_with_progress(
-        &al,
-        &light,
-        &rig,
-        Eye::Cyclopean,
-        &RenderSettings {
-            colour: ColourMode::Rgb,
-            ..s.clone()
-        },
-        progress,
-    )?;
-    let (xa, xb) = (xyz_to_xy(mean_xyz(&a)), xyz_to_xy(mean_xyz(&b)));
+    let (a, b) = spectral_and_rgb(&al, &light, &s, progress)?;
+    let (xa, xb) = (xyz_to_xy(a.mean_xyz()), xyz_to_xy(b.mean_xyz()));
     rep.table.push(Row::new(
         "mean glint chromaticity, Rakic aluminium: spectral / RGB baseline",
         format!(

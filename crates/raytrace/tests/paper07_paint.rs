@@ -683,18 +683,6 @@ fn bad_input_is_an_error() {
     assert!(FlakePlate::new(&p, (0.0, 10.0), 0).is_err());
 }
 
-/// Mean XYZ of an image.
-fn mean_xyz(img: &XyzImage) -> [f64; 3] {
-    let n = (img.width * img.height) as f64;
-    img.xyz.chunks_exact(3).fold([0.0; 3], |a, p| {
-        [
-            a[0] + p[0] as f64 / n,
-            a[1] + p[1] as f64 / n,
-            a[2] + p[2] as f64 / n,
-        ]
-    })
-}
-
 #[test]
 fn rgb_baseline_equals_spectral_for_grey_flakes_only() {
     let rig = StereoRig::default();
@@ -723,14 +711,14 @@ fn rgb_baseline_equals_spectral_for_grey_flakes_only() {
     };
     // A metal of constant index: the three bands carry the lamp's colour exactly.
     let (a, b) = render_both(MetalIor::Constant { n: 1.2, k: 7.0 });
-    let (ma, mb) = (mean_xyz(&a), mean_xyz(&b));
+    let (ma, mb) = (a.mean_xyz(), b.mean_xyz());
     assert!(ma[1] > 0.0);
     for k in 0..3 {
         assert!((ma[k] / mb[k] - 1.0).abs() < 1e-9, "{ma:?} vs {mb:?}");
     }
     // Aluminium's reflectance varies over the spectrum: the RGB render's colour is off.
     let (a, b) = render_both(MetalIor::AlRakicLd);
-    let (xa, xb) = (xyz_to_xy(mean_xyz(&a)), xyz_to_xy(mean_xyz(&b)));
+    let (xa, xb) = (xyz_to_xy(a.mean_xyz()), xyz_to_xy(b.mean_xyz()));
     let shift = (xa[0] - xb[0]).hypot(xa[1] - xb[1]);
     eprintln!("aluminium glints: spectral xy {xa:?}, RGB xy {xb:?}, shift {shift:.5}");
     assert!(shift > 1e-4 && shift < 0.02, "{shift}");

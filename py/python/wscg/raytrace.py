@@ -39,7 +39,7 @@ import numpy as np
 
 from ._native import raytrace as _r
 
-__all__ = ["render_plate", "xyz_to_srgb", "generate_tile", "glint_stats", "binocular_overlap",
+__all__ = ["render_plate", "xyz_to_srgb", "generate_tile", "plate_layout", "glint_stats", "binocular_overlap",
            "workshop", "fresnel_conductor", "fresnel_dielectric", "aluminium_nk", "daylight",
            "spectrum_to_xyz", "project", "FLAKE_DTYPE"]
 
@@ -48,6 +48,13 @@ FLAKE_DTYPE = np.dtype([("cx", "f8"), ("cy", "f8"), ("cz", "f8"), ("nx", "f8"), 
                         ("nz", "f8"), ("r", "f8")])
 
 _XYZ_TO_SRGB = np.array(_r.XYZ_TO_SRGB)
+
+
+def _records(arr: np.ndarray) -> np.ndarray:
+    rec = np.zeros(arr.shape[0], dtype=FLAKE_DTYPE)
+    for k, name in enumerate(FLAKE_DTYPE.names):
+        rec[name] = arr[:, k]
+    return rec
 
 
 def xyz_to_srgb(xyz, exposure: float = 1.0) -> np.ndarray:
@@ -133,10 +140,18 @@ def generate_tile(**params) -> Tuple[np.ndarray, int]:
     documentation.
     """
     arr, clamped = _r.generate_tile(dict(params))
-    rec = np.zeros(arr.shape[0], dtype=FLAKE_DTYPE)
-    for k, name in enumerate(FLAKE_DTYPE.names):
-        rec[name] = arr[:, k]
-    return rec, clamped
+    return _records(arr), clamped
+
+
+def plate_layout(region_mm: Tuple[float, float, float, float], **params):
+    """The plate's microstructure over ``region_mm`` (x0, y0, x1, y1), for export to another
+    renderer: the pool of tiles (a list of :data:`FLAKE_DTYPE` arrays, tile frame in µm) and
+    the cells overlapping the region as ``(x0_um, y0_um, tile, quarter_turns)``. A tile point
+    ``q`` appears at ``(x0, y0) + L/2 + R_k (q - L/2)`` (``L`` = ``tile_um``, ``R_k`` a turn
+    of ``k`` quarter turns counter-clockwise), clipped to the cell's square."""
+    x0, y0, x1, y1 = (float(v) * 1e3 for v in region_mm)
+    pool, cells = _r.plate_layout(dict(params), (x0, y0, x1, y1))
+    return [_records(a) for a in pool], cells
 
 
 def glint_stats(y, mm_per_px: float) -> dict:

@@ -64,16 +64,7 @@ impl PlateStack {
     /// Errors: a coat index <= 1, a binder index < 1, non-positive sizes or thicknesses, an
     /// albedo outside [0, 1], a negative absorption, a bad metal index.
     pub fn validate(&self) -> Result<()> {
-        let pos = |name: &'static str, v: f64| -> Result<()> {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(Error::invalid(
-                    name,
-                    format!("must be finite and positive, got {v}"),
-                ))
-            }
-        };
+        let pos = wscg_math::error::ensure_positive;
         pos("size_mm", self.size_mm.0)?;
         pos("size_mm", self.size_mm.1)?;
         pos("binder_um", self.binder_um)?;

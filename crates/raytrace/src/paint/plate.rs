@@ -100,6 +100,27 @@ impl FlakePlate {
         )
     }
 
+    /// The cells that overlap the rectangle `[x0, x1] x [y0, y1]` (µm, plate frame): each
+    /// cell's lower-left corner (µm), its tile in [`FlakePlate::pool`] and its quarter turns
+    /// `k` (counter-clockwise about the cell's centre). A tile point `q` is shown at
+    /// `corner + L/2 + R_k (q - L/2)` in the plate, clipped to the cell's square: the layout
+    /// to export the plate to another renderer.
+    pub fn cells_in(&self, x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<((f64, f64), usize, u8)> {
+        let (Some((i0, i1)), Some((j0, j1))) =
+            (self.cell_range(x0, x1, 0), self.cell_range(y0, y1, 1))
+        else {
+            return Vec::new();
+        };
+        let mut out = Vec::with_capacity((i1 - i0 + 1) * (j1 - j0 + 1));
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let (t, k) = self.cell_tile(i, j);
+                out.push((self.cell_origin(i, j), t, k));
+            }
+        }
+        out
+    }
+
     /// Every flake shown inside the rectangle `[x0, x1] x [y0, y1]` (µm, plate frame) whose
     /// disc lies wholly inside its cell (flakes cut by a cell's edge are left out).
     pub fn flakes_in(&self, x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<PlacedFlake> {

@@ -244,6 +244,18 @@ impl XyzImage {
         self.xyz.chunks_exact(3).map(|p| p[1]).collect()
     }
 
+    /// Mean `X, Y, Z` over the image.
+    pub fn mean_xyz(&self) -> [f64; 3] {
+        let n = (self.width * self.height).max(1) as f64;
+        self.xyz.chunks_exact(3).fold([0.0; 3], |a, p| {
+            [
+                a[0] + p[0] as f64 / n,
+                a[1] + p[1] as f64 / n,
+                a[2] + p[2] as f64 / n,
+            ]
+        })
+    }
+
     /// Display sRGB in `[0, 1]` (IEC 61966-2-1 matrix and transfer curve) of the XYZ values
     /// times `exposure`; brighter values clip. The matrix `m` maps XYZ to the display's
     /// linear RGB ([`XYZ_TO_SRGB`], or a display's calibration matrix as in the paper).
@@ -302,7 +314,10 @@ fn lamp_weights(light: &DiscLight) -> (Vec<[f64; 3]>, f64) {
 /// Chain weight (at 560 nm) below which Russian roulette may end a chain: the part of a
 /// camera ray reflected back into the plate by the top surface (4 % near normal incidence)
 /// is followed only now and then, with a weight that keeps the estimate unbiased.
-const ROULETTE_BELOW: f64 = 0.05;
+const ROULETTE_BELOW: f64 = 0.5;
+
+/// One pixel's result: mean XYZ, first directly glinting flake, every directly glinting flake.
+type PixelResult = ([f32; 3], u64, Vec<u64>);
 
 /// Most scattering events per chain ([`RenderSettings::max_depth`]).
 pub const MAX_DEPTH: u32 = 16;
@@ -314,6 +329,45 @@ struct Chain {
     first_id: Option<u64>,
     /// Internal reflections at the plate's interfaces so far.
     bounces: u32,
+    /// Scattering events (flake and internal reflections) so far.
+    events: u32,
+}
+
+impl Chain {
+    /// Counts an internal reflection; false once the chain has more than `max_depth` events.
+    fn internal_reflection(&mut self, max_depth: u32) -> bool {
+        self.bounces += 1;
+        self.events += 1;
+        self.events <= max_depth
+    }
+}
+
+/// What a ray does at the coat-binder interface.
+enum Crossing {
+    /// Reflected back (chosen with the Fresnel probability); `dir.z` is flipped.
+    Reflected,
+    /// Refracted through (or no interface: equal indices); `dir` is the new direction.
+    Refracted,
+    /// Totally reflected where the deterministic refraction has no solution.
+    Lost,
+}
+
+/// Crossing of the horizontal interface from index `n1` to `n2` by `dir`.
+fn cross_interface(dir: &mut Vector3<f64>, n1: f64, n2: f64, rng: &mut impl Rng) -> Crossing {
+    if n1 == n2 {
+        return Crossing::Refracted;
+    }
+    if rng.random::<f64>() < fresnel_dielectric(dir.z.abs(), n2 / n1) {
+        dir.z = -dir.z;
+        return Crossing::Reflected;
+    }
+    match refract_horizontal(dir, n1, n2) {
+        Some(r) => {
+            *dir = r;
+            Crossing::Refracted
+        }
+        None => Crossing::Lost,
+    }
 }
 
 struct Ctx<'a> {
@@ -336,8 +390,8 @@ impl Ctx<'_> {
             for &c in &chain.cosines[..chain.n] {
                 t *= fresnel_conductor(c, b.rel.re, b.rel.im);
             }
-            for k in 0..3 {
-                out[k] += t * b.xyz[k];
+            for (o, x) in out.iter_mut().zip(&b.xyz) {
+                *o += t * x;
             }
         }
     }
@@ -359,6 +413,7 @@ impl Ctx<'_> {
             n: 0,
             first_id: None,
             bounces: 0,
+            events: 0,
         };
         let n_top = st.top_ior();
         let nb = st.binder_ior;
@@ -381,7 +436,6 @@ impl Ctx<'_> {
             return (out, None);
         };
         let mut pos = Vector3::new(x, y, z_top);
-        let mut events = 0u32;
         let mut proxy = 1.0;
         loop {
             // Through the coat (no flakes) down to the binder, or up to the top surface.
@@ -389,21 +443,10 @@ impl Ctx<'_> {
                 let t = (pos.z - t_bind) / -dir.z;
                 pos += dir * t;
                 pos.z = t_bind;
-                if n_top != nb {
-                    let fc = fresnel_dielectric(-dir.z, nb / n_top);
-                    if rng.random::<f64>() < fc {
-                        dir.z = -dir.z;
-                        chain.bounces += 1;
-                        events += 1;
-                        if events > self.max_depth {
-                            break;
-                        }
-                        continue;
-                    }
-                    match refract_horizontal(&dir, n_top, nb) {
-                        Some(r) => dir = r,
-                        None => break,
-                    }
+                match cross_interface(&mut dir, n_top, nb, rng) {
+                    Crossing::Reflected if chain.internal_reflection(self.max_depth) => continue,
+                    Crossing::Refracted => {}
+                    _ => break,
                 }
             }
             if pos.z >= z_top - 1e-9 && dir.z > 0.0 {
@@ -424,9 +467,7 @@ impl Ctx<'_> {
                 }
                 w *= ft;
                 dir.z = -dir.z;
-                chain.bounces += 1;
-                events += 1;
-                if events > self.max_depth {
+                if !chain.internal_reflection(self.max_depth) {
                     break;
                 }
             } else if pos.z > t_bind + 1e-9 && dir.z > 0.0 {
@@ -456,8 +497,8 @@ impl Ctx<'_> {
                         }
                         proxy *= fresnel_conductor(c, self.mid.re, self.mid.im);
                         dir = reflect(&dir, &h.normal);
-                        events += 1;
-                        if events > self.max_depth {
+                        chain.events += 1;
+                        if chain.events > self.max_depth {
                             break;
                         }
                     }
@@ -473,22 +514,13 @@ impl Ctx<'_> {
                             break;
                         }
                         pos.z = t_bind;
-                        if n_top != nb {
-                            // Binder to coat.
-                            let fc = fresnel_dielectric(dir.z, n_top / nb);
-                            if rng.random::<f64>() < fc {
-                                dir.z = -dir.z;
-                                chain.bounces += 1;
-                                events += 1;
-                                if events > self.max_depth {
-                                    break;
-                                }
-                                continue;
+                        // Binder to coat.
+                        match cross_interface(&mut dir, nb, n_top, rng) {
+                            Crossing::Reflected if chain.internal_reflection(self.max_depth) => {
+                                continue
                             }
-                            match refract_horizontal(&dir, nb, n_top) {
-                                Some(r) => dir = r,
-                                None => break,
-                            }
+                            Crossing::Refracted => {}
+                            _ => break,
                         }
                         if coat == 0.0 {
                             pos.z = z_top;
@@ -685,7 +717,7 @@ pub fn render_with_progress(
         let n = s.spp as f64;
         (acc.map(|v| (v / n) as f32), first, ids)
     };
-    let rows: Vec<Vec<([f32; 3], u64, Vec<u64>)>> = (0..height)
+    let rows: Vec<Vec<PixelResult>> = (0..height)
         .into_par_iter()
         .map(|j| {
             let row = (j * width..(j + 1) * width).map(pixel).collect();
