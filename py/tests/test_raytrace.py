@@ -176,3 +176,14 @@ def test_plate_layout_places_the_pool_on_the_cells():
     # Reproducible from the seed.
     again, cells2 = rt.plate_layout((-0.5, -0.5, 0.5, 0.5), seed=4)
     assert cells2 == cells and all(np.array_equal(a, b) for a, b in zip(tiles, again))
+
+
+def test_workshop_scores_the_reference_above_a_far_plate():
+    res = rt.workshop(reference=(26.0, 7.3), runs=[(26.0, 7.3), (45.0, 3.5)], condition="mono",
+                      reference_renders=2, spp=4)
+    assert res["runs"] == [(26.0, 7.3), (45.0, 3.5)]
+    assert len(res["features"]) == 2 and len(res["feature_names"]) == 5
+    near, far = res["scores"]
+    assert 0.0 <= near < far <= 10.0
+    with pytest.raises(ValueError):
+        rt.workshop(runs=[(26.0, 7.3)], condition="both")
