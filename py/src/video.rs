@@ -87,6 +87,7 @@ fn complete_video<'py>(
     refine_iters: usize,
     windows: Vec<usize>,
     temporal_radius: usize,
+    propagate: bool,
     step: &str,
     global_fine_search: bool,
     return_matches: bool,
@@ -138,6 +139,7 @@ fn complete_video<'py>(
             windows,
             temporal_radius,
             step,
+            propagate,
         },
         global_fine_search,
     };

@@ -68,6 +68,9 @@ pub struct CompleteArgs {
     /// Random-search seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
+    /// Stage 3 with the paper's windows only, without the neighbours' coherence candidates.
+    #[arg(long)]
+    no_propagate: bool,
     /// Stage 1 search.
     #[arg(long, value_enum, default_value_t = SearchName::Patchmatch)]
     search: SearchName,
@@ -180,6 +183,7 @@ fn complete(a: CompleteArgs) -> Result<()> {
                 ..RefineConfig::default()
             });
             cfg.local.windows = a.windows.clone();
+            cfg.local.propagate = !a.no_propagate;
             let c = complete_video_with(&v, &m, &cfg, &Bars::new("video"))?;
             eprintln!(
                 "stage seconds: low resolution {:.2}, refinement {:.2}, localized search {:.2}",

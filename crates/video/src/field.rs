@@ -33,6 +33,36 @@ impl MatchField {
         self.targets.rank(p).map(|i| self.matches[i])
     }
 
+    /// The four spatial neighbour steps `(dt, dy, dx)`: top, right, bottom, left.
+    pub const SPATIAL_STEPS: [(i64, i64, i64); 4] = [(0, -1, 0), (0, 0, 1), (0, 1, 0), (0, 0, -1)];
+    /// The two temporal neighbour steps.
+    pub const TEMPORAL_STEPS: [(i64, i64, i64); 2] = [(-1, 0, 0), (1, 0, 0)];
+
+    /// The source that the match of `p`'s neighbour `q = p + step` (`(dt, dy, dx)`) implies
+    /// for `p` (coherence: `q' - step`), with `q`'s index in the field; `None` when `q` is
+    /// not a hole pixel or the implied source lies outside the video or is not a valid
+    /// source. Used by stage 2's refinement and stage 3's propagation.
+    pub fn implied_source(
+        &self,
+        p: P3,
+        step: (i64, i64, i64),
+        dims: [usize; 3],
+        sources: &Mask3,
+    ) -> Option<(usize, P3)> {
+        let (dt, dy, dx) = step;
+        let inside = |v: [i64; 3]| -> Option<P3> {
+            v.iter()
+                .zip(dims)
+                .all(|(&c, n)| c >= 0 && c < n as i64)
+                .then(|| [v[0] as u32, v[1] as u32, v[2] as u32])
+        };
+        let q = inside([p[0] as i64 + dt, p[1] as i64 + dy, p[2] as i64 + dx])?;
+        let j = self.targets.rank(q)?;
+        let s = self.matches[j].source;
+        let c = inside([s[0] as i64 - dt, s[1] as i64 - dy, s[2] as i64 - dx])?;
+        sources.contains(c).then_some((j, c))
+    }
+
     /// Recomputes every `dist` with the current colours; returns the energy
     /// `E = sum_p D(w_p, w_NN(p))` (the specification's additive form of eq. 1).
     pub fn refresh(&mut self, cubes: &Cubes<'_>) -> f64 {

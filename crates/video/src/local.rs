@@ -31,6 +31,13 @@ pub struct LocalConfig {
     pub temporal_radius: usize,
     /// Level schedule.
     pub step: UpscaleStep,
+    /// After its window, each pixel also tries the sources its four spatial neighbours'
+    /// current matches imply (`q' - (q - p)`, the coherence candidates of stage 2). The
+    /// paper's windows are re-centred on a pixel's own match only, so a region whose best
+    /// sources lie beyond the window from the up-scaled match cannot reach them; the
+    /// neighbours' matches carry good offsets across it. Four more candidates per pixel;
+    /// `false` is the paper's stage 3 alone. True.
+    pub propagate: bool,
 }
 
 impl Default for LocalConfig {
@@ -39,6 +46,7 @@ impl Default for LocalConfig {
             windows: vec![17, 13, 9, 5],
             temporal_radius: 0,
             step: UpscaleStep::Double,
+            propagate: true,
         }
     }
 }
@@ -111,6 +119,25 @@ pub fn localized_search(
                                     if d < best.dist {
                                         best = Match { source: s, dist: d };
                                     }
+                                }
+                            }
+                        }
+                        if cfg.propagate {
+                            let steps = MatchField::SPATIAL_STEPS
+                                .into_iter()
+                                .chain(MatchField::TEMPORAL_STEPS);
+                            for step in steps {
+                                let Some((_, s)) = field.implied_source(p, step, dims, sources)
+                                else {
+                                    continue;
+                                };
+                                if s == best.source {
+                                    continue;
+                                }
+                                n += 1;
+                                let d = cubes.ssd(p, s, best.dist);
+                                if d < best.dist {
+                                    best = Match { source: s, dist: d };
                                 }
                             }
                         }

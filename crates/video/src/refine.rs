@@ -82,9 +82,9 @@ pub fn refine_matches(
     let order = onion_order(hole, &field.targets)?;
     let mut ever = vec![false; d.len()];
     let dims = field.targets.dims();
-    let mut steps: Vec<(i64, i64, i64)> = vec![(0, -1, 0), (0, 0, 1), (0, 1, 0), (0, 0, -1)];
+    let mut steps = MatchField::SPATIAL_STEPS.to_vec();
     if cfg.temporal_neighbors {
-        steps.extend([(-1, 0, 0), (1, 0, 0)]);
+        steps.extend(MatchField::TEMPORAL_STEPS);
     }
     for k in 0..cfg.iterations {
         let tau = (tau0 * (1.0 - cfg.decrement * k as f64)).max(0.0) as f32;
@@ -106,26 +106,11 @@ pub fn refine_matches(
                             dist: d[i],
                         };
                         let mut improved = false;
-                        for &(dt, dy, dx) in &steps {
-                            let qp = [p[0] as i64 + dt, p[1] as i64 + dy, p[2] as i64 + dx];
-                            if qp.iter().zip(dims).any(|(&v, n)| v < 0 || v >= n as i64) {
-                                continue;
-                            }
-                            let qp = [qp[0] as u32, qp[1] as u32, qp[2] as u32];
-                            let Some(j) = field.targets.rank(qp) else {
+                        for &step in &steps {
+                            let Some((j, c)) = field.implied_source(p, step, dims, sources) else {
                                 continue;
                             };
-                            if d[j] > tau {
-                                continue;
-                            }
-                            // The source that q's match implies for p: q' - delta.
-                            let s = field.matches[j].source;
-                            let c = [s[0] as i64 - dt, s[1] as i64 - dy, s[2] as i64 - dx];
-                            if c.iter().zip(dims).any(|(&v, n)| v < 0 || v >= n as i64) {
-                                continue;
-                            }
-                            let c = [c[0] as u32, c[1] as u32, c[2] as u32];
-                            if c == best.source || !sources.contains(c) {
+                            if d[j] > tau || c == best.source {
                                 continue;
                             }
                             let dc = cubes.ssd(p, c, best.dist);

@@ -63,6 +63,7 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
                    patchmatch_iters: int = 5, seed: int = 0, onion_order: bool = True,
                    causal_first_sweep: bool = True, refine_iters: int = 4,
                    windows: Sequence[int] = (17, 13, 9, 5), temporal_radius: int = 0,
+                   propagate: bool = True,
                    step: str = "double", global_fine_search: bool = False,
                    return_matches: bool = False, return_stats: bool = False):
     """Completes the hole ``mask`` of ``frames`` by localized search (paper 06).
@@ -103,6 +104,10 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         Stage 3 search windows (pixels), one iteration each.
     temporal_radius : int
         Frames searched on each side of a match's frame in stage 3.
+    propagate : bool
+        After each window, also try the sources the six space-time neighbours' matches imply
+        (the coherence candidates of stage 2; an addition to the paper's stage 3, which
+        lowers the energy towards exact global search's).
     step : {'double', 'direct'}
         Stage 3 doubles the resolution per level, or goes to full resolution at once.
     global_fine_search : bool
@@ -128,7 +133,8 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         f, m, _patch(patch), int(lowres_width), None if levels is None else int(levels),
         [int(i) for i in iters], str(init), str(search), int(patchmatch_iters), int(seed),
         bool(onion_order), bool(causal_first_sweep), int(refine_iters),
-        [int(w) for w in windows], int(temporal_radius), str(step), bool(global_fine_search),
+        [int(w) for w in windows], int(temporal_radius), bool(propagate), str(step),
+        bool(global_fine_search),
         bool(return_matches))
     out = out.reshape(f.shape)
     extra = ([matches] if return_matches else []) + ([stats] if return_stats else [])

@@ -13,7 +13,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    search: str = "patchmatch", patchmatch_iters: int = 5, seed: int = 0,
                    onion_order: bool = True, causal_first_sweep: bool = True,
                    refine_iters: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
-                   temporal_radius: int = 0, step: str = "double",
+                   temporal_radius: int = 0, propagate: bool = True, step: str = "double",
                    global_fine_search: bool = False, return_matches: bool = False,
                    return_stats: bool = False) -> Any: ...
 def wexler_complete(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[int] = (5, 5, 5),
