@@ -867,7 +867,8 @@ fn raytrace_paint_writes_a_stereo_pair_and_doe_fits_a_surface() {
     assert_ne!(l.data(), r.data());
 
     // A surface with a known minimum at (-0.25, 0.1) is recovered exactly.
-    let design = wscg_ok(&["doe", "ccd"]);
+    let design = wscg_ok(&["doe", "design"]);
+    assert_eq!(design, wscg_ok(&["doe", "ccd"]));
     let mut csv = String::from("x1,x2,y\n");
     for line in design.lines().skip(1) {
         let v: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
@@ -886,4 +887,73 @@ fn raytrace_paint_writes_a_stereo_pair_and_doe_fits_a_surface() {
         .unwrap();
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("nonexistent"));
+}
+
+#[test]
+fn doe_analyze_reads_a_study_and_rejects_missing_cells() {
+    // 6 subjects, two conditions, the paper's 13 stimuli; scores from the paper's Table 2
+    // surfaces plus a subject offset and a small deterministic jitter.
+    let design = wscg_ok(&["doe", "design"]);
+    let runs: Vec<Vec<f64>> = design
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+        .collect();
+    let surfaces = [
+        ("mono", [2.723, -0.590, -0.794, 6.003, 1.810]),
+        ("stereo", [2.423, -0.730, -0.516, 5.323, 1.822]),
+    ];
+    let mut csv = String::from("subject,condition,stimulus,score\n");
+    for s in 0..6 {
+        for (name, b) in &surfaces {
+            for (k, x) in runs.iter().enumerate() {
+                let y = b[0] + b[1] * x[0] + b[2] * x[1] + b[3] * x[0] * x[0] + b[4] * x[1] * x[1];
+                let jitter = 0.05 * (((s * 7 + k * 3) % 5) as f64 - 2.0);
+                csv.push_str(&format!(
+                    "s{s},{name},{k},{}\n",
+                    y + 0.3 * s as f64 + jitter
+                ));
+            }
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scores.csv");
+    std::fs::write(&path, &csv).unwrap();
+    let out = wscg_ok(&["doe", "analyze", path.to_str().unwrap()]);
+    assert!(out.contains("6 subjects"), "{out}");
+    assert!(
+        out.contains("condition mono") && out.contains("condition stereo"),
+        "{out}"
+    );
+    assert!(out.contains("repeated-measures ANOVA"), "{out}");
+    // The panel means carry the Table 2 surface (plus the mean subject offset 0.75):
+    // b11 of the monoscopic fit is 6.003 up to the jitter.
+    let mono = out.split("condition stereo").next().unwrap();
+    let b11: f64 = mono
+        .lines()
+        .find(|l| l.starts_with("b11 "))
+        .unwrap()
+        .split_whitespace()
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((b11 - 6.003).abs() < 0.1, "{b11}");
+    // Remove one score: the missing cell is named.
+    let cut: String = csv
+        .lines()
+        .filter(|l| !l.starts_with("s3,stereo,7,"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&path, cut).unwrap();
+    let bad = wscg()
+        .args(["doe", "analyze", path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("missing cell: subject s3, condition stereo, stimulus 7"),
+        "{err}"
+    );
 }

@@ -1,9 +1,11 @@
 //! `wscg doe`: paper 07's study statistics on the user's own designs and scores.
 //!
-//! `ccd` prints a central composite design (coded, or physical with `--low/--high`) as CSV;
-//! `fit` reads a CSV of runs (factor columns, then the response in the last column) and
+//! `design` prints a central composite design (coded, or physical with `--low/--high`) as
+//! CSV; `fit` reads a CSV of runs (factor columns, then the response in the last column) and
 //! prints the second-order response surface with PRESS, predicted R² and the canonical
-//! analysis.
+//! analysis; `analyze` reads a perceptual study's scores (one row per subject, condition and
+//! stimulus) and prints the paper's analysis: panel agreement, one response surface per
+//! condition on the panel means, the repeated-measures ANOVA and Fisher's LSD.
 
 use std::path::PathBuf;
 
@@ -15,9 +17,28 @@ use wscg_math::{Error, Result};
 #[derive(Subcommand, Debug)]
 pub enum DoeCommand {
     /// Print a central composite design as CSV.
-    Ccd(CcdArgs),
+    #[command(alias = "ccd")]
+    Design(CcdArgs),
     /// Fit a quadratic response surface to a CSV of runs.
     Fit(FitArgs),
+    /// Analyse a study's scores: panel PCA, response surfaces, ANOVA, LSD.
+    Analyze(AnalyzeArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct AnalyzeArgs {
+    /// CSV with a header `subject,condition,stimulus,score` (any order of rows; stimuli
+    /// numbered from 0); only read. Every subject needs a score for every condition and
+    /// stimulus.
+    scores: PathBuf,
+    /// CSV of the stimuli's factor levels in coded units (header, one row per stimulus, in
+    /// stimulus order); default: the paper's 13-run inscribed design when there are 13
+    /// stimuli.
+    #[arg(long)]
+    design: Option<PathBuf>,
+    /// Significance level of Fisher's LSD.
+    #[arg(long, default_value_t = 0.05)]
+    alpha: f64,
 }
 
 #[derive(Args, Debug)]
@@ -54,7 +75,7 @@ pub struct FitArgs {
 /// Runs a `wscg doe` command.
 pub fn run(cmd: DoeCommand) -> Result<()> {
     match cmd {
-        DoeCommand::Ccd(a) => {
+        DoeCommand::Design(a) => {
             let face: CcdFace = a.face.parse()?;
             let alpha: CcdAlpha = a.alpha.parse()?;
             let mut m = ccd_blocks(a.k, face, alpha, (a.center[0], a.center[1]))?;
@@ -75,33 +96,189 @@ pub fn run(cmd: DoeCommand) -> Result<()> {
             let text = std::fs::read_to_string(&a.csv).map_err(|e| Error::io(&a.csv, e))?;
             let (x, y) = parse_runs(&text).map_err(|e| Error::format(&a.csv, e))?;
             let fit = fit_quadratic(&x, &y, !a.no_interaction)?;
-            println!(
-                "{:<6} {:>10} {:>10} {:>8} {:>10}",
-                "term", "coef", "se", "t", "p"
-            );
-            for i in 0..fit.coef.len() {
-                println!(
-                    "{:<6} {:>10.4} {:>10.4} {:>8.3} {:>10.5}",
-                    fit.names[i], fit.coef[i], fit.se[i], fit.t[i], fit.p[i]
-                );
-            }
-            println!(
-                "R2 {:.4}  adj R2 {:.4}  pred R2 {:.4}  PRESS {:.4}",
-                fit.r2, fit.r2_adj, fit.r2_pred, fit.press
-            );
-            if let Some(xs) = &fit.stationary {
-                println!(
-                    "stationary point {xs:?}, canonical eigenvalues {:?}",
-                    fit.canonical_eigs
-                );
-            }
+            print_fit(&fit);
             Ok(())
         }
+        DoeCommand::Analyze(a) => analyze(&a),
     }
 }
 
-/// Factor matrix and responses of a CSV with a header line.
-fn parse_runs(text: &str) -> std::result::Result<(DMatrix<f64>, Vec<f64>), String> {
+/// Scores of a study: `scores[(s * conditions + c) * stimuli + k]`, with the names.
+struct Study {
+    subjects: Vec<String>,
+    conditions: Vec<String>,
+    stimuli: usize,
+    scores: Vec<f64>,
+}
+
+/// Reads a long-format score table; every cell must be present exactly once.
+fn parse_study(text: &str) -> std::result::Result<Study, String> {
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let (_, header) = lines.next().ok_or("empty file")?;
+    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+    let col = |name: &str| {
+        cols.iter()
+            .position(|c| c.eq_ignore_ascii_case(name))
+            .ok_or(format!("the header has no `{name}` column"))
+    };
+    let (cs, cc, ck, cv) = (
+        col("subject")?,
+        col("condition")?,
+        col("stimulus")?,
+        col("score")?,
+    );
+    let mut rows = Vec::new();
+    for (i, line) in lines {
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let get = |k: usize| {
+            f.get(k)
+                .copied()
+                .ok_or(format!("line {}: too few columns", i + 1))
+        };
+        let stim: usize = get(ck)?
+            .parse()
+            .map_err(|e| format!("line {}: stimulus: {e}", i + 1))?;
+        let v: f64 = get(cv)?
+            .parse()
+            .map_err(|e| format!("line {}: score: {e}", i + 1))?;
+        if !v.is_finite() {
+            return Err(format!("line {}: score is not finite", i + 1));
+        }
+        rows.push((get(cs)?.to_string(), get(cc)?.to_string(), stim, v));
+    }
+    let mut subjects: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();
+    let mut conditions: Vec<String> = rows.iter().map(|r| r.1.clone()).collect();
+    subjects.sort();
+    subjects.dedup();
+    conditions.sort();
+    conditions.dedup();
+    let stimuli = rows.iter().map(|r| r.2 + 1).max().ok_or("no scores")?;
+    let (ns, nc) = (subjects.len(), conditions.len());
+    let mut scores = vec![f64::NAN; ns * nc * stimuli];
+    for (s, c, k, v) in &rows {
+        let si = subjects.binary_search(s).expect("listed");
+        let ci = conditions.binary_search(c).expect("listed");
+        let cell = &mut scores[(si * nc + ci) * stimuli + k];
+        if !cell.is_nan() {
+            return Err(format!(
+                "subject {s}, condition {c}, stimulus {k} is scored twice"
+            ));
+        }
+        *cell = *v;
+    }
+    if let Some(i) = scores.iter().position(|v| v.is_nan()) {
+        let (si, rest) = (i / (nc * stimuli), i % (nc * stimuli));
+        return Err(format!(
+            "missing cell: subject {}, condition {}, stimulus {}",
+            subjects[si],
+            conditions[rest / stimuli],
+            rest % stimuli
+        ));
+    }
+    Ok(Study {
+        subjects,
+        conditions,
+        stimuli,
+        scores,
+    })
+}
+
+fn analyze(a: &AnalyzeArgs) -> Result<()> {
+    let text = std::fs::read_to_string(&a.scores).map_err(|e| Error::io(&a.scores, e))?;
+    let st = parse_study(&text).map_err(|e| Error::format(&a.scores, e))?;
+    let (ns, nc, nk) = (st.subjects.len(), st.conditions.len(), st.stimuli);
+    let design = match &a.design {
+        Some(p) => {
+            let t = std::fs::read_to_string(p).map_err(|e| Error::io(p, e))?;
+            parse_matrix(&t).map_err(|e| Error::format(p, e))?
+        }
+        None if nk == 13 => ccd_blocks(2, CcdFace::Inscribed, CcdAlpha::Rotatable, (3, 2))?,
+        None => {
+            return Err(Error::invalid(
+                "design",
+                format!("{nk} stimuli: give their factor levels with --design"),
+            ))
+        }
+    };
+    if design.nrows() != nk {
+        return Err(Error::ShapeMismatch(format!(
+            "the design has {} rows for {nk} stimuli",
+            design.nrows()
+        )));
+    }
+    println!(
+        "{ns} subjects, conditions {:?}, {nk} stimuli",
+        st.conditions
+    );
+    for (ci, cname) in st.conditions.iter().enumerate() {
+        // Subjects x stimuli for this condition.
+        let m = DMatrix::from_fn(ns, nk, |s, k| st.scores[(s * nc + ci) * nk + k]);
+        let means: Vec<f64> = (0..nk).map(|k| m.column(k).mean()).collect();
+        let pca = wscg_doe::panel_pca(&m.transpose())?;
+        let fit = fit_quadratic(&design, &means, false)?;
+        let lsd = wscg_doe::lsd_pairs(&m, a.alpha)?;
+        println!(
+            "\n== condition {cname}: mean score {:.3}",
+            means.iter().sum::<f64>() / nk as f64
+        );
+        println!(
+            "panel PCA, first axis: {:.1} % of the variance",
+            100.0 * pca[0]
+        );
+        print_fit(&fit);
+        println!(
+            "Fisher LSD {:.3} (alpha {}): {} of {} stimulus pairs separated",
+            lsd.lsd,
+            a.alpha,
+            lsd.n_separated,
+            nk * (nk - 1) / 2
+        );
+    }
+    if nc >= 2 {
+        let t = wscg_doe::rm_anova(&st.scores, ns, nc, nk)?;
+        println!("\n== repeated-measures ANOVA (subjects random)");
+        println!(
+            "{:<20} {:>10} {:>6} {:>10} {:>10} {:>10}",
+            "effect", "SS", "df", "F", "p", "p (GG)"
+        );
+        for e in &t.effects {
+            println!(
+                "{:<20} {:>10.3} {:>6} {:>10.3} {:>10.5} {:>10.5}",
+                e.name, e.ss, e.df, e.f, e.p, e.p_gg
+            );
+        }
+    }
+    Ok(())
+}
+
+fn print_fit(fit: &wscg_doe::RsmFit) {
+    println!(
+        "{:<6} {:>10} {:>10} {:>8} {:>10}",
+        "term", "coef", "se", "t", "p"
+    );
+    for i in 0..fit.coef.len() {
+        println!(
+            "{:<6} {:>10.4} {:>10.4} {:>8.3} {:>10.5}",
+            fit.names[i], fit.coef[i], fit.se[i], fit.t[i], fit.p[i]
+        );
+    }
+    println!(
+        "R2 {:.4}  adj R2 {:.4}  pred R2 {:.4}  PRESS {:.4}",
+        fit.r2, fit.r2_adj, fit.r2_pred, fit.press
+    );
+    if let Some(xs) = &fit.stationary {
+        println!(
+            "stationary point {xs:?}, canonical eigenvalues {:?}",
+            fit.canonical_eigs
+        );
+    }
+}
+
+/// A numeric CSV with a header line as a matrix.
+fn parse_matrix(text: &str) -> std::result::Result<DMatrix<f64>, String> {
     let mut rows: Vec<Vec<f64>> = Vec::new();
     for (i, line) in text.lines().enumerate().skip(1) {
         if line.trim().is_empty() {
@@ -112,12 +289,6 @@ fn parse_runs(text: &str) -> std::result::Result<(DMatrix<f64>, Vec<f64>), Strin
             .map(|c| c.trim().parse::<f64>())
             .collect::<std::result::Result<Vec<_>, _>>()
             .map_err(|e| format!("line {}: {e}", i + 1))?;
-        if row.len() < 2 {
-            return Err(format!(
-                "line {}: need factor columns and a response",
-                i + 1
-            ));
-        }
         if let Some(first) = rows.first() {
             if first.len() != row.len() {
                 return Err(format!(
@@ -131,10 +302,22 @@ fn parse_runs(text: &str) -> std::result::Result<(DMatrix<f64>, Vec<f64>), Strin
         rows.push(row);
     }
     if rows.is_empty() {
-        return Err("no runs after the header line".into());
+        return Err("no rows after the header line".into());
     }
-    let k = rows[0].len() - 1;
-    let x = DMatrix::from_fn(rows.len(), k, |r, c| rows[r][c]);
-    let y = rows.iter().map(|r| r[k]).collect();
-    Ok((x, y))
+    Ok(DMatrix::from_fn(rows.len(), rows[0].len(), |r, c| {
+        rows[r][c]
+    }))
+}
+
+/// Factor matrix and responses of a CSV with a header line.
+fn parse_runs(text: &str) -> std::result::Result<(DMatrix<f64>, Vec<f64>), String> {
+    let m = parse_matrix(text)?;
+    if m.ncols() < 2 {
+        return Err("need factor columns and a response".into());
+    }
+    let k = m.ncols() - 1;
+    Ok((
+        m.columns(0, k).into_owned(),
+        m.column(k).iter().copied().collect(),
+    ))
 }

@@ -1,18 +1,21 @@
 //! `wscg raytrace`: paper 07 (predictive rendering of metallic-flake paint).
 //!
-//! `paint` renders a plate of the given microstructure for one eye or the stereo pair and
-//! writes display sRGB PNGs; `workshop` runs the virtual material workshop (the paper's
+//! `paint` renders a plate of the given microstructure (command-line options or a JSON paint
+//! description) for one eye or the stereo pair and writes display sRGB PNGs (for a pair also
+//! side by side and as a red-cyan anaglyph), and on request XYZ and spectral OpenEXR files; `workshop` runs the virtual material workshop (the paper's
 //! 13-run design scored by the virtual observer against a hidden reference) and fits the
 //! response surface.
 
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
+use serde::Deserialize;
 use wscg_doe::{ccd, decode, fit_quadratic, CcdAlpha, CcdFace};
 use wscg_math::{Error, Result};
 use wscg_raytrace::paint::{
-    render_with_progress, score_runs, ColourMode, Condition, DiscLight, FlakeParams, FlakePlate,
-    Plate, PlateStack, Rect, RenderSettings, StackModel, TiltDist, WorkshopConfig, XyzImage,
+    anaglyph, render_with_progress, score_runs, side_by_side, write_spectral_exr, write_xyz_exr,
+    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, Plate, PlateStack, Rect,
+    RenderSettings, StackModel, TiltDist, WorkshopConfig, XyzImage,
 };
 use wscg_raytrace::spectral::XYZ_TO_SRGB;
 use wscg_raytrace::stereo::{Eye, StereoRig};
@@ -87,7 +90,81 @@ pub struct PlateArgs {
     seed: u64,
 }
 
+/// A paint description file (JSON): any subset of these keys, the others keep the
+/// command-line values. Example: `{"radius_um": 26, "density": 7.3, "binder_absorption_per_mm": 0,
+/// "layer_um": 20.24, "thickness_um": 0.5, "tilt_deg": 8, "model": "boolean", "seed": 1}`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PaintDescription {
+    radius_um: Option<f64>,
+    density: Option<f64>,
+    tilt_deg: Option<f64>,
+    model: Option<String>,
+    thickness_um: Option<f64>,
+    layer_um: Option<f64>,
+    binder_absorption_per_mm: Option<f64>,
+    binder_ior: Option<f64>,
+    coat_ior: Option<f64>,
+    coat_um: Option<f64>,
+    seed: Option<u64>,
+}
+
+/// Reads a paint description file.
+fn read_paint(path: &Path) -> Result<PaintDescription> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    serde_json::from_str(&text).map_err(|e| Error::format(path, e.to_string()))
+}
+
 impl PlateArgs {
+    /// Applies a paint description on top of the command-line values.
+    fn with(&self, d: &PaintDescription) -> Result<(FlakeParams, PlateStack, u64)> {
+        let mut f = self.flakes();
+        let mut st = self.stack();
+        if let Some(v) = d.radius_um {
+            f.radius_um = v;
+        }
+        if let Some(v) = d.density {
+            f.density = v;
+        }
+        if let Some(v) = d.tilt_deg {
+            f.tilt = TiltDist::HalfNormal { sigma_deg: v };
+        }
+        if let Some(m) = &d.model {
+            f.model = match m.as_str() {
+                "boolean" => StackModel::Boolean,
+                "deposit" => StackModel::Deposit,
+                other => return Err(Error::invalid(
+                    "model",
+                    format!(
+                        "{other:?} is not a valid model; valid models are \"boolean\", \"deposit\""
+                    ),
+                )),
+            };
+        }
+        if let Some(v) = d.thickness_um {
+            f.thickness_um = v;
+        }
+        if let Some(v) = d.layer_um {
+            f.layer_um = v;
+        }
+        st.binder_um = f.layer_um;
+        if let Some(v) = d.binder_absorption_per_mm {
+            st.binder_sigma_a_per_mm = v;
+        }
+        if let Some(v) = d.binder_ior {
+            st.binder_ior = v;
+        }
+        match (d.coat_ior, &mut st.coat) {
+            (Some(v), _) if v == 1.0 => st.coat = None,
+            (Some(v), Some(c)) => c.ior = v,
+            _ => {}
+        }
+        if let (Some(v), Some(c)) = (d.coat_um, &mut st.coat) {
+            c.thickness_um = v;
+        }
+        Ok((f, st, d.seed.unwrap_or(self.seed)))
+    }
+
     fn flakes(&self) -> FlakeParams {
         FlakeParams {
             radius_um: self.radius,
@@ -139,7 +216,17 @@ pub struct PaintArgs {
     /// Exposure applied before the sRGB curve (glints clip at 1).
     #[arg(long, default_value_t = 1.0)]
     exposure: f64,
-    /// Output PNG (OUT_left.png and OUT_right.png for a pair).
+    /// Paint description (JSON); its keys override the options above.
+    #[arg(long)]
+    paint: Option<PathBuf>,
+    /// Also write the XYZ image as OpenEXR (OUT.exr, or OUT_left.exr and OUT_right.exr).
+    #[arg(long)]
+    exr: bool,
+    /// Also write the radiance per wavelength as a multi-channel OpenEXR (OUT_spectral.exr).
+    #[arg(long)]
+    spectral: bool,
+    /// Output PNG (for a pair: OUT_left.png, OUT_right.png, OUT_sbs.png side by side and
+    /// OUT_anaglyph.png red-cyan).
     #[arg(long)]
     out: PathBuf,
 }
@@ -192,32 +279,57 @@ fn write_png(img: &XyzImage, exposure: f64, path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// `OUT` with `_suffix` and extension `ext`.
+fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
+    let stem = out.with_extension("");
+    PathBuf::from(format!("{}{suffix}.{ext}", stem.to_string_lossy()))
+}
+
 fn paint(a: &PaintArgs) -> Result<()> {
     let p = &a.plate;
-    let stack = p.stack();
-    let micro = FlakePlate::new(&p.flakes(), stack.size_mm, p.seed)?;
+    let desc = match &a.paint {
+        Some(path) => read_paint(path)?,
+        None => PaintDescription::default(),
+    };
+    let (flakes, stack, seed) = p.with(&desc)?;
+    let micro = FlakePlate::new(&flakes, stack.size_mm, seed)?;
     let plate = Plate::new(stack, Box::new(micro))?;
     let light = DiscLight::from_elevation(p.light_elevation, p.light_deg);
-    let s = p.settings(if a.rgb {
-        ColourMode::Rgb
-    } else {
-        ColourMode::Spectral
-    });
-    let rig = StereoRig::default();
-    let views: Vec<(Eye, PathBuf)> = match a.eye {
-        EyeName::Cyclopean => vec![(Eye::Cyclopean, a.out.clone())],
-        EyeName::Left => vec![(Eye::Left, a.out.clone())],
-        EyeName::Right => vec![(Eye::Right, a.out.clone())],
-        EyeName::Pair => {
-            let stem = a.out.with_extension("");
-            let name = |eye: &str| PathBuf::from(format!("{}_{eye}.png", stem.to_string_lossy()));
-            vec![(Eye::Left, name("left")), (Eye::Right, name("right"))]
-        }
+    let s = RenderSettings {
+        keep_spectrum: a.spectral,
+        ..p.settings(if a.rgb {
+            ColourMode::Rgb
+        } else {
+            ColourMode::Spectral
+        })
     };
-    for (eye, path) in views {
+    let rig = StereoRig::default();
+    let views: Vec<(Eye, &str)> = match a.eye {
+        EyeName::Cyclopean => vec![(Eye::Cyclopean, "")],
+        EyeName::Left => vec![(Eye::Left, "")],
+        EyeName::Right => vec![(Eye::Right, "")],
+        EyeName::Pair => vec![(Eye::Left, "_left"), (Eye::Right, "_right")],
+    };
+    let mut shown = Vec::new();
+    for (eye, suffix) in views {
         let bars = Bars::new(&format!("{eye:?}"));
         let img = render_with_progress(&plate, &light, &rig, eye, &s, &bars)?;
-        write_png(&img, a.exposure, &path)?;
+        write_png(&img, a.exposure, &sibling(&a.out, suffix, "png"))?;
+        if a.exr {
+            write_xyz_exr(&img, sibling(&a.out, suffix, "exr"))?;
+        }
+        if a.spectral {
+            write_spectral_exr(&img, sibling(&a.out, &format!("{suffix}_spectral"), "exr"))?;
+        }
+        shown.push(img.to_display(a.exposure, &XYZ_TO_SRGB)?);
+    }
+    if let [l, r] = shown.as_slice() {
+        side_by_side(l, r)?.save(sibling(&a.out, "_sbs", "png"))?;
+        anaglyph(l, r)?.save(sibling(&a.out, "_anaglyph", "png"))?;
+        println!(
+            "side by side and anaglyph written next to {}",
+            a.out.display()
+        );
     }
     Ok(())
 }

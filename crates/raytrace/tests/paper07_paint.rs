@@ -723,3 +723,77 @@ fn rgb_baseline_equals_spectral_for_grey_flakes_only() {
     eprintln!("aluminium glints: spectral xy {xa:?}, RGB xy {xb:?}, shift {shift:.5}");
     assert!(shift > 1e-4 && shift < 0.02, "{shift}");
 }
+
+#[test]
+fn spectral_output_integrates_to_xyz_and_round_trips_through_exr() {
+    use wscg_raytrace::spectral::tables::{CMF_X, CMF_Y, CMF_Z};
+    let micro = FlakePlate::new(&FlakeParams::default(), (150.0, 100.0), 5).unwrap();
+    let plate = Plate::new(PlateStack::default(), Box::new(micro)).unwrap();
+    let s = RenderSettings {
+        spp: 4,
+        region_mm: Some(Rect::centred(0.0, 0.0, 2.0, 2.0)),
+        magnification: 4.0,
+        keep_spectrum: true,
+        ..RenderSettings::default()
+    };
+    let img = render(
+        &plate,
+        &DiscLight::from_elevation(75.0, 3.0),
+        &StereoRig::default(),
+        Eye::Left,
+        &s,
+    )
+    .unwrap();
+    assert_eq!(img.bands_nm.len(), 81);
+    let mut lit = 0;
+    for (p, sp) in img.xyz.chunks_exact(3).zip(img.spectrum.chunks_exact(81)) {
+        let integ = |cmf: &[f64]| {
+            sp.iter()
+                .zip(cmf)
+                .map(|(v, c)| *v as f64 * c * 5.0)
+                .sum::<f64>()
+        };
+        let xyz = [integ(&CMF_X), integ(&CMF_Y), integ(&CMF_Z)];
+        for k in 0..3 {
+            assert!(
+                (xyz[k] - p[k] as f64).abs() <= 1e-4 * (p[k] as f64).max(1e-3),
+                "{xyz:?} vs {p:?}"
+            );
+        }
+        lit += (p[1] > 0.0) as usize;
+    }
+    assert!(lit > 0);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("spectral.exr");
+    write_spectral_exr(&img, &path).unwrap();
+    write_xyz_exr(&img, dir.path().join("xyz.exr")).unwrap();
+    let back = exr::prelude::read_all_flat_layers_from_file(&path).unwrap();
+    let layer = &back.layer_data[0];
+    assert_eq!(layer.channel_data.list.len(), 81);
+    let c550 = layer
+        .channel_data
+        .list
+        .iter()
+        .find(|c| c.name.to_string() == "550nm")
+        .unwrap();
+    let exr::prelude::FlatSamples::F32(v) = &c550.sample_data else {
+        panic!("f32 samples expected")
+    };
+    let k550 = 34;
+    for (i, val) in v.iter().enumerate() {
+        assert_eq!(*val, img.spectrum[i * 81 + k550]);
+    }
+    // A view without its spectrum cannot be written as one.
+    let plain = render(
+        &plate,
+        &DiscLight::default(),
+        &StereoRig::default(),
+        Eye::Left,
+        &RenderSettings {
+            keep_spectrum: false,
+            ..s
+        },
+    )
+    .unwrap();
+    assert!(write_spectral_exr(&plain, dir.path().join("x.exr")).is_err());
+}

@@ -3,6 +3,7 @@
 
 pub mod flakes;
 pub mod grid;
+pub mod io;
 pub mod layers;
 pub mod observer;
 pub mod plate;
@@ -10,6 +11,7 @@ pub mod render;
 pub mod workshop;
 
 pub use flakes::{generate_tile, max_tilt, Flake, FlakeParams, FlakeTile, StackModel, TiltDist};
+pub use io::{anaglyph, side_by_side, write_spectral_exr, write_xyz_exr};
 pub use layers::{Coat, DiscLight, PlateStack};
 pub use observer::{
     binocular_overlap, features, glint_stats, Condition, GlintStats, VirtualObserver,

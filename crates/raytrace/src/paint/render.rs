@@ -110,20 +110,32 @@ pub const RGB_BAND_NM: [f64; 3] = [612.0, 549.0, 465.0];
 struct Band {
     rel: Complex64,
     xyz: [f64; 3],
+    /// The lamp's normalised spectral radiance in the band (the spectral output's unit).
+    rad: f64,
+}
+
+/// What a pixel's samples add up: normalised XYZ and, when kept, the radiance per band.
+struct Acc<'s> {
+    xyz: [f64; 3],
+    spectrum: &'s mut [f64],
 }
 
 /// The bands of `mode` and the lamp's own luminance, normalised so that a white Lambertian
 /// plate under the lamp has `Y = 1`.
 fn bands(plate: &Plate, light: &DiscLight, mode: ColourMode) -> (Vec<Band>, f64) {
-    let (w, lamp_y) = lamp_weights(light);
+    let (w, lamp_y, norm) = lamp_weights(light);
     match mode {
         ColourMode::Spectral => {
             let b = w
                 .into_iter()
                 .enumerate()
-                .map(|(i, xyz)| Band {
-                    rel: plate.relative_index(SpectralGrid::VISIBLE.wavelength(i)),
-                    xyz,
+                .map(|(i, xyz)| {
+                    let l = SpectralGrid::VISIBLE.wavelength(i);
+                    Band {
+                        rel: plate.relative_index(l),
+                        xyz,
+                        rad: light.spectrum.at(l) * light.radiance_scale * norm,
+                    }
                 })
                 .collect();
             (b, lamp_y)
@@ -144,6 +156,7 @@ fn bands(plate: &Plate, light: &DiscLight, mode: ColourMode) -> (Vec<Band>, f64)
                         to_xyz[(1, k)] * rgb[k],
                         to_xyz[(2, k)] * rgb[k],
                     ],
+                    rad: rgb[k],
                 })
                 .collect();
             (b, lamp_y)
@@ -195,6 +208,8 @@ pub struct RenderSettings {
     pub independent_samples: bool,
     /// Spectral (the paper) or the RGB baseline.
     pub colour: ColourMode,
+    /// Keep each pixel's radiance per band ([`XyzImage::spectrum`]).
+    pub keep_spectrum: bool,
 }
 
 impl Default for RenderSettings {
@@ -207,6 +222,7 @@ impl Default for RenderSettings {
             magnification: 1.0,
             independent_samples: false,
             colour: ColourMode::Spectral,
+            keep_spectrum: false,
         }
     }
 }
@@ -236,6 +252,12 @@ pub struct XyzImage {
     pub region: Rect,
     /// Luminance of the lamp itself in the same units (the largest `Y` a pixel can have).
     pub lamp_y: f64,
+    /// Wavelengths of the bands of [`XyzImage::spectrum`] (nm); empty unless kept.
+    pub bands_nm: Vec<f64>,
+    /// Radiance per pixel and band (pixel-major), relative to the lamp's radiance scaled
+    /// like XYZ (a white Lambertian plate has the lamp's relative spectrum times
+    /// `1 / Y_white`); empty unless [`RenderSettings::keep_spectrum`].
+    pub spectrum: Vec<f32>,
 }
 
 impl XyzImage {
@@ -289,8 +311,9 @@ fn refract_horizontal(d: &Vector3<f64>, n1: f64, n2: f64) -> Option<Vector3<f64>
     Some(Vector3::new(x, y, (1.0 - s2).sqrt().copysign(d.z)))
 }
 
-/// Per-wavelength lamp weights `L(l) cmf(l) dl / Y_white` and the lamp's own `Y`.
-fn lamp_weights(light: &DiscLight) -> (Vec<[f64; 3]>, f64) {
+/// Per-wavelength lamp weights `L(l) cmf(l) dl / Y_white`, the lamp's own `Y`, and the
+/// normalisation `1 / Y_white`.
+fn lamp_weights(light: &DiscLight) -> (Vec<[f64; 3]>, f64, f64) {
     let step = SpectralGrid::VISIBLE.step_nm;
     let l: Vec<f64> = (0..81)
         .map(|i| light.spectrum.at(SpectralGrid::VISIBLE.wavelength(i)) * light.radiance_scale)
@@ -308,7 +331,7 @@ fn lamp_weights(light: &DiscLight) -> (Vec<[f64; 3]>, f64) {
             ]
         })
         .collect();
-    (w, y_lamp * norm)
+    (w, y_lamp * norm, norm)
 }
 
 /// Chain weight (at 560 nm) below which Russian roulette may end a chain: the part of a
@@ -316,8 +339,9 @@ fn lamp_weights(light: &DiscLight) -> (Vec<[f64; 3]>, f64) {
 /// is followed only now and then, with a weight that keeps the estimate unbiased.
 const ROULETTE_BELOW: f64 = 0.5;
 
-/// One pixel's result: mean XYZ, first directly glinting flake, every directly glinting flake.
-type PixelResult = ([f32; 3], u64, Vec<u64>);
+/// One pixel's result: mean XYZ, first directly glinting flake, every directly glinting
+/// flake, radiance per band (when kept).
+type PixelResult = ([f32; 3], u64, Vec<u64>, Vec<f32>);
 
 /// Most scattering events per chain ([`RenderSettings::max_depth`]).
 pub const MAX_DEPTH: u32 = 16;
@@ -381,32 +405,35 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     /// `weight * sum_l prod_k R(cos_k, l) lamp(l)`.
-    fn gather(&self, chain: &Chain, weight: f64, out: &mut [f64; 3]) {
+    fn gather(&self, chain: &Chain, weight: f64, out: &mut Acc) {
         if weight == 0.0 {
             return;
         }
-        for b in &self.bands {
+        for (k, b) in self.bands.iter().enumerate() {
             let mut t = weight;
             for &c in &chain.cosines[..chain.n] {
                 t *= fresnel_conductor(c, b.rel.re, b.rel.im);
             }
-            for (o, x) in out.iter_mut().zip(&b.xyz) {
+            for (o, x) in out.xyz.iter_mut().zip(&b.xyz) {
                 *o += t * x;
+            }
+            if let Some(sp) = out.spectrum.get_mut(k) {
+                *sp += t * b.rad;
             }
         }
     }
 
-    /// Radiance (XYZ, normalised) along one camera ray entering the plate at `(x, y)` (µm)
-    /// with direction `d` (plate frame, going down); the first glinting flake.
+    /// Adds to `out` the radiance along one camera ray entering the plate at `(x, y)` (µm)
+    /// with direction `d` (plate frame, going down); returns the flake glinting directly.
     fn trace(
         &self,
         x: f64,
         y: f64,
         d: Vector3<f64>,
         rng: &mut impl Rng,
-    ) -> ([f64; 3], Option<u64>) {
+        out: &mut Acc,
+    ) -> Option<u64> {
         let st = &self.plate.stack;
-        let mut out = [0.0; 3];
         let mut glint: Option<u64> = None;
         let mut chain = Chain {
             cosines: [0.0; MAX_DEPTH as usize + 1],
@@ -429,11 +456,11 @@ impl Ctx<'_> {
             0.0
         };
         if f > 0.0 && self.light.contains(&Vector3::new(d.x, d.y, -d.z)) {
-            self.gather(&chain, f, &mut out);
+            self.gather(&chain, f, out);
         }
         let mut w = 1.0 - f;
         let Some(mut dir) = refract_horizontal(&d, 1.0, n_top) else {
-            return (out, None);
+            return None;
         };
         let mut pos = Vector3::new(x, y, z_top);
         let mut proxy = 1.0;
@@ -455,7 +482,7 @@ impl Ctx<'_> {
                 if ft < 1.0 {
                     if let Some(out_dir) = refract_horizontal(&dir, n_top, 1.0) {
                         if self.light.contains(&out_dir) {
-                            self.gather(&chain, w * (1.0 - ft), &mut out);
+                            self.gather(&chain, w * (1.0 - ft), out);
                             if glint.is_none() && chain.n == 1 && chain.bounces == 0 {
                                 glint = chain.first_id;
                             }
@@ -509,7 +536,7 @@ impl Ctx<'_> {
                             pos.z = 0.0;
                             if st.base_albedo > 0.0 {
                                 let (weight, _) = self.base_direct(&pos, rng);
-                                self.gather(&chain, w * weight, &mut out);
+                                self.gather(&chain, w * weight, out);
                             }
                             break;
                         }
@@ -540,7 +567,7 @@ impl Ctx<'_> {
                 w /= q;
             }
         }
-        (out, glint)
+        glint
     }
 
     /// Light sampling of the lamp from a base point (µm): the achromatic factor of
@@ -665,6 +692,11 @@ pub fn render_with_progress(
     let width = ((region.x1 - region.x0) / pitch).round().max(1.0) as usize;
     let height = ((region.y1 - region.y0) / pitch).round().max(1.0) as usize;
     let (bands, lamp_y) = bands(plate, light, s.colour);
+    let n_bands = bands.len();
+    let band_nm: Vec<f64> = match s.colour {
+        ColourMode::Spectral => SpectralGrid::VISIBLE.wavelengths().collect(),
+        ColourMode::Rgb => RGB_BAND_NM.to_vec(),
+    };
     let ctx = Ctx {
         plate,
         light,
@@ -684,7 +716,11 @@ pub fn render_with_progress(
     let pixel = |idx: usize| {
         let (i, j) = (idx % width, idx / width);
         let mut rng = wscg_math::rng::stream(s.seed, idx as u64);
-        let mut acc = [0.0f64; 3];
+        let mut spectrum = vec![0.0f64; if s.keep_spectrum { n_bands } else { 0 }];
+        let mut acc = Acc {
+            xyz: [0.0; 3],
+            spectrum: &mut spectrum,
+        };
         let mut first = NO_FLAKE;
         let mut ids = Vec::new();
         for k in 0..s.spp {
@@ -701,11 +737,7 @@ pub fn render_with_progress(
             let p = Vector3::new(x_mm * 1e-3, y_mm * 1e-3, a);
             let de = (p - e).normalize();
             let d = Vector3::new(de.x, de.y, -de.z);
-            let (c, id) = ctx.trace(x_mm * 1e3, y_mm * 1e3, d, &mut rng);
-            for q in 0..3 {
-                acc[q] += c[q];
-            }
-            if let Some(id) = id {
+            if let Some(id) = ctx.trace(x_mm * 1e3, y_mm * 1e3, d, &mut rng, &mut acc) {
                 if first == NO_FLAKE {
                     first = id;
                 }
@@ -715,7 +747,9 @@ pub fn render_with_progress(
         ids.sort_unstable();
         ids.dedup();
         let n = s.spp as f64;
-        (acc.map(|v| (v / n) as f32), first, ids)
+        let xyz = acc.xyz.map(|v| (v / n) as f32);
+        let spectrum = spectrum.iter().map(|v| (v / n) as f32).collect();
+        (xyz, first, ids, spectrum)
     };
     let rows: Vec<Vec<PixelResult>> = (0..height)
         .into_par_iter()
@@ -730,10 +764,16 @@ pub fn render_with_progress(
     let mut xyz = Vec::with_capacity(3 * width * height);
     let mut flake_id = Vec::with_capacity(width * height);
     let mut glint_ids = Vec::new();
-    for (c, f, ids) in pixels {
+    let mut spectrum = Vec::with_capacity(if s.keep_spectrum {
+        n_bands * width * height
+    } else {
+        0
+    });
+    for (c, f, ids, sp) in pixels {
         xyz.extend_from_slice(&c);
         flake_id.push(f);
         glint_ids.extend(ids);
+        spectrum.extend(sp);
     }
     glint_ids.sort_unstable();
     glint_ids.dedup();
@@ -746,5 +786,7 @@ pub fn render_with_progress(
         mm_per_px: px_w,
         region,
         lamp_y,
+        bands_nm: if s.keep_spectrum { band_nm } else { Vec::new() },
+        spectrum,
     })
 }
