@@ -459,9 +459,7 @@ impl Ctx<'_> {
             self.gather(&chain, f, out);
         }
         let mut w = 1.0 - f;
-        let Some(mut dir) = refract_horizontal(&d, 1.0, n_top) else {
-            return None;
-        };
+        let mut dir = refract_horizontal(&d, 1.0, n_top)?;
         let mut pos = Vector3::new(x, y, z_top);
         let mut proxy = 1.0;
         loop {
