@@ -140,6 +140,7 @@ fn settings(c: &Cfg) -> PyResult<RenderSettings> {
         magnification: c.get("magnification", d.magnification)?,
         independent_samples: c.get("independent_samples", false)?,
         colour,
+        keep_spectrum: c.get("keep_spectrum", false)?,
     })
 }
 
@@ -201,6 +202,11 @@ fn render_plate<'py>(
                 (im.region.x0, im.region.y0, im.region.x1, im.region.y1),
             )?;
             let (h, w) = (im.height, im.width);
+            if !im.bands_nm.is_empty() {
+                let nb = im.bands_nm.len();
+                info.set_item("bands_nm", im.bands_nm.clone())?;
+                info.set_item("spectrum", array(py, &[h, w, nb], im.spectrum)?)?;
+            }
             let n = im.glint_ids.len();
             Ok((
                 array(py, &[h, w, 3], im.xyz)?,

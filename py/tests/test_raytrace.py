@@ -187,3 +187,13 @@ def test_workshop_scores_the_reference_above_a_far_plate():
     assert 0.0 <= near < far <= 10.0
     with pytest.raises(ValueError):
         rt.workshop(runs=[(26.0, 7.3)], condition="both")
+
+
+def test_spectrum_output_integrates_to_the_xyz_image():
+    img, info = rt.render_plate("left", return_info=True, keep_spectrum=True, light_deg=3.0,
+                                light_elevation_deg=75.0, **SMALL)
+    spec = info["spectrum"]
+    assert spec.shape == img.shape[:2] + (81,) and info["bands_nm"][0] == 380.0
+    y, x = np.unravel_index(np.argmax(img[..., 1]), img.shape[:2])
+    assert img[y, x, 1] > 0
+    np.testing.assert_allclose(rt.spectrum_to_xyz(spec[y, x]), img[y, x], rtol=1e-4)

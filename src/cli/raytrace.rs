@@ -133,12 +133,14 @@ impl PlateArgs {
             f.model = match m.as_str() {
                 "boolean" => StackModel::Boolean,
                 "deposit" => StackModel::Deposit,
-                other => return Err(Error::invalid(
-                    "model",
-                    format!(
+                other => {
+                    return Err(Error::invalid(
+                        "model",
+                        format!(
                         "{other:?} is not a valid model; valid models are \"boolean\", \"deposit\""
                     ),
-                )),
+                    ))
+                }
             };
         }
         if let Some(v) = d.thickness_um {
@@ -155,7 +157,7 @@ impl PlateArgs {
             st.binder_ior = v;
         }
         match (d.coat_ior, &mut st.coat) {
-            (Some(v), _) if v == 1.0 => st.coat = None,
+            (Some(1.0), _) => st.coat = None,
             (Some(v), Some(c)) => c.ior = v,
             _ => {}
         }

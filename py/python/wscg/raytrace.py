@@ -26,7 +26,9 @@ Plate parameters (keyword arguments of :func:`render_plate`, :func:`generate_til
 - rendering: ``spp`` (64), ``max_depth`` (8), ``render_seed`` (0), ``region_mm``
   ((x0, y0, x1, y1), plate centre at the origin, y up; default the whole plate),
   ``magnification`` (1: the rig's screen pixels), ``independent_samples`` (False),
-  ``colour`` ('spectral' or 'rgb', the non-spectral baseline).
+  ``colour`` ('spectral' or 'rgb', the non-spectral baseline), ``keep_spectrum`` (False: with
+  ``return_info``, also the radiance per band as ``info['spectrum']`` (H, W, bands) and
+  ``info['bands_nm']``).
 
 Bad input raises ``ValueError``.
 """
