@@ -890,6 +890,76 @@ fn raytrace_paint_writes_a_stereo_pair_and_doe_fits_a_surface() {
 }
 
 #[test]
+fn raytrace_paint_reads_a_paint_description_and_writes_exr() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("paint.json");
+    std::fs::write(
+        &json,
+        r#"{"radius_um": 26, "density": 0.7, "base_albedo": 0.5, "coat_um": 30}"#,
+    )
+    .unwrap();
+    let before = std::fs::read(&json).unwrap();
+    let render = |name: &str, photons: &str| {
+        let out = dir.path().join(name);
+        let a = [
+            "raytrace",
+            "paint",
+            "--paint",
+            json.to_str().unwrap(),
+            "--region",
+            "-1",
+            "-1",
+            "1",
+            "1",
+            "--magnification",
+            "4",
+            "--spp",
+            "4",
+            "--photons",
+            photons,
+            "--exr",
+            "--spectral",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        wscg_ok(&a);
+        out
+    };
+    let with = render("with.png", "200000");
+    let without = render("without.png", "0");
+    for stem in ["with", "without"] {
+        for ext in [".png", ".exr", "_spectral.exr"] {
+            assert!(
+                dir.path().join(format!("{stem}{ext}")).is_file(),
+                "{stem}{ext}"
+            );
+        }
+    }
+    // The diffuse base gets the flakes' caustics only with photons.
+    let mean = |p: &std::path::Path| {
+        let img = Image::<f32>::load(p).unwrap();
+        img.data().iter().map(|&v| v as f64).sum::<f64>() / img.data().len() as f64
+    };
+    assert!(mean(&with) > mean(&without));
+    assert_eq!(std::fs::read(&json).unwrap(), before);
+    // An unknown key is named.
+    std::fs::write(&json, r#"{"radius": 26}"#).unwrap();
+    let bad = wscg()
+        .args([
+            "raytrace",
+            "paint",
+            "--paint",
+            json.to_str().unwrap(),
+            "--out",
+        ])
+        .arg(dir.path().join("x.png"))
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("radius"));
+}
+
+#[test]
 fn doe_analyze_reads_a_study_and_rejects_missing_cells() {
     // 6 subjects, two conditions, the paper's 13 stimuli; scores from the paper's Table 2
     // surfaces plus a subject offset and a small deterministic jitter.

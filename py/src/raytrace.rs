@@ -9,7 +9,8 @@ use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
 use wscg_raytrace::paint::{
     self, binocular_overlap, glint_stats, Coat, ColourMode, Condition, DiscLight, FlakeParams,
-    FlakePlate, Plate, PlateStack, Rect, RenderSettings, StackModel, TiltDist, WorkshopConfig,
+    FlakePlate, PhotonSettings, Plate, PlateStack, Rect, RenderSettings, StackModel, TiltDist,
+    WorkshopConfig,
 };
 use wscg_raytrace::spectral::{self, daylight_d, MetalIor, SpectralGrid, Spectrum};
 use wscg_raytrace::stereo::{Eye, StereoRig};
@@ -141,6 +142,14 @@ fn settings(c: &Cfg) -> PyResult<RenderSettings> {
         independent_samples: c.get("independent_samples", false)?,
         colour,
         keep_spectrum: c.get("keep_spectrum", false)?,
+        photons: match c.get("photons", PhotonSettings::default().count)? {
+            0 => None,
+            count => Some(PhotonSettings {
+                count,
+                k: c.get("photon_k", PhotonSettings::default().k)?,
+                ..PhotonSettings::default()
+            }),
+        },
     })
 }
 

@@ -107,6 +107,20 @@ def test_bad_paint_input():
         rt.generate_tile(thickness_um=30.0)
 
 
+def test_caustics_on_a_diffuse_base():
+    # A sparse paint over a white-ish base: the photon map adds the light the flakes send
+    # down (via the top surface); without photons only the direct light reaches the base.
+    kw = dict(SMALL, density=0.7, base_albedo=0.5)
+    with_c = rt.render_plate("cyclopean", photons=200_000, **kw)
+    without = rt.render_plate("cyclopean", photons=0, **kw)
+    assert with_c[..., 1].mean() > 1.005 * without[..., 1].mean()
+    black = dict(SMALL, density=0.7)
+    np.testing.assert_array_equal(rt.render_plate("cyclopean", photons=200_000, **black),
+                                  rt.render_plate("cyclopean", photons=0, **black))
+    with pytest.raises(ValueError):
+        rt.render_plate("cyclopean", photons=100, photon_k=0, **kw)
+
+
 def test_ccd_is_the_papers_design():
     x = doe.ccd(2, "inscribed", "rotatable", (3, 2))
     phys = doe.decode(x, [15.0, 3.5], [45.0, 9.5])

@@ -14,8 +14,8 @@ use wscg_doe::{ccd, decode, fit_quadratic, CcdAlpha, CcdFace};
 use wscg_math::{Error, Result};
 use wscg_raytrace::paint::{
     anaglyph, render_with_progress, score_runs, side_by_side, write_spectral_exr, write_xyz_exr,
-    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, Plate, PlateStack, Rect,
-    RenderSettings, StackModel, TiltDist, WorkshopConfig, XyzImage,
+    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, PhotonSettings, Plate, PlateStack,
+    Rect, RenderSettings, StackModel, TiltDist, WorkshopConfig, XyzImage,
 };
 use wscg_raytrace::spectral::XYZ_TO_SRGB;
 use wscg_raytrace::stereo::{Eye, StereoRig};
@@ -69,6 +69,13 @@ pub struct PlateArgs {
     /// Binder absorption coefficient (1/mm).
     #[arg(long, default_value_t = 0.0)]
     absorption: f64,
+    /// Lambertian albedo of the base (0: the paper's black base); a diffuse base also gets
+    /// the flakes' caustics from a photon map.
+    #[arg(long, default_value_t = 0.0)]
+    base_albedo: f64,
+    /// Photons for the caustics on a diffuse base (0: leave the caustics out).
+    #[arg(long, default_value_t = 2_000_000)]
+    photons: usize,
     /// Lamp elevation above the plate (degrees).
     #[arg(long, default_value_t = 45.0)]
     light_elevation: f64,
@@ -91,7 +98,8 @@ pub struct PlateArgs {
 }
 
 /// A paint description file (JSON): any subset of these keys, the others keep the
-/// command-line values. Example: `{"radius_um": 26, "density": 7.3, "binder_absorption_per_mm": 0,
+/// command-line values (also `binder_ior`, `coat_ior` (1: no coat), `coat_um`, `base_albedo`).
+/// Example: `{"radius_um": 26, "density": 7.3, "binder_absorption_per_mm": 0,
 /// "layer_um": 20.24, "thickness_um": 0.5, "tilt_deg": 8, "model": "boolean", "seed": 1}`.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -104,6 +112,7 @@ struct PaintDescription {
     layer_um: Option<f64>,
     binder_absorption_per_mm: Option<f64>,
     binder_ior: Option<f64>,
+    base_albedo: Option<f64>,
     coat_ior: Option<f64>,
     coat_um: Option<f64>,
     seed: Option<u64>,
@@ -156,6 +165,9 @@ impl PlateArgs {
         if let Some(v) = d.binder_ior {
             st.binder_ior = v;
         }
+        if let Some(v) = d.base_albedo {
+            st.base_albedo = v;
+        }
         match (d.coat_ior, &mut st.coat) {
             (Some(1.0), _) => st.coat = None,
             (Some(v), Some(c)) => c.ior = v,
@@ -185,6 +197,7 @@ impl PlateArgs {
     fn stack(&self) -> PlateStack {
         PlateStack {
             binder_sigma_a_per_mm: self.absorption,
+            base_albedo: self.base_albedo,
             ..PlateStack::default()
         }
     }
@@ -200,6 +213,10 @@ impl PlateArgs {
                 y1: r[3],
             }),
             colour,
+            photons: (self.photons > 0).then(|| PhotonSettings {
+                count: self.photons,
+                ..PhotonSettings::default()
+            }),
             ..RenderSettings::default()
         }
     }

@@ -797,3 +797,250 @@ fn spectral_output_integrates_to_xyz_and_round_trips_through_exr() {
     .unwrap();
     assert!(write_spectral_exr(&plain, dir.path().join("x.exr")).is_err());
 }
+
+/// A mirror plane tilted by 45 degrees about the x axis, facing -y, between heights `z1` and
+/// `z2` of the binder: `z - y = zm`. Light from a lamp towards +y reaches it from its front
+/// and is reflected straight down onto the base, a caustic of known irradiance.
+struct TiltedMirror {
+    zm: f64,
+    z1: f64,
+    z2: f64,
+}
+
+impl Microstructure for TiltedMirror {
+    fn hit(&self, o: &Vector3<f64>, d: &Vector3<f64>, t_max: f64) -> Option<FlakeHit> {
+        let n = Vector3::new(0.0, -1.0, 1.0) / 2f64.sqrt();
+        let denom = d.z - d.y;
+        if denom.abs() < 1e-12 {
+            return None;
+        }
+        let t = (self.zm - (o.z - o.y)) / denom;
+        let z = o.z + t * d.z;
+        (t > 1e-9 && t <= t_max && z >= self.z1 && z <= self.z2).then_some(FlakeHit {
+            t,
+            normal: n,
+            id: 1,
+        })
+    }
+}
+
+#[test]
+fn photon_map_direct_irradiance_matches_the_refracted_lamp() {
+    // No flakes, all photons kept: the base irradiance is the lamp's solid angle times the
+    // cosine, the top surface's transmission and the binder's absorption along the path.
+    let stack = PlateStack {
+        binder_sigma_a_per_mm: 2.0,
+        ..PlateStack::default()
+    };
+    let plate = Plate::new(stack.clone(), Box::new(NoFlakes)).unwrap();
+    let light = DiscLight::from_elevation(40.0, 1.0);
+    let ps = PhotonSettings {
+        count: 1_000_000,
+        k: 400,
+        ..PhotonSettings::default()
+    };
+    let map = trace_photons(
+        &plate,
+        &light,
+        [-1500.0, -1500.0, 1500.0, 1500.0],
+        &ps,
+        false,
+    )
+    .unwrap();
+    let ct = light.dir_to_light.z;
+    let n = stack.top_ior();
+    let st_b = (1.0 - ct * ct).sqrt() / n;
+    let ct_b = (1.0 - st_b * st_b).sqrt();
+    // The binder absorbs; the clear coat does not.
+    let path_mm = stack.binder_um * 1e-3 / ct_b;
+    let expect = light.solid_angle()
+        * ct
+        * (1.0 - fresnel_dielectric(ct, n))
+        * (-stack.binder_sigma_a_per_mm * path_mm).exp();
+    let mut mean = 0.0;
+    for i in 0..5 {
+        for j in 0..5 {
+            mean += map.irradiance(-800.0 + 400.0 * i as f64, -800.0 + 400.0 * j as f64) / 25.0;
+        }
+    }
+    assert!(
+        (mean / expect - 1.0).abs() < 0.02,
+        "photon irradiance {mean} vs analytic {expect}"
+    );
+    // Every stored photon came straight through the flake-free binder.
+    assert!(map.photons.iter().all(|p| p.n == 0));
+}
+
+#[test]
+fn photon_map_caustic_of_a_tilted_mirror() {
+    // Light refracted into the binder at theta_b reaches a 45-degree mirror and leaves it
+    // straight down at 90 - theta_b from the vertical: the reflected beam's irradiance on the
+    // base is the direct irradiance times R(cos_i) tan(theta_b) (the beam's cross-section
+    // projected onto the base), over the strip between y = z - zm - z cot(theta_b) for
+    // z = z1 and z = z2.
+    let stack = PlateStack {
+        coat: None,
+        binder_um: 100.0,
+        base_albedo: 1.0,
+        ..PlateStack::default()
+    };
+    let mirror = TiltedMirror {
+        zm: 50.0,
+        z1: 20.0,
+        z2: 80.0,
+    };
+    let plate = Plate::new(stack.clone(), Box::new(mirror)).unwrap();
+    let light = DiscLight::from_elevation(45.0, 0.5);
+    let ps = PhotonSettings {
+        count: 2_000_000,
+        k: 200,
+        max_radius_um: 20.0,
+        margin_um: 300.0,
+        ..PhotonSettings::default()
+    };
+    let mut map = trace_photons(&plate, &light, [-200.0, -300.0, 200.0, 200.0], &ps, true).unwrap();
+    let ct = light.dir_to_light.z;
+    let nb = stack.binder_ior;
+    let st_b = (1.0 - ct * ct).sqrt() / nb;
+    let ct_b = (1.0 - st_b * st_b).sqrt();
+    let direct = light.solid_angle() * ct * (1.0 - fresnel_dielectric(ct, nb));
+    let caustic = direct * st_b / ct_b;
+    let ends = [
+        20.0 - 50.0 - 20.0 * ct_b / st_b,
+        80.0 - 50.0 - 80.0 * ct_b / st_b,
+    ];
+    let (y_lo, y_hi) = (ends[0].min(ends[1]), ends[0].max(ends[1]));
+    let y_mid = 0.5 * (y_lo + y_hi);
+    assert!(y_hi - y_lo > 40.0);
+    // Independent estimates (disjoint discs of about 4 µm) over the strip's middle.
+    let mut mean = 0.0;
+    for i in 0..37 {
+        for dy in [-10.0, 0.0, 10.0] {
+            mean += map.irradiance(-180.0 + 10.0 * i as f64, y_mid + dy) / 111.0;
+        }
+    }
+    assert!(
+        (mean / caustic - 1.0).abs() < 0.03,
+        "caustic irradiance {mean} vs analytic {caustic}"
+    );
+    // Outside the strip no caustic photon lands.
+    assert_eq!(map.irradiance(0.0, y_hi + 40.0), 0.0);
+    assert_eq!(map.irradiance(0.0, y_lo - 40.0), 0.0);
+    // Per band, the flux carries the aluminium's reflectance at the mirror's incidence.
+    let cos_i = (ct_b - st_b) / 2f64.sqrt();
+    let rel: Vec<_> = [450.0, 550.0, 650.0]
+        .iter()
+        .map(|&l| plate.relative_index(l))
+        .collect();
+    map.set_bands(&rel);
+    let mut e = [0.0; 3];
+    assert!(map.band_irradiance(0.0, y_mid, &mut e));
+    let e0 = map.irradiance(0.0, y_mid);
+    for (k, r) in rel.iter().enumerate() {
+        let want = e0 * fresnel_conductor(cos_i, r.re, r.im);
+        assert!(
+            (e[k] / want - 1.0).abs() < 2e-3,
+            "band {k}: {} vs {want}",
+            e[k]
+        );
+    }
+
+    // The renderer adds the caustic to the light-sampled direct light: over the strip, a
+    // base of albedo 1 seen from above is brighter by 1 + R tan(theta_b) with the photons.
+    let rig = StereoRig::default();
+    let s = RenderSettings {
+        spp: 16,
+        region_mm: Some(Rect::centred(0.0, y_mid * 1e-3, 0.06, 0.02)),
+        magnification: 30.0,
+        photons: Some(ps),
+        ..RenderSettings::default()
+    };
+    let with = render(&plate, &light, &rig, Eye::Cyclopean, &s).unwrap();
+    let without = render(
+        &plate,
+        &light,
+        &rig,
+        Eye::Cyclopean,
+        &RenderSettings {
+            photons: None,
+            ..s.clone()
+        },
+    )
+    .unwrap();
+    let ratio = with.mean_xyz()[1] / without.mean_xyz()[1];
+    let r560 = plate.relative_index(560.0);
+    let want = 1.0 + fresnel_conductor(cos_i, r560.re, r560.im) * st_b / ct_b;
+    assert!(
+        (ratio / want - 1.0).abs() < 0.03,
+        "with / without photons {ratio} vs {want}"
+    );
+}
+
+#[test]
+fn caustics_brighten_a_diffuse_base_and_bad_photon_settings_are_errors() {
+    // A sparse paint (half the base visible), so that the base shows.
+    let p = FlakeParams {
+        density: 0.7,
+        ..FlakeParams::default()
+    };
+    let micro = FlakePlate::new(&p, (150.0, 100.0), 5).unwrap();
+    let stack = PlateStack {
+        base_albedo: 0.5,
+        ..PlateStack::default()
+    };
+    let plate = Plate::new(stack, Box::new(micro)).unwrap();
+    let light = DiscLight::default();
+    let rig = StereoRig::default();
+    let s = RenderSettings {
+        spp: 4,
+        region_mm: Some(Rect::centred(0.0, 0.0, 2.0, 2.0)),
+        magnification: 4.0,
+        photons: Some(PhotonSettings {
+            count: 300_000,
+            margin_um: 500.0,
+            ..PhotonSettings::default()
+        }),
+        ..RenderSettings::default()
+    };
+    let with = render(&plate, &light, &rig, Eye::Cyclopean, &s).unwrap();
+    let without = render(
+        &plate,
+        &light,
+        &rig,
+        Eye::Cyclopean,
+        &RenderSettings {
+            photons: None,
+            ..s.clone()
+        },
+    )
+    .unwrap();
+    let (a, b) = (with.mean_xyz()[1], without.mean_xyz()[1]);
+    eprintln!("diffuse base 0.5: Y with caustics {a:.4}, without {b:.4}");
+    // Light reflected up by the flakes comes back down at the top surface (Fresnel, and
+    // total internal reflection beyond 42 degrees): a few percent more on the base.
+    assert!(a > 1.005 * b, "caustics add light: {a} vs {b}");
+    for bad in [
+        PhotonSettings {
+            count: 0,
+            ..PhotonSettings::default()
+        },
+        PhotonSettings {
+            k: 0,
+            ..PhotonSettings::default()
+        },
+        PhotonSettings {
+            max_radius_um: f64::NAN,
+            ..PhotonSettings::default()
+        },
+        PhotonSettings {
+            margin_um: -1.0,
+            ..PhotonSettings::default()
+        },
+    ] {
+        let s = RenderSettings {
+            photons: Some(bad),
+            ..s.clone()
+        };
+        assert!(render(&plate, &light, &rig, Eye::Cyclopean, &s).is_err());
+    }
+}

@@ -28,7 +28,9 @@ Plate parameters (keyword arguments of :func:`render_plate`, :func:`generate_til
   ``magnification`` (1: the rig's screen pixels), ``independent_samples`` (False),
   ``colour`` ('spectral' or 'rgb', the non-spectral baseline), ``keep_spectrum`` (False: with
   ``return_info``, also the radiance per band as ``info['spectrum']`` (H, W, bands) and
-  ``info['bands_nm']``).
+  ``info['bands_nm']``), ``photons`` (2 000 000 photons for the flakes' caustics on a
+  diffuse base, used only when ``base_albedo > 0``; 0 leaves the caustics out),
+  ``photon_k`` (50 photons per density estimate).
 
 Bad input raises ``ValueError``.
 """

@@ -195,6 +195,29 @@ impl DiscLight {
         self.angular_radius_deg.to_radians().cos()
     }
 
+    /// A direction towards the lamp, uniform in its disc's solid angle, from two uniform
+    /// numbers in `[0, 1)`.
+    pub fn sample_direction(&self, u1: f64, u2: f64) -> Vector3<f64> {
+        let cos_r = self.cos_radius();
+        let ct = 1.0 - u1 * (1.0 - cos_r);
+        let phi = 2.0 * std::f64::consts::PI * u2;
+        let st = (1.0 - ct * ct).max(0.0).sqrt();
+        let a = self.dir_to_light.into_inner();
+        let helper = if a.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let u = a.cross(&helper).normalize();
+        let v = a.cross(&u);
+        a * ct + (u * phi.cos() + v * phi.sin()) * st
+    }
+
+    /// Solid angle of the lamp's disc (sr).
+    pub fn solid_angle(&self) -> f64 {
+        2.0 * std::f64::consts::PI * (1.0 - self.cos_radius())
+    }
+
     /// Whether direction `d` (unit, plate frame) points into the lamp's disc.
     pub fn contains(&self, d: &Vector3<f64>) -> bool {
         d.dot(&self.dir_to_light) >= self.cos_radius()

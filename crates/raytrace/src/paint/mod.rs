@@ -6,6 +6,7 @@ pub mod grid;
 pub mod io;
 pub mod layers;
 pub mod observer;
+pub mod photons;
 pub mod plate;
 pub mod render;
 pub mod workshop;
@@ -16,6 +17,7 @@ pub use layers::{Coat, DiscLight, PlateStack};
 pub use observer::{
     binocular_overlap, features, glint_stats, Condition, GlintStats, VirtualObserver,
 };
+pub use photons::{trace_photons, Photon, PhotonMap, PhotonSettings};
 pub use plate::{FlakePlate, PlacedFlake};
 pub use render::{
     render, render_with_progress, ColourMode, FlakeHit, Microstructure, NoFlakes, Plate, Rect,

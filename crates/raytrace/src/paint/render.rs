@@ -14,7 +14,8 @@
 //!
 //! A base with a Lambertian albedo gets the lamp's light through the coat (the refracted
 //! disc, shadowed by the flakes) by light sampling, seen by the eye through the same chains;
-//! the light that reaches it after flake reflections (caustics) is not included.
+//! the light that reaches it after flake reflections (caustics) comes from a photon map
+//! ([`super::photons`]).
 
 use nalgebra::Vector3;
 use num_complex::Complex64;
@@ -25,6 +26,7 @@ use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::{Error, Result};
 
 use super::layers::{DiscLight, PlateStack};
+use super::photons::{trace_photons, PhotonMap, PhotonSettings};
 use crate::spectral::{
     fresnel_conductor, fresnel_dielectric, tables, xyz_to_rgb, SpectralGrid, XYZ_TO_SRGB,
 };
@@ -118,6 +120,8 @@ struct Band {
 struct Acc<'s> {
     xyz: [f64; 3],
     spectrum: &'s mut [f64],
+    /// Per-band scratch space (base irradiance).
+    scratch: Vec<f64>,
 }
 
 /// The bands of `mode` and the lamp's own luminance, normalised so that a white Lambertian
@@ -210,6 +214,9 @@ pub struct RenderSettings {
     pub colour: ColourMode,
     /// Keep each pixel's radiance per band ([`XyzImage::spectrum`]).
     pub keep_spectrum: bool,
+    /// Photon map of the caustics on a diffuse base (used only when the stack's
+    /// `base_albedo > 0`; `None` leaves them out).
+    pub photons: Option<PhotonSettings>,
 }
 
 impl Default for RenderSettings {
@@ -223,6 +230,7 @@ impl Default for RenderSettings {
             independent_samples: false,
             colour: ColourMode::Spectral,
             keep_spectrum: false,
+            photons: Some(PhotonSettings::default()),
         }
     }
 }
@@ -295,13 +303,13 @@ impl XyzImage {
 }
 
 /// Mirror reflection of `d` about the unit normal `n`.
-fn reflect(d: &Vector3<f64>, n: &Vector3<f64>) -> Vector3<f64> {
+pub(crate) fn reflect(d: &Vector3<f64>, n: &Vector3<f64>) -> Vector3<f64> {
     d - n * (2.0 * d.dot(n))
 }
 
 /// Refraction through the horizontal interface: `d` crosses from index `n1` to `n2`; the
 /// horizontal components scale by `n1 / n2` (Snell). `None` under total internal reflection.
-fn refract_horizontal(d: &Vector3<f64>, n1: f64, n2: f64) -> Option<Vector3<f64>> {
+pub(crate) fn refract_horizontal(d: &Vector3<f64>, n1: f64, n2: f64) -> Option<Vector3<f64>> {
     let eta = n1 / n2;
     let (x, y) = (d.x * eta, d.y * eta);
     let s2 = x * x + y * y;
@@ -367,7 +375,7 @@ impl Chain {
 }
 
 /// What a ray does at the coat-binder interface.
-enum Crossing {
+pub(crate) enum Crossing {
     /// Reflected back (chosen with the Fresnel probability); `dir.z` is flipped.
     Reflected,
     /// Refracted through (or no interface: equal indices); `dir` is the new direction.
@@ -377,7 +385,12 @@ enum Crossing {
 }
 
 /// Crossing of the horizontal interface from index `n1` to `n2` by `dir`.
-fn cross_interface(dir: &mut Vector3<f64>, n1: f64, n2: f64, rng: &mut impl Rng) -> Crossing {
+pub(crate) fn cross_interface(
+    dir: &mut Vector3<f64>,
+    n1: f64,
+    n2: f64,
+    rng: &mut impl Rng,
+) -> Crossing {
     if n1 == n2 {
         return Crossing::Refracted;
     }
@@ -399,6 +412,8 @@ struct Ctx<'a> {
     light: &'a DiscLight,
     bands: Vec<Band>,
     max_depth: u32,
+    /// Caustics on a diffuse base.
+    caustics: Option<PhotonMap>,
     /// Relative index at 560 nm, for the Russian-roulette estimate of a chain's weight.
     mid: Complex64,
 }
@@ -406,11 +421,15 @@ struct Ctx<'a> {
 impl Ctx<'_> {
     /// `weight * sum_l prod_k R(cos_k, l) lamp(l)`.
     fn gather(&self, chain: &Chain, weight: f64, out: &mut Acc) {
-        if weight == 0.0 {
-            return;
+        if weight != 0.0 {
+            self.gather_bands(chain, weight, None, out);
         }
+    }
+
+    /// [`Ctx::gather`] with an extra factor per band.
+    fn gather_bands(&self, chain: &Chain, weight: f64, per_band: Option<&[f64]>, out: &mut Acc) {
         for (k, b) in self.bands.iter().enumerate() {
-            let mut t = weight;
+            let mut t = weight * per_band.map_or(1.0, |f| f[k]);
             for &c in &chain.cosines[..chain.n] {
                 t *= fresnel_conductor(c, b.rel.re, b.rel.im);
             }
@@ -533,8 +552,7 @@ impl Ctx<'_> {
                         if dir.z < 0.0 {
                             pos.z = 0.0;
                             if st.base_albedo > 0.0 {
-                                let (weight, _) = self.base_direct(&pos, rng);
-                                self.gather(&chain, w * weight, out);
+                                self.gather_base(&chain, w, &pos, rng, out);
                             }
                             break;
                         }
@@ -568,6 +586,31 @@ impl Ctx<'_> {
         glint
     }
 
+    /// Adds the base's radiance seen by `chain` (weight `w`) at base point `p`: the direct
+    /// light by light sampling, plus the caustics from the photon map when there is one.
+    fn gather_base(
+        &self,
+        chain: &Chain,
+        w: f64,
+        p: &Vector3<f64>,
+        rng: &mut impl Rng,
+        out: &mut Acc,
+    ) {
+        let (direct, _) = self.base_direct(p, rng);
+        let Some(map) = &self.caustics else {
+            self.gather(chain, w * direct, out);
+            return;
+        };
+        let mut e = std::mem::take(&mut out.scratch);
+        e.resize(self.bands.len(), 0.0);
+        map.band_irradiance(p.x, p.y, &mut e);
+        let st = &self.plate.stack;
+        let to_radiance = st.base_albedo / std::f64::consts::PI / (st.binder_ior * st.binder_ior);
+        e.iter_mut().for_each(|v| *v = direct + to_radiance * *v);
+        self.gather_bands(chain, w, Some(&e), out);
+        out.scratch = e;
+    }
+
     /// Light sampling of the lamp from a base point (µm): the achromatic factor of
     /// `albedo / pi * E / n_base^2`, where `E` is the irradiance through the top surface
     /// (and the coat-binder interface), shadowed by the flakes; one direction of the lamp's
@@ -575,20 +618,8 @@ impl Ctx<'_> {
     fn base_direct(&self, p: &Vector3<f64>, rng: &mut impl Rng) -> (f64, bool) {
         let st = &self.plate.stack;
         let light = self.light;
-        let cos_r = light.cos_radius();
-        let omega = 2.0 * std::f64::consts::PI * (1.0 - cos_r);
-        let ct = 1.0 - rng.random::<f64>() * (1.0 - cos_r);
-        let phi = 2.0 * std::f64::consts::PI * rng.random::<f64>();
-        let st_ = (1.0 - ct * ct).max(0.0).sqrt();
-        let a = light.dir_to_light.into_inner();
-        let helper = if a.x.abs() < 0.9 {
-            Vector3::x()
-        } else {
-            Vector3::y()
-        };
-        let u = a.cross(&helper).normalize();
-        let v = a.cross(&u);
-        let wdir = a * ct + (u * phi.cos() + v * phi.sin()) * st_;
+        let omega = light.solid_angle();
+        let wdir = light.sample_direction(rng.random(), rng.random());
         if wdir.z <= 0.0 {
             return (0.0, false);
         }
@@ -635,6 +666,35 @@ pub fn render(
     s: &RenderSettings,
 ) -> Result<XyzImage> {
     render_with_progress(plate, light, rig, eye, s, &NoProgress)
+}
+
+/// The photon map of the caustics on the base for rendering `region` (mm), with the
+/// bands' flux evaluated: none with a black base or without photon settings. Photons are
+/// shot over the region widened by the margin, within the plate.
+fn caustic_map(
+    plate: &Plate,
+    light: &DiscLight,
+    region: Rect,
+    s: &RenderSettings,
+    bands: &[Band],
+) -> Result<Option<PhotonMap>> {
+    let Some(ps) = s.photons.filter(|_| plate.stack.base_albedo > 0.0) else {
+        return Ok(None);
+    };
+    ps.validate()?;
+    let m = ps.margin_um;
+    let (pw, ph) = plate.stack.size_mm;
+    let half = [500.0 * pw, 500.0 * ph];
+    let area = [
+        (region.x0 * 1e3 - m).max(-half[0]),
+        (region.y0 * 1e3 - m).max(-half[1]),
+        (region.x1 * 1e3 + m).min(half[0]),
+        (region.y1 * 1e3 + m).min(half[1]),
+    ];
+    let mut map = trace_photons(plate, light, area, &ps, true)?;
+    let rel: Vec<Complex64> = bands.iter().map(|b| b.rel).collect();
+    map.set_bands(&rel);
+    Ok(Some(map))
 }
 
 /// [`render`], reporting the rows done to `progress`.
@@ -695,11 +755,13 @@ pub fn render_with_progress(
         ColourMode::Spectral => SpectralGrid::VISIBLE.wavelengths().collect(),
         ColourMode::Rgb => RGB_BAND_NM.to_vec(),
     };
+    let caustics = caustic_map(plate, light, region, s, &bands)?;
     let ctx = Ctx {
         plate,
         light,
         bands,
         max_depth: s.max_depth,
+        caustics,
         mid: plate.relative_index(560.0),
     };
     let e = rig.eye(eye);
@@ -718,6 +780,7 @@ pub fn render_with_progress(
         let mut acc = Acc {
             xyz: [0.0; 3],
             spectrum: &mut spectrum,
+            scratch: Vec::new(),
         };
         let mut first = NO_FLAKE;
         let mut ids = Vec::new();
