@@ -122,12 +122,29 @@ impl Bvh {
 
     /// The nearest primitive hit along `o + t d` with `0 < t <= t_max`. `hit(i, t_best)`
     /// intersects primitive `i` and returns its hit parameter when it is below `t_best`.
-    pub fn nearest<F>(
+    pub fn nearest<F>(&self, o: &Vector3<f64>, d: &Vector3<f64>, t_max: f64, hit: F) -> Option<(u32, f64)>
+    where
+        F: FnMut(u32, f64) -> Option<f64>,
+    {
+        self.traverse(o, d, t_max, hit, false)
+    }
+
+    /// Any primitive hit along `o + t d` with `0 < t <= t_max` (a shadow ray): the traversal
+    /// stops at the first hit found.
+    pub fn any<F>(&self, o: &Vector3<f64>, d: &Vector3<f64>, t_max: f64, hit: F) -> bool
+    where
+        F: FnMut(u32, f64) -> Option<f64>,
+    {
+        self.traverse(o, d, t_max, hit, true).is_some()
+    }
+
+    fn traverse<F>(
         &self,
         o: &Vector3<f64>,
         d: &Vector3<f64>,
         t_max: f64,
         mut hit: F,
+        first: bool,
     ) -> Option<(u32, f64)>
     where
         F: FnMut(u32, f64) -> Option<f64>,
@@ -154,6 +171,9 @@ impl Bvh {
                         if t < t_best {
                             t_best = t;
                             best = Some((p, t));
+                            if first {
+                                return best;
+                            }
                         }
                     }
                 }
@@ -375,6 +395,10 @@ mod tests {
                 sphere_hit(&o, &d, i as usize).filter(|t| *t <= tb)
             });
             assert_eq!(brute.map(|b| b.0), fast.map(|f| f.0));
+            let any = bvh.any(&o, &d, 8.0, |i, tb| {
+                sphere_hit(&o, &d, i as usize).filter(|t| *t <= tb)
+            });
+            assert_eq!(any, brute.is_some());
         }
         assert_eq!(bvh.len(), 500);
         assert!(Bvh::build(&[], 4)

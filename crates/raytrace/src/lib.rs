@@ -1,5 +1,9 @@
 //! Ray tracing papers of WSCG vol. 23.
 //!
+//! Paper 08 (Yoshida et al., "Adaptive importance caching for many-light rendering"):
+//! [`manylight`], virtual point lights sampled from importance caches placed by clustering
+//! and adaptive insertion.
+//!
 //! Paper 07 (da Graça, Paljic and Diaz, "Evaluating stereoscopic visualization for predictive
 //! rendering"): the "virtual material workshop" for metallic-flake car paint.
 //!
@@ -9,6 +13,7 @@
 //! - [`stereo`]: the off-axis stereo rig of section 3.
 
 pub mod bvh;
+pub mod manylight;
 pub mod paint;
 pub mod spectral;
 pub mod stereo;
