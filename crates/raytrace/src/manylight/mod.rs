@@ -3,10 +3,31 @@
 //! on top of Georgiev et al. 2012's importance caching).
 //!
 //! - [`scene`]: Lambertian triangle scenes with emitters, nearest-hit and shadow rays.
-//! - [`camera`]: the pinhole camera.
+//! - [`camera`], [`gbuffer`]: the pinhole camera and the shading point of each pixel.
+//! - [`vpl`]: virtual point lights from light paths.
+//! - [`shading`]: one VPL's contribution (eq. 1), the reference sum.
+//! - [`pmf`], [`cache`]: records and their four distributions.
+//! - [`weights`]: the similarity weights of eqs. (2)-(4).
+//! - [`placement`]: screen-grid records (the baseline), clustering and adaptive insertion.
+//! - [`render`]: the alpha-max estimator, the reference, power sampling.
 
+pub mod cache;
 pub mod camera;
+pub mod gbuffer;
+pub mod placement;
+pub mod pmf;
+pub mod render;
 pub mod scene;
+pub mod shading;
+pub mod vpl;
+pub mod weights;
 
+pub use cache::{Distributions, ImportanceCache, Record};
 pub use camera::{Camera, CameraFrame};
+pub use gbuffer::{trace_primary, GBuffer, ShadingPoint};
+pub use placement::{AdaptiveParams, Placement};
+pub use render::{build_cache, render, render_power, render_reference, CacheStats, IcParams};
 pub use scene::{luminance, Hit, Rgb, Scene, Triangle};
+pub use shading::{Receiver, Shading};
+pub use vpl::{generate_vpls, Vpl, VplKind, VplSettings};
+pub use weights::Interp;

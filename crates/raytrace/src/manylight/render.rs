@@ -1,0 +1,353 @@
+//! The estimators (paper 08, eq. 1): importance-cache sampling with four strategies combined
+//! by the alpha-max heuristic (Georgiev et al. 2012, section 5), the all-VPL reference, and
+//! sampling by VPL power.
+
+use std::time::Instant;
+
+use rand::Rng;
+use rayon::prelude::*;
+use wscg_math::image::Image;
+use wscg_math::progress::{NoProgress, Progress};
+use wscg_math::{Error, Result};
+
+use super::cache::{ImportanceCache, Lookup, CONSERVATIVE};
+use super::gbuffer::{GBuffer, ShadingPoint};
+use super::placement::{adaptive, random_screen, AdaptiveStats, Placement};
+use super::pmf::Pmf;
+use super::scene::{luminance, Rgb, Scene};
+use super::shading::Shading;
+use super::vpl::Vpl;
+use super::weights::Interp;
+
+/// Importance-caching parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IcParams {
+    /// Records (cache points): the budget of the adaptive placement, the count of the screen
+    /// grid; 1 % of the pixels in the paper's scenes.
+    pub n_cache: usize,
+    /// Records mixed at a shading point (`M`), 3.
+    pub m_nearest: usize,
+    /// VPL samples per pixel (`N_s` of eq. 1), 16: shared out equally among the strategies
+    /// available at the pixel.
+    pub spp: u32,
+    /// Which of the four strategies (full, unoccluded, bounded, conservative) are used; the
+    /// conservative one keeps the estimator unbiased.
+    pub strategies: [bool; 4],
+    /// Weights of the alpha-max heuristic, 1 each.
+    pub alpha: [f64; 4],
+    /// Clamping distance of the geometry term (`None`: 1 % of the scene's diagonal; 0: none).
+    pub clamp_dist: Option<f64>,
+    /// Seed of the placement and the sampling.
+    pub seed: u64,
+    /// Largest memory for the distributions (bytes), 4 GiB.
+    pub max_cache_bytes: usize,
+}
+
+impl Default for IcParams {
+    fn default() -> Self {
+        Self {
+            n_cache: 1000,
+            m_nearest: 3,
+            spp: 16,
+            strategies: [true; 4],
+            alpha: [1.0; 4],
+            clamp_dist: None,
+            seed: 0,
+            max_cache_bytes: 4 << 30,
+        }
+    }
+}
+
+impl IcParams {
+    /// Errors: `n_cache = 0`, `m_nearest = 0`, `spp = 0`, no strategy, a negative or
+    /// non-finite alpha.
+    pub fn validate(&self) -> Result<()> {
+        if self.n_cache == 0 {
+            return Err(Error::invalid("n_cache", "at least one record is needed"));
+        }
+        if self.m_nearest == 0 {
+            return Err(Error::invalid("m_nearest", "at least one record per lookup"));
+        }
+        if self.spp == 0 {
+            return Err(Error::invalid("spp", "at least one sample per pixel is needed"));
+        }
+        if !self.strategies.iter().any(|s| *s) {
+            return Err(Error::invalid("strategies", "at least one strategy is needed"));
+        }
+        if self.alpha.iter().any(|a| !(a.is_finite() && *a > 0.0)) {
+            return Err(Error::invalid(
+                "alpha",
+                format!("must be finite and positive, got {:?}", self.alpha),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// What building a cache did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CacheStats {
+    /// Final number of records.
+    pub records: usize,
+    /// Records of the initial placement.
+    pub initial: usize,
+    /// Records added by the adaptive insertion.
+    pub inserted: usize,
+    /// Insertion passes.
+    pub passes: u32,
+    /// Shadow rays traced for the full distributions.
+    pub shadow_rays: u64,
+    /// Bytes of the distributions.
+    pub bytes: usize,
+    /// Wall time (s).
+    pub seconds: f64,
+}
+
+/// Builds the records of `placement` and their distributions.
+///
+/// Errors: invalid parameters, more records than valid pixels (adaptive placement), no
+/// valid pixel, a cache larger than `max_cache_bytes`, invalid VPLs.
+pub fn build_cache(
+    scene: &Scene,
+    g: &GBuffer,
+    vpls: &[Vpl],
+    placement: &Placement,
+    interp: Interp,
+    p: &IcParams,
+) -> Result<(ImportanceCache, CacheStats)> {
+    p.validate()?;
+    interp.validate()?;
+    let sh = Shading::new(scene, vpls, p.clamp_dist)?;
+    let valid = g.valid();
+    if valid == 0 {
+        return Err(Error::invalid("gbuffer", "no pixel sees the scene"));
+    }
+    let bytes = p.n_cache as u128 * vpls.len() as u128 * 24;
+    if bytes > p.max_cache_bytes as u128 {
+        return Err(Error::LimitExceeded(format!(
+            "{} records x {} VPLs need {:.2} GiB of distributions (limit {:.2} GiB)",
+            p.n_cache,
+            vpls.len(),
+            bytes as f64 / (1u64 << 30) as f64,
+            p.max_cache_bytes as f64 / (1u64 << 30) as f64
+        )));
+    }
+    let t0 = Instant::now();
+    let (cache, a) = match placement {
+        Placement::RandomScreen => {
+            let recs = random_screen(scene, g, p.n_cache, p.seed);
+            if recs.is_empty() {
+                return Err(Error::invalid("n_cache", "no record hit the scene"));
+            }
+            let n = recs.len();
+            let c = ImportanceCache::build(&sh, recs, interp, p.m_nearest)?;
+            (
+                c,
+                AdaptiveStats {
+                    clusters: n,
+                    ..AdaptiveStats::default()
+                },
+            )
+        }
+        Placement::Adaptive(a) => {
+            if p.n_cache > valid {
+                return Err(Error::invalid(
+                    "n_cache",
+                    format!("{} records but only {valid} pixels see the scene", p.n_cache),
+                ));
+            }
+            adaptive(&sh, g, p.n_cache, interp, p.m_nearest, a, p.seed)?
+        }
+    };
+    let records = cache.records.len();
+    let stats = CacheStats {
+        records,
+        initial: a.clusters.min(records),
+        inserted: a.inserted,
+        passes: a.passes,
+        shadow_rays: (records * vpls.len()) as u64,
+        bytes: cache.bytes(),
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    Ok((cache, stats))
+}
+
+/// Rendered image (linear RGB, f32) of per-pixel values.
+fn image(g: &GBuffer, px: Vec<Rgb>) -> Result<Image<f32>> {
+    let data = px.into_iter().flat_map(|c| c.map(|v| v as f32)).collect();
+    Image::new(g.height, g.width, 3, data)
+}
+
+fn add(a: &mut Rgb, b: &Rgb, s: f64) {
+    for c in 0..3 {
+        a[c] += b[c] * s;
+    }
+}
+
+/// The estimate of eq. (1) at one shading point: for each available strategy `s`, `n_s`
+/// VPLs drawn from its mixture over the records found; a sample counts (weight 1) when
+/// `alpha_s p_s` is the largest of the strategies' mixture probabilities for that VPL (ties
+/// to the first strategy), and adds `I / (n_s p_s)`. Every VPL of positive power is won by
+/// exactly one strategy of positive probability, so the estimate is unbiased.
+pub fn estimate(
+    sh: &Shading,
+    cache: &ImportanceCache,
+    x: &ShadingPoint,
+    p: &IcParams,
+    rng: &mut impl Rng,
+) -> Rgb {
+    let mut out = x.emitted;
+    let r = x.receiver();
+    let found = cache.lookup(&r.pos, &r.normal, None);
+    let mut mix: [Lookup; 4] = Default::default();
+    let mut avail = [false; 4];
+    for s in 0..4 {
+        if !p.strategies[s] {
+            continue;
+        }
+        if s == CONSERVATIVE {
+            avail[s] = cache.n_positive > 0;
+        } else {
+            mix[s] = cache.mixture(&found, s);
+            avail[s] = !mix[s].is_empty();
+        }
+    }
+    let n_avail = avail.iter().filter(|a| **a).count();
+    if n_avail == 0 {
+        return out;
+    }
+    let n_s = ((p.spp as f64 / n_avail as f64).round() as u32).max(1);
+    for s in 0..4 {
+        if !avail[s] {
+            continue;
+        }
+        for _ in 0..n_s {
+            let Some(j) = cache.sample(&mix[s], s, rng.random(), rng.random()) else {
+                continue;
+            };
+            let ps = p.alpha[s] * cache.pdf(&mix[s], s, j);
+            if ps <= 0.0 {
+                continue;
+            }
+            let wins = (0..4).filter(|&t| t != s && avail[t]).all(|t| {
+                let pt = p.alpha[t] * cache.pdf(&mix[t], t, j);
+                if t < s {
+                    pt < ps
+                } else {
+                    pt <= ps
+                }
+            });
+            if wins {
+                let i = sh.contribution(&r, j);
+                add(&mut out, &i, p.alpha[s] / (n_s as f64 * ps));
+            }
+        }
+    }
+    out
+}
+
+/// Renders with the importance cache: [`estimate`] at every pixel, a random stream per
+/// pixel, so the image does not depend on the thread count.
+///
+/// Errors: invalid parameters or VPLs.
+pub fn render(
+    scene: &Scene,
+    g: &GBuffer,
+    vpls: &[Vpl],
+    cache: &ImportanceCache,
+    p: &IcParams,
+    progress: &dyn Progress,
+) -> Result<Image<f32>> {
+    p.validate()?;
+    let sh = Shading::new(scene, vpls, p.clamp_dist)?;
+    if cache.positive.len() != vpls.len() {
+        return Err(Error::ShapeMismatch(format!(
+            "the cache was built for {} VPLs, not {}",
+            cache.positive.len(),
+            vpls.len()
+        )));
+    }
+    per_pixel(g, progress, |i, x| {
+        let mut rng = wscg_math::rng::stream(p.seed ^ 0x1c_0000_0000, i as u64);
+        estimate(&sh, cache, x, p, &mut rng)
+    })
+}
+
+/// Runs `f` on every valid pixel in parallel, rows reported to `progress`.
+fn per_pixel(
+    g: &GBuffer,
+    progress: &dyn Progress,
+    f: impl Fn(usize, &ShadingPoint) -> Rgb + Sync,
+) -> Result<Image<f32>> {
+    progress.begin("rendering rows", g.height as u64);
+    let rows: Vec<Vec<Rgb>> = (0..g.height)
+        .into_par_iter()
+        .map(|y| {
+            let row = (y * g.width..(y + 1) * g.width)
+                .map(|i| g.points[i].as_ref().map_or([0.0; 3], |x| f(i, x)))
+                .collect();
+            progress.advance(1);
+            row
+        })
+        .collect();
+    progress.finish();
+    image(g, rows.into_iter().flatten().collect())
+}
+
+/// The all-VPL reference: emitted radiance plus every VPL's contribution (one shadow ray
+/// per VPL and pixel).
+///
+/// Errors: invalid VPLs or clamping distance.
+pub fn render_reference(
+    scene: &Scene,
+    g: &GBuffer,
+    vpls: &[Vpl],
+    clamp_dist: Option<f64>,
+    progress: &dyn Progress,
+) -> Result<Image<f32>> {
+    let sh = Shading::new(scene, vpls, clamp_dist)?;
+    per_pixel(g, progress, |_, x| {
+        let mut out = x.emitted;
+        add(&mut out, &sh.sum_all(&x.receiver()), 1.0);
+        out
+    })
+}
+
+/// The baseline without a cache: `spp` VPLs per pixel drawn in proportion to their
+/// luminous intensity (`power psi`).
+///
+/// Errors: invalid VPLs or parameters, VPLs of zero power only.
+pub fn render_power(
+    scene: &Scene,
+    g: &GBuffer,
+    vpls: &[Vpl],
+    p: &IcParams,
+    progress: &dyn Progress,
+) -> Result<Image<f32>> {
+    p.validate()?;
+    let sh = Shading::new(scene, vpls, p.clamp_dist)?;
+    let w: Vec<f64> = sh.intensity.iter().map(luminance).collect();
+    let pmf = Pmf::new(&w).ok_or_else(|| Error::invalid("vpls", "every VPL has zero power"))?;
+    per_pixel(g, progress, |i, x| {
+        let mut rng = wscg_math::rng::stream(p.seed ^ 0x90_0000_0000, i as u64);
+        let mut out = x.emitted;
+        let r = x.receiver();
+        for _ in 0..p.spp {
+            let j = pmf.sample(rng.random());
+            let i = sh.contribution(&r, j);
+            add(&mut out, &i, 1.0 / (p.spp as f64 * pmf.pdf(j)));
+        }
+        out
+    })
+}
+
+/// [`render`] without progress reporting.
+pub fn render_quiet(
+    scene: &Scene,
+    g: &GBuffer,
+    vpls: &[Vpl],
+    cache: &ImportanceCache,
+    p: &IcParams,
+) -> Result<Image<f32>> {
+    render(scene, g, vpls, cache, p, &NoProgress)
+}

@@ -1,0 +1,159 @@
+//! The contribution of one VPL to a shading point (paper 08, eq. 1 and its terms).
+
+use nalgebra::Vector3;
+use wscg_math::{Error, Result};
+
+use super::scene::{luminance, Rgb, Scene};
+use super::vpl::Vpl;
+
+/// A receiving point: position, unit normal (on the lit side), albedo.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Receiver {
+    /// Position.
+    pub pos: Vector3<f64>,
+    /// Unit normal.
+    pub normal: Vector3<f64>,
+    /// Albedo.
+    pub albedo: Rgb,
+}
+
+/// What every estimator shares: the VPLs, their intensities, the clamping distance and the
+/// shadow-ray offset. The same clamped geometry term serves the reference and every
+/// estimator, so the estimators are unbiased with respect to the reference.
+pub struct Shading<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// The VPLs.
+    pub vpls: &'a [Vpl],
+    /// `power * psi` per VPL.
+    pub intensity: Vec<Rgb>,
+    /// Squared clamping distance.
+    dc2: f64,
+    /// Shadow-ray offset along the normals.
+    eps: f64,
+}
+
+impl<'a> Shading<'a> {
+    /// The shading terms for `vpls` in `scene`; `clamp_dist`: the clamping distance `d_c`
+    /// (`None`: 1 % of the scene's diagonal; 0: no clamping).
+    ///
+    /// Errors: no VPL, a VPL with a non-finite or negative power, a negative or non-finite
+    /// clamping distance.
+    pub fn new(scene: &'a Scene, vpls: &'a [Vpl], clamp_dist: Option<f64>) -> Result<Self> {
+        if vpls.is_empty() {
+            return Err(Error::Empty("vpls"));
+        }
+        for (i, v) in vpls.iter().enumerate() {
+            let ok = v.power.iter().all(|p| p.is_finite() && *p >= 0.0)
+                && v.pos.iter().chain(v.normal.iter()).all(|c| c.is_finite());
+            if !ok {
+                return Err(Error::NonFinite {
+                    name: "vpls",
+                    index: i,
+                });
+            }
+        }
+        let diag = scene.diagonal();
+        let dc = clamp_dist.unwrap_or(0.01 * diag);
+        if !(dc.is_finite() && dc >= 0.0) {
+            return Err(Error::invalid(
+                "clamp_dist",
+                format!("must be finite and >= 0, got {dc}"),
+            ));
+        }
+        Ok(Self {
+            scene,
+            vpls,
+            intensity: vpls.iter().map(Vpl::intensity).collect(),
+            dc2: dc * dc,
+            eps: 1e-4 * diag,
+        })
+    }
+
+    /// Number of VPLs.
+    pub fn len(&self) -> usize {
+        self.vpls.len()
+    }
+
+    /// Whether there is no VPL (never true once built).
+    pub fn is_empty(&self) -> bool {
+        self.vpls.is_empty()
+    }
+
+    /// The clamped geometry term `G_c(x, y_j)` (eq. E2): both cosines over the clamped
+    /// squared distance; 0 behind either surface.
+    #[inline]
+    pub fn geometry(&self, r: &Receiver, j: usize) -> f64 {
+        let v = &self.vpls[j];
+        let d = v.pos - r.pos;
+        let d2 = d.norm_squared();
+        if d2 == 0.0 {
+            return 0.0;
+        }
+        let inv = 1.0 / d2.sqrt();
+        let cx = r.normal.dot(&d) * inv;
+        let cy = -v.normal.dot(&d) * inv;
+        if cx <= 0.0 || cy <= 0.0 {
+            return 0.0;
+        }
+        cx * cy / d2.max(self.dc2)
+    }
+
+    /// Whether VPL `j` is visible from `r` (one shadow ray between the offset points).
+    #[inline]
+    pub fn visible(&self, r: &Receiver, j: usize) -> bool {
+        let v = &self.vpls[j];
+        !self.scene.occluded(
+            &(r.pos + r.normal * self.eps),
+            &(v.pos + v.normal * self.eps),
+        )
+    }
+
+    /// `I_j(x)` without visibility: `power psi (albedo / pi) G_c`.
+    #[inline]
+    pub fn unoccluded(&self, r: &Receiver, j: usize) -> Rgb {
+        let g = self.geometry(r, j) / std::f64::consts::PI;
+        let i = &self.intensity[j];
+        [0, 1, 2].map(|c| i[c] * r.albedo[c] * g)
+    }
+
+    /// `I_j(x)` (eq. E1), visibility included.
+    #[inline]
+    pub fn contribution(&self, r: &Receiver, j: usize) -> Rgb {
+        let u = self.unoccluded(r, j);
+        if luminance(&u) > 0.0 && self.visible(r, j) {
+            u
+        } else {
+            [0.0; 3]
+        }
+    }
+
+    /// The exact sum over all VPLs at `r` (the reference).
+    pub fn sum_all(&self, r: &Receiver) -> Rgb {
+        (0..self.len()).fold([0.0; 3], |a, j| {
+            let c = self.contribution(r, j);
+            [a[0] + c[0], a[1] + c[1], a[2] + c[2]]
+        })
+    }
+
+    /// An upper bound of the unoccluded luminance of VPL `j` over the disc of radius `rad`
+    /// around `r` (the bounded distribution B): the VPL's cosine at the nearest angle the
+    /// disc allows, the receiver's cosine bounded by 1, the distance shortened by `rad`.
+    pub fn bound(&self, r: &Receiver, j: usize, rad: f64) -> f64 {
+        let v = &self.vpls[j];
+        let dv = r.pos - v.pos;
+        let d = dv.norm();
+        let floor = (1e-6 * self.scene.diagonal()).max(f64::MIN_POSITIVE);
+        let theta = if d > 0.0 {
+            (v.normal.dot(&dv) / d).clamp(-1.0, 1.0).acos()
+        } else {
+            0.0
+        };
+        let spread = if d > 0.0 { (rad / d).min(1.0).asin() } else { std::f64::consts::FRAC_PI_2 };
+        let cy = (theta - spread).max(0.0).cos().max(0.0);
+        let dist = (d - rad).max(self.dc2.sqrt()).max(floor);
+        let i = &self.intensity[j];
+        let rgb = [0, 1, 2].map(|c| i[c] * r.albedo[c]);
+        luminance(&rgb) * cy / (dist * dist) / std::f64::consts::PI
+    }
+}

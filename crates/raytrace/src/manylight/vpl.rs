@@ -1,0 +1,172 @@
+//! Virtual point lights (instant radiosity, Keller 1997), generated as in the paper's
+//! reference (Dachsbacher et al. 2014): light paths from the emitters, one VPL per vertex.
+
+use nalgebra::Vector3;
+use rand::Rng;
+use rayon::prelude::*;
+use wscg_math::{Error, Result};
+
+use super::scene::{luminance, Rgb, Scene};
+
+/// What a VPL is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum VplKind {
+    /// On an emitter: radiates `power / pi` per unit projected solid angle.
+    Emitter,
+    /// On a diffuse surface hit by a light path: re-emits its incident flux with the
+    /// surface's `albedo / pi`.
+    Surface {
+        /// The surface's albedo.
+        albedo: Rgb,
+    },
+}
+
+/// A virtual point light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vpl {
+    /// Position.
+    pub pos: Vector3<f64>,
+    /// Unit normal of the side it radiates from.
+    pub normal: Vector3<f64>,
+    /// Power (emitter) or incident flux (surface VPL).
+    pub power: Rgb,
+    /// Emitter or surface VPL.
+    pub kind: VplKind,
+}
+
+impl Vpl {
+    /// `power * psi` with `psi = 1 / pi` (emitter) or `albedo / pi` (surface VPL): the
+    /// factor of eq. (E1) that does not depend on the receiver.
+    pub fn intensity(&self) -> Rgb {
+        let pi = std::f64::consts::PI;
+        match self.kind {
+            VplKind::Emitter => self.power.map(|p| p / pi),
+            VplKind::Surface { albedo } => {
+                [0, 1, 2].map(|c| self.power[c] * albedo[c] / pi)
+            }
+        }
+    }
+}
+
+/// VPL generation parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VplSettings {
+    /// Light paths traced (one emitter VPL each, plus one VPL per bounce); 1000.
+    pub n_paths: usize,
+    /// Bounces per light path (surface VPLs), 2.
+    pub max_bounces: u32,
+    /// Seed.
+    pub seed: u64,
+}
+
+impl Default for VplSettings {
+    fn default() -> Self {
+        Self {
+            n_paths: 1000,
+            max_bounces: 2,
+            seed: 0,
+        }
+    }
+}
+
+/// A direction from the cosine-weighted hemisphere around the unit normal `n`.
+pub fn cosine_hemisphere(n: &Vector3<f64>, u1: f64, u2: f64) -> Vector3<f64> {
+    let r = u1.sqrt();
+    let phi = 2.0 * std::f64::consts::PI * u2;
+    let (t, b) = tangent_frame(n);
+    (t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt()).normalize()
+}
+
+/// Two unit tangents completing the unit normal `n` to an orthonormal frame.
+pub fn tangent_frame(n: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    let helper = if n.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    let t = n.cross(&helper).normalize();
+    (t, n.cross(&t))
+}
+
+/// Traces `n_paths` light paths: emitter `t` is chosen with probability proportional to its
+/// luminance times its area, a uniform point on it gets an emitter VPL of power
+/// `pi L_e A_t / (n_paths P_t)`; the path continues in a cosine-distributed direction, and
+/// each surface it hits (up to `max_bounces`) gets a surface VPL carrying the incident flux,
+/// which is then multiplied by the surface's albedo. The paths are traced in parallel with a
+/// random stream each, so the result does not depend on the thread count.
+///
+/// Errors: no emitter in the scene, `n_paths = 0`.
+pub fn generate_vpls(scene: &Scene, s: &VplSettings) -> Result<Vec<Vpl>> {
+    let emitters = scene.emitters();
+    if emitters.is_empty() {
+        return Err(Error::invalid(
+            "scene",
+            "no emissive triangle: many-light rendering needs at least one emitter",
+        ));
+    }
+    if s.n_paths == 0 {
+        return Err(Error::invalid("n_paths", "at least one light path is needed"));
+    }
+    let tris = scene.triangles();
+    let weights: Vec<f64> = emitters
+        .iter()
+        .map(|&i| luminance(&scene.emission(i)) * tris[i as usize].area)
+        .collect();
+    let total: f64 = weights.iter().sum();
+    let mut cdf = Vec::with_capacity(weights.len());
+    let mut acc = 0.0;
+    for w in &weights {
+        acc += w / total;
+        cdf.push(acc);
+    }
+    let eps = 1e-6 * scene.diagonal();
+    let paths: Vec<Vec<Vpl>> = (0..s.n_paths)
+        .into_par_iter()
+        .map(|p| {
+            let mut rng = wscg_math::rng::stream(s.seed, p as u64);
+            let u: f64 = rng.random();
+            let k = cdf.partition_point(|c| *c <= u).min(emitters.len() - 1);
+            let tri = &tris[emitters[k] as usize];
+            let prob = weights[k] / total;
+            let le = scene.emission(emitters[k]);
+            let y = tri.sample(rng.random(), rng.random());
+            let n = tri.normal;
+            let scale = std::f64::consts::PI * tri.area / (s.n_paths as f64 * prob);
+            let power = le.map(|l| l * scale);
+            let mut out = vec![Vpl {
+                pos: y,
+                normal: n,
+                power,
+                kind: VplKind::Emitter,
+            }];
+            let mut beta = power;
+            let (mut o, mut nrm) = (y, n);
+            for _ in 0..s.max_bounces {
+                let w = cosine_hemisphere(&nrm, rng.random(), rng.random());
+                let Some(h) = scene.intersect(&(o + nrm * eps), &w, f64::INFINITY) else {
+                    break;
+                };
+                let hn = if h.normal.dot(&w) > 0.0 {
+                    -h.normal
+                } else {
+                    h.normal
+                };
+                let albedo = scene.albedo(h.tri);
+                if luminance(&albedo) <= 0.0 {
+                    break;
+                }
+                out.push(Vpl {
+                    pos: h.pos,
+                    normal: hn,
+                    power: beta,
+                    kind: VplKind::Surface { albedo },
+                });
+                beta = [0, 1, 2].map(|c| beta[c] * albedo[c]);
+                o = h.pos;
+                nrm = hn;
+            }
+            out
+        })
+        .collect();
+    Ok(paths.into_iter().flatten().collect())
+}

@@ -1,0 +1,136 @@
+//! Interpolation weights of the records (paper 08, section 4.3, eqs. 2-4, after Clarberg and
+//! Akenine-Möller 2008) and the baseline's uniform weights (Georgiev et al. 2012).
+
+use nalgebra::Vector3;
+use wscg_math::{Error, Result};
+
+/// How the nearest records' distributions are mixed at a shading point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Interp {
+    /// Uniform average of the `M` nearest records (importance caching, Georgiev 2012).
+    Uniform,
+    /// The paper's similarity weights (eqs. 2-4) within a search radius.
+    Clarberg {
+        /// `theta_max` (radians): at `d = d_max` a normal difference of `theta_max` zeroes the
+        /// weight; pi / 6 in the paper.
+        theta_max: f64,
+        /// `lambda` of eq. (3); 5 in the paper.
+        lambda: f64,
+        /// The search radius `d_max` as a multiple of the median distance from a record to its
+        /// `M`-th nearest other record (the paper does not give `d_max`); 2.
+        dmax_factor: f64,
+    },
+}
+
+impl Default for Interp {
+    fn default() -> Self {
+        Self::Clarberg {
+            theta_max: std::f64::consts::FRAC_PI_6,
+            lambda: 5.0,
+            dmax_factor: 2.0,
+        }
+    }
+}
+
+impl Interp {
+    /// Errors: `theta_max` outside (0, pi), a negative or non-finite `lambda`, a
+    /// non-positive `dmax_factor`.
+    pub fn validate(&self) -> Result<()> {
+        if let Interp::Clarberg {
+            theta_max,
+            lambda,
+            dmax_factor,
+        } = *self
+        {
+            if !(theta_max > 0.0 && theta_max < std::f64::consts::PI) {
+                return Err(Error::invalid(
+                    "theta_max",
+                    format!("must lie in (0, pi), got {theta_max}"),
+                ));
+            }
+            if !(lambda.is_finite() && lambda >= 0.0) {
+                return Err(Error::invalid(
+                    "lambda",
+                    format!("must be finite and >= 0, got {lambda}"),
+                ));
+            }
+            wscg_math::error::ensure_positive("dmax_factor", dmax_factor)?;
+        }
+        Ok(())
+    }
+}
+
+/// Eq. (3): `w(d, theta) = (1 - theta / pi) (1 - d' / (1 + lambda d'))`, `d' = d / d_max`.
+pub fn similarity(d_rel: f64, theta: f64, lambda: f64) -> f64 {
+    (1.0 - theta / std::f64::consts::PI) * (1.0 - d_rel / (1.0 + lambda * d_rel))
+}
+
+/// Eq. (4): `max(0, (w - w0) / (1 - w0))` with `w0 = w(d_max, theta_max)`, in `[0, 1]`.
+pub fn clipped_similarity(d_rel: f64, theta: f64, theta_max: f64, lambda: f64) -> f64 {
+    let w0 = similarity(1.0, theta_max, lambda);
+    ((similarity(d_rel, theta, lambda) - w0) / (1.0 - w0)).clamp(0.0, 1.0)
+}
+
+/// Eq. (2): the weight of a record at `p` with normal `n_c` for the shading point `x` with
+/// normal `n`: `sqrt(1 - |n . v|)` (`v` the unit vector from `x` to `p`; 1 when they
+/// coincide) times the clipped similarity of their distance and normal angle.
+pub fn record_weight(
+    x: &Vector3<f64>,
+    n: &Vector3<f64>,
+    p: &Vector3<f64>,
+    n_c: &Vector3<f64>,
+    d_max: f64,
+    theta_max: f64,
+    lambda: f64,
+) -> f64 {
+    let v = p - x;
+    let d = v.norm();
+    let tangential = if d > 0.0 {
+        (1.0 - (n.dot(&v) / d).abs()).max(0.0).sqrt()
+    } else {
+        1.0
+    };
+    let theta = n.dot(n_c).clamp(-1.0, 1.0).acos();
+    tangential * clipped_similarity(d / d_max, theta, theta_max, lambda)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn check_values_of_the_specification() {
+        let w = |d: f64, t: f64| clipped_similarity(d, t, PI / 6.0, 5.0);
+        assert!((similarity(1.0, PI / 6.0, 5.0) - 25.0 / 36.0).abs() < 1e-12);
+        for (got, want) in [
+            (w(0.0, 0.0), 1.0),
+            (w(0.25, 0.0), 0.636364),
+            (w(0.5, PI / 12.0), 0.298701),
+            (w(1.0, 0.0), 0.454545),
+            (w(0.0, PI / 6.0), 0.454545),
+            (w(1.0, PI / 6.0), 0.0),
+        ] {
+            assert!((got - want).abs() < 1e-6, "{got} vs {want}");
+        }
+        for i in 0..=20 {
+            for k in 0..=20 {
+                let v = w(i as f64 / 10.0, k as f64 * PI / 20.0);
+                assert!((0.0..=1.0).contains(&v));
+            }
+        }
+        // In the plane of the shading point the first factor is 1; straight above it, 0.
+        let (x, n) = (Vector3::zeros(), Vector3::z());
+        let side = record_weight(&x, &n, &Vector3::new(0.25, 0.0, 0.0), &n, 1.0, PI / 6.0, 5.0);
+        assert!((side - 0.636364).abs() < 1e-6);
+        let above = record_weight(&x, &n, &Vector3::new(0.0, 0.0, 0.25), &n, 1.0, PI / 6.0, 5.0);
+        assert_eq!(above, 0.0);
+        assert!(Interp::Clarberg { theta_max: 0.0, lambda: 5.0, dmax_factor: 2.0 }
+            .validate()
+            .is_err());
+        assert!(Interp::Clarberg { theta_max: 0.5, lambda: -1.0, dmax_factor: 2.0 }
+            .validate()
+            .is_err());
+        assert!(Interp::default().validate().is_ok());
+    }
+}
