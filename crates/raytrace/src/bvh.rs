@@ -122,7 +122,13 @@ impl Bvh {
 
     /// The nearest primitive hit along `o + t d` with `0 < t <= t_max`. `hit(i, t_best)`
     /// intersects primitive `i` and returns its hit parameter when it is below `t_best`.
-    pub fn nearest<F>(&self, o: &Vector3<f64>, d: &Vector3<f64>, t_max: f64, hit: F) -> Option<(u32, f64)>
+    pub fn nearest<F>(
+        &self,
+        o: &Vector3<f64>,
+        d: &Vector3<f64>,
+        t_max: f64,
+        hit: F,
+    ) -> Option<(u32, f64)>
     where
         F: FnMut(u32, f64) -> Option<f64>,
     {

@@ -118,7 +118,10 @@ impl ImportanceCache {
     ) -> Result<Self> {
         interp.validate()?;
         if m == 0 {
-            return Err(Error::invalid("m_nearest", "at least one record per lookup"));
+            return Err(Error::invalid(
+                "m_nearest",
+                "at least one record per lookup",
+            ));
         }
         if records.is_empty() {
             return Err(Error::Empty("records"));
@@ -128,16 +131,14 @@ impl ImportanceCache {
             .map(|r| [r.at.pos.x, r.at.pos.y, r.at.pos.z])
             .collect();
         let tree = KdTree::new(&pts)?;
-        let positive: Vec<bool> = sh
-            .intensity
-            .iter()
-            .map(|i| luminance(i) > 0.0)
-            .collect();
+        let positive: Vec<bool> = sh.intensity.iter().map(|i| luminance(i) > 0.0).collect();
         let positive_ids: Vec<u32> = (0..positive.len() as u32)
             .filter(|&j| positive[j as usize])
             .collect();
         let d_max = match interp {
-            Interp::Clarberg { dmax_factor, .. } => dmax_factor * median_mth_distance(&tree, &pts, m),
+            Interp::Clarberg { dmax_factor, .. } => {
+                dmax_factor * median_mth_distance(&tree, &pts, m)
+            }
             Interp::Uniform => f64::INFINITY,
         };
         Ok(Self {
@@ -162,7 +163,12 @@ impl ImportanceCache {
     /// record `exclude`. Uniform: the `M` nearest records facing the same side; the
     /// similarity weights: the `M` nearest within `d_max`, weighted by eqs. (2)-(4), falling
     /// back to the uniform choice when none of them has a positive weight.
-    pub fn lookup(&self, pos: &Vector3<f64>, normal: &Vector3<f64>, exclude: Option<usize>) -> Lookup {
+    pub fn lookup(
+        &self,
+        pos: &Vector3<f64>,
+        normal: &Vector3<f64>,
+        exclude: Option<usize>,
+    ) -> Lookup {
         let q = [pos.x, pos.y, pos.z];
         if let Interp::Clarberg {
             theta_max, lambda, ..
@@ -175,7 +181,9 @@ impl ImportanceCache {
                 .filter(|&(_, d)| d <= self.d_max)
                 .map(|(k, _)| {
                     let r = &self.records[k].at;
-                    let w = record_weight(pos, normal, &r.pos, &r.normal, self.d_max, theta_max, lambda);
+                    let w = record_weight(
+                        pos, normal, &r.pos, &r.normal, self.d_max, theta_max, lambda,
+                    );
                     (k, w)
                 })
                 .filter(|&(_, w)| w > 0.0)
@@ -189,7 +197,12 @@ impl ImportanceCache {
         self.uniform_lookup(&q, normal, exclude)
     }
 
-    fn uniform_lookup(&self, q: &[f64; 3], normal: &Vector3<f64>, exclude: Option<usize>) -> Lookup {
+    fn uniform_lookup(
+        &self,
+        q: &[f64; 3],
+        normal: &Vector3<f64>,
+        exclude: Option<usize>,
+    ) -> Lookup {
         let near = self.tree.knn(q, 8 * self.m, exclude);
         let mut out: Vec<usize> = near
             .iter()

@@ -51,7 +51,10 @@ impl Camera {
         }
         let all = [self.eye, self.target, self.up];
         if all.iter().any(|v| v.iter().any(|c| !c.is_finite())) {
-            return Err(Error::invalid("camera", "eye, target and up must be finite"));
+            return Err(Error::invalid(
+                "camera",
+                "eye, target and up must be finite",
+            ));
         }
         let f = self.target - self.eye;
         if f.norm() == 0.0 {
@@ -60,7 +63,10 @@ impl Camera {
         let forward = f.normalize();
         let r = forward.cross(&self.up);
         if r.norm() < 1e-9 * self.up.norm().max(1e-300) || self.up.norm() == 0.0 {
-            return Err(Error::invalid("camera", "up is parallel to the view direction"));
+            return Err(Error::invalid(
+                "camera",
+                "up is parallel to the view direction",
+            ));
         }
         let right = r.normalize();
         Ok(CameraFrame {

@@ -55,7 +55,10 @@ impl AdaptiveParams {
             ("min_inserted_fraction", self.min_inserted_fraction),
         ] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(Error::invalid(name, format!("must be finite and >= 0, got {v}")));
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and >= 0, got {v}"),
+                ));
             }
         }
         Ok(())
@@ -113,7 +116,9 @@ pub fn random_screen(scene: &super::scene::Scene, g: &GBuffer, n: usize, seed: u
 /// the longest axis of the box until a cluster has at most `n_max` points or a box diagonal
 /// at most `min_extent`. Returns the clusters (pixel indices).
 pub fn cluster_points(g: &GBuffer, n_max: usize, min_extent: f64) -> Vec<Vec<usize>> {
-    let ids: Vec<usize> = (0..g.points.len()).filter(|&i| g.points[i].is_some()).collect();
+    let ids: Vec<usize> = (0..g.points.len())
+        .filter(|&i| g.points[i].is_some())
+        .collect();
     if ids.is_empty() {
         return Vec::new();
     }
@@ -128,7 +133,9 @@ pub fn cluster_points(g: &GBuffer, n_max: usize, min_extent: f64) -> Vec<Vec<usi
             out.push(c.iter().map(|&i| ids[i]).collect());
             continue;
         }
-        let axis = (0..6).max_by(|&a, &b| ext[a].total_cmp(&ext[b])).unwrap_or(0);
+        let axis = (0..6)
+            .max_by(|&a, &b| ext[a].total_cmp(&ext[b]))
+            .unwrap_or(0);
         let mid = 0.5 * (lo[axis] + hi[axis]);
         let (mut left, mut right): (Vec<usize>, Vec<usize>) =
             c.iter().partition(|&&i| q[i][axis] < mid);
@@ -147,7 +154,10 @@ pub fn cluster_points(g: &GBuffer, n_max: usize, min_extent: f64) -> Vec<Vec<usi
 
 /// The 6-D feature of each pixel in `ids`.
 fn features(g: &GBuffer, ids: &[usize]) -> Vec<[f64; 6]> {
-    let pts: Vec<_> = ids.iter().map(|&i| g.points[i].expect("valid pixel")).collect();
+    let pts: Vec<_> = ids
+        .iter()
+        .map(|&i| g.points[i].expect("valid pixel"))
+        .collect();
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in &pts {
@@ -279,7 +289,11 @@ pub fn adaptive(
     let clusters = cluster_to_count(g, k0, a.leaf_min_extent);
     let area: Vec<f64> = clusters
         .iter()
-        .map(|c| c.iter().map(|&i| g.points[i].expect("valid").footprint).sum())
+        .map(|c| {
+            c.iter()
+                .map(|&i| g.points[i].expect("valid").footprint)
+                .sum()
+        })
         .collect();
     let mut used = vec![false; g.points.len()];
     let mut per_cluster = vec![1usize; clusters.len()];
@@ -331,8 +345,10 @@ pub fn adaptive(
         stats.passes = pass;
         stats.inserted += added;
         if added > 0 {
-            let new_d: Vec<Distributions> =
-                new.par_iter().map(|r| Distributions::compute(sh, r)).collect();
+            let new_d: Vec<Distributions> = new
+                .par_iter()
+                .map(|r| Distributions::compute(sh, r))
+                .collect();
             let mut records = std::mem::take(&mut cache.records);
             let mut dists = std::mem::take(&mut cache.dists);
             records.extend(new);

@@ -66,13 +66,22 @@ impl IcParams {
             return Err(Error::invalid("n_cache", "at least one record is needed"));
         }
         if self.m_nearest == 0 {
-            return Err(Error::invalid("m_nearest", "at least one record per lookup"));
+            return Err(Error::invalid(
+                "m_nearest",
+                "at least one record per lookup",
+            ));
         }
         if self.spp == 0 {
-            return Err(Error::invalid("spp", "at least one sample per pixel is needed"));
+            return Err(Error::invalid(
+                "spp",
+                "at least one sample per pixel is needed",
+            ));
         }
         if !self.strategies.iter().any(|s| *s) {
-            return Err(Error::invalid("strategies", "at least one strategy is needed"));
+            return Err(Error::invalid(
+                "strategies",
+                "at least one strategy is needed",
+            ));
         }
         if self.alpha.iter().any(|a| !(a.is_finite() && *a > 0.0)) {
             return Err(Error::invalid(
@@ -153,7 +162,10 @@ pub fn build_cache(
             if p.n_cache > valid {
                 return Err(Error::invalid(
                     "n_cache",
-                    format!("{} records but only {valid} pixels see the scene", p.n_cache),
+                    format!(
+                        "{} records but only {valid} pixels see the scene",
+                        p.n_cache
+                    ),
                 ));
             }
             adaptive(&sh, g, p.n_cache, interp, p.m_nearest, a, p.seed)?

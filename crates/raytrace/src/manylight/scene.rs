@@ -147,7 +147,9 @@ impl Scene {
             }
         }
         for (i, (a, e)) in albedo.iter().zip(emission).enumerate() {
-            if a.iter().any(|c| !(c.is_finite() && (0.0..=1.0).contains(c))) {
+            if a.iter()
+                .any(|c| !(c.is_finite() && (0.0..=1.0).contains(c)))
+            {
                 return Err(Error::invalid(
                     "albedo",
                     format!("face {i}: {a:?} must lie in [0, 1]"),
@@ -170,11 +172,7 @@ impl Scene {
                 let v = vertices.get(f[k] as usize).ok_or_else(|| {
                     Error::invalid(
                         "faces",
-                        format!(
-                            "face {i} uses vertex {} of {}",
-                            f[k],
-                            vertices.len()
-                        ),
+                        format!("face {i} uses vertex {} of {}", f[k], vertices.len()),
                     )
                 })?;
                 p[k] = Vector3::new(v[0], v[1], v[2]);
@@ -269,7 +267,8 @@ impl Scene {
             return false;
         }
         let d = d / len;
-        self.bvh
-            .any(a, &d, len, |i, tb| self.tris[i as usize].intersect(a, &d, tb))
+        self.bvh.any(a, &d, len, |i, tb| {
+            self.tris[i as usize].intersect(a, &d, tb)
+        })
     }
 }

@@ -149,7 +149,11 @@ impl<'a> Shading<'a> {
         } else {
             0.0
         };
-        let spread = if d > 0.0 { (rad / d).min(1.0).asin() } else { std::f64::consts::FRAC_PI_2 };
+        let spread = if d > 0.0 {
+            (rad / d).min(1.0).asin()
+        } else {
+            std::f64::consts::FRAC_PI_2
+        };
         let cy = (theta - spread).max(0.0).cos().max(0.0);
         let dist = (d - rad).max(self.dc2.sqrt()).max(floor);
         let i = &self.intensity[j];

@@ -41,9 +41,7 @@ impl Vpl {
         let pi = std::f64::consts::PI;
         match self.kind {
             VplKind::Emitter => self.power.map(|p| p / pi),
-            VplKind::Surface { albedo } => {
-                [0, 1, 2].map(|c| self.power[c] * albedo[c] / pi)
-            }
+            VplKind::Surface { albedo } => [0, 1, 2].map(|c| self.power[c] * albedo[c] / pi),
         }
     }
 }
@@ -105,7 +103,10 @@ pub fn generate_vpls(scene: &Scene, s: &VplSettings) -> Result<Vec<Vpl>> {
         ));
     }
     if s.n_paths == 0 {
-        return Err(Error::invalid("n_paths", "at least one light path is needed"));
+        return Err(Error::invalid(
+            "n_paths",
+            "at least one light path is needed",
+        ));
     }
     let tris = scene.triangles();
     let weights: Vec<f64> = emitters

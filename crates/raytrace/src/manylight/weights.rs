@@ -121,16 +121,40 @@ mod tests {
         }
         // In the plane of the shading point the first factor is 1; straight above it, 0.
         let (x, n) = (Vector3::zeros(), Vector3::z());
-        let side = record_weight(&x, &n, &Vector3::new(0.25, 0.0, 0.0), &n, 1.0, PI / 6.0, 5.0);
+        let side = record_weight(
+            &x,
+            &n,
+            &Vector3::new(0.25, 0.0, 0.0),
+            &n,
+            1.0,
+            PI / 6.0,
+            5.0,
+        );
         assert!((side - 0.636364).abs() < 1e-6);
-        let above = record_weight(&x, &n, &Vector3::new(0.0, 0.0, 0.25), &n, 1.0, PI / 6.0, 5.0);
+        let above = record_weight(
+            &x,
+            &n,
+            &Vector3::new(0.0, 0.0, 0.25),
+            &n,
+            1.0,
+            PI / 6.0,
+            5.0,
+        );
         assert_eq!(above, 0.0);
-        assert!(Interp::Clarberg { theta_max: 0.0, lambda: 5.0, dmax_factor: 2.0 }
-            .validate()
-            .is_err());
-        assert!(Interp::Clarberg { theta_max: 0.5, lambda: -1.0, dmax_factor: 2.0 }
-            .validate()
-            .is_err());
+        assert!(Interp::Clarberg {
+            theta_max: 0.0,
+            lambda: 5.0,
+            dmax_factor: 2.0
+        }
+        .validate()
+        .is_err());
+        assert!(Interp::Clarberg {
+            theta_max: 0.5,
+            lambda: -1.0,
+            dmax_factor: 2.0
+        }
+        .validate()
+        .is_err());
         assert!(Interp::default().validate().is_ok());
     }
 }
