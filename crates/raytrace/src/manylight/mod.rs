@@ -3,6 +3,8 @@
 //! on top of Georgiev et al. 2012's importance caching).
 //!
 //! - [`scene`]: Lambertian triangle scenes with emitters, nearest-hit and shadow rays.
+//! - [`scenes`], [`obj`]: procedural test scenes (Cornell box, colonnade, conference room,
+//!   plane with a light) and Wavefront OBJ + MTL scenes.
 //! - [`camera`], [`gbuffer`]: the pinhole camera and the shading point of each pixel.
 //! - [`vpl`]: virtual point lights from light paths.
 //! - [`shading`]: one VPL's contribution (eq. 1), the reference sum.
@@ -14,10 +16,12 @@
 pub mod cache;
 pub mod camera;
 pub mod gbuffer;
+pub mod obj;
 pub mod placement;
 pub mod pmf;
 pub mod render;
 pub mod scene;
+pub mod scenes;
 pub mod shading;
 pub mod vpl;
 pub mod weights;
@@ -25,9 +29,11 @@ pub mod weights;
 pub use cache::{Distributions, ImportanceCache, Record};
 pub use camera::{Camera, CameraFrame};
 pub use gbuffer::{trace_primary, GBuffer, ShadingPoint};
+pub use obj::load_obj;
 pub use placement::{AdaptiveParams, Placement};
 pub use render::{build_cache, render, render_power, render_reference, CacheStats, IcParams};
 pub use scene::{luminance, Hit, Rgb, Scene, Triangle};
+pub use scenes::{colonnade, conference_room, cornell_box, plane_with_light};
 pub use shading::{Receiver, Shading};
 pub use vpl::{generate_vpls, Vpl, VplKind, VplSettings};
 pub use weights::Interp;
