@@ -12,10 +12,12 @@
 //! - [`weights`]: the similarity weights of eqs. (2)-(4).
 //! - [`placement`]: screen-grid records (the baseline), clustering and adaptive insertion.
 //! - [`render`]: the alpha-max estimator, the reference, power sampling.
+//! - [`method`]: every method of the comparison behind one call.
 
 pub mod cache;
 pub mod camera;
 pub mod gbuffer;
+pub mod method;
 pub mod obj;
 pub mod placement;
 pub mod pmf;
@@ -29,6 +31,7 @@ pub mod weights;
 pub use cache::{Distributions, ImportanceCache, Record};
 pub use camera::{Camera, CameraFrame};
 pub use gbuffer::{trace_primary, GBuffer, ShadingPoint};
+pub use method::{run, run_with, Method, Output, Settings};
 pub use obj::load_obj;
 pub use placement::{AdaptiveParams, Placement};
 pub use render::{build_cache, render, render_power, render_reference, CacheStats, IcParams};
