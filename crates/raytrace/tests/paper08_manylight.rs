@@ -125,7 +125,7 @@ fn check6_distributions_invariants() {
     }
     // Unnormalised: F <= U <= B element-wise; F = 0 behind the record or the wall.
     let mut occluded = 0;
-    for j in 0..vpls.len() {
+    for (j, vpl) in vpls.iter().enumerate() {
         let un = luminance(&sh.unoccluded(&rec.at, j));
         let full = luminance(&sh.contribution(&rec.at, j));
         let bound = sh.bound(&rec.at, j, rec.radius);
@@ -133,7 +133,7 @@ fn check6_distributions_invariants() {
             full <= un && un <= bound * (1.0 + 1e-12),
             "VPL {j}: {full} {un} {bound}"
         );
-        if vpls[j].pos.y < 0.0 {
+        if vpl.pos.y < 0.0 {
             assert_eq!(f.pdf(j), 0.0);
             assert_eq!(u.pdf(j), 0.0);
         }

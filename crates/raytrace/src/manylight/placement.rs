@@ -152,8 +152,9 @@ pub fn cluster_points(g: &GBuffer, n_max: usize, min_extent: f64) -> Vec<Vec<usi
     out
 }
 
-/// The 6-D feature of each pixel in `ids`.
-fn features(g: &GBuffer, ids: &[usize]) -> Vec<[f64; 6]> {
+/// The 6-D feature `(s (x - centre), n)` of each pixel in `ids` (valid pixels), `s`
+/// scaling the box of their positions into `[-1, 1]^3`.
+pub fn features(g: &GBuffer, ids: &[usize]) -> Vec<[f64; 6]> {
     let pts: Vec<_> = ids
         .iter()
         .map(|&i| g.points[i].expect("valid pixel"))
@@ -195,21 +196,22 @@ fn bbox6(q: &[[f64; 6]], c: &[usize]) -> ([f64; 6], [f64; 6]) {
     (lo, hi)
 }
 
-/// Clusters close to `k0` in number: the leaf size `n_max` is searched (the number of
-/// leaves falls as it grows) so that the count is nearest to `k0`. The specification's
-/// `ceil(N / K0)` alone gives 1.5-2 `K0` leaves, midpoint splits leaving many leaves far
-/// below the limit.
-pub fn cluster_to_count(g: &GBuffer, k0: usize, min_extent: f64) -> Vec<Vec<usize>> {
+/// Clusters close to `k0` in number and the leaf size `n_max` that gave them: `n_max` is
+/// searched (the number of leaves falls as it grows) so that the count is nearest to `k0`.
+/// The specification's `ceil(N / K0)` alone gives 1.5-2 `K0` leaves, midpoint splits
+/// leaving many leaves far below the limit.
+pub fn cluster_to_count(g: &GBuffer, k0: usize, min_extent: f64) -> (Vec<Vec<usize>>, usize) {
     let n = g.valid();
     let (mut lo, mut hi) = (1usize, n.max(1));
-    let mut best = cluster_points(g, n.div_ceil(k0.max(1)), min_extent);
+    let start = n.div_ceil(k0.max(1));
+    let mut best = (cluster_points(g, start, min_extent), start);
     let score = |c: &Vec<Vec<usize>>| (c.len() as f64 - k0 as f64).abs();
     while lo < hi {
         let mid = (lo + hi) / 2;
         let c = cluster_points(g, mid, min_extent);
         let over = c.len() > k0;
-        if score(&c) < score(&best) {
-            best = c;
+        if score(&c) < score(&best.0) {
+            best = (c, mid);
         }
         if over {
             lo = mid + 1;
@@ -286,7 +288,7 @@ pub fn adaptive(
 ) -> Result<(ImportanceCache, AdaptiveStats)> {
     a.validate()?;
     let k0 = ((a.init_fraction * n_cache as f64).round() as usize).clamp(1, n_cache);
-    let clusters = cluster_to_count(g, k0, a.leaf_min_extent);
+    let (clusters, _) = cluster_to_count(g, k0, a.leaf_min_extent);
     let area: Vec<f64> = clusters
         .iter()
         .map(|c| {
