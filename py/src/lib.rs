@@ -13,6 +13,7 @@ mod convert;
 mod doe;
 mod errors;
 mod handpose;
+mod manylight;
 mod math;
 mod meshfilter;
 mod raytrace;

@@ -21,14 +21,14 @@ use crate::convert::{array, dict_item, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// Reads typed entries of the parameter dict, with defaults.
-struct Cfg<'a, 'py>(&'a Bound<'py, PyDict>);
+pub(crate) struct Cfg<'a, 'py>(pub(crate) &'a Bound<'py, PyDict>);
 
 impl<'py> Cfg<'_, 'py> {
-    fn get<T: FromPyObjectOwned<'py>>(&self, key: &str, default: T) -> PyResult<T> {
+    pub(crate) fn get<T: FromPyObjectOwned<'py>>(&self, key: &str, default: T) -> PyResult<T> {
         Ok(dict_item(self.0, key)?.unwrap_or(default))
     }
 
-    fn opt<T: FromPyObjectOwned<'py>>(&self, key: &str) -> PyResult<Option<T>> {
+    pub(crate) fn opt<T: FromPyObjectOwned<'py>>(&self, key: &str) -> PyResult<Option<T>> {
         dict_item(self.0, key)
     }
 }
@@ -456,5 +456,5 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "XYZ_TO_SRGB",
         spectral::XYZ_TO_SRGB.map(|r| r.to_vec()).to_vec(),
     )?;
-    Ok(())
+    crate::manylight::register(m)
 }

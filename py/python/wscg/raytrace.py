@@ -42,10 +42,15 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from ._native import raytrace as _r
+from ._manylight import (ManyLightScene, manylight_from_arrays, manylight_load_obj,
+                         manylight_scene, render_manylight)
 
 __all__ = ["render_plate", "xyz_to_srgb", "generate_tile", "plate_layout", "glint_stats", "binocular_overlap",
            "workshop", "fresnel_conductor", "fresnel_dielectric", "aluminium_nk", "daylight",
-           "spectrum_to_xyz", "project", "FLAKE_DTYPE"]
+           "spectrum_to_xyz", "project", "FLAKE_DTYPE",
+           # paper 08: many-light rendering
+           "ManyLightScene", "manylight_scene", "manylight_from_arrays", "manylight_load_obj",
+           "render_manylight"]
 
 #: Fields of the structured array returned by :func:`generate_tile`.
 FLAKE_DTYPE = np.dtype([("cx", "f8"), ("cy", "f8"), ("cz", "f8"), ("nx", "f8"), ("ny", "f8"),

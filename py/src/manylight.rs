@@ -1,0 +1,242 @@
+//! Bindings of `wscg_raytrace::manylight` (paper 08: many-light rendering with adaptive
+//! importance caching), registered in `wscg._native.raytrace`. The documented API is
+//! `python/wscg/_manylight.py`, re-exported by `wscg.raytrace`.
+
+use nalgebra::Vector3;
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wscg_math::progress::NoProgress;
+use wscg_raytrace::manylight::{
+    load_obj, run, scenes, Camera, Interp, Method, Scene, Settings,
+};
+
+use crate::convert::{array, rows3, values, Arr};
+use crate::errors::{value_error, IntoPy};
+use crate::raytrace::Cfg;
+
+/// A many-light scene: Lambertian triangles (some emissive) and a camera.
+#[pyclass(module = "wscg._native.raytrace", name = "ManyLightScene", frozen)]
+pub struct PyScene {
+    scene: Scene,
+    camera: Camera,
+}
+
+fn camera_dict<'py>(py: Python<'py>, c: &Camera) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("eye", [c.eye.x, c.eye.y, c.eye.z])?;
+    d.set_item("target", [c.target.x, c.target.y, c.target.z])?;
+    d.set_item("up", [c.up.x, c.up.y, c.up.z])?;
+    d.set_item("fov_deg", c.fov_deg)?;
+    d.set_item("width", c.width)?;
+    d.set_item("height", c.height)?;
+    Ok(d)
+}
+
+/// `base` with the entries of `spec` (keys of [`camera_dict`]) replaced.
+fn camera_from(spec: Option<&Bound<'_, PyDict>>, base: &Camera) -> PyResult<Camera> {
+    let Some(spec) = spec else {
+        return Ok(base.clone());
+    };
+    let c = Cfg(spec);
+    let v = |k: &str, d: Vector3<f64>| -> PyResult<Vector3<f64>> {
+        Ok(c.opt::<[f64; 3]>(k)?.map_or(d, |a| Vector3::new(a[0], a[1], a[2])))
+    };
+    let cam = Camera {
+        eye: v("eye", base.eye)?,
+        target: v("target", base.target)?,
+        up: v("up", base.up)?,
+        fov_deg: c.get("fov_deg", base.fov_deg)?,
+        width: c.get("width", base.width)?,
+        height: c.get("height", base.height)?,
+    };
+    cam.frame().py_err()?;
+    Ok(cam)
+}
+
+#[pymethods]
+impl PyScene {
+    /// Number of (non-degenerate) triangles.
+    #[getter]
+    fn triangles(&self) -> usize {
+        self.scene.len()
+    }
+
+    /// Number of emissive triangles.
+    #[getter]
+    fn emitters(&self) -> usize {
+        self.scene.emitters().len()
+    }
+
+    /// Degenerate input triangles that were skipped.
+    #[getter]
+    fn skipped_degenerate(&self) -> usize {
+        self.scene.skipped_degenerate
+    }
+
+    /// The scene's camera as a dict (eye, target, up, fov_deg, width, height).
+    #[getter]
+    fn camera<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        camera_dict(py, &self.camera)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "ManyLightScene({} triangles, {} emitters, camera {} x {})",
+            self.scene.len(),
+            self.scene.emitters().len(),
+            self.camera.width,
+            self.camera.height
+        )
+    }
+}
+
+/// A procedural scene: 'cornell', 'colonnade', 'conference' or 'plane'.
+#[pyfunction]
+fn manylight_scene(name: &str, subdiv: u32, width: usize, height: usize) -> PyResult<PyScene> {
+    let (scene, camera) = match name {
+        "cornell" => scenes::cornell_box(subdiv, width, height),
+        "colonnade" => scenes::colonnade(subdiv, width, height),
+        "conference" => scenes::conference_room(subdiv, width, height),
+        "plane" => scenes::plane_with_light(subdiv, width, height),
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a scene; valid scenes are 'cornell', 'colonnade', 'conference', 'plane'"
+            )))
+        }
+    }
+    .py_err()?;
+    Ok(PyScene { scene, camera })
+}
+
+/// The camera used when a user scene comes without one.
+fn default_camera() -> Camera {
+    Camera {
+        eye: Vector3::new(0.0, 0.0, 5.0),
+        target: Vector3::zeros(),
+        up: Vector3::y(),
+        fov_deg: 45.0,
+        width: 256,
+        height: 192,
+    }
+}
+
+/// A scene from arrays: vertices (V, 3) float64, faces (F, 3) int64, albedo and emission
+/// (F, 3) float64.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, albedo, emission, camera=None))]
+fn manylight_from_arrays(
+    vertices: PyReadonlyArrayDyn<f64>,
+    faces: PyReadonlyArrayDyn<i64>,
+    albedo: PyReadonlyArrayDyn<f64>,
+    emission: PyReadonlyArrayDyn<f64>,
+    camera: Option<&Bound<'_, PyDict>>,
+) -> PyResult<PyScene> {
+    let v = rows3("vertices", &values(&vertices), vertices.shape())?;
+    let f: Vec<[u32; 3]> = rows3("faces", &values(&faces), faces.shape())?
+        .into_iter()
+        .map(|t| {
+            let c = |i: i64| {
+                u32::try_from(i)
+                    .map_err(|_| value_error(format!("`faces` holds an invalid index {i}")))
+            };
+            Ok([c(t[0])?, c(t[1])?, c(t[2])?])
+        })
+        .collect::<PyResult<_>>()?;
+    let a = rows3("albedo", &values(&albedo), albedo.shape())?;
+    let e = rows3("emission", &values(&emission), emission.shape())?;
+    let scene = Scene::from_triangles(&v, &f, &a, &e).py_err()?;
+    let camera = camera_from(camera, &default_camera())?;
+    Ok(PyScene { scene, camera })
+}
+
+/// A scene from a Wavefront OBJ file (MTL `Kd` albedo, `Ke` emission).
+#[pyfunction]
+#[pyo3(signature = (path, camera=None))]
+fn manylight_load_obj(path: std::path::PathBuf, camera: Option<&Bound<'_, PyDict>>) -> PyResult<PyScene> {
+    let scene = load_obj(&path).py_err()?;
+    let camera = camera_from(camera, &default_camera())?;
+    Ok(PyScene { scene, camera })
+}
+
+/// Renders a scene with one method; the image (H, W, 3) float32 and a dict of statistics.
+#[pyfunction]
+#[pyo3(signature = (scene, method, params, camera=None))]
+fn manylight_render<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    method: &str,
+    params: &Bound<'py, PyDict>,
+    camera: Option<&Bound<'py, PyDict>>,
+) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
+    let method = Method::parse(method).py_err()?;
+    let c = Cfg(params);
+    let camera = camera_from(camera, &scene.camera)?;
+    let mut s = Settings::default();
+    s.vpl.n_paths = c.get("n_vpl_paths", s.vpl.n_paths)?;
+    s.vpl.max_bounces = c.get("max_bounces", s.vpl.max_bounces)?;
+    s.vpl.seed = c.get("vpl_seed", s.vpl.seed)?;
+    let pixels = camera.width * camera.height;
+    s.ic.n_cache = c.get("n_cache", (pixels / 100).max(1))?;
+    s.ic.m_nearest = c.get("m_nearest", s.ic.m_nearest)?;
+    s.ic.spp = c.get("spp", s.ic.spp)?;
+    s.ic.seed = c.get("seed", s.ic.seed)?;
+    s.ic.clamp_dist = c.opt("clamp_dist")?;
+    s.adaptive.delta = c.get("delta", s.adaptive.delta)?;
+    s.adaptive.init_fraction = c.get("init_fraction", s.adaptive.init_fraction)?;
+    if let Interp::Clarberg {
+        theta_max,
+        lambda,
+        dmax_factor,
+    } = s.weights
+    {
+        s.weights = Interp::Clarberg {
+            theta_max: c.get("theta_max", theta_max)?,
+            lambda: c.get("lambda", lambda)?,
+            dmax_factor: c.get("dmax_factor", dmax_factor)?,
+        };
+    }
+    let out = py
+        .detach(|| run(&scene.scene, &camera, method, &s, &NoProgress))
+        .py_err()?;
+    let (h, w, _) = out.image.shape();
+    let img = array(py, &[h, w, 3], out.image.into_data())?;
+    let d = PyDict::new(py);
+    d.set_item("method", method.name())?;
+    d.set_item("n_vpls", out.n_vpls)?;
+    d.set_item("setup_seconds", out.setup_seconds)?;
+    d.set_item("cache_seconds", out.cache_seconds)?;
+    d.set_item("render_seconds", out.render_seconds)?;
+    let pos: Vec<f64> = out
+        .records
+        .iter()
+        .flat_map(|r| [r.at.pos.x, r.at.pos.y, r.at.pos.z])
+        .collect();
+    d.set_item("records", array(py, &[out.records.len(), 3], pos)?)?;
+    let pix: Vec<i64> = out
+        .records
+        .iter()
+        .map(|r| r.pixel.map_or(-1, |p| p as i64))
+        .collect();
+    d.set_item("record_pixels", array(py, &[out.records.len()], pix)?)?;
+    let ins: Vec<bool> = out.records.iter().map(|r| r.inserted).collect();
+    d.set_item("record_inserted", array(py, &[out.records.len()], ins)?)?;
+    if let Some(cs) = out.cache {
+        d.set_item("n_records", cs.records)?;
+        d.set_item("inserted", cs.inserted)?;
+        d.set_item("passes", cs.passes)?;
+        d.set_item("shadow_rays_cache", cs.shadow_rays)?;
+        d.set_item("cache_bytes", cs.bytes)?;
+    }
+    Ok((img, d))
+}
+
+/// Registers the many-light functions in the `raytrace` submodule.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyScene>()?;
+    m.add_function(wrap_pyfunction!(manylight_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(manylight_from_arrays, m)?)?;
+    m.add_function(wrap_pyfunction!(manylight_load_obj, m)?)?;
+    m.add_function(wrap_pyfunction!(manylight_render, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,108 @@
+"""Paper 08 from Python: many-light rendering with adaptive importance caching."""
+
+import numpy as np
+import pytest
+
+from wscg import raytrace as rt
+
+
+def test_plane_under_a_tiny_light_is_the_closed_form():
+    # Emitter VPLs only, no clamping: the tiny square light of power pi acts as a point light
+    # at height 1, so L = 0.5 h^2 / (pi d^4) on the plane.
+    s = rt.manylight_scene("plane", width=48, height=36)
+    img, st = rt.render_manylight(s, "reference", n_vpl_paths=64, max_bounces=0, clamp_dist=0.0)
+    assert st["n_vpls"] == 64
+    cam = s.camera
+    eye, target = np.array(cam["eye"]), np.array(cam["target"])
+    f = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(f, cam["up"]); right /= np.linalg.norm(right)
+    up = np.cross(right, f)
+    t = np.tan(np.radians(cam["fov_deg"]) / 2)
+    checked = 0
+    for y in range(0, 36, 5):
+        for x in range(0, 48, 5):
+            sx = (2 * (x + 0.5) / 48 - 1) * t * 48 / 36
+            sy = (1 - 2 * (y + 0.5) / 36) * t
+            d = f + right * sx + up * sy
+            d /= np.linalg.norm(d)
+            if d[1] >= 0:
+                continue
+            p = eye + d * (-eye[1] / d[1])
+            if abs(p[0]) > 9.9 or abs(p[2]) > 9.9:
+                continue
+            dist = np.linalg.norm(p - np.array([0.0, 1.0, 0.0]))
+            want = 0.5 / (np.pi * dist ** 4)
+            np.testing.assert_allclose(img[y, x], want, rtol=2e-3)
+            checked += 1
+    assert checked > 20
+
+
+def test_methods_agree_with_the_reference_on_average():
+    s = rt.manylight_scene("cornell", width=48, height=36)
+    kw = dict(n_vpl_paths=300, n_cache=60, spp=8)
+    ref, _ = rt.render_manylight(s, "reference", **kw)
+    lum = lambda im: float((im @ np.array([0.2126, 0.7152, 0.0722])).mean())
+    for method in ["adaptive", "adaptive_uniform", "ic", "power"]:
+        imgs = [rt.render_manylight(s, method, seed=k, **kw)[0] for k in range(12)]
+        mean = np.mean(imgs, axis=0)
+        assert abs(lum(mean) / lum(ref) - 1) < 0.03, method
+    img, st = rt.render_manylight(s, "adaptive", **kw)
+    assert img.shape == (36, 48, 3) and img.dtype == np.float32
+    assert st["n_records"] == st["records"].shape[0] <= 60
+    assert st["record_inserted"].sum() == st["inserted"]
+    assert np.all(st["record_pixels"] >= 0)
+
+
+def test_user_mesh_and_obj(tmp_path):
+    v = np.array([[-5, 0, -5], [5, 0, -5], [5, 0, 5], [-5, 0, 5],
+                  [-0.5, 2, -0.5], [0.5, 2, -0.5], [0.5, 2, 0.5], [-0.5, 2, 0.5]], float)
+    f = np.array([[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7]])
+    albedo = np.full((4, 3), 0.5)
+    emission = np.zeros((4, 3)); emission[2:] = 5.0
+    cam = dict(eye=[0, 4, -6], target=[0, 0, 0], up=[0, 1, 0], fov_deg=50, width=32, height=24)
+    s = rt.manylight_from_arrays(v, f, albedo, emission, camera=cam)
+    assert (s.triangles, s.emitters) == (4, 2)
+    img, _ = rt.render_manylight(s, "adaptive", n_vpl_paths=50, n_cache=20, spp=4)
+    assert img.shape == (24, 32, 3) and img.max() > 0
+    obj = tmp_path / "scene.obj"
+    (tmp_path / "scene.mtl").write_text("newmtl lamp\nKd 0.5 0.5 0.5\nKe 5 5 5\n"
+                                        "newmtl floor\nKd 0.5 0.5 0.5\n")
+    obj.write_text("mtllib scene.mtl\n" + "".join(f"v {a} {b} {c}\n" for a, b, c in v)
+                   + "usemtl floor\nf 1 3 2\nf 1 4 3\nusemtl lamp\nf 5 6 7\nf 5 7 8\n")
+    before = obj.read_bytes()
+    t = rt.manylight_load_obj(obj, camera=cam)
+    assert (t.triangles, t.emitters) == (4, 2)
+    a, _ = rt.render_manylight(t, "reference", n_vpl_paths=50)
+    b, _ = rt.render_manylight(s, "reference", n_vpl_paths=50)
+    np.testing.assert_allclose(a, b, rtol=1e-5, atol=1e-7)
+    assert obj.read_bytes() == before
+
+
+def test_bad_input():
+    s = rt.manylight_scene("cornell", width=16, height=12)
+    with pytest.raises(ValueError):
+        rt.render_manylight(s, "magic")
+    with pytest.raises(ValueError):
+        rt.render_manylight(s, "adaptive", spp=0)
+    with pytest.raises(ValueError):
+        rt.render_manylight(s, "adaptive", n_cache=0)
+    with pytest.raises(ValueError):
+        rt.render_manylight(s, "adaptive", n_cache=10_000)
+    with pytest.raises(ValueError):
+        rt.render_manylight(s, "adaptive", theta_max=4.0)
+    with pytest.raises(ValueError):
+        rt.render_manylight(s, "adaptive", camera=dict(width=0))
+    with pytest.raises(ValueError):
+        rt.manylight_scene("sponza")
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    with pytest.raises(ValueError):
+        rt.manylight_from_arrays(v, [[0, 1, 5]], [[0.5] * 3], [[0.0] * 3])
+    with pytest.raises(ValueError):
+        rt.manylight_from_arrays(np.where(v == 1, np.nan, v), [[0, 1, 2]], [[0.5] * 3], [[0.0] * 3])
+    with pytest.raises(ValueError):
+        rt.manylight_from_arrays(v, [[0, 1]], [[0.5] * 3], [[0.0] * 3])
+    dark = rt.manylight_from_arrays(v, [[0, 1, 2]], [[0.5] * 3], [[0.0] * 3])
+    with pytest.raises(ValueError, match="emissive"):
+        rt.render_manylight(dark, "reference")
+    with pytest.raises(OSError, match="missing.obj"):
+        rt.manylight_load_obj("/nonexistent/missing.obj")
