@@ -960,6 +960,97 @@ fn raytrace_paint_reads_a_paint_description_and_writes_exr() {
 }
 
 #[test]
+fn raytrace_manylight_compares_the_methods_and_reads_obj() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cornell.exr");
+    let text = wscg_ok(&[
+        "raytrace",
+        "manylight",
+        "--scene",
+        "cornell",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--vpl-paths",
+        "100",
+        "--n-cache",
+        "20",
+        "--compare",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    for m in ["reference", "adaptive", "adaptive_uniform", "ic", "power"] {
+        assert!(text.contains(m), "{text}");
+        let f = dir.path().join(format!("cornell_{m}.exr"));
+        let img = Image::<f32>::load(&f).unwrap();
+        assert_eq!((img.height(), img.width()), (24, 32));
+    }
+    // A user OBJ: a floor under an emissive quad, rendered to PNG.
+    let obj = dir.path().join("room.obj");
+    std::fs::write(
+        dir.path().join("room.mtl"),
+        "newmtl lamp\nKd 0.5 0.5 0.5\nKe 4 4 4\nnewmtl floor\nKd 0.6 0.6 0.6\n",
+    )
+    .unwrap();
+    std::fs::write(
+        &obj,
+        "mtllib room.mtl\nv -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nv -1 2 -1\nv 1 2 -1\nv 1 2 1\nv -1 2 1\nusemtl floor\nf 1 3 2\nf 1 4 3\nusemtl lamp\nf 5 6 7\nf 5 7 8\n",
+    )
+    .unwrap();
+    let png = dir.path().join("room.png");
+    let text = wscg_ok(&[
+        "raytrace",
+        "manylight",
+        obj.to_str().unwrap(),
+        "--eye",
+        "0",
+        "6",
+        "-8",
+        "--target",
+        "0",
+        "0",
+        "0",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--vpl-paths",
+        "50",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(text.contains("4 triangles (2 emitting)"), "{text}");
+    let img = Image::<f32>::load(&png).unwrap();
+    assert!(img.data().iter().any(|&v| v > 0.1));
+    // Unreadable scene and bad parameters are clear errors.
+    let bad = wscg()
+        .args(["raytrace", "manylight", "/nonexistent/scene.obj", "--out"])
+        .arg(dir.path().join("x.exr"))
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("scene.obj"));
+    let bad = wscg()
+        .args([
+            "raytrace",
+            "manylight",
+            "--spp",
+            "0",
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "--out",
+        ])
+        .arg(dir.path().join("x.exr"))
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("spp"));
+}
+
+#[test]
 fn doe_analyze_reads_a_study_and_rejects_missing_cells() {
     // 6 subjects, two conditions, the paper's 13 stimuli; scores from the paper's Table 2
     // surfaces plus a subject offset and a small deterministic jitter.

@@ -7,9 +7,7 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
-use wscg_raytrace::manylight::{
-    load_obj, run, scenes, Camera, Interp, Method, Scene, Settings,
-};
+use wscg_raytrace::manylight::{load_obj, run, scenes, Camera, Interp, Method, Scene, Settings};
 
 use crate::convert::{array, rows3, values, Arr};
 use crate::errors::{value_error, IntoPy};
@@ -40,7 +38,8 @@ fn camera_from(spec: Option<&Bound<'_, PyDict>>, base: &Camera) -> PyResult<Came
     };
     let c = Cfg(spec);
     let v = |k: &str, d: Vector3<f64>| -> PyResult<Vector3<f64>> {
-        Ok(c.opt::<[f64; 3]>(k)?.map_or(d, |a| Vector3::new(a[0], a[1], a[2])))
+        Ok(c.opt::<[f64; 3]>(k)?
+            .map_or(d, |a| Vector3::new(a[0], a[1], a[2])))
     };
     let cam = Camera {
         eye: v("eye", base.eye)?,
@@ -153,7 +152,10 @@ fn manylight_from_arrays(
 /// A scene from a Wavefront OBJ file (MTL `Kd` albedo, `Ke` emission).
 #[pyfunction]
 #[pyo3(signature = (path, camera=None))]
-fn manylight_load_obj(path: std::path::PathBuf, camera: Option<&Bound<'_, PyDict>>) -> PyResult<PyScene> {
+fn manylight_load_obj(
+    path: std::path::PathBuf,
+    camera: Option<&Bound<'_, PyDict>>,
+) -> PyResult<PyScene> {
     let scene = load_obj(&path).py_err()?;
     let camera = camera_from(camera, &default_camera())?;
     Ok(PyScene { scene, camera })

@@ -9,6 +9,7 @@ use wscg_math::{Error, Result};
 mod biometrics;
 mod cloth;
 mod doe;
+mod manylight;
 mod math;
 mod meshfilter;
 mod progress;
@@ -62,7 +63,8 @@ enum Command {
     /// Video completion (paper 06: localized search) on your own frames.
     #[command(subcommand)]
     Video(video::VideoCommand),
-    /// Metallic-flake paint rendering and the virtual material workshop (paper 07).
+    /// Metallic-flake paint rendering and the virtual material workshop (paper 07), many-light
+    /// rendering with adaptive importance caching (paper 08).
     #[command(subcommand)]
     Raytrace(raytrace::RaytraceCommand),
     /// Designs and response surfaces of perceptual studies (paper 07's statistics).

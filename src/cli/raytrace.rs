@@ -1,4 +1,5 @@
-//! `wscg raytrace`: paper 07 (predictive rendering of metallic-flake paint).
+//! `wscg raytrace`: paper 07 (predictive rendering of metallic-flake paint) and paper 08
+//! (`manylight`, in its own module).
 //!
 //! `paint` renders a plate of the given microstructure (command-line options or a JSON paint
 //! description) for one eye or the stereo pair and writes display sRGB PNGs (for a pair also
@@ -29,6 +30,9 @@ pub enum RaytraceCommand {
     /// The virtual material workshop: score the 13-run design against a hidden reference and
     /// fit the response surface.
     Workshop(WorkshopArgs),
+    /// Many-light rendering with adaptive importance caching (paper 08) on a built-in scene
+    /// or an OBJ file, one method or the comparison of all.
+    Manylight(super::manylight::ManyLightArgs),
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -282,6 +286,7 @@ pub fn run(cmd: RaytraceCommand) -> Result<()> {
     match cmd {
         RaytraceCommand::Paint(a) => paint(&a),
         RaytraceCommand::Workshop(a) => workshop(&a),
+        RaytraceCommand::Manylight(a) => super::manylight::run(&a),
     }
 }
 
