@@ -1,6 +1,7 @@
 //! Criterion benchmarks of paper 07 (spectral rendering of metallic-flake paint and its study
-//! statistics). Workload names match `benches/peers/07.py`, which times the Python binding
-//! against Mitsuba 3 on the same plate.
+//! statistics) and paper 08 (many-light rendering with adaptive importance caching).
+//! Workload names match `benches/peers/07.py` (Mitsuba 3 on the same plate) and
+//! `benches/peers/08.py` (Embree's shadow rays, Mitsuba 3's path tracer).
 
 use std::hint::black_box;
 
@@ -55,5 +56,70 @@ fn bench_paint(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_paint);
+fn bench_manylight(c: &mut Criterion) {
+    use wscg::raytrace::manylight::placement::AdaptiveParams;
+    use wscg::raytrace::manylight::{
+        build_cache, generate_vpls, render, scenes, trace_primary, IcParams, Interp, Placement,
+        VplSettings,
+    };
+    use wscg_math::progress::NoProgress;
+    let mut g = c.benchmark_group("paper08");
+    g.sample_size(10);
+    // Shadow rays: 100 000 random segments in the colonnade of 96 000 triangles.
+    let (big, _) = scenes::colonnade(20, 64, 48).unwrap();
+    let b = big.bounds();
+    // Low-discrepancy points of the scene's box (additive recurrences).
+    let pt = |k: usize| {
+        let f = |a: f64| (0.5 + k as f64 * a).fract();
+        let u = nalgebra::Vector3::new(f(0.754_877_666), f(0.569_840_291), f(0.362_361_227));
+        b.min + (b.max - b.min).component_mul(&u) * 0.98 + (b.max - b.min) * 0.01
+    };
+    let (a, t): (Vec<_>, Vec<_>) = (0..100_000).map(|k| (pt(2 * k), pt(2 * k + 1))).unzip();
+    g.bench_function("shadow rays 100k, colonnade 96k triangles", |bch| {
+        bch.iter(|| black_box(big.occluded_batch(&a, &t).unwrap()))
+    });
+    // Cache and render on the colonnade at 256 x 192 with 490 records, ~4200 VPLs.
+    let (scene, cam) = scenes::colonnade(1, 256, 192).unwrap();
+    let vpls = generate_vpls(
+        &scene,
+        &VplSettings {
+            n_paths: 1400,
+            ..VplSettings::default()
+        },
+    )
+    .unwrap();
+    let gb = trace_primary(&scene, &cam).unwrap();
+    let p = IcParams {
+        n_cache: 490,
+        ..IcParams::default()
+    };
+    let adaptive = Placement::Adaptive(AdaptiveParams::default());
+    g.bench_function("cache adaptive colonnade 256x192 490 records", |bch| {
+        bch.iter(|| {
+            black_box(build_cache(&scene, &gb, &vpls, &adaptive, Interp::default(), &p).unwrap())
+        })
+    });
+    g.bench_function("cache ic colonnade 256x192 490 records", |bch| {
+        bch.iter(|| {
+            black_box(
+                build_cache(
+                    &scene,
+                    &gb,
+                    &vpls,
+                    &Placement::RandomScreen,
+                    Interp::Uniform,
+                    &p,
+                )
+                .unwrap(),
+            )
+        })
+    });
+    let (cache, _) = build_cache(&scene, &gb, &vpls, &adaptive, Interp::default(), &p).unwrap();
+    g.bench_function("render adaptive colonnade 256x192 16 spp", |bch| {
+        bch.iter(|| black_box(render(&scene, &gb, &vpls, &cache, &p, &NoProgress).unwrap()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench_paint, bench_manylight);
 criterion_main!(benches);

@@ -79,6 +79,51 @@ impl PyScene {
         camera_dict(py, &self.camera)
     }
 
+    /// The triangles' corners, (F, 3, 3) float64.
+    fn triangle_vertices<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        let t = self.scene.triangles();
+        let data = t
+            .iter()
+            .flat_map(|t| {
+                let (a, b, c) = (t.p0, t.p0 + t.e1, t.p0 + t.e2);
+                [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z]
+            })
+            .collect();
+        array(py, &[t.len(), 3, 3], data)
+    }
+
+    /// Per-triangle albedo, (F, 3) float64.
+    fn triangle_albedo<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        let n = self.scene.len() as u32;
+        let data = (0..n).flat_map(|i| self.scene.albedo(i)).collect();
+        array(py, &[n as usize, 3], data)
+    }
+
+    /// Per-triangle emitted radiance, (F, 3) float64.
+    fn triangle_emission<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        let n = self.scene.len() as u32;
+        let data = (0..n).flat_map(|i| self.scene.emission(i)).collect();
+        array(py, &[n as usize, 3], data)
+    }
+
+    /// Shadow rays: whether the segment from each origin (N, 3) to its target (N, 3) is
+    /// blocked, in parallel.
+    fn occluded<'py>(
+        &self,
+        py: Python<'py>,
+        origins: PyReadonlyArrayDyn<f64>,
+        targets: PyReadonlyArrayDyn<f64>,
+    ) -> PyResult<Arr<'py, bool>> {
+        let o = rows3("origins", &values(&origins), origins.shape())?;
+        let t = rows3("targets", &values(&targets), targets.shape())?;
+        let v = |p: &[[f64; 3]]| -> Vec<Vector3<f64>> {
+            p.iter().map(|a| Vector3::new(a[0], a[1], a[2])).collect()
+        };
+        let (o, t) = (v(&o), v(&t));
+        let hit = py.detach(|| self.scene.occluded_batch(&o, &t)).py_err()?;
+        array(py, &[hit.len()], hit)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "ManyLightScene({} triangles, {} emitters, camera {} x {})",

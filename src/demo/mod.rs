@@ -11,6 +11,7 @@ use wscg_math::Result;
 pub mod biometrics;
 pub mod cloth;
 pub mod figures;
+pub mod manylight;
 pub mod math;
 pub mod meshfilter;
 pub mod paint;
@@ -105,6 +106,7 @@ pub fn registry() -> Vec<Demo> {
         meshfilter::DEMO,
         video::DEMO,
         paint::DEMO,
+        manylight::DEMO,
     ]
 }
 

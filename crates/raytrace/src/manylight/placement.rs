@@ -126,28 +126,17 @@ pub fn cluster_points(g: &GBuffer, n_max: usize, min_extent: f64) -> Vec<Vec<usi
     let mut out = Vec::new();
     let mut stack = vec![(0..ids.len()).collect::<Vec<usize>>()];
     while let Some(c) = stack.pop() {
-        let (lo, hi) = bbox6(&q, &c);
-        let ext: Vec<f64> = (0..6).map(|k| hi[k] - lo[k]).collect();
-        let diag = ext.iter().map(|e| e * e).sum::<f64>().sqrt();
-        if c.len() <= n_max.max(1) || diag <= min_extent {
+        if c.len() <= n_max.max(1) {
             out.push(c.iter().map(|&i| ids[i]).collect());
             continue;
         }
-        let axis = (0..6)
-            .max_by(|&a, &b| ext[a].total_cmp(&ext[b]))
-            .unwrap_or(0);
-        let mid = 0.5 * (lo[axis] + hi[axis]);
-        let (mut left, mut right): (Vec<usize>, Vec<usize>) =
-            c.iter().partition(|&&i| q[i][axis] < mid);
-        if left.is_empty() || right.is_empty() {
-            // All on one side of the midpoint (rounding): split at the median.
-            let mut all = c;
-            all.sort_by(|&a, &b| q[a][axis].total_cmp(&q[b][axis]).then(a.cmp(&b)));
-            right = all.split_off(all.len() / 2);
-            left = all;
+        match split6(&q, c, min_extent) {
+            Ok((left, right)) => {
+                stack.push(right);
+                stack.push(left);
+            }
+            Err(c) => out.push(c.iter().map(|&i| ids[i]).collect()),
         }
-        stack.push(right);
-        stack.push(left);
     }
     out
 }
@@ -196,30 +185,81 @@ fn bbox6(q: &[[f64; 6]], c: &[usize]) -> ([f64; 6], [f64; 6]) {
     (lo, hi)
 }
 
-/// Clusters close to `k0` in number and the leaf size `n_max` that gave them: `n_max` is
-/// searched (the number of leaves falls as it grows) so that the count is nearest to `k0`.
-/// The specification's `ceil(N / K0)` alone gives 1.5-2 `K0` leaves, midpoint splits
-/// leaving many leaves far below the limit.
+/// `k0` clusters (fewer when the extent rule stops the splits) and the leaf size `n_max`
+/// they satisfy: the largest cluster is split (midpoint of its longest axis, as in
+/// [`cluster_points`]) until there are `k0`, so that every leaf holds at most `n_max`
+/// points, the size of the largest, or has a box diagonal of at most `min_extent`: the
+/// recursive subdivision of section 4.1 with the size threshold that gives `k0` clusters
+/// (the specification's `ceil(N / K0)` gives 1.5-2 `K0` leaves with midpoint splits).
 pub fn cluster_to_count(g: &GBuffer, k0: usize, min_extent: f64) -> (Vec<Vec<usize>>, usize) {
-    let n = g.valid();
-    let (mut lo, mut hi) = (1usize, n.max(1));
-    let start = n.div_ceil(k0.max(1));
-    let mut best = (cluster_points(g, start, min_extent), start);
-    let score = |c: &Vec<Vec<usize>>| (c.len() as f64 - k0 as f64).abs();
-    while lo < hi {
-        let mid = (lo + hi) / 2;
-        let c = cluster_points(g, mid, min_extent);
-        let over = c.len() > k0;
-        if score(&c) < score(&best.0) {
-            best = (c, mid);
-        }
-        if over {
-            lo = mid + 1;
-        } else {
-            hi = mid;
+    use std::collections::BinaryHeap;
+    let ids: Vec<usize> = (0..g.points.len())
+        .filter(|&i| g.points[i].is_some())
+        .collect();
+    if ids.is_empty() {
+        return (Vec::new(), 0);
+    }
+    let q = features(g, &ids);
+    // Splittable clusters by size (ties: creation order), and the finished leaves.
+    let mut heap: BinaryHeap<(usize, std::cmp::Reverse<usize>)> = BinaryHeap::new();
+    let mut members: Vec<Vec<usize>> = vec![(0..ids.len()).collect()];
+    let mut leaves: Vec<usize> = Vec::new();
+    heap.push((ids.len(), std::cmp::Reverse(0)));
+    while leaves.len() + heap.len() < k0.max(1) {
+        let Some((_, std::cmp::Reverse(k))) = heap.pop() else {
+            break;
+        };
+        let c = std::mem::take(&mut members[k]);
+        match split6(&q, c, min_extent) {
+            Ok((left, right)) => {
+                for part in [left, right] {
+                    members.push(part);
+                    let id = members.len() - 1;
+                    heap.push((members[id].len(), std::cmp::Reverse(id)));
+                }
+            }
+            Err(c) => {
+                members[k] = c;
+                leaves.push(k);
+            }
         }
     }
-    best
+    leaves.extend(heap.into_iter().map(|(_, std::cmp::Reverse(k))| k));
+    leaves.sort_unstable();
+    let clusters: Vec<Vec<usize>> = leaves
+        .into_iter()
+        .map(|k| members[k].iter().map(|&i| ids[i]).collect())
+        .collect();
+    let n_max = clusters.iter().map(Vec::len).max().unwrap_or(0);
+    (clusters, n_max)
+}
+
+/// Splits a cluster at the midpoint of its 6-D box's longest axis (the median when all
+/// points fall on one side); gives it back when its diagonal is at most `min_extent` or it
+/// has one point.
+fn split6(
+    q: &[[f64; 6]],
+    c: Vec<usize>,
+    min_extent: f64,
+) -> std::result::Result<(Vec<usize>, Vec<usize>), Vec<usize>> {
+    let (lo, hi) = bbox6(q, &c);
+    let ext: Vec<f64> = (0..6).map(|k| hi[k] - lo[k]).collect();
+    let diag = ext.iter().map(|e| e * e).sum::<f64>().sqrt();
+    if c.len() < 2 || diag <= min_extent {
+        return Err(c);
+    }
+    let axis = (0..6)
+        .max_by(|&a, &b| ext[a].total_cmp(&ext[b]))
+        .unwrap_or(0);
+    let mid = 0.5 * (lo[axis] + hi[axis]);
+    let (left, right): (Vec<usize>, Vec<usize>) = c.iter().partition(|&&i| q[i][axis] < mid);
+    if !left.is_empty() && !right.is_empty() {
+        return Ok((left, right));
+    }
+    let mut all = c;
+    all.sort_by(|&a, &b| q[a][axis].total_cmp(&q[b][axis]).then(a.cmp(&b)));
+    let right = all.split_off(all.len() / 2);
+    Ok((all, right))
 }
 
 /// A record on pixel `i` of `g` with radius `radius`.

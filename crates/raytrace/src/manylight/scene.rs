@@ -2,6 +2,7 @@
 //! emissive, in a bounding volume hierarchy for nearest-hit and shadow rays.
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
 use crate::bvh::{Aabb, Bvh};
@@ -270,5 +271,27 @@ impl Scene {
         self.bvh.any(a, &d, len, |i, tb| {
             self.tris[i as usize].intersect(a, &d, tb)
         })
+    }
+
+    /// Shadow rays in parallel: whether each segment `origins[i] -> targets[i]` is blocked.
+    ///
+    /// Errors: slices of different lengths.
+    pub fn occluded_batch(
+        &self,
+        origins: &[Vector3<f64>],
+        targets: &[Vector3<f64>],
+    ) -> Result<Vec<bool>> {
+        if origins.len() != targets.len() {
+            return Err(Error::ShapeMismatch(format!(
+                "{} origins but {} targets",
+                origins.len(),
+                targets.len()
+            )));
+        }
+        Ok(origins
+            .par_iter()
+            .zip(targets)
+            .map(|(a, b)| self.occluded(a, b))
+            .collect())
     }
 }
