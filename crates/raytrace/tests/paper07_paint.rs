@@ -871,6 +871,25 @@ fn photon_map_direct_irradiance_matches_the_refracted_lamp() {
     assert!(map.photons.iter().all(|p| p.n == 0));
 }
 
+/// Mean `Y` of the cyclopean view rendered with `s` (its photon map) and without photons.
+fn mean_y_with_and_without_photons(
+    plate: &Plate,
+    light: &DiscLight,
+    s: &RenderSettings,
+) -> (f64, f64) {
+    let rig = StereoRig::default();
+    let y = |s: &RenderSettings| {
+        render(plate, light, &rig, Eye::Cyclopean, s)
+            .unwrap()
+            .mean_xyz()[1]
+    };
+    let without = RenderSettings {
+        photons: None,
+        ..s.clone()
+    };
+    (y(s), y(&without))
+}
+
 #[test]
 fn photon_map_caustic_of_a_tilted_mirror() {
     // Light refracted into the binder at theta_b reaches a 45-degree mirror and leaves it
@@ -947,7 +966,6 @@ fn photon_map_caustic_of_a_tilted_mirror() {
 
     // The renderer adds the caustic to the light-sampled direct light: over the strip, a
     // base of albedo 1 seen from above is brighter by 1 + R tan(theta_b) with the photons.
-    let rig = StereoRig::default();
     let s = RenderSettings {
         spp: 16,
         region_mm: Some(Rect::centred(0.0, y_mid * 1e-3, 0.06, 0.02)),
@@ -955,19 +973,8 @@ fn photon_map_caustic_of_a_tilted_mirror() {
         photons: Some(ps),
         ..RenderSettings::default()
     };
-    let with = render(&plate, &light, &rig, Eye::Cyclopean, &s).unwrap();
-    let without = render(
-        &plate,
-        &light,
-        &rig,
-        Eye::Cyclopean,
-        &RenderSettings {
-            photons: None,
-            ..s.clone()
-        },
-    )
-    .unwrap();
-    let ratio = with.mean_xyz()[1] / without.mean_xyz()[1];
+    let (with, without) = mean_y_with_and_without_photons(&plate, &light, &s);
+    let ratio = with / without;
     let r560 = plate.relative_index(560.0);
     let want = 1.0 + fresnel_conductor(cos_i, r560.re, r560.im) * st_b / ct_b;
     assert!(
@@ -1002,19 +1009,7 @@ fn caustics_brighten_a_diffuse_base_and_bad_photon_settings_are_errors() {
         }),
         ..RenderSettings::default()
     };
-    let with = render(&plate, &light, &rig, Eye::Cyclopean, &s).unwrap();
-    let without = render(
-        &plate,
-        &light,
-        &rig,
-        Eye::Cyclopean,
-        &RenderSettings {
-            photons: None,
-            ..s.clone()
-        },
-    )
-    .unwrap();
-    let (a, b) = (with.mean_xyz()[1], without.mean_xyz()[1]);
+    let (a, b) = mean_y_with_and_without_photons(&plate, &light, &s);
     eprintln!("diffuse base 0.5: Y with caustics {a:.4}, without {b:.4}");
     // Light reflected up by the flakes comes back down at the top surface (Fresnel, and
     // total internal reflection beyond 42 degrees): a few percent more on the base.
