@@ -324,3 +324,71 @@ fn check8_deterministic_with_one_and_two_threads() {
         assert_eq!(x.data(), y.data());
     }
 }
+
+#[test]
+fn emitter_vpls_converge_to_the_area_lights_direct_light() {
+    // A floor point of the Cornell box in full view of the ceiling light: the emitter VPLs'
+    // sum against a quadrature of (rho / pi) L_e cos_x cos_y / d^2 over the light's triangles.
+    let (scene, _) = cornell_box(1, 8, 8).unwrap();
+    let x = nalgebra::Vector3::new(150.0, 0.0, 450.0);
+    let cam = Camera {
+        eye: x + nalgebra::Vector3::new(0.0, 100.0, 0.0),
+        target: x,
+        up: nalgebra::Vector3::z(),
+        fov_deg: 0.01,
+        width: 1,
+        height: 1,
+    };
+    let g = trace_primary(&scene, &cam).unwrap();
+    let p = g.points[0].unwrap();
+    assert!((p.pos - x).norm() < 1e-3 && p.normal.y > 0.99);
+    let vpls = generate_vpls(
+        &scene,
+        &VplSettings {
+            n_paths: 40_000,
+            max_bounces: 0,
+            seed: 5,
+        },
+    )
+    .unwrap();
+    let img = render_reference(&scene, &g, &vpls, Some(0.0), &NoProgress).unwrap();
+    let mut want = [0.0f64; 3];
+    let n = 300;
+    for &t in scene.emitters() {
+        let tri = scene.triangles()[t as usize];
+        let le = scene.emission(t);
+        // Midpoint rule on the triangle's n^2 sub-triangles (centroids of a regular split).
+        let mut acc = 0.0;
+        for i in 0..n {
+            for j in 0..n - i {
+                for (a, b) in [
+                    (i as f64 + 1.0 / 3.0, j as f64 + 1.0 / 3.0),
+                    (i as f64 + 2.0 / 3.0, j as f64 + 2.0 / 3.0),
+                ] {
+                    if a + b > n as f64 {
+                        continue;
+                    }
+                    let y = tri.p0 + tri.e1 * (a / n as f64) + tri.e2 * (b / n as f64);
+                    let d = y - x;
+                    let d2 = d.norm_squared();
+                    let cx = d.y / d2.sqrt();
+                    let cy = (-tri.normal.dot(&d) / d2.sqrt()).max(0.0);
+                    acc += cx * cy / d2;
+                }
+            }
+        }
+        let da = tri.area / (n * n) as f64;
+        for c in 0..3 {
+            want[c] += p.albedo[c] / std::f64::consts::PI * le[c] * acc * da;
+        }
+    }
+    for c in 0..3 {
+        let got = img.data()[c] as f64;
+        eprintln!("channel {c}: VPLs {got:.6}, quadrature {:.6}", want[c]);
+        assert!(
+            (got / want[c] - 1.0).abs() < 0.01,
+            "channel {c}: {got} vs {}",
+            want[c]
+        );
+    }
+}
