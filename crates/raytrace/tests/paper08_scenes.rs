@@ -378,17 +378,13 @@ fn emitter_vpls_converge_to_the_area_lights_direct_light() {
             }
         }
         let da = tri.area / (n * n) as f64;
-        for c in 0..3 {
-            want[c] += p.albedo[c] / std::f64::consts::PI * le[c] * acc * da;
+        for (c, w) in want.iter_mut().enumerate() {
+            *w += p.albedo[c] / std::f64::consts::PI * le[c] * acc * da;
         }
     }
-    for c in 0..3 {
+    for (c, w) in want.iter().enumerate() {
         let got = img.data()[c] as f64;
-        eprintln!("channel {c}: VPLs {got:.6}, quadrature {:.6}", want[c]);
-        assert!(
-            (got / want[c] - 1.0).abs() < 0.01,
-            "channel {c}: {got} vs {}",
-            want[c]
-        );
+        eprintln!("channel {c}: VPLs {got:.6}, quadrature {w:.6}");
+        assert!((got / w - 1.0).abs() < 0.01, "channel {c}: {got} vs {w}");
     }
 }
