@@ -6,7 +6,7 @@
 //! Run: `cargo run --release --example manylight_compare [width height]`.
 
 use wscg::raytrace::manylight::{
-    generate_vpls, run_with, scenes, trace_primary, Method, Settings, VplSettings,
+    compare, generate_vpls, run_with, scenes, trace_primary, Method, Settings, VplSettings,
 };
 use wscg_math::progress::NoProgress;
 
@@ -35,16 +35,9 @@ fn main() -> wscg_math::Result<()> {
         reference.render_seconds
     );
     reference.image.save("manylight_reference.exr")?;
-    let mut records = s.ic.n_cache;
-    for m in [Method::Adaptive, Method::AdaptiveUniform, Method::Ic] {
-        let mut st = s;
-        if m == Method::Ic {
-            st.ic.n_cache = records;
-        }
-        let o = run_with(&scene, &g, &vpls, m, &st, &NoProgress, 0.0)?;
-        if m == Method::Adaptive {
-            records = o.records.len();
-        }
+    let methods = [Method::Adaptive, Method::AdaptiveUniform, Method::Ic];
+    for (m, o) in compare(&scene, &g, &vpls, &methods, &s, &NoProgress)? {
+        o.image.save(format!("manylight_{}.exr", m.name()))?;
         let e = wscg_math::metrics::rmse(o.image.data(), reference.image.data())?;
         println!(
             "{:<17} records {:>5}  cache {:>6.3} s  render {:>6.3} s  RMSE {e:.5}",
@@ -53,7 +46,6 @@ fn main() -> wscg_math::Result<()> {
             o.cache_seconds,
             o.render_seconds
         );
-        o.image.save(format!("manylight_{}.exr", m.name()))?;
     }
     Ok(())
 }

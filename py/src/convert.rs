@@ -140,6 +140,21 @@ pub fn rows3<T: Copy>(name: &str, a: &[T], shape: &[usize]) -> PyResult<Vec<[T; 
     Ok(a.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
 }
 
+/// Vertex indices of an `(F, 3)` face array; a negative or too large index is a
+/// `ValueError`.
+pub fn faces_u32(faces: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<[u32; 3]>> {
+    rows3("faces", &values(faces), faces.shape())?
+        .iter()
+        .map(|f| {
+            let conv = |i: i64| {
+                u32::try_from(i)
+                    .map_err(|_| value_error(format!("`faces` holds an invalid index {i}")))
+            };
+            Ok([conv(f[0])?, conv(f[1])?, conv(f[2])?])
+        })
+        .collect()
+}
+
 /// A triangle mesh from `(V, 3)` vertices, `(F, 3)` faces and optional `(V, 3)` colours in
 /// `[0, 1]`.
 pub fn mesh_in(
@@ -149,16 +164,7 @@ pub fn mesh_in(
 ) -> PyResult<wscg_math::TriMesh> {
     use crate::errors::IntoPy;
     let pos = rows3("vertices", &values(vertices), vertices.shape())?;
-    let faces: Vec<[u32; 3]> = rows3("faces", &values(faces), faces.shape())?
-        .iter()
-        .map(|f| {
-            let conv = |i: i64| {
-                u32::try_from(i)
-                    .map_err(|_| value_error(format!("`faces` holds an invalid index {i}")))
-            };
-            Ok([conv(f[0])?, conv(f[1])?, conv(f[2])?])
-        })
-        .collect::<PyResult<_>>()?;
+    let faces = faces_u32(faces)?;
     let mut mesh = wscg_math::TriMesh::new(pos, faces).py_err()?;
     if let Some(c) = colors {
         mesh = mesh

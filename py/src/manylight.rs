@@ -10,7 +10,7 @@ use wscg_math::progress::NoProgress;
 use wscg_raytrace::manylight::{load_obj, run, scenes, Camera, Interp, Method, Scene, Settings};
 
 use crate::convert::{array, rows3, values, Arr};
-use crate::errors::{value_error, IntoPy};
+use crate::errors::IntoPy;
 use crate::raytrace::Cfg;
 
 /// A many-light scene: Lambertian triangles (some emissive) and a camera.
@@ -138,18 +138,7 @@ impl PyScene {
 /// A procedural scene: 'cornell', 'colonnade', 'conference' or 'plane'.
 #[pyfunction]
 fn manylight_scene(name: &str, subdiv: u32, width: usize, height: usize) -> PyResult<PyScene> {
-    let (scene, camera) = match name {
-        "cornell" => scenes::cornell_box(subdiv, width, height),
-        "colonnade" => scenes::colonnade(subdiv, width, height),
-        "conference" => scenes::conference_room(subdiv, width, height),
-        "plane" => scenes::plane_with_light(subdiv, width, height),
-        other => {
-            return Err(value_error(format!(
-                "{other:?} is not a scene; valid scenes are 'cornell', 'colonnade', 'conference', 'plane'"
-            )))
-        }
-    }
-    .py_err()?;
+    let (scene, camera) = scenes::by_name(name, subdiv, width, height).py_err()?;
     Ok(PyScene { scene, camera })
 }
 
@@ -177,16 +166,7 @@ fn manylight_from_arrays(
     camera: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyScene> {
     let v = rows3("vertices", &values(&vertices), vertices.shape())?;
-    let f: Vec<[u32; 3]> = rows3("faces", &values(&faces), faces.shape())?
-        .into_iter()
-        .map(|t| {
-            let c = |i: i64| {
-                u32::try_from(i)
-                    .map_err(|_| value_error(format!("`faces` holds an invalid index {i}")))
-            };
-            Ok([c(t[0])?, c(t[1])?, c(t[2])?])
-        })
-        .collect::<PyResult<_>>()?;
+    let f = crate::convert::faces_u32(&faces)?;
     let a = rows3("albedo", &values(&albedo), albedo.shape())?;
     let e = rows3("emission", &values(&emission), emission.shape())?;
     let scene = Scene::from_triangles(&v, &f, &a, &e).py_err()?;

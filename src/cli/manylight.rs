@@ -8,70 +8,32 @@
 
 use std::path::{Path, PathBuf};
 
-use clap::{Args, ValueEnum};
+use clap::Args;
 use nalgebra::Vector3;
 use wscg_math::image::Image;
-use wscg_math::progress::NoProgress;
 use wscg_math::{Error, Result};
 use wscg_raytrace::manylight::{
-    generate_vpls, load_obj, run_with, scenes, trace_primary, Camera, Method, Output, Scene,
-    Settings,
+    compare, generate_vpls, load_obj, run_with, scenes, to_display, trace_primary, Camera, Method,
+    Output, Scene, Settings,
 };
-use wscg_raytrace::spectral::srgb_oetf;
 
 use super::progress::Bars;
-
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum SceneName {
-    /// The Cornell box (the paper's Fig. 3).
-    Cornell,
-    /// A hall of pillars lit through a roof opening (Sponza stand-in).
-    Colonnade,
-    /// A room with a table and chairs (Conference stand-in).
-    Conference,
-    /// A plane under a tiny light (closed form).
-    Plane,
-}
-
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum MethodName {
-    /// The paper: clustering, adaptive insertion, similarity weights.
-    Adaptive,
-    /// The paper's ablation: its records with uniform weights.
-    AdaptiveUniform,
-    /// Importance caching (Georgiev 2012): screen-grid records, uniform weights.
-    Ic,
-    /// VPLs drawn by power, no cache.
-    Power,
-    /// Every VPL at every pixel.
-    Reference,
-}
-
-impl MethodName {
-    fn method(self) -> Method {
-        match self {
-            MethodName::Adaptive => Method::Adaptive,
-            MethodName::AdaptiveUniform => Method::AdaptiveUniform,
-            MethodName::Ic => Method::Ic,
-            MethodName::Power => Method::Power,
-            MethodName::Reference => Method::Reference,
-        }
-    }
-}
 
 #[derive(Args, Debug)]
 pub struct ManyLightArgs {
     /// OBJ scene (MTL `Kd` albedo, `Ke` emission); give the camera with --eye/--target.
     obj: Option<PathBuf>,
-    /// Built-in scene (when no OBJ is given).
-    #[arg(long, value_enum, default_value_t = SceneName::Cornell)]
-    scene: SceneName,
+    /// Built-in scene when no OBJ is given: cornell (the paper's Fig. 3), colonnade (Sponza
+    /// stand-in), conference (Conference stand-in), plane (closed form).
+    #[arg(long, default_value = "cornell")]
+    scene: String,
     /// Quad subdivision of the built-in scene (more triangles, same picture).
     #[arg(long, default_value_t = 1)]
     subdiv: u32,
-    /// Method.
-    #[arg(long, value_enum, default_value_t = MethodName::Adaptive)]
-    method: MethodName,
+    /// Method: adaptive (the paper), adaptive_uniform (its ablation), ic (importance caching),
+    /// power (no cache), reference (every VPL).
+    #[arg(long, default_value = "adaptive", value_parser = Method::parse)]
+    method: Method,
     /// Image width.
     #[arg(long, default_value_t = 512)]
     width: usize,
@@ -137,12 +99,7 @@ fn scene_of(a: &ManyLightArgs) -> Result<(Scene, Camera)> {
             };
             (s, cam)
         }
-        None => match a.scene {
-            SceneName::Cornell => scenes::cornell_box(a.subdiv, a.width, a.height)?,
-            SceneName::Colonnade => scenes::colonnade(a.subdiv, a.width, a.height)?,
-            SceneName::Conference => scenes::conference_room(a.subdiv, a.width, a.height)?,
-            SceneName::Plane => scenes::plane_with_light(a.subdiv, a.width, a.height)?,
-        },
+        None => scenes::by_name(&a.scene, a.subdiv, a.width, a.height)?,
     };
     let v = |o: &Option<Vec<f64>>, d: Vector3<f64>| {
         o.as_ref().map_or(d, |v| Vector3::new(v[0], v[1], v[2]))
@@ -160,26 +117,14 @@ fn scene_of(a: &ManyLightArgs) -> Result<(Scene, Camera)> {
 
 /// Writes linear radiance as EXR, or as a display image for other extensions.
 fn save(img: &Image<f32>, exposure: f64, path: &Path) -> Result<()> {
-    let exr = path
+    if path
         .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if exr {
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+    {
         img.save(path)
     } else {
-        img.map(|v| srgb_oetf((v as f64 * exposure).clamp(0.0, 1.0)) as f32)
-            .save(path)
+        to_display(img, exposure).save(path)
     }
-}
-
-/// `path` with `_suffix` added to its stem.
-fn suffixed(path: &Path, suffix: &str) -> PathBuf {
-    let stem = path
-        .file_stem()
-        .map_or("out".into(), |s| s.to_string_lossy());
-    let ext = path
-        .extension()
-        .map_or("exr".into(), |s| s.to_string_lossy());
-    path.with_file_name(format!("{stem}_{suffix}.{ext}"))
 }
 
 fn report(o: &Output, method: Method, rmse: Option<f64>) {
@@ -225,41 +170,41 @@ pub fn run(a: &ManyLightArgs) -> Result<()> {
         "method", "records", "inserted", "cache s", "render s", "RMSE"
     );
     if !a.compare {
-        let m = a.method.method();
-        let o = run_with(&scene, &g, &vpls, m, &s, &Bars::new(m.name()), 0.0)?;
-        report(&o, m, None);
+        let o = run_with(
+            &scene,
+            &g,
+            &vpls,
+            a.method,
+            &s,
+            &Bars::new(a.method.name()),
+            0.0,
+        )?;
+        report(&o, a.method, None);
         return save(&o.image, a.exposure, &a.out);
     }
-    let reference = run_with(
-        &scene,
-        &g,
-        &vpls,
+    let methods = [
         Method::Reference,
-        &s,
-        &Bars::new("reference"),
-        0.0,
-    )?;
-    report(&reference, Method::Reference, None);
-    save(&reference.image, a.exposure, &suffixed(&a.out, "reference"))?;
-    let mut records = s.ic.n_cache;
-    for m in [
         Method::Adaptive,
         Method::AdaptiveUniform,
         Method::Ic,
         Method::Power,
-    ] {
-        let mut st = s;
-        if m == Method::Ic {
-            // The baseline gets the same number of records as the paper's method.
-            st.ic.n_cache = records;
-        }
-        let o = run_with(&scene, &g, &vpls, m, &st, &NoProgress, 0.0)?;
-        if m == Method::Adaptive {
-            records = o.records.len().max(1);
-        }
-        let e = wscg_math::metrics::rmse(o.image.data(), reference.image.data())?;
-        report(&o, m, Some(e));
-        save(&o.image, a.exposure, &suffixed(&a.out, m.name()))?;
+    ];
+    let all = compare(&scene, &g, &vpls, &methods, &s, &Bars::new("compare"))?;
+    let reference = &all[0].1.image;
+    let ext = a
+        .out
+        .extension()
+        .map_or("exr".into(), |e| e.to_string_lossy());
+    for (m, o) in &all {
+        let e = (*m != Method::Reference)
+            .then(|| wscg_math::metrics::rmse(o.image.data(), reference.data()))
+            .transpose()?;
+        report(o, *m, e);
+        save(
+            &o.image,
+            a.exposure,
+            &super::raytrace::sibling(&a.out, &format!("_{}", m.name()), &ext),
+        )?;
     }
     Ok(())
 }

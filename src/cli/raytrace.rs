@@ -304,7 +304,7 @@ fn write_png(img: &XyzImage, exposure: f64, path: &Path) -> Result<()> {
 }
 
 /// `OUT` with `_suffix` and extension `ext`.
-fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
+pub(super) fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
     let stem = out.with_extension("");
     PathBuf::from(format!("{}{suffix}.{ext}", stem.to_string_lossy()))
 }

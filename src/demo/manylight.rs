@@ -10,10 +10,9 @@ use wscg_math::image::Image;
 use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::Result;
 use wscg_raytrace::manylight::{
-    generate_vpls, run_with, scenes, trace_primary, Camera, Method, Output, Scene, Settings,
-    VplSettings,
+    generate_vpls, run_with, scenes, to_display, trace_primary, Camera, Method, Output, Scene,
+    Settings, VplSettings,
 };
-use wscg_raytrace::spectral::srgb_oetf;
 
 use super::figures::montage;
 use super::{Demo, Figure, Report, Row};
@@ -25,11 +24,6 @@ pub const DEMO: Demo = Demo {
     title: "Adaptive importance caching for many-light rendering",
     run,
 };
-
-/// Display version of linear radiance.
-fn display(img: &Image<f32>, exposure: f64) -> Image<f32> {
-    img.map(|v| srgb_oetf((v as f64 * exposure).clamp(0.0, 1.0)) as f32)
-}
 
 /// The Cornell box with its records marked: initial ones red, inserted ones cyan.
 fn records_figure(out: &Path, rep: &mut Report, progress: &dyn Progress) -> Result<()> {
@@ -46,7 +40,7 @@ fn records_figure(out: &Path, rep: &mut Report, progress: &dyn Progress) -> Resu
     let vpls = generate_vpls(&scene, &s.vpl)?;
     let g = trace_primary(&scene, &cam)?;
     let o = run_with(&scene, &g, &vpls, Method::Adaptive, &s, progress, 0.0)?;
-    let mut img = display(&o.image, 1.0);
+    let mut img = to_display(&o.image, 1.0);
     let w = img.width();
     for r in &o.records {
         let Some(p) = r.pixel else { continue };
@@ -118,18 +112,13 @@ fn compare(
     s.ic.n_cache = n_cache;
     let vpls = generate_vpls(scene, &s.vpl)?;
     let g = trace_primary(scene, cam)?;
-    let mut out = vec![(
+    let methods = [
         Method::Reference,
-        run_with(scene, &g, &vpls, Method::Reference, &s, progress, 0.0)?,
-    )];
-    for m in [Method::Adaptive, Method::AdaptiveUniform, Method::Ic] {
-        let mut st = s;
-        if m == Method::Ic {
-            st.ic.n_cache = out[1].1.records.len();
-        }
-        out.push((m, run_with(scene, &g, &vpls, m, &st, &NoProgress, 0.0)?));
-    }
-    Ok(out)
+        Method::Adaptive,
+        Method::AdaptiveUniform,
+        Method::Ic,
+    ];
+    wscg_raytrace::manylight::compare(scene, &g, &vpls, &methods, &s, progress)
 }
 
 fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
@@ -166,7 +155,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         let res = rep.time(name, || compare(&scene, &cam, 490, progress))?;
         let reference = &res[0].1.image;
         let err = |o: &Output| wscg_math::metrics::rmse(o.image.data(), reference.data());
-        let tiles: Vec<Image<f32>> = res.iter().map(|(_, o)| display(&o.image, 1.0)).collect();
+        let tiles: Vec<Image<f32>> = res.iter().map(|(_, o)| to_display(&o.image, 1.0)).collect();
         let file = format!("manylight_{name}.png");
         montage(&tiles, 4, 1)?.save(out.join(&file))?;
         rep.figures.push(Figure {

@@ -13,6 +13,7 @@
 //! - [`stereo`]: the off-axis stereo rig of section 3.
 
 pub mod bvh;
+pub mod frame;
 pub mod manylight;
 pub mod paint;
 pub mod spectral;

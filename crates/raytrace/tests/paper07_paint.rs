@@ -1039,3 +1039,28 @@ fn caustics_brighten_a_diffuse_base_and_bad_photon_settings_are_errors() {
         assert!(render(&plate, &light, &rig, Eye::Cyclopean, &s).is_err());
     }
 }
+
+#[test]
+fn lamp_directions_are_uniform_in_the_disc() {
+    // Uniform in solid angle over a cap of angular radius r: every direction inside, the
+    // mean cosine to the axis (1 + cos r) / 2, no bias across the axis.
+    let light = DiscLight::from_elevation(40.0, 5.0);
+    let a = light.dir_to_light.into_inner();
+    let n = 100_000;
+    let (mut cos_sum, mut side) = (0.0, Vector3::zeros());
+    for k in 0..n {
+        let u1 = (k as f64 + 0.5) / n as f64;
+        let u2 = (k as f64 * 0.618_033_988_75).fract();
+        let d = light.sample_direction(u1, u2);
+        assert!((d.norm() - 1.0).abs() < 1e-12 && light.contains(&d));
+        cos_sum += d.dot(&a);
+        side += d - a * d.dot(&a);
+    }
+    let want = 0.5 * (1.0 + light.cos_radius());
+    assert!(
+        (cos_sum / n as f64 - want).abs() < 1e-6,
+        "{} vs {want}",
+        cos_sum / n as f64
+    );
+    assert!(side.norm() / (n as f64) < 1e-4);
+}

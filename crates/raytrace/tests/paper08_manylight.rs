@@ -303,3 +303,35 @@ fn bad_input_is_an_error() {
     )
     .is_err());
 }
+
+#[test]
+fn shadow_ray_batches_match_brute_force() {
+    let (scene, _) = wscg_raytrace::manylight::scenes::cornell_box(2, 8, 8).unwrap();
+    let b = scene.bounds();
+    let pt = |k: usize| {
+        let f = |a: f64| (0.5 + k as f64 * a).fract();
+        b.min
+            + (b.max - b.min).component_mul(&Vector3::new(
+                f(0.7548776662),
+                f(0.5698402910),
+                f(0.3623612264),
+            ))
+    };
+    let (a, t): (Vec<_>, Vec<_>) = (0..4000).map(|k| (pt(2 * k), pt(2 * k + 1))).unzip();
+    let fast = scene.occluded_batch(&a, &t).unwrap();
+    let mut blocked = 0;
+    for ((p, q), f) in a.iter().zip(&t).zip(&fast) {
+        let d = q - p;
+        let len = d.norm();
+        let dir = d / len;
+        let brute = scene
+            .triangles()
+            .iter()
+            .any(|tri| tri.intersect(p, &dir, len).is_some());
+        assert_eq!(*f, brute, "segment {p:?} -> {q:?}");
+        blocked += brute as usize;
+    }
+    // Both outcomes occur.
+    assert!(blocked > 400 && blocked < 3600, "{blocked} of 4000 blocked");
+    assert!(scene.occluded_batch(&a, &t[1..]).is_err());
+}

@@ -62,7 +62,7 @@ impl Camera {
         }
         let forward = f.normalize();
         let r = forward.cross(&self.up);
-        if r.norm() < 1e-9 * self.up.norm().max(1e-300) || self.up.norm() == 0.0 {
+        if r.norm() <= 1e-9 * self.up.norm() {
             return Err(Error::invalid(
                 "camera",
                 "up is parallel to the view direction",
@@ -101,12 +101,12 @@ impl CameraFrame {
         (self.forward + self.right * sx + self.up * sy).normalize()
     }
 
-    /// Solid angle of the pixel area `w x h` (pixels) around image position `(x, y)`.
-    pub fn solid_angle(&self, x: f64, y: f64, w: f64, h: f64) -> f64 {
+    /// Solid angle of `area` square pixels around image position `(x, y)`.
+    pub fn solid_angle(&self, x: f64, y: f64, area: f64) -> f64 {
         let d = self.ray(x, y);
         // The image plane at distance 1: a pixel is (2 tan_half / height)^2 in area there.
         let px = 2.0 * self.tan_half / self.height as f64;
         let cos = d.dot(&self.forward);
-        w * h * px * px * cos * cos * cos
+        area * px * px * cos * cos * cos
     }
 }

@@ -78,7 +78,7 @@ pub fn shade_point(
         } else {
             [0.0; 3]
         },
-        footprint: frame.solid_angle(x, y, pixel_area.sqrt(), pixel_area.sqrt()) * h.t * h.t / cos,
+        footprint: frame.solid_angle(x, y, pixel_area) * h.t * h.t / cos,
     })
 }
 

@@ -10,12 +10,13 @@ use wscg_math::{Error, Result};
 
 use super::cache::Record;
 use super::camera::Camera;
-use super::gbuffer::trace_primary;
+use super::gbuffer::{trace_primary, GBuffer};
 use super::placement::{AdaptiveParams, Placement};
 use super::render::{build_cache, render, render_power, render_reference, CacheStats, IcParams};
 use super::scene::Scene;
 use super::vpl::{generate_vpls, Vpl, VplSettings};
 use super::weights::Interp;
+use crate::spectral::srgb_oetf;
 
 /// A rendering method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -142,37 +143,78 @@ pub fn run(
 /// [`run`] on given VPLs and shading points (so that several methods share them).
 pub fn run_with(
     scene: &Scene,
-    g: &super::gbuffer::GBuffer,
+    g: &GBuffer,
     vpls: &[Vpl],
     method: Method,
     s: &Settings,
     progress: &dyn Progress,
     setup_seconds: f64,
 ) -> Result<Output> {
-    let mut out = Output {
-        image: Image::filled(1, 1, 3, 0.0)?,
-        records: Vec::new(),
-        cache: None,
-        n_vpls: vpls.len(),
-        setup_seconds,
-        cache_seconds: 0.0,
-        render_seconds: 0.0,
-    };
     let t = Instant::now();
-    out.image = match method.cache_setup(&s.adaptive, s.weights) {
+    let (image, records, cache, cache_seconds) = match method.cache_setup(&s.adaptive, s.weights) {
         Some((placement, interp)) => {
             let (cache, stats) = build_cache(scene, g, vpls, &placement, interp, &s.ic)?;
-            out.cache_seconds = t.elapsed().as_secs_f64();
-            let t = Instant::now();
+            let cache_seconds = t.elapsed().as_secs_f64();
             let img = render(scene, g, vpls, &cache, &s.ic, progress)?;
-            out.render_seconds = t.elapsed().as_secs_f64();
-            out.records = cache.records;
-            out.cache = Some(stats);
-            return Ok(Output { image: img, ..out });
+            (img, cache.records, Some(stats), cache_seconds)
         }
-        None if method == Method::Power => render_power(scene, g, vpls, &s.ic, progress)?,
-        None => render_reference(scene, g, vpls, s.ic.clamp_dist, progress)?,
+        None if method == Method::Power => (
+            render_power(scene, g, vpls, &s.ic, progress)?,
+            Vec::new(),
+            None,
+            0.0,
+        ),
+        None => (
+            render_reference(scene, g, vpls, s.ic.clamp_dist, progress)?,
+            Vec::new(),
+            None,
+            0.0,
+        ),
     };
-    out.render_seconds = t.elapsed().as_secs_f64();
-    Ok(out)
+    Ok(Output {
+        image,
+        records,
+        cache,
+        n_vpls: vpls.len(),
+        setup_seconds,
+        cache_seconds,
+        render_seconds: t.elapsed().as_secs_f64() - cache_seconds,
+    })
+}
+
+/// The comparison of the paper's section 5: every method of `methods` on the same VPLs and
+/// shading points, in that order; importance caching gets the final record count of the
+/// adaptive run when `methods` holds both (the paper: "the same numbers of cache points").
+pub fn compare(
+    scene: &Scene,
+    g: &GBuffer,
+    vpls: &[Vpl],
+    methods: &[Method],
+    s: &Settings,
+    progress: &dyn Progress,
+) -> Result<Vec<(Method, Output)>> {
+    let mut done: Vec<Option<Output>> = vec![None; methods.len()];
+    let mut st = *s;
+    if let Some(i) = methods.iter().position(|m| *m == Method::Adaptive) {
+        let o = run_with(scene, g, vpls, Method::Adaptive, s, progress, 0.0)?;
+        st.ic.n_cache = o.records.len().max(1);
+        done[i] = Some(o);
+    }
+    for (i, m) in methods.iter().enumerate() {
+        if done[i].is_none() {
+            let p = if *m == Method::Ic { &st } else { s };
+            done[i] = Some(run_with(scene, g, vpls, *m, p, progress, 0.0)?);
+        }
+    }
+    Ok(methods
+        .iter()
+        .copied()
+        .zip(done.into_iter().flatten())
+        .collect())
+}
+
+/// Display sRGB (IEC 61966-2-1 curve) of linear radiance times `exposure`, clipped to
+/// `[0, 1]`.
+pub fn to_display(img: &Image<f32>, exposure: f64) -> Image<f32> {
+    img.map(|v| srgb_oetf((v as f64 * exposure).clamp(0.0, 1.0)) as f32)
 }

@@ -31,7 +31,7 @@ pub mod weights;
 pub use cache::{Distributions, ImportanceCache, Record};
 pub use camera::{Camera, CameraFrame};
 pub use gbuffer::{trace_primary, GBuffer, ShadingPoint};
-pub use method::{run, run_with, Method, Output, Settings};
+pub use method::{compare, run, run_with, to_display, Method, Output, Settings};
 pub use obj::load_obj;
 pub use placement::{AdaptiveParams, Placement};
 pub use render::{build_cache, render, render_power, render_reference, CacheStats, IcParams};

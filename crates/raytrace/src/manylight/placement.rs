@@ -111,36 +111,6 @@ pub fn random_screen(scene: &super::scene::Scene, g: &GBuffer, n: usize, seed: u
         .collect()
 }
 
-/// The 6-D clustering of section 4.1: the valid pixels' `(s (x - centre), n)` with `s`
-/// scaling the shading points' box into `[-1, 1]^3`, split recursively at the midpoint of
-/// the longest axis of the box until a cluster has at most `n_max` points or a box diagonal
-/// at most `min_extent`. Returns the clusters (pixel indices).
-pub fn cluster_points(g: &GBuffer, n_max: usize, min_extent: f64) -> Vec<Vec<usize>> {
-    let ids: Vec<usize> = (0..g.points.len())
-        .filter(|&i| g.points[i].is_some())
-        .collect();
-    if ids.is_empty() {
-        return Vec::new();
-    }
-    let q = features(g, &ids);
-    let mut out = Vec::new();
-    let mut stack = vec![(0..ids.len()).collect::<Vec<usize>>()];
-    while let Some(c) = stack.pop() {
-        if c.len() <= n_max.max(1) {
-            out.push(c.iter().map(|&i| ids[i]).collect());
-            continue;
-        }
-        match split6(&q, c, min_extent) {
-            Ok((left, right)) => {
-                stack.push(right);
-                stack.push(left);
-            }
-            Err(c) => out.push(c.iter().map(|&i| ids[i]).collect()),
-        }
-    }
-    out
-}
-
 /// The 6-D feature `(s (x - centre), n)` of each pixel in `ids` (valid pixels), `s`
 /// scaling the box of their positions into `[-1, 1]^3`.
 pub fn features(g: &GBuffer, ids: &[usize]) -> Vec<[f64; 6]> {
@@ -185,12 +155,14 @@ fn bbox6(q: &[[f64; 6]], c: &[usize]) -> ([f64; 6], [f64; 6]) {
     (lo, hi)
 }
 
-/// `k0` clusters (fewer when the extent rule stops the splits) and the leaf size `n_max`
-/// they satisfy: the largest cluster is split (midpoint of its longest axis, as in
-/// [`cluster_points`]) until there are `k0`, so that every leaf holds at most `n_max`
-/// points, the size of the largest, or has a box diagonal of at most `min_extent`: the
-/// recursive subdivision of section 4.1 with the size threshold that gives `k0` clusters
-/// (the specification's `ceil(N / K0)` gives 1.5-2 `K0` leaves with midpoint splits).
+/// The 6-D clustering of section 4.1: the valid pixels' `(s (x - centre), n)`
+/// ([`features`]) split at the midpoint of the longest axis of their box, the largest
+/// cluster first, until there are `k0` clusters (fewer when the extent rule stops the
+/// splits). Returns the clusters (pixel indices) and the leaf size `n_max` they satisfy:
+/// every leaf holds at most `n_max` points (the size of the largest) or has a box diagonal
+/// of at most `min_extent`. This is the paper's recursive subdivision with the size
+/// threshold that gives `k0` clusters (the specification's `ceil(N / K0)` gives 1.5-2 `K0`
+/// leaves with midpoint splits).
 pub fn cluster_to_count(g: &GBuffer, k0: usize, min_extent: f64) -> (Vec<Vec<usize>>, usize) {
     use std::collections::BinaryHeap;
     let ids: Vec<usize> = (0..g.points.len())
@@ -294,11 +266,7 @@ pub fn disagreement(cache: &ImportanceCache, i: usize) -> f64 {
     }
     let mut d = 0.0;
     for (j, p) in own.pdfs().iter().enumerate() {
-        let q: f64 = mix
-            .iter()
-            .map(|&(k, w)| w * cache.dists[k].pmf[s].as_ref().map_or(0.0, |p| p.pdf(j)))
-            .sum();
-        d += (*p as f64 - q).abs();
+        d += (*p as f64 - cache.pdf(&mix, s, j)).abs();
     }
     d
 }

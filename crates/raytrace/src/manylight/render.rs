@@ -7,7 +7,7 @@ use std::time::Instant;
 use rand::Rng;
 use rayon::prelude::*;
 use wscg_math::image::Image;
-use wscg_math::progress::{NoProgress, Progress};
+use wscg_math::progress::Progress;
 use wscg_math::{Error, Result};
 
 use super::cache::{ImportanceCache, Lookup, CONSERVATIVE};
@@ -351,15 +351,4 @@ pub fn render_power(
         }
         out
     })
-}
-
-/// [`render`] without progress reporting.
-pub fn render_quiet(
-    scene: &Scene,
-    g: &GBuffer,
-    vpls: &[Vpl],
-    cache: &ImportanceCache,
-    p: &IcParams,
-) -> Result<Image<f32>> {
-    render(scene, g, vpls, cache, p, &NoProgress)
 }

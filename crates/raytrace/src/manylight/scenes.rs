@@ -551,6 +551,28 @@ pub fn plane_with_light(subdiv: u32, width: usize, height: usize) -> Result<(Sce
     Ok((m.build()?, cam))
 }
 
+/// Names of the procedural scenes, for [`by_name`].
+pub const SCENE_NAMES: [&str; 4] = ["cornell", "colonnade", "conference", "plane"];
+
+/// The procedural scene `name` (one of [`SCENE_NAMES`]) with its camera.
+///
+/// Errors: an unknown name (the message lists the valid ones), the scene's own.
+pub fn by_name(name: &str, subdiv: u32, width: usize, height: usize) -> Result<(Scene, Camera)> {
+    match name {
+        "cornell" => cornell_box(subdiv, width, height),
+        "colonnade" => colonnade(subdiv, width, height),
+        "conference" => conference_room(subdiv, width, height),
+        "plane" => plane_with_light(subdiv, width, height),
+        other => Err(Error::invalid(
+            "scene",
+            format!(
+                "{other:?} is not a scene; valid scenes are {}",
+                SCENE_NAMES.join(", ")
+            ),
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -31,6 +31,8 @@ pub struct Shading<'a> {
     dc2: f64,
     /// Shadow-ray offset along the normals.
     eps: f64,
+    /// Smallest distance of the bounded distribution without clamping.
+    floor: f64,
 }
 
 impl<'a> Shading<'a> {
@@ -67,6 +69,7 @@ impl<'a> Shading<'a> {
             intensity: vpls.iter().map(Vpl::intensity).collect(),
             dc2: dc * dc,
             eps: 1e-4 * diag,
+            floor: (1e-6 * diag).max(f64::MIN_POSITIVE),
         })
     }
 
@@ -143,7 +146,6 @@ impl<'a> Shading<'a> {
         let v = &self.vpls[j];
         let dv = r.pos - v.pos;
         let d = dv.norm();
-        let floor = (1e-6 * self.scene.diagonal()).max(f64::MIN_POSITIVE);
         let theta = if d > 0.0 {
             (v.normal.dot(&dv) / d).clamp(-1.0, 1.0).acos()
         } else {
@@ -155,7 +157,7 @@ impl<'a> Shading<'a> {
             std::f64::consts::FRAC_PI_2
         };
         let cy = (theta - spread).max(0.0).cos().max(0.0);
-        let dist = (d - rad).max(self.dc2.sqrt()).max(floor);
+        let dist = (d - rad).max(self.dc2.sqrt()).max(self.floor);
         let i = &self.intensity[j];
         let rgb = [0, 1, 2].map(|c| i[c] * r.albedo[c]);
         luminance(&rgb) * cy / (dist * dist) / std::f64::consts::PI

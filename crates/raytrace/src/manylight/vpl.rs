@@ -6,7 +6,9 @@ use rand::Rng;
 use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
+use super::pmf::Pmf;
 use super::scene::{luminance, Rgb, Scene};
+use crate::frame::tangent_frame;
 
 /// What a VPL is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -75,17 +77,6 @@ pub fn cosine_hemisphere(n: &Vector3<f64>, u1: f64, u2: f64) -> Vector3<f64> {
     (t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt()).normalize()
 }
 
-/// Two unit tangents completing the unit normal `n` to an orthonormal frame.
-pub fn tangent_frame(n: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
-    let helper = if n.x.abs() < 0.9 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    let t = n.cross(&helper).normalize();
-    (t, n.cross(&t))
-}
-
 /// Traces `n_paths` light paths: emitter `t` is chosen with probability proportional to its
 /// luminance times its area, a uniform point on it gets an emitter VPL of power
 /// `pi L_e A_t / (n_paths P_t)`; the path continues in a cosine-distributed direction, and
@@ -113,22 +104,16 @@ pub fn generate_vpls(scene: &Scene, s: &VplSettings) -> Result<Vec<Vpl>> {
         .iter()
         .map(|&i| luminance(&scene.emission(i)) * tris[i as usize].area)
         .collect();
-    let total: f64 = weights.iter().sum();
-    let mut cdf = Vec::with_capacity(weights.len());
-    let mut acc = 0.0;
-    for w in &weights {
-        acc += w / total;
-        cdf.push(acc);
-    }
+    let pick = Pmf::new(&weights)
+        .ok_or_else(|| Error::invalid("scene", "the emitters have no luminous power"))?;
     let eps = 1e-6 * scene.diagonal();
     let paths: Vec<Vec<Vpl>> = (0..s.n_paths)
         .into_par_iter()
         .map(|p| {
             let mut rng = wscg_math::rng::stream(s.seed, p as u64);
-            let u: f64 = rng.random();
-            let k = cdf.partition_point(|c| *c <= u).min(emitters.len() - 1);
+            let k = pick.sample(rng.random());
             let tri = &tris[emitters[k] as usize];
-            let prob = weights[k] / total;
+            let prob = pick.pdf(k);
             let le = scene.emission(emitters[k]);
             let y = tri.sample(rng.random(), rng.random());
             let n = tri.normal;

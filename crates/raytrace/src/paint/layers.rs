@@ -203,13 +203,7 @@ impl DiscLight {
         let phi = 2.0 * std::f64::consts::PI * u2;
         let st = (1.0 - ct * ct).max(0.0).sqrt();
         let a = self.dir_to_light.into_inner();
-        let helper = if a.x.abs() < 0.9 {
-            Vector3::x()
-        } else {
-            Vector3::y()
-        };
-        let u = a.cross(&helper).normalize();
-        let v = a.cross(&u);
+        let (u, v) = crate::frame::tangent_frame(&a);
         a * ct + (u * phi.cos() + v * phi.sin()) * st
     }
 
