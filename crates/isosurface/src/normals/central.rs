@@ -1,0 +1,43 @@
+//! Central-difference vertex normals (paper eq. 1, with the grid spacing): the gradient at each
+//! end of the vertex's edge, linearly interpolated at `t` (the classic marching-cubes normal).
+//! One-sided differences at the grid border; undefined when any needed sample is missing, or
+//! when the interpolated gradient is zero.
+
+use super::{unit, EdgeVertex, Outcome};
+use crate::grid::ScalarGrid;
+
+/// Central-difference gradient at grid point `p` (eq. 1 divided by the spacing); one-sided at
+/// the border; `None` when a needed sample is missing.
+pub fn gradient_at(g: &ScalarGrid, p: [usize; 3]) -> Option<[f64; 3]> {
+    let f0 = g.value(p)? as f64;
+    let mut grad = [0.0f64; 3];
+    for m in 0..3 {
+        let step = |s: isize| {
+            let mut d = [0isize; 3];
+            d[m] = s;
+            g.value_offset(p, d).map(|v| v as f64)
+        };
+        let (fwd, bwd) = (|| step(1), || step(-1));
+        let h = g.spacing[m] as f64;
+        grad[m] = if p[m] == 0 {
+            (fwd()? - f0) / h
+        } else if p[m] + 1 == g.dims[m] {
+            (f0 - bwd()?) / h
+        } else {
+            (fwd()? - bwd()?) / (2.0 * h)
+        };
+    }
+    Some(grad)
+}
+
+pub(crate) fn normal(g: &ScalarGrid, v: &EdgeVertex) -> ([f32; 3], Outcome) {
+    let (Some(gp), Some(gq)) = (gradient_at(g, v.p), gradient_at(g, v.q)) else {
+        return ([0.0; 3], Outcome::Undefined);
+    };
+    let t = v.t as f64;
+    let n = [0, 1, 2].map(|i| (1.0 - t) * gp[i] + t * gq[i]);
+    match unit(n) {
+        Some(u) => (u, Outcome::Defined),
+        None => ([0.0; 3], Outcome::Undefined),
+    }
+}

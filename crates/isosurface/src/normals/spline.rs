@@ -1,0 +1,209 @@
+//! The paper's estimator: a quadratic Bézier-Bernstein spline on one corner tetrahedron of each
+//! cell sharing the vertex's edge (sections 3-4).
+//!
+//! On a tetrahedron `(v0, v1, v2, v3)` with data `f_m = f(v_m)`, the spline (eq. 2, Bernstein
+//! basis eq. 4) has the control points of eq. 3 read with the data values,
+//! `a_ijkl = (i f0 + j f1 + k f2 + l f3) / 2`: the degree-raised linear interpolant of the four
+//! values (the seed writes eq. 3 with vertex symbols, which would give the domain points; the
+//! paper states that the fit uses exactly four data values). Its directional derivative along
+//! the edge `xi_phi = v_phi - v0` (eq. 7, obtained by one de Casteljau step, eq. 5) is then
+//! `f_phi - f0` everywhere in the tetrahedron. The eight corner tetrahedra of a cell (Fig. 6)
+//! are `(c, c + s_x e_x, c + s_y e_y, c + s_z e_z)` for a cell corner `c`, with `s_m = +1` when
+//! `c` is on the cell's low side along `m` and `-1` otherwise (the paper's orienting
+//! coefficients gamma), so the spline gradient in world axes is (eq. 8)
+//! `grad = (s_x (f(c + s_x e_x) - f(c)) / h_x, s_y (...) / h_y, s_z (...) / h_z)`.
+//!
+//! The seed's eq. 8 keeps only the barycentric terms of the edge it differentiates, which on
+//! the vertex's edge scales the two components across the edge by `lambda_0` and all three by
+//! 1/2; [`SplineOpts::eq8_literal`] reproduces it for experiments (the default is the exact
+//! spline gradient).
+//!
+//! Of the two corner tetrahedra containing the vertex's edge `(p, q)`, the paper picks the one
+//! its lookup-table rules choose from the cell's triangles ([`crate::tables::Selection`]); when
+//! the chosen one lacks a sample the other is used. The vertex normal is the mean of the
+//! gradients of the (up to four) cells sharing the edge, normalised. When no cell contributes,
+//! a fallback uses `(f(q) - f(p)) / h_a` along the edge and one-sided differences across it, so
+//! the spline normal is never zero (the paper's robustness claim).
+
+use super::{unit, EdgeVertex, Outcome};
+use crate::cell::{resolve_cell, CellState};
+use crate::grid::ScalarGrid;
+use crate::tables::{case_table, corner_offset, edge_corners, edge_index, Selection};
+
+/// Which corner tetrahedron of a cell gives the gradient.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TetSelection {
+    /// The paper's rule from the cell's MC triangles (extended lookup table), ties to the
+    /// nearer corner.
+    #[default]
+    MeshAware,
+    /// The corner nearer to the vertex (the "static partition" the paper says is worse).
+    NearestCorner,
+    /// The mean of both candidate tetrahedra.
+    AverageBoth,
+}
+
+/// Options of the spline estimator; `Default` is the paper's method.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SplineOpts {
+    /// How the corner tetrahedron is chosen in each cell.
+    pub selection: TetSelection,
+    /// Use the seed's literal eq. 8 instead of the exact spline gradient.
+    pub eq8_literal: bool,
+    /// Normalise each cell's gradient before averaging (the paper averages raw gradients).
+    pub normalize_before_mean: bool,
+}
+
+/// Gradient of the corner tetrahedron at local corner `k` of the cell with low corner `lo`
+/// (eq. 8), or `None` when one of its four samples is missing. `lambda0` is the barycentric
+/// weight of the corner at the vertex (used only by the literal eq. 8), `axis` the vertex's
+/// edge axis.
+fn corner_gradient(
+    g: &ScalarGrid,
+    lo: [usize; 3],
+    k: usize,
+    axis: usize,
+    lambda0: f64,
+    literal: bool,
+) -> Option<[f64; 3]> {
+    let o = corner_offset(k);
+    let c = [lo[0] + o[0], lo[1] + o[1], lo[2] + o[2]];
+    let f0 = g.value(c)? as f64;
+    let mut grad = [0.0; 3];
+    for m in 0..3 {
+        let mut n = c;
+        let s = if o[m] == 0 {
+            n[m] += 1;
+            1.0
+        } else {
+            n[m] -= 1;
+            -1.0
+        };
+        let d = s * (g.value(n)? as f64 - f0) / g.spacing[m] as f64;
+        grad[m] = if !literal {
+            d
+        } else if m == axis {
+            0.5 * d
+        } else {
+            0.5 * lambda0 * d
+        };
+    }
+    Some(grad)
+}
+
+pub(crate) fn normal(
+    g: &ScalarGrid,
+    iso: f32,
+    v: &EdgeVertex,
+    opts: &SplineOpts,
+) -> ([f32; 3], Outcome) {
+    let a = v.axis;
+    let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+    let t = v.t as f64;
+    let table = case_table();
+    let mut sum = [0.0f64; 3];
+    let mut count = 0usize;
+    let mut add = |grad: [f64; 3]| {
+        let w = if opts.normalize_before_mean {
+            let n = (grad[0] * grad[0] + grad[1] * grad[1] + grad[2] * grad[2]).sqrt();
+            if n > 0.0 {
+                1.0 / n
+            } else {
+                return;
+            }
+        } else {
+            1.0
+        };
+        for i in 0..3 {
+            sum[i] += w * grad[i];
+        }
+        count += 1;
+    };
+    for dc in 0..2 {
+        for db in 0..2 {
+            if v.p[b] < db || v.p[c] < dc {
+                continue;
+            }
+            let mut lo = v.p;
+            lo[b] -= db;
+            lo[c] -= dc;
+            if lo[b] + 1 >= g.dims[b] || lo[c] + 1 >= g.dims[c] {
+                continue;
+            }
+            let mut flags = [0u8; 8];
+            for (k, f) in flags.iter_mut().enumerate() {
+                let o = corner_offset(k);
+                *f = g.flags(g.index([lo[0] + o[0], lo[1] + o[1], lo[2] + o[2]]), iso);
+            }
+            let CellState::Active(config) = resolve_cell(&flags) else {
+                continue;
+            };
+            let le = edge_index(a, db, dc);
+            let (kp, kq) = edge_corners(le);
+            // Barycentric weight of each candidate corner at the vertex.
+            let lam = |k: usize| if k == kp { 1.0 - t } else { t };
+            let grad = |k: usize| corner_gradient(g, lo, k, a, lam(k), opts.eq8_literal);
+            let nearer = if t <= 0.5 { (kp, kq) } else { (kq, kp) };
+            match opts.selection {
+                TetSelection::AverageBoth => {
+                    if let Some(gp) = grad(kp) {
+                        add(gp);
+                    }
+                    if let Some(gq) = grad(kq) {
+                        add(gq);
+                    }
+                }
+                sel => {
+                    let (first, second) = match sel {
+                        TetSelection::MeshAware => match table[config as usize].select[le] {
+                            Selection::Low => (kp, kq),
+                            Selection::High => (kq, kp),
+                            Selection::Nearer => nearer,
+                        },
+                        _ => nearer,
+                    };
+                    if let Some(gr) = grad(first).or_else(|| grad(second)) {
+                        add(gr);
+                    }
+                }
+            }
+        }
+    }
+    if count > 0 {
+        let mean = sum.map(|s| s / count as f64);
+        if let Some(u) = unit(mean) {
+            return (u, Outcome::Defined);
+        }
+    }
+    (fallback(g, v), Outcome::Fallback)
+}
+
+/// The fallback normal: `(f(q) - f(p)) / h_a` along the edge (never zero on a crossing edge),
+/// and across it the mean of the one-sided differences available at `p` and `q`.
+fn fallback(g: &ScalarGrid, v: &EdgeVertex) -> [f32; 3] {
+    let a = v.axis;
+    let mut n = [0.0f64; 3];
+    n[a] = (v.fq as f64 - v.fp as f64) / g.spacing[a] as f64;
+    for m in (0..3).filter(|&m| m != a) {
+        let mut sum = 0.0;
+        let mut k = 0;
+        for (end, f0) in [(v.p, v.fp), (v.q, v.fq)] {
+            for s in [1isize, -1] {
+                let mut d = [0isize; 3];
+                d[m] = s;
+                if let Some(f1) = g.value_offset(end, d) {
+                    sum += s as f64 * (f1 as f64 - f0 as f64) / g.spacing[m] as f64;
+                    k += 1;
+                }
+            }
+        }
+        if k > 0 {
+            n[m] = sum / k as f64;
+        }
+    }
+    unit(n).unwrap_or_else(|| {
+        let mut u = [0.0f32; 3];
+        u[a] = (v.fq - v.fp).signum();
+        u
+    })
+}
