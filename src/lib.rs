@@ -13,12 +13,14 @@
 //! | [`video`] | `wscg-video` | paper 06: localized-search HD video completion |
 //! | [`raytrace`] | `wscg-raytrace` | paper 07: spectral metallic-flake paint, stereo rig, virtual observer |
 //! | [`doe`] | `wscg-doe` | paper 07: central composite designs, response surfaces, repeated-measures ANOVA |
+//! | [`isosurface`] | `wscg-isosurface` | paper 09: sparse-grid marching cubes with tetrahedral-spline normals |
 //!
 //! The paper crates are added to this table as they land (see the README).
 
 pub use wscg_biometrics as biometrics;
 pub use wscg_cloth as cloth;
 pub use wscg_doe as doe;
+pub use wscg_isosurface as isosurface;
 pub use wscg_math as math;
 pub use wscg_meshfilter as meshfilter;
 pub use wscg_raytrace as raytrace;

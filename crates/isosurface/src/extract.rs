@@ -15,9 +15,10 @@ use rayon::prelude::*;
 use wscg_math::Result;
 
 use crate::cell::{resolve_cell, CellState};
-use crate::grid::{check_iso, ScalarGrid};
-use crate::normals::{estimate_normals, NormalMethod, NormalStats};
-use crate::tables::{case_table, edge_axis, edge_low_offset};
+use crate::grid::{check_iso, flag, ScalarGrid};
+use crate::normals::spline::{self, cell_contribution};
+use crate::normals::{estimate_normals, unit, EdgeVertex, NormalMethod, NormalStats, SplineOpts};
+use crate::tables::{case_table, edge_axis, edge_corners, edge_low_offset};
 
 /// The grid edge a vertex lies on: the edge from grid point `point` to `point + e_axis`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -109,71 +110,129 @@ pub(crate) fn position(g: &ScalarGrid, p: [usize; 3], axis: usize, t: f32) -> [f
 }
 
 /// Crossing bits of a sample's three forward edges, stored above the [`crate::grid::flag`] bits.
-const CROSS: [u8; 3] = [8, 16, 32];
+const CROSS_SHIFT: u8 = 3;
 
 /// Marching cubes of `iso` on `grid` with vertex normals from `normals`.
 ///
 /// Cells whose corner sides cannot be resolved (see [`crate::cell`]) are skipped and counted in
 /// `stats.skipped_cells`. An isovalue outside the data range, or a grid without samples, gives
-/// an empty mesh.
+/// an empty mesh. Spline normals are accumulated cell by cell during the extraction (the paper's
+/// "extended MC context"); the other estimators run per vertex afterwards
+/// ([`estimate_normals`]). Both routes give the same normals.
 ///
 /// # Errors
 /// An invalid grid (see [`ScalarGrid::validate`]) or a non-finite isovalue.
 pub fn marching_cubes(grid: &ScalarGrid, iso: f32, normals: NormalMethod) -> Result<IsoMesh> {
-    let mut mesh = extract(grid, iso)?;
-    if !matches!(normals, NormalMethod::None) {
-        let (n, stats) = estimate_normals(grid, iso, &mesh.vertex_edge, normals)?;
-        mesh.normals = n;
-        mesh.stats.undefined = stats.undefined;
-        mesh.stats.fallback = stats.fallback;
+    match normals {
+        NormalMethod::Spline(opts) => run(grid, iso, Some(opts)),
+        NormalMethod::None => run(grid, iso, None),
+        other => {
+            let mut mesh = run(grid, iso, None)?;
+            let (n, stats) = estimate_normals(grid, iso, &mesh.vertex_edge, other)?;
+            mesh.normals = n;
+            mesh.stats.undefined = stats.undefined;
+            mesh.stats.fallback = stats.fallback;
+            Ok(mesh)
+        }
     }
-    Ok(mesh)
 }
 
 /// The extraction alone (vertices, triangles, vertex edges, cell configurations, skipped cells).
 pub fn extract(grid: &ScalarGrid, iso: f32) -> Result<IsoMesh> {
+    run(grid, iso, None)
+}
+
+/// Whether the samples `a` and `b` are both defined and on different sides of `iso`.
+#[inline(always)]
+fn crosses(a: f32, b: f32, iso: f32) -> bool {
+    // NaN compares false both ways, so a missing endpoint never crosses.
+    (a >= iso && b < iso) || (a < iso && b >= iso)
+}
+
+/// Per local edge: the row of the cell it starts on (`dy + 2 dz`), its x offset and its axis.
+const EDGE_ROWS: [(usize, usize, usize); 12] = {
+    let mut t = [(0, 0, 0); 12];
+    let mut e = 0;
+    while e < 12 {
+        let o = edge_low_offset(e);
+        t[e] = (o[1] + 2 * o[2], o[0], edge_axis(e));
+        e += 1;
+    }
+    t
+};
+
+/// What one cell layer (cells between slices z and z + 1) produced.
+struct Layer {
+    triangles: Vec<[u32; 3]>,
+    cells: Vec<(usize, u8)>,
+    skipped: usize,
+    /// Spline gradient sums of the vertices of slice z (indexed from the slice's first vertex).
+    low: Vec<[f64; 3]>,
+    /// Spline gradient sums of the vertices of slice z + 1.
+    high: Vec<[f64; 3]>,
+}
+
+fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineOpts>) -> Result<IsoMesh> {
     grid.validate()?;
     check_iso(iso)?;
     let [nx, ny, nz] = grid.dims;
     let plane = nx * ny;
+    let values = grid.values;
 
-    // Pass 1: per-sample flags and forward-edge crossings, counted per slice.
+    // Pass 1: per-sample flags and forward-edge crossings, counted per row.
     let mut flags = vec![0u8; grid.len()];
-    let counts: Vec<usize> = flags
+    let mut row_counts = vec![0u32; ny * nz];
+    flags
         .par_chunks_mut(plane)
+        .zip(row_counts.par_chunks_mut(ny))
         .enumerate()
-        .map(|(z, slice)| {
-            let mut count = 0;
+        .for_each(|(z, (slice, counts))| {
             for y in 0..ny {
+                let base = nx * (y + ny * z);
+                let r0 = &values[base..base + nx];
+                let ry = (y + 1 < ny).then(|| &values[base + nx..base + 2 * nx]);
+                let rz = (z + 1 < nz).then(|| &values[base + plane..base + plane + nx]);
+                let out = &mut slice[nx * y..nx * (y + 1)];
+                let mut count = 0;
                 for x in 0..nx {
-                    let i = x + nx * (y + ny * z);
-                    let mut f = grid.flags(i, iso);
-                    for (axis, bit) in CROSS.iter().enumerate() {
-                        if vertex_on_edge_fast(grid, iso, [x, y, z], axis) {
-                            f |= bit;
-                            count += 1;
+                    let v = r0[x];
+                    let mut f = grid.flags(base + x, iso);
+                    let mut c = 0u8;
+                    if x + 1 < nx && crosses(v, r0[x + 1], iso) {
+                        c |= 1;
+                    }
+                    if let Some(ry) = ry {
+                        if crosses(v, ry[x], iso) {
+                            c |= 2;
                         }
                     }
-                    slice[x + nx * y] = f;
+                    if let Some(rz) = rz {
+                        if crosses(v, rz[x], iso) {
+                            c |= 4;
+                        }
+                    }
+                    count += c.count_ones();
+                    f |= c << CROSS_SHIFT;
+                    out[x] = f;
                 }
+                counts[y] = count;
             }
-            count
-        })
-        .collect();
+        });
 
-    // Pass 2: vertex numbering (slice z owns the vertices of its samples' forward edges).
-    let mut offsets = Vec::with_capacity(nz + 1);
+    // Pass 2: vertex numbering, row by row (x fastest, then the edge axis).
+    let mut row_offsets = Vec::with_capacity(ny * nz + 1);
     let mut total = 0usize;
-    offsets.push(0);
-    for &c in &counts {
-        total += c;
-        offsets.push(total);
+    for &c in &row_counts {
+        row_offsets.push(total);
+        total += c as usize;
     }
+    row_offsets.push(total);
     if total > u32::MAX as usize {
         return Err(wscg_math::Error::LimitExceeded(format!(
             "{total} vertices do not fit 32-bit triangle indices"
         )));
     }
+    let slice_offset = |z: usize| row_offsets[z * ny];
     let mut vertices = vec![[0.0f32; 3]; total];
     let mut vertex_edge = vec![
         EdgeId {
@@ -182,28 +241,15 @@ pub fn extract(grid: &ScalarGrid, iso: f32) -> Result<IsoMesh> {
         };
         total
     ];
-    let mut vchunks = Vec::with_capacity(nz);
-    let mut echunks = Vec::with_capacity(nz);
-    {
-        let (mut vrest, mut erest) = (vertices.as_mut_slice(), vertex_edge.as_mut_slice());
-        for &c in &counts {
-            let (v, vr) = vrest.split_at_mut(c);
-            let (e, er) = erest.split_at_mut(c);
-            vchunks.push(v);
-            echunks.push(e);
-            vrest = vr;
-            erest = er;
-        }
-    }
+    let vchunks = split_by(&mut vertices, nz, |z| slice_offset(z + 1) - slice_offset(z));
+    let echunks = split_by(&mut vertex_edge, nz, |z| {
+        slice_offset(z + 1) - slice_offset(z)
+    });
 
     // Pass 3: per slice, its vertices, then the triangles of the cell layer above it.
-    struct Layer {
-        triangles: Vec<[u32; 3]>,
-        cells: Vec<(usize, u8)>,
-        skipped: usize,
-    }
     let table = case_table();
     let flags = &flags;
+    let inv_h = grid.spacing.map(|h| 1.0 / h as f64);
     let layers: Vec<Layer> = vchunks
         .into_par_iter()
         .zip(echunks)
@@ -212,9 +258,9 @@ pub fn extract(grid: &ScalarGrid, iso: f32) -> Result<IsoMesh> {
             let mut k = 0;
             for y in 0..ny {
                 for x in 0..nx {
-                    let f = flags[x + nx * (y + ny * z)];
-                    for (axis, bit) in CROSS.iter().enumerate() {
-                        if f & bit != 0 {
+                    let c = flags[x + nx * (y + ny * z)] >> CROSS_SHIFT;
+                    for axis in 0..3 {
+                        if c >> axis & 1 == 1 {
                             let p = [x, y, z];
                             let (pos, _) = vertex_on_edge(grid, iso, p, axis)
                                 .expect("crossing flag implies a vertex");
@@ -228,40 +274,93 @@ pub fn extract(grid: &ScalarGrid, iso: f32) -> Result<IsoMesh> {
                     }
                 }
             }
+            let owned = vout.len();
             let mut layer = Layer {
                 triangles: Vec::new(),
                 cells: Vec::new(),
                 skipped: 0,
+                low: Vec::new(),
+                high: Vec::new(),
             };
             if z + 1 >= nz {
                 return layer;
             }
-            let ids_lo = slice_ids(flags, plane, z, offsets[z]);
-            let ids_hi = slice_ids(flags, plane, z + 1, offsets[z + 1]);
+            let first = [slice_offset(z), slice_offset(z + 1)];
+            if spline.is_some() {
+                layer.low = vec![[0.0; 3]; owned];
+                layer.high = vec![[0.0; 3]; slice_offset(z + 2) - first[1]];
+            }
             for y in 0..ny - 1 {
+                // The four sample rows of the cell row: (y, z), (y+1, z), (y, z+1), (y+1, z+1).
+                let rows = [(y, z), (y + 1, z), (y, z + 1), (y + 1, z + 1)];
+                let starts = rows.map(|(yy, zz)| nx * (yy + ny * zz));
+                let fr = starts.map(|s| &flags[s..s + nx]);
+                let vr = starts.map(|s| &values[s..s + nx]);
+                let mut run = rows.map(|(yy, zz)| row_offsets[yy + ny * zz] as u32);
                 for x in 0..nx - 1 {
+                    let mut next = run;
                     let mut cf = [0u8; 8];
-                    for (c, slot) in cf.iter_mut().enumerate() {
-                        let (ox, oy, oz) = (c & 1, (c >> 1) & 1, c >> 2);
-                        *slot = flags[(x + ox) + nx * ((y + oy) + ny * (z + oz))];
+                    let (mut all, mut any) = (0xffu8, 0u8);
+                    let mut config = 0u8;
+                    for r in 0..4 {
+                        let (f0, f1) = (fr[r][x], fr[r][x + 1]);
+                        next[r] += (f0 >> CROSS_SHIFT).count_ones();
+                        cf[2 * r] = f0;
+                        cf[2 * r + 1] = f1;
+                        all &= f0 & f1;
+                        any |= f0 | f1;
+                        config |= ((f0 & flag::INSIDE) >> 2) << (2 * r);
+                        config |= ((f1 & flag::INSIDE) >> 2) << (2 * r + 1);
                     }
-                    match resolve_cell(&cf) {
+                    let state = if all & flag::DEFINED != 0 {
+                        // Fast path: every corner defined.
+                        if config == 0 || config == 0xff {
+                            CellState::Empty
+                        } else {
+                            CellState::Active(config)
+                        }
+                    } else if any & flag::KNOWN == 0 {
+                        CellState::Empty
+                    } else {
+                        resolve_cell(&cf)
+                    };
+                    match state {
                         CellState::Empty => {}
                         CellState::Unresolved => layer.skipped += 1,
                         CellState::Active(config) => {
+                            let id = |e: usize| {
+                                let (r, ox, axis) = EDGE_ROWS[e];
+                                let f = fr[r][x + ox] >> CROSS_SHIFT;
+                                let base = if ox == 0 { run[r] } else { next[r] };
+                                base + (f & ((1u8 << axis) - 1)).count_ones()
+                            };
                             let entry = &table[config as usize];
                             for tri in &entry.triangles {
-                                let id = |e: u8| {
-                                    let e = e as usize;
-                                    let o = edge_low_offset(e);
-                                    let ids = if o[2] == 0 { &ids_lo } else { &ids_hi };
-                                    ids[((x + o[0]) + nx * (y + o[1])) * 3 + edge_axis(e)]
-                                };
-                                layer.triangles.push([id(tri[0]), id(tri[1]), id(tri[2])]);
+                                let t = tri.map(|e| id(e as usize));
+                                layer.triangles.push(t);
                             }
                             layer.cells.push((x + nx * (y + ny * z), config));
+                            if let Some(opts) = &spline {
+                                let mut vals = [0.0f32; 8];
+                                for (c, v) in vals.iter_mut().enumerate() {
+                                    *v = vr[(c >> 1) & 3][x + (c & 1)];
+                                }
+                                for e in (0..12).filter(|e| entry.edge_mask >> e & 1 == 1) {
+                                    let (kp, kq) = edge_corners(e);
+                                    let (fp, fq) = (vals[kp], vals[kq]);
+                                    let t = ((iso - fp) / (fq - fp)) as f64;
+                                    let v = id(e) as usize;
+                                    let acc = if EDGE_ROWS[e].0 < 2 {
+                                        &mut layer.low[v - first[0]]
+                                    } else {
+                                        &mut layer.high[v - first[1]]
+                                    };
+                                    cell_contribution(&vals, config, e, t, inv_h, opts, acc);
+                                }
+                            }
                         }
                     }
+                    run = next;
                 }
             }
             layer
@@ -273,6 +372,37 @@ pub fn extract(grid: &ScalarGrid, iso: f32) -> Result<IsoMesh> {
         vertex_edge,
         ..Default::default()
     };
+    if spline.is_some() {
+        let mut normals = vec![[0.0f32; 3]; total];
+        let nchunks = split_by(&mut normals, nz, |z| slice_offset(z + 1) - slice_offset(z));
+        let fallbacks: usize = nchunks
+            .into_par_iter()
+            .enumerate()
+            .map(|(z, out)| {
+                let first = slice_offset(z);
+                let mut fallbacks = 0;
+                for (i, n) in out.iter_mut().enumerate() {
+                    let mut sum = layers[z].low.get(i).copied().unwrap_or([0.0; 3]);
+                    if z > 0 {
+                        let h = layers[z - 1].high[i];
+                        sum = [sum[0] + h[0], sum[1] + h[1], sum[2] + h[2]];
+                    }
+                    *n = match unit(sum) {
+                        Some(u) => u,
+                        None => {
+                            fallbacks += 1;
+                            let v = EdgeVertex::new(grid, iso, &mesh.vertex_edge[first + i])
+                                .expect("a mesh vertex lies on a crossing edge");
+                            spline::fallback(grid, &v)
+                        }
+                    };
+                }
+                fallbacks
+            })
+            .sum();
+        mesh.normals = normals;
+        mesh.stats.fallback = fallbacks;
+    }
     let ntri: usize = layers.iter().map(|l| l.triangles.len()).sum();
     mesh.triangles.reserve(ntri);
     for l in layers {
@@ -283,31 +413,14 @@ pub fn extract(grid: &ScalarGrid, iso: f32) -> Result<IsoMesh> {
     Ok(mesh)
 }
 
-/// Whether the forward edge of `p` along `axis` crosses (cheaper than [`vertex_on_edge`]).
-#[inline]
-fn vertex_on_edge_fast(g: &ScalarGrid, iso: f32, p: [usize; 3], axis: usize) -> bool {
-    if p[axis] + 1 >= g.dims[axis] {
-        return false;
+/// Splits `v` into `n` consecutive mutable chunks of lengths `len(0), len(1), ...`.
+fn split_by<T>(v: &mut [T], n: usize, len: impl Fn(usize) -> usize) -> Vec<&mut [T]> {
+    let mut out = Vec::with_capacity(n);
+    let mut rest = v;
+    for i in 0..n {
+        let (head, tail) = rest.split_at_mut(len(i));
+        out.push(head);
+        rest = tail;
     }
-    let i = g.index(p);
-    let step = [1, g.dims[0], g.dims[0] * g.dims[1]][axis];
-    let (fp, fq) = (g.values[i], g.values[i + step]);
-    // NaN compares false both ways, so a missing endpoint never crosses.
-    (fp >= iso && fq < iso) || (fp < iso && fq >= iso)
-}
-
-/// Global vertex ids of the forward edges of slice `z` (3 per sample, `u32::MAX` where none),
-/// numbered in the same order as pass 3 writes them.
-fn slice_ids(flags: &[u8], plane: usize, z: usize, first: usize) -> Vec<u32> {
-    let mut ids = vec![u32::MAX; plane * 3];
-    let mut next = first as u32;
-    for (i, &f) in flags[z * plane..(z + 1) * plane].iter().enumerate() {
-        for (axis, bit) in CROSS.iter().enumerate() {
-            if f & bit != 0 {
-                ids[i * 3 + axis] = next;
-                next += 1;
-            }
-        }
-    }
-    ids
+    out
 }

@@ -391,3 +391,49 @@ fn check10_bad_input() {
     .is_err());
     assert!(NormalMethod::parse("sobel").is_err());
 }
+
+#[test]
+fn spline_normals_in_the_extraction_equal_the_per_vertex_route() {
+    use wscg_isosurface::{SplineOpts, TetSelection};
+    let ml = fields::sample(
+        &fields::MarschnerLobb::default(),
+        [41, 37, 45],
+        [-1.0; 3],
+        [1.0; 3],
+    )
+    .unwrap();
+    let (sparse, sides) = sparsify_for_isosurface(&ml.values, ml.dims, 0.5).unwrap();
+    let mut dropped = ml.values.clone();
+    random_dropouts(&mut dropped, 0.15, 3).unwrap();
+    let grids = [
+        ScalarGrid::with_spacing(ml.dims, ml.spacing, &ml.values).unwrap(),
+        ScalarGrid::with_spacing(ml.dims, ml.spacing, &sparse)
+            .unwrap()
+            .with_side_hint(&sides)
+            .unwrap(),
+        ScalarGrid::with_spacing(ml.dims, ml.spacing, &dropped).unwrap(),
+    ];
+    for g in &grids {
+        for selection in [
+            TetSelection::MeshAware,
+            TetSelection::NearestCorner,
+            TetSelection::AverageBoth,
+        ] {
+            for (eq8_literal, normalize_before_mean) in
+                [(false, false), (true, false), (false, true)]
+            {
+                let m = NormalMethod::Spline(SplineOpts {
+                    selection,
+                    eq8_literal,
+                    normalize_before_mean,
+                });
+                let mesh = marching_cubes(g, 0.5, m).unwrap();
+                let (n, st) = estimate_normals(g, 0.5, &mesh.vertex_edge, m).unwrap();
+                assert_eq!(st.fallback, mesh.stats.fallback);
+                let e = angular_errors(&n, &mesh.normals).unwrap();
+                let worst = e.iter().fold(0.0f32, |a, &x| a.max(x));
+                assert!(worst < 1e-5, "{m:?}: {worst}");
+            }
+        }
+    }
+}

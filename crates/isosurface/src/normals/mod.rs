@@ -106,7 +106,7 @@ pub(crate) struct EdgeVertex {
 }
 
 impl EdgeVertex {
-    fn new(g: &ScalarGrid, iso: f32, e: &EdgeId) -> Option<Self> {
+    pub(crate) fn new(g: &ScalarGrid, iso: f32, e: &EdgeId) -> Option<Self> {
         let axis = e.axis as usize;
         if axis > 2 || (0..3).any(|i| e.point[i] as usize >= g.dims[i]) {
             return None;

@@ -54,32 +54,33 @@ pub struct SplineOpts {
     pub normalize_before_mean: bool,
 }
 
-/// Gradient of the corner tetrahedron at local corner `k` of the cell with low corner `lo`
-/// (eq. 8), or `None` when one of its four samples is missing. `lambda0` is the barycentric
-/// weight of the corner at the vertex (used only by the literal eq. 8), `axis` the vertex's
-/// edge axis.
+/// Gradient of the corner tetrahedron at local corner `k` of a cell with corner values `vals`
+/// (NaN = missing) (eq. 8), or `None` when one of its four samples is missing. `lambda0` is the
+/// barycentric weight of the corner at the vertex (used only by the literal eq. 8), `axis` the
+/// vertex's edge axis.
+#[inline]
 fn corner_gradient(
-    g: &ScalarGrid,
-    lo: [usize; 3],
+    vals: &[f32; 8],
+    inv_h: [f64; 3],
     k: usize,
     axis: usize,
     lambda0: f64,
     literal: bool,
 ) -> Option<[f64; 3]> {
-    let o = corner_offset(k);
-    let c = [lo[0] + o[0], lo[1] + o[1], lo[2] + o[2]];
-    let f0 = g.value(c)? as f64;
+    let f0 = vals[k];
+    if f0.is_nan() {
+        return None;
+    }
     let mut grad = [0.0; 3];
     for m in 0..3 {
-        let mut n = c;
-        let s = if o[m] == 0 {
-            n[m] += 1;
-            1.0
-        } else {
-            n[m] -= 1;
-            -1.0
-        };
-        let d = s * (g.value(n)? as f64 - f0) / g.spacing[m] as f64;
+        let n = k ^ (1 << m);
+        let fm = vals[n];
+        if fm.is_nan() {
+            return None;
+        }
+        // s_m = +1 when the corner is on the low side along m.
+        let s = if k >> m & 1 == 0 { 1.0 } else { -1.0 };
+        let d = s * (fm as f64 - f0 as f64) * inv_h[m];
         grad[m] = if !literal {
             d
         } else if m == axis {
@@ -91,6 +92,61 @@ fn corner_gradient(
     Some(grad)
 }
 
+/// Adds to `acc` the spline gradient(s) one active cell gives the vertex on its local edge
+/// `le` at parameter `t` (from the edge's low end); returns how many were added (0, 1, or 2
+/// for [`TetSelection::AverageBoth`]). `vals` are the cell's corner values (NaN = missing).
+#[inline]
+pub(crate) fn cell_contribution(
+    vals: &[f32; 8],
+    config: u8,
+    le: usize,
+    t: f64,
+    inv_h: [f64; 3],
+    opts: &SplineOpts,
+    acc: &mut [f64; 3],
+) -> usize {
+    let a = le / 4;
+    let (kp, kq) = edge_corners(le);
+    // Barycentric weight of each candidate corner at the vertex.
+    let lam = |k: usize| if k == kp { 1.0 - t } else { t };
+    let grad = |k: usize| corner_gradient(vals, inv_h, k, a, lam(k), opts.eq8_literal);
+    let mut add = |g: [f64; 3]| {
+        let w = if opts.normalize_before_mean {
+            let n = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+            if n > 0.0 {
+                1.0 / n
+            } else {
+                return 0;
+            }
+        } else {
+            1.0
+        };
+        for i in 0..3 {
+            acc[i] += w * g[i];
+        }
+        1
+    };
+    let nearer = if t <= 0.5 { (kp, kq) } else { (kq, kp) };
+    let (first, second) = match opts.selection {
+        TetSelection::AverageBoth => {
+            return grad(kp).map_or(0, &mut add) + grad(kq).map_or(0, &mut add);
+        }
+        TetSelection::MeshAware => match case_table()[config as usize].select[le] {
+            Selection::Low => (kp, kq),
+            Selection::High => (kq, kp),
+            Selection::Nearer => nearer,
+        },
+        TetSelection::NearestCorner => nearer,
+    };
+    grad(first).or_else(|| grad(second)).map_or(0, add)
+}
+
+/// Reciprocal spacing.
+#[inline]
+pub(crate) fn inverse_spacing(g: &ScalarGrid) -> [f64; 3] {
+    g.spacing.map(|h| 1.0 / h as f64)
+}
+
 pub(crate) fn normal(
     g: &ScalarGrid,
     iso: f32,
@@ -99,26 +155,9 @@ pub(crate) fn normal(
 ) -> ([f32; 3], Outcome) {
     let a = v.axis;
     let (b, c) = ((a + 1) % 3, (a + 2) % 3);
-    let t = v.t as f64;
-    let table = case_table();
+    let inv_h = inverse_spacing(g);
     let mut sum = [0.0f64; 3];
     let mut count = 0usize;
-    let mut add = |grad: [f64; 3]| {
-        let w = if opts.normalize_before_mean {
-            let n = (grad[0] * grad[0] + grad[1] * grad[1] + grad[2] * grad[2]).sqrt();
-            if n > 0.0 {
-                1.0 / n
-            } else {
-                return;
-            }
-        } else {
-            1.0
-        };
-        for i in 0..3 {
-            sum[i] += w * grad[i];
-        }
-        count += 1;
-    };
     for dc in 0..2 {
         for db in 0..2 {
             if v.p[b] < db || v.p[c] < dc {
@@ -131,47 +170,22 @@ pub(crate) fn normal(
                 continue;
             }
             let mut flags = [0u8; 8];
-            for (k, f) in flags.iter_mut().enumerate() {
+            let mut vals = [0.0f32; 8];
+            for k in 0..8 {
                 let o = corner_offset(k);
-                *f = g.flags(g.index([lo[0] + o[0], lo[1] + o[1], lo[2] + o[2]]), iso);
+                let i = g.index([lo[0] + o[0], lo[1] + o[1], lo[2] + o[2]]);
+                flags[k] = g.flags(i, iso);
+                vals[k] = g.values[i];
             }
             let CellState::Active(config) = resolve_cell(&flags) else {
                 continue;
             };
             let le = edge_index(a, db, dc);
-            let (kp, kq) = edge_corners(le);
-            // Barycentric weight of each candidate corner at the vertex.
-            let lam = |k: usize| if k == kp { 1.0 - t } else { t };
-            let grad = |k: usize| corner_gradient(g, lo, k, a, lam(k), opts.eq8_literal);
-            let nearer = if t <= 0.5 { (kp, kq) } else { (kq, kp) };
-            match opts.selection {
-                TetSelection::AverageBoth => {
-                    if let Some(gp) = grad(kp) {
-                        add(gp);
-                    }
-                    if let Some(gq) = grad(kq) {
-                        add(gq);
-                    }
-                }
-                sel => {
-                    let (first, second) = match sel {
-                        TetSelection::MeshAware => match table[config as usize].select[le] {
-                            Selection::Low => (kp, kq),
-                            Selection::High => (kq, kp),
-                            Selection::Nearer => nearer,
-                        },
-                        _ => nearer,
-                    };
-                    if let Some(gr) = grad(first).or_else(|| grad(second)) {
-                        add(gr);
-                    }
-                }
-            }
+            count += cell_contribution(&vals, config, le, v.t as f64, inv_h, opts, &mut sum);
         }
     }
     if count > 0 {
-        let mean = sum.map(|s| s / count as f64);
-        if let Some(u) = unit(mean) {
+        if let Some(u) = unit(sum) {
             return (u, Outcome::Defined);
         }
     }
@@ -180,7 +194,7 @@ pub(crate) fn normal(
 
 /// The fallback normal: `(f(q) - f(p)) / h_a` along the edge (never zero on a crossing edge),
 /// and across it the mean of the one-sided differences available at `p` and `q`.
-fn fallback(g: &ScalarGrid, v: &EdgeVertex) -> [f32; 3] {
+pub(crate) fn fallback(g: &ScalarGrid, v: &EdgeVertex) -> [f32; 3] {
     let a = v.axis;
     let mut n = [0.0f64; 3];
     n[a] = (v.fq as f64 - v.fp as f64) / g.spacing[a] as f64;
