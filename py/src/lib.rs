@@ -13,6 +13,7 @@ mod convert;
 mod doe;
 mod errors;
 mod handpose;
+mod isosurface;
 mod manylight;
 mod math;
 mod meshfilter;
@@ -26,7 +27,7 @@ mod volren;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 8] = [
+    let subs: [(&str, Register); 9] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
@@ -35,6 +36,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         ("video", video::register),
         ("raytrace", raytrace::register),
         ("doe", doe::register),
+        ("isosurface", isosurface::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

@@ -481,3 +481,73 @@ mod tests {
         );
     }
 }
+
+/// Names accepted by [`named`].
+pub const FIELD_NAMES: [&str; 8] = [
+    "sphere",
+    "torus",
+    "marschner_lobb",
+    "genus3",
+    "peaks",
+    "six_peaks",
+    "flower",
+    "linear",
+];
+
+/// A named field sampled on an `n^3` grid over its usual domain, with the field itself (for
+/// exact normals): `sphere` (signed distance, radius `0.3125 n`, centre near the grid centre;
+/// the spec's R = 20 on 64^3), `torus` (R = `0.25 n`, r = `0.094 n`), `marschner_lobb`,
+/// `genus3`, `peaks`, `six_peaks`, `flower`, `linear` (`0.3x + 0.5y + 0.7z + 0.01` in voxel
+/// units). The sphere, torus and linear fields are in voxel coordinates.
+pub fn named(name: &str, n: usize) -> Result<(Box<dyn Field>, Sampled)> {
+    if n < 2 {
+        return Err(Error::invalid(
+            "n",
+            format!("need at least 2 samples per axis, got {n}"),
+        ));
+    }
+    let m = (n - 1) as f64;
+    let centre = [0.4902 * m + 0.0, 0.5113 * m, 0.4894 * m];
+    let cube = |h: f64| ([-h; 3], [h; 3]);
+    let voxels = ([0.0; 3], [m; 3]);
+    let (field, (lo, hi)): (Box<dyn Field>, ([f64; 3], [f64; 3])) = match name {
+        "sphere" => (
+            Box::new(Sphere {
+                centre,
+                radius: 0.3125 * n as f64,
+            }),
+            voxels,
+        ),
+        "torus" => (
+            Box::new(Torus {
+                centre,
+                major: 0.25 * n as f64,
+                minor: 0.09375 * n as f64,
+            }),
+            voxels,
+        ),
+        "marschner_lobb" => (Box::new(MarschnerLobb::default()), cube(1.0)),
+        "genus3" => (Box::new(Genus3), cube(2.0)),
+        "peaks" => (Box::new(Peaks), ([-3.0, -3.0, -2.5], [3.0, 3.0, 2.5])),
+        "six_peaks" => (Box::new(SixPeaks), cube(1.0)),
+        "flower" => (Box::new(Flower), cube(1.0)),
+        "linear" => (
+            Box::new(Linear {
+                a: [0.3, 0.5, 0.7],
+                b: 0.01,
+            }),
+            voxels,
+        ),
+        other => {
+            return Err(Error::invalid(
+                "name",
+                format!(
+                    "{other:?} is not a field; valid: {}",
+                    FIELD_NAMES.join(", ")
+                ),
+            ))
+        }
+    };
+    let s = sample(field.as_ref(), [n; 3], lo, hi)?;
+    Ok((field, s))
+}

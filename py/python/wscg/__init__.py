@@ -16,6 +16,8 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
   microstructure, the off-axis stereo rig and the virtual observer.
 - :mod:`wscg.doe`: paper 07's study statistics (central composite designs, response
   surfaces, repeated-measures ANOVA, Fisher's LSD).
+- :mod:`wscg.isosurface`: paper 09, marching cubes on sparse grids (missing samples) with
+  tetrahedral-spline normals, and the LSN and central-difference baselines.
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -23,9 +25,9 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, doe, math, meshfilter, raytrace, video, volren
+from . import biometrics, cloth, doe, isosurface, math, meshfilter, raytrace, video, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "doe", "math", "meshfilter", "raytrace", "video", "volren",
+__all__ = ["biometrics", "cloth", "doe", "isosurface", "math", "meshfilter", "raytrace", "video", "volren",
            "__version__"]

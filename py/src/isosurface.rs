@@ -1,0 +1,408 @@
+//! `wscg._native.isosurface`: bindings of `wscg-isosurface` (paper 09, sparse-grid marching
+//! cubes with tetrahedral-spline normals). The documented API is `python/wscg/isosurface.py`.
+
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wscg_isosurface::fields;
+use wscg_isosurface::study::{at_risk_configurations, compare_with_exact, compare_with_full_cd};
+use wscg_isosurface::{
+    AmbiguousRule, EdgeId, IsoMesh, LsnOpts, NormalMethod, NormalStats, RmsSummary, ScalarGrid,
+    SplineOpts, TetSelection,
+};
+
+use crate::convert::{array, rows3, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+/// `(nx, ny, nz)` of a `[z, y, x]` volume.
+fn dims_of(shape: &[usize]) -> PyResult<[usize; 3]> {
+    match *shape {
+        [z, y, x] => Ok([x, y, z]),
+        _ => Err(value_error(format!(
+            "`volume` must be a 3-D array indexed [z, y, x], got shape {shape:?}"
+        ))),
+    }
+}
+
+/// Packs a boolean side array into the bit layout of `ScalarGrid::side_hint`.
+fn pack_sides(sides: &PyReadonlyArrayDyn<bool>, shape: &[usize]) -> PyResult<Vec<u8>> {
+    if sides.shape() != shape {
+        return Err(value_error(format!(
+            "`side_hint` has shape {:?} but the volume has shape {shape:?}",
+            sides.shape()
+        )));
+    }
+    let v = values(sides);
+    let mut bits = vec![0u8; v.len().div_ceil(8)];
+    for (i, &b) in v.iter().enumerate() {
+        if b {
+            bits[i / 8] |= 1 << (i % 8);
+        }
+    }
+    Ok(bits)
+}
+
+fn method_from(
+    name: &str,
+    selection: &str,
+    eq8_literal: bool,
+    normalize_before_mean: bool,
+    ambiguous: &str,
+) -> PyResult<NormalMethod> {
+    let m = NormalMethod::parse(name).py_err()?;
+    Ok(match m {
+        NormalMethod::Spline(_) => NormalMethod::Spline(SplineOpts {
+            selection: match selection {
+                "mesh" => TetSelection::MeshAware,
+                "nearest" => TetSelection::NearestCorner,
+                "both" => TetSelection::AverageBoth,
+                other => {
+                    return Err(value_error(format!(
+                        "selection {other:?} is not valid; valid: mesh, nearest, both"
+                    )))
+                }
+            },
+            eq8_literal,
+            normalize_before_mean,
+        }),
+        NormalMethod::Lsn(_) => NormalMethod::Lsn(LsnOpts {
+            ambiguous_face: rule_from(ambiguous)?,
+        }),
+        other => other,
+    })
+}
+
+fn rule_from(name: &str) -> PyResult<AmbiguousRule> {
+    match name {
+        "inside" => Ok(AmbiguousRule::IsolateInside),
+        "outside" => Ok(AmbiguousRule::IsolateOutside),
+        other => Err(value_error(format!(
+            "ambiguous_face {other:?} is not valid; valid: inside, outside"
+        ))),
+    }
+}
+
+fn stats_dict<'py>(py: Python<'py>, s: &NormalStats) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("undefined", s.undefined)?;
+    d.set_item("fallback", s.fallback)?;
+    d.set_item("skipped_cells", s.skipped_cells)?;
+    Ok(d)
+}
+
+fn edges_out<'py>(py: Python<'py>, e: &[EdgeId]) -> PyResult<Arr<'py, i64>> {
+    let data = e
+        .iter()
+        .flat_map(|e| {
+            [
+                e.point[0] as i64,
+                e.point[1] as i64,
+                e.point[2] as i64,
+                e.axis as i64,
+            ]
+        })
+        .collect();
+    array(py, &[e.len(), 4], data)
+}
+
+fn edges_in(a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<EdgeId>> {
+    let s = a.shape();
+    if s.len() != 2 || s[1] != 4 {
+        return Err(value_error(format!(
+            "`edges` must be an (n, 4) integer array (x, y, z, axis), got shape {s:?}"
+        )));
+    }
+    values(a)
+        .chunks_exact(4)
+        .map(|r| {
+            if r.iter().any(|&v| v < 0 || v > u32::MAX as i64) || r[3] > 2 {
+                return Err(value_error(format!("invalid edge {r:?}")));
+            }
+            Ok(EdgeId {
+                point: [r[0] as u32, r[1] as u32, r[2] as u32],
+                axis: r[3] as u8,
+            })
+        })
+        .collect()
+}
+
+type MeshOut<'py> = (
+    Arr<'py, f32>,
+    Arr<'py, i64>,
+    Arr<'py, f32>,
+    Bound<'py, PyDict>,
+);
+
+fn mesh_out<'py>(py: Python<'py>, m: IsoMesh) -> PyResult<MeshOut<'py>> {
+    let info = stats_dict(py, &m.stats)?;
+    info.set_item("edges", edges_out(py, &m.vertex_edge)?)?;
+    let cells: Vec<i64> = m
+        .cell_config
+        .iter()
+        .flat_map(|&(c, k)| [c as i64, k as i64])
+        .collect();
+    info.set_item("cells", array(py, &[m.cell_config.len(), 2], cells)?)?;
+    let (nv, nt, nn) = (m.vertices.len(), m.triangles.len(), m.normals.len());
+    let faces = m.triangles.iter().flatten().map(|&i| i as i64).collect();
+    Ok((
+        array(py, &[nv, 3], m.vertices.concat())?,
+        array(py, &[nt, 3], faces)?,
+        array(py, &[nn, 3], m.normals.concat())?,
+        info,
+    ))
+}
+
+fn spacing3(spacing: (f32, f32, f32)) -> [f32; 3] {
+    [spacing.0, spacing.1, spacing.2]
+}
+
+/// Marching cubes with normals (see `wscg.isosurface.marching_cubes`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn marching_cubes<'py>(
+    py: Python<'py>,
+    volume: PyReadonlyArrayDyn<f32>,
+    level: f32,
+    spacing: (f32, f32, f32),
+    normals: &str,
+    side_hint: Option<PyReadonlyArrayDyn<bool>>,
+    selection: &str,
+    eq8_literal: bool,
+    normalize_before_mean: bool,
+    ambiguous_face: &str,
+) -> PyResult<MeshOut<'py>> {
+    let dims = dims_of(volume.shape())?;
+    let method = method_from(
+        normals,
+        selection,
+        eq8_literal,
+        normalize_before_mean,
+        ambiguous_face,
+    )?;
+    let bits = side_hint
+        .map(|s| pack_sides(&s, volume.shape()))
+        .transpose()?;
+    let v = values(&volume);
+    let mut g = ScalarGrid::with_spacing(dims, spacing3(spacing), &v).py_err()?;
+    if let Some(b) = &bits {
+        g = g.with_side_hint(b).py_err()?;
+    }
+    let mesh = py
+        .detach(|| wscg_isosurface::marching_cubes(&g, level, method))
+        .py_err()?;
+    mesh_out(py, mesh)
+}
+
+/// Normals of given mesh edges (see `wscg.isosurface.estimate_normals`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn estimate_normals<'py>(
+    py: Python<'py>,
+    volume: PyReadonlyArrayDyn<f32>,
+    level: f32,
+    edges: PyReadonlyArrayDyn<i64>,
+    spacing: (f32, f32, f32),
+    normals: &str,
+    side_hint: Option<PyReadonlyArrayDyn<bool>>,
+    selection: &str,
+    eq8_literal: bool,
+    normalize_before_mean: bool,
+    ambiguous_face: &str,
+) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
+    let dims = dims_of(volume.shape())?;
+    let method = method_from(
+        normals,
+        selection,
+        eq8_literal,
+        normalize_before_mean,
+        ambiguous_face,
+    )?;
+    let e = edges_in(&edges)?;
+    let bits = side_hint
+        .map(|s| pack_sides(&s, volume.shape()))
+        .transpose()?;
+    let v = values(&volume);
+    let mut g = ScalarGrid::with_spacing(dims, spacing3(spacing), &v).py_err()?;
+    if let Some(b) = &bits {
+        g = g.with_side_hint(b).py_err()?;
+    }
+    let (n, stats) = py
+        .detach(|| wscg_isosurface::estimate_normals(&g, level, &e, method))
+        .py_err()?;
+    let len = n.len();
+    Ok((array(py, &[len, 3], n.concat())?, stats_dict(py, &stats)?))
+}
+
+/// The paper's sparsification (see `wscg.isosurface.sparsify`).
+#[pyfunction]
+fn sparsify<'py>(
+    py: Python<'py>,
+    volume: PyReadonlyArrayDyn<f32>,
+    level: f32,
+) -> PyResult<(Arr<'py, f32>, Arr<'py, bool>)> {
+    let dims = dims_of(volume.shape())?;
+    let shape = volume.shape().to_vec();
+    let v = values(&volume);
+    let (sparse, _) = py
+        .detach(|| wscg_isosurface::sparsify_for_isosurface(&v, dims, level))
+        .py_err()?;
+    let sides: Vec<bool> = v.iter().map(|&x| x >= level).collect();
+    Ok((array(py, &shape, sparse)?, array(py, &shape, sides)?))
+}
+
+/// Random dropouts (see `wscg.isosurface.random_dropouts`).
+#[pyfunction]
+fn random_dropouts<'py>(
+    py: Python<'py>,
+    volume: PyReadonlyArrayDyn<f32>,
+    rate: f64,
+    seed: u64,
+) -> PyResult<Arr<'py, f32>> {
+    let shape = volume.shape().to_vec();
+    let mut v = values(&volume).into_owned();
+    wscg_isosurface::random_dropouts(&mut v, rate, seed).py_err()?;
+    array(py, &shape, v)
+}
+
+/// Angular errors in radians (NaN where undefined).
+#[pyfunction]
+fn angular_errors<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArrayDyn<f32>,
+    b: PyReadonlyArrayDyn<f32>,
+) -> PyResult<Arr<'py, f32>> {
+    let x = rows3("a", &values(&a), a.shape())?;
+    let y = rows3("b", &values(&b), b.shape())?;
+    let e = wscg_isosurface::angular_errors(&x, &y).py_err()?;
+    let n = e.len();
+    array(py, &[n], e)
+}
+
+fn rms_dict<'py>(py: Python<'py>, r: &RmsSummary) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("rms", r.rms)?;
+    d.set_item("count", r.count)?;
+    d.set_item("undefined", r.undefined)?;
+    Ok(d)
+}
+
+/// Rotation class of a configuration (0..23).
+#[pyfunction]
+fn rotation_class(config: u8) -> u8 {
+    wscg_isosurface::mc_rotation_class(config)
+}
+
+/// The Table 4 enumeration.
+#[pyfunction]
+fn at_risk(ambiguous_face: &str, threshold: f32) -> PyResult<Vec<u8>> {
+    Ok(at_risk_configurations(
+        rule_from(ambiguous_face)?,
+        threshold,
+    ))
+}
+
+/// A named analytic field on an n^3 grid: (volume [z, y, x], spacing xyz, origin xyz).
+#[pyfunction]
+fn sample_field<'py>(
+    py: Python<'py>,
+    name: &str,
+    n: usize,
+) -> PyResult<(Arr<'py, f32>, (f32, f32, f32), (f64, f64, f64))> {
+    let (_, s) = fields::named(name, n).py_err()?;
+    let [nx, ny, nz] = s.dims;
+    Ok((
+        array(py, &[nz, ny, nx], s.values)?,
+        (s.spacing[0], s.spacing[1], s.spacing[2]),
+        (s.origin[0], s.origin[1], s.origin[2]),
+    ))
+}
+
+/// Exact unit normals of a named field at mesh vertices (grid world units).
+#[pyfunction]
+fn field_normals<'py>(
+    py: Python<'py>,
+    name: &str,
+    n: usize,
+    vertices: PyReadonlyArrayDyn<f32>,
+) -> PyResult<Arr<'py, f32>> {
+    let (f, s) = fields::named(name, n).py_err()?;
+    let v = rows3("vertices", &values(&vertices), vertices.shape())?;
+    let out = s.exact_normals(f.as_ref(), &v);
+    let len = out.len();
+    array(py, &[len, 3], out.concat())
+}
+
+/// The noisy 8-bit sphere stand-in.
+#[pyfunction]
+fn noisy_sphere<'py>(
+    py: Python<'py>,
+    n: usize,
+    radius: f64,
+    width: f64,
+    noise: f64,
+    seed: u64,
+) -> PyResult<Arr<'py, f32>> {
+    let m = n.saturating_sub(1) as f64;
+    let centre = [0.4902 * m, 0.5113 * m, 0.4894 * m];
+    let s = fields::noisy_sphere_u8([n; 3], centre, radius, width, noise, seed).py_err()?;
+    array(py, &[n, n, n], s.values)
+}
+
+/// Table 1/2 protocol at one isovalue.
+#[pyfunction]
+fn study_full_cd<'py>(
+    py: Python<'py>,
+    volume: PyReadonlyArrayDyn<f32>,
+    level: f32,
+    spacing: (f32, f32, f32),
+) -> PyResult<Bound<'py, PyDict>> {
+    let dims = dims_of(volume.shape())?;
+    let v = values(&volume);
+    let c = py
+        .detach(|| compare_with_full_cd(&v, dims, spacing3(spacing), level))
+        .py_err()?;
+    let d = PyDict::new(py);
+    d.set_item("vertices", c.vertices)?;
+    d.set_item("triangles", c.triangles)?;
+    d.set_item("kept_fraction", c.kept_fraction)?;
+    d.set_item("cd_defined_on_sparse", c.cd_defined_on_sparse)?;
+    d.set_item("reference_undefined", c.reference_undefined)?;
+    d.set_item("spline", rms_dict(py, &c.spline)?)?;
+    d.set_item("lsn", rms_dict(py, &c.lsn)?)?;
+    d.set_item("spline_undefined", c.spline_undefined)?;
+    d.set_item("lsn_undefined", c.lsn_undefined)?;
+    Ok(d)
+}
+
+/// Table 3 protocol on a named field.
+#[pyfunction]
+fn study_exact<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<Bound<'py, PyDict>> {
+    let (f, s) = fields::named(name, n).py_err()?;
+    let iso = f.iso() as f32;
+    let c = py
+        .detach(|| compare_with_exact(f.as_ref(), &s, iso))
+        .py_err()?;
+    let d = PyDict::new(py);
+    d.set_item("vertices", c.vertices)?;
+    d.set_item("central", rms_dict(py, &c.cd_full)?)?;
+    d.set_item("spline", rms_dict(py, &c.spline)?)?;
+    d.set_item("lsn", rms_dict(py, &c.lsn)?)?;
+    d.set_item("level", iso)?;
+    Ok(d)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(marching_cubes, m)?)?;
+    m.add_function(wrap_pyfunction!(estimate_normals, m)?)?;
+    m.add_function(wrap_pyfunction!(sparsify, m)?)?;
+    m.add_function(wrap_pyfunction!(random_dropouts, m)?)?;
+    m.add_function(wrap_pyfunction!(angular_errors, m)?)?;
+    m.add_function(wrap_pyfunction!(rotation_class, m)?)?;
+    m.add_function(wrap_pyfunction!(at_risk, m)?)?;
+    m.add_function(wrap_pyfunction!(sample_field, m)?)?;
+    m.add_function(wrap_pyfunction!(field_normals, m)?)?;
+    m.add_function(wrap_pyfunction!(noisy_sphere, m)?)?;
+    m.add_function(wrap_pyfunction!(study_full_cd, m)?)?;
+    m.add_function(wrap_pyfunction!(study_exact, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,128 @@
+"""Paper 09 (sparse-grid isosurfaces with tetrahedral-spline normals) from Python, against
+scikit-image's marching cubes on full grids."""
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+from skimage import measure
+
+from wscg import isosurface as iso
+
+
+def _sphere(n=40, c=(19.37, 20.21, 18.83), r=12.0):
+    z, y, x = np.mgrid[:n, :n, :n].astype(np.float64)
+    return (np.sqrt((x - c[0]) ** 2 + (y - c[1]) ** 2 + (z - c[2]) ** 2) - r).astype(np.float32)
+
+
+def _match(a, b):
+    """Distance from every row of ``a`` to the nearest row of ``b`` and that row's index."""
+    return cKDTree(np.asarray(b, dtype=np.float64)).query(np.asarray(a, dtype=np.float64))
+
+
+@pytest.mark.parametrize("name,level", [("marschner_lobb", 0.5013), ("genus3", 0.0113)])
+def test_vertices_equal_scikit_image_on_full_grids(name, level):
+    vol, spacing, _ = iso.fields.sample(name, 48)
+    assert not np.any(vol == np.float32(level))  # no sample on the level: > and >= agree
+    v, f, n, info = iso.marching_cubes(vol, level, spacing=spacing, normals=None)
+    # scikit-image works in array order (z, y, x) with spacing per array axis.
+    sv, sf, _, _ = measure.marching_cubes(vol, level, spacing=spacing[::-1], method="lorensen")
+    assert len(v) == len(sv)
+    d, idx = _match(v[:, ::-1], sv)
+    assert d.max() < 1e-5 and len(set(idx)) == len(v)  # a one-to-one match
+    assert len(f) == len(sf)
+    # Lewiner's MC33 adds interior vertices in some cases; every one of ours is among its.
+    lv, _, _, _ = measure.marching_cubes(vol, level, spacing=spacing[::-1], method="lewiner")
+    assert _match(v[:, ::-1], lv)[0].max() < 1e-5
+
+
+def test_sparse_grid_matches_full_mesh_and_spline_is_never_zero():
+    vol = _sphere()
+    sparse, inside = iso.sparsify(vol, 0.0)
+    assert np.isnan(sparse).mean() > 0.8
+    assert not np.isnan(vol).any()  # the input is untouched
+    v0, f0, _, _ = iso.marching_cubes(vol, 0.0, normals=None)
+    v1, f1, n1, info = iso.marching_cubes(sparse, 0.0, side_hint=inside)
+    np.testing.assert_array_equal(v0, v1)
+    np.testing.assert_array_equal(f0, f1)
+    assert info["undefined"] == 0 and np.all(np.linalg.norm(n1, axis=1) > 0.999)
+    cd, stats = iso.estimate_normals(sparse, 0.0, info["edges"], normals="central",
+                                     side_hint=inside)
+    assert stats["undefined"] > 0.99 * len(v1)
+    # Against the exact normals of the sphere (gradient = radial direction).
+    c = np.array([19.37, 20.21, 18.83], dtype=np.float32)
+    exact = (v1 - c) / np.linalg.norm(v1 - c, axis=1, keepdims=True)
+    rms, count, undefined = iso.angular_rms(n1, exact)
+    lsn, _ = iso.estimate_normals(sparse, 0.0, info["edges"], normals="lsn", side_hint=inside)
+    rms_lsn, _, _ = iso.angular_rms(lsn, exact)
+    assert count == len(v1) and undefined == 0
+    assert rms < rms_lsn < 0.05
+
+
+def test_normals_agree_with_scikit_image_direction():
+    # scikit-image's normals point toward decreasing values; ours point along the gradient.
+    vol = _sphere()
+    v, f, n, _ = iso.marching_cubes(vol, 0.0, normals="central")
+    sv, sf, sn, _ = measure.marching_cubes(vol, 0.0, method="lewiner")
+    d, idx = _match(v[:, ::-1], sv)
+    assert d.max() < 1e-5
+    theirs = sn[idx][:, ::-1]
+    cos = np.sum(n * theirs, axis=1)
+    assert np.median(cos) < -0.999
+
+
+def test_spline_beats_lsn_on_the_noisy_8bit_sphere():
+    vol = iso.fields.noisy_sphere(48, radius=15.0, seed=3)
+    res = iso.study_full_cd(vol, 40.0)
+    assert res["spline_undefined"] == 0
+    assert res["lsn_undefined"] > 0
+    assert res["spline"]["rms"] < res["lsn"]["rms"]
+
+
+def test_fields_and_study_exact():
+    res = iso.study_exact("sphere", 64)
+    assert res["central"]["rms"] < 1e-3
+    assert res["spline"]["rms"] <= 0.015 and res["lsn"]["rms"] <= 0.03
+    vol, spacing, origin = iso.fields.sample("marschner_lobb", 33)
+    assert vol.shape == (33, 33, 33) and spacing == pytest.approx((1 / 16,) * 3)
+    assert origin == pytest.approx((-1, -1, -1))
+    # The field's exact normals at the vertices agree with central differences on a fine
+    # grid of the smooth genus-3 surface.
+    vol, spacing, origin = iso.fields.sample("genus3", 96)
+    v, f, n, _ = iso.marching_cubes(vol, 0.0, spacing=spacing, normals="central")
+    exact = iso.fields.exact_normals("genus3", 96, v)
+    assert exact.shape == v.shape
+    assert iso.angular_rms(n, exact)[0] < 0.05
+
+
+def test_rotation_classes_and_enumeration():
+    classes = {iso.rotation_class(c) for c in range(256)}
+    assert classes == set(range(23))
+    assert iso.at_risk_configurations(0.0) == list(range(256))
+
+
+def test_dropouts_and_bad_input():
+    vol = _sphere()
+    d = iso.random_dropouts(vol, 0.1, seed=1)
+    assert 0.08 < np.isnan(d).mean() < 0.12
+    v, f, n, info = iso.marching_cubes(d, 0.0)
+    assert info["skipped_cells"] > 0 and info["undefined"] == 0
+    with pytest.raises(ValueError):
+        iso.marching_cubes(np.zeros((4, 4)), 0.0)
+    with pytest.raises(ValueError):
+        iso.marching_cubes(np.zeros((1, 4, 4)), 0.0)
+    with pytest.raises(ValueError):
+        iso.marching_cubes(vol, float("nan"))
+    with pytest.raises(ValueError):
+        iso.marching_cubes(vol, 0.0, spacing=(1, 0, 1))
+    with pytest.raises(ValueError):
+        iso.marching_cubes(vol, 0.0, normals="sobel")
+    with pytest.raises(ValueError):
+        iso.marching_cubes(vol, 0.0, side_hint=np.zeros((3, 3, 3), bool))
+    with pytest.raises(ValueError):
+        iso.estimate_normals(vol, 5.0, np.array([[0, 0, 0, 0]]))
+    with pytest.raises(ValueError):
+        iso.fields.sample("teapot")
+    v, f, n, info = iso.marching_cubes(np.full((3, 3, 3), np.nan), 0.0)
+    assert len(v) == 0 and len(f) == 0
+    v, f, n, info = iso.marching_cubes(vol, 1e6)
+    assert len(v) == 0
