@@ -301,13 +301,11 @@ fn at_risk(ambiguous_face: &str, threshold: f32) -> PyResult<Vec<u8>> {
     ))
 }
 
+type SampledOut<'py> = (Arr<'py, f32>, (f32, f32, f32), (f64, f64, f64));
+
 /// A named analytic field on an n^3 grid: (volume [z, y, x], spacing xyz, origin xyz).
 #[pyfunction]
-fn sample_field<'py>(
-    py: Python<'py>,
-    name: &str,
-    n: usize,
-) -> PyResult<(Arr<'py, f32>, (f32, f32, f32), (f64, f64, f64))> {
+fn sample_field<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<SampledOut<'py>> {
     let (_, s) = fields::named(name, n).py_err()?;
     let [nx, ny, nz] = s.dims;
     Ok((

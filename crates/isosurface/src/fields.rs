@@ -419,69 +419,6 @@ fn norm(a: [f64; 3]) -> f64 {
     dot2(a).sqrt()
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn check_gradient(f: &dyn Field, points: &[[f64; 3]]) {
-        for &p in points {
-            let g = f.gradient(p);
-            for i in 0..3 {
-                let h = 1e-6;
-                let (mut a, mut b) = (p, p);
-                a[i] += h;
-                b[i] -= h;
-                let d = (f.value(a) - f.value(b)) / (2.0 * h);
-                assert!(
-                    (d - g[i]).abs() <= 1e-5 * (1.0 + d.abs()),
-                    "component {i} at {p:?}: {d} vs {}",
-                    g[i]
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn gradients_match_finite_differences() {
-        let pts = [[0.3, -0.2, 0.45], [-0.7, 0.15, -0.3], [0.1, 0.8, 0.05]];
-        check_gradient(
-            &Sphere {
-                centre: [0.1, 0.2, 0.3],
-                radius: 0.5,
-            },
-            &pts,
-        );
-        check_gradient(
-            &Torus {
-                centre: [0.0; 3],
-                major: 0.5,
-                minor: 0.2,
-            },
-            &pts,
-        );
-        check_gradient(&MarschnerLobb::default(), &pts);
-        check_gradient(&Genus3, &pts);
-        check_gradient(&Peaks, &pts);
-        check_gradient(&SixPeaks, &pts);
-        check_gradient(&Flower, &pts);
-        check_gradient(
-            &Linear {
-                a: [0.3, 0.5, 0.7],
-                b: 0.01,
-            },
-            &pts,
-        );
-        check_gradient(
-            &Logistic {
-                centre: [0.0; 3],
-                radius: 0.5,
-                width: 0.2,
-            },
-            &pts,
-        );
-    }
-}
-
 /// Names accepted by [`named`].
 pub const FIELD_NAMES: [&str; 8] = [
     "sphere",
@@ -550,4 +487,67 @@ pub fn named(name: &str, n: usize) -> Result<(Box<dyn Field>, Sampled)> {
     };
     let s = sample(field.as_ref(), [n; 3], lo, hi)?;
     Ok((field, s))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check_gradient(f: &dyn Field, points: &[[f64; 3]]) {
+        for &p in points {
+            let g = f.gradient(p);
+            for i in 0..3 {
+                let h = 1e-6;
+                let (mut a, mut b) = (p, p);
+                a[i] += h;
+                b[i] -= h;
+                let d = (f.value(a) - f.value(b)) / (2.0 * h);
+                assert!(
+                    (d - g[i]).abs() <= 1e-5 * (1.0 + d.abs()),
+                    "component {i} at {p:?}: {d} vs {}",
+                    g[i]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn gradients_match_finite_differences() {
+        let pts = [[0.3, -0.2, 0.45], [-0.7, 0.15, -0.3], [0.1, 0.8, 0.05]];
+        check_gradient(
+            &Sphere {
+                centre: [0.1, 0.2, 0.3],
+                radius: 0.5,
+            },
+            &pts,
+        );
+        check_gradient(
+            &Torus {
+                centre: [0.0; 3],
+                major: 0.5,
+                minor: 0.2,
+            },
+            &pts,
+        );
+        check_gradient(&MarschnerLobb::default(), &pts);
+        check_gradient(&Genus3, &pts);
+        check_gradient(&Peaks, &pts);
+        check_gradient(&SixPeaks, &pts);
+        check_gradient(&Flower, &pts);
+        check_gradient(
+            &Linear {
+                a: [0.3, 0.5, 0.7],
+                b: 0.01,
+            },
+            &pts,
+        );
+        check_gradient(
+            &Logistic {
+                centre: [0.0; 3],
+                radius: 0.5,
+                width: 0.2,
+            },
+            &pts,
+        );
+    }
 }
