@@ -36,8 +36,13 @@ fn bench(c: &mut Criterion) {
     let nv = mesh.vertices.len();
     for method in [NormalMethod::spline(), NormalMethod::lsn()] {
         g.bench_function(
-            format!("ML 256^3 sparse, {} normals of {nv} vertices", method.name()),
-            |b| b.iter(|| black_box(estimate_normals(&sg, iso, &mesh.vertex_edge, method).unwrap())),
+            format!(
+                "ML 256^3 sparse, {} normals of {nv} vertices",
+                method.name()
+            ),
+            |b| {
+                b.iter(|| black_box(estimate_normals(&sg, iso, &mesh.vertex_edge, method).unwrap()))
+            },
         );
     }
     g.finish();

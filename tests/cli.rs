@@ -1118,3 +1118,67 @@ fn doe_analyze_reads_a_study_and_rejects_missing_cells() {
         "{err}"
     );
 }
+
+#[test]
+fn isosurface_extract_and_study_on_a_volume_with_missing_samples() {
+    use wscg::isosurface::{fields, marching_cubes, random_dropouts, NormalMethod};
+    use wscg::math::{TriMesh, Volume};
+    let dir = tempfile::tempdir().unwrap();
+    let (_, s) = fields::named("sphere", 32).unwrap();
+    let mut values = s.values.clone();
+    random_dropouts(&mut values, 0.05, 4).unwrap();
+    // Missing samples marked by -999 in the file.
+    let marked: Vec<f32> = values
+        .iter()
+        .map(|v| if v.is_nan() { -999.0 } else { *v })
+        .collect();
+    let vol = Volume::new(s.dims, [1.0, 1.0, 1.0], marked).unwrap();
+    let path = dir.path().join("sphere.npy");
+    vol.write_npy(&path).unwrap();
+    let before = std::fs::read(&path).unwrap();
+    let out = dir.path().join("mesh.ply");
+    let text = wscg_ok(&[
+        "isosurface",
+        "extract",
+        path.to_str().unwrap(),
+        "--iso",
+        "0",
+        "--missing",
+        "-999",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(text.contains("0 undefined"), "{text}");
+    assert_eq!(std::fs::read(&path).unwrap(), before, "input untouched");
+    let mesh = TriMesh::read(&out).unwrap();
+    let g = wscg::isosurface::ScalarGrid::new(s.dims, &values).unwrap();
+    let lib = marching_cubes(&g, 0.0, NormalMethod::spline()).unwrap();
+    assert_eq!(mesh.num_vertices(), lib.vertices.len());
+    assert_eq!(mesh.num_faces(), lib.triangles.len());
+    assert_eq!(
+        mesh.normals.as_ref().map(|n| n.len()),
+        Some(lib.vertices.len())
+    );
+    let text = wscg_ok(&[
+        "isosurface",
+        "study",
+        path.to_str().unwrap(),
+        "--isovalues",
+        "3",
+    ]);
+    assert!(text.contains("mean RMS over"), "{text}");
+    // A bad normals name is refused with a message.
+    let bad = wscg()
+        .args([
+            "isosurface",
+            "extract",
+            path.to_str().unwrap(),
+            "--iso",
+            "0",
+        ])
+        .args(["--normals", "sobel", "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("sobel"));
+}

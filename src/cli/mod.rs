@@ -9,6 +9,7 @@ use wscg_math::{Error, Result};
 mod biometrics;
 mod cloth;
 mod doe;
+mod isosurface;
 mod manylight;
 mod math;
 mod meshfilter;
@@ -57,6 +58,9 @@ enum Command {
     /// Mesh denoising (paper 04: joint bilateral with colour) on your own OBJ/PLY mesh.
     #[command(subcommand)]
     Meshfilter(meshfilter::MeshfilterCommand),
+    /// Isosurfaces of sparse volumes with tetrahedral-spline normals (paper 09).
+    #[command(subcommand)]
+    Isosurface(isosurface::IsosurfaceCommand),
     /// Hybrid ROI visualisation of medical volumes (paper 03): serve and view.
     #[command(subcommand)]
     Volren(volren::VolrenCommand),
@@ -133,6 +137,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Cloth(cmd) => cloth::run(cmd),
         Command::Volren(cmd) => volren::run(cmd),
         Command::Meshfilter(cmd) => meshfilter::run(cmd),
+        Command::Isosurface(cmd) => isosurface::run(cmd),
         Command::Video(cmd) => video::run(cmd),
         Command::Raytrace(cmd) => raytrace::run(cmd),
         Command::Doe(cmd) => doe::run(cmd),

@@ -247,11 +247,13 @@ fn drape(out: &Path, rep: &mut Report) -> Result<()> {
                         positions: &sv,
                         faces: &sf,
                         color: [0.75, 0.75, 0.78],
+                        normals: None,
                     },
                     Shape {
                         positions: &sim.model().x,
                         faces: &faces,
                         color: [0.85, 0.35, 0.2],
+                        normals: None,
                     },
                 ],
                 Vector3::new(-0.6, -0.45, -1.0),

@@ -123,6 +123,10 @@ pub struct Shape<'a> {
     pub faces: &'a [[usize; 3]],
     /// Surface colour.
     pub color: [f32; 3],
+    /// Per-vertex normals for smooth (Gouraud-interpolated normal) shading; `None` shades each
+    /// triangle by its own normal. A zero normal shades black, as a renderer does with an
+    /// undefined normal.
+    pub normals: Option<&'a [nalgebra::Vector3<f64>]>,
 }
 
 /// Renders the shapes on a white `size x size` canvas: orthographic view along `view` (from
@@ -199,6 +203,13 @@ pub fn shaded_meshes(shapes: &[Shape], view: nalgebra::Vector3<f64>, size: usize
                     let k = py * size + px;
                     if z < depth[k] {
                         depth[k] = z;
+                        let shade = match shape.normals {
+                            Some(vn) => {
+                                let n = vn[t[0]] * w0 + vn[t[1]] * w1 + vn[t[2]] * w2;
+                                (0.3 * n.norm().min(1.0) + 0.7 * n.dot(&light).abs()) as f32
+                            }
+                            None => shade,
+                        };
                         for ch in 0..3 {
                             img.set(py, px, ch, shape.color[ch] * shade);
                         }
@@ -258,11 +269,13 @@ mod tests {
                     positions: &far,
                     faces: &faces,
                     color: [0.0, 0.0, 1.0],
+                    normals: None,
                 },
                 Shape {
                     positions: &near,
                     faces: &faces,
                     color: [1.0, 0.0, 0.0],
+                    normals: None,
                 },
             ],
             Vector3::new(0.0, 0.0, -1.0),

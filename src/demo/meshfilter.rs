@@ -37,6 +37,7 @@ fn view(mesh: &TriMesh, positions: &[[f64; 3]]) -> Result<wscg_math::Image> {
             positions: &p,
             faces: &f,
             color: [0.8, 0.8, 0.85],
+            normals: None,
         }],
         Vector3::new(-1.0, -0.8, -1.3),
         240,

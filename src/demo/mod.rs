@@ -11,6 +11,7 @@ use wscg_math::Result;
 pub mod biometrics;
 pub mod cloth;
 pub mod figures;
+pub mod isosurface;
 pub mod manylight;
 pub mod math;
 pub mod meshfilter;
@@ -107,6 +108,7 @@ pub fn registry() -> Vec<Demo> {
         video::DEMO,
         paint::DEMO,
         manylight::DEMO,
+        isosurface::DEMO,
     ]
 }
 
