@@ -156,6 +156,48 @@ fn spacing3(spacing: (f32, f32, f32)) -> [f32; 3] {
     [spacing.0, spacing.1, spacing.2]
 }
 
+/// The volume's dims, the normal method and the packed side hints of a call.
+struct Prepared {
+    dims: [usize; 3],
+    method: NormalMethod,
+    bits: Option<Vec<u8>>,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn prepare(
+    volume: &PyReadonlyArrayDyn<f32>,
+    normals: &str,
+    side_hint: Option<PyReadonlyArrayDyn<bool>>,
+    selection: &str,
+    eq8_literal: bool,
+    normalize_before_mean: bool,
+    ambiguous_face: &str,
+) -> PyResult<Prepared> {
+    Ok(Prepared {
+        dims: dims_of(volume.shape())?,
+        method: method_from(
+            normals,
+            selection,
+            eq8_literal,
+            normalize_before_mean,
+            ambiguous_face,
+        )?,
+        bits: side_hint
+            .map(|s| pack_sides(&s, volume.shape()))
+            .transpose()?,
+    })
+}
+
+impl Prepared {
+    fn grid<'a>(&'a self, values: &'a [f32], spacing: (f32, f32, f32)) -> PyResult<ScalarGrid<'a>> {
+        let g = ScalarGrid::with_spacing(self.dims, spacing3(spacing), values).py_err()?;
+        match &self.bits {
+            Some(b) => g.with_side_hint(b).py_err(),
+            None => Ok(g),
+        }
+    }
+}
+
 /// Marching cubes with normals (see `wscg.isosurface.marching_cubes`).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
@@ -171,22 +213,18 @@ fn marching_cubes<'py>(
     normalize_before_mean: bool,
     ambiguous_face: &str,
 ) -> PyResult<MeshOut<'py>> {
-    let dims = dims_of(volume.shape())?;
-    let method = method_from(
+    let p = prepare(
+        &volume,
         normals,
+        side_hint,
         selection,
         eq8_literal,
         normalize_before_mean,
         ambiguous_face,
     )?;
-    let bits = side_hint
-        .map(|s| pack_sides(&s, volume.shape()))
-        .transpose()?;
     let v = values(&volume);
-    let mut g = ScalarGrid::with_spacing(dims, spacing3(spacing), &v).py_err()?;
-    if let Some(b) = &bits {
-        g = g.with_side_hint(b).py_err()?;
-    }
+    let g = p.grid(&v, spacing)?;
+    let method = p.method;
     let mesh = py
         .detach(|| wscg_isosurface::marching_cubes(&g, level, method))
         .py_err()?;
@@ -209,23 +247,19 @@ fn estimate_normals<'py>(
     normalize_before_mean: bool,
     ambiguous_face: &str,
 ) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
-    let dims = dims_of(volume.shape())?;
-    let method = method_from(
+    let p = prepare(
+        &volume,
         normals,
+        side_hint,
         selection,
         eq8_literal,
         normalize_before_mean,
         ambiguous_face,
     )?;
     let e = edges_in(&edges)?;
-    let bits = side_hint
-        .map(|s| pack_sides(&s, volume.shape()))
-        .transpose()?;
     let v = values(&volume);
-    let mut g = ScalarGrid::with_spacing(dims, spacing3(spacing), &v).py_err()?;
-    if let Some(b) = &bits {
-        g = g.with_side_hint(b).py_err()?;
-    }
+    let g = p.grid(&v, spacing)?;
+    let method = p.method;
     let (n, stats) = py
         .detach(|| wscg_isosurface::estimate_normals(&g, level, &e, method))
         .py_err()?;

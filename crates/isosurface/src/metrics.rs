@@ -13,7 +13,7 @@ use crate::tables::{
 
 /// The mesh vertices on the crossing edges of the cell with low corner `cell` and
 /// configuration `config`.
-pub(crate) fn cell_vertices<'a>(
+fn cell_vertices<'a>(
     lookup: &'a HashMap<EdgeId, usize>,
     cell: [usize; 3],
     config: u8,
@@ -87,26 +87,39 @@ pub fn rms(errors: &[f32]) -> RmsSummary {
     s
 }
 
-/// Per-vertex errors grouped by the rotation class of the cells the vertex belongs to (a vertex
-/// counts once for every active cell around it): one summary per class (section 5.3).
-pub fn class_rms(mesh: &IsoMesh, errors: &[f32], dims: [usize; 3]) -> Result<Vec<RmsSummary>> {
-    if errors.len() != mesh.vertices.len() {
+/// Calls `f(config, vertex)` for every crossing-edge vertex of every triangulated cell of
+/// `mesh` (a vertex once per cell around it), after checking that `errors_len` matches the
+/// vertex count.
+pub(crate) fn for_each_cell_vertex(
+    mesh: &IsoMesh,
+    errors_len: usize,
+    dims: [usize; 3],
+    mut f: impl FnMut(u8, usize),
+) -> Result<()> {
+    if errors_len != mesh.vertices.len() {
         return Err(Error::ShapeMismatch(format!(
-            "{} errors for {} vertices",
-            errors.len(),
+            "{errors_len} errors for {} vertices",
             mesh.vertices.len()
         )));
     }
     let lookup = mesh.edge_lookup();
     let [nx, ny, _] = dims;
-    let mut groups: Vec<Vec<f32>> = vec![Vec::new(); number_of_rotation_classes()];
     for &(cell, config) in &mesh.cell_config {
         let (x, y, z) = (cell % nx, (cell / nx) % ny, cell / (nx * ny));
-        let class = mc_rotation_class(config) as usize;
         for v in cell_vertices(&lookup, [x, y, z], config) {
-            groups[class].push(errors[v]);
+            f(config, v);
         }
     }
+    Ok(())
+}
+
+/// Per-vertex errors grouped by the rotation class of the cells the vertex belongs to (a vertex
+/// counts once for every active cell around it): one summary per class (section 5.3).
+pub fn class_rms(mesh: &IsoMesh, errors: &[f32], dims: [usize; 3]) -> Result<Vec<RmsSummary>> {
+    let mut groups: Vec<Vec<f32>> = vec![Vec::new(); number_of_rotation_classes()];
+    for_each_cell_vertex(mesh, errors.len(), dims, |config, v| {
+        groups[mc_rotation_class(config) as usize].push(errors[v]);
+    })?;
     Ok(groups.iter().map(|g| rms(g)).collect())
 }
 

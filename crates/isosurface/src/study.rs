@@ -15,7 +15,7 @@ use wscg_math::{Error, Result};
 use crate::extract::{marching_cubes, IsoMesh};
 use crate::fields::{Field, Sampled};
 use crate::grid::{sparsify_for_isosurface, ScalarGrid};
-use crate::metrics::{angular_errors, cell_vertices, class_rms, rms, RmsSummary};
+use crate::metrics::{angular_errors, class_rms, for_each_cell_vertex, rms, RmsSummary};
 use crate::normals::{estimate_normals, AmbiguousRule, LsnOpts, NormalMethod};
 
 /// `count` isovalues evenly spaced between the `lo_pct` and `hi_pct` percentiles of the
@@ -134,25 +134,12 @@ pub fn restricted_rms(
     dims: [usize; 3],
     configs: &HashSet<u8>,
 ) -> Result<RmsSummary> {
-    if errors.len() != mesh.vertices.len() {
-        return Err(Error::ShapeMismatch(format!(
-            "{} errors for {} vertices",
-            errors.len(),
-            mesh.vertices.len()
-        )));
-    }
-    let lookup = mesh.edge_lookup();
-    let [nx, ny, _] = dims;
     let mut chosen = vec![false; mesh.vertices.len()];
-    for &(cell, config) in &mesh.cell_config {
-        if !configs.contains(&config) {
-            continue;
-        }
-        let (x, y, z) = (cell % nx, (cell / nx) % ny, cell / (nx * ny));
-        for v in cell_vertices(&lookup, [x, y, z], config) {
+    for_each_cell_vertex(mesh, errors.len(), dims, |config, v| {
+        if configs.contains(&config) {
             chosen[v] = true;
         }
-    }
+    })?;
     let picked: Vec<f32> = errors
         .iter()
         .zip(&chosen)

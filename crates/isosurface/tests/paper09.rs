@@ -437,3 +437,40 @@ fn spline_normals_in_the_extraction_equal_the_per_vertex_route() {
         }
     }
 }
+
+#[test]
+fn per_class_and_restricted_errors_cover_the_mesh() {
+    use wscg_isosurface::metrics::class_rms;
+    use wscg_isosurface::study::restricted_rms;
+    let f = torus_field();
+    let s = fields::sample_voxels(&f, [48; 3]).unwrap();
+    let m = marching_cubes(&s.grid().unwrap(), 0.0, NormalMethod::spline()).unwrap();
+    let e = angular_errors(&m.normals, &s.exact_normals(&f, &m.vertices)).unwrap();
+    // Every vertex lies in some triangulated cell: all configurations give the plain RMS.
+    let all: std::collections::HashSet<u8> = (0..=255).collect();
+    let r = restricted_rms(&m, &e, s.dims, &all).unwrap();
+    let plain = rms(&e);
+    assert_eq!(r.count, plain.count);
+    assert!((r.rms - plain.rms).abs() < 1e-12);
+    assert_eq!(
+        restricted_rms(&m, &e, s.dims, &Default::default())
+            .unwrap()
+            .count,
+        0
+    );
+    // Per class, a vertex counts once per cell around it: the counts add up to the crossing
+    // edges of all cells.
+    let classes = class_rms(&m, &e, s.dims).unwrap();
+    assert_eq!(classes.len(), 23);
+    let crossings: usize = m
+        .cell_config
+        .iter()
+        .map(|&(_, c)| {
+            wscg_isosurface::tables::case_table()[c as usize]
+                .edge_mask
+                .count_ones() as usize
+        })
+        .sum();
+    assert_eq!(classes.iter().map(|c| c.count).sum::<usize>(), crossings);
+    assert!(restricted_rms(&m, &e[1..], s.dims, &all).is_err());
+}
