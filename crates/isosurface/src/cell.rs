@@ -10,7 +10,7 @@
 //! between a missing sample and its neighbours is lost), and such cells are counted.
 
 use crate::grid::flag;
-use crate::tables::{case_table, edge_corners};
+use crate::tables::case_table;
 
 /// What a cell contributes to the mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,20 +32,13 @@ const fn neighbours(c: usize) -> [usize; 3] {
 
 /// Resolves a cell from the [`flag`] bits of its eight corners (corner order of
 /// [`crate::tables`]).
+#[inline]
 pub(crate) fn resolve_cell(flags: &[u8; 8]) -> CellState {
-    let mut known = 0u8;
-    let mut inside = 0u8;
-    let mut defined = 0u8;
+    let (mut known, mut inside, mut defined) = (0u8, 0u8, 0u8);
     for (c, &f) in flags.iter().enumerate() {
-        if f & flag::KNOWN != 0 {
-            known |= 1 << c;
-            if f & flag::INSIDE != 0 {
-                inside |= 1 << c;
-            }
-        }
-        if f & flag::DEFINED != 0 {
-            defined |= 1 << c;
-        }
+        defined |= ((f & flag::DEFINED != 0) as u8) << c;
+        known |= ((f & flag::KNOWN != 0) as u8) << c;
+        inside |= ((f & flag::INSIDE != 0) as u8) << c;
     }
     if known == 0 {
         return CellState::Empty;
@@ -61,14 +54,9 @@ pub(crate) fn resolve_cell(flags: &[u8; 8]) -> CellState {
     if config == 0 || config == 0xff {
         return CellState::Empty;
     }
-    let mask = case_table()[config as usize].edge_mask;
-    for e in 0..12 {
-        if mask >> e & 1 == 1 {
-            let (a, b) = edge_corners(e);
-            if defined >> a & 1 == 0 || defined >> b & 1 == 0 {
-                return CellState::Unresolved;
-            }
-        }
+    // Every crossing edge needs both of its samples.
+    if case_table()[config as usize].endpoints & !defined != 0 {
+        return CellState::Unresolved;
     }
     CellState::Active(config)
 }

@@ -298,26 +298,31 @@ fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineOpts>) -> Result<IsoMes
                 let vr = starts.map(|s| &values[s..s + nx]);
                 let mut run = rows.map(|(yy, zz)| row_offsets[yy + ny * zz] as u32);
                 for x in 0..nx - 1 {
-                    let mut next = run;
-                    let mut cf = [0u8; 8];
+                    // The corners' flags in corner order, kept in a register (byte c is
+                    // corner c), and the crossings of each row's sample x.
+                    let mut word = 0u64;
+                    // Crossing counts of sample x per row, a byte each (at most 3).
+                    let mut crossings = 0u32;
                     let (mut all, mut any) = (0xffu8, 0u8);
                     let mut config = 0u8;
-                    for r in 0..4 {
-                        let (f0, f1) = (fr[r][x], fr[r][x + 1]);
-                        next[r] += (f0 >> CROSS_SHIFT).count_ones();
-                        cf[2 * r] = f0;
-                        cf[2 * r + 1] = f1;
+                    for (r, row) in fr.iter().enumerate() {
+                        let (f0, f1) = (row[x], row[x + 1]);
+                        word |= (f0 as u64) << (16 * r) | (f1 as u64) << (16 * r + 8);
+                        crossings |= (f0 >> CROSS_SHIFT).count_ones() << (8 * r);
                         all &= f0 & f1;
                         any |= f0 | f1;
                         config |= ((f0 & flag::INSIDE) >> 2) << (2 * r);
                         config |= ((f1 & flag::INSIDE) >> 2) << (2 * r + 1);
                     }
-                    let state = if all & flag::DEFINED != 0 {
-                        // Fast path: every corner defined.
+                    let cf = word.to_le_bytes();
+                    let state = if all & flag::KNOWN != 0 {
+                        // Fast path: every corner's side known (defined or hinted).
                         if config == 0 || config == 0xff {
                             CellState::Empty
-                        } else {
+                        } else if all & flag::DEFINED != 0 {
                             CellState::Active(config)
+                        } else {
+                            resolve_cell(&cf)
                         }
                     } else if any & flag::KNOWN == 0 {
                         CellState::Empty
@@ -328,11 +333,15 @@ fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineOpts>) -> Result<IsoMes
                         CellState::Empty => {}
                         CellState::Unresolved => layer.skipped += 1,
                         CellState::Active(config) => {
+                            // Vertex ids: the row's running count at x, plus the crossings
+                            // of sample x when the edge starts at x + 1, plus the crossings
+                            // of lower axes at the edge's own sample.
                             let id = |e: usize| {
                                 let (r, ox, axis) = EDGE_ROWS[e];
                                 let f = fr[r][x + ox] >> CROSS_SHIFT;
-                                let base = if ox == 0 { run[r] } else { next[r] };
-                                base + (f & ((1u8 << axis) - 1)).count_ones()
+                                run[r]
+                                    + ox as u32 * (crossings >> (8 * r) & 0xff)
+                                    + (f & ((1u8 << axis) - 1)).count_ones()
                             };
                             let entry = &table[config as usize];
                             for tri in &entry.triangles {
@@ -360,7 +369,9 @@ fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineOpts>) -> Result<IsoMes
                             }
                         }
                     }
-                    run = next;
+                    for (r, count) in run.iter_mut().enumerate() {
+                        *count += crossings >> (8 * r) & 0xff;
+                    }
                 }
             }
             layer

@@ -107,6 +107,8 @@ pub struct CaseEntry {
     pub triangles: Vec<[u8; 3]>,
     /// Bit `e` set when edge `e` crosses the isosurface.
     pub edge_mask: u16,
+    /// Bit `c` set when corner `c` is an endpoint of a crossing edge (its sample is needed).
+    pub endpoints: u8,
     /// Per crossing edge, the tetrahedron the paper's rules choose (unused for other edges).
     pub select: [Selection; 12],
 }
@@ -203,10 +205,12 @@ fn build_case(config: u8) -> CaseEntry {
         }
     }
     let mut edge_mask = 0u16;
+    let mut endpoints = 0u8;
     for e in 0..12 {
         let (lo, hi) = edge_corners(e);
         if (config >> lo & 1) != (config >> hi & 1) {
             edge_mask |= 1 << e;
+            endpoints |= (1 << lo) | (1 << hi);
         }
     }
     let mut select = [Selection::Nearer; 12];
@@ -218,6 +222,7 @@ fn build_case(config: u8) -> CaseEntry {
     CaseEntry {
         triangles,
         edge_mask,
+        endpoints,
         select,
     }
 }

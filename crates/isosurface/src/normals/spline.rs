@@ -156,32 +156,52 @@ pub(crate) fn normal(
     let a = v.axis;
     let (b, c) = ((a + 1) % 3, (a + 2) % 3);
     let inv_h = inverse_spacing(g);
+    // The 2 x 3 x 3 samples around the edge, read once: block index i + 2 (j + 3 k) for the
+    // offsets i along a (0, 1), j - 1 along b and k - 1 along c.
+    let stride = [1isize, g.dims[0] as isize, (g.dims[0] * g.dims[1]) as isize];
+    let base = g.index(v.p) as isize;
+    let mut vals = [f32::NAN; 18];
+    let mut flags = [0u8; 18];
+    let inside_b = |d: isize| (0..g.dims[b] as isize).contains(&(v.p[b] as isize + d));
+    let inside_c = |d: isize| (0..g.dims[c] as isize).contains(&(v.p[c] as isize + d));
+    for k in 0..3 {
+        for j in 0..3 {
+            let (db, dc) = (j as isize - 1, k as isize - 1);
+            if !inside_b(db) || !inside_c(dc) {
+                continue;
+            }
+            for i in 0..2 {
+                let idx =
+                    (base + i as isize * stride[a] + db * stride[b] + dc * stride[c]) as usize;
+                vals[i + 2 * (j + 3 * k)] = g.values[idx];
+                flags[i + 2 * (j + 3 * k)] = g.flags(idx, iso);
+            }
+        }
+    }
     let mut sum = [0.0f64; 3];
     let mut count = 0usize;
     for dc in 0..2 {
         for db in 0..2 {
-            if v.p[b] < db || v.p[c] < dc {
+            // The cell with low corner p - db e_b - dc e_c, when inside the grid.
+            if !inside_b(-(db as isize)) || !inside_b(1 - db as isize) {
                 continue;
             }
-            let mut lo = v.p;
-            lo[b] -= db;
-            lo[c] -= dc;
-            if lo[b] + 1 >= g.dims[b] || lo[c] + 1 >= g.dims[c] {
+            if !inside_c(-(dc as isize)) || !inside_c(1 - dc as isize) {
                 continue;
             }
-            let mut flags = [0u8; 8];
-            let mut vals = [0.0f32; 8];
-            for k in 0..8 {
-                let o = corner_offset(k);
-                let i = g.index([lo[0] + o[0], lo[1] + o[1], lo[2] + o[2]]);
-                flags[k] = g.flags(i, iso);
-                vals[k] = g.values[i];
+            let mut cf = [0u8; 8];
+            let mut cv = [0.0f32; 8];
+            for corner in 0..8 {
+                let o = corner_offset(corner);
+                let bi = o[a] + 2 * ((o[b] + 1 - db) + 3 * (o[c] + 1 - dc));
+                cf[corner] = flags[bi];
+                cv[corner] = vals[bi];
             }
-            let CellState::Active(config) = resolve_cell(&flags) else {
+            let CellState::Active(config) = resolve_cell(&cf) else {
                 continue;
             };
             let le = edge_index(a, db, dc);
-            count += cell_contribution(&vals, config, le, v.t as f64, inv_h, opts, &mut sum);
+            count += cell_contribution(&cv, config, le, v.t as f64, inv_h, opts, &mut sum);
         }
     }
     if count > 0 {
