@@ -4,6 +4,7 @@
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use rayon::prelude::*;
 use wscg_isosurface::fields;
 use wscg_isosurface::study::{at_risk_configurations, compare_with_exact, compare_with_full_cd};
 use wscg_isosurface::{
@@ -33,12 +34,14 @@ fn pack_sides(sides: &PyReadonlyArrayDyn<bool>, shape: &[usize]) -> PyResult<Vec
         )));
     }
     let v = values(sides);
-    let mut bits = vec![0u8; v.len().div_ceil(8)];
-    for (i, &b) in v.iter().enumerate() {
-        if b {
-            bits[i / 8] |= 1 << (i % 8);
-        }
-    }
+    let bits = v
+        .par_chunks(8)
+        .map(|c| {
+            c.iter()
+                .enumerate()
+                .fold(0u8, |acc, (i, &b)| acc | (u8::from(b) << i))
+        })
+        .collect();
     Ok(bits)
 }
 
@@ -92,8 +95,8 @@ fn stats_dict<'py>(py: Python<'py>, s: &NormalStats) -> PyResult<Bound<'py, PyDi
 
 fn edges_out<'py>(py: Python<'py>, e: &[EdgeId]) -> PyResult<Arr<'py, i64>> {
     let data = e
-        .iter()
-        .flat_map(|e| {
+        .par_iter()
+        .flat_map_iter(|e| {
             [
                 e.point[0] as i64,
                 e.point[1] as i64,
@@ -143,7 +146,11 @@ fn mesh_out<'py>(py: Python<'py>, m: IsoMesh) -> PyResult<MeshOut<'py>> {
         .collect();
     info.set_item("cells", array(py, &[m.cell_config.len(), 2], cells)?)?;
     let (nv, nt, nn) = (m.vertices.len(), m.triangles.len(), m.normals.len());
-    let faces = m.triangles.iter().flatten().map(|&i| i as i64).collect();
+    let faces = m
+        .triangles
+        .par_iter()
+        .flat_map_iter(|t| t.map(|i| i as i64))
+        .collect();
     Ok((
         array(py, &[nv, 3], m.vertices.concat())?,
         array(py, &[nt, 3], faces)?,
