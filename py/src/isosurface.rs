@@ -12,7 +12,7 @@ use wscg_isosurface::{
     SplineOpts, TetSelection,
 };
 
-use crate::convert::{array, rows3, values, Arr};
+use crate::convert::{array, dict_item, rows3, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// `(nx, ny, nz)` of a `[z, y, x]` volume.
@@ -45,31 +45,32 @@ fn pack_sides(sides: &PyReadonlyArrayDyn<bool>, shape: &[usize]) -> PyResult<Vec
     Ok(bits)
 }
 
-fn method_from(
-    name: &str,
-    selection: &str,
-    eq8_literal: bool,
-    normalize_before_mean: bool,
-    ambiguous: &str,
-) -> PyResult<NormalMethod> {
+/// The normal method named `name` with the estimator options of `options` (keys
+/// `selection`, `eq8_literal`, `normalize_before_mean`, `ambiguous_face`; absent keys take
+/// the defaults).
+fn method_from(name: &str, options: &Bound<'_, PyDict>) -> PyResult<NormalMethod> {
     let m = NormalMethod::parse(name).py_err()?;
     Ok(match m {
         NormalMethod::Spline(_) => NormalMethod::Spline(SplineOpts {
-            selection: match selection {
-                "mesh" => TetSelection::MeshAware,
-                "nearest" => TetSelection::NearestCorner,
-                "both" => TetSelection::AverageBoth,
-                other => {
+            selection: match dict_item::<String>(options, "selection")?.as_deref() {
+                None | Some("mesh") => TetSelection::MeshAware,
+                Some("nearest") => TetSelection::NearestCorner,
+                Some("both") => TetSelection::AverageBoth,
+                Some(other) => {
                     return Err(value_error(format!(
                         "selection {other:?} is not valid; valid: mesh, nearest, both"
                     )))
                 }
             },
-            eq8_literal,
-            normalize_before_mean,
+            eq8_literal: dict_item(options, "eq8_literal")?.unwrap_or(false),
+            normalize_before_mean: dict_item(options, "normalize_before_mean")?.unwrap_or(false),
         }),
         NormalMethod::Lsn(_) => NormalMethod::Lsn(LsnOpts {
-            ambiguous_face: rule_from(ambiguous)?,
+            ambiguous_face: rule_from(
+                dict_item::<String>(options, "ambiguous_face")?
+                    .as_deref()
+                    .unwrap_or("inside"),
+            )?,
         }),
         other => other,
     })
@@ -170,25 +171,15 @@ struct Prepared {
     bits: Option<Vec<u8>>,
 }
 
-#[allow(clippy::too_many_arguments)]
 fn prepare(
     volume: &PyReadonlyArrayDyn<f32>,
     normals: &str,
     side_hint: Option<PyReadonlyArrayDyn<bool>>,
-    selection: &str,
-    eq8_literal: bool,
-    normalize_before_mean: bool,
-    ambiguous_face: &str,
+    options: &Bound<'_, PyDict>,
 ) -> PyResult<Prepared> {
     Ok(Prepared {
         dims: dims_of(volume.shape())?,
-        method: method_from(
-            normals,
-            selection,
-            eq8_literal,
-            normalize_before_mean,
-            ambiguous_face,
-        )?,
+        method: method_from(normals, options)?,
         bits: side_hint
             .map(|s| pack_sides(&s, volume.shape()))
             .transpose()?,
@@ -207,7 +198,6 @@ impl Prepared {
 
 /// Marching cubes with normals (see `wscg.isosurface.marching_cubes`).
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
 fn marching_cubes<'py>(
     py: Python<'py>,
     volume: PyReadonlyArrayDyn<f32>,
@@ -215,20 +205,9 @@ fn marching_cubes<'py>(
     spacing: (f32, f32, f32),
     normals: &str,
     side_hint: Option<PyReadonlyArrayDyn<bool>>,
-    selection: &str,
-    eq8_literal: bool,
-    normalize_before_mean: bool,
-    ambiguous_face: &str,
+    options: Bound<'py, PyDict>,
 ) -> PyResult<MeshOut<'py>> {
-    let p = prepare(
-        &volume,
-        normals,
-        side_hint,
-        selection,
-        eq8_literal,
-        normalize_before_mean,
-        ambiguous_face,
-    )?;
+    let p = prepare(&volume, normals, side_hint, &options)?;
     let v = values(&volume);
     let g = p.grid(&v, spacing)?;
     let method = p.method;
@@ -249,20 +228,9 @@ fn estimate_normals<'py>(
     spacing: (f32, f32, f32),
     normals: &str,
     side_hint: Option<PyReadonlyArrayDyn<bool>>,
-    selection: &str,
-    eq8_literal: bool,
-    normalize_before_mean: bool,
-    ambiguous_face: &str,
+    options: Bound<'py, PyDict>,
 ) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
-    let p = prepare(
-        &volume,
-        normals,
-        side_hint,
-        selection,
-        eq8_literal,
-        normalize_before_mean,
-        ambiguous_face,
-    )?;
+    let p = prepare(&volume, normals, side_hint, &options)?;
     let e = edges_in(&edges)?;
     let v = values(&volume);
     let g = p.grid(&v, spacing)?;

@@ -76,6 +76,12 @@ def _hint(side_hint, shape):
     return h
 
 
+def _options(selection, eq8_literal, normalize_before_mean, ambiguous_face) -> dict:
+    return {"selection": str(selection), "eq8_literal": bool(eq8_literal),
+            "normalize_before_mean": bool(normalize_before_mean),
+            "ambiguous_face": str(ambiguous_face)}
+
+
 def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0), normals: Optional[str] = "spline",
                    side_hint=None, selection: str = "mesh", eq8_literal: bool = False,
                    normalize_before_mean: bool = False, ambiguous_face: str = "inside"):
@@ -132,8 +138,9 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0), normals: Optio
     """
     v = _vol(volume)
     return _m.marching_cubes(v, float(level), _spacing(spacing), _method(normals),
-                             _hint(side_hint, v.shape), str(selection), bool(eq8_literal),
-                             bool(normalize_before_mean), str(ambiguous_face))
+                             _hint(side_hint, v.shape),
+                             _options(selection, eq8_literal, normalize_before_mean,
+                                      ambiguous_face))
 
 
 def estimate_normals(volume, level: float, edges, spacing=(1.0, 1.0, 1.0),
@@ -146,8 +153,9 @@ def estimate_normals(volume, level: float, edges, spacing=(1.0, 1.0, 1.0),
     v = _vol(volume)
     e = np.ascontiguousarray(np.asarray(edges, dtype=np.int64))
     return _m.estimate_normals(v, float(level), e, _spacing(spacing), _method(normals),
-                               _hint(side_hint, v.shape), str(selection), bool(eq8_literal),
-                               bool(normalize_before_mean), str(ambiguous_face))
+                               _hint(side_hint, v.shape),
+                               _options(selection, eq8_literal, normalize_before_mean,
+                                        ambiguous_face))
 
 
 def sparsify(volume, level: float):
