@@ -122,7 +122,21 @@ def test_dropouts_and_bad_input():
         iso.estimate_normals(vol, 5.0, np.array([[0, 0, 0, 0]]))
     with pytest.raises(ValueError):
         iso.fields.sample("teapot")
+    with pytest.raises(ValueError):
+        iso.marching_cubes(vol, 0.0, selection="random")
+    with pytest.raises(ValueError):
+        iso.marching_cubes(vol, 0.0, normals="lsn", ambiguous_face="both")
     v, f, n, info = iso.marching_cubes(np.full((3, 3, 3), np.nan), 0.0)
     assert len(v) == 0 and len(f) == 0
     v, f, n, info = iso.marching_cubes(vol, 1e6)
     assert len(v) == 0
+
+
+def test_spline_options_change_the_estimate():
+    vol = iso.fields.marschner_lobb(41)
+    base = iso.marching_cubes(vol, 0.5)[2]
+    for kw in ({"selection": "nearest"}, {"selection": "both"}, {"eq8_literal": True},
+               {"normalize_before_mean": True}):
+        other = iso.marching_cubes(vol, 0.5, **kw)[2]
+        assert other.shape == base.shape
+        assert np.nanmax(iso.angular_errors(base, other)) > 1e-3, kw
