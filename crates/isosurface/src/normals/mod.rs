@@ -150,36 +150,40 @@ pub fn estimate_normals(
     if matches!(method, NormalMethod::None) {
         return Ok((Vec::new(), NormalStats::default()));
     }
-    let results: Vec<Option<([f32; 3], Outcome)>> = edges
-        .par_iter()
-        .map(|e| {
+    // Normals are written in place; the per-vertex outcome comes back as one byte (`None`:
+    // the edge does not cross).
+    let mut normals = vec![[0.0f32; 3]; edges.len()];
+    let outcomes: Vec<Option<Outcome>> = normals
+        .par_iter_mut()
+        .zip(edges.par_iter())
+        .map(|(out, e)| {
             let v = EdgeVertex::new(grid, iso, e)?;
-            Some(match method {
+            let (n, outcome) = match method {
                 NormalMethod::CentralDifference => central::normal(grid, &v),
                 NormalMethod::Spline(o) => spline::normal(grid, iso, &v, &o),
                 NormalMethod::Lsn(o) => lsn::normal(grid, iso, &v, &o),
                 NormalMethod::None => unreachable!("handled above"),
-            })
+            };
+            *out = n;
+            Some(outcome)
         })
         .collect();
-    let mut normals = Vec::with_capacity(edges.len());
     let mut stats = NormalStats::default();
-    for (i, r) in results.into_iter().enumerate() {
-        let (n, outcome) = r.ok_or_else(|| {
-            Error::invalid(
-                "edges",
-                format!(
-                    "vertex {i}: edge {:?} does not cross the isovalue {iso} on this grid",
-                    edges[i]
-                ),
-            )
-        })?;
-        match outcome {
-            Outcome::Defined => {}
-            Outcome::Fallback => stats.fallback += 1,
-            Outcome::Undefined => stats.undefined += 1,
+    for (i, o) in outcomes.iter().enumerate() {
+        match o {
+            Some(Outcome::Defined) => {}
+            Some(Outcome::Fallback) => stats.fallback += 1,
+            Some(Outcome::Undefined) => stats.undefined += 1,
+            None => {
+                return Err(Error::invalid(
+                    "edges",
+                    format!(
+                        "vertex {i}: edge {:?} does not cross the isovalue {iso} on this grid",
+                        edges[i]
+                    ),
+                ))
+            }
         }
-        normals.push(n);
     }
     Ok((normals, stats))
 }

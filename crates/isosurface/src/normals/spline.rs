@@ -58,7 +58,7 @@ pub struct SplineOpts {
 /// (NaN = missing) (eq. 8), or `None` when one of its four samples is missing. `lambda0` is the
 /// barycentric weight of the corner at the vertex (used only by the literal eq. 8), `axis` the
 /// vertex's edge axis.
-#[inline]
+#[inline(always)]
 fn corner_gradient(
     vals: &[f32; 8],
     inv_h: [f64; 3],
@@ -95,7 +95,7 @@ fn corner_gradient(
 /// Adds to `acc` the spline gradient(s) one active cell gives the vertex on its local edge
 /// `le` at parameter `t` (from the edge's low end); returns how many were added (0, 1, or 2
 /// for [`TetSelection::AverageBoth`]). `vals` are the cell's corner values (NaN = missing).
-#[inline]
+#[inline(always)]
 pub(crate) fn cell_contribution(
     vals: &[f32; 8],
     config: u8,
@@ -147,6 +147,29 @@ pub(crate) fn inverse_spacing(g: &ScalarGrid) -> [f64; 3] {
     g.spacing.map(|h| 1.0 / h as f64)
 }
 
+/// Block index (see [`normal`]) of each corner of the cell `db + 2 dc` around an edge along
+/// axis `a`: `BLOCK_INDEX[a][db + 2 dc][corner]`.
+const BLOCK_INDEX: [[[u8; 8]; 4]; 3] = {
+    let mut t = [[[0u8; 8]; 4]; 3];
+    let mut a = 0;
+    while a < 3 {
+        let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+        let mut cell = 0;
+        while cell < 4 {
+            let (db, dc) = (cell & 1, cell >> 1);
+            let mut corner = 0;
+            while corner < 8 {
+                let o = corner_offset(corner);
+                t[a][cell][corner] = (o[a] + 2 * ((o[b] + 1 - db) + 3 * (o[c] + 1 - dc))) as u8;
+                corner += 1;
+            }
+            cell += 1;
+        }
+        a += 1;
+    }
+    t
+};
+
 pub(crate) fn normal(
     g: &ScalarGrid,
     iso: f32,
@@ -191,11 +214,9 @@ pub(crate) fn normal(
             }
             let mut cf = [0u8; 8];
             let mut cv = [0.0f32; 8];
-            for corner in 0..8 {
-                let o = corner_offset(corner);
-                let bi = o[a] + 2 * ((o[b] + 1 - db) + 3 * (o[c] + 1 - dc));
-                cf[corner] = flags[bi];
-                cv[corner] = vals[bi];
+            for (corner, &bi) in BLOCK_INDEX[a][db + 2 * dc].iter().enumerate() {
+                cf[corner] = flags[bi as usize];
+                cv[corner] = vals[bi as usize];
             }
             let CellState::Active(config) = resolve_cell(&cf) else {
                 continue;
