@@ -39,9 +39,7 @@ impl EdgeId {
     /// The high end as `usize` indices.
     #[inline]
     pub fn high(&self) -> [usize; 3] {
-        let mut q = self.low();
-        q[self.axis as usize] += 1;
-        q
+        step(self.low(), self.axis as usize)
     }
 }
 
@@ -87,8 +85,7 @@ pub fn vertex_on_edge(
     if p[axis] + 1 >= g.dims[axis] {
         return None;
     }
-    let mut q = p;
-    q[axis] += 1;
+    let q = step(p, axis);
     let fp = g.value(p)?;
     let fq = g.value(q)?;
     if (fp >= iso) == (fq >= iso) {
@@ -96,6 +93,16 @@ pub fn vertex_on_edge(
     }
     let t = (iso - fp) / (fq - fp);
     Some((position(g, p, axis, t), t))
+}
+
+/// `p + e_axis`, built without an indexed store (which would stall the next vector load).
+#[inline(always)]
+pub(crate) fn step(p: [usize; 3], axis: usize) -> [usize; 3] {
+    [
+        p[0] + (axis == 0) as usize,
+        p[1] + (axis == 1) as usize,
+        p[2] + (axis == 2) as usize,
+    ]
 }
 
 /// World position of the point at parameter `t` on the edge from `p` along `axis`.

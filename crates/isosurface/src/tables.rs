@@ -74,12 +74,23 @@ pub const fn edge_index(axis: usize, db: usize, dc: usize) -> usize {
 /// The two corners of edge `e` (low, high).
 #[inline]
 pub const fn edge_corners(e: usize) -> (usize, usize) {
-    let lo = edge_low_offset(e);
-    let a = e / 4;
-    let mut hi = lo;
-    hi[a] = 1;
-    (corner_index(lo), corner_index(hi))
+    EDGE_CORNERS[e]
 }
+
+/// [`edge_corners`] of the 12 edges, computed at compile time (the lookup stays in
+/// registers, where building the offsets by index would go through the stack).
+const EDGE_CORNERS: [(usize, usize); 12] = {
+    let mut t = [(0, 0); 12];
+    let mut e = 0;
+    while e < 12 {
+        let lo = edge_low_offset(e);
+        let mut hi = lo;
+        hi[e / 4] = 1;
+        t[e] = (corner_index(lo), corner_index(hi));
+        e += 1;
+    }
+    t
+};
 
 /// Whether edge `e` has corner `c` as an endpoint.
 #[inline]
