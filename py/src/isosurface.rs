@@ -252,10 +252,12 @@ fn sparsify<'py>(
     let dims = dims_of(volume.shape())?;
     let shape = volume.shape().to_vec();
     let v = values(&volume);
-    let (sparse, _) = py
+    let (sparse, bits) = py
         .detach(|| wscg_isosurface::sparsify_for_isosurface(&v, dims, level))
         .py_err()?;
-    let sides: Vec<bool> = v.iter().map(|&x| x >= level).collect();
+    let sides: Vec<bool> = (0..v.len())
+        .map(|i| bits[i / 8] >> (i % 8) & 1 == 1)
+        .collect();
     Ok((array(py, &shape, sparse)?, array(py, &shape, sides)?))
 }
 
@@ -293,6 +295,18 @@ fn rms_dict<'py>(py: Python<'py>, r: &RmsSummary) -> PyResult<Bound<'py, PyDict>
     d.set_item("count", r.count)?;
     d.set_item("undefined", r.undefined)?;
     Ok(d)
+}
+
+/// RMS angular error (see `wscg.isosurface.angular_rms`): (rms, count, undefined).
+#[pyfunction]
+fn angular_rms(
+    a: PyReadonlyArrayDyn<f32>,
+    b: PyReadonlyArrayDyn<f32>,
+) -> PyResult<(f64, usize, usize)> {
+    let x = rows3("a", &values(&a), a.shape())?;
+    let y = rows3("b", &values(&b), b.shape())?;
+    let r = wscg_isosurface::rms(&wscg_isosurface::angular_errors(&x, &y).py_err()?);
+    Ok((r.rms, r.count, r.undefined))
 }
 
 /// Rotation class of a configuration (0..23).
@@ -349,8 +363,7 @@ fn noisy_sphere<'py>(
     noise: f64,
     seed: u64,
 ) -> PyResult<Arr<'py, f32>> {
-    let m = n.saturating_sub(1) as f64;
-    let centre = [0.4902 * m, 0.5113 * m, 0.4894 * m];
+    let centre = fields::grid_centre(n);
     let s = fields::noisy_sphere_u8([n; 3], centre, radius, width, noise, seed).py_err()?;
     array(py, &[n, n, n], s.values)
 }
@@ -404,6 +417,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sparsify, m)?)?;
     m.add_function(wrap_pyfunction!(random_dropouts, m)?)?;
     m.add_function(wrap_pyfunction!(angular_errors, m)?)?;
+    m.add_function(wrap_pyfunction!(angular_rms, m)?)?;
     m.add_function(wrap_pyfunction!(rotation_class, m)?)?;
     m.add_function(wrap_pyfunction!(at_risk, m)?)?;
     m.add_function(wrap_pyfunction!(sample_field, m)?)?;

@@ -132,11 +132,15 @@ def test_dropouts_and_bad_input():
     assert len(v) == 0
 
 
-def test_spline_options_change_the_estimate():
-    vol = iso.fields.marschner_lobb(41)
-    base = iso.marching_cubes(vol, 0.5)[2]
-    for kw in ({"selection": "nearest"}, {"selection": "both"}, {"eq8_literal": True},
+def test_spline_options_on_a_linear_field():
+    # Every tetrahedron choice and averaging is exact on a linear field; the literal eq. 8
+    # is not (it scales the components across the edge).
+    vol, spacing, _ = iso.fields.sample("linear", 16)
+    exact = np.array([0.3, 0.5, 0.7])
+    for kw in ({}, {"selection": "nearest"}, {"selection": "both"},
                {"normalize_before_mean": True}):
-        other = iso.marching_cubes(vol, 0.5, **kw)[2]
-        assert other.shape == base.shape
-        assert np.nanmax(iso.angular_errors(base, other)) > 1e-3, kw
+        v, f, n, _ = iso.marching_cubes(vol, 9.37, spacing=spacing, **kw)
+        rms, count, undefined = iso.angular_rms(n, np.tile(exact, (len(n), 1)))
+        assert rms < 1e-5 and count == len(n) and undefined == 0, kw
+    v, f, n, _ = iso.marching_cubes(vol, 9.37, spacing=spacing, eq8_literal=True)
+    assert iso.angular_rms(n, np.tile(exact, (len(n), 1)))[0] > 0.05

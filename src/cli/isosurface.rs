@@ -131,7 +131,8 @@ pub fn run(cmd: IsosurfaceCommand) -> Result<()> {
         IsosurfaceCommand::Extract(a) => {
             let v = read_volume(&a.input)?;
             let method = NormalMethod::parse(&a.normals)?;
-            let mesh = marching_cubes(&grid(&v)?, a.iso, method)?;
+            let g = grid(&v)?;
+            let mesh = marching_cubes(&g, a.iso, method)?;
             println!(
                 "{} vertices, {} triangles; normals {}: {} undefined, {} from the fallback; {} \
                  cells skipped; {} missing samples",
@@ -141,7 +142,7 @@ pub fn run(cmd: IsosurfaceCommand) -> Result<()> {
                 mesh.stats.undefined,
                 mesh.stats.fallback,
                 mesh.stats.skipped_cells,
-                v.data().iter().filter(|x| x.is_nan()).count()
+                g.missing_count()
             );
             let positions = mesh.vertices.iter().map(|p| p.map(|x| x as f64)).collect();
             let mut out = TriMesh::new(positions, mesh.triangles)?;

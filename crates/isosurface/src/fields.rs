@@ -419,6 +419,13 @@ fn norm(a: [f64; 3]) -> f64 {
     dot2(a).sqrt()
 }
 
+/// The centre used by the named sphere and torus on an `n^3` voxel grid: near the grid centre
+/// but off the sample lattice (on 64^3, the spec's (31.37, 32.21, 30.83) rounded).
+pub fn grid_centre(n: usize) -> [f64; 3] {
+    let m = n.saturating_sub(1) as f64;
+    [0.4902 * m, 0.5113 * m, 0.4894 * m]
+}
+
 /// Names accepted by [`named`].
 pub const FIELD_NAMES: [&str; 8] = [
     "sphere",
@@ -444,7 +451,7 @@ pub fn named(name: &str, n: usize) -> Result<(Box<dyn Field>, Sampled)> {
         ));
     }
     let m = (n - 1) as f64;
-    let centre = [0.4902 * m + 0.0, 0.5113 * m, 0.4894 * m];
+    let centre = grid_centre(n);
     let cube = |h: f64| ([-h; 3], [h; 3]);
     let voxels = ([0.0; 3], [m; 3]);
     let (field, (lo, hi)): (Box<dyn Field>, ([f64; 3], [f64; 3])) = match name {

@@ -157,6 +157,15 @@ impl<'a> ScalarGrid<'a> {
         }
     }
 
+    /// The sample one step from `p` along `axis` in direction `sign` (+1 or -1), if that point
+    /// is inside the grid and has a value.
+    #[inline]
+    pub fn neighbour(&self, p: [usize; 3], axis: usize, sign: isize) -> Option<f32> {
+        let mut d = [0isize; 3];
+        d[axis] = sign;
+        self.value_offset(p, d)
+    }
+
     /// Number of missing (NaN) samples.
     pub fn missing_count(&self) -> usize {
         self.values.iter().filter(|v| v.is_nan()).count()

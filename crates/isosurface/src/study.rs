@@ -160,9 +160,6 @@ pub struct ExactComparison {
     pub spline: RmsSummary,
     /// LSN on the sparsified grid.
     pub lsn: RmsSummary,
-    /// Spline on the full grid (the estimator does not use more than the cell's samples, so
-    /// this equals `spline`; kept as a check).
-    pub spline_full: RmsSummary,
 }
 
 /// Table 3 protocol: the mesh of `iso` on the sampled field, normals compared with the exact
@@ -180,7 +177,6 @@ pub fn compare_with_exact(field: &dyn Field, s: &Sampled, iso: f32) -> Result<Ex
         cd_full: err(&mesh.normals)?,
         spline: err(&estimate_normals(&sg, iso, e, NormalMethod::spline())?.0)?,
         lsn: err(&estimate_normals(&sg, iso, e, NormalMethod::lsn())?.0)?,
-        spline_full: err(&estimate_normals(&full, iso, e, NormalMethod::spline())?.0)?,
     })
 }
 

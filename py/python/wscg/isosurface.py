@@ -182,10 +182,8 @@ def angular_errors(a, b) -> np.ndarray:
 def angular_rms(a, b) -> Tuple[float, int, int]:
     """``(rms, count, undefined)``: RMS angular error in radians over the rows where both
     normals are defined, their number, and the number of rows left out."""
-    e = angular_errors(a, b)
-    ok = ~np.isnan(e)
-    rms = float(np.sqrt(np.mean(e[ok].astype(np.float64) ** 2))) if ok.any() else float("nan")
-    return rms, int(ok.sum()), int((~ok).sum())
+    return _m.angular_rms(np.ascontiguousarray(np.asarray(a, dtype=np.float32)),
+                          np.ascontiguousarray(np.asarray(b, dtype=np.float32)))
 
 
 def rotation_class(config: int) -> int:

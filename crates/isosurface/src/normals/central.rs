@@ -12,12 +12,8 @@ pub fn gradient_at(g: &ScalarGrid, p: [usize; 3]) -> Option<[f64; 3]> {
     let f0 = g.value(p)? as f64;
     let mut grad = [0.0f64; 3];
     for m in 0..3 {
-        let step = |s: isize| {
-            let mut d = [0isize; 3];
-            d[m] = s;
-            g.value_offset(p, d).map(|v| v as f64)
-        };
-        let (fwd, bwd) = (|| step(1), || step(-1));
+        let fwd = || g.neighbour(p, m, 1).map(|v| v as f64);
+        let bwd = || g.neighbour(p, m, -1).map(|v| v as f64);
         let h = g.spacing[m] as f64;
         grad[m] = if p[m] == 0 {
             (fwd()? - f0) / h

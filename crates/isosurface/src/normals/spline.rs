@@ -244,9 +244,7 @@ pub(crate) fn fallback(g: &ScalarGrid, v: &EdgeVertex) -> [f32; 3] {
         let mut k = 0;
         for (end, f0) in [(v.p, v.fp), (v.q, v.fq)] {
             for s in [1isize, -1] {
-                let mut d = [0isize; 3];
-                d[m] = s;
-                if let Some(f1) = g.value_offset(end, d) {
+                if let Some(f1) = g.neighbour(end, m, s) {
                     sum += s as f64 * (f1 as f64 - f0 as f64) / g.spacing[m] as f64;
                     k += 1;
                 }
