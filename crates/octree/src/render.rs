@@ -1,0 +1,298 @@
+//! The renderer of the paper's timings (Table 3; spec 2.8): one primary ray per pixel, Phong
+//! shading with one point light and one shadow ray, in any [`TraceMode`].
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use wscg_math::{Error, Image, Result};
+
+use crate::octree::HybridOctree;
+use crate::traverse::{Footprint, Hit, HitKind, Ray, TraceMode};
+
+/// A pinhole camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub eye: [f32; 3],
+    /// Point looked at.
+    pub target: [f32; 3],
+    /// Up direction (need not be orthogonal to the view direction).
+    pub up: [f32; 3],
+    /// Vertical field of view in degrees.
+    pub fov_y_deg: f32,
+    /// Image width in pixels.
+    pub width: usize,
+    /// Image height in pixels.
+    pub height: usize,
+}
+
+fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn unit(a: [f32; 3]) -> [f32; 3] {
+    let l = dot(a, a).sqrt();
+    a.map(|x| x / l)
+}
+fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// The camera's orthonormal frame `(right, up, forward)`.
+type Frame = ([f32; 3], [f32; 3], [f32; 3]);
+
+impl Camera {
+    /// Checks the camera and returns its frame.
+    pub fn frame(&self) -> Result<Frame> {
+        let vals = self.eye.iter().chain(&self.target).chain(&self.up);
+        if vals.clone().any(|v| !v.is_finite()) {
+            return Err(Error::invalid(
+                "camera",
+                "eye, target and up must be finite",
+            ));
+        }
+        if !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0) {
+            return Err(Error::invalid(
+                "fov_y_deg",
+                format!("must be in (0, 180), got {}", self.fov_y_deg),
+            ));
+        }
+        if self.width == 0 || self.height == 0 || self.width * self.height > 1 << 28 {
+            return Err(Error::invalid(
+                "camera",
+                format!(
+                    "image size {}x{} must be positive and at most 2^28 pixels",
+                    self.width, self.height
+                ),
+            ));
+        }
+        let f = sub(self.target, self.eye);
+        let r = cross(f, self.up);
+        if dot(f, f) == 0.0 || dot(r, r) <= 1e-12 * dot(f, f) * dot(self.up, self.up) {
+            return Err(Error::invalid(
+                "camera",
+                "target must differ from eye and up must not be parallel to the view direction",
+            ));
+        }
+        let fw = unit(f);
+        let rt = unit(r);
+        Ok((rt, cross(rt, fw), fw))
+    }
+
+    /// Primary ray through the centre of pixel `(x, y)` (row 0 at the top), unit direction.
+    pub fn ray(&self, frame: &Frame, x: usize, y: usize) -> Ray {
+        let (r, u, f) = frame;
+        let h = (0.5 * self.fov_y_deg.to_radians()).tan();
+        let aspect = self.width as f32 / self.height as f32;
+        let sx = (2.0 * (x as f32 + 0.5) / self.width as f32 - 1.0) * h * aspect;
+        let sy = (1.0 - 2.0 * (y as f32 + 0.5) / self.height as f32) * h;
+        let d = std::array::from_fn(|k| f[k] + sx * r[k] + sy * u[k]);
+        Ray::new(self.eye, unit(d))
+    }
+
+    /// Pixel footprint of primary rays (Igehy 1999): `f(t) = t 2 tan(fov_y / 2) / H`.
+    pub fn footprint(&self) -> Footprint {
+        Footprint {
+            width0: 0.0,
+            spread: 2.0 * (0.5 * self.fov_y_deg.to_radians()).tan() / self.height as f32,
+        }
+    }
+}
+
+/// A point light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLight {
+    /// Position.
+    pub position: [f32; 3],
+    /// Intensity (1 = unit radiance scale, no falloff).
+    pub intensity: f32,
+}
+
+/// Phong parameters (spec 2.8).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shading {
+    /// Ambient coefficient.
+    pub ka: f32,
+    /// Diffuse coefficient.
+    pub kd: f32,
+    /// Specular coefficient.
+    pub ks: f32,
+    /// Specular exponent.
+    pub shininess: f32,
+    /// Cast a shadow ray per hit.
+    pub shadows: bool,
+    /// Background colour.
+    pub background: [f32; 3],
+}
+
+impl Default for Shading {
+    fn default() -> Self {
+        Self {
+            ka: 0.1,
+            kd: 0.8,
+            ks: 0.2,
+            shininess: 32.0,
+            shadows: true,
+            background: [0.05, 0.05, 0.08],
+        }
+    }
+}
+
+/// Counts of a rendered frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    /// Primary rays that hit a triangle.
+    pub triangle_hits: usize,
+    /// Primary rays that stopped at a voxel.
+    pub voxel_hits: usize,
+    /// Primary rays that hit nothing.
+    pub misses: usize,
+    /// Smallest voxel blend factor seen (1 when there were no voxel hits).
+    pub blend_min: f32,
+    /// Largest voxel blend factor seen.
+    pub blend_max: f32,
+    /// Seconds for the frame.
+    pub seconds: f64,
+}
+
+impl RenderStats {
+    /// Fraction of hit pixels that are voxel hits.
+    pub fn voxel_fraction(&self) -> f64 {
+        let hits = self.triangle_hits + self.voxel_hits;
+        if hits == 0 {
+            0.0
+        } else {
+            self.voxel_hits as f64 / hits as f64
+        }
+    }
+
+    fn merge(mut self, o: RenderStats) -> RenderStats {
+        self.triangle_hits += o.triangle_hits;
+        self.voxel_hits += o.voxel_hits;
+        self.misses += o.misses;
+        self.blend_min = self.blend_min.min(o.blend_min);
+        self.blend_max = self.blend_max.max(o.blend_max);
+        self
+    }
+}
+
+/// Shades one primary hit: Phong with one shadow ray offset from the surface (by a voxel's
+/// 1.5 sides for voxel hits, against voxel self-shadowing).
+fn shade(
+    oct: &HybridOctree,
+    ray: &Ray,
+    hit: &Hit,
+    light: &PointLight,
+    mode: &TraceMode,
+    fp: Footprint,
+    s: &Shading,
+) -> [f32; 3] {
+    let p: [f32; 3] = std::array::from_fn(|k| ray.origin[k] + hit.t * ray.dir[k]);
+    let mut n = hit.normal;
+    if dot(n, ray.dir) > 0.0 {
+        n = n.map(|x| -x);
+    }
+    let to_l = sub(light.position, p);
+    let dist = dot(to_l, to_l).sqrt();
+    let l = to_l.map(|x| x / dist.max(1e-20));
+    let ndl = dot(n, l);
+    let c = hit.color;
+    let mut out = c.map(|x| s.ka * x);
+    if ndl <= 0.0 {
+        return out;
+    }
+    if s.shadows {
+        let offset = match hit.kind {
+            HitKind::Voxel { level, .. } => 1.5 * oct.cube.size as f32 / (1u32 << level) as f32,
+            HitKind::Triangle { .. } => 1e-4 * oct.cube.size as f32,
+        };
+        let origin = std::array::from_fn(|k| p[k] + offset * n[k]);
+        let shadow = Ray {
+            origin,
+            dir: l,
+            t_min: 0.0,
+            t_max: dist - offset,
+        };
+        let sfp = Footprint {
+            width0: fp.width0 + fp.spread * hit.t,
+            spread: fp.spread,
+        };
+        if shadow.t_max > 0.0 && oct.occluded(&shadow, mode, Some(sfp)) {
+            return out;
+        }
+    }
+    let v = ray.dir.map(|x| -x);
+    let rfl: [f32; 3] = std::array::from_fn(|k| 2.0 * ndl * n[k] - l[k]);
+    let spec = s.ks * dot(rfl, v).max(0.0).powf(s.shininess);
+    for k in 0..3 {
+        out[k] += light.intensity * (s.kd * ndl * c[k] + spec);
+    }
+    out
+}
+
+/// Renders `oct` from `cam` in `mode`: an `H x W x 3` linear RGB image and hit counts.
+pub fn render(
+    oct: &HybridOctree,
+    cam: &Camera,
+    light: &PointLight,
+    mode: &TraceMode,
+    shading: &Shading,
+) -> Result<(Image<f32>, RenderStats)> {
+    let frame = cam.frame()?;
+    if light.position.iter().any(|v| !v.is_finite()) || !light.intensity.is_finite() {
+        return Err(Error::invalid(
+            "light",
+            "position and intensity must be finite",
+        ));
+    }
+    let t0 = Instant::now();
+    let fp = cam.footprint();
+    let (w, h) = (cam.width, cam.height);
+    let mut data = vec![0f32; w * h * 3];
+    let empty = RenderStats {
+        blend_min: 1.0,
+        blend_max: 0.0,
+        ..Default::default()
+    };
+    let mut stats = data
+        .par_chunks_mut(w * 3)
+        .enumerate()
+        .map(|(y, row)| {
+            let mut st = empty;
+            for x in 0..w {
+                let ray = cam.ray(&frame, x, y);
+                let px = match oct.intersect(&ray, mode, Some(fp)) {
+                    Some(hit) => {
+                        match hit.kind {
+                            HitKind::Triangle { .. } => st.triangle_hits += 1,
+                            HitKind::Voxel { blend, .. } => {
+                                st.voxel_hits += 1;
+                                st.blend_min = st.blend_min.min(blend);
+                                st.blend_max = st.blend_max.max(blend);
+                            }
+                        }
+                        shade(oct, &ray, &hit, light, mode, fp, shading)
+                    }
+                    None => {
+                        st.misses += 1;
+                        shading.background
+                    }
+                };
+                row[3 * x..3 * x + 3].copy_from_slice(&px);
+            }
+            st
+        })
+        .reduce(|| empty, RenderStats::merge);
+    if stats.voxel_hits == 0 {
+        stats.blend_min = 1.0;
+        stats.blend_max = 1.0;
+    }
+    stats.seconds = t0.elapsed().as_secs_f64();
+    Ok((Image::new(h, w, 3, data)?, stats))
+}
