@@ -301,7 +301,7 @@ pub fn blob(subdivisions: u32) -> Result<TriMesh> {
 
 /// A forest of `trees` procedural trees on a ground plane: branches are 6-sided prisms split
 /// recursively `levels` times into 3 children, each terminal branch carries `leaves` leaf quads.
-/// 13 trees with `levels = 6`, `leaves = 16` give about 1.5 M triangles.
+/// 13 trees with `levels = 6`, `leaves = 64` give about 1.4 M triangles.
 pub fn forest(trees: usize, levels: usize, leaves: usize, seed: u64) -> Result<TriMesh> {
     let mut s = SceneBuilder::default();
     let mut r = rng::seeded(seed);
@@ -353,9 +353,9 @@ fn branch(
     s.prism(a, b, rad, 6, [0.4, 0.27, 0.15]);
     if level == 0 {
         for _ in 0..leaves {
-            let c: [f64; 3] = std::array::from_fn(|k| b[k] + r.random_range(-0.12..0.12));
-            let u: [f64; 3] = std::array::from_fn(|_| r.random_range(-0.04..0.04));
-            let v: [f64; 3] = std::array::from_fn(|_| r.random_range(-0.04..0.04));
+            let c: [f64; 3] = std::array::from_fn(|k| b[k] + r.random_range(-0.15..0.15));
+            let u: [f64; 3] = std::array::from_fn(|_| r.random_range(-0.015..0.015));
+            let v: [f64; 3] = std::array::from_fn(|_| r.random_range(-0.015..0.015));
             let g = [
                 0.15 + r.random_range(0.0..0.2f32),
                 0.5 + r.random_range(0.0..0.3f32),
