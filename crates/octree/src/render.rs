@@ -87,13 +87,24 @@ impl Camera {
 
     /// Primary ray through the centre of pixel `(x, y)` (row 0 at the top), unit direction.
     pub fn ray(&self, frame: &Frame, x: usize, y: usize) -> Ray {
+        self.ray_gen(frame).ray(x, y)
+    }
+
+    /// The per-camera constants of [`Camera::ray`], for generating many rays.
+    pub fn ray_gen(&self, frame: &Frame) -> RayGen {
         let (r, u, f) = frame;
         let h = (0.5 * self.fov_y_deg.to_radians()).tan();
         let aspect = self.width as f32 / self.height as f32;
-        let sx = (2.0 * (x as f32 + 0.5) / self.width as f32 - 1.0) * h * aspect;
-        let sy = (1.0 - 2.0 * (y as f32 + 0.5) / self.height as f32) * h;
-        let d = std::array::from_fn(|k| f[k] + sx * r[k] + sy * u[k]);
-        Ray::new(self.eye, unit(d))
+        let dx: [f32; 3] = std::array::from_fn(|k| 2.0 * h * aspect / self.width as f32 * r[k]);
+        let dy: [f32; 3] = std::array::from_fn(|k| -2.0 * h / self.height as f32 * u[k]);
+        // Direction through the top-left corner of the image plane at distance 1.
+        let corner = std::array::from_fn(|k| f[k] - h * aspect * r[k] + h * u[k]);
+        RayGen {
+            eye: self.eye,
+            corner,
+            dx,
+            dy,
+        }
     }
 
     /// Pixel footprint of primary rays (Igehy 1999): `f(t) = t 2 tan(fov_y / 2) / H`.
@@ -102,6 +113,25 @@ impl Camera {
             width0: 0.0,
             spread: 2.0 * (0.5 * self.fov_y_deg.to_radians()).tan() / self.height as f32,
         }
+    }
+}
+
+/// Generates the primary rays of a camera: `dir = corner + (x + 1/2) dx + (y + 1/2) dy`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayGen {
+    eye: [f32; 3],
+    corner: [f32; 3],
+    dx: [f32; 3],
+    dy: [f32; 3],
+}
+
+impl RayGen {
+    /// Primary ray through the centre of pixel `(x, y)`, unit direction.
+    #[inline]
+    pub fn ray(&self, x: usize, y: usize) -> Ray {
+        let (fx, fy) = (x as f32 + 0.5, y as f32 + 0.5);
+        let d = std::array::from_fn(|k| self.corner[k] + fx * self.dx[k] + fy * self.dy[k]);
+        Ray::new(self.eye, unit(d))
     }
 }
 
@@ -253,6 +283,7 @@ pub fn render(
     }
     let t0 = Instant::now();
     let fp = cam.footprint();
+    let rays = cam.ray_gen(&frame);
     let (w, h) = (cam.width, cam.height);
     let mut data = vec![0f32; w * h * 3];
     let empty = RenderStats {
@@ -266,7 +297,7 @@ pub fn render(
         .map(|(y, row)| {
             let mut st = empty;
             for x in 0..w {
-                let ray = cam.ray(&frame, x, y);
+                let ray = rays.ray(x, y);
                 let px = match oct.intersect(&ray, mode, Some(fp)) {
                     Some(hit) => {
                         match hit.kind {

@@ -378,3 +378,48 @@ fn branch(
         branch(s, r, b, d, len * 0.7, rad * 0.65, level - 1, leaves);
     }
 }
+
+/// Cameras on an orbit around `cube`: frame `i` of `frames` turns by `i / frames` of a full circle and
+/// moves linearly from `near` to `far` cube sides away, 0.3 times that distance above the
+/// target, which sits a tenth of the way up the cube. Square images of `res` pixels, 45 degree
+/// field of view. The fly-throughs of the paper's Table 3 are paths like this one.
+pub fn orbit_path(
+    cube: &Cube,
+    frames: usize,
+    near: f32,
+    far: f32,
+    res: usize,
+) -> Vec<crate::Camera> {
+    let s = cube.size as f32;
+    let c = cube.min.map(|v| v as f32);
+    let target = [c[0] + 0.5 * s, c[1] + 0.5 * s, c[2] + 0.1 * s];
+    (0..frames)
+        .map(|i| {
+            let f = i as f32 / frames.max(1) as f32;
+            let a = f * std::f32::consts::TAU;
+            let d = s * (near + (far - near) * f);
+            crate::Camera {
+                eye: [
+                    target[0] + d * a.cos(),
+                    target[1] + d * a.sin(),
+                    target[2] + 0.3 * d,
+                ],
+                target,
+                up: [0.0, 0.0, 1.0],
+                fov_y_deg: 45.0,
+                width: res,
+                height: res,
+            }
+        })
+        .collect()
+}
+
+/// A point light above and to the side of `cube`, used by the demos and benchmarks.
+pub fn default_light(cube: &Cube) -> crate::PointLight {
+    let s = cube.size as f32;
+    let c = cube.min.map(|v| v as f32);
+    crate::PointLight {
+        position: [c[0] + 1.5 * s, c[1] - 0.5 * s, c[2] + 2.0 * s],
+        intensity: 1.0,
+    }
+}

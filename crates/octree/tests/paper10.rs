@@ -394,15 +394,23 @@ fn memory_trend_follows_triangle_size() {
 #[test]
 #[ignore = "fails by 8 bytes of 25.5 MB on the blob: one early pair leaf whose triangles the full build stores as singles"]
 fn full_tri_index_is_never_smaller() {
-    for mesh in [
-        scenes::atrium(10).unwrap(),
-        scenes::blob(8).unwrap(),
-        scenes::forest(13, 6, 64, 3).unwrap(),
+    let mut short = Vec::new();
+    for (name, mesh) in [
+        ("atrium", scenes::atrium(10).unwrap()),
+        ("blob", scenes::blob(8).unwrap()),
+        ("forest", scenes::forest(13, 6, 64, 3).unwrap()),
     ] {
         let (full, _) = build(&mesh, &params(9, false)).unwrap();
         let (early, _) = build(&mesh, &params(9, true)).unwrap();
-        assert!(full.memory_report().tri_index >= early.memory_report().tri_index);
+        let (a, b) = (
+            full.memory_report().tri_index,
+            early.memory_report().tri_index,
+        );
+        if a < b {
+            short.push(format!("{name}: full {a} B < early {b} B"));
+        }
     }
+    assert!(short.is_empty(), "{short:?}");
 }
 
 fn orbit_camera(oct: &HybridOctree, dist: f32, res: usize) -> Camera {
