@@ -17,6 +17,7 @@ mod isosurface;
 mod manylight;
 mod math;
 mod meshfilter;
+mod octree;
 mod raytrace;
 mod sfa;
 mod video;
@@ -27,7 +28,7 @@ mod volren;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 9] = [
+    let subs: [(&str, Register); 10] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
@@ -37,6 +38,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         ("raytrace", raytrace::register),
         ("doe", doe::register),
         ("isosurface", isosurface::register),
+        ("octree", octree::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

@@ -18,6 +18,8 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
   surfaces, repeated-measures ANOVA, Fisher's LSD).
 - :mod:`wscg.isosurface`: paper 09, marching cubes on sparse grids (missing samples) with
   tetrahedral-spline normals, and the LSN and central-difference baselines.
+- :mod:`wscg.octree`: paper 10, one sparse voxel octree with pre-filtered voxels in every
+  node and triangles in its leaves (early stop), ray casting with level of detail.
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -25,9 +27,9 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, doe, isosurface, math, meshfilter, raytrace, video, volren
+from . import biometrics, cloth, doe, isosurface, math, meshfilter, octree, raytrace, video, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "doe", "isosurface", "math", "meshfilter", "raytrace", "video", "volren",
+__all__ = ["biometrics", "cloth", "doe", "isosurface", "math", "meshfilter", "octree", "raytrace", "video", "volren",
            "__version__"]

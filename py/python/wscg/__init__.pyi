@@ -4,6 +4,7 @@ from . import doe as doe
 from . import isosurface as isosurface
 from . import math as math
 from . import meshfilter as meshfilter
+from . import octree as octree
 from . import raytrace as raytrace
 from . import video as video
 from . import volren as volren

@@ -1,0 +1,473 @@
+//! `wscg._native.octree`: bindings of `wscg-octree` (paper 10, the unified triangle/voxel
+//! octree). The documented API is `python/wscg/octree.py`.
+
+use std::path::PathBuf;
+
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rayon::prelude::*;
+use wscg_octree::{
+    build, render, scenes, BuildParams, BuildStats, Camera, Cube, Footprint, HitKind, HybridOctree,
+    PointLight, Ray, Shading, TraceMode, TriangleBvh,
+};
+
+use crate::convert::{array, mesh_in, rows3, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+/// The trace mode named `mode`.
+fn mode_from(
+    mode: &str,
+    lod_scale: f32,
+    blend: bool,
+    small_leaves_as_voxels: bool,
+    level: Option<u8>,
+) -> PyResult<TraceMode> {
+    if !(lod_scale.is_finite() && lod_scale > 0.0) {
+        return Err(value_error(format!(
+            "lod_scale must be positive and finite, got {lod_scale}"
+        )));
+    }
+    match mode {
+        "triangles" => Ok(TraceMode::Triangles),
+        "voxels" => Ok(TraceMode::Voxels { level }),
+        "hybrid" => Ok(TraceMode::Hybrid {
+            lod_scale,
+            blend,
+            small_leaves_as_voxels,
+        }),
+        other => Err(value_error(format!(
+            "mode {other:?} is not valid; valid: triangles, voxels, hybrid"
+        ))),
+    }
+}
+
+fn stats_dict<'py>(py: Python<'py>, s: &BuildStats) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("fragments", s.fragments)?;
+    d.set_item("degenerate_triangles", s.degenerate_triangles)?;
+    d.set_item("nodes", s.nodes)?;
+    d.set_item("voxels", s.voxels)?;
+    d.set_item("early_leaves", s.early_leaves)?;
+    d.set_item("finest_leaves", s.finest_leaves)?;
+    d.set_item("voxelize_s", s.voxelize_s)?;
+    d.set_item("hierarchy_s", s.hierarchy_s)?;
+    d.set_item("attributes_s", s.attributes_s)?;
+    Ok(d)
+}
+
+/// Rays from `(N, 3)` origins and directions.
+fn rays_in(
+    origins: &PyReadonlyArrayDyn<f32>,
+    dirs: &PyReadonlyArrayDyn<f32>,
+) -> PyResult<Vec<Ray>> {
+    let o = rows3("origins", &values(origins), origins.shape())?;
+    let d = rows3("dirs", &values(dirs), dirs.shape())?;
+    if o.len() != d.len() {
+        return Err(value_error(format!(
+            "origins has {} rows but dirs has {}",
+            o.len(),
+            d.len()
+        )));
+    }
+    Ok(o.into_iter().zip(d).map(|(o, d)| Ray::new(o, d)).collect())
+}
+
+fn vec3(name: &str, v: Vec<f32>) -> PyResult<[f32; 3]> {
+    <[f32; 3]>::try_from(v)
+        .map_err(|v| value_error(format!("`{name}` must have 3 entries, got {}", v.len())))
+}
+
+/// A hybrid triangle/voxel octree.
+#[pyclass(module = "wscg._native.octree", name = "HybridOctree", frozen)]
+pub struct PyOctree {
+    inner: HybridOctree,
+}
+
+#[pymethods]
+impl PyOctree {
+    /// Deepest level L.
+    #[getter]
+    fn depth(&self) -> u8 {
+        self.inner.max_depth
+    }
+
+    /// Whether the tree stopped early at nodes with at most two triangles.
+    #[getter]
+    fn early_stop(&self) -> bool {
+        self.inner.early_stop
+    }
+
+    /// Number of nodes (empty children included).
+    #[getter]
+    fn n_nodes(&self) -> usize {
+        self.inner.nodes.len()
+    }
+
+    /// Number of voxels (non-empty nodes).
+    #[getter]
+    fn n_voxels(&self) -> usize {
+        self.inner.voxels.len()
+    }
+
+    /// Number of triangles.
+    #[getter]
+    fn n_triangles(&self) -> usize {
+        self.inner.mesh.faces.len()
+    }
+
+    /// The cube domain as ``(min_xyz, side)``.
+    #[getter]
+    fn cube(&self) -> ([f64; 3], f64) {
+        (self.inner.cube.min, self.inner.cube.size)
+    }
+
+    /// Bytes per part: nodes, triangles, tri_index, voxels, total.
+    fn memory_report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let m = self.inner.memory_report();
+        let d = PyDict::new(py);
+        d.set_item("nodes", m.nodes)?;
+        d.set_item("triangles", m.triangles)?;
+        d.set_item("tri_index", m.tri_index)?;
+        d.set_item("voxels", m.voxels)?;
+        d.set_item("total", m.total)?;
+        Ok(d)
+    }
+
+    /// Nearest hits of `N` rays.
+    #[pyo3(signature = (origins, dirs, mode, footprint_spread, lod_scale, blend, small_leaves_as_voxels, level))]
+    #[allow(clippy::too_many_arguments)]
+    fn intersect<'py>(
+        &self,
+        py: Python<'py>,
+        origins: PyReadonlyArrayDyn<f32>,
+        dirs: PyReadonlyArrayDyn<f32>,
+        mode: &str,
+        footprint_spread: f32,
+        lod_scale: f32,
+        blend: bool,
+        small_leaves_as_voxels: bool,
+        level: Option<u8>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let mode = mode_from(mode, lod_scale, blend, small_leaves_as_voxels, level)?;
+        if !(footprint_spread.is_finite() && footprint_spread >= 0.0) {
+            return Err(value_error(format!(
+                "footprint_spread must be >= 0, got {footprint_spread}"
+            )));
+        }
+        let rays = rays_in(&origins, &dirs)?;
+        let fp = (footprint_spread > 0.0).then_some(Footprint {
+            width0: 0.0,
+            spread: footprint_spread,
+        });
+        let oct = &self.inner;
+        let hits: Vec<_> = py.detach(|| {
+            rays.par_iter()
+                .map(|r| oct.intersect(r, &mode, fp))
+                .collect()
+        });
+        let n = hits.len();
+        let mut t = Vec::with_capacity(n);
+        let mut prim = Vec::with_capacity(n);
+        let mut lvl = Vec::with_capacity(n);
+        let mut normal = Vec::with_capacity(3 * n);
+        let mut color = Vec::with_capacity(3 * n);
+        for h in &hits {
+            match h {
+                Some(h) => {
+                    t.push(h.t);
+                    match h.kind {
+                        HitKind::Triangle { prim: p, .. } => {
+                            prim.push(i64::from(p));
+                            lvl.push(-1i8);
+                        }
+                        HitKind::Voxel { level, .. } => {
+                            prim.push(-1);
+                            lvl.push(level as i8);
+                        }
+                    }
+                    normal.extend_from_slice(&h.normal);
+                    color.extend_from_slice(&h.color);
+                }
+                None => {
+                    t.push(f32::INFINITY);
+                    prim.push(-1);
+                    lvl.push(-1);
+                    normal.extend_from_slice(&[0.0; 3]);
+                    color.extend_from_slice(&[0.0; 3]);
+                }
+            }
+        }
+        let d = PyDict::new(py);
+        d.set_item("t", array(py, &[n], t)?)?;
+        d.set_item("prim", array(py, &[n], prim)?)?;
+        d.set_item("level", array(py, &[n], lvl)?)?;
+        d.set_item("normal", array(py, &[n, 3], normal)?)?;
+        d.set_item("color", array(py, &[n, 3], color)?)?;
+        Ok(d)
+    }
+
+    /// Renders an image (primary rays, Phong, one shadow ray).
+    #[pyo3(signature = (eye, target, up, fov_deg, width, height, mode, light_pos, shadows, lod_scale, blend, small_leaves_as_voxels, level))]
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        eye: Vec<f32>,
+        target: Vec<f32>,
+        up: Vec<f32>,
+        fov_deg: f32,
+        width: usize,
+        height: usize,
+        mode: &str,
+        light_pos: Option<Vec<f32>>,
+        shadows: bool,
+        lod_scale: f32,
+        blend: bool,
+        small_leaves_as_voxels: bool,
+        level: Option<u8>,
+    ) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
+        let mode = mode_from(mode, lod_scale, blend, small_leaves_as_voxels, level)?;
+        let cam = Camera {
+            eye: vec3("eye", eye)?,
+            target: vec3("target", target)?,
+            up: vec3("up", up)?,
+            fov_y_deg: fov_deg,
+            width,
+            height,
+        };
+        let light = match light_pos {
+            Some(p) => PointLight {
+                position: vec3("light_pos", p)?,
+                intensity: 1.0,
+            },
+            None => scenes::default_light(&self.inner.cube),
+        };
+        let shading = Shading {
+            shadows,
+            ..Default::default()
+        };
+        let oct = &self.inner;
+        let (img, st) = py
+            .detach(|| render(oct, &cam, &light, &mode, &shading))
+            .py_err()?;
+        let d = PyDict::new(py);
+        d.set_item("triangle_hits", st.triangle_hits)?;
+        d.set_item("voxel_hits", st.voxel_hits)?;
+        d.set_item("misses", st.misses)?;
+        d.set_item("blend_min", st.blend_min)?;
+        d.set_item("blend_max", st.blend_max)?;
+        d.set_item("seconds", st.seconds)?;
+        Ok((array(py, &[height, width, 3], img.into_data())?, d))
+    }
+
+    /// Cells ``(x, y, z)`` of the non-empty nodes at `level`.
+    fn occupancy<'py>(&self, py: Python<'py>, level: u8) -> PyResult<Arr<'py, i64>> {
+        if level > self.inner.max_depth {
+            return Err(value_error(format!(
+                "level {level} exceeds the tree's depth {}",
+                self.inner.max_depth
+            )));
+        }
+        let cells = self.inner.occupancy(level);
+        let data = cells.iter().flat_map(|c| c.map(i64::from)).collect();
+        array(py, &[cells.len(), 3], data)
+    }
+
+    /// Voxel colours (RGB in [0, 1]) and unit normals of every non-empty node, in node order,
+    /// with each node's level.
+    fn voxels<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Arr<'py, f32>, Arr<'py, f32>, Arr<'py, i64>)> {
+        let o = &self.inner;
+        let levels = o.node_levels();
+        let mut lv = Vec::with_capacity(o.voxels.len());
+        for (i, n) in o.nodes.iter().enumerate() {
+            if !n.is_empty() {
+                lv.push(i64::from(levels[i]));
+            }
+        }
+        let c = o.voxels.iter().flat_map(|v| v.color()).collect();
+        let nn = o.voxels.iter().flat_map(|v| v.normal()).collect();
+        let m = o.voxels.len();
+        Ok((
+            array(py, &[m, 3], c)?,
+            array(py, &[m, 3], nn)?,
+            array(py, &[m], lv)?,
+        ))
+    }
+
+    /// Writes the tree and its mesh to `path`.
+    fn save(&self, path: PathBuf) -> PyResult<()> {
+        self.inner.save(path).py_err()
+    }
+
+    /// The serialized tree (the file's bytes).
+    fn to_bytes<'py>(&self, py: Python<'py>) -> Bound<'py, pyo3::types::PyBytes> {
+        pyo3::types::PyBytes::new(py, &self.inner.to_bytes())
+    }
+}
+
+/// Builds the octree of a mesh.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, colors, depth, early_stop, domain_min, domain_size))]
+#[allow(clippy::too_many_arguments)]
+fn build_octree<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArrayDyn<f64>,
+    faces: PyReadonlyArrayDyn<i64>,
+    colors: Option<PyReadonlyArrayDyn<f32>>,
+    depth: u8,
+    early_stop: bool,
+    domain_min: Option<[f64; 3]>,
+    domain_size: Option<f64>,
+) -> PyResult<(PyOctree, Bound<'py, PyDict>)> {
+    let mesh = mesh_in(&vertices, &faces, colors.as_ref())?;
+    let domain = match (domain_min, domain_size) {
+        (Some(m), Some(s)) => Some(Cube::new(m, s).py_err()?),
+        (None, None) => None,
+        _ => return Err(value_error("domain needs both its corner and its side")),
+    };
+    let p = BuildParams {
+        max_depth: depth,
+        early_stop,
+        domain,
+        ..Default::default()
+    };
+    let (oct, st) = py.detach(|| build(&mesh, &p)).py_err()?;
+    Ok((PyOctree { inner: oct }, stats_dict(py, &st)?))
+}
+
+/// Reads a tree saved by `HybridOctree.save`.
+#[pyfunction]
+fn load(path: PathBuf) -> PyResult<PyOctree> {
+    Ok(PyOctree {
+        inner: HybridOctree::load(path).py_err()?,
+    })
+}
+
+/// A tree from `HybridOctree.to_bytes`.
+#[pyfunction]
+fn from_bytes(data: &[u8]) -> PyResult<PyOctree> {
+    Ok(PyOctree {
+        inner: HybridOctree::from_bytes(data, std::path::Path::new("<bytes>")).py_err()?,
+    })
+}
+
+/// Fragments of the exact voxelization: finest cells `(K, 3)` and triangle indices `(K,)`,
+/// sorted by Morton code then triangle.
+#[pyfunction]
+fn voxelize<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArrayDyn<f64>,
+    faces: PyReadonlyArrayDyn<i64>,
+    depth: u8,
+    domain_min: [f64; 3],
+    domain_size: f64,
+) -> PyResult<(Arr<'py, i64>, Arr<'py, i64>)> {
+    let mesh = mesh_in(&vertices, &faces, None)?;
+    wscg_octree::cube::check_depth(depth).py_err()?;
+    let cube = Cube::new(domain_min, domain_size).py_err()?;
+    if let Some((lo, hi)) = mesh.bounding_box() {
+        if !cube.contains_box(lo, hi) {
+            return Err(value_error("the domain cube does not contain the mesh"));
+        }
+    }
+    let f = py.detach(|| wscg_octree::voxelize(&mesh.positions, &mesh.faces, None, &cube, depth));
+    let cells = f
+        .list
+        .iter()
+        .flat_map(|x| wscg_octree::cube::demorton(x.morton).map(i64::from))
+        .collect();
+    let prims = f.list.iter().map(|x| i64::from(x.prim)).collect();
+    Ok((
+        array(py, &[f.list.len(), 3], cells)?,
+        array(py, &[f.list.len()], prims)?,
+    ))
+}
+
+/// Nearest triangle hits by the binned-SAH BVH baseline: `(t, prim)`.
+#[pyfunction]
+fn bvh_intersect<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArrayDyn<f64>,
+    faces: PyReadonlyArrayDyn<i64>,
+    origins: PyReadonlyArrayDyn<f32>,
+    dirs: PyReadonlyArrayDyn<f32>,
+) -> PyResult<(Arr<'py, f32>, Arr<'py, i64>)> {
+    let mesh = mesh_in(&vertices, &faces, None)?;
+    let rays = rays_in(&origins, &dirs)?;
+    let bvh = py.detach(|| TriangleBvh::build(&mesh)).py_err()?;
+    let hits: Vec<_> = py.detach(|| rays.par_iter().map(|r| bvh.intersect(r)).collect());
+    let t = hits
+        .iter()
+        .map(|h| h.map_or(f32::INFINITY, |h| h.1))
+        .collect();
+    let p = hits
+        .iter()
+        .map(|h| h.map_or(-1, |h| i64::from(h.0)))
+        .collect();
+    Ok((array(py, &[hits.len()], t)?, array(py, &[hits.len()], p)?))
+}
+
+/// A synthetic scene: `(vertices, faces, colors)`.
+#[pyfunction]
+#[pyo3(signature = (name, size, seed))]
+fn scene<'py>(
+    py: Python<'py>,
+    name: &str,
+    size: usize,
+    seed: u64,
+) -> PyResult<(Arr<'py, f64>, Arr<'py, i64>, Arr<'py, f32>)> {
+    let mesh = match name {
+        "atrium" => scenes::atrium(size.max(2)),
+        "city" => scenes::city(size.max(1), seed),
+        "blob" => {
+            if size > 9 {
+                return Err(value_error(format!(
+                    "blob subdivisions must be at most 9, got {size}"
+                )));
+            }
+            scenes::blob(size as u32)
+        }
+        "forest" => {
+            if size > 7 {
+                return Err(value_error(format!(
+                    "forest branch levels must be at most 7, got {size}"
+                )));
+            }
+            scenes::forest(13, size, 64, seed)
+        }
+        "square" => scenes::exact_square().map(|(m, _)| m),
+        other => {
+            return Err(value_error(format!(
+                "scene {other:?} is not valid; valid: atrium, city, blob, forest, square"
+            )))
+        }
+    }
+    .py_err()?;
+    let v = mesh.positions.iter().flatten().copied().collect();
+    let f = mesh.faces.iter().flatten().map(|&i| i64::from(i)).collect();
+    let colors = mesh
+        .colors
+        .clone()
+        .unwrap_or_else(|| vec![[0.8; 3]; mesh.positions.len()]);
+    let c = colors.iter().flatten().copied().collect();
+    let (nv, nf) = (mesh.positions.len(), mesh.faces.len());
+    Ok((
+        array(py, &[nv, 3], v)?,
+        array(py, &[nf, 3], f)?,
+        array(py, &[nv, 3], c)?,
+    ))
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyOctree>()?;
+    m.add_function(wrap_pyfunction!(build_octree, m)?)?;
+    m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(from_bytes, m)?)?;
+    m.add_function(wrap_pyfunction!(voxelize, m)?)?;
+    m.add_function(wrap_pyfunction!(bvh_intersect, m)?)?;
+    m.add_function(wrap_pyfunction!(scene, m)?)
+}
