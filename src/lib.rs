@@ -14,6 +14,7 @@
 //! | [`raytrace`] | `wscg-raytrace` | paper 07: spectral metallic-flake paint, stereo rig, virtual observer |
 //! | [`doe`] | `wscg-doe` | paper 07: central composite designs, response surfaces, repeated-measures ANOVA |
 //! | [`isosurface`] | `wscg-isosurface` | paper 09: sparse-grid marching cubes with tetrahedral-spline normals |
+//! | [`octree`] | `wscg-octree` | paper 10: unified triangle/voxel octree, exact voxelization, LoD ray casting |
 //!
 //! The paper crates are added to this table as they land (see the README).
 
@@ -23,6 +24,7 @@ pub use wscg_doe as doe;
 pub use wscg_isosurface as isosurface;
 pub use wscg_math as math;
 pub use wscg_meshfilter as meshfilter;
+pub use wscg_octree as octree;
 pub use wscg_raytrace as raytrace;
 pub use wscg_video as video;
 pub use wscg_volren as volren;

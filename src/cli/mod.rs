@@ -13,6 +13,7 @@ mod isosurface;
 mod manylight;
 mod math;
 mod meshfilter;
+mod octree;
 mod progress;
 mod raytrace;
 mod sfa;
@@ -61,6 +62,9 @@ enum Command {
     /// Isosurfaces of sparse volumes with tetrahedral-spline normals (paper 09).
     #[command(subcommand)]
     Isosurface(isosurface::IsosurfaceCommand),
+    /// The unified triangle/voxel octree (paper 10): build from OBJ/PLY, render, inspect.
+    #[command(subcommand)]
+    Octree(octree::OctreeCommand),
     /// Hybrid ROI visualisation of medical volumes (paper 03): serve and view.
     #[command(subcommand)]
     Volren(volren::VolrenCommand),
@@ -138,6 +142,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Volren(cmd) => volren::run(cmd),
         Command::Meshfilter(cmd) => meshfilter::run(cmd),
         Command::Isosurface(cmd) => isosurface::run(cmd),
+        Command::Octree(cmd) => octree::run(cmd),
         Command::Video(cmd) => video::run(cmd),
         Command::Raytrace(cmd) => raytrace::run(cmd),
         Command::Doe(cmd) => doe::run(cmd),

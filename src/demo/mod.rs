@@ -15,6 +15,7 @@ pub mod isosurface;
 pub mod manylight;
 pub mod math;
 pub mod meshfilter;
+pub mod octree;
 pub mod paint;
 pub mod sfa;
 pub mod video;
@@ -109,6 +110,7 @@ pub fn registry() -> Vec<Demo> {
         paint::DEMO,
         manylight::DEMO,
         isosurface::DEMO,
+        octree::DEMO,
     ]
 }
 

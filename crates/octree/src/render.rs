@@ -327,3 +327,32 @@ pub fn render(
     stats.seconds = t0.elapsed().as_secs_f64();
     Ok((Image::new(h, w, 3, data)?, stats))
 }
+
+/// A false-colour map of what each primary ray stops at in `mode`: triangle hits white-grey,
+/// voxel hits coloured by level (blue for coarse, through green, to red for the finest),
+/// misses black. Shows where the LoD criterion switches between representations.
+pub fn lod_map(oct: &HybridOctree, cam: &Camera, mode: &TraceMode) -> Result<Image<f32>> {
+    let frame = cam.frame()?;
+    let rays = cam.ray_gen(&frame);
+    let fp = cam.footprint();
+    let depth = f32::from(oct.max_depth.max(1));
+    let mut data = vec![0f32; cam.width * cam.height * 3];
+    data.par_chunks_mut(cam.width * 3)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for x in 0..cam.width {
+                let c = match oct.intersect(&rays.ray(x, y), mode, Some(fp)) {
+                    None => [0.0; 3],
+                    Some(h) => match h.kind {
+                        HitKind::Triangle { .. } => [0.85; 3],
+                        HitKind::Voxel { level, .. } => {
+                            let s = f32::from(level) / depth;
+                            [s, 1.0 - (2.0 * s - 1.0).abs(), 1.0 - s]
+                        }
+                    },
+                };
+                row[3 * x..3 * x + 3].copy_from_slice(&c);
+            }
+        });
+    Image::new(cam.height, cam.width, 3, data)
+}

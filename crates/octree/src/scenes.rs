@@ -379,9 +379,9 @@ fn branch(
     }
 }
 
-/// Cameras on an orbit around `cube`: frame `i` of `frames` turns by `i / frames` of a full circle and
-/// moves linearly from `near` to `far` cube sides away, 0.3 times that distance above the
-/// target, which sits a tenth of the way up the cube. Square images of `res` pixels, 45 degree
+/// Cameras on an orbit around the centre of `cube`: frame `i` of `frames` turns by
+/// `i / frames` of a full circle and moves linearly from `near` to `far` cube sides away, 0.3
+/// times that distance above the centre. Square images of `res` pixels, 45 degree
 /// field of view. The fly-throughs of the paper's Table 3 are paths like this one.
 pub fn orbit_path(
     cube: &Cube,
@@ -392,7 +392,7 @@ pub fn orbit_path(
 ) -> Vec<crate::Camera> {
     let s = cube.size as f32;
     let c = cube.min.map(|v| v as f32);
-    let target = [c[0] + 0.5 * s, c[1] + 0.5 * s, c[2] + 0.1 * s];
+    let target = [c[0] + 0.5 * s, c[1] + 0.5 * s, c[2] + 0.5 * s];
     (0..frames)
         .map(|i| {
             let f = i as f32 / frames.max(1) as f32;
