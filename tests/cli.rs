@@ -1182,3 +1182,125 @@ fn isosurface_extract_and_study_on_a_volume_with_missing_samples() {
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("sobel"));
 }
+
+#[test]
+fn octree_build_info_render_on_a_mesh_file() {
+    use wscg::math::TriMesh;
+    use wscg::octree::{build, render, scenes, BuildParams, HybridOctree, Shading, TraceMode};
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = scenes::blob(3).unwrap();
+    let obj = dir.path().join("blob.obj");
+    mesh.write_obj(&obj).unwrap();
+    let before = std::fs::read(&obj).unwrap();
+    let tree = dir.path().join("blob.oct");
+    let text = wscg_ok(&[
+        "octree",
+        "build",
+        obj.to_str().unwrap(),
+        "--depth",
+        "7",
+        "--out",
+        tree.to_str().unwrap(),
+    ]);
+    assert!(
+        text.contains("early stop") && text.contains("memory (MB)"),
+        "{text}"
+    );
+    assert_eq!(std::fs::read(&obj).unwrap(), before, "input untouched");
+    // The saved tree is the library's tree of the mesh as read back from the file.
+    let read = TriMesh::read(&obj).unwrap();
+    let (lib, _) = build(
+        &read,
+        &BuildParams {
+            max_depth: 7,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let saved = HybridOctree::load(&tree).unwrap();
+    assert_eq!(saved, lib);
+    let text = wscg_ok(&["octree", "info", tree.to_str().unwrap()]);
+    assert!(
+        text.contains(&format!("{} nodes", lib.nodes.len())),
+        "{text}"
+    );
+    let png = dir.path().join("view.png");
+    let text = wscg_ok(&[
+        "octree",
+        "render",
+        tree.to_str().unwrap(),
+        "--mode",
+        "triangles",
+        "--size",
+        "64x48",
+        "--camera",
+        "1.5,-1.2,0.8,0,0,0",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(text.contains("triangle hits"), "{text}");
+    let img = Image::load(&png).unwrap();
+    assert_eq!(img.shape().0, 48);
+    // The same picture from the library (8-bit PNG quantization aside).
+    let cam = wscg::octree::Camera {
+        eye: [1.5, -1.2, 0.8],
+        target: [0.0; 3],
+        up: [0.0, 0.0, 1.0],
+        fov_y_deg: 45.0,
+        width: 64,
+        height: 48,
+    };
+    let light = scenes::default_light(&lib.cube);
+    let (ours, _) = render(
+        &lib,
+        &cam,
+        &light,
+        &TraceMode::Triangles,
+        &Shading::default(),
+    )
+    .unwrap();
+    let diff = ours
+        .data()
+        .iter()
+        .zip(img.data())
+        .map(|(a, b)| (a.clamp(0.0, 1.0) - b).abs())
+        .fold(0.0f32, f32::max);
+    assert!(diff <= 1.0 / 255.0 + 1e-4, "max difference {diff}");
+    let lod = dir.path().join("lod.png");
+    wscg_ok(&[
+        "octree",
+        "render",
+        tree.to_str().unwrap(),
+        "--lod-map",
+        "--size",
+        "32x32",
+        "--out",
+        lod.to_str().unwrap(),
+    ]);
+    // A damaged tree file and a bad mode are errors with messages.
+    let mut bytes = std::fs::read(&tree).unwrap();
+    let n = bytes.len();
+    bytes[n / 2] ^= 4;
+    let bad = dir.path().join("bad.oct");
+    std::fs::write(&bad, &bytes).unwrap();
+    let out = wscg()
+        .args(["octree", "info", bad.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("checksum"));
+    let out = wscg()
+        .args([
+            "octree",
+            "render",
+            tree.to_str().unwrap(),
+            "--mode",
+            "cones",
+            "--out",
+            png.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cones"));
+}
