@@ -74,7 +74,7 @@ impl Voxel {
 /// Octahedral encoding of a unit vector.
 pub fn oct_encode(n: [f32; 3]) -> [i16; 2] {
     let l1 = n[0].abs() + n[1].abs() + n[2].abs();
-    if !(l1 > 0.0) || !l1.is_finite() {
+    if l1.is_nan() || l1 <= 0.0 || !l1.is_finite() {
         return [0, 0];
     }
     let (mut x, mut y) = (n[0] / l1, n[1] / l1);
@@ -149,13 +149,13 @@ mod tests {
         assert_eq!(std::mem::size_of::<Node>(), 8);
         assert_eq!(std::mem::size_of::<Voxel>(), 8);
         for n in [
-            [0.0, 0.0, 1.0],
+            [0.0f32, 0.0, 1.0],
             [0.0, 0.0, -1.0],
             [0.6, -0.8, 0.0],
             [-0.48, 0.6, -0.64],
             [0.577, 0.577, 0.577],
         ] {
-            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2] as f32).sqrt();
+            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
             let n = n.map(|v: f32| v / l);
             let d = oct_decode(oct_encode(n));
             let dot = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];

@@ -217,7 +217,8 @@ impl HybridOctree {
                 self.mesh.faces.len()
             ));
         }
-        if self.n_pair_words as usize > self.tri_index.len() || self.n_pair_words % 2 != 0 {
+        if self.n_pair_words as usize > self.tri_index.len() || !self.n_pair_words.is_multiple_of(2)
+        {
             return bad(format!("pair words {} invalid", self.n_pair_words));
         }
         if self.max_depth > crate::cube::MAX_DEPTH {

@@ -14,9 +14,9 @@ pub const CELL_HALF: f64 = 0.5 + 1e-7;
 pub fn tri_box_overlap(centre: [f64; 3], h: f64, a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> bool {
     let v = [sub(a, centre), sub(b, centre), sub(c, centre)];
     // Box axes: the triangle's bounding box against the cube.
-    for k in 0..3 {
-        let lo = v[0][k].min(v[1][k]).min(v[2][k]);
-        let hi = v[0][k].max(v[1][k]).max(v[2][k]);
+    for ((&a, &b), &c) in v[0].iter().zip(&v[1]).zip(&v[2]) {
+        let lo = a.min(b).min(c);
+        let hi = a.max(b).max(c);
         if lo > h || hi < -h {
             return false;
         }

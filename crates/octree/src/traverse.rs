@@ -172,6 +172,52 @@ struct Entry {
     parent: u32,
 }
 
+/// Hints the cache to load the line at `p` (no effect off x86-64).
+#[inline(always)]
+fn prefetch<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch never faults, whatever the address.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(p.cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
+
+/// The last few triangle tests of a ray, so that a triangle overlapping several leaves along
+/// the ray is intersected once (mailboxing).
+struct Mailbox {
+    prim: [u32; MAILBOX],
+    hit: [Option<(f32, f32, f32)>; MAILBOX],
+    next: usize,
+}
+
+const MAILBOX: usize = 8;
+
+impl Default for Mailbox {
+    fn default() -> Self {
+        Self {
+            prim: [u32::MAX; MAILBOX],
+            hit: [None; MAILBOX],
+            next: 0,
+        }
+    }
+}
+
+impl Mailbox {
+    #[inline(always)]
+    fn get(&self, p: u32) -> Option<Option<(f32, f32, f32)>> {
+        self.prim.iter().position(|&q| q == p).map(|i| self.hit[i])
+    }
+
+    #[inline(always)]
+    fn put(&mut self, p: u32, r: Option<(f32, f32, f32)>) {
+        self.prim[self.next] = p;
+        self.hit[self.next] = r;
+        self.next = (self.next + 1) % MAILBOX;
+    }
+}
+
 /// Deepest stack: at most three siblings wait per level plus the four children of the last.
 const STACK: usize = 3 * 21 + 8;
 
@@ -228,6 +274,16 @@ impl HybridOctree {
         let eps = 4e-6 * size / dn;
         let (t_lo, t_hi) = (ray.t_min.max(0.0), ray.t_max);
         let fp = footprint.map(|f| (f.width0, f.spread * dn));
+        let mut sizes = [0f32; 22];
+        for (l, v) in sizes
+            .iter_mut()
+            .enumerate()
+            .take(usize::from(self.max_depth) + 1)
+        {
+            *v = size / (1u32 << l) as f32;
+        }
+        // Triangles already intersected along this ray (a triangle spans several leaves).
+        let mut mailbox = Mailbox::default();
         // Entries `0..sp` are initialized; leaving the rest uninitialized spares a 2 KB memset
         // per ray.
         let mut stack = [const { MaybeUninit::<Entry>::uninit() }; STACK];
@@ -249,7 +305,7 @@ impl HybridOctree {
                 continue;
             }
             let leaf = node.is_leaf();
-            let vw = size / (1u32 << e.level) as f32;
+            let vw = sizes[e.level as usize];
             let stop = match *mode {
                 TraceMode::Triangles => false,
                 TraceMode::Voxels { level } => leaf || level == Some(e.level),
@@ -271,7 +327,9 @@ impl HybridOctree {
             if leaf {
                 let lo = (e.t0 - eps).max(t_lo);
                 let hi = (e.t1 + eps).min(t_hi);
-                if let Some(h) = self.leaf_hit(self.decode_code(node.index()), o, d, lo, hi) {
+                if let Some(h) =
+                    self.leaf_hit(self.decode_code(node.index()), o, d, lo, hi, &mut mailbox)
+                {
                     return Some(h);
                 }
                 continue;
@@ -298,7 +356,18 @@ impl HybridOctree {
                     nc += 1;
                 }
             }
-            cross[..nc].sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+            // Three-element sorting network.
+            if nc > 1 && cross[1].0 < cross[0].0 {
+                cross.swap(0, 1);
+            }
+            if nc > 2 {
+                if cross[2].0 < cross[1].0 {
+                    cross.swap(1, 2);
+                }
+                if cross[1].0 < cross[0].0 {
+                    cross.swap(0, 1);
+                }
+            }
             let mut seq = [(0usize, 0f32, 0f32); 4];
             let mut ta = e.t0;
             for (i, &(t, k)) in cross[..nc].iter().enumerate() {
@@ -310,8 +379,13 @@ impl HybridOctree {
             let first = node.index();
             for &(c, a, b) in seq[..=nc].iter().rev() {
                 let child = first + c as u32;
-                if self.nodes[child as usize].is_empty() {
+                let cn = self.nodes[child as usize];
+                if cn.is_empty() {
                     continue;
+                }
+                if !cn.is_leaf() {
+                    // The grandchildren are read when the child is popped: fetch them now.
+                    prefetch(self.nodes.as_ptr().wrapping_add(cn.index() as usize));
                 }
                 stack[sp].write(Entry {
                     node: child,
@@ -338,6 +412,7 @@ impl HybridOctree {
 
     /// The closest hit among a leaf's triangles with `t` in `[lo, hi]`.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     fn leaf_hit(
         &self,
         tris: LeafTris<'_>,
@@ -345,10 +420,19 @@ impl HybridOctree {
         d: [f32; 3],
         lo: f32,
         hi: f32,
+        mailbox: &mut Mailbox,
     ) -> Option<Hit> {
         let mut best: Option<(u32, f32, f32, f32)> = None;
         tris.for_each(|p| {
-            if let Some((t, u, v)) = intersect_tri(&self.tris()[p as usize], o, d) {
+            let r = match mailbox.get(p) {
+                Some(r) => r,
+                None => {
+                    let r = intersect_tri(&self.tris()[p as usize], o, d);
+                    mailbox.put(p, r);
+                    r
+                }
+            };
+            if let Some((t, u, v)) = r {
                 if t >= lo && t <= hi && best.is_none_or(|b| t < b.1) {
                     best = Some((p, t, u, v));
                 }
