@@ -231,6 +231,9 @@ impl HybridOctree {
             return bad("a pair refers to a triangle out of range".into());
         }
         let mut next_voxel = 0u32;
+        // Child blocks follow one another in the order of their parents (level order), so
+        // every node but the root has exactly one parent and one level.
+        let mut next_block = 1usize;
         let mut levels = vec![0u8; self.nodes.len()];
         for (i, n) in self.nodes.iter().enumerate() {
             if n.is_empty() {
@@ -254,15 +257,22 @@ impl HybridOctree {
                         return bad(format!("node {i}: triangle out of range"));
                     }
                 }
-            } else if v as usize <= i
+            } else if v as usize != next_block
                 || v as usize + 8 > self.nodes.len()
                 || levels[i] >= self.max_depth
             {
-                return bad(format!("node {i}: child index {v} out of range"));
+                return bad(format!("node {i}: child index {v} out of place"));
             } else {
                 let l = levels[i] + 1;
                 levels[v as usize..v as usize + 8].fill(l);
+                next_block += 8;
             }
+        }
+        if next_block != self.nodes.len() {
+            return bad(format!(
+                "{} nodes, but the child blocks end at {next_block}",
+                self.nodes.len()
+            ));
         }
         if next_voxel as usize != self.voxels.len() {
             return bad("more voxels than non-empty nodes".into());

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use wscg_math::{Error, Image, Result};
 
 use crate::octree::HybridOctree;
-use crate::traverse::{Footprint, Hit, HitKind, Ray, TraceMode};
+use crate::traverse::{cross, dot, Footprint, Hit, HitKind, Ray, TraceMode};
 
 /// A pinhole camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -29,19 +29,10 @@ pub struct Camera {
 fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
-fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
+
 fn unit(a: [f32; 3]) -> [f32; 3] {
     let l = dot(a, a).sqrt();
     a.map(|x| x / l)
-}
-fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// The camera's orthonormal frame `(right, up, forward)`.

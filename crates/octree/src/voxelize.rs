@@ -157,6 +157,31 @@ pub fn for_each_cell(g: [[f64; 3]; 3], depth: u8, mut emit: impl FnMut([u32; 3])
     }
 }
 
+/// Number of grid columns the voxelizer scans for a triangle `g` (grid units): the cells of its
+/// bounding box projected along its dominant axis. Each column yields one to three
+/// fragments, so the sum over a mesh bounds the fragment count within a small factor.
+pub fn columns(g: [[f64; 3]; 3], depth: u8) -> f64 {
+    let n = (1u64 << depth) as f64;
+    let nrm = cross(sub(g[1], g[0]), sub(g[2], g[0]));
+    let w = (0..3)
+        .max_by(|&i, &j| nrm[i].abs().total_cmp(&nrm[j].abs()))
+        .unwrap_or(2);
+    let span = |k: usize| {
+        let lo = g[0][k]
+            .min(g[1][k])
+            .min(g[2][k])
+            .floor()
+            .clamp(0.0, n - 1.0);
+        let hi = g[0][k]
+            .max(g[1][k])
+            .max(g[2][k])
+            .floor()
+            .clamp(0.0, n - 1.0);
+        hi - lo + 1.0
+    };
+    span((w + 1) % 3) * span((w + 2) % 3)
+}
+
 /// Voxelizes `faces` of `positions` (world units) at level `depth` of `cube`: one fragment per
 /// overlapped (cell, triangle), sorted by `(morton, prim)`. `colors` are per-vertex RGB in
 /// `[0, 1]`. Triangles of zero area are skipped and counted. The caller validates the mesh
