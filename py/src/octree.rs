@@ -8,8 +8,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
 use wscg_octree::{
-    build, render, scenes, BuildParams, BuildStats, Camera, Cube, Footprint, HitKind, HybridOctree,
-    PointLight, Ray, Shading, TraceMode, TriangleBvh,
+    build, render, scenes, BuildParams, BuildStats, Camera, Cube, Focus, Footprint, HitKind,
+    HybridOctree, PointLight, Ray, Shading, TraceMode, TriangleBvh,
 };
 
 use crate::convert::{array, mesh_in, rows3, values, Arr};
@@ -208,7 +208,7 @@ impl PyOctree {
     }
 
     /// Renders an image (primary rays, Phong, one shadow ray).
-    #[pyo3(signature = (eye, target, up, fov_deg, width, height, mode, light_pos, shadows, lod_scale, blend, small_leaves_as_voxels, level))]
+    #[pyo3(signature = (eye, target, up, fov_deg, width, height, mode, light_pos, shadows, lod_scale, blend, small_leaves_as_voxels, level, focus, ao_samples, ao_radius))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -226,6 +226,9 @@ impl PyOctree {
         blend: bool,
         small_leaves_as_voxels: bool,
         level: Option<u8>,
+        focus: Option<[f32; 5]>,
+        ao_samples: u32,
+        ao_radius: f32,
     ) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
         let mode = mode_from(mode, lod_scale, blend, small_leaves_as_voxels, level)?;
         let cam = Camera {
@@ -245,6 +248,13 @@ impl PyOctree {
         };
         let shading = Shading {
             shadows,
+            ao_samples,
+            ao_radius,
+            focus: focus.map(|f| Focus {
+                centre: [f[0], f[1]],
+                radii: [f[2], f[3]],
+                falloff: f[4],
+            }),
             ..Default::default()
         };
         let oct = &self.inner;

@@ -135,6 +135,16 @@ def test_render_modes_and_lod():
     assert 0.0 <= st["blend_min"] <= st["blend_max"] <= 1.0
     vox = tree.render(far_eye, centre, mode="voxels", level=4, width=64, height=64)
     assert np.isfinite(vox).all()
+    # Display-wall focus: triangles inside the ellipse, voxels well outside it.
+    mid_eye = centre + 1.5 * side * np.array([0.8, -0.5, 0.35])
+    _, st_f = tree.render(mid_eye, centre, width=128, height=128, focus=(64, 64, 10, 10, 3),
+                          return_stats=True)
+    _, st_h = tree.render(mid_eye, centre, width=128, height=128, return_stats=True)
+    assert st_f["voxel_hits"] > st_h["voxel_hits"]
+    img_ao = tree.render(near_eye, centre, mode="triangles", width=64, height=48, ao_samples=4)
+    assert np.isfinite(img_ao).all()
+    with pytest.raises(ValueError, match="focus"):
+        tree.render(mid_eye, centre, width=16, height=16, focus=(8, 8, 0, 4, 2))
 
 
 def test_voxel_attributes_of_a_constant_colour_plane():

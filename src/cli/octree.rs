@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use clap::{Args, Subcommand};
 use wscg_math::{Error, Result, TriMesh};
 use wscg_octree::{
-    build, lod_map, render, scenes, BuildParams, Camera, HybridOctree, PointLight, Shading,
+    build, lod_map, render, scenes, BuildParams, Camera, Focus, HybridOctree, PointLight, Shading,
     TraceMode,
 };
 
@@ -69,6 +69,17 @@ pub struct RenderArgs {
     /// No shadow rays.
     #[arg(long)]
     no_shadows: bool,
+    /// View-dependent detail (hybrid mode): triangles inside the ellipse cx,cy,a,b (pixels),
+    /// voxels coarsening outside it, the LoD scale doubling every FALLOFF pixels:
+    /// cx,cy,a,b,falloff.
+    #[arg(long, value_delimiter = ',')]
+    focus: Vec<f32>,
+    /// Ambient-occlusion rays per hit (0: none).
+    #[arg(long, default_value_t = 0)]
+    ao: u32,
+    /// Length of the ambient-occlusion rays as a fraction of the cube side.
+    #[arg(long, default_value_t = 0.05)]
+    ao_radius: f32,
     /// Write a false-colour map of what each pixel stopped at instead of the shaded image.
     #[arg(long)]
     lod_map: bool,
@@ -172,8 +183,22 @@ pub fn run(cmd: OctreeCommand) -> Result<()> {
             let oct = HybridOctree::load(&a.tree)?;
             let mode = mode_arg(&a.mode, a.level)?;
             let cam = camera_arg(&a.camera, &oct, a.fov, size_arg(&a.size)?)?;
+            let focus = match a.focus.as_slice() {
+                [] => None,
+                [cx, cy, ra, rb, f] => Some(Focus {
+                    centre: [*cx, *cy],
+                    radii: [*ra, *rb],
+                    falloff: *f,
+                }),
+                _ => {
+                    return Err(Error::invalid(
+                        "focus",
+                        "give five values cx,cy,a,b,falloff (pixels)",
+                    ))
+                }
+            };
             if a.lod_map {
-                lod_map(&oct, &cam, &mode)?.save(&a.out)?;
+                lod_map(&oct, &cam, &mode, focus.as_ref())?.save(&a.out)?;
             } else {
                 let light = match a.light.as_slice() {
                     [] => scenes::default_light(&oct.cube),

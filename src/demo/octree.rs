@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result, TriMesh};
 use wscg_octree::{
-    build, lod_map, render, scenes, BuildParams, Camera, HybridOctree, PointLight, Shading,
+    build, lod_map, render, scenes, BuildParams, Camera, Focus, HybridOctree, PointLight, Shading,
     TraceMode, TriangleBvh,
 };
 
@@ -226,7 +226,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         shaded(&forest_full, &zoom(far), &TraceMode::VOXELS)?,
         shaded(&forest, &zoom(far), &TraceMode::Triangles)?,
         shaded(&forest, &zoom(far), &TraceMode::HYBRID)?,
-        lod_map(&forest, &zoom(far), &TraceMode::HYBRID)?,
+        lod_map(&forest, &zoom(far), &TraceMode::HYBRID, None)?,
     ];
     montage(&tiles, 4, 1)?.save(out.join("forest_far_modes.png"))?;
     rep.figures.push(Figure {
@@ -242,7 +242,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         shaded(&forest_full, &near, &TraceMode::VOXELS)?,
         shaded(&forest, &near, &TraceMode::Triangles)?,
         shaded(&forest, &near, &TraceMode::HYBRID)?,
-        lod_map(&forest, &near, &TraceMode::HYBRID)?,
+        lod_map(&forest, &near, &TraceMode::HYBRID, None)?,
     ];
     montage(&tiles, 4, 1)?.save(out.join("forest_near_modes.png"))?;
     rep.figures.push(Figure {
@@ -273,7 +273,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
             &lamp,
         )?,
         shaded_lit(&atrium, &inside, &TraceMode::HYBRID, &lamp)?,
-        lod_map(&atrium, &inside, &TraceMode::HYBRID)?,
+        lod_map(&atrium, &inside, &TraceMode::HYBRID, None)?,
     ];
     montage(&tiles, 3, 1)?.save(out.join("atrium_modes.png"))?;
     rep.figures.push(Figure {
@@ -281,6 +281,70 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         caption: "Atrium (large triangles): voxels at level 6, the hybrid, and its LoD map: \
                   early-stopped leaves with one or two large triangles are intersected exactly \
                   at every distance."
+            .into(),
+    });
+
+    // The paper's other two applications: view-dependent detail on a display wall, and
+    // shadows with ambient occlusion traced through the same structure.
+    let wall = Camera {
+        width: 768,
+        height: 384,
+        ..scenes::orbit_path(&forest.cube, 1, 0.9, 0.9, 384)[0]
+    };
+    let focus = Focus {
+        centre: [260.0, 200.0],
+        radii: [110.0, 80.0],
+        falloff: 25.0,
+    };
+    let wall_light = scenes::default_light(&forest.cube);
+    let with_focus = Shading {
+        focus: Some(focus),
+        ..Default::default()
+    };
+    let (fimg, fst) = render(&forest, &wall, &wall_light, &TraceMode::HYBRID, &with_focus)?;
+    let (_, tst) = render(
+        &forest,
+        &wall,
+        &wall_light,
+        &TraceMode::Triangles,
+        &Shading::default(),
+    )?;
+    rep.table.push(Row::new(
+        "display wall 768x384, forest at 0.9 S, focus ellipse 220x160 px: frame time focus+context / triangles (s); voxel share",
+        format!(
+            "{:.3} / {:.3}; {:.1}%",
+            fst.seconds,
+            tst.seconds,
+            100.0 * fst.voxel_fraction()
+        ),
+        "",
+        "section 5 application 3 (the paper gives no figures)",
+    ));
+    let tiles = [
+        fimg.map(|v| v.clamp(0.0, 1.0)),
+        lod_map(&forest, &wall, &TraceMode::HYBRID, Some(&focus))?,
+    ];
+    montage(&tiles, 2, 1)?.save(out.join("forest_display_wall.png"))?;
+    rep.figures.push(Figure {
+        file: "forest_display_wall.png".into(),
+        caption: "View-dependent detail (the paper's display-wall application): triangles                   inside the focus ellipse left of the image centre, voxels that coarsen with the                   distance outside it (left), and the LoD map (right)."
+            .into(),
+    });
+    let ao = Shading {
+        ka: 0.6,
+        kd: 0.4,
+        ao_samples: 16,
+        ao_radius: 0.08,
+        ..Default::default()
+    };
+    let tiles = [shaded_lit(&atrium, &inside, &TraceMode::HYBRID, &lamp)?, {
+        let (img, _) = render(&atrium, &inside, &lamp, &TraceMode::HYBRID, &ao)?;
+        img.map(|v| v.clamp(0.0, 1.0))
+    }];
+    montage(&tiles, 2, 1)?.save(out.join("atrium_ao.png"))?;
+    rep.figures.push(Figure {
+        file: "atrium_ao.png".into(),
+        caption: "Shadows and ambient occlusion (16 rays per hit, 8 % of the cube side) traced                   through the hybrid structure: Phong with a shadow ray (left), with ambient                   occlusion darkening the pillar feet, arches and corners (right)."
             .into(),
     });
     Ok(rep)

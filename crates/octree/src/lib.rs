@@ -52,6 +52,6 @@ pub use build::{build, BuildParams, BuildStats};
 pub use cube::{morton, Cube};
 pub use node::{LeafTris, Node, Voxel};
 pub use octree::{HybridOctree, MemoryReport, Tri};
-pub use render::{lod_map, render, Camera, PointLight, RayGen, RenderStats, Shading};
+pub use render::{lod_map, render, Camera, Focus, PointLight, RayGen, RenderStats, Shading};
 pub use traverse::{Footprint, Hit, HitKind, Ray, TraceMode};
 pub use voxelize::{voxelize, Fragment, Fragments};

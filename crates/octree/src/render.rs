@@ -150,6 +150,71 @@ pub struct Shading {
     pub shadows: bool,
     /// Background colour.
     pub background: [f32; 3],
+    /// Ambient-occlusion rays per hit (0: none). The ambient term is scaled by the fraction
+    /// of unoccluded rays (cosine-distributed over the hemisphere, traced in the same mode,
+    /// so far hits are occluded by voxels: the paper's shadows/AO application).
+    pub ao_samples: u32,
+    /// Length of the ambient-occlusion rays as a fraction of the cube side.
+    pub ao_radius: f32,
+    /// View-dependent detail (the paper's display-wall application): full triangle detail
+    /// inside a screen ellipse, coarser voxels with the distance outside it.
+    pub focus: Option<Focus>,
+}
+
+/// A focus region in the image (the paper's display wall: the tracked user's central field of
+/// view). Pixels inside the ellipse trace triangles; outside, the hybrid mode's LoD scale is
+/// doubled for every `falloff` pixels of distance from the ellipse, so detail drops away from
+/// the focus. The paper's image-space blur of the transitions is not applied.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Focus {
+    /// Centre `(x, y)` in pixels.
+    pub centre: [f32; 2],
+    /// Semi-axes `(a, b)` in pixels.
+    pub radii: [f32; 2],
+    /// Pixels of distance per doubling of the LoD scale.
+    pub falloff: f32,
+}
+
+impl Focus {
+    /// The trace mode of pixel `(x, y)` for a base `mode` (only the hybrid mode changes).
+    pub fn mode_at(&self, mode: &TraceMode, x: usize, y: usize) -> TraceMode {
+        let TraceMode::Hybrid {
+            lod_scale,
+            blend,
+            small_leaves_as_voxels,
+        } = *mode
+        else {
+            return *mode;
+        };
+        let dx = (x as f32 + 0.5 - self.centre[0]) / self.radii[0].max(1e-6);
+        let dy = (y as f32 + 0.5 - self.centre[1]) / self.radii[1].max(1e-6);
+        let e = (dx * dx + dy * dy).sqrt();
+        if e <= 1.0 {
+            return TraceMode::Triangles;
+        }
+        // Distance outside the ellipse, in pixels, along the ray from its centre.
+        let d = (e - 1.0) / e * (dx * self.radii[0]).hypot(dy * self.radii[1]);
+        TraceMode::Hybrid {
+            lod_scale: lod_scale * (d / self.falloff.max(1e-6)).exp2(),
+            blend,
+            small_leaves_as_voxels,
+        }
+    }
+
+    fn check(&self) -> Result<()> {
+        let ok = self.centre.iter().all(|v| v.is_finite())
+            && self.radii.iter().all(|v| v.is_finite() && *v > 0.0)
+            && self.falloff.is_finite()
+            && self.falloff > 0.0;
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::invalid(
+                "focus",
+                format!("centre must be finite, radii and falloff positive: {self:?}"),
+            ))
+        }
+    }
 }
 
 impl Default for Shading {
@@ -161,6 +226,9 @@ impl Default for Shading {
             shininess: 32.0,
             shadows: true,
             background: [0.05, 0.05, 0.08],
+            ao_samples: 0,
+            ao_radius: 0.05,
+            focus: None,
         }
     }
 }
@@ -204,7 +272,9 @@ impl RenderStats {
 }
 
 /// Shades one primary hit: Phong with one shadow ray offset from the surface (by a voxel's
-/// 1.5 sides for voxel hits, against voxel self-shadowing).
+/// 1.5 sides for voxel hits, against voxel self-shadowing), and the optional ambient
+/// occlusion.
+#[allow(clippy::too_many_arguments)]
 fn shade(
     oct: &HybridOctree,
     ray: &Ray,
@@ -213,6 +283,7 @@ fn shade(
     mode: &TraceMode,
     fp: Footprint,
     s: &Shading,
+    seed: u64,
 ) -> [f32; 3] {
     let p: [f32; 3] = std::array::from_fn(|k| ray.origin[k] + hit.t * ray.dir[k]);
     let mut n = hit.normal;
@@ -224,25 +295,30 @@ fn shade(
     let l = to_l.map(|x| x / dist.max(1e-20));
     let ndl = dot(n, l);
     let c = hit.color;
-    let mut out = c.map(|x| s.ka * x);
+    let offset = match hit.kind {
+        HitKind::Voxel { level, .. } => 1.5 * oct.cube.size as f32 / (1u32 << level) as f32,
+        HitKind::Triangle { .. } => 1e-4 * oct.cube.size as f32,
+    };
+    let origin: [f32; 3] = std::array::from_fn(|k| p[k] + offset * n[k]);
+    let sfp = Footprint {
+        width0: fp.width0 + fp.spread * hit.t,
+        spread: fp.spread,
+    };
+    let ao = if s.ao_samples > 0 {
+        ambient_occlusion(oct, origin, n, mode, sfp, s, seed)
+    } else {
+        1.0
+    };
+    let mut out = c.map(|x| ao * s.ka * x);
     if ndl <= 0.0 {
         return out;
     }
     if s.shadows {
-        let offset = match hit.kind {
-            HitKind::Voxel { level, .. } => 1.5 * oct.cube.size as f32 / (1u32 << level) as f32,
-            HitKind::Triangle { .. } => 1e-4 * oct.cube.size as f32,
-        };
-        let origin = std::array::from_fn(|k| p[k] + offset * n[k]);
         let shadow = Ray {
             origin,
             dir: l,
             t_min: 0.0,
             t_max: dist - offset,
-        };
-        let sfp = Footprint {
-            width0: fp.width0 + fp.spread * hit.t,
-            spread: fp.spread,
         };
         if shadow.t_max > 0.0 && oct.occluded(&shadow, mode, Some(sfp)) {
             return out;
@@ -255,6 +331,54 @@ fn shade(
         out[k] += light.intensity * (s.kd * ndl * c[k] + spec);
     }
     out
+}
+
+/// A uniform number in `[0, 1)` from a 64-bit hash of `k` (SplitMix64's finalizer).
+fn hash01(k: u64) -> f32 {
+    let mut z = k.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+}
+
+/// Fraction of `s.ao_samples` cosine-distributed rays from `origin` around `n` that travel
+/// `s.ao_radius` cube sides without a hit (deterministic per pixel through `seed`).
+#[allow(clippy::too_many_arguments)]
+fn ambient_occlusion(
+    oct: &HybridOctree,
+    origin: [f32; 3],
+    n: [f32; 3],
+    mode: &TraceMode,
+    fp: Footprint,
+    s: &Shading,
+    seed: u64,
+) -> f32 {
+    let helper = if n[0].abs() < 0.9 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let u = unit(cross(n, helper));
+    let v = cross(n, u);
+    let reach = s.ao_radius * oct.cube.size as f32;
+    let mut open = 0u32;
+    for i in 0..s.ao_samples {
+        let k = seed.wrapping_mul(0x2545_f491_4f6c_dd1d) ^ u64::from(i) << 40;
+        let (r1, r2) = (hash01(k.wrapping_mul(2)), hash01(k.wrapping_mul(2) | 1));
+        let (r, phi) = (r1.sqrt(), std::f32::consts::TAU * r2);
+        let (a, b, c) = (r * phi.cos(), r * phi.sin(), (1.0 - r1).max(0.0).sqrt());
+        let dir = std::array::from_fn(|j| a * u[j] + b * v[j] + c * n[j]);
+        let ray = Ray {
+            origin,
+            dir,
+            t_min: 0.0,
+            t_max: reach,
+        };
+        if !oct.occluded(&ray, mode, Some(fp)) {
+            open += 1;
+        }
+    }
+    open as f32 / s.ao_samples as f32
 }
 
 /// Renders `oct` from `cam` in `mode`: an `H x W x 3` linear RGB image and hit counts.
@@ -270,6 +394,15 @@ pub fn render(
         return Err(Error::invalid(
             "light",
             "position and intensity must be finite",
+        ));
+    }
+    if let Some(f) = &shading.focus {
+        f.check()?;
+    }
+    if !(shading.ao_radius.is_finite() && shading.ao_radius > 0.0) {
+        return Err(Error::invalid(
+            "ao_radius",
+            format!("must be positive, got {}", shading.ao_radius),
         ));
     }
     let t0 = Instant::now();
@@ -289,6 +422,11 @@ pub fn render(
             let mut st = empty;
             for x in 0..w {
                 let ray = rays.ray(x, y);
+                let pm = match &shading.focus {
+                    Some(f) => f.mode_at(mode, x, y),
+                    None => *mode,
+                };
+                let mode = &pm;
                 let px = match oct.intersect(&ray, mode, Some(fp)) {
                     Some(hit) => {
                         match hit.kind {
@@ -299,7 +437,16 @@ pub fn render(
                                 st.blend_max = st.blend_max.max(blend);
                             }
                         }
-                        shade(oct, &ray, &hit, light, mode, fp, shading)
+                        shade(
+                            oct,
+                            &ray,
+                            &hit,
+                            light,
+                            mode,
+                            fp,
+                            shading,
+                            (y * w + x) as u64,
+                        )
                     }
                     None => {
                         st.misses += 1;
@@ -322,8 +469,17 @@ pub fn render(
 /// A false-colour map of what each primary ray stops at in `mode`: triangle hits white-grey,
 /// voxel hits coloured by level (blue for coarse, through green, to red for the finest),
 /// misses black. Shows where the LoD criterion switches between representations.
-pub fn lod_map(oct: &HybridOctree, cam: &Camera, mode: &TraceMode) -> Result<Image<f32>> {
+/// With `focus`, the mode of each pixel follows [`Focus::mode_at`].
+pub fn lod_map(
+    oct: &HybridOctree,
+    cam: &Camera,
+    mode: &TraceMode,
+    focus: Option<&Focus>,
+) -> Result<Image<f32>> {
     let frame = cam.frame()?;
+    if let Some(f) = focus {
+        f.check()?;
+    }
     let rays = cam.ray_gen(&frame);
     let fp = cam.footprint();
     let depth = f32::from(oct.max_depth.max(1));
@@ -332,7 +488,8 @@ pub fn lod_map(oct: &HybridOctree, cam: &Camera, mode: &TraceMode) -> Result<Ima
         .enumerate()
         .for_each(|(y, row)| {
             for x in 0..cam.width {
-                let c = match oct.intersect(&rays.ray(x, y), mode, Some(fp)) {
+                let pm = focus.map_or(*mode, |f| f.mode_at(mode, x, y));
+                let c = match oct.intersect(&rays.ray(x, y), &pm, Some(fp)) {
                     None => [0.0; 3],
                     Some(h) => match h.kind {
                         HitKind::Triangle { .. } => [0.85; 3],

@@ -668,3 +668,157 @@ fn voxel_mode_returns_voxels_at_the_requested_level() {
         }
     }
 }
+
+/// The display-wall application: triangles inside the focus ellipse, the LoD scale doubling
+/// every `falloff` pixels outside it.
+#[test]
+fn focus_ellipse_selects_triangles_inside_and_coarsens_outside() {
+    let f = wscg_octree::Focus {
+        centre: [100.0, 50.0],
+        radii: [40.0, 20.0],
+        falloff: 10.0,
+    };
+    assert_eq!(f.mode_at(&TraceMode::HYBRID, 100, 50), TraceMode::Triangles);
+    assert_eq!(f.mode_at(&TraceMode::HYBRID, 139, 50), TraceMode::Triangles);
+    // About 20.5 px right of the ellipse's edge along the major axis: scale 2^(20.5 / 10).
+    let TraceMode::Hybrid { lod_scale, .. } = f.mode_at(&TraceMode::HYBRID, 160, 49) else {
+        panic!()
+    };
+    assert!((lod_scale - 2f32.powf(2.05)).abs() < 0.01, "{lod_scale}");
+    assert_eq!(
+        f.mode_at(&TraceMode::Triangles, 160, 49),
+        TraceMode::Triangles
+    );
+    // Rendering with a focus: the ellipse's pixels are triangle hits, the rest mostly voxels.
+    let mesh = scenes::blob(6).unwrap();
+    let (oct, _) = build(&mesh, &params(9, true)).unwrap();
+    let cam = orbit_camera(&oct, 1.2 * oct.cube.size as f32, 128);
+    let focus = wscg_octree::Focus {
+        centre: [64.0, 64.0],
+        radii: [12.0, 12.0],
+        falloff: 4.0,
+    };
+    let map = wscg_octree::lod_map(&oct, &cam, &TraceMode::HYBRID, Some(&focus)).unwrap();
+    let grey = |y: usize, x: usize| (0..3).all(|c| (map.at(y, x, c) - 0.85).abs() < 1e-6);
+    assert!(grey(64, 64) && grey(60, 70));
+    let outside = (0..128)
+        .flat_map(|y| (0..128).map(move |x| (y, x)))
+        .filter(|&(y, x)| {
+            let d = ((x as f32 - 64.0).powi(2) + (y as f32 - 64.0).powi(2)).sqrt();
+            d > 40.0 && map.pixel(y, x).iter().any(|v| *v > 0.0)
+        });
+    let (mut hits, mut voxels) = (0, 0);
+    for (y, x) in outside {
+        hits += 1;
+        voxels += usize::from(!grey(y, x));
+    }
+    assert!(
+        hits > 100 && voxels as f64 >= 0.9 * hits as f64,
+        "{voxels} of {hits}"
+    );
+    let light = PointLight {
+        position: [2.0, -3.0, 4.0],
+        intensity: 1.0,
+    };
+    let bad = Shading {
+        focus: Some(wscg_octree::Focus {
+            radii: [0.0, 1.0],
+            ..focus
+        }),
+        ..Default::default()
+    };
+    assert!(render(&oct, &cam, &light, &TraceMode::HYBRID, &bad).is_err());
+}
+
+/// Ambient occlusion: nothing occludes the upper side of a lone plane (the image is unchanged);
+/// an inside corner darkens.
+#[test]
+fn ambient_occlusion_is_one_on_a_plane_and_darkens_a_corner() {
+    let plane = TriMesh::grid(8, 8, 1.0, 1.0).unwrap();
+    let lift: Vec<[f64; 3]> = plane.positions.iter().map(|p| [p[0], p[1], 0.3]).collect();
+    let plane = TriMesh::new(lift, plane.faces.clone()).unwrap();
+    let (oct, _) = build(&plane, &params(7, true)).unwrap();
+    let cam = Camera {
+        eye: [0.5, 0.5, 2.0],
+        target: [0.5, 0.5, 0.3],
+        up: [0.0, 1.0, 0.0],
+        fov_y_deg: 30.0,
+        width: 48,
+        height: 48,
+    };
+    let light = PointLight {
+        position: [0.2, 0.4, 3.0],
+        intensity: 1.0,
+    };
+    let plain = Shading::default();
+    let ao = Shading {
+        ao_samples: 8,
+        ao_radius: 0.2,
+        ..Default::default()
+    };
+    let (a, _) = render(&oct, &cam, &light, &TraceMode::Triangles, &plain).unwrap();
+    let (b, _) = render(&oct, &cam, &light, &TraceMode::Triangles, &ao).unwrap();
+    assert_eq!(a.data(), b.data());
+    // Floor and two walls meeting in a corner.
+    let mut s = scenes::SceneBuilder::default();
+    let c = [0.8; 3];
+    s.quad(
+        [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ],
+        4,
+        4,
+        c,
+    );
+    s.quad(
+        [
+            [0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 1.0, 1.0],
+            [0.0, 0.0, 1.0],
+        ],
+        4,
+        4,
+        c,
+    );
+    s.quad(
+        [
+            [0.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 0.0, 0.0],
+        ],
+        4,
+        4,
+        c,
+    );
+    let corner = s.finish().unwrap();
+    let (oct, _) = build(&corner, &params(7, true)).unwrap();
+    let cam = Camera {
+        eye: [1.5, 1.5, 1.2],
+        target: [0.0, 0.0, 0.0],
+        up: [0.0, 0.0, 1.0],
+        fov_y_deg: 20.0,
+        width: 48,
+        height: 48,
+    };
+    let only_ambient = |n| Shading {
+        ka: 1.0,
+        kd: 0.0,
+        ks: 0.0,
+        shadows: false,
+        ao_samples: n,
+        ao_radius: 0.3,
+        ..Default::default()
+    };
+    let (a, _) = render(&oct, &cam, &light, &TraceMode::Triangles, &only_ambient(0)).unwrap();
+    let (b, _) = render(&oct, &cam, &light, &TraceMode::Triangles, &only_ambient(32)).unwrap();
+    // The pixel looking into the corner loses a large part of its ambient light.
+    let centre = (24, 24);
+    let ratio = b.at(centre.0, centre.1, 0) / a.at(centre.0, centre.1, 0);
+    assert!(ratio < 0.6, "corner ambient kept {ratio}");
+    assert!(b.data().iter().zip(a.data()).all(|(x, y)| x <= y));
+}

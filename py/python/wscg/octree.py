@@ -144,10 +144,16 @@ class HybridOctree:
                light_pos: Optional[Sequence[float]] = None, shadows: bool = True,
                lod_scale: float = 1.0, blend: bool = True,
                small_leaves_as_voxels: bool = False, level: Optional[int] = None,
-               return_stats: bool = False):
+               focus: Optional[Sequence[float]] = None, ao_samples: int = 0,
+               ao_radius: float = 0.05, return_stats: bool = False):
         """Renders a ``(height, width, 3)`` float32 linear-RGB image: one primary ray per
         pixel, Phong shading (ka 0.1, kd 0.8, ks 0.2, shininess 32), one point light
-        (default: above and beside the cube) and one shadow ray per hit. With
+        (default: above and beside the cube) and one shadow ray per hit.
+
+        ``focus = (cx, cy, a, b, falloff)`` (pixels) gives view-dependent detail in hybrid
+        mode (the paper's display-wall application): triangles inside the ellipse, the LoD
+        scale doubling every ``falloff`` pixels outside it. ``ao_samples`` ambient-occlusion
+        rays of length ``ao_radius`` cube sides scale the ambient term. With
         ``return_stats`` also returns a dict of hit counts (``triangle_hits``,
         ``voxel_hits``, ``misses``), blend factor range and seconds."""
         if mode not in _MODES:
@@ -158,7 +164,9 @@ class HybridOctree:
                                  None if light_pos is None else [float(x) for x in light_pos],
                                  bool(shadows), float(lod_scale), bool(blend),
                                  bool(small_leaves_as_voxels),
-                                 None if level is None else int(level))
+                                 None if level is None else int(level),
+                                 None if focus is None else [float(x) for x in focus],
+                                 int(ao_samples), float(ao_radius))
         return (img, st) if return_stats else img
 
     def occupancy(self, level: int) -> np.ndarray:
