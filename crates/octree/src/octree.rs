@@ -41,6 +41,8 @@ pub struct HybridOctree {
     /// The triangles the leaves refer to.
     pub mesh: TriMesh,
     tris: Vec<Tri>,
+    /// `v_w(l)` for every level, in `f32`, for the traversal.
+    pub(crate) cell_sizes: [f32; 22],
 }
 
 /// Sizes in bytes of the parts of the structure (the columns of the paper's Table 2).
@@ -95,6 +97,7 @@ impl HybridOctree {
         mesh: TriMesh,
     ) -> Self {
         let tris = prepare(&mesh);
+        let cell_sizes = std::array::from_fn(|l| cube.cell_size(l as u8) as f32);
         Self {
             nodes,
             voxels,
@@ -106,6 +109,7 @@ impl HybridOctree {
             early_stop,
             mesh,
             tris,
+            cell_sizes,
         }
     }
 

@@ -276,14 +276,6 @@ impl HybridOctree {
         let eps = 4e-6 * size / dn;
         let (t_lo, t_hi) = (ray.t_min.max(0.0), ray.t_max);
         let fp = footprint.map(|f| (f.width0, f.spread * dn));
-        let mut sizes = [0f32; 22];
-        for (l, v) in sizes
-            .iter_mut()
-            .enumerate()
-            .take(usize::from(self.max_depth) + 1)
-        {
-            *v = size / (1u32 << l) as f32;
-        }
         // Triangles already intersected along this ray (a triangle spans several leaves).
         let mut mailbox = Mailbox::default();
         // Entries `0..sp` are initialized; leaving the rest uninitialized spares a 2 KB memset
@@ -307,7 +299,7 @@ impl HybridOctree {
                 continue;
             }
             let leaf = node.is_leaf();
-            let vw = sizes[e.level as usize];
+            let vw = self.cell_sizes[e.level as usize];
             let stop = match *mode {
                 TraceMode::Triangles => false,
                 TraceMode::Voxels { level } => leaf || level == Some(e.level),

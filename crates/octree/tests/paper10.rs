@@ -459,6 +459,30 @@ fn lod_selects_voxels_far_and_triangles_near() {
         1.0 - st.voxel_fraction()
     );
     assert!((0.0..=1.0).contains(&st.blend_min) && st.blend_max <= 1.0);
+    // A voxel hit stops where v_w <= f at its entry (the parent, entered earlier, had
+    // v_w > f there), and its blend is the paper's i = (2 v_w - f) / v_w.
+    let fp = far.footprint();
+    let gen = far.ray_gen(&far.frame().unwrap());
+    let mut checked = 0;
+    for y in (0..256).step_by(4) {
+        for x in (0..256).step_by(4) {
+            let Some(h) = oct.intersect(&gen.ray(x, y), &TraceMode::HYBRID, Some(fp)) else {
+                continue;
+            };
+            let HitKind::Voxel { level, blend, .. } = h.kind else {
+                continue;
+            };
+            let f = fp.spread * h.t;
+            let vw = oct.cube.cell_size(level) as f32;
+            assert!(
+                vw <= f * (1.0 + 1e-5),
+                "level {level}: v_w {vw}, f {f}"
+            );
+            assert!((blend - ((2.0 * vw - f) / vw).clamp(0.0, 1.0)).abs() < 1e-4);
+            checked += 1;
+        }
+    }
+    assert!(checked > 50, "{checked} voxel hits checked");
     let (tr, _) = render(
         &oct,
         &near,
