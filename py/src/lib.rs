@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 mod biometrics;
 mod cloth;
 mod convert;
+mod csmri;
 mod doe;
 mod errors;
 mod handpose;
@@ -28,7 +29,7 @@ mod volren;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 10] = [
+    let subs: [(&str, Register); 11] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
@@ -39,6 +40,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         ("doe", doe::register),
         ("isosurface", isosurface::register),
         ("octree", octree::register),
+        ("csmri", csmri::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

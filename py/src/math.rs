@@ -614,7 +614,32 @@ fn write_mesh(
 }
 
 /// Adds every function of this module to `m`.
+/// Multi-level periodized Daubechies wavelet transform (Mallat layout), or its inverse.
+#[pyfunction]
+fn wavelet2<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArrayDyn<f64>,
+    order: usize,
+    levels: usize,
+    inverse: bool,
+) -> PyResult<Arr<'py, f64>> {
+    use wscg_math::wavelet::{Daubechies, Wavelet2};
+    let (r, c) = crate::convert::dims2("x", &x)?;
+    let w = Wavelet2::new(r, c, Daubechies::new(order).py_err()?, levels).py_err()?;
+    let v = values(&x);
+    let mut out = vec![0.0; r * c];
+    py.detach(|| {
+        if inverse {
+            w.inverse(&v, &mut out)
+        } else {
+            w.forward(&v, &mut out)
+        }
+    });
+    array(py, &[r, c], out)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(wavelet2, m)?)?;
     m.add_function(wrap_pyfunction!(mse, m)?)?;
     m.add_function(wrap_pyfunction!(psnr, m)?)?;
     m.add_function(wrap_pyfunction!(ssim, m)?)?;

@@ -13,6 +13,7 @@ mod isosurface;
 mod manylight;
 mod math;
 mod meshfilter;
+mod mri;
 mod octree;
 mod progress;
 mod raytrace;
@@ -65,6 +66,9 @@ enum Command {
     /// The unified triangle/voxel octree (paper 10): build from OBJ/PLY, render, inspect.
     #[command(subcommand)]
     Octree(octree::OctreeCommand),
+    /// Compressed-sensing MRI with a curvelet prior (paper 11): reconstruct, masks, phantom.
+    #[command(subcommand)]
+    Mri(mri::MriCommand),
     /// Hybrid ROI visualisation of medical volumes (paper 03): serve and view.
     #[command(subcommand)]
     Volren(volren::VolrenCommand),
@@ -143,6 +147,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Meshfilter(cmd) => meshfilter::run(cmd),
         Command::Isosurface(cmd) => isosurface::run(cmd),
         Command::Octree(cmd) => octree::run(cmd),
+        Command::Mri(cmd) => mri::run(cmd),
         Command::Video(cmd) => video::run(cmd),
         Command::Raytrace(cmd) => raytrace::run(cmd),
         Command::Doe(cmd) => doe::run(cmd),

@@ -15,6 +15,7 @@ pub mod isosurface;
 pub mod manylight;
 pub mod math;
 pub mod meshfilter;
+pub mod mri;
 pub mod octree;
 pub mod paint;
 pub mod sfa;
@@ -111,6 +112,7 @@ pub fn registry() -> Vec<Demo> {
         manylight::DEMO,
         isosurface::DEMO,
         octree::DEMO,
+        mri::DEMO,
     ]
 }
 

@@ -168,6 +168,99 @@ fn transform_axis<T: FftNum>(
     }
 }
 
+/// A planned 2-D complex FFT of a fixed `rows x cols` C-ordered array, reused across calls.
+///
+/// Unlike [`fft2`], which plans on every call, a `Plan2` plans once; [`Plan2::process`]
+/// transforms on the calling thread (for many small transforms run in parallel by the caller),
+/// [`Plan2::process_par`] spreads the lines over rayon (for one large transform). No scaling
+/// is applied: the forward transform is numpy's `fft2`, the inverse `N * ifft2`.
+pub struct Plan2<T: FftNum> {
+    rows: usize,
+    cols: usize,
+    row: [Arc<dyn Fft<T>>; 2],
+    col: [Arc<dyn Fft<T>>; 2],
+    scratch_len: usize,
+}
+
+impl<T: FftNum> Plan2<T> {
+    /// Plans both directions for `rows x cols` arrays. Errors: a zero dimension.
+    pub fn new(rows: usize, cols: usize) -> Result<Self> {
+        if rows == 0 || cols == 0 {
+            return Err(Error::Empty("fft plan (an axis has length 0)"));
+        }
+        let mut planner = FftPlanner::<T>::new();
+        let row = [
+            planner.plan_fft_forward(cols),
+            planner.plan_fft_inverse(cols),
+        ];
+        let col = [
+            planner.plan_fft_forward(rows),
+            planner.plan_fft_inverse(rows),
+        ];
+        let scratch_len = row
+            .iter()
+            .chain(col.iter())
+            .map(|p| p.get_inplace_scratch_len())
+            .max()
+            .unwrap_or(0)
+            .max(rows);
+        Ok(Plan2 {
+            rows,
+            cols,
+            row,
+            col,
+            scratch_len,
+        })
+    }
+
+    /// `(rows, cols)`.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.rows, self.cols)
+    }
+
+    /// Length of the scratch buffer [`Plan2::process`] needs.
+    pub fn scratch_len(&self) -> usize {
+        self.scratch_len + self.rows
+    }
+
+    /// Unscaled in-place transform on the calling thread; `scratch` is resized as needed.
+    /// Panics when `data.len() != rows * cols` (an internal-invariant check).
+    pub fn process(&self, data: &mut [Complex<T>], dir: Direction, scratch: &mut Vec<Complex<T>>) {
+        assert_eq!(data.len(), self.rows * self.cols, "Plan2 data length");
+        let d = usize::from(dir == Direction::Inverse);
+        let zero = Complex::new(T::zero(), T::zero());
+        if scratch.len() < self.scratch_len() {
+            scratch.resize(self.scratch_len(), zero);
+        }
+        let (line, work) = scratch.split_at_mut(self.rows);
+        for r in data.chunks_mut(self.cols) {
+            self.row[d].process_with_scratch(r, work);
+        }
+        if self.rows == 1 {
+            return;
+        }
+        for c in 0..self.cols {
+            for (j, v) in line.iter_mut().enumerate() {
+                *v = data[j * self.cols + c];
+            }
+            self.col[d].process_with_scratch(line, work);
+            for (j, v) in line.iter().enumerate() {
+                data[j * self.cols + c] = *v;
+            }
+        }
+    }
+
+    /// Unscaled in-place transform with the lines spread over rayon.
+    /// Panics when `data.len() != rows * cols` (an internal-invariant check).
+    pub fn process_par(&self, data: &mut [Complex<T>], dir: Direction) {
+        assert_eq!(data.len(), self.rows * self.cols, "Plan2 data length");
+        let d = usize::from(dir == Direction::Inverse);
+        let shape = [self.rows, self.cols];
+        transform_axis(data, &shape, 1, &self.row[d]);
+        transform_axis(data, &shape, 0, &self.col[d]);
+    }
+}
+
 /// A pointer into a buffer whose disjoint parts are written by several rayon tasks.
 struct SharedMut<T>(*mut T);
 
@@ -384,6 +477,29 @@ mod tests {
         }
         assert!(fft_axes(&mut y, &shape, &[1, 1], Direction::Forward, Norm::Backward).is_err());
         assert!(fft_axes(&mut y, &shape, &[2], Direction::Forward, Norm::Backward).is_err());
+    }
+
+    #[test]
+    fn plan2_matches_fft2_both_ways() {
+        for (r, c) in [(8usize, 12usize), (1, 6), (5, 1), (16, 16)] {
+            let x = random(r * c, (r * 31 + c) as u64);
+            let plan = Plan2::<f64>::new(r, c).unwrap();
+            let mut scratch = Vec::new();
+            for dir in [Direction::Forward, Direction::Inverse] {
+                let mut want = x.clone();
+                fft2(&mut want, r, c, dir, Norm::Backward).unwrap();
+                if dir == Direction::Inverse {
+                    want.iter_mut().for_each(|v| *v *= (r * c) as f64);
+                }
+                let mut a = x.clone();
+                plan.process(&mut a, dir, &mut scratch);
+                let mut b = x.clone();
+                plan.process_par(&mut b, dir);
+                assert!(max_err(&a, &want) < 1e-9, "{r}x{c} {dir:?}");
+                assert!(max_err(&b, &want) < 1e-9, "{r}x{c} {dir:?}");
+            }
+        }
+        assert!(Plan2::<f64>::new(0, 3).is_err());
     }
 
     #[test]

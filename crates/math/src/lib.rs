@@ -11,9 +11,12 @@
 //!   against the [`sparse::LinOp`] operator trait.
 //! - [`dense`]: symmetric eigen, SVD, least squares and the generalized symmetric eigenproblem
 //!   through faer.
-//! - [`fft`]: 1-D, 2-D and 3-D FFTs (rustfft) with numpy's normalisation conventions.
+//! - [`fft`]: 1-D, 2-D and 3-D FFTs (rustfft) with numpy's normalisation conventions, and
+//!   planned 2-D transforms ([`fft::Plan2`]) for repeated use.
 //! - [`filter`], [`resize`]: separable Gaussian and box filters, area and bilinear resizing.
 //! - [`metrics`]: MSE, RMSE, PSNR, SSIM (Wang et al. 2004), Dice.
+//! - [`wavelet`]: orthonormal Daubechies wavelets (periodized, PyWavelets' conventions).
+//! - [`tv`]: isotropic total variation, gradient / divergence and Chambolle's TV prox.
 //! - [`knn`]: a kd-tree with exact k-nearest and nearest-point queries.
 //! - [`vec3`]: small helpers on `[f64; 3]` points and vectors.
 //! - [`rng`]: seeded, portable random generation.
@@ -39,8 +42,10 @@ pub mod progress;
 pub mod resize;
 pub mod rng;
 pub mod sparse;
+pub mod tv;
 pub mod vec3;
 pub mod volume;
+pub mod wavelet;
 
 pub use error::{Error, Result};
 pub use image::Image;

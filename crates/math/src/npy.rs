@@ -2,7 +2,8 @@
 //!
 //! [`read`] accepts float32, float64, uint8, int8, uint16, int16, uint32, int32, uint64 and
 //! int64 (either byte order, C or Fortran layout) and returns the values in C order
-//! (last axis fastest) converted to `f32` or `f64`. [`write_f64`] writes a C-order float64
+//! (last axis fastest) converted to `f32` or `f64`; [`read_complex`] reads complex128 and
+//! complex64 arrays. [`write_f64`] writes a C-order float64
 //! array. Malformed or truncated files are [`Error::Format`], other dtypes
 //! [`Error::UnsupportedFormat`], never a panic.
 
@@ -96,6 +97,53 @@ pub fn read_with_limit<T: NpyTarget>(path: impl AsRef<Path>, limit: usize) -> Re
             header.type_descriptor
         ))
     })?;
+    Ok(NpyArray {
+        shape: header.shape,
+        data,
+    })
+}
+
+/// Reads a complex `.npy` file (complex128 or complex64); real dtypes are accepted too and
+/// get a zero imaginary part. Errors as [`read`].
+pub fn read_complex(path: impl AsRef<Path>) -> Result<NpyArray<num_complex::Complex64>> {
+    use num_complex::{Complex32, Complex64};
+    let path = path.as_ref();
+    let bytes = read_file(path)?;
+    header_end(path, &bytes)?;
+    let header = Header::from_reader(&mut &bytes[..])
+        .map_err(|e| Error::format(path, format!("invalid .npy header: {e}")))?;
+    let count = header
+        .shape
+        .iter()
+        .try_fold(1usize, |a, &b| a.checked_mul(b));
+    if count.is_none_or(|c| c > MAX_ELEMENTS) {
+        return Err(Error::LimitExceeded(format!(
+            "{}: shape {:?} holds more than {MAX_ELEMENTS} values",
+            path.display(),
+            header.shape
+        )));
+    }
+    let complex = |r: std::result::Result<ArrayD<Complex64>, ReadNpyError>| match r {
+        Ok(a) => Some(Ok(a.iter().copied().collect::<Vec<_>>())),
+        Err(ReadNpyError::WrongDescriptor(_)) => None,
+        Err(ReadNpyError::Io(e)) => Some(Err(read_error(path, e))),
+        Err(e) => Some(Err(Error::format(path, e.to_string()))),
+    };
+    let data = match complex(ArrayD::<Complex64>::read_npy(&bytes[..])) {
+        Some(r) => r?,
+        None => match ArrayD::<Complex32>::read_npy(&bytes[..]) {
+            Ok(a) => a
+                .iter()
+                .map(|v| Complex64::new(v.re as f64, v.im as f64))
+                .collect(),
+            Err(ReadNpyError::WrongDescriptor(_)) => {
+                let real = read::<f64>(path)?;
+                real.data.iter().map(|&v| Complex64::new(v, 0.0)).collect()
+            }
+            Err(ReadNpyError::Io(e)) => return Err(read_error(path, e)),
+            Err(e) => return Err(Error::format(path, e.to_string())),
+        },
+    };
     Ok(NpyArray {
         shape: header.shape,
         data,
@@ -223,5 +271,23 @@ mod tests {
         assert!(read::<f64>(dir.path().join("missing.npy"))
             .unwrap_err()
             .is_io());
+    }
+
+    #[test]
+    fn complex_round_trip_and_real_promotion() {
+        use num_complex::Complex64;
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("c.npy");
+        let data: Vec<Complex64> = (0..6)
+            .map(|v| Complex64::new(v as f64, -(v as f64) / 2.0))
+            .collect();
+        write(&p, &[2, 3], &data).unwrap();
+        let a = read_complex(&p).unwrap();
+        assert_eq!((a.shape, a.data), (vec![2, 3], data));
+        write_f64(&p, &[3], &[1.0, 2.0, 3.0]).unwrap();
+        let b = read_complex(&p).unwrap();
+        assert_eq!(b.data[2], Complex64::new(3.0, 0.0));
+        std::fs::write(&p, b"junk").unwrap();
+        assert!(matches!(read_complex(&p), Err(Error::Format { .. })));
     }
 }

@@ -474,10 +474,7 @@ fn lod_selects_voxels_far_and_triangles_near() {
             };
             let f = fp.spread * h.t;
             let vw = oct.cube.cell_size(level) as f32;
-            assert!(
-                vw <= f * (1.0 + 1e-5),
-                "level {level}: v_w {vw}, f {f}"
-            );
+            assert!(vw <= f * (1.0 + 1e-5), "level {level}: v_w {vw}, f {f}");
             assert!((blend - ((2.0 * vw - f) / vw).clamp(0.0, 1.0)).abs() < 1e-4);
             checked += 1;
         }

@@ -20,6 +20,8 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
   tetrahedral-spline normals, and the LSN and central-difference baselines.
 - :mod:`wscg.octree`: paper 10, one sparse voxel octree with pre-filtered voxels in every
   node and triangles in its leaves (early stop), ray casting with level of detail.
+- :mod:`wscg.csmri`: paper 11, compressed-sensing MRI with a uniform discrete curvelet prior
+  (exact tight UDCT, C-SALSA, and the FCSA, TVCMRI and WaTMRI baselines).
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -27,7 +29,7 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, doe, isosurface, math, meshfilter, octree, raytrace, video, volren
+from . import biometrics, cloth, csmri, doe, isosurface, math, meshfilter, octree, raytrace, video, volren
 
 __version__: str = _native.__version__
 

@@ -1,5 +1,6 @@
 from . import biometrics as biometrics
 from . import cloth as cloth
+from . import csmri as csmri
 from . import doe as doe
 from . import isosurface as isosurface
 from . import math as math

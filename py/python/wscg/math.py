@@ -28,6 +28,7 @@ __all__ = [
     "mse", "rmse", "psnr", "ssim", "dice",
     "gaussian_filter", "box_filter", "resize",
     "fftn", "ifftn", "fft2", "ifft2", "fftshift", "ifftshift", "fftfreq",
+    "wavedec2", "waverec2",
     "cg", "solve_cg", "laplacian_3d",
     "eigh", "eigh_generalized", "svd", "lstsq",
     "normal", "uniform", "permutation",
@@ -327,6 +328,43 @@ def _axes(x: np.ndarray, axes) -> Optional[list]:
             raise ValueError(f"`axes` entry {a} is out of range for a {x.ndim}-D array")
         out.append(a % x.ndim)
     return out
+
+
+def wavedec2(x, wavelet: str = "db4", level: int = 4) -> np.ndarray:
+    """Multi-level 2-D orthonormal Daubechies wavelet transform with periodic extension.
+
+    Parameters
+    ----------
+    x : array_like (H, W)
+        Real image; both sizes divisible by ``2**level``.
+    wavelet : {'db1', ..., 'db8'}, default 'db4'
+    level : int, default 4
+
+    Returns
+    -------
+    ndarray (H, W), float64, in the in-place (Mallat) layout: after level ``l`` the
+    approximation is the top-left ``H / 2^l x W / 2^l`` block; each level's details sit beside
+    it (top-right: high-pass along columns, PyWavelets' ``cV``; bottom-left: along rows,
+    ``cH``; bottom-right: ``cD``).
+
+    Notes
+    -----
+    The coefficients equal PyWavelets' ``wavedec2(x, wavelet, mode="periodization",
+    level=level)``; the transform is orthogonal, so :func:`waverec2` is its transpose.
+    """
+    return _m.wavelet2(_real(x, "x"), _db_order(wavelet), int(level), False)
+
+
+def waverec2(coeffs, wavelet: str = "db4", level: int = 4) -> np.ndarray:
+    """Inverse of :func:`wavedec2` (same layout and parameters)."""
+    return _m.wavelet2(_real(coeffs, "coeffs"), _db_order(wavelet), int(level), True)
+
+
+def _db_order(wavelet: str) -> int:
+    w = str(wavelet)
+    if not (w.startswith("db") and w[2:].isdigit()):
+        raise ValueError(f"{wavelet!r} is not a valid wavelet. Valid wavelets are 'db1' ... 'db8'")
+    return int(w[2:])
 
 
 def fftn(x, axes: Optional[Sequence[int]] = None, norm: str = "backward") -> np.ndarray:

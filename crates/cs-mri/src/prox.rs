@@ -1,0 +1,94 @@
+//! Proximal maps of paper 11, section 2.3: soft thresholding (eq. E3) and the projection onto
+//! the data-fidelity ball (eq. E4).
+
+use std::ops::Range;
+
+use num_complex::Complex64;
+use rayon::prelude::*;
+
+use crate::sparsifier::CoeffVec;
+
+/// Real soft threshold `sign(a) max(|a| - tau, 0)`.
+pub fn soft(a: f64, tau: f64) -> f64 {
+    a.signum() * (a.abs() - tau).max(0.0)
+}
+
+/// Complex (magnitude) soft threshold `a max(|a| - tau, 0) / |a|` (eq. E3).
+pub fn soft_complex(a: Complex64, tau: f64) -> Complex64 {
+    let m = a.norm();
+    if m <= tau {
+        Complex64::new(0.0, 0.0)
+    } else {
+        a * ((m - tau) / m)
+    }
+}
+
+/// Soft-thresholds every coefficient in place; real coefficients inside `keep` (the
+/// low-pass, when it is not to be shrunk) are left alone.
+pub fn soft_coeffs(c: &mut CoeffVec, tau: f64, keep: &[Range<usize>]) {
+    let mut skip = vec![false; c.real.len()];
+    for r in keep {
+        skip[r.clone()].iter_mut().for_each(|s| *s = true);
+    }
+    c.real
+        .par_iter_mut()
+        .zip(skip.par_iter())
+        .for_each(|(v, &s)| {
+            if !s {
+                *v = soft(*v, tau);
+            }
+        });
+    c.complex
+        .par_iter_mut()
+        .for_each(|v| *v = soft_complex(*v, tau));
+}
+
+/// Projection of `v` onto the ball `{u : ||u - y|| <= eps}` (eq. E4), in place.
+/// With `eps = 0` this replaces `v` by `y`.
+pub fn project_ball(v: &mut [Complex64], y: &[Complex64], eps: f64) {
+    let d: f64 = v
+        .iter()
+        .zip(y)
+        .map(|(a, b)| (a - b).norm_sqr())
+        .sum::<f64>()
+        .sqrt();
+    if d <= eps {
+        return;
+    }
+    let s = eps / d;
+    v.iter_mut()
+        .zip(y)
+        .for_each(|(a, &b)| *a = b + (*a - b) * s);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thresholds_and_projection() {
+        assert_eq!(soft(3.0, 1.0), 2.0);
+        assert_eq!(soft(-3.0, 1.0), -2.0);
+        assert_eq!(soft(0.5, 1.0), 0.0);
+        let z = soft_complex(Complex64::new(3.0, 4.0), 1.0);
+        assert!((z - Complex64::new(2.4, 3.2)).norm() < 1e-15);
+        let y = vec![Complex64::new(1.0, 0.0); 4];
+        let mut v = vec![Complex64::new(3.0, 0.0); 4];
+        project_ball(&mut v, &y, 1.0);
+        let d: f64 = v
+            .iter()
+            .zip(&y)
+            .map(|(a, b)| (a - b).norm_sqr())
+            .sum::<f64>()
+            .sqrt();
+        assert!((d - 1.0).abs() < 1e-12);
+        project_ball(&mut v, &y, 0.0);
+        assert_eq!(v, y);
+        let mut c = CoeffVec {
+            real: vec![2.0, 2.0],
+            complex: vec![],
+        };
+        soft_coeffs(&mut c, 1.0, &[0..1]);
+        assert_eq!(c.real, vec![2.0, 1.0]);
+    }
+}

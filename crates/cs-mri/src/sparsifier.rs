@@ -1,0 +1,393 @@
+//! Sparsifying transforms `Psi` of complex images (paper 11, eq. 2): the UDCT applied to the
+//! real and imaginary parts separately (the paper's choice), an orthonormal Daubechies
+//! wavelet applied the same way, and the identity.
+//!
+//! Every transform here is a Parseval frame (`Psi^H Psi = I`), which C-SALSA's closed-form
+//! x-update and the TV-of-synthesis prox rely on. Coefficients live in a [`CoeffVec`]: real
+//! coefficients are shrunk one by one, complex ones by magnitude.
+
+use std::ops::Range;
+
+use num_complex::Complex64;
+use rayon::prelude::*;
+use wscg_math::wavelet::{Daubechies, Wavelet2};
+use wscg_math::{Error, Result};
+
+use crate::fourier::{mirror_index, Fourier};
+use crate::udct::{Udct, UdctCoeffs, UdctConfig};
+
+/// Coefficients of a [`Sparsifier`]: real ones and complex ones.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CoeffVec {
+    /// Real coefficients.
+    pub real: Vec<f64>,
+    /// Complex coefficients (thresholded by magnitude).
+    pub complex: Vec<Complex64>,
+}
+
+impl CoeffVec {
+    /// Zeros of the given sizes.
+    pub fn zeros(real: usize, complex: usize) -> Self {
+        CoeffVec {
+            real: vec![0.0; real],
+            complex: vec![Complex64::new(0.0, 0.0); complex],
+        }
+    }
+
+    /// `self = a + b`, element-wise.
+    pub fn set_sum(&mut self, a: &CoeffVec, b: &CoeffVec) {
+        self.real
+            .par_iter_mut()
+            .zip(a.real.par_iter().zip(&b.real))
+            .for_each(|(o, (x, y))| *o = x + y);
+        self.complex
+            .par_iter_mut()
+            .zip(a.complex.par_iter().zip(&b.complex))
+            .for_each(|(o, (x, y))| *o = x + y);
+    }
+
+    /// `self -= other`.
+    pub fn sub_assign(&mut self, other: &CoeffVec) {
+        self.real
+            .par_iter_mut()
+            .zip(&other.real)
+            .for_each(|(a, b)| *a -= b);
+        self.complex
+            .par_iter_mut()
+            .zip(&other.complex)
+            .for_each(|(a, b)| *a -= b);
+    }
+
+    /// `self += other`.
+    pub fn add_assign(&mut self, other: &CoeffVec) {
+        self.real
+            .par_iter_mut()
+            .zip(&other.real)
+            .for_each(|(a, b)| *a += b);
+        self.complex
+            .par_iter_mut()
+            .zip(&other.complex)
+            .for_each(|(a, b)| *a += b);
+    }
+
+    /// The l1 norm: `sum |real| + sum |complex|`.
+    pub fn l1(&self) -> f64 {
+        self.real.par_iter().map(|v| v.abs()).sum::<f64>()
+            + self.complex.par_iter().map(|v| v.norm()).sum::<f64>()
+    }
+
+    /// Sum of squares of every real and imaginary part.
+    pub fn energy(&self) -> f64 {
+        self.real.par_iter().map(|v| v * v).sum::<f64>()
+            + self.complex.par_iter().map(|v| v.norm_sqr()).sum::<f64>()
+    }
+
+    /// Real inner product.
+    pub fn dot(&self, other: &CoeffVec) -> f64 {
+        self.real
+            .iter()
+            .zip(&other.real)
+            .map(|(a, b)| a * b)
+            .sum::<f64>()
+            + self
+                .complex
+                .iter()
+                .zip(&other.complex)
+                .map(|(a, b)| (a.conj() * b).re)
+                .sum::<f64>()
+    }
+}
+
+/// A real-linear transform of complex `rows x cols` images into coefficients.
+pub trait Sparsifier: Send + Sync {
+    /// A short name for reports ("udct", "db4", ...).
+    fn name(&self) -> String;
+    /// The image shape.
+    fn shape(&self) -> (usize, usize);
+    /// Whether `Psi^H Psi = I`.
+    fn is_parseval(&self) -> bool;
+    /// Numbers of real and complex coefficients.
+    fn coeff_len(&self) -> (usize, usize);
+    /// Ranges of [`CoeffVec::real`] holding low-pass (approximation) coefficients.
+    fn lowpass_ranges(&self) -> Vec<Range<usize>>;
+    /// `Psi x` for an image `x`.
+    fn analysis(&self, x: &[Complex64], out: &mut CoeffVec);
+    /// `Psi^H c`.
+    fn synthesis(&self, c: &CoeffVec, out: &mut [Complex64]);
+    /// The unitary FFT of the image shape (shared with the solvers).
+    fn fourier(&self) -> &Fourier;
+
+    /// Zero coefficients.
+    fn zeros(&self) -> CoeffVec {
+        let (r, c) = self.coeff_len();
+        CoeffVec::zeros(r, c)
+    }
+
+    /// `Psi x` given the unitary spectrum `F x` of the image.
+    fn analysis_spectrum(&self, xhat: &[Complex64], out: &mut CoeffVec) {
+        let mut x = xhat.to_vec();
+        self.fourier().inverse(&mut x);
+        self.analysis(&x, out);
+    }
+
+    /// The unitary spectrum `F Psi^H c`.
+    fn synthesis_spectrum(&self, c: &CoeffVec, out: &mut [Complex64]) {
+        self.synthesis(c, out);
+        self.fourier().forward(out);
+    }
+}
+
+/// The paper's prior: the UDCT of the real part and of the imaginary part, concatenated
+/// (`Psi x = (U Re x, U Im x)`). Real coefficients: `[low-pass(Re), low-pass(Im)]`; complex:
+/// `[bands(Re), bands(Im)]`. Works on spectra directly, so a C-SALSA iteration needs no full
+/// size FFT.
+pub struct UdctSparsifier {
+    udct: Udct,
+    fourier: Fourier,
+}
+
+impl UdctSparsifier {
+    /// Plans the transform for `rows x cols` images.
+    pub fn new(rows: usize, cols: usize, config: &UdctConfig) -> Result<Self> {
+        Ok(UdctSparsifier {
+            udct: Udct::new(rows, cols, config)?,
+            fourier: Fourier::new(rows, cols)?,
+        })
+    }
+
+    /// The underlying transform.
+    pub fn udct(&self) -> &Udct {
+        &self.udct
+    }
+
+    fn split(&self, c: &CoeffVec) -> [UdctCoeffs; 2] {
+        let (nl, nb) = (self.udct.zeros().lowpass.len(), self.udct.band_coeff_len());
+        [0, 1].map(|p| UdctCoeffs {
+            lowpass: c.real[p * nl..(p + 1) * nl].to_vec(),
+            bands: c.complex[p * nb..(p + 1) * nb].to_vec(),
+        })
+    }
+}
+
+impl Sparsifier for UdctSparsifier {
+    fn name(&self) -> String {
+        "udct".into()
+    }
+    fn shape(&self) -> (usize, usize) {
+        self.udct.shape()
+    }
+    fn is_parseval(&self) -> bool {
+        self.udct.config().tight
+    }
+    fn coeff_len(&self) -> (usize, usize) {
+        (
+            2 * self.udct.zeros().lowpass.len(),
+            2 * self.udct.band_coeff_len(),
+        )
+    }
+    fn lowpass_ranges(&self) -> Vec<Range<usize>> {
+        vec![0..self.coeff_len().0]
+    }
+    fn fourier(&self) -> &Fourier {
+        &self.fourier
+    }
+
+    fn analysis(&self, x: &[Complex64], out: &mut CoeffVec) {
+        let mut s = x.to_vec();
+        self.fourier.forward(&mut s);
+        self.analysis_spectrum(&s, out);
+    }
+
+    fn synthesis(&self, c: &CoeffVec, out: &mut [Complex64]) {
+        self.synthesis_spectrum(c, out);
+        self.fourier.inverse(out);
+    }
+
+    fn analysis_spectrum(&self, xhat: &[Complex64], out: &mut CoeffVec) {
+        let (rows, cols) = self.udct.shape();
+        let n = rows * cols;
+        // Spectra of Re x and Im x: (X[k] + conj X[-k]) / 2 and (X[k] - conj X[-k]) / 2i.
+        let (re, im): (Vec<Complex64>, Vec<Complex64>) = (0..n)
+            .into_par_iter()
+            .map(|k| {
+                let a = xhat[k];
+                let b = xhat[mirror_index(k, rows, cols)].conj();
+                ((a + b) * 0.5, (a - b) * Complex64::new(0.0, -0.5))
+            })
+            .unzip();
+        let scale = 1.0 / (n as f64).sqrt();
+        let (nl, nb) = (out.real.len() / 2, out.complex.len() / 2);
+        let mut parts = [self.udct.zeros(), self.udct.zeros()];
+        let [p0, p1] = &mut parts;
+        rayon::join(
+            || self.udct.forward_spectrum(&re, scale, p0),
+            || self.udct.forward_spectrum(&im, scale, p1),
+        );
+        for (p, part) in parts.iter().enumerate() {
+            out.real[p * nl..(p + 1) * nl].copy_from_slice(&part.lowpass);
+            out.complex[p * nb..(p + 1) * nb].copy_from_slice(&part.bands);
+        }
+    }
+
+    fn synthesis_spectrum(&self, c: &CoeffVec, out: &mut [Complex64]) {
+        let (rows, cols) = self.udct.shape();
+        let n = rows * cols;
+        let [a, b] = self.split(c);
+        let mut ya = vec![Complex64::new(0.0, 0.0); n];
+        let mut yb = ya.clone();
+        rayon::join(
+            || self.udct.backward_spectrum(&a, &mut ya),
+            || self.udct.backward_spectrum(&b, &mut yb),
+        );
+        // Unitary spectrum of Re(ifft ya) + i Re(ifft yb): Hermitian parts, scaled by 1/sqrt(n).
+        let scale = 0.5 / (n as f64).sqrt();
+        let i = Complex64::new(0.0, 1.0);
+        out.par_iter_mut().enumerate().for_each(|(k, o)| {
+            let m = mirror_index(k, rows, cols);
+            let ha = ya[k] + ya[m].conj();
+            let hb = yb[k] + yb[m].conj();
+            *o = (ha + i * hb) * scale;
+        });
+    }
+}
+
+/// An orthonormal Daubechies wavelet (periodized) applied to the real and imaginary parts
+/// separately: real coefficients `[W Re x, W Im x]` in the Mallat layout.
+pub struct WaveletSparsifier {
+    wavelet: Wavelet2,
+    fourier: Fourier,
+}
+
+impl WaveletSparsifier {
+    /// `db<order>` with `levels` levels for `rows x cols` images (the paper's baselines use
+    /// db4 and 4 levels).
+    pub fn new(rows: usize, cols: usize, order: usize, levels: usize) -> Result<Self> {
+        Ok(WaveletSparsifier {
+            wavelet: Wavelet2::new(rows, cols, Daubechies::new(order)?, levels)?,
+            fourier: Fourier::new(rows, cols)?,
+        })
+    }
+
+    /// The underlying transform.
+    pub fn wavelet(&self) -> &Wavelet2 {
+        &self.wavelet
+    }
+}
+
+impl Sparsifier for WaveletSparsifier {
+    fn name(&self) -> String {
+        format!("db{}", self.wavelet.filter().order())
+    }
+    fn shape(&self) -> (usize, usize) {
+        self.wavelet.shape()
+    }
+    fn is_parseval(&self) -> bool {
+        true
+    }
+    fn coeff_len(&self) -> (usize, usize) {
+        let (r, c) = self.wavelet.shape();
+        (2 * r * c, 0)
+    }
+    fn lowpass_ranges(&self) -> Vec<Range<usize>> {
+        let (r, c) = self.wavelet.shape();
+        let (ar, ac) = (r >> self.wavelet.levels(), c >> self.wavelet.levels());
+        (0..2)
+            .flat_map(|p| (0..ar).map(move |i| p * r * c + i * c..p * r * c + i * c + ac))
+            .collect()
+    }
+    fn fourier(&self) -> &Fourier {
+        &self.fourier
+    }
+
+    fn analysis(&self, x: &[Complex64], out: &mut CoeffVec) {
+        let n = x.len();
+        let re: Vec<f64> = x.iter().map(|v| v.re).collect();
+        let im: Vec<f64> = x.iter().map(|v| v.im).collect();
+        let (a, b) = out.real.split_at_mut(n);
+        rayon::join(
+            || self.wavelet.forward(&re, a),
+            || self.wavelet.forward(&im, b),
+        );
+    }
+
+    fn synthesis(&self, c: &CoeffVec, out: &mut [Complex64]) {
+        let n = out.len();
+        let mut re = vec![0.0; n];
+        let mut im = vec![0.0; n];
+        rayon::join(
+            || self.wavelet.inverse(&c.real[..n], &mut re),
+            || self.wavelet.inverse(&c.real[n..], &mut im),
+        );
+        out.iter_mut()
+            .zip(re.iter().zip(&im))
+            .for_each(|(o, (&a, &b))| *o = Complex64::new(a, b));
+    }
+}
+
+/// The identity: the image's own pixels, shrunk by magnitude (for images sparse in space).
+pub struct IdentitySparsifier {
+    fourier: Fourier,
+}
+
+impl IdentitySparsifier {
+    /// For `rows x cols` images.
+    pub fn new(rows: usize, cols: usize) -> Result<Self> {
+        Ok(IdentitySparsifier {
+            fourier: Fourier::new(rows, cols)?,
+        })
+    }
+}
+
+impl Sparsifier for IdentitySparsifier {
+    fn name(&self) -> String {
+        "identity".into()
+    }
+    fn shape(&self) -> (usize, usize) {
+        self.fourier.shape()
+    }
+    fn is_parseval(&self) -> bool {
+        true
+    }
+    fn coeff_len(&self) -> (usize, usize) {
+        let (r, c) = self.fourier.shape();
+        (0, r * c)
+    }
+    fn lowpass_ranges(&self) -> Vec<Range<usize>> {
+        Vec::new()
+    }
+    fn fourier(&self) -> &Fourier {
+        &self.fourier
+    }
+    fn analysis(&self, x: &[Complex64], out: &mut CoeffVec) {
+        out.complex.copy_from_slice(x);
+    }
+    fn synthesis(&self, c: &CoeffVec, out: &mut [Complex64]) {
+        out.copy_from_slice(&c.complex);
+    }
+}
+
+/// The priors a user can name: `"udct"`, `"db1"` ... `"db8"`, `"identity"`.
+pub fn by_name(
+    name: &str,
+    rows: usize,
+    cols: usize,
+    udct: &UdctConfig,
+    levels: usize,
+) -> Result<Box<dyn Sparsifier>> {
+    match name {
+        "udct" => Ok(Box::new(UdctSparsifier::new(rows, cols, udct)?)),
+        "identity" => Ok(Box::new(IdentitySparsifier::new(rows, cols)?)),
+        _ => {
+            let order = name
+                .strip_prefix("db")
+                .and_then(|o| o.parse::<usize>().ok())
+                .ok_or_else(|| {
+                    Error::invalid(
+                        "prior",
+                        format!("{name:?} is not a valid prior. Valid priors are \"udct\", \"db1\" ... \"db8\" and \"identity\""),
+                    )
+                })?;
+            Ok(Box::new(WaveletSparsifier::new(rows, cols, order, levels)?))
+        }
+    }
+}

@@ -1,0 +1,403 @@
+//! Orthonormal Daubechies wavelets with periodic extension, in 1-D and separable 2-D.
+//!
+//! The transforms are PyWavelets' `dwt` / `wavedec2` with `mode="periodization"`: for a
+//! filter of length `L` the analysis is `a[i] = sum_k lo[k] x[(2i + L/2 - k) mod n]` (and
+//! `d` with the high-pass `hi[k] = (-1)^(k+1) lo[L-1-k]`), so the transform is orthogonal and
+//! its inverse is its transpose. Multi-level 2-D coefficients are kept in the usual in-place
+//! (Mallat) layout: after level `l` the approximation occupies the top-left block of
+//! `rows / 2^l x cols / 2^l`; each level's details sit in the three blocks beside it
+//! (top-right: high-pass along columns, PyWavelets' `cV`; bottom-left: high-pass along rows,
+//! `cH`; bottom-right: both, `cD`).
+
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+
+/// Decomposition low-pass filters of Daubechies' orthonormal wavelets db1 ... db8, as
+/// PyWavelets lists them (`pywt.Wavelet("dbN").dec_lo`).
+const DB_LO: [&[f64]; 8] = [
+    &[0.7071067811865476, 0.7071067811865476],
+    &[
+        -0.12940952255126037,
+        0.2241438680420134,
+        0.8365163037378079,
+        0.48296291314453416,
+    ],
+    &[
+        0.03522629188570953,
+        -0.08544127388202666,
+        -0.13501102001025458,
+        0.45987750211849154,
+        0.8068915093110925,
+        0.33267055295008263,
+    ],
+    &[
+        -0.010597401785069032,
+        0.0328830116668852,
+        0.030841381835560764,
+        -0.18703481171909309,
+        -0.027983769416859854,
+        0.6308807679298589,
+        0.7148465705529157,
+        0.2303778133088965,
+    ],
+    &[
+        0.0033357252854737712,
+        -0.012580751999081999,
+        -0.006241490212798274,
+        0.07757149384004572,
+        -0.032244869584638375,
+        -0.24229488706638203,
+        0.13842814590132074,
+        0.7243085284377729,
+        0.6038292697971896,
+        0.16010239797419293,
+    ],
+    &[
+        -0.0010773010853084796,
+        0.004777257510945511,
+        0.0005538422011614961,
+        -0.03158203931748603,
+        0.027522865530305727,
+        0.09750160558732304,
+        -0.12976686756726194,
+        -0.22626469396543983,
+        0.31525035170919763,
+        0.7511339080210954,
+        0.49462389039845306,
+        0.11154074335010947,
+    ],
+    &[
+        0.00035371379997452024,
+        -0.0018016407040474908,
+        0.0004295779729213665,
+        0.01255099855609984,
+        -0.01657454163066688,
+        -0.03802993693501441,
+        0.08061260915108308,
+        0.07130921926683026,
+        -0.22403618499387498,
+        -0.14390600392856498,
+        0.4697822874051931,
+        0.7291320908462351,
+        0.3965393194819173,
+        0.07785205408500918,
+    ],
+    &[
+        -0.00011747678412476953,
+        0.0006754494064505693,
+        -0.00039174037337694705,
+        -0.004870352993451574,
+        0.008746094047405777,
+        0.013981027917398282,
+        -0.044088253930794755,
+        -0.017369301001807547,
+        0.12874742662047847,
+        0.0004724845739132828,
+        -0.2840155429615469,
+        -0.015829105256349306,
+        0.5853546836542067,
+        0.6756307362972898,
+        0.31287159091429995,
+        0.05441584224310401,
+    ],
+];
+
+/// An orthonormal Daubechies filter pair (`dbN`, N vanishing moments, length 2N).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Daubechies {
+    order: usize,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
+impl Daubechies {
+    /// `dbN` for N in 1..=8 (db1 is the Haar wavelet).
+    pub fn new(order: usize) -> Result<Self> {
+        if !(1..=8).contains(&order) {
+            return Err(Error::invalid(
+                "order",
+                format!("db{order} is not available; orders 1 to 8 are"),
+            ));
+        }
+        let lo = DB_LO[order - 1].to_vec();
+        let l = lo.len();
+        let hi = (0..l)
+            .map(|k| {
+                if k % 2 == 0 {
+                    -lo[l - 1 - k]
+                } else {
+                    lo[l - 1 - k]
+                }
+            })
+            .collect();
+        Ok(Daubechies { order, lo, hi })
+    }
+
+    /// The number of vanishing moments N.
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// Decomposition low-pass filter.
+    pub fn lo(&self) -> &[f64] {
+        &self.lo
+    }
+
+    /// Decomposition high-pass filter.
+    pub fn hi(&self) -> &[f64] {
+        &self.hi
+    }
+
+    /// One analysis step on a strided line of even length `n`: approximation into
+    /// `out[..n/2]`, detail into `out[n/2..n]`.
+    fn analyze(&self, x: impl Fn(usize) -> f64, n: usize, out: &mut [f64]) {
+        let half = self.lo.len() / 2;
+        let (a, d) = out[..n].split_at_mut(n / 2);
+        for i in 0..n / 2 {
+            let (mut sa, mut sd) = (0.0, 0.0);
+            for (k, (&l, &h)) in self.lo.iter().zip(&self.hi).enumerate() {
+                let j = (2 * i + half + n - k % n) % n;
+                let v = x(j);
+                sa += l * v;
+                sd += h * v;
+            }
+            a[i] = sa;
+            d[i] = sd;
+        }
+    }
+
+    /// The transpose of [`Self::analyze`]: `a = c[..n/2]`, `d = c[n/2..n]` into `out[..n]`.
+    fn synthesize(&self, c: impl Fn(usize) -> f64, n: usize, out: &mut [f64]) {
+        let half = self.lo.len() / 2;
+        out[..n].iter_mut().for_each(|v| *v = 0.0);
+        for i in 0..n / 2 {
+            let (a, d) = (c(i), c(n / 2 + i));
+            for (k, (&l, &h)) in self.lo.iter().zip(&self.hi).enumerate() {
+                let j = (2 * i + half + n - k % n) % n;
+                out[j] += l * a + h * d;
+            }
+        }
+    }
+}
+
+/// A multi-level separable 2-D periodic wavelet transform of `rows x cols` images.
+#[derive(Clone, Debug)]
+pub struct Wavelet2 {
+    rows: usize,
+    cols: usize,
+    levels: usize,
+    filter: Daubechies,
+}
+
+impl Wavelet2 {
+    /// Plans a `levels`-level transform. Both sizes must be divisible by `2^levels`.
+    pub fn new(rows: usize, cols: usize, filter: Daubechies, levels: usize) -> Result<Self> {
+        if levels == 0 {
+            return Err(Error::invalid("levels", "must be at least 1"));
+        }
+        if levels > 20 {
+            return Err(Error::invalid(
+                "levels",
+                format!("{levels} is more than 20"),
+            ));
+        }
+        let div = 1usize << levels;
+        if rows == 0 || cols == 0 || rows % div != 0 || cols % div != 0 {
+            return Err(Error::ShapeMismatch(format!(
+                "a {levels}-level wavelet transform needs both sizes divisible by {div}; \
+                 the image is {rows} x {cols}"
+            )));
+        }
+        Ok(Wavelet2 {
+            rows,
+            cols,
+            levels,
+            filter,
+        })
+    }
+
+    /// `(rows, cols)`.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.rows, self.cols)
+    }
+
+    /// Number of levels.
+    pub fn levels(&self) -> usize {
+        self.levels
+    }
+
+    /// The filter pair.
+    pub fn filter(&self) -> &Daubechies {
+        &self.filter
+    }
+
+    /// Forward transform of `x` (C order) into the Mallat layout `out` (same length).
+    /// Panics when a length differs from `rows * cols` (an internal-invariant check).
+    pub fn forward(&self, x: &[f64], out: &mut [f64]) {
+        let (rows, cols) = (self.rows, self.cols);
+        assert!(x.len() == rows * cols && out.len() == rows * cols);
+        out.copy_from_slice(x);
+        let (mut r, mut c) = (rows, cols);
+        for _ in 0..self.levels {
+            self.level(out, r, c, true);
+            r /= 2;
+            c /= 2;
+        }
+    }
+
+    /// Inverse (= transpose) of [`Self::forward`].
+    pub fn inverse(&self, coeffs: &[f64], out: &mut [f64]) {
+        let (rows, cols) = (self.rows, self.cols);
+        assert!(coeffs.len() == rows * cols && out.len() == rows * cols);
+        out.copy_from_slice(coeffs);
+        for l in (0..self.levels).rev() {
+            self.level(out, rows >> l, cols >> l, false);
+        }
+    }
+
+    /// One level on the top-left `r x c` block: rows then columns (forward), or columns then
+    /// rows (inverse).
+    fn level(&self, buf: &mut [f64], r: usize, c: usize, forward: bool) {
+        let cols = self.cols;
+        let f = &self.filter;
+        let along_rows = |buf: &mut [f64]| {
+            buf.par_chunks_mut(cols).take(r).for_each_init(
+                || vec![0.0; c],
+                |tmp, line| {
+                    if forward {
+                        f.analyze(|j| line[j], c, tmp);
+                    } else {
+                        f.synthesize(|j| line[j], c, tmp);
+                    }
+                    line[..c].copy_from_slice(&tmp[..c]);
+                },
+            )
+        };
+        let along_cols = |buf: &mut [f64]| {
+            let mut t = vec![0.0; r * c];
+            t.par_chunks_mut(r).enumerate().for_each(|(j, col)| {
+                if forward {
+                    f.analyze(|i| buf[i * cols + j], r, col);
+                } else {
+                    f.synthesize(|i| buf[i * cols + j], r, col);
+                }
+            });
+            for (j, col) in t.chunks(r).enumerate() {
+                for (i, &v) in col.iter().enumerate() {
+                    buf[i * cols + j] = v;
+                }
+            }
+        };
+        if forward {
+            along_rows(buf);
+            along_cols(buf);
+        } else {
+            along_cols(buf);
+            along_rows(buf);
+        }
+    }
+
+    /// The level (1 = finest) and orientation (0: high-pass along columns, 1: along rows,
+    /// 2: both) of the detail coefficient at Mallat index `idx`, or `None` for the coarsest
+    /// approximation.
+    pub fn band_of(&self, idx: usize) -> Option<(usize, usize)> {
+        let (i, j) = (idx / self.cols, idx % self.cols);
+        for l in 1..=self.levels {
+            let (hr, hc) = (self.rows >> l, self.cols >> l);
+            if i >= hr || j >= hc {
+                let o = match (i >= hr, j >= hc) {
+                    (false, true) => 0,
+                    (true, false) => 1,
+                    _ => 2,
+                };
+                return Some((l, o));
+            }
+        }
+        None
+    }
+
+    /// Mallat index of the parent of detail coefficient `idx`: the coefficient of the same
+    /// orientation one level coarser at half the position. `None` for the approximation and
+    /// for details of the coarsest level.
+    pub fn parent(&self, idx: usize) -> Option<usize> {
+        let (l, _) = self.band_of(idx)?;
+        if l == self.levels {
+            return None;
+        }
+        let (i, j) = (idx / self.cols, idx % self.cols);
+        let (hr, hc) = (self.rows >> l, self.cols >> l);
+        // Position inside the band, then the same band one level coarser.
+        let (bi, oi) = if i >= hr { (i - hr, hr / 2) } else { (i, 0) };
+        let (bj, oj) = if j >= hc { (j - hc, hc / 2) } else { (j, 0) };
+        Some((oi + bi / 2) * self.cols + oj + bj / 2)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng;
+
+    #[test]
+    fn filters_are_orthonormal() {
+        for n in 1..=8 {
+            let f = Daubechies::new(n).unwrap();
+            let l = f.lo().len();
+            assert_eq!(l, 2 * n);
+            for s in (0..l).step_by(2) {
+                let dot: f64 = (0..l - s).map(|k| f.lo()[k] * f.lo()[k + s]).sum();
+                let want = if s == 0 { 1.0 } else { 0.0 };
+                assert!((dot - want).abs() < 1e-12, "db{n} shift {s}: {dot}");
+            }
+            let cross: f64 = f.lo().iter().zip(f.hi()).map(|(a, b)| a * b).sum();
+            assert!(cross.abs() < 1e-12);
+        }
+        assert!(Daubechies::new(0).is_err() && Daubechies::new(9).is_err());
+    }
+
+    #[test]
+    fn round_trip_and_parseval() {
+        let (r, c) = (32, 48);
+        let x = rng::normal_vec(5, r * c, 0.0, 1.0).unwrap();
+        for n in [1, 2, 4, 8] {
+            let w = Wavelet2::new(r, c, Daubechies::new(n).unwrap(), 3).unwrap();
+            let mut y = vec![0.0; r * c];
+            w.forward(&x, &mut y);
+            let ex: f64 = x.iter().map(|v| v * v).sum();
+            let ey: f64 = y.iter().map(|v| v * v).sum();
+            assert!((ex - ey).abs() < 1e-10 * ex, "db{n}");
+            let mut z = vec![0.0; r * c];
+            w.inverse(&y, &mut z);
+            let err = x
+                .iter()
+                .zip(&z)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(err < 1e-12, "db{n}: {err}");
+        }
+    }
+
+    #[test]
+    fn haar_of_a_constant_is_all_approximation() {
+        let w = Wavelet2::new(8, 8, Daubechies::new(1).unwrap(), 3).unwrap();
+        let mut y = vec![0.0; 64];
+        w.forward(&[1.0; 64], &mut y);
+        assert!((y[0] - 8.0).abs() < 1e-12);
+        assert!(y[1..].iter().all(|v| v.abs() < 1e-12));
+    }
+
+    #[test]
+    fn parents_are_one_level_coarser_same_orientation() {
+        let w = Wavelet2::new(16, 16, Daubechies::new(2).unwrap(), 3).unwrap();
+        // Finest vertical-detail band: rows 0..8, cols 8..16.
+        let child = 5 * 16 + 13;
+        let p = w.parent(child).unwrap();
+        assert_eq!(w.band_of(child), Some((1, 0)));
+        assert_eq!(w.band_of(p), Some((2, 0)));
+        assert_eq!(p, 2 * 16 + (4 + 2));
+        assert_eq!(w.parent(0), None);
+        assert_eq!(w.parent(3 * 16 + 2), None); // coarsest level details
+        assert!(Wavelet2::new(12, 16, Daubechies::new(2).unwrap(), 3).is_err());
+    }
+}

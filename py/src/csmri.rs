@@ -1,0 +1,436 @@
+//! Bindings of wscg-cs-mri (paper 11): the UDCT, C-SALSA, the baselines, masks, phantoms
+//! and metrics, as `wscg._native.csmri`.
+
+use num_complex::Complex64;
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wscg_cs_mri::baselines::{self, CompositeParams};
+use wscg_cs_mri::{
+    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, IterStat, KSpace, Recon,
+    Regularizer, Udct, UdctCoeffs, UdctConfig,
+};
+use wscg_math::progress::NoProgress;
+
+use crate::convert::{array, dims2, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+fn config(wedges: Vec<[usize; 2]>, alpha: f64, tight: bool) -> UdctConfig {
+    UdctConfig {
+        wedges,
+        alpha,
+        tight,
+        ..Default::default()
+    }
+}
+
+/// A planned UDCT.
+#[pyclass(name = "Udct", module = "wscg._native.csmri")]
+pub struct PyUdct {
+    inner: Udct,
+}
+
+#[pymethods]
+impl PyUdct {
+    #[new]
+    #[pyo3(signature = (rows, cols, wedges, alpha, tight))]
+    fn new(
+        rows: usize,
+        cols: usize,
+        wedges: Vec<[usize; 2]>,
+        alpha: f64,
+        tight: bool,
+    ) -> PyResult<Self> {
+        Ok(PyUdct {
+            inner: Udct::new(rows, cols, &config(wedges, alpha, tight)).py_err()?,
+        })
+    }
+
+    fn shape(&self) -> (usize, usize) {
+        self.inner.shape()
+    }
+
+    fn num_real_coeffs(&self) -> usize {
+        self.inner.num_real_coeffs()
+    }
+
+    /// `[(scale, pyramid, wedge), ...]` in coefficient order.
+    fn band_ids(&self) -> Vec<(usize, usize, usize)> {
+        self.inner
+            .bands()
+            .iter()
+            .map(|b| (b.scale, b.pyramid, b.wedge))
+            .collect()
+    }
+
+    /// Low-pass array and the list of complex band arrays.
+    fn forward<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArrayDyn<f64>,
+    ) -> PyResult<(Arr<'py, f64>, Vec<Arr<'py, Complex64>>)> {
+        let (r, c) = dims2("x", &x)?;
+        if (r, c) != self.inner.shape() {
+            return Err(value_error(format!(
+                "`x` has shape ({r}, {c}); the transform is planned for {:?}",
+                self.inner.shape()
+            )));
+        }
+        let v = values(&x);
+        let co = py.detach(|| self.inner.forward(&v)).py_err()?;
+        let lp = array(py, &self.inner.lowpass_shape(), co.lowpass)?;
+        let mut bands = Vec::new();
+        for b in 0..self.inner.bands().len() {
+            let (shape, _, range) = self.inner.band_layout(b).expect("band exists");
+            bands.push(array(py, &shape, co.bands[range].to_vec())?);
+        }
+        Ok((lp, bands))
+    }
+
+    fn backward<'py>(
+        &self,
+        py: Python<'py>,
+        lowpass: PyReadonlyArrayDyn<f64>,
+        bands: Vec<PyReadonlyArrayDyn<Complex64>>,
+    ) -> PyResult<Arr<'py, f64>> {
+        let mut co: UdctCoeffs = self.inner.zeros();
+        if lowpass.shape() != self.inner.lowpass_shape() {
+            return Err(value_error(format!(
+                "`lowpass` has shape {:?}, expected {:?}",
+                lowpass.shape(),
+                self.inner.lowpass_shape()
+            )));
+        }
+        co.lowpass.copy_from_slice(&values(&lowpass));
+        if bands.len() != self.inner.bands().len() {
+            return Err(value_error(format!(
+                "{} bands given, the transform has {}",
+                bands.len(),
+                self.inner.bands().len()
+            )));
+        }
+        for (b, arr) in bands.iter().enumerate() {
+            let (shape, _, range) = self.inner.band_layout(b).expect("band exists");
+            if arr.shape() != shape {
+                return Err(value_error(format!(
+                    "band {b} has shape {:?}, expected {shape:?}",
+                    arr.shape()
+                )));
+            }
+            co.bands[range].copy_from_slice(&values(arr));
+        }
+        let out = py.detach(|| self.inner.backward(&co)).py_err()?;
+        let (r, c) = self.inner.shape();
+        array(py, &[r, c], out)
+    }
+
+    /// Dense windows in FFT order: the low-pass first, then every band.
+    fn windows<'py>(&self, py: Python<'py>) -> PyResult<Vec<Arr<'py, f64>>> {
+        let (r, c) = self.inner.shape();
+        let mut out = vec![array(
+            py,
+            &[r, c],
+            self.inner.window(None).expect("low-pass"),
+        )?];
+        for b in 0..self.inner.bands().len() {
+            out.push(array(
+                py,
+                &[r, c],
+                self.inner.window(Some(b)).expect("band"),
+            )?);
+        }
+        Ok(out)
+    }
+}
+
+fn kspace_in(
+    kspace: &PyReadonlyArrayDyn<Complex64>,
+    mask: &PyReadonlyArrayDyn<bool>,
+) -> PyResult<KSpace> {
+    let (r, c) = dims2("kspace", kspace)?;
+    let (mr, mc) = dims2("mask", mask)?;
+    if (mr, mc) != (r, c) {
+        return Err(value_error(format!(
+            "shape mismatch: kspace is ({r}, {c}) but mask is ({mr}, {mc})"
+        )));
+    }
+    KSpace::new(r, c, values(kspace).into_owned(), values(mask).into_owned()).py_err()
+}
+
+fn reference_in(
+    reference: &Option<PyReadonlyArrayDyn<Complex64>>,
+    shape: (usize, usize),
+) -> PyResult<Option<Vec<Complex64>>> {
+    match reference {
+        None => Ok(None),
+        Some(r) => {
+            if dims2("reference", r)? != shape {
+                return Err(value_error(format!(
+                    "`reference` has shape {:?}, the k-space {shape:?}",
+                    r.shape()
+                )));
+            }
+            Ok(Some(values(r).into_owned()))
+        }
+    }
+}
+
+fn history<'py>(py: Python<'py>, h: &[IterStat]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("iter", h.iter().map(|s| s.iter).collect::<Vec<_>>())?;
+    d.set_item(
+        "rel_change",
+        h.iter().map(|s| s.rel_change).collect::<Vec<_>>(),
+    )?;
+    d.set_item("residual", h.iter().map(|s| s.residual).collect::<Vec<_>>())?;
+    d.set_item(
+        "objective",
+        h.iter().map(|s| s.objective).collect::<Vec<_>>(),
+    )?;
+    if h.iter().all(|s| s.mse.is_some()) && !h.is_empty() {
+        d.set_item(
+            "mse",
+            h.iter()
+                .map(|s| s.mse.unwrap_or(f64::NAN))
+                .collect::<Vec<_>>(),
+        )?;
+    }
+    Ok(d)
+}
+
+fn recon_out<'py>(
+    py: Python<'py>,
+    r: Recon,
+) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
+    let h = history(py, &r.history)?;
+    h.set_item("iters", r.iters)?;
+    Ok((array(py, &[r.shape.0, r.shape.1], r.image)?, h))
+}
+
+#[pyfunction]
+#[pyo3(signature = (kspace, mask, prior, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedges, alpha, levels, inner_iters, shrink_lowpass, reference, record_history))]
+#[allow(clippy::too_many_arguments)]
+fn reconstruct<'py>(
+    py: Python<'py>,
+    kspace: PyReadonlyArrayDyn<Complex64>,
+    mask: PyReadonlyArrayDyn<bool>,
+    prior: &str,
+    reg: &str,
+    epsilon: f64,
+    max_iter: usize,
+    tau0: f64,
+    rho: f64,
+    tau_cap: f64,
+    tol: f64,
+    wedges: Vec<[usize; 2]>,
+    alpha: f64,
+    levels: usize,
+    inner_iters: usize,
+    shrink_lowpass: bool,
+    reference: Option<PyReadonlyArrayDyn<Complex64>>,
+    record_history: bool,
+) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
+    let data = kspace_in(&kspace, &mask)?;
+    let (r, c) = data.shape();
+    let reference = reference_in(&reference, (r, c))?;
+    let regularizer = match reg {
+        "l1" => Regularizer::L1 { shrink_lowpass },
+        "tv" => Regularizer::Tv { inner_iters },
+        other => {
+            return Err(value_error(format!(
+                "{other:?} is not a valid reg. Valid regularisers are 'l1', 'tv'"
+            )))
+        }
+    };
+    let p = CsalsaParams {
+        max_iter,
+        tau0,
+        rho,
+        tau_cap,
+        epsilon,
+        tol,
+        record_history: record_history || reference.is_some(),
+    };
+    let cfg = config(wedges, alpha, true);
+    let rec = py
+        .detach(|| {
+            let psi = sparsifier::by_name(prior, r, c, &cfg, levels)?;
+            csalsa(
+                &data,
+                psi.as_ref(),
+                regularizer,
+                &p,
+                reference.as_deref(),
+                &NoProgress,
+            )
+        })
+        .py_err()?;
+    recon_out(py, rec)
+}
+
+#[pyfunction]
+#[pyo3(signature = (method, kspace, mask, a, b, group_weight, mu_g, max_iter, tv_inner, order, levels, reference, record_history))]
+#[allow(clippy::too_many_arguments)]
+fn composite<'py>(
+    py: Python<'py>,
+    method: &str,
+    kspace: PyReadonlyArrayDyn<Complex64>,
+    mask: PyReadonlyArrayDyn<bool>,
+    a: f64,
+    b: f64,
+    group_weight: f64,
+    mu_g: f64,
+    max_iter: usize,
+    tv_inner: usize,
+    order: usize,
+    levels: usize,
+    reference: Option<PyReadonlyArrayDyn<Complex64>>,
+    record_history: bool,
+) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
+    let data = kspace_in(&kspace, &mask)?;
+    let reference = reference_in(&reference, data.shape())?;
+    let p = CompositeParams {
+        a,
+        b,
+        group_weight,
+        mu_g,
+        max_iter,
+        tv_inner,
+        order,
+        levels,
+        record_history: record_history || reference.is_some(),
+    };
+    let f = match method {
+        "fcsa" => baselines::fcsa,
+        "tvcmri" => baselines::tvcmri,
+        "watmri" => baselines::watmri,
+        other => return Err(value_error(format!("{other:?} is not a baseline"))),
+    };
+    let rec = py
+        .detach(|| f(&data, &p, reference.as_deref(), &NoProgress))
+        .py_err()?;
+    recon_out(py, rec)
+}
+
+#[pyfunction]
+fn tv_constrained<'py>(
+    py: Python<'py>,
+    kspace: PyReadonlyArrayDyn<Complex64>,
+    mask: PyReadonlyArrayDyn<bool>,
+    epsilon: f64,
+    max_iter: usize,
+) -> PyResult<Arr<'py, Complex64>> {
+    let data = kspace_in(&kspace, &mask)?;
+    let rec = py
+        .detach(|| baselines::tv_constrained(&data, epsilon, max_iter, None))
+        .py_err()?;
+    array(py, &[rec.shape.0, rec.shape.1], rec.image)
+}
+
+#[pyfunction]
+fn mask_cartesian<'py>(
+    py: Python<'py>,
+    rows: usize,
+    cols: usize,
+    rate: f64,
+    center_frac: f64,
+    seed: u64,
+) -> PyResult<Arr<'py, bool>> {
+    let m = masks::cartesian(rows, cols, rate, center_frac, seed).py_err()?;
+    array(py, &[rows, cols], m)
+}
+
+#[pyfunction]
+fn mask_pseudo_radial<'py>(
+    py: Python<'py>,
+    rows: usize,
+    cols: usize,
+    rate: f64,
+) -> PyResult<(Arr<'py, bool>, usize)> {
+    let (m, lines) = masks::pseudo_radial(rows, cols, rate).py_err()?;
+    Ok((array(py, &[rows, cols], m)?, lines))
+}
+
+#[pyfunction]
+fn shepp_logan<'py>(py: Python<'py>, n: usize, what: &str) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match what {
+        "kspace" => array(py, &[n, n], phantom::shepp_logan_kspace(n).py_err()?)?.into_any(),
+        "reference" => array(py, &[n, n], phantom::shepp_logan_reference(n).py_err()?)?.into_any(),
+        _ => array(py, &[n, n], phantom::shepp_logan_image(n).py_err()?)?.into_any(),
+    })
+}
+
+#[pyfunction]
+fn with_smooth_phase<'py>(
+    py: Python<'py>,
+    magnitude: PyReadonlyArrayDyn<f64>,
+    seed: u64,
+) -> PyResult<Arr<'py, Complex64>> {
+    let (r, c) = dims2("magnitude", &magnitude)?;
+    let out = phantom::with_smooth_phase(&values(&magnitude), r, c, seed).py_err()?;
+    array(py, &[r, c], out)
+}
+
+#[pyfunction]
+fn diamond_lattice<'py>(py: Python<'py>, n: usize, period: f64) -> PyResult<Arr<'py, f64>> {
+    array(py, &[n, n], phantom::diamond_lattice(n, period).py_err()?)
+}
+
+fn pair(
+    reference: &PyReadonlyArrayDyn<Complex64>,
+    x: &PyReadonlyArrayDyn<Complex64>,
+) -> PyResult<(Vec<Complex64>, Vec<Complex64>)> {
+    if reference.shape() != x.shape() {
+        return Err(value_error(format!(
+            "shape mismatch: reference {:?}, x {:?}",
+            reference.shape(),
+            x.shape()
+        )));
+    }
+    Ok((values(reference).into_owned(), values(x).into_owned()))
+}
+
+#[pyfunction]
+fn psnr(
+    reference: PyReadonlyArrayDyn<Complex64>,
+    x: PyReadonlyArrayDyn<Complex64>,
+) -> PyResult<f64> {
+    let (r, x) = pair(&reference, &x)?;
+    metrics::psnr(&r, &x).py_err()
+}
+
+#[pyfunction]
+fn rlne(
+    reference: PyReadonlyArrayDyn<Complex64>,
+    x: PyReadonlyArrayDyn<Complex64>,
+    magnitude: bool,
+) -> PyResult<f64> {
+    let (r, x) = pair(&reference, &x)?;
+    if magnitude {
+        metrics::rlne_magnitude(&r, &x).py_err()
+    } else {
+        metrics::rlne(&r, &x).py_err()
+    }
+}
+
+#[pyfunction]
+fn noise_epsilon(sigma: f64, m: usize) -> f64 {
+    wscg_cs_mri::noise_epsilon(sigma, m)
+}
+
+/// Registers the submodule.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyUdct>()?;
+    m.add_function(wrap_pyfunction!(reconstruct, m)?)?;
+    m.add_function(wrap_pyfunction!(composite, m)?)?;
+    m.add_function(wrap_pyfunction!(tv_constrained, m)?)?;
+    m.add_function(wrap_pyfunction!(mask_cartesian, m)?)?;
+    m.add_function(wrap_pyfunction!(mask_pseudo_radial, m)?)?;
+    m.add_function(wrap_pyfunction!(shepp_logan, m)?)?;
+    m.add_function(wrap_pyfunction!(with_smooth_phase, m)?)?;
+    m.add_function(wrap_pyfunction!(diamond_lattice, m)?)?;
+    m.add_function(wrap_pyfunction!(psnr, m)?)?;
+    m.add_function(wrap_pyfunction!(rlne, m)?)?;
+    m.add_function(wrap_pyfunction!(noise_epsilon, m)?)?;
+    Ok(())
+}
