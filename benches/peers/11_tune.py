@@ -31,10 +31,13 @@ def development_case():
 
 def main():
     k, m, img = development_case()
-    for prior in ["udct", "db4"]:
-        res = {t: csmri.psnr(img, csmri.reconstruct(k, m, prior=prior, tau0=t)) for t in TAU}
+    runs = [("udct (J=1) l1", dict(prior="udct")), ("db4 l1", dict(prior="db4")),
+            ("udct (J=3) l1", dict(wedges=[[6, 6]] * 3)),
+            ("udct (J=3) tv", dict(wedges=[[6, 6]] * 3, reg="tv"))]
+    for label, kw in runs:
+        res = {t: csmri.psnr(img, csmri.reconstruct(k, m, tau0=t, **kw)) for t in TAU}
         best = max(res, key=res.get)
-        print(f"{prior}: " + ", ".join(f"{t}: {v:.2f}" for t, v in res.items()) + f" -> tau0 = {best}")
+        print(f"{label}: " + ", ".join(f"{t}: {v:.2f}" for t, v in res.items()) + f" -> tau0 = {best}")
     for name, f in [("fcsa", csmri.fcsa), ("tvcmri", csmri.tvcmri), ("watmri", csmri.watmri)]:
         res = {(a, b): csmri.psnr(img, f(k, m, a=a, b=b)) for a, b in itertools.product(A, B)}
         best = max(res, key=res.get)
