@@ -20,7 +20,7 @@ use wscg_math::tv::{tv_norm, TvProx};
 use wscg_math::{Error, Result};
 
 use crate::kspace::KSpace;
-use crate::prox::{project_ball, soft_coeffs};
+use crate::prox::{admm_l1_step, project_ball};
 use crate::sparsifier::{CoeffVec, Sparsifier};
 
 /// The regulariser `Phi` of eq. 1.
@@ -223,12 +223,16 @@ pub fn csalsa(
     let inv_s = 1.0 / s;
     let y: Vec<Complex64> = data.values().iter().map(|v| v * inv_s).collect();
     let eps = p.epsilon * inv_s;
-    let keep = match reg {
-        Regularizer::L1 {
-            shrink_lowpass: false,
-        } => psi.lowpass_ranges(),
-        _ => Vec::new(),
-    };
+    let (nreal, _) = psi.coeff_len();
+    let mut skip = vec![false; nreal];
+    if let Regularizer::L1 {
+        shrink_lowpass: false,
+    } = reg
+    {
+        for r in psi.lowpass_ranges() {
+            skip[r].iter_mut().for_each(|v| *v = true);
+        }
+    }
 
     // Spectrum of the normalised zero-filled image: y on the sampled bins.
     let mut xhat = vec![Complex64::new(0.0, 0.0); n];
@@ -237,11 +241,12 @@ pub fn csalsa(
     }
     let mut v1 = psi.zeros();
     psi.analysis_spectrum(&xhat, &mut v1);
+    // v1 + d1 with d1 = 0: what the first x-update synthesises.
+    let mut sum = v1.clone();
     let mut d1 = psi.zeros();
     let mut v2 = y.clone();
     let mut d2 = vec![Complex64::new(0.0, 0.0); y.len()];
     let mut a = psi.zeros();
-    let mut sum = psi.zeros();
     let mut b = vec![Complex64::new(0.0, 0.0); y.len()];
     let mut tv = match reg {
         Regularizer::Tv { .. } => Some(TvProx::new(rows, cols)),
@@ -254,23 +259,23 @@ pub fn csalsa(
     progress.begin("C-SALSA", p.max_iter as u64);
     for k in 0..p.max_iter {
         // x-update: x = (I + F_u^H F_u)^{-1} (Psi^H (v1 + d1) + F_u^H (v2 + d2)).
-        sum.set_sum(&v1, &d1);
         psi.synthesis_spectrum(&sum, &mut xhat);
         for (i, &kk) in idx.iter().enumerate() {
             xhat[kk] = (xhat[kk] + v2[i] + d2[i]) * 0.5;
         }
         // v1-update on a = Psi x - d1.
         psi.analysis_spectrum(&xhat, &mut a);
-        a.sub_assign(&d1);
         match (reg, tv.as_mut()) {
             (Regularizer::Tv { inner_iters }, Some(tvp)) => {
+                a.sub_assign(&d1);
                 tv_prox_of_synthesis(psi, &a, tau, inner_iters, tvp, &mut v1);
+                // d1 = v1 - a; the next synthesis needs v1 + d1.
+                d1.set_sum(&v1, &a);
+                d1.sub_assign(&a);
+                d1.sub_assign(&a);
+                sum.set_sum(&v1, &d1);
             }
-            _ => {
-                v1.real.copy_from_slice(&a.real);
-                v1.complex.copy_from_slice(&a.complex);
-                soft_coeffs(&mut v1, tau, &keep);
-            }
+            _ => admm_l1_step(&a, &mut d1, &mut sum, tau, &skip),
         }
         // v2-update: projection of b = F_u x - d2 onto the ball.
         for (i, &kk) in idx.iter().enumerate() {
@@ -278,15 +283,7 @@ pub fn csalsa(
         }
         v2.copy_from_slice(&b);
         project_ball(&mut v2, &y, eps);
-        // Multipliers: d = v - (argument).
-        d1.real
-            .par_iter_mut()
-            .zip(v1.real.par_iter().zip(&a.real))
-            .for_each(|(d, (v, a))| *d = v - a);
-        d1.complex
-            .par_iter_mut()
-            .zip(v1.complex.par_iter().zip(&a.complex))
-            .for_each(|(d, (v, a))| *d = v - a);
+        // Multiplier of the data split: d2 = v2 - b.
         for i in 0..d2.len() {
             d2[i] = v2[i] - b[i];
         }

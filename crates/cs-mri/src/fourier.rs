@@ -43,9 +43,3 @@ impl Fourier {
         x.iter_mut().for_each(|v| *v *= self.scale);
     }
 }
-
-/// Index of the frequency `-k` on an FFT-ordered `rows x cols` grid.
-pub(crate) fn mirror_index(k: usize, rows: usize, cols: usize) -> usize {
-    let (i, j) = (k / cols, k % cols);
-    ((rows - i) % rows) * cols + (cols - j) % cols
-}

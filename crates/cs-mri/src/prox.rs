@@ -15,7 +15,7 @@ pub fn soft(a: f64, tau: f64) -> f64 {
 
 /// Complex (magnitude) soft threshold `a max(|a| - tau, 0) / |a|` (eq. E3).
 pub fn soft_complex(a: Complex64, tau: f64) -> Complex64 {
-    let m = a.norm();
+    let m = a.norm_sqr().sqrt();
     if m <= tau {
         Complex64::new(0.0, 0.0)
     } else {
@@ -41,6 +41,39 @@ pub fn soft_coeffs(c: &mut CoeffVec, tau: f64, keep: &[Range<usize>]) {
     c.complex
         .par_iter_mut()
         .for_each(|v| *v = soft_complex(*v, tau));
+}
+
+/// The fused l1 update of C-SALSA (eqs. 7-9): with `psi_x = Psi x`,
+/// `a = psi_x - d`, `v = soft(a, tau)`, then `d <- v - a` and `next <- v + d` (what the next
+/// x-update synthesises), element by element in one pass. Real coefficients flagged in
+/// `skip` are not shrunk.
+pub fn admm_l1_step(
+    psi_x: &CoeffVec,
+    d: &mut CoeffVec,
+    next: &mut CoeffVec,
+    tau: f64,
+    skip: &[bool],
+) {
+    d.real
+        .par_iter_mut()
+        .zip(next.real.par_iter_mut())
+        .zip(psi_x.real.par_iter().zip(skip.par_iter()))
+        .for_each(|((d, n), (&p, &s))| {
+            let a = p - *d;
+            let v = if s { a } else { soft(a, tau) };
+            *d = v - a;
+            *n = v + *d;
+        });
+    d.complex
+        .par_iter_mut()
+        .zip(next.complex.par_iter_mut())
+        .zip(psi_x.complex.par_iter())
+        .for_each(|((d, n), &p)| {
+            let a = p - *d;
+            let v = soft_complex(a, tau);
+            *d = v - a;
+            *n = v + *d;
+        });
 }
 
 /// Projection of `v` onto the ball `{u : ||u - y|| <= eps}` (eq. E4), in place.

@@ -13,8 +13,8 @@ use rayon::prelude::*;
 use wscg_math::wavelet::{Daubechies, Wavelet2};
 use wscg_math::{Error, Result};
 
-use crate::fourier::{mirror_index, Fourier};
-use crate::udct::{Udct, UdctCoeffs, UdctConfig};
+use crate::fourier::Fourier;
+use crate::udct::{Udct, UdctConfig};
 
 /// Coefficients of a [`Sparsifier`]: real ones and complex ones.
 #[derive(Clone, Debug, PartialEq)]
@@ -159,14 +159,6 @@ impl UdctSparsifier {
     pub fn udct(&self) -> &Udct {
         &self.udct
     }
-
-    fn split(&self, c: &CoeffVec) -> [UdctCoeffs; 2] {
-        let (nl, nb) = (self.udct.zeros().lowpass.len(), self.udct.band_coeff_len());
-        [0, 1].map(|p| UdctCoeffs {
-            lowpass: c.real[p * nl..(p + 1) * nl].to_vec(),
-            bands: c.complex[p * nb..(p + 1) * nb].to_vec(),
-        })
-    }
 }
 
 impl Sparsifier for UdctSparsifier {
@@ -205,49 +197,23 @@ impl Sparsifier for UdctSparsifier {
 
     fn analysis_spectrum(&self, xhat: &[Complex64], out: &mut CoeffVec) {
         let (rows, cols) = self.udct.shape();
-        let n = rows * cols;
-        // Spectra of Re x and Im x: (X[k] + conj X[-k]) / 2 and (X[k] - conj X[-k]) / 2i.
-        let (re, im): (Vec<Complex64>, Vec<Complex64>) = (0..n)
-            .into_par_iter()
-            .map(|k| {
-                let a = xhat[k];
-                let b = xhat[mirror_index(k, rows, cols)].conj();
-                ((a + b) * 0.5, (a - b) * Complex64::new(0.0, -0.5))
-            })
-            .unzip();
-        let scale = 1.0 / (n as f64).sqrt();
+        let scale = 1.0 / ((rows * cols) as f64).sqrt();
         let (nl, nb) = (out.real.len() / 2, out.complex.len() / 2);
-        let mut parts = [self.udct.zeros(), self.udct.zeros()];
-        let [p0, p1] = &mut parts;
-        rayon::join(
-            || self.udct.forward_spectrum(&re, scale, p0),
-            || self.udct.forward_spectrum(&im, scale, p1),
-        );
-        for (p, part) in parts.iter().enumerate() {
-            out.real[p * nl..(p + 1) * nl].copy_from_slice(&part.lowpass);
-            out.complex[p * nb..(p + 1) * nb].copy_from_slice(&part.bands);
-        }
+        let (lr, li) = out.real.split_at_mut(nl);
+        let (br, bi) = out.complex.split_at_mut(nb);
+        self.udct.forward_pair(xhat, scale, [lr, li], [br, bi]);
     }
 
     fn synthesis_spectrum(&self, c: &CoeffVec, out: &mut [Complex64]) {
         let (rows, cols) = self.udct.shape();
-        let n = rows * cols;
-        let [a, b] = self.split(c);
-        let mut ya = vec![Complex64::new(0.0, 0.0); n];
-        let mut yb = ya.clone();
-        rayon::join(
-            || self.udct.backward_spectrum(&a, &mut ya),
-            || self.udct.backward_spectrum(&b, &mut yb),
+        let (nl, nb) = (c.real.len() / 2, c.complex.len() / 2);
+        self.udct.backward_pair(
+            [&c.real[..nl], &c.real[nl..]],
+            [&c.complex[..nb], &c.complex[nb..]],
+            out,
         );
-        // Unitary spectrum of Re(ifft ya) + i Re(ifft yb): Hermitian parts, scaled by 1/sqrt(n).
-        let scale = 0.5 / (n as f64).sqrt();
-        let i = Complex64::new(0.0, 1.0);
-        out.par_iter_mut().enumerate().for_each(|(k, o)| {
-            let m = mirror_index(k, rows, cols);
-            let ha = ya[k] + ya[m].conj();
-            let hb = yb[k] + yb[m].conj();
-            *o = (ha + i * hb) * scale;
-        });
+        let scale = 1.0 / ((rows * cols) as f64).sqrt();
+        out.par_iter_mut().for_each(|v| *v *= scale);
     }
 }
 
@@ -388,6 +354,64 @@ pub fn by_name(
                     )
                 })?;
             Ok(Box::new(WaveletSparsifier::new(rows, cols, order, levels)?))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wscg_math::rng;
+
+    fn random(n: usize, seed: u64) -> Vec<Complex64> {
+        let v = rng::normal_vec(seed, 2 * n, 0.0, 1.0).unwrap();
+        v.chunks(2).map(|p| Complex64::new(p[0], p[1])).collect()
+    }
+
+    #[test]
+    fn udct_pair_equals_two_real_transforms_and_is_parseval() {
+        let (r, c) = (64, 96);
+        for wedges in [vec![[6, 6]], vec![[3, 3], [6, 6]]] {
+            let cfg = UdctConfig {
+                wedges,
+                ..Default::default()
+            };
+            let psi = UdctSparsifier::new(r, c, &cfg).unwrap();
+            let x = random(r * c, 4);
+            let mut co = psi.zeros();
+            psi.analysis(&x, &mut co);
+            let re: Vec<f64> = x.iter().map(|v| v.re).collect();
+            let im: Vec<f64> = x.iter().map(|v| v.im).collect();
+            let (a, b) = (
+                psi.udct().forward(&re).unwrap(),
+                psi.udct().forward(&im).unwrap(),
+            );
+            let (nl, nb) = (a.lowpass.len(), a.bands.len());
+            let close = |u: &[f64], v: &[f64]| u.iter().zip(v).all(|(p, q)| (p - q).abs() < 1e-12);
+            let closec = |u: &[Complex64], v: &[Complex64]| {
+                u.iter().zip(v).all(|(p, q)| (p - q).norm() < 1e-12)
+            };
+            assert!(close(&co.real[..nl], &a.lowpass) && close(&co.real[nl..], &b.lowpass));
+            assert!(closec(&co.complex[..nb], &a.bands) && closec(&co.complex[nb..], &b.bands));
+            let ex: f64 = x.iter().map(|v| v.norm_sqr()).sum();
+            assert!((co.energy() - ex).abs() < 1e-12 * ex);
+            // Synthesis is the inverse and the adjoint.
+            let mut y = vec![Complex64::new(0.0, 0.0); r * c];
+            psi.synthesis(&co, &mut y);
+            assert!(y.iter().zip(&x).all(|(p, q)| (p - q).norm() < 1e-11));
+            let mut d = psi.zeros();
+            let z = random(d.real.len() + d.complex.len(), 9);
+            for (v, w) in d.real.iter_mut().zip(&z) {
+                *v = w.re;
+            }
+            d.complex.copy_from_slice(&z[d.real.len()..]);
+            psi.synthesis(&d, &mut y);
+            let lhs = co.dot(&d);
+            let rhs: f64 = x.iter().zip(&y).map(|(p, q)| (p.conj() * q).re).sum();
+            assert!(
+                (lhs - rhs).abs() < 1e-10 * lhs.abs().max(1.0),
+                "{lhs} vs {rhs}"
+            );
         }
     }
 }

@@ -202,8 +202,7 @@ impl<T: FftNum> Plan2<T> {
             .chain(col.iter())
             .map(|p| p.get_inplace_scratch_len())
             .max()
-            .unwrap_or(0)
-            .max(rows);
+            .unwrap_or(0);
         Ok(Plan2 {
             rows,
             cols,
@@ -220,11 +219,12 @@ impl<T: FftNum> Plan2<T> {
 
     /// Length of the scratch buffer [`Plan2::process`] needs.
     pub fn scratch_len(&self) -> usize {
-        self.scratch_len + self.rows
+        self.scratch_len + self.rows * self.cols
     }
 
     /// Unscaled in-place transform on the calling thread; `scratch` is resized as needed.
-    /// Panics when `data.len() != rows * cols` (an internal-invariant check).
+    /// Rows are transformed in one batch; columns by a blocked transpose, one batch and a
+    /// transpose back. Panics when `data.len() != rows * cols` (an internal-invariant check).
     pub fn process(&self, data: &mut [Complex<T>], dir: Direction, scratch: &mut Vec<Complex<T>>) {
         assert_eq!(data.len(), self.rows * self.cols, "Plan2 data length");
         let d = usize::from(dir == Direction::Inverse);
@@ -232,22 +232,55 @@ impl<T: FftNum> Plan2<T> {
         if scratch.len() < self.scratch_len() {
             scratch.resize(self.scratch_len(), zero);
         }
-        let (line, work) = scratch.split_at_mut(self.rows);
-        for r in data.chunks_mut(self.cols) {
-            self.row[d].process_with_scratch(r, work);
-        }
+        let (t, work) = scratch.split_at_mut(self.rows * self.cols);
+        self.row[d].process_with_scratch(data, work);
         if self.rows == 1 {
             return;
         }
-        for c in 0..self.cols {
-            for (j, v) in line.iter_mut().enumerate() {
-                *v = data[j * self.cols + c];
-            }
-            self.col[d].process_with_scratch(line, work);
-            for (j, v) in line.iter().enumerate() {
-                data[j * self.cols + c] = *v;
-            }
+        transpose(data, t, self.rows, self.cols);
+        self.col[d].process_with_scratch(t, work);
+        transpose(t, data, self.cols, self.rows);
+    }
+
+    /// Unscaled transform of an array given column by column: `src` holds the `rows x cols`
+    /// array transposed (`src[j * rows + i]`); the result is written row-major into `dst`.
+    /// One transpose instead of two. Panics on wrong lengths (an internal-invariant check).
+    pub fn process_from_transposed(
+        &self,
+        src: &mut [Complex<T>],
+        dst: &mut [Complex<T>],
+        dir: Direction,
+        scratch: &mut Vec<Complex<T>>,
+    ) {
+        let n = self.rows * self.cols;
+        assert!(src.len() == n && dst.len() == n, "Plan2 data length");
+        let d = usize::from(dir == Direction::Inverse);
+        if scratch.len() < self.scratch_len {
+            scratch.resize(self.scratch_len, Complex::new(T::zero(), T::zero()));
         }
+        self.col[d].process_with_scratch(src, &mut scratch[..self.scratch_len]);
+        transpose(src, dst, self.cols, self.rows);
+        self.row[d].process_with_scratch(dst, &mut scratch[..self.scratch_len]);
+    }
+
+    /// Unscaled transform of the row-major `src` (overwritten), written column by column
+    /// into `dst` (`dst[j * rows + i]`). Panics on wrong lengths.
+    pub fn process_to_transposed(
+        &self,
+        src: &mut [Complex<T>],
+        dst: &mut [Complex<T>],
+        dir: Direction,
+        scratch: &mut Vec<Complex<T>>,
+    ) {
+        let n = self.rows * self.cols;
+        assert!(src.len() == n && dst.len() == n, "Plan2 data length");
+        let d = usize::from(dir == Direction::Inverse);
+        if scratch.len() < self.scratch_len {
+            scratch.resize(self.scratch_len, Complex::new(T::zero(), T::zero()));
+        }
+        self.row[d].process_with_scratch(src, &mut scratch[..self.scratch_len]);
+        transpose(src, dst, self.rows, self.cols);
+        self.col[d].process_with_scratch(dst, &mut scratch[..self.scratch_len]);
     }
 
     /// Unscaled in-place transform with the lines spread over rayon.
@@ -258,6 +291,20 @@ impl<T: FftNum> Plan2<T> {
         let shape = [self.rows, self.cols];
         transform_axis(data, &shape, 1, &self.row[d]);
         transform_axis(data, &shape, 0, &self.col[d]);
+    }
+}
+
+/// `dst[j * rows + i] = src[i * cols + j]` for a `rows x cols` `src`, in cache-sized blocks.
+fn transpose<T: Copy>(src: &[T], dst: &mut [T], rows: usize, cols: usize) {
+    const B: usize = 32;
+    for i0 in (0..rows).step_by(B) {
+        for j0 in (0..cols).step_by(B) {
+            for i in i0..(i0 + B).min(rows) {
+                for j in j0..(j0 + B).min(cols) {
+                    dst[j * rows + i] = src[i * cols + j];
+                }
+            }
+        }
     }
 }
 
@@ -495,6 +542,26 @@ mod tests {
                 plan.process(&mut a, dir, &mut scratch);
                 let mut b = x.clone();
                 plan.process_par(&mut b, dir);
+                let mut t = vec![C::new(0.0, 0.0); r * c];
+                for i in 0..r {
+                    for j in 0..c {
+                        t[j * r + i] = x[i * c + j];
+                    }
+                }
+                let mut d1 = t.clone();
+                plan.process_from_transposed(&mut t, &mut d1, dir, &mut scratch);
+                assert!(
+                    max_err(&d1, &want) < 1e-9,
+                    "{r}x{c} {dir:?} from transposed"
+                );
+                let mut src = x.clone();
+                let mut d2 = x.clone();
+                plan.process_to_transposed(&mut src, &mut d2, dir, &mut scratch);
+                for i in 0..r {
+                    for j in 0..c {
+                        assert!((d2[j * r + i] - want[i * c + j]).norm() < 1e-9);
+                    }
+                }
                 assert!(max_err(&a, &want) < 1e-9, "{r}x{c} {dir:?}");
                 assert!(max_err(&b, &want) < 1e-9, "{r}x{c} {dir:?}");
             }

@@ -149,34 +149,47 @@ impl Daubechies {
         &self.hi
     }
 
-    /// One analysis step on a strided line of even length `n`: approximation into
-    /// `out[..n/2]`, detail into `out[n/2..n]`.
-    fn analyze(&self, x: impl Fn(usize) -> f64, n: usize, out: &mut [f64]) {
-        let half = self.lo.len() / 2;
+    /// One analysis step on a line `x` of even length `n`: approximation into `out[..n/2]`,
+    /// detail into `out[n/2..n]`. `pad` is a work buffer.
+    fn analyze(&self, x: &[f64], out: &mut [f64], pad: &mut Vec<f64>) {
+        let n = x.len();
+        let l = self.lo.len();
+        // pad[t] = x[(t - l) mod n], so x[(2i + l/2 - k) mod n] = pad[2i + l/2 - k + l].
+        pad.clear();
+        pad.extend((0..n + 2 * l).map(|t| x[(t + l * n - l) % n]));
+        let half = l / 2;
         let (a, d) = out[..n].split_at_mut(n / 2);
         for i in 0..n / 2 {
+            let base = 2 * i + half + l;
             let (mut sa, mut sd) = (0.0, 0.0);
-            for (k, (&l, &h)) in self.lo.iter().zip(&self.hi).enumerate() {
-                let j = (2 * i + half + n - k % n) % n;
-                let v = x(j);
-                sa += l * v;
-                sd += h * v;
+            for k in 0..l {
+                let v = pad[base - k];
+                sa += self.lo[k] * v;
+                sd += self.hi[k] * v;
             }
             a[i] = sa;
             d[i] = sd;
         }
     }
 
-    /// The transpose of [`Self::analyze`]: `a = c[..n/2]`, `d = c[n/2..n]` into `out[..n]`.
-    fn synthesize(&self, c: impl Fn(usize) -> f64, n: usize, out: &mut [f64]) {
-        let half = self.lo.len() / 2;
-        out[..n].iter_mut().for_each(|v| *v = 0.0);
+    /// The transpose of [`Self::analyze`]: `c[..n/2]` approximation, `c[n/2..]` detail.
+    fn synthesize(&self, c: &[f64], out: &mut [f64], pad: &mut Vec<f64>) {
+        let n = c.len();
+        let l = self.lo.len();
+        let half = l / 2;
+        pad.clear();
+        pad.resize(n + 2 * l, 0.0);
         for i in 0..n / 2 {
-            let (a, d) = (c(i), c(n / 2 + i));
-            for (k, (&l, &h)) in self.lo.iter().zip(&self.hi).enumerate() {
-                let j = (2 * i + half + n - k % n) % n;
-                out[j] += l * a + h * d;
+            let (a, d) = (c[i], c[n / 2 + i]);
+            let base = 2 * i + half + l;
+            for k in 0..l {
+                pad[base - k] += self.lo[k] * a + self.hi[k] * d;
             }
+        }
+        // Fold the padding back: pad[t] belongs to x[(t - l) mod n].
+        out[..n].iter_mut().for_each(|v| *v = 0.0);
+        for (t, &v) in pad.iter().enumerate() {
+            out[(t + l * n - l) % n] += v;
         }
     }
 }
@@ -261,31 +274,37 @@ impl Wavelet2 {
     fn level(&self, buf: &mut [f64], r: usize, c: usize, forward: bool) {
         let cols = self.cols;
         let f = &self.filter;
+        let step = |line: &mut [f64], tmp: &mut Vec<f64>, pad: &mut Vec<f64>| {
+            tmp.clear();
+            tmp.resize(line.len(), 0.0);
+            if forward {
+                f.analyze(line, tmp, pad);
+            } else {
+                f.synthesize(line, tmp, pad);
+            }
+            line.copy_from_slice(tmp);
+        };
         let along_rows = |buf: &mut [f64]| {
             buf.par_chunks_mut(cols).take(r).for_each_init(
-                || vec![0.0; c],
-                |tmp, line| {
-                    if forward {
-                        f.analyze(|j| line[j], c, tmp);
-                    } else {
-                        f.synthesize(|j| line[j], c, tmp);
-                    }
-                    line[..c].copy_from_slice(&tmp[..c]);
-                },
+                || (Vec::new(), Vec::new()),
+                |(tmp, pad), line| step(&mut line[..c], tmp, pad),
             )
         };
+        // Columns: transpose the block, transform its rows, transpose back.
         let along_cols = |buf: &mut [f64]| {
             let mut t = vec![0.0; r * c];
-            t.par_chunks_mut(r).enumerate().for_each(|(j, col)| {
-                if forward {
-                    f.analyze(|i| buf[i * cols + j], r, col);
-                } else {
-                    f.synthesize(|i| buf[i * cols + j], r, col);
+            for i in 0..r {
+                for j in 0..c {
+                    t[j * r + i] = buf[i * cols + j];
                 }
-            });
-            for (j, col) in t.chunks(r).enumerate() {
-                for (i, &v) in col.iter().enumerate() {
-                    buf[i * cols + j] = v;
+            }
+            t.par_chunks_mut(r).for_each_init(
+                || (Vec::new(), Vec::new()),
+                |(tmp, pad), line| step(line, tmp, pad),
+            );
+            for i in 0..r {
+                for j in 0..c {
+                    buf[i * cols + j] = t[j * r + i];
                 }
             }
         };

@@ -19,6 +19,9 @@
 
 mod window;
 
+use std::cell::RefCell;
+use std::sync::Mutex;
+
 use num_complex::Complex64;
 use rayon::prelude::*;
 use wscg_math::fft::{Direction, Plan2};
@@ -123,6 +126,56 @@ pub struct BandId {
     pub wedge: usize,
 }
 
+/// The non-zero entries of a window on the full grid and where each folds to.
+#[derive(Clone, Debug, Default)]
+struct Support {
+    /// Full-grid indices, increasing.
+    full: Vec<u32>,
+    /// Index of each entry on the decimated grid.
+    fold: Vec<u32>,
+    /// The same, on the decimated grid stored column by column.
+    fold_t: Vec<u32>,
+    /// Window values.
+    weight: Vec<f64>,
+}
+
+impl Support {
+    /// `buf[fold_t] += w * spec[full]` (column-major decimated grid).
+    fn gather_t(&self, spec: &[Complex64], buf: &mut [Complex64]) {
+        for ((&k, &f), &w) in self.full.iter().zip(&self.fold_t).zip(&self.weight) {
+            buf[f as usize] += spec[k as usize] * w;
+        }
+    }
+
+    /// [`Support::scatter`] from a column-major decimated grid.
+    fn scatter_t(&self, small: &[Complex64], scale: f64, lo: u32, out: &mut [Complex64]) {
+        let a = self.full.partition_point(|&k| k < lo);
+        let b = self.full.partition_point(|&k| k < lo + out.len() as u32);
+        for e in a..b {
+            out[(self.full[e] - lo) as usize] +=
+                small[self.fold_t[e] as usize] * (self.weight[e] * scale);
+        }
+    }
+
+    /// `buf[fold] += w * spec[full]` over the entries.
+    fn gather(&self, spec: &[Complex64], buf: &mut [Complex64]) {
+        for ((&k, &f), &w) in self.full.iter().zip(&self.fold).zip(&self.weight) {
+            buf[f as usize] += spec[k as usize] * w;
+        }
+    }
+
+    /// `out[full - lo] += scale * w * small[fold]` for the entries with
+    /// `lo <= full < lo + out.len()`.
+    fn scatter(&self, small: &[Complex64], scale: f64, lo: u32, out: &mut [Complex64]) {
+        let a = self.full.partition_point(|&k| k < lo);
+        let b = self.full.partition_point(|&k| k < lo + out.len() as u32);
+        for e in a..b {
+            out[(self.full[e] - lo) as usize] +=
+                small[self.fold[e] as usize] * (self.weight[e] * scale);
+        }
+    }
+}
+
 /// One band (or the low-pass): its sparse window and folding map.
 #[derive(Clone, Debug)]
 struct Band {
@@ -131,12 +184,10 @@ struct Band {
     small: [usize; 2],
     /// Offset of the band's coefficients in the concatenated band buffer.
     offset: usize,
-    /// Full-grid indices of the non-zero window entries, increasing.
-    full: Vec<u32>,
-    /// Index of each entry on the decimated grid.
-    fold: Vec<u32>,
-    /// Window values.
-    weight: Vec<f64>,
+    /// The window.
+    support: Support,
+    /// The mirrored window `W(-k)` (for complex images; empty for the low-pass).
+    mirror: Support,
     /// Index into `Udct::plans`.
     plan: usize,
 }
@@ -189,7 +240,18 @@ pub struct Udct {
     plans: Vec<Plan2<f64>>,
     full: Plan2<f64>,
     band_len: usize,
+    /// Reused temporary buffers (avoids page-faulting fresh allocations on every call).
+    pool: Mutex<Vec<Vec<Complex64>>>,
 }
+
+thread_local! {
+    /// Per-thread FFT scratch and a transposed band buffer.
+    static SCRATCH: RefCell<(Vec<Complex64>, Vec<Complex64>)> =
+        const { RefCell::new((Vec::new(), Vec::new())) };
+}
+
+/// Plans above this many elements are transformed with the lines spread over rayon.
+const PAR_FFT: usize = 1 << 15;
 
 impl std::fmt::Debug for Udct {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -232,15 +294,30 @@ impl Udct {
         let make =
             |id: Option<BandId>, dec: [usize; 2], w: &[f64], offset: usize, plan: usize| -> Band {
                 let small = [rows / dec[0], cols / dec[1]];
-                let mut full = Vec::new();
-                let mut fold = Vec::new();
-                let mut weight = Vec::new();
+                let fold_of =
+                    |k: usize| ((k / cols % small[0]) * small[1] + k % cols % small[1]) as u32;
+                let fold_t =
+                    |k: usize| ((k % cols % small[1]) * small[0] + k / cols % small[0]) as u32;
+                let mut support = Support::default();
+                let mut mirrored: Vec<(u32, f64)> = Vec::new();
                 for (k, &v) in w.iter().enumerate() {
                     if v != 0.0 {
+                        support.full.push(k as u32);
+                        support.fold.push(fold_of(k));
+                        support.fold_t.push(fold_t(k));
+                        support.weight.push(v);
                         let (i, j) = (k / cols, k % cols);
-                        full.push(k as u32);
-                        fold.push(((i % small[0]) * small[1] + j % small[1]) as u32);
-                        weight.push(v);
+                        mirrored.push(((((rows - i) % rows) * cols + (cols - j) % cols) as u32, v));
+                    }
+                }
+                let mut mirror = Support::default();
+                if id.is_some() {
+                    mirrored.sort_by_key(|m| m.0);
+                    for (k, v) in mirrored {
+                        mirror.full.push(k);
+                        mirror.fold.push(fold_of(k as usize));
+                        mirror.fold_t.push(fold_t(k as usize));
+                        mirror.weight.push(v);
                     }
                 }
                 Band {
@@ -248,9 +325,8 @@ impl Udct {
                     decimation: dec,
                     small,
                     offset,
-                    full,
-                    fold,
-                    weight,
+                    support,
+                    mirror,
                     plan,
                 }
             };
@@ -286,6 +362,7 @@ impl Udct {
             plans,
             full: Plan2::new(rows, cols)?,
             band_len: offset,
+            pool: Mutex::new(Vec::new()),
         })
     }
 
@@ -374,7 +451,7 @@ impl Udct {
             Some(i) => self.bands.get(i)?,
         };
         let mut w = vec![0.0; self.rows * self.cols];
-        for (&k, &v) in band.full.iter().zip(&band.weight) {
+        for (&k, &v) in band.support.full.iter().zip(&band.support.weight) {
             w[k as usize] = v;
         }
         Some(w)
@@ -436,79 +513,281 @@ impl Udct {
         Ok(())
     }
 
-    /// Analysis from a spectrum: `c = scale * IFFT_small(fold(W spec))` per band (unscaled
-    /// inverse FFT), real part for the low-pass. With `spec` the unnormalised FFT of a real
-    /// image and `scale = 1 / (rows * cols)` this is [`Udct::forward`].
-    pub fn forward_spectrum(&self, spec: &[Complex64], scale: f64, out: &mut UdctCoeffs) {
-        let zero = Complex64::new(0.0, 0.0);
-        let fold = |band: &Band, buf: &mut [Complex64], scratch: &mut Vec<Complex64>| {
-            buf.iter_mut().for_each(|v| *v = zero);
-            for ((&k, &f), &w) in band.full.iter().zip(&band.fold).zip(&band.weight) {
-                buf[f as usize] += spec[k as usize] * w;
+    /// A temporary buffer of `len` values (contents unspecified).
+    fn take(&self, len: usize) -> Vec<Complex64> {
+        let mut v = self
+            .pool
+            .lock()
+            .map(|mut p| p.pop())
+            .ok()
+            .flatten()
+            .unwrap_or_default();
+        v.resize(len, Complex64::new(0.0, 0.0));
+        v
+    }
+
+    /// Returns a buffer taken with [`Udct::take`].
+    fn give(&self, v: Vec<Complex64>) {
+        if let Ok(mut p) = self.pool.lock() {
+            if p.len() < 8 {
+                p.push(v);
             }
-            self.plans[band.plan].process(buf, Direction::Inverse, scratch);
-            buf.iter_mut().for_each(|v| *v *= scale);
-        };
-        let mut chunks: Vec<&mut [Complex64]> = Vec::with_capacity(self.bands.len());
-        let mut rest = out.bands.as_mut_slice();
+        }
+    }
+
+    /// In-place unscaled FFT of one band's decimated grid.
+    fn band_fft(&self, band: &Band, buf: &mut [Complex64], dir: Direction) {
+        let plan = &self.plans[band.plan];
+        if buf.len() >= PAR_FFT {
+            plan.process_par(buf, dir);
+        } else {
+            SCRATCH.with(|s| plan.process(buf, dir, &mut s.borrow_mut().0));
+        }
+    }
+
+    /// `out = IFFT_small(fold(window, spec))` for a band that is not transformed in parallel:
+    /// the fold goes to a column-major buffer so that the 2-D FFT needs one transpose.
+    fn fold_ifft(&self, band: &Band, support: &Support, spec: &[Complex64], out: &mut [Complex64]) {
+        let zero = Complex64::new(0.0, 0.0);
+        SCRATCH.with(|s| {
+            let (scratch, t) = &mut *s.borrow_mut();
+            t.clear();
+            t.resize(out.len(), zero);
+            support.gather_t(spec, t);
+            self.plans[band.plan].process_from_transposed(t, out, Direction::Inverse, scratch);
+        });
+    }
+
+    /// `out = FFT_small(src)` written column-major (`src` is overwritten), for the scatter.
+    fn fft_t(&self, band: &Band, src: &mut [Complex64], out: &mut [Complex64]) {
+        SCRATCH.with(|s| {
+            let (scratch, _) = &mut *s.borrow_mut();
+            self.plans[band.plan].process_to_transposed(src, out, Direction::Forward, scratch);
+        });
+    }
+
+    /// Splits a concatenated band buffer into per-band slices.
+    fn split_bands<'a>(&self, mut rest: &'a mut [Complex64]) -> Vec<&'a mut [Complex64]> {
+        let mut chunks = Vec::with_capacity(self.bands.len());
         for b in &self.bands {
             let (head, tail) = rest.split_at_mut(b.len());
             chunks.push(head);
             rest = tail;
         }
-        let low = &mut out.lowpass;
+        chunks
+    }
+
+    /// Analysis from a spectrum: `c = scale * IFFT_small(fold(W spec))` per band (unscaled
+    /// inverse FFT), real part for the low-pass. With `spec` the unnormalised FFT of a real
+    /// image and `scale = 1 / (rows * cols)` this is [`Udct::forward`].
+    pub fn forward_spectrum(&self, spec: &[Complex64], scale: f64, out: &mut UdctCoeffs) {
+        self.forward_into(spec, scale, &mut out.lowpass, &mut out.bands);
+    }
+
+    /// [`Udct::forward_spectrum`] into caller-provided low-pass and band buffers.
+    pub fn forward_into(
+        &self,
+        spec: &[Complex64],
+        scale: f64,
+        low: &mut [f64],
+        bands: &mut [Complex64],
+    ) {
+        let zero = Complex64::new(0.0, 0.0);
+        let fold = |band: &Band, buf: &mut [Complex64]| {
+            buf.iter_mut().for_each(|v| *v = zero);
+            band.support.gather(spec, buf);
+            self.band_fft(band, buf, Direction::Inverse);
+        };
+        let chunks = self.split_bands(bands);
         rayon::join(
             || {
-                let mut buf = vec![zero; self.lowpass.len()];
-                let mut scratch = Vec::new();
-                fold(&self.lowpass, &mut buf, &mut scratch);
-                low.iter_mut().zip(&buf).for_each(|(o, v)| *o = v.re);
+                let mut buf = self.take(self.lowpass.len());
+                fold(&self.lowpass, &mut buf);
+                low.iter_mut()
+                    .zip(&buf)
+                    .for_each(|(o, v)| *o = v.re * scale);
+                self.give(buf);
             },
             || {
                 self.bands
                     .par_iter()
                     .zip(chunks.into_par_iter())
-                    .for_each_init(Vec::new, |scratch, (band, buf)| fold(band, buf, scratch));
+                    .for_each(|(band, buf)| {
+                        fold(band, buf);
+                        buf.iter_mut().for_each(|v| *v *= scale);
+                    });
             },
         );
+    }
+
+    /// Analysis of the real and imaginary parts of a complex image at once, from its spectrum
+    /// `spec`: the coefficients of `Re x` go to `low[0]`, `bands[0]`, those of `Im x` to
+    /// `low[1]`, `bands[1]`, each scaled by `scale` as in [`Udct::forward_into`].
+    ///
+    /// For a real image `r` the band computed with the mirrored window `W(-k)` is the complex
+    /// conjugate of the band with `W(k)`; so with `u = band(W, x)` and `v = band(W(-.), x)`,
+    /// `band(Re x) = (u + conj v) / 2` and `band(Im x) = (u - conj v) / 2i`, and the symmetric
+    /// low-pass gives `Re x` and `Im x` as the real and imaginary parts of one band.
+    pub fn forward_pair(
+        &self,
+        spec: &[Complex64],
+        scale: f64,
+        low: [&mut [f64]; 2],
+        bands: [&mut [Complex64]; 2],
+    ) {
+        let zero = Complex64::new(0.0, 0.0);
+        let [low_r, low_i] = low;
+        let [bands_r, bands_i] = bands;
+        let chunks_r = self.split_bands(bands_r);
+        let chunks_i = self.split_bands(bands_i);
+        rayon::join(
+            || {
+                let mut buf = self.take(self.lowpass.len());
+                buf.iter_mut().for_each(|v| *v = zero);
+                self.lowpass.support.gather(spec, &mut buf);
+                self.band_fft(&self.lowpass, &mut buf, Direction::Inverse);
+                for ((r, i), v) in low_r.iter_mut().zip(low_i.iter_mut()).zip(&buf) {
+                    *r = v.re * scale;
+                    *i = v.im * scale;
+                }
+                self.give(buf);
+            },
+            || {
+                self.bands
+                    .par_iter()
+                    .zip(chunks_r.into_par_iter().zip(chunks_i.into_par_iter()))
+                    .for_each(|(band, (u, v))| {
+                        self.fold_ifft(band, &band.support, spec, u);
+                        self.fold_ifft(band, &band.mirror, spec, v);
+                        let h = 0.5 * scale;
+                        for (a, b) in u.iter_mut().zip(v.iter_mut()) {
+                            let (p, q) = (*a, b.conj());
+                            let d = p - q;
+                            *a = (p + q) * h;
+                            *b = Complex64::new(d.im, -d.re) * h;
+                        }
+                    });
+            },
+        );
+    }
+
+    /// Synthesis of `U^*(a) + i U^*(b)` into its (unnormalised) spectrum, `a` being
+    /// `(low[0], bands[0])` and `b` `(low[1], bands[1])`: with `P = FFT(a + i b)` and
+    /// `G = FFT(conj a + i conj b)` per band, `spec = sum (W P + W(-.) G) / 2`, plus
+    /// `W_L FFT(a_L + i b_L)` for the low-pass. `spec` is overwritten.
+    pub fn backward_pair(
+        &self,
+        low: [&[f64]; 2],
+        bands: [&[Complex64]; 2],
+        spec: &mut [Complex64],
+    ) {
+        let zero = Complex64::new(0.0, 0.0);
+        let i = Complex64::new(0.0, 1.0);
+        let nl = self.lowpass.len();
+        let nb = self.band_len;
+        let mut small = self.take(nl + 2 * nb);
+        {
+            let (lo, hi) = small.split_at_mut(nl);
+            let (p, g) = hi.split_at_mut(nb);
+            rayon::join(
+                || {
+                    for ((o, &a), &b) in lo.iter_mut().zip(low[0]).zip(low[1]) {
+                        *o = Complex64::new(a, b);
+                    }
+                    self.band_fft(&self.lowpass, lo, Direction::Forward);
+                },
+                || {
+                    let cp = self.split_bands(p);
+                    let cg = self.split_bands(g);
+                    self.bands
+                        .par_iter()
+                        .zip(cp.into_par_iter().zip(cg.into_par_iter()))
+                        .for_each(|(band, (p, g))| {
+                            let r = band.offset..band.offset + band.len();
+                            let (a, b) = (&bands[0][r.clone()], &bands[1][r]);
+                            let mut tmp: Vec<Complex64> =
+                                a.iter().zip(b).map(|(&a, &b)| a + i * b).collect();
+                            self.fft_t(band, &mut tmp, p);
+                            for ((t, &a), &b) in tmp.iter_mut().zip(a).zip(b) {
+                                *t = a.conj() + i * b.conj();
+                            }
+                            self.fft_t(band, &mut tmp, g);
+                        });
+                },
+            );
+        }
+        const BLOCK_ROWS: usize = 8;
+        let cols = self.cols;
+        let (lo_s, rest) = small.split_at(nl);
+        let (p, g) = rest.split_at(nb);
+        spec.par_chunks_mut(BLOCK_ROWS * cols)
+            .enumerate()
+            .for_each(|(blk, out)| {
+                out.iter_mut().for_each(|v| *v = zero);
+                let lo = (blk * BLOCK_ROWS * cols) as u32;
+                self.lowpass.support.scatter(lo_s, 1.0, lo, out);
+                for band in &self.bands {
+                    let r = band.offset..band.offset + band.len();
+                    band.support.scatter_t(&p[r.clone()], 0.5, lo, out);
+                    band.mirror.scatter_t(&g[r], 0.5, lo, out);
+                }
+            });
+        self.give(small);
     }
 
     /// Synthesis into a spectrum: `spec = sum W rep(FFT_small(c))` over the low-pass and every
     /// band (unscaled FFTs). The image [`Udct::backward`] returns is
     /// `Re(IFFT(spec)) / (rows * cols)`. `spec` is overwritten.
     pub fn backward_spectrum(&self, c: &UdctCoeffs, spec: &mut [Complex64]) {
+        self.backward_from(&c.lowpass, &c.bands, spec);
+    }
+
+    /// [`Udct::backward_spectrum`] from separate low-pass and band buffers.
+    pub fn backward_from(&self, low: &[f64], bands: &[Complex64], spec: &mut [Complex64]) {
         let zero = Complex64::new(0.0, 0.0);
-        let all: Vec<&Band> = std::iter::once(&self.lowpass).chain(&self.bands).collect();
-        let smalls: Vec<Vec<Complex64>> = all
-            .par_iter()
-            .map_init(Vec::new, |scratch, band| {
-                let mut buf: Vec<Complex64> = match band.id {
-                    None => c.lowpass.iter().map(|&v| Complex64::new(v, 0.0)).collect(),
-                    Some(_) => c.bands[band.offset..band.offset + band.len()].to_vec(),
-                };
-                self.plans[band.plan].process(&mut buf, Direction::Forward, scratch);
-                buf
-            })
-            .collect();
+        let mut small = self.take(self.lowpass.len() + self.band_len);
+        {
+            let (lo, hi) = small.split_at_mut(self.lowpass.len());
+            hi.copy_from_slice(bands);
+            let chunks = self.split_bands(hi);
+            rayon::join(
+                || {
+                    lo.iter_mut()
+                        .zip(low)
+                        .for_each(|(o, &v)| *o = Complex64::new(v, 0.0));
+                    self.band_fft(&self.lowpass, lo, Direction::Forward);
+                },
+                || {
+                    self.bands
+                        .par_iter()
+                        .zip(chunks.into_par_iter())
+                        .for_each(|(band, buf)| self.band_fft(band, buf, Direction::Forward));
+                },
+            );
+        }
         // Scatter in parallel over blocks of rows; each band's entries are sorted by full
         // index, so a block's entries form one contiguous run per band.
         const BLOCK_ROWS: usize = 8;
         let cols = self.cols;
+        let all: Vec<(&Band, usize)> = std::iter::once((&self.lowpass, 0))
+            .chain(
+                self.bands
+                    .iter()
+                    .map(|b| (b, self.lowpass.len() + b.offset)),
+            )
+            .collect();
+        let small_ref = &small;
         spec.par_chunks_mut(BLOCK_ROWS * cols)
             .enumerate()
             .for_each(|(blk, out)| {
                 out.iter_mut().for_each(|v| *v = zero);
                 let lo = (blk * BLOCK_ROWS * cols) as u32;
-                let hi = lo + out.len() as u32;
-                for (band, small) in all.iter().zip(&smalls) {
-                    let a = band.full.partition_point(|&k| k < lo);
-                    let b = band.full.partition_point(|&k| k < hi);
-                    for e in a..b {
-                        let k = (band.full[e] - lo) as usize;
-                        out[k] += small[band.fold[e] as usize] * band.weight[e];
-                    }
+                for &(band, base) in &all {
+                    band.support
+                        .scatter(&small_ref[base..base + band.len()], 1.0, lo, out);
                 }
             });
+        self.give(small);
     }
 }
 

@@ -1,0 +1,54 @@
+//! Criterion benchmarks of paper 11 (CS-MRI with a UDCT prior), specification section 5:
+//! the UDCT forward + backward at 256^2 and 512^2 (peer: the `curvelets` package), and 70
+//! C-SALSA iterations at 256^2, 40% Cartesian, with the UDCT and db4 priors (peers: BART
+//! `pics -l1`, sigpy `L1WaveletRecon`), plus the FCSA baseline.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use wscg::csmri::baselines::{self, CompositeParams};
+use wscg::csmri::{
+    csalsa, masks, phantom, CsalsaParams, KSpace, Regularizer, Udct, UdctConfig, UdctSparsifier,
+    WaveletSparsifier,
+};
+use wscg::math::progress::NoProgress;
+
+fn bench(c: &mut Criterion) {
+    let mut g = c.benchmark_group("paper11");
+    g.sample_size(10);
+    for n in [256usize, 512] {
+        let u = Udct::new(n, n, &UdctConfig::default()).unwrap();
+        let x = phantom::shepp_logan_image(n).unwrap();
+        g.bench_function(format!("udct [[6,6]] forward+backward {n}^2"), |b| {
+            b.iter(|| black_box(u.backward(&u.forward(&x).unwrap()).unwrap()))
+        });
+    }
+    let n = 256;
+    let mask = masks::cartesian(n, n, 0.4, 0.08, 1).unwrap();
+    let data = KSpace::new(n, n, phantom::shepp_logan_kspace(n).unwrap(), mask).unwrap();
+    let udct = UdctSparsifier::new(n, n, &UdctConfig::default()).unwrap();
+    let db4 = WaveletSparsifier::new(n, n, 4, 4).unwrap();
+    let p = CsalsaParams::default();
+    g.bench_function("csalsa udct-l1 70 it 256^2", |b| {
+        b.iter(|| {
+            black_box(csalsa(&data, &udct, Regularizer::default(), &p, None, &NoProgress).unwrap())
+        })
+    });
+    let pw = CsalsaParams {
+        tau0: 0.04,
+        ..Default::default()
+    };
+    g.bench_function("csalsa db4-l1 70 it 256^2", |b| {
+        b.iter(|| {
+            black_box(csalsa(&data, &db4, Regularizer::default(), &pw, None, &NoProgress).unwrap())
+        })
+    });
+    let cp = CompositeParams::default();
+    g.bench_function("fcsa 70 it 256^2", |b| {
+        b.iter(|| black_box(baselines::fcsa(&data, &cp, None, &NoProgress).unwrap()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
