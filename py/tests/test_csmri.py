@@ -104,7 +104,7 @@ def test_headline_reconstruction_and_data_consistency():
     assert np.allclose(csmri.reconstruct(kk[:, ::2], m, max_iter=3), xc)
 
 
-# Parameters chosen by benches/peers/11_tune.py on the development image (scikit-image's
+# Parameters chosen by benches/peers/_11_tune.py on the development image (scikit-image's
 # astronaut, grey, with a smooth phase, mask seed 2) and frozen here; the comparisons run on a
 # different image (the camera).
 TUNED = {"udct": 0.005, "db4": 0.04, "udct3": 0.02, "udct3_tv": 0.04,

@@ -296,12 +296,18 @@ impl<T: FftNum> Plan2<T> {
 
 /// `dst[j * rows + i] = src[i * cols + j]` for a `rows x cols` `src`, in cache-sized blocks.
 fn transpose<T: Copy>(src: &[T], dst: &mut [T], rows: usize, cols: usize) {
-    const B: usize = 32;
+    const B: usize = 16;
+    assert!(src.len() >= rows * cols && dst.len() >= rows * cols);
     for i0 in (0..rows).step_by(B) {
+        let i1 = (i0 + B).min(rows);
         for j0 in (0..cols).step_by(B) {
-            for i in i0..(i0 + B).min(rows) {
-                for j in j0..(j0 + B).min(cols) {
-                    dst[j * rows + i] = src[i * cols + j];
+            let j1 = (j0 + B).min(cols);
+            for i in i0..i1 {
+                let row = &src[i * cols + j0..i * cols + j1];
+                for (jj, &v) in row.iter().enumerate() {
+                    // SAFETY: (j0 + jj) < cols and i < rows, so the index is < rows * cols,
+                    // which the assertion above bounds by dst.len().
+                    unsafe { *dst.get_unchecked_mut((j0 + jj) * rows + i) = v };
                 }
             }
         }

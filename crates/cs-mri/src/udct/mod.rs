@@ -613,7 +613,7 @@ impl Udct {
                     .par_iter()
                     .zip(chunks.into_par_iter())
                     .for_each(|(band, buf)| {
-                        fold(band, buf);
+                        self.fold_ifft(band, &band.support, spec, buf);
                         buf.iter_mut().for_each(|v| *v *= scale);
                     });
             },
@@ -748,7 +748,6 @@ impl Udct {
         let mut small = self.take(self.lowpass.len() + self.band_len);
         {
             let (lo, hi) = small.split_at_mut(self.lowpass.len());
-            hi.copy_from_slice(bands);
             let chunks = self.split_bands(hi);
             rayon::join(
                 || {
@@ -761,7 +760,10 @@ impl Udct {
                     self.bands
                         .par_iter()
                         .zip(chunks.into_par_iter())
-                        .for_each(|(band, buf)| self.band_fft(band, buf, Direction::Forward));
+                        .for_each(|(band, buf)| {
+                            let mut tmp = bands[band.offset..band.offset + band.len()].to_vec();
+                            self.fft_t(band, &mut tmp, buf);
+                        });
                 },
             );
         }
@@ -783,8 +785,12 @@ impl Udct {
                 out.iter_mut().for_each(|v| *v = zero);
                 let lo = (blk * BLOCK_ROWS * cols) as u32;
                 for &(band, base) in &all {
-                    band.support
-                        .scatter(&small_ref[base..base + band.len()], 1.0, lo, out);
+                    let src = &small_ref[base..base + band.len()];
+                    if band.id.is_some() {
+                        band.support.scatter_t(src, 1.0, lo, out);
+                    } else {
+                        band.support.scatter(src, 1.0, lo, out);
+                    }
                 }
             });
         self.give(small);

@@ -3,7 +3,7 @@ image (scikit-image's astronaut, grey, 256^2, with a smooth phase; Cartesian 40%
 2), 70 iterations each. The chosen values are frozen in py/tests/test_csmri.py, which then
 compares the methods on a different image (the camera).
 
-    python benches/peers/11_tune.py
+    python benches/peers/_11_tune.py
 """
 
 import itertools
