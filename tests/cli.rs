@@ -1304,3 +1304,186 @@ fn octree_build_info_render_on_a_mesh_file() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("cones"));
 }
+
+#[test]
+fn mri_mask_phantom_recon_on_files() {
+    use wscg::csmri::{
+        csalsa, metrics, CsalsaParams, KSpace, Regularizer, UdctConfig, UdctSparsifier,
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let text = wscg_ok(&[
+        "mri",
+        "mask",
+        "--cartesian",
+        "0.4",
+        "--size",
+        "64x64",
+        "--out",
+        &p("m.npy"),
+    ]);
+    assert!(text.contains("Cartesian"), "{text}");
+    wscg_ok(&[
+        "mri",
+        "mask",
+        "--cartesian",
+        "0.4",
+        "--size",
+        "64x64",
+        "--out",
+        &p("m.png"),
+    ]);
+    let text = wscg_ok(&[
+        "mri",
+        "mask",
+        "--radial",
+        "0.3",
+        "--size",
+        "64x64",
+        "--out",
+        &p("r.png"),
+    ]);
+    assert!(text.contains("pseudo-radial"), "{text}");
+    wscg_ok(&[
+        "mri",
+        "phantom",
+        "--size",
+        "64",
+        "--out",
+        &p("k.npy"),
+        "--reference",
+        &p("ref.npy"),
+    ]);
+    let before = std::fs::read(p("k.npy")).unwrap();
+    // The centred PNG mask and the un-shifted .npy mask are the same mask.
+    let a = wscg_ok(&[
+        "mri",
+        "recon",
+        &p("k.npy"),
+        "--mask",
+        &p("m.npy"),
+        "--iters",
+        "15",
+        "--reference",
+        &p("ref.npy"),
+        "--out",
+        &p("a.npy"),
+    ]);
+    wscg_ok(&[
+        "mri",
+        "recon",
+        &p("k.npy"),
+        "--mask",
+        &p("m.png"),
+        "--iters",
+        "15",
+        "--out",
+        &p("b.npy"),
+    ]);
+    assert!(a.contains("PSNR"), "{a}");
+    let xa = wscg::math::npy::read_complex(p("a.npy")).unwrap();
+    let xb = wscg::math::npy::read_complex(p("b.npy")).unwrap();
+    assert_eq!(xa.shape, vec![64, 64]);
+    assert_eq!(xa.data, xb.data);
+    assert_eq!(std::fs::read(p("k.npy")).unwrap(), before);
+    // The same reconstruction as the library's.
+    let k = wscg::math::npy::read_complex(p("k.npy")).unwrap();
+    let m: Vec<bool> = wscg::math::npy::read::<f64>(p("m.npy"))
+        .unwrap()
+        .data
+        .iter()
+        .map(|&v| v != 0.0)
+        .collect();
+    let data = KSpace::new(64, 64, k.data, m).unwrap();
+    let psi = UdctSparsifier::new(64, 64, &UdctConfig::default()).unwrap();
+    let params = CsalsaParams {
+        max_iter: 15,
+        ..Default::default()
+    };
+    let want = csalsa(
+        &data,
+        &psi,
+        Regularizer::default(),
+        &params,
+        None,
+        &wscg::math::progress::NoProgress,
+    )
+    .unwrap();
+    let diff = metrics::rlne(&want.image, &xa.data).unwrap();
+    assert!(diff < 1e-12, "{diff}");
+    // Baselines, NIfTI and PNG outputs.
+    wscg_ok(&[
+        "mri",
+        "recon",
+        &p("k.npy"),
+        "--mask",
+        &p("m.npy"),
+        "--method",
+        "fcsa",
+        "--iters",
+        "5",
+        "--out",
+        &p("f.nii.gz"),
+    ]);
+    wscg_ok(&[
+        "mri",
+        "recon",
+        &p("k.npy"),
+        "--mask",
+        &p("m.npy"),
+        "--reg",
+        "tv",
+        "--iters",
+        "5",
+        "--out",
+        &p("t.png"),
+    ]);
+    assert!(Image::load(p("t.png")).is_ok());
+    assert!(wscg::math::Volume::<f32>::read_nifti(p("f.nii.gz")).is_ok());
+    // Bad input: wrong mask size, unknown method, unreadable k-space.
+    wscg_ok(&[
+        "mri",
+        "mask",
+        "--cartesian",
+        "0.4",
+        "--size",
+        "32x32",
+        "--out",
+        &p("small.npy"),
+    ]);
+    for args in [
+        vec![
+            "mri",
+            "recon",
+            &p("k.npy"),
+            "--mask",
+            &p("small.npy"),
+            "--out",
+            &p("x.npy"),
+        ],
+        vec![
+            "mri",
+            "recon",
+            &p("k.npy"),
+            "--mask",
+            &p("m.npy"),
+            "--method",
+            "sense",
+            "--out",
+            &p("x.npy"),
+        ],
+        vec![
+            "mri",
+            "recon",
+            &p("missing.npy"),
+            "--mask",
+            &p("m.npy"),
+            "--out",
+            &p("x.npy"),
+        ],
+    ] {
+        let out = wscg().args(&args).output().unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        assert!(!String::from_utf8_lossy(&out.stderr).is_empty());
+    }
+}

@@ -280,7 +280,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let x: Vec<f64> = phantom::shepp_logan_image(512)?;
     let c = rep.time("UDCT forward 512^2", || u.forward(&x))?;
     let back = rep.time("UDCT backward 512^2", || u.backward(&c))?;
-    let ex: f64 = x.iter().map(|v| v * v).sum();
+    let ex = wscg_cs_mri::udct::compensated_sum(x.iter().map(|v| v * v));
     let err = (x
         .iter()
         .zip(&back)

@@ -44,9 +44,10 @@ fn udct_is_an_exact_tight_frame_of_redundancy_four() {
             for x in [
                 rng::normal_vec(n as u64, n * n, 0.0, 1.0).unwrap(),
                 structured(n),
+                phantom::shepp_logan_image(n).unwrap(),
             ] {
                 let c = u.forward(&x).unwrap();
-                let ex: f64 = x.iter().map(|v| v * v).sum();
+                let ex = udct::compensated_sum(x.iter().map(|v| v * v));
                 let parseval = (c.energy() - ex).abs() / ex;
                 assert!(parseval < 1e-12, "{n} {wedges:?}: Parseval {parseval:e}");
                 let back = u.backward(&c).unwrap();

@@ -198,6 +198,21 @@ impl Band {
     }
 }
 
+/// Neumaier's compensated sum: accurate to about one rounding whatever the length.
+pub fn compensated_sum(values: impl IntoIterator<Item = f64>) -> f64 {
+    let (mut sum, mut c) = (0.0f64, 0.0f64);
+    for v in values {
+        let t = sum + v;
+        c += if sum.abs() >= v.abs() {
+            (sum - t) + v
+        } else {
+            (v - t) + sum
+        };
+        sum = t;
+    }
+    sum + c
+}
+
 /// UDCT coefficients: the real low-pass block and every band, concatenated.
 #[derive(Clone, Debug, PartialEq)]
 pub struct UdctCoeffs {
@@ -208,10 +223,15 @@ pub struct UdctCoeffs {
 }
 
 impl UdctCoeffs {
-    /// Sum of squares of every real and imaginary part.
+    /// Sum of squares of every real and imaginary part (compensated summation, so that
+    /// Parseval checks on large images see the transform's error, not the sum's).
     pub fn energy(&self) -> f64 {
-        self.lowpass.iter().map(|v| v * v).sum::<f64>()
-            + self.bands.iter().map(|v| v.norm_sqr()).sum::<f64>()
+        compensated_sum(
+            self.lowpass
+                .iter()
+                .map(|v| v * v)
+                .chain(self.bands.iter().map(|v| v.norm_sqr())),
+        )
     }
 
     /// Real inner product `sum Re(conj(a) b)` over all coefficients.
