@@ -150,8 +150,7 @@ impl Setup {
     fn stat(
         &self,
         k: usize,
-        x: &[Complex64],
-        prev: &[Complex64],
+        (x, prev): (&[Complex64], &[Complex64]),
         idx: &[usize],
         p: &CompositeParams,
         groups: bool,
@@ -207,7 +206,7 @@ fn wavelet_shrink(
     out: &mut [Complex64],
 ) {
     wav.analysis(x, c);
-    soft_coeffs(c, t, &[]);
+    soft_coeffs(c, t);
     wav.synthesis(c, out);
 }
 
@@ -318,7 +317,7 @@ fn composite_fista(
             .for_each(|(x, (a, b))| *x = (a + b) * 0.5);
         momentum(&mut t, &x, &prev, &mut r);
         if p.record_history {
-            history.push(st.stat(k + 1, &x, &prev, idx, p, tree, reference));
+            history.push(st.stat(k + 1, (&x, &prev), idx, p, tree, reference));
         }
         progress.advance(1);
     }
@@ -381,7 +380,7 @@ pub fn tvcmri(
                 *px = nx * sc;
             });
         if p.record_history {
-            history.push(st.stat(k + 1, &x, &prev, idx, p, false, reference));
+            history.push(st.stat(k + 1, (&x, &prev), idx, p, false, reference));
         }
         progress.advance(1);
     }

@@ -34,7 +34,7 @@ pub const SHEPP_LOGAN: [[f64; 6]; 10] = [
 ];
 
 fn check_size(n: usize) -> Result<()> {
-    if n < 4 || n % 2 != 0 || n > 1 << 14 {
+    if n < 4 || !n.is_multiple_of(2) || n > 1 << 14 {
         return Err(Error::invalid(
             "n",
             format!("{n} must be even, at least 4 and at most 16384"),

@@ -1,8 +1,6 @@
 //! Proximal maps of paper 11, section 2.3: soft thresholding (eq. E3) and the projection onto
 //! the data-fidelity ball (eq. E4).
 
-use std::ops::Range;
-
 use num_complex::Complex64;
 use rayon::prelude::*;
 
@@ -23,21 +21,9 @@ pub fn soft_complex(a: Complex64, tau: f64) -> Complex64 {
     }
 }
 
-/// Soft-thresholds every coefficient in place; real coefficients inside `keep` (the
-/// low-pass, when it is not to be shrunk) are left alone.
-pub fn soft_coeffs(c: &mut CoeffVec, tau: f64, keep: &[Range<usize>]) {
-    let mut skip = vec![false; c.real.len()];
-    for r in keep {
-        skip[r.clone()].iter_mut().for_each(|s| *s = true);
-    }
-    c.real
-        .par_iter_mut()
-        .zip(skip.par_iter())
-        .for_each(|(v, &s)| {
-            if !s {
-                *v = soft(*v, tau);
-            }
-        });
+/// Soft-thresholds every coefficient in place (real ones by value, complex by magnitude).
+pub fn soft_coeffs(c: &mut CoeffVec, tau: f64) {
+    c.real.par_iter_mut().for_each(|v| *v = soft(*v, tau));
     c.complex
         .par_iter_mut()
         .for_each(|v| *v = soft_complex(*v, tau));
@@ -118,10 +104,11 @@ mod tests {
         project_ball(&mut v, &y, 0.0);
         assert_eq!(v, y);
         let mut c = CoeffVec {
-            real: vec![2.0, 2.0],
-            complex: vec![],
+            real: vec![2.0, -0.5],
+            complex: vec![Complex64::new(0.0, 3.0)],
         };
-        soft_coeffs(&mut c, 1.0, &[0..1]);
-        assert_eq!(c.real, vec![2.0, 1.0]);
+        soft_coeffs(&mut c, 1.0);
+        assert_eq!(c.real, vec![1.0, 0.0]);
+        assert_eq!(c.complex, vec![Complex64::new(0.0, 2.0)]);
     }
 }

@@ -178,7 +178,7 @@ impl Sparsifier for UdctSparsifier {
         )
     }
     fn lowpass_ranges(&self) -> Vec<Range<usize>> {
-        vec![0..self.coeff_len().0]
+        std::iter::once(0..self.coeff_len().0).collect()
     }
     fn fourier(&self) -> &Fourier {
         &self.fourier

@@ -51,7 +51,7 @@ pub fn divergence(
     out: &mut [Complex64],
 ) {
     out.par_chunks_mut(cols).enumerate().for_each(|(i, o)| {
-        for j in 0..cols {
+        for (j, o) in o.iter_mut().enumerate() {
             let k = i * cols + j;
             let mut v = if i + 1 < rows {
                 py[k]
@@ -67,7 +67,7 @@ pub fn divergence(
             if j > 0 {
                 v -= px[k - 1];
             }
-            o[j] = v;
+            *o = v;
         }
     });
 }

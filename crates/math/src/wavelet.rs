@@ -16,7 +16,10 @@ use crate::error::{Error, Result};
 /// Decomposition low-pass filters of Daubechies' orthonormal wavelets db1 ... db8, as
 /// PyWavelets lists them (`pywt.Wavelet("dbN").dec_lo`).
 const DB_LO: [&[f64]; 8] = [
-    &[0.7071067811865476, 0.7071067811865476],
+    &[
+        std::f64::consts::FRAC_1_SQRT_2,
+        std::f64::consts::FRAC_1_SQRT_2,
+    ],
     &[
         -0.12940952255126037,
         0.2241438680420134,
@@ -216,7 +219,7 @@ impl Wavelet2 {
             ));
         }
         let div = 1usize << levels;
-        if rows == 0 || cols == 0 || rows % div != 0 || cols % div != 0 {
+        if rows == 0 || cols == 0 || !rows.is_multiple_of(div) || !cols.is_multiple_of(div) {
             return Err(Error::ShapeMismatch(format!(
                 "a {levels}-level wavelet transform needs both sizes divisible by {div}; \
                  the image is {rows} x {cols}"
