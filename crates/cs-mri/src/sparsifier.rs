@@ -364,8 +364,7 @@ mod tests {
     use wscg_math::rng;
 
     fn random(n: usize, seed: u64) -> Vec<Complex64> {
-        let v = rng::normal_vec(seed, 2 * n, 0.0, 1.0).unwrap();
-        v.chunks(2).map(|p| Complex64::new(p[0], p[1])).collect()
+        rng::complex_normal_vec(seed, n, 1.0).unwrap()
     }
 
     #[test]

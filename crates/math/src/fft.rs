@@ -243,8 +243,9 @@ impl<T: FftNum> Plan2<T> {
     }
 
     /// Unscaled transform of an array given column by column: `src` holds the `rows x cols`
-    /// array transposed (`src[j * rows + i]`); the result is written row-major into `dst`.
-    /// One transpose instead of two. Panics on wrong lengths (an internal-invariant check).
+    /// array transposed (`src[j * rows + i]`, overwritten); the result is written row-major
+    /// into `dst`. One transpose instead of two. Panics on wrong lengths (an
+    /// internal-invariant check).
     pub fn process_from_transposed(
         &self,
         src: &mut [Complex<T>],
@@ -252,15 +253,7 @@ impl<T: FftNum> Plan2<T> {
         dir: Direction,
         scratch: &mut Vec<Complex<T>>,
     ) {
-        let n = self.rows * self.cols;
-        assert!(src.len() == n && dst.len() == n, "Plan2 data length");
-        let d = usize::from(dir == Direction::Inverse);
-        if scratch.len() < self.scratch_len {
-            scratch.resize(self.scratch_len, Complex::new(T::zero(), T::zero()));
-        }
-        self.col[d].process_with_scratch(src, &mut scratch[..self.scratch_len]);
-        transpose(src, dst, self.cols, self.rows);
-        self.row[d].process_with_scratch(dst, &mut scratch[..self.scratch_len]);
+        self.one_transpose(src, dst, dir, scratch, true);
     }
 
     /// Unscaled transform of the row-major `src` (overwritten), written column by column
@@ -272,15 +265,33 @@ impl<T: FftNum> Plan2<T> {
         dir: Direction,
         scratch: &mut Vec<Complex<T>>,
     ) {
+        self.one_transpose(src, dst, dir, scratch, false);
+    }
+
+    /// Lines of `src` along its contiguous axis, a transpose into `dst`, lines of `dst`.
+    fn one_transpose(
+        &self,
+        src: &mut [Complex<T>],
+        dst: &mut [Complex<T>],
+        dir: Direction,
+        scratch: &mut Vec<Complex<T>>,
+        src_transposed: bool,
+    ) {
         let n = self.rows * self.cols;
         assert!(src.len() == n && dst.len() == n, "Plan2 data length");
         let d = usize::from(dir == Direction::Inverse);
         if scratch.len() < self.scratch_len {
             scratch.resize(self.scratch_len, Complex::new(T::zero(), T::zero()));
         }
-        self.row[d].process_with_scratch(src, &mut scratch[..self.scratch_len]);
-        transpose(src, dst, self.rows, self.cols);
-        self.col[d].process_with_scratch(dst, &mut scratch[..self.scratch_len]);
+        let work = &mut scratch[..self.scratch_len];
+        let (first, second, (r, c)) = if src_transposed {
+            (&self.col[d], &self.row[d], (self.cols, self.rows))
+        } else {
+            (&self.row[d], &self.col[d], (self.rows, self.cols))
+        };
+        first.process_with_scratch(src, work);
+        transpose(src, dst, r, c);
+        second.process_with_scratch(dst, work);
     }
 
     /// Unscaled in-place transform with the lines spread over rayon.

@@ -48,6 +48,16 @@ pub fn normal_vec(seed: u64, n: usize, mean: f64, std: f64) -> Result<Vec<f64>> 
     Ok(par_fill(seed, n, |r| dist.sample(r)))
 }
 
+/// `n` complex samples with independent N(0, `std`^2) real and imaginary parts.
+///
+/// Errors: as [`normal_vec`].
+pub fn complex_normal_vec(seed: u64, n: usize, std: f64) -> Result<Vec<num_complex::Complex64>> {
+    let v = normal_vec(seed, 2 * n, 0.0, std)?;
+    Ok(v.chunks(2)
+        .map(|p| num_complex::Complex64::new(p[0], p[1]))
+        .collect())
+}
+
 /// `n` values drawn by `sample`, in blocks of [`BLOCK`] with one stream per block, so the
 /// output depends on the seed only, not on the thread count.
 pub fn par_fill<T: Send + Default + Clone>(
