@@ -356,7 +356,20 @@ def wavedec2(x, wavelet: str = "db4", level: int = 4) -> np.ndarray:
 
 
 def waverec2(coeffs, wavelet: str = "db4", level: int = 4) -> np.ndarray:
-    """Inverse of :func:`wavedec2` (same layout and parameters)."""
+    """Inverse of :func:`wavedec2`: the image from its Mallat-layout coefficients.
+
+    Parameters
+    ----------
+    coeffs : array_like (H, W)
+        Coefficients as :func:`wavedec2` returns them.
+    wavelet : {'db1', ..., 'db8'}, default 'db4'
+    level : int, default 4
+        The number of levels the coefficients were computed with.
+
+    Returns
+    -------
+    ndarray (H, W), float64. The transform is orthogonal: this is also its transpose.
+    """
     return _m.wavelet2(_real(coeffs, "coeffs"), _db_order(wavelet), int(level), True)
 
 
