@@ -114,11 +114,9 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     })?;
     runs.push(("UDCSMRI(TV)", r, "39.10 / 0.0684"));
     let mut tiles = vec![magnitude_tile(&reference, n, peak)?];
+    let centred_mask = fftshift(&mask, &[n, n])?;
     let mut errs = vec![Image::from_fn(n, n, |i, j| {
-        if fftshift(&mask, &[n, n])
-            .map(|m| m[i * n + j])
-            .unwrap_or(false)
-        {
+        if centred_mask[i * n + j] {
             1.0
         } else {
             0.0

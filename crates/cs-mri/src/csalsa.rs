@@ -270,8 +270,8 @@ pub fn csalsa(
                 a.sub_assign(&d1);
                 tv_prox_of_synthesis(psi, &a, tau, inner_iters, tvp, &mut v1);
                 // d1 = v1 - a; the next synthesis needs v1 + d1.
-                d1.set_sum(&v1, &a);
-                d1.sub_assign(&a);
+                d1.real.copy_from_slice(&v1.real);
+                d1.complex.copy_from_slice(&v1.complex);
                 d1.sub_assign(&a);
                 sum.set_sum(&v1, &d1);
             }
@@ -289,18 +289,24 @@ pub fn csalsa(
         }
         tau = (tau * p.rho).min(p.tau0 * p.tau_cap);
         iters = k + 1;
-        let num: f64 = xhat
-            .par_iter()
-            .zip(&prev)
-            .map(|(a, b)| (a - b).norm_sqr())
-            .sum();
-        let den: f64 = prev.par_iter().map(|a| a.norm_sqr()).sum();
-        let rel = if den > 0.0 {
-            (num / den).sqrt()
+        // The relative change is only computed when something uses it (off the hot path
+        // of a fixed iteration count).
+        let rel = if p.tol > 0.0 || p.record_history {
+            let num: f64 = xhat
+                .par_iter()
+                .zip(&prev)
+                .map(|(a, b)| (a - b).norm_sqr())
+                .sum();
+            let den: f64 = prev.par_iter().map(|a| a.norm_sqr()).sum();
+            prev.copy_from_slice(&xhat);
+            if den > 0.0 {
+                (num / den).sqrt()
+            } else {
+                f64::INFINITY
+            }
         } else {
             f64::INFINITY
         };
-        prev.copy_from_slice(&xhat);
         if p.record_history {
             let mut img = xhat.clone();
             fourier.inverse(&mut img);

@@ -43,3 +43,12 @@ impl Fourier {
         x.iter_mut().for_each(|v| *v *= self.scale);
     }
 }
+
+/// Signed frequency of FFT index `i` on an axis of length `n` (numpy's `fftfreq(n) * n`).
+pub fn signed_frequency(i: usize, n: usize) -> i64 {
+    if i < n.div_ceil(2) {
+        i as i64
+    } else {
+        i as i64 - n as i64
+    }
+}

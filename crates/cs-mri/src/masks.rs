@@ -2,16 +2,9 @@
 //! un-shifted like the k-space (DC at index 0).
 
 use rand::Rng;
-use wscg_math::{Error, Result};
 
-/// Signed frequency of FFT index `i` on an axis of length `n`.
-fn signed(i: usize, n: usize) -> i64 {
-    if i < n.div_ceil(2) {
-        i as i64
-    } else {
-        i as i64 - n as i64
-    }
-}
+use crate::fourier::signed_frequency as signed;
+use wscg_math::{Error, Result};
 
 fn check_rate(rate: f64) -> Result<()> {
     if !(rate > 0.0 && rate <= 1.0) {

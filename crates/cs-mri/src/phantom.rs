@@ -16,7 +16,7 @@ use num_complex::Complex64;
 use rand::Rng;
 use wscg_math::{Error, Result};
 
-use crate::fourier::Fourier;
+use crate::fourier::{signed_frequency, Fourier};
 
 /// Modified Shepp-Logan ellipses (Toft): intensity, semi-axes a (x) and b (y), centre, angle
 /// in degrees, on the field of view [-1, 1]^2 with y up.
@@ -41,15 +41,6 @@ fn check_size(n: usize) -> Result<()> {
         ));
     }
     Ok(())
-}
-
-/// Signed frequency of FFT index `i` on an axis of length `n`.
-fn signed(i: usize, n: usize) -> f64 {
-    if i < n / 2 {
-        i as f64
-    } else {
-        i as f64 - n as f64
-    }
 }
 
 /// Fourier transform of the ellipse table at spatial frequency `(kx, ky)` (cycles per unit):
@@ -83,7 +74,10 @@ pub fn shepp_logan_kspace(n: usize) -> Result<Vec<Complex64>> {
     let scale = n as f64 / 4.0;
     let mut out = vec![Complex64::new(0.0, 0.0); n * n];
     for (k, o) in out.iter_mut().enumerate() {
-        let (m0, m1) = (signed(k / n, n), signed(k % n, n));
+        let (m0, m1) = (
+            signed_frequency(k / n, n) as f64,
+            signed_frequency(k % n, n) as f64,
+        );
         let sign = if (m0 + m1).rem_euclid(2.0) == 0.0 {
             1.0
         } else {
