@@ -1,0 +1,138 @@
+//! Gyroscope integration (paper section 3.2): body-frame angular rates are rotated into the
+//! camera axes, integrated into orientations at the sample times and super-resolved in between
+//! by spherical linear interpolation (SLERP).
+
+use nalgebra::{Rotation3, UnitQuaternion, Vector3};
+use wscg_math::{Error, Result};
+
+/// One gyroscope reading: time `t` (s, gyroscope clock) and angular rate `w` (rad/s, IMU axes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GyroSample {
+    /// Time stamp in seconds.
+    pub t: f64,
+    /// Angular rate in rad/s about the IMU's x, y, z axes.
+    pub w: Vector3<f64>,
+}
+
+impl GyroSample {
+    /// A sample from a time and three rates.
+    pub fn new(t: f64, wx: f64, wy: f64, wz: f64) -> Self {
+        GyroSample {
+            t,
+            w: Vector3::new(wx, wy, wz),
+        }
+    }
+}
+
+/// An integrated gyroscope trace: the camera orientation `q(t)` (camera axes to the frame of
+/// the first sample) at every sample time, SLERP in between.
+///
+/// Integration (body-frame rates, right multiplication): `q_{k+1} = q_k * exp(1/2 R_ci (w_mid -
+/// bias) dt)` with the mid-interval rate `w_mid = (w_k + w_{k+1}) / 2`, so between two samples
+/// the camera turns at a constant rate and SLERP is exact for that motion.
+#[derive(Clone, Debug)]
+pub struct GyroTrack {
+    times: Vec<f64>,
+    orientations: Vec<UnitQuaternion<f64>>,
+}
+
+impl GyroTrack {
+    /// Integrates `samples` (strictly increasing times) with the camera-from-IMU rotation
+    /// `r_cam_imu` (rates are expressed in camera axes as `r_cam_imu * w`) and a constant
+    /// `bias` (rad/s, IMU axes) subtracted from every reading.
+    ///
+    /// Errors: fewer than two samples, non-finite values, unsorted or duplicate time stamps.
+    pub fn new(
+        samples: &[GyroSample],
+        r_cam_imu: Rotation3<f64>,
+        bias: Vector3<f64>,
+    ) -> Result<Self> {
+        if samples.len() < 2 {
+            return Err(Error::invalid(
+                "gyro",
+                format!("need at least 2 gyroscope samples, got {}", samples.len()),
+            ));
+        }
+        if !bias.iter().all(|v| v.is_finite()) {
+            return Err(Error::invalid("bias", "gyroscope bias must be finite"));
+        }
+        for (i, s) in samples.iter().enumerate() {
+            if !(s.t.is_finite() && s.w.iter().all(|v| v.is_finite())) {
+                return Err(Error::NonFinite {
+                    name: "gyro",
+                    index: i,
+                });
+            }
+            if i > 0 && s.t <= samples[i - 1].t {
+                return Err(Error::invalid(
+                    "gyro",
+                    format!(
+                        "time stamps must be strictly increasing: sample {i} at t = {} follows t = {}",
+                        s.t,
+                        samples[i - 1].t
+                    ),
+                ));
+            }
+        }
+        let mut orientations = Vec::with_capacity(samples.len());
+        let mut q = UnitQuaternion::identity();
+        orientations.push(q);
+        for pair in samples.windows(2) {
+            let dt = pair[1].t - pair[0].t;
+            let w_mid = (pair[0].w + pair[1].w) * 0.5 - bias;
+            q *= UnitQuaternion::from_scaled_axis(r_cam_imu * w_mid * dt);
+            orientations.push(q);
+        }
+        Ok(GyroTrack {
+            times: samples.iter().map(|s| s.t).collect(),
+            orientations,
+        })
+    }
+
+    /// Integrates samples given in camera axes with no bias.
+    pub fn from_camera_rates(samples: &[GyroSample]) -> Result<Self> {
+        Self::new(samples, Rotation3::identity(), Vector3::zeros())
+    }
+
+    /// First and last sample time.
+    pub fn span(&self) -> (f64, f64) {
+        (self.times[0], self.times[self.times.len() - 1])
+    }
+
+    /// Errors naming the uncovered part when `[t0, t1]` is not inside the sampled span.
+    pub fn ensure_covers(&self, t0: f64, t1: f64) -> Result<()> {
+        let (a, b) = self.span();
+        if t0 < a || t1 > b || !(t0.is_finite() && t1.is_finite()) {
+            return Err(Error::invalid(
+                "gyro",
+                format!(
+                    "gyroscope samples cover [{a:.6}, {b:.6}] s but the exposure needs [{t0:.6}, {t1:.6}] s \
+                     (gap of {:.6} s); check t_delay, t_exposure and the frame times",
+                    (a - t0).max(t1 - b).max(0.0)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Camera orientation at `t` (camera axes to the reference frame): SLERP between the two
+    /// enclosing samples, clamped to the first or last sample outside the span.
+    pub fn orientation(&self, t: f64) -> UnitQuaternion<f64> {
+        let n = self.times.len();
+        if t <= self.times[0] {
+            return self.orientations[0];
+        }
+        if t >= self.times[n - 1] {
+            return self.orientations[n - 1];
+        }
+        let k = self.times.partition_point(|&s| s <= t) - 1;
+        let f = (t - self.times[k]) / (self.times[k + 1] - self.times[k]);
+        self.orientations[k].slerp(&self.orientations[k + 1], f)
+    }
+
+    /// Rotation taking camera-at-`t1` coordinates to camera-at-`t0` coordinates,
+    /// `R(t0)^T R(t1)`.
+    pub fn relative(&self, t0: f64, t1: f64) -> Rotation3<f64> {
+        (self.orientation(t0).inverse() * self.orientation(t1)).to_rotation_matrix()
+    }
+}

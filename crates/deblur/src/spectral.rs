@@ -1,0 +1,227 @@
+//! Periodic (FFT) machinery of the region solvers: planned transforms per window size with the
+//! finite-difference spectra of the KF prior, kernel transfer functions, MATLAB-style edge
+//! tapering, and window extraction with mirrored borders.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+use num_complex::Complex32;
+use wscg_math::fft::{Direction, Plan2};
+use wscg_math::Result;
+
+use crate::kernel::Kernel;
+
+/// Smallest `n' >= n` whose only prime factors are 2, 3 and 5 (fast FFT sizes).
+pub fn smooth_size(n: usize) -> usize {
+    let mut m = n.max(1);
+    loop {
+        let mut r = m;
+        for p in [2, 3, 5] {
+            while r % p == 0 {
+                r /= p;
+            }
+        }
+        if r == 1 {
+            return m;
+        }
+        m += 1;
+    }
+}
+
+/// A planned `rows x cols` periodic grid and `|F_x|^2 + |F_y|^2` of the difference filters
+/// `f_x = [1 -1]`, `f_y = [1 -1]^T` (paper eq. 7).
+pub(crate) struct Grid {
+    pub rows: usize,
+    pub cols: usize,
+    plan: Plan2<f32>,
+    pub grad2: Vec<f32>,
+}
+
+impl Grid {
+    fn new(rows: usize, cols: usize) -> Result<Self> {
+        let plan = Plan2::new(rows, cols)?;
+        let cy: Vec<f32> = (0..rows)
+            .map(|i| {
+                (2.0 - 2.0 * (2.0 * std::f64::consts::PI * i as f64 / rows as f64).cos()) as f32
+            })
+            .collect();
+        let cx: Vec<f32> = (0..cols)
+            .map(|j| {
+                (2.0 - 2.0 * (2.0 * std::f64::consts::PI * j as f64 / cols as f64).cos()) as f32
+            })
+            .collect();
+        let grad2 = (0..rows * cols)
+            .map(|i| cy[i / cols] + cx[i % cols])
+            .collect();
+        Ok(Grid {
+            rows,
+            cols,
+            plan,
+            grad2,
+        })
+    }
+
+    /// A shared grid of this size, planned on first use.
+    pub fn shared(rows: usize, cols: usize) -> Result<Arc<Grid>> {
+        static CACHE: OnceLock<Mutex<HashMap<(usize, usize), Arc<Grid>>>> = OnceLock::new();
+        let cache = CACHE.get_or_init(Default::default);
+        if let Some(g) = cache
+            .lock()
+            .ok()
+            .and_then(|c| c.get(&(rows, cols)).cloned())
+        {
+            return Ok(g);
+        }
+        let g = Arc::new(Grid::new(rows, cols)?);
+        if let Ok(mut c) = cache.lock() {
+            c.insert((rows, cols), g.clone());
+        }
+        Ok(g)
+    }
+
+    pub fn len(&self) -> usize {
+        self.rows * self.cols
+    }
+
+    /// Forward transform of a real array into `out`.
+    pub fn forward(&self, data: &[f32], out: &mut Vec<Complex32>, scratch: &mut Vec<Complex32>) {
+        out.clear();
+        out.extend(data.iter().map(|&v| Complex32::new(v, 0.0)));
+        self.plan.process(out, Direction::Forward, scratch);
+    }
+
+    /// Inverse transform of `spec` (overwritten), real part scaled by `1/N` into `out`.
+    pub fn inverse_real(
+        &self,
+        spec: &mut [Complex32],
+        out: &mut [f32],
+        scratch: &mut Vec<Complex32>,
+    ) {
+        self.plan.process(spec, Direction::Inverse, scratch);
+        let s = 1.0 / self.len() as f32;
+        out.iter_mut()
+            .zip(spec.iter())
+            .for_each(|(o, c)| *o = c.re * s);
+    }
+
+    /// Transfer function of `k` (origin moved to index (0, 0), wrapped periodically).
+    pub fn otf(&self, k: &Kernel, scratch: &mut Vec<Complex32>) -> Vec<Complex32> {
+        let mut pad = vec![0f32; self.len()];
+        for i in 0..k.size {
+            let r = (i as isize - k.origin.0 as isize).rem_euclid(self.rows as isize) as usize;
+            for j in 0..k.size {
+                let c = (j as isize - k.origin.1 as isize).rem_euclid(self.cols as isize) as usize;
+                pad[r * self.cols + c] += k.data[i * k.size + j];
+            }
+        }
+        let mut out = Vec::with_capacity(self.len());
+        self.forward(&pad, &mut out, scratch);
+        out
+    }
+
+    /// Periodic convolution of `data` with the kernel of transfer function `otf`
+    /// (`conj = true`: correlation, the adjoint).
+    pub fn convolve(
+        &self,
+        data: &[f32],
+        otf: &[Complex32],
+        conj: bool,
+        out: &mut [f32],
+        buf: &mut Vec<Complex32>,
+        scratch: &mut Vec<Complex32>,
+    ) {
+        self.forward(data, buf, scratch);
+        buf.iter_mut()
+            .zip(otf)
+            .for_each(|(b, k)| *b *= if conj { k.conj() } else { *k });
+        self.inverse_real(buf, out, scratch);
+    }
+
+    /// MATLAB `edgetaper`: `J = a B + (1 - a) (B (*) k)` with `a(y, x) = (1 - b_y(y)) (1 - b_x(x))`,
+    /// `b` the peak-normalised periodic autocorrelation of the kernel's projection on each
+    /// axis, so the window becomes smooth across its periodic borders.
+    pub fn edgetaper(
+        &self,
+        data: &mut [f32],
+        k: &Kernel,
+        otf: &[Complex32],
+        buf: &mut Vec<Complex32>,
+        scratch: &mut Vec<Complex32>,
+    ) {
+        if k.size == 1 {
+            return;
+        }
+        let mut py = vec![0f64; k.size];
+        let mut px = vec![0f64; k.size];
+        for i in 0..k.size {
+            for j in 0..k.size {
+                let v = k.data[i * k.size + j] as f64;
+                py[i] += v;
+                px[j] += v;
+            }
+        }
+        let ay = taper_axis(&py, self.rows);
+        let ax = taper_axis(&px, self.cols);
+        let mut blurred = vec![0f32; self.len()];
+        self.convolve(data, otf, false, &mut blurred, buf, scratch);
+        for i in 0..self.rows {
+            for j in 0..self.cols {
+                let a = ay[i] * ax[j];
+                let idx = i * self.cols + j;
+                data[idx] = a * data[idx] + (1.0 - a) * blurred[idx];
+            }
+        }
+    }
+}
+
+/// `1 - b` along one axis of length `n` (see [`Grid::edgetaper`]): `b` is the periodic
+/// autocorrelation of the projection on `n - 1` samples, repeated at the end, over its peak.
+fn taper_axis(proj: &[f64], n: usize) -> Vec<f32> {
+    if n < 2 {
+        return vec![1.0; n];
+    }
+    let m = n - 1;
+    let mut p = vec![0f64; m];
+    for (i, &v) in proj.iter().enumerate() {
+        p[i % m] += v;
+    }
+    let nz: Vec<usize> = (0..m).filter(|&i| p[i] != 0.0).collect();
+    let mut z: Vec<f64> = (0..m)
+        .map(|lag| nz.iter().map(|&i| p[i] * p[(i + lag) % m]).sum())
+        .collect();
+    z.push(z[0]);
+    let peak = z.iter().cloned().fold(0.0, f64::max).max(1e-300);
+    z.iter().map(|&v| (1.0 - v / peak) as f32).collect()
+}
+
+/// Index into `0..n` of a periodically mirrored signal (`... 1 0 | 0 1 ... n-1 | n-1 ...`).
+#[inline]
+pub(crate) fn mirror(i: isize, n: usize) -> usize {
+    let p = 2 * n as isize;
+    let r = i.rem_euclid(p);
+    if r < n as isize {
+        r as usize
+    } else {
+        (p - 1 - r) as usize
+    }
+}
+
+/// The `rows x cols` window of a `h x w` plane whose top-left is `(y0, x0)` (may be outside),
+/// mirrored at the plane's borders.
+pub(crate) fn window(
+    plane: &[f32],
+    h: usize,
+    w: usize,
+    y0: isize,
+    x0: isize,
+    rows: usize,
+    cols: usize,
+) -> Vec<f32> {
+    let xs: Vec<usize> = (0..cols).map(|j| mirror(x0 + j as isize, w)).collect();
+    let mut out = Vec::with_capacity(rows * cols);
+    for i in 0..rows {
+        let row = &plane[mirror(y0 + i as isize, h) * w..][..w];
+        out.extend(xs.iter().map(|&x| row[x]));
+    }
+    out
+}
