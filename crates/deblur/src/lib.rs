@@ -37,6 +37,7 @@ pub mod camera;
 pub mod deconv;
 pub mod gyro;
 pub mod kernel;
+pub mod metrics;
 pub mod multiframe;
 pub(crate) mod spectral;
 pub mod synth;

@@ -353,3 +353,79 @@ impl Burst {
             + 0.1
     }
 }
+
+/// A synthetic burst: the frames (display values), the true and the measured (noisy)
+/// gyroscope samples, and the ground truth (the sharp image in display values, in the pose of
+/// the main frame's virtual global shutter).
+#[derive(Clone, Debug)]
+pub struct SyntheticBurst {
+    /// Rendered frames with their time stamps.
+    pub frames: Vec<crate::multiframe::FrameInput>,
+    /// Noise-free gyroscope samples used for rendering.
+    pub truth: Vec<GyroSample>,
+    /// Gyroscope samples with white noise, as a phone would report them.
+    pub measured: Vec<GyroSample>,
+    /// Ground truth in display values.
+    pub sharp_display: Image<f32>,
+}
+
+/// Renders `burst.frames` frames of the linear image `sharp` under Ornstein-Uhlenbeck shake
+/// (`ou`, its duration extended to cover the burst), world = the pose of frame `main`'s virtual
+/// global shutter; the measured gyro has white noise `gyro_noise` (rad/s).
+///
+/// Errors: those of [`ou_gyro`] and [`render_blurred`]; `main` out of range.
+pub fn make_burst(
+    sharp: &Image<f32>,
+    burst: &Burst,
+    ou: &OuParams,
+    main: usize,
+    gyro_noise: f64,
+    render: &RenderOpts,
+    seed: u64,
+) -> Result<SyntheticBurst> {
+    if main >= burst.frames {
+        return Err(Error::invalid(
+            "main",
+            format!("index {main} is out of range for {} frames", burst.frames),
+        ));
+    }
+    let ou = OuParams {
+        duration: ou.duration.max(burst.duration() - ou.t0),
+        ..*ou
+    };
+    let truth = ou_gyro(&ou, seed)?;
+    let measured = add_gyro_noise(&truth, gyro_noise, seed ^ 0x9e37_79b9)?;
+    let track = GyroTrack::from_camera_rates(&truth)?;
+    let h = sharp.height();
+    let k = Intrinsics::centred(600.0, sharp.width(), h);
+    let world = burst.timing(main, h).reference();
+    let frames = (0..burst.frames)
+        .map(|i| {
+            let timing = burst.timing(i, h);
+            let image = render_blurred(
+                sharp,
+                &track,
+                &timing,
+                &k,
+                world,
+                render,
+                seed.wrapping_mul(31).wrapping_add(i as u64),
+            )?;
+            Ok(crate::multiframe::FrameInput {
+                image,
+                t: timing.t_frame,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let mut d = sharp.data().to_vec();
+    match render.gamma {
+        Some(g) => g.encode(&mut d),
+        None => d.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0)),
+    }
+    Ok(SyntheticBurst {
+        frames,
+        truth,
+        measured,
+        sharp_display: Image::new(h, sharp.width(), 1, d)?,
+    })
+}
