@@ -8,6 +8,7 @@ use wscg_math::{Error, Result};
 
 mod biometrics;
 mod cloth;
+mod deblur;
 mod doe;
 mod isosurface;
 mod manylight;
@@ -69,6 +70,9 @@ enum Command {
     /// Compressed-sensing MRI with a curvelet prior (paper 11): reconstruct, masks, phantom.
     #[command(subcommand)]
     Mri(mri::MriCommand),
+    /// Gyroscope-driven multi-frame deblurring (paper 12): deblur, kernels, simulated bursts.
+    #[command(subcommand)]
+    Deblur(deblur::DeblurCommand),
     /// Hybrid ROI visualisation of medical volumes (paper 03): serve and view.
     #[command(subcommand)]
     Volren(volren::VolrenCommand),
@@ -148,6 +152,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Isosurface(cmd) => isosurface::run(cmd),
         Command::Octree(cmd) => octree::run(cmd),
         Command::Mri(cmd) => mri::run(cmd),
+        Command::Deblur(cmd) => deblur::run(cmd),
         Command::Video(cmd) => video::run(cmd),
         Command::Raytrace(cmd) => raytrace::run(cmd),
         Command::Doe(cmd) => doe::run(cmd),

@@ -10,6 +10,7 @@ use wscg_math::Result;
 
 pub mod biometrics;
 pub mod cloth;
+pub mod deblur;
 pub mod figures;
 pub mod isosurface;
 pub mod manylight;
@@ -113,6 +114,7 @@ pub fn registry() -> Vec<Demo> {
         isosurface::DEMO,
         octree::DEMO,
         mri::DEMO,
+        deblur::DEMO,
     ]
 }
 

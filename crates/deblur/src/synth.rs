@@ -370,7 +370,8 @@ pub struct SyntheticBurst {
 }
 
 /// Renders `burst.frames` frames of the linear image `sharp` under Ornstein-Uhlenbeck shake
-/// (`ou`, its duration extended to cover the burst), world = the pose of frame `main`'s virtual
+/// (`ou`, its duration extended to cover the burst) for a camera of focal length `f` with the
+/// principal point at the centre, world = the pose of frame `main`'s virtual
 /// global shutter; the measured gyro has white noise `gyro_noise` (rad/s).
 ///
 /// Errors: those of [`ou_gyro`] and [`render_blurred`]; `main` out of range.
@@ -378,6 +379,7 @@ pub fn make_burst(
     sharp: &Image<f32>,
     burst: &Burst,
     ou: &OuParams,
+    f: f64,
     main: usize,
     gyro_noise: f64,
     render: &RenderOpts,
@@ -397,7 +399,7 @@ pub fn make_burst(
     let measured = add_gyro_noise(&truth, gyro_noise, seed ^ 0x9e37_79b9)?;
     let track = GyroTrack::from_camera_rates(&truth)?;
     let h = sharp.height();
-    let k = Intrinsics::centred(600.0, sharp.width(), h);
+    let k = Intrinsics::centred(f, sharp.width(), h);
     let world = burst.timing(main, h).reference();
     let frames = (0..burst.frames)
         .map(|i| {

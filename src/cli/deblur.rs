@@ -1,0 +1,407 @@
+//! `wscg deblur`: paper 12 (gyroscope-driven multi-frame deblurring) on the user's own data.
+//!
+//! - `frames`: deblur one frame of a burst from its gyroscope log (multi-frame KM when
+//!   several frames are given, or a single-frame method).
+//! - `kernel`: render the blur kernel of a pixel as a PNG.
+//! - `simulate`: render a synthetic shaken burst of an image (frames, gyro log, times).
+//!
+//! Gyroscope logs are CSV text, one sample per line: `t,wx,wy,wz` (seconds, rad/s in camera
+//! axes); lines starting with `#` and a non-numeric header are skipped. Frame images are
+//! grayscale (colour is converted) display values. Input files are only read.
+
+use std::path::{Path, PathBuf};
+
+use clap::{Args, Subcommand};
+use wscg_deblur::metrics::quality;
+use wscg_deblur::synth::{self, Burst, OuParams, RenderOpts};
+use wscg_deblur::{
+    deblur_multiframe, deblur_piecewise, kernel_grid, render_kernel, AlignMode, Gamma, GyroSample,
+    GyroTrack, HlParams, Intrinsics, KernelOpts, Method, MultiOpts, Tiling,
+};
+use wscg_math::{Error, Image, Result};
+
+use super::progress::Bars;
+
+#[derive(Subcommand, Debug)]
+pub enum DeblurCommand {
+    /// Deblur one frame of a burst with the gyroscope log.
+    Frames(FramesArgs),
+    /// Render the blur kernel of one pixel as a PNG (scaled to its peak).
+    Kernel(KernelArgs),
+    /// Render a synthetic shaken burst of an image (frames, gyro.csv, times.txt).
+    Simulate(SimulateArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct Camera {
+    /// Gyroscope log (CSV: t,wx,wy,wz; seconds, rad/s, camera axes).
+    #[arg(long)]
+    gyro: PathBuf,
+    /// Focal length in pixels.
+    #[arg(long)]
+    f: f64,
+    /// Principal point "cx,cy" in pixels (default: the frame centre).
+    #[arg(long)]
+    principal: Option<String>,
+    /// Exposure time in seconds.
+    #[arg(long, default_value_t = 0.03)]
+    exposure: f64,
+    /// Rolling-shutter readout time in seconds (0: global shutter).
+    #[arg(long, default_value_t = 0.0)]
+    readout: f64,
+    /// Gyroscope-camera delay in seconds.
+    #[arg(long, default_value_t = 0.0)]
+    delay: f64,
+}
+
+#[derive(Args, Debug)]
+pub struct FramesArgs {
+    /// Frame images in time order.
+    #[arg(required = true)]
+    frames: Vec<PathBuf>,
+    #[command(flatten)]
+    camera: Camera,
+    /// Frame time stamps "t0,t1,..." in seconds, or a text file with one per line.
+    #[arg(long)]
+    times: String,
+    /// Index of the frame to deblur (default: the middle one).
+    #[arg(long)]
+    main: Option<usize>,
+    /// Method: multi (multi-frame KM), krishnan, wiener, rl or global.
+    #[arg(long, default_value = "multi")]
+    method: String,
+    /// Data weight lambda of the hyper-Laplacian solver.
+    #[arg(long, default_value_t = 2000.0)]
+    lambda: f32,
+    /// Weight mu of the multi-frame prior.
+    #[arg(long, default_value_t = MultiOpts::default().mu)]
+    mu: f32,
+    /// Align neighbours with the gyroscope only (no ECC refinement).
+    #[arg(long)]
+    gyro_align: bool,
+    /// Treat pixel values as linear (no gamma 2.2 camera response).
+    #[arg(long)]
+    linear: bool,
+    /// Sharp reference image to report PSNR/SSIM against (16 px border excluded).
+    #[arg(long)]
+    reference: Option<PathBuf>,
+    /// Output image.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct KernelArgs {
+    #[command(flatten)]
+    camera: Camera,
+    /// Frame time stamp in seconds.
+    #[arg(long)]
+    time: f64,
+    /// Pixel "x,y".
+    #[arg(long)]
+    at: String,
+    /// Frame height in rows (rolling-shutter timing).
+    #[arg(long)]
+    height: usize,
+    /// Frame width (for the default principal point).
+    #[arg(long)]
+    width: usize,
+    /// Output PNG.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct SimulateArgs {
+    /// Sharp image (display values; colour is converted to gray).
+    image: PathBuf,
+    /// Number of frames.
+    #[arg(long, default_value_t = 5)]
+    frames: usize,
+    /// Shake: rate standard deviations "pitch,yaw,roll" in rad/s.
+    #[arg(long, default_value = "0.35,0.35,0.1")]
+    shake: String,
+    /// Focal length in pixels.
+    #[arg(long, default_value_t = 600.0)]
+    f: f64,
+    /// Random seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Output folder (frame_NN.png, gyro.csv, times.txt, sharp.png).
+    #[arg(long)]
+    out_dir: PathBuf,
+}
+
+fn parse_list(s: &str, name: &'static str) -> Result<Vec<f64>> {
+    s.split(',')
+        .map(|v| {
+            v.trim()
+                .parse::<f64>()
+                .map_err(|_| Error::invalid(name, format!("{v:?} is not a number")))
+        })
+        .collect()
+}
+
+fn parse_pair(s: &str, name: &'static str) -> Result<(f64, f64)> {
+    match parse_list(s, name)?.as_slice() {
+        [a, b] => Ok((*a, *b)),
+        _ => Err(Error::invalid(
+            name,
+            format!("expected two numbers \"a,b\", got {s:?}"),
+        )),
+    }
+}
+
+/// Reads a `t,wx,wy,wz` CSV gyroscope log.
+pub fn read_gyro(path: &Path) -> Result<Vec<GyroSample>> {
+    let text = String::from_utf8(wscg_math::error::read_file(path)?)
+        .map_err(|_| Error::format(path, "not UTF-8 text"))?;
+    let mut out = Vec::new();
+    for (no, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let vals: Vec<&str> = line
+            .split([',', ';', ' ', '\t'])
+            .filter(|s| !s.is_empty())
+            .collect();
+        let nums: std::result::Result<Vec<f64>, _> =
+            vals.iter().map(|v| v.parse::<f64>()).collect();
+        match nums {
+            Ok(n) if n.len() == 4 => out.push(GyroSample::new(n[0], n[1], n[2], n[3])),
+            Err(_) if out.is_empty() && no == 0 => continue,
+            _ => {
+                return Err(Error::format(
+                    path,
+                    format!("line {}: expected 4 numbers t,wx,wy,wz", no + 1),
+                ))
+            }
+        }
+    }
+    if out.is_empty() {
+        return Err(Error::format(path, "no gyroscope samples"));
+    }
+    Ok(out)
+}
+
+fn read_times(s: &str) -> Result<Vec<f64>> {
+    let p = Path::new(s);
+    if p.is_file() {
+        let text = String::from_utf8(wscg_math::error::read_file(p)?)
+            .map_err(|_| Error::format(p, "not UTF-8 text"))?;
+        text.lines()
+            .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
+            .map(|l| {
+                l.trim()
+                    .parse::<f64>()
+                    .map_err(|_| Error::format(p, format!("{l:?} is not a time")))
+            })
+            .collect()
+    } else {
+        parse_list(s, "times")
+    }
+}
+
+fn intrinsics(c: &Camera, width: usize, height: usize) -> Result<Intrinsics> {
+    let mut k = Intrinsics::centred(c.f, width, height);
+    if let Some(p) = &c.principal {
+        (k.cx, k.cy) = parse_pair(p, "principal")?;
+    }
+    k.validate()?;
+    Ok(k)
+}
+
+fn load_gray(path: &Path) -> Result<Image<f32>> {
+    Ok(Image::load(path)?.to_gray())
+}
+
+pub fn run(cmd: DeblurCommand) -> Result<()> {
+    match cmd {
+        DeblurCommand::Frames(a) => {
+            let frames: Vec<Image<f32>> = a
+                .frames
+                .iter()
+                .map(|p| load_gray(p))
+                .collect::<Result<_>>()?;
+            let times = read_times(&a.times)?;
+            if times.len() != frames.len() {
+                return Err(Error::invalid(
+                    "times",
+                    format!("{} frames but {} time stamps", frames.len(), times.len()),
+                ));
+            }
+            let main = a.main.unwrap_or(frames.len() / 2);
+            let (h, w) = (frames[0].height(), frames[0].width());
+            let k = intrinsics(&a.camera, w, h)?;
+            let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
+            let hl = HlParams {
+                lambda: a.lambda,
+                ..Default::default()
+            };
+            let gamma = (!a.linear).then(Gamma::default);
+            let opts = MultiOpts {
+                t_exposure: a.camera.exposure,
+                t_readout: a.camera.readout,
+                t_delay: a.camera.delay,
+                gamma,
+                hl,
+                mu: a.mu,
+                align: if a.gyro_align {
+                    AlignMode::Gyro
+                } else {
+                    MultiOpts::default().align
+                },
+                ..Default::default()
+            };
+            let input: Vec<_> = frames
+                .into_iter()
+                .zip(&times)
+                .map(|(image, &t)| wscg_deblur::FrameInput { image, t })
+                .collect();
+            if main >= input.len() {
+                return Err(Error::invalid(
+                    "main",
+                    format!("index {main} is out of range for {} frames", input.len()),
+                ));
+            }
+            let result = if a.method == "multi" {
+                let out = deblur_multiframe(&input, main, &track, &k, &opts, &Bars::new("deblur"))?;
+                for wmsg in &out.warnings {
+                    eprintln!("warning: {wmsg}");
+                }
+                println!("multi-frame: used frames {:?}", out.used_frames);
+                out.image
+            } else {
+                let method = match Method::by_name(&a.method)? {
+                    Method::HyperLaplacian(_) => Method::HyperLaplacian(hl),
+                    Method::GlobalUniform(_) => Method::GlobalUniform(hl),
+                    m => m,
+                };
+                let mut lin = input[main].image.clone();
+                let g = gamma.unwrap_or(Gamma(1.0));
+                g.linearise(lin.data_mut());
+                let timing = opts_timing(&opts, input[main].t, h);
+                let rect = wscg_deblur::rectify_rolling_shutter(&lin, &track, &timing, &k)?;
+                let grid = kernel_grid(&track, &timing, &k, w, h, 30, &KernelOpts::default())?;
+                let mut d =
+                    deblur_piecewise(&rect, &grid, &method, &Tiling::default())?.into_data();
+                g.encode(&mut d);
+                Image::new(h, w, 1, d)?
+            };
+            if let Some(r) = &a.reference {
+                let truth = load_gray(r)?;
+                let (p0, s0) = quality(&input[main].image, &truth, 16)?;
+                let (p, s) = quality(&result, &truth, 16)?;
+                println!("blurry input: PSNR {p0:.2} dB, SSIM {s0:.3}");
+                println!("result:       PSNR {p:.2} dB, SSIM {s:.3}");
+            }
+            result.save(&a.out)?;
+            println!("wrote {}", a.out.display());
+            Ok(())
+        }
+        DeblurCommand::Kernel(a) => {
+            let k = intrinsics(&a.camera, a.width, a.height)?;
+            let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
+            let timing = wscg_deblur::Timing {
+                t_frame: a.time,
+                t_exposure: a.camera.exposure,
+                t_readout: a.camera.readout,
+                t_delay: a.camera.delay,
+                height: a.height,
+            };
+            let kern = render_kernel(
+                &track,
+                &timing,
+                &k,
+                parse_pair(&a.at, "at")?,
+                &KernelOpts::default(),
+            )?;
+            let peak = kern.data.iter().cloned().fold(0f32, f32::max).max(1e-12);
+            Image::from_fn(kern.size, kern.size, |i, j| {
+                kern.data[i * kern.size + j] / peak
+            })?
+            .save(&a.out)?;
+            let (cx, cy) = kern.centroid();
+            println!(
+                "kernel {}x{} px, origin {:?}, centroid ({cx:.2}, {cy:.2}) px, blurriness {:.2} px; wrote {}",
+                kern.size,
+                kern.size,
+                kern.origin,
+                wscg_deblur::blurriness(&kern),
+                a.out.display()
+            );
+            Ok(())
+        }
+        DeblurCommand::Simulate(a) => {
+            let display = load_gray(&a.image)?;
+            let mut sharp = display.clone();
+            Gamma::default().linearise(sharp.data_mut());
+            let std = parse_list(&a.shake, "shake")?;
+            let [p, y, r] = std[..] else {
+                return Err(Error::invalid(
+                    "shake",
+                    "expected three numbers pitch,yaw,roll",
+                ));
+            };
+            if a.frames == 0 {
+                return Err(Error::invalid("frames", "must be >= 1"));
+            }
+            let burst = Burst {
+                frames: a.frames,
+                ..Default::default()
+            };
+            let ou = OuParams {
+                std: [p, y, r],
+                ..Default::default()
+            };
+            let sb = synth::make_burst(
+                &sharp,
+                &burst,
+                &ou,
+                a.f,
+                a.frames / 2,
+                0.002,
+                &RenderOpts::default(),
+                a.seed,
+            )?;
+            std::fs::create_dir_all(&a.out_dir).map_err(|e| Error::io(&a.out_dir, e))?;
+            for (i, fr) in sb.frames.iter().enumerate() {
+                fr.image.save(a.out_dir.join(format!("frame_{i:02}.png")))?;
+            }
+            sb.sharp_display.save(a.out_dir.join("sharp.png"))?;
+            let gyro: String =
+                std::iter::once("# t,wx,wy,wz (s, rad/s, camera axes)\n".to_string())
+                    .chain(
+                        sb.measured.iter().map(|s| {
+                            format!("{:.6},{:.6},{:.6},{:.6}\n", s.t, s.w.x, s.w.y, s.w.z)
+                        }),
+                    )
+                    .collect();
+            let gyro_path = a.out_dir.join("gyro.csv");
+            std::fs::write(&gyro_path, gyro).map_err(|e| Error::io(&gyro_path, e))?;
+            let times: String = sb.frames.iter().map(|f| format!("{:.6}\n", f.t)).collect();
+            let times_path = a.out_dir.join("times.txt");
+            std::fs::write(&times_path, times).map_err(|e| Error::io(&times_path, e))?;
+            println!(
+                "wrote {} frames, gyro.csv, times.txt and sharp.png to {} (f = {}, exposure {} s, delay {} s)",
+                a.frames,
+                a.out_dir.display(),
+                a.f,
+                burst.t_exposure,
+                burst.t_delay
+            );
+            Ok(())
+        }
+    }
+}
+
+fn opts_timing(o: &MultiOpts, t: f64, height: usize) -> wscg_deblur::Timing {
+    wscg_deblur::Timing {
+        t_frame: t,
+        t_exposure: o.t_exposure,
+        t_readout: o.t_readout,
+        t_delay: o.t_delay,
+        height,
+    }
+}
