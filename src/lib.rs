@@ -16,12 +16,14 @@
 //! | [`isosurface`] | `wscg-isosurface` | paper 09: sparse-grid marching cubes with tetrahedral-spline normals |
 //! | [`octree`] | `wscg-octree` | paper 10: unified triangle/voxel octree, exact voxelization, LoD ray casting |
 //! | [`csmri`] | `wscg-cs-mri` | paper 11: compressed-sensing MRI, exact tight UDCT, C-SALSA, FCSA/TVCMRI/WaTMRI |
+//! | [`deblur`] | `wscg-deblur` | paper 12: gyroscope blur kernels, piecewise and multi-frame hyper-Laplacian deblurring |
 //!
 //! The paper crates are added to this table as they land (see the README).
 
 pub use wscg_biometrics as biometrics;
 pub use wscg_cloth as cloth;
 pub use wscg_cs_mri as csmri;
+pub use wscg_deblur as deblur;
 pub use wscg_doe as doe;
 pub use wscg_isosurface as isosurface;
 pub use wscg_math as math;

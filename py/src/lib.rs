@@ -11,6 +11,7 @@ mod biometrics;
 mod cloth;
 mod convert;
 mod csmri;
+mod deblur;
 mod doe;
 mod errors;
 mod handpose;
@@ -29,7 +30,7 @@ mod volren;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 11] = [
+    let subs: [(&str, Register); 12] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
@@ -41,6 +42,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         ("isosurface", isosurface::register),
         ("octree", octree::register),
         ("csmri", csmri::register),
+        ("deblur", deblur::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

@@ -349,6 +349,7 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
             }
             let burst = Burst {
                 frames: a.frames,
+                f: a.f,
                 ..Default::default()
             };
             let ou = OuParams {
@@ -359,7 +360,6 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                 &sharp,
                 &burst,
                 &ou,
-                a.f,
                 a.frames / 2,
                 0.002,
                 &RenderOpts::default(),

@@ -31,12 +31,11 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let mut rep = Report::default();
     let sharp = synth::scene(h, w, 7)?;
     let burst = Burst::default();
-    let f = 600.0;
+    let f = burst.f;
     let sb = synth::make_burst(
         &sharp,
         &burst,
         &OuParams::default(),
-        f,
         2,
         0.002,
         &RenderOpts::default(),

@@ -162,7 +162,8 @@ fn accumulate(
     (0..t.h)
         .into_par_iter()
         .step_by(stride)
-        .fold(Sums::zero, |mut s, y| {
+        .map(|y| {
+            let mut s = Sums::zero();
             for x in (0..t.w).step_by(stride) {
                 let (xf, yf) = (x as f64, y as f64);
                 let q = warp * nalgebra::Vector3::new(xf, yf, 1.0);
@@ -211,7 +212,10 @@ fn accumulate(
             }
             s
         })
-        .reduce(Sums::zero, Sums::add)
+        .collect::<Vec<_>>()
+        .into_iter()
+        // Rows are added in order: the sums do not depend on the thread count.
+        .fold(Sums::zero(), Sums::add)
 }
 
 /// ECC on one level from `warp` (template to image); returns the refined warp and the
@@ -357,7 +361,7 @@ pub fn degenerate(hm: &Matrix3<f64>, width: usize, height: usize) -> bool {
     ];
     corners.iter().any(|&(x, y)| {
         let d = m[(2, 0)] * x + m[(2, 1)] * y + 1.0;
-        d < 0.5 || d > 2.0 || apply_h(&m, x, y).is_none()
+        !(0.5..=2.0).contains(&d) || apply_h(&m, x, y).is_none()
     })
 }
 

@@ -38,7 +38,7 @@ impl Kernel {
     ///
     /// Errors: even or zero size, wrong length, negative or non-finite weights, zero sum.
     pub fn centred(size: usize, data: Vec<f32>) -> Result<Self> {
-        if size == 0 || size % 2 == 0 {
+        if size == 0 || size.is_multiple_of(2) {
             return Err(Error::invalid(
                 "kernel",
                 format!("side must be odd, got {size}"),

@@ -56,6 +56,7 @@ pub use multiframe::{
 };
 pub use spectral::smooth_size;
 pub use tiling::{
-    deblur_piecewise, deconv_hl, deconv_hl_multi, richardson_lucy, wiener, Method, Tiling,
+    convolve, convolve_piecewise, deblur_piecewise, deconv_hl, deconv_hl_multi, richardson_lucy,
+    wiener, Method, Tiling,
 };
 pub use warp::rectify_rolling_shutter;

@@ -139,6 +139,9 @@ impl MultiOpts {
     }
 }
 
+/// A frame after step 1: rectified linear frame, its kernels, its single-frame estimate.
+type Estimate = (Image<f32>, KernelGrid, Image<f32>);
+
 /// Per-region weights `nu_j = mu_j / sum mu_j` with `mu_j = 1 / max(sigma_j, 0.5)` of the
 /// frames whose blurriness `sigma_j` is known (eq. 9): `None` marks a frame that does not
 /// cover the region.
@@ -215,7 +218,7 @@ pub fn deblur_multiframe(
     let tile = opts.tiling.tile;
     progress.begin("deblurring frames", chosen.len() as u64 + 2);
     // 1. Rectify and deblur every chosen frame.
-    let mut estimates: Vec<Option<(Image<f32>, KernelGrid, Image<f32>)>> = vec![None; frames.len()];
+    let mut estimates: Vec<Option<Estimate>> = vec![None; frames.len()];
     for &j in &chosen {
         let mut lin = frames[j].image.clone();
         if let Some(g) = opts.gamma {

@@ -17,7 +17,7 @@ pub fn smooth_size(n: usize) -> usize {
     loop {
         let mut r = m;
         for p in [2, 3, 5] {
-            while r % p == 0 {
+            while r.is_multiple_of(p) {
                 r /= p;
             }
         }
@@ -27,6 +27,9 @@ pub fn smooth_size(n: usize) -> usize {
         m += 1;
     }
 }
+
+/// Planned grids by `(rows, cols)`.
+type GridCache = HashMap<(usize, usize), Arc<Grid>>;
 
 /// A planned `rows x cols` periodic grid and `|F_x|^2 + |F_y|^2` of the difference filters
 /// `f_x = [1 -1]`, `f_y = [1 -1]^T` (paper eq. 7).
@@ -63,7 +66,7 @@ impl Grid {
 
     /// A shared grid of this size, planned on first use.
     pub fn shared(rows: usize, cols: usize) -> Result<Arc<Grid>> {
-        static CACHE: OnceLock<Mutex<HashMap<(usize, usize), Arc<Grid>>>> = OnceLock::new();
+        static CACHE: OnceLock<Mutex<GridCache>> = OnceLock::new();
         let cache = CACHE.get_or_init(Default::default);
         if let Some(g) = cache
             .lock()
@@ -153,22 +156,24 @@ impl Grid {
         }
         let mut py = vec![0f64; k.size];
         let mut px = vec![0f64; k.size];
-        for i in 0..k.size {
-            for j in 0..k.size {
-                let v = k.data[i * k.size + j] as f64;
-                py[i] += v;
-                px[j] += v;
+        for (i, row) in k.data.chunks(k.size).enumerate() {
+            for (j, &v) in row.iter().enumerate() {
+                py[i] += v as f64;
+                px[j] += v as f64;
             }
         }
         let ay = taper_axis(&py, self.rows);
         let ax = taper_axis(&px, self.cols);
         let mut blurred = vec![0f32; self.len()];
         self.convolve(data, otf, false, &mut blurred, buf, scratch);
-        for i in 0..self.rows {
-            for j in 0..self.cols {
-                let a = ay[i] * ax[j];
-                let idx = i * self.cols + j;
-                data[idx] = a * data[idx] + (1.0 - a) * blurred[idx];
+        for ((row, brow), &a_y) in data
+            .chunks_mut(self.cols)
+            .zip(blurred.chunks(self.cols))
+            .zip(&ay)
+        {
+            for ((d, &b), &a_x) in row.iter_mut().zip(brow).zip(&ax) {
+                let a = a_y * a_x;
+                *d = a * *d + (1.0 - a) * b;
             }
         }
     }

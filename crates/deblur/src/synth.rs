@@ -48,7 +48,7 @@ impl Default for OuParams {
 /// Errors: non-positive rate, correlation time or duration; negative deviations.
 pub fn ou_gyro(p: &OuParams, seed: u64) -> Result<Vec<GyroSample>> {
     if !(p.rate > 0.0 && p.tau > 0.0 && p.duration > 0.0 && p.t0.is_finite())
-        || p.std.iter().any(|s| !(*s >= 0.0))
+        || p.std.iter().any(|s| s.is_nan() || *s < 0.0)
     {
         return Err(Error::invalid(
             "ou",
@@ -309,6 +309,8 @@ pub struct Burst {
     pub t_readout: f64,
     /// Gyro-camera delay (s, default 0.015).
     pub t_delay: f64,
+    /// Focal length in pixels (default 600); the principal point is the frame centre.
+    pub f: f64,
 }
 
 impl Default for Burst {
@@ -320,6 +322,7 @@ impl Default for Burst {
             t_exposure: 0.03,
             t_readout: 0.0,
             t_delay: 0.015,
+            f: 600.0,
         }
     }
 }
@@ -370,8 +373,7 @@ pub struct SyntheticBurst {
 }
 
 /// Renders `burst.frames` frames of the linear image `sharp` under Ornstein-Uhlenbeck shake
-/// (`ou`, its duration extended to cover the burst) for a camera of focal length `f` with the
-/// principal point at the centre, world = the pose of frame `main`'s virtual
+/// (`ou`, its duration extended to cover the burst) for the camera of `burst`, world = the pose of frame `main`'s virtual
 /// global shutter; the measured gyro has white noise `gyro_noise` (rad/s).
 ///
 /// Errors: those of [`ou_gyro`] and [`render_blurred`]; `main` out of range.
@@ -379,7 +381,6 @@ pub fn make_burst(
     sharp: &Image<f32>,
     burst: &Burst,
     ou: &OuParams,
-    f: f64,
     main: usize,
     gyro_noise: f64,
     render: &RenderOpts,
@@ -399,7 +400,7 @@ pub fn make_burst(
     let measured = add_gyro_noise(&truth, gyro_noise, seed ^ 0x9e37_79b9)?;
     let track = GyroTrack::from_camera_rates(&truth)?;
     let h = sharp.height();
-    let k = Intrinsics::centred(f, sharp.width(), h);
+    let k = Intrinsics::centred(burst.f, sharp.width(), h);
     let world = burst.timing(main, h).reference();
     let frames = (0..burst.frames)
         .map(|i| {

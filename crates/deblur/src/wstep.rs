@@ -9,6 +9,7 @@
 //!   1/2, the quartic for 2/3) and every other exponent, without spurious roots.
 //! - `1 < alpha <= 2`: the energy is convex; the unique root of `g` in `(0, v)` by safeguarded
 //!   Newton.
+//!
 //! Odd symmetry gives `v < 0`.
 //!
 //! [`WLut`] tabulates the solution for one `(alpha, beta)` on the non-zero branch (exact
@@ -119,6 +120,9 @@ pub fn w_threshold(alpha: f64, beta: f64) -> f64 {
     hi
 }
 
+/// Tables by the bits of `(alpha, beta)`.
+type LutCache = HashMap<(u64, u64), Arc<WLut>>;
+
 /// Lookup table of the w-step for one `(alpha, beta)`.
 #[derive(Debug)]
 pub struct WLut {
@@ -162,7 +166,7 @@ impl WLut {
 
     /// A shared table for `(alpha, beta)`, built on first use.
     pub fn shared(alpha: f64, beta: f64) -> Arc<WLut> {
-        static CACHE: OnceLock<Mutex<HashMap<(u64, u64), Arc<WLut>>>> = OnceLock::new();
+        static CACHE: OnceLock<Mutex<LutCache>> = OnceLock::new();
         let key = (alpha.to_bits(), beta.to_bits());
         let cache = CACHE.get_or_init(Default::default);
         if let Some(l) = cache.lock().map(|c| c.get(&key).cloned()).ok().flatten() {

@@ -145,7 +145,12 @@ fn slerp_integration_is_exact_for_constant_rates() {
         assert!(track.orientation(t).angle_to(&expect) < 1e-12);
     }
     let rel = track.relative(0.2, 0.3);
-    assert!((rel.angle() - w.norm() * 0.1).abs() < 1e-10);
+    let expect = nalgebra::Rotation3::from_scaled_axis(w * 0.1);
+    assert!(
+        (rel.matrix() - expect.matrix()).norm() < 1e-9,
+        "{}",
+        (rel.matrix() - expect.matrix()).norm()
+    );
 }
 
 #[test]

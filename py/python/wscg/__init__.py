@@ -22,6 +22,9 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
   node and triangles in its leaves (early stop), ray casting with level of detail.
 - :mod:`wscg.csmri`: paper 11, compressed-sensing MRI with a uniform discrete curvelet prior
   (exact tight UDCT, C-SALSA, and the FCSA, TVCMRI and WaTMRI baselines).
+- :mod:`wscg.deblur`: paper 12, gyroscope-driven multi-frame blur estimation and removal
+  (gyro blur kernels with rolling-shutter timing, piecewise and multi-frame hyper-Laplacian
+  deconvolution, Wiener and Richardson-Lucy baselines, a dense gyro-blur simulator).
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -29,9 +32,9 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, csmri, doe, isosurface, math, meshfilter, octree, raytrace, video, volren
+from . import biometrics, cloth, csmri, deblur, doe, isosurface, math, meshfilter, octree, raytrace, video, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "doe", "isosurface", "math", "meshfilter", "octree", "raytrace", "video", "volren",
+__all__ = ["biometrics", "cloth", "deblur", "doe", "isosurface", "math", "meshfilter", "octree", "raytrace", "video", "volren",
            "__version__"]

@@ -1,6 +1,7 @@
 from . import biometrics as biometrics
 from . import cloth as cloth
 from . import csmri as csmri
+from . import deblur as deblur
 from . import doe as doe
 from . import isosurface as isosurface
 from . import math as math
