@@ -56,9 +56,9 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         g.encode(&mut d);
         Image::new(h, w, 1, d)
     };
-    let wiener = rep.time("Wiener per region", || single(Method::Wiener { nsr: 0.01 }))?;
-    let rl = rep.time("Richardson-Lucy per region, 30 it", || {
-        single(Method::RichardsonLucy { iters: 30 })
+    let wiener = rep.time("Wiener per region", || single(Method::Wiener { nsr: 0.03 }))?;
+    let rl = rep.time("Richardson-Lucy per region, 20 it", || {
+        single(Method::RichardsonLucy { iters: 20 })
     })?;
     let gu = rep.time("KF with one global kernel", || {
         single(Method::GlobalUniform(HlParams::default()))

@@ -50,7 +50,8 @@ pub struct MultiOpts {
     pub tiling: Tiling,
     /// Hyper-Laplacian solver parameters.
     pub hl: HlParams,
-    /// Weight `mu` of the multi-frame prior (eq. 9; default 500 = lambda / 4).
+    /// Weight `mu` of the multi-frame prior (eq. 9; default 250 = lambda / 8, tuned on the
+    /// development image, benches/peers/_12_tune.py).
     pub mu: f32,
     /// Kernel rendering options.
     pub kernel: KernelOpts,
@@ -72,7 +73,7 @@ impl Default for MultiOpts {
             gamma: Some(Gamma::default()),
             tiling: Tiling::default(),
             hl: HlParams::default(),
-            mu: 500.0,
+            mu: 250.0,
             kernel: KernelOpts::default(),
             align: AlignMode::Ecc(AlignOpts::default()),
             min_ncc: 0.8,

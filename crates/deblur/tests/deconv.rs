@@ -288,3 +288,27 @@ fn uniform_blur_deblurred_by_regions_has_no_seams() {
     assert!(border <= 1.2 * inside, "{border} vs {inside}");
     assert!(score(&out, &sharp, 16) > score(&whole, &sharp, 16) - 0.5);
 }
+
+/// Frames whose size is not a multiple of the region size (last regions of 1 px, frames
+/// smaller than one region) are deblurred without seams or gaps.
+#[test]
+fn frame_sizes_that_are_not_multiples_of_the_region_work() {
+    for (h, w) in [(151usize, 211usize), (31, 61), (29, 17), (1, 40)] {
+        let sharp = synth::scene(h, w, 3).unwrap();
+        let grid = KernelGrid::uniform(Kernel::delta(), w, h, 30).unwrap();
+        let out = deblur_piecewise(
+            &sharp,
+            &grid,
+            &Method::Wiener { nsr: 1e-6 },
+            &Tiling::default(),
+        )
+        .unwrap();
+        let err = out
+            .data()
+            .iter()
+            .zip(sharp.data())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0f32, f32::max);
+        assert!(err < 1e-4, "{h}x{w}: {err}");
+    }
+}

@@ -397,7 +397,7 @@ def deconv_krishnan(image, kernel, origin=None, lam: float = 2000.0, alpha: floa
     return out.astype(_out_dtype(image), copy=False)
 
 
-def deconv_krishnan_multi(image, kernel, prior, mu: float = 500.0, origin=None,
+def deconv_krishnan_multi(image, kernel, prior, mu: float = 250.0, origin=None,
                           lam: float = 2000.0, alpha: float = 0.5,
                           beta_max: float = 256.0) -> np.ndarray:
     """Krishnan-Fergus deconvolution with a multi-frame quadratic prior (paper eq. 9).
@@ -411,7 +411,7 @@ def deconv_krishnan_multi(image, kernel, prior, mu: float = 500.0, origin=None,
     prior : array (H, W)
         The weighted mean ``sum_j nu_j I_j`` of other estimates of the latent image (e.g.
         deblurred, aligned neighbouring frames), linear intensities.
-    mu : float, default 500
+    mu : float, default 250
         Weight of the prior (>= 0; 0 gives :func:`deconv_krishnan`).
 
     Returns
@@ -547,7 +547,7 @@ def convolve(image, kernel, origin=None) -> np.ndarray:
 def deblur_piecewise(frame, gyro, t_frame: float, t_exposure: float, f: float, cx: float,
                      cy: float, t_readout: float = 0.0, t_delay: float = 0.0,
                      method: str = "krishnan", tile: int = 30, lam: float = 2000.0,
-                     alpha: float = 0.5, nsr: float = 0.01, iters: int = 30,
+                     alpha: float = 0.5, nsr: float = 0.03, iters: int = 20,
                      r_cam_imu=None, bias=None, return_kernels: bool = False):
     """Deblur one frame region by region with its gyroscope kernels (paper sections 3-4).
 
@@ -566,9 +566,9 @@ def deblur_piecewise(frame, gyro, t_frame: float, t_exposure: float, f: float, c
         Region side in pixels (> 8).
     lam, alpha : float
         Krishnan-Fergus parameters (see :func:`deconv_krishnan`).
-    nsr : float, default 0.01
+    nsr : float, default 0.03
         Wiener noise-to-signal ratio.
-    iters : int, default 30
+    iters : int, default 20
         Richardson-Lucy iterations.
     return_kernels : bool, default False
         Also return the region kernels as :func:`kernel_grid` does.
@@ -617,7 +617,7 @@ def deblur_piecewise(frame, gyro, t_frame: float, t_exposure: float, f: float, c
 
 def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, cy: float,
                       exposure: float, readout: float = 0.0, delay: float = 0.0,
-                      main: Optional[int] = None, mu: float = 500.0, lam: float = 2000.0,
+                      main: Optional[int] = None, mu: float = 250.0, lam: float = 2000.0,
                       alpha: float = 0.5, gamma: Optional[float] = 2.2, align: str = "ecc",
                       min_ncc: float = 0.8, radius: Optional[int] = None, tile: int = 30,
                       r_cam_imu=None, bias=None) -> Dict[str, object]:
@@ -638,8 +638,8 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
         Exposure ``t_e``, rolling-shutter readout ``t_r`` and gyro-camera delay ``t_d`` (s).
     main : int, optional
         Index of the frame to deblur; default the middle one, ``len(frames) // 2``.
-    mu : float, default 500
-        Weight of the multi-frame prior (``lambda / 4``).
+    mu : float, default 250
+        Weight of the multi-frame prior (``lambda / 8``, tuned on the development image).
     lam, alpha : float
         Krishnan-Fergus parameters (see :func:`deconv_krishnan`).
     gamma : float or None, default 2.2
