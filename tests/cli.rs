@@ -1487,3 +1487,141 @@ fn mri_mask_phantom_recon_on_files() {
         assert!(!String::from_utf8_lossy(&out.stderr).is_empty());
     }
 }
+
+#[test]
+fn deblur_simulate_kernel_and_frames_on_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    // A sharp image to shake.
+    wscg::deblur::synth::scene(96, 128, 3)
+        .unwrap()
+        .save(p("sharp_in.png"))
+        .unwrap();
+    let text = wscg_ok(&[
+        "deblur",
+        "simulate",
+        &p("sharp_in.png"),
+        "--frames",
+        "3",
+        "--seed",
+        "4",
+        "--out-dir",
+        &p("burst"),
+    ]);
+    assert!(text.contains("wrote 3 frames"), "{text}");
+    let gyro = p("burst/gyro.csv");
+    let text = wscg_ok(&[
+        "deblur",
+        "kernel",
+        "--gyro",
+        &gyro,
+        "--f",
+        "600",
+        "--time",
+        "0.1",
+        "--delay",
+        "0.015",
+        "--at",
+        "64,48",
+        "--width",
+        "128",
+        "--height",
+        "96",
+        "--out",
+        &p("k.png"),
+    ]);
+    assert!(text.contains("blurriness"), "{text}");
+    let frames: Vec<String> = (0..3)
+        .map(|i| p(&format!("burst/frame_{i:02}.png")))
+        .collect();
+    let mut args: Vec<String> = vec!["deblur".into(), "frames".into()];
+    args.extend(frames.iter().cloned());
+    args.extend(
+        [
+            "--gyro",
+            &gyro,
+            "--f",
+            "600",
+            "--delay",
+            "0.015",
+            "--times",
+            &p("burst/times.txt"),
+            "--reference",
+            &p("burst/sharp.png"),
+            "--out",
+            &p("out.png"),
+        ]
+        .map(String::from),
+    );
+    let text = wscg_ok(&args);
+    let psnr = |line: &str| -> f64 {
+        let l = text.lines().find(|l| l.starts_with(line)).unwrap();
+        l.split("PSNR ")
+            .nth(1)
+            .unwrap()
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    assert!(psnr("result") > psnr("blurry input") + 1.0, "{text}");
+    let out = Image::load(p("out.png")).unwrap();
+    assert_eq!((out.height(), out.width()), (96, 128));
+    // Bad input: missing gyro file, mismatched times, unknown method.
+    let bad = wscg()
+        .args([
+            "deblur",
+            "frames",
+            &frames[0],
+            "--gyro",
+            &p("nope.csv"),
+            "--f",
+            "600",
+            "--times",
+            "0.1",
+            "--out",
+            &p("x.png"),
+        ])
+        .output()
+        .unwrap();
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("nope.csv"));
+    let bad = wscg()
+        .args([
+            "deblur",
+            "frames",
+            &frames[0],
+            "--gyro",
+            &gyro,
+            "--f",
+            "600",
+            "--times",
+            "0.1,0.2",
+            "--out",
+            &p("x.png"),
+        ])
+        .output()
+        .unwrap();
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("time stamps"));
+    let bad = wscg()
+        .args([
+            "deblur",
+            "frames",
+            &frames[0],
+            "--gyro",
+            &gyro,
+            "--f",
+            "600",
+            "--times",
+            "0.1",
+            "--method",
+            "magic",
+            "--out",
+            &p("x.png"),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        !bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("valid methods")
+    );
+}

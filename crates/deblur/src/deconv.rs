@@ -7,7 +7,7 @@ use std::sync::Arc;
 use num_complex::Complex32;
 use wscg_math::{Error, Result};
 
-use crate::spectral::Grid;
+use crate::spectral::{Grid, Scratch};
 use crate::wstep::WLut;
 
 /// Parameters of the hyper-Laplacian solver (paper eqs. 7-8, Krishnan & Fergus 2009).
@@ -104,7 +104,7 @@ impl HlParams {
 pub(crate) struct Work {
     pub spec: Vec<Complex32>,
     pub aux: Vec<Complex32>,
-    pub scratch: Vec<Complex32>,
+    pub scratch: Scratch,
 }
 
 /// KF half-quadratic splitting on one periodic window (eq. 8): from `I = B`, for every `beta`
@@ -123,30 +123,28 @@ pub(crate) fn hyper_laplacian(
     work: &mut Work,
 ) -> Vec<f32> {
     let (rows, cols, n) = (grid.rows, grid.cols, grid.len());
-    // K^* B^ and |K|^2.
+    // Constant parts of the I-step: lambda K^* B^ + mu P^ and lambda |K|^2 + mu.
     grid.forward(b, &mut work.spec, &mut work.scratch);
-    let ktb: Vec<Complex32> = work
+    let mut num0: Vec<Complex32> = work
         .spec
         .iter()
         .zip(otf)
-        .map(|(s, k)| k.conj() * s)
+        .map(|(s, k)| k.conj() * s * p.lambda)
         .collect();
-    let k2: Vec<f32> = otf.iter().map(|k| k.norm_sqr()).collect();
-    let (prior_hat, mu) = match prior {
-        Some((pr, mu)) if mu > 0.0 => {
-            grid.forward(pr, &mut work.aux, &mut work.scratch);
-            (Some(std::mem::take(&mut work.aux)), mu)
-        }
-        _ => (None, 0.0),
-    };
+    let mut den0: Vec<f32> = otf.iter().map(|k| k.norm_sqr() * p.lambda).collect();
+    if let Some((pr, mu)) = prior.filter(|(_, mu)| *mu > 0.0) {
+        grid.forward(pr, &mut work.aux, &mut work.scratch);
+        num0.iter_mut()
+            .zip(&work.aux)
+            .for_each(|(n, ph)| *n += ph * mu);
+        den0.iter_mut().for_each(|d| *d += mu);
+    }
     let mut img = b.to_vec();
     let mut wx = vec![0f32; n];
     let mut wy = vec![0f32; n];
     let mut div = vec![0f32; n];
     for lut in luts {
-        let beta = lut.beta() as f32;
-        let lb = p.lambda / beta;
-        let mb = mu / beta;
+        let inv_beta = 1.0 / lut.beta() as f32;
         for _ in 0..p.inner {
             // w-step on the circular differences I(i, j) - I(i, j-1) and I(i, j) - I(i-1, j).
             for i in 0..rows {
@@ -170,31 +168,18 @@ pub(crate) fn hyper_laplacian(
                     &wy[down * cols..][..cols],
                 );
                 let d = &mut div[i * cols..][..cols];
-                for j in 0..cols {
-                    let right = if j + 1 == cols { 0 } else { j + 1 };
-                    d[j] = wxr[j] - wxr[right] + wyr[j] - wyd[j];
+                for j in 0..cols - 1 {
+                    d[j] = wxr[j] - wxr[j + 1] + wyr[j] - wyd[j];
                 }
+                d[cols - 1] = wxr[cols - 1] - wxr[0] + wyr[cols - 1] - wyd[cols - 1];
             }
             grid.forward(&div, &mut work.spec, &mut work.scratch);
-            match &prior_hat {
-                Some(ph) => {
-                    for idx in 0..n {
-                        let num = work.spec[idx] + ktb[idx] * lb + ph[idx] * mb;
-                        work.spec[idx] = num / (grid.grad2[idx] + lb * k2[idx] + mb);
-                    }
-                }
-                None => {
-                    for idx in 0..n {
-                        let num = work.spec[idx] + ktb[idx] * lb;
-                        work.spec[idx] = num / (grid.grad2[idx] + lb * k2[idx]);
-                    }
-                }
+            // I^ = [F^* w^ + (lambda K^* B^ + mu P^) / beta] / [|F|^2 + (lambda |K|^2 + mu) / beta]
+            for (((s, n0), d0), g) in work.spec.iter_mut().zip(&num0).zip(&den0).zip(&grid.grad2) {
+                *s = (*s + n0 * inv_beta) * (1.0 / (g + d0 * inv_beta));
             }
             grid.inverse_real(&mut work.spec, &mut img, &mut work.scratch);
         }
-    }
-    if let Some(ph) = prior_hat {
-        work.aux = ph;
     }
     img
 }

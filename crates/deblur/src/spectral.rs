@@ -6,8 +6,9 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use num_complex::Complex32;
-use wscg_math::fft::{Direction, Plan2};
-use wscg_math::Result;
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+use rustfft::{Fft, FftPlanner};
+use wscg_math::{Error, Result};
 
 use crate::kernel::Kernel;
 
@@ -31,35 +32,63 @@ pub fn smooth_size(n: usize) -> usize {
 /// Planned grids by `(rows, cols)`.
 type GridCache = HashMap<(usize, usize), Arc<Grid>>;
 
-/// A planned `rows x cols` periodic grid and `|F_x|^2 + |F_y|^2` of the difference filters
-/// `f_x = [1 -1]`, `f_y = [1 -1]^T` (paper eq. 7).
+/// Scratch buffers of the transforms of one thread.
+#[derive(Default)]
+pub(crate) struct Scratch {
+    c: Vec<Complex32>,
+    r: Vec<f32>,
+}
+
+/// A planned `rows x cols` periodic grid with real-input transforms, and
+/// `|F_x|^2 + |F_y|^2` of the difference filters `f_x = [1 -1]`, `f_y = [1 -1]^T` (paper
+/// eq. 7). Spectra hold the `cols / 2 + 1` non-negative column frequencies of every row
+/// frequency, stored column-frequency major (`j * rows + i`); every operation of the solvers
+/// is elementwise on them.
 pub(crate) struct Grid {
     pub rows: usize,
     pub cols: usize,
-    plan: Plan2<f32>,
+    half: usize,
+    r2c: Arc<dyn RealToComplex<f32>>,
+    c2r: Arc<dyn ComplexToReal<f32>>,
+    col: [Arc<dyn Fft<f32>>; 2],
+    work_len: usize,
     pub grad2: Vec<f32>,
 }
 
 impl Grid {
     fn new(rows: usize, cols: usize) -> Result<Self> {
-        let plan = Plan2::new(rows, cols)?;
-        let cy: Vec<f32> = (0..rows)
-            .map(|i| {
-                (2.0 - 2.0 * (2.0 * std::f64::consts::PI * i as f64 / rows as f64).cos()) as f32
+        if rows == 0 || cols == 0 {
+            return Err(Error::Empty("fft grid"));
+        }
+        let mut real = RealFftPlanner::<f32>::new();
+        let mut planner = FftPlanner::<f32>::new();
+        let (r2c, c2r) = (real.plan_fft_forward(cols), real.plan_fft_inverse(cols));
+        let col = [
+            planner.plan_fft_forward(rows),
+            planner.plan_fft_inverse(rows),
+        ];
+        let work_len = r2c
+            .get_scratch_len()
+            .max(c2r.get_scratch_len())
+            .max(col[0].get_inplace_scratch_len())
+            .max(col[1].get_inplace_scratch_len());
+        let half = cols / 2 + 1;
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let grad2 = (0..half * rows)
+            .map(|idx| {
+                let (j, i) = (idx / rows, idx % rows);
+                (4.0 - 2.0 * (two_pi * i as f64 / rows as f64).cos()
+                    - 2.0 * (two_pi * j as f64 / cols as f64).cos()) as f32
             })
-            .collect();
-        let cx: Vec<f32> = (0..cols)
-            .map(|j| {
-                (2.0 - 2.0 * (2.0 * std::f64::consts::PI * j as f64 / cols as f64).cos()) as f32
-            })
-            .collect();
-        let grad2 = (0..rows * cols)
-            .map(|i| cy[i / cols] + cx[i % cols])
             .collect();
         Ok(Grid {
             rows,
             cols,
-            plan,
+            half,
+            r2c,
+            c2r,
+            col,
+            work_len,
             grad2,
         })
     }
@@ -82,33 +111,58 @@ impl Grid {
         Ok(g)
     }
 
+    /// Pixels of the grid.
     pub fn len(&self) -> usize {
         self.rows * self.cols
     }
 
-    /// Forward transform of a real array into `out`.
-    pub fn forward(&self, data: &[f32], out: &mut Vec<Complex32>, scratch: &mut Vec<Complex32>) {
-        out.clear();
-        out.extend(data.iter().map(|&v| Complex32::new(v, 0.0)));
-        self.plan.process(out, Direction::Forward, scratch);
+    /// Length of a spectrum.
+    pub fn spec_len(&self) -> usize {
+        self.half * self.rows
     }
 
-    /// Inverse transform of `spec` (overwritten), real part scaled by `1/N` into `out`.
-    pub fn inverse_real(
-        &self,
-        spec: &mut [Complex32],
-        out: &mut [f32],
-        scratch: &mut Vec<Complex32>,
-    ) {
-        self.plan.process(spec, Direction::Inverse, scratch);
-        let s = 1.0 / self.len() as f32;
-        out.iter_mut()
-            .zip(spec.iter())
-            .for_each(|(o, c)| *o = c.re * s);
+    /// Forward transform of a real `rows x cols` array into the spectrum `out`.
+    pub fn forward(&self, data: &[f32], out: &mut Vec<Complex32>, s: &mut Scratch) {
+        let (rows, cols, half) = (self.rows, self.cols, self.half);
+        let zero = Complex32::new(0.0, 0.0);
+        out.clear();
+        out.resize(half * rows, zero);
+        s.c.resize(half * rows + self.work_len, zero);
+        s.r.resize(cols, 0.0);
+        let (tmp, work) = s.c.split_at_mut(half * rows);
+        for (row, line) in data.chunks_exact(cols).zip(tmp.chunks_exact_mut(half)) {
+            s.r.copy_from_slice(row);
+            self.r2c
+                .process_with_scratch(&mut s.r, line, work)
+                .expect("internal: real FFT lengths");
+        }
+        transpose(tmp, out, rows, half);
+        self.col[0].process_with_scratch(out, work);
+    }
+
+    /// Inverse transform of the spectrum `spec` (overwritten) into the real `out`, scaled by `1/N`.
+    pub fn inverse_real(&self, spec: &mut [Complex32], out: &mut [f32], s: &mut Scratch) {
+        let (rows, cols, half) = (self.rows, self.cols, self.half);
+        s.c.resize(half * rows + self.work_len, Complex32::new(0.0, 0.0));
+        let (tmp, work) = s.c.split_at_mut(half * rows);
+        self.col[1].process_with_scratch(spec, work);
+        transpose(spec, tmp, half, rows);
+        let scale = 1.0 / self.len() as f32;
+        for (line, row) in tmp.chunks_exact_mut(half).zip(out.chunks_exact_mut(cols)) {
+            // The spectrum of a real array has real DC and Nyquist terms; drop round-off.
+            line[0].im = 0.0;
+            if cols % 2 == 0 {
+                line[half - 1].im = 0.0;
+            }
+            self.c2r
+                .process_with_scratch(line, row, work)
+                .expect("internal: real FFT lengths");
+            row.iter_mut().for_each(|v| *v *= scale);
+        }
     }
 
     /// Transfer function of `k` (origin moved to index (0, 0), wrapped periodically).
-    pub fn otf(&self, k: &Kernel, scratch: &mut Vec<Complex32>) -> Vec<Complex32> {
+    pub fn otf(&self, k: &Kernel, s: &mut Scratch) -> Vec<Complex32> {
         let mut pad = vec![0f32; self.len()];
         for i in 0..k.size {
             let r = (i as isize - k.origin.0 as isize).rem_euclid(self.rows as isize) as usize;
@@ -117,8 +171,8 @@ impl Grid {
                 pad[r * self.cols + c] += k.data[i * k.size + j];
             }
         }
-        let mut out = Vec::with_capacity(self.len());
-        self.forward(&pad, &mut out, scratch);
+        let mut out = Vec::with_capacity(self.spec_len());
+        self.forward(&pad, &mut out, s);
         out
     }
 
@@ -131,13 +185,13 @@ impl Grid {
         conj: bool,
         out: &mut [f32],
         buf: &mut Vec<Complex32>,
-        scratch: &mut Vec<Complex32>,
+        s: &mut Scratch,
     ) {
-        self.forward(data, buf, scratch);
+        self.forward(data, buf, s);
         buf.iter_mut()
             .zip(otf)
             .for_each(|(b, k)| *b *= if conj { k.conj() } else { *k });
-        self.inverse_real(buf, out, scratch);
+        self.inverse_real(buf, out, s);
     }
 
     /// MATLAB `edgetaper`: `J = a B + (1 - a) (B (*) k)` with `a(y, x) = (1 - b_y(y)) (1 - b_x(x))`,
@@ -149,7 +203,7 @@ impl Grid {
         k: &Kernel,
         otf: &[Complex32],
         buf: &mut Vec<Complex32>,
-        scratch: &mut Vec<Complex32>,
+        s: &mut Scratch,
     ) {
         if k.size == 1 {
             return;
@@ -165,7 +219,7 @@ impl Grid {
         let ay = taper_axis(&py, self.rows);
         let ax = taper_axis(&px, self.cols);
         let mut blurred = vec![0f32; self.len()];
-        self.convolve(data, otf, false, &mut blurred, buf, scratch);
+        self.convolve(data, otf, false, &mut blurred, buf, s);
         for ((row, brow), &a_y) in data
             .chunks_mut(self.cols)
             .zip(blurred.chunks(self.cols))
@@ -229,4 +283,13 @@ pub(crate) fn window(
         out.extend(xs.iter().map(|&x| row[x]));
     }
     out
+}
+
+/// `dst[j * rows + i] = src[i * cols + j]` for a `rows x cols` `src`.
+fn transpose<T: Copy>(src: &[T], dst: &mut [T], rows: usize, cols: usize) {
+    for (i, row) in src.chunks_exact(cols).take(rows).enumerate() {
+        for (j, &v) in row.iter().enumerate() {
+            dst[j * rows + i] = v;
+        }
+    }
 }

@@ -217,16 +217,19 @@ where
         } else {
             (b_x + ov).min(w as isize)
         };
+        let wxs: Vec<f32> = (xlo..xhi).map(|x| ramp(x, a_x, b_x, w as isize)).collect();
         for y in ylo..yhi {
             let wy = ramp(y, a_y, b_y, h as isize);
-            let src = &out[((y - y0) as usize) * cols..];
-            for x in xlo..xhi {
-                let wgt = wy * ramp(x, a_x, b_x, w as isize);
-                if wgt > 0.0 {
-                    let i = y as usize * w + x as usize;
-                    acc[i] += wgt * src[(x - x0) as usize];
-                    wsum[i] += wgt;
-                }
+            let src = &out[((y - y0) as usize) * cols + (xlo - x0) as usize..][..wxs.len()];
+            let row = y as usize * w + xlo as usize..y as usize * w + xhi as usize;
+            for (((a, s), &wx), &v) in acc[row.clone()]
+                .iter_mut()
+                .zip(&mut wsum[row])
+                .zip(&wxs)
+                .zip(src)
+            {
+                *a += wy * wx * v;
+                *s += wy * wx;
             }
         }
     }

@@ -128,9 +128,11 @@ type LutCache = HashMap<(u64, u64), Arc<WLut>>;
 pub struct WLut {
     alpha: f64,
     beta: f64,
-    threshold: f64,
-    step: f64,
-    table: Vec<f64>,
+    /// Smallest f32 at or above `threshold`: the f32 test `|v| >= threshold_f32` equals the
+    /// exact one for every f32 input.
+    threshold_f32: f32,
+    inv_step: f32,
+    table: Vec<f32>,
 }
 
 /// Samples of a [`WLut`] on `[threshold, threshold + SPAN]`.
@@ -154,12 +156,17 @@ impl WLut {
                     w
                 }
             })
+            .map(|w: f64| w as f32)
             .collect();
+        let mut threshold_f32 = threshold as f32;
+        if (threshold_f32 as f64) < threshold {
+            threshold_f32 = threshold_f32.next_up();
+        }
         WLut {
             alpha,
             beta,
-            threshold,
-            step,
+            threshold_f32,
+            inv_step: (1.0 / step) as f32,
             table,
         }
     }
@@ -182,19 +189,18 @@ impl WLut {
     /// Approximate minimiser for `v`.
     #[inline]
     pub fn eval(&self, v: f32) -> f32 {
-        let a = v.abs() as f64;
-        if a < self.threshold {
+        let a = v.abs();
+        if a < self.threshold_f32 {
             return 0.0;
         }
-        let x = (a - self.threshold) / self.step;
+        // `threshold_f32` exceeds the table's origin by less than one f32 ulp.
+        let x = (a - self.threshold_f32) * self.inv_step;
         let i = x as usize;
-        let w = if i + 1 < self.table.len() {
-            let f = x - i as f64;
-            self.table[i] + f * (self.table[i + 1] - self.table[i])
-        } else {
-            w_exact(a, self.alpha, self.beta)
+        let w = match (self.table.get(i), self.table.get(i + 1)) {
+            (Some(&lo), Some(&hi)) => lo + (x - i as f32) * (hi - lo),
+            _ => w_exact(a as f64, self.alpha, self.beta) as f32,
         };
-        (w as f32).copysign(v)
+        w.copysign(v)
     }
 
     /// `beta` of the table.
