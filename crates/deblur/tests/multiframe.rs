@@ -336,3 +336,72 @@ fn weights_steer_to_the_sharper_neighbour_per_region() {
     );
     assert!(worst < 0.1, "{worst}");
 }
+
+/// Bad input of the pipeline is reported; when every neighbour fails alignment the result is
+/// the single-frame one.
+#[test]
+fn multiframe_bad_input_and_all_neighbours_dropped() {
+    let (h, w) = (90, 120);
+    let sharp = synth::scene(h, w, 61).unwrap();
+    let burst = Burst {
+        frames: 3,
+        ..Default::default()
+    };
+    let sb = synth::make_burst(
+        &sharp,
+        &burst,
+        &OuParams::default(),
+        1,
+        0.002,
+        &RenderOpts::default(),
+        7,
+    )
+    .unwrap();
+    let track = GyroTrack::from_camera_rates(&sb.measured).unwrap();
+    let k = Intrinsics::centred(600.0, w, h);
+    let opts = MultiOpts {
+        t_delay: burst.t_delay,
+        ..Default::default()
+    };
+    let err = |frames: &[FrameInput], main: usize| {
+        deblur_multiframe(frames, main, &track, &k, &opts, &NoProgress)
+            .unwrap_err()
+            .to_string()
+    };
+    assert!(err(&[], 0).contains("empty"));
+    assert!(err(&sb.frames, 3).contains("out of range"));
+    let mut odd = sb.frames.clone();
+    odd[2].image = Image::filled(h, w + 1, 1, 0.5).unwrap();
+    assert!(err(&odd, 1).contains("differ in size"));
+    let mut nan = sb.frames.clone();
+    nan[0].image.data_mut()[5] = f32::NAN;
+    assert!(err(&nan, 1).contains("non-finite"));
+    let late = MultiOpts {
+        t_delay: 5.0,
+        ..opts
+    };
+    let e = deblur_multiframe(&sb.frames, 1, &track, &k, &late, &NoProgress)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("gap"), "{e}");
+    // Both neighbours replaced by noise: dropped with warnings, KM = KS.
+    let mut noise = sb.frames.clone();
+    for (i, f) in [0usize, 2].iter().enumerate() {
+        noise[*f].image = Image::new(
+            h,
+            w,
+            1,
+            wscg_math::rng::uniform_vec(i as u64, h * w, 0.0, 1.0)
+                .unwrap()
+                .iter()
+                .map(|&v| v as f32)
+                .collect(),
+        )
+        .unwrap();
+    }
+    let out = deblur_multiframe(&noise, 1, &track, &k, &opts, &NoProgress).unwrap();
+    assert_eq!(out.used_frames, vec![1]);
+    assert_eq!(out.warnings.len(), 2, "{:?}", out.warnings);
+    assert_eq!(out.image.data(), out.single.data());
+    assert!(out.weights.iter().all(|&v| v == 0.0));
+}
