@@ -1515,12 +1515,10 @@ fn deblur_simulate_kernel_and_frames_on_files() {
         "kernel",
         "--gyro",
         &gyro,
-        "--f",
-        "600",
+        "--camera",
+        &p("burst/camera.json"),
         "--time",
         "0.1",
-        "--delay",
-        "0.015",
         "--at",
         "64,48",
         "--width",
@@ -1531,8 +1529,9 @@ fn deblur_simulate_kernel_and_frames_on_files() {
         &p("k.png"),
     ]);
     assert!(text.contains("blurriness"), "{text}");
+    // One frame, files and flags.
     let frames: Vec<String> = (0..3)
-        .map(|i| p(&format!("burst/frame_{i:02}.png")))
+        .map(|i| p(&format!("burst/frames/frame_{i:02}.png")))
         .collect();
     let mut args: Vec<String> = vec!["deblur".into(), "frames".into()];
     args.extend(frames.iter().cloned());
@@ -1545,7 +1544,7 @@ fn deblur_simulate_kernel_and_frames_on_files() {
             "--delay",
             "0.015",
             "--times",
-            &p("burst/times.txt"),
+            &p("burst/frames/times.txt"),
             "--reference",
             &p("burst/sharp.png"),
             "--out",
@@ -1568,60 +1567,95 @@ fn deblur_simulate_kernel_and_frames_on_files() {
     assert!(psnr("result") > psnr("blurry input") + 1.0, "{text}");
     let out = Image::load(p("out.png")).unwrap();
     assert_eq!((out.height(), out.width()), (96, 128));
-    // Bad input: missing gyro file, mismatched times, unknown method.
-    let bad = wscg()
-        .args([
-            "deblur",
-            "frames",
-            &frames[0],
-            "--gyro",
-            &p("nope.csv"),
-            "--f",
-            "600",
-            "--times",
-            "0.1",
-            "--out",
-            &p("x.png"),
-        ])
-        .output()
-        .unwrap();
-    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("nope.csv"));
-    let bad = wscg()
-        .args([
-            "deblur",
-            "frames",
-            &frames[0],
-            "--gyro",
-            &gyro,
-            "--f",
-            "600",
-            "--times",
-            "0.1,0.2",
-            "--out",
-            &p("x.png"),
-        ])
-        .output()
-        .unwrap();
-    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("time stamps"));
-    let bad = wscg()
-        .args([
-            "deblur",
-            "frames",
-            &frames[0],
-            "--gyro",
-            &gyro,
-            "--f",
-            "600",
-            "--times",
-            "0.1",
-            "--method",
-            "magic",
-            "--out",
-            &p("x.png"),
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        !bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("valid methods")
-    );
+    // Every frame of the folder, camera file, times.txt found in the folder.
+    let text = wscg_ok(&[
+        "deblur",
+        "frames",
+        &p("burst/frames"),
+        "--gyro",
+        &gyro,
+        "--camera",
+        &p("burst/camera.json"),
+        "--out",
+        &p("sharp"),
+    ]);
+    assert_eq!(text.matches("wrote").count(), 3, "{text}");
+    for i in 0..3 {
+        let img = Image::load(p(&format!("sharp/frame_{i:02}.png"))).unwrap();
+        assert_eq!((img.height(), img.width()), (96, 128));
+    }
+    // Bad input: missing gyro file, missing intrinsics, mismatched times, unknown method.
+    let run_err = |args: &[&str]| -> String {
+        let out = wscg().args(args).output().unwrap();
+        assert!(!out.status.success(), "{args:?} succeeded");
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    assert!(run_err(&[
+        "deblur",
+        "frames",
+        &frames[0],
+        "--gyro",
+        &p("nope.csv"),
+        "--f",
+        "600",
+        "--times",
+        "0.1",
+        "--out",
+        &p("x.png")
+    ])
+    .contains("nope.csv"));
+    assert!(run_err(&[
+        "deblur",
+        "frames",
+        &frames[0],
+        "--gyro",
+        &gyro,
+        "--times",
+        "0.1",
+        "--out",
+        &p("x.png")
+    ])
+    .contains("intrinsics missing"));
+    assert!(run_err(&[
+        "deblur",
+        "frames",
+        &frames[0],
+        "--gyro",
+        &gyro,
+        "--f",
+        "600",
+        "--times",
+        "0.1,0.2",
+        "--out",
+        &p("x.png")
+    ])
+    .contains("time stamps"));
+    assert!(run_err(&[
+        "deblur",
+        "frames",
+        &frames[0],
+        "--gyro",
+        &gyro,
+        "--f",
+        "600",
+        "--out",
+        &p("x.png")
+    ])
+    .contains("times missing"));
+    assert!(run_err(&[
+        "deblur",
+        "frames",
+        &frames[0],
+        "--gyro",
+        &gyro,
+        "--f",
+        "600",
+        "--times",
+        "0.1",
+        "--method",
+        "magic",
+        "--out",
+        &p("x.png")
+    ])
+    .contains("valid methods"));
 }

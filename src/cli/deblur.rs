@@ -1,9 +1,10 @@
 //! `wscg deblur`: paper 12 (gyroscope-driven multi-frame deblurring) on the user's own data.
 //!
-//! - `frames`: deblur one frame of a burst from its gyroscope log (multi-frame KM when
-//!   several frames are given, or a single-frame method).
+//! - `frames`: deblur one frame of a burst, or every frame of a folder, from its gyroscope log
+//!   (multi-frame KM, or a single-frame method).
 //! - `kernel`: render the blur kernel of a pixel as a PNG.
-//! - `simulate`: render a synthetic shaken burst of an image (frames, gyro log, times).
+//! - `simulate`: render a synthetic shaken burst of an image (frames, gyro log, times,
+//!   camera file).
 //!
 //! Gyroscope logs are CSV text, one sample per line: `t,wx,wy,wz` (seconds, rad/s in camera
 //! axes); lines starting with `#` and a non-numeric header are skipped. Frame images are
@@ -28,7 +29,7 @@ pub enum DeblurCommand {
     Frames(FramesArgs),
     /// Render the blur kernel of one pixel as a PNG (scaled to its peak).
     Kernel(KernelArgs),
-    /// Render a synthetic shaken burst of an image (frames, gyro.csv, times.txt).
+    /// Render a synthetic shaken burst of an image (frames, times, gyro.csv, camera.json).
     Simulate(SimulateArgs),
 }
 
@@ -37,34 +38,91 @@ pub struct Camera {
     /// Gyroscope log (CSV: t,wx,wy,wz; seconds, rad/s, camera axes).
     #[arg(long)]
     gyro: PathBuf,
+    /// Camera file (JSON): {"f": px, "cx": px, "cy": px, "exposure": s, "readout": s,
+    /// "delay": s}; cx, cy default to the frame centre. Flags below override its values.
+    #[arg(long)]
+    camera: Option<PathBuf>,
     /// Focal length in pixels.
     #[arg(long)]
-    f: f64,
+    f: Option<f64>,
     /// Principal point "cx,cy" in pixels (default: the frame centre).
     #[arg(long)]
     principal: Option<String>,
-    /// Exposure time in seconds.
-    #[arg(long, default_value_t = 0.03)]
+    /// Exposure time in seconds (default 0.03).
+    #[arg(long)]
+    exposure: Option<f64>,
+    /// Rolling-shutter readout time in seconds (default 0: global shutter).
+    #[arg(long)]
+    readout: Option<f64>,
+    /// Gyroscope-camera delay in seconds (default 0).
+    #[arg(long)]
+    delay: Option<f64>,
+}
+
+/// The camera file of `--camera`.
+#[derive(serde::Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+struct CameraFile {
+    f: Option<f64>,
+    cx: Option<f64>,
+    cy: Option<f64>,
+    exposure: Option<f64>,
+    readout: Option<f64>,
+    delay: Option<f64>,
+}
+
+/// Intrinsics and exposure timing resolved from the flags and the camera file.
+struct Setup {
+    k: Intrinsics,
     exposure: f64,
-    /// Rolling-shutter readout time in seconds (0: global shutter).
-    #[arg(long, default_value_t = 0.0)]
     readout: f64,
-    /// Gyroscope-camera delay in seconds.
-    #[arg(long, default_value_t = 0.0)]
     delay: f64,
+}
+
+impl Camera {
+    fn setup(&self, width: usize, height: usize) -> Result<Setup> {
+        let file = match &self.camera {
+            Some(p) => {
+                let text = String::from_utf8(wscg_math::error::read_file(p)?)
+                    .map_err(|_| Error::format(p, "not UTF-8 text"))?;
+                serde_json::from_str::<CameraFile>(&text)
+                    .map_err(|e| Error::format(p, e.to_string()))?
+            }
+            None => CameraFile::default(),
+        };
+        let f = self.f.or(file.f).ok_or_else(|| {
+            Error::invalid(
+                "f",
+                "intrinsics missing: give --f or a --camera file with \"f\"",
+            )
+        })?;
+        let mut k = Intrinsics::centred(f, width, height);
+        (k.cx, k.cy) = match &self.principal {
+            Some(p) => parse_pair(p, "principal")?,
+            None => (file.cx.unwrap_or(k.cx), file.cy.unwrap_or(k.cy)),
+        };
+        k.validate()?;
+        Ok(Setup {
+            k,
+            exposure: self.exposure.or(file.exposure).unwrap_or(0.03),
+            readout: self.readout.or(file.readout).unwrap_or(0.0),
+            delay: self.delay.or(file.delay).unwrap_or(0.0),
+        })
+    }
 }
 
 #[derive(Args, Debug)]
 pub struct FramesArgs {
-    /// Frame images in time order.
+    /// Frame images in time order, or one folder of frames (sorted by name; its times.txt is
+    /// used when --times is not given).
     #[arg(required = true)]
     frames: Vec<PathBuf>,
     #[command(flatten)]
     camera: Camera,
     /// Frame time stamps "t0,t1,..." in seconds, or a text file with one per line.
     #[arg(long)]
-    times: String,
-    /// Index of the frame to deblur (default: the middle one).
+    times: Option<String>,
+    /// Index of the frame to deblur (default: the middle one; every frame when --out is a folder).
     #[arg(long)]
     main: Option<usize>,
     /// Method: multi (multi-frame KM), krishnan, wiener, rl or global.
@@ -82,10 +140,14 @@ pub struct FramesArgs {
     /// Treat pixel values as linear (no gamma 2.2 camera response).
     #[arg(long)]
     linear: bool,
+    /// Frames on each side used by the multi-frame method.
+    #[arg(long, default_value_t = 2)]
+    radius: usize,
     /// Sharp reference image to report PSNR/SSIM against (16 px border excluded).
     #[arg(long)]
     reference: Option<PathBuf>,
-    /// Output image.
+    /// Output image, or a folder: then every frame is deblurred and written there under its
+    /// input name (PNG).
     #[arg(long)]
     out: PathBuf,
 }
@@ -127,7 +189,7 @@ pub struct SimulateArgs {
     /// Random seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Output folder (frame_NN.png, gyro.csv, times.txt, sharp.png).
+    /// Output folder: frames/frame_NN.png and frames/times.txt, gyro.csv, camera.json, sharp.png.
     #[arg(long)]
     out_dir: PathBuf,
 }
@@ -203,13 +265,28 @@ fn read_times(s: &str) -> Result<Vec<f64>> {
     }
 }
 
-fn intrinsics(c: &Camera, width: usize, height: usize) -> Result<Intrinsics> {
-    let mut k = Intrinsics::centred(c.f, width, height);
-    if let Some(p) = &c.principal {
-        (k.cx, k.cy) = parse_pair(p, "principal")?;
+/// Image files of a folder, sorted by name.
+fn frame_files(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+                matches!(
+                    e.to_ascii_lowercase().as_str(),
+                    "png" | "jpg" | "jpeg" | "tif" | "tiff" | "exr" | "bmp"
+                )
+            })
+        })
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(Error::invalid(
+            "frames",
+            format!("no image files in {}", dir.display()),
+        ));
     }
-    k.validate()?;
-    Ok(k)
+    Ok(files)
 }
 
 fn load_gray(path: &Path) -> Result<Image<f32>> {
@@ -218,96 +295,16 @@ fn load_gray(path: &Path) -> Result<Image<f32>> {
 
 pub fn run(cmd: DeblurCommand) -> Result<()> {
     match cmd {
-        DeblurCommand::Frames(a) => {
-            let frames: Vec<Image<f32>> = a
-                .frames
-                .iter()
-                .map(|p| load_gray(p))
-                .collect::<Result<_>>()?;
-            let times = read_times(&a.times)?;
-            if times.len() != frames.len() {
-                return Err(Error::invalid(
-                    "times",
-                    format!("{} frames but {} time stamps", frames.len(), times.len()),
-                ));
-            }
-            let main = a.main.unwrap_or(frames.len() / 2);
-            let (h, w) = (frames[0].height(), frames[0].width());
-            let k = intrinsics(&a.camera, w, h)?;
-            let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
-            let hl = HlParams {
-                lambda: a.lambda,
-                ..Default::default()
-            };
-            let gamma = (!a.linear).then(Gamma::default);
-            let opts = MultiOpts {
-                t_exposure: a.camera.exposure,
-                t_readout: a.camera.readout,
-                t_delay: a.camera.delay,
-                gamma,
-                hl,
-                mu: a.mu,
-                align: if a.gyro_align {
-                    AlignMode::Gyro
-                } else {
-                    MultiOpts::default().align
-                },
-                ..Default::default()
-            };
-            let input: Vec<_> = frames
-                .into_iter()
-                .zip(&times)
-                .map(|(image, &t)| wscg_deblur::FrameInput { image, t })
-                .collect();
-            if main >= input.len() {
-                return Err(Error::invalid(
-                    "main",
-                    format!("index {main} is out of range for {} frames", input.len()),
-                ));
-            }
-            let result = if a.method == "multi" {
-                let out = deblur_multiframe(&input, main, &track, &k, &opts, &Bars::new("deblur"))?;
-                for wmsg in &out.warnings {
-                    eprintln!("warning: {wmsg}");
-                }
-                println!("multi-frame: used frames {:?}", out.used_frames);
-                out.image
-            } else {
-                let method = match Method::by_name(&a.method)? {
-                    Method::HyperLaplacian(_) => Method::HyperLaplacian(hl),
-                    Method::GlobalUniform(_) => Method::GlobalUniform(hl),
-                    m => m,
-                };
-                let mut lin = input[main].image.clone();
-                let g = gamma.unwrap_or(Gamma(1.0));
-                g.linearise(lin.data_mut());
-                let timing = opts_timing(&opts, input[main].t, h);
-                let rect = wscg_deblur::rectify_rolling_shutter(&lin, &track, &timing, &k)?;
-                let grid = kernel_grid(&track, &timing, &k, w, h, 30, &KernelOpts::default())?;
-                let mut d =
-                    deblur_piecewise(&rect, &grid, &method, &Tiling::default())?.into_data();
-                g.encode(&mut d);
-                Image::new(h, w, 1, d)?
-            };
-            if let Some(r) = &a.reference {
-                let truth = load_gray(r)?;
-                let (p0, s0) = quality(&input[main].image, &truth, 16)?;
-                let (p, s) = quality(&result, &truth, 16)?;
-                println!("blurry input: PSNR {p0:.2} dB, SSIM {s0:.3}");
-                println!("result:       PSNR {p:.2} dB, SSIM {s:.3}");
-            }
-            result.save(&a.out)?;
-            println!("wrote {}", a.out.display());
-            Ok(())
-        }
+        DeblurCommand::Frames(a) => frames(a),
         DeblurCommand::Kernel(a) => {
-            let k = intrinsics(&a.camera, a.width, a.height)?;
+            let setup = a.camera.setup(a.width, a.height)?;
+            let k = setup.k;
             let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
             let timing = wscg_deblur::Timing {
                 t_frame: a.time,
-                t_exposure: a.camera.exposure,
-                t_readout: a.camera.readout,
-                t_delay: a.camera.delay,
+                t_exposure: setup.exposure,
+                t_readout: setup.readout,
+                t_delay: setup.delay,
                 height: a.height,
             };
             let kern = render_kernel(
@@ -365,9 +362,10 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                 &RenderOpts::default(),
                 a.seed,
             )?;
-            std::fs::create_dir_all(&a.out_dir).map_err(|e| Error::io(&a.out_dir, e))?;
+            let dir = a.out_dir.join("frames");
+            std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
             for (i, fr) in sb.frames.iter().enumerate() {
-                fr.image.save(a.out_dir.join(format!("frame_{i:02}.png")))?;
+                fr.image.save(dir.join(format!("frame_{i:02}.png")))?;
             }
             sb.sharp_display.save(a.out_dir.join("sharp.png"))?;
             let gyro: String =
@@ -378,14 +376,22 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                         }),
                     )
                     .collect();
-            let gyro_path = a.out_dir.join("gyro.csv");
-            std::fs::write(&gyro_path, gyro).map_err(|e| Error::io(&gyro_path, e))?;
             let times: String = sb.frames.iter().map(|f| format!("{:.6}\n", f.t)).collect();
-            let times_path = a.out_dir.join("times.txt");
-            std::fs::write(&times_path, times).map_err(|e| Error::io(&times_path, e))?;
+            let camera = format!(
+                "{{\"f\": {}, \"exposure\": {}, \"readout\": {}, \"delay\": {}}}\n",
+                burst.f, burst.t_exposure, burst.t_readout, burst.t_delay
+            );
+            for (path, text) in [
+                (a.out_dir.join("gyro.csv"), gyro),
+                (dir.join("times.txt"), times),
+                (a.out_dir.join("camera.json"), camera),
+            ] {
+                std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
+            }
             println!(
-                "wrote {} frames, gyro.csv, times.txt and sharp.png to {} (f = {}, exposure {} s, delay {} s)",
+                "wrote {} frames and times.txt to {}, gyro.csv, camera.json and sharp.png to {} (f = {}, exposure {} s, delay {} s)",
                 a.frames,
+                dir.display(),
                 a.out_dir.display(),
                 a.f,
                 burst.t_exposure,
@@ -394,6 +400,121 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// `wscg deblur frames`: one frame (file output) or every frame (folder output).
+fn frames(a: FramesArgs) -> Result<()> {
+    let (paths, folder) = match a.frames.as_slice() {
+        [dir] if dir.is_dir() => (frame_files(dir)?, Some(dir.clone())),
+        files => (files.to_vec(), None),
+    };
+    let images: Vec<Image<f32>> = paths.iter().map(|p| load_gray(p)).collect::<Result<_>>()?;
+    let times = match (&a.times, &folder) {
+        (Some(t), _) => read_times(t)?,
+        (None, Some(dir)) if dir.join("times.txt").is_file() => {
+            read_times(&dir.join("times.txt").to_string_lossy())?
+        }
+        _ => {
+            return Err(Error::invalid(
+                "times",
+                "frame times missing: give --times (or a times.txt in the frame folder)",
+            ))
+        }
+    };
+    if times.len() != images.len() {
+        return Err(Error::invalid(
+            "times",
+            format!("{} frames but {} time stamps", images.len(), times.len()),
+        ));
+    }
+    let (h, w) = (images[0].height(), images[0].width());
+    let setup = a.camera.setup(w, h)?;
+    let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
+    let hl = HlParams {
+        lambda: a.lambda,
+        ..Default::default()
+    };
+    let gamma = (!a.linear).then(Gamma::default);
+    let opts = MultiOpts {
+        t_exposure: setup.exposure,
+        t_readout: setup.readout,
+        t_delay: setup.delay,
+        gamma,
+        hl,
+        mu: a.mu,
+        radius: Some(a.radius),
+        align: if a.gyro_align {
+            AlignMode::Gyro
+        } else {
+            MultiOpts::default().align
+        },
+        ..Default::default()
+    };
+    let input: Vec<_> = images
+        .into_iter()
+        .zip(&times)
+        .map(|(image, &t)| wscg_deblur::FrameInput { image, t })
+        .collect();
+    let deblur_one = |main: usize| -> Result<Image<f32>> {
+        if main >= input.len() {
+            return Err(Error::invalid(
+                "main",
+                format!("index {main} is out of range for {} frames", input.len()),
+            ));
+        }
+        if a.method == "multi" {
+            let out =
+                deblur_multiframe(&input, main, &track, &setup.k, &opts, &Bars::new("deblur"))?;
+            for wmsg in &out.warnings {
+                eprintln!("warning: {wmsg}");
+            }
+            println!(
+                "frame {main}: multi-frame with frames {:?}",
+                out.used_frames
+            );
+            return Ok(out.image);
+        }
+        let method = match Method::by_name(&a.method)? {
+            Method::HyperLaplacian(_) => Method::HyperLaplacian(hl),
+            Method::GlobalUniform(_) => Method::GlobalUniform(hl),
+            m => m,
+        };
+        let mut lin = input[main].image.clone();
+        let g = gamma.unwrap_or(Gamma(1.0));
+        g.linearise(lin.data_mut());
+        let timing = opts_timing(&opts, input[main].t, h);
+        let rect = wscg_deblur::rectify_rolling_shutter(&lin, &track, &timing, &setup.k)?;
+        let grid = kernel_grid(&track, &timing, &setup.k, w, h, 30, &KernelOpts::default())?;
+        let mut d = deblur_piecewise(&rect, &grid, &method, &Tiling::default())?.into_data();
+        g.encode(&mut d);
+        Image::new(h, w, 1, d)
+    };
+    let to_folder = a.main.is_none() && (a.out.is_dir() || a.out.extension().is_none());
+    if to_folder {
+        std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
+        for (i, p) in paths.iter().enumerate() {
+            let name = p
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| format!("frame_{i:02}"));
+            let target = a.out.join(format!("{name}.png"));
+            deblur_one(i)?.save(&target)?;
+            println!("wrote {}", target.display());
+        }
+        return Ok(());
+    }
+    let main = a.main.unwrap_or(input.len() / 2);
+    let result = deblur_one(main)?;
+    if let Some(r) = &a.reference {
+        let truth = load_gray(r)?;
+        let (p0, s0) = quality(&input[main].image, &truth, 16)?;
+        let (p, s) = quality(&result, &truth, 16)?;
+        println!("blurry input: PSNR {p0:.2} dB, SSIM {s0:.3}");
+        println!("result:       PSNR {p:.2} dB, SSIM {s:.3}");
+    }
+    result.save(&a.out)?;
+    println!("wrote {}", a.out.display());
+    Ok(())
 }
 
 fn opts_timing(o: &MultiOpts, t: f64, height: usize) -> wscg_deblur::Timing {
