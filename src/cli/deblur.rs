@@ -16,8 +16,8 @@ use clap::{Args, Subcommand};
 use wscg_deblur::metrics::quality;
 use wscg_deblur::synth::{self, Burst, OuParams, RenderOpts};
 use wscg_deblur::{
-    deblur_multiframe, deblur_piecewise, kernel_grid, render_kernel, AlignMode, Gamma, GyroSample,
-    GyroTrack, HlParams, Intrinsics, KernelOpts, Method, MultiOpts, Tiling,
+    deblur_frame, deblur_multiframe, render_kernel, AlignMode, Gamma, GyroSample, GyroTrack,
+    HlParams, Intrinsics, KernelOpts, Method, MultiOpts,
 };
 use wscg_math::{Error, Image, Result};
 
@@ -479,15 +479,7 @@ fn frames(a: FramesArgs) -> Result<()> {
             Method::GlobalUniform(_) => Method::GlobalUniform(hl),
             m => m,
         };
-        let mut lin = input[main].image.clone();
-        let g = gamma.unwrap_or(Gamma(1.0));
-        g.linearise(lin.data_mut());
-        let timing = opts_timing(&opts, input[main].t, h);
-        let rect = wscg_deblur::rectify_rolling_shutter(&lin, &track, &timing, &setup.k)?;
-        let grid = kernel_grid(&track, &timing, &setup.k, w, h, 30, &KernelOpts::default())?;
-        let mut d = deblur_piecewise(&rect, &grid, &method, &Tiling::default())?.into_data();
-        g.encode(&mut d);
-        Image::new(h, w, 1, d)
+        Ok(deblur_frame(&input[main], &track, &setup.k, &method, &opts)?.0)
     };
     let to_folder = a.main.is_none() && (a.out.is_dir() || a.out.extension().is_none());
     if to_folder {
@@ -515,14 +507,4 @@ fn frames(a: FramesArgs) -> Result<()> {
     result.save(&a.out)?;
     println!("wrote {}", a.out.display());
     Ok(())
-}
-
-fn opts_timing(o: &MultiOpts, t: f64, height: usize) -> wscg_deblur::Timing {
-    wscg_deblur::Timing {
-        t_frame: t,
-        t_exposure: o.t_exposure,
-        t_readout: o.t_readout,
-        t_delay: o.t_delay,
-        height,
-    }
 }

@@ -8,8 +8,7 @@ use std::path::Path;
 use wscg_deblur::metrics::quality;
 use wscg_deblur::synth::{self, Burst, OuParams, RenderOpts};
 use wscg_deblur::{
-    deblur_multiframe, deblur_piecewise, kernel_grid, Gamma, GyroTrack, HlParams, Intrinsics,
-    Method, MultiOpts, Tiling,
+    deblur_frame, deblur_multiframe, GyroTrack, HlParams, Intrinsics, Method, MultiOpts,
 };
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
@@ -47,20 +46,12 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         t_delay: burst.t_delay,
         ..Default::default()
     };
-    let g = Gamma::default();
-    let mut lin = sb.frames[2].image.clone();
-    g.linearise(lin.data_mut());
-    let grid = kernel_grid(&track, &burst.timing(2, h), &k, w, h, 30, &opts.kernel)?;
-    let single = |m: Method| -> Result<Image<f32>> {
-        let mut d = deblur_piecewise(&lin, &grid, &m, &Tiling::default())?.into_data();
-        g.encode(&mut d);
-        Image::new(h, w, 1, d)
-    };
-    let wiener = rep.time("Wiener per region", || single(Method::Wiener { nsr: 0.03 }))?;
-    let rl = rep.time("Richardson-Lucy per region, 20 it", || {
+    let single = |m: Method| deblur_frame(&sb.frames[2], &track, &k, &m, &opts);
+    let (wiener, grid) = rep.time("Wiener per region", || single(Method::Wiener { nsr: 0.03 }))?;
+    let (rl, _) = rep.time("Richardson-Lucy per region, 20 it", || {
         single(Method::RichardsonLucy { iters: 20 })
     })?;
-    let gu = rep.time("KF with one global kernel", || {
+    let (gu, _) = rep.time("KF with one global kernel", || {
         single(Method::GlobalUniform(HlParams::default()))
     })?;
     let km3 = rep.time("multi-frame pipeline, 3 frames", || {

@@ -160,3 +160,12 @@ impl Gamma {
         data.iter_mut().for_each(|v| *v = self.to_display(*v));
     }
 }
+
+/// Display values from linear ones in place: the camera response when given, else a clamp to
+/// `[0, 1]`.
+pub fn to_display(gamma: Option<Gamma>, data: &mut [f32]) {
+    match gamma {
+        Some(g) => g.encode(data),
+        None => data.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0)),
+    }
+}

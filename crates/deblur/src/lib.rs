@@ -52,7 +52,7 @@ pub use deconv::HlParams;
 pub use gyro::{GyroSample, GyroTrack};
 pub use kernel::{blurriness, kernel_grid, render_kernel, Kernel, KernelGrid, KernelOpts};
 pub use multiframe::{
-    deblur_multiframe, frame_weights, AlignMode, DeblurOutput, FrameInput, MultiOpts,
+    deblur_frame, deblur_multiframe, frame_weights, AlignMode, DeblurOutput, FrameInput, MultiOpts,
 };
 pub use spectral::smooth_size;
 pub use tiling::{

@@ -8,7 +8,7 @@ use wscg_math::progress::Progress;
 use wscg_math::{Error, Image, Result};
 
 use crate::align::{align_homography, correlation, degenerate, AlignOpts};
-use crate::camera::{Gamma, Intrinsics, Timing};
+use crate::camera::{to_display, Gamma, Intrinsics, Timing};
 use crate::deconv::{self, HlParams};
 use crate::gyro::GyroTrack;
 use crate::kernel::{blurriness, kernel_grid, render_kernel, KernelGrid, KernelOpts};
@@ -157,6 +157,47 @@ pub fn frame_weights(sigmas: &[Option<f64>]) -> Vec<f64> {
         .collect()
 }
 
+/// Step 1 of the pipeline for one frame: linearise (gamma), rectify the rolling shutter and
+/// render the region kernels. Returns the rectified linear frame and its kernels.
+fn prepare(
+    frame: &FrameInput,
+    track: &GyroTrack,
+    k: &Intrinsics,
+    opts: &MultiOpts,
+) -> Result<(Image<f32>, KernelGrid)> {
+    check_frame(&frame.image, "frame")?;
+    let (h, w) = (frame.image.height(), frame.image.width());
+    let mut lin = frame.image.clone();
+    if let Some(g) = opts.gamma {
+        g.linearise(lin.data_mut());
+    }
+    let timing = opts.timing(frame.t, h);
+    let rect = rectify_rolling_shutter(&lin, track, &timing, k)?;
+    let grid = kernel_grid(track, &timing, k, w, h, opts.tiling.tile, &opts.kernel)?;
+    Ok((rect, grid))
+}
+
+/// Single-frame deblurring of one frame with any region method (Table 1's W, RL, KS or the
+/// global kernel): linearise, rectify, render the region kernels, deblur, encode. Uses the
+/// timing, camera response, tiling and kernel options of `opts`. Returns the display-valued
+/// result and the kernels.
+///
+/// Errors: as [`deblur_multiframe`]; invalid method parameters.
+pub fn deblur_frame(
+    frame: &FrameInput,
+    track: &GyroTrack,
+    k: &Intrinsics,
+    method: &Method,
+    opts: &MultiOpts,
+) -> Result<(Image<f32>, KernelGrid)> {
+    opts.validate()?;
+    k.validate()?;
+    let (rect, grid) = prepare(frame, track, k, opts)?;
+    let mut d = deblur_piecewise(&rect, &grid, method, &opts.tiling)?.into_data();
+    to_display(opts.gamma, &mut d);
+    Ok((Image::new(rect.height(), rect.width(), 1, d)?, grid))
+}
+
 /// Multi-frame deblurring of `frames[main]` (paper section 5, Figs. 1-2).
 ///
 /// 1. Every frame used is linearised (gamma), rolling-shutter rectified, and deblurred region
@@ -221,18 +262,12 @@ pub fn deblur_multiframe(
     // 1. Rectify and deblur every chosen frame.
     let mut estimates: Vec<Option<Estimate>> = vec![None; frames.len()];
     for &j in &chosen {
-        let mut lin = frames[j].image.clone();
-        if let Some(g) = opts.gamma {
-            g.linearise(lin.data_mut());
-        }
-        let timing = opts.timing(frames[j].t, h);
-        let rect = rectify_rolling_shutter(&lin, track, &timing, k)?;
-        let grid = kernel_grid(track, &timing, k, w, h, tile, &opts.kernel)?;
+        let (rect, grid) = prepare(&frames[j], track, k, opts)?;
         let est = deblur_piecewise(&rect, &grid, &method, &opts.tiling)?;
         estimates[j] = Some((rect, grid, est));
         progress.advance(1);
     }
-    let Some((main_rect, main_grid, main_est)) = estimates[main].clone() else {
+    let Some((main_rect, main_grid, main_est)) = estimates[main].take() else {
         return Err(Error::Numerical("main frame was not processed".into()));
     };
     // 2. Align the neighbours to the main estimate.
@@ -345,10 +380,7 @@ pub fn deblur_multiframe(
     progress.finish();
     let encode = |img: Image<f32>| -> Result<Image<f32>> {
         let mut d = img.into_data();
-        match opts.gamma {
-            Some(g) => g.encode(&mut d),
-            None => d.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0)),
-        }
+        to_display(opts.gamma, &mut d);
         Image::new(h, w, 1, d)
     };
     let mut used_frames: Vec<usize> = std::iter::once(main)

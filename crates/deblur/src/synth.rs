@@ -9,7 +9,7 @@ use rand_distr::{Distribution, Normal, StandardNormal};
 use rayon::prelude::*;
 use wscg_math::{rng, Error, Image, Result};
 
-use crate::camera::{Gamma, Intrinsics, Timing};
+use crate::camera::{to_display, Gamma, Intrinsics, Timing};
 use crate::gyro::{GyroSample, GyroTrack};
 use crate::tiling::check_frame;
 use crate::warp::bicubic;
@@ -215,10 +215,7 @@ fn finish(data: &mut [f32], opts: &RenderOpts, seed: u64) {
             .zip(data.iter_mut())
             .for_each(|(n, v)| *v += opts.noise_sigma * n);
     }
-    match opts.gamma {
-        Some(g) => g.encode(data),
-        None => data.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0)),
-    }
+    to_display(opts.gamma, data);
     if opts.quantise {
         data.iter_mut()
             .for_each(|v| *v = (*v * 255.0).round() / 255.0);
@@ -421,10 +418,7 @@ pub fn make_burst(
         })
         .collect::<Result<Vec<_>>>()?;
     let mut d = sharp.data().to_vec();
-    match render.gamma {
-        Some(g) => g.encode(&mut d),
-        None => d.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0)),
-    }
+    to_display(render.gamma, &mut d);
     Ok(SyntheticBurst {
         frames,
         truth,
