@@ -17,6 +17,7 @@
 //! | [`octree`] | `wscg-octree` | paper 10: unified triangle/voxel octree, exact voxelization, LoD ray casting |
 //! | [`csmri`] | `wscg-cs-mri` | paper 11: compressed-sensing MRI, exact tight UDCT, C-SALSA, FCSA/TVCMRI/WaTMRI |
 //! | [`deblur`] | `wscg-deblur` | paper 12: gyroscope blur kernels, piecewise and multi-frame hyper-Laplacian deblurring |
+//! | [`hdr`] | `wscg-hdr` | paper 13: multiscopic HDR, epipolar coherent PatchMatch, BDS voting, Khan merge |
 //!
 //! The paper crates are added to this table as they land (see the README).
 
@@ -25,6 +26,7 @@ pub use wscg_cloth as cloth;
 pub use wscg_cs_mri as csmri;
 pub use wscg_deblur as deblur;
 pub use wscg_doe as doe;
+pub use wscg_hdr as hdr;
 pub use wscg_isosurface as isosurface;
 pub use wscg_math as math;
 pub use wscg_meshfilter as meshfilter;

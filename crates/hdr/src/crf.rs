@@ -1,0 +1,297 @@
+//! Camera response functions: the inverse response `f^-1(Z)` as a table per channel, and its
+//! recovery from a static multi-exposure stack by Debevec & Malik (1997), the calibration the
+//! paper's pipeline needs for 8-bit views (section 3: "for 8bits LDR images a CRF per camera
+//! needs to be estimated").
+
+use faer::Mat;
+use wscg_math::{dense, Error, Image, Result};
+
+/// An inverse camera response: `inv(z, c) = f^-1(z)` for codes `0..=z_max` and each channel
+/// (a one-channel table applies to every channel of an image).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Crf {
+    /// Row-major `(levels, channels)` table.
+    inv: Vec<f32>,
+    levels: usize,
+    channels: usize,
+}
+
+impl Crf {
+    /// The gamma response `f^-1(Z) = (Z / z_max)^gamma` of a `bits`-bit camera (`gamma = 2.2`
+    /// undoes the usual display encoding).
+    pub fn gamma(gamma: f64, bits: u8, channels: usize) -> Result<Self> {
+        if !(gamma.is_finite() && gamma > 0.0) {
+            return Err(Error::invalid(
+                "gamma",
+                format!("must be finite and > 0, got {gamma}"),
+            ));
+        }
+        let levels = levels_of(bits)?;
+        let zmax = (levels - 1) as f64;
+        let mut t = Vec::with_capacity(levels * channels.max(1));
+        for z in 0..levels {
+            let v = (z as f64 / zmax).powf(gamma) as f32;
+            t.extend(std::iter::repeat_n(v, channels.max(1)));
+        }
+        Self::from_table(&t, levels, channels)
+    }
+
+    /// The linear response `f^-1(Z) = Z / z_max` (RAW sensor data with the black level
+    /// removed, as the paper's 10-bit Octo-cam views).
+    pub fn linear(bits: u8, channels: usize) -> Result<Self> {
+        Self::gamma(1.0, bits, channels)
+    }
+
+    /// A response from its table, row-major `(levels, channels)`: `levels` is `z_max + 1`
+    /// (256 for 8-bit views). Values must be finite, `>= 0` and non-decreasing in `Z`, with
+    /// `f^-1(z_max) > 0`.
+    pub fn from_table(table: &[f32], levels: usize, channels: usize) -> Result<Self> {
+        if channels == 0 {
+            return Err(Error::invalid("crf", "needs at least one channel"));
+        }
+        if !(2..=65536).contains(&levels) {
+            return Err(Error::invalid(
+                "crf",
+                format!("needs 2..=65536 levels (z_max + 1), got {levels}"),
+            ));
+        }
+        if table.len() != levels * channels {
+            return Err(Error::invalid(
+                "crf",
+                format!(
+                    "table has {} values, expected levels x channels = {levels} x {channels}",
+                    table.len()
+                ),
+            ));
+        }
+        for c in 0..channels {
+            let col = |z: usize| table[z * channels + c];
+            for z in 0..levels {
+                let v = col(z);
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(Error::invalid(
+                        "crf",
+                        format!("f^-1({z}) of channel {c} must be finite and >= 0, got {v}"),
+                    ));
+                }
+                if z > 0 && v < col(z - 1) {
+                    return Err(Error::invalid(
+                        "crf",
+                        format!("not monotone: f^-1({z}) < f^-1({}) in channel {c}", z - 1),
+                    ));
+                }
+            }
+            if col(levels - 1) <= 0.0 {
+                return Err(Error::invalid("crf", "f^-1(z_max) must be > 0"));
+            }
+        }
+        Ok(Self {
+            inv: table.to_vec(),
+            levels,
+            channels,
+        })
+    }
+
+    /// Number of codes, `z_max + 1`.
+    pub fn levels(&self) -> usize {
+        self.levels
+    }
+
+    /// The largest code `z_max`.
+    pub fn z_max(&self) -> u16 {
+        (self.levels - 1) as u16
+    }
+
+    /// Channels of the table (1: shared by all channels of an image).
+    pub fn channels(&self) -> usize {
+        self.channels
+    }
+
+    /// `f^-1(z)` of channel `c` (channel 0 for a one-channel table).
+    #[inline]
+    pub fn inv(&self, z: u16, c: usize) -> f32 {
+        let c = if self.channels == 1 { 0 } else { c };
+        self.inv[z as usize * self.channels + c]
+    }
+
+    /// The table, row-major `(levels, channels)`.
+    pub fn table(&self) -> &[f32] {
+        &self.inv
+    }
+
+    /// Checks that the response can convert an image of `channels` channels whose codes are
+    /// at most `max_code`.
+    pub fn check_image(&self, channels: usize, max_code: u16) -> Result<()> {
+        if self.channels != 1 && self.channels != channels {
+            return Err(Error::invalid(
+                "crf",
+                format!(
+                    "has {} channels but the image has {channels}",
+                    self.channels
+                ),
+            ));
+        }
+        if max_code > self.z_max() {
+            return Err(Error::invalid(
+                "crf",
+                format!(
+                    "covers codes up to {} but the image holds code {max_code}: the bit depth \
+                     is larger than the response table",
+                    self.z_max()
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Codes of a `bits`-bit camera: `2^bits`.
+pub fn levels_of(bits: u8) -> Result<usize> {
+    if !(1..=16).contains(&bits) {
+        return Err(Error::invalid(
+            "bits",
+            format!("must be in 1..=16, got {bits}"),
+        ));
+    }
+    Ok(1usize << bits)
+}
+
+/// Hat weight of Debevec & Malik, `h(z) = min(z, z_max - z)`.
+fn hat(z: usize, zmax: usize) -> f64 {
+    z.min(zmax - z) as f64
+}
+
+/// The sample pixels of a calibration: `samples` points on a regular grid, as OpenCV's
+/// `CalibrateDebevec` with `random = false` places them.
+pub fn sample_grid(height: usize, width: usize, samples: usize) -> Result<Vec<(usize, usize)>> {
+    if samples == 0 {
+        return Err(Error::invalid("samples", "must be >= 1"));
+    }
+    let xp = ((samples as f64 * width as f64 / height as f64).sqrt() as usize).max(1);
+    let yp = samples / xp;
+    if xp > width || yp == 0 || yp > height {
+        return Err(Error::invalid(
+            "samples",
+            format!("{samples} samples do not fit a {height} x {width} image"),
+        ));
+    }
+    let (sx, sy) = (width / xp, height / yp);
+    let mut pts = Vec::with_capacity(xp * yp);
+    for i in 0..xp {
+        for j in 0..yp {
+            let (x, y) = (sx / 2 + i * sx, sy / 2 + j * sy);
+            if x < width && y < height {
+                pts.push((y, x));
+            }
+        }
+    }
+    Ok(pts)
+}
+
+/// Recovers the inverse response from a static stack of `bits`-bit exposures with exposure
+/// times `times` (Debevec & Malik 1997): per channel, the least-squares solution of
+///
+/// `min_{g, ln E_i} sum_ij [h(Z_ij) (g(Z_ij) - ln E_i - ln dt_j)]^2
+///                 + sum_z [lambda h(z) g''(z)]^2`, `g(z_mid) = 0`,
+///
+/// over `samples` grid pixels (rows scaled by `lambda` as in Debevec's `gsolve` and OpenCV),
+/// solved by SVD; `f^-1 = exp(g)`. Codes the samples never reach are filled by the
+/// smoothness term. Errors when the recovered `g` is not monotone over the observed codes
+/// ("CRF calibration failed").
+pub fn calibrate_debevec(
+    stack: &[Image<u16>],
+    times: &[f64],
+    bits: u8,
+    samples: usize,
+    lambda: f64,
+) -> Result<Crf> {
+    let levels = levels_of(bits)?;
+    if stack.len() < 2 {
+        return Err(Error::invalid(
+            "stack",
+            format!("needs at least 2 exposures, got {}", stack.len()),
+        ));
+    }
+    crate::radiance::check_times(times, stack.len())?;
+    if !(lambda.is_finite() && lambda > 0.0) {
+        return Err(Error::invalid(
+            "lambda",
+            format!("must be finite and > 0, got {lambda}"),
+        ));
+    }
+    let (h, w, ch) = stack[0].shape();
+    for (k, im) in stack.iter().enumerate() {
+        if im.shape() != (h, w, ch) {
+            return Err(Error::ShapeMismatch(format!(
+                "exposure {k} is {:?}, exposure 0 is {:?}",
+                im.shape(),
+                (h, w, ch)
+            )));
+        }
+        if let Some(&z) = im.data().iter().find(|&&z| z as usize >= levels) {
+            return Err(Error::invalid(
+                "stack",
+                format!("exposure {k} holds code {z}, above the {bits}-bit maximum"),
+            ));
+        }
+    }
+    let pts = sample_grid(h, w, samples)?;
+    let (n, p, zmax) = (pts.len(), stack.len(), levels - 1);
+    let rows = n * p + 1 + (levels - 2);
+    let cols = levels + n;
+    let mut table = vec![0f32; levels * ch];
+    for c in 0..ch {
+        let mut a = Mat::<f64>::zeros(rows, cols);
+        let mut b = Mat::<f64>::zeros(rows, 1);
+        let (mut zlo, mut zhi) = (usize::MAX, 0);
+        let mut eq = 0;
+        for (i, &(y, x)) in pts.iter().enumerate() {
+            for (j, im) in stack.iter().enumerate() {
+                let z = im.at(y, x, c) as usize;
+                let wz = hat(z, zmax);
+                if wz > 0.0 {
+                    zlo = zlo.min(z);
+                    zhi = zhi.max(z);
+                }
+                a[(eq, z)] = wz;
+                a[(eq, levels + i)] = -wz;
+                b[(eq, 0)] = wz * times[j].ln();
+                eq += 1;
+            }
+        }
+        a[(eq, levels / 2)] = 1.0;
+        eq += 1;
+        for z in 1..zmax {
+            let wz = lambda * hat(z, zmax);
+            a[(eq, z - 1)] = wz;
+            a[(eq, z)] = -2.0 * wz;
+            a[(eq, z + 1)] = wz;
+            eq += 1;
+        }
+        let x = dense::lstsq(a.as_ref(), b.as_ref(), None)?;
+        if zlo >= zhi {
+            return Err(Error::Numerical(format!(
+                "CRF calibration failed: channel {c} has no well-exposed samples"
+            )));
+        }
+        for z in zlo..zhi {
+            if x[(z + 1, 0)] < x[(z, 0)] {
+                return Err(Error::Numerical(format!(
+                    "CRF calibration failed: the recovered response of channel {c} decreases \
+                     between codes {z} and {} (too few exposures or samples, or lambda too \
+                     small)",
+                    z + 1
+                )));
+            }
+        }
+        // Outside the observed codes, keep the table non-decreasing.
+        let mut prev = f64::NEG_INFINITY;
+        for z in 0..levels {
+            let g = x[(z, 0)].max(if z > zhi { prev } else { f64::NEG_INFINITY });
+            let g = if z < zlo { g.min(x[(zlo, 0)]) } else { g };
+            prev = g.max(prev);
+            table[z * ch + c] = prev.exp() as f32;
+        }
+    }
+    Crf::from_table(&table, levels, ch)
+}

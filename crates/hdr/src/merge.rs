@@ -1,0 +1,106 @@
+//! The HDR merge of one view (paper eqs. 6-7): per pixel and channel the Khan-weighted mean
+//! of the radiance samples, with a defined result where every weight vanishes.
+
+use rayon::prelude::*;
+use wscg_math::{Error, Image, Result};
+
+use crate::radiance::ViewSamples;
+
+/// Below this total weight a pixel takes the fallback value.
+pub const MIN_WEIGHT_SUM: f32 = 1e-6;
+
+/// One input of the merge: radiance samples (own view, or synthesised and aligned to the
+/// reference) with their weights and levels, and the exposure time they were taken with.
+#[derive(Clone, Copy, Debug)]
+pub struct MergeInput<'a> {
+    /// Radiance, weight and level images.
+    pub samples: &'a ViewSamples,
+    /// Exposure time (orders the fallback).
+    pub time: f64,
+}
+
+/// A merged HDR image and how many pixels took the fallback.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Merged {
+    /// HDR radiance, `(H, W, C)`.
+    pub hdr: Image<f32>,
+    /// Pixels where some channel had total weight `< 1e-6`.
+    pub fallback_pixels: usize,
+}
+
+/// Merges aligned radiance samples (eq. 6): `E = sum_n w_n E_n / sum_n w_n` per channel.
+///
+/// Where `sum_n w_n < 1e-6` (every sample clipped; the paper leaves this undefined) the pixel
+/// takes the radiance of the shortest exposure when the samples are clipped high (mean level
+/// `>= 0.5`: a lower bound of the true radiance) and of the longest exposure when they are
+/// clipped low, and is counted in `fallback_pixels`. The result is never NaN or infinite for
+/// finite inputs.
+///
+/// Errors: no inputs; inputs of different shapes; non-finite or non-positive times.
+pub fn merge(inputs: &[MergeInput]) -> Result<Merged> {
+    let first = inputs
+        .first()
+        .ok_or_else(|| Error::invalid("inputs", "nothing to merge"))?;
+    let shape = first.samples.radiance.shape();
+    crate::radiance::check_times(
+        &inputs.iter().map(|i| i.time).collect::<Vec<_>>(),
+        inputs.len(),
+    )?;
+    for (k, i) in inputs.iter().enumerate() {
+        let s = i.samples;
+        if s.radiance.shape() != shape || s.weight.shape() != shape || s.level.shape() != shape {
+            return Err(Error::ShapeMismatch(format!(
+                "merge input {k} is not {shape:?} in all of radiance, weight and level"
+            )));
+        }
+    }
+    let by_time = |longest: bool| {
+        (0..inputs.len())
+            .reduce(|a, b| {
+                let (ta, tb) = (inputs[a].time, inputs[b].time);
+                if (longest && tb > ta) || (!longest && tb < ta) {
+                    b
+                } else {
+                    a
+                }
+            })
+            .unwrap_or(0)
+    };
+    let (short, long) = (by_time(false), by_time(true));
+    let (h, w, c) = shape;
+    let mut out = vec![0f32; h * w * c];
+    let fallback: usize = out
+        .par_chunks_mut(c)
+        .enumerate()
+        .map(|(p, px)| {
+            let mut fell = false;
+            for (k, o) in px.iter_mut().enumerate() {
+                let i = p * c + k;
+                let (mut num, mut den, mut lev) = (0f64, 0f64, 0f64);
+                for inp in inputs {
+                    let s = inp.samples;
+                    let wt = s.weight.data()[i] as f64;
+                    num += wt * s.radiance.data()[i] as f64;
+                    den += wt;
+                    lev += s.level.data()[i] as f64;
+                }
+                *o = if den >= MIN_WEIGHT_SUM as f64 {
+                    (num / den) as f32
+                } else {
+                    fell = true;
+                    let pick = if lev / inputs.len() as f64 >= 0.5 {
+                        short
+                    } else {
+                        long
+                    };
+                    inputs[pick].samples.radiance.data()[i]
+                };
+            }
+            usize::from(fell)
+        })
+        .sum();
+    Ok(Merged {
+        hdr: Image::new(h, w, c, out)?,
+        fallback_pixels: fallback,
+    })
+}

@@ -1,0 +1,302 @@
+//! The multiscopic driver (paper section 3, Fig. 2): every view to radiance space, a field
+//! for every ordered pair of views, every source synthesised aligned to every reference, and
+//! one HDR image per view.
+
+use rayon::prelude::*;
+use wscg_math::progress::Progress;
+use wscg_math::{Error, Image, Result};
+
+use crate::crf::Crf;
+use crate::merge::{merge, MergeInput};
+use crate::nnf::Nnf;
+use crate::pm::{patchmatch, patchmatch_weighted, PmParams};
+use crate::radiance::{check_times, to_samples, ViewSamples};
+use crate::stereo::{zncc_stereo, StereoParams};
+use crate::vote::{vote_bds, warp_direct};
+
+/// How the views are aligned before merging.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Align {
+    /// The paper: epipolar PatchMatch (with the coherence term unless disabled in
+    /// [`PmParams`]).
+    Ours,
+    /// Original 2-D PatchMatch (Barnes et al. 2009), SSD only.
+    PatchMatch2d,
+    /// ZNCC stereo with left-right check, then a backward warp (Bätz et al. 2014 style).
+    Zncc,
+    /// No alignment: the views are merged as they are (the paper's Fig. 1a).
+    None,
+}
+
+impl Align {
+    /// Parses `ours`, `pm2d`, `zncc` or `none`.
+    pub fn by_name(name: &str) -> Result<Self> {
+        Ok(match name {
+            "ours" => Self::Ours,
+            "pm2d" | "patchmatch" => Self::PatchMatch2d,
+            "zncc" | "stereo" => Self::Zncc,
+            "none" => Self::None,
+            _ => {
+                return Err(Error::invalid(
+                    "align",
+                    format!("unknown method {name:?}; use ours, pm2d, zncc or none"),
+                ))
+            }
+        })
+    }
+}
+
+/// How a source view is synthesised from its fields.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Synthesis {
+    /// Bidirectional-similarity voting with both fields (eq. 5; the paper).
+    Bds,
+    /// Direct warp through the reference-to-source field (the paper's Fig. 5a).
+    Direct,
+}
+
+/// Parameters of [`multiscopic_hdr`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MultiscopicParams {
+    /// Matching parameters; `pm.iters` are the iterations per direction.
+    pub pm: PmParams,
+    /// Alignment method.
+    pub align: Align,
+    /// Synthesis of the patch-based methods (the ZNCC baseline always warps directly).
+    pub synthesis: Synthesis,
+    /// Views are ordered left to right: a source right of the reference searches only
+    /// `[-Max_disp, 0]`, one on the left only `[0, Max_disp]` (halves the search, as the
+    /// epipolar argument of section 3.1 intends).
+    pub ordered: bool,
+    /// Window of the ZNCC baseline.
+    pub zncc_window: usize,
+}
+
+impl Default for MultiscopicParams {
+    fn default() -> Self {
+        Self {
+            pm: PmParams::default(),
+            align: Align::Ours,
+            synthesis: Synthesis::Bds,
+            ordered: false,
+            zncc_window: 9,
+        }
+    }
+}
+
+/// The HDR images of every view and the fields that aligned them.
+#[derive(Clone, Debug)]
+pub struct MultiscopicOut {
+    /// One HDR radiance image per view.
+    pub hdr: Vec<Image<f32>>,
+    /// The field of every ordered pair `(r, s)` (reference to source); empty for
+    /// [`Align::None`].
+    pub nnfs: Vec<((usize, usize), Nnf)>,
+    /// Per view, the pixels whose every sample was clipped (merge fallback).
+    pub fallback_pixels: Vec<usize>,
+}
+
+/// The matching parameters of the ordered pair `(r, s)`: a seed of its own, and the
+/// one-sided disparity range of ordered views.
+pub fn pair_params(p: &MultiscopicParams, r: usize, s: usize) -> PmParams {
+    let mut pm = p.pm;
+    pm.seed =
+        p.pm.seed
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .wrapping_add(((r as u64) << 32) | s as u64);
+    if p.ordered {
+        let m = pm.max_disp();
+        (pm.d_min, pm.d_max) = if s > r { (-m, 0) } else { (0, m) };
+    }
+    pm
+}
+
+/// Checks the views of a multiscopic set: at least two, one shape, one exposure time each
+/// and one response (shared) or one per view.
+pub fn check_views(views: &[Image<u16>], times: &[f64], crfs: &[Crf]) -> Result<()> {
+    if views.len() < 2 {
+        return Err(Error::invalid(
+            "views",
+            format!(
+                "multiscopic HDR needs at least 2 views, got {}; to merge an aligned \
+                 exposure stack use merge",
+                views.len()
+            ),
+        ));
+    }
+    let shape = views[0].shape();
+    if let Some((k, v)) = views.iter().enumerate().find(|(_, v)| v.shape() != shape) {
+        return Err(Error::ShapeMismatch(format!(
+            "view {k} is {:?} but view 0 is {shape:?} (height, width, channels)",
+            v.shape()
+        )));
+    }
+    if shape.0 * shape.1 * shape.2 == 0 {
+        return Err(Error::invalid("views", "are empty"));
+    }
+    check_times(times, views.len())?;
+    if crfs.len() != 1 && crfs.len() != views.len() {
+        return Err(Error::invalid(
+            "crfs",
+            format!(
+                "give one response or one per view ({}), got {}",
+                views.len(),
+                crfs.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Every ordered pair `(r, s)`, `r != s`, of `n` views.
+fn ordered_pairs(n: usize) -> Vec<(usize, usize)> {
+    (0..n)
+        .flat_map(|r| (0..n).filter(move |&s| s != r).map(move |s| (r, s)))
+        .collect()
+}
+
+/// The field from view `r` to view `s`.
+fn match_pair(e: &[ViewSamples], r: usize, s: usize, p: &MultiscopicParams) -> Result<Nnf> {
+    let pm = pair_params(p, r, s);
+    let (a, b) = (&e[r].radiance, &e[s].radiance);
+    match p.align {
+        Align::Ours => patchmatch_weighted(a, b, &e[r].weight, &e[s].weight, &pm),
+        Align::PatchMatch2d => patchmatch(a, b, &PmParams::barnes(pm.patch, pm.iters, pm.seed)),
+        Align::Zncc => zncc_stereo(
+            a,
+            b,
+            &StereoParams {
+                window: p.zncc_window,
+                d_min: pm.d_min,
+                d_max: pm.d_max,
+                ..StereoParams::default()
+            },
+        ),
+        Align::None => unreachable!("no fields without alignment"),
+    }
+}
+
+/// Multiscopic HDR (paper section 3): views of a rectified horizontal camera array, each
+/// with its own exposure `times[n]` and response (`crfs`: one shared or one per view), to
+/// one HDR radiance image per view. Fields of all ordered pairs are computed in parallel;
+/// every source view is synthesised aligned to every reference (radiance, Khan weights and
+/// levels voted together, so the weights follow the source pixels) and merged with the
+/// reference's own samples (eqs. 6-7).
+///
+/// Errors: fewer than 2 views; views of different shapes; wrong number of times or
+/// responses; invalid matching parameters; codes beyond a response table.
+pub fn multiscopic_hdr(
+    views: &[Image<u16>],
+    times: &[f64],
+    crfs: &[Crf],
+    p: &MultiscopicParams,
+    progress: &dyn Progress,
+) -> Result<MultiscopicOut> {
+    check_views(views, times, crfs)?;
+    let (h, w, _) = views[0].shape();
+    if p.align != Align::None {
+        p.pm.validate(h, w)?;
+    }
+    let n = views.len();
+    let e: Vec<ViewSamples> = (0..n)
+        .map(|k| to_samples(&views[k], &crfs[k.min(crfs.len() - 1)], times[k]))
+        .collect::<Result<_>>()?;
+    let nnfs: Vec<((usize, usize), Nnf)> = if p.align == Align::None {
+        Vec::new()
+    } else {
+        let pairs = ordered_pairs(n);
+        progress.begin("matching view pairs", pairs.len() as u64);
+        let out = pairs
+            .par_iter()
+            .map(|&(r, s)| {
+                let f = match_pair(&e, r, s, p)?;
+                progress.advance(1);
+                Ok(((r, s), f))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        progress.finish();
+        out
+    };
+    let field = |r: usize, s: usize| {
+        let k = r * (n - 1) + if s > r { s - 1 } else { s };
+        debug_assert_eq!(nnfs[k].0, (r, s));
+        &nnfs[k].1
+    };
+    let stacked: Vec<Image<f32>> = e.iter().map(ViewSamples::stacked).collect();
+    progress.begin("synthesis and merge", n as u64);
+    let merged = (0..n)
+        .into_par_iter()
+        .map(|r| {
+            let synth: Vec<ViewSamples> = (0..n)
+                .filter(|&s| s != r)
+                .map(|s| {
+                    let t = match (p.align, p.synthesis) {
+                        (Align::None, _) => return Ok(e[s].clone()),
+                        (Align::Zncc, _) | (_, Synthesis::Direct) => {
+                            warp_direct(&stacked[s], field(r, s))?
+                        }
+                        (_, Synthesis::Bds) => {
+                            vote_bds(&stacked[s], field(r, s), field(s, r), p.pm.patch)?
+                        }
+                    };
+                    ViewSamples::from_stacked(&t)
+                })
+                .collect::<Result<_>>()?;
+            let mut inputs = vec![MergeInput {
+                samples: &e[r],
+                time: times[r],
+            }];
+            let others = (0..n).filter(|&s| s != r);
+            inputs.extend(others.zip(&synth).map(|(s, t)| MergeInput {
+                samples: t,
+                time: times[s],
+            }));
+            let m = merge(&inputs)?;
+            progress.advance(1);
+            Ok(m)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    progress.finish();
+    let (hdr, fallback_pixels) = merged
+        .into_iter()
+        .map(|m| (m.hdr, m.fallback_pixels))
+        .unzip();
+    Ok(MultiscopicOut {
+        hdr,
+        nnfs,
+        fallback_pixels,
+    })
+}
+
+/// Merges an aligned exposure stack of one view (no matching): every image converted with
+/// its response and time, then eq. 6 with the fallback of [`merge`].
+pub fn merge_stack(
+    images: &[Image<u16>],
+    times: &[f64],
+    crfs: &[Crf],
+) -> Result<crate::merge::Merged> {
+    if images.is_empty() {
+        return Err(Error::invalid("images", "nothing to merge"));
+    }
+    check_times(times, images.len())?;
+    if crfs.len() != 1 && crfs.len() != images.len() {
+        return Err(Error::invalid(
+            "crfs",
+            format!("give one response or one per image, got {}", crfs.len()),
+        ));
+    }
+    let e: Vec<ViewSamples> = images
+        .iter()
+        .enumerate()
+        .map(|(k, im)| to_samples(im, &crfs[k.min(crfs.len() - 1)], times[k]))
+        .collect::<Result<_>>()?;
+    let inputs: Vec<MergeInput> = e
+        .iter()
+        .zip(times)
+        .map(|(s, &t)| MergeInput {
+            samples: s,
+            time: t,
+        })
+        .collect();
+    merge(&inputs)
+}

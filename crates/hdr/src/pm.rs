@@ -1,0 +1,503 @@
+//! PatchMatch on a scanline (paper section 3.1): the epipolar variant of the paper, with the
+//! coherence-penalised cost `D = SSD / C` (eqs. 2-4) and the 1-D random search of eq. 1, and
+//! the original 2-D PatchMatch of Barnes et al. (2009) it is compared against.
+//!
+//! Both run the classic sequential order: even iterations scan top-left to bottom-right and
+//! propagate from the left and top neighbours, odd iterations scan back and propagate from
+//! the right and bottom ones, so a good match travels across the whole image in one sweep.
+//! The cost of a pixel's current match is recomputed before every comparison, because the
+//! coherence term depends on neighbours that have moved since it was stored. One field is
+//! computed sequentially (the paper matches the pairs of views in parallel; so does
+//! [`crate::multiscopic_hdr`]); the result depends on the seed only.
+
+use rand::Rng as _;
+use wscg_math::{rng, Error, Image, Result};
+
+use crate::nnf::Nnf;
+
+/// Parameters of [`patchmatch`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PmParams {
+    /// Patch side `N` (odd, `>= 3`; the paper's figures use 7).
+    pub patch: usize,
+    /// Iterations (the paper: "two iterations were enough").
+    pub iters: usize,
+    /// Smallest horizontal offset searched (epipolar mode).
+    pub d_min: i32,
+    /// Largest horizontal offset searched (epipolar mode).
+    pub d_max: i32,
+    /// Vertical tolerance of the epipolar search (0: exact rectification).
+    pub v_tol: i32,
+    /// Ratio `alpha` of the random search radii (eq. 1; 1/2 as suggested).
+    pub alpha: f32,
+    /// Search on the epipolar line (the paper) or over the whole image (2-D).
+    pub epipolar: bool,
+    /// Divide the SSD by the coherence term `C` (eq. 2) or use the SSD alone.
+    pub coherence: bool,
+    /// Lower bound of `C` (the paper leaves `C <= 0` undefined).
+    pub c_min: f32,
+    /// Seed of the initialisation and the random search.
+    pub seed: u64,
+    /// Not in the paper (an ablation): weight each squared difference by the smaller Khan
+    /// weight of the two samples, so clipped pixels do not drive the match (used by
+    /// [`patchmatch_weighted`] and the multiscopic driver; plain [`patchmatch`] has no
+    /// weights and ignores it).
+    pub weighted_cost: bool,
+}
+
+impl Default for PmParams {
+    fn default() -> Self {
+        Self {
+            patch: 7,
+            iters: 2,
+            d_min: -64,
+            d_max: 64,
+            v_tol: 0,
+            alpha: 0.5,
+            epipolar: true,
+            coherence: true,
+            c_min: 0.05,
+            seed: 0,
+            weighted_cost: false,
+        }
+    }
+}
+
+impl PmParams {
+    /// The original PatchMatch of Barnes et al. 2009: 2-D search over the whole source image,
+    /// SSD cost without the coherence term.
+    pub fn barnes(patch: usize, iters: usize, seed: u64) -> Self {
+        Self {
+            patch,
+            iters,
+            epipolar: false,
+            coherence: false,
+            seed,
+            ..Self::default()
+        }
+    }
+
+    /// The largest displacement `Max_disp` (eq. 4, and `w` of eq. 1) of the epipolar search.
+    pub fn max_disp(&self) -> i32 {
+        self.d_min.abs().max(self.d_max.abs()).max(1)
+    }
+
+    /// Checks the parameters for images of `(height, width)`.
+    pub fn validate(&self, height: usize, width: usize) -> Result<()> {
+        check_patch(self.patch, height, width)?;
+        if self.epipolar {
+            if self.d_min > self.d_max {
+                return Err(Error::invalid(
+                    "d_min",
+                    format!("d_min = {} > d_max = {}", self.d_min, self.d_max),
+                ));
+            }
+            if self.max_disp() as usize >= width {
+                return Err(Error::invalid(
+                    "max_disparity",
+                    format!(
+                        "|disparity| up to {} must be < the image width {width}",
+                        self.max_disp()
+                    ),
+                ));
+            }
+            if self.v_tol < 0 || self.v_tol as usize >= height {
+                return Err(Error::invalid(
+                    "v_tol",
+                    format!("must be in 0..{height}, got {}", self.v_tol),
+                ));
+            }
+        }
+        if !(self.alpha > 0.0 && self.alpha < 1.0) {
+            return Err(Error::invalid(
+                "alpha",
+                format!("must be in (0, 1), got {}", self.alpha),
+            ));
+        }
+        if !(self.c_min > 0.0 && self.c_min <= 1.0) {
+            return Err(Error::invalid(
+                "c_min",
+                format!("must be in (0, 1], got {}", self.c_min),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Checks a patch side: odd, `>= 3` and at most the smaller image side.
+pub fn check_patch(patch: usize, height: usize, width: usize) -> Result<()> {
+    if patch < 3 || patch.is_multiple_of(2) || patch > height.min(width) {
+        return Err(Error::invalid(
+            "patch",
+            format!(
+                "must be odd, >= 3 and <= min(height, width) = {}, got {patch}",
+                height.min(width)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Checks that two images can be matched: same channel count, finite values.
+pub fn check_pair(a: &Image<f32>, b: &Image<f32>) -> Result<()> {
+    if a.channels() != b.channels() {
+        return Err(Error::ShapeMismatch(format!(
+            "images have {} and {} channels",
+            a.channels(),
+            b.channels()
+        )));
+    }
+    if a.data().is_empty() || b.data().is_empty() {
+        return Err(Error::invalid("image", "is empty"));
+    }
+    a.ensure_finite("a")?;
+    b.ensure_finite("b")
+}
+
+/// Sum of squared differences of two equal-length slices (8 lanes, so it vectorises).
+#[inline]
+fn sq_diff(a: &[f32], b: &[f32]) -> f32 {
+    let mut acc = [0f32; 8];
+    let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for k in 0..8 {
+            let d = x[k] - y[k];
+            acc[k] += d * d;
+        }
+    }
+    let mut s: f32 = acc.iter().sum();
+    for (x, y) in ra.iter().zip(rb) {
+        s += (x - y) * (x - y);
+    }
+    s
+}
+
+/// Weighted sum of squared differences, `sum min(wa, wb) (a - b)^2`.
+#[inline]
+fn sq_diff_weighted(a: &[f32], b: &[f32], wa: &[f32], wb: &[f32]) -> f32 {
+    let mut acc = [0f32; 8];
+    let n = a.len() / 8 * 8;
+    for i in (0..n).step_by(8) {
+        for k in 0..8 {
+            let d = a[i + k] - b[i + k];
+            acc[k] += wa[i + k].min(wb[i + k]) * d * d;
+        }
+    }
+    let mut s: f32 = acc.iter().sum();
+    for i in n..a.len() {
+        let d = a[i] - b[i];
+        s += wa[i].min(wb[i]) * d * d;
+    }
+    s
+}
+
+/// Added to weighted costs so that, where every sample is clipped (cost 0), the coherence
+/// term still ranks the candidates.
+const WEIGHTED_FLOOR: f32 = 1e-30;
+
+/// The two images of a match and the patch half-size.
+struct Space<'a> {
+    a: &'a [f32],
+    b: &'a [f32],
+    /// Per-sample weights of `a` and `b` (the weighted-cost ablation).
+    weights: Option<(&'a [f32], &'a [f32])>,
+    wa: i32,
+    ha: i32,
+    wb: i32,
+    hb: i32,
+    c: usize,
+    half: i32,
+}
+
+impl Space<'_> {
+    /// Mean squared difference (eq. 3, per valid pixel and channel so border patches are
+    /// comparable) between the patch of `A` at `(x, y)` and the patch of `B` at
+    /// `(x + dx, y + dy)`, over the offsets inside both images. Stops early with a value
+    /// `> bound` once the mean is certain to exceed `bound`; infinite without overlap.
+    #[inline]
+    fn ssd(&self, x: i32, y: i32, d: [i32; 2], bound: f32) -> f32 {
+        let h = self.half;
+        let oy0 = (-h).max(-y).max(-y - d[1]);
+        let oy1 = h.min(self.ha - 1 - y).min(self.hb - 1 - y - d[1]);
+        let ox0 = (-h).max(-x).max(-x - d[0]);
+        let ox1 = h.min(self.wa - 1 - x).min(self.wb - 1 - x - d[0]);
+        if oy0 > oy1 || ox0 > ox1 {
+            return f32::INFINITY;
+        }
+        let len = (ox1 - ox0 + 1) as usize * self.c;
+        let n = (oy1 - oy0 + 1) as f32 * len as f32;
+        let lim = bound * n;
+        let mut s = 0f32;
+        for oy in oy0..=oy1 {
+            let ra = ((y + oy) * self.wa + x + ox0) as usize * self.c;
+            let rb = ((y + oy + d[1]) * self.wb + x + d[0] + ox0) as usize * self.c;
+            let (xa, xb) = (&self.a[ra..ra + len], &self.b[rb..rb + len]);
+            s += match self.weights {
+                None => sq_diff(xa, xb),
+                Some((wa, wb)) => sq_diff_weighted(xa, xb, &wa[ra..ra + len], &wb[rb..rb + len]),
+            };
+            if s > lim {
+                break;
+            }
+        }
+        if self.weights.is_some() {
+            s / n + WEIGHTED_FLOOR
+        } else {
+            s / n
+        }
+    }
+}
+
+/// The state of one PatchMatch run.
+struct Run<'a> {
+    sp: Space<'a>,
+    p: PmParams,
+    off: Vec<[i32; 2]>,
+    cost: Vec<f32>,
+    /// `Max_disp` of the coherence term and `w` of the random search.
+    w: f32,
+}
+
+impl Run<'_> {
+    /// Allowed horizontal offsets at column `x` (epipolar: the disparity range with the
+    /// source centre inside `B`; 2-D: any source column).
+    fn x_range(&self, x: i32) -> (i32, i32) {
+        if !self.p.epipolar {
+            return (-x, self.sp.wb - 1 - x);
+        }
+        let (lo, hi) = (self.p.d_min.max(-x), self.p.d_max.min(self.sp.wb - 1 - x));
+        if lo <= hi {
+            (lo, hi)
+        } else {
+            // No centre of the range lands in B: the nearest end of the range.
+            let d = if self.p.d_min > self.sp.wb - 1 - x {
+                self.p.d_min
+            } else {
+                self.p.d_max
+            };
+            (d, d)
+        }
+    }
+
+    /// Allowed vertical offsets at row `y`.
+    fn y_range(&self, y: i32) -> (i32, i32) {
+        let (lo, hi) = (-y, self.sp.hb - 1 - y);
+        if !self.p.epipolar {
+            return (lo, hi);
+        }
+        let (l, h) = (lo.max(-self.p.v_tol), hi.min(self.p.v_tol));
+        if l <= h {
+            (l, h)
+        } else {
+            (0, 0)
+        }
+    }
+
+    /// Coherence term `C` (eq. 4) of offset `d` at pixel `i = (x, y)`: `d_c` is the distance
+    /// of `d` to the closest current offset of a 4-neighbour.
+    #[inline]
+    fn coherence(&self, x: i32, y: i32, d: [i32; 2]) -> f32 {
+        if !self.p.coherence {
+            return 1.0;
+        }
+        let mut dc = f32::INFINITY;
+        for (nx, ny) in [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)] {
+            if nx < 0 || ny < 0 || nx >= self.sp.wa || ny >= self.sp.ha {
+                continue;
+            }
+            let o = self.off[(ny * self.sp.wa + nx) as usize];
+            let (ex, ey) = ((d[0] - o[0]) as f32, (d[1] - o[1]) as f32);
+            dc = dc.min((ex * ex + ey * ey).sqrt());
+        }
+        if !dc.is_finite() {
+            return 1.0;
+        }
+        (1.0 - dc / self.w).max(self.p.c_min)
+    }
+
+    /// Cost `D = SSD / C` (eq. 2), stopping early above `bound`.
+    #[inline]
+    fn cost_of(&self, x: i32, y: i32, d: [i32; 2], bound: f32) -> f32 {
+        let c = self.coherence(x, y, d);
+        self.sp.ssd(x, y, d, bound * c) / c
+    }
+
+    fn in_range(&self, x: i32, y: i32, d: [i32; 2]) -> bool {
+        let (xl, xh) = self.x_range(x);
+        let (yl, yh) = self.y_range(y);
+        (xl..=xh).contains(&d[0]) && (yl..=yh).contains(&d[1])
+    }
+
+    fn init(&mut self, r: &mut rng::Rng) {
+        for y in 0..self.sp.ha {
+            for x in 0..self.sp.wa {
+                let (xl, xh) = self.x_range(x);
+                let (yl, yh) = self.y_range(y);
+                let d = [r.random_range(xl..=xh), r.random_range(yl..=yh)];
+                self.off[(y * self.sp.wa + x) as usize] = d;
+            }
+        }
+    }
+
+    /// One sweep: propagation then random search at every pixel, in scan order.
+    fn sweep(&mut self, forward: bool, r: &mut rng::Rng) {
+        let (wa, ha) = (self.sp.wa, self.sp.ha);
+        let step = if forward { -1 } else { 1 };
+        let radius0 = if self.p.epipolar {
+            self.w
+        } else {
+            wa.max(ha).max(self.sp.wb).max(self.sp.hb) as f32
+        };
+        for yy in 0..ha {
+            let y = if forward { yy } else { ha - 1 - yy };
+            for xx in 0..wa {
+                let x = if forward { xx } else { wa - 1 - xx };
+                let i = (y * wa + x) as usize;
+                let mut best = self.off[i];
+                let mut dbest = self.cost_of(x, y, best, f32::INFINITY);
+                // Propagation from the neighbours already visited in this sweep.
+                for (nx, ny) in [(x + step, y), (x, y + step)] {
+                    if nx < 0 || ny < 0 || nx >= wa || ny >= ha {
+                        continue;
+                    }
+                    let cand = self.off[(ny * wa + nx) as usize];
+                    if cand != best && self.in_range(x, y, cand) {
+                        let dc = self.cost_of(x, y, cand, dbest);
+                        if dc < dbest {
+                            (best, dbest) = (cand, dc);
+                        }
+                    }
+                }
+                // Random search, eq. 1: u_i = v0 + w alpha^i R_i while w alpha^i >= 1.
+                let (xl, xh) = self.x_range(x);
+                let (yl, yh) = self.y_range(y);
+                let mut rad = radius0;
+                while rad >= 1.0 {
+                    let rx: f32 = r.random_range(-1.0..=1.0);
+                    let cx = (best[0] + (rad * rx).round() as i32).clamp(xl, xh);
+                    let cy = if yl < yh {
+                        let ry: f32 = r.random_range(-1.0..=1.0);
+                        let rv = if self.p.epipolar {
+                            rad.min(self.p.v_tol as f32)
+                        } else {
+                            rad
+                        };
+                        (best[1] + (rv * ry).round() as i32).clamp(yl, yh)
+                    } else {
+                        yl
+                    };
+                    let cand = [cx, cy];
+                    if cand != best {
+                        let dc = self.cost_of(x, y, cand, dbest);
+                        if dc < dbest {
+                            (best, dbest) = (cand, dc);
+                        }
+                    }
+                    rad *= self.p.alpha;
+                }
+                self.off[i] = best;
+                self.cost[i] = dbest;
+            }
+        }
+    }
+}
+
+/// The nearest-neighbour field from `a` to `b` (paper section 3.1), with [`PmParams`]
+/// choosing the paper's epipolar, coherence-penalised search (the default) or the original
+/// 2-D PatchMatch ([`PmParams::barnes`]). Images may differ in size but not in channels.
+///
+/// Epipolar mode: offsets `(d, dy)` with `d` in `[d_min, d_max]` and `|dy| <= v_tol`, every
+/// source centre inside `b`; initialised uniformly in that range (the paper: "random
+/// transformation values within a maximal disparity range on the same epipolar line").
+/// 2-D mode: sources anywhere in `b`, initialised uniformly over `b`, random search from
+/// radius `max(W, H)`.
+///
+/// Errors: channel counts differ; non-finite values; invalid parameters (see
+/// [`PmParams::validate`]).
+pub fn patchmatch(a: &Image<f32>, b: &Image<f32>, p: &PmParams) -> Result<Nnf> {
+    run_patchmatch(a, b, None, p)
+}
+
+/// [`patchmatch`] with per-sample weights `wa`, `wb` (same shapes as `a`, `b`; Khan weights
+/// in the multiscopic driver): with `p.weighted_cost` every squared difference is multiplied
+/// by `min(wa, wb)`, so clipped samples (weight 0) do not drive the match. Not in the paper,
+/// which reports failures in saturated areas; an ablation.
+///
+/// Errors: as [`patchmatch`]; weights of other shapes or not finite.
+pub fn patchmatch_weighted(
+    a: &Image<f32>,
+    b: &Image<f32>,
+    wa: &Image<f32>,
+    wb: &Image<f32>,
+    p: &PmParams,
+) -> Result<Nnf> {
+    if wa.shape() != a.shape() || wb.shape() != b.shape() {
+        return Err(Error::ShapeMismatch(
+            "the weights must have the shapes of their images".into(),
+        ));
+    }
+    wa.ensure_finite("wa")?;
+    wb.ensure_finite("wb")?;
+    let weights = p.weighted_cost.then_some((wa.data(), wb.data()));
+    run_patchmatch(a, b, weights, p)
+}
+
+fn run_patchmatch(
+    a: &Image<f32>,
+    b: &Image<f32>,
+    weights: Option<(&[f32], &[f32])>,
+    p: &PmParams,
+) -> Result<Nnf> {
+    check_pair(a, b)?;
+    let (ha, wa, c) = a.shape();
+    let (hb, wb, _) = b.shape();
+    p.validate(ha.min(hb), wa.min(wb))?;
+    let n = ha * wa;
+    let mut run = Run {
+        sp: Space {
+            a: a.data(),
+            b: b.data(),
+            weights,
+            wa: wa as i32,
+            ha: ha as i32,
+            wb: wb as i32,
+            hb: hb as i32,
+            c,
+            half: (p.patch / 2) as i32,
+        },
+        p: *p,
+        off: vec![[0, 0]; n],
+        cost: vec![f32::INFINITY; n],
+        w: if p.epipolar {
+            p.max_disp() as f32
+        } else {
+            wa.max(ha) as f32
+        },
+    };
+    let mut r = rng::seeded(p.seed);
+    run.init(&mut r);
+    for it in 0..p.iters {
+        run.sweep(it % 2 == 0, &mut r);
+    }
+    if p.iters == 0 {
+        for y in 0..ha as i32 {
+            for x in 0..wa as i32 {
+                let i = (y * wa as i32 + x) as usize;
+                run.cost[i] = run.cost_of(x, y, run.off[i], f32::INFINITY);
+            }
+        }
+    }
+    Nnf::new(ha, wa, run.off, run.cost)
+}
+
+/// The original PatchMatch (Barnes et al. 2009) baseline: 2-D, SSD only.
+pub fn patchmatch_2d(
+    a: &Image<f32>,
+    b: &Image<f32>,
+    patch: usize,
+    iters: usize,
+    seed: u64,
+) -> Result<Nnf> {
+    patchmatch(a, b, &PmParams::barnes(patch, iters, seed))
+}

@@ -1,0 +1,292 @@
+//! Matching checks of the paper-13 specification (check 3 and the unit behaviour behind
+//! checks 4-6): epipolar PatchMatch recovers known shifts, stays on the scanline and in its
+//! range, is deterministic, mirror-symmetric, and more coherent with the coherence term;
+//! BDS voting reproduces a consistent shift exactly and leaves no holes; the baselines.
+
+use wscg_hdr::metrics::{bad_rate, incoherence};
+use wscg_hdr::synth::{albedo, layered_scene, SceneCfg};
+use wscg_hdr::{
+    patchmatch, patchmatch_2d, to_radiance, vote_bds, warp_direct, zncc_stereo, PmParams,
+    StereoParams,
+};
+use wscg_math::Image;
+
+/// A 3-channel fractal texture sampled at columns shifted by `shift`.
+fn texture(h: usize, w: usize, shift: f64) -> Image<f32> {
+    let mut v = Vec::with_capacity(h * w * 3);
+    for y in 0..h {
+        for x in 0..w {
+            for c in 0..3 {
+                v.push(albedo(5, y as f64 + 0.5, x as f64 + 0.5 + shift, c) as f32);
+            }
+        }
+    }
+    Image::new(h, w, 3, v).unwrap()
+}
+
+fn params(d_min: i32, d_max: i32) -> PmParams {
+    PmParams {
+        d_min,
+        d_max,
+        ..PmParams::default()
+    }
+}
+
+#[test]
+fn epipolar_patchmatch_recovers_a_known_shift() {
+    // B(x) = A(x + 9): the point at column x of A is at x - 9 in B.
+    let (a, b) = (texture(48, 96, 0.0), texture(48, 96, 9.0));
+    let f = patchmatch(&a, &b, &params(-20, 20)).unwrap();
+    let (mut ok, mut n) = (0, 0);
+    for y in 0..48 {
+        for x in 12..96 {
+            n += 1;
+            ok += usize::from(f.at(y, x) == [-9, 0]);
+        }
+    }
+    assert!(ok as f64 >= 0.99 * n as f64, "{ok} of {n} exact");
+    // Matches are exact: the cost of an exact match is zero.
+    assert_eq!(f.cost[20 * 96 + 50], 0.0);
+    // Original PatchMatch finds it too, given iterations (2-D, so the search is harder).
+    let g = patchmatch_2d(&a, &b, 7, 8, 3).unwrap();
+    let good = (0..48 * 96)
+        .filter(|&i| i % 96 >= 12 && g.off[i] == [-9, 0])
+        .count();
+    assert!(good as f64 >= 0.9 * n as f64, "PM-2D: {good} of {n}");
+}
+
+#[test]
+fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
+    let cfg = SceneCfg {
+        height: 64,
+        width: 112,
+        times: vec![0.02, 0.08],
+        ..SceneCfg::default()
+    };
+    let sc = layered_scene(&cfg, 3).unwrap();
+    let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
+    let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
+    for (lo, hi) in [(-40, 0), (-25, 30), (5, 12)] {
+        let p = PmParams {
+            seed: 9,
+            ..params(lo, hi)
+        };
+        let f = patchmatch(&a, &b, &p).unwrap();
+        for y in 0..64 {
+            for x in 0..112 {
+                let [dx, dy] = f.at(y, x);
+                assert_eq!(dy, 0);
+                let xb = x as i32 + dx;
+                if (lo.max(-(x as i32))..=hi.min(111 - x as i32)).contains(&dx) {
+                    assert!((0..112).contains(&xb));
+                } else {
+                    // Only where no disparity of the range lands inside B.
+                    assert!(lo > 111 - x as i32 || hi < -(x as i32), "{x} {dx}");
+                    assert!((lo..=hi).contains(&dx));
+                }
+            }
+        }
+        assert_eq!(f, patchmatch(&a, &b, &p).unwrap(), "same seed, same field");
+    }
+    // Another seed gives another (random) initialisation.
+    let f1 = patchmatch(
+        &a,
+        &b,
+        &PmParams {
+            iters: 0,
+            seed: 1,
+            ..params(-40, 40)
+        },
+    )
+    .unwrap();
+    let f2 = patchmatch(
+        &a,
+        &b,
+        &PmParams {
+            iters: 0,
+            seed: 2,
+            ..params(-40, 40)
+        },
+    )
+    .unwrap();
+    assert_ne!(f1.off, f2.off);
+}
+
+#[test]
+fn mirroring_both_views_and_the_range_changes_little() {
+    let cfg = SceneCfg {
+        height: 80,
+        width: 144,
+        times: vec![0.03, 0.12],
+        ..SceneCfg::default()
+    };
+    let sc = layered_scene(&cfg, 4).unwrap();
+    let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
+    let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
+    let truth: Vec<f32> = sc.disparity[0].data().iter().map(|d| -d).collect();
+    let mirror = |im: &Image<f32>| {
+        let (h, w, c) = im.shape();
+        let mut v = Vec::with_capacity(h * w * c);
+        for y in 0..h {
+            for x in (0..w).rev() {
+                v.extend_from_slice(im.pixel(y, x));
+            }
+        }
+        Image::new(h, w, c, v).unwrap()
+    };
+    let f = patchmatch(&a, &b, &params(-40, 10)).unwrap();
+    let g = patchmatch(&mirror(&a), &mirror(&b), &params(-10, 40)).unwrap();
+    let truth_m: Vec<f32> = (0..80 * 144)
+        .map(|i| -truth[(i / 144) * 144 + 143 - i % 144])
+        .collect();
+    let r1 = bad_rate(&f, &truth, 2.0, None).unwrap();
+    let r2 = bad_rate(&g, &truth_m, 2.0, None).unwrap();
+    eprintln!("bad-2 {r1:.4}, mirrored {r2:.4}");
+    assert!((r1 - r2).abs() <= 0.01, "bad-2 {r1} vs mirrored {r2}");
+}
+
+#[test]
+fn the_coherence_term_makes_fields_more_coherent() {
+    let cfg = SceneCfg {
+        height: 96,
+        width: 160,
+        times: vec![0.03, 0.12],
+        ..SceneCfg::default()
+    };
+    let sc = layered_scene(&cfg, 5).unwrap();
+    let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
+    let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
+    let truth: Vec<f32> = sc.disparity[0].data().iter().map(|d| -d).collect();
+    let with = patchmatch(&a, &b, &params(-48, 48)).unwrap();
+    let without = patchmatch(
+        &a,
+        &b,
+        &PmParams {
+            coherence: false,
+            ..params(-48, 48)
+        },
+    )
+    .unwrap();
+    let (iw, io) = (incoherence(&with), incoherence(&without));
+    let (bw, bo) = (
+        bad_rate(&with, &truth, 2.0, None).unwrap(),
+        bad_rate(&without, &truth, 2.0, None).unwrap(),
+    );
+    eprintln!("incoherence {iw:.4} vs {io:.4} without the term; bad-2 {bw:.4} vs {bo:.4}");
+    assert!(iw < io);
+    assert!(bw <= bo + 0.01);
+}
+
+#[test]
+fn bds_voting_reproduces_a_consistent_shift_and_has_no_holes() {
+    let (h, w) = (40, 80);
+    let (r, s) = (texture(h, w, 0.0), texture(h, w, 6.0));
+    // Exact fields: r -> s is -6, s -> r is +6, clamped at the borders.
+    let field = |d: i32| {
+        let off = (0..h * w)
+            .map(|i| [d.clamp(-((i % w) as i32), (w - 1 - i % w) as i32), 0])
+            .collect();
+        wscg_hdr::Nnf::new(h, w, off, vec![0.0; h * w]).unwrap()
+    };
+    let (rs, sr) = (field(-6), field(6));
+    let t = vote_bds(&s, &rs, &sr, 7).unwrap();
+    let d = warp_direct(&s, &rs).unwrap();
+    assert!(t.data().iter().all(|v| v.is_finite()));
+    for y in 0..h {
+        for x in 12..w - 6 {
+            for c in 0..3 {
+                let want = r.pixel(y, x)[c];
+                assert!((t.pixel(y, x)[c] - want).abs() < 1e-5, "BDS at {y} {x}");
+                assert_eq!(d.pixel(y, x)[c], want, "warp at {y} {x}");
+            }
+        }
+    }
+    // Random fields: still every pixel voted, values within the source's range.
+    let noise = |seed: u64| {
+        let off = (0..h * w)
+            .map(|i| {
+                let x = (i % w) as i64;
+                let v = ((i as u64 * 2654435761 + seed) % 21) as i64 - 10;
+                [(x + v).clamp(0, w as i64 - 1) as i32 - x as i32, 0]
+            })
+            .collect();
+        wscg_hdr::Nnf::new(h, w, off, vec![0.0; h * w]).unwrap()
+    };
+    let t = vote_bds(&s, &noise(1), &noise(2), 7).unwrap();
+    let (lo, hi) = s
+        .data()
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+    assert!(t.data().iter().all(|&v| v >= lo - 1e-6 && v <= hi + 1e-6));
+    // The same result on one thread.
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| vote_bds(&s, &noise(1), &noise(2), 7).unwrap());
+    assert_eq!(one, t);
+}
+
+#[test]
+fn zncc_stereo_recovers_a_shift_under_an_exposure_change() {
+    let (a, b) = (texture(48, 96, 0.0), texture(48, 96, 7.0));
+    // Four times the exposure: ZNCC does not care about gain.
+    let b4 = b.map(|v| 4.0 * v);
+    let f = zncc_stereo(
+        &a,
+        &b4,
+        &StereoParams {
+            d_min: -16,
+            d_max: 16,
+            ..StereoParams::default()
+        },
+    )
+    .unwrap();
+    let ok = (0..48 * 96)
+        .filter(|&i| i % 96 >= 10 && f.off[i] == [-7, 0])
+        .count();
+    assert!(ok as f64 >= 0.98 * (48 * 86) as f64, "{ok}");
+    // Pixels whose match would leave B are filled from the row, inside B.
+    for y in 0..48 {
+        for x in 0..96 {
+            let xb = x as i32 + f.at(y, x)[0];
+            assert!((0..96).contains(&xb));
+        }
+    }
+}
+
+#[test]
+fn bad_matching_inputs_are_errors() {
+    let a = texture(20, 30, 0.0);
+    let b = texture(20, 30, 1.0);
+    for patch in [4, 1, 21] {
+        let p = PmParams {
+            patch,
+            ..params(-5, 5)
+        };
+        let e = patchmatch(&a, &b, &p).unwrap_err().to_string();
+        assert!(e.contains("patch"), "{e}");
+    }
+    let e = patchmatch(&a, &b, &params(-30, 5)).unwrap_err().to_string();
+    assert!(e.contains("width"), "{e}");
+    let e = patchmatch(&a, &b, &params(6, 5)).unwrap_err().to_string();
+    assert!(e.contains("d_min"), "{e}");
+    let grey = Image::filled(20, 30, 1, 0.5f32).unwrap();
+    assert!(patchmatch(&a, &grey, &params(-5, 5)).is_err());
+    let mut nan = a.clone();
+    nan.set(3, 3, 0, f32::NAN);
+    assert!(patchmatch(&nan, &b, &params(-5, 5)).is_err());
+    assert!(zncc_stereo(
+        &a,
+        &b,
+        &StereoParams {
+            window: 8,
+            ..StereoParams::default()
+        }
+    )
+    .is_err());
+    assert!(
+        zncc_stereo(&a, &b, &StereoParams::default()).is_err(),
+        "64 >= width 30"
+    );
+}
