@@ -1659,3 +1659,168 @@ fn deblur_simulate_kernel_and_frames_on_files() {
     ])
     .contains("valid methods"));
 }
+
+#[test]
+fn hdr_simulate_multiscopic_merge_and_calibrate_on_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let sim = d.join("sim");
+    let out = wscg_ok(&[
+        "hdr",
+        "simulate",
+        "--height",
+        "64",
+        "--width",
+        "192",
+        "--out",
+        &s(&sim),
+    ]);
+    let max_disp = out
+        .split("--max-disparity ")
+        .nth(1)
+        .expect("suggested range")
+        .trim();
+    assert_eq!(max_disp, "136");
+    let views: Vec<String> = (0..5)
+        .map(|k| s(&sim.join(format!("view_{k:02}.png"))))
+        .collect();
+    let times = s(&sim.join("times.txt"));
+    let res = d.join("res");
+    let mut args: Vec<String> = vec!["hdr".into(), "multiscopic".into()];
+    args.extend(views.iter().cloned());
+    args.extend(
+        [
+            "--times",
+            &times,
+            "--crf",
+            &s(&sim.join("crf.csv")),
+            "--max-disparity",
+            max_disp,
+            "--out",
+            &s(&res),
+        ]
+        .map(String::from),
+    );
+    let text = wscg_ok(&args);
+    assert!(text.contains("5 HDR views"), "{text}");
+    for k in 0..5 {
+        let hdr = Image::load(res.join(format!("hdr_{k:02}.exr"))).unwrap();
+        let truth = Image::load(sim.join(format!("truth_{k:02}.exr"))).unwrap();
+        assert_eq!(hdr.shape(), truth.shape());
+        // Close to the truth in log radiance on average (the unaligned merge is ~1 stop off).
+        let mean_log_err = hdr
+            .data()
+            .iter()
+            .zip(truth.data())
+            .map(|(a, b)| (a.max(1e-9).log2() - b.log2()).abs() as f64)
+            .sum::<f64>()
+            / hdr.data().len() as f64;
+        eprintln!("view {k}: mean |log2 error| {mean_log_err:.3}");
+        assert!(mean_log_err < 0.3, "view {k}: {mean_log_err}");
+        Image::load(res.join(format!("preview_{k:02}.png"))).unwrap();
+    }
+    assert!(res.join("disparity_0_1.png").exists());
+    // The static stack of the central view: calibrate a response, merge with it.
+    let cal = sim.join("calibration");
+    let stack: Vec<String> = (0..7)
+        .map(|k| s(&cal.join(format!("exposure_{k:02}.png"))))
+        .collect();
+    let cal_times = s(&cal.join("times.txt"));
+    let crf = d.join("crf.csv");
+    let mut args: Vec<String> = vec!["hdr".into(), "calibrate".into()];
+    args.extend(stack.iter().cloned());
+    args.extend(["--times", &cal_times, "--out", &s(&crf)].map(String::from));
+    wscg_ok(&args);
+    let table = std::fs::read_to_string(&crf).unwrap();
+    let rows: Vec<Vec<f64>> = table
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!((rows.len(), rows[0].len()), (256, 3));
+    // The recovered shape is the simulator's gamma 2.2 (up to a scale): ln ratio of codes
+    // 200 and 50 is 2.2 ln 4.
+    let ratio = (rows[200][1] / rows[50][1]).ln();
+    assert!((ratio - 2.2 * 4f64.ln()).abs() < 0.15, "{ratio}");
+    let merged = d.join("merged.exr");
+    let mut args: Vec<String> = vec!["hdr".into(), "merge".into()];
+    args.extend(stack.iter().cloned());
+    args.extend(
+        [
+            "--times",
+            &cal_times,
+            "--crf",
+            &s(&crf),
+            "--out",
+            &s(&merged),
+        ]
+        .map(String::from),
+    );
+    wscg_ok(&args);
+    let m = Image::load(&merged).unwrap();
+    let truth = Image::load(sim.join("truth_02.exr")).unwrap();
+    assert_eq!(m.shape(), truth.shape());
+    // Up to the response's unknown scale, the merge is the truth: the log ratio is flat.
+    let logs: Vec<f64> = m
+        .data()
+        .iter()
+        .zip(truth.data())
+        .map(|(a, b)| (a.max(1e-12) / b) as f64)
+        .map(f64::log2)
+        .collect();
+    let mean = logs.iter().sum::<f64>() / logs.len() as f64;
+    let sd = (logs.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / logs.len() as f64).sqrt();
+    assert!(sd < 0.1, "log2 ratio spread {sd}");
+    // Bad input: one view, wrong time count, a float image, an unknown method.
+    let bad = wscg()
+        .args([
+            "hdr",
+            "multiscopic",
+            &views[0],
+            "--times",
+            "0.1",
+            "--out",
+            &s(&res),
+        ])
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    let bad = wscg()
+        .args([
+            "hdr",
+            "multiscopic",
+            &views[0],
+            &views[1],
+            "--times",
+            "0.1",
+            "--out",
+            &s(&res),
+        ])
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("times"));
+    let exr = s(&sim.join("truth_00.exr"));
+    let bad = wscg()
+        .args(["hdr", "merge", &exr, "--times", "0.1", "--out", &s(&merged)])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("integer codes"));
+    let bad = wscg()
+        .args([
+            "hdr",
+            "multiscopic",
+            &views[0],
+            &views[1],
+            "--times",
+            "0.1,0.2",
+            "--align",
+            "magic",
+            "--out",
+            &s(&res),
+        ])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("unknown method"));
+}

@@ -247,7 +247,7 @@ pub fn read_gyro(path: &Path) -> Result<Vec<GyroSample>> {
     Ok(out)
 }
 
-fn read_times(s: &str) -> Result<Vec<f64>> {
+pub(super) fn read_times(s: &str) -> Result<Vec<f64>> {
     let p = Path::new(s);
     if p.is_file() {
         let text = String::from_utf8(wscg_math::error::read_file(p)?)

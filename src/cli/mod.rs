@@ -10,6 +10,7 @@ mod biometrics;
 mod cloth;
 mod deblur;
 mod doe;
+mod hdr;
 mod isosurface;
 mod manylight;
 mod math;
@@ -73,6 +74,10 @@ enum Command {
     /// Gyroscope-driven multi-frame deblurring (paper 12): deblur, kernels, simulated bursts.
     #[command(subcommand)]
     Deblur(deblur::DeblurCommand),
+    /// Multiscopic HDR (paper 13): HDR per view of a multi-exposure camera array, merge,
+    /// response calibration, simulated camera arrays.
+    #[command(subcommand)]
+    Hdr(hdr::HdrCommand),
     /// Hybrid ROI visualisation of medical volumes (paper 03): serve and view.
     #[command(subcommand)]
     Volren(volren::VolrenCommand),
@@ -153,6 +158,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Octree(cmd) => octree::run(cmd),
         Command::Mri(cmd) => mri::run(cmd),
         Command::Deblur(cmd) => deblur::run(cmd),
+        Command::Hdr(cmd) => hdr::run(cmd),
         Command::Video(cmd) => video::run(cmd),
         Command::Raytrace(cmd) => raytrace::run(cmd),
         Command::Doe(cmd) => doe::run(cmd),

@@ -15,6 +15,7 @@
 //! - [`merge`]: the weighted merge (eq. 6) with a defined fallback for clipped pixels.
 //! - [`multiscopic`]: the driver over all ordered pairs of views, with the unaligned merge
 //!   baseline.
+//! - [`tonemap`]: Reinhard's global operator for pictures.
 //! - [`synth`] and [`metrics`]: a layered multi-view scene with ground truth, log-radiance
 //!   error, bad-pixel rates and field coherence.
 //!
@@ -39,6 +40,7 @@ pub mod pm;
 pub mod radiance;
 pub mod stereo;
 pub mod synth;
+pub mod tonemap;
 pub mod vote;
 
 pub use crf::{calibrate_debevec, Crf};

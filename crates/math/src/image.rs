@@ -369,6 +369,53 @@ impl Image<f32> {
     }
 }
 
+impl Image<u16> {
+    /// Loads an 8- or 16-bit PNG (or 8-bit JPEG) as raw integer codes with their bit depth
+    /// (8 or 16): what a camera response maps to radiance. Alpha channels are dropped.
+    /// Float formats (OpenEXR, Radiance HDR) are errors: they hold no codes. The file is
+    /// only read.
+    pub fn load_codes(path: impl AsRef<Path>) -> Result<(Self, u8)> {
+        let path = path.as_ref();
+        let bytes = read_file(path)?;
+        let img = ImageReader::new(Cursor::new(&bytes))
+            .with_guessed_format()
+            .map_err(|e| Error::io(path, e))?
+            .decode()
+            .map_err(|e| Error::format(path, e.to_string()))?;
+        let (w, h) = (img.width() as usize, img.height() as usize);
+        let (channels, bits, data): (usize, u8, Vec<u16>) = match &img {
+            DynamicImage::ImageLuma8(b) => (1, 8, b.iter().map(|&v| v as u16).collect()),
+            DynamicImage::ImageLumaA8(b) => {
+                (1, 8, b.iter().step_by(2).map(|&v| v as u16).collect())
+            }
+            DynamicImage::ImageRgb8(b) => (3, 8, b.iter().map(|&v| v as u16).collect()),
+            DynamicImage::ImageRgba8(b) => (
+                3,
+                8,
+                b.chunks_exact(4)
+                    .flat_map(|p| [p[0], p[1], p[2]])
+                    .map(u16::from)
+                    .collect(),
+            ),
+            DynamicImage::ImageLuma16(b) => (1, 16, b.to_vec()),
+            DynamicImage::ImageLumaA16(b) => (1, 16, b.iter().step_by(2).copied().collect()),
+            DynamicImage::ImageRgb16(b) => (3, 16, b.to_vec()),
+            DynamicImage::ImageRgba16(b) => (
+                3,
+                16,
+                b.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect(),
+            ),
+            _ => {
+                return Err(Error::format(
+                    path,
+                    "holds float pixels, not integer codes; give 8- or 16-bit PNG/JPEG views",
+                ))
+            }
+        };
+        Ok((Image::new(h, w, channels, data)?, bits))
+    }
+}
+
 impl Image<f32> {
     /// JPEG bytes of a 1- or 3-channel image at `quality` (1..=100), values clamped to
     /// `[0, 1]` (baseline JPEG, as a thin client would receive).

@@ -1,0 +1,348 @@
+//! `wscg hdr`: paper 13 (multiscopic HDR) on the user's own views.
+//!
+//! - `multiscopic`: views of a rectified horizontal camera array, one exposure each, to one
+//!   HDR image per view (OpenEXR), with tone-mapped previews and the disparity maps.
+//! - `merge`: an aligned exposure stack of one view to one HDR image.
+//! - `calibrate`: the camera response (Debevec-Malik) from a static exposure stack.
+//! - `simulate`: the layered five-camera scene with its ground truth.
+//!
+//! Views are 8- or 16-bit PNG (or 8-bit JPEG) holding the camera's codes. Exposure times
+//! are given as a comma list or a text file with one time per line. Responses: `gamma2.2`,
+//! `linear`, or a CSV table written by `calibrate` (one line per code, one column per
+//! channel, `#` comments). Input files are only read.
+
+use std::path::{Path, PathBuf};
+
+use clap::{Args, Subcommand};
+use wscg_hdr::synth::{encode, layered_scene, SceneCfg};
+use wscg_hdr::tonemap::reinhard;
+use wscg_hdr::{
+    calibrate_debevec, merge_stack, multiscopic_hdr, Align, Crf, MultiscopicParams, PmParams,
+    Synthesis,
+};
+use wscg_math::{Error, Image, Result};
+
+use super::deblur::read_times;
+use super::progress::Bars;
+
+#[derive(Subcommand, Debug)]
+pub enum HdrCommand {
+    /// One HDR image per view of a multi-exposure camera array (paper 13).
+    Multiscopic(MultiscopicArgs),
+    /// Merge an aligned exposure stack of one view into one HDR image.
+    Merge(MergeArgs),
+    /// Recover the camera response from a static exposure stack (Debevec-Malik).
+    Calibrate(CalibrateArgs),
+    /// Write the layered five-camera scene: views, times, response and ground truth.
+    Simulate(SimulateArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct Exposures {
+    /// Exposure times in seconds: "t1,t2,..." or a text file with one per line.
+    #[arg(long)]
+    times: String,
+    /// Camera response: gamma2.2, linear or a CSV table (see `calibrate`).
+    #[arg(long, default_value = "gamma2.2")]
+    crf: String,
+}
+
+#[derive(Args, Debug)]
+pub struct MultiscopicArgs {
+    /// Views, left to right (8- or 16-bit PNG or JPEG).
+    #[arg(required = true, num_args = 2..)]
+    views: Vec<PathBuf>,
+    #[command(flatten)]
+    exposures: Exposures,
+    /// Largest |disparity| between any two views, pixels.
+    #[arg(long, default_value_t = 64)]
+    max_disparity: i32,
+    /// Patch side (odd).
+    #[arg(long, default_value_t = 7)]
+    patch: usize,
+    /// PatchMatch iterations per direction.
+    #[arg(long, default_value_t = 2)]
+    iterations: usize,
+    /// Alignment: ours, pm2d, zncc or none.
+    #[arg(long, default_value = "ours")]
+    align: String,
+    /// Synthesis: bds (the paper) or direct.
+    #[arg(long, default_value = "bds")]
+    synthesis: String,
+    /// Views are ordered left to right: search one disparity sign per pair.
+    #[arg(long)]
+    ordered: bool,
+    /// Drop the coherence term of the matching cost.
+    #[arg(long)]
+    no_coherence: bool,
+    /// Seed of the random search.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Output folder (hdr_NN.exr, preview_NN.png, disparity_R_S.png).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct MergeArgs {
+    /// Aligned exposures of one view.
+    #[arg(required = true)]
+    images: Vec<PathBuf>,
+    #[command(flatten)]
+    exposures: Exposures,
+    /// Output HDR image (.exr or .hdr).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct CalibrateArgs {
+    /// Aligned exposures of a static scene.
+    #[arg(required = true, num_args = 2..)]
+    images: Vec<PathBuf>,
+    /// Exposure times in seconds: "t1,t2,..." or a text file with one per line.
+    #[arg(long)]
+    times: String,
+    /// Sample pixels on a regular grid.
+    #[arg(long, default_value_t = 70)]
+    samples: usize,
+    /// Smoothness weight lambda.
+    #[arg(long, default_value_t = 10.0)]
+    lambda: f64,
+    /// Output CSV table of f^-1 (one line per code, one column per channel).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct SimulateArgs {
+    /// Image height.
+    #[arg(long, default_value_t = 160)]
+    height: usize,
+    /// Image width.
+    #[arg(long, default_value_t = 256)]
+    width: usize,
+    /// Noise seed.
+    #[arg(long, default_value_t = 7)]
+    seed: u64,
+    /// Output folder.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+pub fn run(cmd: HdrCommand) -> Result<()> {
+    match cmd {
+        HdrCommand::Multiscopic(a) => multiscopic(a),
+        HdrCommand::Merge(a) => {
+            let (images, bits) = load_views(&a.images)?;
+            let times = read_times(&a.exposures.times)?;
+            let crf = load_crf(&a.exposures.crf, bits, images[0].channels())?;
+            let m = merge_stack(&images, &times, &[crf])?;
+            m.hdr.save(&a.out)?;
+            println!(
+                "merged {} exposures into {} ({} pixels clipped in every exposure)",
+                images.len(),
+                a.out.display(),
+                m.fallback_pixels
+            );
+            Ok(())
+        }
+        HdrCommand::Calibrate(a) => {
+            let (images, bits) = load_views(&a.images)?;
+            let times = read_times(&a.times)?;
+            let crf = calibrate_debevec(&images, &times, bits, a.samples, a.lambda)?;
+            write_crf(&crf, &a.out)?;
+            println!(
+                "response of {} codes x {} channels written to {}",
+                crf.levels(),
+                crf.channels(),
+                a.out.display()
+            );
+            Ok(())
+        }
+        HdrCommand::Simulate(a) => simulate(a),
+    }
+}
+
+/// Loads views as codes; all must share one bit depth.
+fn load_views(paths: &[PathBuf]) -> Result<(Vec<Image<u16>>, u8)> {
+    let mut out = Vec::with_capacity(paths.len());
+    let mut depth = None;
+    for p in paths {
+        let (img, bits) = Image::load_codes(p)?;
+        if depth.is_some_and(|d| d != bits) {
+            return Err(Error::format(
+                p,
+                format!(
+                    "is {bits}-bit but the first view is {}-bit",
+                    depth.unwrap_or(0)
+                ),
+            ));
+        }
+        depth = Some(bits);
+        out.push(img);
+    }
+    Ok((out, depth.unwrap_or(8)))
+}
+
+/// A response by name or from a CSV table.
+fn load_crf(spec: &str, bits: u8, channels: usize) -> Result<Crf> {
+    match spec {
+        "gamma2.2" => Crf::gamma(2.2, bits, 1),
+        "linear" => Crf::linear(bits, 1),
+        path => {
+            let p = Path::new(path);
+            let text = String::from_utf8(wscg_math::error::read_file(p)?)
+                .map_err(|_| Error::format(p, "not UTF-8 text"))?;
+            let mut vals = Vec::new();
+            let mut cols = None;
+            for (no, line) in text.lines().enumerate() {
+                let line = line.trim();
+                if line.is_empty() || line.starts_with('#') {
+                    continue;
+                }
+                let row = line
+                    .split(',')
+                    .map(|v| v.trim().parse::<f32>())
+                    .collect::<std::result::Result<Vec<f32>, _>>()
+                    .map_err(|_| Error::format(p, format!("line {}: not numbers", no + 1)))?;
+                if cols.is_some_and(|c| c != row.len()) {
+                    return Err(Error::format(
+                        p,
+                        format!("line {}: column count differs", no + 1),
+                    ));
+                }
+                cols = Some(row.len());
+                vals.extend(row);
+            }
+            let c = cols.ok_or_else(|| Error::format(p, "no table rows"))?;
+            if c != 1 && c != channels {
+                return Err(Error::format(
+                    p,
+                    format!("has {c} columns but the views have {channels} channels"),
+                ));
+            }
+            Crf::from_table(&vals, vals.len() / c, c)
+        }
+    }
+}
+
+/// Writes a response as CSV.
+fn write_crf(crf: &Crf, path: &Path) -> Result<()> {
+    let mut text = format!(
+        "# inverse camera response f^-1(Z), Z = 0..{}, one column per channel\n",
+        crf.z_max()
+    );
+    for row in crf.table().chunks_exact(crf.channels()) {
+        let cells: Vec<String> = row.iter().map(|v| format!("{v:e}")).collect();
+        text.push_str(&cells.join(","));
+        text.push('\n');
+    }
+    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+}
+
+/// Writes exposure times, one per line.
+fn write_times(times: &[f64], path: &Path) -> Result<()> {
+    let text: String = times.iter().map(|t| format!("{t}\n")).collect();
+    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+}
+
+fn multiscopic(a: MultiscopicArgs) -> Result<()> {
+    let (views, bits) = load_views(&a.views)?;
+    let times = read_times(&a.exposures.times)?;
+    let crf = load_crf(&a.exposures.crf, bits, views[0].channels())?;
+    let synthesis = match a.synthesis.as_str() {
+        "bds" => Synthesis::Bds,
+        "direct" => Synthesis::Direct,
+        s => {
+            return Err(Error::invalid(
+                "synthesis",
+                format!("unknown {s:?}; use bds or direct"),
+            ))
+        }
+    };
+    let p = MultiscopicParams {
+        pm: PmParams {
+            patch: a.patch,
+            iters: a.iterations,
+            d_min: -a.max_disparity,
+            d_max: a.max_disparity,
+            coherence: !a.no_coherence,
+            seed: a.seed,
+            ..PmParams::default()
+        },
+        align: Align::by_name(&a.align)?,
+        synthesis,
+        ordered: a.ordered,
+        ..MultiscopicParams::default()
+    };
+    std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
+    let out = multiscopic_hdr(&views, &times, &[crf], &p, &Bars::new("hdr"))?;
+    for (k, hdr) in out.hdr.iter().enumerate() {
+        hdr.save(a.out.join(format!("hdr_{k:02}.exr")))?;
+        reinhard(hdr, 0.18)?.save(a.out.join(format!("preview_{k:02}.png")))?;
+    }
+    let m = a.max_disparity.max(1) as f32;
+    for ((r, s), f) in &out.nnfs {
+        if s.abs_diff(*r) == 1 {
+            let d = f.dx_image().map(|v| (v.abs() / m).min(1.0));
+            d.save(a.out.join(format!("disparity_{r}_{s}.png")))?;
+        }
+    }
+    println!(
+        "{} HDR views written to {} (pixels clipped in every sample per view: {:?})",
+        out.hdr.len(),
+        a.out.display(),
+        out.fallback_pixels
+    );
+    Ok(())
+}
+
+fn simulate(a: SimulateArgs) -> Result<()> {
+    let cfg = SceneCfg {
+        height: a.height,
+        width: a.width,
+        ..SceneCfg::default()
+    };
+    let sc = layered_scene(&cfg, a.seed)?;
+    std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
+    for (k, v) in sc.views.iter().enumerate() {
+        v.map(|z| z as f32 / 255.0)
+            .save(a.out.join(format!("view_{k:02}.png")))?;
+        sc.radiance[k].save(a.out.join(format!("truth_{k:02}.exr")))?;
+    }
+    write_times(&sc.times, &a.out.join("times.txt"))?;
+    // A static stack of the central camera, one stop apart, for `calibrate` and `merge`.
+    let cal = a.out.join("calibration");
+    std::fs::create_dir_all(&cal).map_err(|e| Error::io(&cal, e))?;
+    let centre = sc.views.len() / 2;
+    let cal_times: Vec<f64> = (0..7).map(|k| 0.004 * 2f64.powi(k)).collect();
+    for (k, &t) in cal_times.iter().enumerate() {
+        let v = encode(
+            &sc.radiance[centre],
+            t,
+            cfg.response,
+            cfg.noise,
+            8,
+            a.seed + 100 + k as u64,
+        )?;
+        v.map(|z| z as f32 / 255.0)
+            .save(cal.join(format!("exposure_{k:02}.png")))?;
+    }
+    write_times(&cal_times, &cal.join("times.txt"))?;
+    write_crf(&sc.crf, &a.out.join("crf.csv"))?;
+    let max_d =
+        cfg.layers.iter().map(|l| l.disparity).fold(0.0, f64::max) * (sc.views.len() - 1) as f64;
+    println!(
+        "{} views of {} x {} written to {} (times.txt, crf.csv, truth_NN.exr, a static \
+         stack of the central view in calibration/); largest disparity {:.1} px: use \
+         --max-disparity {}",
+        sc.views.len(),
+        a.height,
+        a.width,
+        a.out.display(),
+        max_d,
+        max_d.ceil() as i32 + 1
+    );
+    Ok(())
+}
