@@ -15,6 +15,7 @@ mod deblur;
 mod doe;
 mod errors;
 mod handpose;
+mod hdr;
 mod isosurface;
 mod manylight;
 mod math;
@@ -30,7 +31,7 @@ mod volren;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 12] = [
+    let subs: [(&str, Register); 13] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
@@ -43,6 +44,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         ("octree", octree::register),
         ("csmri", csmri::register),
         ("deblur", deblur::register),
+        ("hdr", hdr::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

@@ -25,6 +25,10 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
 - :mod:`wscg.deblur`: paper 12, gyroscope-driven multi-frame blur estimation and removal
   (gyro blur kernels with rolling-shutter timing, piecewise and multi-frame hyper-Laplacian
   deconvolution, Wiener and Richardson-Lucy baselines, a dense gyro-blur simulator).
+- :mod:`wscg.hdr`: paper 13, multiscopic HDR image sequence generation (epipolar PatchMatch
+  with a coherence-penalised cost, bidirectional-similarity voting and Khan-weighted merging
+  per view; Debevec-Malik responses; 2-D PatchMatch, ZNCC stereo and unaligned baselines; a
+  layered multi-view scene with ground truth).
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -32,9 +36,9 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, csmri, deblur, doe, isosurface, math, meshfilter, octree, raytrace, video, volren
+from . import biometrics, cloth, csmri, deblur, doe, hdr, isosurface, math, meshfilter, octree, raytrace, video, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "deblur", "doe", "isosurface", "math", "meshfilter", "octree", "raytrace", "video", "volren",
+__all__ = ["biometrics", "cloth", "deblur", "doe", "hdr", "isosurface", "math", "meshfilter", "octree", "raytrace", "video", "volren",
            "__version__"]

@@ -1,0 +1,1031 @@
+"""Multiscopic HDR image sequence generation: paper 13 of WSCG vol. 23 (R. Ramirez Orozco,
+C. Loscos, I. Martin and A. Artusi, "Multiscopic HDR Image Sequence Generation").
+
+A rectified horizontal camera array shoots a static scene with a different exposure per
+camera; every view becomes an HDR radiance image. Each view is converted to radiance space
+with its inverse camera response, ``E = f^-1(Z) / dt``; for every ordered pair of views
+``(r, s)`` a dense nearest-neighbour field is computed by PatchMatch restricted to the
+epipolar line with a cost penalised for incoherence with the neighbours' matches (eqs. 1-4);
+every source view is synthesised aligned to every reference by bidirectional-similarity
+patch voting (eq. 5) and merged with the reference's own samples using Khan's weights
+(eqs. 6-7).
+
+- :func:`multiscopic_hdr`: the whole pipeline (with the 2-D PatchMatch, ZNCC stereo and
+  unaligned-merge baselines, and the direct-warp ablation).
+- :func:`patchmatch`, :func:`patchmatch_2d`, :func:`zncc_stereo`: dense fields between two
+  radiance images (the paper's matcher, original PatchMatch, a stereo baseline).
+- :func:`vote_bds`, :func:`warp_direct`: synthesis of a source view aligned to a reference.
+- :func:`calibrate_debevec`, :func:`to_radiance`, :func:`khan_weight`,
+  :func:`merge_stack`: camera responses, radiance space, weights and the merge of an aligned
+  exposure stack.
+- :func:`synth_scene`: a layered five-camera scene with ground-truth radiance, disparity and
+  visibility.
+- :func:`rmse_log2`, :func:`bad_rate`, :func:`incoherence`: the evaluation metrics.
+
+Conventions: images are ``(H, W)`` or ``(H, W, C)`` arrays, channels interleaved; an
+``(H, W)`` input gives ``(H, W)`` outputs. LDR views are unsigned integer codes (uint8, or
+uint16 for 10- to 16-bit RAW data); radiance images are floats. A field maps pixel ``(x, y)``
+of image ``A`` to pixel ``(x + dx, y + dy)`` of image ``B`` and is stored as an int32 array
+``(H, W, 2)`` of ``(dx, dy)``. Views are ordered left to right, so a point seen at column
+``x`` of a left view appears at ``x - d`` (``d > 0``) in a view on its right. Inverse
+responses are float tables ``(levels, C)`` (or ``(levels,)``) of ``f^-1(Z)`` for codes
+``Z = 0 .. levels - 1``, or the names ``"gamma2.2"`` (``f^-1(Z) = (Z / z_max)^2.2``) and
+``"linear"`` (RAW data, ``f^-1(Z) = Z / z_max``). Every function is deterministic for a
+given ``seed`` and releases the GIL while it computes. Bad input raises ``ValueError``.
+
+References
+----------
+R. Ramirez Orozco, C. Loscos, I. Martin and A. Artusi, "Multiscopic HDR Image Sequence
+Generation", WSCG 2015, Journal of WSCG vol. 23.
+C. Barnes, E. Shechtman, A. Finkelstein and D. B. Goldman, "PatchMatch: a randomized
+correspondence algorithm for structural image editing", SIGGRAPH 2009.
+D. Simakov, Y. Caspi, E. Shechtman and M. Irani, "Summarizing visual data using
+bidirectional similarity", CVPR 2008.
+P. Debevec and J. Malik, "Recovering high dynamic range radiance maps from photographs",
+SIGGRAPH 1997.
+E. A. Khan, A. O. Akyuz and E. Reinhard, "Ghost removal in high dynamic range images",
+ICIP 2006.
+"""
+
+from __future__ import annotations
+
+import numbers
+from typing import Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from ._native import hdr as _h
+
+__all__ = [
+    "multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
+    "warp_direct", "calibrate_debevec", "to_radiance", "khan_weight", "merge_stack",
+    "synth_scene", "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS",
+    "SYNTHESIS_METHODS", "CRF_NAMES",
+]
+
+#: Valid ``align`` names of :func:`multiscopic_hdr`.
+ALIGN_METHODS = ("ours", "pm2d", "zncc", "none")
+#: Valid ``synthesis`` names of :func:`multiscopic_hdr`.
+SYNTHESIS_METHODS = ("bds", "direct")
+#: Named inverse camera responses.
+CRF_NAMES = ("gamma2.2", "linear")
+
+_REFERENCE = "Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23"
+
+
+# ----------------------------------------------------------------------------------------
+# Input validation
+# ----------------------------------------------------------------------------------------
+
+def _int(name: str, v, lo: Optional[int] = None, hi: Optional[int] = None) -> int:
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral):
+        if isinstance(v, numbers.Real) and float(v).is_integer():
+            v = int(v)
+        else:
+            raise ValueError(f"`{name}` must be an integer, got {v!r}")
+    v = int(v)
+    if lo is not None and v < lo:
+        raise ValueError(f"`{name}` must be >= {lo}, got {v}")
+    if hi is not None and v > hi:
+        raise ValueError(f"`{name}` must be <= {hi}, got {v}")
+    return v
+
+
+def _seed(v) -> int:
+    return _int("seed", v, 0, 2 ** 64 - 1)
+
+
+def _flag(name: str, v) -> bool:
+    if not isinstance(v, (bool, np.bool_)):
+        raise ValueError(f"`{name}` must be True or False, got {v!r}")
+    return bool(v)
+
+
+def _real(name: str, v) -> float:
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        raise ValueError(f"`{name}` must be a real number, got {v!r}") from None
+    if not np.isfinite(f):
+        raise ValueError(f"`{name}` must be finite, got {f}")
+    return f
+
+
+def _positive(name: str, v) -> float:
+    f = _real(name, v)
+    if not f > 0:
+        raise ValueError(f"`{name}` must be > 0, got {f}")
+    return f
+
+
+def _array(x, name: str) -> np.ndarray:
+    a = np.asarray(x)
+    if a.dtype == np.bool_ or not np.issubdtype(a.dtype, np.number) or np.iscomplexobj(a):
+        raise ValueError(f"`{name}` must be a real numeric array, got dtype {a.dtype}")
+    return a
+
+
+def _dims(a: np.ndarray, name: str) -> Tuple[int, int, int]:
+    if a.ndim not in (2, 3):
+        raise ValueError(f"`{name}` must be a 2-D (H, W) or 3-D (H, W, C) array, "
+                         f"got shape {a.shape}")
+    if a.size == 0:
+        raise ValueError(f"`{name}` is empty (shape {a.shape})")
+    h, w = a.shape[:2]
+    return h, w, (a.shape[2] if a.ndim == 3 else 1)
+
+
+def _codes(x, name: str) -> np.ndarray:
+    """An LDR view of codes as a contiguous uint16 array (uint8 and uint16 accepted)."""
+    a = _array(x, name)
+    if a.dtype not in (np.uint8, np.uint16):
+        raise ValueError(f"`{name}` must hold camera codes as uint8 or uint16, got dtype "
+                         f"{a.dtype}; convert integer codes with .astype(np.uint16) (radiance "
+                         "images go to patchmatch, not here)")
+    _dims(a, name)
+    return np.ascontiguousarray(a, dtype=np.uint16)
+
+
+def _code_list(xs, name: str, min_len: int = 1) -> Tuple[List[np.ndarray], bool]:
+    """Views as uint16 arrays of one shape, and whether all were uint8."""
+    if isinstance(xs, np.ndarray):
+        raise ValueError(f"`{name}` must be a list of images, got one array of shape "
+                         f"{xs.shape}; pass list(a) for a stacked (N, H, W[, C]) array")
+    try:
+        xs = list(xs)
+    except TypeError:
+        raise ValueError(f"`{name}` must be a list of images, got {type(xs).__name__}") from None
+    if not xs:
+        raise ValueError(f"`{name}` is empty: need at least {min_len} image(s)")
+    u8 = all(np.asarray(v).dtype == np.uint8 for v in xs)
+    out = [_codes(v, f"{name}[{i}]") for i, v in enumerate(xs)]
+    for i, v in enumerate(out):
+        if v.shape != out[0].shape:
+            raise ValueError(f"images differ in shape: `{name}[0]` is {out[0].shape}, "
+                             f"`{name}[{i}]` is {v.shape}")
+    return out, u8
+
+
+def _float_image(x, name: str) -> np.ndarray:
+    a = _array(x, name)
+    if not np.issubdtype(a.dtype, np.floating):
+        raise ValueError(f"`{name}` must be a float (radiance) image, got dtype {a.dtype}; "
+                         "convert codes with to_radiance, or cast with .astype(np.float32)")
+    _dims(a, name)
+    a = np.ascontiguousarray(a, dtype=np.float32)
+    bad = ~np.isfinite(a)
+    if bad.any():
+        i = int(np.argmax(bad.ravel()))
+        raise ValueError(f"`{name}` contains a non-finite value (NaN or infinity, possibly "
+                         f"after conversion to float32) at flat index {i}")
+    return a
+
+
+def _times(times, n: int, name: str = "exposure_times") -> List[float]:
+    t = np.asarray(times, dtype=np.float64) if not np.isscalar(times) else np.asarray([times])
+    t = t.ravel()
+    if t.size != n:
+        raise ValueError(f"`{name}` must hold one exposure time per image: {n} images, "
+                         f"{t.size} times")
+    for i, v in enumerate(t):
+        if not (np.isfinite(v) and v > 0):
+            raise ValueError(f"`{name}[{i}]` must be finite and > 0 (seconds), got {v}")
+    return [float(v) for v in t]
+
+
+def _table(c, name: str) -> np.ndarray:
+    t = _array(c, name)
+    if t.ndim not in (1, 2):
+        raise ValueError(f"`{name}` must be a table (levels,) or (levels, C) of f^-1, "
+                         f"got shape {t.shape}")
+    t = np.ascontiguousarray(t, dtype=np.float32)
+    t2 = t.reshape(t.shape[0], -1)
+    levels, ch = t2.shape
+    if not 2 <= levels <= 65536 or ch == 0:
+        raise ValueError(f"`{name}` needs 2..65536 levels (z_max + 1) and >= 1 channel, "
+                         f"got shape {t.shape}")
+    if not np.isfinite(t2).all() or (t2 < 0).any():
+        raise ValueError(f"`{name}`: f^-1 must be finite and >= 0")
+    dec = np.diff(t2, axis=0) < 0
+    if dec.any():
+        z, c = np.argwhere(dec)[0]
+        raise ValueError(f"`{name}` is not monotone: f^-1({z + 1}) < f^-1({z}) in channel {c}; "
+                         "an inverse response must be non-decreasing")
+    if not (t2[-1] > 0).all():
+        raise ValueError(f"`{name}`: f^-1(z_max) must be > 0")
+    return t
+
+
+def _crf_one(c, name: str):
+    if isinstance(c, str):
+        if c not in CRF_NAMES:
+            raise ValueError(f"unknown response {c!r} for `{name}`; use \"gamma2.2\", "
+                             "\"linear\" or a table (levels, C) of f^-1")
+        return c
+    return _table(c, name)
+
+
+def _crfs(crf, n: int) -> list:
+    """One response or one per image (a list of names or arrays)."""
+    if isinstance(crf, (list, tuple)) and len(crf) > 0 and all(
+            isinstance(c, (str, np.ndarray)) for c in crf):
+        if len(crf) != n:
+            raise ValueError(f"`crf`: give one response or one per view ({n}), got a list of "
+                             f"{len(crf)}")
+        return [_crf_one(c, f"crf[{i}]") for i, c in enumerate(crf)]
+    return [_crf_one(crf, "crf")]
+
+
+def _bits(bits, crfs: list, views: Sequence[np.ndarray], u8: bool) -> Optional[int]:
+    """The bit depth of named responses: given, 8 for uint8 views, or (``None``) the smallest
+    depth covering the largest code, inferred natively. A table carries its own depth."""
+    if bits is None:
+        return 8 if u8 else None
+    bits = _int("bits", bits, 1, 16)
+    max_code = max(int(v.max()) for v in views)
+    if max_code > 2 ** bits - 1:
+        raise ValueError(f"the images hold code {max_code}, above the {bits}-bit maximum "
+                         f"{2 ** bits - 1}: `bits` is too small")
+    for i, c in enumerate(crfs):
+        if not isinstance(c, str) and c.shape[0] != 2 ** bits:
+            raise ValueError(f"`bits` = {bits} means {2 ** bits} codes but the response "
+                             f"table {i} has {c.shape[0]} levels")
+    return bits
+
+
+def _offsets(x, name: str) -> np.ndarray:
+    a = _array(x, name)
+    if a.ndim != 3 or a.shape[2] != 2 or a.size == 0:
+        raise ValueError(f"`{name}` must be a non-empty (H, W, 2) array of offsets (dx, dy), "
+                         f"got shape {a.shape}")
+    if not np.issubdtype(a.dtype, np.integer):
+        if not (np.isfinite(a).all() and (a == np.round(a)).all()):
+            raise ValueError(f"`{name}` must hold integer offsets")
+    if a.size and (np.abs(a.astype(np.float64)) > 2 ** 30).any():
+        raise ValueError(f"`{name}` holds offsets beyond +-2^30")
+    return np.ascontiguousarray(a, dtype=np.int32)
+
+
+def _patch(name: str, patch, *sides: int) -> int:
+    p = _int(name, patch)
+    lim = min(sides)
+    if p < 3 or p % 2 == 0 or p > lim:
+        raise ValueError(f"`{name}` must be odd, >= 3 and <= min(height, width) = {lim}, "
+                         f"got {p}")
+    return p
+
+
+def _range(min_disparity, max_disparity, width: int) -> Tuple[int, int]:
+    d_max = _int("max_disparity", max_disparity)
+    d_min = -d_max if min_disparity is None else _int("min_disparity", min_disparity)
+    if d_min > d_max:
+        raise ValueError(f"min_disparity = {d_min} > max_disparity = {d_max}: the disparity "
+                         "range is empty")
+    m = max(abs(d_min), abs(d_max))
+    if m >= width:
+        raise ValueError(f"|disparity| up to {m} must be < the image width {width} "
+                         "(max_disparity / min_disparity too large)")
+    return d_min, d_max
+
+
+def _channels_match(a: np.ndarray, b: np.ndarray) -> None:
+    ca = a.shape[2] if a.ndim == 3 else 1
+    cb = b.shape[2] if b.ndim == 3 else 1
+    if ca != cb:
+        raise ValueError(f"`a` and `b` must have the same number of channels, got {ca} and {cb}")
+
+
+# ----------------------------------------------------------------------------------------
+# Pipeline
+# ----------------------------------------------------------------------------------------
+
+def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
+                    iterations: int = 2, max_disparity: int = 64,
+                    min_disparity: Optional[int] = None, coherence: bool = True,
+                    epipolar: bool = True, align: str = "ours", synthesis: str = "bds",
+                    ordered: bool = False, weighted_cost: bool = False,
+                    bits: Optional[int] = None, seed: int = 0, return_details: bool = False):
+    """One HDR radiance image per view of a rectified multi-exposure camera array (paper
+    section 3, Fig. 2).
+
+    Parameters
+    ----------
+    views : list of arrays (H, W) or (H, W, C), uint8 or uint16
+        At least two views of one size, ordered left to right on a horizontal baseline, each
+        shot with its own exposure.
+    exposure_times : sequence of float
+        Exposure time ``dt_n`` of every view (seconds, > 0).
+    crf : str, array or list, default "gamma2.2"
+        Inverse camera response: ``"gamma2.2"``, ``"linear"`` (RAW), a float table
+        ``(levels, C)`` or ``(levels,)`` of ``f^-1(Z)`` (as :func:`calibrate_debevec`
+        returns), or a list of those, one per view (each camera needs its own response).
+    patch : int, default 7
+        Patch side ``N`` (odd, >= 3; the paper's figures use 7 x 7).
+    iterations : int, default 2
+        PatchMatch iterations per direction (the paper: "two iterations were enough").
+    max_disparity : int, default 64
+        Largest horizontal offset searched, ``Max_disp`` of eqs. 1 and 4 (< width).
+    min_disparity : int, optional
+        Smallest horizontal offset; default ``-max_disparity``.
+    coherence : bool, default True
+        Divide the patch distance by the coherence term ``C`` (eqs. 2 and 4).
+    epipolar : bool, default True
+        Search on the epipolar line (the paper). ``False`` with ``align="ours"`` searches
+        in 2-D over the whole source (keeping the coherence term).
+    align : {"ours", "pm2d", "zncc", "none"}, default "ours"
+        The paper's PatchMatch, the original 2-D PatchMatch of Barnes et al. (SSD only), ZNCC
+        stereo with a left-right check and direct warp (Batz et al. style), or no alignment
+        (the paper's Fig. 1a).
+    synthesis : {"bds", "direct"}, default "bds"
+        Bidirectional-similarity voting with both fields (eq. 5) or the direct warp through
+        the reference-to-source field (Fig. 5a); ZNCC always warps directly.
+    ordered : bool, default False
+        Use the view order: a source right of the reference searches only
+        ``[-Max_disp, 0]``, one on its left only ``[0, Max_disp]``.
+    weighted_cost : bool, default False
+        Not in the paper (an ablation): weight each squared difference by the smaller Khan
+        weight of the two samples so clipped pixels do not drive the match.
+    bits : int, optional
+        Bit depth of named responses: default 8 for uint8 views, otherwise the smallest depth
+        covering the largest code (pass it for RAW data, e.g. 10, since ``z_max`` also sets
+        the Khan weights). A table's length must equal ``2**bits`` when both are given.
+    seed : int, default 0
+        Seed of the random initialisation and search; each ordered pair derives its own.
+    return_details : bool, default False
+        Also return the fields and the fallback counts.
+
+    Returns
+    -------
+    hdr : list of float32 arrays
+        Radiance ``E_r^HDR`` of every view, of the views' shape.
+    fields : dict, only with ``return_details``
+        ``fields[(r, s)]``: int32 ``(H, W, 2)`` offsets ``(dx, dy)`` from view ``r`` to view
+        ``s`` for every ordered pair (empty for ``align="none"``).
+    fallback_pixels : list of int, only with ``return_details``
+        Per view, pixels where every sample of some channel was clipped (see
+        :func:`merge_stack`).
+
+    Notes
+    -----
+    Every view goes to radiance space, ``E_n = f_n^-1(Z_n) / dt_n`` (numerator of eq. 6).
+    For every ordered pair ``(r, s)`` the field ``r -> s`` minimises
+    ``D(p, d) = SSD(p, d) / C(p, d)`` (eq. 2): ``SSD`` is the mean squared radiance
+    difference of the ``N x N`` patches (eq. 3), ``C = max(1 - d_c / Max_disp, 0.05)``
+    (eq. 4) with ``d_c`` the distance of the candidate offset to the closest offset of a
+    4-neighbour; candidates come from propagation and the random search
+    ``u_i = v_0 + w alpha^i R_i`` on the epipolar line (eq. 1, ``w = Max_disp``,
+    ``alpha = 1/2``). Every source is synthesised aligned to every reference by voting with
+    both fields (eq. 5; radiance, weights and levels voted together so the weights follow
+    the source pixels) and merged with the reference's samples:
+    ``E_r^HDR = sum_n w_n E_n / sum_n w_n`` (eq. 6) with ``w(Z) = 1 - (2 Z / z_max - 1)^12``
+    (eq. 7). Pairs are matched in parallel; the result depends on ``seed`` only.
+    Saturated areas of the reference stay unreliable (the paper's stated limitation).
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3, eqs. 1-7.
+
+    Examples
+    --------
+    >>> from wscg import hdr
+    >>> sc = hdr.synth_scene(height=48, width=64, exposure_times=(0.005, 0.04, 0.3))
+    >>> out = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], max_disparity=40)
+    >>> len(out), out[0].shape, out[0].dtype
+    (3, (48, 64, 3), dtype('float32'))
+    """
+    if isinstance(views, (list, tuple)) and len(views) == 1:
+        raise ValueError("multiscopic_hdr needs at least 2 views, got 1; to merge an aligned "
+                         "exposure stack of one view use merge_stack")
+    vs, u8 = _code_list(views, "views")
+    if len(vs) < 2:
+        raise ValueError(f"multiscopic_hdr needs at least 2 views, got {len(vs)}; to merge "
+                         "an aligned exposure stack of one view use merge_stack")
+    h, w = vs[0].shape[:2]
+    times = _times(exposure_times, len(vs))
+    crfs = _crfs(crf, len(vs))
+    nbits = _bits(bits, crfs, vs, u8)
+    if align not in ALIGN_METHODS:
+        raise ValueError(f"{align!r} is not a valid align method. Valid methods are "
+                         + ", ".join(repr(m) for m in ALIGN_METHODS))
+    if synthesis not in SYNTHESIS_METHODS:
+        raise ValueError(f"{synthesis!r} is not a valid synthesis. Valid names are "
+                         + ", ".join(repr(m) for m in SYNTHESIS_METHODS))
+    epipolar = _flag("epipolar", epipolar)
+    if align == "none":
+        # Nothing is matched: the matching parameters are not used.
+        p, d_min, d_max = _int("patch", patch, 0, 2 ** 31), 0, 0
+    else:
+        p = _patch("patch", patch, h, w)
+        if align == "zncc" or (align == "ours" and epipolar):
+            d_min, d_max = _range(min_disparity, max_disparity, w)
+        else:
+            # 2-D search: the disparity range is not used.
+            d_max = _int("max_disparity", max_disparity, 0, 2 ** 24)
+            d_min = -d_max if min_disparity is None else _int("min_disparity",
+                                                             min_disparity, -2 ** 24, 2 ** 24)
+    hdr_list, fields, fallback = _h.multiscopic_hdr(
+        vs, times, crfs, nbits, p, _int("iterations", iterations, 0, 100000), d_min, d_max,
+        _flag("coherence", coherence), epipolar, align, synthesis, _flag("ordered", ordered),
+        _flag("weighted_cost", weighted_cost), _seed(seed), _flag("return_details",
+                                                                 return_details))
+    if return_details:
+        return hdr_list, fields, fallback
+    return hdr_list
+
+
+# ----------------------------------------------------------------------------------------
+# Matching and synthesis
+# ----------------------------------------------------------------------------------------
+
+def patchmatch(a, b, *, patch: int = 7, iterations: int = 2, min_disparity: int = -64,
+               max_disparity: int = 64, v_tol: int = 0, coherence: bool = True,
+               epipolar: bool = True, c_min: float = 0.05, alpha: float = 0.5,
+               seed: int = 0) -> Tuple[np.ndarray, np.ndarray]:
+    """The paper's PatchMatch from image ``a`` to image ``b`` (section 3.1, eqs. 1-4).
+
+    Parameters
+    ----------
+    a, b : float arrays (H, W) or (H, W, C)
+        Radiance images (see :func:`to_radiance`) with the same number of channels; they may
+        differ in size.
+    patch : int, default 7
+        Patch side ``N`` (odd, >= 3, <= the smaller image side).
+    iterations : int, default 2
+        Sweeps: even ones scan top-left to bottom-right and propagate from the left and top
+        neighbours, odd ones scan back.
+    min_disparity, max_disparity : int, default -64, 64
+        Range of the horizontal offset ``dx`` (epipolar mode); ``|d| < width``.
+    v_tol : int, default 0
+        Vertical tolerance ``|dy| <= v_tol`` (0: exact rectification).
+    coherence : bool, default True
+        Divide the patch distance by the coherence term (eq. 2); ``False``: SSD alone.
+    epipolar : bool, default True
+        Search on the epipolar line; ``False`` searches all of ``b`` in 2-D (the disparity
+        range and ``v_tol`` are then unused).
+    c_min : float, default 0.05
+        Lower bound of the coherence term ``C`` in ``(0, 1]`` (the paper leaves ``C <= 0``
+        undefined).
+    alpha : float, default 0.5
+        Ratio of the random-search radii (eq. 1), in ``(0, 1)``.
+    seed : int, default 0
+        Seed of the initialisation and the random search.
+
+    Returns
+    -------
+    offsets : int32 array (H, W, 2)
+        ``(dx, dy)`` per pixel of ``a``: pixel ``(x, y)`` matches ``(x + dx, y + dy)`` of
+        ``b``.
+    cost : float32 array (H, W)
+        The final cost ``D`` of each match (eq. 2; the SSD when ``coherence=False``).
+
+    Notes
+    -----
+    ``SSD(p, d)`` is the mean over the valid pixels and channels of the squared difference of
+    the ``N x N`` patches at ``p`` in ``a`` and ``p + d`` in ``b`` (eq. 3, a mean so border
+    patches compare fairly); ``C(p, d) = max(1 - d_c / Max_disp, c_min)`` (eq. 4),
+    ``Max_disp = max(|min_disparity|, |max_disparity|)`` and ``d_c`` the Euclidean distance
+    of ``d`` to the closest current offset of a 4-neighbour; ``D = SSD / C`` (eq. 2). The
+    offsets start uniformly random in the range on the same scanline; each pixel tries its
+    neighbours' offsets (propagation) and ``u_i = v_0 + w alpha^i R_i``, ``R_i ~ U[-1, 1]``,
+    ``w = Max_disp``, while ``w alpha^i >= 1`` (random search, eq. 1). The cost of the
+    current match is recomputed before each comparison because ``C`` depends on neighbours
+    that moved. Sequential and deterministic for a given ``seed``.
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3.1, eqs. 1-4.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wscg import hdr
+    >>> rng = np.random.default_rng(0)
+    >>> a = rng.random((32, 64)).astype(np.float32)
+    >>> b = np.roll(a, -5, axis=1)            # b(x - 5) = a(x): true offset -5
+    >>> off, cost = hdr.patchmatch(a, b, min_disparity=-10, max_disparity=10, iterations=4)
+    >>> float(np.mean(off[4:-4, 8:-8, 0] == -5)) > 0.95
+    True
+    """
+    fa, fb = _float_image(a, "a"), _float_image(b, "b")
+    _channels_match(fa, fb)
+    h, w = min(fa.shape[0], fb.shape[0]), min(fa.shape[1], fb.shape[1])
+    p = _patch("patch", patch, h, w)
+    epipolar = _flag("epipolar", epipolar)
+    vt = _int("v_tol", v_tol)
+    if epipolar:
+        d_min, d_max = _range(min_disparity, max_disparity, w)
+        if not 0 <= vt < h:
+            raise ValueError(f"`v_tol` must be in 0..{h - 1}, got {vt}")
+    else:
+        d_min = _int("min_disparity", min_disparity, -2 ** 24, 2 ** 24)
+        d_max = _int("max_disparity", max_disparity, -2 ** 24, 2 ** 24)
+        vt = max(0, min(vt, 2 ** 24))
+    c_min = _real("c_min", c_min)
+    if not 0 < c_min <= 1:
+        raise ValueError(f"`c_min` must be in (0, 1], got {c_min}")
+    alpha = _real("alpha", alpha)
+    if not 0 < alpha < 1:
+        raise ValueError(f"`alpha` must be in (0, 1), got {alpha}")
+    return _h.patchmatch(fa, fb, p, _int("iterations", iterations, 0, 100000), d_min, d_max, vt,
+                         _flag("coherence", coherence), epipolar, c_min, alpha, _seed(seed))
+
+
+def patchmatch_2d(a, b, *, patch: int = 7, iterations: int = 5,
+                  seed: int = 0) -> Tuple[np.ndarray, np.ndarray]:
+    """The original PatchMatch of Barnes et al. (2009), the paper's "PM" baseline: 2-D
+    offsets anywhere in ``b``, SSD cost without the coherence term.
+
+    Parameters
+    ----------
+    a, b : float arrays (H, W) or (H, W, C)
+        Images with the same number of channels.
+    patch : int, default 7
+        Patch side (odd, >= 3).
+    iterations : int, default 5
+        Sweeps (Barnes et al. suggest 4-5; the paper compares 2 and 5).
+    seed : int, default 0
+
+    Returns
+    -------
+    offsets : int32 array (H, W, 2)
+        ``(dx, dy)`` per pixel of ``a``.
+    cost : float32 array (H, W)
+        Mean squared patch difference of each match.
+
+    Notes
+    -----
+    Uniform random initialisation over ``b``, propagation as in :func:`patchmatch`, random
+    search from radius ``max(W, H)`` with ``alpha = 1/2`` and ``R_i ~ U[-1, 1]^2``.
+
+    References
+    ----------
+    Barnes et al., SIGGRAPH 2009; compared against in Ramirez Orozco et al., WSCG 2015,
+    Journal of WSCG vol. 23, Figs. 4, 6 and 7.
+    """
+    fa, fb = _float_image(a, "a"), _float_image(b, "b")
+    _channels_match(fa, fb)
+    h, w = min(fa.shape[0], fb.shape[0]), min(fa.shape[1], fb.shape[1])
+    p = _patch("patch", patch, h, w)
+    return _h.patchmatch_2d(fa, fb, p, _int("iterations", iterations, 0, 100000), _seed(seed))
+
+
+def zncc_stereo(a, b, *, window: int = 9, min_disparity: int = -64, max_disparity: int = 64,
+                lr_tol: int = 1) -> Tuple[np.ndarray, np.ndarray]:
+    """The stereo-matching baseline (Batz et al. 2014 style, the paper's Fig. 1b).
+
+    Parameters
+    ----------
+    a, b : float arrays (H, W) or (H, W, C) of one shape
+        Radiance images; they are matched in grey (channel mean).
+    window : int, default 9
+        Correlation window side (odd, >= 3).
+    min_disparity, max_disparity : int, default -64, 64
+        Range of the horizontal offset: pixel ``x`` of ``a`` matches ``x + d`` of ``b``.
+    lr_tol : int, default 1
+        Left-right consistency tolerance ``|d_ab + d_ba| <= lr_tol``.
+
+    Returns
+    -------
+    offsets : int32 array (H, W, 2)
+        ``(d, 0)`` per pixel of ``a``.
+    cost : float32 array (H, W)
+        ``1 - ZNCC`` of the winner-take-all match (before the filling).
+
+    Notes
+    -----
+    Zero-mean normalised cross-correlation of the grey windows, winner-take-all over the
+    range in both directions; pixels failing the left-right check take the nearer valid
+    disparity of their row with the smaller ``|d|`` (the background side, where occlusions
+    are).
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, Fig. 1b; M. Batz et al.,
+    "High dynamic range video reconstruction from a stereo camera setup", Signal Processing:
+    Image Communication 29(2), 2014.
+    """
+    fa, fb = _float_image(a, "a"), _float_image(b, "b")
+    if fa.shape != fb.shape:
+        raise ValueError(f"stereo views must have one shape, got {fa.shape} and {fb.shape}")
+    h, w = fa.shape[:2]
+    win = _patch("window", window, h, w)
+    d_min, d_max = _range(min_disparity, max_disparity, w)
+    return _h.zncc_stereo(fa, fb, win, d_min, d_max, _int("lr_tol", lr_tol, 0, 2 ** 24))
+
+
+def vote_bds(src, offsets_rs, offsets_sr, *, patch: int = 7) -> np.ndarray:
+    """Synthesise the source view ``src`` aligned to a reference view by bidirectional-
+    similarity patch voting (paper section 3.2, eq. 5; Simakov et al. 2008).
+
+    Parameters
+    ----------
+    src : float array (Hs, Ws) or (Hs, Ws, C)
+        The source view ``s`` (radiance, or any per-pixel quantity to carry over).
+    offsets_rs : int array (Hr, Wr, 2)
+        Field from the reference ``r`` to the source (on the reference grid).
+    offsets_sr : int array (Hs, Ws, 2)
+        Field from the source to the reference (on the source grid).
+    patch : int, default 7
+        Patch side ``N`` of the votes (the one the fields were computed with).
+
+    Returns
+    -------
+    float32 array (Hr, Wr) or (Hr, Wr, C)
+        ``T_{r<-s}``, aligned to the reference with the values of the source.
+
+    Notes
+    -----
+    Per reference pixel ``p``:
+    ``T(p) = [ (1/N_r) sum_{q: p in Q(q)} S(q + off_rs(q) + p - q)
+    + (1/N_s) sum_{t: p in Q(t + off_sr(t))} S(t + p - (t + off_sr(t))) ]
+    / [ n_1(p) / N_r + n_2(p) / N_s ]``, ``Q(q)`` the ``N x N`` window at ``q``,
+    ``n_1, n_2`` the vote counts and ``N_r, N_s`` the patch counts of the two views. The
+    first term fetches every reference patch from the source, the second pushes every
+    source patch to where it matches, so there are no holes; occluded areas get the colours
+    of their best matches ("accurate in colour, not geometry"). Votes from outside ``src``
+    are skipped. The result does not depend on the thread count.
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3.2, eq. 5.
+    """
+    s = _float_image(src, "src")
+    rs = _offsets(offsets_rs, "offsets_rs")
+    sr = _offsets(offsets_sr, "offsets_sr")
+    if sr.shape[:2] != s.shape[:2]:
+        raise ValueError(f"`offsets_sr` is on a {sr.shape[0]} x {sr.shape[1]} grid but `src` "
+                         f"is {s.shape[0]} x {s.shape[1]}: it must be the source's field")
+    p = _patch("patch", patch, rs.shape[0], rs.shape[1], s.shape[0], s.shape[1])
+    return _h.vote_bds(s, rs, sr, p)
+
+
+def warp_direct(src, offsets_rs) -> np.ndarray:
+    """Direct warp of ``src`` through the reference-to-source field (the paper's Fig. 5a
+    ablation): ``T(p) = src(p + off_rs(p))``, clamped into ``src``.
+
+    Parameters
+    ----------
+    src : float array (Hs, Ws) or (Hs, Ws, C)
+    offsets_rs : int array (Hr, Wr, 2)
+
+    Returns
+    -------
+    float32 array (Hr, Wr) or (Hr, Wr, C)
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3.2, Fig. 5a.
+    """
+    return _h.warp_direct(_float_image(src, "src"), _offsets(offsets_rs, "offsets_rs"))
+
+
+# ----------------------------------------------------------------------------------------
+# Responses, radiance and merging
+# ----------------------------------------------------------------------------------------
+
+def calibrate_debevec(stack, exposure_times, *, samples: int = 70, lam: float = 10.0,
+                      bits: int = 8) -> np.ndarray:
+    """Recover the inverse camera response from a static exposure stack (Debevec & Malik
+    1997; the paper's section 3: "for 8bits LDR images a CRF per camera needs to be
+    estimated").
+
+    Parameters
+    ----------
+    stack : list of arrays (H, W) or (H, W, C), uint8 or uint16
+        At least two aligned exposures of a static scene.
+    exposure_times : sequence of float
+        Exposure time of every image (seconds, > 0).
+    samples : int, default 70
+        Sample pixels, on a regular grid (as OpenCV's ``CalibrateDebevec`` with
+        ``random=False`` places them).
+    lam : float, default 10
+        Smoothness weight ``lambda`` (> 0).
+    bits : int, default 8
+        Bit depth of the codes (1..12; the dense solve has ``2**bits`` unknowns per channel).
+
+    Returns
+    -------
+    float32 array (2**bits, C)
+        ``f^-1(Z)`` per code and channel, non-decreasing; usable as ``crf`` everywhere.
+
+    Notes
+    -----
+    Per channel, the least-squares solution of
+    ``min_{g, ln E_i} sum_ij [h(Z_ij)(g(Z_ij) - ln E_i - ln dt_j)]^2
+    + lambda^2 sum_z [h(z) g''(z)]^2`` with ``g(z_mid) = 0`` and the hat weight
+    ``h(z) = min(z, z_max - z)``, solved by SVD; ``f^-1 = exp(g)``. Codes the samples never
+    reach are filled by the smoothness term and kept monotone. A ``g`` that decreases over
+    the observed codes raises ``ValueError`` ("CRF calibration failed").
+
+    References
+    ----------
+    P. Debevec and J. Malik, SIGGRAPH 1997; Ramirez Orozco et al., WSCG 2015, Journal of
+    WSCG vol. 23, section 3.
+    """
+    imgs, _ = _code_list(stack, "stack")
+    if len(imgs) < 2:
+        raise ValueError(f"`stack` needs at least 2 exposures, got {len(imgs)}")
+    times = _times(exposure_times, len(imgs))
+    bits = _int("bits", bits, 1, 12)
+    mc = max(int(v.max()) for v in imgs)
+    if mc > 2 ** bits - 1:
+        raise ValueError(f"the stack holds code {mc}, above the {bits}-bit maximum "
+                         f"{2 ** bits - 1}: pass the right `bits`")
+    return _h.calibrate_debevec(imgs, times, _int("samples", samples, 1, 10 ** 6),
+                                _positive("lam", lam), bits)
+
+
+def to_radiance(image, crf, exposure_time: float, *, bits: Optional[int] = None) -> np.ndarray:
+    """A view of codes in radiance space: ``E = f^-1(Z) / dt`` per pixel and channel (paper
+    section 3, numerator of eq. 6).
+
+    Parameters
+    ----------
+    image : array (H, W) or (H, W, C), uint8 or uint16
+    crf : str or array
+        ``"gamma2.2"``, ``"linear"`` or a table ``(levels, C)`` / ``(levels,)`` of ``f^-1``.
+    exposure_time : float
+        ``dt`` in seconds (> 0).
+    bits : int, optional
+        Bit depth of a named response: default 8 for uint8, otherwise the smallest depth
+        covering the largest code.
+
+    Returns
+    -------
+    float32 array of the image's shape.
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3, eq. 6.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wscg import hdr
+    >>> hdr.to_radiance(np.array([[0, 255]], np.uint8), "linear", 0.5).tolist()
+    [[0.0, 2.0]]
+    """
+    img = _codes(image, "image")
+    u8 = np.asarray(image).dtype == np.uint8
+    crfs = [_crf_one(crf, "crf")]
+    nbits = _bits(bits, crfs, [img], u8)
+    return _h.to_radiance(img, crfs[0], _positive("exposure_time", exposure_time), nbits)
+
+
+def khan_weight(z, z_max: float = 255.0):
+    """Khan, Akyuz & Reinhard's weight of a code (paper eq. 7):
+    ``w(Z) = 1 - (2 Z / z_max - 1)^12``, clipped at 0.
+
+    Exactly 0 at ``Z = 0`` and ``Z = z_max`` (clipped samples do not leak into the merge),
+    1 at ``z_max / 2`` and close to 1 over most of the range.
+
+    Parameters
+    ----------
+    z : float or array
+        Codes (finite).
+    z_max : float, default 255
+        Largest code (1023 for 10-bit data).
+
+    Returns
+    -------
+    float for a scalar ``z``, otherwise a float32 array of its shape.
+
+    References
+    ----------
+    E. A. Khan et al., ICIP 2006; Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23,
+    eq. 7.
+
+    Examples
+    --------
+    >>> from wscg import hdr
+    >>> hdr.khan_weight(0.0), hdr.khan_weight(127.5), hdr.khan_weight(255.0)
+    (0.0, 1.0, 0.0)
+    """
+    scalar = np.ndim(z) == 0
+    a = _array(z, "z")
+    a = np.ascontiguousarray(a, dtype=np.float32)
+    if not np.isfinite(a).all():
+        raise ValueError("`z` contains a non-finite value (NaN or infinity)")
+    out = _h.khan_weight(a, _positive("z_max", z_max))
+    return float(out.reshape(())) if scalar else out
+
+
+def merge_stack(images, exposure_times, crf="gamma2.2", *,
+                bits: Optional[int] = None) -> Tuple[np.ndarray, int]:
+    """Merge an aligned exposure stack of one view into HDR (paper eqs. 6-7, no matching).
+
+    Parameters
+    ----------
+    images : list of arrays (H, W) or (H, W, C), uint8 or uint16
+        Aligned exposures of one shape (one image is allowed).
+    exposure_times : sequence of float
+        Exposure time of every image (seconds, > 0).
+    crf : str, array or list, default "gamma2.2"
+        One inverse response or one per image (see :func:`multiscopic_hdr`).
+    bits : int, optional
+        As in :func:`multiscopic_hdr`.
+
+    Returns
+    -------
+    hdr : float32 array of the images' shape
+        ``E = sum_n w(Z_n) E_n / sum_n w(Z_n)`` per pixel and channel.
+    fallback_pixels : int
+        Pixels where some channel had total weight ``< 1e-6`` (every sample clipped).
+
+    Notes
+    -----
+    ``E_n = f^-1(Z_n) / dt_n`` and ``w`` is :func:`khan_weight` (eqs. 6-7). The paper leaves
+    the all-clipped case undefined: such a channel takes the radiance of the shortest
+    exposure when its samples are clipped high (mean level >= 1/2; a lower bound of the true
+    radiance, ``f^-1(z_max) / min dt``) and of the longest exposure when they are clipped
+    low. The result has no NaN or infinity.
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, eqs. 6-7.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wscg import hdr
+    >>> e, n = hdr.merge_stack([np.full((2, 2), 255, np.uint8)] * 2, [0.01, 0.1])
+    >>> float(e[0, 0]), n
+    (100.0, 4)
+    """
+    imgs, u8 = _code_list(images, "images")
+    times = _times(exposure_times, len(imgs))
+    crfs = _crfs(crf, len(imgs))
+    nbits = _bits(bits, crfs, imgs, u8)
+    out, fallback = _h.merge_stack(imgs, times, crfs, nbits)
+    return out, int(fallback)
+
+
+# ----------------------------------------------------------------------------------------
+# Synthetic scene and metrics
+# ----------------------------------------------------------------------------------------
+
+def synth_scene(*, height: int = 160, width: int = 256,
+                exposure_times: Sequence[float] = (0.005, 0.030, 0.061, 0.122, 0.280),
+                emitter_peak: float = 300.0, noise: float = 0.002,
+                seed: int = 7) -> Dict[str, object]:
+    """A layered multi-view scene with ground truth, standing in for the paper's camera-array
+    data sets (spec section 3).
+
+    Three fronto-parallel textured planes at fractional disparities 7.5, 18.3 and 33.7 px
+    per camera step (the back one covering the image, a rectangle and a disk in front)
+    composited back to front (exact occlusions), lit by a field with a Gaussian emitter
+    ``emitter_peak`` times the base light on the back plane, seen by one camera per exposure
+    time on a horizontal baseline (left to right), gamma-2.2 response, Gaussian noise
+    ``noise`` (of full scale) before 8-bit quantisation.
+
+    Parameters
+    ----------
+    height, width : int, default 160, 256
+        View size (>= 8).
+    exposure_times : sequence of float, default the IIS Jumble set (5, 30, 61, 122, 280 ms)
+        One camera per time, 2 to 32 cameras.
+    emitter_peak : float, default 300
+        Peak of the emitter relative to the base light (>= 1).
+    noise : float, default 0.002
+        Noise standard deviation of the signal in ``[0, 1]`` (>= 0).
+    seed : int, default 7
+        Noise seed (the geometry and textures are fixed).
+
+    Returns
+    -------
+    dict
+        ``views``: list of uint8 ``(H, W, 3)``; ``exposure_times``: list of float; ``crf``:
+        float32 ``(256, 1)`` table of ``f^-1`` (gamma 2.2); ``radiance``: list of float32
+        ``(H, W, 3)`` true radiance per view; ``disparity``: list of float32 ``(H, W)``
+        true disparity per camera step of the visible layer (a point at column ``x`` of view
+        ``r`` is at ``x + (r - s) d`` in view ``s``); ``seen_by``: list of uint32 ``(H, W)``
+        bit masks of the views that see each pixel's surface point (bit ``j`` for view
+        ``j``).
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23 (exposures of the IIS Jumble
+    set, Fig. 7).
+    """
+    h = _int("height", height, 8)
+    w = _int("width", width, 8)
+    t = np.asarray(exposure_times, dtype=np.float64).ravel()
+    if not 2 <= t.size <= 32:
+        raise ValueError(f"`exposure_times` must give 2 to 32 cameras, got {t.size}")
+    times = _times(t, t.size)
+    peak = _real("emitter_peak", emitter_peak)
+    if peak < 1:
+        raise ValueError(f"`emitter_peak` must be >= 1, got {peak}")
+    nz = _real("noise", noise)
+    if nz < 0:
+        raise ValueError(f"`noise` must be >= 0, got {nz}")
+    return _h.synth_scene(h, w, times, peak, nz, _seed(seed))
+
+
+def rmse_log2(est, gt, mask=None) -> float:
+    """Log-radiance error ``sqrt(mean((log2 est - log2 gt)^2))`` (spec section 3 metric).
+
+    Parameters
+    ----------
+    est, gt : float arrays (H, W) or (H, W, C) of one shape
+        Estimated and true radiance; ``gt`` must be > 0 where evaluated. Non-positive
+        estimates count as the smallest positive float32.
+    mask : bool array, optional
+        Pixel-channels to evaluate: the shape of ``est``, or ``(H, W)`` (applied to every
+        channel). Default: all.
+
+    Returns
+    -------
+    float
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23 (the paper reports figures
+    only; this is the specification's quantitative measure).
+    """
+    e = _float_image(est, "est")
+    g = _float_image(gt, "gt")
+    if e.shape != g.shape:
+        raise ValueError(f"`est` has shape {e.shape} but `gt` has {g.shape}")
+    m = None
+    if mask is not None:
+        m = np.asarray(mask)
+        if m.dtype != np.bool_:
+            raise ValueError(f"`mask` must be a boolean array, got dtype {m.dtype}")
+        if m.shape == e.shape[:2] and e.ndim == 3:
+            m = np.broadcast_to(m[:, :, None], e.shape)
+        if m.shape != e.shape:
+            raise ValueError(f"`mask` has shape {m.shape}; expected {e.shape} or {e.shape[:2]}")
+        m = np.ascontiguousarray(m)
+        if not m.any():
+            raise ValueError("`mask` selects no pixels")
+    return _h.rmse_log2(e, g, m)
+
+
+def bad_rate(offsets, truth, k: float = 2.0, mask=None) -> float:
+    """Fraction of pixels whose horizontal offset differs from the truth by more than ``k``
+    pixels (the bad-k rate of stereo benchmarks; a nonzero ``dy`` counts as bad).
+
+    Parameters
+    ----------
+    offsets : int array (H, W, 2)
+        A field ``(dx, dy)``, e.g. from :func:`patchmatch`.
+    truth : float array (H, W)
+        True horizontal offset; NaN or infinity marks unknown pixels (not counted).
+    k : float, default 2.0
+        Tolerance in pixels (>= 0).
+    mask : bool array (H, W), optional
+        Pixels to rate (default: all with a known truth).
+
+    Returns
+    -------
+    float in ``[0, 1]``.
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3.1 (matching
+    accuracy, Figs. 4, 6, 7).
+    """
+    off = _offsets(offsets, "offsets")
+    t = _array(truth, "truth")
+    if t.shape != off.shape[:2]:
+        raise ValueError(f"`truth` has shape {t.shape}, expected the field's (H, W) = "
+                         f"{off.shape[:2]}")
+    t = np.ascontiguousarray(t, dtype=np.float32)
+    m = None
+    if mask is not None:
+        m = np.asarray(mask)
+        if m.dtype != np.bool_ or m.shape != off.shape[:2]:
+            raise ValueError(f"`mask` must be a boolean (H, W) = {off.shape[:2]} array, got "
+                             f"{m.dtype} {m.shape}")
+        m = np.ascontiguousarray(m)
+    known = np.isfinite(t) if m is None else (np.isfinite(t) & m)
+    if not known.any():
+        raise ValueError("no pixel to rate: `truth` is unknown (non-finite) wherever `mask` "
+                         "holds")
+    kk = _real("k", k)
+    if kk < 0:
+        raise ValueError(f"`k` must be >= 0, got {kk}")
+    return _h.bad_rate(off, t, kk, m)
+
+
+def incoherence(offsets) -> float:
+    """Incoherence of a field: the fraction of pixels whose offset differs from the median of
+    their ``3 x 3`` neighbourhood (per component, clipped at the borders) by more than 1 px.
+
+    The coherence term of eq. 4 exists to lower it (the paper's "more homogeneous" fields,
+    Figs. 4 and 6).
+
+    Parameters
+    ----------
+    offsets : int array (H, W, 2)
+
+    Returns
+    -------
+    float in ``[0, 1]``.
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, eq. 4, Figs. 4 and 6.
+    """
+    return _h.incoherence(_offsets(offsets, "offsets"))

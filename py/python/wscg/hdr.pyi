@@ -1,0 +1,59 @@
+from typing import Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+
+__all__: List[str]
+
+ALIGN_METHODS: Tuple[str, ...]
+SYNTHESIS_METHODS: Tuple[str, ...]
+CRF_NAMES: Tuple[str, ...]
+
+_Crf = Union[str, np.ndarray]
+_CrfArg = Union[str, np.ndarray, Sequence[Union[str, np.ndarray]]]
+_Fields = Dict[Tuple[int, int], np.ndarray]
+
+@overload
+def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float],
+                    crf: _CrfArg = ..., *, patch: int = ..., iterations: int = ...,
+                    max_disparity: int = ..., min_disparity: Optional[int] = ...,
+                    coherence: bool = ..., epipolar: bool = ..., align: str = ...,
+                    synthesis: str = ..., ordered: bool = ..., weighted_cost: bool = ...,
+                    bits: Optional[int] = ..., seed: int = ...,
+                    return_details: Literal[False] = ...) -> List[np.ndarray]: ...
+@overload
+def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float],
+                    crf: _CrfArg = ..., *, patch: int = ..., iterations: int = ...,
+                    max_disparity: int = ..., min_disparity: Optional[int] = ...,
+                    coherence: bool = ..., epipolar: bool = ..., align: str = ...,
+                    synthesis: str = ..., ordered: bool = ..., weighted_cost: bool = ...,
+                    bits: Optional[int] = ..., seed: int = ...,
+                    return_details: Literal[True]
+                    ) -> Tuple[List[np.ndarray], _Fields, List[int]]: ...
+def patchmatch(a: np.ndarray, b: np.ndarray, *, patch: int = ..., iterations: int = ...,
+               min_disparity: int = ..., max_disparity: int = ..., v_tol: int = ...,
+               coherence: bool = ..., epipolar: bool = ..., c_min: float = ...,
+               alpha: float = ..., seed: int = ...) -> Tuple[np.ndarray, np.ndarray]: ...
+def patchmatch_2d(a: np.ndarray, b: np.ndarray, *, patch: int = ..., iterations: int = ...,
+                  seed: int = ...) -> Tuple[np.ndarray, np.ndarray]: ...
+def zncc_stereo(a: np.ndarray, b: np.ndarray, *, window: int = ..., min_disparity: int = ...,
+                max_disparity: int = ..., lr_tol: int = ...) -> Tuple[np.ndarray, np.ndarray]: ...
+def vote_bds(src: np.ndarray, offsets_rs: np.ndarray, offsets_sr: np.ndarray, *,
+             patch: int = ...) -> np.ndarray: ...
+def warp_direct(src: np.ndarray, offsets_rs: np.ndarray) -> np.ndarray: ...
+def calibrate_debevec(stack: Sequence[np.ndarray], exposure_times: Sequence[float], *,
+                      samples: int = ..., lam: float = ..., bits: int = ...) -> np.ndarray: ...
+def to_radiance(image: np.ndarray, crf: _Crf, exposure_time: float, *,
+                bits: Optional[int] = ...) -> np.ndarray: ...
+@overload
+def khan_weight(z: float, z_max: float = ...) -> float: ...
+@overload
+def khan_weight(z: Union[np.ndarray, Sequence[float]], z_max: float = ...) -> np.ndarray: ...
+def merge_stack(images: Sequence[np.ndarray], exposure_times: Sequence[float],
+                crf: _CrfArg = ..., *, bits: Optional[int] = ...) -> Tuple[np.ndarray, int]: ...
+def synth_scene(*, height: int = ..., width: int = ..., exposure_times: Sequence[float] = ...,
+                emitter_peak: float = ..., noise: float = ...,
+                seed: int = ...) -> Dict[str, object]: ...
+def rmse_log2(est: np.ndarray, gt: np.ndarray, mask: Optional[np.ndarray] = ...) -> float: ...
+def bad_rate(offsets: np.ndarray, truth: np.ndarray, k: float = ...,
+             mask: Optional[np.ndarray] = ...) -> float: ...
+def incoherence(offsets: np.ndarray) -> float: ...
