@@ -156,6 +156,10 @@ pub fn levels_of(bits: u8) -> Result<usize> {
     Ok(1usize << bits)
 }
 
+/// Largest bit depth [`calibrate_debevec`] accepts (1024 codes: the dense least-squares
+/// system stays below a few thousand unknowns).
+pub const MAX_CALIBRATION_BITS: u8 = 10;
+
 /// Hat weight of Debevec & Malik, `h(z) = min(z, z_max - z)`.
 fn hat(z: usize, zmax: usize) -> f64 {
     z.min(zmax - z) as f64
@@ -206,6 +210,15 @@ pub fn calibrate_debevec(
     lambda: f64,
 ) -> Result<Crf> {
     let levels = levels_of(bits)?;
+    if bits > MAX_CALIBRATION_BITS {
+        return Err(Error::invalid(
+            "bits",
+            format!(
+                "calibration solves a dense system over every code: at most \
+                 {MAX_CALIBRATION_BITS} bits, got {bits} (RAW data is linear: use Crf::linear)"
+            ),
+        ));
+    }
     if stack.len() < 2 {
         return Err(Error::invalid(
             "stack",

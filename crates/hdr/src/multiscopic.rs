@@ -119,7 +119,7 @@ pub fn check_views(views: &[Image<u16>], times: &[f64], crfs: &[Crf]) -> Result<
             "views",
             format!(
                 "multiscopic HDR needs at least 2 views, got {}; to merge an aligned \
-                 exposure stack use merge",
+                 exposure stack use merge_stack",
                 views.len()
             ),
         ));

@@ -79,7 +79,10 @@ impl PmParams {
 
     /// The largest displacement `Max_disp` (eq. 4, and `w` of eq. 1) of the epipolar search.
     pub fn max_disp(&self) -> i32 {
-        self.d_min.abs().max(self.d_max.abs()).max(1)
+        self.d_min
+            .unsigned_abs()
+            .max(self.d_max.unsigned_abs())
+            .clamp(1, i32::MAX as u32) as i32
     }
 
     /// Checks the parameters for images of `(height, width)`.
@@ -154,23 +157,73 @@ pub fn check_pair(a: &Image<f32>, b: &Image<f32>) -> Result<()> {
     b.ensure_finite("b")
 }
 
-/// Sum of squared differences of two equal-length slices (8 lanes, so it vectorises).
-#[inline]
-fn sq_diff(a: &[f32], b: &[f32]) -> f32 {
-    let mut acc = [0f32; 8];
-    let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
+/// Four independent 4-lane accumulators: one SIMD register per pixel of the 4-channel
+/// padded layout, four of them so consecutive pixels do not wait on each other's additions.
+type Lanes = [[f32; 4]; 4];
+
+#[inline(always)]
+fn add_sq(acc: &mut [f32; 4], x: &[f32], y: &[f32]) {
+    let x: &[f32; 4] = x.try_into().expect("chunk of 4");
+    let y: &[f32; 4] = y.try_into().expect("chunk of 4");
+    for k in 0..4 {
+        let d = x[k] - y[k];
+        acc[k] += d * d;
+    }
+}
+
+/// Adds the squared differences of two equal-length slices to the accumulators.
+#[inline(always)]
+fn sq_diff_lanes(a: &[f32], b: &[f32], acc: &mut Lanes) {
+    let (ca, cb) = (a.chunks_exact(16), b.chunks_exact(16));
     let (ra, rb) = (ca.remainder(), cb.remainder());
     for (x, y) in ca.zip(cb) {
-        for k in 0..8 {
-            let d = x[k] - y[k];
-            acc[k] += d * d;
+        add_sq(&mut acc[0], &x[0..4], &y[0..4]);
+        add_sq(&mut acc[1], &x[4..8], &y[4..8]);
+        add_sq(&mut acc[2], &x[8..12], &y[8..12]);
+        add_sq(&mut acc[3], &x[12..16], &y[12..16]);
+    }
+    let (qa, qb) = (ra.chunks_exact(4), rb.chunks_exact(4));
+    let (ta, tb) = (qa.remainder(), qb.remainder());
+    for (k, (x, y)) in qa.zip(qb).enumerate() {
+        add_sq(&mut acc[k], x, y);
+    }
+    for (k, (x, y)) in ta.iter().zip(tb).enumerate() {
+        acc[3][k] += (x - y) * (x - y);
+    }
+}
+
+/// Sum of all lanes.
+#[inline(always)]
+fn lanes_sum(acc: &Lanes) -> f32 {
+    let mut v = [0f32; 4];
+    for a in acc {
+        for k in 0..4 {
+            v[k] += a[k];
         }
     }
-    let mut s: f32 = acc.iter().sum();
-    for (x, y) in ra.iter().zip(rb) {
-        s += (x - y) * (x - y);
+    (v[0] + v[1]) + (v[2] + v[3])
+}
+
+/// Sum of squared differences of two equal-length slices.
+#[inline]
+fn sq_diff(a: &[f32], b: &[f32]) -> f32 {
+    let mut acc = [[0f32; 4]; 4];
+    sq_diff_lanes(a, b, &mut acc);
+    lanes_sum(&acc)
+}
+
+/// The samples of `img` with channels padded by zeros to a multiple of 4 (so a patch row is
+/// whole SIMD registers); borrowed as they are when already a multiple.
+fn padded(data: &[f32], c: usize) -> std::borrow::Cow<'_, [f32]> {
+    let cp = c.div_ceil(4) * 4;
+    if cp == c {
+        return std::borrow::Cow::Borrowed(data);
     }
-    s
+    let mut out = vec![0f32; data.len() / c * cp];
+    for (o, p) in out.chunks_exact_mut(cp).zip(data.chunks_exact(c)) {
+        o[..c].copy_from_slice(p);
+    }
+    std::borrow::Cow::Owned(out)
 }
 
 /// Weighted sum of squared differences, `sum min(wa, wb) (a - b)^2`.
@@ -206,7 +259,10 @@ struct Space<'a> {
     ha: i32,
     wb: i32,
     hb: i32,
+    /// Channels of the (padded) layout.
     c: usize,
+    /// Channels of the images (what a mean counts).
+    c_real: usize,
     half: i32,
 }
 
@@ -218,6 +274,18 @@ impl Space<'_> {
     #[inline]
     fn ssd(&self, x: i32, y: i32, d: [i32; 2], bound: f32) -> f32 {
         let h = self.half;
+        if self.weights.is_none()
+            && x >= h
+            && y >= h
+            && x + h < self.wa
+            && y + h < self.ha
+            && x + d[0] >= h
+            && y + d[1] >= h
+            && x + d[0] + h < self.wb
+            && y + d[1] + h < self.hb
+        {
+            return self.ssd_interior(x, y, d, bound);
+        }
         let oy0 = (-h).max(-y).max(-y - d[1]);
         let oy1 = h.min(self.ha - 1 - y).min(self.hb - 1 - y - d[1]);
         let ox0 = (-h).max(-x).max(-x - d[0]);
@@ -226,7 +294,7 @@ impl Space<'_> {
             return f32::INFINITY;
         }
         let len = (ox1 - ox0 + 1) as usize * self.c;
-        let n = (oy1 - oy0 + 1) as f32 * len as f32;
+        let n = (oy1 - oy0 + 1) as f32 * ((ox1 - ox0 + 1) as usize * self.c_real) as f32;
         let lim = bound * n;
         let mut s = 0f32;
         for oy in oy0..=oy1 {
@@ -246,6 +314,38 @@ impl Space<'_> {
         } else {
             s / n
         }
+    }
+}
+
+impl Space<'_> {
+    /// [`Space::ssd`] of a patch inside both images: fixed row length, the lanes summed
+    /// across two rows at a time between the early-termination checks.
+    #[inline]
+    fn ssd_interior(&self, x: i32, y: i32, d: [i32; 2], bound: f32) -> f32 {
+        let side = (2 * self.half + 1) as usize;
+        let len = side * self.c;
+        let n = (side * side * self.c_real) as f32;
+        let lim = bound * n;
+        let (sa, sb) = (self.wa as usize * self.c, self.wb as usize * self.c);
+        let mut ra =
+            ((y - self.half) as usize * self.wa as usize + (x - self.half) as usize) * self.c;
+        let mut rb = ((y + d[1] - self.half) as usize * self.wb as usize
+            + (x + d[0] - self.half) as usize)
+            * self.c;
+        let mut acc = [[0f32; 4]; 4];
+        let mut s = 0f32;
+        for row in 0..side {
+            sq_diff_lanes(&self.a[ra..ra + len], &self.b[rb..rb + len], &mut acc);
+            ra += sa;
+            rb += sb;
+            if row % 2 == 1 || row + 1 == side {
+                s = lanes_sum(&acc);
+                if s > lim {
+                    break;
+                }
+            }
+        }
+        s / n
     }
 }
 
@@ -301,19 +401,20 @@ impl Run<'_> {
         if !self.p.coherence {
             return 1.0;
         }
-        let mut dc = f32::INFINITY;
+        // Smallest squared distance first, one square root.
+        let mut d2 = i64::MAX;
         for (nx, ny) in [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)] {
             if nx < 0 || ny < 0 || nx >= self.sp.wa || ny >= self.sp.ha {
                 continue;
             }
             let o = self.off[(ny * self.sp.wa + nx) as usize];
-            let (ex, ey) = ((d[0] - o[0]) as f32, (d[1] - o[1]) as f32);
-            dc = dc.min((ex * ex + ey * ey).sqrt());
+            let (ex, ey) = ((d[0] - o[0]) as i64, (d[1] - o[1]) as i64);
+            d2 = d2.min(ex * ex + ey * ey);
         }
-        if !dc.is_finite() {
+        if d2 == i64::MAX {
             return 1.0;
         }
-        (1.0 - dc / self.w).max(self.p.c_min)
+        (1.0 - (d2 as f64).sqrt() as f32 / self.w).max(self.p.c_min)
     }
 
     /// Cost `D = SSD / C` (eq. 2), stopping early above `bound`.
@@ -454,16 +555,19 @@ fn run_patchmatch(
     let (hb, wb, _) = b.shape();
     p.validate(ha.min(hb), wa.min(wb))?;
     let n = ha * wa;
+    let (pa, pb) = (padded(a.data(), c), padded(b.data(), c));
+    let pw = weights.map(|(x, y)| (padded(x, c), padded(y, c)));
     let mut run = Run {
         sp: Space {
-            a: a.data(),
-            b: b.data(),
-            weights,
+            a: &pa,
+            b: &pb,
+            weights: pw.as_ref().map(|(x, y)| (&x[..], &y[..])),
             wa: wa as i32,
             ha: ha as i32,
             wb: wb as i32,
             hb: hb as i32,
-            c,
+            c: c.div_ceil(4) * 4,
+            c_real: c,
             half: (p.patch / 2) as i32,
         },
         p: *p,

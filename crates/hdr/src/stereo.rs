@@ -146,6 +146,12 @@ pub fn zncc_stereo(a: &Image<f32>, b: &Image<f32>, p: &StereoParams) -> Result<N
     }
     let (h, w, _) = a.shape();
     check_patch(p.window, h, w)?;
+    if p.lr_tol < 0 {
+        return Err(Error::invalid(
+            "lr_tol",
+            format!("must be >= 0, got {}", p.lr_tol),
+        ));
+    }
     if p.d_min > p.d_max {
         return Err(Error::invalid(
             "d_min",

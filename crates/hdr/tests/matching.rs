@@ -289,4 +289,13 @@ fn bad_matching_inputs_are_errors() {
         zncc_stereo(&a, &b, &StereoParams::default()).is_err(),
         "64 >= width 30"
     );
+    let neg = StereoParams {
+        d_min: -5,
+        d_max: 5,
+        lr_tol: -1,
+        ..StereoParams::default()
+    };
+    assert!(zncc_stereo(&a, &b, &neg).is_err());
+    // Extreme ranges are errors, not overflows.
+    assert!(patchmatch(&a, &b, &params(i32::MIN, 0)).is_err());
 }

@@ -208,6 +208,7 @@ fn bad_inputs_are_errors() {
     assert!(calibrate_debevec(std::slice::from_ref(&img), &[0.1], 8, 70, 10.0).is_err());
     assert!(calibrate_debevec(&[img.clone(), img.clone()], &[0.1, 0.2], 8, 4, -1.0).is_err());
     assert!(calibrate_debevec(&[ten.clone(), ten], &[0.1, 0.2], 8, 4, 10.0).is_err());
+    assert!(calibrate_debevec(&[img.clone(), img.clone()], &[0.1, 0.2], 12, 4, 10.0).is_err());
     // Float levels outside [0, 1].
     let lv = Image::filled(2, 2, 1, 1.5f32).unwrap();
     assert!(to_samples_float(&lv, &crf, 0.1).is_err());

@@ -313,7 +313,7 @@ fn bad_multiscopic_inputs_are_errors() {
         std::slice::from_ref(&crf),
         &p,
     );
-    assert!(e.contains("merge"), "{e}");
+    assert!(e.contains("merge_stack"), "{e}");
     let other = Image::filled(24, 30, 3, 100u16).unwrap();
     assert!(go(
         &[v.clone(), other],
