@@ -1824,3 +1824,15 @@ fn hdr_simulate_multiscopic_merge_and_calibrate_on_files() {
         .unwrap();
     assert!(String::from_utf8_lossy(&bad.stderr).contains("unknown method"));
 }
+
+#[test]
+fn hdr_demo_reports_the_methods_and_writes_its_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = wscg_ok(&["demo", "hdr", "--out", dir.path().to_str().unwrap()]);
+    for row in ["unaligned merge", "original PatchMatch 2-D", "darkest view"] {
+        assert!(out.contains(row), "{row} missing:\n{out}");
+    }
+    for f in ["views.png", "hdr.png", "fields.png"] {
+        Image::load(dir.path().join(f)).unwrap();
+    }
+}

@@ -12,6 +12,7 @@ pub mod biometrics;
 pub mod cloth;
 pub mod deblur;
 pub mod figures;
+pub mod hdr;
 pub mod isosurface;
 pub mod manylight;
 pub mod math;
@@ -115,6 +116,7 @@ pub fn registry() -> Vec<Demo> {
         octree::DEMO,
         mri::DEMO,
         deblur::DEMO,
+        hdr::DEMO,
     ]
 }
 
