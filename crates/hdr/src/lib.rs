@@ -44,10 +44,8 @@ pub mod tonemap;
 pub mod vote;
 
 pub use crf::{calibrate_debevec, Crf};
-pub use merge::{merge, MergeInput, Merged};
-pub use multiscopic::{
-    merge_stack, multiscopic_hdr, Align, MultiscopicOut, MultiscopicParams, Synthesis,
-};
+pub use merge::{merge, merge_stack, MergeInput, Merged};
+pub use multiscopic::{multiscopic_hdr, Align, MultiscopicOut, MultiscopicParams, Synthesis};
 pub use nnf::Nnf;
 pub use pm::{patchmatch, patchmatch_2d, patchmatch_weighted, PmParams};
 pub use radiance::{khan_weight, to_radiance, to_samples, ViewSamples};

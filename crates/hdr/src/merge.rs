@@ -4,7 +4,8 @@
 use rayon::prelude::*;
 use wscg_math::{Error, Image, Result};
 
-use crate::radiance::ViewSamples;
+use crate::crf::Crf;
+use crate::radiance::{check_times, khan_weight, max_code, ViewSamples};
 
 /// Below this total weight a pixel takes the fallback value.
 pub const MIN_WEIGHT_SUM: f32 = 1e-6;
@@ -42,7 +43,7 @@ pub fn merge(inputs: &[MergeInput]) -> Result<Merged> {
         .first()
         .ok_or_else(|| Error::invalid("inputs", "nothing to merge"))?;
     let shape = first.samples.radiance.shape();
-    crate::radiance::check_times(
+    check_times(
         &inputs.iter().map(|i| i.time).collect::<Vec<_>>(),
         inputs.len(),
     )?;
@@ -54,19 +55,7 @@ pub fn merge(inputs: &[MergeInput]) -> Result<Merged> {
             )));
         }
     }
-    let by_time = |longest: bool| {
-        (0..inputs.len())
-            .reduce(|a, b| {
-                let (ta, tb) = (inputs[a].time, inputs[b].time);
-                if (longest && tb > ta) || (!longest && tb < ta) {
-                    b
-                } else {
-                    a
-                }
-            })
-            .unwrap_or(0)
-    };
-    let (short, long) = (by_time(false), by_time(true));
+    let (short, long) = extreme_times(&inputs.iter().map(|i| i.time).collect::<Vec<_>>());
     let (h, w, c) = shape;
     let mut out = vec![0f32; h * w * c];
     let fallback: usize = out
@@ -94,6 +83,104 @@ pub fn merge(inputs: &[MergeInput]) -> Result<Merged> {
                         long
                     };
                     inputs[pick].samples.radiance.data()[i]
+                };
+            }
+            usize::from(fell)
+        })
+        .sum();
+    Ok(Merged {
+        hdr: Image::new(h, w, c, out)?,
+        fallback_pixels: fallback,
+    })
+}
+
+/// Indices of the shortest and the longest exposure (the first of equal times).
+fn extreme_times(times: &[f64]) -> (usize, usize) {
+    let pick = |longest: bool| {
+        (0..times.len())
+            .reduce(|a, b| {
+                let (ta, tb) = (times[a], times[b]);
+                if (longest && tb > ta) || (!longest && tb < ta) {
+                    b
+                } else {
+                    a
+                }
+            })
+            .unwrap_or(0)
+    };
+    (pick(false), pick(true))
+}
+
+/// Merges an aligned exposure stack of one view (no matching): the same result as
+/// converting every image with [`crate::radiance::to_samples`] and calling [`merge`], bit
+/// for bit, computed straight from the codes through per-exposure tables of radiance,
+/// weight and level. `crfs`: one response for all images or one per image.
+///
+/// Errors: no images; shapes differ; wrong number of times or responses; codes beyond a
+/// response table.
+pub fn merge_stack(images: &[Image<u16>], times: &[f64], crfs: &[Crf]) -> Result<Merged> {
+    let first = images
+        .first()
+        .ok_or_else(|| Error::invalid("images", "nothing to merge"))?;
+    check_times(times, images.len())?;
+    if crfs.len() != 1 && crfs.len() != images.len() {
+        return Err(Error::invalid(
+            "crfs",
+            format!("give one response or one per image, got {}", crfs.len()),
+        ));
+    }
+    let shape = first.shape();
+    let (h, w, c) = shape;
+    // Per exposure, per code and channel: (radiance, weight, level).
+    let mut luts = Vec::with_capacity(images.len());
+    for (k, im) in images.iter().enumerate() {
+        if im.shape() != shape {
+            return Err(Error::ShapeMismatch(format!(
+                "image {k} is {:?}, image 0 is {shape:?}",
+                im.shape()
+            )));
+        }
+        let crf = &crfs[k.min(crfs.len() - 1)];
+        crf.check_image(c, max_code(im))?;
+        let zmax = crf.z_max() as f32;
+        let inv_dt = (1.0 / times[k]) as f32;
+        let lut: Vec<(f32, f32, f32)> = (0..crf.levels())
+            .flat_map(|z| {
+                (0..c).map(move |ch| {
+                    let z16 = z as u16;
+                    (
+                        crf.inv(z16, ch) * inv_dt,
+                        khan_weight(z as f32, zmax),
+                        z as f32 / zmax,
+                    )
+                })
+            })
+            .collect();
+        luts.push(lut);
+    }
+    let (short, long) = extreme_times(times);
+    let n = images.len() as f64;
+    let mut out = vec![0f32; h * w * c];
+    let fallback: usize = out
+        .par_chunks_mut(c)
+        .enumerate()
+        .map(|(p, px)| {
+            let mut fell = false;
+            for (ch, o) in px.iter_mut().enumerate() {
+                let i = p * c + ch;
+                let (mut num, mut den, mut lev) = (0f64, 0f64, 0f64);
+                for (im, lut) in images.iter().zip(&luts) {
+                    let (e, wt, lv) = lut[im.data()[i] as usize * c + ch];
+                    num += wt as f64 * e as f64;
+                    den += wt as f64;
+                    lev += lv as f64;
+                }
+                *o = if den >= MIN_WEIGHT_SUM as f64 {
+                    (num / den) as f32
+                } else {
+                    fell = true;
+                    let k = if lev / n >= 0.5 { short } else { long };
+                    luts[k][images[k].data()[i] as usize * c + ch].0
                 };
             }
             usize::from(fell)

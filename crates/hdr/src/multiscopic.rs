@@ -267,36 +267,3 @@ pub fn multiscopic_hdr(
         fallback_pixels,
     })
 }
-
-/// Merges an aligned exposure stack of one view (no matching): every image converted with
-/// its response and time, then eq. 6 with the fallback of [`merge`].
-pub fn merge_stack(
-    images: &[Image<u16>],
-    times: &[f64],
-    crfs: &[Crf],
-) -> Result<crate::merge::Merged> {
-    if images.is_empty() {
-        return Err(Error::invalid("images", "nothing to merge"));
-    }
-    check_times(times, images.len())?;
-    if crfs.len() != 1 && crfs.len() != images.len() {
-        return Err(Error::invalid(
-            "crfs",
-            format!("give one response or one per image, got {}", crfs.len()),
-        ));
-    }
-    let e: Vec<ViewSamples> = images
-        .iter()
-        .enumerate()
-        .map(|(k, im)| to_samples(im, &crfs[k.min(crfs.len() - 1)], times[k]))
-        .collect::<Result<_>>()?;
-    let inputs: Vec<MergeInput> = e
-        .iter()
-        .zip(times)
-        .map(|(s, &t)| MergeInput {
-            samples: s,
-            time: t,
-        })
-        .collect();
-    merge(&inputs)
-}

@@ -70,7 +70,22 @@ fn merging_a_noisy_8_bit_stack_is_accurate_where_some_exposure_is_good() {
         .map(|(k, &t)| encode(&e, t, g, 0.002, 8, 40 + k as u64).unwrap())
         .collect();
     let crf = Crf::gamma(2.2, 8, 1).unwrap();
-    let m = merge_stack(&views, &times, &[crf]).unwrap();
+    let m = merge_stack(&views, &times, std::slice::from_ref(&crf)).unwrap();
+    // The table-driven stack merge is the general merge of the converted samples, exactly.
+    let samples: Vec<_> = views
+        .iter()
+        .zip(&times)
+        .map(|(v, &t)| to_samples(v, &crf, t).unwrap())
+        .collect();
+    let inputs: Vec<MergeInput> = samples
+        .iter()
+        .zip(&times)
+        .map(|(s, &t)| MergeInput {
+            samples: s,
+            time: t,
+        })
+        .collect();
+    assert_eq!(merge(&inputs).unwrap(), m);
     assert!(m.hdr.data().iter().all(|v| v.is_finite()));
     let mask: Vec<bool> = (0..e.data().len())
         .map(|i| views.iter().any(|v| (10..=245).contains(&v.data()[i])))
