@@ -56,33 +56,43 @@ pub fn merge(inputs: &[MergeInput]) -> Result<Merged> {
         }
     }
     let (short, long) = extreme_times(&inputs.iter().map(|i| i.time).collect::<Vec<_>>());
-    let (h, w, c) = shape;
+    merge_with(shape, inputs.len(), short, long, |k, i| {
+        let s = inputs[k].samples;
+        (s.radiance.data()[i], s.weight.data()[i], s.level.data()[i])
+    })
+}
+
+/// Eq. 6 with the fallback over `n` inputs whose sample `k` at pixel-channel `i` is
+/// `sample(k, i) = (radiance, weight, level)`; `short`, `long` index the shortest and the
+/// longest exposure.
+fn merge_with(
+    (h, w, c): (usize, usize, usize),
+    n: usize,
+    short: usize,
+    long: usize,
+    sample: impl Fn(usize, usize) -> (f32, f32, f32) + Sync,
+) -> Result<Merged> {
     let mut out = vec![0f32; h * w * c];
     let fallback: usize = out
         .par_chunks_mut(c)
         .enumerate()
         .map(|(p, px)| {
             let mut fell = false;
-            for (k, o) in px.iter_mut().enumerate() {
-                let i = p * c + k;
+            for (ch, o) in px.iter_mut().enumerate() {
+                let i = p * c + ch;
                 let (mut num, mut den, mut lev) = (0f64, 0f64, 0f64);
-                for inp in inputs {
-                    let s = inp.samples;
-                    let wt = s.weight.data()[i] as f64;
-                    num += wt * s.radiance.data()[i] as f64;
-                    den += wt;
-                    lev += s.level.data()[i] as f64;
+                for k in 0..n {
+                    let (e, wt, lv) = sample(k, i);
+                    num += wt as f64 * e as f64;
+                    den += wt as f64;
+                    lev += lv as f64;
                 }
                 *o = if den >= MIN_WEIGHT_SUM as f64 {
                     (num / den) as f32
                 } else {
                     fell = true;
-                    let pick = if lev / inputs.len() as f64 >= 0.5 {
-                        short
-                    } else {
-                        long
-                    };
-                    inputs[pick].samples.radiance.data()[i]
+                    let k = if lev / n as f64 >= 0.5 { short } else { long };
+                    sample(k, i).0
                 };
             }
             usize::from(fell)
@@ -130,7 +140,7 @@ pub fn merge_stack(images: &[Image<u16>], times: &[f64], crfs: &[Crf]) -> Result
         ));
     }
     let shape = first.shape();
-    let (h, w, c) = shape;
+    let c = shape.2;
     // Per exposure, per code and channel: (radiance, weight, level).
     let mut luts = Vec::with_capacity(images.len());
     for (k, im) in images.iter().enumerate() {
@@ -159,35 +169,7 @@ pub fn merge_stack(images: &[Image<u16>], times: &[f64], crfs: &[Crf]) -> Result
         luts.push(lut);
     }
     let (short, long) = extreme_times(times);
-    let n = images.len() as f64;
-    let mut out = vec![0f32; h * w * c];
-    let fallback: usize = out
-        .par_chunks_mut(c)
-        .enumerate()
-        .map(|(p, px)| {
-            let mut fell = false;
-            for (ch, o) in px.iter_mut().enumerate() {
-                let i = p * c + ch;
-                let (mut num, mut den, mut lev) = (0f64, 0f64, 0f64);
-                for (im, lut) in images.iter().zip(&luts) {
-                    let (e, wt, lv) = lut[im.data()[i] as usize * c + ch];
-                    num += wt as f64 * e as f64;
-                    den += wt as f64;
-                    lev += lv as f64;
-                }
-                *o = if den >= MIN_WEIGHT_SUM as f64 {
-                    (num / den) as f32
-                } else {
-                    fell = true;
-                    let k = if lev / n >= 0.5 { short } else { long };
-                    luts[k][images[k].data()[i] as usize * c + ch].0
-                };
-            }
-            usize::from(fell)
-        })
-        .sum();
-    Ok(Merged {
-        hdr: Image::new(h, w, c, out)?,
-        fallback_pixels: fallback,
+    merge_with(shape, images.len(), short, long, |k, i| {
+        luts[k][images[k].data()[i] as usize * c + i % c]
     })
 }

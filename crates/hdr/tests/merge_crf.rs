@@ -1,10 +1,11 @@
 //! Checks 1 and 2 of the paper-13 specification: merge exactness, Khan weights, the
 //! fallback of clipped pixels, and Debevec-Malik calibration of an S-shaped response.
 
-use wscg_hdr::merge::{merge, MergeInput};
+use wscg_hdr::merge::{merge, MergeInput, Merged};
 use wscg_hdr::metrics::rmse_log2;
 use wscg_hdr::radiance::{to_samples, to_samples_float};
 use wscg_hdr::synth::{encode, layered_scene, Response, SceneCfg};
+use wscg_hdr::ViewSamples;
 use wscg_hdr::{calibrate_debevec, khan_weight, merge_stack, Crf};
 use wscg_math::Image;
 
@@ -17,6 +18,19 @@ fn stack_truth() -> (Image<f32>, Vec<f64>) {
     };
     let sc = layered_scene(&cfg, 1).unwrap();
     (sc.radiance[2].clone(), cfg.times.clone())
+}
+
+/// The general merge of converted samples with their times.
+fn merge_samples(samples: &[ViewSamples], times: &[f64]) -> Merged {
+    let inputs: Vec<MergeInput> = samples
+        .iter()
+        .zip(times)
+        .map(|(s, &t)| MergeInput {
+            samples: s,
+            time: t,
+        })
+        .collect();
+    merge(&inputs).unwrap()
 }
 
 #[test]
@@ -45,15 +59,7 @@ fn merging_an_unquantised_noise_free_stack_inverts_exactly() {
             to_samples_float(&lv, &crf, t).unwrap()
         })
         .collect();
-    let inputs: Vec<MergeInput> = samples
-        .iter()
-        .zip(&times)
-        .map(|(s, &t)| MergeInput {
-            samples: s,
-            time: t,
-        })
-        .collect();
-    let m = merge(&inputs).unwrap();
+    let m = merge_samples(&samples, &times);
     assert!(m.hdr.data().iter().all(|v| v.is_finite()));
     let err = rmse_log2(&m.hdr, &e, None).unwrap();
     eprintln!("noise-free stack: RMSE log2 {err:.2e}");
@@ -77,15 +83,7 @@ fn merging_a_noisy_8_bit_stack_is_accurate_where_some_exposure_is_good() {
         .zip(&times)
         .map(|(v, &t)| to_samples(v, &crf, t).unwrap())
         .collect();
-    let inputs: Vec<MergeInput> = samples
-        .iter()
-        .zip(&times)
-        .map(|(s, &t)| MergeInput {
-            samples: s,
-            time: t,
-        })
-        .collect();
-    assert_eq!(merge(&inputs).unwrap(), m);
+    assert_eq!(merge_samples(&samples, &times), m);
     assert!(m.hdr.data().iter().all(|v| v.is_finite()));
     let mask: Vec<bool> = (0..e.data().len())
         .map(|i| views.iter().any(|v| (10..=245).contains(&v.data()[i])))
