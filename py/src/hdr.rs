@@ -227,6 +227,57 @@ fn multiscopic_hdr<'py>(
     Ok((hdr, fields, out.fallback_pixels))
 }
 
+/// Merge of aligned radiance samples (eq. 6): one `(radiance, weight, level)` triple of
+/// float images per input, with its exposure time.
+#[pyfunction]
+#[pyo3(signature = (radiances, weights, levels, times))]
+fn merge<'py>(
+    py: Python<'py>,
+    radiances: Vec<PyReadonlyArrayDyn<'py, f32>>,
+    weights: Vec<PyReadonlyArrayDyn<'py, f32>>,
+    levels: Vec<PyReadonlyArrayDyn<'py, f32>>,
+    times: Vec<f64>,
+) -> PyResult<(Arr<'py, f32>, usize)> {
+    let Some(first) = radiances.first() else {
+        return Err(value_error("`radiances` is empty: nothing to merge"));
+    };
+    if weights.len() != radiances.len() || levels.len() != radiances.len() {
+        return Err(value_error(format!(
+            "{} radiance images need as many weights and levels, got {} and {}",
+            radiances.len(),
+            weights.len(),
+            levels.len()
+        )));
+    }
+    let flat = first.ndim() == 2;
+    let samples = (0..radiances.len())
+        .map(|k| {
+            Ok(wscg_hdr::ViewSamples {
+                radiance: float_in("radiances", &radiances[k])?,
+                weight: float_in("weights", &weights[k])?,
+                level: float_in("levels", &levels[k])?,
+            })
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let inputs: Vec<wscg_hdr::MergeInput> = samples
+        .iter()
+        .zip(&times)
+        .map(|(s, &t)| wscg_hdr::MergeInput {
+            samples: s,
+            time: t,
+        })
+        .collect();
+    if times.len() != samples.len() {
+        return Err(value_error(format!(
+            "{} exposure times for {} inputs",
+            times.len(),
+            samples.len()
+        )));
+    }
+    let m = py.detach(|| wscg_hdr::merge(&inputs)).py_err()?;
+    Ok((image_out(py, m.hdr, flat)?, m.fallback_pixels))
+}
+
 #[pyfunction]
 #[pyo3(signature = (images, times, crfs, bits))]
 fn merge_stack<'py>(
@@ -613,6 +664,7 @@ fn incoherence(py: Python<'_>, offsets: PyReadonlyArrayDyn<'_, i32>) -> PyResult
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(multiscopic_hdr, m)?)?;
     m.add_function(wrap_pyfunction!(merge_stack, m)?)?;
+    m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(to_radiance, m)?)?;
     m.add_function(wrap_pyfunction!(khan_weight, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate_debevec, m)?)?;

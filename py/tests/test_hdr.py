@@ -707,3 +707,31 @@ def test_docstring_examples_run():
     import doctest
     res = doctest.testmod(hdr, optionflags=doctest.ELLIPSIS, verbose=False)
     assert res.failed == 0 and res.attempted >= 6
+
+
+def test_merge_of_aligned_samples_matches_eq6_and_the_stack_merge():
+    """`merge` of converted samples equals numpy's eq. 6 and `merge_stack` of the codes."""
+    rng = np.random.default_rng(3)
+    times = [0.01, 0.04, 0.16]
+    codes = [rng.integers(0, 256, size=(12, 16, 3)).astype(np.uint8) for _ in times]
+    codes[0][0, 0] = 255
+    codes[1][0, 0] = 255
+    codes[2][0, 0] = 255
+    rad = [hdr.to_radiance(c, "gamma2.2", t) for c, t in zip(codes, times)]
+    wts = [hdr.khan_weight(c.astype(np.float32)).astype(np.float32) for c in codes]
+    lvs = [(c / 255.0).astype(np.float32) for c in codes]
+    out, n = hdr.merge(rad, wts, lvs, times)
+    num = sum(w.astype(np.float64) * e for w, e in zip(wts, rad))
+    den = sum(w.astype(np.float64) for w in wts)
+    want = np.where(den >= 1e-6, num / np.maximum(den, 1e-300), rad[0])
+    np.testing.assert_allclose(out, want, rtol=1e-6)
+    assert n == 1
+    ref, n2 = hdr.merge_stack(codes, times, "gamma2.2")
+    np.testing.assert_array_equal(out, ref)
+    assert n2 == n
+    with pytest.raises(ValueError, match="weights"):
+        hdr.merge(rad, wts[:2], lvs, times)
+    with pytest.raises(ValueError, match="levels"):
+        hdr.merge(rad, wts, [lv * 2 for lv in lvs], times)
+    with pytest.raises(ValueError, match="exposure"):
+        hdr.merge(rad, wts, lvs, times[:2])

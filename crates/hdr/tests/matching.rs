@@ -299,3 +299,59 @@ fn bad_matching_inputs_are_errors() {
     // Extreme ranges are errors, not overflows.
     assert!(patchmatch(&a, &b, &params(i32::MIN, 0)).is_err());
 }
+
+#[test]
+fn the_weighted_cost_ablation_ignores_zero_weight_samples() {
+    use wscg_hdr::patchmatch_weighted;
+    let (a, b) = (texture(40, 80, 0.0), texture(40, 80, 5.0));
+    let ones = |im: &Image<f32>| im.map(|_| 1.0f32);
+    let p = PmParams {
+        weighted_cost: true,
+        ..params(-12, 12)
+    };
+    // Unit weights: the plain cost (summed in another order: ties may break otherwise).
+    let plain = patchmatch(&a, &b, &params(-12, 12)).unwrap();
+    let unit = patchmatch_weighted(&a, &b, &ones(&a), &ones(&b), &p).unwrap();
+    let same = plain
+        .off
+        .iter()
+        .zip(&unit.off)
+        .filter(|(x, y)| x == y)
+        .count();
+    assert!(same as f64 >= 0.99 * (40 * 80) as f64, "{same}");
+    // Garbage in the reference where its weights are zero (a "clipped" band) does not
+    // drive the match: the field there still finds the shift from the rest of the patch.
+    let mut bad = a.clone();
+    let mut wa = ones(&a);
+    for y in 0..40 {
+        for x in 30..32 {
+            for c in 0..3 {
+                bad.set(y, x, c, 50.0);
+                wa.set(y, x, c, 0.0);
+            }
+        }
+    }
+    let weighted = patchmatch_weighted(&bad, &b, &wa, &ones(&b), &p).unwrap();
+    let unweighted = patchmatch(&bad, &b, &params(-12, 12)).unwrap();
+    let exact = |f: &wscg_hdr::Nnf| {
+        (0..40 * 80)
+            .filter(|&i| (27..35).contains(&(i % 80)) && f.off[i] == [-5, 0])
+            .count()
+    };
+    let (ew, eu) = (exact(&weighted), exact(&unweighted));
+    eprintln!("band pixels with the exact shift: weighted {ew}, plain {eu} of 320");
+    assert!(ew >= 300, "{ew}");
+    assert!(ew > eu);
+    // Without the flag the weights are ignored.
+    let off = PmParams {
+        weighted_cost: false,
+        ..p
+    };
+    assert_eq!(
+        patchmatch_weighted(&bad, &b, &wa, &ones(&b), &off).unwrap(),
+        unweighted
+    );
+    // Weights of another shape are an error.
+    let small = Image::filled(10, 10, 3, 1.0f32).unwrap();
+    assert!(patchmatch_weighted(&a, &b, &small, &ones(&b), &p).is_err());
+}

@@ -58,7 +58,7 @@ from ._native import hdr as _h
 
 __all__ = [
     "multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
-    "warp_direct", "calibrate_debevec", "to_radiance", "khan_weight", "merge_stack",
+    "warp_direct", "calibrate_debevec", "to_radiance", "khan_weight", "merge", "merge_stack",
     "synth_scene", "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS",
     "SYNTHESIS_METHODS", "CRF_NAMES",
 ]
@@ -857,6 +857,67 @@ def merge_stack(images, exposure_times, crf="gamma2.2", *,
     crfs = _crfs(crf, len(imgs))
     nbits = _bits(bits, crfs, imgs, u8)
     out, fallback = _h.merge_stack(imgs, times, crfs, nbits)
+    return out, int(fallback)
+
+
+def merge(radiances, weights, levels, exposure_times) -> Tuple[np.ndarray, int]:
+    """Merge aligned radiance samples into HDR (paper eq. 6), e.g. a reference view and
+    source views synthesised aligned to it by :func:`vote_bds`.
+
+    Parameters
+    ----------
+    radiances : list of float arrays (H, W) or (H, W, C)
+        Radiance ``E_n`` of every input, one shape.
+    weights : list of float arrays
+        Weight of every sample (:func:`khan_weight` of its code, or voted weights), ``>= 0``.
+    levels : list of float arrays
+        Normalised code ``Z / z_max`` of every sample in ``[0, 1]`` (which side a clipped
+        sample is on).
+    exposure_times : sequence of float
+        Exposure time of every input (seconds, > 0): orders the fallback.
+
+    Returns
+    -------
+    hdr : float32 array of the inputs' shape
+        ``E = sum_n w_n E_n / sum_n w_n`` per pixel and channel.
+    fallback_pixels : int
+        Pixels where some channel had total weight ``< 1e-6``; those take the radiance of
+        the shortest exposure (mean level >= 1/2: clipped high) or of the longest one.
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, eqs. 6-7.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wscg import hdr
+    >>> e = [np.full((1, 2), 4.0, np.float32), np.full((1, 2), 2.0, np.float32)]
+    >>> w = [np.full((1, 2), 1.0, np.float32), np.full((1, 2), 3.0, np.float32)]
+    >>> lv = [np.full((1, 2), 0.5, np.float32)] * 2
+    >>> out, n = hdr.merge(e, w, lv, [0.01, 0.02])
+    >>> float(out[0, 0]), n
+    (2.5, 0)
+    """
+    if not isinstance(radiances, (list, tuple)) or len(radiances) == 0:
+        raise ValueError("`radiances` must be a non-empty list of images")
+    n = len(radiances)
+    for name, xs in (("weights", weights), ("levels", levels)):
+        if not isinstance(xs, (list, tuple)) or len(xs) != n:
+            raise ValueError(f"`{name}` must be a list of {n} images, one per radiance image")
+    rad = [_float_image(x, "radiances") for x in radiances]
+    wts = [_float_image(x, "weights") for x in weights]
+    lvs = [_float_image(x, "levels") for x in levels]
+    for k in range(n):
+        if not (rad[k].shape == wts[k].shape == lvs[k].shape == rad[0].shape):
+            raise ValueError(f"input {k}: radiance, weight and level must all have shape "
+                             f"{rad[0].shape}")
+        if np.any(wts[k] < 0):
+            raise ValueError(f"weights[{k}] must be >= 0")
+        if np.any((lvs[k] < 0) | (lvs[k] > 1)):
+            raise ValueError(f"levels[{k}] must be in [0, 1]")
+    times = _times(exposure_times, n)
+    out, fallback = _h.merge(rad, wts, lvs, times)
     return out, int(fallback)
 
 
