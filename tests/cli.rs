@@ -1823,6 +1823,34 @@ fn hdr_simulate_multiscopic_merge_and_calibrate_on_files() {
         .output()
         .unwrap();
     assert!(String::from_utf8_lossy(&bad.stderr).contains("unknown method"));
+    // Exposure times from JSON, through --exposures.
+    let json = d.join("times.json");
+    std::fs::write(&json, "{\"exposure_times\": [0.061, 0.061]}").unwrap();
+    wscg_ok(&[
+        "hdr",
+        "merge",
+        &views[2],
+        &views[2],
+        "--exposures",
+        &s(&json),
+        "--out",
+        &s(&merged),
+    ]);
+    std::fs::write(&json, "[0.061, \"x\"]").unwrap();
+    let bad = wscg()
+        .args([
+            "hdr",
+            "merge",
+            &views[2],
+            &views[2],
+            "--exposures",
+            &s(&json),
+            "--out",
+            &s(&merged),
+        ])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("exposure times"));
 }
 
 #[test]

@@ -39,8 +39,9 @@ pub enum HdrCommand {
 
 #[derive(Args, Debug)]
 pub struct Exposures {
-    /// Exposure times in seconds: "t1,t2,..." or a text file with one per line.
-    #[arg(long)]
+    /// Exposure times in seconds: "t1,t2,...", a text file with one per line, or a JSON
+    /// file holding a list or {"exposure_times": [...]}.
+    #[arg(long, visible_alias = "exposures")]
     times: String,
     /// Camera response: gamma2.2, linear or a CSV table (see `calibrate`).
     #[arg(long, default_value = "gamma2.2")]
@@ -135,7 +136,7 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
         HdrCommand::Multiscopic(a) => multiscopic(a),
         HdrCommand::Merge(a) => {
             let (images, bits) = load_views(&a.images)?;
-            let times = read_times(&a.exposures.times)?;
+            let times = exposure_times(&a.exposures.times)?;
             let crf = load_crf(&a.exposures.crf, bits, images[0].channels())?;
             let m = merge_stack(&images, &times, &[crf])?;
             m.hdr.save(&a.out)?;
@@ -162,6 +163,30 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
         }
         HdrCommand::Simulate(a) => simulate(a),
     }
+}
+
+/// Exposure times from a comma list, a text file or a JSON file (a list, or an object with
+/// `exposure_times` or `times`).
+fn exposure_times(spec: &str) -> Result<Vec<f64>> {
+    let p = Path::new(spec);
+    if !(p.is_file() && spec.to_ascii_lowercase().ends_with(".json")) {
+        return read_times(spec);
+    }
+    let text = wscg_math::error::read_file(p)?;
+    let v: serde_json::Value =
+        serde_json::from_slice(&text).map_err(|e| Error::format(p, e.to_string()))?;
+    let list = match &v {
+        serde_json::Value::Object(o) => o.get("exposure_times").or_else(|| o.get("times")),
+        other => Some(other),
+    };
+    list.and_then(|l| l.as_array())
+        .and_then(|a| a.iter().map(|x| x.as_f64()).collect::<Option<Vec<f64>>>())
+        .ok_or_else(|| {
+            Error::format(
+                p,
+                "expected a list of exposure times or {\"exposure_times\": [...]}",
+            )
+        })
 }
 
 /// Loads views as codes; all must share one bit depth.
@@ -249,7 +274,7 @@ fn write_times(times: &[f64], path: &Path) -> Result<()> {
 
 fn multiscopic(a: MultiscopicArgs) -> Result<()> {
     let (views, bits) = load_views(&a.views)?;
-    let times = read_times(&a.exposures.times)?;
+    let times = exposure_times(&a.exposures.times)?;
     let crf = load_crf(&a.exposures.crf, bits, views[0].channels())?;
     let synthesis = match a.synthesis.as_str() {
         "bds" => Synthesis::Bds,
