@@ -297,12 +297,16 @@ pub fn calibrate_debevec(
                 )));
             }
         }
-        // Outside the observed codes, keep the table non-decreasing.
+        // Outside the observed codes, keep the table non-decreasing (a running maximum,
+        // codes below the lowest observed one capped at its value).
         let mut prev = f64::NEG_INFINITY;
         for z in 0..levels {
-            let g = x[(z, 0)].max(if z > zhi { prev } else { f64::NEG_INFINITY });
-            let g = if z < zlo { g.min(x[(zlo, 0)]) } else { g };
-            prev = g.max(prev);
+            let g = if z < zlo {
+                x[(z, 0)].min(x[(zlo, 0)])
+            } else {
+                x[(z, 0)]
+            };
+            prev = prev.max(g);
             table[z * ch + c] = prev.exp() as f32;
         }
     }

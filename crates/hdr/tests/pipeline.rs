@@ -116,10 +116,9 @@ fn the_darkest_view_is_recovered_where_it_is_under_exposed() {
     assert!(e <= 0.25, "{e}");
 }
 
-#[test]
-fn pixels_clipped_in_every_view_take_the_fallback_and_are_counted() {
-    // Twenty times the exposures, no noise: the emitter saturates every camera at code 255.
-    let sc = scene();
+/// The scene re-encoded at twenty times its exposures without noise (the emitter saturates
+/// every camera at code 255) and its multiscopic result: the times and the output.
+fn clipped_everywhere(sc: &SynthScene) -> (Vec<f64>, MultiscopicOut) {
     let times: Vec<f64> = sc.times.iter().map(|t| 20.0 * t).collect();
     let views: Vec<Image<u16>> = (0..5)
         .map(|k| encode(&sc.radiance[k], times[k], sc.response, 0.0, 8, k as u64).unwrap())
@@ -140,6 +139,13 @@ fn pixels_clipped_in_every_view_take_the_fallback_and_are_counted() {
         &NoProgress,
     )
     .unwrap();
+    (times, out)
+}
+
+#[test]
+fn pixels_clipped_in_every_view_take_the_fallback_and_are_counted() {
+    let sc = scene();
+    let (times, out) = clipped_everywhere(sc);
     let lower_bound = sc.crf.inv(255, 0) / times[0] as f32;
     for k in 0..5 {
         // Pixels whose 9 x 9 neighbourhood is clipped in all views at their true position.
@@ -204,6 +210,10 @@ fn pixels_clipped_in_every_view_take_the_fallback_and_are_counted() {
 fn the_baselines_run_and_are_reported() {
     let sc = scene();
     let pm = PmParams::default();
+    let none = run(sc, Align::None, Synthesis::Bds, pm);
+    let unaligned: Vec<f64> = (0..5)
+        .map(|k| err(sc, &none, k, &evaluation_mask(sc, k, Region::SeenByAll)))
+        .collect();
     for (name, align, synthesis, pm) in [
         (
             "ours, no coherence",
@@ -218,15 +228,15 @@ fn the_baselines_run_and_are_reported() {
         ("ZNCC stereo", Align::Zncc, Synthesis::Direct, pm),
     ] {
         let out = run(sc, align, synthesis, pm);
-        let errs: Vec<String> = (0..5)
-            .map(|k| {
-                format!(
-                    "{:.3}",
-                    err(sc, &out, k, &evaluation_mask(sc, k, Region::SeenByAll))
-                )
-            })
+        let errs: Vec<f64> = (0..5)
+            .map(|k| err(sc, &out, k, &evaluation_mask(sc, k, Region::SeenByAll)))
             .collect();
-        eprintln!("{name}: RMSE log2 per view {}", errs.join(" "));
+        eprintln!("{name}: RMSE log2 per view {errs:.3?}");
+        // Every baseline aligns: well below the unaligned merge in every view (measured
+        // ratios 0.09-0.40), which a field of zeros or a broken warp would not be.
+        for (k, (&e, &e0)) in errs.iter().zip(&unaligned).enumerate() {
+            assert!(e < 0.6 * e0, "{name}, view {k}: {e} vs unaligned {e0}");
+        }
         assert!(out
             .hdr
             .iter()
@@ -421,26 +431,7 @@ fn five_view_scene_every_view_within_the_spec_bound() {
 #[ignore = "fails: view 1 counts 0 fallback pixels of 503 clipped in every view (views 2-4 alike)"]
 fn every_reference_reports_its_everywhere_clipped_core() {
     let sc = scene();
-    let times: Vec<f64> = sc.times.iter().map(|t| 20.0 * t).collect();
-    let views: Vec<Image<u16>> = (0..5)
-        .map(|k| encode(&sc.radiance[k], times[k], sc.response, 0.0, 8, k as u64).unwrap())
-        .collect();
-    let p = MultiscopicParams {
-        pm: PmParams {
-            d_min: -MAX_DISP,
-            d_max: MAX_DISP,
-            ..PmParams::default()
-        },
-        ..MultiscopicParams::default()
-    };
-    let out = multiscopic_hdr(
-        &views,
-        &times,
-        std::slice::from_ref(&sc.crf),
-        &p,
-        &NoProgress,
-    )
-    .unwrap();
+    let (times, out) = clipped_everywhere(sc);
     for k in 0..5 {
         let clipped = (0..sc.radiance[k].data().len() / 3)
             .filter(|&i| (0..3).all(|c| sc.radiance[k].data()[3 * i + c] as f64 * times[0] >= 1.0))
