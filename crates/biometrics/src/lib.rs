@@ -13,5 +13,7 @@
 //! samples as columns.
 
 pub mod data;
+pub mod ear;
+pub mod imgops;
 pub mod sfa;
 pub mod subspace;

@@ -416,6 +416,27 @@ impl Image<u16> {
     }
 }
 
+impl Image<u8> {
+    /// Loads an 8-bit image (PNG, JPEG; 16-bit PNG is rounded to 8 bits, `(v + 128) / 257`)
+    /// as 1 (grey) or 3 (RGB) channels of raw codes; alpha is dropped. The file is only read.
+    /// Errors as [`Image::load_codes`].
+    pub fn load_u8(path: impl AsRef<Path>) -> Result<Self> {
+        let (img, bits) = Image::<u16>::load_codes(path)?;
+        let (h, w, c) = img.shape();
+        let data = img
+            .into_data()
+            .into_iter()
+            .map(|v| if bits == 16 { ((v as u32 + 128) / 257) as u8 } else { v as u8 })
+            .collect();
+        Image::new(h, w, c, data)
+    }
+
+    /// Saves 8-bit codes by extension (`.png`, `.jpg`), exactly for PNG.
+    pub fn save_u8(&self, path: impl AsRef<Path>) -> Result<()> {
+        self.map(|v| v as f32 / 255.0).save(path)
+    }
+}
+
 impl Image<f32> {
     /// JPEG bytes of a 1- or 3-channel image at `quality` (1..=100), values clamped to
     /// `[0, 1]` (baseline JPEG, as a thin client would receive).

@@ -197,6 +197,37 @@ impl Daubechies {
     }
 }
 
+/// Approximation (LL) band of one level of the orthonormal 2-D Haar transform of a
+/// `rows x cols` plane (C order): `LL[u][v] = (x[2u][2v] + x[2u][2v+1] + x[2u+1][2v] +
+/// x[2u+1][2v+1]) / 2`, a `rows/2 x cols/2` plane. For even sizes this is the approximation
+/// of [`Wavelet2`] with `db1` and of `pywt.dwt2(x, "haar")[0]` (any extension mode, since
+/// the Haar filter never reaches past an even-sized edge); it is the only band paper 14's
+/// ear features keep.
+///
+/// Errors: an odd or zero size, `plane.len() != rows * cols`.
+pub fn haar_ll(plane: &[f64], rows: usize, cols: usize) -> Result<Vec<f64>> {
+    if rows == 0 || cols == 0 || rows % 2 == 1 || cols % 2 == 1 {
+        return Err(Error::ShapeMismatch(format!(
+            "the Haar LL band needs even, non-zero sizes; the plane is {rows} x {cols}"
+        )));
+    }
+    if plane.len() != rows * cols {
+        return Err(Error::ShapeMismatch(format!(
+            "plane has {} values, expected {rows} x {cols}",
+            plane.len()
+        )));
+    }
+    let (hr, hc) = (rows / 2, cols / 2);
+    let mut out = Vec::with_capacity(hr * hc);
+    for u in 0..hr {
+        let (a, b) = (&plane[2 * u * cols..], &plane[(2 * u + 1) * cols..]);
+        for v in 0..hc {
+            out.push(0.5 * ((a[2 * v] + a[2 * v + 1]) + (b[2 * v] + b[2 * v + 1])));
+        }
+    }
+    Ok(out)
+}
+
 /// A multi-level separable 2-D periodic wavelet transform of `rows x cols` images.
 #[derive(Clone, Debug)]
 pub struct Wavelet2 {
@@ -421,5 +452,22 @@ mod tests {
         assert_eq!(w.parent(0), None);
         assert_eq!(w.parent(3 * 16 + 2), None); // coarsest level details
         assert!(Wavelet2::new(12, 16, Daubechies::new(2).unwrap(), 3).is_err());
+    }
+
+    #[test]
+    fn haar_ll_is_the_db1_approximation_band() {
+        let (r, c) = (6, 10);
+        let x: Vec<f64> = (0..r * c).map(|i| ((i * 37) % 11) as f64 * 0.3 - 1.0).collect();
+        let ll = haar_ll(&x, r, c).unwrap();
+        let w = Wavelet2::new(r, c, Daubechies::new(1).unwrap(), 1).unwrap();
+        let mut y = vec![0.0; r * c];
+        w.forward(&x, &mut y);
+        for u in 0..r / 2 {
+            for v in 0..c / 2 {
+                assert!((ll[u * c / 2 + v] - y[u * c + v]).abs() < 1e-12);
+            }
+        }
+        assert!(haar_ll(&x, 5, 12).is_err());
+        assert!(haar_ll(&x, 6, 8).is_err());
     }
 }

@@ -11,7 +11,7 @@
 //! - [`protocol`]: the paper's comparison (Tables 3-6): class-wise SFA, KNN on physical
 //!   features, on PCA-35 and on 9-D Isomap, and full-data-set SFA on one split; the
 //!   rotation-robustness check.
-//! - [`morphology`]: the mask geometry both use (connected components, exact Euclidean
+//! - [`morphology`] (re-export of [`crate::imgops::mask`]): the mask geometry both use (connected components, exact Euclidean
 //!   distance transform, contour tracing, convex hull, convexity defects).
 //!
 //! **The data are synthetic**: the paper's recordings are not public, and no accuracy
@@ -19,7 +19,7 @@
 
 pub mod features;
 pub mod generate;
-pub mod morphology;
+pub use crate::imgops::mask as morphology;
 pub mod protocol;
 
 pub use features::{physical_features, physical_features_batch, FEATURE_NAMES, N_FEATURES};

@@ -1,10 +1,11 @@
-//! Geometry of binary masks, shared by the generator's segmentation and by the physical
-//! features: 8-connected components, the exact Euclidean distance transform, Moore-neighbour
-//! contour tracing, convex hulls and convexity defects.
+//! Geometry of binary masks: 8-connected components, hole filling, the exact Euclidean
+//! distance transform, dilation / erosion / closing with exact Euclidean disks, Moore-neighbour
+//! contour tracing, convex hulls and convexity defects. Used by the hand-pose generator and
+//! features (paper 05) and by the ear occlusion detector (paper 14).
 //!
 //! Conventions: masks are row-major `h x w` buffers, any non-zero byte is foreground; a pixel
 //! is identified with its centre, at integer coordinates `(x, y) = (column, row)`; the area
-//! outside the image is background.
+//! outside the image is background (the disk operations state their own border rule).
 
 use wscg_math::{Error, Result};
 
@@ -188,6 +189,54 @@ pub fn distance_transform(mask: &[u8], h: usize, w: usize) -> Result<Vec<f64>> {
         *v = v.sqrt();
     }
     Ok(d)
+}
+
+/// Dilation of `mask` by the exact Euclidean disk `{(dx, dy): dx^2 + dy^2 <= radius^2}`: a
+/// pixel is set iff some foreground pixel lies within `radius` of it. The outside of the image
+/// is background (it dilates nothing in). Computed as a threshold of the exact distance
+/// transform of the foreground, `O(h w)` for any radius. Result 0/1.
+///
+/// Errors: shape mismatch, a zero size, a negative or non-finite radius.
+pub fn dilate_disk(mask: &[u8], h: usize, w: usize, radius: f64) -> Result<Vec<u8>> {
+    disk_threshold(mask, h, w, radius, true)
+}
+
+/// Erosion of `mask` by the exact Euclidean disk of `radius`: a pixel stays set iff no
+/// background pixel of the image lies within `radius` of it. The outside of the image counts
+/// as foreground, so erosion does not eat in from the border (the convention of
+/// `skimage.morphology.binary_erosion` and of `scipy.ndimage.binary_erosion(border_value=1)`).
+/// Result 0/1. Errors as [`dilate_disk`].
+pub fn erode_disk(mask: &[u8], h: usize, w: usize, radius: f64) -> Result<Vec<u8>> {
+    disk_threshold(mask, h, w, radius, false)
+}
+
+/// Closing (dilation, then erosion) by the exact Euclidean disk of `radius`, with the border
+/// rules of [`dilate_disk`] and [`erode_disk`]; the closing is then extensive (every input
+/// foreground pixel stays set), equal to `skimage.morphology.binary_closing(mask,
+/// skimage.morphology.disk(radius))` for integer radii. Errors as [`dilate_disk`].
+pub fn close_disk(mask: &[u8], h: usize, w: usize, radius: f64) -> Result<Vec<u8>> {
+    let d = dilate_disk(mask, h, w, radius)?;
+    erode_disk(&d, h, w, radius)
+}
+
+/// Dilation (`dilate`) or erosion as a threshold of an exact squared distance transform.
+fn disk_threshold(mask: &[u8], h: usize, w: usize, radius: f64, dilate: bool) -> Result<Vec<u8>> {
+    check_shape("mask", mask.len(), h, w)?;
+    if !(radius.is_finite() && radius >= 0.0) {
+        return Err(Error::invalid(
+            "radius",
+            format!("must be finite and >= 0, got {radius}"),
+        ));
+    }
+    // Distance to the foreground (dilation) or to the background (erosion); the outside of
+    // the image is never a feature, so it neither dilates in nor erodes in.
+    let feature: Vec<bool> = mask.iter().map(|&m| (m != 0) == dilate).collect();
+    let d2 = wscg_math::distance::squared_edt(&feature, &[h, w], &[1.0, 1.0], false)?;
+    let r2 = radius * radius;
+    Ok(d2
+        .iter()
+        .map(|&d| u8::from(if dilate { d <= r2 } else { d > r2 }))
+        .collect())
 }
 
 /// Outer boundary of the 8-connected component holding the first foreground pixel in
@@ -468,5 +517,53 @@ mod tests {
         assert_eq!(hull_lattice_count(&convex_hull(&[(5, 5)])), 1);
         // Triangle (0,0), (4,0), (0,4): 15 lattice points.
         assert_eq!(hull_lattice_count(&[(0, 0), (4, 0), (0, 4)]), 15);
+    }
+
+    #[test]
+    fn disk_closing_matches_a_brute_force_reference() {
+        let (h, w) = (23usize, 19usize);
+        let mut state = 12345u64;
+        let mask: Vec<u8> = (0..h * w)
+            .map(|_| {
+                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                u8::from((state >> 33) % 10 < 4)
+            })
+            .collect();
+        let r = 3.0f64;
+        let brute = |m: &[u8], dilate: bool| -> Vec<u8> {
+            let mut out = vec![0u8; h * w];
+            for y in 0..h as i64 {
+                for x in 0..w as i64 {
+                    let mut hit = !dilate;
+                    for dy in -3i64..=3 {
+                        for dx in -3i64..=3 {
+                            if dx * dx + dy * dy > 9 {
+                                continue;
+                            }
+                            let (yy, xx) = (y + dy, x + dx);
+                            let inside = yy >= 0 && xx >= 0 && yy < h as i64 && xx < w as i64;
+                            let v = inside && m[yy as usize * w + xx as usize] != 0;
+                            if dilate && v {
+                                hit = true;
+                            }
+                            if !dilate && inside && !v {
+                                hit = false;
+                            }
+                        }
+                    }
+                    out[y as usize * w + x as usize] = u8::from(hit);
+                }
+            }
+            out
+        };
+        let d = dilate_disk(&mask, h, w, r).unwrap();
+        assert_eq!(d, brute(&mask, true));
+        let e = erode_disk(&mask, h, w, r).unwrap();
+        assert_eq!(e, brute(&mask, false));
+        let c = close_disk(&mask, h, w, r).unwrap();
+        assert_eq!(c, brute(&brute(&mask, true), false));
+        assert!(mask.iter().zip(&c).all(|(&m, &c)| m == 0 || c == 1));
+        assert!(dilate_disk(&mask, h, w, f64::NAN).is_err());
+        assert!(close_disk(&mask, h, w + 1, 2.0).is_err());
     }
 }
