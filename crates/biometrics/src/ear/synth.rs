@@ -207,18 +207,17 @@ impl EarSubject {
 
     /// Point `q` (relative to the canvas centre, subject frame) in the helix frame.
     fn helix_frame(&self, q: [f64; 2]) -> [f64; 2] {
-        let (x, y) = (q[0] - self.centre[0], q[1] - self.centre[1]);
-        let (sn, cs) = self.tilt.sin_cos();
-        [cs * x + sn * y, -sn * x + cs * y]
+        rotate_about(q, self.centre, self.tilt.sin_cos())
     }
 
-    /// Shading factor of the head at subject-frame point `q` (`antihelix`: the sampled
-    /// antihelix curve).
-    fn shade(&self, q: [f64; 2], antihelix: &Polyline) -> f64 {
-        let [x, y] = self.helix_frame(q);
+    /// Shading factor of the head at subject-frame point `q`, with the curves and angles
+    /// that `scene` caches.
+    fn shade(&self, q: [f64; 2], scene: &Scene) -> f64 {
+        let [x, y] = rotate_about(q, self.centre, scene.tilt);
         let [a, b] = self.axes;
         let rho = ((x / a).powi(2) + (y / b).powi(2)).sqrt();
-        let lobe = (x - self.lobe[0]).hypot(y - self.lobe[1]) <= self.lobe[2];
+        let (lx, ly) = (x - self.lobe[0], y - self.lobe[1]);
+        let lobe = lx * lx + ly * ly <= self.lobe[2] * self.lobe[2];
         let tex = 1.0
             + self
                 .texture
@@ -229,7 +228,7 @@ impl EarSubject {
             return self.background * tex;
         }
         let depth = if rho > 0.0 {
-            x.hypot(y) * (1.0 - rho) / rho
+            (x * x + y * y).sqrt() * (1.0 - rho) / rho
         } else {
             f64::INFINITY
         };
@@ -242,17 +241,22 @@ impl EarSubject {
         } else {
             1.0
         };
-        let [cx, cy, ca, cb, cang] = self.concha;
-        let (sn, cs) = cang.sin_cos();
-        let (u, v) = (cs * (x - cx) + sn * (y - cy), -sn * (x - cx) + cs * (y - cy));
+        let [cx, cy, ca, cb, _] = self.concha;
+        let [u, v] = rotate_about([x, y], [cx, cy], scene.concha);
         if (u / ca).powi(2) + (v / cb).powi(2) <= 1.0 {
             level = self.concha_level;
         }
-        if antihelix.near([x, y], 0.5 * self.antihelix_width) {
+        if scene.antihelix.near([x, y], 0.5 * self.antihelix_width) {
             level = 1.1;
         }
         level * tex
     }
+}
+
+/// `q - c` rotated by minus the angle whose `(sin, cos)` is `sc`.
+fn rotate_about(q: [f64; 2], c: [f64; 2], (sn, cs): (f64, f64)) -> [f64; 2] {
+    let (x, y) = (q[0] - c[0], q[1] - c[1]);
+    [cs * x + sn * y, -sn * x + cs * y]
 }
 
 fn gauss(r: &mut Rng) -> f64 {
@@ -294,11 +298,12 @@ impl Polyline {
         }
         self.pts
             .windows(2)
-            .any(|s| segment_distance(s[0], s[1], p) <= r)
+            .any(|s| segment_distance2(s[0], s[1], p) <= r * r)
     }
 }
 
-fn segment_distance(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> f64 {
+/// Squared distance from `p` to the segment `a b`.
+fn segment_distance2(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let l2 = dx * dx + dy * dy;
     let t = if l2 > 0.0 {
@@ -306,7 +311,8 @@ fn segment_distance(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> f64 {
     } else {
         0.0
     };
-    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
+    let (ex, ey) = (p[0] - a[0] - t * dx, p[1] - a[1] - t * dy);
+    ex * ex + ey * ey
 }
 
 /// One capture's pose and camera.
@@ -421,7 +427,7 @@ impl Occluder {
             }
             Occluder::Earring { disk, colour } => {
                 let [x, y] = subject.helix_frame(q);
-                let d = (x - disk[0]).hypot(y - disk[1]);
+                let d = ((x - disk[0]).powi(2) + (y - disk[1]).powi(2)).sqrt();
                 (d <= disk[2]).then(|| colour.map(|c| c * (1.1 - 0.3 * d / disk[2])))
             }
             Occluder::Hair {
@@ -440,6 +446,9 @@ impl Occluder {
 struct Scene<'a> {
     subject: &'a EarSubject,
     antihelix: Polyline,
+    /// `(sin, cos)` of the helix tilt and of the concha angle.
+    tilt: (f64, f64),
+    concha: (f64, f64),
     occluders: Vec<(&'a Occluder, Vec<Polyline>)>,
 }
 
@@ -448,6 +457,8 @@ impl<'a> Scene<'a> {
         Scene {
             subject,
             antihelix: Polyline::bezier(&subject.antihelix),
+            tilt: subject.tilt.sin_cos(),
+            concha: subject.concha[4].sin_cos(),
             occluders: occluders
                 .iter()
                 .map(|o| {
@@ -515,7 +526,7 @@ pub fn render(
                             covered += 1;
                             c
                         }
-                        None => skin.map(|v| v * subject.shade(q, &scene.antihelix)),
+                        None => skin.map(|v| v * subject.shade(q, &scene)),
                     };
                     for ch in 0..3 {
                         acc[ch] += 0.25 * c[ch];
@@ -557,27 +568,28 @@ pub fn block_ground_truth(mask: &[u8], h: usize, w: usize, p: &EarParams) -> Res
     Ok(out)
 }
 
-/// Occluder mask only (no shading, no noise), for sizing occluders.
-fn occluder_mask(
+/// Number of ground-truth occluded blocks of one occluder (pixel centres only, no shading or
+/// noise): the fast measure used to size occluders.
+fn blocks_covered(
     subject: &EarSubject,
     capture: &Capture,
     occ: &Occluder,
     cfg: &SynthConfig,
-) -> Vec<u8> {
+    p: &EarParams,
+) -> Result<usize> {
     let (h, w) = (cfg.height, cfg.width);
     let scene = Scene::new(subject, std::slice::from_ref(occ));
-    (0..h * w)
+    let mask: Vec<u8> = (0..h * w)
         .into_par_iter()
         .map(|i| {
-            let (y, x) = (i / w, i % w);
-            let mut n = 0;
-            for (sy, sx) in [(0.25, 0.25), (0.25, 0.75), (0.75, 0.25), (0.75, 0.75)] {
-                let p = [x as f64 + sx - 0.5 * w as f64, y as f64 + sy - 0.5 * h as f64];
-                n += scene.occluder_at(capture.to_subject(p)).is_some() as u32;
-            }
-            u8::from(n >= 2)
+            let q = [
+                (i % w) as f64 + 0.5 - 0.5 * w as f64,
+                (i / w) as f64 + 0.5 - 0.5 * h as f64,
+            ];
+            u8::from(scene.occluder_at(capture.to_subject(q)).is_some())
         })
-        .collect()
+        .collect();
+    Ok(block_ground_truth(&mask, h, w, p)?.iter().filter(|&&b| b).count())
 }
 
 /// A random non-skin colour: blue, green, neutral grey or black (base luminance 50-65, so
@@ -623,24 +635,23 @@ fn colour_region(
         wave,
         colour,
     };
-    let count = |o: &Occluder| -> Result<usize> {
-        let m = occluder_mask(subject, capture, o, cfg);
-        Ok(block_ground_truth(&m, cfg.height, cfg.width, p)?
-            .iter()
-            .filter(|&&b| b)
-            .count())
-    };
-    // count decreases with the offset.
+    // The covered count falls as the offset grows: bisect to half a pixel, stopping early
+    // on an exact hit.
+    let count = |offset: f64| blocks_covered(subject, capture, &make(offset), cfg, p);
     let (mut lo, mut hi) = (-reach, reach);
-    for _ in 0..24 {
+    let (mut clo, mut chi) = (count(lo)?, count(hi)?);
+    while hi - lo > 0.5 {
         let mid = 0.5 * (lo + hi);
-        if count(&make(mid))? > target {
-            lo = mid;
+        let c = count(mid)?;
+        if c == target {
+            return Ok(make(mid));
+        }
+        if c > target {
+            (lo, clo) = (mid, c);
         } else {
-            hi = mid;
+            (hi, chi) = (mid, c);
         }
     }
-    let (clo, chi) = (count(&make(lo))?, count(&make(hi))?);
     Ok(make(if clo.abs_diff(target) < chi.abs_diff(target) {
         lo
     } else {
