@@ -13,6 +13,7 @@ mod convert;
 mod csmri;
 mod deblur;
 mod doe;
+mod ear;
 mod errors;
 mod handpose;
 mod hdr;
@@ -31,7 +32,7 @@ mod volren;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 13] = [
+    let subs: [(&str, Register); 14] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
@@ -45,6 +46,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         ("csmri", csmri::register),
         ("deblur", deblur::register),
         ("hdr", hdr::register),
+        ("ear", ear::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

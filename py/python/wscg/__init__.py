@@ -29,6 +29,11 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
   with a coherence-penalised cost, bidirectional-similarity voting and Khan-weighted merging
   per view; Debevec-Malik responses; 2-D PatchMatch, ZNCC stereo and unaligned baselines; a
   layered multi-view scene with ground truth).
+- :mod:`wscg.ear`: paper 14, occlusion detection and index-based ear recognition (skin
+  model in rg chromaticity, disk closing and hole filling, Haar LL block features matched
+  by block index under one-block shifts, rejection of heavily occluded probes, the
+  whole-ear baseline, CMC curves, synthetic ears with exact occluder masks); also
+  :mod:`wscg.biometrics.ear`.
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -36,9 +41,9 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, csmri, deblur, doe, hdr, isosurface, math, meshfilter, octree, raytrace, video, volren
+from . import biometrics, cloth, csmri, deblur, doe, ear, hdr, isosurface, math, meshfilter, octree, raytrace, video, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "deblur", "doe", "hdr", "isosurface", "math", "meshfilter", "octree", "raytrace", "video", "volren",
+__all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "hdr", "isosurface", "math", "meshfilter", "octree", "raytrace", "video", "volren",
            "__version__"]

@@ -3,6 +3,7 @@ from . import cloth as cloth
 from . import csmri as csmri
 from . import deblur as deblur
 from . import doe as doe
+from . import ear as ear
 from . import hdr as hdr
 from . import isosurface as isosurface
 from . import math as math

@@ -25,6 +25,9 @@ hand-pose data (:func:`make_hand_poses`), the physical features (:func:`physical
 the paper's split (:func:`hand_pose_split`) and the whole comparison
 (:func:`hand_pose_comparison`).
 
+Paper 14 (Sultana et al., occlusion detection and index-based ear recognition) is the
+submodule :mod:`wscg.biometrics.ear` (also :mod:`wscg.ear`).
+
 Bad arguments raise ``ValueError`` naming the problem; the GIL is released while Rust works.
 """
 
@@ -1025,3 +1028,8 @@ def hand_pose_rotated_test(masks, test_index, angles=(10.0, 20.0),
         raise ValueError("`test_index` must be a 1-D array of frame indices")
     return _b.rotated_frame_rows(mk, [int(i) for i in idx], float(angles[0]), float(angles[1]),
                                  int(seed))
+
+
+# Paper 14 (occlusion detection and index-based ear recognition) lives in its own module,
+# reachable as ``wscg.biometrics.ear`` and ``wscg.ear``.
+from . import ear  # noqa: E402

@@ -3,6 +3,8 @@ from typing import Any, Optional, Sequence, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
+from . import ear as ear
+
 ArrayLike = npt.ArrayLike
 F64 = npt.NDArray[np.float64]
 F32 = npt.NDArray[np.float32]

@@ -1,0 +1,1054 @@
+//! `wscg._native.ear`: bindings of `wscg_biometrics::ear` (paper 14, occlusion detection and
+//! index-based ear recognition) and of the image operations it is built from
+//! (`wscg_biometrics::imgops::{tone, mask}`, `wscg_math::wavelet::haar_ll`).
+//!
+//! The documented API is `python/wscg/ear.py`, which passes C-contiguous uint8 images,
+//! float32 templates, float64 planes and bool masks, and the pipeline parameters as a dict
+//! (keys: the fields of `EarParams`, see [`PARAM_KEYS`]). Every function validates its input
+//! again, so a direct call cannot panic; the GIL is released while Rust works.
+
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rayon::prelude::*;
+use wscg_biometrics::ear::features::check_input;
+use wscg_biometrics::ear::protocol::evaluate_images;
+use wscg_biometrics::ear::synth::{generate, OcclusionKind, SynthConfig};
+use wscg_biometrics::ear::{
+    self, EarParams, EarTemplate, Gallery, Identification, OcclusionReport, ScoreRule, SkinModel,
+    SkinRule,
+};
+use wscg_biometrics::imgops::{mask, tone};
+use wscg_math::Image;
+
+use crate::convert::{array, dict_item, dims2, image_dims, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+/// The keys of the parameter dict (the fields of `EarParams`; the skin model is split into
+/// `skin_mean` and `skin_cov`, the skin rule into `skin_rule` and `min_likelihood`).
+const PARAM_KEYS: [&str; 17] = [
+    "height",
+    "width",
+    "block",
+    "skin_mean",
+    "skin_cov",
+    "skin_rule",
+    "min_likelihood",
+    "min_intensity",
+    "close_radius",
+    "fill_holes",
+    "block_skin_fraction",
+    "reject_above_pct",
+    "shifts",
+    "score",
+    "mask_features",
+    "gray_enrolment",
+    "equalize_on_skin",
+];
+
+/// Largest normalised image (`height * width`) and resize target accepted.
+const MAX_NORMALISED: usize = 1 << 26;
+
+/// A skin mean `(r, g)` from a sequence of two numbers.
+fn mean2(v: Vec<f64>) -> PyResult<[f64; 2]> {
+    match v[..] {
+        [r, g] => Ok([r, g]),
+        _ => Err(value_error(format!(
+            "`skin_mean` must hold 2 values (r, g), got {}",
+            v.len()
+        ))),
+    }
+}
+
+/// A 2 x 2 covariance from nested sequences.
+fn cov22(v: Vec<Vec<f64>>) -> PyResult<[[f64; 2]; 2]> {
+    match &v[..] {
+        [a, b] if a.len() == 2 && b.len() == 2 => Ok([[a[0], a[1]], [b[0], b[1]]]),
+        _ => Err(value_error(format!(
+            "`skin_cov` must be a 2 x 2 matrix, got {} rows of lengths {:?}",
+            v.len(),
+            v.iter().map(Vec::len).collect::<Vec<_>>()
+        ))),
+    }
+}
+
+/// A validated skin model from its mean and covariance.
+fn skin_model(mean: Vec<f64>, cov: Vec<Vec<f64>>) -> PyResult<SkinModel> {
+    SkinModel::new(mean2(mean)?, cov22(cov)?).py_err()
+}
+
+/// The skin rule named `name` with its threshold (default: 0.05 for the joint rule,
+/// `exp(-2)` for the marginal AND).
+fn skin_rule(name: &str, min_likelihood: Option<f64>) -> PyResult<SkinRule> {
+    match name.to_ascii_lowercase().replace('_', "-").as_str() {
+        "joint" => Ok(SkinRule::Joint {
+            min_likelihood: min_likelihood.unwrap_or(0.05),
+        }),
+        "marginal-and" => Ok(SkinRule::MarginalAnd {
+            min_likelihood: min_likelihood.unwrap_or((-2.0f64).exp()),
+        }),
+        other => Err(value_error(format!(
+            "`skin_rule` must be \"joint\" or \"marginal-and\", got {other:?}"
+        ))),
+    }
+}
+
+/// `EarParams` from the parameter dict (absent keys keep the paper's defaults), validated.
+fn params_from(spec: Option<&Bound<'_, PyDict>>) -> PyResult<EarParams> {
+    let mut p = EarParams::default();
+    if let Some(d) = spec {
+        for k in d.keys() {
+            let k: String = k
+                .extract()
+                .map_err(|_| value_error("ear parameter names must be strings"))?;
+            if !PARAM_KEYS.contains(&k.as_str()) {
+                return Err(value_error(format!(
+                    "unknown ear parameter {k:?}; valid: {}",
+                    PARAM_KEYS.join(", ")
+                )));
+            }
+        }
+        if let Some(v) = dict_item(d, "height")? {
+            p.height = v;
+        }
+        if let Some(v) = dict_item(d, "width")? {
+            p.width = v;
+        }
+        if let Some(v) = dict_item(d, "block")? {
+            p.block = v;
+        }
+        if let Some(v) = dict_item::<Vec<f64>>(d, "skin_mean")? {
+            p.skin_model.mean = mean2(v)?;
+        }
+        if let Some(v) = dict_item::<Vec<Vec<f64>>>(d, "skin_cov")? {
+            p.skin_model.cov = cov22(v)?;
+        }
+        let t: Option<f64> = dict_item(d, "min_likelihood")?;
+        let rule: Option<String> = dict_item(d, "skin_rule")?;
+        p.skin_rule = skin_rule(rule.as_deref().unwrap_or("joint"), t)?;
+        if let Some(v) = dict_item(d, "min_intensity")? {
+            p.min_intensity = v;
+        }
+        if let Some(v) = dict_item(d, "close_radius")? {
+            p.close_radius = v;
+        }
+        if let Some(v) = dict_item(d, "fill_holes")? {
+            p.fill_holes = v;
+        }
+        if let Some(v) = dict_item(d, "block_skin_fraction")? {
+            p.block_skin_fraction = v;
+        }
+        if let Some(v) = dict_item(d, "reject_above_pct")? {
+            p.reject_above_pct = v;
+        }
+        if let Some(v) = dict_item(d, "shifts")? {
+            p.shifts = v;
+        }
+        if let Some(v) = dict_item::<String>(d, "score")? {
+            p.score = ScoreRule::parse(&v).py_err()?;
+        }
+        if let Some(v) = dict_item(d, "mask_features")? {
+            p.mask_features = v;
+        }
+        if let Some(v) = dict_item(d, "gray_enrolment")? {
+            p.gray_enrolment = v;
+        }
+        if let Some(v) = dict_item(d, "equalize_on_skin")? {
+            p.equalize_on_skin = v;
+        }
+    }
+    p.validate().py_err()?;
+    if p.height
+        .checked_mul(p.width)
+        .is_none_or(|n| n > MAX_NORMALISED)
+    {
+        return Err(value_error(format!(
+            "the normalised size {} x {} is too large (at most 2^26 pixels)",
+            p.height, p.width
+        )));
+    }
+    Ok(p)
+}
+
+/// An 8-bit image from an `(H, W)` or `(H, W, C)` array; a zero size is a `ValueError`.
+fn image_in(name: &str, a: &PyReadonlyArrayDyn<u8>) -> PyResult<Image<u8>> {
+    let (h, w, c) = image_dims(name, a.shape())?;
+    if h == 0 || w == 0 || c == 0 {
+        return Err(value_error(format!(
+            "`{name}` is empty (shape {:?})",
+            a.shape()
+        )));
+    }
+    Image::new(h, w, c, values(a).into_owned()).py_err()
+}
+
+/// A list of 8-bit images, each named `name[k]` in errors.
+fn images_in(name: &str, v: &[PyReadonlyArrayDyn<u8>]) -> PyResult<Vec<Image<u8>>> {
+    v.iter()
+        .enumerate()
+        .map(|(k, a)| image_in(&format!("{name}[{k}]"), a))
+        .collect()
+}
+
+/// An image as an `(H, W)` array when it has one channel and `flat`, `(H, W, C)` otherwise.
+fn image_out<'py>(py: Python<'py>, img: Image<u8>, flat: bool) -> PyResult<Arr<'py, u8>> {
+    let (h, w, c) = img.shape();
+    if flat && c == 1 {
+        array(py, &[h, w], img.into_data())
+    } else {
+        array(py, &[h, w, c], img.into_data())
+    }
+}
+
+/// A template from a `(blocks, block_len)` float32 array.
+fn template_in(name: &str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<EarTemplate> {
+    let (b, k) = dims2(name, a)?;
+    EarTemplate::new(values(a).into_owned(), b, k).py_err()
+}
+
+fn template_out<'py>(py: Python<'py>, t: &EarTemplate) -> PyResult<Arr<'py, f32>> {
+    array(py, &[t.blocks(), t.block_len()], t.features().to_vec())
+}
+
+/// A binary mask from a 2-D bool array, as 0/1 bytes with its size.
+fn mask_in(name: &str, a: &PyReadonlyArrayDyn<bool>) -> PyResult<(Vec<u8>, usize, usize)> {
+    let (h, w) = dims2(name, a)?;
+    if h == 0 || w == 0 {
+        return Err(value_error(format!("`{name}` is empty (shape {h} x {w})")));
+    }
+    Ok((values(a).iter().map(|&v| u8::from(v)).collect(), h, w))
+}
+
+fn mask_out<'py>(py: Python<'py>, v: &[u8], h: usize, w: usize) -> PyResult<Arr<'py, bool>> {
+    array(py, &[h, w], v.iter().map(|&x| x != 0).collect())
+}
+
+fn vec_out<'py>(py: Python<'py>, v: Vec<f64>) -> PyResult<Arr<'py, f64>> {
+    array(py, &[v.len()], v)
+}
+
+fn idx_out<'py>(py: Python<'py>, v: impl IntoIterator<Item = usize>) -> PyResult<Arr<'py, i64>> {
+    let v: Vec<i64> = v.into_iter().map(|i| i as i64).collect();
+    array(py, &[v.len()], v)
+}
+
+/// A finite radius.
+fn radius_in(radius: f64) -> PyResult<f64> {
+    if !(radius.is_finite() && radius >= 0.0) {
+        return Err(value_error(format!(
+            "`radius` must be finite and >= 0, got {radius}"
+        )));
+    }
+    Ok(radius)
+}
+
+/// The occlusion report as a dict (grids shaped `(rows, cols)` of blocks).
+fn report_dict<'py>(
+    py: Python<'py>,
+    r: &OcclusionReport,
+    p: &EarParams,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (gr, gc) = p.grid();
+    let d = PyDict::new(py);
+    d.set_item("mask", mask_out(py, r.skin_mask.data(), p.height, p.width)?)?;
+    d.set_item("blocks", array(py, &[gr, gc], r.block_unoccluded.clone())?)?;
+    d.set_item(
+        "block_skin_fraction",
+        array(py, &[gr, gc], r.block_skin_fraction.clone())?,
+    )?;
+    d.set_item("index", idx_out(py, r.index())?)?;
+    d.set_item("occluded_pct", r.occluded_pct)?;
+    d.set_item("rejected", r.rejected)?;
+    Ok(d)
+}
+
+/// Ranking as `(order int64, scores float64)` arrays.
+fn ranking_out<'py>(
+    py: Python<'py>,
+    ranked: &[(usize, f64)],
+) -> PyResult<(Arr<'py, i64>, Arr<'py, f64>)> {
+    Ok((
+        idx_out(py, ranked.iter().map(|r| r.0))?,
+        vec_out(py, ranked.iter().map(|r| r.1).collect())?,
+    ))
+}
+
+// ------------------------------------------------------------------------------------------
+// Pipeline
+// ------------------------------------------------------------------------------------------
+
+/// Enrolment template `(blocks, block_len)` of one clean ear crop.
+#[pyfunction]
+#[pyo3(signature = (img, params=None))]
+fn enroll<'py>(
+    py: Python<'py>,
+    img: PyReadonlyArrayDyn<'py, u8>,
+    params: Option<Bound<'py, PyDict>>,
+) -> PyResult<Arr<'py, f32>> {
+    let p = params_from(params.as_ref())?;
+    let im = image_in("img", &img)?;
+    let t = py.detach(|| ear::enroll(&im, &p)).py_err()?;
+    template_out(py, &t)
+}
+
+/// Templates `(n, blocks, block_len)` of a list of clean ear crops (in parallel).
+#[pyfunction]
+#[pyo3(signature = (images, params=None))]
+fn enroll_many<'py>(
+    py: Python<'py>,
+    images: Vec<PyReadonlyArrayDyn<'py, u8>>,
+    params: Option<Bound<'py, PyDict>>,
+) -> PyResult<Arr<'py, f32>> {
+    let p = params_from(params.as_ref())?;
+    if images.is_empty() {
+        return Err(value_error("`images` is empty: nothing to enrol"));
+    }
+    let imgs = images_in("images", &images)?;
+    let ts = py
+        .detach(|| {
+            imgs.par_iter()
+                .map(|im| ear::enroll(im, &p))
+                .collect::<wscg_math::Result<Vec<_>>>()
+        })
+        .py_err()?;
+    let flat: Vec<f32> = ts
+        .iter()
+        .flat_map(|t| t.features().iter().copied())
+        .collect();
+    array(py, &[ts.len(), p.blocks(), p.block_len()], flat)
+}
+
+/// Occlusion report (Algorithm 1) of an RGB ear crop.
+#[pyfunction]
+#[pyo3(signature = (img, params=None))]
+fn detect_occlusion<'py>(
+    py: Python<'py>,
+    img: PyReadonlyArrayDyn<'py, u8>,
+    params: Option<Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let p = params_from(params.as_ref())?;
+    let im = image_in("img", &img)?;
+    let r = py.detach(|| ear::detect_occlusion(&im, &p)).py_err()?;
+    report_dict(py, &r, &p)
+}
+
+/// Per-pixel skin decision (steps 2-6, before closing) of an RGB image at its own size.
+#[pyfunction]
+#[pyo3(signature = (img, params=None))]
+fn skin_pixels<'py>(
+    py: Python<'py>,
+    img: PyReadonlyArrayDyn<'py, u8>,
+    params: Option<Bound<'py, PyDict>>,
+) -> PyResult<Arr<'py, bool>> {
+    let p = params_from(params.as_ref())?;
+    let im = image_in("img", &img)?;
+    check_input(&im, false).py_err()?;
+    let s = py.detach(|| ear::skin_pixels(&im, &p));
+    mask_out(py, &s, im.height(), im.width())
+}
+
+/// Every quantity of the match of a probe image against one template.
+#[pyfunction]
+#[pyo3(signature = (img, template, params=None))]
+fn score<'py>(
+    py: Python<'py>,
+    img: PyReadonlyArrayDyn<'py, u8>,
+    template: PyReadonlyArrayDyn<'py, f32>,
+    params: Option<Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let p = params_from(params.as_ref())?;
+    let im = image_in("img", &img)?;
+    let t = template_in("template", &template)?;
+    t.check(&p).py_err()?;
+    let (probe, b) = py
+        .detach(|| -> wscg_math::Result<_> {
+            let probe = ear::make_probe(&im, &p)?;
+            let b = ear::score(&probe, &t, &p)?;
+            Ok((probe, b))
+        })
+        .py_err()?;
+    let (ns, m) = (p.shifts.len(), probe.index.len());
+    let d = PyDict::new(py);
+    let rules = PyDict::new(py);
+    for (rule, v) in ScoreRule::ALL.iter().zip(b.rules) {
+        rules.set_item(rule.name(), v)?;
+    }
+    d.set_item("rules", rules)?;
+    d.set_item("score", b.get(p.score))?;
+    d.set_item(
+        "per_shift",
+        vec_out(
+            py,
+            b.per_shift.iter().map(|v| v.unwrap_or(f64::NAN)).collect(),
+        )?,
+    )?;
+    d.set_item(
+        "distances",
+        array(
+            py,
+            &[ns, m],
+            b.distances.iter().map(|v| v.unwrap_or(f64::NAN)).collect(),
+        )?,
+    )?;
+    d.set_item("best_shift", idx_out(py, b.best_shift.iter().copied())?)?;
+    d.set_item("index", idx_out(py, probe.index.iter().copied())?)?;
+    d.set_item(
+        "shifts",
+        array(
+            py,
+            &[ns, 2],
+            p.shifts
+                .iter()
+                .flat_map(|&(a, b)| [a as i64, b as i64])
+                .collect(),
+        )?,
+    )?;
+    let r = probe.report.as_ref();
+    d.set_item("occluded_pct", r.map_or(f64::NAN, |r| r.occluded_pct))?;
+    d.set_item("rejected", probe.rejected())?;
+    Ok(d)
+}
+
+/// Whole-ear baseline score (Fig. 12) of a probe image against one template.
+#[pyfunction]
+#[pyo3(signature = (img, template, params=None))]
+fn baseline_score(
+    py: Python<'_>,
+    img: PyReadonlyArrayDyn<'_, u8>,
+    template: PyReadonlyArrayDyn<'_, f32>,
+    params: Option<Bound<'_, PyDict>>,
+) -> PyResult<f64> {
+    let p = params_from(params.as_ref())?;
+    let im = image_in("img", &img)?;
+    let t = template_in("template", &template)?;
+    py.detach(|| {
+        let probe = ear::make_baseline_probe(&im, &p)?;
+        ear::baseline_score(&probe, &t, &p)
+    })
+    .py_err()
+}
+
+/// A gallery of enrolled templates with the parameters to match probes against it.
+#[pyclass(module = "wscg._native.ear", name = "EarMatcher", frozen)]
+pub struct PyEarMatcher {
+    gallery: Gallery,
+    params: EarParams,
+}
+
+impl PyEarMatcher {
+    fn probe(&self, py: Python<'_>, img: &PyReadonlyArrayDyn<'_, u8>) -> PyResult<ear::Probe> {
+        let im = image_in("img", img)?;
+        py.detach(|| ear::make_probe(&im, &self.params)).py_err()
+    }
+}
+
+#[pymethods]
+impl PyEarMatcher {
+    /// Lays out `(n, blocks, block_len)` float32 templates.
+    #[new]
+    #[pyo3(signature = (templates, params=None))]
+    fn new(
+        py: Python<'_>,
+        templates: PyReadonlyArrayDyn<'_, f32>,
+        params: Option<Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        let p = params_from(params.as_ref())?;
+        let (n, b, k) = match *templates.shape() {
+            [n, b, k] => (n, b, k),
+            ref s => {
+                return Err(value_error(format!(
+                    "`templates` must be a 3-D (n, blocks, block_len) array, got shape {s:?}"
+                )))
+            }
+        };
+        if (b, k) != (p.blocks(), p.block_len()) {
+            return Err(value_error(format!(
+                "shape mismatch: templates have {b} blocks x {k} features, the parameters \
+                 need {} x {}",
+                p.blocks(),
+                p.block_len()
+            )));
+        }
+        let flat = values(&templates);
+        let gallery = py
+            .detach(|| Gallery::from_features(&flat, n, b, k))
+            .py_err()?;
+        Ok(Self { gallery, params: p })
+    }
+
+    fn __len__(&self) -> usize {
+        self.gallery.len()
+    }
+
+    /// The templates as a new `(n, blocks, block_len)` array.
+    fn templates<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f32>> {
+        let n = self.gallery.len();
+        let (b, k) = (self.params.blocks(), self.params.block_len());
+        let mut flat = Vec::with_capacity(n * b * k);
+        for g in 0..n {
+            flat.extend_from_slice(self.gallery.template(g).py_err()?.features());
+        }
+        array(py, &[n, b, k], flat)
+    }
+
+    /// `(rejected, occluded_pct, order, scores)`; order and scores are empty when rejected.
+    fn identify<'py>(
+        &self,
+        py: Python<'py>,
+        img: PyReadonlyArrayDyn<'py, u8>,
+    ) -> PyResult<(bool, f64, Arr<'py, i64>, Arr<'py, f64>)> {
+        let probe = self.probe(py, &img)?;
+        let pct = probe.report.as_ref().map_or(f64::NAN, |r| r.occluded_pct);
+        let id = py
+            .detach(|| ear::identify(&probe, &self.gallery, &self.params))
+            .py_err()?;
+        match id {
+            Identification::Rejected { occluded_pct } => {
+                let (o, s) = ranking_out(py, &[])?;
+                Ok((true, occluded_pct, o, s))
+            }
+            Identification::Ranked(r) => {
+                let (o, s) = ranking_out(py, &r)?;
+                Ok((false, pct, o, s))
+            }
+        }
+    }
+
+    /// `(scores in gallery order, rejected, occluded_pct)`; the scores are computed on the
+    /// kept blocks whether or not the probe is rejected.
+    fn scores<'py>(
+        &self,
+        py: Python<'py>,
+        img: PyReadonlyArrayDyn<'py, u8>,
+    ) -> PyResult<(Arr<'py, f64>, bool, f64)> {
+        let probe = self.probe(py, &img)?;
+        let pct = probe.report.as_ref().map_or(f64::NAN, |r| r.occluded_pct);
+        let s = py
+            .detach(|| ear::scores(&probe, &self.gallery, &self.params))
+            .py_err()?;
+        Ok((vec_out(py, s)?, probe.rejected(), pct))
+    }
+
+    /// Whole-ear baseline ranking `(order, scores)` (Fig. 12; never rejects).
+    fn identify_baseline<'py>(
+        &self,
+        py: Python<'py>,
+        img: PyReadonlyArrayDyn<'py, u8>,
+    ) -> PyResult<(Arr<'py, i64>, Arr<'py, f64>)> {
+        let im = image_in("img", &img)?;
+        let id = py
+            .detach(|| ear::identify_baseline(&im, &self.gallery, &self.params))
+            .py_err()?;
+        ranking_out(py, id.ranking().unwrap_or(&[]))
+    }
+}
+
+/// Cumulative match characteristic of 0-based ranks (-1: rejected, excluded).
+#[pyfunction]
+fn cmc<'py>(
+    py: Python<'py>,
+    ranks: PyReadonlyArrayDyn<'py, i64>,
+    max_rank: usize,
+) -> PyResult<Arr<'py, f64>> {
+    if ranks.shape().len() != 1 {
+        return Err(value_error(format!(
+            "`ranks` must be a 1-D array, got shape {:?}",
+            ranks.shape()
+        )));
+    }
+    let r = values(&ranks)
+        .iter()
+        .map(|&v| match v {
+            -1 => Ok(None),
+            v if v >= 0 => Ok(Some(v as usize)),
+            v => Err(value_error(format!(
+                "`ranks` holds {v}; ranks are >= 0, or -1 for a rejected probe"
+            ))),
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    vec_out(py, ear::cmc(&r, max_rank).py_err()?)
+}
+
+/// Synthetic ears with exact occluder masks.
+#[pyfunction]
+#[pyo3(signature = (n_subjects, n_probes, seed, occlusion, min_pct, max_pct, canvas=None,
+                    shape_spread=None, shift_px=None, rotation_deg=None, gain=None,
+                    white_balance=None, noise_sigma=None, params=None))]
+#[allow(clippy::too_many_arguments)]
+fn synth_ears<'py>(
+    py: Python<'py>,
+    n_subjects: usize,
+    n_probes: usize,
+    seed: u64,
+    occlusion: &str,
+    min_pct: f64,
+    max_pct: f64,
+    canvas: Option<(usize, usize)>,
+    shape_spread: Option<f64>,
+    shift_px: Option<f64>,
+    rotation_deg: Option<f64>,
+    gain: Option<(f64, f64)>,
+    white_balance: Option<f64>,
+    noise_sigma: Option<f64>,
+    params: Option<Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let p = params_from(params.as_ref())?;
+    let kind = match occlusion.to_ascii_lowercase().replace('_', "-").as_str() {
+        "none" => OcclusionKind::None,
+        "colour" | "color" => OcclusionKind::Colour { min_pct, max_pct },
+        "earring" => OcclusionKind::Earring,
+        "dark-hair" => OcclusionKind::Hair { dark: true },
+        "blond-hair" => OcclusionKind::Hair { dark: false },
+        other => {
+            return Err(value_error(format!(
+                "`occlusion` must be \"none\", \"colour\", \"earring\", \"dark-hair\" or \
+                 \"blond-hair\", got {other:?}"
+            )))
+        }
+    };
+    let d = SynthConfig::default();
+    let (height, width) = canvas.unwrap_or((d.height, d.width));
+    let cfg = SynthConfig {
+        height,
+        width,
+        shape_spread: shape_spread.unwrap_or(d.shape_spread),
+        shift_px: shift_px.unwrap_or(d.shift_px),
+        rotation_deg: rotation_deg.unwrap_or(d.rotation_deg),
+        gain: gain.unwrap_or(d.gain),
+        white_balance: white_balance.unwrap_or(d.white_balance),
+        noise_sigma: noise_sigma.unwrap_or(d.noise_sigma),
+    };
+    const MAX_PIXELS: usize = 1 << 31;
+    let total = n_subjects
+        .checked_add(n_subjects.saturating_mul(n_probes))
+        .and_then(|n| n.checked_mul(height))
+        .and_then(|n| n.checked_mul(width))
+        .and_then(|n| n.checked_mul(3));
+    if total.is_none_or(|t| t > MAX_PIXELS) {
+        return Err(value_error(format!(
+            "{n_subjects} subjects x {n_probes} probes of {height} x {width} is too large \
+             (at most 2^31 bytes of images)"
+        )));
+    }
+    let set = py
+        .detach(|| generate(n_subjects, n_probes, kind, seed, &cfg, &p))
+        .py_err()?;
+    let (h, w) = (cfg.height, cfg.width);
+    let (gr, gc) = p.grid();
+    let m = set.probes.len();
+    let enrol: Vec<u8> = set.enrol.iter().flat_map(|im| im.data().to_vec()).collect();
+    let probes: Vec<u8> = set
+        .probes
+        .iter()
+        .flat_map(|pr| pr.image.rgb.data().to_vec())
+        .collect();
+    let masks: Vec<bool> = set
+        .probes
+        .iter()
+        .flat_map(|pr| pr.image.occluder_mask.iter().map(|&v| v != 0))
+        .collect();
+    let blocks: Vec<bool> = set
+        .probes
+        .iter()
+        .flat_map(|pr| pr.occluded_blocks.iter().copied())
+        .collect();
+    let out = PyDict::new(py);
+    out.set_item("enrol", array(py, &[set.enrol.len(), h, w, 3], enrol)?)?;
+    out.set_item("probes", array(py, &[m, h, w, 3], probes)?)?;
+    out.set_item(
+        "subjects",
+        idx_out(py, set.probes.iter().map(|pr| pr.subject))?,
+    )?;
+    out.set_item("occluder_masks", array(py, &[m, h, w], masks)?)?;
+    out.set_item("occluded_blocks", array(py, &[m, gr, gc], blocks)?)?;
+    out.set_item(
+        "occluded_pct",
+        vec_out(py, set.probes.iter().map(|pr| pr.occluded_pct()).collect())?,
+    )?;
+    out.set_item(
+        "skin_rg",
+        array(
+            py,
+            &[set.subjects.len(), 2],
+            set.subjects.iter().flat_map(|s| s.skin_rg).collect(),
+        )?,
+    )?;
+    Ok(out)
+}
+
+/// The paper's experiments on labelled images (`protocol::evaluate_images`).
+#[pyfunction]
+#[pyo3(signature = (enrol, probes, subjects, true_pct, max_rank, edges=None, params=None))]
+#[allow(clippy::too_many_arguments)]
+fn evaluate<'py>(
+    py: Python<'py>,
+    enrol: Vec<PyReadonlyArrayDyn<'py, u8>>,
+    probes: Vec<PyReadonlyArrayDyn<'py, u8>>,
+    subjects: Vec<i64>,
+    true_pct: Option<Vec<f64>>,
+    max_rank: usize,
+    edges: Option<Vec<f64>>,
+    params: Option<Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let p = params_from(params.as_ref())?;
+    if enrol.is_empty() {
+        return Err(value_error(
+            "`enrol` is empty: no gallery to identify against",
+        ));
+    }
+    if subjects.len() != probes.len() {
+        return Err(value_error(format!(
+            "{} probes need as many subjects, got {}",
+            probes.len(),
+            subjects.len()
+        )));
+    }
+    if let Some(t) = &true_pct {
+        if t.len() != probes.len() {
+            return Err(value_error(format!(
+                "{} probes need as many true_pct values, got {}",
+                probes.len(),
+                t.len()
+            )));
+        }
+    }
+    if let Some(e) = &edges {
+        if e.len() < 2 || e.iter().any(|v| !v.is_finite()) || e.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(value_error(format!(
+                "`edges` must hold at least 2 finite, increasing values, got {e:?}"
+            )));
+        }
+    }
+    let subj = subjects
+        .iter()
+        .map(|&s| {
+            usize::try_from(s).map_err(|_| value_error(format!("`subjects` holds {s}, not >= 0")))
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let gal = images_in("enrol", &enrol)?;
+    let prb = images_in("probes", &probes)?;
+    let items: Vec<(usize, &Image<u8>, Option<f64>)> = prb
+        .iter()
+        .enumerate()
+        .map(|(k, im)| {
+            let t = true_pct.as_ref().map(|t| t[k]).filter(|v| v.is_finite());
+            (subj[k], im, t)
+        })
+        .collect();
+    let ev = py
+        .detach(|| evaluate_images(&gal, &items, &p, max_rank))
+        .py_err()?;
+    let n = ev.outcomes.len();
+    let d = PyDict::new(py);
+    let names: Vec<&str> = ScoreRule::ALL.iter().map(|r| r.name()).collect();
+    let cmc = PyDict::new(py);
+    for (name, c) in names.iter().zip(&ev.cmc) {
+        cmc.set_item(name, vec_out(py, c.clone())?)?;
+    }
+    d.set_item("rules", names.clone())?;
+    d.set_item("cmc", cmc)?;
+    d.set_item("baseline_cmc", vec_out(py, ev.baseline_cmc.clone())?)?;
+    d.set_item(
+        "baseline_cmc_all",
+        vec_out(py, ev.baseline_cmc_all.clone())?,
+    )?;
+    d.set_item("rejection_rate", ev.rejection_rate())?;
+    let o = &ev.outcomes;
+    d.set_item(
+        "estimated_pct",
+        vec_out(py, o.iter().map(|o| o.estimated_pct).collect())?,
+    )?;
+    d.set_item(
+        "true_pct",
+        vec_out(
+            py,
+            o.iter().map(|o| o.true_pct.unwrap_or(f64::NAN)).collect(),
+        )?,
+    )?;
+    d.set_item(
+        "rejected",
+        array(py, &[n], o.iter().map(|o| o.rejected).collect())?,
+    )?;
+    d.set_item(
+        "ranks",
+        array(
+            py,
+            &[n, ScoreRule::ALL.len()],
+            o.iter()
+                .flat_map(|o| o.ranks.map(|r| r.map_or(-1, |r| r as i64)))
+                .collect(),
+        )?,
+    )?;
+    d.set_item(
+        "baseline_rank",
+        array(
+            py,
+            &[n],
+            o.iter()
+                .map(|o| i64::try_from(o.baseline_rank).unwrap_or(-1))
+                .collect(),
+        )?,
+    )?;
+    if let Some(e) = &edges {
+        let deg = PyDict::new(py);
+        for rule in ScoreRule::ALL {
+            let rows = ev.degradation(rule, e);
+            let flat = rows
+                .iter()
+                .flat_map(|&(lo, hi, c, r)| [lo, hi, c as f64, r])
+                .collect();
+            deg.set_item(rule.name(), array(py, &[rows.len(), 4], flat)?)?;
+        }
+        d.set_item("degradation", deg)?;
+    }
+    Ok(d)
+}
+
+// ------------------------------------------------------------------------------------------
+// Skin model
+// ------------------------------------------------------------------------------------------
+
+type Model = ([f64; 2], [[f64; 2]; 2]);
+
+/// Checks a skin model; returns it normalised to `(mean, cov)`.
+#[pyfunction]
+fn skin_check(mean: Vec<f64>, cov: Vec<Vec<f64>>) -> PyResult<Model> {
+    let m = skin_model(mean, cov)?;
+    Ok((m.mean, m.cov))
+}
+
+/// ML skin model of `(n, 3)` uint8 RGB pixels (black ones skipped).
+#[pyfunction]
+fn skin_fit(py: Python<'_>, pixels: PyReadonlyArrayDyn<'_, u8>) -> PyResult<Model> {
+    let sh = pixels.shape();
+    if sh.len() != 2 || sh[1] != 3 {
+        return Err(value_error(format!(
+            "`pixels` must have shape (n, 3) (RGB), got {sh:?}"
+        )));
+    }
+    let px: Vec<[u8; 3]> = values(&pixels)
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    let m = py.detach(|| SkinModel::fit(&px)).py_err()?;
+    Ok((m.mean, m.cov))
+}
+
+/// ML skin model of `(n, 2)` chromaticity samples.
+#[pyfunction]
+fn skin_fit_rg(py: Python<'_>, points: PyReadonlyArrayDyn<'_, f64>) -> PyResult<Model> {
+    let sh = points.shape();
+    if sh.len() != 2 || sh[1] != 2 {
+        return Err(value_error(format!(
+            "`points` must have shape (n, 2) (r, g), got {sh:?}"
+        )));
+    }
+    let pts: Vec<[f64; 2]> = values(&points)
+        .chunks_exact(2)
+        .map(|c| [c[0], c[1]])
+        .collect();
+    let m = py.detach(|| SkinModel::fit_rg(&pts)).py_err()?;
+    Ok((m.mean, m.cov))
+}
+
+/// `what` (`mahalanobis2`, `likelihood`, `marginal_r`, `marginal_g`) at the chromaticities
+/// `(r[i], g[i])`.
+#[pyfunction]
+fn skin_eval_rg<'py>(
+    py: Python<'py>,
+    mean: Vec<f64>,
+    cov: Vec<Vec<f64>>,
+    r: PyReadonlyArrayDyn<'py, f64>,
+    g: PyReadonlyArrayDyn<'py, f64>,
+    what: &str,
+) -> PyResult<Arr<'py, f64>> {
+    let m = skin_model(mean, cov)?;
+    let (r, g) = (values(&r), values(&g));
+    if r.len() != g.len() {
+        return Err(value_error(format!(
+            "`r` and `g` differ in size: {} and {}",
+            r.len(),
+            g.len()
+        )));
+    }
+    let f: fn(&SkinModel, f64, f64) -> f64 = match what {
+        "mahalanobis2" => |m, r, g| m.mahalanobis2_rg(r, g),
+        "likelihood" => |m, r, g| m.likelihood_rg(r, g),
+        "marginal_r" => |m, r, g| m.marginal_likelihoods_rg(r, g).0,
+        "marginal_g" => |m, r, g| m.marginal_likelihoods_rg(r, g).1,
+        other => return Err(value_error(format!("unknown skin quantity {other:?}"))),
+    };
+    let out = r.iter().zip(g.iter()).map(|(&r, &g)| f(&m, r, g)).collect();
+    vec_out(py, out)
+}
+
+/// Likelihood (eq. 5) of uint8 RGB pixels given as a `(..., 3)` array (flat result).
+#[pyfunction]
+fn skin_likelihood<'py>(
+    py: Python<'py>,
+    mean: Vec<f64>,
+    cov: Vec<Vec<f64>>,
+    rgb: PyReadonlyArrayDyn<'py, u8>,
+) -> PyResult<Arr<'py, f64>> {
+    let m = skin_model(mean, cov)?;
+    if rgb.shape().last() != Some(&3) {
+        return Err(value_error(format!(
+            "`rgb` must have a last axis of 3 (R, G, B), got shape {:?}",
+            rgb.shape()
+        )));
+    }
+    let out = values(&rgb)
+        .chunks_exact(3)
+        .map(|c| m.likelihood([c[0], c[1], c[2]]))
+        .collect();
+    vec_out(py, out)
+}
+
+// ------------------------------------------------------------------------------------------
+// Building blocks
+// ------------------------------------------------------------------------------------------
+
+/// OpenCV's fixed-point RGB to grey of an `(H, W, 3)` uint8 image.
+#[pyfunction]
+fn rgb_to_gray<'py>(py: Python<'py>, img: PyReadonlyArrayDyn<'py, u8>) -> PyResult<Arr<'py, u8>> {
+    let im = image_in("img", &img)?;
+    let g = tone::rgb_to_gray(&im).py_err()?;
+    array(py, &[im.height(), im.width()], g)
+}
+
+/// `cv2.equalizeHist` of a 2-D uint8 image, optionally with the histogram of `within` only.
+#[pyfunction]
+#[pyo3(signature = (gray, within=None))]
+fn equalize_hist<'py>(
+    py: Python<'py>,
+    gray: PyReadonlyArrayDyn<'py, u8>,
+    within: Option<PyReadonlyArrayDyn<'py, bool>>,
+) -> PyResult<Arr<'py, u8>> {
+    let (h, w) = dims2("gray", &gray)?;
+    if h == 0 || w == 0 {
+        return Err(value_error(format!("`gray` is empty (shape {h} x {w})")));
+    }
+    let sel = match &within {
+        Some(m) => {
+            let (mh, mw) = dims2("within", m)?;
+            if (mh, mw) != (h, w) {
+                return Err(value_error(format!(
+                    "shape mismatch: `within` is {mh} x {mw}, `gray` {h} x {w}"
+                )));
+            }
+            Some(values(m).iter().map(|&v| u8::from(v)).collect::<Vec<u8>>())
+        }
+        None => None,
+    };
+    let out = tone::equalize_hist_within(&values(&gray), sel.as_deref());
+    array(py, &[h, w], out)
+}
+
+/// Resize of an 8-bit image (area averaging down, bilinear up).
+#[pyfunction]
+fn resize<'py>(
+    py: Python<'py>,
+    img: PyReadonlyArrayDyn<'py, u8>,
+    height: usize,
+    width: usize,
+) -> PyResult<Arr<'py, u8>> {
+    let flat = img.shape().len() == 2;
+    let im = image_in("img", &img)?;
+    if height.checked_mul(width).is_none_or(|n| n > MAX_NORMALISED) {
+        return Err(value_error(format!(
+            "target size {height} x {width} is too large (at most 2^26 pixels)"
+        )));
+    }
+    let r = py.detach(|| tone::resize_u8(&im, height, width)).py_err()?;
+    image_out(py, r, flat)
+}
+
+/// Level-1 Haar LL band of a 2-D float64 plane with even sizes.
+#[pyfunction]
+fn haar_ll<'py>(py: Python<'py>, plane: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Arr<'py, f64>> {
+    let (r, c) = dims2("plane", &plane)?;
+    let ll = wscg_math::wavelet::haar_ll(&values(&plane), r, c).py_err()?;
+    array(py, &[r / 2, c / 2], ll)
+}
+
+/// Haar LL features `(blocks, block_len)` of every block of a `(height, width)` plane.
+#[pyfunction]
+#[pyo3(signature = (plane, params=None))]
+fn block_features<'py>(
+    py: Python<'py>,
+    plane: PyReadonlyArrayDyn<'py, f64>,
+    params: Option<Bound<'py, PyDict>>,
+) -> PyResult<Arr<'py, f32>> {
+    let p = params_from(params.as_ref())?;
+    let (r, c) = dims2("plane", &plane)?;
+    if (r, c) != (p.height, p.width) {
+        return Err(value_error(format!(
+            "shape mismatch: `plane` is {r} x {c}, the parameters need {} x {}",
+            p.height, p.width
+        )));
+    }
+    let f = ear::block_features(&values(&plane), &p).py_err()?;
+    array(py, &[p.blocks(), p.block_len()], f)
+}
+
+/// Disk morphology of a 2-D bool mask: `op` is `close`, `dilate` or `erode`.
+#[pyfunction]
+fn disk_morphology<'py>(
+    py: Python<'py>,
+    m: PyReadonlyArrayDyn<'py, bool>,
+    radius: f64,
+    op: &str,
+) -> PyResult<Arr<'py, bool>> {
+    let (v, h, w) = mask_in("mask", &m)?;
+    let radius = radius_in(radius)?;
+    type Op = fn(&[u8], usize, usize, f64) -> wscg_math::Result<Vec<u8>>;
+    let f: Op = match op {
+        "close" => mask::close_disk,
+        "dilate" => mask::dilate_disk,
+        "erode" => mask::erode_disk,
+        other => return Err(value_error(format!("unknown morphology {other:?}"))),
+    };
+    let out = py.detach(|| f(&v, h, w, radius)).py_err()?;
+    mask_out(py, &out, h, w)
+}
+
+/// Hole filling of a 2-D bool mask.
+#[pyfunction]
+fn fill_holes<'py>(py: Python<'py>, m: PyReadonlyArrayDyn<'py, bool>) -> PyResult<Arr<'py, bool>> {
+    let (v, h, w) = mask_in("mask", &m)?;
+    let out = py.detach(|| mask::fill_holes(&v, h, w)).py_err()?;
+    mask_out(py, &out, h, w)
+}
+
+/// Registers the submodule's functions and classes.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyEarMatcher>()?;
+    m.add("PARAM_KEYS", PARAM_KEYS.to_vec())?;
+    m.add("SHIFTS_NINE", ear::SHIFTS_NINE.to_vec())?;
+    m.add(
+        "RULES",
+        ScoreRule::ALL.iter().map(|r| r.name()).collect::<Vec<_>>(),
+    )?;
+    m.add_function(wrap_pyfunction!(enroll, m)?)?;
+    m.add_function(wrap_pyfunction!(enroll_many, m)?)?;
+    m.add_function(wrap_pyfunction!(detect_occlusion, m)?)?;
+    m.add_function(wrap_pyfunction!(skin_pixels, m)?)?;
+    m.add_function(wrap_pyfunction!(score, m)?)?;
+    m.add_function(wrap_pyfunction!(baseline_score, m)?)?;
+    m.add_function(wrap_pyfunction!(cmc, m)?)?;
+    m.add_function(wrap_pyfunction!(synth_ears, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluate, m)?)?;
+    m.add_function(wrap_pyfunction!(skin_check, m)?)?;
+    m.add_function(wrap_pyfunction!(skin_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(skin_fit_rg, m)?)?;
+    m.add_function(wrap_pyfunction!(skin_eval_rg, m)?)?;
+    m.add_function(wrap_pyfunction!(skin_likelihood, m)?)?;
+    m.add_function(wrap_pyfunction!(rgb_to_gray, m)?)?;
+    m.add_function(wrap_pyfunction!(equalize_hist, m)?)?;
+    m.add_function(wrap_pyfunction!(resize, m)?)?;
+    m.add_function(wrap_pyfunction!(haar_ll, m)?)?;
+    m.add_function(wrap_pyfunction!(block_features, m)?)?;
+    m.add_function(wrap_pyfunction!(disk_morphology, m)?)?;
+    m.add_function(wrap_pyfunction!(fill_holes, m)?)?;
+    Ok(())
+}
