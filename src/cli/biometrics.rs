@@ -29,6 +29,10 @@ pub enum BiometricsCommand {
     /// baselines; the synthetic hand-pose generator.
     #[command(subcommand)]
     Sfa(super::sfa::SfaCommand),
+    /// Paper 14: ear occlusion detection and index-based recognition (enrol, identify,
+    /// detect, simulate).
+    #[command(subcommand)]
+    Ear(super::ear::EarCommand),
 }
 
 #[derive(Subcommand, Debug)]
@@ -257,6 +261,7 @@ pub fn run(cmd: BiometricsCommand) -> Result<()> {
     let cmd = match cmd {
         BiometricsCommand::Fdkeca(cmd) => cmd,
         BiometricsCommand::Sfa(cmd) => return super::sfa::run(cmd),
+        BiometricsCommand::Ear(cmd) => return super::ear::run(cmd),
     };
     match cmd {
         FdkecaCommand::Fit { data, model, out } => {

@@ -10,6 +10,7 @@ mod biometrics;
 mod cloth;
 mod deblur;
 mod doe;
+mod ear;
 mod hdr;
 mod isosurface;
 mod manylight;

@@ -11,6 +11,7 @@ use wscg_math::Result;
 pub mod biometrics;
 pub mod cloth;
 pub mod deblur;
+pub mod ear;
 pub mod figures;
 pub mod hdr;
 pub mod isosurface;
@@ -117,6 +118,7 @@ pub fn registry() -> Vec<Demo> {
         mri::DEMO,
         deblur::DEMO,
         hdr::DEMO,
+        ear::DEMO,
     ]
 }
 

@@ -426,7 +426,13 @@ impl Image<u8> {
         let data = img
             .into_data()
             .into_iter()
-            .map(|v| if bits == 16 { ((v as u32 + 128) / 257) as u8 } else { v as u8 })
+            .map(|v| {
+                if bits == 16 {
+                    ((v as u32 + 128) / 257) as u8
+                } else {
+                    v as u8
+                }
+            })
             .collect();
         Image::new(h, w, c, data)
     }

@@ -457,7 +457,9 @@ mod tests {
     #[test]
     fn haar_ll_is_the_db1_approximation_band() {
         let (r, c) = (6, 10);
-        let x: Vec<f64> = (0..r * c).map(|i| ((i * 37) % 11) as f64 * 0.3 - 1.0).collect();
+        let x: Vec<f64> = (0..r * c)
+            .map(|i| ((i * 37) % 11) as f64 * 0.3 - 1.0)
+            .collect();
         let ll = haar_ll(&x, r, c).unwrap();
         let w = Wavelet2::new(r, c, Daubechies::new(1).unwrap(), 1).unwrap();
         let mut y = vec![0.0; r * c];

@@ -146,10 +146,7 @@ impl Layout {
         let (gr, gc) = p.grid();
         let m = probe.index.len();
         if m == 0 {
-            return Err(Error::invalid(
-                "probe",
-                "has no un-occluded block to match",
-            ));
+            return Err(Error::invalid("probe", "has no un-occluded block to match"));
         }
         if probe.feats.len() != m * p.block_len() {
             return Err(Error::ShapeMismatch(format!(
@@ -176,9 +173,16 @@ impl Layout {
         let shift_count: Vec<usize> = (0..n_shifts)
             .map(|s| partner[s * m..(s + 1) * m].iter().flatten().count())
             .collect();
-        let defined = shift_count.iter().map(|&c| c > 0 && c >= m.div_ceil(2)).collect();
+        let defined = shift_count
+            .iter()
+            .map(|&c| c > 0 && c >= m.div_ceil(2))
+            .collect();
         let n_valid = (0..m)
-            .map(|j| (0..n_shifts).filter(|&s| partner[s * m + j].is_some()).count())
+            .map(|j| {
+                (0..n_shifts)
+                    .filter(|&s| partner[s * m + j].is_some())
+                    .count()
+            })
             .collect();
         Ok(Layout {
             m,
@@ -205,7 +209,10 @@ impl Layout {
         let sc = self.scale;
         let blocks = (0..self.m).filter(|&j| self.n_valid[j] > 0);
         let per_shift = (0..self.n_shifts).filter(|&s| self.defined[s]).map(|s| {
-            1.0 - (shift_d2(s) as f64 / self.shift_count[s] as f64).max(0.0).sqrt() / sc
+            1.0 - (shift_d2(s) as f64 / self.shift_count[s] as f64)
+                .max(0.0)
+                .sqrt()
+                / sc
         });
         let mean = |it: &mut dyn Iterator<Item = f64>| {
             let (n, t) = it.fold((0usize, 0.0), |(n, t), v| (n + 1, t + v));
@@ -219,9 +226,9 @@ impl Layout {
             ScoreRule::BlockwiseMax => {
                 mean(&mut blocks.map(|j| 1.0 - (min_d2(j) as f64).max(0.0).sqrt() / sc))
             }
-            ScoreRule::BlockwiseMean => mean(
-                &mut blocks.map(|j| 1.0 - sum_d(j) as f64 / (self.n_valid[j] as f64 * sc)),
-            ),
+            ScoreRule::BlockwiseMean => {
+                mean(&mut blocks.map(|j| 1.0 - sum_d(j) as f64 / (self.n_valid[j] as f64 * sc)))
+            }
             ScoreRule::OverallMax => per_shift.fold(f64::NEG_INFINITY, f64::max),
             ScoreRule::OverallMean => mean(&mut per_shift.into_iter()),
             ScoreRule::LiteralEq18 => blocks
@@ -281,7 +288,12 @@ pub fn score(probe: &Probe, t: &EarTemplate, p: &EarParams) -> Result<ScoreBreak
             .filter_map(|s| at(s, j))
             .fold(f32::INFINITY, f32::min)
     };
-    let sum_d = |j: usize| (0..lay.n_shifts).filter_map(|s| at(s, j)).map(f32::sqrt).sum();
+    let sum_d = |j: usize| {
+        (0..lay.n_shifts)
+            .filter_map(|s| at(s, j))
+            .map(f32::sqrt)
+            .sum()
+    };
     let shift_d2 = |s: usize| (0..m).filter_map(|j| at(s, j)).sum();
     let rules = ScoreRule::ALL.map(|r| lay.score(r, min_d2, sum_d, shift_d2));
     let best_shift = (0..m)
@@ -294,9 +306,8 @@ pub fn score(probe: &Probe, t: &EarTemplate, p: &EarParams) -> Result<ScoreBreak
         .collect();
     let per_shift = (0..lay.n_shifts)
         .map(|s| {
-            lay.defined[s].then(|| {
-                1.0 - (shift_d2(s) as f64 / lay.shift_count[s] as f64).sqrt() / lay.scale
-            })
+            lay.defined[s]
+                .then(|| 1.0 - (shift_d2(s) as f64 / lay.shift_count[s] as f64).sqrt() / lay.scale)
         })
         .collect();
     Ok(ScoreBreakdown {
@@ -463,7 +474,9 @@ pub fn scores(probe: &Probe, gallery: &Gallery, p: &EarParams) -> Result<Vec<f64
                     }
                     if need_sum_d {
                         let su = &mut sum_d[j * CHUNK..j * CHUNK + cw];
-                        su.iter_mut().zip(d2.iter()).for_each(|(a, &d)| *a += d.sqrt());
+                        su.iter_mut()
+                            .zip(d2.iter())
+                            .for_each(|(a, &d)| *a += d.sqrt());
                     }
                 }
             }
@@ -531,7 +544,11 @@ pub fn identify_image(img: &Image<u8>, gallery: &Gallery, p: &EarParams) -> Resu
 }
 
 /// Ranks a whole-ear baseline probe (Fig. 12) against the gallery.
-pub fn identify_baseline(img: &Image<u8>, gallery: &Gallery, p: &EarParams) -> Result<Identification> {
+pub fn identify_baseline(
+    img: &Image<u8>,
+    gallery: &Gallery,
+    p: &EarParams,
+) -> Result<Identification> {
     let probe = make_baseline_probe(img, p)?;
     let bp = baseline_params(p);
     Ok(Identification::Ranked(rank(&scores(&probe, gallery, &bp)?)))

@@ -44,11 +44,10 @@ pub fn skin_pixels(small: &Image<u8>, p: &EarParams) -> Vec<u8> {
         .data()
         .chunks_exact(3)
         .map(|px| {
-            u8::from(p.skin_rule.is_skin(
-                &p.skin_model,
-                [px[0], px[1], px[2]],
-                p.min_intensity,
-            ))
+            u8::from(
+                p.skin_rule
+                    .is_skin(&p.skin_model, [px[0], px[1], px[2]], p.min_intensity),
+            )
         })
         .collect()
 }

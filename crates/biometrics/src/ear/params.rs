@@ -147,13 +147,16 @@ impl EarParams {
         if self.block == 0 || self.block % 2 == 1 {
             return Err(Error::invalid(
                 "block",
-                format!("must be even and > 0 (the Haar LL halves it), got {}", self.block),
+                format!(
+                    "must be even and > 0 (the Haar LL halves it), got {}",
+                    self.block
+                ),
             ));
         }
         if self.height == 0
             || self.width == 0
-            || self.height % self.block != 0
-            || self.width % self.block != 0
+            || !self.height.is_multiple_of(self.block)
+            || !self.width.is_multiple_of(self.block)
         {
             return Err(Error::invalid(
                 "block",

@@ -44,8 +44,16 @@ impl SkinModel {
     /// Checks the model as [`Self::new`] does.
     pub fn validate(&self) -> Result<()> {
         let c = self.cov;
-        if self.mean.iter().chain(c.iter().flatten()).any(|v| !v.is_finite()) {
-            return Err(Error::invalid("skin_model", "mean and covariance must be finite"));
+        if self
+            .mean
+            .iter()
+            .chain(c.iter().flatten())
+            .any(|v| !v.is_finite())
+        {
+            return Err(Error::invalid(
+                "skin_model",
+                "mean and covariance must be finite",
+            ));
         }
         if (c[0][1] - c[1][0]).abs() > 1e-12 * (c[0][0].abs() + c[1][1].abs()) {
             return Err(Error::invalid("skin_model", "covariance must be symmetric"));
@@ -66,10 +74,16 @@ impl SkinModel {
         if points.len() < 3 {
             return Err(Error::invalid(
                 "pixels",
-                format!("need at least 3 samples to fit a skin model, got {}", points.len()),
+                format!(
+                    "need at least 3 samples to fit a skin model, got {}",
+                    points.len()
+                ),
             ));
         }
-        if let Some(i) = points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+        if let Some(i) = points
+            .iter()
+            .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+        {
             return Err(Error::NonFinite {
                 name: "points",
                 index: i,

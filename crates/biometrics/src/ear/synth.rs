@@ -79,7 +79,10 @@ impl SynthConfig {
         if self.height < 16 || self.width < 16 {
             return Err(Error::invalid(
                 "canvas",
-                format!("must be at least 16 x 16, got {} x {}", self.height, self.width),
+                format!(
+                    "must be at least 16 x 16, got {} x {}",
+                    self.height, self.width
+                ),
             ));
         }
         let finite_nonneg = [
@@ -91,7 +94,10 @@ impl SynthConfig {
         ];
         for (name, v) in finite_nonneg {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(Error::invalid(name, format!("must be finite and >= 0, got {v}")));
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and >= 0, got {v}"),
+                ));
             }
         }
         if !(self.gain.0 > 0.0 && self.gain.0 <= self.gain.1 && self.gain.1.is_finite()) {
@@ -159,7 +165,9 @@ impl EarSubject {
                 ];
             }
         };
-        let maxc = skin_rg[0].max(skin_rg[1]).max(1.0 - skin_rg[0] - skin_rg[1]);
+        let maxc = skin_rg[0]
+            .max(skin_rg[1])
+            .max(1.0 - skin_rg[0] - skin_rg[1]);
         let cap = 250.0 / (3.0 * maxc * PEAK_SHADE * cfg.gain.1 * (1.0 + cfg.white_balance));
         let luminance = r.random_range(90.0..210.0f64).min(cap);
         let a = spread(&mut r, 55.0, 70.0, s);
@@ -283,9 +291,19 @@ impl Polyline {
                 ]
             })
             .collect();
-        let mut bbox = [f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY];
+        let mut bbox = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
         for q in &pts {
-            bbox = [bbox[0].min(q[0]), bbox[1].max(q[0]), bbox[2].min(q[1]), bbox[3].max(q[1])];
+            bbox = [
+                bbox[0].min(q[0]),
+                bbox[1].max(q[0]),
+                bbox[2].min(q[1]),
+                bbox[3].max(q[1]),
+            ];
         }
         Polyline { pts, bbox }
     }
@@ -410,7 +428,12 @@ pub enum OcclusionKind {
 
 impl Occluder {
     /// Colour at subject point `q` (`None` outside); `strands` are the sampled hair strands.
-    fn colour_at(&self, q: [f64; 2], subject: &EarSubject, strands: &[Polyline]) -> Option<[f64; 3]> {
+    fn colour_at(
+        &self,
+        q: [f64; 2],
+        subject: &EarSubject,
+        strands: &[Polyline],
+    ) -> Option<[f64; 3]> {
         match self {
             Occluder::Region {
                 angle,
@@ -550,7 +573,12 @@ pub fn render(
 /// normalised size by area averaging and a block is occluded when its mean occluder fraction
 /// is at least 0.5.
 pub fn block_ground_truth(mask: &[u8], h: usize, w: usize, p: &EarParams) -> Result<Vec<bool>> {
-    let img = Image::new(h, w, 1, mask.iter().map(|&m| (m != 0) as u8 as f32).collect())?;
+    let img = Image::new(
+        h,
+        w,
+        1,
+        mask.iter().map(|&m| (m != 0) as u8 as f32).collect(),
+    )?;
     let frac = resize(&img, p.height, p.width, Interpolation::Area)?;
     let (gr, gc) = p.grid();
     let mut out = Vec::with_capacity(gr * gc);
@@ -589,7 +617,10 @@ fn blocks_covered(
             u8::from(scene.occluder_at(capture.to_subject(q)).is_some())
         })
         .collect();
-    Ok(block_ground_truth(&mask, h, w, p)?.iter().filter(|&&b| b).count())
+    Ok(block_ground_truth(&mask, h, w, p)?
+        .iter()
+        .filter(|&&b| b)
+        .count())
 }
 
 /// A random non-skin colour: blue, green, neutral grey or black (base luminance 50-65, so

@@ -525,7 +525,9 @@ mod tests {
         let mut state = 12345u64;
         let mask: Vec<u8> = (0..h * w)
             .map(|_| {
-                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 u8::from((state >> 33) % 10 < 4)
             })
             .collect();
