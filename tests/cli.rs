@@ -1864,3 +1864,104 @@ fn hdr_demo_reports_the_methods_and_writes_its_figures() {
         Image::load(dir.path().join(f)).unwrap();
     }
 }
+
+#[test]
+fn ear_simulate_enroll_identify_and_detect_on_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    wscg_ok(&[
+        "biometrics",
+        "ear",
+        "simulate",
+        "--subjects",
+        "6",
+        "--probes",
+        "1",
+        "--out",
+        &s(d),
+    ]);
+    let g = d.join("gallery");
+    let out = wscg_ok(&[
+        "biometrics",
+        "ear",
+        "enroll",
+        &s(&d.join("enrol")),
+        "--out",
+        &s(&g),
+    ]);
+    assert!(out.contains("6 identities"), "{out}");
+    let probe = d.join("probes").join("0002_0.png");
+    let before = std::fs::read(&probe).unwrap();
+    let masks = d.join("masks");
+    let out = wscg_ok(&[
+        "biometrics",
+        "ear",
+        "identify",
+        "--gallery",
+        &s(&g),
+        &s(&probe),
+        "--top",
+        "3",
+        "--masks",
+        &s(&masks),
+    ]);
+    assert!(out.contains("occlusion"), "{out}");
+    assert_eq!(
+        out.lines()
+            .filter(|l| l.trim_start().starts_with(|c: char| c.is_ascii_digit()))
+            .count(),
+        3
+    );
+    let mask = Image::load(masks.join("0002_0_mask.png")).unwrap();
+    assert_eq!(mask.shape(), (100, 80, 1));
+    assert_eq!(
+        std::fs::read(&probe).unwrap(),
+        before,
+        "the probe file was modified"
+    );
+    let out = wscg_ok(&["biometrics", "ear", "detect", &s(&probe)]);
+    assert_eq!(
+        out.lines().filter(|l| l.trim().len() == 8).count(),
+        10,
+        "{out}"
+    );
+    // Bad input: a missing gallery, an unreadable probe.
+    assert!(!wscg()
+        .args([
+            "biometrics",
+            "ear",
+            "identify",
+            "--gallery",
+            &s(&d.join("none")),
+            &s(&probe)
+        ])
+        .output()
+        .unwrap()
+        .status
+        .success());
+    let junk = d.join("junk.png");
+    std::fs::write(&junk, b"not an image").unwrap();
+    let out = wscg()
+        .args(["biometrics", "ear", "detect", &s(&junk)])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("junk.png"));
+}
+
+#[test]
+fn ear_demo_reports_the_rules_and_the_baseline() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = wscg_ok(&["demo", "ear", "--out", dir.path().to_str().unwrap()]);
+    for row in [
+        "blockwise-max",
+        "whole-ear Haar baseline",
+        "estimated occlusion",
+    ] {
+        assert!(out.contains(row), "{row} missing:\n{out}");
+    }
+    for f in ["cmc_paper.png", "cmc_skin.png", "probes.png"] {
+        Image::load(dir.path().join(f)).unwrap();
+    }
+}
