@@ -7,7 +7,8 @@ PyWavelets (no library implements the method):
   with the 21 x 21 ellipse, `scipy.ndimage.binary_fill_holes`, per-block skin fractions;
 * features: `pywt.dwt2(block, "haar")[0]` per kept block;
 * matching: the nine block shifts with a vectorised `np.einsum` distance over the gallery and
-  the block-wise maximum rule.
+  the block-wise maximum rule; and the faster block-major layout (one BLAS product per
+  enrolled block, the spec's suggested layout) as a second peer.
 
 Both sides see the same synthetic probes and the same 10,000 templates (50 enrolled ears,
 each copy perturbed). Time per probe is the median over 20 probes; enrolment throughput is
@@ -85,6 +86,33 @@ def peer_identify(img, gallery):
     return np.argsort(-score, kind="stable")
 
 
+class BlockMajorPeer:
+    """The faster NumPy layout of the spec's section 5: the gallery stored block-major with
+    its squared norms, so each enrolled block meets the probe blocks that map onto it in one
+    BLAS product (G x 25) . (25 x k)."""
+
+    def __init__(self, gallery):
+        self.g = np.ascontiguousarray(gallery.transpose(1, 0, 2))  # (80, G, 25)
+        self.norm = np.einsum("bgk,bgk->bg", self.g, self.g)
+
+    def identify(self, img):
+        keep, t = peer_probe(img)
+        t = t.astype(np.float32)
+        rows, cols = keep // 8, keep % 8
+        best = np.full((self.g.shape[1], len(keep)), np.inf, np.float32)
+        pairs = {}
+        for dr, dc in SHIFTS:
+            r, c = rows + dr, cols + dc
+            for j in np.flatnonzero((r >= 0) & (r < 10) & (c >= 0) & (c < 8)):
+                pairs.setdefault(int(r[j] * 8 + c[j]), []).append(j)
+        tn = np.einsum("jk,jk->j", t, t)
+        for b, js in pairs.items():
+            d2 = self.norm[b][:, None] + tn[js][None] - 2.0 * (self.g[b] @ t[js].T)
+            best[:, js] = np.minimum(best[:, js], d2)
+        score = (1.0 - np.sqrt(np.maximum(best, 0.0)) / 10.0).mean(axis=1)
+        return np.argsort(-score, kind="stable")
+
+
 def main():
     data = ear.synth_ears(50, 1, seed=14, occlusion="colour", min_pct=10, max_pct=50)
     enrol, probes = data["enrol"], data["probes"]
@@ -97,11 +125,15 @@ def main():
     ps = probes[:20]
     ours = best_time(lambda: [matcher.identify(p) for p in ps], repeat=3) / len(ps)
     peer = best_time(lambda: [peer_identify(p, gallery) for p in ps], repeat=3) / len(ps)
-    agree = sum(int(matcher.identify(p)["order"][0] == peer_identify(p, gallery)[0]) for p in ps)
+    fast = BlockMajorPeer(gallery)
+    peer_bm = best_time(lambda: [fast.identify(p) for p in ps], repeat=3) / len(ps)
+    agree = sum(int(matcher.identify(p)["order"][0] == peer_identify(p, gallery)[0]
+                    == fast.identify(p)[0]) for p in ps)
     e_ours = best_time(lambda: ear.enroll_many(enrol), repeat=3) / len(enrol)
     e_peer = best_time(lambda: [peer_enroll(im) for im in enrol], repeat=3) / len(enrol)
     print_table("Paper 14: ear identification (one probe vs 10,000 templates, 2 threads)", [
-        ("identify one probe (10k templates)", ours, "numpy+cv2+pywt", peer),
+        ("identify one probe (10k templates)", ours, "numpy+cv2+pywt einsum", peer),
+        ("identify one probe (10k templates)", ours, "numpy+cv2+pywt block GEMM", peer_bm),
         ("enrol one image", e_ours, "numpy+cv2+pywt", e_peer),
     ])
     print(f"per-probe time ours {1e3 * ours:.1f} ms (target <= 25 ms); enrolment "

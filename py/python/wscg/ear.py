@@ -80,11 +80,11 @@ Recognition", WSCG 2015, Journal of WSCG vol. 23.
 
 from __future__ import annotations
 
-import numbers
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from ._checks import _int
 from ._native import ear as _e
 
 __all__ = [
@@ -111,18 +111,6 @@ _REALS = ("min_likelihood", "close_radius", "block_skin_fraction", "reject_above
 # ----------------------------------------------------------------------------------------
 # Input validation
 # ----------------------------------------------------------------------------------------
-
-def _int(name: str, v, lo: Optional[int] = None) -> int:
-    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral):
-        if isinstance(v, numbers.Real) and float(v).is_integer():
-            v = int(v)
-        else:
-            raise ValueError(f"`{name}` must be an integer, got {v!r}")
-    v = int(v)
-    if lo is not None and v < lo:
-        raise ValueError(f"`{name}` must be >= {lo}, got {v}")
-    return v
-
 
 def _real(name: str, v) -> float:
     if isinstance(v, (bool, np.bool_)):

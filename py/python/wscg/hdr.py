@@ -49,11 +49,11 @@ ICIP 2006.
 
 from __future__ import annotations
 
-import numbers
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from ._checks import _int
 from ._native import hdr as _h
 
 __all__ = [
@@ -76,20 +76,6 @@ _REFERENCE = "Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23"
 # ----------------------------------------------------------------------------------------
 # Input validation
 # ----------------------------------------------------------------------------------------
-
-def _int(name: str, v, lo: Optional[int] = None, hi: Optional[int] = None) -> int:
-    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral):
-        if isinstance(v, numbers.Real) and float(v).is_integer():
-            v = int(v)
-        else:
-            raise ValueError(f"`{name}` must be an integer, got {v!r}")
-    v = int(v)
-    if lo is not None and v < lo:
-        raise ValueError(f"`{name}` must be >= {lo}, got {v}")
-    if hi is not None and v > hi:
-        raise ValueError(f"`{name}` must be <= {hi}, got {v}")
-    return v
-
 
 def _seed(v) -> int:
     return _int("seed", v, 0, 2 ** 64 - 1)

@@ -442,54 +442,112 @@ pub fn scores(probe: &Probe, gallery: &Gallery, p: &EarParams) -> Result<Vec<f64
             }
         }
     }
-    let need_sum_d = p.score == ScoreRule::BlockwiseMean;
+    let kernel = ChunkKernel {
+        feats: &probe.feats,
+        gallery,
+        by_block: &by_block,
+        k,
+        m,
+        need_sum_d: p.score == ScoreRule::BlockwiseMean,
+    };
     let mut out = vec![0.0f64; n];
     out.par_chunks_mut(CHUNK)
         .enumerate()
         .for_each(|(ci, out_chunk)| {
-            let g0 = ci * CHUNK;
             let cw = out_chunk.len();
-            let mut min_d2 = vec![f32::INFINITY; m * CHUNK];
-            let mut sum_d = vec![0.0f32; if need_sum_d { m * CHUNK } else { 0 }];
-            let mut shift_d2 = vec![0.0f32; ns * CHUNK];
-            let mut d2 = [0.0f32; CHUNK];
-            for (b, pairs) in by_block.iter().enumerate() {
-                for &(s, j) in pairs {
-                    let tj = &probe.feats[j * k..(j + 1) * k];
-                    let d2 = &mut d2[..cw];
-                    d2.fill(0.0);
-                    for (f, &tv) in tj.iter().enumerate() {
-                        let base = (b * k + f) * n + g0;
-                        let row = &gallery.data[base..base + cw];
-                        for (acc, &r) in d2.iter_mut().zip(row) {
-                            let e = tv - r;
-                            *acc += e * e;
-                        }
-                    }
-                    let mn = &mut min_d2[j * CHUNK..j * CHUNK + cw];
-                    let sd = &mut shift_d2[s * CHUNK..s * CHUNK + cw];
-                    for ((mn, sd), &d) in mn.iter_mut().zip(sd.iter_mut()).zip(d2.iter()) {
-                        *mn = mn.min(d);
-                        *sd += d;
-                    }
-                    if need_sum_d {
-                        let su = &mut sum_d[j * CHUNK..j * CHUNK + cw];
-                        su.iter_mut()
-                            .zip(d2.iter())
-                            .for_each(|(a, &d)| *a += d.sqrt());
-                    }
-                }
-            }
+            let mut acc = ChunkStats {
+                min_d2: vec![f32::INFINITY; m * CHUNK],
+                sum_d: vec![0.0f32; if kernel.need_sum_d { m * CHUNK } else { 0 }],
+                shift_d2: vec![0.0f32; ns * CHUNK],
+            };
+            kernel.run(ci * CHUNK, cw, &mut acc);
             for (gi, o) in out_chunk.iter_mut().enumerate() {
                 *o = lay.score(
                     p.score,
-                    |j| min_d2[j * CHUNK + gi],
-                    |j| sum_d[j * CHUNK + gi],
-                    |s| shift_d2[s * CHUNK + gi],
+                    |j| acc.min_d2[j * CHUNK + gi],
+                    |j| acc.sum_d[j * CHUNK + gi],
+                    |s| acc.shift_d2[s * CHUNK + gi],
                 );
             }
         });
     Ok(out)
+}
+
+/// Per-template statistics of one chunk (`[probe block or shift][template in chunk]`).
+struct ChunkStats {
+    /// Smallest raw squared distance of each probe block over its valid shifts.
+    min_d2: Vec<f32>,
+    /// Sum of raw distances of each probe block (block-wise mean only).
+    sum_d: Vec<f32>,
+    /// Sum of raw squared distances of each shift over its valid blocks.
+    shift_d2: Vec<f32>,
+}
+
+/// The inner loop of [`scores`]: every (shift, probe block) pair against a chunk of
+/// templates, reading each enrolled block once for all pairs that map onto it.
+struct ChunkKernel<'a> {
+    feats: &'a [f32],
+    gallery: &'a Gallery,
+    by_block: &'a [Vec<(usize, usize)>],
+    k: usize,
+    m: usize,
+    need_sum_d: bool,
+}
+
+impl ChunkKernel<'_> {
+    /// Accumulates templates `g0 .. g0 + cw` into `acc`, with AVX2 + FMA when the CPU has
+    /// them (detected at run time) and portable code otherwise; both give the same result
+    /// up to float rounding.
+    fn run(&self, g0: usize, cw: usize, acc: &mut ChunkStats) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the CPU supports the features the function is compiled for.
+            unsafe { self.run_avx2(g0, cw, acc) };
+            return;
+        }
+        self.body(g0, cw, acc);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn run_avx2(&self, g0: usize, cw: usize, acc: &mut ChunkStats) {
+        self.body(g0, cw, acc);
+    }
+
+    #[inline(always)]
+    fn body(&self, g0: usize, cw: usize, acc: &mut ChunkStats) {
+        let (k, n) = (self.k, self.gallery.n);
+        let mut d2 = [0.0f32; CHUNK];
+        for (b, pairs) in self.by_block.iter().enumerate() {
+            for &(s, j) in pairs {
+                let tj = &self.feats[j * k..(j + 1) * k];
+                let d2 = &mut d2[..cw];
+                d2.fill(0.0);
+                for (f, &tv) in tj.iter().enumerate() {
+                    let base = (b * k + f) * n + g0;
+                    let row = &self.gallery.data[base..base + cw];
+                    for (a, &r) in d2.iter_mut().zip(row) {
+                        let e = tv - r;
+                        *a += e * e;
+                    }
+                }
+                let mn = &mut acc.min_d2[j * CHUNK..j * CHUNK + cw];
+                let sd = &mut acc.shift_d2[s * CHUNK..s * CHUNK + cw];
+                for ((mn, sd), &d) in mn.iter_mut().zip(sd.iter_mut()).zip(d2.iter()) {
+                    *mn = mn.min(d);
+                    *sd += d;
+                }
+                if self.need_sum_d {
+                    let su = &mut acc.sum_d[j * CHUNK..j * CHUNK + cw];
+                    su.iter_mut()
+                        .zip(d2.iter())
+                        .for_each(|(a, &d)| *a += d.sqrt());
+                }
+            }
+        }
+        debug_assert!(self.m * CHUNK <= acc.min_d2.len());
+    }
 }
 
 /// Outcome of an identification.

@@ -79,8 +79,9 @@ pub fn equalize_hist_within(gray: &[u8], within: Option<&[u8]>) -> Vec<u8> {
 /// neither axis grows (OpenCV's `INTER_AREA`; equal to it within one grey level for
 /// non-integer factors, where OpenCV accumulates in f32), bilinear with half-pixel centres
 /// when an axis grows (as OpenCV's `INTER_AREA` falls back to interpolation when
-/// upsampling). Values are rounded half to even, as OpenCV's `saturate_cast`. The same size
-/// returns a copy.
+/// upsampling). Values are rounded half to even, as OpenCV's `saturate_cast`, except for an
+/// exact halving, where OpenCV's fast path `(a + b + c + d + 2) >> 2` (ties up) is used so
+/// the result is bit-identical. The same size returns a copy.
 ///
 /// Errors: a zero target size.
 pub fn resize_u8(img: &Image<u8>, height: usize, width: usize) -> Result<Image<u8>> {
@@ -94,6 +95,9 @@ pub fn resize_u8(img: &Image<u8>, height: usize, width: usize) -> Result<Image<u
     if (h, w) == (height, width) {
         return Ok(img.clone());
     }
+    if (h, w) == (2 * height, 2 * width) {
+        return Ok(halve(img));
+    }
     let method = if height <= h && width <= w {
         Interpolation::Area
     } else {
@@ -102,6 +106,28 @@ pub fn resize_u8(img: &Image<u8>, height: usize, width: usize) -> Result<Image<u
     let f = Image::new(h, w, c, img.data().iter().map(|&v| v as f32).collect())?;
     let r = resize(&f, height, width, method)?;
     Ok(r.map(|v| v.round_ties_even().clamp(0.0, 255.0) as u8))
+}
+
+/// Exact 2 x 2 block means with OpenCV's integer rounding `(a + b + c + d + 2) >> 2`.
+fn halve(img: &Image<u8>) -> Image<u8> {
+    let (h, w, c) = img.shape();
+    let (oh, ow) = (h / 2, w / 2);
+    let d = img.data();
+    let mut out = Vec::with_capacity(oh * ow * c);
+    for y in 0..oh {
+        let (r0, r1) = (2 * y * w * c, (2 * y + 1) * w * c);
+        for x in 0..ow {
+            for ch in 0..c {
+                let i = 2 * x * c + ch;
+                let s = d[r0 + i] as u32
+                    + d[r0 + i + c] as u32
+                    + d[r1 + i] as u32
+                    + d[r1 + i + c] as u32;
+                out.push(((s + 2) >> 2) as u8);
+            }
+        }
+    }
+    Image::new(oh, ow, c, out).expect("halved image has a consistent shape")
 }
 
 #[cfg(test)]
@@ -137,6 +163,13 @@ mod tests {
         let r = resize_u8(&img, 1, 1).unwrap();
         // (0 + 10 + 20 + 31) / 4 = 15.25 -> 15.
         assert_eq!(r.data(), &[15]);
+        // A tie of the halving rounds up, as OpenCV's fast path: 10 / 4 = 2.5 -> 3.
+        let tie = Image::new(2, 2, 1, vec![0u8, 0, 0, 10]).unwrap();
+        assert_eq!(resize_u8(&tie, 1, 1).unwrap().data(), &[3]);
+        // Other factors round half to even: 3 x 3 -> 1 x 1 has no ties; 2 x 4 -> 1 x 1 is a
+        // general area mean, 20 / 8 = 2.5 -> 2.
+        let gen = Image::new(2, 4, 1, vec![0u8, 0, 0, 0, 0, 0, 10, 10]).unwrap();
+        assert_eq!(resize_u8(&gen, 1, 1).unwrap().data(), &[2]);
         let up = resize_u8(&img, 4, 4).unwrap();
         assert_eq!(up.at(0, 0, 0), 0);
         assert_eq!(up.at(3, 3, 0), 31);
