@@ -447,7 +447,6 @@ pub fn scores(probe: &Probe, gallery: &Gallery, p: &EarParams) -> Result<Vec<f64
         gallery,
         by_block: &by_block,
         k,
-        m,
         need_sum_d: p.score == ScoreRule::BlockwiseMean,
     };
     let mut out = vec![0.0f64; n];
@@ -490,7 +489,6 @@ struct ChunkKernel<'a> {
     gallery: &'a Gallery,
     by_block: &'a [Vec<(usize, usize)>],
     k: usize,
-    m: usize,
     need_sum_d: bool,
 }
 
@@ -546,7 +544,6 @@ impl ChunkKernel<'_> {
                 }
             }
         }
-        debug_assert!(self.m * CHUNK <= acc.min_d2.len());
     }
 }
 
