@@ -161,12 +161,15 @@ fn gallery_scores_equal_the_reference_path_for_every_rule() {
     for pr in &set.probes {
         let probe = make_probe(&pr.image.rgb, &p).unwrap();
         assert!(!probe.is_empty());
+        let one_pass = ear::scores_by_rule(&probe, &gallery, &p, &ScoreRule::ALL).unwrap();
         for rule in ScoreRule::ALL {
+            assert_eq!(ScoreRule::ALL[rule.index()], rule);
             let pp = EarParams {
                 score: rule,
                 ..p.clone()
             };
             let fast = scores(&probe, &gallery, &pp).unwrap();
+            assert_eq!(fast, one_pass[rule.index()]);
             for (g, t) in templates.iter().enumerate() {
                 let br = score(&probe, t, &pp).unwrap();
                 assert!(

@@ -69,16 +69,7 @@ impl EarTemplate {
 
     /// Checks the template fits `p` (block count and length).
     pub fn check(&self, p: &EarParams) -> Result<()> {
-        if self.blocks != p.blocks() || self.block_len != p.block_len() {
-            return Err(Error::ShapeMismatch(format!(
-                "template has {} blocks x {} features, the parameters need {} x {}",
-                self.blocks,
-                self.block_len,
-                p.blocks(),
-                p.block_len()
-            )));
-        }
-        Ok(())
+        p.check_layout("template", self.blocks, self.block_len)
     }
 }
 

@@ -255,7 +255,7 @@ pub struct ScoreBreakdown {
 impl ScoreBreakdown {
     /// The score under `rule`.
     pub fn get(&self, rule: ScoreRule) -> f64 {
-        self.rules[ScoreRule::ALL.iter().position(|&r| r == rule).unwrap_or(0)]
+        self.rules[rule.index()]
     }
 }
 
@@ -409,16 +409,7 @@ impl Gallery {
     }
 
     fn check(&self, p: &EarParams) -> Result<()> {
-        if self.blocks != p.blocks() || self.block_len != p.block_len() {
-            return Err(Error::ShapeMismatch(format!(
-                "gallery templates have {} blocks x {} features, the parameters need {} x {}",
-                self.blocks,
-                self.block_len,
-                p.blocks(),
-                p.block_len()
-            )));
-        }
-        Ok(())
+        p.check_layout("gallery", self.blocks, self.block_len)
     }
 }
 
@@ -429,6 +420,19 @@ const CHUNK: usize = 64;
 /// Score of `probe` against every template of `gallery` under `p.score`, in gallery order
 /// (parallel over template chunks). Errors: shape mismatches, a probe without blocks.
 pub fn scores(probe: &Probe, gallery: &Gallery, p: &EarParams) -> Result<Vec<f64>> {
+    let mut all = scores_by_rule(probe, gallery, p, &[p.score])?;
+    Ok(all.swap_remove(0))
+}
+
+/// Scores under each of `rules` (one vector per rule, in gallery order) from a single pass
+/// over the gallery: every rule is a different reduction of the same block distances.
+/// Errors as [`scores`].
+pub fn scores_by_rule(
+    probe: &Probe,
+    gallery: &Gallery,
+    p: &EarParams,
+    rules: &[ScoreRule],
+) -> Result<Vec<Vec<f64>>> {
     p.validate()?;
     gallery.check(p)?;
     let lay = Layout::new(probe, p)?;
@@ -447,29 +451,35 @@ pub fn scores(probe: &Probe, gallery: &Gallery, p: &EarParams) -> Result<Vec<f64
         gallery,
         by_block: &by_block,
         k,
-        need_sum_d: p.score == ScoreRule::BlockwiseMean,
+        need_sum_d: rules.contains(&ScoreRule::BlockwiseMean),
     };
-    let mut out = vec![0.0f64; n];
-    out.par_chunks_mut(CHUNK)
+    // Template-major while filling (one chunk per task), then split per rule.
+    let nr = rules.len();
+    let mut flat = vec![0.0f64; n * nr];
+    flat.par_chunks_mut(CHUNK * nr)
         .enumerate()
         .for_each(|(ci, out_chunk)| {
-            let cw = out_chunk.len();
+            let cw = out_chunk.len() / nr;
             let mut acc = ChunkStats {
                 min_d2: vec![f32::INFINITY; m * CHUNK],
                 sum_d: vec![0.0f32; if kernel.need_sum_d { m * CHUNK } else { 0 }],
                 shift_d2: vec![0.0f32; ns * CHUNK],
             };
             kernel.run(ci * CHUNK, cw, &mut acc);
-            for (gi, o) in out_chunk.iter_mut().enumerate() {
-                *o = lay.score(
-                    p.score,
-                    |j| acc.min_d2[j * CHUNK + gi],
-                    |j| acc.sum_d[j * CHUNK + gi],
-                    |s| acc.shift_d2[s * CHUNK + gi],
-                );
+            for (gi, o) in out_chunk.chunks_exact_mut(nr).enumerate() {
+                for (o, &rule) in o.iter_mut().zip(rules) {
+                    *o = lay.score(
+                        rule,
+                        |j| acc.min_d2[j * CHUNK + gi],
+                        |j| acc.sum_d[j * CHUNK + gi],
+                        |s| acc.shift_d2[s * CHUNK + gi],
+                    );
+                }
             }
         });
-    Ok(out)
+    Ok((0..nr)
+        .map(|r| flat.iter().skip(r).step_by(nr).copied().collect())
+        .collect())
 }
 
 /// Per-template statistics of one chunk (`[probe block or shift][template in chunk]`).

@@ -34,8 +34,8 @@ pub mod synth;
 pub use features::{block_features, enroll, feature_plane, normalise, EarTemplate};
 pub use matching::{
     baseline_params, baseline_score, cmc, identify, identify_baseline, identify_image,
-    make_baseline_probe, make_probe, rank, score, scores, Gallery, Identification, Probe,
-    ScoreBreakdown,
+    make_baseline_probe, make_probe, rank, score, scores, scores_by_rule, Gallery, Identification,
+    Probe, ScoreBreakdown,
 };
 pub use occlusion::{detect_occlusion, skin_pixels, OcclusionReport};
 pub use params::{EarParams, ScoreRule, SHIFTS_NINE};

@@ -66,6 +66,11 @@ impl ScoreRule {
         }
     }
 
+    /// Position of the rule in [`Self::ALL`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
     /// The name [`Self::parse`] accepts.
     pub fn name(self) -> &'static str {
         match self {
@@ -191,6 +196,19 @@ impl EarParams {
         }
         if self.shifts.is_empty() {
             return Err(Error::invalid("shifts", "needs at least one shift"));
+        }
+        Ok(())
+    }
+
+    /// Checks that `blocks x block_len` features (of a `what`: template, gallery) fit these
+    /// parameters.
+    pub fn check_layout(&self, what: &str, blocks: usize, block_len: usize) -> Result<()> {
+        if blocks != self.blocks() || block_len != self.block_len() {
+            return Err(Error::ShapeMismatch(format!(
+                "{what} has {blocks} blocks x {block_len} features, the parameters need {} x {}",
+                self.blocks(),
+                self.block_len()
+            )));
         }
         Ok(())
     }

@@ -8,7 +8,7 @@ use wscg_math::image::Image;
 use wscg_math::{Error, Result};
 
 use super::features::enroll;
-use super::matching::{cmc, identify_baseline, make_probe, rank, scores, Gallery};
+use super::matching::{cmc, identify_baseline, make_probe, rank, scores_by_rule, Gallery};
 use super::params::{EarParams, ScoreRule};
 use super::synth::EarSet;
 
@@ -46,7 +46,7 @@ pub struct Evaluation {
 impl Evaluation {
     /// CMC of `rule`.
     pub fn cmc_of(&self, rule: ScoreRule) -> &[f64] {
-        &self.cmc[ScoreRule::ALL.iter().position(|&r| r == rule).unwrap_or(0)]
+        &self.cmc[rule.index()]
     }
 
     /// Fraction of probes rejected.
@@ -59,7 +59,7 @@ impl Evaluation {
     /// includes its upper edge) over accepted probes, with the number of probes in each bin:
     /// `(lo, hi, count, rank1)` (Fig. 13; `rank1` is NaN for an empty bin).
     pub fn degradation(&self, rule: ScoreRule, edges: &[f64]) -> Vec<(f64, f64, usize, f64)> {
-        let ri = ScoreRule::ALL.iter().position(|&r| r == rule).unwrap_or(0);
+        let ri = rule.index();
         edges
             .windows(2)
             .enumerate()
@@ -128,13 +128,9 @@ pub fn evaluate_images(
             let rejected = report.rejected;
             let mut ranks = [None; 5];
             if !rejected && !probe.is_empty() {
-                for (slot, rule) in ranks.iter_mut().zip(ScoreRule::ALL) {
-                    let pr = EarParams {
-                        score: rule,
-                        ..p.clone()
-                    };
-                    let order = rank(&scores(&probe, &gallery, &pr)?);
-                    *slot = order.iter().position(|&(g, _)| g == subject);
+                let all = scores_by_rule(&probe, &gallery, p, &ScoreRule::ALL)?;
+                for (slot, s) in ranks.iter_mut().zip(&all) {
+                    *slot = rank(s).iter().position(|&(g, _)| g == subject);
                 }
             }
             let baseline_rank = identify_baseline(img, &gallery, p)?
