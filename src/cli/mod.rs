@@ -12,6 +12,7 @@ mod deblur;
 mod doe;
 mod ear;
 mod hdr;
+mod illum;
 mod isosurface;
 mod manylight;
 mod math;
@@ -79,7 +80,8 @@ enum Command {
     /// response calibration, simulated camera arrays.
     #[command(subcommand)]
     Hdr(hdr::HdrCommand),
-    /// Hybrid ROI visualisation of medical volumes (paper 03): serve and view.
+    /// Hybrid ROI visualisation of medical volumes (paper 03): serve and view; convolution-based
+    /// volume illumination (paper 15): `illum`.
     #[command(subcommand)]
     Volren(volren::VolrenCommand),
     /// Video completion (paper 06: localized search) on your own frames.

@@ -1,4 +1,5 @@
-//! `wscg volren`: paper 03 (hybrid ROI visualisation) on the user's own volume.
+//! `wscg volren`: paper 03 (hybrid ROI visualisation) and paper 15 (`illum`, convolution-based
+//! volume illumination, in [`super::illum`]) on the user's own volume.
 //!
 //! - `roi-serve`: prepares a volume (NIfTI, `.npy` or raw) for a set of transfer functions and
 //!   serves the static and ROI packages over TCP.
@@ -24,6 +25,9 @@ pub enum VolrenCommand {
     RoiServe(ServeArgs),
     /// Render the hybrid image of a ROI (from a server, or from a local volume).
     RoiView(ViewArgs),
+    /// Render with convolution-based volume illumination (paper 15: ICS, SCS, PI-ICS,
+    /// PI-SCS and ray-casting baselines), or run the slice-distance study.
+    Illum(super::illum::IllumArgs),
 }
 
 #[derive(Args, Debug)]
@@ -197,6 +201,7 @@ fn parse_roi(text: &str) -> Result<([u32; 3], [u32; 3])> {
 /// Runs a `wscg volren` command.
 pub fn run(cmd: VolrenCommand) -> Result<()> {
     match cmd {
+        VolrenCommand::Illum(a) => super::illum::run(a),
         VolrenCommand::RoiServe(a) => {
             let server = Arc::new(server_from(&a.volume)?);
             let listener = TcpListener::bind(&a.addr)

@@ -14,6 +14,7 @@ pub mod deblur;
 pub mod ear;
 pub mod figures;
 pub mod hdr;
+pub mod illum;
 pub mod isosurface;
 pub mod manylight;
 pub mod math;
@@ -119,6 +120,7 @@ pub fn registry() -> Vec<Demo> {
         deblur::DEMO,
         hdr::DEMO,
         ear::DEMO,
+        illum::DEMO,
     ]
 }
 

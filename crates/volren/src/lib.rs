@@ -19,15 +19,22 @@
 //! - [`render`]: the client's two-level ray caster, the baselines' renderers and the
 //!   full-resolution reference.
 //! - [`phantoms`]: analytic head and thorax volumes with their transfer functions.
+//!
+//! Paper 15, Angelelli and Bruckner, "Performance and Quality Analysis of Convolution-Based
+//! Volume Illumination": [`illumination`] renders slice by slice with instant convolution
+//! shadows, supersampled (SCS) and pre-integrated (PI-ICS, PI-SCS) variants, and the ray
+//! casting baselines; [`vti`] reads VTK XML image data.
 
 mod bytes;
 pub mod gradient_octree;
+pub mod illumination;
 pub mod net;
 pub mod normal_code;
 pub mod package;
 pub mod phantoms;
 pub mod render;
 pub mod tf;
+pub mod vti;
 pub mod wavelet;
 
 pub use gradient_octree::{GoStructure, GradientOctree, Roi};

@@ -1,0 +1,308 @@
+//! The light-propagation kernel of instant convolution shadows (spec E3, E4): the light that
+//! left slice `n` (attenuated) is convolved with `K` to give the light arriving at slice
+//! `n + 1`. Outside the light buffer the light is unoccluded (value 1).
+//!
+//! The Gaussian kernel has the **exact** discrete variance `2 D ds / h^2` pixels^2 per step, so
+//! variances add up to `2 D z` after any depth `z` whatever the slice distance (the semigroup
+//! property the paper's slice-distance study relies on). An oblique light shifts the kernel's
+//! mean by `ds (l_x, l_y) / l_z`; the fractional part of the shift is realised exactly inside
+//! the same variance budget when the budget allows (`var >= f (1 - f)`), otherwise the
+//! minimal bilinear spread `f (1 - f)` is used.
+
+use rayon::prelude::*;
+use wscg_math::{Error, Result};
+
+/// The kernel family (spec section 2.2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Kernel {
+    /// No blur: hard shadows, equal to shadow rays for a headlight.
+    Delta,
+    /// Variance-additive Gaussian: variance `2 spread ds` (world units^2) per slice.
+    Gaussian {
+        /// Diffusion constant `D >= 0` (world units).
+        spread: f32,
+    },
+    /// The cone of directional occlusion shading (Schott et al. 2009): a disk of radius
+    /// `ds tan_half` per slice, so the total blur grows with the slice distance.
+    Disk {
+        /// Tangent of the cone's half angle, `>= 0`.
+        tan_half: f32,
+    },
+}
+
+impl Default for Kernel {
+    fn default() -> Self {
+        Kernel::Gaussian { spread: 0.5 }
+    }
+}
+
+impl Kernel {
+    /// Errors: negative or non-finite parameter.
+    pub fn check(&self) -> Result<()> {
+        match *self {
+            Kernel::Delta => Ok(()),
+            Kernel::Gaussian { spread } if spread.is_finite() && spread >= 0.0 => Ok(()),
+            Kernel::Disk { tan_half } if tan_half.is_finite() && tan_half >= 0.0 => Ok(()),
+            k => Err(Error::invalid(
+                "kernel",
+                format!("{k:?}: the spread must be finite and >= 0"),
+            )),
+        }
+    }
+
+    /// Variance per slice in pixels^2 (Gaussian), 0 otherwise.
+    pub fn step_variance(&self, ds: f64, pixel: f64) -> f64 {
+        match *self {
+            Kernel::Gaussian { spread } => 2.0 * spread as f64 * ds / (pixel * pixel),
+            _ => 0.0,
+        }
+    }
+}
+
+/// A 1-D discrete kernel: weights at the offsets `first, first + 1, ...`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Taps {
+    /// Offset of the first weight.
+    pub first: isize,
+    /// Weights (sum 1).
+    pub w: Vec<f32>,
+}
+
+impl Taps {
+    /// Mean and variance of the weights.
+    pub fn moments(&self) -> (f64, f64) {
+        let m: f64 = self
+            .w
+            .iter()
+            .enumerate()
+            .map(|(i, &w)| w as f64 * (self.first + i as isize) as f64)
+            .sum();
+        let v: f64 = self
+            .w
+            .iter()
+            .enumerate()
+            .map(|(i, &w)| w as f64 * ((self.first + i as isize) as f64 - m).powi(2))
+            .sum();
+        (m, v)
+    }
+
+    /// Largest absolute offset.
+    fn reach(&self) -> usize {
+        let last = self.first + self.w.len() as isize - 1;
+        self.first.unsigned_abs().max(last.unsigned_abs())
+    }
+}
+
+/// Discrete 1-D kernel with mean `mean` and variance `var` (pixels): three taps when
+/// `var <= 1/2`, else a sampled Gaussian whose width is solved so the discrete variance is
+/// `var` exactly.
+pub fn discrete_gaussian(var: f64, mean: f64) -> Taps {
+    let k0 = mean.round();
+    let f = mean - k0;
+    let base = k0 as isize;
+    if var <= 0.5 {
+        let var = var.max(f.abs() * (1.0 - f.abs()));
+        let wp = 0.5 * (var + f * f + f);
+        let wm = 0.5 * (var + f * f - f);
+        let w = vec![
+            wm.max(0.0) as f32,
+            (1.0 - var - f * f) as f32,
+            wp.max(0.0) as f32,
+        ];
+        return Taps { first: base - 1, w };
+    }
+    let sigma = var.sqrt();
+    let r = (3.0 * sigma + 2.0).ceil() as isize;
+    // Weights of a Gaussian of width `s` centred at `c`, and their mean and variance.
+    let make = |c: f64, s: f64| -> Vec<f64> {
+        let w: Vec<f64> = (-r..=r)
+            .map(|k| (-(k as f64 - c).powi(2) / (2.0 * s * s)).exp())
+            .collect();
+        let z: f64 = w.iter().sum();
+        w.into_iter().map(|x| x / z).collect()
+    };
+    let moments = |w: &[f64]| {
+        let m: f64 = w
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x * (i as isize - r) as f64)
+            .sum();
+        let v = w
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x * ((i as isize - r) as f64 - m).powi(2))
+            .sum::<f64>();
+        (m, v)
+    };
+    // Solve for the centre (mean f) and the width (variance var) by alternating a secant
+    // step on the centre with a bisection on the width.
+    let (mut c, mut s) = (f, sigma);
+    for _ in 0..6 {
+        let (mut lo, mut hi) = (0.3 * sigma, 1.5 * sigma);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if moments(&make(c, mid)).1 < var {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        s = 0.5 * (lo + hi);
+        c += f - moments(&make(c, s)).0;
+    }
+    let w = make(c, s).into_iter().map(|x| x as f32).collect();
+    Taps { first: base - r, w }
+}
+
+/// One slice's light kernel, ready to apply.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepKernel {
+    /// Separable: `x` along rows, `y` along columns.
+    Separable {
+        /// Horizontal taps.
+        x: Taps,
+        /// Vertical taps.
+        y: Taps,
+    },
+    /// A 2-D stencil of `(dx, dy, weight)`.
+    Stencil(Vec<(isize, isize, f32)>),
+}
+
+impl StepKernel {
+    /// The kernel of one slice of distance `ds` for pixel size `pixel` (world units) and a
+    /// per-slice light shift `shift` in pixels (source offset, `x` right, `y` down).
+    pub fn new(kernel: &Kernel, ds: f64, pixel: f64, shift: [f64; 2]) -> Self {
+        match *kernel {
+            Kernel::Delta | Kernel::Gaussian { .. } => {
+                let var = kernel.step_variance(ds, pixel);
+                StepKernel::Separable {
+                    x: discrete_gaussian(var, shift[0]),
+                    y: discrete_gaussian(var, shift[1]),
+                }
+            }
+            Kernel::Disk { tan_half } => {
+                let r = ds * tan_half as f64 / pixel;
+                let (sx, sy) = (shift[0].round() as isize, shift[1].round() as isize);
+                let ri = r.floor() as isize;
+                let mut taps = Vec::new();
+                for dy in -ri..=ri {
+                    for dx in -ri..=ri {
+                        if ((dx * dx + dy * dy) as f64) <= r * r {
+                            taps.push((dx + sx, dy + sy, 1.0));
+                        }
+                    }
+                }
+                if taps.is_empty() {
+                    taps.push((sx, sy, 1.0));
+                }
+                let n = taps.len() as f32;
+                taps.iter_mut().for_each(|t| t.2 = 1.0 / n);
+                StepKernel::Stencil(taps)
+            }
+        }
+    }
+
+    /// Largest offset in pixels along either axis.
+    pub fn reach(&self) -> usize {
+        match self {
+            StepKernel::Separable { x, y } => x.reach().max(y.reach()),
+            StepKernel::Stencil(t) => t
+                .iter()
+                .map(|&(dx, dy, _)| dx.unsigned_abs().max(dy.unsigned_abs()))
+                .max()
+                .unwrap_or(0),
+        }
+    }
+
+    /// Sum of the weights (1 up to rounding).
+    pub fn weight_sum(&self) -> f64 {
+        match self {
+            StepKernel::Separable { x, y } => {
+                x.w.iter().map(|&v| v as f64).sum::<f64>()
+                    * y.w.iter().map(|&v| v as f64).sum::<f64>()
+            }
+            StepKernel::Stencil(t) => t.iter().map(|&(_, _, w)| w as f64).sum(),
+        }
+    }
+
+    /// `dst = K * src` on a `w x h` buffer whose outside is 1; `tmp` is scratch of the same
+    /// size. Rows in parallel.
+    pub fn apply(&self, src: &[f32], tmp: &mut [f32], dst: &mut [f32], w: usize, h: usize) {
+        match self {
+            StepKernel::Separable { x, y } => {
+                tmp.par_chunks_mut(w)
+                    .zip(src.par_chunks(w))
+                    .for_each(|(out, row)| convolve_row(row, out, x));
+                dst.par_chunks_mut(w).enumerate().for_each(|(j, out)| {
+                    out.fill(0.0);
+                    let mut outside = 0f32;
+                    for (k, &wk) in y.w.iter().enumerate() {
+                        let r = j as isize + y.first + k as isize;
+                        if r < 0 || r >= h as isize {
+                            outside += wk;
+                            continue;
+                        }
+                        let row = &tmp[r as usize * w..(r as usize + 1) * w];
+                        for (o, &v) in out.iter_mut().zip(row) {
+                            *o += wk * v;
+                        }
+                    }
+                    if outside > 0.0 {
+                        out.iter_mut().for_each(|o| *o += outside);
+                    }
+                });
+            }
+            StepKernel::Stencil(taps) => {
+                dst.par_chunks_mut(w).enumerate().for_each(|(j, out)| {
+                    for (i, o) in out.iter_mut().enumerate() {
+                        let mut acc = 0f32;
+                        for &(dx, dy, wk) in taps {
+                            let (x, y) = (i as isize + dx, j as isize + dy);
+                            acc += wk
+                                * if x < 0 || y < 0 || x >= w as isize || y >= h as isize {
+                                    1.0
+                                } else {
+                                    src[y as usize * w + x as usize]
+                                };
+                        }
+                        *o = acc;
+                    }
+                });
+                let _ = tmp;
+            }
+        }
+    }
+}
+
+/// One row of the horizontal pass, border value 1.
+fn convolve_row(row: &[f32], out: &mut [f32], t: &Taps) {
+    let n = row.len() as isize;
+    let len = t.w.len() as isize;
+    // Interior: every tap inside the row.
+    let lo = (-t.first).clamp(0, n);
+    let hi = (n - (t.first + len - 1)).clamp(lo, n);
+    let edge = |i: isize| -> f32 {
+        let mut acc = 0f32;
+        for (k, &wk) in t.w.iter().enumerate() {
+            let x = i + t.first + k as isize;
+            acc += wk
+                * if x < 0 || x >= n {
+                    1.0
+                } else {
+                    row[x as usize]
+                };
+        }
+        acc
+    };
+    for i in 0..lo {
+        out[i as usize] = edge(i);
+    }
+    for i in lo..hi {
+        let s = (i + t.first) as usize;
+        let win = &row[s..s + len as usize];
+        out[i as usize] = win.iter().zip(&t.w).map(|(a, b)| a * b).sum();
+    }
+    for i in hi.max(lo)..n {
+        out[i as usize] = edge(i);
+    }
+}

@@ -1,0 +1,451 @@
+//! The slice renderer: instant convolution shadows and the paper's supersampled and
+//! pre-integrated variants (spec sections 2.2 - 2.5).
+//!
+//! One pass per slice over a 2-D light buffer and the eye buffers, rows in parallel, then one
+//! convolution. Segment `n` runs from slice `n` to slice `n + 1`; its `m + 1` tissue samples
+//! (or pre-integrated sub-segments) are lit by the linear interpolation (E6) of `L_n` and
+//! `L_{n+1}`. Because the light enters the compositing linearly, each pixel accumulates the two
+//! light-free sums `P = sum w_j (1 - a_j) c_j` and `Q = sum w_j a_j c_j` during the pass of
+//! segment `n` and adds `k_a (P + Q) + (1 - k_a) (P L_n + Q L_{n+1})` once `L_{n+1}` exists (in
+//! the next pass), so every sample is read once and only `O(W H)` floats are kept.
+
+use rayon::prelude::*;
+use wscg_math::Result;
+
+use super::camera::{Frame, Slicing};
+use super::classify::{SampleLut, TransferFunction};
+use super::field::{Interp, ScalarField};
+use super::kernel::StepKernel;
+use super::method::{Light, LightAtten, RenderSettings};
+use super::preintegration::PreIntegrationTable;
+
+/// Per-sample classification of a run.
+enum Classifier {
+    /// Post-classified samples; `slice_only` holds the slice-distance table of
+    /// [`LightAtten::SliceOnly`].
+    Samples {
+        lut: SampleLut,
+        slice_only: Option<SampleLut>,
+    },
+    /// Pre-integrated sub-segments.
+    Table(PreIntegrationTable),
+}
+
+/// The light buffer's rectangle in image pixel coordinates.
+#[derive(Clone, Copy, Debug)]
+struct Rect {
+    x0: i64,
+    y0: i64,
+    w: usize,
+    h: usize,
+}
+
+/// A prepared slice render.
+pub(crate) struct SliceRun<'a> {
+    field: &'a ScalarField,
+    slicing: Slicing,
+    m: usize,
+    delta: f32,
+    classifier: Classifier,
+    kernel: StepKernel,
+    ka: f32,
+    interp: Interp,
+    early_stop: f32,
+    background: [f32; 3],
+    skip_zero: bool,
+    rect: Rect,
+    width: usize,
+    height: usize,
+    /// Voxel position of light-buffer pixel (0, 0) at depth 0, and per-pixel, per-row and
+    /// per-unit-depth steps, all in voxel coordinates.
+    org: [f32; 3],
+    dx: [f32; 3],
+    dy: [f32; 3],
+    dz: [f32; 3],
+}
+
+/// What a run produced.
+pub(crate) struct SliceOutput {
+    /// RGBA image, `H x W x 4`, composited over the background.
+    pub rgba: Vec<f32>,
+    /// Slices processed.
+    pub slices: usize,
+    /// Floats held in 2-D buffers.
+    pub buffer_floats: usize,
+}
+
+/// Mean and variance per axis of a step kernel (the larger axis).
+fn kernel_spread(k: &StepKernel) -> (f64, f64) {
+    match k {
+        StepKernel::Separable { x, y } => {
+            let (mx, vx) = x.moments();
+            let (my, vy) = y.moments();
+            (mx.hypot(my), vx.max(vy))
+        }
+        StepKernel::Stencil(t) => {
+            let (mut mx, mut my) = (0f64, 0f64);
+            for &(dx, dy, w) in t {
+                mx += w as f64 * dx as f64;
+                my += w as f64 * dy as f64;
+            }
+            let v = t
+                .iter()
+                .map(|&(dx, _, w)| w as f64 * (dx as f64 - mx).powi(2))
+                .sum::<f64>();
+            (mx.hypot(my), v)
+        }
+    }
+}
+
+impl<'a> SliceRun<'a> {
+    /// Prepares a run. `ds`, `m` as validated by `Method::check`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        field: &'a ScalarField,
+        tf: &TransferFunction,
+        frame: &Frame,
+        light: &Light,
+        settings: &RenderSettings,
+        ds: f32,
+        m: u32,
+        preintegrated: bool,
+        atten: LightAtten,
+    ) -> Result<Self> {
+        let l = light.unit_dir()?;
+        let slicing = Slicing::new(frame, field, ds as f64);
+        let m = m as usize;
+        let delta = ds / (m as f32 + 1.0);
+        let classifier = if preintegrated {
+            Classifier::Table(PreIntegrationTable::build(tf, delta)?)
+        } else {
+            Classifier::Samples {
+                lut: tf.sampled(delta),
+                slice_only: (atten == LightAtten::SliceOnly && m > 0).then(|| tf.sampled(ds)),
+            }
+        };
+        // Source offset of the light per slice, in pixels (x right, y down).
+        let h = frame.h;
+        let shift = [ds as f64 * l[0] / l[2] / h, -(ds as f64) * l[1] / l[2] / h];
+        let kernel = StepKernel::new(&light.kernel, ds as f64, h, shift);
+        let (mean, var) = kernel_spread(&kernel);
+        let n = slicing.n as f64;
+        let (w, hh) = (frame.width as i64, frame.height as i64);
+        let margin =
+            ((3.0 * (var * n).sqrt() + mean * n).ceil() as i64 + kernel.reach() as i64 + 1)
+                .min(2 * w.max(hh));
+        let fp = frame.footprint(field);
+        let skip_zero = tf.transparent_at_zero();
+        let (x0, x1, y0, y1) = if skip_zero {
+            (
+                (-margin).max(fp[0] - margin),
+                (w + margin).min(fp[1] + margin),
+                (-margin).max(fp[2] - margin),
+                (hh + margin).min(fp[3] + margin),
+            )
+        } else {
+            (-margin, w + margin, -margin, hh + margin)
+        };
+        let rect = Rect {
+            x0,
+            y0,
+            w: (x1 - x0).max(0) as usize,
+            h: (y1 - y0).max(0) as usize,
+        };
+        let s = field.scale();
+        let to_vox = |p: [f64; 3]| -> [f32; 3] { std::array::from_fn(|a| (p[a] / s[a]) as f32) };
+        let org = to_vox(frame.point(x0 as f64, y0 as f64, 0.0));
+        let dx = to_vox(frame.right.map(|c| c * h));
+        let dy = to_vox(frame.down.map(|c| c * h));
+        let dz = to_vox(frame.d);
+        Ok(Self {
+            field,
+            slicing,
+            m,
+            delta,
+            classifier,
+            kernel,
+            ka: light.ambient,
+            interp: settings.interp,
+            early_stop: settings.early_stop,
+            background: settings.background,
+            skip_zero,
+            rect,
+            width: frame.width,
+            height: frame.height,
+            org,
+            dx,
+            dy,
+            dz,
+        })
+    }
+
+    /// The slicing of this run.
+    pub fn slicing(&self) -> Slicing {
+        self.slicing
+    }
+
+    #[inline]
+    fn sample(&self, p: [f32; 3]) -> f32 {
+        self.field.sample(p, self.interp)
+    }
+
+    #[inline]
+    fn sample_clamped(&self, p: [f32; 3]) -> f32 {
+        self.field.sample_clamped(p, self.interp)
+    }
+
+    /// Runs every slice and returns the image.
+    pub fn render(&self) -> SliceOutput {
+        let mut st = State::new(self.rect.w * self.rect.h);
+        for n in 0..self.slicing.n {
+            self.step(&mut st, n);
+        }
+        self.finish(st)
+    }
+
+    /// The light arriving at slice `k` (clamped to the last slice), as a `W x H` buffer
+    /// (1 outside the light buffer).
+    pub fn light_at(&self, k: usize) -> Vec<f32> {
+        let mut st = State::new(self.rect.w * self.rect.h);
+        for n in 0..k.min(self.slicing.n) {
+            self.step(&mut st, n);
+        }
+        let mut out = vec![1f32; self.width * self.height];
+        for (y, row) in out.chunks_mut(self.width).enumerate() {
+            let ry = y as i64 - self.rect.y0;
+            if ry < 0 || ry >= self.rect.h as i64 {
+                continue;
+            }
+            for (x, o) in row.iter_mut().enumerate() {
+                let rx = x as i64 - self.rect.x0;
+                if rx >= 0 && rx < self.rect.w as i64 {
+                    *o = st.l_cur[ry as usize * self.rect.w + rx as usize];
+                }
+            }
+        }
+        out
+    }
+
+    /// Segment `n`: sample, composite, attenuate, then convolve to `L_{n+1}`.
+    fn step(&self, st: &mut State, n: usize) {
+        let w = self.rect.w;
+        if w == 0 || self.rect.h == 0 {
+            return;
+        }
+        let z = self.slicing.z(n) as f32;
+        let State {
+            l_cur,
+            l_prev,
+            o,
+            tmp,
+            eye,
+            pq,
+            front,
+        } = st;
+        let (l_cur_r, l_prev_r) = (&*l_cur, &*l_prev);
+        o.par_chunks_mut(w)
+            .zip(eye.par_chunks_mut(w))
+            .zip(pq.par_chunks_mut(w))
+            .zip(front.par_chunks_mut(w))
+            .enumerate()
+            .for_each(|(r, (((orow, erow), pqrow), frow))| {
+                let base = r * w;
+                self.pass_row(
+                    n,
+                    z,
+                    r,
+                    &l_cur_r[base..base + w],
+                    &l_prev_r[base..base + w],
+                    orow,
+                    erow,
+                    pqrow,
+                    frow,
+                );
+            });
+        self.kernel.apply(o, tmp, l_prev, w, self.rect.h);
+        std::mem::swap(l_cur, l_prev);
+    }
+
+    /// Image-column range `[a, b)` of the light buffer row `r`, empty outside the image.
+    fn image_span(&self, r: usize) -> (usize, usize) {
+        let y = self.rect.y0 + r as i64;
+        if y < 0 || y >= self.height as i64 {
+            return (0, 0);
+        }
+        let a = (-self.rect.x0).clamp(0, self.rect.w as i64) as usize;
+        let b = (self.width as i64 - self.rect.x0).clamp(0, self.rect.w as i64) as usize;
+        (a, b.max(a))
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn pass_row(
+        &self,
+        n: usize,
+        z: f32,
+        r: usize,
+        l_cur: &[f32],
+        l_prev: &[f32],
+        orow: &mut [f32],
+        erow: &mut [[f32; 4]],
+        pqrow: &mut [[f32; 6]],
+        frow: &mut [f32],
+    ) {
+        let (ia, ib) = self.image_span(r);
+        let rf = r as f32;
+        let row0: [f32; 3] =
+            std::array::from_fn(|a| self.org[a] + rf * self.dy[a] + z * self.dz[a]);
+        let step: [f32; 3] = self.dz.map(|c| c * self.delta);
+        let m1 = self.m as f32 + 1.0;
+        let ka = self.ka;
+        for i in 0..orow.len() {
+            let fi = i as f32;
+            let p0: [f32; 3] = std::array::from_fn(|a| row0[a] + fi * self.dx[a]);
+            let lc = l_cur[i];
+            let in_img = i >= ia && i < ib;
+            if in_img && n > 0 {
+                finalize(&mut erow[i], &mut pqrow[i], ka, l_prev[i], lc);
+            }
+            let mut e = erow[i];
+            let mut pq = [0f32; 6];
+            let composite = in_img && e[3] < self.early_stop;
+            let mut t = 1f32;
+            let mut add = |j: usize, v: [f32; 4], e: &mut [f32; 4]| {
+                t *= 1.0 - v[3];
+                if composite {
+                    let wgt = 1.0 - e[3];
+                    let aj = j as f32 / m1;
+                    let (wp, wq) = (wgt * (1.0 - aj), wgt * aj);
+                    for c in 0..3 {
+                        pq[c] += wp * v[c];
+                        pq[3 + c] += wq * v[c];
+                    }
+                    e[3] += wgt * v[3];
+                }
+            };
+            let at = |j: usize| -> [f32; 3] {
+                let k = j as f32;
+                std::array::from_fn(|a| p0[a] + k * step[a])
+            };
+            match &self.classifier {
+                Classifier::Samples { lut, slice_only } => {
+                    let mut s0 = 0f32;
+                    for j in 0..=self.m {
+                        let s = self.sample(at(j));
+                        if j == 0 {
+                            s0 = s;
+                        }
+                        if self.skip_zero && s == 0.0 {
+                            continue;
+                        }
+                        add(j, lut.get(s), &mut e);
+                    }
+                    if let Some(so) = slice_only {
+                        t = 1.0 - so.get(s0)[3];
+                    }
+                }
+                Classifier::Table(table) => {
+                    // A sub-segment whose front lies in the box reads its back sample clamped
+                    // to the box (as a GPU slice's fragment reads an edge-clamped texture); one
+                    // whose front lies outside is the value 0 throughout.
+                    let mut sf = if n == 0 {
+                        self.sample_clamped(at(0))
+                    } else {
+                        frow[i]
+                    };
+                    for j in 0..=self.m {
+                        let sb = self.sample_clamped(at(j + 1));
+                        if self.field.contains(at(j)) {
+                            add(j, table.get(sf, sb), &mut e);
+                        } else if !self.skip_zero {
+                            add(j, table.get(0.0, 0.0), &mut e);
+                        }
+                        sf = sb;
+                    }
+                    frow[i] = sf;
+                }
+            }
+            erow[i] = e;
+            if composite {
+                pqrow[i] = pq;
+            }
+            orow[i] = lc * t;
+        }
+    }
+
+    /// Adds the last segment's light and the background; crops to the image.
+    fn finish(&self, st: State) -> SliceOutput {
+        let (w, hgt) = (self.width, self.height);
+        let mut rgba = vec![0f32; w * hgt * 4];
+        let bg = self.background;
+        let floats = st.floats();
+        let State {
+            l_cur,
+            l_prev,
+            mut eye,
+            mut pq,
+            ..
+        } = st;
+        for (y, row) in rgba.chunks_mut(4 * w).enumerate() {
+            let ry = y as i64 - self.rect.y0;
+            for (x, px) in row.chunks_mut(4).enumerate() {
+                let rx = x as i64 - self.rect.x0;
+                let mut e = [0f32; 4];
+                if ry >= 0 && ry < self.rect.h as i64 && rx >= 0 && rx < self.rect.w as i64 {
+                    let k = ry as usize * self.rect.w + rx as usize;
+                    if self.slicing.n > 0 {
+                        finalize(&mut eye[k], &mut pq[k], self.ka, l_prev[k], l_cur[k]);
+                    }
+                    e = eye[k];
+                }
+                for c in 0..3 {
+                    px[c] = e[c] + (1.0 - e[3]) * bg[c];
+                }
+                px[3] = e[3];
+            }
+        }
+        SliceOutput {
+            rgba,
+            slices: self.slicing.n,
+            buffer_floats: floats,
+        }
+    }
+}
+
+/// The 2-D buffers of a run (light-buffer rectangle).
+struct State {
+    l_cur: Vec<f32>,
+    l_prev: Vec<f32>,
+    o: Vec<f32>,
+    tmp: Vec<f32>,
+    eye: Vec<[f32; 4]>,
+    pq: Vec<[f32; 6]>,
+    front: Vec<f32>,
+}
+
+impl State {
+    fn new(len: usize) -> Self {
+        Self {
+            l_cur: vec![1.0; len],
+            l_prev: vec![1.0; len],
+            o: vec![1.0; len],
+            tmp: vec![1.0; len],
+            eye: vec![[0.0; 4]; len],
+            pq: vec![[0.0; 6]; len],
+            front: vec![0.0; len],
+        }
+    }
+
+    fn floats(&self) -> usize {
+        5 * self.l_cur.len() + 4 * self.eye.len() + 6 * self.pq.len()
+    }
+}
+
+/// Adds a finished segment's light: `k_a (P + Q) + (1 - k_a) (P L_n + Q L_{n+1})`.
+#[inline]
+fn finalize(e: &mut [f32; 4], pq: &mut [f32; 6], ka: f32, l_n: f32, l_n1: f32) {
+    let (sp, sq) = (ka + (1.0 - ka) * l_n, ka + (1.0 - ka) * l_n1);
+    for c in 0..3 {
+        e[c] += sp * pq[c] + sq * pq[3 + c];
+    }
+    *pq = [0.0; 6];
+}
