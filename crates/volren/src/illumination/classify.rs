@@ -139,6 +139,15 @@ impl TransferFunction {
         )
     }
 
+    /// True if the extinction is zero for every value in `[lo, hi]` (clamped to `[0, 1]`).
+    pub fn transparent_on(&self, lo: f32, hi: f32) -> bool {
+        let n = self.tau.len();
+        let k = (n - 1) as f32;
+        let i0 = (lo.clamp(0.0, 1.0) * k).floor() as usize;
+        let i1 = ((hi.clamp(0.0, 1.0) * k).ceil() as usize).min(n - 1);
+        i0 > i1 || self.tau[i0..=i1].iter().all(|&t| t == 0.0)
+    }
+
     /// True if the value 0 (the outside of the volume) is fully transparent.
     pub fn transparent_at_zero(&self) -> bool {
         self.tau[0] == 0.0

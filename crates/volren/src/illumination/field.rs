@@ -6,7 +6,11 @@
 //! `(i s_x, j s_y, k s_z) / min(s)`, so an isotropic volume has world = voxel coordinates and
 //! transfer-function opacities refer to one such unit of length.
 
+use std::sync::OnceLock;
+
 use wscg_math::{Error, Result};
+
+use super::sampler::{cell_ranges, CellRanges};
 
 /// Reconstruction filter of the scalar field.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -26,6 +30,8 @@ pub struct ScalarField {
     /// World units per voxel along each axis (`spacing / min(spacing)`).
     scale: [f64; 3],
     data: Vec<f32>,
+    /// Value ranges of 8^3 cells, for empty-space skipping (computed on first use).
+    cells: OnceLock<CellRanges>,
 }
 
 impl ScalarField {
@@ -65,6 +71,7 @@ impl ScalarField {
             spacing,
             scale,
             data,
+            cells: OnceLock::new(),
         })
     }
 
@@ -77,6 +84,7 @@ impl ScalarField {
             spacing,
             scale,
             data,
+            cells: OnceLock::new(),
         })
     }
 
@@ -105,6 +113,7 @@ impl ScalarField {
             spacing,
             scale,
             data,
+            cells: OnceLock::new(),
         })
     }
 
@@ -135,6 +144,11 @@ impl ScalarField {
             .map(|&v| ((v - lo) * k).clamp(0.0, 1.0))
             .collect();
         Self::from_f32(dims, spacing, mapped)
+    }
+
+    /// Value ranges of 8^3 cells (with the one-voxel apron of trilinear sampling).
+    pub(crate) fn cell_ranges(&self) -> &CellRanges {
+        cell_ranges(self, &self.cells)
     }
 
     /// Voxel counts `[nx, ny, nz]`.

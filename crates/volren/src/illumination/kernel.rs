@@ -112,7 +112,7 @@ pub fn discrete_gaussian(var: f64, mean: f64) -> Taps {
         return Taps { first: base - 1, w };
     }
     let sigma = var.sqrt();
-    let r = (3.0 * sigma + 2.0).ceil() as isize;
+    let r = (3.0 * sigma).ceil() as isize + 1;
     // Weights of a Gaussian of width `s` centred at `c`, and their mean and variance.
     let make = |c: f64, s: f64| -> Vec<f64> {
         let w: Vec<f64> = (-r..=r)

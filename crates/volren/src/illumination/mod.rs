@@ -25,6 +25,7 @@ pub mod kernel;
 pub mod method;
 pub mod preintegration;
 mod raycast;
+mod sampler;
 pub mod scenes;
 mod slicer;
 pub mod study;

@@ -12,6 +12,7 @@ use super::camera::{Frame, Slicing};
 use super::classify::TransferFunction;
 use super::field::ScalarField;
 use super::method::{Light, Phong, RenderSettings};
+use super::sampler::Sampler;
 
 /// Shading of a ray caster.
 #[derive(Clone, Copy, Debug)]
@@ -37,7 +38,7 @@ pub(crate) fn raycast(
     let l = light.unit_dir()?;
     let slicing = Slicing::new(frame, field, step as f64);
     let lut = tf.sampled(step);
-    let skip_zero = tf.transparent_at_zero();
+    let sampler = Sampler::new(field, tf, settings.interp);
     let s = field.scale();
     let to_vox = |p: [f64; 3]| -> [f32; 3] { std::array::from_fn(|a| (p[a] / s[a]) as f32) };
     let org = to_vox(frame.point(0.0, 0.0, 0.0));
@@ -63,10 +64,9 @@ pub(crate) fn raycast(
                     break;
                 }
                 let p = at(slicing.z(k) as f32);
-                let sv = field.sample(p, settings.interp);
-                if skip_zero && sv == 0.0 {
+                let Some(sv) = sampler.visible(p) else {
                     continue;
-                }
+                };
                 let v = lut.get(sv);
                 if v[3] <= 0.0 {
                     continue;
@@ -79,8 +79,7 @@ pub(crate) fn raycast(
                         for i in 1..=k {
                             let q: [f32; 3] =
                                 std::array::from_fn(|a| p[a] + i as f32 * shadow_step[a]);
-                            let sq = field.sample(q, settings.interp);
-                            if !(skip_zero && sq == 0.0) {
+                            if let Some(sq) = sampler.visible(q) {
                                 t *= 1.0 - lut.get(sq)[3];
                             }
                         }

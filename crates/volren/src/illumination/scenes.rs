@@ -139,3 +139,20 @@ pub fn tissue_tf() -> TransferFunction {
     )
     .expect("static transfer function")
 }
+
+/// A sharp "skin" transfer function for tissue fields made by [`labels_to_field`]: an
+/// almost opaque surface where the density crosses 0.15 (the outer boundary of the body),
+/// the kind of steep transfer function for which the paper reports the largest gains,
+/// 256 entries.
+pub fn skin_tf() -> TransferFunction {
+    TransferFunction::from_points(
+        &[
+            (0.0, [0.0, 0.0, 0.0, 0.0]),
+            (0.12, [0.95, 0.8, 0.7, 0.0]),
+            (0.16, [0.95, 0.8, 0.7, 0.9]),
+            (1.0, [0.95, 0.8, 0.7, 0.9]),
+        ],
+        256,
+    )
+    .expect("static transfer function")
+}

@@ -4,20 +4,21 @@
 //! One pass per slice over a 2-D light buffer and the eye buffers, rows in parallel, then one
 //! convolution. Segment `n` runs from slice `n` to slice `n + 1`; its `m + 1` tissue samples
 //! (or pre-integrated sub-segments) are lit by the linear interpolation (E6) of `L_n` and
-//! `L_{n+1}`. Because the light enters the compositing linearly, each pixel accumulates the two
-//! light-free sums `P = sum w_j (1 - a_j) c_j` and `Q = sum w_j a_j c_j` during the pass of
-//! segment `n` and adds `k_a (P + Q) + (1 - k_a) (P L_n + Q L_{n+1})` once `L_{n+1}` exists (in
-//! the next pass), so every sample is read once and only `O(W H)` floats are kept.
+//! `L_{n+1}`. The shading `S(L) = k_a + (1 - k_a) L` is affine in the light, so a sample's
+//! colour splits into `(1 - a_j) w_j c_j S(L_n)`, added at once, and `a_j w_j c_j S(L_{n+1})`,
+//! whose light-free part `Q = sum a_j w_j c_j` waits in a per-pixel buffer until `L_{n+1}`
+//! exists (the next pass): every sample is read once and only `O(W H)` floats are kept.
 
 use rayon::prelude::*;
 use wscg_math::Result;
 
 use super::camera::{Frame, Slicing};
 use super::classify::{SampleLut, TransferFunction};
-use super::field::{Interp, ScalarField};
+use super::field::ScalarField;
 use super::kernel::StepKernel;
 use super::method::{Light, LightAtten, RenderSettings};
 use super::preintegration::PreIntegrationTable;
+use super::sampler::Sampler;
 
 /// Per-sample classification of a run.
 enum Classifier {
@@ -42,17 +43,18 @@ struct Rect {
 
 /// A prepared slice render.
 pub(crate) struct SliceRun<'a> {
-    field: &'a ScalarField,
+    sampler: Sampler<'a>,
     slicing: Slicing,
     m: usize,
     delta: f32,
     classifier: Classifier,
     kernel: StepKernel,
     ka: f32,
-    interp: Interp,
     early_stop: f32,
     background: [f32; 3],
     skip_zero: bool,
+    /// Tissue segments no longer than an empty-space cell (so they can be skipped).
+    short_segments: bool,
     rect: Rect,
     width: usize,
     height: usize,
@@ -158,17 +160,17 @@ impl<'a> SliceRun<'a> {
         let dy = to_vox(frame.down.map(|c| c * h));
         let dz = to_vox(frame.d);
         Ok(Self {
-            field,
+            sampler: Sampler::new(field, tf, settings.interp),
             slicing,
             m,
             delta,
             classifier,
             kernel,
             ka: light.ambient,
-            interp: settings.interp,
             early_stop: settings.early_stop,
             background: settings.background,
             skip_zero,
+            short_segments: (delta as usize) < super::sampler::CELL,
             rect,
             width: frame.width,
             height: frame.height,
@@ -182,16 +184,6 @@ impl<'a> SliceRun<'a> {
     /// The slicing of this run.
     pub fn slicing(&self) -> Slicing {
         self.slicing
-    }
-
-    #[inline]
-    fn sample(&self, p: [f32; 3]) -> f32 {
-        self.field.sample(p, self.interp)
-    }
-
-    #[inline]
-    fn sample_clamped(&self, p: [f32; 3]) -> f32 {
-        self.field.sample_clamped(p, self.interp)
     }
 
     /// Runs every slice and returns the image.
@@ -239,28 +231,18 @@ impl<'a> SliceRun<'a> {
             o,
             tmp,
             eye,
-            pq,
+            q,
             front,
         } = st;
-        let (l_cur_r, l_prev_r) = (&*l_cur, &*l_prev);
+        let l_cur_r = &*l_cur;
         o.par_chunks_mut(w)
             .zip(eye.par_chunks_mut(w))
-            .zip(pq.par_chunks_mut(w))
+            .zip(q.par_chunks_mut(w))
             .zip(front.par_chunks_mut(w))
             .enumerate()
-            .for_each(|(r, (((orow, erow), pqrow), frow))| {
+            .for_each(|(r, (((orow, erow), qrow), frow))| {
                 let base = r * w;
-                self.pass_row(
-                    n,
-                    z,
-                    r,
-                    &l_cur_r[base..base + w],
-                    &l_prev_r[base..base + w],
-                    orow,
-                    erow,
-                    pqrow,
-                    frow,
-                );
+                self.pass_row(n, z, r, &l_cur_r[base..base + w], orow, erow, qrow, frow);
             });
         self.kernel.apply(o, tmp, l_prev, w, self.rect.h);
         std::mem::swap(l_cur, l_prev);
@@ -284,10 +266,9 @@ impl<'a> SliceRun<'a> {
         z: f32,
         r: usize,
         l_cur: &[f32],
-        l_prev: &[f32],
         orow: &mut [f32],
         erow: &mut [[f32; 4]],
-        pqrow: &mut [[f32; 6]],
+        qrow: &mut [[f32; 3]],
         frow: &mut [f32],
     ) {
         let (ia, ib) = self.image_span(r);
@@ -302,11 +283,12 @@ impl<'a> SliceRun<'a> {
             let p0: [f32; 3] = std::array::from_fn(|a| row0[a] + fi * self.dx[a]);
             let lc = l_cur[i];
             let in_img = i >= ia && i < ib;
-            if in_img && n > 0 {
-                finalize(&mut erow[i], &mut pqrow[i], ka, l_prev[i], lc);
+            if in_img && n > 0 && self.m > 0 {
+                finalize(&mut erow[i], &mut qrow[i], ka, lc);
             }
             let mut e = erow[i];
-            let mut pq = [0f32; 6];
+            let mut q = [0f32; 3];
+            let s_n = ka + (1.0 - ka) * lc;
             let composite = in_img && e[3] < self.early_stop;
             let mut t = 1f32;
             let mut add = |j: usize, v: [f32; 4], e: &mut [f32; 4]| {
@@ -314,10 +296,10 @@ impl<'a> SliceRun<'a> {
                 if composite {
                     let wgt = 1.0 - e[3];
                     let aj = j as f32 / m1;
-                    let (wp, wq) = (wgt * (1.0 - aj), wgt * aj);
+                    let (wp, wq) = (wgt * (1.0 - aj) * s_n, wgt * aj);
                     for c in 0..3 {
-                        pq[c] += wp * v[c];
-                        pq[3 + c] += wq * v[c];
+                        e[c] += wp * v[c];
+                        q[c] += wq * v[c];
                     }
                     e[3] += wgt * v[3];
                 }
@@ -328,45 +310,54 @@ impl<'a> SliceRun<'a> {
             };
             match &self.classifier {
                 Classifier::Samples { lut, slice_only } => {
-                    let mut s0 = 0f32;
+                    let mut s0 = None;
                     for j in 0..=self.m {
-                        let s = self.sample(at(j));
-                        if j == 0 {
-                            s0 = s;
-                        }
-                        if self.skip_zero && s == 0.0 {
+                        let Some(s) = self.sampler.visible(at(j)) else {
                             continue;
+                        };
+                        if j == 0 {
+                            s0 = Some(s);
                         }
                         add(j, lut.get(s), &mut e);
                     }
                     if let Some(so) = slice_only {
-                        t = 1.0 - so.get(s0)[3];
+                        t = s0.map_or(1.0, |s| 1.0 - so.get(s)[3]);
                     }
                 }
                 Classifier::Table(table) => {
                     // A sub-segment whose front lies in the box reads its back sample clamped
                     // to the box (as a GPU slice's fragment reads an edge-clamped texture); one
-                    // whose front lies outside is the value 0 throughout.
-                    let mut sf = if n == 0 {
-                        self.sample_clamped(at(0))
-                    } else {
-                        frow[i]
-                    };
+                    // whose front lies outside is the value 0 throughout. Segments starting in
+                    // empty space are skipped unread (NaN marks an unread front value).
+                    let mut sf = if n == 0 { f32::NAN } else { frow[i] };
                     for j in 0..=self.m {
-                        let sb = self.sample_clamped(at(j + 1));
-                        if self.field.contains(at(j)) {
-                            add(j, table.get(sf, sb), &mut e);
-                        } else if !self.skip_zero {
-                            add(j, table.get(0.0, 0.0), &mut e);
+                        let pf = at(j);
+                        if !self.sampler.contains(pf) {
+                            if !self.skip_zero {
+                                add(j, table.get(0.0, 0.0), &mut e);
+                            }
+                            sf = f32::NAN;
+                            continue;
                         }
+                        if self.short_segments && self.sampler.segment_empty(pf) {
+                            sf = f32::NAN;
+                            continue;
+                        }
+                        let front = if sf.is_nan() {
+                            self.sampler.clamped(pf)
+                        } else {
+                            sf
+                        };
+                        let sb = self.sampler.clamped(at(j + 1));
+                        add(j, table.get(front, sb), &mut e);
                         sf = sb;
                     }
                     frow[i] = sf;
                 }
             }
             erow[i] = e;
-            if composite {
-                pqrow[i] = pq;
+            if composite && self.m > 0 {
+                qrow[i] = q;
             }
             orow[i] = lc * t;
         }
@@ -380,9 +371,8 @@ impl<'a> SliceRun<'a> {
         let floats = st.floats();
         let State {
             l_cur,
-            l_prev,
             mut eye,
-            mut pq,
+            mut q,
             ..
         } = st;
         for (y, row) in rgba.chunks_mut(4 * w).enumerate() {
@@ -392,8 +382,8 @@ impl<'a> SliceRun<'a> {
                 let mut e = [0f32; 4];
                 if ry >= 0 && ry < self.rect.h as i64 && rx >= 0 && rx < self.rect.w as i64 {
                     let k = ry as usize * self.rect.w + rx as usize;
-                    if self.slicing.n > 0 {
-                        finalize(&mut eye[k], &mut pq[k], self.ka, l_prev[k], l_cur[k]);
+                    if self.slicing.n > 0 && self.m > 0 {
+                        finalize(&mut eye[k], &mut q[k], self.ka, l_cur[k]);
                     }
                     e = eye[k];
                 }
@@ -418,7 +408,7 @@ struct State {
     o: Vec<f32>,
     tmp: Vec<f32>,
     eye: Vec<[f32; 4]>,
-    pq: Vec<[f32; 6]>,
+    q: Vec<[f32; 3]>,
     front: Vec<f32>,
 }
 
@@ -430,22 +420,22 @@ impl State {
             o: vec![1.0; len],
             tmp: vec![1.0; len],
             eye: vec![[0.0; 4]; len],
-            pq: vec![[0.0; 6]; len],
+            q: vec![[0.0; 3]; len],
             front: vec![0.0; len],
         }
     }
 
     fn floats(&self) -> usize {
-        5 * self.l_cur.len() + 4 * self.eye.len() + 6 * self.pq.len()
+        5 * self.l_cur.len() + 4 * self.eye.len() + 3 * self.q.len()
     }
 }
 
-/// Adds a finished segment's light: `k_a (P + Q) + (1 - k_a) (P L_n + Q L_{n+1})`.
+/// Adds the deferred part of a finished segment: `Q S(L_{n+1})`.
 #[inline]
-fn finalize(e: &mut [f32; 4], pq: &mut [f32; 6], ka: f32, l_n: f32, l_n1: f32) {
-    let (sp, sq) = (ka + (1.0 - ka) * l_n, ka + (1.0 - ka) * l_n1);
+fn finalize(e: &mut [f32; 4], q: &mut [f32; 3], ka: f32, l_n1: f32) {
+    let s = ka + (1.0 - ka) * l_n1;
     for c in 0..3 {
-        e[c] += sp * pq[c] + sq * pq[3 + c];
+        e[c] += s * q[c];
     }
-    *pq = [0.0; 6];
+    *q = [0.0; 3];
 }
