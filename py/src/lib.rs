@@ -17,6 +17,7 @@ mod ear;
 mod errors;
 mod handpose;
 mod hdr;
+mod illum;
 mod isosurface;
 mod manylight;
 mod math;

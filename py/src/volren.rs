@@ -1,4 +1,5 @@
-//! `wscg._native.volren`: bindings of `wscg-volren` (paper 03, hybrid ROI visualisation).
+//! `wscg._native.volren`: bindings of `wscg-volren` (paper 03, hybrid ROI visualisation; the
+//! paper-15 functions live in [`crate::illum`] and register into the same submodule).
 //! The documented API is `python/wscg/volren.py`.
 
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
@@ -354,5 +355,5 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(phantom_tfs, m)?)?;
     m.add_function(wrap_pyfunction!(octree_address, m)?)?;
     m.add_function(wrap_pyfunction!(haar_blocks, m)?)?;
-    Ok(())
+    crate::illum::register(m)
 }

@@ -1,4 +1,5 @@
-from typing import List, Optional, Sequence, Tuple
+import os
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -42,3 +43,45 @@ def phantom(name: str = "head", shape: Optional[Tuple[int, int, int]] = None,
 def phantom_tfs(name: str = "head") -> List[npt.NDArray[np.float64]]: ...
 def octree_address(ijk: Sequence[int], r: int) -> Tuple[Tuple[int, int, int], List[int]]: ...
 def haar_blocks(blocks: npt.ArrayLike) -> npt.NDArray[np.float32]: ...
+
+# Paper 15: convolution-based volume illumination.
+
+METHODS: Tuple[str, ...]
+KERNELS: Tuple[str, ...]
+
+def render(volume: npt.ArrayLike, tf: npt.ArrayLike, spacing: Sequence[float] = ...,
+           view_dir: Sequence[float] = ..., up: Sequence[float] = ...,
+           size: Tuple[int, int] = (512, 512), pixel_size: Optional[float] = None,
+           center: Optional[Sequence[float]] = None, method: str = "scs",
+           slice_distance: float = 1.0, subsamples: int = 0, kernel: str = "gaussian",
+           spread: float = 0.5, tan_half: float = 0.5, light_dir: Sequence[float] = ...,
+           ambient: float = 0.0, background: Sequence[float] = ..., interp: str = "trilinear",
+           value_range: Optional[Tuple[float, float]] = None,
+           light_attenuation: str = "segment") -> npt.NDArray[np.float32]: ...
+def light_buffer(volume: npt.ArrayLike, tf: npt.ArrayLike, depth: float,
+                 spacing: Sequence[float] = ..., view_dir: Sequence[float] = ...,
+                 up: Sequence[float] = ..., size: Tuple[int, int] = (512, 512),
+                 pixel_size: Optional[float] = None, center: Optional[Sequence[float]] = None,
+                 method: str = "scs", slice_distance: float = 1.0, subsamples: int = 0,
+                 kernel: str = "gaussian", spread: float = 0.5, tan_half: float = 0.5,
+                 light_dir: Sequence[float] = ..., ambient: float = 0.0,
+                 background: Sequence[float] = ..., interp: str = "trilinear",
+                 value_range: Optional[Tuple[float, float]] = None,
+                 light_attenuation: str = "segment"
+                 ) -> Tuple[npt.NDArray[np.float32], float]: ...
+def preintegration_table(tf: npt.ArrayLike, ds: float) -> npt.NDArray[np.float32]: ...
+def marschner_lobb(n: int = 41) -> npt.NDArray[np.float32]: ...
+def marschner_lobb_tf() -> npt.NDArray[np.float32]: ...
+def tissue_tf() -> npt.NDArray[np.float32]: ...
+def labels_to_density(labels: npt.ArrayLike, spacing: Sequence[float] = ...,
+                      sigma: float = 1.0) -> npt.NDArray[np.float32]: ...
+def read_vti(path: Union[str, os.PathLike]
+             ) -> Tuple[npt.NDArray[np.generic], Tuple[float, float, float]]: ...
+def mean_abs_diff(a: npt.ArrayLike, b: npt.ArrayLike) -> float: ...
+def study(volume: npt.ArrayLike, tf: npt.ArrayLike, views: int = 4, size: int = 256,
+          azimuth: float = 30.0, elevation: float = 20.0, distances: Sequence[float] = ...,
+          max_subsamples: int = 5, reference: float = 0.2, fine: float = 0.1,
+          spacing: Sequence[float] = ..., spread: float = 0.5,
+          light_dir: Sequence[float] = ..., ambient: float = 0.0, max_mad: float = 0.005,
+          max_energy_ratio: float = 2.0,
+          value_range: Optional[Tuple[float, float]] = None) -> Dict[str, object]: ...

@@ -1,0 +1,764 @@
+//! `wscg._native.volren`, paper 15: bindings of `wscg_volren::illumination` (slice-based
+//! volume rendering with instant convolution shadows, its supersampled and pre-integrated
+//! variants and the ray-casting baselines) and of `wscg_volren::vti` (VTK XML image data).
+//!
+//! The documented API is `python/wscg/volren.py`. It passes C-contiguous volumes (uint8,
+//! uint16 or float32, indexed `[z, y, x]`), float32 transfer functions and images, and the
+//! camera, light and method of a render as a dict (keys: [`RENDER_KEYS`]; those of a study:
+//! [`STUDY_KEYS`]). Every function validates its input again, so a direct call cannot panic
+//! on bad arguments; the GIL is released while Rust works.
+
+use std::path::PathBuf;
+
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use wscg_math::{Error, Image};
+use wscg_volren::illumination::study::{self, AliasCriterion};
+use wscg_volren::illumination::{
+    light_buffer_at, render as render_field, scenes, Interp, Kernel, Light, LightAtten, Method,
+    Phong, PreIntegrationTable, RenderSettings, ScalarField, SliceCamera, TransferFunction,
+    MAX_SUBSAMPLES,
+};
+use wscg_volren::vti::{self, VtiValues};
+
+use crate::convert::{array, dict_item, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+/// Keys of the options dict of `illum_render` and `illum_light_buffer`.
+pub const RENDER_KEYS: [&str; 16] = [
+    "view_dir",
+    "up",
+    "size",
+    "pixel_size",
+    "center",
+    "method",
+    "slice_distance",
+    "subsamples",
+    "kernel",
+    "spread",
+    "tan_half",
+    "light_dir",
+    "ambient",
+    "background",
+    "interp",
+    "light_attenuation",
+];
+
+/// Keys of the options dict of `illum_study`.
+pub const STUDY_KEYS: [&str; 13] = [
+    "views",
+    "size",
+    "azimuth",
+    "elevation",
+    "distances",
+    "max_subsamples",
+    "reference",
+    "fine",
+    "spread",
+    "light_dir",
+    "ambient",
+    "max_mad",
+    "max_energy_ratio",
+];
+
+/// Largest Marschner-Lobb grid side (`n^3` floats).
+const MAX_ML_SIDE: usize = 1024;
+
+/// Most slices (or samples per ray) through the volume's bounding box accepted: guards
+/// against a render that would never finish (`slice_distance` tiny against the volume).
+const MAX_SLICES: f64 = (1u64 << 20) as f64;
+
+/// Largest per-slice reach of the Gaussian kernel (`3 sigma`) and radius of the disk kernel,
+/// in pixels: the crate allocates the kernel's taps (and the disk's `pi r^2` stencil) as
+/// asked, so an absurd spread would exhaust memory.
+const MAX_GAUSSIAN_REACH: f64 = 65536.0;
+const MAX_DISK_RADIUS: f64 = 1024.0;
+
+/// Errors unless `opts` holds only keys of `allowed` (catches typos in direct calls).
+fn check_keys(opts: &Bound<'_, PyDict>, allowed: &[&str]) -> PyResult<()> {
+    for k in opts.keys() {
+        let k: String = k.extract()?;
+        if !allowed.contains(&k.as_str()) {
+            return Err(value_error(format!(
+                "unknown option {k:?}; expected one of {allowed:?}"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Errors unless `v` is finite.
+fn finite(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(value_error(format!("`{name}` must be finite, got {v}")))
+    }
+}
+
+/// Errors unless `v` is finite and `> 0` (also as `f32`).
+fn positive(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_finite() && v > 0.0 && (v as f32) > 0.0 {
+        Ok(v)
+    } else {
+        Err(value_error(format!(
+            "`{name}` must be finite and > 0, got {v}"
+        )))
+    }
+}
+
+/// Errors unless `v` is finite and `>= 0`.
+fn non_negative(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(value_error(format!(
+            "`{name}` must be finite and >= 0, got {v}"
+        )))
+    }
+}
+
+/// Errors unless every component of `v` is finite.
+fn finite3(name: &str, v: [f64; 3]) -> PyResult<[f64; 3]> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(v)
+    } else {
+        Err(value_error(format!(
+            "`{name}` must hold 3 finite numbers, got {v:?}"
+        )))
+    }
+}
+
+/// An integer in `lo..=hi`.
+fn int_in(name: &str, v: i64, lo: i64, hi: i64) -> PyResult<i64> {
+    if (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(value_error(format!(
+            "`{name}` must be in {lo}..={hi}, got {v}"
+        )))
+    }
+}
+
+/// `[nx, ny, nz]` of a `[z, y, x]` array.
+fn dims3(name: &str, shape: &[usize]) -> PyResult<[usize; 3]> {
+    match *shape {
+        [nz, ny, nx] => Ok([nx, ny, nz]),
+        ref s => Err(value_error(format!(
+            "`{name}` must be a 3-D array indexed [z, y, x], got shape {s:?}"
+        ))),
+    }
+}
+
+/// The normalised field of a uint8, uint16 or float32 `[z, y, x]` volume: integers map to
+/// `v / 255` or `v / 65535` and floats from their min/max, unless `value_range` maps `[lo, hi]`
+/// (any dtype) onto `[0, 1]`. A constant float volume without a range keeps its value
+/// clamped to `[0, 1]`.
+fn field_in(
+    py: Python<'_>,
+    volume: &Bound<'_, PyAny>,
+    spacing: [f64; 3],
+    value_range: Option<(f64, f64)>,
+) -> PyResult<ScalarField> {
+    let range = value_range.map(|(lo, hi)| (lo as f32, hi as f32));
+    let ranged = |dims, data: &[f32], lo, hi| {
+        py.detach(|| ScalarField::from_f32_range(dims, spacing, data, lo, hi))
+            .py_err()
+    };
+    if let Ok(a) = volume.extract::<PyReadonlyArrayDyn<u8>>() {
+        let dims = dims3("volume", a.shape())?;
+        let v = values(&a);
+        return match range {
+            None => py
+                .detach(|| ScalarField::from_u8(dims, spacing, &v))
+                .py_err(),
+            Some((lo, hi)) => {
+                let f: Vec<f32> = v.iter().map(|&x| x as f32).collect();
+                ranged(dims, &f, lo, hi)
+            }
+        };
+    }
+    if let Ok(a) = volume.extract::<PyReadonlyArrayDyn<u16>>() {
+        let dims = dims3("volume", a.shape())?;
+        let v = values(&a);
+        return match range {
+            None => py
+                .detach(|| ScalarField::from_u16(dims, spacing, &v))
+                .py_err(),
+            Some((lo, hi)) => {
+                let f: Vec<f32> = v.iter().map(|&x| x as f32).collect();
+                ranged(dims, &f, lo, hi)
+            }
+        };
+    }
+    if let Ok(a) = volume.extract::<PyReadonlyArrayDyn<f32>>() {
+        let dims = dims3("volume", a.shape())?;
+        let v = values(&a);
+        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            return Err(value_error(format!(
+                "`volume` contains a non-finite value (NaN or infinity) at flat index {i}"
+            )));
+        }
+        let (lo, hi) = match range {
+            Some(r) => r,
+            None => v
+                .iter()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &x| {
+                    (a.min(x), b.max(x))
+                }),
+        };
+        if range.is_none() && lo >= hi {
+            // Constant (or empty) volume: no range to normalise by.
+            let data = v.iter().map(|x| x.clamp(0.0, 1.0)).collect();
+            return py
+                .detach(|| ScalarField::from_f32(dims, spacing, data))
+                .py_err();
+        }
+        return ranged(dims, &v, lo, hi);
+    }
+    let dtype = volume
+        .getattr("dtype")
+        .map(|d| d.to_string())
+        .unwrap_or_else(|_| volume.get_type().to_string());
+    Err(value_error(format!(
+        "`volume` must be a uint8, uint16 or float32 numpy array indexed [z, y, x], got {dtype}"
+    )))
+}
+
+/// A transfer function from an `(n, 4)` float32 array of RGBA rows, `n >= 2`.
+fn tf_in(a: &PyReadonlyArrayDyn<f32>) -> PyResult<TransferFunction> {
+    match *a.shape() {
+        [n, 4] if n >= 2 => {
+            let lut: Vec<[f32; 4]> = values(a)
+                .chunks_exact(4)
+                .map(|r| [r[0], r[1], r[2], r[3]])
+                .collect();
+            TransferFunction::from_lut(&lut).py_err()
+        }
+        ref s => Err(value_error(format!(
+            "`tf` must be an (N, 4) array of RGBA rows with N >= 2, got shape {s:?}"
+        ))),
+    }
+}
+
+fn tf_out<'py>(py: Python<'py>, tf: &TransferFunction) -> PyResult<Arr<'py, f32>> {
+    let e = tf.entries();
+    array(py, &[e.len(), 4], e.iter().flatten().copied().collect())
+}
+
+/// The camera, light, method and settings of one render.
+struct Scene {
+    cam: SliceCamera,
+    light: Light,
+    method: Method,
+    settings: RenderSettings,
+}
+
+fn kernel_in(name: &str, spread: f64, tan_half: f64) -> PyResult<Kernel> {
+    let spread = non_negative("spread", spread)? as f32;
+    let tan_half = non_negative("tan_half", tan_half)? as f32;
+    match name {
+        "gaussian" => Ok(Kernel::Gaussian { spread }),
+        "delta" => Ok(Kernel::Delta),
+        "disk" => Ok(Kernel::Disk { tan_half }),
+        other => Err(value_error(format!(
+            "unknown `kernel` {other:?}; use 'gaussian', 'delta' or 'disk'"
+        ))),
+    }
+}
+
+fn method_in(name: &str, ds: f64, m: i64, atten: &str) -> PyResult<Method> {
+    let slice = positive("slice_distance", ds)? as f32;
+    let m = int_in("subsamples", m, 0, MAX_SUBSAMPLES as i64)? as u32;
+    let light_atten = match atten {
+        "segment" => LightAtten::Segment,
+        "slice-only" => LightAtten::SliceOnly,
+        other => {
+            return Err(value_error(format!(
+                "unknown `light_attenuation` {other:?}; use 'segment' or 'slice-only'"
+            )))
+        }
+    };
+    let ics = |subsamples, preintegrated| Method::Ics {
+        slice,
+        subsamples,
+        preintegrated,
+        light_atten,
+    };
+    let none = |alt: &str| {
+        if m > 0 {
+            Err(value_error(format!(
+                "`subsamples` = {m} with method {name:?}: use {alt:?} for sub-samples"
+            )))
+        } else {
+            Ok(())
+        }
+    };
+    let ray = || {
+        if m > 0 {
+            Err(value_error(format!(
+                "`subsamples` = {m}: sub-samples apply to the slice methods only, not {name:?}"
+            )))
+        } else {
+            Ok(slice)
+        }
+    };
+    Ok(match name {
+        "ics" => {
+            none("scs")?;
+            ics(0, false)
+        }
+        "scs" => ics(m, false),
+        "pi-ics" => {
+            none("pi-scs")?;
+            ics(0, true)
+        }
+        "pi-scs" => ics(m, true),
+        "raycast" => Method::RaycastEa { step: ray()? },
+        "phong" => Method::RaycastPhong {
+            step: ray()?,
+            phong: Phong::default(),
+        },
+        "shadow-rays" => Method::ShadowRays { step: ray()? },
+        other => {
+            return Err(value_error(format!(
+                "unknown `method` {other:?}; use 'ics', 'scs', 'pi-ics', 'pi-scs', 'raycast', \
+                 'phong' or 'shadow-rays'"
+            )))
+        }
+    })
+}
+
+/// `(width, height)` of an image, both at least 1.
+fn size_in(size: (i64, i64)) -> PyResult<(usize, usize)> {
+    let (w, h) = size;
+    if w < 1 || h < 1 || w.saturating_mul(h) > 1 << 26 {
+        return Err(value_error(format!(
+            "`size` (width, height) must be positive with at most 2^26 pixels, got ({w}, {h})"
+        )));
+    }
+    Ok((w as usize, h as usize))
+}
+
+/// Errors when the slice count or the kernel's size would make a render of `field` with
+/// distance `ds` and pixel size `pixel` run out of time or memory.
+fn check_cost(field: &ScalarField, ds: f64, pixel: f64, kernel: &Kernel) -> PyResult<()> {
+    let (lo, hi) = field.world_box();
+    let diag = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt();
+    let slices = diag / ds;
+    if !(slices.is_finite() && slices <= MAX_SLICES) {
+        return Err(value_error(format!(
+            "`slice_distance` {:e} gives about {slices:.3e} slices (or samples per ray) \
+             through the volume; at most {MAX_SLICES} are allowed",
+            ds as f32
+        )));
+    }
+    match *kernel {
+        Kernel::Gaussian { spread } => {
+            let reach = 3.0 * (2.0 * spread as f64 * ds).sqrt() / pixel;
+            if !(reach.is_finite() && reach <= MAX_GAUSSIAN_REACH) {
+                return Err(value_error(format!(
+                    "`spread` {spread:e} gives a Gaussian kernel reaching {reach:.3e} pixels per \
+                     slice; at most {MAX_GAUSSIAN_REACH}"
+                )));
+            }
+        }
+        Kernel::Disk { tan_half } => {
+            let r = ds * tan_half as f64 / pixel;
+            if !(r.is_finite() && r <= MAX_DISK_RADIUS) {
+                return Err(value_error(format!(
+                    "`tan_half` {tan_half:e} gives a disk kernel of radius {r:.3e} pixels per \
+                     slice; at most {MAX_DISK_RADIUS}"
+                )));
+            }
+        }
+        Kernel::Delta => {}
+    }
+    Ok(())
+}
+
+/// The slice distance or sample step of a method.
+fn distance_of(m: &Method) -> f64 {
+    match *m {
+        Method::Ics { slice, .. } => slice as f64,
+        Method::RaycastEa { step }
+        | Method::ShadowRays { step }
+        | Method::RaycastPhong { step, .. } => step as f64,
+    }
+}
+
+fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
+    check_keys(opts, &RENDER_KEYS)?;
+    let view_dir = finite3(
+        "view_dir",
+        dict_item(opts, "view_dir")?.unwrap_or([0.0, 0.0, 1.0]),
+    )?;
+    let up = finite3("up", dict_item(opts, "up")?.unwrap_or([0.0, 1.0, 0.0]))?;
+    let (width, height) = size_in(dict_item(opts, "size")?.unwrap_or((512, 512)))?;
+    let center = dict_item::<[f64; 3]>(opts, "center")?
+        .map(|c| finite3("center", c))
+        .transpose()?;
+    let cam = match dict_item::<f64>(opts, "pixel_size")? {
+        None => {
+            let mut cam = SliceCamera::fit(field, view_dir, up, width, height).py_err()?;
+            if let Some(c) = center {
+                cam.center = c;
+            }
+            cam
+        }
+        Some(p) => SliceCamera {
+            dir: view_dir,
+            up,
+            center: center.unwrap_or_else(|| field.world_center()),
+            width,
+            height,
+            pixel_size: positive("pixel_size", p)?,
+        },
+    };
+    cam.frame().py_err()?;
+    let kernel = kernel_in(
+        &dict_item::<String>(opts, "kernel")?.unwrap_or_else(|| "gaussian".into()),
+        dict_item(opts, "spread")?.unwrap_or(0.5),
+        dict_item(opts, "tan_half")?.unwrap_or(0.5),
+    )?;
+    let light = Light {
+        dir_view: finite3(
+            "light_dir",
+            dict_item(opts, "light_dir")?.unwrap_or([0.0, 0.0, 1.0]),
+        )?,
+        ambient: finite("ambient", dict_item(opts, "ambient")?.unwrap_or(0.0))? as f32,
+        kernel,
+    };
+    light.unit_dir().py_err()?;
+    let method = method_in(
+        &dict_item::<String>(opts, "method")?.unwrap_or_else(|| "scs".into()),
+        dict_item(opts, "slice_distance")?.unwrap_or(1.0),
+        dict_item(opts, "subsamples")?.unwrap_or(0),
+        &dict_item::<String>(opts, "light_attenuation")?.unwrap_or_else(|| "segment".into()),
+    )?;
+    let bg = finite3(
+        "background",
+        dict_item(opts, "background")?.unwrap_or([0.0; 3]),
+    )?;
+    let interp = match dict_item::<String>(opts, "interp")?.as_deref() {
+        None | Some("trilinear") => Interp::Trilinear,
+        Some("nearest") => Interp::Nearest,
+        Some(other) => {
+            return Err(value_error(format!(
+                "unknown `interp` {other:?}; use 'trilinear' or 'nearest'"
+            )))
+        }
+    };
+    let settings = RenderSettings {
+        interp,
+        background: bg.map(|c| c as f32),
+        ..Default::default()
+    };
+    settings.check().py_err()?;
+    check_cost(field, distance_of(&method), cam.pixel_size, &light.kernel)?;
+    Ok(Scene {
+        cam,
+        light,
+        method,
+        settings,
+    })
+}
+
+/// Renders a volume (see `wscg.volren.render`): an `(H, W, 4)` float32 RGBA image.
+#[pyfunction]
+#[pyo3(signature = (volume, tf, spacing, value_range, opts))]
+fn illum_render<'py>(
+    py: Python<'py>,
+    volume: &Bound<'py, PyAny>,
+    tf: PyReadonlyArrayDyn<'py, f32>,
+    spacing: [f64; 3],
+    value_range: Option<(f64, f64)>,
+    opts: &Bound<'py, PyDict>,
+) -> PyResult<Arr<'py, f32>> {
+    let tf = tf_in(&tf)?;
+    let field = field_in(py, volume, spacing, value_range)?;
+    let s = scene_in(&field, opts)?;
+    let r = py
+        .detach(|| render_field(&field, &tf, &s.cam, &s.light, &s.method, &s.settings))
+        .py_err()?;
+    let (h, w, c) = r.image.shape();
+    array(py, &[h, w, c], r.image.into_data())
+}
+
+/// The light buffer arriving at the slice nearest to `depth` (see
+/// `wscg.volren.light_buffer`): an `(H, W)` float32 array and the slice's depth.
+#[pyfunction]
+#[pyo3(signature = (volume, tf, depth, spacing, value_range, opts))]
+fn illum_light_buffer<'py>(
+    py: Python<'py>,
+    volume: &Bound<'py, PyAny>,
+    tf: PyReadonlyArrayDyn<'py, f32>,
+    depth: f64,
+    spacing: [f64; 3],
+    value_range: Option<(f64, f64)>,
+    opts: &Bound<'py, PyDict>,
+) -> PyResult<(Arr<'py, f32>, f64)> {
+    let tf = tf_in(&tf)?;
+    let field = field_in(py, volume, spacing, value_range)?;
+    let s = scene_in(&field, opts)?;
+    if !(depth.is_finite() && depth >= 0.0) {
+        return Err(value_error(format!(
+            "`depth` must be finite and >= 0, got {depth}"
+        )));
+    }
+    let (img, z) = py
+        .detach(|| light_buffer_at(&field, &tf, &s.cam, &s.light, &s.method, &s.settings, depth))
+        .py_err()?;
+    let (h, w, _) = img.shape();
+    Ok((array(py, &[h, w], img.into_data())?, z))
+}
+
+/// The pre-integration table `(N, N, 4)` of a transfer function for segment length `ds`.
+#[pyfunction]
+fn preintegration_table<'py>(
+    py: Python<'py>,
+    tf: PyReadonlyArrayDyn<'py, f32>,
+    ds: f64,
+) -> PyResult<Arr<'py, f32>> {
+    let tf = tf_in(&tf)?;
+    let ds = positive("ds", ds)? as f32;
+    let t = py.detach(|| PreIntegrationTable::build(&tf, ds)).py_err()?;
+    let n = t.n;
+    array(py, &[n, n, 4], t.rgba.into_iter().flatten().collect())
+}
+
+/// The Marschner-Lobb volume `(n, n, n)` float32, `[z, y, x]`.
+#[pyfunction]
+fn marschner_lobb(py: Python<'_>, n: i64) -> PyResult<Arr<'_, f32>> {
+    let n = int_in("n", n, 2, MAX_ML_SIDE as i64)? as usize;
+    let f = py.detach(|| scenes::marschner_lobb(n)).py_err()?;
+    array(py, &[n, n, n], f.data().to_vec())
+}
+
+/// The Marschner-Lobb transfer function, `(256, 4)` float32.
+#[pyfunction]
+fn marschner_lobb_tf(py: Python<'_>) -> PyResult<Arr<'_, f32>> {
+    tf_out(py, &scenes::marschner_lobb_tf())
+}
+
+/// The tissue transfer function of `labels_to_density` fields, `(256, 4)` float32.
+#[pyfunction]
+fn tissue_tf(py: Python<'_>) -> PyResult<Arr<'_, f32>> {
+    tf_out(py, &scenes::tissue_tf())
+}
+
+/// A CT-like density `[z, y, x]` float32 from a uint8 label volume.
+#[pyfunction]
+fn labels_to_density<'py>(
+    py: Python<'py>,
+    labels: PyReadonlyArrayDyn<'py, u8>,
+    spacing: [f64; 3],
+    sigma: f64,
+) -> PyResult<Arr<'py, f32>> {
+    let dims = dims3("labels", labels.shape())?;
+    let sigma = non_negative("sigma", sigma)?;
+    let v = values(&labels);
+    let f = py
+        .detach(|| scenes::labels_to_field(&v, dims, spacing, sigma))
+        .py_err()?;
+    array(py, &[dims[2], dims[1], dims[0]], f.data().to_vec())
+}
+
+/// Reads a `.vti` file: the first array `[z, y, x]` in its stored dtype and the spacing
+/// `(sx, sy, sz)`. `OSError` when the file cannot be read, `ValueError` when its content is
+/// malformed or unsupported.
+#[pyfunction]
+fn read_vti(py: Python<'_>, path: PathBuf) -> PyResult<(Bound<'_, PyAny>, (f64, f64, f64))> {
+    let img = py
+        .detach(|| {
+            // The parser validates what it reads; a panic on a hostile file would still be a
+            // malformed file, not a crash of the interpreter.
+            std::panic::catch_unwind(|| vti::read_vti(&path))
+        })
+        .map_err(|_| {
+            value_error(format!(
+                "cannot decode {}: malformed VTK image data",
+                path.display()
+            ))
+        })?
+        .map_err(|e| match e {
+            Error::Io { .. } => PyOSError::new_err(e.to_string()),
+            e => PyValueError::new_err(e.to_string()),
+        })?;
+    let [nx, ny, nz] = img.dims;
+    let shape = [nz, ny, nx];
+    let arr = match img.values {
+        VtiValues::U8(v) => array(py, &shape, v)?.into_any(),
+        VtiValues::I8(v) => array(py, &shape, v)?.into_any(),
+        VtiValues::U16(v) => array(py, &shape, v)?.into_any(),
+        VtiValues::I16(v) => array(py, &shape, v)?.into_any(),
+        VtiValues::U32(v) => array(py, &shape, v)?.into_any(),
+        VtiValues::I32(v) => array(py, &shape, v)?.into_any(),
+        VtiValues::I64(v) => array(py, &shape, v)?.into_any(),
+        VtiValues::U64(v) => array(py, &shape, v)?.into_any(),
+        VtiValues::F32(v) => array(py, &shape, v)?.into_any(),
+        VtiValues::F64(v) => array(py, &shape, v)?.into_any(),
+    };
+    let s = img.spacing;
+    Ok((arr, (s[0], s[1], s[2])))
+}
+
+/// An `(H, W, C)` float32 image with `C >= 3` and finite values.
+fn rgb_image_in(name: &str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<Image<f32>> {
+    let (h, w, c) = match *a.shape() {
+        [h, w, c] if c >= 3 => (h, w, c),
+        ref s => {
+            return Err(value_error(format!(
+                "`{name}` must be an (H, W, C) image with C >= 3, got shape {s:?}"
+            )))
+        }
+    };
+    let v = values(a).into_owned();
+    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+        return Err(value_error(format!(
+            "`{name}` contains a non-finite value (NaN or infinity) at flat index {i}"
+        )));
+    }
+    Image::new(h, w, c, v).py_err()
+}
+
+/// Mean absolute RGB difference of two images (the paper's Table 1 error).
+#[pyfunction]
+fn mean_abs_diff(a: PyReadonlyArrayDyn<'_, f32>, b: PyReadonlyArrayDyn<'_, f32>) -> PyResult<f64> {
+    if a.shape() != b.shape() {
+        return Err(value_error(format!(
+            "`a` and `b` must have the same shape, got {:?} and {:?}",
+            a.shape(),
+            b.shape()
+        )));
+    }
+    let (a, b) = (rgb_image_in("a", &a)?, rgb_image_in("b", &b)?);
+    if a.height() == 0 || a.width() == 0 {
+        return Err(value_error("`a` and `b` are empty images"));
+    }
+    study::mean_abs_diff(&a, &b).py_err()
+}
+
+/// The quality and speed study over orbit views (see `wscg.volren.study`).
+#[pyfunction]
+#[pyo3(signature = (volume, tf, spacing, value_range, opts))]
+fn illum_study<'py>(
+    py: Python<'py>,
+    volume: &Bound<'py, PyAny>,
+    tf: PyReadonlyArrayDyn<'py, f32>,
+    spacing: [f64; 3],
+    value_range: Option<(f64, f64)>,
+    opts: &Bound<'py, PyDict>,
+) -> PyResult<Bound<'py, PyDict>> {
+    check_keys(opts, &STUDY_KEYS)?;
+    let tf = tf_in(&tf)?;
+    let field = field_in(py, volume, spacing, value_range)?;
+    let views = int_in("views", dict_item(opts, "views")?.unwrap_or(4), 1, 1 << 16)? as usize;
+    let size = dict_item::<i64>(opts, "size")?.unwrap_or(256);
+    let size = size_in((size, size))?.0;
+    let azimuth = finite("azimuth", dict_item(opts, "azimuth")?.unwrap_or(30.0))?;
+    let elevation = finite("elevation", dict_item(opts, "elevation")?.unwrap_or(20.0))?;
+    let distances: Vec<f64> =
+        dict_item(opts, "distances")?.unwrap_or_else(|| (1..=10).map(|k| 0.2 * k as f64).collect());
+    if distances.is_empty() {
+        return Err(value_error("`distances` is empty"));
+    }
+    for &d in &distances {
+        positive("distances", d)?;
+    }
+    let max_m = int_in(
+        "max_subsamples",
+        dict_item(opts, "max_subsamples")?.unwrap_or(5),
+        0,
+        MAX_SUBSAMPLES as i64,
+    )? as u32;
+    let reference = positive("reference", dict_item(opts, "reference")?.unwrap_or(0.2))?;
+    let fine = positive("fine", dict_item(opts, "fine")?.unwrap_or(0.1))?;
+    let light = Light {
+        dir_view: finite3(
+            "light_dir",
+            dict_item(opts, "light_dir")?.unwrap_or([0.0, 0.0, 1.0]),
+        )?,
+        ambient: finite("ambient", dict_item(opts, "ambient")?.unwrap_or(0.0))? as f32,
+        kernel: kernel_in("gaussian", dict_item(opts, "spread")?.unwrap_or(0.5), 0.0)?,
+    };
+    light.unit_dir().py_err()?;
+    let criterion = AliasCriterion {
+        max_mad: non_negative("max_mad", dict_item(opts, "max_mad")?.unwrap_or(0.005))?,
+        max_energy_ratio: non_negative(
+            "max_energy_ratio",
+            dict_item(opts, "max_energy_ratio")?.unwrap_or(2.0),
+        )?,
+    };
+    let cams = (0..views)
+        .map(|k| {
+            let az = azimuth + 360.0 * k as f64 / views as f64;
+            SliceCamera::orbit(&field, az, elevation, size)
+        })
+        .collect::<wscg_math::Result<Vec<_>>>()
+        .py_err()?;
+    for cam in &cams {
+        for &d in distances.iter().chain([&reference, &fine]) {
+            check_cost(&field, d, cam.pixel_size, &light.kernel)?;
+        }
+    }
+    let d32: Vec<f32> = distances.iter().map(|&d| d as f32).collect();
+    let configs = study::grid(&d32, max_m);
+    let settings = RenderSettings::default();
+    let st = py
+        .detach(|| {
+            study::sweep(
+                &field,
+                &tf,
+                &cams,
+                &light,
+                &settings,
+                &Method::ics(reference as f32),
+                &Method::ics(fine as f32),
+                &configs,
+                &criterion,
+                |_, _| {},
+            )
+        })
+        .py_err()?;
+    // `grid` emits 2 (max_m + 1) configurations per distance, in the order given.
+    let per = 2 * (max_m as usize + 1);
+    let entries = PyList::empty(py);
+    for (i, e) in st.entries.iter().enumerate() {
+        let d = PyDict::new(py);
+        let m = match e.method {
+            Method::Ics { subsamples, .. } => subsamples,
+            _ => 0,
+        };
+        d.set_item("method", e.method.name())?;
+        d.set_item("slice_distance", distances[i / per])?;
+        d.set_item("subsamples", m)?;
+        d.set_item("mad", e.mad)?;
+        d.set_item("energy", e.energy)?;
+        d.set_item("seconds", e.seconds)?;
+        d.set_item("alias_free", e.alias_free)?;
+        entries.append(d)?;
+    }
+    let out = PyDict::new(py);
+    out.set_item("reference_seconds", st.reference_seconds)?;
+    out.set_item("fine_energy", st.fine_energy)?;
+    out.set_item("entries", entries)?;
+    Ok(out)
+}
+
+/// Registers the paper-15 functions into the `volren` submodule.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(illum_render, m)?)?;
+    m.add_function(wrap_pyfunction!(illum_light_buffer, m)?)?;
+    m.add_function(wrap_pyfunction!(illum_study, m)?)?;
+    m.add_function(wrap_pyfunction!(preintegration_table, m)?)?;
+    m.add_function(wrap_pyfunction!(marschner_lobb, m)?)?;
+    m.add_function(wrap_pyfunction!(marschner_lobb_tf, m)?)?;
+    m.add_function(wrap_pyfunction!(tissue_tf, m)?)?;
+    m.add_function(wrap_pyfunction!(labels_to_density, m)?)?;
+    m.add_function(wrap_pyfunction!(read_vti, m)?)?;
+    m.add_function(wrap_pyfunction!(mean_abs_diff, m)?)?;
+    Ok(())
+}
