@@ -549,6 +549,12 @@ fn tissue_tf(py: Python<'_>) -> PyResult<Arr<'_, f32>> {
     tf_out(py, &scenes::tissue_tf())
 }
 
+/// `scenes::skin_tf`: an almost opaque surface where the density crosses 0.15.
+#[pyfunction]
+fn skin_tf(py: Python<'_>) -> PyResult<Arr<'_, f32>> {
+    tf_out(py, &scenes::skin_tf())
+}
+
 /// A CT-like density `[z, y, x]` float32 from a uint8 label volume.
 #[pyfunction]
 fn labels_to_density<'py>(
@@ -757,6 +763,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(marschner_lobb, m)?)?;
     m.add_function(wrap_pyfunction!(marschner_lobb_tf, m)?)?;
     m.add_function(wrap_pyfunction!(tissue_tf, m)?)?;
+    m.add_function(wrap_pyfunction!(skin_tf, m)?)?;
     m.add_function(wrap_pyfunction!(labels_to_density, m)?)?;
     m.add_function(wrap_pyfunction!(read_vti, m)?)?;
     m.add_function(wrap_pyfunction!(mean_abs_diff, m)?)?;

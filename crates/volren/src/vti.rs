@@ -15,6 +15,9 @@ use wscg_math::{Error, Result};
 /// Largest number of values accepted (guards against hostile headers).
 const MAX_VALUES: usize = 1 << 31;
 
+/// Largest number of compressed blocks accepted.
+const MAX_BLOCKS: u64 = 1 << 24;
+
 /// Values of a `.vti` array, in their stored type.
 #[derive(Clone, Debug, PartialEq)]
 pub enum VtiValues {
@@ -242,6 +245,14 @@ pub fn parse_vti(bytes: &[u8]) -> std::result::Result<VtiImage, String> {
     }
     let ty = attr(arr, "type").ok_or("DataArray without type")?;
     let name = attr(arr, "Name").unwrap_or("").to_string();
+    let value_size = match ty {
+        "UInt8" | "Int8" => 1,
+        "UInt16" | "Int16" => 2,
+        "UInt32" | "Int32" | "Float32" => 4,
+        "Int64" | "UInt64" | "Float64" => 8,
+        t => return Err(format!("array type {t} is not supported")),
+    };
+    let max_bytes = n * value_size;
     let raw = match attr(arr, "format").unwrap_or("ascii") {
         "binary" => {
             let end = text[arr_end..]
@@ -252,7 +263,7 @@ pub fn parse_vti(bytes: &[u8]) -> std::result::Result<VtiImage, String> {
                 .bytes()
                 .filter(|c| !c.is_ascii_whitespace())
                 .collect();
-            decode_base64_blocks(&b64, header64, zlib)?
+            decode_base64_blocks(&b64, header64, zlib, max_bytes)?
         }
         "appended" => {
             let off: usize = attr(arr, "offset")
@@ -263,7 +274,7 @@ pub fn parse_vti(bytes: &[u8]) -> std::result::Result<VtiImage, String> {
                 find(&bytes[xml_end..], b"_").ok_or("AppendedData without '_'")? + xml_end + 1;
             let data = bytes.get(start + off..).ok_or("offset beyond the file")?;
             match attr(ap, "encoding").unwrap_or("raw") {
-                "raw" => decode_raw_blocks(data, header64, zlib)?,
+                "raw" => decode_raw_blocks(data, header64, zlib, max_bytes)?,
                 "base64" => {
                     let b64: Vec<u8> = data
                         .iter()
@@ -271,7 +282,7 @@ pub fn parse_vti(bytes: &[u8]) -> std::result::Result<VtiImage, String> {
                         .take_while(|&c| c != b'<')
                         .filter(|c| !c.is_ascii_whitespace())
                         .collect();
-                    decode_base64_blocks(&b64, header64, zlib)?
+                    decode_base64_blocks(&b64, header64, zlib, max_bytes)?
                 }
                 e => return Err(format!("appended encoding {e} is not supported")),
             }
@@ -343,9 +354,12 @@ fn inflate(
     let mut out = Vec::new();
     let mut pos = 0usize;
     for (i, &cs) in sizes.iter().enumerate() {
-        let cs = cs as usize;
+        let cs = usize::try_from(cs).map_err(|_| "compressed block size overflows")?;
+        let end = pos
+            .checked_add(cs)
+            .ok_or("compressed block size overflows")?;
         let chunk = data
-            .get(pos..pos + cs)
+            .get(pos..end)
             .ok_or("compressed block beyond the data")?;
         let expect = if i + 1 == sizes.len() && last > 0 {
             last
@@ -354,6 +368,7 @@ fn inflate(
         } as usize;
         let mut buf = Vec::with_capacity(expect);
         flate2::read::ZlibDecoder::new(chunk)
+            .take(expect as u64 + 1)
             .read_to_end(&mut buf)
             .map_err(|e| format!("zlib: {e}"))?;
         if buf.len() != expect {
@@ -363,7 +378,7 @@ fn inflate(
             ));
         }
         out.extend_from_slice(&buf);
-        pos += cs;
+        pos = end;
     }
     Ok(out)
 }
@@ -374,12 +389,13 @@ fn decode_base64_blocks(
     s: &[u8],
     header64: bool,
     zlib: bool,
+    max_bytes: usize,
 ) -> std::result::Result<Vec<u8>, String> {
     let w = if header64 { 8 } else { 4 };
     let enc_len = |bytes: usize| bytes.div_ceil(3) * 4;
     let header_words = if zlib {
         let first = b64(s.get(..enc_len(3 * w)).ok_or("truncated header")?)?;
-        3 + read_uints(&first[..3 * w], header64)[0] as usize
+        block_words(first.get(..3 * w).ok_or("truncated header")?, header64)?
     } else {
         1
     };
@@ -392,36 +408,63 @@ fn decode_base64_blocks(
         let (h, p) = all.split_at((header_words * w).min(all.len()));
         (h.to_vec(), p.to_vec())
     };
-    blocks(&header, &payload, header64, zlib)
+    blocks(&header, &payload, header64, zlib, max_bytes)
+}
+
+/// Words of a compressed header (`3 + number of blocks`) from its first three words.
+fn block_words(first: &[u8], header64: bool) -> std::result::Result<usize, String> {
+    let nb = read_uints(first, header64)[0];
+    if nb > MAX_BLOCKS {
+        return Err(format!("{nb} compressed blocks (at most {MAX_BLOCKS})"));
+    }
+    Ok(3 + nb as usize)
 }
 
 fn decode_raw_blocks(
     data: &[u8],
     header64: bool,
     zlib: bool,
+    max_bytes: usize,
 ) -> std::result::Result<Vec<u8>, String> {
     let w = if header64 { 8 } else { 4 };
     let header_words = if zlib {
-        3 + read_uints(data.get(..3 * w).ok_or("truncated header")?, header64)[0] as usize
+        block_words(data.get(..3 * w).ok_or("truncated header")?, header64)?
     } else {
         1
     };
     let hb = header_words * w;
     let header = data.get(..hb).ok_or("truncated header")?;
-    blocks(header, &data[hb..], header64, zlib)
+    blocks(header, &data[hb..], header64, zlib, max_bytes)
 }
 
+/// The payload described by a header, at most `max_bytes` long (the array's size).
 fn blocks(
     header: &[u8],
     payload: &[u8],
     header64: bool,
     zlib: bool,
+    max_bytes: usize,
 ) -> std::result::Result<Vec<u8>, String> {
     let h = read_uints(header, header64);
     if zlib {
+        if h.len() < 3 {
+            return Err("truncated block table".into());
+        }
         let (nb, block, last) = (h[0] as usize, h[1], h[2]);
         if h.len() < 3 + nb {
             return Err("truncated block table".into());
+        }
+        // Every block but the last is `block` bytes: the total must fit the array.
+        let total = (nb.saturating_sub(1) as u128) * block as u128
+            + if last > 0 {
+                last as u128
+            } else {
+                block as u128
+            } * (nb > 0) as u128;
+        if total > max_bytes as u128 || block > max_bytes as u64 + 1 {
+            return Err(format!(
+                "the blocks hold {total} bytes, more than the {max_bytes} of the array"
+            ));
         }
         inflate(payload, &h[3..3 + nb], block, last)
     } else {

@@ -676,3 +676,30 @@ fn bad_input_is_rejected() {
     assert!(light_buffer_at(&field, &tf, &cam, &light, &Method::ics(1.0), &s, f64::NAN).is_err());
     assert!(PreIntegrationTable::build(&tf, 0.0).is_err());
 }
+
+/// Renders that could not finish are refused up front.
+#[test]
+fn unbounded_work_is_refused() {
+    let field = marschner_lobb(9).unwrap();
+    let tf = marschner_lobb_tf();
+    let cam = SliceCamera::fit(&field, [0.0, 0.0, 1.0], [0.0, 1.0, 0.0], 8, 8).unwrap();
+    let s = RenderSettings::default();
+    let light = Light::default();
+    let err = |l: &Light, m: Method| {
+        render(&field, &tf, &cam, l, &m, &s)
+            .unwrap_err()
+            .to_string()
+    };
+    assert!(err(&light, Method::ics(1e-6)).contains("slice_distance"));
+    assert!(err(&light, Method::RaycastEa { step: 1e-6 }).contains("step"));
+    let wide = Light {
+        kernel: Kernel::Gaussian { spread: 1e30 },
+        ..light
+    };
+    assert!(err(&wide, Method::ics(1.0)).contains("kernel"));
+    let cone = Light {
+        kernel: Kernel::Disk { tan_half: 1e6 },
+        ..light
+    };
+    assert!(err(&cone, Method::ics(1.0)).contains("kernel"));
+}

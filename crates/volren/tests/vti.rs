@@ -157,3 +157,36 @@ fn ascii_and_malformed() {
     );
     assert!(parse_vti(xml.as_bytes()).is_err());
 }
+
+/// Hostile headers: a padded first header block, absurd block counts and sizes are errors
+/// (no panic, no giant allocation).
+#[test]
+fn hostile_headers_are_errors() {
+    let wrap = |header_type: &str, data: String| {
+        let text = format!(
+            "<Piece><PointData><DataArray type=\"UInt8\" Name=\"b\" format=\"binary\">{data}</DataArray></PointData></Piece></ImageData></VTKFile>"
+        );
+        file(
+            header_type,
+            Some("vtkZLibDataCompressor"),
+            "0 3 0 0 0 0",
+            &text,
+        )
+    };
+    let cases = [
+        wrap("UInt32", "AAAAAAAAAAAAAA==".into()),
+        wrap("UInt64", b64(&header_bytes(&[u64::MAX, 4, 4], true))),
+        wrap("UInt64", b64(&header_bytes(&[1, 1 << 62, 0, 12], true))),
+        wrap(
+            "UInt32",
+            b64(&header_bytes(&[2, u32::MAX as u64, 7, 12, 12], false)),
+        ),
+        wrap(
+            "UInt32",
+            b64(&header_bytes(&[1, 4, 4, u32::MAX as u64], false)),
+        ),
+    ];
+    for xml in cases {
+        assert!(parse_vti(xml.as_bytes()).is_err());
+    }
+}

@@ -138,10 +138,10 @@ impl ScalarField {
                 index: i,
             });
         }
-        let k = 1.0 / (hi - lo);
+        let (lo, k) = (lo as f64, 1.0 / (hi as f64 - lo as f64));
         let mapped = data
             .iter()
-            .map(|&v| ((v - lo) * k).clamp(0.0, 1.0))
+            .map(|&v| ((v as f64 - lo) * k).clamp(0.0, 1.0) as f32)
             .collect();
         Self::from_f32(dims, spacing, mapped)
     }

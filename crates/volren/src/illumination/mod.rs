@@ -40,7 +40,8 @@ pub use preintegration::PreIntegrationTable;
 use wscg_math::{Error, Image, Result};
 
 use raycast::{raycast, RayShading};
-use slicer::SliceRun;
+use sampler::Sampler;
+use slicer::{Prepared, SliceRun};
 
 /// A rendered image and what it cost.
 #[derive(Clone, Debug)]
@@ -56,7 +57,8 @@ pub struct Rendered {
 /// Renders `field` classified by `tf` from `cam` with `method` (spec sections 2.1 - 2.6).
 ///
 /// Errors: an invalid camera, light (`z <= 0`, bad kernel or ambient), method parameter
-/// (distance not finite and positive, more than 64 sub-samples) or setting.
+/// (distance not finite and positive, more than 64 sub-samples, more than 2^20 slices or
+/// samples per ray, a kernel reaching more than 65,536 pixels per slice) or setting.
 pub fn render(
     field: &ScalarField,
     tf: &TransferFunction,
@@ -65,57 +67,88 @@ pub fn render(
     method: &Method,
     settings: &RenderSettings,
 ) -> Result<Rendered> {
-    let frame = cam.frame()?;
+    let mut out = render_many(
+        field,
+        tf,
+        std::slice::from_ref(cam),
+        light,
+        method,
+        settings,
+    )?;
+    Ok(out.remove(0))
+}
+
+/// Renders several views with the same transfer function and method; the classification
+/// tables (the pre-integration table in particular) and the empty-space cells are built once.
+/// Errors: as [`render`], no camera.
+pub fn render_many(
+    field: &ScalarField,
+    tf: &TransferFunction,
+    cams: &[SliceCamera],
+    light: &Light,
+    method: &Method,
+    settings: &RenderSettings,
+) -> Result<Vec<Rendered>> {
+    if cams.is_empty() {
+        return Err(Error::Empty("cameras"));
+    }
+    let frames = cams.iter().map(|c| c.frame()).collect::<Result<Vec<_>>>()?;
     method.check()?;
     settings.check()?;
     light.unit_dir()?;
-    let (rgba, slices, buffer_floats) = match *method {
+    let image = |cam: &SliceCamera, rgba: Vec<f32>| Image::new(cam.height, cam.width, 4, rgba);
+    match *method {
         Method::Ics {
             slice,
             subsamples,
             preintegrated,
             light_atten,
         } => {
-            let run = SliceRun::new(
+            let prep = Prepared::new(
                 field,
                 tf,
-                &frame,
-                light,
                 settings,
                 slice,
                 subsamples,
                 preintegrated,
                 light_atten,
             )?;
-            let out = run.render();
-            (out.rgba, out.slices, out.buffer_floats)
+            cams.iter()
+                .zip(&frames)
+                .map(|(cam, frame)| {
+                    let out = SliceRun::new(field, &prep, frame, light, settings)?.render();
+                    Ok(Rendered {
+                        image: image(cam, out.rgba)?,
+                        slices: out.slices,
+                        buffer_floats: out.buffer_floats,
+                    })
+                })
+                .collect()
         }
-        Method::RaycastEa { step } => {
-            let (img, n) = raycast(field, tf, &frame, light, settings, step, RayShading::None)?;
-            (img, n, 0)
+        Method::RaycastEa { step }
+        | Method::RaycastPhong { step, .. }
+        | Method::ShadowRays { step } => {
+            let shading = match *method {
+                Method::RaycastPhong { phong, .. } => RayShading::Phong(phong),
+                Method::ShadowRays { .. } => RayShading::Shadow,
+                _ => RayShading::None,
+            };
+            let sampler = Sampler::new(field, tf, settings.interp);
+            let lut = tf.sampled(step);
+            cams.iter()
+                .zip(&frames)
+                .map(|(cam, frame)| {
+                    let (rgba, n) =
+                        raycast(field, &sampler, &lut, frame, light, settings, step, shading)?;
+                    Ok(Rendered {
+                        image: image(cam, rgba)?,
+                        slices: n,
+                        buffer_floats: 0,
+                    })
+                })
+                .collect()
         }
-        Method::RaycastPhong { step, phong } => {
-            let (img, n) = raycast(
-                field,
-                tf,
-                &frame,
-                light,
-                settings,
-                step,
-                RayShading::Phong(phong),
-            )?;
-            (img, n, 0)
-        }
-        Method::ShadowRays { step } => {
-            let (img, n) = raycast(field, tf, &frame, light, settings, step, RayShading::Shadow)?;
-            (img, n, 0)
-        }
-    };
-    Ok(Rendered {
-        image: Image::new(cam.height, cam.width, 4, rgba)?,
-        slices,
-        buffer_floats,
-    })
+    }
 }
 
 /// The light buffer arriving at the slice nearest to `depth` (world units behind the front
@@ -153,17 +186,16 @@ pub fn light_buffer_at(
             format!("{} has no light buffer; use a slice method", method.name()),
         ));
     };
-    let run = SliceRun::new(
+    let prep = Prepared::new(
         field,
         tf,
-        &frame,
-        light,
         settings,
         slice,
         subsamples,
         preintegrated,
         light_atten,
     )?;
+    let run = SliceRun::new(field, &prep, &frame, light, settings)?;
     let sl = run.slicing();
     let k = ((depth / sl.ds - 0.5).round().max(0.0) as usize).min(sl.n);
     let buf = run.light_at(k);

@@ -6,13 +6,14 @@
 
 use rayon::prelude::*;
 use wscg_math::vec3::{add, dot, normalized_or_zero};
-use wscg_math::Result;
+use wscg_math::{Error, Result};
 
 use super::camera::{Frame, Slicing};
-use super::classify::TransferFunction;
+use super::classify::SampleLut;
 use super::field::ScalarField;
 use super::method::{Light, Phong, RenderSettings};
 use super::sampler::Sampler;
+use super::slicer::MAX_SLICES;
 
 /// Shading of a ray caster.
 #[derive(Clone, Copy, Debug)]
@@ -26,9 +27,11 @@ pub(crate) enum RayShading {
 }
 
 /// Renders `H x W x 4` RGBA with a ray per pixel; returns the image and the samples per ray.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn raycast(
     field: &ScalarField,
-    tf: &TransferFunction,
+    sampler: &Sampler,
+    lut: &SampleLut,
     frame: &Frame,
     light: &Light,
     settings: &RenderSettings,
@@ -37,8 +40,15 @@ pub(crate) fn raycast(
 ) -> Result<(Vec<f32>, usize)> {
     let l = light.unit_dir()?;
     let slicing = Slicing::new(frame, field, step as f64);
-    let lut = tf.sampled(step);
-    let sampler = Sampler::new(field, tf, settings.interp);
+    if slicing.n > MAX_SLICES {
+        return Err(Error::invalid(
+            "step",
+            format!(
+                "{step} gives {} samples per ray (at most {MAX_SLICES})",
+                slicing.n
+            ),
+        ));
+    }
     let s = field.scale();
     let to_vox = |p: [f64; 3]| -> [f32; 3] { std::array::from_fn(|a| (p[a] / s[a]) as f32) };
     let org = to_vox(frame.point(0.0, 0.0, 0.0));

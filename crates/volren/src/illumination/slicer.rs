@@ -10,12 +10,12 @@
 //! exists (the next pass): every sample is read once and only `O(W H)` floats are kept.
 
 use rayon::prelude::*;
-use wscg_math::Result;
+use wscg_math::{Error, Result};
 
 use super::camera::{Frame, Slicing};
 use super::classify::{SampleLut, TransferFunction};
 use super::field::ScalarField;
-use super::kernel::StepKernel;
+use super::kernel::{Kernel, StepKernel};
 use super::method::{Light, LightAtten, RenderSettings};
 use super::preintegration::PreIntegrationTable;
 use super::sampler::Sampler;
@@ -41,13 +41,60 @@ struct Rect {
     h: usize,
 }
 
-/// A prepared slice render.
-pub(crate) struct SliceRun<'a> {
+/// What a slice render needs for one transfer function and method, whatever the camera:
+/// the empty-space sampler and the classification tables (built once for many views).
+pub(crate) struct Prepared<'a> {
     sampler: Sampler<'a>,
+    classifier: Classifier,
+    ds: f32,
+    m: usize,
+    delta: f32,
+}
+
+impl<'a> Prepared<'a> {
+    /// Tables for slice distance `ds` and `m` sub-samples (validated by `Method::check`).
+    pub fn new(
+        field: &'a ScalarField,
+        tf: &TransferFunction,
+        settings: &RenderSettings,
+        ds: f32,
+        m: u32,
+        preintegrated: bool,
+        atten: LightAtten,
+    ) -> Result<Self> {
+        let m = m as usize;
+        let delta = ds / (m as f32 + 1.0);
+        let classifier = if preintegrated {
+            Classifier::Table(PreIntegrationTable::build(tf, delta)?)
+        } else {
+            Classifier::Samples {
+                lut: tf.sampled(delta),
+                slice_only: (atten == LightAtten::SliceOnly && m > 0).then(|| tf.sampled(ds)),
+            }
+        };
+        Ok(Self {
+            sampler: Sampler::new(field, tf, settings.interp),
+            classifier,
+            ds,
+            m,
+            delta,
+        })
+    }
+}
+
+/// Most slices (or ray samples) of one render.
+pub(crate) const MAX_SLICES: usize = 1 << 20;
+
+/// Largest kernel reach per slice in pixels.
+const MAX_REACH: f64 = 65536.0;
+
+/// A slice render of one camera.
+pub(crate) struct SliceRun<'a> {
+    sampler: &'a Sampler<'a>,
+    classifier: &'a Classifier,
     slicing: Slicing,
     m: usize,
     delta: f32,
-    classifier: Classifier,
     kernel: StepKernel,
     ka: f32,
     early_stop: f32,
@@ -100,31 +147,42 @@ fn kernel_spread(k: &StepKernel) -> (f64, f64) {
 }
 
 impl<'a> SliceRun<'a> {
-    /// Prepares a run. `ds`, `m` as validated by `Method::check`.
-    #[allow(clippy::too_many_arguments)]
+    /// Prepares the run of one camera. Errors: more than 2^20 slices, a light kernel
+    /// reaching more than 65,536 pixels per slice, a bad light.
     pub fn new(
         field: &'a ScalarField,
-        tf: &TransferFunction,
+        prep: &'a Prepared<'a>,
         frame: &Frame,
         light: &Light,
         settings: &RenderSettings,
-        ds: f32,
-        m: u32,
-        preintegrated: bool,
-        atten: LightAtten,
     ) -> Result<Self> {
         let l = light.unit_dir()?;
+        let (ds, m, delta) = (prep.ds, prep.m, prep.delta);
         let slicing = Slicing::new(frame, field, ds as f64);
-        let m = m as usize;
-        let delta = ds / (m as f32 + 1.0);
-        let classifier = if preintegrated {
-            Classifier::Table(PreIntegrationTable::build(tf, delta)?)
+        if slicing.n > MAX_SLICES {
+            return Err(Error::invalid(
+                "slice_distance",
+                format!(
+                    "{ds} gives {} slices through the volume (at most {MAX_SLICES})",
+                    slicing.n
+                ),
+            ));
+        }
+        let reach = match light.kernel {
+            Kernel::Disk { tan_half } => ds as f64 * tan_half as f64 / frame.h,
+            k => 3.0 * k.step_variance(ds as f64, frame.h).sqrt(),
+        } + (ds as f64 * (l[0].hypot(l[1]) / l[2]) / frame.h);
+        let limit = if matches!(light.kernel, Kernel::Disk { .. }) {
+            1024.0
         } else {
-            Classifier::Samples {
-                lut: tf.sampled(delta),
-                slice_only: (atten == LightAtten::SliceOnly && m > 0).then(|| tf.sampled(ds)),
-            }
+            MAX_REACH
         };
+        if !(reach <= limit) {
+            return Err(Error::invalid(
+                "kernel",
+                format!("reaches {reach:.0} pixels per slice (at most {limit}); lower the spread or the slice distance"),
+            ));
+        }
         // Source offset of the light per slice, in pixels (x right, y down).
         let h = frame.h;
         let shift = [ds as f64 * l[0] / l[2] / h, -(ds as f64) * l[1] / l[2] / h];
@@ -136,7 +194,7 @@ impl<'a> SliceRun<'a> {
             ((3.0 * (var * n).sqrt() + mean * n).ceil() as i64 + kernel.reach() as i64 + 1)
                 .min(2 * w.max(hh));
         let fp = frame.footprint(field);
-        let skip_zero = tf.transparent_at_zero();
+        let skip_zero = prep.sampler.outside_transparent;
         let (x0, x1, y0, y1) = if skip_zero {
             (
                 (-margin).max(fp[0] - margin),
@@ -160,11 +218,11 @@ impl<'a> SliceRun<'a> {
         let dy = to_vox(frame.down.map(|c| c * h));
         let dz = to_vox(frame.d);
         Ok(Self {
-            sampler: Sampler::new(field, tf, settings.interp),
+            sampler: &prep.sampler,
+            classifier: &prep.classifier,
             slicing,
             m,
             delta,
-            classifier,
             kernel,
             ka: light.ambient,
             early_stop: settings.early_stop,
@@ -308,7 +366,7 @@ impl<'a> SliceRun<'a> {
                 let k = j as f32;
                 std::array::from_fn(|a| p0[a] + k * step[a])
             };
-            match &self.classifier {
+            match self.classifier {
                 Classifier::Samples { lut, slice_only } => {
                     let mut s0 = None;
                     for j in 0..=self.m {

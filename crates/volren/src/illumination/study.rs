@@ -11,7 +11,7 @@ use super::camera::SliceCamera;
 use super::classify::TransferFunction;
 use super::field::ScalarField;
 use super::method::{Light, Method, RenderSettings};
-use super::render;
+use super::render_many;
 
 /// Mean absolute difference over all pixels and the RGB channels of two `H x W x C` images
 /// (`C >= 3`; alpha ignored), the paper's Table 1 error. Errors: shapes differ, fewer than 3
@@ -120,7 +120,8 @@ impl Study {
     }
 }
 
-/// Renders every view with `method`; returns the images and the mean seconds per frame.
+/// Renders every view with `method`; returns the images and the mean seconds per frame
+/// (including the one-off tables, shared by the views).
 pub fn render_views(
     field: &ScalarField,
     tf: &TransferFunction,
@@ -133,10 +134,10 @@ pub fn render_views(
         return Err(Error::Empty("views"));
     }
     let t0 = Instant::now();
-    let images = views
-        .iter()
-        .map(|cam| render(field, tf, cam, light, method, settings).map(|r| r.image))
-        .collect::<Result<Vec<_>>>()?;
+    let images = render_many(field, tf, views, light, method, settings)?
+        .into_iter()
+        .map(|r| r.image)
+        .collect();
     Ok((images, t0.elapsed().as_secs_f64() / views.len() as f64))
 }
 
