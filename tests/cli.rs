@@ -1965,3 +1965,111 @@ fn ear_demo_reports_the_rules_and_the_baseline() {
         Image::load(dir.path().join(f)).unwrap();
     }
 }
+
+#[test]
+fn volren_illum_renders_a_volume_file_like_the_library_and_runs_the_study() {
+    use wscg::volren::illumination::{render, Light, Method, RenderSettings, SliceCamera};
+    let dir = tempfile::tempdir().unwrap();
+    let field = wscg::volren::illumination::scenes::marschner_lobb(41).unwrap();
+    let vol = wscg::math::Volume::new([41; 3], [1.0; 3], field.data().to_vec()).unwrap();
+    let npy = dir.path().join("ml.npy");
+    vol.write_npy(&npy).unwrap();
+    let before = std::fs::read(&npy).unwrap();
+    let out = dir.path().join("ml.png");
+    let (v, o) = (npy.to_str().unwrap(), out.to_str().unwrap());
+    let text = wscg_ok(&[
+        "volren",
+        "illum",
+        "--volume",
+        v,
+        "--value-range",
+        "0,1",
+        "--tf",
+        "marschner-lobb",
+        "--method",
+        "scs",
+        "--slice-distance",
+        "1.0",
+        "--subsamples",
+        "2",
+        "--size",
+        "48",
+        "--out",
+        o,
+    ]);
+    assert!(text.contains("scs"), "{text}");
+    assert_eq!(
+        std::fs::read(&npy).unwrap(),
+        before,
+        "the input was modified"
+    );
+    let png = Image::load(&out).unwrap();
+    let cam = SliceCamera::orbit(&field, 30.0, 20.0, 48).unwrap();
+    let tf = wscg::volren::illumination::scenes::marschner_lobb_tf();
+    let lib = render(
+        &field,
+        &tf,
+        &cam,
+        &Light::default(),
+        &Method::scs(1.0, 2),
+        &RenderSettings::default(),
+    )
+    .unwrap();
+    let mut worst = 0f32;
+    for y in 0..48 {
+        for x in 0..48 {
+            for c in 0..3 {
+                worst = worst.max((png.at(y, x, c) - lib.image.at(y, x, c).clamp(0.0, 1.0)).abs());
+            }
+        }
+    }
+    assert!(
+        worst <= 1.0 / 255.0 + 1e-6,
+        "PNG differs from the library by {worst}"
+    );
+    let study = wscg_ok(&[
+        "volren",
+        "illum",
+        "--phantom",
+        "marschner-lobb",
+        "--tf",
+        "marschner-lobb",
+        "--study",
+        "--views",
+        "1",
+        "--size",
+        "24",
+    ]);
+    assert!(
+        study.contains("reference ICS(0.2)") && study.contains("pi-scs"),
+        "{study}"
+    );
+    // Bad input: a clear error, no crash.
+    let bad = wscg()
+        .args([
+            "volren",
+            "illum",
+            "--volume",
+            "/nonexistent.vti",
+            "--out",
+            o,
+        ])
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("nonexistent"));
+    let bad = wscg()
+        .args([
+            "volren",
+            "illum",
+            "--phantom",
+            "marschner-lobb",
+            "--slice-distance",
+            "0",
+            "--out",
+            o,
+        ])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("slice_distance"));
+}

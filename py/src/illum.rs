@@ -167,31 +167,33 @@ fn field_in(
         py.detach(|| ScalarField::from_f32_range(dims, spacing, data, lo, hi))
             .py_err()
     };
-    if let Ok(a) = volume.extract::<PyReadonlyArrayDyn<u8>>() {
-        let dims = dims3("volume", a.shape())?;
-        let v = values(&a);
-        return match range {
-            None => py
-                .detach(|| ScalarField::from_u8(dims, spacing, &v))
-                .py_err(),
-            Some((lo, hi)) => {
-                let f: Vec<f32> = v.iter().map(|&x| x as f32).collect();
-                ranged(dims, &f, lo, hi)
+    // Integer volumes: the type's own normalisation, or the range.
+    fn integers<T: numpy::Element + Copy + Into<f32>>(
+        py: Python<'_>,
+        volume: &Bound<'_, PyAny>,
+        spacing: [f64; 3],
+        range: Option<(f32, f32)>,
+        own: fn([usize; 3], [f64; 3], &[T]) -> wscg_math::Result<ScalarField>,
+    ) -> Option<PyResult<ScalarField>> {
+        let a = volume.extract::<PyReadonlyArrayDyn<T>>().ok()?;
+        Some((|| {
+            let dims = dims3("volume", a.shape())?;
+            let v = values(&a);
+            match range {
+                None => py.detach(|| own(dims, spacing, &v)).py_err(),
+                Some((lo, hi)) => {
+                    let f: Vec<f32> = v.iter().map(|&x| x.into()).collect();
+                    py.detach(|| ScalarField::from_f32_range(dims, spacing, &f, lo, hi))
+                        .py_err()
+                }
             }
-        };
+        })())
     }
-    if let Ok(a) = volume.extract::<PyReadonlyArrayDyn<u16>>() {
-        let dims = dims3("volume", a.shape())?;
-        let v = values(&a);
-        return match range {
-            None => py
-                .detach(|| ScalarField::from_u16(dims, spacing, &v))
-                .py_err(),
-            Some((lo, hi)) => {
-                let f: Vec<f32> = v.iter().map(|&x| x as f32).collect();
-                ranged(dims, &f, lo, hi)
-            }
-        };
+    if let Some(r) = integers::<u8>(py, volume, spacing, range, ScalarField::from_u8) {
+        return r;
+    }
+    if let Some(r) = integers::<u16>(py, volume, spacing, range, ScalarField::from_u16) {
+        return r;
     }
     if let Ok(a) = volume.extract::<PyReadonlyArrayDyn<f32>>() {
         let dims = dims3("volume", a.shape())?;

@@ -5,7 +5,7 @@
 //! Volumes: `.vti` (VTK XML image data), `.nii`/`.nii.gz`, `.npy` (`[z, y, x]`), or `.raw`
 //! bytes with `--raw-dims`; values are mapped from `--value-range` (default: the data's min
 //! and max) to [0, 1], or treated as tissue labels with `--labels`. Transfer functions: a
-//! preset (`tissue`, `marschner-lobb`) or a JSON file `[[s, r, g, b, a], ...]` with `s`,
+//! preset (`tissue`, `skin`, `marschner-lobb`) or a JSON file `[[s, r, g, b, a], ...]` with `s`,
 //! colours and opacity (per voxel of length) in [0, 1].
 
 use std::path::{Path, PathBuf};
@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 use wscg_math::{Error, Result, Volume};
 use wscg_volren::illumination::scenes::{
-    labels_to_field, marschner_lobb, marschner_lobb_tf, tissue_tf,
+    labels_to_field, marschner_lobb, marschner_lobb_tf, skin_tf, tissue_tf,
 };
 use wscg_volren::illumination::study::{grid, sweep, AliasCriterion};
 use wscg_volren::illumination::{
@@ -75,7 +75,7 @@ pub struct IllumArgs {
     /// Treat the values as tissue labels (0 = background) and blur them into densities.
     #[arg(long)]
     labels: bool,
-    /// Transfer function: `tissue`, `marschner-lobb` or a JSON file [[s, r, g, b, a], ...].
+    /// Transfer function: `tissue`, `skin`, `marschner-lobb` or a JSON file [[s, r, g, b, a], ...].
     #[arg(long, default_value = "tissue")]
     tf: String,
     /// Rendering method.
@@ -220,6 +220,7 @@ fn read_any(path: &Path, raw_dims: &[usize]) -> Result<([usize; 3], [f64; 3], Ve
 fn load_tf(spec: &str) -> Result<TransferFunction> {
     match spec {
         "tissue" => return Ok(tissue_tf()),
+        "skin" => return Ok(skin_tf()),
         "marschner-lobb" => return Ok(marschner_lobb_tf()),
         _ => {}
     }

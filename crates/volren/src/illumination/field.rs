@@ -64,21 +64,25 @@ impl ScalarField {
     /// An 8-bit volume; values map to `v / 255`. Errors: zero or mismatched dims, spacing
     /// not finite and positive.
     pub fn from_u8(dims: [usize; 3], spacing: [f64; 3], data: &[u8]) -> Result<Self> {
-        let (scale, _) = Self::build(dims, spacing, data.len())?;
-        let data = data.iter().map(|&v| v as f32 / 255.0).collect();
-        Ok(Self {
+        Self::checked(
             dims,
             spacing,
-            scale,
-            data,
-            cells: OnceLock::new(),
-        })
+            data.iter().map(|&v| v as f32 / 255.0).collect(),
+        )
     }
 
     /// A 16-bit volume; values map to `v / 65535`. Errors as [`ScalarField::from_u8`].
     pub fn from_u16(dims: [usize; 3], spacing: [f64; 3], data: &[u16]) -> Result<Self> {
+        Self::checked(
+            dims,
+            spacing,
+            data.iter().map(|&v| v as f32 / 65535.0).collect(),
+        )
+    }
+
+    /// A field of values known to be in `[0, 1]`, after checking dims and spacing.
+    fn checked(dims: [usize; 3], spacing: [f64; 3], data: Vec<f32>) -> Result<Self> {
         let (scale, _) = Self::build(dims, spacing, data.len())?;
-        let data = data.iter().map(|&v| v as f32 / 65535.0).collect();
         Ok(Self {
             dims,
             spacing,
@@ -92,7 +96,7 @@ impl ScalarField {
     /// non-finite values and values outside `[0, 1]` (use [`ScalarField::from_f32_range`]
     /// to map another range).
     pub fn from_f32(dims: [usize; 3], spacing: [f64; 3], data: Vec<f32>) -> Result<Self> {
-        let (scale, _) = Self::build(dims, spacing, data.len())?;
+        Self::build(dims, spacing, data.len())?;
         if let Some(i) = data.iter().position(|v| !v.is_finite()) {
             return Err(Error::NonFinite {
                 name: "volume",
@@ -108,13 +112,7 @@ impl ScalarField {
                 ),
             ));
         }
-        Ok(Self {
-            dims,
-            spacing,
-            scale,
-            data,
-            cells: OnceLock::new(),
-        })
+        Self::checked(dims, spacing, data)
     }
 
     /// A float volume whose range `[lo, hi]` maps linearly onto `[0, 1]` (values outside

@@ -98,21 +98,8 @@ pub fn render_many(
     light.unit_dir()?;
     let image = |cam: &SliceCamera, rgba: Vec<f32>| Image::new(cam.height, cam.width, 4, rgba);
     match *method {
-        Method::Ics {
-            slice,
-            subsamples,
-            preintegrated,
-            light_atten,
-        } => {
-            let prep = Prepared::new(
-                field,
-                tf,
-                settings,
-                slice,
-                subsamples,
-                preintegrated,
-                light_atten,
-            )?;
+        Method::Ics { .. } => {
+            let prep = Prepared::new(field, tf, settings, method)?;
             cams.iter()
                 .zip(&frames)
                 .map(|(cam, frame)| {
@@ -174,27 +161,7 @@ pub fn light_buffer_at(
             format!("must be finite and >= 0, got {depth}"),
         ));
     }
-    let Method::Ics {
-        slice,
-        subsamples,
-        preintegrated,
-        light_atten,
-    } = *method
-    else {
-        return Err(Error::invalid(
-            "method",
-            format!("{} has no light buffer; use a slice method", method.name()),
-        ));
-    };
-    let prep = Prepared::new(
-        field,
-        tf,
-        settings,
-        slice,
-        subsamples,
-        preintegrated,
-        light_atten,
-    )?;
+    let prep = Prepared::new(field, tf, settings, method)?;
     let run = SliceRun::new(field, &prep, &frame, light, settings)?;
     let sl = run.slicing();
     let k = ((depth / sl.ds - 0.5).round().max(0.0) as usize).min(sl.n);

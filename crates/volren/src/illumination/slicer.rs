@@ -16,7 +16,7 @@ use super::camera::{Frame, Slicing};
 use super::classify::{SampleLut, TransferFunction};
 use super::field::ScalarField;
 use super::kernel::{Kernel, StepKernel};
-use super::method::{Light, LightAtten, RenderSettings};
+use super::method::{Light, LightAtten, Method, RenderSettings};
 use super::preintegration::PreIntegrationTable;
 use super::sampler::Sampler;
 
@@ -52,16 +52,26 @@ pub(crate) struct Prepared<'a> {
 }
 
 impl<'a> Prepared<'a> {
-    /// Tables for slice distance `ds` and `m` sub-samples (validated by `Method::check`).
+    /// Tables for a slice method (validated by `Method::check`). Errors: a ray caster
+    /// (no light buffer), a bad pre-integration length.
     pub fn new(
         field: &'a ScalarField,
         tf: &TransferFunction,
         settings: &RenderSettings,
-        ds: f32,
-        m: u32,
-        preintegrated: bool,
-        atten: LightAtten,
+        method: &Method,
     ) -> Result<Self> {
+        let Method::Ics {
+            slice: ds,
+            subsamples: m,
+            preintegrated,
+            light_atten: atten,
+        } = *method
+        else {
+            return Err(Error::invalid(
+                "method",
+                format!("{} has no light buffer; use a slice method", method.name()),
+            ));
+        };
         let m = m as usize;
         let delta = ds / (m as f32 + 1.0);
         let classifier = if preintegrated {
