@@ -228,59 +228,88 @@ impl StepKernel {
     /// `dst = K * src` on a `w x h` buffer whose outside is 1; `tmp` is scratch of the same
     /// size. Rows in parallel.
     pub fn apply(&self, src: &[f32], tmp: &mut [f32], dst: &mut [f32], w: usize, h: usize) {
+        self.apply_rect(src, tmp, dst, w, h, [0, w, 0, h]);
+    }
+
+    /// [`StepKernel::apply`] computing only the pixels `[x0, x1) x [y0, y1)` of `dst`
+    /// (`out = [x0, x1, y0, y1]`); the rest of `dst` is left untouched.
+    pub fn apply_rect(
+        &self,
+        src: &[f32],
+        tmp: &mut [f32],
+        dst: &mut [f32],
+        w: usize,
+        h: usize,
+        out: [usize; 4],
+    ) {
+        let [x0, x1, y0, y1] = out;
+        if x0 >= x1 || y0 >= y1 {
+            return;
+        }
         match self {
             StepKernel::Separable { x, y } => {
-                tmp.par_chunks_mut(w)
-                    .zip(src.par_chunks(w))
-                    .for_each(|(out, row)| convolve_row(row, out, x));
-                dst.par_chunks_mut(w).enumerate().for_each(|(j, out)| {
-                    out.fill(0.0);
-                    let mut outside = 0f32;
-                    for (k, &wk) in y.w.iter().enumerate() {
-                        let r = j as isize + y.first + k as isize;
-                        if r < 0 || r >= h as isize {
-                            outside += wk;
-                            continue;
+                // Rows of the horizontal pass the vertical pass reads.
+                let last = y.first + y.w.len() as isize - 1;
+                let r0 = (y0 as isize + y.first).clamp(0, h as isize) as usize;
+                let r1 =
+                    ((y1 as isize - 1 + last).min(h as isize - 1) + 1).max(r0 as isize) as usize;
+                tmp[r0 * w..r1 * w]
+                    .par_chunks_mut(w)
+                    .zip(src[r0 * w..r1 * w].par_chunks(w))
+                    .for_each(|(out, row)| convolve_row(row, &mut out[x0..x1], x0, x));
+                dst[y0 * w..y1 * w]
+                    .par_chunks_mut(w)
+                    .enumerate()
+                    .for_each(|(k, out)| {
+                        let j = y0 + k;
+                        let out = &mut out[x0..x1];
+                        out.fill(0.0);
+                        let mut outside = 0f32;
+                        for (t, &wk) in y.w.iter().enumerate() {
+                            let r = j as isize + y.first + t as isize;
+                            if r < 0 || r >= h as isize {
+                                outside += wk;
+                                continue;
+                            }
+                            let row = &tmp[r as usize * w + x0..r as usize * w + x1];
+                            for (o, &v) in out.iter_mut().zip(row) {
+                                *o += wk * v;
+                            }
                         }
-                        let row = &tmp[r as usize * w..(r as usize + 1) * w];
-                        for (o, &v) in out.iter_mut().zip(row) {
-                            *o += wk * v;
+                        if outside > 0.0 {
+                            out.iter_mut().for_each(|o| *o += outside);
                         }
-                    }
-                    if outside > 0.0 {
-                        out.iter_mut().for_each(|o| *o += outside);
-                    }
-                });
+                    });
             }
             StepKernel::Stencil(taps) => {
-                dst.par_chunks_mut(w).enumerate().for_each(|(j, out)| {
-                    for (i, o) in out.iter_mut().enumerate() {
-                        let mut acc = 0f32;
-                        for &(dx, dy, wk) in taps {
-                            let (x, y) = (i as isize + dx, j as isize + dy);
-                            acc += wk
-                                * if x < 0 || y < 0 || x >= w as isize || y >= h as isize {
-                                    1.0
-                                } else {
-                                    src[y as usize * w + x as usize]
-                                };
+                dst[y0 * w..y1 * w]
+                    .par_chunks_mut(w)
+                    .enumerate()
+                    .for_each(|(k, out)| {
+                        let j = y0 + k;
+                        for (i, o) in out.iter_mut().enumerate().take(x1).skip(x0) {
+                            let mut acc = 0f32;
+                            for &(dx, dy, wk) in taps {
+                                let (x, y) = (i as isize + dx, j as isize + dy);
+                                acc += wk
+                                    * if x < 0 || y < 0 || x >= w as isize || y >= h as isize {
+                                        1.0
+                                    } else {
+                                        src[y as usize * w + x as usize]
+                                    };
+                            }
+                            *o = acc;
                         }
-                        *o = acc;
-                    }
-                });
-                let _ = tmp;
+                    });
             }
         }
     }
 }
 
-/// One row of the horizontal pass, border value 1.
-fn convolve_row(row: &[f32], out: &mut [f32], t: &Taps) {
+/// Pixels `x0..x0 + out.len()` of one row of the horizontal pass, border value 1.
+fn convolve_row(row: &[f32], out: &mut [f32], x0: usize, t: &Taps) {
     let n = row.len() as isize;
     let len = t.w.len() as isize;
-    // Interior: every tap inside the row.
-    let lo = (-t.first).clamp(0, n);
-    let hi = (n - (t.first + len - 1)).clamp(lo, n);
     let edge = |i: isize| -> f32 {
         let mut acc = 0f32;
         for (k, &wk) in t.w.iter().enumerate() {
@@ -294,15 +323,14 @@ fn convolve_row(row: &[f32], out: &mut [f32], t: &Taps) {
         }
         acc
     };
-    for i in 0..lo {
-        out[i as usize] = edge(i);
-    }
-    for i in lo..hi {
-        let s = (i + t.first) as usize;
-        let win = &row[s..s + len as usize];
-        out[i as usize] = win.iter().zip(&t.w).map(|(a, b)| a * b).sum();
-    }
-    for i in hi.max(lo)..n {
-        out[i as usize] = edge(i);
+    for (k, o) in out.iter_mut().enumerate() {
+        let i = (x0 + k) as isize;
+        let s = i + t.first;
+        *o = if s >= 0 && s + len <= n {
+            let win = &row[s as usize..(s + len) as usize];
+            win.iter().zip(&t.w).map(|(a, b)| a * b).sum()
+        } else {
+            edge(i)
+        };
     }
 }

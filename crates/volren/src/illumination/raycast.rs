@@ -69,11 +69,36 @@ pub(crate) fn raycast(
                 std::array::from_fn(|a| org[a] + x as f32 * dx[a] + y as f32 * dy[a]);
             let at = |z: f32| -> [f32; 3] { std::array::from_fn(|a| p0[a] + z * dz[a]) };
             let mut e = [0f32; 4];
-            for k in 0..slicing.n {
+            // Only the samples inside the box matter when its outside is transparent.
+            let (k0, k1) = if sampler.outside_transparent {
+                match sampler.clip(p0, dz) {
+                    // One sample of slack on each side against rounding at the faces.
+                    Some((t0, t1)) => (
+                        ((t0 as f64 - slicing.z_start) / slicing.ds - 1.5)
+                            .ceil()
+                            .max(0.0) as usize,
+                        (((t1 as f64 - slicing.z_start) / slicing.ds + 0.5).floor() + 1.0)
+                            .clamp(0.0, slicing.n as f64) as usize,
+                    ),
+                    None => (0, 0),
+                }
+            } else {
+                (0, slicing.n)
+            };
+            let mut k = k0;
+            while k < k1 {
                 if e[3] >= settings.early_stop {
                     break;
                 }
-                let p = at(slicing.z(k) as f32);
+                let z = slicing.z(k) as f32;
+                let p = at(z);
+                // An empty cell: jump to the first sample beyond it.
+                if let Some(t) = sampler.empty_exit(p, dz) {
+                    let next = ((z as f64 + t as f64 - slicing.z_start) / slicing.ds - 0.5).ceil();
+                    k = (next.max(0.0) as usize).max(k + 1);
+                    continue;
+                }
+                k += 1;
                 let Some(sv) = sampler.visible(p) else {
                     continue;
                 };

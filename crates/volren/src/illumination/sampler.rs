@@ -151,6 +151,46 @@ impl<'a> Sampler<'a> {
         })
     }
 
+    /// If `p` (inside the box) lies in an empty cell, the parameter `t > 0` at which the ray
+    /// `p + t dir` leaves that cell.
+    #[inline]
+    pub fn empty_exit(&self, p: [f32; 3], dir: [f32; 3]) -> Option<f32> {
+        if !self.field.contains(p) || !self.empty[self.cell_of(p)] {
+            return None;
+        }
+        let mut t = f32::INFINITY;
+        for a in 0..3 {
+            let c = (((p[a] + 0.5).max(0.0) as usize) / CELL).min(self.cells[a] - 1) as f32;
+            let lo = c * CELL as f32 - 0.5;
+            let hi = lo + CELL as f32;
+            if dir[a] > 0.0 {
+                t = t.min((hi - p[a]) / dir[a]);
+            } else if dir[a] < 0.0 {
+                t = t.min((lo - p[a]) / dir[a]);
+            }
+        }
+        (t.is_finite() && t > 0.0).then_some(t)
+    }
+
+    /// The parameter interval where the line `p + t dir` is inside the box, if any.
+    pub fn clip(&self, p: [f32; 3], dir: [f32; 3]) -> Option<(f32, f32)> {
+        let dims = self.field.dims();
+        let (mut t0, mut t1) = (f32::NEG_INFINITY, f32::INFINITY);
+        for a in 0..3 {
+            let (lo, hi) = (-0.5f32, dims[a] as f32 - 0.5);
+            if dir[a] == 0.0 {
+                if p[a] < lo || p[a] >= hi {
+                    return None;
+                }
+            } else {
+                let (u, v) = ((lo - p[a]) / dir[a], (hi - p[a]) / dir[a]);
+                t0 = t0.max(u.min(v));
+                t1 = t1.min(u.max(v));
+            }
+        }
+        (t0 <= t1).then_some((t0, t1))
+    }
+
     /// The sample at `p` clamped to the box.
     #[inline]
     pub fn clamped(&self, p: [f32; 3]) -> f32 {

@@ -113,6 +113,9 @@ pub(crate) struct SliceRun<'a> {
     /// Tissue segments no longer than an empty-space cell (so they can be skipped).
     short_segments: bool,
     rect: Rect,
+    /// Per slice, the light-buffer pixels `[x0, x1) x [y0, y1)` whose segment can meet the
+    /// volume (all pixels when the outside of the volume is not transparent).
+    sections: Vec<Option<[usize; 4]>>,
     width: usize,
     height: usize,
     /// Voxel position of light-buffer pixel (0, 0) at depth 0, and per-pixel, per-row and
@@ -221,6 +224,15 @@ impl<'a> SliceRun<'a> {
             w: (x1 - x0).max(0) as usize,
             h: (y1 - y0).max(0) as usize,
         };
+        let sections = (0..slicing.n)
+            .map(|k| {
+                if skip_zero {
+                    section(frame, field, &rect, slicing.z(k), slicing.z(k) + ds as f64)
+                } else {
+                    (rect.w > 0 && rect.h > 0).then_some([0, rect.w, 0, rect.h])
+                }
+            })
+            .collect();
         let s = field.scale();
         let to_vox = |p: [f64; 3]| -> [f32; 3] { std::array::from_fn(|a| (p[a] / s[a]) as f32) };
         let org = to_vox(frame.point(x0 as f64, y0 as f64, 0.0));
@@ -240,6 +252,7 @@ impl<'a> SliceRun<'a> {
             skip_zero,
             short_segments: (delta as usize) < super::sampler::CELL,
             rect,
+            sections,
             width: frame.width,
             height: frame.height,
             org,
@@ -286,33 +299,53 @@ impl<'a> SliceRun<'a> {
         out
     }
 
-    /// Segment `n`: sample, composite, attenuate, then convolve to `L_{n+1}`.
+    /// Segment `n`: sample, composite and attenuate the light in place (`L_n -> O_n`) over
+    /// the pixels whose segment meets the volume (and those with light still to add from the
+    /// previous segment), then convolve to `L_{n+1}` over the region where the light can
+    /// differ from 1.
     fn step(&self, st: &mut State, n: usize) {
         let w = self.rect.w;
         if w == 0 || self.rect.h == 0 {
             return;
         }
         let z = self.slicing.z(n) as f32;
+        let sec = self.sections[n];
+        let prev = if n > 0 { self.sections[n - 1] } else { None };
         let State {
             l_cur,
             l_prev,
-            o,
             tmp,
             eye,
             q,
             front,
+            active,
         } = st;
-        let l_cur_r = &*l_cur;
-        o.par_chunks_mut(w)
-            .zip(eye.par_chunks_mut(w))
-            .zip(q.par_chunks_mut(w))
-            .zip(front.par_chunks_mut(w))
-            .enumerate()
-            .for_each(|(r, (((orow, erow), qrow), frow))| {
-                let base = r * w;
-                self.pass_row(n, z, r, &l_cur_r[base..base + w], orow, erow, qrow, frow);
-            });
-        self.kernel.apply(o, tmp, l_prev, w, self.rect.h);
+        if let Some([x0, x1, y0, y1]) = union(sec, prev) {
+            let rows = y0 * w..y1 * w;
+            l_cur[rows.clone()]
+                .par_chunks_mut(w)
+                .zip(eye[rows.clone()].par_chunks_mut(w))
+                .zip(q[rows.clone()].par_chunks_mut(w))
+                .zip(front[rows].par_chunks_mut(w))
+                .enumerate()
+                .for_each(|(k, (((lrow, erow), qrow), frow))| {
+                    self.pass_row(n, z, y0 + k, x0..x1, lrow, erow, qrow, frow);
+                });
+        }
+        let Some(act) = union(*active, sec) else {
+            // No light was blocked yet: L_{n+1} = 1 everywhere.
+            return;
+        };
+        let r = self.kernel.reach();
+        let out = [
+            act[0].saturating_sub(r),
+            (act[1] + r).min(w),
+            act[2].saturating_sub(r),
+            (act[3] + r).min(self.rect.h),
+        ];
+        self.kernel
+            .apply_rect(l_cur, tmp, l_prev, w, self.rect.h, out);
+        *active = Some(out);
         std::mem::swap(l_cur, l_prev);
     }
 
@@ -333,8 +366,8 @@ impl<'a> SliceRun<'a> {
         n: usize,
         z: f32,
         r: usize,
-        l_cur: &[f32],
-        orow: &mut [f32],
+        cols: std::ops::Range<usize>,
+        lrow: &mut [f32],
         erow: &mut [[f32; 4]],
         qrow: &mut [[f32; 3]],
         frow: &mut [f32],
@@ -346,10 +379,10 @@ impl<'a> SliceRun<'a> {
         let step: [f32; 3] = self.dz.map(|c| c * self.delta);
         let m1 = self.m as f32 + 1.0;
         let ka = self.ka;
-        for i in 0..orow.len() {
+        for i in cols {
             let fi = i as f32;
             let p0: [f32; 3] = std::array::from_fn(|a| row0[a] + fi * self.dx[a]);
-            let lc = l_cur[i];
+            let lc = lrow[i];
             let in_img = i >= ia && i < ib;
             if in_img && n > 0 && self.m > 0 {
                 finalize(&mut erow[i], &mut qrow[i], ka, lc);
@@ -427,7 +460,7 @@ impl<'a> SliceRun<'a> {
             if composite && self.m > 0 {
                 qrow[i] = q;
             }
-            orow[i] = lc * t;
+            lrow[i] = lc * t;
         }
     }
 
@@ -473,11 +506,12 @@ impl<'a> SliceRun<'a> {
 struct State {
     l_cur: Vec<f32>,
     l_prev: Vec<f32>,
-    o: Vec<f32>,
     tmp: Vec<f32>,
     eye: Vec<[f32; 4]>,
     q: Vec<[f32; 3]>,
     front: Vec<f32>,
+    /// The region where the light buffer may differ from 1.
+    active: Option<[usize; 4]>,
 }
 
 impl State {
@@ -485,16 +519,16 @@ impl State {
         Self {
             l_cur: vec![1.0; len],
             l_prev: vec![1.0; len],
-            o: vec![1.0; len],
             tmp: vec![1.0; len],
             eye: vec![[0.0; 4]; len],
             q: vec![[0.0; 3]; len],
             front: vec![0.0; len],
+            active: None,
         }
     }
 
     fn floats(&self) -> usize {
-        5 * self.l_cur.len() + 4 * self.eye.len() + 3 * self.q.len()
+        4 * self.l_cur.len() + 4 * self.eye.len() + 3 * self.q.len()
     }
 }
 
@@ -506,4 +540,82 @@ fn finalize(e: &mut [f32; 4], q: &mut [f32; 3], ka: f32, l_n1: f32) {
         e[c] += s * q[c];
     }
     *q = [0.0; 3];
+}
+
+/// The smallest rectangle holding both (`[x0, x1, y0, y1]`, half-open).
+fn union(a: Option<[usize; 4]>, b: Option<[usize; 4]>) -> Option<[usize; 4]> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some([
+            a[0].min(b[0]),
+            a[1].max(b[1]),
+            a[2].min(b[2]),
+            a[3].max(b[3]),
+        ]),
+        (a, None) => a,
+        (None, b) => b,
+    }
+}
+
+/// Light-buffer pixels (with a 2-pixel border) covering the part of the volume's box between
+/// the depths `za` and `zb`: the box corners between them and the crossings of its edges
+/// with both planes, projected.
+fn section(
+    frame: &Frame,
+    field: &ScalarField,
+    rect: &Rect,
+    za: f64,
+    zb: f64,
+) -> Option<[usize; 4]> {
+    use wscg_math::vec3::{dot, sub};
+    let (lo, hi) = field.world_box();
+    let corners: Vec<[f64; 3]> = super::camera::corners(lo, hi).collect();
+    let depth = |p: [f64; 3]| dot(sub(p, frame.center), frame.d);
+    let mut pts: Vec<[f64; 3]> = corners
+        .iter()
+        .copied()
+        .filter(|&c| (za..=zb).contains(&depth(c)))
+        .collect();
+    for i in 0..8 {
+        for a in 0..3 {
+            let j = i | (1 << a);
+            if j == i {
+                continue;
+            }
+            let (p, q) = (corners[i], corners[j]);
+            let (dp, dq) = (depth(p), depth(q));
+            for zc in [za, zb] {
+                if (dp - zc) * (dq - zc) <= 0.0 && dp != dq {
+                    let t = (zc - dp) / (dq - dp);
+                    pts.push(std::array::from_fn(|k| p[k] + t * (q[k] - p[k])));
+                }
+            }
+        }
+    }
+    if pts.is_empty() {
+        return None;
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for p in pts {
+        let q = sub(p, frame.center);
+        let x = dot(q, frame.right) / frame.h + 0.5 * frame.width as f64 - 0.5 - rect.x0 as f64;
+        let y = dot(q, frame.down) / frame.h + 0.5 * frame.height as f64 - 0.5 - rect.y0 as f64;
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    let clampx = |v: f64| v.clamp(0.0, rect.w as f64) as usize;
+    let clampy = |v: f64| v.clamp(0.0, rect.h as f64) as usize;
+    let r = [
+        clampx(x0.floor() - 2.0),
+        clampx(x1.ceil() + 3.0),
+        clampy(y0.floor() - 2.0),
+        clampy(y1.ceil() + 3.0),
+    ];
+    (r[0] < r[1] && r[2] < r[3]).then_some(r)
 }
