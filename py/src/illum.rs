@@ -142,6 +142,9 @@ fn int_in(name: &str, v: i64, lo: i64, hi: i64) -> PyResult<i64> {
     }
 }
 
+/// A `ScalarField` constructor from integer data (`from_u8`, `from_u16`).
+type FieldOf<T> = fn([usize; 3], [f64; 3], &[T]) -> wscg_math::Result<ScalarField>;
+
 /// `[nx, ny, nz]` of a `[z, y, x]` array.
 fn dims3(name: &str, shape: &[usize]) -> PyResult<[usize; 3]> {
     match *shape {
@@ -173,7 +176,7 @@ fn field_in(
         volume: &Bound<'_, PyAny>,
         spacing: [f64; 3],
         range: Option<(f32, f32)>,
-        own: fn([usize; 3], [f64; 3], &[T]) -> wscg_math::Result<ScalarField>,
+        own: FieldOf<T>,
     ) -> Option<PyResult<ScalarField>> {
         let a = volume.extract::<PyReadonlyArrayDyn<T>>().ok()?;
         Some((|| {

@@ -190,7 +190,7 @@ impl<'a> SliceRun<'a> {
         } else {
             MAX_REACH
         };
-        if !(reach <= limit) {
+        if reach.is_nan() || reach > limit {
             return Err(Error::invalid(
                 "kernel",
                 format!("reaches {reach:.0} pixels per slice (at most {limit}); lower the spread or the slice distance"),
