@@ -210,6 +210,28 @@ impl Slicing {
         Self { z_start: z0, ds, n }
     }
 
+    /// [`Slicing::new`], refusing more than `max` slices (`name` is the distance's argument
+    /// name in the error).
+    pub fn bounded(
+        frame: &Frame,
+        field: &ScalarField,
+        ds: f64,
+        max: usize,
+        name: &'static str,
+    ) -> Result<Self> {
+        let s = Self::new(frame, field, ds);
+        if s.n > max {
+            return Err(Error::invalid(
+                name,
+                format!(
+                    "{ds} gives {} slices or samples per ray through the volume (at most {max})",
+                    s.n
+                ),
+            ));
+        }
+        Ok(s)
+    }
+
     /// Depth of slice `k`.
     pub fn z(&self, k: usize) -> f64 {
         self.z_start + (k as f64 + 0.5) * self.ds

@@ -6,7 +6,7 @@
 
 use rayon::prelude::*;
 use wscg_math::vec3::{add, dot, normalized_or_zero};
-use wscg_math::{Error, Result};
+use wscg_math::Result;
 
 use super::camera::{Frame, Slicing};
 use super::classify::SampleLut;
@@ -39,16 +39,7 @@ pub(crate) fn raycast(
     shading: RayShading,
 ) -> Result<(Vec<f32>, usize)> {
     let l = light.unit_dir()?;
-    let slicing = Slicing::new(frame, field, step as f64);
-    if slicing.n > MAX_SLICES {
-        return Err(Error::invalid(
-            "step",
-            format!(
-                "{step} gives {} samples per ray (at most {MAX_SLICES})",
-                slicing.n
-            ),
-        ));
-    }
+    let slicing = Slicing::bounded(frame, field, step as f64, MAX_SLICES, "step")?;
     let s = field.scale();
     let to_vox = |p: [f64; 3]| -> [f32; 3] { std::array::from_fn(|a| (p[a] / s[a]) as f32) };
     let org = to_vox(frame.point(0.0, 0.0, 0.0));

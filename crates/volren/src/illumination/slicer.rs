@@ -171,16 +171,7 @@ impl<'a> SliceRun<'a> {
     ) -> Result<Self> {
         let l = light.unit_dir()?;
         let (ds, m, delta) = (prep.ds, prep.m, prep.delta);
-        let slicing = Slicing::new(frame, field, ds as f64);
-        if slicing.n > MAX_SLICES {
-            return Err(Error::invalid(
-                "slice_distance",
-                format!(
-                    "{ds} gives {} slices through the volume (at most {MAX_SLICES})",
-                    slicing.n
-                ),
-            ));
-        }
+        let slicing = Slicing::bounded(frame, field, ds as f64, MAX_SLICES, "slice_distance")?;
         let reach = match light.kernel {
             Kernel::Disk { tan_half } => ds as f64 * tan_half as f64 / frame.h,
             k => 3.0 * k.step_variance(ds as f64, frame.h).sqrt(),
