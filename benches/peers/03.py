@@ -28,7 +28,7 @@ import pywt  # noqa: E402
 from wscg import volren as V  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
-from _common import best_time, print_table  # noqa: E402
+from _common import best_time, print_table, vtk_fixed_point_window  # noqa: E402
 
 
 def blocks_of(vol):
@@ -52,37 +52,7 @@ def vtk_frame_time(vol, tf, cam, size, frames=10):
     """Median seconds of a VTK fixed-point ray-cast frame."""
     import time
 
-    import vtk
-    from vtk.util import numpy_support
-
-    img = vtk.vtkImageData()
-    nz, ny, nx = vol.shape
-    img.SetDimensions(nx, ny, nz)
-    img.GetPointData().SetScalars(numpy_support.numpy_to_vtk(
-        vol.ravel(), deep=True, array_type=vtk.VTK_UNSIGNED_CHAR))
-    ctf, otf = vtk.vtkColorTransferFunction(), vtk.vtkPiecewiseFunction()
-    for d, r, g, b, a in tf:
-        ctf.AddRGBPoint(d, r, g, b)
-        otf.AddPoint(d, a)
-    prop = vtk.vtkVolumeProperty()
-    prop.SetColor(ctf)
-    prop.SetScalarOpacity(otf)
-    prop.SetInterpolationTypeToLinear()
-    prop.SetScalarOpacityUnitDistance(1.0)
-    mapper = vtk.vtkFixedPointVolumeRayCastMapper()
-    mapper.SetInputData(img)
-    mapper.AutoAdjustSampleDistancesOff()
-    mapper.SetSampleDistance(0.5)
-    mapper.SetImageSampleDistance(1.0)
-    volume = vtk.vtkVolume()
-    volume.SetMapper(mapper)
-    volume.SetProperty(prop)
-    ren = vtk.vtkRenderer()
-    ren.AddVolume(volume)
-    win = vtk.vtkRenderWindow()
-    win.SetOffScreenRendering(1)
-    win.AddRenderer(ren)
-    win.SetSize(size, size)
+    win, ren = vtk_fixed_point_window(vol, tf, size)
     c = ren.GetActiveCamera()
     c.SetPosition(*cam["eye"])
     c.SetFocalPoint(*cam["target"])

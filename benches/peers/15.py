@@ -34,7 +34,7 @@ import numpy as np  # noqa: E402
 from wscg import volren as V  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
-from _common import print_table  # noqa: E402
+from _common import print_table, vtk_fixed_point_window  # noqa: E402
 
 SIZE = 512
 VIEWS = int(os.environ.get("WSCG_VIEWS", "4"))
@@ -75,45 +75,12 @@ def ours_frames(vol, tf, views, size, **kw):
 
 def vtk_phong_time(vol, tf, views, size):
     """Mean seconds per frame of VTK's fixed-point ray caster with shading, same views."""
-    import vtk
-    from vtk.util import numpy_support
-
     vol8 = np.ascontiguousarray(np.round(vol * 255.0).astype(np.uint8))
-    img = vtk.vtkImageData()
     nz, ny, nx = vol8.shape
-    img.SetDimensions(nx, ny, nz)
-    img.SetSpacing(*SPACING)
-    img.GetPointData().SetScalars(numpy_support.numpy_to_vtk(
-        vol8.ravel(), deep=True, array_type=vtk.VTK_UNSIGNED_CHAR))
-    ctf, otf = vtk.vtkColorTransferFunction(), vtk.vtkPiecewiseFunction()
     n = len(tf)
-    for i, (r, g, b, a) in enumerate(tf):
-        ctf.AddRGBPoint(255.0 * i / (n - 1), r, g, b)
-        otf.AddPoint(255.0 * i / (n - 1), a)
-    prop = vtk.vtkVolumeProperty()
-    prop.SetColor(ctf)
-    prop.SetScalarOpacity(otf)
-    prop.SetInterpolationTypeToLinear()
-    prop.SetScalarOpacityUnitDistance(1.0)
-    prop.ShadeOn()
-    prop.SetAmbient(0.3)
-    prop.SetDiffuse(0.6)
-    prop.SetSpecular(0.3)
-    prop.SetSpecularPower(20.0)
-    mapper = vtk.vtkFixedPointVolumeRayCastMapper()
-    mapper.SetInputData(img)
-    mapper.AutoAdjustSampleDistancesOff()
-    mapper.SetSampleDistance(0.5)
-    mapper.SetImageSampleDistance(1.0)
-    volume = vtk.vtkVolume()
-    volume.SetMapper(mapper)
-    volume.SetProperty(prop)
-    ren = vtk.vtkRenderer()
-    ren.AddVolume(volume)
-    win = vtk.vtkRenderWindow()
-    win.SetOffScreenRendering(1)
-    win.AddRenderer(ren)
-    win.SetSize(size, size)
+    points = [(255.0 * i / (n - 1), r, g, b, a) for i, (r, g, b, a) in enumerate(tf)]
+    win, ren = vtk_fixed_point_window(vol8, points, size, spacing=SPACING,
+                                      shade=(0.3, 0.6, 0.3, 20.0))
     centre = np.array([(nx - 1) * SPACING[0], (ny - 1) * SPACING[1], (nz - 1) * SPACING[2]]) / 2
     radius = 0.5 * np.linalg.norm([nx * SPACING[0], ny * SPACING[1], nz * SPACING[2]])
     total = 0.0
