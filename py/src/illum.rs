@@ -66,16 +66,6 @@ pub const STUDY_KEYS: [&str; 13] = [
 /// Largest Marschner-Lobb grid side (`n^3` floats).
 const MAX_ML_SIDE: usize = 1024;
 
-/// Most slices (or samples per ray) through the volume's bounding box accepted: guards
-/// against a render that would never finish (`slice_distance` tiny against the volume).
-const MAX_SLICES: f64 = (1u64 << 20) as f64;
-
-/// Largest per-slice reach of the Gaussian kernel (`3 sigma`) and radius of the disk kernel,
-/// in pixels: the crate allocates the kernel's taps (and the disk's `pi r^2` stencil) as
-/// asked, so an absurd spread would exhaust memory.
-const MAX_GAUSSIAN_REACH: f64 = 65536.0;
-const MAX_DISK_RADIUS: f64 = 1024.0;
-
 /// Errors unless `opts` holds only keys of `allowed` (catches typos in direct calls).
 fn check_keys(opts: &Bound<'_, PyDict>, allowed: &[&str]) -> PyResult<()> {
     for k in opts.keys() {
@@ -347,53 +337,6 @@ fn size_in(size: (i64, i64)) -> PyResult<(usize, usize)> {
     Ok((w as usize, h as usize))
 }
 
-/// Errors when the slice count or the kernel's size would make a render of `field` with
-/// distance `ds` and pixel size `pixel` run out of time or memory.
-fn check_cost(field: &ScalarField, ds: f64, pixel: f64, kernel: &Kernel) -> PyResult<()> {
-    let (lo, hi) = field.world_box();
-    let diag = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt();
-    let slices = diag / ds;
-    if !(slices.is_finite() && slices <= MAX_SLICES) {
-        return Err(value_error(format!(
-            "`slice_distance` {:e} gives about {slices:.3e} slices (or samples per ray) \
-             through the volume; at most {MAX_SLICES} are allowed",
-            ds as f32
-        )));
-    }
-    match *kernel {
-        Kernel::Gaussian { spread } => {
-            let reach = 3.0 * (2.0 * spread as f64 * ds).sqrt() / pixel;
-            if !(reach.is_finite() && reach <= MAX_GAUSSIAN_REACH) {
-                return Err(value_error(format!(
-                    "`spread` {spread:e} gives a Gaussian kernel reaching {reach:.3e} pixels per \
-                     slice; at most {MAX_GAUSSIAN_REACH}"
-                )));
-            }
-        }
-        Kernel::Disk { tan_half } => {
-            let r = ds * tan_half as f64 / pixel;
-            if !(r.is_finite() && r <= MAX_DISK_RADIUS) {
-                return Err(value_error(format!(
-                    "`tan_half` {tan_half:e} gives a disk kernel of radius {r:.3e} pixels per \
-                     slice; at most {MAX_DISK_RADIUS}"
-                )));
-            }
-        }
-        Kernel::Delta => {}
-    }
-    Ok(())
-}
-
-/// The slice distance or sample step of a method.
-fn distance_of(m: &Method) -> f64 {
-    match *m {
-        Method::Ics { slice, .. } => slice as f64,
-        Method::RaycastEa { step }
-        | Method::ShadowRays { step }
-        | Method::RaycastPhong { step, .. } => step as f64,
-    }
-}
-
 fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
     check_keys(opts, &RENDER_KEYS)?;
     let view_dir = finite3(
@@ -462,7 +405,6 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
         ..Default::default()
     };
     settings.check().py_err()?;
-    check_cost(field, distance_of(&method), cam.pixel_size, &light.kernel)?;
     Ok(Scene {
         cam,
         light,
@@ -710,11 +652,6 @@ fn illum_study<'py>(
         })
         .collect::<wscg_math::Result<Vec<_>>>()
         .py_err()?;
-    for cam in &cams {
-        for &d in distances.iter().chain([&reference, &fine]) {
-            check_cost(&field, d, cam.pixel_size, &light.kernel)?;
-        }
-    }
     let d32: Vec<f32> = distances.iter().map(|&d| d as f32).collect();
     let configs = study::grid(&d32, max_m);
     let settings = RenderSettings::default();

@@ -300,7 +300,9 @@ def test_table1_shape_on_frog(frog):
     dens = V.labels_to_density(labels[::2, ::2, ::2], spacing=(1, 1, 1.5), sigma=1.0)
     assert dens.shape == (68, 235, 250) and dens.dtype == np.float32
     assert dens.min() >= 0 and dens.max() <= 1
-    tf = V.tissue_tf()
+    # The steep skin transfer function (the paper's sharp-TF scenes): the body surface
+    # aliases at coarse slice distances, so the errors are large enough to be resolved.
+    tf = V.skin_tf()
     views = [dict(view_dir=(1, 0.6, -0.5), up=(0, 0, 1)),
              dict(view_dir=(-0.7, 1, -0.4), up=(0, 0, 1))]
 

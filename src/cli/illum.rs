@@ -122,7 +122,7 @@ pub struct IllumArgs {
     /// Camera elevation (degrees).
     #[arg(long, default_value_t = 20.0, allow_hyphen_values = true)]
     elevation: f64,
-    /// Output image (.png); with --study, the reference image.
+    /// Output image (.png); required unless --study.
     #[arg(long)]
     out: Option<PathBuf>,
     /// Run the study: ICS, SCS and PI-SCS over slice distances 0.2..2.0 and 0..=5 sub-samples

@@ -146,6 +146,20 @@ impl Frame {
         )
     }
 
+    /// The voxel coordinates of pixel `(x0, y0)` at depth 0 and the voxel-space steps of one
+    /// pixel right, one pixel down and one world unit in depth (the renderers' incremental
+    /// sample positions).
+    pub fn voxel_steps(&self, field: &ScalarField, x0: f64, y0: f64) -> [[f32; 3]; 4] {
+        let s = field.scale();
+        let to_vox = |p: V3| -> [f32; 3] { std::array::from_fn(|a| (p[a] / s[a]) as f32) };
+        [
+            to_vox(self.point(x0, y0, 0.0)),
+            to_vox(self.right.map(|c| c * self.h)),
+            to_vox(self.down.map(|c| c * self.h)),
+            to_vox(self.d),
+        ]
+    }
+
     /// Depth range `[z_min, z_max]` of the volume box along `d`.
     pub fn depth_range(&self, field: &ScalarField) -> (f64, f64) {
         let (lo, hi) = field.world_box();

@@ -165,7 +165,6 @@ impl TransferFunction {
 #[derive(Clone, Debug)]
 pub struct SampleLut {
     table: Vec<[f32; 4]>,
-    scale: f32,
 }
 
 impl SampleLut {
@@ -177,16 +176,13 @@ impl SampleLut {
                 [c[0] * a, c[1] * a, c[2] * a, a]
             })
             .collect();
-        Self {
-            table,
-            scale: LUT_SIZE as f32,
-        }
+        Self { table }
     }
 
     /// Associated colour and opacity `[a r, a g, a b, a]` of the sample value `s`.
     #[inline]
     pub fn get(&self, s: f32) -> [f32; 4] {
-        let x = s.clamp(0.0, 1.0) * self.scale;
+        let x = s.clamp(0.0, 1.0) * LUT_SIZE as f32;
         let i = (x as usize).min(LUT_SIZE - 1);
         let t = x - i as f32;
         let (a, b) = (self.table[i], self.table[i + 1]);
@@ -197,9 +193,4 @@ impl SampleLut {
             a[3] + (b[3] - a[3]) * t,
         ]
     }
-}
-
-/// Opacity correction (E1): `1 - (1 - a)^(delta / ref)` with the reference length 1.
-pub fn opacity_correction(a: f32, delta: f32) -> f32 {
-    1.0 - (1.0 - a.min(A_MAX)).powf(delta)
 }

@@ -31,7 +31,7 @@ mod slicer;
 pub mod study;
 
 pub use camera::{SliceCamera, Slicing};
-pub use classify::{opacity_correction, SampleLut, TransferFunction};
+pub use classify::{SampleLut, TransferFunction};
 pub use field::{Interp, ScalarField};
 pub use kernel::{Kernel, StepKernel};
 pub use method::{Light, LightAtten, Method, Phong, RenderSettings, MAX_SUBSAMPLES};
@@ -120,7 +120,7 @@ pub fn render_many(
                 Method::ShadowRays { .. } => RayShading::Shadow,
                 _ => RayShading::None,
             };
-            let sampler = Sampler::new(field, tf, settings.interp);
+            let sampler = Sampler::new(field, tf, settings.interp, false);
             let lut = tf.sampled(step);
             cams.iter()
                 .zip(&frames)

@@ -39,13 +39,17 @@ pub(crate) fn raycast(
     shading: RayShading,
 ) -> Result<(Vec<f32>, usize)> {
     let l = light.unit_dir()?;
-    let slicing = Slicing::bounded(frame, field, step as f64, MAX_SLICES, "step")?;
+    // `slice_distance` is the sample step of the ray casters in the Python and CLI options.
+    let slicing = Slicing::bounded(
+        frame,
+        field,
+        step as f64,
+        MAX_SLICES,
+        "step (slice_distance)",
+    )?;
+    let [org, dx, dy, dz] = frame.voxel_steps(field, 0.0, 0.0);
     let s = field.scale();
     let to_vox = |p: [f64; 3]| -> [f32; 3] { std::array::from_fn(|a| (p[a] / s[a]) as f32) };
-    let org = to_vox(frame.point(0.0, 0.0, 0.0));
-    let dx = to_vox(frame.right.map(|c| c * frame.h));
-    let dy = to_vox(frame.down.map(|c| c * frame.h));
-    let dz = to_vox(frame.d);
     let lw = frame.light_world(l);
     // A shadow-ray step crosses the previous slice plane: length step / l_z towards the light.
     let shadow_step = to_vox(lw.map(|c| c * step as f64 / l[2]));

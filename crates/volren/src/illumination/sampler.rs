@@ -70,17 +70,25 @@ pub(crate) struct Sampler<'a> {
     cells: [usize; 3],
     empty: Vec<bool>,
     /// Cells whose 3 x 3 x 3 neighbourhood's value range is transparent: a segment shorter
-    /// than a cell that starts in one is transparent whatever it interpolates.
+    /// than a cell that starts in one is transparent whatever it interpolates (empty unless
+    /// built for segments).
     deep_empty: Vec<bool>,
     /// True when the value 0 of the outside of the box is transparent.
     pub outside_transparent: bool,
 }
 
 impl<'a> Sampler<'a> {
-    pub fn new(field: &'a ScalarField, tf: &TransferFunction, interp: Interp) -> Self {
+    /// A sampler; `segments` also prepares [`Sampler::segment_empty`] (pre-integration).
+    pub fn new(
+        field: &'a ScalarField,
+        tf: &TransferFunction,
+        interp: Interp,
+        segments: bool,
+    ) -> Self {
         let cr = field.cell_ranges();
         let c = cr.cells;
-        let deep_empty = (0..c[0] * c[1] * c[2])
+        let cells = if segments { c[0] * c[1] * c[2] } else { 0 };
+        let deep_empty = (0..cells)
             .into_par_iter()
             .map(|k| {
                 let (x, y, z) = (k % c[0], (k / c[0]) % c[1], k / (c[0] * c[1]));

@@ -83,7 +83,7 @@ impl<'a> Prepared<'a> {
             }
         };
         Ok(Self {
-            sampler: Sampler::new(field, tf, settings.interp),
+            sampler: Sampler::new(field, tf, settings.interp, preintegrated),
             classifier,
             ds,
             m,
@@ -184,7 +184,7 @@ impl<'a> SliceRun<'a> {
         if reach.is_nan() || reach > limit {
             return Err(Error::invalid(
                 "kernel",
-                format!("reaches {reach:.0} pixels per slice (at most {limit}); lower the spread or the slice distance"),
+                format!("reaches {reach:.0} pixels per slice (at most {limit}); lower the spread (tan_half for the disk) or the slice distance"),
             ));
         }
         // Source offset of the light per slice, in pixels (x right, y down).
@@ -224,12 +224,7 @@ impl<'a> SliceRun<'a> {
                 }
             })
             .collect();
-        let s = field.scale();
-        let to_vox = |p: [f64; 3]| -> [f32; 3] { std::array::from_fn(|a| (p[a] / s[a]) as f32) };
-        let org = to_vox(frame.point(x0 as f64, y0 as f64, 0.0));
-        let dx = to_vox(frame.right.map(|c| c * h));
-        let dy = to_vox(frame.down.map(|c| c * h));
-        let dz = to_vox(frame.d);
+        let [org, dx, dy, dz] = frame.voxel_steps(field, x0 as f64, y0 as f64);
         Ok(Self {
             sampler: &prep.sampler,
             classifier: &prep.classifier,
