@@ -47,7 +47,8 @@
 
 pub mod anova;
 pub mod ccd;
-pub mod dist;
+/// Student-t and F tails, shared with other papers through wscg-math.
+pub use wscg_math::dist;
 pub mod panel;
 pub mod rsm;
 pub mod williams;

@@ -14,6 +14,7 @@
 //! - [`fft`]: 1-D, 2-D and 3-D FFTs (rustfft) with numpy's normalisation conventions, and
 //!   planned 2-D transforms ([`fft::Plan2`]) for repeated use.
 //! - [`filter`], [`resize`]: separable Gaussian and box filters, area and bilinear resizing.
+//! - [`dist`]: Student-t and F tail probabilities and the t quantile.
 //! - [`metrics`]: MSE, RMSE, PSNR, SSIM (Wang et al. 2004), Dice.
 //! - [`wavelet`]: orthonormal Daubechies wavelets (periodized, PyWavelets' conventions).
 //! - [`tv`]: isotropic total variation, gradient / divergence and Chambolle's TV prox.
@@ -26,6 +27,7 @@
 pub mod error;
 
 pub mod dense;
+pub mod dist;
 pub mod distance;
 pub mod eigh_krylov;
 pub mod eigh_partial;

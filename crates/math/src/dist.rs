@@ -1,6 +1,6 @@
-//! Tail probabilities and quantiles of the Student-t and Fisher F distributions, the two
-//! reference distributions of paper 07's analysis (§5: t-tests of the response-surface
-//! coefficients, F-tests of the repeated-measures ANOVA, Fisher's LSD).
+//! Tail probabilities and quantiles of the Student-t and Fisher F distributions, shared by
+//! paper 07's study analysis (t-tests of the response-surface coefficients, F-tests of the
+//! repeated-measures ANOVA, Fisher's LSD) and paper 16's regression p-values (§2.1).
 //!
 //! Both tails are written through the regularised incomplete beta function `I_x(a, b)`
 //! (`statrs::function::beta::beta_reg`), which keeps small p-values relatively accurate
@@ -13,7 +13,7 @@
 
 use statrs::function::beta::{beta_reg, inv_beta_reg};
 use statrs::function::gamma::ln_gamma;
-use wscg_math::{Error, Result};
+use crate::{Error, Result};
 
 /// Two-sided p-value `P(|T_df| >= |t|)` of a Student-t statistic with `df` degrees of freedom.
 ///

@@ -1,0 +1,661 @@
+//! Anechoic demixing (paper eq. 1 without the non-periodic term, §2.3):
+//!
+//! ```text
+//! x_i^r(t) ≈ Σ_{j=1..J} w_ij^r s_j(t − τ_ij)
+//! ```
+//!
+//! with band-limited periodic sources, per-trial weights and delays that are shared across
+//! trials (the paper's constraint, after CdEG13), free per trial (Omlor & Giese 2011) or zero
+//! (the synchronous model). The fit is the Fourier-domain alternating least squares of
+//! Chiovetto, d'Avella and Giese (FADA): in the DFT domain
+//! `X_i^r(k) = Σ_j w_ij^r e^{−2πikτ_ij} c_jk` is linear in the source coefficients for fixed
+//! weights and delays, and linear in the weights for fixed sources and delays; delays are
+//! updated one at a time by maximising the exact least-squares gain, a trigonometric polynomial
+//! in `τ`. Every step can only lower the residual, so `Q` never decreases.
+
+use crate::data::TrialSet;
+use crate::fourier::{harmonics, trig_argmax, trig_eval, wrap_half, PeriodicSource};
+use crate::linalg::{solve_complex, solve_in_place};
+use faer::Mat;
+use num_complex::Complex64;
+use rand::Rng as _;
+use rand_distr::{Distribution, StandardNormal};
+use rayon::prelude::*;
+use std::f64::consts::TAU;
+use wscg_math::{Error, Result};
+
+/// How delays are constrained.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DelayMode {
+    /// One delay per (channel, source), equal over trials (the paper's model).
+    Shared,
+    /// One delay per (trial, channel, source) (the unconstrained anechoic model, OG11).
+    PerTrial,
+    /// All delays zero: the synchronous model with band-limited sources.
+    Zero,
+}
+
+/// How a run is started.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Init {
+    /// Sources from the top right singular vectors of the data, zero delays, least-squares
+    /// weights (so the start is at least as good as PCA with the same number of components).
+    Pca,
+    /// Seeded random smooth sources and uniform random delays.
+    Random,
+}
+
+/// Parameters of [`fit_anechoic`] (defaults as specified for paper 16).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnechoicConfig {
+    /// Number of periodic sources `J`.
+    pub n_sources: usize,
+    /// Harmonics `K` per source (band limit).
+    pub n_harmonics: usize,
+    /// Delay constraint.
+    pub delays: DelayMode,
+    /// Maximal number of ALS sweeps per run.
+    pub max_iter: usize,
+    /// Stop when one sweep changes `Q` by less than this.
+    pub tol: f64,
+    /// Number of runs; run 0 starts from [`Config::init`](AnechoicConfig::init), the others from
+    /// random starts. The best `Q` is kept.
+    pub restarts: usize,
+    /// Start of run 0.
+    pub init: Init,
+    /// Seed of the random starts.
+    pub seed: u64,
+}
+
+impl Default for AnechoicConfig {
+    fn default() -> Self {
+        Self {
+            n_sources: 3,
+            n_harmonics: 8,
+            delays: DelayMode::Shared,
+            max_iter: 500,
+            tol: 1e-9,
+            restarts: 10,
+            init: Init::Pca,
+            seed: 0,
+        }
+    }
+}
+
+/// A fitted anechoic model.
+#[derive(Clone, Debug)]
+pub struct AnechoicModel {
+    /// `R`.
+    pub n_trials: usize,
+    /// `I`.
+    pub n_channels: usize,
+    /// `N`.
+    pub n_samples: usize,
+    /// The `J` sources, each at unit RMS.
+    pub sources: Vec<PeriodicSource>,
+    /// Delay constraint of `delays`.
+    pub delay_mode: DelayMode,
+    /// Delays in periods, wrapped to `[-0.5, 0.5)`: `1 × I × J` for shared and zero delays,
+    /// `R × I × J` per trial.
+    pub delays: Vec<f64>,
+    /// Weights, `R × I × J`.
+    pub weights: Vec<f64>,
+    /// Final quality `Q`.
+    pub q: f64,
+    /// `Q` at the start and after every sweep of the kept run (non-decreasing).
+    pub q_history: Vec<f64>,
+}
+
+impl AnechoicModel {
+    /// Number of sources `J`.
+    pub fn n_sources(&self) -> usize {
+        self.sources.len()
+    }
+
+    /// Delay of source `j` in channel `i` for trial `r` (periods).
+    pub fn delay(&self, r: usize, i: usize, j: usize) -> f64 {
+        let rr = if self.delay_mode == DelayMode::PerTrial { r } else { 0 };
+        self.delays[(rr * self.n_channels + i) * self.sources.len() + j]
+    }
+
+    /// Weight of source `j` in channel `i` for trial `r`.
+    pub fn weight(&self, r: usize, i: usize, j: usize) -> f64 {
+        self.weights[(r * self.n_channels + i) * self.sources.len() + j]
+    }
+
+    /// The model's time-domain approximation of every trial.
+    pub fn reconstruct(&self) -> TrialSet {
+        let (r_n, i_n, n) = (self.n_trials, self.n_channels, self.n_samples);
+        let mut out = vec![0.0; r_n * i_n * n];
+        out.par_chunks_mut(n).enumerate().for_each(|(ri, row)| {
+            let (r, i) = (ri / i_n, ri % i_n);
+            for (j, s) in self.sources.iter().enumerate() {
+                let w = self.weight(r, i, j);
+                let tau = self.delay(r, i, j);
+                for (m, v) in row.iter_mut().enumerate() {
+                    *v += w * s.eval(m as f64 / n as f64, tau);
+                }
+            }
+        });
+        TrialSet { n_trials: r_n, n_channels: i_n, n_samples: n, data: out }
+    }
+}
+
+/// Validates the configuration against the data shape.
+fn check_config(x: &TrialSet, cfg: &AnechoicConfig) -> Result<()> {
+    let n = x.n_samples;
+    if cfg.n_harmonics == 0 || 2 * cfg.n_harmonics >= n {
+        return Err(Error::invalid(
+            "n_harmonics",
+            format!("must be in 1..{} (below N/2 for N = {n} samples), got {}", n.div_ceil(2), cfg.n_harmonics),
+        ));
+    }
+    let cap = (x.n_trials * x.n_channels).min(n / 2);
+    if cfg.n_sources == 0 || cfg.n_sources >= cap {
+        return Err(Error::invalid(
+            "n_sources",
+            format!("must be >= 1 and < min(I*R, N/2) = {cap}, got {}", cfg.n_sources),
+        ));
+    }
+    if cfg.max_iter == 0 {
+        return Err(Error::invalid("max_iter", "must be >= 1"));
+    }
+    if cfg.restarts == 0 {
+        return Err(Error::invalid("restarts", "must be >= 1"));
+    }
+    if !(cfg.tol.is_finite() && cfg.tol >= 0.0) {
+        return Err(Error::invalid("tol", format!("must be finite and >= 0, got {}", cfg.tol)));
+    }
+    Ok(())
+}
+
+/// The data in the Fourier domain: harmonics `1..=K` of every row, plus the energy outside them.
+struct Spectra {
+    r: usize,
+    i: usize,
+    k: usize,
+    n: usize,
+    /// `R × I × K`.
+    x: Vec<Complex64>,
+    /// `‖X‖²_F`.
+    total: f64,
+    /// Energy of the data outside harmonics `±1..=K` (the mean included): no model can fit it.
+    out_band: f64,
+}
+
+impl Spectra {
+    fn new(x: &TrialSet, k: usize) -> Result<Self> {
+        let total = x.energy();
+        if total <= 0.0 {
+            return Err(Error::invalid("x", "all values are zero; nothing to demix"));
+        }
+        let n = x.n_samples;
+        let rows: Vec<Vec<Complex64>> = x.data.par_chunks(n).map(|row| harmonics(row, k)).collect();
+        let xs: Vec<Complex64> = rows.into_iter().flatten().collect();
+        let in_band: f64 = 2.0 * n as f64 * xs.iter().map(|c| c.norm_sqr()).sum::<f64>();
+        Ok(Self { r: x.n_trials, i: x.n_channels, k, n, x: xs, total, out_band: (total - in_band).max(0.0) })
+    }
+
+    fn row(&self, r: usize, i: usize) -> &[Complex64] {
+        let o = (r * self.i + i) * self.k;
+        &self.x[o..o + self.k]
+    }
+}
+
+/// The state of one ALS run.
+#[derive(Clone)]
+struct State {
+    j: usize,
+    mode: DelayMode,
+    /// `J × K` source coefficients.
+    c: Vec<Complex64>,
+    /// `Rd × I × J`.
+    tau: Vec<f64>,
+    /// `R × I × J`.
+    w: Vec<f64>,
+}
+
+impl State {
+    fn rd(&self, r: usize) -> usize {
+        if self.mode == DelayMode::PerTrial {
+            r
+        } else {
+            0
+        }
+    }
+
+    /// `e^{−2πikτ}` for `k = 1..=K` of delay `τ`.
+    fn phasors(tau: f64, k: usize, out: &mut [Complex64]) {
+        let z = Complex64::from_polar(1.0, -TAU * tau);
+        let mut p = z;
+        for o in out.iter_mut().take(k) {
+            *o = p;
+            p *= z;
+        }
+    }
+
+    /// `Rd × I × J × K` table of delay phasors.
+    fn phase_table(&self, sp: &Spectra) -> Vec<Complex64> {
+        let k = sp.k;
+        let mut t = vec![Complex64::new(0.0, 0.0); self.tau.len() * k];
+        for (d, chunk) in t.chunks_mut(k).enumerate() {
+            Self::phasors(self.tau[d], k, chunk);
+        }
+        t
+    }
+
+    /// Model harmonics of channel `i`, trial `r`, written into `out` (length `K`).
+    fn model_row(&self, sp: &Spectra, ph: &[Complex64], r: usize, i: usize, out: &mut [Complex64]) {
+        let (j_n, k) = (self.j, sp.k);
+        out.iter_mut().for_each(|v| *v = Complex64::new(0.0, 0.0));
+        for j in 0..j_n {
+            let w = self.w[(r * sp.i + i) * j_n + j];
+            let p = &ph[((self.rd(r) * sp.i + i) * j_n + j) * k..][..k];
+            let c = &self.c[j * k..(j + 1) * k];
+            for kk in 0..k {
+                out[kk] += w * p[kk] * c[kk];
+            }
+        }
+    }
+
+    /// `‖X − X̂‖²_F` from Parseval.
+    fn error(&self, sp: &Spectra) -> f64 {
+        let ph = self.phase_table(sp);
+        let per_row: f64 = (0..sp.r * sp.i)
+            .into_par_iter()
+            .map_init(
+                || vec![Complex64::new(0.0, 0.0); sp.k],
+                |m, ri| {
+                    let (r, i) = (ri / sp.i, ri % sp.i);
+                    self.model_row(sp, &ph, r, i, m);
+                    sp.row(r, i).iter().zip(m.iter()).map(|(a, b)| (a - b).norm_sqr()).sum::<f64>()
+                },
+            )
+            .sum();
+        sp.out_band + 2.0 * sp.n as f64 * per_row
+    }
+
+    fn quality(&self, sp: &Spectra) -> f64 {
+        1.0 - self.error(sp) / sp.total
+    }
+
+    /// Step (a): for each harmonic, the complex `J × J` normal equations over all rows.
+    fn update_sources(&mut self, sp: &Spectra) -> Result<()> {
+        let (j_n, k) = (self.j, sp.k);
+        let ph = self.phase_table(sp);
+        let cols: Vec<Vec<Complex64>> = (0..k)
+            .into_par_iter()
+            .map(|kk| {
+                let mut h = vec![Complex64::new(0.0, 0.0); j_n * j_n];
+                let mut rhs = vec![Complex64::new(0.0, 0.0); j_n];
+                let mut a = vec![Complex64::new(0.0, 0.0); j_n];
+                for r in 0..sp.r {
+                    for i in 0..sp.i {
+                        for (j, aj) in a.iter_mut().enumerate() {
+                            *aj = self.w[(r * sp.i + i) * j_n + j] * ph[((self.rd(r) * sp.i + i) * j_n + j) * k + kk];
+                        }
+                        let xv = sp.row(r, i)[kk];
+                        for p in 0..j_n {
+                            let ap = a[p].conj();
+                            rhs[p] += ap * xv;
+                            for q in 0..j_n {
+                                h[p * j_n + q] += ap * a[q];
+                            }
+                        }
+                    }
+                }
+                solve_complex(&h, &rhs, j_n, 1e-12)
+            })
+            .collect::<Result<_>>()?;
+        for (kk, col) in cols.iter().enumerate() {
+            for j in 0..j_n {
+                self.c[j * k + kk] = col[j];
+            }
+        }
+        Ok(())
+    }
+
+    /// Step (b): for each (trial, channel), the real `J × J` least squares of the weights.
+    fn update_weights(&mut self, sp: &Spectra) -> Result<()> {
+        let (j_n, k) = (self.j, sp.k);
+        let ph = self.phase_table(sp);
+        let c = &self.c;
+        let this = &*self;
+        let new_w: Vec<Vec<f64>> = (0..sp.r * sp.i)
+            .into_par_iter()
+            .map(|ri| {
+                let (r, i) = (ri / sp.i, ri % sp.i);
+                let mut b = vec![Complex64::new(0.0, 0.0); j_n * k];
+                for j in 0..j_n {
+                    let p = &ph[((this.rd(r) * sp.i + i) * j_n + j) * k..][..k];
+                    for kk in 0..k {
+                        b[j * k + kk] = p[kk] * c[j * k + kk];
+                    }
+                }
+                let xr = sp.row(r, i);
+                let mut g = vec![0.0; j_n * j_n];
+                let mut h = vec![0.0; j_n];
+                for p in 0..j_n {
+                    for q in p..j_n {
+                        let v: f64 = (0..k).map(|kk| (b[p * k + kk] * b[q * k + kk].conj()).re).sum();
+                        g[p * j_n + q] = v;
+                        g[q * j_n + p] = v;
+                    }
+                    h[p] = (0..k).map(|kk| (xr[kk] * b[p * k + kk].conj()).re).sum();
+                }
+                solve_in_place(&mut g, &mut h, j_n, 1e-12)?;
+                Ok(h)
+            })
+            .collect::<Result<_>>()?;
+        for (ri, w) in new_w.into_iter().enumerate() {
+            self.w[ri * j_n..(ri + 1) * j_n].copy_from_slice(&w);
+        }
+        Ok(())
+    }
+
+    /// Step (c): coordinate-wise delay updates, each the exact least-squares optimum over `τ`
+    /// with the other delays fixed, accepted only when it lowers the residual.
+    fn update_delays(&mut self, sp: &Spectra) {
+        if self.mode == DelayMode::Zero {
+            return;
+        }
+        let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
+        let ph = self.phase_table(sp);
+        let per_trial = self.mode == DelayMode::PerTrial;
+        let this = &*self;
+        // Channels are independent: each owns its delays (shared: I × J; per trial: R × I × J).
+        let updates: Vec<Vec<(usize, f64)>> = (0..i_n)
+            .into_par_iter()
+            .map(|i| {
+                let mut res = vec![Complex64::new(0.0, 0.0); r_n * k];
+                let mut m = vec![Complex64::new(0.0, 0.0); k];
+                for r in 0..r_n {
+                    this.model_row(sp, &ph, r, i, &mut m);
+                    for kk in 0..k {
+                        res[r * k + kk] = sp.row(r, i)[kk] - m[kk];
+                    }
+                }
+                let mut taus: Vec<f64> = (0..if per_trial { r_n } else { 1 })
+                    .flat_map(|rd| (0..j_n).map(move |j| (rd, j)))
+                    .map(|(rd, j)| this.tau[(rd * i_n + i) * j_n + j])
+                    .collect();
+                let mut p = vec![Complex64::new(0.0, 0.0); k];
+                let mut g = vec![Complex64::new(0.0, 0.0); k];
+                for j in 0..j_n {
+                    let c = &this.c[j * k..(j + 1) * k];
+                    let groups: Vec<Vec<usize>> =
+                        if per_trial { (0..r_n).map(|r| vec![r]).collect() } else { vec![(0..r_n).collect()] };
+                    for (gi, trials) in groups.iter().enumerate() {
+                        let slot = gi * j_n + j;
+                        let old = taus[slot];
+                        State::phasors(old, k, &mut p);
+                        // Add source j back into the residual: E = res + w e^{-2πikτ} c.
+                        g.iter_mut().for_each(|v| *v = Complex64::new(0.0, 0.0));
+                        for &r in trials {
+                            let w = this.w[(r * i_n + i) * j_n + j];
+                            for kk in 0..k {
+                                res[r * k + kk] += w * p[kk] * c[kk];
+                                g[kk] += w * res[r * k + kk].conj();
+                            }
+                        }
+                        for kk in 0..k {
+                            g[kk] *= c[kk];
+                        }
+                        let f_old = trig_eval(&g, old).0;
+                        let (cand, f_new) = trig_argmax(&g);
+                        let tau = if f_new > f_old + 1e-15 * f_old.abs().max(1.0) { wrap_half(cand) } else { old };
+                        taus[slot] = tau;
+                        State::phasors(tau, k, &mut p);
+                        for &r in trials {
+                            let w = this.w[(r * i_n + i) * j_n + j];
+                            for kk in 0..k {
+                                res[r * k + kk] -= w * p[kk] * c[kk];
+                            }
+                        }
+                    }
+                }
+                let rd_n = if per_trial { r_n } else { 1 };
+                (0..rd_n)
+                    .flat_map(|rd| (0..j_n).map(move |j| (rd, j)))
+                    .map(|(rd, j)| ((rd * i_n + i) * j_n + j, taus[rd * j_n + j]))
+                    .collect()
+            })
+            .collect();
+        for (idx, tau) in updates.into_iter().flatten() {
+            self.tau[idx] = tau;
+        }
+    }
+
+    /// Gauge fixing (the model is unchanged): unit-RMS sources, positive weight sums, and each
+    /// source shifted so that the |w|-weighted circular mean of its delays is zero.
+    fn normalize(&mut self, sp: &Spectra) {
+        let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
+        for j in 0..j_n {
+            let c = &mut self.c[j * k..(j + 1) * k];
+            let rms = (2.0 * c.iter().map(|v| v.norm_sqr()).sum::<f64>()).sqrt();
+            if rms <= 0.0 || !rms.is_finite() {
+                continue;
+            }
+            let sum: f64 = (0..r_n * i_n).map(|ri| self.w[ri * j_n + j]).sum();
+            let scale = if sum < 0.0 { -rms } else { rms };
+            c.iter_mut().for_each(|v| *v /= scale);
+            for ri in 0..r_n * i_n {
+                self.w[ri * j_n + j] *= scale;
+            }
+            if self.mode == DelayMode::Zero {
+                continue;
+            }
+            let rd_n = self.tau.len() / (i_n * j_n);
+            let mut acc = Complex64::new(0.0, 0.0);
+            for rd in 0..rd_n {
+                for i in 0..i_n {
+                    let a: f64 = if rd_n == 1 {
+                        (0..r_n).map(|r| self.w[(r * i_n + i) * j_n + j].abs()).sum()
+                    } else {
+                        self.w[(rd * i_n + i) * j_n + j].abs()
+                    };
+                    acc += Complex64::from_polar(a, TAU * self.tau[(rd * i_n + i) * j_n + j]);
+                }
+            }
+            if acc.norm() <= 0.0 {
+                continue;
+            }
+            let mu = acc.arg() / TAU;
+            let shifted = PeriodicSource::new(c.to_vec()).shifted(mu);
+            c.copy_from_slice(&shifted.coeffs);
+            for rd in 0..rd_n {
+                for i in 0..i_n {
+                    let t = &mut self.tau[(rd * i_n + i) * j_n + j];
+                    *t = wrap_half(*t - mu);
+                }
+            }
+        }
+    }
+
+    fn into_model(self, sp: &Spectra, q: f64, q_history: Vec<f64>) -> AnechoicModel {
+        let k = sp.k;
+        AnechoicModel {
+            n_trials: sp.r,
+            n_channels: sp.i,
+            n_samples: sp.n,
+            sources: (0..self.j).map(|j| PeriodicSource::new(self.c[j * k..(j + 1) * k].to_vec())).collect(),
+            delay_mode: self.mode,
+            delays: self.tau,
+            weights: self.w,
+            q,
+            q_history,
+        }
+    }
+}
+
+/// Iterates ALS sweeps from `state` until `Q` changes by less than `tol`.
+fn run(sp: &Spectra, cfg: &AnechoicConfig, mut state: State) -> Result<(State, f64, Vec<f64>)> {
+    let mut q = state.quality(sp);
+    let mut hist = vec![q];
+    for _ in 0..cfg.max_iter {
+        state.update_sources(sp)?;
+        state.update_weights(sp)?;
+        state.update_delays(sp);
+        state.normalize(sp);
+        let qn = state.quality(sp);
+        hist.push(qn);
+        let done = (qn - q).abs() < cfg.tol;
+        q = qn;
+        if done {
+            break;
+        }
+    }
+    Ok((state, q, hist))
+}
+
+fn n_delay_rows(mode: DelayMode, r: usize) -> usize {
+    if mode == DelayMode::PerTrial {
+        r
+    } else {
+        1
+    }
+}
+
+/// PCA start: the top-`J` right singular vectors of the `(R·I) × N` data as sources.
+fn pca_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<State> {
+    let rows = x.n_trials * x.n_channels;
+    let n = x.n_samples;
+    let a = Mat::from_fn(rows, n, |ri, m| x.data[ri * n + m]);
+    let d = wscg_math::dense::svd(a.as_ref())?;
+    let j_n = cfg.n_sources;
+    let mut c = Vec::with_capacity(j_n * sp.k);
+    for j in 0..j_n {
+        let v: Vec<f64> = (0..n).map(|m| d.v[(m, j)]).collect();
+        c.extend(harmonics(&v, sp.k));
+    }
+    start_from(sp, cfg, c, vec![0.0; n_delay_rows(cfg.delays, sp.r) * sp.i * j_n])
+}
+
+/// Random start: smooth random sources (coefficients ∝ 1/k) and uniform delays.
+fn random_start(sp: &Spectra, cfg: &AnechoicConfig, stream: u64) -> Result<State> {
+    let mut rng = wscg_math::rng::stream(cfg.seed, stream);
+    let j_n = cfg.n_sources;
+    let mut c = Vec::with_capacity(j_n * sp.k);
+    for _ in 0..j_n {
+        for kk in 0..sp.k {
+            let re: f64 = StandardNormal.sample(&mut rng);
+            let im: f64 = StandardNormal.sample(&mut rng);
+            c.push(Complex64::new(re, im) / (kk + 1) as f64);
+        }
+    }
+    let nd = n_delay_rows(cfg.delays, sp.r) * sp.i * j_n;
+    let tau = if cfg.delays == DelayMode::Zero {
+        vec![0.0; nd]
+    } else {
+        let shared: Vec<f64> = (0..sp.i * j_n).map(|_| rng.random::<f64>() - 0.5).collect();
+        (0..nd).map(|d| shared[d % (sp.i * j_n)]).collect()
+    };
+    start_from(sp, cfg, c, tau)
+}
+
+fn start_from(sp: &Spectra, cfg: &AnechoicConfig, c: Vec<Complex64>, tau: Vec<f64>) -> Result<State> {
+    let mut s = State { j: cfg.n_sources, mode: cfg.delays, c, tau, w: vec![1.0; sp.r * sp.i * cfg.n_sources] };
+    s.update_weights(sp)?;
+    s.normalize(sp);
+    Ok(s)
+}
+
+/// Fits the anechoic model to mean-free data `x` (`R × I × N`, one period per trial).
+///
+/// Run 0 starts from `cfg.init`; runs `1..restarts` from seeded random starts; the run with the
+/// highest `Q` is returned. Runs are independent and execute in parallel.
+///
+/// # Errors
+/// Bad configuration (`n_sources` ≥ min(I·R, N/2), `n_harmonics` ≥ N/2, zero iterations or
+/// restarts), all-zero data, or a numerical failure of a least-squares step.
+pub fn fit_anechoic(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
+    check_config(x, cfg)?;
+    let sp = Spectra::new(x, cfg.n_harmonics)?;
+    let runs: Vec<(State, f64, Vec<f64>)> = (0..cfg.restarts)
+        .into_par_iter()
+        .map(|run_i| {
+            let start = if run_i == 0 && cfg.init == Init::Pca {
+                pca_start(x, &sp, cfg)?
+            } else {
+                random_start(&sp, cfg, run_i as u64)?
+            };
+            run(&sp, cfg, start)
+        })
+        .collect::<Result<_>>()?;
+    let (state, q, hist) = runs
+        .into_iter()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .ok_or_else(|| Error::Numerical("no demixing run finished".into()))?;
+    Ok(state.into_model(&sp, q, hist))
+}
+
+/// Continues the ALS from an existing model, possibly under a looser delay constraint (zero →
+/// shared → per trial): the start reproduces `start`'s fit exactly, so the result's `Q` is at
+/// least `start.q` (nested models, spec check 5). Uses `cfg.delays`, `max_iter` and `tol`; the
+/// number of sources and harmonics come from `start`.
+///
+/// # Errors
+/// Shape mismatch between `x` and `start`, or a tighter constraint than `start`'s.
+pub fn refine_anechoic(x: &TrialSet, cfg: &AnechoicConfig, start: &AnechoicModel) -> Result<AnechoicModel> {
+    if (x.n_trials, x.n_channels, x.n_samples) != (start.n_trials, start.n_channels, start.n_samples) {
+        return Err(Error::ShapeMismatch("data and starting model differ in shape".into()));
+    }
+    let rank = |m: DelayMode| match m {
+        DelayMode::Zero => 0,
+        DelayMode::Shared => 1,
+        DelayMode::PerTrial => 2,
+    };
+    if rank(cfg.delays) < rank(start.delay_mode) {
+        return Err(Error::invalid("delays", "cannot refine into a tighter delay constraint than the start's"));
+    }
+    let k = start.sources.first().map_or(0, |s| s.n_harmonics());
+    let cfg = AnechoicConfig { n_sources: start.n_sources(), n_harmonics: k, ..cfg.clone() };
+    check_config(x, &cfg)?;
+    let sp = Spectra::new(x, k)?;
+    let nd = n_delay_rows(cfg.delays, sp.r) * sp.i * cfg.n_sources;
+    let tau: Vec<f64> = (0..nd)
+        .map(|d| {
+            let per = sp.i * cfg.n_sources;
+            let (rd, rest) = (d / per, d % per);
+            let (i, j) = (rest / cfg.n_sources, rest % cfg.n_sources);
+            start.delay(rd, i, j)
+        })
+        .collect();
+    let state = State {
+        j: cfg.n_sources,
+        mode: cfg.delays,
+        c: start.sources.iter().flat_map(|s| s.coeffs.iter().copied()).collect(),
+        tau,
+        w: start.weights.clone(),
+    };
+    let (state, q, hist) = run(&sp, &cfg, state)?;
+    Ok(state.into_model(&sp, q, hist))
+}
+
+/// Least-squares weights of fixed sources and delays for new data of the same channel count
+/// (`R' × I × J`), e.g. to apply a learned model to other trials.
+///
+/// # Errors
+/// Channel or sample count differs from the model's.
+pub fn refit_weights(model: &AnechoicModel, x: &TrialSet) -> Result<Vec<f64>> {
+    if x.n_channels != model.n_channels || x.n_samples != model.n_samples {
+        return Err(Error::ShapeMismatch(format!(
+            "model has {} channels x {} samples, data {} x {}",
+            model.n_channels, model.n_samples, x.n_channels, x.n_samples
+        )));
+    }
+    if model.delay_mode == DelayMode::PerTrial && x.n_trials != model.n_trials {
+        return Err(Error::ShapeMismatch("per-trial delays need the same trials as the fit".into()));
+    }
+    let k = model.sources.first().map_or(1, |s| s.n_harmonics());
+    let sp = Spectra::new(x, k)?;
+    let mut s = State {
+        j: model.n_sources(),
+        mode: model.delay_mode,
+        c: model.sources.iter().flat_map(|s| s.coeffs.iter().copied()).collect(),
+        tau: model.delays.clone(),
+        w: vec![0.0; x.n_trials * x.n_channels * model.n_sources()],
+    };
+    s.update_weights(&sp)?;
+    Ok(s.w)
+}

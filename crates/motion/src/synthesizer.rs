@@ -1,0 +1,495 @@
+//! Online synthesis of the walk-and-reach sequence (paper §2.4–2.5, spec §2.8).
+//!
+//! A star network of Hopf oscillators runs at the current action's frequency `ω_a = 2π/T_a`;
+//! each periodic source is read from its follower through the learned state map, with delays
+//! applied as rotations of the follower state; weights and means come from LWLR of the action's
+//! step parameters and are blended across action boundaries; the planner is re-run from the
+//! remaining distance just before every boundary (when the blend window opens), so a goal that
+//! moves inserts or removes steps on the fly.
+
+use crate::blend::{blend_alpha, blend_linear, blend_nonperiodic, check_beta, nonperiodic_source, signed_phase, DEFAULT_BETA};
+use crate::hopf::{rotate, StarNetwork};
+use crate::lwlr::{Lwlr, DEFAULT_RIDGE};
+use crate::map::{FourierMap, PhaseLut, StateMap, SvrMap, SvrMapConfig};
+use crate::planner::{Action, PlannedAction, Planner};
+use crate::stepwise::ActionLibrary;
+use std::f64::consts::TAU;
+use wscg_math::{Error, Result};
+
+/// Which state maps drive the sources.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MapKind {
+    /// The learned Fourier series at the follower's angle (exact on the attractor).
+    Fourier,
+    /// A phase table of the given size, linearly interpolated (the fast path).
+    Lut(usize),
+    /// ε-SVR maps from the follower state, as in the paper.
+    Svr(SvrMapConfig),
+}
+
+/// Parameters of the synthesizer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SynthConfig {
+    /// Blend half-width `β` (radians), `π/5` in the paper.
+    pub beta: f64,
+    /// Coupling `k` of the followers (not given in the paper; > 1 guarantees contraction).
+    pub coupling: f64,
+    /// State maps.
+    pub map: MapKind,
+    /// LWLR bandwidth of the weight regression (`None`: leave-one-out selection).
+    pub bandwidth: Option<f64>,
+}
+
+impl Default for SynthConfig {
+    fn default() -> Self {
+        Self { beta: DEFAULT_BETA, coupling: 2.0, map: MapKind::Lut(1024), bandwidth: None }
+    }
+}
+
+/// Means and weights of one action instance: `[means (I), w0 (I), weights (I × J)]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ActionWeights {
+    /// Means `m_i`.
+    pub means: Vec<f64>,
+    /// Non-periodic weights `W_i0`.
+    pub w0: Vec<f64>,
+    /// Periodic weights `W_ij`, `I × J`.
+    pub weights: Vec<f64>,
+}
+
+impl ActionWeights {
+    /// Splits a regression output vector.
+    pub fn from_vector(v: &[f64], n_channels: usize) -> Self {
+        Self {
+            means: v[..n_channels].to_vec(),
+            w0: v[n_channels..2 * n_channels].to_vec(),
+            weights: v[2 * n_channels..].to_vec(),
+        }
+    }
+}
+
+/// The weight and duration regressions of one action.
+#[derive(Clone, Debug)]
+pub struct ActionRegression {
+    /// `(step parameter, duration) → [means, w0, weights]`.
+    pub weights: Lwlr,
+    /// `step parameter → duration`.
+    pub duration: Lwlr,
+}
+
+/// Fits the LWLR models of the three actions from the library's per-trial fits.
+///
+/// # Errors
+/// Fewer trials than the regression needs, or an invalid bandwidth.
+pub fn fit_regressions(lib: &ActionLibrary, bandwidth: Option<f64>) -> Result<Vec<ActionRegression>> {
+    (0..3)
+        .map(|a| {
+            let params = &lib.params[a];
+            let x: Vec<Vec<f64>> = params.iter().map(|&(p, t)| vec![p, t]).collect();
+            let y: Vec<Vec<f64>> = (0..params.len()).map(|r| lib.weight_vector(a, r)).collect();
+            let px: Vec<Vec<f64>> = params.iter().map(|&(p, _)| vec![p]).collect();
+            let py: Vec<Vec<f64>> = params.iter().map(|&(_, t)| vec![t]).collect();
+            Ok(ActionRegression {
+                weights: Lwlr::fit(&x, &y, bandwidth, DEFAULT_RIDGE)?,
+                duration: Lwlr::fit(&px, &py, bandwidth, DEFAULT_RIDGE)?,
+            })
+        })
+        .collect()
+}
+
+/// The posture `ξ_i = m_i + W_i0 s₀ + Σ_j W_ij s_ij` at raw leader phase `ψ`, blending `prev`
+/// into `cur` after the boundary and `cur` into `next` before the next one (paper §2.4).
+/// `sources` holds the (delayed) source values `s_ij`, `I × J`.
+pub fn mix_frame(
+    prev: Option<&ActionWeights>,
+    cur: &ActionWeights,
+    next: Option<&ActionWeights>,
+    psi: f64,
+    beta: f64,
+    sources: &[f64],
+    out: &mut [f64],
+) {
+    let phi = signed_phase(psi);
+    let (a, b) = if phi < 0.0 { (Some(cur), next) } else { (prev, Some(cur)) };
+    let s0 = nonperiodic_source(psi);
+    let i_n = out.len();
+    let j_n = if i_n == 0 { 0 } else { sources.len() / i_n };
+    match (a, b) {
+        (Some(p), Some(q)) => {
+            let alpha = blend_alpha(phi, beta);
+            for (i, o) in out.iter_mut().enumerate() {
+                let mut v = blend_linear(p.means[i], q.means[i], alpha) + blend_nonperiodic(p.w0[i], q.w0[i], alpha, phi) * s0;
+                for j in 0..j_n {
+                    v += blend_linear(p.weights[i * j_n + j], q.weights[i * j_n + j], alpha) * sources[i * j_n + j];
+                }
+                *o = v;
+            }
+        }
+        (Some(w), None) | (None, Some(w)) => {
+            for (i, o) in out.iter_mut().enumerate() {
+                let mut v = w.means[i] + w.w0[i] * s0;
+                for j in 0..j_n {
+                    v += w.weights[i * j_n + j] * sources[i * j_n + j];
+                }
+                *o = v;
+            }
+        }
+        (None, None) => out.iter_mut().for_each(|o| *o = 0.0),
+    }
+}
+
+/// One synthesized frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// Time since the start (seconds).
+    pub time: f64,
+    /// Joint angles (the library's channels).
+    pub angles: Vec<f64>,
+    /// Pelvis forward position (metres from the start).
+    pub root_x: f64,
+    /// The current action.
+    pub action: Action,
+    /// Leader phase `ψ ∈ [0, 2π)`.
+    pub phase: f64,
+}
+
+/// An action being executed.
+#[derive(Clone, Debug)]
+struct Active {
+    planned: PlannedAction,
+    duration: f64,
+    weights: ActionWeights,
+    start_x: f64,
+}
+
+/// The result of [`Synthesizer::run`].
+#[derive(Clone, Debug, Default)]
+pub struct Synthesis {
+    /// Frames at the requested rate, the last one at the end of the reach.
+    pub frames: Vec<Frame>,
+    /// The executed actions in order.
+    pub executed: Vec<PlannedAction>,
+    /// Postures exactly at each action boundary (`ψ = 0` of the next action).
+    pub transitions: Vec<Vec<f64>>,
+    /// The initial goal was closer than the comfort distance plus the smallest step: only the
+    /// reach is performed.
+    pub too_short: bool,
+}
+
+/// The online synthesizer.
+pub struct Synthesizer {
+    lib: ActionLibrary,
+    regs: Vec<ActionRegression>,
+    maps: Vec<Box<dyn StateMap>>,
+    angle_only: bool,
+    /// `2π τ_ij`, `I × J`.
+    rot: Vec<f64>,
+    planner: Planner,
+    cfg: SynthConfig,
+    net: StarNetwork,
+    goal: f64,
+    prev: Option<Active>,
+    cur: Active,
+    next: Option<Active>,
+    time: f64,
+    finished: bool,
+    too_short: bool,
+    executed: Vec<PlannedAction>,
+    transitions: Vec<Vec<f64>>,
+    src: Vec<f64>,
+}
+
+/// A planner with the step ranges the library was trained on.
+pub fn planner_for(lib: &ActionLibrary) -> Planner {
+    let range = |a: usize| {
+        let v = lib.params[a].iter().map(|p| p.0);
+        (v.clone().fold(f64::INFINITY, f64::min), v.fold(f64::NEG_INFINITY, f64::max))
+    };
+    Planner { range1: range(0), range2: range(1), ..Planner::default() }
+}
+
+impl Synthesizer {
+    /// Builds the regressions and state maps; call [`Synthesizer::reset`] before stepping (or
+    /// use [`Synthesizer::run`]).
+    ///
+    /// # Errors
+    /// `β ∉ (0, π)`, negative coupling, invalid planner, or a regression or map that cannot be
+    /// fitted.
+    pub fn new(lib: ActionLibrary, planner: Planner, cfg: SynthConfig) -> Result<Self> {
+        check_beta(cfg.beta)?;
+        planner.validate()?;
+        let regs = fit_regressions(&lib, cfg.bandwidth)?;
+        let maps: Vec<Box<dyn StateMap>> = lib
+            .sources
+            .iter()
+            .map(|s| -> Result<Box<dyn StateMap>> {
+                Ok(match &cfg.map {
+                    MapKind::Fourier => Box::new(FourierMap { source: s.clone() }),
+                    MapKind::Lut(size) => Box::new(PhaseLut::new(s, *size)?),
+                    MapKind::Svr(c) => Box::new(SvrMap::fit(s, c)?),
+                })
+            })
+            .collect::<Result<_>>()?;
+        let angle_only = maps.iter().all(|m| m.angle_only());
+        let rot = lib.delays.iter().map(|t| TAU * t).collect();
+        let j_n = lib.n_sources();
+        let net = StarNetwork::new(TAU, cfg.coupling, j_n)?;
+        let placeholder = Active {
+            planned: PlannedAction { action: Action::Reach, length: 0.0 },
+            duration: 1.0,
+            weights: ActionWeights { means: vec![], w0: vec![], weights: vec![] },
+            start_x: 0.0,
+        };
+        let src = vec![0.0; lib.n_channels * j_n];
+        Ok(Self {
+            lib,
+            regs,
+            maps,
+            angle_only,
+            rot,
+            planner,
+            cfg,
+            net,
+            goal: 0.0,
+            prev: None,
+            cur: placeholder,
+            next: None,
+            time: 0.0,
+            finished: true,
+            too_short: false,
+            executed: Vec::new(),
+            transitions: Vec::new(),
+            src,
+        })
+    }
+
+    /// The learned library.
+    pub fn library(&self) -> &ActionLibrary {
+        &self.lib
+    }
+
+    /// The weight and duration regressions.
+    pub fn regressions(&self) -> &[ActionRegression] {
+        &self.regs
+    }
+
+    /// The planner.
+    pub fn planner(&self) -> &Planner {
+        &self.planner
+    }
+
+    fn activate(&self, planned: PlannedAction, prev_length: f64, start_x: f64) -> Result<Active> {
+        let a = planned.action.index();
+        let p = if planned.action == Action::Reach { prev_length } else { planned.length };
+        let duration = self.regs[a].duration.predict(&[p])?[0];
+        if !(duration.is_finite() && duration > 0.0) {
+            return Err(Error::Numerical(format!("predicted a non-positive duration {duration} s")));
+        }
+        let y = self.regs[a].weights.predict(&[p, duration])?;
+        Ok(Active { planned, duration, weights: ActionWeights::from_vector(&y, self.lib.n_channels), start_x })
+    }
+
+    fn mean_reach_param(&self) -> f64 {
+        let p = &self.lib.params[2];
+        p.iter().map(|v| v.0).sum::<f64>() / p.len().max(1) as f64
+    }
+
+    /// Starts a new sequence towards a goal at distance `goal` (metres, pelvis to drawer).
+    ///
+    /// # Errors
+    /// `goal` not finite or ≤ 0.
+    pub fn reset(&mut self, goal: f64) -> Result<()> {
+        let plan = self.planner.plan(goal)?;
+        self.goal = goal;
+        self.too_short = plan.too_short;
+        let first = if plan.too_short { PlannedAction { action: Action::Reach, length: 0.0 } } else { plan.actions[0] };
+        let reach_p = self.mean_reach_param();
+        self.cur = self.activate(first, reach_p, 0.0)?;
+        self.prev = None;
+        self.next = None;
+        self.time = 0.0;
+        self.finished = false;
+        self.executed = vec![first];
+        self.transitions.clear();
+        let j_n = self.lib.n_sources();
+        self.net = StarNetwork::new(TAU / self.cur.duration, self.cfg.coupling, j_n)?;
+        Ok(())
+    }
+
+    /// Moves the goal (takes effect at the next re-planning, when the next blend window opens).
+    ///
+    /// # Errors
+    /// `goal` not finite or ≤ 0.
+    pub fn set_goal(&mut self, goal: f64) -> Result<()> {
+        if !(goal.is_finite() && goal > 0.0) {
+            return Err(Error::invalid("goal", format!("distance must be finite and > 0, got {goal}")));
+        }
+        self.goal = goal;
+        Ok(())
+    }
+
+    /// Whether the reach has completed.
+    pub fn finished(&self) -> bool {
+        self.finished
+    }
+
+    /// Chooses the action after the current one from the remaining distance.
+    fn decide_next(&mut self) -> Result<()> {
+        if self.cur.planned.action == Action::Reach {
+            return Ok(());
+        }
+        let end_x = self.cur.start_x + self.cur.planned.length;
+        let remaining = self.goal - end_x;
+        let reach = PlannedAction { action: Action::Reach, length: 0.0 };
+        let planned = if remaining > 0.0 {
+            let plan = self.planner.plan(remaining)?;
+            if plan.too_short {
+                reach
+            } else {
+                plan.actions[0]
+            }
+        } else {
+            reach
+        };
+        self.next = Some(self.activate(planned, self.cur.planned.length, end_x)?);
+        Ok(())
+    }
+
+    /// Crosses an action boundary (leader phase 2π → 0).
+    fn boundary(&mut self) -> Result<()> {
+        if self.cur.planned.action == Action::Reach {
+            self.finished = true;
+            return Ok(());
+        }
+        if self.next.is_none() {
+            self.decide_next()?;
+        }
+        let next = self.next.take().ok_or_else(|| Error::Numerical("no next action at a boundary".into()))?;
+        let old = std::mem::replace(&mut self.cur, next);
+        self.prev = Some(old);
+        self.executed.push(self.cur.planned);
+        self.net.set_omega(TAU / self.cur.duration)?;
+        // Snap the tiny integration overshoot so that the new action starts at ψ = 0 exactly.
+        let psi = self.net.phase();
+        let d = if psi > std::f64::consts::PI { psi - TAU } else { psi };
+        self.net.leader = rotate(self.net.leader, -d);
+        for f in &mut self.net.followers {
+            *f = rotate(*f, -d);
+        }
+        let mut post = vec![0.0; self.lib.n_channels];
+        self.posture(0.0, &mut post);
+        self.transitions.push(post);
+        Ok(())
+    }
+
+    /// Advances the oscillators by `dt`, crossing boundaries exactly at `ψ = 0`.
+    ///
+    /// # Errors
+    /// `dt` not finite and > 0, or a failed regression prediction.
+    pub fn step(&mut self, dt: f64) -> Result<()> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(Error::invalid("dt", format!("must be finite and > 0, got {dt}")));
+        }
+        let window = TAU - self.cfg.beta;
+        let mut remaining = dt;
+        while remaining > 1e-15 && !self.finished {
+            let psi = self.net.phase();
+            let to_wrap = (TAU - psi) / self.net.omega;
+            if remaining < to_wrap {
+                self.net.step_rk4(remaining)?;
+                self.time += remaining;
+                remaining = 0.0;
+            } else {
+                if to_wrap > 0.0 {
+                    self.net.step_rk4(to_wrap)?;
+                }
+                self.time += to_wrap;
+                remaining -= to_wrap;
+                self.boundary()?;
+            }
+            if self.next.is_none() && !self.finished && self.net.phase() >= window {
+                self.decide_next()?;
+            }
+        }
+        Ok(())
+    }
+
+    fn source_values(&mut self) {
+        let j_n = self.lib.n_sources();
+        if self.angle_only {
+            let th: Vec<f64> = self.net.followers.iter().map(|f| crate::hopf::phase(*f)).collect();
+            for (idx, v) in self.src.iter_mut().enumerate() {
+                let j = idx % j_n;
+                *v = self.maps[j].eval_angle(th[j] - self.rot[idx]);
+            }
+        } else {
+            for (idx, v) in self.src.iter_mut().enumerate() {
+                let j = idx % j_n;
+                *v = self.maps[j].eval(rotate(self.net.followers[j], -self.rot[idx]));
+            }
+        }
+    }
+
+    fn posture(&mut self, psi: f64, out: &mut [f64]) {
+        self.source_values();
+        mix_frame(
+            self.prev.as_ref().map(|a| &a.weights),
+            &self.cur.weights,
+            self.next.as_ref().map(|a| &a.weights),
+            psi,
+            self.cfg.beta,
+            &self.src,
+            out,
+        );
+    }
+
+    /// The frame at the current state.
+    pub fn frame(&mut self) -> Frame {
+        // After the reach the phase has wrapped to 0: report the end of the action instead.
+        let psi = if self.finished { TAU * (1.0 - 1e-12) } else { self.net.phase() };
+        let mut angles = vec![0.0; self.lib.n_channels];
+        self.posture(psi, &mut angles);
+        let root_x = self.cur.start_x + self.cur.planned.length * self.lib.progress_at(psi / TAU);
+        Frame { time: self.time, angles, root_x, action: self.cur.planned.action, phase: psi }
+    }
+
+    /// Synthesizes a whole sequence at `fps` towards `goal`, applying `(time, goal)` changes when
+    /// their time is reached.
+    ///
+    /// # Errors
+    /// `fps` not finite and > 0, a goal not finite and > 0 (initial or changed), or more than
+    /// `max_seconds` of motion (a goal that keeps receding).
+    pub fn run(&mut self, goal: f64, fps: f64, goal_changes: &[(f64, f64)], max_seconds: f64) -> Result<Synthesis> {
+        if !(fps.is_finite() && fps > 0.0) {
+            return Err(Error::invalid("fps", format!("must be finite and > 0, got {fps}")));
+        }
+        for &(t, g) in goal_changes {
+            if !t.is_finite() || !(g.is_finite() && g > 0.0) {
+                return Err(Error::invalid("goal_changes", format!("({t}, {g}): times must be finite and goals > 0")));
+            }
+        }
+        self.reset(goal)?;
+        let dt = 1.0 / fps;
+        let mut changes: Vec<(f64, f64)> = goal_changes.to_vec();
+        changes.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut ci = 0;
+        let mut frames = vec![self.frame()];
+        while !self.finished {
+            while ci < changes.len() && changes[ci].0 <= self.time + 1e-12 {
+                self.set_goal(changes[ci].1)?;
+                ci += 1;
+            }
+            if self.time > max_seconds {
+                return Err(Error::LimitExceeded(format!("synthesis ran past {max_seconds} s without finishing")));
+            }
+            self.step(dt)?;
+            frames.push(self.frame());
+        }
+        Ok(Synthesis {
+            frames,
+            executed: self.executed.clone(),
+            transitions: self.transitions.clone(),
+            too_short: self.too_short,
+        })
+    }
+}
