@@ -22,6 +22,7 @@ mod isosurface;
 mod manylight;
 mod math;
 mod meshfilter;
+mod motion;
 mod octree;
 mod raytrace;
 mod sfa;
@@ -33,7 +34,7 @@ mod volren;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 14] = [
+    let subs: [(&str, Register); 15] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
@@ -48,6 +49,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         ("deblur", deblur::register),
         ("hdr", hdr::register),
         ("ear", ear::register),
+        ("motion", motion::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

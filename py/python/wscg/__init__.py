@@ -34,6 +34,9 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
   by block index under one-block shifts, rejection of heavily occluded probes, the
   whole-ear baseline, CMC curves, synthetic ears with exact occluder masks); also
   :mod:`wscg.biometrics.ear`.
+- :mod:`wscg.motion`: paper 16, predictive human movement synthesis (anechoic demixing with
+  shared delays and its PCA baseline, step-wise learning of walk-and-reach actions, Hopf
+  oscillator networks with SVR state maps, predictive step planning, online synthesis, BVH).
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -41,9 +44,9 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, csmri, deblur, doe, ear, hdr, isosurface, math, meshfilter, octree, raytrace, video, volren
+from . import biometrics, cloth, csmri, deblur, doe, ear, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "hdr", "isosurface", "math", "meshfilter", "octree", "raytrace", "video", "volren",
+__all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "hdr", "isosurface", "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren",
            "__version__"]

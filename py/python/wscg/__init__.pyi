@@ -8,6 +8,7 @@ from . import hdr as hdr
 from . import isosurface as isosurface
 from . import math as math
 from . import meshfilter as meshfilter
+from . import motion as motion
 from . import octree as octree
 from . import raytrace as raytrace
 from . import video as video

@@ -1,0 +1,589 @@
+"""Predictive human movement synthesis: paper 16 of WSCG vol. 23 (Mukovskiy, Land, Schack and
+Giese, "Modeling of predictive human movement coordination patterns for applications in
+computer graphics").
+
+Joint-angle trajectories of a walk-then-reach task (a normal step, a shortened step, a reach
+into a drawer) are decomposed into *kinematic primitives* by anechoic demixing,
+``x_i^r(t) ~ sum_j w_ij^r s_j(t - tau_ij)``, with band-limited periodic sources and delays
+shared across trials (:func:`fit_anechoic`); PCA is the synchronous baseline
+(:func:`pca_quality`). :func:`fit_stepwise` learns the three actions step by step (3 sources
+for the step, 2 more for the shortened step, the reach reuses all 5) into a :class:`Library`.
+A :class:`Synthesizer` turns the library into *dynamic primitives* (a star network of Hopf
+oscillators whose followers are mapped onto the sources), regresses the weights from the step
+parameters, blends actions at the leader's phase wrap and re-plans the steps with the
+predictive planner (:func:`plan_steps`) when the goal moves. :func:`write_bvh` exports the
+result for any animation tool.
+
+Data: :func:`make_synthetic_dataset` draws trials of a seeded synthetic walker with known
+ground truth (17 joints, 51 exponential-map channels, 5 periodic sources with shared delays),
+standing in for the paper's motion capture. Also: the regression statistics of the paper's
+Fig. 2 (:func:`fit_line`, :func:`regression_p_value`), the LIBSVM-style RBF epsilon-SVR used
+for the state maps (:func:`svr_fit_predict`), the Hopf network (:func:`hopf_simulate`) and
+the skeleton (:func:`skeleton`, :func:`forward_kinematics`).
+
+Conventions: trial data are float64 arrays ``(R, I, N)`` (trials x channels x samples of one
+action period); time is normalised to one period, so delays are fractions of a period.
+Distances are in metres, angles in radians (exponential maps, channel ``3 j + c`` is
+component ``c`` of joint ``j``). Bad arguments raise ``ValueError``; a file that cannot be
+read or written raises ``OSError``. The GIL is released while Rust works.
+"""
+
+from __future__ import annotations
+
+import math as _math
+import numbers
+import os
+from typing import Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from ._checks import _int
+from ._native import motion as _m
+
+__all__ = [
+    "make_synthetic_dataset", "fit_anechoic", "pca_quality", "pca_qualities", "quality",
+    "fit_stepwise", "Library", "plan_steps", "Synthesizer", "write_bvh", "read_bvh",
+    "forward_kinematics", "skeleton", "regression_p_value", "fit_line", "svr_fit_predict",
+    "hopf_simulate", "ACTIONS", "DELAY_MODES", "MAPS", "N_CHANNELS",
+]
+
+#: Names of the three actions, indexed by their integer code.
+ACTIONS: Tuple[str, str, str] = ("step", "short_step", "reach")
+#: Delay constraints of :func:`fit_anechoic`.
+DELAY_MODES: Tuple[str, ...] = ("shared", "per_trial", "zero")
+#: State maps of :class:`Synthesizer`.
+MAPS: Tuple[str, ...] = ("lut", "fourier", "svr")
+#: Exponential-map channels of the 17-joint skeleton.
+N_CHANNELS: int = 51
+
+Library = _m.Library
+
+
+def _u(name: str, v, lo: int = 0) -> int:
+    """``v`` as a Python int in ``[lo, 2**63 - 1]`` (the native side takes unsigned sizes)."""
+    return _int(name, v, lo, 2**63 - 1)
+
+
+def _float(name: str, v) -> float:
+    """``v`` as a float (bools refused)."""
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real):
+        raise ValueError(f"`{name}` must be a real number, got {v!r}")
+    return float(v)
+
+
+def _array(name: str, a) -> np.ndarray:
+    """``a`` as a C-contiguous float64 array (numeric input only)."""
+    arr = np.asarray(a)
+    if arr.dtype == object or not (np.issubdtype(arr.dtype, np.number) or arr.dtype == np.bool_):
+        raise ValueError(f"`{name}` must be a numeric array, got dtype {arr.dtype}")
+    if np.iscomplexobj(arr):
+        raise ValueError(f"`{name}` must be real-valued, got dtype {arr.dtype}")
+    return np.ascontiguousarray(arr, dtype=np.float64)
+
+
+def _range(name: str, r) -> Tuple[float, float]:
+    try:
+        lo, hi = r
+    except (TypeError, ValueError):
+        raise ValueError(f"`{name}` must be a (lo, hi) pair, got {r!r}") from None
+    return _float(name, lo), _float(name, hi)
+
+
+def _opt_float(name: str, v) -> Optional[float]:
+    return None if v is None else _float(name, v)
+
+
+# ------------------------------------------------------------------------------------------
+# Data
+
+
+def make_synthetic_dataset(n_trials: int = 40, seed: int = 0, noise: float = 0.01,
+                           human_like: bool = False, n_samples: int = 100,
+                           model_seed: int = 7) -> dict:
+    """Walk-and-reach trials of the seeded synthetic walker, with its ground truth.
+
+    Each trial is a normal step (action 1, length ``L1 ~ U[0.670, 0.901]`` m), a shortened
+    step (action 2, ``L2 ~ U[1.070, 1.439]`` m) and a reach; the initial distance is
+    ``D = 0.6 + L1 + L2``. The human-like set (paper Fig. 2) draws ``D ~ U[2.34, 2.94]`` and a
+    first step independent of it.
+
+    Parameters
+    ----------
+    n_trials : int
+        Number of trials ``R`` (>= 1).
+    seed : int
+        Seed of the trial parameters and the noise.
+    noise : float
+        Noise standard deviation as a fraction of each channel's RMS (>= 0).
+    human_like : bool
+        Draw the human-like set instead of the learning set.
+    n_samples : int
+        Samples per action ``N`` (>= 8).
+    model_seed : int
+        Seed of the hidden model (sources, delays, weight functions): the "subject".
+
+    Returns
+    -------
+    dict
+        ``"angles"`` ``(R, 3, 51, N)``, ``"step_length"`` ``(R, 3)`` (the reach carries the
+        length of the step before it), ``"duration"`` ``(R, 3)`` seconds, ``"root"``
+        ``(R, 3, N)`` pelvis travel since each action's start, ``"distances"`` ``(R,)``, and
+        ``"truth"``: ``"periodic"`` ``(3, R, 51, N)`` noise-free periodic parts,
+        ``"sources"`` ``(5, N)``, ``"source_coeffs"`` ``(5, 3)`` complex harmonics,
+        ``"delays"`` ``(51, 5)`` periods, ``"weights"`` ``(3, R, 51, 5)``, ``"means"`` and
+        ``"w0"`` ``(3, R, 51)`` (means and non-periodic weights).
+    """
+    return _m.make_synthetic_dataset(
+        _u("n_trials", n_trials, 1), _u("seed", seed, 0), _float("noise", noise),
+        bool(human_like), _u("n_samples", n_samples, 8), _u("model_seed", model_seed, 0))
+
+
+# ------------------------------------------------------------------------------------------
+# Demixing and PCA
+
+
+def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8,
+                 restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
+                 init: str = "pca") -> dict:
+    """Anechoic demixing ``x_i^r(t) ~ sum_j w_ij^r s_j(t - tau_ij)`` of mean-free trials.
+
+    Fourier-domain alternating least squares: sources, weights and delays are updated in turn,
+    each step lowering the residual, so ``Q`` never decreases over the sweeps of a run.
+
+    Parameters
+    ----------
+    X : array_like, shape (R, I, N)
+        Trials x channels x samples of one period each; finite.
+    n_sources : int
+        Number of sources ``J``, ``1 <= J < min(R * I, N / 2)``.
+    delays : {"shared", "per_trial", "zero"}
+        One delay per (channel, source) shared by all trials (the paper's model), free delays
+        per trial, or no delays (synchronous model with band-limited sources).
+    n_harmonics : int
+        Harmonics per source ``K`` (band limit), ``1 <= K < N / 2``.
+    restarts : int
+        Runs: run 0 starts from ``init``, the others from seeded random starts; the best
+        ``Q`` is kept.
+    max_iter, tol : int, float
+        Sweeps per run, and the change of ``Q`` below which a run stops.
+    seed : int
+        Seed of the random starts.
+    init : {"pca", "random"}
+        Start of run 0 (``"pca"``: leading right singular vectors, at least as good as PCA).
+
+    Returns
+    -------
+    dict
+        ``"q"`` (``1 - ||X - Xhat||^2 / ||X||^2``), ``"q_history"`` (``Q`` at the start and
+        after every sweep of the kept run), ``"sources"`` ``(J, N)`` samples (unit RMS),
+        ``"source_coeffs"`` ``(J, K)`` complex harmonics ``c_1..c_K``, ``"delays"`` in periods
+        ``(I, J)`` (``(R, I, J)`` for ``"per_trial"``), ``"weights"`` ``(R, I, J)`` and
+        ``"reconstruction"`` ``(R, I, N)``.
+    """
+    x = _array("X", X)
+    if x.ndim != 3:
+        raise ValueError(f"`X` must be an (R, I, N) array, got shape {x.shape}")
+    if delays not in DELAY_MODES:
+        raise ValueError(f"`delays` must be one of {DELAY_MODES}, got {delays!r}")
+    if init not in ("pca", "random"):
+        raise ValueError(f"`init` must be 'pca' or 'random', got {init!r}")
+    return _m.fit_anechoic(x, _u("n_sources", n_sources, 1), delays,
+                           _u("n_harmonics", n_harmonics, 1), _u("restarts", restarts, 1),
+                           _u("max_iter", max_iter, 1), _float("tol", tol),
+                           _u("seed", seed, 0), init)
+
+
+def _trials(name: str, X) -> np.ndarray:
+    x = _array(name, X)
+    if x.ndim not in (2, 3):
+        raise ValueError(f"`{name}` must be an (R, I, N) or (rows, N) array, got shape {x.shape}")
+    return x
+
+
+def pca_qualities(X) -> np.ndarray:
+    """Cumulative explained-variance ratios ``Q_PCA(1), Q_PCA(2), ...`` (paper Fig. 4).
+
+    PCA of the ``(R * I) x N`` signal matrix: each row a channel of one trial, each column a
+    time sample, rows centred over time. ``Q_PCA(J)`` equals scikit-learn's
+    ``PCA(J).fit(X.reshape(-1, N).T).explained_variance_ratio_.sum()``.
+
+    Parameters
+    ----------
+    X : array_like, shape (R, I, N) or (rows, N)
+
+    Returns
+    -------
+    ndarray, shape (min(R * I, N),)
+    """
+    return _m.pca_qualities(_trials("X", X))
+
+
+def pca_quality(X, j: int) -> float:
+    """``Q_PCA(j)``: the fraction of variance of the ``j`` leading principal components of
+    the ``(R * I) x N`` signal matrix (see :func:`pca_qualities`).
+
+    Parameters
+    ----------
+    X : array_like, shape (R, I, N) or (rows, N)
+    j : int
+        Number of components, ``1 <= j <= min(R * I, N)``.
+    """
+    return _m.pca_quality(_trials("X", X), _u("j", j, 1))
+
+
+def quality(X, Xhat) -> float:
+    """Approximation quality ``Q = 1 - ||X - Xhat||_F^2 / ||X||_F^2`` (paper Fig. 4).
+
+    Parameters
+    ----------
+    X, Xhat : array_like
+        Arrays of the same shape; ``X`` not all zero.
+    """
+    return _m.quality(_array("X", X), _array("Xhat", Xhat))
+
+
+# ------------------------------------------------------------------------------------------
+# Step-wise learning
+
+
+def fit_stepwise(dataset: dict, n_sources_first: int = 3, n_sources_extra: int = 2,
+                 n_harmonics: int = 8, restarts: int = 10, max_iter: int = 500,
+                 tol: float = 1e-9, seed: int = 0) -> Library:
+    """Learns the three actions step by step (paper section 2.3) into a :class:`Library`.
+
+    Action 1: per trial and channel, means and the non-periodic weight are removed by least
+    squares, the residual is demixed into ``n_sources_first`` sources with shared delays and
+    all weights are refitted. Action 2 keeps these sources and delays and adds
+    ``n_sources_extra`` learned from its residual; action 3 refits only means and weights.
+
+    Parameters
+    ----------
+    dataset : dict
+        As returned by :func:`make_synthetic_dataset`: ``"angles"`` ``(R, 3, I, N)``,
+        ``"step_length"`` and ``"duration"`` ``(R, 3)``; optional ``"root"`` ``(R, 3, N)``
+        (pelvis travel, for the learned progress curve) and ``"distances"`` ``(R,)``.
+        At least 3 trials.
+    n_sources_first, n_sources_extra : int
+        Sources of action 1 and sources added in action 2 (the paper's 3 and 2).
+    n_harmonics, restarts, max_iter, tol, seed
+        Demixing settings, as in :func:`fit_anechoic`.
+    """
+    if not isinstance(dataset, dict):
+        raise ValueError(f"`dataset` must be a dict of arrays, got {type(dataset).__name__}")
+    for k in ("angles", "step_length", "duration"):
+        if k not in dataset:
+            raise ValueError(f"`dataset` lacks the key {k!r}")
+    root = dataset.get("root")
+    dist = dataset.get("distances")
+    return _m.fit_stepwise(
+        _array("angles", dataset["angles"]), _array("step_length", dataset["step_length"]),
+        _array("duration", dataset["duration"]),
+        None if root is None else _array("root", root),
+        None if dist is None else _array("distances", dist),
+        _u("n_sources_first", n_sources_first, 1), _u("n_sources_extra", n_sources_extra, 0),
+        _u("n_harmonics", n_harmonics, 1), _u("restarts", restarts, 1),
+        _u("max_iter", max_iter, 1), _float("tol", tol), _u("seed", seed, 0))
+
+
+# ------------------------------------------------------------------------------------------
+# Planning and synthesis
+
+
+def plan_steps(D: float, comfort: float = 0.6, gamma: float = 0.385,
+               range1: Tuple[float, float] = (0.670, 0.901),
+               range2: Tuple[float, float] = (1.070, 1.439),
+               human_like: Optional[float] = None, max_steps: int = 1000) -> dict:
+    """The predictive planner (paper section 2.5): splits the goal distance into steps.
+
+    The reach starts at the comfort distance ``D3``; for three actions the rest is split as
+    ``D1 = gamma (D - D3)``, ``D2 = (1 - gamma)(D - D3)``. Longer goals get more normal steps
+    (keeping ``L1 / L2 = gamma / (1 - gamma)``), shorter ones shortened steps only; the
+    feasible plan (every length inside its trained range) with the fewest steps wins, else
+    the one with the smallest range violation.
+
+    Parameters
+    ----------
+    D : float
+        Distance from the pelvis to the drawer front (metres, > 0).
+    comfort : float
+        Comfort distance ``D3`` of the reach.
+    gamma : float
+        Share of the first action, in ``(0, 1)``.
+    range1, range2 : (float, float)
+        Trained step-length ranges of actions 1 and 2.
+    human_like : float, optional
+        Fixed normal-step length: the non-predictive variant that adapts only the last step.
+    max_steps : int
+        Upper bound on the number of steps.
+
+    Returns
+    -------
+    dict
+        ``"actions"``: list of ``(name, length)`` with names ``"step"``, ``"short_step"``,
+        ``"reach"`` (length 0); ``"too_short"`` (goal closer than the comfort distance plus
+        the shortest step: no actions); ``"violation"`` (metres outside the ranges);
+        ``"n_steps"``; ``"distance"`` (total pelvis travel).
+    """
+    return _m.plan_steps(_float("D", D), _float("comfort", comfort), _float("gamma", gamma),
+                         _range("range1", range1), _range("range2", range2),
+                         _opt_float("human_like", human_like),
+                         _u("max_steps", max_steps, 1))
+
+
+class Synthesizer:
+    """Online synthesis of the walk-and-reach sequence from a learned :class:`Library`.
+
+    A star network of Hopf oscillators runs at the current action's frequency; each source is
+    read from its follower through a state map, with delays applied as rotations; means and
+    weights come from locally weighted linear regression of the step parameters and are
+    blended over ``+-beta`` around each action boundary; the planner (step ranges from the
+    library's training data) is re-run from the remaining distance before every boundary.
+
+    Parameters
+    ----------
+    lib : Library
+        From :func:`fit_stepwise`.
+    comfort, gamma : float
+        Planner parameters (see :func:`plan_steps`).
+    map : {"lut", "fourier", "svr"}
+        State maps: a phase table (fast), the learned Fourier series, or epsilon-SVR maps of
+        the follower state as in the paper (``svr_C``, ``svr_epsilon``, ``svr_gamma``).
+    beta : float
+        Blend half-width in radians, in ``(0, pi)``.
+    coupling : float
+        Follower coupling ``k`` (> 1 guarantees contraction to the leader).
+    lut_size : int
+        Entries of the phase table.
+    bandwidth : float, optional
+        LWLR bandwidth (default: leave-one-out selection).
+    human_like : float, optional
+        Fixed normal-step length of the non-predictive planner variant.
+    """
+
+    def __init__(self, lib: Library, comfort: float = 0.6, gamma: float = 0.385,
+                 map: str = "lut", beta: float = _math.pi / 5, coupling: float = 2.0,
+                 lut_size: int = 1024, bandwidth: Optional[float] = None,
+                 human_like: Optional[float] = None, svr_C: float = 10.0,
+                 svr_epsilon: float = 0.01, svr_gamma: float = 2.0):
+        if not isinstance(lib, Library):
+            raise ValueError(f"`lib` must be a wscg.motion.Library, got {type(lib).__name__}")
+        if map not in MAPS:
+            raise ValueError(f"`map` must be one of {MAPS}, got {map!r}")
+        self.library = lib
+        self._s = _m.Synthesizer(
+            lib, _float("comfort", comfort), _float("gamma", gamma), map, _float("beta", beta),
+            _float("coupling", coupling), _u("lut_size", lut_size, 2),
+            _opt_float("bandwidth", bandwidth), _opt_float("human_like", human_like),
+            _float("svr_C", svr_C), _float("svr_epsilon", svr_epsilon),
+            _float("svr_gamma", svr_gamma))
+
+    @property
+    def planner(self) -> dict:
+        """The planner's ``comfort``, ``gamma``, ``range1``, ``range2`` and ``human_like``."""
+        return self._s.planner
+
+    def plan(self, D: float) -> dict:
+        """The synthesizer's plan for a goal at distance ``D`` (as :func:`plan_steps`)."""
+        return self._s.plan(_float("D", D))
+
+    def run(self, goal: float = 2.6, fps: float = 120.0,
+            goal_changes: Sequence[Tuple[float, float]] = (),
+            max_seconds: float = 120.0) -> dict:
+        """Synthesizes a whole sequence towards the goal, ending with the reach.
+
+        Parameters
+        ----------
+        goal : float
+            Initial distance from the pelvis to the drawer front (metres, > 0).
+        fps : float
+            Frame rate.
+        goal_changes : sequence of (time, distance)
+            Goal moves, applied when their time is reached (they take effect at the next
+            re-planning, when the next blend window opens).
+        max_seconds : float
+            Error when the motion has not finished after this long (a receding goal).
+
+        Returns
+        -------
+        dict
+            ``"angles"`` ``(T, 51)``, ``"root_x"`` ``(T,)`` pelvis forward position (metres
+            from the start), ``"time"`` ``(T,)``, ``"phase"`` ``(T,)`` leader phase in
+            ``[0, 2 pi)``, ``"action"`` ``(T,)`` int codes (indices into :data:`ACTIONS`),
+            ``"executed"`` list of ``(name, length)``, ``"transitions"`` postures at each
+            action boundary ``(n, 51)``, ``"too_short"`` (only the reach was performed) and
+            ``"goal"``.
+        """
+        changes = []
+        for c in goal_changes:
+            try:
+                t, d = c
+            except (TypeError, ValueError):
+                raise ValueError(f"`goal_changes` must hold (time, distance) pairs, got {c!r}") from None
+            changes.append((_float("goal_changes time", t), _float("goal_changes distance", d)))
+        return self._s.run(_float("goal", goal), _float("fps", fps), changes,
+                           _float("max_seconds", max_seconds))
+
+    def __repr__(self) -> str:
+        p = self.planner
+        return f"Synthesizer({self.library!r}, comfort={p['comfort']}, gamma={p['gamma']})"
+
+
+# ------------------------------------------------------------------------------------------
+# Skeleton and BVH
+
+
+def _frames(angles, root) -> Tuple[np.ndarray, np.ndarray]:
+    a = _array("angles", angles)
+    if a.ndim == 1:
+        a = a.reshape(1, -1)
+    r = _array("root", root)
+    if r.ndim == 0:
+        r = r.reshape(1)
+    return a, r
+
+
+def write_bvh(path: Union[str, os.PathLike], angles, root_x, fps: float = 120.0) -> None:
+    """Writes frames of the 17-joint skeleton as a BVH file.
+
+    Rotations become ``Zrotation Xrotation Yrotation`` Euler angles in degrees; positions
+    are in centimetres; the pelvis walks along +z.
+
+    Parameters
+    ----------
+    path : str or PathLike
+    angles : array_like, shape (T, 51)
+        Exponential-map channels per frame.
+    root_x : array_like, shape (T,) or (T, 3)
+        Pelvis forward position in metres (hips at the rest height), or full positions.
+    fps : float
+        Frame rate (> 0).
+    """
+    a, r = _frames(angles, root_x)
+    _m.write_bvh(os.fspath(path), a, r, _float("fps", fps))
+
+
+def read_bvh(path: Union[str, os.PathLike]) -> dict:
+    """Reads a BVH file of the 17-joint skeleton (joints matched by name, any channel order).
+
+    Returns
+    -------
+    dict
+        ``"angles"`` ``(T, 51)`` exponential maps (made continuous over time), ``"root"``
+        ``(T, 3)`` pelvis positions in metres, ``"frame_time"`` seconds.
+    """
+    return _m.read_bvh(os.fspath(path))
+
+
+def forward_kinematics(angles, root) -> np.ndarray:
+    """World positions of the 17 joints and the 5 end sites, ``(T, 22, 3)`` metres.
+
+    Parameters
+    ----------
+    angles : array_like, shape (T, 51)
+    root : array_like, shape (T,) or (T, 3)
+        Pelvis forward position (hips at the rest height) or full positions.
+    """
+    a, r = _frames(angles, root)
+    return _m.forward_kinematics(a, r)
+
+
+def skeleton() -> dict:
+    """The 17-joint skeleton: ``"names"``, ``"parents"`` (-1 for the root), ``"offsets"``
+    ``(17, 3)`` metres (axes: y up, z forward, x left) and ``"bones"`` ``(21, 2)`` index pairs
+    into the points of :func:`forward_kinematics`."""
+    return _m.skeleton()
+
+
+# ------------------------------------------------------------------------------------------
+# Statistics, SVR, oscillators
+
+
+def regression_p_value(r2: float, n: int) -> float:
+    """Two-sided p-value of the slope of a simple regression with ``R^2 = r2`` on ``n``
+    points: ``t = sqrt(R^2 (n - 2) / (1 - R^2))`` on ``n - 2`` degrees of freedom.
+
+    Parameters
+    ----------
+    r2 : float
+        In ``[0, 1]``.
+    n : int
+        At least 3.
+    """
+    return _m.regression_p_value(_float("r2", r2), _u("n", n, 0))
+
+
+def fit_line(x, y) -> dict:
+    """Least-squares line ``y = intercept + slope x`` (as ``scipy.stats.linregress``).
+
+    Returns
+    -------
+    dict
+        ``"intercept"``, ``"slope"``, ``"r2"``, ``"p_value"`` (two-sided, slope = 0) and
+        ``"n"``.
+    """
+    return _m.fit_line(_array("x", x), _array("y", y))
+
+
+def svr_fit_predict(x_train, y_train, x_test, C: float = 10.0, epsilon: float = 0.01,
+                    gamma: float = 2.0, tol: float = 1e-3, return_info: bool = False):
+    """Trains the RBF epsilon-SVR (SMO with LIBSVM's working-set selection) and predicts.
+
+    Same model as ``sklearn.svm.SVR(kernel="rbf", C=C, epsilon=epsilon, gamma=gamma,
+    tol=tol)``: ``K(a, b) = exp(-gamma ||a - b||^2)``.
+
+    Parameters
+    ----------
+    x_train : array_like, shape (n, 2)
+        At most 4000 samples.
+    y_train : array_like, shape (n,)
+    x_test : array_like, shape (m, 2)
+    C, epsilon, gamma, tol : float
+        Box constraint, tube width, RBF parameter, stopping tolerance.
+    return_info : bool
+        Also return ``{"n_support", "rho", "iterations"}``.
+
+    Returns
+    -------
+    ndarray, shape (m,), or (ndarray, dict) with ``return_info``.
+    """
+    pred, n_sv, rho, it = _m.svr_fit_predict(
+        _array("x_train", x_train), _array("y_train", y_train), _array("x_test", x_test),
+        _float("C", C), _float("epsilon", epsilon), _float("gamma", gamma), _float("tol", tol))
+    if return_info:
+        return pred, {"n_support": n_sv, "rho": rho, "iterations": it}
+    return pred
+
+
+def hopf_simulate(duration: float, dt: float = 1e-3, omega: float = 2 * _math.pi,
+                  coupling: float = 2.0, leader: Tuple[float, float] = (1.0, 0.0),
+                  followers=()) -> dict:
+    """Integrates a star network of Hopf oscillators (classical RK4).
+
+    ``x' = (1 - x^2 - y^2) x - omega y + k (x_p - x)`` and likewise for ``y``; the leader is
+    uncoupled, each follower sees the leader's state. Without coupling the unit circle is a
+    limit cycle traversed at angular frequency ``omega``; any ``k > 1`` makes followers
+    converge to the leader.
+
+    Parameters
+    ----------
+    duration, dt : float
+        Simulated time and output step (seconds, > 0).
+    omega, coupling : float
+        Angular frequency (> 0) and follower coupling (>= 0).
+    leader : (float, float)
+        Initial leader state.
+    followers : array_like, shape (F, 2)
+        Initial follower states (may be empty).
+
+    Returns
+    -------
+    dict
+        ``"time"`` ``(T,)``, ``"leader"`` ``(T, 2)``, ``"followers"`` ``(T, F, 2)``,
+        ``"leader_phase"`` ``(T,)`` in ``[0, 2 pi)``.
+    """
+    f = _array("followers", followers)
+    if f.size == 0:
+        f = np.zeros((0, 2))
+    lx, ly = _range("leader", leader)
+    return _m.hopf_simulate(_float("duration", duration), _float("dt", dt),
+                            _float("omega", omega), _float("coupling", coupling), (lx, ly), f)

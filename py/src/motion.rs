@@ -1,0 +1,1068 @@
+//! `wscg._native.motion`, paper 16: bindings of `wscg_motion` (anechoic demixing with shared
+//! delays, the PCA baseline, step-wise learning of the walk-and-reach actions, predictive step
+//! planning, online synthesis with Hopf oscillators, BVH files, the regression statistics and
+//! the ε-SVR).
+//!
+//! The documented API is `python/wscg/motion.py`. It passes C-contiguous float64 arrays and
+//! plain numbers; every function checks shapes and values again, so a direct call cannot panic
+//! on bad arguments. The GIL is released while Rust works.
+
+use std::f64::consts::TAU;
+
+use num_complex::Complex64;
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use wscg_math::Error;
+use wscg_motion::anechoic::{fit_anechoic as fit_anechoic_rs, AnechoicConfig, DelayMode, Init};
+use wscg_motion::bvh::{self, BvhMotion};
+use wscg_motion::data::{quality as quality_rs, TrialSet};
+use wscg_motion::dataset::{Dataset, TrialAction};
+use wscg_motion::hopf::StarNetwork;
+use wscg_motion::map::SvrMapConfig;
+use wscg_motion::pca::pca_qualities as pca_qualities_rs;
+use wscg_motion::planner::{Action, Plan, Planner};
+use wscg_motion::skeleton::{bones as bones_rs, forward_kinematics as fk_rs, JOINTS, N_CHANNELS};
+use wscg_motion::stats::{fit_line as fit_line_rs, regression_p_value as p_value_rs};
+use wscg_motion::stepwise::{fit_stepwise as fit_stepwise_rs, ActionLibrary, StepwiseConfig};
+use wscg_motion::svr::Svr;
+use wscg_motion::synthesizer::{planner_for, MapKind, SynthConfig, Synthesizer};
+use wscg_motion::walker::{reach_walk, WalkerConfig};
+
+use crate::convert::{array, values, Arr};
+use crate::errors::{value_error, IntoPy};
+
+/// Largest number of values a generated or simulated array may hold (400 MB of float64).
+const MAX_VALUES: usize = 50_000_000;
+/// Largest number of frames of one synthesis (`fps * max_seconds`).
+const MAX_FRAMES: f64 = 1_000_000.0;
+/// Largest number of demixing restarts.
+const MAX_RESTARTS: usize = 10_000;
+
+/// Errors unless every value is finite.
+fn check_finite(name: &str, v: &[f64]) -> PyResult<()> {
+    match v.iter().position(|x| !x.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(value_error(format!(
+            "`{name}` contains a non-finite value (NaN or infinity) at flat index {i}"
+        ))),
+    }
+}
+
+/// Errors unless `v` is finite and `> 0`.
+fn positive(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(value_error(format!(
+            "`{name}` must be finite and > 0, got {v}"
+        )))
+    }
+}
+
+/// A trial set from an `(R, I, N)` array, or `(R, N)` read as `I = 1`.
+fn trials_in(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<TrialSet> {
+    let (r, i, n) = match *a.shape() {
+        [r, i, n] => (r, i, n),
+        [r, n] => (r, 1, n),
+        ref s => {
+            return Err(value_error(format!(
+                "`{name}` must be an (R, I, N) array of trials x channels x samples \
+                 (or (rows, N)), got shape {s:?}"
+            )))
+        }
+    };
+    let v = values(a);
+    check_finite(name, &v)?;
+    TrialSet::new(r, i, n, v.into_owned()).py_err()
+}
+
+fn vec_out<'py>(py: Python<'py>, v: &[f64]) -> PyResult<Arr<'py, f64>> {
+    array(py, &[v.len()], v.to_vec())
+}
+
+/// `(R, I, N)` array of a trial set.
+fn trials_out<'py>(py: Python<'py>, t: &TrialSet) -> PyResult<Arr<'py, f64>> {
+    array(py, &[t.n_trials, t.n_channels, t.n_samples], t.data.clone())
+}
+
+fn action_name(a: Action) -> &'static str {
+    match a {
+        Action::Step => "step",
+        Action::ShortStep => "short_step",
+        Action::Reach => "reach",
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// Synthetic data
+
+/// The synthetic walk-and-reach training set and its ground truth as a dict of arrays.
+#[pyfunction]
+#[pyo3(signature = (n_trials, seed, noise, human_like, n_samples, model_seed))]
+fn make_synthetic_dataset<'py>(
+    py: Python<'py>,
+    n_trials: usize,
+    seed: u64,
+    noise: f64,
+    human_like: bool,
+    n_samples: usize,
+    model_seed: u64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let total = n_trials
+        .checked_mul(n_samples)
+        .and_then(|v| v.checked_mul(6 * N_CHANNELS));
+    if total.is_none_or(|t| t > MAX_VALUES) {
+        return Err(value_error(format!(
+            "{n_trials} trials of {n_samples} samples exceed the size limit \
+             (n_trials * n_samples <= {})",
+            MAX_VALUES / (6 * N_CHANNELS)
+        )));
+    }
+    let cfg = WalkerConfig {
+        n_trials,
+        n_samples,
+        noise,
+        seed,
+        model_seed,
+        human_like,
+        ..WalkerConfig::default()
+    };
+    let (data, truth) = py.detach(|| reach_walk(&cfg)).py_err()?;
+    let (r_n, i_n, n) = (data.trials.len(), data.n_channels, data.n_samples);
+    let mut angles = Vec::with_capacity(r_n * 3 * i_n * n);
+    let mut steps = Vec::with_capacity(r_n * 3);
+    let mut durations = Vec::with_capacity(r_n * 3);
+    let mut root = Vec::with_capacity(r_n * 3 * n);
+    for trial in &data.trials {
+        for act in trial {
+            angles.extend_from_slice(&act.angles);
+            steps.push(act.step_length);
+            durations.push(act.duration);
+            if act.root.len() == n {
+                root.extend_from_slice(&act.root);
+            } else {
+                root.extend(std::iter::repeat_n(0.0, n));
+            }
+        }
+    }
+    let d = PyDict::new(py);
+    d.set_item("angles", array(py, &[r_n, 3, i_n, n], angles)?)?;
+    d.set_item("step_length", array(py, &[r_n, 3], steps)?)?;
+    d.set_item("duration", array(py, &[r_n, 3], durations)?)?;
+    d.set_item("root", array(py, &[r_n, 3, n], root)?)?;
+    d.set_item("distances", vec_out(py, &data.distances)?)?;
+
+    let j_n = truth.sources.len();
+    let t = PyDict::new(py);
+    let periodic: Vec<f64> = truth
+        .periodic
+        .iter()
+        .flat_map(|p| p.data.iter().copied())
+        .collect();
+    t.set_item("periodic", array(py, &[3, r_n, i_n, n], periodic)?)?;
+    t.set_item("delays", array(py, &[i_n, j_n], truth.delays.clone())?)?;
+    t.set_item(
+        "weights",
+        array(py, &[3, r_n, i_n, j_n], truth.weights.concat())?,
+    )?;
+    t.set_item("means", array(py, &[3, r_n, i_n], truth.means.concat())?)?;
+    t.set_item("w0", array(py, &[3, r_n, i_n], truth.w0.concat())?)?;
+    let sources: Vec<f64> = truth
+        .sources
+        .iter()
+        .flat_map(|s| s.sample(n, 0.0))
+        .collect();
+    t.set_item("sources", array(py, &[j_n, n], sources)?)?;
+    let k = truth.sources.first().map_or(0, |s| s.n_harmonics());
+    let coeffs: Vec<Complex64> = truth
+        .sources
+        .iter()
+        .flat_map(|s| s.coeffs.iter().copied())
+        .collect();
+    t.set_item("source_coeffs", array(py, &[j_n, k], coeffs)?)?;
+    d.set_item("truth", t)?;
+    Ok(d)
+}
+
+// ------------------------------------------------------------------------------------------
+// Demixing and PCA
+
+fn delay_mode(s: &str) -> PyResult<DelayMode> {
+    match s {
+        "shared" => Ok(DelayMode::Shared),
+        "per_trial" => Ok(DelayMode::PerTrial),
+        "zero" => Ok(DelayMode::Zero),
+        other => Err(value_error(format!(
+            "`delays` must be 'shared', 'per_trial' or 'zero', got {other:?}"
+        ))),
+    }
+}
+
+fn init_from(s: &str) -> PyResult<Init> {
+    match s {
+        "pca" => Ok(Init::Pca),
+        "random" => Ok(Init::Random),
+        other => Err(value_error(format!(
+            "`init` must be 'pca' or 'random', got {other:?}"
+        ))),
+    }
+}
+
+fn check_restarts(restarts: usize) -> PyResult<()> {
+    if restarts > MAX_RESTARTS {
+        return Err(value_error(format!(
+            "`restarts` must be <= {MAX_RESTARTS}, got {restarts}"
+        )));
+    }
+    Ok(())
+}
+
+/// Anechoic demixing of `x` (`R x I x N`): quality, sources, delays, weights, reconstruction.
+#[pyfunction]
+#[pyo3(signature = (x, n_sources, delays, n_harmonics, restarts, max_iter, tol, seed, init))]
+#[allow(clippy::too_many_arguments)]
+fn fit_anechoic<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArrayDyn<f64>,
+    n_sources: usize,
+    delays: &str,
+    n_harmonics: usize,
+    restarts: usize,
+    max_iter: usize,
+    tol: f64,
+    seed: u64,
+    init: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    if x.shape().len() != 3 {
+        return Err(value_error(format!(
+            "`x` must be an (R, I, N) array of trials x channels x samples, got shape {:?}",
+            x.shape()
+        )));
+    }
+    let set = trials_in("x", &x)?;
+    check_restarts(restarts)?;
+    let cfg = AnechoicConfig {
+        n_sources,
+        n_harmonics,
+        delays: delay_mode(delays)?,
+        max_iter,
+        tol,
+        restarts,
+        init: init_from(init)?,
+        seed,
+    };
+    let (model, recon) = py
+        .detach(|| {
+            let m = fit_anechoic_rs(&set, &cfg)?;
+            let r = m.reconstruct();
+            Ok::<_, Error>((m, r))
+        })
+        .py_err()?;
+    let (r_n, i_n, n, j_n) = (
+        model.n_trials,
+        model.n_channels,
+        model.n_samples,
+        model.n_sources(),
+    );
+    let d = PyDict::new(py);
+    d.set_item("q", model.q)?;
+    d.set_item("q_history", vec_out(py, &model.q_history)?)?;
+    let sources: Vec<f64> = model
+        .sources
+        .iter()
+        .flat_map(|s| s.sample(n, 0.0))
+        .collect();
+    d.set_item("sources", array(py, &[j_n, n], sources)?)?;
+    let coeffs: Vec<Complex64> = model
+        .sources
+        .iter()
+        .flat_map(|s| s.coeffs.iter().copied())
+        .collect();
+    d.set_item(
+        "source_coeffs",
+        array(py, &[j_n, model.sources[0].n_harmonics()], coeffs)?,
+    )?;
+    let dshape: Vec<usize> = if model.delay_mode == DelayMode::PerTrial {
+        vec![r_n, i_n, j_n]
+    } else {
+        vec![i_n, j_n]
+    };
+    d.set_item("delays", array(py, &dshape, model.delays.clone())?)?;
+    d.set_item(
+        "weights",
+        array(py, &[r_n, i_n, j_n], model.weights.clone())?,
+    )?;
+    d.set_item("reconstruction", trials_out(py, &recon)?)?;
+    Ok(d)
+}
+
+/// Cumulative PCA qualities `Q_PCA(1), Q_PCA(2), ...` of the `(R*I) x N` signal matrix.
+#[pyfunction]
+fn pca_qualities<'py>(py: Python<'py>, x: PyReadonlyArrayDyn<f64>) -> PyResult<Arr<'py, f64>> {
+    let set = trials_in("x", &x)?;
+    let q = py.detach(|| pca_qualities_rs(&set)).py_err()?;
+    vec_out(py, &q)
+}
+
+/// `Q_PCA(j)`.
+#[pyfunction]
+fn pca_quality(py: Python<'_>, x: PyReadonlyArrayDyn<f64>, j: usize) -> PyResult<f64> {
+    let set = trials_in("x", &x)?;
+    let q = py.detach(|| pca_qualities_rs(&set)).py_err()?;
+    if j == 0 || j > q.len() {
+        return Err(value_error(format!(
+            "`j` must be in 1..={}, got {j}",
+            q.len()
+        )));
+    }
+    Ok(q[j - 1])
+}
+
+/// `Q = 1 - ||X - Xhat||^2 / ||X||^2` for arrays of the same shape.
+#[pyfunction]
+fn quality(x: PyReadonlyArrayDyn<f64>, xhat: PyReadonlyArrayDyn<f64>) -> PyResult<f64> {
+    if x.shape() != xhat.shape() {
+        return Err(value_error(format!(
+            "shape mismatch: `x` has shape {:?}, `xhat` {:?}",
+            x.shape(),
+            xhat.shape()
+        )));
+    }
+    let (a, b) = (values(&x), values(&xhat));
+    check_finite("x", &a)?;
+    check_finite("xhat", &b)?;
+    let n = a.len();
+    let xs = TrialSet::new(1, 1, n, a.into_owned()).py_err()?;
+    let ys = TrialSet::new(1, 1, n, b.into_owned()).py_err()?;
+    quality_rs(&xs, &ys).py_err()
+}
+
+// ------------------------------------------------------------------------------------------
+// Step-wise learning
+
+/// The dataset of the arrays of `make_synthetic_dataset` (`root` and `distances` optional).
+fn dataset_in(
+    angles: &PyReadonlyArrayDyn<f64>,
+    step_length: &PyReadonlyArrayDyn<f64>,
+    duration: &PyReadonlyArrayDyn<f64>,
+    root: Option<&PyReadonlyArrayDyn<f64>>,
+    distances: Option<&PyReadonlyArrayDyn<f64>>,
+) -> PyResult<Dataset> {
+    let (r_n, i_n, n) = match *angles.shape() {
+        [r, 3, i, n] => (r, i, n),
+        ref s => {
+            return Err(value_error(format!(
+                "`angles` must be an (R, 3, I, N) array (trials x actions x channels x \
+                 samples), got shape {s:?}"
+            )))
+        }
+    };
+    for (name, a) in [("step_length", step_length), ("duration", duration)] {
+        if a.shape() != [r_n, 3] {
+            return Err(value_error(format!(
+                "`{name}` must have shape ({r_n}, 3), got {:?}",
+                a.shape()
+            )));
+        }
+    }
+    let av = values(angles);
+    check_finite("angles", &av)?;
+    let (sv, dv) = (values(step_length), values(duration));
+    check_finite("step_length", &sv)?;
+    check_finite("duration", &dv)?;
+    let rv = match root {
+        Some(r) => {
+            if r.shape() != [r_n, 3, n] {
+                return Err(value_error(format!(
+                    "`root` must have shape ({r_n}, 3, {n}), got {:?}",
+                    r.shape()
+                )));
+            }
+            let v = values(r).into_owned();
+            check_finite("root", &v)?;
+            Some(v)
+        }
+        None => None,
+    };
+    let distances = match distances {
+        Some(d) => {
+            let v = values(d).into_owned();
+            check_finite("distances", &v)?;
+            v
+        }
+        None => Vec::new(),
+    };
+    let len = i_n * n;
+    let mut trials = Vec::with_capacity(r_n);
+    for r in 0..r_n {
+        let act = |a: usize| TrialAction {
+            angles: av[(r * 3 + a) * len..(r * 3 + a + 1) * len].to_vec(),
+            step_length: sv[r * 3 + a],
+            duration: dv[r * 3 + a],
+            root: rv.as_ref().map_or_else(Vec::new, |v| {
+                v[(r * 3 + a) * n..(r * 3 + a + 1) * n].to_vec()
+            }),
+        };
+        trials.push([act(0), act(1), act(2)]);
+    }
+    let data = Dataset {
+        n_channels: i_n,
+        n_samples: n,
+        trials,
+        distances,
+    };
+    data.validate().py_err()?;
+    Ok(data)
+}
+
+/// What `fit_stepwise` learns: sources, shared delays and per-trial weights of the three
+/// actions.
+#[pyclass(module = "wscg._native.motion", name = "Library", frozen)]
+pub struct PyLibrary {
+    inner: ActionLibrary,
+}
+
+#[pymethods]
+impl PyLibrary {
+    /// `Q` over all three actions.
+    #[getter]
+    fn q_total(&self) -> f64 {
+        self.inner.q_total
+    }
+
+    /// `Q` of each action.
+    #[getter]
+    fn q_actions(&self) -> Vec<f64> {
+        self.inner.actions.iter().map(|a| a.q).collect()
+    }
+
+    /// `Q` of action 2 with the first sources only.
+    #[getter]
+    fn q_second_before_extra(&self) -> f64 {
+        self.inner.q_second_before_extra
+    }
+
+    /// Number of periodic sources `J`.
+    #[getter]
+    fn n_sources(&self) -> usize {
+        self.inner.n_sources()
+    }
+
+    /// Channels `I`.
+    #[getter]
+    fn n_channels(&self) -> usize {
+        self.inner.n_channels
+    }
+
+    /// Samples per action `N`.
+    #[getter]
+    fn n_samples(&self) -> usize {
+        self.inner.n_samples
+    }
+
+    /// The sources sampled over one period, `(J, N)`.
+    #[getter]
+    fn sources<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        let n = self.inner.n_samples;
+        let v: Vec<f64> = self
+            .inner
+            .sources
+            .iter()
+            .flat_map(|s| s.sample(n, 0.0))
+            .collect();
+        array(py, &[self.inner.n_sources(), n], v)
+    }
+
+    /// Shared delays `(I, J)` in periods.
+    #[getter]
+    fn delays<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        array(
+            py,
+            &[self.inner.n_channels, self.inner.n_sources()],
+            self.inner.delays.clone(),
+        )
+    }
+
+    /// Normalised pelvis progress over an action at `u = m / N`, `m = 0..=N`.
+    #[getter]
+    fn progress<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        vec_out(py, &self.inner.progress)
+    }
+
+    /// `(step parameter, duration)` of every trial for action `a`, as an `(R, 2)` array.
+    fn params<'py>(&self, py: Python<'py>, a: usize) -> PyResult<Arr<'py, f64>> {
+        let p = self
+            .inner
+            .params
+            .get(a)
+            .ok_or_else(|| value_error(format!("`action` must be 0, 1 or 2, got {a}")))?;
+        array(
+            py,
+            &[p.len(), 2],
+            p.iter().flat_map(|&(x, y)| [x, y]).collect(),
+        )
+    }
+
+    /// The fit of action `a`: means and non-periodic weights `(R, I)`, weights `(R, I, J)`,
+    /// `q` and the number of sources it uses.
+    fn action_fit<'py>(&self, py: Python<'py>, a: usize) -> PyResult<Bound<'py, PyDict>> {
+        let f = self
+            .inner
+            .actions
+            .get(a)
+            .ok_or_else(|| value_error(format!("`action` must be 0, 1 or 2, got {a}")))?;
+        let (i_n, j_n) = (self.inner.n_channels, self.inner.n_sources());
+        let r_n = f.means.len() / i_n.max(1);
+        let d = PyDict::new(py);
+        d.set_item("means", array(py, &[r_n, i_n], f.means.clone())?)?;
+        d.set_item("w0", array(py, &[r_n, i_n], f.w0.clone())?)?;
+        d.set_item("weights", array(py, &[r_n, i_n, j_n], f.weights.clone())?)?;
+        d.set_item("q", f.q)?;
+        d.set_item("n_sources", f.n_sources)?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Library(n_sources={}, n_channels={}, n_samples={}, q_total={:.6})",
+            self.inner.n_sources(),
+            self.inner.n_channels,
+            self.inner.n_samples,
+            self.inner.q_total
+        )
+    }
+}
+
+/// Step-wise learning of the three actions from a dataset's arrays.
+#[pyfunction]
+#[pyo3(signature = (angles, step_length, duration, root, distances, n_sources_first,
+                    n_sources_extra, n_harmonics, restarts, max_iter, tol, seed))]
+#[allow(clippy::too_many_arguments)]
+fn fit_stepwise(
+    py: Python<'_>,
+    angles: PyReadonlyArrayDyn<f64>,
+    step_length: PyReadonlyArrayDyn<f64>,
+    duration: PyReadonlyArrayDyn<f64>,
+    root: Option<PyReadonlyArrayDyn<f64>>,
+    distances: Option<PyReadonlyArrayDyn<f64>>,
+    n_sources_first: usize,
+    n_sources_extra: usize,
+    n_harmonics: usize,
+    restarts: usize,
+    max_iter: usize,
+    tol: f64,
+    seed: u64,
+) -> PyResult<PyLibrary> {
+    let data = dataset_in(
+        &angles,
+        &step_length,
+        &duration,
+        root.as_ref(),
+        distances.as_ref(),
+    )?;
+    check_restarts(restarts)?;
+    let cfg = StepwiseConfig {
+        n_sources_first,
+        n_sources_extra,
+        demix: AnechoicConfig {
+            n_harmonics,
+            restarts,
+            max_iter,
+            tol,
+            seed,
+            ..AnechoicConfig::default()
+        },
+    };
+    let inner = py.detach(|| fit_stepwise_rs(&data, &cfg)).py_err()?;
+    Ok(PyLibrary { inner })
+}
+
+// ------------------------------------------------------------------------------------------
+// Planning and synthesis
+
+fn range_in(name: &str, r: (f64, f64)) -> PyResult<(f64, f64)> {
+    if r.0.is_finite() && r.1.is_finite() && r.0 > 0.0 && r.1 >= r.0 {
+        Ok(r)
+    } else {
+        Err(value_error(format!(
+            "`{name}` must satisfy 0 < lo <= hi, got ({}, {})",
+            r.0, r.1
+        )))
+    }
+}
+
+fn plan_out<'py>(py: Python<'py>, plan: &Plan) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let acts: Vec<(&str, f64)> = plan
+        .actions
+        .iter()
+        .map(|a| (action_name(a.action), a.length))
+        .collect();
+    d.set_item("actions", PyList::new(py, acts)?)?;
+    d.set_item("too_short", plan.too_short)?;
+    d.set_item("violation", plan.violation)?;
+    d.set_item("n_steps", plan.n_steps())?;
+    d.set_item("distance", plan.distance())?;
+    Ok(d)
+}
+
+/// The predictive planner's split of the goal distance `d` into steps and the reach.
+#[pyfunction]
+#[pyo3(signature = (d, comfort, gamma, range1, range2, human_like, max_steps))]
+#[allow(clippy::too_many_arguments)]
+fn plan_steps<'py>(
+    py: Python<'py>,
+    d: f64,
+    comfort: f64,
+    gamma: f64,
+    range1: (f64, f64),
+    range2: (f64, f64),
+    human_like: Option<f64>,
+    max_steps: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let planner = Planner {
+        comfort,
+        gamma,
+        range1: range_in("range1", range1)?,
+        range2: range_in("range2", range2)?,
+        human_like,
+        max_steps,
+    };
+    let plan = planner.plan(d).py_err()?;
+    plan_out(py, &plan)
+}
+
+/// The online synthesizer of a learned library.
+#[pyclass(module = "wscg._native.motion", name = "Synthesizer")]
+pub struct PySynthesizer {
+    inner: Synthesizer,
+}
+
+#[pymethods]
+impl PySynthesizer {
+    #[new]
+    #[pyo3(signature = (lib, comfort, gamma, map, beta, coupling, lut_size, bandwidth,
+                        human_like, svr_c, svr_epsilon, svr_gamma))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        lib: &PyLibrary,
+        comfort: f64,
+        gamma: f64,
+        map: &str,
+        beta: f64,
+        coupling: f64,
+        lut_size: usize,
+        bandwidth: Option<f64>,
+        human_like: Option<f64>,
+        svr_c: f64,
+        svr_epsilon: f64,
+        svr_gamma: f64,
+    ) -> PyResult<Self> {
+        let map = match map {
+            "lut" => {
+                if !(2..=1 << 24).contains(&lut_size) {
+                    return Err(value_error(format!(
+                        "`lut_size` must be in 2..=16777216, got {lut_size}"
+                    )));
+                }
+                MapKind::Lut(lut_size)
+            }
+            "fourier" => MapKind::Fourier,
+            "svr" => MapKind::Svr(SvrMapConfig {
+                c: svr_c,
+                epsilon: svr_epsilon,
+                gamma: svr_gamma,
+                ..SvrMapConfig::default()
+            }),
+            other => {
+                return Err(value_error(format!(
+                    "`map` must be 'lut', 'fourier' or 'svr', got {other:?}"
+                )))
+            }
+        };
+        if let Some(b) = bandwidth {
+            positive("bandwidth", b)?;
+        }
+        let planner = Planner {
+            comfort,
+            gamma,
+            human_like,
+            ..planner_for(&lib.inner)
+        };
+        let cfg = SynthConfig {
+            beta,
+            coupling,
+            map,
+            bandwidth,
+        };
+        let lib = lib.inner.clone();
+        let inner = py.detach(|| Synthesizer::new(lib, planner, cfg)).py_err()?;
+        Ok(Self { inner })
+    }
+
+    /// The planner's parameters: comfort, gamma, range1, range2, human_like.
+    #[getter]
+    fn planner<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let p = self.inner.planner();
+        let d = PyDict::new(py);
+        d.set_item("comfort", p.comfort)?;
+        d.set_item("gamma", p.gamma)?;
+        d.set_item("range1", p.range1)?;
+        d.set_item("range2", p.range2)?;
+        d.set_item("human_like", p.human_like)?;
+        Ok(d)
+    }
+
+    /// The plan of the synthesizer's planner for a goal at distance `d`.
+    fn plan<'py>(&self, py: Python<'py>, d: f64) -> PyResult<Bound<'py, PyDict>> {
+        let plan = self.inner.planner().plan(d).py_err()?;
+        plan_out(py, &plan)
+    }
+
+    /// Synthesizes a whole walk-and-reach sequence towards `goal`.
+    #[pyo3(signature = (goal, fps, goal_changes, max_seconds))]
+    fn run<'py>(
+        &mut self,
+        py: Python<'py>,
+        goal: f64,
+        fps: f64,
+        goal_changes: Vec<(f64, f64)>,
+        max_seconds: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        positive("fps", fps)?;
+        positive("max_seconds", max_seconds)?;
+        if fps * max_seconds > MAX_FRAMES {
+            return Err(value_error(format!(
+                "fps * max_seconds must be <= {MAX_FRAMES}, got {}",
+                fps * max_seconds
+            )));
+        }
+        let syn = &mut self.inner;
+        let out = py
+            .detach(|| syn.run(goal, fps, &goal_changes, max_seconds))
+            .py_err()?;
+        let t_n = out.frames.len();
+        let i_n = out.frames.first().map_or(0, |f| f.angles.len());
+        let mut angles = Vec::with_capacity(t_n * i_n);
+        for f in &out.frames {
+            angles.extend_from_slice(&f.angles);
+        }
+        let col = |g: fn(&wscg_motion::synthesizer::Frame) -> f64| -> Vec<f64> {
+            out.frames.iter().map(g).collect()
+        };
+        let d = PyDict::new(py);
+        d.set_item("angles", array(py, &[t_n, i_n], angles)?)?;
+        d.set_item("root_x", array(py, &[t_n], col(|f| f.root_x))?)?;
+        d.set_item("time", array(py, &[t_n], col(|f| f.time))?)?;
+        d.set_item("phase", array(py, &[t_n], col(|f| f.phase))?)?;
+        let codes: Vec<i64> = out.frames.iter().map(|f| f.action.index() as i64).collect();
+        d.set_item("action", array(py, &[t_n], codes)?)?;
+        let executed: Vec<(&str, f64)> = out
+            .executed
+            .iter()
+            .map(|a| (action_name(a.action), a.length))
+            .collect();
+        d.set_item("executed", PyList::new(py, executed)?)?;
+        d.set_item(
+            "transitions",
+            array(py, &[out.transitions.len(), i_n], out.transitions.concat())?,
+        )?;
+        d.set_item("too_short", out.too_short)?;
+        d.set_item("goal", goal)?;
+        Ok(d)
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// Skeleton and BVH
+
+/// `(T, 51)` frames of an angle array (a single frame of 51 values is accepted).
+fn frames_in(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<Vec<f64>>> {
+    let ok = match *a.shape() {
+        [t, c] => t > 0 && c == N_CHANNELS,
+        _ => false,
+    };
+    if !ok {
+        return Err(value_error(format!(
+            "`{name}` must be a (T, {N_CHANNELS}) array of exponential-map channels with T >= 1, \
+             got shape {:?}",
+            a.shape()
+        )));
+    }
+    let v = values(a);
+    check_finite(name, &v)?;
+    Ok(v.chunks_exact(N_CHANNELS).map(<[f64]>::to_vec).collect())
+}
+
+/// Pelvis positions from `(T,)` forward positions (hips at the rest height) or `(T, 3)`
+/// positions, in metres.
+fn root_in(a: &PyReadonlyArrayDyn<f64>, t_n: usize) -> PyResult<Vec<[f64; 3]>> {
+    let v = values(a);
+    check_finite("root", &v)?;
+    match *a.shape() {
+        [t] if t == t_n => Ok(bvh::motion_from_frames(Vec::new(), &v, 1.0).root),
+        [t, 3] if t == t_n => Ok(v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()),
+        ref s => Err(value_error(format!(
+            "`root` must have shape ({t_n},) (forward positions) or ({t_n}, 3), got {s:?}"
+        ))),
+    }
+}
+
+/// Writes frames as a BVH file of the 17-joint skeleton.
+#[pyfunction]
+fn write_bvh(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    angles: PyReadonlyArrayDyn<f64>,
+    root: PyReadonlyArrayDyn<f64>,
+    fps: f64,
+) -> PyResult<()> {
+    positive("fps", fps)?;
+    let frames = frames_in("angles", &angles)?;
+    let root = root_in(&root, frames.len())?;
+    let motion = BvhMotion {
+        frame_time: 1.0 / fps,
+        angles: frames,
+        root,
+    };
+    py.detach(|| bvh::write_bvh(&path, &motion)).py_err()
+}
+
+/// Reads a BVH file of the 17-joint skeleton.
+#[pyfunction]
+fn read_bvh<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyDict>> {
+    let m = py.detach(|| bvh::read_bvh(&path)).py_err()?;
+    let t_n = m.angles.len();
+    let d = PyDict::new(py);
+    d.set_item("angles", array(py, &[t_n, N_CHANNELS], m.angles.concat())?)?;
+    d.set_item(
+        "root",
+        array(py, &[t_n, 3], m.root.iter().flatten().copied().collect())?,
+    )?;
+    d.set_item("frame_time", m.frame_time)?;
+    Ok(d)
+}
+
+/// World positions `(T, 22, 3)` of the 17 joints and 5 end sites.
+#[pyfunction]
+fn forward_kinematics<'py>(
+    py: Python<'py>,
+    angles: PyReadonlyArrayDyn<f64>,
+    root: PyReadonlyArrayDyn<f64>,
+) -> PyResult<Arr<'py, f64>> {
+    let frames = frames_in("angles", &angles)?;
+    let root = root_in(&root, frames.len())?;
+    let pts: Vec<Vec<[f64; 3]>> = py.detach(|| {
+        frames
+            .iter()
+            .zip(&root)
+            .map(|(a, r)| fk_rs(a, *r))
+            .collect()
+    });
+    let p_n = pts.first().map_or(0, Vec::len);
+    let flat: Vec<f64> = pts.iter().flatten().flatten().copied().collect();
+    array(py, &[pts.len(), p_n, 3], flat)
+}
+
+/// The skeleton: joint names, parent indices (-1 for the root), rest offsets `(17, 3)` and
+/// bones `(B, 2)` as index pairs into `forward_kinematics`'s points.
+#[pyfunction]
+fn skeleton<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let names: Vec<&str> = JOINTS.iter().map(|j| j.0).collect();
+    let parents: Vec<i64> = JOINTS
+        .iter()
+        .map(|j| j.1.map_or(-1, |p| p as i64))
+        .collect();
+    let offsets: Vec<f64> = JOINTS.iter().flat_map(|j| j.2).collect();
+    let b = bones_rs();
+    d.set_item("names", PyList::new(py, names)?)?;
+    d.set_item("parents", array(py, &[parents.len()], parents)?)?;
+    d.set_item("offsets", array(py, &[JOINTS.len(), 3], offsets)?)?;
+    d.set_item(
+        "bones",
+        array(
+            py,
+            &[b.len(), 2],
+            b.iter().flat_map(|&(a, c)| [a as i64, c as i64]).collect(),
+        )?,
+    )?;
+    Ok(d)
+}
+
+// ------------------------------------------------------------------------------------------
+// Statistics, SVR, oscillators
+
+/// Two-sided p-value of the slope of a regression with `R^2 = r2` on `n` points.
+#[pyfunction]
+fn regression_p_value(r2: f64, n: usize) -> PyResult<f64> {
+    p_value_rs(r2, n).py_err()
+}
+
+/// Least-squares line `y = a + b x` with `R^2` and the slope's p-value.
+#[pyfunction]
+fn fit_line<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArrayDyn<f64>,
+    y: PyReadonlyArrayDyn<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    if x.shape().len() != 1 || y.shape().len() != 1 {
+        return Err(value_error(format!(
+            "`x` and `y` must be 1-D, got shapes {:?} and {:?}",
+            x.shape(),
+            y.shape()
+        )));
+    }
+    let f = fit_line_rs(&values(&x), &values(&y)).py_err()?;
+    let d = PyDict::new(py);
+    d.set_item("intercept", f.intercept)?;
+    d.set_item("slope", f.slope)?;
+    d.set_item("r2", f.r2)?;
+    d.set_item("p_value", f.p_value)?;
+    d.set_item("n", f.n)?;
+    Ok(d)
+}
+
+fn points2(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<[f64; 2]>> {
+    match *a.shape() {
+        [_, 2] => {
+            let v = values(a);
+            check_finite(name, &v)?;
+            Ok(v.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
+        }
+        ref s => Err(value_error(format!(
+            "`{name}` must be an (n, 2) array, got shape {s:?}"
+        ))),
+    }
+}
+
+/// Trains the RBF ε-SVR on `(x_train, y_train)` and predicts `x_test`; also returns the
+/// number of support vectors, the offset and the SMO iterations.
+#[pyfunction]
+#[pyo3(signature = (x_train, y_train, x_test, c, epsilon, gamma, tol))]
+#[allow(clippy::too_many_arguments)]
+fn svr_fit_predict<'py>(
+    py: Python<'py>,
+    x_train: PyReadonlyArrayDyn<f64>,
+    y_train: PyReadonlyArrayDyn<f64>,
+    x_test: PyReadonlyArrayDyn<f64>,
+    c: f64,
+    epsilon: f64,
+    gamma: f64,
+    tol: f64,
+) -> PyResult<(Arr<'py, f64>, usize, f64, usize)> {
+    let xt = points2("x_train", &x_train)?;
+    let xq = points2("x_test", &x_test)?;
+    if y_train.shape() != [xt.len()] {
+        return Err(value_error(format!(
+            "`y_train` must have shape ({},), got {:?}",
+            xt.len(),
+            y_train.shape()
+        )));
+    }
+    let y = values(&y_train).into_owned();
+    let (svr, pred) = py
+        .detach(|| {
+            let svr = Svr::fit_tol(&xt, &y, c, epsilon, gamma, tol)?;
+            let pred: Vec<f64> = xq.iter().map(|&p| svr.predict(p)).collect();
+            Ok::<_, Error>((svr, pred))
+        })
+        .py_err()?;
+    Ok((
+        vec_out(py, &pred)?,
+        svr.n_support(),
+        svr.rho,
+        svr.iterations,
+    ))
+}
+
+/// Integrates a Hopf star network (one leader, followers coupled to it) with RK4.
+#[pyfunction]
+#[pyo3(signature = (duration, dt, omega, coupling, leader, followers))]
+fn hopf_simulate<'py>(
+    py: Python<'py>,
+    duration: f64,
+    dt: f64,
+    omega: f64,
+    coupling: f64,
+    leader: (f64, f64),
+    followers: PyReadonlyArrayDyn<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    positive("duration", duration)?;
+    positive("dt", dt)?;
+    let fs = match *followers.shape() {
+        [_, 2] | [0] => {
+            let v = values(&followers);
+            check_finite("followers", &v)?;
+            v.chunks_exact(2).map(|c| [c[0], c[1]]).collect::<Vec<_>>()
+        }
+        ref s => {
+            return Err(value_error(format!(
+                "`followers` must be an (F, 2) array of states, got shape {s:?}"
+            )))
+        }
+    };
+    check_finite("leader", &[leader.0, leader.1])?;
+    let steps = (duration / dt).round();
+    let per = 2 * (fs.len() + 1) + 1;
+    if steps < 1.0 || (steps + 1.0) * per as f64 > MAX_VALUES as f64 {
+        return Err(value_error(format!(
+            "duration / dt = {steps} steps (x {per} values) is outside 1..={}",
+            MAX_VALUES / per - 1
+        )));
+    }
+    let steps = steps as usize;
+    let mut net = StarNetwork::new(omega, coupling, fs.len()).py_err()?;
+    net.leader = [leader.0, leader.1];
+    net.followers = fs;
+    let f_n = net.followers.len();
+    let (lead, fol) = py
+        .detach(|| {
+            let mut lead = Vec::with_capacity(2 * (steps + 1));
+            let mut fol = Vec::with_capacity(2 * f_n * (steps + 1));
+            lead.extend(net.leader);
+            fol.extend(net.followers.iter().flatten().copied());
+            for _ in 0..steps {
+                net.step_rk4(dt)?;
+                lead.extend(net.leader);
+                fol.extend(net.followers.iter().flatten().copied());
+            }
+            Ok::<_, Error>((lead, fol))
+        })
+        .py_err()?;
+    let d = PyDict::new(py);
+    let time: Vec<f64> = (0..=steps).map(|s| s as f64 * dt).collect();
+    d.set_item("time", vec_out(py, &time)?)?;
+    let phase: Vec<f64> = lead
+        .chunks_exact(2)
+        .map(|c| c[1].atan2(c[0]).rem_euclid(TAU))
+        .collect();
+    d.set_item("leader_phase", vec_out(py, &phase)?)?;
+    d.set_item("leader", array(py, &[steps + 1, 2], lead)?)?;
+    d.set_item("followers", array(py, &[steps + 1, f_n, 2], fol)?)?;
+    Ok(d)
+}
+
+/// Registers the submodule's functions and classes.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyLibrary>()?;
+    m.add_class::<PySynthesizer>()?;
+    m.add_function(wrap_pyfunction!(make_synthetic_dataset, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_anechoic, m)?)?;
+    m.add_function(wrap_pyfunction!(pca_qualities, m)?)?;
+    m.add_function(wrap_pyfunction!(pca_quality, m)?)?;
+    m.add_function(wrap_pyfunction!(quality, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_stepwise, m)?)?;
+    m.add_function(wrap_pyfunction!(plan_steps, m)?)?;
+    m.add_function(wrap_pyfunction!(write_bvh, m)?)?;
+    m.add_function(wrap_pyfunction!(read_bvh, m)?)?;
+    m.add_function(wrap_pyfunction!(forward_kinematics, m)?)?;
+    m.add_function(wrap_pyfunction!(skeleton, m)?)?;
+    m.add_function(wrap_pyfunction!(regression_p_value, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_line, m)?)?;
+    m.add_function(wrap_pyfunction!(svr_fit_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(hopf_simulate, m)?)?;
+    Ok(())
+}
