@@ -17,6 +17,7 @@
 //! | [`octree`] | `wscg-octree` | paper 10: unified triangle/voxel octree, exact voxelization, LoD ray casting |
 //! | [`csmri`] | `wscg-cs-mri` | paper 11: compressed-sensing MRI, exact tight UDCT, C-SALSA, FCSA/TVCMRI/WaTMRI |
 //! | [`deblur`] | `wscg-deblur` | paper 12: gyroscope blur kernels, piecewise and multi-frame hyper-Laplacian deblurring |
+//! | [`motion`] | `wscg-motion` | paper 16: anechoic demixing, Hopf primitives, LWLR, predictive planner, online synthesis, BVH |
 //! | [`hdr`] | `wscg-hdr` | paper 13: multiscopic HDR, epipolar coherent PatchMatch, BDS voting, Khan merge |
 //!
 //! The paper crates are added to this table as they land (see the README).
@@ -30,6 +31,7 @@ pub use wscg_hdr as hdr;
 pub use wscg_isosurface as isosurface;
 pub use wscg_math as math;
 pub use wscg_meshfilter as meshfilter;
+pub use wscg_motion as motion;
 pub use wscg_octree as octree;
 pub use wscg_raytrace as raytrace;
 pub use wscg_video as video;

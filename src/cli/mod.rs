@@ -17,6 +17,7 @@ mod isosurface;
 mod manylight;
 mod math;
 mod meshfilter;
+mod motion;
 mod mri;
 mod octree;
 mod progress;
@@ -94,6 +95,10 @@ enum Command {
     /// Designs and response surfaces of perceptual studies (paper 07's statistics).
     #[command(subcommand)]
     Doe(doe::DoeCommand),
+    /// Predictive walk-and-reach synthesis with learned dynamic primitives (paper 16): make-data,
+    /// learn, plan, synth (BVH output).
+    #[command(subcommand)]
+    Motion(motion::MotionCommand),
     /// Shared numerics on image files: metrics, filtering, resizing, spectra.
     #[command(subcommand)]
     Math(math::MathCommand),
@@ -153,6 +158,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Math(cmd) => math::run(cmd),
+        Command::Motion(cmd) => motion::run(cmd),
         Command::Biometrics(cmd) => biometrics::run(cmd),
         Command::Cloth(cmd) => cloth::run(cmd),
         Command::Volren(cmd) => volren::run(cmd),

@@ -19,6 +19,7 @@ pub mod isosurface;
 pub mod manylight;
 pub mod math;
 pub mod meshfilter;
+pub mod motion;
 pub mod mri;
 pub mod octree;
 pub mod paint;
@@ -121,6 +122,7 @@ pub fn registry() -> Vec<Demo> {
         hdr::DEMO,
         ear::DEMO,
         illum::DEMO,
+        motion::DEMO,
     ]
 }
 

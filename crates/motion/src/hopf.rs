@@ -34,7 +34,13 @@ pub fn hopf_radius(r0: f64, t: f64) -> f64 {
 /// Phase `atan2(y, x)` wrapped to `[0, 2π)` (the paper writes `arctan(y/x)`, which is wrong in
 /// two quadrants).
 pub fn phase(s: [f64; 2]) -> f64 {
-    s[1].atan2(s[0]).rem_euclid(TAU)
+    let p = s[1].atan2(s[0]).rem_euclid(TAU);
+    // `rem_euclid` rounds a tiny negative angle up to exactly 2π.
+    if p >= TAU {
+        0.0
+    } else {
+        p
+    }
 }
 
 /// A leader oscillator with followers coupled to it in a star.

@@ -129,17 +129,27 @@ struct ActionModel {
     w0: Vec<Poly>, // I
 }
 
-fn draw_action(rng: &mut Rng, action: usize) -> ActionModel {
+/// Draws the model of one action. Consecutive actions are continuous in posture, as recorded
+/// motion is: the next action's weights are the previous action's plus a perturbation, and its
+/// means start where the previous action ended (`m_q + w0_q = m_p − w0_p`, since `s₀` runs from
+/// 1 to −1 over an action).
+fn draw_action(rng: &mut Rng, action: usize, prev: Option<&ActionModel>) -> ActionModel {
     let n_active = if action == 0 { N_SOURCES_FIRST } else { N_SOURCES };
     let mut w = Vec::with_capacity(N_CHANNELS * N_SOURCES);
     for i in 0..N_CHANNELS {
         for j in 0..N_SOURCES {
-            let p = Poly::draw(rng, channel_sigma(i));
+            let mut p = Poly::draw(rng, channel_sigma(i));
+            if let Some(pm) = prev {
+                let before = pm.w[i * N_SOURCES + j].base;
+                if before != 0.0 {
+                    let e: f64 = StandardNormal.sample(&mut *rng);
+                    p.base = before + 0.3 * channel_sigma(i) * e;
+                }
+            }
             w.push(if j < n_active { p } else { Poly { base: 0.0, a1: 0.0, a2: 0.0, a3: 0.0 } });
         }
     }
-    let m = (0..N_CHANNELS).map(|_| Poly::draw(rng, 0.15)).collect();
-    let w0 = (0..N_CHANNELS)
+    let w0: Vec<Poly> = (0..N_CHANNELS)
         .map(|i| {
             if action > 0 && is_left_arm_channel(i) {
                 // The reaching arm: a large, sign-random non-periodic excursion.
@@ -149,6 +159,18 @@ fn draw_action(rng: &mut Rng, action: usize) -> ActionModel {
             } else {
                 Poly::draw(rng, 0.03)
             }
+        })
+        .collect();
+    let m = (0..N_CHANNELS)
+        .map(|i| {
+            let mut p = Poly::draw(rng, 0.15);
+            if let Some(pm) = prev {
+                let e: f64 = StandardNormal.sample(&mut *rng);
+                p.base = pm.m[i].base - pm.w0[i].base - w0[i].base + 0.02 * e;
+                p.a1 *= 0.3;
+                p.a3 *= 0.3;
+            }
+            p
         })
         .collect();
     ActionModel { w, m, w0 }
@@ -186,7 +208,11 @@ pub fn reach_walk(cfg: &WalkerConfig) -> Result<(Dataset, WalkerTruth)> {
     let mut mrng = wscg_math::rng::seeded(cfg.model_seed);
     let sources: Vec<PeriodicSource> = (0..N_SOURCES).map(|_| draw_source(&mut mrng)).collect();
     let delays: Vec<f64> = (0..i_n * N_SOURCES).map(|_| mrng.random::<f64>()).collect();
-    let models: Vec<ActionModel> = (0..3).map(|a| draw_action(&mut mrng, a)).collect();
+    let mut models: Vec<ActionModel> = Vec::with_capacity(3);
+    for a in 0..3 {
+        let m = draw_action(&mut mrng, a, models.last());
+        models.push(m);
+    }
     // Delayed source samples, I × 5 × N.
     let shifted: Vec<Vec<f64>> = (0..i_n * N_SOURCES).map(|d| sources[d % N_SOURCES].sample(n, delays[d])).collect();
 
