@@ -13,7 +13,7 @@
 //! after removing the means and the non-periodic part by the `[1, s₀]` least squares (paper
 //! Fig. 4 caption).
 
-use crate::anechoic::{fit_anechoic, AnechoicConfig, AnechoicModel, DelayMode};
+use crate::anechoic::{fit_anechoic, refine_anechoic, AnechoicConfig, AnechoicModel, DelayMode};
 use crate::data::TrialSet;
 use crate::dataset::Dataset;
 use crate::fourier::PeriodicSource;
@@ -31,11 +31,18 @@ pub struct StepwiseConfig {
     pub n_sources_extra: usize,
     /// Demixing settings (the number of sources is set per stage).
     pub demix: AnechoicConfig,
+    /// Rounds of alternation between the joint least squares of means and weights and the
+    /// demixing of the data without means and non-periodic part (0: the plain step-wise
+    /// regression). The first `[1, s₀]` regression also absorbs the part of the periodic
+    /// sources that correlates with `s₀`; alternating removes that bias.
+    pub rounds: usize,
+    /// ALS sweeps per alternation round.
+    pub round_iter: usize,
 }
 
 impl Default for StepwiseConfig {
     fn default() -> Self {
-        Self { n_sources_first: 3, n_sources_extra: 2, demix: AnechoicConfig::default() }
+        Self { n_sources_first: 3, n_sources_extra: 2, demix: AnechoicConfig::default(), rounds: 8, round_iter: 60 }
     }
 }
 
@@ -166,6 +173,77 @@ fn shifted_sources(sources: &[PeriodicSource], delays: &[f64], i_n: usize, n: us
     (0..i_n * j_n).map(|d| sources[d % j_n].sample(n, delays[d])).collect()
 }
 
+/// `ξ − m − w₀ s₀ − Σ_{j < fixed} w_j s_j` of a joint fit: what the sources from `fixed` on
+/// must explain.
+fn strip(x: &TrialSet, s0: &[f64], fit: &Refit, sh: &[Vec<f64>], j_n: usize, fixed: usize) -> TrialSet {
+    let (i_n, n) = (x.n_channels, x.n_samples);
+    let mut out = x.clone();
+    for (ri, row) in out.data.chunks_mut(n).enumerate() {
+        let i = ri % i_n;
+        for (t, v) in row.iter_mut().enumerate() {
+            let mut model = fit.means[ri] + fit.w0[ri] * s0[t];
+            for j in 0..fixed {
+                model += fit.weights[ri * j_n + j] * sh[i * j_n + j][t];
+            }
+            *v -= model;
+        }
+    }
+    out
+}
+
+/// Alternates the joint least squares of means and all weights with a refinement of the
+/// sources from `fixed` on (and their delays) on the data stripped of everything else.
+/// Returns the refined model of those sources and the final joint fit.
+#[allow(clippy::too_many_arguments)]
+fn alternate(
+    x: &TrialSet,
+    s0: &[f64],
+    fixed_sources: &[PeriodicSource],
+    fixed_delays: &[f64],
+    mut model: AnechoicModel,
+    cfg: &StepwiseConfig,
+) -> Result<(AnechoicModel, Refit, Vec<Vec<f64>>)> {
+    let i_n = x.n_channels;
+    let nf = fixed_sources.len();
+    let j_n = nf + model.n_sources();
+    let assemble = |m: &AnechoicModel| -> (Vec<PeriodicSource>, Vec<f64>) {
+        let mut src = fixed_sources.to_vec();
+        src.extend(m.sources.iter().cloned());
+        let mut d = Vec::with_capacity(i_n * j_n);
+        for i in 0..i_n {
+            d.extend_from_slice(&fixed_delays[i * nf..(i + 1) * nf]);
+            d.extend_from_slice(&m.delays[i * m.n_sources()..(i + 1) * m.n_sources()]);
+        }
+        (src, d)
+    };
+    let (src, d) = assemble(&model);
+    let mut sh = shifted_sources(&src, &d, i_n, x.n_samples);
+    let mut fit = refit(x, s0, &sh, j_n)?;
+    let mut err = fit.residual.energy();
+    for _ in 0..cfg.rounds {
+        let target = strip(x, s0, &fit, &sh, j_n, nf);
+        let mut start = model.clone();
+        start.weights = fit.weights.chunks(j_n).flat_map(|c| c[nf..].iter().copied()).collect();
+        let refined = refine_anechoic(&target, &AnechoicConfig { max_iter: cfg.round_iter, ..cfg.demix.clone() }, &start)?;
+        let (src, d) = assemble(&refined);
+        let sh_new = shifted_sources(&src, &d, i_n, x.n_samples);
+        let fit_new = refit(x, s0, &sh_new, j_n)?;
+        let e_new = fit_new.residual.energy();
+        if e_new >= err {
+            break;
+        }
+        let gain = (err - e_new) / err.max(f64::MIN_POSITIVE);
+        model = refined;
+        fit = fit_new;
+        sh = sh_new;
+        err = e_new;
+        if gain < 1e-6 {
+            break;
+        }
+    }
+    Ok((model, fit, sh))
+}
+
 fn widen(weights: &[f64], j_from: usize, j_to: usize) -> Vec<f64> {
     weights
         .chunks(j_from)
@@ -203,33 +281,31 @@ pub fn fit_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<ActionLibrar
     // Action 1.
     let base1 = refit(&sets[0], &s0, &[], 0)?;
     let den1 = base1.residual.energy();
-    let demix_first = fit_anechoic(&base1.residual, &AnechoicConfig { n_sources: j1, delays: DelayMode::Shared, ..cfg.demix.clone() })?;
+    let demix1 = fit_anechoic(&base1.residual, &AnechoicConfig { n_sources: j1, delays: DelayMode::Shared, ..cfg.demix.clone() })?;
+    let (demix_first, fit1, sh1) = alternate(&sets[0], &s0, &[], &[], demix1, cfg)?;
     let mut sources = demix_first.sources.clone();
     let mut delays: Vec<f64> = demix_first.delays.clone();
-    let sh1 = shifted_sources(&sources, &delays, i_n, n);
-    let fit1 = refit(&sets[0], &s0, &sh1, j1)?;
 
     // Action 2: the first sources as they are, then the extra ones from the residual.
     let base2 = refit(&sets[1], &s0, &[], 0)?;
     let den2 = base2.residual.energy();
     let fit2a = refit(&sets[1], &s0, &sh1, j1)?;
     let q_second_before_extra = 1.0 - fit2a.residual.energy() / den2;
-    let demix_extra = if cfg.n_sources_extra > 0 {
-        fit_anechoic(&fit2a.residual, &AnechoicConfig { n_sources: cfg.n_sources_extra, delays: DelayMode::Shared, ..cfg.demix.clone() })?
-    } else {
-        demix_first.clone()
-    };
-    if cfg.n_sources_extra > 0 {
-        sources.extend(demix_extra.sources.iter().cloned());
+    let (demix_extra, fit2) = if cfg.n_sources_extra > 0 {
+        let extra = fit_anechoic(&fit2a.residual, &AnechoicConfig { n_sources: cfg.n_sources_extra, delays: DelayMode::Shared, ..cfg.demix.clone() })?;
+        let (extra, fit2, _) = alternate(&sets[1], &s0, &sources, &delays, extra, cfg)?;
+        sources.extend(extra.sources.iter().cloned());
         let mut all = Vec::with_capacity(i_n * j_all);
         for i in 0..i_n {
             all.extend_from_slice(&delays[i * j1..(i + 1) * j1]);
-            all.extend_from_slice(&demix_extra.delays[i * cfg.n_sources_extra..(i + 1) * cfg.n_sources_extra]);
+            all.extend_from_slice(&extra.delays[i * cfg.n_sources_extra..(i + 1) * cfg.n_sources_extra]);
         }
         delays = all;
-    }
+        (extra, fit2)
+    } else {
+        (demix_first.clone(), refit(&sets[1], &s0, &sh1, j1)?)
+    };
     let sh_all = shifted_sources(&sources, &delays, i_n, n);
-    let fit2 = refit(&sets[1], &s0, &sh_all, j_all)?;
 
     // Action 3: everything fixed but means and weights.
     let base3 = refit(&sets[2], &s0, &[], 0)?;
