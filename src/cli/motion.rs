@@ -113,14 +113,27 @@ pub struct SynthArgs {
 fn write_dataset(dir: &Path, data: &Dataset) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     let (r, i, n) = (data.trials.len(), data.n_channels, data.n_samples);
-    let angles: Vec<f64> = data.trials.iter().flat_map(|t| t.iter().flat_map(|a| a.angles.iter().copied())).collect();
+    let angles: Vec<f64> = data
+        .trials
+        .iter()
+        .flat_map(|t| t.iter().flat_map(|a| a.angles.iter().copied()))
+        .collect();
     npy::write_f64(dir.join("angles.npy"), &[r, 3, i, n], &angles)?;
-    let root: Vec<f64> = data.trials.iter().flat_map(|t| t.iter().flat_map(|a| a.root.iter().copied())).collect();
+    let root: Vec<f64> = data
+        .trials
+        .iter()
+        .flat_map(|t| t.iter().flat_map(|a| a.root.iter().copied()))
+        .collect();
     npy::write_f64(dir.join("root.npy"), &[r, 3, n], &root)?;
     let mut csv = String::from("trial,action,step_length,duration\n");
     for (k, t) in data.trials.iter().enumerate() {
         for (a, act) in t.iter().enumerate() {
-            csv.push_str(&format!("{k},{},{},{}\n", a + 1, act.step_length, act.duration));
+            csv.push_str(&format!(
+                "{k},{},{},{}\n",
+                a + 1,
+                act.step_length,
+                act.duration
+            ));
         }
     }
     let p = dir.join("steps.csv");
@@ -131,12 +144,20 @@ fn write_dataset(dir: &Path, data: &Dataset) -> Result<()> {
 pub fn read_dataset(dir: &Path) -> Result<Dataset> {
     let a = npy::read::<f64>(dir.join("angles.npy"))?;
     if a.shape.len() != 4 || a.shape[1] != 3 {
-        return Err(Error::format(dir.join("angles.npy"), format!("expected shape [R, 3, I, N], got {:?}", a.shape)));
+        return Err(Error::format(
+            dir.join("angles.npy"),
+            format!("expected shape [R, 3, I, N], got {:?}", a.shape),
+        ));
     }
     let (r, i, n) = (a.shape[0], a.shape[2], a.shape[3]);
     let root = match npy::read::<f64>(dir.join("root.npy")) {
         Ok(v) if v.shape == [r, 3, n] => Some(v.data),
-        Ok(v) => return Err(Error::format(dir.join("root.npy"), format!("expected shape [{r}, 3, {n}], got {:?}", v.shape))),
+        Ok(v) => {
+            return Err(Error::format(
+                dir.join("root.npy"),
+                format!("expected shape [{r}, 3, {n}], got {:?}", v.shape),
+            ))
+        }
         Err(e) if e.is_io() && !dir.join("root.npy").exists() => None,
         Err(e) => return Err(e),
     };
@@ -148,7 +169,15 @@ pub fn read_dataset(dir: &Path) -> Result<Dataset> {
             continue;
         }
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let bad = || Error::format(&csv_path, format!("line {}: expected trial,action,step_length,duration", line_no + 1));
+        let bad = || {
+            Error::format(
+                &csv_path,
+                format!(
+                    "line {}: expected trial,action,step_length,duration",
+                    line_no + 1
+                ),
+            )
+        };
         if f.len() != 4 {
             return Err(bad());
         }
@@ -157,7 +186,13 @@ pub fn read_dataset(dir: &Path) -> Result<Dataset> {
         let l: f64 = f[2].parse().map_err(|_| bad())?;
         let d: f64 = f[3].parse().map_err(|_| bad())?;
         if t >= r || !(1..=3).contains(&act) {
-            return Err(Error::format(&csv_path, format!("line {}: trial {t} / action {act} out of range", line_no + 1)));
+            return Err(Error::format(
+                &csv_path,
+                format!(
+                    "line {}: trial {t} / action {act} out of range",
+                    line_no + 1
+                ),
+            ));
         }
         params[t][act - 1] = (l, d);
     }
@@ -165,30 +200,51 @@ pub fn read_dataset(dir: &Path) -> Result<Dataset> {
     for (t, p) in params.iter().enumerate() {
         let mk = |k: usize| -> Result<TrialAction> {
             if p[k].0.is_nan() {
-                return Err(Error::format(&csv_path, format!("no row for trial {t} action {}", k + 1)));
+                return Err(Error::format(
+                    &csv_path,
+                    format!("no row for trial {t} action {}", k + 1),
+                ));
             }
             let o = (t * 3 + k) * i * n;
             Ok(TrialAction {
                 angles: a.data[o..o + i * n].to_vec(),
                 step_length: p[k].0,
                 duration: p[k].1,
-                root: root.as_ref().map_or(Vec::new(), |v| v[(t * 3 + k) * n..(t * 3 + k + 1) * n].to_vec()),
+                root: root.as_ref().map_or(Vec::new(), |v| {
+                    v[(t * 3 + k) * n..(t * 3 + k + 1) * n].to_vec()
+                }),
             })
         };
         trials.push([mk(0)?, mk(1)?, mk(2)?]);
     }
-    let ds = Dataset { n_channels: i, n_samples: n, trials, distances: Vec::new() };
+    let ds = Dataset {
+        n_channels: i,
+        n_samples: n,
+        trials,
+        distances: Vec::new(),
+    };
     ds.validate()?;
     Ok(ds)
 }
 
 fn learn(data: &Dataset, restarts: usize) -> Result<ActionLibrary> {
-    let cfg = StepwiseConfig { demix: AnechoicConfig { restarts, ..AnechoicConfig::default() }, ..StepwiseConfig::default() };
+    let cfg = StepwiseConfig {
+        demix: AnechoicConfig {
+            restarts,
+            ..AnechoicConfig::default()
+        },
+        ..StepwiseConfig::default()
+    };
     fit_stepwise(data, &cfg)
 }
 
 fn parse_change(s: &str, approach: Option<f64>) -> Result<(f64, f64)> {
-    let bad = || Error::invalid("change", format!("expected TIME:DISTANCE or PERCENT%:DISTANCE, got `{s}`"));
+    let bad = || {
+        Error::invalid(
+            "change",
+            format!("expected TIME:DISTANCE or PERCENT%:DISTANCE, got `{s}`"),
+        )
+    };
     let (t, d) = s.split_once(':').ok_or_else(bad)?;
     let d: f64 = d.trim().parse().map_err(|_| bad())?;
     let t = match t.trim().strip_suffix('%') {
@@ -201,23 +257,43 @@ fn parse_change(s: &str, approach: Option<f64>) -> Result<(f64, f64)> {
 pub fn run(cmd: MotionCommand) -> Result<()> {
     match cmd {
         MotionCommand::MakeData(a) => {
-            let (data, _) = reach_walk(&WalkerConfig { n_trials: a.trials, seed: a.seed, noise: a.noise, ..WalkerConfig::default() })?;
+            let (data, _) = reach_walk(&WalkerConfig {
+                n_trials: a.trials,
+                seed: a.seed,
+                noise: a.noise,
+                ..WalkerConfig::default()
+            })?;
             write_dataset(&a.dir, &data)?;
-            println!("wrote {} trials x 3 actions x {} channels x {} samples to {}", data.trials.len(), data.n_channels, data.n_samples, a.dir.display());
+            println!(
+                "wrote {} trials x 3 actions x {} channels x {} samples to {}",
+                data.trials.len(),
+                data.n_channels,
+                data.n_samples,
+                a.dir.display()
+            );
             Ok(())
         }
         MotionCommand::Learn(a) => {
             let data = read_dataset(&a.data)?;
             let lib = learn(&data, a.restarts)?;
             for (k, f) in lib.actions.iter().enumerate() {
-                println!("action {}: Q = {:.4} ({} sources + s0)", k + 1, f.q, f.n_sources);
+                println!(
+                    "action {}: Q = {:.4} ({} sources + s0)",
+                    k + 1,
+                    f.q,
+                    f.n_sources
+                );
             }
             println!("all actions: Q = {:.4}", lib.q_total);
             std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
             let n = lib.n_samples;
             let src: Vec<f64> = lib.sources.iter().flat_map(|s| s.sample(n, 0.0)).collect();
             npy::write_f64(a.out.join("sources.npy"), &[lib.n_sources(), n], &src)?;
-            npy::write_f64(a.out.join("delays.npy"), &[lib.n_channels, lib.n_sources()], &lib.delays)?;
+            npy::write_f64(
+                a.out.join("delays.npy"),
+                &[lib.n_channels, lib.n_sources()],
+                &lib.delays,
+            )?;
             println!("wrote sources.npy and delays.npy to {}", a.out.display());
             Ok(())
         }
@@ -230,7 +306,10 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                 println!("{:?}\t{:.4} m", p.action, p.length);
             }
             if plan.violation > 0.0 {
-                println!("(no plan fits the trained step ranges; largest violation {:.3} m)", plan.violation);
+                println!(
+                    "(no plan fits the trained step ranges; largest violation {:.3} m)",
+                    plan.violation
+                );
             }
             Ok(())
         }
@@ -241,7 +320,13 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             };
             let lib = learn(&data, 10)?;
             if lib.n_channels != N_CHANNELS {
-                return Err(Error::invalid("data", format!("BVH export needs the 17-joint skeleton's {N_CHANNELS} channels, got {}", lib.n_channels)));
+                return Err(Error::invalid(
+                    "data",
+                    format!(
+                        "BVH export needs the 17-joint skeleton's {N_CHANNELS} channels, got {}",
+                        lib.n_channels
+                    ),
+                ));
             }
             let map = match a.map {
                 MapName::Lut => MapKind::Lut(1024),
@@ -249,18 +334,35 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                 MapName::Svr => MapKind::Svr(SvrMapConfig::default()),
             };
             let planner = planner_for(&lib);
-            let mut syn = Synthesizer::new(lib, planner, SynthConfig { map, ..SynthConfig::default() })?;
+            let mut syn = Synthesizer::new(
+                lib,
+                planner,
+                SynthConfig {
+                    map,
+                    ..SynthConfig::default()
+                },
+            )?;
             let approach = if a.changes.iter().any(|c| c.contains('%')) {
                 let base = syn.run(a.goal, a.fps, &[], 600.0)?;
-                base.frames.iter().find(|f| f.action == Action::Reach).map(|f| f.time)
+                base.frames
+                    .iter()
+                    .find(|f| f.action == Action::Reach)
+                    .map(|f| f.time)
             } else {
                 None
             };
-            let changes: Vec<(f64, f64)> = a.changes.iter().map(|c| parse_change(c, approach)).collect::<Result<_>>()?;
+            let changes: Vec<(f64, f64)> = a
+                .changes
+                .iter()
+                .map(|c| parse_change(c, approach))
+                .collect::<Result<_>>()?;
             let s = syn.run(a.goal, a.fps, &changes, 600.0)?;
             let angles: Vec<Vec<f64>> = s.frames.iter().map(|f| f.angles.clone()).collect();
             let roots: Vec<f64> = s.frames.iter().map(|f| f.root_x).collect();
-            write_bvh(&a.out, &motion_from_frames(angles.clone(), &roots, 1.0 / a.fps))?;
+            write_bvh(
+                &a.out,
+                &motion_from_frames(angles.clone(), &roots, 1.0 / a.fps),
+            )?;
             if let Some(p) = &a.npy {
                 let flat: Vec<f64> = angles.into_iter().flatten().collect();
                 npy::write_f64(p, &[s.frames.len(), N_CHANNELS], &flat)?;
@@ -270,9 +372,18 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                 stick_strip(&s.frames, (a.fps / 10.0).round().max(1.0) as usize, goal)?.save(p)?;
             }
             let last = s.frames.last().map_or(0.0, |f| f.root_x);
-            let plan: Vec<String> = s.executed.iter().map(|p| format!("{:?} {:.3}", p.action, p.length)).collect();
+            let plan: Vec<String> = s
+                .executed
+                .iter()
+                .map(|p| format!("{:?} {:.3}", p.action, p.length))
+                .collect();
             println!("actions: {}", plan.join(", "));
-            println!("{} frames ({:.2} s), final pelvis-to-goal distance {:.3} m", s.frames.len(), s.frames.len() as f64 / a.fps, goal - last);
+            println!(
+                "{} frames ({:.2} s), final pelvis-to-goal distance {:.3} m",
+                s.frames.len(),
+                s.frames.len() as f64 / a.fps,
+                goal - last
+            );
             println!("wrote {}", a.out.display());
             Ok(())
         }

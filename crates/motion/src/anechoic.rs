@@ -119,7 +119,11 @@ impl AnechoicModel {
 
     /// Delay of source `j` in channel `i` for trial `r` (periods).
     pub fn delay(&self, r: usize, i: usize, j: usize) -> f64 {
-        let rr = if self.delay_mode == DelayMode::PerTrial { r } else { 0 };
+        let rr = if self.delay_mode == DelayMode::PerTrial {
+            r
+        } else {
+            0
+        };
         self.delays[(rr * self.n_channels + i) * self.sources.len() + j]
     }
 
@@ -142,7 +146,12 @@ impl AnechoicModel {
                 }
             }
         });
-        TrialSet { n_trials: r_n, n_channels: i_n, n_samples: n, data: out }
+        TrialSet {
+            n_trials: r_n,
+            n_channels: i_n,
+            n_samples: n,
+            data: out,
+        }
     }
 }
 
@@ -152,14 +161,21 @@ fn check_config(x: &TrialSet, cfg: &AnechoicConfig) -> Result<()> {
     if cfg.n_harmonics == 0 || 2 * cfg.n_harmonics >= n {
         return Err(Error::invalid(
             "n_harmonics",
-            format!("must be in 1..{} (below N/2 for N = {n} samples), got {}", n.div_ceil(2), cfg.n_harmonics),
+            format!(
+                "must be in 1..{} (below N/2 for N = {n} samples), got {}",
+                n.div_ceil(2),
+                cfg.n_harmonics
+            ),
         ));
     }
     let cap = (x.n_trials * x.n_channels).min(n / 2);
     if cfg.n_sources == 0 || cfg.n_sources >= cap {
         return Err(Error::invalid(
             "n_sources",
-            format!("must be >= 1 and < min(I*R, N/2) = {cap}, got {}", cfg.n_sources),
+            format!(
+                "must be >= 1 and < min(I*R, N/2) = {cap}, got {}",
+                cfg.n_sources
+            ),
         ));
     }
     if cfg.max_iter == 0 {
@@ -169,7 +185,10 @@ fn check_config(x: &TrialSet, cfg: &AnechoicConfig) -> Result<()> {
         return Err(Error::invalid("restarts", "must be >= 1"));
     }
     if !(cfg.tol.is_finite() && cfg.tol >= 0.0) {
-        return Err(Error::invalid("tol", format!("must be finite and >= 0, got {}", cfg.tol)));
+        return Err(Error::invalid(
+            "tol",
+            format!("must be finite and >= 0, got {}", cfg.tol),
+        ));
     }
     Ok(())
 }
@@ -198,7 +217,15 @@ impl Spectra {
         let rows: Vec<Vec<Complex64>> = x.data.par_chunks(n).map(|row| harmonics(row, k)).collect();
         let xs: Vec<Complex64> = rows.into_iter().flatten().collect();
         let in_band: f64 = 2.0 * n as f64 * xs.iter().map(|c| c.norm_sqr()).sum::<f64>();
-        Ok(Self { r: x.n_trials, i: x.n_channels, k, n, x: xs, total, out_band: (total - in_band).max(0.0) })
+        Ok(Self {
+            r: x.n_trials,
+            i: x.n_channels,
+            k,
+            n,
+            x: xs,
+            total,
+            out_band: (total - in_band).max(0.0),
+        })
     }
 
     fn row(&self, r: usize, i: usize) -> &[Complex64] {
@@ -273,7 +300,11 @@ impl State {
                 |m, ri| {
                     let (r, i) = (ri / sp.i, ri % sp.i);
                     self.model_row(sp, &ph, r, i, m);
-                    sp.row(r, i).iter().zip(m.iter()).map(|(a, b)| (a - b).norm_sqr()).sum::<f64>()
+                    sp.row(r, i)
+                        .iter()
+                        .zip(m.iter())
+                        .map(|(a, b)| (a - b).norm_sqr())
+                        .sum::<f64>()
                 },
             )
             .sum();
@@ -297,7 +328,8 @@ impl State {
                 for r in 0..sp.r {
                     for i in 0..sp.i {
                         for (j, aj) in a.iter_mut().enumerate() {
-                            *aj = self.w[(r * sp.i + i) * j_n + j] * ph[((self.rd(r) * sp.i + i) * j_n + j) * k + kk];
+                            *aj = self.w[(r * sp.i + i) * j_n + j]
+                                * ph[((self.rd(r) * sp.i + i) * j_n + j) * k + kk];
                         }
                         let xv = sp.row(r, i)[kk];
                         for p in 0..j_n {
@@ -313,8 +345,8 @@ impl State {
             })
             .collect::<Result<_>>()?;
         for (kk, col) in cols.iter().enumerate() {
-            for j in 0..j_n {
-                self.c[j * k + kk] = col[j];
+            for (j, v) in col.iter().enumerate() {
+                self.c[j * k + kk] = *v;
             }
         }
         Ok(())
@@ -342,7 +374,9 @@ impl State {
                 let mut h = vec![0.0; j_n];
                 for p in 0..j_n {
                     for q in p..j_n {
-                        let v: f64 = (0..k).map(|kk| (b[p * k + kk] * b[q * k + kk].conj()).re).sum();
+                        let v: f64 = (0..k)
+                            .map(|kk| (b[p * k + kk] * b[q * k + kk].conj()).re)
+                            .sum();
                         g[p * j_n + q] = v;
                         g[q * j_n + p] = v;
                     }
@@ -388,8 +422,11 @@ impl State {
                 let mut g = vec![Complex64::new(0.0, 0.0); k];
                 for j in 0..j_n {
                     let c = &this.c[j * k..(j + 1) * k];
-                    let groups: Vec<Vec<usize>> =
-                        if per_trial { (0..r_n).map(|r| vec![r]).collect() } else { vec![(0..r_n).collect()] };
+                    let groups: Vec<Vec<usize>> = if per_trial {
+                        (0..r_n).map(|r| vec![r]).collect()
+                    } else {
+                        vec![(0..r_n).collect()]
+                    };
                     for (gi, trials) in groups.iter().enumerate() {
                         let slot = gi * j_n + j;
                         let old = taus[slot];
@@ -408,7 +445,11 @@ impl State {
                         }
                         let f_old = trig_eval(&g, old).0;
                         let (cand, f_new) = trig_argmax(&g);
-                        let tau = if f_new > f_old + 1e-15 * f_old.abs().max(1.0) { wrap_half(cand) } else { old };
+                        let tau = if f_new > f_old + 1e-15 * f_old.abs().max(1.0) {
+                            wrap_half(cand)
+                        } else {
+                            old
+                        };
                         taus[slot] = tau;
                         State::phasors(tau, k, &mut p);
                         for &r in trials {
@@ -455,7 +496,9 @@ impl State {
             for rd in 0..rd_n {
                 for i in 0..i_n {
                     let a: f64 = if rd_n == 1 {
-                        (0..r_n).map(|r| self.w[(r * i_n + i) * j_n + j].abs()).sum()
+                        (0..r_n)
+                            .map(|r| self.w[(r * i_n + i) * j_n + j].abs())
+                            .sum()
                     } else {
                         self.w[(rd * i_n + i) * j_n + j].abs()
                     };
@@ -500,7 +543,9 @@ impl State {
             n_trials: sp.r,
             n_channels: sp.i,
             n_samples: sp.n,
-            sources: (0..self.j).map(|j| PeriodicSource::new(self.c[j * k..(j + 1) * k].to_vec())).collect(),
+            sources: (0..self.j)
+                .map(|j| PeriodicSource::new(self.c[j * k..(j + 1) * k].to_vec()))
+                .collect(),
             delay_mode: self.mode,
             delays: self.tau,
             weights: self.w,
@@ -564,7 +609,12 @@ fn pca_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<State> 
         let v: Vec<f64> = (0..n).map(|m| d.v[(m, j)]).collect();
         c.extend(harmonics(&v, sp.k));
     }
-    start_from(sp, cfg, c, vec![0.0; n_delay_rows(cfg.delays, sp.r) * sp.i * j_n])
+    start_from(
+        sp,
+        cfg,
+        c,
+        vec![0.0; n_delay_rows(cfg.delays, sp.r) * sp.i * j_n],
+    )
 }
 
 /// Greedy start (see [`Init::Greedy`]).
@@ -577,11 +627,21 @@ fn greedy_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<Stat
             Some(s) => {
                 let model = s.clone().into_model(sp, 0.0, Vec::new()).reconstruct();
                 let mut r = x.clone();
-                r.data.iter_mut().zip(&model.data).for_each(|(a, b)| *a -= b);
+                r.data
+                    .iter_mut()
+                    .zip(&model.data)
+                    .for_each(|(a, b)| *a -= b);
                 r
             }
         };
-        let lead = pca_start(&residual, sp, &AnechoicConfig { n_sources: 1, ..cfg.clone() })?;
+        let lead = pca_start(
+            &residual,
+            sp,
+            &AnechoicConfig {
+                n_sources: 1,
+                ..cfg.clone()
+            },
+        )?;
         let (mut c, mut tau) = match &state {
             None => (Vec::new(), vec![0.0; 0]),
             Some(s) => (s.c.clone(), s.tau.clone()),
@@ -595,9 +655,19 @@ fn greedy_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<Stat
             t.push(0.0);
         }
         tau = t;
-        let stage_cfg = AnechoicConfig { n_sources: j, ..cfg.clone() };
+        let stage_cfg = AnechoicConfig {
+            n_sources: j,
+            ..cfg.clone()
+        };
         let start = start_from(sp, &stage_cfg, c, tau)?;
-        let (s, _, _) = run(sp, &AnechoicConfig { max_iter: cfg.max_iter.min(100), ..stage_cfg }, start)?;
+        let (s, _, _) = run(
+            sp,
+            &AnechoicConfig {
+                max_iter: cfg.max_iter.min(100),
+                ..stage_cfg
+            },
+            start,
+        )?;
         state = Some(s);
     }
     state.ok_or_else(|| Error::invalid("n_sources", "must be >= 1"))
@@ -625,8 +695,19 @@ fn random_start(sp: &Spectra, cfg: &AnechoicConfig, stream: u64) -> Result<State
     start_from(sp, cfg, c, tau)
 }
 
-fn start_from(sp: &Spectra, cfg: &AnechoicConfig, c: Vec<Complex64>, tau: Vec<f64>) -> Result<State> {
-    let mut s = State { j: cfg.n_sources, mode: cfg.delays, c, tau, w: vec![1.0; sp.r * sp.i * cfg.n_sources] };
+fn start_from(
+    sp: &Spectra,
+    cfg: &AnechoicConfig,
+    c: Vec<Complex64>,
+    tau: Vec<f64>,
+) -> Result<State> {
+    let mut s = State {
+        j: cfg.n_sources,
+        mode: cfg.delays,
+        c,
+        tau,
+        w: vec![1.0; sp.r * sp.i * cfg.n_sources],
+    };
     s.update_weights(sp)?;
     s.normalize(sp);
     Ok(s)
@@ -668,9 +749,17 @@ pub fn fit_anechoic(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel>
 ///
 /// # Errors
 /// Shape mismatch between `x` and `start`, or a tighter constraint than `start`'s.
-pub fn refine_anechoic(x: &TrialSet, cfg: &AnechoicConfig, start: &AnechoicModel) -> Result<AnechoicModel> {
-    if (x.n_trials, x.n_channels, x.n_samples) != (start.n_trials, start.n_channels, start.n_samples) {
-        return Err(Error::ShapeMismatch("data and starting model differ in shape".into()));
+pub fn refine_anechoic(
+    x: &TrialSet,
+    cfg: &AnechoicConfig,
+    start: &AnechoicModel,
+) -> Result<AnechoicModel> {
+    if (x.n_trials, x.n_channels, x.n_samples)
+        != (start.n_trials, start.n_channels, start.n_samples)
+    {
+        return Err(Error::ShapeMismatch(
+            "data and starting model differ in shape".into(),
+        ));
     }
     let rank = |m: DelayMode| match m {
         DelayMode::Zero => 0,
@@ -678,10 +767,17 @@ pub fn refine_anechoic(x: &TrialSet, cfg: &AnechoicConfig, start: &AnechoicModel
         DelayMode::PerTrial => 2,
     };
     if rank(cfg.delays) < rank(start.delay_mode) {
-        return Err(Error::invalid("delays", "cannot refine into a tighter delay constraint than the start's"));
+        return Err(Error::invalid(
+            "delays",
+            "cannot refine into a tighter delay constraint than the start's",
+        ));
     }
     let k = start.sources.first().map_or(0, |s| s.n_harmonics());
-    let cfg = AnechoicConfig { n_sources: start.n_sources(), n_harmonics: k, ..cfg.clone() };
+    let cfg = AnechoicConfig {
+        n_sources: start.n_sources(),
+        n_harmonics: k,
+        ..cfg.clone()
+    };
     check_config(x, &cfg)?;
     let sp = Spectra::new(x, k)?;
     let nd = n_delay_rows(cfg.delays, sp.r) * sp.i * cfg.n_sources;
@@ -696,7 +792,11 @@ pub fn refine_anechoic(x: &TrialSet, cfg: &AnechoicConfig, start: &AnechoicModel
     let state = State {
         j: cfg.n_sources,
         mode: cfg.delays,
-        c: start.sources.iter().flat_map(|s| s.coeffs.iter().copied()).collect(),
+        c: start
+            .sources
+            .iter()
+            .flat_map(|s| s.coeffs.iter().copied())
+            .collect(),
         tau,
         w: start.weights.clone(),
     };
@@ -717,14 +817,20 @@ pub fn refit_weights(model: &AnechoicModel, x: &TrialSet) -> Result<Vec<f64>> {
         )));
     }
     if model.delay_mode == DelayMode::PerTrial && x.n_trials != model.n_trials {
-        return Err(Error::ShapeMismatch("per-trial delays need the same trials as the fit".into()));
+        return Err(Error::ShapeMismatch(
+            "per-trial delays need the same trials as the fit".into(),
+        ));
     }
     let k = model.sources.first().map_or(1, |s| s.n_harmonics());
     let sp = Spectra::new(x, k)?;
     let mut s = State {
         j: model.n_sources(),
         mode: model.delay_mode,
-        c: model.sources.iter().flat_map(|s| s.coeffs.iter().copied()).collect(),
+        c: model
+            .sources
+            .iter()
+            .flat_map(|s| s.coeffs.iter().copied())
+            .collect(),
         tau: model.delays.clone(),
         w: vec![0.0; x.n_trials * x.n_channels * model.n_sources()],
     };

@@ -21,7 +21,10 @@ pub fn check_beta(beta: f64) -> Result<()> {
     if beta.is_finite() && beta > 0.0 && beta < PI {
         Ok(())
     } else {
-        Err(Error::invalid("beta", format!("must be in (0, π), got {beta}")))
+        Err(Error::invalid(
+            "beta",
+            format!("must be in (0, π), got {beta}"),
+        ))
     }
 }
 

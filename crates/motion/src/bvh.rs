@@ -5,7 +5,10 @@
 //! from the exponential maps through quaternions); positions are in centimetres. The pelvis
 //! walks along +z. The reader accepts any channel order and converts back to exponential maps.
 
-use crate::skeleton::{end_site, expmap_to_quat, matrix_to_zxy, quat_to_expmap, unwrap_expmaps, zxy_to_matrix, HIP_HEIGHT, JOINTS, N_CHANNELS, N_JOINTS};
+use crate::skeleton::{
+    end_site, expmap_to_quat, matrix_to_zxy, quat_to_expmap, unwrap_expmaps, zxy_to_matrix,
+    HIP_HEIGHT, JOINTS, N_CHANNELS, N_JOINTS,
+};
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -31,9 +34,18 @@ fn hierarchy(out: &mut String, j: usize, depth: usize) {
     let (name, parent, off) = JOINTS[j];
     let kind = if parent.is_none() { "ROOT" } else { "JOINT" };
     let _ = writeln!(out, "{pad}{kind} {name}\n{pad}{{");
-    let _ = writeln!(out, "{pad}  OFFSET {:.4} {:.4} {:.4}", off[0] * UNITS_PER_METRE, off[1] * UNITS_PER_METRE, off[2] * UNITS_PER_METRE);
+    let _ = writeln!(
+        out,
+        "{pad}  OFFSET {:.4} {:.4} {:.4}",
+        off[0] * UNITS_PER_METRE,
+        off[1] * UNITS_PER_METRE,
+        off[2] * UNITS_PER_METRE
+    );
     if parent.is_none() {
-        let _ = writeln!(out, "{pad}  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation");
+        let _ = writeln!(
+            out,
+            "{pad}  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation"
+        );
     } else {
         let _ = writeln!(out, "{pad}  CHANNELS 3 Zrotation Xrotation Yrotation");
     }
@@ -62,14 +74,24 @@ fn hierarchy(out: &mut String, j: usize, depth: usize) {
 pub fn to_bvh_string(motion: &BvhMotion) -> Result<String> {
     ensure_nonempty("frames", motion.angles.len())?;
     if motion.root.len() != motion.angles.len() {
-        return Err(Error::ShapeMismatch(format!("{} angle frames and {} root positions", motion.angles.len(), motion.root.len())));
+        return Err(Error::ShapeMismatch(format!(
+            "{} angle frames and {} root positions",
+            motion.angles.len(),
+            motion.root.len()
+        )));
     }
     if !(motion.frame_time.is_finite() && motion.frame_time > 0.0) {
-        return Err(Error::invalid("frame_time", format!("must be finite and > 0, got {}", motion.frame_time)));
+        return Err(Error::invalid(
+            "frame_time",
+            format!("must be finite and > 0, got {}", motion.frame_time),
+        ));
     }
     for (f, a) in motion.angles.iter().enumerate() {
         if a.len() != N_CHANNELS {
-            return Err(Error::ShapeMismatch(format!("frame {f} has {} channels, expected {N_CHANNELS}", a.len())));
+            return Err(Error::ShapeMismatch(format!(
+                "frame {f} has {} channels, expected {N_CHANNELS}",
+                a.len()
+            )));
         }
         ensure_finite("angles", a)?;
     }
@@ -77,7 +99,12 @@ pub fn to_bvh_string(motion: &BvhMotion) -> Result<String> {
     ensure_finite("root", &flat)?;
     let mut out = String::from("HIERARCHY\n");
     hierarchy(&mut out, 0, 0);
-    let _ = writeln!(out, "MOTION\nFrames: {}\nFrame Time: {:.8}", motion.angles.len(), motion.frame_time);
+    let _ = writeln!(
+        out,
+        "MOTION\nFrames: {}\nFrame Time: {:.8}",
+        motion.angles.len(),
+        motion.frame_time
+    );
     for (a, r) in motion.angles.iter().zip(&motion.root) {
         let mut vals: Vec<f64> = r.iter().map(|v| v * UNITS_PER_METRE).collect();
         for j in 0..N_JOINTS {
@@ -102,9 +129,17 @@ pub fn write_bvh(path: impl AsRef<Path>, motion: &BvhMotion) -> Result<()> {
 }
 
 /// A motion of synthesized frames (`angles`, pelvis forward positions along +z).
-pub fn motion_from_frames(angles: Vec<Vec<f64>>, root_forward: &[f64], frame_time: f64) -> BvhMotion {
+pub fn motion_from_frames(
+    angles: Vec<Vec<f64>>,
+    root_forward: &[f64],
+    frame_time: f64,
+) -> BvhMotion {
     let root = root_forward.iter().map(|&z| [0.0, HIP_HEIGHT, z]).collect();
-    BvhMotion { frame_time, angles, root }
+    BvhMotion {
+        frame_time,
+        angles,
+        root,
+    }
 }
 
 /// Parses BVH text of this skeleton (joints matched by name, channels in any order).
@@ -120,12 +155,19 @@ pub fn parse_bvh(text: &str, origin: &Path) -> Result<BvhMotion> {
     let mut current: Vec<Option<usize>> = Vec::new();
     let mut in_end = 0usize;
     loop {
-        let t = tokens.next().ok_or_else(|| bad("missing MOTION section".into()))?;
+        let t = tokens
+            .next()
+            .ok_or_else(|| bad("missing MOTION section".into()))?;
         match t {
             "HIERARCHY" => {}
             "ROOT" | "JOINT" => {
-                let name = tokens.next().ok_or_else(|| bad("joint without a name".into()))?;
-                let idx = JOINTS.iter().position(|j| j.0 == name).ok_or_else(|| bad(format!("unknown joint `{name}`")))?;
+                let name = tokens
+                    .next()
+                    .ok_or_else(|| bad("joint without a name".into()))?;
+                let idx = JOINTS
+                    .iter()
+                    .position(|j| j.0 == name)
+                    .ok_or_else(|| bad(format!("unknown joint `{name}`")))?;
                 current.push(Some(idx));
             }
             "End" => {
@@ -145,12 +187,21 @@ pub fn parse_bvh(text: &str, origin: &Path) -> Result<BvhMotion> {
                 }
             }
             "CHANNELS" => {
-                let n: usize = tokens.next().and_then(|v| v.parse().ok()).ok_or_else(|| bad("bad CHANNELS count".into()))?;
-                let names: Vec<String> = (0..n).filter_map(|_| tokens.next().map(str::to_string)).collect();
+                let n: usize = tokens
+                    .next()
+                    .and_then(|v| v.parse().ok())
+                    .ok_or_else(|| bad("bad CHANNELS count".into()))?;
+                let names: Vec<String> = (0..n)
+                    .filter_map(|_| tokens.next().map(str::to_string))
+                    .collect();
                 if names.len() != n || in_end > 0 {
                     return Err(bad("truncated CHANNELS line".into()));
                 }
-                let j = current.last().copied().flatten().ok_or_else(|| bad("CHANNELS outside a joint".into()))?;
+                let j = current
+                    .last()
+                    .copied()
+                    .flatten()
+                    .ok_or_else(|| bad("CHANNELS outside a joint".into()))?;
                 layout.push((j, names));
             }
             "MOTION" => break,
@@ -164,24 +215,42 @@ pub fn parse_bvh(text: &str, origin: &Path) -> Result<BvhMotion> {
     if let Some(j) = seen.iter().position(|s| !s) {
         return Err(bad(format!("joint `{}` missing", JOINTS[j].0)));
     }
-    let expect = |tokens: &mut std::iter::Peekable<std::str::SplitWhitespace>, word: &str| -> Result<()> {
-        match tokens.next() {
-            Some(w) if w == word => Ok(()),
-            other => Err(Error::format(origin, format!("expected `{word}`, found {other:?}"))),
-        }
-    };
+    let expect =
+        |tokens: &mut std::iter::Peekable<std::str::SplitWhitespace>, word: &str| -> Result<()> {
+            match tokens.next() {
+                Some(w) if w == word => Ok(()),
+                other => Err(Error::format(
+                    origin,
+                    format!("expected `{word}`, found {other:?}"),
+                )),
+            }
+        };
     expect(&mut tokens, "Frames:")?;
-    let n_frames: usize = tokens.next().and_then(|v| v.parse().ok()).ok_or_else(|| bad("bad frame count".into()))?;
+    let n_frames: usize = tokens
+        .next()
+        .and_then(|v| v.parse().ok())
+        .ok_or_else(|| bad("bad frame count".into()))?;
     expect(&mut tokens, "Frame")?;
     expect(&mut tokens, "Time:")?;
-    let frame_time: f64 = tokens.next().and_then(|v| v.parse().ok()).ok_or_else(|| bad("bad frame time".into()))?;
+    let frame_time: f64 = tokens
+        .next()
+        .and_then(|v| v.parse().ok())
+        .ok_or_else(|| bad("bad frame time".into()))?;
     if !(frame_time.is_finite() && frame_time > 0.0) {
         return Err(bad(format!("frame time must be > 0, got {frame_time}")));
     }
     let per_frame: usize = layout.iter().map(|l| l.1.len()).sum();
-    let values: Vec<f64> = tokens.map(|v| v.parse::<f64>().map_err(|_| bad(format!("bad number `{v}`")))).collect::<Result<_>>()?;
+    let values: Vec<f64> = tokens
+        .map(|v| {
+            v.parse::<f64>()
+                .map_err(|_| bad(format!("bad number `{v}`")))
+        })
+        .collect::<Result<_>>()?;
     if values.len() != n_frames * per_frame {
-        return Err(bad(format!("{} motion values for {n_frames} frames of {per_frame} channels", values.len())));
+        return Err(bad(format!(
+            "{} motion values for {n_frames} frames of {per_frame} channels",
+            values.len()
+        )));
     }
     ensure_finite("motion", &values)?;
     let mut angles = Vec::with_capacity(n_frames);
@@ -198,9 +267,15 @@ pub fn parse_bvh(text: &str, origin: &Path) -> Result<BvhMotion> {
                     "Xposition" => pos[0] = v / UNITS_PER_METRE,
                     "Yposition" => pos[1] = v / UNITS_PER_METRE,
                     "Zposition" => pos[2] = v / UNITS_PER_METRE,
-                    "Xrotation" => rot *= Rotation3::from_axis_angle(&Vector3::x_axis(), v.to_radians()),
-                    "Yrotation" => rot *= Rotation3::from_axis_angle(&Vector3::y_axis(), v.to_radians()),
-                    "Zrotation" => rot *= Rotation3::from_axis_angle(&Vector3::z_axis(), v.to_radians()),
+                    "Xrotation" => {
+                        rot *= Rotation3::from_axis_angle(&Vector3::x_axis(), v.to_radians())
+                    }
+                    "Yrotation" => {
+                        rot *= Rotation3::from_axis_angle(&Vector3::y_axis(), v.to_radians())
+                    }
+                    "Zrotation" => {
+                        rot *= Rotation3::from_axis_angle(&Vector3::z_axis(), v.to_radians())
+                    }
                     other => return Err(bad(format!("unknown channel `{other}`"))),
                 }
             }
@@ -212,13 +287,20 @@ pub fn parse_bvh(text: &str, origin: &Path) -> Result<BvhMotion> {
     }
     // Continuous exponential maps over time, per joint.
     for j in 0..N_JOINTS {
-        let mut seq: Vec<[f64; 3]> = angles.iter().map(|a| [a[3 * j], a[3 * j + 1], a[3 * j + 2]]).collect();
+        let mut seq: Vec<[f64; 3]> = angles
+            .iter()
+            .map(|a| [a[3 * j], a[3 * j + 1], a[3 * j + 2]])
+            .collect();
         unwrap_expmaps(&mut seq);
         for (a, s) in angles.iter_mut().zip(seq) {
             a[3 * j..3 * j + 3].copy_from_slice(&s);
         }
     }
-    Ok(BvhMotion { frame_time, angles, root })
+    Ok(BvhMotion {
+        frame_time,
+        angles,
+        root,
+    })
 }
 
 /// Reads a BVH file of this skeleton.

@@ -23,7 +23,12 @@ impl TrialSet {
     /// # Errors
     /// [`Error::Empty`] for a zero dimension, [`Error::ShapeMismatch`] when `data` has the
     /// wrong length, [`Error::NonFinite`] for NaN or infinity.
-    pub fn new(n_trials: usize, n_channels: usize, n_samples: usize, data: Vec<f64>) -> Result<Self> {
+    pub fn new(
+        n_trials: usize,
+        n_channels: usize,
+        n_samples: usize,
+        data: Vec<f64>,
+    ) -> Result<Self> {
         ensure_nonempty("trials", n_trials)?;
         ensure_nonempty("channels", n_channels)?;
         ensure_nonempty("samples", n_samples)?;
@@ -34,7 +39,12 @@ impl TrialSet {
             )));
         }
         ensure_finite("trials", &data)?;
-        Ok(Self { n_trials, n_channels, n_samples, data })
+        Ok(Self {
+            n_trials,
+            n_channels,
+            n_samples,
+            data,
+        })
     }
 
     /// Stacks per-trial `I × N` blocks, which must all have the same shape.
@@ -74,7 +84,10 @@ impl TrialSet {
 
     /// A zero-filled set of the same shape.
     pub fn zeros_like(&self) -> Self {
-        Self { data: vec![0.0; self.data.len()], ..*self }
+        Self {
+            data: vec![0.0; self.data.len()],
+            ..*self
+        }
     }
 
     /// `‖X‖²_F`.
@@ -98,6 +111,11 @@ pub fn quality(x: &TrialSet, xhat: &TrialSet) -> Result<f64> {
     if total <= 0.0 {
         return Err(Error::invalid("x", "all values are zero; Q is undefined"));
     }
-    let err: f64 = x.data.iter().zip(&xhat.data).map(|(a, b)| (a - b) * (a - b)).sum();
+    let err: f64 = x
+        .data
+        .iter()
+        .zip(&xhat.data)
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum();
     Ok(1.0 - err / total)
 }

@@ -61,13 +61,31 @@ impl Dataset {
                 }
                 ensure_finite("angles", &act.angles)?;
                 if !(act.duration.is_finite() && act.duration > 0.0) {
-                    return Err(Error::invalid("duration", format!("trial {r} action {}: must be > 0, got {}", a + 1, act.duration)));
+                    return Err(Error::invalid(
+                        "duration",
+                        format!(
+                            "trial {r} action {}: must be > 0, got {}",
+                            a + 1,
+                            act.duration
+                        ),
+                    ));
                 }
                 if !(act.step_length.is_finite() && act.step_length >= 0.0) {
-                    return Err(Error::invalid("step_length", format!("trial {r} action {}: must be >= 0, got {}", a + 1, act.step_length)));
+                    return Err(Error::invalid(
+                        "step_length",
+                        format!(
+                            "trial {r} action {}: must be >= 0, got {}",
+                            a + 1,
+                            act.step_length
+                        ),
+                    ));
                 }
                 if !act.root.is_empty() && act.root.len() != self.n_samples {
-                    return Err(Error::ShapeMismatch(format!("trial {r} action {}: root curve of {} samples", a + 1, act.root.len())));
+                    return Err(Error::ShapeMismatch(format!(
+                        "trial {r} action {}: root curve of {} samples",
+                        a + 1,
+                        act.root.len()
+                    )));
                 }
                 ensure_finite("root", &act.root)?;
             }
@@ -82,7 +100,10 @@ impl Dataset {
     /// `a > 2`, or an invalid dataset.
     pub fn action_set(&self, a: usize) -> Result<TrialSet> {
         if a > 2 {
-            return Err(Error::invalid("action", format!("must be 0, 1 or 2, got {a}")));
+            return Err(Error::invalid(
+                "action",
+                format!("must be 0, 1 or 2, got {a}"),
+            ));
         }
         let blocks: Vec<Vec<f64>> = self.trials.iter().map(|t| t[a].angles.clone()).collect();
         TrialSet::stack(&blocks, self.n_channels, self.n_samples)
@@ -90,6 +111,9 @@ impl Dataset {
 
     /// `(step parameter, duration)` of action `a` for every trial.
     pub fn params(&self, a: usize) -> Vec<(f64, f64)> {
-        self.trials.iter().map(|t| (t[a].step_length, t[a].duration)).collect()
+        self.trials
+            .iter()
+            .map(|t| (t[a].step_length, t[a].duration))
+            .collect()
     }
 }

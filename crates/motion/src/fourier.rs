@@ -51,7 +51,9 @@ impl PeriodicSource {
 
     /// `n` samples of `s(t − τ)` at `t = m / n`, `m = 0..n`.
     pub fn sample(&self, n: usize, tau: f64) -> Vec<f64> {
-        (0..n).map(|m| self.eval(m as f64 / n as f64, tau)).collect()
+        (0..n)
+            .map(|m| self.eval(m as f64 / n as f64, tau))
+            .collect()
     }
 
     /// Root mean square over one period: `sqrt(2 Σ |c_k|²)` (Parseval).
@@ -73,7 +75,9 @@ impl PeriodicSource {
     /// Harmonics `1..=k` of `n` equispaced samples (the source whose samples they are, when the
     /// samples are band-limited to `k < n / 2`).
     pub fn from_samples(x: &[f64], k: usize) -> Self {
-        Self { coeffs: harmonics(x, k) }
+        Self {
+            coeffs: harmonics(x, k),
+        }
     }
 }
 

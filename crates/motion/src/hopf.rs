@@ -23,7 +23,10 @@ pub const MAX_PHASE_STEP: f64 = 0.2;
 pub fn hopf_rhs(s: [f64; 2], omega: f64, k: f64, input: [f64; 2]) -> [f64; 2] {
     let [x, y] = s;
     let g = 1.0 - x * x - y * y;
-    [g * x - omega * y + k * (input[0] - x), g * y + omega * x + k * (input[1] - y)]
+    [
+        g * x - omega * y + k * (input[0] - x),
+        g * y + omega * x + k * (input[1] - y),
+    ]
 }
 
 /// Analytic radius of an uncoupled oscillator started at radius `r0 > 0`, after time `t`.
@@ -64,9 +67,17 @@ impl StarNetwork {
     pub fn new(omega: f64, k: f64, n_followers: usize) -> Result<Self> {
         check_omega(omega)?;
         if !(k.is_finite() && k >= 0.0) {
-            return Err(Error::invalid("k", format!("coupling must be finite and >= 0, got {k}")));
+            return Err(Error::invalid(
+                "k",
+                format!("coupling must be finite and >= 0, got {k}"),
+            ));
         }
-        Ok(Self { omega, k, leader: [1.0, 0.0], followers: vec![[1.0, 0.0]; n_followers] })
+        Ok(Self {
+            omega,
+            k,
+            leader: [1.0, 0.0],
+            followers: vec![[1.0, 0.0]; n_followers],
+        })
     }
 
     /// Leader phase in `[0, 2π)`.
@@ -90,7 +101,10 @@ impl StarNetwork {
     /// `dt` not finite and > 0.
     pub fn step_rk4(&mut self, dt: f64) -> Result<()> {
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(Error::invalid("dt", format!("must be finite and > 0, got {dt}")));
+            return Err(Error::invalid(
+                "dt",
+                format!("must be finite and > 0, got {dt}"),
+            ));
         }
         let n = (self.omega * dt / MAX_PHASE_STEP).ceil().max(1.0) as usize;
         let h = dt / n as f64;
@@ -135,7 +149,10 @@ fn check_omega(omega: f64) -> Result<()> {
     if omega.is_finite() && omega > 0.0 {
         Ok(())
     } else {
-        Err(Error::invalid("omega", format!("must be finite and > 0, got {omega}")))
+        Err(Error::invalid(
+            "omega",
+            format!("must be finite and > 0, got {omega}"),
+        ))
     }
 }
 

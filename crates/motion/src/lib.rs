@@ -38,7 +38,9 @@ pub mod svr;
 pub mod synthesizer;
 pub mod walker;
 
-pub use anechoic::{fit_anechoic, refine_anechoic, refit_weights, AnechoicConfig, AnechoicModel, DelayMode, Init};
+pub use anechoic::{
+    fit_anechoic, refine_anechoic, refit_weights, AnechoicConfig, AnechoicModel, DelayMode, Init,
+};
 pub use blend::blend_alpha;
 pub use data::{quality, TrialSet};
 pub use dataset::{Dataset, TrialAction};

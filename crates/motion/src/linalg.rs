@@ -54,7 +54,12 @@ pub fn solve_in_place(a: &mut [f64], b: &mut [f64], n: usize, ridge: f64) -> Res
 
 /// Solve the complex system `H c = r` (`H` is `n × n` row-major) through its real embedding
 /// `[Re H, −Im H; Im H, Re H]`, with the same ridge as [`solve_in_place`].
-pub fn solve_complex(h: &[Complex64], r: &[Complex64], n: usize, ridge: f64) -> Result<Vec<Complex64>> {
+pub fn solve_complex(
+    h: &[Complex64],
+    r: &[Complex64],
+    n: usize,
+    ridge: f64,
+) -> Result<Vec<Complex64>> {
     let m = 2 * n;
     let mut a = vec![0.0; m * m];
     let mut b = vec![0.0; m];
@@ -99,8 +104,16 @@ mod tests {
         let mut a = vec![4.0, 1.0, 2.0, 3.0];
         let mut b = vec![1.0, 2.0];
         solve_in_place(&mut a, &mut b, 2, 0.0).unwrap();
-        assert!((4.0 * b[0] + b[1] - 1.0).abs() < 1e-14 && (2.0 * b[0] + 3.0 * b[1] - 2.0).abs() < 1e-14);
-        let h = [Complex64::new(2.0, 0.0), Complex64::new(0.0, 1.0), Complex64::new(0.0, -1.0), Complex64::new(3.0, 0.0)];
+        assert!(
+            (4.0 * b[0] + b[1] - 1.0).abs() < 1e-14
+                && (2.0 * b[0] + 3.0 * b[1] - 2.0).abs() < 1e-14
+        );
+        let h = [
+            Complex64::new(2.0, 0.0),
+            Complex64::new(0.0, 1.0),
+            Complex64::new(0.0, -1.0),
+            Complex64::new(3.0, 0.0),
+        ];
         let r = [Complex64::new(1.0, 1.0), Complex64::new(0.5, -2.0)];
         let c = solve_complex(&h, &r, 2, 0.0).unwrap();
         for i in 0..2 {

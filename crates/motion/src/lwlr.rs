@@ -40,7 +40,9 @@ pub struct Lwlr {
 /// The bandwidths tried by [`Lwlr::fit`] when none is given: 25 values from 0.15 to 10
 /// (standardised units) and infinity.
 pub fn default_bandwidths() -> Vec<f64> {
-    let mut h: Vec<f64> = (0..25).map(|i| 0.15 * (10.0f64 / 0.15).powf(i as f64 / 24.0)).collect();
+    let mut h: Vec<f64> = (0..25)
+        .map(|i| 0.15 * (10.0f64 / 0.15).powf(i as f64 / 24.0))
+        .collect();
     h.push(f64::INFINITY);
     h
 }
@@ -53,10 +55,18 @@ impl Lwlr {
     /// # Errors
     /// Shape mismatch, non-finite values, fewer than `d + 1` rows, a non-positive bandwidth or
     /// a negative ridge.
-    pub fn fit(inputs: &[Vec<f64>], outputs: &[Vec<f64>], bandwidth: Option<f64>, ridge: f64) -> Result<Self> {
+    pub fn fit(
+        inputs: &[Vec<f64>],
+        outputs: &[Vec<f64>],
+        bandwidth: Option<f64>,
+        ridge: f64,
+    ) -> Result<Self> {
         let r = inputs.len();
         if r != outputs.len() {
-            return Err(Error::ShapeMismatch(format!("{r} input rows and {} output rows", outputs.len())));
+            return Err(Error::ShapeMismatch(format!(
+                "{r} input rows and {} output rows",
+                outputs.len()
+            )));
         }
         let d = inputs.first().map_or(0, |v| v.len());
         let p = outputs.first().map_or(0, |v| v.len());
@@ -64,7 +74,13 @@ impl Lwlr {
             return Err(Error::Empty("lwlr inputs/outputs"));
         }
         if r < d + 1 {
-            return Err(Error::invalid("trials", format!("LWLR with {d} inputs needs at least {} trials, got {r}", d + 1)));
+            return Err(Error::invalid(
+                "trials",
+                format!(
+                    "LWLR with {d} inputs needs at least {} trials, got {r}",
+                    d + 1
+                ),
+            ));
         }
         if inputs.iter().any(|v| v.len() != d) || outputs.iter().any(|v| v.len() != p) {
             return Err(Error::ShapeMismatch("rows of different lengths".into()));
@@ -74,12 +90,20 @@ impl Lwlr {
         ensure_finite("inputs", &xin)?;
         ensure_finite("outputs", &yout)?;
         if !(ridge.is_finite() && ridge >= 0.0) {
-            return Err(Error::invalid("ridge", format!("must be finite and >= 0, got {ridge}")));
+            return Err(Error::invalid(
+                "ridge",
+                format!("must be finite and >= 0, got {ridge}"),
+            ));
         }
-        let mean: Vec<f64> = (0..d).map(|c| (0..r).map(|i| xin[i * d + c]).sum::<f64>() / r as f64).collect();
+        let mean: Vec<f64> = (0..d)
+            .map(|c| (0..r).map(|i| xin[i * d + c]).sum::<f64>() / r as f64)
+            .collect();
         let scale: Vec<f64> = (0..d)
             .map(|c| {
-                let v = (0..r).map(|i| (xin[i * d + c] - mean[c]).powi(2)).sum::<f64>() / r as f64;
+                let v = (0..r)
+                    .map(|i| (xin[i * d + c] - mean[c]).powi(2))
+                    .sum::<f64>()
+                    / r as f64;
                 if v > 0.0 {
                     v.sqrt()
                 } else {
@@ -87,11 +111,22 @@ impl Lwlr {
                 }
             })
             .collect();
-        let std_in: Vec<f64> = (0..r * d).map(|t| (xin[t] - mean[t % d]) / scale[t % d]).collect();
-        let mut model = Self { n_inputs: d, n_outputs: p, inputs: std_in, outputs: yout, mean, scale, bandwidth: f64::INFINITY, ridge };
+        let std_in: Vec<f64> = (0..r * d)
+            .map(|t| (xin[t] - mean[t % d]) / scale[t % d])
+            .collect();
+        let mut model = Self {
+            n_inputs: d,
+            n_outputs: p,
+            inputs: std_in,
+            outputs: yout,
+            mean,
+            scale,
+            bandwidth: f64::INFINITY,
+            ridge,
+        };
         match bandwidth {
             Some(h) => {
-                if !(h > 0.0) || h.is_nan() {
+                if h.is_nan() || h <= 0.0 {
                     return Err(Error::invalid("bandwidth", format!("must be > 0, got {h}")));
                 }
                 model.bandwidth = h;
@@ -124,14 +159,18 @@ impl Lwlr {
                 if self.bandwidth.is_infinite() {
                     1.0
                 } else {
-                    let d2: f64 = (0..d).map(|c| (self.inputs[i * d + c] - qs[c]).powi(2)).sum();
+                    let d2: f64 = (0..d)
+                        .map(|c| (self.inputs[i * d + c] - qs[c]).powi(2))
+                        .sum();
                     (-d2 / (2.0 * self.bandwidth * self.bandwidth)).exp()
                 }
             })
             .collect();
         let mut a = vec![0.0; m * m];
         for (i, &k) in kappa.iter().enumerate() {
-            let row: Vec<f64> = std::iter::once(1.0).chain((0..d).map(|c| self.inputs[i * d + c] - qs[c])).collect();
+            let row: Vec<f64> = std::iter::once(1.0)
+                .chain((0..d).map(|c| self.inputs[i * d + c] - qs[c]))
+                .collect();
             for s in 0..m {
                 for t in 0..m {
                     a[s * m + t] += k * row[s] * row[t];
@@ -140,7 +179,9 @@ impl Lwlr {
         }
         let kmax = kappa.iter().fold(0.0f64, |x, &y| x.max(y));
         if kmax <= 0.0 {
-            return Err(Error::Numerical("LWLR query far outside the training inputs".into()));
+            return Err(Error::Numerical(
+                "LWLR query far outside the training inputs".into(),
+            ));
         }
         for s in 1..m {
             a[s * m + s] += self.ridge;
@@ -150,7 +191,10 @@ impl Lwlr {
         solve_in_place(&mut a, &mut z, m, 0.0)?;
         Ok((0..r)
             .map(|i| {
-                let dot: f64 = z[0] + (0..d).map(|c| z[c + 1] * (self.inputs[i * d + c] - qs[c])).sum::<f64>();
+                let dot: f64 = z[0]
+                    + (0..d)
+                        .map(|c| z[c + 1] * (self.inputs[i * d + c] - qs[c]))
+                        .sum::<f64>();
                 kappa[i] * dot
             })
             .collect())
@@ -162,8 +206,12 @@ impl Lwlr {
             .map(|c| {
                 let v = (q[c] - self.mean[c]) / self.scale[c];
                 if clamp {
-                    let lo = (0..r).map(|i| self.inputs[i * d + c]).fold(f64::INFINITY, f64::min);
-                    let hi = (0..r).map(|i| self.inputs[i * d + c]).fold(f64::NEG_INFINITY, f64::max);
+                    let lo = (0..r)
+                        .map(|i| self.inputs[i * d + c])
+                        .fold(f64::INFINITY, f64::min);
+                    let hi = (0..r)
+                        .map(|i| self.inputs[i * d + c])
+                        .fold(f64::NEG_INFINITY, f64::max);
                     v.clamp(lo, hi)
                 } else {
                     v
@@ -186,7 +234,11 @@ impl Lwlr {
     /// As [`Lwlr::predict`].
     pub fn predict_with(&self, q: &[f64], clamp: bool) -> Result<Vec<f64>> {
         if q.len() != self.n_inputs {
-            return Err(Error::ShapeMismatch(format!("query of {} values for {} inputs", q.len(), self.n_inputs)));
+            return Err(Error::ShapeMismatch(format!(
+                "query of {} values for {} inputs",
+                q.len(),
+                self.n_inputs
+            )));
         }
         ensure_finite("query", q)?;
         let l = self.smoother(&self.standardize(q, clamp))?;
@@ -237,11 +289,26 @@ impl Lwlr {
             Err(_) => return Ok(f64::INFINITY),
         };
         let mut total = 0.0;
+        #[allow(clippy::needless_range_loop)]
         for o in 0..p {
             let mean = (0..r).map(|i| self.outputs[i * p + o]).sum::<f64>() / r as f64;
-            let var = (0..r).map(|i| (self.outputs[i * p + o] - mean).powi(2)).sum::<f64>() / r as f64;
-            let w = if standardized { if var > 0.0 { 1.0 / var } else { 0.0 } } else { 1.0 };
-            total += w * (0..r).map(|i| (pred[i][o] - self.outputs[i * p + o]).powi(2)).sum::<f64>();
+            let var = (0..r)
+                .map(|i| (self.outputs[i * p + o] - mean).powi(2))
+                .sum::<f64>()
+                / r as f64;
+            let w = if standardized {
+                if var > 0.0 {
+                    1.0 / var
+                } else {
+                    0.0
+                }
+            } else {
+                1.0
+            };
+            total += w
+                * (0..r)
+                    .map(|i| (pred[i][o] - self.outputs[i * p + o]).powi(2))
+                    .sum::<f64>();
         }
         Ok(total / (r * p) as f64)
     }

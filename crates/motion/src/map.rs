@@ -59,9 +59,14 @@ impl PhaseLut {
     /// `size < 4`.
     pub fn new(source: &PeriodicSource, size: usize) -> Result<Self> {
         if size < 4 {
-            return Err(Error::invalid("lut_size", format!("must be >= 4, got {size}")));
+            return Err(Error::invalid(
+                "lut_size",
+                format!("must be >= 4, got {size}"),
+            ));
         }
-        Ok(Self { table: source.sample(size, 0.0) })
+        Ok(Self {
+            table: source.sample(size, 0.0),
+        })
     }
 }
 
@@ -99,7 +104,13 @@ pub struct SvrMapConfig {
 
 impl Default for SvrMapConfig {
     fn default() -> Self {
-        Self { c: 10.0, epsilon: 0.01, gamma: 2.0, n_phases: 200, radii: vec![0.9, 1.0, 1.1] }
+        Self {
+            c: 10.0,
+            epsilon: 0.01,
+            gamma: 2.0,
+            n_phases: 200,
+            radii: vec![0.9, 1.0, 1.1],
+        }
     }
 }
 
@@ -133,7 +144,9 @@ impl SvrMap {
                 y.push(v);
             }
         }
-        Ok(Self { svr: Svr::fit(&x, &y, cfg.c, cfg.epsilon, cfg.gamma)? })
+        Ok(Self {
+            svr: Svr::fit(&x, &y, cfg.c, cfg.epsilon, cfg.gamma)?,
+        })
     }
 }
 

@@ -29,7 +29,9 @@ pub fn align(est: &PeriodicSource, truth: &PeriodicSource) -> (f64, f64, f64) {
     }
     // <e, t(· − μ)> / N = 2 Re Σ_k conj(e_k) t_k e^{−2πikμ}
     let k = est.n_harmonics().min(truth.n_harmonics());
-    let g: Vec<Complex64> = (0..k).map(|i| 2.0 * est.coeffs[i].conj() * truth.coeffs[i] / norm).collect();
+    let g: Vec<Complex64> = (0..k)
+        .map(|i| 2.0 * est.coeffs[i].conj() * truth.coeffs[i] / norm)
+        .collect();
     let neg: Vec<Complex64> = g.iter().map(|v| -v).collect();
     let (mu_p, fp) = trig_argmax(&g);
     let (mu_n, fn_) = trig_argmax(&neg);
@@ -47,12 +49,21 @@ pub fn align(est: &PeriodicSource, truth: &PeriodicSource) -> (f64, f64, f64) {
 /// More true sources than estimates, or more than 8 sources.
 pub fn match_sources(est: &[PeriodicSource], truth: &[PeriodicSource]) -> Result<Vec<SourceMatch>> {
     if truth.len() > est.len() {
-        return Err(Error::invalid("est", format!("{} estimates for {} true sources", est.len(), truth.len())));
+        return Err(Error::invalid(
+            "est",
+            format!("{} estimates for {} true sources", est.len(), truth.len()),
+        ));
     }
     if est.len() > 8 {
-        return Err(Error::invalid("est", "exhaustive matching supports at most 8 sources"));
+        return Err(Error::invalid(
+            "est",
+            "exhaustive matching supports at most 8 sources",
+        ));
     }
-    let sims: Vec<Vec<(f64, f64, f64)>> = truth.iter().map(|t| est.iter().map(|e| align(e, t)).collect()).collect();
+    let sims: Vec<Vec<(f64, f64, f64)>> = truth
+        .iter()
+        .map(|t| est.iter().map(|e| align(e, t)).collect())
+        .collect();
     let mut best: (f64, Vec<usize>) = (f64::NEG_INFINITY, Vec::new());
     let mut perm: Vec<usize> = Vec::with_capacity(truth.len());
     let mut used = vec![false; est.len()];
@@ -87,7 +98,12 @@ pub fn match_sources(est: &[PeriodicSource], truth: &[PeriodicSource]) -> Result
         .enumerate()
         .map(|(t, &e)| {
             let (similarity, shift, sign) = sims[t][e];
-            SourceMatch { estimate: e, similarity, shift, sign }
+            SourceMatch {
+                estimate: e,
+                similarity,
+                shift,
+                sign,
+            }
         })
         .collect())
 }

@@ -14,12 +14,17 @@ use wscg_math::{Error, Result};
 pub fn pca_qualities(x: &TrialSet) -> Result<Vec<f64>> {
     let (rows, n) = (x.n_trials * x.n_channels, x.n_samples);
     let a = Mat::from_fn(rows, n, |ri, m| x.data[ri * n + m]);
-    let means: Vec<f64> = (0..rows).map(|ri| x.data[ri * n..(ri + 1) * n].iter().sum::<f64>() / n as f64).collect();
+    let means: Vec<f64> = (0..rows)
+        .map(|ri| x.data[ri * n..(ri + 1) * n].iter().sum::<f64>() / n as f64)
+        .collect();
     let centred = Mat::from_fn(rows, n, |ri, m| a[(ri, m)] - means[ri]);
     let d = wscg_math::dense::svd(centred.as_ref())?;
     let total: f64 = d.s.iter().map(|s| s * s).sum();
     if total <= 0.0 {
-        return Err(Error::invalid("x", "every channel is constant; PCA quality is undefined"));
+        return Err(Error::invalid(
+            "x",
+            "every channel is constant; PCA quality is undefined",
+        ));
     }
     let mut acc = 0.0;
     Ok(d.s
@@ -38,7 +43,10 @@ pub fn pca_qualities(x: &TrialSet) -> Result<Vec<f64>> {
 pub fn pca_quality(x: &TrialSet, j: usize) -> Result<f64> {
     let q = pca_qualities(x)?;
     if j == 0 || j > q.len() {
-        return Err(Error::invalid("j", format!("must be in 1..={}, got {j}", q.len())));
+        return Err(Error::invalid(
+            "j",
+            format!("must be in 1..={}, got {j}", q.len()),
+        ));
     }
     Ok(q[j - 1])
 }

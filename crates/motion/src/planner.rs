@@ -74,12 +74,18 @@ pub struct Plan {
 impl Plan {
     /// Number of walking steps (actions 1 and 2).
     pub fn n_steps(&self) -> usize {
-        self.actions.iter().filter(|a| a.action != Action::Reach).count()
+        self.actions
+            .iter()
+            .filter(|a| a.action != Action::Reach)
+            .count()
     }
 
     /// Number of normal steps (action 1).
     pub fn n_normal_steps(&self) -> usize {
-        self.actions.iter().filter(|a| a.action == Action::Step).count()
+        self.actions
+            .iter()
+            .filter(|a| a.action == Action::Step)
+            .count()
     }
 
     /// Total pelvis travel.
@@ -111,7 +117,14 @@ impl Default for Planner {
     /// The paper's `D₃ = 0.6 m` and `γ = 0.385`, with the step ranges of the synthetic learning
     /// set (spec §3), which reproduce the paper's 3-action interval `[2.34, 2.94]` m.
     fn default() -> Self {
-        Self { comfort: 0.6, gamma: 0.385, range1: (0.670, 0.901), range2: (1.070, 1.439), human_like: None, max_steps: 1000 }
+        Self {
+            comfort: 0.6,
+            gamma: 0.385,
+            range1: (0.670, 0.901),
+            range2: (1.070, 1.439),
+            human_like: None,
+            max_steps: 1000,
+        }
     }
 }
 
@@ -126,19 +139,31 @@ impl Planner {
     /// Non-positive or non-finite comfort distance, `γ ∉ (0, 1)`, empty or non-positive ranges.
     pub fn validate(&self) -> Result<()> {
         if !(self.comfort.is_finite() && self.comfort >= 0.0) {
-            return Err(Error::invalid("comfort", format!("must be finite and >= 0, got {}", self.comfort)));
+            return Err(Error::invalid(
+                "comfort",
+                format!("must be finite and >= 0, got {}", self.comfort),
+            ));
         }
         if !(self.gamma > 0.0 && self.gamma < 1.0) {
-            return Err(Error::invalid("gamma", format!("must be in (0, 1), got {}", self.gamma)));
+            return Err(Error::invalid(
+                "gamma",
+                format!("must be in (0, 1), got {}", self.gamma),
+            ));
         }
         for (name, r) in [("range1", self.range1), ("range2", self.range2)] {
             if !(r.0.is_finite() && r.1.is_finite() && r.0 > 0.0 && r.1 >= r.0) {
-                return Err(Error::invalid(name, format!("must satisfy 0 < lo <= hi, got ({}, {})", r.0, r.1)));
+                return Err(Error::invalid(
+                    name,
+                    format!("must satisfy 0 < lo <= hi, got ({}, {})", r.0, r.1),
+                ));
             }
         }
         if let Some(l) = self.human_like {
             if !(l.is_finite() && l > 0.0) {
-                return Err(Error::invalid("human_like", format!("step length must be > 0, got {l}")));
+                return Err(Error::invalid(
+                    "human_like",
+                    format!("step length must be > 0, got {l}"),
+                ));
             }
         }
         if self.max_steps == 0 {
@@ -155,12 +180,19 @@ impl Planner {
     pub fn plan(&self, d: f64) -> Result<Plan> {
         self.validate()?;
         if !(d.is_finite() && d > 0.0) {
-            return Err(Error::invalid("goal", format!("distance must be finite and > 0, got {d}")));
+            return Err(Error::invalid(
+                "goal",
+                format!("distance must be finite and > 0, got {d}"),
+            ));
         }
         let x = d - self.comfort;
         let shortest = self.range1.0.min(self.range2.0);
         if x < shortest {
-            return Ok(Plan { actions: Vec::new(), too_short: true, violation: 0.0 });
+            return Ok(Plan {
+                actions: Vec::new(),
+                too_short: true,
+                violation: 0.0,
+            });
         }
         let longest = self.range1.1.max(self.range2.1);
         let needed = (x / longest).ceil() as usize;
@@ -172,7 +204,10 @@ impl Planner {
         }
         let n_max = ((x / shortest).ceil() as usize + 1).min(self.max_steps);
         let mut candidates: Vec<(Vec<PlannedAction>, f64)> = Vec::new();
-        let step = |a: Action, l: f64| PlannedAction { action: a, length: l };
+        let step = |a: Action, l: f64| PlannedAction {
+            action: a,
+            length: l,
+        };
         // Long goals: n1 normal steps and one shortened step.
         let mut normal_too_short = false;
         for n1 in 1..n_max {
@@ -199,10 +234,16 @@ impl Planner {
         if normal_too_short || candidates.is_empty() {
             for n2 in 1..=n_max {
                 let l2 = x / n2 as f64;
-                candidates.push((vec![step(Action::ShortStep, l2); n2], violation(l2, self.range2)));
+                candidates.push((
+                    vec![step(Action::ShortStep, l2); n2],
+                    violation(l2, self.range2),
+                ));
             }
         }
-        let feasible = candidates.iter().filter(|c| c.1 <= 1e-12).min_by_key(|c| c.0.len());
+        let feasible = candidates
+            .iter()
+            .filter(|c| c.1 <= 1e-12)
+            .min_by_key(|c| c.0.len());
         let (mut actions, v) = match feasible {
             Some(c) => c.clone(),
             None => candidates
@@ -212,6 +253,10 @@ impl Planner {
                 .ok_or_else(|| Error::Numerical(format!("no plan for a goal of {d} m")))?,
         };
         actions.push(step(Action::Reach, 0.0));
-        Ok(Plan { actions, too_short: false, violation: v })
+        Ok(Plan {
+            actions,
+            too_short: false,
+            violation: v,
+        })
     }
 }

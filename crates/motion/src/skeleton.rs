@@ -73,7 +73,11 @@ pub fn expmap_to_quat(r: [f64; 3]) -> UnitQuaternion<f64> {
 
 /// Exponential map of a unit quaternion, from the hemisphere `w ≥ 0` (angle in `[0, π]`).
 pub fn quat_to_expmap(q: &UnitQuaternion<f64>) -> [f64; 3] {
-    let q = if q.w < 0.0 { UnitQuaternion::new_unchecked(-q.into_inner()) } else { *q };
+    let q = if q.w < 0.0 {
+        UnitQuaternion::new_unchecked(-q.into_inner())
+    } else {
+        *q
+    };
     let v = q.scaled_axis();
     [v.x, v.y, v.z]
 }

@@ -27,7 +27,10 @@ pub struct LineFit {
 /// `n < 3` or `r2` outside `[0, 1]`.
 pub fn regression_p_value(r2: f64, n: usize) -> Result<f64> {
     if n < 3 {
-        return Err(Error::invalid("n", format!("need at least 3 points, got {n}")));
+        return Err(Error::invalid(
+            "n",
+            format!("need at least 3 points, got {n}"),
+        ));
     }
     if !(0.0..=1.0).contains(&r2) {
         return Err(Error::invalid("r2", format!("must be in [0, 1], got {r2}")));
@@ -45,13 +48,20 @@ pub fn regression_p_value(r2: f64, n: usize) -> Result<f64> {
 /// Different lengths, fewer than 3 points, non-finite values, constant `x`.
 pub fn fit_line(x: &[f64], y: &[f64]) -> Result<LineFit> {
     if x.len() != y.len() {
-        return Err(Error::ShapeMismatch(format!("{} x values and {} y values", x.len(), y.len())));
+        return Err(Error::ShapeMismatch(format!(
+            "{} x values and {} y values",
+            x.len(),
+            y.len()
+        )));
     }
     ensure_finite("x", x)?;
     ensure_finite("y", y)?;
     let n = x.len();
     if n < 3 {
-        return Err(Error::invalid("x", format!("need at least 3 points, got {n}")));
+        return Err(Error::invalid(
+            "x",
+            format!("need at least 3 points, got {n}"),
+        ));
     }
     let mx = x.iter().sum::<f64>() / n as f64;
     let my = y.iter().sum::<f64>() / n as f64;
@@ -62,6 +72,16 @@ pub fn fit_line(x: &[f64], y: &[f64]) -> Result<LineFit> {
         return Err(Error::invalid("x", "all x values are equal"));
     }
     let slope = sxy / sxx;
-    let r2 = if syy > 0.0 { (sxy * sxy / (sxx * syy)).clamp(0.0, 1.0) } else { 1.0 };
-    Ok(LineFit { intercept: my - slope * mx, slope, r2, p_value: regression_p_value(r2, n)?, n })
+    let r2 = if syy > 0.0 {
+        (sxy * sxy / (sxx * syy)).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    Ok(LineFit {
+        intercept: my - slope * mx,
+        slope,
+        r2,
+        p_value: regression_p_value(r2, n)?,
+        n,
+    })
 }

@@ -42,7 +42,13 @@ pub struct StepwiseConfig {
 
 impl Default for StepwiseConfig {
     fn default() -> Self {
-        Self { n_sources_first: 3, n_sources_extra: 2, demix: AnechoicConfig::default(), rounds: 8, round_iter: 60 }
+        Self {
+            n_sources_first: 3,
+            n_sources_extra: 2,
+            demix: AnechoicConfig::default(),
+            rounds: 8,
+            round_iter: 60,
+        }
     }
 }
 
@@ -168,14 +174,28 @@ fn refit(x: &TrialSet, s0: &[f64], shifted: &[Vec<f64>], j_n: usize) -> Result<R
 }
 
 /// Delayed samples `s_j(t − τ_ij)` for every channel and source (`I × J` vectors of `N`).
-fn shifted_sources(sources: &[PeriodicSource], delays: &[f64], i_n: usize, n: usize) -> Vec<Vec<f64>> {
+fn shifted_sources(
+    sources: &[PeriodicSource],
+    delays: &[f64],
+    i_n: usize,
+    n: usize,
+) -> Vec<Vec<f64>> {
     let j_n = sources.len();
-    (0..i_n * j_n).map(|d| sources[d % j_n].sample(n, delays[d])).collect()
+    (0..i_n * j_n)
+        .map(|d| sources[d % j_n].sample(n, delays[d]))
+        .collect()
 }
 
 /// `ξ − m − w₀ s₀ − Σ_{j < fixed} w_j s_j` of a joint fit: what the sources from `fixed` on
 /// must explain.
-fn strip(x: &TrialSet, s0: &[f64], fit: &Refit, sh: &[Vec<f64>], j_n: usize, fixed: usize) -> TrialSet {
+fn strip(
+    x: &TrialSet,
+    s0: &[f64],
+    fit: &Refit,
+    sh: &[Vec<f64>],
+    j_n: usize,
+    fixed: usize,
+) -> TrialSet {
     let (i_n, n) = (x.n_channels, x.n_samples);
     let mut out = x.clone();
     for (ri, row) in out.data.chunks_mut(n).enumerate() {
@@ -223,8 +243,19 @@ fn alternate(
     for _ in 0..cfg.rounds {
         let target = strip(x, s0, &fit, &sh, j_n, nf);
         let mut start = model.clone();
-        start.weights = fit.weights.chunks(j_n).flat_map(|c| c[nf..].iter().copied()).collect();
-        let refined = refine_anechoic(&target, &AnechoicConfig { max_iter: cfg.round_iter, ..cfg.demix.clone() }, &start)?;
+        start.weights = fit
+            .weights
+            .chunks(j_n)
+            .flat_map(|c| c[nf..].iter().copied())
+            .collect();
+        let refined = refine_anechoic(
+            &target,
+            &AnechoicConfig {
+                max_iter: cfg.round_iter,
+                ..cfg.demix.clone()
+            },
+            &start,
+        )?;
         let (src, d) = assemble(&refined);
         let sh_new = shifted_sources(&src, &d, i_n, x.n_samples);
         let fit_new = refit(x, s0, &sh_new, j_n)?;
@@ -247,7 +278,11 @@ fn alternate(
 fn widen(weights: &[f64], j_from: usize, j_to: usize) -> Vec<f64> {
     weights
         .chunks(j_from)
-        .flat_map(|c| c.iter().copied().chain(std::iter::repeat_n(0.0, j_to - j_from)))
+        .flat_map(|c| {
+            c.iter()
+                .copied()
+                .chain(std::iter::repeat_n(0.0, j_to - j_from))
+        })
         .collect()
 }
 
@@ -259,7 +294,10 @@ fn check_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<()> {
     if data.trials.len() < 3 {
         return Err(Error::invalid(
             "trials",
-            format!("the weight regression of 2 step parameters needs at least 3 trials, got {}", data.trials.len()),
+            format!(
+                "the weight regression of 2 step parameters needs at least 3 trials, got {}",
+                data.trials.len()
+            ),
         ));
     }
     Ok(())
@@ -281,7 +319,14 @@ pub fn fit_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<ActionLibrar
     // Action 1.
     let base1 = refit(&sets[0], &s0, &[], 0)?;
     let den1 = base1.residual.energy();
-    let demix1 = fit_anechoic(&base1.residual, &AnechoicConfig { n_sources: j1, delays: DelayMode::Shared, ..cfg.demix.clone() })?;
+    let demix1 = fit_anechoic(
+        &base1.residual,
+        &AnechoicConfig {
+            n_sources: j1,
+            delays: DelayMode::Shared,
+            ..cfg.demix.clone()
+        },
+    )?;
     let (demix_first, fit1, sh1) = alternate(&sets[0], &s0, &[], &[], demix1, cfg)?;
     let mut sources = demix_first.sources.clone();
     let mut delays: Vec<f64> = demix_first.delays.clone();
@@ -292,13 +337,22 @@ pub fn fit_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<ActionLibrar
     let fit2a = refit(&sets[1], &s0, &sh1, j1)?;
     let q_second_before_extra = 1.0 - fit2a.residual.energy() / den2;
     let (demix_extra, fit2) = if cfg.n_sources_extra > 0 {
-        let extra = fit_anechoic(&fit2a.residual, &AnechoicConfig { n_sources: cfg.n_sources_extra, delays: DelayMode::Shared, ..cfg.demix.clone() })?;
+        let extra = fit_anechoic(
+            &fit2a.residual,
+            &AnechoicConfig {
+                n_sources: cfg.n_sources_extra,
+                delays: DelayMode::Shared,
+                ..cfg.demix.clone()
+            },
+        )?;
         let (extra, fit2, _) = alternate(&sets[1], &s0, &sources, &delays, extra, cfg)?;
         sources.extend(extra.sources.iter().cloned());
         let mut all = Vec::with_capacity(i_n * j_all);
         for i in 0..i_n {
             all.extend_from_slice(&delays[i * j1..(i + 1) * j1]);
-            all.extend_from_slice(&extra.delays[i * cfg.n_sources_extra..(i + 1) * cfg.n_sources_extra]);
+            all.extend_from_slice(
+                &extra.delays[i * cfg.n_sources_extra..(i + 1) * cfg.n_sources_extra],
+            );
         }
         delays = all;
         (extra, fit2)
@@ -323,8 +377,14 @@ pub fn fit_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<ActionLibrar
             energy: (den, num),
         }
     };
-    let actions = [mk(fit1, j1, den1), mk(fit2, j_all, den2), mk(fit3, j_all, den3)];
-    let (den, num) = actions.iter().fold((0.0, 0.0), |acc, a| (acc.0 + a.energy.0, acc.1 + a.energy.1));
+    let actions = [
+        mk(fit1, j1, den1),
+        mk(fit2, j_all, den2),
+        mk(fit3, j_all, den3),
+    ];
+    let (den, num) = actions.iter().fold((0.0, 0.0), |acc, a| {
+        (acc.0 + a.energy.0, acc.1 + a.energy.1)
+    });
     Ok(ActionLibrary {
         n_channels: i_n,
         n_samples: n,
@@ -349,8 +409,8 @@ fn learn_progress(data: &Dataset) -> Vec<f64> {
     for trial in &data.trials {
         for act in &trial[..2] {
             if act.root.len() == n && act.step_length > 0.0 {
-                for t in 0..n {
-                    acc[t] += (act.root[t] - act.root[0]) / act.step_length;
+                for (a, r) in acc.iter_mut().zip(&act.root) {
+                    *a += (r - act.root[0]) / act.step_length;
                 }
                 acc[n] += 1.0;
                 count += 1;

@@ -49,34 +49,54 @@ impl Svr {
     ///
     /// # Errors
     /// As [`Svr::fit`], and a non-positive `tol`.
-    pub fn fit_tol(x: &[[f64; 2]], y: &[f64], c: f64, eps: f64, gamma: f64, tol: f64) -> Result<Self> {
+    pub fn fit_tol(
+        x: &[[f64; 2]],
+        y: &[f64],
+        c: f64,
+        eps: f64,
+        gamma: f64,
+        tol: f64,
+    ) -> Result<Self> {
         let l = x.len();
         if l == 0 {
             return Err(Error::Empty("svr training set"));
         }
         if y.len() != l {
-            return Err(Error::ShapeMismatch(format!("{l} inputs and {} targets", y.len())));
+            return Err(Error::ShapeMismatch(format!(
+                "{l} inputs and {} targets",
+                y.len()
+            )));
         }
         if l > MAX_TRAINING {
-            return Err(Error::LimitExceeded(format!("{l} SVR training samples (max {MAX_TRAINING})")));
+            return Err(Error::LimitExceeded(format!(
+                "{l} SVR training samples (max {MAX_TRAINING})"
+            )));
         }
         let flat: Vec<f64> = x.iter().flatten().copied().collect();
         ensure_finite("x", &flat)?;
         ensure_finite("y", y)?;
         for (name, v) in [("C", c), ("gamma", gamma), ("tol", tol)] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(Error::invalid(name, format!("must be finite and > 0, got {v}")));
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and > 0, got {v}"),
+                ));
             }
         }
         if !(eps.is_finite() && eps >= 0.0) {
-            return Err(Error::invalid("epsilon", format!("must be finite and >= 0, got {eps}")));
+            return Err(Error::invalid(
+                "epsilon",
+                format!("must be finite and >= 0, got {eps}"),
+            ));
         }
         let kmat: Vec<f64> = (0..l * l).map(|t| rbf(x[t / l], x[t % l], gamma)).collect();
         let n = 2 * l;
         let sign = |t: usize| if t < l { 1.0 } else { -1.0 };
         let kk = |s: usize, t: usize| kmat[(s % l) * l + (t % l)];
         let mut alpha = vec![0.0; n];
-        let mut grad: Vec<f64> = (0..n).map(|t| if t < l { eps - y[t] } else { eps + y[t - l] }).collect();
+        let mut grad: Vec<f64> = (0..n)
+            .map(|t| if t < l { eps - y[t] } else { eps + y[t - l] })
+            .collect();
         let max_iter = (100 * n).max(10_000_000);
         let mut iter = 0;
         while iter < max_iter {
@@ -196,7 +216,8 @@ impl Svr {
             iter += 1;
         }
         // ρ from the free variables (or the middle of the feasible interval).
-        let (mut ub, mut lb, mut sum_free, mut n_free) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
+        let (mut ub, mut lb, mut sum_free, mut n_free) =
+            (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
         for t in 0..n {
             let yg = sign(t) * grad[t];
             if alpha[t] >= c {
@@ -216,7 +237,11 @@ impl Svr {
                 sum_free += yg;
             }
         }
-        let rho = if n_free > 0 { sum_free / n_free as f64 } else { 0.5 * (ub + lb) };
+        let rho = if n_free > 0 {
+            sum_free / n_free as f64
+        } else {
+            0.5 * (ub + lb)
+        };
         let mut support = Vec::new();
         let mut coef = Vec::new();
         for t in 0..l {
@@ -226,7 +251,13 @@ impl Svr {
                 coef.push(cf);
             }
         }
-        Ok(Self { support, coef, rho, gamma, iterations: iter })
+        Ok(Self {
+            support,
+            coef,
+            rho,
+            gamma,
+            iterations: iter,
+        })
     }
 
     /// `f(x)`.

@@ -7,7 +7,10 @@
 //! remaining distance just before every boundary (when the blend window opens), so a goal that
 //! moves inserts or removes steps on the fly.
 
-use crate::blend::{blend_alpha, blend_linear, blend_nonperiodic, check_beta, nonperiodic_source, signed_phase, DEFAULT_BETA};
+use crate::blend::{
+    blend_alpha, blend_linear, blend_nonperiodic, check_beta, nonperiodic_source, signed_phase,
+    DEFAULT_BETA,
+};
 use crate::hopf::{rotate, StarNetwork};
 use crate::lwlr::{Lwlr, DEFAULT_RIDGE};
 use crate::map::{FourierMap, PhaseLut, StateMap, SvrMap, SvrMapConfig};
@@ -42,7 +45,12 @@ pub struct SynthConfig {
 
 impl Default for SynthConfig {
     fn default() -> Self {
-        Self { beta: DEFAULT_BETA, coupling: 2.0, map: MapKind::Lut(1024), bandwidth: None }
+        Self {
+            beta: DEFAULT_BETA,
+            coupling: 2.0,
+            map: MapKind::Lut(1024),
+            bandwidth: None,
+        }
     }
 }
 
@@ -81,7 +89,10 @@ pub struct ActionRegression {
 ///
 /// # Errors
 /// Fewer trials than the regression needs, or an invalid bandwidth.
-pub fn fit_regressions(lib: &ActionLibrary, bandwidth: Option<f64>) -> Result<Vec<ActionRegression>> {
+pub fn fit_regressions(
+    lib: &ActionLibrary,
+    bandwidth: Option<f64>,
+) -> Result<Vec<ActionRegression>> {
     (0..3)
         .map(|a| {
             let params = &lib.params[a];
@@ -110,17 +121,23 @@ pub fn mix_frame(
     out: &mut [f64],
 ) {
     let phi = signed_phase(psi);
-    let (a, b) = if phi < 0.0 { (Some(cur), next) } else { (prev, Some(cur)) };
+    let (a, b) = if phi < 0.0 {
+        (Some(cur), next)
+    } else {
+        (prev, Some(cur))
+    };
     let s0 = nonperiodic_source(psi);
     let i_n = out.len();
-    let j_n = if i_n == 0 { 0 } else { sources.len() / i_n };
+    let j_n = sources.len().checked_div(i_n).unwrap_or(0);
     match (a, b) {
         (Some(p), Some(q)) => {
             let alpha = blend_alpha(phi, beta);
             for (i, o) in out.iter_mut().enumerate() {
-                let mut v = blend_linear(p.means[i], q.means[i], alpha) + blend_nonperiodic(p.w0[i], q.w0[i], alpha, phi) * s0;
+                let mut v = blend_linear(p.means[i], q.means[i], alpha)
+                    + blend_nonperiodic(p.w0[i], q.w0[i], alpha, phi) * s0;
                 for j in 0..j_n {
-                    v += blend_linear(p.weights[i * j_n + j], q.weights[i * j_n + j], alpha) * sources[i * j_n + j];
+                    v += blend_linear(p.weights[i * j_n + j], q.weights[i * j_n + j], alpha)
+                        * sources[i * j_n + j];
                 }
                 *o = v;
             }
@@ -203,9 +220,16 @@ pub struct Synthesizer {
 pub fn planner_for(lib: &ActionLibrary) -> Planner {
     let range = |a: usize| {
         let v = lib.params[a].iter().map(|p| p.0);
-        (v.clone().fold(f64::INFINITY, f64::min), v.fold(f64::NEG_INFINITY, f64::max))
+        (
+            v.clone().fold(f64::INFINITY, f64::min),
+            v.fold(f64::NEG_INFINITY, f64::max),
+        )
     };
-    Planner { range1: range(0), range2: range(1), ..Planner::default() }
+    Planner {
+        range1: range(0),
+        range2: range(1),
+        ..Planner::default()
+    }
 }
 
 impl Synthesizer {
@@ -235,9 +259,16 @@ impl Synthesizer {
         let j_n = lib.n_sources();
         let net = StarNetwork::new(TAU, cfg.coupling, j_n)?;
         let placeholder = Active {
-            planned: PlannedAction { action: Action::Reach, length: 0.0 },
+            planned: PlannedAction {
+                action: Action::Reach,
+                length: 0.0,
+            },
             duration: 1.0,
-            weights: ActionWeights { means: vec![], w0: vec![], weights: vec![] },
+            weights: ActionWeights {
+                means: vec![],
+                w0: vec![],
+                weights: vec![],
+            },
             start_x: 0.0,
         };
         let src = vec![0.0; lib.n_channels * j_n];
@@ -280,13 +311,24 @@ impl Synthesizer {
 
     fn activate(&self, planned: PlannedAction, prev_length: f64, start_x: f64) -> Result<Active> {
         let a = planned.action.index();
-        let p = if planned.action == Action::Reach { prev_length } else { planned.length };
+        let p = if planned.action == Action::Reach {
+            prev_length
+        } else {
+            planned.length
+        };
         let duration = self.regs[a].duration.predict(&[p])?[0];
         if !(duration.is_finite() && duration > 0.0) {
-            return Err(Error::Numerical(format!("predicted a non-positive duration {duration} s")));
+            return Err(Error::Numerical(format!(
+                "predicted a non-positive duration {duration} s"
+            )));
         }
         let y = self.regs[a].weights.predict(&[p, duration])?;
-        Ok(Active { planned, duration, weights: ActionWeights::from_vector(&y, self.lib.n_channels), start_x })
+        Ok(Active {
+            planned,
+            duration,
+            weights: ActionWeights::from_vector(&y, self.lib.n_channels),
+            start_x,
+        })
     }
 
     fn mean_reach_param(&self) -> f64 {
@@ -302,7 +344,14 @@ impl Synthesizer {
         let plan = self.planner.plan(goal)?;
         self.goal = goal;
         self.too_short = plan.too_short;
-        let first = if plan.too_short { PlannedAction { action: Action::Reach, length: 0.0 } } else { plan.actions[0] };
+        let first = if plan.too_short {
+            PlannedAction {
+                action: Action::Reach,
+                length: 0.0,
+            }
+        } else {
+            plan.actions[0]
+        };
         let reach_p = self.mean_reach_param();
         self.cur = self.activate(first, reach_p, 0.0)?;
         self.prev = None;
@@ -322,7 +371,10 @@ impl Synthesizer {
     /// `goal` not finite or ≤ 0.
     pub fn set_goal(&mut self, goal: f64) -> Result<()> {
         if !(goal.is_finite() && goal > 0.0) {
-            return Err(Error::invalid("goal", format!("distance must be finite and > 0, got {goal}")));
+            return Err(Error::invalid(
+                "goal",
+                format!("distance must be finite and > 0, got {goal}"),
+            ));
         }
         self.goal = goal;
         Ok(())
@@ -340,7 +392,10 @@ impl Synthesizer {
         }
         let end_x = self.cur.start_x + self.cur.planned.length;
         let remaining = self.goal - end_x;
-        let reach = PlannedAction { action: Action::Reach, length: 0.0 };
+        let reach = PlannedAction {
+            action: Action::Reach,
+            length: 0.0,
+        };
         let planned = if remaining > 0.0 {
             let plan = self.planner.plan(remaining)?;
             if plan.too_short {
@@ -364,14 +419,21 @@ impl Synthesizer {
         if self.next.is_none() {
             self.decide_next()?;
         }
-        let next = self.next.take().ok_or_else(|| Error::Numerical("no next action at a boundary".into()))?;
+        let next = self
+            .next
+            .take()
+            .ok_or_else(|| Error::Numerical("no next action at a boundary".into()))?;
         let old = std::mem::replace(&mut self.cur, next);
         self.prev = Some(old);
         self.executed.push(self.cur.planned);
         self.net.set_omega(TAU / self.cur.duration)?;
         // Snap the tiny integration overshoot so that the new action starts at ψ = 0 exactly.
         let psi = self.net.phase();
-        let d = if psi > std::f64::consts::PI { psi - TAU } else { psi };
+        let d = if psi > std::f64::consts::PI {
+            psi - TAU
+        } else {
+            psi
+        };
         self.net.leader = rotate(self.net.leader, -d);
         for f in &mut self.net.followers {
             *f = rotate(*f, -d);
@@ -388,7 +450,10 @@ impl Synthesizer {
     /// `dt` not finite and > 0, or a failed regression prediction.
     pub fn step(&mut self, dt: f64) -> Result<()> {
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(Error::invalid("dt", format!("must be finite and > 0, got {dt}")));
+            return Err(Error::invalid(
+                "dt",
+                format!("must be finite and > 0, got {dt}"),
+            ));
         }
         let window = TAU - self.cfg.beta;
         let mut remaining = dt;
@@ -417,7 +482,12 @@ impl Synthesizer {
     fn source_values(&mut self) {
         let j_n = self.lib.n_sources();
         if self.angle_only {
-            let th: Vec<f64> = self.net.followers.iter().map(|f| crate::hopf::phase(*f)).collect();
+            let th: Vec<f64> = self
+                .net
+                .followers
+                .iter()
+                .map(|f| crate::hopf::phase(*f))
+                .collect();
             for (idx, v) in self.src.iter_mut().enumerate() {
                 let j = idx % j_n;
                 *v = self.maps[j].eval_angle(th[j] - self.rot[idx]);
@@ -446,11 +516,21 @@ impl Synthesizer {
     /// The frame at the current state.
     pub fn frame(&mut self) -> Frame {
         // After the reach the phase has wrapped to 0: report the end of the action instead.
-        let psi = if self.finished { TAU * (1.0 - 1e-12) } else { self.net.phase() };
+        let psi = if self.finished {
+            TAU * (1.0 - 1e-12)
+        } else {
+            self.net.phase()
+        };
         let mut angles = vec![0.0; self.lib.n_channels];
         self.posture(psi, &mut angles);
         let root_x = self.cur.start_x + self.cur.planned.length * self.lib.progress_at(psi / TAU);
-        Frame { time: self.time, angles, root_x, action: self.cur.planned.action, phase: psi }
+        Frame {
+            time: self.time,
+            angles,
+            root_x,
+            action: self.cur.planned.action,
+            phase: psi,
+        }
     }
 
     /// Synthesizes a whole sequence at `fps` towards `goal`, applying `(time, goal)` changes when
@@ -459,13 +539,25 @@ impl Synthesizer {
     /// # Errors
     /// `fps` not finite and > 0, a goal not finite and > 0 (initial or changed), or more than
     /// `max_seconds` of motion (a goal that keeps receding).
-    pub fn run(&mut self, goal: f64, fps: f64, goal_changes: &[(f64, f64)], max_seconds: f64) -> Result<Synthesis> {
+    pub fn run(
+        &mut self,
+        goal: f64,
+        fps: f64,
+        goal_changes: &[(f64, f64)],
+        max_seconds: f64,
+    ) -> Result<Synthesis> {
         if !(fps.is_finite() && fps > 0.0) {
-            return Err(Error::invalid("fps", format!("must be finite and > 0, got {fps}")));
+            return Err(Error::invalid(
+                "fps",
+                format!("must be finite and > 0, got {fps}"),
+            ));
         }
         for &(t, g) in goal_changes {
-            if !t.is_finite() || !(g.is_finite() && g > 0.0) {
-                return Err(Error::invalid("goal_changes", format!("({t}, {g}): times must be finite and goals > 0")));
+            if !(t.is_finite() && g.is_finite() && g > 0.0) {
+                return Err(Error::invalid(
+                    "goal_changes",
+                    format!("({t}, {g}): times must be finite and goals > 0"),
+                ));
             }
         }
         self.reset(goal)?;
@@ -480,7 +572,9 @@ impl Synthesizer {
                 ci += 1;
             }
             if self.time > max_seconds {
-                return Err(Error::LimitExceeded(format!("synthesis ran past {max_seconds} s without finishing")));
+                return Err(Error::LimitExceeded(format!(
+                    "synthesis ran past {max_seconds} s without finishing"
+                )));
             }
             self.step(dt)?;
             frames.push(self.frame());

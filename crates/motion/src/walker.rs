@@ -104,7 +104,12 @@ struct Poly {
 impl Poly {
     fn draw(rng: &mut Rng, sigma: f64) -> Self {
         let mut n = || -> f64 { StandardNormal.sample(&mut *rng) };
-        Self { base: sigma * n(), a1: 0.4 * sigma * n(), a2: 0.1 * sigma * n(), a3: 0.5 * sigma * n() }
+        Self {
+            base: sigma * n(),
+            a1: 0.4 * sigma * n(),
+            a2: 0.1 * sigma * n(),
+            a3: 0.5 * sigma * n(),
+        }
     }
     fn at(&self, u: f64, v: f64) -> f64 {
         self.base + self.a1 * u + self.a2 * v + self.a3 * u * u
@@ -134,7 +139,11 @@ struct ActionModel {
 /// means start where the previous action ended (`m_q + w0_q = m_p − w0_p`, since `s₀` runs from
 /// 1 to −1 over an action).
 fn draw_action(rng: &mut Rng, action: usize, prev: Option<&ActionModel>) -> ActionModel {
-    let n_active = if action == 0 { N_SOURCES_FIRST } else { N_SOURCES };
+    let n_active = if action == 0 {
+        N_SOURCES_FIRST
+    } else {
+        N_SOURCES
+    };
     let mut w = Vec::with_capacity(N_CHANNELS * N_SOURCES);
     for i in 0..N_CHANNELS {
         for j in 0..N_SOURCES {
@@ -146,7 +155,16 @@ fn draw_action(rng: &mut Rng, action: usize, prev: Option<&ActionModel>) -> Acti
                     p.base = before + 0.3 * channel_sigma(i) * e;
                 }
             }
-            w.push(if j < n_active { p } else { Poly { base: 0.0, a1: 0.0, a2: 0.0, a3: 0.0 } });
+            w.push(if j < n_active {
+                p
+            } else {
+                Poly {
+                    base: 0.0,
+                    a1: 0.0,
+                    a2: 0.0,
+                    a3: 0.0,
+                }
+            });
         }
     }
     let w0: Vec<Poly> = (0..N_CHANNELS)
@@ -155,7 +173,12 @@ fn draw_action(rng: &mut Rng, action: usize, prev: Option<&ActionModel>) -> Acti
                 // The reaching arm: a large, sign-random non-periodic excursion.
                 let sign = if rng.random::<bool>() { 1.0 } else { -1.0 };
                 let base = sign * (0.35 + 0.25 * rng.random::<f64>());
-                Poly { base, a1: 0.2 * base, a2: 0.02 * base, a3: 0.1 * base }
+                Poly {
+                    base,
+                    a1: 0.2 * base,
+                    a2: 0.02 * base,
+                    a3: 0.1 * base,
+                }
             } else {
                 Poly::draw(rng, 0.03)
             }
@@ -178,7 +201,10 @@ fn draw_action(rng: &mut Rng, action: usize, prev: Option<&ActionModel>) -> Acti
 
 fn draw_source(rng: &mut Rng) -> PeriodicSource {
     let amps = [1.0, 0.4, 0.15];
-    let coeffs: Vec<Complex64> = amps.iter().map(|a| Complex64::from_polar(0.5 * a, TAU * rng.random::<f64>())).collect();
+    let coeffs: Vec<Complex64> = amps
+        .iter()
+        .map(|a| Complex64::from_polar(0.5 * a, TAU * rng.random::<f64>()))
+        .collect();
     let s = PeriodicSource::new(coeffs);
     let rms = s.rms();
     PeriodicSource::new(s.coeffs.iter().map(|c| c / rms).collect())
@@ -194,14 +220,23 @@ pub fn reach_walk(cfg: &WalkerConfig) -> Result<(Dataset, WalkerTruth)> {
         return Err(Error::invalid("n_trials", "must be >= 1"));
     }
     if cfg.n_samples < 8 {
-        return Err(Error::invalid("n_samples", format!("must be >= 8, got {}", cfg.n_samples)));
+        return Err(Error::invalid(
+            "n_samples",
+            format!("must be >= 8, got {}", cfg.n_samples),
+        ));
     }
     if !(cfg.noise.is_finite() && cfg.noise >= 0.0) {
-        return Err(Error::invalid("noise", format!("must be finite and >= 0, got {}", cfg.noise)));
+        return Err(Error::invalid(
+            "noise",
+            format!("must be finite and >= 0, got {}", cfg.noise),
+        ));
     }
     for (name, r) in [("range1", cfg.range1), ("range2", cfg.range2)] {
         if !(r.0.is_finite() && r.1.is_finite() && r.0 > 0.0 && r.1 > r.0) {
-            return Err(Error::invalid(name, format!("must satisfy 0 < lo < hi, got ({}, {})", r.0, r.1)));
+            return Err(Error::invalid(
+                name,
+                format!("must satisfy 0 < lo < hi, got ({}, {})", r.0, r.1),
+            ));
         }
     }
     let (r_n, i_n, n) = (cfg.n_trials, N_CHANNELS, cfg.n_samples);
@@ -214,7 +249,9 @@ pub fn reach_walk(cfg: &WalkerConfig) -> Result<(Dataset, WalkerTruth)> {
         models.push(m);
     }
     // Delayed source samples, I × 5 × N.
-    let shifted: Vec<Vec<f64>> = (0..i_n * N_SOURCES).map(|d| sources[d % N_SOURCES].sample(n, delays[d])).collect();
+    let shifted: Vec<Vec<f64>> = (0..i_n * N_SOURCES)
+        .map(|d| sources[d % N_SOURCES].sample(n, delays[d]))
+        .collect();
 
     let mut rng = wscg_math::rng::seeded(cfg.seed);
     let jitter = Normal::new(0.0, 0.01).map_err(|e| Error::Numerical(e.to_string()))?;
@@ -247,9 +284,27 @@ pub fn reach_walk(cfg: &WalkerConfig) -> Result<(Dataset, WalkerTruth)> {
         let u1 = (l1 - mid(cfg.range1)) / half(cfg.range1);
         let u2 = (l2 - mid(cfg.range2)) / half(cfg.range2);
         let acts = [
-            (l1, t1, u1, (t1 - 0.45 - 0.5 * mid(cfg.range1)) / (0.5 * half(cfg.range1)), l1),
-            (l2, t2, u2, (t2 - 0.45 - 0.5 * mid(cfg.range2)) / (0.5 * half(cfg.range2)), l2),
-            (l2, t3, u2, (t3 - 0.9 - 0.3 * (mid(cfg.range2) - 1.25)) / (0.3 * half(cfg.range2)), 0.0),
+            (
+                l1,
+                t1,
+                u1,
+                (t1 - 0.45 - 0.5 * mid(cfg.range1)) / (0.5 * half(cfg.range1)),
+                l1,
+            ),
+            (
+                l2,
+                t2,
+                u2,
+                (t2 - 0.45 - 0.5 * mid(cfg.range2)) / (0.5 * half(cfg.range2)),
+                l2,
+            ),
+            (
+                l2,
+                t3,
+                u2,
+                (t3 - 0.9 - 0.3 * (mid(cfg.range2) - 1.25)) / (0.3 * half(cfg.range2)),
+                0.0,
+            ),
         ];
         let mut trial: Vec<TrialAction> = Vec::with_capacity(3);
         for (a, &(p, dur, u, v, travel)) in acts.iter().enumerate() {
@@ -267,9 +322,12 @@ pub fn reach_walk(cfg: &WalkerConfig) -> Result<(Dataset, WalkerTruth)> {
                         *pv += w * shifted[i * N_SOURCES + j][t];
                     }
                 }
-                let clean: Vec<f64> = (0..n).map(|t| w0 * (PI * t as f64 / n as f64).cos() + per[t]).collect();
+                let clean: Vec<f64> = (0..n)
+                    .map(|t| w0 * (PI * t as f64 / n as f64).cos() + per[t])
+                    .collect();
                 let mean_c = clean.iter().sum::<f64>() / n as f64;
-                let rms = (clean.iter().map(|c| (c - mean_c).powi(2)).sum::<f64>() / n as f64).sqrt();
+                let rms =
+                    (clean.iter().map(|c| (c - mean_c).powi(2)).sum::<f64>() / n as f64).sqrt();
                 for (t, o) in row.iter_mut().enumerate() {
                     let e: f64 = StandardNormal.sample(&mut rng);
                     *o = m + clean[t] + cfg.noise * rms * e;
@@ -278,13 +336,27 @@ pub fn reach_walk(cfg: &WalkerConfig) -> Result<(Dataset, WalkerTruth)> {
                 means[a].push(m);
                 w0s[a].push(w0);
             }
-            let root = (0..n).map(|t| travel * true_progress(t as f64 / n as f64)).collect();
-            trial.push(TrialAction { angles, step_length: p, duration: dur, root });
+            let root = (0..n)
+                .map(|t| travel * true_progress(t as f64 / n as f64))
+                .collect();
+            trial.push(TrialAction {
+                angles,
+                step_length: p,
+                duration: dur,
+                root,
+            });
         }
-        let [a0, a1, a2]: [TrialAction; 3] = trial.try_into().map_err(|_| Error::Numerical("trial assembly".into()))?;
+        let [a0, a1, a2]: [TrialAction; 3] = trial
+            .try_into()
+            .map_err(|_| Error::Numerical("trial assembly".into()))?;
         trials.push([a0, a1, a2]);
     }
-    let mk = |v: Vec<f64>| TrialSet { n_trials: r_n, n_channels: i_n, n_samples: n, data: v };
+    let mk = |v: Vec<f64>| TrialSet {
+        n_trials: r_n,
+        n_channels: i_n,
+        n_samples: n,
+        data: v,
+    };
     let [p0, p1, p2] = periodic;
     let truth = WalkerTruth {
         sources,
@@ -294,5 +366,13 @@ pub fn reach_walk(cfg: &WalkerConfig) -> Result<(Dataset, WalkerTruth)> {
         means,
         w0: w0s,
     };
-    Ok((Dataset { n_channels: i_n, n_samples: n, trials, distances }, truth))
+    Ok((
+        Dataset {
+            n_channels: i_n,
+            n_samples: n,
+            trials,
+            distances,
+        },
+        truth,
+    ))
 }

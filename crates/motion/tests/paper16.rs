@@ -1,4 +1,5 @@
 //! Acceptance checks of paper 16 (spec section 4) on the synthetic walker.
+#![allow(clippy::needless_range_loop)]
 
 use std::f64::consts::{PI, TAU};
 use std::sync::OnceLock;
@@ -31,7 +32,12 @@ fn noisy_library() -> &'static ActionLibrary {
 }
 
 fn walker(noise: f64, n_trials: usize) -> (wscg_motion::Dataset, wscg_motion::WalkerTruth) {
-    reach_walk(&WalkerConfig { noise, n_trials, ..WalkerConfig::default() }).unwrap()
+    reach_walk(&WalkerConfig {
+        noise,
+        n_trials,
+        ..WalkerConfig::default()
+    })
+    .unwrap()
 }
 
 /// Action-1 periodic part (first 3 sources) with optional noise of `noise` × channel RMS.
@@ -65,7 +71,11 @@ fn hopf_radius_and_phase_match_closed_form() {
             t += dt;
         }
         let r = (net.leader[0].powi(2) + net.leader[1].powi(2)).sqrt();
-        assert!((r - hopf_radius(0.1, target)).abs() < 1e-8, "t={target}: r={r} vs {}", hopf_radius(0.1, target));
+        assert!(
+            (r - hopf_radius(0.1, target)).abs() < 1e-8,
+            "t={target}: r={r} vs {}",
+            hopf_radius(0.1, target)
+        );
     }
     let mut net = StarNetwork::new(TAU, 0.0, 0).unwrap();
     let omega = TAU;
@@ -95,7 +105,9 @@ fn star_followers_contract_at_rate_k_minus_1() {
         let mut t = 0.0;
         let mut samples = Vec::new();
         loop {
-            let d = ((n.followers[f][0] - n.leader[0]).powi(2) + (n.followers[f][1] - n.leader[1]).powi(2)).sqrt();
+            let d = ((n.followers[f][0] - n.leader[0]).powi(2)
+                + (n.followers[f][1] - n.leader[1]).powi(2))
+            .sqrt();
             if d < 1e-12 || t > 40.0 {
                 break;
             }
@@ -104,12 +116,19 @@ fn star_followers_contract_at_rate_k_minus_1() {
             n.step_rk4(dt).unwrap();
             t += dt;
         }
-        assert!(prev.is_finite() && t < 40.0, "follower {f} did not reach 1e-12");
+        assert!(
+            prev.is_finite() && t < 40.0,
+            "follower {f} did not reach 1e-12"
+        );
         // Slope over every 0.5 s window must be <= -(k - 1) + 0.01.
         let step = (0.5 / dt) as usize;
         for w in samples.windows(step + 1).step_by(step) {
             let slope = (w[step].1 - w[0].1) / (w[step].0 - w[0].0);
-            assert!(slope <= -(k - 1.0) + 0.01, "follower {f}: slope {slope} at t={}", w[0].0);
+            assert!(
+                slope <= -(k - 1.0) + 0.01,
+                "follower {f}: slope {slope} at t={}",
+                w[0].0
+            );
         }
     }
 }
@@ -126,7 +145,8 @@ fn delay_is_a_rotation_of_the_follower_state() {
         let tau = truth.delays[7 * 5 + j];
         let range = {
             let v = s.sample(400, 0.0);
-            v.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - v.iter().cloned().fold(f64::INFINITY, f64::min)
+            v.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+                - v.iter().cloned().fold(f64::INFINITY, f64::min)
         };
         let mut worst_f: f64 = 0.0;
         let mut worst_s: f64 = 0.0;
@@ -139,13 +159,20 @@ fn delay_is_a_rotation_of_the_follower_state() {
             worst_s = worst_s.max((svr.eval(rotated) - want).abs());
         }
         assert!(worst_f < 1e-9, "source {j}: Fourier map error {worst_f}");
-        assert!(worst_s <= 0.01 * range, "source {j}: SVR error {worst_s} vs range {range}");
+        assert!(
+            worst_s <= 0.01 * range,
+            "source {j}: SVR error {worst_s} vs range {range}"
+        );
     }
 }
 
 // ---------- check 4: demixing recovery ----------
 
-fn delay_error(model: &wscg_motion::AnechoicModel, truth: &wscg_motion::WalkerTruth, n_src: usize) -> (f64, Vec<f64>) {
+fn delay_error(
+    model: &wscg_motion::AnechoicModel,
+    truth: &wscg_motion::WalkerTruth,
+    n_src: usize,
+) -> (f64, Vec<f64>) {
     let m = match_sources(&model.sources, &truth.sources[..n_src]).unwrap();
     let sims: Vec<f64> = m.iter().map(|x| x.similarity).collect();
     let mut worst: f64 = 0.0;
@@ -153,7 +180,9 @@ fn delay_error(model: &wscg_motion::AnechoicModel, truth: &wscg_motion::WalkerTr
         // Channels carrying this source with at least 10% of its largest weight RMS.
         let w_rms: Vec<f64> = (0..N_CHANNELS)
             .map(|i| {
-                let s: f64 = (0..model.n_trials).map(|r| truth.weights[0][(r * N_CHANNELS + i) * 5 + g].powi(2)).sum();
+                let s: f64 = (0..model.n_trials)
+                    .map(|r| truth.weights[0][(r * N_CHANNELS + i) * 5 + g].powi(2))
+                    .sum();
                 (s / model.n_trials as f64).sqrt()
             })
             .collect();
@@ -174,13 +203,23 @@ fn delay_error(model: &wscg_motion::AnechoicModel, truth: &wscg_motion::WalkerTr
 fn demixing_quality_noise_free_and_noisy() {
     for (noise, limit) in [(0.0, 0.995), (0.01, 0.98)] {
         let (x, _) = action1_periodic(noise, 10);
-        let model = fit_anechoic(&x, &AnechoicConfig { n_sources: 3, ..AnechoicConfig::default() }).unwrap();
+        let model = fit_anechoic(
+            &x,
+            &AnechoicConfig {
+                n_sources: 3,
+                ..AnechoicConfig::default()
+            },
+        )
+        .unwrap();
         assert!(model.q >= limit, "noise {noise}: Q = {}", model.q);
         for w in model.q_history.windows(2) {
             assert!(w[1] >= w[0] - 1e-12, "Q decreased: {:?}", w);
         }
         let recon = model.reconstruct();
-        assert!((quality(&x, &recon).unwrap() - model.q).abs() < 1e-9, "Parseval Q differs from time-domain Q");
+        assert!(
+            (quality(&x, &recon).unwrap() - model.q).abs() < 1e-9,
+            "Parseval Q differs from time-domain Q"
+        );
     }
 }
 
@@ -193,9 +232,19 @@ fn demixing_quality_noise_free_and_noisy() {
 fn demixing_identifies_sources_and_delays() {
     for noise in [0.0, 0.01] {
         let (x, truth) = action1_periodic(noise, 10);
-        let model = fit_anechoic(&x, &AnechoicConfig { n_sources: 3, ..AnechoicConfig::default() }).unwrap();
+        let model = fit_anechoic(
+            &x,
+            &AnechoicConfig {
+                n_sources: 3,
+                ..AnechoicConfig::default()
+            },
+        )
+        .unwrap();
         let (err, sims) = delay_error(&model, &truth, 3);
-        assert!(sims.iter().all(|s| *s >= 0.95), "noise {noise}: source similarities {sims:?}");
+        assert!(
+            sims.iter().all(|s| *s >= 0.95),
+            "noise {noise}: source similarities {sims:?}"
+        );
         assert!(err <= 0.02, "noise {noise}: delay error {err} periods");
     }
 }
@@ -208,20 +257,82 @@ fn anechoic_beats_pca_fig4_ordering() {
     let qp = pca_qualities(&x).unwrap();
     let mut qa = Vec::new();
     for j in 1..=6 {
-        let m = fit_anechoic(&x, &AnechoicConfig { n_sources: j, ..AnechoicConfig::default() }).unwrap();
-        assert!(m.q >= qp[j - 1] - 1e-9, "J={j}: anechoic {} < PCA {}", m.q, qp[j - 1]);
+        let m = fit_anechoic(
+            &x,
+            &AnechoicConfig {
+                n_sources: j,
+                ..AnechoicConfig::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            m.q >= qp[j - 1] - 1e-9,
+            "J={j}: anechoic {} < PCA {}",
+            m.q,
+            qp[j - 1]
+        );
         qa.push(m.q);
     }
-    assert!(qa[0] >= qp[0] + 0.15, "Q_an(1) = {} vs Q_PCA(1) = {}", qa[0], qp[0]);
-    assert!(qa[2] >= 0.995 && qp[2] <= 0.97, "Q_an(3) = {}, Q_PCA(3) = {}", qa[2], qp[2]);
-    let first = |q: &[f64]| q.iter().position(|v| *v >= 0.99).map(|p| p + 1).unwrap_or(99);
-    assert!(first(&qa) <= 3 && first(&qp) >= 4, "J(0.99): anechoic {} PCA {}", first(&qa), first(&qp));
+    assert!(
+        qa[0] >= qp[0] + 0.15,
+        "Q_an(1) = {} vs Q_PCA(1) = {}",
+        qa[0],
+        qp[0]
+    );
+    assert!(
+        qa[2] >= 0.995 && qp[2] <= 0.97,
+        "Q_an(3) = {}, Q_PCA(3) = {}",
+        qa[2],
+        qp[2]
+    );
+    let first = |q: &[f64]| {
+        q.iter()
+            .position(|v| *v >= 0.99)
+            .map(|p| p + 1)
+            .unwrap_or(99)
+    };
+    assert!(
+        first(&qa) <= 3 && first(&qp) >= 4,
+        "J(0.99): anechoic {} PCA {}",
+        first(&qa),
+        first(&qp)
+    );
     // Nested models: zero <= shared <= per-trial, each started from the previous one.
     for j in [1, 2] {
-        let zero = fit_anechoic(&x, &AnechoicConfig { n_sources: j, delays: DelayMode::Zero, ..AnechoicConfig::default() }).unwrap();
-        let shared = refine_anechoic(&x, &AnechoicConfig { delays: DelayMode::Shared, ..AnechoicConfig::default() }, &zero).unwrap();
-        let free = refine_anechoic(&x, &AnechoicConfig { delays: DelayMode::PerTrial, ..AnechoicConfig::default() }, &shared).unwrap();
-        assert!(shared.q >= zero.q - 1e-12 && free.q >= shared.q - 1e-12, "J={j}: {} {} {}", zero.q, shared.q, free.q);
+        let zero = fit_anechoic(
+            &x,
+            &AnechoicConfig {
+                n_sources: j,
+                delays: DelayMode::Zero,
+                ..AnechoicConfig::default()
+            },
+        )
+        .unwrap();
+        let shared = refine_anechoic(
+            &x,
+            &AnechoicConfig {
+                delays: DelayMode::Shared,
+                ..AnechoicConfig::default()
+            },
+            &zero,
+        )
+        .unwrap();
+        let free = refine_anechoic(
+            &x,
+            &AnechoicConfig {
+                delays: DelayMode::PerTrial,
+                ..AnechoicConfig::default()
+            },
+            &shared,
+        )
+        .unwrap();
+        assert!(
+            shared.q >= zero.q - 1e-12 && free.q >= shared.q - 1e-12,
+            "J={j}: {} {} {}",
+            zero.q,
+            shared.q,
+            free.q
+        );
     }
 }
 
@@ -232,21 +343,41 @@ fn stepwise_reuses_sources_and_adds_two() {
     let lib = clean_library();
     assert_eq!(lib.n_sources(), 5);
     for j in 0..3 {
-        assert_eq!(lib.sources[j], lib.demix_first.sources[j], "source {j} changed");
+        assert_eq!(
+            lib.sources[j], lib.demix_first.sources[j],
+            "source {j} changed"
+        );
         for i in 0..N_CHANNELS {
-            assert_eq!(lib.delays[i * 5 + j].to_bits(), lib.demix_first.delays[i * 3 + j].to_bits());
+            assert_eq!(
+                lib.delays[i * 5 + j].to_bits(),
+                lib.demix_first.delays[i * 3 + j].to_bits()
+            );
         }
     }
     let q3 = lib.q_second_before_extra;
     let q5 = lib.actions[1].q;
-    assert!(q5 >= 0.98 && (1.0 - q5) <= 0.5 * (1.0 - q3), "action 2: Q(3) = {q3}, Q(5) = {q5}");
+    assert!(
+        q5 >= 0.98 && (1.0 - q5) <= 0.5 * (1.0 - q3),
+        "action 2: Q(3) = {q3}, Q(5) = {q5}"
+    );
     // Fig. 6 analogue: the largest non-periodic weights of action 2 are arm channels.
     let r_n = lib.params[1].len();
     let mut mag: Vec<(f64, usize)> = (0..N_CHANNELS)
-        .map(|i| ((0..r_n).map(|r| lib.actions[1].w0[r * N_CHANNELS + i].abs()).sum::<f64>(), i))
+        .map(|i| {
+            (
+                (0..r_n)
+                    .map(|r| lib.actions[1].w0[r * N_CHANNELS + i].abs())
+                    .sum::<f64>(),
+                i,
+            )
+        })
         .collect();
     mag.sort_by(|a, b| b.0.total_cmp(&a.0));
-    assert!(mag[..8].iter().all(|(_, i)| is_arm_channel(*i)), "top |w0| channels {:?}", &mag[..8]);
+    assert!(
+        mag[..8].iter().all(|(_, i)| is_arm_channel(*i)),
+        "top |w0| channels {:?}",
+        &mag[..8]
+    );
 }
 
 // ---------- check 7: blending ----------
@@ -261,27 +392,59 @@ fn blend_alpha_values_and_c1() {
     for x in [-b, b] {
         let left = (blend_alpha(x, b) - blend_alpha(x - h, b)) / h;
         let right = (blend_alpha(x + h, b) - blend_alpha(x, b)) / h;
-        assert!((left - right).abs() < 1e-6, "slope jump {} at {x}", left - right);
+        assert!(
+            (left - right).abs() < 1e-6,
+            "slope jump {} at {x}",
+            left - right
+        );
     }
 }
 
 #[test]
 fn boundary_posture_matches_xi_trans() {
     let i_n = 4;
-    let prev = ActionWeights { means: vec![0.1, -0.2, 0.3, 0.0], w0: vec![0.5, 0.1, -0.4, 0.2], weights: vec![0.0; i_n * 2] };
-    let post = ActionWeights { means: vec![-0.1, 0.4, 0.0, 0.2], w0: vec![-0.3, 0.2, 0.6, 0.0], weights: vec![0.0; i_n * 2] };
+    let prev = ActionWeights {
+        means: vec![0.1, -0.2, 0.3, 0.0],
+        w0: vec![0.5, 0.1, -0.4, 0.2],
+        weights: vec![0.0; i_n * 2],
+    };
+    let post = ActionWeights {
+        means: vec![-0.1, 0.4, 0.0, 0.2],
+        w0: vec![-0.3, 0.2, 0.6, 0.0],
+        weights: vec![0.0; i_n * 2],
+    };
     let src = vec![0.7; i_n * 2];
     let mut out = vec![0.0; i_n];
     mix_frame(Some(&prev), &post, None, 0.0, DEFAULT_BETA, &src, &mut out);
     for i in 0..i_n {
         let want = 0.5 * (prev.means[i] + post.means[i]) + 0.5 * (post.w0[i] - prev.w0[i]);
-        assert!((out[i] - want).abs() < 1e-9, "channel {i}: {} vs {want}", out[i]);
+        assert!(
+            (out[i] - want).abs() < 1e-9,
+            "channel {i}: {} vs {want}",
+            out[i]
+        );
     }
     // Continuity across the wrap: just before (ψ → 2π, cur = prev, next = post) and just after.
     let mut before = vec![0.0; i_n];
-    mix_frame(None, &prev, Some(&post), TAU - 1e-9, DEFAULT_BETA, &src, &mut before);
+    mix_frame(
+        None,
+        &prev,
+        Some(&post),
+        TAU - 1e-9,
+        DEFAULT_BETA,
+        &src,
+        &mut before,
+    );
     let mut after = vec![0.0; i_n];
-    mix_frame(Some(&prev), &post, None, 1e-9, DEFAULT_BETA, &src, &mut after);
+    mix_frame(
+        Some(&prev),
+        &post,
+        None,
+        1e-9,
+        DEFAULT_BETA,
+        &src,
+        &mut after,
+    );
     for i in 0..i_n {
         assert!((before[i] - after[i]).abs() < 1e-8);
     }
@@ -290,11 +453,22 @@ fn boundary_posture_matches_xi_trans() {
 fn learned_synth(map: wscg_motion::MapKind) -> Synthesizer {
     let lib = noisy_library().clone();
     let planner = planner_for(&lib);
-    Synthesizer::new(lib, planner, SynthConfig { map, ..SynthConfig::default() }).unwrap()
+    Synthesizer::new(
+        lib,
+        planner,
+        SynthConfig {
+            map,
+            ..SynthConfig::default()
+        },
+    )
+    .unwrap()
 }
 
 fn max_abs_diffs(frames: &[wscg_motion::synthesizer::Frame], ch: usize) -> Vec<f64> {
-    frames.windows(2).map(|w| (w[1].angles[ch] - w[0].angles[ch]).abs()).collect()
+    frames
+        .windows(2)
+        .map(|w| (w[1].angles[ch] - w[0].angles[ch]).abs())
+        .collect()
 }
 
 /// Per channel, the largest frame-to-frame change inside the ±β windows of action changes is
@@ -313,7 +487,10 @@ fn assert_smooth_windows(frames: &[wscg_motion::synthesizer::Frame]) {
                 outside = outside.max(*v);
             }
         }
-        assert!(inside <= 2.0 * outside + 1e-12, "channel {ch}: {inside} in the windows vs {outside} elsewhere");
+        assert!(
+            inside <= 2.0 * outside + 1e-12,
+            "channel {ch}: {inside} in the windows vs {outside} elsewhere"
+        );
     }
 }
 
@@ -330,8 +507,13 @@ fn synthesized_motion_is_smooth_in_blend_windows() {
 
 #[test]
 fn lwlr_infinite_bandwidth_is_global_least_squares() {
-    let x: Vec<Vec<f64>> = (0..12).map(|i| vec![i as f64 * 0.1, (i as f64 * 0.7).sin()]).collect();
-    let y: Vec<Vec<f64>> = x.iter().map(|v| vec![1.0 + 2.0 * v[0] - v[1] + 0.1 * v[0] * v[0], v[1] * v[1]]).collect();
+    let x: Vec<Vec<f64>> = (0..12)
+        .map(|i| vec![i as f64 * 0.1, (i as f64 * 0.7).sin()])
+        .collect();
+    let y: Vec<Vec<f64>> = x
+        .iter()
+        .map(|v| vec![1.0 + 2.0 * v[0] - v[1] + 0.1 * v[0] * v[0], v[1] * v[1]])
+        .collect();
     let m = Lwlr::fit(&x, &y, Some(f64::INFINITY), 1e-8).unwrap();
     // Global OLS through the normal equations.
     let a = faer::Mat::from_fn(12, 3, |r, c| if c == 0 { 1.0 } else { x[r][c - 1] });
@@ -355,15 +537,34 @@ fn lwlr_predicts_weights_better_than_linear() {
         let nrmse = |m: &Lwlr| {
             let pred = m.loo_predictions().unwrap();
             let p = y[0].len();
-            let mean: Vec<f64> = (0..p).map(|o| y.iter().map(|v| v[o]).sum::<f64>() / y.len() as f64).collect();
-            let num: f64 = pred.iter().zip(&y).map(|(a, b)| a.iter().zip(b).map(|(u, v)| (u - v).powi(2)).sum::<f64>()).sum();
-            let den: f64 = y.iter().map(|b| b.iter().zip(&mean).map(|(v, m)| (v - m).powi(2)).sum::<f64>()).sum();
+            let mean: Vec<f64> = (0..p)
+                .map(|o| y.iter().map(|v| v[o]).sum::<f64>() / y.len() as f64)
+                .collect();
+            let num: f64 = pred
+                .iter()
+                .zip(&y)
+                .map(|(a, b)| a.iter().zip(b).map(|(u, v)| (u - v).powi(2)).sum::<f64>())
+                .sum();
+            let den: f64 = y
+                .iter()
+                .map(|b| {
+                    b.iter()
+                        .zip(&mean)
+                        .map(|(v, m)| (v - m).powi(2))
+                        .sum::<f64>()
+                })
+                .sum();
             (num / den).sqrt()
         };
         let local = Lwlr::fit(&x, &y, None, 1e-8).unwrap();
         let global = Lwlr::fit(&x, &y, Some(f64::INFINITY), 1e-8).unwrap();
         let (nl, ng) = (nrmse(&local), nrmse(&global));
-        assert!(nl <= 0.1 && nl < ng, "action {}: LWLR NRMSE {nl} (h = {}), linear {ng}", a + 1, local.bandwidth);
+        assert!(
+            nl <= 0.1 && nl < ng,
+            "action {}: LWLR NRMSE {nl} (h = {}), linear {ng}",
+            a + 1,
+            local.bandwidth
+        );
     }
 }
 
@@ -396,7 +597,10 @@ fn planner_arithmetic() {
         }
         d += 1e-4;
     }
-    assert!((hi - lo - 0.60).abs() <= 1e-3 + 1e-4, "3-action range [{lo}, {hi}]");
+    assert!(
+        (hi - lo - 0.60).abs() <= 1e-3 + 1e-4,
+        "3-action range [{lo}, {hi}]"
+    );
     let mut last = 0;
     let mut d = 1.5;
     while d <= 6.0 {
@@ -409,7 +613,10 @@ fn planner_arithmetic() {
         d += 0.005;
     }
     for d in [3.84, 4.62] {
-        assert!(p.plan(d).unwrap().n_normal_steps() >= 2, "D = {d}: no extra gait step");
+        assert!(
+            p.plan(d).unwrap().n_normal_steps() >= 2,
+            "D = {d}: no extra gait step"
+        );
     }
     let short = p.plan(1.1).unwrap();
     assert!(short.too_short && short.actions.is_empty());
@@ -424,18 +631,41 @@ fn end_to_end_final_distance_and_goal_jump() {
         let out = syn.run(d, 120.0, &[], 60.0).unwrap();
         let last = out.frames.last().unwrap();
         let final_dist = d - last.root_x;
-        assert!((final_dist - 0.6).abs() <= 0.02, "D = {d}: final distance {final_dist}");
+        assert!(
+            (final_dist - 0.6).abs() <= 0.02,
+            "D = {d}: final distance {final_dist}"
+        );
         assert_eq!(last.action, Action::Reach);
     }
     // Goal jump at 40 % of the approach.
     let d = 2.7;
     let base = syn.run(d, 120.0, &[], 60.0).unwrap();
-    let approach = base.frames.iter().find(|f| f.action == Action::Reach).unwrap().time;
-    let jump = syn.run(d, 120.0, &[(0.4 * approach, d + 0.8)], 60.0).unwrap();
-    let steps = |s: &wscg_motion::Synthesis| s.executed.iter().filter(|a| a.action != Action::Reach).count();
-    assert!(steps(&jump) > steps(&base), "no step inserted: {:?}", jump.executed);
+    let approach = base
+        .frames
+        .iter()
+        .find(|f| f.action == Action::Reach)
+        .unwrap()
+        .time;
+    let jump = syn
+        .run(d, 120.0, &[(0.4 * approach, d + 0.8)], 60.0)
+        .unwrap();
+    let steps = |s: &wscg_motion::Synthesis| {
+        s.executed
+            .iter()
+            .filter(|a| a.action != Action::Reach)
+            .count()
+    };
+    assert!(
+        steps(&jump) > steps(&base),
+        "no step inserted: {:?}",
+        jump.executed
+    );
     let last = jump.frames.last().unwrap();
-    assert!((d + 0.8 - last.root_x - 0.6).abs() <= 0.03, "final distance {}", d + 0.8 - last.root_x);
+    assert!(
+        (d + 0.8 - last.root_x - 0.6).abs() <= 0.03,
+        "final distance {}",
+        d + 0.8 - last.root_x
+    );
 }
 
 /// Spec check 10, no discontinuity after a goal jump (> 2x the typical per-frame change).
@@ -449,8 +679,15 @@ fn goal_jump_has_no_discontinuity() {
     let mut syn = learned_synth(wscg_motion::MapKind::Lut(1024));
     let d = 2.7;
     let base = syn.run(d, 120.0, &[], 60.0).unwrap();
-    let approach = base.frames.iter().find(|f| f.action == Action::Reach).unwrap().time;
-    let jump = syn.run(d, 120.0, &[(0.4 * approach, d + 0.8)], 60.0).unwrap();
+    let approach = base
+        .frames
+        .iter()
+        .find(|f| f.action == Action::Reach)
+        .unwrap()
+        .time;
+    let jump = syn
+        .run(d, 120.0, &[(0.4 * approach, d + 0.8)], 60.0)
+        .unwrap();
     assert_smooth_windows(&jump.frames);
 }
 
@@ -464,9 +701,13 @@ fn predictive_posture_depends_on_last_step_length() {
     let a = syn.run(d_short, 120.0, &[], 60.0).unwrap();
     let b = syn.run(d_long, 120.0, &[], 60.0).unwrap();
     let (ta, tb) = (a.transitions.last().unwrap(), b.transitions.last().unwrap());
-    let rms = (ta.iter().zip(tb).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / ta.len() as f64).sqrt();
+    let rms =
+        (ta.iter().zip(tb).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / ta.len() as f64).sqrt();
     // Noise level of the training data: 1 % of a channel RMS of about 0.1–0.3 rad.
-    assert!(rms >= 10.0 * 0.01 * 0.1, "2->3 transition postures differ by {rms} rad RMS");
+    assert!(
+        rms >= 10.0 * 0.01 * 0.1,
+        "2->3 transition postures differ by {rms} rad RMS"
+    );
 }
 
 // ---------- check 11: statistics ----------
@@ -487,8 +728,22 @@ fn bad_input_is_an_error() {
     let x = data.action_set(0).unwrap();
     assert!(TrialSet::new(1, 1, 3, vec![0.0, f64::NAN, 1.0]).is_err());
     assert!(TrialSet::stack(&[vec![0.0; 6], vec![0.0; 4]], 2, 3).is_err());
-    assert!(fit_anechoic(&x, &AnechoicConfig { n_sources: 50, ..AnechoicConfig::default() }).is_err());
-    assert!(fit_anechoic(&x, &AnechoicConfig { n_harmonics: 50, ..AnechoicConfig::default() }).is_err());
+    assert!(fit_anechoic(
+        &x,
+        &AnechoicConfig {
+            n_sources: 50,
+            ..AnechoicConfig::default()
+        }
+    )
+    .is_err());
+    assert!(fit_anechoic(
+        &x,
+        &AnechoicConfig {
+            n_harmonics: 50,
+            ..AnechoicConfig::default()
+        }
+    )
+    .is_err());
     let mut bad = data.clone();
     bad.trials[1][2].angles.pop();
     assert!(fit_stepwise(&bad, &StepwiseConfig::default()).is_err());
@@ -501,11 +756,24 @@ fn bad_input_is_an_error() {
     let p = Planner::default();
     assert!(p.plan(0.0).is_err() && p.plan(-1.0).is_err() && p.plan(f64::NAN).is_err());
     assert!(StarNetwork::new(0.0, 2.0, 1).is_err() && StarNetwork::new(1.0, -1.0, 1).is_err());
-    assert!(StarNetwork::new(1.0, 1.0, 1).unwrap().step_rk4(0.0).is_err());
+    assert!(StarNetwork::new(1.0, 1.0, 1)
+        .unwrap()
+        .step_rk4(0.0)
+        .is_err());
     assert!(wscg_motion::Svr::fit(&[], &[], 1.0, 0.1, 1.0).is_err());
-    assert!(wscg_motion::blend::check_beta(0.0).is_err() && wscg_motion::blend::check_beta(PI).is_err());
+    assert!(
+        wscg_motion::blend::check_beta(0.0).is_err() && wscg_motion::blend::check_beta(PI).is_err()
+    );
     let lib = fit_stepwise(&data, &StepwiseConfig::default()).unwrap();
     let planner = planner_for(&lib);
-    assert!(Synthesizer::new(lib, planner, SynthConfig { beta: 4.0, ..SynthConfig::default() }).is_err());
+    assert!(Synthesizer::new(
+        lib,
+        planner,
+        SynthConfig {
+            beta: 4.0,
+            ..SynthConfig::default()
+        }
+    )
+    .is_err());
     let _ = PeriodicSource::new(vec![]);
 }
