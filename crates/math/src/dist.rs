@@ -11,9 +11,9 @@
 //! P(F_{d1,d2} > f) = I_{d2/(d2+d1 f)}(d2/2, d1/2)
 //! ```
 
+use crate::{Error, Result};
 use statrs::function::beta::{beta_reg, inv_beta_reg};
 use statrs::function::gamma::ln_gamma;
-use crate::{Error, Result};
 
 /// Two-sided p-value `P(|T_df| >= |t|)` of a Student-t statistic with `df` degrees of freedom.
 ///
