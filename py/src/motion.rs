@@ -573,6 +573,7 @@ fn fit_stepwise(
             seed,
             ..AnechoicConfig::default()
         },
+        ..StepwiseConfig::default()
     };
     let inner = py.detach(|| fit_stepwise_rs(&data, &cfg)).py_err()?;
     Ok(PyLibrary { inner })

@@ -235,10 +235,6 @@ def test_synthesis_reaches_comfort_distance(synthesis, lib):
     assert out["transitions"].shape == (2, 51)
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "wscg-motion bug: hopf::phase returns exactly 2*pi (rem_euclid of a tiny negative angle) "
-    "after the phase snap at an action boundary, so Synthesizer::step crosses the following "
-    "boundaries with zero duration and the short step and the reach get no frames"))
 def test_synthesis_every_action_gets_frames(lib):
     syn = M.Synthesizer(lib)
     for goal, fps in ((2.4, 120), (2.6, 120), (2.85, 60), (3.3, 60)):
