@@ -2073,3 +2073,78 @@ fn volren_illum_renders_a_volume_file_like_the_library_and_runs_the_study() {
         .unwrap();
     assert!(String::from_utf8_lossy(&bad.stderr).contains("slice_distance"));
 }
+
+#[test]
+fn motion_learns_user_data_and_synthesizes_bvh() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let d = data.to_str().unwrap();
+    wscg_ok(&["motion", "make-data", d, "--trials", "8", "--seed", "4"]);
+    let before = std::fs::read(data.join("angles.npy")).unwrap();
+    let model = dir.path().join("model");
+    let text = wscg_ok(&[
+        "motion",
+        "learn",
+        d,
+        "--out",
+        model.to_str().unwrap(),
+        "--restarts",
+        "2",
+    ]);
+    assert!(text.contains("action 2: Q = "), "{text}");
+    let sources = wscg::math::npy::read::<f64>(model.join("sources.npy")).unwrap();
+    assert_eq!(sources.shape, vec![5, 100]);
+    let bvh = dir.path().join("walk.bvh");
+    let npy = dir.path().join("walk.npy");
+    let text = wscg_ok(&[
+        "motion",
+        "synth",
+        "--goal",
+        "2.7",
+        "--change",
+        "40%:3.5",
+        "--data",
+        d,
+        "--out",
+        bvh.to_str().unwrap(),
+        "--npy",
+        npy.to_str().unwrap(),
+    ]);
+    assert!(text.contains("final pelvis-to-goal distance 0.6"), "{text}");
+    let motion = wscg::motion::bvh::read_bvh(&bvh).unwrap();
+    let angles = wscg::math::npy::read::<f64>(&npy).unwrap();
+    assert_eq!(angles.shape, vec![motion.angles.len(), 51]);
+    let last = motion.root.last().unwrap();
+    assert!(
+        (3.5 - last[2] - 0.6).abs() < 0.02,
+        "final pelvis z {}",
+        last[2]
+    );
+    assert_eq!(
+        std::fs::read(data.join("angles.npy")).unwrap(),
+        before,
+        "input modified"
+    );
+    let plan = wscg_ok(&["motion", "plan", "--goal", "2.7"]);
+    assert!(
+        plan.contains("Step\t0.8085") && plan.contains("ShortStep\t1.2915"),
+        "{plan}"
+    );
+    // Bad input: a goal <= 0 and a missing folder are errors, not crashes.
+    let out = wscg()
+        .args([
+            "motion",
+            "synth",
+            "--goal=0",
+            "--out",
+            bvh.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("goal"));
+    let out = wscg()
+        .args(["motion", "learn", "/nonexistent/motion-data"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("nonexistent"));
+}

@@ -17,14 +17,14 @@ use clap::{Args, Subcommand, ValueEnum};
 use wscg::demo::motion::stick_strip;
 use wscg_math::{npy, Error, Result};
 use wscg_motion::anechoic::AnechoicConfig;
-use wscg_motion::bvh::{motion_from_frames, write_bvh};
+use wscg_motion::bvh::write_bvh;
 use wscg_motion::dataset::{Dataset, TrialAction};
 use wscg_motion::map::SvrMapConfig;
 use wscg_motion::skeleton::N_CHANNELS;
 use wscg_motion::stepwise::{fit_stepwise, ActionLibrary, StepwiseConfig};
-use wscg_motion::synthesizer::{planner_for, MapKind, SynthConfig, Synthesizer};
+use wscg_motion::synthesizer::{MapKind, Synthesizer};
 use wscg_motion::walker::{reach_walk, WalkerConfig};
-use wscg_motion::{Action, Planner};
+use wscg_motion::Planner;
 
 #[derive(Subcommand, Debug)]
 pub enum MotionCommand {
@@ -333,21 +333,9 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                 MapName::Fourier => MapKind::Fourier,
                 MapName::Svr => MapKind::Svr(SvrMapConfig::default()),
             };
-            let planner = planner_for(&lib);
-            let mut syn = Synthesizer::new(
-                lib,
-                planner,
-                SynthConfig {
-                    map,
-                    ..SynthConfig::default()
-                },
-            )?;
+            let mut syn = Synthesizer::from_library(lib, map)?;
             let approach = if a.changes.iter().any(|c| c.contains('%')) {
-                let base = syn.run(a.goal, a.fps, &[], 600.0)?;
-                base.frames
-                    .iter()
-                    .find(|f| f.action == Action::Reach)
-                    .map(|f| f.time)
+                syn.run(a.goal, a.fps, &[], 600.0)?.approach_time()
             } else {
                 None
             };
@@ -357,14 +345,13 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                 .map(|c| parse_change(c, approach))
                 .collect::<Result<_>>()?;
             let s = syn.run(a.goal, a.fps, &changes, 600.0)?;
-            let angles: Vec<Vec<f64>> = s.frames.iter().map(|f| f.angles.clone()).collect();
-            let roots: Vec<f64> = s.frames.iter().map(|f| f.root_x).collect();
-            write_bvh(
-                &a.out,
-                &motion_from_frames(angles.clone(), &roots, 1.0 / a.fps),
-            )?;
+            write_bvh(&a.out, &s.bvh_motion(1.0 / a.fps))?;
             if let Some(p) = &a.npy {
-                let flat: Vec<f64> = angles.into_iter().flatten().collect();
+                let flat: Vec<f64> = s
+                    .frames
+                    .iter()
+                    .flat_map(|f| f.angles.iter().copied())
+                    .collect();
                 npy::write_f64(p, &[s.frames.len(), N_CHANNELS], &flat)?;
             }
             let goal = changes.last().map_or(a.goal, |c| c.1);

@@ -8,12 +8,12 @@ use std::path::Path;
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
 use wscg_motion::anechoic::{fit_anechoic, AnechoicConfig};
-use wscg_motion::bvh::{motion_from_frames, write_bvh};
+use wscg_motion::bvh::write_bvh;
 use wscg_motion::pca::pca_qualities;
 use wscg_motion::skeleton::{bones, forward_kinematics, HIP_HEIGHT};
 use wscg_motion::stats::fit_line;
 use wscg_motion::stepwise::{fit_stepwise, StepwiseConfig};
-use wscg_motion::synthesizer::{planner_for, Frame, MapKind, SynthConfig, Synthesizer};
+use wscg_motion::synthesizer::{Frame, MapKind, Synthesizer};
 use wscg_motion::walker::{reach_walk, WalkerConfig};
 use wscg_motion::Action;
 
@@ -178,15 +178,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     ));
 
     // Synthesis.
-    let planner = planner_for(&lib);
-    let mut syn = Synthesizer::new(
-        lib,
-        planner,
-        SynthConfig {
-            map: MapKind::Lut(1024),
-            ..SynthConfig::default()
-        },
-    )?;
+    let mut syn = Synthesizer::from_library(lib, MapKind::Lut(1024))?;
     for goal in [2.4, 2.9, 3.84, 4.62] {
         let s = rep.time(&format!("synthesis D = {goal} m at 120 fps"), || {
             syn.run(goal, 120.0, &[], 120.0)
@@ -211,31 +203,22 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
                 "goal {goal} m: poses every 0.1 s (blue step, orange shortened step, red reach)"
             ),
         });
-        let angles: Vec<Vec<f64>> = s.frames.iter().map(|f| f.angles.clone()).collect();
-        let roots: Vec<f64> = s.frames.iter().map(|f| f.root_x).collect();
         write_bvh(
             out.join(format!("walk_{goal:.2}.bvh")),
-            &motion_from_frames(angles, &roots, 1.0 / 120.0),
+            &s.bvh_motion(1.0 / 120.0),
         )?;
     }
     progress.advance(1);
-    let base = syn.run(2.7, 120.0, &[], 120.0)?;
-    let approach = base
-        .frames
-        .iter()
-        .find(|f| f.action == Action::Reach)
-        .map_or(1.0, |f| f.time);
-    let jump = syn.run(2.7, 120.0, &[(0.4 * approach, 3.5)], 120.0)?;
+    let (base, jump) = syn.run_goal_jump(2.7, 3.5, 0.4, 120.0, 120.0)?;
     let last = jump.frames.last().map_or(0.0, |f| f.root_x);
-    let steps = |s: &wscg_motion::Synthesis| {
-        s.executed
-            .iter()
-            .filter(|a| a.action != Action::Reach)
-            .count()
-    };
     rep.table.push(Row::new(
         "goal jump 2.7 -> 3.5 m at 40 %: steps, final distance",
-        format!("{} -> {}, {:.3}", steps(&base), steps(&jump), 3.5 - last),
+        format!(
+            "{} -> {}, {:.3}",
+            base.n_steps(),
+            jump.n_steps(),
+            3.5 - last
+        ),
         "extra step, 0.60",
         "paper Fig. 10",
     ));

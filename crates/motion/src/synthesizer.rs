@@ -193,6 +193,36 @@ pub struct Synthesis {
     pub too_short: bool,
 }
 
+impl Synthesis {
+    /// Time (seconds) at which the reach starts: the duration of the approach.
+    pub fn approach_time(&self) -> Option<f64> {
+        self.frames
+            .iter()
+            .find(|f| f.action == Action::Reach)
+            .map(|f| f.time)
+    }
+
+    /// Number of walking steps executed.
+    pub fn n_steps(&self) -> usize {
+        self.executed
+            .iter()
+            .filter(|a| a.action != Action::Reach)
+            .count()
+    }
+
+    /// The frames as a BVH motion (pelvis walking along +z).
+    pub fn bvh_motion(&self, frame_time: f64) -> crate::bvh::BvhMotion {
+        let angles = self.frames.iter().map(|f| f.angles.clone()).collect();
+        let roots: Vec<f64> = self.frames.iter().map(|f| f.root_x).collect();
+        crate::bvh::motion_from_frames(angles, &roots, frame_time)
+    }
+
+    /// Final pelvis-to-goal distance for a goal at `goal` metres.
+    pub fn final_distance(&self, goal: f64) -> Option<f64> {
+        self.frames.last().map(|f| goal - f.root_x)
+    }
+}
+
 /// The online synthesizer.
 pub struct Synthesizer {
     lib: ActionLibrary,
@@ -292,6 +322,42 @@ impl Synthesizer {
             transitions: Vec::new(),
             src,
         })
+    }
+
+    /// A synthesizer with the paper's defaults, the given state maps and a planner whose step
+    /// ranges are the library's training ranges.
+    ///
+    /// # Errors
+    /// As [`Synthesizer::new`].
+    pub fn from_library(lib: ActionLibrary, map: MapKind) -> Result<Self> {
+        let planner = planner_for(&lib);
+        Self::new(
+            lib,
+            planner,
+            SynthConfig {
+                map,
+                ..SynthConfig::default()
+            },
+        )
+    }
+
+    /// Runs `goal` unchanged and then with the goal moved to `new_goal` at the fraction `at` of
+    /// the unchanged approach (paper Fig. 10). Returns both sequences.
+    ///
+    /// # Errors
+    /// As [`Synthesizer::run`].
+    pub fn run_goal_jump(
+        &mut self,
+        goal: f64,
+        new_goal: f64,
+        at: f64,
+        fps: f64,
+        max_seconds: f64,
+    ) -> Result<(Synthesis, Synthesis)> {
+        let base = self.run(goal, fps, &[], max_seconds)?;
+        let t = at * base.approach_time().unwrap_or(0.0);
+        let jump = self.run(goal, fps, &[(t, new_goal)], max_seconds)?;
+        Ok((base, jump))
     }
 
     /// The learned library.

@@ -451,17 +451,7 @@ fn boundary_posture_matches_xi_trans() {
 }
 
 fn learned_synth(map: wscg_motion::MapKind) -> Synthesizer {
-    let lib = noisy_library().clone();
-    let planner = planner_for(&lib);
-    Synthesizer::new(
-        lib,
-        planner,
-        SynthConfig {
-            map,
-            ..SynthConfig::default()
-        },
-    )
-    .unwrap()
+    Synthesizer::from_library(noisy_library().clone(), map).unwrap()
 }
 
 fn max_abs_diffs(frames: &[wscg_motion::synthesizer::Frame], ch: usize) -> Vec<f64> {
@@ -639,24 +629,9 @@ fn end_to_end_final_distance_and_goal_jump() {
     }
     // Goal jump at 40 % of the approach.
     let d = 2.7;
-    let base = syn.run(d, 120.0, &[], 60.0).unwrap();
-    let approach = base
-        .frames
-        .iter()
-        .find(|f| f.action == Action::Reach)
-        .unwrap()
-        .time;
-    let jump = syn
-        .run(d, 120.0, &[(0.4 * approach, d + 0.8)], 60.0)
-        .unwrap();
-    let steps = |s: &wscg_motion::Synthesis| {
-        s.executed
-            .iter()
-            .filter(|a| a.action != Action::Reach)
-            .count()
-    };
+    let (base, jump) = syn.run_goal_jump(d, d + 0.8, 0.4, 120.0, 60.0).unwrap();
     assert!(
-        steps(&jump) > steps(&base),
+        jump.n_steps() > base.n_steps(),
         "no step inserted: {:?}",
         jump.executed
     );
@@ -677,17 +652,7 @@ fn end_to_end_final_distance_and_goal_jump() {
 #[ignore = "goal-jump sequence: window change 2.16x the change elsewhere (see note on issue 18)"]
 fn goal_jump_has_no_discontinuity() {
     let mut syn = learned_synth(wscg_motion::MapKind::Lut(1024));
-    let d = 2.7;
-    let base = syn.run(d, 120.0, &[], 60.0).unwrap();
-    let approach = base
-        .frames
-        .iter()
-        .find(|f| f.action == Action::Reach)
-        .unwrap()
-        .time;
-    let jump = syn
-        .run(d, 120.0, &[(0.4 * approach, d + 0.8)], 60.0)
-        .unwrap();
+    let (_, jump) = syn.run_goal_jump(2.7, 3.5, 0.4, 120.0, 60.0).unwrap();
     assert_smooth_windows(&jump.frames);
 }
 
