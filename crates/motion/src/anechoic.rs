@@ -70,6 +70,9 @@ pub struct AnechoicConfig {
     pub init: Init,
     /// Seed of the random starts.
     pub seed: u64,
+    /// Sweeps every run gets before only the best one continues to `max_iter` (successive
+    /// screening of the restarts; `max_iter` or more: every run goes the full length).
+    pub screen_iter: usize,
 }
 
 impl Default for AnechoicConfig {
@@ -83,6 +86,7 @@ impl Default for AnechoicConfig {
             restarts: 10,
             init: Init::Pca,
             seed: 0,
+            screen_iter: 60,
         }
     }
 }
@@ -715,8 +719,9 @@ fn start_from(
 
 /// Fits the anechoic model to mean-free data `x` (`R × I × N`, one period per trial).
 ///
-/// Run 0 starts from `cfg.init`; runs `1..restarts` from seeded random starts; the run with the
-/// highest `Q` is returned. Runs are independent and execute in parallel.
+/// Run 0 starts from `cfg.init`; runs `1..restarts` from seeded random starts. Every run gets
+/// `screen_iter` sweeps (in parallel); the one with the highest `Q` then continues up to
+/// `max_iter` sweeps in total and is returned.
 ///
 /// # Errors
 /// Bad configuration (`n_sources` ≥ min(I·R, N/2), `n_harmonics` ≥ N/2, zero iterations or
@@ -724,6 +729,10 @@ fn start_from(
 pub fn fit_anechoic(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
     check_config(x, cfg)?;
     let sp = Spectra::new(x, cfg.n_harmonics)?;
+    let screen = AnechoicConfig {
+        max_iter: cfg.screen_iter.min(cfg.max_iter),
+        ..cfg.clone()
+    };
     let runs: Vec<(State, f64, Vec<f64>)> = (0..cfg.restarts)
         .into_par_iter()
         .map(|run_i| {
@@ -732,13 +741,26 @@ pub fn fit_anechoic(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel>
                 (0, Init::Greedy) => greedy_start(x, &sp, cfg)?,
                 _ => random_start(&sp, cfg, run_i as u64)?,
             };
-            run(&sp, cfg, start)
+            run(&sp, &screen, start)
         })
         .collect::<Result<_>>()?;
-    let (state, q, hist) = runs
+    let (state, q, mut hist) = runs
         .into_iter()
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .ok_or_else(|| Error::Numerical("no demixing run finished".into()))?;
+    let used = hist.len() - 1;
+    let converged = used < screen.max_iter;
+    let (state, q) = if converged || used >= cfg.max_iter {
+        (state, q)
+    } else {
+        let rest = AnechoicConfig {
+            max_iter: cfg.max_iter - used,
+            ..cfg.clone()
+        };
+        let (state, q, more) = run(&sp, &rest, state)?;
+        hist.extend_from_slice(&more[1..]);
+        (state, q)
+    };
     Ok(state.into_model(&sp, q, hist))
 }
 
