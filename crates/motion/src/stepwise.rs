@@ -319,11 +319,19 @@ pub fn fit_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<ActionLibrar
     // Action 1.
     let base1 = refit(&sets[0], &s0, &[], 0)?;
     let den1 = base1.residual.energy();
+    // With alternation rounds to follow, the first demixing only needs to find the basin: its
+    // restarts are screened and the best is refined inside the rounds.
+    let first_iter = if cfg.rounds > 0 {
+        cfg.demix.screen_iter.min(cfg.demix.max_iter)
+    } else {
+        cfg.demix.max_iter
+    };
     let demix1 = fit_anechoic(
         &base1.residual,
         &AnechoicConfig {
             n_sources: j1,
             delays: DelayMode::Shared,
+            max_iter: first_iter,
             ..cfg.demix.clone()
         },
     )?;
@@ -342,6 +350,7 @@ pub fn fit_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<ActionLibrar
             &AnechoicConfig {
                 n_sources: cfg.n_sources_extra,
                 delays: DelayMode::Shared,
+                max_iter: first_iter,
                 ..cfg.demix.clone()
             },
         )?;
