@@ -203,8 +203,9 @@ fn init_from(s: &str) -> PyResult<Init> {
     match s {
         "pca" => Ok(Init::Pca),
         "random" => Ok(Init::Random),
+        "greedy" => Ok(Init::Greedy),
         other => Err(value_error(format!(
-            "`init` must be 'pca' or 'random', got {other:?}"
+            "`init` must be 'pca', 'random' or 'greedy', got {other:?}"
         ))),
     }
 }
@@ -251,6 +252,7 @@ fn fit_anechoic<'py>(
         restarts,
         init: init_from(init)?,
         seed,
+        ..AnechoicConfig::default()
     };
     let (model, recon) = py
         .detach(|| {
