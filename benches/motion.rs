@@ -1,0 +1,96 @@
+//! Criterion benchmarks of paper 16 (predictive human movement coordination), specification
+//! section 5: one anechoic demixing fit on the noise-free action-1 periodic part of 10 trials
+//! (J = 3, K = 8, one run of a fixed 100 sweeps, so time / 100 is the cost of one ALS
+//! iteration); the full step-wise learning of 40 trials with the default configuration; and
+//! 10 s of synthesis at 120 fps (1200 frames of all 51 channels) with phase-table (LUT) and
+//! SVR state maps. Peers (scikit-learn's SVR for the same map evaluations, a numpy reference
+//! of the same ALS, scikit-learn's PCA) are in benches/peers/16.py.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use wscg::motion::anechoic::{fit_anechoic, AnechoicConfig};
+use wscg::motion::map::SvrMapConfig;
+use wscg::motion::stepwise::{fit_stepwise, StepwiseConfig};
+use wscg::motion::synthesizer::{planner_for, MapKind, SynthConfig, Synthesizer};
+use wscg::motion::walker::{reach_walk, WalkerConfig};
+
+/// Sweeps of the timed demixing run (`tol = 0`, so every run does exactly this many).
+const SWEEPS: usize = 100;
+const FPS: f64 = 120.0;
+/// 10 s at 120 fps.
+const FRAMES: usize = 1200;
+/// A goal far enough that the walk is still going after 10 s.
+const GOAL: f64 = 15.0;
+
+/// `reset(GOAL)`, then 1200 steps of 1/120 s with a frame after each; returns a checksum.
+fn synth_10s(syn: &mut Synthesizer) -> f64 {
+    syn.reset(GOAL).unwrap();
+    let mut acc = 0.0;
+    for _ in 0..FRAMES {
+        syn.step(1.0 / FPS).unwrap();
+        let f = syn.frame();
+        acc += f.angles[0] + f.root_x;
+    }
+    assert!(!syn.finished(), "the goal was reached within 10 s");
+    acc
+}
+
+fn bench(c: &mut Criterion) {
+    let mut g = c.benchmark_group("paper16");
+    g.sample_size(10);
+
+    let (_, truth) = reach_walk(&WalkerConfig {
+        n_trials: 10,
+        noise: 0.0,
+        ..WalkerConfig::default()
+    })
+    .unwrap();
+    let x = &truth.periodic[0];
+    let cfg = AnechoicConfig {
+        n_sources: 3,
+        n_harmonics: 8,
+        restarts: 1,
+        max_iter: SWEEPS,
+        tol: 0.0,
+        ..AnechoicConfig::default()
+    };
+    g.bench_function(
+        format!("fit_anechoic R=10 I=51 N=100 J=3 K=8, 1 run x {SWEEPS} sweeps"),
+        |b| {
+            b.iter(|| {
+                let m = fit_anechoic(black_box(x), &cfg).unwrap();
+                assert_eq!(m.q_history.len(), SWEEPS + 1);
+                m
+            })
+        },
+    );
+
+    let (data, _) = reach_walk(&WalkerConfig::default()).unwrap();
+    g.bench_function("fit_stepwise 40 trials, default config", |b| {
+        b.iter(|| fit_stepwise(black_box(&data), &StepwiseConfig::default()).unwrap())
+    });
+
+    let lib = fit_stepwise(&data, &StepwiseConfig::default()).unwrap();
+    for (name, map) in [
+        ("LUT 1024", MapKind::Lut(1024)),
+        ("SVR", MapKind::Svr(SvrMapConfig::default())),
+    ] {
+        let mut syn = Synthesizer::new(
+            lib.clone(),
+            planner_for(&lib),
+            SynthConfig {
+                map,
+                ..SynthConfig::default()
+            },
+        )
+        .unwrap();
+        g.bench_function(format!("synthesis 10 s at 120 fps, {name} maps"), |b| {
+            b.iter(|| synth_10s(black_box(&mut syn)))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
