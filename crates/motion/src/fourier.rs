@@ -114,15 +114,16 @@ pub fn wrap_half(t: f64) -> f64 {
 pub fn trig_argmax(g: &[Complex64]) -> (f64, f64) {
     let k = g.len().max(1);
     let m = (32 * k).max(64);
-    let mut best = (0.0, f64::NEG_INFINITY);
-    for step in 0..m {
-        let tau = step as f64 / m as f64;
-        let f = trig_eval(g, tau).0;
-        if f > best.1 {
-            best = (tau, f);
+    // F(m'/M) = Re Σ_k g_k ω^{k m'} with ω = e^{−2πi/M}: the powers come from one table of the
+    // M-th roots of unity, indexed by k·m' mod M, so the grid needs no trigonometry.
+    let best = ROOTS.with(|cache| {
+        let mut cache = cache.borrow_mut();
+        if cache.len() != m {
+            *cache = (0..m).map(|t| Complex64::from_polar(1.0, -TAU * t as f64 / m as f64)).collect();
         }
-    }
-    let (mut tau, mut f) = best;
+        grid_max(g, &cache)
+    });
+    let (mut tau, mut f) = (best.0 as f64 / m as f64, best.1);
     for _ in 0..8 {
         let (_, d1, d2) = trig_eval(g, tau);
         if d2 >= 0.0 {
@@ -142,6 +143,33 @@ pub fn trig_argmax(g: &[Complex64]) -> (f64, f64) {
         }
     }
     (tau.rem_euclid(1.0), f)
+}
+
+thread_local! {
+    /// The `M`-th roots of unity of the last grid size used on this thread.
+    static ROOTS: std::cell::RefCell<Vec<Complex64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Index and value of the largest `Re Σ_k g_k ω^{k m'}` over the grid `m' = 0..M`.
+fn grid_max(g: &[Complex64], roots: &[Complex64]) -> (usize, f64) {
+    let m = roots.len();
+    let mut best = (0usize, f64::NEG_INFINITY);
+    for step in 0..m {
+        let mut f = 0.0;
+        let mut idx = 0usize;
+        for gk in g {
+            idx += step;
+            if idx >= m {
+                idx -= m;
+            }
+            let r = roots[idx];
+            f += gk.re * r.re - gk.im * r.im;
+        }
+        if f > best.1 {
+            best = (step, f);
+        }
+    }
+    best
 }
 
 /// `F(τ)`, `F'(τ)` and `F''(τ)` of [`trig_argmax`]'s polynomial.
