@@ -119,7 +119,9 @@ pub fn trig_argmax(g: &[Complex64]) -> (f64, f64) {
     let best = ROOTS.with(|cache| {
         let mut cache = cache.borrow_mut();
         if cache.len() != m {
-            *cache = (0..m).map(|t| Complex64::from_polar(1.0, -TAU * t as f64 / m as f64)).collect();
+            *cache = (0..m)
+                .map(|t| Complex64::from_polar(1.0, -TAU * t as f64 / m as f64))
+                .collect();
         }
         grid_max(g, &cache)
     });

@@ -229,6 +229,9 @@ pub struct Synthesizer {
     regs: Vec<ActionRegression>,
     maps: Vec<Box<dyn StateMap>>,
     angle_only: bool,
+    /// Phase tables of the LUT path, `J` tables of `M` values, read inline (no dynamic dispatch)
+    /// with delays pre-scaled to table units in `rot_lut`.
+    luts: Option<(Vec<Vec<f64>>, Vec<f64>)>,
     /// `2π τ_ij`, `I × J`.
     rot: Vec<f64>,
     planner: Planner,
@@ -285,6 +288,19 @@ impl Synthesizer {
             })
             .collect::<Result<_>>()?;
         let angle_only = maps.iter().all(|m| m.angle_only());
+        let luts = match &cfg.map {
+            MapKind::Lut(size) => {
+                let tables: Vec<Vec<f64>> =
+                    lib.sources.iter().map(|s| s.sample(*size, 0.0)).collect();
+                let rot_lut = lib
+                    .delays
+                    .iter()
+                    .map(|t| t.rem_euclid(1.0) * *size as f64)
+                    .collect();
+                Some((tables, rot_lut))
+            }
+            _ => None,
+        };
         let rot = lib.delays.iter().map(|t| TAU * t).collect();
         let j_n = lib.n_sources();
         let net = StarNetwork::new(TAU, cfg.coupling, j_n)?;
@@ -307,6 +323,7 @@ impl Synthesizer {
             regs,
             maps,
             angle_only,
+            luts,
             rot,
             planner,
             cfg,
@@ -547,7 +564,40 @@ impl Synthesizer {
 
     fn source_values(&mut self) {
         let j_n = self.lib.n_sources();
-        if self.angle_only {
+        if let Some((tables, rot)) = &self.luts {
+            // The PhaseLut evaluation, inlined: u = (θ_j/2π − τ_ij) M, linear interpolation.
+            let m = tables.first().map_or(1, |t| t.len());
+            let mf = m as f64;
+            let mut th = [0.0f64; 16];
+            let small = j_n <= th.len();
+            let th_vec: Vec<f64>;
+            let th: &[f64] = if small {
+                for (t, f) in th.iter_mut().zip(&self.net.followers) {
+                    *t = crate::hopf::phase(*f) / TAU * mf;
+                }
+                &th[..j_n]
+            } else {
+                th_vec = self
+                    .net
+                    .followers
+                    .iter()
+                    .map(|f| crate::hopf::phase(*f) / TAU * mf)
+                    .collect();
+                &th_vec
+            };
+            for (idx, v) in self.src.iter_mut().enumerate() {
+                let j = idx % j_n;
+                let mut u = th[j] - rot[idx];
+                if u < 0.0 {
+                    u += mf;
+                }
+                let i0 = (u as usize).min(m - 1);
+                let f = u - i0 as f64;
+                let i1 = if i0 + 1 == m { 0 } else { i0 + 1 };
+                let t = &tables[j];
+                *v = t[i0] + (t[i1] - t[i0]) * f;
+            }
+        } else if self.angle_only {
             let th: Vec<f64> = self
                 .net
                 .followers
