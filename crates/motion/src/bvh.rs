@@ -6,8 +6,8 @@
 //! walks along +z. The reader accepts any channel order and converts back to exponential maps.
 
 use crate::skeleton::{
-    end_site, expmap_to_quat, matrix_to_zxy, quat_to_expmap, unwrap_expmaps, zxy_to_matrix,
-    HIP_HEIGHT, JOINTS, N_CHANNELS, N_JOINTS,
+    end_site, expmap_to_quat, matrix_to_zxy, quat_to_expmap, unwrap_expmaps, HIP_HEIGHT, JOINTS,
+    N_CHANNELS, N_JOINTS,
 };
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use std::fmt::Write as _;
@@ -312,13 +312,4 @@ pub fn read_bvh(path: impl AsRef<Path>) -> Result<BvhMotion> {
     let bytes = wscg_math::error::read_file(path)?;
     let text = String::from_utf8(bytes).map_err(|_| Error::format(path, "not UTF-8 text"))?;
     parse_bvh(&text, path)
-}
-
-/// Checks that `zxy_to_matrix` and the writer agree (used by the tests of this module).
-#[doc(hidden)]
-pub fn euler_of(r: [f64; 3]) -> (f64, f64, f64) {
-    let m = expmap_to_quat(r).to_rotation_matrix().into_inner();
-    let e = matrix_to_zxy(&m);
-    debug_assert!((zxy_to_matrix(e.0, e.1, e.2) - m).norm() < 1e-9);
-    e
 }

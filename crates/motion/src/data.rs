@@ -75,13 +75,6 @@ impl TrialSet {
         &self.data[o..o + n]
     }
 
-    /// Mutable samples of channel `i` in trial `r`.
-    pub fn row_mut(&mut self, r: usize, i: usize) -> &mut [f64] {
-        let n = self.n_samples;
-        let o = (r * self.n_channels + i) * n;
-        &mut self.data[o..o + n]
-    }
-
     /// A zero-filled set of the same shape.
     pub fn zeros_like(&self) -> Self {
         Self {

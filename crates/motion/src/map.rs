@@ -75,16 +75,25 @@ impl StateMap for PhaseLut {
         self.eval_angle(phase(xy))
     }
     fn eval_angle(&self, theta: f64) -> f64 {
-        let m = self.table.len();
-        let u = theta.rem_euclid(TAU) / TAU * m as f64;
-        let i0 = (u.floor() as usize).min(m - 1);
-        let f = u - i0 as f64;
-        let i1 = if i0 + 1 == m { 0 } else { i0 + 1 };
-        self.table[i0] * (1.0 - f) + self.table[i1] * f
+        lut_interp(
+            &self.table,
+            theta.rem_euclid(TAU) / TAU * self.table.len() as f64,
+        )
     }
     fn angle_only(&self) -> bool {
         true
     }
+}
+
+/// A periodic table read at the fractional index `u ∈ [0, M)`, linearly interpolated (the
+/// last entry wraps to the first).
+#[inline]
+pub fn lut_interp(table: &[f64], u: f64) -> f64 {
+    let m = table.len();
+    let i0 = (u as usize).min(m - 1);
+    let f = u - i0 as f64;
+    let i1 = if i0 + 1 == m { 0 } else { i0 + 1 };
+    table[i0] + (table[i1] - table[i0]) * f
 }
 
 /// Hyper-parameters of the SVR state maps (spec §2.4 defaults, on unit-RMS sources).

@@ -13,7 +13,7 @@ use crate::blend::{
 };
 use crate::hopf::{rotate, StarNetwork};
 use crate::lwlr::{Lwlr, DEFAULT_RIDGE};
-use crate::map::{FourierMap, PhaseLut, StateMap, SvrMap, SvrMapConfig};
+use crate::map::{lut_interp, FourierMap, PhaseLut, StateMap, SvrMap, SvrMapConfig};
 use crate::planner::{Action, PlannedAction, Planner};
 use crate::stepwise::ActionLibrary;
 use std::f64::consts::TAU;
@@ -591,11 +591,7 @@ impl Synthesizer {
                 if u < 0.0 {
                     u += mf;
                 }
-                let i0 = (u as usize).min(m - 1);
-                let f = u - i0 as f64;
-                let i1 = if i0 + 1 == m { 0 } else { i0 + 1 };
-                let t = &tables[j];
-                *v = t[i0] + (t[i1] - t[i0]) * f;
+                *v = lut_interp(&tables[j], u);
             }
         } else if self.angle_only {
             let th: Vec<f64> = self

@@ -6,7 +6,7 @@ use std::sync::OnceLock;
 use wscg_motion::anechoic::{fit_anechoic, refine_anechoic, AnechoicConfig, DelayMode};
 use wscg_motion::blend::{blend_alpha, DEFAULT_BETA};
 use wscg_motion::data::{quality, TrialSet};
-use wscg_motion::fourier::{wrap_half, PeriodicSource};
+use wscg_motion::fourier::wrap_half;
 use wscg_motion::hopf::{hopf_radius, phase, rotate, StarNetwork};
 use wscg_motion::lwlr::Lwlr;
 use wscg_motion::map::{FourierMap, StateMap, SvrMap, SvrMapConfig};
@@ -626,6 +626,24 @@ fn end_to_end_final_distance_and_goal_jump() {
             "D = {d}: final distance {final_dist}"
         );
         assert_eq!(last.action, Action::Reach);
+        // Every executed action is played for its duration (0.7-1.2 s on the walker), none
+        // skipped: the sequence lasts at least 0.6 s per action.
+        let n_actions = out.executed.len() as f64;
+        assert!(
+            last.time >= 0.6 * n_actions,
+            "D = {d}: {} actions in {} s",
+            n_actions,
+            last.time
+        );
+        let reach_frames = out
+            .frames
+            .iter()
+            .filter(|f| f.action == Action::Reach)
+            .count();
+        assert!(
+            reach_frames as f64 >= 0.6 * 120.0,
+            "D = {d}: reach has {reach_frames} frames"
+        );
     }
     // Goal jump at 40 % of the approach.
     let d = 2.7;
@@ -673,6 +691,39 @@ fn predictive_posture_depends_on_last_step_length() {
         rms >= 10.0 * 0.01 * 0.1,
         "2->3 transition postures differ by {rms} rad RMS"
     );
+    // Each synthesized transition is ξ_trans = (m2 + m3)/2 + (W0,3 − W0,2)/2 plus the periodic
+    // sources at phase 0 under the averaged weights, with the weights the regressions give for
+    // the executed short step (its length is also the reach's step parameter).
+    for s in [&a, &b] {
+        let l2 = s
+            .executed
+            .iter()
+            .find(|p| p.action == Action::ShortStep)
+            .unwrap()
+            .length;
+        let regs = syn.regressions();
+        let lib = syn.library();
+        let (i_n, j_n) = (lib.n_channels, lib.n_sources());
+        let weights = |act: usize| {
+            let t = regs[act].duration.predict(&[l2]).unwrap()[0];
+            ActionWeights::from_vector(&regs[act].weights.predict(&[l2, t]).unwrap(), i_n)
+        };
+        let (w2, w3) = (weights(1), weights(2));
+        let got = s.transitions.last().unwrap();
+        for i in 0..i_n {
+            let mut want = 0.5 * (w2.means[i] + w3.means[i]) + 0.5 * (w3.w0[i] - w2.w0[i]);
+            for j in 0..j_n {
+                let w = 0.5 * (w2.weights[i * j_n + j] + w3.weights[i * j_n + j]);
+                want += w * lib.sources[j].eval(0.0, lib.delays[i * j_n + j]);
+            }
+            // 1024-entry phase tables: interpolation error below 1e-4 of a unit source.
+            assert!(
+                (got[i] - want).abs() < 1e-3,
+                "channel {i}: {} vs ξ_trans {want}",
+                got[i]
+            );
+        }
+    }
 }
 
 // ---------- check 11: statistics ----------
@@ -740,7 +791,6 @@ fn bad_input_is_an_error() {
         }
     )
     .is_err());
-    let _ = PeriodicSource::new(vec![]);
 }
 
 #[test]
