@@ -1,0 +1,254 @@
+//! The DTW recursion of eq. 5 on two scalar sequences.
+
+use serde::{Deserialize, Serialize};
+use wscg_math::{Error, Result};
+
+/// The local cost `c(a_i, b_j)` between two samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LocalCost {
+    /// `|a_i - b_j|`: the paper's "Euclidean distance" between two scalar angles (default).
+    #[default]
+    Abs,
+    /// `(a_i - b_j)^2`: the cost of the UCR/UEA archive's published DTW error rates (and of
+    /// dtaidistance, which returns the square root of the accumulated squared cost).
+    Squared,
+}
+
+impl LocalCost {
+    /// Parses `"abs"` or `"squared"`.
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "abs" => Ok(Self::Abs),
+            "squared" | "sq" => Ok(Self::Squared),
+            other => Err(Error::invalid(
+                "cost",
+                format!("`{other}` is not a valid cost. Valid costs are \"abs\" and \"squared\""),
+            )),
+        }
+    }
+}
+
+/// Parameters of [`dtw`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DtwParams {
+    /// Local cost (default [`LocalCost::Abs`], the paper's).
+    pub cost: LocalCost,
+    /// Optional Sakoe-Chiba band half-width `r` in samples of the second sequence: cell
+    /// `(i, j)` (0-based) is allowed when `|j - i (m-1)/(n-1)| <= r`. For equal lengths this
+    /// is the usual `|i - j| <= r`; `r` is raised to `ceil((m-1)/(n-1))` when needed so that
+    /// a warp path exists. `None` (default, the paper's) is the full grid.
+    pub window: Option<usize>,
+    /// Divide the accumulated cost by `n + m` (a path-length normalisation the paper does not
+    /// use; default `false`).
+    pub normalize: bool,
+}
+
+impl DtwParams {
+    /// The paper's DTW with the given local cost.
+    pub fn with_cost(cost: LocalCost) -> Self {
+        Self {
+            cost,
+            ..Self::default()
+        }
+    }
+}
+
+/// Checks that a sequence is non-empty and finite.
+pub(crate) fn check_seq(name: &'static str, a: &[f64]) -> Result<()> {
+    if a.is_empty() {
+        return Err(Error::Empty(name));
+    }
+    if let Some(index) = a.iter().position(|v| !v.is_finite()) {
+        return Err(Error::NonFinite { name, index });
+    }
+    Ok(())
+}
+
+/// DTW distance between `a` (length `n`) and `b` (length `m`), eq. 5:
+/// `D(0,0) = 0`, `D(i,0) = D(0,j) = inf`,
+/// `D(i,j) = c(a_i, b_j) + min{D(i-1,j), D(i,j-1), D(i-1,j-1)}`, result `D(n,m)`.
+///
+/// Two rows of memory (`O(min(n, m))`). Errors: an empty or non-finite sequence.
+pub fn dtw(a: &[f64], b: &[f64], p: &DtwParams) -> Result<f64> {
+    check_seq("a", a)?;
+    check_seq("b", b)?;
+    let mut scratch = Vec::new();
+    Ok(dtw_bounded(a, b, p, f64::INFINITY, &mut scratch))
+}
+
+/// [`dtw`] without input checks, with early abandoning: returns `+inf` as soon as every cell
+/// of a row exceeds `bound` (the distance is then known to exceed `bound`; exact otherwise).
+/// `scratch` is reused between calls to avoid allocation. Inputs must be non-empty.
+pub fn dtw_bounded(a: &[f64], b: &[f64], p: &DtwParams, bound: f64, scratch: &mut Vec<f64>) -> f64 {
+    let (n, m) = (a.len(), b.len());
+    let scale = if p.normalize { (n + m) as f64 } else { 1.0 };
+    let raw_bound = bound * scale;
+    let banded = p.window.filter(|_| n > 1 && m > 1);
+    let raw = match (banded, p.cost) {
+        (None, LocalCost::Abs) => full(a, b, raw_bound, scratch, |x, y| (x - y).abs()),
+        (None, LocalCost::Squared) => full(a, b, raw_bound, scratch, |x, y| (x - y) * (x - y)),
+        (Some(r), LocalCost::Abs) => band(a, b, r, raw_bound, scratch, |x, y| (x - y).abs()),
+        (Some(r), LocalCost::Squared) => {
+            band(a, b, r, raw_bound, scratch, |x, y| (x - y) * (x - y))
+        }
+    };
+    raw / scale
+}
+
+/// Full-grid recursion; the shorter sequence indexes the rows of memory.
+#[inline]
+fn full(
+    a: &[f64],
+    b: &[f64],
+    bound: f64,
+    scratch: &mut Vec<f64>,
+    c: impl Fn(f64, f64) -> f64,
+) -> f64 {
+    // DTW is symmetric for symmetric costs: keep the row buffer short.
+    let (a, b) = if b.len() > a.len() { (b, a) } else { (a, b) };
+    let m = b.len();
+    scratch.clear();
+    scratch.resize(2 * (m + 1), f64::INFINITY);
+    let (prev, cur) = scratch.split_at_mut(m + 1);
+    let (mut prev, mut cur) = (prev, cur);
+    prev[0] = 0.0;
+    let check = bound.is_finite();
+    for &ai in a {
+        cur[0] = f64::INFINITY;
+        let mut left = f64::INFINITY;
+        let mut diag = prev[0];
+        let mut row_min = f64::INFINITY;
+        for j in 1..=m {
+            let up = prev[j];
+            let v = c(ai, b[j - 1]) + diag.min(up).min(left);
+            cur[j] = v;
+            left = v;
+            diag = up;
+            row_min = row_min.min(v);
+        }
+        if check && row_min > bound {
+            return f64::INFINITY;
+        }
+        std::mem::swap(&mut prev, &mut cur);
+    }
+    prev[m]
+}
+
+/// The allowed column range `lo..=hi` (0-based) of row `i` in the Sakoe-Chiba band.
+#[inline]
+fn band_range(i: usize, slope: f64, r: f64, m: usize) -> (usize, usize) {
+    let centre = i as f64 * slope;
+    let lo = (centre - r).ceil().max(0.0) as usize;
+    let hi = ((centre + r).floor() as usize).min(m - 1);
+    (lo, hi)
+}
+
+/// Banded recursion (`n, m >= 2`).
+fn band(
+    a: &[f64],
+    b: &[f64],
+    r: usize,
+    bound: f64,
+    scratch: &mut Vec<f64>,
+    c: impl Fn(f64, f64) -> f64,
+) -> f64 {
+    let (n, m) = (a.len(), b.len());
+    let slope = (m - 1) as f64 / (n - 1) as f64;
+    let r = (r as f64).max(slope.ceil());
+    scratch.clear();
+    scratch.resize(2 * (m + 1), f64::INFINITY);
+    let (prev, cur) = scratch.split_at_mut(m + 1);
+    let (mut prev, mut cur) = (prev, cur);
+    prev[0] = 0.0;
+    // Range written into `cur` two rows ago (1-based columns), to be reset.
+    let mut stale = (1usize, 0usize);
+    let check = bound.is_finite();
+    for (i, &ai) in a.iter().enumerate() {
+        for v in &mut cur[stale.0..=stale.1] {
+            *v = f64::INFINITY;
+        }
+        cur[0] = f64::INFINITY;
+        let (lo, hi) = band_range(i, slope, r, m);
+        let mut left = f64::INFINITY;
+        let mut row_min = f64::INFINITY;
+        for j in lo + 1..=hi + 1 {
+            let v = c(ai, b[j - 1]) + prev[j - 1].min(prev[j]).min(left);
+            cur[j] = v;
+            left = v;
+            row_min = row_min.min(v);
+        }
+        if check && row_min > bound {
+            return f64::INFINITY;
+        }
+        std::mem::swap(&mut prev, &mut cur);
+        // `cur` now holds the row before; its written range is the previous row's.
+        stale = if i == 0 {
+            (0, 0)
+        } else {
+            stale_of(i - 1, slope, r, m)
+        };
+    }
+    prev[m]
+}
+
+/// 1-based written range of row `i`.
+fn stale_of(i: usize, slope: f64, r: f64, m: usize) -> (usize, usize) {
+    let (lo, hi) = band_range(i, slope, r, m);
+    (lo + 1, hi + 1)
+}
+
+/// DTW distance and an optimal warp path `[(0,0), ..., (n-1,m-1)]` (0-based index pairs,
+/// monotone, steps (1,0), (0,1), (1,1)); ties prefer the diagonal step. Full `(n+1) x (m+1)`
+/// table. Errors as [`dtw`].
+pub fn dtw_path(a: &[f64], b: &[f64], p: &DtwParams) -> Result<(f64, Vec<(usize, usize)>)> {
+    check_seq("a", a)?;
+    check_seq("b", b)?;
+    let (n, m) = (a.len(), b.len());
+    let w = m + 1;
+    let mut d = vec![f64::INFINITY; (n + 1) * w];
+    d[0] = 0.0;
+    let (slope, r) = match p.window.filter(|_| n > 1 && m > 1) {
+        Some(r) => {
+            let s = (m - 1) as f64 / (n - 1) as f64;
+            (s, (r as f64).max(s.ceil()))
+        }
+        None => (0.0, f64::INFINITY),
+    };
+    for i in 1..=n {
+        let (lo, hi) = if r.is_finite() {
+            band_range(i - 1, slope, r, m)
+        } else {
+            (0, m - 1)
+        };
+        for j in lo + 1..=hi + 1 {
+            let diff = a[i - 1] - b[j - 1];
+            let c = match p.cost {
+                LocalCost::Abs => diff.abs(),
+                LocalCost::Squared => diff * diff,
+            };
+            let best = d[(i - 1) * w + j - 1]
+                .min(d[(i - 1) * w + j])
+                .min(d[i * w + j - 1]);
+            d[i * w + j] = c + best;
+        }
+    }
+    let mut path = vec![(n - 1, m - 1)];
+    let (mut i, mut j) = (n, m);
+    while (i, j) != (1, 1) {
+        let diag = d[(i - 1) * w + j - 1];
+        let up = d[(i - 1) * w + j];
+        let left = d[i * w + j - 1];
+        if diag <= up && diag <= left {
+            i -= 1;
+            j -= 1;
+        } else if up <= left {
+            i -= 1;
+        } else {
+            j -= 1;
+        }
+        path.push((i - 1, j - 1));
+    }
+    path.reverse();
+    let scale = if p.normalize { (n + m) as f64 } else { 1.0 };
+    Ok((d[n * w + m] / scale, path))
+}

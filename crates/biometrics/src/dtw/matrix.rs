@@ -1,0 +1,154 @@
+//! The DTW kernel Δ of eq. 6 and dissimilarity matrices over sample sets.
+
+use faer::Mat;
+use rayon::prelude::*;
+use wscg_math::{Error, Result};
+
+use super::core::{check_seq, dtw_bounded, DtwParams};
+
+/// A dissimilarity matrix (`queries x gallery`).
+pub type DistMatrix = Mat<f64>;
+
+/// Checks one multichannel sample: at least one channel, every channel non-empty and finite.
+pub fn check_sample(name: &'static str, s: &[Vec<f64>]) -> Result<()> {
+    if s.is_empty() {
+        return Err(Error::Empty(name));
+    }
+    for ch in s {
+        check_seq(name, ch)?;
+    }
+    Ok(())
+}
+
+/// Checks a set of samples that all have `channels` channels.
+fn check_set(name: &'static str, set: &[Vec<Vec<f64>>], channels: usize) -> Result<()> {
+    for (k, s) in set.iter().enumerate() {
+        check_sample(name, s)?;
+        if s.len() != channels {
+            return Err(Error::ShapeMismatch(format!(
+                "{name}[{k}] has {} channels, expected {channels} (samples must be built with the \
+                 same pair list)",
+                s.len()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The DTW kernel of eq. 6: `Δ(θ, θ') = Σ_m DTW(θ_m, θ'_m)` over the channels (selected joint
+/// pairs) of two samples; each channel warps separately (independent multivariate DTW).
+///
+/// Errors: different channel counts, an empty or non-finite channel.
+pub fn dtw_kernel(a: &[Vec<f64>], b: &[Vec<f64>], p: &DtwParams) -> Result<f64> {
+    check_sample("a", a)?;
+    check_sample("b", b)?;
+    if a.len() != b.len() {
+        return Err(Error::ShapeMismatch(format!(
+            "a has {} channels, b has {} (samples must be built with the same pair list)",
+            a.len(),
+            b.len()
+        )));
+    }
+    let mut scratch = Vec::new();
+    Ok(dtw_kernel_bounded(a, b, p, f64::INFINITY, &mut scratch))
+}
+
+/// [`dtw_kernel`] without checks, abandoned (returns `+inf`) once the partial sum exceeds
+/// `bound`; exact whenever the result is at most `bound`.
+pub fn dtw_kernel_bounded(
+    a: &[Vec<f64>],
+    b: &[Vec<f64>],
+    p: &DtwParams,
+    bound: f64,
+    scratch: &mut Vec<f64>,
+) -> f64 {
+    let mut sum = 0.0;
+    for (x, y) in a.iter().zip(b) {
+        sum += dtw_bounded(x, y, p, bound - sum, scratch);
+        if sum > bound {
+            return f64::INFINITY;
+        }
+    }
+    sum
+}
+
+/// Δ between every query (rows) and gallery sample (columns), in parallel over the rows.
+///
+/// Errors: empty sets, samples with different channel counts, empty or non-finite channels.
+pub fn dissimilarity_matrix(
+    queries: &[Vec<Vec<f64>>],
+    gallery: &[Vec<Vec<f64>>],
+    p: &DtwParams,
+) -> Result<DistMatrix> {
+    if queries.is_empty() {
+        return Err(Error::Empty("queries"));
+    }
+    if gallery.is_empty() {
+        return Err(Error::Empty("gallery"));
+    }
+    let channels = queries[0].len();
+    check_set("queries", queries, channels)?;
+    check_set("gallery", gallery, channels)?;
+    let g = gallery.len();
+    let mut out = vec![0.0; queries.len() * g];
+    out.par_chunks_mut(g)
+        .zip(queries.par_iter())
+        .for_each_init(Vec::new, |scratch, (row, q)| {
+            for (v, s) in row.iter_mut().zip(gallery) {
+                *v = dtw_kernel_bounded(q, s, p, f64::INFINITY, scratch);
+            }
+        });
+    Ok(Mat::from_fn(queries.len(), g, |i, j| out[i * g + j]))
+}
+
+/// Δ between all pairs of one sample set (symmetric, zero diagonal): each pair is computed
+/// once, in parallel over the pairs.
+///
+/// Errors as [`dissimilarity_matrix`].
+pub fn self_dissimilarity(samples: &[Vec<Vec<f64>>], p: &DtwParams) -> Result<DistMatrix> {
+    if samples.is_empty() {
+        return Err(Error::Empty("samples"));
+    }
+    check_set("samples", samples, samples[0].len())?;
+    let n = samples.len();
+    let pairs: Vec<(usize, usize)> = (0..n)
+        .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+        .collect();
+    let vals: Vec<f64> = pairs
+        .par_iter()
+        .map_init(Vec::new, |scratch, &(i, j)| {
+            dtw_kernel_bounded(&samples[i], &samples[j], p, f64::INFINITY, scratch)
+        })
+        .collect();
+    let mut m = Mat::zeros(n, n);
+    for (&(i, j), &v) in pairs.iter().zip(&vals) {
+        m[(i, j)] = v;
+        m[(j, i)] = v;
+    }
+    Ok(m)
+}
+
+/// The gallery sample nearest to `query` by Δ and its Δ (ties: the first index), using exact
+/// early abandoning against the best Δ so far.
+///
+/// Errors as [`dissimilarity_matrix`].
+pub fn nearest(
+    query: &[Vec<f64>],
+    gallery: &[Vec<Vec<f64>>],
+    p: &DtwParams,
+) -> Result<(usize, f64)> {
+    check_sample("query", query)?;
+    if gallery.is_empty() {
+        return Err(Error::Empty("gallery"));
+    }
+    check_set("gallery", gallery, query.len())?;
+    let mut scratch = Vec::new();
+    let mut best = (0, f64::INFINITY);
+    for (k, s) in gallery.iter().enumerate() {
+        let d = dtw_kernel_bounded(query, s, p, best.1, &mut scratch);
+        if d < best.1 {
+            best = (k, d);
+        }
+    }
+    Ok(best)
+}

@@ -1,0 +1,157 @@
+//! Reading and writing skeleton streams: CSV rows `frame, joint, x, y, z` (joint as Kinect v2
+//! name or index, as Kinect recording tools export them) and `.npy` arrays `(T, 25, 3)`.
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::Path;
+
+use wscg_math::{Error, Result};
+
+use super::skeleton::{Frame, Joint, SkeletonSeq, N_JOINTS};
+
+/// Largest skeleton file accepted (256 MiB).
+pub const MAX_SKELETON_BYTES: u64 = 256 << 20;
+
+fn format_err(path: &Path, reason: String) -> Error {
+    Error::Format {
+        path: path.to_path_buf(),
+        reason,
+    }
+}
+
+/// Reads a skeleton CSV: one row per frame and joint, columns `frame, joint, x, y, z`
+/// (metres; an optional header row; `#` comments). Frames are sorted by their number and
+/// must each hold all 25 joints.
+///
+/// Errors: unreadable file, a malformed row, a frame missing a joint (named), a duplicated
+/// joint, NaN coordinates, fewer than 3 frames, `fps <= 0`.
+pub fn read_skeleton_csv(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq> {
+    let path = path.as_ref();
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if meta.len() > MAX_SKELETON_BYTES {
+        return Err(Error::LimitExceeded(format!(
+            "{} is {} bytes; skeleton files above {MAX_SKELETON_BYTES} bytes are refused",
+            path.display(),
+            meta.len()
+        )));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let mut frames: BTreeMap<i64, [Option<[f64; 3]>; N_JOINTS]> = BTreeMap::new();
+    for (ln, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let cols: Vec<&str> = line.split([',', ';', '\t']).map(str::trim).collect();
+        if cols.len() < 5 {
+            return Err(format_err(
+                path,
+                format!("line {}: expected frame, joint, x, y, z", ln + 1),
+            ));
+        }
+        let Ok(frame) = cols[0].parse::<i64>() else {
+            if ln == 0 || frames.is_empty() {
+                continue; // header row
+            }
+            return Err(format_err(
+                path,
+                format!("line {}: `{}` is not a frame number", ln + 1, cols[0]),
+            ));
+        };
+        let joint =
+            Joint::parse(cols[1]).map_err(|e| format_err(path, format!("line {}: {e}", ln + 1)))?;
+        let mut p = [0.0; 3];
+        for k in 0..3 {
+            p[k] = cols[2 + k].parse::<f64>().map_err(|_| {
+                format_err(
+                    path,
+                    format!("line {}: `{}` is not a number", ln + 1, cols[2 + k]),
+                )
+            })?;
+        }
+        let slot = &mut frames.entry(frame).or_insert([None; N_JOINTS])[joint.index()];
+        if slot.is_some() {
+            return Err(format_err(
+                path,
+                format!(
+                    "line {}: frame {frame} lists {} twice",
+                    ln + 1,
+                    joint.name()
+                ),
+            ));
+        }
+        *slot = Some(p);
+    }
+    let mut out: Vec<Frame> = Vec::with_capacity(frames.len());
+    for (f, joints) in frames {
+        let mut frame = [[0.0; 3]; N_JOINTS];
+        for (j, p) in joints.iter().enumerate() {
+            frame[j] = p.ok_or_else(|| {
+                format_err(
+                    path,
+                    format!(
+                        "frame {f} has no {} (a Kinect v2 skeleton has {N_JOINTS} joints)",
+                        Joint::ALL[j].name()
+                    ),
+                )
+            })?;
+        }
+        out.push(frame);
+    }
+    SkeletonSeq::new(fps, out)
+}
+
+/// Reads a `.npy` array of shape `(T, 25, 3)` (any float or integer dtype).
+///
+/// Errors: unreadable or malformed file, another shape, and everything
+/// [`SkeletonSeq::from_flat`] checks.
+pub fn read_skeleton_npy(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq> {
+    let path = path.as_ref();
+    let a = wscg_math::npy::read::<f64>(path)?;
+    if a.shape.len() != 3 || a.shape[2] != 3 {
+        return Err(Error::ShapeMismatch(format!(
+            "{}: expected shape (T, 25, 3), got {:?}",
+            path.display(),
+            a.shape
+        )));
+    }
+    SkeletonSeq::from_flat(fps, &a.data, a.shape[0], a.shape[1])
+}
+
+/// Reads a skeleton stream by extension: `.npy`, else CSV.
+pub fn read_skeleton(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq> {
+    let path = path.as_ref();
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("npy"))
+    {
+        read_skeleton_npy(path, fps)
+    } else {
+        read_skeleton_csv(path, fps)
+    }
+}
+
+/// Writes a skeleton CSV (header `frame,joint,x,y,z`, joints by name).
+pub fn write_skeleton_csv(path: impl AsRef<Path>, s: &SkeletonSeq) -> Result<()> {
+    let path = path.as_ref();
+    let mut buf = String::from("frame,joint,x,y,z\n");
+    for (t, f) in s.frames.iter().enumerate() {
+        for (j, p) in f.iter().enumerate() {
+            buf.push_str(&format!(
+                "{t},{},{:.6},{:.6},{:.6}\n",
+                Joint::ALL[j].name(),
+                p[0],
+                p[1],
+                p[2]
+            ));
+        }
+    }
+    let mut file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    file.write_all(buf.as_bytes())
+        .map_err(|e| Error::io(path, e))
+}
+
+/// Writes a `.npy` array `(T, 25, 3)` of f64.
+pub fn write_skeleton_npy(path: impl AsRef<Path>, s: &SkeletonSeq) -> Result<()> {
+    wscg_math::npy::write_f64(path, &[s.len(), N_JOINTS, 3], &s.to_flat())
+}

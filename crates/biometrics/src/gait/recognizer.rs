@@ -1,0 +1,280 @@
+//! The recognition pipeline of paper 17 (sections 3.1-3.4, Fig. 6): gait cycle → JRA
+//! sequences → relevant pairs (on the training walks) → DTW kernel Δ against every training
+//! walk → vote.
+
+use serde::{Deserialize, Serialize};
+use wscg_math::{Error, Result};
+
+use super::cycle::{detect_gait_cycle, CycleParams, GaitCycle};
+use super::jra::{jra_matrix, JraSet};
+use super::relevance::{relevance_matrix, select_pairs, HistSpec, JointMap};
+use super::skeleton::{Joint, Pair, SkeletonSeq};
+use crate::dtw::{check_sample, dtw_kernel_bounded, DtwParams};
+
+/// How the ranked training walks decide the identity.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Vote {
+    /// The label of the walk with the smallest Δ (1-NN; default, unambiguous).
+    #[default]
+    Nearest,
+    /// Majority among the `k` walks of smallest Δ.
+    Majority {
+        /// Number of voters.
+        k: usize,
+    },
+    /// The paper's rule (section 3.4): majority among the top N + 1 walks, N = number of
+    /// classes.
+    PaperTopClassesPlusOne,
+}
+
+impl Vote {
+    /// Parses `"nearest"`, `"paper"` or `"majority:K"`.
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "nearest" | "1nn" => Ok(Self::Nearest),
+            "paper" => Ok(Self::PaperTopClassesPlusOne),
+            _ => match s.strip_prefix("majority:").map(str::parse::<usize>) {
+                Some(Ok(k)) if k > 0 => Ok(Self::Majority { k }),
+                _ => Err(Error::invalid(
+                    "vote",
+                    format!("`{s}` is not a valid vote. Valid votes are \"nearest\", \"paper\" and \"majority:K\" (K >= 1)"),
+                )),
+            },
+        }
+    }
+}
+
+/// Decides a label from training walks ranked by Δ (`ranked[i] = (label, Δ)`, ascending Δ).
+/// Majority ties go to the tied class with the smallest sum of its voters' ranks, then the
+/// smallest Δ. Errors: no walks, `k = 0`.
+pub fn vote(ranked: &[(u32, f64)], rule: Vote) -> Result<u32> {
+    if ranked.is_empty() {
+        return Err(Error::Empty("gallery"));
+    }
+    let k = match rule {
+        Vote::Nearest => return Ok(ranked[0].0),
+        Vote::Majority { k } => k,
+        Vote::PaperTopClassesPlusOne => {
+            let mut c: Vec<u32> = ranked.iter().map(|r| r.0).collect();
+            c.sort_unstable();
+            c.dedup();
+            c.len() + 1
+        }
+    };
+    if k == 0 {
+        return Err(Error::invalid("k", "a vote needs at least one voter"));
+    }
+    // (label, votes, rank sum, best Δ)
+    let mut tally: Vec<(u32, usize, usize, f64)> = Vec::new();
+    for (rank, &(label, d)) in ranked.iter().take(k).enumerate() {
+        match tally.iter_mut().find(|t| t.0 == label) {
+            Some(t) => {
+                t.1 += 1;
+                t.2 += rank;
+            }
+            None => tally.push((label, 1, rank, d)),
+        }
+    }
+    tally.sort_by(|a, b| b.1.cmp(&a.1).then(a.2.cmp(&b.2)).then(a.3.total_cmp(&b.3)));
+    Ok(tally[0].0)
+}
+
+/// Parameters of the pipeline, the paper's values by default.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GaitParams {
+    /// Gait cycle detection.
+    pub cycle: CycleParams,
+    /// Reference joint of the angles (SpineBase).
+    pub reference: Joint,
+    /// Histogram of the relevance measure (1° bins on [0°, 180°]).
+    pub hist: HistSpec,
+    /// Relevance threshold `t`: keep pairs occupying at least this many bins (20).
+    pub min_bins: f64,
+    /// DTW of the kernel (absolute cost, full window).
+    pub dtw: DtwParams,
+    /// Vote rule (1-NN).
+    pub vote: Vote,
+}
+
+impl Default for GaitParams {
+    fn default() -> Self {
+        Self {
+            cycle: CycleParams::default(),
+            reference: Joint::SpineBase,
+            hist: HistSpec::default(),
+            min_bins: 20.0,
+            dtw: DtwParams::default(),
+            vote: Vote::Nearest,
+        }
+    }
+}
+
+/// One walk prepared for recognition: its cycle and the JRA sequences of all 276 pairs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GaitSample {
+    /// The detected cycle.
+    pub cycle: GaitCycle,
+    /// JRA sequences of every pair over the cycle.
+    pub jra: JraSet,
+}
+
+/// Detects the cycle of a walk and computes its JRA sequences.
+pub fn gait_sample(s: &SkeletonSeq, p: &GaitParams) -> Result<GaitSample> {
+    let cycle = detect_gait_cycle(s, &p.cycle)?;
+    let jra = jra_matrix(s, &cycle, p.reference)?;
+    Ok(GaitSample { cycle, jra })
+}
+
+/// The result of [`GaitRecognizer::predict`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Prediction {
+    /// The decided identity.
+    pub label: u32,
+    /// Training walks by ascending Δ: `(training index, label, Δ)`.
+    pub ranked: Vec<(usize, u32, f64)>,
+    /// The query's gait cycle (when predicted from a walk).
+    pub cycle: Option<GaitCycle>,
+}
+
+/// A fitted gait recognizer: the selected pairs and the training walks' JRA sequences.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct GaitRecognizer {
+    /// Parameters used.
+    pub params: GaitParams,
+    /// Relevance map of the training walks (Fig. 8).
+    pub relevance: JointMap,
+    /// Selected pairs (Fig. 10).
+    pub pairs: Vec<Pair>,
+    /// Training samples restricted to the selected pairs.
+    pub gallery: Vec<Vec<Vec<f64>>>,
+    /// Training labels.
+    pub labels: Vec<u32>,
+}
+
+impl GaitRecognizer {
+    /// Fits on whole walks. Errors: empty gallery, label count, a walk without a full gait
+    /// cycle (the error names the walk), no pair above the threshold.
+    pub fn fit(walks: &[SkeletonSeq], labels: &[u32], p: &GaitParams) -> Result<Self> {
+        let samples = walks
+            .iter()
+            .enumerate()
+            .map(|(i, w)| {
+                gait_sample(w, p)
+                    .map(|s| s.jra)
+                    .map_err(|e| Error::invalid("walks", format!("training walk {i}: {e}")))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Self::fit_samples(&samples, labels, p)
+    }
+
+    /// Fits on prepared JRA sets, selecting pairs on them.
+    pub fn fit_samples(samples: &[JraSet], labels: &[u32], p: &GaitParams) -> Result<Self> {
+        Self::fit_samples_with_relevance(samples, labels, &[], p)
+    }
+
+    /// Fits on prepared JRA sets, computing the relevance map on `samples` plus `extra` (the
+    /// paper's leaky protocol passes the test walks as `extra`).
+    pub fn fit_samples_with_relevance(
+        samples: &[JraSet],
+        labels: &[u32],
+        extra: &[JraSet],
+        p: &GaitParams,
+    ) -> Result<Self> {
+        if samples.is_empty() {
+            return Err(Error::Empty("training walks"));
+        }
+        if labels.len() != samples.len() {
+            return Err(Error::ShapeMismatch(format!(
+                "{} labels for {} training walks",
+                labels.len(),
+                samples.len()
+            )));
+        }
+        let all: Vec<&JraSet> = samples.iter().chain(extra).collect();
+        let relevance = relevance_matrix(&all, &p.hist)?;
+        let pairs = select_pairs(&relevance, p.min_bins)?;
+        Self::fit_with_pairs(samples, labels, relevance, pairs, p)
+    }
+
+    /// Fits with a given pair list (for example chosen on other data).
+    pub fn fit_with_pairs(
+        samples: &[JraSet],
+        labels: &[u32],
+        relevance: JointMap,
+        pairs: Vec<Pair>,
+        p: &GaitParams,
+    ) -> Result<Self> {
+        if pairs.is_empty() {
+            return Err(Error::Empty("pairs"));
+        }
+        if labels.len() != samples.len() {
+            return Err(Error::ShapeMismatch(format!(
+                "{} labels for {} training walks",
+                labels.len(),
+                samples.len()
+            )));
+        }
+        let gallery = samples
+            .iter()
+            .map(|s| s.select(&pairs))
+            .collect::<Result<Vec<_>>>()?;
+        for g in &gallery {
+            check_sample("training walk", g)?;
+        }
+        Ok(Self {
+            params: *p,
+            relevance,
+            pairs,
+            gallery,
+            labels: labels.to_vec(),
+        })
+    }
+
+    /// Identifies a walk.
+    pub fn predict(&self, walk: &SkeletonSeq) -> Result<Prediction> {
+        let s = gait_sample(walk, &self.params)?;
+        let mut out = self.predict_sample(&s.jra)?;
+        out.cycle = Some(s.cycle);
+        Ok(out)
+    }
+
+    /// Identifies a prepared JRA set (it must hold the selected pairs).
+    pub fn predict_sample(&self, jra: &JraSet) -> Result<Prediction> {
+        let q = jra.select(&self.pairs)?;
+        self.predict_selected(&q)
+    }
+
+    /// Identifies a sample already restricted to [`Self::pairs`], in that order.
+    pub fn predict_selected(&self, q: &[Vec<f64>]) -> Result<Prediction> {
+        check_sample("query", q)?;
+        if q.len() != self.pairs.len() {
+            return Err(Error::ShapeMismatch(format!(
+                "the query has {} sequences, the recognizer uses {} pairs",
+                q.len(),
+                self.pairs.len()
+            )));
+        }
+        let mut scratch = Vec::new();
+        let mut ranked: Vec<(usize, u32, f64)> = self
+            .gallery
+            .iter()
+            .zip(&self.labels)
+            .enumerate()
+            .map(|(i, (g, &l))| {
+                (
+                    i,
+                    l,
+                    dtw_kernel_bounded(q, g, &self.params.dtw, f64::INFINITY, &mut scratch),
+                )
+            })
+            .collect();
+        ranked.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
+        let pairs: Vec<(u32, f64)> = ranked.iter().map(|r| (r.1, r.2)).collect();
+        let label = vote(&pairs, self.params.vote)?;
+        Ok(Prediction {
+            label,
+            ranked,
+            cycle: None,
+        })
+    }
+}
