@@ -15,6 +15,7 @@ mod deblur;
 mod doe;
 mod ear;
 mod errors;
+mod gait;
 mod handpose;
 mod hdr;
 mod illum;
@@ -34,7 +35,7 @@ mod volren;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 15] = [
+    let subs: [(&str, Register); 16] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
@@ -50,6 +51,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         ("hdr", hdr::register),
         ("ear", ear::register),
         ("motion", motion::register),
+        ("gait", gait::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

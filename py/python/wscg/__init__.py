@@ -34,6 +34,10 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
   by block index under one-block shifts, rejection of heavily occluded probes, the
   whole-ear baseline, CMC curves, synthetic ears with exact occluder masks); also
   :mod:`wscg.biometrics.ear`.
+- :mod:`wscg.gait`: paper 17, Kinect gait recognition (gait cycles from the ankle distance,
+  joint relative angles, pair relevance, the DTW kernel with 1-NN and the paper's vote,
+  Ball and Preis baselines, UCR/UEA ``.ts`` reader, a synthetic Kinect walker with ground
+  truth); also :mod:`wscg.biometrics.gait`.
 - :mod:`wscg.motion`: paper 16, predictive human movement synthesis (anechoic demixing with
   shared delays and its PCA baseline, step-wise learning of walk-and-reach actions, Hopf
   oscillator networks with SVR state maps, predictive step planning, online synthesis, BVH).
@@ -44,9 +48,9 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, csmri, deblur, doe, ear, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren
+from . import biometrics, cloth, csmri, deblur, doe, ear, gait, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "hdr", "isosurface", "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren",
+__all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "gait", "hdr", "isosurface", "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren",
            "__version__"]

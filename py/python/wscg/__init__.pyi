@@ -4,6 +4,7 @@ from . import csmri as csmri
 from . import deblur as deblur
 from . import doe as doe
 from . import ear as ear
+from . import gait as gait
 from . import hdr as hdr
 from . import isosurface as isosurface
 from . import math as math

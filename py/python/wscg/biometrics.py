@@ -28,6 +28,9 @@ the paper's split (:func:`hand_pose_split`) and the whole comparison
 Paper 14 (Sultana et al., occlusion detection and index-based ear recognition) is the
 submodule :mod:`wscg.biometrics.ear` (also :mod:`wscg.ear`).
 
+Paper 17 (Ahmed et al., Kinect gait recognition with joint relative angles and a DTW kernel)
+is the submodule :mod:`wscg.biometrics.gait` (also :mod:`wscg.gait`).
+
 Bad arguments raise ``ValueError`` naming the problem; the GIL is released while Rust works.
 """
 
@@ -1033,3 +1036,7 @@ def hand_pose_rotated_test(masks, test_index, angles=(10.0, 20.0),
 # Paper 14 (occlusion detection and index-based ear recognition) lives in its own module,
 # reachable as ``wscg.biometrics.ear`` and ``wscg.ear``.
 from . import ear  # noqa: E402
+
+# Paper 17 (Kinect gait recognition, JRA sequences + DTW kernel), reachable as
+# ``wscg.biometrics.gait`` and ``wscg.gait``.
+from . import gait  # noqa: E402

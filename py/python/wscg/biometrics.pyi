@@ -4,6 +4,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import ear as ear
+from . import gait as gait
 
 ArrayLike = npt.ArrayLike
 F64 = npt.NDArray[np.float64]

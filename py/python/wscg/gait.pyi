@@ -1,0 +1,81 @@
+from typing import Any, Dict, Hashable, List, Literal, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+ArrayLike = npt.ArrayLike
+F64 = npt.NDArray[np.float64]
+I64 = npt.NDArray[np.int64]
+_Joint = Union[str, int]
+_Pairs = Union[ArrayLike, Sequence[Tuple[_Joint, _Joint]]]
+_Cycle = Union[Tuple[int, int, int], Dict[str, Any]]
+_Sample = Union[ArrayLike, Sequence[ArrayLike]]
+_Cost = Literal["abs", "squared"]
+
+__all__: List[str]
+
+JOINT_NAMES: List[str]
+N_PAIRS: int
+
+def all_pairs(reference: _Joint = "SpineBase") -> I64: ...
+def jra(p1: ArrayLike, p2: ArrayLike, r: ArrayLike) -> float: ...
+def detect_cycle(frames: ArrayLike, fps: float = 30.0, smooth_window: int = 5,
+                 min_step_s: float = 0.25, min_prominence: float = 0.2,
+                 up: Union[Literal["estimate", "y"], ArrayLike] = "estimate",
+                 choice: Literal["first", "most_regular"] = "first",
+                 start_leg: Literal["left", "right", "any"] = "left",
+                 details: bool = False) -> Any: ...
+def jra_sequences(frames: ArrayLike, cycle: Optional[_Cycle] = None,
+                  pairs: Optional[_Pairs] = None, reference: _Joint = "SpineBase",
+                  fps: float = 30.0) -> F64: ...
+def occupied_bins(theta_rad: ArrayLike, bin_deg: float = 1.0, lo_deg: float = 0.0,
+                  hi_deg: float = 180.0) -> int: ...
+def relevance_matrix(samples: Sequence[ArrayLike], bin_deg: float = 1.0, lo_deg: float = 0.0,
+                     hi_deg: float = 180.0, reference: _Joint = "SpineBase") -> F64: ...
+def select_pairs(relevance: ArrayLike, min_bins: float = 20.0) -> I64: ...
+def dtw(a: ArrayLike, b: ArrayLike, cost: _Cost = "abs", window: Optional[int] = None,
+        normalize: bool = False) -> float: ...
+def dtw_path(a: ArrayLike, b: ArrayLike, cost: _Cost = "abs", window: Optional[int] = None,
+             normalize: bool = False) -> Tuple[float, I64]: ...
+def dtw_kernel(A: _Sample, B: _Sample, cost: _Cost = "abs", window: Optional[int] = None,
+               normalize: bool = False) -> float: ...
+def dissimilarity_matrix(As: Sequence[_Sample], Bs: Optional[Sequence[_Sample]] = None,
+                         cost: _Cost = "abs", window: Optional[int] = None,
+                         normalize: bool = False) -> F64: ...
+def nearest(query: _Sample, gallery: Sequence[_Sample], cost: _Cost = "abs",
+            window: Optional[int] = None, normalize: bool = False) -> Tuple[int, float]: ...
+def read_ts(path: Any) -> Tuple[List[List[F64]], List[str]]: ...
+def read_skeleton(path: Any, fps: float = 30.0) -> F64: ...
+def write_skeleton_csv(path: Any, frames: ArrayLike, fps: float = 30.0) -> None: ...
+def ball_features(frames: ArrayLike, cycle: Optional[_Cycle] = None, fps: float = 30.0) -> F64: ...
+def preis_features(frames: ArrayLike, cycle: Optional[_Cycle] = None,
+                   fps: float = 30.0) -> F64: ...
+
+class GaitRecognizer:
+    min_bins: float
+    vote: str
+    k: Optional[int]
+    cost: str
+    window: Optional[int]
+    bin_deg: float
+    start_leg: str
+    fps: float
+    pairs_: I64
+    relevance_: F64
+    classes_: np.ndarray
+    def __init__(self, min_bins: float = 20.0, vote: str = "nearest", k: Optional[int] = None,
+                 cost: _Cost = "abs", window: Optional[int] = None, bin_deg: float = 1.0,
+                 start_leg: Literal["left", "right", "any"] = "left",
+                 fps: float = 30.0) -> None: ...
+    def fit(self, walks: Sequence[ArrayLike], labels: Sequence[Hashable]) -> "GaitRecognizer": ...
+    def predict(self, frames: ArrayLike) -> Any: ...
+    def rank(self, frames: ArrayLike) -> Tuple[np.ndarray, F64]: ...
+    def rank_indices(self, frames: ArrayLike) -> Tuple[I64, F64]: ...
+
+def synth_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
+                  heading_deg: Tuple[float, float] = (-60.0, 60.0),
+                  speed: Tuple[float, float] = (0.9, 1.1),
+                  walk_s: Tuple[float, float] = (2.5, 4.0), sit_prob: float = 0.5,
+                  noise: bool = True) -> Dict[str, Any]: ...
+def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3,
+                       seed: int = 0) -> Dict[str, Any]: ...
