@@ -33,6 +33,10 @@ pub enum BiometricsCommand {
     /// detect, simulate).
     #[command(subcommand)]
     Ear(super::ear::EarCommand),
+    /// Paper 17: Kinect gait recognition with joint relative angles and a DTW kernel
+    /// (enroll, identify, cycle, ucr, simulate).
+    #[command(subcommand)]
+    Gait(super::gait::GaitCommand),
 }
 
 #[derive(Subcommand, Debug)]
@@ -262,6 +266,7 @@ pub fn run(cmd: BiometricsCommand) -> Result<()> {
         BiometricsCommand::Fdkeca(cmd) => cmd,
         BiometricsCommand::Sfa(cmd) => return super::sfa::run(cmd),
         BiometricsCommand::Ear(cmd) => return super::ear::run(cmd),
+        BiometricsCommand::Gait(cmd) => return super::gait::run(cmd),
     };
     match cmd {
         FdkecaCommand::Fit { data, model, out } => {

@@ -11,6 +11,7 @@ mod cloth;
 mod deblur;
 mod doe;
 mod ear;
+mod gait;
 mod hdr;
 mod illum;
 mod isosurface;
@@ -56,7 +57,8 @@ enum Command {
         #[arg(long)]
         only: Vec<String>,
     },
-    /// Biometrics (paper 01: FDKECA; paper 05: class-wise SFA) on your own images or .npy data.
+    /// Biometrics on your own data (paper 01: FDKECA; paper 05: class-wise SFA; paper 14: ears;
+    /// paper 17: Kinect gait).
     #[command(subcommand)]
     Biometrics(biometrics::BiometricsCommand),
     /// Cloth simulation with soft constraints (paper 02) on your own mesh.

@@ -13,6 +13,7 @@ pub mod cloth;
 pub mod deblur;
 pub mod ear;
 pub mod figures;
+pub mod gait;
 pub mod hdr;
 pub mod illum;
 pub mod isosurface;
@@ -123,6 +124,7 @@ pub fn registry() -> Vec<Demo> {
         ear::DEMO,
         illum::DEMO,
         motion::DEMO,
+        gait::DEMO,
     ]
 }
 

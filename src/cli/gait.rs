@@ -1,0 +1,454 @@
+//! `wscg biometrics gait ...`: paper 17 (Kinect gait recognition with joint relative angles
+//! and a DTW kernel) on the user's own skeleton recordings.
+//!
+//! Skeleton files: CSV rows `frame, joint, x, y, z` (joint as Kinect v2 name or index, metres)
+//! or `.npy` arrays `(T, 25, 3)`.
+//!
+//! - `enroll GALLERY --out MODEL.json`: `GALLERY` holds one sub-folder of walks per identity
+//!   (the folder name is the identity), or files named `<identity>_<anything>.csv|npy`.
+//!   Detects each walk's gait cycle, selects the relevant joint pairs and stores the model.
+//! - `identify --model MODEL.json WALK...`: the identity and the ranked training walks.
+//! - `cycle WALK...`: the detected gait cycle of each walk.
+//! - `ucr TRAIN.ts TEST.ts`: 1-NN DTW (or the DTW kernel on multivariate sets) on UCR/UEA
+//!   `.ts` files, the check that pins our DTW to the archive's published error rates.
+//! - `simulate --out DIR`: synthetic Kinect walkers in the layout `enroll` reads.
+
+use std::path::{Path, PathBuf};
+
+use clap::{Args, Subcommand, ValueEnum};
+use serde::{Deserialize, Serialize};
+use wscg_biometrics::dtw::{nearest, ts_file::read_ts, DtwParams, LocalCost};
+use wscg_biometrics::gait::cycle::StartLeg;
+use wscg_biometrics::gait::io::{read_skeleton, write_skeleton_csv, write_skeleton_npy};
+use wscg_biometrics::gait::synth::{walkers, SessionRanges};
+use wscg_biometrics::gait::{detect_gait_cycle, GaitParams, GaitRecognizer, SkeletonSeq, Vote};
+use wscg_math::{Error, Result};
+
+#[derive(Subcommand, Debug)]
+pub enum GaitCommand {
+    /// Build a recognizer from a gallery of walks (one sub-folder per identity).
+    Enroll {
+        /// Gallery folder.
+        gallery: PathBuf,
+        /// Model file to write (JSON).
+        #[arg(long)]
+        out: PathBuf,
+        #[command(flatten)]
+        params: GaitArgs,
+    },
+    /// Identify walks with an enrolled model.
+    Identify {
+        /// Model written by `enroll`.
+        #[arg(long)]
+        model: PathBuf,
+        /// Skeleton files (.csv or .npy).
+        #[arg(required = true)]
+        walks: Vec<PathBuf>,
+        /// Ranked training walks printed per walk.
+        #[arg(long, default_value_t = 5)]
+        top: usize,
+    },
+    /// Print the detected gait cycle (start, middle, end frames) of walks.
+    Cycle {
+        /// Skeleton files (.csv or .npy).
+        #[arg(required = true)]
+        walks: Vec<PathBuf>,
+        /// Frame rate of the recordings.
+        #[arg(long, default_value_t = 30.0)]
+        fps: f64,
+        /// Which leg opens the cycle.
+        #[arg(long, value_enum, default_value_t = LegArg::Left)]
+        start_leg: LegArg,
+    },
+    /// 1-NN classification of a UCR/UEA test set by DTW (multivariate: the DTW kernel).
+    Ucr {
+        /// Training set (.ts).
+        train: PathBuf,
+        /// Test set (.ts).
+        test: PathBuf,
+        /// Local cost (the archive's published rates use squared).
+        #[arg(long, value_enum, default_value_t = CostArg::Squared)]
+        cost: CostArg,
+        /// Sakoe-Chiba band half-width (samples); full grid when absent.
+        #[arg(long)]
+        window: Option<usize>,
+    },
+    /// Write synthetic walks: DIR/<subject>/walk_<k>.csv and DIR/truth.csv.
+    Simulate {
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+        /// Subjects.
+        #[arg(long, default_value_t = 20)]
+        subjects: usize,
+        /// Walks per subject.
+        #[arg(long, default_value_t = 3)]
+        sessions: usize,
+        /// Seed.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// File format.
+        #[arg(long, value_enum, default_value_t = FormatArg::Csv)]
+        format: FormatArg,
+    },
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum LegArg {
+    /// The left foot steps forward first (default).
+    Left,
+    /// The right foot steps forward first.
+    Right,
+    /// Either (the paper's rule as printed).
+    Any,
+}
+
+impl From<LegArg> for StartLeg {
+    fn from(l: LegArg) -> Self {
+        match l {
+            LegArg::Left => StartLeg::Left,
+            LegArg::Right => StartLeg::Right,
+            LegArg::Any => StartLeg::Any,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum CostArg {
+    /// |a - b| (the paper's).
+    Abs,
+    /// (a - b)^2 (UCR/UEA, dtaidistance).
+    Squared,
+}
+
+impl From<CostArg> for LocalCost {
+    fn from(c: CostArg) -> Self {
+        match c {
+            CostArg::Abs => LocalCost::Abs,
+            CostArg::Squared => LocalCost::Squared,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FormatArg {
+    /// frame,joint,x,y,z rows.
+    Csv,
+    /// (T, 25, 3) float64.
+    Npy,
+}
+
+/// Pipeline options of `enroll`.
+#[derive(Args, Debug, Clone)]
+pub struct GaitArgs {
+    /// Frame rate of the recordings.
+    #[arg(long, default_value_t = 30.0)]
+    fps: f64,
+    /// Relevance threshold t: keep joint pairs occupying at least this many histogram bins.
+    #[arg(long, default_value_t = 20.0)]
+    min_bins: f64,
+    /// Histogram bin width, degrees.
+    #[arg(long, default_value_t = 1.0)]
+    bin_deg: f64,
+    /// Vote: nearest, paper (top #classes + 1) or majority:K.
+    #[arg(long, default_value = "nearest")]
+    vote: String,
+    /// Local cost of the DTW.
+    #[arg(long, value_enum, default_value_t = CostArg::Abs)]
+    cost: CostArg,
+    /// Sakoe-Chiba band half-width (samples); full grid when absent.
+    #[arg(long)]
+    window: Option<usize>,
+    /// Which leg opens the gait cycle.
+    #[arg(long, value_enum, default_value_t = LegArg::Left)]
+    start_leg: LegArg,
+}
+
+impl GaitArgs {
+    fn params(&self) -> Result<GaitParams> {
+        let mut p = GaitParams {
+            min_bins: self.min_bins,
+            vote: Vote::parse(&self.vote)?,
+            ..GaitParams::default()
+        };
+        p.hist.bin_deg = self.bin_deg;
+        p.hist.validate()?;
+        p.dtw = DtwParams {
+            cost: self.cost.into(),
+            window: self.window,
+            normalize: false,
+        };
+        p.cycle.start_leg = self.start_leg.into();
+        Ok(p)
+    }
+}
+
+/// The saved model: the recognizer, identity names and the frame rate.
+#[derive(Serialize, Deserialize)]
+struct ModelFile {
+    fps: f64,
+    identities: Vec<String>,
+    files: Vec<String>,
+    recognizer: GaitRecognizer,
+}
+
+fn is_skeleton_file(p: &Path) -> bool {
+    p.is_file()
+        && p.extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("npy"))
+}
+
+fn sorted_entries(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
+/// Walk files of a gallery with their identity names.
+fn gallery_files(root: &Path) -> Result<Vec<(String, PathBuf)>> {
+    let mut out = Vec::new();
+    for p in sorted_entries(root)? {
+        if p.is_dir() {
+            let id = p
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            for f in sorted_entries(&p)?
+                .into_iter()
+                .filter(|f| is_skeleton_file(f))
+            {
+                out.push((id.clone(), f));
+            }
+        } else if is_skeleton_file(&p) {
+            let stem = p
+                .file_stem()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let id = stem.split('_').next().unwrap_or(&stem).to_string();
+            out.push((id, p));
+        }
+    }
+    if out.is_empty() {
+        return Err(Error::invalid(
+            "gallery",
+            format!(
+                "{} holds no skeleton files (.csv or .npy) in identity sub-folders or named \
+                 <identity>_<k>.csv",
+                root.display()
+            ),
+        ));
+    }
+    Ok(out)
+}
+
+fn write_json(path: &Path, v: &impl Serialize) -> Result<()> {
+    let text = serde_json::to_string(v).map_err(|e| Error::invalid("model", e.to_string()))?;
+    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+}
+
+fn read_model(path: &Path) -> Result<ModelFile> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    serde_json::from_str(&text).map_err(|e| Error::Format {
+        path: path.to_path_buf(),
+        reason: format!("not a gait model written by `wscg biometrics gait enroll`: {e}"),
+    })
+}
+
+/// Runs a `wscg biometrics gait` command.
+pub fn run(cmd: GaitCommand) -> Result<()> {
+    match cmd {
+        GaitCommand::Enroll {
+            gallery,
+            out,
+            params,
+        } => {
+            let p = params.params()?;
+            let files = gallery_files(&gallery)?;
+            let mut identities: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
+            identities.sort();
+            identities.dedup();
+            let mut walks = Vec::new();
+            let mut labels = Vec::new();
+            for (id, f) in &files {
+                walks.push(read_skeleton(f, params.fps)?);
+                labels.push(identities.iter().position(|i| i == id).unwrap_or(0) as u32);
+            }
+            let rec = GaitRecognizer::fit(&walks, &labels, &p).map_err(|e| match e {
+                Error::InvalidArgument {
+                    name: "walks",
+                    reason,
+                } => {
+                    // Name the file instead of the index.
+                    let idx: Option<usize> = reason
+                        .strip_prefix("training walk ")
+                        .and_then(|r| r.split(':').next())
+                        .and_then(|n| n.parse().ok());
+                    let file = idx
+                        .and_then(|i| files.get(i))
+                        .map(|f| f.1.display().to_string());
+                    Error::invalid("gallery", format!("{}: {reason}", file.unwrap_or_default()))
+                }
+                other => other,
+            })?;
+            println!(
+                "enrolled {} walks of {} identities; {} of 276 joint pairs selected (t = {})",
+                walks.len(),
+                identities.len(),
+                rec.pairs.len(),
+                p.min_bins
+            );
+            let model = ModelFile {
+                fps: params.fps,
+                identities,
+                files: files.iter().map(|f| f.1.display().to_string()).collect(),
+                recognizer: rec,
+            };
+            write_json(&out, &model)?;
+            println!("wrote {}", out.display());
+            Ok(())
+        }
+        GaitCommand::Identify { model, walks, top } => {
+            let m = read_model(&model)?;
+            for w in &walks {
+                let seq = read_skeleton(w, m.fps)?;
+                let pr = m.recognizer.predict(&seq)?;
+                let name = |l: u32| {
+                    m.identities
+                        .get(l as usize)
+                        .cloned()
+                        .unwrap_or_else(|| l.to_string())
+                };
+                let c = pr.cycle.as_ref();
+                println!(
+                    "{}: {} (cycle frames {}..={})",
+                    w.display(),
+                    name(pr.label),
+                    c.map_or(0, |c| c.start),
+                    c.map_or(0, |c| c.end)
+                );
+                for (rank, (i, l, d)) in pr.ranked.iter().take(top).enumerate() {
+                    let file = m.files.get(*i).map_or("", String::as_str);
+                    println!(
+                        "  {:>3}. {:<20} delta {:>12.4}  {file}",
+                        rank + 1,
+                        name(*l),
+                        d
+                    );
+                }
+            }
+            Ok(())
+        }
+        GaitCommand::Cycle {
+            walks,
+            fps,
+            start_leg,
+        } => {
+            let mut p = GaitParams::default().cycle;
+            p.start_leg = start_leg.into();
+            for w in &walks {
+                let seq = read_skeleton(w, fps)?;
+                let c = detect_gait_cycle(&seq, &p)?;
+                println!(
+                    "{}: start {} mid {} end {} ({} frames, {:.2} s; first step {:?}; minima {:?})",
+                    w.display(),
+                    c.start,
+                    c.mid,
+                    c.end,
+                    c.len(),
+                    (c.end - c.start) as f64 / fps,
+                    c.first_step.unwrap_or(StartLeg::Any),
+                    c.minima
+                );
+            }
+            Ok(())
+        }
+        GaitCommand::Ucr {
+            train,
+            test,
+            cost,
+            window,
+        } => {
+            let (tr, te) = (read_ts(&train)?, read_ts(&test)?);
+            let p = DtwParams {
+                cost: cost.into(),
+                window,
+                normalize: false,
+            };
+            let (ltr, lte) = (tr.labels.clone(), te.labels.clone());
+            if ltr.is_empty() || lte.is_empty() {
+                return Err(Error::invalid("ts", "both files need class labels"));
+            }
+            let correct = te
+                .series
+                .iter()
+                .zip(&lte)
+                .map(|(q, l)| nearest(q, &tr.series, &p).map(|(k, _)| usize::from(&ltr[k] == l)))
+                .sum::<Result<usize>>()?;
+            println!(
+                "{}: 1-NN DTW ({cost:?} cost, window {window:?}): {correct}/{} correct, error {:.4}",
+                if te.problem.is_empty() { "test" } else { &te.problem },
+                lte.len(),
+                1.0 - correct as f64 / lte.len() as f64
+            );
+            Ok(())
+        }
+        GaitCommand::Simulate {
+            out,
+            subjects,
+            sessions,
+            seed,
+            format,
+        } => {
+            if subjects == 0 || sessions == 0 {
+                return Err(Error::invalid(
+                    "subjects",
+                    "needs at least one subject and one session",
+                ));
+            }
+            let set = walkers(subjects, sessions, &SessionRanges::default(), seed)?;
+            std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
+            let mut truth =
+                String::from("subject,walk,file,speed,heading_deg,walk_frames,minima\n");
+            for (i, (w, t)) in set.walks.iter().zip(&set.truth).enumerate() {
+                let dir = out.join(format!("s{:02}", t.subject));
+                std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+                let k = set.session_index[i];
+                let file = match format {
+                    FormatArg::Csv => dir.join(format!("walk_{k}.csv")),
+                    FormatArg::Npy => dir.join(format!("walk_{k}.npy")),
+                };
+                save(&file, w, format)?;
+                let s = &set.sessions[i];
+                let minima: Vec<String> = t.minima.iter().map(usize::to_string).collect();
+                truth.push_str(&format!(
+                    "s{:02},{k},{},{:.3},{:.1},{},{}\n",
+                    t.subject,
+                    file.display(),
+                    s.speed,
+                    s.heading_deg,
+                    t.walk_frames,
+                    minima.join(" ")
+                ));
+            }
+            let tp = out.join("truth.csv");
+            std::fs::write(&tp, truth).map_err(|e| Error::io(&tp, e))?;
+            println!(
+                "wrote {} walks of {subjects} subjects to {}",
+                set.walks.len(),
+                out.display()
+            );
+            Ok(())
+        }
+    }
+}
+
+fn save(path: &Path, w: &SkeletonSeq, format: FormatArg) -> Result<()> {
+    match format {
+        FormatArg::Csv => write_skeleton_csv(path, w),
+        FormatArg::Npy => write_skeleton_npy(path, w),
+    }
+}
