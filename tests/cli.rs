@@ -2148,3 +2148,163 @@ fn motion_learns_user_data_and_synthesizes_bvh() {
         .unwrap();
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("nonexistent"));
 }
+
+#[test]
+fn gait_enrolls_identifies_and_classifies_ucr_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("walks");
+    let d = data.to_str().unwrap();
+    wscg_ok(&[
+        "biometrics",
+        "gait",
+        "simulate",
+        "--out",
+        d,
+        "--subjects",
+        "5",
+        "--sessions",
+        "3",
+        "--seed",
+        "2",
+    ]);
+    // Gallery: walks 0 and 1 of each subject; probes: walk 2.
+    let gallery = dir.path().join("gallery");
+    let mut probes = Vec::new();
+    for s in 0..5 {
+        let sub = format!("s{s:02}");
+        std::fs::create_dir_all(gallery.join(&sub)).unwrap();
+        for k in 0..2 {
+            let f = format!("walk_{k}.csv");
+            std::fs::copy(data.join(&sub).join(&f), gallery.join(&sub).join(&f)).unwrap();
+        }
+        probes.push((sub.clone(), data.join(&sub).join("walk_2.csv")));
+    }
+    let before = std::fs::read(&probes[0].1).unwrap();
+    let model = dir.path().join("gait.json");
+    let text = wscg_ok(&[
+        "biometrics",
+        "gait",
+        "enroll",
+        gallery.to_str().unwrap(),
+        "--out",
+        model.to_str().unwrap(),
+        "--min-bins",
+        "15",
+    ]);
+    assert!(text.contains("enrolled 10 walks of 5 identities"), "{text}");
+    let mut args = vec![
+        "biometrics".to_string(),
+        "gait".into(),
+        "identify".into(),
+        "--model".into(),
+    ];
+    args.push(model.to_str().unwrap().into());
+    args.extend(probes.iter().map(|p| p.1.to_str().unwrap().to_string()));
+    let text = wscg_ok(&args);
+    let ok = probes
+        .iter()
+        .filter(|(sub, file)| text.contains(&format!("{}: {sub} ", file.display())))
+        .count();
+    assert!(ok >= 4, "{ok}/5 identified:\n{text}");
+    assert_eq!(
+        std::fs::read(&probes[0].1).unwrap(),
+        before,
+        "input modified"
+    );
+    let text = wscg_ok(&["biometrics", "gait", "cycle", probes[0].1.to_str().unwrap()]);
+    assert!(text.contains("first step Left"), "{text}");
+
+    // UCR .ts files: two classes of shifted bumps; DTW 1-NN separates them.
+    let ts = |name: &str, cases: &[(usize, &str)]| {
+        let mut s = String::from("@problemName Bumps\n@timeStamps false\n@univariate true\n@classLabel true up down\n@data\n");
+        for &(shift, label) in cases {
+            let sign = if label == "up" { 1.0 } else { -1.0 };
+            let v: Vec<String> = (0..30)
+                .map(|i| {
+                    format!(
+                        "{}",
+                        sign * (-((i as f64 - 8.0 - shift as f64).powi(2)) / 4.0).exp()
+                    )
+                })
+                .collect();
+            s.push_str(&format!("{}:{label}\n", v.join(",")));
+        }
+        let p = dir.path().join(name);
+        std::fs::write(&p, s).unwrap();
+        p
+    };
+    let train = ts("train.ts", &[(0, "up"), (2, "down")]);
+    let test = ts("test.ts", &[(10, "up"), (12, "down"), (6, "up")]);
+    let text = wscg_ok(&[
+        "biometrics",
+        "gait",
+        "ucr",
+        train.to_str().unwrap(),
+        test.to_str().unwrap(),
+    ]);
+    assert!(text.contains("3/3 correct, error 0.0000"), "{text}");
+
+    // Bad input: a gallery without walks, a walk with 24 joints, a missing model.
+    let empty = dir.path().join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = wscg()
+        .args([
+            "biometrics",
+            "gait",
+            "enroll",
+            empty.to_str().unwrap(),
+            "--out",
+            model.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no skeleton files"));
+    let short = dir.path().join("short.npy");
+    wscg::math::npy::write_f64(&short, &[40, 24, 3], &vec![0.5; 40 * 24 * 3]).unwrap();
+    let out = wscg()
+        .args([
+            "biometrics",
+            "gait",
+            "identify",
+            "--model",
+            model.to_str().unwrap(),
+            short.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("25 joints"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = wscg()
+        .args([
+            "biometrics",
+            "gait",
+            "identify",
+            "--model",
+            "/nonexistent/model.json",
+            short.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let out = wscg()
+        .args([
+            "demo",
+            "gait",
+            "--out",
+            dir.path().join("demo").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("Ball et al. 2012"));
+    assert!(dir.path().join("demo").join("relevance.png").exists());
+}
