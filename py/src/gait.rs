@@ -27,6 +27,12 @@ use crate::errors::{value_error, IntoPy};
 const MAX_WALKS: usize = 5_000;
 /// Longest synthetic walk, seconds.
 const MAX_WALK_S: f64 = 600.0;
+/// Largest total number of synthetic frames of one call (about 1.2 GB with the noise-free
+/// copies the generator keeps).
+const MAX_FRAMES: f64 = 1e6;
+/// Largest number of walks of [`evaluate_synthetic`] (its per-channel DTW cache holds
+/// `n^2 x 276` distances).
+const MAX_CV_WALKS: usize = 300;
 
 // ------------------------------------------------------------------------------------------
 // Conversions
@@ -736,6 +742,14 @@ fn synth_walkers<'py>(
             "`speed` must be positive and `walk_s` in (0, {MAX_WALK_S}] seconds"
         )));
     }
+    let frames_max = n.unwrap_or(0) as f64 * (ranges.walk_s[1] + 1.0) * 30.0;
+    if frames_max > MAX_FRAMES {
+        return Err(value_error(format!(
+            "{} walks of up to {} s exceed the size limit of {MAX_FRAMES} frames in total",
+            n.unwrap_or(0),
+            ranges.walk_s[1]
+        )));
+    }
     let set = py
         .detach(|| {
             if noise {
@@ -792,9 +806,9 @@ fn evaluate_synthetic(
     seed: u64,
 ) -> PyResult<Bound<'_, PyDict>> {
     let n = n_subjects.checked_mul(n_sessions);
-    if n_subjects < 2 || n_sessions < 2 || n.is_none_or(|n| n > MAX_WALKS) {
+    if n_subjects < 2 || n_sessions < 2 || n.is_none_or(|n| n > MAX_CV_WALKS) {
         return Err(value_error(format!(
-            "needs n_subjects >= 2, n_sessions >= 2 and at most {MAX_WALKS} walks, got \
+            "needs n_subjects >= 2, n_sessions >= 2 and at most {MAX_CV_WALKS} walks, got \
              {n_subjects} x {n_sessions}"
         )));
     }

@@ -8,7 +8,6 @@ truth.
 """
 
 import importlib.util
-import itertools
 import os
 
 import numpy as np

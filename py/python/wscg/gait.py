@@ -46,7 +46,6 @@ the Most Relevant Joint Relative Angles", WSCG 2015, Journal of WSCG vol. 23.
 
 from __future__ import annotations
 
-import numbers
 import os
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
