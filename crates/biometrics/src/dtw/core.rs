@@ -35,8 +35,9 @@ pub struct DtwParams {
     pub cost: LocalCost,
     /// Optional Sakoe-Chiba band half-width `r` in samples of the second sequence: cell
     /// `(i, j)` (0-based) is allowed when `|j - i (m-1)/(n-1)| <= r`. For equal lengths this
-    /// is the usual `|i - j| <= r`; `r` is raised to `ceil((m-1)/(n-1))` when needed so that
-    /// a warp path exists. `None` (default, the paper's) is the full grid.
+    /// is the usual `|i - j| <= r` (`r = 0`: the lock-step Euclidean sum); for different
+    /// lengths `r` is raised to `ceil((m-1)/(n-1))` when needed so that a warp path exists.
+    /// `None` (default, the paper's) is the full grid.
     pub window: Option<usize>,
     /// Divide the accumulated cost by `n + m` (a path-length normalisation the paper does not
     /// use; default `false`).
@@ -134,6 +135,16 @@ fn full(
     prev[m]
 }
 
+/// Slope `(m-1)/(n-1)` of the band's centre line and its effective half-width: `r` itself for
+/// equal lengths, else at least `ceil(slope)` so that a warp path exists.
+fn band_radius(r: usize, n: usize, m: usize) -> (f64, f64) {
+    if n == m {
+        return (1.0, r as f64);
+    }
+    let slope = (m - 1) as f64 / (n - 1) as f64;
+    (slope, (r as f64).max(slope.ceil()))
+}
+
 /// The allowed column range `lo..=hi` (0-based) of row `i` in the Sakoe-Chiba band.
 #[inline]
 fn band_range(i: usize, slope: f64, r: f64, m: usize) -> (usize, usize) {
@@ -153,8 +164,7 @@ fn band(
     c: impl Fn(f64, f64) -> f64,
 ) -> f64 {
     let (n, m) = (a.len(), b.len());
-    let slope = (m - 1) as f64 / (n - 1) as f64;
-    let r = (r as f64).max(slope.ceil());
+    let (slope, r) = band_radius(r, n, m);
     scratch.clear();
     scratch.resize(2 * (m + 1), f64::INFINITY);
     let (prev, cur) = scratch.split_at_mut(m + 1);
@@ -208,10 +218,7 @@ pub fn dtw_path(a: &[f64], b: &[f64], p: &DtwParams) -> Result<(f64, Vec<(usize,
     let mut d = vec![f64::INFINITY; (n + 1) * w];
     d[0] = 0.0;
     let (slope, r) = match p.window.filter(|_| n > 1 && m > 1) {
-        Some(r) => {
-            let s = (m - 1) as f64 / (n - 1) as f64;
-            (s, (r as f64).max(s.ceil()))
-        }
+        Some(r) => band_radius(r, n, m),
         None => (0.0, f64::INFINITY),
     };
     for i in 1..=n {

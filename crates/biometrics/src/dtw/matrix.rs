@@ -5,6 +5,7 @@ use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
 use super::core::{check_seq, dtw_bounded, DtwParams};
+use super::fused::{fused_sum, Interleaved};
 
 /// A dissimilarity matrix (`queries x gallery`).
 pub type DistMatrix = Mat<f64>;
@@ -72,7 +73,40 @@ pub fn dtw_kernel_bounded(
     sum
 }
 
+/// Interleaved copies of all samples when the channel-fused kernel applies (full grid, every
+/// sample's channels of one length).
+pub fn interleave_all(set: &[Vec<Vec<f64>>], p: &DtwParams) -> Option<Vec<Interleaved>> {
+    if p.window.is_some() {
+        return None;
+    }
+    set.iter().map(|s| Interleaved::new(s)).collect()
+}
+
+/// Δ between two samples with the fused kernel (`a`, `b` interleaved) or the per-channel one.
+fn pair_delta(
+    sa: &[Vec<f64>],
+    sb: &[Vec<f64>],
+    fa: Option<&Interleaved>,
+    fb: Option<&Interleaved>,
+    p: &DtwParams,
+    scratch: &mut Vec<f64>,
+    lanes: &mut Vec<[f64; super::fused::LANES]>,
+) -> f64 {
+    match (fa, fb) {
+        (Some(x), Some(y)) => {
+            let d = fused_sum(x, y, p.cost, lanes);
+            if p.normalize {
+                d / (x.len() + y.len()) as f64
+            } else {
+                d
+            }
+        }
+        _ => dtw_kernel_bounded(sa, sb, p, f64::INFINITY, scratch),
+    }
+}
+
 /// Δ between every query (rows) and gallery sample (columns), in parallel over the rows.
+/// Without a band, channels of equal length are processed [`super::fused::LANES`] at a time.
 ///
 /// Errors: empty sets, samples with different channel counts, empty or non-finite channels.
 pub fn dissimilarity_matrix(
@@ -90,19 +124,31 @@ pub fn dissimilarity_matrix(
     check_set("queries", queries, channels)?;
     check_set("gallery", gallery, channels)?;
     let g = gallery.len();
+    let fq = interleave_all(queries, p);
+    let fg = fq.as_ref().and_then(|_| interleave_all(gallery, p));
+    let fq = fg.as_ref().and(fq);
     let mut out = vec![0.0; queries.len() * g];
-    out.par_chunks_mut(g)
-        .zip(queries.par_iter())
-        .for_each_init(Vec::new, |scratch, (row, q)| {
-            for (v, s) in row.iter_mut().zip(gallery) {
-                *v = dtw_kernel_bounded(q, s, p, f64::INFINITY, scratch);
+    out.par_chunks_mut(g).enumerate().for_each_init(
+        || (Vec::new(), Vec::new()),
+        |(scratch, lanes), (i, row)| {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v = pair_delta(
+                    &queries[i],
+                    &gallery[j],
+                    fq.as_ref().map(|f| &f[i]),
+                    fg.as_ref().map(|f| &f[j]),
+                    p,
+                    scratch,
+                    lanes,
+                );
             }
-        });
+        },
+    );
     Ok(Mat::from_fn(queries.len(), g, |i, j| out[i * g + j]))
 }
 
 /// Δ between all pairs of one sample set (symmetric, zero diagonal): each pair is computed
-/// once, in parallel over the pairs.
+/// once, in parallel over the pairs (channel-fused as in [`dissimilarity_matrix`]).
 ///
 /// Errors as [`dissimilarity_matrix`].
 pub fn self_dissimilarity(samples: &[Vec<Vec<f64>>], p: &DtwParams) -> Result<DistMatrix> {
@@ -114,11 +160,16 @@ pub fn self_dissimilarity(samples: &[Vec<Vec<f64>>], p: &DtwParams) -> Result<Di
     let pairs: Vec<(usize, usize)> = (0..n)
         .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
         .collect();
+    let fs = interleave_all(samples, p);
     let vals: Vec<f64> = pairs
         .par_iter()
-        .map_init(Vec::new, |scratch, &(i, j)| {
-            dtw_kernel_bounded(&samples[i], &samples[j], p, f64::INFINITY, scratch)
-        })
+        .map_init(
+            || (Vec::new(), Vec::new()),
+            |(scratch, lanes), &(i, j)| {
+                let f = |k: usize| fs.as_ref().map(|f| &f[k]);
+                pair_delta(&samples[i], &samples[j], f(i), f(j), p, scratch, lanes)
+            },
+        )
         .collect();
     let mut m = Mat::zeros(n, n);
     for (&(i, j), &v) in pairs.iter().zip(&vals) {

@@ -15,11 +15,12 @@
 //! without resampling).
 
 mod core;
+pub mod fused;
 mod matrix;
 pub mod ts_file;
 
 pub use self::core::{dtw, dtw_bounded, dtw_path, DtwParams, LocalCost};
 pub use matrix::{
-    check_sample, dissimilarity_matrix, dtw_kernel, dtw_kernel_bounded, nearest,
+    check_sample, dissimilarity_matrix, dtw_kernel, dtw_kernel_bounded, interleave_all, nearest,
     self_dissimilarity, DistMatrix,
 };

@@ -136,7 +136,9 @@ pub fn preis_features(s: &SkeletonSeq, c: &GaitCycle) -> Result<[f64; 13]> {
 /// SpineBase, relative to SpineBase, over the cycle (channel `3 (j - 1) + k`).
 pub fn raw_coordinate_sample(s: &SkeletonSeq, c: &GaitCycle) -> Result<Vec<Vec<f64>>> {
     check_cycle(s, c)?;
-    let mut out = vec![Vec::with_capacity(c.len()); 3 * (N_JOINTS - 1)];
+    let mut out: Vec<Vec<f64>> = (0..3 * (N_JOINTS - 1))
+        .map(|_| Vec::with_capacity(c.len()))
+        .collect();
     for t in c.start..=c.end {
         let f = &s.frames[t];
         let r = f[Joint::SpineBase.index()];

@@ -18,7 +18,8 @@ use super::jra::JraSet;
 use super::recognizer::{gait_sample, vote, GaitParams, GaitSample, Vote};
 use super::relevance::{relevance_matrix, JointMap};
 use super::skeleton::SkeletonSeq;
-use crate::dtw::{dtw_bounded, DtwParams};
+use crate::dtw::fused::fused_channels;
+use crate::dtw::{dtw_bounded, interleave_all, DtwParams};
 
 /// Per-channel DTW distances between all pairs of a sample set.
 #[derive(Clone, Debug)]
@@ -37,15 +38,28 @@ impl ChannelCache {
         let pairs: Vec<(usize, usize)> = (0..n)
             .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
             .collect();
+        let fused = interleave_all(samples, p);
         let vals: Vec<Vec<f64>> = pairs
             .par_iter()
-            .map_init(Vec::new, |scratch, &(i, j)| {
-                samples[i]
-                    .iter()
-                    .zip(&samples[j])
-                    .map(|(a, b)| dtw_bounded(a, b, p, f64::INFINITY, scratch))
-                    .collect()
-            })
+            .map_init(
+                || (Vec::new(), Vec::new()),
+                |(scratch, lanes), &(i, j)| match &fused {
+                    Some(f) => {
+                        let mut out = vec![0.0; channels];
+                        fused_channels(&f[i], &f[j], p.cost, lanes, &mut out);
+                        if p.normalize {
+                            let s = (f[i].len() + f[j].len()) as f64;
+                            out.iter_mut().for_each(|v| *v /= s);
+                        }
+                        out
+                    }
+                    None => samples[i]
+                        .iter()
+                        .zip(&samples[j])
+                        .map(|(a, b)| dtw_bounded(a, b, p, f64::INFINITY, scratch))
+                        .collect(),
+                },
+            )
             .collect();
         let mut d = vec![0.0; n * n * channels];
         for (&(i, j), v) in pairs.iter().zip(&vals) {
@@ -84,6 +98,9 @@ pub struct PreparedWalks {
     pub session: Vec<usize>,
 }
 
+/// One prepared walk: sample, Ball features, Preis features, raw-coordinate channels.
+type PreparedWalk = (GaitSample, Vec<f64>, Vec<f64>, Vec<Vec<f64>>);
+
 /// Prepares walks (in parallel). Errors: label or session count, a walk without a full
 /// cycle (named by index).
 pub fn prepare(
@@ -100,7 +117,7 @@ pub fn prepare(
             session.len()
         )));
     }
-    let per: Vec<(GaitSample, Vec<f64>, Vec<f64>, Vec<Vec<f64>>)> = walks
+    let per: Vec<PreparedWalk> = walks
         .par_iter()
         .enumerate()
         .map(|(i, w)| {

@@ -105,10 +105,10 @@ pub fn select_pairs(rel: &JointMap, min_bins: f64) -> Result<Vec<Pair>> {
     }
     let mut out = Vec::new();
     let mut max = 0.0f64;
-    for i in 0..N_JOINTS {
-        for j in i + 1..N_JOINTS {
-            max = max.max(rel[i][j]);
-            if rel[i][j] >= min_bins && rel[i][j] > 0.0 {
+    for (i, row) in rel.iter().enumerate() {
+        for (j, &r) in row.iter().enumerate().skip(i + 1) {
+            max = max.max(r);
+            if r >= min_bins && r > 0.0 {
                 out.push((Joint::ALL[i], Joint::ALL[j]));
             }
         }
