@@ -7,7 +7,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use wscg::biometrics::dtw::{dissimilarity_matrix, dtw, self_dissimilarity, DtwParams, LocalCost};
+use wscg::biometrics::dtw::{dtw, self_dissimilarity, DtwParams, LocalCost};
 use wscg::biometrics::gait::synth::{walkers, SessionRanges};
 use wscg::biometrics::gait::{gait_sample, GaitParams, GaitRecognizer};
 
@@ -30,10 +30,6 @@ fn bench(c: &mut Criterion) {
     g.bench_function(
         "delta matrix 300 walks x 100 pairs, symmetric (squared)",
         |b| b.iter(|| self_dissimilarity(black_box(&walks), &sq).unwrap()),
-    );
-    g.bench_function(
-        "delta matrix 300 x 300 walks x 100 pairs, full (squared)",
-        |b| b.iter(|| dissimilarity_matrix(black_box(&walks), &walks, &sq).unwrap()),
     );
     let (a, bb) = (&walks[0][0], &walks[1][0]);
     g.bench_function(format!("dtw {} x {} (abs)", a.len(), bb.len()), |b| {
