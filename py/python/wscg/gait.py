@@ -472,11 +472,11 @@ def dtw(a, b, cost: str = "abs", window: Optional[int] = None,
         archive's; dtaidistance returns the square root of this distance).
     window : int, optional
         Sakoe-Chiba band half-width ``r``: cell ``(i, j)`` is allowed when
-        ``|j - i (m-1)/(n-1)| <= r`` (``|i - j| <= r`` for equal lengths), raised to
-        ``ceil((m-1)/(n-1))`` so that a path exists. Default: the full grid. dtaidistance's
-        ``window=w`` on equal lengths is ``|i - j| < w``, i.e. our ``window=w - 1``. Note that
-        the raise also applies when ``m <= n``, so ``window=0`` currently behaves as
-        ``window=1`` (it is not the diagonal-only, Euclidean case).
+        ``|j - i (m-1)/(n-1)| <= r``; for equal lengths exactly ``|i - j| <= r``
+        (``window=0`` is the lock-step, Euclidean-style sum); for different lengths ``r`` is
+        raised to ``ceil((m-1)/(n-1))`` so that a path exists. Default: the full grid.
+        dtaidistance's ``window=w`` on equal lengths is ``|i - j| < w``, i.e. our
+        ``window=w - 1``.
     normalize : bool, default False
         Divide by ``n + m`` (not in the paper).
 

@@ -83,7 +83,7 @@ pub fn interleave_all(set: &[Vec<Vec<f64>>], p: &DtwParams) -> Option<Vec<Interl
 }
 
 /// Δ between two samples with the fused kernel (`a`, `b` interleaved) or the per-channel one.
-fn pair_delta(
+pub(crate) fn pair_delta(
     sa: &[Vec<f64>],
     sb: &[Vec<f64>],
     fa: Option<&Interleaved>,

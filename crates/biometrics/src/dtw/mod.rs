@@ -16,7 +16,7 @@
 
 mod core;
 pub mod fused;
-mod matrix;
+pub(crate) mod matrix;
 pub mod ts_file;
 
 pub use self::core::{dtw, dtw_bounded, dtw_path, DtwParams, LocalCost};

@@ -9,7 +9,9 @@ use super::cycle::{detect_gait_cycle, CycleParams, GaitCycle};
 use super::jra::{jra_matrix, JraSet};
 use super::relevance::{relevance_matrix, select_pairs, HistSpec, JointMap};
 use super::skeleton::{Joint, Pair, SkeletonSeq};
-use crate::dtw::{check_sample, dtw_kernel_bounded, DtwParams};
+use crate::dtw::fused::Interleaved;
+use crate::dtw::matrix::pair_delta;
+use crate::dtw::{check_sample, DtwParams};
 
 /// How the ranked training walks decide the identity.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -254,18 +256,23 @@ impl GaitRecognizer {
                 self.pairs.len()
             )));
         }
-        let mut scratch = Vec::new();
+        let (mut scratch, mut lanes) = (Vec::new(), Vec::new());
+        // Channel-fused DTW when it applies (no band; the channels of one walk share a length).
+        let p = &self.params.dtw;
+        let fq = if p.window.is_none() {
+            Interleaved::new(q)
+        } else {
+            None
+        };
         let mut ranked: Vec<(usize, u32, f64)> = self
             .gallery
             .iter()
             .zip(&self.labels)
             .enumerate()
             .map(|(i, (g, &l))| {
-                (
-                    i,
-                    l,
-                    dtw_kernel_bounded(q, g, &self.params.dtw, f64::INFINITY, &mut scratch),
-                )
+                let fg = fq.as_ref().and_then(|_| Interleaved::new(g));
+                let d = pair_delta(q, g, fq.as_ref(), fg.as_ref(), p, &mut scratch, &mut lanes);
+                (i, l, d)
             })
             .collect();
         ranked.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
