@@ -22,3 +22,13 @@ def _int(name: str, v, lo: Optional[int] = None, hi: Optional[int] = None) -> in
     if hi is not None and v > hi:
         raise ValueError(f"`{name}` must be <= {hi}, got {v}")
     return v
+
+
+def _real(name: str, v) -> float:
+    """``v`` as a Python float (bools refused)."""
+    if isinstance(v, (bool, np.bool_)):
+        raise ValueError(f"`{name}` must be a real number, got {v!r}")
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        raise ValueError(f"`{name}` must be a real number, got {v!r}") from None

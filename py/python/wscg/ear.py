@@ -84,7 +84,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int
+from ._checks import _int, _real
 from ._native import ear as _e
 
 __all__ = [
@@ -111,15 +111,6 @@ _REALS = ("min_likelihood", "close_radius", "block_skin_fraction", "reject_above
 # ----------------------------------------------------------------------------------------
 # Input validation
 # ----------------------------------------------------------------------------------------
-
-def _real(name: str, v) -> float:
-    if isinstance(v, (bool, np.bool_)):
-        raise ValueError(f"`{name}` must be a real number, got {v!r}")
-    try:
-        return float(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be a real number, got {v!r}") from None
-
 
 def _flag(name: str, v) -> bool:
     if not isinstance(v, (bool, np.bool_)):

@@ -51,7 +51,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int
+from ._checks import _int, _real
 from ._native import gait as _g
 
 __all__ = [
@@ -73,15 +73,6 @@ _COSTS = ("abs", "squared")
 # ----------------------------------------------------------------------------------------
 # Input validation
 # ----------------------------------------------------------------------------------------
-
-def _real(name: str, v) -> float:
-    if isinstance(v, (bool, np.bool_)):
-        raise ValueError(f"`{name}` must be a real number, got {v!r}")
-    try:
-        return float(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be a real number, got {v!r}") from None
-
 
 def _fps(fps) -> float:
     f = _real("fps", fps)

@@ -22,25 +22,10 @@ use super::cycle::{ankle_distance, up_vector, GaitCycle, UpAxis};
 use super::jra::vector_angle;
 use super::skeleton::{Joint, SkeletonSeq, N_JOINTS};
 
-fn check_cycle(s: &SkeletonSeq, c: &GaitCycle) -> Result<()> {
-    if c.end >= s.len() || c.start >= c.end {
-        return Err(Error::invalid(
-            "cycle",
-            format!(
-                "frames {}..={} are not inside the walk's {} frames",
-                c.start,
-                c.end,
-                s.len()
-            ),
-        ));
-    }
-    Ok(())
-}
-
 /// Ball et al.'s 18 features: for the angles `[hip L, hip R, knee L, knee R, ankle L,
 /// ankle R]` (radians), `[mean, std, max]` each, angle-major.
 pub fn ball_features(s: &SkeletonSeq, c: &GaitCycle) -> Result<[f64; 18]> {
-    check_cycle(s, c)?;
+    c.check_within(s)?;
     use Joint::*;
     let legs = [
         (HipLeft, KneeLeft, AnkleLeft, FootLeft),
@@ -89,7 +74,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// ankle distance in the two halves of the cycle; speed = horizontal SpineBase displacement
 /// over the cycle divided by its duration. Bone lengths are per-frame medians over the cycle.
 pub fn preis_features(s: &SkeletonSeq, c: &GaitCycle) -> Result<[f64; 13]> {
-    check_cycle(s, c)?;
+    c.check_within(s)?;
     use Joint::*;
     let path = |js: &[Joint]| -> f64 {
         median(
@@ -135,7 +120,7 @@ pub fn preis_features(s: &SkeletonSeq, c: &GaitCycle) -> Result<[f64; 13]> {
 /// The raw-coordinate baseline sample: the 72 sequences `x, y, z` of every joint but
 /// SpineBase, relative to SpineBase, over the cycle (channel `3 (j - 1) + k`).
 pub fn raw_coordinate_sample(s: &SkeletonSeq, c: &GaitCycle) -> Result<Vec<Vec<f64>>> {
-    check_cycle(s, c)?;
+    c.check_within(s)?;
     let mut out: Vec<Vec<f64>> = (0..3 * (N_JOINTS - 1))
         .map(|_| Vec::with_capacity(c.len()))
         .collect();

@@ -130,6 +130,22 @@ impl GaitCycle {
         false
     }
 
+    /// Errors unless the cycle's frames lie inside the walk `s` with `start < end`.
+    pub fn check_within(&self, s: &SkeletonSeq) -> Result<()> {
+        if self.end >= s.len() || self.start >= self.end {
+            return Err(Error::invalid(
+                "cycle",
+                format!(
+                    "frames {}..={} are not inside the walk's {} frames",
+                    self.start,
+                    self.end,
+                    s.len()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// A cycle given by its three frames (for users who mark cycles by hand). Errors: not
     /// strictly increasing, or beyond the walk.
     pub fn from_frames(s: &SkeletonSeq, start: usize, mid: usize, end: usize) -> Result<Self> {

@@ -91,17 +91,7 @@ pub fn jra_sequences(
     reference: Joint,
     pairs: &[Pair],
 ) -> Result<JraSet> {
-    if c.end >= s.len() || c.start > c.end {
-        return Err(Error::invalid(
-            "cycle",
-            format!(
-                "frames {}..={} are not inside the walk's {} frames",
-                c.start,
-                c.end,
-                s.len()
-            ),
-        ));
-    }
+    c.check_within(s)?;
     let mut seqs = Vec::with_capacity(pairs.len());
     for &(a, b) in pairs {
         if a == reference || b == reference || a == b {
