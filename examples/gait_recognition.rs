@@ -13,12 +13,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|s| s.parse())
         .transpose()?
         .unwrap_or(0);
-    let mut ranges = SessionRanges::default();
-    if let Some(p) = std::env::args().nth(2) {
-        let p: f64 = p.parse()?;
-        ranges.phase0 = [p, p + 0.05];
-    }
-    let set = walkers(20, 3, &ranges, seed)?;
+    let set = walkers(20, 3, &SessionRanges::default(), seed)?;
     let proto = Protocol::default();
     let prepared = prepare(&set.walks, &set.labels, &set.session_index, &proto.params)?;
     let r = cross_validate(&prepared, None, &proto)?;

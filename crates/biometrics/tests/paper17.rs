@@ -814,3 +814,30 @@ fn channel_fused_kernel_equals_per_channel_dtw() {
         }
     }
 }
+
+#[test]
+fn paper_protocol_selects_pairs_on_all_walks() {
+    let set = walkers(6, 3, &SessionRanges::default(), 80).unwrap();
+    let mut proto = Protocol::default();
+    let prep = prepared(&set, &proto.params);
+    let own = cross_validate(&prep, None, &proto).unwrap();
+    proto.relevance_on_all_walks = true;
+    let leaky = cross_validate(&prep, None, &proto).unwrap();
+    let all: Vec<_> = prep.samples.iter().map(|s| &s.jra).collect();
+    let want = relevance_matrix(&all, &HistSpec::default()).unwrap();
+    let train: Vec<_> = prep
+        .samples
+        .iter()
+        .zip(&prep.session)
+        .filter(|(_, &k)| k != 0)
+        .map(|(s, _)| &s.jra)
+        .collect();
+    let fold0 = relevance_matrix(&train, &HistSpec::default()).unwrap();
+    for i in 0..25 {
+        for j in 0..25 {
+            assert!((leaky.relevance[i][j] - want[i][j]).abs() < 1e-9);
+            assert!((own.relevance[i][j] - fold0[i][j]).abs() < 1e-9);
+        }
+    }
+    assert_ne!(own.relevance, leaky.relevance);
+}

@@ -157,6 +157,10 @@ pub struct Protocol {
     pub majority_k: usize,
     /// Length of the resampling ablation (32).
     pub resample_len: usize,
+    /// Compute the relevance map on the training and the test walks of each fold, as the
+    /// paper did with all 60 videos (test data leaks into the pair selection; reproduction
+    /// only). Default `false`: training walks only.
+    pub relevance_on_all_walks: bool,
 }
 
 impl Default for Protocol {
@@ -166,6 +170,7 @@ impl Default for Protocol {
             thresholds: (1..=30).map(f64::from).collect(),
             majority_k: 3,
             resample_len: 32,
+            relevance_on_all_walks: false,
         }
     }
 }
@@ -352,8 +357,15 @@ pub fn cross_validate(
                 format!("fold {k} has no training or no test walks"),
             ));
         }
-        let tr_sets: Vec<&JraSet> = tr.iter().map(|&i| sets[i]).collect();
-        let rel = relevance_matrix(&tr_sets, &p.hist)?;
+        let rel_walks = if proto.relevance_on_all_walks {
+            tr.iter()
+                .chain(&te)
+                .map(|&i| sets[i])
+                .collect::<Vec<&JraSet>>()
+        } else {
+            tr.iter().map(|&i| sets[i]).collect()
+        };
+        let rel = relevance_matrix(&rel_walks, &p.hist)?;
         first_rel.get_or_insert(rel);
         let t = choose_threshold(&cache, &sets, &tr, &labels, &rel, &proto.thresholds);
         chosen_t.push(t);
