@@ -96,6 +96,17 @@ pub fn dtw_bounded(a: &[f64], b: &[f64], p: &DtwParams, bound: f64, scratch: &mu
     raw / scale
 }
 
+/// Minimum of two finite-or-infinite values (no NaN reaches the recursion): a plain comparison,
+/// which compiles to one `minsd`, where `f64::min` adds NaN handling to the critical path.
+#[inline(always)]
+pub(crate) fn fmin(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
 /// Full-grid recursion; the shorter sequence indexes the rows of memory.
 #[inline]
 fn full(
@@ -121,11 +132,11 @@ fn full(
         let mut row_min = f64::INFINITY;
         for j in 1..=m {
             let up = prev[j];
-            let v = c(ai, b[j - 1]) + diag.min(up).min(left);
+            let v = c(ai, b[j - 1]) + fmin(fmin(diag, up), left);
             cur[j] = v;
             left = v;
             diag = up;
-            row_min = row_min.min(v);
+            row_min = fmin(row_min, v);
         }
         if check && row_min > bound {
             return f64::INFINITY;
@@ -182,10 +193,10 @@ fn band(
         let mut left = f64::INFINITY;
         let mut row_min = f64::INFINITY;
         for j in lo + 1..=hi + 1 {
-            let v = c(ai, b[j - 1]) + prev[j - 1].min(prev[j]).min(left);
+            let v = c(ai, b[j - 1]) + fmin(fmin(prev[j - 1], prev[j]), left);
             cur[j] = v;
             left = v;
-            row_min = row_min.min(v);
+            row_min = fmin(row_min, v);
         }
         if check && row_min > bound {
             return f64::INFINITY;

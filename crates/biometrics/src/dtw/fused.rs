@@ -4,7 +4,7 @@
 //! programme (every cell waits for its left neighbour) into independent SIMD lanes. Results
 //! are identical to the per-channel recursion.
 
-use super::core::LocalCost;
+use super::core::{fmin, LocalCost};
 
 /// Channels processed together.
 pub const LANES: usize = 8;
@@ -59,16 +59,6 @@ impl Interleaved {
     }
 }
 
-#[inline(always)]
-fn lane_min(a: f64, b: f64) -> f64 {
-    // Inputs are finite or +inf: the plain comparison is exact and compiles to minpd.
-    if a < b {
-        a
-    } else {
-        b
-    }
-}
-
 /// One group's full-grid recursion; writes the `LANES` distances into `out`.
 #[inline(always)]
 fn group<const SQ: bool>(a: &[Lane], b: &[Lane], scratch: &mut Vec<Lane>, out: &mut Lane) {
@@ -89,7 +79,7 @@ fn group<const SQ: bool>(a: &[Lane], b: &[Lane], scratch: &mut Vec<Lane>, out: &
             for l in 0..LANES {
                 let d = ai[l] - bj[l];
                 let c = if SQ { d * d } else { d.abs() };
-                v[l] = c + lane_min(lane_min(diag[l], up[l]), left[l]);
+                v[l] = c + fmin(fmin(diag[l], up[l]), left[l]);
             }
             cur[j] = v;
             left = v;
