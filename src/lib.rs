@@ -36,6 +36,7 @@ pub use wscg_octree as octree;
 pub use wscg_raytrace as raytrace;
 pub use wscg_video as video;
 pub use wscg_volren as volren;
+pub use wscg_volseg as volseg;
 
 pub mod demo;
 pub mod gallery;

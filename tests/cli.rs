@@ -2308,3 +2308,84 @@ fn gait_enrolls_identifies_and_classifies_ucr_files() {
     assert!(String::from_utf8_lossy(&out.stdout).contains("Ball et al. 2012"));
     assert!(dir.path().join("demo").join("relevance.png").exists());
 }
+
+#[test]
+fn volseg_splits_a_phantom_and_beats_the_baseline() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    wscg_ok(&[
+        "volseg",
+        "phantom",
+        "--out",
+        d,
+        "--size",
+        "64",
+        "--fragments",
+        "4",
+        "--seed",
+        "1",
+    ]);
+    let ct = dir.path().join("ct.nii");
+    let before = std::fs::read(&ct).unwrap();
+    let args = |out: &str, extra: &[&str]| {
+        let mut v = vec![
+            "volseg".to_string(),
+            "split".into(),
+            ct.to_str().unwrap().into(),
+            "--seeds".into(),
+            dir.path().join("seeds.nii").to_str().unwrap().into(),
+            "--out".into(),
+            dir.path().join(out).to_str().unwrap().into(),
+            "--truth".into(),
+            dir.path().join("truth.nii").to_str().unwrap().into(),
+        ];
+        v.extend(extra.iter().map(|s| s.to_string()));
+        v
+    };
+    let dice = |text: &str| -> f64 {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("multi-label Dice"))
+            .unwrap();
+        line.rsplit(' ').next().unwrap().parse().unwrap()
+    };
+    let rw = wscg_ok(&args("labels.nii", &[]));
+    assert!(rw.contains("label 4: "), "{rw}");
+    let ns = wscg_ok(&args("ns.npy", &["--baseline"]));
+    assert!(dice(&rw) >= dice(&ns) + 0.05, "{rw}\n{ns}");
+    let labels = wscg::math::Volume::read(dir.path().join("labels.nii"), None).unwrap();
+    assert_eq!(labels.dims(), [64, 64, 64]);
+    assert!(labels
+        .data()
+        .iter()
+        .all(|&l| (0.0..=4.0).contains(&l) && l.fract() == 0.0));
+    assert_eq!(std::fs::read(&ct).unwrap(), before, "input modified");
+    // Bad input: seeds that are not labels, a missing file.
+    let out = wscg()
+        .args([
+            "volseg",
+            "split",
+            ct.to_str().unwrap(),
+            "--seeds",
+            ct.to_str().unwrap(),
+            "--out",
+            "x.nii",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("labels must be integers"));
+    let out = wscg()
+        .args([
+            "volseg",
+            "split",
+            "/nonexistent.nii",
+            "--seeds",
+            ct.to_str().unwrap(),
+            "--out",
+            "x.nii",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+}

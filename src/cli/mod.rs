@@ -26,6 +26,7 @@ mod raytrace;
 mod sfa;
 mod video;
 mod volren;
+mod volseg;
 
 /// wscg: the methods of the Journal of WSCG vol. 23 papers on your own data.
 #[derive(Parser, Debug)]
@@ -97,6 +98,9 @@ enum Command {
     /// Designs and response surfaces of perceptual studies (paper 07's statistics).
     #[command(subcommand)]
     Doe(doe::DoeCommand),
+    /// Bone separation in CT by random walks on the bone-only graph (paper 18): split, phantom.
+    #[command(subcommand)]
+    Volseg(volseg::VolsegCommand),
     /// Predictive walk-and-reach synthesis with learned dynamic primitives (paper 16): make-data,
     /// learn, plan, synth (BVH output).
     #[command(subcommand)]
@@ -161,6 +165,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Math(cmd) => math::run(cmd),
         Command::Motion(cmd) => motion::run(cmd),
+        Command::Volseg(cmd) => volseg::run(cmd),
         Command::Biometrics(cmd) => biometrics::run(cmd),
         Command::Cloth(cmd) => cloth::run(cmd),
         Command::Volren(cmd) => volren::run(cmd),

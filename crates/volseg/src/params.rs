@@ -1,0 +1,89 @@
+//! Parameters of the random-walks segmentation (paper section 2.3; spec section 2.2).
+
+use wscg_math::{Error, Result};
+
+/// How CT values are mapped to `g ∈ [0, 1]` before the edge weights.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum IntensityNorm {
+    /// `g = clamp((I − lo) / (hi − lo), 0, 1)`; default `lo = −1024`, `hi = 3071` HU (12-bit
+    /// CT): β = 3000 only makes sense on a [0, 1] scale and the paper does not state one.
+    Window {
+        /// Value mapped to 0.
+        lo: f64,
+        /// Value mapped to 1.
+        hi: f64,
+    },
+    /// The bone voxels' own minimum and maximum.
+    MinMax,
+    /// Values used as they are.
+    None,
+}
+
+/// Parameters of [`crate::walker::RwSession`], the paper's values by default.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RwParams {
+    /// Bone threshold `t_bone`, HU: voxels with `I >= t_bone` form the graph (300).
+    pub t_bone: f64,
+    /// Weight sharpness β of eq. 1 (3000; 2000-4000 give similar results).
+    pub beta: f64,
+    /// Constant ε added to every edge weight (0.01).
+    pub eps: f64,
+    /// Regulariser κ added to every unseeded diagonal entry (1e-3): keeps systems of
+    /// components without seeds non-singular.
+    pub kappa: f64,
+    /// Relative residual `‖r‖ / ‖b‖` at which CG stops (3e-3).
+    pub tol: f64,
+    /// Iteration cap per label (2000).
+    pub max_iter: usize,
+    /// Intensity normalisation.
+    pub norm: IntensityNorm,
+}
+
+impl Default for RwParams {
+    fn default() -> Self {
+        Self {
+            t_bone: 300.0,
+            beta: 3000.0,
+            eps: 0.01,
+            kappa: 1e-3,
+            tol: 3e-3,
+            max_iter: 2000,
+            norm: IntensityNorm::Window {
+                lo: -1024.0,
+                hi: 3071.0,
+            },
+        }
+    }
+}
+
+impl RwParams {
+    /// Errors: non-finite values, negative β, ε or κ, `tol <= 0`, `max_iter == 0`, a window
+    /// with `hi <= lo`.
+    pub fn validate(&self) -> Result<()> {
+        let fin = [self.t_bone, self.beta, self.eps, self.kappa, self.tol];
+        if fin.iter().any(|v| !v.is_finite()) {
+            return Err(Error::invalid(
+                "params",
+                "t_bone, beta, eps, kappa and tol must be finite",
+            ));
+        }
+        if self.beta < 0.0 || self.eps < 0.0 || self.kappa < 0.0 {
+            return Err(Error::invalid("params", "beta, eps and kappa must be >= 0"));
+        }
+        if self.tol <= 0.0 {
+            return Err(Error::invalid(
+                "tol",
+                format!("must be > 0, got {}", self.tol),
+            ));
+        }
+        if self.max_iter == 0 {
+            return Err(Error::invalid("max_iter", "must be at least 1"));
+        }
+        if let IntensityNorm::Window { lo, hi } = self.norm {
+            if !(lo.is_finite() && hi.is_finite() && hi > lo) {
+                return Err(Error::invalid("norm", "a window needs finite lo < hi"));
+            }
+        }
+        Ok(())
+    }
+}
