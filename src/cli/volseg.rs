@@ -87,7 +87,7 @@ fn to_u16(v: &Volume<f32>, name: &'static str) -> Result<Vec<u16>> {
     v.data()
         .iter()
         .map(|&x| {
-            if x.is_finite() && x >= 0.0 && x <= 65535.0 && x.fract() == 0.0 {
+            if (0.0..=65535.0).contains(&x) && x.fract() == 0.0 {
                 Ok(x as u16)
             } else {
                 Err(Error::invalid(
