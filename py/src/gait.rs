@@ -555,6 +555,19 @@ fn write_skeleton_csv(
     py.detach(|| gait::write_skeleton_csv(&path, &s)).py_err()
 }
 
+/// Features of a walk over a cycle (default: detected) by one of the baselines' extractors.
+fn baseline_features<'py>(
+    py: Python<'py>,
+    frames: PyReadonlyArrayDyn<'py, f64>,
+    fps: f64,
+    cycle: Option<(usize, usize, usize)>,
+    extract: fn(&SkeletonSeq, &GaitCycle) -> wscg_math::Result<Vec<f64>>,
+) -> PyResult<Arr<'py, f64>> {
+    let s = seq_in(py, "frames", &frames, fps)?;
+    let f = py.detach(|| extract(&s, &cycle_of(&s, cycle)?)).py_err()?;
+    vec_out(py, f)
+}
+
 /// Ball et al.'s 18 features over a cycle (default: detected).
 #[pyfunction]
 #[pyo3(signature = (frames, fps, cycle=None))]
@@ -564,11 +577,9 @@ fn ball_features<'py>(
     fps: f64,
     cycle: Option<(usize, usize, usize)>,
 ) -> PyResult<Arr<'py, f64>> {
-    let s = seq_in(py, "frames", &frames, fps)?;
-    let f = py
-        .detach(|| gait::ball_features(&s, &cycle_of(&s, cycle)?))
-        .py_err()?;
-    vec_out(py, f.to_vec())
+    baseline_features(py, frames, fps, cycle, |s, c| {
+        Ok(gait::ball_features(s, c)?.to_vec())
+    })
 }
 
 /// Preis et al.'s 13 features over a cycle (default: detected).
@@ -580,11 +591,9 @@ fn preis_features<'py>(
     fps: f64,
     cycle: Option<(usize, usize, usize)>,
 ) -> PyResult<Arr<'py, f64>> {
-    let s = seq_in(py, "frames", &frames, fps)?;
-    let f = py
-        .detach(|| gait::preis_features(&s, &cycle_of(&s, cycle)?))
-        .py_err()?;
-    vec_out(py, f.to_vec())
+    baseline_features(py, frames, fps, cycle, |s, c| {
+        Ok(gait::preis_features(s, c)?.to_vec())
+    })
 }
 
 // ------------------------------------------------------------------------------------------
