@@ -2388,4 +2388,8 @@ fn volseg_splits_a_phantom_and_beats_the_baseline() {
         .output()
         .unwrap();
     assert!(!out.status.success());
+    let demo = dir.path().join("demo");
+    let text = wscg_ok(&["demo", "bonesplit", "--out", demo.to_str().unwrap()]);
+    assert!(text.contains("DSC geodesic nearest seed"), "{text}");
+    assert!(demo.join("slices.png").exists());
 }

@@ -9,6 +9,7 @@ use wscg_math::progress::Progress;
 use wscg_math::Result;
 
 pub mod biometrics;
+pub mod bonesplit;
 pub mod cloth;
 pub mod deblur;
 pub mod ear;
@@ -125,6 +126,7 @@ pub fn registry() -> Vec<Demo> {
         illum::DEMO,
         motion::DEMO,
         gait::DEMO,
+        bonesplit::DEMO,
     ]
 }
 
