@@ -21,7 +21,9 @@ use wscg_biometrics::dtw::{nearest, ts_file::read_ts, DtwParams, LocalCost};
 use wscg_biometrics::gait::cycle::StartLeg;
 use wscg_biometrics::gait::io::{read_skeleton, write_skeleton_csv, write_skeleton_npy};
 use wscg_biometrics::gait::synth::{walkers, SessionRanges};
-use wscg_biometrics::gait::{detect_gait_cycle, GaitParams, GaitRecognizer, SkeletonSeq, Vote};
+use wscg_biometrics::gait::{
+    detect_gait_cycle, gait_sample, GaitParams, GaitRecognizer, SkeletonSeq, Vote,
+};
 use wscg_math::{Error, Result};
 
 #[derive(Subcommand, Debug)]
@@ -271,32 +273,19 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             let mut identities: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
             identities.sort();
             identities.dedup();
-            let mut walks = Vec::new();
+            let mut samples = Vec::new();
             let mut labels = Vec::new();
             for (id, f) in &files {
-                walks.push(read_skeleton(f, params.fps)?);
+                let walk = read_skeleton(f, params.fps)?;
+                let s = gait_sample(&walk, &p)
+                    .map_err(|e| Error::invalid("gallery", format!("{}: {e}", f.display())))?;
+                samples.push(s.jra);
                 labels.push(identities.iter().position(|i| i == id).unwrap_or(0) as u32);
             }
-            let rec = GaitRecognizer::fit(&walks, &labels, &p).map_err(|e| match e {
-                Error::InvalidArgument {
-                    name: "walks",
-                    reason,
-                } => {
-                    // Name the file instead of the index.
-                    let idx: Option<usize> = reason
-                        .strip_prefix("training walk ")
-                        .and_then(|r| r.split(':').next())
-                        .and_then(|n| n.parse().ok());
-                    let file = idx
-                        .and_then(|i| files.get(i))
-                        .map(|f| f.1.display().to_string());
-                    Error::invalid("gallery", format!("{}: {reason}", file.unwrap_or_default()))
-                }
-                other => other,
-            })?;
+            let rec = GaitRecognizer::fit_samples(&samples, &labels, &p)?;
             println!(
                 "enrolled {} walks of {} identities; {} of 276 joint pairs selected (t = {})",
-                walks.len(),
+                samples.len(),
                 identities.len(),
                 rec.pairs.len(),
                 p.min_bins

@@ -72,10 +72,14 @@ impl BoneGraph {
         }
         let dims = ct.dims();
         let (off, scale) = normaliser(ct, mask, p.norm);
-        let g = |i: usize| (ct.data()[i] as f64 - off) / scale;
-        let g = |i: usize| match p.norm {
-            IntensityNorm::Window { .. } => g(i).clamp(0.0, 1.0),
-            _ => g(i),
+        let clamp = matches!(p.norm, IntensityNorm::Window { .. });
+        let g = |i: usize| {
+            let v = (ct.data()[i] as f64 - off) / scale;
+            if clamp {
+                v.clamp(0.0, 1.0)
+            } else {
+                v
+            }
         };
         let mut node_of_voxel = vec![NONE; mask.len()];
         let mut voxel_of_node = Vec::with_capacity(n);
@@ -87,12 +91,12 @@ impl BoneGraph {
         }
         let [nx, ny, nz] = dims;
         let strides = [1isize, nx as isize, (nx * ny) as isize];
+        let size = [nx, ny, nz];
         let mut nbr = vec![[NONE; 6]; n];
         let mut w = vec![[0.0; 6]; n];
         for (node, &vox) in voxel_of_node.iter().enumerate() {
             let v = vox as usize;
             let c = [v % nx, (v / nx) % ny, v / (nx * ny)];
-            let size = [nx, ny, nz];
             for axis in 0..3 {
                 for (s, dir) in [(0usize, -1isize), (1, 1)] {
                     let inside = if dir < 0 {

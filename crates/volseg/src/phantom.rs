@@ -6,6 +6,7 @@
 //! not reproduce the truth by construction.
 
 use rand_distr::{Distribution, StandardNormal};
+use wscg_math::filter::Border;
 use wscg_math::rng::stream;
 use wscg_math::vec3::{dot, norm, sub};
 use wscg_math::{Error, Result, Volume};
@@ -93,24 +94,6 @@ fn voronoi(d: [f64; 3], sites: &[[f64; 3]]) -> (usize, f64) {
     (order[0].1, ang)
 }
 
-/// One-dimensional Gaussian blur of `v` along `axis` (replicated borders).
-fn blur_axis(v: &mut [f64], dims: [usize; 3], axis: usize, k: &[f64]) {
-    let r = k.len() / 2;
-    let stride = [1, dims[0], dims[0] * dims[1]][axis];
-    let len = dims[axis];
-    let src = v.to_vec();
-    for (i, out) in v.iter_mut().enumerate() {
-        let c = (i / stride) % len;
-        let base = i - c * stride;
-        let mut s = 0.0;
-        for (t, &w) in k.iter().enumerate() {
-            let p = (c as isize + t as isize - r as isize).clamp(0, len as isize - 1) as usize;
-            s += w * src[base + p * stride];
-        }
-        *out = s;
-    }
-}
-
 /// Generates the phantom. Errors: fewer than 2 fragments, a side below 16 voxels, invalid
 /// radii or densities.
 pub fn fractured_shell_phantom(c: &PhantomConfig) -> Result<Phantom> {
@@ -170,10 +153,10 @@ pub fn fractured_shell_phantom(c: &PhantomConfig) -> Result<Phantom> {
         };
     }
     if c.blur_sigma > 0.0 {
-        let k = wscg_math::filter::gaussian_kernel(c.blur_sigma, 4.0)?;
-        for axis in 0..3 {
-            blur_axis(&mut hu, c.dims, axis, &k);
-        }
+        let v = Volume::new(c.dims, [1.0; 3], hu)?;
+        hu = v
+            .gaussian_filter([c.blur_sigma; 3], 4.0, Border::Nearest)?
+            .into_data();
     }
     let mut noise = stream(c.seed, 0x0cd);
     let ct: Vec<f32> = hu

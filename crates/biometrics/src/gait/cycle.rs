@@ -257,12 +257,11 @@ fn valley_prominence(x: &[f64], t: usize) -> f64 {
 /// prominence at least `min_prominence`, and at least `min_gap` samples apart (the deeper of
 /// two close minima is kept). Returned in increasing order.
 pub fn leg_crossings(x: &[f64], min_prominence: f64, min_gap: usize) -> Vec<usize> {
-    let cand: Vec<usize> = (1..x.len().saturating_sub(1))
+    let mut order: Vec<usize> = (1..x.len().saturating_sub(1))
         .filter(|&t| x[t] <= x[t - 1] && x[t] < x[t + 1])
         .filter(|&t| valley_prominence(x, t) >= min_prominence)
         .collect();
     // Deepest first; drop candidates within `min_gap` of a kept one.
-    let mut order = cand.clone();
     order.sort_by(|&a, &b| x[a].total_cmp(&x[b]).then(a.cmp(&b)));
     let mut kept: Vec<usize> = Vec::new();
     for t in order {

@@ -230,20 +230,18 @@ fn ranked(train: &[usize], labels: &[u32], d: impl Fn(usize) -> f64) -> Vec<(u32
     r.into_iter().map(|(_, l, d)| (l, d)).collect()
 }
 
-/// Chooses the threshold on the training walks: leave-one-out 1-NN accuracy for every
-/// candidate; among the best, the centre of the longest run of consecutive candidates.
+/// Chooses the threshold on the training walks (`sels[c]`: the channels candidate `c`
+/// selects): leave-one-out 1-NN accuracy for every candidate; among the best, the centre of
+/// the longest run of consecutive candidates. Returns the candidate's index.
 fn choose_threshold(
     cache: &ChannelCache,
-    sets: &[&JraSet],
     train: &[usize],
     labels: &[u32],
-    rel: &JointMap,
-    ts: &[f64],
-) -> f64 {
-    let acc: Vec<f64> = ts
+    sels: &[Vec<usize>],
+) -> usize {
+    let acc: Vec<f64> = sels
         .iter()
-        .map(|&t| {
-            let sel = selected_channels(sets[train[0]], rel, t);
+        .map(|sel| {
             if sel.is_empty() {
                 return -1.0;
             }
@@ -251,7 +249,7 @@ fn choose_threshold(
                 .iter()
                 .filter(|&&i| {
                     let others: Vec<usize> = train.iter().copied().filter(|&j| j != i).collect();
-                    let r = ranked(&others, labels, |j| cache.sum(i, j, &sel));
+                    let r = ranked(&others, labels, |j| cache.sum(i, j, sel));
                     r.first().is_some_and(|x| x.0 == labels[i])
                 })
                 .count();
@@ -273,7 +271,7 @@ fn choose_threshold(
             _ => {}
         }
     }
-    ts[(best_run.0 + best_run.1 - 1) / 2]
+    (best_run.0 + best_run.1 - 1) / 2
 }
 
 /// Cross-validation over the sessions of `train`: fold `k` trains on the walks of `train`
@@ -367,9 +365,15 @@ pub fn cross_validate(
         };
         let rel = relevance_matrix(&rel_walks, &p.hist)?;
         first_rel.get_or_insert(rel);
-        let t = choose_threshold(&cache, &sets, &tr, &labels, &rel, &proto.thresholds);
-        chosen_t.push(t);
-        let sel = selected_channels(sets[tr[0]], &rel, t);
+        // The pairs each threshold selects, once per fold.
+        let sels: Vec<Vec<usize>> = proto
+            .thresholds
+            .iter()
+            .map(|&t| selected_channels(sets[tr[0]], &rel, t))
+            .collect();
+        let best = choose_threshold(&cache, &tr, &labels, &sels);
+        chosen_t.push(proto.thresholds[best]);
+        let sel = &sels[best];
         let sel_fixed = selected_channels(sets[tr[0]], &rel, p.min_bins);
         let ball = ZScoreNn::fit(
             &tr.iter()
@@ -387,7 +391,7 @@ pub fn cross_validate(
         for &i in &te {
             let truth = labels[i];
             decisions += 1;
-            let r = ranked(&tr, &labels, |j| cache.sum(i, j, &sel));
+            let r = ranked(&tr, &labels, |j| cache.sum(i, j, sel));
             let hits = [
                 vote(&r, Vote::Nearest)?,
                 vote(&r, Vote::PaperTopClassesPlusOne)?,
@@ -402,10 +406,7 @@ pub fn cross_validate(
                 } else {
                     ranked(&tr, &labels, |j| cache.sum(i, j, &sel_fixed))[0].0
                 },
-                ranked(&tr, &labels, |j| {
-                    cache.sum(i, j, &sel) / (lens[i] + lens[j])
-                })[0]
-                    .0,
+                ranked(&tr, &labels, |j| cache.sum(i, j, sel) / (lens[i] + lens[j]))[0].0,
                 ranked(&tr, &labels, |j| {
                     sel.iter()
                         .map(|&c| {
@@ -427,13 +428,12 @@ pub fn cross_validate(
             for (c, h) in counts.iter_mut().zip(hits) {
                 *c += usize::from(h == truth);
             }
-            for (ti, &t) in proto.thresholds.iter().enumerate() {
-                let s = selected_channels(sets[tr[0]], &rel, t);
+            for (ti, s) in sels.iter().enumerate() {
                 if s.is_empty() {
                     curve_valid[ti] = false;
                     continue;
                 }
-                let r = ranked(&tr, &labels, |j| cache.sum(i, j, &s));
+                let r = ranked(&tr, &labels, |j| cache.sum(i, j, s));
                 curve_ok[ti] += usize::from(r[0].0 == truth);
             }
         }

@@ -2,6 +2,8 @@
 //! sequences → relevant pairs (on the training walks) → DTW kernel Δ against every training
 //! walk → vote.
 
+use std::sync::OnceLock;
+
 use serde::{Deserialize, Serialize};
 use wscg_math::{Error, Result};
 
@@ -11,7 +13,7 @@ use super::relevance::{relevance_matrix, select_pairs, HistSpec, JointMap};
 use super::skeleton::{Joint, Pair, SkeletonSeq};
 use crate::dtw::fused::Interleaved;
 use crate::dtw::matrix::pair_delta;
-use crate::dtw::{check_sample, DtwParams};
+use crate::dtw::{check_sample, interleave_all, DtwParams};
 
 /// How the ranked training walks decide the identity.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -151,6 +153,10 @@ pub struct GaitRecognizer {
     pub gallery: Vec<Vec<Vec<f64>>>,
     /// Training labels.
     pub labels: Vec<u32>,
+    /// The gallery interleaved for the channel-fused DTW, built on the first prediction
+    /// (`None` inside when the fused kernel does not apply).
+    #[serde(skip)]
+    fused_gallery: OnceLock<Option<Vec<Interleaved>>>,
 }
 
 impl GaitRecognizer {
@@ -229,6 +235,7 @@ impl GaitRecognizer {
             pairs,
             gallery,
             labels: labels.to_vec(),
+            fused_gallery: OnceLock::new(),
         })
     }
 
@@ -259,6 +266,9 @@ impl GaitRecognizer {
         let (mut scratch, mut lanes) = (Vec::new(), Vec::new());
         // Channel-fused DTW when it applies (no band; the channels of one walk share a length).
         let p = &self.params.dtw;
+        let fused = self
+            .fused_gallery
+            .get_or_init(|| interleave_all(&self.gallery, p));
         let fq = if p.window.is_none() {
             Interleaved::new(q)
         } else {
@@ -270,8 +280,8 @@ impl GaitRecognizer {
             .zip(&self.labels)
             .enumerate()
             .map(|(i, (g, &l))| {
-                let fg = fq.as_ref().and_then(|_| Interleaved::new(g));
-                let d = pair_delta(q, g, fq.as_ref(), fg.as_ref(), p, &mut scratch, &mut lanes);
+                let fg = fused.as_ref().map(|f| &f[i]);
+                let d = pair_delta(q, g, fq.as_ref(), fg, p, &mut scratch, &mut lanes);
                 (i, l, d)
             })
             .collect();
