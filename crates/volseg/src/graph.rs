@@ -19,8 +19,9 @@ pub struct BoneGraph {
     voxel_of_node: Vec<u32>,
     /// Neighbours of every node: −x, +x, −y, +y, −z, +z ([`NONE`] if absent).
     nbr: Vec<[u32; 6]>,
-    /// Edge weights in the same order (0 where there is no edge).
-    w: Vec<[f64; 6]>,
+    /// Edge weights in the same order (0 where there is no edge), `f32` like the solver's
+    /// vectors (48 bytes of neighbours and weights per node).
+    w: Vec<[f32; 6]>,
 }
 
 fn normaliser(ct: &Volume<f32>, mask: &[bool], norm: IntensityNorm) -> (f64, f64) {
@@ -42,7 +43,8 @@ fn normaliser(ct: &Volume<f32>, mask: &[bool], norm: IntensityNorm) -> (f64, f64
 
 impl BoneGraph {
     /// Thresholds `ct` (HU) at `p.t_bone` and builds the graph with the weights of eq. 1,
-    /// `w_ij = exp(−β (g_i − g_j)²) + ε`, `g` the normalised intensity.
+    /// `w_ij = exp(−β (g_i − g_j)²) + ε`, `g` the normalised intensity (divided by the voxel
+    /// spacing along the edge when `p.spacing_in_weights`, as scikit-image does).
     ///
     /// Errors: NaN or infinite CT values, invalid parameters, more than 2^32 − 1 bone voxels.
     pub fn build(ct: &Volume<f32>, p: &RwParams) -> Result<Self> {
@@ -93,7 +95,13 @@ impl BoneGraph {
         let strides = [1isize, nx as isize, (nx * ny) as isize];
         let size = [nx, ny, nz];
         let mut nbr = vec![[NONE; 6]; n];
-        let mut w = vec![[0.0; 6]; n];
+        let mut w = vec![[0.0f32; 6]; n];
+        let inv_h: [f64; 3] = if p.spacing_in_weights {
+            let h = ct.spacing();
+            [1.0 / h[0], 1.0 / h[1], 1.0 / h[2]]
+        } else {
+            [1.0; 3]
+        };
         for (node, &vox) in voxel_of_node.iter().enumerate() {
             let v = vox as usize;
             let c = [v % nx, (v / nx) % ny, v / (nx * ny)];
@@ -110,9 +118,9 @@ impl BoneGraph {
                     let u = (v as isize + dir * strides[axis]) as usize;
                     let m = node_of_voxel[u];
                     if m != NONE {
-                        let d = g(v) - g(u);
+                        let d = (g(v) - g(u)) * inv_h[axis];
                         nbr[node][2 * axis + s] = m;
-                        w[node][2 * axis + s] = (-p.beta * d * d).exp() + p.eps;
+                        w[node][2 * axis + s] = ((-p.beta * d * d).exp() + p.eps) as f32;
                     }
                 }
             }
@@ -172,17 +180,17 @@ impl BoneGraph {
     }
 
     /// Edge weights of node `i`, same order as [`Self::neighbours`].
-    pub fn weights(&self, i: usize) -> &[f64; 6] {
+    pub fn weights(&self, i: usize) -> &[f32; 6] {
         &self.w[i]
     }
 
     /// Weighted degree `Σ_j w_ij` of node `i`.
     pub fn degree(&self, i: usize) -> f64 {
-        self.w[i].iter().sum()
+        self.w[i].iter().map(|&w| f64::from(w)).sum()
     }
 
     /// Approximate memory of the graph in bytes.
     pub fn memory_bytes(&self) -> usize {
-        self.node_of_voxel.len() * 4 + self.voxel_of_node.len() * (4 + 24 + 48)
+        self.node_of_voxel.len() * 4 + self.voxel_of_node.len() * (4 + 24 + 24)
     }
 }

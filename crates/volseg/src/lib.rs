@@ -20,6 +20,7 @@
 //! Volumes are [`wscg_math::Volume`]s, x fastest (`idx = x + nx (y + ny z)`).
 
 pub mod baseline;
+mod block;
 pub mod graph;
 pub mod metrics;
 pub mod params;
@@ -29,6 +30,6 @@ pub mod walker;
 pub use baseline::nearest_seed_labels;
 pub use graph::BoneGraph;
 pub use metrics::dice_multilabel;
-pub use params::{IntensityNorm, RwParams};
+pub use params::{IntensityNorm, Precision, RwParams, Solver};
 pub use phantom::{fractured_shell_phantom, Phantom, PhantomConfig};
 pub use walker::{RwSession, SolveReport};

@@ -19,6 +19,26 @@ pub enum IntensityNorm {
     None,
 }
 
+/// How the K systems are solved (the variants of the paper's Fig. 9).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Solver {
+    /// All labels advance together, one sweep over the graph per iteration (spec step 6).
+    #[default]
+    Block,
+    /// One label after the other (the paper's CPU path).
+    PerLabel,
+}
+
+/// Scalar type of the solver's vectors.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Precision {
+    /// `f32` vectors, `f64` dot products (half the memory traffic).
+    #[default]
+    F32,
+    /// `f64` throughout.
+    F64,
+}
+
 /// Parameters of [`crate::walker::RwSession`], the paper's values by default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RwParams {
@@ -37,6 +57,17 @@ pub struct RwParams {
     pub max_iter: usize,
     /// Intensity normalisation.
     pub norm: IntensityNorm,
+    /// Divide intensity differences by the voxel spacing along the edge (scikit-image's
+    /// convention); `false` is the paper's eq. 1.
+    pub spacing_in_weights: bool,
+    /// Solver layout (block of all labels by default).
+    pub solver: Solver,
+    /// Vector precision (`f32` by default).
+    pub precision: Precision,
+    /// Jacobi preconditioner (`true`, the paper's choice; `false` gives plain CG).
+    pub jacobi: bool,
+    /// Worker threads (`None`: the global rayon pool).
+    pub threads: Option<usize>,
 }
 
 impl Default for RwParams {
@@ -52,6 +83,11 @@ impl Default for RwParams {
                 lo: -1024.0,
                 hi: 3071.0,
             },
+            spacing_in_weights: false,
+            solver: Solver::Block,
+            precision: Precision::F32,
+            jacobi: true,
+            threads: None,
         }
     }
 }
@@ -75,6 +111,9 @@ impl RwParams {
                 "tol",
                 format!("must be > 0, got {}", self.tol),
             ));
+        }
+        if self.threads == Some(0) {
+            return Err(Error::invalid("threads", "must be at least 1"));
         }
         if self.max_iter == 0 {
             return Err(Error::invalid("max_iter", "must be at least 1"));

@@ -1,15 +1,15 @@
 //! Random walks on the bone graph (Grady 2006; paper section 2.3): one combinatorial
-//! Dirichlet problem per label, Jacobi-preconditioned CG, warm start, maximum-probability
-//! labelling.
+//! Dirichlet problem per label, Jacobi-preconditioned CG (all labels in one block by
+//! default, see [`crate::block`]), warm start, maximum-probability labelling.
 
 use std::time::Instant;
 
-use rayon::prelude::*;
-use wscg_math::sparse::{pcg, InitialGuess, Jacobi, LinOp, PcgOptions};
 use wscg_math::{Error, Result, Volume};
 
-use crate::graph::{BoneGraph, NONE};
-use crate::params::RwParams;
+use crate::baseline::nearest_seed_labels;
+use crate::block::{Block, Lane, EXCLUDED, UNKNOWN};
+use crate::graph::BoneGraph;
+use crate::params::{Precision, RwParams, Solver};
 
 /// Outcome of one [`RwSession::solve`], per label `1..=K`.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -20,46 +20,18 @@ pub struct SolveReport {
     pub residuals: Vec<f64>,
     /// Whether the tolerance was met.
     pub converged: Vec<bool>,
-    /// Wall-clock seconds.
+    /// Wall-clock seconds per label (for the block solver, the block's time divided by K).
     pub seconds: Vec<f64>,
+    /// Unseeded nodes in components without any seed: excluded from the systems (their
+    /// probabilities are 0, their label 0). Without them κ = 0 would make the systems singular.
+    pub unreached: usize,
 }
 
-/// The system `(L_U + κ I) x = b` on the unseeded nodes, applied matrix-free on the graph.
-struct System<'a> {
-    g: &'a BoneGraph,
-    /// Compact index of every node, [`NONE`] for seeds.
-    u_of_node: Vec<u32>,
-    /// Node of every unknown.
-    node_of_u: Vec<u32>,
-    /// Diagonal `κ + Σ_j w_ij` (edges to seeds included).
-    diag: Vec<f64>,
-}
-
-impl LinOp for System<'_> {
-    fn nrows(&self) -> usize {
-        self.node_of_u.len()
-    }
-    fn ncols(&self) -> usize {
-        self.node_of_u.len()
-    }
-    fn apply(&self, x: &[f64], y: &mut [f64]) {
-        y.par_iter_mut()
-            .enumerate()
-            .with_min_len(4096)
-            .for_each(|(a, ya)| {
-                let i = self.node_of_u[a] as usize;
-                let mut s = self.diag[a] * x[a];
-                for (&j, &w) in self.g.neighbours(i).iter().zip(self.g.weights(i)) {
-                    if j != NONE {
-                        let u = self.u_of_node[j as usize];
-                        if u != NONE {
-                            s -= w * x[u as usize];
-                        }
-                    }
-                }
-                *ya = s;
-            });
-    }
+/// Probabilities of the last solve, interleaved per node (`x[i·K + k − 1]`).
+#[derive(Clone, Debug)]
+enum Probs {
+    F32(Vec<f32>),
+    F64(Vec<f64>),
 }
 
 /// An interactive segmentation: the graph, the seeds placed so far and the last solution.
@@ -69,8 +41,10 @@ pub struct RwSession {
     params: RwParams,
     /// Seed label of every node (0 = unseeded).
     seeds: Vec<u16>,
-    /// Probabilities per label (index `k - 1`) and node, from the last solve.
-    x: Vec<Vec<f64>>,
+    /// Number of labels of the last solve.
+    k: usize,
+    /// Probabilities from the last solve (`None` before the first).
+    x: Option<Probs>,
 }
 
 impl RwSession {
@@ -82,7 +56,8 @@ impl RwSession {
             graph,
             params,
             seeds: vec![0; n],
-            x: Vec::new(),
+            k: 0,
+            x: None,
         })
     }
 
@@ -91,8 +66,19 @@ impl RwSession {
         &self.graph
     }
 
+    /// The parameters.
+    pub fn params(&self) -> &RwParams {
+        &self.params
+    }
+
+    /// Seed label of every node (0 = unseeded).
+    pub fn node_seeds(&self) -> &[u16] {
+        &self.seeds
+    }
+
     /// Replaces all seeds by the non-zero voxels of `seeds` (labels 1..=K) that are bone;
-    /// returns how many seed voxels lie on the graph. Errors: shape mismatch.
+    /// returns how many seed voxels lie on the graph (seeds on non-bone voxels, e.g. strokes
+    /// painted on soft tissue, are dropped). Errors: shape mismatch.
     pub fn set_seeds(&mut self, seeds: &Volume<u16>) -> Result<usize> {
         if seeds.dims() != self.graph.dims() {
             return Err(Error::ShapeMismatch(format!(
@@ -100,6 +86,12 @@ impl RwSession {
                 seeds.dims(),
                 self.graph.dims()
             )));
+        }
+        if let Some(index) = seeds.data().iter().position(|&l| l == EXCLUDED) {
+            return Err(Error::invalid(
+                "seeds",
+                format!("label 65535 at voxel {index} (labels go up to 65534)"),
+            ));
         }
         self.seeds.iter_mut().for_each(|s| *s = 0);
         let mut used = 0;
@@ -115,23 +107,23 @@ impl RwSession {
     }
 
     /// Adds seeds of `label` at the given voxel indices (non-bone voxels are skipped); returns
-    /// how many were placed. Errors: label 0, a voxel index outside the volume.
+    /// how many were placed. Errors: label 0 or 65535, a voxel index outside the volume.
     pub fn add_seeds(&mut self, voxels: &[usize], label: u16) -> Result<usize> {
-        if label == 0 {
+        if label == 0 || label == EXCLUDED {
             return Err(Error::invalid(
                 "label",
-                "labels start at 1 (0 means no seed)",
+                format!("labels go from 1 to 65534 (0 means no seed), got {label}"),
             ));
         }
         let total: usize = self.graph.dims().iter().product();
+        if let Some(&v) = voxels.iter().find(|&&v| v >= total) {
+            return Err(Error::invalid(
+                "voxels",
+                format!("index {v} is outside the volume of {total} voxels"),
+            ));
+        }
         let mut used = 0;
         for &v in voxels {
-            if v >= total {
-                return Err(Error::invalid(
-                    "voxels",
-                    format!("index {v} is outside the volume of {total} voxels"),
-                ));
-            }
             if let Some(i) = self.graph.node(v) {
                 self.seeds[i] = label;
                 used += 1;
@@ -145,10 +137,11 @@ impl RwSession {
         self.seeds.iter().copied().max().unwrap_or(0) as usize
     }
 
-    /// Solves the K systems `(L_U + κ I) x_k = −Bᵀ m_k` by Jacobi-PCG; `warm_start` starts
-    /// each from the previous solution (Grady's suggestion for added seeds).
+    /// Solves the K systems `(L_U + κ I) x_k = −Bᵀ m_k` by (Jacobi-preconditioned) CG;
+    /// `warm_start` starts each from the previous solution (Grady's suggestion for added
+    /// seeds). Components without a seed are excluded first ([`SolveReport::unreached`]).
     ///
-    /// Errors: no seeds on the graph.
+    /// Errors: no seeds on the graph; a thread pool that cannot be built.
     pub fn solve(&mut self, warm_start: bool) -> Result<SolveReport> {
         let k = self.n_labels();
         if k == 0 {
@@ -157,112 +150,181 @@ impl RwSession {
                 "no seed lies on a bone voxel; place at least one stroke on the bone",
             ));
         }
-        let g = &self.graph;
-        let n = g.len();
-        let mut u_of_node = vec![NONE; n];
-        let mut node_of_u = Vec::new();
-        for (i, (u, &s)) in u_of_node.iter_mut().zip(&self.seeds).enumerate() {
-            if s == 0 {
-                *u = node_of_u.len() as u32;
-                node_of_u.push(i as u32);
-            }
+        match self.params.threads {
+            Some(t) => rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .map_err(|e| Error::invalid("threads", e.to_string()))?
+                .install(|| self.solve_in_pool(k, warm_start)),
+            None => self.solve_in_pool(k, warm_start),
         }
-        let diag: Vec<f64> = node_of_u
+    }
+
+    fn solve_in_pool(&mut self, k: usize, warm_start: bool) -> Result<SolveReport> {
+        let reached = nearest_seed_labels(&self.graph, &self.seeds);
+        let role: Vec<u16> = self
+            .seeds
             .iter()
-            .map(|&i| self.params.kappa + g.degree(i as usize))
+            .zip(&reached)
+            .map(|(&s, &r)| match (s, r) {
+                (0, 0) => EXCLUDED,
+                (0, _) => UNKNOWN,
+                (s, _) => s,
+            })
             .collect();
-        let sys = System {
-            g,
-            u_of_node,
-            node_of_u,
-            diag,
+        let unreached = role.iter().filter(|&&r| r == EXCLUDED).count();
+        let prev = if warm_start { self.x.take() } else { None };
+        let (probs, mut report) = match (self.params.precision, prev) {
+            (Precision::F32, Some(Probs::F32(p))) => self.run(&role, k, Some(&p), Probs::F32),
+            (Precision::F32, _) => self.run::<f32>(&role, k, None, Probs::F32),
+            (Precision::F64, Some(Probs::F64(p))) => self.run(&role, k, Some(&p), Probs::F64),
+            (Precision::F64, _) => self.run::<f64>(&role, k, None, Probs::F64),
         };
-        let mut report = SolveReport::default();
-        let mut x_new = Vec::with_capacity(k);
-        let pre = if sys.nrows() > 0 {
-            Some(Jacobi::new(&sys.diag)?)
-        } else {
-            None
-        };
-        for label in 1..=k as u16 {
-            let t = Instant::now();
-            let b: Vec<f64> = sys
-                .node_of_u
-                .par_iter()
-                .map(|&i| {
-                    let i = i as usize;
-                    g.neighbours(i)
-                        .iter()
-                        .zip(g.weights(i))
-                        .filter(|(&j, _)| j != NONE && self.seeds[j as usize] == label)
-                        .map(|(_, &w)| w)
-                        .sum()
-                })
-                .collect();
-            let mut xk: Vec<f64> = self
-                .seeds
-                .iter()
-                .map(|&s| f64::from(u8::from(s == label)))
-                .collect();
-            if let Some(pre) = &pre {
-                let prev: Option<Vec<f64>> =
-                    (warm_start && self.x.len() >= label as usize).then(|| {
-                        sys.node_of_u
-                            .iter()
-                            .map(|&i| self.x[label as usize - 1][i as usize])
-                            .collect()
-                    });
-                let guess = prev
-                    .as_deref()
-                    .map_or(InitialGuess::Zero, InitialGuess::Given);
-                let opts = PcgOptions {
-                    tol: self.params.tol,
-                    max_iter: Some(self.params.max_iter),
-                };
-                let r = pcg(&sys, &b, guess, pre, &opts)?;
-                for (a, &i) in sys.node_of_u.iter().enumerate() {
-                    xk[i as usize] = r.x[a];
-                }
-                report.iterations.push(r.iterations);
-                report.residuals.push(r.relative_residual);
-                report.converged.push(r.converged);
-            } else {
-                report.iterations.push(0);
-                report.residuals.push(0.0);
-                report.converged.push(true);
-            }
-            report.seconds.push(t.elapsed().as_secs_f64());
-            x_new.push(xk);
-        }
-        self.x = x_new;
+        report.unreached = unreached;
+        self.x = Some(probs);
+        self.k = k;
         Ok(report)
     }
 
-    /// Probability of `label` at every node from the last solve (empty before a solve).
-    pub fn node_probabilities(&self, label: u16) -> &[f64] {
-        label
-            .checked_sub(1)
-            .and_then(|k| self.x.get(k as usize))
-            .map_or(&[], Vec::as_slice)
+    /// The block solver on this session's graph for `k` lanes and node roles `role`.
+    fn block<'a>(&'a self, role: &'a [u16], k: usize) -> Block<'a> {
+        let p = &self.params;
+        Block {
+            g: &self.graph,
+            role,
+            k,
+            kappa: p.kappa,
+            tol: p.tol,
+            max_iter: p.max_iter,
+            jacobi: p.jacobi,
+        }
+    }
+
+    /// Runs the configured solver in precision `T` from `prev` (warm start) and returns the
+    /// probabilities (seeds set to their indicator).
+    fn run<T: Lane>(
+        &self,
+        role: &[u16],
+        k: usize,
+        prev: Option<&[T]>,
+        wrap: fn(Vec<T>) -> Probs,
+    ) -> (Probs, SolveReport) {
+        let n = self.graph.len();
+        let zero = T::default();
+        let mut x = vec![zero; n * k];
+        if let Some(prev) = prev {
+            let kp = self.k;
+            for i in (0..n).filter(|&i| role[i] == UNKNOWN) {
+                for l in 0..k.min(kp) {
+                    x[i * k + l] = prev[i * kp + l];
+                }
+            }
+        }
+        let mut report = SolveReport::default();
+        match self.params.solver {
+            Solver::Block => {
+                let t = Instant::now();
+                let o = self.block(role, k).solve(&mut x);
+                let secs = t.elapsed().as_secs_f64() / k as f64;
+                report.iterations = o.iterations;
+                report.residuals = o.residuals;
+                report.converged = o.converged;
+                report.seconds = vec![secs; k];
+            }
+            Solver::PerLabel => {
+                let mut xl = vec![zero; n];
+                for label in 1..=k as u16 {
+                    let t = Instant::now();
+                    // This label's seeds become label 1, the others a label the 1-lane block
+                    // does not drive (2).
+                    let role_l: Vec<u16> = role
+                        .iter()
+                        .map(|&r| match r {
+                            UNKNOWN | EXCLUDED => r,
+                            s if s == label => 1,
+                            _ => 2,
+                        })
+                        .collect();
+                    for (i, v) in xl.iter_mut().enumerate() {
+                        *v = x[i * k + label as usize - 1];
+                    }
+                    let o = self.block(&role_l, 1).solve(&mut xl);
+                    for (i, &v) in xl.iter().enumerate() {
+                        x[i * k + label as usize - 1] = v;
+                    }
+                    report.iterations.push(o.iterations[0]);
+                    report.residuals.push(o.residuals[0]);
+                    report.converged.push(o.converged[0]);
+                    report.seconds.push(t.elapsed().as_secs_f64());
+                }
+            }
+        }
+        for (i, &s) in self.seeds.iter().enumerate() {
+            if s != 0 {
+                x[i * k + s as usize - 1] = T::from_f64(1.0);
+            }
+        }
+        (wrap(x), report)
+    }
+
+    /// Probability of `label` at every node from the last solve (empty before a solve or for
+    /// a label beyond K).
+    pub fn node_probabilities(&self, label: u16) -> Vec<f64> {
+        fn lane<T: Lane>(x: &[T], k: usize, l: usize) -> Vec<f64> {
+            x.iter().skip(l).step_by(k).map(|v| v.to_f64()).collect()
+        }
+        match (&self.x, label.checked_sub(1).map(usize::from)) {
+            (Some(Probs::F32(x)), Some(l)) if l < self.k => lane(x, self.k, l),
+            (Some(Probs::F64(x)), Some(l)) if l < self.k => lane(x, self.k, l),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The probability volume of `label` (0 on non-bone voxels). Errors: no solve yet, or
+    /// `label` not in `1..=K`.
+    pub fn probabilities(&self, label: u16) -> Result<Volume<f32>> {
+        let p = self.node_probabilities(label);
+        if p.is_empty() && !self.graph.is_empty() {
+            return Err(Error::invalid(
+                "label",
+                format!(
+                    "no probabilities for label {label} (labels 1..={} after a solve)",
+                    self.k
+                ),
+            ));
+        }
+        let mut out = vec![0f32; self.graph.dims().iter().product()];
+        for (i, v) in p.into_iter().enumerate() {
+            out[self.graph.voxel(i)] = v as f32;
+        }
+        Volume::new(self.graph.dims(), self.graph.spacing(), out)
     }
 
     /// The label of every node: seeds keep theirs; others take the label of largest
     /// probability (ties: the lowest), 0 when no label reaches them (probability <= 1e-12).
     pub fn node_labels(&self) -> Vec<u16> {
-        (0..self.graph.len())
-            .map(|i| {
-                if self.seeds[i] != 0 {
-                    return self.seeds[i];
-                }
-                let mut best = (0u16, 1e-12);
-                for (k, x) in self.x.iter().enumerate() {
-                    if x[i] > best.1 {
-                        best = (k as u16 + 1, x[i]);
+        fn argmax<T: Lane>(x: &[T], k: usize, seeds: &[u16]) -> Vec<u16> {
+            x.chunks_exact(k)
+                .zip(seeds)
+                .map(|(xi, &s)| {
+                    if s != 0 {
+                        return s;
                     }
-                }
-                best.0
-            })
-            .collect()
+                    let mut best = (0u16, 1e-12);
+                    for (l, v) in xi.iter().enumerate() {
+                        if v.to_f64() > best.1 {
+                            best = (l as u16 + 1, v.to_f64());
+                        }
+                    }
+                    best.0
+                })
+                .collect()
+        }
+        match &self.x {
+            Some(Probs::F32(x)) => argmax(x, self.k, &self.seeds),
+            Some(Probs::F64(x)) => argmax(x, self.k, &self.seeds),
+            None => self.seeds.clone(),
+        }
     }
 
     /// The label volume (0 on non-bone and unreached voxels).
