@@ -24,8 +24,14 @@ pub struct BoneGraph {
     w: Vec<[f32; 6]>,
 }
 
-fn normaliser(ct: &Volume<f32>, mask: &[bool], norm: IntensityNorm) -> (f64, f64) {
-    match norm {
+/// The map `I ↦ g` of `norm` (spec section 2.1): a window clamps to [0, 1], `MinMax` uses
+/// the extremes of the voxels in `mask`.
+pub(crate) fn intensity_map(
+    ct: &Volume<f32>,
+    mask: &[bool],
+    norm: IntensityNorm,
+) -> impl Fn(f32) -> f64 + Sync {
+    let (off, scale) = match norm {
         IntensityNorm::Window { lo, hi } => (lo, hi - lo),
         IntensityNorm::None => (0.0, 1.0),
         IntensityNorm::MinMax => {
@@ -37,6 +43,15 @@ fn normaliser(ct: &Volume<f32>, mask: &[bool], norm: IntensityNorm) -> (f64, f64
                 }
             }
             (lo, if hi > lo { hi - lo } else { 1.0 })
+        }
+    };
+    let clamp = matches!(norm, IntensityNorm::Window { .. });
+    move |v: f32| {
+        let g = (v as f64 - off) / scale;
+        if clamp {
+            g.clamp(0.0, 1.0)
+        } else {
+            g
         }
     }
 }
@@ -52,8 +67,7 @@ impl BoneGraph {
         if let Some(index) = ct.data().iter().position(|v| !v.is_finite()) {
             return Err(Error::NonFinite { name: "ct", index });
         }
-        let mask: Vec<bool> = ct.data().iter().map(|&v| v as f64 >= p.t_bone).collect();
-        Self::from_mask(ct, &mask, p)
+        Self::from_mask(ct, &crate::preprocess::threshold(ct, p.t_bone), p)
     }
 
     /// Builds the graph on the voxels of `mask` (same size as `ct`).
@@ -73,16 +87,8 @@ impl BoneGraph {
             )));
         }
         let dims = ct.dims();
-        let (off, scale) = normaliser(ct, mask, p.norm);
-        let clamp = matches!(p.norm, IntensityNorm::Window { .. });
-        let g = |i: usize| {
-            let v = (ct.data()[i] as f64 - off) / scale;
-            if clamp {
-                v.clamp(0.0, 1.0)
-            } else {
-                v
-            }
-        };
+        let map = intensity_map(ct, mask, p.norm);
+        let g = |i: usize| map(ct.data()[i]);
         let mut node_of_voxel = vec![NONE; mask.len()];
         let mut voxel_of_node = Vec::with_capacity(n);
         for (i, &m) in mask.iter().enumerate() {

@@ -14,22 +14,28 @@
 //!    takes the label of largest probability (unreached components stay 0).
 //! 3. [`baseline`]: geodesic nearest-seed labelling (breadth-first inside the bone mask), the
 //!    cheap baseline a random-walk result must beat.
-//! 4. [`phantom`]: a fractured-shell CT phantom with exact fragment labels and seed strokes
+//! 4. [`edit`]: the local grow brush of section 2.6 and the removal of small label islands;
+//!    [`preprocess`]: the optional anisotropy-aware smoothing and the threshold.
+//! 5. [`phantom`]: a fractured-shell CT phantom with exact fragment labels and seed strokes
 //!    (no clinical CT is redistributable), and [`metrics::dice_multilabel`] (paper eq. 2).
 //!
 //! Volumes are [`wscg_math::Volume`]s, x fastest (`idx = x + nx (y + ny z)`).
 
 pub mod baseline;
 mod block;
+pub mod edit;
 pub mod graph;
 pub mod metrics;
 pub mod params;
 pub mod phantom;
+pub mod preprocess;
 pub mod walker;
 
 pub use baseline::nearest_seed_labels;
+pub use edit::{local_grow_edit, remove_small_components, GrowWeights};
 pub use graph::BoneGraph;
 pub use metrics::dice_multilabel;
 pub use params::{IntensityNorm, Precision, RwParams, Solver};
 pub use phantom::{fractured_shell_phantom, Phantom, PhantomConfig};
+pub use preprocess::{gaussian_smooth3, threshold};
 pub use walker::{RwSession, SolveReport};
