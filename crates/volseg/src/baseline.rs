@@ -21,3 +21,13 @@ pub fn nearest_seed_labels(g: &BoneGraph, seeds: &[u16]) -> Vec<u16> {
     }
     out
 }
+
+/// Grady's original formulation on the whole image (spec section 2.3): every voxel is a
+/// node, non-bone voxels included. Needs background seeds on the soft tissue; the bone-only
+/// graph saves the memory and work of the ~90 % of voxels that are not bone.
+pub fn full_image_graph(
+    ct: &wscg_math::Volume<f32>,
+    p: &crate::RwParams,
+) -> wscg_math::Result<BoneGraph> {
+    BoneGraph::from_mask(ct, &vec![true; ct.len()], p)
+}

@@ -203,27 +203,20 @@ impl Block<'_> {
                     }
                 })
                 .collect();
-            // x += α p, r −= α q, ‖r‖², (r, M⁻¹ r).
-            let parts: Vec<Vec<f64>> = x
+            // r −= α q, ‖r‖², (r, M⁻¹ r).
+            let parts: Vec<Vec<f64>> = r
                 .par_chunks_mut(CHUNK * k)
-                .zip(r.par_chunks_mut(CHUNK * k))
-                .enumerate()
-                .map(|(c, (xc, rc))| {
+                .zip(q.par_chunks(CHUNK * k))
+                .zip(dinv.par_chunks(CHUNK))
+                .map(|((rc, qc), dc)| {
                     let mut acc = vec![0.0; 2 * k];
-                    let base = c * CHUNK * k;
-                    for (a, (xi, ri)) in xc
-                        .chunks_exact_mut(k)
-                        .zip(rc.chunks_exact_mut(k))
-                        .enumerate()
-                    {
-                        let i = c * CHUNK + a;
-                        let o = base + a * k;
-                        for l in 0..k {
-                            xi[l] = xi[l] + alpha[l] * p[o + l];
-                            ri[l] = ri[l] - alpha[l] * q[o + l];
-                            let rv = ri[l].to_f64();
-                            acc[l] += rv * rv;
-                            acc[k + l] += rv * rv * dinv[i].to_f64();
+                    for ((ri, qi), &di) in rc.chunks_exact_mut(k).zip(qc.chunks_exact(k)).zip(dc) {
+                        let di = di.to_f64();
+                        for (l, ((rv, &qv), &a)) in ri.iter_mut().zip(qi).zip(&alpha).enumerate() {
+                            *rv = *rv - a * qv;
+                            let r2 = rv.to_f64() * rv.to_f64();
+                            acc[l] += r2;
+                            acc[k + l] += r2 * di;
                         }
                     }
                     acc
@@ -243,15 +236,20 @@ impl Block<'_> {
                 }
                 rz[l] = s[k + l];
             }
-            // p = M⁻¹ r + β p on the labels still running.
-            p.par_chunks_mut(CHUNK * k)
+            // x += α p with the old p, then p = M⁻¹ r + β p on the labels still running.
+            x.par_chunks_mut(CHUNK * k)
+                .zip(p.par_chunks_mut(CHUNK * k))
                 .zip(r.par_chunks(CHUNK * k))
-                .enumerate()
-                .for_each(|(c, (pc, rc))| {
-                    for (a, (pi, ri)) in pc.chunks_exact_mut(k).zip(rc.chunks_exact(k)).enumerate()
+                .zip(dinv.par_chunks(CHUNK))
+                .for_each(|(((xc, pc), rc), dc)| {
+                    for (((xi, pi), ri), &di) in xc
+                        .chunks_exact_mut(k)
+                        .zip(pc.chunks_exact_mut(k))
+                        .zip(rc.chunks_exact(k))
+                        .zip(dc)
                     {
-                        let di = dinv[c * CHUNK + a];
                         for l in 0..k {
+                            xi[l] = xi[l] + alpha[l] * pi[l];
                             if active[l] {
                                 pi[l] = di * ri[l] + beta[l] * pi[l];
                             }

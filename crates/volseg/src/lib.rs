@@ -31,7 +31,7 @@ pub mod phantom;
 pub mod preprocess;
 pub mod walker;
 
-pub use baseline::nearest_seed_labels;
+pub use baseline::{full_image_graph, nearest_seed_labels};
 pub use edit::{local_grow_edit, remove_small_components, GrowWeights};
 pub use graph::BoneGraph;
 pub use metrics::dice_multilabel;
