@@ -2388,6 +2388,54 @@ fn volseg_splits_a_phantom_and_beats_the_baseline() {
         .output()
         .unwrap();
     assert!(!out.status.success());
+    // Strokes as JSON (one voxel of every seed label, radius 1) and one mesh per label: each
+    // closed and enclosing about as much volume as its label has voxels.
+    let seeds = wscg::math::Volume::read(dir.path().join("seeds.nii"), None).unwrap();
+    let strokes: Vec<String> = (1..=4)
+        .map(|l| {
+            let i = seeds.data().iter().position(|&v| v == l as f32).unwrap();
+            let (x, y, z) = (i % 64, (i / 64) % 64, i / 4096);
+            format!(r#"{{"label": {l}, "points": [[{x}, {y}, {z}]], "radius": 1.5}}"#)
+        })
+        .collect();
+    let json = dir.path().join("strokes.json");
+    std::fs::write(&json, format!("[{}]", strokes.join(","))).unwrap();
+    let meshes = dir.path().join("meshes");
+    let out_labels = dir.path().join("from_strokes.nii");
+    let text = wscg_ok(&[
+        "volseg",
+        "split",
+        ct.to_str().unwrap(),
+        "--strokes",
+        json.to_str().unwrap(),
+        "--out",
+        out_labels.to_str().unwrap(),
+        "--meshes",
+        meshes.to_str().unwrap(),
+        "--min-island",
+        "20",
+    ]);
+    assert!(text.contains("wrote 4 meshes"), "{text}");
+    let labels = wscg::math::Volume::read(&out_labels, None).unwrap();
+    for l in 1..=4 {
+        let m = wscg::math::mesh::TriMesh::read(meshes.join(format!("label_{l}.obj"))).unwrap();
+        assert!(m.is_closed(), "label {l}");
+        let count = labels.data().iter().filter(|&&v| v == l as f32).count() as f64;
+        let vol = m.signed_volume().abs();
+        assert!(
+            (vol / count - 1.0).abs() < 0.2,
+            "label {l}: {vol} vs {count}"
+        );
+    }
+    std::fs::write(&json, "[{\"label\": 0, \"points\": [[1, 2, 3]]}]").unwrap();
+    let out = wscg()
+        .args(["volseg", "split", ct.to_str().unwrap(), "--strokes"])
+        .arg(&json)
+        .args(["--out", "x.nii"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("label must be >= 1"));
     let demo = dir.path().join("demo");
     let text = wscg_ok(&["demo", "bonesplit", "--out", demo.to_str().unwrap()]);
     assert!(text.contains("DSC geodesic nearest seed"), "{text}");

@@ -2,17 +2,23 @@
 //! CT volumes.
 //!
 //! - `split CT --seeds SEEDS --out LABELS`: CT in HU (`.nii`, `.nii.gz` or `.npy` `[z, y, x]`),
-//!   seeds a label volume of the same shape (0 = none, 1..K = bones); writes the label volume
-//!   (same format rules, float32 values 0..K) and prints iterations and time per label.
+//!   seeds a label volume of the same shape (0 = none, 1..K = bones) or `--strokes S.json`, a
+//!   list of `{"label": k, "points": [[x, y, z], ...], "radius": r}` balls (voxel units);
+//!   writes the label volume (same format rules, float32 values 0..K), optionally one mesh per
+//!   label (`--meshes DIR`, marching cubes of the label's indicator, `.obj` or `.ply`) and
+//!   prints iterations and time per label.
 //! - `phantom --out DIR`: the fractured-shell phantom as `ct.nii`, `truth.nii`, `seeds.nii`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use clap::{Args, Subcommand};
+use clap::{Args, Subcommand, ValueEnum};
+use serde::Deserialize;
+use wscg_isosurface::{extract, ScalarGrid};
+use wscg_math::mesh::TriMesh;
 use wscg_math::{Error, Result, Volume};
 use wscg_volseg::{
-    dice_multilabel, fractured_shell_phantom, nearest_seed_labels, BoneGraph, PhantomConfig,
-    RwParams, RwSession,
+    dice_multilabel, fractured_shell_phantom, gaussian_smooth3, nearest_seed_labels,
+    remove_small_components, BoneGraph, PhantomConfig, Precision, RwParams, RwSession, Solver,
 };
 
 #[derive(Subcommand, Debug)]
@@ -41,8 +47,12 @@ pub struct SplitArgs {
     /// CT volume in HU (.nii, .nii.gz, .npy).
     ct: PathBuf,
     /// Seed label volume of the same shape (0 = none).
+    #[arg(long, required_unless_present = "strokes", conflicts_with = "strokes")]
+    seeds: Option<PathBuf>,
+    /// Seed strokes as JSON: `[{"label": 1, "points": [[x, y, z], ...], "radius": 2}, ...]`
+    /// (voxel coordinates; radius defaults to 1).
     #[arg(long)]
-    seeds: PathBuf,
+    strokes: Option<PathBuf>,
     /// Output label volume (.nii, .nii.gz or .npy).
     #[arg(long)]
     out: PathBuf,
@@ -61,12 +71,159 @@ pub struct SplitArgs {
     /// Relative residual of the conjugate gradients.
     #[arg(long, default_value_t = 3e-3)]
     tol: f64,
+    /// Passes of the anisotropy-aware 3-tap Gaussian before the threshold.
+    #[arg(long, default_value_t = 0)]
+    smooth: u32,
+    /// Divide intensity differences by the voxel spacing (scikit-image's weights).
+    #[arg(long)]
+    spacing_in_weights: bool,
+    /// Solver layout.
+    #[arg(long, value_enum, default_value_t = SolverArg::Block)]
+    solver: SolverArg,
+    /// f64 vectors instead of f32.
+    #[arg(long)]
+    f64: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Relabel label islands smaller than this many voxels to their neighbours' label.
+    #[arg(long, default_value_t = 0)]
+    min_island: usize,
+    /// Folder for one mesh per label (marching cubes of its indicator).
+    #[arg(long)]
+    meshes: Option<PathBuf>,
+    /// Mesh format in --meshes.
+    #[arg(long, default_value = "obj")]
+    mesh_format: String,
     /// Geodesic nearest-seed labelling instead of random walks (baseline).
     #[arg(long)]
     baseline: bool,
     /// Ground-truth label volume: print the multi-label Dice of the result.
     #[arg(long)]
     truth: Option<PathBuf>,
+}
+
+/// `--solver` values.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum SolverArg {
+    /// All labels in one sweep over the graph.
+    Block,
+    /// One label after the other (the paper's CPU path).
+    PerLabel,
+    /// One label after the other without the Jacobi preconditioner.
+    Cg,
+}
+
+/// One JSON stroke.
+#[derive(Deserialize)]
+struct Stroke {
+    label: u16,
+    points: Vec<[f64; 3]>,
+    #[serde(default = "one")]
+    radius: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Paints the balls of the strokes in `path` into a seed volume shaped like `like`.
+fn strokes_volume(path: &Path, like: &Volume<f32>) -> Result<Volume<u16>> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let strokes: Vec<Stroke> = serde_json::from_str(&text).map_err(|e| {
+        Error::invalid(
+            "strokes",
+            format!("{}: not a JSON list of strokes ({e})", path.display()),
+        )
+    })?;
+    let mut v = Volume::filled(like.dims(), like.spacing(), 0u16)?;
+    let d = like.dims();
+    for (n, s) in strokes.iter().enumerate() {
+        if s.label == 0 || !(s.radius.is_finite() && s.radius >= 0.0) {
+            return Err(Error::invalid(
+                "strokes",
+                format!("stroke {n}: label must be >= 1 and radius finite and >= 0"),
+            ));
+        }
+        for c in &s.points {
+            if c.iter().any(|x| !x.is_finite()) {
+                return Err(Error::invalid(
+                    "strokes",
+                    format!("stroke {n}: non-finite point"),
+                ));
+            }
+            let lo = c.map(|x| (x - s.radius).floor().max(0.0) as usize);
+            let hi: Vec<f64> = c.iter().map(|x| (x + s.radius).ceil()).collect();
+            for z in lo[2]..=(hi[2].max(0.0) as usize).min(d[2].saturating_sub(1)) {
+                for y in lo[1]..=(hi[1].max(0.0) as usize).min(d[1].saturating_sub(1)) {
+                    for x in lo[0]..=(hi[0].max(0.0) as usize).min(d[0].saturating_sub(1)) {
+                        let r2 = (x as f64 - c[0]).powi(2)
+                            + (y as f64 - c[1]).powi(2)
+                            + (z as f64 - c[2]).powi(2);
+                        if r2 <= s.radius * s.radius {
+                            v.set(x, y, z, s.label);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(v)
+}
+
+/// Writes one mesh per non-zero label of `labels` into `dir` (`label_K.<format>`): marching
+/// cubes at 0.5 of the label's indicator, cropped to its bounding box plus one voxel.
+fn write_meshes(labels: &Volume<u16>, dir: &Path, format: &str) -> Result<usize> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let d = labels.dims();
+    let k = labels.data().iter().copied().max().unwrap_or(0);
+    let h = labels.spacing();
+    let mut written = 0;
+    for l in 1..=k {
+        let (mut lo, mut hi) = ([usize::MAX; 3], [0usize; 3]);
+        for (i, &v) in labels.data().iter().enumerate() {
+            if v == l {
+                let c = [i % d[0], (i / d[0]) % d[1], i / (d[0] * d[1])];
+                for a in 0..3 {
+                    lo[a] = lo[a].min(c[a]);
+                    hi[a] = hi[a].max(c[a]);
+                }
+            }
+        }
+        if lo[0] == usize::MAX {
+            continue;
+        }
+        // One voxel of zeros around the box closes the surface at the volume border.
+        let size = [0, 1, 2].map(|a| hi[a] - lo[a] + 3);
+        let mut f = vec![0f32; size[0] * size[1] * size[2]];
+        for z in lo[2]..=hi[2] {
+            for y in lo[1]..=hi[1] {
+                for x in lo[0]..=hi[0] {
+                    if labels.at(x, y, z) == l {
+                        let (a, b, c) = (x - lo[0] + 1, y - lo[1] + 1, z - lo[2] + 1);
+                        f[a + size[0] * (b + size[1] * c)] = 1.0;
+                    }
+                }
+            }
+        }
+        let grid = ScalarGrid {
+            dims: size,
+            spacing: h.map(|s| s as f32),
+            values: &f,
+            side_hint: None,
+        };
+        let m = extract(&grid, 0.5).map_err(|e| Error::invalid("meshes", e.to_string()))?;
+        let origin = [0, 1, 2].map(|a| (lo[a] as f64 - 1.0) * h[a]);
+        let pos = m
+            .vertices
+            .iter()
+            .map(|v| [0, 1, 2].map(|a| f64::from(v[a]) + origin[a]))
+            .collect();
+        let mesh = TriMesh::new(pos, m.triangles)?;
+        mesh.write(dir.join(format!("label_{l}.{format}")))?;
+        written += 1;
+    }
+    Ok(written)
 }
 
 fn write(path: &std::path::Path, v: &Volume<f32>) -> Result<()> {
@@ -130,22 +287,44 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
             Ok(())
         }
         VolsegCommand::Split(a) => {
-            let ct = Volume::read(&a.ct, None)?;
-            let seeds_f = Volume::read(&a.seeds, None)?;
-            if seeds_f.dims() != ct.dims() {
-                return Err(Error::ShapeMismatch(format!(
-                    "seeds are {:?}, the CT {:?}",
-                    seeds_f.dims(),
-                    ct.dims()
-                )));
-            }
-            let seeds = Volume::new(ct.dims(), ct.spacing(), to_u16(&seeds_f, "seeds")?)?;
+            let ct = gaussian_smooth3(&Volume::read(&a.ct, None)?, a.smooth)?;
+            let seeds = match (&a.seeds, &a.strokes) {
+                (Some(path), _) => {
+                    let seeds_f = Volume::read(path, None)?;
+                    if seeds_f.dims() != ct.dims() {
+                        return Err(Error::ShapeMismatch(format!(
+                            "seeds are {:?}, the CT {:?}",
+                            seeds_f.dims(),
+                            ct.dims()
+                        )));
+                    }
+                    Volume::new(ct.dims(), ct.spacing(), to_u16(&seeds_f, "seeds")?)?
+                }
+                (None, Some(path)) => strokes_volume(path, &ct)?,
+                (None, None) => {
+                    return Err(Error::invalid("seeds", "give --seeds or --strokes"));
+                }
+            };
+            let (solver, jacobi) = match a.solver {
+                SolverArg::Block => (Solver::Block, true),
+                SolverArg::PerLabel => (Solver::PerLabel, true),
+                SolverArg::Cg => (Solver::PerLabel, false),
+            };
             let p = RwParams {
                 t_bone: a.t_bone,
                 beta: a.beta,
                 eps: a.eps,
                 kappa: a.kappa,
                 tol: a.tol,
+                spacing_in_weights: a.spacing_in_weights,
+                solver,
+                jacobi,
+                precision: if a.f64 {
+                    Precision::F64
+                } else {
+                    Precision::F32
+                },
+                threads: a.threads,
                 ..RwParams::default()
             };
             let g = BoneGraph::build(&ct, &p)?;
@@ -184,8 +363,27 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
                         r.residuals[k]
                     );
                 }
+                if r.unreached > 0 {
+                    eprintln!(
+                        "warning: {} bone voxels lie in components without any seed and stay 0",
+                        r.unreached
+                    );
+                }
                 s.labels()?.into_data()
             };
+            let mut labels = Volume::new(ct.dims(), ct.spacing(), labels)?;
+            if a.min_island > 0 {
+                let n = remove_small_components(&mut labels, a.min_island);
+                println!(
+                    "relabelled {n} voxels of islands under {} voxels",
+                    a.min_island
+                );
+            }
+            if let Some(dir) = &a.meshes {
+                let n = write_meshes(&labels, dir, &a.mesh_format)?;
+                println!("wrote {n} meshes to {}", dir.display());
+            }
+            let labels = labels.into_data();
             if let Some(t) = &a.truth {
                 let truth = to_u16(&Volume::read(t, None)?, "truth")?;
                 println!(

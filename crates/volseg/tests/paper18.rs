@@ -6,8 +6,9 @@ use wscg_math::rng::seeded;
 use wscg_math::Volume;
 use wscg_volseg::graph::NONE;
 use wscg_volseg::{
-    dice_multilabel, fractured_shell_phantom, nearest_seed_labels, BoneGraph, Phantom,
-    PhantomConfig, Precision, RwParams, RwSession, Solver,
+    dice_multilabel, fractured_shell_phantom, gaussian_smooth3, local_grow_edit,
+    nearest_seed_labels, remove_small_components, BoneGraph, GrowWeights, Phantom, PhantomConfig,
+    Precision, RwParams, RwSession, Solver,
 };
 
 fn chain(p: RwParams) -> Vec<f64> {
@@ -351,4 +352,115 @@ fn bad_input_gets_clear_errors() {
         ..PhantomConfig::default()
     })
     .is_err());
+}
+
+/// The grow brush of section 2.6 (spec step 9): the active label spreads from its region
+/// into bone of similar intensity inside the ball, not across a strong edge, never outside
+/// the ball or the bone mask.
+#[test]
+fn grow_brush_stays_in_the_ball_the_bone_and_the_intensity_region() {
+    let n = 24;
+    let ct = Volume::from_fn([n; 3], [1.0; 3], |x, y, z| {
+        if z < 2 {
+            -1000.0
+        } else if x >= 14 {
+            2000.0
+        } else {
+            1000.0
+        }
+    })
+    .unwrap();
+    let before = Volume::from_fn([n; 3], [1.0; 3], |x, _, z| {
+        if z < 2 {
+            0u16
+        } else if x < 8 {
+            1
+        } else {
+            2
+        }
+    })
+    .unwrap();
+    let mut labels = before.clone();
+    let (c, r) = ([10.0, 12.0, 12.0], 5.0);
+    let p = RwParams::default();
+    let w = GrowWeights::default();
+    let changed = local_grow_edit(&mut labels, &ct, &p, c, r, 1, &w).unwrap();
+    assert!(changed > 0);
+    let mut counted = 0;
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                let (a, b) = (before.at(x, y, z), labels.at(x, y, z));
+                if a != b {
+                    counted += 1;
+                    let d2 = (x as f64 - c[0]).powi(2)
+                        + (y as f64 - c[1]).powi(2)
+                        + (z as f64 - c[2]).powi(2);
+                    assert!(d2 <= r * r, "({x}, {y}, {z}) outside the ball");
+                    assert!(
+                        x < 14 && z >= 2,
+                        "({x}, {y}, {z}) across the edge or off the bone"
+                    );
+                    assert_eq!(b, 1);
+                }
+            }
+        }
+    }
+    assert_eq!(counted, changed);
+    assert_eq!(labels.at(9, 12, 12), 1);
+    assert_eq!(labels.at(8, 12, 12), 1);
+    assert_eq!(labels.at(14, 12, 12), 2);
+    let mut bad = before.clone();
+    assert!(local_grow_edit(&mut bad, &ct, &p, c, 0.0, 1, &w).is_err());
+    assert!(local_grow_edit(&mut bad, &ct, &p, c, r, 0, &w).is_err());
+    assert!(local_grow_edit(&mut bad, &ct, &p, [f64::NAN, 0.0, 0.0], r, 1, &w).is_err());
+}
+
+#[test]
+fn small_islands_take_their_surroundings_label() {
+    let n = 16;
+    let mut labels =
+        Volume::from_fn([n; 3], [1.0; 3], |x, _, _| if x < 12 { 1u16 } else { 3 }).unwrap();
+    // A 3-voxel island of label 2 inside label 1, and a 4^3 block of label 2 (64 voxels).
+    for x in 3..6 {
+        labels.set(x, 5, 5, 2);
+    }
+    for z in 8..12 {
+        for y in 8..12 {
+            for x in 4..8 {
+                labels.set(x, y, z, 2);
+            }
+        }
+    }
+    let changed = remove_small_components(&mut labels, 10);
+    assert_eq!(changed, 3);
+    assert_eq!(labels.at(4, 5, 5), 1);
+    assert_eq!(labels.at(5, 9, 9), 2);
+    assert_eq!(labels.data().iter().filter(|&&l| l == 3).count(), 4 * n * n);
+}
+
+#[test]
+fn smoothing_uses_three_taps_scaled_by_the_spacing() {
+    let n = 9;
+    let impulse = |h: [f64; 3]| {
+        let mut v = Volume::filled([n; 3], h, 0f32).unwrap();
+        v.set(4, 4, 4, 1.0);
+        gaussian_smooth3(&v, 1).unwrap()
+    };
+    let a = (-1.0f64 / (2.0 * 0.36)).exp();
+    let c1 = 1.0 / (1.0 + 2.0 * a);
+    let iso = impulse([1.0; 3]);
+    assert!((f64::from(iso.at(4, 4, 4)) - c1.powi(3)).abs() < 1e-6);
+    assert!((f64::from(iso.at(5, 4, 4)) - a * c1.powi(3)).abs() < 1e-6);
+    assert_eq!(iso.at(6, 4, 4), 0.0);
+    // 0.4 x 0.4 x 1.0 mm: sigma_z = 0.24 voxel is below 0.3, z is left alone.
+    let aniso = impulse([0.4, 0.4, 1.0]);
+    assert!((f64::from(aniso.at(4, 4, 4)) - c1.powi(2)).abs() < 1e-6);
+    assert_eq!(aniso.at(4, 4, 5), 0.0);
+    let flat = Volume::filled([5, 6, 7], [0.5, 1.0, 2.0], 300f32).unwrap();
+    assert!(gaussian_smooth3(&flat, 3)
+        .unwrap()
+        .data()
+        .iter()
+        .all(|&v| (v - 300.0).abs() < 1e-3));
 }
