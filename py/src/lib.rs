@@ -29,13 +29,14 @@ mod raytrace;
 mod sfa;
 mod video;
 mod volren;
+mod volseg;
 
 /// The native extension module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
-    let subs: [(&str, Register); 16] = [
+    let subs: [(&str, Register); 17] = [
         ("math", math::register),
         ("biometrics", biometrics::register),
         ("cloth", cloth::register),
@@ -52,6 +53,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         ("ear", ear::register),
         ("motion", motion::register),
         ("gait", gait::register),
+        ("volseg", volseg::register),
     ];
     for (name, register) in subs {
         let sub = PyModule::new(m.py(), name)?;

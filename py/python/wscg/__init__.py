@@ -41,6 +41,10 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
 - :mod:`wscg.motion`: paper 16, predictive human movement synthesis (anechoic demixing with
   shared delays and its PCA baseline, step-wise learning of walk-and-reach actions, Hopf
   oscillator networks with SVR state maps, predictive step planning, online synthesis, BVH).
+- :mod:`wscg.volseg`: paper 18, BoneSplit bone separation in CT (random walks on a bone-only
+  graph with Jacobi-preconditioned CG and warm-started re-solves, the geodesic nearest-seed
+  baseline, the local grow brush, small-island removal, a fractured-shell CT phantom with
+  ground truth, multi-label Dice).
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
@@ -48,9 +52,9 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
 """
 
 from . import _native
-from . import biometrics, cloth, csmri, deblur, doe, ear, gait, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren
+from . import biometrics, cloth, csmri, deblur, doe, ear, gait, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren, volseg
 
 __version__: str = _native.__version__
 
-__all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "gait", "hdr", "isosurface", "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren",
+__all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "gait", "hdr", "isosurface", "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
            "__version__"]

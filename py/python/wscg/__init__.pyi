@@ -14,6 +14,7 @@ from . import octree as octree
 from . import raytrace as raytrace
 from . import video as video
 from . import volren as volren
+from . import volseg as volseg
 
 __version__: str
 __all__: list[str]

@@ -1,0 +1,98 @@
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+ArrayLike = npt.ArrayLike
+F32 = npt.NDArray[np.float32]
+U16 = npt.NDArray[np.uint16]
+Bool = npt.NDArray[np.bool_]
+_Norm = Union[Literal["window", "minmax", "none"], Tuple[Literal["window"], float, float]]
+_Solver = Literal["block", "per_label"]
+_Precision = Literal["f32", "f64"]
+_Report = Dict[str, Any]
+
+__all__: List[str]
+
+DEFAULT_WINDOW: Tuple[float, float]
+
+@overload
+def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
+                       eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
+                       spacing: Sequence[float] = ..., smooth_passes: int = ..., norm: _Norm = ...,
+                       spacing_in_weights: bool = ..., solver: _Solver = ...,
+                       precision: _Precision = ..., jacobi: bool = ...,
+                       threads: Optional[int] = ..., return_prob: Literal[False] = ...,
+                       return_report: Literal[False] = ...) -> U16: ...
+@overload
+def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
+                       eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
+                       spacing: Sequence[float] = ..., smooth_passes: int = ..., norm: _Norm = ...,
+                       spacing_in_weights: bool = ..., solver: _Solver = ...,
+                       precision: _Precision = ..., jacobi: bool = ...,
+                       threads: Optional[int] = ..., return_prob: Literal[True],
+                       return_report: Literal[False] = ...) -> Tuple[U16, F32]: ...
+@overload
+def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
+                       eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
+                       spacing: Sequence[float] = ..., smooth_passes: int = ..., norm: _Norm = ...,
+                       spacing_in_weights: bool = ..., solver: _Solver = ...,
+                       precision: _Precision = ..., jacobi: bool = ...,
+                       threads: Optional[int] = ..., return_prob: Literal[False] = ...,
+                       return_report: Literal[True]) -> Tuple[U16, _Report]: ...
+@overload
+def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
+                       eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
+                       spacing: Sequence[float] = ..., smooth_passes: int = ..., norm: _Norm = ...,
+                       spacing_in_weights: bool = ..., solver: _Solver = ...,
+                       precision: _Precision = ..., jacobi: bool = ...,
+                       threads: Optional[int] = ..., return_prob: Literal[True],
+                       return_report: Literal[True]) -> Tuple[U16, F32, _Report]: ...
+
+class RandomWalkerSession:
+    def __init__(self, ct: ArrayLike, mask: Optional[ArrayLike] = None, *, t_bone: float = ...,
+                 beta: float = ..., eps: float = ..., kappa: float = ..., tol: float = ...,
+                 max_iter: int = ..., spacing: Sequence[float] = ..., smooth_passes: int = ...,
+                 norm: _Norm = ..., spacing_in_weights: bool = ..., solver: _Solver = ...,
+                 precision: _Precision = ..., jacobi: bool = ...,
+                 threads: Optional[int] = ...) -> None: ...
+    def set_seeds(self, seeds: ArrayLike) -> int: ...
+    def add_seeds(self, zyx_indices: ArrayLike, label: int) -> int: ...
+    def solve(self, warm_start: bool = True) -> _Report: ...
+    def report(self) -> Optional[_Report]: ...
+    def labels(self) -> U16: ...
+    def probabilities(self, label: Optional[int] = None) -> F32: ...
+    def seeds(self) -> U16: ...
+    def nearest_seed(self) -> U16: ...
+    @property
+    def n_nodes(self) -> int: ...
+    @property
+    def n_edges(self) -> int: ...
+    @property
+    def n_labels(self) -> int: ...
+    @property
+    def shape(self) -> Tuple[int, int, int]: ...
+    @property
+    def graph_bytes(self) -> int: ...
+
+def nearest_seed(ct: ArrayLike, seeds: ArrayLike, t_bone: float = 300.0, *,
+                 mask: Optional[ArrayLike] = None) -> U16: ...
+def dice(a: ArrayLike, b: ArrayLike) -> float: ...
+def bone_mask(ct: ArrayLike, t_bone: float = 300.0, *, smooth_passes: int = 0,
+              spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> Bool: ...
+def smooth(ct: ArrayLike, passes: int = 1, *,
+           spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> F32: ...
+def local_grow_edit(labels: ArrayLike, ct: ArrayLike, center_zyx: Sequence[float], radius: float,
+                    active: int, t_bone: float = 300.0, *, norm: _Norm = "window",
+                    ratio: float = 0.5, gradient: float = 0.3, distance: float = 0.2,
+                    gradient_scale: float = 0.05, tau: float = 0.5,
+                    max_sweeps: int = 10) -> Tuple[U16, int]: ...
+def remove_small_components(labels: ArrayLike, min_voxels: int) -> Tuple[U16, int]: ...
+@overload
+def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
+                            seed: int = 0, *, return_distance: Literal[False] = ...,
+                            **overrides: Any) -> Tuple[F32, U16, U16]: ...
+@overload
+def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
+                            seed: int = 0, *, return_distance: Literal[True],
+                            **overrides: Any) -> Tuple[F32, U16, U16, F32]: ...
