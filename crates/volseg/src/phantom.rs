@@ -38,6 +38,10 @@ pub struct PhantomConfig {
     pub stroke_radius: f64,
     /// Smallest arc distance of a stroke centre from its fragment's boundary, voxels (4).
     pub stroke_margin: f64,
+    /// Strokes painted on the outer surface (as with the paper's 3D brush): the bone voxels
+    /// with a 6-neighbour outside the bone within 3 voxels of a point of the outer surface,
+    /// instead of balls at mid-shell.
+    pub surface_strokes: bool,
 }
 
 impl Default for PhantomConfig {
@@ -55,6 +59,7 @@ impl Default for PhantomConfig {
             t_bone: 300.0,
             stroke_radius: 2.0,
             stroke_margin: 4.0,
+            surface_strokes: false,
         }
     }
 }
@@ -173,7 +178,19 @@ pub fn fractured_shell_phantom(c: &PhantomConfig) -> Result<Phantom> {
         .collect();
     // Strokes: a ball around a mid-shell point of each fragment, away from its boundary.
     let mut seeds = vec![0u16; n];
-    let mid = 0.5 * (c.shell[0] + c.shell[1]);
+    let (mid, rr) = if c.surface_strokes {
+        (c.shell[1], 3.0)
+    } else {
+        (0.5 * (c.shell[0] + c.shell[1]), c.stroke_radius)
+    };
+    let on_surface = |x: usize, y: usize, z: usize| {
+        let i = x + nx * (y + ny * z);
+        let s = [1, nx, nx * ny];
+        let cc = [x, y, z];
+        (0..3).any(|a| {
+            cc[a] == 0 || cc[a] + 1 == c.dims[a] || truth[i - s[a]] == 0 || truth[i + s[a]] == 0
+        })
+    };
     for k in 0..c.fragments {
         let mut centre = None;
         for _ in 0..100_000 {
@@ -203,7 +220,6 @@ pub fn fractured_shell_phantom(c: &PhantomConfig) -> Result<Phantom> {
                 ),
             ));
         };
-        let rr = c.stroke_radius;
         let lo = |a: usize| (p[a] - rr - 1.0).floor().max(0.0) as usize;
         let hi = |a: usize| ((p[a] + rr + 1.0).ceil() as usize).min(c.dims[a] - 1);
         for z in lo(2)..=hi(2) {
@@ -211,7 +227,10 @@ pub fn fractured_shell_phantom(c: &PhantomConfig) -> Result<Phantom> {
                 for x in lo(0)..=hi(0) {
                     let q = [x as f64 + 0.5, y as f64 + 0.5, z as f64 + 0.5];
                     let i = x + nx * (y + ny * z);
-                    if norm(sub(q, p)) <= rr && truth[i] != 0 {
+                    if norm(sub(q, p)) <= rr
+                        && truth[i] != 0
+                        && (!c.surface_strokes || on_surface(x, y, z))
+                    {
                         seeds[i] = k as u16 + 1;
                     }
                 }

@@ -182,6 +182,23 @@ fn phantom_accuracy_reaches_the_spec_levels() {
     assert!(dsc_far >= 0.99, "{dsc_far}");
 }
 
+/// Spec check 3 with strokes painted on the outer surface (the 3D brush's strokes).
+#[test]
+#[ignore = "measured DSC 0.763 (limit 0.95) on the specified phantom; see the issue note"]
+fn surface_strokes_reach_the_spec_level() {
+    let ph = fractured_shell_phantom(&PhantomConfig {
+        surface_strokes: true,
+        ..PhantomConfig::default()
+    })
+    .unwrap();
+    let surface = ph.seeds.data().iter().filter(|&&l| l != 0).count();
+    assert!(surface > 6 * 5, "{surface} surface seed voxels");
+    let (labels, _) = segment(&ph, RwParams::default());
+    let dsc = dice_multilabel(&labels, ph.truth.data()).unwrap();
+    println!("surface strokes ({surface} voxels): DSC {dsc:.4}");
+    assert!(dsc >= 0.95, "{dsc}");
+}
+
 /// Spec check 4 (the paper's claim that beta in [2000, 4000] gives similar results): not met
 /// on the specified phantom, where the DSCs spread by 0.037 (they follow the leakage through
 /// the fracture gaps, see `phantom_accuracy_reaches_the_spec_levels`).
@@ -265,10 +282,23 @@ fn warm_and_cold_labels_agree() {
     assert!(same >= 0.999, "{same}");
 }
 
+/// Spec check 6 with kappa = 1e-3 (the paper's regulariser) and kappa = 0: components without
+/// seeds are excluded before the solve, so the systems stay non-singular, the solver
+/// converges and those voxels get label 0; the other labels do not move.
 #[test]
 fn isolated_components_get_no_label() {
+    for kappa in [1e-3, 0.0] {
+        isolated_components_with(kappa);
+    }
+}
+
+fn isolated_components_with(kappa: f64) {
+    let p = RwParams {
+        kappa,
+        ..RwParams::default()
+    };
     let mut ph = phantom();
-    let (before, _) = segment(&ph, RwParams::default());
+    let (before, _) = segment(&ph, p);
     let dims = ph.ct.dims();
     let n = dims[0];
     let mut ct = ph.ct.data().to_vec();
@@ -293,12 +323,13 @@ fn isolated_components_get_no_label() {
         }
     }
     ph.ct = Volume::new(dims, [1.0; 3], ct).unwrap();
-    let p = RwParams::default();
     let g = BoneGraph::build(&ph.ct, &p).unwrap();
     let mut s = RwSession::new(g, p).unwrap();
     s.set_seeds(&ph.seeds).unwrap();
     let r = s.solve(false).unwrap();
     assert!(r.converged.iter().all(|&c| c), "{r:?}");
+    assert!(r.iterations.iter().all(|&i| i < p.max_iter), "{r:?}");
+    assert_eq!(r.unreached, isolated.len());
     assert!(r.residuals.iter().all(|&v| v.is_finite() && v <= p.tol));
     let after = s.labels().unwrap().into_data();
     for &v in &isolated {
