@@ -740,9 +740,13 @@ fn phantom_cfg(
             "t_bone",
             "stroke_radius",
             "stroke_margin",
+            "surface_strokes",
         ],
         "phantom option",
     )?;
+    if let Some(v) = dict_item::<bool>(d, "surface_strokes")? {
+        c.surface_strokes = v;
+    }
     if let Some((a, b)) = dict_item::<(f64, f64)>(d, "shell")? {
         c.shell = [a, b];
     }

@@ -153,6 +153,18 @@ def test_phantom_is_deterministic_and_configurable():
     assert np.array_equal(truth > 0, ct >= 300.0)
     assert seeds.max() == 3 and np.all(truth[seeds > 0] == seeds[seeds > 0])
     assert dist.dtype == np.float32 and np.all(dist >= 0)
+    # Surface strokes: every seed voxel has a non-bone 6-neighbour (or the border).
+    ct, truth, seeds = volseg.fractured_shell_phantom((48, 48, 48), 4, surface_strokes=True)
+    bone = np.pad(ct >= 300.0, 1)
+    inner = np.ones_like(bone)
+    for ax in range(3):
+        inner &= np.roll(bone, 1, ax) & np.roll(bone, -1, ax)
+    inner = inner[1:-1, 1:-1, 1:-1]
+    on = seeds > 0
+    assert set(np.unique(seeds[on])) == {1, 2, 3, 4}
+    assert np.all(truth[on] == seeds[on]) and not np.any(inner[on])
+    labels = volseg.random_walker_bone(ct, seeds)
+    assert volseg.dice(labels, truth) > volseg.dice(volseg.nearest_seed(ct, seeds), truth)
 
 
 def test_dice_and_bone_mask():

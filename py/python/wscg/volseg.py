@@ -744,7 +744,7 @@ def remove_small_components(labels, min_voxels: int):
 # ----------------------------------------------------------------------------------------
 
 _PHANTOM_OPTIONS = ("shell", "bone_hu", "gap_hu", "gap_width", "blur_sigma", "noise_hu",
-                    "t_bone", "stroke_radius", "stroke_margin")
+                    "t_bone", "stroke_radius", "stroke_margin", "surface_strokes")
 
 
 def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
@@ -756,9 +756,9 @@ def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments:
     ``n_fragments`` pieces by the spherical Voronoi cells of random directions; fracture gaps
     of 450 HU (above the 300 HU threshold, so the thresholded bone stays in one piece); soft
     tissue (40 HU) inside, air (-1000 HU) outside; Gaussian partial-volume blur, CT noise,
-    rounding to integers. Seeds: one ball stroke per fragment around a random mid-shell point
+    rounding to integers. Seeds: one stroke per fragment, a ball around a random mid-shell point
     away from its boundary (not at the Voronoi site, so nearest-seed labelling does not
-    reproduce the truth by construction).
+    reproduce the truth by construction), or a patch of its outer surface.
 
     Parameters
     ----------
@@ -774,7 +774,9 @@ def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments:
     **overrides
         ``shell=(0.60, 0.68)``, ``bone_hu=1200``, ``gap_hu=450``, ``gap_width=0.75``
         (voxels), ``blur_sigma=0.8`` (voxels, <= 16), ``noise_hu=30``, ``t_bone=300``,
-        ``stroke_radius=2``, ``stroke_margin=4`` (voxels).
+        ``stroke_radius=2``, ``stroke_margin=4`` (voxels), ``surface_strokes=False``
+        (True: strokes painted on the outer surface, as with the paper's 3-D brush: the bone
+        voxels with a non-bone 6-neighbour within 3 voxels of a point of the outer surface).
 
     Returns
     -------
@@ -806,6 +808,8 @@ def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments:
             except (TypeError, ValueError):
                 raise ValueError(f"`shell` must be (inner, outer), got {v!r}") from None
             opts[key] = (a, b)
+        elif key == "surface_strokes":
+            opts[key] = bool(v)
         else:
             opts[key] = _real(key, v)
     ct, truth, seeds, dist = _v.phantom(sh, k, sd, opts)
