@@ -63,16 +63,17 @@ impl BoneGraph {
     ///
     /// Errors: NaN or infinite CT values, invalid parameters, more than 2^32 − 1 bone voxels.
     pub fn build(ct: &Volume<f32>, p: &RwParams) -> Result<Self> {
-        p.validate()?;
-        if let Some(index) = ct.data().iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFinite { name: "ct", index });
-        }
         Self::from_mask(ct, &crate::preprocess::threshold(ct, p.t_bone), p)
     }
 
     /// Builds the graph on the voxels of `mask` (same size as `ct`).
+    ///
+    /// Errors: as [`Self::build`], and a mask of another size.
     pub fn from_mask(ct: &Volume<f32>, mask: &[bool], p: &RwParams) -> Result<Self> {
         p.validate()?;
+        if let Some(index) = ct.data().iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFinite { name: "ct", index });
+        }
         if mask.len() != ct.len() {
             return Err(Error::ShapeMismatch(format!(
                 "mask has {} voxels, the CT {}",

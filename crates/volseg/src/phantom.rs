@@ -114,6 +114,27 @@ pub fn fractured_shell_phantom(c: &PhantomConfig) -> Result<Phantom> {
             format!("each side needs at least 16 voxels, got {:?}", c.dims),
         ));
     }
+    if !(c.blur_sigma.is_finite() && (0.0..=16.0).contains(&c.blur_sigma)) {
+        return Err(Error::invalid(
+            "blur_sigma",
+            format!("needs 0..=16 voxels, got {}", c.blur_sigma),
+        ));
+    }
+    let finite = [
+        c.bone_hu,
+        c.gap_hu,
+        c.gap_width,
+        c.noise_hu,
+        c.t_bone,
+        c.stroke_radius,
+        c.stroke_margin,
+    ];
+    if finite.iter().any(|v| !v.is_finite()) || c.noise_hu < 0.0 || c.stroke_radius < 0.0 {
+        return Err(Error::invalid(
+            "phantom",
+            "densities, widths, noise and stroke sizes must be finite (noise and radius >= 0)",
+        ));
+    }
     if !(c.shell[0] > 0.0 && c.shell[1] > c.shell[0] && c.shell[1] < 0.9) {
         return Err(Error::invalid("shell", "needs 0 < inner < outer < 0.9"));
     }

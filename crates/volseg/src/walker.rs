@@ -7,7 +7,7 @@ use std::time::Instant;
 use wscg_math::{Error, Result, Volume};
 
 use crate::baseline::nearest_seed_labels;
-use crate::block::{Block, Lane, EXCLUDED, UNKNOWN};
+use crate::block::{try_zeros, Block, Lane, EXCLUDED, UNKNOWN};
 use crate::graph::BoneGraph;
 use crate::params::{Precision, RwParams, Solver};
 
@@ -132,7 +132,15 @@ impl RwSession {
         Ok(used)
     }
 
-    /// Number of labels `K` (the largest seed label).
+    /// Number of labels of the last solve (0 before the first): the lanes of
+    /// [`Self::node_probabilities`], which [`Self::n_labels`] may exceed once seeds of a new
+    /// label are added.
+    pub fn solved_labels(&self) -> usize {
+        self.k
+    }
+
+    /// Number of labels `K` (the largest seed label); the solver needs `K` probability
+    /// vectors, so labels should be numbered from 1 without large gaps.
     pub fn n_labels(&self) -> usize {
         self.seeds.iter().copied().max().unwrap_or(0) as usize
     }
@@ -179,7 +187,7 @@ impl RwSession {
             (Precision::F32, _) => self.run::<f32>(&role, k, None, Probs::F32),
             (Precision::F64, Some(Probs::F64(p))) => self.run(&role, k, Some(&p), Probs::F64),
             (Precision::F64, _) => self.run::<f64>(&role, k, None, Probs::F64),
-        };
+        }?;
         report.unreached = unreached;
         self.x = Some(probs);
         self.k = k;
@@ -208,10 +216,10 @@ impl RwSession {
         k: usize,
         prev: Option<&[T]>,
         wrap: fn(Vec<T>) -> Probs,
-    ) -> (Probs, SolveReport) {
+    ) -> Result<(Probs, SolveReport)> {
         let n = self.graph.len();
         let zero = T::default();
-        let mut x = vec![zero; n * k];
+        let mut x = try_zeros::<T>(n.saturating_mul(k))?;
         if let Some(prev) = prev {
             let kp = self.k;
             for i in (0..n).filter(|&i| role[i] == UNKNOWN) {
@@ -224,7 +232,7 @@ impl RwSession {
         match self.params.solver {
             Solver::Block => {
                 let t = Instant::now();
-                let o = self.block(role, k).solve(&mut x);
+                let o = self.block(role, k).solve(&mut x)?;
                 let secs = t.elapsed().as_secs_f64() / k as f64;
                 report.iterations = o.iterations;
                 report.residuals = o.residuals;
@@ -248,7 +256,7 @@ impl RwSession {
                     for (i, v) in xl.iter_mut().enumerate() {
                         *v = x[i * k + label as usize - 1];
                     }
-                    let o = self.block(&role_l, 1).solve(&mut xl);
+                    let o = self.block(&role_l, 1).solve(&mut xl)?;
                     for (i, &v) in xl.iter().enumerate() {
                         x[i * k + label as usize - 1] = v;
                     }
@@ -264,7 +272,7 @@ impl RwSession {
                 x[i * k + s as usize - 1] = T::from_f64(1.0);
             }
         }
-        (wrap(x), report)
+        Ok((wrap(x), report))
     }
 
     /// Probability of `label` at every node from the last solve (empty before a solve or for
