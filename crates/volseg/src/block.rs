@@ -1,9 +1,11 @@
 //! The K-block Jacobi-preconditioned conjugate gradient of spec section 2.2 step 6: the K
 //! systems `(L_U + κ I) x_k = −Bᵀ m_k` (Grady 2006; paper section 2.3) advance in lockstep,
-//! so one sweep over the bone graph serves every label. Vectors are interleaved per node
-//! (`v[i·K + k]`), stored as `f32` or `f64`; dot products accumulate in `f64` per fixed-size
-//! chunk of nodes and the chunk sums are added in order, so results do not depend on the
-//! number of threads. A label stops when `‖r_k‖ ≤ tol ‖b_k‖`; the others go on.
+//! so one sweep over the bone graph serves a group of up to [`MAX_LANES`] labels. Vectors
+//! hold a fixed-size array of lanes per node (`[T; L]`, `L` in 1, 2, 4, 8, 16, compiled for
+//! each, so the lane loops become SIMD), stored as `f32` or `f64`; dot products accumulate in
+//! `f64` per fixed-size chunk of nodes and the chunk sums are added in order, so results do
+//! not depend on the number of threads. A label stops when `‖r_k‖ ≤ tol ‖b_k‖`; the others
+//! go on.
 //!
 //! Matrix-free: `(A v)_i = d_i v_i − Σ_{j~i, j∈U} w_ij v_j` with `d_i = κ + Σ_{j~i} w_ij`
 //! (edges to seeds included). The iteration vectors are kept zero on seeds and on excluded
@@ -34,29 +36,9 @@ pub(crate) trait Lane:
 impl Lane for f32 {}
 impl Lane for f64 {}
 
-/// One K-block solve: the graph, the node roles (see [`UNKNOWN`], [`EXCLUDED`]; other values
-/// are seed labels `1..=K`) and the stopping rule.
-pub(crate) struct Block<'a> {
-    pub g: &'a BoneGraph,
-    pub role: &'a [u16],
-    pub k: usize,
-    pub kappa: f64,
-    pub tol: f64,
-    pub max_iter: usize,
-    /// Jacobi preconditioner (`false`: plain CG).
-    pub jacobi: bool,
-}
-
-/// Per-label outcome of [`Block::solve`].
-pub(crate) struct BlockOutcome {
-    pub iterations: Vec<usize>,
-    pub residuals: Vec<f64>,
-    pub converged: Vec<bool>,
-}
-
-/// A zeroed vector of `len` values, or an error when the memory is not available (instead of
-/// aborting the process).
-pub(crate) fn try_zeros<T: Default + Clone>(len: usize) -> Result<Vec<T>> {
+/// A vector of `len` copies of `value`, or an error when the memory is not available
+/// (instead of aborting the process).
+pub(crate) fn try_filled<T: Clone>(len: usize, value: T) -> Result<Vec<T>> {
     let mut v = Vec::new();
     v.try_reserve_exact(len).map_err(|_| {
         Error::LimitExceeded(format!(
@@ -64,251 +46,284 @@ pub(crate) fn try_zeros<T: Default + Clone>(len: usize) -> Result<Vec<T>> {
             len.saturating_mul(std::mem::size_of::<T>()) / 1_000_000
         ))
     })?;
-    v.resize(len, T::default());
+    v.resize(len, value);
     Ok(v)
 }
 
-/// Sums per-chunk partial vectors in chunk order.
-fn reduce(parts: Vec<Vec<f64>>, len: usize) -> Vec<f64> {
-    let mut s = vec![0.0; len];
+/// Most labels solved in one sweep.
+pub(crate) const MAX_LANES: usize = 16;
+
+/// Per-lane sums of one chunk (up to three quantities).
+type Sums<const L: usize> = [[f64; L]; 3];
+
+/// Sums per-chunk partial sums in chunk order.
+fn reduce<const L: usize>(parts: Vec<Sums<L>>) -> Sums<L> {
+    let mut s = [[0.0; L]; 3];
     for p in parts {
         for (a, b) in s.iter_mut().zip(p) {
-            *a += b;
+            for (x, y) in a.iter_mut().zip(b) {
+                *x += y;
+            }
         }
     }
     s
 }
 
+/// One block solve: the graph, the node roles (see [`UNKNOWN`], [`EXCLUDED`]; other values
+/// are seed labels), the labels `first..first + used` the lanes carry, and the stopping rule.
+pub(crate) struct Block<'a> {
+    pub g: &'a BoneGraph,
+    pub role: &'a [u16],
+    /// Label of lane 0.
+    pub first: usize,
+    /// Lanes carrying a label (the others, up to `L`, stay zero).
+    pub used: usize,
+    pub kappa: f64,
+    pub tol: f64,
+    pub max_iter: usize,
+    /// Jacobi preconditioner (`false`: plain CG).
+    pub jacobi: bool,
+}
+
+/// Per-label outcome of [`Block::solve`] (`used` entries).
+pub(crate) struct BlockOutcome {
+    pub iterations: Vec<usize>,
+    pub residuals: Vec<f64>,
+    pub converged: Vec<bool>,
+}
+
 impl Block<'_> {
-    /// `(A v)_i` for every lane of unknown node `i` into `out`.
+    /// Lane of seed role `s`, if it carries one of this block's labels.
     #[inline]
-    fn apply_row<T: Lane>(&self, i: usize, d: T, v: &[T], out: &mut [T]) {
-        let k = self.k;
-        let vi = &v[i * k..(i + 1) * k];
-        for (o, &x) in out.iter_mut().zip(vi) {
-            *o = d * x;
-        }
-        for (&j, &w) in self.g.neighbours(i).iter().zip(self.g.weights(i)) {
-            if j != NONE {
-                let w = T::from_f64(f64::from(w));
-                let vj = &v[j as usize * k..(j as usize + 1) * k];
-                for (o, &x) in out.iter_mut().zip(vj) {
-                    *o = *o - w * x;
-                }
-            }
-        }
+    fn lane_of(&self, s: u16) -> Option<usize> {
+        let s = s as usize;
+        (s != UNKNOWN as usize
+            && s != EXCLUDED as usize
+            && s >= self.first
+            && s < self.first + self.used)
+            .then(|| s - self.first)
     }
 
-    /// `r = b − A x` and `p = M⁻¹ r` on every lane; returns the per-label sums of `‖b‖²`,
-    /// `‖r‖²` and `(r, M⁻¹ r)` (`3K` values).
-    fn residual<T: Lane>(&self, x: &[T], dinv: &[T], r: &mut [T], p: &mut [T]) -> Vec<f64> {
-        let k = self.k;
-        let zero = T::default();
-        let parts: Vec<Vec<f64>> = r
-            .par_chunks_mut(CHUNK * k)
-            .zip(p.par_chunks_mut(CHUNK * k))
+    /// `(A v)_i = d_i v_i − Σ_j w_ij v_j` on every lane of unknown node `i`; `v` has one extra
+    /// zero entry at index `n` that stands in for missing neighbours (weight 0).
+    #[inline(always)]
+    fn apply_row<T: Lane, const L: usize>(&self, i: usize, d: T, v: &[[T; L]]) -> [T; L] {
+        let n = self.g.len() as u32;
+        let mut out = v[i].map(|x| d * x);
+        for (&j, &w) in self.g.neighbours(i).iter().zip(self.g.weights(i)) {
+            let j = if j == NONE { n } else { j };
+            let w = T::from_f64(f64::from(w));
+            let vj = &v[j as usize];
+            for (o, &x) in out.iter_mut().zip(vj) {
+                *o = *o - w * x;
+            }
+        }
+        out
+    }
+
+    /// `r = b − A x` and `p = M⁻¹ r` on every lane, the residual in `f64` whatever `T` is
+    /// (it decides convergence); returns the per-lane sums of `‖b‖²`, `‖r‖²`, `(r, M⁻¹ r)`.
+    fn residual<T: Lane, const L: usize>(
+        &self,
+        x: &[[T; L]],
+        dinv: &[T],
+        r: &mut [[T; L]],
+        p: &mut [[T; L]],
+    ) -> Sums<L> {
+        let n = self.g.len();
+        let zero = [T::default(); L];
+        let parts: Vec<Sums<L>> = r[..n]
+            .par_chunks_mut(CHUNK)
+            .zip(p[..n].par_chunks_mut(CHUNK))
             .enumerate()
             .map(|(c, (rc, pc))| {
-                let mut acc = vec![0.0; 3 * k];
-                // In f64 whatever T is: the true residual decides convergence.
-                let (mut ax, mut b) = (vec![0.0f64; k], vec![0.0f64; k]);
-                for (a, (ri, pi)) in rc
-                    .chunks_exact_mut(k)
-                    .zip(pc.chunks_exact_mut(k))
-                    .enumerate()
-                {
+                let mut acc = [[0.0; L]; 3];
+                for (a, (ri, pi)) in rc.iter_mut().zip(pc.iter_mut()).enumerate() {
                     let i = c * CHUNK + a;
-                    ri.fill(zero);
-                    pi.fill(zero);
+                    *ri = zero;
+                    *pi = zero;
                     if self.role[i] != UNKNOWN {
                         continue;
                     }
                     let d = self.kappa + self.g.degree(i);
-                    for (o, v) in ax.iter_mut().zip(&x[i * k..(i + 1) * k]) {
-                        *o = d * v.to_f64();
-                    }
-                    b.fill(0.0);
+                    let mut ax = x[i].map(|v| d * v.to_f64());
+                    let mut b = [0.0f64; L];
                     for (&j, &w) in self.g.neighbours(i).iter().zip(self.g.weights(i)) {
                         if j == NONE {
                             continue;
                         }
                         let (j, w) = (j as usize, f64::from(w));
-                        for (o, v) in ax.iter_mut().zip(&x[j * k..(j + 1) * k]) {
+                        for (o, v) in ax.iter_mut().zip(&x[j]) {
                             *o -= w * v.to_f64();
                         }
-                        // b_i = Σ of the weights to seeds of each label.
-                        let s = self.role[j];
-                        if s != UNKNOWN && s != EXCLUDED && (s as usize) <= k {
-                            b[s as usize - 1] += w;
+                        // b_i = Σ of the weights to seeds of each lane's label.
+                        if let Some(l) = self.lane_of(self.role[j]) {
+                            b[l] += w;
                         }
                     }
                     let di = dinv[i].to_f64();
-                    for l in 0..k {
+                    for l in 0..L {
                         let rv = b[l] - ax[l];
                         ri[l] = T::from_f64(rv);
                         pi[l] = T::from_f64(di * rv);
-                        acc[l] += b[l] * b[l];
-                        acc[k + l] += rv * rv;
-                        acc[2 * k + l] += rv * rv * di;
+                        acc[0][l] += b[l] * b[l];
+                        acc[1][l] += rv * rv;
+                        acc[2][l] += rv * rv * di;
                     }
                 }
                 acc
             })
             .collect();
-        reduce(parts, 3 * k)
+        reduce(parts)
     }
 
-    /// Solves from the initial guess in `x` (`n·K`, interleaved; it must be zero on seeds and
-    /// excluded nodes) and leaves the solution there. A label counts as converged only when
-    /// its *true* residual `b − A x` meets the tolerance: when the recursively updated
-    /// residuals of all running labels say so, the true ones are computed and CG restarts from
-    /// `x` for the labels that fall short (rounding in `f32` makes the two drift apart at tight
-    /// tolerances). At `max_iter`, or when a restart no longer halves the true residuals (the
-    /// precision's floor), the remaining labels are reported as not converged.
+    /// Solves from the initial guess in `x` (`n + 1` entries, the last one zero; zero on
+    /// seeds and excluded nodes) and leaves the solution there. A label counts as converged
+    /// only when its *true* residual `b − A x` meets the tolerance: when the recursively
+    /// updated residuals of all running labels say so, the true ones are computed and CG
+    /// restarts from `x` for the labels that fall short (rounding in `f32` makes the two drift
+    /// apart at tight tolerances). At `max_iter`, or when a restart no longer halves the true
+    /// residuals (the precision's floor), the remaining labels are reported as not converged.
     ///
-    /// Errors: the vectors (`3 n K` values besides `x`) cannot be allocated.
-    pub(crate) fn solve<T: Lane>(&self, x: &mut [T]) -> Result<BlockOutcome> {
-        let (n, k) = (self.g.len(), self.k);
-        debug_assert_eq!(x.len(), n * k);
+    /// Errors: the vectors (3 more of the size of `x`) cannot be allocated.
+    pub(crate) fn solve<T: Lane, const L: usize>(&self, x: &mut [[T; L]]) -> Result<BlockOutcome> {
+        let n = self.g.len();
+        debug_assert_eq!(x.len(), n + 1);
+        debug_assert!(self.used <= L);
         let zero = T::default();
-        // Preconditioner 1 / d_i on unknowns, 0 elsewhere (so p = dinv r stays 0 there).
-        let dinv: Vec<T> = (0..n)
+        // Preconditioner 1 / d_i on unknowns, 0 elsewhere (so p = dinv r stays 0 there), and
+        // the diagonal d_i = κ + Σ_j w_ij.
+        let (dinv, diag): (Vec<T>, Vec<T>) = (0..n)
             .into_par_iter()
             .with_min_len(CHUNK)
             .map(|i| {
+                let d = self.kappa + self.g.degree(i);
                 if self.role[i] != UNKNOWN {
-                    zero
+                    (zero, zero)
                 } else if self.jacobi {
-                    T::from_f64(1.0 / (self.kappa + self.g.degree(i)))
+                    (T::from_f64(1.0 / d), T::from_f64(d))
                 } else {
-                    T::from_f64(1.0)
+                    (T::from_f64(1.0), T::from_f64(d))
                 }
             })
-            .collect();
-        let mut r = try_zeros::<T>(n * k)?;
-        let mut p = try_zeros::<T>(n * k)?;
-        let mut q = try_zeros::<T>(n * k)?;
+            .unzip();
+        let mut r = try_filled(n + 1, [T::default(); L])?;
+        let mut p = try_filled(n + 1, [T::default(); L])?;
+        let mut q = try_filled(n, [T::default(); L])?;
+        let used = self.used;
         let mut out = BlockOutcome {
-            iterations: vec![0; k],
-            residuals: vec![0.0; k],
-            converged: vec![false; k],
+            iterations: vec![0; used],
+            residuals: vec![0.0; used],
+            converged: vec![false; used],
         };
         let mut it = 0;
-        let (mut restarts, mut last_true) = (0usize, vec![f64::INFINITY; k]);
+        let (mut restarts, mut last_true) = (0usize, [f64::INFINITY; L]);
+        let mut res = [0.0f64; L];
         loop {
             let s = self.residual(x, &dinv, &mut r, &mut p);
-            let bnorm: Vec<f64> = s[..k].iter().map(|v| v.sqrt()).collect();
-            let mut rz: Vec<f64> = s[2 * k..].to_vec();
-            let mut active = vec![false; k];
-            for l in 0..k {
-                let rn = s[k + l].sqrt();
-                out.residuals[l] = if bnorm[l] > 0.0 { rn / bnorm[l] } else { 0.0 };
-                out.converged[l] = bnorm[l] == 0.0 || rn <= self.tol * bnorm[l];
-                active[l] = !out.converged[l];
+            let bnorm = s[0].map(f64::sqrt);
+            let mut rz = s[2];
+            let mut active = [false; L];
+            for l in 0..L {
+                let rn = s[1][l].sqrt();
+                res[l] = if bnorm[l] > 0.0 { rn / bnorm[l] } else { 0.0 };
+                active[l] = !(bnorm[l] == 0.0 || rn <= self.tol * bnorm[l]);
                 if bnorm[l] == 0.0 && it == 0 {
                     // No seed of this label touches an unknown: the solution is exactly 0.
-                    x.par_chunks_mut(k).for_each(|xi| xi[l] = zero);
+                    x.par_iter_mut().for_each(|xi| xi[l] = zero);
                 }
             }
             // Stop when a restart no longer helps: every running label's true residual
             // failed to halve since the previous restart (the precision's floor).
-            let stalled =
-                restarts > 0 && (0..k).all(|l| !active[l] || out.residuals[l] > 0.5 * last_true[l]);
+            let stalled = restarts > 0 && (0..L).all(|l| !active[l] || res[l] > 0.5 * last_true[l]);
             if !active.iter().any(|&a| a) || it >= self.max_iter || stalled {
+                for l in 0..used {
+                    out.residuals[l] = res[l];
+                    out.converged[l] = !active[l];
+                }
                 break;
             }
-            last_true.copy_from_slice(&out.residuals);
+            last_true = res;
             restarts += 1;
-            let check = |l: usize, rn: f64, active: &mut [bool]| {
-                if rn <= self.tol * bnorm[l] {
-                    active[l] = false;
-                }
-            };
             while active.iter().any(|&a| a) && it < self.max_iter {
                 it += 1;
                 // q = A p, (p, q).
-                let parts: Vec<Vec<f64>> = q
-                    .par_chunks_mut(CHUNK * k)
+                let parts: Vec<Sums<L>> = q
+                    .par_chunks_mut(CHUNK)
                     .enumerate()
                     .map(|(c, qc)| {
-                        let mut acc = vec![0.0; k];
-                        for (a, qi) in qc.chunks_exact_mut(k).enumerate() {
+                        let mut acc = [[0.0; L]; 3];
+                        for (a, qi) in qc.iter_mut().enumerate() {
                             let i = c * CHUNK + a;
                             if self.role[i] != UNKNOWN {
                                 continue;
                             }
-                            let d = T::from_f64(self.kappa + self.g.degree(i));
-                            self.apply_row(i, d, &p, qi);
-                            for (l, (qv, pv)) in qi.iter().zip(&p[i * k..(i + 1) * k]).enumerate() {
-                                acc[l] += qv.to_f64() * pv.to_f64();
+                            *qi = self.apply_row(i, diag[i], &p);
+                            for l in 0..L {
+                                acc[0][l] += qi[l].to_f64() * p[i][l].to_f64();
                             }
                         }
                         acc
                     })
                     .collect();
-                let pq = reduce(parts, k);
-                let alpha: Vec<T> = (0..k)
-                    .map(|l| {
-                        if active[l] && pq[l] > 0.0 {
-                            T::from_f64(rz[l] / pq[l])
-                        } else {
-                            zero
-                        }
-                    })
-                    .collect();
+                let pq = reduce(parts)[0];
+                let alpha: [T; L] = std::array::from_fn(|l| {
+                    if active[l] && pq[l] > 0.0 {
+                        T::from_f64(rz[l] / pq[l])
+                    } else {
+                        zero
+                    }
+                });
                 // r −= α q, ‖r‖², (r, M⁻¹ r).
-                let parts: Vec<Vec<f64>> = r
-                    .par_chunks_mut(CHUNK * k)
-                    .zip(q.par_chunks(CHUNK * k))
+                let parts: Vec<Sums<L>> = r[..n]
+                    .par_chunks_mut(CHUNK)
+                    .zip(q.par_chunks(CHUNK))
                     .zip(dinv.par_chunks(CHUNK))
                     .map(|((rc, qc), dc)| {
-                        let mut acc = vec![0.0; 2 * k];
-                        for ((ri, qi), &di) in
-                            rc.chunks_exact_mut(k).zip(qc.chunks_exact(k)).zip(dc)
-                        {
+                        let mut acc = [[0.0; L]; 3];
+                        for ((ri, qi), &di) in rc.iter_mut().zip(qc).zip(dc) {
                             let di = di.to_f64();
-                            for (l, ((rv, &qv), &a)) in
-                                ri.iter_mut().zip(qi).zip(&alpha).enumerate()
-                            {
-                                *rv = *rv - a * qv;
-                                let r2 = rv.to_f64() * rv.to_f64();
-                                acc[l] += r2;
-                                acc[k + l] += r2 * di;
+                            for l in 0..L {
+                                ri[l] = ri[l] - alpha[l] * qi[l];
+                                let r2 = ri[l].to_f64() * ri[l].to_f64();
+                                acc[0][l] += r2;
+                                acc[1][l] += r2 * di;
                             }
                         }
                         acc
                     })
                     .collect();
-                let s = reduce(parts, 2 * k);
-                let mut beta = vec![zero; k];
-                for l in 0..k {
+                let s = reduce(parts);
+                let mut beta = [zero; L];
+                for l in 0..L {
                     if !active[l] {
                         continue;
                     }
-                    out.iterations[l] = it;
-                    check(l, s[l].sqrt(), &mut active);
-                    if rz[l] > 0.0 {
-                        beta[l] = T::from_f64(s[k + l] / rz[l]);
+                    if l < used {
+                        out.iterations[l] = it;
                     }
-                    rz[l] = s[k + l];
+                    if s[0][l].sqrt() <= self.tol * bnorm[l] {
+                        active[l] = false;
+                    }
+                    if rz[l] > 0.0 {
+                        beta[l] = T::from_f64(s[1][l] / rz[l]);
+                    }
+                    rz[l] = s[1][l];
                 }
-                // x += α p with the old p, then p = M⁻¹ r + β p on the labels still running.
-                x.par_chunks_mut(CHUNK * k)
-                    .zip(p.par_chunks_mut(CHUNK * k))
-                    .zip(r.par_chunks(CHUNK * k))
+                // x += α p with the old p, then p = M⁻¹ r + β p on the labels still running
+                // (a finished label's p is zeroed so that its α stays 0).
+                let keep: [T; L] =
+                    std::array::from_fn(|l| T::from_f64(f64::from(u8::from(active[l]))));
+                x[..n]
+                    .par_chunks_mut(CHUNK)
+                    .zip(p[..n].par_chunks_mut(CHUNK))
+                    .zip(r[..n].par_chunks(CHUNK))
                     .zip(dinv.par_chunks(CHUNK))
                     .for_each(|(((xc, pc), rc), dc)| {
-                        for (((xi, pi), ri), &di) in xc
-                            .chunks_exact_mut(k)
-                            .zip(pc.chunks_exact_mut(k))
-                            .zip(rc.chunks_exact(k))
-                            .zip(dc)
-                        {
-                            for l in 0..k {
+                        for (((xi, pi), ri), &di) in xc.iter_mut().zip(pc).zip(rc).zip(dc) {
+                            for l in 0..L {
                                 xi[l] = xi[l] + alpha[l] * pi[l];
-                                if active[l] {
-                                    pi[l] = di * ri[l] + beta[l] * pi[l];
-                                }
+                                pi[l] = keep[l] * (di * ri[l] + beta[l] * pi[l]);
                             }
                         }
                     });

@@ -7,7 +7,7 @@ use std::time::Instant;
 use wscg_math::{Error, Result, Volume};
 
 use crate::baseline::nearest_seed_labels;
-use crate::block::{try_zeros, Block, Lane, EXCLUDED, UNKNOWN};
+use crate::block::{try_filled, Block, BlockOutcome, Lane, EXCLUDED, MAX_LANES, UNKNOWN};
 use crate::graph::BoneGraph;
 use crate::params::{Precision, RwParams, Solver};
 
@@ -194,18 +194,37 @@ impl RwSession {
         Ok(report)
     }
 
-    /// The block solver on this session's graph for `k` lanes and node roles `role`.
-    fn block<'a>(&'a self, role: &'a [u16], k: usize) -> Block<'a> {
+    /// Solves labels `first..first + used` in one sweep of `L` lanes, reading and writing
+    /// their lanes of the interleaved `x` (`n·k`).
+    fn group<T: Lane, const L: usize>(
+        &self,
+        role: &[u16],
+        x: &mut [T],
+        k: usize,
+        first: usize,
+        used: usize,
+    ) -> Result<BlockOutcome> {
+        let n = self.graph.len();
+        let mut xg = try_filled(n + 1, [T::default(); L])?;
+        for (i, xi) in xg[..n].iter_mut().enumerate() {
+            xi[..used].copy_from_slice(&x[i * k + first - 1..i * k + first - 1 + used]);
+        }
         let p = &self.params;
-        Block {
+        let o = Block {
             g: &self.graph,
             role,
-            k,
+            first,
+            used,
             kappa: p.kappa,
             tol: p.tol,
             max_iter: p.max_iter,
             jacobi: p.jacobi,
         }
+        .solve(&mut xg)?;
+        for (i, xi) in xg[..n].iter().enumerate() {
+            x[i * k + first - 1..i * k + first - 1 + used].copy_from_slice(&xi[..used]);
+        }
+        Ok(o)
     }
 
     /// Runs the configured solver in precision `T` from `prev` (warm start) and returns the
@@ -218,8 +237,7 @@ impl RwSession {
         wrap: fn(Vec<T>) -> Probs,
     ) -> Result<(Probs, SolveReport)> {
         let n = self.graph.len();
-        let zero = T::default();
-        let mut x = try_zeros::<T>(n.saturating_mul(k))?;
+        let mut x = try_filled(n.saturating_mul(k), T::default())?;
         if let Some(prev) = prev {
             let kp = self.k;
             for i in (0..n).filter(|&i| role[i] == UNKNOWN) {
@@ -229,43 +247,27 @@ impl RwSession {
             }
         }
         let mut report = SolveReport::default();
-        match self.params.solver {
-            Solver::Block => {
-                let t = Instant::now();
-                let o = self.block(role, k).solve(&mut x)?;
-                let secs = t.elapsed().as_secs_f64() / k as f64;
-                report.iterations = o.iterations;
-                report.residuals = o.residuals;
-                report.converged = o.converged;
-                report.seconds = vec![secs; k];
-            }
-            Solver::PerLabel => {
-                let mut xl = vec![zero; n];
-                for label in 1..=k as u16 {
-                    let t = Instant::now();
-                    // This label's seeds become label 1, the others a label the 1-lane block
-                    // does not drive (2).
-                    let role_l: Vec<u16> = role
-                        .iter()
-                        .map(|&r| match r {
-                            UNKNOWN | EXCLUDED => r,
-                            s if s == label => 1,
-                            _ => 2,
-                        })
-                        .collect();
-                    for (i, v) in xl.iter_mut().enumerate() {
-                        *v = x[i * k + label as usize - 1];
-                    }
-                    let o = self.block(&role_l, 1).solve(&mut xl)?;
-                    for (i, &v) in xl.iter().enumerate() {
-                        x[i * k + label as usize - 1] = v;
-                    }
-                    report.iterations.push(o.iterations[0]);
-                    report.residuals.push(o.residuals[0]);
-                    report.converged.push(o.converged[0]);
-                    report.seconds.push(t.elapsed().as_secs_f64());
-                }
-            }
+        // Groups of labels solved in one sweep: up to MAX_LANES for the block solver, one
+        // label at a time for the per-label variants.
+        let width = match self.params.solver {
+            Solver::Block => MAX_LANES,
+            Solver::PerLabel => 1,
+        };
+        for first in (1..=k).step_by(width) {
+            let used = width.min(k + 1 - first);
+            let t = Instant::now();
+            let o = match used {
+                1 => self.group::<T, 1>(role, &mut x, k, first, used),
+                2 => self.group::<T, 2>(role, &mut x, k, first, used),
+                3..=4 => self.group::<T, 4>(role, &mut x, k, first, used),
+                5..=8 => self.group::<T, 8>(role, &mut x, k, first, used),
+                _ => self.group::<T, MAX_LANES>(role, &mut x, k, first, used),
+            }?;
+            let secs = t.elapsed().as_secs_f64() / used as f64;
+            report.iterations.extend(o.iterations);
+            report.residuals.extend(o.residuals);
+            report.converged.extend(o.converged);
+            report.seconds.extend(std::iter::repeat_n(secs, used));
         }
         for (i, &s) in self.seeds.iter().enumerate() {
             if s != 0 {
