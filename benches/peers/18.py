@@ -14,8 +14,9 @@ Timed end to end (graph, solve, argmax), tol 3e-3:
 - ours with the paper's parameters (eps 0.01, kappa 1e-3), for reference;
 - peer: ``skimage.segmentation.random_walker(mode="cg_j")`` and ``mode="cg_mg"`` (pyamg).
 
-Each run happens in a fresh subprocess so that its peak resident memory (``ru_maxrss``) can be
-reported; the labels are compared on the bone voxels.
+Each run happens in a fresh subprocess that loads the saved phantom, so that its peak resident
+memory (``ru_maxrss``) above the loaded inputs can be reported; the labels are compared on the
+bone voxels.
 
 Environment: WSCG_REPEAT (timing repeats, default 1), WSCG_SIZE (cube side, default 256).
 """
@@ -41,10 +42,18 @@ def inputs():
 
 
 def run(which, out):
-    """Runs one side in this process; saves labels to ``out``, prints seconds and peak RSS."""
-    ct, truth, seeds = inputs()
-    mask = ct >= 300
-    data = np.clip((ct.astype(np.float64) + 1024.0) / 4095.0, 0.0, 1.0)
+    """Runs one side in this process on the inputs saved beside ``out``; saves its labels to
+    ``out`` and prints seconds, peak RSS and peak RSS above the loaded inputs (MB)."""
+    folder = os.path.dirname(out)
+    ct = np.load(os.path.join(folder, "ct.npy"))
+    seeds = np.load(os.path.join(folder, "seeds.npy"))
+    if which in ("cg_j", "cg_mg"):
+        # scikit-image's input: the windowed CT in [0, 1] (in place, no temporaries).
+        mask = ct >= 300
+        data = ct.astype(np.float64)
+        data += 1024.0
+        data /= 4095.0
+        np.clip(data, 0.0, 1.0, out=data)
     base_rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     times = []
     for _ in range(REPEAT):
@@ -76,17 +85,26 @@ def child(which, out):
     return secs, peak, above, np.load(out)
 
 
+def prepare(folder):
+    """Writes the phantom's CT, seeds and truth to ``folder`` (run in a child: the parent stays
+    small, since Linux carries ``ru_maxrss`` over ``fork`` and ``exec`` into the children)."""
+    ct, truth, seeds = inputs()
+    for name, a in (("ct", ct), ("seeds", seeds), ("truth", truth)):
+        np.save(os.path.join(folder, name + ".npy"), a)
+
+
 def main():
     import tempfile
 
-    _, truth, seeds = inputs()
+    results = {}
+    with tempfile.TemporaryDirectory() as d:
+        subprocess.run([sys.executable, __file__, "prepare", d], check=True)
+        for which in ("ours", "ours_paper", "cg_j", "cg_mg"):
+            results[which] = child(which, os.path.join(d, which + ".npy"))
+        truth = np.load(os.path.join(d, "truth.npy"))
     bone = truth > 0
     from wscg import volseg as V
 
-    results = {}
-    with tempfile.TemporaryDirectory() as d:
-        for which in ("ours", "ours_paper", "cg_j", "cg_mg"):
-            results[which] = child(which, os.path.join(d, which + ".npy"))
     print(f"paper 18: {SIZE}^3 phantom, K = {K}, {int(bone.sum())} bone voxels, tol 3e-3, "
           f"repeat {REPEAT}")
     print(f"{'run':<44} {'seconds':>9} {'peak RSS MB':>12} {'above inputs':>13} {'DSC':>7}")
@@ -109,13 +127,15 @@ def main():
         agree = float(np.mean(ours[3][bone] == peer[3][bone]))
         print(f"labels agree with cg_j on {100 * agree:.3f} % of bone voxels")
         print(f"cg_j / ours: time {peer[0] / ours[0]:.2f}x, peak RSS above inputs "
-              f"{peer[2] / max(ours[2], 1e-9):.2f}x")
+              f"{peer[2] / max(ours[2], 1.0):.2f}x")
     if ours and results["cg_mg"]:
         print(f"cg_mg / ours: time {results['cg_mg'][0] / ours[0]:.2f}x")
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 3:
+    if len(sys.argv) == 3 and sys.argv[1] == "prepare":
+        prepare(sys.argv[2])
+    elif len(sys.argv) == 3:
         run(sys.argv[1], sys.argv[2])
     else:
         main()
