@@ -70,14 +70,17 @@ fn reduce<const L: usize>(parts: Vec<Sums<L>>) -> Sums<L> {
 }
 
 /// One block solve: the graph, the node roles (see [`UNKNOWN`], [`EXCLUDED`]; other values
-/// are seed labels), the labels `first..first + used` the lanes carry, and the stopping rule.
+/// are seed labels), the lane of every label, and the stopping rule.
 pub(crate) struct Block<'a> {
     pub g: &'a BoneGraph,
     pub role: &'a [u16],
-    /// Label of lane 0.
-    pub first: usize,
+    /// Lane of every label (index = label; `u8::MAX` = not in this block).
+    pub lane_of_label: &'a [u8],
     /// Lanes carrying a label (the others, up to `L`, stay zero).
     pub used: usize,
+    /// Hand back the labels still running once at most a quarter of the lanes are (so that
+    /// the caller continues them in a narrower block instead of sweeping idle lanes).
+    pub shrink: bool,
     pub kappa: f64,
     pub tol: f64,
     pub max_iter: usize,
@@ -85,23 +88,23 @@ pub(crate) struct Block<'a> {
     pub jacobi: bool,
 }
 
-/// Per-label outcome of [`Block::solve`] (`used` entries).
+/// Per-lane outcome of [`Block::solve`] (`used` entries).
 pub(crate) struct BlockOutcome {
     pub iterations: Vec<usize>,
     pub residuals: Vec<f64>,
     pub converged: Vec<bool>,
+    /// Lanes handed back unfinished (see [`Block::shrink`]).
+    pub unfinished: Vec<bool>,
 }
 
 impl Block<'_> {
     /// Lane of seed role `s`, if it carries one of this block's labels.
     #[inline]
     fn lane_of(&self, s: u16) -> Option<usize> {
-        let s = s as usize;
-        (s != UNKNOWN as usize
-            && s != EXCLUDED as usize
-            && s >= self.first
-            && s < self.first + self.used)
-            .then(|| s - self.first)
+        match self.lane_of_label.get(s as usize) {
+            Some(&l) if s != UNKNOWN && s != EXCLUDED && l != u8::MAX => Some(l as usize),
+            _ => None,
+        }
     }
 
     /// `(A v)_i = d_i v_i − Σ_j w_ij v_j` on every lane of unknown node `i`; `v` has one extra
@@ -215,9 +218,11 @@ impl Block<'_> {
             iterations: vec![0; used],
             residuals: vec![0.0; used],
             converged: vec![false; used],
+            unfinished: vec![false; used],
         };
         let mut it = 0;
         let (mut restarts, mut last_true) = (0usize, [f64::INFINITY; L]);
+        let mut handed_back = false;
         let mut res = [0.0f64; L];
         loop {
             let s = self.residual(x, &dinv, &mut r, &mut p);
@@ -233,19 +238,27 @@ impl Block<'_> {
                     x.par_iter_mut().for_each(|xi| xi[l] = zero);
                 }
             }
-            // Stop when a restart no longer helps: every running label's true residual
-            // failed to halve since the previous restart (the precision's floor).
+            // Stop when all labels are done, at the iteration cap, when handing labels back
+            // (the caller continues them in a narrower block, warm-started from x), or when a
+            // restart no longer helps: every running label's true residual failed to halve
+            // since the previous restart (the precision's floor).
+            let done = !active.iter().any(|&a| a) || it >= self.max_iter;
             let stalled = restarts > 0 && (0..L).all(|l| !active[l] || res[l] > 0.5 * last_true[l]);
-            if !active.iter().any(|&a| a) || it >= self.max_iter || stalled {
+            if done || handed_back || stalled {
                 for l in 0..used {
                     out.residuals[l] = res[l];
                     out.converged[l] = !active[l];
+                    out.unfinished[l] = active[l] && handed_back && !done;
                 }
                 break;
             }
             last_true = res;
             restarts += 1;
             while active.iter().any(|&a| a) && it < self.max_iter {
+                if self.shrink && L >= 4 && 4 * active.iter().filter(|&&a| a).count() <= L {
+                    handed_back = true;
+                    break;
+                }
                 it += 1;
                 // q = A p, (p, q).
                 let parts: Vec<Sums<L>> = q

@@ -194,35 +194,45 @@ impl RwSession {
         Ok(report)
     }
 
-    /// Solves labels `first..first + used` in one sweep of `L` lanes, reading and writing
-    /// their lanes of the interleaved `x` (`n·k`).
+    /// Solves `labels` (at most `L`) in one sweep of `L` lanes, reading and writing their
+    /// lanes of the interleaved `x` (`n·k`), at most `max_iter` iterations; labels still
+    /// running when three quarters of the lanes are done come back unfinished.
     fn group<T: Lane, const L: usize>(
         &self,
         role: &[u16],
         x: &mut [T],
         k: usize,
-        first: usize,
-        used: usize,
+        labels: &[usize],
+        max_iter: usize,
     ) -> Result<BlockOutcome> {
         let n = self.graph.len();
         let mut xg = try_filled(n + 1, [T::default(); L])?;
         for (i, xi) in xg[..n].iter_mut().enumerate() {
-            xi[..used].copy_from_slice(&x[i * k + first - 1..i * k + first - 1 + used]);
+            for (v, &label) in xi.iter_mut().zip(labels) {
+                *v = x[i * k + label - 1];
+            }
+        }
+        let mut lane_of_label = vec![u8::MAX; k + 1];
+        for (lane, &label) in labels.iter().enumerate() {
+            lane_of_label[label] = lane as u8;
         }
         let p = &self.params;
         let o = Block {
             g: &self.graph,
             role,
-            first,
-            used,
+            lane_of_label: &lane_of_label,
+            used: labels.len(),
+            shrink: labels.len() > 1,
             kappa: p.kappa,
             tol: p.tol,
-            max_iter: p.max_iter,
+            max_iter,
             jacobi: p.jacobi,
         }
         .solve(&mut xg)?;
         for (i, xi) in xg[..n].iter().enumerate() {
-            x[i * k + first - 1..i * k + first - 1 + used].copy_from_slice(&xi[..used]);
+            for (&v, &label) in xi.iter().zip(labels) {
+                x[i * k + label - 1] = v;
+            }
         }
         Ok(o)
     }
@@ -247,27 +257,47 @@ impl RwSession {
             }
         }
         let mut report = SolveReport::default();
-        // Groups of labels solved in one sweep: up to MAX_LANES for the block solver, one
-        // label at a time for the per-label variants.
+        // Groups of labels solved in one sweep: up to MAX_LANES for the block solver (labels
+        // still running when three quarters of a block are done continue in a narrower one),
+        // one label at a time for the per-label variants.
         let width = match self.params.solver {
             Solver::Block => MAX_LANES,
             Solver::PerLabel => 1,
         };
-        for first in (1..=k).step_by(width) {
-            let used = width.min(k + 1 - first);
+        report.iterations = vec![0; k];
+        report.residuals = vec![0.0; k];
+        report.converged = vec![false; k];
+        report.seconds = vec![0.0; k];
+        let mut queue: Vec<Vec<usize>> = (1..=k)
+            .step_by(width)
+            .map(|first| (first..(first + width).min(k + 1)).collect())
+            .collect();
+        while let Some(labels) = queue.pop() {
             let t = Instant::now();
+            let used = labels.len();
+            // Labels handed back together ran the same number of iterations.
+            let left = self.params.max_iter - report.iterations[labels[0] - 1];
             let o = match used {
-                1 => self.group::<T, 1>(role, &mut x, k, first, used),
-                2 => self.group::<T, 2>(role, &mut x, k, first, used),
-                3..=4 => self.group::<T, 4>(role, &mut x, k, first, used),
-                5..=8 => self.group::<T, 8>(role, &mut x, k, first, used),
-                _ => self.group::<T, MAX_LANES>(role, &mut x, k, first, used),
+                1 => self.group::<T, 1>(role, &mut x, k, &labels, left),
+                2 => self.group::<T, 2>(role, &mut x, k, &labels, left),
+                3..=4 => self.group::<T, 4>(role, &mut x, k, &labels, left),
+                5..=8 => self.group::<T, 8>(role, &mut x, k, &labels, left),
+                _ => self.group::<T, MAX_LANES>(role, &mut x, k, &labels, left),
             }?;
             let secs = t.elapsed().as_secs_f64() / used as f64;
-            report.iterations.extend(o.iterations);
-            report.residuals.extend(o.residuals);
-            report.converged.extend(o.converged);
-            report.seconds.extend(std::iter::repeat_n(secs, used));
+            let mut rest = Vec::new();
+            for (lane, &l) in labels.iter().enumerate() {
+                report.iterations[l - 1] += o.iterations[lane];
+                report.residuals[l - 1] = o.residuals[lane];
+                report.converged[l - 1] = o.converged[lane];
+                report.seconds[l - 1] += secs;
+                if o.unfinished[lane] {
+                    rest.push(l);
+                }
+            }
+            if !rest.is_empty() {
+                queue.push(rest);
+            }
         }
         for (i, &s) in self.seeds.iter().enumerate() {
             if s != 0 {
