@@ -195,8 +195,8 @@ impl RwSession {
     }
 
     /// Solves `labels` (at most `L`) in one sweep of `L` lanes, reading and writing their
-    /// lanes of the interleaved `x` (`n·k`), at most `max_iter` iterations; labels still
-    /// running when three quarters of the lanes are done come back unfinished.
+    /// lanes of the interleaved `x` (`n·k`), at most `max_iter` iterations; with `shrink`,
+    /// labels still running when three quarters of the lanes are done come back unfinished.
     fn group<T: Lane, const L: usize>(
         &self,
         role: &[u16],
@@ -204,6 +204,7 @@ impl RwSession {
         k: usize,
         labels: &[usize],
         max_iter: usize,
+        shrink: bool,
     ) -> Result<BlockOutcome> {
         let n = self.graph.len();
         let mut xg = try_filled(n + 1, [T::default(); L])?;
@@ -222,7 +223,7 @@ impl RwSession {
             role,
             lane_of_label: &lane_of_label,
             used: labels.len(),
-            shrink: labels.len() > 1,
+            shrink: shrink && labels.len() > 1,
             kappa: p.kappa,
             tol: p.tol,
             max_iter,
@@ -257,9 +258,12 @@ impl RwSession {
             }
         }
         let mut report = SolveReport::default();
-        // Groups of labels solved in one sweep: up to MAX_LANES for the block solver (labels
-        // still running when three quarters of a block are done continue in a narrower one),
-        // one label at a time for the per-label variants.
+        // Groups of labels solved in one sweep: up to MAX_LANES for the block solver, one label
+        // at a time for the per-label variants. In a warm re-solve usually only the labels
+        // near the new strokes run long: once three quarters of a block are done, the others
+        // continue (restarted from x) in a narrower block. A cold solve keeps one Krylov space
+        // per label (the iterates of a per-label Jacobi-PCG).
+        let warm = prev.is_some();
         let width = match self.params.solver {
             Solver::Block => MAX_LANES,
             Solver::PerLabel => 1,
@@ -278,11 +282,11 @@ impl RwSession {
             // Labels handed back together ran the same number of iterations.
             let left = self.params.max_iter - report.iterations[labels[0] - 1];
             let o = match used {
-                1 => self.group::<T, 1>(role, &mut x, k, &labels, left),
-                2 => self.group::<T, 2>(role, &mut x, k, &labels, left),
-                3..=4 => self.group::<T, 4>(role, &mut x, k, &labels, left),
-                5..=8 => self.group::<T, 8>(role, &mut x, k, &labels, left),
-                _ => self.group::<T, MAX_LANES>(role, &mut x, k, &labels, left),
+                1 => self.group::<T, 1>(role, &mut x, k, &labels, left, warm),
+                2 => self.group::<T, 2>(role, &mut x, k, &labels, left, warm),
+                3..=4 => self.group::<T, 4>(role, &mut x, k, &labels, left, warm),
+                5..=8 => self.group::<T, 8>(role, &mut x, k, &labels, left, warm),
+                _ => self.group::<T, MAX_LANES>(role, &mut x, k, &labels, left, warm),
             }?;
             let secs = t.elapsed().as_secs_f64() / used as f64;
             let mut rest = Vec::new();
