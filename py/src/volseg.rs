@@ -41,6 +41,15 @@ const MAX_SOLVER_BYTES: usize = 1 << 35;
 // ------------------------------------------------------------------------------------------
 // Conversions
 
+/// Sets `target.field` from the optional `field` key of the dict `d`.
+macro_rules! set_field {
+    ($d:expr, $target:ident . $field:ident, $t:ty) => {
+        if let Some(v) = dict_item::<$t>($d, stringify!($field))? {
+            $target.$field = v;
+        }
+    };
+}
+
 /// `(nz, ny, nx)` of a 3-D array.
 fn shape3(name: &str, shape: &[usize]) -> PyResult<[usize; 3]> {
     match *shape {
@@ -151,21 +160,14 @@ fn params_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<RwParams> {
         return Ok(p);
     };
     known_keys(d, &PARAM_KEYS, "parameter")?;
-    macro_rules! set {
-        ($field:ident, $t:ty) => {
-            if let Some(v) = dict_item::<$t>(d, stringify!($field))? {
-                p.$field = v;
-            }
-        };
-    }
-    set!(t_bone, f64);
-    set!(beta, f64);
-    set!(eps, f64);
-    set!(kappa, f64);
-    set!(tol, f64);
-    set!(max_iter, usize);
-    set!(spacing_in_weights, bool);
-    set!(jacobi, bool);
+    set_field!(d, p.t_bone, f64);
+    set_field!(d, p.beta, f64);
+    set_field!(d, p.eps, f64);
+    set_field!(d, p.kappa, f64);
+    set_field!(d, p.tol, f64);
+    set_field!(d, p.max_iter, usize);
+    set_field!(d, p.spacing_in_weights, bool);
+    set_field!(d, p.jacobi, bool);
     let lo = dict_item::<f64>(d, "window_lo")?;
     let hi = dict_item::<f64>(d, "window_hi")?;
     if let Some(n) = dict_item::<String>(d, "norm")? {
@@ -623,19 +625,12 @@ fn grow_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<GrowWeights> {
         ],
         "grow weight",
     )?;
-    macro_rules! set {
-        ($field:ident, $t:ty) => {
-            if let Some(v) = dict_item::<$t>(d, stringify!($field))? {
-                w.$field = v;
-            }
-        };
-    }
-    set!(ratio, f64);
-    set!(gradient, f64);
-    set!(distance, f64);
-    set!(gradient_scale, f64);
-    set!(tau, f64);
-    set!(max_sweeps, usize);
+    set_field!(d, w.ratio, f64);
+    set_field!(d, w.gradient, f64);
+    set_field!(d, w.distance, f64);
+    set_field!(d, w.gradient_scale, f64);
+    set_field!(d, w.tau, f64);
+    set_field!(d, w.max_sweeps, usize);
     let reals = [w.ratio, w.gradient, w.distance, w.gradient_scale, w.tau];
     if reals.iter().any(|v| !v.is_finite()) {
         return Err(value_error(

@@ -391,7 +391,7 @@ fn bad_input_gets_clear_errors() {
 #[test]
 fn grow_brush_stays_in_the_ball_the_bone_and_the_intensity_region() {
     let n = 24;
-    let ct = Volume::from_fn([n; 3], [1.0; 3], |x, y, z| {
+    let ct = Volume::from_fn([n; 3], [1.0; 3], |x, _, z| {
         if z < 2 {
             -1000.0
         } else if x >= 14 {
