@@ -1,6 +1,6 @@
 //! Random walks on the bone graph (Grady 2006; paper section 2.3): one combinatorial
 //! Dirichlet problem per label, Jacobi-preconditioned CG (all labels in one block by
-//! default, see [`crate::block`]), warm start, maximum-probability labelling.
+//! default, see [`crate::params::Solver`]), warm start, maximum-probability labelling.
 
 use std::time::Instant;
 
