@@ -98,6 +98,21 @@ fn same_shape_as_ct<T: Element>(
     }
 }
 
+/// The value of the option named `s` among `options`, or a `ValueError` listing them.
+fn choice<T: Copy>(name: &str, s: &str, options: &[(&str, T)]) -> PyResult<T> {
+    options
+        .iter()
+        .find(|(o, _)| *o == s)
+        .map(|&(_, v)| v)
+        .ok_or_else(|| {
+            let names: Vec<String> = options.iter().map(|(o, _)| format!("'{o}'")).collect();
+            value_error(format!(
+                "`{name}` must be one of {}, got {s:?}",
+                names.join(", ")
+            ))
+        })
+}
+
 fn norm_in(name: &str, lo: Option<f64>, hi: Option<f64>) -> PyResult<IntensityNorm> {
     match name {
         "window" => {
@@ -176,26 +191,18 @@ fn params_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<RwParams> {
         p.norm = norm_in("window", lo, hi)?;
     }
     if let Some(s) = dict_item::<String>(d, "solver")? {
-        p.solver = match s.as_str() {
-            "block" => Solver::Block,
-            "per_label" => Solver::PerLabel,
-            other => {
-                return Err(value_error(format!(
-                    "`solver` must be 'block' or 'per_label', got {other:?}"
-                )))
-            }
-        };
+        p.solver = choice(
+            "solver",
+            &s,
+            &[("block", Solver::Block), ("per_label", Solver::PerLabel)],
+        )?;
     }
     if let Some(s) = dict_item::<String>(d, "precision")? {
-        p.precision = match s.as_str() {
-            "f32" => Precision::F32,
-            "f64" => Precision::F64,
-            other => {
-                return Err(value_error(format!(
-                    "`precision` must be 'f32' or 'f64', got {other:?}"
-                )))
-            }
-        };
+        p.precision = choice(
+            "precision",
+            &s,
+            &[("f32", Precision::F32), ("f64", Precision::F64)],
+        )?;
     }
     if let Some(t) = dict_item::<usize>(d, "threads")? {
         if t == 0 || t > MAX_THREADS {

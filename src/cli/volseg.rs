@@ -179,17 +179,20 @@ fn write_meshes(labels: &Volume<u16>, dir: &Path, format: &str) -> Result<usize>
     let k = labels.data().iter().copied().max().unwrap_or(0);
     let h = labels.spacing();
     let mut written = 0;
-    for l in 1..=k {
-        let (mut lo, mut hi) = ([usize::MAX; 3], [0usize; 3]);
-        for (i, &v) in labels.data().iter().enumerate() {
-            if v == l {
-                let c = [i % d[0], (i / d[0]) % d[1], i / (d[0] * d[1])];
-                for a in 0..3 {
-                    lo[a] = lo[a].min(c[a]);
-                    hi[a] = hi[a].max(c[a]);
-                }
+    // Bounding boxes of all labels in one pass over the volume.
+    let mut boxes = vec![([usize::MAX; 3], [0usize; 3]); k as usize + 1];
+    for (i, &v) in labels.data().iter().enumerate() {
+        if v != 0 {
+            let c = [i % d[0], (i / d[0]) % d[1], i / (d[0] * d[1])];
+            let (lo, hi) = &mut boxes[v as usize];
+            for a in 0..3 {
+                lo[a] = lo[a].min(c[a]);
+                hi[a] = hi[a].max(c[a]);
             }
         }
+    }
+    for l in 1..=k {
+        let (lo, hi) = boxes[l as usize];
         if lo[0] == usize::MAX {
             continue;
         }

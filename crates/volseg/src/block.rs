@@ -101,8 +101,9 @@ impl Block<'_> {
     /// Lane of seed role `s`, if it carries one of this block's labels.
     #[inline]
     fn lane_of(&self, s: u16) -> Option<usize> {
+        // UNKNOWN (0) maps to no lane; EXCLUDED lies beyond the table.
         match self.lane_of_label.get(s as usize) {
-            Some(&l) if s != UNKNOWN && s != EXCLUDED && l != u8::MAX => Some(l as usize),
+            Some(&l) if l != u8::MAX => Some(l as usize),
             _ => None,
         }
     }

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use wscg_math::{Error, Result, Volume};
 
 use crate::graph::intensity_map;
-use crate::params::RwParams;
+use crate::params::{IntensityNorm, RwParams};
 use crate::preprocess::threshold;
 
 /// Weights of the grow brush's affinity `W_ij` (spec step 9; the paper names the three
@@ -91,7 +91,13 @@ pub fn local_grow_edit(
         return Err(Error::invalid("center", "must be finite"));
     }
     let dims = ct.dims();
-    let mask = threshold(ct, p.t_bone);
+    let is_bone = |i: usize| f64::from(ct.data()[i]) >= p.t_bone;
+    // The whole-volume mask only matters for the min-max normalisation; a brush stroke
+    // otherwise touches just the voxels of its ball.
+    let mask = match p.norm {
+        IntensityNorm::MinMax => threshold(ct, p.t_bone),
+        _ => Vec::new(),
+    };
     let g = intensity_map(ct, &mask, p.norm);
     // The brush's voxels (bounding box of the ball, clipped to the volume).
     let lo: Vec<i64> = (0..3)
@@ -108,7 +114,7 @@ pub fn local_grow_edit(
             for x in lo[0]..=hi[0] {
                 let c = [x, y, z];
                 let d2: f64 = (0..3).map(|a| (c[a] as f64 - center[a]).powi(2)).sum();
-                if d2 <= radius * radius && mask[idx(c)] {
+                if d2 <= radius * radius && is_bone(idx(c)) {
                     brush.push((c, d2.sqrt()));
                 }
             }
@@ -125,20 +131,18 @@ pub fn local_grow_edit(
                 if cur[j] == active {
                     return None;
                 }
-                let nb: Vec<usize> = offs
-                    .iter()
-                    .map(|o| [c[0] + o[0], c[1] + o[1], c[2] + o[2]])
-                    .filter(|&q| inside(q))
-                    .map(idx)
-                    .collect();
-                let carrying: Vec<usize> =
-                    nb.iter().copied().filter(|&i| cur[i] == active).collect();
-                let rho = carrying.len() as f64 / 26.0;
+                let carrying = || {
+                    offs.iter()
+                        .map(|o| [c[0] + o[0], c[1] + o[1], c[2] + o[2]])
+                        .filter(|&q| inside(q))
+                        .map(idx)
+                        .filter(|&i| cur[i] == active)
+                };
+                let rho = carrying().count() as f64 / 26.0;
                 let gj = g(ct.data()[j]);
                 let near = 1.0 - dist / radius;
-                carrying
-                    .iter()
-                    .any(|&i| {
+                carrying()
+                    .any(|i| {
                         let sim = 1.0 - ((g(ct.data()[i]) - gj).abs() / w.gradient_scale).min(1.0);
                         w.ratio * rho + w.gradient * sim + w.distance * near > w.tau
                     })
@@ -165,8 +169,8 @@ pub fn remove_small_components(labels: &mut Volume<u16>, min_voxels: usize) -> u
     let dims = labels.dims();
     let n = labels.len();
     let data = labels.data().to_vec();
+    let out = labels.data_mut();
     let mut seen = vec![false; n];
-    let mut out = data.clone();
     let mut changed = 0;
     let nbrs = |v: usize| {
         let c = [
@@ -228,6 +232,5 @@ pub fn remove_small_components(labels: &mut Volume<u16>, min_voxels: usize) -> u
             changed += comp.len();
         }
     }
-    labels.data_mut().copy_from_slice(&out);
     changed
 }

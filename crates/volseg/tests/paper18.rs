@@ -253,6 +253,9 @@ fn warm_and_cold() -> (usize, usize, f64) {
     let mut cold = s.clone();
     let warm_r = s.solve(true).unwrap();
     let cold_r = cold.solve(false).unwrap();
+    // Both meet the tolerance on their true residuals.
+    assert!(warm_r.converged.iter().all(|&c| c), "{warm_r:?}");
+    assert!(cold_r.converged.iter().all(|&c| c), "{cold_r:?}");
     let (w, c): (usize, usize) = (
         warm_r.iterations.iter().sum(),
         cold_r.iterations.iter().sum(),
@@ -268,8 +271,12 @@ fn warm_and_cold() -> (usize, usize, f64) {
 
 #[test]
 fn warm_start_saves_iterations() {
-    let (w, c, _) = warm_and_cold();
+    let (w, c, same) = warm_and_cold();
     assert!(w as f64 <= 0.6 * c as f64, "{w} vs {c}");
+    // Fewer iterations must not mean a worse answer: both solves converged on their true
+    // residuals (checked in `warm_and_cold`), and the labels are those of the cold solve
+    // nearly everywhere (98.2 % measured; the spec's 99.9 % is the ignored check below).
+    assert!(same >= 0.95, "{same}");
 }
 
 /// Spec check 5's agreement: warm and cold re-solves stop at the same relative residual
