@@ -58,7 +58,7 @@ impl HybridOctree {
                 .flatten()
                 .for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
         }
-        for n in &self.nodes {
+        for n in self.nodes.iter() {
             b.extend_from_slice(&n.next.to_le_bytes());
             b.extend_from_slice(&n.payload.to_le_bytes());
         }

@@ -50,7 +50,7 @@ pub mod voxelize;
 pub use baseline::{brute_force, TriangleBvh};
 pub use build::{build, BuildParams, BuildStats};
 pub use cube::{morton, Cube};
-pub use node::{LeafTris, Node, Voxel};
+pub use node::{LeafTris, Node, NodeArray, Voxel};
 pub use octree::{HybridOctree, MemoryReport, Tri};
 pub use render::{lod_map, render, Camera, Focus, PointLight, RayGen, RenderStats, Shading};
 pub use traverse::{Footprint, Hit, HitKind, Ray, TraceMode};

@@ -47,6 +47,68 @@ impl Node {
     }
 }
 
+/// Eight nodes, one 64-byte cache line.
+#[repr(C, align(64))]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+struct NodeLine([Node; 8]);
+
+/// Nodes not stored before node 0, so that every block of 8 children (which starts at a node
+/// index `1 + 8 k`) fills exactly one cache line.
+const LEAD: usize = 7;
+
+/// The node array, stored so that the 8 children of an inner node share one cache line: the
+/// traversal reads them with one memory access instead of two. Dereferences to `[Node]`; the
+/// node indices are those of the paper's layout (root 0, children blocks at `1 + 8 k`).
+#[derive(Clone, Default)]
+pub struct NodeArray {
+    lines: Vec<NodeLine>,
+    len: usize,
+}
+
+impl NodeArray {
+    /// The nodes as a flat slice, including the unused lead slots.
+    fn flat(&self) -> &[Node] {
+        let n = self.lines.len() * 8;
+        // SAFETY: `NodeLine` is `repr(C)` around `[Node; 8]` with size 64 = 8 * size_of::<Node>()
+        // (no padding), so `n` nodes lie contiguously from the start of `lines`.
+        unsafe { std::slice::from_raw_parts(self.lines.as_ptr().cast::<Node>(), n) }
+    }
+}
+
+impl From<&[Node]> for NodeArray {
+    fn from(nodes: &[Node]) -> Self {
+        let mut lines = vec![NodeLine::default(); (LEAD + nodes.len()).div_ceil(8)];
+        for (i, &n) in nodes.iter().enumerate() {
+            let j = LEAD + i;
+            lines[j / 8].0[j % 8] = n;
+        }
+        Self {
+            lines,
+            len: nodes.len(),
+        }
+    }
+}
+
+impl std::ops::Deref for NodeArray {
+    type Target = [Node];
+    #[inline]
+    fn deref(&self) -> &[Node] {
+        &self.flat()[LEAD..LEAD + self.len]
+    }
+}
+
+impl std::fmt::Debug for NodeArray {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+impl PartialEq for NodeArray {
+    fn eq(&self, other: &Self) -> bool {
+        **self == **other
+    }
+}
+
 /// Pre-filtered voxel attributes of a node: RGBA8 colour and an octahedral normal, 8 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -143,6 +205,22 @@ impl LeafTris<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn child_blocks_fill_whole_cache_lines() {
+        let nodes: Vec<Node> = (0..1 + 8 * 5)
+            .map(|i| Node {
+                next: i,
+                payload: 2 * i,
+            })
+            .collect();
+        let a = NodeArray::from(&nodes[..]);
+        assert_eq!(&a[..], &nodes[..]);
+        for k in 0..5 {
+            assert_eq!(a[1 + 8 * k..].as_ptr() as usize % 64, 0);
+        }
+        assert!(NodeArray::from(&[][..]).is_empty());
+    }
 
     #[test]
     fn node_is_eight_bytes_and_octahedral_normals_round_trip() {

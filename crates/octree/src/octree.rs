@@ -4,7 +4,7 @@
 use wscg_math::{Error, Result, TriMesh};
 
 use crate::cube::Cube;
-use crate::node::{LeafTris, Node, Voxel};
+use crate::node::{LeafTris, Node, NodeArray, Voxel};
 
 /// A triangle prepared for ray intersection: first vertex and two edges, in `f32`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -22,8 +22,8 @@ pub struct Tri {
 #[derive(Clone, Debug, PartialEq)]
 pub struct HybridOctree {
     /// Nodes in level order; the root is node 0; the 8 children of an inner node are
-    /// consecutive, in Morton (octant) order.
-    pub nodes: Vec<Node>,
+    /// consecutive, in Morton (octant) order, and share one cache line.
+    pub nodes: NodeArray,
     /// One voxel per non-empty node.
     pub voxels: Vec<Voxel>,
     /// Pair words (`2 x` pair leaves), then the lists (a count, then the triangle indices).
@@ -99,7 +99,7 @@ impl HybridOctree {
         let tris = prepare(&mesh);
         let cell_sizes = std::array::from_fn(|l| cube.cell_size(l as u8) as f32);
         Self {
-            nodes,
+            nodes: NodeArray::from(&nodes[..]),
             voxels,
             tri_index,
             n_tris: mesh.faces.len() as u32,

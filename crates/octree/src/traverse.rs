@@ -281,19 +281,29 @@ impl HybridOctree {
         // Entries `0..sp` are initialized; leaving the rest uninitialized spares a 2 KB memset
         // per ray.
         let mut stack = [const { MaybeUninit::<Entry>::uninit() }; STACK];
-        stack[0].write(Entry {
+        let root = Entry {
             node: 0,
             level: 0,
             cell: [0; 3],
             t0,
             t1,
             parent: u32::MAX,
-        });
-        let mut sp = 1usize;
-        while sp > 0 {
-            sp -= 1;
-            // SAFETY: `sp < ` the number of entries written, all of which were initialized.
-            let e = unsafe { stack[sp].assume_init() };
+        };
+        let mut sp = 0usize;
+        // The nearest child of the last inner node, visited next without a trip through the
+        // stack (a load right after its store would wait for store forwarding).
+        let mut nearest = Some(root);
+        loop {
+            let e = match nearest.take() {
+                Some(e) => e,
+                None if sp > 0 => {
+                    sp -= 1;
+                    // SAFETY: `sp < ` the number of entries written, all of which were
+                    // initialized.
+                    unsafe { stack[sp].assume_init() }
+                }
+                None => break,
+            };
             let node = self.nodes[e.node as usize];
             if node.is_empty() {
                 continue;
@@ -381,7 +391,7 @@ impl HybridOctree {
                     // The grandchildren are read when the child is popped: fetch them now.
                     prefetch(self.nodes.as_ptr().wrapping_add(cn.index() as usize));
                 }
-                stack[sp].write(Entry {
+                let entry = Entry {
                     node: child,
                     level: e.level + 1,
                     cell: [
@@ -392,8 +402,11 @@ impl HybridOctree {
                     t0: a,
                     t1: b,
                     parent: node.payload,
-                });
-                sp += 1;
+                };
+                if let Some(farther) = nearest.replace(entry) {
+                    stack[sp].write(farther);
+                    sp += 1;
+                }
             }
         }
         None
