@@ -163,6 +163,15 @@ pub fn tri_normal(tri: &Tri) -> [f32; 3] {
     }
 }
 
+/// A triangle hit during the traversal: triangle, ray parameter, barycentrics.
+#[derive(Clone, Copy)]
+struct TriHit {
+    prim: u32,
+    t: f32,
+    u: f32,
+    v: f32,
+}
+
 /// One entry of the traversal stack.
 #[derive(Clone, Copy)]
 struct Entry {
@@ -186,12 +195,11 @@ fn prefetch<T>(p: *const T) {
     let _ = p;
 }
 
-/// The last few triangle tests of a ray, so that a triangle overlapping several leaves along
-/// the ray is intersected once (mailboxing).
+/// Recent triangle tests of a ray, so that a triangle overlapping several leaves along the
+/// ray is intersected once (mailboxing; direct-mapped on the triangle index).
 struct Mailbox {
     prim: [u32; MAILBOX],
     hit: [Option<(f32, f32, f32)>; MAILBOX],
-    next: usize,
 }
 
 const MAILBOX: usize = 8;
@@ -201,7 +209,6 @@ impl Default for Mailbox {
         Self {
             prim: [u32::MAX; MAILBOX],
             hit: [None; MAILBOX],
-            next: 0,
         }
     }
 }
@@ -209,14 +216,15 @@ impl Default for Mailbox {
 impl Mailbox {
     #[inline(always)]
     fn get(&self, p: u32) -> Option<Option<(f32, f32, f32)>> {
-        self.prim.iter().position(|&q| q == p).map(|i| self.hit[i])
+        let k = p as usize % MAILBOX;
+        (self.prim[k] == p).then_some(self.hit[k])
     }
 
     #[inline(always)]
     fn put(&mut self, p: u32, r: Option<(f32, f32, f32)>) {
-        self.prim[self.next] = p;
-        self.hit[self.next] = r;
-        self.next = (self.next + 1) % MAILBOX;
+        let k = p as usize % MAILBOX;
+        self.prim[k] = p;
+        self.hit[k] = r;
     }
 }
 
@@ -278,6 +286,8 @@ impl HybridOctree {
         let fp = footprint.map(|f| (f.width0, f.spread * dn));
         // Triangles already intersected along this ray (a triangle spans several leaves).
         let mut mailbox = Mailbox::default();
+        // The closest triangle hit in `[t_lo, t_hi]` among the triangles tested so far.
+        let mut best: Option<TriHit> = None;
         // Entries `0..sp` are initialized; leaving the rest uninitialized spares a 2 KB memset
         // per ray.
         let mut stack = [const { MaybeUninit::<Entry>::uninit() }; STACK];
@@ -304,6 +314,10 @@ impl HybridOctree {
                 }
                 None => break,
             };
+            if best.is_some_and(|b| e.t0 > b.t) {
+                // Every cell still ahead starts behind the closest triangle hit found so far.
+                break;
+            }
             let node = self.nodes[e.node as usize];
             if node.is_empty() {
                 continue;
@@ -329,12 +343,17 @@ impl HybridOctree {
                 return Some(self.voxel_hit(e, vw, mode, fp));
             }
             if leaf {
-                let lo = (e.t0 - eps).max(t_lo);
-                let hi = (e.t1 + eps).min(t_hi);
-                if let Some(h) =
-                    self.leaf_hit(self.decode_code(node.index()), o, d, lo, hi, &mut mailbox)
-                {
-                    return Some(h);
+                self.leaf_test(
+                    self.decode_code(node.index()),
+                    o,
+                    d,
+                    (t_lo, t_hi),
+                    &mut mailbox,
+                    &mut best,
+                );
+                if best.is_some_and(|b| b.t <= e.t1 + eps) {
+                    // The hit lies in this cell (or, by rounding, just past it).
+                    break;
                 }
                 continue;
             }
@@ -409,7 +428,7 @@ impl HybridOctree {
                 }
             }
         }
-        None
+        best.map(|b| self.tri_hit(b))
     }
 
     /// Whether anything blocks `ray` within its range (shadow rays).
@@ -417,19 +436,18 @@ impl HybridOctree {
         self.intersect(ray, mode, footprint).is_some()
     }
 
-    /// The closest hit among a leaf's triangles with `t` in `[lo, hi]`.
+    /// Tests a leaf's triangles (through the mailbox) and keeps in `best` the closest hit with
+    /// `t` in `range`, wherever along the ray it lies: the traversal stops once it passes it.
     #[inline]
-    #[allow(clippy::too_many_arguments)]
-    fn leaf_hit(
+    fn leaf_test(
         &self,
         tris: LeafTris<'_>,
         o: [f32; 3],
         d: [f32; 3],
-        lo: f32,
-        hi: f32,
+        range: (f32, f32),
         mailbox: &mut Mailbox,
-    ) -> Option<Hit> {
-        let mut best: Option<(u32, f32, f32, f32)> = None;
+        best: &mut Option<TriHit>,
+    ) {
         tris.for_each(|p| {
             let r = match mailbox.get(p) {
                 Some(r) => r,
@@ -440,17 +458,24 @@ impl HybridOctree {
                 }
             };
             if let Some((t, u, v)) = r {
-                if t >= lo && t <= hi && best.is_none_or(|b| t < b.1) {
-                    best = Some((p, t, u, v));
+                if t >= range.0 && t <= range.1 && best.is_none_or(|b| t < b.t) {
+                    *best = Some(TriHit { prim: p, t, u, v });
                 }
             }
         });
-        best.map(|(prim, t, u, v)| Hit {
-            t,
-            kind: HitKind::Triangle { prim, u, v },
-            normal: tri_normal(&self.tris()[prim as usize]),
-            color: self.tri_color(prim, u, v),
-        })
+    }
+
+    fn tri_hit(&self, b: TriHit) -> Hit {
+        Hit {
+            t: b.t,
+            kind: HitKind::Triangle {
+                prim: b.prim,
+                u: b.u,
+                v: b.v,
+            },
+            normal: tri_normal(&self.tris()[b.prim as usize]),
+            color: self.tri_color(b.prim, b.u, b.v),
+        }
     }
 
     fn voxel_hit(&self, e: Entry, vw: f32, mode: &TraceMode, fp: Option<(f32, f32)>) -> Hit {
