@@ -255,8 +255,8 @@ impl HybridOctree {
     ) -> Option<Hit> {
         let o = ray.origin;
         let d = ray.dir;
-        let dn = dot(d, d).sqrt();
-        if !(dn > 0.0 && dn.is_finite()) || o.iter().any(|v| !v.is_finite()) {
+        let dd = dot(d, d);
+        if !(dd > 0.0 && dd.is_finite()) || o.iter().any(|v| !v.is_finite()) {
             return None;
         }
         let inv = d.map(|x| {
@@ -280,6 +280,8 @@ impl HybridOctree {
         if t0 > t1 {
             return None;
         }
+        // Past the root test only: most rays of a far view miss the root cell.
+        let dn = dd.sqrt();
         // Tolerance for accepting a triangle hit in a leaf (rounding of the cell bounds).
         let eps = 4e-6 * size / dn;
         let (t_lo, t_hi) = (ray.t_min.max(0.0), ray.t_max);
