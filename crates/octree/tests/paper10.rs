@@ -340,6 +340,32 @@ fn ray_cast_equals_brute_force() {
     }
 }
 
+/// Check 3 with finite ray windows (as shadow rays have): the traversal keeps the closest hit
+/// found in any leaf and stops once it passes it, so the window bounds must hold exactly as
+/// in brute force.
+#[test]
+fn ray_windows_equal_brute_force() {
+    let mesh = scenes::atrium(3).unwrap();
+    let (oct, _) = build(&mesh, &params(9, true)).unwrap();
+    let mut rays = random_rays(&oct.cube, 1 << 16, 5);
+    for (i, r) in rays.iter_mut().enumerate() {
+        let mut g = rng::stream(6, i as u64);
+        r.t_min = g.random_range(0.0..0.8f32);
+        r.t_max = r.t_min + g.random_range(0.02..0.6f32);
+    }
+    let same = compare_with(&oct, &rays, |r| brute_force(oct.tris(), r));
+    assert!(same >= 0.9999, "same triangle on {same}");
+    let hits = rays
+        .par_iter()
+        .filter(|r| brute_force(oct.tris(), r).is_some())
+        .count();
+    // Both outcomes occur often enough for the comparison to mean something.
+    assert!(
+        hits > rays.len() / 10 && hits < rays.len() * 9 / 10,
+        "{hits}"
+    );
+}
+
 /// Check 3 on the 1.3 M-triangle blob, against the BVH (brute force over 1.3 M triangles x
 /// 2^18 rays is out of reach; the BVH is checked against brute force above).
 #[test]
