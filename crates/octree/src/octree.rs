@@ -43,6 +43,9 @@ pub struct HybridOctree {
     tris: Vec<Tri>,
     /// `v_w(l)` for every level, in `f32`, for the traversal.
     pub(crate) cell_sizes: [f32; 22],
+    /// The mesh's bounding box in `f32`, widened by `1e-5` of the cube side: rays in triangle
+    /// mode that miss it cannot hit anything.
+    pub(crate) bounds: [[f32; 3]; 2],
 }
 
 /// Sizes in bytes of the parts of the structure (the columns of the paper's Table 2).
@@ -83,6 +86,23 @@ pub(crate) fn prepare(mesh: &TriMesh) -> Vec<Tri> {
         .collect()
 }
 
+/// Bounding box of the mesh's positions, widened by `pad` on every side and rounded outwards
+/// to `f32`.
+fn mesh_bounds(mesh: &TriMesh, pad: f64) -> [[f32; 3]; 2] {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in &mesh.positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    [
+        lo.map(|v| ((v - pad) as f32).next_down()),
+        hi.map(|v| ((v + pad) as f32).next_up()),
+    ]
+}
+
 impl HybridOctree {
     /// Assembles a tree from its parts (used by the builder and the file reader).
     #[allow(clippy::too_many_arguments)]
@@ -98,6 +118,7 @@ impl HybridOctree {
     ) -> Self {
         let tris = prepare(&mesh);
         let cell_sizes = std::array::from_fn(|l| cube.cell_size(l as u8) as f32);
+        let bounds = mesh_bounds(&mesh, 1e-5 * cube.size);
         Self {
             nodes: NodeArray::from(&nodes[..]),
             voxels,
@@ -110,6 +131,7 @@ impl HybridOctree {
             mesh,
             tris,
             cell_sizes,
+            bounds,
         }
     }
 

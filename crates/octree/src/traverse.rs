@@ -280,6 +280,21 @@ impl HybridOctree {
         if t0 > t1 {
             return None;
         }
+        if matches!(mode, TraceMode::Triangles) {
+            // Every triangle lies in the mesh's bounding box. (Voxels fill whole cells, which
+            // reach past it, so the other modes cannot take this shortcut.)
+            let [lo, hi] = self.bounds;
+            let (mut a0, mut a1) = (t0, t1);
+            for k in 0..3 {
+                let a = (lo[k] - o[k]) * inv[k];
+                let b = (hi[k] - o[k]) * inv[k];
+                a0 = a0.max(a.min(b));
+                a1 = a1.min(a.max(b));
+            }
+            if a0 > a1 {
+                return None;
+            }
+        }
         // Past the root test only: most rays of a far view miss the root cell.
         let dn = dd.sqrt();
         // Tolerance for accepting a triangle hit in a leaf (rounding of the cell bounds).
