@@ -253,6 +253,24 @@ impl HybridOctree {
         mode: &TraceMode,
         footprint: Option<Footprint>,
     ) -> Option<Hit> {
+        self.trace::<false>(ray, mode, footprint)
+    }
+
+    /// Whether anything blocks `ray` within its range (shadow and ambient-occlusion rays):
+    /// `intersect(..).is_some()`, but the walk ends at the first hit in the range rather than
+    /// the closest.
+    pub fn occluded(&self, ray: &Ray, mode: &TraceMode, footprint: Option<Footprint>) -> bool {
+        self.trace::<true>(ray, mode, footprint).is_some()
+    }
+
+    /// The walk behind [`Self::intersect`] (`ANY = false`: the closest hit) and
+    /// [`Self::occluded`] (`ANY = true`: any hit in the ray's range).
+    fn trace<const ANY: bool>(
+        &self,
+        ray: &Ray,
+        mode: &TraceMode,
+        footprint: Option<Footprint>,
+    ) -> Option<Hit> {
         let o = ray.origin;
         let d = ray.dir;
         let dd = dot(d, d);
@@ -368,8 +386,9 @@ impl HybridOctree {
                     &mut mailbox,
                     &mut best,
                 );
-                if best.is_some_and(|b| b.t <= e.t1 + eps) {
-                    // The hit lies in this cell (or, by rounding, just past it).
+                if best.is_some_and(|b| ANY || b.t <= e.t1 + eps) {
+                    // The hit lies in this cell (or, by rounding, just past it), or any hit
+                    // will do.
                     break;
                 }
                 continue;
@@ -446,11 +465,6 @@ impl HybridOctree {
             }
         }
         best.map(|b| self.tri_hit(b))
-    }
-
-    /// Whether anything blocks `ray` within its range (shadow rays).
-    pub fn occluded(&self, ray: &Ray, mode: &TraceMode, footprint: Option<Footprint>) -> bool {
-        self.intersect(ray, mode, footprint).is_some()
     }
 
     /// Tests a leaf's triangles (through the mailbox) and keeps in `best` the closest hit with

@@ -11,8 +11,8 @@ use wscg_octree::cube::{child_octant, morton};
 use wscg_octree::overlap::{tri_box_overlap, CELL_HALF};
 use wscg_octree::traverse::intersect_tri;
 use wscg_octree::{
-    brute_force, build, render, scenes, BuildParams, Camera, Cube, HitKind, HybridOctree, LeafTris,
-    PointLight, Ray, Shading, TraceMode, TriangleBvh,
+    brute_force, build, render, scenes, BuildParams, Camera, Cube, Footprint, HitKind,
+    HybridOctree, LeafTris, PointLight, Ray, Shading, TraceMode, TriangleBvh,
 };
 
 fn params(depth: u8, early_stop: bool) -> BuildParams {
@@ -364,6 +364,20 @@ fn ray_windows_equal_brute_force() {
         hits > rays.len() / 10 && hits < rays.len() * 9 / 10,
         "{hits}"
     );
+    // The any-hit walk of shadow rays agrees with the closest-hit one, in every mode.
+    let fp = Footprint {
+        width0: 0.0,
+        spread: 2e-3,
+    };
+    for mode in [TraceMode::Triangles, TraceMode::HYBRID, TraceMode::VOXELS] {
+        let differ = rays
+            .par_iter()
+            .filter(|r| {
+                oct.occluded(r, &mode, Some(fp)) != oct.intersect(r, &mode, Some(fp)).is_some()
+            })
+            .count();
+        assert_eq!(differ, 0, "{mode:?}");
+    }
 }
 
 /// Check 3 on the 1.3 M-triangle blob, against the BVH (brute force over 1.3 M triangles x
