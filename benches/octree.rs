@@ -73,6 +73,22 @@ fn bench(c: &mut Criterion) {
                 .count()
         })
     });
+    // parry3d returning what our hit returns too (normal and triangle), not the distance alone.
+    g.bench_function(
+        "forest 1024^2 primary rays, parry3d TriMesh BVH with normals",
+        |b| {
+            b.iter(|| {
+                rays.par_iter()
+                    .filter(|r| {
+                        let pr = PRay::new(PVec::from(r.origin), PVec::from(r.dir));
+                        parry
+                            .cast_local_ray_and_get_normal(&pr, f32::MAX, true)
+                            .is_some()
+                    })
+                    .count()
+            })
+        },
+    );
     g.finish();
 }
 
