@@ -59,7 +59,7 @@ const LEAD: usize = 7;
 /// The node array, stored so that the 8 children of an inner node share one cache line: the
 /// traversal reads them with one memory access instead of two. Dereferences to `[Node]`; the
 /// node indices are those of the paper's layout (root 0, children blocks at `1 + 8 k`).
-#[derive(Clone, Default)]
+#[derive(Clone)]
 pub struct NodeArray {
     lines: Vec<NodeLine>,
     len: usize,
