@@ -65,16 +65,6 @@ pub struct NodeArray {
     len: usize,
 }
 
-impl NodeArray {
-    /// The nodes as a flat slice, including the unused lead slots.
-    fn flat(&self) -> &[Node] {
-        let n = self.lines.len() * 8;
-        // SAFETY: `NodeLine` is `repr(C)` around `[Node; 8]` with size 64 = 8 * size_of::<Node>()
-        // (no padding), so `n` nodes lie contiguously from the start of `lines`.
-        unsafe { std::slice::from_raw_parts(self.lines.as_ptr().cast::<Node>(), n) }
-    }
-}
-
 impl From<&[Node]> for NodeArray {
     fn from(nodes: &[Node]) -> Self {
         let mut lines = vec![NodeLine::default(); (LEAD + nodes.len()).div_ceil(8)];
@@ -93,7 +83,12 @@ impl std::ops::Deref for NodeArray {
     type Target = [Node];
     #[inline]
     fn deref(&self) -> &[Node] {
-        &self.flat()[LEAD..LEAD + self.len]
+        // SAFETY: `NodeLine` is `repr(C)` around `[Node; 8]` with size 64 = 8 * size_of::<Node>()
+        // (no padding), so the lines hold `8 * lines.len() >= LEAD + len` contiguous nodes
+        // (`From` allocates at least that many, and at least one line).
+        unsafe {
+            std::slice::from_raw_parts(self.lines.as_ptr().cast::<Node>().add(LEAD), self.len)
+        }
     }
 }
 

@@ -86,21 +86,16 @@ pub(crate) fn prepare(mesh: &TriMesh) -> Vec<Tri> {
         .collect()
 }
 
-/// Bounding box of the mesh's positions, widened by `pad` on every side and rounded outwards
-/// to `f32`.
+/// The mesh's bounding box widened by `pad` on every side and rounded outwards to `f32`; an
+/// inverted (empty) box for a mesh without vertices.
 fn mesh_bounds(mesh: &TriMesh, pad: f64) -> [[f32; 3]; 2] {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in &mesh.positions {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
+    match mesh.bounding_box() {
+        Some((lo, hi)) => [
+            lo.map(|v| ((v - pad) as f32).next_down()),
+            hi.map(|v| ((v + pad) as f32).next_up()),
+        ],
+        None => [[f32::INFINITY; 3], [f32::NEG_INFINITY; 3]],
     }
-    [
-        lo.map(|v| ((v - pad) as f32).next_down()),
-        hi.map(|v| ((v + pad) as f32).next_up()),
-    ]
 }
 
 impl HybridOctree {

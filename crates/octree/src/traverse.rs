@@ -3,7 +3,7 @@
 
 use std::mem::MaybeUninit;
 
-use crate::node::LeafTris;
+use crate::node::{LeafTris, Node};
 use crate::octree::{HybridOctree, Tri};
 
 /// A ray `origin + t dir` with `t` in `[t_min, t_max]` (single precision, like the traversal).
@@ -321,6 +321,8 @@ impl HybridOctree {
         let fp = footprint.map(|f| (f.width0, f.spread * dn));
         // Triangles already intersected along this ray (a triangle spans several leaves).
         let mut mailbox = Mailbox::default();
+        // The node slice, taken once rather than through `NodeArray`'s deref at every read.
+        let nodes: &[Node] = &self.nodes;
         // The closest triangle hit in `[t_lo, t_hi]` among the triangles tested so far.
         let mut best: Option<TriHit> = None;
         // Entries `0..sp` are initialized; leaving the rest uninitialized spares a 2 KB memset
@@ -353,7 +355,7 @@ impl HybridOctree {
                 // Every cell still ahead starts behind the closest triangle hit found so far.
                 break;
             }
-            let node = self.nodes[e.node as usize];
+            let node = nodes[e.node as usize];
             if node.is_empty() {
                 continue;
             }
@@ -438,13 +440,13 @@ impl HybridOctree {
             let first = node.index();
             for &(c, a, b) in seq[..=nc].iter().rev() {
                 let child = first + c as u32;
-                let cn = self.nodes[child as usize];
+                let cn = nodes[child as usize];
                 if cn.is_empty() {
                     continue;
                 }
                 if !cn.is_leaf() {
                     // The grandchildren are read when the child is popped: fetch them now.
-                    prefetch(self.nodes.as_ptr().wrapping_add(cn.index() as usize));
+                    prefetch(nodes.as_ptr().wrapping_add(cn.index() as usize));
                 }
                 let entry = Entry {
                     node: child,
