@@ -99,7 +99,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let t = Instant::now();
         let r = s.solve(false)?;
         let total = t.elapsed().as_secs_f64();
-        let mean = r.iterations.iter().sum::<usize>() as f64 / r.iterations.len() as f64;
+        let mean = r.mean_iterations();
         let dsc = dice_multilabel(s.labels()?.data(), ph.truth.data())?;
         println!(
             "{name:<34} {mean:>10.1} {:>12.3} {total:>10.2} {dsc:>8.4}",

@@ -188,3 +188,31 @@ pub fn dict_item<'py, T: pyo3::conversion::FromPyObjectOwned<'py>>(
         _ => Ok(None),
     }
 }
+
+/// Sets `target.field` from the optional `field` entry of the dict `d` (see [`dict_item`]),
+/// for every `field: type` listed.
+macro_rules! set_fields {
+    ($d:expr, $target:ident; $($field:ident: $t:ty),+ $(,)?) => {
+        $(
+            if let Some(v) = $crate::convert::dict_item::<$t>($d, stringify!($field))? {
+                $target.$field = v;
+            }
+        )+
+    };
+}
+pub(crate) use set_fields;
+
+/// The value of the option named `s` among `options`, or a `ValueError` listing them.
+pub fn choice<T: Copy>(name: &str, s: &str, options: &[(&str, T)]) -> PyResult<T> {
+    options
+        .iter()
+        .find(|(o, _)| *o == s)
+        .map(|&(_, v)| v)
+        .ok_or_else(|| {
+            let names: Vec<String> = options.iter().map(|(o, _)| format!("'{o}'")).collect();
+            value_error(format!(
+                "`{name}` must be one of {}, got {s:?}",
+                names.join(", ")
+            ))
+        })
+}

@@ -20,7 +20,7 @@ use wscg_volseg::{
     PhantomConfig, Precision, RwParams, RwSession, SolveReport, Solver,
 };
 
-use crate::convert::{array, dict_item, values, Arr};
+use crate::convert::{array, choice, dict_item, set_fields, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// Most worker threads of one solve.
@@ -40,15 +40,6 @@ const MAX_SOLVER_BYTES: usize = 1 << 35;
 
 // ------------------------------------------------------------------------------------------
 // Conversions
-
-/// Sets `target.field` from the optional `field` key of the dict `d`.
-macro_rules! set_field {
-    ($d:expr, $target:ident . $field:ident, $t:ty) => {
-        if let Some(v) = dict_item::<$t>($d, stringify!($field))? {
-            $target.$field = v;
-        }
-    };
-}
 
 /// `(nz, ny, nx)` of a 3-D array.
 fn shape3(name: &str, shape: &[usize]) -> PyResult<[usize; 3]> {
@@ -96,21 +87,6 @@ fn same_shape_as_ct<T: Element>(
             a.shape()
         )))
     }
-}
-
-/// The value of the option named `s` among `options`, or a `ValueError` listing them.
-fn choice<T: Copy>(name: &str, s: &str, options: &[(&str, T)]) -> PyResult<T> {
-    options
-        .iter()
-        .find(|(o, _)| *o == s)
-        .map(|&(_, v)| v)
-        .ok_or_else(|| {
-            let names: Vec<String> = options.iter().map(|(o, _)| format!("'{o}'")).collect();
-            value_error(format!(
-                "`{name}` must be one of {}, got {s:?}",
-                names.join(", ")
-            ))
-        })
 }
 
 fn norm_in(name: &str, lo: Option<f64>, hi: Option<f64>) -> PyResult<IntensityNorm> {
@@ -175,14 +151,8 @@ fn params_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<RwParams> {
         return Ok(p);
     };
     known_keys(d, &PARAM_KEYS, "parameter")?;
-    set_field!(d, p.t_bone, f64);
-    set_field!(d, p.beta, f64);
-    set_field!(d, p.eps, f64);
-    set_field!(d, p.kappa, f64);
-    set_field!(d, p.tol, f64);
-    set_field!(d, p.max_iter, usize);
-    set_field!(d, p.spacing_in_weights, bool);
-    set_field!(d, p.jacobi, bool);
+    set_fields!(d, p; t_bone: f64, beta: f64, eps: f64, kappa: f64, tol: f64, max_iter: usize,
+        spacing_in_weights: bool, jacobi: bool);
     let lo = dict_item::<f64>(d, "window_lo")?;
     let hi = dict_item::<f64>(d, "window_hi")?;
     if let Some(n) = dict_item::<String>(d, "norm")? {
@@ -632,12 +602,8 @@ fn grow_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<GrowWeights> {
         ],
         "grow weight",
     )?;
-    set_field!(d, w.ratio, f64);
-    set_field!(d, w.gradient, f64);
-    set_field!(d, w.distance, f64);
-    set_field!(d, w.gradient_scale, f64);
-    set_field!(d, w.tau, f64);
-    set_field!(d, w.max_sweeps, usize);
+    set_fields!(d, w; ratio: f64, gradient: f64, distance: f64, gradient_scale: f64, tau: f64,
+        max_sweeps: usize);
     let reals = [w.ratio, w.gradient, w.distance, w.gradient_scale, w.tau];
     if reals.iter().any(|v| !v.is_finite()) {
         return Err(value_error(
@@ -746,9 +712,7 @@ fn phantom_cfg(
         ],
         "phantom option",
     )?;
-    if let Some(v) = dict_item::<bool>(d, "surface_strokes")? {
-        c.surface_strokes = v;
-    }
+    set_fields!(d, c; surface_strokes: bool);
     if let Some((a, b)) = dict_item::<(f64, f64)>(d, "shell")? {
         c.shell = [a, b];
     }

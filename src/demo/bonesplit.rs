@@ -121,7 +121,6 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     });
     let d_rw = dice_multilabel(&rw, truth)?;
     let d_ns = dice_multilabel(&ns, truth)?;
-    let mean_it = r.iterations.iter().sum::<usize>() as f64 / r.iterations.len() as f64;
     rep.table.push(Row::new(
         "bone voxels (graph nodes)",
         nodes.to_string(),
@@ -150,23 +149,19 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     ));
     rep.table.push(Row::new(
         "mean PCG iterations per label (tol 3e-3)",
-        format!("{mean_it:.0}"),
+        format!("{:.0}", r.mean_iterations()),
         "83 (45-136)",
         "Fig. 9",
     ));
-    let mean_sk = r_sk.iterations.iter().sum::<usize>() as f64 / r_sk.iterations.len() as f64;
     rep.table.push(Row::new(
         "mean PCG iterations per label, eps 1e-10, kappa 0",
-        format!("{mean_sk:.0}"),
+        format!("{:.0}", r_sk.mean_iterations()),
         "",
         "kappa speeds CG up (spec section 3)",
     ));
     rep.table.push(Row::new(
         "seconds per label (K-block f32 solver, this machine)",
-        format!(
-            "{:.3}",
-            r.seconds.iter().sum::<f64>() / r.seconds.len() as f64
-        ),
+        format!("{:.3}", r.mean_seconds()),
         "2.8 (CPU, 8 threads), 0.4 (GPU)",
         "Fig. 9 at 4.6 M nodes; 2.13 s here at 4.9 M nodes (example bone_separation)",
     ));

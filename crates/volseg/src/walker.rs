@@ -27,6 +27,27 @@ pub struct SolveReport {
     pub unreached: usize,
 }
 
+impl SolveReport {
+    /// Mean CG iterations per label (0 without labels).
+    pub fn mean_iterations(&self) -> f64 {
+        mean(self.iterations.iter().map(|&i| i as f64))
+    }
+
+    /// Mean wall-clock seconds per label (0 without labels).
+    pub fn mean_seconds(&self) -> f64 {
+        mean(self.seconds.iter().copied())
+    }
+}
+
+fn mean(v: impl ExactSizeIterator<Item = f64>) -> f64 {
+    let n = v.len();
+    if n == 0 {
+        0.0
+    } else {
+        v.sum::<f64>() / n as f64
+    }
+}
+
 /// Probabilities of the last solve, interleaved per node (`x[i·K + k − 1]`).
 #[derive(Clone, Debug)]
 enum Probs {

@@ -27,7 +27,7 @@ fn case_one_size_converges_in_the_papers_iteration_range() {
     let t = Instant::now();
     let r = s.solve(false).unwrap();
     let t_solve = t.elapsed().as_secs_f64();
-    let mean = r.iterations.iter().sum::<usize>() as f64 / r.iterations.len() as f64;
+    let mean = r.mean_iterations();
     println!(
         "512x512x337, K = 15: {n} bone voxels; phantom {t_phantom:.1} s, graph {t_graph:.2} s, \
          solve {t_solve:.1} s ({:.2} s per label); iterations per label {:?} (mean {mean:.1})",
