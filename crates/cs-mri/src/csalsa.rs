@@ -223,14 +223,18 @@ pub fn csalsa(
     let inv_s = 1.0 / s;
     let y: Vec<Complex64> = data.values().iter().map(|v| v * inv_s).collect();
     let eps = p.epsilon * inv_s;
-    let (nreal, _) = psi.coeff_len();
-    let mut skip = vec![false; nreal];
+    let (nreal, ncomplex) = psi.coeff_len();
+    let mut skip = [vec![false; nreal], Vec::new()];
     if let Regularizer::L1 {
         shrink_lowpass: false,
     } = reg
     {
         for r in psi.lowpass_ranges() {
-            skip[r].iter_mut().for_each(|v| *v = true);
+            skip[0][r].iter_mut().for_each(|v| *v = true);
+        }
+        for r in psi.lowpass_complex_ranges() {
+            skip[1].resize(ncomplex, false);
+            skip[1][r].iter_mut().for_each(|v| *v = true);
         }
     }
 
@@ -275,7 +279,7 @@ pub fn csalsa(
                 d1.sub_assign(&a);
                 sum.set_sum(&v1, &d1);
             }
-            _ => admm_l1_step(&a, &mut d1, &mut sum, tau, &skip),
+            _ => admm_l1_step(&a, &mut d1, &mut sum, tau, [&skip[0], &skip[1]]),
         }
         // v2-update: projection of b = F_u x - d2 onto the ball.
         for (i, &kk) in idx.iter().enumerate() {

@@ -12,7 +12,11 @@
 //!
 //! - [`udct`]: the 2-D UDCT (Nguyen & Chauris 2010): an exactly tight frame of redundancy 4
 //!   with folded per-band FFTs; `tight = false` reproduces `ucurv` 0.1.1's windows.
-//! - [`sparsifier`]: priors on complex images (UDCT split, orthonormal Daubechies, identity).
+//! - [`fdct`]: the wrapping fast discrete curvelet transform (Candes et al. 2006), the
+//!   curvelet prior of the paper's Tables 2 and 3: a complex tight frame of redundancy
+//!   about 2.9 (wavelets at the finest scale).
+//! - [`sparsifier`]: priors on complex images (UDCT split, FDCT, orthonormal Daubechies,
+//!   identity).
 //! - [`csalsa()`]: the solver, l1 and TV regularisers, noise radius `eps`, per-iteration
 //!   history (paper Fig. 6).
 //! - [`baselines`]: zero-filled, FCSA, TVCMRI (Condat-Vu on its objective), WaTMRI and a
@@ -23,8 +27,7 @@
 //!
 //! k-space is un-shifted (DC at index 0) and scaled by the unitary FFT.
 //!
-//! Not implemented: the paper's C-SALSA comparisons with FDCT (wrapping curvelets) and
-//! SFLCT priors (Tables 2-3).
+//! Not implemented: the SFLCT priors of the paper's Tables 2-3 (Lu & Do 2006).
 //!
 //! ```
 //! use wscg_cs_mri::{csalsa, masks, phantom, KSpace, CsalsaParams, Regularizer, UdctConfig, UdctSparsifier};
@@ -40,6 +43,8 @@
 
 pub mod baselines;
 pub mod csalsa;
+pub mod fdct;
+mod fold;
 pub mod fourier;
 pub mod kspace;
 pub mod masks;
@@ -51,7 +56,10 @@ pub mod udct;
 
 pub use baselines::CompositeParams;
 pub use csalsa::{csalsa, reconstruct, CsalsaParams, IterStat, Recon, Regularizer};
+pub use fdct::{Fdct, FdctBand, FdctConfig, Finest};
 pub use fourier::Fourier;
 pub use kspace::{noise_epsilon, KSpace};
-pub use sparsifier::{CoeffVec, IdentitySparsifier, Sparsifier, UdctSparsifier, WaveletSparsifier};
+pub use sparsifier::{
+    CoeffVec, FdctSparsifier, IdentitySparsifier, Sparsifier, UdctSparsifier, WaveletSparsifier,
+};
 pub use udct::{BandId, Udct, UdctCoeffs, UdctConfig};

@@ -31,22 +31,25 @@ pub fn soft_coeffs(c: &mut CoeffVec, tau: f64) {
 
 /// The fused l1 update of C-SALSA (eqs. 7-9): with `psi_x = Psi x`,
 /// `a = psi_x - d`, `v = soft(a, tau)`, then `d <- v - a` and `next <- v + d` (what the next
-/// x-update synthesises), element by element in one pass. Real coefficients flagged in
-/// `skip` are not shrunk.
+/// x-update synthesises), element by element in one pass. Real and complex coefficients
+/// flagged in `skip` (`[real, complex]`) are not shrunk.
 pub fn admm_l1_step(
     psi_x: &CoeffVec,
     d: &mut CoeffVec,
     next: &mut CoeffVec,
     tau: f64,
-    skip: &[bool],
+    skip: [&[bool]; 2],
 ) {
+    // A flag list shorter than its coefficients (empty: none skipped) reads as `false`.
+    let kept = |flags: &[bool], i: usize| !flags.get(i).copied().unwrap_or(false);
     d.real
         .par_iter_mut()
         .zip(next.real.par_iter_mut())
-        .zip(psi_x.real.par_iter().zip(skip.par_iter()))
-        .for_each(|((d, n), (&p, &s))| {
+        .zip(psi_x.real.par_iter())
+        .enumerate()
+        .for_each(|(i, ((d, n), &p))| {
             let a = p - *d;
-            let v = if s { a } else { soft(a, tau) };
+            let v = if kept(skip[0], i) { soft(a, tau) } else { a };
             *d = v - a;
             *n = v + *d;
         });
@@ -54,9 +57,14 @@ pub fn admm_l1_step(
         .par_iter_mut()
         .zip(next.complex.par_iter_mut())
         .zip(psi_x.complex.par_iter())
-        .for_each(|((d, n), &p)| {
+        .enumerate()
+        .for_each(|(i, ((d, n), &p))| {
             let a = p - *d;
-            let v = soft_complex(a, tau);
+            let v = if kept(skip[1], i) {
+                soft_complex(a, tau)
+            } else {
+                a
+            };
             *d = v - a;
             *n = v + *d;
         });

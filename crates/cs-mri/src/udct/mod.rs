@@ -19,7 +19,8 @@
 
 mod window;
 
-use std::cell::RefCell;
+use crate::fold::{self, Support};
+
 use std::sync::Mutex;
 
 use num_complex::Complex64;
@@ -126,56 +127,6 @@ pub struct BandId {
     pub wedge: usize,
 }
 
-/// The non-zero entries of a window on the full grid and where each folds to.
-#[derive(Clone, Debug, Default)]
-struct Support {
-    /// Full-grid indices, increasing.
-    full: Vec<u32>,
-    /// Index of each entry on the decimated grid.
-    fold: Vec<u32>,
-    /// The same, on the decimated grid stored column by column.
-    fold_t: Vec<u32>,
-    /// Window values.
-    weight: Vec<f64>,
-}
-
-impl Support {
-    /// `buf[fold_t] += w * spec[full]` (column-major decimated grid).
-    fn gather_t(&self, spec: &[Complex64], buf: &mut [Complex64]) {
-        for ((&k, &f), &w) in self.full.iter().zip(&self.fold_t).zip(&self.weight) {
-            buf[f as usize] += spec[k as usize] * w;
-        }
-    }
-
-    /// [`Support::scatter`] from a column-major decimated grid.
-    fn scatter_t(&self, small: &[Complex64], scale: f64, lo: u32, out: &mut [Complex64]) {
-        let a = self.full.partition_point(|&k| k < lo);
-        let b = self.full.partition_point(|&k| k < lo + out.len() as u32);
-        for e in a..b {
-            out[(self.full[e] - lo) as usize] +=
-                small[self.fold_t[e] as usize] * (self.weight[e] * scale);
-        }
-    }
-
-    /// `buf[fold] += w * spec[full]` over the entries.
-    fn gather(&self, spec: &[Complex64], buf: &mut [Complex64]) {
-        for ((&k, &f), &w) in self.full.iter().zip(&self.fold).zip(&self.weight) {
-            buf[f as usize] += spec[k as usize] * w;
-        }
-    }
-
-    /// `out[full - lo] += scale * w * small[fold]` for the entries with
-    /// `lo <= full < lo + out.len()`.
-    fn scatter(&self, small: &[Complex64], scale: f64, lo: u32, out: &mut [Complex64]) {
-        let a = self.full.partition_point(|&k| k < lo);
-        let b = self.full.partition_point(|&k| k < lo + out.len() as u32);
-        for e in a..b {
-            out[(self.full[e] - lo) as usize] +=
-                small[self.fold[e] as usize] * (self.weight[e] * scale);
-        }
-    }
-}
-
 /// One band (or the low-pass): its sparse window and folding map.
 #[derive(Clone, Debug)]
 struct Band {
@@ -264,12 +215,6 @@ pub struct Udct {
     pool: Mutex<Vec<Vec<Complex64>>>,
 }
 
-thread_local! {
-    /// Per-thread FFT scratch and a transposed band buffer.
-    static SCRATCH: RefCell<(Vec<Complex64>, Vec<Complex64>)> =
-        const { RefCell::new((Vec::new(), Vec::new())) };
-}
-
 /// Plans above this many elements are transformed with the lines spread over rayon.
 const PAR_FFT: usize = 1 << 15;
 
@@ -322,10 +267,7 @@ impl Udct {
                 let mut mirrored: Vec<(u32, f64)> = Vec::new();
                 for (k, &v) in w.iter().enumerate() {
                     if v != 0.0 {
-                        support.full.push(k as u32);
-                        support.fold.push(fold_of(k));
-                        support.fold_t.push(fold_t(k));
-                        support.weight.push(v);
+                        support.push(k as u32, fold_of(k), fold_t(k), v);
                         let (i, j) = (k / cols, k % cols);
                         mirrored.push(((((rows - i) % rows) * cols + (cols - j) % cols) as u32, v));
                     }
@@ -334,10 +276,7 @@ impl Udct {
                 if id.is_some() {
                     mirrored.sort_by_key(|m| m.0);
                     for (k, v) in mirrored {
-                        mirror.full.push(k);
-                        mirror.fold.push(fold_of(k as usize));
-                        mirror.fold_t.push(fold_t(k as usize));
-                        mirror.weight.push(v);
+                        mirror.push(k, fold_of(k as usize), fold_t(k as usize), v);
                     }
                 }
                 Band {
@@ -561,29 +500,19 @@ impl Udct {
         if buf.len() >= PAR_FFT {
             plan.process_par(buf, dir);
         } else {
-            SCRATCH.with(|s| plan.process(buf, dir, &mut s.borrow_mut().0));
+            fold::with_scratch(|s| plan.process(buf, dir, s));
         }
     }
 
     /// `out = IFFT_small(fold(window, spec))` for a band that is not transformed in parallel:
     /// the fold goes to a column-major buffer so that the 2-D FFT needs one transpose.
     fn fold_ifft(&self, band: &Band, support: &Support, spec: &[Complex64], out: &mut [Complex64]) {
-        let zero = Complex64::new(0.0, 0.0);
-        SCRATCH.with(|s| {
-            let (scratch, t) = &mut *s.borrow_mut();
-            t.clear();
-            t.resize(out.len(), zero);
-            support.gather_t(spec, t);
-            self.plans[band.plan].process_from_transposed(t, out, Direction::Inverse, scratch);
-        });
+        fold::fold_ifft(&self.plans[band.plan], support, spec, out);
     }
 
     /// `out = FFT_small(src)` written column-major (`src` is overwritten), for the scatter.
     fn fft_t(&self, band: &Band, src: &mut [Complex64], out: &mut [Complex64]) {
-        SCRATCH.with(|s| {
-            let (scratch, _) = &mut *s.borrow_mut();
-            self.plans[band.plan].process_to_transposed(src, out, Direction::Forward, scratch);
-        });
+        fold::fft_t(&self.plans[band.plan], src, out);
     }
 
     /// Splits a concatenated band buffer into per-band slices.
@@ -736,15 +665,14 @@ impl Udct {
                 },
             );
         }
-        const BLOCK_ROWS: usize = 8;
         let cols = self.cols;
         let (lo_s, rest) = small.split_at(nl);
         let (p, g) = rest.split_at(nb);
-        spec.par_chunks_mut(BLOCK_ROWS * cols)
+        spec.par_chunks_mut(fold::BLOCK_ROWS * cols)
             .enumerate()
             .for_each(|(blk, out)| {
                 out.iter_mut().for_each(|v| *v = zero);
-                let lo = (blk * BLOCK_ROWS * cols) as u32;
+                let lo = (blk * fold::BLOCK_ROWS * cols) as u32;
                 self.lowpass.support.scatter(lo_s, 1.0, lo, out);
                 for band in &self.bands {
                     let r = band.offset..band.offset + band.len();
@@ -789,7 +717,6 @@ impl Udct {
         }
         // Scatter in parallel over blocks of rows; each band's entries are sorted by full
         // index, so a block's entries form one contiguous run per band.
-        const BLOCK_ROWS: usize = 8;
         let cols = self.cols;
         let all: Vec<(&Band, usize)> = std::iter::once((&self.lowpass, 0))
             .chain(
@@ -799,11 +726,11 @@ impl Udct {
             )
             .collect();
         let small_ref = &small;
-        spec.par_chunks_mut(BLOCK_ROWS * cols)
+        spec.par_chunks_mut(fold::BLOCK_ROWS * cols)
             .enumerate()
             .for_each(|(blk, out)| {
                 out.iter_mut().for_each(|v| *v = zero);
-                let lo = (blk * BLOCK_ROWS * cols) as u32;
+                let lo = (blk * fold::BLOCK_ROWS * cols) as u32;
                 for &(band, base) in &all {
                     let src = &small_ref[base..base + band.len()];
                     if band.id.is_some() {
