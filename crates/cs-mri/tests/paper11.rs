@@ -659,7 +659,7 @@ fn bad_input_is_rejected_with_clear_errors() {
     let mut x = vec![Complex64::new(0.0, 0.0); n * n];
     x[5].im = f64::INFINITY;
     assert!(f.forward(&x).is_err());
-    assert!(f.backward(&vec![Complex64::new(0.0, 0.0); 3]).is_err());
+    assert!(f.backward(&[Complex64::new(0.0, 0.0); 3]).is_err());
     assert!(f.direction(f.bands().len()).is_none());
 }
 
