@@ -1308,7 +1308,8 @@ fn octree_build_info_render_on_a_mesh_file() {
 #[test]
 fn mri_mask_phantom_recon_on_files() {
     use wscg::csmri::{
-        csalsa, metrics, CsalsaParams, KSpace, Regularizer, UdctConfig, UdctSparsifier,
+        csalsa, metrics, sparsifier, CsalsaParams, FdctConfig, FdctSparsifier, KSpace, Regularizer,
+        UdctConfig, UdctSparsifier,
     };
     let dir = tempfile::tempdir().unwrap();
     let p = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
@@ -1410,6 +1411,38 @@ fn mri_mask_phantom_recon_on_files() {
     )
     .unwrap();
     let diff = metrics::rlne(&want.image, &xa.data).unwrap();
+    assert!(diff < 1e-12, "{diff}");
+    // The FDCT prior at its tuned tau0, as the library runs it.
+    wscg_ok(&[
+        "mri",
+        "recon",
+        &p("k.npy"),
+        "--mask",
+        &p("m.npy"),
+        "--prior",
+        "fdct",
+        "--iters",
+        "10",
+        "--out",
+        &p("fd.npy"),
+    ]);
+    let psi = FdctSparsifier::new(64, 64, &FdctConfig::default()).unwrap();
+    let params = CsalsaParams {
+        max_iter: 10,
+        tau0: sparsifier::tuned_tau0("fdct"),
+        ..Default::default()
+    };
+    let want = csalsa(
+        &data,
+        &psi,
+        Regularizer::default(),
+        &params,
+        None,
+        &wscg::math::progress::NoProgress,
+    )
+    .unwrap();
+    let got = wscg::math::npy::read_complex(p("fd.npy")).unwrap();
+    let diff = metrics::rlne(&want.image, &got.data).unwrap();
     assert!(diff < 1e-12, "{diff}");
     // Baselines, NIfTI and PNG outputs.
     wscg_ok(&[

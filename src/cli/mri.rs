@@ -2,7 +2,7 @@
 //!
 //! - `recon`: reconstruct an image from undersampled k-space (`.npy`, complex, un-shifted,
 //!   unitary scaling) or from an image to simulate the measurement from (PNG/JPEG/EXR or a
-//!   real `.npy`), with C-SALSA and the UDCT, wavelet or identity prior, or with a baseline
+//!   real `.npy`), with C-SALSA and the UDCT, FDCT, wavelet or identity prior, or with a baseline
 //!   (zero-filled, FCSA, TVCMRI, WaTMRI). Writes the image as PNG (magnitude scaled to its
 //!   peak), `.npy` (complex128) or NIfTI (`.nii`, `.nii.gz`: magnitude).
 //! - `mask`: write a Cartesian or pseudo-radial sampling mask.
@@ -46,7 +46,7 @@ pub struct ReconArgs {
     /// Method: csalsa, fcsa, tvcmri, watmri or zero-filled.
     #[arg(long, default_value = "csalsa")]
     method: String,
-    /// Prior of C-SALSA: udct, db1 ... db8 or identity.
+    /// Prior of C-SALSA: udct, fdct (wrapping curvelets), db1 ... db8 or identity.
     #[arg(long, default_value = "udct")]
     prior: String,
     /// Regulariser of C-SALSA: l1 or tv.
@@ -58,7 +58,8 @@ pub struct ReconArgs {
     /// Iterations.
     #[arg(long, default_value_t = 70)]
     iters: usize,
-    /// C-SALSA threshold on the unit-peak image (default 0.01 for udct, 0.04 otherwise).
+    /// C-SALSA threshold on the unit-peak image (default 0.01 for udct, 0.02 for fdct, 0.04
+    /// otherwise).
     #[arg(long)]
     tau0: Option<f64>,
     /// UDCT wedges per scale, e.g. "6,6" or "6,6;6,6;6,6" (three scales).
@@ -294,7 +295,7 @@ fn recon(a: ReconArgs) -> Result<()> {
                 ..Default::default()
             };
             let psi = sparsifier::by_name(&a.prior, rows, cols, &cfg, 4)?;
-            let tau0 = a.tau0.unwrap_or(if a.prior == "udct" { 0.01 } else { 0.04 });
+            let tau0 = a.tau0.unwrap_or(sparsifier::tuned_tau0(&a.prior));
             let p = CsalsaParams {
                 max_iter: a.iters,
                 tau0,

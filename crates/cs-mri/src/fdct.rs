@@ -111,7 +111,10 @@ impl FdctConfig {
         if rows == 0 || cols == 0 {
             return Err(Error::Empty("FDCT image (an axis has length 0)"));
         }
-        if self.angles_coarse < 8 || !self.angles_coarse.is_multiple_of(4) || self.angles_coarse > 256 {
+        if self.angles_coarse < 8
+            || !self.angles_coarse.is_multiple_of(4)
+            || self.angles_coarse > 256
+        {
             return Err(Error::invalid(
                 "angles_coarse",
                 format!(
