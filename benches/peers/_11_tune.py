@@ -32,6 +32,7 @@ def development_case():
 def main():
     k, m, img = development_case()
     runs = [("udct (J=1) l1", dict(prior="udct")), ("db4 l1", dict(prior="db4")),
+            ("fdct l1", dict(prior="fdct")),
             ("udct (J=3) l1", dict(wedges=[[6, 6]] * 3)),
             ("udct (J=3) tv", dict(wedges=[[6, 6]] * 3, reg="tv"))]
     for label, kw in runs:

@@ -1,4 +1,4 @@
-//! Bindings of wscg-cs-mri (paper 11): the UDCT, C-SALSA, the baselines, masks, phantoms
+//! Bindings of wscg-cs-mri (paper 11): the UDCT, the FDCT, C-SALSA, the baselines, masks, phantoms
 //! and metrics, as `wscg._native.csmri`.
 
 use num_complex::Complex64;
@@ -7,8 +7,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_cs_mri::baselines::{self, CompositeParams};
 use wscg_cs_mri::{
-    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, IterStat, KSpace, Recon,
-    Regularizer, Udct, UdctCoeffs, UdctConfig,
+    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, Fdct, FdctConfig, Finest, IterStat,
+    KSpace, Recon, Regularizer, Udct, UdctCoeffs, UdctConfig,
 };
 use wscg_math::progress::NoProgress;
 
@@ -141,6 +141,135 @@ impl PyUdct {
         }
         Ok(out)
     }
+}
+
+/// A planned wrapping FDCT (complex images).
+#[pyclass(name = "Fdct", module = "wscg._native.csmri")]
+pub struct PyFdct {
+    inner: Fdct,
+}
+
+#[pymethods]
+impl PyFdct {
+    #[new]
+    #[pyo3(signature = (rows, cols, scales, angles_coarse, finest, transition))]
+    fn new(
+        rows: usize,
+        cols: usize,
+        scales: Option<usize>,
+        angles_coarse: usize,
+        finest: &str,
+        transition: f64,
+    ) -> PyResult<Self> {
+        let cfg = FdctConfig {
+            scales,
+            angles_coarse,
+            finest: Finest::by_name(finest).py_err()?,
+            transition,
+        };
+        Ok(PyFdct {
+            inner: Fdct::new(rows, cols, &cfg).py_err()?,
+        })
+    }
+
+    fn shape(&self) -> (usize, usize) {
+        self.inner.shape()
+    }
+
+    fn num_scales(&self) -> usize {
+        self.inner.num_scales()
+    }
+
+    fn coeff_len(&self) -> usize {
+        self.inner.coeff_len()
+    }
+
+    fn redundancy(&self) -> f64 {
+        self.inner.redundancy()
+    }
+
+    /// `[(scale, angle, (rows, cols)), ...]` in coefficient order.
+    fn bands(&self) -> Vec<(usize, usize, (usize, usize))> {
+        self.inner
+            .bands()
+            .iter()
+            .map(|b| (b.scale, b.angle, (b.shape[0], b.shape[1])))
+            .collect()
+    }
+
+    /// Wedge centre directions (radians), `None` for the coarse and wavelet bands.
+    fn directions(&self) -> Vec<Option<f64>> {
+        (0..self.inner.bands().len())
+            .map(|b| self.inner.direction(b))
+            .collect()
+    }
+
+    /// One complex array per band, in coefficient order.
+    fn forward<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArrayDyn<Complex64>,
+    ) -> PyResult<Vec<Arr<'py, Complex64>>> {
+        let (r, c) = dims2("x", &x)?;
+        if (r, c) != self.inner.shape() {
+            return Err(value_error(format!(
+                "`x` has shape ({r}, {c}); the transform is planned for {:?}",
+                self.inner.shape()
+            )));
+        }
+        let v = values(&x);
+        let co = py.detach(|| self.inner.forward(&v)).py_err()?;
+        self.inner
+            .bands()
+            .iter()
+            .map(|b| array(py, &b.shape, co[b.range.clone()].to_vec()))
+            .collect()
+    }
+
+    fn backward<'py>(
+        &self,
+        py: Python<'py>,
+        bands: Vec<PyReadonlyArrayDyn<Complex64>>,
+    ) -> PyResult<Arr<'py, Complex64>> {
+        let info = self.inner.bands();
+        if bands.len() != info.len() {
+            return Err(value_error(format!(
+                "{} bands given, the transform has {}",
+                bands.len(),
+                info.len()
+            )));
+        }
+        let mut co = vec![Complex64::new(0.0, 0.0); self.inner.coeff_len()];
+        for (b, (arr, band)) in bands.iter().zip(&info).enumerate() {
+            if arr.shape() != band.shape {
+                return Err(value_error(format!(
+                    "band {b} (scale {}, angle {}) has shape {:?}, expected {:?}",
+                    band.scale,
+                    band.angle,
+                    arr.shape(),
+                    band.shape
+                )));
+            }
+            co[band.range.clone()].copy_from_slice(&values(arr));
+        }
+        let out = py.detach(|| self.inner.backward(&co)).py_err()?;
+        let (r, c) = self.inner.shape();
+        array(py, &[r, c], out)
+    }
+
+    /// Dense windows in FFT order, one per band.
+    fn windows<'py>(&self, py: Python<'py>) -> PyResult<Vec<Arr<'py, f64>>> {
+        let (r, c) = self.inner.shape();
+        (0..self.inner.bands().len())
+            .map(|b| array(py, &[r, c], self.inner.window(b).expect("band")))
+            .collect()
+    }
+}
+
+/// C-SALSA's development-image tau0 for a named prior.
+#[pyfunction]
+fn tuned_tau0(prior: &str) -> f64 {
+    sparsifier::tuned_tau0(prior)
 }
 
 fn kspace_in(
@@ -421,6 +550,8 @@ fn noise_epsilon(sigma: f64, m: usize) -> f64 {
 /// Registers the submodule.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyUdct>()?;
+    m.add_class::<PyFdct>()?;
+    m.add_function(wrap_pyfunction!(tuned_tau0, m)?)?;
     m.add_function(wrap_pyfunction!(reconstruct, m)?)?;
     m.add_function(wrap_pyfunction!(composite, m)?)?;
     m.add_function(wrap_pyfunction!(tv_constrained, m)?)?;
