@@ -1,15 +1,16 @@
 //! Criterion benchmarks of paper 11 (CS-MRI with a UDCT prior), specification section 5:
-//! the UDCT forward + backward at 256^2 and 512^2 (peer: the `curvelets` package), and 70
-//! C-SALSA iterations at 256^2, 40% Cartesian, with the UDCT and db4 priors (peers: BART
-//! `pics -l1`, sigpy `L1WaveletRecon`), plus the FCSA baseline.
+//! the UDCT forward + backward at 256^2 and 512^2 (peer: the `curvelets` package), the
+//! wrapping FDCT likewise (peer: `curvepy-fdct`), and 70 C-SALSA iterations at 256^2, 40%
+//! Cartesian, with the UDCT, FDCT and db4 priors (peers: BART `pics -l1`, sigpy
+//! `L1WaveletRecon`), plus the FCSA baseline.
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use wscg::csmri::baselines::{self, CompositeParams};
 use wscg::csmri::{
-    csalsa, masks, phantom, CsalsaParams, KSpace, Regularizer, Udct, UdctConfig, UdctSparsifier,
-    WaveletSparsifier,
+    csalsa, masks, phantom, sparsifier, CsalsaParams, Fdct, FdctConfig, FdctSparsifier, KSpace,
+    Regularizer, Udct, UdctConfig, UdctSparsifier, WaveletSparsifier,
 };
 use wscg::math::progress::NoProgress;
 
@@ -21,6 +22,10 @@ fn bench(c: &mut Criterion) {
         let x = phantom::shepp_logan_image(n).unwrap();
         g.bench_function(format!("udct [[6,6]] forward+backward {n}^2"), |b| {
             b.iter(|| black_box(u.backward(&u.forward(&x).unwrap()).unwrap()))
+        });
+        let f = Fdct::new(n, n, &FdctConfig::default()).unwrap();
+        g.bench_function(format!("fdct forward+backward {n}^2"), |b| {
+            b.iter(|| black_box(f.backward(&f.forward_real(&x).unwrap()).unwrap()))
         });
     }
     let n = 256;
@@ -41,6 +46,16 @@ fn bench(c: &mut Criterion) {
     g.bench_function("csalsa db4-l1 70 it 256^2", |b| {
         b.iter(|| {
             black_box(csalsa(&data, &db4, Regularizer::default(), &pw, None, &NoProgress).unwrap())
+        })
+    });
+    let fdct = FdctSparsifier::new(n, n, &FdctConfig::default()).unwrap();
+    let pf = CsalsaParams {
+        tau0: sparsifier::tuned_tau0("fdct"),
+        ..Default::default()
+    };
+    g.bench_function("csalsa fdct-l1 70 it 256^2", |b| {
+        b.iter(|| {
+            black_box(csalsa(&data, &fdct, Regularizer::default(), &pf, None, &NoProgress).unwrap())
         })
     });
     let cp = CompositeParams::default();

@@ -1,10 +1,11 @@
-"""Paper 11 peers: the UDCT against the `curvelets` (1.2) and `ucurv` (0.1.1) packages, and
+"""Paper 11 peers: the UDCT against the `curvelets` (1.2) and `ucurv` (0.1.1) packages, the
+wrapping FDCT against `curvepy-fdct` (1.2.0, numpy + Cython; reconstruction error reported), and
 C-SALSA against sigpy's L1WaveletRecon and BART's `pics -l1` on the same 256^2 problem
 (analytic Shepp-Logan k-space, 40% Cartesian, 70 iterations). Prints ours, peer, ratio and
 the PSNR beside every solver time.
 
     python benches/peers/11.py          # needs wscg (release build), curvelets, ucurv, sigpy;
-                                        # BART is used when the `bart` command exists
+                                        # curvepy-fdct and BART are used when present
 """
 
 import os
@@ -46,6 +47,33 @@ def transforms():
         uc = ucurv.udct((n, n), [[6, 6]])
         t_uc, _ = best(lambda: ucurv.ucurvinv(ucurv.ucurvfwd(x, uc), uc), repeat=3)
         row(f"udct [[6,6]] forward+backward {n}^2 (ucurv)", t_ours, t_uc)
+
+
+def fdct_transforms():
+    try:
+        from curvepy.curvepy import CurveletFrequencyGrid
+    except ImportError:
+        print("curvepy-fdct not installed; FDCT peer skipped")
+        return
+    for n in [256, 512]:
+        x = csmri.shepp_logan_image(n)
+        ours = csmri.Fdct((n, n))
+        t_ours, y = best(lambda: ours.backward(ours.forward(x)))
+        # The same number of scales as ours (ceil(log2 n) - 3, CurveLab's default).
+        cp = CurveletFrequencyGrid(n, n, ours.num_scales)
+        cp.forward_transform(x)  # fills its window cache, as a user's second call would
+        t_cp, z = best(lambda: cp.inverse_transform(cp.forward_transform(x)), repeat=3)
+        err = lambda v: np.linalg.norm(np.real(v) - x) / np.linalg.norm(x)
+        row(f"fdct forward+backward {n}^2 (curvepy-fdct)", t_ours, t_cp,
+            f"rel. error ours {err(y):.1e}, curvepy {err(z):.1e}; "
+            f"coefficients per pixel ours {ours.redundancy:.2f}, curvepy "
+            f"{sum(c.size for s in cp.forward_transform(x) for c in s) / n / n:.2f}")
+    n = 256
+    k = csmri.shepp_logan_kspace(n)
+    ref = csmri.shepp_logan_reference(n)
+    m = csmri.mask_cartesian((n, n), 0.4, seed=1)
+    t_f, xf = best(lambda: csmri.reconstruct(k, m, prior="fdct"), repeat=3)
+    print(f"{'csalsa fdct-l1 70 it 256^2':48s} ours {t_f * 1e3:9.2f} ms   PSNR {csmri.psnr(ref, xf):.2f} dB")
 
 
 def fitted_psnr(ref, x):
@@ -112,4 +140,5 @@ def solvers():
 
 if __name__ == "__main__":
     transforms()
+    fdct_transforms()
     solvers()

@@ -40,7 +40,7 @@ use rayon::prelude::*;
 use wscg_math::fft::{Direction, Plan2};
 use wscg_math::{Error, Result};
 
-use crate::fold::{self, Support};
+use crate::fold::{self, BufferPool, Support};
 use crate::fourier::signed_frequency;
 
 /// What the finest scale holds.
@@ -196,6 +196,7 @@ pub struct Fdct {
     plans: Vec<Plan2<f64>>,
     full: Plan2<f64>,
     len: usize,
+    pool: BufferPool,
 }
 
 impl std::fmt::Debug for Fdct {
@@ -410,6 +411,7 @@ impl Fdct {
             plans,
             full: Plan2::new(rows, cols)?,
             len: offset,
+            pool: BufferPool::default(),
         })
     }
 
@@ -498,12 +500,14 @@ impl Fdct {
                 index: i,
             });
         }
-        let mut spec = x.to_vec();
+        let mut spec = self.pool.take(x.len());
+        spec.copy_from_slice(x);
         self.full.process_par(&mut spec, Direction::Forward);
         let s = 1.0 / ((self.rows * self.cols) as f64).sqrt();
         spec.par_iter_mut().for_each(|v| *v *= s);
         let mut out = vec![Complex64::new(0.0, 0.0); self.len];
         self.forward_spectrum(&spec, &mut out);
+        self.pool.give(spec);
         Ok(out)
     }
 
@@ -560,7 +564,7 @@ impl Fdct {
     /// `out` (`rows * cols` values) is overwritten.
     pub fn backward_spectrum(&self, c: &[Complex64], out: &mut [Complex64]) {
         let zero = Complex64::new(0.0, 0.0);
-        let mut small = vec![zero; self.len];
+        let mut small = self.pool.take(self.len);
         {
             let mut chunks = Vec::with_capacity(self.bands.len());
             let mut rest = small.as_mut_slice();
@@ -573,12 +577,11 @@ impl Fdct {
                 .par_iter()
                 .zip(chunks.into_par_iter())
                 .for_each(|(band, buf)| {
-                    let mut tmp = c[band.info.range.clone()].to_vec();
-                    fold::fft_t(&self.plans[band.plan], &mut tmp, buf);
+                    fold::fft_t_copy(&self.plans[band.plan], &c[band.info.range.clone()], buf);
                 });
         }
         let cols = self.cols;
-        let small = &small;
+        let sm = &small;
         out.par_chunks_mut(fold::BLOCK_ROWS * cols)
             .enumerate()
             .for_each(|(blk, o)| {
@@ -586,9 +589,10 @@ impl Fdct {
                 let lo = (blk * fold::BLOCK_ROWS * cols) as u32;
                 for band in &self.bands {
                     band.support
-                        .scatter_t(&small[band.info.range.clone()], band.scale, lo, o);
+                        .scatter_t(&sm[band.info.range.clone()], band.scale, lo, o);
                 }
             });
+        self.pool.give(small);
     }
 }
 

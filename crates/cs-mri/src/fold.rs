@@ -7,6 +7,7 @@
 //! over the full grid and multiplies by the window again.
 
 use std::cell::RefCell;
+use std::sync::Mutex;
 
 use num_complex::Complex64;
 use wscg_math::fft::{Direction, Plan2};
@@ -110,6 +111,16 @@ pub(crate) fn fold_ifft(
     });
 }
 
+/// [`fft_t`] of a copy of `src` (kept in this thread's buffer; `src` is left as it is).
+pub(crate) fn fft_t_copy(plan: &Plan2<f64>, src: &[Complex64], out: &mut [Complex64]) {
+    SCRATCH.with(|s| {
+        let (scratch, t) = &mut *s.borrow_mut();
+        t.clear();
+        t.extend_from_slice(src);
+        plan.process_to_transposed(t, out, Direction::Forward, scratch);
+    });
+}
+
 /// `out = FFT_small(src)` (unscaled) written column-major (`src` is overwritten), ready for
 /// [`Support::scatter_t`].
 pub(crate) fn fft_t(plan: &Plan2<f64>, src: &mut [Complex64], out: &mut [Complex64]) {
@@ -117,4 +128,33 @@ pub(crate) fn fft_t(plan: &Plan2<f64>, src: &mut [Complex64], out: &mut [Complex
         let (scratch, _) = &mut *s.borrow_mut();
         plan.process_to_transposed(src, out, Direction::Forward, scratch);
     });
+}
+
+/// Reused temporary buffers, so that a transform called in a loop does not page-fault a fresh
+/// allocation on every call.
+#[derive(Debug, Default)]
+pub(crate) struct BufferPool(Mutex<Vec<Vec<Complex64>>>);
+
+impl BufferPool {
+    /// A buffer of `len` values (contents unspecified).
+    pub(crate) fn take(&self, len: usize) -> Vec<Complex64> {
+        let mut v = self
+            .0
+            .lock()
+            .map(|mut p| p.pop())
+            .ok()
+            .flatten()
+            .unwrap_or_default();
+        v.resize(len, Complex64::new(0.0, 0.0));
+        v
+    }
+
+    /// Returns a buffer taken with [`BufferPool::take`] (at most 8 are kept).
+    pub(crate) fn give(&self, v: Vec<Complex64>) {
+        if let Ok(mut p) = self.0.lock() {
+            if p.len() < 8 {
+                p.push(v);
+            }
+        }
+    }
 }

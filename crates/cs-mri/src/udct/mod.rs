@@ -19,9 +19,7 @@
 
 mod window;
 
-use crate::fold::{self, Support};
-
-use std::sync::Mutex;
+use crate::fold::{self, BufferPool, Support};
 
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -212,7 +210,7 @@ pub struct Udct {
     full: Plan2<f64>,
     band_len: usize,
     /// Reused temporary buffers (avoids page-faulting fresh allocations on every call).
-    pool: Mutex<Vec<Vec<Complex64>>>,
+    pool: BufferPool,
 }
 
 /// Plans above this many elements are transformed with the lines spread over rayon.
@@ -321,7 +319,7 @@ impl Udct {
             plans,
             full: Plan2::new(rows, cols)?,
             band_len: offset,
-            pool: Mutex::new(Vec::new()),
+            pool: BufferPool::default(),
         })
     }
 
@@ -472,28 +470,6 @@ impl Udct {
         Ok(())
     }
 
-    /// A temporary buffer of `len` values (contents unspecified).
-    fn take(&self, len: usize) -> Vec<Complex64> {
-        let mut v = self
-            .pool
-            .lock()
-            .map(|mut p| p.pop())
-            .ok()
-            .flatten()
-            .unwrap_or_default();
-        v.resize(len, Complex64::new(0.0, 0.0));
-        v
-    }
-
-    /// Returns a buffer taken with [`Udct::take`].
-    fn give(&self, v: Vec<Complex64>) {
-        if let Ok(mut p) = self.pool.lock() {
-            if p.len() < 8 {
-                p.push(v);
-            }
-        }
-    }
-
     /// In-place unscaled FFT of one band's decimated grid.
     fn band_fft(&self, band: &Band, buf: &mut [Complex64], dir: Direction) {
         let plan = &self.plans[band.plan];
@@ -550,12 +526,12 @@ impl Udct {
         let chunks = self.split_bands(bands);
         rayon::join(
             || {
-                let mut buf = self.take(self.lowpass.len());
+                let mut buf = self.pool.take(self.lowpass.len());
                 fold(&self.lowpass, &mut buf);
                 low.iter_mut()
                     .zip(&buf)
                     .for_each(|(o, v)| *o = v.re * scale);
-                self.give(buf);
+                self.pool.give(buf);
             },
             || {
                 self.bands
@@ -591,7 +567,7 @@ impl Udct {
         let chunks_i = self.split_bands(bands_i);
         rayon::join(
             || {
-                let mut buf = self.take(self.lowpass.len());
+                let mut buf = self.pool.take(self.lowpass.len());
                 buf.iter_mut().for_each(|v| *v = zero);
                 self.lowpass.support.gather(spec, &mut buf);
                 self.band_fft(&self.lowpass, &mut buf, Direction::Inverse);
@@ -599,7 +575,7 @@ impl Udct {
                     *r = v.re * scale;
                     *i = v.im * scale;
                 }
-                self.give(buf);
+                self.pool.give(buf);
             },
             || {
                 self.bands
@@ -634,7 +610,7 @@ impl Udct {
         let i = Complex64::new(0.0, 1.0);
         let nl = self.lowpass.len();
         let nb = self.band_len;
-        let mut small = self.take(nl + 2 * nb);
+        let mut small = self.pool.take(nl + 2 * nb);
         {
             let (lo, hi) = small.split_at_mut(nl);
             let (p, g) = hi.split_at_mut(nb);
@@ -680,7 +656,7 @@ impl Udct {
                     band.mirror.scatter_t(&g[r], 0.5, lo, out);
                 }
             });
-        self.give(small);
+        self.pool.give(small);
     }
 
     /// Synthesis into a spectrum: `spec = sum W rep(FFT_small(c))` over the low-pass and every
@@ -693,7 +669,7 @@ impl Udct {
     /// [`Udct::backward_spectrum`] from separate low-pass and band buffers.
     pub fn backward_from(&self, low: &[f64], bands: &[Complex64], spec: &mut [Complex64]) {
         let zero = Complex64::new(0.0, 0.0);
-        let mut small = self.take(self.lowpass.len() + self.band_len);
+        let mut small = self.pool.take(self.lowpass.len() + self.band_len);
         {
             let (lo, hi) = small.split_at_mut(self.lowpass.len());
             let chunks = self.split_bands(hi);
@@ -709,8 +685,8 @@ impl Udct {
                         .par_iter()
                         .zip(chunks.into_par_iter())
                         .for_each(|(band, buf)| {
-                            let mut tmp = bands[band.offset..band.offset + band.len()].to_vec();
-                            self.fft_t(band, &mut tmp, buf);
+                            let src = &bands[band.offset..band.offset + band.len()];
+                            fold::fft_t_copy(&self.plans[band.plan], src, buf);
                         });
                 },
             );
@@ -740,7 +716,7 @@ impl Udct {
                     }
                 }
             });
-        self.give(small);
+        self.pool.give(small);
     }
 }
 
