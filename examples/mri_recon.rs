@@ -1,6 +1,6 @@
 //! Paper 11: reconstruct the analytic Shepp-Logan k-space from 40% Cartesian samples with
-//! UDCSMRI (C-SALSA + UDCT, l1 and TV) and the paper's baselines, and print PSNR / RLNE and
-//! the time of each.
+//! UDCSMRI (C-SALSA + UDCT, l1 and TV), C-SALSA with the FDCT and db4 priors (Table 2) and
+//! the paper's baselines, and print PSNR / RLNE and the time of each.
 //!
 //! `cargo run --release --example mri_recon [size]`
 
@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use wscg::csmri::baselines::{self, CompositeParams};
 use wscg::csmri::{
-    csalsa, masks, metrics, phantom, CsalsaParams, KSpace, Recon, Regularizer, UdctConfig,
-    UdctSparsifier, WaveletSparsifier,
+    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, FdctConfig, FdctSparsifier, KSpace,
+    Recon, Regularizer, UdctConfig, UdctSparsifier, WaveletSparsifier,
 };
 use wscg::math::progress::NoProgress;
 
@@ -23,6 +23,11 @@ fn main() -> wscg::math::Result<()> {
     let data = KSpace::new(n, n, phantom::shepp_logan_kspace(n)?, mask)?;
     let udct = UdctSparsifier::new(n, n, &UdctConfig::default())?;
     let db4 = WaveletSparsifier::new(n, n, 4, 4)?;
+    let fdct = FdctSparsifier::new(n, n, &FdctConfig::default())?;
+    let curvelet = CsalsaParams {
+        tau0: sparsifier::tuned_tau0("fdct"),
+        ..Default::default()
+    };
     let comp = CompositeParams {
         a: 0.004,
         b: 0.0025,
@@ -30,7 +35,7 @@ fn main() -> wscg::math::Result<()> {
         ..Default::default()
     };
     let wavelet = CsalsaParams {
-        tau0: 0.04,
+        tau0: sparsifier::tuned_tau0("db4"),
         ..Default::default()
     };
     type Run<'a> = Box<dyn Fn() -> wscg::math::Result<Recon> + 'a>;
@@ -59,6 +64,19 @@ fn main() -> wscg::math::Result<()> {
                     &db4,
                     Regularizer::default(),
                     &wavelet,
+                    None,
+                    &NoProgress,
+                )
+            }),
+        ),
+        (
+            "C-SALSA FDCT (l1)",
+            Box::new(|| {
+                csalsa(
+                    &data,
+                    &fdct,
+                    Regularizer::default(),
+                    &curvelet,
                     None,
                     &NoProgress,
                 )
