@@ -24,6 +24,20 @@ fn config(wedges: Vec<[usize; 2]>, alpha: f64, tight: bool) -> UdctConfig {
     }
 }
 
+/// Checks that the image `x` is 2-D with the shape a transform was planned for.
+fn planned_shape<T: numpy::Element>(
+    x: &PyReadonlyArrayDyn<T>,
+    planned: (usize, usize),
+) -> PyResult<()> {
+    let (r, c) = dims2("x", x)?;
+    if (r, c) != planned {
+        return Err(value_error(format!(
+            "`x` has shape ({r}, {c}); the transform is planned for {planned:?}"
+        )));
+    }
+    Ok(())
+}
+
 /// A planned UDCT.
 #[pyclass(name = "Udct", module = "wscg._native.csmri")]
 pub struct PyUdct {
@@ -69,13 +83,7 @@ impl PyUdct {
         py: Python<'py>,
         x: PyReadonlyArrayDyn<f64>,
     ) -> PyResult<(Arr<'py, f64>, Vec<Arr<'py, Complex64>>)> {
-        let (r, c) = dims2("x", &x)?;
-        if (r, c) != self.inner.shape() {
-            return Err(value_error(format!(
-                "`x` has shape ({r}, {c}); the transform is planned for {:?}",
-                self.inner.shape()
-            )));
-        }
+        planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
         let co = py.detach(|| self.inner.forward(&v)).py_err()?;
         let lp = array(py, &self.inner.lowpass_shape(), co.lowpass)?;
@@ -210,13 +218,7 @@ impl PyFdct {
         py: Python<'py>,
         x: PyReadonlyArrayDyn<Complex64>,
     ) -> PyResult<Vec<Arr<'py, Complex64>>> {
-        let (r, c) = dims2("x", &x)?;
-        if (r, c) != self.inner.shape() {
-            return Err(value_error(format!(
-                "`x` has shape ({r}, {c}); the transform is planned for {:?}",
-                self.inner.shape()
-            )));
-        }
+        planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
         let co = py.detach(|| self.inner.forward(&v)).py_err()?;
         self.inner

@@ -539,20 +539,24 @@ impl Fdct {
         Ok(spec)
     }
 
-    /// Coefficients from the unitary spectrum `xhat = F x`: per band the windowed spectrum
-    /// wrapped onto its rectangle and inverse transformed (unitary). `out` has
-    /// [`Fdct::coeff_len`] values.
-    pub fn forward_spectrum(&self, xhat: &[Complex64], out: &mut [Complex64]) {
+    /// A coefficient buffer cut into the bands' blocks.
+    fn split<'a>(&self, mut rest: &'a mut [Complex64]) -> Vec<&'a mut [Complex64]> {
         let mut chunks = Vec::with_capacity(self.bands.len());
-        let mut rest = out;
         for b in &self.bands {
             let (head, tail) = rest.split_at_mut(b.info.range.len());
             chunks.push(head);
             rest = tail;
         }
+        chunks
+    }
+
+    /// Coefficients from the unitary spectrum `xhat = F x`: per band the windowed spectrum
+    /// wrapped onto its rectangle and inverse transformed (unitary). `out` has
+    /// [`Fdct::coeff_len`] values.
+    pub fn forward_spectrum(&self, xhat: &[Complex64], out: &mut [Complex64]) {
         self.bands
             .par_iter()
-            .zip(chunks.into_par_iter())
+            .zip(self.split(out).into_par_iter())
             .for_each(|(band, buf)| {
                 fold::fold_ifft(&self.plans[band.plan], &band.support, xhat, buf);
                 buf.iter_mut().for_each(|v| *v *= band.scale);
@@ -565,21 +569,12 @@ impl Fdct {
     pub fn backward_spectrum(&self, c: &[Complex64], out: &mut [Complex64]) {
         let zero = Complex64::new(0.0, 0.0);
         let mut small = self.pool.take(self.len);
-        {
-            let mut chunks = Vec::with_capacity(self.bands.len());
-            let mut rest = small.as_mut_slice();
-            for b in &self.bands {
-                let (head, tail) = rest.split_at_mut(b.info.range.len());
-                chunks.push(head);
-                rest = tail;
-            }
-            self.bands
-                .par_iter()
-                .zip(chunks.into_par_iter())
-                .for_each(|(band, buf)| {
-                    fold::fft_t_copy(&self.plans[band.plan], &c[band.info.range.clone()], buf);
-                });
-        }
+        self.bands
+            .par_iter()
+            .zip(self.split(&mut small).into_par_iter())
+            .for_each(|(band, buf)| {
+                fold::fft_t_copy(&self.plans[band.plan], &c[band.info.range.clone()], buf);
+            });
         let cols = self.cols;
         let sm = &small;
         out.par_chunks_mut(fold::BLOCK_ROWS * cols)
