@@ -159,7 +159,13 @@ impl Daubechies {
         let l = self.lo.len();
         // pad[t] = x[(t - l) mod n], so x[(2i + l/2 - k) mod n] = pad[2i + l/2 - k + l].
         pad.clear();
-        pad.extend((0..n + 2 * l).map(|t| x[(t + l * n - l) % n]));
+        if l <= n {
+            pad.extend_from_slice(&x[n - l..]);
+            pad.extend_from_slice(x);
+            pad.extend_from_slice(&x[..l]);
+        } else {
+            pad.extend((0..n + 2 * l).map(|t| x[(t + l * n - l) % n]));
+        }
         let half = l / 2;
         let (a, d) = out[..n].split_at_mut(n / 2);
         for i in 0..n / 2 {
@@ -190,9 +196,17 @@ impl Daubechies {
             }
         }
         // Fold the padding back: pad[t] belongs to x[(t - l) mod n].
-        out[..n].iter_mut().for_each(|v| *v = 0.0);
-        for (t, &v) in pad.iter().enumerate() {
-            out[(t + l * n - l) % n] += v;
+        if l <= n {
+            out[..n].copy_from_slice(&pad[l..l + n]);
+            for t in 0..l {
+                out[n - l + t] += pad[t];
+                out[t] += pad[n + l + t];
+            }
+        } else {
+            out[..n].iter_mut().for_each(|v| *v = 0.0);
+            for (t, &v) in pad.iter().enumerate() {
+                out[(t + l * n - l) % n] += v;
+            }
         }
     }
 }
@@ -324,22 +338,42 @@ impl Wavelet2 {
                 |(tmp, pad), line| step(&mut line[..c], tmp, pad),
             )
         };
-        // Columns: transpose the block, transform its rows, transpose back.
+        // Columns: each output row is a weighted sum of whole input rows (the same taps as
+        // `analyze` / `synthesize`, vectorised across the columns), rows in parallel.
         let along_cols = |buf: &mut [f64]| {
+            let (l, half, h) = (f.lo.len(), f.lo.len() / 2, r / 2);
             let mut t = vec![0.0; r * c];
-            for i in 0..r {
-                for j in 0..c {
-                    t[j * r + i] = buf[i * cols + j];
-                }
+            {
+                let src = &*buf;
+                let row = |i: usize| &src[i * cols..i * cols + c];
+                t.par_chunks_mut(c).enumerate().for_each(|(o, out)| {
+                    if forward {
+                        // a[i] = sum_k lo[k] x[(2i + l/2 - k) mod r], d[i] likewise with hi.
+                        let (i, taps) = if o < h { (o, &f.lo) } else { (o - h, &f.hi) };
+                        for (k, &w) in taps.iter().enumerate() {
+                            let x = row((2 * i + half + r * l - k) % r);
+                            out.iter_mut().zip(x).for_each(|(y, &v)| *y += w * v);
+                        }
+                    } else {
+                        // The transpose: x[o] gathers lo[k] a[i] + hi[k] d[i] over the taps
+                        // with 2 i = o + k - l/2 (mod r).
+                        for k in 0..l {
+                            let s = o + k + r * l - half;
+                            if s % 2 == 1 {
+                                continue;
+                            }
+                            let i = (s % r) / 2;
+                            let (a, d) = (row(i), row(h + i));
+                            let (wl, wh) = (f.lo[k], f.hi[k]);
+                            for ((y, &p), &q) in out.iter_mut().zip(a).zip(d) {
+                                *y += wl * p + wh * q;
+                            }
+                        }
+                    }
+                });
             }
-            t.par_chunks_mut(r).for_each_init(
-                || (Vec::new(), Vec::new()),
-                |(tmp, pad), line| step(line, tmp, pad),
-            );
-            for i in 0..r {
-                for j in 0..c {
-                    buf[i * cols + j] = t[j * r + i];
-                }
+            for (i, line) in t.chunks(c).enumerate() {
+                buf[i * cols..i * cols + c].copy_from_slice(line);
             }
         };
         if forward {
@@ -391,6 +425,66 @@ impl Wavelet2 {
 mod tests {
     use super::*;
     use crate::rng;
+
+    /// One level by the plain definition: `analyze` / `synthesize` on every row and, through
+    /// an explicit transpose, on every column of the top-left `r x c` block.
+    fn level_by_lines(w: &Wavelet2, buf: &mut [f64], r: usize, c: usize, forward: bool) {
+        let cols = w.cols;
+        let (mut tmp, mut pad) = (Vec::new(), Vec::new());
+        let mut step = |line: &mut [f64]| {
+            tmp.clear();
+            tmp.resize(line.len(), 0.0);
+            if forward {
+                w.filter.analyze(line, &mut tmp, &mut pad);
+            } else {
+                w.filter.synthesize(line, &mut tmp, &mut pad);
+            }
+            line.copy_from_slice(&tmp);
+        };
+        let mut t = vec![0.0; r * c];
+        let mut pass = |buf: &mut [f64], rows_first: bool| {
+            if rows_first {
+                for i in 0..r {
+                    step(&mut buf[i * cols..i * cols + c]);
+                }
+            } else {
+                for i in 0..r {
+                    for j in 0..c {
+                        t[j * r + i] = buf[i * cols + j];
+                    }
+                }
+                t.chunks_mut(r).for_each(&mut step);
+                for i in 0..r {
+                    for j in 0..c {
+                        buf[i * cols + j] = t[j * r + i];
+                    }
+                }
+            }
+        };
+        pass(buf, forward);
+        pass(buf, !forward);
+    }
+
+    #[test]
+    fn levels_equal_the_line_by_line_definition() {
+        for (order, rows, cols) in [(4, 64, 96), (8, 32, 16), (1, 8, 12), (8, 8, 8)] {
+            let w = Wavelet2::new(rows, cols, Daubechies::new(order).unwrap(), 2).unwrap();
+            let x = rng::normal_vec(order as u64, rows * cols, 0.0, 1.0).unwrap();
+            for (r, c) in [(rows, cols), (rows / 2, cols / 2)] {
+                for forward in [true, false] {
+                    let (mut a, mut b) = (x.clone(), x.clone());
+                    w.level(&mut a, r, c, forward);
+                    level_by_lines(&w, &mut b, r, c, forward);
+                    let err = a
+                        .iter()
+                        .zip(&b)
+                        .map(|(p, q)| (p - q).abs())
+                        .fold(0.0, f64::max);
+                    assert!(err < 1e-12, "db{order} {r}x{c} forward={forward}: {err}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn filters_are_orthonormal() {
