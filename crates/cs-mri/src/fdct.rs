@@ -9,7 +9,7 @@
 //!   window `phi = 1` on `|t| <= 1`, `0` on `|t| >= 2` and a `C^inf` (Meyer) transition;
 //!   `M_j = (N1, N2) / 3 / 2^(J-2-j)` for `j = 0 .. J-2`. The coarse band is `Phi_0`, scale
 //!   `j` is `W_j = sqrt(Phi_j^2 - Phi_(j-1)^2)` and the finest is `sqrt(1 - Phi_(J-2)^2)`,
-//!   so `sum_j W_j^2 = 1` (the paper's `W_j = sqrt(Phi_(j+1)^2 - Phi_j^2)`, eq. 3.2);
+//!   so `sum_j W_j^2 = 1` (the paper's `W_j = sqrt(Phi_(j+1)^2 - Phi_j^2)`, indexed from 0);
 //! - **angles** (section 3.1, "digital corona"): scale `j >= 1` is cut into
 //!   `n_j = A 2^ceil((j-1)/2)` wedges (`A` = 16 by default, doubling every other scale, the
 //!   parabolic scaling `width ~ length^2`) that are equispaced in slope within each of the
@@ -29,8 +29,8 @@
 //! The transform is complex: it maps a complex image to complex coefficients (CurveLab's
 //! `is_real = 0`). The finest scale holds wavelets (one band, the default) or curvelets
 //! (`Finest::Curvelets`). With the paper's angular window (two wedge widths) the redundancy
-//! is about 5.3 (256 x 256, either finest choice); CurveLab's tighter wedges give 2.8 with
-//! wavelets at the finest scale. [`FdctConfig::transition`] trades smoothness for fewer
+//! at 256 x 256 is 5.3 with wavelets at the finest scale and 5.6 with curvelets; CurveLab's
+//! tighter wedges give 2.8 with wavelets at the finest scale. [`FdctConfig::transition`] trades smoothness for fewer
 //! coefficients.
 
 use std::ops::Range;
