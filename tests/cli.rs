@@ -1308,8 +1308,8 @@ fn octree_build_info_render_on_a_mesh_file() {
 #[test]
 fn mri_mask_phantom_recon_on_files() {
     use wscg::csmri::{
-        csalsa, metrics, sparsifier, CsalsaParams, FdctConfig, FdctSparsifier, KSpace, Regularizer,
-        UdctConfig, UdctSparsifier,
+        csalsa, metrics, sparsifier, CsalsaParams, FdctConfig, FdctSparsifier, Finest, KSpace,
+        Regularizer, UdctConfig, UdctSparsifier,
     };
     let dir = tempfile::tempdir().unwrap();
     let p = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
@@ -1421,12 +1421,22 @@ fn mri_mask_phantom_recon_on_files() {
         &p("m.npy"),
         "--prior",
         "fdct",
+        "--fdct-finest",
+        "curvelets",
         "--iters",
         "10",
         "--out",
         &p("fd.npy"),
     ]);
-    let psi = FdctSparsifier::new(64, 64, &FdctConfig::default()).unwrap();
+    let psi = FdctSparsifier::new(
+        64,
+        64,
+        &FdctConfig {
+            finest: Finest::Curvelets,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let params = CsalsaParams {
         max_iter: 10,
         tau0: sparsifier::tuned_tau0("fdct"),
@@ -1511,6 +1521,19 @@ fn mri_mask_phantom_recon_on_files() {
             &p("missing.npy"),
             "--mask",
             &p("m.npy"),
+            "--out",
+            &p("x.npy"),
+        ],
+        vec![
+            "mri",
+            "recon",
+            &p("k.npy"),
+            "--mask",
+            &p("m.npy"),
+            "--prior",
+            "fdct",
+            "--fdct-finest",
+            "ridgelets",
             "--out",
             &p("x.npy"),
         ],

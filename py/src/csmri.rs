@@ -6,6 +6,7 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_cs_mri::baselines::{self, CompositeParams};
+use wscg_cs_mri::sparsifier::PriorConfig;
 use wscg_cs_mri::{
     csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, Fdct, FdctConfig, Finest, IterStat,
     KSpace, Recon, Regularizer, Udct, UdctCoeffs, UdctConfig,
@@ -339,7 +340,7 @@ fn recon_out<'py>(
 }
 
 #[pyfunction]
-#[pyo3(signature = (kspace, mask, prior, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedges, alpha, levels, inner_iters, shrink_lowpass, reference, record_history))]
+#[pyo3(signature = (kspace, mask, prior, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedges, alpha, levels, inner_iters, shrink_lowpass, reference, record_history, fdct = None))]
 #[allow(clippy::too_many_arguments)]
 fn reconstruct<'py>(
     py: Python<'py>,
@@ -360,6 +361,7 @@ fn reconstruct<'py>(
     shrink_lowpass: bool,
     reference: Option<PyReadonlyArrayDyn<Complex64>>,
     record_history: bool,
+    fdct: Option<(Option<usize>, usize, String, f64)>,
 ) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
     let data = kspace_in(&kspace, &mask)?;
     let (r, c) = data.shape();
@@ -382,10 +384,22 @@ fn reconstruct<'py>(
         tol,
         record_history: record_history || reference.is_some(),
     };
-    let cfg = config(wedges, alpha, true);
+    let cfg = PriorConfig {
+        udct: config(wedges, alpha, true),
+        fdct: match fdct {
+            Some((scales, angles_coarse, finest, transition)) => FdctConfig {
+                scales,
+                angles_coarse,
+                finest: Finest::by_name(&finest).py_err()?,
+                transition,
+            },
+            None => FdctConfig::default(),
+        },
+        levels,
+    };
     let rec = py
         .detach(|| {
-            let psi = sparsifier::by_name(prior, r, c, &cfg, levels)?;
+            let psi = sparsifier::by_name(prior, r, c, &cfg)?;
             csalsa(
                 &data,
                 psi.as_ref(),

@@ -200,6 +200,12 @@ def test_fdct_prior_reconstructs_at_its_tuned_tau0():
     assert csmri.psnr(ref, x) >= csmri.psnr(ref, csmri.zero_filled(k, m)) + 1
     f = np.fft.fft2(x, norm="ortho")
     assert np.abs(f[m] - k[m]).max() <= 1e-8 * np.abs(k[m]).max()
+    # An Fdct instance configures the prior: its default equals "fdct", another one differs.
+    assert np.array_equal(x, csmri.reconstruct(k, m, prior=csmri.Fdct((n, n)), max_iter=20))
+    y = csmri.reconstruct(k, m, prior=csmri.Fdct((n, n), finest="curvelets"), max_iter=20)
+    assert not np.array_equal(x, y)
+    with pytest.raises(ValueError, match="planned for"):
+        csmri.reconstruct(k, m, prior=csmri.Fdct((32, 32)))
 
 
 def test_udcsmri_tv_is_not_worse_than_the_composite_baselines(camera):

@@ -17,8 +17,10 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 use num_complex::Complex64;
 use wscg_cs_mri::baselines::{self, CompositeParams};
+use wscg_cs_mri::sparsifier::PriorConfig;
 use wscg_cs_mri::{
-    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, KSpace, Regularizer, UdctConfig,
+    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, FdctConfig, Finest, KSpace,
+    Regularizer, UdctConfig,
 };
 use wscg_math::fft::{fftshift, ifftshift};
 use wscg_math::progress::Progress;
@@ -65,6 +67,12 @@ pub struct ReconArgs {
     /// UDCT wedges per scale, e.g. "6,6" or "6,6;6,6;6,6" (three scales).
     #[arg(long, default_value = "6,6")]
     wedges: String,
+    /// FDCT scales, the coarse one included (default: ceil(log2(min size)) - 3).
+    #[arg(long)]
+    fdct_scales: Option<usize>,
+    /// FDCT finest scale: wavelets or curvelets.
+    #[arg(long, default_value = "wavelets")]
+    fdct_finest: String,
     /// TV weight a of the baselines (unit-peak images).
     #[arg(long, default_value_t = 0.001)]
     a: f64,
@@ -290,11 +298,19 @@ fn recon(a: ReconArgs) -> Result<()> {
                 "tv" => Regularizer::Tv { inner_iters: 20 },
                 o => return Err(Error::invalid("reg", format!("{o:?} is not l1 or tv"))),
             };
-            let cfg = UdctConfig {
-                wedges: parse_wedges(&a.wedges)?,
-                ..Default::default()
+            let cfg = PriorConfig {
+                udct: UdctConfig {
+                    wedges: parse_wedges(&a.wedges)?,
+                    ..Default::default()
+                },
+                fdct: FdctConfig {
+                    scales: a.fdct_scales,
+                    finest: Finest::by_name(&a.fdct_finest)?,
+                    ..Default::default()
+                },
+                levels: 4,
             };
-            let psi = sparsifier::by_name(&a.prior, rows, cols, &cfg, 4)?;
+            let psi = sparsifier::by_name(&a.prior, rows, cols, &cfg)?;
             let tau0 = a.tau0.unwrap_or(sparsifier::tuned_tau0(&a.prior));
             let p = CsalsaParams {
                 max_iter: a.iters,

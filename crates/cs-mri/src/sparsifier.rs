@@ -420,22 +420,38 @@ pub fn tuned_tau0(prior: &str) -> f64 {
     }
 }
 
-/// The priors a user can name: `"udct"` (configured by `udct`), `"fdct"` (default
-/// [`FdctConfig`]), `"db1"` ... `"db8"` (`levels` levels), `"identity"`.
+/// Configuration of the priors [`by_name`] builds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PriorConfig {
+    /// The UDCT of `"udct"`.
+    pub udct: UdctConfig,
+    /// The FDCT of `"fdct"`.
+    pub fdct: FdctConfig,
+    /// Levels of the `"db<N>"` wavelets (the paper's baselines: 4).
+    pub levels: usize,
+}
+
+impl Default for PriorConfig {
+    fn default() -> Self {
+        PriorConfig {
+            udct: UdctConfig::default(),
+            fdct: FdctConfig::default(),
+            levels: 4,
+        }
+    }
+}
+
+/// The priors a user can name: `"udct"`, `"fdct"`, `"db1"` ... `"db8"`, `"identity"`,
+/// configured by `config`.
 pub fn by_name(
     name: &str,
     rows: usize,
     cols: usize,
-    udct: &UdctConfig,
-    levels: usize,
+    config: &PriorConfig,
 ) -> Result<Box<dyn Sparsifier>> {
     match name {
-        "udct" => Ok(Box::new(UdctSparsifier::new(rows, cols, udct)?)),
-        "fdct" => Ok(Box::new(FdctSparsifier::new(
-            rows,
-            cols,
-            &FdctConfig::default(),
-        )?)),
+        "udct" => Ok(Box::new(UdctSparsifier::new(rows, cols, &config.udct)?)),
+        "fdct" => Ok(Box::new(FdctSparsifier::new(rows, cols, &config.fdct)?)),
         "identity" => Ok(Box::new(IdentitySparsifier::new(rows, cols)?)),
         _ => {
             let order = name
@@ -447,7 +463,12 @@ pub fn by_name(
                         format!("{name:?} is not a valid prior. Valid priors are \"udct\", \"fdct\", \"db1\" ... \"db8\" and \"identity\""),
                     )
                 })?;
-            Ok(Box::new(WaveletSparsifier::new(rows, cols, order, levels)?))
+            Ok(Box::new(WaveletSparsifier::new(
+                rows,
+                cols,
+                order,
+                config.levels,
+            )?))
         }
     }
 }

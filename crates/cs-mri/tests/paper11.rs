@@ -2,6 +2,7 @@
 
 use num_complex::Complex64;
 use wscg_cs_mri::baselines::{self, CompositeParams};
+use wscg_cs_mri::sparsifier::PriorConfig;
 use wscg_cs_mri::*;
 use wscg_math::progress::NoProgress;
 use wscg_math::rng;
@@ -317,7 +318,7 @@ fn udct_prior_beats_the_fdct_prior_on_the_headline_problem() {
     let n = 256;
     let (data, reference) = shepp_logan(n, 0.4, 1);
     let run = |prior: &str| {
-        let psi = sparsifier::by_name(prior, n, n, &UdctConfig::default(), 4).unwrap();
+        let psi = sparsifier::by_name(prior, n, n, &PriorConfig::default()).unwrap();
         let p = CsalsaParams {
             tau0: sparsifier::tuned_tau0(prior),
             ..Default::default()
@@ -629,7 +630,7 @@ fn bad_input_is_rejected_with_clear_errors() {
     assert!(masks::cartesian(n, n, 0.0, 0.0, 1).is_err());
     assert!(masks::cartesian(n, n, 0.4, 0.5, 1).is_err());
     assert!(masks::pseudo_radial(n, n, 1.5).is_err());
-    assert!(sparsifier::by_name("curvelet", n, n, &UdctConfig::default(), 4).is_err());
+    assert!(sparsifier::by_name("curvelet", n, n, &PriorConfig::default()).is_err());
     // FDCT configuration and inputs.
     let fd = |angles_coarse: usize, scales: Option<usize>, transition: f64| FdctConfig {
         angles_coarse,
@@ -695,7 +696,7 @@ fn tune_on_development_image() {
     let n = 256;
     let (data, img) = development_case(n);
     for prior in ["udct", "fdct", "db4"] {
-        let psi = sparsifier::by_name(prior, n, n, &UdctConfig::default(), 4).unwrap();
+        let psi = sparsifier::by_name(prior, n, n, &PriorConfig::default()).unwrap();
         for tau0 in TAU_GRID {
             let p = CsalsaParams {
                 tau0,

@@ -191,8 +191,9 @@ class Fdct:
             raise ValueError(f"`scales` must be positive, got {scales!r}")
         if int(angles_coarse) < 0:
             raise ValueError(f"`angles_coarse` must be positive, got {angles_coarse!r}")
-        self._f = _c.Fdct(rows, cols, None if scales is None else int(scales),
-                          int(angles_coarse), str(finest), float(transition))
+        self._config = (None if scales is None else int(scales), int(angles_coarse), str(finest),
+                        float(transition))
+        self._f = _c.Fdct(rows, cols, *self._config)
         self._bands = self._f.bands()
 
     @property
@@ -252,9 +253,10 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
         Measured k-space, un-shifted, unitary scaling; values outside ``mask`` are ignored.
     mask : bool array (H, W)
         Sampled positions.
-    prior : {"udct", "fdct", "db1", ..., "db8", "identity"}
+    prior : {"udct", "fdct", "db1", ..., "db8", "identity"} or Fdct
         Sparsifying transform ``Psi``: the UDCT and the wavelets act on the real and imaginary
-        parts separately, the FDCT (default :class:`Fdct` configuration) on the complex image.
+        parts separately, the FDCT on the complex image (``"fdct"``: the default
+        :class:`Fdct` configuration; an :class:`Fdct` instance: its configuration).
     reg : {"l1", "tv"}
         ``||Psi x||_1`` or ``TV(Psi^H alpha)``.
     epsilon : float
@@ -300,13 +302,18 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
     """
     k = _complex2(kspace, "kspace")
     m = _mask(mask, k.shape)
+    fdct = None
+    if isinstance(prior, Fdct):
+        if prior.shape != k.shape:
+            raise ValueError(f"the Fdct prior is planned for {prior.shape}, the k-space is {k.shape}")
+        fdct, prior = prior._config, "fdct"
     if tau0 is None:
         tau0 = _c.tuned_tau0(str(prior))
     ref = None if reference is None else _complex2(reference, "reference")
     img, hist = _c.reconstruct(k, m, str(prior), str(reg), float(epsilon), int(max_iter),
                                float(tau0), float(rho), float(tau_cap), float(tol),
                                _wedges(wedges), float(alpha), int(levels), int(inner_iters),
-                               bool(shrink_lowpass), ref, bool(return_history))
+                               bool(shrink_lowpass), ref, bool(return_history), fdct)
     return (img, hist) if return_history else img
 
 

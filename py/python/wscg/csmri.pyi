@@ -33,7 +33,7 @@ class Fdct:
     def windows(self) -> List[List[np.ndarray]]: ...
     def directions(self) -> List[List[Optional[float]]]: ...
 
-def reconstruct(kspace: np.ndarray, mask: np.ndarray, prior: str = ..., reg: str = ...,
+def reconstruct(kspace: np.ndarray, mask: np.ndarray, prior: Union[str, Fdct] = ..., reg: str = ...,
                 epsilon: float = ..., max_iter: int = ..., tau0: Optional[float] = ...,
                 rho: float = ..., tau_cap: float = ..., tol: float = ...,
                 wedges: Sequence[Sequence[int]] = ..., alpha: float = ..., levels: int = ...,
