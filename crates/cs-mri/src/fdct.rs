@@ -305,13 +305,15 @@ impl Fdct {
                 let f1 = signed_frequency(i, rows);
                 let mut out = Vec::new();
                 let mut here: Vec<(usize, f64)> = Vec::with_capacity(8);
+                let mut lp: Vec<f64> = Vec::with_capacity(m.len());
                 for j in 0..cols {
                     let f2 = signed_frequency(j, cols);
                     here.clear();
-                    let lp: Vec<f64> = m
-                        .iter()
-                        .map(|mj| phi(f1 as f64 / mj[0]) * phi(f2 as f64 / mj[1]))
-                        .collect();
+                    lp.clear();
+                    lp.extend(
+                        m.iter()
+                            .map(|mj| phi(f1 as f64 / mj[0]) * phi(f2 as f64 / mj[1])),
+                    );
                     let u = square_angle(f1 as f64 / rows as f64, f2 as f64 / cols as f64);
                     for s in 0..scales {
                         let r2 = if s == 0 {
