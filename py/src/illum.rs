@@ -14,6 +14,7 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
 use wscg_math::{Error, Image};
 use wscg_volren::illumination::study::{self, AliasCriterion};
 use wscg_volren::illumination::{
@@ -191,18 +192,24 @@ fn field_in(
     if let Ok(a) = volume.extract::<PyReadonlyArrayDyn<f32>>() {
         let dims = dims3("volume", a.shape())?;
         let v = values(&a);
-        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+        if !py.detach(|| v.par_iter().all(|x| x.is_finite())) {
+            let i = v.iter().position(|x| !x.is_finite()).unwrap_or(0);
             return Err(value_error(format!(
                 "`volume` contains a non-finite value (NaN or infinity) at flat index {i}"
             )));
         }
         let (lo, hi) = match range {
             Some(r) => r,
-            None => v
-                .iter()
-                .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &x| {
-                    (a.min(x), b.max(x))
-                }),
+            // Finite values: plain comparisons.
+            None => py.detach(|| {
+                let id = || (f32::INFINITY, f32::NEG_INFINITY);
+                let join = |(a, b): (f32, f32), (c, d): (f32, f32)| {
+                    (if c < a { c } else { a }, if d > b { d } else { b })
+                };
+                v.par_iter()
+                    .fold(id, |acc, &x| join(acc, (x, x)))
+                    .reduce(id, join)
+            }),
         };
         if range.is_none() && lo >= hi {
             // Constant (or empty) volume: no range to normalise by.
@@ -220,6 +227,83 @@ fn field_in(
     Err(value_error(format!(
         "`volume` must be a uint8, uint16 or float32 numpy array indexed [z, y, x], got {dtype}"
     )))
+}
+
+/// A volume normalised once, keeping its empty-space cells and shading bricks between
+/// renders (see `wscg.volren.PreparedVolume`).
+#[pyclass(module = "wscg._native.volren", name = "IllumVolume", frozen)]
+pub struct IllumVolume {
+    field: ScalarField,
+}
+
+#[pymethods]
+impl IllumVolume {
+    #[new]
+    #[pyo3(signature = (volume, spacing, value_range))]
+    fn new(
+        py: Python<'_>,
+        volume: &Bound<'_, PyAny>,
+        spacing: [f64; 3],
+        value_range: Option<(f64, f64)>,
+    ) -> PyResult<Self> {
+        Ok(Self {
+            field: field_in(py, volume, spacing, value_range)?,
+        })
+    }
+
+    /// `(nz, ny, nx)`.
+    #[getter]
+    fn shape(&self) -> (usize, usize, usize) {
+        let [nx, ny, nz] = self.field.dims();
+        (nz, ny, nx)
+    }
+
+    /// `(sx, sy, sz)`.
+    #[getter]
+    fn spacing(&self) -> (f64, f64, f64) {
+        let [x, y, z] = self.field.spacing();
+        (x, y, z)
+    }
+}
+
+/// The field of a render's `volume` argument: a prepared volume as it is, an array normalised
+/// for this call (`spacing` default `(1, 1, 1)`).
+enum FieldArg<'py> {
+    Owned(ScalarField),
+    Prepared(PyRef<'py, IllumVolume>),
+}
+
+impl std::ops::Deref for FieldArg<'_> {
+    type Target = ScalarField;
+    fn deref(&self) -> &ScalarField {
+        match self {
+            FieldArg::Owned(f) => f,
+            FieldArg::Prepared(v) => &v.field,
+        }
+    }
+}
+
+fn field_arg<'py>(
+    py: Python<'py>,
+    volume: &Bound<'py, PyAny>,
+    spacing: Option<[f64; 3]>,
+    value_range: Option<(f64, f64)>,
+) -> PyResult<FieldArg<'py>> {
+    if let Ok(v) = volume.extract::<PyRef<'py, IllumVolume>>() {
+        if spacing.is_some() || value_range.is_some() {
+            return Err(value_error(
+                "`spacing` and `value_range` belong to the PreparedVolume; leave them None \
+                 when rendering one",
+            ));
+        }
+        return Ok(FieldArg::Prepared(v));
+    }
+    Ok(FieldArg::Owned(field_in(
+        py,
+        volume,
+        spacing.unwrap_or([1.0; 3]),
+        value_range,
+    )?))
 }
 
 /// A transfer function from an `(n, 4)` float32 array of RGBA rows, `n >= 2`.
@@ -420,15 +504,16 @@ fn illum_render<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
     tf: PyReadonlyArrayDyn<'py, f32>,
-    spacing: [f64; 3],
+    spacing: Option<[f64; 3]>,
     value_range: Option<(f64, f64)>,
     opts: &Bound<'py, PyDict>,
 ) -> PyResult<Arr<'py, f32>> {
     let tf = tf_in(&tf)?;
-    let field = field_in(py, volume, spacing, value_range)?;
-    let s = scene_in(&field, opts)?;
+    let field = field_arg(py, volume, spacing, value_range)?;
+    let field: &ScalarField = &field;
+    let s = scene_in(field, opts)?;
     let r = py
-        .detach(|| render_field(&field, &tf, &s.cam, &s.light, &s.method, &s.settings))
+        .detach(|| render_field(field, &tf, &s.cam, &s.light, &s.method, &s.settings))
         .py_err()?;
     let (h, w, c) = r.image.shape();
     array(py, &[h, w, c], r.image.into_data())
@@ -443,20 +528,21 @@ fn illum_light_buffer<'py>(
     volume: &Bound<'py, PyAny>,
     tf: PyReadonlyArrayDyn<'py, f32>,
     depth: f64,
-    spacing: [f64; 3],
+    spacing: Option<[f64; 3]>,
     value_range: Option<(f64, f64)>,
     opts: &Bound<'py, PyDict>,
 ) -> PyResult<(Arr<'py, f32>, f64)> {
     let tf = tf_in(&tf)?;
-    let field = field_in(py, volume, spacing, value_range)?;
-    let s = scene_in(&field, opts)?;
+    let field = field_arg(py, volume, spacing, value_range)?;
+    let field: &ScalarField = &field;
+    let s = scene_in(field, opts)?;
     if !(depth.is_finite() && depth >= 0.0) {
         return Err(value_error(format!(
             "`depth` must be finite and >= 0, got {depth}"
         )));
     }
     let (img, z) = py
-        .detach(|| light_buffer_at(&field, &tf, &s.cam, &s.light, &s.method, &s.settings, depth))
+        .detach(|| light_buffer_at(field, &tf, &s.cam, &s.light, &s.method, &s.settings, depth))
         .py_err()?;
     let (h, w, _) = img.shape();
     Ok((array(py, &[h, w], img.into_data())?, z))
@@ -601,13 +687,14 @@ fn illum_study<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
     tf: PyReadonlyArrayDyn<'py, f32>,
-    spacing: [f64; 3],
+    spacing: Option<[f64; 3]>,
     value_range: Option<(f64, f64)>,
     opts: &Bound<'py, PyDict>,
 ) -> PyResult<Bound<'py, PyDict>> {
     check_keys(opts, &STUDY_KEYS)?;
     let tf = tf_in(&tf)?;
-    let field = field_in(py, volume, spacing, value_range)?;
+    let field = field_arg(py, volume, spacing, value_range)?;
+    let field: &ScalarField = &field;
     let views = int_in("views", dict_item(opts, "views")?.unwrap_or(4), 1, 1 << 16)? as usize;
     let size = dict_item::<i64>(opts, "size")?.unwrap_or(256);
     let size = size_in((size, size))?.0;
@@ -648,7 +735,7 @@ fn illum_study<'py>(
     let cams = (0..views)
         .map(|k| {
             let az = azimuth + 360.0 * k as f64 / views as f64;
-            SliceCamera::orbit(&field, az, elevation, size)
+            SliceCamera::orbit(field, az, elevation, size)
         })
         .collect::<wscg_math::Result<Vec<_>>>()
         .py_err()?;
@@ -658,7 +745,7 @@ fn illum_study<'py>(
     let st = py
         .detach(|| {
             study::sweep(
-                &field,
+                field,
                 &tf,
                 &cams,
                 &light,
@@ -698,6 +785,7 @@ fn illum_study<'py>(
 
 /// Registers the paper-15 functions into the `volren` submodule.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<IllumVolume>()?;
     m.add_function(wrap_pyfunction!(illum_render, m)?)?;
     m.add_function(wrap_pyfunction!(illum_light_buffer, m)?)?;
     m.add_function(wrap_pyfunction!(illum_study, m)?)?;

@@ -416,6 +416,40 @@ def test_deterministic_and_inputs_untouched():
     np.testing.assert_array_equal(labels, labels_copy)
 
 
+def test_prepared_volume_renders_like_the_array():
+    vol, tf = V.marschner_lobb(25), V.marschner_lobb_tf()
+    vol_copy = vol.copy()
+    pv = V.PreparedVolume(vol, spacing=(1.0, 1.0, 1.5))
+    assert pv.shape == vol.shape and pv.spacing == (1.0, 1.0, 1.5)
+    assert "PreparedVolume" in repr(pv)
+    for method, m in (("phong", 0), ("raycast", 0), ("ics", 0), ("pi-scs", 1)):
+        kw = dict(view_dir=(0.4, -0.7, 1.0), size=(40, 32), method=method,
+                  slice_distance=0.8, subsamples=m, light_dir=(0.3, 0.2, 1.0))
+        want = V.render(vol, tf, spacing=(1.0, 1.0, 1.5), **kw)
+        for _ in range(2):  # the second render reuses the cells and bricks
+            np.testing.assert_array_equal(V.render(pv, tf, **kw), want)
+    buf, z = V.light_buffer(pv, tf, 5.0, size=(20, 20), method="ics", slice_distance=0.5)
+    buf2, z2 = V.light_buffer(vol, tf, 5.0, spacing=(1.0, 1.0, 1.5), size=(20, 20),
+                              method="ics", slice_distance=0.5)
+    np.testing.assert_array_equal(buf, buf2)
+    assert z == z2
+    kw = dict(views=1, size=24, distances=(0.8,), max_subsamples=1)
+    a = V.study(pv, tf, **kw)["entries"]
+    b = V.study(vol, tf, spacing=(1.0, 1.0, 1.5), **kw)["entries"]
+    assert [e["mad"] for e in a] == [e["mad"] for e in b]
+    np.testing.assert_array_equal(vol, vol_copy)
+    with pytest.raises(ValueError, match="PreparedVolume"):
+        V.render(pv, tf, spacing=(1.0, 1.0, 1.0))
+    with pytest.raises(ValueError, match="PreparedVolume"):
+        V.render(pv, tf, value_range=(0.0, 1.0))
+    with pytest.raises(ValueError, match="3-D"):
+        V.PreparedVolume(np.zeros((4, 4), np.float32))
+    with pytest.raises(ValueError, match="spacing"):
+        V.PreparedVolume(vol, spacing=(1.0, 0.0, 1.0))
+    with pytest.raises(ValueError, match="non-finite"):
+        V.PreparedVolume(np.full((3, 3, 3), np.nan, np.float32))
+
+
 def test_methods_kernels_and_transparent_volume():
     vol, tf = V.marschner_lobb(21), V.marschner_lobb_tf()
     kw = dict(view_dir=(0.4, -0.7, 1.0), size=(24, 24), slice_distance=0.5,

@@ -598,6 +598,81 @@ fn kernel_variance_is_exact() {
     }
 }
 
+/// Baseline 2: on a linear ramp every sample has the same gradient, so behind an iso-surface
+/// inside the volume a pixel is `alpha (c (k_a + k_d |n.l|) + k_s |n.h|^n)` exactly, with `n`
+/// the ramp's direction; checked for a headlight (`l = h`) and an oblique light, with
+/// trilinear and nearest sampling and an anisotropic spacing (the gradient is per world unit).
+#[test]
+fn phong_shades_a_ramp_by_its_analytic_normal() {
+    let dims = [24usize, 26, 20];
+    let spacing = [1.0, 1.0, 1.25];
+    let axis = [-0.8f64, 0.35, -0.45];
+    let norm = axis.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let a = axis.map(|v| v / norm);
+    let ctr: [f64; 3] = std::array::from_fn(|k| 0.5 * (dims[k] as f64 - 1.0) * spacing[k]);
+    let data: Vec<f32> = (0..dims.iter().product::<usize>())
+        .map(|i| {
+            let p = [
+                i % dims[0],
+                (i / dims[0]) % dims[1],
+                i / (dims[0] * dims[1]),
+            ];
+            let d: f64 = (0..3)
+                .map(|k| a[k] * (p[k] as f64 * spacing[k] - ctr[k]))
+                .sum();
+            (0.5 + 0.02 * d) as f32
+        })
+        .collect();
+    let field = ScalarField::from_f32(dims, spacing, data).unwrap();
+    // Transparent below the iso-value 0.5 (and outside the box), white and opaque above it:
+    // the view rays enter through the transparent side (the ramp rises along the view).
+    let lut: Vec<[f32; 4]> = (0..256)
+        .map(|i| [1.0, 1.0, 1.0, if i >= 128 { 0.95 } else { 0.0 }])
+        .collect();
+    let tf = TransferFunction::from_lut(&lut).unwrap();
+    let cam = SliceCamera::orbit(&field, 35.0, 20.0, 64).unwrap();
+    let frame = cam.frame().unwrap();
+    assert!((0..3).map(|k| a[k] * frame.d[k]).sum::<f64>() > 0.3);
+    let ph = Phong::default();
+    for light_dir in [[0.0, 0.0, 1.0], [0.4, 0.3, 1.0]] {
+        let light = Light {
+            dir_view: light_dir,
+            ..headlight(Kernel::Delta)
+        };
+        let l = frame.light_world(light.unit_dir().unwrap());
+        let h: [f64; 3] = std::array::from_fn(|k| l[k] - frame.d[k]);
+        let hn = h.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let dot = |v: [f64; 3], s: f64| ((0..3).map(|k| a[k] * v[k]).sum::<f64>() / s).abs();
+        let (nl, nh) = (dot(l, 1.0), dot(h, hn));
+        let shade = ph.ka as f64 + ph.kd as f64 * nl + ph.ks as f64 * nh.powf(ph.shininess as f64);
+        for interp in [Interp::Trilinear, Interp::Nearest] {
+            let s = RenderSettings {
+                interp,
+                ..Default::default()
+            };
+            let m = Method::RaycastPhong {
+                step: 0.5,
+                phong: ph,
+            };
+            let img = render(&field, &tf, &cam, &light, &m, &s).unwrap().image;
+            for y in 29..35 {
+                for x in 29..35 {
+                    let px = &img.data()[4 * (y * 64 + x)..4 * (y * 64 + x) + 4];
+                    assert!(px[3] > 0.99, "alpha {} at ({x}, {y})", px[3]);
+                    for c in 0..3 {
+                        let want = px[3] as f64 * shade;
+                        assert!(
+                            (px[c] as f64 - want).abs() < 2e-4,
+                            "{interp:?} light {light_dir:?} ({x}, {y}): {} vs {want}",
+                            px[c]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// Check 9: the same image with 1 and 2 threads.
 #[test]
 fn deterministic_across_thread_counts() {

@@ -49,7 +49,16 @@ def haar_blocks(blocks: npt.ArrayLike) -> npt.NDArray[np.float32]: ...
 METHODS: Tuple[str, ...]
 KERNELS: Tuple[str, ...]
 
-def render(volume: npt.ArrayLike, tf: npt.ArrayLike, spacing: Sequence[float] = ...,
+class PreparedVolume:
+    def __init__(self, volume: npt.ArrayLike, spacing: Sequence[float] = ...,
+                 value_range: Optional[Tuple[float, float]] = None) -> None: ...
+    @property
+    def shape(self) -> Tuple[int, int, int]: ...
+    @property
+    def spacing(self) -> Tuple[float, float, float]: ...
+
+def render(volume: Union[npt.ArrayLike, PreparedVolume], tf: npt.ArrayLike,
+           spacing: Optional[Sequence[float]] = None,
            view_dir: Sequence[float] = ..., up: Sequence[float] = ...,
            size: Tuple[int, int] = (512, 512), pixel_size: Optional[float] = None,
            center: Optional[Sequence[float]] = None, method: str = "scs",
@@ -58,8 +67,8 @@ def render(volume: npt.ArrayLike, tf: npt.ArrayLike, spacing: Sequence[float] = 
            ambient: float = 0.0, background: Sequence[float] = ..., interp: str = "trilinear",
            value_range: Optional[Tuple[float, float]] = None,
            light_attenuation: str = "segment") -> npt.NDArray[np.float32]: ...
-def light_buffer(volume: npt.ArrayLike, tf: npt.ArrayLike, depth: float,
-                 spacing: Sequence[float] = ..., view_dir: Sequence[float] = ...,
+def light_buffer(volume: Union[npt.ArrayLike, PreparedVolume], tf: npt.ArrayLike, depth: float,
+                 spacing: Optional[Sequence[float]] = None, view_dir: Sequence[float] = ...,
                  up: Sequence[float] = ..., size: Tuple[int, int] = (512, 512),
                  pixel_size: Optional[float] = None, center: Optional[Sequence[float]] = None,
                  method: str = "scs", slice_distance: float = 1.0, subsamples: int = 0,
@@ -79,10 +88,11 @@ def labels_to_density(labels: npt.ArrayLike, spacing: Sequence[float] = ...,
 def read_vti(path: Union[str, os.PathLike]
              ) -> Tuple[npt.NDArray[np.generic], Tuple[float, float, float]]: ...
 def mean_abs_diff(a: npt.ArrayLike, b: npt.ArrayLike) -> float: ...
-def study(volume: npt.ArrayLike, tf: npt.ArrayLike, views: int = 4, size: int = 256,
+def study(volume: Union[npt.ArrayLike, PreparedVolume], tf: npt.ArrayLike, views: int = 4,
+          size: int = 256,
           azimuth: float = 30.0, elevation: float = 20.0, distances: Sequence[float] = ...,
           max_subsamples: int = 5, reference: float = 0.2, fine: float = 0.1,
-          spacing: Sequence[float] = ..., spread: float = 0.5,
+          spacing: Optional[Sequence[float]] = None, spread: float = 0.5,
           light_dir: Sequence[float] = ..., ambient: float = 0.0, max_mad: float = 0.005,
           max_energy_ratio: float = 2.0,
           value_range: Optional[Tuple[float, float]] = None) -> Dict[str, object]: ...

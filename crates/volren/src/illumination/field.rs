@@ -8,8 +8,11 @@
 
 use std::sync::OnceLock;
 
+use rayon::prelude::*;
+
 use wscg_math::{Error, Result};
 
+use super::bricks::Bricks;
 use super::sampler::{cell_ranges, CellRanges};
 
 /// Reconstruction filter of the scalar field.
@@ -32,6 +35,8 @@ pub struct ScalarField {
     data: Vec<f32>,
     /// Value ranges of 8^3 cells, for empty-space skipping (computed on first use).
     cells: OnceLock<CellRanges>,
+    /// Value-and-gradient bricks of the Phong ray caster (slots made on first use).
+    bricks: OnceLock<Bricks>,
 }
 
 impl ScalarField {
@@ -67,7 +72,7 @@ impl ScalarField {
         Self::checked(
             dims,
             spacing,
-            data.iter().map(|&v| v as f32 / 255.0).collect(),
+            data.par_iter().map(|&v| v as f32 / 255.0).collect(),
         )
     }
 
@@ -76,7 +81,7 @@ impl ScalarField {
         Self::checked(
             dims,
             spacing,
-            data.iter().map(|&v| v as f32 / 65535.0).collect(),
+            data.par_iter().map(|&v| v as f32 / 65535.0).collect(),
         )
     }
 
@@ -89,6 +94,7 @@ impl ScalarField {
             scale,
             data,
             cells: OnceLock::new(),
+            bricks: OnceLock::new(),
         })
     }
 
@@ -97,13 +103,19 @@ impl ScalarField {
     /// to map another range).
     pub fn from_f32(dims: [usize; 3], spacing: [f64; 3], data: Vec<f32>) -> Result<Self> {
         Self::build(dims, spacing, data.len())?;
-        if let Some(i) = data.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFinite {
-                name: "volume",
-                index: i,
-            });
-        }
-        if let Some(i) = data.iter().position(|v| !(0.0..=1.0).contains(v)) {
+        // One parallel pass for valid data (NaN fails the range test too); the error names the
+        // first offending value.
+        if !data.par_iter().all(|v| (0.0..=1.0).contains(v)) {
+            if let Some(i) = data.iter().position(|v| !v.is_finite()) {
+                return Err(Error::NonFinite {
+                    name: "volume",
+                    index: i,
+                });
+            }
+            let i = data
+                .iter()
+                .position(|v| !(0.0..=1.0).contains(v))
+                .unwrap_or(0);
             return Err(Error::invalid(
                 "volume",
                 format!(
@@ -130,23 +142,31 @@ impl ScalarField {
                 format!("needs finite lo < hi, got ({lo}, {hi})"),
             ));
         }
-        if let Some(i) = data.iter().position(|v| !v.is_finite()) {
+        Self::build(dims, spacing, data.len())?;
+        if !data.par_iter().all(|v| v.is_finite()) {
+            let i = data.iter().position(|v| !v.is_finite()).unwrap_or(0);
             return Err(Error::NonFinite {
                 name: "volume",
                 index: i,
             });
         }
         let (lo, k) = (lo as f64, 1.0 / (hi as f64 - lo as f64));
+        // Finite values clamped: in [0, 1] by construction.
         let mapped = data
-            .iter()
+            .par_iter()
             .map(|&v| ((v as f64 - lo) * k).clamp(0.0, 1.0) as f32)
             .collect();
-        Self::from_f32(dims, spacing, mapped)
+        Self::checked(dims, spacing, mapped)
     }
 
     /// Value ranges of 8^3 cells (with the one-voxel apron of trilinear sampling).
     pub(crate) fn cell_ranges(&self) -> &CellRanges {
         cell_ranges(self, &self.cells)
+    }
+
+    /// The value-and-gradient bricks (each built when first sampled).
+    pub(crate) fn bricks(&self) -> &Bricks {
+        self.bricks.get_or_init(|| Bricks::new(self))
     }
 
     /// Voxel counts `[nx, ny, nz]`.
@@ -224,16 +244,9 @@ impl ScalarField {
     #[inline]
     pub(crate) fn trilinear_inside(&self, p: [f32; 3]) -> f32 {
         let [nx, ny, nz] = self.dims;
-        #[inline]
-        fn cell(c: f32, n: usize) -> (usize, usize, f32) {
-            let c = c.clamp(0.0, (n - 1) as f32);
-            let i = (c as usize).min(n.saturating_sub(2));
-            let t = c - i as f32;
-            (i, (i + 1).min(n - 1), t)
-        }
-        let (x0, x1, tx) = cell(p[0], nx);
-        let (y0, y1, ty) = cell(p[1], ny);
-        let (z0, z1, tz) = cell(p[2], nz);
+        let (x0, x1, tx) = axis_cell(p[0], nx);
+        let (y0, y1, ty) = axis_cell(p[1], ny);
+        let (z0, z1, tz) = axis_cell(p[2], nz);
         let d = &self.data;
         let r00 = nx * (y0 + ny * z0);
         let r10 = nx * (y1 + ny * z0);
@@ -247,8 +260,9 @@ impl ScalarField {
         l(l(c00, c10, ty), l(c01, c11, ty), tz)
     }
 
-    /// Gradient by central differences of trilinear samples one voxel apart, in value per
-    /// voxel; used by the Phong baseline.
+    /// Gradient by central differences of samples one voxel apart, in value per world unit:
+    /// the definition the Phong ray caster's bricks reproduce (their test's reference).
+    #[cfg(test)]
     pub(crate) fn gradient(&self, p: [f32; 3], interp: Interp) -> [f32; 3] {
         std::array::from_fn(|a| {
             let mut lo = p;
@@ -258,4 +272,14 @@ impl ScalarField {
             0.5 * (self.sample(hi, interp) - self.sample(lo, interp)) / self.scale[a] as f32
         })
     }
+}
+
+/// The two voxels along one axis that a trilinear sample at coordinate `c` interpolates, and
+/// the weight of the second: edge-clamped to `[0, n - 1]`.
+#[inline]
+pub(crate) fn axis_cell(c: f32, n: usize) -> (usize, usize, f32) {
+    let c = c.clamp(0.0, (n - 1) as f32);
+    let i = (c as usize).min(n.saturating_sub(2));
+    let t = c - i as f32;
+    (i, (i + 1).min(n - 1), t)
 }

@@ -18,6 +18,7 @@
 //! Only `O(W H)` buffers are allocated besides the volume: there is no 3-D illumination
 //! volume (the paper's premise).
 
+mod bricks;
 pub mod camera;
 pub mod classify;
 pub mod field;

@@ -1,18 +1,19 @@
 //! The ray-casting baselines (spec section 2.6): emission-absorption, Blinn-Phong local
-//! illumination (gradient by central differences of trilinear samples) and the validation
+//! illumination (the gradient of central differences at the voxels, interpolated trilinearly
+//! from the value-and-gradient bricks of [`super::bricks`]) and the validation
 //! renderer with a Beer-Lambert shadow ray per sample. Rays are orthographic and sample at
 //! the same depths `z_start + (k + 1/2) step` as slices of distance `step` would, so a shadow
 //! ray from a headlight crosses exactly the earlier samples of its own ray.
 
 use rayon::prelude::*;
-use wscg_math::vec3::{add, dot, normalized_or_zero};
+use wscg_math::vec3::{add, normalized_or_zero};
 use wscg_math::Result;
 
 use super::camera::{Frame, Slicing};
 use super::classify::SampleLut;
 use super::field::ScalarField;
 use super::method::{Light, Phong, RenderSettings};
-use super::sampler::Sampler;
+use super::sampler::{Loc, Sampler};
 use super::slicer::MAX_SLICES;
 
 /// Shading of a ray caster.
@@ -54,6 +55,8 @@ pub(crate) fn raycast(
     // A shadow-ray step crosses the previous slice plane: length step / l_z towards the light.
     let shadow_step = to_vox(lw.map(|c| c * step as f64 / l[2]));
     let half = normalized_or_zero(add(lw, frame.d.map(|c| -c)));
+    let (l32, h32) = (lw.map(|c| c as f32), half.map(|c| c as f32));
+    let bricks = field.bricks();
     let (w, h) = (frame.width, frame.height);
     let bg = settings.background;
     let ka = light.ambient;
@@ -81,22 +84,38 @@ pub(crate) fn raycast(
                 (0, slicing.n)
             };
             let mut k = k0;
-            while k < k1 {
-                if e[3] >= settings.early_stop {
-                    break;
-                }
+            while k < k1 && e[3] < settings.early_stop {
                 let z = slicing.z(k) as f32;
                 let p = at(z);
-                // An empty cell: jump to the first sample beyond it.
-                if let Some(t) = sampler.empty_exit(p, dz) {
-                    let next = ((z as f64 + t as f64 - slicing.z_start) / slicing.ds - 0.5).ceil();
-                    k = (next.max(0.0) as usize).max(k + 1);
-                    continue;
-                }
-                k += 1;
-                let Some(sv) = sampler.visible(p) else {
-                    continue;
+                let (sv, grad) = match sampler.locate(p) {
+                    Loc::Outside if sampler.outside_transparent => {
+                        k += 1;
+                        continue;
+                    }
+                    // An empty cell: jump to the first sample beyond the empty cells around it.
+                    Loc::Empty(c) => {
+                        k = match sampler.empty_exit(p, dz, c) {
+                            Some(t) => {
+                                let next = ((z as f64 + t as f64 - slicing.z_start) / slicing.ds
+                                    - 0.5)
+                                    .ceil();
+                                (next.max(0.0) as usize).max(k + 1)
+                            }
+                            None => k + 1,
+                        };
+                        continue;
+                    }
+                    Loc::Cell(c) => match shading {
+                        RayShading::Phong(_) => {
+                            let s4 = bricks.sample(field, c, p, settings.interp);
+                            (s4[0], [s4[1], s4[2], s4[3]])
+                        }
+                        _ => (sampler.value(p), [0.0; 3]),
+                    },
+                    // Outside the box (an opaque 0) the gradient is 0.
+                    Loc::Outside => (0.0, [0.0; 3]),
                 };
+                k += 1;
                 let v = lut.get(sv);
                 if v[3] <= 0.0 {
                     continue;
@@ -115,22 +134,7 @@ pub(crate) fn raycast(
                         }
                         (ka + (1.0 - ka) * t, 0.0)
                     }
-                    RayShading::Phong(ph) => {
-                        let g = field.gradient(p, settings.interp);
-                        let gn = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
-                        if gn < 1e-6 {
-                            (ph.ka + ph.kd, 0.0)
-                        } else {
-                            let n = [
-                                -(g[0] / gn) as f64,
-                                -(g[1] / gn) as f64,
-                                -(g[2] / gn) as f64,
-                            ];
-                            let ndl = dot(n, lw).abs() as f32;
-                            let ndh = dot(n, half).abs() as f32;
-                            (ph.ka + ph.kd * ndl, ph.ks * ndh.powf(ph.shininess))
-                        }
-                    }
+                    RayShading::Phong(ph) => blinn_phong(&ph, grad, l32, h32),
                 };
                 for c in 0..3 {
                     e[c] += wgt * (v[c] * diffuse + v[3] * spec);
@@ -144,4 +148,23 @@ pub(crate) fn raycast(
         }
     });
     Ok((rgba, slicing.n))
+}
+
+/// Blinn-Phong weights `(diffuse, specular)` of a sample whose field gradient is `g`, lit from
+/// `l` and seen along the half vector `h` (unit vectors): `k_a + k_d |n.l|` and
+/// `k_s |n.h|^shininess` with `n = g / |g|`, two-sided (volume surfaces have no inside); a
+/// vanishing gradient gives `k_a + k_d` and no highlight.
+#[inline]
+fn blinn_phong(ph: &Phong, g: [f32; 3], l: [f32; 3], h: [f32; 3]) -> (f32, f32) {
+    let gn2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    if gn2 < 1e-12 {
+        return (ph.ka + ph.kd, 0.0);
+    }
+    let inv = 1.0 / gn2.sqrt();
+    let dot = |v: [f32; 3]| {
+        ((g[0] * v[0] + g[1] * v[1] + g[2] * v[2]) * inv)
+            .abs()
+            .min(1.0)
+    };
+    (ph.ka + ph.kd * dot(l), ph.ks * dot(h).powf(ph.shininess))
 }

@@ -42,9 +42,10 @@ impl CellRanges {
                 for z in span(cz, nz) {
                     for y in span(cy, ny) {
                         let row = &data[nx * (y + ny * z)..];
+                        // The values are finite: plain comparisons (no NaN handling).
                         for &v in &row[span(cx, nx)] {
-                            lo = lo.min(v);
-                            hi = hi.max(v);
+                            lo = if v < lo { v } else { lo };
+                            hi = if v > hi { v } else { hi };
                         }
                     }
                 }
@@ -63,12 +64,26 @@ pub(crate) fn cell_ranges<'a>(
     slot.get_or_init(|| CellRanges::new(field))
 }
 
+/// Where a sample point lies (see [`Sampler::locate`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Loc {
+    /// Outside the volume's box.
+    Outside,
+    /// In an empty cell (per-axis index): transparent whatever the value.
+    Empty([usize; 3]),
+    /// In a cell that may be visible.
+    Cell([usize; 3]),
+}
+
 /// A field's sampler for one transfer function.
 pub(crate) struct Sampler<'a> {
     field: &'a ScalarField,
     interp: Interp,
     cells: [usize; 3],
     empty: Vec<bool>,
+    /// Per cell, the Chebyshev distance in cells to the nearest cell that is not empty (0 for
+    /// those; capped at 255): the cube of cells of radius `clear - 1` around a cell is empty.
+    clear: Vec<u8>,
     /// Cells whose 3 x 3 x 3 neighbourhood's value range is transparent: a segment shorter
     /// than a cell that starts in one is transparent whatever it interpolates (empty unless
     /// built for segments).
@@ -112,24 +127,32 @@ impl<'a> Sampler<'a> {
                 tf.transparent_on(lo, hi)
             })
             .collect();
+        let empty: Vec<bool> = cr
+            .range
+            .iter()
+            .map(|&(lo, hi)| tf.transparent_on(lo, hi))
+            .collect();
         Self {
             field,
             interp,
             cells: c,
-            empty: cr
-                .range
-                .iter()
-                .map(|&(lo, hi)| tf.transparent_on(lo, hi))
-                .collect(),
+            clear: chebyshev_clearance(c, &empty),
+            empty,
             deep_empty,
             outside_transparent: tf.transparent_at_zero(),
         }
     }
 
+    /// The cell of `p` (the cell of its nearest voxel), per axis.
+    #[inline]
+    fn cell3(&self, p: [f32; 3]) -> [usize; 3] {
+        std::array::from_fn(|a| (((p[a] + 0.5).max(0.0) as usize) / CELL).min(self.cells[a] - 1))
+    }
+
     #[inline]
     fn cell_of(&self, p: [f32; 3]) -> usize {
-        let c = |a: usize| (((p[a] + 0.5).max(0.0) as usize) / CELL).min(self.cells[a] - 1);
-        c(0) + self.cells[0] * (c(1) + self.cells[1] * c(2))
+        let c = self.cell3(p);
+        c[0] + self.cells[0] * (c[1] + self.cells[1] * c[2])
     }
 
     /// True if a segment of length at most one cell starting at `p` (inside the box) is
@@ -139,38 +162,52 @@ impl<'a> Sampler<'a> {
         self.deep_empty[self.cell_of(p)]
     }
 
+    /// Where `p` (voxel coordinates) lies: outside the box, in an empty cell or in a cell
+    /// that may be visible.
+    #[inline]
+    pub fn locate(&self, p: [f32; 3]) -> Loc {
+        if !self.field.contains(p) {
+            return Loc::Outside;
+        }
+        let c = self.cell3(p);
+        if self.empty[c[0] + self.cells[0] * (c[1] + self.cells[1] * c[2])] {
+            Loc::Empty(c)
+        } else {
+            Loc::Cell(c)
+        }
+    }
+
+    /// The sample at `p`, known to be inside the box.
+    #[inline]
+    pub fn value(&self, p: [f32; 3]) -> f32 {
+        match self.interp {
+            Interp::Trilinear => self.field.trilinear_inside(p),
+            Interp::Nearest => self.field.nearest_inside(p),
+        }
+    }
+
     /// The sample at `p` (voxel coordinates), or `None` when it is certainly transparent:
     /// outside the box with a transparent 0, or in an empty cell.
     #[inline]
     pub fn visible(&self, p: [f32; 3]) -> Option<f32> {
-        if !self.field.contains(p) {
-            return if self.outside_transparent {
-                None
-            } else {
-                Some(0.0)
-            };
+        match self.locate(p) {
+            Loc::Outside => (!self.outside_transparent).then_some(0.0),
+            Loc::Empty(_) => None,
+            Loc::Cell(_) => Some(self.value(p)),
         }
-        if self.empty[self.cell_of(p)] {
-            return None;
-        }
-        Some(match self.interp {
-            Interp::Trilinear => self.field.trilinear_inside(p),
-            Interp::Nearest => self.field.nearest_inside(p),
-        })
     }
 
-    /// If `p` (inside the box) lies in an empty cell, the parameter `t > 0` at which the ray
-    /// `p + t dir` leaves that cell.
+    /// For `p` in the empty cell `c` (per axis): the parameter `t > 0` at which the ray
+    /// `p + t dir` leaves the cube of empty cells around `c` (the Chebyshev clearance of the
+    /// cell, clipped to the box), so one step crosses many empty cells.
     #[inline]
-    pub fn empty_exit(&self, p: [f32; 3], dir: [f32; 3]) -> Option<f32> {
-        if !self.field.contains(p) || !self.empty[self.cell_of(p)] {
-            return None;
-        }
+    pub fn empty_exit(&self, p: [f32; 3], dir: [f32; 3], c: [usize; 3]) -> Option<f32> {
+        let i = c[0] + self.cells[0] * (c[1] + self.cells[1] * c[2]);
+        let r = (self.clear[i] as usize).max(1) - 1;
         let mut t = f32::INFINITY;
         for a in 0..3 {
-            let c = (((p[a] + 0.5).max(0.0) as usize) / CELL).min(self.cells[a] - 1) as f32;
-            let lo = c * CELL as f32 - 0.5;
-            let hi = lo + CELL as f32;
+            let lo = (c[a].saturating_sub(r) * CELL) as f32 - 0.5;
+            let hi = ((c[a] + r + 1).min(self.cells[a]) * CELL) as f32 - 0.5;
             if dir[a] > 0.0 {
                 t = t.min((hi - p[a]) / dir[a]);
             } else if dir[a] < 0.0 {
@@ -209,5 +246,73 @@ impl<'a> Sampler<'a> {
     #[inline]
     pub fn contains(&self, p: [f32; 3]) -> bool {
         self.field.contains(p)
+    }
+}
+
+/// The Chebyshev distance (in cells, capped at 255) from every cell to the nearest cell that is
+/// not empty, by a breadth-first search over the 26 neighbours from all non-empty cells (a
+/// step of the search changes each index by at most one, so the number of steps is the
+/// Chebyshev distance). Cells beyond the grid count as empty; a grid without a non-empty cell
+/// is clear throughout.
+fn chebyshev_clearance(cells: [usize; 3], empty: &[bool]) -> Vec<u8> {
+    let mut d: Vec<u8> = empty.iter().map(|&e| if e { u8::MAX } else { 0 }).collect();
+    let mut queue: std::collections::VecDeque<usize> =
+        (0..empty.len()).filter(|&i| !empty[i]).collect();
+    let [cx, cy, cz] = cells;
+    while let Some(i) = queue.pop_front() {
+        let next = d[i].saturating_add(1);
+        if next == u8::MAX {
+            continue;
+        }
+        let (x, y, z) = (i % cx, (i / cx) % cy, i / (cx * cy));
+        for zz in z.saturating_sub(1)..(z + 2).min(cz) {
+            for yy in y.saturating_sub(1)..(y + 2).min(cy) {
+                for xx in x.saturating_sub(1)..(x + 2).min(cx) {
+                    let j = xx + cx * (yy + cy * zz);
+                    if d[j] > next {
+                        d[j] = next;
+                        queue.push_back(j);
+                    }
+                }
+            }
+        }
+    }
+    d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The breadth-first clearance equals the brute-force Chebyshev distance to the nearest
+    /// non-empty cell, and a grid without one is clear throughout.
+    #[test]
+    fn clearance_is_the_chebyshev_distance() {
+        let cells = [9, 7, 5];
+        let n = cells.iter().product::<usize>();
+        let idx = |i: usize| [i % 9, (i / 9) % 7, i / 63];
+        let mut rng = 7u64;
+        let empty: Vec<bool> = (0..n)
+            .map(|_| {
+                rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1);
+                !(rng >> 33).is_multiple_of(17)
+            })
+            .collect();
+        assert!(empty.iter().any(|e| !e) && empty.iter().any(|&e| e));
+        let d = chebyshev_clearance(cells, &empty);
+        for (i, &di) in d.iter().enumerate() {
+            let want = (0..n)
+                .filter(|&j| !empty[j])
+                .map(|j| {
+                    let (a, b) = (idx(i), idx(j));
+                    (0..3).map(|k| a[k].abs_diff(b[k])).max().unwrap()
+                })
+                .min()
+                .unwrap();
+            assert_eq!(di as usize, want, "cell {:?}", idx(i));
+        }
+        assert!(chebyshev_clearance(cells, &vec![true; n])
+            .iter()
+            .all(|&c| c == u8::MAX));
     }
 }
