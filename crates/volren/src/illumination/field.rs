@@ -241,7 +241,7 @@ impl ScalarField {
     }
 
     /// Trilinear sample of a point known to be inside the box (edge-clamped).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn trilinear_inside(&self, p: [f32; 3]) -> f32 {
         let [nx, ny, nz] = self.dims;
         let (x0, x1, tx) = axis_cell(p[0], nx);

@@ -164,7 +164,7 @@ impl<'a> Sampler<'a> {
 
     /// Where `p` (voxel coordinates) lies: outside the box, in an empty cell or in a cell
     /// that may be visible.
-    #[inline]
+    #[inline(always)]
     pub fn locate(&self, p: [f32; 3]) -> Loc {
         if !self.field.contains(p) {
             return Loc::Outside;
@@ -178,7 +178,7 @@ impl<'a> Sampler<'a> {
     }
 
     /// The sample at `p`, known to be inside the box.
-    #[inline]
+    #[inline(always)]
     pub fn value(&self, p: [f32; 3]) -> f32 {
         match self.interp {
             Interp::Trilinear => self.field.trilinear_inside(p),
@@ -188,7 +188,7 @@ impl<'a> Sampler<'a> {
 
     /// The sample at `p` (voxel coordinates), or `None` when it is certainly transparent:
     /// outside the box with a transparent 0, or in an empty cell.
-    #[inline]
+    #[inline(always)]
     pub fn visible(&self, p: [f32; 3]) -> Option<f32> {
         match self.locate(p) {
             Loc::Outside => (!self.outside_transparent).then_some(0.0),
