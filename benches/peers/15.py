@@ -9,7 +9,10 @@ labels mapped to densities and blurred by one voxel (``labels_to_density``), the
 1. Local illumination: our Blinn-Phong ray caster (sample distance 0.5 voxel, early ray
    termination) against VTK's ``vtkFixedPointVolumeRayCastMapper`` with ``ShadeOn`` on the
    same density volume (as uint8), same transfer function, sample distance 0.5, parallel
-   projection, off screen (OSMesa). Spec target: ours <= 1.5x VTK's time.
+   projection, off screen (OSMesa). Spec target: ours <= 1.5x VTK's time. Both keep their
+   prepared volume between frames (ours a ``PreparedVolume``, VTK its encoded volume and
+   normals) and get a warm-up frame; the time of rendering from the float array (converted
+   on every call) is printed too. Parts 2-4 render the ``PreparedVolume`` as well.
 2. Table 1 / check 6: ICS at slice distance 0.2, 0.4, 0.6, 0.8 and SCS with 1..3
    sub-samples: time per frame and MAD against ICS(0.2); time(0.8)/time(0.2) (paper 0.32),
    cost of a sub-sample (paper 0.5 % on the GPU, spec limit 15 % on CPU), PI-ICS overhead.

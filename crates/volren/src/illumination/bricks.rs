@@ -152,15 +152,9 @@ mod tests {
         let f = field([21, 18, 11], [1.0, 1.0, 1.5]);
         let b = Bricks::new(&f);
         let dims = f.dims();
-        let mut rng = 12345u64;
-        let mut next = || {
-            rng = rng
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (rng >> 40) as f32 / (1u64 << 24) as f32
-        };
-        for _ in 0..4000 {
-            let p: [f32; 3] = std::array::from_fn(|a| -0.5 + next() * dims[a] as f32 * 0.9999);
+        let u = wscg_math::rng::uniform_vec(12345, 3 * 4000, 0.0, 0.9999).unwrap();
+        for q in u.chunks_exact(3) {
+            let p: [f32; 3] = std::array::from_fn(|a| -0.5 + (q[a] * dims[a] as f64) as f32);
             let c = p.map(|v| ((v + 0.5) as usize) / CELL);
             for interp in [Interp::Trilinear, Interp::Nearest] {
                 let s = b.sample(&f, c, p, interp);

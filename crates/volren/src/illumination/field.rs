@@ -26,6 +26,10 @@ pub enum Interp {
 }
 
 /// A scalar volume normalised to `[0, 1]`, `x` fastest.
+///
+/// On first use the field keeps the value ranges of its 8^3 cells (empty-space skipping) and
+/// the Phong ray caster's value-and-gradient bricks of the cells its rays reach, so renders of
+/// many views of one field pay for them once.
 #[derive(Clone, Debug)]
 pub struct ScalarField {
     dims: [usize; 3],

@@ -291,12 +291,10 @@ mod tests {
         let cells = [9, 7, 5];
         let n = cells.iter().product::<usize>();
         let idx = |i: usize| [i % 9, (i / 9) % 7, i / 63];
-        let mut rng = 7u64;
-        let empty: Vec<bool> = (0..n)
-            .map(|_| {
-                rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1);
-                !(rng >> 33).is_multiple_of(17)
-            })
+        let empty: Vec<bool> = wscg_math::rng::uniform_vec(7, n, 0.0, 1.0)
+            .unwrap()
+            .iter()
+            .map(|&u| u > 0.06)
             .collect();
         assert!(empty.iter().any(|e| !e) && empty.iter().any(|&e| e));
         let d = chebyshev_clearance(cells, &empty);
