@@ -1313,6 +1313,18 @@ fn mri_mask_phantom_recon_on_files() {
     };
     let dir = tempfile::tempdir().unwrap();
     let p = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    // `wscg mri recon DIR/k --mask DIR/m` followed by `rest`.
+    let recon = |k: &str, m: &str, rest: &[&str]| -> Vec<String> {
+        let mut v = vec![
+            "mri".to_string(),
+            "recon".into(),
+            p(k),
+            "--mask".into(),
+            p(m),
+        ];
+        v.extend(rest.iter().map(|s| s.to_string()));
+        v
+    };
     let text = wscg_ok(&[
         "mri",
         "mask",
@@ -1357,30 +1369,23 @@ fn mri_mask_phantom_recon_on_files() {
     ]);
     let before = std::fs::read(p("k.npy")).unwrap();
     // The centred PNG mask and the un-shifted .npy mask are the same mask.
-    let a = wscg_ok(&[
-        "mri",
-        "recon",
-        &p("k.npy"),
-        "--mask",
-        &p("m.npy"),
-        "--iters",
-        "15",
-        "--reference",
-        &p("ref.npy"),
-        "--out",
-        &p("a.npy"),
-    ]);
-    wscg_ok(&[
-        "mri",
-        "recon",
-        &p("k.npy"),
-        "--mask",
-        &p("m.png"),
-        "--iters",
-        "15",
-        "--out",
-        &p("b.npy"),
-    ]);
+    let a = wscg_ok(&recon(
+        "k.npy",
+        "m.npy",
+        &[
+            "--iters",
+            "15",
+            "--reference",
+            &p("ref.npy"),
+            "--out",
+            &p("a.npy"),
+        ],
+    ));
+    wscg_ok(&recon(
+        "k.npy",
+        "m.png",
+        &["--iters", "15", "--out", &p("b.npy")],
+    ));
     assert!(a.contains("PSNR"), "{a}");
     let xa = wscg::math::npy::read_complex(p("a.npy")).unwrap();
     let xb = wscg::math::npy::read_complex(p("b.npy")).unwrap();
@@ -1413,21 +1418,20 @@ fn mri_mask_phantom_recon_on_files() {
     let diff = metrics::rlne(&want, &xa.data).unwrap();
     assert!(diff < 1e-12, "{diff}");
     // The FDCT prior (curvelets at the finest scale) at its tuned tau0.
-    wscg_ok(&[
-        "mri",
-        "recon",
-        &p("k.npy"),
-        "--mask",
-        &p("m.npy"),
-        "--prior",
-        "fdct",
-        "--fdct-finest",
-        "curvelets",
-        "--iters",
-        "10",
-        "--out",
-        &p("fd.npy"),
-    ]);
+    wscg_ok(&recon(
+        "k.npy",
+        "m.npy",
+        &[
+            "--prior",
+            "fdct",
+            "--fdct-finest",
+            "curvelets",
+            "--iters",
+            "10",
+            "--out",
+            &p("fd.npy"),
+        ],
+    ));
     let fdct = FdctSparsifier::new(
         64,
         64,
@@ -1442,32 +1446,16 @@ fn mri_mask_phantom_recon_on_files() {
     let diff = metrics::rlne(&want, &got.data).unwrap();
     assert!(diff < 1e-12, "{diff}");
     // Baselines, NIfTI and PNG outputs.
-    wscg_ok(&[
-        "mri",
-        "recon",
-        &p("k.npy"),
-        "--mask",
-        &p("m.npy"),
-        "--method",
-        "fcsa",
-        "--iters",
-        "5",
-        "--out",
-        &p("f.nii.gz"),
-    ]);
-    wscg_ok(&[
-        "mri",
-        "recon",
-        &p("k.npy"),
-        "--mask",
-        &p("m.npy"),
-        "--reg",
-        "tv",
-        "--iters",
-        "5",
-        "--out",
-        &p("t.png"),
-    ]);
+    wscg_ok(&recon(
+        "k.npy",
+        "m.npy",
+        &["--method", "fcsa", "--iters", "5", "--out", &p("f.nii.gz")],
+    ));
+    wscg_ok(&recon(
+        "k.npy",
+        "m.npy",
+        &["--reg", "tv", "--iters", "5", "--out", &p("t.png")],
+    ));
     assert!(Image::load(p("t.png")).is_ok());
     assert!(wscg::math::Volume::<f32>::read_nifti(p("f.nii.gz")).is_ok());
     // Bad input: wrong mask size, unknown method, unreadable k-space.
@@ -1482,48 +1470,25 @@ fn mri_mask_phantom_recon_on_files() {
         &p("small.npy"),
     ]);
     for args in [
-        vec![
-            "mri",
-            "recon",
-            &p("k.npy"),
-            "--mask",
-            &p("small.npy"),
-            "--out",
-            &p("x.npy"),
-        ],
-        vec![
-            "mri",
-            "recon",
-            &p("k.npy"),
-            "--mask",
-            &p("m.npy"),
-            "--method",
-            "sense",
-            "--out",
-            &p("x.npy"),
-        ],
-        vec![
-            "mri",
-            "recon",
-            &p("missing.npy"),
-            "--mask",
-            &p("m.npy"),
-            "--out",
-            &p("x.npy"),
-        ],
-        vec![
-            "mri",
-            "recon",
-            &p("k.npy"),
-            "--mask",
-            &p("m.npy"),
-            "--prior",
-            "fdct",
-            "--fdct-finest",
-            "ridgelets",
-            "--out",
-            &p("x.npy"),
-        ],
+        recon("k.npy", "small.npy", &["--out", &p("x.npy")]),
+        recon(
+            "k.npy",
+            "m.npy",
+            &["--method", "sense", "--out", &p("x.npy")],
+        ),
+        recon("missing.npy", "m.npy", &["--out", &p("x.npy")]),
+        recon(
+            "k.npy",
+            "m.npy",
+            &[
+                "--prior",
+                "fdct",
+                "--fdct-finest",
+                "ridgelets",
+                "--out",
+                &p("x.npy"),
+            ],
+        ),
     ] {
         let out = wscg().args(&args).output().unwrap();
         assert!(!out.status.success(), "{args:?}");

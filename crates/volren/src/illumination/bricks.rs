@@ -12,7 +12,7 @@
 
 use std::sync::OnceLock;
 
-use super::field::{axis_cell, Interp, ScalarField};
+use super::field::{axis_cell, axis_nearest, Interp, ScalarField};
 use super::sampler::CELL;
 
 /// Voxels per brick side: the cell and one voxel on each side.
@@ -62,10 +62,7 @@ impl Bricks {
         let at = |x: usize, y: usize, z: usize| b[x + SIDE * (y + SIDE * z)];
         match interp {
             Interp::Nearest => {
-                let r = |a: usize| {
-                    let i = ((p[a] + 0.5).floor().max(0.0) as usize).min(dims[a] - 1);
-                    local(i, a)
-                };
+                let r = |a: usize| local(axis_nearest(p[a], dims[a]), a);
                 at(r(0), r(1), r(2))
             }
             Interp::Trilinear => {

@@ -211,10 +211,7 @@ impl ScalarField {
         if !self.contains(p) {
             return 0.0;
         }
-        match interp {
-            Interp::Trilinear => self.trilinear_inside(p),
-            Interp::Nearest => self.nearest_inside(p),
-        }
+        self.sample_inside(p, interp)
     }
 
     /// True if `p` (voxel coordinates) lies in the box `[-1/2, n - 1/2)`.
@@ -230,6 +227,12 @@ impl ScalarField {
         if !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()) {
             return 0.0;
         }
+        self.sample_inside(p, interp)
+    }
+
+    /// The sample at `p` known to be inside the box (coordinates are clamped to it).
+    #[inline(always)]
+    pub(crate) fn sample_inside(&self, p: [f32; 3], interp: Interp) -> f32 {
         match interp {
             Interp::Trilinear => self.trilinear_inside(p),
             Interp::Nearest => self.nearest_inside(p),
@@ -240,8 +243,8 @@ impl ScalarField {
     #[inline]
     pub(crate) fn nearest_inside(&self, p: [f32; 3]) -> f32 {
         let [nx, ny, nz] = self.dims;
-        let r = |c: f32, n: usize| ((c + 0.5).floor().max(0.0) as usize).min(n - 1);
-        self.data[r(p[0], nx) + nx * (r(p[1], ny) + ny * r(p[2], nz))]
+        self.data
+            [axis_nearest(p[0], nx) + nx * (axis_nearest(p[1], ny) + ny * axis_nearest(p[2], nz))]
     }
 
     /// Trilinear sample of a point known to be inside the box (edge-clamped).
@@ -276,6 +279,12 @@ impl ScalarField {
             0.5 * (self.sample(hi, interp) - self.sample(lo, interp)) / self.scale[a] as f32
         })
     }
+}
+
+/// The voxel along one axis nearest to coordinate `c`, `floor(c + 1/2)` clamped to `[0, n - 1]`.
+#[inline]
+pub(crate) fn axis_nearest(c: f32, n: usize) -> usize {
+    ((c + 0.5).floor().max(0.0) as usize).min(n - 1)
 }
 
 /// The two voxels along one axis that a trilinear sample at coordinate `c` interpolates, and

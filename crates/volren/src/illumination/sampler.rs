@@ -85,7 +85,8 @@ pub(crate) struct Sampler<'a> {
     empty: Vec<bool>,
     /// Per cell, the Chebyshev distance in cells to the nearest cell that is not empty (0 for
     /// those; capped at 255): the cube of cells of radius `clear - 1` around a cell is empty.
-    clear: Vec<u8>,
+    /// Built on the first ray step (the slice renderer never needs it).
+    clear: OnceLock<Vec<u8>>,
     /// Cells whose 3 x 3 x 3 neighbourhood's value range is transparent: a segment shorter
     /// than a cell that starts in one is transparent whatever it interpolates (empty unless
     /// built for segments).
@@ -138,7 +139,7 @@ impl<'a> Sampler<'a> {
             field,
             interp,
             cells: c,
-            clear: chebyshev_clearance(c, &empty),
+            clear: OnceLock::new(),
             empty,
             deep_empty,
             outside_transparent: tf.transparent_at_zero(),
@@ -182,10 +183,7 @@ impl<'a> Sampler<'a> {
     /// The sample at `p`, known to be inside the box.
     #[inline(always)]
     pub fn value(&self, p: [f32; 3]) -> f32 {
-        match self.interp {
-            Interp::Trilinear => self.field.trilinear_inside(p),
-            Interp::Nearest => self.field.nearest_inside(p),
-        }
+        self.field.sample_inside(p, self.interp)
     }
 
     /// The sample at `p` (voxel coordinates), or `None` when it is certainly transparent:
@@ -205,7 +203,10 @@ impl<'a> Sampler<'a> {
     #[inline]
     pub fn empty_exit(&self, p: [f32; 3], dir: [f32; 3], c: [usize; 3]) -> Option<f32> {
         let i = c[0] + self.cells[0] * (c[1] + self.cells[1] * c[2]);
-        let r = (self.clear[i] as usize).max(1) - 1;
+        let clear = self
+            .clear
+            .get_or_init(|| chebyshev_clearance(self.cells, &self.empty));
+        let r = (clear[i] as usize).max(1) - 1;
         let mut t = f32::INFINITY;
         for a in 0..3 {
             let lo = (c[a].saturating_sub(r) * CELL) as f32 - 0.5;
