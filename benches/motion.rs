@@ -23,13 +23,15 @@ const FRAMES: usize = 1200;
 /// A goal far enough that the walk is still going after 10 s.
 const GOAL: f64 = 15.0;
 
-/// `reset(GOAL)`, then 1200 steps of 1/120 s with a frame after each; returns a checksum.
+/// `reset(GOAL)`, then 1200 steps of 1/120 s with a frame after each, written into one reused
+/// frame as a real-time loop would; returns a checksum.
 fn synth_10s(syn: &mut Synthesizer) -> f64 {
     syn.reset(GOAL).unwrap();
     let mut acc = 0.0;
+    let mut f = syn.frame();
     for _ in 0..FRAMES {
         syn.step(1.0 / FPS).unwrap();
-        let f = syn.frame();
+        syn.frame_into(&mut f);
         acc += f.angles[0] + f.root_x;
     }
     assert!(!syn.finished(), "the goal was reached within 10 s");

@@ -37,8 +37,9 @@ pub fn hopf_radius(r0: f64, t: f64) -> f64 {
 /// Phase `atan2(y, x)` wrapped to `[0, 2π)` (the paper writes `arctan(y/x)`, which is wrong in
 /// two quadrants).
 pub fn phase(s: [f64; 2]) -> f64 {
-    let p = s[1].atan2(s[0]).rem_euclid(TAU);
-    // `rem_euclid` rounds a tiny negative angle up to exactly 2π.
+    let a = s[1].atan2(s[0]);
+    // `atan2` is in [−π, π]; a tiny negative angle plus 2π rounds up to exactly 2π.
+    let p = if a < 0.0 { a + TAU } else { a };
     if p >= TAU {
         0.0
     } else {

@@ -269,8 +269,165 @@ impl Svr {
         acc
     }
 
+    /// The support vectors laid out for fast repeated evaluation (see [`RbfExpansion`]).
+    pub fn expansion(&self) -> RbfExpansion {
+        RbfExpansion::new(self)
+    }
+
     /// Number of support vectors.
     pub fn n_support(&self) -> usize {
         self.support.len()
+    }
+}
+
+/// Support vectors summed side by side in [`RbfExpansion`]: two AVX2 registers of four f64
+/// (measured: 8 lanes ran the synthesizer's SVR path 1.9x faster than 4, 16 no faster).
+const LANES: usize = 8;
+
+/// `e^x` for `x ≤ 0` (exactly 0 below −708), written branch-free so that a loop of them
+/// vectorizes: `x = k ln 2 + r` with `|r| ≤ ln2/2` (Cody-Waite split of `ln 2`), `e^r` from
+/// its degree-13 Taylor polynomial (truncation below `5e-18`) and `2^k` assembled in the
+/// exponent bits. Agrees with libm's `exp` to a few units in the last place (unit test).
+#[inline(always)]
+fn exp_nonpositive(x: f64) -> f64 {
+    // Round-to-nearest-integer shift, `1.5 · 2^52`.
+    const SHIFT: f64 = 6_755_399_441_055_744.0;
+    // ln 2 split as in fdlibm: the high part has trailing zero bits, so `k · LN2_HI` is exact.
+    const LN2_HI: f64 = f64::from_bits(0x3fe6_2e42_fee0_0000);
+    const LN2_LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76);
+    let xc = x.max(-708.0);
+    let shifted = xc * std::f64::consts::LOG2_E + SHIFT;
+    let kf = shifted - SHIFT;
+    let k = shifted.to_bits().wrapping_sub(SHIFT.to_bits());
+    let r = (xc - kf * LN2_HI) - kf * LN2_LO;
+    // Horner from 1/13! down to 1.
+    let mut p = 1.0 / 6_227_020_800.0;
+    for d in [
+        479_001_600.0,
+        39_916_800.0,
+        3_628_800.0,
+        362_880.0,
+        40_320.0,
+        5_040.0,
+        720.0,
+        120.0,
+        24.0,
+        6.0,
+        2.0,
+        1.0,
+        1.0,
+    ] {
+        p = p * r + 1.0 / d;
+    }
+    let scale = f64::from_bits(k.wrapping_add(1023) << 52);
+    if x < -708.0 {
+        0.0
+    } else {
+        p * scale
+    }
+}
+
+/// The kernel expansion `f(x) = Σ_i coef_i exp(−γ ‖x_i − x‖²) − ρ` of a trained [`Svr`], stored
+/// coordinate by coordinate in groups of [`LANES`] so that the sum runs in SIMD lanes (with AVX2
+/// when the CPU has it, detected at run time). The synthesizer evaluates its SVR state maps
+/// through this: about 100 support vectors for each of the 255 channel-source pairs of a
+/// frame. Equal to [`Svr::predict`] to rounding (unit test).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RbfExpansion {
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+    /// Coefficients, zero in the padding of the last group.
+    coef: Vec<f64>,
+    neg_gamma: f64,
+    rho: f64,
+}
+
+impl RbfExpansion {
+    /// The expansion of `svr`.
+    pub fn new(svr: &Svr) -> Self {
+        let n = svr.support.len().div_ceil(LANES) * LANES;
+        // Padding repeats the first support vector (any finite point) with a zero weight.
+        let pad = svr.support.first().copied().unwrap_or([0.0, 0.0]);
+        let point = |i: usize| svr.support.get(i).copied().unwrap_or(pad);
+        Self {
+            xs: (0..n).map(|i| point(i)[0]).collect(),
+            ys: (0..n).map(|i| point(i)[1]).collect(),
+            coef: (0..n)
+                .map(|i| svr.coef.get(i).copied().unwrap_or(0.0))
+                .collect(),
+            neg_gamma: -svr.gamma,
+            rho: svr.rho,
+        }
+    }
+
+    /// `f(x)`.
+    pub fn eval(&self, x: [f64; 2]) -> f64 {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports the feature the function is compiled for.
+            return unsafe { self.eval_avx2(x) };
+        }
+        self.sum(x)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn eval_avx2(&self, x: [f64; 2]) -> f64 {
+        self.sum(x)
+    }
+
+    #[inline(always)]
+    fn sum(&self, x: [f64; 2]) -> f64 {
+        let mut acc = [0.0; LANES];
+        let groups = self.xs.chunks_exact(LANES).zip(self.ys.chunks_exact(LANES));
+        for ((gx, gy), gc) in groups.zip(self.coef.chunks_exact(LANES)) {
+            for l in 0..LANES {
+                let dx = gx[l] - x[0];
+                let dy = gy[l] - x[1];
+                acc[l] += gc[l] * exp_nonpositive(self.neg_gamma * (dx * dx + dy * dy));
+            }
+        }
+        acc.iter().sum::<f64>() - self.rho
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vector_exponential_matches_libm() {
+        let mut worst = 0.0f64;
+        for n in 0..200_000 {
+            let x = -708.0 * (n as f64 / 200_000.0).powi(3);
+            let want = x.exp();
+            worst = worst.max((exp_nonpositive(x) - want).abs() / want);
+        }
+        assert!(worst < 1e-15, "relative error {worst}");
+        assert_eq!(exp_nonpositive(0.0), 1.0);
+        assert_eq!(exp_nonpositive(-800.0), 0.0);
+        assert_eq!(exp_nonpositive(f64::NEG_INFINITY), 0.0);
+    }
+
+    #[test]
+    fn expansion_equals_the_libm_prediction() {
+        // 11 support vectors: one full group of eight and a padded group of three.
+        let support: Vec<[f64; 2]> = (0..11)
+            .map(|k| [(k as f64 * 0.9).cos() * 1.2, (k as f64 * 0.9).sin() * 0.8])
+            .collect();
+        let svr = Svr {
+            support,
+            coef: vec![0.7, -1.3, 2.0, 0.05, -0.4, 1.1, -2.2, 0.3, 0.9, -0.6, 1.4],
+            rho: 0.3,
+            gamma: 2.0,
+            iterations: 0,
+        };
+        let fast = svr.expansion();
+        for q in 0..50 {
+            let x = [(q as f64 * 0.37).sin() * 1.5, (q as f64 * 0.23).cos() * 1.5];
+            assert!((fast.eval(x) - svr.predict(x)).abs() < 1e-13, "query {q}");
+            // The portable path gives the same sums as the dispatched one.
+            assert!((fast.sum(x) - fast.eval(x)).abs() < 1e-15);
+        }
     }
 }

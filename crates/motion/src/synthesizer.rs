@@ -13,7 +13,7 @@ use crate::blend::{
 };
 use crate::hopf::{rotate, StarNetwork};
 use crate::lwlr::{Lwlr, DEFAULT_RIDGE};
-use crate::map::{lut_interp, FourierMap, PhaseLut, StateMap, SvrMap, SvrMapConfig};
+use crate::map::{DelayedLuts, FourierMap, PhaseLut, StateMap, SvrMap, SvrMapConfig};
 use crate::planner::{Action, PlannedAction, Planner};
 use crate::stepwise::ActionLibrary;
 use std::f64::consts::TAU;
@@ -74,6 +74,15 @@ impl ActionWeights {
             weights: v[2 * n_channels..].to_vec(),
         }
     }
+
+    /// These means and `w0` with source-major periodic weights `by_source`.
+    fn mix_view<'a>(&'a self, by_source: &'a [f64]) -> MixWeights<'a> {
+        MixWeights {
+            means: &self.means,
+            w0: &self.w0,
+            by_source,
+        }
+    }
 }
 
 /// The weight and duration regressions of one action.
@@ -108,13 +117,32 @@ pub fn fit_regressions(
         .collect()
 }
 
-/// The posture `ξ_i = m_i + W_i0 s₀ + Σ_j W_ij s_ij` at raw leader phase `ψ`, blending `prev`
-/// into `cur` after the boundary and `cur` into `next` before the next one (paper §2.4).
-/// `sources` holds the (delayed) source values `s_ij`, `I × J`.
-pub fn mix_frame(
-    prev: Option<&ActionWeights>,
-    cur: &ActionWeights,
-    next: Option<&ActionWeights>,
+/// `J × I` (source-major) copy of an `I × J` matrix.
+fn source_major(m: &[f64], i_n: usize) -> Vec<f64> {
+    let j_n = m.len().checked_div(i_n).unwrap_or(0);
+    let mut t = vec![0.0; m.len()];
+    for (i, row) in m.chunks_exact(j_n.max(1)).enumerate() {
+        for (j, &v) in row.iter().enumerate() {
+            t[j * i_n + i] = v;
+        }
+    }
+    t
+}
+
+/// An action's weights with the periodic ones source-major (`J × I`), the layout in which
+/// the mixing is a few contiguous multiply-adds per source.
+#[derive(Clone, Copy)]
+struct MixWeights<'a> {
+    means: &'a [f64],
+    w0: &'a [f64],
+    by_source: &'a [f64],
+}
+
+/// [`mix_frame`] with source-major weights and sources (`J × I`).
+fn mix_source_major(
+    prev: Option<MixWeights>,
+    cur: MixWeights,
+    next: Option<MixWeights>,
     psi: f64,
     beta: f64,
     sources: &[f64],
@@ -127,32 +155,64 @@ pub fn mix_frame(
         (prev, Some(cur))
     };
     let s0 = nonperiodic_source(psi);
-    let i_n = out.len();
-    let j_n = sources.len().checked_div(i_n).unwrap_or(0);
+    let i_n = out.len().max(1);
+    let rows = sources.chunks_exact(i_n);
     match (a, b) {
         (Some(p), Some(q)) => {
             let alpha = blend_alpha(phi, beta);
-            for (i, o) in out.iter_mut().enumerate() {
-                let mut v = blend_linear(p.means[i], q.means[i], alpha)
-                    + blend_nonperiodic(p.w0[i], q.w0[i], alpha, phi) * s0;
-                for j in 0..j_n {
-                    v += blend_linear(p.weights[i * j_n + j], q.weights[i * j_n + j], alpha)
-                        * sources[i * j_n + j];
+            let constant = out.iter_mut().zip(p.means.iter().zip(q.means));
+            for ((o, (&mp, &mq)), (&wp, &wq)) in constant.zip(p.w0.iter().zip(q.w0)) {
+                *o = blend_linear(mp, mq, alpha) + blend_nonperiodic(wp, wq, alpha, phi) * s0;
+            }
+            let per_source = rows.zip(
+                p.by_source
+                    .chunks_exact(i_n)
+                    .zip(q.by_source.chunks_exact(i_n)),
+            );
+            for (s, (wp, wq)) in per_source {
+                for (((o, &x), &y), &sj) in out.iter_mut().zip(wp).zip(wq).zip(s) {
+                    *o += blend_linear(x, y, alpha) * sj;
                 }
-                *o = v;
             }
         }
         (Some(w), None) | (None, Some(w)) => {
-            for (i, o) in out.iter_mut().enumerate() {
-                let mut v = w.means[i] + w.w0[i] * s0;
-                for j in 0..j_n {
-                    v += w.weights[i * j_n + j] * sources[i * j_n + j];
+            for ((o, &m), &w0) in out.iter_mut().zip(w.means).zip(w.w0) {
+                *o = m + w0 * s0;
+            }
+            for (s, wr) in rows.zip(w.by_source.chunks_exact(i_n)) {
+                for ((o, &x), &sj) in out.iter_mut().zip(wr).zip(s) {
+                    *o += x * sj;
                 }
-                *o = v;
             }
         }
         (None, None) => out.iter_mut().for_each(|o| *o = 0.0),
     }
+}
+
+/// The posture `ξ_i = m_i + W_i0 s₀ + Σ_j W_ij s_ij` at raw leader phase `ψ`, blending `prev`
+/// into `cur` after the boundary and `cur` into `next` before the next one (paper §2.4).
+/// `sources` holds the (delayed) source values `s_ij`, `I × J`.
+pub fn mix_frame(
+    prev: Option<&ActionWeights>,
+    cur: &ActionWeights,
+    next: Option<&ActionWeights>,
+    psi: f64,
+    beta: f64,
+    sources: &[f64],
+    out: &mut [f64],
+) {
+    let i_n = out.len();
+    let t = |w: Option<&ActionWeights>| w.map(|w| source_major(&w.weights, i_n));
+    let (tp, tc, tn) = (t(prev), source_major(&cur.weights, i_n), t(next));
+    mix_source_major(
+        prev.zip(tp.as_deref()).map(|(w, by)| w.mix_view(by)),
+        cur.mix_view(&tc),
+        next.zip(tn.as_deref()).map(|(w, by)| w.mix_view(by)),
+        psi,
+        beta,
+        &source_major(sources, i_n),
+        out,
+    );
 }
 
 /// One synthesized frame.
@@ -176,7 +236,15 @@ struct Active {
     planned: PlannedAction,
     duration: f64,
     weights: ActionWeights,
+    /// `weights.weights` source-major (`J × I`).
+    by_source: Vec<f64>,
     start_x: f64,
+}
+
+impl Active {
+    fn mix_view(&self) -> MixWeights<'_> {
+        self.weights.mix_view(&self.by_source)
+    }
 }
 
 /// The result of [`Synthesizer::run`].
@@ -229,14 +297,15 @@ pub struct Synthesizer {
     regs: Vec<ActionRegression>,
     maps: Vec<Box<dyn StateMap>>,
     angle_only: bool,
-    /// Phase tables of the LUT path, `J` tables of `M` values, read inline (no dynamic dispatch)
-    /// with delays pre-scaled to table units in `rot_lut`.
-    luts: Option<(Vec<Vec<f64>>, Vec<f64>)>,
+    /// Delayed phase tables of the LUT path, read without dynamic dispatch.
+    luts: Option<DelayedLuts>,
     /// `2π τ_ij`, `I × J`.
     rot: Vec<f64>,
     planner: Planner,
     cfg: SynthConfig,
     net: StarNetwork,
+    /// The leader phase `ψ` of `net`, kept in step with it.
+    psi: f64,
     goal: f64,
     prev: Option<Active>,
     cur: Active,
@@ -289,16 +358,7 @@ impl Synthesizer {
             .collect::<Result<_>>()?;
         let angle_only = maps.iter().all(|m| m.angle_only());
         let luts = match &cfg.map {
-            MapKind::Lut(size) => {
-                let tables: Vec<Vec<f64>> =
-                    lib.sources.iter().map(|s| s.sample(*size, 0.0)).collect();
-                let rot_lut = lib
-                    .delays
-                    .iter()
-                    .map(|t| t.rem_euclid(1.0) * *size as f64)
-                    .collect();
-                Some((tables, rot_lut))
-            }
+            MapKind::Lut(size) => Some(DelayedLuts::new(&lib.sources, &lib.delays, *size)?),
             _ => None,
         };
         let rot = lib.delays.iter().map(|t| TAU * t).collect();
@@ -315,6 +375,7 @@ impl Synthesizer {
                 w0: vec![],
                 weights: vec![],
             },
+            by_source: vec![],
             start_x: 0.0,
         };
         let src = vec![0.0; lib.n_channels * j_n];
@@ -328,6 +389,7 @@ impl Synthesizer {
             planner,
             cfg,
             net,
+            psi: 0.0,
             goal: 0.0,
             prev: None,
             cur: placeholder,
@@ -406,10 +468,12 @@ impl Synthesizer {
             )));
         }
         let y = self.regs[a].weights.predict(&[p, duration])?;
+        let weights = ActionWeights::from_vector(&y, self.lib.n_channels);
         Ok(Active {
             planned,
             duration,
-            weights: ActionWeights::from_vector(&y, self.lib.n_channels),
+            by_source: source_major(&weights.weights, self.lib.n_channels),
+            weights,
             start_x,
         })
     }
@@ -445,6 +509,7 @@ impl Synthesizer {
         self.transitions.clear();
         let j_n = self.lib.n_sources();
         self.net = StarNetwork::new(TAU / self.cur.duration, self.cfg.coupling, j_n)?;
+        self.psi = self.net.phase();
         Ok(())
     }
 
@@ -541,8 +606,7 @@ impl Synthesizer {
         let window = TAU - self.cfg.beta;
         let mut remaining = dt;
         while remaining > 1e-15 && !self.finished {
-            let psi = self.net.phase();
-            let to_wrap = (TAU - psi) / self.net.omega;
+            let to_wrap = (TAU - self.psi) / self.net.omega;
             if remaining < to_wrap {
                 self.net.step_rk4(remaining)?;
                 self.time += remaining;
@@ -555,7 +619,8 @@ impl Synthesizer {
                 remaining -= to_wrap;
                 self.boundary()?;
             }
-            if self.next.is_none() && !self.finished && self.net.phase() >= window {
+            self.psi = self.net.phase();
+            if self.next.is_none() && !self.finished && self.psi >= window {
                 self.decide_next()?;
             }
         }
@@ -564,60 +629,51 @@ impl Synthesizer {
 
     fn source_values(&mut self) {
         let j_n = self.lib.n_sources();
-        if let Some((tables, rot)) = &self.luts {
-            // The PhaseLut evaluation, inlined: u = (θ_j/2π − τ_ij) M, linear interpolation.
-            let m = tables.first().map_or(1, |t| t.len());
-            let mf = m as f64;
+        if let Some(luts) = &self.luts {
             let mut th = [0.0f64; 16];
-            let small = j_n <= th.len();
-            let th_vec: Vec<f64>;
-            let th: &[f64] = if small {
+            if j_n <= th.len() {
                 for (t, f) in th.iter_mut().zip(&self.net.followers) {
-                    *t = crate::hopf::phase(*f) / TAU * mf;
+                    *t = crate::hopf::phase(*f);
                 }
-                &th[..j_n]
+                luts.eval(&th[..j_n], &mut self.src);
             } else {
-                th_vec = self
+                let th: Vec<f64> = self
                     .net
                     .followers
                     .iter()
-                    .map(|f| crate::hopf::phase(*f) / TAU * mf)
+                    .map(|f| crate::hopf::phase(*f))
                     .collect();
-                &th_vec
-            };
-            for (idx, v) in self.src.iter_mut().enumerate() {
-                let j = idx % j_n;
-                let mut u = th[j] - rot[idx];
-                if u < 0.0 {
-                    u += mf;
-                }
-                *v = lut_interp(&tables[j], u);
-            }
-        } else if self.angle_only {
-            let th: Vec<f64> = self
-                .net
-                .followers
-                .iter()
-                .map(|f| crate::hopf::phase(*f))
-                .collect();
-            for (idx, v) in self.src.iter_mut().enumerate() {
-                let j = idx % j_n;
-                *v = self.maps[j].eval_angle(th[j] - self.rot[idx]);
+                luts.eval(&th, &mut self.src);
             }
         } else {
-            for (idx, v) in self.src.iter_mut().enumerate() {
-                let j = idx % j_n;
-                *v = self.maps[j].eval(rotate(self.net.followers[j], -self.rot[idx]));
+            // Source-major `J × I`; `rot` is `I × J`.
+            let i_n = self.lib.n_channels;
+            for (j, (row, map)) in self
+                .src
+                .chunks_exact_mut(i_n.max(1))
+                .zip(&self.maps)
+                .enumerate()
+            {
+                let f = self.net.followers[j];
+                let th = crate::hopf::phase(f);
+                for (i, v) in row.iter_mut().enumerate() {
+                    let rot = self.rot[i * j_n + j];
+                    *v = if self.angle_only {
+                        map.eval_angle(th - rot)
+                    } else {
+                        map.eval(rotate(f, -rot))
+                    };
+                }
             }
         }
     }
 
     fn posture(&mut self, psi: f64, out: &mut [f64]) {
         self.source_values();
-        mix_frame(
-            self.prev.as_ref().map(|a| &a.weights),
-            &self.cur.weights,
-            self.next.as_ref().map(|a| &a.weights),
+        mix_source_major(
+            self.prev.as_ref().map(Active::mix_view),
+            self.cur.mix_view(),
+            self.next.as_ref().map(Active::mix_view),
             psi,
             self.cfg.beta,
             &self.src,
@@ -627,22 +683,32 @@ impl Synthesizer {
 
     /// The frame at the current state.
     pub fn frame(&mut self) -> Frame {
+        let mut frame = Frame {
+            time: 0.0,
+            angles: Vec::new(),
+            root_x: 0.0,
+            action: Action::Reach,
+            phase: 0.0,
+        };
+        self.frame_into(&mut frame);
+        frame
+    }
+
+    /// Writes the frame at the current state into `frame`, reusing its angle buffer: the
+    /// allocation-free form of [`Synthesizer::frame`] for a real-time loop.
+    pub fn frame_into(&mut self, frame: &mut Frame) {
         // After the reach the phase has wrapped to 0: report the end of the action instead.
         let psi = if self.finished {
             TAU * (1.0 - 1e-12)
         } else {
-            self.net.phase()
+            self.psi
         };
-        let mut angles = vec![0.0; self.lib.n_channels];
-        self.posture(psi, &mut angles);
-        let root_x = self.cur.start_x + self.cur.planned.length * self.lib.progress_at(psi / TAU);
-        Frame {
-            time: self.time,
-            angles,
-            root_x,
-            action: self.cur.planned.action,
-            phase: psi,
-        }
+        frame.angles.resize(self.lib.n_channels, 0.0);
+        self.posture(psi, &mut frame.angles);
+        frame.root_x = self.cur.start_x + self.cur.planned.length * self.lib.progress_at(psi / TAU);
+        frame.time = self.time;
+        frame.action = self.cur.planned.action;
+        frame.phase = psi;
     }
 
     /// Synthesizes a whole sequence at `fps` towards `goal`, applying `(time, goal)` changes when
