@@ -280,23 +280,35 @@ impl State {
         t
     }
 
-    /// Model harmonics of channel `i`, trial `r`, written into `out` (length `K`).
-    fn model_row(&self, sp: &Spectra, ph: &[Complex64], r: usize, i: usize, out: &mut [Complex64]) {
+    /// `Rd × I × J × K` table of the delayed sources `e^{−2πikτ_ij} c_jk`.
+    fn delayed_table(&self, sp: &Spectra) -> Vec<Complex64> {
+        let k = sp.k;
+        let mut t = self.phase_table(sp);
+        for (row, c) in t.chunks_mut(k).zip(self.c.chunks_exact(k).cycle()) {
+            for (v, &cv) in row.iter_mut().zip(c) {
+                *v *= cv;
+            }
+        }
+        t
+    }
+
+    /// Model harmonics of channel `i`, trial `r`, written into `out` (length `K`), from the
+    /// [`State::delayed_table`] `d`.
+    fn model_row(&self, sp: &Spectra, d: &[Complex64], r: usize, i: usize, out: &mut [Complex64]) {
         let (j_n, k) = (self.j, sp.k);
         out.iter_mut().for_each(|v| *v = Complex64::new(0.0, 0.0));
-        for j in 0..j_n {
-            let w = self.w[(r * sp.i + i) * j_n + j];
-            let p = &ph[((self.rd(r) * sp.i + i) * j_n + j) * k..][..k];
-            let c = &self.c[j * k..(j + 1) * k];
-            for kk in 0..k {
-                out[kk] += w * p[kk] * c[kk];
+        let w = &self.w[(r * sp.i + i) * j_n..][..j_n];
+        let d = &d[(self.rd(r) * sp.i + i) * j_n * k..][..j_n * k];
+        for (&wj, dj) in w.iter().zip(d.chunks_exact(k)) {
+            for (o, &v) in out.iter_mut().zip(dj) {
+                *o += v * wj;
             }
         }
     }
 
     /// `‖X − X̂‖²_F` from Parseval.
     fn error(&self, sp: &Spectra) -> f64 {
-        let ph = self.phase_table(sp);
+        let ph = self.delayed_table(sp);
         let per_row: f64 = (0..sp.r * sp.i)
             .into_par_iter()
             .map_init(
@@ -320,29 +332,85 @@ impl State {
     }
 
     /// Step (a): for each harmonic, the complex `J × J` normal equations over all rows.
+    ///
+    /// With `a_j = w_rij e^{−2πikτ_ij}` the row's regressors, `H = Σ_ri a^H a` and
+    /// `rhs = Σ_ri a^H x_rik`. When the delays do not depend on the trial, the sums over trials
+    /// factor out of the phasors: `H_pq = Σ_i conj(p_ip) p_iq Σ_r w_rip w_riq` and
+    /// `rhs_p = Σ_i conj(p_ip) Σ_r w_rip x_rik`, so the per-channel weight Gram matrices and
+    /// weighted data are formed once for all harmonics.
     fn update_sources(&mut self, sp: &Spectra) -> Result<()> {
-        let (j_n, k) = (self.j, sp.k);
+        let (j_n, k, i_n) = (self.j, sp.k, sp.i);
         let ph = self.phase_table(sp);
+        let shared = self.mode != DelayMode::PerTrial;
+        // Per channel: Σ_r w w^T (J × J) and Σ_r w x_rk (K × J).
+        let per_channel: Vec<(Vec<f64>, Vec<Complex64>)> = if shared {
+            (0..i_n)
+                .into_par_iter()
+                .map(|i| {
+                    let mut gram = vec![0.0; j_n * j_n];
+                    let mut wx = vec![Complex64::new(0.0, 0.0); k * j_n];
+                    for r in 0..sp.r {
+                        let w = &self.w[(r * i_n + i) * j_n..][..j_n];
+                        for (p, &wp) in w.iter().enumerate() {
+                            for (q, &wq) in w.iter().enumerate().skip(p) {
+                                gram[p * j_n + q] += wp * wq;
+                            }
+                        }
+                        for (xk, row) in sp.row(r, i).iter().zip(wx.chunks_exact_mut(j_n)) {
+                            for (v, &wj) in row.iter_mut().zip(w) {
+                                *v += xk * wj;
+                            }
+                        }
+                    }
+                    (gram, wx)
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         let cols: Vec<Vec<Complex64>> = (0..k)
             .into_par_iter()
             .map(|kk| {
                 let mut h = vec![Complex64::new(0.0, 0.0); j_n * j_n];
                 let mut rhs = vec![Complex64::new(0.0, 0.0); j_n];
                 let mut a = vec![Complex64::new(0.0, 0.0); j_n];
-                for r in 0..sp.r {
-                    for i in 0..sp.i {
+                if shared {
+                    for (i, (gram, wx)) in per_channel.iter().enumerate() {
+                        let p = &ph[i * j_n * k + kk..];
                         for (j, aj) in a.iter_mut().enumerate() {
-                            *aj = self.w[(r * sp.i + i) * j_n + j]
-                                * ph[((self.rd(r) * sp.i + i) * j_n + j) * k + kk];
+                            *aj = p[j * k];
                         }
-                        let xv = sp.row(r, i)[kk];
-                        for p in 0..j_n {
-                            let ap = a[p].conj();
-                            rhs[p] += ap * xv;
-                            for q in 0..j_n {
-                                h[p * j_n + q] += ap * a[q];
+                        for (pi, &ap) in a.iter().enumerate() {
+                            let apc = ap.conj();
+                            rhs[pi] += apc * wx[kk * j_n + pi];
+                            for q in pi..j_n {
+                                h[pi * j_n + q] += apc * a[q] * gram[pi * j_n + q];
                             }
                         }
+                    }
+                } else {
+                    for r in 0..sp.r {
+                        for i in 0..i_n {
+                            let w = &self.w[(r * i_n + i) * j_n..][..j_n];
+                            let p = &ph[(r * i_n + i) * j_n * k + kk..];
+                            for (j, (aj, &wj)) in a.iter_mut().zip(w).enumerate() {
+                                *aj = wj * p[j * k];
+                            }
+                            let xv = sp.row(r, i)[kk];
+                            for pi in 0..j_n {
+                                let apc = a[pi].conj();
+                                rhs[pi] += apc * xv;
+                                for q in pi..j_n {
+                                    h[pi * j_n + q] += apc * a[q];
+                                }
+                            }
+                        }
+                    }
+                }
+                // H is Hermitian: only the upper triangle was accumulated.
+                for pi in 0..j_n {
+                    for q in 0..pi {
+                        h[pi * j_n + q] = h[q * j_n + pi].conj();
                     }
                 }
                 solve_complex(&h, &rhs, j_n, 1e-12)
@@ -359,40 +427,35 @@ impl State {
     /// Step (b): for each (trial, channel), the real `J × J` least squares of the weights.
     fn update_weights(&mut self, sp: &Spectra) -> Result<()> {
         let (j_n, k) = (self.j, sp.k);
-        let ph = self.phase_table(sp);
-        let c = &self.c;
+        let dt = self.delayed_table(sp);
+        let mut new_w = vec![0.0; self.w.len()];
         let this = &*self;
-        let new_w: Vec<Vec<f64>> = (0..sp.r * sp.i)
-            .into_par_iter()
-            .map(|ri| {
+        new_w.par_chunks_mut(j_n).enumerate().try_for_each_init(
+            || vec![0.0; j_n * j_n],
+            |g, (ri, h)| {
                 let (r, i) = (ri / sp.i, ri % sp.i);
-                let mut b = vec![Complex64::new(0.0, 0.0); j_n * k];
-                for j in 0..j_n {
-                    let p = &ph[((this.rd(r) * sp.i + i) * j_n + j) * k..][..k];
-                    for kk in 0..k {
-                        b[j * k + kk] = p[kk] * c[j * k + kk];
-                    }
-                }
+                // b_j = e^{−2πikτ_ij} c_j: source j as it appears in this row.
+                let b = &dt[(this.rd(r) * sp.i + i) * j_n * k..][..j_n * k];
                 let xr = sp.row(r, i);
-                let mut g = vec![0.0; j_n * j_n];
-                let mut h = vec![0.0; j_n];
+                let re_dot = |u: &[Complex64], v: &[Complex64]| -> f64 {
+                    u.iter()
+                        .zip(v)
+                        .map(|(a, b)| a.re * b.re + a.im * b.im)
+                        .sum()
+                };
                 for p in 0..j_n {
+                    let bp = &b[p * k..(p + 1) * k];
                     for q in p..j_n {
-                        let v: f64 = (0..k)
-                            .map(|kk| (b[p * k + kk] * b[q * k + kk].conj()).re)
-                            .sum();
+                        let v = re_dot(bp, &b[q * k..(q + 1) * k]);
                         g[p * j_n + q] = v;
                         g[q * j_n + p] = v;
                     }
-                    h[p] = (0..k).map(|kk| (xr[kk] * b[p * k + kk].conj()).re).sum();
+                    h[p] = re_dot(xr, bp);
                 }
-                solve_in_place(&mut g, &mut h, j_n, 1e-12)?;
-                Ok(h)
-            })
-            .collect::<Result<_>>()?;
-        for (ri, w) in new_w.into_iter().enumerate() {
-            self.w[ri * j_n..(ri + 1) * j_n].copy_from_slice(&w);
-        }
+                solve_in_place(g, h, j_n, 1e-12)
+            },
+        )?;
+        self.w = new_w;
         Ok(())
     }
 
@@ -403,7 +466,7 @@ impl State {
             return;
         }
         let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
-        let ph = self.phase_table(sp);
+        let dt = self.delayed_table(sp);
         let per_trial = self.mode == DelayMode::PerTrial;
         let this = &*self;
         // Channels are independent: each owns its delays (shared: I × J; per trial: R × I × J).
@@ -413,7 +476,7 @@ impl State {
                 let mut res = vec![Complex64::new(0.0, 0.0); r_n * k];
                 let mut m = vec![Complex64::new(0.0, 0.0); k];
                 for r in 0..r_n {
-                    this.model_row(sp, &ph, r, i, &mut m);
+                    this.model_row(sp, &dt, r, i, &mut m);
                     for kk in 0..k {
                         res[r * k + kk] = sp.row(r, i)[kk] - m[kk];
                     }
@@ -424,29 +487,34 @@ impl State {
                     .collect();
                 let mut p = vec![Complex64::new(0.0, 0.0); k];
                 let mut g = vec![Complex64::new(0.0, 0.0); k];
+                // Trial groups sharing a delay: one per trial, or all trials together.
+                let n_groups = if per_trial { r_n } else { 1 };
+                let group = |gi: usize| {
+                    if per_trial {
+                        gi..gi + 1
+                    } else {
+                        0..r_n
+                    }
+                };
                 for j in 0..j_n {
                     let c = &this.c[j * k..(j + 1) * k];
-                    let groups: Vec<Vec<usize>> = if per_trial {
-                        (0..r_n).map(|r| vec![r]).collect()
-                    } else {
-                        vec![(0..r_n).collect()]
-                    };
-                    for (gi, trials) in groups.iter().enumerate() {
+                    for gi in 0..n_groups {
                         let slot = gi * j_n + j;
                         let old = taus[slot];
+                        // p = e^{-2πikτ} c: the delayed source.
                         State::phasors(old, k, &mut p);
-                        // Add source j back into the residual: E = res + w e^{-2πikτ} c.
+                        p.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+                        // Add source j back into the residual: E = res + w p.
                         g.iter_mut().for_each(|v| *v = Complex64::new(0.0, 0.0));
-                        for &r in trials {
+                        for r in group(gi) {
                             let w = this.w[(r * i_n + i) * j_n + j];
-                            for kk in 0..k {
-                                res[r * k + kk] += w * p[kk] * c[kk];
-                                g[kk] += w * res[r * k + kk].conj();
+                            let e = &mut res[r * k..(r + 1) * k];
+                            for ((ev, &pv), gv) in e.iter_mut().zip(&p).zip(g.iter_mut()) {
+                                *ev += pv * w;
+                                *gv += ev.conj() * w;
                             }
                         }
-                        for kk in 0..k {
-                            g[kk] *= c[kk];
-                        }
+                        g.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
                         let f_old = trig_eval(&g, old).0;
                         let (cand, f_new) = trig_argmax(&g);
                         let tau = if f_new > f_old + 1e-15 * f_old.abs().max(1.0) {
@@ -456,10 +524,12 @@ impl State {
                         };
                         taus[slot] = tau;
                         State::phasors(tau, k, &mut p);
-                        for &r in trials {
+                        p.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+                        for r in group(gi) {
                             let w = this.w[(r * i_n + i) * j_n + j];
-                            for kk in 0..k {
-                                res[r * k + kk] -= w * p[kk] * c[kk];
+                            let e = &mut res[r * k..(r + 1) * k];
+                            for (ev, &pv) in e.iter_mut().zip(&p) {
+                                *ev -= pv * w;
                             }
                         }
                     }

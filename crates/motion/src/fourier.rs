@@ -114,16 +114,15 @@ pub fn wrap_half(t: f64) -> f64 {
 pub fn trig_argmax(g: &[Complex64]) -> (f64, f64) {
     let k = g.len().max(1);
     let m = (32 * k).max(64);
-    // F(m'/M) = Re Σ_k g_k ω^{k m'} with ω = e^{−2πi/M}: the powers come from one table of the
-    // M-th roots of unity, indexed by k·m' mod M, so the grid needs no trigonometry.
-    let best = ROOTS.with(|cache| {
+    // F(m'/M) = Σ_k a_k cos(2πkm'/M) + b_k sin(2πkm'/M) for g_k = a_k + i b_k: with the
+    // cosines and sines of the grid tabulated once per (K, M), the grid is 2K contiguous
+    // multiply-adds over M points, which vectorize.
+    let best = GRID.with(|cache| {
         let mut cache = cache.borrow_mut();
-        if cache.len() != m {
-            *cache = (0..m)
-                .map(|t| Complex64::from_polar(1.0, -TAU * t as f64 / m as f64))
-                .collect();
+        if cache.k != k || cache.m != m {
+            *cache = GridTable::new(k, m);
         }
-        grid_max(g, &cache)
+        cache.argmax(g)
     });
     let (mut tau, mut f) = (best.0 as f64 / m as f64, best.1);
     for _ in 0..8 {
@@ -148,30 +147,54 @@ pub fn trig_argmax(g: &[Complex64]) -> (f64, f64) {
 }
 
 thread_local! {
-    /// The `M`-th roots of unity of the last grid size used on this thread.
-    static ROOTS: std::cell::RefCell<Vec<Complex64>> = const { std::cell::RefCell::new(Vec::new()) };
+    /// The grid table of the last `(K, M)` used on this thread.
+    static GRID: std::cell::RefCell<GridTable> = std::cell::RefCell::new(GridTable::new(0, 0));
 }
 
-/// Index and value of the largest `Re Σ_k g_k ω^{k m'}` over the grid `m' = 0..M`.
-fn grid_max(g: &[Complex64], roots: &[Complex64]) -> (usize, f64) {
-    let m = roots.len();
-    let mut best = (0usize, f64::NEG_INFINITY);
-    for step in 0..m {
-        let mut f = 0.0;
-        let mut idx = 0usize;
-        for gk in g {
-            idx += step;
-            if idx >= m {
-                idx -= m;
-            }
-            let r = roots[idx];
-            f += gk.re * r.re - gk.im * r.im;
-        }
-        if f > best.1 {
-            best = (step, f);
+/// `cos(2πkm/M)` and `sin(2πkm/M)` for `k = 1..=K` and `m = 0..M` (row per harmonic), and a
+/// scratch row for the grid values.
+struct GridTable {
+    k: usize,
+    m: usize,
+    cos: Vec<f64>,
+    sin: Vec<f64>,
+    values: Vec<f64>,
+}
+
+impl GridTable {
+    fn new(k: usize, m: usize) -> Self {
+        let angle = |i: usize| {
+            let (h, t) = (i / m.max(1) + 1, i % m.max(1));
+            // Reduce h·t mod M first so that the angle stays in [0, 2π).
+            TAU * ((h * t) % m.max(1)) as f64 / m as f64
+        };
+        Self {
+            k,
+            m,
+            cos: (0..k * m).map(|i| angle(i).cos()).collect(),
+            sin: (0..k * m).map(|i| angle(i).sin()).collect(),
+            values: vec![0.0; m],
         }
     }
-    best
+
+    /// Index and value of the largest `Re Σ_k g_k e^{−2πikm'/M}` over the grid.
+    fn argmax(&mut self, g: &[Complex64]) -> (usize, f64) {
+        let m = self.m;
+        self.values.fill(0.0);
+        let rows = self.cos.chunks_exact(m).zip(self.sin.chunks_exact(m));
+        for (gk, (c, s)) in g.iter().zip(rows) {
+            for ((v, &cv), &sv) in self.values.iter_mut().zip(c).zip(s) {
+                *v += gk.re * cv + gk.im * sv;
+            }
+        }
+        let mut best = (0usize, f64::NEG_INFINITY);
+        for (step, &f) in self.values.iter().enumerate() {
+            if f > best.1 {
+                best = (step, f);
+            }
+        }
+        best
+    }
 }
 
 /// `F(τ)`, `F'(τ)` and `F''(τ)` of [`trig_argmax`]'s polynomial.
