@@ -19,7 +19,7 @@ use wscg_motion::bvh::{self, BvhMotion};
 use wscg_motion::data::{quality as quality_rs, TrialSet};
 use wscg_motion::dataset::{Dataset, TrialAction};
 use wscg_motion::hopf::StarNetwork;
-use wscg_motion::map::SvrMapConfig;
+use wscg_motion::map::{SvrMapConfig, MAX_LUT_SIZE};
 use wscg_motion::pca::pca_qualities as pca_qualities_rs;
 use wscg_motion::planner::{Action, Plan, Planner};
 use wscg_motion::skeleton::{bones as bones_rs, forward_kinematics as fk_rs, JOINTS, N_CHANNELS};
@@ -665,9 +665,9 @@ impl PySynthesizer {
     ) -> PyResult<Self> {
         let map = match map {
             "lut" => {
-                if !(2..=1 << 24).contains(&lut_size) {
+                if !(4..=MAX_LUT_SIZE).contains(&lut_size) {
                     return Err(value_error(format!(
-                        "`lut_size` must be in 2..=16777216, got {lut_size}"
+                        "`lut_size` must be in 4..={MAX_LUT_SIZE}, got {lut_size}"
                     )));
                 }
                 MapKind::Lut(lut_size)

@@ -408,6 +408,9 @@ def test_bad_input(tmp_path, clean_action1, lib, data):
         M.Synthesizer(lib, beta=4.0)
     with pytest.raises(ValueError):
         M.Synthesizer(lib, coupling=-1.0)
+    for size in (3, 65537):
+        with pytest.raises(ValueError, match="lut_size"):
+            M.Synthesizer(lib, lut_size=size)
     with pytest.raises(ValueError):
         M.Synthesizer(object())
     # The synthesizer still works after the errors.

@@ -354,7 +354,9 @@ class Synthesizer:
     coupling : float
         Follower coupling ``k`` (> 1 guarantees contraction to the leader).
     lut_size : int
-        Entries of the phase table.
+        Entries of the phase tables, in ``4 .. 65536`` (one table per channel and source,
+        ``8 * channels * sources * lut_size`` bytes; 1024 gives an interpolation error near
+        1e-5 of a unit source).
     bandwidth : float, optional
         LWLR bandwidth (default: leave-one-out selection).
     human_like : float, optional
@@ -373,7 +375,7 @@ class Synthesizer:
         self.library = lib
         self._s = _m.Synthesizer(
             lib, _float("comfort", comfort), _float("gamma", gamma), map, _float("beta", beta),
-            _float("coupling", coupling), _u("lut_size", lut_size, 2),
+            _float("coupling", coupling), _int("lut_size", lut_size, 4, 65536),
             _opt_float("bandwidth", bandwidth), _opt_float("human_like", human_like),
             _float("svr_C", svr_C), _float("svr_epsilon", svr_epsilon),
             _float("svr_gamma", svr_gamma))
