@@ -238,4 +238,28 @@ mod tests {
         let (tau, f) = trig_argmax(&g);
         assert!((tau - 0.3).abs() < 1e-12 && (f - 1.0).abs() < 1e-12);
     }
+
+    #[test]
+    fn argmax_is_the_global_maximum_of_a_multi_harmonic_polynomial() {
+        // Several harmonics of comparable size, so that F has competing local maxima and
+        // every row of the grid table (harmonic k) matters.
+        for seed in 0..20 {
+            let g: Vec<Complex64> = (0..6)
+                .map(|k| {
+                    let a = (seed * 7 + k) as f64;
+                    Complex64::new((a * 1.37).sin(), (a * 2.11).cos()) / (1.0 + 0.3 * k as f64)
+                })
+                .collect();
+            let (tau, f) = trig_argmax(&g);
+            assert!((trig_eval(&g, tau).0 - f).abs() < 1e-12);
+            // Dense brute force with the independent evaluator.
+            let best = (0..20_000)
+                .map(|m| trig_eval(&g, m as f64 / 20_000.0).0)
+                .fold(f64::NEG_INFINITY, f64::max);
+            assert!(
+                f >= best - 1e-12,
+                "seed {seed}: {f} below the brute-force {best}"
+            );
+        }
+    }
 }

@@ -159,11 +159,6 @@ impl DelayedLuts {
         })
     }
 
-    /// Table size `M`.
-    pub fn size(&self) -> usize {
-        self.size
-    }
-
     /// `out[j·I + i] = s_j(θ_j/2π − τ_ij)` (source-major) from the follower angles `thetas`
     /// (radians, any range; one per source), linearly interpolated between table rows.
     ///

@@ -13,7 +13,7 @@ use crate::blend::{
 };
 use crate::hopf::{rotate, StarNetwork};
 use crate::lwlr::{Lwlr, DEFAULT_RIDGE};
-use crate::map::{DelayedLuts, FourierMap, PhaseLut, StateMap, SvrMap, SvrMapConfig};
+use crate::map::{DelayedLuts, FourierMap, StateMap, SvrMap, SvrMapConfig};
 use crate::planner::{Action, PlannedAction, Planner};
 use crate::stepwise::ActionLibrary;
 use std::f64::consts::TAU;
@@ -295,6 +295,7 @@ impl Synthesis {
 pub struct Synthesizer {
     lib: ActionLibrary,
     regs: Vec<ActionRegression>,
+    /// State maps of the Fourier and SVR kinds (empty on the LUT path).
     maps: Vec<Box<dyn StateMap>>,
     angle_only: bool,
     /// Delayed phase tables of the LUT path, read without dynamic dispatch.
@@ -345,22 +346,23 @@ impl Synthesizer {
         check_beta(cfg.beta)?;
         planner.validate()?;
         let regs = fit_regressions(&lib, cfg.bandwidth)?;
-        let maps: Vec<Box<dyn StateMap>> = lib
-            .sources
-            .iter()
-            .map(|s| -> Result<Box<dyn StateMap>> {
-                Ok(match &cfg.map {
-                    MapKind::Fourier => Box::new(FourierMap { source: s.clone() }),
-                    MapKind::Lut(size) => Box::new(PhaseLut::new(s, *size)?),
-                    MapKind::Svr(c) => Box::new(SvrMap::fit(s, c)?),
-                })
-            })
-            .collect::<Result<_>>()?;
-        let angle_only = maps.iter().all(|m| m.angle_only());
+        // The LUT path reads its delayed tables directly; the other kinds go through the maps.
         let luts = match &cfg.map {
             MapKind::Lut(size) => Some(DelayedLuts::new(&lib.sources, &lib.delays, *size)?),
             _ => None,
         };
+        let maps: Vec<Box<dyn StateMap>> = lib
+            .sources
+            .iter()
+            .filter_map(|s| -> Option<Result<Box<dyn StateMap>>> {
+                match &cfg.map {
+                    MapKind::Lut(_) => None,
+                    MapKind::Fourier => Some(Ok(Box::new(FourierMap { source: s.clone() }))),
+                    MapKind::Svr(c) => Some(SvrMap::fit(s, c).map(|m| Box::new(m) as _)),
+                }
+            })
+            .collect::<Result<_>>()?;
+        let angle_only = maps.iter().all(|m| m.angle_only());
         let rot = lib.delays.iter().map(|t| TAU * t).collect();
         let j_n = lib.n_sources();
         let net = StarNetwork::new(TAU, cfg.coupling, j_n)?;
