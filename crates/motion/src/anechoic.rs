@@ -14,8 +14,8 @@
 //! in `τ`. Every step can only lower the residual, so `Q` never decreases.
 
 use crate::data::TrialSet;
-use crate::fourier::{harmonics, trig_argmax, trig_eval, wrap_half, PeriodicSource};
-use crate::linalg::{solve_complex, solve_in_place};
+use crate::fourier::{harmonics, trig_argmax, wrap_half, PeriodicSource};
+use crate::linalg::{solve_complex, solve_many_in_place};
 use faer::Mat;
 use num_complex::Complex64;
 use rand::Rng as _;
@@ -139,17 +139,37 @@ impl AnechoicModel {
     /// The model's time-domain approximation of every trial.
     pub fn reconstruct(&self) -> TrialSet {
         let (r_n, i_n, n) = (self.n_trials, self.n_channels, self.n_samples);
+        let k = self.sources.first().map_or(0, |s| s.n_harmonics());
+        // e^{2πikm/N} for k = 1..=K (row per harmonic), m = 0..N.
+        let basis: Vec<Complex64> = (1..=k)
+            .flat_map(|h| {
+                (0..n)
+                    .map(move |m| Complex64::from_polar(1.0, TAU * ((h * m) % n) as f64 / n as f64))
+            })
+            .collect();
         let mut out = vec![0.0; r_n * i_n * n];
-        out.par_chunks_mut(n).enumerate().for_each(|(ri, row)| {
-            let (r, i) = (ri / i_n, ri % i_n);
-            for (j, s) in self.sources.iter().enumerate() {
-                let w = self.weight(r, i, j);
-                let tau = self.delay(r, i, j);
-                for (m, v) in row.iter_mut().enumerate() {
-                    *v += w * s.eval(m as f64 / n as f64, tau);
+        out.par_chunks_mut(n).enumerate().for_each_init(
+            || vec![Complex64::new(0.0, 0.0); 2 * k],
+            |scratch, (ri, row)| {
+                // The row's harmonics D_k = Σ_j w_j c_jk e^{−2πikτ_j}; then
+                // x(t) = 2 Re Σ_k D_k e^{2πikt}.
+                let (r, i) = (ri / i_n, ri % i_n);
+                let (mixed, ph) = scratch.split_at_mut(k);
+                mixed.fill(Complex64::new(0.0, 0.0));
+                for (j, s) in self.sources.iter().enumerate() {
+                    let w = self.weight(r, i, j);
+                    State::phasors(self.delay(r, i, j), k, ph);
+                    for ((d, &c), &p) in mixed.iter_mut().zip(&s.coeffs).zip(ph.iter()) {
+                        *d += c * p * w;
+                    }
                 }
-            }
-        });
+                for (d, e) in mixed.iter().zip(basis.chunks_exact(n.max(1))) {
+                    for (v, z) in row.iter_mut().zip(e) {
+                        *v += 2.0 * (d.re * z.re - d.im * z.im);
+                    }
+                }
+            },
+        );
         TrialSet {
             n_trials: r_n,
             n_channels: i_n,
@@ -232,6 +252,12 @@ impl Spectra {
         })
     }
 
+    /// `Q = 1 − ‖X − X̂‖²_F / ‖X‖²_F` from the squared residual of the in-band harmonics
+    /// `1..=K` (Parseval: the error is that times `2N` plus the out-of-band energy).
+    fn quality_of(&self, in_band: f64) -> f64 {
+        1.0 - (self.out_band + 2.0 * self.n as f64 * in_band) / self.total
+    }
+
     fn row(&self, r: usize, i: usize) -> &[Complex64] {
         let o = (r * self.i + i) * self.k;
         &self.x[o..o + self.k]
@@ -309,8 +335,8 @@ impl State {
         }
     }
 
-    /// `‖X − X̂‖²_F` from Parseval.
-    fn error(&self, sp: &Spectra) -> f64 {
+    /// The squared residual `Σ |X_rik − X̂_rik|²` of the in-band harmonics.
+    fn in_band_residual(&self, sp: &Spectra) -> f64 {
         let ph = self.delayed_table(sp);
         let per_row: f64 = (0..sp.r * sp.i)
             .into_par_iter()
@@ -327,11 +353,11 @@ impl State {
                 },
             )
             .sum();
-        sp.out_band + 2.0 * sp.n as f64 * per_row
+        per_row
     }
 
     fn quality(&self, sp: &Spectra) -> f64 {
-        1.0 - self.error(sp) / sp.total
+        sp.quality_of(self.in_band_residual(sp))
     }
 
     /// Step (a): for each harmonic, the complex `J × J` normal equations over all rows.
@@ -428,52 +454,71 @@ impl State {
     }
 
     /// Step (b): for each (trial, channel), the real `J × J` least squares of the weights.
-    /// `dt` is the state's [`State::delayed_table`].
+    /// The normal matrix depends only on the channel's delayed sources, so trials sharing
+    /// delays share one elimination. `dt` is the state's [`State::delayed_table`].
     fn update_weights(&mut self, sp: &Spectra, dt: &[Complex64]) -> Result<()> {
-        let (j_n, k) = (self.j, sp.k);
-        let mut new_w = vec![0.0; self.w.len()];
-        let this = &*self;
-        new_w.par_chunks_mut(j_n).enumerate().try_for_each_init(
-            || vec![0.0; j_n * j_n],
-            |g, (ri, h)| {
-                let (r, i) = (ri / sp.i, ri % sp.i);
-                // b_j = e^{−2πikτ_ij} c_j: source j as it appears in this row.
-                let b = &dt[(this.rd(r) * sp.i + i) * j_n * k..][..j_n * k];
-                let xr = sp.row(r, i);
-                let re_dot = |u: &[Complex64], v: &[Complex64]| -> f64 {
-                    u.iter()
-                        .zip(v)
-                        .map(|(a, b)| a.re * b.re + a.im * b.im)
-                        .sum()
-                };
-                for p in 0..j_n {
-                    let bp = &b[p * k..(p + 1) * k];
-                    for q in p..j_n {
-                        let v = re_dot(bp, &b[q * k..(q + 1) * k]);
-                        g[p * j_n + q] = v;
-                        g[q * j_n + p] = v;
+        let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
+        let per_trial = self.mode == DelayMode::PerTrial;
+        let re_dot = |u: &[Complex64], v: &[Complex64]| -> f64 {
+            u.iter()
+                .zip(v)
+                .map(|(a, b)| a.re * b.re + a.im * b.im)
+                .sum()
+        };
+        // Per channel, the `R × J` weights (trial-major).
+        let per_channel: Vec<Vec<f64>> = (0..i_n)
+            .into_par_iter()
+            .map(|i| {
+                let mut w = vec![0.0; r_n * j_n];
+                let mut g = vec![0.0; j_n * j_n];
+                // Trials sharing a delay row: one group, or one per trial.
+                let groups = if per_trial { r_n } else { 1 };
+                let size = r_n / groups;
+                for (gi, wg) in w.chunks_exact_mut(size * j_n).enumerate() {
+                    // b_j = e^{−2πikτ_ij} c_j: source j as it appears in this group's rows.
+                    let b = &dt[(gi * i_n + i) * j_n * k..][..j_n * k];
+                    for p in 0..j_n {
+                        let bp = &b[p * k..(p + 1) * k];
+                        for q in p..j_n {
+                            let v = re_dot(bp, &b[q * k..(q + 1) * k]);
+                            g[p * j_n + q] = v;
+                            g[q * j_n + p] = v;
+                        }
                     }
-                    h[p] = re_dot(xr, bp);
+                    for (t, h) in wg.chunks_exact_mut(j_n).enumerate() {
+                        let xr = sp.row(gi * size + t, i);
+                        for (hp, bp) in h.iter_mut().zip(b.chunks_exact(k)) {
+                            *hp = re_dot(xr, bp);
+                        }
+                    }
+                    solve_many_in_place(&mut g, wg, j_n, 1e-12)?;
                 }
-                solve_in_place(g, h, j_n, 1e-12)
-            },
-        )?;
-        self.w = new_w;
+                Ok(w)
+            })
+            .collect::<Result<_>>()?;
+        for (i, w) in per_channel.iter().enumerate() {
+            for (r, wr) in w.chunks_exact(j_n).enumerate() {
+                self.w[(r * i_n + i) * j_n..][..j_n].copy_from_slice(wr);
+            }
+        }
         Ok(())
     }
 
     /// Step (c): coordinate-wise delay updates, each the exact least-squares optimum over `τ`
     /// with the other delays fixed, accepted only when it lowers the residual.
     /// `dt` is the state's [`State::delayed_table`].
-    fn update_delays(&mut self, sp: &Spectra, dt: &[Complex64]) {
+    ///
+    /// Returns the squared residual of the in-band harmonics after the step (what
+    /// [`State::error`] would sum), or `None` with zero delays (no step).
+    fn update_delays(&mut self, sp: &Spectra, dt: &[Complex64]) -> Option<f64> {
         if self.mode == DelayMode::Zero {
-            return;
+            return None;
         }
         let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
         let per_trial = self.mode == DelayMode::PerTrial;
         let this = &*self;
         // Channels are independent: each owns its delays (shared: I × J; per trial: R × I × J).
-        let updates: Vec<Vec<(usize, f64)>> = (0..i_n)
+        let updates: Vec<(Vec<(usize, f64)>, f64)> = (0..i_n)
             .into_par_iter()
             .map(|i| {
                 let mut res = vec![Complex64::new(0.0, 0.0); r_n * k];
@@ -504,21 +549,23 @@ impl State {
                     for gi in 0..n_groups {
                         let slot = gi * j_n + j;
                         let old = taus[slot];
-                        // p = e^{-2πikτ} c: the delayed source.
-                        State::phasors(old, k, &mut p);
-                        p.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
-                        // Add source j back into the residual: E = res + w p.
+                        // e^{-2πikτ} c at the current delay: the delayed-source table's row.
+                        let p_old = &dt[((gi * i_n + i) * j_n + j) * k..][..k];
+                        // Add source j back into the residual, E = res + w p, and collect
+                        // Σ_r w conj(E).
                         g.iter_mut().for_each(|v| *v = Complex64::new(0.0, 0.0));
                         for r in group(gi) {
                             let w = this.w[(r * i_n + i) * j_n + j];
                             let e = &mut res[r * k..(r + 1) * k];
-                            for ((ev, &pv), gv) in e.iter_mut().zip(&p).zip(g.iter_mut()) {
+                            for ((ev, &pv), gv) in e.iter_mut().zip(p_old).zip(g.iter_mut()) {
                                 *ev += pv * w;
                                 *gv += ev.conj() * w;
                             }
                         }
+                        // The gain at the current delay, F(τ_old) = Re Σ_k g_k p_k, before
+                        // g becomes the polynomial's coefficients g_k c_k.
+                        let f_old: f64 = g.iter().zip(p_old).map(|(a, b)| (a * b).re).sum();
                         g.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
-                        let f_old = trig_eval(&g, old).0;
                         let (cand, f_new) = trig_argmax(&g);
                         let tau = if f_new > f_old + 1e-15 * f_old.abs().max(1.0) {
                             wrap_half(cand)
@@ -526,8 +573,12 @@ impl State {
                             old
                         };
                         taus[slot] = tau;
-                        State::phasors(tau, k, &mut p);
-                        p.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+                        if tau == old {
+                            p.copy_from_slice(p_old);
+                        } else {
+                            State::phasors(tau, k, &mut p);
+                            p.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+                        }
                         for r in group(gi) {
                             let w = this.w[(r * i_n + i) * j_n + j];
                             let e = &mut res[r * k..(r + 1) * k];
@@ -538,15 +589,21 @@ impl State {
                     }
                 }
                 let rd_n = if per_trial { r_n } else { 1 };
-                (0..rd_n)
+                let moved = (0..rd_n)
                     .flat_map(|rd| (0..j_n).map(move |j| (rd, j)))
                     .map(|(rd, j)| ((rd * i_n + i) * j_n + j, taus[rd * j_n + j]))
-                    .collect()
+                    .collect();
+                (moved, res.iter().map(|v| v.norm_sqr()).sum::<f64>())
             })
             .collect();
-        for (idx, tau) in updates.into_iter().flatten() {
-            self.tau[idx] = tau;
+        let mut residual = 0.0;
+        for (moved, e) in updates {
+            for (idx, tau) in moved {
+                self.tau[idx] = tau;
+            }
+            residual += e;
         }
+        Some(residual)
     }
 
     /// Gauge fixing (the model is unchanged): unit-RMS sources, positive weight sums, and each
@@ -649,9 +706,13 @@ fn run(sp: &Spectra, cfg: &AnechoicConfig, mut state: State) -> Result<(State, f
         state.update_sources(sp, &ph)?;
         let dt = state.delay_sources(ph, sp.k);
         state.update_weights(sp, &dt)?;
-        state.update_delays(sp, &dt);
+        // The delay step leaves the residual at hand; gauge fixing does not change the model.
+        let in_band = state.update_delays(sp, &dt);
         state.normalize(sp);
-        let mut qn = state.quality(sp);
+        let mut qn = match in_band {
+            Some(e) => sp.quality_of(e),
+            None => state.quality(sp),
+        };
         if it >= 1 {
             let cand = state.extrapolate(&before, ((it + 1) as f64).cbrt());
             let qc = cand.quality(sp);
@@ -805,6 +866,12 @@ fn start_from(
 /// restarts), all-zero data, or a numerical failure of a least-squares step.
 pub fn fit_anechoic(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
     check_config(x, cfg)?;
+    // The sweeps are short: run the whole fit on a pool thread, so that their parallel steps
+    // fork inside the pool instead of each waking it from outside.
+    rayon::scope(|_| fit_checked(x, cfg))
+}
+
+fn fit_checked(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
     let sp = Spectra::new(x, cfg.n_harmonics)?;
     let screen = AnechoicConfig {
         max_iter: cfg.screen_iter.min(cfg.max_iter),

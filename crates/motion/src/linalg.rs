@@ -9,8 +9,16 @@ use wscg_math::{Error, Result};
 /// the diagonal first, so that a rank-deficient normal matrix yields a finite, minimum-effort
 /// answer instead of an error.
 pub fn solve_in_place(a: &mut [f64], b: &mut [f64], n: usize, ridge: f64) -> Result<()> {
-    debug_assert_eq!(a.len(), n * n);
     debug_assert_eq!(b.len(), n);
+    solve_many_in_place(a, b, n, ridge)
+}
+
+/// [`solve_in_place`] for several right-hand sides with one elimination: `b` holds them one
+/// after another (`n` values each) and each becomes its solution, exactly as
+/// [`solve_in_place`] would give it.
+pub fn solve_many_in_place(a: &mut [f64], b: &mut [f64], n: usize, ridge: f64) -> Result<()> {
+    debug_assert_eq!(a.len(), n * n);
+    debug_assert_eq!(b.len() % n.max(1), 0);
     let scale = (0..n).map(|i| a[i * n + i].abs()).fold(0.0, f64::max);
     let lift = ridge * scale.max(f64::MIN_POSITIVE);
     for i in 0..n {
@@ -30,7 +38,9 @@ pub fn solve_in_place(a: &mut [f64], b: &mut [f64], n: usize, ridge: f64) -> Res
             for c in 0..n {
                 a.swap(piv * n + c, col * n + c);
             }
-            b.swap(piv, col);
+            for rhs in b.chunks_exact_mut(n) {
+                rhs.swap(piv, col);
+            }
         }
         for r in col + 1..n {
             let f = a[r * n + col] / pv;
@@ -38,16 +48,20 @@ pub fn solve_in_place(a: &mut [f64], b: &mut [f64], n: usize, ridge: f64) -> Res
                 for c in col..n {
                     a[r * n + c] -= f * a[col * n + c];
                 }
-                b[r] -= f * b[col];
+                for rhs in b.chunks_exact_mut(n) {
+                    rhs[r] -= f * rhs[col];
+                }
             }
         }
     }
-    for col in (0..n).rev() {
-        let mut v = b[col];
-        for c in col + 1..n {
-            v -= a[col * n + c] * b[c];
+    for rhs in b.chunks_exact_mut(n) {
+        for col in (0..n).rev() {
+            let mut v = rhs[col];
+            for c in col + 1..n {
+                v -= a[col * n + c] * rhs[c];
+            }
+            rhs[col] = v / a[col * n + col];
         }
-        b[col] = v / a[col * n + col];
     }
     Ok(())
 }
@@ -98,6 +112,24 @@ pub fn lstsq_columns(cols: &[&[f64]], y: &[f64], ridge: f64) -> Result<Vec<f64>>
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn many_right_hand_sides_equal_single_solves() {
+        let a0 = vec![0.5, 2.0, -1.0, 3.0, 1.0, 0.25, -2.0, 0.75, 4.0];
+        let rhs: Vec<f64> = (0..12).map(|i| ((i * 7) % 5) as f64 - 1.5).collect();
+        let mut many = rhs.clone();
+        solve_many_in_place(&mut a0.clone(), &mut many, 3, 0.0).unwrap();
+        for (one, got) in rhs.chunks_exact(3).zip(many.chunks_exact(3)) {
+            let mut b = one.to_vec();
+            solve_in_place(&mut a0.clone(), &mut b, 3, 0.0).unwrap();
+            assert_eq!(b, got);
+            // And it is a solution (the first pivot is not on the diagonal).
+            for r in 0..3 {
+                let v: f64 = (0..3).map(|c| a0[r * 3 + c] * got[c]).sum();
+                assert!((v - one[r]).abs() < 1e-12);
+            }
+        }
+    }
 
     #[test]
     fn solves_real_and_complex() {
