@@ -466,37 +466,39 @@ impl State {
                 .sum()
         };
         // Per channel, the `R × J` weights (trial-major).
-        let per_channel: Vec<Vec<f64>> = (0..i_n)
-            .into_par_iter()
-            .map(|i| {
-                let mut w = vec![0.0; r_n * j_n];
-                let mut g = vec![0.0; j_n * j_n];
-                // Trials sharing a delay row: one group, or one per trial.
-                let groups = if per_trial { r_n } else { 1 };
-                let size = r_n / groups;
-                for (gi, wg) in w.chunks_exact_mut(size * j_n).enumerate() {
-                    // b_j = e^{−2πikτ_ij} c_j: source j as it appears in this group's rows.
-                    let b = &dt[(gi * i_n + i) * j_n * k..][..j_n * k];
-                    for p in 0..j_n {
-                        let bp = &b[p * k..(p + 1) * k];
-                        for q in p..j_n {
-                            let v = re_dot(bp, &b[q * k..(q + 1) * k]);
-                            g[p * j_n + q] = v;
-                            g[q * j_n + p] = v;
+        let mut per_channel = vec![0.0; i_n * r_n * j_n];
+        per_channel
+            .par_chunks_mut(r_n * j_n)
+            .enumerate()
+            .try_for_each_init(
+                || vec![0.0; j_n * j_n],
+                |g, (i, w)| {
+                    // Trials sharing a delay row: one group, or one per trial.
+                    let groups = if per_trial { r_n } else { 1 };
+                    let size = r_n / groups;
+                    for (gi, wg) in w.chunks_exact_mut(size * j_n).enumerate() {
+                        // b_j = e^{−2πikτ_ij} c_j: source j as it appears in this group's rows.
+                        let b = &dt[(gi * i_n + i) * j_n * k..][..j_n * k];
+                        for p in 0..j_n {
+                            let bp = &b[p * k..(p + 1) * k];
+                            for q in p..j_n {
+                                let v = re_dot(bp, &b[q * k..(q + 1) * k]);
+                                g[p * j_n + q] = v;
+                                g[q * j_n + p] = v;
+                            }
                         }
-                    }
-                    for (t, h) in wg.chunks_exact_mut(j_n).enumerate() {
-                        let xr = sp.row(gi * size + t, i);
-                        for (hp, bp) in h.iter_mut().zip(b.chunks_exact(k)) {
-                            *hp = re_dot(xr, bp);
+                        for (t, h) in wg.chunks_exact_mut(j_n).enumerate() {
+                            let xr = sp.row(gi * size + t, i);
+                            for (hp, bp) in h.iter_mut().zip(b.chunks_exact(k)) {
+                                *hp = re_dot(xr, bp);
+                            }
                         }
+                        solve_many_in_place(g, wg, j_n, 1e-12)?;
                     }
-                    solve_many_in_place(&mut g, wg, j_n, 1e-12)?;
-                }
-                Ok(w)
-            })
-            .collect::<Result<_>>()?;
-        for (i, w) in per_channel.iter().enumerate() {
+                    Ok(())
+                },
+            )?;
+        for (i, w) in per_channel.chunks_exact(r_n * j_n).enumerate() {
             for (r, wr) in w.chunks_exact(j_n).enumerate() {
                 self.w[(r * i_n + i) * j_n..][..j_n].copy_from_slice(wr);
             }
@@ -517,93 +519,93 @@ impl State {
         let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
         let per_trial = self.mode == DelayMode::PerTrial;
         let this = &*self;
-        // Channels are independent: each owns its delays (shared: I × J; per trial: R × I × J).
-        let updates: Vec<(Vec<(usize, f64)>, f64)> = (0..i_n)
-            .into_par_iter()
-            .map(|i| {
-                let mut res = vec![Complex64::new(0.0, 0.0); r_n * k];
-                let mut m = vec![Complex64::new(0.0, 0.0); k];
-                for r in 0..r_n {
-                    this.model_row(sp, dt, r, i, &mut m);
-                    for kk in 0..k {
-                        res[r * k + kk] = sp.row(r, i)[kk] - m[kk];
+        let n_groups = if per_trial { r_n } else { 1 };
+        // Channels are independent: each owns its delays (shared: I × J; per trial: R × I × J),
+        // written here channel-major (`I × Rd × J`), and its squared residual.
+        let mut new_tau = vec![0.0; i_n * n_groups * j_n];
+        let mut residuals = vec![0.0; i_n];
+        let zero = Complex64::new(0.0, 0.0);
+        new_tau
+            .par_chunks_mut(n_groups * j_n)
+            .zip(residuals.par_iter_mut())
+            .enumerate()
+            .for_each_init(
+                // Residual rows (R × K), then the scratch rows m, p and g (K each).
+                || vec![zero; (r_n + 3) * k],
+                |scratch, (i, (taus, residual))| {
+                    let (res, rest) = scratch.split_at_mut(r_n * k);
+                    let (m, rest) = rest.split_at_mut(k);
+                    let (p, g) = rest.split_at_mut(k);
+                    for r in 0..r_n {
+                        this.model_row(sp, dt, r, i, m);
+                        for kk in 0..k {
+                            res[r * k + kk] = sp.row(r, i)[kk] - m[kk];
+                        }
                     }
-                }
-                let mut taus: Vec<f64> = (0..if per_trial { r_n } else { 1 })
-                    .flat_map(|rd| (0..j_n).map(move |j| (rd, j)))
-                    .map(|(rd, j)| this.tau[(rd * i_n + i) * j_n + j])
-                    .collect();
-                let mut p = vec![Complex64::new(0.0, 0.0); k];
-                let mut g = vec![Complex64::new(0.0, 0.0); k];
-                // Trial groups sharing a delay: one per trial, or all trials together.
-                let n_groups = if per_trial { r_n } else { 1 };
-                let group = |gi: usize| {
-                    if per_trial {
-                        gi..gi + 1
-                    } else {
-                        0..r_n
+                    for (rd, t) in taus.chunks_exact_mut(j_n).enumerate() {
+                        t.copy_from_slice(&this.tau[(rd * i_n + i) * j_n..][..j_n]);
                     }
-                };
-                for j in 0..j_n {
-                    let c = &this.c[j * k..(j + 1) * k];
-                    for gi in 0..n_groups {
-                        let slot = gi * j_n + j;
-                        let old = taus[slot];
-                        // e^{-2πikτ} c at the current delay: the delayed-source table's row.
-                        let p_old = &dt[((gi * i_n + i) * j_n + j) * k..][..k];
-                        // Add source j back into the residual, E = res + w p, and collect
-                        // Σ_r w conj(E).
-                        g.iter_mut().for_each(|v| *v = Complex64::new(0.0, 0.0));
-                        for r in group(gi) {
-                            let w = this.w[(r * i_n + i) * j_n + j];
-                            let e = &mut res[r * k..(r + 1) * k];
-                            for ((ev, &pv), gv) in e.iter_mut().zip(p_old).zip(g.iter_mut()) {
-                                *ev += pv * w;
-                                *gv += ev.conj() * w;
+                    // Trial groups sharing a delay: one per trial, or all trials together.
+                    let group = |gi: usize| {
+                        if per_trial {
+                            gi..gi + 1
+                        } else {
+                            0..r_n
+                        }
+                    };
+                    for j in 0..j_n {
+                        let c = &this.c[j * k..(j + 1) * k];
+                        for gi in 0..n_groups {
+                            let slot = gi * j_n + j;
+                            let old = taus[slot];
+                            // e^{-2πikτ} c at the current delay: the delayed-source table's row.
+                            let p_old = &dt[((gi * i_n + i) * j_n + j) * k..][..k];
+                            // Add source j back into the residual, E = res + w p, and collect
+                            // Σ_r w conj(E).
+                            g.fill(zero);
+                            for r in group(gi) {
+                                let w = this.w[(r * i_n + i) * j_n + j];
+                                let e = &mut res[r * k..(r + 1) * k];
+                                for ((ev, &pv), gv) in e.iter_mut().zip(p_old).zip(g.iter_mut()) {
+                                    *ev += pv * w;
+                                    *gv += ev.conj() * w;
+                                }
+                            }
+                            // The gain at the current delay, F(τ_old) = Re Σ_k g_k p_k, before
+                            // g becomes the polynomial's coefficients g_k c_k.
+                            let f_old: f64 = g.iter().zip(p_old).map(|(a, b)| (a * b).re).sum();
+                            g.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+                            let (cand, f_new) = trig_argmax(g);
+                            let tau = if f_new > f_old + 1e-15 * f_old.abs().max(1.0) {
+                                wrap_half(cand)
+                            } else {
+                                old
+                            };
+                            taus[slot] = tau;
+                            if tau == old {
+                                p.copy_from_slice(p_old);
+                            } else {
+                                State::phasors(tau, k, p);
+                                p.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+                            }
+                            for r in group(gi) {
+                                let w = this.w[(r * i_n + i) * j_n + j];
+                                let e = &mut res[r * k..(r + 1) * k];
+                                for (ev, &pv) in e.iter_mut().zip(p.iter()) {
+                                    *ev -= pv * w;
+                                }
                             }
                         }
-                        // The gain at the current delay, F(τ_old) = Re Σ_k g_k p_k, before
-                        // g becomes the polynomial's coefficients g_k c_k.
-                        let f_old: f64 = g.iter().zip(p_old).map(|(a, b)| (a * b).re).sum();
-                        g.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
-                        let (cand, f_new) = trig_argmax(&g);
-                        let tau = if f_new > f_old + 1e-15 * f_old.abs().max(1.0) {
-                            wrap_half(cand)
-                        } else {
-                            old
-                        };
-                        taus[slot] = tau;
-                        if tau == old {
-                            p.copy_from_slice(p_old);
-                        } else {
-                            State::phasors(tau, k, &mut p);
-                            p.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
-                        }
-                        for r in group(gi) {
-                            let w = this.w[(r * i_n + i) * j_n + j];
-                            let e = &mut res[r * k..(r + 1) * k];
-                            for (ev, &pv) in e.iter_mut().zip(&p) {
-                                *ev -= pv * w;
-                            }
-                        }
                     }
-                }
-                let rd_n = if per_trial { r_n } else { 1 };
-                let moved = (0..rd_n)
-                    .flat_map(|rd| (0..j_n).map(move |j| (rd, j)))
-                    .map(|(rd, j)| ((rd * i_n + i) * j_n + j, taus[rd * j_n + j]))
-                    .collect();
-                (moved, res.iter().map(|v| v.norm_sqr()).sum::<f64>())
-            })
-            .collect();
-        let mut residual = 0.0;
-        for (moved, e) in updates {
-            for (idx, tau) in moved {
-                self.tau[idx] = tau;
+                    *residual = res.iter().map(|v| v.norm_sqr()).sum::<f64>();
+                },
+            );
+        for (i, taus) in new_tau.chunks_exact(n_groups * j_n).enumerate() {
+            for (rd, t) in taus.chunks_exact(j_n).enumerate() {
+                self.tau[(rd * i_n + i) * j_n..][..j_n].copy_from_slice(t);
             }
-            residual += e;
         }
-        Some(residual)
+        Some(residuals.iter().sum())
     }
 
     /// Gauge fixing (the model is unchanged): unit-RMS sources, positive weight sums, and each

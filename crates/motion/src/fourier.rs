@@ -259,12 +259,13 @@ impl GridTable {
     fn argmax(&mut self, g: &[Complex64]) -> (f64, f64) {
         let (m, k) = (self.m, self.k);
         self.grid_values(g);
-        let mut best = (0usize, f64::NEG_INFINITY);
-        for (step, &f) in self.values.iter().enumerate() {
-            if f > best.1 {
-                best = (step, f);
-            }
-        }
+        // Branch-free maximum, then its first position.
+        let top = self
+            .values
+            .iter()
+            .fold(f64::NEG_INFINITY, |a, &v| if v > a { v } else { a });
+        let at = self.values.iter().position(|&v| v == top).unwrap_or(0);
+        let best = (at, top);
         let h = 1.0 / m as f64;
         self.load(g, best.0);
         let (mut tau, mut f) =
