@@ -397,8 +397,11 @@ impl State {
         } else {
             Vec::new()
         };
+        // With shared delays a harmonic's system is a few hundred multiply-adds: one thread
+        // does them all rather than fork for each.
         let cols: Vec<Vec<Complex64>> = (0..k)
             .into_par_iter()
+            .with_min_len(if shared { k } else { 1 })
             .map(|kk| {
                 let mut h = vec![Complex64::new(0.0, 0.0); j_n * j_n];
                 let mut rhs = vec![Complex64::new(0.0, 0.0); j_n];
@@ -454,158 +457,196 @@ impl State {
     }
 
     /// Step (b): for each (trial, channel), the real `J × J` least squares of the weights.
-    /// The normal matrix depends only on the channel's delayed sources, so trials sharing
-    /// delays share one elimination. `dt` is the state's [`State::delayed_table`].
+    /// `dt` is the state's [`State::delayed_table`].
     fn update_weights(&mut self, sp: &Spectra, dt: &[Complex64]) -> Result<()> {
+        let (j_n, r_n) = (self.j, sp.r);
+        let mut per_channel = vec![0.0; sp.i * r_n * j_n];
+        per_channel
+            .par_chunks_mut(r_n * j_n)
+            .enumerate()
+            .try_for_each_init(
+                || vec![0.0; j_n * j_n],
+                |g, (i, w)| self.channel_weights(sp, dt, i, w, g),
+            )?;
+        self.scatter_weights(sp, &per_channel);
+        Ok(())
+    }
+
+    /// Steps (b) and (c) in one pass over the channels (each channel's delays need only its
+    /// own new weights). Returns the squared residual of the in-band harmonics after the
+    /// step (what [`State::in_band_residual`] would sum), or `None` with zero delays (weights
+    /// only). `dt` is the state's [`State::delayed_table`].
+    fn update_weights_and_delays(&mut self, sp: &Spectra, dt: &[Complex64]) -> Result<Option<f64>> {
+        if self.mode == DelayMode::Zero {
+            self.update_weights(sp, dt)?;
+            return Ok(None);
+        }
         let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
-        let per_trial = self.mode == DelayMode::PerTrial;
+        let n_groups = n_delay_rows(self.mode, r_n);
+        // Per channel: weights (R × J), delays (Rd × J) and the squared residual.
+        let mut new_w = vec![0.0; i_n * r_n * j_n];
+        let mut new_tau = vec![0.0; i_n * n_groups * j_n];
+        let mut residuals = vec![0.0; i_n];
+        let zero = Complex64::new(0.0, 0.0);
+        new_w
+            .par_chunks_mut(r_n * j_n)
+            .zip(new_tau.par_chunks_mut(n_groups * j_n))
+            .zip(residuals.par_iter_mut())
+            .enumerate()
+            .try_for_each_init(
+                || (vec![0.0; j_n * j_n], vec![zero; (r_n + 2) * k]),
+                |(g, scratch), (i, ((w, taus), residual))| {
+                    self.channel_weights(sp, dt, i, w, g)?;
+                    *residual = self.channel_delays(sp, dt, i, w, taus, scratch);
+                    Ok::<_, Error>(())
+                },
+            )?;
+        self.scatter_weights(sp, &new_w);
+        for (i, taus) in new_tau.chunks_exact(n_groups * j_n).enumerate() {
+            for (rd, t) in taus.chunks_exact(j_n).enumerate() {
+                self.tau[(rd * i_n + i) * j_n..][..j_n].copy_from_slice(t);
+            }
+        }
+        Ok(Some(residuals.iter().sum()))
+    }
+
+    /// Writes per-channel weights (`I × R × J`) into the state's `R × I × J` layout.
+    fn scatter_weights(&mut self, sp: &Spectra, per_channel: &[f64]) {
+        let j_n = self.j;
+        for (i, w) in per_channel.chunks_exact(sp.r * j_n).enumerate() {
+            for (r, wr) in w.chunks_exact(j_n).enumerate() {
+                self.w[(r * sp.i + i) * j_n..][..j_n].copy_from_slice(wr);
+            }
+        }
+    }
+
+    /// Step (b) for channel `i`: its `R × J` weights (trial-major) into `w`. The normal matrix
+    /// depends only on the channel's delayed sources, so trials sharing delays share one
+    /// elimination. `g` is `J × J` scratch.
+    fn channel_weights(
+        &self,
+        sp: &Spectra,
+        dt: &[Complex64],
+        i: usize,
+        w: &mut [f64],
+        g: &mut [f64],
+    ) -> Result<()> {
+        let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
         let re_dot = |u: &[Complex64], v: &[Complex64]| -> f64 {
             u.iter()
                 .zip(v)
                 .map(|(a, b)| a.re * b.re + a.im * b.im)
                 .sum()
         };
-        // Per channel, the `R × J` weights (trial-major).
-        let mut per_channel = vec![0.0; i_n * r_n * j_n];
-        per_channel
-            .par_chunks_mut(r_n * j_n)
-            .enumerate()
-            .try_for_each_init(
-                || vec![0.0; j_n * j_n],
-                |g, (i, w)| {
-                    // Trials sharing a delay row: one group, or one per trial.
-                    let groups = if per_trial { r_n } else { 1 };
-                    let size = r_n / groups;
-                    for (gi, wg) in w.chunks_exact_mut(size * j_n).enumerate() {
-                        // b_j = e^{−2πikτ_ij} c_j: source j as it appears in this group's rows.
-                        let b = &dt[(gi * i_n + i) * j_n * k..][..j_n * k];
-                        for p in 0..j_n {
-                            let bp = &b[p * k..(p + 1) * k];
-                            for q in p..j_n {
-                                let v = re_dot(bp, &b[q * k..(q + 1) * k]);
-                                g[p * j_n + q] = v;
-                                g[q * j_n + p] = v;
-                            }
-                        }
-                        for (t, h) in wg.chunks_exact_mut(j_n).enumerate() {
-                            let xr = sp.row(gi * size + t, i);
-                            for (hp, bp) in h.iter_mut().zip(b.chunks_exact(k)) {
-                                *hp = re_dot(xr, bp);
-                            }
-                        }
-                        solve_many_in_place(g, wg, j_n, 1e-12)?;
-                    }
-                    Ok(())
-                },
-            )?;
-        for (i, w) in per_channel.chunks_exact(r_n * j_n).enumerate() {
-            for (r, wr) in w.chunks_exact(j_n).enumerate() {
-                self.w[(r * i_n + i) * j_n..][..j_n].copy_from_slice(wr);
+        // Trials sharing a delay row: one group, or one per trial.
+        let size = r_n / n_delay_rows(self.mode, r_n);
+        for (gi, wg) in w.chunks_exact_mut(size * j_n).enumerate() {
+            // b_j = e^{−2πikτ_ij} c_j: source j as it appears in this group's rows.
+            let b = &dt[(gi * i_n + i) * j_n * k..][..j_n * k];
+            for p in 0..j_n {
+                let bp = &b[p * k..(p + 1) * k];
+                for q in p..j_n {
+                    let v = re_dot(bp, &b[q * k..(q + 1) * k]);
+                    g[p * j_n + q] = v;
+                    g[q * j_n + p] = v;
+                }
             }
+            for (t, h) in wg.chunks_exact_mut(j_n).enumerate() {
+                let xr = sp.row(gi * size + t, i);
+                for (hp, bp) in h.iter_mut().zip(b.chunks_exact(k)) {
+                    *hp = re_dot(xr, bp);
+                }
+            }
+            solve_many_in_place(g, wg, j_n, 1e-12)?;
         }
         Ok(())
     }
 
-    /// Step (c): coordinate-wise delay updates, each the exact least-squares optimum over `τ`
-    /// with the other delays fixed, accepted only when it lowers the residual.
-    /// `dt` is the state's [`State::delayed_table`].
-    ///
-    /// Returns the squared residual of the in-band harmonics after the step (what
-    /// [`State::error`] would sum), or `None` with zero delays (no step).
-    fn update_delays(&mut self, sp: &Spectra, dt: &[Complex64]) -> Option<f64> {
-        if self.mode == DelayMode::Zero {
-            return None;
-        }
+    /// Step (c) for channel `i` with its weights `w` (`R × J`, trial-major): coordinate-wise
+    /// delay updates, each the exact least-squares optimum over `τ` with the other delays
+    /// fixed, accepted only when it lowers the residual. Writes the channel's `Rd × J` delays
+    /// into `taus` and returns its squared in-band residual after the step. `scratch` holds
+    /// `(R + 2) K` values.
+    fn channel_delays(
+        &self,
+        sp: &Spectra,
+        dt: &[Complex64],
+        i: usize,
+        w: &[f64],
+        taus: &mut [f64],
+        scratch: &mut [Complex64],
+    ) -> f64 {
         let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
         let per_trial = self.mode == DelayMode::PerTrial;
-        let this = &*self;
-        let n_groups = if per_trial { r_n } else { 1 };
-        // Channels are independent: each owns its delays (shared: I × J; per trial: R × I × J),
-        // written here channel-major (`I × Rd × J`), and its squared residual.
-        let mut new_tau = vec![0.0; i_n * n_groups * j_n];
-        let mut residuals = vec![0.0; i_n];
         let zero = Complex64::new(0.0, 0.0);
-        new_tau
-            .par_chunks_mut(n_groups * j_n)
-            .zip(residuals.par_iter_mut())
-            .enumerate()
-            .for_each_init(
-                // Residual rows (R × K), then the scratch rows m, p and g (K each).
-                || vec![zero; (r_n + 3) * k],
-                |scratch, (i, (taus, residual))| {
-                    let (res, rest) = scratch.split_at_mut(r_n * k);
-                    let (m, rest) = rest.split_at_mut(k);
-                    let (p, g) = rest.split_at_mut(k);
-                    for r in 0..r_n {
-                        this.model_row(sp, dt, r, i, m);
-                        for kk in 0..k {
-                            res[r * k + kk] = sp.row(r, i)[kk] - m[kk];
-                        }
-                    }
-                    for (rd, t) in taus.chunks_exact_mut(j_n).enumerate() {
-                        t.copy_from_slice(&this.tau[(rd * i_n + i) * j_n..][..j_n]);
-                    }
-                    // Trial groups sharing a delay: one per trial, or all trials together.
-                    let group = |gi: usize| {
-                        if per_trial {
-                            gi..gi + 1
-                        } else {
-                            0..r_n
-                        }
-                    };
-                    for j in 0..j_n {
-                        let c = &this.c[j * k..(j + 1) * k];
-                        for gi in 0..n_groups {
-                            let slot = gi * j_n + j;
-                            let old = taus[slot];
-                            // e^{-2πikτ} c at the current delay: the delayed-source table's row.
-                            let p_old = &dt[((gi * i_n + i) * j_n + j) * k..][..k];
-                            // Add source j back into the residual, E = res + w p, and collect
-                            // Σ_r w conj(E).
-                            g.fill(zero);
-                            for r in group(gi) {
-                                let w = this.w[(r * i_n + i) * j_n + j];
-                                let e = &mut res[r * k..(r + 1) * k];
-                                for ((ev, &pv), gv) in e.iter_mut().zip(p_old).zip(g.iter_mut()) {
-                                    *ev += pv * w;
-                                    *gv += ev.conj() * w;
-                                }
-                            }
-                            // The gain at the current delay, F(τ_old) = Re Σ_k g_k p_k, before
-                            // g becomes the polynomial's coefficients g_k c_k.
-                            let f_old: f64 = g.iter().zip(p_old).map(|(a, b)| (a * b).re).sum();
-                            g.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
-                            let (cand, f_new) = trig_argmax(g);
-                            let tau = if f_new > f_old + 1e-15 * f_old.abs().max(1.0) {
-                                wrap_half(cand)
-                            } else {
-                                old
-                            };
-                            taus[slot] = tau;
-                            if tau == old {
-                                p.copy_from_slice(p_old);
-                            } else {
-                                State::phasors(tau, k, p);
-                                p.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
-                            }
-                            for r in group(gi) {
-                                let w = this.w[(r * i_n + i) * j_n + j];
-                                let e = &mut res[r * k..(r + 1) * k];
-                                for (ev, &pv) in e.iter_mut().zip(p.iter()) {
-                                    *ev -= pv * w;
-                                }
-                            }
-                        }
-                    }
-                    *residual = res.iter().map(|v| v.norm_sqr()).sum::<f64>();
-                },
-            );
-        for (i, taus) in new_tau.chunks_exact(n_groups * j_n).enumerate() {
-            for (rd, t) in taus.chunks_exact(j_n).enumerate() {
-                self.tau[(rd * i_n + i) * j_n..][..j_n].copy_from_slice(t);
+        let (res, rest) = scratch.split_at_mut(r_n * k);
+        let (p, g) = rest.split_at_mut(k);
+        // Residual rows X − Σ_j w_j e^{−2πikτ_j} c_j.
+        for (r, e) in res.chunks_exact_mut(k).enumerate() {
+            e.copy_from_slice(sp.row(r, i));
+            let d = &dt[(self.rd(r) * i_n + i) * j_n * k..][..j_n * k];
+            for (&wj, dj) in w[r * j_n..(r + 1) * j_n].iter().zip(d.chunks_exact(k)) {
+                for (ev, &v) in e.iter_mut().zip(dj) {
+                    *ev -= v * wj;
+                }
             }
         }
-        Some(residuals.iter().sum())
+        for (rd, t) in taus.chunks_exact_mut(j_n).enumerate() {
+            t.copy_from_slice(&self.tau[(rd * i_n + i) * j_n..][..j_n]);
+        }
+        // Trial groups sharing a delay: one per trial, or all trials together.
+        let group = |gi: usize| {
+            if per_trial {
+                gi..gi + 1
+            } else {
+                0..r_n
+            }
+        };
+        for j in 0..j_n {
+            let c = &self.c[j * k..(j + 1) * k];
+            for gi in 0..n_delay_rows(self.mode, r_n) {
+                let slot = gi * j_n + j;
+                let old = taus[slot];
+                // e^{-2πikτ} c at the current delay: the delayed-source table's row.
+                let p_old = &dt[((gi * i_n + i) * j_n + j) * k..][..k];
+                // Add source j back into the residual, E = res + w p, and collect
+                // Σ_r w conj(E).
+                g.fill(zero);
+                for r in group(gi) {
+                    let wj = w[r * j_n + j];
+                    let e = &mut res[r * k..(r + 1) * k];
+                    for ((ev, &pv), gv) in e.iter_mut().zip(p_old).zip(g.iter_mut()) {
+                        *ev += pv * wj;
+                        *gv += ev.conj() * wj;
+                    }
+                }
+                // The gain at the current delay, F(τ_old) = Re Σ_k g_k p_k, before g becomes
+                // the polynomial's coefficients g_k c_k.
+                let f_old: f64 = g.iter().zip(p_old).map(|(a, b)| (a * b).re).sum();
+                g.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+                let (cand, f_new) = trig_argmax(g);
+                let tau = if f_new > f_old + 1e-15 * f_old.abs().max(1.0) {
+                    wrap_half(cand)
+                } else {
+                    old
+                };
+                taus[slot] = tau;
+                if tau == old {
+                    p.copy_from_slice(p_old);
+                } else {
+                    State::phasors(tau, k, p);
+                    p.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+                }
+                for r in group(gi) {
+                    let wj = w[r * j_n + j];
+                    let e = &mut res[r * k..(r + 1) * k];
+                    for (ev, &pv) in e.iter_mut().zip(p.iter()) {
+                        *ev -= pv * wj;
+                    }
+                }
+            }
+        }
+        res.iter().map(|v| v.norm_sqr()).sum::<f64>()
     }
 
     /// Gauge fixing (the model is unchanged): unit-RMS sources, positive weight sums, and each
@@ -707,9 +748,8 @@ fn run(sp: &Spectra, cfg: &AnechoicConfig, mut state: State) -> Result<(State, f
         let ph = state.phase_table(sp);
         state.update_sources(sp, &ph)?;
         let dt = state.delay_sources(ph, sp.k);
-        state.update_weights(sp, &dt)?;
         // The delay step leaves the residual at hand; gauge fixing does not change the model.
-        let in_band = state.update_delays(sp, &dt);
+        let in_band = state.update_weights_and_delays(sp, &dt)?;
         state.normalize(sp);
         let mut qn = match in_band {
             Some(e) => sp.quality_of(e),
