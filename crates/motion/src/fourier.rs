@@ -118,7 +118,9 @@ pub fn wrap_half(t: f64) -> f64 {
 ///    `h² max|F''| / 8 ≤ h² Σ_k (2πk)² |g_k| / 8`, so only cells whose end values plus that
 ///    bound exceed the best value so far can hold a higher maximum. Those cells are split into
 ///    8 sub-cells (the bound shrinks 64 times), and Newton runs from the better end of every
-///    sub-cell that passes the same test, keeping the best local maximum.
+///    sub-cell that passes the same test, keeping the best local maximum;
+/// 3. cells within `−F''(τ*) / max|F'''|` of the best maximum `τ*` are skipped: `F` is concave
+///    there, so `τ*` is its only maximum (`max|F'''| ≤ Σ_k (2πk)³ |g_k|`).
 ///
 /// Returns `(τ, F(τ))`.
 pub fn trig_argmax(g: &[Complex64]) -> (f64, f64) {
@@ -140,7 +142,7 @@ fn newton_max(
     g: &[Complex64],
     mut tau: f64,
     (mut f, mut d1, mut d2): (f64, f64, f64),
-) -> (f64, f64) {
+) -> (f64, f64, f64) {
     for _ in 0..8 {
         if d2 >= 0.0 {
             break;
@@ -156,7 +158,7 @@ fn newton_max(
             break;
         }
     }
-    (tau, f)
+    (tau, f, d2)
 }
 
 /// `(F, F', F'')` at a point from the terms `v_k = g_k e^{−2πikτ}`, `k = 1..`.
@@ -268,18 +270,29 @@ impl GridTable {
         let best = (at, top);
         let h = 1.0 / m as f64;
         self.load(g, best.0);
-        let (mut tau, mut f) =
+        let (mut tau, mut f, mut d2) =
             newton_max(g, best.0 as f64 * h, from_terms(self.gz.iter().copied()));
-        let curvature: f64 = g
-            .iter()
-            .enumerate()
-            .map(|(i, gk)| (TAU * (i + 1) as f64).powi(2) * gk.norm_sqr().sqrt())
-            .sum();
+        // Bounds of |F''| and of the third derivative |F^(3)|.
+        let (mut curvature, mut third) = (0.0, 0.0);
+        for (i, gk) in g.iter().enumerate() {
+            let w = TAU * (i + 1) as f64;
+            let a = gk.norm_sqr().sqrt();
+            curvature += w * w * a;
+            third += w * w * w * a;
+        }
         let margin = curvature * h * h / 8.0;
+        // Around the best maximum τ*, F''(τ) ≤ F''(τ*) + |F^(3)| |τ − τ*| < 0 within `reach`:
+        // F is concave there, so τ* is its only maximum and no cell inside can exceed it.
+        let reach = |d2: f64| if d2 < 0.0 { -d2 / third } else { 0.0 };
+        let mut concave = reach(d2);
         for cell in 0..m {
             let next = if cell + 1 == m { 0 } else { cell + 1 };
             let bar = f - margin;
             if self.values[cell] <= bar && self.values[next] <= bar {
+                continue;
+            }
+            let off = (cell as f64 + 0.5) * h - tau;
+            if (off - off.round()).abs() + 0.5 * h < concave {
                 continue;
             }
             // The cell's sub-points 0..=8 (its end points included); the same chord bound
@@ -307,14 +320,15 @@ impl GridTable {
                 let start = (cell as f64 + at as f64 / SUB as f64) * h;
                 // A first Newton step that lands on the best maximum found would only walk
                 // back to it.
-                let (_, d1, d2) = terms;
-                let gap = start - d1 / d2 - tau;
-                if d2 < 0.0 && (gap - gap.round()).abs() < 1e-3 * h {
+                let (_, s1, s2) = terms;
+                let gap = start - s1 / s2 - tau;
+                if s2 < 0.0 && (gap - gap.round()).abs() < 1e-3 * h {
                     continue;
                 }
-                let (t, v) = newton_max(g, start, terms);
+                let (t, v, c2) = newton_max(g, start, terms);
                 if v > f {
-                    (tau, f) = (t, v);
+                    (tau, f, d2) = (t, v, c2);
+                    concave = reach(d2);
                 }
             }
         }
