@@ -321,16 +321,24 @@ impl State {
         t
     }
 
-    /// Model harmonics of channel `i`, trial `r`, written into `out` (length `K`), from the
-    /// [`State::delayed_table`] `d`.
-    fn model_row(&self, sp: &Spectra, d: &[Complex64], r: usize, i: usize, out: &mut [Complex64]) {
+    /// Residual harmonics `x_ri − Σ_j w_j e^{−2πikτ_ij} c_j` of trial `r`, channel `i`, written
+    /// into `e` (length `K`), for the row's weights `w` (`J`) and the [`State::delayed_table`]
+    /// `d`.
+    fn residual_row(
+        &self,
+        sp: &Spectra,
+        d: &[Complex64],
+        w: &[f64],
+        r: usize,
+        i: usize,
+        e: &mut [Complex64],
+    ) {
         let (j_n, k) = (self.j, sp.k);
-        out.iter_mut().for_each(|v| *v = Complex64::new(0.0, 0.0));
-        let w = &self.w[(r * sp.i + i) * j_n..][..j_n];
+        e.copy_from_slice(sp.row(r, i));
         let d = &d[(self.rd(r) * sp.i + i) * j_n * k..][..j_n * k];
         for (&wj, dj) in w.iter().zip(d.chunks_exact(k)) {
-            for (o, &v) in out.iter_mut().zip(dj) {
-                *o += v * wj;
+            for (ev, &v) in e.iter_mut().zip(dj) {
+                *ev -= v * wj;
             }
         }
     }
@@ -338,22 +346,18 @@ impl State {
     /// The squared residual `Σ |X_rik − X̂_rik|²` of the in-band harmonics.
     fn in_band_residual(&self, sp: &Spectra) -> f64 {
         let ph = self.delayed_table(sp);
-        let per_row: f64 = (0..sp.r * sp.i)
+        (0..sp.r * sp.i)
             .into_par_iter()
             .map_init(
                 || vec![Complex64::new(0.0, 0.0); sp.k],
-                |m, ri| {
+                |e, ri| {
                     let (r, i) = (ri / sp.i, ri % sp.i);
-                    self.model_row(sp, &ph, r, i, m);
-                    sp.row(r, i)
-                        .iter()
-                        .zip(m.iter())
-                        .map(|(a, b)| (a - b).norm_sqr())
-                        .sum::<f64>()
+                    let w = &self.w[ri * self.j..(ri + 1) * self.j];
+                    self.residual_row(sp, &ph, w, r, i, e);
+                    e.iter().map(|v| v.norm_sqr()).sum::<f64>()
                 },
             )
-            .sum();
-        per_row
+            .sum()
     }
 
     fn quality(&self, sp: &Spectra) -> f64 {
@@ -581,15 +585,8 @@ impl State {
         let zero = Complex64::new(0.0, 0.0);
         let (res, rest) = scratch.split_at_mut(r_n * k);
         let (p, g) = rest.split_at_mut(k);
-        // Residual rows X − Σ_j w_j e^{−2πikτ_j} c_j.
         for (r, e) in res.chunks_exact_mut(k).enumerate() {
-            e.copy_from_slice(sp.row(r, i));
-            let d = &dt[(self.rd(r) * i_n + i) * j_n * k..][..j_n * k];
-            for (&wj, dj) in w[r * j_n..(r + 1) * j_n].iter().zip(d.chunks_exact(k)) {
-                for (ev, &v) in e.iter_mut().zip(dj) {
-                    *ev -= v * wj;
-                }
-            }
+            self.residual_row(sp, dt, &w[r * j_n..(r + 1) * j_n], r, i, e);
         }
         for (rd, t) in taus.chunks_exact_mut(j_n).enumerate() {
             t.copy_from_slice(&self.tau[(rd * i_n + i) * j_n..][..j_n]);
@@ -1086,5 +1083,42 @@ mod tests {
         }
         // The step solved something: the sources moved from their start.
         assert!((factored.c[0] - Complex64::new(val(1000), val(2000))).norm() > 1e-3);
+    }
+
+    #[test]
+    fn fused_weight_and_delay_pass_reports_the_residual_it_leaves() {
+        // R = 4, I = 5, N = 32, J = 2, K = 3, random sources, delays and weights.
+        let (r_n, i_n, n, j_n, k) = (4, 5, 32, 2, 3);
+        let x = TrialSet::new(r_n, i_n, n, (0..r_n * i_n * n).map(val).collect()).unwrap();
+        let sp = Spectra::new(&x, k).unwrap();
+        let c: Vec<Complex64> = (0..j_n * k)
+            .map(|t| Complex64::new(val(1000 + t), val(2000 + t)))
+            .collect();
+        for (mode, rows) in [(DelayMode::Shared, 1), (DelayMode::PerTrial, r_n)] {
+            let start = State {
+                j: j_n,
+                mode,
+                c: c.clone(),
+                tau: (0..rows * i_n * j_n).map(|t| 0.5 * val(3000 + t)).collect(),
+                w: (0..r_n * i_n * j_n).map(|t| val(4000 + t)).collect(),
+            };
+            let dt = start.delayed_table(&sp);
+            // The weight step alone, then the fused pass from the same state.
+            let mut weights_only = start.clone();
+            weights_only.update_weights(&sp, &dt).unwrap();
+            let mut fused = start.clone();
+            let reported = fused.update_weights_and_delays(&sp, &dt).unwrap().unwrap();
+            // The delays see the new weights (and leave them), and the reported residual is
+            // the new state's own, recomputed from scratch.
+            assert_eq!(fused.w, weights_only.w, "{mode:?}");
+            let actual = fused.in_band_residual(&sp);
+            assert!(
+                (reported - actual).abs() <= 1e-12 * actual,
+                "{mode:?}: reported {reported}, actual {actual}"
+            );
+            // The delay step moved something and lowered the residual.
+            assert_ne!(fused.tau, start.tau, "{mode:?}");
+            assert!(actual < weights_only.in_band_residual(&sp), "{mode:?}");
+        }
     }
 }

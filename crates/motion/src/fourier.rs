@@ -267,11 +267,10 @@ impl GridTable {
             .iter()
             .fold(f64::NEG_INFINITY, |a, &v| if v > a { v } else { a });
         let at = self.values.iter().position(|&v| v == top).unwrap_or(0);
-        let best = (at, top);
         let h = 1.0 / m as f64;
-        self.load(g, best.0);
+        self.load(g, at);
         let (mut tau, mut f, mut d2) =
-            newton_max(g, best.0 as f64 * h, from_terms(self.gz.iter().copied()));
+            newton_max(g, at as f64 * h, from_terms(self.gz.iter().copied()));
         // Bounds of |F''| and of the third derivative |F^(3)|.
         let (mut curvature, mut third) = (0.0, 0.0);
         for (i, gk) in g.iter().enumerate() {
@@ -339,18 +338,11 @@ impl GridTable {
 /// `F(τ)`, `F'(τ)` and `F''(τ)` of [`trig_argmax`]'s polynomial.
 pub fn trig_eval(g: &[Complex64], tau: f64) -> (f64, f64, f64) {
     let z = Complex64::from_polar(1.0, -TAU * tau);
-    let mut p = z;
-    let (mut f, mut d1, mut d2) = (0.0, 0.0, 0.0);
-    for (i, gk) in g.iter().enumerate() {
-        let k = (i + 1) as f64;
-        let v = gk * p;
-        f += v.re;
-        // d/dτ e^{−2πikτ} = −2πik e^{−2πikτ}
-        d1 += (v * Complex64::new(0.0, -TAU * k)).re;
-        d2 -= v.re * (TAU * k) * (TAU * k);
+    let mut p = Complex64::new(1.0, 0.0);
+    from_terms(g.iter().map(|gk| {
         p *= z;
-    }
-    (f, d1, d2)
+        gk * p
+    }))
 }
 
 #[cfg(test)]
