@@ -16,7 +16,6 @@
 use crate::data::TrialSet;
 use crate::fourier::{harmonics, trig_argmax, wrap_half, PeriodicSource};
 use crate::linalg::{solve_complex, solve_many_in_place};
-use faer::Mat;
 use num_complex::Complex64;
 use rand::Rng as _;
 use rand_distr::{Distribution, StandardNormal};
@@ -229,6 +228,8 @@ struct Spectra {
     total: f64,
     /// Energy of the data outside harmonics `±1..=K` (the mean included): no model can fit it.
     out_band: f64,
+    /// `Σ |x_rik|²` over the in-band harmonics.
+    in_band: f64,
 }
 
 impl Spectra {
@@ -240,7 +241,7 @@ impl Spectra {
         let n = x.n_samples;
         let rows: Vec<Vec<Complex64>> = x.data.par_chunks(n).map(|row| harmonics(row, k)).collect();
         let xs: Vec<Complex64> = rows.into_iter().flatten().collect();
-        let in_band: f64 = 2.0 * n as f64 * xs.iter().map(|c| c.norm_sqr()).sum::<f64>();
+        let in_band: f64 = xs.iter().map(|c| c.norm_sqr()).sum();
         Ok(Self {
             r: x.n_trials,
             i: x.n_channels,
@@ -248,7 +249,8 @@ impl Spectra {
             n,
             x: xs,
             total,
-            out_band: (total - in_band).max(0.0),
+            out_band: (total - 2.0 * n as f64 * in_band).max(0.0),
+            in_band,
         })
     }
 
@@ -262,6 +264,37 @@ impl Spectra {
         let o = (r * self.i + i) * self.k;
         &self.x[o..o + self.k]
     }
+}
+
+/// `Re Σ_k conj(u_k) v_k`.
+fn re_dot(u: &[Complex64], v: &[Complex64]) -> f64 {
+    u.iter()
+        .zip(v)
+        .map(|(a, b)| a.re * b.re + a.im * b.im)
+        .sum()
+}
+
+/// Adds one row's weights `w` (`J`) and harmonics `x` (`K`) to a channel's
+/// [`WeightStats`]: `w w^T` to `g` (`J × J`) and `w_j x` to row `j` of `acc` (`J × K`).
+fn accumulate_stats(w: &[f64], x: &[Complex64], g: &mut [f64], acc: &mut [Complex64]) {
+    let k = x.len();
+    for ((gp, ap), &wp) in g
+        .chunks_exact_mut(w.len())
+        .zip(acc.chunks_exact_mut(k))
+        .zip(w)
+    {
+        gp.iter_mut().zip(w).for_each(|(v, &wq)| *v += wp * wq);
+        ap.iter_mut().zip(x).for_each(|(v, &xv)| *v += xv * wp);
+    }
+}
+
+/// Per-channel statistics of the weights, for delays that do not depend on the trial: the
+/// weight Gram matrices `Σ_r w_rip w_riq` (`I × J × J`) and the weighted data
+/// `Σ_r w_rij x_rik` (`I × J × K`). With them the source step and the quality of a state
+/// need no pass over the trials.
+struct WeightStats {
+    gram: Vec<f64>,
+    wx: Vec<Complex64>,
 }
 
 /// The state of one ALS run.
@@ -343,7 +376,7 @@ impl State {
         }
     }
 
-    /// The squared residual `Σ |X_rik − X̂_rik|²` of the in-band harmonics.
+    /// The squared residual `Σ |X_rik − X̂_rik|²` of the in-band harmonics, row by row.
     fn in_band_residual(&self, sp: &Spectra) -> f64 {
         let ph = self.delayed_table(sp);
         (0..sp.r * sp.i)
@@ -361,7 +394,65 @@ impl State {
     }
 
     fn quality(&self, sp: &Spectra) -> f64 {
-        sp.quality_of(self.in_band_residual(sp))
+        self.assess(sp).0
+    }
+
+    /// `Q` of this state, with what a source step from it can reuse: its
+    /// [`State::phase_table`] and, for delays shared over trials, its [`WeightStats`].
+    fn assess(&self, sp: &Spectra) -> (f64, Vec<Complex64>, Option<WeightStats>) {
+        let ph = self.phase_table(sp);
+        if self.mode == DelayMode::PerTrial {
+            return (sp.quality_of(self.in_band_residual(sp)), ph, None);
+        }
+        let st = self.weight_stats(sp);
+        let e = self.shared_residual(sp, &ph, &st);
+        (sp.quality_of(e), ph, Some(st))
+    }
+
+    /// The [`WeightStats`] of this state's weights (delays shared over trials).
+    fn weight_stats(&self, sp: &Spectra) -> WeightStats {
+        let (j_n, k, i_n) = (self.j, sp.k, sp.i);
+        let mut gram = vec![0.0; i_n * j_n * j_n];
+        let mut wx = vec![Complex64::new(0.0, 0.0); i_n * j_n * k];
+        gram.par_chunks_mut(j_n * j_n)
+            .zip(wx.par_chunks_mut(j_n * k))
+            .enumerate()
+            .for_each(|(i, (g, acc))| {
+                for r in 0..sp.r {
+                    let w = &self.w[(r * i_n + i) * j_n..][..j_n];
+                    accumulate_stats(w, sp.row(r, i), g, acc);
+                }
+            });
+        WeightStats { gram, wx }
+    }
+
+    /// The squared in-band residual from the [`WeightStats`] `st` (delays shared over trials),
+    /// with `d_ij = e^{−2πikτ_ij} c_j` from the phase table `ph`:
+    /// `Σ_rik |x_rik|² − 2 Σ_ij Re ⟨Σ_r w_rij x_ri, d_ij⟩ + Σ_i Σ_pq (Σ_r w_rip w_riq) Re ⟨d_ip, d_iq⟩`.
+    fn shared_residual(&self, sp: &Spectra, ph: &[Complex64], st: &WeightStats) -> f64 {
+        let (j_n, k) = (self.j, sp.k);
+        let mut d = vec![Complex64::new(0.0, 0.0); j_n * k];
+        let mut cross = 0.0;
+        let mut model = 0.0;
+        for ((p_i, g), wx) in ph
+            .chunks_exact(j_n * k)
+            .zip(st.gram.chunks_exact(j_n * j_n))
+            .zip(st.wx.chunks_exact(j_n * k))
+        {
+            d.copy_from_slice(p_i);
+            d.iter_mut()
+                .zip(self.c.iter())
+                .for_each(|(v, &cv)| *v *= cv);
+            cross += re_dot(wx, &d);
+            for p in 0..j_n {
+                let dp = &d[p * k..(p + 1) * k];
+                model += g[p * j_n + p] * re_dot(dp, dp);
+                for q in p + 1..j_n {
+                    model += 2.0 * g[p * j_n + q] * re_dot(dp, &d[q * k..(q + 1) * k]);
+                }
+            }
+        }
+        (sp.in_band - 2.0 * cross + model).max(0.0)
     }
 
     /// Step (a): for each harmonic, the complex `J × J` normal equations over all rows.
@@ -369,95 +460,133 @@ impl State {
     /// With `a_j = w_rij e^{−2πikτ_ij}` the row's regressors, `H = Σ_ri a^H a` and
     /// `rhs = Σ_ri a^H x_rik`. When the delays do not depend on the trial, the sums over trials
     /// factor out of the phasors: `H_pq = Σ_i conj(p_ip) p_iq Σ_r w_rip w_riq` and
-    /// `rhs_p = Σ_i conj(p_ip) Σ_r w_rip x_rik`, so the per-channel weight Gram matrices and
-    /// weighted data are formed once for all harmonics.
+    /// `rhs_p = Σ_i conj(p_ip) Σ_r w_rip x_rik`, so only the per-channel [`WeightStats`]
+    /// enter (`stats`, computed here when `None`).
     /// `ph` is the state's [`State::phase_table`].
-    fn update_sources(&mut self, sp: &Spectra, ph: &[Complex64]) -> Result<()> {
-        let (j_n, k, i_n) = (self.j, sp.k, sp.i);
-        let shared = self.mode != DelayMode::PerTrial;
-        // Per channel: Σ_r w w^T (J × J) and Σ_r w x_rk (K × J).
-        let per_channel: Vec<(Vec<f64>, Vec<Complex64>)> = if shared {
-            (0..i_n)
+    fn update_sources(
+        &mut self,
+        sp: &Spectra,
+        ph: &[Complex64],
+        stats: Option<&WeightStats>,
+    ) -> Result<()> {
+        let (j_n, k) = (self.j, sp.k);
+        let cols: Vec<Vec<Complex64>> = if self.mode == DelayMode::PerTrial {
+            (0..k)
                 .into_par_iter()
-                .map(|i| {
-                    let mut gram = vec![0.0; j_n * j_n];
-                    let mut wx = vec![Complex64::new(0.0, 0.0); k * j_n];
-                    for r in 0..sp.r {
-                        let w = &self.w[(r * i_n + i) * j_n..][..j_n];
-                        for (p, &wp) in w.iter().enumerate() {
-                            for (q, &wq) in w.iter().enumerate().skip(p) {
-                                gram[p * j_n + q] += wp * wq;
-                            }
-                        }
-                        for (xk, row) in sp.row(r, i).iter().zip(wx.chunks_exact_mut(j_n)) {
-                            for (v, &wj) in row.iter_mut().zip(w) {
-                                *v += xk * wj;
-                            }
-                        }
-                    }
-                    (gram, wx)
+                .map(|kk| {
+                    let (h, rhs) = self.per_trial_normal_equations(sp, ph, kk);
+                    solve_complex(&h, &rhs, j_n, 1e-12)
                 })
-                .collect()
+                .collect::<Result<_>>()?
         } else {
-            Vec::new()
+            // A harmonic's system is a few hundred multiply-adds: one thread does them all.
+            let own;
+            let st = match stats {
+                Some(st) => st,
+                None => {
+                    own = self.weight_stats(sp);
+                    &own
+                }
+            };
+            let (hs, rs) = self.shared_normal_equations(sp, ph, st);
+            (0..k)
+                .map(|kk| {
+                    let h: Vec<Complex64> = (0..j_n * j_n)
+                        .map(|pq| {
+                            let (p, q) = (pq / j_n, pq % j_n);
+                            if q >= p {
+                                hs[pq * k + kk]
+                            } else {
+                                hs[(q * j_n + p) * k + kk].conj()
+                            }
+                        })
+                        .collect();
+                    let rhs: Vec<Complex64> = (0..j_n).map(|p| rs[p * k + kk]).collect();
+                    solve_complex(&h, &rhs, j_n, 1e-12)
+                })
+                .collect::<Result<_>>()?
         };
-        // With shared delays a harmonic's system is a few hundred multiply-adds: one thread
-        // does them all rather than fork for each.
-        let cols: Vec<Vec<Complex64>> = (0..k)
-            .into_par_iter()
-            .with_min_len(if shared { k } else { 1 })
-            .map(|kk| {
-                let mut h = vec![Complex64::new(0.0, 0.0); j_n * j_n];
-                let mut rhs = vec![Complex64::new(0.0, 0.0); j_n];
-                let mut a = vec![Complex64::new(0.0, 0.0); j_n];
-                if shared {
-                    for (i, (gram, wx)) in per_channel.iter().enumerate() {
-                        let p = &ph[i * j_n * k + kk..];
-                        for (j, aj) in a.iter_mut().enumerate() {
-                            *aj = p[j * k];
-                        }
-                        for (pi, &ap) in a.iter().enumerate() {
-                            let apc = ap.conj();
-                            rhs[pi] += apc * wx[kk * j_n + pi];
-                            for q in pi..j_n {
-                                h[pi * j_n + q] += apc * a[q] * gram[pi * j_n + q];
-                            }
-                        }
-                    }
-                } else {
-                    for r in 0..sp.r {
-                        for i in 0..i_n {
-                            let w = &self.w[(r * i_n + i) * j_n..][..j_n];
-                            let p = &ph[(r * i_n + i) * j_n * k + kk..];
-                            for (j, (aj, &wj)) in a.iter_mut().zip(w).enumerate() {
-                                *aj = wj * p[j * k];
-                            }
-                            let xv = sp.row(r, i)[kk];
-                            for pi in 0..j_n {
-                                let apc = a[pi].conj();
-                                rhs[pi] += apc * xv;
-                                for q in pi..j_n {
-                                    h[pi * j_n + q] += apc * a[q];
-                                }
-                            }
-                        }
-                    }
-                }
-                // H is Hermitian: only the upper triangle was accumulated.
-                for pi in 0..j_n {
-                    for q in 0..pi {
-                        h[pi * j_n + q] = h[q * j_n + pi].conj();
-                    }
-                }
-                solve_complex(&h, &rhs, j_n, 1e-12)
-            })
-            .collect::<Result<_>>()?;
         for (kk, col) in cols.iter().enumerate() {
             for (j, v) in col.iter().enumerate() {
                 self.c[j * k + kk] = *v;
             }
         }
         Ok(())
+    }
+
+    /// The factored normal equations of step (a) for all harmonics at once, harmonic-minor
+    /// so that the sums over channels run along contiguous phasor rows: the upper triangle
+    /// of `H` (`J × J × K`) and `rhs` (`J × K`).
+    fn shared_normal_equations(
+        &self,
+        sp: &Spectra,
+        ph: &[Complex64],
+        st: &WeightStats,
+    ) -> (Vec<Complex64>, Vec<Complex64>) {
+        let (j_n, k) = (self.j, sp.k);
+        let zero = Complex64::new(0.0, 0.0);
+        let mut hs = vec![zero; j_n * j_n * k];
+        let mut rs = vec![zero; j_n * k];
+        for ((p_i, g), wx) in ph
+            .chunks_exact(j_n * k)
+            .zip(st.gram.chunks_exact(j_n * j_n))
+            .zip(st.wx.chunks_exact(j_n * k))
+        {
+            for p in 0..j_n {
+                let pp = &p_i[p * k..(p + 1) * k];
+                let rp = &mut rs[p * k..(p + 1) * k];
+                for ((r, &a), &b) in rp.iter_mut().zip(pp).zip(&wx[p * k..(p + 1) * k]) {
+                    *r += a.conj() * b;
+                }
+                for q in p..j_n {
+                    let gpq = g[p * j_n + q];
+                    let hpq = &mut hs[(p * j_n + q) * k..][..k];
+                    for ((h, &a), &b) in hpq.iter_mut().zip(pp).zip(&p_i[q * k..(q + 1) * k]) {
+                        *h += a.conj() * b * gpq;
+                    }
+                }
+            }
+        }
+        (hs, rs)
+    }
+
+    /// The normal equations of step (a) for harmonic `kk`, row by row (delays per trial):
+    /// `H` (`J × J`, Hermitian) and `rhs` (`J`).
+    fn per_trial_normal_equations(
+        &self,
+        sp: &Spectra,
+        ph: &[Complex64],
+        kk: usize,
+    ) -> (Vec<Complex64>, Vec<Complex64>) {
+        let (j_n, k, i_n) = (self.j, sp.k, sp.i);
+        let zero = Complex64::new(0.0, 0.0);
+        let mut h = vec![zero; j_n * j_n];
+        let mut rhs = vec![zero; j_n];
+        let mut a = vec![zero; j_n];
+        for r in 0..sp.r {
+            for i in 0..i_n {
+                let w = &self.w[(r * i_n + i) * j_n..][..j_n];
+                let p = &ph[(r * i_n + i) * j_n * k + kk..];
+                for (j, (aj, &wj)) in a.iter_mut().zip(w).enumerate() {
+                    *aj = wj * p[j * k];
+                }
+                let xv = sp.row(r, i)[kk];
+                for pi in 0..j_n {
+                    let apc = a[pi].conj();
+                    rhs[pi] += apc * xv;
+                    for q in pi..j_n {
+                        h[pi * j_n + q] += apc * a[q];
+                    }
+                }
+            }
+        }
+        // H is Hermitian: only the upper triangle was accumulated.
+        for pi in 0..j_n {
+            for q in 0..pi {
+                h[pi * j_n + q] = h[q * j_n + pi].conj();
+            }
+        }
+        (h, rhs)
     }
 
     /// Step (b): for each (trial, channel), the real `J × J` least squares of the weights.
@@ -479,29 +608,47 @@ impl State {
     /// Steps (b) and (c) in one pass over the channels (each channel's delays need only its
     /// own new weights). Returns the squared residual of the in-band harmonics after the
     /// step (what [`State::in_band_residual`] would sum), or `None` with zero delays (weights
-    /// only). `dt` is the state's [`State::delayed_table`].
-    fn update_weights_and_delays(&mut self, sp: &Spectra, dt: &[Complex64]) -> Result<Option<f64>> {
+    /// only), and for shared delays the [`WeightStats`] of the new weights.
+    /// `dt` is the state's [`State::delayed_table`].
+    fn update_weights_and_delays(
+        &mut self,
+        sp: &Spectra,
+        dt: &[Complex64],
+    ) -> Result<(Option<f64>, Option<WeightStats>)> {
         if self.mode == DelayMode::Zero {
             self.update_weights(sp, dt)?;
-            return Ok(None);
+            return Ok((None, None));
         }
         let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
+        let shared = self.mode == DelayMode::Shared;
         let n_groups = n_delay_rows(self.mode, r_n);
-        // Per channel: weights (R × J), delays (Rd × J) and the squared residual.
+        // Per channel: weights (R × J), delays (Rd × J), the squared residual and, for shared
+        // delays, the weight statistics.
         let mut new_w = vec![0.0; i_n * r_n * j_n];
         let mut new_tau = vec![0.0; i_n * n_groups * j_n];
         let mut residuals = vec![0.0; i_n];
         let zero = Complex64::new(0.0, 0.0);
+        let mut stats = WeightStats {
+            gram: vec![0.0; i_n * j_n * j_n],
+            wx: vec![zero; i_n * j_n * k],
+        };
         new_w
             .par_chunks_mut(r_n * j_n)
             .zip(new_tau.par_chunks_mut(n_groups * j_n))
             .zip(residuals.par_iter_mut())
+            .zip(stats.gram.par_chunks_mut(j_n * j_n))
+            .zip(stats.wx.par_chunks_mut(j_n * k))
             .enumerate()
             .try_for_each_init(
                 || (vec![0.0; j_n * j_n], vec![zero; (r_n + 2) * k]),
-                |(g, scratch), (i, ((w, taus), residual))| {
+                |(g, scratch), (i, ((((w, taus), residual), gram), wx))| {
                     self.channel_weights(sp, dt, i, w, g)?;
                     *residual = self.channel_delays(sp, dt, i, w, taus, scratch);
+                    if shared {
+                        for (r, wr) in w.chunks_exact(j_n).enumerate() {
+                            accumulate_stats(wr, sp.row(r, i), gram, wx);
+                        }
+                    }
                     Ok::<_, Error>(())
                 },
             )?;
@@ -511,7 +658,7 @@ impl State {
                 self.tau[(rd * i_n + i) * j_n..][..j_n].copy_from_slice(t);
             }
         }
-        Ok(Some(residuals.iter().sum()))
+        Ok((Some(residuals.iter().sum()), shared.then_some(stats)))
     }
 
     /// Writes per-channel weights (`I × R × J`) into the state's `R × I × J` layout.
@@ -536,12 +683,6 @@ impl State {
         g: &mut [f64],
     ) -> Result<()> {
         let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
-        let re_dot = |u: &[Complex64], v: &[Complex64]| -> f64 {
-            u.iter()
-                .zip(v)
-                .map(|(a, b)| a.re * b.re + a.im * b.im)
-                .sum()
-        };
         // Trials sharing a delay row: one group, or one per trial.
         let size = r_n / n_delay_rows(self.mode, r_n);
         for (gi, wg) in w.chunks_exact_mut(size * j_n).enumerate() {
@@ -648,7 +789,8 @@ impl State {
 
     /// Gauge fixing (the model is unchanged): unit-RMS sources, positive weight sums, and each
     /// source shifted so that the |w|-weighted circular mean of its delays is zero.
-    fn normalize(&mut self, sp: &Spectra) {
+    /// `stats`, the [`WeightStats`] of the weights, are rescaled with them.
+    fn normalize(&mut self, sp: &Spectra, mut stats: Option<&mut WeightStats>) {
         let (j_n, k, r_n, i_n) = (self.j, sp.k, sp.r, sp.i);
         for j in 0..j_n {
             let c = &mut self.c[j * k..(j + 1) * k];
@@ -661,6 +803,18 @@ impl State {
             c.iter_mut().for_each(|v| *v /= scale);
             for ri in 0..r_n * i_n {
                 self.w[ri * j_n + j] *= scale;
+            }
+            if let Some(st) = stats.as_deref_mut() {
+                // Row and column j of every Gram matrix, row j of the weighted data.
+                for g in st.gram.chunks_exact_mut(j_n * j_n) {
+                    g[j * j_n..(j + 1) * j_n]
+                        .iter_mut()
+                        .for_each(|v| *v *= scale);
+                    g.iter_mut().skip(j).step_by(j_n).for_each(|v| *v *= scale);
+                }
+                for acc in st.wx.chunks_exact_mut(j_n * k) {
+                    acc[j * k..(j + 1) * k].iter_mut().for_each(|v| *v *= scale);
+                }
             }
             if self.mode == DelayMode::Zero {
                 continue;
@@ -736,30 +890,35 @@ impl State {
 /// only when it fits better, so `Q` stays non-decreasing while the slow "swamps" of plain ALS
 /// are crossed in far fewer sweeps.
 fn run(sp: &Spectra, cfg: &AnechoicConfig, mut state: State) -> Result<(State, f64, Vec<f64>)> {
-    let mut q = state.quality(sp);
+    let (mut q, mut ph, mut stats) = state.assess(sp);
     let mut hist = vec![q];
     for it in 0..cfg.max_iter {
         let before = state.clone();
+        state.update_sources(sp, &ph, stats.as_ref())?;
         // The sources change the delayed-source table; the weights do not, so the weight and
         // delay steps share one.
-        let ph = state.phase_table(sp);
-        state.update_sources(sp, &ph)?;
         let dt = state.delay_sources(ph, sp.k);
-        // The delay step leaves the residual at hand; gauge fixing does not change the model.
-        let in_band = state.update_weights_and_delays(sp, &dt)?;
-        state.normalize(sp);
+        // The delay step leaves the residual and the new weights' statistics at hand; gauge
+        // fixing does not change the model.
+        let in_band;
+        (in_band, stats) = state.update_weights_and_delays(sp, &dt)?;
+        state.normalize(sp, stats.as_mut());
         let mut qn = match in_band {
             Some(e) => sp.quality_of(e),
             None => state.quality(sp),
         };
+        // An accepted extrapolation brings its own phase table and statistics.
+        let mut next_ph = None;
         if it >= 1 {
             let cand = state.extrapolate(&before, ((it + 1) as f64).cbrt());
-            let qc = cand.quality(sp);
+            let (qc, ph_c, stats_c) = cand.assess(sp);
             if qc > qn {
                 state = cand;
                 qn = qc;
+                (next_ph, stats) = (Some(ph_c), stats_c);
             }
         }
+        ph = next_ph.unwrap_or_else(|| state.phase_table(sp));
         hist.push(qn);
         let done = (qn - q).abs() < cfg.tol;
         q = qn;
@@ -778,16 +937,20 @@ fn n_delay_rows(mode: DelayMode, r: usize) -> usize {
     }
 }
 
-/// PCA start: the top-`J` right singular vectors of the `(R·I) × N` data as sources.
+/// PCA start: the top-`J` right singular vectors of the `(R·I) × N` data as sources, taken
+/// as the leading eigenvectors of the `N × N` Gram matrix (a few of them, not a full SVD).
 fn pca_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<State> {
     let rows = x.n_trials * x.n_channels;
     let n = x.n_samples;
-    let a = Mat::from_fn(rows, n, |ri, m| x.data[ri * n + m]);
-    let d = wscg_math::dense::svd(a.as_ref())?;
+    let gram = wscg_math::dense::gram(
+        wscg_math::dense::from_row_major(&x.data, rows, n).as_ref(),
+        1.0,
+    );
     let j_n = cfg.n_sources;
+    let e = wscg_math::dense::eigh_largest(gram.as_ref(), j_n)?;
     let mut c = Vec::with_capacity(j_n * sp.k);
     for j in 0..j_n {
-        let v: Vec<f64> = (0..n).map(|m| d.v[(m, j)]).collect();
+        let v: Vec<f64> = (0..n).map(|m| e.vectors[(m, j)]).collect();
         c.extend(harmonics(&v, sp.k));
     }
     start_from(
@@ -890,7 +1053,7 @@ fn start_from(
         w: vec![1.0; sp.r * sp.i * cfg.n_sources],
     };
     s.update_weights(sp, &s.delayed_table(sp))?;
-    s.normalize(sp);
+    s.normalize(sp, None);
     Ok(s)
 }
 
@@ -1075,14 +1238,68 @@ mod tests {
         };
         let mut factored = shared;
         factored
-            .update_sources(&sp, &factored.phase_table(&sp))
+            .update_sources(&sp, &factored.phase_table(&sp), None)
             .unwrap();
-        rows.update_sources(&sp, &rows.phase_table(&sp)).unwrap();
+        rows.update_sources(&sp, &rows.phase_table(&sp), None)
+            .unwrap();
         for (a, b) in factored.c.iter().zip(&rows.c) {
             assert!((a - b).norm() < 1e-10 * b.norm().max(1.0), "{a} vs {b}");
         }
         // The step solved something: the sources moved from their start.
         assert!((factored.c[0] - Complex64::new(val(1000), val(2000))).norm() > 1e-3);
+    }
+
+    #[test]
+    fn weight_statistics_give_the_residual_and_follow_the_gauge() {
+        // R = 4, I = 5, N = 32, J = 3, K = 4, random sources, delays and weights.
+        let (r_n, i_n, n, j_n, k) = (4, 5, 32, 3, 4);
+        let x = TrialSet::new(r_n, i_n, n, (0..r_n * i_n * n).map(val).collect()).unwrap();
+        let sp = Spectra::new(&x, k).unwrap();
+        for mode in [DelayMode::Shared, DelayMode::Zero] {
+            let mut s = State {
+                j: j_n,
+                mode,
+                c: (0..j_n * k)
+                    .map(|t| Complex64::new(val(1000 + t), val(2000 + t)))
+                    .collect(),
+                tau: (0..i_n * j_n)
+                    .map(|t| {
+                        if mode == DelayMode::Zero {
+                            0.0
+                        } else {
+                            0.5 * val(3000 + t)
+                        }
+                    })
+                    .collect(),
+                w: (0..r_n * i_n * j_n).map(|t| val(4000 + t)).collect(),
+            };
+            // The expanded residual equals the one summed row by row.
+            let direct = s.in_band_residual(&sp);
+            let (q, ph, st) = s.assess(&sp);
+            let st = st.unwrap();
+            let from_stats = s.shared_residual(&sp, &ph, &st);
+            assert!(
+                (from_stats - direct).abs() <= 1e-12 * sp.in_band,
+                "{mode:?}"
+            );
+            assert_eq!(q, sp.quality_of(from_stats));
+            // Gauge fixing rescales the statistics with the weights.
+            let mut st = st;
+            s.normalize(&sp, Some(&mut st));
+            let fresh = s.weight_stats(&sp);
+            for (a, b) in st.gram.iter().zip(&fresh.gram) {
+                assert!(
+                    (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                    "{mode:?}: {a} vs {b}"
+                );
+            }
+            for (a, b) in st.wx.iter().zip(&fresh.wx) {
+                assert!(
+                    (a - b).norm() <= 1e-12 * b.norm().max(1.0),
+                    "{mode:?}: {a} vs {b}"
+                );
+            }
+        }
     }
 
     #[test]
@@ -1107,7 +1324,18 @@ mod tests {
             let mut weights_only = start.clone();
             weights_only.update_weights(&sp, &dt).unwrap();
             let mut fused = start.clone();
-            let reported = fused.update_weights_and_delays(&sp, &dt).unwrap().unwrap();
+            let (reported, stats) = fused.update_weights_and_delays(&sp, &dt).unwrap();
+            let reported = reported.unwrap();
+            // For shared delays the pass also returns the new weights' statistics.
+            match stats {
+                Some(st) => {
+                    assert_eq!(mode, DelayMode::Shared);
+                    let fresh = fused.weight_stats(&sp);
+                    assert_eq!(st.gram, fresh.gram);
+                    assert_eq!(st.wx, fresh.wx);
+                }
+                None => assert_eq!(mode, DelayMode::PerTrial),
+            }
             // The delays see the new weights (and leave them), and the reported residual is
             // the new state's own, recomputed from scratch.
             assert_eq!(fused.w, weights_only.w, "{mode:?}");
