@@ -14,7 +14,7 @@
 //! in `τ`. Every step can only lower the residual, so `Q` never decreases.
 
 use crate::data::TrialSet;
-use crate::fourier::{harmonics, trig_argmax, wrap_half, PeriodicSource};
+use crate::fourier::{harmonics, harmonics_of_rows, trig_argmax, wrap_half, PeriodicSource};
 use crate::linalg::{solve_complex, solve_many_in_place};
 use num_complex::Complex64;
 use rand::Rng as _;
@@ -239,8 +239,7 @@ impl Spectra {
             return Err(Error::invalid("x", "all values are zero; nothing to demix"));
         }
         let n = x.n_samples;
-        let rows: Vec<Vec<Complex64>> = x.data.par_chunks(n).map(|row| harmonics(row, k)).collect();
-        let xs: Vec<Complex64> = rows.into_iter().flatten().collect();
+        let xs = harmonics_of_rows(&x.data, n, k);
         let in_band: f64 = xs.iter().map(|c| c.norm_sqr()).sum();
         Ok(Self {
             r: x.n_trials,

@@ -12,6 +12,7 @@
 //! coefficients, which is what makes the demixing linear in the sources for fixed delays.
 
 use num_complex::Complex64;
+use rayon::prelude::*;
 use std::f64::consts::TAU;
 
 /// A real, zero-mean, 1-periodic Fourier series stored by its positive harmonics `c_1..c_K`.
@@ -99,6 +100,33 @@ pub fn harmonics(x: &[f64], k: usize) -> Vec<Complex64> {
         }
         *o = acc * inv;
     }
+    out
+}
+
+/// [`harmonics`] of every row of `data` (rows of `n` samples), `rows × K` coefficients
+/// row-major. One `N × K` table of `e^{−2πikm/N} / N` (read off the `N` roots of unity)
+/// serves all rows; a row adds `x_m` times table row `m` for all `K` harmonics at once
+/// (independent sums, no rotation chain), rows in parallel.
+pub fn harmonics_of_rows(data: &[f64], n: usize, k: usize) -> Vec<Complex64> {
+    let zero = Complex64::new(0.0, 0.0);
+    if n == 0 {
+        return Vec::new();
+    }
+    let roots: Vec<Complex64> = (0..n)
+        .map(|m| Complex64::from_polar(1.0 / n as f64, -TAU * m as f64 / n as f64))
+        .collect();
+    let table: Vec<Complex64> = (0..n)
+        .flat_map(|m| (1..=k).map(move |kk| kk * m % n))
+        .map(|j| roots[j])
+        .collect();
+    let mut out = vec![zero; data.len() / n * k];
+    out.par_chunks_mut(k.max(1))
+        .zip(data.par_chunks_exact(n))
+        .for_each(|(o, x)| {
+            for (&xv, t) in x.iter().zip(table.chunks_exact(k.max(1))) {
+                o.iter_mut().zip(t).for_each(|(v, &tw)| *v += tw * xv);
+            }
+        });
     out
 }
 
@@ -360,6 +388,33 @@ mod tests {
         }
         let rms = (x.iter().map(|v| v * v).sum::<f64>() / 50.0).sqrt();
         assert!((rms - s.rms()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn row_harmonics_equal_the_dft_of_each_row() {
+        // 7 rows of N = 37 samples, K = 5 (harmonics up to 5 wrap the root index past N).
+        let (rows, n, k) = (7, 37, 5);
+        let data: Vec<f64> = (0..rows * n).map(|t| (t as f64 * 0.731).sin()).collect();
+        let all = harmonics_of_rows(&data, n, k);
+        assert_eq!(all.len(), rows * k);
+        for (x, got) in data.chunks_exact(n).zip(all.chunks_exact(k)) {
+            for (kk, g) in got.iter().enumerate() {
+                // The direct sum, term by term.
+                let want: Complex64 = x
+                    .iter()
+                    .enumerate()
+                    .map(|(m, &v)| {
+                        v * Complex64::from_polar(1.0, -TAU * ((kk + 1) * m) as f64 / n as f64)
+                    })
+                    .sum::<Complex64>()
+                    / n as f64;
+                assert!(
+                    (g - want).norm() < 1e-14,
+                    "harmonic {}: {g} vs {want}",
+                    kk + 1
+                );
+            }
+        }
     }
 
     #[test]
