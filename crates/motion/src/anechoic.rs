@@ -287,6 +287,37 @@ fn accumulate_stats(w: &[f64], x: &[Complex64], g: &mut [f64], acc: &mut [Comple
     }
 }
 
+/// A channel's share of the squared in-band residual beyond its data energy `Σ_rk |x_rik|²`,
+/// from its [`WeightStats`] (`g`: `J × J`, `wx`: `J × K`) and delayed sources `d` (`J × K`):
+/// `−2 Σ_j Re ⟨wx_j, d_j⟩ + Σ_pq g_pq Re ⟨d_p, d_q⟩`.
+fn channel_fit(g: &[f64], wx: &[Complex64], d: &[Complex64], k: usize) -> f64 {
+    let j_n = d.len() / k;
+    let mut model = 0.0;
+    for p in 0..j_n {
+        let dp = &d[p * k..(p + 1) * k];
+        model += g[p * j_n + p] * re_dot(dp, dp);
+        for q in p + 1..j_n {
+            model += 2.0 * g[p * j_n + q] * re_dot(dp, &d[q * k..(q + 1) * k]);
+        }
+    }
+    model - 2.0 * re_dot(wx, d)
+}
+
+/// Step (c) for one source: the delay maximising `F(τ) = Re Σ_k g_k c_k e^{−2πikτ}`, where
+/// `g = Σ_r w_r conj(E_r)` collects the residuals `E_r` with the source added back (so the
+/// least-squares optimum over `τ`), kept only when it beats `F` at the current delay `old`,
+/// whose delayed source is `p_old`. `g` is overwritten.
+fn best_delay(g: &mut [Complex64], c: &[Complex64], p_old: &[Complex64], old: f64) -> f64 {
+    let f_old: f64 = g.iter().zip(p_old).map(|(a, b)| (a * b).re).sum();
+    g.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+    let (cand, f_new) = trig_argmax(g);
+    if f_new > f_old + 1e-15 * f_old.abs().max(1.0) {
+        wrap_half(cand)
+    } else {
+        old
+    }
+}
+
 /// Per-channel statistics of the weights, for delays that do not depend on the trial: the
 /// weight Gram matrices `Σ_r w_rip w_riq` (`I × J × J`) and the weighted data
 /// `Σ_r w_rij x_rik` (`I × J × K`). With them the source step and the quality of a state
@@ -431,8 +462,7 @@ impl State {
     fn shared_residual(&self, sp: &Spectra, ph: &[Complex64], st: &WeightStats) -> f64 {
         let (j_n, k) = (self.j, sp.k);
         let mut d = vec![Complex64::new(0.0, 0.0); j_n * k];
-        let mut cross = 0.0;
-        let mut model = 0.0;
+        let mut fit = 0.0;
         for ((p_i, g), wx) in ph
             .chunks_exact(j_n * k)
             .zip(st.gram.chunks_exact(j_n * j_n))
@@ -442,16 +472,9 @@ impl State {
             d.iter_mut()
                 .zip(self.c.iter())
                 .for_each(|(v, &cv)| *v *= cv);
-            cross += re_dot(wx, &d);
-            for p in 0..j_n {
-                let dp = &d[p * k..(p + 1) * k];
-                model += g[p * j_n + p] * re_dot(dp, dp);
-                for q in p + 1..j_n {
-                    model += 2.0 * g[p * j_n + q] * re_dot(dp, &d[q * k..(q + 1) * k]);
-                }
-            }
+            fit += channel_fit(g, wx, &d, k);
         }
-        (sp.in_band - 2.0 * cross + model).max(0.0)
+        (sp.in_band + fit).max(0.0)
     }
 
     /// Step (a): for each harmonic, the complex `J × J` normal equations over all rows.
@@ -639,15 +662,17 @@ impl State {
             .zip(stats.wx.par_chunks_mut(j_n * k))
             .enumerate()
             .try_for_each_init(
-                || (vec![0.0; j_n * j_n], vec![zero; (r_n + 2) * k]),
+                || (vec![0.0; j_n * j_n], vec![zero; (r_n.max(j_n) + 2) * k]),
                 |(g, scratch), (i, ((((w, taus), residual), gram), wx))| {
                     self.channel_weights(sp, dt, i, w, g)?;
-                    *residual = self.channel_delays(sp, dt, i, w, taus, scratch);
-                    if shared {
+                    *residual = if shared {
                         for (r, wr) in w.chunks_exact(j_n).enumerate() {
                             accumulate_stats(wr, sp.row(r, i), gram, wx);
                         }
-                    }
+                        self.channel_delays_shared(sp, dt, i, (gram, wx), taus, scratch)
+                    } else {
+                        self.channel_delays(sp, dt, i, w, taus, scratch)
+                    };
                     Ok::<_, Error>(())
                 },
             )?;
@@ -657,7 +682,13 @@ impl State {
                 self.tau[(rd * i_n + i) * j_n..][..j_n].copy_from_slice(t);
             }
         }
-        Ok((Some(residuals.iter().sum()), shared.then_some(stats)))
+        let residual = if shared {
+            // Each channel reported its fit term: add the data energy.
+            (sp.in_band + residuals.iter().sum::<f64>()).max(0.0)
+        } else {
+            residuals.iter().sum()
+        };
+        Ok((Some(residual), shared.then_some(stats)))
     }
 
     /// Writes per-channel weights (`I × R × J`) into the state's `R × I × J` layout.
@@ -757,16 +788,7 @@ impl State {
                         *gv += ev.conj() * wj;
                     }
                 }
-                // The gain at the current delay, F(τ_old) = Re Σ_k g_k p_k, before g becomes
-                // the polynomial's coefficients g_k c_k.
-                let f_old: f64 = g.iter().zip(p_old).map(|(a, b)| (a * b).re).sum();
-                g.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
-                let (cand, f_new) = trig_argmax(g);
-                let tau = if f_new > f_old + 1e-15 * f_old.abs().max(1.0) {
-                    wrap_half(cand)
-                } else {
-                    old
-                };
+                let tau = best_delay(g, c, p_old, old);
                 taus[slot] = tau;
                 if tau == old {
                     p.copy_from_slice(p_old);
@@ -784,6 +806,46 @@ impl State {
             }
         }
         res.iter().map(|v| v.norm_sqr()).sum::<f64>()
+    }
+
+    /// [`State::channel_delays`] for delays shared over trials, from the channel's
+    /// [`WeightStats`] (`gram`, `wx`) instead of its rows: with source `j` added back,
+    /// `Σ_r w_rj E_r = wx_j − Σ_{q≠j} gram_jq d_q`. Writes the channel's `J` delays into `taus`
+    /// and returns its [`channel_fit`] after the step. `scratch` holds `(J + 1) K` values.
+    fn channel_delays_shared(
+        &self,
+        sp: &Spectra,
+        dt: &[Complex64],
+        i: usize,
+        (gram, wx): (&[f64], &[Complex64]),
+        taus: &mut [f64],
+        scratch: &mut [Complex64],
+    ) -> f64 {
+        let (j_n, k) = (self.j, sp.k);
+        let (d, rest) = scratch.split_at_mut(j_n * k);
+        let g = &mut rest[..k];
+        d.copy_from_slice(&dt[i * j_n * k..(i + 1) * j_n * k]);
+        taus.copy_from_slice(&self.tau[i * j_n..(i + 1) * j_n]);
+        for j in 0..j_n {
+            g.copy_from_slice(&wx[j * k..(j + 1) * k]);
+            for q in (0..j_n).filter(|&q| q != j) {
+                let gjq = gram[j * j_n + q];
+                for (gv, &dv) in g.iter_mut().zip(&d[q * k..(q + 1) * k]) {
+                    *gv -= dv * gjq;
+                }
+            }
+            g.iter_mut().for_each(|v| *v = v.conj());
+            let c = &self.c[j * k..(j + 1) * k];
+            let dj = &mut d[j * k..(j + 1) * k];
+            let old = taus[j];
+            let tau = best_delay(g, c, dj, old);
+            if tau != old {
+                taus[j] = tau;
+                State::phasors(tau, k, dj);
+                dj.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+            }
+        }
+        channel_fit(gram, wx, d, k)
     }
 
     /// Gauge fixing (the model is unchanged): unit-RMS sources, positive weight sums, and each
@@ -1299,6 +1361,57 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn shared_delay_step_from_statistics_equals_the_row_step() {
+        // R = 4, I = 5, N = 32, J = 3, K = 4, random sources, delays and weights.
+        let (r_n, i_n, n, j_n, k) = (4, 5, 32, 3, 4);
+        let x = TrialSet::new(r_n, i_n, n, (0..r_n * i_n * n).map(val).collect()).unwrap();
+        let sp = Spectra::new(&x, k).unwrap();
+        let s = State {
+            j: j_n,
+            mode: DelayMode::Shared,
+            c: (0..j_n * k)
+                .map(|t| Complex64::new(val(1000 + t), val(2000 + t)))
+                .collect(),
+            tau: (0..i_n * j_n).map(|t| 0.5 * val(3000 + t)).collect(),
+            w: (0..r_n * i_n * j_n).map(|t| val(4000 + t)).collect(),
+        };
+        let dt = s.delayed_table(&sp);
+        let zero = Complex64::new(0.0, 0.0);
+        let mut moved = 0;
+        for i in 0..i_n {
+            let w: Vec<f64> = (0..r_n)
+                .flat_map(|r| s.w[(r * i_n + i) * j_n..][..j_n].to_vec())
+                .collect();
+            let (mut gram, mut wx) = (vec![0.0; j_n * j_n], vec![zero; j_n * k]);
+            for (r, wr) in w.chunks_exact(j_n).enumerate() {
+                accumulate_stats(wr, sp.row(r, i), &mut gram, &mut wx);
+            }
+            let mut scratch = vec![zero; (r_n + 2) * k];
+            let (mut by_rows, mut by_stats) = (vec![0.0; j_n], vec![0.0; j_n]);
+            let residual = s.channel_delays(&sp, &dt, i, &w, &mut by_rows, &mut scratch);
+            let fit =
+                s.channel_delays_shared(&sp, &dt, i, (&gram, &wx), &mut by_stats, &mut scratch);
+            for (a, b) in by_rows.iter().zip(&by_stats) {
+                assert!((a - b).abs() < 1e-9, "channel {i}: {a} vs {b}");
+            }
+            moved += by_rows
+                .iter()
+                .zip(&s.tau[i * j_n..(i + 1) * j_n])
+                .filter(|(a, b)| a != b)
+                .count();
+            let energy: f64 = (0..r_n)
+                .flat_map(|r| sp.row(r, i).iter().map(|v| v.norm_sqr()))
+                .sum();
+            assert!(
+                (energy + fit - residual).abs() < 1e-10 * energy,
+                "channel {i}: {} vs {residual}",
+                energy + fit
+            );
+        }
+        assert!(moved > 0, "no delay moved: the comparison proved nothing");
     }
 
     #[test]
