@@ -1276,21 +1276,39 @@ mod tests {
         (n as f64 * 12.9898 + 0.5).sin()
     }
 
-    #[test]
-    fn factored_source_step_equals_the_row_sums() {
-        // R = 4 trials, I = 5 channels, N = 32, J = 2 sources, K = 3 harmonics.
-        let (r_n, i_n, n, j_n, k) = (4, 5, 32, 2, 3);
+    /// Pseudo-random data of `R × I × N` samples and a state of `J` pseudo-random sources of `K`
+    /// harmonics, delays (zero in [`DelayMode::Zero`]) and weights.
+    fn random_problem(
+        (r_n, i_n, n, j_n, k): (usize, usize, usize, usize, usize),
+        mode: DelayMode,
+    ) -> (Spectra, State) {
         let x = TrialSet::new(r_n, i_n, n, (0..r_n * i_n * n).map(val).collect()).unwrap();
-        let sp = Spectra::new(&x, k).unwrap();
-        let shared = State {
+        let rows = n_delay_rows(mode, r_n);
+        let state = State {
             j: j_n,
-            mode: DelayMode::Shared,
+            mode,
             c: (0..j_n * k)
                 .map(|t| Complex64::new(val(1000 + t), val(2000 + t)))
                 .collect(),
-            tau: (0..i_n * j_n).map(|t| 0.5 * val(3000 + t)).collect(),
+            tau: (0..rows * i_n * j_n)
+                .map(|t| {
+                    if mode == DelayMode::Zero {
+                        0.0
+                    } else {
+                        0.5 * val(3000 + t)
+                    }
+                })
+                .collect(),
             w: (0..r_n * i_n * j_n).map(|t| val(4000 + t)).collect(),
         };
+        (Spectra::new(&x, k).unwrap(), state)
+    }
+
+    #[test]
+    fn factored_source_step_equals_the_row_sums() {
+        // R = 4 trials, I = 5 channels, N = 32, J = 2 sources, K = 3 harmonics.
+        let r_n = 4;
+        let (sp, shared) = random_problem((r_n, 5, 32, 2, 3), DelayMode::Shared);
         // The same delays repeated for every trial take the per-row path.
         let mut rows = State {
             mode: DelayMode::PerTrial,
@@ -1312,28 +1330,9 @@ mod tests {
 
     #[test]
     fn weight_statistics_give_the_residual_and_follow_the_gauge() {
-        // R = 4, I = 5, N = 32, J = 3, K = 4, random sources, delays and weights.
-        let (r_n, i_n, n, j_n, k) = (4, 5, 32, 3, 4);
-        let x = TrialSet::new(r_n, i_n, n, (0..r_n * i_n * n).map(val).collect()).unwrap();
-        let sp = Spectra::new(&x, k).unwrap();
         for mode in [DelayMode::Shared, DelayMode::Zero] {
-            let mut s = State {
-                j: j_n,
-                mode,
-                c: (0..j_n * k)
-                    .map(|t| Complex64::new(val(1000 + t), val(2000 + t)))
-                    .collect(),
-                tau: (0..i_n * j_n)
-                    .map(|t| {
-                        if mode == DelayMode::Zero {
-                            0.0
-                        } else {
-                            0.5 * val(3000 + t)
-                        }
-                    })
-                    .collect(),
-                w: (0..r_n * i_n * j_n).map(|t| val(4000 + t)).collect(),
-            };
+            // R = 4, I = 5, N = 32, J = 3, K = 4.
+            let (sp, mut s) = random_problem((4, 5, 32, 3, 4), mode);
             // The expanded residual equals the one summed row by row.
             let direct = s.in_band_residual(&sp);
             let (q, ph, st) = s.assess(&sp);
@@ -1365,19 +1364,8 @@ mod tests {
 
     #[test]
     fn shared_delay_step_from_statistics_equals_the_row_step() {
-        // R = 4, I = 5, N = 32, J = 3, K = 4, random sources, delays and weights.
-        let (r_n, i_n, n, j_n, k) = (4, 5, 32, 3, 4);
-        let x = TrialSet::new(r_n, i_n, n, (0..r_n * i_n * n).map(val).collect()).unwrap();
-        let sp = Spectra::new(&x, k).unwrap();
-        let s = State {
-            j: j_n,
-            mode: DelayMode::Shared,
-            c: (0..j_n * k)
-                .map(|t| Complex64::new(val(1000 + t), val(2000 + t)))
-                .collect(),
-            tau: (0..i_n * j_n).map(|t| 0.5 * val(3000 + t)).collect(),
-            w: (0..r_n * i_n * j_n).map(|t| val(4000 + t)).collect(),
-        };
+        let (r_n, i_n, j_n, k) = (4, 5, 3, 4);
+        let (sp, s) = random_problem((r_n, i_n, 32, j_n, k), DelayMode::Shared);
         let dt = s.delayed_table(&sp);
         let zero = Complex64::new(0.0, 0.0);
         let mut moved = 0;
@@ -1416,21 +1404,9 @@ mod tests {
 
     #[test]
     fn fused_weight_and_delay_pass_reports_the_residual_it_leaves() {
-        // R = 4, I = 5, N = 32, J = 2, K = 3, random sources, delays and weights.
-        let (r_n, i_n, n, j_n, k) = (4, 5, 32, 2, 3);
-        let x = TrialSet::new(r_n, i_n, n, (0..r_n * i_n * n).map(val).collect()).unwrap();
-        let sp = Spectra::new(&x, k).unwrap();
-        let c: Vec<Complex64> = (0..j_n * k)
-            .map(|t| Complex64::new(val(1000 + t), val(2000 + t)))
-            .collect();
-        for (mode, rows) in [(DelayMode::Shared, 1), (DelayMode::PerTrial, r_n)] {
-            let start = State {
-                j: j_n,
-                mode,
-                c: c.clone(),
-                tau: (0..rows * i_n * j_n).map(|t| 0.5 * val(3000 + t)).collect(),
-                w: (0..r_n * i_n * j_n).map(|t| val(4000 + t)).collect(),
-            };
+        for mode in [DelayMode::Shared, DelayMode::PerTrial] {
+            // R = 4, I = 5, N = 32, J = 2, K = 3.
+            let (sp, start) = random_problem((4, 5, 32, 2, 3), mode);
             let dt = start.delayed_table(&sp);
             // The weight step alone, then the fused pass from the same state.
             let mut weights_only = start.clone();
