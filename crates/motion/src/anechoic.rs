@@ -12,6 +12,11 @@
 //! weights and delays, and linear in the weights for fixed sources and delays; delays are
 //! updated one at a time by maximising the exact least-squares gain, a trigonometric polynomial
 //! in `τ`. Every step can only lower the residual, so `Q` never decreases.
+//!
+//! When the delays do not depend on the trial, the trials enter every step only through two
+//! per-channel sums, `Σ_r w_rip w_riq` and `Σ_r w_rij x_ri` ([`WeightStats`]): the source step,
+//! the delay step and the residual are then independent of the number of trials once these
+//! are formed (once per sweep, in the weight step's pass).
 
 use crate::data::TrialSet;
 use crate::fourier::{harmonics, harmonics_of_rows, trig_argmax, wrap_half, PeriodicSource};
