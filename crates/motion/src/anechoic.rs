@@ -14,7 +14,7 @@
 //! in `τ`. Every step can only lower the residual, so `Q` never decreases.
 //!
 //! When the delays do not depend on the trial, the trials enter every step only through two
-//! per-channel sums, `Σ_r w_rip w_riq` and `Σ_r w_rij x_ri` ([`WeightStats`]): the source step,
+//! per-channel sums, `Σ_r w_rip w_riq` and `Σ_r w_rij x_ri` (`WeightStats`): the source step,
 //! the delay step and the residual are then independent of the number of trials once these
 //! are formed (once per sweep, in the weight step's pass).
 
