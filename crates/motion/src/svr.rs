@@ -328,7 +328,7 @@ fn exp_nonpositive(x: f64) -> f64 {
 }
 
 /// The kernel expansion `f(x) = Σ_i coef_i exp(−γ ‖x_i − x‖²) − ρ` of a trained [`Svr`], stored
-/// coordinate by coordinate in groups of [`LANES`] so that the sum runs in SIMD lanes (with AVX2
+/// coordinate by coordinate in groups of `LANES` (8) so that the sum runs in SIMD lanes (with AVX2
 /// when the CPU has it, detected at run time). The synthesizer evaluates its SVR state maps
 /// through this: about 100 support vectors for each of the 255 channel-source pairs of a
 /// frame. Equal to [`Svr::predict`] to rounding (unit test).
