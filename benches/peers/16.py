@@ -17,6 +17,12 @@ scikit-learn and a numpy reference, on the seeded synthetic walker (spec section
 3. PCA quality ``Q_PCA(J)`` against ``sklearn.decomposition.PCA`` (and ``FastICA`` as an
    extra baseline of Q at J = 3) on the same data.
 
+OpenBLAS gets one thread (``OPENBLAS_NUM_THREADS=1`` unless set): at these sizes (J x J
+solves, a 510 x 100 SVD) its worker threads do not make numpy faster (the ALS reference took
+251-258 ms with one thread and 291-310 ms with two on the 2-core VM), and after each call
+they spin on the cores our pool runs on (our fit took 15.4-15.8 ms after the numpy runs,
+11.3-12.5 ms with one BLAS thread).
+
 Environment: WSCG_REPEAT (timing repeats, default 5).
 """
 
@@ -25,11 +31,13 @@ import sys
 import time
 import warnings
 
-import numpy as np
-from sklearn.decomposition import PCA, FastICA
-from sklearn.svm import SVR
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # before numpy loads OpenBLAS
 
-from wscg import motion as M
+import numpy as np  # noqa: E402
+from sklearn.decomposition import PCA, FastICA  # noqa: E402
+from sklearn.svm import SVR  # noqa: E402
+
+from wscg import motion as M  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
 from _common import best_time, print_table  # noqa: E402
