@@ -19,7 +19,7 @@
 //! are formed (once per sweep, in the weight step's pass).
 
 use crate::data::TrialSet;
-use crate::fourier::{harmonics, harmonics_of_rows, trig_argmax, wrap_half, PeriodicSource};
+use crate::fourier::{harmonics_of_rows, trig_argmax, wrap_half, PeriodicSource};
 use crate::linalg::{solve_complex, solve_many_in_place};
 use num_complex::Complex64;
 use rand::Rng as _;
@@ -364,6 +364,12 @@ impl State {
         }
     }
 
+    /// The delayed source `e^{−2πikτ} c_k` (`k = 1..=K`, `K = c.len()`) into `out`.
+    fn delayed_source(tau: f64, c: &[Complex64], out: &mut [Complex64]) {
+        Self::phasors(tau, c.len(), out);
+        out.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+    }
+
     /// `Rd × I × J × K` table of delay phasors.
     fn phase_table(&self, sp: &Spectra) -> Vec<Complex64> {
         let k = sp.k;
@@ -428,10 +434,6 @@ impl State {
             .sum()
     }
 
-    fn quality(&self, sp: &Spectra) -> f64 {
-        self.assess(sp).0
-    }
-
     /// `Q` of this state, with what a source step from it can reuse: its
     /// [`State::phase_table`] and, for delays shared over trials, its [`WeightStats`].
     fn assess(&self, sp: &Spectra) -> (f64, Vec<Complex64>, Option<WeightStats>) {
@@ -440,7 +442,7 @@ impl State {
             return (sp.quality_of(self.in_band_residual(sp)), ph, None);
         }
         let st = self.weight_stats(sp);
-        let e = self.shared_residual(sp, &ph, &st);
+        let e = self.shared_residual(sp, &self.delay_sources(ph.clone(), sp.k), &st);
         (sp.quality_of(e), ph, Some(st))
     }
 
@@ -461,24 +463,17 @@ impl State {
         WeightStats { gram, wx }
     }
 
-    /// The squared in-band residual from the [`WeightStats`] `st` (delays shared over trials),
-    /// with `d_ij = e^{−2πikτ_ij} c_j` from the phase table `ph`:
+    /// The squared in-band residual from the [`WeightStats`] `st` (delays shared over trials)
+    /// and the [`State::delayed_table`] `dt` (`d_ij = e^{−2πikτ_ij} c_j`):
     /// `Σ_rik |x_rik|² − 2 Σ_ij Re ⟨Σ_r w_rij x_ri, d_ij⟩ + Σ_i Σ_pq (Σ_r w_rip w_riq) Re ⟨d_ip, d_iq⟩`.
-    fn shared_residual(&self, sp: &Spectra, ph: &[Complex64], st: &WeightStats) -> f64 {
+    fn shared_residual(&self, sp: &Spectra, dt: &[Complex64], st: &WeightStats) -> f64 {
         let (j_n, k) = (self.j, sp.k);
-        let mut d = vec![Complex64::new(0.0, 0.0); j_n * k];
-        let mut fit = 0.0;
-        for ((p_i, g), wx) in ph
+        let fit: f64 = dt
             .chunks_exact(j_n * k)
             .zip(st.gram.chunks_exact(j_n * j_n))
             .zip(st.wx.chunks_exact(j_n * k))
-        {
-            d.copy_from_slice(p_i);
-            d.iter_mut()
-                .zip(self.c.iter())
-                .for_each(|(v, &cv)| *v *= cv);
-            fit += channel_fit(g, wx, &d, k);
-        }
+            .map(|((d, g), wx)| channel_fit(g, wx, d, k))
+            .sum();
         (sp.in_band + fit).max(0.0)
     }
 
@@ -792,8 +787,7 @@ impl State {
                 if tau == old {
                     p.copy_from_slice(p_old);
                 } else {
-                    State::phasors(tau, k, p);
-                    p.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+                    State::delayed_source(tau, c, p);
                 }
                 for r in group(gi) {
                     let wj = w[r * j_n + j];
@@ -840,8 +834,7 @@ impl State {
             let tau = best_delay(g, c, dj, old);
             if tau != old {
                 taus[j] = tau;
-                State::phasors(tau, k, dj);
-                dj.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+                State::delayed_source(tau, c, dj);
             }
         }
         channel_fit(gram, wx, d, k)
@@ -963,12 +956,18 @@ fn run(sp: &Spectra, cfg: &AnechoicConfig, mut state: State) -> Result<(State, f
         let in_band;
         (in_band, stats) = state.update_weights_and_delays(sp, &dt)?;
         state.normalize(sp, stats.as_mut());
+        // The next source step needs the phase table and statistics of the state it starts
+        // from: the zero-delay weight step leaves them to `assess`, an accepted extrapolation
+        // brings its own.
+        let mut next_ph = None;
         let mut qn = match in_band {
             Some(e) => sp.quality_of(e),
-            None => state.quality(sp),
+            None => {
+                let (q0, ph0, st0) = state.assess(sp);
+                (next_ph, stats) = (Some(ph0), st0);
+                q0
+            }
         };
-        // An accepted extrapolation brings its own phase table and statistics.
-        let mut next_ph = None;
         if it >= 1 {
             let cand = state.extrapolate(&before, ((it + 1) as f64).cbrt());
             let (qc, ph_c, stats_c) = cand.assess(sp);
@@ -1008,11 +1007,11 @@ fn pca_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<State> 
     );
     let j_n = cfg.n_sources;
     let e = wscg_math::dense::eigh_largest(gram.as_ref(), j_n)?;
-    let mut c = Vec::with_capacity(j_n * sp.k);
-    for j in 0..j_n {
-        let v: Vec<f64> = (0..n).map(|m| e.vectors[(m, j)]).collect();
-        c.extend(harmonics(&v, sp.k));
-    }
+    let v: Vec<f64> = (0..j_n)
+        .flat_map(|j| (0..n).map(move |m| (m, j)))
+        .map(|(m, j)| e.vectors[(m, j)])
+        .collect();
+    let c = harmonics_of_rows(&v, n, sp.k);
     start_from(
         sp,
         cfg,
@@ -1336,7 +1335,9 @@ mod tests {
             let direct = s.in_band_residual(&sp);
             let (q, ph, st) = s.assess(&sp);
             let st = st.unwrap();
-            let from_stats = s.shared_residual(&sp, &ph, &st);
+            // What the next source step reuses is this state's phase table.
+            assert_eq!(ph, s.phase_table(&sp), "{mode:?}");
+            let from_stats = s.shared_residual(&sp, &s.delayed_table(&sp), &st);
             assert!(
                 (from_stats - direct).abs() <= 1e-12 * sp.in_band,
                 "{mode:?}"

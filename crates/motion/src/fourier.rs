@@ -82,25 +82,13 @@ impl PeriodicSource {
     }
 }
 
-/// Normalised DFT coefficients `X_k = (1/N) Σ_n x_n e^{−2πikn/N}` for `k = 1..=K`.
+/// Normalised DFT coefficients `X_k = (1/N) Σ_n x_n e^{−2πikn/N}` for `k = 1..=K` (zeros for
+/// no samples); [`harmonics_of_rows`] of one row.
 pub fn harmonics(x: &[f64], k: usize) -> Vec<Complex64> {
-    let n = x.len();
-    let mut out = vec![Complex64::new(0.0, 0.0); k];
-    if n == 0 {
-        return out;
+    if x.is_empty() {
+        return vec![Complex64::new(0.0, 0.0); k];
     }
-    let inv = 1.0 / n as f64;
-    for (kk, o) in out.iter_mut().enumerate() {
-        let w = Complex64::from_polar(1.0, -TAU * (kk + 1) as f64 / n as f64);
-        let mut p = Complex64::new(1.0, 0.0);
-        let mut acc = Complex64::new(0.0, 0.0);
-        for &v in x {
-            acc += p * v;
-            p *= w;
-        }
-        *o = acc * inv;
-    }
-    out
+    harmonics_of_rows(x, x.len(), k)
 }
 
 /// [`harmonics`] of every row of `data` (rows of `n` samples), `rows × K` coefficients
