@@ -73,6 +73,10 @@ fn rays_in(
     Ok(o.into_iter().zip(d).map(|(o, d)| Ray::new(o, d)).collect())
 }
 
+/// One ray's answer in `intersect`: the hit (ray parameter and kind) and, when shading, its
+/// normal and colour (zeros otherwise).
+type HitRow = (Option<(f32, HitKind)>, [f32; 6]);
+
 fn vec3(name: &str, v: Vec<f32>) -> PyResult<[f32; 3]> {
     <[f32; 3]>::try_from(v)
         .map_err(|v| value_error(format!("`{name}` must have 3 entries, got {}", v.len())))
@@ -134,8 +138,8 @@ impl PyOctree {
         Ok(d)
     }
 
-    /// Nearest hits of `N` rays.
-    #[pyo3(signature = (origins, dirs, mode, footprint_spread, lod_scale, blend, small_leaves_as_voxels, level))]
+    /// Nearest hits of `N` rays; without `shading`, no normals or colours.
+    #[pyo3(signature = (origins, dirs, mode, footprint_spread, lod_scale, blend, small_leaves_as_voxels, level, shading))]
     #[allow(clippy::too_many_arguments)]
     fn intersect<'py>(
         &self,
@@ -148,6 +152,7 @@ impl PyOctree {
         blend: bool,
         small_leaves_as_voxels: bool,
         level: Option<u8>,
+        shading: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let mode = mode_from(mode, lod_scale, blend, small_leaves_as_voxels, level)?;
         if !(footprint_spread.is_finite() && footprint_spread >= 0.0) {
@@ -161,49 +166,50 @@ impl PyOctree {
             spread: footprint_spread,
         });
         let oct = &self.inner;
-        let hits: Vec<_> = py.detach(|| {
+        // Shading: the full hits; otherwise `cast`, which skips the normal and colour reads.
+        let hits: Vec<HitRow> = py.detach(|| {
             rays.par_iter()
-                .map(|r| oct.intersect(r, &mode, fp))
+                .map(|r| {
+                    if shading {
+                        oct.intersect(r, &mode, fp).map_or((None, [0.0; 6]), |h| {
+                            let [a, b, c] = h.normal;
+                            let [d, e, f] = h.color;
+                            (Some((h.t, h.kind)), [a, b, c, d, e, f])
+                        })
+                    } else {
+                        (oct.cast(r, &mode, fp), [0.0; 6])
+                    }
+                })
                 .collect()
         });
         let n = hits.len();
         let mut t = Vec::with_capacity(n);
         let mut prim = Vec::with_capacity(n);
         let mut lvl = Vec::with_capacity(n);
-        let mut normal = Vec::with_capacity(3 * n);
-        let mut color = Vec::with_capacity(3 * n);
-        for h in &hits {
-            match h {
-                Some(h) => {
-                    t.push(h.t);
-                    match h.kind {
-                        HitKind::Triangle { prim: p, .. } => {
-                            prim.push(i64::from(p));
-                            lvl.push(-1i8);
-                        }
-                        HitKind::Voxel { level, .. } => {
-                            prim.push(-1);
-                            lvl.push(level as i8);
-                        }
-                    }
-                    normal.extend_from_slice(&h.normal);
-                    color.extend_from_slice(&h.color);
-                }
-                None => {
-                    t.push(f32::INFINITY);
-                    prim.push(-1);
-                    lvl.push(-1);
-                    normal.extend_from_slice(&[0.0; 3]);
-                    color.extend_from_slice(&[0.0; 3]);
-                }
+        let mut normal = Vec::with_capacity(if shading { 3 * n } else { 0 });
+        let mut color = Vec::with_capacity(if shading { 3 * n } else { 0 });
+        for (h, nc) in &hits {
+            let (ti, p, l) = match *h {
+                Some((ti, HitKind::Triangle { prim: p, .. })) => (ti, i64::from(p), -1i8),
+                Some((ti, HitKind::Voxel { level, .. })) => (ti, -1, level as i8),
+                None => (f32::INFINITY, -1, -1),
+            };
+            t.push(ti);
+            prim.push(p);
+            lvl.push(l);
+            if shading {
+                normal.extend_from_slice(&nc[..3]);
+                color.extend_from_slice(&nc[3..]);
             }
         }
         let d = PyDict::new(py);
         d.set_item("t", array(py, &[n], t)?)?;
         d.set_item("prim", array(py, &[n], prim)?)?;
         d.set_item("level", array(py, &[n], lvl)?)?;
-        d.set_item("normal", array(py, &[n, 3], normal)?)?;
-        d.set_item("color", array(py, &[n, 3], color)?)?;
+        if shading {
+            d.set_item("normal", array(py, &[n, 3], normal)?)?;
+            d.set_item("color", array(py, &[n, 3], color)?)?;
+        }
         Ok(d)
     }
 

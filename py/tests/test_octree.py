@@ -61,6 +61,22 @@ def test_triangle_mode_matches_numpy_brute_force_and_the_bvh():
     assert (p_bvh[untied] == p_ref[untied]).mean() >= 0.9999
 
 
+def test_intersect_without_shading_returns_the_same_hits():
+    v, f, c = octree.scene("blob", 2)
+    tree = octree.build(v, f, c, depth=8)
+    o, d = _random_rays(v.min(0), v.max(0), 4000, 2)
+    for mode, spread in [("triangles", 0.0), ("hybrid", 0.01), ("voxels", 0.0)]:
+        full = tree.intersect(o, d, mode=mode, footprint_spread=spread)
+        bare = tree.intersect(o, d, mode=mode, footprint_spread=spread, shading=False)
+        assert set(bare) == {"t", "prim", "level"}
+        assert np.isfinite(full["t"]).mean() > 0.5
+        for k in bare:
+            np.testing.assert_array_equal(bare[k], full[k])
+        if mode == "hybrid":
+            # At this spread it stops at voxels for some rays and at triangles for others.
+            assert (full["level"] >= 0).any() and (full["prim"] >= 0).any()
+
+
 def _sat_overlap(tri, centres, h):
     """Separating-axis test of one triangle against many cubes (NumPy)."""
     v = tri[None, :, :] - centres[:, None, :]

@@ -172,6 +172,13 @@ struct TriHit {
     v: f32,
 }
 
+/// Where a walk ended: a triangle, or a voxel stop (its stack entry and cell size).
+#[derive(Clone, Copy)]
+enum Found {
+    Tri(TriHit),
+    Voxel(Entry, f32),
+}
+
 /// One entry of the traversal stack.
 #[derive(Clone, Copy)]
 struct Entry {
@@ -228,6 +235,23 @@ impl Mailbox {
     }
 }
 
+/// The footprint of `ray` as `(width0, spread * |dir|)`, the form the walk uses.
+fn scaled_footprint(ray: &Ray, footprint: Option<Footprint>) -> Option<(f32, f32)> {
+    footprint.map(|f| (f.width0, f.spread * dot(ray.dir, ray.dir).sqrt()))
+}
+
+/// Weight of a voxel stop's colour against its parent's in the hybrid mode with blending
+/// (§4: `i = (2 v_w - f) / v_w` clamped to `[0, 1]`, `f` the footprint at the cell entry); 1
+/// in the other modes and at the root, which has no parent.
+fn voxel_blend(e: &Entry, vw: f32, mode: &TraceMode, fp: Option<(f32, f32)>) -> f32 {
+    match (mode, fp) {
+        (TraceMode::Hybrid { blend: true, .. }, Some((w0, s))) if e.parent != u32::MAX => {
+            ((2.0 * vw - (w0 + s * e.t0)) / vw).clamp(0.0, 1.0)
+        }
+        _ => 1.0,
+    }
+}
+
 /// Deepest stack: at most three siblings wait per level plus the four children of the last.
 const STACK: usize = 3 * 21 + 8;
 
@@ -253,24 +277,62 @@ impl HybridOctree {
         mode: &TraceMode,
         footprint: Option<Footprint>,
     ) -> Option<Hit> {
-        self.trace::<false>(ray, mode, footprint)
+        let fp = scaled_footprint(ray, footprint);
+        self.trace::<false>(ray, mode, fp).map(|f| match f {
+            Found::Tri(b) => self.tri_hit(b),
+            Found::Voxel(e, vw) => self.voxel_hit(e, vw, mode, fp),
+        })
+    }
+
+    /// The nearest hit along `ray` as [`Self::intersect`] finds it, without the shading
+    /// lookups: its ray parameter and what was hit (triangle and barycentrics, or voxel and
+    /// blend weight), but no normal or colour. This is the query of depth maps, picking and
+    /// distance probes; it skips the reads of the triangle's vertex indices, vertex colours and
+    /// voxel attributes that [`Self::intersect`] makes for every hit.
+    pub fn cast(
+        &self,
+        ray: &Ray,
+        mode: &TraceMode,
+        footprint: Option<Footprint>,
+    ) -> Option<(f32, HitKind)> {
+        let fp = scaled_footprint(ray, footprint);
+        self.trace::<false>(ray, mode, fp).map(|f| match f {
+            Found::Tri(b) => (
+                b.t,
+                HitKind::Triangle {
+                    prim: b.prim,
+                    u: b.u,
+                    v: b.v,
+                },
+            ),
+            Found::Voxel(e, vw) => (
+                e.t0,
+                HitKind::Voxel {
+                    level: e.level,
+                    node: e.node,
+                    blend: voxel_blend(&e, vw, mode, fp),
+                },
+            ),
+        })
     }
 
     /// Whether anything blocks `ray` within its range (shadow and ambient-occlusion rays):
     /// `intersect(..).is_some()`, but the walk ends at the first hit in the range rather than
     /// the closest.
     pub fn occluded(&self, ray: &Ray, mode: &TraceMode, footprint: Option<Footprint>) -> bool {
-        self.trace::<true>(ray, mode, footprint).is_some()
+        self.trace::<true>(ray, mode, scaled_footprint(ray, footprint))
+            .is_some()
     }
 
-    /// The walk behind [`Self::intersect`] (`ANY = false`: the closest hit) and
-    /// [`Self::occluded`] (`ANY = true`: any hit in the ray's range).
+    /// The walk behind [`Self::intersect`] and [`Self::cast`] (`ANY = false`: the closest
+    /// hit) and [`Self::occluded`] (`ANY = true`: any hit in the ray's range); `fp` is the
+    /// footprint as `(width0, spread * |dir|)`.
     fn trace<const ANY: bool>(
         &self,
         ray: &Ray,
         mode: &TraceMode,
-        footprint: Option<Footprint>,
-    ) -> Option<Hit> {
+        fp: Option<(f32, f32)>,
+    ) -> Option<Found> {
         let o = ray.origin;
         let d = ray.dir;
         let dd = dot(d, d);
@@ -318,7 +380,6 @@ impl HybridOctree {
         // Tolerance for accepting a triangle hit in a leaf (rounding of the cell bounds).
         let eps = 4e-6 * size / dn;
         let (t_lo, t_hi) = (ray.t_min.max(0.0), ray.t_max);
-        let fp = footprint.map(|f| (f.width0, f.spread * dn));
         // Triangles already intersected along this ray (a triangle spans several leaves).
         let mut mailbox = Mailbox::default();
         // The node slice, taken once rather than through `NodeArray`'s deref at every read.
@@ -377,7 +438,7 @@ impl HybridOctree {
                 },
             };
             if stop {
-                return Some(self.voxel_hit(e, vw, mode, fp));
+                return Some(Found::Voxel(e, vw));
             }
             if leaf {
                 self.leaf_test(
@@ -444,9 +505,19 @@ impl HybridOctree {
                 if cn.is_empty() {
                     continue;
                 }
+                let code = cn.index();
                 if !cn.is_leaf() {
                     // The grandchildren are read when the child is popped: fetch them now.
-                    prefetch(nodes.as_ptr().wrapping_add(cn.index() as usize));
+                    prefetch(nodes.as_ptr().wrapping_add(code as usize));
+                } else if code < self.n_tris {
+                    // So is a single-triangle leaf's triangle, or the words of a pair or list.
+                    prefetch(self.tris().as_ptr().wrapping_add(code as usize));
+                } else {
+                    prefetch(
+                        self.tri_index
+                            .as_ptr()
+                            .wrapping_add((code - self.n_tris) as usize),
+                    );
                 }
                 let entry = Entry {
                     node: child,
@@ -466,7 +537,7 @@ impl HybridOctree {
                 }
             }
         }
-        best.map(|b| self.tri_hit(b))
+        best.map(Found::Tri)
     }
 
     /// Tests a leaf's triangles (through the mailbox) and keeps in `best` the closest hit with
@@ -515,16 +586,10 @@ impl HybridOctree {
         let node = self.nodes[e.node as usize];
         let vox = self.voxels[node.payload as usize];
         let mut color = vox.color();
-        let mut blend = 1.0;
-        if let (TraceMode::Hybrid { blend: true, .. }, Some((w0, s))) = (mode, fp) {
-            let f = w0 + s * e.t0;
-            blend = ((2.0 * vw - f) / vw).clamp(0.0, 1.0);
-            if e.parent != u32::MAX {
-                let pc = self.voxels[e.parent as usize].color();
-                color = std::array::from_fn(|k| blend * color[k] + (1.0 - blend) * pc[k]);
-            } else {
-                blend = 1.0;
-            }
+        let blend = voxel_blend(&e, vw, mode, fp);
+        if blend < 1.0 {
+            let pc = self.voxels[e.parent as usize].color();
+            color = std::array::from_fn(|k| blend * color[k] + (1.0 - blend) * pc[k]);
         }
         Hit {
             t: e.t0,

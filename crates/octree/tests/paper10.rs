@@ -730,6 +730,45 @@ fn voxel_mode_returns_voxels_at_the_requested_level() {
     }
 }
 
+/// `cast` finds what `intersect` finds (ray parameter, triangle and barycentrics, or voxel,
+/// level and blend weight) in every mode, with and without a footprint: it only leaves out the
+/// normal and the colour.
+#[test]
+fn cast_equals_intersect_without_shading() {
+    let mesh = scenes::blob(4).unwrap();
+    let (oct, _) = build(&mesh, &params(8, true)).unwrap();
+    let rays = random_rays(&oct.cube, 1 << 14, 21);
+    let fp = Footprint {
+        width0: 0.0,
+        spread: 0.004,
+    };
+    let modes = [
+        TraceMode::Triangles,
+        TraceMode::HYBRID,
+        TraceMode::VOXELS,
+        TraceMode::Voxels { level: Some(5) },
+    ];
+    let (mut tris, mut voxels) = (0, 0);
+    for mode in &modes {
+        for footprint in [None, Some(fp)] {
+            for r in &rays {
+                let full = oct.intersect(r, mode, footprint);
+                let cast = oct.cast(r, mode, footprint);
+                assert_eq!(full.map(|h| (h.t, h.kind)), cast, "{mode:?} {footprint:?}");
+                match cast {
+                    Some((_, HitKind::Triangle { .. })) => tris += 1,
+                    Some((_, HitKind::Voxel { .. })) => voxels += 1,
+                    None => {}
+                }
+            }
+        }
+    }
+    assert!(
+        tris > 1000 && voxels > 1000,
+        "{tris} triangle and {voxels} voxel hits"
+    );
+}
+
 /// The display-wall application: triangles inside the focus ellipse, the LoD scale doubling
 /// every `falloff` pixels outside it.
 #[test]

@@ -104,7 +104,8 @@ class HybridOctree:
 
     def intersect(self, origins, dirs, mode: str = "triangles", footprint_spread: float = 0.0,
                   lod_scale: float = 1.0, blend: bool = True,
-                  small_leaves_as_voxels: bool = False, level: Optional[int] = None) -> dict:
+                  small_leaves_as_voxels: bool = False, level: Optional[int] = None,
+                  shading: bool = True) -> dict:
         """Nearest hits of ``N`` rays.
 
         Parameters
@@ -124,19 +125,24 @@ class HybridOctree:
         small_leaves_as_voxels : bool
             Also stop at leaves holding one or two triangles (by default they are intersected
             exactly, the paper's reading).
+        shading : bool
+            Also return each hit's normal and colour. ``False`` returns the same ``t``,
+            ``prim`` and ``level`` faster (no reads of vertex indices, vertex colours or voxel
+            attributes): the query for depth maps, picking and distance probes.
 
         Returns
         -------
         dict
             ``t`` float32 (inf on a miss), ``prim`` int64 (-1 for a miss or a voxel hit),
-            ``level`` int8 (voxel level, -1 otherwise), ``normal`` and ``color`` (N, 3).
+            ``level`` int8 (voxel level, -1 otherwise), and with ``shading`` ``normal`` and
+            ``color`` (N, 3).
         """
         if mode not in _MODES:
             raise ValueError(f"mode {mode!r} is not valid; valid: {', '.join(_MODES)}")
         o, d = _rays(origins, dirs)
         return self._n.intersect(o, d, mode, float(footprint_spread), float(lod_scale),
                                  bool(blend), bool(small_leaves_as_voxels),
-                                 None if level is None else int(level))
+                                 None if level is None else int(level), bool(shading))
 
     def render(self, eye: Sequence[float], target: Sequence[float],
                up: Sequence[float] = (0.0, 0.0, 1.0), fov_deg: float = 45.0, width: int = 512,

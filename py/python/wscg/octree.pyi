@@ -21,7 +21,8 @@ class HybridOctree:
     def memory_report(self) -> dict: ...
     def intersect(self, origins: np.ndarray, dirs: np.ndarray, mode: str = ...,
                   footprint_spread: float = ..., lod_scale: float = ..., blend: bool = ...,
-                  small_leaves_as_voxels: bool = ..., level: Optional[int] = ...) -> dict: ...
+                  small_leaves_as_voxels: bool = ..., level: Optional[int] = ...,
+                  shading: bool = ...) -> dict: ...
     def render(self, eye: Sequence[float], target: Sequence[float],
                up: Sequence[float] = ..., fov_deg: float = ..., width: int = ...,
                height: int = ..., mode: str = ..., light_pos: Optional[Sequence[float]] = ...,
