@@ -49,6 +49,15 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    // The same walk without the normal and colour reads: what parry3d's `cast_local_ray`
+    // returns (and the triangle with its barycentrics besides).
+    g.bench_function("forest 1024^2 primary rays, octree triangles cast", |b| {
+        b.iter(|| {
+            rays.par_iter()
+                .filter(|r| oct.cast(r, &TraceMode::Triangles, fp).is_some())
+                .count()
+        })
+    });
     let bvh = TriangleBvh::build(&forest).unwrap();
     g.bench_function("forest 1024^2 primary rays, binned-SAH BVH", |b| {
         b.iter(|| {

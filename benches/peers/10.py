@@ -8,7 +8,8 @@ spans about 300 pixels, 4 cube sides away) and a near view (0.7 cube sides), 2 t
 - build: ``octree.build`` (voxelization + early-stop octree) against the Embree scene
   construction and commit (a first query);
 - ray casting: ``HybridOctree.intersect`` in ``"triangles"`` mode (exact, target: at most 4x
-  Embree's time) and ``"hybrid"`` mode (LoD with the camera's footprint) against
+  Embree's time), the same without shading (``shading=False``: ``t``, triangle and level,
+  what Embree's ``run`` returns) and ``"hybrid"`` mode (LoD with the camera's footprint) against
   ``EmbreeScene.run`` on the same rays; the triangle answers' agreement with Embree's is
   printed.
 """
@@ -82,6 +83,7 @@ for label, dist in [("far view (4 S)", 4.0), ("near view (0.7 S)", 0.7)]:
     eye = centre + side * dist * np.array([np.cos(a), np.sin(a), 0.3])
     o, d = camera_rays(eye, centre)
     t_tri = best_time(lambda: tree.intersect(o, d, mode="triangles"), repeat=3)
+    t_cast = best_time(lambda: tree.intersect(o, d, mode="triangles", shading=False), repeat=3)
     t_hyb = best_time(lambda: tree.intersect(o, d, mode="hybrid", footprint_spread=spread),
                       repeat=3)
     t_em = best_time(lambda: es.run(o, d, output=1), repeat=3)
@@ -95,6 +97,7 @@ for label, dist in [("far view (4 S)", 4.0), ("near view (0.7 S)", 0.7)]:
     print(f"{label}: hits ours {hit_o.sum()}, Embree {hit_e.sum()}, hit/miss agreement "
           f"{np.mean(hit_o == hit_e):.5f}, same triangle on {same:.5f} of common hits")
     rows.append((f"{label} triangles", t_tri, "embreex run (primary)", t_em))
+    rows.append((f"{label} triangles, shading=False", t_cast, "embreex run (primary)", t_em))
     rows.append((f"{label} hybrid (LoD)", t_hyb, "embreex run (primary)", t_em))
 
 print_table("Paper 10: ours (wscg) against Embree; ratio = peer / ours", rows)
