@@ -97,7 +97,7 @@ for label, dist in [("far view (4 S)", 4.0), ("near view (0.7 S)", 0.7)]:
     print(f"{label}: hits ours {hit_o.sum()}, Embree {hit_e.sum()}, hit/miss agreement "
           f"{np.mean(hit_o == hit_e):.5f}, same triangle on {same:.5f} of common hits")
     rows.append((f"{label} triangles", t_tri, "embreex run (primary)", t_em))
-    rows.append((f"{label} triangles, shading=False", t_cast, "embreex run (primary)", t_em))
+    rows.append((f"{label} triangles, no shading", t_cast, "embreex run (primary)", t_em))
     rows.append((f"{label} hybrid (LoD)", t_hyb, "embreex run (primary)", t_em))
 
 print_table("Paper 10: ours (wscg) against Embree; ratio = peer / ours", rows)
