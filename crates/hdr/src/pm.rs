@@ -355,6 +355,10 @@ struct Run<'a> {
     p: PmParams,
     off: Vec<[i32; 2]>,
     cost: Vec<f32>,
+    /// The SSD of each pixel's current offset (NaN until first computed). A pixel's cost
+    /// changes between visits only through its neighbours' offsets in the coherence term, so
+    /// a visit recomputes `C` but not the SSD.
+    ssd: Vec<f32>,
     /// `Max_disp` of the coherence term and `w` of the random search.
     w: f32,
 }
@@ -420,8 +424,15 @@ impl Run<'_> {
     /// Cost `D = SSD / C` (eq. 2), stopping early above `bound`.
     #[inline]
     fn cost_of(&self, x: i32, y: i32, d: [i32; 2], bound: f32) -> f32 {
+        self.cost_and_ssd(x, y, d, bound).0
+    }
+
+    /// `(D, SSD)` of offset `d`; the SSD is complete whenever `D <= bound`.
+    #[inline]
+    fn cost_and_ssd(&self, x: i32, y: i32, d: [i32; 2], bound: f32) -> (f32, f32) {
         let c = self.coherence(x, y, d);
-        self.sp.ssd(x, y, d, bound * c) / c
+        let s = self.sp.ssd(x, y, d, bound * c);
+        (s / c, s)
     }
 
     fn in_range(&self, x: i32, y: i32, d: [i32; 2]) -> bool {
@@ -456,7 +467,12 @@ impl Run<'_> {
                 let x = if forward { xx } else { wa - 1 - xx };
                 let i = (y * wa + x) as usize;
                 let mut best = self.off[i];
-                let mut dbest = self.cost_of(x, y, best, f32::INFINITY);
+                // The current offset's SSD is kept from the visit that chose it.
+                let (mut dbest, mut sbest) = if self.ssd[i].is_nan() {
+                    self.cost_and_ssd(x, y, best, f32::INFINITY)
+                } else {
+                    (self.ssd[i] / self.coherence(x, y, best), self.ssd[i])
+                };
                 // Propagation from the neighbours already visited in this sweep.
                 for (nx, ny) in [(x + step, y), (x, y + step)] {
                     if nx < 0 || ny < 0 || nx >= wa || ny >= ha {
@@ -464,9 +480,9 @@ impl Run<'_> {
                     }
                     let cand = self.off[(ny * wa + nx) as usize];
                     if cand != best && self.in_range(x, y, cand) {
-                        let dc = self.cost_of(x, y, cand, dbest);
+                        let (dc, sc) = self.cost_and_ssd(x, y, cand, dbest);
                         if dc < dbest {
-                            (best, dbest) = (cand, dc);
+                            (best, dbest, sbest) = (cand, dc, sc);
                         }
                     }
                 }
@@ -490,15 +506,16 @@ impl Run<'_> {
                     };
                     let cand = [cx, cy];
                     if cand != best {
-                        let dc = self.cost_of(x, y, cand, dbest);
+                        let (dc, sc) = self.cost_and_ssd(x, y, cand, dbest);
                         if dc < dbest {
-                            (best, dbest) = (cand, dc);
+                            (best, dbest, sbest) = (cand, dc, sc);
                         }
                     }
                     rad *= self.p.alpha;
                 }
                 self.off[i] = best;
                 self.cost[i] = dbest;
+                self.ssd[i] = sbest;
             }
         }
     }
@@ -573,6 +590,7 @@ fn run_patchmatch(
         p: *p,
         off: vec![[0, 0]; n],
         cost: vec![f32::INFINITY; n],
+        ssd: vec![f32::NAN; n],
         w: if p.epipolar {
             p.max_disp() as f32
         } else {
