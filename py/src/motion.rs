@@ -204,8 +204,9 @@ fn init_from(s: &str) -> PyResult<Init> {
         "pca" => Ok(Init::Pca),
         "random" => Ok(Init::Random),
         "greedy" => Ok(Init::Greedy),
+        "orbit" => Ok(Init::Orbit),
         other => Err(value_error(format!(
-            "`init` must be 'pca', 'random' or 'greedy', got {other:?}"
+            "`init` must be 'pca', 'random', 'greedy' or 'orbit', got {other:?}"
         ))),
     }
 }

@@ -105,6 +105,22 @@ def test_anechoic_beats_pca(clean_action1):
     assert M.pca_quality(X, 3) < fit["q"] - 0.03
 
 
+def _best_circular_similarity(a, b):
+    """Largest |normalised circular cross-correlation| of two sampled periodic signals."""
+    xc = np.fft.irfft(np.fft.rfft(a) * np.conj(np.fft.rfft(b)), n=len(a))
+    return np.abs(xc).max() / (np.linalg.norm(a) * np.linalg.norm(b))
+
+
+def test_orbit_start_identifies_the_generating_sources(data, clean_action1):
+    X = clean_action1
+    fit = M.fit_anechoic(X, 3, delays="shared", restarts=1, init="orbit")
+    assert fit["q"] > 1 - 1e-6
+    truth = data["truth"]["sources"][:3]
+    for t in truth:
+        best = max(_best_circular_similarity(e, t) for e in fit["sources"])
+        assert best > 0.999, best
+
+
 def test_anechoic_delay_modes(clean_action1):
     X = clean_action1
     R, I, _ = X.shape

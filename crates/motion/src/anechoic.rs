@@ -21,6 +21,7 @@
 use crate::data::TrialSet;
 use crate::fourier::{harmonics_of_rows, trig_argmax, wrap_half, PeriodicSource};
 use crate::linalg::{solve_complex, solve_many_in_place};
+use crate::orbit::orbit_sources;
 use num_complex::Complex64;
 use rand::Rng as _;
 use rand_distr::{Distribution, StandardNormal};
@@ -52,6 +53,11 @@ pub enum Init {
     /// iterated before the next is added. The one-source problems have few poor optima, and each
     /// stage starts near a good fit of the previous one.
     Greedy,
+    /// Sources and delays whose delayed copies span each channel's row space over the trials
+    /// (see the `orbit` module): with delays shared over trials and trial-varying weights this
+    /// lands next to the generating sources, where the ALS then converges. Needs delays,
+    /// at least `J` trials and `J < 2K`; otherwise the run starts at random.
+    Orbit,
 }
 
 /// Parameters of [`fit_anechoic`] (defaults as specified for paper 16).
@@ -67,8 +73,9 @@ pub struct AnechoicConfig {
     pub max_iter: usize,
     /// Stop when one sweep changes `Q` by less than this.
     pub tol: f64,
-    /// Number of runs; run 0 starts from [`Config::init`](AnechoicConfig::init), the others from
-    /// random starts. The best `Q` is kept.
+    /// Number of runs; run 0 starts from [`Config::init`](AnechoicConfig::init), run 1 from the
+    /// orbit-subspace start ([`Init::Orbit`], where it applies and run 0 is not already one),
+    /// the others from random starts. The best `Q` is kept.
     pub restarts: usize,
     /// Start of run 0.
     pub init: Init,
@@ -1076,6 +1083,23 @@ fn greedy_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<Stat
     state.ok_or_else(|| Error::invalid("n_sources", "must be >= 1"))
 }
 
+/// Orbit-subspace start (see [`Init::Orbit`]): the sources and shared delays of
+/// [`crate::orbit::orbit_sources`], the same delays for every trial in per-trial mode, and
+/// least-squares weights.
+fn orbit_start(sp: &Spectra, cfg: &AnechoicConfig) -> Result<State> {
+    let rows = |r: usize, i: usize| sp.row(r, i);
+    let (c, shared) = orbit_sources(&rows, (sp.r, sp.i, sp.k), cfg.n_sources, cfg.seed)?;
+    let nd = n_delay_rows(cfg.delays, sp.r);
+    let tau = (0..nd).flat_map(|_| shared.iter().copied()).collect();
+    start_from(sp, cfg, c, tau)
+}
+
+/// Whether [`Init::Orbit`] applies: delays (shared or per trial), at least `J` trials, and
+/// `J < 2K`.
+fn orbit_applies(sp: &Spectra, cfg: &AnechoicConfig) -> bool {
+    cfg.delays != DelayMode::Zero && sp.r >= cfg.n_sources && cfg.n_sources < 2 * sp.k
+}
+
 /// Random start: smooth random sources (coefficients ∝ 1/k) and uniform delays.
 fn random_start(sp: &Spectra, cfg: &AnechoicConfig, stream: u64) -> Result<State> {
     let mut rng = wscg_math::rng::stream(cfg.seed, stream);
@@ -1118,7 +1142,8 @@ fn start_from(
 
 /// Fits the anechoic model to mean-free data `x` (`R × I × N`, one period per trial).
 ///
-/// Run 0 starts from `cfg.init`; runs `1..restarts` from seeded random starts. Every run gets
+/// Run 0 starts from `cfg.init`, run 1 from the orbit-subspace start ([`Init::Orbit`]) where
+/// it applies, the other runs from seeded random starts. Every run gets
 /// `screen_iter` sweeps (in parallel); the one with the highest `Q` then continues up to
 /// `max_iter` sweeps in total and is returned.
 ///
@@ -1141,9 +1166,13 @@ fn fit_checked(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
     let runs: Vec<(State, f64, Vec<f64>)> = (0..cfg.restarts)
         .into_par_iter()
         .map(|run_i| {
+            let orbit = orbit_applies(&sp, cfg);
             let start = match (run_i, cfg.init) {
                 (0, Init::Pca) => pca_start(x, &sp, cfg)?,
                 (0, Init::Greedy) => greedy_start(x, &sp, cfg)?,
+                (0, Init::Orbit) | (1, Init::Pca | Init::Greedy | Init::Random) if orbit => {
+                    orbit_start(&sp, cfg)?
+                }
                 _ => random_start(&sp, cfg, run_i as u64)?,
             };
             run(&sp, &screen, start)

@@ -29,6 +29,7 @@ mod linalg;
 pub mod lwlr;
 pub mod map;
 pub mod matching;
+mod orbit;
 pub mod pca;
 pub mod planner;
 pub mod skeleton;

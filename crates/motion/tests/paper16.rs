@@ -236,13 +236,13 @@ fn assert_reported_q(x: &TrialSet, model: &wscg_motion::AnechoicModel, label: &s
 }
 
 /// Spec check 4, identification: every true source matched at >= 0.95 and delays within
-/// 0.02 periods. Measured (noise-free): Q = 0.9983, similarities 0.997 / 0.910 / 0.963, delay
-/// errors median 0.24 and up to 0.50 periods. All ground-truth sources have the same harmonic
-/// amplitudes (1, 0.4, 0.15), so 84 % of the energy is in first harmonics that any delayed source
-/// can imitate; the ALS settles in a neighbouring optimum (from the true delays perturbed by
-/// 0.01 periods it converges to Q = 1, from 0.15 periods it stalls at 0.998 as here).
+/// 0.02 periods, on the noise-free data; with 1 % noise the sources are matched too. The
+/// sources share their harmonic amplitudes (1, 0.4, 0.15), so most of the energy is in first
+/// harmonics that any delayed source can imitate. Random and PCA starts end in neighbouring
+/// optima (Q 0.9983, similarities 0.997 / 0.910 / 0.963, delay errors up to 0.50 periods);
+/// the orbit-subspace start of run 1 lands next to the generating model. Measured: Q 1 to 8
+/// digits and similarities 1.0000 (noise-free), Q 0.99990 and 1.0000 (1 % noise).
 #[test]
-#[ignore = "ALS stalls near the true solution: delay errors up to 0.5 periods (see note on issue 18)"]
 fn demixing_identifies_sources_and_delays() {
     for noise in [0.0, 0.01] {
         let (x, truth) = action1_periodic(noise, 10);
@@ -252,8 +252,25 @@ fn demixing_identifies_sources_and_delays() {
             sims.iter().all(|s| *s >= 0.95),
             "noise {noise}: source similarities {sims:?}"
         );
-        assert!(err <= 0.02, "noise {noise}: delay error {err} periods");
+        if noise == 0.0 {
+            assert!(err <= 0.02, "noise {noise}: delay error {err} periods");
+        }
     }
+}
+
+/// Spec check 4's delay bound with 1 % noise. Fails on one channel: channel 16 carries source
+/// 1 with 32 % of that source's largest weight, its trial weights are nearly proportional, and
+/// delays 0.41 periods away fit its noisy trials within 1.8 % of the true delays' residual
+/// (relative residual 9.45e-5 against 9.28e-5 for the true sources and delays with
+/// least-squares weights): a neighbouring optimum of that channel. Every other channel is
+/// within 0.02 periods.
+#[test]
+#[ignore = "1 % noise: one channel's delay 0.41 periods off (see note on issue 18)"]
+fn demixing_identifies_delays_with_noise() {
+    let (x, truth) = action1_periodic(0.01, 10);
+    let model = fit3(&x);
+    let (err, _) = delay_error(&model, &truth, 3);
+    assert!(err <= 0.02, "delay error {err} periods");
 }
 
 // ---------- check 5: anechoic vs PCA ----------

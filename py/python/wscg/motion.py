@@ -162,15 +162,20 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
     n_harmonics : int
         Harmonics per source ``K`` (band limit), ``1 <= K < N / 2``.
     restarts : int
-        Runs: run 0 starts from ``init``, the others from seeded random starts. Every run gets
-        60 sweeps; the best continues to ``max_iter`` sweeps and is returned.
+        Runs: run 0 starts from ``init``, run 1 from the orbit-subspace start (``"orbit"``;
+        with delays and at least ``n_sources`` trials, unless run 0 is one), the others from
+        seeded random starts. Every run gets 60 sweeps; the best continues to ``max_iter``
+        sweeps and is returned.
     max_iter, tol : int, float
         Sweeps per run, and the change of ``Q`` below which a run stops.
     seed : int
         Seed of the random starts.
-    init : {"pca", "random", "greedy"}
+    init : {"pca", "random", "greedy", "orbit"}
         Start of run 0 (``"pca"``: leading right singular vectors, at least as good as PCA;
-        ``"greedy"``: sources added one at a time from the residual's leading component).
+        ``"greedy"``: sources added one at a time from the residual's leading component;
+        ``"orbit"``: sources whose delayed copies span every channel's row space over the
+        trials, found without the weights, which identifies the generating sources when the
+        trial weights vary; a random start where it does not apply).
 
     Returns
     -------
@@ -186,8 +191,8 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
         raise ValueError(f"`X` must be an (R, I, N) array, got shape {x.shape}")
     if delays not in DELAY_MODES:
         raise ValueError(f"`delays` must be one of {DELAY_MODES}, got {delays!r}")
-    if init not in ("pca", "random", "greedy"):
-        raise ValueError(f"`init` must be 'pca', 'random' or 'greedy', got {init!r}")
+    if init not in ("pca", "random", "greedy", "orbit"):
+        raise ValueError(f"`init` must be 'pca', 'random', 'greedy' or 'orbit', got {init!r}")
     return _m.fit_anechoic(x, _u("n_sources", n_sources, 1), delays,
                            _u("n_harmonics", n_harmonics, 1), _u("restarts", restarts, 1),
                            _u("max_iter", max_iter, 1), _float("tol", tol),
