@@ -68,6 +68,16 @@ fn bench(c: &mut Criterion) {
         },
     );
 
+    // The default fit: 10 runs (PCA start, the orbit-subspace start, 8 random ones).
+    let default = AnechoicConfig {
+        n_sources: 3,
+        ..AnechoicConfig::default()
+    };
+    g.bench_function(
+        "fit_anechoic R=10 I=51 N=100 J=3, default config (10 restarts)",
+        |b| b.iter(|| fit_anechoic(black_box(x), &default).unwrap()),
+    );
+
     let (data, _) = reach_walk(&WalkerConfig::default()).unwrap();
     g.bench_function("fit_stepwise 40 trials, default config", |b| {
         b.iter(|| fit_stepwise(black_box(&data), &StepwiseConfig::default()).unwrap())
