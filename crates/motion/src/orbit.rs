@@ -196,25 +196,25 @@ fn orbit_fit(
     let mut taus = vec![0.0; bases.len()];
     let mut f_old = f64::NEG_INFINITY;
     for _ in 0..60 {
-        let (big, f) = bases
+        // Each channel's term in parallel, summed in channel order (the result does not
+        // depend on the number of threads).
+        let terms: Vec<(f64, Vec<f64>)> = bases
             .par_iter()
             .zip(known)
             .zip(taus.par_iter_mut())
-            .fold(
-                || (vec![0.0; m * m], 0.0),
-                |(mut big, f), ((v, kn), tau)| {
-                    let (t, rho) = orbit_delay((v, d), (kn, nk), k, &c, table, &mut big);
-                    *tau = t;
-                    (big, f + rho)
-                },
-            )
-            .reduce(
-                || (vec![0.0; m * m], 0.0),
-                |(mut a, fa), (b, fb)| {
-                    a.iter_mut().zip(&b).for_each(|(x, y)| *x += y);
-                    (a, fa + fb)
-                },
-            );
+            .map(|((v, kn), tau)| {
+                let mut term = vec![0.0; m * m];
+                let (t, rho) = orbit_delay((v, d), (kn, nk), k, &c, table, &mut term);
+                *tau = t;
+                (rho, term)
+            })
+            .collect();
+        let mut big = vec![0.0; m * m];
+        let mut f = 0.0;
+        for (rho, term) in &terms {
+            f += rho;
+            big.iter_mut().zip(term).for_each(|(x, y)| *x += y);
+        }
         c = top_basis(&big, m, 1)?;
         let done = (f - f_old).abs() <= 1e-10 * f.abs().max(1e-300);
         f_old = f;
@@ -433,6 +433,22 @@ mod tests {
             }
         }
         (x, c)
+    }
+
+    /// The start depends on the seed only, not on the number of threads.
+    #[test]
+    fn orbit_start_does_not_depend_on_the_thread_count() {
+        let (r_n, i_n, k, j_n) = (8, 16, 4, 2);
+        let (x, _) = exact_data((r_n, i_n, k, j_n), 5);
+        let rows = |r: usize, i: usize| &x[(r * i_n + i) * k..(r * i_n + i + 1) * k];
+        let with = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| orbit_sources(&rows, (r_n, i_n, k), j_n, 3).unwrap())
+        };
+        assert_eq!(with(1), with(3));
     }
 
     /// On exact data the start fits every channel exactly (its least-squares residual is
