@@ -75,7 +75,7 @@ fn rays_in(
 
 /// One ray's answer in `intersect`: the hit (ray parameter and kind) and, when shading, its
 /// normal and colour (zeros otherwise).
-type HitRow = (Option<(f32, HitKind)>, [f32; 6]);
+type HitRow = (Option<(f32, HitKind)>, [[f32; 3]; 2]);
 
 fn vec3(name: &str, v: Vec<f32>) -> PyResult<[f32; 3]> {
     <[f32; 3]>::try_from(v)
@@ -171,13 +171,12 @@ impl PyOctree {
             rays.par_iter()
                 .map(|r| {
                     if shading {
-                        oct.intersect(r, &mode, fp).map_or((None, [0.0; 6]), |h| {
-                            let [a, b, c] = h.normal;
-                            let [d, e, f] = h.color;
-                            (Some((h.t, h.kind)), [a, b, c, d, e, f])
-                        })
+                        oct.intersect(r, &mode, fp)
+                            .map_or((None, [[0.0; 3]; 2]), |h| {
+                                (Some((h.t, h.kind)), [h.normal, h.color])
+                            })
                     } else {
-                        (oct.cast(r, &mode, fp), [0.0; 6])
+                        (oct.cast(r, &mode, fp), [[0.0; 3]; 2])
                     }
                 })
                 .collect()
@@ -198,8 +197,8 @@ impl PyOctree {
             prim.push(p);
             lvl.push(l);
             if shading {
-                normal.extend_from_slice(&nc[..3]);
-                color.extend_from_slice(&nc[3..]);
+                normal.extend_from_slice(&nc[0]);
+                color.extend_from_slice(&nc[1]);
             }
         }
         let d = PyDict::new(py);

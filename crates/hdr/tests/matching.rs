@@ -55,6 +55,64 @@ fn epipolar_patchmatch_recovers_a_known_shift() {
     assert!(good as f64 >= 0.9 * n as f64, "PM-2D: {good} of {n}");
 }
 
+/// Without the coherence term a pixel's cost is the mean squared difference of its patch and
+/// the patch its offset points to (eq. 3, over the offsets inside both images). Each pixel
+/// keeps the distance of its current offset between visits, so a distance kept for the wrong
+/// offset, or left from an early exit, shows here.
+#[test]
+fn costs_are_the_patch_distances_of_the_offsets() {
+    // A sub-pixel shift: no exact matches, every cost positive.
+    let (a, b) = (texture(40, 80, 0.0), texture(40, 80, 6.4));
+    let p = PmParams {
+        coherence: false,
+        iters: 3,
+        ..params(-16, 16)
+    };
+    let f = patchmatch(&a, &b, &p).unwrap();
+    let (h, w, half) = (40i32, 80i32, 3i32);
+    let mut positive = 0;
+    let at = |img: &Image<f32>, y: i32, x: i32, c: usize| {
+        img.data()[((y * w + x) * 3) as usize + c] as f64
+    };
+    for y in 0..h {
+        for x in 0..w {
+            let [dx, dy] = f.at(y as usize, x as usize);
+            let (mut s, mut n) = (0.0, 0.0);
+            for oy in -half..=half {
+                for ox in -half..=half {
+                    let (ya, xa, yb, xb) = (y + oy, x + ox, y + oy + dy, x + ox + dx);
+                    if ya < 0
+                        || xa < 0
+                        || ya >= h
+                        || xa >= w
+                        || yb < 0
+                        || xb < 0
+                        || yb >= h
+                        || xb >= w
+                    {
+                        continue;
+                    }
+                    for c in 0..3 {
+                        s += (at(&a, ya, xa, c) - at(&b, yb, xb, c)).powi(2);
+                        n += 1.0;
+                    }
+                }
+            }
+            let cost = f.cost[(y * w + x) as usize] as f64;
+            positive += usize::from(cost > 0.0);
+            assert!(
+                (cost - s / n).abs() <= 1e-5 * (s / n),
+                "({y}, {x}): {cost} vs {}",
+                s / n
+            );
+        }
+    }
+    assert!(
+        positive >= (h * w) as usize * 9 / 10,
+        "{positive} positive costs"
+    );
+}
+
 #[test]
 fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
     let cfg = SceneCfg {

@@ -19,7 +19,9 @@
 //! are formed (once per sweep, in the weight step's pass).
 
 use crate::data::TrialSet;
-use crate::fourier::{harmonics_of_rows, trig_argmax, wrap_half, PeriodicSource};
+use crate::fourier::{
+    delayed, harmonics_of_rows, phasors, re_dot, trig_argmax, wrap_half, PeriodicSource,
+};
 use crate::linalg::{solve_complex, solve_many_in_place};
 use crate::orbit::orbit_sources;
 use num_complex::Complex64;
@@ -169,7 +171,7 @@ impl AnechoicModel {
                 mixed.fill(Complex64::new(0.0, 0.0));
                 for (j, s) in self.sources.iter().enumerate() {
                     let w = self.weight(r, i, j);
-                    State::phasors(self.delay(r, i, j), k, ph);
+                    phasors(self.delay(r, i, j), k, ph);
                     for ((d, &c), &p) in mixed.iter_mut().zip(&s.coeffs).zip(ph.iter()) {
                         *d += c * p * w;
                     }
@@ -277,14 +279,6 @@ impl Spectra {
     }
 }
 
-/// `Re Σ_k conj(u_k) v_k`.
-fn re_dot(u: &[Complex64], v: &[Complex64]) -> f64 {
-    u.iter()
-        .zip(v)
-        .map(|(a, b)| a.re * b.re + a.im * b.im)
-        .sum()
-}
-
 /// Adds one row's weights `w` (`J`) and harmonics `x` (`K`) to a channel's
 /// [`WeightStats`]: `w w^T` to `g` (`J × J`) and `w_j x` to row `j` of `acc` (`J × K`).
 fn accumulate_stats(w: &[f64], x: &[Complex64], g: &mut [f64], acc: &mut [Complex64]) {
@@ -361,28 +355,12 @@ impl State {
         }
     }
 
-    /// `e^{−2πikτ}` for `k = 1..=K` of delay `τ`.
-    fn phasors(tau: f64, k: usize, out: &mut [Complex64]) {
-        let z = Complex64::from_polar(1.0, -TAU * tau);
-        let mut p = z;
-        for o in out.iter_mut().take(k) {
-            *o = p;
-            p *= z;
-        }
-    }
-
-    /// The delayed source `e^{−2πikτ} c_k` (`k = 1..=K`, `K = c.len()`) into `out`.
-    fn delayed_source(tau: f64, c: &[Complex64], out: &mut [Complex64]) {
-        Self::phasors(tau, c.len(), out);
-        out.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
-    }
-
     /// `Rd × I × J × K` table of delay phasors.
     fn phase_table(&self, sp: &Spectra) -> Vec<Complex64> {
         let k = sp.k;
         let mut t = vec![Complex64::new(0.0, 0.0); self.tau.len() * k];
         for (d, chunk) in t.chunks_mut(k).enumerate() {
-            Self::phasors(self.tau[d], k, chunk);
+            phasors(self.tau[d], k, chunk);
         }
         t
     }
@@ -794,7 +772,7 @@ impl State {
                 if tau == old {
                     p.copy_from_slice(p_old);
                 } else {
-                    State::delayed_source(tau, c, p);
+                    delayed(tau, c, p);
                 }
                 for r in group(gi) {
                     let wj = w[r * j_n + j];
@@ -841,7 +819,7 @@ impl State {
             let tau = best_delay(g, c, dj, old);
             if tau != old {
                 taus[j] = tau;
-                State::delayed_source(tau, c, dj);
+                delayed(tau, c, dj);
             }
         }
         channel_fit(gram, wx, d, k)
@@ -1163,10 +1141,10 @@ fn fit_checked(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
         max_iter: cfg.screen_iter.min(cfg.max_iter),
         ..cfg.clone()
     };
+    let orbit = orbit_applies(&sp, cfg);
     let runs: Vec<(State, f64, Vec<f64>)> = (0..cfg.restarts)
         .into_par_iter()
         .map(|run_i| {
-            let orbit = orbit_applies(&sp, cfg);
             let start = match (run_i, cfg.init) {
                 (0, Init::Pca) => pca_start(x, &sp, cfg)?,
                 (0, Init::Greedy) => greedy_start(x, &sp, cfg)?,

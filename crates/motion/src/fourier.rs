@@ -118,6 +118,31 @@ pub fn harmonics_of_rows(data: &[f64], n: usize, k: usize) -> Vec<Complex64> {
     out
 }
 
+/// `e^{−2πikτ}` for `k = 1..=K` of delay `τ`, into `out[..K]`.
+pub(crate) fn phasors(tau: f64, k: usize, out: &mut [Complex64]) {
+    let z = Complex64::from_polar(1.0, -TAU * tau);
+    let mut p = z;
+    for o in out.iter_mut().take(k) {
+        *o = p;
+        p *= z;
+    }
+}
+
+/// The source `c` (harmonics `k = 1..=K`, `K = c.len()`) delayed by `τ`: `e^{−2πikτ} c_k`,
+/// into `out`.
+pub(crate) fn delayed(tau: f64, c: &[Complex64], out: &mut [Complex64]) {
+    phasors(tau, c.len(), out);
+    out.iter_mut().zip(c).for_each(|(v, &cv)| *v *= cv);
+}
+
+/// `Re Σ_k conj(u_k) v_k`: the real inner product of two sources' harmonics.
+pub(crate) fn re_dot(u: &[Complex64], v: &[Complex64]) -> f64 {
+    u.iter()
+        .zip(v)
+        .map(|(a, b)| a.re * b.re + a.im * b.im)
+        .sum()
+}
+
 /// Wrap a delay (periods) into `[-0.5, 0.5)`.
 pub fn wrap_half(t: f64) -> f64 {
     t - (t + 0.5).floor()

@@ -29,16 +29,36 @@ use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
-use crate::fourier::{trig_argmax, trig_eval, wrap_half};
+use crate::fourier::{delayed, re_dot, trig_argmax, trig_eval, wrap_half};
+use faer::MatRef;
+use wscg_math::dense::{eigh_largest, from_row_major, gram};
 
-/// Top-`d` eigenvectors of the symmetric `m × m` matrix `a` (row-major), as an `m × d`
-/// row-major basis.
-fn top_basis(a: &[f64], m: usize, d: usize) -> Result<Vec<f64>> {
-    let e = wscg_math::dense::eigh_largest(wscg_math::dense::from_row_major(a, m, m).as_ref(), d)?;
+/// The top-`d` eigenvectors of the symmetric `a` (`m × m`), as an `m × d` row-major basis.
+fn top_eigenvectors(a: MatRef<'_, f64>, d: usize) -> Result<Vec<f64>> {
+    let m = a.nrows();
+    let e = eigh_largest(a, d)?;
     Ok((0..m)
         .flat_map(|r| (0..d).map(move |l| (r, l)))
         .map(|(r, l)| e.vectors[(r, l)])
         .collect())
+}
+
+/// The top-`d` right singular vectors of the row-major `rows × m` matrix `a` (the top
+/// eigenvectors of `AᵀA`), as an `m × d` row-major basis.
+fn top_row_space(a: &[f64], rows: usize, m: usize, d: usize) -> Result<Vec<f64>> {
+    top_eigenvectors(gram(from_row_major(a, rows, m).as_ref(), 1.0).as_ref(), d)
+}
+
+/// Harmonics as a real vector: `(re, im)` of each.
+fn real_of(z: &[Complex64]) -> Vec<f64> {
+    z.iter().flat_map(|v| [v.re, v.im]).collect()
+}
+
+/// A real vector of `(re, im)` pairs as harmonics.
+fn complex_of(v: &[f64]) -> Vec<Complex64> {
+    v.chunks_exact(2)
+        .map(|p| Complex64::new(p[0], p[1]))
+        .collect()
 }
 
 /// `Σ_l (Re Σ_k b_lk e^{−2πikτ})²` as `const + Re Σ_{m=1}^{2K} h_m e^{−2πimτ}` (`y² = (|z|² +
@@ -111,15 +131,25 @@ fn orbit_delay(
     let zero = Complex64::new(0.0, 0.0);
     let (mut hv, mut hk) = (vec![zero; m], vec![zero; m]);
     let cv = projection_poly(v, d, k, c, &mut hv);
+    let ck = if nk > 0 {
+        projection_poly(kn, nk, k, c, &mut hk)
+    } else {
+        0.0
+    };
+    // The fit's numerator and denominator at `τ` (the known part is zero without known
+    // sources: `hk` stays zero).
+    let parts = |t: f64| {
+        let num = cv + trig_eval(&hv, t).0;
+        let den = (1.0 - ck - trig_eval(&hk, t).0).max(1e-12);
+        (num, den)
+    };
+    let ratio = |t: f64| {
+        let (num, den) = parts(t);
+        num / den
+    };
     let tau = if nk == 0 {
         wrap_half(trig_argmax(&hv).0)
     } else {
-        let ck = projection_poly(kn, nk, k, c, &mut hk);
-        let ratio = |t: f64| {
-            let num = cv + trig_eval(&hv, t).0;
-            let den = 1.0 - ck - trig_eval(&hk, t).0;
-            num / den.max(1e-12)
-        };
         let (mut bt, mut br) = (0.0, f64::NEG_INFINITY);
         for (g, row) in table.chunks_exact(m).enumerate() {
             let at = |h: &[Complex64]| -> f64 { h.iter().zip(row).map(|(a, b)| (a * b).re).sum() };
@@ -141,36 +171,18 @@ fn orbit_delay(
         let t = 0.5 * (lo + hi);
         wrap_half(if ratio(t) > br { t } else { bt })
     };
+    let (num, den) = parts(tau);
+    let rho = num / den;
     let mut w = vec![0.0; m * d];
     rotate_rows(v, d, k, tau, &mut w);
     let mut kr = vec![0.0; m * nk];
-    let mut den = 1.0;
-    if nk > 0 {
-        rotate_rows(kn, nk, k, tau, &mut kr);
-        let proj: f64 = (0..nk)
-            .map(|l| {
-                let p: f64 = (0..m).map(|r| kr[r * nk + l] * c[r]).sum();
-                p * p
-            })
-            .sum();
-        den = (1.0 - proj).max(1e-12);
-    }
-    let num: f64 = (0..d)
-        .map(|l| {
-            let p: f64 = (0..m).map(|r| w[r * d + l] * c[r]).sum();
-            p * p
-        })
-        .sum();
-    let rho = num / den;
+    rotate_rows(kn, nk, k, tau, &mut kr);
     for r in 0..m {
         big[r * m + r] -= rho / den;
         for s2 in 0..m {
-            let mut v2: f64 = (0..d).map(|l| w[r * d + l] * w[s2 * d + l]).sum();
-            v2 += rho
-                * (0..nk)
-                    .map(|l| kr[r * nk + l] * kr[s2 * nk + l])
-                    .sum::<f64>();
-            big[r * m + s2] += v2 / den;
+            let ww: f64 = (0..d).map(|l| w[r * d + l] * w[s2 * d + l]).sum();
+            let kk: f64 = (0..nk).map(|l| kr[r * nk + l] * kr[s2 * nk + l]).sum();
+            big[r * m + s2] += (ww + rho * kk) / den;
         }
     }
     (tau, rho)
@@ -215,7 +227,7 @@ fn orbit_fit(
             f += rho;
             big.iter_mut().zip(term).for_each(|(x, y)| *x += y);
         }
-        c = top_basis(&big, m, 1)?;
+        c = top_eigenvectors(from_row_major(&big, m, m).as_ref(), 1)?;
         let done = (f - f_old).abs() <= 1e-10 * f.abs().max(1e-300);
         f_old = f;
         if done {
@@ -247,16 +259,8 @@ where
     let mut bases: Vec<Vec<f64>> = (0..i_n)
         .into_par_iter()
         .map(|i| {
-            let mut g = vec![0.0; m * m];
-            for r in 0..r_n {
-                let v: Vec<f64> = rows(r, i).iter().flat_map(|z| [z.re, z.im]).collect();
-                for a in 0..m {
-                    for b in 0..m {
-                        g[a * m + b] += v[a] * v[b];
-                    }
-                }
-            }
-            top_basis(&g, m, j_n)
+            let a: Vec<f64> = (0..r_n).flat_map(|r| real_of(rows(r, i))).collect();
+            top_row_space(&a, r_n, m, j_n)
         })
         .collect::<Result<_>>()?;
     let full = bases.clone();
@@ -288,7 +292,8 @@ where
             }
         }
         let (c, taus, _) = best.ok_or_else(|| Error::Numerical("no orbit start".into()))?;
-        c_all.extend((0..k).map(|kk| Complex64::new(c[2 * kk], c[2 * kk + 1])));
+        let cz = complex_of(&c);
+        c_all.extend_from_slice(&cz);
         for (i, &t) in taus.iter().enumerate() {
             tau_all[i * j_n + j] = t;
         }
@@ -297,14 +302,10 @@ where
         }
         // Each channel: the delayed source joins the known span (Gram-Schmidt), and the
         // channel's subspace is projected off the known span (the rest, d − 1 dimensions).
+        let mut dz = vec![Complex64::new(0.0, 0.0); k];
         for ((v, kn), &tau) in bases.iter_mut().zip(known.iter_mut()).zip(&taus) {
-            let mut u = vec![0.0; m];
-            for kk in 0..k {
-                let z = Complex64::new(c[2 * kk], c[2 * kk + 1])
-                    * Complex64::from_polar(1.0, -TAU * (kk + 1) as f64 * tau);
-                u[2 * kk] = z.re;
-                u[2 * kk + 1] = z.im;
-            }
+            delayed(tau, &cz, &mut dz);
+            let mut u = real_of(&dz);
             for l in 0..nk {
                 let p: f64 = (0..m).map(|r| kn[r * nk + l] * u[r]).sum();
                 for r in 0..m {
@@ -326,13 +327,12 @@ where
                     vp[r * d + l] -= p * u[r];
                 }
             }
-            let mut g = vec![0.0; m * m];
-            for a in 0..m {
-                for b in 0..m {
-                    g[a * m + b] = (0..d).map(|l| vp[a * d + l] * vp[b * d + l]).sum();
-                }
-            }
-            *v = top_basis(&g, m, d - 1)?;
+            // The rest's basis: the top left singular vectors of `vp` (`m × d`).
+            let vpt: Vec<f64> = (0..d)
+                .flat_map(|l| (0..m).map(move |r| (r, l)))
+                .map(|(r, l)| vp[r * d + l])
+                .collect();
+            *v = top_row_space(&vpt, d, m, d - 1)?;
         }
     }
     // The stages fit each source in what the sources before it left of a channel's subspace,
@@ -345,13 +345,10 @@ where
         .enumerate()
         .try_for_each(|(i, (t, v))| -> Result<()> {
             let mut h = vec![Complex64::new(0.0, 0.0); m];
-            let whole: Vec<f64> = (0..j_n)
-                .map(|j| {
-                    let cj: Vec<f64> = c_all[j * k..(j + 1) * k]
-                        .iter()
-                        .flat_map(|z| [z.re, z.im])
-                        .collect();
-                    projection_poly(v, j_n, k, &cj, &mut h);
+            let whole: Vec<f64> = c_all
+                .chunks_exact(k)
+                .map(|cj| {
+                    projection_poly(v, j_n, k, &real_of(cj), &mut h);
                     wrap_half(trig_argmax(&h).0)
                 })
                 .collect();
@@ -376,27 +373,18 @@ fn channel_fit<'a>(
     taus: &[f64],
 ) -> Result<f64> {
     let j_n = taus.len();
-    let d: Vec<Complex64> = (0..j_n * k)
-        .map(|n| c[n] * Complex64::from_polar(1.0, -TAU * (n % k + 1) as f64 * taus[n / k]))
-        .collect();
+    let mut d = vec![Complex64::new(0.0, 0.0); j_n * k];
+    for ((dj, cj), &t) in d.chunks_exact_mut(k).zip(c.chunks_exact(k)).zip(taus) {
+        delayed(t, cj, dj);
+    }
     let mut g = vec![0.0; j_n * j_n];
-    for p in 0..j_n {
-        for q in 0..j_n {
-            g[p * j_n + q] = (0..k)
-                .map(|kk| (d[p * k + kk].conj() * d[q * k + kk]).re)
-                .sum();
+    for (p, dp) in d.chunks_exact(k).enumerate() {
+        for (q, dq) in d.chunks_exact(k).enumerate() {
+            g[p * j_n + q] = re_dot(dp, dq);
         }
     }
     let b: Vec<f64> = (0..r_n)
-        .flat_map(|r| {
-            let x = rows(r);
-            let d = &d;
-            (0..j_n).map(move |j| {
-                (0..k)
-                    .map(|kk| (x[kk].conj() * d[j * k + kk]).re)
-                    .sum::<f64>()
-            })
-        })
+        .flat_map(|r| d.chunks_exact(k).map(move |dj| re_dot(rows(r), dj)))
         .collect();
     let mut sol = b.clone();
     crate::linalg::solve_many_in_place(&mut g, &mut sol, j_n, 1e-12)?;
@@ -406,6 +394,8 @@ fn channel_fit<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fourier::PeriodicSource;
+    use crate::matching::align;
 
     /// Exact data `X_ri = Σ_j w_rij R(τ_ij) c_j` of random sources (`J × K`), delays and
     /// independently varying weights; returns the rows (`R × I × K`) and the sources.
@@ -472,17 +462,10 @@ mod tests {
                 );
             }
             for t in truth.chunks_exact(k) {
+                let t = PeriodicSource::new(t.to_vec());
                 let best = c
                     .chunks_exact(k)
-                    .map(|e| {
-                        let norm = (t.iter().map(|v| v.norm_sqr()).sum::<f64>()
-                            * e.iter().map(|v| v.norm_sqr()).sum::<f64>())
-                        .sqrt();
-                        let g: Vec<Complex64> =
-                            e.iter().zip(t).map(|(a, b)| a.conj() * b / norm).collect();
-                        let neg: Vec<Complex64> = g.iter().map(|v| -v).collect();
-                        trig_argmax(&g).1.max(trig_argmax(&neg).1)
-                    })
+                    .map(|e| align(&PeriodicSource::new(e.to_vec()), &t).0)
                     .fold(0.0, f64::max);
                 assert!(best > 1.0 - 1e-8, "a true source matched at {best}");
             }

@@ -172,11 +172,12 @@ struct TriHit {
     v: f32,
 }
 
-/// Where a walk ended: a triangle, or a voxel stop (its stack entry and cell size).
+/// Where a walk ended: a triangle, or a voxel stop (its stack entry, its cell size and the
+/// ray's footprint as `(width0, spread * |dir|)`).
 #[derive(Clone, Copy)]
 enum Found {
     Tri(TriHit),
-    Voxel(Entry, f32),
+    Voxel(Entry, f32, Option<(f32, f32)>),
 }
 
 /// One entry of the traversal stack.
@@ -235,11 +236,6 @@ impl Mailbox {
     }
 }
 
-/// The footprint of `ray` as `(width0, spread * |dir|)`, the form the walk uses.
-fn scaled_footprint(ray: &Ray, footprint: Option<Footprint>) -> Option<(f32, f32)> {
-    footprint.map(|f| (f.width0, f.spread * dot(ray.dir, ray.dir).sqrt()))
-}
-
 /// Weight of a voxel stop's colour against its parent's in the hybrid mode with blending
 /// (§4: `i = (2 v_w - f) / v_w` clamped to `[0, 1]`, `f` the footprint at the cell entry); 1
 /// in the other modes and at the root, which has no parent.
@@ -277,10 +273,9 @@ impl HybridOctree {
         mode: &TraceMode,
         footprint: Option<Footprint>,
     ) -> Option<Hit> {
-        let fp = scaled_footprint(ray, footprint);
-        self.trace::<false>(ray, mode, fp).map(|f| match f {
+        self.trace::<false>(ray, mode, footprint).map(|f| match f {
             Found::Tri(b) => self.tri_hit(b),
-            Found::Voxel(e, vw) => self.voxel_hit(e, vw, mode, fp),
+            Found::Voxel(e, vw, fp) => self.voxel_hit(e, vw, mode, fp),
         })
     }
 
@@ -295,8 +290,7 @@ impl HybridOctree {
         mode: &TraceMode,
         footprint: Option<Footprint>,
     ) -> Option<(f32, HitKind)> {
-        let fp = scaled_footprint(ray, footprint);
-        self.trace::<false>(ray, mode, fp).map(|f| match f {
+        self.trace::<false>(ray, mode, footprint).map(|f| match f {
             Found::Tri(b) => (
                 b.t,
                 HitKind::Triangle {
@@ -305,7 +299,7 @@ impl HybridOctree {
                     v: b.v,
                 },
             ),
-            Found::Voxel(e, vw) => (
+            Found::Voxel(e, vw, fp) => (
                 e.t0,
                 HitKind::Voxel {
                     level: e.level,
@@ -320,18 +314,16 @@ impl HybridOctree {
     /// `intersect(..).is_some()`, but the walk ends at the first hit in the range rather than
     /// the closest.
     pub fn occluded(&self, ray: &Ray, mode: &TraceMode, footprint: Option<Footprint>) -> bool {
-        self.trace::<true>(ray, mode, scaled_footprint(ray, footprint))
-            .is_some()
+        self.trace::<true>(ray, mode, footprint).is_some()
     }
 
     /// The walk behind [`Self::intersect`] and [`Self::cast`] (`ANY = false`: the closest
-    /// hit) and [`Self::occluded`] (`ANY = true`: any hit in the ray's range); `fp` is the
-    /// footprint as `(width0, spread * |dir|)`.
+    /// hit) and [`Self::occluded`] (`ANY = true`: any hit in the ray's range).
     fn trace<const ANY: bool>(
         &self,
         ray: &Ray,
         mode: &TraceMode,
-        fp: Option<(f32, f32)>,
+        footprint: Option<Footprint>,
     ) -> Option<Found> {
         let o = ray.origin;
         let d = ray.dir;
@@ -380,6 +372,7 @@ impl HybridOctree {
         // Tolerance for accepting a triangle hit in a leaf (rounding of the cell bounds).
         let eps = 4e-6 * size / dn;
         let (t_lo, t_hi) = (ray.t_min.max(0.0), ray.t_max);
+        let fp = footprint.map(|f| (f.width0, f.spread * dn));
         // Triangles already intersected along this ray (a triangle spans several leaves).
         let mut mailbox = Mailbox::default();
         // The node slice, taken once rather than through `NodeArray`'s deref at every read.
@@ -438,7 +431,7 @@ impl HybridOctree {
                 },
             };
             if stop {
-                return Some(Found::Voxel(e, vw));
+                return Some(Found::Voxel(e, vw, fp));
             }
             if leaf {
                 self.leaf_test(
