@@ -1,7 +1,8 @@
 //! Criterion benchmarks of paper 10 (the unified triangle/voxel octree): construction of the
 //! 1.3 M-triangle blob at L = 9 with early stop and as a full octree (spec check 8), and
 //! 1024^2 primary rays of a far view of the 1.4 M-triangle forest in the three trace modes,
-//! against the binned-SAH BVH and parry3d's BVH on the same rays (spec section 5).
+//! against the binned-SAH BVH and parry3d's BVH on the same rays (spec section 5), and one
+//! shaded far-view frame in the triangles and hybrid modes (spec check 7).
 
 use std::hint::black_box;
 
@@ -10,7 +11,7 @@ use parry3d::math::Vector as PVec;
 use parry3d::query::{Ray as PRay, RayCast};
 use parry3d::shape::TriMesh as ParryMesh;
 use rayon::prelude::*;
-use wscg::octree::{build, scenes, BuildParams, Ray, TraceMode, TriangleBvh};
+use wscg::octree::{build, render, scenes, BuildParams, Ray, Shading, TraceMode, TriangleBvh};
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("paper10");
@@ -48,6 +49,23 @@ fn bench(c: &mut Criterion) {
                     .count()
             })
         });
+    }
+    // Spec check 7's workload, one frame: a far view (6 cube sides, the middle of the far-view
+    // path) rendered with Phong shading and a shadow ray in the triangles and hybrid modes.
+    let far = scenes::orbit_path(&oct.cube, 1, 6.0, 6.0, 1024)[0];
+    let light = scenes::default_light(&oct.cube);
+    for (name, mode) in [
+        ("triangles", TraceMode::Triangles),
+        ("hybrid", TraceMode::HYBRID),
+    ] {
+        g.bench_function(
+            format!("forest far frame 1024^2 (6 sides), render {name}"),
+            |b| {
+                b.iter(|| {
+                    black_box(render(&oct, &far, &light, &mode, &Shading::default()).unwrap())
+                })
+            },
+        );
     }
     // The same walk without the normal and colour reads: what parry3d's `cast_local_ray`
     // returns (and the triangle with its barycentrics besides).

@@ -52,6 +52,8 @@ pub use build::{build, BuildParams, BuildStats};
 pub use cube::{morton, Cube};
 pub use node::{LeafTris, Node, NodeArray, Voxel};
 pub use octree::{HybridOctree, MemoryReport, Tri};
-pub use render::{lod_map, render, Camera, Focus, PointLight, RayGen, RenderStats, Shading};
+pub use render::{
+    lod_map, render, Camera, Focus, PixelRect, PointLight, RayGen, RenderStats, Shading,
+};
 pub use traverse::{Footprint, Hit, HitKind, Ray, TraceMode};
 pub use voxelize::{voxelize, Fragment, Fragments};

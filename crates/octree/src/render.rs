@@ -98,6 +98,63 @@ impl Camera {
         }
     }
 
+    /// The pixels whose primary rays can enter `cube`, as half-open column and row ranges:
+    /// the bounding rectangle of the cube's projected corners, widened by one pixel against
+    /// rounding. Every ray outside it misses the cube, so a renderer can fill those pixels
+    /// with the background without tracing them (in a far view most of the image). The whole
+    /// image when a corner lies on or behind the eye plane (the projection is then unbounded),
+    /// empty when the cube lies wholly behind the eye.
+    pub fn cube_pixels(&self, frame: &Frame, cube: &crate::Cube) -> PixelRect {
+        let (r, u, f) = (
+            frame.0.map(f64::from),
+            frame.1.map(f64::from),
+            frame.2.map(f64::from),
+        );
+        let eye = self.eye.map(f64::from);
+        let (w, h) = (self.width, self.height);
+        let th = (0.5 * f64::from(self.fov_y_deg)).to_radians().tan();
+        let ta = th * w as f64 / h as f64;
+        let full = PixelRect { x: 0..w, y: 0..h };
+        let (mut x0, mut y0) = (f64::INFINITY, f64::INFINITY);
+        let (mut x1, mut y1) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+        let mut behind = 0;
+        for corner in 0..8 {
+            let p: [f64; 3] = std::array::from_fn(|k| {
+                cube.min[k] + if corner >> k & 1 == 1 { cube.size } else { 0.0 } - eye[k]
+            });
+            let z = p[0] * f[0] + p[1] * f[1] + p[2] * f[2];
+            if z <= 0.0 {
+                behind += 1;
+                continue;
+            }
+            let a = (p[0] * r[0] + p[1] * r[1] + p[2] * r[2]) / z;
+            let b = (p[0] * u[0] + p[1] * u[1] + p[2] * u[2]) / z;
+            // Continuous pixel coordinates: pixel `x`'s centre is at `x + 1/2`.
+            let fx = (a + ta) * w as f64 / (2.0 * ta);
+            let fy = (th - b) * h as f64 / (2.0 * th);
+            x0 = x0.min(fx);
+            x1 = x1.max(fx);
+            y0 = y0.min(fy);
+            y1 = y1.max(fy);
+        }
+        if behind == 8 {
+            return PixelRect { x: 0..0, y: 0..0 };
+        }
+        if behind > 0 || ![x0, x1, y0, y1].iter().all(|v| v.is_finite()) {
+            return full;
+        }
+        // Centres `c + 1/2` in `[lo, hi]`, one pixel more on each side.
+        let span = |lo: f64, hi: f64, n: usize| {
+            let a = ((lo - 0.5).ceil() - 1.0).clamp(0.0, n as f64) as usize;
+            let b = ((hi - 0.5).floor() + 2.0).clamp(0.0, n as f64) as usize;
+            a..b.max(a)
+        };
+        PixelRect {
+            x: span(x0, x1, w),
+            y: span(y0, y1, h),
+        }
+    }
+
     /// Pixel footprint of primary rays (Igehy 1999): `f(t) = t 2 tan(fov_y / 2) / H`.
     pub fn footprint(&self) -> Footprint {
         Footprint {
@@ -105,6 +162,15 @@ impl Camera {
             spread: 2.0 * (0.5 * self.fov_y_deg.to_radians()).tan() / self.height as f32,
         }
     }
+}
+
+/// A rectangle of pixels: columns `x`, rows `y` (half-open).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PixelRect {
+    /// Columns.
+    pub x: std::ops::Range<usize>,
+    /// Rows.
+    pub y: std::ops::Range<usize>,
 }
 
 /// Generates the primary rays of a camera: `dir = corner + (x + 1/2) dx + (y + 1/2) dy`.
@@ -382,6 +448,8 @@ fn ambient_occlusion(
 }
 
 /// Renders `oct` from `cam` in `mode`: an `H x W x 3` linear RGB image and hit counts.
+/// Only the pixels of [`Camera::cube_pixels`] are traced; the rest are background (and
+/// counted as misses) without a ray.
 pub fn render(
     oct: &HybridOctree,
     cam: &Camera,
@@ -410,6 +478,8 @@ pub fn render(
     let rays = cam.ray_gen(&frame);
     let (w, h) = (cam.width, cam.height);
     let mut data = vec![0f32; w * h * 3];
+    // Pixels outside the cube's projection miss everything: background, not traced.
+    let inside = cam.cube_pixels(&frame, &oct.cube);
     let empty = RenderStats {
         blend_min: 1.0,
         blend_max: 0.0,
@@ -420,7 +490,16 @@ pub fn render(
         .enumerate()
         .map(|(y, row)| {
             let mut st = empty;
-            for x in 0..w {
+            let xs = if inside.y.contains(&y) {
+                inside.x.clone()
+            } else {
+                0..0
+            };
+            st.misses += w - xs.len();
+            for x in (0..xs.start).chain(xs.end..w) {
+                row[3 * x..3 * x + 3].copy_from_slice(&shading.background);
+            }
+            for x in xs {
                 let ray = rays.ray(x, y);
                 let pm = match &shading.focus {
                     Some(f) => f.mode_at(mode, x, y),
@@ -483,11 +562,13 @@ pub fn lod_map(
     let rays = cam.ray_gen(&frame);
     let fp = cam.footprint();
     let depth = f32::from(oct.max_depth.max(1));
+    let inside = cam.cube_pixels(&frame, &oct.cube);
     let mut data = vec![0f32; cam.width * cam.height * 3];
     data.par_chunks_mut(cam.width * 3)
         .enumerate()
+        .filter(|(y, _)| inside.y.contains(y))
         .for_each(|(y, row)| {
-            for x in 0..cam.width {
+            for x in inside.x.clone() {
                 let pm = focus.map_or(*mode, |f| f.mode_at(mode, x, y));
                 let c = match oct.intersect(&rays.ray(x, y), &pm, Some(fp)) {
                     None => [0.0; 3],

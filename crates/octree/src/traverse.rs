@@ -352,14 +352,29 @@ impl HybridOctree {
         if t0 > t1 {
             return None;
         }
-        if matches!(mode, TraceMode::Triangles) {
-            // Every triangle lies in the mesh's bounding box. (Voxels fill whole cells, which
-            // reach past it, so the other modes cannot take this shortcut.)
+        // Past the root test only: most rays of a far view miss the root cell.
+        let dn = dd.sqrt();
+        let fp = footprint.map(|f| (f.width0, f.spread * dn));
+        // Every triangle lies in the mesh's bounding box, and a non-empty cell of side `vw`
+        // overlaps it, so lies within `vw` of it. A hybrid stop needs `vw <= lod_scale (w0 +
+        // s t)` with `t` at most the root's exit `t1`: a ray that misses the box widened by
+        // that much misses everything. (The voxel mode stops at leaves of any size.)
+        let margin = match *mode {
+            TraceMode::Triangles => Some(0.0),
+            TraceMode::Hybrid { lod_scale, .. } => {
+                // (Widened by 1e-4 of itself against rounding.)
+                Some(fp.map_or(0.0, |(w0, s)| {
+                    (lod_scale * (w0 + s * t1)).max(0.0) * (1.0 + 1e-4)
+                }))
+            }
+            TraceMode::Voxels { .. } => None,
+        };
+        if let Some(m) = margin.filter(|m| *m < size) {
             let [lo, hi] = self.bounds;
             let (mut a0, mut a1) = (t0, t1);
             for k in 0..3 {
-                let a = (lo[k] - o[k]) * inv[k];
-                let b = (hi[k] - o[k]) * inv[k];
+                let a = (lo[k] - m - o[k]) * inv[k];
+                let b = (hi[k] + m - o[k]) * inv[k];
                 a0 = a0.max(a.min(b));
                 a1 = a1.min(a.max(b));
             }
@@ -367,12 +382,9 @@ impl HybridOctree {
                 return None;
             }
         }
-        // Past the root test only: most rays of a far view miss the root cell.
-        let dn = dd.sqrt();
         // Tolerance for accepting a triangle hit in a leaf (rounding of the cell bounds).
         let eps = 4e-6 * size / dn;
         let (t_lo, t_hi) = (ray.t_min.max(0.0), ray.t_max);
-        let fp = footprint.map(|f| (f.width0, f.spread * dn));
         // Triangles already intersected along this ray (a triangle spans several leaves).
         let mut mailbox = Mailbox::default();
         // The node slice, taken once rather than through `NodeArray`'s deref at every read.
