@@ -562,6 +562,29 @@ fn avx2_available() -> bool {
     }
 }
 
+/// Coherence `C = max(1 - d_c / Max_disp, c_min)` of eq. 4 for a squared distance
+/// `d2 = d_c^2` to the closest neighbouring offset.
+fn coherence_of(d2: i64, w: f32, c_min: f32) -> f32 {
+    (1.0 - (d2 as f64).sqrt() as f32 / w).max(c_min)
+}
+
+/// [`coherence_of`] for `d2 = 0, 1, ...` up to the first value where it equals `c_min`
+/// (every larger `d2` gives `c_min` too), at most 2^16 entries; empty without the coherence
+/// term.
+fn coherence_table(p: &PmParams, w: f32) -> Vec<f32> {
+    if !p.coherence {
+        return Vec::new();
+    }
+    let mut t = Vec::new();
+    loop {
+        let c = coherence_of(t.len() as i64, w, p.c_min);
+        t.push(c);
+        if c <= p.c_min || t.len() >= 1 << 16 {
+            return t;
+        }
+    }
+}
+
 /// The state of one PatchMatch run.
 struct Run<'a> {
     sp: Space<'a>,
@@ -574,6 +597,9 @@ struct Run<'a> {
     ssd: Vec<f32>,
     /// `Max_disp` of the coherence term and `w` of the random search.
     w: f32,
+    /// `C` of eq. 4 for the squared distances `d_c^2` of [`coherence_table`] (computed by
+    /// [`coherence_of`] beyond it), so a candidate costs no square root.
+    coh: Vec<f32>,
 }
 
 impl Run<'_> {
@@ -631,7 +657,10 @@ impl Run<'_> {
         if d2 == i64::MAX {
             return 1.0;
         }
-        (1.0 - (d2 as f64).sqrt() as f32 / self.w).max(self.p.c_min)
+        match self.coh.get(d2 as usize) {
+            Some(&c) => c,
+            None => coherence_of(d2, self.w, self.p.c_min),
+        }
     }
 
     /// Cost `D = SSD / C` (eq. 2), stopping early above `bound`.
@@ -806,6 +835,11 @@ fn run_patchmatch(
     let n = ha * wa;
     let (pa, pb) = (padded(a.data(), c), padded(b.data(), c));
     let pw = weights.map(|(x, y)| (padded(x, c), padded(y, c)));
+    let w = if p.epipolar {
+        p.max_disp() as f32
+    } else {
+        wa.max(ha) as f32
+    };
     let mut run = Run {
         sp: Space {
             a: &pa,
@@ -827,11 +861,8 @@ fn run_patchmatch(
         off: vec![[0, 0]; n],
         cost: vec![f32::INFINITY; n],
         ssd: vec![f32::NAN; n],
-        w: if p.epipolar {
-            p.max_disp() as f32
-        } else {
-            wa.max(ha) as f32
-        },
+        w,
+        coh: coherence_table(p, w),
     };
     let mut r = rng::seeded(p.seed);
     run.init(&mut r);
@@ -863,6 +894,50 @@ pub fn patchmatch_2d(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The coherence table holds eq. 4 for every squared distance up to where it reaches
+    /// `c_min`, beyond which eq. 4 gives `c_min`; without the coherence term it is empty.
+    #[test]
+    fn coherence_table_is_eq_4_up_to_c_min() {
+        for (d, c_min) in [(64, 0.05f32), (7, 0.3), (300, 0.2)] {
+            let p = PmParams {
+                d_min: -d,
+                d_max: d,
+                c_min,
+                ..PmParams::default()
+            };
+            let w = p.max_disp() as f32;
+            let t = coherence_table(&p, w);
+            for (k, &c) in t.iter().enumerate() {
+                assert_eq!(c.to_bits(), coherence_of(k as i64, w, c_min).to_bits());
+            }
+            assert_eq!(t[0], 1.0);
+            assert_eq!(*t.last().unwrap(), c_min);
+            assert!(t[t.len() - 2] > c_min);
+            // Where 1 - sqrt(d2) / w first drops to c_min.
+            let edge = (w * (1.0 - c_min)).powi(2);
+            assert!(
+                (t.len() as f32 - 1.0 - edge).abs() <= 2.0 + 1e-3 * edge,
+                "{}",
+                t.len()
+            );
+            for k in [t.len(), t.len() + 1, 4 * t.len()] {
+                assert_eq!(coherence_of(k as i64, w, c_min), c_min);
+            }
+        }
+        // A wide range: the table stops at 2^16 entries, short of c_min.
+        let wide = PmParams {
+            d_min: -1000,
+            d_max: 1000,
+            ..PmParams::default()
+        };
+        assert_eq!(coherence_table(&wide, 1000.0).len(), 1 << 16);
+        let off = PmParams {
+            coherence: false,
+            ..PmParams::default()
+        };
+        assert!(coherence_table(&off, 64.0).is_empty());
+    }
 
     /// The unpadded interior distance gives the same sums with the portable rows and with
     /// the AVX2 rows (where the CPU has them), for every channel count and patch size, and

@@ -47,9 +47,30 @@ pub fn vote_bds(src: &Image<f32>, nnf_rs: &Nnf, nnf_sr: &Nnf, patch: usize) -> R
             bucket[my as usize].push(t as u32);
         }
     }
-    let src_at = |y: i64, x: i64| -> Option<&[f32]> {
-        ((0..hs as i64).contains(&y) && (0..ws as i64).contains(&x))
-            .then(|| src.pixel(y as usize, x as usize))
+    // Adds the source pixels `sx0 + (px - px0)` of row `sy` to the accumulators of the output
+    // pixels `px` in `px0..=px1`, keeping only sources inside the image: one contiguous run
+    // of samples, added in the order of the pixels as a pixel-by-pixel loop would.
+    let add_run = |acc: &mut [f64], n: &mut [u32], sy: i64, (px0, px1): (i64, i64), sx0: i64| {
+        if !(0..hs as i64).contains(&sy) {
+            return;
+        }
+        let (lo, hi) = (px0.max(px0 - sx0), px1.min(px0 - sx0 + ws as i64 - 1));
+        if lo > hi {
+            return;
+        }
+        let s0 = (sx0 + lo - px0) as usize;
+        let row = &src.data()[sy as usize * ws * c..(sy as usize + 1) * ws * c];
+        let len = (hi - lo + 1) as usize;
+        let (lo, s0) = (lo as usize, s0);
+        for (a, &v) in acc[lo * c..(lo + len) * c]
+            .iter_mut()
+            .zip(&row[s0 * c..(s0 + len) * c])
+        {
+            *a += v as f64;
+        }
+        for k in &mut n[lo..lo + len] {
+            *k += 1;
+        }
     };
     let mut out = vec![0f32; hr * wr * c];
     out.par_chunks_mut(wr * c)
@@ -64,15 +85,15 @@ pub fn vote_bds(src: &Image<f32>, nnf_rs: &Nnf, nnf_sr: &Nnf, patch: usize) -> R
             for qy in (py - h).max(0)..=(py + h).min(hr as i64 - 1) {
                 for qx in 0..wr as i64 {
                     let o = nnf_rs.at(qy as usize, qx as usize);
-                    for px in (qx - h).max(0)..=(qx + h).min(wr as i64 - 1) {
-                        if let Some(v) = src_at(py + o[1] as i64, px + o[0] as i64) {
-                            let k = px as usize;
-                            for (a, &s) in a1[k * c..(k + 1) * c].iter_mut().zip(v) {
-                                *a += s as f64;
-                            }
-                            n1[k] += 1;
-                        }
-                    }
+                    let px0 = (qx - h).max(0);
+                    let px1 = (qx + h).min(wr as i64 - 1);
+                    add_run(
+                        &mut a1,
+                        &mut n1,
+                        py + o[1] as i64,
+                        (px0, px1),
+                        px0 + o[0] as i64,
+                    );
                 }
             }
             // Second term: source patches pushed to their matches m = t + off_sr(t).
@@ -80,15 +101,9 @@ pub fn vote_bds(src: &Image<f32>, nnf_rs: &Nnf, nnf_sr: &Nnf, patch: usize) -> R
                 for &t in &bucket[my as usize] {
                     let (ty, tx) = ((t as usize / ws) as i64, (t as usize % ws) as i64);
                     let mx = tx + nnf_sr.off[t as usize][0] as i64;
-                    for px in (mx - h).max(0)..=(mx + h).min(wr as i64 - 1) {
-                        if let Some(v) = src_at(ty + py - my, tx + px - mx) {
-                            let k = px as usize;
-                            for (a, &s) in a2[k * c..(k + 1) * c].iter_mut().zip(v) {
-                                *a += s as f64;
-                            }
-                            n2[k] += 1;
-                        }
-                    }
+                    let px0 = (mx - h).max(0);
+                    let px1 = (mx + h).min(wr as i64 - 1);
+                    add_run(&mut a2, &mut n2, ty + py - my, (px0, px1), tx + px0 - mx);
                 }
             }
             for x in 0..wr {
