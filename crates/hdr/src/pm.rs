@@ -161,11 +161,12 @@ pub fn check_pair(a: &Image<f32>, b: &Image<f32>) -> Result<()> {
 /// padded layout, four of them so consecutive pixels do not wait on each other's additions.
 type Lanes = [[f32; 4]; 4];
 
+/// Adds `(x - y)^2` lane by lane to an `N`-lane accumulator (`x`, `y`: `N` samples).
 #[inline(always)]
-fn add_sq(acc: &mut [f32; 4], x: &[f32], y: &[f32]) {
-    let x: &[f32; 4] = x.try_into().expect("chunk of 4");
-    let y: &[f32; 4] = y.try_into().expect("chunk of 4");
-    for k in 0..4 {
+fn add_sq<const N: usize>(acc: &mut [f32; N], x: &[f32], y: &[f32]) {
+    let x: &[f32; N] = x.try_into().expect("chunk of N");
+    let y: &[f32; N] = y.try_into().expect("chunk of N");
+    for k in 0..N {
         let d = x[k] - y[k];
         acc[k] += d * d;
     }
@@ -192,18 +193,7 @@ fn sq_diff_lanes(a: &[f32], b: &[f32], acc: &mut Lanes) {
     }
 }
 
-/// Adds `(x - y)^2` lane by lane to an 8-lane accumulator.
-#[inline(always)]
-fn add_sq8(acc: &mut [f32; 8], x: &[f32], y: &[f32]) {
-    let x: &[f32; 8] = x.try_into().expect("chunk of 8");
-    let y: &[f32; 8] = y.try_into().expect("chunk of 8");
-    for k in 0..8 {
-        let d = x[k] - y[k];
-        acc[k] += d * d;
-    }
-}
-
-/// [`add_sq8`] with each difference multiplied by `mask` (0 or 1).
+/// [`add_sq`] with each difference multiplied by `mask` (0 or 1).
 #[inline(always)]
 fn add_sq8_masked(acc: &mut [f32; 8], x: &[f32], y: &[f32], mask: &[f32; 8]) {
     let x: &[f32; 8] = x.try_into().expect("chunk of 8");
@@ -226,12 +216,12 @@ fn sq_diff_row8(a: &[f32], b: &[f32], tail: &[f32; 8], a0: &mut [f32; 8], a1: &m
     let full = len / 8;
     let mut i = 0;
     while i + 2 <= full {
-        add_sq8(a0, &a[8 * i..8 * i + 8], &b[8 * i..8 * i + 8]);
-        add_sq8(a1, &a[8 * i + 8..8 * i + 16], &b[8 * i + 8..8 * i + 16]);
+        add_sq(a0, &a[8 * i..8 * i + 8], &b[8 * i..8 * i + 8]);
+        add_sq(a1, &a[8 * i + 8..8 * i + 16], &b[8 * i + 8..8 * i + 16]);
         i += 2;
     }
     if i < full {
-        add_sq8(a0, &a[8 * i..8 * i + 8], &b[8 * i..8 * i + 8]);
+        add_sq(a0, &a[8 * i..8 * i + 8], &b[8 * i..8 * i + 8]);
     }
     if !len.is_multiple_of(8) {
         let acc = if full % 2 == 1 { &mut *a1 } else { &mut *a0 };

@@ -428,6 +428,22 @@ fn memory_trend_follows_triangle_size() {
     assert!(forest > blob && forest < atrium, "forest saving {forest}");
 }
 
+/// The atrium, blob and forest at L = 9: name, full octree, early-stop octree (built one
+/// scene at a time as the iterator advances).
+fn full_and_early_builds() -> impl Iterator<Item = (&'static str, HybridOctree, HybridOctree)> {
+    [
+        ("atrium", scenes::atrium(10).unwrap()),
+        ("blob", scenes::blob(8).unwrap()),
+        ("forest", scenes::forest(13, 6, 64, 3).unwrap()),
+    ]
+    .into_iter()
+    .map(|(name, mesh)| {
+        let (full, _) = build(&mesh, &params(9, false)).unwrap();
+        let (early, _) = build(&mesh, &params(9, true)).unwrap();
+        (name, full, early)
+    })
+}
+
 /// What check 4's strict reading compares, exactly: the two builds agree above every early
 /// leaf and in the lists at level `L`, and a single never takes index words, so the full
 /// build's index array differs from the early one's only under early pair leaves. Each such
@@ -436,13 +452,7 @@ fn memory_trend_follows_triangle_size() {
 /// whose triangles share no finest cell (`k = 0`) makes the full array smaller.
 #[test]
 fn tri_index_difference_is_two_words_per_shared_cell_minus_one() {
-    for (name, mesh) in [
-        ("atrium", scenes::atrium(10).unwrap()),
-        ("blob", scenes::blob(8).unwrap()),
-        ("forest", scenes::forest(13, 6, 64, 3).unwrap()),
-    ] {
-        let (full, _) = build(&mesh, &params(9, false)).unwrap();
-        let (early, _) = build(&mesh, &params(9, true)).unwrap();
+    for (name, full, early) in full_and_early_builds() {
         let pairs_at = |oct: &HybridOctree, deep: bool| {
             let mut out = Vec::new();
             oct.visit(|n, l, c| {
@@ -495,13 +505,7 @@ fn tri_index_difference_is_two_words_per_shared_cell_minus_one() {
 #[ignore = "fails by 8 bytes of 25.5 MB on the blob: one early pair leaf whose triangles the full build stores as singles"]
 fn full_tri_index_is_never_smaller() {
     let mut short = Vec::new();
-    for (name, mesh) in [
-        ("atrium", scenes::atrium(10).unwrap()),
-        ("blob", scenes::blob(8).unwrap()),
-        ("forest", scenes::forest(13, 6, 64, 3).unwrap()),
-    ] {
-        let (full, _) = build(&mesh, &params(9, false)).unwrap();
-        let (early, _) = build(&mesh, &params(9, true)).unwrap();
+    for (name, full, early) in full_and_early_builds() {
         let (a, b) = (
             full.memory_report().tri_index,
             early.memory_report().tri_index,
