@@ -575,6 +575,12 @@ fn coherence_table(p: &PmParams, w: f32) -> Vec<f32> {
     }
 }
 
+/// The current offsets of a pixel's 4-neighbours inside the image: `off[..n]`.
+struct Neighbours {
+    off: [[i32; 2]; 4],
+    n: usize,
+}
+
 /// The state of one PatchMatch run.
 struct Run<'a> {
     sp: Space<'a>,
@@ -627,25 +633,38 @@ impl Run<'_> {
         }
     }
 
-    /// Coherence term `C` (eq. 4) of offset `d` at pixel `i = (x, y)`: `d_c` is the distance
-    /// of `d` to the closest current offset of a 4-neighbour.
+    /// The current offsets of the 4-neighbours of `(x, y)` that lie inside the image. They
+    /// stay fixed while the pixel is visited, so a visit reads them once for all candidates.
     #[inline(always)]
-    fn coherence(&self, x: i32, y: i32, d: [i32; 2]) -> f32 {
-        if !self.p.coherence {
+    fn neighbours(&self, x: i32, y: i32) -> Neighbours {
+        let mut nb = Neighbours {
+            off: [[0; 2]; 4],
+            n: 0,
+        };
+        if self.p.coherence {
+            for (nx, ny) in [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)] {
+                if nx < 0 || ny < 0 || nx >= self.sp.wa || ny >= self.sp.ha {
+                    continue;
+                }
+                nb.off[nb.n] = self.off[(ny * self.sp.wa + nx) as usize];
+                nb.n += 1;
+            }
+        }
+        nb
+    }
+
+    /// Coherence term `C` (eq. 4) of offset `d` at a pixel with neighbours `nb`: `d_c` is the
+    /// distance of `d` to the closest current offset of a 4-neighbour.
+    #[inline(always)]
+    fn coherence(&self, nb: &Neighbours, d: [i32; 2]) -> f32 {
+        if !self.p.coherence || nb.n == 0 {
             return 1.0;
         }
-        // Smallest squared distance first, one square root.
+        // Smallest squared distance first, then eq. 4 from the table.
         let mut d2 = i64::MAX;
-        for (nx, ny) in [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)] {
-            if nx < 0 || ny < 0 || nx >= self.sp.wa || ny >= self.sp.ha {
-                continue;
-            }
-            let o = self.off[(ny * self.sp.wa + nx) as usize];
+        for o in &nb.off[..nb.n] {
             let (ex, ey) = ((d[0] - o[0]) as i64, (d[1] - o[1]) as i64);
             d2 = d2.min(ex * ex + ey * ey);
-        }
-        if d2 == i64::MAX {
-            return 1.0;
         }
         match self.coh.get(d2 as usize) {
             Some(&c) => c,
@@ -656,21 +675,15 @@ impl Run<'_> {
     /// Cost `D = SSD / C` (eq. 2), stopping early above `bound`.
     #[inline]
     fn cost_of(&self, x: i32, y: i32, d: [i32; 2], bound: f32) -> f32 {
-        self.cost_and_ssd(x, y, d, bound).0
+        self.cost_and_ssd(&self.neighbours(x, y), x, y, d, bound).0
     }
 
     /// `(D, SSD)` of offset `d`; the SSD is complete whenever `D <= bound`.
     #[inline(always)]
-    fn cost_and_ssd(&self, x: i32, y: i32, d: [i32; 2], bound: f32) -> (f32, f32) {
-        let c = self.coherence(x, y, d);
+    fn cost_and_ssd(&self, nb: &Neighbours, x: i32, y: i32, d: [i32; 2], bound: f32) -> (f32, f32) {
+        let c = self.coherence(nb, d);
         let s = self.sp.ssd(x, y, d, bound * c);
         (s / c, s)
-    }
-
-    fn in_range(&self, x: i32, y: i32, d: [i32; 2]) -> bool {
-        let (xl, xh) = self.x_range(x);
-        let (yl, yh) = self.y_range(y);
-        (xl..=xh).contains(&d[0]) && (yl..=yh).contains(&d[1])
     }
 
     fn init(&mut self, r: &mut rng::Rng) {
@@ -718,28 +731,31 @@ impl Run<'_> {
                 let x = if forward { xx } else { wa - 1 - xx };
                 let i = (y * wa + x) as usize;
                 let mut best = self.off[i];
+                let nb = self.neighbours(x, y);
                 // The current offset's SSD is kept from the visit that chose it.
                 let (mut dbest, mut sbest) = if self.ssd[i].is_nan() {
-                    self.cost_and_ssd(x, y, best, f32::INFINITY)
+                    self.cost_and_ssd(&nb, x, y, best, f32::INFINITY)
                 } else {
-                    (self.ssd[i] / self.coherence(x, y, best), self.ssd[i])
+                    (self.ssd[i] / self.coherence(&nb, best), self.ssd[i])
                 };
+                // The offsets allowed at this pixel.
+                let (xl, xh) = self.x_range(x);
+                let (yl, yh) = self.y_range(y);
                 // Propagation from the neighbours already visited in this sweep.
                 for (nx, ny) in [(x + step, y), (x, y + step)] {
                     if nx < 0 || ny < 0 || nx >= wa || ny >= ha {
                         continue;
                     }
                     let cand = self.off[(ny * wa + nx) as usize];
-                    if cand != best && self.in_range(x, y, cand) {
-                        let (dc, sc) = self.cost_and_ssd(x, y, cand, dbest);
+                    let allowed = (xl..=xh).contains(&cand[0]) && (yl..=yh).contains(&cand[1]);
+                    if cand != best && allowed {
+                        let (dc, sc) = self.cost_and_ssd(&nb, x, y, cand, dbest);
                         if dc < dbest {
                             (best, dbest, sbest) = (cand, dc, sc);
                         }
                     }
                 }
                 // Random search, eq. 1: u_i = v0 + w alpha^i R_i while w alpha^i >= 1.
-                let (xl, xh) = self.x_range(x);
-                let (yl, yh) = self.y_range(y);
                 let mut rad = radius0;
                 while rad >= 1.0 {
                     let rx: f32 = r.random_range(-1.0..=1.0);
@@ -757,7 +773,7 @@ impl Run<'_> {
                     };
                     let cand = [cx, cy];
                     if cand != best {
-                        let (dc, sc) = self.cost_and_ssd(x, y, cand, dbest);
+                        let (dc, sc) = self.cost_and_ssd(&nb, x, y, cand, dbest);
                         if dc < dbest {
                             (best, dbest, sbest) = (cand, dc, sc);
                         }
