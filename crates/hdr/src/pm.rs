@@ -444,7 +444,9 @@ impl Space<'_> {
 
 impl Space<'_> {
     /// [`Space::ssd`] of a patch inside both images: fixed row length, the lanes summed
-    /// across two rows at a time between the early-termination checks.
+    /// across two rows at a time between the early-termination checks. Rows of at least 8
+    /// samples go to [`Space::ssd_interior_unpadded`]; shorter ones (a 3 x 3 patch of one or
+    /// two channels, one-channel patches up to 7 wide) use the padded layout here.
     #[inline(always)]
     fn ssd_interior(&self, x: i32, y: i32, d: [i32; 2], bound: f32) -> f32 {
         let side = (2 * self.half + 1) as usize;
@@ -697,9 +699,9 @@ impl Run<'_> {
         }
     }
 
-    /// One sweep: propagation then random search at every pixel, in scan order.
-    /// One sweep, compiled for AVX2 as well and picked at run time (the same arithmetic in
-    /// the same order either way, so the same field).
+    /// One sweep: propagation then random search at every pixel, in scan order. Compiled for
+    /// AVX2 as well and picked at run time (the same arithmetic in the same order either
+    /// way, so the same field).
     fn sweep(&mut self, forward: bool, r: &mut rng::Rng) {
         #[cfg(target_arch = "x86_64")]
         if self.sp.avx2 {
@@ -943,6 +945,81 @@ mod tests {
             ..PmParams::default()
         };
         assert!(coherence_table(&off, 64.0).is_empty());
+    }
+
+    /// The coherence term a visit computes (neighbours read once, eq. 4 from the table)
+    /// equals eq. 4 evaluated directly: `max(1 - d_c / Max_disp, c_min)` with `d_c` the
+    /// distance to the closest current offset of a 4-neighbour inside the image, 1 without
+    /// neighbours. Offsets are random, 2-D (a vertical tolerance), and reach past the table.
+    #[test]
+    fn coherence_equals_eq_4_evaluated_directly() {
+        let mut r = rng::seeded(5);
+        let (h, w) = (9i32, 11i32);
+        let zeros = vec![0f32; (h * w) as usize * 4];
+        let p = PmParams {
+            d_min: -40,
+            d_max: 40,
+            v_tol: 6,
+            c_min: 0.05,
+            ..PmParams::default()
+        };
+        let wmax = p.max_disp() as f32;
+        let off: Vec<[i32; 2]> = (0..h * w)
+            .map(|_| [r.random_range(-40..=40), r.random_range(-6..=6)])
+            .collect();
+        let run = Run {
+            sp: Space {
+                a: &zeros,
+                b: &zeros,
+                ua: &zeros,
+                ub: &zeros,
+                tail: tail_mask(28),
+                avx2: false,
+                weights: None,
+                wa: w,
+                ha: h,
+                wb: w,
+                hb: h,
+                c: 4,
+                c_real: 4,
+                half: 3,
+            },
+            p,
+            off: off.clone(),
+            cost: vec![0.0; off.len()],
+            ssd: vec![f32::NAN; off.len()],
+            w: wmax,
+            coh: coherence_table(&p, wmax),
+        };
+        for _ in 0..2000 {
+            let (x, y) = (r.random_range(0..w), r.random_range(0..h));
+            let d = [r.random_range(-80..=80), r.random_range(-12..=12)];
+            let mut dc = f64::INFINITY;
+            for (nx, ny) in [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)] {
+                if (0..w).contains(&nx) && (0..h).contains(&ny) {
+                    let o = off[(ny * w + nx) as usize];
+                    dc = dc.min(f64::from(d[0] - o[0]).hypot(f64::from(d[1] - o[1])));
+                }
+            }
+            let want = (1.0 - dc / f64::from(wmax)).max(0.05);
+            let got = run.coherence(&run.neighbours(x, y), d);
+            assert!(
+                (f64::from(got) - want).abs() <= 1e-6,
+                "({x}, {y}) {d:?}: {got} vs {want}"
+            );
+        }
+        // A 1 x 1 image: no neighbours.
+        let lone = Run {
+            sp: Space {
+                wa: 1,
+                ha: 1,
+                ..run.sp
+            },
+            off: vec![[3, 0]],
+            coh: Vec::new(),
+            ..run
+        };
+        assert_eq!(lone.coherence(&lone.neighbours(0, 0), [-30, 2]), 1.0);
     }
 
     /// The unpadded interior distance gives the same sums with the portable rows and with

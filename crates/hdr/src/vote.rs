@@ -58,10 +58,12 @@ pub fn vote_bds(src: &Image<f32>, nnf_rs: &Nnf, nnf_sr: &Nnf, patch: usize) -> R
         if lo > hi {
             return;
         }
-        let s0 = (sx0 + lo - px0) as usize;
         let row = &src.data()[sy as usize * ws * c..(sy as usize + 1) * ws * c];
-        let len = (hi - lo + 1) as usize;
-        let (lo, s0) = (lo as usize, s0);
+        let (s0, lo, len) = (
+            (sx0 + lo - px0) as usize,
+            lo as usize,
+            (hi - lo + 1) as usize,
+        );
         for (a, &v) in acc[lo * c..(lo + len) * c]
             .iter_mut()
             .zip(&row[s0 * c..(s0 + len) * c])
