@@ -202,15 +202,11 @@ impl<'a> Sampler<'a> {
     /// cell, clipped to the box), so one step crosses many empty cells.
     #[inline]
     pub fn empty_exit(&self, p: [f32; 3], dir: [f32; 3], c: [usize; 3]) -> Option<f32> {
-        let i = c[0] + self.cells[0] * (c[1] + self.cells[1] * c[2]);
-        let clear = self
-            .clear
-            .get_or_init(|| chebyshev_clearance(self.cells, &self.empty));
-        let r = (clear[i] as usize).max(1) - 1;
+        let [lo_c, hi_c] = self.empty_cube(c);
         let mut t = f32::INFINITY;
         for a in 0..3 {
-            let lo = (c[a].saturating_sub(r) * CELL) as f32 - 0.5;
-            let hi = ((c[a] + r + 1).min(self.cells[a]) * CELL) as f32 - 0.5;
+            let lo = (lo_c[a] * CELL) as f32 - 0.5;
+            let hi = (hi_c[a] * CELL) as f32 - 0.5;
             if dir[a] > 0.0 {
                 t = t.min((hi - p[a]) / dir[a]);
             } else if dir[a] < 0.0 {
@@ -218,6 +214,72 @@ impl<'a> Sampler<'a> {
             }
         }
         (t.is_finite() && t > 0.0).then_some(t)
+    }
+
+    /// The cube of empty cells around the empty cell `c`, clipped to the grid, as per-axis
+    /// cell ranges `[lo, hi)`: the cells within the Chebyshev clearance of `c` minus one.
+    #[inline]
+    fn empty_cube(&self, c: [usize; 3]) -> [[usize; 3]; 2] {
+        let i = c[0] + self.cells[0] * (c[1] + self.cells[1] * c[2]);
+        let clear = self
+            .clear
+            .get_or_init(|| chebyshev_clearance(self.cells, &self.empty));
+        let r = (clear[i] as usize).max(1) - 1;
+        [
+            c.map(|ca| ca.saturating_sub(r)),
+            std::array::from_fn(|a| (c[a] + r + 1).min(self.cells[a])),
+        ]
+    }
+
+    /// How many consecutive pixels of a slice row are certainly transparent, starting with the
+    /// one whose samples lie in the box `[lo, hi]` (voxel coordinates), the next pixel's
+    /// samples being those moved by `dx`: the pixels whose samples all stay in the cube of
+    /// empty cells around the cell of the box's centre (extended past the grid's faces when
+    /// the outside of the volume is transparent). 0 when that cell is not empty or the box
+    /// leaves the cube; `usize::MAX` when the row never leaves it. Every sample of a counted
+    /// pixel is one that [`Sampler::visible`] returns `None` for.
+    pub fn transparent_run(&self, lo: [f32; 3], hi: [f32; 3], dx: [f32; 3]) -> usize {
+        /// Distance kept from the cube's faces, in voxels: far above the rounding of
+        /// single-precision sample positions, which the caller computes independently.
+        const MARGIN: f32 = 1e-2;
+        let mid: [f32; 3] = std::array::from_fn(|a| 0.5 * (lo[a] + hi[a]));
+        if !mid.iter().all(|v| v.is_finite()) {
+            return 0;
+        }
+        let c = self.cell3(mid);
+        if !self.empty[c[0] + self.cells[0] * (c[1] + self.cells[1] * c[2])] {
+            return 0;
+        }
+        let [lo_c, hi_c] = self.empty_cube(c);
+        let dims = self.field.dims();
+        let mut k = f32::INFINITY;
+        for a in 0..3 {
+            let open = self.outside_transparent;
+            let face_lo = if open && lo_c[a] == 0 {
+                f32::NEG_INFINITY
+            } else {
+                (lo_c[a] * CELL) as f32 - 0.5 + MARGIN
+            };
+            let face_hi = if open && hi_c[a] == self.cells[a] {
+                f32::INFINITY
+            } else {
+                // Outside the box the value 0 is read, which may be visible.
+                ((hi_c[a] * CELL).min(dims[a]) as f32 - 0.5) - MARGIN
+            };
+            if lo[a] < face_lo || hi[a] > face_hi {
+                return 0;
+            }
+            if dx[a] > 0.0 {
+                k = k.min((face_hi - hi[a]) / dx[a]);
+            } else if dx[a] < 0.0 {
+                k = k.min((face_lo - lo[a]) / dx[a]);
+            }
+        }
+        if k >= usize::MAX as f32 {
+            usize::MAX
+        } else {
+            k as usize + 1
+        }
     }
 
     /// The parameter interval where the line `p + t dir` is inside the box, if any.
@@ -286,6 +348,92 @@ fn chebyshev_clearance(cells: [usize; 3], empty: &[bool]) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A field of `background` with a few voxels of 1 (each makes its cell and the cells
+    /// sharing its apron visible), and a transfer function transparent on `[0.3, 0.7]` only,
+    /// or from 0 to 0.7 (`open`: the outside of the box is transparent).
+    fn speckled(background: f32, open: bool) -> (ScalarField, TransferFunction) {
+        let dims = [40, 36, 30];
+        let n = dims.iter().product::<usize>();
+        let mut data = vec![background; n];
+        let u = wscg_math::rng::uniform_vec(3, 3 * 10, 0.0, 1.0).unwrap();
+        for k in 0..10 {
+            let v: [usize; 3] = std::array::from_fn(|a| (u[3 * k + a] * dims[a] as f64) as usize);
+            data[v[0] + dims[0] * (v[1] + dims[1] * v[2])] = 1.0;
+        }
+        let field = ScalarField::from_f32(dims, [1.0; 3], data).unwrap();
+        let a0 = if open { 0.0 } else { 0.4 };
+        let tf = TransferFunction::from_points(
+            &[
+                (0.0, [1.0, 1.0, 1.0, a0]),
+                (0.25, [1.0, 1.0, 1.0, a0]),
+                (0.3, [0.0; 4]),
+                (0.7, [0.0; 4]),
+                (0.75, [1.0, 0.5, 0.2, 0.8]),
+                (1.0, [1.0, 0.5, 0.2, 0.8]),
+            ],
+            256,
+        )
+        .unwrap();
+        (field, tf)
+    }
+
+    /// Every sample of every pixel a transparent run counts is invisible (brute force over
+    /// random rows and segments, with the outside of the box transparent or not), and the
+    /// runs cover most of the transparent pixels.
+    #[test]
+    fn transparent_runs_hold_only_invisible_samples() {
+        for (background, open) in [(0.0f32, true), (0.5, false)] {
+            let (field, tf) = speckled(background, open);
+            let s = Sampler::new(&field, &tf, Interp::Trilinear, false);
+            assert_eq!(s.outside_transparent, open);
+            let u = wscg_math::rng::uniform_vec(11, 9 * 400, 0.0, 1.0).unwrap();
+            let (mut counted, mut transparent) = (0usize, 0usize);
+            for q in u.chunks(9) {
+                // Rows start in and around the box, step 0.3-3 voxels per pixel; segments
+                // up to 2 voxels long.
+                let p: [f32; 3] = std::array::from_fn(|a| (q[a] * 50.0 - 5.0) as f32);
+                let dx: [f32; 3] = std::array::from_fn(|a| ((q[3 + a] - 0.5) * 3.0) as f32);
+                let reach: [f32; 3] = std::array::from_fn(|a| ((q[6 + a] - 0.5) * 1.2) as f32);
+                let at = |k: usize, t: f32| -> [f32; 3] {
+                    std::array::from_fn(|a| p[a] + k as f32 * dx[a] + t * reach[a])
+                };
+                let invisible =
+                    |k: usize| (0..=8).all(|j| s.visible(at(k, j as f32 / 8.0)).is_none());
+                let mut k = 0;
+                while k < 40 {
+                    let lo: [f32; 3] = std::array::from_fn(|a| at(k, 0.0)[a].min(at(k, 1.0)[a]));
+                    let hi: [f32; 3] = std::array::from_fn(|a| at(k, 0.0)[a].max(at(k, 1.0)[a]));
+                    let run = s.transparent_run(lo, hi, dx);
+                    if run == 0 {
+                        transparent += invisible(k) as usize;
+                        k += 1;
+                        continue;
+                    }
+                    let end = 40.min(k.saturating_add(run));
+                    for j in k..end {
+                        assert!(invisible(j), "open {open}: pixel {j} of a run from {k}");
+                    }
+                    counted += end - k;
+                    transparent += end - k;
+                    k = end;
+                }
+            }
+            assert!(
+                counted as f64 > 0.6 * transparent as f64,
+                "open {open}: runs cover {counted} of {transparent} transparent pixels"
+            );
+        }
+        // Nothing visible and a transparent outside: the row never ends.
+        let (field, tf) = speckled(0.0, true);
+        let empty =
+            ScalarField::from_f32(field.dims(), [1.0; 3], vec![0.0; field.data().len()]).unwrap();
+        let s = Sampler::new(&empty, &tf, Interp::Trilinear, false);
+        assert_eq!(
+            s.transparent_run([3.0; 3], [3.5; 3], [1.0, -2.0, 0.5]),
+            usize::MAX
+        );
+    }
 
     /// The breadth-first clearance equals the brute-force Chebyshev distance to the nearest
     /// non-empty cell, and a grid without one is clear throughout.
