@@ -110,8 +110,8 @@ pub(crate) struct SliceRun<'a> {
     early_stop: f32,
     background: [f32; 3],
     skip_zero: bool,
-    /// Skip runs of pixels whose samples are all transparent (post-classified samples only;
-    /// exact, see [`Sampler::transparent_run`]).
+    /// Skip runs of pixels whose samples (or pre-integrated segments) are all transparent
+    /// (exact, see [`Sampler::transparent_run`]).
     skip_transparent: bool,
     /// Tissue segments no longer than an empty-space cell (so they can be skipped).
     short_segments: bool,
@@ -239,7 +239,11 @@ impl<'a> SliceRun<'a> {
             early_stop: settings.early_stop,
             background: settings.background,
             skip_zero,
-            skip_transparent: matches!(prep.classifier, Classifier::Samples { .. }),
+            skip_transparent: match prep.classifier {
+                Classifier::Samples { .. } => true,
+                // Pre-integrated segments are skipped when they are short.
+                Classifier::Table(_) => (delta as usize) < super::sampler::CELL,
+            },
             short_segments: (delta as usize) < super::sampler::CELL,
             rect,
             sections,
@@ -384,9 +388,14 @@ impl<'a> SliceRun<'a> {
                 // light of their previous segment (`t = 1`, no colour): skipped as a run.
                 let lo: [f32; 3] = std::array::from_fn(|a| p0[a] + reach[a].min(0.0));
                 let hi: [f32; 3] = std::array::from_fn(|a| p0[a] + reach[a].max(0.0));
-                let run = self.sampler.transparent_run(lo, hi, self.dx);
+                let segments = matches!(self.classifier, Classifier::Table(_));
+                let run = self.sampler.transparent_run(lo, hi, self.dx, segments);
                 if run > 0 {
                     let end = cols.end.min(i.saturating_add(run));
+                    if segments {
+                        // No front value was read (as when each segment is skipped).
+                        frow[i..end].fill(f32::NAN);
+                    }
                     if n > 0 && self.m > 0 {
                         for k in i.max(ia)..end.min(ib) {
                             if qrow[k] != [0.0; 3] {
@@ -642,9 +651,9 @@ mod tests {
     use super::*;
     use crate::illumination::{Kernel, SliceCamera};
 
-    /// Two blobs in empty space, with a transfer function transparent below 0.2.
+    /// Two blobs in a corner of empty space, with a transfer function transparent below 0.2.
     fn sparse_scene() -> (ScalarField, TransferFunction) {
-        let n = 48;
+        let n = 80;
         let mut data = vec![0f32; n * n * n];
         for (c, r) in [([14.0, 20.0, 17.0], 7.0), ([33.0, 29.0, 32.0], 9.0)] {
             for z in 0..n {
@@ -706,6 +715,9 @@ mod tests {
                     // a visible segment is added while its next segment is skipped.
                     Method::scs(6.0, 3),
                     slice_only,
+                    Method::pi_scs(0.5, 0),
+                    Method::pi_scs(1.3, 3),
+                    Method::pi_scs(6.0, 3),
                 ] {
                     let prep = Prepared::new(&field, &tf, &settings, &method).unwrap();
                     let mut run = SliceRun::new(&field, &prep, &frame, light, &settings).unwrap();
