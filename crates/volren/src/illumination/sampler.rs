@@ -3,8 +3,9 @@
 //! volume; for a transfer function, a cell is empty when the extinction is zero over its whole
 //! range. A sample in an empty cell is transparent whatever its value, so it is skipped
 //! without reading the volume. Each cell also stores its Chebyshev distance to the nearest
-//! non-empty cell, so a ray leaves a whole cube of empty cells in one step. Exact: images are
-//! unchanged.
+//! non-empty cell, so a ray leaves a whole cube of empty cells in one step, and a row of a
+//! slice skips the run of pixels that stay in one ([`Sampler::transparent_run`]). Exact:
+//! images are unchanged.
 
 use std::sync::OnceLock;
 
