@@ -5,7 +5,9 @@
 
 use wscg_volren::illumination::kernel::discrete_gaussian;
 use wscg_volren::illumination::preintegration::integrate_segment;
-use wscg_volren::illumination::scenes::{constant, half_plane, marschner_lobb, marschner_lobb_tf};
+use wscg_volren::illumination::scenes::{
+    self, constant, half_plane, marschner_lobb, marschner_lobb_tf,
+};
 use wscg_volren::illumination::study::mean_abs_diff;
 use wscg_volren::illumination::*;
 
@@ -804,23 +806,8 @@ fn unbounded_work_is_refused() {
 /// empty cells and the ray caster clips its rays to the box) the images agree.
 #[test]
 fn unlit_ics_equals_ray_casting_with_empty_space_skipping() {
-    let n = 72;
-    let mut data = vec![0f32; n * n * n];
-    for (c, r) in [([20.0, 30.0, 25.0], 9.0), ([50.0, 44.0, 48.0], 12.0)] {
-        for z in 0..n {
-            for y in 0..n {
-                for x in 0..n {
-                    let d = ((x as f64 - c[0]).powi(2)
-                        + (y as f64 - c[1]).powi(2)
-                        + (z as f64 - c[2]).powi(2))
-                    .sqrt();
-                    let i = x + n * (y + n * z);
-                    data[i] = data[i].max((1.0 - d / r).clamp(0.0, 1.0) as f32);
-                }
-            }
-        }
-    }
-    let field = ScalarField::from_f32([n; 3], [1.0; 3], data).unwrap();
+    let blobs = [([20.0, 30.0, 25.0], 9.0), ([50.0, 44.0, 48.0], 12.0)];
+    let field = scenes::blobs([72; 3], [1.0; 3], &blobs).unwrap();
     let tf = TransferFunction::from_points(
         &[
             (0.0, [0.0; 4]),

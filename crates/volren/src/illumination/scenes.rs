@@ -78,6 +78,33 @@ pub fn half_plane(
     ScalarField::from_f32(dims, [1.0; 3], data)
 }
 
+/// Blobs in empty space: each `(centre, radius)` (voxel units) a cone of value
+/// `1 - d / radius` at distance `d` from its centre, the maximum where blobs overlap, 0
+/// elsewhere (the sparse volumes of the empty-space skipping tests).
+pub fn blobs(
+    dims: [usize; 3],
+    spacing: [f64; 3],
+    blobs: &[([f64; 3], f64)],
+) -> Result<ScalarField> {
+    let [nx, ny, nz] = dims;
+    let mut data = vec![0f32; nx * ny * nz];
+    for &(c, r) in blobs {
+        for z in 0..nz {
+            for y in 0..ny {
+                for x in 0..nx {
+                    let d = ((x as f64 - c[0]).powi(2)
+                        + (y as f64 - c[1]).powi(2)
+                        + (z as f64 - c[2]).powi(2))
+                    .sqrt();
+                    let i = x + nx * (y + ny * z);
+                    data[i] = data[i].max((1.0 - d / r).clamp(0.0, 1.0) as f32);
+                }
+            }
+        }
+    }
+    ScalarField::from_f32(dims, spacing, data)
+}
+
 /// Density of tissue label `k` in a CT-like field: 0 for the background, otherwise spread over
 /// `[0.3, 1]` in label order.
 pub fn label_density(k: u8, max_label: u8) -> f32 {

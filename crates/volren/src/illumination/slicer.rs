@@ -660,23 +660,8 @@ mod tests {
 
     /// Two blobs in a corner of empty space, with a transfer function transparent below 0.2.
     fn sparse_scene() -> (ScalarField, TransferFunction) {
-        let n = 80;
-        let mut data = vec![0f32; n * n * n];
-        for (c, r) in [([14.0, 20.0, 17.0], 7.0), ([33.0, 29.0, 32.0], 9.0)] {
-            for z in 0..n {
-                for y in 0..n {
-                    for x in 0..n {
-                        let d = ((x as f64 - c[0]).powi(2)
-                            + (y as f64 - c[1]).powi(2)
-                            + (z as f64 - c[2]).powi(2))
-                        .sqrt();
-                        let i = x + n * (y + n * z);
-                        data[i] = data[i].max((1.0 - d / r).clamp(0.0, 1.0) as f32);
-                    }
-                }
-            }
-        }
-        let field = ScalarField::from_f32([n; 3], [1.0, 1.0, 1.5], data).unwrap();
+        let blobs = [([14.0, 20.0, 17.0], 7.0), ([33.0, 29.0, 32.0], 9.0)];
+        let field = crate::illumination::scenes::blobs([80; 3], [1.0, 1.0, 1.5], &blobs).unwrap();
         let tf = TransferFunction::from_points(
             &[
                 (0.0, [0.0; 4]),
