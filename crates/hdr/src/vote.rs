@@ -47,31 +47,33 @@ pub fn vote_bds(src: &Image<f32>, nnf_rs: &Nnf, nnf_sr: &Nnf, patch: usize) -> R
             bucket[my as usize].push(t as u32);
         }
     }
-    // Adds the source pixels `sx0 + (px - px0)` of row `sy` to the accumulators of the output
-    // pixels `px` in `px0..=px1`, keeping only sources inside the image: one contiguous run
-    // of samples, added in the order of the pixels as a pixel-by-pixel loop would.
-    let add_run = |acc: &mut [f64], n: &mut [u32], sy: i64, (px0, px1): (i64, i64), sx0: i64| {
+    // Adds the votes of a run of patches that share one offset, centred at the output
+    // columns `qa..=qb`: output pixel `px` receives the source pixel `(sy, px + dx)` once per
+    // patch of the run whose window covers it (`w(px)` times), and only where that pixel lies
+    // inside the source. Coherent fields have long runs, so a pixel takes one weighted vote
+    // per run instead of one per patch.
+    let add_run = |acc: &mut [f64], n: &mut [u32], sy: i64, (qa, qb): (i64, i64), dx: i64| {
         if !(0..hs as i64).contains(&sy) {
             return;
         }
-        let (lo, hi) = (px0.max(px0 - sx0), px1.min(px0 - sx0 + ws as i64 - 1));
+        // Output columns the run covers whose source column lies inside the source.
+        let lo = (qa - h).max(0).max(-dx);
+        let hi = (qb + h).min(wr as i64 - 1).min(ws as i64 - 1 - dx);
         if lo > hi {
             return;
         }
         let row = &src.data()[sy as usize * ws * c..(sy as usize + 1) * ws * c];
-        let (s0, lo, len) = (
-            (sx0 + lo - px0) as usize,
-            lo as usize,
-            (hi - lo + 1) as usize,
-        );
-        for (a, &v) in acc[lo * c..(lo + len) * c]
-            .iter_mut()
-            .zip(&row[s0 * c..(s0 + len) * c])
-        {
-            *a += v as f64;
-        }
-        for k in &mut n[lo..lo + len] {
-            *k += 1;
+        for px in lo..=hi {
+            let w = (qb.min(px + h) - qa.max(px - h) + 1) as u32;
+            let (o, sx) = (px as usize, (px + dx) as usize);
+            let wf = w as f64;
+            for (a, &v) in acc[o * c..(o + 1) * c]
+                .iter_mut()
+                .zip(&row[sx * c..(sx + 1) * c])
+            {
+                *a += wf * v as f64;
+            }
+            n[o] += w;
         }
     };
     let mut out = vec![0f32; hr * wr * c];
@@ -83,29 +85,44 @@ pub fn vote_bds(src: &Image<f32>, nnf_rs: &Nnf, nnf_sr: &Nnf, patch: usize) -> R
             let mut a2 = vec![0f64; wr * c];
             let mut n1 = vec![0u32; wr];
             let mut n2 = vec![0u32; wr];
-            // First term: reference patches Q(q) covering p fetch from the source.
+            // First term: reference patches Q(q) covering p fetch from the source; the patches
+            // of row `qy` grouped into runs of equal offsets.
             for qy in (py - h).max(0)..=(py + h).min(hr as i64 - 1) {
-                for qx in 0..wr as i64 {
-                    let o = nnf_rs.at(qy as usize, qx as usize);
-                    let px0 = (qx - h).max(0);
-                    let px1 = (qx + h).min(wr as i64 - 1);
-                    add_run(
-                        &mut a1,
-                        &mut n1,
-                        py + o[1] as i64,
-                        (px0, px1),
-                        px0 + o[0] as i64,
-                    );
+                let offs = &nnf_rs.off[qy as usize * wr..(qy as usize + 1) * wr];
+                let mut qa = 0;
+                while qa < wr {
+                    let o = offs[qa];
+                    let qb = qa + offs[qa..].iter().take_while(|&&v| v == o).count() - 1;
+                    let sy = py + o[1] as i64;
+                    add_run(&mut a1, &mut n1, sy, (qa as i64, qb as i64), o[0] as i64);
+                    qa = qb + 1;
                 }
             }
-            // Second term: source patches pushed to their matches m = t + off_sr(t).
+            // Second term: source patches pushed to their matches m = t + off_sr(t); adjacent
+            // source pixels with one offset (adjacent in the bucket, so in one row: the
+            // bucket holds one match row) form a run of adjacent matches.
             for my in (py - h).max(0)..=(py + h).min(hr as i64 - 1) {
-                for &t in &bucket[my as usize] {
-                    let (ty, tx) = ((t as usize / ws) as i64, (t as usize % ws) as i64);
-                    let mx = tx + nnf_sr.off[t as usize][0] as i64;
-                    let px0 = (mx - h).max(0);
-                    let px1 = (mx + h).min(wr as i64 - 1);
-                    add_run(&mut a2, &mut n2, ty + py - my, (px0, px1), tx + px0 - mx);
+                let b = &bucket[my as usize];
+                let mut k = 0;
+                while k < b.len() {
+                    let t0 = b[k] as usize;
+                    let o = nnf_sr.off[t0];
+                    let mut len = 1;
+                    while k + len < b.len()
+                        && b[k + len] as usize == t0 + len
+                        && nnf_sr.off[t0 + len] == o
+                    {
+                        len += 1;
+                    }
+                    let mx = (t0 % ws) as i64 + o[0] as i64;
+                    add_run(
+                        &mut a2,
+                        &mut n2,
+                        py - o[1] as i64,
+                        (mx, mx + len as i64 - 1),
+                        -(o[0] as i64),
+                    );
+                    k += len;
                 }
             }
             for x in 0..wr {

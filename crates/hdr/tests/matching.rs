@@ -237,7 +237,9 @@ fn the_coherence_term_makes_fields_more_coherent() {
 
 /// BDS voting (eq. 5) equals a direct evaluation of its two sums, pixel by pixel, on random
 /// fields (reference-to-source offsets also point outside the source: those votes are
-/// skipped), with a source of another size than the reference.
+/// skipped), with a source of another size than the reference; the fields either change
+/// offset at every pixel or hold it over runs of 1-8 pixels along a row (the coherent case
+/// the voting groups).
 #[test]
 fn bds_voting_equals_the_direct_sums_of_eq_5() {
     use rand::Rng;
@@ -255,76 +257,91 @@ fn bds_voting_equals_the_direct_sums_of_eq_5() {
     .unwrap();
     // Reference-to-source offsets may leave the source; source-to-reference matches stay
     // inside the reference, as PatchMatch's do.
-    let mut field = |h: i64, w: i64, (to_h, to_w): (i64, i64), inside: bool| {
+    let mut field = |h: i64, w: i64, (to_h, to_w): (i64, i64), inside: bool, runs: bool| {
+        let ok = |i: i64, o: [i32; 2]| {
+            let (y, x) = (i / w + o[1] as i64, i % w + o[0] as i64);
+            !inside || ((0..to_h).contains(&y) && (0..to_w).contains(&x))
+        };
+        let (mut cur, mut left) = ([0i32; 2], 0);
         let off = (0..h * w)
-            .map(|i| loop {
-                let o = [r.random_range(-6..7), r.random_range(-3..4)];
-                let (y, x) = (i / w + o[1] as i64, i % w + o[0] as i64);
-                if !inside || ((0..to_h).contains(&y) && (0..to_w).contains(&x)) {
-                    break o;
+            .map(|i| {
+                if !(runs && left > 0 && i % w != 0 && ok(i, cur)) {
+                    cur = loop {
+                        let o = [r.random_range(-6..7), r.random_range(-3..4)];
+                        if ok(i, o) {
+                            break o;
+                        }
+                    };
+                    left = if runs { r.random_range(1..9) } else { 1 };
                 }
+                left -= 1;
+                cur
             })
             .collect();
         Nnf::new(h as usize, w as usize, off, vec![0.0; (h * w) as usize]).unwrap()
     };
-    let rs = field(hr, wr, (hs, ws), false);
-    let sr = field(hs, ws, (hr, wr), true);
-    let out = vote_bds(&src, &rs, &sr, 2 * half as usize + 1).unwrap();
-    let inside = |y: i64, x: i64, h: i64, w: i64| (0..h).contains(&y) && (0..w).contains(&x);
-    let px = |y: i64, x: i64| src.pixel(y as usize, x as usize);
-    let (nr, ns) = ((hr * wr) as f64, (hs * ws) as f64);
-    for py in 0..hr {
-        for pxx in 0..wr {
-            let (mut a1, mut a2) = (vec![0f64; c], vec![0f64; c]);
-            let (mut n1, mut n2) = (0f64, 0f64);
-            for qy in py - half..=py + half {
-                for qx in pxx - half..=pxx + half {
-                    if !inside(qy, qx, hr, wr) {
-                        continue;
-                    }
-                    let o = rs.at(qy as usize, qx as usize);
-                    let (sy, sx) = (py + o[1] as i64, pxx + o[0] as i64);
-                    if inside(sy, sx, hs, ws) {
-                        for (a, &v) in a1.iter_mut().zip(px(sy, sx)) {
-                            *a += v as f64;
+    for runs in [false, true] {
+        let rs = field(hr, wr, (hs, ws), false, runs);
+        let sr = field(hs, ws, (hr, wr), true, runs);
+        let out = vote_bds(&src, &rs, &sr, 2 * half as usize + 1).unwrap();
+        let inside = |y: i64, x: i64, h: i64, w: i64| (0..h).contains(&y) && (0..w).contains(&x);
+        let px = |y: i64, x: i64| src.pixel(y as usize, x as usize);
+        let (nr, ns) = ((hr * wr) as f64, (hs * ws) as f64);
+        for py in 0..hr {
+            for pxx in 0..wr {
+                let (mut a1, mut a2) = (vec![0f64; c], vec![0f64; c]);
+                let (mut n1, mut n2) = (0f64, 0f64);
+                for qy in py - half..=py + half {
+                    for qx in pxx - half..=pxx + half {
+                        if !inside(qy, qx, hr, wr) {
+                            continue;
                         }
-                        n1 += 1.0;
+                        let o = rs.at(qy as usize, qx as usize);
+                        let (sy, sx) = (py + o[1] as i64, pxx + o[0] as i64);
+                        if inside(sy, sx, hs, ws) {
+                            for (a, &v) in a1.iter_mut().zip(px(sy, sx)) {
+                                *a += v as f64;
+                            }
+                            n1 += 1.0;
+                        }
                     }
                 }
-            }
-            for ty in 0..hs {
-                for tx in 0..ws {
-                    let o = sr.at(ty as usize, tx as usize);
-                    let (my, mx) = (ty + o[1] as i64, tx + o[0] as i64);
-                    if !inside(my, mx, hr, wr) || (py - my).abs() > half || (pxx - mx).abs() > half
-                    {
-                        continue;
-                    }
-                    let (sy, sx) = (ty + py - my, tx + pxx - mx);
-                    if inside(sy, sx, hs, ws) {
-                        for (a, &v) in a2.iter_mut().zip(px(sy, sx)) {
-                            *a += v as f64;
+                for ty in 0..hs {
+                    for tx in 0..ws {
+                        let o = sr.at(ty as usize, tx as usize);
+                        let (my, mx) = (ty + o[1] as i64, tx + o[0] as i64);
+                        if !inside(my, mx, hr, wr)
+                            || (py - my).abs() > half
+                            || (pxx - mx).abs() > half
+                        {
+                            continue;
                         }
-                        n2 += 1.0;
+                        let (sy, sx) = (ty + py - my, tx + pxx - mx);
+                        if inside(sy, sx, hs, ws) {
+                            for (a, &v) in a2.iter_mut().zip(px(sy, sx)) {
+                                *a += v as f64;
+                            }
+                            n2 += 1.0;
+                        }
                     }
                 }
-            }
-            let den = n1 / nr + n2 / ns;
-            let got = out.pixel(py as usize, pxx as usize);
-            for k in 0..c {
-                let want = if den > 0.0 {
-                    (a1[k] / nr + a2[k] / ns) / den
-                } else {
-                    let o = rs.at(py as usize, pxx as usize);
-                    let y = (py + o[1] as i64).clamp(0, hs - 1);
-                    let x = (pxx + o[0] as i64).clamp(0, ws - 1);
-                    px(y, x)[k] as f64
-                };
-                assert!(
-                    (got[k] as f64 - want).abs() <= 1e-6,
-                    "({py}, {pxx}, {k}): {} vs {want}",
-                    got[k]
-                );
+                let den = n1 / nr + n2 / ns;
+                let got = out.pixel(py as usize, pxx as usize);
+                for k in 0..c {
+                    let want = if den > 0.0 {
+                        (a1[k] / nr + a2[k] / ns) / den
+                    } else {
+                        let o = rs.at(py as usize, pxx as usize);
+                        let y = (py + o[1] as i64).clamp(0, hs - 1);
+                        let x = (pxx + o[0] as i64).clamp(0, ws - 1);
+                        px(y, x)[k] as f64
+                    };
+                    assert!(
+                        (got[k] as f64 - want).abs() <= 1e-6,
+                        "({py}, {pxx}, {k}): {} vs {want}",
+                        got[k]
+                    );
+                }
             }
         }
     }
