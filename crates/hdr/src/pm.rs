@@ -635,8 +635,9 @@ impl Run<'_> {
         }
     }
 
-    /// The current offsets of the 4-neighbours of `(x, y)` that lie inside the image. They
-    /// stay fixed while the pixel is visited, so a visit reads them once for all candidates.
+    /// The current offsets of the 4-neighbours of `(x, y)` that lie inside the image (none
+    /// without the coherence term). They stay fixed while the pixel is visited, so a visit
+    /// reads them once for all candidates.
     #[inline(always)]
     fn neighbours(&self, x: i32, y: i32) -> Neighbours {
         let mut nb = Neighbours {
@@ -659,7 +660,7 @@ impl Run<'_> {
     /// distance of `d` to the closest current offset of a 4-neighbour.
     #[inline(always)]
     fn coherence(&self, nb: &Neighbours, d: [i32; 2]) -> f32 {
-        if !self.p.coherence || nb.n == 0 {
+        if nb.n == 0 {
             return 1.0;
         }
         // Smallest squared distance first, then eq. 4 from the table.
@@ -1020,6 +1021,23 @@ mod tests {
             ..run
         };
         assert_eq!(lone.coherence(&lone.neighbours(0, 0), [-30, 2]), 1.0);
+        // Without the coherence term: no neighbours are read and every offset has C = 1.
+        let plain = Run {
+            sp: Space {
+                wa: w,
+                ha: h,
+                ..lone.sp
+            },
+            p: PmParams {
+                coherence: false,
+                ..p
+            },
+            off,
+            coh: Vec::new(),
+            ..lone
+        };
+        assert_eq!(plain.neighbours(4, 4).n, 0);
+        assert_eq!(plain.coherence(&plain.neighbours(4, 4), [-30, 2]), 1.0);
     }
 
     /// The unpadded interior distance gives the same sums with the portable rows and with

@@ -808,16 +808,7 @@ fn unbounded_work_is_refused() {
 fn unlit_ics_equals_ray_casting_with_empty_space_skipping() {
     let blobs = [([20.0, 30.0, 25.0], 9.0), ([50.0, 44.0, 48.0], 12.0)];
     let field = scenes::blobs([72; 3], [1.0; 3], &blobs).unwrap();
-    let tf = TransferFunction::from_points(
-        &[
-            (0.0, [0.0; 4]),
-            (0.2, [0.9, 0.5, 0.2, 0.0]),
-            (0.5, [0.9, 0.6, 0.3, 0.4]),
-            (1.0, [1.0, 1.0, 1.0, 0.9]),
-        ],
-        256,
-    )
-    .unwrap();
+    let tf = scenes::blobs_tf();
     let unlit = Light {
         ambient: 1.0,
         ..Light::default()

@@ -515,8 +515,7 @@ mod tests {
         }
         // Nothing visible and a transparent outside: the row never ends.
         let (field, tf) = speckled(0.0, true);
-        let empty =
-            ScalarField::from_f32(field.dims(), [1.0; 3], vec![0.0; field.data().len()]).unwrap();
+        let empty = crate::illumination::scenes::constant(field.dims(), 0.0).unwrap();
         let s = Sampler::new(&empty, &tf, Interp::Trilinear, false);
         assert_eq!(
             s.transparent_run([3.0; 3], [3.5; 3], [1.0, -2.0, 0.5], false),

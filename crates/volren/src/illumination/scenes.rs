@@ -105,6 +105,21 @@ pub fn blobs(
     ScalarField::from_f32(dims, spacing, data)
 }
 
+/// A transfer function for [`blobs`]: transparent below 0.2 (the empty space around the
+/// blobs), warm and increasingly opaque up to 0.9 at the centres.
+pub fn blobs_tf() -> TransferFunction {
+    TransferFunction::from_points(
+        &[
+            (0.0, [0.0; 4]),
+            (0.2, [0.9, 0.5, 0.2, 0.0]),
+            (0.5, [0.9, 0.6, 0.3, 0.4]),
+            (1.0, [1.0, 1.0, 1.0, 0.9]),
+        ],
+        256,
+    )
+    .expect("static transfer function")
+}
+
 /// Density of tissue label `k` in a CT-like field: 0 for the background, otherwise spread over
 /// `[0.3, 1]` in label order.
 pub fn label_density(k: u8, max_label: u8) -> f32 {
