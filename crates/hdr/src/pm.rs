@@ -6,11 +6,16 @@
 //! propagate from the left and top neighbours, odd iterations scan back and propagate from
 //! the right and bottom ones, so a good match travels across the whole image in one sweep.
 //! The cost of a pixel's current match is recomputed before every comparison, because the
-//! coherence term depends on neighbours that have moved since it was stored. One field is
-//! computed sequentially (the paper matches the pairs of views in parallel; so does
-//! [`crate::multiscopic_hdr`]); the result depends on the seed only.
+//! coherence term depends on neighbours that have moved since it was stored. The rows of a
+//! sweep run on the pool's threads as a pipeline that shows every pixel exactly the
+//! neighbours of the sequential scan (see `Run::sweep`), with one random stream per row and
+//! sweep, so one field uses every core (the paper matches the pairs of views in parallel;
+//! so does [`crate::multiscopic_hdr`]) and the result depends on the seed only.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rand::Rng as _;
+use rayon::prelude::*;
 use wscg_math::{rng, Error, Image, Result};
 
 use crate::nnf::Nnf;
@@ -640,6 +645,17 @@ impl Run<'_> {
     /// reads them once for all candidates.
     #[inline(always)]
     fn neighbours(&self, x: i32, y: i32) -> Neighbours {
+        // SAFETY: `off` is this run's own field of `wa * ha` offsets, not written meanwhile.
+        unsafe { self.neighbours_in(self.off.as_ptr(), x, y) }
+    }
+
+    /// [`Run::neighbours`] read from the field at `off` (`wa * ha` offsets).
+    ///
+    /// # Safety
+    /// `off` points to `wa * ha` offsets, and no other thread writes the four read here
+    /// meanwhile (the row schedule of [`Run::sweep`]).
+    #[inline(always)]
+    unsafe fn neighbours_in(&self, off: *const [i32; 2], x: i32, y: i32) -> Neighbours {
         let mut nb = Neighbours {
             off: [[0; 2]; 4],
             n: 0,
@@ -649,7 +665,7 @@ impl Run<'_> {
                 if nx < 0 || ny < 0 || nx >= self.sp.wa || ny >= self.sp.ha {
                     continue;
                 }
-                nb.off[nb.n] = self.off[(ny * self.sp.wa + nx) as usize];
+                nb.off[nb.n] = *off.add((ny * self.sp.wa + nx) as usize);
                 nb.n += 1;
             }
         }
@@ -700,27 +716,106 @@ impl Run<'_> {
         }
     }
 
-    /// One sweep: propagation then random search at every pixel, in scan order. Compiled for
-    /// AVX2 as well and picked at run time (the same arithmetic in the same order either
-    /// way, so the same field).
-    fn sweep(&mut self, forward: bool, r: &mut rng::Rng) {
+    /// One sweep (number `it`: forward when even): propagation then random search at every
+    /// pixel, in scan order. Rows run on the pool's threads as a pipeline: a row visits a
+    /// column only once the row before it (in scan order) has left that column, so every
+    /// pixel sees exactly the neighbours the sequential scan would show it, and each row
+    /// draws its random search from its own stream. The field therefore depends on the seed
+    /// only, never on the thread count, and the sweep runs about as many times faster as
+    /// there are threads.
+    fn sweep(&mut self, it: usize) {
+        let forward = it.is_multiple_of(2);
+        let ha = self.sp.ha as usize;
+        let (mut off, mut cost, mut ssd) = (
+            std::mem::take(&mut self.off),
+            std::mem::take(&mut self.cost),
+            std::mem::take(&mut self.ssd),
+        );
+        let cells = Cells {
+            off: off.as_mut_ptr(),
+            cost: cost.as_mut_ptr(),
+            ssd: ssd.as_mut_ptr(),
+        };
+        // Columns of each row (in scan order) already visited, and the next row to take.
+        let done: Vec<AtomicUsize> = (0..ha).map(|_| AtomicUsize::new(0)).collect();
+        let next = AtomicUsize::new(0);
+        let this = &*self;
+        let workers = rayon::current_num_threads().clamp(1, ha);
+        (0..workers).into_par_iter().for_each(|_| loop {
+            // Rows are taken in scan order, so the row a worker waits for is being visited
+            // by a running worker (a worker makes no rayon calls while it holds a row).
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            if k >= ha {
+                break;
+            }
+            let y = if forward { k } else { ha - 1 - k } as i32;
+            let mut r = rng::stream(this.p.seed, ((it as u64 + 1) << 32) | y as u64);
+            let ahead = k.checked_sub(1).map(|j| &done[j]);
+            // SAFETY: `cells` holds this run's `wa * ha` pixels; row `k` is visited by this
+            // worker alone, and `visit_row` reads other rows only where the schedule allows.
+            unsafe { this.visit_row(cells, y, forward, &mut r, ahead, &done[k]) };
+        });
+        self.off = off;
+        self.cost = cost;
+        self.ssd = ssd;
+    }
+
+    /// [`Run::visit_row_body`], compiled for AVX2 when the CPU has it (the same arithmetic
+    /// in the same order either way, so the same field).
+    ///
+    /// # Safety
+    /// As [`Run::visit_row_body`].
+    unsafe fn visit_row(
+        &self,
+        cells: Cells,
+        y: i32,
+        forward: bool,
+        r: &mut rng::Rng,
+        ahead: Option<&AtomicUsize>,
+        done: &AtomicUsize,
+    ) {
         #[cfg(target_arch = "x86_64")]
         if self.sp.avx2 {
             // SAFETY: the CPU supports the feature the function is compiled for.
-            unsafe { self.sweep_avx2(forward, r) };
-            return;
+            return self.visit_row_avx2(cells, y, forward, r, ahead, done);
         }
-        self.sweep_body(forward, r);
+        self.visit_row_body(cells, y, forward, r, ahead, done);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn sweep_avx2(&mut self, forward: bool, r: &mut rng::Rng) {
-        self.sweep_body(forward, r);
+    unsafe fn visit_row_avx2(
+        &self,
+        cells: Cells,
+        y: i32,
+        forward: bool,
+        r: &mut rng::Rng,
+        ahead: Option<&AtomicUsize>,
+        done: &AtomicUsize,
+    ) {
+        self.visit_row_body(cells, y, forward, r, ahead, done);
     }
 
+    /// Visits row `y` of a sweep in scan order. Before column `x` (its `j`-th) it waits
+    /// until the row before it in scan order (`ahead`, `None` for the first row) has
+    /// visited `j + 1` columns, and it publishes its own count in `done` every
+    /// [`PUBLISH`] columns and at the end.
+    ///
+    /// # Safety
+    /// `cells` points to `wa * ha` pixels; no other thread touches row `y`; the rows before
+    /// `y` in scan order are visited under the same schedule (so the row ahead has written
+    /// column `x` before this row reads it, and the row behind has not yet written column
+    /// `x` when this row reads it for the coherence term).
     #[inline(always)]
-    fn sweep_body(&mut self, forward: bool, r: &mut rng::Rng) {
+    unsafe fn visit_row_body(
+        &self,
+        cells: Cells,
+        y: i32,
+        forward: bool,
+        r: &mut rng::Rng,
+        ahead: Option<&AtomicUsize>,
+        done: &AtomicUsize,
+    ) {
         let (wa, ha) = (self.sp.wa, self.sp.ha);
         let step = if forward { -1 } else { 1 };
         let radius0 = if self.p.epipolar {
@@ -728,68 +823,103 @@ impl Run<'_> {
         } else {
             wa.max(ha).max(self.sp.wb).max(self.sp.hb) as f32
         };
-        for yy in 0..ha {
-            let y = if forward { yy } else { ha - 1 - yy };
-            for xx in 0..wa {
-                let x = if forward { xx } else { wa - 1 - xx };
-                let i = (y * wa + x) as usize;
-                let mut best = self.off[i];
-                let nb = self.neighbours(x, y);
-                // The current offset's SSD is kept from the visit that chose it.
-                let (mut dbest, mut sbest) = if self.ssd[i].is_nan() {
-                    self.cost_and_ssd(&nb, x, y, best, f32::INFINITY)
-                } else {
-                    (self.ssd[i] / self.coherence(&nb, best), self.ssd[i])
-                };
-                // The offsets allowed at this pixel.
-                let (xl, xh) = self.x_range(x);
-                let (yl, yh) = self.y_range(y);
-                // Propagation from the neighbours already visited in this sweep.
-                for (nx, ny) in [(x + step, y), (x, y + step)] {
-                    if nx < 0 || ny < 0 || nx >= wa || ny >= ha {
-                        continue;
-                    }
-                    let cand = self.off[(ny * wa + nx) as usize];
-                    let allowed = (xl..=xh).contains(&cand[0]) && (yl..=yh).contains(&cand[1]);
-                    if cand != best && allowed {
-                        let (dc, sc) = self.cost_and_ssd(&nb, x, y, cand, dbest);
-                        if dc < dbest {
-                            (best, dbest, sbest) = (cand, dc, sc);
-                        }
-                    }
-                }
-                // Random search, eq. 1: u_i = v0 + w alpha^i R_i while w alpha^i >= 1.
-                let mut rad = radius0;
-                while rad >= 1.0 {
-                    let rx: f32 = r.random_range(-1.0..=1.0);
-                    let cx = (best[0] + (rad * rx).round() as i32).clamp(xl, xh);
-                    let cy = if yl < yh {
-                        let ry: f32 = r.random_range(-1.0..=1.0);
-                        let rv = if self.p.epipolar {
-                            rad.min(self.p.v_tol as f32)
+        let (yl, yh) = self.y_range(y);
+        let mut seen = 0usize;
+        for j in 0..wa as usize {
+            if let Some(a) = ahead {
+                let mut spins = 0u32;
+                while seen <= j {
+                    seen = a.load(Ordering::Acquire);
+                    if seen <= j {
+                        spins += 1;
+                        if spins < 1 << 12 {
+                            std::hint::spin_loop();
                         } else {
-                            rad
-                        };
-                        (best[1] + (rv * ry).round() as i32).clamp(yl, yh)
-                    } else {
-                        yl
-                    };
-                    let cand = [cx, cy];
-                    if cand != best {
-                        let (dc, sc) = self.cost_and_ssd(&nb, x, y, cand, dbest);
-                        if dc < dbest {
-                            (best, dbest, sbest) = (cand, dc, sc);
+                            std::thread::yield_now();
                         }
                     }
-                    rad *= self.p.alpha;
                 }
-                self.off[i] = best;
-                self.cost[i] = dbest;
-                self.ssd[i] = sbest;
+            }
+            let x = if forward { j as i32 } else { wa - 1 - j as i32 };
+            let i = (y * wa + x) as usize;
+            let mut best = *cells.off.add(i);
+            let nb = self.neighbours_in(cells.off, x, y);
+            // The current offset's SSD is kept from the visit that chose it.
+            let kept = *cells.ssd.add(i);
+            let (mut dbest, mut sbest) = if kept.is_nan() {
+                self.cost_and_ssd(&nb, x, y, best, f32::INFINITY)
+            } else {
+                (kept / self.coherence(&nb, best), kept)
+            };
+            // The offsets allowed at this pixel.
+            let (xl, xh) = self.x_range(x);
+            // Propagation from the neighbours already visited in this sweep.
+            for (nx, ny) in [(x + step, y), (x, y + step)] {
+                if nx < 0 || ny < 0 || nx >= wa || ny >= ha {
+                    continue;
+                }
+                let cand = *cells.off.add((ny * wa + nx) as usize);
+                let allowed = (xl..=xh).contains(&cand[0]) && (yl..=yh).contains(&cand[1]);
+                if cand != best && allowed {
+                    let (dc, sc) = self.cost_and_ssd(&nb, x, y, cand, dbest);
+                    if dc < dbest {
+                        (best, dbest, sbest) = (cand, dc, sc);
+                    }
+                }
+            }
+            // Random search, eq. 1: u_i = v0 + w alpha^i R_i while w alpha^i >= 1.
+            let mut rad = radius0;
+            while rad >= 1.0 {
+                let rx: f32 = r.random_range(-1.0..=1.0);
+                let cx = (best[0] + (rad * rx).round() as i32).clamp(xl, xh);
+                let cy = if yl < yh {
+                    let ry: f32 = r.random_range(-1.0..=1.0);
+                    let rv = if self.p.epipolar {
+                        rad.min(self.p.v_tol as f32)
+                    } else {
+                        rad
+                    };
+                    (best[1] + (rv * ry).round() as i32).clamp(yl, yh)
+                } else {
+                    yl
+                };
+                let cand = [cx, cy];
+                if cand != best {
+                    let (dc, sc) = self.cost_and_ssd(&nb, x, y, cand, dbest);
+                    if dc < dbest {
+                        (best, dbest, sbest) = (cand, dc, sc);
+                    }
+                }
+                rad *= self.p.alpha;
+            }
+            *cells.off.add(i) = best;
+            *cells.cost.add(i) = dbest;
+            *cells.ssd.add(i) = sbest;
+            if (j + 1) % PUBLISH == 0 {
+                done.store(j + 1, Ordering::Release);
             }
         }
+        done.store(wa as usize, Ordering::Release);
     }
 }
+
+/// How many columns a row visits between two publications of its progress (fewer
+/// cross-core messages; the row behind trails by at most this many columns more).
+const PUBLISH: usize = 16;
+
+/// The per-pixel state of a run (offsets, costs, kept SSDs) as raw pointers, shared by the
+/// row workers of one sweep, each of which writes only its own row.
+#[derive(Clone, Copy)]
+struct Cells {
+    off: *mut [i32; 2],
+    cost: *mut f32,
+    ssd: *mut f32,
+}
+
+// SAFETY: the row schedule of `Run::sweep` keeps every access of one pixel on one thread at a
+// time, ordered by the release/acquire counts of the rows.
+unsafe impl Send for Cells {}
+unsafe impl Sync for Cells {}
 
 /// The nearest-neighbour field from `a` to `b` (paper section 3.1), with [`PmParams`]
 /// choosing the paper's epipolar, coherence-penalised search (the default) or the original
@@ -876,7 +1006,7 @@ fn run_patchmatch(
     let mut r = rng::seeded(p.seed);
     run.init(&mut r);
     for it in 0..p.iters {
-        run.sweep(it % 2 == 0, &mut r);
+        run.sweep(it);
     }
     if p.iters == 0 {
         for y in 0..ha as i32 {

@@ -170,6 +170,53 @@ fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
     assert_ne!(f1.off, f2.off);
 }
 
+/// A field's rows run on the pool's threads as a pipeline that must show every pixel the
+/// neighbours of the sequential scan: the fields of 2, 3 and 5 threads (more threads than
+/// cores too, so rows wait on rows that are descheduled) equal the one-thread field, which
+/// is that scan, bit for bit; for the paper's matcher on the scanline and with a vertical
+/// tolerance (2-D coherence), and for 2-D PatchMatch.
+#[test]
+fn fields_do_not_depend_on_the_thread_count() {
+    let cfg = SceneCfg {
+        height: 72,
+        width: 136,
+        times: vec![0.02, 0.08],
+        ..SceneCfg::default()
+    };
+    let sc = layered_scene(&cfg, 4).unwrap();
+    let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
+    let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
+    let configs = [
+        PmParams {
+            iters: 5,
+            seed: 3,
+            ..params(-50, 10)
+        },
+        PmParams {
+            iters: 4,
+            v_tol: 2,
+            seed: 4,
+            ..params(-30, 30)
+        },
+        PmParams::barnes(5, 3, 5),
+    ];
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    for p in &configs {
+        let one = pool(1).install(|| patchmatch(&a, &b, p).unwrap());
+        for n in [2, 3, 5] {
+            for _ in 0..3 {
+                let f = pool(n).install(|| patchmatch(&a, &b, p).unwrap());
+                assert!(f == one, "{n} threads: another field ({p:?})");
+            }
+        }
+    }
+}
+
 #[test]
 fn mirroring_both_views_and_the_range_changes_little() {
     let cfg = SceneCfg {

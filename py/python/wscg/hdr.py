@@ -438,7 +438,9 @@ def patchmatch(a, b, *, patch: int = 7, iterations: int = 2, min_disparity: int 
         Patch side ``N`` (odd, >= 3, <= the smaller image side).
     iterations : int, default 2
         Sweeps: even ones scan top-left to bottom-right and propagate from the left and top
-        neighbours, odd ones scan back.
+        neighbours, odd ones scan back. The rows of a sweep run on all cores as a pipeline
+        that gives exactly the sequential scan's field, so the result depends on ``seed``
+        only, never on the thread count.
     min_disparity, max_disparity : int, default -64, 64
         Range of the horizontal offset ``dx`` (epipolar mode); ``|d| < width``.
     v_tol : int, default 0
