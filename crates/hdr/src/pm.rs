@@ -245,7 +245,8 @@ fn lanes8_sum(a0: &[f32; 8], a1: &[f32; 8]) -> f32 {
 
 /// The rows of [`Space::ssd_interior_unpadded`] with AVX intrinsics: the same operations in
 /// the same order as [`sq_diff_row8`] and [`lanes8_sum`], so the same sums. Returns the sum
-/// of squared differences, stopped after the first pair of rows whose sum exceeds `lim`.
+/// of squared differences over `n`, or infinity as soon as a pair of rows takes the sum
+/// above `lim` (no division on that path).
 ///
 /// # Safety
 /// The CPU must support AVX2, and rows `ra + k sa .. + len` of `ua` and `rb + k sb .. + len`
@@ -253,16 +254,14 @@ fn lanes8_sum(a0: &[f32; 8], a1: &[f32; 8]) -> f32 {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-#[allow(clippy::too_many_arguments)]
 unsafe fn ssd_rows_avx2(
     ua: &[f32],
     ub: &[f32],
     (mut ra, sa): (usize, usize),
     (mut rb, sb): (usize, usize),
-    side: usize,
-    len: usize,
+    (side, len): (usize, usize),
     tail: &[f32; 8],
-    lim: f32,
+    (lim, n): (f32, f32),
 ) -> f32 {
     use std::arch::x86_64::*;
     debug_assert!(len >= 8);
@@ -307,11 +306,11 @@ unsafe fn ssd_rows_avx2(
             let u = _mm_add_ps(t, _mm_movehl_ps(t, t));
             s = _mm_cvtss_f32(_mm_add_ss(u, _mm_shuffle_ps::<1>(u, u)));
             if s > lim {
-                break;
+                return f32::INFINITY;
             }
         }
     }
-    s
+    s / n
 }
 
 /// Sum of all lanes.
@@ -399,8 +398,9 @@ struct Space<'a> {
 impl Space<'_> {
     /// Mean squared difference (eq. 3, per valid pixel and channel so border patches are
     /// comparable) between the patch of `A` at `(x, y)` and the patch of `B` at
-    /// `(x + dx, y + dy)`, over the offsets inside both images. Stops early with a value
-    /// `> bound` once the mean is certain to exceed `bound`; infinite without overlap.
+    /// `(x + dx, y + dy)`, over the offsets inside both images. Stops early and returns
+    /// infinity once the mean is certain to exceed `bound` (no division on that path);
+    /// infinite without overlap.
     #[inline(always)]
     fn ssd(&self, x: i32, y: i32, d: [i32; 2], bound: f32) -> f32 {
         let h = self.half;
@@ -436,7 +436,7 @@ impl Space<'_> {
                 Some((wa, wb)) => sq_diff_weighted(xa, xb, &wa[ra..ra + len], &wb[rb..rb + len]),
             };
             if s > lim {
-                break;
+                return f32::INFINITY;
             }
         }
         if self.weights.is_some() {
@@ -476,7 +476,7 @@ impl Space<'_> {
             if row % 2 == 1 || row + 1 == side {
                 s = lanes_sum(&acc);
                 if s > lim {
-                    break;
+                    return f32::INFINITY;
                 }
             }
         }
@@ -503,19 +503,17 @@ impl Space<'_> {
         if self.avx2 {
             // SAFETY: AVX2 was detected; the patch lies inside both images (the caller's
             // interior test), so every row does, and `len >= 8` (`ssd_interior`'s test).
-            let s = unsafe {
+            return unsafe {
                 ssd_rows_avx2(
                     self.ua,
                     self.ub,
                     (ra, sa),
                     (rb, sb),
-                    side,
-                    len,
+                    (side, len),
                     &self.tail,
-                    lim,
+                    (lim, n),
                 )
             };
-            return s / n;
         }
         let (mut a0, mut a1) = ([0f32; 8], [0f32; 8]);
         let mut s = 0f32;
@@ -527,7 +525,7 @@ impl Space<'_> {
             if row % 2 == 1 || row + 1 == side {
                 s = lanes8_sum(&a0, &a1);
                 if s > lim {
-                    break;
+                    return f32::INFINITY;
                 }
             }
         }
@@ -697,12 +695,17 @@ impl Run<'_> {
         self.cost_and_ssd(&self.neighbours(x, y), x, y, d, bound).0
     }
 
-    /// `(D, SSD)` of offset `d`; the SSD is complete whenever `D <= bound`.
+    /// `(D, SSD)` of offset `d`; both infinite once `D` is certain to exceed `bound`.
     #[inline(always)]
     fn cost_and_ssd(&self, nb: &Neighbours, x: i32, y: i32, d: [i32; 2], bound: f32) -> (f32, f32) {
         let c = self.coherence(nb, d);
         let s = self.sp.ssd(x, y, d, bound * c);
-        (s / c, s)
+        // A rejected candidate costs no division: the visit moves on as soon as it is known.
+        if s == f32::INFINITY {
+            (s, s)
+        } else {
+            (s / c, s)
+        }
     }
 
     fn init(&mut self, r: &mut rng::Rng) {
@@ -871,7 +874,7 @@ impl Run<'_> {
             let mut rad = radius0;
             while rad >= 1.0 {
                 let rx: f32 = r.random_range(-1.0..=1.0);
-                let cx = (best[0] + (rad * rx).round() as i32).clamp(xl, xh);
+                let cx = (best[0] + round_half_away(rad * rx)).clamp(xl, xh);
                 let cy = if yl < yh {
                     let ry: f32 = r.random_range(-1.0..=1.0);
                     let rv = if self.p.epipolar {
@@ -879,7 +882,7 @@ impl Run<'_> {
                     } else {
                         rad
                     };
-                    (best[1] + (rv * ry).round() as i32).clamp(yl, yh)
+                    (best[1] + round_half_away(rv * ry)).clamp(yl, yh)
                 } else {
                     yl
                 };
@@ -901,6 +904,16 @@ impl Run<'_> {
         }
         done.store(wa as usize, Ordering::Release);
     }
+}
+
+/// `v.round() as i32` (halves away from zero) for `|v| < 2^31`, without the library call
+/// `f32::round` makes on x86-64: the integer part, then one step away from zero when the
+/// (exact) fraction is at least a half.
+#[inline(always)]
+fn round_half_away(v: f32) -> i32 {
+    let k = v as i32;
+    let f = v - k as f32;
+    k + i32::from(f >= 0.5) - i32::from(f <= -0.5)
 }
 
 /// How many columns a row visits between two publications of its progress (fewer
@@ -1033,6 +1046,25 @@ pub fn patchmatch_2d(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The random search's rounding equals `f32::round` (halves away from zero) on exact
+    /// halves, their neighbours and random products of a radius and a draw in [-1, 1].
+    #[test]
+    fn rounding_equals_f32_round() {
+        let mut r = rng::seeded(11);
+        let mut values: Vec<f32> = (-400..=400).map(|k| k as f32 * 0.25).collect();
+        for k in -50..=50 {
+            let h = k as f32 + 0.5;
+            values.extend([h, h.next_up(), h.next_down()]);
+        }
+        values.extend((0..100_000).map(|_| {
+            let rad: f32 = r.random_range(1.0..2000.0);
+            rad * r.random_range(-1.0f32..=1.0)
+        }));
+        for v in values {
+            assert_eq!(round_half_away(v), v.round() as i32, "{v}");
+        }
+    }
 
     /// The coherence table holds eq. 4 for every squared distance up to where it reaches
     /// `c_min`, beyond which eq. 4 gives `c_min`; without the coherence term it is empty.
