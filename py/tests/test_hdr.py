@@ -160,7 +160,8 @@ def test_native_calls_release_the_gil(moto):
 
     def work():
         t0 = time.perf_counter()
-        hdr.patchmatch(ea, eb, iterations=2, seed=3)
+        # Enough sweeps to last well past the skip threshold on two cores.
+        hdr.patchmatch(ea, eb, iterations=8, seed=3)
         span["t"] = time.perf_counter() - t0
         done.set()
 
