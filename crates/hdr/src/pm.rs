@@ -756,7 +756,13 @@ impl Run<'_> {
             let ahead = k.checked_sub(1).map(|j| &done[j]);
             // SAFETY: `cells` holds this run's `wa * ha` pixels; row `k` is visited by this
             // worker alone, and `visit_row` reads other rows only where the schedule allows.
-            unsafe { this.visit_row(cells, y, forward, &mut r, ahead, &done[k]) };
+            let row = RowTurn {
+                y,
+                forward,
+                ahead,
+                done: &done[k],
+            };
+            unsafe { this.visit_row(cells, row, &mut r) };
         });
         self.off = off;
         self.cost = cost;
@@ -768,40 +774,24 @@ impl Run<'_> {
     ///
     /// # Safety
     /// As [`Run::visit_row_body`].
-    unsafe fn visit_row(
-        &self,
-        cells: Cells,
-        y: i32,
-        forward: bool,
-        r: &mut rng::Rng,
-        ahead: Option<&AtomicUsize>,
-        done: &AtomicUsize,
-    ) {
+    unsafe fn visit_row(&self, cells: Cells, row: RowTurn, r: &mut rng::Rng) {
         #[cfg(target_arch = "x86_64")]
         if self.sp.avx2 {
             // SAFETY: the CPU supports the feature the function is compiled for.
-            return self.visit_row_avx2(cells, y, forward, r, ahead, done);
+            return self.visit_row_avx2(cells, row, r);
         }
-        self.visit_row_body(cells, y, forward, r, ahead, done);
+        self.visit_row_body(cells, row, r);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn visit_row_avx2(
-        &self,
-        cells: Cells,
-        y: i32,
-        forward: bool,
-        r: &mut rng::Rng,
-        ahead: Option<&AtomicUsize>,
-        done: &AtomicUsize,
-    ) {
-        self.visit_row_body(cells, y, forward, r, ahead, done);
+    unsafe fn visit_row_avx2(&self, cells: Cells, row: RowTurn, r: &mut rng::Rng) {
+        self.visit_row_body(cells, row, r);
     }
 
-    /// Visits row `y` of a sweep in scan order. Before column `x` (its `j`-th) it waits
-    /// until the row before it in scan order (`ahead`, `None` for the first row) has
-    /// visited `j + 1` columns, and it publishes its own count in `done` every
+    /// Visits row `row.y` of a sweep in scan order. Before column `x` (its `j`-th) it waits
+    /// until the row before it in scan order (`row.ahead`, `None` for the first row) has
+    /// visited `j + 1` columns, and it publishes its own count in `row.done` every
     /// [`PUBLISH`] columns and at the end.
     ///
     /// # Safety
@@ -810,15 +800,13 @@ impl Run<'_> {
     /// column `x` before this row reads it, and the row behind has not yet written column
     /// `x` when this row reads it for the coherence term).
     #[inline(always)]
-    unsafe fn visit_row_body(
-        &self,
-        cells: Cells,
-        y: i32,
-        forward: bool,
-        r: &mut rng::Rng,
-        ahead: Option<&AtomicUsize>,
-        done: &AtomicUsize,
-    ) {
+    unsafe fn visit_row_body(&self, cells: Cells, row: RowTurn, r: &mut rng::Rng) {
+        let RowTurn {
+            y,
+            forward,
+            ahead,
+            done,
+        } = row;
         let (wa, ha) = (self.sp.wa, self.sp.ha);
         let step = if forward { -1 } else { 1 };
         let radius0 = if self.p.epipolar {
@@ -919,6 +907,16 @@ fn round_half_away(v: f32) -> i32 {
 /// How many columns a row visits between two publications of its progress (fewer
 /// cross-core messages; the row behind trails by at most this many columns more).
 const PUBLISH: usize = 16;
+
+/// One row's turn in a sweep: the row, the scan direction, the visited-column count of the
+/// row ahead of it in scan order (`None` for the first) and its own.
+#[derive(Clone, Copy)]
+struct RowTurn<'a> {
+    y: i32,
+    forward: bool,
+    ahead: Option<&'a AtomicUsize>,
+    done: &'a AtomicUsize,
+}
 
 /// The per-pixel state of a run (offsets, costs, kept SSDs) as raw pointers, shared by the
 /// row workers of one sweep, each of which writes only its own row.

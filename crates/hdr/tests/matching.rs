@@ -4,7 +4,7 @@
 //! BDS voting reproduces a consistent shift exactly and leaves no holes; the baselines.
 
 use wscg_hdr::metrics::{bad_rate, incoherence};
-use wscg_hdr::synth::{albedo, layered_scene, SceneCfg};
+use wscg_hdr::synth::{albedo, layered_scene, SceneCfg, SynthScene};
 use wscg_hdr::{
     patchmatch, patchmatch_2d, to_radiance, vote_bds, warp_direct, zncc_stereo, PmParams,
     StereoParams,
@@ -22,6 +22,26 @@ fn texture(h: usize, w: usize, shift: f64) -> Image<f32> {
         }
     }
     Image::new(h, w, 3, v).unwrap()
+}
+
+/// A generated two-view scene of `height x width` exposed for `times`, and the radiance
+/// images of its two views.
+fn radiance_pair(
+    height: usize,
+    width: usize,
+    times: [f64; 2],
+    seed: u64,
+) -> (Image<f32>, Image<f32>, SynthScene) {
+    let cfg = SceneCfg {
+        height,
+        width,
+        times: times.to_vec(),
+        ..SceneCfg::default()
+    };
+    let sc = layered_scene(&cfg, seed).unwrap();
+    let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
+    let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
+    (a, b, sc)
 }
 
 fn params(d_min: i32, d_max: i32) -> PmParams {
@@ -115,15 +135,7 @@ fn costs_are_the_patch_distances_of_the_offsets() {
 
 #[test]
 fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
-    let cfg = SceneCfg {
-        height: 64,
-        width: 112,
-        times: vec![0.02, 0.08],
-        ..SceneCfg::default()
-    };
-    let sc = layered_scene(&cfg, 3).unwrap();
-    let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
-    let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
+    let (a, b, _) = radiance_pair(64, 112, [0.02, 0.08], 3);
     for (lo, hi) in [(-40, 0), (-25, 30), (5, 12)] {
         let p = PmParams {
             seed: 9,
@@ -177,15 +189,7 @@ fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
 /// tolerance (2-D coherence), and for 2-D PatchMatch.
 #[test]
 fn fields_do_not_depend_on_the_thread_count() {
-    let cfg = SceneCfg {
-        height: 72,
-        width: 136,
-        times: vec![0.02, 0.08],
-        ..SceneCfg::default()
-    };
-    let sc = layered_scene(&cfg, 4).unwrap();
-    let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
-    let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
+    let (a, b, _) = radiance_pair(72, 136, [0.02, 0.08], 4);
     let configs = [
         PmParams {
             iters: 5,
@@ -219,15 +223,7 @@ fn fields_do_not_depend_on_the_thread_count() {
 
 #[test]
 fn mirroring_both_views_and_the_range_changes_little() {
-    let cfg = SceneCfg {
-        height: 80,
-        width: 144,
-        times: vec![0.03, 0.12],
-        ..SceneCfg::default()
-    };
-    let sc = layered_scene(&cfg, 4).unwrap();
-    let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
-    let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
+    let (a, b, sc) = radiance_pair(80, 144, [0.03, 0.12], 4);
     let truth: Vec<f32> = sc.disparity[0].data().iter().map(|d| -d).collect();
     let mirror = |im: &Image<f32>| {
         let (h, w, c) = im.shape();
@@ -252,15 +248,7 @@ fn mirroring_both_views_and_the_range_changes_little() {
 
 #[test]
 fn the_coherence_term_makes_fields_more_coherent() {
-    let cfg = SceneCfg {
-        height: 96,
-        width: 160,
-        times: vec![0.03, 0.12],
-        ..SceneCfg::default()
-    };
-    let sc = layered_scene(&cfg, 5).unwrap();
-    let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
-    let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
+    let (a, b, sc) = radiance_pair(96, 160, [0.03, 0.12], 5);
     let truth: Vec<f32> = sc.disparity[0].data().iter().map(|d| -d).collect();
     let with = patchmatch(&a, &b, &params(-48, 48)).unwrap();
     let without = patchmatch(
