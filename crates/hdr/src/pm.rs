@@ -754,14 +754,15 @@ impl Run<'_> {
             let y = if forward { k } else { ha - 1 - k } as i32;
             let mut r = rng::stream(this.p.seed, ((it as u64 + 1) << 32) | y as u64);
             let ahead = k.checked_sub(1).map(|j| &done[j]);
-            // SAFETY: `cells` holds this run's `wa * ha` pixels; row `k` is visited by this
-            // worker alone, and `visit_row` reads other rows only where the schedule allows.
             let row = RowTurn {
                 y,
                 forward,
                 ahead,
                 done: &done[k],
             };
+            let _unblock = UnblockOnPanic(&done[k]);
+            // SAFETY: `cells` holds this run's `wa * ha` pixels; row `k` is visited by this
+            // worker alone, and `visit_row` reads other rows only where the schedule allows.
             unsafe { this.visit_row(cells, row, &mut r) };
         });
         self.off = off;
@@ -916,6 +917,18 @@ struct RowTurn<'a> {
     forward: bool,
     ahead: Option<&'a AtomicUsize>,
     done: &'a AtomicUsize,
+}
+
+/// Marks a row as finished if its visit unwinds, so the rows behind it stop waiting and the
+/// panic reaches the caller instead of hanging the sweep.
+struct UnblockOnPanic<'a>(&'a AtomicUsize);
+
+impl Drop for UnblockOnPanic<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.store(usize::MAX, Ordering::Release);
+        }
+    }
 }
 
 /// The per-pixel state of a run (offsets, costs, kept SSDs) as raw pointers, shared by the
