@@ -477,7 +477,8 @@ def patchmatch(a, b, *, patch: int = 7, iterations: int = 2, min_disparity: int 
     neighbours' offsets (propagation) and ``u_i = v_0 + w alpha^i R_i``, ``R_i ~ U[-1, 1]``,
     ``w = Max_disp``, while ``w alpha^i >= 1`` (random search, eq. 1). The cost of the
     current match is recomputed before each comparison because ``C`` depends on neighbours
-    that moved. Sequential and deterministic for a given ``seed``.
+    that moved. The sequential scan's field, computed on all cores, and deterministic for a
+    given ``seed``.
 
     References
     ----------
