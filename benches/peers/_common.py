@@ -21,7 +21,7 @@ def print_table(title, rows):
     print(f"{title}")
     print(f"{'workload':<36} {'ours (s)':>10} {'peer':<28} {'peer (s)':>10} {'ratio':>7}")
     for workload, ours, peer_name, peer in rows:
-        print(f"{workload:<36} {ours:>10.4f} {peer_name:<28} {peer:>10.4f} {peer / ours:>7.2f}")
+        print(f"{workload:<36} {ours:>10.4f} {peer_name:<28} {peer:>10.4f} {peer / ours:>7.3f}")
 
 
 def vtk_fixed_point_window(vol_u8, tf_points, size, spacing=(1.0, 1.0, 1.0), shade=None,
