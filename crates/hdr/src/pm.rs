@@ -372,6 +372,8 @@ const WEIGHTED_FLOOR: f32 = 1e-30;
 
 /// The two images of a match and the patch half-size.
 struct Space<'a> {
+    /// The samples of `a` and `b` in the layout of `c` channels: padded to a multiple of 4
+    /// for the weighted ablation and short patch rows, else the samples as they are.
     a: &'a [f32],
     b: &'a [f32],
     /// The samples of `a` and `b` without channel padding, for interior patches whose rows
@@ -388,7 +390,7 @@ struct Space<'a> {
     ha: i32,
     wb: i32,
     hb: i32,
-    /// Channels of the (padded) layout.
+    /// Channels of the layout of `a` and `b` (padded or not).
     c: usize,
     /// Channels of the images (what a mean counts).
     c_real: usize,
@@ -708,15 +710,22 @@ impl Run<'_> {
         }
     }
 
-    fn init(&mut self, r: &mut rng::Rng) {
-        for y in 0..self.sp.ha {
-            for x in 0..self.sp.wa {
-                let (xl, xh) = self.x_range(x);
-                let (yl, yh) = self.y_range(y);
-                let d = [r.random_range(xl..=xh), r.random_range(yl..=yh)];
-                self.off[(y * self.sp.wa + x) as usize] = d;
-            }
-        }
+    /// Uniformly random allowed offsets, each row from its own stream (rows in parallel).
+    fn init(&mut self) {
+        let mut off = std::mem::take(&mut self.off);
+        let this = &*self;
+        off.par_chunks_mut(this.sp.wa as usize)
+            .enumerate()
+            .for_each(|(y, row)| {
+                let mut r = rng::stream(this.p.seed, y as u64);
+                let y = y as i32;
+                let (yl, yh) = this.y_range(y);
+                for (x, d) in row.iter_mut().enumerate() {
+                    let (xl, xh) = this.x_range(x as i32);
+                    *d = [r.random_range(xl..=xh), r.random_range(yl..=yh)];
+                }
+            });
+        self.off = off;
     }
 
     /// One sweep (number `it`: forward when even): propagation then random search at every
@@ -996,7 +1005,18 @@ fn run_patchmatch(
     let (hb, wb, _) = b.shape();
     p.validate(ha.min(hb), wa.min(wb))?;
     let n = ha * wa;
-    let (pa, pb) = (padded(a.data(), c), padded(b.data(), c));
+    // The 4-lane padded layout serves the weighted ablation and patch rows of fewer than 8
+    // samples; otherwise every path reads the samples as they are and nothing is copied.
+    let side = p.patch / 2 * 2 + 1;
+    let pad = weights.is_some() || side * c < 8;
+    let lay = |data| {
+        if pad {
+            padded(data, c)
+        } else {
+            std::borrow::Cow::Borrowed(data)
+        }
+    };
+    let (pa, pb) = (lay(a.data()), lay(b.data()));
     let pw = weights.map(|(x, y)| (padded(x, c), padded(y, c)));
     let w = if p.epipolar {
         p.max_disp() as f32
@@ -1010,13 +1030,13 @@ fn run_patchmatch(
             ua: a.data(),
             ub: b.data(),
             avx2: avx2_available(),
-            tail: tail_mask((p.patch / 2 * 2 + 1) * c),
+            tail: tail_mask(side * c),
             weights: pw.as_ref().map(|(x, y)| (&x[..], &y[..])),
             wa: wa as i32,
             ha: ha as i32,
             wb: wb as i32,
             hb: hb as i32,
-            c: c.div_ceil(4) * 4,
+            c: if pad { c.div_ceil(4) * 4 } else { c },
             c_real: c,
             half: (p.patch / 2) as i32,
         },
@@ -1027,8 +1047,7 @@ fn run_patchmatch(
         w,
         coh: coherence_table(p, w),
     };
-    let mut r = rng::seeded(p.seed);
-    run.init(&mut r);
+    run.init();
     for it in 0..p.iters {
         run.sweep(it);
     }
