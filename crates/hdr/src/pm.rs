@@ -828,18 +828,7 @@ impl Run<'_> {
         let mut seen = 0usize;
         for j in 0..wa as usize {
             if let Some(a) = ahead {
-                let mut spins = 0u32;
-                while seen <= j {
-                    seen = a.load(Ordering::Acquire);
-                    if seen <= j {
-                        spins += 1;
-                        if spins < 1 << 12 {
-                            std::hint::spin_loop();
-                        } else {
-                            std::thread::yield_now();
-                        }
-                    }
-                }
+                wait_past(a, j, &mut seen);
             }
             let x = if forward { j as i32 } else { wa - 1 - j as i32 };
             let i = (y * wa + x) as usize;
@@ -912,6 +901,25 @@ fn round_half_away(v: f32) -> i32 {
     let k = v as i32;
     let f = v - k as f32;
     k + i32::from(f >= 0.5) - i32::from(f <= -0.5)
+}
+
+/// Waits until the row ahead has visited column `j` (its count `ahead` exceeds `j`), spinning
+/// briefly, then yielding; `seen` caches the last count read, so a row reads the shared count
+/// only when its cached value is not enough.
+#[inline(always)]
+fn wait_past(ahead: &AtomicUsize, j: usize, seen: &mut usize) {
+    let mut spins = 0u32;
+    while *seen <= j {
+        *seen = ahead.load(Ordering::Acquire);
+        if *seen <= j {
+            spins += 1;
+            if spins < 1 << 12 {
+                std::hint::spin_loop();
+            } else {
+                std::thread::yield_now();
+            }
+        }
+    }
 }
 
 /// How many columns a row visits between two publications of its progress (fewer
@@ -1076,6 +1084,55 @@ pub fn patchmatch_2d(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A row waits for column `j` of the row ahead until that row has visited `j + 1`
+    /// columns: a count of exactly `j` (column `j` not yet written) keeps it waiting, `j + 1`
+    /// releases it. A wait that returned at `j` (an off-by-one the thread-count test cannot
+    /// see reliably) fails here.
+    #[test]
+    fn a_row_waits_until_the_row_ahead_has_left_the_column() {
+        use std::sync::atomic::AtomicBool;
+        use std::time::Duration;
+        let ahead = AtomicUsize::new(7);
+        let released = AtomicBool::new(false);
+        let early = std::thread::scope(|s| {
+            s.spawn(|| {
+                let mut seen = 0;
+                wait_past(&ahead, 7, &mut seen);
+                released.store(true, Ordering::SeqCst);
+                assert!(seen >= 8, "{seen}");
+            });
+            std::thread::sleep(Duration::from_millis(100));
+            let early = released.load(Ordering::SeqCst);
+            // Released in any case, so a failing check cannot leave the waiter spinning.
+            ahead.store(8, Ordering::Release);
+            early
+        });
+        assert!(!early, "released at count 7 for column 7");
+        assert!(released.load(Ordering::SeqCst));
+        // A cached count that is already past the column does not read the shared one.
+        let mut seen = 12;
+        wait_past(&AtomicUsize::new(0), 11, &mut seen);
+        assert_eq!(seen, 12);
+    }
+
+    /// A row whose visit unwinds marks itself finished (so the rows behind it stop waiting);
+    /// a row that returns normally leaves its count to its own stores.
+    #[test]
+    fn an_unwinding_row_releases_the_rows_behind_it() {
+        let done = AtomicUsize::new(3);
+        let caught = std::panic::catch_unwind(|| {
+            let _unblock = UnblockOnPanic(&done);
+            panic!("visit failed");
+        });
+        assert!(caught.is_err());
+        assert_eq!(done.load(Ordering::Acquire), usize::MAX);
+        let done = AtomicUsize::new(3);
+        {
+            let _unblock = UnblockOnPanic(&done);
+        }
+        assert_eq!(done.load(Ordering::Acquire), 3);
+    }
 
     /// The random search's rounding equals `f32::round` (halves away from zero) on exact
     /// halves, their neighbours and random products of a radius and a draw in [-1, 1].
