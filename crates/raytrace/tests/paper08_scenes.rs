@@ -176,16 +176,20 @@ fn gradient(img: &Image<f32>) -> Vec<f64> {
     out
 }
 
-/// Measured: inserted records lie in the top-20 % gradient pixels at 1.82 times the rate of
-/// the initial ones at 128 x 96 with 300 records (0.353 against 0.194), below the
-/// specification's 2.5. The records
-/// whose disagreement exceeds delta are the partly occluded ones (penumbrae), as the paper
-/// says, but a new record is a random pixel of the disagreeing record's cluster (paper,
-/// section 4.2), and the brightest gradients of the box are the light's fall-off on the
-/// walls near the ceiling, not the shadow edges.
-#[test]
-#[ignore = "measured 1.82x < 2.5x; see the doc comment"]
-fn check4_insertion_goes_to_shadow_boundaries() {
+/// The Cornell box of check 4 (128 x 96, emitter VPLs only, 300 records), its reference
+/// image and the paper's placement: the pixels that see a non-emitting surface and the
+/// pixel of each record, split into the initial and the inserted ones.
+struct Check4 {
+    scene: Scene,
+    g: GBuffer,
+    vpls: Vec<Vpl>,
+    reference: Image<f32>,
+    valid: Vec<usize>,
+    initial: Vec<usize>,
+    inserted: Vec<usize>,
+}
+
+fn check4_setup() -> Check4 {
     let (scene, cam) = cornell_box(1, 128, 96).unwrap();
     let s = Settings {
         vpl: VplSettings {
@@ -201,32 +205,113 @@ fn check4_insertion_goes_to_shadow_boundaries() {
     };
     let vpls = generate_vpls(&scene, &s.vpl).unwrap();
     let g = trace_primary(&scene, &cam).unwrap();
-    let reference = run_with(&scene, &g, &vpls, Method::Reference, &s, &NoProgress, 0.0).unwrap();
-    // Top 20 % of the gradient among the pixels that see the scene, emitters left out.
-    let grad = gradient(&reference.image);
-    let valid: Vec<usize> = (0..grad.len())
+    let reference = run_with(&scene, &g, &vpls, Method::Reference, &s, &NoProgress, 0.0)
+        .unwrap()
+        .image;
+    let valid: Vec<usize> = (0..g.points.len())
         .filter(|&i| g.points[i].is_some_and(|p| p.emitted == [0.0; 3]))
         .collect();
-    let mut sorted: Vec<f64> = valid.iter().map(|&i| grad[i]).collect();
-    sorted.sort_by(f64::total_cmp);
-    let cut = sorted[(0.8 * sorted.len() as f64) as usize];
     let out = run_with(&scene, &g, &vpls, Method::Adaptive, &s, &NoProgress, 0.0).unwrap();
-    let share = |inserted: bool| {
-        let px: Vec<usize> = out
-            .records
+    let pixels = |inserted: bool| -> Vec<usize> {
+        out.records
             .iter()
             .filter(|r| r.inserted == inserted)
             .filter_map(|r| r.pixel)
-            .collect();
-        px.iter().filter(|&&i| grad[i] >= cut).count() as f64 / px.len().max(1) as f64
+            .collect()
     };
-    let (ins, init) = (share(true), share(false));
-    eprintln!(
-        "records {} (inserted {}): share at the top-20 % gradient: inserted {ins:.3}, initial {init:.3}",
-        out.records.len(),
-        out.cache.as_ref().unwrap().inserted
+    let (initial, inserted) = (pixels(false), pixels(true));
+    assert_eq!(inserted.len(), out.cache.as_ref().unwrap().inserted);
+    assert!(inserted.len() > 20, "{} records inserted", inserted.len());
+    Check4 {
+        scene,
+        g,
+        vpls,
+        reference,
+        valid,
+        initial,
+        inserted,
+    }
+}
+
+/// Share of `pixels` for which `marked` holds.
+fn share(pixels: &[usize], marked: impl Fn(usize) -> bool) -> f64 {
+    pixels.iter().filter(|&&i| marked(i)).count() as f64 / pixels.len().max(1) as f64
+}
+
+/// Spec check 4 as written: the top 20 % of the reference image's gradient magnitude.
+/// Measured: inserted records lie there at 1.82 times the rate of the initial ones (0.353
+/// against 0.194), below the specification's 2.5. The brightest gradients of this box are
+/// the light's fall-off on the walls under the ceiling and the silhouettes of the walls and
+/// boxes; the soft shadows of the wide ceiling light spread over many pixels and have small
+/// per-pixel gradients. The partly occluded pixels, the paper's "boundaries of shadows,
+/// where the visibilities between the VPLs and the cache points change", are tested in
+/// `check4_insertion_goes_to_partly_occluded_pixels`.
+#[test]
+#[ignore = "measured 1.82x < 2.5x; see the doc comment"]
+fn check4_insertion_goes_to_shadow_boundaries() {
+    let c = check4_setup();
+    let grad = gradient(&c.reference);
+    let mut sorted: Vec<f64> = c.valid.iter().map(|&i| grad[i]).collect();
+    sorted.sort_by(f64::total_cmp);
+    let cut = sorted[(0.8 * sorted.len() as f64) as usize];
+    let top = |i: usize| grad[i] >= cut;
+    let (ins, init) = (share(&c.inserted, top), share(&c.initial, top));
+    eprintln!("share at the top-20 % gradient: inserted {ins:.3}, initial {init:.3}");
+    assert!(ins >= 2.5 * init, "inserted {ins} vs initial {init}");
+}
+
+/// The paper's wording of check 4 (section 4.2, Fig. 3): inserted records lie "near the
+/// boundaries of shadows, where the visibilities between the VPLs and the cache points
+/// change". A pixel is partly occluded when the visible share of its unoccluded emitter-VPL
+/// luminance lies in (0.02, 0.98) (a shadow ray to every VPL); about 7 % of the box's
+/// pixels are. The same factor as the specification's, 2.5, is required over the initial
+/// records. Measured: 0.613 of the inserted records against 0.078 of the initial ones (7.9x).
+#[test]
+fn check4_insertion_goes_to_partly_occluded_pixels() {
+    use rayon::prelude::*;
+    let c = check4_setup();
+    let sh = Shading::new(&c.scene, &c.vpls, None).unwrap();
+    let visible_share = |i: usize| {
+        let r = c.g.points[i].unwrap().receiver();
+        let (mut seen, mut all) = (0.0, 0.0);
+        for j in 0..c.vpls.len() {
+            let y = luminance(&sh.unoccluded(&r, j));
+            all += y;
+            if y > 0.0 && sh.visible(&r, j) {
+                seen += y;
+            }
+        }
+        if all > 0.0 {
+            seen / all
+        } else {
+            1.0
+        }
+    };
+    let partly: Vec<bool> = {
+        let mut m = vec![false; c.g.points.len()];
+        let flags: Vec<(usize, bool)> = c
+            .valid
+            .par_iter()
+            .map(|&i| {
+                let v = visible_share(i);
+                (i, v > 0.02 && v < 0.98)
+            })
+            .collect();
+        for (i, f) in flags {
+            m[i] = f;
+        }
+        m
+    };
+    let area = share(&c.valid, |i| partly[i]);
+    let (ins, init) = (
+        share(&c.inserted, |i| partly[i]),
+        share(&c.initial, |i| partly[i]),
     );
-    assert!(out.cache.as_ref().unwrap().inserted > 20);
+    eprintln!(
+        "partly occluded: {area:.3} of the pixels, inserted records {ins:.3}, initial {init:.3}"
+    );
+    // The initial records sample the pixels without regard to occlusion.
+    assert!((init - area).abs() < 0.05, "initial {init} vs area {area}");
     assert!(ins >= 2.5 * init, "inserted {ins} vs initial {init}");
 }
 
