@@ -335,3 +335,29 @@ fn shadow_ray_batches_match_brute_force() {
     assert!(blocked > 400 && blocked < 3600, "{blocked} of 4000 blocked");
     assert!(scene.occluded_batch(&a, &t[1..]).is_err());
 }
+
+/// `Shading::visible_share` on two equal VPLs seen from a point halfway between them: all of
+/// the light reaches it, half once a triangle blocks one of them, none of it is defined for a
+/// receiver facing away from both.
+#[test]
+fn visible_share_counts_the_blocked_light() {
+    let vpls = [
+        emitter_vpl(Vector3::new(-1.0, 1.0, 0.0), -Vector3::y(), 1.0),
+        emitter_vpl(Vector3::new(1.0, 1.0, 0.0), -Vector3::y(), 1.0),
+    ];
+    let at = |normal: Vector3<f64>| Receiver {
+        pos: Vector3::zeros(),
+        normal,
+        albedo: [0.5; 3],
+    };
+    let open = plane(5.0, 0.5, &[]);
+    let sh = Shading::new(&open, &vpls, Some(0.0)).unwrap();
+    assert_eq!(sh.visible_share(&at(Vector3::y())), Some(1.0));
+    assert_eq!(sh.visible_share(&at(-Vector3::y())), None);
+    // A horizontal triangle at height 0.5 across the segment to the second VPL only.
+    let blocker = [[0.2, 0.5, -0.5], [0.9, 0.5, -0.5], [0.2, 0.5, 0.9]];
+    let blocked = plane(5.0, 0.5, &[(blocker, [0.5; 3])]);
+    let sh = Shading::new(&blocked, &vpls, Some(0.0)).unwrap();
+    let v = sh.visible_share(&at(Vector3::y())).unwrap();
+    assert!((v - 0.5).abs() < 1e-12, "{v}");
+}

@@ -276,37 +276,14 @@ fn check4_insertion_goes_to_partly_occluded_pixels() {
     use rayon::prelude::*;
     let c = check4_setup();
     let sh = Shading::new(&c.scene, &c.vpls, None).unwrap();
-    let visible_share = |i: usize| {
-        let r = c.g.points[i].unwrap().receiver();
-        let (mut seen, mut all) = (0.0, 0.0);
-        for j in 0..c.vpls.len() {
-            let y = luminance(&sh.unoccluded(&r, j));
-            all += y;
-            if y > 0.0 && sh.visible(&r, j) {
-                seen += y;
-            }
-        }
-        if all > 0.0 {
-            seen / all
-        } else {
-            1.0
-        }
-    };
-    let partly: Vec<bool> = {
-        let mut m = vec![false; c.g.points.len()];
-        let flags: Vec<(usize, bool)> = c
-            .valid
+    let partly: Vec<bool> =
+        c.g.points
             .par_iter()
-            .map(|&i| {
-                let v = visible_share(i);
-                (i, v > 0.02 && v < 0.98)
+            .map(|p| {
+                p.and_then(|p| sh.visible_share(&p.receiver()))
+                    .is_some_and(|v| v > 0.02 && v < 0.98)
             })
             .collect();
-        for (i, f) in flags {
-            m[i] = f;
-        }
-        m
-    };
     let area = share(&c.valid, |i| partly[i]);
     let (ins, init) = (
         share(&c.inserted, |i| partly[i]),

@@ -131,6 +131,24 @@ impl<'a> Shading<'a> {
         }
     }
 
+    /// The share of `r`'s unoccluded luminance (summed over the VPLs) that reaches it, one
+    /// shadow ray per VPL with a positive term; `None` when no VPL lights `r` even without
+    /// occlusion. Strictly between 0 and 1 on the paper's "boundaries of shadows, where the
+    /// visibilities between the VPLs and the cache points change" (section 4.2).
+    pub fn visible_share(&self, r: &Receiver) -> Option<f64> {
+        let (mut seen, mut all) = (0.0, 0.0);
+        for j in 0..self.len() {
+            let y = luminance(&self.unoccluded(r, j));
+            if y > 0.0 {
+                all += y;
+                if self.visible(r, j) {
+                    seen += y;
+                }
+            }
+        }
+        (all > 0.0).then(|| seen / all)
+    }
+
     /// The exact sum over all VPLs at `r` (the reference).
     pub fn sum_all(&self, r: &Receiver) -> Rgb {
         (0..self.len()).fold([0.0; 3], |a, j| {
