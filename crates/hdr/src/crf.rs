@@ -192,6 +192,39 @@ pub fn sample_grid(height: usize, width: usize, samples: usize) -> Result<Vec<(u
     Ok(pts)
 }
 
+/// Checks a static calibration stack: at least two exposures of one shape, one valid time
+/// each, every code below `2^bits`. Returns the number of codes and the images' shape.
+pub(crate) fn check_stack(
+    stack: &[Image<u16>],
+    times: &[f64],
+    bits: u8,
+) -> Result<(usize, (usize, usize, usize))> {
+    let levels = levels_of(bits)?;
+    if stack.len() < 2 {
+        return Err(Error::invalid(
+            "stack",
+            format!("needs at least 2 exposures, got {}", stack.len()),
+        ));
+    }
+    crate::radiance::check_times(times, stack.len())?;
+    let shape = stack[0].shape();
+    for (k, im) in stack.iter().enumerate() {
+        if im.shape() != shape {
+            return Err(Error::ShapeMismatch(format!(
+                "exposure {k} is {:?}, exposure 0 is {shape:?}",
+                im.shape(),
+            )));
+        }
+        if let Some(&z) = im.data().iter().find(|&&z| z as usize >= levels) {
+            return Err(Error::invalid(
+                "stack",
+                format!("exposure {k} holds code {z}, above the {bits}-bit maximum"),
+            ));
+        }
+    }
+    Ok((levels, shape))
+}
+
 /// Recovers the inverse response from a static stack of `bits`-bit exposures with exposure
 /// times `times` (Debevec & Malik 1997): per channel, the least-squares solution of
 ///
@@ -209,7 +242,6 @@ pub fn calibrate_debevec(
     samples: usize,
     lambda: f64,
 ) -> Result<Crf> {
-    let levels = levels_of(bits)?;
     if bits > MAX_CALIBRATION_BITS {
         return Err(Error::invalid(
             "bits",
@@ -219,34 +251,12 @@ pub fn calibrate_debevec(
             ),
         ));
     }
-    if stack.len() < 2 {
-        return Err(Error::invalid(
-            "stack",
-            format!("needs at least 2 exposures, got {}", stack.len()),
-        ));
-    }
-    crate::radiance::check_times(times, stack.len())?;
+    let (levels, (h, w, ch)) = check_stack(stack, times, bits)?;
     if !(lambda.is_finite() && lambda > 0.0) {
         return Err(Error::invalid(
             "lambda",
             format!("must be finite and > 0, got {lambda}"),
         ));
-    }
-    let (h, w, ch) = stack[0].shape();
-    for (k, im) in stack.iter().enumerate() {
-        if im.shape() != (h, w, ch) {
-            return Err(Error::ShapeMismatch(format!(
-                "exposure {k} is {:?}, exposure 0 is {:?}",
-                im.shape(),
-                (h, w, ch)
-            )));
-        }
-        if let Some(&z) = im.data().iter().find(|&&z| z as usize >= levels) {
-            return Err(Error::invalid(
-                "stack",
-                format!("exposure {k} holds code {z}, above the {bits}-bit maximum"),
-            ));
-        }
     }
     let pts = sample_grid(h, w, samples)?;
     let (n, p, zmax) = (pts.len(), stack.len(), levels - 1);
@@ -282,33 +292,46 @@ pub fn calibrate_debevec(
             eq += 1;
         }
         let x = dense::lstsq(a.as_ref(), b.as_ref(), None)?;
-        if zlo >= zhi {
-            return Err(Error::Numerical(format!(
-                "CRF calibration failed: channel {c} has no well-exposed samples"
-            )));
-        }
-        for z in zlo..zhi {
-            if x[(z + 1, 0)] < x[(z, 0)] {
-                return Err(Error::Numerical(format!(
-                    "CRF calibration failed: the recovered response of channel {c} decreases \
-                     between codes {z} and {} (too few exposures or samples, or lambda too \
-                     small)",
-                    z + 1
-                )));
-            }
-        }
-        // Outside the observed codes, keep the table non-decreasing (a running maximum,
-        // codes below the lowest observed one capped at its value).
-        let mut prev = f64::NEG_INFINITY;
-        for z in 0..levels {
-            let g = if z < zlo {
-                x[(z, 0)].min(x[(zlo, 0)])
-            } else {
-                x[(z, 0)]
-            };
-            prev = prev.max(g);
-            table[z * ch + c] = prev.exp() as f32;
+        let g: Vec<f64> = (0..levels).map(|z| x[(z, 0)]).collect();
+        let g = monotone_channel(&g, (zlo, zhi), c, "lambda too small")?;
+        for (z, v) in g.iter().enumerate() {
+            table[z * ch + c] = v.exp() as f32;
         }
     }
     Crf::from_table(&table, levels, ch)
+}
+
+/// One channel's fitted response values `v(z)` (any increasing function of `f^-1`) made
+/// into a table: an error ("CRF calibration failed") when no sample was well exposed or when
+/// `v` decreases over the observed codes `observed.0..=observed.1`; outside them the table is
+/// kept non-decreasing (codes below the lowest observed one capped at its value, a running
+/// maximum above). `hint` names the setting to change.
+pub(crate) fn monotone_channel(
+    v: &[f64],
+    (zlo, zhi): (usize, usize),
+    c: usize,
+    hint: &str,
+) -> Result<Vec<f64>> {
+    if zlo >= zhi {
+        return Err(Error::Numerical(format!(
+            "CRF calibration failed: channel {c} has no well-exposed samples"
+        )));
+    }
+    for z in zlo..zhi {
+        if v[z + 1] < v[z] {
+            return Err(Error::Numerical(format!(
+                "CRF calibration failed: the recovered response of channel {c} decreases \
+                 between codes {z} and {} (too few exposures or samples, or {hint})",
+                z + 1
+            )));
+        }
+    }
+    let mut prev = f64::NEG_INFINITY;
+    Ok(v.iter()
+        .enumerate()
+        .map(|(z, &x)| {
+            prev = prev.max(if z < zlo { x.min(v[zlo]) } else { x });
+            prev
+        })
+        .collect())
 }

@@ -7,6 +7,8 @@
 //! every view becomes an HDR image:
 //!
 //! - [`crf`]: inverse camera responses, Debevec-Malik calibration from an exposure stack.
+//! - [`mitsunaga_nayar`]: the polynomial self-calibration of RASCAL, which the paper used,
+//!   with the exposure ratios re-estimated from approximate times.
 //! - [`radiance`]: views to radiance space with Khan weights (eq. 7).
 //! - [`pm`]: the paper's epipolar PatchMatch with the coherence-penalised cost (eqs. 1-4),
 //!   and the original 2-D PatchMatch of Barnes et al. 2009.
@@ -34,6 +36,7 @@
 pub mod crf;
 pub mod merge;
 pub mod metrics;
+pub mod mitsunaga_nayar;
 pub mod multiscopic;
 pub mod nnf;
 pub mod pm;
@@ -45,6 +48,7 @@ pub mod vote;
 
 pub use crf::{calibrate_debevec, Crf};
 pub use merge::{merge, merge_stack, MergeInput, Merged};
+pub use mitsunaga_nayar::{calibrate_mitsunaga_nayar, MnChannel, MnFit, MnParams};
 pub use multiscopic::{multiscopic_hdr, Align, MultiscopicOut, MultiscopicParams, Synthesis};
 pub use nnf::Nnf;
 pub use pm::{patchmatch, patchmatch_2d, patchmatch_weighted, PmParams};

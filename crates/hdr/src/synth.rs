@@ -23,6 +23,10 @@ pub enum Response {
     /// An S-shaped response: a gamma-2.2 curve through a `tanh` of steepness `a`,
     /// normalised to `f(0) = 0`, `f(1) = 1`.
     SCurve(f64),
+    /// The response whose inverse is the cubic `f^-1(v) = a_1 v + a_2 v^2 + a_3 v^3`
+    /// (Mitsunaga & Nayar's polynomial model; the coefficients should sum to 1 and keep it
+    /// increasing on `[0, 1]`).
+    Cubic([f64; 3]),
 }
 
 impl Response {
@@ -34,6 +38,19 @@ impl Response {
             Self::SCurve(a) => {
                 let t = (a / 2.0).tanh();
                 ((a * (x.powf(1.0 / 2.2) - 0.5)).tanh() + t) / (2.0 * t)
+            }
+            Self::Cubic(_) => {
+                // Bisection on the increasing inverse.
+                let (mut lo, mut hi) = (0.0, 1.0);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if self.inverse(mid) < x {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                0.5 * (lo + hi)
             }
         }
     }
@@ -48,6 +65,7 @@ impl Response {
                 let s = (v * 2.0 * t - t).clamp(-1.0 + 1e-15, 1.0 - 1e-15);
                 (0.5 + s.atanh() / a).clamp(0.0, 1.0).powf(2.2)
             }
+            Self::Cubic([a1, a2, a3]) => v * (a1 + v * (a2 + v * a3)),
         }
     }
 
