@@ -1861,6 +1861,90 @@ fn hdr_simulate_multiscopic_merge_and_calibrate_on_files() {
     assert!(String::from_utf8_lossy(&bad.stderr).contains("exposure times"));
 }
 
+/// `wscg hdr calibrate --method mitsunaga-nayar` on PNG exposures of a gradient through a
+/// gamma-2.2 camera, with intermediate times 10-12 % off: the table is the camera's
+/// `(Z / 255)^2.2`, the estimated ratios are printed; a dark stack is refused with the reason.
+#[test]
+fn hdr_calibrate_mitsunaga_nayar_on_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let times: Vec<f64> = (0..6).map(|k| 0.004 * 2f64.powi(k)).collect();
+    let mut files = Vec::new();
+    for (k, &t) in times.iter().enumerate() {
+        let img = Image::from_fn(64, 96, |y, x| {
+            let e = 10f64.powf(-1.0 + 3.5 * (x as f64 + y as f64 / 64.0) / 96.0);
+            ((e * t).min(1.0).powf(1.0 / 2.2) * 255.0).round() as f32 / 255.0
+        })
+        .unwrap();
+        let f = d.join(format!("e{k}.png"));
+        img.save(&f).unwrap();
+        files.push(s(&f));
+    }
+    let nominal = "0.004,0.0088,0.0144,0.0368,0.0704,0.128";
+    let crf = d.join("crf.csv");
+    let mut args: Vec<String> = vec!["hdr".into(), "calibrate".into()];
+    args.extend(files.iter().cloned());
+    let opts = [
+        "--method",
+        "mitsunaga-nayar",
+        "--times",
+        nominal,
+        "--out",
+        &s(&crf),
+    ];
+    args.extend(opts.map(String::from));
+    let out = wscg_ok(&args);
+    assert!(out.contains("exposure ratios"), "{out}");
+    let rows: Vec<f64> = std::fs::read_to_string(&crf)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(rows.len(), 256);
+    for z in (20..=240).step_by(20) {
+        let want = (z as f64 / 255.0).powf(2.2);
+        assert!(
+            (rows[z] - want).abs() < 0.02,
+            "code {z}: {} vs {want}",
+            rows[z]
+        );
+    }
+    // A stack that never reaches the upper half of the codes.
+    let dark: Vec<String> = (0..2)
+        .map(|k| {
+            let f = d.join(format!("dark{k}.png"));
+            Image::from_fn(32, 32, |_, x| (0.05 + 0.002 * x as f32) * (k + 1) as f32)
+                .unwrap()
+                .save(&f)
+                .unwrap();
+            s(&f)
+        })
+        .collect();
+    let out = wscg()
+        .args([
+            "hdr",
+            "calibrate",
+            &dark[0],
+            &dark[1],
+            "--method",
+            "mitsunaga-nayar",
+        ])
+        .args([
+            "--times",
+            "0.01,0.02",
+            "--samples",
+            "100",
+            "--out",
+            &s(&crf),
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("upper half"));
+}
+
 #[test]
 fn hdr_demo_reports_the_methods_and_writes_its_figures() {
     let dir = tempfile::tempdir().unwrap();

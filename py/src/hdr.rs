@@ -375,6 +375,66 @@ fn calibrate_debevec<'py>(
     array(py, &[crf.levels(), crf.channels()], crf.table().to_vec())
 }
 
+#[pyfunction]
+#[pyo3(signature = (stack, times, bits, degree, max_degree, samples, refine_ratios, tol, max_iter))]
+#[allow(clippy::too_many_arguments)]
+fn calibrate_mitsunaga_nayar<'py>(
+    py: Python<'py>,
+    stack: Vec<PyReadonlyArrayDyn<'py, u16>>,
+    times: Vec<f64>,
+    bits: u8,
+    degree: Option<usize>,
+    max_degree: usize,
+    samples: usize,
+    refine_ratios: bool,
+    tol: f64,
+    max_iter: usize,
+) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
+    let imgs = codes_list("stack", &stack)?;
+    let p = wscg_hdr::MnParams {
+        degree,
+        max_degree,
+        samples,
+        refine_ratios,
+        tol,
+        max_iter,
+    };
+    let fit = py
+        .detach(|| wscg_hdr::calibrate_mitsunaga_nayar(&imgs, &times, bits, &p))
+        .py_err()?;
+    let info = PyDict::new(py);
+    let per = |f: &dyn Fn(&wscg_hdr::MnChannel) -> Vec<f64>| -> Vec<Vec<f64>> {
+        fit.channels.iter().map(f).collect()
+    };
+    info.set_item("coefficients", per(&|c| c.coefficients.clone()))?;
+    info.set_item("ratios", per(&|c| c.ratios.clone()))?;
+    info.set_item(
+        "degree",
+        fit.channels
+            .iter()
+            .map(|c| c.coefficients.len() - 1)
+            .collect::<Vec<_>>(),
+    )?;
+    info.set_item("rms", per(&|c| vec![c.rms]).concat())?;
+    info.set_item(
+        "equations",
+        fit.channels.iter().map(|c| c.equations).collect::<Vec<_>>(),
+    )?;
+    info.set_item(
+        "iterations",
+        fit.channels
+            .iter()
+            .map(|c| c.iterations)
+            .collect::<Vec<_>>(),
+    )?;
+    let table = array(
+        py,
+        &[fit.crf.levels(), fit.crf.channels()],
+        fit.crf.table().to_vec(),
+    )?;
+    Ok((table, info))
+}
+
 #[allow(clippy::too_many_arguments)]
 fn pm_params(
     patch: usize,
@@ -668,6 +728,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(to_radiance, m)?)?;
     m.add_function(wrap_pyfunction!(khan_weight, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate_debevec, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate_mitsunaga_nayar, m)?)?;
     m.add_function(wrap_pyfunction!(patchmatch, m)?)?;
     m.add_function(wrap_pyfunction!(patchmatch_2d, m)?)?;
     m.add_function(wrap_pyfunction!(zncc_stereo, m)?)?;

@@ -3,7 +3,8 @@
 //! - `multiscopic`: views of a rectified horizontal camera array, one exposure each, to one
 //!   HDR image per view (OpenEXR), with tone-mapped previews and the disparity maps.
 //! - `merge`: an aligned exposure stack of one view to one HDR image.
-//! - `calibrate`: the camera response (Debevec-Malik) from a static exposure stack.
+//! - `calibrate`: the camera response (Debevec-Malik, or Mitsunaga-Nayar as the paper's
+//!   RASCAL) from a static exposure stack.
 //! - `simulate`: the layered five-camera scene with its ground truth.
 //!
 //! Views are 8- or 16-bit PNG (or 8-bit JPEG) holding the camera's codes. Exposure times
@@ -17,8 +18,8 @@ use clap::{Args, Subcommand};
 use wscg_hdr::synth::{encode, layered_scene, SceneCfg};
 use wscg_hdr::tonemap::reinhard;
 use wscg_hdr::{
-    calibrate_debevec, merge_stack, multiscopic_hdr, Align, Crf, MultiscopicParams, PmParams,
-    Synthesis,
+    calibrate_debevec, calibrate_mitsunaga_nayar, merge_stack, multiscopic_hdr, Align, Crf,
+    MnParams, MultiscopicParams, PmParams, Synthesis,
 };
 use wscg_math::{Error, Image, Result};
 
@@ -104,15 +105,36 @@ pub struct CalibrateArgs {
     /// Exposure times in seconds: "t1,t2,..." or a text file with one per line.
     #[arg(long)]
     times: String,
-    /// Sample pixels on a regular grid.
-    #[arg(long, default_value_t = 70)]
-    samples: usize,
-    /// Smoothness weight lambda.
+    /// Method: `debevec` (Debevec-Malik, a smoothness prior; any static scene) or
+    /// `mitsunaga-nayar` (the polynomial model of RASCAL, which the paper used; the exposure
+    /// ratios are re-estimated, and the scene must cover the whole code range, as a chart or
+    /// a gradient does).
+    #[arg(long, value_enum, default_value_t = CalMethod::Debevec)]
+    method: CalMethod,
+    /// Sample pixels on a regular grid (default: 70 for debevec, 2000 for mitsunaga-nayar).
+    #[arg(long)]
+    samples: Option<usize>,
+    /// Smoothness weight lambda (debevec).
     #[arg(long, default_value_t = 10.0)]
     lambda: f64,
+    /// Polynomial degree (mitsunaga-nayar; default: chosen on held-out samples).
+    #[arg(long)]
+    degree: Option<usize>,
+    /// Keep the ratios of the given times instead of re-estimating them (mitsunaga-nayar).
+    #[arg(long)]
+    fixed_ratios: bool,
     /// Output CSV table of f^-1 (one line per code, one column per channel).
     #[arg(long)]
     out: PathBuf,
+}
+
+/// Response calibration methods.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CalMethod {
+    /// Debevec & Malik 1997.
+    Debevec,
+    /// Mitsunaga & Nayar 1999.
+    MitsunagaNayar,
 }
 
 #[derive(Args, Debug)]
@@ -151,7 +173,30 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
         HdrCommand::Calibrate(a) => {
             let (images, bits) = load_views(&a.images)?;
             let times = read_times(&a.times)?;
-            let crf = calibrate_debevec(&images, &times, bits, a.samples, a.lambda)?;
+            let crf = match a.method {
+                CalMethod::Debevec => {
+                    calibrate_debevec(&images, &times, bits, a.samples.unwrap_or(70), a.lambda)?
+                }
+                CalMethod::MitsunagaNayar => {
+                    let p = MnParams {
+                        degree: a.degree,
+                        samples: a.samples.unwrap_or(MnParams::default().samples),
+                        refine_ratios: !a.fixed_ratios,
+                        ..MnParams::default()
+                    };
+                    let fit = calibrate_mitsunaga_nayar(&images, &times, bits, &p)?;
+                    for (c, ch) in fit.channels.iter().enumerate() {
+                        let r: Vec<String> = ch.ratios.iter().map(|r| format!("{r:.4}")).collect();
+                        println!(
+                            "channel {c}: degree {}, exposure ratios {}, rms residual {:.2e}",
+                            ch.coefficients.len() - 1,
+                            r.join(" "),
+                            ch.rms
+                        );
+                    }
+                    fit.crf
+                }
+            };
             write_crf(&crf, &a.out)?;
             println!(
                 "response of {} codes x {} channels written to {}",

@@ -15,9 +15,9 @@ patch voting (eq. 5) and merged with the reference's own samples using Khan's we
 - :func:`patchmatch`, :func:`patchmatch_2d`, :func:`zncc_stereo`: dense fields between two
   radiance images (the paper's matcher, original PatchMatch, a stereo baseline).
 - :func:`vote_bds`, :func:`warp_direct`: synthesis of a source view aligned to a reference.
-- :func:`calibrate_debevec`, :func:`to_radiance`, :func:`khan_weight`,
-  :func:`merge_stack`: camera responses, radiance space, weights and the merge of an aligned
-  exposure stack.
+- :func:`calibrate_debevec`, :func:`calibrate_mitsunaga_nayar`, :func:`to_radiance`,
+  :func:`khan_weight`, :func:`merge_stack`: camera responses, radiance space, weights and the
+  merge of an aligned exposure stack.
 - :func:`synth_scene`: a layered five-camera scene with ground-truth radiance, disparity and
   visibility.
 - :func:`rmse_log2`, :func:`bad_rate`, :func:`incoherence`: the evaluation metrics.
@@ -58,7 +58,8 @@ from ._native import hdr as _h
 
 __all__ = [
     "multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
-    "warp_direct", "calibrate_debevec", "to_radiance", "khan_weight", "merge", "merge_stack",
+    "warp_direct", "calibrate_debevec", "calibrate_mitsunaga_nayar", "to_radiance",
+    "khan_weight", "merge", "merge_stack",
     "synth_scene", "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS",
     "SYNTHESIS_METHODS", "CRF_NAMES",
 ]
@@ -722,6 +723,88 @@ def calibrate_debevec(stack, exposure_times, *, samples: int = 70, lam: float = 
                          f"{2 ** bits - 1}: pass the right `bits`")
     return _h.calibrate_debevec(imgs, times, _int("samples", samples, 1, 10 ** 6),
                                 _positive("lam", lam), bits)
+
+
+def calibrate_mitsunaga_nayar(stack, exposure_times, *, degree: Optional[int] = None,
+                              max_degree: int = 10, samples: int = 2000,
+                              refine_ratios: bool = True, tol: float = 1e-7,
+                              max_iter: int = 100,
+                              bits: int = 8) -> Tuple[np.ndarray, Dict[str, list]]:
+    """Recover the inverse camera response as a polynomial (Mitsunaga & Nayar 1999, the
+    model of RASCAL, which the paper used for its 8-bit views), re-estimating the exposure
+    ratios from approximate times.
+
+    Parameters
+    ----------
+    stack : list of arrays (H, W) or (H, W, C), uint8 or uint16
+        At least two aligned exposures of a static scene whose pixels span the codes (a
+        calibration chart or a gradient): the polynomial's scale is fixed at the top code,
+        so the stack needs samples in the upper half of the range.
+    exposure_times : sequence of float
+        Exposure time of every image (seconds, > 0, distinct). The intermediate ones may be
+        approximate when ``refine_ratios`` is on; the span from the shortest to the longest
+        fixes the response's exponent.
+    degree : int, optional
+        Polynomial degree (1..10); by default chosen per channel on held-out samples (the
+        smallest degree within 25 % of the best held-out error whose fit increases).
+    max_degree : int, default 10
+        Largest degree tried when ``degree`` is None.
+    samples : int, default 2000
+        Sample pixels on a regular grid; each gives one equation per pair of consecutive
+        exposures (in time) where both codes lie within 2-98 % of the range.
+    refine_ratios : bool, default True
+        Alternate between the coefficients and the exposure ratios (the method's
+        iteration); False keeps the ratios of ``exposure_times``.
+    tol : float, default 1e-7
+        Stop when the response moves less than this at every code.
+    max_iter : int, default 100
+        Most alternations.
+    bits : int, default 8
+        Bit depth of the codes (1..16).
+
+    Returns
+    -------
+    crf : float32 array (2**bits, C)
+        ``f(Z / z_max)`` per code and channel with ``f(z_max) = 1``, non-decreasing; usable
+        as ``crf`` everywhere.
+    info : dict
+        Per channel: ``coefficients`` (``c_0 .. c_N``), ``ratios`` (``t_q / t_{q+1}`` of
+        consecutive exposures in order of time, as estimated), ``degree``, ``rms`` (of the
+        residuals ``f(M_q) - R_q f(M_{q+1})``), ``equations``, ``iterations``.
+
+    Notes
+    -----
+    Consecutive exposures satisfy ``f(M_q) = R_q f(M_{q+1})``; with the ratios fixed, the
+    coefficients minimise ``sum [f(M_q) - R_q f(M_{q+1})]^2`` by least squares after
+    substituting ``c_N = 1 - sum_{n<N} c_n``. Each ratio is then re-estimated as the median
+    of the per-pixel ratios ``f(M_q) / f(M_{q+1})`` (the 1999 paper takes their mean, which
+    dark pixels make unstable), and all ratios are scaled so that their product keeps the
+    given span, which removes the exponential ambiguity (``f**g`` with ratios ``R**g`` fits
+    as well). A stack without upper-half samples, or a polynomial that decreases over the
+    observed codes, raises ``ValueError`` ("CRF calibration failed").
+
+    References
+    ----------
+    T. Mitsunaga and S. K. Nayar, "Radiometric self calibration", CVPR 1999; Ramirez Orozco
+    et al., WSCG 2015, Journal of WSCG vol. 23, section 3.
+    """
+    imgs, _ = _code_list(stack, "stack")
+    if len(imgs) < 2:
+        raise ValueError(f"`stack` needs at least 2 exposures, got {len(imgs)}")
+    times = _times(exposure_times, len(imgs))
+    bits = _int("bits", bits, 1, 16)
+    mc = max(int(v.max()) for v in imgs)
+    if mc > 2 ** bits - 1:
+        raise ValueError(f"the stack holds code {mc}, above the {bits}-bit maximum "
+                         f"{2 ** bits - 1}: pass the right `bits`")
+    deg = None if degree is None else _int("degree", degree, 1, 10)
+    if not isinstance(refine_ratios, (bool, np.bool_)):
+        raise ValueError(f"`refine_ratios` must be a bool, got {refine_ratios!r}")
+    table, info = _h.calibrate_mitsunaga_nayar(
+        imgs, times, bits, deg, _int("max_degree", max_degree, 1, 10),
+        _int("samples", samples, 1, 10 ** 7), bool(refine_ratios), _positive("tol", tol),
+        _int("max_iter", max_iter, 1, 10 ** 6))
+    return table, info
 
 
 def to_radiance(image, crf, exposure_time: float, *, bits: Optional[int] = None) -> np.ndarray:
