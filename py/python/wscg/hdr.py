@@ -673,6 +673,20 @@ def warp_direct(src, offsets_rs) -> np.ndarray:
 # Responses, radiance and merging
 # ----------------------------------------------------------------------------------------
 
+def _calibration_stack(stack, exposure_times, bits, max_bits: int):
+    """The codes, times and bit depth of a calibration stack, checked."""
+    imgs, _ = _code_list(stack, "stack")
+    if len(imgs) < 2:
+        raise ValueError(f"`stack` needs at least 2 exposures, got {len(imgs)}")
+    times = _times(exposure_times, len(imgs))
+    bits = _int("bits", bits, 1, max_bits)
+    mc = max(int(v.max()) for v in imgs)
+    if mc > 2 ** bits - 1:
+        raise ValueError(f"the stack holds code {mc}, above the {bits}-bit maximum "
+                         f"{2 ** bits - 1}: pass the right `bits`")
+    return imgs, times, bits
+
+
 def calibrate_debevec(stack, exposure_times, *, samples: int = 70, lam: float = 10.0,
                       bits: int = 8) -> np.ndarray:
     """Recover the inverse camera response from a static exposure stack (Debevec & Malik
@@ -712,15 +726,7 @@ def calibrate_debevec(stack, exposure_times, *, samples: int = 70, lam: float = 
     P. Debevec and J. Malik, SIGGRAPH 1997; Ramirez Orozco et al., WSCG 2015, Journal of
     WSCG vol. 23, section 3.
     """
-    imgs, _ = _code_list(stack, "stack")
-    if len(imgs) < 2:
-        raise ValueError(f"`stack` needs at least 2 exposures, got {len(imgs)}")
-    times = _times(exposure_times, len(imgs))
-    bits = _int("bits", bits, 1, 12)
-    mc = max(int(v.max()) for v in imgs)
-    if mc > 2 ** bits - 1:
-        raise ValueError(f"the stack holds code {mc}, above the {bits}-bit maximum "
-                         f"{2 ** bits - 1}: pass the right `bits`")
+    imgs, times, bits = _calibration_stack(stack, exposure_times, bits, 12)
     return _h.calibrate_debevec(imgs, times, _int("samples", samples, 1, 10 ** 6),
                                 _positive("lam", lam), bits)
 
@@ -788,15 +794,7 @@ def calibrate_mitsunaga_nayar(stack, exposure_times, *, degree: Optional[int] = 
     T. Mitsunaga and S. K. Nayar, "Radiometric self calibration", CVPR 1999; Ramirez Orozco
     et al., WSCG 2015, Journal of WSCG vol. 23, section 3.
     """
-    imgs, _ = _code_list(stack, "stack")
-    if len(imgs) < 2:
-        raise ValueError(f"`stack` needs at least 2 exposures, got {len(imgs)}")
-    times = _times(exposure_times, len(imgs))
-    bits = _int("bits", bits, 1, 16)
-    mc = max(int(v.max()) for v in imgs)
-    if mc > 2 ** bits - 1:
-        raise ValueError(f"the stack holds code {mc}, above the {bits}-bit maximum "
-                         f"{2 ** bits - 1}: pass the right `bits`")
+    imgs, times, bits = _calibration_stack(stack, exposure_times, bits, 16)
     deg = None if degree is None else _int("degree", degree, 1, 10)
     if not isinstance(refine_ratios, (bool, np.bool_)):
         raise ValueError(f"`refine_ratios` must be a bool, got {refine_ratios!r}")
