@@ -10,13 +10,13 @@
 //! squares once `c_N = 1 - sum_{n<N} c_n` is substituted); given the coefficients, each ratio
 //! is re-estimated. The two steps alternate from the ratios of the nominal exposure times
 //! until the response moves less than `tol` at every code, so the intermediate exposure
-//! times need only be approximate, as with the paper's cameras.
+//! times need only be approximate (RASCAL likewise starts from rough exposure values).
 //!
 //! Where we differ from the 1999 paper: a ratio is re-estimated as the median of the
 //! per-pixel ratios `f(M_{p,q}) / f(M_{p,q+1})` rather than their mean, which dark pixels
-//! (small `f(M_{p,q+1})`) make unstable; and the ratios are
-//! scaled after each update so that their product stays that of the given times (the span of
-//! the shortest to the longest exposure). Without that anchor the alternation drifts along
+//! (small `f(M_{p,q+1})`) make unstable; and the ratios are scaled after each update so
+//! that their product stays that of the given times (the span of the shortest to the
+//! longest exposure). Without that anchor the alternation drifts along
 //! the exponential ambiguity (`f^g` with ratios `R^g` fits as well for every `g`; Grossberg &
 //! Nayar 2003) towards ever steeper responses.
 
@@ -32,7 +32,7 @@ pub struct MnParams {
     /// error on held-out samples (every second sample fits, the others judge; the smallest
     /// degree within 25 % of the best error).
     pub degree: Option<usize>,
-    /// Largest degree tried when `degree` is `None` (10, as Mitsunaga & Nayar).
+    /// Largest degree tried when `degree` is `None` (10).
     pub max_degree: usize,
     /// Sample pixels on a regular grid (2000; each gives one equation per pair of
     /// consecutive exposures in which both codes lie within 2-98 % of the range).
