@@ -314,6 +314,21 @@ pub fn encode(
     Image::new(h, w, c, out)
 }
 
+/// A calibration target of `height x width` pixels: radiance rising over 3.5 decades along
+/// the rows (`10^(-1 + 3.5 u)`, `u` from 0 to 1 through the image in reading order), the
+/// three channels 10 % apart, so that exposures one stop apart cover every code.
+pub fn gradient_target(height: usize, width: usize) -> Result<Image<f32>> {
+    let mut d = Vec::with_capacity(height * width * 3);
+    for y in 0..height {
+        for x in 0..width {
+            let u = (x as f64 + y as f64 / height as f64) / width as f64;
+            let e = 10f64.powf(-1.0 + 3.5 * u);
+            d.extend((0..3).map(|k| (e * (1.0 - 0.1 * k as f64)) as f32));
+        }
+    }
+    Image::new(height, width, 3, d)
+}
+
 /// The layered multi-view scene of `cfg` with noise seed `seed`.
 pub fn layered_scene(cfg: &SceneCfg, seed: u64) -> Result<SynthScene> {
     cfg.check()?;

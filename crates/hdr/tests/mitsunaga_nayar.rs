@@ -4,25 +4,12 @@
 //! S-shaped cameras against the truth and Debevec-Malik, the dark scene it cannot calibrate,
 //! bad input.
 
-use wscg_hdr::synth::{encode, layered_scene, Response, SceneCfg};
+use wscg_hdr::synth::{encode, gradient_target, layered_scene, Response, SceneCfg};
 use wscg_hdr::{calibrate_debevec, calibrate_mitsunaga_nayar, Crf, MnFit, MnParams};
 use wscg_math::Image;
 
-/// A calibration target: radiance rising over 3.5 decades along the rows, the channels
-/// 10 % apart.
 fn gradient() -> Image<f32> {
-    let (h, w, c) = (96, 128, 3);
-    let mut d = vec![0f32; h * w * c];
-    for y in 0..h {
-        for x in 0..w {
-            let u = (x as f64 + y as f64 / h as f64) / w as f64;
-            for k in 0..c {
-                d[(y * w + x) * c + k] =
-                    (10f64.powf(-1.0 + 3.5 * u) * (1.0 - 0.1 * k as f64)) as f32;
-            }
-        }
-    }
-    Image::new(h, w, c, d).unwrap()
+    gradient_target(96, 128).unwrap()
 }
 
 /// `n` exposures of `e` one stop apart through `response`.
