@@ -403,29 +403,31 @@ fn calibrate_mitsunaga_nayar<'py>(
         .detach(|| wscg_hdr::calibrate_mitsunaga_nayar(&imgs, &times, bits, &p))
         .py_err()?;
     let info = PyDict::new(py);
-    let per = |f: &dyn Fn(&wscg_hdr::MnChannel) -> Vec<f64>| -> Vec<Vec<f64>> {
-        fit.channels.iter().map(f).collect()
-    };
-    info.set_item("coefficients", per(&|c| c.coefficients.clone()))?;
-    info.set_item("ratios", per(&|c| c.ratios.clone()))?;
+    let ch = &fit.channels;
+    info.set_item(
+        "coefficients",
+        ch.iter()
+            .map(|c| c.coefficients.clone())
+            .collect::<Vec<_>>(),
+    )?;
+    info.set_item(
+        "ratios",
+        ch.iter().map(|c| c.ratios.clone()).collect::<Vec<_>>(),
+    )?;
     info.set_item(
         "degree",
-        fit.channels
-            .iter()
+        ch.iter()
             .map(|c| c.coefficients.len() - 1)
             .collect::<Vec<_>>(),
     )?;
-    info.set_item("rms", per(&|c| vec![c.rms]).concat())?;
+    info.set_item("rms", ch.iter().map(|c| c.rms).collect::<Vec<_>>())?;
     info.set_item(
         "equations",
-        fit.channels.iter().map(|c| c.equations).collect::<Vec<_>>(),
+        ch.iter().map(|c| c.equations).collect::<Vec<_>>(),
     )?;
     info.set_item(
         "iterations",
-        fit.channels
-            .iter()
-            .map(|c| c.iterations)
-            .collect::<Vec<_>>(),
+        ch.iter().map(|c| c.iterations).collect::<Vec<_>>(),
     )?;
     let table = array(
         py,
