@@ -1751,6 +1751,35 @@ fn hdr_simulate_multiscopic_merge_and_calibrate_on_files() {
     // 200 and 50 is 2.2 ln 4.
     let ratio = (rows[200][1] / rows[50][1]).ln();
     assert!((ratio - 2.2 * 4f64.ln()).abs() < 0.15, "{ratio}");
+    // The chart's stack calibrates the same camera with Mitsunaga-Nayar: f = (Z / 255)^2.2
+    // itself (no free scale), to within 0.02.
+    let chart: Vec<String> = (0..7)
+        .map(|k| s(&sim.join("chart").join(format!("exposure_{k:02}.png"))))
+        .collect();
+    let crf_mn = d.join("crf_mn.csv");
+    let mut args: Vec<String> = vec!["hdr".into(), "calibrate".into()];
+    args.extend(chart.iter().cloned());
+    let chart_times = s(&sim.join("chart").join("times.txt"));
+    let opts = [
+        "--times",
+        &chart_times,
+        "--method",
+        "mitsunaga-nayar",
+        "--out",
+        &s(&crf_mn),
+    ];
+    args.extend(opts.map(String::from));
+    wscg_ok(&args);
+    let mn: Vec<f64> = std::fs::read_to_string(&crf_mn)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    for z in (20..=240).step_by(20) {
+        let want = (z as f64 / 255.0).powf(2.2);
+        assert!((mn[z] - want).abs() < 0.02, "code {z}: {} vs {want}", mn[z]);
+    }
     let merged = d.join("merged.exr");
     let mut args: Vec<String> = vec!["hdr".into(), "merge".into()];
     args.extend(stack.iter().cloned());

@@ -5,7 +5,8 @@
 //! - `merge`: an aligned exposure stack of one view to one HDR image.
 //! - `calibrate`: the camera response (Debevec-Malik, or Mitsunaga-Nayar as the paper's
 //!   RASCAL) from a static exposure stack.
-//! - `simulate`: the layered five-camera scene with its ground truth.
+//! - `simulate`: the layered five-camera scene with its ground truth, and static stacks of
+//!   the central view and of a gradient chart for `calibrate`.
 //!
 //! Views are 8- or 16-bit PNG (or 8-bit JPEG) holding the camera's codes. Exposure times
 //! are given as a comma list or a text file with one time per line. Responses: `gamma2.2`,
@@ -15,7 +16,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
-use wscg_hdr::synth::{encode, layered_scene, SceneCfg};
+use wscg_hdr::synth::{encode, gradient_target, layered_scene, SceneCfg};
 use wscg_hdr::tonemap::reinhard;
 use wscg_hdr::{
     calibrate_debevec, calibrate_mitsunaga_nayar, merge_stack, multiscopic_hdr, Align, Crf,
@@ -383,30 +384,35 @@ fn simulate(a: SimulateArgs) -> Result<()> {
     }
     write_times(&sc.times, &a.out.join("times.txt"))?;
     // A static stack of the central camera, one stop apart, for `calibrate` and `merge`.
-    let cal = a.out.join("calibration");
-    std::fs::create_dir_all(&cal).map_err(|e| Error::io(&cal, e))?;
+    // The same camera on a gradient chart that covers every code (what Mitsunaga-Nayar's
+    // polynomial needs), in chart/.
     let centre = sc.views.len() / 2;
     let cal_times: Vec<f64> = (0..7).map(|k| 0.004 * 2f64.powi(k)).collect();
-    for (k, &t) in cal_times.iter().enumerate() {
-        let v = encode(
-            &sc.radiance[centre],
-            t,
-            cfg.response,
-            cfg.noise,
-            8,
-            a.seed + 100 + k as u64,
-        )?;
-        v.map(|z| z as f32 / 255.0)
-            .save(cal.join(format!("exposure_{k:02}.png")))?;
+    let chart = gradient_target(a.height, a.width)?;
+    for (dir, radiance) in [("calibration", &sc.radiance[centre]), ("chart", &chart)] {
+        let cal = a.out.join(dir);
+        std::fs::create_dir_all(&cal).map_err(|e| Error::io(&cal, e))?;
+        for (k, &t) in cal_times.iter().enumerate() {
+            let v = encode(
+                radiance,
+                t,
+                cfg.response,
+                cfg.noise,
+                8,
+                a.seed + 100 + k as u64,
+            )?;
+            v.map(|z| z as f32 / 255.0)
+                .save(cal.join(format!("exposure_{k:02}.png")))?;
+        }
+        write_times(&cal_times, &cal.join("times.txt"))?;
     }
-    write_times(&cal_times, &cal.join("times.txt"))?;
     write_crf(&sc.crf, &a.out.join("crf.csv"))?;
     let max_d =
         cfg.layers.iter().map(|l| l.disparity).fold(0.0, f64::max) * (sc.views.len() - 1) as f64;
     println!(
         "{} views of {} x {} written to {} (times.txt, crf.csv, truth_NN.exr, a static \
-         stack of the central view in calibration/); largest disparity {:.1} px: use \
-         --max-disparity {}",
+         stack of the central view in calibration/ and of a gradient chart in chart/); \
+         largest disparity {:.1} px: use --max-disparity {}",
         sc.views.len(),
         a.height,
         a.width,
