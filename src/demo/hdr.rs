@@ -5,7 +5,9 @@
 
 use std::path::Path;
 
-use wscg_hdr::metrics::{bad_rate, evaluation_mask, incoherence, rmse_log2, Region};
+use wscg_hdr::metrics::{
+    bad_rate, evaluation_mask, incoherence, response_log_error, rmse_log2, Region,
+};
 use wscg_hdr::synth::{encode, gradient_target, layered_scene, Response, SceneCfg, SynthScene};
 use wscg_hdr::tonemap::reinhard;
 use wscg_hdr::{
@@ -45,21 +47,8 @@ fn calibration_rows(rep: &mut Report) -> Result<()> {
         .map(|(t, k)| t * k)
         .collect();
     // Max |ln f - ln f_true| over codes 20..235, the free offset of Debevec-Malik removed.
-    let log_err = |crf: &Crf, offset: bool| {
-        (0..crf.channels())
-            .map(|c| {
-                let d: Vec<f64> = (20..=235u16)
-                    .map(|z| (crf.inv(z, c) as f64).ln() - truth.inverse(z as f64 / 255.0).ln())
-                    .collect();
-                let off = if offset {
-                    d.iter().sum::<f64>() / d.len() as f64
-                } else {
-                    0.0
-                };
-                d.iter().map(|v| (v - off).abs()).fold(0.0, f64::max)
-            })
-            .fold(0.0, f64::max)
-    };
+    let log_err =
+        |crf: &Crf, offset: bool| response_log_error(crf, |m| truth.inverse(m), 20..=235, offset);
     let mn = calibrate_mitsunaga_nayar(&stack, &wrong, 8, &MnParams::default())?;
     // Debevec-Malik takes the times as they are; with these it may not find an increasing
     // response at all.

@@ -1,9 +1,38 @@
 //! Quality measures of the multiscopic pipeline: log-radiance error, bad-pixel rates of a
-//! field against true disparities, and the coherence of a field.
+//! field against true disparities, the coherence of a field, and the error of a recovered
+//! camera response.
 
 use wscg_math::{Error, Image, Result};
 
+use crate::crf::Crf;
 use crate::nnf::Nnf;
+
+/// Largest `|ln f(z) - ln f_true(z / z_max)|` over the codes `codes` and every channel of
+/// `crf`, with `truth` the true inverse response of the normalised code. With
+/// `free_offset`, each channel's mean difference is removed first (a response known only up
+/// to scale, as Debevec-Malik's).
+pub fn response_log_error(
+    crf: &Crf,
+    truth: impl Fn(f64) -> f64,
+    codes: std::ops::RangeInclusive<u16>,
+    free_offset: bool,
+) -> f64 {
+    let zmax = crf.z_max() as f64;
+    (0..crf.channels())
+        .map(|c| {
+            let d: Vec<f64> = codes
+                .clone()
+                .map(|z| (crf.inv(z, c) as f64).ln() - truth(z as f64 / zmax).ln())
+                .collect();
+            let off = if free_offset {
+                d.iter().sum::<f64>() / d.len().max(1) as f64
+            } else {
+                0.0
+            };
+            d.iter().map(|v| (v - off).abs()).fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max)
+}
 
 /// `sqrt(mean((log2 est - log2 gt)^2))` over the pixel-channels where `mask` holds (all
 /// when `None`; `mask` has one entry per pixel-channel). Non-positive estimates count as

@@ -4,6 +4,7 @@
 //! S-shaped cameras against the truth and Debevec-Malik, the dark scene it cannot calibrate,
 //! bad input.
 
+use wscg_hdr::metrics::response_log_error;
 use wscg_hdr::synth::{encode, gradient_target, layered_scene, Response, SceneCfg};
 use wscg_hdr::{calibrate_debevec, calibrate_mitsunaga_nayar, Crf, MnFit, MnParams};
 use wscg_math::Image;
@@ -123,23 +124,8 @@ fn eight_bit_gamma_and_s_shaped_cameras_are_calibrated() {
         let e_mn = worst(&fit.crf, truth, 5, 250);
         // Both in the measure of the Debevec-Malik test: max |ln f - ln f_true| over codes
         // 20..235, Debevec-Malik's free offset removed.
-        let log_err = |crf: &Crf, c: usize, offset: bool| {
-            let d: Vec<f64> = (20..=235u16)
-                .map(|z| (crf.inv(z, c) as f64).ln() - truth.inverse(z as f64 / 255.0).ln())
-                .collect();
-            let off = if offset {
-                d.iter().sum::<f64>() / d.len() as f64
-            } else {
-                0.0
-            };
-            d.iter().map(|v| (v - off).abs()).fold(0.0, f64::max)
-        };
-        let (l_mn, l_dm) = (0..3).fold((0f64, 0f64), |(a, b), c| {
-            (
-                a.max(log_err(&fit.crf, c, false)),
-                b.max(log_err(&dm, c, true)),
-            )
-        });
+        let l_mn = response_log_error(&fit.crf, |m| truth.inverse(m), 20..=235, false);
+        let l_dm = response_log_error(&dm, |m| truth.inverse(m), 20..=235, true);
         eprintln!(
             "{truth:?}: degrees {:?}, max |f - f_true| over codes 5..250 {e_mn:.4}; max |ln f - \
              ln f_true| over 20..235 {l_mn:.4} (Debevec-Malik {l_dm:.4}); ratios within {:.1e}",
