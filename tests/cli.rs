@@ -3,6 +3,7 @@
 use std::path::Path;
 use std::process::Command;
 
+use wscg::hdr::synth::{encode, gradient_target, Response};
 use wscg::math::image::Image;
 
 fn wscg() -> Command {
@@ -1899,15 +1900,12 @@ fn hdr_calibrate_mitsunaga_nayar_on_files() {
     let d = dir.path();
     let s = |p: &Path| p.to_str().unwrap().to_string();
     let times: Vec<f64> = (0..6).map(|k| 0.004 * 2f64.powi(k)).collect();
+    let chart = gradient_target(64, 96).unwrap();
     let mut files = Vec::new();
     for (k, &t) in times.iter().enumerate() {
-        let img = Image::from_fn(64, 96, |y, x| {
-            let e = 10f64.powf(-1.0 + 3.5 * (x as f64 + y as f64 / 64.0) / 96.0);
-            ((e * t).min(1.0).powf(1.0 / 2.2) * 255.0).round() as f32 / 255.0
-        })
-        .unwrap();
+        let codes = encode(&chart, t, Response::Gamma(2.2), 0.0, 8, k as u64).unwrap();
         let f = d.join(format!("e{k}.png"));
-        img.save(&f).unwrap();
+        codes.map(|z| z as f32 / 255.0).save(&f).unwrap();
         files.push(s(&f));
     }
     let nominal = "0.004,0.0088,0.0144,0.0368,0.0704,0.128";

@@ -9,7 +9,8 @@
 //! the coefficients minimise `sum_{q,p} [f(M_{p,q}) - R_q f(M_{p,q+1})]^2` (linear least
 //! squares once `c_N = 1 - sum_{n<N} c_n` is substituted); given the coefficients, each ratio
 //! is re-estimated. The two steps alternate from the ratios of the nominal exposure times
-//! until the response moves less than `tol` at every code, so the intermediate exposure
+//! until the response moves less than `tol` at every code (or stops moving less), so the
+//! intermediate exposure
 //! times need only be approximate (RASCAL likewise starts from rough exposure values).
 //!
 //! Where we differ from the 1999 paper: a ratio is re-estimated as the median of the
@@ -40,7 +41,8 @@ pub struct MnParams {
     /// Re-estimate the exposure ratios (the method's iteration, true), or keep the ratios of
     /// the given times (false).
     pub refine_ratios: bool,
-    /// Convergence: the largest change of `f` over the codes between iterations (1e-7).
+    /// Convergence: the largest change of `f` over the codes between iterations (1e-7); the
+    /// alternation also stops once that change has not shrunk for two iterations.
     pub tol: f64,
     /// Most iterations of the alternation (100).
     pub max_iter: usize,
@@ -173,10 +175,13 @@ fn fit(
     p: &MnParams,
     levels: usize,
 ) -> Result<(Vec<f64>, Vec<f64>, usize)> {
-    let zmax = (levels - 1) as f64;
+    // The change of f is measured at every code, or at 1025 evenly spaced values for deeper
+    // codes (a polynomial of degree <= 10 cannot hide between them).
+    let grid = levels.min(1025);
     let span: f64 = ratios.iter().map(|r| r.ln()).sum();
     let mut c = solve(obs, &ratios, n)?;
     let mut it = 1;
+    let (mut last, mut stalled) = (f64::INFINITY, 0);
     while it < p.max_iter {
         if p.refine_ratios {
             // Each R_q as the median of the per-equation ratios f(M_q) / f(M_{q+1}) (the
@@ -203,11 +208,19 @@ fn fit(
         }
         let next = solve(obs, &ratios, n)?;
         it += 1;
-        let moved = (0..levels)
-            .map(|z| (poly(&next, z as f64 / zmax) - poly(&c, z as f64 / zmax)).abs())
+        let moved = (0..grid)
+            .map(|k| {
+                let m = k as f64 / (grid - 1) as f64;
+                (poly(&next, m) - poly(&c, m)).abs()
+            })
             .fold(0.0, f64::max);
         c = next;
-        if moved < p.tol {
+        // The median moves in steps of one pixel's ratio, so the alternation can settle into
+        // a cycle of a few states instead of a fixed point: it also stops once the change
+        // has not shrunk for two iterations.
+        stalled = if moved < last { 0 } else { stalled + 1 };
+        last = moved;
+        if moved < p.tol || stalled >= 2 {
             break;
         }
     }
