@@ -51,6 +51,7 @@ pub mod masks;
 pub mod metrics;
 pub mod phantom;
 pub mod prox;
+pub mod sflct;
 pub mod sparsifier;
 pub mod udct;
 
