@@ -6,6 +6,7 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_cs_mri::baselines::{self, CompositeParams};
+use wscg_cs_mri::sflct::{Redundancy, Sflct, SflctConfig};
 use wscg_cs_mri::sparsifier::PriorConfig;
 use wscg_cs_mri::{
     csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, Fdct, FdctConfig, Finest, IterStat,
@@ -234,27 +235,17 @@ impl PyFdct {
         py: Python<'py>,
         bands: Vec<PyReadonlyArrayDyn<Complex64>>,
     ) -> PyResult<Arr<'py, Complex64>> {
-        let info = self.inner.bands();
-        if bands.len() != info.len() {
-            return Err(value_error(format!(
-                "{} bands given, the transform has {}",
-                bands.len(),
-                info.len()
-            )));
-        }
-        let mut co = vec![Complex64::new(0.0, 0.0); self.inner.coeff_len()];
-        for (b, (arr, band)) in bands.iter().zip(&info).enumerate() {
-            if arr.shape() != band.shape {
-                return Err(value_error(format!(
-                    "band {b} (scale {}, angle {}) has shape {:?}, expected {:?}",
-                    band.scale,
-                    band.angle,
-                    arr.shape(),
-                    band.shape
-                )));
-            }
-            co[band.range.clone()].copy_from_slice(&values(arr));
-        }
+        let info: Vec<BandSlot> = self
+            .inner
+            .bands()
+            .into_iter()
+            .map(|b| BandSlot {
+                name: format!("band (scale {}, angle {})", b.scale, b.angle),
+                shape: b.shape.to_vec(),
+                range: b.range,
+            })
+            .collect();
+        let co = join_bands(&bands, &info, self.inner.coeff_len())?;
         let out = py.detach(|| self.inner.backward(&co)).py_err()?;
         let (r, c) = self.inner.shape();
         array(py, &[r, c], out)
@@ -266,6 +257,145 @@ impl PyFdct {
         (0..self.inner.bands().len())
             .map(|b| array(py, &[r, c], self.inner.window(b).expect("band")))
             .collect()
+    }
+}
+
+/// Where one band of a flat coefficient vector lives.
+struct BandSlot {
+    name: String,
+    shape: Vec<usize>,
+    range: std::ops::Range<usize>,
+}
+
+/// Packs per-band arrays into a flat coefficient vector of length `total`, checking their
+/// number and shapes.
+fn join_bands(
+    bands: &[PyReadonlyArrayDyn<Complex64>],
+    info: &[BandSlot],
+    total: usize,
+) -> PyResult<Vec<Complex64>> {
+    if bands.len() != info.len() {
+        return Err(value_error(format!(
+            "{} bands given, the transform has {}",
+            bands.len(),
+            info.len()
+        )));
+    }
+    let mut co = vec![Complex64::new(0.0, 0.0); total];
+    for (b, (arr, slot)) in bands.iter().zip(info).enumerate() {
+        if arr.shape() != slot.shape.as_slice() {
+            return Err(value_error(format!(
+                "band {b}, the {}, has shape {:?}, expected {:?}",
+                slot.name,
+                arr.shape(),
+                slot.shape
+            )));
+        }
+        co[slot.range.clone()].copy_from_slice(&values(arr));
+    }
+    Ok(co)
+}
+
+/// A planned sharp-frequency-localized contourlet transform (real-linear; complex images).
+#[pyclass(name = "Sflct", module = "wscg._native.csmri")]
+pub struct PySflct {
+    inner: Sflct,
+}
+
+impl PySflct {
+    fn slots(&self) -> Vec<BandSlot> {
+        self.inner
+            .bands()
+            .iter()
+            .map(|b| BandSlot {
+                name: format!("band (scale {}, direction {})", b.scale, b.direction),
+                shape: vec![b.shape.0, b.shape.1],
+                range: b.range.clone(),
+            })
+            .collect()
+    }
+
+    fn back<'py>(
+        &self,
+        py: Python<'py>,
+        bands: Vec<PyReadonlyArrayDyn<Complex64>>,
+        adjoint: bool,
+    ) -> PyResult<Arr<'py, Complex64>> {
+        let co = join_bands(&bands, &self.slots(), self.inner.coeff_len())?;
+        let out = py
+            .detach(|| {
+                if adjoint {
+                    self.inner.adjoint(&co)
+                } else {
+                    self.inner.inverse(&co)
+                }
+            })
+            .py_err()?;
+        let (r, c) = self.inner.shape();
+        array(py, &[r, c], out)
+    }
+}
+
+#[pymethods]
+impl PySflct {
+    #[new]
+    fn new(rows: usize, cols: usize, redundancy: &str, levels: Vec<usize>) -> PyResult<Self> {
+        let cfg = SflctConfig {
+            redundancy: Redundancy::by_name(redundancy).py_err()?,
+            dfb_levels: levels,
+        };
+        Ok(PySflct {
+            inner: Sflct::new(rows, cols, &cfg).py_err()?,
+        })
+    }
+
+    fn shape(&self) -> (usize, usize) {
+        self.inner.shape()
+    }
+
+    fn redundancy(&self) -> f64 {
+        self.inner.redundancy()
+    }
+
+    /// `[(scale, direction, (rows, cols)), ...]` in coefficient order.
+    fn bands(&self) -> Vec<(usize, usize, (usize, usize))> {
+        self.inner
+            .bands()
+            .iter()
+            .map(|b| (b.scale, b.direction, b.shape))
+            .collect()
+    }
+
+    /// One complex array per band, in coefficient order.
+    fn forward<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArrayDyn<Complex64>,
+    ) -> PyResult<Vec<Arr<'py, Complex64>>> {
+        planned_shape(&x, self.inner.shape())?;
+        let v = values(&x);
+        let co = py.detach(|| self.inner.forward(&v)).py_err()?;
+        self.inner
+            .bands()
+            .iter()
+            .map(|b| array(py, &[b.shape.0, b.shape.1], co[b.range.clone()].to_vec()))
+            .collect()
+    }
+
+    fn inverse<'py>(
+        &self,
+        py: Python<'py>,
+        bands: Vec<PyReadonlyArrayDyn<Complex64>>,
+    ) -> PyResult<Arr<'py, Complex64>> {
+        self.back(py, bands, false)
+    }
+
+    fn adjoint<'py>(
+        &self,
+        py: Python<'py>,
+        bands: Vec<PyReadonlyArrayDyn<Complex64>>,
+    ) -> PyResult<Arr<'py, Complex64>> {
+        self.back(py, bands, true)
     }
 }
 
@@ -340,7 +470,7 @@ fn recon_out<'py>(
 }
 
 #[pyfunction]
-#[pyo3(signature = (kspace, mask, prior, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedges, alpha, levels, inner_iters, shrink_lowpass, reference, record_history, fdct = None))]
+#[pyo3(signature = (kspace, mask, prior, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedges, alpha, levels, inner_iters, shrink_lowpass, reference, record_history, fdct = None, sflct_levels = None))]
 #[allow(clippy::too_many_arguments)]
 fn reconstruct<'py>(
     py: Python<'py>,
@@ -362,6 +492,7 @@ fn reconstruct<'py>(
     reference: Option<PyReadonlyArrayDyn<Complex64>>,
     record_history: bool,
     fdct: Option<(Option<usize>, usize, String, f64)>,
+    sflct_levels: Option<Vec<usize>>,
 ) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
     let data = kspace_in(&kspace, &mask)?;
     let (r, c) = data.shape();
@@ -395,6 +526,7 @@ fn reconstruct<'py>(
             },
             None => FdctConfig::default(),
         },
+        sflct_levels: sflct_levels.unwrap_or_else(|| SflctConfig::default().dfb_levels),
         levels,
     };
     let rec = py
@@ -567,6 +699,7 @@ fn noise_epsilon(sigma: f64, m: usize) -> f64 {
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyUdct>()?;
     m.add_class::<PyFdct>()?;
+    m.add_class::<PySflct>()?;
     m.add_function(wrap_pyfunction!(tuned_tau0, m)?)?;
     m.add_function(wrap_pyfunction!(reconstruct, m)?)?;
     m.add_function(wrap_pyfunction!(composite, m)?)?;

@@ -48,7 +48,8 @@ pub struct ReconArgs {
     /// Method: csalsa, fcsa, tvcmri, watmri or zero-filled.
     #[arg(long, default_value = "csalsa")]
     method: String,
-    /// Prior of C-SALSA: udct, fdct (wrapping curvelets), db1 ... db8 or identity.
+    /// Prior of C-SALSA: udct, fdct (wrapping curvelets), lrsflct or mrsflct (sharp frequency
+    /// localized contourlets, less or more redundant), db1 ... db8 or identity.
     #[arg(long, default_value = "udct")]
     prior: String,
     /// Regulariser of C-SALSA: l1 or tv.
@@ -60,8 +61,8 @@ pub struct ReconArgs {
     /// Iterations.
     #[arg(long, default_value_t = 70)]
     iters: usize,
-    /// C-SALSA threshold on the unit-peak image (default 0.01 for udct, 0.02 for fdct, 0.04
-    /// otherwise).
+    /// C-SALSA threshold on the unit-peak image (default 0.01 for udct, 0.02 for fdct and the
+    /// SFLCTs, 0.04 otherwise).
     #[arg(long)]
     tau0: Option<f64>,
     /// UDCT wedges per scale, e.g. "6,6" or "6,6;6,6;6,6" (three scales).
@@ -73,6 +74,9 @@ pub struct ReconArgs {
     /// FDCT finest scale: wavelets or curvelets.
     #[arg(long, default_value = "wavelets")]
     fdct_finest: String,
+    /// SFLCT directional levels per scale, coarsest first ("3,3,4": 8, 8 and 16 directions).
+    #[arg(long, default_value = "3,3,4")]
+    sflct_levels: String,
     /// TV weight a of the baselines (unit-peak images).
     #[arg(long, default_value_t = 0.001)]
     a: f64,
@@ -227,6 +231,14 @@ pub fn parse_wedges(s: &str) -> Result<Vec<[usize; 2]>> {
         .collect()
 }
 
+/// Parses SFLCT directional levels like "3,3,4".
+pub fn parse_levels(s: &str) -> Result<Vec<usize>> {
+    s.split(',')
+        .map(|t| t.trim().parse::<usize>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| Error::invalid("sflct-levels", format!("{s:?} is not like \"3,3,4\"")))
+}
+
 pub fn run(cmd: MriCommand) -> Result<()> {
     match cmd {
         MriCommand::Recon(a) => recon(a),
@@ -308,6 +320,7 @@ fn recon(a: ReconArgs) -> Result<()> {
                     finest: Finest::by_name(&a.fdct_finest)?,
                     ..Default::default()
                 },
+                sflct_levels: parse_levels(&a.sflct_levels)?,
                 levels: 4,
             };
             let psi = sparsifier::by_name(&a.prior, rows, cols, &cfg)?;

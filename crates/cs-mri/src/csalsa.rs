@@ -8,6 +8,10 @@
 //! Fourier bins, and the whole iteration runs on spectra: one iteration costs two analyses
 //! and one synthesis of the prior (two of each for TV) and no full-size FFT for l1.
 //!
+//! A prior that is only a frame (the SFLCT baselines) gets the general x-update
+//! `(Psi^H Psi + F_u^H F_u) x = r` of Afonso et al., solved by conjugate gradients
+//! preconditioned with the Parseval inverse and started from it (l1 only).
+//!
 //! Choices where the paper is silent (see the specification): `eps` is a radius on the
 //! 2-norm; images are normalised by `s = max|x0|` so that `tau` is scale-free; the paper's
 //! "lambda <- rho lambda" schedule is `tau <- rho tau`, capped at `tau_cap * tau0`
@@ -190,6 +194,9 @@ pub(crate) fn check_inputs(
 ///
 /// Errors: invalid parameters, a prior planned for another shape, TV with a non-Parseval
 /// prior.
+///
+/// With a non-Parseval prior each x-update runs preconditioned CG to a relative residual of
+/// `FRAME_CG_TOL` (at most `FRAME_CG_MAX` steps).
 pub fn csalsa(
     data: &KSpace,
     psi: &dyn Sparsifier,
@@ -200,10 +207,13 @@ pub fn csalsa(
 ) -> Result<Recon> {
     p.validate()?;
     check_inputs(data, Some(psi.shape()), reference)?;
-    if !psi.is_parseval() {
+    if !psi.is_parseval() && matches!(reg, Regularizer::Tv { .. }) {
         return Err(Error::invalid(
             "prior",
-            format!("C-SALSA needs a Parseval frame; {} is not one", psi.name()),
+            format!(
+                "the TV-of-synthesis regulariser needs a Parseval frame; {} is not one",
+                psi.name()
+            ),
         ));
     }
     let (rows, cols) = data.shape();
@@ -260,12 +270,18 @@ pub fn csalsa(
     let mut history = Vec::new();
     let mut iters = 0;
     let mut prev = xhat.clone();
+    let mut frame = (!psi.is_parseval()).then(|| FrameSolve::new(psi, idx));
     progress.begin("C-SALSA", p.max_iter as u64);
     for k in 0..p.max_iter {
         // x-update: x = (I + F_u^H F_u)^{-1} (Psi^H (v1 + d1) + F_u^H (v2 + d2)).
         psi.synthesis_spectrum(&sum, &mut xhat);
         for (i, &kk) in idx.iter().enumerate() {
             xhat[kk] = (xhat[kk] + v2[i] + d2[i]) * 0.5;
+        }
+        if let Some(fs) = frame.as_mut() {
+            // xhat holds M r for the preconditioner M = (I + F_u^H F_u)^{-1}; finish the
+            // solve of (Psi^H Psi + F_u^H F_u) x = r.
+            fs.solve(psi, &mut xhat);
         }
         // v1-update on a = Psi x - d1.
         psi.analysis_spectrum(&xhat, &mut a);
@@ -363,6 +379,131 @@ pub fn csalsa(
     })
 }
 
+/// Relative residual at which the frame x-update's CG stops. Each solve starts from the
+/// previous one, so late iterations need a few steps; an inexact x-update is standard in
+/// ADMM. On the development image 1e-4 moved the LRSFLCT result by 0.1 dB (29.68 against
+/// 29.58 dB) at twice the cost.
+pub const FRAME_CG_TOL: f64 = 1e-3;
+/// Most CG steps per frame x-update.
+pub const FRAME_CG_MAX: usize = 50;
+
+/// Preconditioned CG for the x-update `(Psi^H Psi + P) x = r` of a frame prior, with
+/// `P = F_u^H F_u` (the sampled bins) and the preconditioner `M = (I + P)^{-1}`, which is
+/// the exact inverse for a Parseval frame.
+struct FrameSolve {
+    /// 1 on sampled bins.
+    sampled: Vec<bool>,
+    coeffs: CoeffVec,
+    r: Vec<Complex64>,
+    z: Vec<Complex64>,
+    d: Vec<Complex64>,
+    q: Vec<Complex64>,
+    /// CG steps taken by the last solves (for diagnostics and tests).
+    steps: Vec<usize>,
+    /// The previous solution, the start of the next solve.
+    last: Option<Vec<Complex64>>,
+}
+
+impl FrameSolve {
+    fn new(psi: &dyn Sparsifier, idx: &[usize]) -> Self {
+        let (rows, cols) = psi.shape();
+        let n = rows * cols;
+        let mut sampled = vec![false; n];
+        for &k in idx {
+            sampled[k] = true;
+        }
+        let zero = vec![Complex64::new(0.0, 0.0); n];
+        FrameSolve {
+            sampled,
+            coeffs: psi.zeros(),
+            r: zero.clone(),
+            z: zero.clone(),
+            d: zero.clone(),
+            q: zero,
+            steps: Vec::new(),
+            last: None,
+        }
+    }
+
+    /// `out = (Psi^H Psi + P) x`.
+    fn apply(&mut self, psi: &dyn Sparsifier, x: &[Complex64], out: &mut [Complex64]) {
+        psi.analysis_spectrum(x, &mut self.coeffs);
+        psi.synthesis_spectrum(&self.coeffs, out);
+        out.par_iter_mut()
+            .zip(x)
+            .zip(&self.sampled)
+            .for_each(|((o, &v), &s)| {
+                if s {
+                    *o += v;
+                }
+            });
+    }
+
+    /// `M v` in place.
+    fn precondition(&self, v: &mut [Complex64]) {
+        v.par_iter_mut().zip(&self.sampled).for_each(|(v, &s)| {
+            if s {
+                *v *= 0.5;
+            }
+        });
+    }
+
+    /// On entry `x = M r`; on exit `x` solves the system to [`FRAME_CG_TOL`], starting from
+    /// the previous solution when there is one.
+    fn solve(&mut self, psi: &dyn Sparsifier, x: &mut [Complex64]) {
+        let dot = |a: &[Complex64], b: &[Complex64]| -> f64 {
+            a.par_iter().zip(b).map(|(p, q)| (p.conj() * q).re).sum()
+        };
+        // r = b - A x with b = M^{-1} x.
+        let mut r = std::mem::take(&mut self.r);
+        r.copy_from_slice(x);
+        r.par_iter_mut().zip(&self.sampled).for_each(|(v, &s)| {
+            if s {
+                *v *= 2.0;
+            }
+        });
+        let bnorm = dot(&r, &r).sqrt();
+        if let Some(last) = &self.last {
+            x.copy_from_slice(last);
+        }
+        let mut q = std::mem::take(&mut self.q);
+        self.apply(psi, x, &mut q);
+        r.par_iter_mut().zip(&q).for_each(|(r, q)| *r -= q);
+        let mut z = std::mem::take(&mut self.z);
+        let mut d = std::mem::take(&mut self.d);
+        z.copy_from_slice(&r);
+        self.precondition(&mut z);
+        d.copy_from_slice(&z);
+        let mut rz = dot(&r, &z);
+        let mut steps = 0;
+        while steps < FRAME_CG_MAX && dot(&r, &r).sqrt() > FRAME_CG_TOL * bnorm {
+            self.apply(psi, &d, &mut q);
+            let dq = dot(&d, &q);
+            if dq <= 0.0 {
+                break;
+            }
+            let alpha = rz / dq;
+            x.par_iter_mut().zip(&d).for_each(|(x, d)| *x += d * alpha);
+            r.par_iter_mut().zip(&q).for_each(|(r, q)| *r -= q * alpha);
+            z.copy_from_slice(&r);
+            self.precondition(&mut z);
+            let rz_new = dot(&r, &z);
+            let beta = rz_new / rz;
+            rz = rz_new;
+            d.par_iter_mut()
+                .zip(&z)
+                .for_each(|(d, z)| *d = z + *d * beta);
+            steps += 1;
+        }
+        self.steps.push(steps);
+        match self.last.as_mut() {
+            Some(l) => l.copy_from_slice(x),
+            None => self.last = Some(x.to_vec()),
+        }
+        (self.r, self.z, self.d, self.q) = (r, z, d, q);
+    }
+}
+
 /// `out = a + Psi(prox_{tau TV}(Psi^H a) - Psi^H a)` (eq. E5).
 fn tv_prox_of_synthesis(
     psi: &dyn Sparsifier,
@@ -390,4 +531,67 @@ pub fn reconstruct(
     p: &CsalsaParams,
 ) -> Result<Recon> {
     csalsa(data, psi, reg, p, None, &NoProgress)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sflct::{Redundancy, SflctConfig};
+    use crate::sparsifier::{SflctSparsifier, UdctSparsifier};
+    use crate::udct::UdctConfig;
+    use wscg_math::rng;
+
+    /// `(Psi^H Psi + P) x` computed directly.
+    fn system(psi: &dyn Sparsifier, sampled: &[bool], x: &[Complex64]) -> Vec<Complex64> {
+        let mut c = psi.zeros();
+        psi.analysis_spectrum(x, &mut c);
+        let mut y = vec![Complex64::new(0.0, 0.0); x.len()];
+        psi.synthesis_spectrum(&c, &mut y);
+        y.iter_mut()
+            .zip(x.iter().zip(sampled))
+            .for_each(|(y, (v, &s))| {
+                if s {
+                    *y += v
+                }
+            });
+        y
+    }
+
+    fn norm(v: &[Complex64]) -> f64 {
+        v.iter().map(|a| a.norm_sqr()).sum::<f64>().sqrt()
+    }
+
+    /// The frame x-update solves its system to the tolerance; for a Parseval prior the
+    /// preconditioner alone is the exact solution and CG takes no step.
+    #[test]
+    fn frame_x_update_solves_its_system() {
+        let n = 64;
+        let idx: Vec<usize> = (0..n * n).filter(|k| k % 3 != 1).collect();
+        let b = rng::complex_normal_vec(7, n * n, 1.0).unwrap();
+        let cfg = SflctConfig {
+            redundancy: Redundancy::More,
+            dfb_levels: vec![2, 3],
+        };
+        let sfl = SflctSparsifier::new(n, n, &cfg).unwrap();
+        let udct = UdctSparsifier::new(n, n, &UdctConfig::default()).unwrap();
+        for (psi, parseval) in [(&sfl as &dyn Sparsifier, false), (&udct, true)] {
+            let mut fs = FrameSolve::new(psi, &idx);
+            // x = M b.
+            let mut x = b.clone();
+            fs.precondition(&mut x);
+            fs.solve(psi, &mut x);
+            let r: Vec<Complex64> = system(psi, &fs.sampled, &x)
+                .iter()
+                .zip(&b)
+                .map(|(a, c)| a - c)
+                .collect();
+            let rel = norm(&r) / norm(&b);
+            assert!(rel <= FRAME_CG_TOL * (1.0 + 1e-9), "{}: {rel}", psi.name());
+            if parseval {
+                assert_eq!(fs.steps, vec![0], "{}", psi.name());
+            } else {
+                assert!(fs.steps[0] > 0);
+            }
+        }
+    }
 }

@@ -15,10 +15,13 @@
 //! - [`fdct`]: the wrapping fast discrete curvelet transform (Candes et al. 2006), the
 //!   curvelet prior of the paper's Tables 2 and 3: a complex tight frame of redundancy
 //!   about 2.9 (wavelets at the finest scale).
-//! - [`sparsifier`]: priors on complex images (UDCT split, FDCT, orthonormal Daubechies,
-//!   identity).
+//! - [`sflct`]: the sharp-frequency-localized contourlet (Lu & Do 2006), the LRSFLCT and
+//!   MRSFLCT priors of the paper's Tables 2 and 3: a tight frequency-domain pyramid and the
+//!   PKVA ladder directional filter bank (a frame, nearly but not exactly tight).
+//! - [`sparsifier`]: priors on complex images (UDCT split, FDCT, SFLCT split, orthonormal
+//!   Daubechies, identity).
 //! - [`csalsa()`]: the solver, l1 and TV regularisers, noise radius `eps`, per-iteration
-//!   history (paper Fig. 6).
+//!   history (paper Fig. 6); frames that are not Parseval get a CG x-update.
 //! - [`baselines`]: zero-filled, FCSA, TVCMRI (Condat-Vu on its objective), WaTMRI and a
 //!   direct TV-constrained solver (Chambolle-Pock).
 //! - [`masks`]: variable-density Cartesian and pseudo-radial masks (paper Fig. 2).
@@ -26,8 +29,6 @@
 //! - [`metrics`]: PSNR and RLNE as the paper reports them.
 //!
 //! k-space is un-shifted (DC at index 0) and scaled by the unitary FFT.
-//!
-//! Not implemented: the SFLCT priors of the paper's Tables 2-3 (Lu & Do 2006).
 //!
 //! ```
 //! use wscg_cs_mri::{csalsa, masks, phantom, KSpace, CsalsaParams, Regularizer, UdctConfig, UdctSparsifier};
@@ -60,7 +61,9 @@ pub use csalsa::{csalsa, reconstruct, CsalsaParams, IterStat, Recon, Regularizer
 pub use fdct::{Fdct, FdctBand, FdctConfig, Finest};
 pub use fourier::Fourier;
 pub use kspace::{noise_epsilon, KSpace};
+pub use sflct::{Redundancy, Sflct, SflctBand, SflctConfig};
 pub use sparsifier::{
-    CoeffVec, FdctSparsifier, IdentitySparsifier, Sparsifier, UdctSparsifier, WaveletSparsifier,
+    CoeffVec, FdctSparsifier, IdentitySparsifier, SflctSparsifier, Sparsifier, UdctSparsifier,
+    WaveletSparsifier,
 };
 pub use udct::{BandId, Udct, UdctCoeffs, UdctConfig};

@@ -2,9 +2,11 @@
 //! real and imaginary parts separately (the paper's choice), an orthonormal Daubechies
 //! wavelet applied the same way, and the identity.
 //!
-//! Every transform here is a Parseval frame (`Psi^H Psi = I`), which C-SALSA's closed-form
-//! x-update and the TV-of-synthesis prox rely on. Coefficients live in a [`CoeffVec`]: real
-//! coefficients are shrunk one by one, complex ones by magnitude.
+//! Every transform here except the SFLCT is a Parseval frame (`Psi^H Psi = I`), which
+//! C-SALSA's closed-form x-update and the TV-of-synthesis prox rely on; the SFLCT (a frame
+//! with bounds near 1) makes C-SALSA solve its x-update by preconditioned CG. Coefficients
+//! live in a [`CoeffVec`]: real coefficients are shrunk one by one, complex ones by
+//! magnitude.
 
 use std::ops::Range;
 
@@ -15,6 +17,7 @@ use wscg_math::{Error, Result};
 
 use crate::fdct::{Fdct, FdctConfig};
 use crate::fourier::Fourier;
+use crate::sflct::{Redundancy, Sflct, SflctConfig};
 use crate::udct::{Udct, UdctConfig};
 
 /// Coefficients of a [`Sparsifier`]: real ones and complex ones.
@@ -366,6 +369,93 @@ impl Sparsifier for FdctSparsifier {
     }
 }
 
+/// The sharp-frequency-localized contourlet ([`Sflct`], Lu & Do 2006) of the real and
+/// imaginary parts, the LRSFLCT / MRSFLCT priors of the paper's Tables 2 and 3: real
+/// coefficients `[S Re x, S Im x]`, the low-pass band of each half unshrunk on request. Not a
+/// Parseval frame (the PKVA ladder filter bank is only nearly orthogonal).
+pub struct SflctSparsifier {
+    sflct: Sflct,
+    fourier: Fourier,
+}
+
+impl SflctSparsifier {
+    /// Plans the transform for `rows x cols` images.
+    pub fn new(rows: usize, cols: usize, config: &SflctConfig) -> Result<Self> {
+        Ok(SflctSparsifier {
+            sflct: Sflct::new(rows, cols, config)?,
+            fourier: Fourier::new(rows, cols)?,
+        })
+    }
+
+    /// The underlying transform.
+    pub fn sflct(&self) -> &Sflct {
+        &self.sflct
+    }
+}
+
+impl Sparsifier for SflctSparsifier {
+    fn name(&self) -> String {
+        match self.sflct.config().redundancy {
+            Redundancy::Less => "lrsflct".into(),
+            Redundancy::More => "mrsflct".into(),
+        }
+    }
+    fn shape(&self) -> (usize, usize) {
+        self.sflct.shape()
+    }
+    fn is_parseval(&self) -> bool {
+        false
+    }
+    fn coeff_len(&self) -> (usize, usize) {
+        (2 * self.sflct.coeff_len(), 0)
+    }
+    fn lowpass_ranges(&self) -> Vec<Range<usize>> {
+        let m = self.sflct.coeff_len();
+        let low = self.sflct.bands()[0].range.clone();
+        vec![low.clone(), low.start + m..low.end + m]
+    }
+    fn fourier(&self) -> &Fourier {
+        &self.fourier
+    }
+
+    fn analysis(&self, x: &[Complex64], out: &mut CoeffVec) {
+        let mut s = x.to_vec();
+        self.fourier.forward(&mut s);
+        self.analysis_spectrum(&s, out);
+    }
+
+    fn synthesis(&self, c: &CoeffVec, out: &mut [Complex64]) {
+        self.synthesis_spectrum(c, out);
+        self.fourier.inverse(out);
+    }
+
+    fn analysis_spectrum(&self, xhat: &[Complex64], out: &mut CoeffVec) {
+        // The SFLCT is real: the real and imaginary parts of the complex image's
+        // coefficients are the transforms of its real and imaginary parts.
+        let m = self.sflct.coeff_len();
+        let mut c = vec![Complex64::new(0.0, 0.0); m];
+        self.sflct.forward_spectrum(xhat, &mut c);
+        let (re, im) = out.real.split_at_mut(m);
+        re.par_iter_mut()
+            .zip(im.par_iter_mut())
+            .zip(&c)
+            .for_each(|((a, b), v)| {
+                *a = v.re;
+                *b = v.im;
+            });
+    }
+
+    fn synthesis_spectrum(&self, c: &CoeffVec, out: &mut [Complex64]) {
+        let m = self.sflct.coeff_len();
+        let z: Vec<Complex64> = c.real[..m]
+            .par_iter()
+            .zip(&c.real[m..])
+            .map(|(&a, &b)| Complex64::new(a, b))
+            .collect();
+        self.sflct.backward_spectrum(&z, out, true);
+    }
+}
+
 /// The identity: the image's own pixels, shrunk by magnitude (for images sparse in space).
 pub struct IdentitySparsifier {
     fourier: Fourier,
@@ -410,12 +500,12 @@ impl Sparsifier for IdentitySparsifier {
 
 /// The C-SALSA `tau0` chosen for a named prior by grid search on the development image (the
 /// phantom turned by 90 degrees with its own smooth phase and mask; the protocol is the test
-/// `tune_on_development_image`): 0.01 for the UDCT, 0.02 for the FDCT, 0.04 for wavelets
-/// and the identity.
+/// `tune_on_development_image`): 0.01 for the UDCT and the LRSFLCT, 0.02 for the FDCT and the
+/// MRSFLCT, 0.04 for wavelets and the identity.
 pub fn tuned_tau0(prior: &str) -> f64 {
     match prior {
-        "udct" => 0.01,
-        "fdct" => 0.02,
+        "udct" | "lrsflct" => 0.01,
+        "fdct" | "mrsflct" => 0.02,
         _ => 0.04,
     }
 }
@@ -427,6 +517,8 @@ pub struct PriorConfig {
     pub udct: UdctConfig,
     /// The FDCT of `"fdct"`.
     pub fdct: FdctConfig,
+    /// Directional levels per scale (coarsest first) of `"lrsflct"` and `"mrsflct"`.
+    pub sflct_levels: Vec<usize>,
     /// Levels of the `"db<N>"` wavelets (the paper's baselines: 4).
     pub levels: usize,
 }
@@ -436,13 +528,14 @@ impl Default for PriorConfig {
         PriorConfig {
             udct: UdctConfig::default(),
             fdct: FdctConfig::default(),
+            sflct_levels: SflctConfig::default().dfb_levels,
             levels: 4,
         }
     }
 }
 
-/// The priors a user can name: `"udct"`, `"fdct"`, `"db1"` ... `"db8"`, `"identity"`,
-/// configured by `config`.
+/// The priors a user can name: `"udct"`, `"fdct"`, `"lrsflct"`, `"mrsflct"`, `"db1"` ...
+/// `"db8"`, `"identity"`, configured by `config`.
 pub fn by_name(
     name: &str,
     rows: usize,
@@ -453,6 +546,18 @@ pub fn by_name(
         "udct" => Ok(Box::new(UdctSparsifier::new(rows, cols, &config.udct)?)),
         "fdct" => Ok(Box::new(FdctSparsifier::new(rows, cols, &config.fdct)?)),
         "identity" => Ok(Box::new(IdentitySparsifier::new(rows, cols)?)),
+        "lrsflct" | "mrsflct" => {
+            let redundancy = if name == "lrsflct" {
+                Redundancy::Less
+            } else {
+                Redundancy::More
+            };
+            let cfg = SflctConfig {
+                redundancy,
+                dfb_levels: config.sflct_levels.clone(),
+            };
+            Ok(Box::new(SflctSparsifier::new(rows, cols, &cfg)?))
+        }
         _ => {
             let order = name
                 .strip_prefix("db")
@@ -460,7 +565,7 @@ pub fn by_name(
                 .ok_or_else(|| {
                     Error::invalid(
                         "prior",
-                        format!("{name:?} is not a valid prior. Valid priors are \"udct\", \"fdct\", \"db1\" ... \"db8\" and \"identity\""),
+                        format!("{name:?} is not a valid prior. Valid priors are \"udct\", \"fdct\", \"lrsflct\", \"mrsflct\", \"db1\" ... \"db8\" and \"identity\""),
                     )
                 })?;
             Ok(Box::new(WaveletSparsifier::new(

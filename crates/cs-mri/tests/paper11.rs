@@ -869,3 +869,228 @@ fn condat_vu_reaches_a_lower_objective_than_fcsa() {
     assert!(ot <= of, "{ot} vs {of}");
     assert!(of < 0.8 * o0 && ot < 0.8 * o0);
 }
+
+// ---------- the SFLCT priors of Tables 2 and 3 (Lu & Do 2006) ----------
+
+fn sflct(redundancy: sflct::Redundancy) -> sflct::Sflct {
+    let cfg = sflct::SflctConfig {
+        redundancy,
+        ..Default::default()
+    };
+    sflct::Sflct::new(256, 256, &cfg).unwrap()
+}
+
+/// Both SFLCTs reconstruct exactly, have the stated redundancies (three scales: 1 + 1/4 +
+/// 1/16 + 1/64 and 2 + 1/4 + 1/16), map real images to real coefficients, and their adjoint is the
+/// transpose. They are frames, not tight ones: the energy ratio on white noise and on the
+/// structured image stays within the measured band.
+#[test]
+fn sflct_is_an_exact_frame_of_the_stated_redundancy() {
+    use sflct::Redundancy::*;
+    let n = 256;
+    for (red, want) in [(Less, 1.328125), (More, 2.3125)] {
+        let t = sflct(red);
+        assert!((t.redundancy() - want).abs() < 1e-12, "{}", t.redundancy());
+        let noise = rng::complex_normal_vec(11, n * n, 1.0).unwrap();
+        let image: Vec<Complex64> = structured(n)
+            .iter()
+            .map(|&v| Complex64::new(v, 0.0))
+            .collect();
+        for (what, x) in [("noise", &noise), ("image", &image)] {
+            let c = t.forward(x).unwrap();
+            let y = t.inverse(&c).unwrap();
+            let ex = complex_energy(x);
+            let err: f64 = x.iter().zip(&y).map(|(a, b)| (a - b).norm_sqr()).sum();
+            assert!((err / ex).sqrt() < 1e-12, "{red:?} {what}: {err}");
+            let ratio = complex_energy(&c) / ex;
+            println!("{red:?} {what}: coefficient energy / image energy {ratio:.4}");
+            assert!((0.7..1.6).contains(&ratio), "{red:?} {what}: {ratio}");
+            if what == "image" {
+                assert!(c.iter().all(|v| v.im.abs() < 1e-12));
+            }
+            let g = rng::complex_normal_vec(12, c.len(), 1.0).unwrap();
+            let z = t.adjoint(&g).unwrap();
+            let lhs: f64 = c.iter().zip(&g).map(|(a, b)| (a.conj() * b).re).sum();
+            let rhs: f64 = x.iter().zip(&z).map(|(a, b)| (a.conj() * b).re).sum();
+            assert_adjoint(lhs, rhs, 1e-10, "sflct");
+        }
+    }
+}
+
+/// Directional selectivity of the whole transform: a plane wave beyond the finest
+/// pyramid's transition band (max-norm frequency 0.75 of Nyquist; the bands end at 0.48 and
+/// 0.67 of it) lands in the finest scale; at the centre of each of its 16 wedges (equispaced
+/// in slope) one subband holds at least 95 % of it (70 % next to the diagonals), 99 % lies
+/// within two subbands of it, and the subbands sweep the directions in order.
+#[test]
+fn sflct_plane_waves_land_in_their_wedge() {
+    use sflct::Redundancy::*;
+    let n = 256;
+    for red in [Less, More] {
+        let t = sflct(red);
+        let bands = t.bands().to_vec();
+        let finest = bands.iter().map(|b| b.scale).max().unwrap();
+        let fine: Vec<usize> = (0..bands.len())
+            .filter(|&b| bands[b].scale == finest)
+            .collect();
+        assert_eq!(fine.len(), 16);
+        let mut angles = Vec::new();
+        for k in 0..8 {
+            let s = -1.0f64 + (2 * k + 1) as f64 / 8.0;
+            angles.push(s.atan().rem_euclid(std::f64::consts::PI));
+            angles.push((std::f64::consts::FRAC_PI_2 - s.atan()).rem_euclid(std::f64::consts::PI));
+        }
+        angles.sort_by(|a, b| a.total_cmp(b));
+        let mut order = Vec::new();
+        let mut sharp = 0;
+        for th in angles {
+            let (s, c) = th.sin_cos();
+            let m = s.abs().max(c.abs());
+            let (fy, fx) = ((96.0 * s / m).round(), (96.0 * c / m).round());
+            let x: Vec<Complex64> = (0..n * n)
+                .map(|k| {
+                    let (i, j) = ((k / n) as f64, (k % n) as f64);
+                    let ph = 2.0 * std::f64::consts::PI * (fy * i + fx * j) / n as f64;
+                    Complex64::new(ph.cos(), 0.0)
+                })
+                .collect();
+            let co = t.forward(&x).unwrap();
+            let total = complex_energy(&co);
+            let e: Vec<f64> = fine
+                .iter()
+                .map(|&b| complex_energy(&co[bands[b].range.clone()]) / total)
+                .collect();
+            assert!(
+                e.iter().sum::<f64>() > 0.999,
+                "{red:?} {:.1} deg",
+                th.to_degrees()
+            );
+            let top = (0..16).max_by(|&a, &b| e[a].total_cmp(&e[b])).unwrap();
+            let near: f64 = (0..5).map(|d| e[(top + 14 + d) % 16]).sum();
+            let deg = th.to_degrees();
+            assert!(e[top] >= 0.7 && near >= 0.99, "{red:?} {deg:.1} deg: {e:?}");
+            sharp += usize::from(e[top] >= 0.95);
+            order.push(top);
+        }
+        for (i, &b) in order.iter().enumerate() {
+            assert_eq!(b, (order[0] + i) % 16, "{red:?}: {order:?}");
+        }
+        // Only the two wedges next to the diagonals (41.2 and 138.8 degrees) lose part of
+        // the wave (0.71 and 0.76 of it), two bands away: the short PKVA fan filter aliases
+        // there at high frequencies (a long half-sample-delay filter in the same tree does
+        // not).
+        assert!(sharp >= 14, "{red:?}: {sharp} of 16 wedges hold 95 %");
+    }
+}
+
+/// PSNR of C-SALSA-l1 with a named prior at its development-image tau0.
+fn prior_psnr(data: &KSpace, reference: &[Complex64], prior: &str) -> f64 {
+    let (r, c) = data.shape();
+    let psi = sparsifier::by_name(prior, r, c, &PriorConfig::default()).unwrap();
+    let p = CsalsaParams {
+        tau0: sparsifier::tuned_tau0(prior),
+        ..Default::default()
+    };
+    let rec = csalsa(
+        data,
+        psi.as_ref(),
+        Regularizer::default(),
+        &p,
+        None,
+        &NoProgress,
+    )
+    .unwrap();
+    metrics::psnr(reference, &rec.image).unwrap()
+}
+
+/// Table 2's SFLCT columns: on all three of the paper's images the more redundant SFLCT
+/// beats the less redundant one ("increasing redundancy properly can improve the
+/// reconstruction quality"; +0.94, +1.04 and +0.27 dB). Here on the headline problem and on
+/// the development image, each prior working (zero-filled + 8 dB on the headline problem).
+#[test]
+fn more_redundant_sflct_beats_less_redundant_sflct() {
+    let n = 256;
+    let (data, reference) = shepp_logan(n, 0.4, 1);
+    let (dev, dev_ref) = development_case(n);
+    let pz = metrics::psnr(&reference, &data.zero_filled()).unwrap();
+    let (lr, mr) = (
+        prior_psnr(&data, &reference, "lrsflct"),
+        prior_psnr(&data, &reference, "mrsflct"),
+    );
+    let (dlr, dmr) = (
+        prior_psnr(&dev, &dev_ref, "lrsflct"),
+        prior_psnr(&dev, &dev_ref, "mrsflct"),
+    );
+    println!(
+        "headline: LRSFLCT {lr:.2} dB, MRSFLCT {mr:.2} dB, zero-filled {pz:.2} dB; \
+         development image: LRSFLCT {dlr:.2} dB, MRSFLCT {dmr:.2} dB"
+    );
+    assert!(lr >= pz + 8.0 && mr >= pz + 8.0, "{lr} {mr} vs {pz}");
+    assert!(mr > lr, "headline: MRSFLCT {mr} vs LRSFLCT {lr}");
+    assert!(
+        dmr > dlr,
+        "development image: MRSFLCT {dmr} vs LRSFLCT {dlr}"
+    );
+}
+
+/// Table 2's claim that the UDCT prior beats both SFLCT priors (on all three of the paper's
+/// images). It holds on the development image (UDCT 31.29 dB, MRSFLCT 30.58, LRSFLCT 29.69)
+/// but not on the analytic Shepp-Logan headline problem, a piecewise-constant image of
+/// elliptic edges where the more redundant contourlet does best (MRSFLCT 41.35 dB, UDCT
+/// 40.65, LRSFLCT 40.03).
+#[test]
+#[ignore = "not met on the headline problem: MRSFLCT 41.35 dB > UDCT 40.65 dB (holds on the development image)"]
+fn udct_prior_beats_both_sflct_priors() {
+    let n = 256;
+    for (data, reference) in [shepp_logan(n, 0.4, 1), development_case(n)] {
+        let u = prior_psnr(&data, &reference, "udct");
+        for prior in ["lrsflct", "mrsflct"] {
+            let s = prior_psnr(&data, &reference, prior);
+            assert!(u > s, "UDCT {u} vs {prior} {s}");
+        }
+    }
+}
+
+/// Bad SFLCT configurations and the TV regulariser (which needs a Parseval prior) are
+/// rejected with messages naming the problem.
+#[test]
+fn sflct_bad_input_is_rejected() {
+    let cfg = |levels: Vec<usize>| sflct::SflctConfig {
+        dfb_levels: levels,
+        ..Default::default()
+    };
+    let e = sflct::Sflct::new(200, 256, &cfg(vec![3, 3, 4]))
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("divisible"), "{e}");
+    let e = sflct::Sflct::new(256, 256, &cfg(vec![])).err().unwrap();
+    assert!(e.to_string().contains("scales"), "{e}");
+    let e = sflct::Sflct::new(256, 256, &cfg(vec![3, 9])).err().unwrap();
+    assert!(e.to_string().contains("at most 8"), "{e}");
+    let t = sflct::Sflct::new(64, 64, &cfg(vec![2, 3])).unwrap();
+    let e = t.forward(&[Complex64::new(0.0, 0.0); 10]).err().unwrap();
+    assert!(e.to_string().contains("4096"), "{e}");
+    assert!(sflct::Redundancy::by_name("most").is_err());
+    let (data, _) = shepp_logan(64, 0.4, 1);
+    let psi = sparsifier::by_name(
+        "mrsflct",
+        64,
+        64,
+        &PriorConfig {
+            sflct_levels: vec![2, 3],
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let e = csalsa(
+        &data,
+        psi.as_ref(),
+        Regularizer::Tv { inner_iters: 5 },
+        &CsalsaParams::default(),
+        None,
+        &NoProgress,
+    )
+    .err()
+    .unwrap();
+    assert!(e.to_string().contains("Parseval"), "{e}");
+}

@@ -46,7 +46,7 @@ import numpy as np
 from ._native import csmri as _c
 
 __all__ = [
-    "Udct", "Fdct", "reconstruct", "fcsa", "tvcmri", "watmri", "tv_constrained", "zero_filled",
+    "Udct", "Fdct", "Sflct", "reconstruct", "fcsa", "tvcmri", "watmri", "tv_constrained", "zero_filled",
     "simulate", "mask_cartesian", "mask_pseudo_radial", "shepp_logan_kspace",
     "shepp_logan_reference", "shepp_logan_image", "with_smooth_phase", "diamond_lattice",
     "psnr", "rlne", "noise_epsilon",
@@ -240,11 +240,105 @@ class Fdct:
         return self._nest(self._f.directions())
 
 
+class Sflct:
+    """Sharp-frequency-localized contourlet transform (Lu & Do 2006) of ``(rows, cols)`` images.
+
+    A frequency-domain pyramid (separable raised-cosine low-pass ``L`` and high-pass
+    ``sqrt(1 - L^2)``, a tight frame) feeds each high-pass image to a ladder directional
+    filter bank with the PKVA filters (``2^n`` wedge-shaped subbands, perfectly
+    reconstructing and nearly orthogonal). These are the LRSFLCT / MRSFLCT priors of the
+    paper's Tables 2 and 3.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        Image shape; both sides must be divisible by ``2`` per downsampled level and by
+        ``2^n`` for ``n`` directional levels at that scale.
+    redundancy : {"less", "more"}, default "less"
+        ``"less"``: every low-pass is downsampled (about 1.33 coefficients per pixel);
+        ``"more"``: the finest low-pass is not (about 2.33).
+    levels : sequence of int, default (3, 3, 4)
+        Directional levels per scale, coarsest first (``n`` gives ``2^n`` directions).
+
+    Notes
+    -----
+    ``forward`` returns ``coeffs[scale][direction]``: scale 0 holds the low-pass image, scales
+    1... the directional subbands from coarse to fine. The transform is real: a real image
+    gives real coefficients (returned as float arrays). ``inverse`` reconstructs exactly;
+    ``adjoint`` is the transpose (it differs slightly, the frame is not tight).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wscg import csmri
+    >>> t = csmri.Sflct((64, 64), levels=(2, 3))
+    >>> x = np.random.default_rng(0).standard_normal((64, 64))
+    >>> bool(np.allclose(t.inverse(t.forward(x)), x))
+    True
+    """
+
+    def __init__(self, shape: Tuple[int, int], redundancy: str = "less",
+                 levels: Sequence[int] = (3, 3, 4)):
+        rows, cols = (int(v) for v in shape)
+        if rows < 0 or cols < 0:
+            raise ValueError(f"`shape` must be non-negative, got {shape!r}")
+        lv = [int(v) for v in levels]
+        if any(v < 0 for v in lv):
+            raise ValueError(f"`levels` must be non-negative, got {levels!r}")
+        self._t = _c.Sflct(rows, cols, str(redundancy), lv)
+        self._bands = self._t.bands()
+        self._scales = len(lv) + 1
+
+    @property
+    def shape(self) -> Tuple[int, int]:
+        return self._t.shape()
+
+    @property
+    def bands(self) -> List[Tuple[int, int, Tuple[int, int]]]:
+        """``(scale, direction, (rows, cols))`` of every band, the low-pass first."""
+        return list(self._bands)
+
+    @property
+    def redundancy(self) -> float:
+        """Coefficients per pixel."""
+        return self._t.redundancy()
+
+    def _nest(self, flat, real: bool):
+        out: List[list] = [[] for _ in range(self._scales)]
+        for (s, _, _), v in zip(self._bands, flat):
+            out[s].append(np.ascontiguousarray(v.real) if real else v)
+        return out
+
+    def _flat(self, coeffs):
+        if len(coeffs) != self._scales:
+            raise ValueError(f"{len(coeffs)} scales given, the transform has {self._scales}")
+        return [np.ascontiguousarray(b, dtype=np.complex128) for scale in coeffs for b in scale]
+
+    def forward(self, x) -> List[List[np.ndarray]]:
+        """Coefficients ``coeffs[scale][direction]`` of the (real or complex) image ``x``."""
+        a = np.asarray(x)
+        return self._nest(self._t.forward(_complex2(a, "x")), not np.iscomplexobj(a))
+
+    def inverse(self, coeffs: Sequence[Sequence]) -> np.ndarray:
+        """The image of ``coeffs[scale][direction]`` (exact reconstruction); real when every
+        band is real."""
+        real = all(not np.iscomplexobj(b) for scale in coeffs for b in scale)
+        y = self._t.inverse(self._flat(coeffs))
+        return np.ascontiguousarray(y.real) if real else y
+
+    def adjoint(self, coeffs: Sequence[Sequence]) -> np.ndarray:
+        """``Psi^H`` of ``coeffs[scale][direction]``; real when every band is real."""
+        real = all(not np.iscomplexobj(b) for scale in coeffs for b in scale)
+        y = self._t.adjoint(self._flat(coeffs))
+        return np.ascontiguousarray(y.real) if real else y
+
+
 def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: float = 0.0,
                 max_iter: int = 70, tau0: Optional[float] = None, rho: float = 1.0,
                 tau_cap: float = 10.0, tol: float = 0.0, wedges=((6, 6),), alpha: float = 0.1,
                 levels: int = 4, inner_iters: int = 20, shrink_lowpass: bool = True,
-                reference=None, return_history: bool = False):
+                reference=None, return_history: bool = False,
+                sflct_levels: Sequence[int] = (3, 3, 4)):
     """Reconstruct an image from undersampled k-space by C-SALSA (UDCSMRI).
 
     Parameters
@@ -253,10 +347,12 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
         Measured k-space, un-shifted, unitary scaling; values outside ``mask`` are ignored.
     mask : bool array (H, W)
         Sampled positions.
-    prior : {"udct", "fdct", "db1", ..., "db8", "identity"} or Fdct
-        Sparsifying transform ``Psi``: the UDCT and the wavelets act on the real and imaginary
-        parts separately, the FDCT on the complex image (``"fdct"``: the default
-        :class:`Fdct` configuration; an :class:`Fdct` instance: its configuration).
+    prior : {"udct", "fdct", "lrsflct", "mrsflct", "db1", ..., "db8", "identity"} or Fdct
+        Sparsifying transform ``Psi``: the UDCT, the SFLCTs and the wavelets act on the real
+        and imaginary parts separately, the FDCT on the complex image (``"fdct"``: the default
+        :class:`Fdct` configuration; an :class:`Fdct` instance: its configuration). The
+        SFLCTs (:class:`Sflct`, less or more redundant) are frames but not tight ones, so each
+        C-SALSA iteration solves its x-update by preconditioned CG (slower; l1 only).
     reg : {"l1", "tv"}
         ``||Psi x||_1`` or ``TV(Psi^H alpha)``.
     epsilon : float
@@ -266,7 +362,8 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
         ADMM iterations (paper: 70). 0 returns the zero-filled image.
     tau0 : float, optional
         Threshold on the image normalised to unit peak. Default 0.01 for ``"udct"``, 0.02 for
-        ``"fdct"`` and 0.04 for wavelets (chosen on a development image by grid search).
+        ``"fdct"`` and the SFLCTs and 0.04 for wavelets (chosen on a development image by grid
+        search).
     rho, tau_cap : float
         ``tau <- min(rho tau, tau_cap tau0)`` after every iteration (paper's "lambda <- rho
         lambda"; ``rho = 1`` is textbook C-SALSA).
@@ -275,6 +372,8 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
     wedges, alpha : UDCT configuration (see :class:`Udct`).
     levels : int
         Wavelet levels for the ``db`` priors.
+    sflct_levels : sequence of int
+        Directional levels per scale (coarsest first) of the SFLCT priors.
     inner_iters : int
         Chambolle iterations of the TV prox (``reg="tv"``).
     shrink_lowpass : bool
@@ -313,7 +412,8 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
     img, hist = _c.reconstruct(k, m, str(prior), str(reg), float(epsilon), int(max_iter),
                                float(tau0), float(rho), float(tau_cap), float(tol),
                                _wedges(wedges), float(alpha), int(levels), int(inner_iters),
-                               bool(shrink_lowpass), ref, bool(return_history), fdct)
+                               bool(shrink_lowpass), ref, bool(return_history), fdct,
+                               [int(v) for v in sflct_levels])
     return (img, hist) if return_history else img
 
 
