@@ -1,8 +1,9 @@
 //! Criterion benchmarks of paper 11 (CS-MRI with a UDCT prior), specification section 5:
 //! the UDCT forward + backward at 256^2 and 512^2 (peer: the `curvelets` package), the
-//! wrapping FDCT likewise (peer: `curvepy-fdct`), and 70 C-SALSA iterations at 256^2, 40%
-//! Cartesian, with the UDCT, FDCT and db4 priors (peers: BART `pics -l1`, sigpy
-//! `L1WaveletRecon`), plus the FCSA baseline.
+//! wrapping FDCT likewise (peer: `curvepy-fdct`), the SFLCT forward + adjoint (no peer
+//! package exists), and 70 C-SALSA iterations at 256^2, 40% Cartesian, with the UDCT, FDCT,
+//! MRSFLCT and db4 priors (peers: BART `pics -l1`, sigpy `L1WaveletRecon`), plus the FCSA
+//! baseline.
 
 use std::hint::black_box;
 
@@ -10,7 +11,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use wscg::csmri::baselines::{self, CompositeParams};
 use wscg::csmri::{
     csalsa, masks, phantom, sparsifier, CsalsaParams, Fdct, FdctConfig, FdctSparsifier, KSpace,
-    Regularizer, Udct, UdctConfig, UdctSparsifier, WaveletSparsifier,
+    Redundancy, Regularizer, Sflct, SflctConfig, Udct, UdctConfig, UdctSparsifier,
+    WaveletSparsifier,
 };
 use wscg::math::progress::NoProgress;
 
@@ -27,6 +29,20 @@ fn bench(c: &mut Criterion) {
         g.bench_function(format!("fdct forward+backward {n}^2"), |b| {
             b.iter(|| black_box(f.backward(&f.forward_real(&x).unwrap()).unwrap()))
         });
+        let xc: Vec<_> = x
+            .iter()
+            .map(|&v| num_complex::Complex64::new(v, 0.0))
+            .collect();
+        for red in [Redundancy::Less, Redundancy::More] {
+            let cfg = SflctConfig {
+                redundancy: red,
+                ..Default::default()
+            };
+            let t = Sflct::new(n, n, &cfg).unwrap();
+            g.bench_function(format!("sflct {red:?} forward+adjoint {n}^2"), |b| {
+                b.iter(|| black_box(t.adjoint(&t.forward(&xc).unwrap()).unwrap()))
+            });
+        }
     }
     let n = 256;
     let mask = masks::cartesian(n, n, 0.4, 0.08, 1).unwrap();
@@ -56,6 +72,26 @@ fn bench(c: &mut Criterion) {
     g.bench_function("csalsa fdct-l1 70 it 256^2", |b| {
         b.iter(|| {
             black_box(csalsa(&data, &fdct, Regularizer::default(), &pf, None, &NoProgress).unwrap())
+        })
+    });
+    let mr = sparsifier::by_name("mrsflct", n, n, &sparsifier::PriorConfig::default()).unwrap();
+    let pm = CsalsaParams {
+        tau0: sparsifier::tuned_tau0("mrsflct"),
+        ..Default::default()
+    };
+    g.bench_function("csalsa mrsflct-l1 70 it 256^2", |b| {
+        b.iter(|| {
+            black_box(
+                csalsa(
+                    &data,
+                    mr.as_ref(),
+                    Regularizer::default(),
+                    &pm,
+                    None,
+                    &NoProgress,
+                )
+                .unwrap(),
+            )
         })
     });
     let cp = CompositeParams::default();

@@ -1,5 +1,5 @@
 //! Paper 11: reconstruct the analytic Shepp-Logan k-space from 40% Cartesian samples with
-//! UDCSMRI (C-SALSA + UDCT, l1 and TV), C-SALSA with the FDCT and db4 priors (Table 2) and
+//! UDCSMRI (C-SALSA + UDCT, l1 and TV), C-SALSA with the FDCT, SFLCT and db4 priors (Table 2) and
 //! the paper's baselines, and print PSNR / RLNE and the time of each.
 //!
 //! `cargo run --release --example mri_recon [size]`
@@ -37,6 +37,24 @@ fn main() -> wscg::math::Result<()> {
     let wavelet = CsalsaParams {
         tau0: sparsifier::tuned_tau0("db4"),
         ..Default::default()
+    };
+    let sflct = |prior: &'static str| {
+        let data = &data;
+        move || {
+            let psi = sparsifier::by_name(prior, n, n, &sparsifier::PriorConfig::default())?;
+            let p = CsalsaParams {
+                tau0: sparsifier::tuned_tau0(prior),
+                ..Default::default()
+            };
+            csalsa(
+                data,
+                psi.as_ref(),
+                Regularizer::default(),
+                &p,
+                None,
+                &NoProgress,
+            )
+        }
     };
     type Run<'a> = Box<dyn Fn() -> wscg::math::Result<Recon> + 'a>;
     let runs: Vec<(&str, Run)> = vec![
@@ -82,6 +100,8 @@ fn main() -> wscg::math::Result<()> {
                 )
             }),
         ),
+        ("C-SALSA LRSFLCT (l1)", Box::new(sflct("lrsflct"))),
+        ("C-SALSA MRSFLCT (l1)", Box::new(sflct("mrsflct"))),
         (
             "UDCSMRI(l1)",
             Box::new(|| {

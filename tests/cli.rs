@@ -1446,6 +1446,35 @@ fn mri_mask_phantom_recon_on_files() {
     let got = wscg::math::npy::read_complex(p("fd.npy")).unwrap();
     let diff = metrics::rlne(&want, &got.data).unwrap();
     assert!(diff < 1e-12, "{diff}");
+    // The MRSFLCT prior with two scales at its tuned tau0.
+    wscg_ok(&recon(
+        "k.npy",
+        "m.npy",
+        &[
+            "--prior",
+            "mrsflct",
+            "--sflct-levels",
+            "2,3",
+            "--iters",
+            "8",
+            "--out",
+            &p("sf.npy"),
+        ],
+    ));
+    let mr = sparsifier::by_name(
+        "mrsflct",
+        64,
+        64,
+        &sparsifier::PriorConfig {
+            sflct_levels: vec![2, 3],
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let want = library(mr.as_ref(), 8, sparsifier::tuned_tau0("mrsflct"));
+    let got = wscg::math::npy::read_complex(p("sf.npy")).unwrap();
+    let diff = metrics::rlne(&want, &got.data).unwrap();
+    assert!(diff < 1e-12, "{diff}");
     // Baselines, NIfTI and PNG outputs.
     wscg_ok(&recon(
         "k.npy",
@@ -1486,6 +1515,18 @@ fn mri_mask_phantom_recon_on_files() {
                 "fdct",
                 "--fdct-finest",
                 "ridgelets",
+                "--out",
+                &p("x.npy"),
+            ],
+        ),
+        recon(
+            "k.npy",
+            "m.npy",
+            &[
+                "--prior",
+                "lrsflct",
+                "--sflct-levels",
+                "3,x",
                 "--out",
                 &p("x.npy"),
             ],

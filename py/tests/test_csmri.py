@@ -300,3 +300,79 @@ def test_cli_reconstructs_user_files(tmp_path):
     want = csmri.reconstruct(k, m, max_iter=20)
     assert np.allclose(x, want, atol=1e-10)
     assert (tmp_path / "k.npy").read_bytes() == before
+
+
+def _sfl_window(n, w, tbw):
+    nu = np.abs(np.fft.fftfreq(n) * n) / (n / 2)
+    t = (w + tbw - nu) / (2 * tbw)
+    mid = np.sqrt((1 - np.cos(np.pi * np.clip(t, 0, 1))) / 2)
+    return np.where(nu <= w - tbw, 1.0, np.where(nu >= w + tbw, 0.0, mid))
+
+
+@pytest.mark.parametrize("redundancy", ["less", "more"])
+def test_sflct_lowpass_equals_a_numpy_pyramid_and_the_transform_is_exact(redundancy, rng):
+    # The pyramid of Lu & Do's SFLCT, written out in numpy: separable raised-cosine low-pass
+    # windows (cut-off w, half transition tbw), the low-pass spectrum cropped to half size
+    # (not cropped at the finest level of the more redundant variant).
+    n, levels = 64, (2, 3)
+    specs = {"less": [(1 / 3, 1 / 7, 2), (1 / 3, 1 / 7, 2)],
+             "more": [(1 / 2, 1 / 6, 1), (1 / 4, 1 / 12, 2)]}[redundancy]
+    t = csmri.Sflct((n, n), redundancy=redundancy, levels=levels)
+    x = rng.standard_normal((n, n))
+    c = t.forward(x)
+    assert all(b.dtype == np.float64 for scale in c for b in scale)
+    spec = np.fft.fft2(x, norm="ortho")
+    size = n
+    for w, tbw, d in specs:
+        win = _sfl_window(size, w, tbw)
+        low = np.outer(win, win) * spec
+        small = size // d
+        idx = (np.fft.fftfreq(small) * small).astype(int) % size
+        spec = low[np.ix_(idx, idx)]
+        size = small
+    np.testing.assert_allclose(c[0][0], np.fft.ifft2(spec, norm="ortho").real, atol=1e-12)
+    assert [len(s) for s in c] == [1, 4, 8]
+    assert sum(b.size for s in c for b in s) == pytest.approx(t.redundancy * n * n)
+    np.testing.assert_allclose(t.inverse(c), x, atol=1e-11)
+    g = [[rng.standard_normal(b.shape) for b in s] for s in c]
+    lhs = sum(float(np.vdot(a, b)) for sa, sb in zip(c, g) for a, b in zip(sa, sb))
+    assert lhs == pytest.approx(float(np.vdot(x, t.adjoint(g))), rel=1e-10)
+    z = x + 1j * rng.standard_normal((n, n))
+    np.testing.assert_allclose(t.inverse(t.forward(z)), z, atol=1e-11)
+
+
+def test_sflct_priors_reconstruct():
+    n = 64
+    k = csmri.shepp_logan_kspace(n)
+    ref = csmri.shepp_logan_reference(n)
+    m = csmri.mask_cartesian((n, n), 0.4, seed=1)
+    zf = csmri.psnr(ref, csmri.zero_filled(k, m))
+    for prior, tau0 in [("lrsflct", 0.01), ("mrsflct", 0.02)]:
+        x = csmri.reconstruct(k, m, prior=prior, max_iter=20, sflct_levels=(2, 3))
+        assert np.array_equal(x, csmri.reconstruct(k, m, prior=prior, tau0=tau0, max_iter=20,
+                                                   sflct_levels=(2, 3)))
+        assert csmri.psnr(ref, x) >= zf + 3, prior
+        f = np.fft.fft2(x, norm="ortho")
+        assert np.abs(f[m] - k[m]).max() <= 1e-8 * np.abs(k[m]).max()
+        y = csmri.reconstruct(k, m, prior=prior, max_iter=20, sflct_levels=(3, 3))
+        assert not np.array_equal(x, y)
+    with pytest.raises(ValueError, match="Parseval"):
+        csmri.reconstruct(k, m, prior="mrsflct", reg="tv", sflct_levels=(2, 3))
+
+
+def test_sflct_bad_input_raises_value_error():
+    with pytest.raises(ValueError, match="divisible"):
+        csmri.Sflct((60, 64))
+    with pytest.raises(ValueError, match="redundancy"):
+        csmri.Sflct((64, 64), redundancy="most")
+    with pytest.raises(ValueError, match="scales"):
+        csmri.Sflct((64, 64), levels=())
+    t = csmri.Sflct((64, 64), levels=(2, 3))
+    c = t.forward(np.zeros((64, 64)))
+    c[2][0] = np.zeros((3, 3))
+    with pytest.raises(ValueError, match="shape"):
+        t.inverse(c)
+    with pytest.raises(ValueError, match="scales"):
+        t.inverse(c[:2])
+    with pytest.raises(ValueError):
+        t.forward(np.zeros((32, 64)))

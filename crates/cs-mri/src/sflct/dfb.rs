@@ -340,33 +340,37 @@ impl Dfb {
             .iter()
             .map(|&(o, v)| (sign * o, v))
             .collect();
-        let (hi, wi) = (h as i64, w as i64);
-        let half = if st.qper { wi / 2 } else { 0 };
+        let hi = h as i64;
+        let half = if st.qper { w / 2 } else { 0 };
         // Vertical pass: a row wrap shifts the columns by w/2 when quincunx-periodic.
         let mut t = vec![Complex64::new(0.0, 0.0); h * w];
         t.par_chunks_mut(w).enumerate().for_each(|(r, row)| {
             for &(o, v) in &taps {
                 let rr = r as i64 + o;
-                let k = rr.div_euclid(hi);
-                let src = rr.rem_euclid(hi) as usize * w;
-                let cs = (k.rem_euclid(2) * half) as usize;
-                for (c, out) in row.iter_mut().enumerate() {
-                    *out += x[src + (c + cs) % w] * v;
-                }
+                let src = &x[rr.rem_euclid(hi) as usize * w..][..w];
+                let cs = if rr.div_euclid(hi) % 2 != 0 { half } else { 0 };
+                let (a, b) = row.split_at_mut(w - cs);
+                a.iter_mut().zip(&src[cs..]).for_each(|(o, s)| *o += s * v);
+                b.iter_mut().zip(&src[..cs]).for_each(|(o, s)| *o += s * v);
             }
         });
+        // Horizontal pass on a periodically padded copy of each row.
+        let left = taps.iter().map(|t| -t.0).max().unwrap_or(0).max(0) as usize;
+        let right = taps.iter().map(|t| t.0).max().unwrap_or(0).max(0) as usize;
         let mut y = vec![Complex64::new(0.0, 0.0); h * w];
-        y.par_chunks_mut(w)
-            .zip(t.par_chunks(w))
-            .for_each(|(row, trow)| {
-                for (c, out) in row.iter_mut().enumerate() {
-                    let mut acc = Complex64::new(0.0, 0.0);
-                    for &(o, v) in &taps {
-                        acc += trow[(c as i64 + o).rem_euclid(wi) as usize] * v;
-                    }
-                    *out = acc;
+        y.par_chunks_mut(w).zip(t.par_chunks(w)).for_each_init(
+            || Vec::with_capacity(w + left + right),
+            |pad, (row, trow)| {
+                pad.clear();
+                pad.extend((0..left).map(|k| trow[(w * left - left + k) % w]));
+                pad.extend_from_slice(trow);
+                pad.extend((0..right).map(|k| trow[k % w]));
+                for &(o, v) in &taps {
+                    let src = &pad[(left as i64 + o) as usize..][..w];
+                    row.iter_mut().zip(src).for_each(|(o, s)| *o += s * v);
                 }
-            });
+            },
+        );
         y
     }
 }

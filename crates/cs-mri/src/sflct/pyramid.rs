@@ -73,11 +73,13 @@ impl Pyramid {
                 ));
             }
             if shape.0 % s.d != 0 || shape.1 % s.d != 0 || shape.0 < 4 || shape.1 < 4 {
+                let halvings = specs.iter().filter(|s| s.d == 2).count() as u32;
                 return Err(Error::invalid(
                     "shape",
                     format!(
-                        "{rows} x {cols} cannot be downsampled {} times by 2",
-                        specs.len()
+                        "{rows} x {cols}: the pyramid halves the image {halvings} times, so \
+                         both sides must be divisible by {}",
+                        2usize.pow(halvings).max(4)
                     ),
                 ));
             }
