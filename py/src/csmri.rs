@@ -159,6 +159,20 @@ pub struct PyFdct {
     inner: Fdct,
 }
 
+impl PyFdct {
+    fn slots(&self) -> Vec<BandSlot> {
+        self.inner
+            .bands()
+            .into_iter()
+            .map(|b| BandSlot {
+                name: format!("band (scale {}, angle {})", b.scale, b.angle),
+                shape: b.shape.to_vec(),
+                range: b.range,
+            })
+            .collect()
+    }
+}
+
 #[pymethods]
 impl PyFdct {
     #[new]
@@ -223,11 +237,7 @@ impl PyFdct {
         planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
         let co = py.detach(|| self.inner.forward(&v)).py_err()?;
-        self.inner
-            .bands()
-            .iter()
-            .map(|b| array(py, &b.shape, co[b.range.clone()].to_vec()))
-            .collect()
+        split_bands(py, &co, &self.slots())
     }
 
     fn backward<'py>(
@@ -235,16 +245,7 @@ impl PyFdct {
         py: Python<'py>,
         bands: Vec<PyReadonlyArrayDyn<Complex64>>,
     ) -> PyResult<Arr<'py, Complex64>> {
-        let info: Vec<BandSlot> = self
-            .inner
-            .bands()
-            .into_iter()
-            .map(|b| BandSlot {
-                name: format!("band (scale {}, angle {})", b.scale, b.angle),
-                shape: b.shape.to_vec(),
-                range: b.range,
-            })
-            .collect();
+        let info = self.slots();
         let co = join_bands(&bands, &info, self.inner.coeff_len())?;
         let out = py.detach(|| self.inner.backward(&co)).py_err()?;
         let (r, c) = self.inner.shape();
@@ -265,6 +266,17 @@ struct BandSlot {
     name: String,
     shape: Vec<usize>,
     range: std::ops::Range<usize>,
+}
+
+/// Splits a flat coefficient vector into one array per band.
+fn split_bands<'py>(
+    py: Python<'py>,
+    co: &[Complex64],
+    info: &[BandSlot],
+) -> PyResult<Vec<Arr<'py, Complex64>>> {
+    info.iter()
+        .map(|b| array(py, &b.shape, co[b.range.clone()].to_vec()))
+        .collect()
 }
 
 /// Packs per-band arrays into a flat coefficient vector of length `total`, checking their
@@ -375,11 +387,7 @@ impl PySflct {
         planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
         let co = py.detach(|| self.inner.forward(&v)).py_err()?;
-        self.inner
-            .bands()
-            .iter()
-            .map(|b| array(py, &[b.shape.0, b.shape.1], co[b.range.clone()].to_vec()))
-            .collect()
+        split_bands(py, &co, &self.slots())
     }
 
     fn inverse<'py>(

@@ -319,23 +319,7 @@ fn fdct_plane_waves_land_in_the_wedge_of_their_direction() {
 fn udct_prior_beats_the_fdct_prior_on_the_headline_problem() {
     let n = 256;
     let (data, reference) = shepp_logan(n, 0.4, 1);
-    let run = |prior: &str| {
-        let psi = sparsifier::by_name(prior, n, n, &PriorConfig::default()).unwrap();
-        let p = CsalsaParams {
-            tau0: sparsifier::tuned_tau0(prior),
-            ..Default::default()
-        };
-        let r = csalsa(
-            &data,
-            psi.as_ref(),
-            Regularizer::default(),
-            &p,
-            None,
-            &NoProgress,
-        )
-        .unwrap();
-        metrics::psnr(&reference, &r.image).unwrap()
-    };
+    let run = |prior: &str| prior_psnr(&data, &reference, prior);
     let (pu, pf) = (run("udct"), run("fdct"));
     let pz = metrics::psnr(&reference, &data.zero_filled()).unwrap();
     println!("Table 2 stand-in: UDCT-l1 {pu:.2} dB, FDCT-l1 {pf:.2} dB, zero-filled {pz:.2} dB");

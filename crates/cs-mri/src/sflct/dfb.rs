@@ -144,7 +144,12 @@ impl Dfb {
             ));
         }
         let need = 1usize << levels.max(1);
-        if levels > 0 && (rows % need != 0 || cols % need != 0 || rows < need || cols < need) {
+        if levels > 0
+            && (!rows.is_multiple_of(need)
+                || !cols.is_multiple_of(need)
+                || rows < need
+                || cols < need)
+        {
             return Err(Error::invalid(
                 "shape",
                 format!(

@@ -72,7 +72,11 @@ impl Pyramid {
                     format!("level {s:?}: the low-pass band reaches the new Nyquist frequency"),
                 ));
             }
-            if shape.0 % s.d != 0 || shape.1 % s.d != 0 || shape.0 < 4 || shape.1 < 4 {
+            if !shape.0.is_multiple_of(s.d)
+                || !shape.1.is_multiple_of(s.d)
+                || shape.0 < 4
+                || shape.1 < 4
+            {
                 let halvings = specs.iter().filter(|s| s.d == 2).count() as u32;
                 return Err(Error::invalid(
                     "shape",
