@@ -289,13 +289,11 @@ impl Dfb {
         let p1: Vec<Complex64> = st.maps[1].iter().map(|&i| x[i as usize]).collect();
         let s2 = std::f64::consts::SQRT_2;
         let mut y0 = self.filter(&p1, st, 1, false);
-        y0.par_iter_mut()
+        y0.iter_mut()
             .zip(&p0)
             .for_each(|(y, &p)| *y = (p - *y) / s2);
         let mut y1 = self.filter(&y0, st, 0, false);
-        y1.par_iter_mut()
-            .zip(&p1)
-            .for_each(|(y, &p)| *y = -p * s2 - *y);
+        y1.iter_mut().zip(&p1).for_each(|(y, &p)| *y = -p * s2 - *y);
         (y0, y1)
     }
 
@@ -310,20 +308,20 @@ impl Dfb {
         let (p0, p1) = if adjoint {
             // y0 = (p0 - F1 p1)/sqrt2 and y1 = -sqrt2 p1 - F0 y0, transposed.
             let mut h = self.filter(y1, st, 0, true);
-            h.par_iter_mut().zip(y0).for_each(|(v, &g)| *v = g - *v);
+            h.iter_mut().zip(y0).for_each(|(v, &g)| *v = g - *v);
             let mut q1 = self.filter(&h, st, 1, true);
-            q1.par_iter_mut()
+            q1.iter_mut()
                 .zip(y1)
                 .for_each(|(v, &g)| *v = -g * s2 - *v / s2);
-            h.par_iter_mut().for_each(|v| *v /= s2);
+            h.iter_mut().for_each(|v| *v /= s2);
             (h, q1)
         } else {
             let mut p1 = self.filter(y0, st, 0, false);
-            p1.par_iter_mut()
+            p1.iter_mut()
                 .zip(y1)
                 .for_each(|(v, &g)| *v = -(g + *v) / s2);
             let mut p0 = self.filter(&p1, st, 1, false);
-            p0.par_iter_mut().zip(y0).for_each(|(v, &g)| *v += g * s2);
+            p0.iter_mut().zip(y0).for_each(|(v, &g)| *v += g * s2);
             (p0, p1)
         };
         let (r, c) = self.shapes[st.input];
@@ -349,33 +347,42 @@ impl Dfb {
         let half = if st.qper { w / 2 } else { 0 };
         // Vertical pass: a row wrap shifts the columns by w/2 when quincunx-periodic.
         let mut t = vec![Complex64::new(0.0, 0.0); h * w];
-        t.par_chunks_mut(w).enumerate().for_each(|(r, row)| {
-            for &(o, v) in &taps {
-                let rr = r as i64 + o;
-                let src = &x[rr.rem_euclid(hi) as usize * w..][..w];
-                let cs = if rr.div_euclid(hi) % 2 != 0 { half } else { 0 };
-                let (a, b) = row.split_at_mut(w - cs);
-                a.iter_mut().zip(&src[cs..]).for_each(|(o, s)| *o += s * v);
-                b.iter_mut().zip(&src[..cs]).for_each(|(o, s)| *o += s * v);
-            }
-        });
+        // Rows per task: small subbands run on one thread (the pool's hand-offs would cost
+        // more than the filtering).
+        let min_rows = 8192usize.div_ceil(w);
+        t.par_chunks_mut(w)
+            .enumerate()
+            .with_min_len(min_rows)
+            .for_each(|(r, row)| {
+                for &(o, v) in &taps {
+                    let rr = r as i64 + o;
+                    let src = &x[rr.rem_euclid(hi) as usize * w..][..w];
+                    let cs = if rr.div_euclid(hi) % 2 != 0 { half } else { 0 };
+                    let (a, b) = row.split_at_mut(w - cs);
+                    a.iter_mut().zip(&src[cs..]).for_each(|(o, s)| *o += s * v);
+                    b.iter_mut().zip(&src[..cs]).for_each(|(o, s)| *o += s * v);
+                }
+            });
         // Horizontal pass on a periodically padded copy of each row.
         let left = taps.iter().map(|t| -t.0).max().unwrap_or(0).max(0) as usize;
         let right = taps.iter().map(|t| t.0).max().unwrap_or(0).max(0) as usize;
         let mut y = vec![Complex64::new(0.0, 0.0); h * w];
-        y.par_chunks_mut(w).zip(t.par_chunks(w)).for_each_init(
-            || Vec::with_capacity(w + left + right),
-            |pad, (row, trow)| {
-                pad.clear();
-                pad.extend((0..left).map(|k| trow[(w * left - left + k) % w]));
-                pad.extend_from_slice(trow);
-                pad.extend((0..right).map(|k| trow[k % w]));
-                for &(o, v) in &taps {
-                    let src = &pad[(left as i64 + o) as usize..][..w];
-                    row.iter_mut().zip(src).for_each(|(o, s)| *o += s * v);
-                }
-            },
-        );
+        y.par_chunks_mut(w)
+            .zip(t.par_chunks(w))
+            .with_min_len(min_rows)
+            .for_each_init(
+                || Vec::with_capacity(w + left + right),
+                |pad, (row, trow)| {
+                    pad.clear();
+                    pad.extend((0..left).map(|k| trow[(w * left - left + k) % w]));
+                    pad.extend_from_slice(trow);
+                    pad.extend((0..right).map(|k| trow[k % w]));
+                    for &(o, v) in &taps {
+                        let src = &pad[(left as i64 + o) as usize..][..w];
+                        row.iter_mut().zip(src).for_each(|(o, s)| *o += s * v);
+                    }
+                },
+            );
         y
     }
 }
