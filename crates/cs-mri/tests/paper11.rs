@@ -685,7 +685,7 @@ const B_GRID: [f64; 5] = [0.0025, 0.005, 0.01, 0.02, 0.035];
 fn tune_on_development_image() {
     let n = 256;
     let (data, img) = development_case(n);
-    for prior in ["udct", "fdct", "db4"] {
+    for prior in ["udct", "fdct", "lrsflct", "mrsflct", "db4"] {
         let psi = sparsifier::by_name(prior, n, n, &PriorConfig::default()).unwrap();
         for tau0 in TAU_GRID {
             let p = CsalsaParams {
