@@ -20,6 +20,7 @@
 use num_complex::Complex64;
 use rayon::prelude::*;
 use wscg_math::progress::{NoProgress, Progress};
+use wscg_math::reduce::chunked_sum_pairs;
 use wscg_math::tv::{tv_norm, TvProx};
 use wscg_math::{Error, Result};
 
@@ -451,14 +452,9 @@ impl FrameSolve {
     /// On entry `x = M r`; on exit `x` solves the system to [`FRAME_CG_TOL`], starting from
     /// the previous solution when there is one.
     fn solve(&mut self, psi: &dyn Sparsifier, x: &mut [Complex64]) {
-        // Fixed chunks summed in order: the same result on every run and thread count.
+        // The same result on every run and thread count.
         let dot = |a: &[Complex64], b: &[Complex64]| -> f64 {
-            let parts: Vec<f64> = a
-                .par_chunks(4096)
-                .zip(b.par_chunks(4096))
-                .map(|(x, y)| x.iter().zip(y).map(|(p, q)| (p.conj() * q).re).sum::<f64>())
-                .collect();
-            parts.iter().sum()
+            chunked_sum_pairs(a, b, |p, q| (p.conj() * q).re)
         };
         // r = b - A x with b = M^{-1} x.
         let mut r = std::mem::take(&mut self.r);

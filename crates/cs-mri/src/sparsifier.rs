@@ -375,7 +375,6 @@ impl Sparsifier for FdctSparsifier {
 /// Parseval frame (the PKVA ladder filter bank is only nearly orthogonal).
 pub struct SflctSparsifier {
     sflct: Sflct,
-    fourier: Fourier,
 }
 
 impl SflctSparsifier {
@@ -383,7 +382,6 @@ impl SflctSparsifier {
     pub fn new(rows: usize, cols: usize, config: &SflctConfig) -> Result<Self> {
         Ok(SflctSparsifier {
             sflct: Sflct::new(rows, cols, config)?,
-            fourier: Fourier::new(rows, cols)?,
         })
     }
 
@@ -415,18 +413,18 @@ impl Sparsifier for SflctSparsifier {
         vec![low.clone(), low.start + m..low.end + m]
     }
     fn fourier(&self) -> &Fourier {
-        &self.fourier
+        self.sflct.fourier()
     }
 
     fn analysis(&self, x: &[Complex64], out: &mut CoeffVec) {
         let mut s = x.to_vec();
-        self.fourier.forward(&mut s);
+        self.sflct.fourier().forward(&mut s);
         self.analysis_spectrum(&s, out);
     }
 
     fn synthesis(&self, c: &CoeffVec, out: &mut [Complex64]) {
         self.synthesis_spectrum(c, out);
-        self.fourier.inverse(out);
+        self.sflct.fourier().inverse(out);
     }
 
     fn analysis_spectrum(&self, xhat: &[Complex64], out: &mut CoeffVec) {

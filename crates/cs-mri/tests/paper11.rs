@@ -526,16 +526,9 @@ fn radial_lattice_udct_three_scales_beats_db4() {
     let udct = UdctSparsifier::new(n, n, &UdctConfig::uniform(3, 6)).unwrap();
     let db4 = WaveletSparsifier::new(n, n, 4, 4).unwrap();
     let best = |psi: &dyn Sparsifier| -> f64 {
-        [0.005, 0.01, 0.02, 0.04, 0.08]
+        TAU_GRID
             .iter()
-            .map(|&tau0| {
-                let p = CsalsaParams {
-                    tau0,
-                    ..Default::default()
-                };
-                let r = csalsa(&data, psi, Regularizer::default(), &p, None, &NoProgress).unwrap();
-                metrics::psnr(&img, &r.image).unwrap()
-            })
+            .map(|&tau0| psnr_at(&data, &img, psi, tau0))
             .fold(f64::MIN, f64::max)
     };
     let (pu, pw) = (best(&udct), best(&db4));
@@ -688,22 +681,9 @@ fn tune_on_development_image() {
     for prior in ["udct", "fdct", "lrsflct", "mrsflct", "db4"] {
         let psi = sparsifier::by_name(prior, n, n, &PriorConfig::default()).unwrap();
         for tau0 in TAU_GRID {
-            let p = CsalsaParams {
-                tau0,
-                ..Default::default()
-            };
-            let r = csalsa(
-                &data,
-                psi.as_ref(),
-                Regularizer::default(),
-                &p,
-                None,
-                &NoProgress,
-            )
-            .unwrap();
             println!(
                 "{prior} tau0 {tau0}: {:.3} dB",
-                metrics::psnr(&img, &r.image).unwrap()
+                psnr_at(&data, &img, psi.as_ref(), tau0)
             );
         }
     }
@@ -967,24 +947,21 @@ fn sflct_plane_waves_land_in_their_wedge() {
     }
 }
 
+/// PSNR of C-SALSA-l1 (70 iterations) with the prior `psi` at `tau0`.
+fn psnr_at(data: &KSpace, reference: &[Complex64], psi: &dyn Sparsifier, tau0: f64) -> f64 {
+    let p = CsalsaParams {
+        tau0,
+        ..Default::default()
+    };
+    let rec = csalsa(data, psi, Regularizer::default(), &p, None, &NoProgress).unwrap();
+    metrics::psnr(reference, &rec.image).unwrap()
+}
+
 /// PSNR of C-SALSA-l1 with a named prior at its development-image tau0.
 fn prior_psnr(data: &KSpace, reference: &[Complex64], prior: &str) -> f64 {
     let (r, c) = data.shape();
     let psi = sparsifier::by_name(prior, r, c, &PriorConfig::default()).unwrap();
-    let p = CsalsaParams {
-        tau0: sparsifier::tuned_tau0(prior),
-        ..Default::default()
-    };
-    let rec = csalsa(
-        data,
-        psi.as_ref(),
-        Regularizer::default(),
-        &p,
-        None,
-        &NoProgress,
-    )
-    .unwrap();
-    metrics::psnr(reference, &rec.image).unwrap()
+    psnr_at(data, reference, psi.as_ref(), sparsifier::tuned_tau0(prior))
 }
 
 /// Table 2's SFLCT columns: on all three of the paper's images the more redundant SFLCT

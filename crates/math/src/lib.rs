@@ -41,6 +41,7 @@ pub mod metrics;
 pub mod npy;
 pub mod patchmatch;
 pub mod progress;
+pub mod reduce;
 pub mod resize;
 pub mod rng;
 pub mod sparse;

@@ -56,15 +56,12 @@ use ply_rs::writer::Writer as PlyWriter;
 use rayon::prelude::*;
 
 use crate::error::{ensure_finite, ensure_positive, read_file, Error, Result};
+use crate::reduce::{chunked_sum, SUM_CHUNK};
 use crate::vec3::{add, cross, dot, norm, normalized_or_zero, sub};
 
 /// Largest subdivision level accepted by [`TriMesh::icosphere`] (level 10 has 10,485,762
 /// vertices and 20,971,520 faces).
 pub const MAX_ICOSPHERE_SUBDIVISIONS: u32 = 10;
-
-/// Number of items summed sequentially per parallel task; fixed so that sums do not depend on
-/// the number of threads.
-const SUM_CHUNK: usize = 4096;
 
 /// Smallest number of items per rayon task for cheap per-face or per-vertex work.
 const PAR_MIN_LEN: usize = 2048;
@@ -79,15 +76,6 @@ fn edge_key(a: u32, b: u32) -> u64 {
 #[inline]
 fn edge_from_key(k: u64) -> [u32; 2] {
     [(k >> 32) as u32, k as u32]
-}
-
-/// Sum of `f(item)` over `items`, deterministic for any thread count.
-fn chunked_sum<T: Sync>(items: &[T], f: impl Fn(&T) -> f64 + Sync) -> f64 {
-    let partial: Vec<f64> = items
-        .par_chunks(SUM_CHUNK)
-        .map(|c| c.iter().map(&f).sum::<f64>())
-        .collect();
-    partial.iter().sum()
 }
 
 /// Component-wise sum of `f(item)` over `items`, deterministic for any thread count.

@@ -226,27 +226,13 @@ impl Sflct {
     /// [`Sflct::forward`] from the image's unitary spectrum (no length checks).
     pub fn forward_spectrum(&self, xhat: &[Complex64], out: &mut [Complex64]) {
         let (highs, low) = self.pyramid.forward_spectrum(xhat);
-        out[self.bands[0].range.clone()].copy_from_slice(&low);
-        // Coefficients run coarse to fine; the pyramid's levels fine to coarse.
-        let mut off = self.bands[0].range.end;
-        let mut spans = Vec::with_capacity(self.dfbs.len());
-        for d in self.dfbs.iter().rev() {
-            let n = d.shape().0 * d.shape().1;
-            spans.push(off..off + n);
-            off += n;
-        }
-        let mut rest = &mut out[self.bands[0].range.end..];
-        let mut slices = Vec::with_capacity(spans.len());
-        for sp in &spans {
-            let (a, b) = rest.split_at_mut(sp.len());
-            slices.push(a);
-            rest = b;
-        }
-        let levels = self.dfbs.len();
+        let (lowpass, mut rest) = out.split_at_mut(self.bands[0].range.end);
+        lowpass.copy_from_slice(&low);
+        // Coefficients run coarse to fine; the pyramid's levels (and `dfbs`) fine to coarse.
         rayon::scope(|sc| {
-            for (k, slot) in slices.into_iter().enumerate() {
-                let fine = levels - 1 - k;
-                let (d, h) = (&self.dfbs[fine], &highs[fine]);
+            for (d, h) in self.dfbs.iter().zip(&highs).rev() {
+                let (slot, tail) = std::mem::take(&mut rest).split_at_mut(h.len());
+                rest = tail;
                 sc.spawn(move |_| d.forward(h, slot));
             }
         });
@@ -254,24 +240,16 @@ impl Sflct {
 
     /// The spectrum of [`Sflct::inverse`] (`adjoint = false`) or [`Sflct::adjoint`].
     pub fn backward_spectrum(&self, c: &[Complex64], out: &mut [Complex64], adjoint: bool) {
-        let levels = self.dfbs.len();
-        let low = &c[self.bands[0].range.clone()];
+        let (low, mut rest) = c.split_at(self.bands[0].range.end);
         let mut highs: Vec<Vec<Complex64>> = self
             .dfbs
             .iter()
             .map(|d| vec![Complex64::new(0.0, 0.0); d.shape().0 * d.shape().1])
             .collect();
-        let mut off = self.bands[0].range.end;
-        let mut jobs = Vec::with_capacity(levels);
-        for (k, h) in highs.iter_mut().rev().enumerate() {
-            let fine = levels - 1 - k;
-            let n = h.len();
-            jobs.push((fine, &c[off..off + n], h));
-            off += n;
-        }
         rayon::scope(|sc| {
-            for (fine, src, h) in jobs {
-                let d = &self.dfbs[fine];
+            for (d, h) in self.dfbs.iter().zip(highs.iter_mut()).rev() {
+                let (src, tail) = rest.split_at(h.len());
+                rest = tail;
                 sc.spawn(move |_| {
                     if adjoint {
                         d.adjoint(src, h)
@@ -283,6 +261,20 @@ impl Sflct {
         });
         out.copy_from_slice(&self.pyramid.backward_spectrum(&highs, low));
     }
+
+    /// The unitary FFT of the image shape.
+    pub fn fourier(&self) -> &Fourier {
+        &self.fourier
+    }
+}
+
+/// Largest distance between corresponding samples (test helper of the SFLCT modules).
+#[cfg(test)]
+pub(crate) fn max_diff(a: &[Complex64], b: &[Complex64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
 }
 
 #[cfg(test)]
@@ -302,11 +294,7 @@ mod tests {
             let x = rng::complex_normal_vec(5, 128 * 128, 1.0).unwrap();
             let c = t.forward(&x).unwrap();
             let y = t.inverse(&c).unwrap();
-            let err = x
-                .iter()
-                .zip(&y)
-                .map(|(a, b)| (a - b).norm())
-                .fold(0.0, f64::max);
+            let err = max_diff(&x, &y);
             assert!(err < 1e-11, "{err}");
             let g = rng::complex_normal_vec(6, c.len(), 1.0).unwrap();
             let z = t.adjoint(&g).unwrap();

@@ -221,11 +221,7 @@ mod tests {
         let ex: f64 = x.iter().map(|v| v.norm_sqr()).sum();
         assert!((e - ex).abs() < 1e-11 * ex, "{e} vs {ex}");
         let y = p.backward_spectrum(&h, &l);
-        let err = x
-            .iter()
-            .zip(&y)
-            .map(|(a, b)| (a - b).norm())
-            .fold(0.0, f64::max);
+        let err = crate::sflct::max_diff(&x, &y);
         assert!(err < 1e-12, "{err}");
         assert!(Pyramid::new(
             64,
