@@ -2307,6 +2307,11 @@ fn motion_learns_user_data_and_synthesizes_bvh() {
         .output()
         .unwrap();
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("nonexistent"));
+    let out = wscg()
+        .args(["motion", "learn", d, "--delay-search", "4"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("delay_search"));
 }
 
 #[test]

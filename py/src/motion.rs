@@ -222,7 +222,7 @@ fn check_restarts(restarts: usize) -> PyResult<()> {
 
 /// Anechoic demixing of `x` (`R x I x N`): quality, sources, delays, weights, reconstruction.
 #[pyfunction]
-#[pyo3(signature = (x, n_sources, delays, n_harmonics, restarts, max_iter, tol, seed, init))]
+#[pyo3(signature = (x, n_sources, delays, n_harmonics, restarts, max_iter, tol, seed, init, delay_search))]
 #[allow(clippy::too_many_arguments)]
 fn fit_anechoic<'py>(
     py: Python<'py>,
@@ -235,6 +235,7 @@ fn fit_anechoic<'py>(
     tol: f64,
     seed: u64,
     init: &str,
+    delay_search: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     if x.shape().len() != 3 {
         return Err(value_error(format!(
@@ -253,6 +254,7 @@ fn fit_anechoic<'py>(
         restarts,
         init: init_from(init)?,
         seed,
+        delay_search,
         ..AnechoicConfig::default()
     };
     let (model, recon) = py
@@ -540,7 +542,7 @@ impl PyLibrary {
 /// Step-wise learning of the three actions from a dataset's arrays.
 #[pyfunction]
 #[pyo3(signature = (angles, step_length, duration, root, distances, n_sources_first,
-                    n_sources_extra, n_harmonics, restarts, max_iter, tol, seed))]
+                    n_sources_extra, n_harmonics, restarts, max_iter, tol, seed, delay_search))]
 #[allow(clippy::too_many_arguments)]
 fn fit_stepwise(
     py: Python<'_>,
@@ -556,6 +558,7 @@ fn fit_stepwise(
     max_iter: usize,
     tol: f64,
     seed: u64,
+    delay_search: usize,
 ) -> PyResult<PyLibrary> {
     let data = dataset_in(
         &angles,
@@ -574,6 +577,7 @@ fn fit_stepwise(
             max_iter,
             tol,
             seed,
+            delay_search,
             ..AnechoicConfig::default()
         },
         ..StepwiseConfig::default()

@@ -68,6 +68,10 @@ pub struct LearnArgs {
     /// Demixing restarts.
     #[arg(long, default_value_t = 10)]
     pub restarts: usize,
+    /// Grid points per period of the per-channel delay search after the demixing sweeps
+    /// (0: off; otherwise 8-4096).
+    #[arg(long, default_value_t = 128)]
+    pub delay_search: usize,
 }
 
 /// State maps of the synthesizer.
@@ -227,10 +231,11 @@ pub fn read_dataset(dir: &Path) -> Result<Dataset> {
     Ok(ds)
 }
 
-fn learn(data: &Dataset, restarts: usize) -> Result<ActionLibrary> {
+fn learn(data: &Dataset, restarts: usize, delay_search: usize) -> Result<ActionLibrary> {
     let cfg = StepwiseConfig {
         demix: AnechoicConfig {
             restarts,
+            delay_search,
             ..AnechoicConfig::default()
         },
         ..StepwiseConfig::default()
@@ -275,7 +280,7 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
         }
         MotionCommand::Learn(a) => {
             let data = read_dataset(&a.data)?;
-            let lib = learn(&data, a.restarts)?;
+            let lib = learn(&data, a.restarts, a.delay_search)?;
             for (k, f) in lib.actions.iter().enumerate() {
                 println!(
                     "action {}: Q = {:.4} ({} sources + s0)",
@@ -318,7 +323,7 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                 Some(d) => read_dataset(d)?,
                 None => reach_walk(&WalkerConfig::default())?.0,
             };
-            let lib = learn(&data, 10)?;
+            let lib = learn(&data, 10, AnechoicConfig::default().delay_search)?;
             if lib.n_channels != N_CHANNELS {
                 return Err(Error::invalid(
                     "data",

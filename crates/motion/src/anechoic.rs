@@ -19,6 +19,7 @@
 //! are formed (once per sweep, in the weight step's pass).
 
 use crate::data::TrialSet;
+use crate::delay_search::ChannelDelays;
 use crate::fourier::{
     delayed, harmonics_of_rows, phasors, re_dot, trig_argmax, wrap_half, PeriodicSource,
 };
@@ -86,6 +87,12 @@ pub struct AnechoicConfig {
     /// Sweeps every run gets before only the best one continues to `max_iter` (successive
     /// screening of the restarts; `max_iter` or more: every run goes the full length).
     pub screen_iter: usize,
+    /// Grid points per period of the per-channel delay search run after the ALS, with shared
+    /// delays and at least two sources ([`crate::delay_search`]; 0: off). Every channel's
+    /// pairs of delays are searched on this grid with the sources held; channels where it
+    /// finds a lower residual take the new delays and the ALS continues from there, so `Q`
+    /// can only rise; repeated while channels move (at most 5 rounds). 0 or 8..=4096; 128.
+    pub delay_search: usize,
 }
 
 impl Default for AnechoicConfig {
@@ -100,6 +107,7 @@ impl Default for AnechoicConfig {
             init: Init::Pca,
             seed: 0,
             screen_iter: 60,
+            delay_search: 128,
         }
     }
 }
@@ -220,6 +228,15 @@ fn check_config(x: &TrialSet, cfg: &AnechoicConfig) -> Result<()> {
     }
     if cfg.restarts == 0 {
         return Err(Error::invalid("restarts", "must be >= 1"));
+    }
+    if cfg.delay_search != 0 && !(8..=4096).contains(&cfg.delay_search) {
+        return Err(Error::invalid(
+            "delay_search",
+            format!(
+                "grid points per period must be 0 (off) or in 8..=4096, got {}",
+                cfg.delay_search
+            ),
+        ));
     }
     if !(cfg.tol.is_finite() && cfg.tol >= 0.0) {
         return Err(Error::invalid(
@@ -1173,7 +1190,62 @@ fn fit_checked(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
         hist.extend_from_slice(&more[1..]);
         (state, q)
     };
+    let (mut state, mut q) = (state, q);
+    for _ in 0..SEARCH_ROUNDS {
+        let before = q;
+        (state, q) = search_delays(&sp, cfg, state, q, &mut hist)?;
+        if q <= before {
+            break;
+        }
+    }
     Ok(state.into_model(&sp, q, hist))
+}
+
+/// Rounds of [`search_delays`] at most: the ALS that follows a search moves the sources, which
+/// can open better delays in other channels.
+const SEARCH_ROUNDS: usize = 5;
+
+/// The per-channel delay search after the ALS ([`AnechoicConfig::delay_search`], shared delays
+/// and two or more sources only): channels where [`crate::delay_search`] finds delays with a
+/// lower residual take them, every weight is refitted, and the ALS continues from there. The
+/// better of the two fits is kept, and the continued run's `Q` values join `hist`.
+fn search_delays(
+    sp: &Spectra,
+    cfg: &AnechoicConfig,
+    state: State,
+    q: f64,
+    hist: &mut Vec<f64>,
+) -> Result<(State, f64)> {
+    if cfg.delay_search == 0 || state.mode != DelayMode::Shared || state.j < 2 {
+        return Ok((state, q));
+    }
+    let j_n = state.j;
+    let found: Vec<Option<Vec<f64>>> = (0..sp.i)
+        .into_par_iter()
+        .map(|i| {
+            ChannelDelays::new(&state.c, sp.k, (0..sp.r).map(|r| sp.row(r, i)))
+                .search(&state.tau[i * j_n..(i + 1) * j_n], cfg.delay_search)
+                .map(|(t, _)| t)
+        })
+        .collect();
+    if found.iter().all(Option::is_none) {
+        return Ok((state, q));
+    }
+    let mut next = state.clone();
+    for (i, t) in found.iter().enumerate() {
+        if let Some(t) = t {
+            next.tau[i * j_n..(i + 1) * j_n].copy_from_slice(t);
+        }
+    }
+    let dt = next.delayed_table(sp);
+    next.update_weights(sp, &dt)?;
+    let (next, qn, more) = run(sp, cfg, next)?;
+    if qn > q {
+        hist.extend_from_slice(&more);
+        Ok((next, qn))
+    } else {
+        Ok((state, q))
+    }
 }
 
 /// Continues the ALS from an existing model, possibly under a looser delay constraint (zero →

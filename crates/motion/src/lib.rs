@@ -23,6 +23,7 @@ pub mod blend;
 pub mod bvh;
 pub mod data;
 pub mod dataset;
+mod delay_search;
 pub mod fourier;
 pub mod hopf;
 mod linalg;
