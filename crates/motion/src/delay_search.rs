@@ -214,17 +214,23 @@ impl<'a> ChannelDelays<'a> {
             .collect();
         let b_h = proj(&d_h);
         let dot_r = |x: &[f64], y: &[f64]| -> f64 { x.iter().zip(y).map(|(a, b)| a * b).sum() };
-        // Per grid value of τ_q: its Gram entries and C entries with the held sources, C_qq.
-        let mut g_qh = vec![0.0; m * n_h];
-        let mut c_qh = vec![0.0; m * n_h];
+        // Per grid value b of τ_q, stored as rows over b (so the loops over b vectorize): the
+        // Gram and C entries of q with the rest (row 0, source p, is filled per τ_p; rows
+        // 1.. are the held sources), and C_qq. `bq_t` is `R × m`.
+        let mut g_row = vec![0.0; n_b * m];
+        let mut c_row = vec![0.0; n_b * m];
         let mut c_qq = vec![0.0; m];
+        let mut bq_t = vec![0.0; r_n * m];
         for b in 0..m {
             let (db, bb) = (&dq[b * k..(b + 1) * k], &bq[b * r_n..(b + 1) * r_n]);
             for hi in 0..n_h {
-                g_qh[b * n_h + hi] = re_dot(db, &d_h[hi * k..(hi + 1) * k]);
-                c_qh[b * n_h + hi] = dot_r(bb, &b_h[hi * r_n..(hi + 1) * r_n]);
+                g_row[(hi + 1) * m + b] = re_dot(db, &d_h[hi * k..(hi + 1) * k]);
+                c_row[(hi + 1) * m + b] = dot_r(bb, &b_h[hi * r_n..(hi + 1) * r_n]);
             }
             c_qq[b] = dot_r(bb, bb);
+            for (r, &v) in bb.iter().enumerate() {
+                bq_t[r * m + b] = v;
+            }
         }
         // G_pq as a function of τ_q − τ_p.
         let h: Vec<f64> = dq
@@ -237,7 +243,9 @@ impl<'a> ChannelDelays<'a> {
         let mut c_bb = vec![0.0; n_b * n_b];
         let mut a_inv = vec![0.0; n_b * n_b];
         let mut scratch = vec![0.0; n_b * n_b + n_b];
-        let (mut g_q, mut c_q, mut u) = (vec![0.0; n_b], vec![0.0; n_b], vec![0.0; n_b]);
+        // u = A⁻¹ g_q, and the numerator and γ of every b.
+        let mut u = vec![0.0; n_b * m];
+        let (mut num, mut gamma) = (vec![0.0; m], vec![0.0; m]);
         for a in 0..m {
             let (da, ba) = (&dp[a * k..(a + 1) * k], &bp[a * r_n..(a + 1) * r_n]);
             // The rest's Gram matrix and C block at this τ_p.
@@ -276,25 +284,49 @@ impl<'a> ChannelDelays<'a> {
                 None
             };
             let Some(base) = base else { continue };
+            // Row 0: G_pq(b − a) and C_pq(a, b) = Σ_r b_rp(a) b_rq(b).
+            let (g0, c0) = (&mut g_row[..m], &mut c_row[..m]);
+            // Entry b is h[(b − a) mod m].
+            g0[a..].copy_from_slice(&h[..m - a]);
+            g0[..a].copy_from_slice(&h[m - a..]);
+            c0.fill(0.0);
+            for (r, &w) in ba.iter().enumerate() {
+                c0.iter_mut()
+                    .zip(&bq_t[r * m..(r + 1) * m])
+                    .for_each(|(c, &v)| *c += w * v);
+            }
+            u.fill(0.0);
+            for i in 0..n_b {
+                let ui = &mut u[i * m..(i + 1) * m];
+                for j in 0..n_b {
+                    let aij = a_inv[i * n_b + j];
+                    ui.iter_mut()
+                        .zip(&g_row[j * m..(j + 1) * m])
+                        .for_each(|(x, &g)| *x += aij * g);
+                }
+            }
+            gamma.fill(norm_q);
+            num.copy_from_slice(&c_qq);
+            for i in 0..n_b {
+                let ui = &u[i * m..(i + 1) * m];
+                let (gi, ci) = (&g_row[i * m..(i + 1) * m], &c_row[i * m..(i + 1) * m]);
+                for b in 0..m {
+                    gamma[b] -= gi[b] * ui[b];
+                    num[b] -= 2.0 * ci[b] * ui[b];
+                }
+                for j in 0..n_b {
+                    let cij = c_bb[i * n_b + j];
+                    let uj = &u[j * m..(j + 1) * m];
+                    for b in 0..m {
+                        num[b] += cij * ui[b] * uj[b];
+                    }
+                }
+            }
+            let row = &mut values[a * m..(a + 1) * m];
             for b in 0..m {
-                let bb = &bq[b * r_n..(b + 1) * r_n];
-                g_q[0] = h[(b + m - a) % m];
-                c_q[0] = dot_r(ba, bb);
-                g_q[1..].copy_from_slice(&g_qh[b * n_h..(b + 1) * n_h]);
-                c_q[1..].copy_from_slice(&c_qh[b * n_h..(b + 1) * n_h]);
-                for (i, ui) in u.iter_mut().enumerate() {
-                    *ui = dot_r(&a_inv[i * n_b..(i + 1) * n_b], &g_q);
+                if gamma[b] > 1e-12 * norm_q {
+                    row[b] = self.energy - base - num[b] / gamma[b];
                 }
-                let gamma = norm_q - dot_r(&g_q, &u);
-                if gamma <= 1e-12 * norm_q {
-                    continue;
-                }
-                let mut quad = 0.0;
-                for i in 0..n_b {
-                    quad += u[i] * dot_r(&c_bb[i * n_b..(i + 1) * n_b], &u);
-                }
-                let num = c_qq[b] - 2.0 * dot_r(&u, &c_q) + quad;
-                values[a * m + b] = self.energy - base - num / gamma;
             }
         }
         values
