@@ -206,6 +206,13 @@ fn check5_localized_search_approaches_global_search() {
     }
 }
 
+/// Measured at the specification's size: stage 1 stops at its default 10 sweeps while its
+/// energy still falls by 3 % a sweep; run to convergence (18 sweeps), localized search
+/// reaches 2.213e6 against 1.774e6 for exact global search (1.247x), so the ratio is not an
+/// artefact of an unfinished stage 1. With a temporal radius of 1 and the windows run twice
+/// (33, 17, 13, 9, 5, 17, 13, 9, 5) it is 1.037x, still 417x fewer candidates than global
+/// search: the paper's schedule (four windows in the match's own frame), not the principle of a
+/// localized search, sets the gap.
 #[test]
 #[ignore = "fails: at the specification's 320x180x15 from 160x90 (seed 9) localized search reaches 1.217x the energy of exact global search (1.695x without the coherence candidates), limit 1.10, with 4340x fewer candidates; global search takes 24 min here"]
 fn check5_localized_search_within_ten_percent_of_global_at_spec_size() {
