@@ -128,6 +128,12 @@ impl<'a> ChannelDelays<'a> {
     /// [`BASIN_GAIN`] and [`ENERGY_GAIN`].
     pub(crate) fn search(&self, tau: &[f64], grid: usize) -> Option<(Vec<f64>, f64)> {
         let f0 = self.residual(tau);
+        // Drops below the ALS tolerance (relative to the data energy) are not new basins; a
+        // channel already fitted that well has none to find.
+        let gain = (BASIN_GAIN * f0).max(ENERGY_GAIN * self.energy);
+        if f0 <= gain {
+            return None;
+        }
         let mut best: Option<(Vec<f64>, f64)> = None;
         for p in 0..self.j {
             for q in p + 1..self.j {
@@ -139,8 +145,6 @@ impl<'a> ChannelDelays<'a> {
                 }
             }
         }
-        // Drops below the ALS tolerance (relative to the data energy) are not new basins.
-        let gain = (BASIN_GAIN * f0).max(ENERGY_GAIN * self.energy);
         best.filter(|b| b.1 < f0 - gain)
     }
 
