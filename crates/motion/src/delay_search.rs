@@ -35,6 +35,9 @@ const BASIN_GAIN: f64 = 1e-3;
 /// ... and by at least this share of the channel's data energy (the scale of the ALS's default
 /// tolerance on `Q`).
 const ENERGY_GAIN: f64 = 1e-9;
+/// Smallest delay change (periods) that makes refined delays another basin than the current
+/// one.
+const BASIN_SHIFT: f64 = 0.01;
 /// Local minima of each pair's grid that are refined.
 const MINIMA_PER_PAIR: usize = 3;
 /// Newton steps of a refinement at most.
@@ -124,8 +127,8 @@ impl<'a> ChannelDelays<'a> {
 
     /// Searches delays with a lower [`ChannelDelays::residual`] than at `tau`, on `grid`
     /// points per period for each pair of delays. Returns the best delays found (wrapped to
-    /// `[-0.5, 0.5)`) and their residual when they lower the residual at `tau` by more than
-    /// [`BASIN_GAIN`] and [`ENERGY_GAIN`].
+    /// `[-0.5, 0.5)`) and their residual when some delay lies more than [`BASIN_SHIFT`] from
+    /// `tau` and the residual at `tau` drops by more than [`BASIN_GAIN`] and [`ENERGY_GAIN`].
     pub(crate) fn search(&self, tau: &[f64], grid: usize) -> Option<(Vec<f64>, f64)> {
         let f0 = self.residual(tau);
         // Drops below the ALS tolerance (relative to the data energy) are not new basins; a
@@ -139,7 +142,12 @@ impl<'a> ChannelDelays<'a> {
             for q in p + 1..self.j {
                 for mut t in self.pair_minima(tau, p, q, grid) {
                     let f = self.refine(&mut t);
-                    if f < best.as_ref().map_or(f0, |b| b.1) {
+                    // The current basin is the ALS's to finish: only delays elsewhere count.
+                    let moved = t
+                        .iter()
+                        .zip(tau)
+                        .any(|(a, b)| wrap_half(a - b).abs() > BASIN_SHIFT);
+                    if moved && f < best.as_ref().map_or(f0, |b| b.1) {
                         best = Some((t, f));
                     }
                 }

@@ -262,7 +262,7 @@ fn demixing_identifies_sources_and_delays() {
 /// leaves channel 16 0.41 periods off: it carries source 1 with 32 % of that source's largest
 /// weight, its trial weights are nearly proportional, and two of its delays must move together
 /// (the generating ones fit 16 % better with the fitted sources). The search finds them, and
-/// every channel is within 0.02 periods (measured 0.0034 periods; noise seeds 12 and 13,
+/// every channel is within 0.02 periods (measured 0.0033 periods; noise seeds 12 and 13,
 /// 0.0023 and 0.0018 periods, against 0.38 and 0.21 without the search).
 #[test]
 fn demixing_identifies_delays_with_noise() {
