@@ -121,18 +121,25 @@ def test_orbit_start_identifies_the_generating_sources(data, clean_action1):
         assert best > 0.999, best
 
 
-def test_delay_search_only_raises_q(clean_action1):
-    # 1 % noise per channel RMS: the per-channel delay search after the sweeps may move
-    # delays, but only to a better fit, and the reported Q stays that of the reconstruction.
+def test_delay_search_moves_delays_to_a_better_fit(clean_action1):
+    # Two sources for a three-source signal: the sweeps stop where two delays of a channel
+    # would have to move together; the per-channel search after them finds a clearly better
+    # fit (measured Q 0.98557 without, 0.99273 with it). A search that does nothing fails.
     X = clean_action1
+    off = M.fit_anechoic(X, 2, delay_search=0)
+    on = M.fit_anechoic(X, 2)
+    assert on["q"] > off["q"] + 1e-3, (on["q"], off["q"])
+    assert abs(M.quality(X, on["reconstruction"]) - on["q"]) < 1e-8
+    # 1 % noise per channel RMS (this draw moves delays by up to 0.44 periods): Q still only
+    # rises along the history, and the reported Q is the reconstruction's.
     rms = np.sqrt((X ** 2).mean(axis=2, keepdims=True))
-    Xn = X + 0.01 * rms * np.random.default_rng(3).standard_normal(X.shape)
+    Xn = X + 0.01 * rms * np.random.default_rng(4).standard_normal(X.shape)
     off = M.fit_anechoic(Xn, 3, delay_search=0)
     on = M.fit_anechoic(Xn, 3)
-    assert on["q"] >= off["q"] - 1e-12, (on["q"], off["q"])
+    moved = np.abs((on["delays"] - off["delays"] + 0.5) % 1.0 - 0.5).max()
+    assert moved > 0.01 and on["q"] > off["q"], (moved, on["q"], off["q"])
     assert abs(M.quality(Xn, on["reconstruction"]) - on["q"]) < 1e-8
     assert np.all(np.diff(on["q_history"]) >= -1e-10)
-    assert len(on["q_history"]) >= len(off["q_history"])
 
 
 def test_anechoic_delay_modes(clean_action1):

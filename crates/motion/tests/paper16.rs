@@ -201,10 +201,16 @@ fn delay_error(
 
 /// The default demixing with 3 sources.
 fn fit3(x: &TrialSet) -> wscg_motion::AnechoicModel {
+    fit3_searching(x, AnechoicConfig::default().delay_search)
+}
+
+/// [`fit3`] with the per-channel delay search on `grid` points per period (0: off).
+fn fit3_searching(x: &TrialSet, grid: usize) -> wscg_motion::AnechoicModel {
     fit_anechoic(
         x,
         &AnechoicConfig {
             n_sources: 3,
+            delay_search: grid,
             ..AnechoicConfig::default()
         },
     )
@@ -271,15 +277,7 @@ fn demixing_identifies_delays_with_noise() {
     let (err, _) = delay_error(&model, &truth, 3);
     assert!(err <= 0.02, "delay error {err} periods");
     assert_reported_q(&x, &model, "noise 0.01");
-    let without = fit_anechoic(
-        &x,
-        &AnechoicConfig {
-            n_sources: 3,
-            delay_search: 0,
-            ..AnechoicConfig::default()
-        },
-    )
-    .unwrap();
+    let without = fit3_searching(&x, 0);
     let (err0, _) = delay_error(&without, &truth, 3);
     assert!(err0 > 0.1, "without the search: {err0} periods");
     assert!(
