@@ -13,6 +13,25 @@
 //! paper's observers (b22 = 1.8 against b11 = 6.0), and 13 scores of this noise do not pin it
 //! down. The test that runs checks the radius part; the specification's full criterion is
 //! the ignored test, with these measurements.
+//!
+//! Why the density escapes (`cargo run --release --example workshop_sensitivity -- mono 8`,
+//! and `stereo 8`): across the ±0.30 coded-unit window around the hidden plate, 8
+//! microstructure seeds per plate, the change of each log feature in units of its spread over
+//! the seeds is
+//!
+//! | feature | radius 21.5 → 30.5 µm, mono / stereo | density 6.4 → 8.2, mono / stereo |
+//! |---|---|---|
+//! | glint density | −6.20 / −6.67 | +0.67 / +0.90 |
+//! | mean luminance | −0.79 / −0.74 | −0.54 / +0.11 |
+//! | mean glint peak / lamp | +1.91 / +3.76 | −1.22 / −0.91 |
+//! | mean glint area | +1.82 / +3.15 | −0.33 / −0.15 |
+//!
+//! (the binocular overlap is 0 for every stereo render: a 1° lamp seen by eyes 4.8° apart
+//! lights disjoint flake sets). The density is the mean coverage number; from 3.5 up, all but
+//! `e^-ρ` of the plate (3 % at 3.5, 0.2 % at 6.4, 0.03 % at 8.2) is covered, so the visible top
+//! layer is nearly the same for every density of the window (the dead-leaves limit), and one
+//! render of a 10 mm patch cannot tell 6.4 from 8.2: no observer built on these renders can
+//! place the density within 0.30 coded units from 13 single renders.
 
 use wscg::doe::{ccd, decode, fit_quadratic, CcdAlpha, CcdFace, RsmFit};
 use wscg::math::progress::NoProgress;
