@@ -505,8 +505,11 @@ fn max_abs_diffs(frames: &[wscg_motion::synthesizer::Frame], ch: usize) -> Vec<f
 
 /// Per channel, the largest frame-to-frame change inside the ±β windows of action changes is
 /// at most twice the largest change elsewhere (spec check 7).
+/// The channel with the largest ratio is reported, so a failure shows the worst channel.
 fn assert_smooth_windows(frames: &[wscg_motion::synthesizer::Frame]) {
     let beta = DEFAULT_BETA;
+    // (ratio, channel, inside, outside) of the worst channel.
+    let mut worst = (0.0f64, 0, 0.0f64, 0.0f64);
     for ch in 0..N_CHANNELS {
         let d = max_abs_diffs(frames, ch);
         let (mut inside, mut outside) = (0.0f64, 0.0f64);
@@ -519,11 +522,19 @@ fn assert_smooth_windows(frames: &[wscg_motion::synthesizer::Frame]) {
                 outside = outside.max(*v);
             }
         }
-        assert!(
-            inside <= 2.0 * outside + 1e-12,
-            "channel {ch}: {inside} in the windows vs {outside} elsewhere"
-        );
+        let ratio = inside / outside.max(1e-300);
+        if ratio > worst.0 {
+            worst = (ratio, ch, inside, outside);
+        }
     }
+    let (ratio, ch, inside, outside) = worst;
+    println!(
+        "worst channel {ch}: {inside:.4} in the windows vs {outside:.4} elsewhere ({ratio:.2}x)"
+    );
+    assert!(
+        ratio <= 2.0 + 1e-12,
+        "channel {ch}: {inside} in the windows vs {outside} elsewhere"
+    );
 }
 
 #[test]
@@ -704,14 +715,18 @@ fn end_to_end_final_distance_and_goal_jump() {
 }
 
 /// Spec check 10, no discontinuity after a goal jump (> 2x the typical per-frame change).
-/// Measured: 0.0507 vs 0.0250 rad (2.03x) on channel 12 (left shoulder; 0.0513 vs 0.0250, 2.05x,
-/// with the library learned before the per-channel delay search, 2.16x before the
-/// orbit-subspace start). The jump arrives after
-/// the re-planning of the first boundary, so a second shortened step is inserted after the first;
-/// the paper's blending takes the large non-periodic arm weight of action 2 from −W0 (end of a
-/// shortened step) to +W0 (start of the next) within ±β, a transition no training trial has.
+/// Measured on the worst channel, 20 (left wrist, the reaching arm): 0.0802 vs 0.0306 rad,
+/// 2.62x. (Earlier notes gave 2.03x: that was channel 12, the first channel to fail, not the
+/// worst.) The same sequence from libraries learned on noise-free walkers gives 2.97x (20
+/// trials) and 2.59x (40 trials), so learning noise is not the cause; without the jump the
+/// noisy library's worst channel is 1.64x (D = 2.7). The jump arrives after the re-planning
+/// of the first boundary, so a second shortened step is inserted after the first, as in the
+/// paper's Fig. 10; at that 2 -> 2 boundary the paper's morphing rule
+/// `W(t) = sign(φ)[(α − 1) W_prev + α W_post]` takes the large non-periodic arm weight of
+/// action 2 from −W0 (end of a shortened step) to +W0 (start of the next) within ±β, a
+/// transition no training trial has.
 #[test]
-#[ignore = "goal-jump sequence: window change 2.03x the change elsewhere (see note on issue 18)"]
+#[ignore = "goal-jump sequence: window change 2.62x the change elsewhere on the left wrist (see note on issue 18)"]
 fn goal_jump_has_no_discontinuity() {
     let mut syn = learned_synth(wscg_motion::MapKind::Lut(1024));
     let (_, jump) = syn.run_goal_jump(2.7, 3.5, 0.4, 120.0, 60.0).unwrap();
