@@ -86,6 +86,8 @@ fn complete_video<'py>(
     causal_first_sweep: bool,
     refine_iters: usize,
     windows: Vec<usize>,
+    max_iterations: usize,
+    min_energy_drop: f64,
     temporal_radius: usize,
     propagate: bool,
     step: &str,
@@ -137,6 +139,8 @@ fn complete_video<'py>(
         }),
         local: LocalConfig {
             windows,
+            max_iterations,
+            min_energy_drop,
             temporal_radius,
             step,
             propagate,

@@ -98,6 +98,32 @@ def test_frames_round_trip(tmp_path, pan):
     np.testing.assert_array_equal(m, np.broadcast_to(mask[0] != 0, m.shape))
 
 
+def test_stage3_iterates_past_the_windows_until_the_energy_settles(pan):
+    # Stage 3 runs one iteration per listed window, then goes on at the last window until an
+    # iteration lowers the energy by less than min_energy_drop, or max_iterations.
+    _, observed, mask = pan
+    runs = {}
+    for cap, drop in [(4, 5e-3), (16, 5e-3), (16, 0.0), (40, 0.0)]:
+        _, stats = V.complete_video(observed, mask, lowres_width=48, levels=0,
+                                    max_iterations=cap, min_energy_drop=drop,
+                                    return_stats=True)
+        runs[cap, drop] = stats["local_energy"]
+    for (cap, drop), levels in runs.items():
+        for e in levels:
+            assert 4 <= len(e) <= cap
+            if drop == 0.0 and len(e) < cap:  # stopped early: the energy did not fall
+                assert e[-1] >= e[-2]
+            if drop > 0.0 and 4 < len(e) < cap:
+                assert e[-2] - e[-1] < drop * e[-2]
+                assert all(e[k - 1] - e[k] >= drop * e[k - 1] for k in range(4, len(e) - 1))
+    # The four listed windows alone are the start of every longer run.
+    short, longer = runs[4, 5e-3], runs[16, 5e-3]
+    for a, b in zip(short, longer):
+        np.testing.assert_allclose(b[:4], a, rtol=1e-12)
+        # Here the fifth iteration (window 5 again) still lowers the energy by over 20 %.
+        assert len(b) > 4 and b[-1] < 0.8 * a[-1]
+
+
 def test_bad_input(tmp_path, pan):
     _, observed, mask = pan
     with pytest.raises(ValueError, match="uint8"):
@@ -110,6 +136,10 @@ def test_bad_input(tmp_path, pan):
         V.complete_video(observed, mask, patch=(4, 5, 5))
     with pytest.raises(ValueError, match="valid search"):
         V.complete_video(observed, mask, search="kd")
+    with pytest.raises(ValueError, match="min_energy_drop"):
+        V.complete_video(observed, mask, min_energy_drop=float("nan"))
+    with pytest.raises(ValueError, match="max_iterations"):
+        V.complete_video(observed, mask, max_iterations=-1)
     with pytest.raises(OSError):
         V.read_frames(tmp_path / "missing")
     (tmp_path / "bad").mkdir()

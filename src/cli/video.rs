@@ -62,9 +62,12 @@ pub struct CompleteArgs {
     /// Stage 2 refinement iterations (0: none).
     #[arg(long, default_value_t = 4)]
     refine_iters: usize,
-    /// Stage 3 window widths (odd).
+    /// Stage 3 window widths (odd) of the first iterations; later ones keep the last.
     #[arg(long, num_args = 1.., default_values_t = [17, 13, 9, 5])]
     windows: Vec<usize>,
+    /// Stage 3 iterations at most (it stops earlier once the energy stops falling).
+    #[arg(long, default_value_t = 16)]
+    max_iterations: usize,
     /// Random-search seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -183,6 +186,7 @@ fn complete(a: CompleteArgs) -> Result<()> {
                 ..RefineConfig::default()
             });
             cfg.local.windows = a.windows.clone();
+            cfg.local.max_iterations = a.max_iterations;
             cfg.local.propagate = !a.no_propagate;
             let c = complete_video_with(&v, &m, &cfg, &Bars::new("video"))?;
             eprintln!(

@@ -88,6 +88,12 @@ pub fn check_input(video: &Video, hole: &Mask3, cfg: &CompletionConfig) -> Resul
             ),
         ));
     }
+    if !(cfg.local.min_energy_drop.is_finite() && cfg.local.min_energy_drop >= 0.0) {
+        return Err(Error::invalid(
+            "min_energy_drop",
+            format!("must be finite and >= 0, got {}", cfg.local.min_energy_drop),
+        ));
+    }
     if cfg.low.target_width == 0 || cfg.low.iters.is_empty() {
         return Err(Error::invalid(
             "low",
@@ -200,7 +206,7 @@ pub fn complete_in_place(
         };
         progress.begin(
             &format!("localized search at {} x {}", lv.width, lv.height),
-            cfg.local.windows.len() as u64,
+            cfg.local.iteration_cap() as u64,
         );
         let sources = valid_sources(&lm, patch);
         let targets = TargetSet::new(lm.dims(), lm.iter_points());
@@ -223,7 +229,7 @@ pub fn complete_in_place(
         } else {
             localized_search(lv, &lm, &sources, &mut field, patch, &cfg.local)?
         };
-        progress.advance(cfg.local.windows.len() as u64);
+        progress.advance(cfg.local.iteration_cap() as u64);
         progress.finish();
         stats.local.push(st);
         ml = field;
@@ -233,8 +239,8 @@ pub fn complete_in_place(
     Ok((ml, stats))
 }
 
-/// The global-search ablation of stage 3: as many exact sweeps over every valid source as
-/// stage 3 has windows.
+/// The global-search ablation of stage 3: exact sweeps over every valid source, with stage
+/// 3's iteration count and stopping rule.
 fn global_search(
     video: &mut Video,
     hole: &Mask3,
@@ -251,7 +257,8 @@ fn global_search(
         energy: Vec::new(),
         candidates: 0,
     };
-    for sweep in 0..cfg.local.windows.len() {
+    while !cfg.local.converged(&st.energy) {
+        let sweep = st.energy.len();
         sweep_once(video, sources, &searcher, field, &order, patch, sweep, None);
         st.candidates += (field.len() * sources.count()) as u64;
         st.energy

@@ -1,9 +1,15 @@
 //! Stage 3 of paper 06 (section 3.4, Figs. 8-9): localized search completion at the finer
 //! resolutions. Each hole pixel searches exactly, on uncompressed data, only a small window
 //! `S` around its current match (17, 13, 9 then 5 pixels wide, re-centred after each
-//! iteration): at most 289 + 169 + 81 + 25 = 564 candidates per pixel instead of every cube
-//! of the video, and no search structure, so the memory is the video plus one match per hole
-//! pixel.
+//! iteration) instead of every cube of the video, and no search structure, so the memory is
+//! the video plus one match per hole pixel.
+//!
+//! The paper's stage 3 iterates "similar to ... the low-resolution process", with the
+//! window "decreased after each iteration (13 x 13, 9 x 9, 5 x 5)". Its iterations therefore
+//! go on at the last window, and stop like stage 1's: once an iteration lowers the energy by
+//! less than a fraction (`min_energy_drop`), or after `max_iterations`. The default cap, 16,
+//! keeps the window candidates at 289 + 169 + 81 + 25 + 12 x 25 = 864 per pixel, within the
+//! paper's "less than a thousand patches are searched for each p_h".
 
 use rayon::prelude::*;
 use wscg_math::patchmatch::Match;
@@ -23,10 +29,16 @@ pub enum UpscaleStep {
 }
 
 /// Parameters of stage 3.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct LocalConfig {
-    /// Window widths of the successive iterations (17, 13, 9, 5: Fig. 9).
+    /// Window widths of the first iterations (17, 13, 9, 5: Fig. 9); later iterations keep
+    /// the last width.
     pub windows: Vec<usize>,
+    /// Iterations at most (at least `windows.len()` are run): 16.
+    pub max_iterations: usize,
+    /// After the listed windows, stop once an iteration lowers the energy by less than this
+    /// fraction (stage 1's rule; a rise stops too): 5e-3.
+    pub min_energy_drop: f64,
     /// Frames searched on each side of the match's frame (0: the match's frame only).
     pub temporal_radius: usize,
     /// Level schedule.
@@ -40,10 +52,39 @@ pub struct LocalConfig {
     pub propagate: bool,
 }
 
+impl LocalConfig {
+    /// Iterations at most: `max_iterations`, but at least one per listed window.
+    pub fn iteration_cap(&self) -> usize {
+        self.max_iterations.max(self.windows.len())
+    }
+
+    /// Window width of iteration `k` (0-based): the listed widths, then the last one.
+    pub fn window(&self, k: usize) -> usize {
+        self.windows[k.min(self.windows.len() - 1)]
+    }
+
+    /// Whether stage 3 stops after the iterations whose energies are `energy`: every listed
+    /// window has run and the last iteration lowered the energy by less than
+    /// `min_energy_drop` (or raised it), or the cap is reached.
+    pub fn converged(&self, energy: &[f64]) -> bool {
+        let k = energy.len();
+        if k >= self.iteration_cap() {
+            return true;
+        }
+        if k < self.windows.len().max(2) {
+            return false;
+        }
+        let (prev, last) = (energy[k - 2], energy[k - 1]);
+        prev - last < self.min_energy_drop * prev
+    }
+}
+
 impl Default for LocalConfig {
     fn default() -> Self {
         Self {
             windows: vec![17, 13, 9, 5],
+            max_iterations: 16,
+            min_energy_drop: 5e-3,
             temporal_radius: 0,
             step: UpscaleStep::Double,
             propagate: true,
@@ -84,8 +125,8 @@ pub fn localized_search(
         energy: Vec::new(),
         candidates: 0,
     };
-    for &win in &cfg.windows {
-        let r = (win / 2) as i64;
+    while !cfg.converged(&st.energy) {
+        let r = (cfg.window(st.energy.len()) / 2) as i64;
         let rt = cfg.temporal_radius as i64;
         for shell in &order {
             let new: Vec<(Match, u64)> = {
@@ -156,4 +197,41 @@ pub fn localized_search(
             .push(field.refresh(&Cubes::new(video, sources, patch)));
     }
     Ok(st)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn iterations_keep_the_last_window_and_stop_when_the_energy_settles() {
+        let cfg = LocalConfig::default();
+        let widths: Vec<usize> = (0..7).map(|k| cfg.window(k)).collect();
+        assert_eq!(widths, [17, 13, 9, 5, 5, 5, 5]);
+        // Every listed window runs, whatever the energies do.
+        assert!(!cfg.converged(&[]));
+        assert!(!cfg.converged(&[10.0, 10.0, 10.0]));
+        // Then a drop of 1 % goes on, 0.4 % or a rise stops.
+        assert!(!cfg.converged(&[10.0, 9.0, 8.0, 7.0]));
+        assert!(cfg.converged(&[10.0, 9.0, 8.0, 7.98]));
+        assert!(!cfg.converged(&[10.0, 9.0, 8.0, 7.0, 6.93]));
+        assert!(cfg.converged(&[10.0, 9.0, 8.0, 7.0, 7.01]));
+        // The cap, at least one iteration per window.
+        let halving: Vec<f64> = (0..16).map(|k| 0.5f64.powi(k)).collect();
+        assert!(!cfg.converged(&halving[..15]));
+        assert!(cfg.converged(&halving));
+        let short = LocalConfig {
+            max_iterations: 2,
+            ..LocalConfig::default()
+        };
+        assert_eq!(short.iteration_cap(), 4);
+        let one = LocalConfig {
+            windows: vec![9],
+            max_iterations: 3,
+            ..LocalConfig::default()
+        };
+        assert!(!one.converged(&[4.0]));
+        assert!(!one.converged(&[4.0, 2.0]));
+        assert!(one.converged(&[4.0, 2.0, 1.0]));
+    }
 }

@@ -62,7 +62,8 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
                    init: str = "harmonic2d", search: str = "patchmatch",
                    patchmatch_iters: int = 5, seed: int = 0, onion_order: bool = True,
                    causal_first_sweep: bool = True, refine_iters: int = 4,
-                   windows: Sequence[int] = (17, 13, 9, 5), temporal_radius: int = 0,
+                   windows: Sequence[int] = (17, 13, 9, 5), max_iterations: int = 16,
+                   min_energy_drop: float = 5e-3, temporal_radius: int = 0,
                    propagate: bool = True,
                    step: str = "double", global_fine_search: bool = False,
                    return_matches: bool = False, return_stats: bool = False):
@@ -101,7 +102,14 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
     refine_iters : int
         Stage 2 iterations (0: no refinement).
     windows : sequence of odd int
-        Stage 3 search windows (pixels), one iteration each.
+        Stage 3 search windows (pixels) of the first iterations, one each; later iterations
+        keep the last width.
+    max_iterations : int
+        Stage 3 iterations at most (at least one per window). 16 keeps the default windows'
+        candidates under the paper's thousand per pixel.
+    min_energy_drop : float
+        After the listed windows, stage 3 stops once an iteration lowers the energy by less
+        than this fraction (stage 1's rule).
     temporal_radius : int
         Frames searched on each side of a match's frame in stage 3.
     propagate : bool
@@ -127,13 +135,16 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
     squared RGB difference of their patch to their source's (the specification's additive
     form of the paper's eq. 1).
     """
+    if int(max_iterations) < 0:
+        raise ValueError(f"`max_iterations` must be >= 0, got {max_iterations}")
     f = _frames(frames)
     m = _mask(mask, f)
     out, matches, stats = _v.complete_video(
         f, m, _patch(patch), int(lowres_width), None if levels is None else int(levels),
         [int(i) for i in iters], str(init), str(search), int(patchmatch_iters), int(seed),
         bool(onion_order), bool(causal_first_sweep), int(refine_iters),
-        [int(w) for w in windows], int(temporal_radius), bool(propagate), str(step),
+        [int(w) for w in windows], int(max_iterations), float(min_energy_drop),
+        int(temporal_radius), bool(propagate), str(step),
         bool(global_fine_search),
         bool(return_matches))
     out = out.reshape(f.shape)

@@ -13,6 +13,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    search: str = "patchmatch", patchmatch_iters: int = 5, seed: int = 0,
                    onion_order: bool = True, causal_first_sweep: bool = True,
                    refine_iters: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
+                   max_iterations: int = 16, min_energy_drop: float = 5e-3,
                    temporal_radius: int = 0, propagate: bool = True, step: str = "double",
                    global_fine_search: bool = False, return_matches: bool = False,
                    return_stats: bool = False) -> Any: ...
