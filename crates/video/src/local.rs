@@ -7,7 +7,7 @@
 //! The paper's stage 3 iterates "similar to ... the low-resolution process", with the
 //! window "decreased after each iteration (13 x 13, 9 x 9, 5 x 5)". Its iterations therefore
 //! go on at the last window, and stop like stage 1's: once an iteration lowers the energy by
-//! less than a fraction (`min_energy_drop`), or after `max_iterations`. The default cap, 16,
+//! no more than a fraction (`min_energy_drop`), or after `max_iterations`. The default cap, 16,
 //! keeps the window candidates at 289 + 169 + 81 + 25 + 12 x 25 = 864 per pixel, within the
 //! paper's "less than a thousand patches are searched for each p_h".
 
@@ -36,8 +36,8 @@ pub struct LocalConfig {
     pub windows: Vec<usize>,
     /// Iterations at most (at least `windows.len()` are run): 16.
     pub max_iterations: usize,
-    /// After the listed windows, stop once an iteration lowers the energy by less than this
-    /// fraction (stage 1's rule; a rise stops too): 5e-3.
+    /// After the listed windows, stop once an iteration lowers the energy by no more than
+    /// this fraction (stage 1's rule; a plateau or a rise stops too): 5e-3.
     pub min_energy_drop: f64,
     /// Frames searched on each side of the match's frame (0: the match's frame only).
     pub temporal_radius: usize,
@@ -64,8 +64,8 @@ impl LocalConfig {
     }
 
     /// Whether stage 3 stops after the iterations whose energies are `energy`: every listed
-    /// window has run and the last iteration lowered the energy by less than
-    /// `min_energy_drop` (or raised it), or the cap is reached.
+    /// window has run and the last iteration lowered the energy by no more than
+    /// `min_energy_drop` (or left it unchanged or raised it), or the cap is reached.
     pub fn converged(&self, energy: &[f64]) -> bool {
         let k = energy.len();
         if k >= self.iteration_cap() {
@@ -75,7 +75,8 @@ impl LocalConfig {
             return false;
         }
         let (prev, last) = (energy[k - 2], energy[k - 1]);
-        prev - last < self.min_energy_drop * prev
+        // `<=`: a plateau stops too, including an exact completion at energy 0.
+        prev - last <= self.min_energy_drop * prev
     }
 }
 
@@ -216,6 +217,14 @@ mod tests {
         assert!(cfg.converged(&[10.0, 9.0, 8.0, 7.98]));
         assert!(!cfg.converged(&[10.0, 9.0, 8.0, 7.0, 6.93]));
         assert!(cfg.converged(&[10.0, 9.0, 8.0, 7.0, 7.01]));
+        // An exact completion stops once the listed windows have run.
+        assert!(cfg.converged(&[1.0, 0.0, 0.0, 0.0]));
+        let no_drop = LocalConfig {
+            min_energy_drop: 0.0,
+            ..LocalConfig::default()
+        };
+        assert!(no_drop.converged(&[3.0, 2.0, 1.0, 1.0]));
+        assert!(!no_drop.converged(&[3.0, 2.0, 1.0, 0.999]));
         // The cap, at least one iteration per window.
         let halving: Vec<f64> = (0..16).map(|k| 0.5f64.powi(k)).collect();
         assert!(!cfg.converged(&halving[..15]));

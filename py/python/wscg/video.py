@@ -108,8 +108,9 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         Stage 3 iterations at most (at least one per window). 16 keeps the default windows'
         candidates under the paper's thousand per pixel.
     min_energy_drop : float
-        After the listed windows, stage 3 stops once an iteration lowers the energy by less
-        than this fraction (stage 1's rule).
+        After the listed windows, stage 3 stops once an iteration lowers the energy by no
+        more than this fraction (stage 1's rule; a plateau, e.g. an exact completion, stops
+        too).
     temporal_radius : int
         Frames searched on each side of a match's frame in stage 3.
     propagate : bool
