@@ -166,6 +166,13 @@ pub fn upscale_matches(
         .collect()
 }
 
+/// The stopping rule of stages 1 and 3: an iteration that took the energy from `prev` to
+/// `last` lowered it by no more than the fraction `min_drop` (a plateau, including an exact
+/// completion at energy 0, or a rise).
+pub fn energy_settled(prev: f64, last: f64, min_drop: f64) -> bool {
+    prev - last <= min_drop * prev
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -14,7 +14,7 @@
 use rayon::prelude::*;
 use wscg_math::patchmatch::Match;
 
-use crate::field::MatchField;
+use crate::field::{energy_settled, MatchField};
 use crate::onion::onion_order;
 use crate::patch::{Cubes, PatchSize};
 use crate::video::{Mask3, Video};
@@ -74,9 +74,7 @@ impl LocalConfig {
         if k < self.windows.len().max(2) {
             return false;
         }
-        let (prev, last) = (energy[k - 2], energy[k - 1]);
-        // `<=`: a plateau stops too, including an exact completion at energy 0.
-        prev - last <= self.min_energy_drop * prev
+        energy_settled(energy[k - 2], energy[k - 1], self.min_energy_drop)
     }
 }
 

@@ -8,7 +8,7 @@
 use wscg_math::patchmatch::{patchmatch, Match, PatchMatchParams, TargetSet};
 use wscg_math::{Error, Result};
 
-use crate::field::{upscale_matches, MatchField};
+use crate::field::{energy_settled, upscale_matches, MatchField};
 use crate::init::{initialize, InitMethod};
 use crate::onion::{onion_order, scanline_order};
 use crate::patch::{valid_sources, Cubes, PatchSize};
@@ -44,7 +44,7 @@ pub struct LowResConfig {
     pub causal_first_sweep: bool,
     /// A level stops early when fewer than this fraction of matches change in a sweep...
     pub min_changed: f64,
-    /// ...or the energy drops by less than this fraction.
+    /// ...or the energy drops by no more than this fraction ([`crate::field::energy_settled`]).
     pub min_energy_drop: f64,
 }
 
@@ -234,7 +234,7 @@ fn complete_level(
         st.energy.push(e);
         st.changed.push(changed);
         let few = (changed as f64) < cfg.min_changed * field.len() as f64;
-        let flat = last.is_some_and(|l| l - e < cfg.min_energy_drop * l);
+        let flat = last.is_some_and(|l| energy_settled(l, e, cfg.min_energy_drop));
         if few || flat {
             break;
         }

@@ -164,6 +164,20 @@ fn localized_vs_global(clip: &Clip, half_width: usize) -> ([f64; 3], u64, u64) {
             ..cfg.clone()
         },
     );
+    // All three stop where stage 3's rule first fires: localized and global search are
+    // compared after iterating alike.
+    for (name, c) in [
+        ("localized", &local),
+        ("windows only", &windows_only),
+        ("global", &global),
+    ] {
+        let e = &c.stats.local[0].energy;
+        println!("{name}: {} iterations", e.len());
+        assert!(
+            cfg.local.converged(e) && !cfg.local.converged(&e[..e.len() - 1]),
+            "{name}: energies {e:?}"
+        );
+    }
     (
         [
             local.matches.energy(),
