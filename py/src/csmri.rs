@@ -2,7 +2,8 @@
 //! and metrics, as `wscg._native.csmri`.
 
 use num_complex::Complex64;
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::ndarray::IxDyn;
+use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_cs_mri::baselines::{self, CompositeParams};
@@ -10,7 +11,7 @@ use wscg_cs_mri::sflct::{Redundancy, Sflct, SflctConfig};
 use wscg_cs_mri::sparsifier::PriorConfig;
 use wscg_cs_mri::{
     csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, Fdct, FdctConfig, Finest, IterStat,
-    KSpace, Recon, Regularizer, Udct, UdctCoeffs, UdctConfig,
+    KSpace, Recon, Regularizer, Udct, UdctConfig,
 };
 use wscg_math::progress::NoProgress;
 
@@ -87,12 +88,24 @@ impl PyUdct {
     ) -> PyResult<(Arr<'py, f64>, Vec<Arr<'py, Complex64>>)> {
         planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
-        let co = py.detach(|| self.inner.forward(&v)).py_err()?;
-        let lp = array(py, &self.inner.lowpass_shape(), co.lowpass)?;
-        let mut bands = Vec::new();
-        for b in 0..self.inner.bands().len() {
-            let (shape, _, range) = self.inner.band_layout(b).expect("band exists");
-            bands.push(array(py, &shape, co.bands[range].to_vec())?);
+        // The transform writes straight into the numpy arrays it returns.
+        let lp = PyArrayDyn::<f64>::zeros(py, IxDyn(&self.inner.lowpass_shape()), false);
+        let bands: Vec<Arr<'py, Complex64>> = (0..self.inner.bands().len())
+            .map(|b| {
+                let (shape, _, _) = self.inner.band_layout(b).expect("band exists");
+                PyArrayDyn::<Complex64>::zeros(py, IxDyn(&shape), false)
+            })
+            .collect();
+        {
+            let mut lp_rw = lp.readwrite();
+            let mut band_rw: Vec<_> = bands.iter().map(|a| a.readwrite()).collect();
+            let low = lp_rw.as_slice_mut()?;
+            let outs = band_rw
+                .iter_mut()
+                .map(|a| a.as_slice_mut())
+                .collect::<Result<Vec<_>, _>>()?;
+            py.detach(|| self.inner.forward_parts(&v, low, outs))
+                .py_err()?;
         }
         Ok((lp, bands))
     }
@@ -103,7 +116,6 @@ impl PyUdct {
         lowpass: PyReadonlyArrayDyn<f64>,
         bands: Vec<PyReadonlyArrayDyn<Complex64>>,
     ) -> PyResult<Arr<'py, f64>> {
-        let mut co: UdctCoeffs = self.inner.zeros();
         if lowpass.shape() != self.inner.lowpass_shape() {
             return Err(value_error(format!(
                 "`lowpass` has shape {:?}, expected {:?}",
@@ -111,7 +123,6 @@ impl PyUdct {
                 self.inner.lowpass_shape()
             )));
         }
-        co.lowpass.copy_from_slice(&values(&lowpass));
         if bands.len() != self.inner.bands().len() {
             return Err(value_error(format!(
                 "{} bands given, the transform has {}",
@@ -120,16 +131,20 @@ impl PyUdct {
             )));
         }
         for (b, arr) in bands.iter().enumerate() {
-            let (shape, _, range) = self.inner.band_layout(b).expect("band exists");
+            let (shape, _, _) = self.inner.band_layout(b).expect("band exists");
             if arr.shape() != shape {
                 return Err(value_error(format!(
                     "band {b} has shape {:?}, expected {shape:?}",
                     arr.shape()
                 )));
             }
-            co.bands[range].copy_from_slice(&values(arr));
         }
-        let out = py.detach(|| self.inner.backward(&co)).py_err()?;
+        let low = values(&lowpass);
+        let parts: Vec<_> = bands.iter().map(values).collect();
+        let slices: Vec<&[Complex64]> = parts.iter().map(|p| p.as_ref()).collect();
+        let out = py
+            .detach(|| self.inner.backward_parts(&low, &slices))
+            .py_err()?;
         let (r, c) = self.inner.shape();
         array(py, &[r, c], out)
     }
