@@ -5,7 +5,7 @@ use num_complex::Complex64;
 use numpy::ndarray::IxDyn;
 use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PySlice};
 use wscg_cs_mri::baselines::{self, CompositeParams};
 use wscg_cs_mri::sflct::{Redundancy, Sflct, SflctConfig};
 use wscg_cs_mri::sparsifier::PriorConfig;
@@ -88,25 +88,45 @@ impl PyUdct {
     ) -> PyResult<(Arr<'py, f64>, Vec<Arr<'py, Complex64>>)> {
         planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
-        // The transform writes straight into the numpy arrays it returns.
+        // The transform writes straight into the numpy arrays it returns: the low-pass and
+        // one flat array of every band, which the band arrays are views of. One large
+        // allocation instead of one per band: numpy backs it with huge pages where it can,
+        // and at 512^2 the twelve separate 512 KiB bands cost 3.5 ms in page faults alone.
         let lp = PyArrayDyn::<f64>::zeros(py, IxDyn(&self.inner.lowpass_shape()), false);
-        let bands: Vec<Arr<'py, Complex64>> = (0..self.inner.bands().len())
-            .map(|b| {
-                let (shape, _, _) = self.inner.band_layout(b).expect("band exists");
-                PyArrayDyn::<Complex64>::zeros(py, IxDyn(&shape), false)
-            })
+        let n_bands = self.inner.bands().len();
+        let layout: Vec<_> = (0..n_bands)
+            .map(|b| self.inner.band_layout(b).expect("band exists"))
             .collect();
+        let total = layout.last().map_or(0, |l| l.2.end);
+        let flat = PyArrayDyn::<Complex64>::zeros(py, IxDyn(&[total]), false);
         {
             let mut lp_rw = lp.readwrite();
-            let mut band_rw: Vec<_> = bands.iter().map(|a| a.readwrite()).collect();
+            let mut flat_rw = flat.readwrite();
             let low = lp_rw.as_slice_mut()?;
-            let outs = band_rw
-                .iter_mut()
-                .map(|a| a.as_slice_mut())
-                .collect::<Result<Vec<_>, _>>()?;
+            let mut rest = flat_rw.as_slice_mut()?;
+            let mut outs = Vec::with_capacity(n_bands);
+            for (_, _, range) in &layout {
+                let (head, tail) = rest.split_at_mut(range.len());
+                outs.push(head);
+                rest = tail;
+            }
             py.detach(|| self.inner.forward_parts(&v, low, outs))
                 .py_err()?;
         }
+        let bands = layout
+            .iter()
+            .map(|(shape, _, range)| {
+                let part = flat.get_item(PySlice::new(
+                    py,
+                    range.start as isize,
+                    range.end as isize,
+                    1,
+                ))?;
+                part.call_method1("reshape", (shape.to_vec(),))?
+                    .cast_into::<PyArrayDyn<Complex64>>()
+                    .map_err(PyErr::from)
+            })
+            .collect::<PyResult<Vec<_>>>()?;
         Ok((lp, bands))
     }
 

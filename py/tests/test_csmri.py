@@ -290,6 +290,8 @@ def test_udct_blocks_round_trip_from_any_memory_layout(rng):
     x = rng.standard_normal((64, 64))
     lp, bands = u.forward(x)
     assert lp.flags.c_contiguous and all(b.flags.c_contiguous for b in bands)
+    # The bands are views of one buffer: disjoint ones.
+    assert not any(np.shares_memory(a, b) for i, a in enumerate(bands) for b in bands[i + 1:])
     lp2, bands2 = u.forward(np.asfortranarray(x))
     assert np.array_equal(lp, lp2)
     assert all(np.array_equal(a, b) for a, b in zip(bands, bands2))
