@@ -149,7 +149,7 @@ type HdrResult<'py> = (Vec<Arr<'py, f32>>, Option<Bound<'py, PyDict>>, Vec<usize
 
 #[pyfunction]
 #[pyo3(signature = (views, times, crfs, bits, patch, iters, d_min, d_max, coherence, epipolar,
-                    align, synthesis, ordered, weighted_cost, seed, details))]
+                    align, synthesis, ordered, weighted_cost, fill_saturated, seed, details))]
 #[allow(clippy::too_many_arguments)]
 fn multiscopic_hdr<'py>(
     py: Python<'py>,
@@ -167,6 +167,7 @@ fn multiscopic_hdr<'py>(
     synthesis: &str,
     ordered: bool,
     weighted_cost: bool,
+    fill_saturated: bool,
     seed: u64,
     details: bool,
 ) -> PyResult<HdrResult<'py>> {
@@ -205,6 +206,7 @@ fn multiscopic_hdr<'py>(
         align: Align::by_name(align).py_err()?,
         synthesis,
         ordered,
+        fill_saturated,
         ..MultiscopicParams::default()
     };
     let out = py

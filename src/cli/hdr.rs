@@ -75,6 +75,10 @@ pub struct MultiscopicArgs {
     /// Views are ordered left to right: search one disparity sign per pair.
     #[arg(long)]
     ordered: bool,
+    /// Fill the offsets of pixels clipped in the reference from their row and vote radiance
+    /// by weight (not in the paper, which leaves saturated reference areas unsolved).
+    #[arg(long)]
+    fill_saturated: bool,
     /// Drop the coherence term of the matching cost.
     #[arg(long)]
     no_coherence: bool,
@@ -345,6 +349,7 @@ fn multiscopic(a: MultiscopicArgs) -> Result<()> {
         align: Align::by_name(&a.align)?,
         synthesis,
         ordered: a.ordered,
+        fill_saturated: a.fill_saturated,
         ..MultiscopicParams::default()
     };
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;

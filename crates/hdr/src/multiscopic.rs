@@ -70,6 +70,13 @@ pub struct MultiscopicParams {
     pub ordered: bool,
     /// Window of the ZNCC baseline.
     pub zncc_window: usize,
+    /// Fill the offsets of pixels clipped high in the reference from the nearest unclipped
+    /// pixel of their row, and vote radiance weighted by the Khan weights (an extension,
+    /// off by default). The paper leaves saturated reference areas unsolved: a clipped patch
+    /// carries no data, so the matcher's offsets there are arbitrary (on the five-view
+    /// scene under 1 % of them lie within a pixel of the truth). See [`fill_saturated_rows`]
+    /// and [`ViewSamples::stacked_weighted`].
+    pub fill_saturated: bool,
 }
 
 impl Default for MultiscopicParams {
@@ -80,6 +87,7 @@ impl Default for MultiscopicParams {
             synthesis: Synthesis::Bds,
             ordered: false,
             zncc_window: 9,
+            fill_saturated: false,
         }
     }
 }
@@ -109,6 +117,51 @@ pub fn pair_params(p: &MultiscopicParams, r: usize, s: usize) -> PmParams {
         (pm.d_min, pm.d_max) = if s > r { (-m, 0) } else { (0, m) };
     }
     pm
+}
+
+/// Gives every pixel clipped high in the reference (some channel at level 1) the offset of
+/// the nearest pixel of its row that is not clipped, the left one on a tie; rows clipped
+/// from end to end keep their offsets. The offset is clamped so that the source column stays
+/// inside the image. Fronto-parallel surfaces keep their disparity across a saturated blob,
+/// which a clipped patch cannot show: it is flat at the clipping radiance and matches any
+/// source patch of that radiance. (With the true fields, the pixels clipped in view 4 of the
+/// five-view test scene reach RMSE log2 0.07; with the matched fields, 1.11.)
+pub fn fill_saturated_rows(f: &mut Nnf, level: &Image<f32>) {
+    let (h, w, c) = level.shape();
+    let lv = level.data();
+    let clipped = |i: usize| lv[i * c..(i + 1) * c].iter().any(|&l| l >= 1.0);
+    for row in f.off.chunks_exact_mut(w).take(h).enumerate() {
+        let (y, off) = row;
+        let mut x = 0;
+        while x < w {
+            if !clipped(y * w + x) {
+                x += 1;
+                continue;
+            }
+            let a = x;
+            while x < w && clipped(y * w + x) {
+                x += 1;
+            }
+            let left = a.checked_sub(1).map(|l| (l, off[l]));
+            let right = (x < w).then(|| (x, off[x]));
+            for (k, o) in off.iter_mut().enumerate().take(x).skip(a) {
+                let from = match (left, right) {
+                    (Some(l), Some(r)) => {
+                        if k - l.0 <= r.0 - k {
+                            l.1
+                        } else {
+                            r.1
+                        }
+                    }
+                    (Some(l), None) => l.1,
+                    (None, Some(r)) => r.1,
+                    (None, None) => break,
+                };
+                let col = k as i32;
+                *o = [(col + from[0]).clamp(0, w as i32 - 1) - col, from[1]];
+            }
+        }
+    }
 }
 
 /// Checks the views of a multiscopic set: at least two, one shape, one exposure time each
@@ -160,8 +213,17 @@ fn match_pair(e: &[ViewSamples], r: usize, s: usize, p: &MultiscopicParams) -> R
     let pm = pair_params(p, r, s);
     let (a, b) = (&e[r].radiance, &e[s].radiance);
     match p.align {
-        Align::Ours => patchmatch_weighted(a, b, &e[r].weight, &e[s].weight, &pm),
-        Align::PatchMatch2d => patchmatch(a, b, &PmParams::barnes(pm.patch, pm.iters, pm.seed)),
+        Align::Ours | Align::PatchMatch2d => {
+            let mut f = if p.align == Align::Ours {
+                patchmatch_weighted(a, b, &e[r].weight, &e[s].weight, &pm)?
+            } else {
+                patchmatch(a, b, &PmParams::barnes(pm.patch, pm.iters, pm.seed))?
+            };
+            if p.fill_saturated {
+                fill_saturated_rows(&mut f, &e[r].level);
+            }
+            Ok(f)
+        }
         Align::Zncc => zncc_stereo(
             a,
             b,
@@ -222,7 +284,16 @@ pub fn multiscopic_hdr(
         debug_assert_eq!(nnfs[k].0, (r, s));
         &nnfs[k].1
     };
-    let stacked: Vec<Image<f32>> = e.iter().map(ViewSamples::stacked).collect();
+    let stacked: Vec<Image<f32>> = e
+        .iter()
+        .map(|v| {
+            if p.fill_saturated {
+                v.stacked_weighted()
+            } else {
+                v.stacked()
+            }
+        })
+        .collect();
     progress.begin("synthesis and merge", n as u64);
     let merged = (0..n)
         .into_par_iter()
@@ -239,7 +310,11 @@ pub fn multiscopic_hdr(
                             vote_bds(&stacked[s], field(r, s), field(s, r), p.pm.patch)?
                         }
                     };
-                    ViewSamples::from_stacked(&t)
+                    if p.fill_saturated {
+                        ViewSamples::from_stacked_weighted(&t)
+                    } else {
+                        ViewSamples::from_stacked(&t)
+                    }
                 })
                 .collect::<Result<_>>()?;
             let mut inputs = vec![MergeInput {
@@ -266,4 +341,42 @@ pub fn multiscopic_hdr(
         nnfs,
         fallback_pixels,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn saturated_runs_take_the_nearest_unclipped_offset_of_their_row() {
+        let (h, w) = (3, 8);
+        // Row 0: clipped at x = 2, 3, 4 (the green channel only at x = 3) and at x = 7;
+        // row 1: clipped end to end; row 2: nothing clipped.
+        let mut level = vec![0.5f32; h * w * 2];
+        for x in [2, 4, 7] {
+            level[x * 2] = 1.0;
+        }
+        level[3 * 2 + 1] = 1.0;
+        for x in 0..w {
+            level[(w + x) * 2] = 1.0;
+        }
+        let level = Image::new(h, w, 2, level).unwrap();
+        let mut off: Vec<[i32; 2]> = (0..h * w).map(|i| [i as i32 % 5 - 2, 0]).collect();
+        off[6] = [3, 0];
+        let mut f = Nnf::new(h, w, off.clone(), vec![0.0; h * w]).unwrap();
+        let (left, right) = (off[1], off[5]);
+        fill_saturated_rows(&mut f, &level);
+        assert_eq!(f.off[2], left);
+        assert_eq!(f.off[3], left, "a tie goes to the left");
+        assert_eq!(f.off[4], right);
+        // x = 7 takes x = 6's offset 3, clamped so that the source column stays inside.
+        assert_eq!(f.off[7], [0, 0]);
+        assert_eq!(&f.off[..2], &off[..2]);
+        assert_eq!(&f.off[5..7], &off[5..7]);
+        assert_eq!(
+            &f.off[w..],
+            &off[w..],
+            "whole clipped rows and clean rows are kept"
+        );
+    }
 }

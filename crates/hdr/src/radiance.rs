@@ -49,6 +49,11 @@ pub struct ViewSamples {
     pub level: Image<f32>,
 }
 
+/// Weight added to every sample's weight by [`ViewSamples::stacked_weighted`]: small against
+/// the Khan weight of any unclipped code, large enough to define pixels voted only from
+/// clipped samples.
+pub const WEIGHT_FLOOR: f32 = 1e-4;
+
 impl ViewSamples {
     /// The three images as one image of `3 C` channels (radiance, weight, level), the form
     /// patch voting carries them in.
@@ -62,6 +67,31 @@ impl ViewSamples {
             out.extend_from_slice(&self.level.data()[s]);
         }
         Image::new(h, w, 3 * c, out).expect("shape of a stacked view")
+    }
+
+    /// [`ViewSamples::stacked`] with the radiance multiplied by `w + WEIGHT_FLOOR`, so that
+    /// averaging (patch voting) gives the weighted mean radiance once
+    /// [`ViewSamples::from_stacked_weighted`] divides by the averaged `w + WEIGHT_FLOOR`:
+    /// clipped samples (weight 0) then barely enter a synthesised pixel that also receives
+    /// valid ones, and a pixel receiving only clipped samples keeps their plain mean.
+    pub fn stacked_weighted(&self) -> Image<f32> {
+        let mut st = self.stacked();
+        let c = self.radiance.shape().2;
+        for px in st.data_mut().chunks_exact_mut(3 * c) {
+            for k in 0..c {
+                px[k] *= px[c + k] + WEIGHT_FLOOR;
+            }
+        }
+        st
+    }
+
+    /// The inverse of [`ViewSamples::stacked_weighted`] (after voting or not).
+    pub fn from_stacked_weighted(s: &Image<f32>) -> Result<Self> {
+        let mut v = Self::from_stacked(s)?;
+        for (e, &w) in v.radiance.data_mut().iter_mut().zip(v.weight.data()) {
+            *e /= w + WEIGHT_FLOOR;
+        }
+        Ok(v)
     }
 
     /// The inverse of [`ViewSamples::stacked`].
@@ -168,4 +198,55 @@ pub fn to_samples_float(levels: &Image<f32>, crf: &Crf, dt: f64) -> Result<ViewS
         weight: Image::new(h, w, c, wt)?,
         level: levels.clone(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Averaging weighted stacks (what patch voting does) gives the weighted mean radiance:
+    /// a clipped sample (weight 0) next to a valid one barely counts, two clipped ones give
+    /// their plain mean, and a stack that is not averaged comes back unchanged.
+    #[test]
+    fn weighted_stacks_average_to_the_weighted_mean_radiance() {
+        let img = |v: [f32; 2]| Image::new(1, 2, 1, v.to_vec()).unwrap();
+        let s = ViewSamples {
+            radiance: img([5.0, 1.0]),
+            weight: img([0.0, 0.5]),
+            level: img([1.0, 0.4]),
+        };
+        let st = s.stacked_weighted();
+        let back = ViewSamples::from_stacked_weighted(&st).unwrap();
+        for (a, b) in back.radiance.data().iter().zip(s.radiance.data()) {
+            assert!((a - b).abs() < 1e-6 * b, "{a} vs {b}");
+        }
+        let mean = |k: usize| (st.data()[k] + st.data()[3 + k]) / 2.0;
+        let voted = Image::new(1, 1, 3, (0..3).map(mean).collect()).unwrap();
+        let e = ViewSamples::from_stacked_weighted(&voted)
+            .unwrap()
+            .radiance
+            .data()[0];
+        let want = (5.0 * WEIGHT_FLOOR + 1.0 * (0.5 + WEIGHT_FLOOR)) / (0.5 + 2.0 * WEIGHT_FLOOR);
+        assert!((e - want).abs() < 1e-6 && (e - 1.0).abs() < 1e-3, "{e}");
+        let clipped = ViewSamples {
+            radiance: img([5.0, 3.0]),
+            weight: img([0.0, 0.0]),
+            level: img([1.0, 1.0]),
+        };
+        let st = clipped.stacked_weighted();
+        let voted = Image::new(
+            1,
+            1,
+            3,
+            (0..3)
+                .map(|k| (st.data()[k] + st.data()[3 + k]) / 2.0)
+                .collect(),
+        )
+        .unwrap();
+        let e = ViewSamples::from_stacked_weighted(&voted)
+            .unwrap()
+            .radiance
+            .data()[0];
+        assert!((e - 4.0).abs() < 1e-5, "{e}");
+    }
 }

@@ -18,7 +18,7 @@ def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float]
                     max_disparity: int = ..., min_disparity: Optional[int] = ...,
                     coherence: bool = ..., epipolar: bool = ..., align: str = ...,
                     synthesis: str = ..., ordered: bool = ..., weighted_cost: bool = ...,
-                    bits: Optional[int] = ..., seed: int = ...,
+                    fill_saturated: bool = ..., bits: Optional[int] = ..., seed: int = ...,
                     return_details: Literal[False] = ...) -> List[np.ndarray]: ...
 @overload
 def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float],
@@ -26,7 +26,7 @@ def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float]
                     max_disparity: int = ..., min_disparity: Optional[int] = ...,
                     coherence: bool = ..., epipolar: bool = ..., align: str = ...,
                     synthesis: str = ..., ordered: bool = ..., weighted_cost: bool = ...,
-                    bits: Optional[int] = ..., seed: int = ...,
+                    fill_saturated: bool = ..., bits: Optional[int] = ..., seed: int = ...,
                     return_details: Literal[True]
                     ) -> Tuple[List[np.ndarray], _Fields, List[int]]: ...
 def patchmatch(a: np.ndarray, b: np.ndarray, *, patch: int = ..., iterations: int = ...,
