@@ -130,8 +130,7 @@ pub fn fill_saturated_rows(f: &mut Nnf, level: &Image<f32>) {
     let (h, w, c) = level.shape();
     let lv = level.data();
     let clipped = |i: usize| lv[i * c..(i + 1) * c].iter().any(|&l| l >= 1.0);
-    for row in f.off.chunks_exact_mut(w).take(h).enumerate() {
-        let (y, off) = row;
+    for (y, off) in f.off.chunks_exact_mut(w).take(h).enumerate() {
         let mut x = 0;
         while x < w {
             if !clipped(y * w + x) {
@@ -212,18 +211,9 @@ fn ordered_pairs(n: usize) -> Vec<(usize, usize)> {
 fn match_pair(e: &[ViewSamples], r: usize, s: usize, p: &MultiscopicParams) -> Result<Nnf> {
     let pm = pair_params(p, r, s);
     let (a, b) = (&e[r].radiance, &e[s].radiance);
-    match p.align {
-        Align::Ours | Align::PatchMatch2d => {
-            let mut f = if p.align == Align::Ours {
-                patchmatch_weighted(a, b, &e[r].weight, &e[s].weight, &pm)?
-            } else {
-                patchmatch(a, b, &PmParams::barnes(pm.patch, pm.iters, pm.seed))?
-            };
-            if p.fill_saturated {
-                fill_saturated_rows(&mut f, &e[r].level);
-            }
-            Ok(f)
-        }
+    let mut f = match p.align {
+        Align::Ours => patchmatch_weighted(a, b, &e[r].weight, &e[s].weight, &pm),
+        Align::PatchMatch2d => patchmatch(a, b, &PmParams::barnes(pm.patch, pm.iters, pm.seed)),
         Align::Zncc => zncc_stereo(
             a,
             b,
@@ -235,7 +225,11 @@ fn match_pair(e: &[ViewSamples], r: usize, s: usize, p: &MultiscopicParams) -> R
             },
         ),
         Align::None => unreachable!("no fields without alignment"),
+    }?;
+    if p.fill_saturated {
+        fill_saturated_rows(&mut f, &e[r].level);
     }
+    Ok(f)
 }
 
 /// Multiscopic HDR (paper section 3): views of a rectified horizontal camera array, each

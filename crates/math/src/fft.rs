@@ -344,9 +344,18 @@ impl<T: FftNum> RealPlan2<T> {
         (self.rows, self.cols)
     }
 
-    /// Non-negative column frequencies kept per row: `cols / 2 + 1`.
-    fn half(&self) -> usize {
-        self.cols / 2 + 1
+    /// Checks that both arrays of a transform hold `rows * cols` values (an internal
+    /// invariant: panics otherwise), sizes `work` for the half spectrum and returns
+    /// `(rows, cols, cols / 2 + 1)`.
+    fn prepare(&self, a: usize, b: usize, work: &mut Vec<Complex<T>>) -> (usize, usize, usize) {
+        let (rows, cols) = (self.rows, self.cols);
+        assert!(
+            a == rows * cols && b == rows * cols,
+            "RealPlan2 data length"
+        );
+        let h = cols / 2 + 1;
+        work.resize(rows * h, Complex::new(T::zero(), T::zero()));
+        (rows, cols, h)
     }
 
     /// The full unnormalised spectrum of the real array `x` into `out` (`rows * cols` each):
@@ -354,13 +363,8 @@ impl<T: FftNum> RealPlan2<T> {
     /// `X[i][j] = conj X[-i][-j]`. `work` is resized as needed. Panics on wrong lengths (an
     /// internal-invariant check).
     pub fn forward_full(&self, x: &[T], out: &mut [Complex<T>], work: &mut Vec<Complex<T>>) {
-        let (rows, cols, h) = (self.rows, self.cols, self.half());
-        assert!(
-            x.len() == rows * cols && out.len() == rows * cols,
-            "RealPlan2 data length"
-        );
+        let (rows, cols, h) = self.prepare(x.len(), out.len(), work);
         let zero = Complex::new(T::zero(), T::zero());
-        work.resize(rows * h, zero);
         let r2c = &self.r2c;
         x.par_chunks(cols)
             .zip(work.par_chunks_mut(h))
@@ -395,13 +399,8 @@ impl<T: FftNum> RealPlan2<T> {
         scale: T,
         work: &mut Vec<Complex<T>>,
     ) {
-        let (rows, cols, h) = (self.rows, self.cols, self.half());
-        assert!(
-            spec.len() == rows * cols && out.len() == rows * cols,
-            "RealPlan2 data length"
-        );
+        let (rows, cols, h) = self.prepare(spec.len(), out.len(), work);
         let zero = Complex::new(T::zero(), T::zero());
-        work.resize(rows * h, zero);
         let one_half = T::from_f64(0.5).expect("a float type represents 1/2");
         work.par_chunks_mut(h).enumerate().for_each(|(i, line)| {
             let row = &spec[i * cols..(i + 1) * cols];
