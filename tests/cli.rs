@@ -2086,6 +2086,33 @@ fn ear_simulate_enroll_identify_and_detect_on_files() {
         10,
         "{out}"
     );
+    // Either skin rule can be chosen, with its own threshold; a threshold outside (0, 1]
+    // is refused by name.
+    for rule in ["marginal-and", "joint"] {
+        wscg_ok(&[
+            "biometrics",
+            "ear",
+            "detect",
+            &s(&probe),
+            "--skin-rule",
+            rule,
+            "--min-likelihood",
+            "0.1",
+        ]);
+    }
+    let out = wscg()
+        .args([
+            "biometrics",
+            "ear",
+            "detect",
+            &s(&probe),
+            "--min-likelihood",
+            "0",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("skin_rule"));
     // Bad input: a missing gallery, an unreadable probe.
     assert!(!wscg()
         .args([

@@ -77,22 +77,6 @@ fn skin_model(mean: Vec<f64>, cov: Vec<Vec<f64>>) -> PyResult<SkinModel> {
     SkinModel::new(mean2(mean)?, cov22(cov)?).py_err()
 }
 
-/// The skin rule named `name` with its threshold (default: 0.05 for the joint rule,
-/// `exp(-2)` for the marginal AND).
-fn skin_rule(name: &str, min_likelihood: Option<f64>) -> PyResult<SkinRule> {
-    match name.to_ascii_lowercase().replace('_', "-").as_str() {
-        "joint" => Ok(SkinRule::Joint {
-            min_likelihood: min_likelihood.unwrap_or(0.05),
-        }),
-        "marginal-and" => Ok(SkinRule::MarginalAnd {
-            min_likelihood: min_likelihood.unwrap_or((-2.0f64).exp()),
-        }),
-        other => Err(value_error(format!(
-            "`skin_rule` must be \"joint\" or \"marginal-and\", got {other:?}"
-        ))),
-    }
-}
-
 /// `EarParams` from the parameter dict (absent keys keep the paper's defaults), validated.
 fn params_from(spec: Option<&Bound<'_, PyDict>>) -> PyResult<EarParams> {
     let mut p = EarParams::default();
@@ -125,7 +109,11 @@ fn params_from(spec: Option<&Bound<'_, PyDict>>) -> PyResult<EarParams> {
         }
         let t: Option<f64> = dict_item(d, "min_likelihood")?;
         let rule: Option<String> = dict_item(d, "skin_rule")?;
-        p.skin_rule = skin_rule(rule.as_deref().unwrap_or("joint"), t)?;
+        let base = match rule.as_deref() {
+            Some(name) => SkinRule::by_name(name).py_err()?,
+            None => SkinRule::default(),
+        };
+        p.skin_rule = t.map_or(base, |t| base.with_min_likelihood(t));
         if let Some(v) = dict_item(d, "min_intensity")? {
             p.min_intensity = v;
         }

@@ -349,13 +349,21 @@ def test_skin_pixels_match_a_numpy_reference(rng):
     with np.errstate(invalid="ignore", divide="ignore"):
         r, g = x[..., 0] / s, x[..., 1] / s
     lik = np.where(s > 0, m.likelihood_rg(np.nan_to_num(r), np.nan_to_num(g)), 0.0)
-    np.testing.assert_array_equal(ear.skin_pixels(img), (lik >= 0.05) & (s > 0))
-    gated = ear.skin_pixels(img, min_intensity=35)
+    np.testing.assert_array_equal(ear.skin_pixels(img, skin_rule="joint"),
+                                  (lik >= 0.05) & (s > 0))
+    gated = ear.skin_pixels(img, skin_rule="joint", min_intensity=35)
     np.testing.assert_array_equal(gated, (lik >= 0.05) & (s >= 105))
+    np.testing.assert_array_equal(ear.skin_pixels(img, skin_rule="joint", min_likelihood=0.2),
+                                  (lik >= 0.2) & (s > 0))
+    # The default is the paper's AND of the marginals, threshold exp(-2).
     pr, pg = m.marginal_likelihoods_rg(np.nan_to_num(r), np.nan_to_num(g))
     t = np.exp(-2.0)
-    np.testing.assert_array_equal(ear.skin_pixels(img, skin_rule="marginal-and"),
-                                  (pr >= t) & (pg >= t) & (s > 0))
+    marginal = (pr >= t) & (pg >= t) & (s > 0)
+    np.testing.assert_array_equal(ear.skin_pixels(img), marginal)
+    np.testing.assert_array_equal(ear.skin_pixels(img, skin_rule="marginal-and"), marginal)
+    np.testing.assert_array_equal(ear.skin_pixels(img, min_likelihood=0.5),
+                                  (pr >= 0.5) & (pg >= 0.5) & (s > 0))
+    assert not np.array_equal(marginal, (lik >= 0.05) & (s > 0))
     # A fitted model passes through the parameters.
     fitted = ear.SkinModel((0.4, 0.33), ((1e-3, 0), (0, 1e-3)))
     np.testing.assert_array_equal(

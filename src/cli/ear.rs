@@ -19,7 +19,7 @@ use wscg_biometrics::data::files::image_files;
 use wscg_biometrics::ear::synth::{self, OcclusionKind, SynthConfig};
 use wscg_biometrics::ear::{
     baseline_params, detect_occlusion, enroll, make_baseline_probe, make_probe, rank, scores,
-    EarParams, Gallery, ScoreRule,
+    EarParams, Gallery, ScoreRule, SkinRule,
 };
 use wscg_math::image::Image;
 use wscg_math::{npy, Error, Result};
@@ -111,6 +111,15 @@ pub enum RuleName {
     LiteralEq18,
 }
 
+/// Per-pixel skin decision (Algorithm 1, steps 5-6).
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum SkinRuleName {
+    /// Both marginal likelihoods >= the threshold (the paper; default threshold exp(-2)).
+    MarginalAnd,
+    /// The joint likelihood of eq. 5 >= the threshold (default 0.05, the 95 % ellipse).
+    Joint,
+}
+
 /// The matching and detection parameters a user may change (the rest keep the paper's
 /// values).
 #[derive(Args, Debug, Clone)]
@@ -118,6 +127,13 @@ pub struct ParamArgs {
     /// Score rule (eqs. 17-18; Fig. 11).
     #[arg(long, value_enum, default_value_t = RuleName::BlockwiseMax)]
     score: RuleName,
+    /// Skin decision per pixel.
+    #[arg(long, value_enum, default_value_t = SkinRuleName::MarginalAnd)]
+    skin_rule: SkinRuleName,
+    /// Likelihood threshold of the skin rule, in (0, 1] (default: exp(-2) for the marginal
+    /// rule, 0.05 for the joint one).
+    #[arg(long)]
+    min_likelihood: Option<f64>,
     /// Luminance gate: skin also needs a mean channel value >= this (0 = the paper).
     #[arg(long, default_value_t = 0)]
     min_intensity: u8,
@@ -147,6 +163,14 @@ impl ParamArgs {
                 RuleName::BlockwiseMean => ScoreRule::BlockwiseMean,
                 RuleName::OverallMean => ScoreRule::OverallMean,
                 RuleName::LiteralEq18 => ScoreRule::LiteralEq18,
+            },
+            skin_rule: {
+                let base = match self.skin_rule {
+                    SkinRuleName::MarginalAnd => SkinRule::marginal_and(),
+                    SkinRuleName::Joint => SkinRule::joint(),
+                };
+                self.min_likelihood
+                    .map_or(base, |t| base.with_min_likelihood(t))
             },
             min_intensity: self.min_intensity,
             close_radius: self.close_radius,

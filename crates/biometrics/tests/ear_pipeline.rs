@@ -116,21 +116,30 @@ fn skin_model_fit_threshold_and_reference_mahalanobis_values() {
     }
     let gold = ear::chromaticity([212, 175, 55]).unwrap();
     assert!((m.mahalanobis2_rg(gold[0], gold[1]) - 23.6).abs() <= 0.05);
-    // Decisions on the spec's examples: skin tones in, grey / orange / gold out.
-    let rule = SkinRule::default();
-    let rgb = |r: f64, g: f64| {
-        let s = 450.0;
-        [(r * s) as u8, (g * s) as u8, ((1.0 - r - g) * s) as u8]
-    };
-    assert!(rule.is_skin(&m, rgb(0.45, 0.32), 0));
+    // Decisions on the spec's examples under the joint 95 % ellipse: skin tones in, grey /
+    // orange / gold out.
+    let rule = SkinRule::joint();
+    assert!(rule.is_skin(&m, rgb_of(0.539, 0.325), 0));
+    assert!(rule.is_skin(&m, rgb_of(0.45, 0.32), 0));
     assert!(!rule.is_skin(&m, [128, 128, 128], 0));
     assert!(!rule.is_skin(&m, [212, 175, 55], 0));
     assert!(!rule.is_skin(&m, [0, 0, 0], 0));
     // The luminance gate rejects dark skin-coloured hair.
     assert!(rule.is_skin(&m, [45, 30, 22], 0));
     assert!(!rule.is_skin(&m, [45, 30, 22], 35));
-    // The literal marginal AND: |z| <= 2 per channel.
+    // The literal marginal AND, the default: |z| <= 2 per channel. It keeps light and
+    // medium skin and the mean, and drops the spec's dark skin (z_r = 2.2) and a neutral
+    // grey pushed to z_r = -2.2, which the joint ellipse still takes.
     let and = SkinRule::marginal_and();
+    assert_eq!(SkinRule::default(), and);
+    for (r, g) in [(0.392, 0.337), (0.496, 0.336), (0.45, 0.32)] {
+        assert!(and.is_skin(&m, rgb_of(r, g), 0), "({r}, {g})");
+    }
+    assert!(!and.is_skin(&m, rgb_of(0.539, 0.325), 0));
+    let (grey_r, grey_g) = (m.mean[0] - 2.2 * m.cov[0][0].sqrt(), 1.0 / 3.0);
+    assert!(m.mahalanobis2_rg(grey_r, grey_g) < 5.991);
+    let (pr, _) = m.marginal_likelihoods_rg(grey_r, grey_g);
+    assert!(pr < (-2.0f64).exp());
     let (sr, sg) = (m.cov[0][0].sqrt(), m.cov[1][1].sqrt());
     let at = |zr: f64, zg: f64| [m.mean[0] + zr * sr, m.mean[1] + zg * sg];
     let inside = at(1.9, 1.9);
@@ -408,4 +417,10 @@ fn bad_input_is_an_error_naming_the_problem() {
         &p
     )
     .is_err());
+}
+
+/// An 8-bit RGB pixel of chromaticity about `(r, g)` and channel sum 450.
+fn rgb_of(r: f64, g: f64) -> [u8; 3] {
+    let s = 450.0;
+    [(r * s) as u8, (g * s) as u8, ((1.0 - r - g) * s) as u8]
 }

@@ -8,7 +8,7 @@ use wscg_biometrics::ear::protocol::{evaluate, Evaluation};
 use wscg_biometrics::ear::synth::{self, translate_replicate, EarSet, OcclusionKind, SynthConfig};
 use wscg_biometrics::ear::{
     detect_occlusion, enroll, make_probe, rank, score, scores, EarParams, EarTemplate, Gallery,
-    ScoreRule,
+    ScoreRule, SkinRule,
 };
 
 fn generate(n: usize, probes: usize, kind: OcclusionKind, seed: u64) -> EarSet {
@@ -73,32 +73,46 @@ fn print_cmc(title: &str, ev: &Evaluation) {
     );
 }
 
-/// Check 5: on 300 probes with non-skin occluders over 0-70 % of the blocks, the estimated
-/// occlusion is within 7.5 points (6 blocks) of the truth for >= 90 % of the probes, and the
-/// reject decision (E > 60) agrees with the truth for >= 95 %.
-#[test]
-fn occlusion_estimate_matches_the_ground_truth_masks() {
-    let set = wide_set();
-    let p = EarParams::default();
-    let probes = &set.probes[..300];
+/// Over the first 300 probes of the wide set under `p`: the mean |E - E_gt| in points, the
+/// share within 7.5 points and the share whose reject decision (E > 60) agrees with the
+/// truth.
+fn occlusion_accuracy(p: &EarParams) -> (f64, f64, f64) {
+    let probes = &wide_set().probes[..300];
     let (mut within, mut agree) = (0, 0);
     let mut err_sum = 0.0;
     for pr in probes {
-        let rep = detect_occlusion(&pr.image.rgb, &p).unwrap();
+        let rep = detect_occlusion(&pr.image.rgb, p).unwrap();
         let e = (rep.occluded_pct - pr.occluded_pct()).abs();
         err_sum += e;
         within += usize::from(e <= 7.5);
         agree += usize::from(rep.rejected == (pr.occluded_pct() > 60.0));
     }
     let n = probes.len() as f64;
-    println!(
-        "occlusion estimate: mean |E - E_gt| {:.2} points, within 7.5: {:.3}, reject agreement {:.3}",
-        err_sum / n,
-        within as f64 / n,
-        agree as f64 / n
-    );
-    assert!(within as f64 / n >= 0.90);
-    assert!(agree as f64 / n >= 0.95);
+    (err_sum / n, within as f64 / n, agree as f64 / n)
+}
+
+/// Check 5: on 300 probes with non-skin occluders over 0-70 % of the blocks, the estimated
+/// occlusion is within 7.5 points (6 blocks) of the truth for >= 90 % of the probes, and the
+/// reject decision (E > 60) agrees with the truth for >= 95 %. Measured with the paper's
+/// marginal AND (the default): mean error 1.10 points, 99.7 % within, 100 % agreement. The
+/// joint 95 % ellipse is printed beside it (4.08 points, 90.0 %, 98.7 %): it takes noisy
+/// dark-grey occluders for skin.
+#[test]
+fn occlusion_estimate_matches_the_ground_truth_masks() {
+    let joint = EarParams {
+        skin_rule: SkinRule::joint(),
+        ..EarParams::default()
+    };
+    for (name, p) in [("marginal AND", EarParams::default()), ("joint", joint)] {
+        let (err, within, agree) = occlusion_accuracy(&p);
+        println!(
+            "occlusion estimate ({name}): mean |E - E_gt| {err:.2} points, within 7.5: \
+             {within:.3}, reject agreement {agree:.3}"
+        );
+    }
+    let (_, within, agree) = occlusion_accuracy(&EarParams::default());
+    assert!(within >= 0.90);
+    assert!(agree >= 0.95);
 }
 
 /// Measurements of check 6 over 100 subjects x 8 directions.
@@ -199,7 +213,10 @@ fn one_block_translations_are_recovered_by_the_shift_set() {
 
 /// Check 6, the genuine score of every shifted probe >= 0.97. Not met: the blocks of the
 /// replicated edge strip have no valid partner under the true shift, and the strip changes
-/// the equalisation histogram. Measured: min 0.924, mean 0.969.
+/// the equalisation histogram. Measured: min 0.924, mean 0.969; 399 of the 800 probes are
+/// under 0.97, the diagonal moves (17 strip blocks of 80) worst. Split by block: the blocks
+/// with a partner score 0.987 on average under the true shift (0.936 on the worst probe,
+/// the histogram change), the strip blocks 0.879 under their best shift.
 #[test]
 #[ignore = "not met: genuine S_B min 0.924 (mean 0.969) on one-block shifts, threshold 0.97"]
 fn one_block_translations_keep_a_genuine_score_above_097() {
@@ -234,7 +251,8 @@ fn check7(ev: &Evaluation) {
 }
 
 /// Check 7 with equalisation on the detected skin (our variant, `equalize_on_skin`):
-/// rank-1 of S_B >= baseline + 10 points, rank-10 >= 90 %, S_B >= S_m - 2 points.
+/// rank-1 of S_B >= baseline + 10 points, rank-10 >= 90 %, S_B >= S_m - 2 points. Measured:
+/// S_B rank-1 0.933, rank-10 0.993, S_m 0.807, baseline 0.557.
 #[test]
 fn index_based_matching_beats_the_baseline_with_skin_equalisation() {
     let p = EarParams {
@@ -249,10 +267,10 @@ fn index_based_matching_beats_the_baseline_with_skin_equalisation() {
 /// Check 7 with the paper's literal pre-processing (the whole probe, occluder included, is
 /// histogram-equalised before the occlusion is detected). Not met on the synthetic ears:
 /// a large occluder shifts the equalised grey levels of the visible ear, so the kept blocks
-/// no longer match their templates. Measured: S_B rank-1 0.450 vs baseline 0.557, rank-10
-/// 0.727, S_m 0.623.
+/// no longer match their templates. Measured: S_B rank-1 0.470 vs baseline 0.557, rank-10
+/// 0.743, S_m 0.643.
 #[test]
-#[ignore = "not met with whole-image equalisation: S_B rank-1 0.450 vs baseline 0.557 (see note)"]
+#[ignore = "not met with whole-image equalisation: S_B rank-1 0.470 vs baseline 0.557 (see note)"]
 fn index_based_matching_beats_the_baseline_as_printed() {
     let ev = evaluate(colour_set(), &EarParams::default(), 10).unwrap();
     print_cmc("colour occluders 10-50 %, paper's pre-processing", &ev);
@@ -303,12 +321,12 @@ fn heavily_occluded_probes_are_rejected_never_ranked() {
 }
 
 /// Check 8 (Fig. 13): rank-1 per estimated-occlusion bin 0-10, ..., 50-60 % is
-/// non-increasing within 3 points. Not met on the synthetic set: the 0-10 % bin collects the
-/// probes whose dark-grey occluder was taken for skin (undetected occlusion), and their
-/// rank-1 is below that of detected occlusions up to 40 %. Measured (equalised on skin):
-/// 0.758, 0.904, 0.908, 0.959, 0.908, 0.770.
+/// non-increasing within 3 points, under both pre-processings. Measured with the paper's
+/// marginal AND: 0.986, 0.975, 0.932, 0.938, 0.935, 0.785 equalised on skin; 0.973, 0.847,
+/// 0.583, 0.372, 0.130, 0.119 with the whole probe equalised. With the joint ellipse the
+/// 0-10 % bin collected the probes whose dark-grey occluder was taken for skin, and the
+/// curve rose from 0.763 to 0.917 (equalised on skin).
 #[test]
-#[ignore = "not met: rank-1 rises from 0.758 (E < 10 %) to 0.904 (10-20 %); see note"]
 fn rank1_degrades_with_occlusion() {
     for (eq_skin, title) in [
         (true, "equalised on skin"),

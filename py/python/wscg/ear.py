@@ -40,10 +40,14 @@ defaults are the paper's values):
 ``skin_cov=((1.6e-3, 0), (0, 2.5e-4))``
     Skin colour Gaussian in ``(r, g)`` (ours: the paper cites one without numbers; fit your
     own with :meth:`SkinModel.fit` on enrolment images).
-``skin_rule="joint"``, ``min_likelihood``
-    Per-pixel skin decision: ``"joint"`` (likelihood ``>= min_likelihood``, default 0.05,
-    the 95 % ellipse) or ``"marginal-and"`` (the paper's steps 5-6 read literally, both
-    marginal likelihoods ``>= min_likelihood``, default ``exp(-2)``).
+``skin_rule="marginal-and"``, ``min_likelihood``
+    Per-pixel skin decision: ``"marginal-and"`` (the paper's steps 5-6 read literally, both
+    marginal likelihoods ``>= min_likelihood``, default ``exp(-2)``) or ``"joint"`` (the
+    likelihood of eq. 5 ``>= min_likelihood``, default 0.05, the 95 % ellipse). The joint
+    ellipse reaches further along one channel, so it takes noisy dark-grey occluders for
+    skin more often; the marginal rule in turn drops skin tones more than two standard
+    deviations from the model's mean in one channel (fit the model on your enrolment
+    images).
 ``min_intensity=0``
     Luminance gate (not in the paper): skin also needs ``(R + G + B) / 3 >= min_intensity``;
     about 35 rejects dark hair, whose chromaticity is skin-like.

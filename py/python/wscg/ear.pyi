@@ -20,7 +20,7 @@ OCCLUSIONS: Tuple[str, ...]
 
 # Keyword parameters accepted by every pipeline function (**params): height: int, width: int,
 # block: int, skin_model: SkinModel, skin_mean: (float, float), skin_cov: 2 x 2 floats,
-# skin_rule: "joint" | "marginal-and", min_likelihood: float, min_intensity: int,
+# skin_rule: "marginal-and" | "joint", min_likelihood: float, min_intensity: int,
 # close_radius: float, fill_holes: bool, block_skin_fraction: float,
 # reject_above_pct: float, shifts: Sequence[(int, int)], score: str (one of RULES),
 # mask_features: bool, gray_enrolment: bool, equalize_on_skin: bool.

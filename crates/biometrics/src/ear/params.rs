@@ -97,7 +97,8 @@ pub struct EarParams {
     pub block: usize,
     /// Skin colour model in normalised `(r, g)` (eqs. 2-5).
     pub skin_model: SkinModel,
-    /// Per-pixel skin decision (paper steps 5-6; default the joint 95 % ellipse).
+    /// Per-pixel skin decision (paper steps 5-6; default the paper's AND of the two marginal
+    /// likelihoods, see [`SkinRule`]).
     pub skin_rule: SkinRule,
     /// Luminance gate (not in the paper): skin also needs `(R + G + B) / 3 >= min_intensity`.
     /// 0 (default) is the paper; about 35 rejects dark hair, whose chromaticity is skin-like.
