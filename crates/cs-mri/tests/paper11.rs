@@ -390,7 +390,9 @@ fn headline_reconstruction_data_consistency_and_convergence() {
 /// Not met at the development-image tau0 = 0.01: measured MSE(25) / MSE(70) = 1.87 (the
 /// curve is monotone). The constrained problem's minimiser does not depend on tau, which
 /// only sets the ADMM step: at tau0 = 0.04 the ratio is 1.03, at a 0.4 dB lower PSNR after 70
-/// iterations.
+/// iterations. On noisy data (check 4's, the paper's Table 1 condition) the same bounds hold:
+/// 1.085, see `mse_reaches_its_floor_by_iteration_25_on_noisy_data`; the ratio grows as the
+/// noise shrinks (1.33 at 0.3 sigma, 1.64 at 0.1 sigma).
 #[test]
 #[ignore]
 fn mse_reaches_its_floor_by_iteration_25() {
@@ -413,12 +415,11 @@ fn mse_reaches_its_floor_by_iteration_25() {
     );
 }
 
-/// Check 4: noisy k-space (fully sampled noisy PSNR 29.9 dB), eps by the discrepancy
-/// principle: the reconstruction beats the fully sampled noisy image by >= 1 dB and stays in
-/// the eps ball.
-#[test]
-fn noisy_reconstruction_beats_the_full_noisy_image_and_respects_eps() {
-    let n = 256;
+/// The headline problem of check 3 with complex Gaussian noise on the sampled k-space, its
+/// sigma set so that the fully sampled noisy image has PSNR 29.9 dB (the paper's Table 1
+/// condition). Returns the noisy data, the reference, the eps of the discrepancy principle
+/// (section 2.2) and the fully sampled noisy image's PSNR.
+fn noisy_case(n: usize) -> (KSpace, Vec<Complex64>, f64, f64) {
     let (clean, reference) = shepp_logan(n, 0.4, 1);
     let full_mask = vec![true; n * n];
     let full = phantom::shepp_logan_kspace(n).unwrap();
@@ -438,6 +439,15 @@ fn noisy_reconstruction_beats_the_full_noisy_image_and_respects_eps() {
     let mut data = KSpace::new(n, n, clean.data().to_vec(), clean.mask().to_vec()).unwrap();
     data.add_noise(sigma, 12).unwrap();
     let eps = noise_epsilon(sigma, data.sampled().len());
+    (data, reference, eps, noisy_full_psnr)
+}
+
+/// Check 4: noisy k-space (fully sampled noisy PSNR 29.9 dB), eps by the discrepancy
+/// principle: the reconstruction beats the fully sampled noisy image by >= 1 dB and stays in
+/// the eps ball.
+#[test]
+fn noisy_reconstruction_beats_the_full_noisy_image_and_respects_eps() {
+    let (data, reference, eps, noisy_full_psnr) = noisy_case(256);
     let p = CsalsaParams {
         epsilon: eps,
         ..Default::default()
@@ -448,6 +458,38 @@ fn noisy_reconstruction_beats_the_full_noisy_image_and_respects_eps() {
     assert!(pr >= noisy_full_psnr + 1.0, "{pr} vs {noisy_full_psnr}");
     let res = data.residual(&rec.image).unwrap();
     assert!(res <= eps * (1.0 + 1e-6), "residual {res} > eps {eps}");
+}
+
+/// Check 7's bounds (paper Fig. 6: MSE(25) <= 1.1 MSE(70), monotone after iteration 10
+/// within 1 %) on check 4's noisy data, where the eps ball of the discrepancy principle is
+/// active. The paper's Fig. 6 curves come from scans, which carry acquisition noise; on the
+/// noise-free analytic k-space of check 3 the iterates keep approaching exact recovery past
+/// iteration 25 (see `mse_reaches_its_floor_by_iteration_25`). Measured 1.085.
+#[test]
+fn mse_reaches_its_floor_by_iteration_25_on_noisy_data() {
+    let (data, reference, eps, noisy_full_psnr) = noisy_case(256);
+    let p = CsalsaParams {
+        epsilon: eps,
+        record_history: true,
+        ..Default::default()
+    };
+    let rec = udct_l1(&data, &p, Some(&reference));
+    let h: Vec<f64> = rec.history.iter().map(|s| s.mse.unwrap()).collect();
+    assert_eq!(h.len(), 70);
+    for k in 10..h.len() {
+        assert!(h[k] <= 1.01 * h[k - 1], "MSE rises at iteration {}", k + 1);
+    }
+    println!("noisy: MSE(25) / MSE(70) = {:.3}", h[24] / h[69]);
+    assert!(
+        h[24] <= 1.1 * h[69],
+        "MSE(25) {} vs MSE(70) {}",
+        h[24],
+        h[69]
+    );
+    // The floor is a reconstruction (check 4's bound), not a stalled iterate: the MSE of
+    // iteration 10 (30.45 dB against 29.90 + 1) would fail this.
+    let pr = metrics::psnr(&reference, &rec.image).unwrap();
+    assert!(pr >= noisy_full_psnr + 1.0, "{pr} vs {noisy_full_psnr}");
 }
 
 /// Check 6: UDCSMRI(TV) and a direct TV-constrained solver solve the same problem.
