@@ -10,7 +10,7 @@ use wscg_cloth::{
     Sim, SolverConfig,
 };
 
-use crate::convert::{array, values, Arr};
+use crate::convert::{array, index, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 fn points(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<Vector3<f64>>> {
@@ -88,7 +88,11 @@ impl PyModel {
     }
 
     /// Pins the listed particles (they no longer move).
-    fn pin(&mut self, indices: Vec<usize>) -> PyResult<()> {
+    fn pin(&mut self, indices: Vec<i64>) -> PyResult<()> {
+        let indices = indices
+            .into_iter()
+            .map(|p| index("indices", p))
+            .collect::<PyResult<Vec<usize>>>()?;
         let n = self.inner.len();
         if let Some(&p) = indices.iter().find(|&&p| p >= n) {
             return Err(value_error(format!(
@@ -111,12 +115,14 @@ impl PyModel {
 
     /// Adds a link of stiffness `k` (N/m) between particles `i` and `j`.
     #[pyo3(signature = (i, j, k, rest=None))]
-    fn add_link(&mut self, i: usize, j: usize, k: f64, rest: Option<f64>) -> PyResult<()> {
+    fn add_link(&mut self, i: i64, j: i64, k: f64, rest: Option<f64>) -> PyResult<()> {
+        let (i, j) = (index("i", i)?, index("j", j)?);
         self.inner.add_link(i, j, k, rest).py_err()
     }
 
     /// Adds a roller keeping particle `p` on the plane `normal . x = offset`.
-    fn add_roller(&mut self, p: usize, normal: (f64, f64, f64), offset: f64) -> PyResult<()> {
+    fn add_roller(&mut self, p: i64, normal: (f64, f64, f64), offset: f64) -> PyResult<()> {
+        let p = index("p", p)?;
         self.inner
             .add_roller(p, Vector3::new(normal.0, normal.1, normal.2), offset)
             .py_err()

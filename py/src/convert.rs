@@ -216,3 +216,9 @@ pub fn choice<T: Copy>(name: &str, s: &str, options: &[(&str, T)]) -> PyResult<T
             ))
         })
 }
+
+/// `v` as an index, or a `ValueError` naming `name` when it is negative (for arguments taken
+/// as `i64` so that a negative index is a `ValueError`, not the conversion's `OverflowError`).
+pub fn index(name: &str, v: i64) -> PyResult<usize> {
+    usize::try_from(v).map_err(|_| value_error(format!("`{name}` must be an index >= 0, got {v}")))
+}

@@ -48,13 +48,16 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
-Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files).
+Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files). A negative or
+too large integer for a count, size or seed raises :class:`IntegerRangeError`, a
+``ValueError`` (and ``OverflowError``) that names the argument.
 """
 
 from . import _native
+from ._checks import IntegerRangeError
 from . import biometrics, cloth, csmri, deblur, doe, ear, gait, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren, volseg
 
 __version__: str = _native.__version__
 
 __all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "gait", "hdr", "isosurface", "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
-           "__version__"]
+           "IntegerRangeError", "__version__"]

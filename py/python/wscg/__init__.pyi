@@ -16,5 +16,8 @@ from . import video as video
 from . import volren as volren
 from . import volseg as volseg
 
+class IntegerRangeError(ValueError, OverflowError):
+    """A negative or too large integer for a count, size or seed; names the argument."""
+
 __version__: str
 __all__: list[str]

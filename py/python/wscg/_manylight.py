@@ -24,6 +24,7 @@ from typing import Optional, Tuple
 import numpy as np
 
 from ._native import raytrace as _r
+from ._checks import integer_ranges as _integer_ranges
 
 ManyLightScene = _r.ManyLightScene
 
@@ -102,3 +103,6 @@ def render_manylight(scene: ManyLightScene, method: str = "adaptive",
     if clamp_dist is not None:
         params["clamp_dist"] = float(clamp_dist)
     return _r.manylight_render(scene, method, params, camera)
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

@@ -41,6 +41,7 @@ from typing import Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._native import biometrics as _b
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = [
     "FDKECA", "PCA", "KernelPCA", "KECA",
@@ -1040,3 +1041,6 @@ from . import ear  # noqa: E402
 # Paper 17 (Kinect gait recognition, JRA sequences + DTW kernel), reachable as
 # ``wscg.biometrics.gait`` and ``wscg.gait``.
 from . import gait  # noqa: E402
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

@@ -32,6 +32,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from ._native import cloth as _c
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = ["Model", "Sim", "Collider", "particles", "grid", "from_mesh", "plane", "sphere",
            "capsule", "mesh_collider"]
@@ -197,3 +198,6 @@ class Sim:
     def model(self) -> "Model":
         """The current state as a :class:`Model`."""
         return self._sim.model()
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

@@ -44,6 +44,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from ._native import csmri as _c
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = [
     "Udct", "Fdct", "Sflct", "reconstruct", "fcsa", "tvcmri", "watmri", "tv_constrained", "zero_filled",
@@ -542,3 +543,6 @@ def noise_epsilon(sigma: float, m: int) -> float:
     if not (sigma >= 0 and np.isfinite(sigma)):
         raise ValueError(f"`sigma` must be finite and >= 0, got {sigma}")
     return _c.noise_epsilon(float(sigma), int(m))
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

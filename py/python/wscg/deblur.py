@@ -53,6 +53,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from ._native import deblur as _d
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = [
     "render_kernel", "kernel_grid", "blurriness", "deconv_krishnan", "deconv_krishnan_multi",
@@ -1017,3 +1018,6 @@ class synth:  # noqa: N801 - a namespace, as in the spec (``synth.ou_gyro(...)``
         """A textured test scene of linear intensities in [0.02, 0.98] (smooth blobs,
         sharp-edged discs and bars, fine stripes): float32 ``(height, width)``."""
         return _d.scene(_count("height", height), _count("width", width), int(seed))
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

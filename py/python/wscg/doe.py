@@ -18,6 +18,7 @@ from typing import Sequence, Tuple, Union
 import numpy as np
 
 from ._native import doe as _d
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = ["ccd", "decode", "encode", "williams", "fit_rsm", "fit_rsm_blocked", "rm_anova",
            "rm_anova_oneway", "lsd", "panel_pca"]
@@ -130,3 +131,6 @@ def panel_pca(scores) -> np.ndarray:
     """Explained-variance ratios of the PCA of the panel (stimuli x subjects, subjects
     standardised): the first above 0.8 means the observers agree (paper 07, section 5.1)."""
     return np.asarray(_d.panel_pca(_f64(scores, "scores", 2)))
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

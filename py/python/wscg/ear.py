@@ -88,7 +88,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int, _real
+from ._checks import _int, _real, integer_ranges as _integer_ranges
 from ._native import ear as _e
 
 __all__ = [
@@ -626,3 +626,6 @@ def fill_holes(mask) -> np.ndarray:
     """A 2-D bool mask with its holes filled: background pixels not 4-connected to the image
     border become foreground, as ``scipy.ndimage.binary_fill_holes``."""
     return _e.fill_holes(_mask("mask", mask))
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

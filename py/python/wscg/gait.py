@@ -51,7 +51,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int, _real
+from ._checks import _int, _real, integer_ranges as _integer_ranges
 from ._native import gait as _g
 
 __all__ = [
@@ -969,3 +969,6 @@ def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0)
     return _g.evaluate_synthetic(_int("n_subjects", n_subjects, 2),
                                  _int("n_sessions", n_sessions, 2),
                                  _int("seed", seed, 0, 2 ** 64 - 1))
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

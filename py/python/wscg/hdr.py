@@ -53,7 +53,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int
+from ._checks import _int, integer_ranges as _integer_ranges
 from ._native import hdr as _h
 
 __all__ = [
@@ -1167,3 +1167,6 @@ def incoherence(offsets) -> float:
     Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, eq. 4, Figs. 4 and 6.
     """
     return _h.incoherence(_offsets(offsets, "offsets"))
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

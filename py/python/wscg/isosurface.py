@@ -38,6 +38,7 @@ from typing import Optional, Tuple
 import numpy as np
 
 from ._native import isosurface as _m
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = ["marching_cubes", "estimate_normals", "sparsify", "random_dropouts",
            "angular_errors", "angular_rms", "rotation_class", "at_risk_configurations",
@@ -247,3 +248,6 @@ class fields:  # noqa: N801 - a namespace, as in the spec (``fields.marschner_lo
         """An 8-bit-like noisy ball: ``round(255 / (1 + exp((r - radius) / width)) +
         N(0, noise))`` clamped to [0, 255], float32 holding integers."""
         return _m.noisy_sphere(int(n), float(radius), float(width), float(noise), int(seed))
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

@@ -23,6 +23,7 @@ from typing import Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._native import math as _m
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = [
     "mse", "rmse", "psnr", "ssim", "dice",
@@ -981,3 +982,6 @@ def write_mesh(path: PathLike, vertices, faces, colors=None, normals=None,
                   np.ascontiguousarray(faces, dtype=np.int64),
                   None if colors is None else _real(colors, "colors", np.float32),
                   None if normals is None else _real(normals, "normals"), bool(binary))
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

@@ -20,6 +20,7 @@ from typing import Optional, Tuple
 import numpy as np
 
 from ._native import meshfilter as _m
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = ["jbmd", "bilateral", "laplacian", "taubin", "hc_laplacian", "mean_error",
            "surface_error", "mvd", "synthetic", "cad_labels", "add_noise"]
@@ -122,3 +123,6 @@ def add_noise(vertices, faces, sigma: float, isotropic: bool = False,
     """Vertices moved by Gaussian noise of standard deviation ``sigma`` along the vertex
     normals (or in all directions with ``isotropic``)."""
     return _m.add_noise(_v(vertices), _f(faces), float(sigma), bool(isotropic), int(seed))
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

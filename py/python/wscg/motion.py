@@ -37,7 +37,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int
+from ._checks import _int, integer_ranges as _integer_ranges
 from ._native import motion as _m
 
 __all__ = [
@@ -604,3 +604,6 @@ def hopf_simulate(duration: float, dt: float = 1e-3, omega: float = 2 * _math.pi
     lx, ly = _range("leader", leader)
     return _m.hopf_simulate(_float("duration", duration), _float("dt", dt),
                             _float("omega", omega), _float("coupling", coupling), (lx, ly), f)
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

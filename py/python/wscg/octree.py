@@ -35,6 +35,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from ._native import octree as _o
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = ["HybridOctree", "build", "load", "from_bytes", "voxelize", "bvh_intersect", "scene"]
 
@@ -275,3 +276,6 @@ def scene(name: str, size: Optional[int] = None, seed: int = 3):
     if s < 0:
         raise ValueError(f"size must be >= 0, got {size}")
     return _o.scene(name, s, int(seed))
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

@@ -42,6 +42,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from ._native import raytrace as _r
+from ._checks import integer_ranges as _integer_ranges
 from ._manylight import (ManyLightScene, manylight_from_arrays, manylight_load_obj,
                          manylight_scene, render_manylight)
 
@@ -247,3 +248,6 @@ def project(points, eye: str = "cyclopean") -> np.ndarray:
     at z = 0, screen and plate at z = 0.77) for one eye of the off-axis rig."""
     p = np.ascontiguousarray(np.asarray(points, dtype=np.float64))
     return _r.project(p, eye)
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

@@ -24,6 +24,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from ._native import video as _v
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = ["complete_video", "wexler_complete", "per_frame_patchmatch", "inpaint_telea", "ssim_masked",
            "psnr_masked", "flicker", "synthetic", "read_frames", "read_mask", "write_frames"]
@@ -252,3 +253,6 @@ def write_frames(frames, path) -> list:
     """Writes ``frame_00000.png``, ... into the folder ``path`` (created if missing); returns
     the file paths."""
     return [str(p) for p in _v.write_frames(_frames(frames), str(path))]
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

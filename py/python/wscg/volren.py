@@ -56,6 +56,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._native import volren as _v
+from ._checks import integer_ranges as _integer_ranges
 
 __all__ = ["HybridServer", "HybridClient", "render_reference", "phantom", "phantom_tfs",
            "octree_address", "orbit_camera", "haar_blocks",
@@ -655,3 +656,6 @@ def study(volume, tf, views: int = 4, size: int = 256, azimuth: float = 30.0,
     }
     vol, sp, vr = _illum_source(volume, spacing, value_range)
     return _v.illum_study(vol, _rgba_tf(tf), sp, vr, opts)
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

@@ -48,7 +48,7 @@ from typing import Any, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int, _real
+from ._checks import _int, _real, integer_ranges as _integer_ranges
 from ._native import volseg as _v
 
 __all__ = [
@@ -816,3 +816,6 @@ def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments:
     if return_distance:
         return ct, truth, seeds, dist
     return ct, truth, seeds
+
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+_integer_ranges(globals())

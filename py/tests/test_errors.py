@@ -1,0 +1,106 @@
+"""Integer arguments out of range: a negative or too large count, size or seed raises
+``wscg.IntegerRangeError``, a ``ValueError`` naming the argument, instead of the bare
+``OverflowError`` of the conversion into an unsigned native parameter."""
+
+import importlib
+import inspect
+import pickle
+
+import numpy as np
+import pytest
+
+import wscg
+from wscg import cloth, csmri, doe, video
+from wscg import math as wm
+
+
+def _modules():
+    names = [n for n in wscg.__all__ if n not in ("IntegerRangeError", "__version__")]
+    return [importlib.import_module(f"wscg.{n}") for n in names] + [
+        importlib.import_module("wscg._manylight")]
+
+
+def _python_defined(obj) -> bool:
+    m = getattr(obj, "__module__", None) or ""
+    return m.startswith("wscg.") and not m.startswith("wscg._native")
+
+
+CASES = [
+    ("max_iter", lambda: csmri.reconstruct(*_kspace(), max_iter=-1)),
+    ("max_iter", lambda: csmri.fcsa(*_kspace(), max_iter=-1)),
+    ("n", lambda: csmri.shepp_logan_kspace(-4)),
+    ("seed", lambda: csmri.mask_cartesian((32, 32), 0.4, seed=2 ** 70)),
+    ("frames", lambda: video.synthetic("g1", frames=-2)),
+    ("levels", lambda: wm.wavedec2(np.zeros((16, 16)), "db2", level=-1)),
+    ("nx", lambda: cloth.grid(-3, 4)),
+    ("iterations", lambda: cloth.Sim(cloth.grid(3, 3), iterations=-1)),
+    ("n", lambda: cloth.Sim(cloth.grid(3, 3)).step(n=-1)),
+    ("k", lambda: doe.ccd(-2)),
+]
+
+
+def _kspace():
+    m = csmri.mask_cartesian((32, 32), 0.4)
+    return csmri.shepp_logan_kspace(32) * m, m
+
+
+@pytest.mark.parametrize("name,call", CASES, ids=[f"{i}-{n}" for i, (n, _) in enumerate(CASES)])
+def test_out_of_range_integers_raise_a_value_error_naming_the_argument(name, call):
+    with pytest.raises(ValueError, match=f"`{name}` is out of range") as e:
+        call()
+    assert isinstance(e.value, wscg.IntegerRangeError)
+    # Code written against the conversion's own error still catches it.
+    assert isinstance(e.value, OverflowError)
+
+
+def test_every_public_function_and_method_translates():
+    missing = []
+    for mod in _modules():
+        for name in mod.__all__:
+            obj = getattr(mod, name)
+            if inspect.isfunction(obj) and _python_defined(obj):
+                if not getattr(obj, "_wscg_ranges", False):
+                    missing.append(f"{mod.__name__}.{name}")
+            elif isinstance(obj, type) and _python_defined(obj):
+                for klass in obj.__mro__:
+                    if not _python_defined(klass):
+                        continue
+                    for attr, v in vars(klass).items():
+                        f = v.__func__ if isinstance(v, (staticmethod, classmethod)) else v
+                        public = not attr.startswith("_") or attr in ("__init__", "__call__")
+                        if inspect.isfunction(f) and public and not getattr(f, "_wscg_ranges", False):
+                            missing.append(f"{mod.__name__}.{klass.__name__}.{attr}")
+    assert not missing, missing
+
+
+def test_other_errors_pass_through_unchanged():
+    with pytest.raises(ValueError) as e:
+        csmri.noise_epsilon(float("nan"), 3)
+    assert not isinstance(e.value, wscg.IntegerRangeError)
+    with pytest.raises(TypeError):
+        csmri.reconstruct()
+
+
+def test_wrapped_functions_keep_their_signature_doc_and_identity():
+    sig = inspect.signature(csmri.reconstruct)
+    assert list(sig.parameters)[:2] == ["kspace", "mask"]
+    assert sig.parameters["max_iter"].default == 70
+    assert csmri.reconstruct.__doc__.startswith("Reconstruct")
+    assert csmri.reconstruct.__name__ == "reconstruct"
+    assert pickle.loads(pickle.dumps(csmri.reconstruct)) is csmri.reconstruct
+
+
+def test_native_class_methods_refuse_negative_indices_by_name():
+    model = cloth.grid(3, 3)
+    links = model.counts[0]
+    for name, call in [("i", lambda: model.add_link(-1, 0, 10.0)),
+                       ("j", lambda: model.add_link(0, -2, 10.0)),
+                       ("p", lambda: model.add_roller(-1, (0.0, 0.0, 1.0), 0.0)),
+                       ("indices", lambda: model.pin([0, -1]))]:
+        with pytest.raises(ValueError, match=f"`{name}` must be an index >= 0"):
+            call()
+    # The refused calls added nothing; valid indices still work.
+    assert model.counts[0] == links
+    model.add_link(0, 4, 10.0)
+    model.pin([0])
+    assert model.counts[0] == links + 1
