@@ -10,7 +10,7 @@ use wscg_cloth::{
     Sim, SolverConfig,
 };
 
-use crate::convert::{array, index, values, Arr};
+use crate::convert::{self, array, index, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 fn points(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<Vector3<f64>>> {
@@ -89,10 +89,7 @@ impl PyModel {
 
     /// Pins the listed particles (they no longer move).
     fn pin(&mut self, indices: Vec<i64>) -> PyResult<()> {
-        let indices = indices
-            .into_iter()
-            .map(|p| index("indices", p))
-            .collect::<PyResult<Vec<usize>>>()?;
+        let indices = convert::indices("indices", &indices)?;
         let n = self.inner.len();
         if let Some(&p) = indices.iter().find(|&&p| p >= n) {
             return Err(value_error(format!(
@@ -190,10 +187,11 @@ fn faces_in(faces: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<[usize; 3]>> {
         [_, 3] => values(faces)
             .chunks_exact(3)
             .map(|c| {
-                let idx = |x: i64| {
-                    usize::try_from(x).map_err(|_| value_error(format!("negative face index {x}")))
-                };
-                Ok([idx(c[0])?, idx(c[1])?, idx(c[2])?])
+                Ok([
+                    index("faces", c[0])?,
+                    index("faces", c[1])?,
+                    index("faces", c[2])?,
+                ])
             })
             .collect(),
         s => Err(value_error(format!(

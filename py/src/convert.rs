@@ -222,3 +222,8 @@ pub fn choice<T: Copy>(name: &str, s: &str, options: &[(&str, T)]) -> PyResult<T
 pub fn index(name: &str, v: i64) -> PyResult<usize> {
     usize::try_from(v).map_err(|_| value_error(format!("`{name}` must be an index >= 0, got {v}")))
 }
+
+/// [`index`] of every value of `v`.
+pub fn indices(name: &str, v: &[i64]) -> PyResult<Vec<usize>> {
+    v.iter().map(|&i| index(name, i)).collect()
+}

@@ -21,7 +21,7 @@ use wscg_biometrics::ear::{
 use wscg_biometrics::imgops::{mask, tone};
 use wscg_math::Image;
 
-use crate::convert::{array, dict_item, dims2, image_dims, values, Arr};
+use crate::convert::{array, dict_item, dims2, image_dims, indices, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// The keys of the parameter dict (the fields of `EarParams`; the skin model is split into
@@ -707,12 +707,7 @@ fn evaluate<'py>(
             )));
         }
     }
-    let subj = subjects
-        .iter()
-        .map(|&s| {
-            usize::try_from(s).map_err(|_| value_error(format!("`subjects` holds {s}, not >= 0")))
-        })
-        .collect::<PyResult<Vec<_>>>()?;
+    let subj = indices("subjects", &subjects)?;
     let gal = images_in("enrol", &enrol)?;
     let prb = images_in("probes", &probes)?;
     let items: Vec<(usize, &Image<u8>, Option<f64>)> = prb

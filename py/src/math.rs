@@ -20,7 +20,7 @@ use wscg_math::volume::{RawType, Volume};
 use wscg_math::{rng, Error};
 
 use crate::convert::{
-    array, image_dims, mat, mat_out, mesh_in, plane, rows3, same_shape, shape_of, values, Arr,
+    self, array, image_dims, mat, mat_out, mesh_in, plane, rows3, same_shape, shape_of, values, Arr,
 };
 use crate::errors::{value_error, IntoPy};
 
@@ -280,15 +280,6 @@ fn fftfreq<'py>(py: Python<'py>, n: usize, d: f64) -> PyResult<Arr<'py, f64>> {
 
 // ---------------------------------------------------------------- sparse
 
-fn indices_usize(name: &'static str, v: &[i64]) -> PyResult<Vec<usize>> {
-    v.iter()
-        .map(|&i| {
-            usize::try_from(i)
-                .map_err(|_| value_error(format!("`{name}` holds a negative value {i}")))
-        })
-        .collect()
-}
-
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 fn cg<'py>(
@@ -303,8 +294,8 @@ fn cg<'py>(
     maxiter: Option<usize>,
     preconditioner: Option<&str>,
 ) -> PyResult<(Arr<'py, f64>, Bound<'py, PyDict>)> {
-    let p = indices_usize("indptr", &values(&indptr))?;
-    let c = indices_usize("indices", &values(&indices))?;
+    let p = convert::indices("indptr", &values(&indptr))?;
+    let c = convert::indices("indices", &values(&indices))?;
     if p.is_empty() {
         return Err(value_error("`indptr` must have length nrows + 1 >= 1"));
     }

@@ -104,3 +104,14 @@ def test_native_class_methods_refuse_negative_indices_by_name():
     model.add_link(0, 4, 10.0)
     model.pin([0])
     assert model.counts[0] == links + 1
+
+
+def test_negative_indices_in_arrays_are_refused_by_name():
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype=float)
+    with pytest.raises(ValueError, match="`faces` must be an index >= 0, got -1"):
+        cloth.mesh_collider(v, [[0, 1, -1]])
+    eye = dict(data=[1.0, 1.0], b=[1.0, 2.0])
+    with pytest.raises(ValueError, match="`indices` must be an index >= 0, got -1"):
+        wm.cg([0, 1, 2], [0, -1], **eye)
+    x, _ = wm.cg([0, 1, 2], [0, 1], **eye)
+    np.testing.assert_allclose(x, [1.0, 2.0], atol=1e-8)

@@ -253,47 +253,8 @@ fn lanes8_sum(a0: &[f32; 8], a1: &[f32; 8]) -> f32 {
 /// of `ub` (`k < side`) must lie inside the slices, with `len >= 8`.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-#[inline(never)]
-unsafe fn ssd_rows_avx2(
-    ua: &[f32],
-    ub: &[f32],
-    a: (usize, usize),
-    b: (usize, usize),
-    shape: (usize, usize),
-    tail: &[f32; 8],
-    bound: (f32, f32),
-) -> f32 {
-    ssd_rows_avx2_body(ua, ub, a, b, shape, tail, bound)
-}
-
-/// [`ssd_rows_avx2`] for the paper's patches, 7 rows of 7 pixels of three channels: the same
-/// operations with the row and chunk loops unrolled by their constant counts (about 6 %
-/// faster fields).
-///
-/// # Safety
-/// As [`ssd_rows_avx2`].
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline(never)]
-unsafe fn ssd_rows_avx2_7x21(
-    ua: &[f32],
-    ub: &[f32],
-    a: (usize, usize),
-    b: (usize, usize),
-    tail: &[f32; 8],
-    bound: (f32, f32),
-) -> f32 {
-    ssd_rows_avx2_body(ua, ub, a, b, (7, 21), tail, bound)
-}
-
-/// The body of [`ssd_rows_avx2`] and [`ssd_rows_avx2_7x21`].
-///
-/// # Safety
-/// As [`ssd_rows_avx2`].
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn ssd_rows_avx2_body(
+unsafe fn ssd_rows_avx2(
     ua: &[f32],
     ub: &[f32],
     (mut ra, sa): (usize, usize),
@@ -350,6 +311,26 @@ unsafe fn ssd_rows_avx2_body(
         }
     }
     s / n
+}
+
+/// [`ssd_rows_avx2`] for the paper's patches, 7 rows of 7 pixels of three channels: the same
+/// operations with the row and chunk loops unrolled by their constant counts (about 6 %
+/// faster fields).
+///
+/// # Safety
+/// As [`ssd_rows_avx2`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline(never)]
+unsafe fn ssd_rows_avx2_7x21(
+    ua: &[f32],
+    ub: &[f32],
+    a: (usize, usize),
+    b: (usize, usize),
+    tail: &[f32; 8],
+    bound: (f32, f32),
+) -> f32 {
+    ssd_rows_avx2(ua, ub, a, b, (7, 21), tail, bound)
 }
 
 /// Sum of all lanes.

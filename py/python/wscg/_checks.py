@@ -1,5 +1,6 @@
 """Argument checks shared by the Python modules: each raises ``ValueError`` naming the
-argument, before the value reaches Rust."""
+argument, before the value reaches Rust; and :func:`integer_ranges`, which turns the
+``OverflowError`` of an out-of-range integer reaching a native parameter into one."""
 
 from __future__ import annotations
 
@@ -59,8 +60,6 @@ def _range_error(e: OverflowError) -> IntegerRangeError:
 def _translating(f):
     """``f`` with an ``OverflowError`` raised during the call re-raised as
     :class:`IntegerRangeError`."""
-    if getattr(f, "_wscg_ranges", False):
-        return f
 
     @functools.wraps(f)
     def call(*args, **kwargs):
