@@ -70,7 +70,8 @@ fn hand_poses<'py>(
     ))
 }
 
-/// The spec's per-frame amplitudes and the default ones, in `hand_poses`' jitter order.
+/// The default per-frame amplitudes and the tight ones ([`Jitter::tight`]), in `hand_poses`'
+/// jitter order.
 #[pyfunction]
 fn jitter_presets() -> ([f64; 6], [f64; 6]) {
     let f = |j: Jitter| {
@@ -83,7 +84,7 @@ fn jitter_presets() -> ([f64; 6], [f64; 6]) {
             j.translation_px,
         ]
     };
-    (f(Jitter::default()), f(Jitter::spec()))
+    (f(Jitter::default()), f(Jitter::tight()))
 }
 
 /// Physical features of a mask stack (optionally with depth): `(n, 9)` or `(n, 8)`.

@@ -60,9 +60,11 @@ def test_generator_shapes_and_determinism(hands):
     assert np.all(depth[masks == 0] == 0) and np.all((on > 200) & (on < 400))
     again = B.make_hand_poses(n_per_class=150, seed=0)
     np.testing.assert_array_equal(again[0], masks)
-    spec = B.make_hand_poses(n_per_class=5, jitter=B.hand_pose_jitter("spec"))
-    assert spec[0].shape == (25, 165, 120)
-    assert B.hand_pose_jitter("spec")["translation_px"] == 8.0
+    tight = B.make_hand_poses(n_per_class=5, jitter=B.hand_pose_jitter("tight"))
+    assert tight[0].shape == (25, 165, 120)
+    assert B.hand_pose_jitter("tight")["translation_px"] == 8.0
+    with pytest.warns(DeprecationWarning):
+        assert B.hand_pose_jitter("spec") == B.hand_pose_jitter("tight")
 
 
 def test_physical_features_of_a_disc():

@@ -36,6 +36,7 @@ Bad arguments raise ``ValueError`` naming the problem; the GIL is released while
 
 from __future__ import annotations
 
+import warnings
 from typing import Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -916,13 +917,18 @@ _JITTER_KEYS = ("extension", "finger_angle_deg", "spread", "rotation_deg", "scal
 
 
 def hand_pose_jitter(preset: str = "default") -> dict:
-    """Per-frame variation amplitudes of :func:`make_hand_poses`: ``"default"`` (the spec's
-    with the hand translated by +-25 px, which makes FLAT/OPEN and FIST/GRAB confusable) or
-    ``"spec"`` (the spec's +-8 px)."""
-    default, spec = _b.jitter_presets()
-    if preset not in ("default", "spec"):
-        raise ValueError(f"`preset` must be 'default' or 'spec', got {preset!r}")
-    return dict(zip(_JITTER_KEYS, default if preset == "default" else spec))
+    """Per-frame variation amplitudes of :func:`make_hand_poses`: ``"default"`` (the tight
+    amplitudes with the hand translated by +-25 px, which makes FLAT/OPEN and FIST/GRAB
+    confusable) or ``"tight"`` (translation +-8 px: every class far apart). ``"spec"`` is a
+    deprecated alias of ``"tight"``."""
+    if preset == "spec":
+        warnings.warn("hand_pose_jitter('spec') is deprecated; use 'tight'",
+                      DeprecationWarning, stacklevel=2)
+        preset = "tight"
+    default, tight = _b.jitter_presets()
+    if preset not in ("default", "tight"):
+        raise ValueError(f"`preset` must be 'default' or 'tight', got {preset!r}")
+    return dict(zip(_JITTER_KEYS, default if preset == "default" else tight))
 
 
 def make_hand_poses(n_per_class: int = 3000, subjects: int = 3, seed: int = 0,

@@ -595,7 +595,8 @@ def haar_ll(plane) -> np.ndarray:
 
 
 def block_features(plane, **params) -> np.ndarray:
-    """Haar LL features of every block of a ``(height, width)`` float plane (eq. E5): float32
+    """Haar LL features of every block of a ``(height, width)`` float plane (paper §3.2: the
+    LL subband of a one-level 2-D Haar DWT per block, ``(a + b + c + d) / 2``): float32
     ``(blocks, block_len)``, row ``b`` the ``block/2 x block/2`` LL of block ``b``
     flattened row-major. :func:`enroll` is this on ``equalize_hist(rgb_to_gray(resize(img,
     100, 80))) / 255``."""

@@ -96,14 +96,17 @@ pub fn check_input(img: &Image<u8>, allow_gray: bool) -> Result<()> {
     }
 }
 
-/// Resizes the crop to the normalised `p.height x p.width` (step E1).
+/// Resizes the crop to the normalised `p.height x p.width` (100 x 80 in the paper, §3.2 and
+/// Algorithm 1 step 1).
 pub fn normalise(img: &Image<u8>, p: &EarParams) -> Result<Image<u8>> {
     resize_u8(img, p.height, p.width)
 }
 
 /// The feature image `F = equalize(grey) / 255` of an image already at the normalised size
-/// (steps E2-E4); grey (1-channel) input skips the colour conversion. With `within`, the
-/// equalisation histogram counts only those pixels (see [`EarParams::equalize_on_skin`]).
+/// (the histogram equalisation of §3.2 and Algorithm 1 step 1, applied to the grey image only
+/// so that the chromaticity of the skin test is untouched); grey (1-channel) input skips the
+/// colour conversion. With `within`, the equalisation histogram counts only those pixels (see
+/// [`EarParams::equalize_on_skin`]).
 pub fn feature_plane(small: &Image<u8>, within: Option<&[u8]>) -> Result<Vec<f64>> {
     let gray = if small.channels() == 1 {
         small.data().to_vec()
@@ -116,8 +119,9 @@ pub fn feature_plane(small: &Image<u8>, within: Option<&[u8]>) -> Result<Vec<f64
         .collect())
 }
 
-/// Haar LL features of every block of a `p.height x p.width` plane (eq. E5 of the spec),
-/// `blocks x block_len`, row-major by block index.
+/// Haar LL features of every block of a `p.height x p.width` plane (paper §3.2: the
+/// low-frequency subband of a one-level 2-D Haar DWT per block; orthonormal Haar,
+/// `LL = (sum of a 2 x 2 cell) / 2`), `blocks x block_len`, row-major by block index.
 pub fn block_features(plane: &[f64], p: &EarParams) -> Result<Vec<f32>> {
     let ll = haar_ll(plane, p.height, p.width)?;
     let (gr, gc) = p.grid();

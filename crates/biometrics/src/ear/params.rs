@@ -230,8 +230,9 @@ impl EarParams {
         (self.block / 2) * (self.block / 2)
     }
 
-    /// Upper bound of a block distance, `2 sqrt(block_len)` (LL values lie in `[0, 2]`); the
-    /// normaliser of eq. (E14) of the spec.
+    /// Upper bound of a block distance, `2 sqrt(block_len)` (LL values lie in `[0, 2]`): it
+    /// scales the Euclidean block distance of eq. 7 into `[0, 1]`, which the similarities
+    /// `S = 1 - D` of eqs. 8-16 need (the paper does not normalise `D`).
     pub fn distance_scale(&self) -> f64 {
         2.0 * (self.block_len() as f64).sqrt()
     }

@@ -14,7 +14,7 @@
 //! is minimised under `w' B w = 1` and mutual `B`-orthogonality, `B` the covariance of all
 //! training rows: the `m` smallest eigenpairs of `A_C w = lambda B w`.
 //!
-//! Choices where the paper is silent or inconsistent (following the specification):
+//! Choices where the paper is silent or inconsistent:
 //! - eqs. 8-13 wrap the sums in a square root, which leaves no quadratic form and no
 //!   eigen-solution; the root is dropped (as in Berkes 2005);
 //! - the sums are mean-normalised by their pair counts (raw sums would weight the

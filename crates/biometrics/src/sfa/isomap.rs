@@ -69,7 +69,7 @@ pub const MAX_GEODESIC_ENTRIES: usize = 1 << 29;
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct IsomapParams {
     /// Neighbours per point in the graph and for out-of-sample points, `1 <= k < n`.
-    /// Default 8 (the paper does not say; spec section 2.7).
+    /// Default 8 (the paper does not say).
     pub n_neighbors: usize,
     /// Embedding dimension, `1 <= l <= n` (`<= n_landmarks` in landmark mode). Default 9
     /// (the paper's "9-D Isomap").

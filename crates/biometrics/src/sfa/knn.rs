@@ -12,7 +12,8 @@ use crate::subspace::{check_data, check_query};
 /// How a tied vote is decided.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum KnnTie {
-    /// The tied class with the nearest member (the specification's rule).
+    /// The tied class with the nearest member (the default; the paper does not say how ties
+    /// are broken).
     #[default]
     Nearest,
     /// The smallest tied label (scikit-learn's `KNeighborsClassifier`).

@@ -109,8 +109,8 @@ mod tests {
 
     #[test]
     fn wiskott_sejnowski_toy() {
-        // Check 3: x1 = sin t + cos^2(11 t), x2 = cos(11 t); the slowest quadratic feature
-        // is sin t.
+        // The toy of Wiskott and Sejnowski (2002): x1 = sin t + cos^2(11 t), x2 = cos(11 t);
+        // the slowest quadratic feature is sin t.
         let n = 5000;
         let ts: Vec<f64> = (0..n)
             .map(|i| 2.0 * std::f64::consts::PI * i as f64 / (n - 1) as f64)

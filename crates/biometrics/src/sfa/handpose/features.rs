@@ -15,10 +15,10 @@
 //! | 7 | `polar_deg` | `atan2(-(tip_y - centre_y), tip_x - centre_x)` in degrees |
 //! | 8 | `azimuth_deg` | `atan((depth_centre - depth_tip) / |tip - centre|)` in degrees (only with depth) |
 //!
-//! Choices where the paper (and the spec) leave a gap:
-//! - **Nine values.** The paper lists the fingertip and palm-centre coordinates, the convex
-//!   ratio, the concave depth and the polar and azimuth angles of the finger: eight numbers,
-//!   whereas the spec asks for a 9-D vector. The ninth is the palm radius (the maximum of the
+//! Choices where the paper leaves a gap:
+//! - **Nine values.** The paper (§4) lists the fingertip and palm-centre coordinates, the
+//!   convex ratio, the concave depth and the polar and azimuth angles of the finger: eight
+//!   numbers. We add a ninth, the palm radius (the maximum of the
 //!   distance transform), which comes with the palm centre and is the hand-size cue of the
 //!   palm-centre methods cited. Without depth the azimuth is left out (8 values); it is the
 //!   last entry so that the 8-D vector is a prefix of the 9-D one.

@@ -2,10 +2,11 @@
 //! paper's private PMD-Nano recordings, the paper's pre-processing and split / augmentation
 //! protocol, and the hand-crafted "physical" features of its KNN baseline (Table 4).
 //!
-//! - [`generate`](mod@generate): the generator of the spec's §3.2 (five poses FIST, FLAT,
-//!   INDEX, OPEN, GRAB; 120 x 165 masks with depth, segmented from a simulated amplitude image
-//!   as in the paper's §3.2.1), mask rotation and downscaling, and [`split_protocol`] (§3.2.1
-//!   and the spec's §2.7: split first, then augment the training frames only).
+//! - [`generate`](mod@generate): the synthetic generator (five poses FIST, FLAT, INDEX, OPEN,
+//!   GRAB as in the paper's Fig. 3; 120 x 165 masks with depth, segmented from a simulated
+//!   amplitude image as in the paper's §3.2.1), mask rotation and downscaling, and
+//!   [`split_protocol`] (§3.2.1; split first, then augment the training frames only, an order
+//!   the paper leaves open).
 //! - [`features`]: fingertip, palm centre and radius, convex ratio, concave depth, polar and
 //!   azimuth angle of the finger (§3.2.2, [RYZ11, PKK09, CLEL12]).
 //! - [`protocol`]: the paper's comparison (Tables 3-6): class-wise SFA, KNN on physical

@@ -10,7 +10,7 @@
 //! | [`Method::KnnIsomap`] | 6 | the same downscaled masks, 9-D Isomap | KNN, k = 5 |
 //! | [`Method::GlobalSfa`] | 1, row 2 | as class SFA | [`GlobalSfa`], 10 shared functions, variance rule |
 //!
-//! Choices where the paper is silent (following the spec's §2.7):
+//! Choices where the paper is silent:
 //! - **Physical features** are computed on the original (unrotated) training frames, of which
 //!   `physical_per_class` per class (1500, the paper's "1500 samples from each class") are
 //!   drawn at random; each feature is z-scored with the training mean and standard deviation
@@ -102,8 +102,8 @@ impl Method {
     }
 }
 
-/// Parameters of [`compare`]; the defaults are the paper's (§3.2.2, §4) with the spec's
-/// choices where it is silent.
+/// Parameters of [`compare`]; the defaults are the paper's (§3.2.2, §4) with our choices
+/// where it is silent (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CompareConfig {
     /// The class-wise and full-data-set SFA (PCA-35, quadratic, 10 functions, gamma = 1).
@@ -575,10 +575,11 @@ impl RotationCheck {
     }
 }
 
-/// The spec's rotation-robustness check (the paper's invariance claim): the class-wise SFA
-/// trained on `split` (pass the model [`compare`] fitted, [`Comparison::class_sfa`], to skip
-/// refitting it) scored on the test frames of the mask stack `masks` rotated by `+-U(10, 20)`
-/// degrees; with `unaugmented`, also a model trained without the rotated copies.
+/// The test of the paper's invariance claim (§3.2.1: the rotated copies "train the SFA for
+/// rotational invariances"): the class-wise SFA trained on `split` (pass the model [`compare`]
+/// fitted, [`Comparison::class_sfa`], to skip refitting it) scored on the test frames of the
+/// mask stack `masks` rotated by `+-U(10, 20)` degrees; with `unaugmented`, also a model
+/// trained without the rotated copies.
 ///
 /// Errors: as [`rotated_rows`] and [`PerClassSfa::fit`].
 #[allow(clippy::too_many_arguments)]
