@@ -13,8 +13,8 @@
 //! - [`ncg`]: the paper's nonlinear conjugate gradient implicit solver (Algorithm 1).
 //! - [`newton`]: exact implicit Euler, the Newton minimiser of the incremental potential
 //!   (the reference of the paper's section 2 equivalence).
-//! - [`solver`]: the soft-projection step (eq. E4 of our specification, the paper's eqs. 17
-//!   and 20 with the accumulated-multiplier term), in the XPBD-consistent `Accumulate` mode or
+//! - [`solver`]: the soft-projection step (the paper's eqs. 17 and 20 in one update, with the
+//!   accumulated-multiplier term), in the XPBD-consistent `Accumulate` mode or
 //!   the paper's printed `PaperReset` mode.
 //! - [`projection`]: the constraint sweeps of the soft projection: Gauss-Seidel, SOR,
 //!   Jacobi and graph-coloured parallel Gauss-Seidel (section 7).

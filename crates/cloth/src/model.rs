@@ -276,7 +276,8 @@ impl ClothModel {
     /// a StVK membrane triangle (Poisson ratio `poisson`, rest shape = the given one);
     /// otherwise every edge becomes a link of stiffness `k_edge`. With `k_bend`, in both
     /// cases, a bending link joins the opposite vertices of the two faces of every interior
-    /// edge (the bending model of the specification for irregular meshes).
+    /// edge (the bending links for irregular meshes of the paper's section 8, after \[Erl05\];
+    /// the paper's own dihedral formulas are not given).
     ///
     /// Errors: empty input, face index out of range or repeated, degenerate faces, bad
     /// material, non-finite vertices, a vertex in no face.

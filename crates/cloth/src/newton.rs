@@ -1,5 +1,4 @@
-//! Exact implicit Euler: the minimiser of the incremental potential (the paper's eq. 4,
-//! E1 of our specification)
+//! Exact implicit Euler: the minimiser of the incremental potential (the paper's eq. 4)
 //! `Phi(x) = (1/2h^2) (x - x~)' M (x - x~) + U(x)`, `x~ = x^n + h v^n + h^2 g`,
 //! found by Newton's method with a backtracking line search. The Hessian of each link is
 //! projected to be positive semi-definite (`k (n n' + max(0, 1 - rest/len) (I - n n'))`);

@@ -1,5 +1,5 @@
-//! The constraint projections of the soft-projection step (eq. E4 of our specification; the
-//! paper's eqs. 17 and 20 with the damping of section 6), written for speed.
+//! The constraint projections of the soft-projection step (the update of [`crate::solver`]:
+//! the paper's eqs. 17 and 20 with the damping of section 6), written for speed.
 //!
 //! Two identities keep the sweeps light:
 //!
@@ -350,7 +350,9 @@ impl VelocityFrame<'_> {
     }
 }
 
-/// Projects one link (eq. E5): returns the multiplier change and the residual `|rhs|`.
+/// Projects one link: `dl = -rhs / (h alpha (beta h + gamma) sum_p w_p |grad_p c|^2 + eps)`,
+/// the scalar form of the update (the paper's eq. 22 with the soft and damping terms);
+/// returns the multiplier change and the residual `|rhs|`.
 #[inline(always)]
 fn project_link<P: Positions>(
     l: &PLink,

@@ -1,6 +1,7 @@
 //! Time stepping.
 //!
-//! **Soft projection** (paper sections 4-6; eq. E4 of our specification). The unified
+//! **Soft projection** (paper sections 4-6; eqs. 17 and 20 as one update, with the factor
+//! `beta` that eq. 20 leaves out of `S` and the accumulated multiplier below). The unified
 //! scheme `M (v' - v)/h = f_ext + (1 - alpha) f(x) + alpha f(x')`,
 //! `(x' - x)/h = (1 - beta) v + beta v'` with `alpha, beta` in `(0, 1]` (`alpha = beta = 1`:
 //! implicit Euler, i.e. regularized PBD; `1/2`: implicit midpoint) starts from the candidate

@@ -12,9 +12,10 @@
 //! `(Psi^H Psi + F_u^H F_u) x = r` of Afonso et al., solved by conjugate gradients
 //! preconditioned with the Parseval inverse and started from it (l1 only).
 //!
-//! Choices where the paper is silent (see the specification): `eps` is a radius on the
-//! 2-norm; images are normalised by `s = max|x0|` so that `tau` is scale-free; the paper's
-//! "lambda <- rho lambda" schedule is `tau <- rho tau`, capped at `tau_cap * tau0`
+//! Choices where the paper is silent or inconsistent: `eps` is a radius on the 2-norm (eqs. 1
+//! and 5 write `||F_u x - y||_2^2 <= eps`, but the projection of eq. 9 uses `eps` as a radius,
+//! as Afonso et al. do); images are normalised by `s = max|x0|` so that `tau` is scale-free;
+//! the paper's "lambda <- rho lambda" schedule is `tau <- rho tau`, capped at `tau_cap * tau0`
 //! (`rho = 1`, textbook C-SALSA, is the default).
 
 use num_complex::Complex64;
@@ -37,7 +38,8 @@ pub enum Regularizer {
         shrink_lowpass: bool,
     },
     /// `TV(Psi^H alpha)`, whose prox is `a + Psi(prox_TV(Psi^H a) - Psi^H a)` for a
-    /// Parseval `Psi` (eq. E5); the TV prox runs `inner_iters` Chambolle steps.
+    /// Parseval `Psi` (`Psi^H Psi = I`; Bauschke and Combettes, Prop. 24.14); the TV prox
+    /// runs `inner_iters` Chambolle steps, the algorithm the paper names for eq. 8 with TV.
     Tv {
         /// Chambolle iterations per prox (warm-started).
         inner_iters: usize,
@@ -506,7 +508,8 @@ impl FrameSolve {
     }
 }
 
-/// `out = a + Psi(prox_{tau TV}(Psi^H a) - Psi^H a)` (eq. E5).
+/// `out = a + Psi(prox_{tau TV}(Psi^H a) - Psi^H a)`: the prox of `TV(Psi^H .)` (eq. 8 with
+/// `Phi = TV`) for a Parseval `Psi` (Bauschke and Combettes, Prop. 24.14).
 fn tv_prox_of_synthesis(
     psi: &dyn Sparsifier,
     a: &CoeffVec,

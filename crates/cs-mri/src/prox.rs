@@ -1,5 +1,5 @@
-//! Proximal maps of paper 11, section 2.3: soft thresholding (eq. E3) and the projection onto
-//! the data-fidelity ball (eq. E4).
+//! Proximal maps of paper 11, section 2.3: soft thresholding (the prox of eq. 8 for
+//! `Phi = l1`) and the projection onto the data-fidelity ball (eq. 9).
 
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -11,7 +11,8 @@ pub fn soft(a: f64, tau: f64) -> f64 {
     a.signum() * (a.abs() - tau).max(0.0)
 }
 
-/// Complex (magnitude) soft threshold `a max(|a| - tau, 0) / |a|` (eq. E3).
+/// Complex (magnitude) soft threshold `a max(|a| - tau, 0) / |a|` (eq. 8 with `Phi = l1` on
+/// complex coefficients: the magnitude shrinks, the phase is kept).
 pub fn soft_complex(a: Complex64, tau: f64) -> Complex64 {
     let m = a.norm_sqr().sqrt();
     if m <= tau {
@@ -70,7 +71,7 @@ pub fn admm_l1_step(
         });
 }
 
-/// Projection of `v` onto the ball `{u : ||u - y|| <= eps}` (eq. E4), in place.
+/// Projection of `v` onto the ball `{u : ||u - y|| <= eps}` (eq. 9), in place.
 /// With `eps = 0` this replaces `v` by `y`.
 pub fn project_ball(v: &mut [Complex64], y: &[Complex64], eps: f64) {
     let d: f64 = v

@@ -111,7 +111,8 @@ impl Timing {
     }
 
     /// Reference time of the frame's virtual global shutter: the opening of its middle row
-    /// (section 2.5 of the spec; equals the frame's opening when `t_readout = 0`).
+    /// (the target of the rolling-shutter rectification the paper takes from Karpenko et al.
+    /// 2011, section 5; equals the frame's opening when `t_readout = 0`).
     pub fn reference(&self) -> f64 {
         self.open(self.height as f64 / 2.0)
     }

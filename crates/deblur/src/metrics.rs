@@ -1,4 +1,4 @@
-//! Image quality as Table 1 of the paper reports it (spec section 3): PSNR (range 255) and
+//! Image quality as Table 1 of the paper reports it (section 6.2): PSNR (range 255) and
 //! SSIM (Wang 2004, Gaussian window sigma 1.5, K1 = 0.01, K2 = 0.03, as scikit-image's
 //! `structural_similarity(gaussian_weights=True, use_sample_covariance=False)`) on 8-bit
 //! display values, excluding a border.

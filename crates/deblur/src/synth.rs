@@ -1,4 +1,5 @@
-//! Synthetic gyro blur with exact ground truth (spec section 3): Ornstein-Uhlenbeck hand
+//! Synthetic gyro blur with exact ground truth, standing in for the recorded hand shake of the
+//! paper's section 6.2 (its images and gyroscope logs are not public): Ornstein-Uhlenbeck hand
 //! shake, gyroscope noise, and frames rendered densely (per row, per time sub-step, a full
 //! homography warp of the sharp image) so that the tests never blur with the kernels they
 //! deblur with.

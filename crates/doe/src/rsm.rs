@@ -34,7 +34,8 @@
 //!
 //! The paper fits the panel means (13 values per condition); its significance column is not
 //! reproducible from 13 means, so [`fit_quadratic_blocked`] offers the fit on all individual
-//! scores with the subject as a blocking factor too (spec §2.4).
+//! scores with the subject as a blocking factor too (the paper's section 5.2 does not say which
+//! data its p-values come from, so both fits are offered).
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use wscg_math::error::ensure_finite;
@@ -234,8 +235,9 @@ pub fn fit_quadratic(x: &DMatrix<f64>, y: &[f64], interaction: bool) -> Result<R
 }
 
 /// Fits the second-order model to every individual score, with the subject as a blocking factor
-/// (spec §2.4, "offer both fits": the paper's significance levels look like they come from the
-/// 338 individual scores rather than the 13 panel means).
+/// (the paper's significance levels, section 5.2, Table 2, look like they come from the 338
+/// individual scores rather than the 13 panel means; with [`fit_quadratic`] both fits are on
+/// offer).
 ///
 /// * `x`: stimuli x k coded runs (the design; one row per stimulus).
 /// * `scores`: subjects x stimuli responses (row `s`, column `i`: subject `s`, stimulus `i`).

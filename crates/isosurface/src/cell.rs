@@ -2,8 +2,8 @@
 //! known or can be inferred, and whether its surface can be built.
 //!
 //! A missing corner's side comes from the side hint when there is one. Otherwise it is inferred
-//! (spec section 2.1): an edge with a missing endpoint cannot carry a vertex, so under the
-//! paper's sparsification protocol it is not a crossing edge and the missing corner lies on the
+//! (the paper does not say how): an edge with a missing endpoint cannot carry a vertex, so under
+//! the paper's sparsification protocol it is not a crossing edge and the missing corner lies on the
 //! same side as its neighbours. The side of a connected group of missing corners is therefore
 //! that of the known corners next to the group, which must all agree; if they do not, the cell
 //! is *unresolved*. For random dropouts without hints this is an assumption (a surface passing

@@ -3,7 +3,7 @@
 //!
 //! The paper names its fields but gives neither formulas nor grid sizes; the definitions here
 //! are the standard ones where a standard exists (Marschner-Lobb, Bourke's genus-3 surface,
-//! MATLAB's peaks) and ours otherwise (six peaks, flower), as listed in the spec.
+//! MATLAB's peaks) and ours otherwise (six peaks, flower).
 
 use rand_distr::{Distribution, Normal};
 use std::f64::consts::PI;
@@ -350,7 +350,8 @@ pub fn sample_voxels(field: &dyn Field, dims: [usize; 3]) -> Result<Sampled> {
     )
 }
 
-/// The spec's "sensed-like" stand-in: a noisy 8-bit sphere,
+/// A stand-in for the paper's sensed 8-bit data sets (section 5.1), which are not bundled: a
+/// noisy 8-bit sphere,
 /// `round(255 / (1 + exp((r - radius) / width)) + N(0, noise))` clamped to `[0, 255]`, at
 /// integer coordinates (values stay `f32` holding integers). Surfaces at integer isovalues then
 /// hit samples exactly and give degenerate triangles, as 8-bit scans do.
@@ -420,7 +421,7 @@ fn norm(a: [f64; 3]) -> f64 {
 }
 
 /// The centre used by the named sphere and torus on an `n^3` voxel grid: near the grid centre
-/// but off the sample lattice (on 64^3, the spec's (31.37, 32.21, 30.83) rounded).
+/// but off the sample lattice (on 64^3 about (30.88, 32.21, 30.83)).
 pub fn grid_centre(n: usize) -> [f64; 3] {
     let m = n.saturating_sub(1) as f64;
     [0.4902 * m, 0.5113 * m, 0.4894 * m]
@@ -440,7 +441,7 @@ pub const FIELD_NAMES: [&str; 8] = [
 
 /// A named field sampled on an `n^3` grid over its usual domain, with the field itself (for
 /// exact normals): `sphere` (signed distance, radius `0.3125 n`, centre near the grid centre;
-/// the spec's R = 20 on 64^3), `torus` (R = `0.25 n`, r = `0.094 n`), `marschner_lobb`,
+/// R = 20 on 64^3), `torus` (R = `0.25 n`, r = `0.094 n`), `marschner_lobb`,
 /// `genus3`, `peaks`, `six_peaks`, `flower`, `linear` (`0.3x + 0.5y + 0.7z + 0.01` in voxel
 /// units). The sphere, torus and linear fields are in voxel coordinates.
 pub fn named(name: &str, n: usize) -> Result<(Box<dyn Field>, Sampled)> {

@@ -19,7 +19,8 @@ use crate::metrics::{angular_errors, class_rms, for_each_cell_vertex, rms, RmsSu
 use crate::normals::{estimate_normals, AmbiguousRule, LsnOpts, NormalMethod};
 
 /// `count` isovalues evenly spaced between the `lo_pct` and `hi_pct` percentiles of the
-/// defined samples (the paper uses "a large range"; the spec: 20 or 100 values in [5, 95]).
+/// defined samples (the paper uses "a large range" of isovalues, section 5.1, without giving
+/// it; we use 20 or 100 values between the 5th and 95th percentiles).
 pub fn percentile_isovalues(
     values: &[f32],
     count: usize,

@@ -1,6 +1,6 @@
 //! Synthetic coloured meshes with exact ground truth (paper 04's test data are private or
-//! unavailable): a coloured cube with sharp edges whose colour edges coincide with them (S1
-//! of the specification), a fandisk-like CAD part with convex and concave creases and a
+//! unavailable): a coloured cube with sharp edges whose colour edges coincide with them (S1),
+//! a fandisk-like CAD part with convex and concave creases and a
 //! fillet (S2), an icosphere (S3), a plane with a colour step; and Gaussian noise along the
 //! vertex normals.
 
@@ -160,10 +160,11 @@ pub struct CadPart {
     pub crease_band: Vec<bool>,
 }
 
-/// S2 of the specification: a 2-D profile of straight segments with four convex corners, one
-/// concave corner and a quarter-circle fillet (tangent at both ends), extruded along z over
-/// `[0, 1]`; `n` samples per unit length, regular on every patch (vertices exactly on the
-/// analytic surface), one colour per patch. The extrusion is open: its two boundary loops
+/// S2, a stand-in for the paper's coloured fandisk (section 4): a 2-D profile of straight
+/// segments with four convex corners, one concave corner and a quarter-circle fillet (tangent
+/// at both ends), extruded along z over `[0, 1]`; `n` samples per unit length, regular on
+/// every patch (vertices exactly on the analytic surface), one colour per patch. The
+/// extrusion is open: its two boundary loops
 /// (z = 0 and z = 1) are what the filters hold fixed. `n = 20` gives 4116 vertices.
 ///
 /// Errors: `n` outside `1..=500`.
@@ -226,7 +227,7 @@ pub fn cad_part(n: usize) -> Result<CadPart> {
     })
 }
 
-/// Default noise seed of the specification.
+/// Default noise seed (the 64-bit golden-ratio constant).
 pub const NOISE_SEED: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// `mesh` with every vertex moved along its (area-weighted) normal by `N(0, sigma^2)`, or in

@@ -917,9 +917,10 @@ def w_step(v, alpha: float, beta: float) -> np.ndarray:
 # Synthetic data
 # ----------------------------------------------------------------------------------------
 
-class synth:  # noqa: N801 - a namespace, as in the spec (``synth.ou_gyro(...)``)
-    """Synthetic hand shake and densely rendered blurred frames with exact ground truth
-    (spec section 3): the tests never blur with the kernels they deblur with."""
+class synth:  # noqa: N801 - a namespace named like the Rust module (``synth.ou_gyro(...)``)
+    """Synthetic hand shake and densely rendered blurred frames with exact ground truth,
+    standing in for the paper's recorded hand shake (section 6.2), which is not public: the
+    tests never blur with the kernels they deblur with."""
 
     @staticmethod
     def ou_gyro(duration: float, rate: float = 200.0, tau: float = 0.05,

@@ -218,7 +218,7 @@ def study_exact(name: str, n: int = 64) -> dict:
     return _m.study_exact(str(name), int(n))
 
 
-class fields:  # noqa: N801 - a namespace, as in the spec (``fields.marschner_lobb(n)``)
+class fields:  # noqa: N801 - a namespace named like the Rust module (``fields.sample(...)``)
     """Analytic test fields (value and exact gradient) of the paper's section 5.2."""
 
     NAMES = ("sphere", "torus", "marschner_lobb", "genus3", "peaks", "six_peaks", "flower",
