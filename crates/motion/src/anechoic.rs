@@ -63,7 +63,8 @@ pub enum Init {
     Orbit,
 }
 
-/// Parameters of [`fit_anechoic`] (defaults as specified for paper 16).
+/// Parameters of [`fit_anechoic`] (defaults for paper 16: three periodic sources with delays
+/// shared over trials, as in its first action, §2.3; the rest are our choices).
 #[derive(Clone, Debug, PartialEq)]
 pub struct AnechoicConfig {
     /// Number of periodic sources `J`.
@@ -1250,7 +1251,8 @@ fn search_delays(
 
 /// Continues the ALS from an existing model, possibly under a looser delay constraint (zero →
 /// shared → per trial): the start reproduces `start`'s fit exactly, so the result's `Q` is at
-/// least `start.q` (nested models, spec check 5). Uses `cfg.delays`, `max_iter` and `tol`; the
+/// least `start.q` (nested models, as in the paper's Fig. 4 comparison of delays fixed across
+/// trials with free ones). Uses `cfg.delays`, `max_iter` and `tol`; the
 /// number of sources and harmonics come from `start`.
 ///
 /// # Errors

@@ -1,5 +1,7 @@
-//! Band-limited periodic signals (paper §2.3 as specified: each source is a Fourier series with
-//! `K` harmonics and no mean).
+//! Band-limited periodic signals (the periodic sources of paper §2.3; the paper cites its
+//! demixing algorithm \[CdEG13\] without details; here, as in the Fourier-domain anechoic
+//! demixing of Chiovetto, d'Avella and Giese, each source is a Fourier series with `K`
+//! harmonics and no mean).
 //!
 //! Time is normalised to one period, `t ∈ [0, 1)`, so a delay `τ` is a fraction of the period
 //! and a shift is circular. A source is

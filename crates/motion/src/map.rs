@@ -185,7 +185,8 @@ impl DelayedLuts {
     }
 }
 
-/// Hyper-parameters of the SVR state maps (spec §2.4 defaults, on unit-RMS sources).
+/// Hyper-parameters of the SVR state maps. The paper (§2.2) gives none; the defaults are ours,
+/// for unit-RMS sources.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SvrMapConfig {
     /// Box constraint `C`.

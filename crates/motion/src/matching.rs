@@ -1,5 +1,6 @@
 //! Comparing estimated sources with ground truth up to the model's gauge freedoms (circular
-//! shift, sign and scale), as spec check 4 requires: the similarity of two periodic sources is
+//! shift, sign and scale: eq. 1 is unchanged when a source is shifted, flipped or scaled and
+//! its delays and weights compensate): the similarity of two periodic sources is
 //! the largest |normalised circular cross-correlation| over all shifts, and sources are paired
 //! by the assignment that maximises the summed similarity.
 

@@ -5,7 +5,8 @@
 //! the paper splits the rest as `D₁ = γ (D − 0.6)`, `D₂ = (1 − γ)(D − 0.6)` with `γ = 0.385`.
 //! Every length must lie inside the range of step lengths that action was trained on.
 //!
-//! The paper gives no formula for longer or shorter goals; ours, documented in the spec:
+//! The paper gives no formula for longer or shorter goals (§3 only says that steps are added
+//! or removed automatically); ours:
 //! - long goals get `n₁ ≥ 1` normal steps (action 1) and one shortened step (action 2) keeping
 //!   `L₁ / L₂ = γ / (1 − γ)`: `L₂ = (D − 0.6) / (n₁ γ/(1−γ) + 1)`, `L₁ = L₂ γ/(1−γ)`;
 //! - goals too short for that get `n₂ ≥ 1` shortened steps `L₂ = (D − 0.6) / n₂`;
@@ -115,7 +116,8 @@ pub struct Planner {
 
 impl Default for Planner {
     /// The paper's `D₃ = 0.6 m` and `γ = 0.385`, with the step ranges of the synthetic learning
-    /// set (spec §3), which reproduce the paper's 3-action interval `[2.34, 2.94]` m.
+    /// set ([`crate::walker`]), which reproduce the paper's 3-action interval `[2.34, 2.94]` m
+    /// (§3).
     fn default() -> Self {
         Self {
             comfort: 0.6,

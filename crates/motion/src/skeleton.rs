@@ -84,7 +84,8 @@ pub fn quat_to_expmap(q: &UnitQuaternion<f64>) -> [f64; 3] {
 
 /// Makes a sequence of exponential maps continuous: where a frame's rotation vector is closer to
 /// its predecessor after the equivalent `r − 2π r/‖r‖` (or `+`) form, that form is used. This is
-/// the q / −q hemisphere handling that must precede demixing (spec §7).
+/// the q / −q hemisphere handling that must precede demixing: the joint angles are exponential
+/// maps of unit quaternions (paper §2.2), and a 2π jump in a channel would pass for a source.
 pub fn unwrap_expmaps(frames: &mut [[f64; 3]]) {
     for t in 1..frames.len() {
         let prev = Vector3::from(frames[t - 1]);

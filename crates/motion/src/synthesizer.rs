@@ -1,4 +1,4 @@
-//! Online synthesis of the walk-and-reach sequence (paper §2.4–2.5, spec §2.8).
+//! Online synthesis of the walk-and-reach sequence (paper §2.2 and §2.4–2.5, Fig. 3).
 //!
 //! A star network of Hopf oscillators runs at the current action's frequency `ω_a = 2π/T_a`;
 //! each periodic source is read from its follower through the learned state map, with delays

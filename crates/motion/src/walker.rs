@@ -1,5 +1,5 @@
-//! The synthetic walker (spec §3): a seeded generator of walk-and-reach trials with known
-//! ground truth, standing in for the paper's unpublished motion capture.
+//! The synthetic walker: a seeded generator of walk-and-reach trials with known ground truth,
+//! standing in for the paper's unpublished motion capture of the drawer task (§2.1).
 //!
 //! - 17 joints, 51 exponential-map channels, `N` samples per action.
 //! - 5 periodic sources (3 in action 1, all 5 in actions 2 and 3), each with harmonics 1–3 of

@@ -1,5 +1,5 @@
 //! Top-down construction with early stop and bottom-up voxel attributes (paper §3
-//! "Construction"; spec 2.3-2.5).
+//! "Data Structure" and "Construction", Figs. 2-3).
 //!
 //! The GPU version splats the fragments level by level, caching up to two triangle ids per
 //! node with atomic compare-and-swap and flagging a node for subdivision at the third distinct
@@ -280,7 +280,8 @@ pub fn build(mesh: &TriMesh, p: &BuildParams) -> Result<(HybridOctree, BuildStat
     }
 
     // Leaf codes: singles are the triangle itself, pairs first in the index array, then lists
-    // with their count as first word (spec 2.4).
+    // with their count as first word (the offsets of the paper's §3, Fig. 2; the count word is
+    // our choice).
     let n_tris = mesh.faces.len() as u32;
     let n_pairs = leaves.iter().filter(|(_, t)| t.len() == 2).count();
     let n_pair_words = 2 * n_pairs as u32;
@@ -391,8 +392,9 @@ fn quantize(v: f32) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
-/// Leaf attributes (spec 2.5): mean fragment colour; normalized sum of the fragments'
-/// triangle normals, or the first fragment's normal when the sum vanishes (opposite faces).
+/// Leaf attributes (paper §3, bottom-up phase): mean fragment colour; normalized sum of the
+/// fragments' triangle normals, or the first fragment's normal when the sum vanishes
+/// (opposite faces).
 fn leaf_attributes(fr: &[Fragment], normals: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
     let mut c = [0f32; 3];
     let mut n = [0f32; 3];

@@ -1,4 +1,4 @@
-//! The octree's domain (a cube) and the Morton order of its finest cells (paper §3; spec 2.1).
+//! The octree's domain (a cube) and the Morton order of its finest cells (paper §3).
 
 use wscg_math::{Error, Result};
 

@@ -1,6 +1,6 @@
-//! The compact node layout (paper Fig. 2-3; spec 2.4): two 32-bit words per node, an 8-byte
-//! voxel payload per non-empty node, and the single / pair / list encoding of a leaf's
-//! triangles.
+//! The compact node layout (paper §3 "Data Structure", Figs. 2-3): two 32-bit words per node,
+//! an 8-byte voxel payload per non-empty node, and the single / pair / list encoding of a
+//! leaf's triangles.
 
 /// Payload of an empty node.
 pub const EMPTY: u32 = u32::MAX;
@@ -157,7 +157,7 @@ pub fn oct_decode(e: [i16; 2]) -> [f32; 3] {
     [x / l, y / l, z / l]
 }
 
-/// The triangles of a leaf, decoded from its code (spec 2.4).
+/// The triangles of a leaf, decoded from its code (paper §3, Fig. 2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LeafTris<'a> {
     /// One triangle: code `v < T`.

@@ -136,8 +136,8 @@ impl HybridOctree {
         &self.tris
     }
 
-    /// The triangles of leaf node `node` (single / pair / list, spec 2.4). Panics if `node`
-    /// is not a non-empty leaf of this tree.
+    /// The triangles of leaf node `node` (single / pair / list, paper §3, Fig. 2). Panics if
+    /// `node` is not a non-empty leaf of this tree.
     #[inline]
     pub fn decode_leaf(&self, node: u32) -> LeafTris<'_> {
         self.decode_code(self.nodes[node as usize].index())

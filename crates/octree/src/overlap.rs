@@ -1,7 +1,7 @@
 //! Triangle / axis-aligned box overlap by the separating-axis theorem (Akenine-Möller 2001):
 //! the 3 box axes, the triangle normal and the 9 cross products of a box axis with a triangle
 //! edge. The box is closed, so touching counts as overlap; this is what makes the voxelization
-//! conservative and the octree traversal exact (spec 2.2, 2.6).
+//! conservative and the octree traversal exact.
 
 use wscg_math::vec3::{cross, sub};
 

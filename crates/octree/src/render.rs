@@ -1,4 +1,4 @@
-//! The renderer of the paper's timings (Table 3; spec 2.8): one primary ray per pixel, Phong
+//! The renderer of the paper's timings (§5, Table 3): one primary ray per pixel, Phong
 //! shading with one point light and one shadow ray, in any [`TraceMode`].
 
 use std::time::Instant;
@@ -201,7 +201,8 @@ pub struct PointLight {
     pub intensity: f32,
 }
 
-/// Phong parameters (spec 2.8).
+/// Phong parameters (the paper, Table 3, names Phong lighting without coefficients; the
+/// defaults are ours).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Shading {
     /// Ambient coefficient.

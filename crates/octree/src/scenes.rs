@@ -1,5 +1,5 @@
 //! Synthetic test scenes with the triangle-size-to-voxel-size character of the paper's scenes
-//! (spec 3): the paper's Sponza, Urban Sprawl, Happy Buddha and plant models are not available
+//! (§5): the paper's Sponza, Urban Sprawl, Happy Buddha and plant models are not available
 //! offline, so the trends of Tables 2-3 are reproduced on generated geometry.
 //!
 //! - [`atrium`] (Sponza-like): a hall, two rows of pillars and arches; large triangles.
@@ -118,8 +118,8 @@ impl SceneBuilder {
     }
 }
 
-/// The exact case of spec 3: the square `[0,1]^2` at `z = 1/3` as two triangles, and the unit
-/// cube as its domain (1/3 is never on a dyadic cell boundary).
+/// A case with an exactly known voxelization: the square `[0,1]^2` at `z = 1/3` as two
+/// triangles, and the unit cube as its domain (1/3 is never on a dyadic cell boundary).
 pub fn exact_square() -> Result<(TriMesh, Cube)> {
     let z = 1.0 / 3.0;
     let m = TriMesh::new(

@@ -1,5 +1,6 @@
 //! Front-to-back ray traversal of the hybrid octree with a short stack, exact triangle hits in
-//! the leaves, and level-of-detail stops at pre-filtered voxels (paper §4; spec 2.6-2.7).
+//! the leaves, and level-of-detail stops at pre-filtered voxels (paper §4, "Traversal" and
+//! "Inter-level blending").
 
 use std::mem::MaybeUninit;
 

@@ -1,4 +1,4 @@
-//! Exact surface voxelization into fragments (paper §3 "Voxelization"; spec 2.2).
+//! Exact surface voxelization into fragments (paper §3 "Voxelization").
 //!
 //! The paper rasterizes every triangle along its dominant axis with conservative
 //! rasterization and writes one fragment per (covered pixel, triangle). The CPU pipeline

@@ -64,7 +64,8 @@ impl MatchField {
     }
 
     /// Recomputes every `dist` with the current colours; returns the energy
-    /// `E = sum_p D(w_p, w_NN(p))` (the specification's additive form of eq. 1).
+    /// `E = sum_p D(w_p, w_NN(p))`: eq. 1 as a sum instead of a product, since the product of
+    /// distances is degenerate (one exact match makes it zero).
     pub fn refresh(&mut self, cubes: &Cubes<'_>) -> f64 {
         let targets = &self.targets;
         self.matches.par_iter_mut().enumerate().for_each(|(i, m)| {

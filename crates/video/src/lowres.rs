@@ -37,8 +37,8 @@ pub struct LowResConfig {
     pub onion_order: bool,
     /// The first sweep at the coarsest level fills the hole causally: pixel after pixel in
     /// the filling order, each comparing only known pixels and pixels already filled in that
-    /// sweep (the specification's weighted SSD with weight 0 for not yet visited hole pixels;
-    /// the paper: "space-time points in E or space-time points already processed during the
+    /// sweep (a weighted SSD with weight 0 for not yet visited hole pixels; the paper, §3.2:
+    /// "space-time points in E or space-time points already processed during the
     /// current iteration"). `false`: the first sweep compares with the inpainted colours,
     /// shell by shell in parallel like the later sweeps.
     pub causal_first_sweep: bool,

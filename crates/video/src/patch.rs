@@ -129,7 +129,7 @@ pub fn valid_sources(hole: &Mask3, patch: PatchSize) -> Mask3 {
 
 /// The cubes of one video level as a [`PatchSpace`]: `D` is the mean over the compared
 /// voxels of the squared RGB difference (a target cube that sticks out of the video is
-/// clipped and normalised by its in-video voxel count, section 2.1 of the specification).
+/// clipped and normalised by its in-video voxel count, a case the paper does not treat).
 /// Voxels in `ignore` (hole pixels not yet visited in the first pass from a random start)
 /// take no part.
 pub struct Cubes<'a> {

@@ -66,7 +66,7 @@ mod tests {
 
     #[test]
     fn normals_round_trip_within_half_a_degree() {
-        // Check 6: 10^6 random unit vectors, max error <= 0.5 deg, mean <= 0.2 deg.
+        // 10^6 random unit vectors, max error <= 0.5 deg, mean <= 0.2 deg.
         let u = wscg_math::rng::uniform_vec(6, 3 * 1_000_000, -1.0, 1.0).unwrap();
         let (mut worst, mut sum, mut count) = (0.0f64, 0.0f64, 0usize);
         for v in u.chunks(3) {

@@ -1,5 +1,6 @@
-//! The K-block Jacobi-preconditioned conjugate gradient of spec section 2.2 step 6: the K
-//! systems `(L_U + κ I) x_k = −Bᵀ m_k` (Grady 2006; paper section 2.3) advance in lockstep,
+//! The K-block Jacobi-preconditioned conjugate gradient (the paper's solver, section 2.5, run
+//! on all labels at once): the K systems `(L_U + κ I) x_k = −Bᵀ m_k` (Grady 2006; paper
+//! section 2.4) advance in lockstep,
 //! so one sweep over the bone graph serves a group of up to [`MAX_LANES`] labels. Vectors
 //! hold a fixed-size array of lanes per node (`[T; L]`, `L` in 1, 2, 4, 8, 16, compiled for
 //! each, so the lane loops become SIMD), stored as `f32` or `f64`; dot products accumulate in

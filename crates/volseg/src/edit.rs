@@ -1,6 +1,6 @@
 //! Editing of a label volume after the random walks: the local 3D "grow" brush of paper
-//! section 2.6 (stage 3 of the workflow) and the removal of small label islands (the
-//! paper's future work, spec step 10).
+//! section 2.6 (stage 3 of the workflow) and the removal of small label islands (an optional
+//! clean-up, not in the paper).
 
 use rayon::prelude::*;
 use wscg_math::{Error, Result, Volume};
@@ -9,8 +9,8 @@ use crate::graph::intensity_map;
 use crate::params::{IntensityNorm, RwParams};
 use crate::preprocess::threshold;
 
-/// Weights of the grow brush's affinity `W_ij` (spec step 9; the paper names the three
-/// terms, not their weights).
+/// Weights of the grow brush's affinity `W_ij` (section 2.6; the paper names the three
+/// terms, not their weights, which are ours).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GrowWeights {
     /// Weight of `ρ_j`, the fraction of `p_j`'s 26 neighbours carrying the active label (0.5).

@@ -1,4 +1,4 @@
-//! The bone-only graph (paper section 2.3): nodes are the voxels at or above the bone
+//! The bone-only graph (paper section 2.4): nodes are the voxels at or above the bone
 //! threshold, edges join 6-adjacent bone voxels, weights follow eq. 1.
 
 use wscg_math::{Error, Result, Volume};
@@ -24,7 +24,8 @@ pub struct BoneGraph {
     w: Vec<[f32; 6]>,
 }
 
-/// The map `I ↦ g` of `norm` (spec section 2.1): a window clamps to [0, 1], `MinMax` uses
+/// The map `I ↦ g` of `norm` (the paper does not say how intensities are scaled before `β`
+/// applies): a window clamps to [0, 1], `MinMax` uses
 /// the extremes of the voxels in `mask`.
 pub(crate) fn intensity_map(
     ct: &Volume<f32>,

@@ -1,4 +1,4 @@
-//! Parameters of the random-walks segmentation (paper section 2.3; spec section 2.2).
+//! Parameters of the random-walks segmentation (paper sections 2.1, 2.4 and 2.5).
 
 use wscg_math::{Error, Result};
 
@@ -22,7 +22,8 @@ pub enum IntensityNorm {
 /// How the K systems are solved (the variants of the paper's Fig. 9).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Solver {
-    /// All labels advance together, one sweep over the graph per iteration (spec step 6).
+    /// All labels advance together, one sweep over the graph per iteration (ours: the graph is
+    /// streamed once per iteration instead of K times).
     #[default]
     Block,
     /// One label after the other (the paper's CPU path).

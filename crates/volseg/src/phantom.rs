@@ -1,4 +1,5 @@
-//! A fractured-shell CT phantom with exact fragment labels (spec section 3): an ellipsoidal
+//! A fractured-shell CT phantom with exact fragment labels, standing in for the paper's
+//! clinical cases (section 3), which are not public: an ellipsoidal
 //! bone shell split into `K` fragments by the spherical Voronoi cells of random directions,
 //! fracture gaps of lower (but still bone) density so that the thresholded bone stays in one
 //! piece, soft tissue inside, air outside, partial-volume blur and CT noise. Seed strokes are

@@ -1,4 +1,4 @@
-//! Optional smoothing before the threshold (spec section 2.2 step 1): the paper smooths with
+//! Optional smoothing before the threshold (paper section 2.1): the paper smooths with
 //! a small Gaussian "taking voxel anisotropy into account" without giving a formula; here the
 //! standard deviation along axis `a` is `0.6 · min(spacing) / spacing_a` voxels, 3 taps
 //! (kernel radius 1; an axis whose sigma is below 0.3 voxel is left alone), replicated border.
@@ -9,7 +9,7 @@ use wscg_math::{Error, Result, Volume};
 /// Sigma (voxels) of the finest axis.
 const SIGMA: f64 = 0.6;
 
-/// `passes` rounds of the anisotropy-aware 3-tap Gaussian of spec step 1 (0 returns a copy).
+/// `passes` rounds of the anisotropy-aware 3-tap Gaussian above (0 returns a copy).
 /// Errors: non-finite CT values.
 pub fn gaussian_smooth3(ct: &Volume<f32>, passes: u32) -> Result<Volume<f32>> {
     if let Some(index) = ct.data().iter().position(|v| !v.is_finite()) {
@@ -26,7 +26,8 @@ pub fn gaussian_smooth3(ct: &Volume<f32>, passes: u32) -> Result<Volume<f32>> {
     Ok(out)
 }
 
-/// The bone mask `I >= t_bone` (spec step 2; `>=` so that it matches the isosurface).
+/// The bone mask `I >= t_bone` (paper section 2.1; `>=` so that it matches the isosurface of
+/// section 2.2).
 pub fn threshold(ct: &Volume<f32>, t_bone: f64) -> Vec<bool> {
     ct.data().iter().map(|&v| f64::from(v) >= t_bone).collect()
 }

@@ -1,4 +1,4 @@
-//! Random walks on the bone graph (Grady 2006; paper section 2.3): one combinatorial
+//! Random walks on the bone graph (Grady 2006; paper section 2.4): one combinatorial
 //! Dirichlet problem per label, Jacobi-preconditioned CG (all labels in one block by
 //! default, see [`crate::params::Solver`]), warm start, maximum-probability labelling.
 

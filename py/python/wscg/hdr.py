@@ -1007,7 +1007,7 @@ def synth_scene(*, height: int = 160, width: int = 256,
                 emitter_peak: float = 300.0, noise: float = 0.002,
                 seed: int = 7) -> Dict[str, object]:
     """A layered multi-view scene with ground truth, standing in for the paper's camera-array
-    data sets (spec section 3).
+    data sets (section 4), whose ground-truth radiance is unknown.
 
     Three fronto-parallel textured planes at fractional disparities 7.5, 18.3 and 33.7 px
     per camera step (the back one covering the image, a rectangle and a disk in front)
@@ -1061,7 +1061,7 @@ def synth_scene(*, height: int = 160, width: int = 256,
 
 
 def rmse_log2(est, gt, mask=None) -> float:
-    """Log-radiance error ``sqrt(mean((log2 est - log2 gt)^2))`` (spec section 3 metric).
+    """Log-radiance error ``sqrt(mean((log2 est - log2 gt)^2))`` against ground truth.
 
     Parameters
     ----------
@@ -1079,7 +1079,8 @@ def rmse_log2(est, gt, mask=None) -> float:
     References
     ----------
     Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23 (the paper reports figures
-    only; this is the specification's quantitative measure).
+    only; this quantitative measure is ours, an error in stops that weighs dark and bright
+    regions alike).
     """
     e = _float_image(est, "est")
     g = _float_image(gt, "gt")

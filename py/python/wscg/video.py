@@ -134,8 +134,8 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
     Notes
     -----
     The energy reported in ``stats['energy']`` is the sum over hole pixels of the mean
-    squared RGB difference of their patch to their source's (the specification's additive
-    form of the paper's eq. 1).
+    squared RGB difference of their patch to their source's: the paper's eq. 1 as a sum
+    instead of a product, since a product of distances is zero as soon as one match is exact.
     """
     if int(max_iterations) < 0:
         raise ValueError(f"`max_iterations` must be >= 0, got {max_iterations}")

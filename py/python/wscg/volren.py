@@ -618,7 +618,8 @@ def study(volume, tf, views: int = 4, size: int = 256, azimuth: float = 30.0,
           light_dir: Sequence[float] = (0.0, 0.0, 1.0), ambient: float = 0.0,
           max_mad: float = 0.005, max_energy_ratio: float = 2.0,
           value_range: Optional[Tuple[float, float]] = None) -> Dict[str, object]:
-    """The paper's quality and speed study (its section 5; spec section 2.7).
+    """The paper's quality and speed study (its section 5), with a quantitative alias test
+    in place of the paper's visual judgement.
 
     Renders ``views`` orbit views (azimuth ``azimuth + 360 k / views`` degrees about the
     volume's ``z`` axis, ``elevation`` degrees above its ``xy`` plane, ``z`` up,

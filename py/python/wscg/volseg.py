@@ -5,7 +5,7 @@ Tool for Interactive Bone Separation in CT Images").
 A threshold segments touching bones together; BoneSplit separates them from a few user
 strokes (seeds), one label per bone or fragment:
 
-1. **Bone graph** (section 2.3): the voxels with ``ct >= t_bone`` (300 HU) are the nodes,
+1. **Bone graph** (section 2.4): the voxels with ``ct >= t_bone`` (300 HU) are the nodes,
    6-adjacent bone voxels are joined by edges of weight ``w_ij = exp(-beta (g_i - g_j)^2) +
    eps`` (eq. 1, after Grady 2006), ``g`` the CT mapped to ``[0, 1]`` (default window
    ``[-1024, 3071]`` HU), ``beta = 3000``, ``eps = 0.01``. Only bone voxels are stored: about
@@ -223,7 +223,7 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
                        precision: str = "f32", jacobi: bool = True,
                        threads: Optional[int] = None, return_prob: bool = False,
                        return_report: bool = False):
-    """Random-walks bone separation (BoneSplit, paper 18 section 2.3).
+    """Random-walks bone separation (BoneSplit, paper 18 section 2.4).
 
     Thresholds ``ct`` at ``t_bone``, builds the 6-connected graph on the bone voxels only
     and labels every bone voxel with the seed label a random walker started there most
@@ -324,7 +324,7 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
 
     References
     ----------
-    J. Nysjö et al., "BoneSplit", Journal of WSCG 23, 2015, section 2.3, eq. 1.
+    J. Nysjö et al., "BoneSplit", Journal of WSCG 23, 2015, section 2.4, eq. 1.
     L. Grady, IEEE TPAMI 28 (11), 2006. :DOI:`10.1109/TPAMI.2006.233`.
 
     Examples
@@ -552,7 +552,7 @@ class RandomWalkerSession:
 # ----------------------------------------------------------------------------------------
 
 def nearest_seed(ct, seeds, t_bone: float = 300.0, *, mask=None):
-    """Geodesic nearest-seed labelling, the baseline random walks must beat (spec 2.3).
+    """Geodesic nearest-seed labelling, a baseline (not in the paper) random walks must beat.
 
     Breadth-first search inside the bone mask from all seeds at once (unweighted
     6-neighbour steps): each bone voxel takes the label of the first seed front to reach it
@@ -610,7 +610,7 @@ def dice(a, b) -> float:
 
 def bone_mask(ct, t_bone: float = 300.0, *, smooth_passes: int = 0,
               spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> np.ndarray:
-    """The collective bone mask ``ct >= t_bone`` (spec step 2, after ``smooth_passes`` of
+    """The collective bone mask ``ct >= t_bone`` (paper section 2.1, after ``smooth_passes`` of
     :func:`smooth`): the nodes of the graph :func:`random_walker_bone` builds."""
     a = _ct(ct)
     t = _real("t_bone", t_bone)
@@ -624,7 +624,7 @@ def bone_mask(ct, t_bone: float = 300.0, *, smooth_passes: int = 0,
 
 
 def smooth(ct, passes: int = 1, *, spacing: Sequence[float] = (1.0, 1.0, 1.0)):
-    """Anisotropy-aware 3-tap Gaussian smoothing (paper section 2.3, spec step 1).
+    """Anisotropy-aware 3-tap Gaussian smoothing (paper section 2.1).
 
     Along axis ``a`` the standard deviation is ``0.6 * min(spacing) / spacing[a]`` voxels
     (3 taps, replicated border; an axis whose sigma falls below 0.3 voxel is left alone),
@@ -716,7 +716,7 @@ def local_grow_edit(labels, ct, center_zyx: Sequence[float], radius: float, acti
 
 
 def remove_small_components(labels, min_voxels: int):
-    """Relabels small label islands (the paper's future work, spec step 10), on a copy.
+    """Relabels small label islands (an optional clean-up, not in the paper), on a copy.
 
     Every 6-connected component of a non-zero label with fewer than ``min_voxels`` voxels
     takes the most frequent other non-zero label among its 6-neighbours (ties: the lowest);
@@ -750,7 +750,8 @@ _PHANTOM_OPTIONS = ("shell", "bone_hu", "gap_hu", "gap_width", "blur_sigma", "no
 def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
                             seed: int = 0, *, return_distance: bool = False, **overrides):
     """A CT phantom of a fractured bone shell with exact fragment labels and seed strokes
-    (spec section 3; no clinical CT is redistributable).
+    (a stand-in for the paper's clinical cases of section 3; no clinical CT is
+    redistributable).
 
     An ellipsoidal shell (``shell`` radii as fractions of the half-size, 1200 HU) split into
     ``n_fragments`` pieces by the spherical Voronoi cells of random directions; fracture gaps

@@ -161,8 +161,8 @@ fn bbox6(q: &[[f64; 6]], c: &[usize]) -> ([f64; 6], [f64; 6]) {
 /// splits). Returns the clusters (pixel indices) and the leaf size `n_max` they satisfy:
 /// every leaf holds at most `n_max` points (the size of the largest) or has a box diagonal
 /// of at most `min_extent`. This is the paper's recursive subdivision with the size
-/// threshold that gives `k0` clusters (the specification's `ceil(N / K0)` gives 1.5-2 `K0`
-/// leaves with midpoint splits).
+/// threshold that gives `k0` clusters (the paper gives no thresholds; a fixed size threshold
+/// `ceil(N / K0)` would give 1.5-2 `K0` leaves with midpoint splits).
 pub fn cluster_to_count(g: &GBuffer, k0: usize, min_extent: f64) -> (Vec<Vec<usize>>, usize) {
     use std::collections::BinaryHeap;
     let ids: Vec<usize> = (0..g.points.len())

@@ -1,4 +1,4 @@
-//! Procedural test scenes of the many-light renderer (paper 08, spec section 3 "Data").
+//! Procedural test scenes of the many-light renderer (paper 08).
 //!
 //! The paper's scenes (Sibenik, Sponza, Conference from the McGuire archive) are not
 //! redistributable here, so the tests, demos and benchmarks use stand-ins built in code:
@@ -452,8 +452,8 @@ pub fn colonnade(subdiv: u32, width: usize, height: usize) -> Result<(Scene, Cam
 /// legs `(0.2, 0.2, 0.2)` set in by 0.1. Eight chairs `(0.15, 0.25, 0.5)`, four along each
 /// long side at `x = 3.5, 4.5, 5.5, 6.5`, each a `0.45 x 0.45` seat (`y` in
 /// `[0.42, 0.47]`) centred on the table's edge (so half under the table), a back `0.05`
-/// thick up to `y = 0.95` on its outer edge, and a `0.06 x 0.06` post under the seat (not
-/// in the spec's "seat + back", added so that seats do not float). Two `1.2 x 0.6` ceiling
+/// thick up to `y = 0.95` on its outer edge, and a `0.06 x 0.06` post under the seat (so
+/// that seats do not float). Two `1.2 x 0.6` ceiling
 /// panels centred at `(3.5, 3.5)` and `(6.5, 3.5)` (`x, z`) at `y = 2.99` face down,
 /// radiance `(15, 14, 12)`, albedo `0.8`. Every side of a solid faces out; the room is
 /// closed.
@@ -519,8 +519,8 @@ pub fn conference_room(subdiv: u32, width: usize, height: usize) -> Result<(Scen
     Ok((m.build()?, cam))
 }
 
-/// A tiny square emitter over a large plane: the closed-form scene of the single-VPL check
-/// (spec section 4, check 1).
+/// A tiny square emitter over a large plane: a scene where the contribution of a single VPL
+/// (the summand of eq. 1) has a closed form.
 ///
 /// The plane is the `20 x 20` square `x, z` in `[-10, 10]` at `y = 0`, facing `+y`, albedo
 /// [`PLANE_ALBEDO`] `= 0.5`, split into `subdiv x subdiv` cells. The emitter is one square

@@ -83,8 +83,9 @@ impl<'a> Shading<'a> {
         self.vpls.is_empty()
     }
 
-    /// The clamped geometry term `G_c(x, y_j)` (eq. E2): both cosines over the clamped
-    /// squared distance; 0 behind either surface.
+    /// The clamped geometry term `G_c(x, y_j)` (the `G` of eq. 1 with the squared distance
+    /// clamped at `d_c^2`, the usual many-light bound, which the paper does not specify): both
+    /// cosines over the clamped squared distance; 0 behind either surface.
     #[inline]
     pub fn geometry(&self, r: &Receiver, j: usize) -> f64 {
         let v = &self.vpls[j];
@@ -120,7 +121,7 @@ impl<'a> Shading<'a> {
         [0, 1, 2].map(|c| i[c] * r.albedo[c] * g)
     }
 
-    /// `I_j(x)` (eq. E1), visibility included.
+    /// `I_j(x)`, the contribution `L f_r G V` of VPL `j` in eq. 1, visibility included.
     #[inline]
     pub fn contribution(&self, r: &Receiver, j: usize) -> Rgb {
         let u = self.unoccluded(r, j);

@@ -38,7 +38,7 @@ pub struct Vpl {
 
 impl Vpl {
     /// `power * psi` with `psi = 1 / pi` (emitter) or `albedo / pi` (surface VPL): the
-    /// factor of eq. (E1) that does not depend on the receiver.
+    /// factor of a VPL's contribution `L f_r G V` (eq. 1) that does not depend on the receiver.
     pub fn intensity(&self) -> Rgb {
         let pi = std::f64::consts::PI;
         match self.kind {

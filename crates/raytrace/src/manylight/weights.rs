@@ -100,7 +100,7 @@ mod tests {
     use std::f64::consts::PI;
 
     #[test]
-    fn check_values_of_the_specification() {
+    fn clipped_similarity_matches_hand_computed_values() {
         let w = |d: f64, t: f64| clipped_similarity(d, t, PI / 6.0, 5.0);
         assert!((similarity(1.0, PI / 6.0, 5.0) - 25.0 / 36.0).abs() < 1e-12);
         for (got, want) in [

@@ -179,10 +179,10 @@ pub const FEATURE_NAMES: [&str; 5] = [
 /// two eyes and the binocular overlap of the glinting flakes. Every feature is floored at a
 /// tiny positive value so that its logarithm exists.
 ///
-/// The specification's `Y99 / median` is replaced by the glints' peak luminance: with mirror
-/// flakes under a small lamp most pixels are black, the median is 0 and the ratio is
-/// undefined, while the peak grows with the share of a pixel one flake covers, a cue to the
-/// flake size.
+/// Sparkle contrast is measured by the glints' peak luminance rather than a percentile ratio
+/// such as `Y99 / median`: with mirror flakes under a small lamp most pixels are black, the
+/// median is 0 and the ratio is undefined, while the peak grows with the share of a pixel one
+/// flake covers, a cue to the flake size.
 ///
 /// Errors: a stereo condition without a right image, images of different sizes, bad
 /// luminances ([`glint_stats`]).

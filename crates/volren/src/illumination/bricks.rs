@@ -1,4 +1,5 @@
-//! Value-and-gradient bricks of the Blinn-Phong ray caster (spec section 2.6, baseline 2).
+//! Value-and-gradient bricks of the Blinn-Phong ray caster (the paper's Phong-shaded ray
+//! casting baseline, §5.1).
 //!
 //! Per 8^3 cell of the empty-space grid ([`super::sampler`]), a block of `10^3` voxels (the
 //! cell and the one-voxel apron a trilinear sample reads) holding `[value, d/dx, d/dy, d/dz]`,

@@ -1,4 +1,4 @@
-//! The orthographic camera and its view-aligned slices (spec section 2.1): pixel `(i, j)` at
+//! The orthographic camera and its view-aligned slices: pixel `(i, j)` at
 //! depth `z` is the world point `C + (i - W/2 + 1/2) h r + (j - H/2 + 1/2) h v + z d`, with
 //! `d` the view direction, `r = d x up` (image right) and `v = d x r` (image down); slices are
 //! the planes `z_n = z_start + (n + 1/2) ds` covering the volume's depth range, shared by all

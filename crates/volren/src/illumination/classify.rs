@@ -1,6 +1,6 @@
-//! Post-classification (spec section 2.1): a 1-D RGBA transfer function whose opacity refers
+//! Post-classification: a 1-D RGBA transfer function whose opacity refers
 //! to one unit of length, its extinction `tau(s) = -ln(1 - a(s))`, and the opacity-corrected
-//! lookup tables the renderers sample at a given step (E1).
+//! lookup tables the renderers sample at a given step.
 
 use wscg_math::{Error, Result};
 
@@ -159,7 +159,7 @@ impl TransferFunction {
     }
 }
 
-/// Opacity-corrected classification for one sampling distance `delta` (E1):
+/// Opacity-corrected classification for one sampling distance `delta`:
 /// `alpha = 1 - exp(-tau(s) delta)` and associated colour `alpha c(s)`, tabulated at 4096
 /// points and linearly interpolated.
 #[derive(Clone, Debug)]

@@ -1,4 +1,4 @@
-//! The scalar volume the slice renderer samples (spec section 2.1): values normalised to
+//! The scalar volume the slice renderer samples: values normalised to
 //! `[0, 1]`, voxel `i` centred at `i`, the box `[-1/2, n - 1/2]` per axis, trilinear
 //! (edge-clamped) or nearest sampling inside the box and 0 outside.
 //!

@@ -1,4 +1,6 @@
-//! The light-propagation kernel of instant convolution shadows (spec E3, E4): the light that
+//! The light-propagation kernel of instant convolution shadows (paper §3: the light of slice
+//! `n` "is first attenuated by the opacity of the samples on slice n, and then this outgoing
+//! light is convolved with a kernel k(x)"): the light that
 //! left slice `n` (attenuated) is convolved with `K` to give the light arriving at slice
 //! `n + 1`. Outside the light buffer the light is unoccluded (value 1).
 //!
@@ -12,7 +14,8 @@
 use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
-/// The kernel family (spec section 2.2).
+/// The kernel family (the paper does not give its kernel; the variance-additive Gaussian is
+/// our default, for the semigroup property above).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Kernel {
     /// No blur: hard shadows, equal to shadow rays for a headlight.

@@ -1,4 +1,4 @@
-//! Rendering methods, light and settings (spec sections 2.2 - 2.6).
+//! Rendering methods, light and settings (paper §3 and the baselines of §5.1).
 
 use wscg_math::{Error, Result};
 
@@ -9,7 +9,7 @@ use super::kernel::Kernel;
 pub const MAX_SUBSAMPLES: u32 = 64;
 
 /// How the light is attenuated between two slices when there are sub-samples (the paper does
-/// not say; spec section 2.3).
+/// not say).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightAtten {
     /// By every tissue sample of the segment, each with its own opacity correction.
@@ -68,9 +68,10 @@ pub enum Method {
     Ics {
         /// Slice distance `ds` (world units).
         slice: f32,
-        /// Tissue sub-samples `m` between slices (E5: tissue step `ds / (m + 1)`).
+        /// Tissue sub-samples `m` between slices (tissue step `ds / (m + 1)`, the formula of
+        /// §5.2).
         subsamples: u32,
-        /// Pre-integrated classification of each tissue segment (E7).
+        /// Pre-integrated classification of each tissue segment (§3.1).
         preintegrated: bool,
         /// Light attenuation between slices.
         light_atten: LightAtten,

@@ -7,9 +7,9 @@
 //! Blinn-Phong ray casting, and ray casting with shadow rays (the delta-kernel limit).
 //!
 //! - [`field`]: the normalised scalar volume and its sampling.
-//! - [`classify`]: the transfer function and opacity correction (E1).
-//! - [`preintegration`]: the pre-integration table (E7).
-//! - [`kernel`]: the light kernels with exact per-slice variance (E4).
+//! - [`classify`]: the transfer function and opacity correction.
+//! - [`preintegration`]: the pre-integration table (§3.1).
+//! - [`kernel`]: the light kernels with exact per-slice variance.
 //! - [`camera`]: the orthographic camera and the view-aligned slices.
 //! - [`method`]: methods, light and settings.
 //! - [`scenes`]: analytic test volumes (Marschner-Lobb, slab, half-plane occluder).
@@ -55,7 +55,8 @@ pub struct Rendered {
     pub buffer_floats: usize,
 }
 
-/// Renders `field` classified by `tf` from `cam` with `method` (spec sections 2.1 - 2.6).
+/// Renders `field` classified by `tf` from `cam` with `method` (paper §3 and the baselines of
+/// §5.1).
 ///
 /// Errors: an invalid camera, light (`z <= 0`, bad kernel or ambient), method parameter
 /// (distance not finite and positive, more than 64 sub-samples, more than 2^20 slices or
@@ -141,7 +142,7 @@ pub fn render_many(
 
 /// The light buffer arriving at the slice nearest to `depth` (world units behind the front
 /// of the volume's depth range), `H x W`, 1 where no volume is in the way; returns the buffer
-/// and the exact depth of that slice. A test and debugging hook (spec section 1).
+/// and the exact depth of that slice. A test and debugging hook.
 ///
 /// Errors: as [`render`], a method that is not slice-based, a non-finite or negative depth.
 pub fn light_buffer_at(

@@ -1,5 +1,6 @@
-//! Pre-integrated classification (Engel, Kraus and Ertl 2001; the paper's section 3.1, spec
-//! E7): for a segment of length `l` along which the scalar varies linearly from `s_f` to `s_b`,
+//! Pre-integrated classification (Engel, Kraus and Ertl 2001; the paper's section 3.1, which
+//! ignores lighting in the table): for a segment of length `l` along which the scalar varies
+//! linearly from `s_f` to `s_b`,
 //! the opacity `1 - exp(-int tau)` and the self-attenuated associated colour
 //! `int c tau exp(-int tau)`, tabulated on an `n x n` grid of `(s_f, s_b)`.
 
@@ -26,9 +27,10 @@ const SUB: usize = 6;
 /// Bins from which `K = SUB |b - f|` (below, the 24-step minimum applies).
 const MIN_GRID_BINS: usize = 4;
 
-/// Midpoint sub-steps used for a table entry whose endpoints are `bins` apart (E7 asks for
-/// `K >= max(16, 4 |b - f|)`; six per transfer-function bin crossed keep a step transfer
-/// function within 1e-3 of a 4096-step integration).
+/// Midpoint sub-steps used for a table entry whose endpoints are `bins` apart (at least
+/// `max(16, 4 |b - f|)`, so that a piecewise-constant transfer function is integrated
+/// finely; six per transfer-function bin crossed keep a step transfer function within 1e-3
+/// of a 4096-step integration).
 fn substeps(bins: usize) -> usize {
     (SUB * bins).max(SUB * MIN_GRID_BINS)
 }

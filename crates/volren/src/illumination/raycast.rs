@@ -1,4 +1,4 @@
-//! The ray-casting baselines (spec section 2.6): emission-absorption, Blinn-Phong local
+//! The ray-casting baselines (paper §5.1): emission-absorption, Blinn-Phong local
 //! illumination (the gradient of central differences at the voxels, interpolated trilinearly
 //! from the value-and-gradient bricks of [`super::bricks`]) and the validation
 //! renderer with a Beer-Lambert shadow ray per sample. Rays are orthographic and sample at

@@ -1,5 +1,6 @@
-//! Test volumes of the paper-15 study (spec section 3, "Data here"): the Marschner-Lobb
-//! aliasing test, the analytic scenes of the acceptance checks, and the mapping of a tissue
+//! Test volumes standing in for the CT and ultrasound scenes of the paper-15 study (§5.1),
+//! which are not public: the Marschner-Lobb aliasing test, analytic scenes with known light
+//! transport, and the mapping of a tissue
 //! label volume (such as the frog label volume shipped inside the `pyvista` wheel) to a
 //! CT-like density field, each with a transfer function.
 
@@ -54,13 +55,15 @@ pub fn marschner_lobb_tf() -> TransferFunction {
     .expect("static transfer function")
 }
 
-/// A volume of `dims` filled with `value` (check 1's homogeneous slab).
+/// A volume of `dims` filled with `value` (a homogeneous slab, whose light and image have
+/// closed forms).
 pub fn constant(dims: [usize; 3], value: f32) -> Result<ScalarField> {
     let n = dims.iter().product();
     ScalarField::from_f32(dims, [1.0; 3], vec![value; n])
 }
 
-/// Check 2's occluder: value 1 at the `z` indices in `z_range` for `x < x_edge`, else 0.
+/// A half-plane occluder (a shadow edge whose blur measures the kernel): value 1 at the `z`
+/// indices in `z_range` for `x < x_edge`, else 0.
 pub fn half_plane(
     dims: [usize; 3],
     x_edge: usize,

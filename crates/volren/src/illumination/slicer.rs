@@ -1,9 +1,10 @@
 //! The slice renderer: instant convolution shadows and the paper's supersampled and
-//! pre-integrated variants (spec sections 2.2 - 2.5).
+//! pre-integrated variants (paper §3, Fig. 2).
 //!
 //! One pass per slice over a 2-D light buffer and the eye buffers, rows in parallel, then one
 //! convolution. Segment `n` runs from slice `n` to slice `n + 1`; its `m + 1` tissue samples
-//! (or pre-integrated sub-segments) are lit by the linear interpolation (E6) of `L_n` and
+//! (or pre-integrated sub-segments) are lit by the linear interpolation (§3.2: sample `j` of
+//! `m + 1` gets `(1 - a_j) L_n + a_j L_{n+1}`, `a_j = j / (m + 1)`) of `L_n` and
 //! `L_{n+1}`. The shading `S(L) = k_a + (1 - k_a) L` is affine in the light, so a sample's
 //! colour splits into `(1 - a_j) w_j c_j S(L_n)`, added at once, and `a_j w_j c_j S(L_{n+1})`,
 //! whose light-free part `Q = sum a_j w_j c_j` waits in a per-pixel buffer until `L_{n+1}`

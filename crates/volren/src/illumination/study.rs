@@ -1,4 +1,5 @@
-//! The paper's quality and speed study (section 5, made quantitative in spec section 2.7):
+//! The paper's quality and speed study (section 5, which judges aliasing by eye; here made
+//! quantitative):
 //! mean absolute difference against a reference render, a high-pass (Laplacian) energy test
 //! for aliasing, and sweeps over slice distance and sub-samples that time every
 //! configuration over several views.
@@ -65,7 +66,8 @@ pub fn laplacian_energy(a: &Image<f32>, b: &Image<f32>) -> Result<f64> {
     Ok(sum / (3 * (h - 2) * (w - 2)) as f64)
 }
 
-/// The "alias-free" criterion of spec section 2.7.
+/// The "alias-free" criterion: the paper judges aliasing visually (§5.2, Fig. 3); this
+/// quantitative stand-in is ours.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AliasCriterion {
     /// Largest MAD against the reference.
@@ -141,8 +143,9 @@ pub fn render_views(
     Ok((images, t0.elapsed().as_secs_f64() / views.len() as f64))
 }
 
-/// Runs the spec's study: renders `reference` and `fine` (a finer reference, for the
-/// aliasing scale) and every configuration over `views`, scoring each against the reference.
+/// Runs the study of the paper's §5.2: renders `reference` and `fine` (a finer reference, for
+/// the aliasing scale) and every configuration over `views`, scoring each against the
+/// reference.
 /// `progress` is called with `(done, total)` after each configuration.
 #[allow(clippy::too_many_arguments)]
 pub fn sweep(
@@ -190,8 +193,9 @@ pub fn sweep(
     })
 }
 
-/// The spec's stage-2 grid: ICS at every slice distance of `distances`, SCS and PI-SCS with
-/// `0..=max_m` sub-samples at each (PI with `m = 0` is PI-ICS).
+/// The second-stage grid of the paper's §5.2 (Fig. 4): ICS at every slice distance of
+/// `distances`, SCS and PI-SCS with `0..=max_m` sub-samples at each (PI with `m = 0` is
+/// PI-ICS).
 pub fn grid(distances: &[f32], max_m: u32) -> Vec<Method> {
     let mut out = Vec::new();
     for &ds in distances {
