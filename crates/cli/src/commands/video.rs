@@ -18,7 +18,7 @@ use wscg_video::{
     RefineConfig, Video, WexlerConfig,
 };
 
-use super::progress::Bars;
+use crate::progress::Bars;
 
 #[derive(Subcommand, Debug)]
 pub enum VideoCommand {

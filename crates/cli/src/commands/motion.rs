@@ -13,8 +13,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::demo::motion::stick_strip;
 use clap::{Args, Subcommand, ValueEnum};
-use wscg::demo::motion::stick_strip;
 use wscg_math::{npy, Error, Result};
 use wscg_motion::anechoic::AnechoicConfig;
 use wscg_motion::bvh::write_bvh;

@@ -17,7 +17,7 @@ use wscg_raytrace::manylight::{
     Output, Scene, Settings,
 };
 
-use super::progress::Bars;
+use crate::progress::Bars;
 
 #[derive(Args, Debug)]
 pub struct ManyLightArgs {
@@ -203,7 +203,7 @@ pub fn run(a: &ManyLightArgs) -> Result<()> {
         save(
             &o.image,
             a.exposure,
-            &super::raytrace::sibling(&a.out, &format!("_{}", m.name()), &ext),
+            &super::sibling(&a.out, &format!("_{}", m.name()), &ext),
         )?;
     }
     Ok(())

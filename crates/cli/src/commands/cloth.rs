@@ -17,7 +17,7 @@ use wscg_cloth::{
 use wscg_math::progress::Progress;
 use wscg_math::{Error, Result, TriMesh};
 
-use super::progress::Bars;
+use crate::progress::Bars;
 
 #[derive(Subcommand, Debug)]
 pub enum ClothCommand {

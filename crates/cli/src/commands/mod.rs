@@ -2,28 +2,23 @@
 
 use std::path::PathBuf;
 
+use crate::demo;
+use crate::progress;
 use clap::{Parser, Subcommand};
-use wscg::demo;
 use wscg_math::{Error, Result};
 
 mod biometrics;
 mod cloth;
 mod deblur;
 mod doe;
-mod ear;
-mod gait;
 mod hdr;
-mod illum;
 mod isosurface;
-mod manylight;
 mod math;
 mod meshfilter;
 mod motion;
 mod mri;
 mod octree;
-mod progress;
 mod raytrace;
-mod sfa;
 mod video;
 mod volren;
 mod volseg;
@@ -149,7 +144,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 demos.retain(|d| only.iter().any(|n| n == d.name));
             }
             let entries =
-                wscg::gallery::run(&out, &demos, &|d| Box::new(progress::Bars::new(d.name)))?;
+                crate::gallery::run(&out, &demos, &|d| Box::new(progress::Bars::new(d.name)))?;
             let failed: Vec<_> = entries.iter().filter(|e| e.result.is_err()).collect();
             for e in &failed {
                 if let Err(err) = &e.result {

@@ -3,6 +3,10 @@
 //! Data: a gallery folder with one sub-folder of PNG/JPEG images per identity, or a `.npy`
 //! matrix (`(n, d)` or an `(n, h, w)` image stack) with a `.npy` label vector.
 
+mod ear;
+mod gait;
+mod sfa;
+
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand, ValueEnum};
@@ -18,7 +22,7 @@ use wscg_biometrics::subspace::{
 use wscg_math::progress::Progress;
 use wscg_math::{Error, Result};
 
-use super::progress::Bars;
+use crate::progress::Bars;
 
 #[derive(Subcommand, Debug)]
 pub enum BiometricsCommand {
@@ -28,15 +32,15 @@ pub enum BiometricsCommand {
     /// Paper 05: class-wise slow feature analysis of silhouettes (hand poses) and its
     /// baselines; the synthetic hand-pose generator.
     #[command(subcommand)]
-    Sfa(super::sfa::SfaCommand),
+    Sfa(sfa::SfaCommand),
     /// Paper 14: ear occlusion detection and index-based recognition (enrol, identify,
     /// detect, simulate).
     #[command(subcommand)]
-    Ear(super::ear::EarCommand),
+    Ear(ear::EarCommand),
     /// Paper 17: Kinect gait recognition with joint relative angles and a DTW kernel
     /// (enroll, identify, cycle, ucr, simulate).
     #[command(subcommand)]
-    Gait(super::gait::GaitCommand),
+    Gait(gait::GaitCommand),
 }
 
 #[derive(Subcommand, Debug)]
@@ -264,9 +268,9 @@ fn load(data: &DataArgs) -> Result<IdentityImages> {
 pub fn run(cmd: BiometricsCommand) -> Result<()> {
     let cmd = match cmd {
         BiometricsCommand::Fdkeca(cmd) => cmd,
-        BiometricsCommand::Sfa(cmd) => return super::sfa::run(cmd),
-        BiometricsCommand::Ear(cmd) => return super::ear::run(cmd),
-        BiometricsCommand::Gait(cmd) => return super::gait::run(cmd),
+        BiometricsCommand::Sfa(cmd) => return sfa::run(cmd),
+        BiometricsCommand::Ear(cmd) => return ear::run(cmd),
+        BiometricsCommand::Gait(cmd) => return gait::run(cmd),
     };
     match cmd {
         FdkecaCommand::Fit { data, model, out } => {

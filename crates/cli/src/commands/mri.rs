@@ -26,7 +26,7 @@ use wscg_math::fft::{fftshift, ifftshift};
 use wscg_math::progress::Progress;
 use wscg_math::{npy, Error, Image, Result, Volume};
 
-use super::progress::Bars;
+use crate::progress::Bars;
 
 #[derive(Subcommand, Debug)]
 pub enum MriCommand {

@@ -25,7 +25,7 @@ use wscg_hdr::{
 use wscg_math::{Error, Image, Result};
 
 use super::deblur::read_times;
-use super::progress::Bars;
+use crate::progress::Bars;
 
 #[derive(Subcommand, Debug)]
 pub enum HdrCommand {

@@ -5,11 +5,14 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
-mod cli;
+mod commands;
+mod demo;
+mod gallery;
+mod progress;
 
 fn main() -> ExitCode {
-    let args = cli::Cli::parse();
-    match cli::run(args) {
+    let args = commands::Cli::parse();
+    match commands::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -1,5 +1,5 @@
 //! `wscg volren`: paper 03 (hybrid ROI visualisation) and paper 15 (`illum`, convolution-based
-//! volume illumination, in [`super::illum`]) on the user's own volume.
+//! volume illumination, in [`illum`]) on the user's own volume.
 //!
 //! - `roi-serve`: prepares a volume (NIfTI, `.npy` or raw) for a set of transfer functions and
 //!   serves the static and ROI packages over TCP.
@@ -9,6 +9,8 @@
 //! Transfer functions are a JSON file `{"canonical": 0, "tfs": [[[d, r, g, b, a], ...], ...]}`
 //! with densities in 0..=255 and colours and opacities in [0, 1]. A volume whose values are not
 //! all integers in 0..=255 is rescaled linearly from its [min, max] to 0..=255.
+
+mod illum;
 
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};
@@ -27,7 +29,7 @@ pub enum VolrenCommand {
     RoiView(ViewArgs),
     /// Render with convolution-based volume illumination (paper 15: ICS, SCS, PI-ICS,
     /// PI-SCS and ray-casting baselines), or run the slice-distance study.
-    Illum(super::illum::IllumArgs),
+    Illum(illum::IllumArgs),
 }
 
 #[derive(Args, Debug)]
@@ -201,7 +203,7 @@ fn parse_roi(text: &str) -> Result<([u32; 3], [u32; 3])> {
 /// Runs a `wscg volren` command.
 pub fn run(cmd: VolrenCommand) -> Result<()> {
     match cmd {
-        VolrenCommand::Illum(a) => super::illum::run(a),
+        VolrenCommand::Illum(a) => illum::run(a),
         VolrenCommand::RoiServe(a) => {
             let server = Arc::new(server_from(&a.volume)?);
             let listener = TcpListener::bind(&a.addr)

@@ -22,7 +22,7 @@ use wscg_volren::illumination::{
 };
 use wscg_volren::vti::read_vti;
 
-use super::progress::Bars;
+use crate::progress::Bars;
 use wscg_math::progress::Progress;
 
 /// Rendering method names.

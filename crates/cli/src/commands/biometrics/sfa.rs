@@ -24,8 +24,8 @@ use wscg_math::image::Image;
 use wscg_math::progress::Progress;
 use wscg_math::{npy, Error, Result};
 
-use super::biometrics::DataArgs;
-use super::progress::Bars;
+use super::DataArgs;
+use crate::progress::Bars;
 
 #[derive(Subcommand, Debug)]
 pub enum SfaCommand {
@@ -464,7 +464,7 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
                     (v, n, s, names)
                 }
                 None => {
-                    let files = super::biometrics::expand_queries(&queries)?;
+                    let files = super::expand_queries(&queries)?;
                     let (x, _) =
                         wscg_biometrics::data::files::load_images(&files, file.image_shape)?;
                     let v = row_values(&x);

@@ -21,7 +21,7 @@ use wscg_deblur::{
 };
 use wscg_math::{Error, Image, Result};
 
-use super::progress::Bars;
+use crate::progress::Bars;
 
 #[derive(Subcommand, Debug)]
 pub enum DeblurCommand {

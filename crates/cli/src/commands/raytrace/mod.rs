@@ -7,6 +7,8 @@
 //! 13-run design scored by the virtual observer against a hidden reference) and fits the
 //! response surface.
 
+mod manylight;
+
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
@@ -21,7 +23,7 @@ use wscg_raytrace::paint::{
 use wscg_raytrace::spectral::XYZ_TO_SRGB;
 use wscg_raytrace::stereo::{Eye, StereoRig};
 
-use super::progress::Bars;
+use crate::progress::Bars;
 
 #[derive(Subcommand, Debug)]
 pub enum RaytraceCommand {
@@ -32,7 +34,7 @@ pub enum RaytraceCommand {
     Workshop(WorkshopArgs),
     /// Many-light rendering with adaptive importance caching (paper 08) on a built-in scene
     /// or an OBJ file, one method or the comparison of all.
-    Manylight(super::manylight::ManyLightArgs),
+    Manylight(manylight::ManyLightArgs),
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -286,7 +288,7 @@ pub fn run(cmd: RaytraceCommand) -> Result<()> {
     match cmd {
         RaytraceCommand::Paint(a) => paint(&a),
         RaytraceCommand::Workshop(a) => workshop(&a),
-        RaytraceCommand::Manylight(a) => super::manylight::run(&a),
+        RaytraceCommand::Manylight(a) => manylight::run(&a),
     }
 }
 
