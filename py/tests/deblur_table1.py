@@ -1,4 +1,4 @@
-"""Table-1 analogue of paper 12 (spec section 3): a photograph shaken by Ornstein-Uhlenbeck
+"""Table-1 analogue of paper 12 (section 6.2): a photograph shaken by Ornstein-Uhlenbeck
 hand shake, rendered densely into a 5-frame burst (30 Hz, t_e = 30 ms, f = 600, t_d = 15 ms,
 noise 0.005, gamma 2.2, 8 bit), the middle frame restored by every method of Table 1.
 Shared by the tests and by ``benches/peers/_12_tune.py``."""

@@ -26,7 +26,7 @@ def boundary(v, f):
 
 
 def reference_jbmd(v, f, c, sd, so, sc, lam, k, iters):
-    """The algorithm of the specification, written with numpy and cKDTree."""
+    """The JBMD algorithm as the library implements it, written with numpy and cKDTree."""
     v = v.copy()
     fixed = boundary(v, f)
     g = lambda t, s: np.exp(-0.5 * (t / s) ** 2)  # noqa: E731

@@ -1,4 +1,4 @@
-"""Paper 01 (FDKECA) from Python: the spec's acceptance checks against scikit-learn and
+"""Paper 01 (FDKECA) from Python: the acceptance checks against scikit-learn and
 scikit-image, the estimator protocol, persistence and bad input."""
 
 import pickle

@@ -1,6 +1,6 @@
 """wscg.deblur (paper 12): analytic gyro kernels, the exact w-step against brute force,
 Wiener and Richardson-Lucy against scikit-image and a numpy reference, the Krishnan-Fergus
-solver on scikit-image's camera (spec check 3), phase correlation, rolling-shutter
+solver on scikit-image's camera (check 3), phase correlation, rolling-shutter
 rectification, time-delay calibration, the multi-frame pipeline and bad input."""
 
 import numpy as np
@@ -45,7 +45,7 @@ def _line_kernel(length, angle, ss=64):
 
 def _psnr8(x, ref, border=16):
     """PSNR (data range 255) of 8-bit gamma-encoded images of linear ``x`` and ``ref``,
-    excluding ``border`` pixels (spec section 3)."""
+    excluding ``border`` pixels (as the library's ``quality``)."""
     def enc(v):
         return np.round(255 * np.clip(v, 0, 1) ** (1 / 2.2))
     sl = np.s_[border:-border, border:-border]
@@ -256,7 +256,7 @@ def test_multi_frame_prior_interpolates_between_ks_and_the_prior(camera):
 
 
 # ----------------------------------------------------------------------------------------
-# (d) Krishnan-Fergus on the camera (spec check 3)
+# (d) Krishnan-Fergus on the camera (check 3)
 # ----------------------------------------------------------------------------------------
 
 def test_krishnan_beats_blurry_and_wiener_on_diagonal_blur(camera):
@@ -524,7 +524,7 @@ def test_bad_input_raises_value_error(burst):
         native.wiener(nan.astype(np.float32), np.ones((3, 3), np.float32), (1, 1), 0.01)
 
 
-# --- Table-1 analogue (spec check 4, 9b) ------------------------------------------------------
+# --- Table-1 analogue (check 4, 9b) ------------------------------------------------------
 # Bursts of 5 densely rendered frames (OU shake, 30 Hz, t_e = 30 ms, f = 600, noise 0.005,
 # gamma 2.2, 8 bit); means over gyro seeds; PSNR (range 255) and SSIM on 8-bit values without a
 # 16 px border. Parameters were tuned on `coffee` only (benches/peers/_12_tune.py).
@@ -547,8 +547,8 @@ def test_table1_analogue_on_the_development_image():
 
 @pytest.mark.parametrize("name", ["chelsea", "brick", "text"])
 def test_table1_analogue_on_public_images(name):
-    # Measured (3 seeds): KM3 - KS = +0.43 (chelsea), +2.54 (brick), +0.39 dB (text); the spec's
-    # +0.5 dB margin is asserted on the development image only.
+    # Measured (3 seeds): KM3 - KS = +0.43 (chelsea), +2.54 (brick), +0.39 dB (text); the
+    # +0.5 dB margin of check 4 is asserted on the development image only.
     t = mean_table(photo(name), range(3), methods=("B", "KS", "KM3", "KM5"))
     print(name, {k: (round(v[0], 3), round(v[1], 4)) for k, v in t.items()})
     assert t["KM3"][0] > t["KS"][0]

@@ -1,4 +1,4 @@
-"""wscg.ear (paper 14): the spec's section-4 checks that involve peer libraries (Haar LL
+"""wscg.ear (paper 14): the acceptance checks that involve peer libraries (Haar LL
 against PyWavelets, grey / equalisation / resize against OpenCV, disk closing against
 scikit-image, hole filling against SciPy, the skin model against known Gaussians and the
 Mahalanobis values of (E7)), numpy references of the skin decision and the block layout,
@@ -27,15 +27,15 @@ def _blocks_from_ll(ll, rows=10, cols=8, hb=5):
 
 
 def _gray_e2(rgb):
-    """The spec's normative grey (E2), OpenCV 4's fixed point:
+    """The library's normative grey (E2), OpenCV 4's fixed point:
     ``(4899 R + 9617 G + 1868 B + 8192) >> 14``."""
     x = rgb.astype(np.int64)
     return ((4899 * x[..., 0] + 9617 * x[..., 1] + 1868 * x[..., 2] + 8192) >> 14).astype(np.uint8)
 
 
 # OpenCV 5 changed COLOR_RGB2GRAY to 15 bits, (9798 R + 19235 G + 3735 B + 16384) >> 15, which
-# differs from (E2) by +-1 on 0.26 % of all RGB colours (43,864 of 2^24); the spec makes (E2)
-# normative when a build differs by +-1. Bit-exactness against cv2 is asserted for OpenCV 4.
+# differs from (E2) by +-1 on 0.26 % of all RGB colours (43,864 of 2^24); the library keeps
+# (E2) when a build differs by +-1. Bit-exactness against cv2 is asserted for OpenCV 4.
 CV2_MAJOR = int(cv2.__version__.split(".")[0])
 
 
@@ -81,7 +81,7 @@ def test_check1_enroll_equals_the_opencv_pywt_pipeline(rng):
     assert t.shape == (80, 25) and t.dtype == np.float32
     np.testing.assert_allclose(t, ref, rtol=0, atol=1e-6)
     # A colour crop of another size: resize (ours, compared with OpenCV in check 2), the
-    # spec's grey formula (E2), equalisation as OpenCV, Haar LL as pywt.
+    # library's grey formula (E2), equalisation as OpenCV, Haar LL as pywt.
     img = rng.integers(0, 256, (173, 141, 3), dtype=np.uint8)
     small = ear.resize(img, 100, 80)
     ref = _blocks_from_ll(_pywt_ll(cv2.equalizeHist(_gray_e2(small)) / 255.0))
@@ -284,7 +284,7 @@ def test_fit_on_rgb_pixels_is_fit_on_their_chromaticities(rng):
     assert np.all(np.isfinite(c.cov))
 
 
-# (label, (r, g) or RGB, Mahalanobis^2 under the default model from spec (E7), skin?)
+# (label, (r, g) or RGB, Mahalanobis^2 under the default skin model (E7), skin?)
 E7 = [
     ("light skin", (0.392, 0.337), 3.26, True),
     ("medium skin", (0.496, 0.336), 2.35, True),

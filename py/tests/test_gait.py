@@ -106,7 +106,7 @@ def test_all_pairs_excludes_the_reference():
 
 
 # ----------------------------------------------------------------------------------------
-# Spec check 3: published UCR 1-NN DTW error rates
+# Check 3: published UCR 1-NN DTW error rates
 # ----------------------------------------------------------------------------------------
 
 def test_gunpoint_published_dtw_and_euclidean_error():
@@ -145,7 +145,7 @@ def test_other_ucr_sets_published_dtw_error():
 
 
 # ----------------------------------------------------------------------------------------
-# Spec check 4: the DTW kernel on multivariate data
+# Check 4: the DTW kernel on multivariate data
 # ----------------------------------------------------------------------------------------
 
 def test_basic_motions_dtw_kernel_is_perfect():
@@ -166,7 +166,7 @@ def test_basic_motions_dtw_kernel_is_perfect():
 
 
 # ----------------------------------------------------------------------------------------
-# Spec check 2 and the dtaidistance peer
+# Check 2 and the dtaidistance peer
 # ----------------------------------------------------------------------------------------
 
 def test_dtw_equals_dtaidistance_squared():
@@ -318,7 +318,7 @@ def test_relevance_map_and_pair_selection(walks):
     # Fig. 5 analogue: narrow and wide pairs.
     for a, b in (("SpineShoulder", "SpineMid"), ("ShoulderLeft", "ShoulderRight")):
         assert R[J[a], J[b]] <= 6, (a, b)
-    # Spec: <= 6 for the hips too; the walker's noise gives ~7 (the Rust test of that bound
+    # Check 6 asks <= 6 for the hips too; the walker's noise gives ~7 (the Rust test of that bound
     # is #[ignore]d in crates/biometrics/tests/paper17.rs for the same reason).
     assert R[J["HipLeft"], J["HipRight"]] <= 9
     assert R[J["AnkleLeft"], J["AnkleRight"]] >= 15
@@ -343,7 +343,7 @@ def test_occupied_bins_known_cases():
 
 
 # ----------------------------------------------------------------------------------------
-# Gait cycles (spec check 5)
+# Gait cycles (check 5)
 # ----------------------------------------------------------------------------------------
 
 def test_detect_cycle_matches_the_true_leg_crossings(walks):
@@ -401,7 +401,7 @@ def test_short_walk_has_no_gait_cycle(walks):
 
 
 # ----------------------------------------------------------------------------------------
-# Recognition (spec check 7 analogue)
+# Recognition (check 7 analogue)
 # ----------------------------------------------------------------------------------------
 
 def _leave_session_out(s, **kw):

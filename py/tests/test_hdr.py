@@ -1,5 +1,5 @@
 """wscg.hdr (paper 13): matching under an exposure change on scikit-image's Middlebury
-motorcycle pair (spec checks 3-6), Debevec-Malik calibration against OpenCV (check 2), the
+motorcycle pair (checks 3-6), Debevec-Malik calibration against OpenCV (check 2), the
 Khan-weighted merge against the truth and OpenCV's MergeDebevec (check 1), the multiscopic
 pipeline on the layered five-camera scene (check 7), numpy references of voting, warping and
 the metrics, determinism, the GIL, bad input and the docstrings."""
@@ -105,7 +105,7 @@ def test_fields_stay_on_the_scanline_and_in_range(moto, moto_fields):
 
 
 def test_matching_under_an_exposure_change(moto, moto_fields):
-    # Spec check 4: ours at 2 iterations <= 0.8 x PM-2D at 2 and <= PM-2D at 5; 2 vs 10
+    # Check 4: ours at 2 iterations <= 0.8 x PM-2D at 2 and <= PM-2D at 5; 2 vs 10
     # iterations within 2 points.
     t = moto["truth"]
     b = {k: hdr.bad_rate(moto_fields[k], t, 2.0) for k in ("ours2", "ours10", "pm2d2", "pm2d5",
@@ -119,7 +119,7 @@ def test_matching_under_an_exposure_change(moto, moto_fields):
 
 
 def test_coherence_term_makes_fields_coherent(moto, moto_fields):
-    # Spec check 5.
+    # Check 5.
     t = moto["truth"]
     inc_with = hdr.incoherence(moto_fields["ours2"])
     inc_without = hdr.incoherence(moto_fields["nocoh2"])
@@ -132,7 +132,7 @@ def test_coherence_term_makes_fields_coherent(moto, moto_fields):
 
 
 def test_radiance_matching_beats_ldr_matching(moto, moto_fields):
-    # Spec check 6, on pixels clipped in neither view (0 < Z < 255 in every channel).
+    # Check 6, on pixels clipped in neither view (0 < Z < 255 in every channel).
     ok = lambda v: ((v > 0) & (v < 255)).all(axis=2)  # noqa: E731
     mask = ok(moto["left"]) & ok(moto["right"])
     t = moto["truth"]
@@ -144,7 +144,7 @@ def test_radiance_matching_beats_ldr_matching(moto, moto_fields):
 
 
 def test_mirroring_both_views_changes_little(moto, moto_fields):
-    # Spec check 3: flip both images, negate and swap the range; the truth is mirrored and
+    # Check 3: flip both images, negate and swap the range; the truth is mirrored and
     # negated.
     t = moto["truth"]
     b = hdr.bad_rate(moto_fields["ours2"], t)
@@ -488,7 +488,7 @@ print(h.hexdigest())
 
 
 def test_one_and_two_threads_give_identical_output():
-    # Spec check 3: the result does not depend on the rayon thread count.
+    # Check 3: the result does not depend on the rayon thread count.
     digests = []
     for n in ("1", "2"):
         env = dict(os.environ, RAYON_NUM_THREADS=n)

@@ -96,7 +96,7 @@ def _laplacian_energy(a, b):
 
 
 # --------------------------------------------------------------------------------------------
-# Spec check 1: the discrete Beer-Lambert slab
+# Check 1: the discrete Beer-Lambert slab
 
 
 SLAB = np.ones((40, 64, 64), dtype=np.float32)  # [z, y, x]: 64 x 64 x 40 voxels
@@ -143,7 +143,7 @@ def test_slab_light_buffer():
 
 
 # --------------------------------------------------------------------------------------------
-# Spec check 3: delta kernel = shadow rays
+# Check 3: delta kernel = shadow rays
 
 
 def test_delta_kernel_equals_shadow_rays():
@@ -176,7 +176,7 @@ def test_marschner_lobb_values():
 
 
 # --------------------------------------------------------------------------------------------
-# Spec check 4: pre-integration
+# Check 4: pre-integration
 
 
 def test_preintegration_table():
@@ -292,7 +292,7 @@ def test_read_vti_bad_files(tmp_path):
 
 
 # --------------------------------------------------------------------------------------------
-# Spec check 5: the shape of Table 1 on the frog
+# Check 5: the shape of Table 1 on the frog
 
 
 def test_table1_shape_on_frog(frog):

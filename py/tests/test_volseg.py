@@ -1,9 +1,9 @@
 """Tests of wscg.volseg (paper 18: BoneSplit, random-walks bone separation in CT, Nysjö,
 Malmberg, Sintorn and Nyström, WSCG 2015).
 
-The solver is pinned down by the analytic 1-D chain of the spec (check 1) and by
-scikit-image's ``random_walker`` on the same bone-only graph with the weight mapping of spec
-section 5 (check 10); the pipeline by the fractured-shell phantom's ground truth and the
+The solver is pinned down by an analytic 1-D chain (check 1) and by scikit-image's
+``random_walker`` on the same bone-only graph with a weight mapping that makes its edge
+weights equal ours (check 10); the pipeline by the fractured-shell phantom's ground truth and the
 geodesic nearest-seed baseline.
 """
 
@@ -27,7 +27,8 @@ def _phantom(shape=(48, 48, 48), k=4, seed=0):
 
 def _skimage_agreement(shape, k, tol, precision, spacing=(1.0, 1.0, 1.0), prob=False):
     """Fraction of bone voxels on which our labels equal scikit-image's (``cg_j``) on the
-    same graph, with spec section 5's weight mapping; and the largest probability gap."""
+    same graph, with the weight mapping that matches scikit-image's edge weights to ours; and
+    the largest probability gap."""
     skseg = pytest.importorskip("skimage.segmentation")
     ct, _, seeds = _phantom(shape, k)
     bone = ct >= 300.0
@@ -69,7 +70,7 @@ def test_module_is_listed():
 
 
 # ----------------------------------------------------------------------------------------
-# Spec check 1: the analytic chain
+# Check 1: the analytic chain
 # ----------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("solver", ["block", "per_label"])
@@ -97,7 +98,7 @@ def test_chain_matches_the_analytic_solution(solver):
 
 
 # ----------------------------------------------------------------------------------------
-# Spec check 10: equality with scikit-image
+# Check 10: equality with scikit-image
 # ----------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("precision", ["f32", "f64"])
@@ -116,7 +117,7 @@ def test_matches_skimage_probabilities_at_tight_tolerance():
 
 
 # ----------------------------------------------------------------------------------------
-# Spec check 3: phantom accuracy against the nearest-seed baseline
+# Check 3: phantom accuracy against the nearest-seed baseline
 # ----------------------------------------------------------------------------------------
 
 def test_random_walks_beat_nearest_seed_on_the_phantom():
@@ -178,7 +179,7 @@ def test_dice_and_bone_mask():
 
 
 # ----------------------------------------------------------------------------------------
-# Spec check 5: warm start
+# Check 5: warm start
 # ----------------------------------------------------------------------------------------
 
 def test_session_warm_start_saves_iterations():

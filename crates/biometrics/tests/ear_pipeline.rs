@@ -55,7 +55,8 @@ fn block_features_are_the_whole_image_haar_ll_rearranged() {
 }
 
 /// Check 4: the ML fit recovers a known Gaussian, the joint 95 % rule keeps 95 +- 0.5 % of
-/// its samples, and the Mahalanobis values of the spec's (E7) are reproduced to 0.01.
+/// its samples, and the Mahalanobis values of the built-in default model (mean (0.45, 0.32),
+/// sigma_r = 0.04, sigma_g = 0.016) are reproduced to 0.01.
 #[test]
 fn skin_model_fit_threshold_and_reference_mahalanobis_values() {
     use rand_distr::{Distribution, Normal};
@@ -116,7 +117,7 @@ fn skin_model_fit_threshold_and_reference_mahalanobis_values() {
     }
     let gold = ear::chromaticity([212, 175, 55]).unwrap();
     assert!((m.mahalanobis2_rg(gold[0], gold[1]) - 23.6).abs() <= 0.05);
-    // Decisions on the spec's examples under the joint 95 % ellipse: skin tones in, grey /
+    // Decisions on these examples under the joint 95 % ellipse: skin tones in, grey /
     // orange / gold out.
     let rule = SkinRule::joint();
     assert!(rule.is_skin(&m, rgb_of(0.539, 0.325), 0));
@@ -128,7 +129,7 @@ fn skin_model_fit_threshold_and_reference_mahalanobis_values() {
     assert!(rule.is_skin(&m, [45, 30, 22], 0));
     assert!(!rule.is_skin(&m, [45, 30, 22], 35));
     // The literal marginal AND, the default: |z| <= 2 per channel. It keeps light and
-    // medium skin and the mean, and drops the spec's dark skin (z_r = 2.2) and a neutral
+    // medium skin and the mean, and drops the dark skin above (z_r = 2.2) and a neutral
     // grey pushed to z_r = -2.2, which the joint ellipse still takes.
     let and = SkinRule::marginal_and();
     assert_eq!(SkinRule::default(), and);

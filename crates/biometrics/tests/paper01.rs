@@ -1,4 +1,4 @@
-//! Acceptance checks of paper 01 (FDKECA), section 4 of its specification.
+//! Acceptance checks of paper 01 (FDKECA).
 
 use faer::Mat;
 use rand::Rng;
@@ -229,7 +229,7 @@ fn fdkeca_problem_size_is_independent_of_n() {
 
 #[test]
 fn ranks_for_few_samples() {
-    // Spec check 9 on generic data: N = 10 centred images of d = 625 pixels.
+    // Check 9 on generic data: N = 10 centred images of d = 625 pixels.
     let x = random(10, 625, 9);
     let pca = Pca::fit(x.as_ref(), None, false).unwrap();
     let rank = |v: &[f64]| v.iter().filter(|&&e| e > 1e-10 * v[0]).count();
@@ -328,7 +328,7 @@ fn finger_vein_generator_is_deterministic() {
     assert!(finger_veins(&FingerVeinParams { subjects: 0, ..p }).is_err());
 }
 
-/// Spec check 8: the paper's Table 1 protocol on 200 x 10 synthetic finger veins, 5/5 split,
+/// Check 8: the paper's Table 1 protocol on 200 x 10 synthetic finger veins, 5/5 split,
 /// three seeds, all four methods over l = 1..200, paper and validated protocols.
 #[test]
 fn recognition_on_synthetic_finger_veins() {

@@ -46,7 +46,7 @@ fn hand_pose_tables_and_rotation_robustness() {
         "class-wise SFA per class {per_class:?}"
     );
     assert!(sfa.mean() >= 96.0, "class-wise SFA mean {}", sfa.mean());
-    // The data are confusable (spec section 3.2): KNN on PCA-35 below 99 %.
+    // The data are confusable (see the generator's *Difficulty*): KNN on PCA-35 below 99 %.
     let pca = res.get(Method::KnnPca).unwrap().mean();
     assert!(pca < 99.0, "KNN on PCA-35: {pca}");
 

@@ -1,5 +1,5 @@
 //! Acceptance checks of paper 17 (Kinect gait recognition with joint relative angles and a
-//! DTW kernel), spec section 4. The UCR/UEA checks (3 and 4) read the archive files shipped in
+//! DTW kernel). The UCR/UEA checks (3 and 4) read the archive files shipped in
 //! the sktime wheel and run in py/tests/test_gait.py.
 
 use rand::Rng as _;
@@ -468,7 +468,7 @@ fn relevance_map_matches_figure_5() {
         .contains("largest relevance"));
 }
 
-/// Spec check 6 for {HipLeft, HipRight}: at most 6 one-degree bins. Not met by the specified
+/// Check 6 for {HipLeft, HipRight}: at most 6 one-degree bins. Not met by the synthetic
 /// walker: the hip joints sit 0.03 H below SpineBase, so their JRA is about 33° and the
 /// independent 2 mm vertical noise of SpineBase and both hips moves it by about 1.7° (std);
 /// over a cycle it spans up to 9 bins (measured on 20 walks: 5 to 9).

@@ -1,5 +1,4 @@
-//! Paper 02, section 9: StVK membrane triangles as soft constraints (specification checks 6
-//! and 7).
+//! Paper 02, section 9: StVK membrane triangles as soft constraints (checks 6 and 7).
 
 use nalgebra::{Matrix2, Vector2, Vector3};
 use wscg_cloth::FemTri;

@@ -1,5 +1,5 @@
-//! Acceptance checks of paper 02 (cloth with soft constraints), section 4 of its
-//! specification: the closed-form linear and damped oscillators, iteration independence of
+//! Acceptance checks of paper 02 (cloth with soft constraints): the closed-form linear and
+//! damped oscillators, iteration independence of
 //! the accumulated multipliers, the relaxation identity, energy ordering and bad input.
 
 use nalgebra::Vector3;
@@ -581,7 +581,7 @@ fn settle_steps(curve: &[f64]) -> usize {
 /// The cloth's swing is a rigid pendulum-like motion that damping along the constraints does
 /// not touch, and 25 Gauss-Seidel sweeps of implicit Euler already damp the strain modes.
 #[test]
-#[ignore = "spec check 9 not met: 1.23x faster settling with gamma = 10h, 2x required"]
+#[ignore = "check 9 not met: 1.23x faster settling with gamma = 10h, 2x required"]
 fn constraint_damping_settles_faster() {
     let plain = settle_steps(&swing_curve(SolverConfig::default()));
     let damped = settle_steps(&swing_curve(SolverConfig {

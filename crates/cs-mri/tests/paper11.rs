@@ -1,4 +1,4 @@
-//! Acceptance checks of paper 11 (CS-MRI with a UDCT prior), section 4 of the specification.
+//! Acceptance checks of paper 11 (CS-MRI with a UDCT prior).
 
 use num_complex::Complex64;
 use wscg_cs_mri::baselines::{self, CompositeParams};
@@ -323,7 +323,7 @@ fn udct_prior_beats_the_fdct_prior_on_the_headline_problem() {
     let (pu, pf) = (run("udct"), run("fdct"));
     let pz = metrics::psnr(&reference, &data.zero_filled()).unwrap();
     println!("Table 2 stand-in: UDCT-l1 {pu:.2} dB, FDCT-l1 {pf:.2} dB, zero-filled {pz:.2} dB");
-    // The FDCT prior itself works (check 3's headline margin, spec: +8 dB), so the ordering
+    // The FDCT prior itself works (check 3's headline margin, +8 dB), so the ordering
     // compares two working priors.
     assert!(pf >= pz + 8.0, "FDCT {pf} vs zero-filled {pz}");
     assert!(pu > pf, "UDCT {pu} vs FDCT {pf}");
@@ -828,7 +828,7 @@ fn udct_prior_is_not_worse_than_the_composite_baselines() {
 }
 
 /// The TVCMRI baseline minimises the same objective (B1) as FCSA: after 500 iterations the
-/// two objectives agree to 1e-3 relative (specification section 2.4).
+/// two objectives agree to 1e-3 relative.
 ///
 /// Not met: FCSA averages the two proximal steps (composite splitting), which only
 /// approximates the minimiser of (B1); measured objectives 4.5512 (FCSA) and 4.4786

@@ -1,4 +1,4 @@
-//! The Krishnan-Fergus solver (spec check 3), the baselines and the tiling (check 7).
+//! The Krishnan-Fergus solver (check 3), the baselines and the tiling (check 7).
 
 use wscg_deblur::tiling::{convolve, convolve_piecewise};
 use wscg_deblur::wstep::{w_energy, w_exact, WLut};
@@ -97,7 +97,7 @@ fn score(a: &Image<f32>, truth: &Image<f32>, border: usize) -> f64 {
     psnr(&crop(a), &crop(truth), 1.0).unwrap()
 }
 
-/// Spec check 3 on a generated scene (the Python tests run it on scikit-image's `camera`):
+/// Check 3 on a generated scene (the Python tests run it on scikit-image's `camera`):
 /// the best KS over lambda in {500, 2000, 8000} against the best Wiener over five NSRs.
 #[test]
 fn krishnan_fergus_beats_blur_and_the_best_wiener_on_a_diagonal_line_blur() {
@@ -134,7 +134,7 @@ fn krishnan_fergus_beats_blur_and_the_best_wiener_on_a_diagonal_line_blur() {
     assert!(rl > b, "RL {rl} vs B {b}");
 }
 
-/// Spec check 7: region-wise deblurring of an unblurred image returns it, and the regions
+/// Check 7: region-wise deblurring of an unblurred image returns it, and the regions
 /// leave no seam: across region borders the piecewise result steps like the whole-frame
 /// solve of the same problem.
 #[test]

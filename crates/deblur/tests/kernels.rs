@@ -1,4 +1,4 @@
-//! Kernel rendering (spec check 1 and 2b) and gyro integration.
+//! Kernel rendering (check 1 and 2b) and gyro integration.
 
 use nalgebra::{Rotation3, Vector3};
 use wscg_deblur::{

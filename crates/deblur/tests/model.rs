@@ -1,4 +1,4 @@
-//! Blur model (spec checks 2, 8, 9): the gyro kernels reproduce densely rendered blur, the
+//! Blur model (checks 2, 8, 9): the gyro kernels reproduce densely rendered blur, the
 //! rolling-shutter rectification removes the shear, the time delay is recovered.
 
 use wscg_deblur::synth::{self, Burst, OuParams, RenderOpts};

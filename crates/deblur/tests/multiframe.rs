@@ -1,4 +1,4 @@
-//! Multi-frame removal (spec checks 4, 5, 6) on generated scenes; the Python tests run the
+//! Multi-frame removal (checks 4, 5, 6) on generated scenes; the Python tests run the
 //! Table-1 analogue on scikit-image's photographs.
 
 use wscg_deblur::metrics::quality;
@@ -102,12 +102,12 @@ fn table1_analogue_orders_the_methods_as_the_paper() {
     ] {
         eprintln!("{name}: PSNR {:.3} SSIM {:.3}", v.0, v.1);
     }
-    // KM >= KS + 0.5 dB (spec check 4) is checked on the photographs of the Python tests;
+    // KM >= KS + 0.5 dB (check 4) is checked on the photographs of the Python tests;
     // on this piecewise-flat scene KS alone already gains ~9 dB over B.
     assert!(km3.0 >= ks.0 - 1.0, "KM3 {} KS {}", km3.0, ks.0);
     assert!(km3.0 >= b.0 + 1.5, "KM3 {} B {}", km3.0, b.0);
     assert!(km3.1 >= b.1 + 0.03, "SSIM KM3 {} B {}", km3.1, b.1);
-    // SSIM(W) < SSIM(RL) (spec check 4) is asserted on `coffee` in the Python tests; on this
+    // SSIM(W) < SSIM(RL) (check 4) is asserted on `coffee` in the Python tests; on this
     // scene, with the development-tuned NSR and iterations, the two are within 0.004. The
     // hyper-Laplacian prior beats both baselines here.
     assert!(
@@ -117,7 +117,7 @@ fn table1_analogue_orders_the_methods_as_the_paper() {
     assert!(km5.0 >= km3.0 - 0.1, "KM5 {} KM3 {}", km5.0, km3.0);
 }
 
-/// Spec check 5: under roll-dominant shake the blur varies over the frame, and the piecewise
+/// Check 5: under roll-dominant shake the blur varies over the frame, and the piecewise
 /// KS beats one global kernel (the uniform-blur assumption of blind tools) by >= 1 dB.
 #[test]
 fn piecewise_kernels_beat_one_global_kernel_under_roll() {
@@ -181,7 +181,7 @@ fn piecewise_gyro(parts: &[(f64, f64, [f64; 3])], t_end: f64) -> Vec<GyroSample>
         .collect()
 }
 
-/// Spec check 6: neighbour A is sharp on the left and blurry on the right (pitch and roll
+/// Check 6: neighbour A is sharp on the left and blurry on the right (pitch and roll
 /// cancel at x = -W/4), neighbour C the reverse; the weights follow the sharper neighbour.
 /// A neighbour replaced by noise with a huge kernel gets a weight below 0.1 everywhere.
 #[test]

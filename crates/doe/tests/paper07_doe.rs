@@ -81,7 +81,7 @@ fn ccd_equals_pydoe3_ccdesign() {
 fn paper_design_decodes_to_the_physical_runs() {
     let x = paper_design();
     let runs = decode(&x, &[15.0, 3.5], &[45.0, 9.5]).unwrap();
-    // Spec §2.4 / Table 1: radius {19.39, 40.61} x density {4.379, 8.621}; (15, 6.5), (45, 6.5),
+    // Table 1 decoded: radius {19.39, 40.61} x density {4.379, 8.621}; (15, 6.5), (45, 6.5),
     // (30, 3.5), (30, 9.5); 5 x (30, 6.5). Radius printed to 2 decimals, density to 3.
     let mut want: Vec<(f64, f64)> = vec![
         (19.39, 4.379),
@@ -197,7 +197,7 @@ fn press_equals_a_leave_one_out_refit_loop() {
 
 #[test]
 fn rsm_fit_agrees_with_the_normal_equations_for_100_seeds() {
-    // Spec acceptance 2 asks for 100 random response vectors on the CCI-13 design. The three
+    // 100 random response vectors on the CCI-13 design. The three
     // statsmodels fixtures above pin the conventions; here every seed is checked against an
     // independent computation: b = (XᵀX)⁻¹ Xᵀy by LU, Cov(b) = σ² (XᵀX)⁻¹,
     // h_ii = x_iᵀ (XᵀX)⁻¹ x_i, Xᵀe = 0, Σ h_ii = p, and PRESS against the refit loop.
@@ -283,8 +283,9 @@ fn table2_surfaces_are_recovered_and_give_the_reported_means() {
 
 #[test]
 fn only_the_inscribed_design_reproduces_the_reported_means() {
-    // Spec §2.4: "CCI is the variant consistent with the reported mean scores (5.1 / 4.6) given
-    // Table 2's coefficients". Circumscribed and faced designs (same 5 centre points) miss.
+    // The paper says only "Central Composite Design" (Table 1, Fig. 5c); the inscribed
+    // variant (CCI) is the one consistent with the reported mean scores (5.1 / 4.6)
+    // given Table 2's coefficients. Circumscribed and faced designs (same 5 centre points) miss.
     for face in [CcdFace::Circumscribed, CcdFace::Faced, CcdFace::Inscribed] {
         let x = ccd(2, face, CcdAlpha::Rotatable, 5).unwrap();
         let means: Vec<f64> = TABLE2
@@ -517,7 +518,7 @@ fn panel_pca_equals_sklearn_and_rank_one_panel_is_one_axis() {
 }
 
 // ------------------------------------------------------------------------------------------
-// Bad input (spec §4: CCD with k < 2, RSM with fewer runs than terms, a singular design, NaN
+// Bad input (CCD with k < 2, RSM with fewer runs than terms, a singular design, NaN
 // responses), plus shapes.
 // ------------------------------------------------------------------------------------------
 

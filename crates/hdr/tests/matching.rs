@@ -1,4 +1,4 @@
-//! Matching checks of the paper-13 specification (check 3 and the unit behaviour behind
+//! Matching checks of paper 13 (acceptance check 3 and the unit behaviour behind
 //! checks 4-6): epipolar PatchMatch recovers known shifts, stays on the scanline and in its
 //! range, is deterministic, mirror-symmetric, and more coherent with the coherence term;
 //! BDS voting reproduces a consistent shift exactly and leaves no holes; the baselines.

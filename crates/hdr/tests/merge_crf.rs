@@ -1,4 +1,4 @@
-//! Checks 1 and 2 of the paper-13 specification: merge exactness, Khan weights, the
+//! Acceptance checks 1 and 2 of paper 13: merge exactness, Khan weights, the
 //! fallback of clipped pixels, and Debevec-Malik calibration of an S-shaped response.
 
 use wscg_hdr::merge::{merge, MergeInput, Merged};

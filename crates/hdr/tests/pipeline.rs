@@ -1,5 +1,5 @@
-//! The full multiscopic pipeline on the layered five-camera scene (checks 3, 7 and 8 of the
-//! paper-13 specification): per-view log-radiance error against the ground truth, the
+//! The full multiscopic pipeline on the layered five-camera scene (acceptance checks 3, 7
+//! and 8 of paper 13): per-view log-radiance error against the ground truth, the
 //! baselines and ablations, the dark reference, the fallback of pixels clipped everywhere,
 //! determinism across thread counts, and bad input.
 
@@ -417,7 +417,7 @@ fn three_iterations_each_way_beat_six_one_way() {
     assert!(a < b);
 }
 
-/// Spec check 7 read literally: every view <= 0.2 on all points seen by every view. Fails on
+/// Check 7 read literally: every view <= 0.2 on all points seen by every view. Fails on
 /// the longest exposure (view 4: 0.220), whose error comes from pixels clipped in that
 /// reference, the limitation the paper states for saturated reference areas.
 #[test]
@@ -431,7 +431,7 @@ fn five_view_scene_every_view_within_the_spec_bound() {
     }
 }
 
-/// Spec check 7 read literally, with the saturated-area extension
+/// Check 7 read literally, with the saturated-area extension
 /// (`MultiscopicParams::fill_saturated`): offsets of pixels clipped in the reference come
 /// from the nearest unclipped pixel of the row, and radiance is voted with the Khan weights.
 /// Every view is then within 0.2 (measured 0.111 / 0.088 / 0.086 / 0.109 / 0.139 against
@@ -468,7 +468,7 @@ fn five_view_scene_every_view_within_the_spec_bound_when_saturated_areas_are_fil
     assert!(a < 0.6 * b, "{a} vs {b}");
 }
 
-/// Spec check 8 for every reference: pixels clipped in every view all take the fallback.
+/// Check 8 for every reference: pixels clipped in every view all take the fallback.
 /// Holds for the darkest reference only: in the others, clipped pixels match unclipped
 /// pixels of shorter exposures at the same radiance and their votes carry weight.
 #[test]

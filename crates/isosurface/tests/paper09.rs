@@ -1,4 +1,4 @@
-//! Acceptance checks of paper 09 (spec section 4): Wood and Newman, isosurface orientation in
+//! Acceptance checks of paper 09: Wood and Newman, isosurface orientation in
 //! sparse grids with tetrahedral splines.
 
 use std::collections::HashMap;

@@ -1,4 +1,4 @@
-//! Acceptance checks of paper 16 (spec section 4) on the synthetic walker.
+//! Acceptance checks of paper 16 on the synthetic walker.
 #![allow(clippy::needless_range_loop)]
 
 use std::f64::consts::{PI, TAU};
@@ -241,7 +241,7 @@ fn assert_reported_q(x: &TrialSet, model: &wscg_motion::AnechoicModel, label: &s
     );
 }
 
-/// Spec check 4, identification: every true source matched at >= 0.95 and delays within
+/// Check 4, identification: every true source matched at >= 0.95 and delays within
 /// 0.02 periods, on the noise-free data; with 1 % noise the sources are matched too. The
 /// sources share their harmonic amplitudes (1, 0.4, 0.15), so most of the energy is in first
 /// harmonics that any delayed source can imitate. Random and PCA starts end in neighbouring
@@ -264,7 +264,7 @@ fn demixing_identifies_sources_and_delays() {
     }
 }
 
-/// Spec check 4's delay bound with 1 % noise. Without the per-channel delay search the ALS
+/// Check 4's delay bound with 1 % noise. Without the per-channel delay search the ALS
 /// leaves channel 16 0.41 periods off: it carries source 1 with 32 % of that source's largest
 /// weight, its trial weights are nearly proportional, and two of its delays must move together
 /// (the generating ones fit 16 % better with the fitted sources). The search finds them, and
@@ -504,7 +504,7 @@ fn max_abs_diffs(frames: &[wscg_motion::synthesizer::Frame], ch: usize) -> Vec<f
 }
 
 /// Per channel, the largest frame-to-frame change inside the ±β windows of action changes is
-/// at most twice the largest change elsewhere (spec check 7).
+/// at most twice the largest change elsewhere (check 7).
 /// The channel with the largest ratio is reported, so a failure shows the worst channel.
 fn assert_smooth_windows(frames: &[wscg_motion::synthesizer::Frame]) {
     let beta = DEFAULT_BETA;
@@ -714,7 +714,7 @@ fn end_to_end_final_distance_and_goal_jump() {
     );
 }
 
-/// Spec check 10, no discontinuity after a goal jump (> 2x the typical per-frame change).
+/// Check 10, no discontinuity after a goal jump (> 2x the typical per-frame change).
 /// Measured on the worst channel, 20 (left wrist, the reaching arm): 0.0802 vs 0.0306 rad,
 /// 2.62x. (Earlier notes gave 2.03x: that was channel 12, the first channel to fail, not the
 /// worst.) The same sequence from libraries learned on noise-free walkers gives 2.97x (20

@@ -1,4 +1,4 @@
-//! Acceptance checks of paper 10 (spec section 4): exact voxelization, structure invariants,
+//! Acceptance checks of paper 10: exact voxelization, structure invariants,
 //! ray-cast equivalence with brute force, the memory trend of Table 2, LoD behaviour, voxel
 //! attributes, and bad input.
 

@@ -1,4 +1,4 @@
-//! Paper 08 acceptance checks (specification section 4) that need no procedural scene:
+//! Paper 08 acceptance checks that need no procedural scene:
 //! the analytic VPL term, the distributions' invariants, the weights' fallback, bad input.
 
 use nalgebra::Vector3;

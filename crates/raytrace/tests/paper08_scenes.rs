@@ -1,4 +1,4 @@
-//! Paper 08 acceptance checks on the procedural scenes (specification section 4): unbiasedness
+//! Paper 08 acceptance checks on the procedural scenes: unbiasedness
 //! (check 2), variance reduction (check 3), insertion at shadow boundaries (check 4),
 //! clustering (check 7), determinism (check 8).
 
@@ -78,7 +78,7 @@ fn check3_variance_reduction_colonnade() {
 }
 
 /// Measured (5 seeds, 256 x 192, 4200 VPLs, 490 records, 16 spp): adaptive / ic RMSE
-/// 0.979, 0.723, 0.988, 1.041, 0.982, median 0.979 against the specification's 0.95 (the
+/// 0.979, 0.723, 0.988, 1.041, 0.982, median 0.979 against the required 0.95 (the
 /// paper's Conference: 0.907). On this view the error sits at a floor that the records do
 /// not set: seed 0 with 4x and 16x the records gives adaptive / ic 0.02169 / 0.02206 and
 /// 0.02154 / 0.02152, against 0.02321 / 0.02372 at 490. The error is spread evenly over the
@@ -243,9 +243,9 @@ fn share(pixels: &[usize], marked: impl Fn(usize) -> bool) -> f64 {
     pixels.iter().filter(|&&i| marked(i)).count() as f64 / pixels.len().max(1) as f64
 }
 
-/// Spec check 4 as written: the top 20 % of the reference image's gradient magnitude.
+/// Check 4 as written: the top 20 % of the reference image's gradient magnitude.
 /// Measured: inserted records lie there at 1.82 times the rate of the initial ones (0.353
-/// against 0.194), below the specification's 2.5. The brightest gradients of this box are
+/// against 0.194), below the required 2.5. The brightest gradients of this box are
 /// the light's fall-off on the walls under the ceiling and the silhouettes of the walls and
 /// boxes; the soft shadows of the wide ceiling light spread over many pixels and have small
 /// per-pixel gradients. The partly occluded pixels, the paper's "boundaries of shadows,
@@ -269,7 +269,7 @@ fn check4_insertion_goes_to_shadow_boundaries() {
 /// boundaries of shadows, where the visibilities between the VPLs and the cache points
 /// change". A pixel is partly occluded when the visible share of its unoccluded emitter-VPL
 /// luminance lies in (0.02, 0.98) (a shadow ray to every VPL); about 7 % of the box's
-/// pixels are. The same factor as the specification's, 2.5, is required over the initial
+/// pixels are. The same factor as above, 2.5, is required over the initial
 /// records. Measured: 0.613 of the inserted records against 0.078 of the initial ones (7.9x).
 #[test]
 fn check4_insertion_goes_to_partly_occluded_pixels() {

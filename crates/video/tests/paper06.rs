@@ -1,5 +1,5 @@
 //! Acceptance checks of paper 06 (localized search for HD video completion) on synthetic
-//! clips with exact ground truth. The sizes are reduced from the specification's (HD clips
+//! clips with exact ground truth. The sizes are reduced from the full-size clips (HD clips
 //! take minutes) where stated; the full-size runs are `#[ignore]`d and exercised by the
 //! example and benchmarks.
 
@@ -58,8 +58,8 @@ fn highpass_std(v: &Video, hole: &Mask3, inside: bool) -> f64 {
 #[test]
 fn check1_background_visible_elsewhere() {
     // G1 (reduced from 1920 x 1080 x 30, r = 110, 14 px/frame): 640 x 360 x 24, r = 37,
-    // 7 px/frame (the disc hides a pixel for 44 % of the clip, as in the specification's
-    // clip); working resolution 320 x 180, one localized-search level.
+    // 7 px/frame (the disc hides a pixel for 44 % of the clip, as in the full-size clip);
+    // working resolution 320 x 180, one localized-search level.
     let clip = sprite_clip(24, 360, 640, 37.0, 7.0, 0.0, 11).unwrap();
     let mut cfg = CompletionConfig::default();
     cfg.low.target_width = 320;
@@ -86,7 +86,7 @@ fn check2_pan_with_a_static_logo_hole() {
 #[test]
 fn check2_zoom_with_a_moving_hole() {
     // G3 (reduced from 1280 x 720 x 40, r = 60, 10 px/frame): 640 x 360 x 20, r = 30,
-    // 10 px/frame (a pixel is hidden for 30 % of the clip, as in the specification's).
+    // 10 px/frame (a pixel is hidden for 30 % of the clip, as in the full-size clip).
     let clip = zoom_clip(20, 360, 640, 1.003, 30.0, 10.0, 5).unwrap();
     let out = complete(&clip, &CompletionConfig::default());
     let s = ssim(&clip, &out.video);
@@ -191,7 +191,7 @@ fn localized_vs_global(clip: &Clip, half_width: usize) -> ([f64; 3], u64, u64) {
 
 #[test]
 fn check5_localized_search_approaches_global_search() {
-    // Stage 3 from 48 x 32 to 96 x 64 on three zoom clips (reduced from the specification's
+    // Stage 3 from 48 x 32 to 96 x 64 on three zoom clips (reduced from the full size,
     // 160 x 90 -> 320 x 180), both searches iterating until the energy settles. Measured:
     // with the coherence candidates the energy is 1.078x, 1.232x and 1.219x that of exact
     // global search (windows only: 1.274x, 1.680x, 1.354x).
@@ -227,7 +227,7 @@ fn check5_localized_search_approaches_global_search() {
     }
 }
 
-/// Measured at the specification's size (seed 9), both searches iterating with stage 3's
+/// Measured at the full size (seed 9), both searches iterating with stage 3's
 /// rule (stop once an iteration lowers the energy by no more than 0.5 %, at most 16):
 /// localized search stops after 10 iterations at 2.281e6, exact global search after 10 sweeps
 /// at 1.951e6, 1.169x, with 7.5 M candidates against 63.1 G (8 380x fewer). Without the
@@ -239,7 +239,7 @@ fn check5_localized_search_approaches_global_search() {
 /// still falls by 3 % a sweep; run to convergence (18 sweeps) the four-iteration ratio was
 /// 1.247x, so the gap is not an artefact of an unfinished stage 1.
 #[test]
-#[ignore = "fails: at the specification's 320x180x15 from 160x90 (seed 9) localized search reaches 1.169x the energy of exact global search (1.91x without the coherence candidates), limit 1.10, with 8380x fewer candidates; global search takes 36 min here"]
+#[ignore = "fails: at the full size 320x180x15 from 160x90 (seed 9) localized search reaches 1.169x the energy of exact global search (1.91x without the coherence candidates), limit 1.10, with 8380x fewer candidates; global search takes 36 min here"]
 fn check5_localized_search_within_ten_percent_of_global_at_spec_size() {
     let clip = zoom_clip(15, 180, 320, 1.003, 15.0, 2.5, 9).unwrap();
     let ([el, _, eg], cl, cg) = localized_vs_global(&clip, 160);
@@ -286,7 +286,7 @@ fn check8_grain_is_preserved() {
     let w = wexler_complete(&clip.observed, &clip.hole, &WexlerConfig::default()).unwrap();
     let wr = highpass_std(&w.video, &clip.hole, true) / highpass_std(&w.video, &clip.hole, false);
     // Reported, not asserted: with exact copies available, Wexler's votes agree and keep the
-    // grain too (the specification expects < 0.8 on natural video).
+    // grain too (on natural video a ratio below 0.8 is expected).
     println!("grain ratio: ours {ratio:.3}, Wexler voting {wr:.3}");
 }
 

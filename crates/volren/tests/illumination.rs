@@ -1,4 +1,4 @@
-//! Paper 15 acceptance checks (spec section 4) that need no external data: the exact
+//! Paper 15 acceptance checks that need no external data: the exact
 //! Beer-Lambert slab, the semigroup penumbra, delta kernel = shadow rays, pre-integration
 //! against analytic integrals, the Table-1 shape on Marschner-Lobb, invariants, determinism
 //! and bad input.
@@ -49,7 +49,7 @@ fn discrete_beer_lambert_slab() {
         let formula = (1.0 - (1.0 - alpha).powf(2.0 * n)) / (2.0 - alpha);
         assert!(
             (formula - want).abs() < 1e-6,
-            "spec value {want} vs formula {formula}"
+            "tabulated value {want} vs formula {formula}"
         );
         let r = render(
             &field,

@@ -1,4 +1,4 @@
-//! Spec check 7: peak memory of the bone-only graph and its solver state against Grady's
+//! Check 7: peak memory of the bone-only graph and its solver state against Grady's
 //! full-image graph on the 256^3 phantom with K = 4, measured with a counting allocator
 //! (this test binary's global allocator). The full-image variant runs 5 iterations only.
 

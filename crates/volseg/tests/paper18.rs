@@ -1,5 +1,5 @@
-//! Acceptance checks of paper 18 (BoneSplit: random walks on a bone-only graph), spec
-//! section 4: the analytic chain, graph counts, phantom accuracy against the truth and the
+//! Acceptance checks of paper 18 (BoneSplit: random walks on a bone-only graph): the
+//! analytic chain, graph counts, phantom accuracy against the truth and the
 //! nearest-seed baseline, β insensitivity, warm start, isolated components, bad input.
 
 use wscg_math::rng::seeded;
@@ -24,11 +24,11 @@ fn chain(p: RwParams) -> Vec<f64> {
     s.node_probabilities(1)
 }
 
-/// Spec check 1 for every solver variant (block or per label, f32 or f64, with or without
+/// Check 1 for every solver variant (block or per label, f32 or f64, with or without
 /// the Jacobi preconditioner, one thread or the pool): x_1(i) = sinh(mu (100 - i)) /
-/// sinh(100 mu) with cosh mu = 1 + kappa / (2 w), and 1 - i / 100 for kappa = 0. The spec's
-/// 1e-5 holds in f64; f32 vectors carry ~6e-8 relative rounding amplified by the condition
-/// number (~4 w / kappa = 4e3), so they are held to 5e-5 (measured 1.3e-5).
+/// sinh(100 mu) with cosh mu = 1 + kappa / (2 w), and 1 - i / 100 for kappa = 0. The
+/// tolerance 1e-5 holds in f64; f32 vectors carry ~6e-8 relative rounding amplified by the
+/// condition number (~4 w / kappa = 4e3), so they are held to 5e-5 (measured 1.3e-5).
 #[test]
 fn chain_matches_the_analytic_solution() {
     // cosh mu = 1 + kappa / (2 w), w = 1 + eps = 1.01.
@@ -136,7 +136,7 @@ fn segment(ph: &Phantom, p: RwParams) -> (Vec<u16>, RwSession) {
 }
 
 /// Random-walk DSC, DSC far (> 2 voxels) from the fractures, and the geodesic nearest-seed
-/// baseline's DSC on the 128^3, K = 6 phantom (spec check 3).
+/// baseline's DSC on the 128^3, K = 6 phantom (check 3).
 fn phantom_scores() -> (f64, f64, f64) {
     let ph = phantom();
     let (labels, s) = segment(&ph, RwParams::default());
@@ -169,7 +169,7 @@ fn random_walks_beat_nearest_seed_by_five_points() {
     assert!(dsc_ns <= dsc - 0.05, "{dsc_ns} vs {dsc}");
 }
 
-/// Spec check 3's absolute levels. Not met on the specified phantom: its fracture gaps
+/// Check 3's absolute levels. Not met on the default phantom: its fracture gaps
 /// (450 HU, 0.75 voxel half-width) blurred with sigma 0.8 keep edge weights near eps = 0.01
 /// against ~0.7 inside a fragment, and a fracture line of a few hundred edges then conducts as
 /// much as a fragment's body: measured DSC 0.783 (far from fractures 0.813); without the blur
@@ -182,9 +182,9 @@ fn phantom_accuracy_reaches_the_spec_levels() {
     assert!(dsc_far >= 0.99, "{dsc_far}");
 }
 
-/// Spec check 3 with strokes painted on the outer surface (the 3D brush's strokes).
+/// Check 3 with strokes painted on the outer surface (the 3D brush's strokes).
 #[test]
-#[ignore = "measured DSC 0.763 (limit 0.95) on the specified phantom; see the issue note"]
+#[ignore = "measured DSC 0.763 (limit 0.95) on the default phantom; see the issue note"]
 fn surface_strokes_reach_the_spec_level() {
     let ph = fractured_shell_phantom(&PhantomConfig {
         surface_strokes: true,
@@ -199,8 +199,8 @@ fn surface_strokes_reach_the_spec_level() {
     assert!(dsc >= 0.95, "{dsc}");
 }
 
-/// Spec check 4 (the paper's claim that beta in [2000, 4000] gives similar results): not met
-/// on the specified phantom, where the DSCs spread by 0.037 (they follow the leakage through
+/// Check 4 (the paper's claim that beta in [2000, 4000] gives similar results): not met
+/// on the default phantom, where the DSCs spread by 0.037 (they follow the leakage through
 /// the fracture gaps, see `phantom_accuracy_reaches_the_spec_levels`).
 #[test]
 #[ignore = "measured DSC spread 0.037 over beta 2000/3000/4000 (limit 0.01); see the issue note"]
@@ -275,11 +275,11 @@ fn warm_start_saves_iterations() {
     assert!(w as f64 <= 0.6 * c as f64, "{w} vs {c}");
     // Fewer iterations must not mean a worse answer: both solves converged on their true
     // residuals (checked in `warm_and_cold`), and the labels are those of the cold solve
-    // nearly everywhere (98.2 % measured; the spec's 99.9 % is the ignored check below).
+    // nearly everywhere (98.2 % measured; the 99.9 % target is the ignored check below).
     assert!(same >= 0.95, "{same}");
 }
 
-/// Spec check 5's agreement: warm and cold re-solves stop at the same relative residual
+/// Check 5's agreement: warm and cold re-solves stop at the same relative residual
 /// (3e-3) but far from the seeds the probabilities are tiny and close, so their argmax
 /// differs on 1.8 % of the voxels (measured agreement 98.19 %, limit 99.9 %).
 #[test]
@@ -289,7 +289,7 @@ fn warm_and_cold_labels_agree() {
     assert!(same >= 0.999, "{same}");
 }
 
-/// Spec check 6 with kappa = 1e-3 (the paper's regulariser) and kappa = 0: components without
+/// Check 6 with kappa = 1e-3 (the paper's regulariser) and kappa = 0: components without
 /// seeds are excluded before the solve, so the systems stay non-singular, the solver
 /// converges and those voxels get label 0; the other labels do not move.
 #[test]
@@ -392,7 +392,7 @@ fn bad_input_gets_clear_errors() {
     .is_err());
 }
 
-/// The grow brush of section 2.6 (spec step 9): the active label spreads from its region
+/// The grow brush of section 2.6: the active label spreads from its region
 /// into bone of similar intensity inside the ball, not across a strong edge, never outside
 /// the ball or the bone mask.
 #[test]

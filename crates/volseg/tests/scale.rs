@@ -1,5 +1,5 @@
-//! Spec check 8: the size of the paper's case 1 (512×512×337, K = 15). Mean CG iterations
-//! per label at tol 3e-3 in the paper's range (Fig. 9: 45-136, mean 83; spec window
+//! Check 8: the size of the paper's case 1 (512×512×337, K = 15). Mean CG iterations
+//! per label at tol 3e-3 in the paper's range (Fig. 9: 45-136, mean 83; accepted window
 //! [45, 200]). The time per label is printed; its target (≤ 3 s per label on 2 cores) is
 //! checked by `benches/volseg.rs`, not here.
 
