@@ -4,6 +4,7 @@
 //! C-contiguous arrays of the dtype the native side expects, documents every function and
 //! re-exports them as `wscg.math`, ... Errors from Rust become `ValueError` (bad arguments)
 //! or `OSError` (files); a Rust panic surfaces as pyo3's `PanicException`, never a crash.
+#![warn(missing_docs)]
 
 use pyo3::prelude::*;
 

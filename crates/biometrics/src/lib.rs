@@ -15,6 +15,7 @@
 //!
 //! Data matrices hold **one sample per row** (`n x d`, as scikit-learn); the paper writes
 //! samples as columns.
+#![warn(missing_docs)]
 
 pub mod data;
 pub mod dtw;

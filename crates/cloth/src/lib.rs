@@ -28,6 +28,7 @@
 //!
 //! Units: metres, kilograms, seconds; a link's stiffness `k` in N/m, its compliance `1/k` in
 //! m/N, the damping parameter `gamma = d/k` in seconds.
+#![warn(missing_docs)]
 
 pub mod baselines;
 pub mod collision;

@@ -41,6 +41,7 @@
 //! let rec = csalsa(&data, &psi, Regularizer::default(), &p, None, &NoProgress).unwrap();
 //! assert_eq!(rec.image.len(), n * n);
 //! ```
+#![warn(missing_docs)]
 
 pub mod baselines;
 pub mod csalsa;

@@ -30,6 +30,7 @@
 //! let restored = deconv_hl(&blurred, &k, &HlParams::default()).unwrap();
 //! assert_eq!(restored.shape(), (64, 64, 1));
 //! ```
+#![warn(missing_docs)]
 
 pub mod align;
 pub mod calibrate;

@@ -44,6 +44,7 @@
 //! let xs = fit.stationary.unwrap();
 //! assert!((xs[0] - 0.1).abs() < 0.01 && (xs[1] + 0.2).abs() < 0.01);
 //! ```
+#![warn(missing_docs)]
 
 pub mod anova;
 pub mod ccd;

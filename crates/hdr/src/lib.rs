@@ -32,6 +32,7 @@
 //!                           &wscg_math::progress::NoProgress).unwrap();
 //! assert_eq!(out.hdr.len(), 3);
 //! ```
+#![warn(missing_docs)]
 
 pub mod crf;
 pub mod merge;

@@ -25,6 +25,7 @@
 //! let mesh = marching_cubes(&g, 0.0, NormalMethod::spline()).unwrap();
 //! assert!(mesh.normals.iter().all(|n| n != &[0.0; 3]));
 //! ```
+#![warn(missing_docs)]
 
 pub(crate) mod cell;
 pub mod extract;

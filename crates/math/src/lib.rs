@@ -23,6 +23,7 @@
 //! - [`rng`]: seeded, portable random generation.
 //! - [`progress`]: a progress-reporting trait that the CLI renders as progress bars.
 //! - [`error`]: the one [`Error`] type.
+#![warn(missing_docs)]
 
 pub mod error;
 

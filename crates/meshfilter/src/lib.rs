@@ -19,6 +19,7 @@
 //!
 //! Meshes are [`wscg_math::TriMesh`] (colours in `[0, 1]`; the colour range `sigma_c` is on
 //! the paper's 0-255 scale).
+#![warn(missing_docs)]
 
 pub mod bmd;
 pub mod jbmd;

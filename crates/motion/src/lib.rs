@@ -17,6 +17,7 @@
 //!
 //! Data: the synthetic walker ([`walker`]) with known ground truth stands in for the paper's
 //! motion capture; [`bvh`] writes (and reads) BVH so any animation tool can play the result.
+#![warn(missing_docs)]
 
 pub mod anechoic;
 pub mod blend;

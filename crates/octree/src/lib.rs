@@ -34,6 +34,7 @@
 //! let hit = oct.intersect(&Ray::new([0.0, 0.0, -2.0], [0.0, 0.0, 1.0]), &TraceMode::Triangles, None);
 //! assert!(hit.is_some());
 //! ```
+#![warn(missing_docs)]
 
 pub mod baseline;
 pub mod build;

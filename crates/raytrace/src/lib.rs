@@ -11,6 +11,7 @@
 //!   conversion, aluminium's optical constants, Fresnel equations.
 //! - [`paint`]: the flake microstructure of the binder layer (stack model, section 2.2).
 //! - [`stereo`]: the off-axis stereo rig of section 3.
+#![warn(missing_docs)]
 
 pub mod bvh;
 pub mod frame;

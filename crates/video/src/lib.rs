@@ -16,6 +16,7 @@
 //! al. 2007 (global search with weighted voting at every level) and per-frame image
 //! PatchMatch inpainting. Measures ([`metrics`]): SSIM and PSNR in the hole, flicker.
 //! Test clips with exact ground truth: [`synth`]. Frame folders: [`io`].
+#![warn(missing_docs)]
 
 pub mod complete;
 pub mod field;

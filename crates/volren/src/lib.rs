@@ -24,6 +24,7 @@
 //! Volume Illumination": [`illumination`] renders slice by slice with instant convolution
 //! shadows, supersampled (SCS) and pre-integrated (PI-ICS, PI-SCS) variants, and the ray
 //! casting baselines; [`vti`] reads VTK XML image data.
+#![warn(missing_docs)]
 
 mod bytes;
 pub mod gradient_octree;

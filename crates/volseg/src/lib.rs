@@ -20,6 +20,7 @@
 //!    (no clinical CT is redistributable), and [`metrics::dice_multilabel`] (paper eq. 2).
 //!
 //! Volumes are [`wscg_math::Volume`]s, x fastest (`idx = x + nx (y + ny z)`).
+#![warn(missing_docs)]
 
 pub mod baseline;
 mod block;

@@ -230,6 +230,9 @@ pub(crate) fn center_kernel(k: &mut Mat<f64>) -> (Vec<f64>, f64) {
     (col_means, mean)
 }
 
+/// Kernel matrix `K_ij = k(x_i, x_j)` (`n x n`) from the Gram matrix `G = X X^T` of the
+/// samples, so that the kernel is evaluated from inner products and squared norms (`G_ii`)
+/// without touching the `d`-dimensional samples again.
 pub fn kernel_from_gram(gram: MatRef<'_, f64>, k: &ResolvedKernel) -> Mat<f64> {
     let n = gram.nrows();
     let diag: Vec<f64> = (0..n).map(|i| gram[(i, i)]).collect();
