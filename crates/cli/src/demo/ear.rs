@@ -197,7 +197,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         "occlusion estimate within 7.5 points of the truth",
         format!("{:.1} %", 100.0 * within),
         ">= 90 %",
-        "spec check 5; mean error shown in the summary",
+        "synthetic occluders with known extent; mean error shown in the summary",
     ));
 
     // Probes and their detected skin masks at the normalised size.

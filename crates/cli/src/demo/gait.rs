@@ -175,7 +175,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
             "JRA + DTW normalised by n + m",
             r.jra_normalized,
             "",
-            "ablation (spec 7.4)",
+            "ablation: unnormalised DTW favours short walks",
         ),
         (
             "JRA resampled to 32 + Euclidean sum",

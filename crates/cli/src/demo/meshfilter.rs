@@ -134,7 +134,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
             format!("{name}: ME / to surface / edge band after {ITERS} iterations (MVD)"),
             format!("{:.3} / {surface:.3} / {:.3}", last.0, last.1),
             reported,
-            "specification's calibration of the same algorithm",
+            "a prototype's calibration run of the same algorithm",
         ));
         series.push(Series {
             points: curve_points(&curve),
@@ -172,7 +172,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
             ),
             format!("{e:.3} / {:.3} / {band_e:.3}", to_surface(&b.positions)?),
             reported,
-            "specification's calibration",
+            "a prototype's calibration run",
         ));
         series.push(Series {
             points: curve_points(&b.curve),

@@ -109,7 +109,8 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
             "Fig. 4 ordering",
         ));
         if j == 3 {
-            // Spec check 4: the fitted sources against the walker's three generating ones.
+            // The fitted sources against the walker's three generating ones (up to shift, sign
+            // and scale).
             let sims: Vec<String> = match_sources(&m.sources, &truth.sources[..3])?
                 .iter()
                 .map(|s| format!("{:.4}", s.similarity))
@@ -118,7 +119,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
                 "J = 3: similarity of each generating source to its matched estimate",
                 sims.join(" / "),
                 "",
-                "spec check 4: >= 0.95 (0.997 / 0.910 / 0.963 before the orbit-subspace start of run 1)",
+                "required: >= 0.95 (0.997 / 0.910 / 0.963 before the orbit-subspace start of run 1)",
             ));
         }
     }

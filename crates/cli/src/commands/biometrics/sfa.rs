@@ -44,7 +44,8 @@ pub enum SfaCommand {
         /// Seed.
         #[arg(long, default_value_t = 0)]
         seed: u64,
-        /// Translation jitter of the hand, px (25; the spec's 8 gives easily separable poses).
+        /// Translation jitter of the hand, px (25; the tight preset's 8 gives easily separable
+        /// poses).
         #[arg(long, default_value_t = 25.0)]
         translation: f64,
         /// PNG files written per class under OUT/png/CLASS/.
@@ -177,7 +178,7 @@ impl SfaArgs {
     }
 
     /// Warns when a class has fewer rows than expanded dimensions (its within-class scatter
-    /// is singular and the slowest functions lie in its null space; spec section 7).
+    /// is singular and the slowest functions lie in its null space).
     fn warn_small_classes(&self, labels: &[u32], names: &[String]) {
         let p = self.pca_dims;
         let dim = if self.degree == 2 { p * (p + 3) / 2 } else { p };
