@@ -8,8 +8,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use faer::Mat;
 use wscg::biometrics::data::{finger_veins, FingerVeinParams};
 use wscg::biometrics::sfa::handpose::protocol::rows_to_mat;
-use wscg::biometrics::sfa::handpose::{generate, split_protocol, SynthConfig};
-use wscg::biometrics::sfa::{ClassSfaConfig, PerClassSfa, QuadraticExpansion, TemporalSfa};
+use wscg::biometrics::sfa::handpose::{generate, split_protocol, HandposeSynthParams};
+use wscg::biometrics::sfa::{ClassSfaParams, PerClassSfa, QuadraticExpansion, TemporalSfa};
 use wscg::biometrics::subspace::{FdkecaParams, Kernel, Method, Projector};
 
 fn images(n: usize, side: usize, seed: u64) -> Mat<f64> {
@@ -96,10 +96,10 @@ fn bench_sfa(c: &mut Criterion) {
     g.sample_size(10);
     // The paper's protocol: 3000 frames per class, 300 test frames per class, 1000 rotated
     // copies per class: 18500 training rows of 2200 pixels.
-    let data = generate(&SynthConfig::default()).unwrap();
+    let data = generate(&HandposeSynthParams::default()).unwrap();
     let split = split_protocol(&data, 300, 1000, 0).unwrap();
     let x = rows_to_mat(&split.train_x, split.dim);
-    let cfg = ClassSfaConfig::default();
+    let cfg = ClassSfaParams::default();
     g.bench_function("PerClassSFA fit 18500x2200", |b| {
         b.iter(|| black_box(PerClassSfa::fit(x.as_ref(), &split.train_y, &cfg).unwrap()))
     });

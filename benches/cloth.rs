@@ -5,12 +5,12 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use wscg::cloth::{grid_triangles, ClothModel, Method, NcgVariant, Relaxation, Sim, SolverConfig};
+use wscg::cloth::{grid_triangles, ClothModel, Method, NcgVariant, Relaxation, Sim, SolverParams};
 
 fn sim(model: &ClothModel, method: Method, relaxation: Relaxation) -> Sim {
     let mut s = Sim::new(
         model.clone(),
-        SolverConfig {
+        SolverParams {
             method,
             relaxation,
             ..Default::default()

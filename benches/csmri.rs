@@ -10,8 +10,8 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use wscg::csmri::baselines::{self, CompositeParams};
 use wscg::csmri::{
-    csalsa, masks, phantom, sparsifier, CsalsaParams, Fdct, FdctConfig, FdctSparsifier, KSpace,
-    Redundancy, Regularizer, Sflct, SflctConfig, Udct, UdctConfig, UdctSparsifier,
+    csalsa, masks, phantom, sparsifier, CsalsaParams, Fdct, FdctParams, FdctSparsifier, KSpace,
+    Redundancy, Regularizer, Sflct, SflctParams, Udct, UdctParams, UdctSparsifier,
     WaveletSparsifier,
 };
 use wscg::math::progress::NoProgress;
@@ -20,12 +20,12 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("paper11");
     g.sample_size(10);
     for n in [256usize, 512] {
-        let u = Udct::new(n, n, &UdctConfig::default()).unwrap();
+        let u = Udct::new(n, n, &UdctParams::default()).unwrap();
         let x = phantom::shepp_logan_image(n).unwrap();
         g.bench_function(format!("udct [[6,6]] forward+backward {n}^2"), |b| {
             b.iter(|| black_box(u.backward(&u.forward(&x).unwrap()).unwrap()))
         });
-        let f = Fdct::new(n, n, &FdctConfig::default()).unwrap();
+        let f = Fdct::new(n, n, &FdctParams::default()).unwrap();
         g.bench_function(format!("fdct forward+backward {n}^2"), |b| {
             b.iter(|| black_box(f.backward(&f.forward_real(&x).unwrap()).unwrap()))
         });
@@ -34,7 +34,7 @@ fn bench(c: &mut Criterion) {
             .map(|&v| num_complex::Complex64::new(v, 0.0))
             .collect();
         for red in [Redundancy::Less, Redundancy::More] {
-            let cfg = SflctConfig {
+            let cfg = SflctParams {
                 redundancy: red,
                 ..Default::default()
             };
@@ -47,7 +47,7 @@ fn bench(c: &mut Criterion) {
     let n = 256;
     let mask = masks::cartesian(n, n, 0.4, 0.08, 1).unwrap();
     let data = KSpace::new(n, n, phantom::shepp_logan_kspace(n).unwrap(), mask).unwrap();
-    let udct = UdctSparsifier::new(n, n, &UdctConfig::default()).unwrap();
+    let udct = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
     let db4 = WaveletSparsifier::new(n, n, 4, 4).unwrap();
     let p = CsalsaParams::default();
     g.bench_function("csalsa udct-l1 70 it 256^2", |b| {
@@ -64,7 +64,7 @@ fn bench(c: &mut Criterion) {
             black_box(csalsa(&data, &db4, Regularizer::default(), &pw, None, &NoProgress).unwrap())
         })
     });
-    let fdct = FdctSparsifier::new(n, n, &FdctConfig::default()).unwrap();
+    let fdct = FdctSparsifier::new(n, n, &FdctParams::default()).unwrap();
     let pf = CsalsaParams {
         tau0: sparsifier::tuned_tau0("fdct"),
         ..Default::default()
@@ -74,7 +74,7 @@ fn bench(c: &mut Criterion) {
             black_box(csalsa(&data, &fdct, Regularizer::default(), &pf, None, &NoProgress).unwrap())
         })
     });
-    let mr = sparsifier::by_name("mrsflct", n, n, &sparsifier::PriorConfig::default()).unwrap();
+    let mr = sparsifier::by_name("mrsflct", n, n, &sparsifier::PriorParams::default()).unwrap();
     let pm = CsalsaParams {
         tau0: sparsifier::tuned_tau0("mrsflct"),
         ..Default::default()

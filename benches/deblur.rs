@@ -6,10 +6,10 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use wscg::deblur::synth::{self, Burst, OuParams, RenderOpts};
+use wscg::deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
 use wscg::deblur::{
-    deblur_multiframe, deblur_piecewise, deconv_hl, kernel_grid, Gamma, GyroTrack, HlParams,
-    Intrinsics, Kernel, Method, MultiOpts, Tiling,
+    deblur_multiframe, deblur_piecewise, deconv_hl, kernel_grid, Gamma, GyroTrack, HyperLaplacianParams,
+    Intrinsics, Kernel, Method, MultiframeParams, Tiling,
 };
 use wscg::math::progress::NoProgress;
 
@@ -19,7 +19,7 @@ fn bench(c: &mut Criterion) {
     let small = synth::scene(64, 64, 1).unwrap();
     let k = Kernel::line(9.0, 0.5).unwrap();
     g.bench_function("deconv_hl 64x64 (6 beta steps)", |b| {
-        b.iter(|| black_box(deconv_hl(&small, &k, &HlParams::default()).unwrap()))
+        b.iter(|| black_box(deconv_hl(&small, &k, &HyperLaplacianParams::default()).unwrap()))
     });
     let (h, w) = (480, 720);
     let sharp = synth::scene(h, w, 2).unwrap();
@@ -27,10 +27,10 @@ fn bench(c: &mut Criterion) {
     let sb = synth::make_burst(
         &sharp,
         &burst,
-        &OuParams::default(),
+        &ShakeParams::default(),
         2,
         0.002,
-        &RenderOpts::default(),
+        &BlurRenderParams::default(),
         1,
     )
     .unwrap();
@@ -39,7 +39,7 @@ fn bench(c: &mut Criterion) {
     let mut lin = sb.frames[2].image.clone();
     Gamma::default().linearise(lin.data_mut());
     let timing = burst.timing(2, h);
-    let opts = MultiOpts {
+    let opts = MultiframeParams {
         t_delay: burst.t_delay,
         ..Default::default()
     };
@@ -48,7 +48,7 @@ fn bench(c: &mut Criterion) {
     });
     let grid = kernel_grid(&track, &timing, &kk, w, h, 30, &opts.kernel).unwrap();
     for (name, m) in [
-        ("KS", Method::HyperLaplacian(HlParams::default())),
+        ("KS", Method::HyperLaplacian(HyperLaplacianParams::default())),
         ("Wiener", Method::Wiener { nsr: 0.01 }),
         ("RL 30 it", Method::RichardsonLucy { iters: 30 }),
     ] {

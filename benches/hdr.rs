@@ -8,21 +8,21 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use wscg::hdr::synth::{encode, layered_scene, SceneCfg};
+use wscg::hdr::synth::{encode, layered_scene, SceneParams};
 use wscg::hdr::{
     merge_stack, multiscopic_hdr, patchmatch, to_radiance, to_samples, vote_bds, MultiscopicParams,
-    PmParams,
+    PatchMatchParams,
 };
 use wscg::math::progress::NoProgress;
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("paper13");
     g.sample_size(10);
-    let cfg = SceneCfg {
+    let cfg = SceneParams {
         height: 1110,
         width: 1282,
         times: vec![0.005, 0.04, 0.3],
-        ..SceneCfg::default()
+        ..SceneParams::default()
     };
     let sc = layered_scene(&cfg, 1).unwrap();
     let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
@@ -33,11 +33,11 @@ fn bench(c: &mut Criterion) {
         .unwrap();
     let max_d = 70;
     for iters in [2, 3] {
-        let p = PmParams {
+        let p = PatchMatchParams {
             iters,
             d_min: -max_d,
             d_max: max_d,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         };
         g.bench_function(
             format!("patchmatch 1282x1110, {iters} it, 1 thread"),
@@ -51,13 +51,13 @@ fn bench(c: &mut Criterion) {
     }
     g.bench_function("patchmatch_2d 1282x1110, 2 it, 1 thread", |bch| {
         bch.iter(|| {
-            one.install(|| black_box(patchmatch(&a, &b, &PmParams::barnes(7, 2, 0)).unwrap()))
+            one.install(|| black_box(patchmatch(&a, &b, &PatchMatchParams::barnes(7, 2, 0)).unwrap()))
         })
     });
-    let p = PmParams {
+    let p = PatchMatchParams {
         d_min: -max_d,
         d_max: max_d,
-        ..PmParams::default()
+        ..PatchMatchParams::default()
     };
     let rs = patchmatch(&a, &b, &p).unwrap();
     let sr = patchmatch(&b, &a, &p).unwrap();

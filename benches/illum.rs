@@ -9,7 +9,7 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use wscg::volren::illumination::scenes::tissue_tf;
 use wscg::volren::illumination::{
-    render, Kernel, Light, Method, Phong, PreIntegrationTable, RenderSettings, ScalarField,
+    render, Kernel, Light, Method, Phong, PreIntegrationTable, IlluminationParams, ScalarField,
     SliceCamera,
 };
 use wscg::volren::phantoms::head;
@@ -25,7 +25,7 @@ fn bench(c: &mut Criterion) {
         kernel: Kernel::Gaussian { spread: 0.5 },
         ..Default::default()
     };
-    let s = RenderSettings::default();
+    let s = IlluminationParams::default();
     for (name, m) in [
         ("ICS ds=0.2", Method::ics(0.2)),
         ("ICS ds=0.8", Method::ics(0.8)),

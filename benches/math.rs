@@ -10,7 +10,7 @@ use wscg::math::fft::{self, Direction, Norm};
 use wscg::math::image::Image;
 use wscg::math::metrics::{ssim, SsimParams};
 use wscg::math::rng;
-use wscg::math::sparse::{pcg, CsrMatrix, InitialGuess, Jacobi, PcgOptions};
+use wscg::math::sparse::{pcg, CsrMatrix, InitialGuess, Jacobi, PcgParams};
 
 fn bench_fft(c: &mut Criterion) {
     let n = 1024;
@@ -33,7 +33,7 @@ fn bench_pcg(c: &mut Criterion) {
     let a = CsrMatrix::laplacian_3d(n, n, n).unwrap();
     let b = vec![1.0; n * n * n];
     let jac = Jacobi::new(&a.diagonal()).unwrap();
-    let opts = PcgOptions {
+    let opts = PcgParams {
         tol: 1e-6,
         max_iter: Some(2000),
     };

@@ -9,11 +9,11 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use wscg::motion::anechoic::{fit_anechoic, AnechoicConfig};
-use wscg::motion::map::SvrMapConfig;
-use wscg::motion::stepwise::{fit_stepwise, StepwiseConfig};
-use wscg::motion::synthesizer::{planner_for, MapKind, SynthConfig, Synthesizer};
-use wscg::motion::walker::{reach_walk, WalkerConfig};
+use wscg::motion::anechoic::{fit_anechoic, AnechoicParams};
+use wscg::motion::map::SvrMapParams;
+use wscg::motion::stepwise::{fit_stepwise, StepwiseParams};
+use wscg::motion::synthesizer::{planner_for, MapKind, SynthesizerParams, Synthesizer};
+use wscg::motion::walker::{reach_walk, WalkerParams};
 
 /// Sweeps of the timed demixing run (`tol = 0`, so every run does exactly this many).
 const SWEEPS: usize = 100;
@@ -42,14 +42,14 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("paper16");
     g.sample_size(10);
 
-    let (_, truth) = reach_walk(&WalkerConfig {
+    let (_, truth) = reach_walk(&WalkerParams {
         n_trials: 10,
         noise: 0.0,
-        ..WalkerConfig::default()
+        ..WalkerParams::default()
     })
     .unwrap();
     let x = &truth.periodic[0];
-    let cfg = AnechoicConfig {
+    let cfg = AnechoicParams {
         n_sources: 3,
         n_harmonics: 8,
         restarts: 1,
@@ -57,7 +57,7 @@ fn bench(c: &mut Criterion) {
         tol: 0.0,
         // The ALS alone (the numpy reference of benches/peers/16.py has no delay search).
         delay_search: 0,
-        ..AnechoicConfig::default()
+        ..AnechoicParams::default()
     };
     g.bench_function(
         format!("fit_anechoic R=10 I=51 N=100 J=3 K=8, 1 run x {SWEEPS} sweeps"),
@@ -72,31 +72,31 @@ fn bench(c: &mut Criterion) {
 
     // The default fit: 10 runs (PCA start, the orbit-subspace start, 8 random ones), then
     // the per-channel delay search.
-    let default = AnechoicConfig {
+    let default = AnechoicParams {
         n_sources: 3,
-        ..AnechoicConfig::default()
+        ..AnechoicParams::default()
     };
     g.bench_function(
         "fit_anechoic R=10 I=51 N=100 J=3, default config (10 restarts)",
         |b| b.iter(|| fit_anechoic(black_box(x), &default).unwrap()),
     );
 
-    let (data, _) = reach_walk(&WalkerConfig::default()).unwrap();
+    let (data, _) = reach_walk(&WalkerParams::default()).unwrap();
     g.bench_function("fit_stepwise 40 trials, default config", |b| {
-        b.iter(|| fit_stepwise(black_box(&data), &StepwiseConfig::default()).unwrap())
+        b.iter(|| fit_stepwise(black_box(&data), &StepwiseParams::default()).unwrap())
     });
 
-    let lib = fit_stepwise(&data, &StepwiseConfig::default()).unwrap();
+    let lib = fit_stepwise(&data, &StepwiseParams::default()).unwrap();
     for (name, map) in [
         ("LUT 1024", MapKind::Lut(1024)),
-        ("SVR", MapKind::Svr(SvrMapConfig::default())),
+        ("SVR", MapKind::Svr(SvrMapParams::default())),
     ] {
         let mut syn = Synthesizer::new(
             lib.clone(),
             planner_for(&lib),
-            SynthConfig {
+            SynthesizerParams {
                 map,
-                ..SynthConfig::default()
+                ..SynthesizerParams::default()
             },
         )
         .unwrap();

@@ -7,7 +7,7 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use wscg::video::synth::pan_clip;
 use wscg::video::{
-    complete_video, per_frame_patchmatch, wexler_complete, CompletionConfig, WexlerConfig,
+    complete_video, per_frame_patchmatch, wexler_complete, CompletionParams, WexlerParams,
 };
 
 fn bench_video(c: &mut Criterion) {
@@ -15,7 +15,7 @@ fn bench_video(c: &mut Criterion) {
     g.sample_size(10);
     // G2: a pan of 8 px/frame under a static logo (1.2 % of the pixels).
     let clip = pan_clip(16, 360, 640, 8.0, 45, 60, 3).unwrap();
-    let mut cfg = CompletionConfig::default();
+    let mut cfg = CompletionParams::default();
     cfg.low.target_width = 320;
     g.bench_function("complete_video pan 640x360x16 (stage 1 at 320x180)", |b| {
         b.iter(|| black_box(complete_video(&clip.observed, &clip.hole, &cfg).unwrap()))
@@ -23,13 +23,13 @@ fn bench_video(c: &mut Criterion) {
     g.bench_function("wexler_complete pan 640x360x16", |b| {
         b.iter(|| {
             black_box(
-                wexler_complete(&clip.observed, &clip.hole, &WexlerConfig::default()).unwrap(),
+                wexler_complete(&clip.observed, &clip.hole, &WexlerParams::default()).unwrap(),
             )
         })
     });
-    let pf = WexlerConfig {
+    let pf = WexlerParams {
         seed_per_frame: true,
-        ..WexlerConfig::default()
+        ..WexlerParams::default()
     };
     g.bench_function("per_frame_patchmatch pan 640x360x16", |b| {
         b.iter(|| black_box(per_frame_patchmatch(&clip.observed, &clip.hole, &pf).unwrap()))

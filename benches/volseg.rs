@@ -9,19 +9,19 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use wscg::volseg::{
-    fractured_shell_phantom, BoneGraph, PhantomConfig, RwParams, RwSession, Solver,
+    fractured_shell_phantom, BoneGraph, PhantomParams, RandomWalkParams, RwSession, Solver,
 };
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("paper18");
     g.sample_size(10);
-    let ph = fractured_shell_phantom(&PhantomConfig {
+    let ph = fractured_shell_phantom(&PhantomParams {
         dims: [256; 3],
         fragments: 8,
-        ..PhantomConfig::default()
+        ..PhantomParams::default()
     })
     .unwrap();
-    let p = RwParams::default();
+    let p = RandomWalkParams::default();
     let graph = BoneGraph::build(&ph.ct, &p).unwrap();
     let n = graph.len();
     g.bench_function(format!("bone graph 256^3 ({n} nodes)"), |b| {
@@ -31,7 +31,7 @@ fn bench(c: &mut Criterion) {
         ("K-block Jacobi-PCG f32", p),
         (
             "per-label Jacobi-PCG f32",
-            RwParams {
+            RandomWalkParams {
                 solver: Solver::PerLabel,
                 ..p
             },

@@ -10,8 +10,8 @@
 use std::time::Instant;
 
 use wscg::volseg::{
-    dice_multilabel, fractured_shell_phantom, nearest_seed_labels, BoneGraph, PhantomConfig,
-    Precision, RwParams, RwSession, Solver,
+    dice_multilabel, fractured_shell_phantom, nearest_seed_labels, BoneGraph, PhantomParams,
+    Precision, RandomWalkParams, RwSession, Solver,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -23,16 +23,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let k = num(3, 15)?;
     let variants = args.get(4).map_or("block,jacobi", String::as_str);
     let t = Instant::now();
-    let ph = fractured_shell_phantom(&PhantomConfig {
+    let ph = fractured_shell_phantom(&PhantomParams {
         dims,
         fragments: k,
-        ..PhantomConfig::default()
+        ..PhantomParams::default()
     })?;
     println!(
         "phantom {dims:?}, K = {k}: built in {:.1} s",
         t.elapsed().as_secs_f64()
     );
-    let base = RwParams::default();
+    let base = RandomWalkParams::default();
     let t = Instant::now();
     let graph = BoneGraph::build(&ph.ct, &base)?;
     println!(
@@ -64,21 +64,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "block" => ("K-block Jacobi-PCG, f32, all threads", base),
             "block64" => (
                 "K-block Jacobi-PCG, f64, all threads",
-                RwParams {
+                RandomWalkParams {
                     precision: Precision::F64,
                     ..base
                 },
             ),
             "jacobi" => (
                 "per-label Jacobi-PCG, all threads",
-                RwParams {
+                RandomWalkParams {
                     solver: Solver::PerLabel,
                     ..base
                 },
             ),
             "jacobi1" => (
                 "per-label Jacobi-PCG, one thread",
-                RwParams {
+                RandomWalkParams {
                     solver: Solver::PerLabel,
                     threads: Some(1),
                     ..base
@@ -86,7 +86,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ),
             "cg" => (
                 "per-label plain CG, all threads",
-                RwParams {
+                RandomWalkParams {
                     solver: Solver::PerLabel,
                     jacobi: false,
                     ..base

@@ -8,7 +8,7 @@
 //!
 //! Run: `cargo run --release --example cloth_hanging [OUT.obj]`
 
-use wscg::cloth::{ClothModel, Sim, SolverConfig};
+use wscg::cloth::{ClothModel, Sim, SolverParams};
 use wscg::math::TriMesh;
 
 fn main() -> wscg::math::Result<()> {
@@ -20,7 +20,7 @@ fn main() -> wscg::math::Result<()> {
         let model = ClothModel::fem_grid(20, 20, (1.0, 1.0), 0.1, 500.0, 0.3)?;
         let mut sim = Sim::new(
             model,
-            SolverConfig {
+            SolverParams {
                 alpha: ab,
                 beta: ab,
                 iterations,

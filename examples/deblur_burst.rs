@@ -8,9 +8,9 @@
 use std::time::Instant;
 
 use wscg::deblur::metrics::quality;
-use wscg::deblur::synth::{self, Burst, OuParams, RenderOpts};
+use wscg::deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
 use wscg::deblur::{
-    deblur_frame, deblur_multiframe, GyroTrack, HlParams, Intrinsics, Method, MultiOpts,
+    deblur_frame, deblur_multiframe, GyroTrack, HyperLaplacianParams, Intrinsics, Method, MultiframeParams,
 };
 use wscg::math::progress::NoProgress;
 use wscg::math::Image;
@@ -31,10 +31,10 @@ fn main() -> wscg::math::Result<()> {
     let sb = synth::make_burst(
         &sharp,
         &burst,
-        &OuParams::default(),
+        &ShakeParams::default(),
         2,
         0.002,
-        &RenderOpts::default(),
+        &BlurRenderParams::default(),
         seed,
     )?;
     println!(
@@ -43,7 +43,7 @@ fn main() -> wscg::math::Result<()> {
     );
     let track = GyroTrack::from_camera_rates(&sb.measured)?;
     let k = Intrinsics::centred(burst.f, w, h);
-    let opts = MultiOpts {
+    let opts = MultiframeParams {
         t_delay: burst.t_delay,
         ..Default::default()
     };
@@ -64,11 +64,11 @@ fn main() -> wscg::math::Result<()> {
         ),
         (
             "KS (Krishnan-Fergus)",
-            Method::HyperLaplacian(HlParams::default()),
+            Method::HyperLaplacian(HyperLaplacianParams::default()),
         ),
         (
             "GU (one global kernel)",
-            Method::GlobalUniform(HlParams::default()),
+            Method::GlobalUniform(HyperLaplacianParams::default()),
         ),
     ] {
         let t = Instant::now();
@@ -82,7 +82,7 @@ fn main() -> wscg::math::Result<()> {
             2,
             &track,
             &k,
-            &MultiOpts {
+            &MultiframeParams {
                 radius: Some(radius),
                 ..opts
             },

@@ -4,7 +4,7 @@
 //! `cargo run --release --example ear_recognition`
 
 use wscg::biometrics::ear::protocol::evaluate;
-use wscg::biometrics::ear::synth::{self, OcclusionKind, SynthConfig};
+use wscg::biometrics::ear::synth::{self, OcclusionKind, EarSynthParams};
 use wscg::biometrics::ear::{EarParams, ScoreRule};
 
 fn main() -> wscg::math::Result<()> {
@@ -17,7 +17,7 @@ fn main() -> wscg::math::Result<()> {
             max_pct: 50.0,
         },
         3,
-        &SynthConfig::default(),
+        &EarSynthParams::default(),
         &p,
     )?;
     for (label, params) in [

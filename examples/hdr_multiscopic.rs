@@ -6,12 +6,12 @@
 use std::time::Instant;
 
 use wscg::hdr::metrics::{evaluation_mask, rmse_log2, Region};
-use wscg::hdr::synth::{layered_scene, SceneCfg};
-use wscg::hdr::{multiscopic_hdr, Align, MultiscopicParams, PmParams, Synthesis};
+use wscg::hdr::synth::{layered_scene, SceneParams};
+use wscg::hdr::{multiscopic_hdr, Align, MultiscopicParams, PatchMatchParams, Synthesis};
 use wscg::math::progress::NoProgress;
 
 fn main() -> wscg::math::Result<()> {
-    let cfg = SceneCfg::default();
+    let cfg = SceneParams::default();
     let scene = layered_scene(&cfg, 7)?;
     let n = scene.views.len();
     let max_disp = (cfg.layers.iter().map(|l| l.disparity).fold(0.0, f64::max) * (n - 1) as f64)
@@ -21,10 +21,10 @@ fn main() -> wscg::math::Result<()> {
         "{} views of {} x {}, exposures {:?} s, |disparity| <= {max_disp} px",
         n, cfg.height, cfg.width, cfg.times
     );
-    let pm = PmParams {
+    let pm = PatchMatchParams {
         d_min: -max_disp,
         d_max: max_disp,
-        ..PmParams::default()
+        ..PatchMatchParams::default()
     };
     let methods = [
         (
@@ -37,7 +37,7 @@ fn main() -> wscg::math::Result<()> {
             "ours without coherence",
             Align::Ours,
             Synthesis::Bds,
-            PmParams {
+            PatchMatchParams {
                 coherence: false,
                 ..pm
             },

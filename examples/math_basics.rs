@@ -7,7 +7,7 @@ use wscg::math::filter::{gaussian_filter, Border};
 use wscg::math::image::Image;
 use wscg::math::metrics::{psnr, ssim, SsimParams};
 use wscg::math::rng;
-use wscg::math::sparse::{pcg, CsrMatrix, InitialGuess, Jacobi, PcgOptions};
+use wscg::math::sparse::{pcg, CsrMatrix, InitialGuess, Jacobi, PcgParams};
 
 fn main() -> wscg::math::Result<()> {
     // A smooth test image and a noisy copy (sigma = 0.05).
@@ -60,7 +60,7 @@ fn main() -> wscg::math::Result<()> {
         &b,
         InitialGuess::Zero,
         &Jacobi::new(&a.diagonal())?,
-        &PcgOptions::default(),
+        &PcgParams::default(),
     )?;
     println!(
         "PCG: {} iterations, relative residual {:.2e}, converged {}",

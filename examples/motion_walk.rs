@@ -8,9 +8,9 @@ use std::time::Instant;
 
 use wscg::motion::bvh::{motion_from_frames, write_bvh};
 use wscg::motion::planner::Action;
-use wscg::motion::stepwise::{fit_stepwise, StepwiseConfig};
-use wscg::motion::synthesizer::{planner_for, MapKind, SynthConfig, Synthesizer};
-use wscg::motion::walker::{reach_walk, WalkerConfig};
+use wscg::motion::stepwise::{fit_stepwise, StepwiseParams};
+use wscg::motion::synthesizer::{planner_for, MapKind, SynthesizerParams, Synthesizer};
+use wscg::motion::walker::{reach_walk, WalkerParams};
 
 fn main() -> wscg::math::Result<()> {
     let out = std::env::args().nth(1).unwrap_or_else(|| "walk.bvh".into());
@@ -18,9 +18,9 @@ fn main() -> wscg::math::Result<()> {
     let fps = 120.0;
 
     // 40 noisy trials of step, shortened step and reach from the synthetic walker.
-    let (data, _) = reach_walk(&WalkerConfig::default())?;
+    let (data, _) = reach_walk(&WalkerParams::default())?;
     let t0 = Instant::now();
-    let lib = fit_stepwise(&data, &StepwiseConfig::default())?;
+    let lib = fit_stepwise(&data, &StepwiseParams::default())?;
     println!(
         "learned {} sources from {} trials in {:.2} s",
         lib.n_sources(),
@@ -38,9 +38,9 @@ fn main() -> wscg::math::Result<()> {
     let mut syn = Synthesizer::new(
         lib,
         planner,
-        SynthConfig {
+        SynthesizerParams {
             map: MapKind::Lut(1024),
-            ..SynthConfig::default()
+            ..SynthesizerParams::default()
         },
     )?;
     let t0 = Instant::now();

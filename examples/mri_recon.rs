@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use wscg::csmri::baselines::{self, CompositeParams};
 use wscg::csmri::{
-    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, FdctConfig, FdctSparsifier, KSpace,
-    Recon, Regularizer, UdctConfig, UdctSparsifier, WaveletSparsifier,
+    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, FdctParams, FdctSparsifier, KSpace,
+    Recon, Regularizer, UdctParams, UdctSparsifier, WaveletSparsifier,
 };
 use wscg::math::progress::NoProgress;
 
@@ -21,9 +21,9 @@ fn main() -> wscg::math::Result<()> {
     let reference = phantom::shepp_logan_reference(n)?;
     let mask = masks::cartesian(n, n, 0.4, 0.08, 1)?;
     let data = KSpace::new(n, n, phantom::shepp_logan_kspace(n)?, mask)?;
-    let udct = UdctSparsifier::new(n, n, &UdctConfig::default())?;
+    let udct = UdctSparsifier::new(n, n, &UdctParams::default())?;
     let db4 = WaveletSparsifier::new(n, n, 4, 4)?;
-    let fdct = FdctSparsifier::new(n, n, &FdctConfig::default())?;
+    let fdct = FdctSparsifier::new(n, n, &FdctParams::default())?;
     let curvelet = CsalsaParams {
         tau0: sparsifier::tuned_tau0("fdct"),
         ..Default::default()
@@ -41,7 +41,7 @@ fn main() -> wscg::math::Result<()> {
     let sflct = |prior: &'static str| {
         let data = &data;
         move || {
-            let psi = sparsifier::by_name(prior, n, n, &sparsifier::PriorConfig::default())?;
+            let psi = sparsifier::by_name(prior, n, n, &sparsifier::PriorParams::default())?;
             let p = CsalsaParams {
                 tau0: sparsifier::tuned_tau0(prior),
                 ..Default::default()

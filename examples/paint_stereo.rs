@@ -6,7 +6,7 @@
 use wscg::math::Result;
 use wscg::raytrace::paint::{
     binocular_overlap, glint_stats, render, DiscLight, FlakeParams, FlakePlate, Plate, PlateStack,
-    Rect, RenderSettings,
+    Rect, PaintRenderParams,
 };
 use wscg::raytrace::spectral::XYZ_TO_SRGB;
 use wscg::raytrace::stereo::{Eye, StereoRig};
@@ -26,10 +26,10 @@ fn main() -> Result<()> {
     let micro = FlakePlate::new(&flakes, stack.size_mm, 1)?;
     let plate = Plate::new(stack, Box::new(micro))?;
     let light = DiscLight::from_elevation(75.0, 1.0);
-    let settings = RenderSettings {
+    let settings = PaintRenderParams {
         region_mm: Some(Rect::centred(0.0, 0.0, 10.0, 10.0)),
         magnification: 4.0,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     let rig = StereoRig::default();
     let mut views = Vec::new();

@@ -7,7 +7,7 @@
 //! comma-separated list of `sfa,physical,pca,isomap,global` (default: all).
 
 use wscg::biometrics::sfa::handpose::{
-    compare, generate, rotation_robustness, split_protocol, CompareConfig, Method, SynthConfig,
+    compare, generate, rotation_robustness, split_protocol, CompareParams, Method, HandposeSynthParams,
 };
 
 fn main() -> wscg::math::Result<()> {
@@ -18,9 +18,9 @@ fn main() -> wscg::math::Result<()> {
         .map_err(|e| wscg::math::Error::invalid("FRAMES_PER_CLASS", e.to_string()))?
         .unwrap_or(3000);
     let t = std::time::Instant::now();
-    let data = generate(&SynthConfig {
+    let data = generate(&HandposeSynthParams {
         n_per_class,
-        ..SynthConfig::default()
+        ..HandposeSynthParams::default()
     })?;
     let test = (n_per_class / 10).max(1);
     let split = split_protocol(&data, test, n_per_class / 3, 0)?;
@@ -31,7 +31,7 @@ fn main() -> wscg::math::Result<()> {
         split.train_y.len(),
         split.test_y.len()
     );
-    let cfg = CompareConfig::default();
+    let cfg = CompareParams::default();
     let methods: Vec<Method> = match std::env::args().nth(2) {
         Some(list) => list
             .split(',')

@@ -10,7 +10,7 @@ use std::time::Instant;
 use wscg::video::metrics::{flicker, psnr_masked, ssim_masked};
 use wscg::video::synth::{pan_clip, periodic_clip, sprite_clip, Clip};
 use wscg::video::{
-    complete_video, per_frame_patchmatch, wexler_complete, CompletionConfig, Video, WexlerConfig,
+    complete_video, per_frame_patchmatch, wexler_complete, CompletionParams, Video, WexlerParams,
 };
 
 fn report(name: &str, clip: &Clip, v: &Video, secs: f64) -> wscg::math::Result<()> {
@@ -32,7 +32,7 @@ fn run(name: &str, clip: &Clip, baselines: bool) -> wscg::math::Result<()> {
         clip.hole.count()
     );
     let t = Instant::now();
-    let out = complete_video(&clip.observed, &clip.hole, &CompletionConfig::default())?;
+    let out = complete_video(&clip.observed, &clip.hole, &CompletionParams::default())?;
     report(
         "localized search (paper)",
         clip,
@@ -44,7 +44,7 @@ fn run(name: &str, clip: &Clip, baselines: bool) -> wscg::math::Result<()> {
         out.stats.working_size, out.stats.seconds
     );
     let t = Instant::now();
-    let cfg = CompletionConfig {
+    let cfg = CompletionParams {
         refine: None,
         ..Default::default()
     };
@@ -57,7 +57,7 @@ fn run(name: &str, clip: &Clip, baselines: bool) -> wscg::math::Result<()> {
     )?;
     if baselines {
         let t = Instant::now();
-        let w = wexler_complete(&clip.observed, &clip.hole, &WexlerConfig::default())?;
+        let w = wexler_complete(&clip.observed, &clip.hole, &WexlerParams::default())?;
         report(
             "Wexler et al. 2007",
             clip,
@@ -65,7 +65,7 @@ fn run(name: &str, clip: &Clip, baselines: bool) -> wscg::math::Result<()> {
             t.elapsed().as_secs_f64(),
         )?;
         let t = Instant::now();
-        let p = per_frame_patchmatch(&clip.observed, &clip.hole, &WexlerConfig::default())?;
+        let p = per_frame_patchmatch(&clip.observed, &clip.hole, &WexlerParams::default())?;
         report("per-frame PatchMatch", clip, &p, t.elapsed().as_secs_f64())?;
     }
     Ok(())

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use wscg::volren::illumination::scenes::{marschner_lobb, marschner_lobb_tf};
 use wscg::volren::illumination::study::mean_abs_diff;
-use wscg::volren::illumination::{render, Light, Method, RenderSettings, SliceCamera};
+use wscg::volren::illumination::{render, Light, Method, IlluminationParams, SliceCamera};
 
 fn main() -> wscg::math::Result<()> {
     let prefix = std::env::args()
@@ -19,7 +19,7 @@ fn main() -> wscg::math::Result<()> {
     let cam = SliceCamera::orbit(&field, 30.0, 25.0, 256)?;
     // Headlight, variance-additive Gaussian kernel (spread 0.5), no ambient term.
     let light = Light::default();
-    let settings = RenderSettings::default();
+    let settings = IlluminationParams::default();
     let mut reference = None;
     for method in [
         Method::ics(0.2),

@@ -4,7 +4,7 @@
 //! `cargo run --release --example volren_roi -- [out.png]`
 
 use wscg::volren::phantoms::{head, head_tfs};
-use wscg::volren::{Camera, HybridClient, HybridServer, RenderOpts, ServerOpts};
+use wscg::volren::{Camera, HybridClient, HybridServer, RenderParams, ServerParams};
 
 fn main() -> wscg::math::Result<()> {
     let out = std::env::args()
@@ -13,7 +13,7 @@ fn main() -> wscg::math::Result<()> {
     let dims = [256, 256, 112];
     let volume = head(dims, 1)?;
     // Transfer function 0 (soft tissue) colours the context, 1 (bone) the ROI.
-    let server = HybridServer::new(&volume, head_tfs(), 0, ServerOpts::default())?;
+    let server = HybridServer::new(&volume, head_tfs(), 0, ServerParams::default())?;
     let static_package = server.static_package();
     let roi_package = server.roi_package([128, 128, 32], [256, 192, 96])?;
     let mut client = HybridClient::from_static(&static_package)?;
@@ -21,7 +21,7 @@ fn main() -> wscg::math::Result<()> {
     let img = client.render(
         &Camera::orbit(dims, 30.0, 20.0, 512),
         1,
-        &RenderOpts::default(),
+        &RenderParams::default(),
     )?;
     wscg::volren::render::rgb(&img)?.save(&out)?;
     println!(

@@ -8,7 +8,7 @@
 //! `cargo run --release --example workshop_sensitivity -- [mono|stereo] [seeds]`
 
 use wscg::raytrace::paint::observer::FEATURE_NAMES;
-use wscg::raytrace::paint::{plate_features, Condition, VirtualObserver, WorkshopConfig};
+use wscg::raytrace::paint::{plate_features, Condition, VirtualObserver, WorkshopParams};
 
 /// Half ranges of the coded factors (paper Table 1: radius 15-45 µm, density 3.5-9.5).
 const HALF_RANGE: [f64; 2] = [15.0, 3.0];
@@ -22,9 +22,9 @@ fn main() -> wscg::math::Result<()> {
         _ => Condition::Mono,
     };
     let seeds: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(8).max(2);
-    let cfg = WorkshopConfig {
+    let cfg = WorkshopParams {
         condition,
-        ..WorkshopConfig::default()
+        ..WorkshopParams::default()
     };
     // Log features of one plate over the seeds, per feature (mean, standard deviation): the
     // observer's own calibration, without the just-noticeable-difference floor.

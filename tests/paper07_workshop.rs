@@ -35,7 +35,7 @@
 
 use wscg::doe::{ccd, decode, fit_quadratic, CcdAlpha, CcdFace, RsmFit};
 use wscg::math::progress::NoProgress;
-use wscg::raytrace::paint::{score_runs, Condition, WorkshopConfig};
+use wscg::raytrace::paint::{score_runs, Condition, WorkshopParams};
 
 const LOW: [f64; 2] = [15.0, 3.5];
 const HIGH: [f64; 2] = [45.0, 9.5];
@@ -50,9 +50,9 @@ fn workshop(condition: Condition, seed: u64) -> (Vec<(f64, f64)>, Vec<f64>, RsmF
     let design = ccd(2, CcdFace::Inscribed, CcdAlpha::Rotatable, 5).unwrap();
     let physical = decode(&design, &LOW, &HIGH).unwrap();
     let runs: Vec<(f64, f64)> = physical.row_iter().map(|r| (r[0], r[1])).collect();
-    let cfg = WorkshopConfig {
+    let cfg = WorkshopParams {
         condition,
-        ..WorkshopConfig::default()
+        ..WorkshopParams::default()
     };
     let ws = score_runs(HIDDEN, &runs, &cfg, seed, &NoProgress).unwrap();
     let fit = fit_quadratic(&design, &ws.scores, true).unwrap();

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_cloth::{
     ClothModel, Collider, Collisions, LambdaMode, MeshCollider, Method, NcgVariant, Relaxation,
-    Sim, SolverConfig,
+    Sim, SolverParams,
 };
 
 use crate::convert::{self, array, index, values, Arr};
@@ -390,7 +390,7 @@ impl PySim {
         velocity_damping: f64,
         options: &Bound<'_, PyDict>,
     ) -> PyResult<Self> {
-        let cfg = SolverConfig {
+        let cfg = SolverParams {
             method: method_from(method, options)?,
             iterations,
             alpha,

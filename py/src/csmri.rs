@@ -7,19 +7,19 @@ use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethod
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PySlice};
 use wscg_cs_mri::baselines::{self, CompositeParams};
-use wscg_cs_mri::sflct::{Redundancy, Sflct, SflctConfig};
-use wscg_cs_mri::sparsifier::PriorConfig;
+use wscg_cs_mri::sflct::{Redundancy, Sflct, SflctParams};
+use wscg_cs_mri::sparsifier::PriorParams;
 use wscg_cs_mri::{
-    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, Fdct, FdctConfig, Finest, IterStat,
-    KSpace, Recon, Regularizer, Udct, UdctConfig,
+    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, Fdct, FdctParams, Finest, IterStat,
+    KSpace, Recon, Regularizer, Udct, UdctParams,
 };
 use wscg_math::progress::NoProgress;
 
 use crate::convert::{array, dims2, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
-fn config(wedges: Vec<[usize; 2]>, alpha: f64, tight: bool) -> UdctConfig {
-    UdctConfig {
+fn config(wedges: Vec<[usize; 2]>, alpha: f64, tight: bool) -> UdctParams {
+    UdctParams {
         wedges,
         alpha,
         tight,
@@ -220,7 +220,7 @@ impl PyFdct {
         finest: &str,
         transition: f64,
     ) -> PyResult<Self> {
-        let cfg = FdctConfig {
+        let cfg = FdctParams {
             scales,
             angles_coarse,
             finest: Finest::by_name(finest).py_err()?,
@@ -387,7 +387,7 @@ impl PySflct {
 impl PySflct {
     #[new]
     fn new(rows: usize, cols: usize, redundancy: &str, levels: Vec<usize>) -> PyResult<Self> {
-        let cfg = SflctConfig {
+        let cfg = SflctParams {
             redundancy: Redundancy::by_name(redundancy).py_err()?,
             dfb_levels: levels,
         };
@@ -558,18 +558,18 @@ fn reconstruct<'py>(
         tol,
         record_history: record_history || reference.is_some(),
     };
-    let cfg = PriorConfig {
+    let cfg = PriorParams {
         udct: config(wedges, alpha, true),
         fdct: match fdct {
-            Some((scales, angles_coarse, finest, transition)) => FdctConfig {
+            Some((scales, angles_coarse, finest, transition)) => FdctParams {
                 scales,
                 angles_coarse,
                 finest: Finest::by_name(&finest).py_err()?,
                 transition,
             },
-            None => FdctConfig::default(),
+            None => FdctParams::default(),
         },
-        sflct_levels: sflct_levels.unwrap_or_else(|| SflctConfig::default().dfb_levels),
+        sflct_levels: sflct_levels.unwrap_or_else(|| SflctParams::default().dfb_levels),
         levels,
     };
     let rec = py

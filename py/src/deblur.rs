@@ -6,10 +6,10 @@ use nalgebra::{Matrix3, Rotation3, Vector3};
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use wscg_deblur::synth::{self, OuParams, RenderOpts};
+use wscg_deblur::synth::{self, ShakeParams, BlurRenderParams};
 use wscg_deblur::{
-    AlignMode, AlignOpts, FrameInput, Gamma, GyroSample, GyroTrack, HlParams, Intrinsics, Kernel,
-    KernelGrid, KernelOpts, Method, MultiOpts, Tiling, Timing,
+    AlignMode, AlignParams, FrameInput, Gamma, GyroSample, GyroTrack, HyperLaplacianParams, Intrinsics, Kernel,
+    KernelGrid, KernelParams, Method, MultiframeParams, Tiling, Timing,
 };
 use wscg_math::progress::NoProgress;
 use wscg_math::Image;
@@ -156,7 +156,7 @@ fn render_kernel<'py>(
     let t = timing(tim, height);
     let k = py
         .detach(|| {
-            wscg_deblur::render_kernel(&track, &t, &intrinsics(cam), (x, y), &KernelOpts::default())
+            wscg_deblur::render_kernel(&track, &t, &intrinsics(cam), (x, y), &KernelParams::default())
         })
         .py_err()?;
     kernel_out(py, k)
@@ -187,7 +187,7 @@ fn kernel_grid<'py>(
                 width,
                 height,
                 tile,
-                &KernelOpts::default(),
+                &KernelParams::default(),
             )
         })
         .py_err()?;
@@ -199,8 +199,8 @@ fn blurriness(kernel: PyReadonlyArrayDyn<f32>, origin: (usize, usize)) -> PyResu
     Ok(wscg_deblur::blurriness(&kernel_in(&kernel, origin)?))
 }
 
-fn hl_params(lam: f32, alpha: f32, beta_max: f32) -> HlParams {
-    HlParams {
+fn hl_params(lam: f32, alpha: f32, beta_max: f32) -> HyperLaplacianParams {
+    HyperLaplacianParams {
         lambda: lam,
         alpha,
         beta_max,
@@ -350,7 +350,7 @@ fn deblur_piecewise<'py>(
                 img.width(),
                 img.height(),
                 tile,
-                &KernelOpts::default(),
+                &KernelParams::default(),
             )?;
             let out = wscg_deblur::deblur_piecewise(&img, &grid, &m, &tiling)?;
             Ok((out, grid))
@@ -401,7 +401,7 @@ fn deblur_multiframe<'py>(
         .collect::<PyResult<Vec<_>>>()?;
     let track = track_in(&gyro, r_cam_imu.as_ref(), bias)?;
     let align = match align {
-        "ecc" => AlignMode::Ecc(AlignOpts::default()),
+        "ecc" => AlignMode::Ecc(AlignParams::default()),
         "gyro" => AlignMode::Gyro,
         other => {
             return Err(value_error(format!(
@@ -409,7 +409,7 @@ fn deblur_multiframe<'py>(
             )))
         }
     };
-    let opts = MultiOpts {
+    let opts = MultiframeParams {
         t_exposure: tim.0,
         t_readout: tim.1,
         t_delay: tim.2,
@@ -559,7 +559,7 @@ fn ou_gyro<'py>(
     t0: f64,
     seed: u64,
 ) -> PyResult<Arr<'py, f64>> {
-    let p = OuParams {
+    let p = ShakeParams {
         rate,
         tau,
         std: [std.0, std.1, std.2],
@@ -610,7 +610,7 @@ fn render_blurred<'py>(
     if let Some(g) = g {
         g.validate().py_err()?;
     }
-    let opts = RenderOpts {
+    let opts = BlurRenderParams {
         noise_sigma,
         gamma: g,
         quantise,

@@ -13,7 +13,7 @@ use pyo3::types::PyDict;
 use rayon::prelude::*;
 use wscg_biometrics::ear::features::check_input;
 use wscg_biometrics::ear::protocol::evaluate_images;
-use wscg_biometrics::ear::synth::{generate, OcclusionKind, SynthConfig};
+use wscg_biometrics::ear::synth::{generate, OcclusionKind, EarSynthParams};
 use wscg_biometrics::ear::{
     self, EarParams, EarTemplate, Gallery, Identification, OcclusionReport, ScoreRule, SkinModel,
     SkinRule,
@@ -594,9 +594,9 @@ fn synth_ears<'py>(
             )))
         }
     };
-    let d = SynthConfig::default();
+    let d = EarSynthParams::default();
     let (height, width) = canvas.unwrap_or((d.height, d.width));
-    let cfg = SynthConfig {
+    let cfg = EarSynthParams {
         height,
         width,
         shape_spread: shape_spread.unwrap_or(d.shape_spread),

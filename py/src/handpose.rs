@@ -8,10 +8,10 @@ use pyo3::types::PyDict;
 use wscg_biometrics::sfa::handpose::protocol::compare_masks;
 use wscg_biometrics::sfa::handpose::{
     downscale as downscale_mask, generate_with, physical_features_batch, rotate_mask as rotate,
-    rotated_rows, split_masks, CompareConfig, Jitter, Method, SynthConfig, DOWNSCALE,
+    rotated_rows, split_masks, CompareParams, Jitter, Method, HandposeSynthParams, DOWNSCALE,
 };
 use wscg_biometrics::sfa::isomap::{Isomap, IsomapParams};
-use wscg_biometrics::sfa::ClassSfaConfig;
+use wscg_biometrics::sfa::ClassSfaParams;
 
 use crate::biometrics::labels_from;
 use crate::convert::{array, mat_map, mat_out, values, Arr};
@@ -43,7 +43,7 @@ fn hand_poses<'py>(
     height: usize,
     jitter: [f64; 6],
 ) -> PyResult<HandPoseArrays<'py>> {
-    let cfg = SynthConfig {
+    let cfg = HandposeSynthParams {
         n_per_class,
         subjects,
         seed,
@@ -215,13 +215,13 @@ fn hand_pose_comparison<'py>(
         .py_err()?;
     let m = values(&masks);
     let d = depth.as_ref().map(values);
-    let cfg = CompareConfig {
-        sfa: ClassSfaConfig {
+    let cfg = CompareParams {
+        sfa: ClassSfaParams {
             pca_dims: sfa.0,
             m_per_class: sfa.1,
             objective: wscg_biometrics::sfa::ClassObjective::WithinMinusOutOfClass { gamma: sfa.2 },
             shrinkage: sfa.3,
-            ..ClassSfaConfig::default()
+            ..ClassSfaParams::default()
         },
         k,
         physical_per_class,

@@ -7,8 +7,8 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_hdr::metrics;
-use wscg_hdr::synth::{layered_scene, SceneCfg};
-use wscg_hdr::{Align, Crf, MultiscopicParams, Nnf, PmParams, StereoParams, Synthesis};
+use wscg_hdr::synth::{layered_scene, SceneParams};
+use wscg_hdr::{Align, Crf, MultiscopicParams, Nnf, PatchMatchParams, StereoParams, Synthesis};
 use wscg_math::progress::NoProgress;
 use wscg_math::Image;
 
@@ -192,7 +192,7 @@ fn multiscopic_hdr<'py>(
         }
     };
     let p = MultiscopicParams {
-        pm: PmParams {
+        pm: PatchMatchParams {
             patch,
             iters,
             d_min,
@@ -201,7 +201,7 @@ fn multiscopic_hdr<'py>(
             epipolar,
             weighted_cost,
             seed,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         },
         align: Align::by_name(align).py_err()?,
         synthesis,
@@ -393,7 +393,7 @@ fn calibrate_mitsunaga_nayar<'py>(
     max_iter: usize,
 ) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
     let imgs = codes_list("stack", &stack)?;
-    let p = wscg_hdr::MnParams {
+    let p = wscg_hdr::MitsunagaNayarParams {
         degree,
         max_degree,
         samples,
@@ -451,9 +451,9 @@ fn pm_params(
     c_min: f32,
     alpha: f32,
     seed: u64,
-) -> PyResult<PmParams> {
+) -> PyResult<PatchMatchParams> {
     check_range(d_min, d_max)?;
-    Ok(PmParams {
+    Ok(PatchMatchParams {
         patch,
         iters,
         d_min,
@@ -601,13 +601,13 @@ fn synth_scene<'py>(
             "a {height} x {width} scene is too large (at most 2^26 pixels per view)"
         )));
     }
-    let cfg = SceneCfg {
+    let cfg = SceneParams {
         height,
         width,
         times,
         emitter_peak,
         noise,
-        ..SceneCfg::default()
+        ..SceneParams::default()
     };
     let sc = py.detach(|| layered_scene(&cfg, seed)).py_err()?;
     let d = PyDict::new(py);

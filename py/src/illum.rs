@@ -19,7 +19,7 @@ use wscg_math::{Error, Image};
 use wscg_volren::illumination::study::{self, AliasCriterion};
 use wscg_volren::illumination::{
     light_buffer_at, render as render_field, scenes, Interp, Kernel, Light, LightAtten, Method,
-    Phong, PreIntegrationTable, RenderSettings, ScalarField, SliceCamera, TransferFunction,
+    Phong, PreIntegrationTable, IlluminationParams, ScalarField, SliceCamera, TransferFunction,
     MAX_SUBSAMPLES,
 };
 use wscg_volren::vti::{self, VtiValues};
@@ -332,7 +332,7 @@ struct Scene {
     cam: SliceCamera,
     light: Light,
     method: Method,
-    settings: RenderSettings,
+    settings: IlluminationParams,
 }
 
 fn kernel_in(name: &str, spread: f64, tan_half: f64) -> PyResult<Kernel> {
@@ -483,7 +483,7 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
             )))
         }
     };
-    let settings = RenderSettings {
+    let settings = IlluminationParams {
         interp,
         background: bg.map(|c| c as f32),
         ..Default::default()
@@ -741,7 +741,7 @@ fn illum_study<'py>(
         .py_err()?;
     let d32: Vec<f32> = distances.iter().map(|&d| d as f32).collect();
     let configs = study::grid(&d32, max_m);
-    let settings = RenderSettings::default();
+    let settings = IlluminationParams::default();
     let st = py
         .detach(|| {
             study::sweep(

@@ -8,8 +8,8 @@ use rayon::prelude::*;
 use wscg_isosurface::fields;
 use wscg_isosurface::study::{at_risk_configurations, compare_with_exact, compare_with_full_cd};
 use wscg_isosurface::{
-    AmbiguousRule, EdgeId, IsoMesh, LsnOpts, NormalMethod, NormalStats, RmsSummary, ScalarGrid,
-    SplineOpts, TetSelection,
+    AmbiguousRule, EdgeId, IsoMesh, LsnParams, NormalMethod, NormalStats, RmsSummary, ScalarGrid,
+    SplineParams, TetSelection,
 };
 
 use crate::convert::{array, dict_item, rows3, values, Arr};
@@ -51,7 +51,7 @@ fn pack_sides(sides: &PyReadonlyArrayDyn<bool>, shape: &[usize]) -> PyResult<Vec
 fn method_from(name: &str, options: &Bound<'_, PyDict>) -> PyResult<NormalMethod> {
     let m = NormalMethod::parse(name).py_err()?;
     Ok(match m {
-        NormalMethod::Spline(_) => NormalMethod::Spline(SplineOpts {
+        NormalMethod::Spline(_) => NormalMethod::Spline(SplineParams {
             selection: match dict_item::<String>(options, "selection")?.as_deref() {
                 None | Some("mesh") => TetSelection::MeshAware,
                 Some("nearest") => TetSelection::NearestCorner,
@@ -65,7 +65,7 @@ fn method_from(name: &str, options: &Bound<'_, PyDict>) -> PyResult<NormalMethod
             eq8_literal: dict_item(options, "eq8_literal")?.unwrap_or(false),
             normalize_before_mean: dict_item(options, "normalize_before_mean")?.unwrap_or(false),
         }),
-        NormalMethod::Lsn(_) => NormalMethod::Lsn(LsnOpts {
+        NormalMethod::Lsn(_) => NormalMethod::Lsn(LsnParams {
             ambiguous_face: rule_from(
                 dict_item::<String>(options, "ambiguous_face")?
                     .as_deref()

@@ -7,7 +7,7 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
-use wscg_raytrace::manylight::{load_obj, run, scenes, Camera, Interp, Method, Scene, Settings};
+use wscg_raytrace::manylight::{load_obj, run, scenes, Camera, Interp, Method, Scene, ManyLightParams};
 
 use crate::convert::{array, rows3, values, Arr};
 use crate::errors::IntoPy;
@@ -199,7 +199,7 @@ fn manylight_render<'py>(
     let method = Method::parse(method).py_err()?;
     let c = Cfg(params);
     let camera = camera_from(camera, &scene.camera)?;
-    let mut s = Settings::default();
+    let mut s = ManyLightParams::default();
     s.vpl.n_paths = c.get("n_vpl_paths", s.vpl.n_paths)?;
     s.vpl.max_bounces = c.get("max_bounces", s.vpl.max_bounces)?;
     s.vpl.seed = c.get("vpl_seed", s.vpl.seed)?;

@@ -15,7 +15,7 @@ use wscg_math::image::{Image, PixelDepth};
 use wscg_math::mesh::{PlyEncoding, TriMesh};
 use wscg_math::metrics::{self, SsimParams};
 use wscg_math::resize::{resize as resize_image, Interpolation};
-use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, Jacobi, PcgOptions};
+use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, Jacobi, PcgParams};
 use wscg_math::volume::{RawType, Volume};
 use wscg_math::{rng, Error};
 
@@ -306,7 +306,7 @@ fn cg<'py>(
         Some(x) => InitialGuess::Given(x),
         None => InitialGuess::Zero,
     };
-    let opts = PcgOptions {
+    let opts = PcgParams {
         tol,
         max_iter: maxiter,
     };

@@ -14,20 +14,20 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use wscg_math::Error;
-use wscg_motion::anechoic::{fit_anechoic as fit_anechoic_rs, AnechoicConfig, DelayMode, Init};
+use wscg_motion::anechoic::{fit_anechoic as fit_anechoic_rs, AnechoicParams, DelayMode, Init};
 use wscg_motion::bvh::{self, BvhMotion};
 use wscg_motion::data::{quality as quality_rs, TrialSet};
 use wscg_motion::dataset::{Dataset, TrialAction};
 use wscg_motion::hopf::StarNetwork;
-use wscg_motion::map::{SvrMapConfig, MAX_LUT_SIZE};
+use wscg_motion::map::{SvrMapParams, MAX_LUT_SIZE};
 use wscg_motion::pca::pca_qualities as pca_qualities_rs;
 use wscg_motion::planner::{Action, Plan, Planner};
 use wscg_motion::skeleton::{bones as bones_rs, forward_kinematics as fk_rs, JOINTS, N_CHANNELS};
 use wscg_motion::stats::{fit_line as fit_line_rs, regression_p_value as p_value_rs};
-use wscg_motion::stepwise::{fit_stepwise as fit_stepwise_rs, ActionLibrary, StepwiseConfig};
+use wscg_motion::stepwise::{fit_stepwise as fit_stepwise_rs, ActionLibrary, StepwiseParams};
 use wscg_motion::svr::Svr;
-use wscg_motion::synthesizer::{planner_for, MapKind, SynthConfig, Synthesizer};
-use wscg_motion::walker::{reach_walk, WalkerConfig};
+use wscg_motion::synthesizer::{planner_for, MapKind, SynthesizerParams, Synthesizer};
+use wscg_motion::walker::{reach_walk, WalkerParams};
 
 use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy};
@@ -119,14 +119,14 @@ fn make_synthetic_dataset<'py>(
             MAX_VALUES / (6 * N_CHANNELS)
         )));
     }
-    let cfg = WalkerConfig {
+    let cfg = WalkerParams {
         n_trials,
         n_samples,
         noise,
         seed,
         model_seed,
         human_like,
-        ..WalkerConfig::default()
+        ..WalkerParams::default()
     };
     let (data, truth) = py.detach(|| reach_walk(&cfg)).py_err()?;
     let (r_n, i_n, n) = (data.trials.len(), data.n_channels, data.n_samples);
@@ -245,7 +245,7 @@ fn fit_anechoic<'py>(
     }
     let set = trials_in("x", &x)?;
     check_restarts(restarts)?;
-    let cfg = AnechoicConfig {
+    let cfg = AnechoicParams {
         n_sources,
         n_harmonics,
         delays: delay_mode(delays)?,
@@ -255,7 +255,7 @@ fn fit_anechoic<'py>(
         init: init_from(init)?,
         seed,
         delay_search,
-        ..AnechoicConfig::default()
+        ..AnechoicParams::default()
     };
     let (model, recon) = py
         .detach(|| {
@@ -568,19 +568,19 @@ fn fit_stepwise(
         distances.as_ref(),
     )?;
     check_restarts(restarts)?;
-    let cfg = StepwiseConfig {
+    let cfg = StepwiseParams {
         n_sources_first,
         n_sources_extra,
-        demix: AnechoicConfig {
+        demix: AnechoicParams {
             n_harmonics,
             restarts,
             max_iter,
             tol,
             seed,
             delay_search,
-            ..AnechoicConfig::default()
+            ..AnechoicParams::default()
         },
-        ..StepwiseConfig::default()
+        ..StepwiseParams::default()
     };
     let inner = py.detach(|| fit_stepwise_rs(&data, &cfg)).py_err()?;
     Ok(PyLibrary { inner })
@@ -678,11 +678,11 @@ impl PySynthesizer {
                 MapKind::Lut(lut_size)
             }
             "fourier" => MapKind::Fourier,
-            "svr" => MapKind::Svr(SvrMapConfig {
+            "svr" => MapKind::Svr(SvrMapParams {
                 c: svr_c,
                 epsilon: svr_epsilon,
                 gamma: svr_gamma,
-                ..SvrMapConfig::default()
+                ..SvrMapParams::default()
             }),
             other => {
                 return Err(value_error(format!(
@@ -699,7 +699,7 @@ impl PySynthesizer {
             human_like,
             ..planner_for(&lib.inner)
         };
-        let cfg = SynthConfig {
+        let cfg = SynthesizerParams {
             beta,
             coupling,
             map,

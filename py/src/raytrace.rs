@@ -9,8 +9,8 @@ use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
 use wscg_raytrace::paint::{
     self, binocular_overlap, glint_stats, Coat, ColourMode, Condition, DiscLight, FlakeParams,
-    FlakePlate, PhotonSettings, Plate, PlateStack, Rect, RenderSettings, StackModel, TiltDist,
-    WorkshopConfig,
+    FlakePlate, PhotonParams, Plate, PlateStack, Rect, PaintRenderParams, StackModel, TiltDist,
+    WorkshopParams,
 };
 use wscg_raytrace::spectral::{self, daylight_d, MetalIor, SpectralGrid, Spectrum};
 use wscg_raytrace::stereo::{Eye, StereoRig};
@@ -119,8 +119,8 @@ fn light(c: &Cfg) -> PyResult<DiscLight> {
     Ok(l)
 }
 
-fn settings(c: &Cfg) -> PyResult<RenderSettings> {
-    let d = RenderSettings::default();
+fn settings(c: &Cfg) -> PyResult<PaintRenderParams> {
+    let d = PaintRenderParams::default();
     let region = c
         .opt::<(f64, f64, f64, f64)>("region_mm")?
         .map(|(x0, y0, x1, y1)| Rect { x0, y0, x1, y1 });
@@ -133,7 +133,7 @@ fn settings(c: &Cfg) -> PyResult<RenderSettings> {
             )))
         }
     };
-    Ok(RenderSettings {
+    Ok(PaintRenderParams {
         spp: c.get("spp", d.spp)?,
         max_depth: c.get("max_depth", d.max_depth)?,
         seed: c.get("render_seed", d.seed)?,
@@ -142,12 +142,12 @@ fn settings(c: &Cfg) -> PyResult<RenderSettings> {
         independent_samples: c.get("independent_samples", false)?,
         colour,
         keep_spectrum: c.get("keep_spectrum", false)?,
-        photons: match c.get("photons", PhotonSettings::default().count)? {
+        photons: match c.get("photons", PhotonParams::default().count)? {
             0 => None,
-            count => Some(PhotonSettings {
+            count => Some(PhotonParams {
                 count,
-                k: c.get("photon_k", PhotonSettings::default().k)?,
-                ..PhotonSettings::default()
+                k: c.get("photon_k", PhotonParams::default().k)?,
+                ..PhotonParams::default()
             }),
         },
     })
@@ -339,12 +339,12 @@ fn workshop<'py>(
             )))
         }
     };
-    let defaults = WorkshopConfig::default();
+    let defaults = WorkshopParams::default();
     let mut s = settings(&c)?;
     if s.region_mm.is_none() {
         s.region_mm = defaults.settings.region_mm;
     }
-    let cfg = WorkshopConfig {
+    let cfg = WorkshopParams {
         base: fp,
         stack: stack(&c, &fp)?,
         light: if c.0.contains("light_elevation_deg")? {

@@ -7,7 +7,7 @@ use numpy::PyReadonlyArrayDyn;
 use pyo3::prelude::*;
 use wscg_biometrics::sfa::global::parse_rule;
 use wscg_biometrics::sfa::{
-    confusion_matrix as confusion, ClassObjective, ClassSfaConfig, GlobalSfa, Knn, KnnTie,
+    confusion_matrix as confusion, ClassObjective, ClassSfaParams, GlobalSfa, Knn, KnnTie,
     PerClassSfa, QuadraticExpansion, TemporalSfa,
 };
 
@@ -120,7 +120,7 @@ fn sfa_fit(
 ) -> PyResult<PySfa> {
     let x = mat("x", &x)?;
     let y = labels_from("y", &y)?;
-    let cfg = ClassSfaConfig {
+    let cfg = ClassSfaParams {
         pca_dims,
         expansion: expansion(degree, include_linear)?,
         m_per_class: m,

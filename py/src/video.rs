@@ -7,8 +7,8 @@ use pyo3::types::PyDict;
 use wscg_video::metrics;
 use wscg_video::synth;
 use wscg_video::{
-    CompletionConfig, InitMethod, LocalConfig, LowResConfig, Mask3, PatchSize, RefineConfig,
-    SearchMethod, UpscaleStep, Video, WexlerConfig,
+    CompletionParams, InitMethod, LocalSearchParams, LowResParams, Mask3, PatchSize, RefineParams,
+    SearchMethod, UpscaleStep, Video, WexlerParams,
 };
 
 use crate::convert::{array, values, Arr};
@@ -121,8 +121,8 @@ fn complete_video<'py>(
             )))
         }
     };
-    let cfg = CompletionConfig {
-        low: LowResConfig {
+    let cfg = CompletionParams {
+        low: LowResParams {
             target_width: lowres_width,
             levels,
             patch: patch(patch_size),
@@ -131,13 +131,13 @@ fn complete_video<'py>(
             search,
             onion_order,
             causal_first_sweep,
-            ..LowResConfig::default()
+            ..LowResParams::default()
         },
-        refine: (refine_iters > 0).then(|| RefineConfig {
+        refine: (refine_iters > 0).then(|| RefineParams {
             iterations: refine_iters,
-            ..RefineConfig::default()
+            ..RefineParams::default()
         }),
-        local: LocalConfig {
+        local: LocalSearchParams {
             windows,
             max_iterations,
             min_energy_drop,
@@ -211,14 +211,14 @@ fn wexler<'py>(
 ) -> PyResult<Arr<'py, u8>> {
     let v = video_in("frames", &frames)?;
     let m = mask_in(&mask, &v)?;
-    let cfg = WexlerConfig {
+    let cfg = WexlerParams {
         patch: patch(patch_size),
         min_width,
         iters,
         patchmatch_iters,
         seed,
         seed_per_frame,
-        ..WexlerConfig::default()
+        ..WexlerParams::default()
     };
     let out = py
         .detach(|| {

@@ -10,8 +10,8 @@ use wscg_volren::gradient_octree::octree_address as address;
 use wscg_volren::phantoms;
 use wscg_volren::wavelet::HaarQuant;
 use wscg_volren::{
-    render_reference as reference, Camera, HybridClient, HybridServer, PlTf, RenderOpts, Roi,
-    ServerOpts,
+    render_reference as reference, Camera, HybridClient, HybridServer, PlTf, RenderParams, Roi,
+    ServerParams,
 };
 
 use crate::convert::{array, values, Arr};
@@ -117,7 +117,7 @@ impl PyServer {
     ) -> PyResult<Self> {
         let v = volume_in(&volume)?;
         let tfs = tfs.iter().map(tf_in).collect::<PyResult<Vec<_>>>()?;
-        let opts = ServerOpts {
+        let opts = ServerParams {
             steps_sent,
             quant: HaarQuant { delta: [delta; 4] },
             ..Default::default()
@@ -229,7 +229,7 @@ impl PyClient {
         roi_tf: usize,
     ) -> PyResult<Arr<'py, f32>> {
         let cam = camera(view);
-        let o = RenderOpts::default();
+        let o = RenderParams::default();
         let c = &self.inner;
         let img = py
             .detach(|| match mode {
@@ -274,7 +274,7 @@ fn render_reference<'py>(
                 &tf,
                 roi.as_ref().map(|(r, t)| (r, t)),
                 &cam,
-                &RenderOpts::default(),
+                &RenderParams::default(),
             )
         })
         .py_err()?;

@@ -6,7 +6,7 @@
 //! indexed `[z, y, x]` (float32 CT, uint16 labels, bool masks), which is the x-fastest layout
 //! of `wscg_math::Volume`, so they are taken without reordering; spacing is `(dz, dy, dx)`
 //! as in `wscg.math` and scikit-image. Parameters of the random walks travel as a dict whose
-//! keys are the fields of `RwParams` (unknown keys are refused). Every function checks shapes
+//! keys are the fields of `RandomWalkParams` (unknown keys are refused). Every function checks shapes
 //! and values again, so a direct call cannot panic on bad arguments. The GIL is released
 //! while Rust works.
 
@@ -17,7 +17,7 @@ use wscg_math::Volume;
 use wscg_volseg::{
     dice_multilabel, fractured_shell_phantom, gaussian_smooth3, local_grow_edit,
     nearest_seed_labels, remove_small_components, BoneGraph, GrowWeights, IntensityNorm,
-    PhantomConfig, Precision, RwParams, RwSession, SolveReport, Solver,
+    PhantomParams, Precision, RandomWalkParams, RwSession, SolveReport, Solver,
 };
 
 use crate::convert::{array, choice, dict_item, set_fields, values, Arr};
@@ -92,7 +92,7 @@ fn same_shape_as_ct<T: Element>(
 fn norm_in(name: &str, lo: Option<f64>, hi: Option<f64>) -> PyResult<IntensityNorm> {
     match name {
         "window" => {
-            let d = RwParams::default();
+            let d = RandomWalkParams::default();
             let (dlo, dhi) = match d.norm {
                 IntensityNorm::Window { lo, hi } => (lo, hi),
                 _ => (-1024.0, 3071.0),
@@ -145,8 +145,8 @@ fn known_keys(d: &Bound<'_, PyDict>, allowed: &[&str], what: &str) -> PyResult<(
 }
 
 /// Random-walk parameters: the paper's defaults overridden by the entries of `d`, validated.
-fn params_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<RwParams> {
-    let mut p = RwParams::default();
+fn params_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<RandomWalkParams> {
+    let mut p = RandomWalkParams::default();
     let Some(d) = d else {
         return Ok(p);
     };
@@ -201,7 +201,7 @@ fn graph_of(
     ct: &Volume<f32>,
     mask: Option<&[bool]>,
     passes: u32,
-    p: &RwParams,
+    p: &RandomWalkParams,
 ) -> wscg_math::Result<BoneGraph> {
     ct.ensure_finite("ct")?;
     let smoothed;
@@ -672,7 +672,7 @@ fn phantom_cfg(
     n_fragments: usize,
     seed: u64,
     d: Option<&Bound<'_, PyDict>>,
-) -> PyResult<PhantomConfig> {
+) -> PyResult<PhantomParams> {
     let voxels = shape
         .0
         .checked_mul(shape.1)
@@ -687,11 +687,11 @@ fn phantom_cfg(
             "`n_fragments` must be in 2..={MAX_FRAGMENTS}, got {n_fragments}"
         )));
     }
-    let mut c = PhantomConfig {
+    let mut c = PhantomParams {
         dims: [shape.2, shape.1, shape.0],
         fragments: n_fragments,
         seed,
-        ..PhantomConfig::default()
+        ..PhantomParams::default()
     };
     let Some(d) = d else {
         return Ok(c);

@@ -3,7 +3,7 @@
 //! (check 9), the reject threshold, CMC, and bad input. The OpenCV / PyWavelets /
 //! scikit-image equalities of checks 1-3 are in `py/tests/test_ear.py`.
 
-use wscg_biometrics::ear::synth::{self, OcclusionKind, SynthConfig};
+use wscg_biometrics::ear::synth::{self, OcclusionKind, EarSynthParams};
 use wscg_biometrics::ear::{
     self, baseline_params, baseline_score, block_features, cmc, detect_occlusion, enroll,
     make_baseline_probe, make_probe, score, scores, EarParams, EarTemplate, Gallery,
@@ -19,7 +19,7 @@ fn small_set(n: usize, probes: usize, kind: OcclusionKind, seed: u64) -> synth::
         probes,
         kind,
         seed,
-        &SynthConfig::default(),
+        &EarSynthParams::default(),
         &EarParams::default(),
     )
     .unwrap()
@@ -405,7 +405,7 @@ fn bad_input_is_an_error_naming_the_problem() {
         ScoreRule::parse("overall_max").unwrap(),
         ScoreRule::OverallMax
     );
-    assert!(synth::generate(0, 1, OcclusionKind::None, 1, &SynthConfig::default(), &p).is_err());
+    assert!(synth::generate(0, 1, OcclusionKind::None, 1, &EarSynthParams::default(), &p).is_err());
     assert!(synth::generate(
         1,
         1,
@@ -414,7 +414,7 @@ fn bad_input_is_an_error_naming_the_problem() {
             max_pct: 20.0
         },
         1,
-        &SynthConfig::default(),
+        &EarSynthParams::default(),
         &p
     )
     .is_err());

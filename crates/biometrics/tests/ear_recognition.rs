@@ -5,7 +5,7 @@
 use std::sync::OnceLock;
 
 use wscg_biometrics::ear::protocol::{evaluate, Evaluation};
-use wscg_biometrics::ear::synth::{self, translate_replicate, EarSet, OcclusionKind, SynthConfig};
+use wscg_biometrics::ear::synth::{self, translate_replicate, EarSet, OcclusionKind, EarSynthParams};
 use wscg_biometrics::ear::{
     detect_occlusion, enroll, make_probe, rank, score, scores, EarParams, EarTemplate, Gallery,
     ScoreRule, SkinRule,
@@ -17,7 +17,7 @@ fn generate(n: usize, probes: usize, kind: OcclusionKind, seed: u64) -> EarSet {
         probes,
         kind,
         seed,
-        &SynthConfig::default(),
+        &EarSynthParams::default(),
         &EarParams::default(),
     )
     .unwrap()

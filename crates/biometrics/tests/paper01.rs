@@ -333,7 +333,7 @@ fn finger_vein_generator_is_deterministic() {
 #[test]
 fn recognition_on_synthetic_finger_veins() {
     let methods = Method::table1(Some(200));
-    let opt = ProtocolOptions::default();
+    let opt = ProtocolParams::default();
     println!("seed method  max acc %  (l)   validated %  (l)");
     for seed in 0..3 {
         let data = finger_veins(&FingerVeinParams {

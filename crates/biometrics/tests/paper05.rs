@@ -5,7 +5,7 @@
 use faer::Mat;
 use rand::Rng;
 use wscg_biometrics::sfa::scatter::{ClassMoments, Whitening};
-use wscg_biometrics::sfa::{ClassSfaConfig, GlobalRule, GlobalSfa, PerClassSfa};
+use wscg_biometrics::sfa::{ClassSfaParams, GlobalRule, GlobalSfa, PerClassSfa};
 use wscg_math::{dense, rng};
 
 fn random(m: usize, n: usize, seed: u64) -> Mat<f64> {
@@ -134,7 +134,7 @@ fn closed_forms_equal_the_pairwise_definitions() {
 fn bad_input_is_rejected() {
     let x = random(60, 8, 7);
     let y: Vec<u32> = (0..60).map(|i| (i % 3) as u32).collect();
-    let cfg = ClassSfaConfig {
+    let cfg = ClassSfaParams {
         pca_dims: 5,
         m_per_class: 3,
         ..Default::default()
@@ -153,13 +153,13 @@ fn bad_input_is_rejected() {
     assert!(PerClassSfa::fit(
         x.as_ref(),
         &y,
-        &ClassSfaConfig {
+        &ClassSfaParams {
             m_per_class: 100,
             ..cfg
         }
     )
     .is_err());
-    assert!(PerClassSfa::fit(x.as_ref(), &y, &ClassSfaConfig { pca_dims: 9, ..cfg }).is_err());
+    assert!(PerClassSfa::fit(x.as_ref(), &y, &ClassSfaParams { pca_dims: 9, ..cfg }).is_err());
     let constant = Mat::from_fn(60, 8, |_, _| 1.0);
     assert!(PerClassSfa::fit(constant.as_ref(), &y, &cfg).is_err());
     let model = PerClassSfa::fit(x.as_ref(), &y, &cfg).unwrap();

@@ -4,12 +4,12 @@
 //! its robustness to rotated test frames with and without the rotation augmentation.
 
 use wscg_biometrics::sfa::handpose::{
-    compare, generate, rotation_robustness, split_protocol, CompareConfig, Method, Split,
-    SynthConfig, SynthData,
+    compare, generate, rotation_robustness, split_protocol, CompareParams, Method, Split,
+    HandposeSynthParams, SynthData,
 };
 
 fn paper_protocol() -> (SynthData, Split) {
-    let data = generate(&SynthConfig::default()).unwrap();
+    let data = generate(&HandposeSynthParams::default()).unwrap();
     let split = split_protocol(&data, 300, 1000, 0).unwrap();
     assert_eq!(split.train_y.len(), 5 * 3700);
     assert_eq!(split.test_y.len(), 5 * 300);
@@ -23,7 +23,7 @@ fn hand_pose_tables_and_rotation_robustness() {
     let res = compare(
         &data,
         &split,
-        &CompareConfig::default(),
+        &CompareParams::default(),
         &Method::ALL,
         |_| {},
     )
@@ -52,7 +52,7 @@ fn hand_pose_tables_and_rotation_robustness() {
 
     // Check 5: every test frame rotated by +-U(10, 20) degrees; the augmented model is the
     // one the comparison fitted.
-    let cfg = CompareConfig::default();
+    let cfg = CompareParams::default();
     let (h, w) = (data.height, data.width);
     let rot = rotation_robustness(
         &data.masks,
@@ -81,7 +81,7 @@ fn hand_pose_tables_and_rotation_robustness() {
 #[ignore = "fails: the augmented model drops 3.33 pp on rotated test frames (limit 3)"]
 fn augmented_model_drops_at_most_three_points_on_rotated_frames() {
     let (data, split) = paper_protocol();
-    let cfg = CompareConfig::default();
+    let cfg = CompareParams::default();
     let rot = rotation_robustness(
         &data.masks,
         data.height,

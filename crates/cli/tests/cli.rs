@@ -589,8 +589,8 @@ fn meshfilter_denoises_a_coloured_mesh() {
 
 #[test]
 fn sfa_generate_fit_predict_evaluate_match_the_library() {
-    use wscg::biometrics::sfa::handpose::{downscale, generate, SynthConfig};
-    use wscg::biometrics::sfa::{ClassSfaConfig, PerClassSfa};
+    use wscg::biometrics::sfa::handpose::{downscale, generate, HandposeSynthParams};
+    use wscg::biometrics::sfa::{ClassSfaParams, PerClassSfa};
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let data_dir = d.join("hands");
@@ -636,9 +636,9 @@ fn sfa_generate_fit_predict_evaluate_match_the_library() {
     ]);
     assert_eq!(std::fs::read(&masks).unwrap(), before, "input modified");
     // The same model through the library: generated frames, downscaled by 3.
-    let data = generate(&SynthConfig {
+    let data = generate(&HandposeSynthParams {
         n_per_class: 120,
-        ..SynthConfig::default()
+        ..HandposeSynthParams::default()
     })
     .unwrap();
     let (h, w) = (data.height, data.width);
@@ -646,10 +646,10 @@ fn sfa_generate_fit_predict_evaluate_match_the_library() {
         .flat_map(|i| downscale(data.mask(i).unwrap(), h, w, 3).unwrap())
         .collect();
     let x = wscg::biometrics::sfa::handpose::protocol::rows_to_mat(&rows, rows.len() / data.len());
-    let cfg = ClassSfaConfig {
+    let cfg = ClassSfaParams {
         pca_dims: 8,
         m_per_class: 3,
-        ..ClassSfaConfig::default()
+        ..ClassSfaParams::default()
     };
     let lib = PerClassSfa::fit(x.as_ref(), &data.labels, &cfg).unwrap();
     let want = lib.predict(x.as_ref()).unwrap();
@@ -1309,8 +1309,8 @@ fn octree_build_info_render_on_a_mesh_file() {
 #[test]
 fn mri_mask_phantom_recon_on_files() {
     use wscg::csmri::{
-        csalsa, metrics, sparsifier, CsalsaParams, FdctConfig, FdctSparsifier, Finest, KSpace,
-        Regularizer, UdctConfig, UdctSparsifier,
+        csalsa, metrics, sparsifier, CsalsaParams, FdctParams, FdctSparsifier, Finest, KSpace,
+        Regularizer, UdctParams, UdctSparsifier,
     };
     let dir = tempfile::tempdir().unwrap();
     let p = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
@@ -1414,7 +1414,7 @@ fn mri_mask_phantom_recon_on_files() {
             .unwrap()
             .image
     };
-    let udct = UdctSparsifier::new(64, 64, &UdctConfig::default()).unwrap();
+    let udct = UdctSparsifier::new(64, 64, &UdctParams::default()).unwrap();
     let want = library(&udct, 15, sparsifier::tuned_tau0("udct"));
     let diff = metrics::rlne(&want, &xa.data).unwrap();
     assert!(diff < 1e-12, "{diff}");
@@ -1436,7 +1436,7 @@ fn mri_mask_phantom_recon_on_files() {
     let fdct = FdctSparsifier::new(
         64,
         64,
-        &FdctConfig {
+        &FdctParams {
             finest: Finest::Curvelets,
             ..Default::default()
         },
@@ -1465,7 +1465,7 @@ fn mri_mask_phantom_recon_on_files() {
         "mrsflct",
         64,
         64,
-        &sparsifier::PriorConfig {
+        &sparsifier::PriorParams {
             sflct_levels: vec![2, 3],
             ..Default::default()
         },
@@ -2155,7 +2155,7 @@ fn ear_demo_reports_the_rules_and_the_baseline() {
 
 #[test]
 fn volren_illum_renders_a_volume_file_like_the_library_and_runs_the_study() {
-    use wscg::volren::illumination::{render, Light, Method, RenderSettings, SliceCamera};
+    use wscg::volren::illumination::{render, Light, Method, IlluminationParams, SliceCamera};
     let dir = tempfile::tempdir().unwrap();
     let field = wscg::volren::illumination::scenes::marschner_lobb(41).unwrap();
     let vol = wscg::math::Volume::new([41; 3], [1.0; 3], field.data().to_vec()).unwrap();
@@ -2199,7 +2199,7 @@ fn volren_illum_renders_a_volume_file_like_the_library_and_runs_the_study() {
         &cam,
         &Light::default(),
         &Method::scs(1.0, 2),
-        &RenderSettings::default(),
+        &IlluminationParams::default(),
     )
     .unwrap();
     let mut worst = 0f32;

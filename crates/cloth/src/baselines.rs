@@ -8,7 +8,7 @@
 //!   along its direction is reduced by a factor `k_d`.
 
 use nalgebra::{Matrix3, Vector3};
-use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, LinOp, PcgOptions};
+use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, LinOp, PcgParams};
 use wscg_math::{Error, Result};
 
 use crate::model::ClothModel;
@@ -301,7 +301,7 @@ pub(crate) fn implicit_euler_linearised(
                 &b,
                 InitialGuess::Zero,
                 &IdentityPrecond,
-                &PcgOptions {
+                &PcgParams {
                     tol,
                     max_iter: Some(max_iter),
                 },

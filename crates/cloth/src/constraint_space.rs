@@ -177,7 +177,7 @@ pub(crate) fn global_step(
     tol: f64,
     primal_residual: bool,
 ) -> wscg_math::Result<crate::solver::Stepped> {
-    use wscg_math::sparse::{conjugate_residual, InitialGuess, PcgOptions};
+    use wscg_math::sparse::{conjugate_residual, InitialGuess, PcgParams};
     if m.links.iter().any(|l| l.compliance == 0.0) || !m.rollers.is_empty() {
         return Err(wscg_math::Error::invalid(
             "method",
@@ -216,7 +216,7 @@ pub(crate) fn global_step(
             &sys,
             &rhs,
             InitialGuess::Zero,
-            &PcgOptions {
+            &PcgParams {
                 tol,
                 max_iter: Some(10 * rhs.len().max(1)),
             },

@@ -47,4 +47,4 @@ pub use fem::FemTri;
 pub use model::{grid_triangles, ClothModel, Link, Roller};
 pub use ncg::NcgVariant;
 pub use projection::Relaxation;
-pub use solver::{LambdaMode, Method, Sim, SolverConfig, StepStats};
+pub use solver::{LambdaMode, Method, Sim, SolverParams, StepStats};

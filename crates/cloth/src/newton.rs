@@ -7,7 +7,7 @@
 //! is checked against; it is also usable as an integrator.
 
 use nalgebra::Vector3;
-use wscg_math::sparse::{pcg, IdentityPrecond, InitialGuess, PcgOptions};
+use wscg_math::sparse::{pcg, IdentityPrecond, InitialGuess, PcgParams};
 use wscg_math::{Error, Result};
 
 use crate::baselines::{elastic_forces, filters, ImplicitOperator};
@@ -134,7 +134,7 @@ pub fn minimize(
             &b,
             InitialGuess::Zero,
             &IdentityPrecond,
-            &PcgOptions {
+            &PcgParams {
                 tol: 1e-14,
                 max_iter: Some(20 * 3 * n),
             },

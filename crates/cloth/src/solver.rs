@@ -92,7 +92,7 @@ pub enum Method {
 
 /// Parameters of a [`Sim`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SolverConfig {
+pub struct SolverParams {
     /// Integrator (default soft projection).
     pub method: Method,
     /// Gauss-Seidel sweeps per step (25 in the paper's experiments).
@@ -113,7 +113,7 @@ pub struct SolverConfig {
     pub relaxation: Relaxation,
 }
 
-impl Default for SolverConfig {
+impl Default for SolverParams {
     fn default() -> Self {
         Self {
             method: Method::SoftProjection,
@@ -128,7 +128,7 @@ impl Default for SolverConfig {
     }
 }
 
-impl SolverConfig {
+impl SolverParams {
     /// Checks the parameter ranges.
     pub fn validate(&self) -> Result<()> {
         for (name, v) in [("alpha", self.alpha), ("beta", self.beta)] {
@@ -261,7 +261,7 @@ impl Stepped {
 #[derive(Clone, Debug)]
 pub struct Sim {
     model: ClothModel,
-    cfg: SolverConfig,
+    cfg: SolverParams,
     /// Multipliers of the last step: one per link (N), then three per triangle.
     lambda: Vec<f64>,
     steps: u64,
@@ -273,7 +273,7 @@ pub struct Sim {
 
 impl Sim {
     /// A simulation of `model` with `cfg`. Errors: invalid model or parameters.
-    pub fn new(model: ClothModel, cfg: SolverConfig) -> Result<Self> {
+    pub fn new(model: ClothModel, cfg: SolverParams) -> Result<Self> {
         model.validate()?;
         cfg.validate()?;
         let lambda = vec![0.0; model.constraint_rows()];
@@ -294,7 +294,7 @@ impl Sim {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &SolverConfig {
+    pub fn config(&self) -> &SolverParams {
         &self.cfg
     }
 
@@ -418,13 +418,13 @@ impl Sim {
 
     fn soft_projection(
         m: &ClothModel,
-        cfg: &SolverConfig,
+        cfg: &SolverParams,
         stored_lambda: &[f64],
         prep: &mut Prepared,
         collisions: &CollisionState,
         h: f64,
     ) -> Stepped {
-        let SolverConfig {
+        let SolverParams {
             alpha,
             beta,
             gamma,

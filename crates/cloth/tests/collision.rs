@@ -3,14 +3,14 @@
 
 use nalgebra::Vector3;
 use wscg_cloth::{
-    grid_triangles, ClothModel, Collider, Collisions, MeshCollider, Method, Sim, SolverConfig,
+    grid_triangles, ClothModel, Collider, Collisions, MeshCollider, Method, Sim, SolverParams,
 };
 
 const H: f64 = 1.0 / 60.0;
 const G: f64 = 9.81;
 
 fn sim_with(model: ClothModel, collisions: Collisions) -> Sim {
-    let mut sim = Sim::new(model, SolverConfig::default()).unwrap();
+    let mut sim = Sim::new(model, SolverParams::default()).unwrap();
     sim.set_collisions(collisions).unwrap();
     sim
 }
@@ -235,7 +235,7 @@ fn self_contacts_keep_layers_apart() {
 #[test]
 fn bad_collision_settings_are_rejected() {
     let m = free_cloth(3, 0.0);
-    let mut sim = Sim::new(m.clone(), SolverConfig::default()).unwrap();
+    let mut sim = Sim::new(m.clone(), SolverParams::default()).unwrap();
     for bad in [
         Collisions {
             thickness: -1.0,
@@ -267,7 +267,7 @@ fn bad_collision_settings_are_rejected() {
     assert!(MeshCollider::new(&[], &[]).is_err());
     let mut ncg = Sim::new(
         m,
-        SolverConfig {
+        SolverParams {
             method: Method::Ncg {
                 variant: wscg_cloth::NcgVariant::Consistent,
             },

@@ -3,7 +3,7 @@
 //! race-free, so its result does not depend on the number of threads.
 
 use nalgebra::Vector3;
-use wscg_cloth::{grid_triangles, ClothModel, Relaxation, Sim, SolverConfig, StepStats};
+use wscg_cloth::{grid_triangles, ClothModel, Relaxation, Sim, SolverParams, StepStats};
 
 const H: f64 = 1.0 / 60.0;
 
@@ -36,7 +36,7 @@ fn run_stats(
 ) -> (Sim, StepStats) {
     let mut sim = Sim::new(
         model.clone(),
-        SolverConfig {
+        SolverParams {
             iterations,
             relaxation,
             ..Default::default()
@@ -78,7 +78,7 @@ fn all_sweeps_reach_the_implicit_euler_step_of_a_chain() {
     }
     let mut newton = Sim::new(
         model.clone(),
-        SolverConfig {
+        SolverParams {
             method: wscg_cloth::Method::ImplicitEulerNewton { tol: 1e-13 },
             ..Default::default()
         },
@@ -150,7 +150,7 @@ fn relaxation_factors_out_of_range_are_rejected() {
         Relaxation::Sor { omega: 2.0 },
         Relaxation::Sor { omega: f64::NAN },
     ] {
-        let cfg = SolverConfig {
+        let cfg = SolverParams {
             relaxation,
             ..Default::default()
         };

@@ -541,9 +541,9 @@ pub fn reconstruct(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sflct::{Redundancy, SflctConfig};
+    use crate::sflct::{Redundancy, SflctParams};
     use crate::sparsifier::{SflctSparsifier, UdctSparsifier};
-    use crate::udct::UdctConfig;
+    use crate::udct::UdctParams;
     use wscg_math::rng;
 
     /// `(Psi^H Psi + P) x` computed directly.
@@ -573,12 +573,12 @@ mod tests {
         let n = 64;
         let idx: Vec<usize> = (0..n * n).filter(|k| k % 3 != 1).collect();
         let b = rng::complex_normal_vec(7, n * n, 1.0).unwrap();
-        let cfg = SflctConfig {
+        let cfg = SflctParams {
             redundancy: Redundancy::More,
             dfb_levels: vec![2, 3],
         };
         let sfl = SflctSparsifier::new(n, n, &cfg).unwrap();
-        let udct = UdctSparsifier::new(n, n, &UdctConfig::default()).unwrap();
+        let udct = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
         for (psi, parseval) in [(&sfl as &dyn Sparsifier, false), (&udct, true)] {
             let mut fs = FrameSolve::new(psi, &idx);
             // x = M b.
@@ -607,7 +607,7 @@ mod tests {
         let img = crate::phantom::shepp_logan_reference(n).unwrap();
         let mask = crate::masks::cartesian(n, n, 0.4, 0.08, 1).unwrap();
         let data = KSpace::simulate(n, n, &img, mask).unwrap();
-        let cfg = SflctConfig {
+        let cfg = SflctParams {
             redundancy: Redundancy::Less,
             dfb_levels: vec![2, 3],
         };

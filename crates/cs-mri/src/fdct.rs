@@ -30,7 +30,7 @@
 //! `is_real = 0`). The finest scale holds wavelets (one band, the default) or curvelets
 //! (`Finest::Curvelets`). With the paper's angular window (two wedge widths) the redundancy
 //! at 256 x 256 is 5.3 with wavelets at the finest scale and 5.6 with curvelets; CurveLab's
-//! tighter wedges give 2.8 with wavelets at the finest scale. [`FdctConfig::transition`] trades smoothness for fewer
+//! tighter wedges give 2.8 with wavelets at the finest scale. [`FdctParams::transition`] trades smoothness for fewer
 //! coefficients.
 
 use std::ops::Range;
@@ -70,7 +70,7 @@ impl Finest {
 
 /// FDCT configuration (CurveLab's `fdct_wrapping` arguments).
 #[derive(Clone, Debug, PartialEq)]
-pub struct FdctConfig {
+pub struct FdctParams {
     /// Number of scales `J` including the coarse one; `None`: `ceil(log2(min(N1, N2))) - 3`
     /// (5 for 256 x 256), at least 2.
     pub scales: Option<usize>,
@@ -86,9 +86,9 @@ pub struct FdctConfig {
     pub transition: f64,
 }
 
-impl Default for FdctConfig {
+impl Default for FdctParams {
     fn default() -> Self {
-        FdctConfig {
+        FdctParams {
             scales: None,
             angles_coarse: 16,
             finest: Finest::Wavelets,
@@ -97,7 +97,7 @@ impl Default for FdctConfig {
     }
 }
 
-impl FdctConfig {
+impl FdctParams {
     /// The number of scales for a `rows x cols` image.
     pub fn scales_for(&self, rows: usize, cols: usize) -> usize {
         self.scales.unwrap_or_else(|| {
@@ -191,7 +191,7 @@ pub struct Fdct {
     rows: usize,
     cols: usize,
     scales: usize,
-    config: FdctConfig,
+    config: FdctParams,
     bands: Vec<Band>,
     plans: Vec<Plan2<f64>>,
     full: Plan2<f64>,
@@ -280,7 +280,7 @@ impl Fdct {
     ///
     /// Errors: a zero dimension, an invalid configuration, or more scales than the image
     /// size allows.
-    pub fn new(rows: usize, cols: usize, config: &FdctConfig) -> Result<Self> {
+    pub fn new(rows: usize, cols: usize, config: &FdctParams) -> Result<Self> {
         let scales = config.validate(rows, cols)?;
         let nbands: Vec<usize> = (0..scales).map(|j| config.angles(scales, j)).collect();
         let first: Vec<usize> = nbands
@@ -423,7 +423,7 @@ impl Fdct {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &FdctConfig {
+    pub fn config(&self) -> &FdctParams {
         &self.config
     }
 
@@ -643,7 +643,7 @@ mod tests {
             let f = Fdct::new(
                 r,
                 c,
-                &FdctConfig {
+                &FdctParams {
                     finest: fin,
                     ..Default::default()
                 },
@@ -674,7 +674,7 @@ mod tests {
             let f = Fdct::new(
                 r,
                 c,
-                &FdctConfig {
+                &FdctParams {
                     finest: fin,
                     ..Default::default()
                 },

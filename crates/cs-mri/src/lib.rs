@@ -31,12 +31,12 @@
 //! k-space is un-shifted (DC at index 0) and scaled by the unitary FFT.
 //!
 //! ```
-//! use wscg_cs_mri::{csalsa, masks, phantom, KSpace, CsalsaParams, Regularizer, UdctConfig, UdctSparsifier};
+//! use wscg_cs_mri::{csalsa, masks, phantom, KSpace, CsalsaParams, Regularizer, UdctParams, UdctSparsifier};
 //! use wscg_math::progress::NoProgress;
 //! let n = 64;
 //! let mask = masks::cartesian(n, n, 0.4, 0.08, 1).unwrap();
 //! let data = KSpace::new(n, n, phantom::shepp_logan_kspace(n).unwrap(), mask).unwrap();
-//! let psi = UdctSparsifier::new(n, n, &UdctConfig::default()).unwrap();
+//! let psi = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
 //! let p = CsalsaParams { max_iter: 20, ..Default::default() };
 //! let rec = csalsa(&data, &psi, Regularizer::default(), &p, None, &NoProgress).unwrap();
 //! assert_eq!(rec.image.len(), n * n);
@@ -59,12 +59,12 @@ pub mod udct;
 
 pub use baselines::CompositeParams;
 pub use csalsa::{csalsa, reconstruct, CsalsaParams, IterStat, Recon, Regularizer};
-pub use fdct::{Fdct, FdctBand, FdctConfig, Finest};
+pub use fdct::{Fdct, FdctBand, FdctParams, Finest};
 pub use fourier::Fourier;
 pub use kspace::{noise_epsilon, KSpace};
-pub use sflct::{Redundancy, Sflct, SflctBand, SflctConfig};
+pub use sflct::{Redundancy, Sflct, SflctBand, SflctParams};
 pub use sparsifier::{
     CoeffVec, FdctSparsifier, IdentitySparsifier, SflctSparsifier, Sparsifier, UdctSparsifier,
     WaveletSparsifier,
 };
-pub use udct::{BandId, Udct, UdctCoeffs, UdctConfig};
+pub use udct::{BandId, Udct, UdctCoeffs, UdctParams};

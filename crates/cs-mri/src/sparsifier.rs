@@ -15,10 +15,10 @@ use rayon::prelude::*;
 use wscg_math::wavelet::{Daubechies, Wavelet2};
 use wscg_math::{Error, Result};
 
-use crate::fdct::{Fdct, FdctConfig};
+use crate::fdct::{Fdct, FdctParams};
 use crate::fourier::Fourier;
-use crate::sflct::{Redundancy, Sflct, SflctConfig};
-use crate::udct::{Udct, UdctConfig};
+use crate::sflct::{Redundancy, Sflct, SflctParams};
+use crate::udct::{Udct, UdctParams};
 
 /// Coefficients of a [`Sparsifier`]: real ones and complex ones.
 #[derive(Clone, Debug, PartialEq)]
@@ -156,7 +156,7 @@ pub struct UdctSparsifier {
 
 impl UdctSparsifier {
     /// Plans the transform for `rows x cols` images.
-    pub fn new(rows: usize, cols: usize, config: &UdctConfig) -> Result<Self> {
+    pub fn new(rows: usize, cols: usize, config: &UdctParams) -> Result<Self> {
         Ok(UdctSparsifier {
             udct: Udct::new(rows, cols, config)?,
             fourier: Fourier::new(rows, cols)?,
@@ -308,7 +308,7 @@ pub struct FdctSparsifier {
 
 impl FdctSparsifier {
     /// Plans the transform for `rows x cols` images.
-    pub fn new(rows: usize, cols: usize, config: &FdctConfig) -> Result<Self> {
+    pub fn new(rows: usize, cols: usize, config: &FdctParams) -> Result<Self> {
         Ok(FdctSparsifier {
             fdct: Fdct::new(rows, cols, config)?,
             fourier: Fourier::new(rows, cols)?,
@@ -379,7 +379,7 @@ pub struct SflctSparsifier {
 
 impl SflctSparsifier {
     /// Plans the transform for `rows x cols` images.
-    pub fn new(rows: usize, cols: usize, config: &SflctConfig) -> Result<Self> {
+    pub fn new(rows: usize, cols: usize, config: &SflctParams) -> Result<Self> {
         Ok(SflctSparsifier {
             sflct: Sflct::new(rows, cols, config)?,
         })
@@ -510,23 +510,23 @@ pub fn tuned_tau0(prior: &str) -> f64 {
 
 /// Configuration of the priors [`by_name`] builds.
 #[derive(Clone, Debug, PartialEq)]
-pub struct PriorConfig {
+pub struct PriorParams {
     /// The UDCT of `"udct"`.
-    pub udct: UdctConfig,
+    pub udct: UdctParams,
     /// The FDCT of `"fdct"`.
-    pub fdct: FdctConfig,
+    pub fdct: FdctParams,
     /// Directional levels per scale (coarsest first) of `"lrsflct"` and `"mrsflct"`.
     pub sflct_levels: Vec<usize>,
     /// Levels of the `"db<N>"` wavelets (the paper's baselines: 4).
     pub levels: usize,
 }
 
-impl Default for PriorConfig {
+impl Default for PriorParams {
     fn default() -> Self {
-        PriorConfig {
-            udct: UdctConfig::default(),
-            fdct: FdctConfig::default(),
-            sflct_levels: SflctConfig::default().dfb_levels,
+        PriorParams {
+            udct: UdctParams::default(),
+            fdct: FdctParams::default(),
+            sflct_levels: SflctParams::default().dfb_levels,
             levels: 4,
         }
     }
@@ -538,7 +538,7 @@ pub fn by_name(
     name: &str,
     rows: usize,
     cols: usize,
-    config: &PriorConfig,
+    config: &PriorParams,
 ) -> Result<Box<dyn Sparsifier>> {
     match name {
         "udct" => Ok(Box::new(UdctSparsifier::new(rows, cols, &config.udct)?)),
@@ -550,7 +550,7 @@ pub fn by_name(
             } else {
                 Redundancy::More
             };
-            let cfg = SflctConfig {
+            let cfg = SflctParams {
                 redundancy,
                 dfb_levels: config.sflct_levels.clone(),
             };
@@ -589,7 +589,7 @@ mod tests {
     fn udct_pair_equals_two_real_transforms_and_is_parseval() {
         let (r, c) = (64, 96);
         for wedges in [vec![[6, 6]], vec![[3, 3], [6, 6]]] {
-            let cfg = UdctConfig {
+            let cfg = UdctParams {
                 wedges,
                 ..Default::default()
             };

@@ -2,7 +2,7 @@
 
 use num_complex::Complex64;
 use wscg_cs_mri::baselines::{self, CompositeParams};
-use wscg_cs_mri::sparsifier::PriorConfig;
+use wscg_cs_mri::sparsifier::PriorParams;
 use wscg_cs_mri::*;
 use wscg_math::progress::NoProgress;
 use wscg_math::rng;
@@ -44,7 +44,7 @@ fn configs() -> Vec<Vec<[usize; 2]>> {
 fn udct_is_an_exact_tight_frame_of_redundancy_four() {
     for n in [256usize, 512] {
         for wedges in configs() {
-            let cfg = UdctConfig {
+            let cfg = UdctParams {
                 wedges: wedges.clone(),
                 ..Default::default()
             };
@@ -93,7 +93,7 @@ fn tight_windows_differ_from_the_reference_windows_only_in_aliased_tails() {
         let loose = Udct::new(
             n,
             n,
-            &UdctConfig {
+            &UdctParams {
                 wedges: wedges.clone(),
                 tight: false,
                 ..Default::default()
@@ -103,7 +103,7 @@ fn tight_windows_differ_from_the_reference_windows_only_in_aliased_tails() {
         let tight = Udct::new(
             n,
             n,
-            &UdctConfig {
+            &UdctParams {
                 wedges: wedges.clone(),
                 ..Default::default()
             },
@@ -140,7 +140,7 @@ fn tight_windows_differ_from_the_reference_windows_only_in_aliased_tails() {
 #[test]
 fn plane_waves_land_in_the_wedges_of_their_direction() {
     let n = 128;
-    let u = Udct::new(n, n, &UdctConfig::default()).unwrap();
+    let u = Udct::new(n, n, &UdctParams::default()).unwrap();
     let bands = u.bands();
     for deg in [0.0f64, 20.0, 45.0, 70.0, 100.0, 135.0, 160.0] {
         let th = deg.to_radians();
@@ -209,7 +209,7 @@ fn fdct_is_an_exact_tight_frame() {
         let f = Fdct::new(
             r,
             c,
-            &FdctConfig {
+            &FdctParams {
                 finest,
                 ..Default::default()
             },
@@ -255,7 +255,7 @@ fn fdct_is_an_exact_tight_frame() {
 #[test]
 fn fdct_plane_waves_land_in_the_wedge_of_their_direction() {
     let n = 256;
-    let f = Fdct::new(n, n, &FdctConfig::default()).unwrap();
+    let f = Fdct::new(n, n, &FdctParams::default()).unwrap();
     assert_eq!(f.num_scales(), 5);
     let bands = f.bands();
     let per_scale: Vec<usize> = (0..5)
@@ -338,7 +338,7 @@ fn shepp_logan(n: usize, rate: f64, seed: u64) -> (KSpace, Vec<Complex64>) {
 
 fn udct_l1(data: &KSpace, p: &CsalsaParams, reference: Option<&[Complex64]>) -> Recon {
     let (r, c) = data.shape();
-    let psi = UdctSparsifier::new(r, c, &UdctConfig::default()).unwrap();
+    let psi = UdctSparsifier::new(r, c, &UdctParams::default()).unwrap();
     csalsa(
         data,
         &psi,
@@ -497,7 +497,7 @@ fn mse_reaches_its_floor_by_iteration_25_on_noisy_data() {
 fn tv_variant_matches_a_direct_tv_constrained_solver() {
     let n = 128;
     let (data, reference) = shepp_logan(n, 0.4, 1);
-    let psi = UdctSparsifier::new(n, n, &UdctConfig::default()).unwrap();
+    let psi = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
     let p = CsalsaParams {
         max_iter: 500,
         ..Default::default()
@@ -565,7 +565,7 @@ fn radial_lattice_udct_three_scales_beats_db4() {
         .map(|&v| Complex64::new(v, 0.0))
         .collect();
     let data = KSpace::simulate(n, n, &img, mask).unwrap();
-    let udct = UdctSparsifier::new(n, n, &UdctConfig::uniform(3, 6)).unwrap();
+    let udct = UdctSparsifier::new(n, n, &UdctParams::uniform(3, 6)).unwrap();
     let db4 = WaveletSparsifier::new(n, n, 4, 4).unwrap();
     let best = |psi: &dyn Sparsifier| -> f64 {
         TAU_GRID
@@ -598,16 +598,16 @@ fn bad_input_is_rejected_with_clear_errors() {
     bad[0] = Complex64::new(f64::NAN, 0.0);
     assert!(KSpace::new(n, n, bad, mask.clone()).is_err());
     // Sizes not divisible by the decimation: the message names the divisor.
-    let e = Udct::new(102, 64, &UdctConfig::default()).unwrap_err();
+    let e = Udct::new(102, 64, &UdctParams::default()).unwrap_err();
     assert!(e.to_string().contains("divisible by 4"), "{e}");
-    let e = Udct::new(120, 120, &UdctConfig::uniform(3, 6)).unwrap_err();
+    let e = Udct::new(120, 120, &UdctParams::uniform(3, 6)).unwrap_err();
     assert!(e.to_string().contains("divisible by 16"), "{e}");
     // Wedge counts.
     for w in [vec![[4, 6]], vec![[0, 3]], vec![]] {
         assert!(Udct::new(
             64,
             64,
-            &UdctConfig {
+            &UdctParams {
                 wedges: w,
                 ..Default::default()
             }
@@ -616,7 +616,7 @@ fn bad_input_is_rejected_with_clear_errors() {
     }
     // eps < 0, tau <= 0.
     let data = KSpace::new(n, n, k, mask).unwrap();
-    let psi = UdctSparsifier::new(n, n, &UdctConfig::default()).unwrap();
+    let psi = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
     for p in [
         CsalsaParams {
             epsilon: -1.0,
@@ -641,7 +641,7 @@ fn bad_input_is_rejected_with_clear_errors() {
     let r = csalsa(&data, &psi, Regularizer::default(), &p, None, &NoProgress).unwrap();
     assert_eq!(r.image, data.zero_filled());
     // A prior planned for another shape.
-    let other = UdctSparsifier::new(32, 32, &UdctConfig::default()).unwrap();
+    let other = UdctSparsifier::new(32, 32, &UdctParams::default()).unwrap();
     assert!(csalsa(
         &data,
         &other,
@@ -655,9 +655,9 @@ fn bad_input_is_rejected_with_clear_errors() {
     assert!(masks::cartesian(n, n, 0.0, 0.0, 1).is_err());
     assert!(masks::cartesian(n, n, 0.4, 0.5, 1).is_err());
     assert!(masks::pseudo_radial(n, n, 1.5).is_err());
-    assert!(sparsifier::by_name("curvelet", n, n, &PriorConfig::default()).is_err());
+    assert!(sparsifier::by_name("curvelet", n, n, &PriorParams::default()).is_err());
     // FDCT configuration and inputs.
-    let fd = |angles_coarse: usize, scales: Option<usize>, transition: f64| FdctConfig {
+    let fd = |angles_coarse: usize, scales: Option<usize>, transition: f64| FdctParams {
         angles_coarse,
         scales,
         transition,
@@ -675,9 +675,9 @@ fn bad_input_is_rejected_with_clear_errors() {
         let e = Fdct::new(n, n, &cfg).unwrap_err();
         assert!(e.to_string().contains(what), "{e}");
     }
-    assert!(Fdct::new(0, n, &FdctConfig::default()).is_err());
+    assert!(Fdct::new(0, n, &FdctParams::default()).is_err());
     assert!(Finest::by_name("ridgelets").is_err());
-    let f = Fdct::new(n, n, &FdctConfig::default()).unwrap();
+    let f = Fdct::new(n, n, &FdctParams::default()).unwrap();
     let e = f
         .forward(&vec![Complex64::new(0.0, 0.0); n * n - 1])
         .unwrap_err();
@@ -721,7 +721,7 @@ fn tune_on_development_image() {
     let n = 256;
     let (data, img) = development_case(n);
     for prior in ["udct", "fdct", "lrsflct", "mrsflct", "db4"] {
-        let psi = sparsifier::by_name(prior, n, n, &PriorConfig::default()).unwrap();
+        let psi = sparsifier::by_name(prior, n, n, &PriorParams::default()).unwrap();
         for tau0 in TAU_GRID {
             println!(
                 "{prior} tau0 {tau0}: {:.3} dB",
@@ -772,7 +772,7 @@ fn tune_on_development_image() {
 fn udct_prior_is_not_worse_than_db4_on_a_complex_phase_image() {
     let n = 256;
     let (data, img) = complex_phase_case(n);
-    let udct = UdctSparsifier::new(n, n, &UdctConfig::default()).unwrap();
+    let udct = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
     let db4 = WaveletSparsifier::new(n, n, 4, 4).unwrap();
     let run = |psi: &dyn Sparsifier, tau0: f64| {
         let p = CsalsaParams {
@@ -797,7 +797,7 @@ fn udct_prior_is_not_worse_than_db4_on_a_complex_phase_image() {
 fn udct_prior_is_not_worse_than_the_composite_baselines() {
     let n = 256;
     let (data, img) = complex_phase_case(n);
-    let udct = UdctSparsifier::new(n, n, &UdctConfig::default()).unwrap();
+    let udct = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
     let p = CsalsaParams::default();
     let r = csalsa(&data, &udct, Regularizer::default(), &p, None, &NoProgress).unwrap();
     let pu = metrics::psnr(&img, &r.image).unwrap();
@@ -879,7 +879,7 @@ fn condat_vu_reaches_a_lower_objective_than_fcsa() {
 // ---------- the SFLCT priors of Tables 2 and 3 (Lu & Do 2006) ----------
 
 fn sflct(redundancy: sflct::Redundancy) -> sflct::Sflct {
-    let cfg = sflct::SflctConfig {
+    let cfg = sflct::SflctParams {
         redundancy,
         ..Default::default()
     };
@@ -1002,7 +1002,7 @@ fn psnr_at(data: &KSpace, reference: &[Complex64], psi: &dyn Sparsifier, tau0: f
 /// PSNR of C-SALSA-l1 with a named prior at its development-image tau0.
 fn prior_psnr(data: &KSpace, reference: &[Complex64], prior: &str) -> f64 {
     let (r, c) = data.shape();
-    let psi = sparsifier::by_name(prior, r, c, &PriorConfig::default()).unwrap();
+    let psi = sparsifier::by_name(prior, r, c, &PriorParams::default()).unwrap();
     psnr_at(data, reference, psi.as_ref(), sparsifier::tuned_tau0(prior))
 }
 
@@ -1058,7 +1058,7 @@ fn udct_prior_beats_both_sflct_priors() {
 /// rejected with messages naming the problem.
 #[test]
 fn sflct_bad_input_is_rejected() {
-    let cfg = |levels: Vec<usize>| sflct::SflctConfig {
+    let cfg = |levels: Vec<usize>| sflct::SflctParams {
         dfb_levels: levels,
         ..Default::default()
     };
@@ -1079,7 +1079,7 @@ fn sflct_bad_input_is_rejected() {
         "mrsflct",
         64,
         64,
-        &PriorConfig {
+        &PriorParams {
             sflct_levels: vec![2, 3],
             ..Default::default()
         },

@@ -13,7 +13,7 @@ use crate::warp::{apply_h, bilinear};
 
 /// Options of [`align_homography`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AlignOpts {
+pub struct AlignParams {
     /// Pyramid levels (1 = full resolution only; default 3).
     pub levels: usize,
     /// ECC iterations per level, coarsest first; the last value repeats (default 30, 15, 5).
@@ -22,9 +22,9 @@ pub struct AlignOpts {
     pub eps: f64,
 }
 
-impl Default for AlignOpts {
+impl Default for AlignParams {
     fn default() -> Self {
-        AlignOpts {
+        AlignParams {
             levels: 3,
             iterations: [30, 15, 5],
             eps: 1e-5,
@@ -287,7 +287,7 @@ pub fn align_homography(
     src: &Image<f32>,
     dst: &Image<f32>,
     init: Option<Matrix3<f64>>,
-    opts: &AlignOpts,
+    opts: &AlignParams,
 ) -> Result<Alignment> {
     check_frame(src, "src")?;
     check_frame(dst, "dst")?;

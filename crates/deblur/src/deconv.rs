@@ -12,7 +12,7 @@ use crate::wstep::WLut;
 
 /// Parameters of the hyper-Laplacian solver (paper eqs. 7-8, Krishnan & Fergus 2009).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HlParams {
+pub struct HyperLaplacianParams {
     /// Data weight `lambda` for intensities in `[0, 1]` (default 2000, KF's demo value).
     pub lambda: f32,
     /// Gradient exponent `alpha` in `(0, 2]` (default 1/2, the paper's choice).
@@ -27,9 +27,9 @@ pub struct HlParams {
     pub inner: usize,
 }
 
-impl Default for HlParams {
+impl Default for HyperLaplacianParams {
     fn default() -> Self {
-        HlParams {
+        HyperLaplacianParams {
             lambda: 2000.0,
             alpha: 0.5,
             beta0: 1.0,
@@ -40,7 +40,7 @@ impl Default for HlParams {
     }
 }
 
-impl HlParams {
+impl HyperLaplacianParams {
     /// Errors: `lambda <= 0`, `alpha` outside `(0, 2]`, a `beta` schedule that does not grow,
     /// `inner == 0`, non-finite values.
     pub fn validate(&self) -> Result<()> {
@@ -118,7 +118,7 @@ pub(crate) fn hyper_laplacian(
     b: &[f32],
     otf: &[Complex32],
     prior: Option<(&[f32], f32)>,
-    p: &HlParams,
+    p: &HyperLaplacianParams,
     luts: &[Arc<WLut>],
     work: &mut Work,
 ) -> Vec<f32> {

@@ -202,7 +202,7 @@ pub fn blurriness(k: &Kernel) -> f64 {
 
 /// Options of [`render_kernel`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct KernelOpts {
+pub struct KernelParams {
     /// Fewest time sub-steps over the exposure (default 32).
     pub min_steps: usize,
     /// Sub-steps are refined until consecutive projections are closer than this (px, 0.25).
@@ -215,9 +215,9 @@ pub struct KernelOpts {
     pub max_size: usize,
 }
 
-impl Default for KernelOpts {
+impl Default for KernelParams {
     fn default() -> Self {
-        KernelOpts {
+        KernelParams {
             min_steps: 32,
             max_step_px: 0.25,
             max_steps: 4096,
@@ -227,10 +227,10 @@ impl Default for KernelOpts {
     }
 }
 
-impl KernelOpts {
+impl KernelParams {
     /// A fixed number of sub-steps (no refinement).
     pub fn fixed(steps: usize) -> Self {
-        KernelOpts {
+        KernelParams {
             min_steps: steps,
             max_steps: steps,
             ..Default::default()
@@ -360,7 +360,7 @@ pub fn render_kernel(
     timing: &Timing,
     k: &Intrinsics,
     pixel: (f64, f64),
-    opts: &KernelOpts,
+    opts: &KernelParams,
 ) -> Result<Kernel> {
     timing.validate()?;
     k.validate()?;
@@ -471,7 +471,7 @@ pub fn kernel_grid(
     width: usize,
     height: usize,
     tile: usize,
-    opts: &KernelOpts,
+    opts: &KernelParams,
 ) -> Result<KernelGrid> {
     let (rows, cols) = grid_shape(width, height, tile)?;
     let kernels = (0..rows * cols)

@@ -23,11 +23,11 @@
 //! `[0, 1]` (the multi-frame pipeline converts with the gamma camera response of section 3.3).
 //!
 //! ```
-//! use wscg_deblur::{deconv_hl, synth, HlParams, Kernel};
+//! use wscg_deblur::{deconv_hl, synth, HyperLaplacianParams, Kernel};
 //! let sharp = synth::scene(64, 64, 1).unwrap();
 //! let k = Kernel::line(7.0, 0.3).unwrap();
 //! let blurred = wscg_deblur::tiling::convolve(&sharp, &k).unwrap();
-//! let restored = deconv_hl(&blurred, &k, &HlParams::default()).unwrap();
+//! let restored = deconv_hl(&blurred, &k, &HyperLaplacianParams::default()).unwrap();
 //! assert_eq!(restored.shape(), (64, 64, 1));
 //! ```
 #![warn(missing_docs)]
@@ -46,14 +46,14 @@ pub mod tiling;
 pub mod warp;
 pub mod wstep;
 
-pub use align::{align_homography, AlignOpts, Alignment};
+pub use align::{align_homography, AlignParams, Alignment};
 pub use calibrate::{estimate_time_delay, phase_correlation};
 pub use camera::{Gamma, Intrinsics, Timing};
-pub use deconv::HlParams;
+pub use deconv::HyperLaplacianParams;
 pub use gyro::{GyroSample, GyroTrack};
-pub use kernel::{blurriness, kernel_grid, render_kernel, Kernel, KernelGrid, KernelOpts};
+pub use kernel::{blurriness, kernel_grid, render_kernel, Kernel, KernelGrid, KernelParams};
 pub use multiframe::{
-    deblur_frame, deblur_multiframe, frame_weights, AlignMode, DeblurOutput, FrameInput, MultiOpts,
+    deblur_frame, deblur_multiframe, frame_weights, AlignMode, DeblurOutput, FrameInput, MultiframeParams,
 };
 pub use spectral::smooth_size;
 pub use tiling::{

@@ -7,11 +7,11 @@ use nalgebra::Matrix3;
 use wscg_math::progress::Progress;
 use wscg_math::{Error, Image, Result};
 
-use crate::align::{align_homography, correlation, degenerate, AlignOpts};
+use crate::align::{align_homography, correlation, degenerate, AlignParams};
 use crate::camera::{to_display, Gamma, Intrinsics, Timing};
-use crate::deconv::{self, HlParams};
+use crate::deconv::{self, HyperLaplacianParams};
 use crate::gyro::GyroTrack;
-use crate::kernel::{blurriness, kernel_grid, render_kernel, KernelGrid, KernelOpts};
+use crate::kernel::{blurriness, kernel_grid, render_kernel, KernelGrid, KernelParams};
 use crate::spectral::window;
 use crate::tiling::{check_frame, deblur_piecewise, run_tiles, Method, Tiling};
 use crate::warp::{apply_h, rectify_rolling_shutter, warp_homography};
@@ -32,12 +32,12 @@ pub enum AlignMode {
     /// The gyroscope's rotation between the frames, `K R_main^T R_j K^-1`, as is.
     Gyro,
     /// The gyroscope's prediction refined by ECC (default).
-    Ecc(AlignOpts),
+    Ecc(AlignParams),
 }
 
 /// Options of [`deblur_multiframe`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MultiOpts {
+pub struct MultiframeParams {
     /// Exposure time `t_e` (s).
     pub t_exposure: f64,
     /// Rolling-shutter readout `t_r` (s, 0 for a global shutter).
@@ -49,12 +49,12 @@ pub struct MultiOpts {
     /// Region layout (30 px regions).
     pub tiling: Tiling,
     /// Hyper-Laplacian solver parameters.
-    pub hl: HlParams,
+    pub hl: HyperLaplacianParams,
     /// Weight `mu` of the multi-frame prior (eq. 9; default 250 = lambda / 8, tuned on the
     /// development image, benches/peers/_12_tune.py).
     pub mu: f32,
     /// Kernel rendering options.
-    pub kernel: KernelOpts,
+    pub kernel: KernelParams,
     /// Alignment of the neighbours.
     pub align: AlignMode,
     /// A neighbour whose aligned correlation with the main estimate is below this is dropped
@@ -64,18 +64,18 @@ pub struct MultiOpts {
     pub radius: Option<usize>,
 }
 
-impl Default for MultiOpts {
+impl Default for MultiframeParams {
     fn default() -> Self {
-        MultiOpts {
+        MultiframeParams {
             t_exposure: 0.03,
             t_readout: 0.0,
             t_delay: 0.0,
             gamma: Some(Gamma::default()),
             tiling: Tiling::default(),
-            hl: HlParams::default(),
+            hl: HyperLaplacianParams::default(),
             mu: 250.0,
-            kernel: KernelOpts::default(),
-            align: AlignMode::Ecc(AlignOpts::default()),
+            kernel: KernelParams::default(),
+            align: AlignMode::Ecc(AlignParams::default()),
             min_ncc: 0.8,
             radius: None,
         }
@@ -102,7 +102,7 @@ pub struct DeblurOutput {
     pub warnings: Vec<String>,
 }
 
-impl MultiOpts {
+impl MultiframeParams {
     fn validate(&self) -> Result<()> {
         Timing {
             t_frame: 0.0,
@@ -163,7 +163,7 @@ fn prepare(
     frame: &FrameInput,
     track: &GyroTrack,
     k: &Intrinsics,
-    opts: &MultiOpts,
+    opts: &MultiframeParams,
 ) -> Result<(Image<f32>, KernelGrid)> {
     check_frame(&frame.image, "frame")?;
     let (h, w) = (frame.image.height(), frame.image.width());
@@ -188,7 +188,7 @@ pub fn deblur_frame(
     track: &GyroTrack,
     k: &Intrinsics,
     method: &Method,
-    opts: &MultiOpts,
+    opts: &MultiframeParams,
 ) -> Result<(Image<f32>, KernelGrid)> {
     opts.validate()?;
     k.validate()?;
@@ -219,7 +219,7 @@ pub fn deblur_multiframe(
     main: usize,
     track: &GyroTrack,
     k: &Intrinsics,
-    opts: &MultiOpts,
+    opts: &MultiframeParams,
     progress: &dyn Progress,
 ) -> Result<DeblurOutput> {
     if frames.is_empty() {

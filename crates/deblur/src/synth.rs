@@ -17,7 +17,7 @@ use crate::warp::bicubic;
 
 /// Hand-shake model: an Ornstein-Uhlenbeck process per camera axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OuParams {
+pub struct ShakeParams {
     /// Sampling rate in Hz (default 200, the paper's phone gyroscope).
     pub rate: f64,
     /// Correlation time in seconds (default 0.05).
@@ -31,9 +31,9 @@ pub struct OuParams {
     pub duration: f64,
 }
 
-impl Default for OuParams {
+impl Default for ShakeParams {
     fn default() -> Self {
-        OuParams {
+        ShakeParams {
             rate: 200.0,
             tau: 0.05,
             std: [0.35, 0.35, 0.10],
@@ -47,7 +47,7 @@ impl Default for OuParams {
 /// stationary distribution), in camera axes, noise-free.
 ///
 /// Errors: non-positive rate, correlation time or duration; negative deviations.
-pub fn ou_gyro(p: &OuParams, seed: u64) -> Result<Vec<GyroSample>> {
+pub fn ou_gyro(p: &ShakeParams, seed: u64) -> Result<Vec<GyroSample>> {
     if !(p.rate > 0.0 && p.tau > 0.0 && p.duration > 0.0 && p.t0.is_finite())
         || p.std.iter().any(|s| s.is_nan() || *s < 0.0)
     {
@@ -94,7 +94,7 @@ pub fn add_gyro_noise(samples: &[GyroSample], sigma: f64, seed: u64) -> Result<V
 
 /// Options of [`render_blurred`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderOpts {
+pub struct BlurRenderParams {
     /// Fewest time sub-steps per row (default 64); more are used so that consecutive
     /// sub-steps move the image by at most half a pixel.
     pub min_steps: usize,
@@ -106,9 +106,9 @@ pub struct RenderOpts {
     pub quantise: bool,
 }
 
-impl Default for RenderOpts {
+impl Default for BlurRenderParams {
     fn default() -> Self {
-        RenderOpts {
+        BlurRenderParams {
             min_steps: 64,
             noise_sigma: 0.005,
             gamma: Some(Gamma::default()),
@@ -132,7 +132,7 @@ pub fn render_blurred(
     timing: &Timing,
     k: &Intrinsics,
     t_world: f64,
-    opts: &RenderOpts,
+    opts: &BlurRenderParams,
     seed: u64,
 ) -> Result<Image<f32>> {
     check_frame(sharp, "sharp")?;
@@ -209,7 +209,7 @@ pub fn render_blurred(
 }
 
 /// Noise, camera response and quantisation of a rendered linear frame.
-fn finish(data: &mut [f32], opts: &RenderOpts, seed: u64) {
+fn finish(data: &mut [f32], opts: &BlurRenderParams, seed: u64) {
     if opts.noise_sigma > 0.0 {
         rng::par_fill(seed, data.len(), |r| r.sample::<f32, _>(StandardNormal))
             .iter()
@@ -378,10 +378,10 @@ pub struct SyntheticBurst {
 pub fn make_burst(
     sharp: &Image<f32>,
     burst: &Burst,
-    ou: &OuParams,
+    ou: &ShakeParams,
     main: usize,
     gyro_noise: f64,
-    render: &RenderOpts,
+    render: &BlurRenderParams,
     seed: u64,
 ) -> Result<SyntheticBurst> {
     if main >= burst.frames {
@@ -390,7 +390,7 @@ pub fn make_burst(
             format!("index {main} is out of range for {} frames", burst.frames),
         ));
     }
-    let ou = OuParams {
+    let ou = ShakeParams {
         duration: ou.duration.max(burst.duration() - ou.t0),
         ..*ou
     };

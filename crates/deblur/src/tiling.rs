@@ -7,7 +7,7 @@ use num_complex::Complex32;
 use rayon::prelude::*;
 use wscg_math::{Error, Image, Result};
 
-use crate::deconv::{self, HlParams, Work};
+use crate::deconv::{self, HyperLaplacianParams, Work};
 use crate::kernel::{Kernel, KernelGrid};
 use crate::spectral::{smooth_size, window, Grid};
 
@@ -67,10 +67,10 @@ pub enum Method {
         iters: usize,
     },
     /// Krishnan-Fergus hyper-Laplacian per region (Table 1 "KS").
-    HyperLaplacian(HlParams),
+    HyperLaplacian(HyperLaplacianParams),
     /// Krishnan-Fergus on the whole frame with the kernel of the frame centre: the uniform-blur
     /// assumption of blind tools such as the paper's Photoshop comparison ("GU").
-    GlobalUniform(HlParams),
+    GlobalUniform(HyperLaplacianParams),
 }
 
 impl Method {
@@ -94,8 +94,8 @@ impl Method {
         Ok(match name {
             "wiener" | "w" => Method::Wiener { nsr: 0.03 },
             "rl" | "richardson-lucy" | "richardson_lucy" => Method::RichardsonLucy { iters: 20 },
-            "krishnan" | "ks" | "hyper-laplacian" => Method::HyperLaplacian(HlParams::default()),
-            "global" | "gu" => Method::GlobalUniform(HlParams::default()),
+            "krishnan" | "ks" | "hyper-laplacian" => Method::HyperLaplacian(HyperLaplacianParams::default()),
+            "global" | "gu" => Method::GlobalUniform(HyperLaplacianParams::default()),
             other => {
                 return Err(Error::invalid(
                     "method",
@@ -296,10 +296,10 @@ fn whole(frame: &Image<f32>, k: &Kernel) -> Result<(KernelGrid, Tiling)> {
 
 /// Krishnan-Fergus deconvolution of a whole linear-intensity image with one uniform kernel
 /// (paper eqs. 7-8): mirrored margin of the kernel radius + 4, edge taper, then the
-/// half-quadratic continuation of [`HlParams`].
+/// half-quadratic continuation of [`HyperLaplacianParams`].
 ///
 /// Errors: as [`deblur_piecewise`].
-pub fn deconv_hl(image: &Image<f32>, k: &Kernel, p: &HlParams) -> Result<Image<f32>> {
+pub fn deconv_hl(image: &Image<f32>, k: &Kernel, p: &HyperLaplacianParams) -> Result<Image<f32>> {
     p.validate()?;
     let (grid, tiling) = whole(image, k)?;
     let luts = p.luts();
@@ -318,7 +318,7 @@ pub fn deconv_hl_multi(
     k: &Kernel,
     prior: &Image<f32>,
     mu: f32,
-    p: &HlParams,
+    p: &HyperLaplacianParams,
 ) -> Result<Image<f32>> {
     p.validate()?;
     check_frame(prior, "prior")?;

@@ -3,7 +3,7 @@
 use wscg_deblur::tiling::{convolve, convolve_piecewise};
 use wscg_deblur::wstep::{w_energy, w_exact, WLut};
 use wscg_deblur::{
-    deblur_piecewise, deconv_hl, richardson_lucy, synth, wiener, HlParams, Kernel, KernelGrid,
+    deblur_piecewise, deconv_hl, richardson_lucy, synth, wiener, HyperLaplacianParams, Kernel, KernelGrid,
     Method, Tiling,
 };
 use wscg_math::metrics::psnr;
@@ -56,7 +56,7 @@ fn w_step_for_other_exponents_is_a_minimum() {
 #[test]
 fn lookup_table_agrees_with_the_exact_solver() {
     for alpha in [0.5f64, 2.0 / 3.0, 1.0] {
-        for &beta in &HlParams::default().betas() {
+        for &beta in &HyperLaplacianParams::default().betas() {
             let lut = WLut::new(alpha, beta as f64);
             for i in 0..=20_000 {
                 let v = -3.0 + 6.0 * i as f64 / 20_000.0;
@@ -112,7 +112,7 @@ fn krishnan_fergus_beats_blur_and_the_best_wiener_on_a_diagonal_line_blur() {
                 &deconv_hl(
                     &blurred,
                     &k,
-                    &HlParams {
+                    &HyperLaplacianParams {
                         lambda,
                         ..Default::default()
                     },
@@ -142,7 +142,7 @@ fn deblurring_an_unblurred_image_has_no_seams() {
     let sharp = synth::scene(150, 210, 2).unwrap();
     let grid = KernelGrid::uniform(Kernel::delta(), 210, 150, 30).unwrap();
     let tiling = Tiling::default();
-    let p = HlParams::default();
+    let p = HyperLaplacianParams::default();
     for (m, whole) in [
         (
             Method::HyperLaplacian(p),
@@ -216,15 +216,15 @@ fn solver_rejects_bad_parameters() {
     let img = synth::scene(40, 40, 1).unwrap();
     let k = Kernel::delta();
     for p in [
-        HlParams {
+        HyperLaplacianParams {
             alpha: 0.0,
             ..Default::default()
         },
-        HlParams {
+        HyperLaplacianParams {
             alpha: 2.5,
             ..Default::default()
         },
-        HlParams {
+        HyperLaplacianParams {
             lambda: -1.0,
             ..Default::default()
         },
@@ -233,12 +233,12 @@ fn solver_rejects_bad_parameters() {
     }
     let mut bad = img.clone();
     bad.data_mut()[7] = f32::NAN;
-    assert!(deconv_hl(&bad, &k, &HlParams::default())
+    assert!(deconv_hl(&bad, &k, &HyperLaplacianParams::default())
         .unwrap_err()
         .to_string()
         .contains("non-finite"));
     let rgb = Image::filled(10, 10, 3, 0.5f32).unwrap();
-    assert!(deconv_hl(&rgb, &k, &HlParams::default())
+    assert!(deconv_hl(&rgb, &k, &HyperLaplacianParams::default())
         .unwrap_err()
         .to_string()
         .contains("single-channel"));
@@ -258,7 +258,7 @@ fn uniform_blur_deblurred_by_regions_has_no_seams() {
     let k = Kernel::line(9.0, 0.4).unwrap();
     let blurred = noisy(&convolve(&sharp, &k).unwrap(), 0.002, 3);
     let grid = KernelGrid::uniform(k.clone(), 210, 150, 30).unwrap();
-    let p = HlParams::default();
+    let p = HyperLaplacianParams::default();
     let out = deblur_piecewise(
         &blurred,
         &grid,

@@ -2,7 +2,7 @@
 
 use nalgebra::{Rotation3, Vector3};
 use wscg_deblur::{
-    blurriness, render_kernel, GyroSample, GyroTrack, Intrinsics, KernelOpts, Timing,
+    blurriness, render_kernel, GyroSample, GyroTrack, Intrinsics, KernelParams, Timing,
 };
 
 fn constant_rate(w: [f64; 3], rate: f64, duration: f64) -> Vec<GyroSample> {
@@ -37,7 +37,7 @@ fn segment_length(var: f64) -> f64 {
 #[test]
 fn pure_yaw_kernel_is_a_horizontal_segment_of_six_pixels() {
     let track = GyroTrack::from_camera_rates(&constant_rate([0.0, 0.3, 0.0], 200.0, 1.0)).unwrap();
-    let k = render_kernel(&track, &timing(), &K, (K.cx, K.cy), &KernelOpts::default()).unwrap();
+    let k = render_kernel(&track, &timing(), &K, (K.cx, K.cy), &KernelParams::default()).unwrap();
     let sum: f64 = k.data.iter().map(|&v| v as f64).sum();
     assert!((sum - 1.0).abs() < 1e-6, "sum {sum}");
     assert!(k.data.iter().all(|&v| v >= 0.0));
@@ -66,7 +66,7 @@ fn pure_roll_kernel_is_a_vertical_arc_of_six_pixels() {
         &timing(),
         &K,
         (K.cx + 300.0, K.cy),
-        &KernelOpts::default(),
+        &KernelParams::default(),
     )
     .unwrap();
     let (mx, my) = k.centroid();
@@ -99,8 +99,8 @@ fn camera_imu_rotation_permutes_the_axes() {
         .collect();
     let permuted = GyroTrack::new(&imu, r, Vector3::zeros()).unwrap();
     for p in [(10.0, 20.0), (K.cx, K.cy), (700.0, 470.0)] {
-        let a = render_kernel(&reference, &timing(), &K, p, &KernelOpts::default()).unwrap();
-        let b = render_kernel(&permuted, &timing(), &K, p, &KernelOpts::default()).unwrap();
+        let a = render_kernel(&reference, &timing(), &K, p, &KernelParams::default()).unwrap();
+        let b = render_kernel(&permuted, &timing(), &K, p, &KernelParams::default()).unwrap();
         assert!(a.l1_distance(&b) < 1e-5, "{}", a.l1_distance(&b));
     }
     // Without the rotation the kernels differ.
@@ -110,17 +110,17 @@ fn camera_imu_rotation_permutes_the_axes() {
         &timing(),
         &K,
         (K.cx, K.cy),
-        &KernelOpts::default(),
+        &KernelParams::default(),
     )
     .unwrap();
-    let b = render_kernel(&wrong, &timing(), &K, (K.cx, K.cy), &KernelOpts::default()).unwrap();
+    let b = render_kernel(&wrong, &timing(), &K, (K.cx, K.cy), &KernelParams::default()).unwrap();
     assert!(a.l1_distance(&b) > 0.5);
 }
 
 #[test]
 fn adaptive_steps_match_a_fine_fixed_sampling() {
     let samples = wscg_deblur::synth::ou_gyro(
-        &wscg_deblur::synth::OuParams {
+        &wscg_deblur::synth::ShakeParams {
             std: [0.6, 0.6, 0.4],
             ..Default::default()
         },
@@ -129,8 +129,8 @@ fn adaptive_steps_match_a_fine_fixed_sampling() {
     .unwrap();
     let track = GyroTrack::from_camera_rates(&samples).unwrap();
     for p in [(0.0, 0.0), (K.cx, K.cy), (719.0, 479.0), (100.0, 400.0)] {
-        let a = render_kernel(&track, &timing(), &K, p, &KernelOpts::default()).unwrap();
-        let b = render_kernel(&track, &timing(), &K, p, &KernelOpts::fixed(1024)).unwrap();
+        let a = render_kernel(&track, &timing(), &K, p, &KernelParams::default()).unwrap();
+        let b = render_kernel(&track, &timing(), &K, p, &KernelParams::fixed(1024)).unwrap();
         assert!(a.l1_distance(&b) < 0.02, "{}", a.l1_distance(&b));
         assert!(blurriness(&a) > 1.0);
     }
@@ -177,7 +177,7 @@ fn bad_input_is_reported() {
         t_frame: 0.99,
         ..timing()
     };
-    let e = render_kernel(&track, &late, &K, (K.cx, K.cy), &KernelOpts::default())
+    let e = render_kernel(&track, &late, &K, (K.cx, K.cy), &KernelParams::default())
         .unwrap_err()
         .to_string();
     assert!(e.contains("cover") && e.contains("gap"), "{e}");
@@ -191,7 +191,7 @@ fn bad_input_is_reported() {
             ..timing()
         },
     ] {
-        assert!(render_kernel(&track, &bad, &K, (K.cx, K.cy), &KernelOpts::default()).is_err());
+        assert!(render_kernel(&track, &bad, &K, (K.cx, K.cy), &KernelParams::default()).is_err());
     }
     let bad_k = Intrinsics { f: 0.0, ..K };
     assert!(render_kernel(
@@ -199,13 +199,13 @@ fn bad_input_is_reported() {
         &timing(),
         &bad_k,
         (K.cx, K.cy),
-        &KernelOpts::default()
+        &KernelParams::default()
     )
     .unwrap_err()
     .to_string()
     .contains("focal"));
     let fast = GyroTrack::from_camera_rates(&constant_rate([0.0, 9.0, 0.0], 200.0, 1.0)).unwrap();
-    let e = render_kernel(&fast, &timing(), &K, (K.cx, K.cy), &KernelOpts::default())
+    let e = render_kernel(&fast, &timing(), &K, (K.cx, K.cy), &KernelParams::default())
         .unwrap_err()
         .to_string();
     assert!(e.contains("blur too large for tiling"), "{e}");

@@ -1,16 +1,16 @@
 //! Blur model (checks 2, 8, 9): the gyro kernels reproduce densely rendered blur, the
 //! rolling-shutter rectification removes the shear, the time delay is recovered.
 
-use wscg_deblur::synth::{self, Burst, OuParams, RenderOpts};
+use wscg_deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
 use wscg_deblur::tiling::convolve_piecewise;
 use wscg_deblur::{
     estimate_time_delay, kernel_grid, phase_correlation, rectify_rolling_shutter, GyroSample,
-    GyroTrack, Intrinsics, KernelGrid, KernelOpts, Tiling, Timing,
+    GyroTrack, Intrinsics, KernelGrid, KernelParams, Tiling, Timing,
 };
 use wscg_math::Image;
 
-fn linear() -> RenderOpts {
-    RenderOpts {
+fn linear() -> BlurRenderParams {
+    BlurRenderParams {
         noise_sigma: 0.0,
         gamma: None,
         quantise: false,
@@ -48,7 +48,7 @@ fn region_kernels_reproduce_dense_blur_and_flipped_kernels_do_not() {
     let (mut worst, mut worst_gap) = (f64::MAX, f64::MAX);
     for seed in 0..20 {
         let samples = synth::ou_gyro(
-            &OuParams {
+            &ShakeParams {
                 duration: burst.duration(),
                 ..Default::default()
             },
@@ -60,7 +60,7 @@ fn region_kernels_reproduce_dense_blur_and_flipped_kernels_do_not() {
         let dense =
             synth::render_blurred(&sharp, &track, &timing, &k, timing.open(0.0), &linear(), 0)
                 .unwrap();
-        let grid = kernel_grid(&track, &timing, &k, w, h, 30, &KernelOpts::default()).unwrap();
+        let grid = kernel_grid(&track, &timing, &k, w, h, 30, &KernelParams::default()).unwrap();
         let model = convolve_piecewise(&sharp, &grid, &tiling).unwrap();
         let flipped = KernelGrid {
             kernels: grid.kernels.iter().map(|k| k.flipped()).collect(),
@@ -149,7 +149,7 @@ fn time_delay_is_recovered_from_ten_seconds_of_video() {
         ..Default::default()
     };
     let samples = synth::ou_gyro(
-        &OuParams {
+        &ShakeParams {
             duration: burst.duration(),
             std: [0.3, 0.3, 0.05],
             tau: 0.1,
@@ -163,7 +163,7 @@ fn time_delay_is_recovered_from_ten_seconds_of_video() {
     let measured_track = GyroTrack::from_camera_rates(&measured).unwrap();
     // Each consecutive pair is rendered with the world in the first frame's pose, so the
     // shake of ten seconds never leaves the scene.
-    let opts = RenderOpts {
+    let opts = BlurRenderParams {
         min_steps: 16,
         ..Default::default()
     };

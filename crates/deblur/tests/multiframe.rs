@@ -2,10 +2,10 @@
 //! Table-1 analogue on scikit-image's photographs.
 
 use wscg_deblur::metrics::quality;
-use wscg_deblur::synth::{self, Burst, OuParams, RenderOpts};
+use wscg_deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
 use wscg_deblur::{
     blurriness, deblur_frame, deblur_multiframe, render_kernel, FrameInput, GyroSample, GyroTrack,
-    HlParams, Intrinsics, KernelOpts, Method, MultiOpts, Timing,
+    HyperLaplacianParams, Intrinsics, KernelParams, Method, MultiframeParams, Timing,
 };
 use wscg_math::progress::NoProgress;
 use wscg_math::Image;
@@ -25,16 +25,16 @@ fn table1(sharp: &Image<f32>, seed: u64) -> Scores {
     let sb = synth::make_burst(
         sharp,
         &burst,
-        &OuParams::default(),
+        &ShakeParams::default(),
         2,
         0.002,
-        &RenderOpts::default(),
+        &BlurRenderParams::default(),
         seed,
     )
     .unwrap();
     let track = GyroTrack::from_camera_rates(&sb.measured).unwrap();
     let k = Intrinsics::centred(600.0, w, h);
-    let opts = MultiOpts {
+    let opts = MultiframeParams {
         t_delay: burst.t_delay,
         ..Default::default()
     };
@@ -48,7 +48,7 @@ fn table1(sharp: &Image<f32>, seed: u64) -> Scores {
             2,
             &track,
             &k,
-            &MultiOpts {
+            &MultiframeParams {
                 radius: Some(radius),
                 ..opts
             },
@@ -131,7 +131,7 @@ fn piecewise_kernels_beat_one_global_kernel_under_roll() {
     let (mut ks, mut gu) = (0.0, 0.0);
     let seeds = 3;
     for seed in 0..seeds {
-        let ou = OuParams {
+        let ou = ShakeParams {
             std: [0.1, 0.1, 1.0],
             ..Default::default()
         };
@@ -141,12 +141,12 @@ fn piecewise_kernels_beat_one_global_kernel_under_roll() {
             &ou,
             0,
             0.002,
-            &RenderOpts::default(),
+            &BlurRenderParams::default(),
             200 + seed,
         )
         .unwrap();
         let track = GyroTrack::from_camera_rates(&sb.measured).unwrap();
-        let opts = MultiOpts {
+        let opts = MultiframeParams {
             t_delay: burst.t_delay,
             ..Default::default()
         };
@@ -157,8 +157,8 @@ fn piecewise_kernels_beat_one_global_kernel_under_roll() {
             quality(&img, &sb.sharp_display, 16).unwrap().0
         };
         let (a, b) = (
-            q(Method::HyperLaplacian(HlParams::default())),
-            q(Method::GlobalUniform(HlParams::default())),
+            q(Method::HyperLaplacian(HyperLaplacianParams::default())),
+            q(Method::GlobalUniform(HyperLaplacianParams::default())),
         );
         eprintln!("seed {seed}: KS {a:.2} GU {b:.2}");
         ks += a / seeds as f64;
@@ -220,7 +220,7 @@ fn weights_steer_to_the_sharper_neighbour_per_region() {
                 &tm,
                 &k,
                 (k.cx - w as f64 / 4.0, k.cy),
-                &KernelOpts::default(),
+                &KernelParams::default(),
             )
             .unwrap(),
         )
@@ -248,7 +248,7 @@ fn weights_steer_to_the_sharper_neighbour_per_region() {
                     &tm,
                     &k,
                     world,
-                    &RenderOpts::default(),
+                    &BlurRenderParams::default(),
                     i as u64,
                 )
                 .unwrap(),
@@ -256,7 +256,7 @@ fn weights_steer_to_the_sharper_neighbour_per_region() {
             }
         })
         .collect();
-    let opts = MultiOpts {
+    let opts = MultiframeParams {
         t_exposure: t_e,
         t_delay: t_d,
         ..Default::default()
@@ -339,16 +339,16 @@ fn multiframe_bad_input_and_all_neighbours_dropped() {
     let sb = synth::make_burst(
         &sharp,
         &burst,
-        &OuParams::default(),
+        &ShakeParams::default(),
         1,
         0.002,
-        &RenderOpts::default(),
+        &BlurRenderParams::default(),
         7,
     )
     .unwrap();
     let track = GyroTrack::from_camera_rates(&sb.measured).unwrap();
     let k = Intrinsics::centred(600.0, w, h);
-    let opts = MultiOpts {
+    let opts = MultiframeParams {
         t_delay: burst.t_delay,
         ..Default::default()
     };
@@ -365,7 +365,7 @@ fn multiframe_bad_input_and_all_neighbours_dropped() {
     let mut nan = sb.frames.clone();
     nan[0].image.data_mut()[5] = f32::NAN;
     assert!(err(&nan, 1).contains("non-finite"));
-    let late = MultiOpts {
+    let late = MultiframeParams {
         t_delay: 5.0,
         ..opts
     };

@@ -22,11 +22,11 @@
 //!   error, bad-pixel rates and field coherence.
 //!
 //! ```
-//! use wscg_hdr::{multiscopic_hdr, synth, MultiscopicParams, PmParams};
-//! let cfg = synth::SceneCfg { height: 48, width: 64, times: vec![0.005, 0.04, 0.3],
+//! use wscg_hdr::{multiscopic_hdr, synth, MultiscopicParams, PatchMatchParams};
+//! let cfg = synth::SceneParams { height: 48, width: 64, times: vec![0.005, 0.04, 0.3],
 //!                             ..Default::default() };
 //! let scene = synth::layered_scene(&cfg, 1).unwrap();
-//! let p = MultiscopicParams { pm: PmParams { d_min: -40, d_max: 40, ..Default::default() },
+//! let p = MultiscopicParams { pm: PatchMatchParams { d_min: -40, d_max: 40, ..Default::default() },
 //!                             ..Default::default() };
 //! let out = multiscopic_hdr(&scene.views, &scene.times, &[scene.crf.clone()], &p,
 //!                           &wscg_math::progress::NoProgress).unwrap();
@@ -49,10 +49,10 @@ pub mod vote;
 
 pub use crf::{calibrate_debevec, Crf};
 pub use merge::{merge, merge_stack, MergeInput, Merged};
-pub use mitsunaga_nayar::{calibrate_mitsunaga_nayar, MnChannel, MnFit, MnParams};
+pub use mitsunaga_nayar::{calibrate_mitsunaga_nayar, MnChannel, MnFit, MitsunagaNayarParams};
 pub use multiscopic::{multiscopic_hdr, Align, MultiscopicOut, MultiscopicParams, Synthesis};
 pub use nnf::Nnf;
-pub use pm::{patchmatch, patchmatch_2d, patchmatch_weighted, PmParams};
+pub use pm::{patchmatch, patchmatch_2d, patchmatch_weighted, PatchMatchParams};
 pub use radiance::{khan_weight, to_radiance, to_samples, ViewSamples};
 pub use stereo::{zncc_stereo, StereoParams};
 pub use vote::{vote_bds, warp_direct};

@@ -28,7 +28,7 @@ use crate::crf::{check_stack, monotone_channel, sample_grid, Crf};
 
 /// Parameters of [`calibrate_mitsunaga_nayar`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MnParams {
+pub struct MitsunagaNayarParams {
     /// Degree `N` of the polynomial; `None` picks it in `1..=max_degree` per channel by the
     /// error on held-out samples (every second sample fits, the others judge; the smallest
     /// degree within 25 % of the best error).
@@ -48,7 +48,7 @@ pub struct MnParams {
     pub max_iter: usize,
 }
 
-impl Default for MnParams {
+impl Default for MitsunagaNayarParams {
     fn default() -> Self {
         Self {
             degree: None,
@@ -67,7 +67,7 @@ pub const MIN_UPPER: usize = 10;
 /// Largest polynomial degree accepted.
 pub const MAX_DEGREE: usize = 10;
 
-impl MnParams {
+impl MitsunagaNayarParams {
     /// Errors: a degree or `max_degree` outside `1..=`[`MAX_DEGREE`], no samples, a
     /// non-positive or non-finite `tol`, no iterations.
     pub fn validate(&self) -> Result<()> {
@@ -172,7 +172,7 @@ fn fit(
     obs: &[Obs],
     mut ratios: Vec<f64>,
     n: usize,
-    p: &MnParams,
+    p: &MitsunagaNayarParams,
     levels: usize,
 ) -> Result<(Vec<f64>, Vec<f64>, usize)> {
     // The change of f is measured at every code, or at 1025 evenly spaced values for deeper
@@ -239,7 +239,7 @@ pub fn calibrate_mitsunaga_nayar(
     stack: &[Image<u16>],
     times: &[f64],
     bits: u8,
-    p: &MnParams,
+    p: &MitsunagaNayarParams,
 ) -> Result<MnFit> {
     p.validate()?;
     let (levels, (h, w, ch)) = check_stack(stack, times, bits)?;

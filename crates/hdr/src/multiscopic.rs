@@ -9,7 +9,7 @@ use wscg_math::{Error, Image, Result};
 use crate::crf::Crf;
 use crate::merge::{merge, MergeInput};
 use crate::nnf::Nnf;
-use crate::pm::{patchmatch, patchmatch_weighted, PmParams};
+use crate::pm::{patchmatch, patchmatch_weighted, PatchMatchParams};
 use crate::radiance::{check_times, to_samples, ViewSamples};
 use crate::stereo::{zncc_stereo, StereoParams};
 use crate::vote::{vote_bds, warp_direct};
@@ -18,7 +18,7 @@ use crate::vote::{vote_bds, warp_direct};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Align {
     /// The paper: epipolar PatchMatch (with the coherence term unless disabled in
-    /// [`PmParams`]).
+    /// [`PatchMatchParams`]).
     Ours,
     /// Original 2-D PatchMatch (Barnes et al. 2009), SSD only.
     PatchMatch2d,
@@ -59,7 +59,7 @@ pub enum Synthesis {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MultiscopicParams {
     /// Matching parameters; `pm.iters` are the iterations per direction.
-    pub pm: PmParams,
+    pub pm: PatchMatchParams,
     /// Alignment method.
     pub align: Align,
     /// Synthesis of the patch-based methods (the ZNCC baseline always warps directly).
@@ -82,7 +82,7 @@ pub struct MultiscopicParams {
 impl Default for MultiscopicParams {
     fn default() -> Self {
         Self {
-            pm: PmParams::default(),
+            pm: PatchMatchParams::default(),
             align: Align::Ours,
             synthesis: Synthesis::Bds,
             ordered: false,
@@ -106,7 +106,7 @@ pub struct MultiscopicOut {
 
 /// The matching parameters of the ordered pair `(r, s)`: a seed of its own, and the
 /// one-sided disparity range of ordered views.
-pub fn pair_params(p: &MultiscopicParams, r: usize, s: usize) -> PmParams {
+pub fn pair_params(p: &MultiscopicParams, r: usize, s: usize) -> PatchMatchParams {
     let mut pm = p.pm;
     pm.seed =
         p.pm.seed
@@ -213,7 +213,7 @@ fn match_pair(e: &[ViewSamples], r: usize, s: usize, p: &MultiscopicParams) -> R
     let (a, b) = (&e[r].radiance, &e[s].radiance);
     let mut f = match p.align {
         Align::Ours => patchmatch_weighted(a, b, &e[r].weight, &e[s].weight, &pm),
-        Align::PatchMatch2d => patchmatch(a, b, &PmParams::barnes(pm.patch, pm.iters, pm.seed)),
+        Align::PatchMatch2d => patchmatch(a, b, &PatchMatchParams::barnes(pm.patch, pm.iters, pm.seed)),
         Align::Zncc => zncc_stereo(
             a,
             b,

@@ -22,7 +22,7 @@ use crate::nnf::Nnf;
 
 /// Parameters of [`patchmatch`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PmParams {
+pub struct PatchMatchParams {
     /// Patch side `N` (odd, `>= 3`; the paper's figures use 7).
     pub patch: usize,
     /// Iterations (the paper: "two iterations were enough").
@@ -50,7 +50,7 @@ pub struct PmParams {
     pub weighted_cost: bool,
 }
 
-impl Default for PmParams {
+impl Default for PatchMatchParams {
     fn default() -> Self {
         Self {
             patch: 7,
@@ -68,7 +68,7 @@ impl Default for PmParams {
     }
 }
 
-impl PmParams {
+impl PatchMatchParams {
     /// The original PatchMatch of Barnes et al. 2009: 2-D search over the whole source image,
     /// SSD cost without the coherence term.
     pub fn barnes(patch: usize, iters: usize, seed: u64) -> Self {
@@ -592,7 +592,7 @@ fn coherence_of(d2: i64, w: f32, c_min: f32) -> f32 {
 /// [`coherence_of`] for `d2 = 0, 1, ...` up to the first value where it equals `c_min`
 /// (every larger `d2` gives `c_min` too), at most 2^16 entries; empty without the coherence
 /// term.
-fn coherence_table(p: &PmParams, w: f32) -> Vec<f32> {
+fn coherence_table(p: &PatchMatchParams, w: f32) -> Vec<f32> {
     if !p.coherence {
         return Vec::new();
     }
@@ -615,7 +615,7 @@ struct Neighbours {
 /// The state of one PatchMatch run.
 struct Run<'a> {
     sp: Space<'a>,
-    p: PmParams,
+    p: PatchMatchParams,
     off: Vec<[i32; 2]>,
     cost: Vec<f32>,
     /// The SSD of each pixel's current offset (NaN until first computed). A pixel's cost
@@ -986,9 +986,9 @@ struct Cells {
 unsafe impl Send for Cells {}
 unsafe impl Sync for Cells {}
 
-/// The nearest-neighbour field from `a` to `b` (paper section 3.1), with [`PmParams`]
+/// The nearest-neighbour field from `a` to `b` (paper section 3.1), with [`PatchMatchParams`]
 /// choosing the paper's epipolar, coherence-penalised search (the default) or the original
-/// 2-D PatchMatch ([`PmParams::barnes`]). Images may differ in size but not in channels.
+/// 2-D PatchMatch ([`PatchMatchParams::barnes`]). Images may differ in size but not in channels.
 ///
 /// Epipolar mode: offsets `(d, dy)` with `d` in `[d_min, d_max]` and `|dy| <= v_tol`, every
 /// source centre inside `b`; initialised uniformly in that range (the paper: "random
@@ -997,8 +997,8 @@ unsafe impl Sync for Cells {}
 /// radius `max(W, H)`.
 ///
 /// Errors: channel counts differ; non-finite values; invalid parameters (see
-/// [`PmParams::validate`]).
-pub fn patchmatch(a: &Image<f32>, b: &Image<f32>, p: &PmParams) -> Result<Nnf> {
+/// [`PatchMatchParams::validate`]).
+pub fn patchmatch(a: &Image<f32>, b: &Image<f32>, p: &PatchMatchParams) -> Result<Nnf> {
     run_patchmatch(a, b, None, p)
 }
 
@@ -1013,7 +1013,7 @@ pub fn patchmatch_weighted(
     b: &Image<f32>,
     wa: &Image<f32>,
     wb: &Image<f32>,
-    p: &PmParams,
+    p: &PatchMatchParams,
 ) -> Result<Nnf> {
     if wa.shape() != a.shape() || wb.shape() != b.shape() {
         return Err(Error::ShapeMismatch(
@@ -1030,7 +1030,7 @@ fn run_patchmatch(
     a: &Image<f32>,
     b: &Image<f32>,
     weights: Option<(&[f32], &[f32])>,
-    p: &PmParams,
+    p: &PatchMatchParams,
 ) -> Result<Nnf> {
     check_pair(a, b)?;
     let (ha, wa, c) = a.shape();
@@ -1102,7 +1102,7 @@ pub fn patchmatch_2d(
     iters: usize,
     seed: u64,
 ) -> Result<Nnf> {
-    patchmatch(a, b, &PmParams::barnes(patch, iters, seed))
+    patchmatch(a, b, &PatchMatchParams::barnes(patch, iters, seed))
 }
 
 #[cfg(test)]
@@ -1188,11 +1188,11 @@ mod tests {
     #[test]
     fn coherence_table_is_eq_4_up_to_c_min() {
         for (d, c_min) in [(64, 0.05f32), (7, 0.3), (300, 0.2)] {
-            let p = PmParams {
+            let p = PatchMatchParams {
                 d_min: -d,
                 d_max: d,
                 c_min,
-                ..PmParams::default()
+                ..PatchMatchParams::default()
             };
             let w = p.max_disp() as f32;
             let t = coherence_table(&p, w);
@@ -1214,15 +1214,15 @@ mod tests {
             }
         }
         // A wide range: the table stops at 2^16 entries, short of c_min.
-        let wide = PmParams {
+        let wide = PatchMatchParams {
             d_min: -1000,
             d_max: 1000,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         };
         assert_eq!(coherence_table(&wide, 1000.0).len(), 1 << 16);
-        let off = PmParams {
+        let off = PatchMatchParams {
             coherence: false,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         };
         assert!(coherence_table(&off, 64.0).is_empty());
     }
@@ -1236,12 +1236,12 @@ mod tests {
         let mut r = rng::seeded(5);
         let (h, w) = (9i32, 11i32);
         let zeros = vec![0f32; (h * w) as usize * 4];
-        let p = PmParams {
+        let p = PatchMatchParams {
             d_min: -40,
             d_max: 40,
             v_tol: 6,
             c_min: 0.05,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         };
         let wmax = p.max_disp() as f32;
         let off: Vec<[i32; 2]> = (0..h * w)
@@ -1307,7 +1307,7 @@ mod tests {
                 ha: h,
                 ..lone.sp
             },
-            p: PmParams {
+            p: PatchMatchParams {
                 coherence: false,
                 ..p
             },

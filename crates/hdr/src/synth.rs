@@ -96,7 +96,7 @@ pub struct Layer {
 
 /// Configuration of [`layered_scene`].
 #[derive(Clone, Debug, PartialEq)]
-pub struct SceneCfg {
+pub struct SceneParams {
     /// Image height.
     pub height: usize,
     /// Image width.
@@ -115,7 +115,7 @@ pub struct SceneCfg {
     pub bits: u8,
 }
 
-impl Default for SceneCfg {
+impl Default for SceneParams {
     /// Five cameras with the exposures of the IIS Jumble set (5, 30, 61, 122, 280 ms),
     /// three planes at 7.5, 18.3 and 33.7 px, an emitter 300 times the base light, gamma
     /// 2.2, noise 0.002, 8 bits.
@@ -231,7 +231,7 @@ fn covers(l: &Layer, y: f64, u: f64, h: usize, w: usize) -> bool {
     }
 }
 
-impl SceneCfg {
+impl SceneParams {
     fn check(&self) -> Result<()> {
         if !(2..=32).contains(&self.times.len()) {
             return Err(Error::invalid("times", "needs 2 to 32 cameras"));
@@ -330,7 +330,7 @@ pub fn gradient_target(height: usize, width: usize) -> Result<Image<f32>> {
 }
 
 /// The layered multi-view scene of `cfg` with noise seed `seed`.
-pub fn layered_scene(cfg: &SceneCfg, seed: u64) -> Result<SynthScene> {
+pub fn layered_scene(cfg: &SceneParams, seed: u64) -> Result<SynthScene> {
     cfg.check()?;
     let (h, w, n) = (cfg.height, cfg.width, cfg.times.len());
     let c = cfg.centre();

@@ -4,9 +4,9 @@
 //! BDS voting reproduces a consistent shift exactly and leaves no holes; the baselines.
 
 use wscg_hdr::metrics::{bad_rate, incoherence};
-use wscg_hdr::synth::{albedo, layered_scene, SceneCfg, SynthScene};
+use wscg_hdr::synth::{albedo, layered_scene, SceneParams, SynthScene};
 use wscg_hdr::{
-    patchmatch, patchmatch_2d, to_radiance, vote_bds, warp_direct, zncc_stereo, PmParams,
+    patchmatch, patchmatch_2d, to_radiance, vote_bds, warp_direct, zncc_stereo, PatchMatchParams,
     StereoParams,
 };
 use wscg_math::Image;
@@ -32,11 +32,11 @@ fn radiance_pair(
     times: [f64; 2],
     seed: u64,
 ) -> (Image<f32>, Image<f32>, SynthScene) {
-    let cfg = SceneCfg {
+    let cfg = SceneParams {
         height,
         width,
         times: times.to_vec(),
-        ..SceneCfg::default()
+        ..SceneParams::default()
     };
     let sc = layered_scene(&cfg, seed).unwrap();
     let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
@@ -44,11 +44,11 @@ fn radiance_pair(
     (a, b, sc)
 }
 
-fn params(d_min: i32, d_max: i32) -> PmParams {
-    PmParams {
+fn params(d_min: i32, d_max: i32) -> PatchMatchParams {
+    PatchMatchParams {
         d_min,
         d_max,
-        ..PmParams::default()
+        ..PatchMatchParams::default()
     }
 }
 
@@ -83,7 +83,7 @@ fn epipolar_patchmatch_recovers_a_known_shift() {
 fn costs_are_the_patch_distances_of_the_offsets() {
     // A sub-pixel shift: no exact matches, every cost positive.
     let (a, b) = (texture(40, 80, 0.0), texture(40, 80, 6.4));
-    let p = PmParams {
+    let p = PatchMatchParams {
         coherence: false,
         iters: 3,
         ..params(-16, 16)
@@ -137,7 +137,7 @@ fn costs_are_the_patch_distances_of_the_offsets() {
 fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
     let (a, b, _) = radiance_pair(64, 112, [0.02, 0.08], 3);
     for (lo, hi) in [(-40, 0), (-25, 30), (5, 12)] {
-        let p = PmParams {
+        let p = PatchMatchParams {
             seed: 9,
             ..params(lo, hi)
         };
@@ -162,7 +162,7 @@ fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
     let f1 = patchmatch(
         &a,
         &b,
-        &PmParams {
+        &PatchMatchParams {
             iters: 0,
             seed: 1,
             ..params(-40, 40)
@@ -172,7 +172,7 @@ fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
     let f2 = patchmatch(
         &a,
         &b,
-        &PmParams {
+        &PatchMatchParams {
             iters: 0,
             seed: 2,
             ..params(-40, 40)
@@ -191,18 +191,18 @@ fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
 fn fields_do_not_depend_on_the_thread_count() {
     let (a, b, _) = radiance_pair(72, 136, [0.02, 0.08], 4);
     let configs = [
-        PmParams {
+        PatchMatchParams {
             iters: 5,
             seed: 3,
             ..params(-50, 10)
         },
-        PmParams {
+        PatchMatchParams {
             iters: 4,
             v_tol: 2,
             seed: 4,
             ..params(-30, 30)
         },
-        PmParams::barnes(5, 3, 5),
+        PatchMatchParams::barnes(5, 3, 5),
     ];
     let pool = |n| {
         rayon::ThreadPoolBuilder::new()
@@ -254,7 +254,7 @@ fn the_coherence_term_makes_fields_more_coherent() {
     let without = patchmatch(
         &a,
         &b,
-        &PmParams {
+        &PatchMatchParams {
             coherence: false,
             ..params(-48, 48)
         },
@@ -465,7 +465,7 @@ fn bad_matching_inputs_are_errors() {
     let a = texture(20, 30, 0.0);
     let b = texture(20, 30, 1.0);
     for patch in [4, 1, 21] {
-        let p = PmParams {
+        let p = PatchMatchParams {
             patch,
             ..params(-5, 5)
         };
@@ -510,7 +510,7 @@ fn the_weighted_cost_ablation_ignores_zero_weight_samples() {
     use wscg_hdr::patchmatch_weighted;
     let (a, b) = (texture(40, 80, 0.0), texture(40, 80, 5.0));
     let ones = |im: &Image<f32>| im.map(|_| 1.0f32);
-    let p = PmParams {
+    let p = PatchMatchParams {
         weighted_cost: true,
         ..params(-12, 12)
     };
@@ -548,7 +548,7 @@ fn the_weighted_cost_ablation_ignores_zero_weight_samples() {
     assert!(ew >= 300, "{ew}");
     assert!(ew > eu);
     // Without the flag the weights are ignored.
-    let off = PmParams {
+    let off = PatchMatchParams {
         weighted_cost: false,
         ..p
     };

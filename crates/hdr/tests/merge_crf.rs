@@ -4,17 +4,17 @@
 use wscg_hdr::merge::{merge, MergeInput, Merged};
 use wscg_hdr::metrics::rmse_log2;
 use wscg_hdr::radiance::{to_samples, to_samples_float};
-use wscg_hdr::synth::{encode, layered_scene, Response, SceneCfg};
+use wscg_hdr::synth::{encode, layered_scene, Response, SceneParams};
 use wscg_hdr::ViewSamples;
 use wscg_hdr::{calibrate_debevec, khan_weight, merge_stack, Crf};
 use wscg_math::Image;
 
 /// The central view's true radiance of the default scene, 5 exposures.
 fn stack_truth() -> (Image<f32>, Vec<f64>) {
-    let cfg = SceneCfg {
+    let cfg = SceneParams {
         height: 96,
         width: 128,
-        ..SceneCfg::default()
+        ..SceneParams::default()
     };
     let sc = layered_scene(&cfg, 1).unwrap();
     (sc.radiance[2].clone(), cfg.times.clone())

@@ -6,24 +6,24 @@
 use std::sync::OnceLock;
 
 use wscg_hdr::metrics::{evaluation_mask, rmse_log2, Region};
-use wscg_hdr::synth::{encode, layered_scene, SceneCfg, SynthScene};
+use wscg_hdr::synth::{encode, layered_scene, SceneParams, SynthScene};
 use wscg_hdr::{
-    multiscopic_hdr, Align, Crf, MultiscopicOut, MultiscopicParams, PmParams, Synthesis,
+    multiscopic_hdr, Align, Crf, MultiscopicOut, MultiscopicParams, PatchMatchParams, Synthesis,
 };
 use wscg_math::progress::{CountingProgress, NoProgress};
 use wscg_math::Image;
 
 fn scene() -> &'static SynthScene {
     static S: OnceLock<SynthScene> = OnceLock::new();
-    S.get_or_init(|| layered_scene(&SceneCfg::default(), 7).unwrap())
+    S.get_or_init(|| layered_scene(&SceneParams::default(), 7).unwrap())
 }
 
 /// `|disparity|` bound of the outermost pair of the default scene (4 x 33.7 px).
 const MAX_DISP: i32 = 137;
 
-fn params(align: Align, synthesis: Synthesis, pm: PmParams) -> MultiscopicParams {
+fn params(align: Align, synthesis: Synthesis, pm: PatchMatchParams) -> MultiscopicParams {
     MultiscopicParams {
-        pm: PmParams {
+        pm: PatchMatchParams {
             d_min: -MAX_DISP,
             d_max: MAX_DISP,
             ..pm
@@ -34,7 +34,7 @@ fn params(align: Align, synthesis: Synthesis, pm: PmParams) -> MultiscopicParams
     }
 }
 
-fn run(sc: &SynthScene, align: Align, synthesis: Synthesis, pm: PmParams) -> MultiscopicOut {
+fn run(sc: &SynthScene, align: Align, synthesis: Synthesis, pm: PatchMatchParams) -> MultiscopicOut {
     run_params(sc, &params(align, synthesis, pm))
 }
 
@@ -56,7 +56,7 @@ fn err(sc: &SynthScene, out: &MultiscopicOut, k: usize, mask: &[bool]) -> f64 {
 #[test]
 fn five_view_scene_matches_the_ground_truth() {
     let sc = scene();
-    let pm = PmParams::default();
+    let pm = PatchMatchParams::default();
     let ours = run(sc, Align::Ours, Synthesis::Bds, pm);
     let direct = run(sc, Align::Ours, Synthesis::Direct, pm);
     let none = run(sc, Align::None, Synthesis::Bds, pm);
@@ -109,7 +109,7 @@ fn five_view_scene_matches_the_ground_truth() {
 #[test]
 fn the_darkest_view_is_recovered_where_it_is_under_exposed() {
     let sc = scene();
-    let out = run(sc, Align::Ours, Synthesis::Bds, PmParams::default());
+    let out = run(sc, Align::Ours, Synthesis::Bds, PatchMatchParams::default());
     let all = evaluation_mask(sc, 0, Region::SeenByAll);
     let under: Vec<bool> = all
         .iter()
@@ -131,10 +131,10 @@ fn clipped_everywhere(sc: &SynthScene) -> (Vec<f64>, MultiscopicOut) {
         .map(|k| encode(&sc.radiance[k], times[k], sc.response, 0.0, 8, k as u64).unwrap())
         .collect();
     let p = MultiscopicParams {
-        pm: PmParams {
+        pm: PatchMatchParams {
             d_min: -MAX_DISP,
             d_max: MAX_DISP,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         },
         ..MultiscopicParams::default()
     };
@@ -195,10 +195,10 @@ fn pixels_clipped_in_every_view_take_the_fallback_and_are_counted() {
     // All-white views: every pixel falls back, nothing breaks.
     let white = vec![Image::filled(32, 48, 3, 255u16).unwrap(); 3];
     let p = MultiscopicParams {
-        pm: PmParams {
+        pm: PatchMatchParams {
             d_min: -8,
             d_max: 8,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         },
         ..MultiscopicParams::default()
     };
@@ -216,7 +216,7 @@ fn pixels_clipped_in_every_view_take_the_fallback_and_are_counted() {
 #[test]
 fn the_baselines_run_and_are_reported() {
     let sc = scene();
-    let pm = PmParams::default();
+    let pm = PatchMatchParams::default();
     let none = run(sc, Align::None, Synthesis::Bds, pm);
     let unaligned: Vec<f64> = (0..5)
         .map(|k| err(sc, &none, k, &evaluation_mask(sc, k, Region::SeenByAll)))
@@ -226,7 +226,7 @@ fn the_baselines_run_and_are_reported() {
             "ours, no coherence",
             Align::Ours,
             Synthesis::Bds,
-            PmParams {
+            PatchMatchParams {
                 coherence: false,
                 ..pm
             },
@@ -259,19 +259,19 @@ fn the_baselines_run_and_are_reported() {
 
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
-    let cfg = SceneCfg {
+    let cfg = SceneParams {
         height: 48,
         width: 80,
         times: vec![0.005, 0.04, 0.3],
-        ..SceneCfg::default()
+        ..SceneParams::default()
     };
     let sc = layered_scene(&cfg, 2).unwrap();
     let p = MultiscopicParams {
-        pm: PmParams {
+        pm: PatchMatchParams {
             d_min: -70,
             d_max: 70,
             seed: 5,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         },
         ..MultiscopicParams::default()
     };
@@ -312,10 +312,10 @@ fn bad_multiscopic_inputs_are_errors() {
     let crf = Crf::gamma(2.2, 8, 1).unwrap();
     let v = Image::filled(24, 32, 3, 100u16).unwrap();
     let p = MultiscopicParams {
-        pm: PmParams {
+        pm: PatchMatchParams {
             d_min: -8,
             d_max: 8,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         },
         ..MultiscopicParams::default()
     };
@@ -364,10 +364,10 @@ fn bad_multiscopic_inputs_are_errors() {
     let three = [crf.clone(), crf.clone(), crf.clone()];
     assert!(go(&[v.clone(), v.clone()], &[0.1, 0.2], &three, &p).contains("crfs"));
     let wide = MultiscopicParams {
-        pm: PmParams {
+        pm: PatchMatchParams {
             d_min: -40,
             d_max: 40,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         },
         ..p
     };
@@ -379,7 +379,7 @@ fn bad_multiscopic_inputs_are_errors() {
     )
     .contains("width"));
     let even = MultiscopicParams {
-        pm: PmParams { patch: 6, ..p.pm },
+        pm: PatchMatchParams { patch: 6, ..p.pm },
         ..p
     };
     assert!(go(
@@ -398,13 +398,13 @@ fn three_iterations_each_way_beat_six_one_way() {
     // Section 3.2: "It is more accurate to generate images using three iterations in each
     // direction than only six from I_r to I_s."
     let sc = scene();
-    let pm = PmParams::default();
-    let bds3 = run(sc, Align::Ours, Synthesis::Bds, PmParams { iters: 3, ..pm });
+    let pm = PatchMatchParams::default();
+    let bds3 = run(sc, Align::Ours, Synthesis::Bds, PatchMatchParams { iters: 3, ..pm });
     let one6 = run(
         sc,
         Align::Ours,
         Synthesis::Direct,
-        PmParams { iters: 6, ..pm },
+        PatchMatchParams { iters: 6, ..pm },
     );
     let mean = |o: &MultiscopicOut| {
         (0..5)
@@ -424,7 +424,7 @@ fn three_iterations_each_way_beat_six_one_way() {
 #[ignore = "fails: view 4 (280 ms) has RMSE log2 0.220 > 0.2 from pixels clipped in the reference"]
 fn five_view_scene_every_view_within_the_spec_bound() {
     let sc = scene();
-    let ours = run(sc, Align::Ours, Synthesis::Bds, PmParams::default());
+    let ours = run(sc, Align::Ours, Synthesis::Bds, PatchMatchParams::default());
     for k in 0..5 {
         let e = err(sc, &ours, k, &evaluation_mask(sc, k, Region::SeenByAll));
         assert!(e <= 0.2, "view {k}: {e}");
@@ -444,10 +444,10 @@ fn five_view_scene_every_view_within_the_spec_bound_when_saturated_areas_are_fil
         sc,
         &MultiscopicParams {
             fill_saturated: true,
-            ..params(Align::Ours, Synthesis::Bds, PmParams::default())
+            ..params(Align::Ours, Synthesis::Bds, PatchMatchParams::default())
         },
     );
-    let plain = run(sc, Align::Ours, Synthesis::Bds, PmParams::default());
+    let plain = run(sc, Align::Ours, Synthesis::Bds, PatchMatchParams::default());
     let zmax = sc.crf.z_max();
     for k in 0..5 {
         let all = evaluation_mask(sc, k, Region::SeenByAll);

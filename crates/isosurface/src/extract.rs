@@ -17,7 +17,7 @@ use wscg_math::Result;
 use crate::cell::{resolve_cell, CellState};
 use crate::grid::{check_iso, flag, ScalarGrid};
 use crate::normals::spline::{self, cell_contribution};
-use crate::normals::{estimate_normals, unit, EdgeVertex, NormalMethod, NormalStats, SplineOpts};
+use crate::normals::{estimate_normals, unit, EdgeVertex, NormalMethod, NormalStats, SplineParams};
 use crate::tables::{case_table, edge_axis, edge_corners, edge_low_offset};
 
 /// The grid edge a vertex lies on: the edge from grid point `point` to `point + e_axis`.
@@ -179,7 +179,7 @@ struct Layer {
     high: Vec<[f64; 3]>,
 }
 
-fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineOpts>) -> Result<IsoMesh> {
+fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineParams>) -> Result<IsoMesh> {
     grid.validate()?;
     check_iso(iso)?;
     let [nx, ny, nz] = grid.dims;

@@ -40,6 +40,6 @@ pub use extract::{extract, marching_cubes, vertex_on_edge, EdgeId, IsoMesh};
 pub use grid::{random_dropouts, sparsify_for_isosurface, ScalarGrid};
 pub use metrics::{angular_errors, rms, RmsSummary};
 pub use normals::{
-    estimate_normals, AmbiguousRule, LsnOpts, NormalMethod, NormalStats, SplineOpts, TetSelection,
+    estimate_normals, AmbiguousRule, LsnParams, NormalMethod, NormalStats, SplineParams, TetSelection,
 };
 pub use tables::mc_rotation_class;

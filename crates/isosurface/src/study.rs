@@ -16,7 +16,7 @@ use crate::extract::{marching_cubes, IsoMesh};
 use crate::fields::{Field, Sampled};
 use crate::grid::{sparsify_for_isosurface, ScalarGrid};
 use crate::metrics::{angular_errors, class_rms, for_each_cell_vertex, rms, RmsSummary};
-use crate::normals::{estimate_normals, AmbiguousRule, LsnOpts, NormalMethod};
+use crate::normals::{estimate_normals, AmbiguousRule, LsnParams, NormalMethod};
 
 /// `count` isovalues evenly spaced between the `lo_pct` and `hi_pct` percentiles of the
 /// defined samples (the paper uses "a large range" of isovalues, section 5.1, without giving
@@ -226,7 +226,7 @@ pub fn config_divergence(config: u8, rule: AmbiguousRule) -> f32 {
         &g,
         0.0,
         &edges,
-        NormalMethod::Lsn(LsnOpts {
+        NormalMethod::Lsn(LsnParams {
             ambiguous_face: rule,
         }),
     ) else {

@@ -10,7 +10,7 @@ use wscg_isosurface::study::{
 use wscg_isosurface::tables::number_of_rotation_classes;
 use wscg_isosurface::{
     angular_errors, estimate_normals, marching_cubes, random_dropouts, rms,
-    sparsify_for_isosurface, AmbiguousRule, IsoMesh, NormalMethod, ScalarGrid, SplineOpts,
+    sparsify_for_isosurface, AmbiguousRule, IsoMesh, NormalMethod, ScalarGrid, SplineParams,
     TetSelection,
 };
 
@@ -87,7 +87,7 @@ fn check1_linear_fields_are_exact() {
             // Every tetrahedron choice and averaging of the spline is exact on a linear field.
             for selection in [TetSelection::NearestCorner, TetSelection::AverageBoth] {
                 for normalize_before_mean in [false, true] {
-                    let o = NormalMethod::Spline(SplineOpts {
+                    let o = NormalMethod::Spline(SplineParams {
                         selection,
                         eq8_literal: false,
                         normalize_before_mean,
@@ -434,7 +434,7 @@ fn spline_normals_in_the_extraction_equal_the_per_vertex_route() {
             for (eq8_literal, normalize_before_mean) in
                 [(false, false), (true, false), (false, true)]
             {
-                let m = NormalMethod::Spline(SplineOpts {
+                let m = NormalMethod::Spline(SplineParams {
                     selection,
                     eq8_literal,
                     normalize_before_mean,
@@ -496,7 +496,7 @@ fn literal_eq8_on_a_linear_field() {
     let a = [0.3, 0.5, 0.7];
     let s = fields::sample_voxels(&Linear { a, b: 0.01 }, [16; 3]).unwrap();
     let g = s.grid().unwrap();
-    let o = NormalMethod::Spline(SplineOpts {
+    let o = NormalMethod::Spline(SplineParams {
         selection: TetSelection::NearestCorner,
         eq8_literal: true,
         normalize_before_mean: false,

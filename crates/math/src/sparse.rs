@@ -339,14 +339,14 @@ pub enum InitialGuess<'a> {
 
 /// Stopping rules of [`pcg`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PcgOptions {
+pub struct PcgParams {
     /// Stop when `||b - A x|| <= tol * ||b||` (default 1e-8).
     pub tol: f64,
     /// Maximum number of iterations (default: `None`, meaning `10 * n`).
     pub max_iter: Option<usize>,
 }
 
-impl Default for PcgOptions {
+impl Default for PcgParams {
     fn default() -> Self {
         Self {
             tol: 1e-8,
@@ -390,7 +390,7 @@ fn krylov_setup(
     a: &dyn LinOp,
     b: &[f64],
     guess: InitialGuess<'_>,
-    opts: &PcgOptions,
+    opts: &PcgParams,
 ) -> Result<(usize, Vec<f64>, usize)> {
     let n = a.nrows();
     if a.ncols() != n {
@@ -436,7 +436,7 @@ pub fn pcg(
     b: &[f64],
     guess: InitialGuess<'_>,
     precond: &dyn Preconditioner,
-    opts: &PcgOptions,
+    opts: &PcgParams,
 ) -> Result<PcgResult> {
     let (n, mut x, max_iter) = krylov_setup("conjugate gradient", a, b, guess, opts)?;
     let bnorm = dot(b, b).sqrt();
@@ -533,7 +533,7 @@ pub fn conjugate_residual(
     a: &dyn LinOp,
     b: &[f64],
     guess: InitialGuess<'_>,
-    opts: &PcgOptions,
+    opts: &PcgParams,
 ) -> Result<CrResult> {
     let (n, mut x, max_iter) = krylov_setup("conjugate residual", a, b, guess, opts)?;
     let mut r = vec![0.0; n];
@@ -594,7 +594,7 @@ mod tests {
     fn conjugate_residual_is_monotone_and_agrees_with_cg() {
         let a = random_spd(300, 9);
         let b: Vec<f64> = (0..300).map(|i| ((i * 7) % 13) as f64 - 6.0).collect();
-        let opts = PcgOptions {
+        let opts = PcgParams {
             tol: 1e-12,
             max_iter: None,
         };
@@ -657,7 +657,7 @@ mod tests {
             &b,
             InitialGuess::Zero,
             &Jacobi::new(&a.diagonal()).unwrap(),
-            &PcgOptions {
+            &PcgParams {
                 tol: 1e-12,
                 max_iter: None,
             },
@@ -686,7 +686,7 @@ mod tests {
         let n = 300;
         let a = random_spd(n, 2);
         let b = vec![1.0; n];
-        let opts = PcgOptions {
+        let opts = PcgParams {
             tol: 1e-10,
             max_iter: Some(5000),
         };
@@ -716,7 +716,7 @@ mod tests {
         let b: Vec<f64> = (0..a.nrows())
             .map(|i| ((i * 13) % 17) as f64 - 8.0)
             .collect();
-        let opts = PcgOptions {
+        let opts = PcgParams {
             tol: 1e-9,
             max_iter: None,
         };
@@ -763,7 +763,7 @@ mod tests {
             &b,
             InitialGuess::Zero,
             &IdentityPrecond,
-            &PcgOptions {
+            &PcgParams {
                 tol: 1e-11,
                 max_iter: None,
             },
@@ -811,7 +811,7 @@ mod tests {
             &[0.0, 1.0],
             InitialGuess::Zero,
             &IdentityPrecond,
-            &PcgOptions::default(),
+            &PcgParams::default(),
         );
         assert!(matches!(e, Err(Error::Numerical(_))));
         assert!(Jacobi::new(&a.diagonal()).is_err());
@@ -821,7 +821,7 @@ mod tests {
             &[1.0, 1.0],
             InitialGuess::Zero,
             &IdentityPrecond,
-            &PcgOptions::default()
+            &PcgParams::default()
         )
         .is_err());
         let ok = CsrMatrix::laplacian_3d(2, 2, 2).unwrap();
@@ -830,7 +830,7 @@ mod tests {
             &[1.0; 7],
             InitialGuess::Zero,
             &IdentityPrecond,
-            &PcgOptions::default()
+            &PcgParams::default()
         )
         .is_err());
         assert!(pcg(
@@ -838,7 +838,7 @@ mod tests {
             &[f64::NAN; 8],
             InitialGuess::Zero,
             &IdentityPrecond,
-            &PcgOptions::default()
+            &PcgParams::default()
         )
         .is_err());
         assert!(pcg(
@@ -846,10 +846,10 @@ mod tests {
             &[1.0; 8],
             InitialGuess::Given(&[0.0; 3]),
             &IdentityPrecond,
-            &PcgOptions::default()
+            &PcgParams::default()
         )
         .is_err());
-        let bad_tol = PcgOptions {
+        let bad_tol = PcgParams {
             tol: 0.0,
             max_iter: None,
         };
@@ -862,7 +862,7 @@ mod tests {
         )
         .is_err());
         // Too few iterations: reported, not an error.
-        let few = PcgOptions {
+        let few = PcgParams {
             tol: 1e-14,
             max_iter: Some(1),
         };

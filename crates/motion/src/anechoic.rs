@@ -66,7 +66,7 @@ pub enum Init {
 /// Parameters of [`fit_anechoic`] (defaults for paper 16: three periodic sources with delays
 /// shared over trials, as in its first action, §2.3; the rest are our choices).
 #[derive(Clone, Debug, PartialEq)]
-pub struct AnechoicConfig {
+pub struct AnechoicParams {
     /// Number of periodic sources `J`.
     pub n_sources: usize,
     /// Harmonics `K` per source (band limit).
@@ -77,7 +77,7 @@ pub struct AnechoicConfig {
     pub max_iter: usize,
     /// Stop when one sweep changes `Q` by less than this.
     pub tol: f64,
-    /// Number of runs; run 0 starts from [`Config::init`](AnechoicConfig::init), run 1 from the
+    /// Number of runs; run 0 starts from [`Config::init`](AnechoicParams::init), run 1 from the
     /// orbit-subspace start ([`Init::Orbit`], where it applies and run 0 is not already one),
     /// the others from random starts. The best `Q` is kept.
     pub restarts: usize,
@@ -96,7 +96,7 @@ pub struct AnechoicConfig {
     pub delay_search: usize,
 }
 
-impl Default for AnechoicConfig {
+impl Default for AnechoicParams {
     fn default() -> Self {
         Self {
             n_sources: 3,
@@ -202,7 +202,7 @@ impl AnechoicModel {
 }
 
 /// Validates the configuration against the data shape.
-fn check_config(x: &TrialSet, cfg: &AnechoicConfig) -> Result<()> {
+fn check_config(x: &TrialSet, cfg: &AnechoicParams) -> Result<()> {
     let n = x.n_samples;
     if cfg.n_harmonics == 0 || 2 * cfg.n_harmonics >= n {
         return Err(Error::invalid(
@@ -945,7 +945,7 @@ impl State {
 /// `it^{1/3}` (the line search of Bro's ALS acceleration) and the extrapolated point is kept
 /// only when it fits better, so `Q` stays non-decreasing while the slow "swamps" of plain ALS
 /// are crossed in far fewer sweeps.
-fn run(sp: &Spectra, cfg: &AnechoicConfig, mut state: State) -> Result<(State, f64, Vec<f64>)> {
+fn run(sp: &Spectra, cfg: &AnechoicParams, mut state: State) -> Result<(State, f64, Vec<f64>)> {
     let (mut q, mut ph, mut stats) = state.assess(sp);
     let mut hist = vec![q];
     for it in 0..cfg.max_iter {
@@ -1001,7 +1001,7 @@ fn n_delay_rows(mode: DelayMode, r: usize) -> usize {
 
 /// PCA start: the top-`J` right singular vectors of the `(R·I) × N` data as sources, taken
 /// as the leading eigenvectors of the `N × N` Gram matrix (a few of them, not a full SVD).
-fn pca_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<State> {
+fn pca_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicParams) -> Result<State> {
     let rows = x.n_trials * x.n_channels;
     let n = x.n_samples;
     let gram = wscg_math::dense::gram(
@@ -1024,7 +1024,7 @@ fn pca_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<State> 
 }
 
 /// Greedy start (see [`Init::Greedy`]).
-fn greedy_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<State> {
+fn greedy_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicParams) -> Result<State> {
     let nd = n_delay_rows(cfg.delays, sp.r) * sp.i;
     let mut state: Option<State> = None;
     for j in 1..=cfg.n_sources {
@@ -1043,7 +1043,7 @@ fn greedy_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<Stat
         let lead = pca_start(
             &residual,
             sp,
-            &AnechoicConfig {
+            &AnechoicParams {
                 n_sources: 1,
                 ..cfg.clone()
             },
@@ -1061,14 +1061,14 @@ fn greedy_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<Stat
             t.push(0.0);
         }
         tau = t;
-        let stage_cfg = AnechoicConfig {
+        let stage_cfg = AnechoicParams {
             n_sources: j,
             ..cfg.clone()
         };
         let start = start_from(sp, &stage_cfg, c, tau)?;
         let (s, _, _) = run(
             sp,
-            &AnechoicConfig {
+            &AnechoicParams {
                 max_iter: cfg.max_iter.min(100),
                 ..stage_cfg
             },
@@ -1082,7 +1082,7 @@ fn greedy_start(x: &TrialSet, sp: &Spectra, cfg: &AnechoicConfig) -> Result<Stat
 /// Orbit-subspace start (see [`Init::Orbit`]): the sources and shared delays of
 /// [`crate::orbit::orbit_sources`], the same delays for every trial in per-trial mode, and
 /// least-squares weights.
-fn orbit_start(sp: &Spectra, cfg: &AnechoicConfig) -> Result<State> {
+fn orbit_start(sp: &Spectra, cfg: &AnechoicParams) -> Result<State> {
     let rows = |r: usize, i: usize| sp.row(r, i);
     let (c, shared) = orbit_sources(&rows, (sp.r, sp.i, sp.k), cfg.n_sources, cfg.seed)?;
     let nd = n_delay_rows(cfg.delays, sp.r);
@@ -1092,12 +1092,12 @@ fn orbit_start(sp: &Spectra, cfg: &AnechoicConfig) -> Result<State> {
 
 /// Whether [`Init::Orbit`] applies: delays (shared or per trial), at least `J` trials, and
 /// `J < 2K`.
-fn orbit_applies(sp: &Spectra, cfg: &AnechoicConfig) -> bool {
+fn orbit_applies(sp: &Spectra, cfg: &AnechoicParams) -> bool {
     cfg.delays != DelayMode::Zero && sp.r >= cfg.n_sources && cfg.n_sources < 2 * sp.k
 }
 
 /// Random start: smooth random sources (coefficients ∝ 1/k) and uniform delays.
-fn random_start(sp: &Spectra, cfg: &AnechoicConfig, stream: u64) -> Result<State> {
+fn random_start(sp: &Spectra, cfg: &AnechoicParams, stream: u64) -> Result<State> {
     let mut rng = wscg_math::rng::stream(cfg.seed, stream);
     let j_n = cfg.n_sources;
     let mut c = Vec::with_capacity(j_n * sp.k);
@@ -1120,7 +1120,7 @@ fn random_start(sp: &Spectra, cfg: &AnechoicConfig, stream: u64) -> Result<State
 
 fn start_from(
     sp: &Spectra,
-    cfg: &AnechoicConfig,
+    cfg: &AnechoicParams,
     c: Vec<Complex64>,
     tau: Vec<f64>,
 ) -> Result<State> {
@@ -1146,16 +1146,16 @@ fn start_from(
 /// # Errors
 /// Bad configuration (`n_sources` ≥ min(I·R, N/2), `n_harmonics` ≥ N/2, zero iterations or
 /// restarts), all-zero data, or a numerical failure of a least-squares step.
-pub fn fit_anechoic(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
+pub fn fit_anechoic(x: &TrialSet, cfg: &AnechoicParams) -> Result<AnechoicModel> {
     check_config(x, cfg)?;
     // The sweeps are short: run the whole fit on a pool thread, so that their parallel steps
     // fork inside the pool instead of each waking it from outside.
     rayon::scope(|_| fit_checked(x, cfg))
 }
 
-fn fit_checked(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
+fn fit_checked(x: &TrialSet, cfg: &AnechoicParams) -> Result<AnechoicModel> {
     let sp = Spectra::new(x, cfg.n_harmonics)?;
-    let screen = AnechoicConfig {
+    let screen = AnechoicParams {
         max_iter: cfg.screen_iter.min(cfg.max_iter),
         ..cfg.clone()
     };
@@ -1183,7 +1183,7 @@ fn fit_checked(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
     let (state, q) = if converged || used >= cfg.max_iter {
         (state, q)
     } else {
-        let rest = AnechoicConfig {
+        let rest = AnechoicParams {
             max_iter: cfg.max_iter - used,
             ..cfg.clone()
         };
@@ -1206,13 +1206,13 @@ fn fit_checked(x: &TrialSet, cfg: &AnechoicConfig) -> Result<AnechoicModel> {
 /// can open better delays in other channels.
 const SEARCH_ROUNDS: usize = 5;
 
-/// The per-channel delay search after the ALS ([`AnechoicConfig::delay_search`], shared delays
+/// The per-channel delay search after the ALS ([`AnechoicParams::delay_search`], shared delays
 /// and two or more sources only): channels where [`crate::delay_search`] finds delays with a
 /// lower residual take them, every weight is refitted, and the ALS continues from there. The
 /// better of the two fits is kept, and the continued run's `Q` values join `hist`.
 fn search_delays(
     sp: &Spectra,
-    cfg: &AnechoicConfig,
+    cfg: &AnechoicParams,
     state: State,
     q: f64,
     hist: &mut Vec<f64>,
@@ -1259,7 +1259,7 @@ fn search_delays(
 /// Shape mismatch between `x` and `start`, or a tighter constraint than `start`'s.
 pub fn refine_anechoic(
     x: &TrialSet,
-    cfg: &AnechoicConfig,
+    cfg: &AnechoicParams,
     start: &AnechoicModel,
 ) -> Result<AnechoicModel> {
     if (x.n_trials, x.n_channels, x.n_samples)
@@ -1281,7 +1281,7 @@ pub fn refine_anechoic(
         ));
     }
     let k = start.sources.first().map_or(0, |s| s.n_harmonics());
-    let cfg = AnechoicConfig {
+    let cfg = AnechoicParams {
         n_sources: start.n_sources(),
         n_harmonics: k,
         ..cfg.clone()

@@ -1,6 +1,6 @@
 //! Search of one channel's delays, shared over trials, with the sources held: the polish that
 //! [`crate::anechoic::fit_anechoic`] runs after its alternating least squares
-//! ([`AnechoicConfig::delay_search`](crate::anechoic::AnechoicConfig::delay_search)).
+//! ([`AnechoicParams::delay_search`](crate::anechoic::AnechoicParams::delay_search)).
 //!
 //! With the sources `c_j` fixed, channel `i`'s delays enter its fit only through the delayed
 //! sources `d_p = e^{−2πikτ_p} c_p`. Taking every trial's weights at their least-squares

@@ -188,7 +188,7 @@ impl DelayedLuts {
 /// Hyper-parameters of the SVR state maps. The paper (§2.2) gives none; the defaults are ours,
 /// for unit-RMS sources.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SvrMapConfig {
+pub struct SvrMapParams {
     /// Box constraint `C`.
     pub c: f64,
     /// Tube width `ε`.
@@ -201,7 +201,7 @@ pub struct SvrMapConfig {
     pub radii: Vec<f64>,
 }
 
-impl Default for SvrMapConfig {
+impl Default for SvrMapParams {
     fn default() -> Self {
         Self {
             c: 10.0,
@@ -227,7 +227,7 @@ impl SvrMap {
     ///
     /// # Errors
     /// No phases or radii, non-positive radii, and the SVR's own errors.
-    pub fn fit(source: &PeriodicSource, cfg: &SvrMapConfig) -> Result<Self> {
+    pub fn fit(source: &PeriodicSource, cfg: &SvrMapParams) -> Result<Self> {
         if cfg.n_phases == 0 || cfg.radii.is_empty() {
             return Err(Error::Empty("svr map training set"));
         }

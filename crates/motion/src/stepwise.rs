@@ -13,7 +13,7 @@
 //! after removing the means and the non-periodic part by the `[1, s₀]` least squares (paper
 //! Fig. 4 caption).
 
-use crate::anechoic::{fit_anechoic, refine_anechoic, AnechoicConfig, AnechoicModel, DelayMode};
+use crate::anechoic::{fit_anechoic, refine_anechoic, AnechoicParams, AnechoicModel, DelayMode};
 use crate::data::TrialSet;
 use crate::dataset::Dataset;
 use crate::fourier::PeriodicSource;
@@ -24,13 +24,13 @@ use wscg_math::{Error, Result};
 
 /// Parameters of [`fit_stepwise`].
 #[derive(Clone, Debug, PartialEq)]
-pub struct StepwiseConfig {
+pub struct StepwiseParams {
     /// Periodic sources of action 1 (the paper's 3).
     pub n_sources_first: usize,
     /// Sources added in action 2 (the paper's 2).
     pub n_sources_extra: usize,
     /// Demixing settings (the number of sources is set per stage).
-    pub demix: AnechoicConfig,
+    pub demix: AnechoicParams,
     /// Rounds of alternation between the joint least squares of means and weights and the
     /// demixing of the data without means and non-periodic part (0: the plain step-wise
     /// regression). The first `[1, s₀]` regression also absorbs the part of the periodic
@@ -40,12 +40,12 @@ pub struct StepwiseConfig {
     pub round_iter: usize,
 }
 
-impl Default for StepwiseConfig {
+impl Default for StepwiseParams {
     fn default() -> Self {
         Self {
             n_sources_first: 3,
             n_sources_extra: 2,
-            demix: AnechoicConfig::default(),
+            demix: AnechoicParams::default(),
             rounds: 8,
             round_iter: 60,
         }
@@ -221,7 +221,7 @@ fn alternate(
     fixed_sources: &[PeriodicSource],
     fixed_delays: &[f64],
     mut model: AnechoicModel,
-    cfg: &StepwiseConfig,
+    cfg: &StepwiseParams,
 ) -> Result<(AnechoicModel, Refit, Vec<Vec<f64>>)> {
     let i_n = x.n_channels;
     let nf = fixed_sources.len();
@@ -250,7 +250,7 @@ fn alternate(
             .collect();
         let refined = refine_anechoic(
             &target,
-            &AnechoicConfig {
+            &AnechoicParams {
                 max_iter: cfg.round_iter,
                 ..cfg.demix.clone()
             },
@@ -286,7 +286,7 @@ fn widen(weights: &[f64], j_from: usize, j_to: usize) -> Vec<f64> {
         .collect()
 }
 
-fn check_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<()> {
+fn check_stepwise(data: &Dataset, cfg: &StepwiseParams) -> Result<()> {
     data.validate()?;
     if cfg.n_sources_first == 0 {
         return Err(Error::invalid("n_sources_first", "must be >= 1"));
@@ -308,7 +308,7 @@ fn check_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<()> {
 /// # Errors
 /// An invalid dataset (see [`Dataset::validate`]), fewer than 3 trials, or a demixing error
 /// (too many sources for the data, `n_harmonics ≥ N/2`).
-pub fn fit_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<ActionLibrary> {
+pub fn fit_stepwise(data: &Dataset, cfg: &StepwiseParams) -> Result<ActionLibrary> {
     check_stepwise(data, cfg)?;
     let (i_n, n) = (data.n_channels, data.n_samples);
     let j1 = cfg.n_sources_first;
@@ -328,7 +328,7 @@ pub fn fit_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<ActionLibrar
     };
     let demix1 = fit_anechoic(
         &base1.residual,
-        &AnechoicConfig {
+        &AnechoicParams {
             n_sources: j1,
             delays: DelayMode::Shared,
             max_iter: first_iter,
@@ -347,7 +347,7 @@ pub fn fit_stepwise(data: &Dataset, cfg: &StepwiseConfig) -> Result<ActionLibrar
     let (demix_extra, fit2) = if cfg.n_sources_extra > 0 {
         let extra = fit_anechoic(
             &fit2a.residual,
-            &AnechoicConfig {
+            &AnechoicParams {
                 n_sources: cfg.n_sources_extra,
                 delays: DelayMode::Shared,
                 max_iter: first_iter,

@@ -13,7 +13,7 @@ use crate::blend::{
 };
 use crate::hopf::{rotate, StarNetwork};
 use crate::lwlr::{Lwlr, DEFAULT_RIDGE};
-use crate::map::{DelayedLuts, FourierMap, StateMap, SvrMap, SvrMapConfig};
+use crate::map::{DelayedLuts, FourierMap, StateMap, SvrMap, SvrMapParams};
 use crate::planner::{Action, PlannedAction, Planner};
 use crate::stepwise::ActionLibrary;
 use std::f64::consts::TAU;
@@ -27,12 +27,12 @@ pub enum MapKind {
     /// A phase table of the given size, linearly interpolated (the fast path).
     Lut(usize),
     /// ε-SVR maps from the follower state, as in the paper.
-    Svr(SvrMapConfig),
+    Svr(SvrMapParams),
 }
 
 /// Parameters of the synthesizer.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SynthConfig {
+pub struct SynthesizerParams {
     /// Blend half-width `β` (radians), `π/5` in the paper.
     pub beta: f64,
     /// Coupling `k` of the followers (not given in the paper; > 1 guarantees contraction).
@@ -43,7 +43,7 @@ pub struct SynthConfig {
     pub bandwidth: Option<f64>,
 }
 
-impl Default for SynthConfig {
+impl Default for SynthesizerParams {
     fn default() -> Self {
         Self {
             beta: DEFAULT_BETA,
@@ -303,7 +303,7 @@ pub struct Synthesizer {
     /// `2π τ_ij`, `I × J`.
     rot: Vec<f64>,
     planner: Planner,
-    cfg: SynthConfig,
+    cfg: SynthesizerParams,
     net: StarNetwork,
     /// The leader phase `ψ` of `net`, kept in step with it.
     psi: f64,
@@ -342,7 +342,7 @@ impl Synthesizer {
     /// # Errors
     /// `β ∉ (0, π)`, negative coupling, invalid planner, or a regression or map that cannot be
     /// fitted.
-    pub fn new(lib: ActionLibrary, planner: Planner, cfg: SynthConfig) -> Result<Self> {
+    pub fn new(lib: ActionLibrary, planner: Planner, cfg: SynthesizerParams) -> Result<Self> {
         check_beta(cfg.beta)?;
         planner.validate()?;
         let regs = fit_regressions(&lib, cfg.bandwidth)?;
@@ -415,9 +415,9 @@ impl Synthesizer {
         Self::new(
             lib,
             planner,
-            SynthConfig {
+            SynthesizerParams {
                 map,
-                ..SynthConfig::default()
+                ..SynthesizerParams::default()
             },
         )
     }

@@ -30,7 +30,7 @@ use wscg_math::{Error, Result};
 
 /// Parameters of [`reach_walk`].
 #[derive(Clone, Debug, PartialEq)]
-pub struct WalkerConfig {
+pub struct WalkerParams {
     /// Number of trials.
     pub n_trials: usize,
     /// Samples per action.
@@ -50,7 +50,7 @@ pub struct WalkerConfig {
     pub human_like: bool,
 }
 
-impl Default for WalkerConfig {
+impl Default for WalkerParams {
     fn default() -> Self {
         Self {
             n_trials: 40,
@@ -215,7 +215,7 @@ fn draw_source(rng: &mut Rng) -> PeriodicSource {
 /// # Errors
 /// Fewer than 1 trial, fewer than 8 samples per action, a negative or non-finite noise level,
 /// or empty step ranges.
-pub fn reach_walk(cfg: &WalkerConfig) -> Result<(Dataset, WalkerTruth)> {
+pub fn reach_walk(cfg: &WalkerParams) -> Result<(Dataset, WalkerTruth)> {
     if cfg.n_trials == 0 {
         return Err(Error::invalid("n_trials", "must be >= 1"));
     }

@@ -3,39 +3,39 @@
 
 use std::f64::consts::{PI, TAU};
 use std::sync::OnceLock;
-use wscg_motion::anechoic::{fit_anechoic, refine_anechoic, AnechoicConfig, DelayMode};
+use wscg_motion::anechoic::{fit_anechoic, refine_anechoic, AnechoicParams, DelayMode};
 use wscg_motion::blend::{blend_alpha, DEFAULT_BETA};
 use wscg_motion::data::{quality, TrialSet};
 use wscg_motion::fourier::wrap_half;
 use wscg_motion::hopf::{hopf_radius, phase, rotate, StarNetwork};
 use wscg_motion::lwlr::Lwlr;
-use wscg_motion::map::{FourierMap, StateMap, SvrMap, SvrMapConfig};
+use wscg_motion::map::{FourierMap, StateMap, SvrMap, SvrMapParams};
 use wscg_motion::matching::match_sources;
 use wscg_motion::pca::pca_qualities;
 use wscg_motion::planner::{Action, Planner};
 use wscg_motion::skeleton::{is_arm_channel, N_CHANNELS};
 use wscg_motion::stats::regression_p_value;
-use wscg_motion::stepwise::{fit_stepwise, ActionLibrary, StepwiseConfig};
-use wscg_motion::synthesizer::{mix_frame, planner_for, ActionWeights, SynthConfig, Synthesizer};
-use wscg_motion::walker::{reach_walk, WalkerConfig};
+use wscg_motion::stepwise::{fit_stepwise, ActionLibrary, StepwiseParams};
+use wscg_motion::synthesizer::{mix_frame, planner_for, ActionWeights, SynthesizerParams, Synthesizer};
+use wscg_motion::walker::{reach_walk, WalkerParams};
 
 /// The step-wise library of the noise-free 20-trial set, fitted once per test binary.
 fn clean_library() -> &'static ActionLibrary {
     static LIB: OnceLock<ActionLibrary> = OnceLock::new();
-    LIB.get_or_init(|| fit_stepwise(&walker(0.0, 20).0, &StepwiseConfig::default()).unwrap())
+    LIB.get_or_init(|| fit_stepwise(&walker(0.0, 20).0, &StepwiseParams::default()).unwrap())
 }
 
 /// The step-wise library of the 40-trial learning set with 1 % noise, fitted once.
 fn noisy_library() -> &'static ActionLibrary {
     static LIB: OnceLock<ActionLibrary> = OnceLock::new();
-    LIB.get_or_init(|| fit_stepwise(&walker(0.01, 40).0, &StepwiseConfig::default()).unwrap())
+    LIB.get_or_init(|| fit_stepwise(&walker(0.01, 40).0, &StepwiseParams::default()).unwrap())
 }
 
 fn walker(noise: f64, n_trials: usize) -> (wscg_motion::Dataset, wscg_motion::WalkerTruth) {
-    reach_walk(&WalkerConfig {
+    reach_walk(&WalkerParams {
         noise,
         n_trials,
-        ..WalkerConfig::default()
+        ..WalkerParams::default()
     })
     .unwrap()
 }
@@ -141,7 +141,7 @@ fn delay_is_a_rotation_of_the_follower_state() {
     let omega = TAU / 0.9;
     for (j, s) in truth.sources.iter().enumerate() {
         let fm = FourierMap { source: s.clone() };
-        let svr = SvrMap::fit(s, &SvrMapConfig::default()).unwrap();
+        let svr = SvrMap::fit(s, &SvrMapParams::default()).unwrap();
         let tau = truth.delays[7 * 5 + j];
         let range = {
             let v = s.sample(400, 0.0);
@@ -201,17 +201,17 @@ fn delay_error(
 
 /// The default demixing with 3 sources.
 fn fit3(x: &TrialSet) -> wscg_motion::AnechoicModel {
-    fit3_searching(x, AnechoicConfig::default().delay_search)
+    fit3_searching(x, AnechoicParams::default().delay_search)
 }
 
 /// [`fit3`] with the per-channel delay search on `grid` points per period (0: off).
 fn fit3_searching(x: &TrialSet, grid: usize) -> wscg_motion::AnechoicModel {
     fit_anechoic(
         x,
-        &AnechoicConfig {
+        &AnechoicParams {
             n_sources: 3,
             delay_search: grid,
-            ..AnechoicConfig::default()
+            ..AnechoicParams::default()
         },
     )
     .unwrap()
@@ -298,9 +298,9 @@ fn anechoic_beats_pca_fig4_ordering() {
     for j in 1..=6 {
         let m = fit_anechoic(
             &x,
-            &AnechoicConfig {
+            &AnechoicParams {
                 n_sources: j,
-                ..AnechoicConfig::default()
+                ..AnechoicParams::default()
             },
         )
         .unwrap();
@@ -340,27 +340,27 @@ fn anechoic_beats_pca_fig4_ordering() {
     for j in [1, 2] {
         let zero = fit_anechoic(
             &x,
-            &AnechoicConfig {
+            &AnechoicParams {
                 n_sources: j,
                 delays: DelayMode::Zero,
-                ..AnechoicConfig::default()
+                ..AnechoicParams::default()
             },
         )
         .unwrap();
         let shared = refine_anechoic(
             &x,
-            &AnechoicConfig {
+            &AnechoicParams {
                 delays: DelayMode::Shared,
-                ..AnechoicConfig::default()
+                ..AnechoicParams::default()
             },
             &zero,
         )
         .unwrap();
         let free = refine_anechoic(
             &x,
-            &AnechoicConfig {
+            &AnechoicParams {
                 delays: DelayMode::PerTrial,
-                ..AnechoicConfig::default()
+                ..AnechoicParams::default()
             },
             &shared,
         )
@@ -805,26 +805,26 @@ fn bad_input_is_an_error() {
     assert!(TrialSet::stack(&[vec![0.0; 6], vec![0.0; 4]], 2, 3).is_err());
     assert!(fit_anechoic(
         &x,
-        &AnechoicConfig {
+        &AnechoicParams {
             n_sources: 50,
-            ..AnechoicConfig::default()
+            ..AnechoicParams::default()
         }
     )
     .is_err());
     assert!(fit_anechoic(
         &x,
-        &AnechoicConfig {
+        &AnechoicParams {
             n_harmonics: 50,
-            ..AnechoicConfig::default()
+            ..AnechoicParams::default()
         }
     )
     .is_err());
     for grid in [4, 5000] {
         let e = fit_anechoic(
             &x,
-            &AnechoicConfig {
+            &AnechoicParams {
                 delay_search: grid,
-                ..AnechoicConfig::default()
+                ..AnechoicParams::default()
             },
         )
         .unwrap_err();
@@ -832,13 +832,13 @@ fn bad_input_is_an_error() {
     }
     let mut bad = data.clone();
     bad.trials[1][2].angles.pop();
-    assert!(fit_stepwise(&bad, &StepwiseConfig::default()).is_err());
+    assert!(fit_stepwise(&bad, &StepwiseParams::default()).is_err());
     let mut nan = data.clone();
     nan.trials[0][0].angles[5] = f64::INFINITY;
-    assert!(fit_stepwise(&nan, &StepwiseConfig::default()).is_err());
+    assert!(fit_stepwise(&nan, &StepwiseParams::default()).is_err());
     let mut few = data.clone();
     few.trials.truncate(2);
-    assert!(fit_stepwise(&few, &StepwiseConfig::default()).is_err());
+    assert!(fit_stepwise(&few, &StepwiseParams::default()).is_err());
     let p = Planner::default();
     assert!(p.plan(0.0).is_err() && p.plan(-1.0).is_err() && p.plan(f64::NAN).is_err());
     assert!(StarNetwork::new(0.0, 2.0, 1).is_err() && StarNetwork::new(1.0, -1.0, 1).is_err());
@@ -850,14 +850,14 @@ fn bad_input_is_an_error() {
     assert!(
         wscg_motion::blend::check_beta(0.0).is_err() && wscg_motion::blend::check_beta(PI).is_err()
     );
-    let lib = fit_stepwise(&data, &StepwiseConfig::default()).unwrap();
+    let lib = fit_stepwise(&data, &StepwiseParams::default()).unwrap();
     let planner = planner_for(&lib);
     assert!(Synthesizer::new(
         lib,
         planner,
-        SynthConfig {
+        SynthesizerParams {
             beta: 4.0,
-            ..SynthConfig::default()
+            ..SynthesizerParams::default()
         }
     )
     .is_err());

@@ -341,11 +341,11 @@ fn check8_glints_follow_the_mirror_chain() {
     let rig = StereoRig::default();
     let light = DiscLight::from_elevation(45.0, 6.0);
     let half = 4.0;
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         spp: 4,
         region_mm: Some(Rect::centred(0.0, 0.0, 2.0 * half, 2.0 * half)),
         magnification: 27.75,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     let img = render(&plate, &light, &rig, Eye::Left, &s).unwrap();
     let flakes = micro.flakes_in(
@@ -390,11 +390,11 @@ fn check8_binocular_overlap_is_the_lens_of_two_lamp_cones() {
     let (_, plate) = sparse_plate(10.0, 0.3, 18);
     let rig = StereoRig::default();
     let sep = (rig.eye_sep_m / rig.dist_m).atan().to_degrees();
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         spp: 4,
         region_mm: Some(Rect::centred(0.0, 0.0, 5.0, 5.0)),
         magnification: 27.75,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     for radius in [1.0, 3.0, 4.0, 6.0] {
         let light = DiscLight::from_elevation(70.0, radius);
@@ -418,11 +418,11 @@ fn check8_binocular_overlap_is_the_lens_of_two_lamp_cones() {
 #[test]
 fn check9_energy_and_coat_only() {
     let rig = StereoRig::default();
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         spp: 4,
         region_mm: Some(Rect::centred(0.0, 0.0, 10.0, 10.0)),
         magnification: 2.0,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     // Without flakes, a lamp straight above: every pixel sees the lamp in the coat, Y = F(cos) Y_lamp.
     let bare = Plate::new(PlateStack::default(), Box::new(NoFlakes)).unwrap();
@@ -464,13 +464,13 @@ fn check9_error_falls_as_one_over_root_spp() {
     // A lamp of 4 degrees: with 1 degree the glints are so rare and bright that one
     // realisation's error is dominated by a handful of events.
     let light = DiscLight::from_elevation(75.0, 4.0);
-    let base = RenderSettings {
+    let base = PaintRenderParams {
         region_mm: Some(Rect::centred(0.0, 0.0, 3.0, 3.0)),
         magnification: 4.0,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     let run = |spp: u32, seed: u64, independent: bool| {
-        let s = RenderSettings {
+        let s = PaintRenderParams {
             spp,
             seed,
             independent_samples: independent,
@@ -509,11 +509,11 @@ fn check5_white_lambertian_plate_renders_to_the_illuminant() {
     };
     let plate = Plate::new(stack, Box::new(NoFlakes)).unwrap();
     let rig = StereoRig::default();
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         spp: 16,
         region_mm: Some(Rect::centred(0.0, 0.0, 5.0, 5.0)),
         magnification: 1.0,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     for (name, spd, xy) in cref::ILLUMINANTS.iter() {
         let light = DiscLight {
@@ -548,11 +548,11 @@ fn left_and_right_share_the_microstructure() {
     let plate = Plate::new(PlateStack::default(), Box::new(micro)).unwrap();
     let light = DiscLight::from_elevation(75.0, 3.0);
     let rig = StereoRig::default();
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         spp: 4,
         region_mm: Some(Rect::centred(0.0, 0.0, 5.0, 5.0)),
         magnification: 4.0,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     let l = render(&plate, &light, &rig, Eye::Left, &s).unwrap();
     let r = render(&plate, &light, &rig, Eye::Right, &s).unwrap();
@@ -650,25 +650,25 @@ fn bad_input_is_an_error() {
     let plate = Plate::new(PlateStack::default(), Box::new(NoFlakes)).unwrap();
     let rig = StereoRig::default();
     let light = DiscLight::default();
-    let ok = RenderSettings::default();
+    let ok = PaintRenderParams::default();
     for bad in [
-        RenderSettings {
+        PaintRenderParams {
             spp: 0,
             ..ok.clone()
         },
-        RenderSettings {
+        PaintRenderParams {
             max_depth: 0,
             ..ok.clone()
         },
-        RenderSettings {
+        PaintRenderParams {
             magnification: 0.0,
             ..ok.clone()
         },
-        RenderSettings {
+        PaintRenderParams {
             region_mm: Some(Rect::centred(0.0, 0.0, 0.0, 1.0)),
             ..ok.clone()
         },
-        RenderSettings {
+        PaintRenderParams {
             region_mm: Some(Rect::centred(100.0, 0.0, 10.0, 10.0)),
             ..ok.clone()
         },
@@ -688,13 +688,13 @@ fn rgb_baseline_equals_spectral_for_grey_flakes_only() {
     let rig = StereoRig::default();
     let light = DiscLight::from_elevation(75.0, 3.0);
     let micro = FlakePlate::new(&FlakeParams::default(), (150.0, 100.0), 12).unwrap();
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         spp: 16,
         region_mm: Some(Rect::centred(0.0, 0.0, 3.0, 3.0)),
         magnification: 4.0,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
-    let rgb = RenderSettings {
+    let rgb = PaintRenderParams {
         colour: ColourMode::Rgb,
         ..s.clone()
     };
@@ -729,12 +729,12 @@ fn spectral_output_integrates_to_xyz_and_round_trips_through_exr() {
     use wscg_raytrace::spectral::tables::{CMF_X, CMF_Y, CMF_Z};
     let micro = FlakePlate::new(&FlakeParams::default(), (150.0, 100.0), 5).unwrap();
     let plate = Plate::new(PlateStack::default(), Box::new(micro)).unwrap();
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         spp: 4,
         region_mm: Some(Rect::centred(0.0, 0.0, 2.0, 2.0)),
         magnification: 4.0,
         keep_spectrum: true,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     let img = render(
         &plate,
@@ -789,7 +789,7 @@ fn spectral_output_integrates_to_xyz_and_round_trips_through_exr() {
         &DiscLight::default(),
         &StereoRig::default(),
         Eye::Left,
-        &RenderSettings {
+        &PaintRenderParams {
             keep_spectrum: false,
             ..s
         },
@@ -834,10 +834,10 @@ fn photon_map_direct_irradiance_matches_the_refracted_lamp() {
     };
     let plate = Plate::new(stack.clone(), Box::new(NoFlakes)).unwrap();
     let light = DiscLight::from_elevation(40.0, 1.0);
-    let ps = PhotonSettings {
+    let ps = PhotonParams {
         count: 1_000_000,
         k: 400,
-        ..PhotonSettings::default()
+        ..PhotonParams::default()
     };
     let map = trace_photons(
         &plate,
@@ -875,15 +875,15 @@ fn photon_map_direct_irradiance_matches_the_refracted_lamp() {
 fn mean_y_with_and_without_photons(
     plate: &Plate,
     light: &DiscLight,
-    s: &RenderSettings,
+    s: &PaintRenderParams,
 ) -> (f64, f64) {
     let rig = StereoRig::default();
-    let y = |s: &RenderSettings| {
+    let y = |s: &PaintRenderParams| {
         render(plate, light, &rig, Eye::Cyclopean, s)
             .unwrap()
             .mean_xyz()[1]
     };
-    let without = RenderSettings {
+    let without = PaintRenderParams {
         photons: None,
         ..s.clone()
     };
@@ -910,12 +910,12 @@ fn photon_map_caustic_of_a_tilted_mirror() {
     };
     let plate = Plate::new(stack.clone(), Box::new(mirror)).unwrap();
     let light = DiscLight::from_elevation(45.0, 0.5);
-    let ps = PhotonSettings {
+    let ps = PhotonParams {
         count: 2_000_000,
         k: 200,
         max_radius_um: 20.0,
         margin_um: 300.0,
-        ..PhotonSettings::default()
+        ..PhotonParams::default()
     };
     let mut map = trace_photons(&plate, &light, [-200.0, -300.0, 200.0, 200.0], &ps, true).unwrap();
     let ct = light.dir_to_light.z;
@@ -966,12 +966,12 @@ fn photon_map_caustic_of_a_tilted_mirror() {
 
     // The renderer adds the caustic to the light-sampled direct light: over the strip, a
     // base of albedo 1 seen from above is brighter by 1 + R tan(theta_b) with the photons.
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         spp: 16,
         region_mm: Some(Rect::centred(0.0, y_mid * 1e-3, 0.06, 0.02)),
         magnification: 30.0,
         photons: Some(ps),
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     let (with, without) = mean_y_with_and_without_photons(&plate, &light, &s);
     let ratio = with / without;
@@ -998,16 +998,16 @@ fn caustics_brighten_a_diffuse_base_and_bad_photon_settings_are_errors() {
     let plate = Plate::new(stack, Box::new(micro)).unwrap();
     let light = DiscLight::default();
     let rig = StereoRig::default();
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         spp: 4,
         region_mm: Some(Rect::centred(0.0, 0.0, 2.0, 2.0)),
         magnification: 4.0,
-        photons: Some(PhotonSettings {
+        photons: Some(PhotonParams {
             count: 300_000,
             margin_um: 500.0,
-            ..PhotonSettings::default()
+            ..PhotonParams::default()
         }),
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     let (a, b) = mean_y_with_and_without_photons(&plate, &light, &s);
     eprintln!("diffuse base 0.5: Y with caustics {a:.4}, without {b:.4}");
@@ -1015,24 +1015,24 @@ fn caustics_brighten_a_diffuse_base_and_bad_photon_settings_are_errors() {
     // total internal reflection beyond 42 degrees): a few percent more on the base.
     assert!(a > 1.005 * b, "caustics add light: {a} vs {b}");
     for bad in [
-        PhotonSettings {
+        PhotonParams {
             count: 0,
-            ..PhotonSettings::default()
+            ..PhotonParams::default()
         },
-        PhotonSettings {
+        PhotonParams {
             k: 0,
-            ..PhotonSettings::default()
+            ..PhotonParams::default()
         },
-        PhotonSettings {
+        PhotonParams {
             max_radius_um: f64::NAN,
-            ..PhotonSettings::default()
+            ..PhotonParams::default()
         },
-        PhotonSettings {
+        PhotonParams {
             margin_um: -1.0,
-            ..PhotonSettings::default()
+            ..PhotonParams::default()
         },
     ] {
-        let s = RenderSettings {
+        let s = PaintRenderParams {
             photons: Some(bad),
             ..s.clone()
         };

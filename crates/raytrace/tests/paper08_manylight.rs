@@ -213,7 +213,7 @@ fn bad_input_is_an_error() {
     assert_eq!((s.len(), s.skipped_degenerate), (1, 1));
     // No emitter.
     let scene = plane(10.0, 0.5, &[]);
-    assert!(generate_vpls(&scene, &VplSettings::default()).is_err());
+    assert!(generate_vpls(&scene, &VplParams::default()).is_err());
     // Camera and parameters.
     let mut cam = top_camera(0, 10);
     assert!(trace_primary(&scene, &cam).is_err());
@@ -222,16 +222,16 @@ fn bad_input_is_an_error() {
     assert!(trace_primary(&scene, &cam).is_err());
     let g = trace_primary(&scene, &top_camera(16, 12)).unwrap();
     let vpls = [emitter_vpl(Vector3::new(0.0, 1.0, 0.0), -Vector3::y(), 1.0)];
-    let ok = IcParams::default();
+    let ok = ImportanceCachingParams::default();
     for bad in [
-        IcParams { n_cache: 0, ..ok },
-        IcParams { m_nearest: 0, ..ok },
-        IcParams { spp: 0, ..ok },
-        IcParams {
+        ImportanceCachingParams { n_cache: 0, ..ok },
+        ImportanceCachingParams { m_nearest: 0, ..ok },
+        ImportanceCachingParams { spp: 0, ..ok },
+        ImportanceCachingParams {
             strategies: [false; 4],
             ..ok
         },
-        IcParams {
+        ImportanceCachingParams {
             n_cache: 10_000,
             ..ok
         },
@@ -252,7 +252,7 @@ fn bad_input_is_an_error() {
         &[],
         &Placement::RandomScreen,
         Interp::Uniform,
-        &IcParams { n_cache: 10, ..ok }
+        &ImportanceCachingParams { n_cache: 10, ..ok }
     )
     .is_err());
     for bad in [
@@ -265,7 +265,7 @@ fn bad_input_is_an_error() {
             ..AdaptiveParams::default()
         },
     ] {
-        let p = IcParams { n_cache: 10, ..ok };
+        let p = ImportanceCachingParams { n_cache: 10, ..ok };
         assert!(build_cache(
             &scene,
             &g,
@@ -281,7 +281,7 @@ fn bad_input_is_an_error() {
         lambda: 5.0,
         dmax_factor: 2.0,
     };
-    let p = IcParams { n_cache: 10, ..ok };
+    let p = ImportanceCachingParams { n_cache: 10, ..ok };
     assert!(build_cache(&scene, &g, &vpls, &Placement::RandomScreen, bad_interp, &p).is_err());
     // A camera that sees nothing: a black image for the reference, an error for a cache.
     let away = Camera {

@@ -21,13 +21,13 @@ fn ratios(
     n_cache: usize,
     seeds: u64,
 ) -> (Vec<f64>, Vec<f64>) {
-    let s = Settings {
-        vpl: VplSettings {
+    let s = ManyLightParams {
+        vpl: VplParams {
             n_paths,
             max_bounces: 2,
             seed: 1,
         },
-        ..Settings::default()
+        ..ManyLightParams::default()
     };
     let vpls = generate_vpls(scene, &s.vpl).unwrap();
     let g = trace_primary(scene, cam).unwrap();
@@ -97,18 +97,18 @@ fn check3_variance_reduction_conference() {
 #[test]
 fn check2_estimators_are_unbiased() {
     let (scene, cam) = cornell_box(1, 64, 48).unwrap();
-    let s = Settings {
-        vpl: VplSettings {
+    let s = ManyLightParams {
+        vpl: VplParams {
             n_paths: 400,
             max_bounces: 2,
             seed: 3,
         },
-        ic: IcParams {
+        ic: ImportanceCachingParams {
             n_cache: 150,
             spp: 8,
-            ..IcParams::default()
+            ..ImportanceCachingParams::default()
         },
-        ..Settings::default()
+        ..ManyLightParams::default()
     };
     let vpls = generate_vpls(&scene, &s.vpl).unwrap();
     assert!((900..=1150).contains(&vpls.len()), "{} VPLs", vpls.len());
@@ -196,17 +196,17 @@ struct Check4 {
 
 fn check4_setup() -> Check4 {
     let (scene, cam) = cornell_box(1, 128, 96).unwrap();
-    let s = Settings {
-        vpl: VplSettings {
+    let s = ManyLightParams {
+        vpl: VplParams {
             n_paths: 1000,
             max_bounces: 0,
             seed: 2,
         },
-        ic: IcParams {
+        ic: ImportanceCachingParams {
             n_cache: 300,
-            ..IcParams::default()
+            ..ImportanceCachingParams::default()
         },
-        ..Settings::default()
+        ..ManyLightParams::default()
     };
     let vpls = generate_vpls(&scene, &s.vpl).unwrap();
     let g = trace_primary(&scene, &cam).unwrap();
@@ -341,16 +341,16 @@ fn check7_clustering() {
         "{k} clusters for {k0}"
     );
     // The record budget holds.
-    let s = Settings {
-        vpl: VplSettings {
+    let s = ManyLightParams {
+        vpl: VplParams {
             n_paths: 200,
-            ..VplSettings::default()
+            ..VplParams::default()
         },
-        ic: IcParams {
+        ic: ImportanceCachingParams {
             n_cache: 200,
-            ..IcParams::default()
+            ..ImportanceCachingParams::default()
         },
-        ..Settings::default()
+        ..ManyLightParams::default()
     };
     let vpls = generate_vpls(&scene, &s.vpl).unwrap();
     let out = run_with(&scene, &g, &vpls, Method::Adaptive, &s, &NoProgress, 0.0).unwrap();
@@ -360,16 +360,16 @@ fn check7_clustering() {
 #[test]
 fn check8_deterministic_with_one_and_two_threads() {
     let (scene, cam) = cornell_box(1, 64, 48).unwrap();
-    let s = Settings {
-        vpl: VplSettings {
+    let s = ManyLightParams {
+        vpl: VplParams {
             n_paths: 300,
-            ..VplSettings::default()
+            ..VplParams::default()
         },
-        ic: IcParams {
+        ic: ImportanceCachingParams {
             n_cache: 100,
-            ..IcParams::default()
+            ..ImportanceCachingParams::default()
         },
-        ..Settings::default()
+        ..ManyLightParams::default()
     };
     let go = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -403,7 +403,7 @@ fn emitter_vpls_converge_to_the_area_lights_direct_light() {
     assert!((p.pos - x).norm() < 1e-3 && p.normal.y > 0.99);
     let vpls = generate_vpls(
         &scene,
-        &VplSettings {
+        &VplParams {
             n_paths: 40_000,
             max_bounces: 0,
             seed: 5,

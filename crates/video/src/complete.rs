@@ -8,35 +8,35 @@ use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::{Error, Result};
 
 use crate::field::{upscale_matches, MatchField};
-use crate::local::{localized_search, LocalConfig, LocalStats, UpscaleStep};
-use crate::lowres::{lowres_complete, sweep_once, LevelStats, LowResConfig};
+use crate::local::{localized_search, LocalSearchParams, LocalStats, UpscaleStep};
+use crate::lowres::{lowres_complete, sweep_once, LevelStats, LowResParams};
 use crate::onion::onion_order;
 use crate::patch::{valid_sources, Cubes};
 use crate::pyramid::{downscale, working_factor};
-use crate::refine::{refine_matches, RefineConfig, RefineStats};
+use crate::refine::{refine_matches, RefineParams, RefineStats};
 use crate::search::{source_list, Searcher};
 use crate::video::{Mask3, Video};
 
 /// Parameters of the whole completion.
 #[derive(Clone, Debug, PartialEq)]
-pub struct CompletionConfig {
+pub struct CompletionParams {
     /// Stage 1.
-    pub low: LowResConfig,
+    pub low: LowResParams,
     /// Stage 2 (`None`: the no-refinement ablation of Fig. 5b).
-    pub refine: Option<RefineConfig>,
+    pub refine: Option<RefineParams>,
     /// Stage 3.
-    pub local: LocalConfig,
+    pub local: LocalSearchParams,
     /// Replace stage 3's localized search by exact global search at every finer level (an
     /// ablation for small videos: the cost the paper avoids).
     pub global_fine_search: bool,
 }
 
-impl Default for CompletionConfig {
+impl Default for CompletionParams {
     fn default() -> Self {
         Self {
-            low: LowResConfig::default(),
-            refine: Some(RefineConfig::default()),
-            local: LocalConfig::default(),
+            low: LowResParams::default(),
+            refine: Some(RefineParams::default()),
+            local: LocalSearchParams::default(),
             global_fine_search: false,
         }
     }
@@ -71,12 +71,12 @@ pub struct Completion {
 }
 
 /// Completes the hole `hole` of `video` (paper 06). See [`complete_video_with`].
-pub fn complete_video(video: &Video, hole: &Mask3, cfg: &CompletionConfig) -> Result<Completion> {
+pub fn complete_video(video: &Video, hole: &Mask3, cfg: &CompletionParams) -> Result<Completion> {
     complete_video_with(video, hole, cfg, &NoProgress)
 }
 
 /// Errors unless `video` and `hole` can be completed with `cfg` (shape, patch, a known pixel).
-pub fn check_input(video: &Video, hole: &Mask3, cfg: &CompletionConfig) -> Result<()> {
+pub fn check_input(video: &Video, hole: &Mask3, cfg: &CompletionParams) -> Result<()> {
     video.check_mask(hole)?;
     cfg.low.patch.check(video.dims())?;
     if cfg.local.windows.is_empty() || cfg.local.windows.iter().any(|&w| w == 0 || w % 2 == 0) {
@@ -120,7 +120,7 @@ pub fn check_input(video: &Video, hole: &Mask3, cfg: &CompletionConfig) -> Resul
 pub fn complete_video_with(
     video: &Video,
     hole: &Mask3,
-    cfg: &CompletionConfig,
+    cfg: &CompletionParams,
     progress: &dyn Progress,
 ) -> Result<Completion> {
     let mut out = video.clone();
@@ -139,7 +139,7 @@ pub fn complete_video_with(
 pub fn complete_in_place(
     video: &mut Video,
     hole: &Mask3,
-    cfg: &CompletionConfig,
+    cfg: &CompletionParams,
     progress: &dyn Progress,
 ) -> Result<(MatchField, Stats)> {
     check_input(video, hole, cfg)?;
@@ -246,7 +246,7 @@ fn global_search(
     hole: &Mask3,
     sources: &Mask3,
     field: &mut MatchField,
-    cfg: &CompletionConfig,
+    cfg: &CompletionParams,
 ) -> Result<LocalStats> {
     let order = onion_order(hole, &field.targets)?;
     let searcher = Searcher::Exact(source_list(sources));

@@ -37,15 +37,15 @@ pub mod video;
 pub mod wexler;
 
 pub use complete::{
-    complete_in_place, complete_video, complete_video_with, Completion, CompletionConfig, Stats,
+    complete_in_place, complete_video, complete_video_with, Completion, CompletionParams, Stats,
 };
 pub use field::MatchField;
 pub use init::InitMethod;
-pub use local::{LocalConfig, UpscaleStep};
-pub use lowres::LowResConfig;
+pub use local::{LocalSearchParams, UpscaleStep};
+pub use lowres::LowResParams;
 pub use patch::PatchSize;
 pub use pca_index::PcaKdParams;
-pub use refine::RefineConfig;
+pub use refine::RefineParams;
 pub use search::SearchMethod;
 pub use video::{Mask3, Video};
-pub use wexler::{per_frame_patchmatch, wexler_complete, WexlerConfig};
+pub use wexler::{per_frame_patchmatch, wexler_complete, WexlerParams};

@@ -30,7 +30,7 @@ pub enum UpscaleStep {
 
 /// Parameters of stage 3.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LocalConfig {
+pub struct LocalSearchParams {
     /// Window widths of the first iterations (17, 13, 9, 5: Fig. 9); later iterations keep
     /// the last width.
     pub windows: Vec<usize>,
@@ -52,7 +52,7 @@ pub struct LocalConfig {
     pub propagate: bool,
 }
 
-impl LocalConfig {
+impl LocalSearchParams {
     /// Iterations at most: `max_iterations`, but at least one per listed window.
     pub fn iteration_cap(&self) -> usize {
         self.max_iterations.max(self.windows.len())
@@ -78,7 +78,7 @@ impl LocalConfig {
     }
 }
 
-impl Default for LocalConfig {
+impl Default for LocalSearchParams {
     fn default() -> Self {
         Self {
             windows: vec![17, 13, 9, 5],
@@ -114,7 +114,7 @@ pub fn localized_search(
     sources: &Mask3,
     field: &mut MatchField,
     patch: PatchSize,
-    cfg: &LocalConfig,
+    cfg: &LocalSearchParams,
 ) -> wscg_math::Result<LocalStats> {
     let order = onion_order(hole, &field.targets)?;
     let dims = video.dims();
@@ -204,7 +204,7 @@ mod tests {
 
     #[test]
     fn iterations_keep_the_last_window_and_stop_when_the_energy_settles() {
-        let cfg = LocalConfig::default();
+        let cfg = LocalSearchParams::default();
         let widths: Vec<usize> = (0..7).map(|k| cfg.window(k)).collect();
         assert_eq!(widths, [17, 13, 9, 5, 5, 5, 5]);
         // Every listed window runs, whatever the energies do.
@@ -217,9 +217,9 @@ mod tests {
         assert!(cfg.converged(&[10.0, 9.0, 8.0, 7.0, 7.01]));
         // An exact completion stops once the listed windows have run.
         assert!(cfg.converged(&[1.0, 0.0, 0.0, 0.0]));
-        let no_drop = LocalConfig {
+        let no_drop = LocalSearchParams {
             min_energy_drop: 0.0,
-            ..LocalConfig::default()
+            ..LocalSearchParams::default()
         };
         assert!(no_drop.converged(&[3.0, 2.0, 1.0, 1.0]));
         assert!(!no_drop.converged(&[3.0, 2.0, 1.0, 0.999]));
@@ -227,15 +227,15 @@ mod tests {
         let halving: Vec<f64> = (0..16).map(|k| 0.5f64.powi(k)).collect();
         assert!(!cfg.converged(&halving[..15]));
         assert!(cfg.converged(&halving));
-        let short = LocalConfig {
+        let short = LocalSearchParams {
             max_iterations: 2,
-            ..LocalConfig::default()
+            ..LocalSearchParams::default()
         };
         assert_eq!(short.iteration_cap(), 4);
-        let one = LocalConfig {
+        let one = LocalSearchParams {
             windows: vec![9],
             max_iterations: 3,
-            ..LocalConfig::default()
+            ..LocalSearchParams::default()
         };
         assert!(!one.converged(&[4.0]));
         assert!(!one.converged(&[4.0, 2.0]));

@@ -18,7 +18,7 @@ use crate::video::{Mask3, Video};
 
 /// Parameters of stage 1.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LowResConfig {
+pub struct LowResParams {
     /// Width of the working resolution (480 in the paper: 1920 x 1080 is completed at
     /// 480 x 270).
     pub target_width: usize,
@@ -48,7 +48,7 @@ pub struct LowResConfig {
     pub min_energy_drop: f64,
 }
 
-impl Default for LowResConfig {
+impl Default for LowResParams {
     fn default() -> Self {
         Self {
             target_width: 480,
@@ -79,7 +79,7 @@ pub struct LevelStats {
 }
 
 /// The pyramid of stage 1 below the working level: each coarser level, finest first.
-fn pyramid(video: &Video, hole: &Mask3, cfg: &LowResConfig) -> Vec<(Video, Mask3)> {
+fn pyramid(video: &Video, hole: &Mask3, cfg: &LowResParams) -> Vec<(Video, Mask3)> {
     let mut levels: Vec<(Video, Mask3)> = Vec::new();
     let r = cfg.patch.radius()[1].max(cfg.patch.radius()[2]) as f64;
     loop {
@@ -116,7 +116,7 @@ fn hole_thickness(hole: &Mask3) -> f64 {
 pub fn lowres_complete(
     video: &mut Video,
     hole: &Mask3,
-    cfg: &LowResConfig,
+    cfg: &LowResParams,
 ) -> Result<(MatchField, Vec<LevelStats>)> {
     video.check_mask(hole)?;
     cfg.patch.check(video.dims())?;
@@ -138,7 +138,7 @@ fn complete_level(
     v: &mut Video,
     lm: &Mask3,
     prev: Option<&MatchField>,
-    cfg: &LowResConfig,
+    cfg: &LowResParams,
     k: usize,
 ) -> Result<(MatchField, LevelStats)> {
     let sources = valid_sources(lm, cfg.patch);

@@ -14,7 +14,7 @@ use crate::video::{Mask3, Video};
 
 /// Parameters of stage 2.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RefineConfig {
+pub struct RefineParams {
     /// Fraction of pairs above the first threshold (0.15).
     pub initial_fraction: f64,
     /// Threshold decrease per iteration, as a fraction of the initial threshold (0.20).
@@ -25,7 +25,7 @@ pub struct RefineConfig {
     pub temporal_neighbors: bool,
 }
 
-impl Default for RefineConfig {
+impl Default for RefineParams {
     fn default() -> Self {
         Self {
             initial_fraction: 0.15,
@@ -64,7 +64,7 @@ pub fn refine_matches(
     sources: &Mask3,
     field: &mut MatchField,
     patch: PatchSize,
-    cfg: &RefineConfig,
+    cfg: &RefineParams,
 ) -> wscg_math::Result<RefineStats> {
     let mut st = RefineStats::default();
     if field.is_empty() || cfg.iterations == 0 {

@@ -20,7 +20,7 @@ use crate::video::{Mask3, Video};
 
 /// Parameters of the Wexler baseline.
 #[derive(Clone, Debug, PartialEq)]
-pub struct WexlerConfig {
+pub struct WexlerParams {
     /// Patch extents.
     pub patch: PatchSize,
     /// Coarsest level width: the pyramid halves while the next level is at least this wide.
@@ -38,7 +38,7 @@ pub struct WexlerConfig {
     pub seed_per_frame: bool,
 }
 
-impl Default for WexlerConfig {
+impl Default for WexlerParams {
     fn default() -> Self {
         Self {
             patch: PatchSize::default(),
@@ -74,7 +74,7 @@ fn dilated_targets(hole: &Mask3, r: [u32; 3]) -> TargetSet {
 /// hole pixels' own patch matches at full resolution.
 ///
 /// Errors: shapes, patch sizes, a mask covering every pixel, no valid source at some level.
-pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Result<Completion> {
+pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerParams) -> Result<Completion> {
     video.check_mask(hole)?;
     cfg.patch.check(video.dims())?;
     if hole.count() == hole.len_grid() {
@@ -246,7 +246,7 @@ fn vote_into(
 
 /// Per-frame image PatchMatch inpainting: [`wexler_complete`] on every frame with a hole
 /// separately, with flat `px x py x 1` patches (frames without a hole are copied).
-pub fn per_frame_patchmatch(video: &Video, hole: &Mask3, cfg: &WexlerConfig) -> Result<Video> {
+pub fn per_frame_patchmatch(video: &Video, hole: &Mask3, cfg: &WexlerParams) -> Result<Video> {
     video.check_mask(hole)?;
     let mut out = video.clone();
     let mut frame_cfg = cfg.clone();

@@ -9,7 +9,7 @@ use wscg_video::patch::{valid_sources, Cubes};
 use wscg_video::synth::{pan_clip, periodic_clip, sprite_clip, zoom_clip, Clip};
 use wscg_video::*;
 
-fn complete(clip: &Clip, cfg: &CompletionConfig) -> Completion {
+fn complete(clip: &Clip, cfg: &CompletionParams) -> Completion {
     complete_video(&clip.observed, &clip.hole, cfg).unwrap()
 }
 
@@ -61,7 +61,7 @@ fn check1_background_visible_elsewhere() {
     // 7 px/frame (the disc hides a pixel for 44 % of the clip, as in the full-size clip);
     // working resolution 320 x 180, one localized-search level.
     let clip = sprite_clip(24, 360, 640, 37.0, 7.0, 0.0, 11).unwrap();
-    let mut cfg = CompletionConfig::default();
+    let mut cfg = CompletionParams::default();
     cfg.low.target_width = 320;
     let out = complete(&clip, &cfg);
     let (s, p) = (
@@ -78,7 +78,7 @@ fn check2_pan_with_a_static_logo_hole() {
     // G2 (reduced from 1280 x 720 x 40, 120 x 90 hole): 640 x 360 x 16, 60 x 45 hole, 8 px
     // per frame (every hidden pixel is visible >= 5 frames elsewhere).
     let clip = pan_clip(16, 360, 640, 8.0, 45, 60, 3).unwrap();
-    let out = complete(&clip, &CompletionConfig::default());
+    let out = complete(&clip, &CompletionParams::default());
     let s = ssim(&clip, &out.video);
     assert!(s >= 0.93, "SSIM {s:.4}");
 }
@@ -88,7 +88,7 @@ fn check2_zoom_with_a_moving_hole() {
     // G3 (reduced from 1280 x 720 x 40, r = 60, 10 px/frame): 640 x 360 x 20, r = 30,
     // 10 px/frame (a pixel is hidden for 30 % of the clip, as in the full-size clip).
     let clip = zoom_clip(20, 360, 640, 1.003, 30.0, 10.0, 5).unwrap();
-    let out = complete(&clip, &CompletionConfig::default());
+    let out = complete(&clip, &CompletionParams::default());
     let s = ssim(&clip, &out.video);
     assert!(s >= 0.85, "SSIM {s:.4}");
 }
@@ -98,7 +98,7 @@ fn check3_permanently_occluded_periodic_structure() {
     // G4 (reduced from 960 x 540 x 20, 80 x 80 hole): 480 x 270 x 10, 40 x 40 hole, stripes
     // of period 24 px over bricks.
     let clip = periodic_clip(10, 270, 480, 24.0, 40).unwrap();
-    let out = complete(&clip, &CompletionConfig::default());
+    let out = complete(&clip, &CompletionParams::default());
     let s = ssim(&clip, &out.video);
     assert!(s >= 0.90, "SSIM {s:.4}");
 }
@@ -110,12 +110,12 @@ fn check4_refinement_lowers_the_worst_distances() {
     // itself), the initially refined 15 % get >= 10 % closer after 4 iterations, >= 1 % of the
     // pairs change, and the final SSIM is not worse than without refinement.
     let clip = pan_clip(16, 180, 320, 8.0, 40, 60, 7).unwrap();
-    let mut cfg = CompletionConfig::default();
+    let mut cfg = CompletionParams::default();
     cfg.low.search = SearchMethod::PcaKdTree(PcaKdParams::default());
     let with = complete(&clip, &cfg);
     let without = complete(
         &clip,
-        &CompletionConfig {
+        &CompletionParams {
             refine: None,
             ..cfg.clone()
         },
@@ -143,23 +143,23 @@ fn check4_refinement_lowers_the_worst_distances() {
 /// of exact global search, from the same stage 1 (stage 3 from half size), with the candidate
 /// counts of localized and global search.
 fn localized_vs_global(clip: &Clip, half_width: usize) -> ([f64; 3], u64, u64) {
-    let mut cfg = CompletionConfig::default();
+    let mut cfg = CompletionParams::default();
     cfg.low.target_width = half_width;
     cfg.low.levels = Some(0);
     let local = complete(clip, &cfg);
     let windows_only = complete(
         clip,
-        &CompletionConfig {
-            local: LocalConfig {
+        &CompletionParams {
+            local: LocalSearchParams {
                 propagate: false,
-                ..LocalConfig::default()
+                ..LocalSearchParams::default()
             },
             ..cfg.clone()
         },
     );
     let global = complete(
         clip,
-        &CompletionConfig {
+        &CompletionParams {
             global_fine_search: true,
             ..cfg.clone()
         },
@@ -214,7 +214,7 @@ fn check5_localized_search_approaches_global_search() {
         // At most 289 + 169 + 81 + 25 + 12 x 25 = 864 window candidates per pixel (the paper:
         // "less than a thousand"), plus per iteration the current match and six neighbours'
         // implied sources.
-        let local = LocalConfig::default();
+        let local = LocalSearchParams::default();
         let per_pixel: usize = (0..local.iteration_cap())
             .map(|k| local.window(k).pow(2) + 7)
             .sum();
@@ -255,12 +255,12 @@ fn check7_temporal_consistency() {
     // Static camera, static noise-free texture, permanent hole: the completion must not
     // flicker (ground truth: 0), unlike per-frame image inpainting seeded per frame.
     let clip = periodic_clip(8, 135, 240, 24.0, 20).unwrap();
-    let out = complete(&clip, &CompletionConfig::default());
+    let out = complete(&clip, &CompletionParams::default());
     let ours = flicker(&out.video, &clip.hole).unwrap();
     let per_frame = per_frame_patchmatch(
         &clip.observed,
         &clip.hole,
-        &WexlerConfig {
+        &WexlerParams {
             seed_per_frame: true,
             ..Default::default()
         },
@@ -279,11 +279,11 @@ fn check8_grain_is_preserved() {
     // G1 with Gaussian noise sigma = 4: single-match copying keeps the high-pass energy of the
     // noise inside the hole (within 25 % of outside); Wexler's voting averages it away.
     let clip = sprite_clip(10, 180, 320, 24.0, 9.0, 4.0, 21).unwrap();
-    let out = complete(&clip, &CompletionConfig::default());
+    let out = complete(&clip, &CompletionParams::default());
     let ratio =
         highpass_std(&out.video, &clip.hole, true) / highpass_std(&out.video, &clip.hole, false);
     assert!((0.75..=1.25).contains(&ratio), "grain ratio {ratio:.3}");
-    let w = wexler_complete(&clip.observed, &clip.hole, &WexlerConfig::default()).unwrap();
+    let w = wexler_complete(&clip.observed, &clip.hole, &WexlerParams::default()).unwrap();
     let wr = highpass_std(&w.video, &clip.hole, true) / highpass_std(&w.video, &clip.hole, false);
     // Reported, not asserted: with exact copies available, Wexler's votes agree and keep the
     // grain too (on natural video a ratio below 0.8 is expected).
@@ -293,7 +293,7 @@ fn check8_grain_is_preserved() {
 #[test]
 fn check9_invariants_and_determinism() {
     let clip = pan_clip(8, 90, 160, 6.0, 20, 24, 13).unwrap();
-    let cfg = CompletionConfig::default();
+    let cfg = CompletionParams::default();
     let out = complete(&clip, &cfg);
     // Known pixels bit-identical; every hole pixel has a valid source match.
     for i in 0..clip.hole.len_grid() {
@@ -332,7 +332,7 @@ fn check9_invariants_and_determinism() {
 #[test]
 fn ablations_and_baselines_run() {
     let clip = pan_clip(8, 72, 128, 4.0, 16, 20, 17).unwrap();
-    let mut cfg = CompletionConfig::default();
+    let mut cfg = CompletionParams::default();
     cfg.low.onion_order = false;
     cfg.low.search = SearchMethod::Exact;
     cfg.local.step = UpscaleStep::Direct;
@@ -362,7 +362,7 @@ fn ablations_and_baselines_run() {
     let w = wexler_complete(
         &clip.observed,
         &clip.hole,
-        &WexlerConfig {
+        &WexlerParams {
             patchmatch_iters: 0,
             ..Default::default()
         },
@@ -374,7 +374,7 @@ fn ablations_and_baselines_run() {
 #[test]
 fn bad_input_is_rejected() {
     let clip = pan_clip(6, 40, 60, 2.0, 10, 10, 1).unwrap();
-    let cfg = CompletionConfig::default();
+    let cfg = CompletionParams::default();
     let (v, m) = (&clip.observed, &clip.hole);
     // Shape mismatch.
     assert!(complete_video(v, &Mask3::empty(6, 40, 61), &cfg).is_err());

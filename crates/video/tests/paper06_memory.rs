@@ -25,7 +25,7 @@ fn check6_memory_at_full_hd() {
     // 270 x 384 logo hole: 5.0 % of every frame; stage 1 uses PatchMatch3D (the default).
     let (mut v, hole) = pan_input(60, 1080, 1920, 8.0, 270, 384, 1).unwrap();
     let input = v.data.len();
-    let mut cfg = CompletionConfig::default();
+    let mut cfg = CompletionParams::default();
     cfg.low.iters = vec![3, 2, 2];
     let (matches, _) =
         complete_in_place(&mut v, &hole, &cfg, &wscg_math::progress::NoProgress).unwrap();

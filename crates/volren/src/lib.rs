@@ -39,6 +39,6 @@ pub mod vti;
 pub mod wavelet;
 
 pub use gradient_octree::{GoStructure, GradientOctree, Roi};
-pub use package::{HybridClient, HybridServer, ServerOpts, SizeReport};
-pub use render::{render_reference, Camera, RenderOpts};
+pub use package::{HybridClient, HybridServer, ServerParams, SizeReport};
+pub use render::{render_reference, Camera, RenderParams};
 pub use tf::{MaterialTable, PlTf};

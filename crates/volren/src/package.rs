@@ -36,7 +36,7 @@ const HEADER: usize = 6 + 1 + 1 + 8 + 4;
 
 /// Server parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ServerOpts {
+pub struct ServerParams {
     /// Wavelet steps sent in the static package (1..=4; 2 gives the paper's 1/64 volume).
     pub steps_sent: u8,
     /// Quantisation of the wavelet details.
@@ -45,7 +45,7 @@ pub struct ServerOpts {
     pub edge_rule: EdgeRule,
 }
 
-impl Default for ServerOpts {
+impl Default for ServerParams {
     fn default() -> Self {
         Self {
             steps_sent: 2,
@@ -153,7 +153,7 @@ pub struct HybridServer {
     wavelet: WaveletPackage,
     octree: GradientOctree,
     id: u64,
-    opts: ServerOpts,
+    opts: ServerParams,
 }
 
 /// Bytes each scheme sends (paper 03, Tables 1 and 2), all measured on serialized buffers.
@@ -196,7 +196,7 @@ impl HybridServer {
     ///
     /// Errors: empty volume, no transfer function or more than 255, more than 63 materials,
     /// `canonical` out of range, bad options.
-    pub fn new(v: &Volume<u8>, tfs: Vec<PlTf>, canonical: usize, opts: ServerOpts) -> Result<Self> {
+    pub fn new(v: &Volume<u8>, tfs: Vec<PlTf>, canonical: usize, opts: ServerParams) -> Result<Self> {
         if v.dims().contains(&0) {
             return Err(Error::Empty("volume"));
         }
@@ -295,7 +295,7 @@ impl HybridServer {
                     &self.tfs[self.canonical],
                     Some((&roi, tf)),
                     cam,
-                    &crate::render::RenderOpts::default(),
+                    &crate::render::RenderParams::default(),
                 )?;
                 Some(crate::render::rgb(&img)?.encode_jpeg(85)?.len())
             }

@@ -188,7 +188,7 @@ impl Frame {
 
 /// Ray-casting parameters (the paper's choices where it gives them).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderOpts {
+pub struct RenderParams {
     /// Step inside the ROI and of the reference renderer (voxels).
     pub step: f64,
     /// Step through the low-resolution context (voxels; half a `V_W` voxel at `w_l = 2`).
@@ -205,7 +205,7 @@ pub struct RenderOpts {
     pub ks: f32,
 }
 
-impl Default for RenderOpts {
+impl Default for RenderParams {
     fn default() -> Self {
         Self {
             step: 0.5,
@@ -219,7 +219,7 @@ impl Default for RenderOpts {
     }
 }
 
-impl RenderOpts {
+impl RenderParams {
     fn validate(&self) -> Result<()> {
         let ok = |v: f64| v.is_finite() && v > 0.0 && v <= 64.0;
         if !(ok(self.step) && ok(self.context_step)) {
@@ -281,7 +281,7 @@ impl Accum {
 }
 
 /// Shading of a colour with normal `n` under a headlight along `-d`.
-fn shade(rgba: [f32; 4], n: [f32; 3], d: V3, o: &RenderOpts) -> [f32; 4] {
+fn shade(rgba: [f32; 4], n: [f32; 3], d: V3, o: &RenderParams) -> [f32; 4] {
     let ndl = (n[0] as f64 * d[0] + n[1] as f64 * d[1] + n[2] as f64 * d[2]).abs() as f32;
     let diffuse = o.ka + o.kd * ndl;
     let spec = o.ks * ndl.powi(32);
@@ -321,7 +321,7 @@ enum Source<'a> {
 }
 
 impl Source<'_> {
-    fn sample(&self, p: V3, d: V3, o: &RenderOpts) -> Option<[f32; 4]> {
+    fn sample(&self, p: V3, d: V3, o: &RenderParams) -> Option<[f32; 4]> {
         match *self {
             Source::Context {
                 lowres,
@@ -373,7 +373,7 @@ impl Source<'_> {
 fn cast(
     dims: [usize; 3],
     cam: &Camera,
-    opts: &RenderOpts,
+    opts: &RenderParams,
     roi: Option<(&Roi, Source, f64)>,
     outside: (Source, f64),
 ) -> Result<Image<f32>> {
@@ -473,7 +473,7 @@ impl HybridClient {
     /// RGBA, `height x width x 4`.
     ///
     /// Errors: bad camera or options, `roi_tf` out of range.
-    pub fn render(&self, cam: &Camera, roi_tf: usize, opts: &RenderOpts) -> Result<Image<f32>> {
+    pub fn render(&self, cam: &Camera, roi_tf: usize, opts: &RenderParams) -> Result<Image<f32>> {
         self.render_with(cam, roi_tf, opts, None)
     }
 
@@ -486,7 +486,7 @@ impl HybridClient {
         volume: &Volume<u8>,
         cam: &Camera,
         roi_tf: usize,
-        opts: &RenderOpts,
+        opts: &RenderParams,
     ) -> Result<Image<f32>> {
         if volume.dims() != self.dims {
             return Err(Error::ShapeMismatch(format!(
@@ -502,7 +502,7 @@ impl HybridClient {
         &self,
         cam: &Camera,
         roi_tf: usize,
-        opts: &RenderOpts,
+        opts: &RenderParams,
         exact: Option<&Volume<u8>>,
     ) -> Result<Image<f32>> {
         let tf = tf_index(&self.tfs, roi_tf)?;
@@ -524,7 +524,7 @@ impl HybridClient {
         &self,
         cam: &Camera,
         roi_tf: usize,
-        opts: &RenderOpts,
+        opts: &RenderParams,
     ) -> Result<Image<f32>> {
         let tf = tf_index(&self.tfs, roi_tf)?;
         let (_, src) = self
@@ -545,7 +545,7 @@ impl HybridClient {
         full: &Volume<f32>,
         cam: &Camera,
         roi_tf: usize,
-        opts: &RenderOpts,
+        opts: &RenderParams,
     ) -> Result<Image<f32>> {
         let tf = tf_index(&self.tfs, roi_tf)?;
         let (roi, _, _) = self
@@ -576,7 +576,7 @@ impl HybridClient {
     }
 
     /// The wavelet-context baseline: `V_W` everywhere, no ROI.
-    pub fn render_context(&self, cam: &Camera, opts: &RenderOpts) -> Result<Image<f32>> {
+    pub fn render_context(&self, cam: &Camera, opts: &RenderParams) -> Result<Image<f32>> {
         cast(
             self.dims,
             cam,
@@ -598,7 +598,7 @@ pub fn render_reference(
     tf: &PlTf,
     roi: Option<(&Roi, &PlTf)>,
     cam: &Camera,
-    opts: &RenderOpts,
+    opts: &RenderParams,
 ) -> Result<Image<f32>> {
     if v.dims().contains(&0) {
         return Err(Error::Empty("volume"));

@@ -57,7 +57,7 @@ fn discrete_beer_lambert_slab() {
             &cam,
             &light,
             &Method::ics(ds),
-            &RenderSettings::default(),
+            &IlluminationParams::default(),
         )
         .unwrap();
         assert_eq!(r.slices, n as usize);
@@ -157,7 +157,7 @@ fn penumbra_row_in(ds: f32, light: &Light, zr: std::ops::Range<usize>) -> Vec<f3
     )
     .unwrap();
     let cam = along_z(&field, 128, 64);
-    let settings = RenderSettings {
+    let settings = IlluminationParams {
         interp: Interp::Nearest,
         ..Default::default()
     };
@@ -260,7 +260,7 @@ fn delta_kernel_equals_shadow_rays() {
     let tf = marschner_lobb_tf();
     let cam = SliceCamera::fit(&field, [0.3, -0.5, 1.0], [0.0, 1.0, 0.0], 64, 64).unwrap();
     let light = headlight(Kernel::Delta);
-    let s = RenderSettings::default();
+    let s = IlluminationParams::default();
     for ds in [0.5f32, 1.0] {
         let a = render(&field, &tf, &cam, &light, &Method::ics(ds), &s).unwrap();
         let b = render(
@@ -398,7 +398,7 @@ fn preintegration_tracks_the_fine_integral() {
         ambient: 1.0,
         ..Light::default()
     };
-    let s = RenderSettings::default();
+    let s = IlluminationParams::default();
     let img = |m: Method| render(&field, &tf, &cam, &unlit, &m, &s).unwrap().image;
     let fine = img(Method::RaycastEa { step: 0.05 });
     for ds in [0.5f32, 1.0] {
@@ -436,7 +436,7 @@ fn scs_interpolates_light_between_slices() {
             &cam,
             &light,
             &Method::scs(ds as f32, m as u32),
-            &RenderSettings::default(),
+            &IlluminationParams::default(),
         )
         .unwrap();
         // Scalar model of the same sums (the transfer function is constant, so samples
@@ -484,7 +484,7 @@ fn ml_scene() -> (ScalarField, TransferFunction, SliceCamera, Light) {
 #[test]
 fn table1_shape_on_marschner_lobb() {
     let (field, tf, cam, light) = ml_scene();
-    let s = RenderSettings::default();
+    let s = IlluminationParams::default();
     let reference = render(&field, &tf, &cam, &light, &Method::ics(0.2), &s)
         .unwrap()
         .image;
@@ -523,7 +523,7 @@ fn invariants() {
     let clear = TransferFunction::from_points(&[(0.0, [1.0, 0.0, 0.0, 0.0])], 16).unwrap();
     let cam = SliceCamera::fit(&field, [0.0, 0.3, 1.0], [0.0, 1.0, 0.0], 48, 40).unwrap();
     let light = headlight(Kernel::default());
-    let s = RenderSettings {
+    let s = IlluminationParams {
         background: [0.1, 0.2, 0.3],
         ..Default::default()
     };
@@ -648,7 +648,7 @@ fn phong_shades_a_ramp_by_its_analytic_normal() {
         let (nl, nh) = (dot(l, 1.0), dot(h, hn));
         let shade = ph.ka as f64 + ph.kd as f64 * nl + ph.ks as f64 * nh.powf(ph.shininess as f64);
         for interp in [Interp::Trilinear, Interp::Nearest] {
-            let s = RenderSettings {
+            let s = IlluminationParams {
                 interp,
                 ..Default::default()
             };
@@ -684,7 +684,7 @@ fn deterministic_across_thread_counts() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| render(&field, &tf, &cam, &light, &m, &RenderSettings::default()).unwrap())
+            .install(|| render(&field, &tf, &cam, &light, &m, &IlluminationParams::default()).unwrap())
     };
     for m in [
         Method::scs(0.8, 2),
@@ -723,7 +723,7 @@ fn bad_input_is_rejected() {
     let tf = marschner_lobb_tf();
     let cam = SliceCamera::fit(&field, [0.0, 0.0, 1.0], [0.0, 1.0, 0.0], 8, 8).unwrap();
     let light = Light::default();
-    let s = RenderSettings::default();
+    let s = IlluminationParams::default();
     let bad = |c: &SliceCamera, l: &Light, m: Method| {
         render(&field, &tf, c, l, &m, &s).unwrap_err().to_string()
     };
@@ -780,7 +780,7 @@ fn unbounded_work_is_refused() {
     let field = marschner_lobb(9).unwrap();
     let tf = marschner_lobb_tf();
     let cam = SliceCamera::fit(&field, [0.0, 0.0, 1.0], [0.0, 1.0, 0.0], 8, 8).unwrap();
-    let s = RenderSettings::default();
+    let s = IlluminationParams::default();
     let light = Light::default();
     let err = |l: &Light, m: Method| {
         render(&field, &tf, &cam, l, &m, &s)
@@ -813,7 +813,7 @@ fn unlit_ics_equals_ray_casting_with_empty_space_skipping() {
         ambient: 1.0,
         ..Light::default()
     };
-    let s = RenderSettings::default();
+    let s = IlluminationParams::default();
     for dir in [[0.3, -0.5, 1.0], [-1.0, 0.2, -0.4]] {
         let cam = SliceCamera::fit(&field, dir, [0.0, 0.0, 1.0], 64, 64).unwrap();
         for step in [0.5f32, 1.3] {

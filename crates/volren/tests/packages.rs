@@ -3,11 +3,11 @@
 //! check 10 (truncated, corrupted, foreign or inconsistent packages).
 
 use wscg_volren::phantoms::{head, head_tfs};
-use wscg_volren::{HybridClient, HybridServer, PlTf, Roi, ServerOpts};
+use wscg_volren::{HybridClient, HybridServer, PlTf, Roi, ServerParams};
 
 fn server() -> HybridServer {
     let v = head([96, 96, 48], 3).unwrap();
-    HybridServer::new(&v, head_tfs(), 0, ServerOpts::default()).unwrap()
+    HybridServer::new(&v, head_tfs(), 0, ServerParams::default()).unwrap()
 }
 
 /// Re-frames a payload with a valid header (to test the checks behind the CRC).
@@ -92,7 +92,7 @@ fn bad_packages_are_rejected() {
         &head([96, 96, 48], 4).unwrap(),
         head_tfs(),
         0,
-        ServerOpts::default(),
+        ServerParams::default(),
     )
     .unwrap();
     let err = c.set_roi(&other.roi_package([0, 0, 0], [32, 32, 32]).unwrap());
@@ -118,9 +118,9 @@ fn bad_packages_are_rejected() {
     assert!(s.roi_package([50, 0, 0], [40, 10, 10]).is_err());
     assert!(s.roi_package([500, 0, 0], [510, 10, 10]).is_err());
     let v = head([32, 32, 32], 1).unwrap();
-    assert!(HybridServer::new(&v, head_tfs(), 2, ServerOpts::default()).is_err());
-    assert!(HybridServer::new(&v, Vec::<PlTf>::new(), 0, ServerOpts::default()).is_err());
-    let opts = ServerOpts {
+    assert!(HybridServer::new(&v, head_tfs(), 2, ServerParams::default()).is_err());
+    assert!(HybridServer::new(&v, Vec::<PlTf>::new(), 0, ServerParams::default()).is_err());
+    let opts = ServerParams {
         steps_sent: 5,
         ..Default::default()
     };

@@ -5,7 +5,7 @@ use wscg_math::metrics::psnr;
 use wscg_math::Image;
 use wscg_volren::phantoms::{head, head_tfs};
 use wscg_volren::{
-    render_reference, Camera, HybridClient, HybridServer, RenderOpts, Roi, ServerOpts,
+    render_reference, Camera, HybridClient, HybridServer, RenderParams, Roi, ServerParams,
 };
 
 /// The RGB values of the masked pixels.
@@ -25,11 +25,11 @@ fn hybrid_rendering_is_consistent_and_helps_in_the_roi() {
     let dims = [256, 256, 112];
     let v = head(dims, 5).unwrap();
     let tfs = head_tfs();
-    let server = HybridServer::new(&v, tfs.clone(), 0, ServerOpts::default()).unwrap();
+    let server = HybridServer::new(&v, tfs.clone(), 0, ServerParams::default()).unwrap();
     let mut client = HybridClient::from_static(&server.static_package()).unwrap();
     let n = 160;
     let cam = Camera::orbit(dims, 30.0, 20.0, n);
-    let opts = RenderOpts::default();
+    let opts = RenderParams::default();
     // Check 7a: without a ROI the hybrid image is the context image, bit for bit.
     let context = client.render_context(&cam, &opts).unwrap();
     assert_eq!(client.render(&cam, 1, &opts).unwrap(), context);
@@ -94,6 +94,6 @@ fn hybrid_rendering_is_consistent_and_helps_in_the_roi() {
     let mut bad = cam;
     bad.target = bad.eye;
     assert!(client.render(&bad, 1, &opts).is_err());
-    let zero = RenderOpts { step: 0.0, ..opts };
+    let zero = RenderParams { step: 0.0, ..opts };
     assert!(client.render(&cam, 1, &zero).is_err());
 }

@@ -2,7 +2,7 @@
 //! the volume grows (Tables 1 and 2), from serialized packages.
 
 use wscg_volren::phantoms::{head, head_tfs, thorax, thorax_tfs};
-use wscg_volren::{Camera, HybridServer, ServerOpts, SizeReport};
+use wscg_volren::{Camera, HybridServer, ServerParams, SizeReport};
 
 fn print(name: &str, r: &SizeReport) {
     println!(
@@ -31,7 +31,7 @@ fn head_sizes_follow_the_papers_ordering() {
         &head(dims, 1).unwrap(),
         head_tfs(),
         0,
-        ServerOpts::default(),
+        ServerParams::default(),
     )
     .unwrap();
     // The paper's skull ROI, 128 x 64 x 64, and a small thin-client view.
@@ -50,7 +50,7 @@ fn thorax_hybrid_rate_shrinks_with_resolution() {
     // ROI.
     let rate = |n: usize| {
         let v = thorax([n; 3], 2).unwrap();
-        let s = HybridServer::new(&v, thorax_tfs(), 0, ServerOpts::default()).unwrap();
+        let s = HybridServer::new(&v, thorax_tfs(), 0, ServerParams::default()).unwrap();
         let q = |f: f64| (f * n as f64) as u32;
         let r = s
             .size_report(

@@ -28,7 +28,7 @@ pub fn nearest_seed_labels(g: &BoneGraph, seeds: &[u16]) -> Vec<u16> {
 /// graph saves the memory and work of the ~90 % of voxels that are not bone.
 pub fn full_image_graph(
     ct: &wscg_math::Volume<f32>,
-    p: &crate::RwParams,
+    p: &crate::RandomWalkParams,
 ) -> wscg_math::Result<BoneGraph> {
     BoneGraph::from_mask(ct, &vec![true; ct.len()], p)
 }

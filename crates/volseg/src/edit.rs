@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use wscg_math::{Error, Result, Volume};
 
 use crate::graph::intensity_map;
-use crate::params::{IntensityNorm, RwParams};
+use crate::params::{IntensityNorm, RandomWalkParams};
 use crate::preprocess::threshold;
 
 /// Weights of the grow brush's affinity `W_ij` (section 2.6; the paper names the three
@@ -64,7 +64,7 @@ fn offsets26() -> impl Iterator<Item = [i64; 3]> {
 pub fn local_grow_edit(
     labels: &mut Volume<u16>,
     ct: &Volume<f32>,
-    p: &RwParams,
+    p: &RandomWalkParams,
     center: [f64; 3],
     radius: f64,
     active: u16,

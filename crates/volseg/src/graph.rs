@@ -3,7 +3,7 @@
 
 use wscg_math::{Error, Result, Volume};
 
-use crate::params::{IntensityNorm, RwParams};
+use crate::params::{IntensityNorm, RandomWalkParams};
 
 /// Marks a missing neighbour.
 pub const NONE: u32 = u32::MAX;
@@ -63,14 +63,14 @@ impl BoneGraph {
     /// spacing along the edge when `p.spacing_in_weights`, as scikit-image does).
     ///
     /// Errors: NaN or infinite CT values, invalid parameters, more than 2^32 − 1 bone voxels.
-    pub fn build(ct: &Volume<f32>, p: &RwParams) -> Result<Self> {
+    pub fn build(ct: &Volume<f32>, p: &RandomWalkParams) -> Result<Self> {
         Self::from_mask(ct, &crate::preprocess::threshold(ct, p.t_bone), p)
     }
 
     /// Builds the graph on the voxels of `mask` (same size as `ct`).
     ///
     /// Errors: as [`Self::build`], and a mask of another size.
-    pub fn from_mask(ct: &Volume<f32>, mask: &[bool], p: &RwParams) -> Result<Self> {
+    pub fn from_mask(ct: &Volume<f32>, mask: &[bool], p: &RandomWalkParams) -> Result<Self> {
         p.validate()?;
         if let Some(index) = ct.data().iter().position(|v| !v.is_finite()) {
             return Err(Error::NonFinite { name: "ct", index });

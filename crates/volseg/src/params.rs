@@ -42,7 +42,7 @@ pub enum Precision {
 
 /// Parameters of [`crate::walker::RwSession`], the paper's values by default.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RwParams {
+pub struct RandomWalkParams {
     /// Bone threshold `t_bone`, HU: voxels with `I >= t_bone` form the graph (300).
     pub t_bone: f64,
     /// Weight sharpness β of eq. 1 (3000; 2000-4000 give similar results).
@@ -71,7 +71,7 @@ pub struct RwParams {
     pub threads: Option<usize>,
 }
 
-impl Default for RwParams {
+impl Default for RandomWalkParams {
     fn default() -> Self {
         Self {
             t_bone: 300.0,
@@ -93,7 +93,7 @@ impl Default for RwParams {
     }
 }
 
-impl RwParams {
+impl RandomWalkParams {
     /// Errors: non-finite values, negative β, ε or κ, `tol <= 0`, `max_iter == 0`, a window
     /// with `hi <= lo`.
     pub fn validate(&self) -> Result<()> {

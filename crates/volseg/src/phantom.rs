@@ -14,7 +14,7 @@ use wscg_math::{Error, Result, Volume};
 
 /// Parameters of [`fractured_shell_phantom`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PhantomConfig {
+pub struct PhantomParams {
     /// Volume size (x, y, z).
     pub dims: [usize; 3],
     /// Number of fragments `K` (6).
@@ -45,7 +45,7 @@ pub struct PhantomConfig {
     pub surface_strokes: bool,
 }
 
-impl Default for PhantomConfig {
+impl Default for PhantomParams {
     fn default() -> Self {
         Self {
             dims: [128, 128, 128],
@@ -102,7 +102,7 @@ fn voronoi(d: [f64; 3], sites: &[[f64; 3]]) -> (usize, f64) {
 
 /// Generates the phantom. Errors: fewer than 2 fragments, a side below 16 voxels, invalid
 /// radii or densities.
-pub fn fractured_shell_phantom(c: &PhantomConfig) -> Result<Phantom> {
+pub fn fractured_shell_phantom(c: &PhantomParams) -> Result<Phantom> {
     if c.fragments < 2 || c.fragments > u16::MAX as usize {
         return Err(Error::invalid(
             "fragments",

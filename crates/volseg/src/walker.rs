@@ -9,7 +9,7 @@ use wscg_math::{Error, Result, Volume};
 use crate::baseline::nearest_seed_labels;
 use crate::block::{try_filled, Block, BlockOutcome, Lane, EXCLUDED, MAX_LANES, UNKNOWN};
 use crate::graph::BoneGraph;
-use crate::params::{Precision, RwParams, Solver};
+use crate::params::{Precision, RandomWalkParams, Solver};
 
 /// Outcome of one [`RwSession::solve`], per label `1..=K`.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -59,7 +59,7 @@ enum Probs {
 #[derive(Clone, Debug)]
 pub struct RwSession {
     graph: BoneGraph,
-    params: RwParams,
+    params: RandomWalkParams,
     /// Seed label of every node (0 = unseeded).
     seeds: Vec<u16>,
     /// Number of labels of the last solve.
@@ -70,7 +70,7 @@ pub struct RwSession {
 
 impl RwSession {
     /// A session on `graph`. Errors: invalid parameters.
-    pub fn new(graph: BoneGraph, params: RwParams) -> Result<Self> {
+    pub fn new(graph: BoneGraph, params: RandomWalkParams) -> Result<Self> {
         params.validate()?;
         let n = graph.len();
         Ok(Self {
@@ -88,7 +88,7 @@ impl RwSession {
     }
 
     /// The parameters.
-    pub fn params(&self) -> &RwParams {
+    pub fn params(&self) -> &RandomWalkParams {
         &self.params
     }
 

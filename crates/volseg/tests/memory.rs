@@ -6,7 +6,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 use wscg_volseg::{
-    fractured_shell_phantom, full_image_graph, BoneGraph, PhantomConfig, RwParams, RwSession,
+    fractured_shell_phantom, full_image_graph, BoneGraph, PhantomParams, RandomWalkParams, RwSession,
 };
 
 struct Counting;
@@ -42,13 +42,13 @@ fn peak_of<R>(f: impl FnOnce() -> R) -> (R, usize) {
 
 #[test]
 fn bone_only_graph_needs_under_15_percent_of_the_full_image_graph() {
-    let ph = fractured_shell_phantom(&PhantomConfig {
+    let ph = fractured_shell_phantom(&PhantomParams {
         dims: [256; 3],
         fragments: 4,
-        ..PhantomConfig::default()
+        ..PhantomParams::default()
     })
     .unwrap();
-    let p = RwParams::default();
+    let p = RandomWalkParams::default();
     let (bone_nodes, bone) = peak_of(|| {
         let g = BoneGraph::build(&ph.ct, &p).unwrap();
         let n = g.len();
@@ -75,7 +75,7 @@ fn bone_only_graph_needs_under_15_percent_of_the_full_image_graph() {
             }
         }
     }
-    let q = RwParams { max_iter: 5, ..p };
+    let q = RandomWalkParams { max_iter: 5, ..p };
     let (full_nodes, full) = peak_of(|| {
         let g = full_image_graph(&ph.ct, &q).unwrap();
         let n = g.len();

@@ -5,19 +5,19 @@
 
 use std::time::Instant;
 
-use wscg_volseg::{fractured_shell_phantom, BoneGraph, PhantomConfig, RwParams, RwSession};
+use wscg_volseg::{fractured_shell_phantom, BoneGraph, PhantomParams, RandomWalkParams, RwSession};
 
 #[test]
 fn case_one_size_converges_in_the_papers_iteration_range() {
     let t = Instant::now();
-    let ph = fractured_shell_phantom(&PhantomConfig {
+    let ph = fractured_shell_phantom(&PhantomParams {
         dims: [512, 512, 337],
         fragments: 15,
-        ..PhantomConfig::default()
+        ..PhantomParams::default()
     })
     .unwrap();
     let t_phantom = t.elapsed().as_secs_f64();
-    let p = RwParams::default();
+    let p = RandomWalkParams::default();
     let t = Instant::now();
     let g = BoneGraph::build(&ph.ct, &p).unwrap();
     let t_graph = t.elapsed().as_secs_f64();

@@ -21,7 +21,7 @@
 //! (skin-like chromaticity: the stress set). The ground-truth block occlusion is the
 //! fraction of occluder pixels per block after resizing to the normalised size, `>= 0.5`.
 //!
-//! [`SynthConfig::shape_spread`] scales the inter-subject shape variation around the centres
+//! [`EarSynthParams::shape_spread`] scales the inter-subject shape variation around the centres
 //! of those ranges. Its default, 2.2, was calibrated once (1.0 gave the whole-ear baseline
 //! 62 % rank-1 on un-occluded probes of 100 subjects, 1.6 gave 78 %, 2.2 gives 91 %) so that
 //! the baseline lies in 85-95 % (our target: subjects well told apart without occlusion, with
@@ -41,7 +41,7 @@ use super::skin::SkinModel;
 
 /// Generator settings. `Default` is the calibrated setting used by the tests and demos.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SynthConfig {
+pub struct EarSynthParams {
     /// Canvas rows (200).
     pub height: usize,
     /// Canvas columns (160).
@@ -61,9 +61,9 @@ pub struct SynthConfig {
     pub noise_sigma: f64,
 }
 
-impl Default for SynthConfig {
+impl Default for EarSynthParams {
     fn default() -> Self {
-        SynthConfig {
+        EarSynthParams {
             height: 200,
             width: 160,
             shape_spread: 2.2,
@@ -76,7 +76,7 @@ impl Default for SynthConfig {
     }
 }
 
-impl SynthConfig {
+impl EarSynthParams {
     fn validate(&self) -> Result<()> {
         if self.height < 16 || self.width < 16 {
             return Err(Error::invalid(
@@ -154,7 +154,7 @@ fn spread(r: &mut Rng, lo: f64, hi: f64, s: f64) -> f64 {
 
 impl EarSubject {
     /// Subject `id` of the population seeded with `seed`.
-    pub fn generate(seed: u64, id: usize, cfg: &SynthConfig) -> Self {
+    pub fn generate(seed: u64, id: usize, cfg: &EarSynthParams) -> Self {
         let mut r = stream(seed, 2 * id as u64);
         let s = cfg.shape_spread;
         let model = SkinModel::default();
@@ -352,7 +352,7 @@ pub struct Capture {
 
 impl Capture {
     /// A random capture under `cfg`.
-    pub fn random(r: &mut Rng, cfg: &SynthConfig) -> Self {
+    pub fn random(r: &mut Rng, cfg: &EarSynthParams) -> Self {
         let mut u = |h: f64| if h > 0.0 { r.random_range(-h..=h) } else { 0.0 };
         let shift = [u(cfg.shift_px), u(cfg.shift_px)];
         let rotation = u(cfg.rotation_deg).to_radians();
@@ -523,7 +523,7 @@ pub fn render(
     subject: &EarSubject,
     capture: &Capture,
     occluders: &[Occluder],
-    cfg: &SynthConfig,
+    cfg: &EarSynthParams,
 ) -> Result<SynthImage> {
     cfg.validate()?;
     let (h, w) = (cfg.height, cfg.width);
@@ -604,7 +604,7 @@ fn blocks_covered(
     subject: &EarSubject,
     capture: &Capture,
     occ: &Occluder,
-    cfg: &SynthConfig,
+    cfg: &EarSynthParams,
     p: &EarParams,
 ) -> Result<usize> {
     let (h, w) = (cfg.height, cfg.width);
@@ -651,7 +651,7 @@ fn colour_region(
     subject: &EarSubject,
     capture: &Capture,
     target: usize,
-    cfg: &SynthConfig,
+    cfg: &EarSynthParams,
     p: &EarParams,
 ) -> Result<Occluder> {
     let angle = r.random_range(0.0..std::f64::consts::TAU);
@@ -698,7 +698,7 @@ pub fn occluders_for(
     subject: &EarSubject,
     capture: &Capture,
     kind: OcclusionKind,
-    cfg: &SynthConfig,
+    cfg: &EarSynthParams,
     p: &EarParams,
 ) -> Result<Vec<Occluder>> {
     Ok(match kind {
@@ -809,7 +809,7 @@ pub fn generate(
     probes_per_subject: usize,
     kind: OcclusionKind,
     seed: u64,
-    cfg: &SynthConfig,
+    cfg: &EarSynthParams,
     p: &EarParams,
 ) -> Result<EarSet> {
     if n_subjects == 0 {

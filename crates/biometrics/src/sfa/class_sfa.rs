@@ -51,7 +51,7 @@ pub enum ClassObjective {
 
 /// Parameters of [`PerClassSfa`] (and of [`super::GlobalSfa`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ClassSfaConfig {
+pub struct ClassSfaParams {
     /// PCA dimensions before the expansion (35 in the paper).
     pub pca_dims: usize,
     /// The expansion (quadratic with linear terms by default; `None`: linear SFA).
@@ -66,7 +66,7 @@ pub struct ClassSfaConfig {
     pub rank_tol: f64,
 }
 
-impl Default for ClassSfaConfig {
+impl Default for ClassSfaParams {
     fn default() -> Self {
         Self {
             pca_dims: 35,
@@ -79,7 +79,7 @@ impl Default for ClassSfaConfig {
     }
 }
 
-impl ClassSfaConfig {
+impl ClassSfaParams {
     /// Checks the numeric parameters.
     pub fn validate(&self) -> Result<()> {
         if self.pca_dims == 0 {
@@ -176,7 +176,7 @@ pub(crate) fn whitened_objective(
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PerClassSfa {
     /// The configuration it was fitted with.
-    pub config: ClassSfaConfig,
+    pub config: ClassSfaParams,
     /// The PCA before the expansion.
     pub pca: Pca,
     /// Class labels, ascending.
@@ -201,7 +201,7 @@ impl PerClassSfa {
     /// Errors: empty or non-finite `x`, label count, fewer than 2 classes, a class with at
     /// most `m` rows, `pca_dims` above `min(n - 1, p)`, `m` above the expanded rank, rank-0
     /// data.
-    pub fn fit(x: MatRef<'_, f64>, y: &[u32], cfg: &ClassSfaConfig) -> Result<Self> {
+    pub fn fit(x: MatRef<'_, f64>, y: &[u32], cfg: &ClassSfaParams) -> Result<Self> {
         cfg.validate()?;
         check_training(x, y, cfg.m_per_class + 1)?;
         let (pca, xp) = fit_pca(x, cfg.pca_dims)?;

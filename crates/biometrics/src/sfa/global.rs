@@ -12,7 +12,7 @@ use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
 use wscg_math::{dense, Error, Result};
 
-use super::class_sfa::{argmin_rows, check_training, fit_pca, whitened_objective, ClassSfaConfig};
+use super::class_sfa::{argmin_rows, check_training, fit_pca, whitened_objective, ClassSfaParams};
 use super::scatter::{project_blocks, ClassMoments, Whitening};
 use crate::subspace::{check_query, Pca, Projector};
 
@@ -30,7 +30,7 @@ pub enum GlobalRule {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GlobalSfa {
     /// Configuration (`m_per_class` is the number `K` of shared functions).
-    pub config: ClassSfaConfig,
+    pub config: ClassSfaParams,
     /// The decision rule.
     pub rule: GlobalRule,
     /// PCA before the expansion.
@@ -53,7 +53,7 @@ impl GlobalSfa {
     pub fn fit(
         x: MatRef<'_, f64>,
         y: &[u32],
-        cfg: &ClassSfaConfig,
+        cfg: &ClassSfaParams,
         rule: GlobalRule,
     ) -> Result<Self> {
         cfg.validate()?;

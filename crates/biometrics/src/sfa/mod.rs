@@ -24,7 +24,7 @@ pub mod neighbours;
 pub mod scatter;
 pub mod temporal;
 
-pub use class_sfa::{ClassObjective, ClassSfaConfig, PerClassSfa};
+pub use class_sfa::{ClassObjective, ClassSfaParams, PerClassSfa};
 pub use expansion::QuadraticExpansion;
 pub use global::{GlobalRule, GlobalSfa};
 pub use knn::{confusion_matrix, Knn, KnnTie};

@@ -34,7 +34,7 @@ pub use kernel::{Gamma, Kernel, ResolvedKernel, Sigma};
 pub use kpca::KernelPca;
 pub use model::{Method, Model};
 pub use pca::Pca;
-pub use protocol::{evaluate, ProtocolOptions, ProtocolResult};
+pub use protocol::{evaluate, ProtocolParams, ProtocolResult};
 pub use recognizer::{Identification, Recognizer};
 
 /// A fitted linear or kernel projection `R^d -> R^l`.

@@ -12,7 +12,7 @@ use super::{accuracy_curve, best_dimension, select_dimension_cv, Method, Metric,
 
 /// Options of [`evaluate`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ProtocolOptions {
+pub struct ProtocolParams {
     /// Largest dimension of the sweep (200 for the paper's finger-vein experiment).
     pub max_dim: usize,
     /// Folds of the validated protocol (`None` skips it).
@@ -23,7 +23,7 @@ pub struct ProtocolOptions {
     pub metric: Metric,
 }
 
-impl Default for ProtocolOptions {
+impl Default for ProtocolParams {
     fn default() -> Self {
         Self {
             max_dim: 200,
@@ -56,7 +56,7 @@ pub fn evaluate(
     ytr: &[u32],
     xte: MatRef<'_, f64>,
     yte: &[u32],
-    opt: &ProtocolOptions,
+    opt: &ProtocolParams,
 ) -> Result<ProtocolResult> {
     let t = Instant::now();
     let model = method.fit(xtr)?;

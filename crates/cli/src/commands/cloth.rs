@@ -12,7 +12,7 @@ use clap::{Args, Subcommand, ValueEnum};
 use nalgebra::Vector3;
 use wscg_cloth::{
     ClothModel, Collider, Collisions, LambdaMode, MeshCollider, Method, NcgVariant, Relaxation,
-    Sim, SolverConfig,
+    Sim, SolverParams,
 };
 use wscg_math::progress::Progress;
 use wscg_math::{Error, Result, TriMesh};
@@ -240,7 +240,7 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
     };
     let mut sim = Sim::new(
         model,
-        SolverConfig {
+        SolverParams {
             method,
             iterations: a.iterations,
             alpha: a.alpha_beta,

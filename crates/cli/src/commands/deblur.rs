@@ -14,10 +14,10 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
 use wscg_deblur::metrics::quality;
-use wscg_deblur::synth::{self, Burst, OuParams, RenderOpts};
+use wscg_deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
 use wscg_deblur::{
     deblur_frame, deblur_multiframe, render_kernel, AlignMode, Gamma, GyroSample, GyroTrack,
-    HlParams, Intrinsics, KernelOpts, Method, MultiOpts,
+    HyperLaplacianParams, Intrinsics, KernelParams, Method, MultiframeParams,
 };
 use wscg_math::{Error, Image, Result};
 
@@ -132,7 +132,7 @@ pub struct FramesArgs {
     #[arg(long, default_value_t = 2000.0)]
     lambda: f32,
     /// Weight mu of the multi-frame prior.
-    #[arg(long, default_value_t = MultiOpts::default().mu)]
+    #[arg(long, default_value_t = MultiframeParams::default().mu)]
     mu: f32,
     /// Align neighbours with the gyroscope only (no ECC refinement).
     #[arg(long)]
@@ -312,7 +312,7 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                 &timing,
                 &k,
                 parse_pair(&a.at, "at")?,
-                &KernelOpts::default(),
+                &KernelParams::default(),
             )?;
             let peak = kern.data.iter().cloned().fold(0f32, f32::max).max(1e-12);
             Image::from_fn(kern.size, kern.size, |i, j| {
@@ -349,7 +349,7 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                 f: a.f,
                 ..Default::default()
             };
-            let ou = OuParams {
+            let ou = ShakeParams {
                 std: [p, y, r],
                 ..Default::default()
             };
@@ -359,7 +359,7 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                 &ou,
                 a.frames / 2,
                 0.002,
-                &RenderOpts::default(),
+                &BlurRenderParams::default(),
                 a.seed,
             )?;
             let dir = a.out_dir.join("frames");
@@ -430,12 +430,12 @@ fn frames(a: FramesArgs) -> Result<()> {
     let (h, w) = (images[0].height(), images[0].width());
     let setup = a.camera.setup(w, h)?;
     let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
-    let hl = HlParams {
+    let hl = HyperLaplacianParams {
         lambda: a.lambda,
         ..Default::default()
     };
     let gamma = (!a.linear).then(Gamma::default);
-    let opts = MultiOpts {
+    let opts = MultiframeParams {
         t_exposure: setup.exposure,
         t_readout: setup.readout,
         t_delay: setup.delay,
@@ -446,7 +446,7 @@ fn frames(a: FramesArgs) -> Result<()> {
         align: if a.gyro_align {
             AlignMode::Gyro
         } else {
-            MultiOpts::default().align
+            MultiframeParams::default().align
         },
         ..Default::default()
     };

@@ -16,11 +16,11 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
-use wscg_hdr::synth::{encode, gradient_target, layered_scene, SceneCfg};
+use wscg_hdr::synth::{encode, gradient_target, layered_scene, SceneParams};
 use wscg_hdr::tonemap::reinhard;
 use wscg_hdr::{
     calibrate_debevec, calibrate_mitsunaga_nayar, merge_stack, multiscopic_hdr, Align, Crf,
-    MnParams, MultiscopicParams, PmParams, Synthesis,
+    MitsunagaNayarParams, MultiscopicParams, PatchMatchParams, Synthesis,
 };
 use wscg_math::{Error, Image, Result};
 
@@ -183,11 +183,11 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
                     calibrate_debevec(&images, &times, bits, a.samples.unwrap_or(70), a.lambda)?
                 }
                 CalMethod::MitsunagaNayar => {
-                    let p = MnParams {
+                    let p = MitsunagaNayarParams {
                         degree: a.degree,
-                        samples: a.samples.unwrap_or(MnParams::default().samples),
+                        samples: a.samples.unwrap_or(MitsunagaNayarParams::default().samples),
                         refine_ratios: !a.fixed_ratios,
-                        ..MnParams::default()
+                        ..MitsunagaNayarParams::default()
                     };
                     let fit = calibrate_mitsunaga_nayar(&images, &times, bits, &p)?;
                     for (c, ch) in fit.channels.iter().enumerate() {
@@ -337,14 +337,14 @@ fn multiscopic(a: MultiscopicArgs) -> Result<()> {
         }
     };
     let p = MultiscopicParams {
-        pm: PmParams {
+        pm: PatchMatchParams {
             patch: a.patch,
             iters: a.iterations,
             d_min: -a.max_disparity,
             d_max: a.max_disparity,
             coherence: !a.no_coherence,
             seed: a.seed,
-            ..PmParams::default()
+            ..PatchMatchParams::default()
         },
         align: Align::by_name(&a.align)?,
         synthesis,
@@ -375,10 +375,10 @@ fn multiscopic(a: MultiscopicArgs) -> Result<()> {
 }
 
 fn simulate(a: SimulateArgs) -> Result<()> {
-    let cfg = SceneCfg {
+    let cfg = SceneParams {
         height: a.height,
         width: a.width,
-        ..SceneCfg::default()
+        ..SceneParams::default()
     };
     let sc = layered_scene(&cfg, a.seed)?;
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;

@@ -16,14 +16,14 @@ use std::path::{Path, PathBuf};
 use crate::demo::motion::stick_strip;
 use clap::{Args, Subcommand, ValueEnum};
 use wscg_math::{npy, Error, Result};
-use wscg_motion::anechoic::AnechoicConfig;
+use wscg_motion::anechoic::AnechoicParams;
 use wscg_motion::bvh::write_bvh;
 use wscg_motion::dataset::{Dataset, TrialAction};
-use wscg_motion::map::SvrMapConfig;
+use wscg_motion::map::SvrMapParams;
 use wscg_motion::skeleton::N_CHANNELS;
-use wscg_motion::stepwise::{fit_stepwise, ActionLibrary, StepwiseConfig};
+use wscg_motion::stepwise::{fit_stepwise, ActionLibrary, StepwiseParams};
 use wscg_motion::synthesizer::{MapKind, Synthesizer};
-use wscg_motion::walker::{reach_walk, WalkerConfig};
+use wscg_motion::walker::{reach_walk, WalkerParams};
 use wscg_motion::Planner;
 
 #[derive(Subcommand, Debug)]
@@ -232,13 +232,13 @@ pub fn read_dataset(dir: &Path) -> Result<Dataset> {
 }
 
 fn learn(data: &Dataset, restarts: usize, delay_search: usize) -> Result<ActionLibrary> {
-    let cfg = StepwiseConfig {
-        demix: AnechoicConfig {
+    let cfg = StepwiseParams {
+        demix: AnechoicParams {
             restarts,
             delay_search,
-            ..AnechoicConfig::default()
+            ..AnechoicParams::default()
         },
-        ..StepwiseConfig::default()
+        ..StepwiseParams::default()
     };
     fit_stepwise(data, &cfg)
 }
@@ -262,11 +262,11 @@ fn parse_change(s: &str, approach: Option<f64>) -> Result<(f64, f64)> {
 pub fn run(cmd: MotionCommand) -> Result<()> {
     match cmd {
         MotionCommand::MakeData(a) => {
-            let (data, _) = reach_walk(&WalkerConfig {
+            let (data, _) = reach_walk(&WalkerParams {
                 n_trials: a.trials,
                 seed: a.seed,
                 noise: a.noise,
-                ..WalkerConfig::default()
+                ..WalkerParams::default()
             })?;
             write_dataset(&a.dir, &data)?;
             println!(
@@ -321,9 +321,9 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
         MotionCommand::Synth(a) => {
             let data = match &a.data {
                 Some(d) => read_dataset(d)?,
-                None => reach_walk(&WalkerConfig::default())?.0,
+                None => reach_walk(&WalkerParams::default())?.0,
             };
-            let lib = learn(&data, 10, AnechoicConfig::default().delay_search)?;
+            let lib = learn(&data, 10, AnechoicParams::default().delay_search)?;
             if lib.n_channels != N_CHANNELS {
                 return Err(Error::invalid(
                     "data",
@@ -336,7 +336,7 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             let map = match a.map {
                 MapName::Lut => MapKind::Lut(1024),
                 MapName::Fourier => MapKind::Fourier,
-                MapName::Svr => MapKind::Svr(SvrMapConfig::default()),
+                MapName::Svr => MapKind::Svr(SvrMapParams::default()),
             };
             let mut syn = Synthesizer::from_library(lib, map)?;
             let approach = if a.changes.iter().any(|c| c.contains('%')) {

@@ -17,10 +17,10 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 use num_complex::Complex64;
 use wscg_cs_mri::baselines::{self, CompositeParams};
-use wscg_cs_mri::sparsifier::PriorConfig;
+use wscg_cs_mri::sparsifier::PriorParams;
 use wscg_cs_mri::{
-    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, FdctConfig, Finest, KSpace,
-    Regularizer, UdctConfig,
+    csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, FdctParams, Finest, KSpace,
+    Regularizer, UdctParams,
 };
 use wscg_math::fft::{fftshift, ifftshift};
 use wscg_math::progress::Progress;
@@ -310,12 +310,12 @@ fn recon(a: ReconArgs) -> Result<()> {
                 "tv" => Regularizer::Tv { inner_iters: 20 },
                 o => return Err(Error::invalid("reg", format!("{o:?} is not l1 or tv"))),
             };
-            let cfg = PriorConfig {
-                udct: UdctConfig {
+            let cfg = PriorParams {
+                udct: UdctParams {
                     wedges: parse_wedges(&a.wedges)?,
                     ..Default::default()
                 },
-                fdct: FdctConfig {
+                fdct: FdctParams {
                     scales: a.fdct_scales,
                     finest: Finest::by_name(&a.fdct_finest)?,
                     ..Default::default()

@@ -14,8 +14,8 @@ use wscg_video::io::{read_frames, read_mask, read_video, write_frames};
 use wscg_video::metrics::{flicker, psnr_masked, ssim_masked};
 use wscg_video::synth;
 use wscg_video::{
-    complete_video_with, per_frame_patchmatch, wexler_complete, CompletionConfig, PatchSize,
-    RefineConfig, Video, WexlerConfig,
+    complete_video_with, per_frame_patchmatch, wexler_complete, CompletionParams, PatchSize,
+    RefineParams, Video, WexlerParams,
 };
 
 use crate::progress::Bars;
@@ -165,7 +165,7 @@ fn complete(a: CompleteArgs) -> Result<()> {
     let t = std::time::Instant::now();
     let out = match a.method {
         MethodName::Localized => {
-            let mut cfg = CompletionConfig::default();
+            let mut cfg = CompletionParams::default();
             cfg.low.patch = patch;
             cfg.low.target_width = a.lowres_width;
             cfg.low.search = match a.search {
@@ -181,9 +181,9 @@ fn complete(a: CompleteArgs) -> Result<()> {
                 }
                 SearchName::Exact => wscg_video::SearchMethod::Exact,
             };
-            cfg.refine = (a.refine_iters > 0).then(|| RefineConfig {
+            cfg.refine = (a.refine_iters > 0).then(|| RefineParams {
                 iterations: a.refine_iters,
-                ..RefineConfig::default()
+                ..RefineParams::default()
             });
             cfg.local.windows = a.windows.clone();
             cfg.local.max_iterations = a.max_iterations;
@@ -196,19 +196,19 @@ fn complete(a: CompleteArgs) -> Result<()> {
             c.video
         }
         MethodName::Wexler => {
-            let cfg = WexlerConfig {
+            let cfg = WexlerParams {
                 patch,
                 seed: a.seed,
-                ..WexlerConfig::default()
+                ..WexlerParams::default()
             };
             wexler_complete(&v, &m, &cfg)?.video
         }
         MethodName::PerFrame => {
-            let cfg = WexlerConfig {
+            let cfg = WexlerParams {
                 patch: PatchSize { pt: 1, ..patch },
                 seed: a.seed,
                 seed_per_frame: true,
-                ..WexlerConfig::default()
+                ..WexlerParams::default()
             };
             per_frame_patchmatch(&v, &m, &cfg)?
         }

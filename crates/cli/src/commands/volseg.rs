@@ -18,7 +18,7 @@ use wscg_math::mesh::TriMesh;
 use wscg_math::{Error, Result, Volume};
 use wscg_volseg::{
     dice_multilabel, fractured_shell_phantom, gaussian_smooth3, nearest_seed_labels,
-    remove_small_components, BoneGraph, PhantomConfig, Precision, RwParams, RwSession, Solver,
+    remove_small_components, BoneGraph, PhantomParams, Precision, RandomWalkParams, RwSession, Solver,
 };
 
 #[derive(Subcommand, Debug)]
@@ -268,11 +268,11 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
             fragments,
             seed,
         } => {
-            let ph = fractured_shell_phantom(&PhantomConfig {
+            let ph = fractured_shell_phantom(&PhantomParams {
                 dims: [size; 3],
                 fragments,
                 seed,
-                ..PhantomConfig::default()
+                ..PhantomParams::default()
             })?;
             std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
             let f = |v: &Volume<u16>| {
@@ -313,7 +313,7 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
                 SolverArg::PerLabel => (Solver::PerLabel, true),
                 SolverArg::Cg => (Solver::PerLabel, false),
             };
-            let p = RwParams {
+            let p = RandomWalkParams {
                 t_bone: a.t_bone,
                 beta: a.beta,
                 eps: a.eps,
@@ -328,7 +328,7 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
                     Precision::F32
                 },
                 threads: a.threads,
-                ..RwParams::default()
+                ..RandomWalkParams::default()
             };
             let g = BoneGraph::build(&ct, &p)?;
             println!(

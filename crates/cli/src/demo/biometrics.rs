@@ -9,7 +9,7 @@ use faer::Mat;
 use wscg_biometrics::data::{finger_veins, split_per_subject, FingerVeinParams, LabelledImages};
 use wscg_biometrics::subspace::{
     evaluate, select_rows, Fdkeca, FdkecaParams, Gamma, Kernel, Method, Ordering, Pca,
-    ProtocolOptions, ProtocolResult,
+    ProtocolParams, ProtocolResult,
 };
 use wscg_math::image::Image;
 use wscg_math::progress::Progress;
@@ -63,7 +63,7 @@ fn protocol(
     );
     let ytr: Vec<u32> = tr.iter().map(|&i| data.labels[i]).collect();
     let yte: Vec<u32> = te.iter().map(|&i| data.labels[i]).collect();
-    let opt = ProtocolOptions::default();
+    let opt = ProtocolParams::default();
     Method::table1(Some(200))
         .iter()
         .map(|m| {

@@ -7,8 +7,8 @@ use std::path::Path;
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
 use wscg_volseg::{
-    dice_multilabel, fractured_shell_phantom, nearest_seed_labels, BoneGraph, PhantomConfig,
-    RwParams, RwSession,
+    dice_multilabel, fractured_shell_phantom, nearest_seed_labels, BoneGraph, PhantomParams,
+    RandomWalkParams, RwSession,
 };
 
 use super::figures::montage;
@@ -49,7 +49,7 @@ fn label_slice(labels: &[u16], dims: [usize; 3], z: usize) -> Result<Image> {
 }
 
 fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
-    let cfg = PhantomConfig::default();
+    let cfg = PhantomParams::default();
     let mut rep = Report {
         summary: format!(
             "Fractured-shell phantom {}^3 with {} fragments (bone 1200 HU, fracture gaps 450 HU \
@@ -63,7 +63,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.begin("bonesplit", 4);
     let ph = rep.time("phantom", || fractured_shell_phantom(&cfg))?;
     progress.advance(1);
-    let p = RwParams::default();
+    let p = RandomWalkParams::default();
     let g = rep.time("bone graph", || BoneGraph::build(&ph.ct, &p))?;
     let (nodes, edges) = (g.len(), g.edges());
     let mut s = RwSession::new(g, p)?;
@@ -72,7 +72,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.advance(1);
     let rw = s.labels()?.into_data();
     // scikit-image's weights (eps 1e-10, no diagonal regulariser): sharper fracture barriers.
-    let q = RwParams {
+    let q = RandomWalkParams {
         eps: 1e-10,
         kappa: 0.0,
         ..p

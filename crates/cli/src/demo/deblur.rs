@@ -6,9 +6,9 @@
 use std::path::Path;
 
 use wscg_deblur::metrics::quality;
-use wscg_deblur::synth::{self, Burst, OuParams, RenderOpts};
+use wscg_deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
 use wscg_deblur::{
-    deblur_frame, deblur_multiframe, GyroTrack, HlParams, Intrinsics, Method, MultiOpts,
+    deblur_frame, deblur_multiframe, GyroTrack, HyperLaplacianParams, Intrinsics, Method, MultiframeParams,
 };
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
@@ -34,15 +34,15 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let sb = synth::make_burst(
         &sharp,
         &burst,
-        &OuParams::default(),
+        &ShakeParams::default(),
         2,
         0.002,
-        &RenderOpts::default(),
+        &BlurRenderParams::default(),
         3,
     )?;
     let track = GyroTrack::from_camera_rates(&sb.measured)?;
     let k = Intrinsics::centred(f, w, h);
-    let opts = MultiOpts {
+    let opts = MultiframeParams {
         t_delay: burst.t_delay,
         ..Default::default()
     };
@@ -52,7 +52,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         single(Method::RichardsonLucy { iters: 20 })
     })?;
     let (gu, _) = rep.time("KF with one global kernel", || {
-        single(Method::GlobalUniform(HlParams::default()))
+        single(Method::GlobalUniform(HyperLaplacianParams::default()))
     })?;
     let km3 = rep.time("multi-frame pipeline, 3 frames", || {
         deblur_multiframe(
@@ -60,7 +60,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
             2,
             &track,
             &k,
-            &MultiOpts {
+            &MultiframeParams {
                 radius: Some(1),
                 ..opts
             },

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use wscg_biometrics::ear::protocol::{evaluate, Evaluation};
-use wscg_biometrics::ear::synth::{self, EarSet, OcclusionKind, SynthConfig};
+use wscg_biometrics::ear::synth::{self, EarSet, OcclusionKind, EarSynthParams};
 use wscg_biometrics::ear::{detect_occlusion, normalise, EarParams, ScoreRule};
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
@@ -113,7 +113,7 @@ fn cmc_section(
 fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     std::fs::create_dir_all(out).map_err(|e| wscg_math::Error::io(out, e))?;
     let mut rep = Report::default();
-    let cfg = SynthConfig::default();
+    let cfg = EarSynthParams::default();
     let p = EarParams::default();
     let skin_eq = EarParams {
         equalize_on_skin: true,

@@ -8,11 +8,11 @@ use std::path::Path;
 use wscg_hdr::metrics::{
     bad_rate, evaluation_mask, incoherence, response_log_error, rmse_log2, Region,
 };
-use wscg_hdr::synth::{encode, gradient_target, layered_scene, Response, SceneCfg, SynthScene};
+use wscg_hdr::synth::{encode, gradient_target, layered_scene, Response, SceneParams, SynthScene};
 use wscg_hdr::tonemap::reinhard;
 use wscg_hdr::{
-    calibrate_debevec, calibrate_mitsunaga_nayar, multiscopic_hdr, Align, Crf, MnParams,
-    MultiscopicOut, MultiscopicParams, Nnf, PmParams, Synthesis,
+    calibrate_debevec, calibrate_mitsunaga_nayar, multiscopic_hdr, Align, Crf, MitsunagaNayarParams,
+    MultiscopicOut, MultiscopicParams, Nnf, PatchMatchParams, Synthesis,
 };
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
@@ -49,7 +49,7 @@ fn calibration_rows(rep: &mut Report) -> Result<()> {
     // Max |ln f - ln f_true| over codes 20..235, the free offset of Debevec-Malik removed.
     let log_err =
         |crf: &Crf, offset: bool| response_log_error(crf, |m| truth.inverse(m), 20..=235, offset);
-    let mn = calibrate_mitsunaga_nayar(&stack, &wrong, 8, &MnParams::default())?;
+    let mn = calibrate_mitsunaga_nayar(&stack, &wrong, 8, &MitsunagaNayarParams::default())?;
     // Debevec-Malik takes the times as they are; with these it may not find an increasing
     // response at all.
     let dm = match calibrate_debevec(&stack, &wrong, 8, 70, 10.0) {
@@ -87,16 +87,16 @@ fn field(out: &MultiscopicOut, r: usize, s: usize) -> &Nnf {
 fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     std::fs::create_dir_all(out).map_err(|e| wscg_math::Error::io(out, e))?;
     let mut rep = Report::default();
-    let cfg = SceneCfg::default();
+    let cfg = SceneParams::default();
     let sc = layered_scene(&cfg, 7)?;
     let n = sc.views.len();
     let max_d = (cfg.layers.iter().map(|l| l.disparity).fold(0.0, f64::max) * (n - 1) as f64).ceil()
         as i32
         + 1;
-    let pm = PmParams {
+    let pm = PatchMatchParams {
         d_min: -max_d,
         d_max: max_d,
-        ..PmParams::default()
+        ..PatchMatchParams::default()
     };
     let crfs = [sc.crf.clone()];
     let mut go = |label: &str, align, synthesis, pm| {
@@ -120,7 +120,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         "ours without the coherence term",
         Align::Ours,
         Synthesis::Bds,
-        PmParams {
+        PatchMatchParams {
             coherence: false,
             ..pm
         },

@@ -11,7 +11,7 @@ use wscg_math::Result;
 use wscg_volren::illumination::scenes::{constant, marschner_lobb, marschner_lobb_tf};
 use wscg_volren::illumination::study::mean_abs_diff;
 use wscg_volren::illumination::{
-    render, Kernel, Light, Method, Phong, RenderSettings, ScalarField, SliceCamera,
+    render, Kernel, Light, Method, Phong, IlluminationParams, ScalarField, SliceCamera,
     TransferFunction,
 };
 use wscg_volren::phantoms::head;
@@ -73,7 +73,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         kernel: Kernel::Delta,
         ..Default::default()
     };
-    let s = RenderSettings::default();
+    let s = IlluminationParams::default();
     for (ds, want) in [(0.25f32, "0.494895"), (0.5, "0.498048"), (1.0, "0.504351")] {
         let r = render(&slab, &white, &cam, &delta, &Method::ics(ds), &s)?;
         rep.table.push(Row::new(

@@ -12,7 +12,7 @@ use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::Result;
 use wscg_raytrace::manylight::{
     generate_vpls, run_with, scenes, to_display, trace_primary, Camera, Method, Output, Scene,
-    Settings, Shading, VplSettings,
+    ManyLightParams, Shading, VplParams,
 };
 
 use super::figures::montage;
@@ -29,13 +29,13 @@ pub const DEMO: Demo = Demo {
 /// The Cornell box with its records marked: initial ones red, inserted ones cyan.
 fn records_figure(out: &Path, rep: &mut Report, progress: &dyn Progress) -> Result<()> {
     let (scene, cam) = scenes::cornell_box(1, 256, 192)?;
-    let mut s = Settings {
-        vpl: VplSettings {
+    let mut s = ManyLightParams {
+        vpl: VplParams {
             n_paths: 1000,
             max_bounces: 0,
             seed: 2,
         },
-        ..Settings::default()
+        ..ManyLightParams::default()
     };
     s.ic.n_cache = 490;
     let vpls = generate_vpls(&scene, &s.vpl)?;
@@ -128,13 +128,13 @@ fn compare(
     n_cache: usize,
     progress: &dyn Progress,
 ) -> Result<Vec<(Method, Output)>> {
-    let mut s = Settings {
-        vpl: VplSettings {
+    let mut s = ManyLightParams {
+        vpl: VplParams {
             n_paths: 1400,
             max_bounces: 2,
             seed: 1,
         },
-        ..Settings::default()
+        ..ManyLightParams::default()
     };
     s.ic.n_cache = n_cache;
     let vpls = generate_vpls(scene, &s.vpl)?;

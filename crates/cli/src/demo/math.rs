@@ -13,7 +13,7 @@ use wscg_math::image::Image;
 use wscg_math::metrics::{psnr, ssim, SsimParams};
 use wscg_math::progress::Progress;
 use wscg_math::resize::{resize, Interpolation};
-use wscg_math::sparse::{pcg, CsrMatrix, InitialGuess, Jacobi, PcgOptions};
+use wscg_math::sparse::{pcg, CsrMatrix, InitialGuess, Jacobi, PcgParams};
 use wscg_math::{rng, Result, TriMesh, Volume};
 
 use super::{Demo, Figure, Report, Row};
@@ -170,7 +170,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let u = rng::uniform_vec(11, n * n * n, -1.0, 1.0)?;
     let b = a.mul_vec(&u)?;
     let jac = Jacobi::new(&a.diagonal())?;
-    let opts = PcgOptions {
+    let opts = PcgParams {
         tol: 1e-10,
         max_iter: None,
     };

@@ -7,15 +7,15 @@ use std::path::Path;
 
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
-use wscg_motion::anechoic::{fit_anechoic, AnechoicConfig};
+use wscg_motion::anechoic::{fit_anechoic, AnechoicParams};
 use wscg_motion::bvh::write_bvh;
 use wscg_motion::matching::match_sources;
 use wscg_motion::pca::pca_qualities;
 use wscg_motion::skeleton::{bones, forward_kinematics, HIP_HEIGHT};
 use wscg_motion::stats::fit_line;
-use wscg_motion::stepwise::{fit_stepwise, StepwiseConfig};
+use wscg_motion::stepwise::{fit_stepwise, StepwiseParams};
 use wscg_motion::synthesizer::{Frame, MapKind, Synthesizer};
-use wscg_motion::walker::{reach_walk, WalkerConfig};
+use wscg_motion::walker::{reach_walk, WalkerParams};
 use wscg_motion::Action;
 
 use super::figures::{line_plot, Series};
@@ -83,10 +83,10 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     };
     progress.begin("motion demo", 4);
     // Fig. 4: anechoic vs PCA on action-1's periodic part.
-    let (_, truth) = reach_walk(&WalkerConfig {
+    let (_, truth) = reach_walk(&WalkerParams {
         noise: 0.0,
         n_trials: 10,
-        ..WalkerConfig::default()
+        ..WalkerParams::default()
     })?;
     let x = &truth.periodic[0];
     let qp = pca_qualities(x)?;
@@ -95,9 +95,9 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         let m = rep.time(&format!("fit_anechoic J={j} (10 restarts)"), || {
             fit_anechoic(
                 x,
-                &AnechoicConfig {
+                &AnechoicParams {
                     n_sources: j,
-                    ..AnechoicConfig::default()
+                    ..AnechoicParams::default()
                 },
             )
         })?;
@@ -150,9 +150,9 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.advance(1);
 
     // Step-wise library on the 40-trial learning set.
-    let (data, _) = reach_walk(&WalkerConfig::default())?;
+    let (data, _) = reach_walk(&WalkerParams::default())?;
     let lib = rep.time("fit_stepwise, 40 trials", || {
-        fit_stepwise(&data, &StepwiseConfig::default())
+        fit_stepwise(&data, &StepwiseParams::default())
     })?;
     rep.table.push(Row::new(
         "Q action 1 (s0 + 3 sources)",
@@ -169,11 +169,11 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.advance(1);
 
     // Human-like statistics (paper Fig. 2).
-    let (human, _) = reach_walk(&WalkerConfig {
+    let (human, _) = reach_walk(&WalkerParams {
         n_trials: 10,
         human_like: true,
         seed: 3,
-        ..WalkerConfig::default()
+        ..WalkerParams::default()
     })?;
     let l1: Vec<f64> = human.trials.iter().map(|t| t[0].step_length).collect();
     let l2: Vec<f64> = human.trials.iter().map(|t| t[1].step_length).collect();

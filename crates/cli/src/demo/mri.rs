@@ -10,8 +10,8 @@ use std::path::Path;
 use num_complex::Complex64;
 use wscg_cs_mri::baselines::{self, CompositeParams};
 use wscg_cs_mri::{
-    csalsa, masks, metrics, noise_epsilon, phantom, sparsifier, CsalsaParams, FdctConfig,
-    FdctSparsifier, KSpace, Recon, Regularizer, Udct, UdctConfig, UdctSparsifier,
+    csalsa, masks, metrics, noise_epsilon, phantom, sparsifier, CsalsaParams, FdctParams,
+    FdctSparsifier, KSpace, Recon, Regularizer, Udct, UdctParams, UdctSparsifier,
     WaveletSparsifier,
 };
 use wscg_math::fft::fftshift;
@@ -54,9 +54,9 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let peak = reference.iter().map(|v| v.norm()).fold(0.0, f64::max);
     let mask = masks::cartesian(n, n, 0.4, 0.08, 1)?;
     let data = KSpace::new(n, n, phantom::shepp_logan_kspace(n)?, mask.clone())?;
-    let udct = UdctSparsifier::new(n, n, &UdctConfig::default())?;
+    let udct = UdctSparsifier::new(n, n, &UdctParams::default())?;
     let db4 = WaveletSparsifier::new(n, n, 4, 4)?;
-    let fdct = FdctSparsifier::new(n, n, &FdctConfig::default())?;
+    let fdct = FdctSparsifier::new(n, n, &FdctParams::default())?;
     let (tau_udct, tau_fdct, tau_db4) = (
         sparsifier::tuned_tau0("udct"),
         sparsifier::tuned_tau0("fdct"),
@@ -122,7 +122,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
             "34.73 / 0.1131 (Table 2)",
         ),
     ] {
-        let psi = sparsifier::by_name(prior, n, n, &sparsifier::PriorConfig::default())?;
+        let psi = sparsifier::by_name(prior, n, n, &sparsifier::PriorParams::default())?;
         let r = rep.time(&format!("{name}, 70 it"), || {
             csalsa(
                 &data,
@@ -272,7 +272,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         .map(|&v| Complex64::new(v, 0.0))
         .collect();
     let ldata = KSpace::simulate(n, n, &lat, rmask.clone())?;
-    let u3 = UdctSparsifier::new(n, n, &UdctConfig::uniform(3, 6))?;
+    let u3 = UdctSparsifier::new(n, n, &UdctParams::uniform(3, 6))?;
     let ru = csalsa(
         &ldata,
         &u3,
@@ -322,7 +322,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     });
 
     // The transform: exactness and speed.
-    let u = Udct::new(512, 512, &UdctConfig::default())?;
+    let u = Udct::new(512, 512, &UdctParams::default())?;
     let x: Vec<f64> = phantom::shepp_logan_image(512)?;
     let c = rep.time("UDCT forward 512^2", || u.forward(&x))?;
     let back = rep.time("UDCT backward 512^2", || u.backward(&c))?;
@@ -344,7 +344,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         "exact / exact / 4",
         "tight frame of redundancy 4 (paper section 2.2)",
     ));
-    let f = wscg_cs_mri::Fdct::new(512, 512, &FdctConfig::default())?;
+    let f = wscg_cs_mri::Fdct::new(512, 512, &FdctParams::default())?;
     let z: Vec<Complex64> = x.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     let c = rep.time("FDCT forward 512^2", || f.forward(&z))?;
     let back = rep.time("FDCT backward 512^2", || f.backward(&c))?;
@@ -352,7 +352,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let ec = wscg_cs_mri::udct::compensated_sum(c.iter().map(|v| v.norm_sqr()));
     // A few FDCT atoms: one coefficient at the centre of a wedge, synthesised (real parts,
     // grey = 0), over their frequency windows.
-    let g = wscg_cs_mri::Fdct::new(256, 256, &FdctConfig::default())?;
+    let g = wscg_cs_mri::Fdct::new(256, 256, &FdctParams::default())?;
     let bands = g.bands();
     let mut atoms = Vec::new();
     let mut windows = Vec::new();

@@ -11,8 +11,8 @@ use wscg_math::progress::Progress;
 use wscg_math::Result;
 use wscg_raytrace::paint::{
     binocular_overlap, generate_tile, render_with_progress, score_runs, ColourMode, Condition,
-    DiscLight, FlakeParams, FlakePlate, Plate, PlateStack, Rect, RenderSettings, StackModel,
-    TiltDist, WorkshopConfig, XyzImage,
+    DiscLight, FlakeParams, FlakePlate, Plate, PlateStack, Rect, PaintRenderParams, StackModel,
+    TiltDist, WorkshopParams, XyzImage,
 };
 use wscg_raytrace::spectral::{xyz_to_xy, MetalIor, XYZ_TO_SRGB};
 use wscg_raytrace::stereo::{Eye, StereoRig};
@@ -35,12 +35,12 @@ const HIGH: [f64; 2] = [45.0, 9.5];
 fn spectral_and_rgb(
     plate: &Plate,
     light: &DiscLight,
-    s: &RenderSettings,
+    s: &PaintRenderParams,
     progress: &dyn Progress,
 ) -> Result<(XyzImage, XyzImage)> {
     let rig = StereoRig::default();
     let spectral = render_with_progress(plate, light, &rig, Eye::Cyclopean, s, progress)?;
-    let rgb = RenderSettings {
+    let rgb = PaintRenderParams {
         colour: ColourMode::Rgb,
         ..s.clone()
     };
@@ -101,11 +101,11 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let micro = FlakePlate::new(&p, stack.size_mm, 3)?;
     let plate = Plate::new(stack.clone(), Box::new(micro.clone()))?;
     let light = DiscLight::from_elevation(75.0, 1.0);
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         spp: 64,
         region_mm: Some(Rect::centred(0.0, 0.0, 10.0, 10.0)),
         magnification: 4.0,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     let mut views = Vec::new();
     for eye in [Eye::Left, Eye::Right] {
@@ -159,11 +159,11 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         stack.clone(),
         Box::new(FlakePlate::new(&sparse, stack.size_mm, 18)?),
     )?;
-    let fine = RenderSettings {
+    let fine = PaintRenderParams {
         spp: 4,
         region_mm: Some(Rect::centred(0.0, 0.0, 5.0, 5.0)),
         magnification: 27.75,
-        ..RenderSettings::default()
+        ..PaintRenderParams::default()
     };
     for radius in [3.0, 4.0, 6.0] {
         let lamp = DiscLight::from_elevation(70.0, radius);
@@ -240,9 +240,9 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let runs: Vec<(f64, f64)> = physical.row_iter().map(|r| (r[0], r[1])).collect();
     let hidden = (26.0, 7.3);
     for condition in [Condition::Mono, Condition::Stereo] {
-        let cfg = WorkshopConfig {
+        let cfg = WorkshopParams {
             condition,
-            ..WorkshopConfig::default()
+            ..WorkshopParams::default()
         };
         let ws = rep.time(&format!("workshop, {condition:?}: 17 plates (s)"), || {
             score_runs(hidden, &runs, &cfg, 7, progress)

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use wscg_biometrics::sfa::handpose::{
-    compare, generate, rotation_robustness, split_protocol, CompareConfig, Method, SynthConfig,
+    compare, generate, rotation_robustness, split_protocol, CompareParams, Method, HandposeSynthParams,
     CLASS_NAMES,
 };
 use wscg_math::image::Image;
@@ -35,7 +35,7 @@ const PAPER_SFA_PER_CLASS: [f64; 5] = [97.0, 96.7, 98.7, 97.6, 96.7];
 fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let mut rep = Report::default();
     let data = rep.time("generate 15000 frames (s)", || {
-        generate(&SynthConfig::default())
+        generate(&HandposeSynthParams::default())
     })?;
     let split = rep.time("split and augment (s)", || {
         split_protocol(&data, 300, 1000, 0)
@@ -66,7 +66,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let res = compare(
         &data,
         &split,
-        &CompareConfig::default(),
+        &CompareParams::default(),
         &Method::ALL,
         |_| progress.advance(1),
     )?;
@@ -121,7 +121,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         h,
         w,
         &split,
-        &CompareConfig::default().sfa,
+        &CompareParams::default().sfa,
         res.class_sfa.as_ref(),
         false,
         1,

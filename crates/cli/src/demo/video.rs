@@ -11,8 +11,8 @@ use wscg_math::Result;
 use wscg_video::metrics::{flicker, psnr_masked, ssim_masked};
 use wscg_video::synth::{pan_clip, periodic_clip, sprite_clip, Clip};
 use wscg_video::{
-    complete_video_with, per_frame_patchmatch, wexler_complete, CompletionConfig, Video,
-    WexlerConfig,
+    complete_video_with, per_frame_patchmatch, wexler_complete, CompletionParams, Video,
+    WexlerParams,
 };
 
 use super::figures::montage;
@@ -89,7 +89,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         ),
     ];
     for (name, file, clip, width) in &clips {
-        let mut cfg = CompletionConfig::default();
+        let mut cfg = CompletionParams::default();
         cfg.low.target_width = *width;
         let ours = rep.time(&format!("{name}: localized search (s)"), || {
             complete_video_with(&clip.observed, &clip.hole, &cfg, progress)
@@ -97,22 +97,22 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         let no_refine = complete_video_with(
             &clip.observed,
             &clip.hole,
-            &CompletionConfig {
+            &CompletionParams {
                 refine: None,
                 ..cfg.clone()
             },
             progress,
         )?;
         let wexler = rep.time(&format!("{name}: Wexler et al. 2007 (s)"), || {
-            wexler_complete(&clip.observed, &clip.hole, &WexlerConfig::default())
+            wexler_complete(&clip.observed, &clip.hole, &WexlerParams::default())
         })?;
         let per_frame = rep.time(&format!("{name}: per-frame PatchMatch (s)"), || {
             per_frame_patchmatch(
                 &clip.observed,
                 &clip.hole,
-                &WexlerConfig {
+                &WexlerParams {
                     seed_per_frame: true,
-                    ..WexlerConfig::default()
+                    ..WexlerParams::default()
                 },
             )
         })?;

@@ -10,7 +10,7 @@ use wscg_math::{Image, Result};
 use wscg_volren::phantoms::{head, head_tfs};
 use wscg_volren::render::rgb;
 use wscg_volren::{
-    render_reference, Camera, HybridClient, HybridServer, RenderOpts, Roi, ServerOpts,
+    render_reference, Camera, HybridClient, HybridServer, RenderParams, Roi, ServerParams,
 };
 
 use super::figures::montage;
@@ -40,7 +40,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let v = head(dims, 1)?;
     let tfs = head_tfs();
     let server = rep.time("server: wavelets + gradient octree (s)", || {
-        HybridServer::new(&v, tfs.clone(), 0, ServerOpts::default())
+        HybridServer::new(&v, tfs.clone(), 0, ServerParams::default())
     })?;
     progress.advance(1);
     let (lo, hi) = ([128, 128, 32], [256, 192, 96]);
@@ -52,7 +52,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     rep.time("client: ROI package (s)", || client.set_roi(&roi_pkg))?;
     progress.advance(1);
     let cam = Camera::orbit(dims, 30.0, 20.0, 256);
-    let opts = RenderOpts::default();
+    let opts = RenderParams::default();
     let roi = Roi { min: lo, max: hi };
     let hybrid = rep.time("client: hybrid frame 256 x 256 (s)", || {
         client.render(&cam, 1, &opts)

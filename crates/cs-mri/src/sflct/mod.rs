@@ -49,7 +49,7 @@ impl Redundancy {
 
 /// SFLCT configuration.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SflctConfig {
+pub struct SflctParams {
     /// Pyramid redundancy.
     pub redundancy: Redundancy,
     /// Directional levels per scale, coarsest first (`n` gives `2^n` directions); the number
@@ -57,10 +57,10 @@ pub struct SflctConfig {
     pub dfb_levels: Vec<usize>,
 }
 
-impl Default for SflctConfig {
+impl Default for SflctParams {
     /// Three scales with 8, 8 and 16 directions (coarse to fine), less redundant.
     fn default() -> Self {
-        SflctConfig {
+        SflctParams {
             redundancy: Redundancy::Less,
             dfb_levels: vec![3, 3, 4],
         }
@@ -84,7 +84,7 @@ pub struct SflctBand {
 /// A planned SFLCT for one image shape.
 pub struct Sflct {
     shape: (usize, usize),
-    config: SflctConfig,
+    config: SflctParams,
     pyramid: Pyramid,
     /// DFBs of the high-pass images, finest first (as the pyramid's levels).
     dfbs: Vec<Dfb>,
@@ -95,7 +95,7 @@ pub struct Sflct {
 impl Sflct {
     /// Plans the transform. Errors: no scale, too many directional levels, or sides the
     /// downsampling and the DFBs do not divide.
-    pub fn new(rows: usize, cols: usize, config: &SflctConfig) -> Result<Self> {
+    pub fn new(rows: usize, cols: usize, config: &SflctParams) -> Result<Self> {
         let scales = config.dfb_levels.len();
         if scales == 0 || scales > 6 {
             return Err(Error::invalid(
@@ -165,7 +165,7 @@ impl Sflct {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &SflctConfig {
+    pub fn config(&self) -> &SflctParams {
         &self.config
     }
 
@@ -285,7 +285,7 @@ mod tests {
     #[test]
     fn redundancies_and_exact_reconstruction() {
         for (red, want) in [(Redundancy::Less, 1.33), (Redundancy::More, 2.31)] {
-            let cfg = SflctConfig {
+            let cfg = SflctParams {
                 redundancy: red,
                 dfb_levels: vec![2, 3, 3],
             };

@@ -28,7 +28,7 @@ use wscg_math::{Error, Result};
 
 /// Transform configuration (paper 11, section 2.2 and 3.1).
 #[derive(Clone, Debug, PartialEq)]
-pub struct UdctConfig {
+pub struct UdctParams {
     /// Per scale (coarse to fine) the wedge counts `[n_rows, n_cols]`: the number of angular
     /// windows spanning the axis. Each must be a multiple of 3 and at least 3. The paper uses
     /// one scale with 12 directional bands (`[[6, 6]]`) for brain images and three such
@@ -45,10 +45,10 @@ pub struct UdctConfig {
     pub tight: bool,
 }
 
-impl Default for UdctConfig {
+impl Default for UdctParams {
     fn default() -> Self {
         use std::f64::consts::PI;
-        UdctConfig {
+        UdctParams {
             wedges: vec![[6, 6]],
             alpha: 0.1,
             radial: [
@@ -62,10 +62,10 @@ impl Default for UdctConfig {
     }
 }
 
-impl UdctConfig {
+impl UdctParams {
     /// `scales` scales of `[n, n]` wedges each.
     pub fn uniform(scales: usize, n: usize) -> Self {
-        UdctConfig {
+        UdctParams {
             wedges: vec![[n, n]; scales],
             ..Default::default()
         }
@@ -203,7 +203,7 @@ impl UdctCoeffs {
 pub struct Udct {
     rows: usize,
     cols: usize,
-    config: UdctConfig,
+    config: UdctParams,
     lowpass: Band,
     bands: Vec<Band>,
     plans: Vec<Plan2<f64>>,
@@ -234,7 +234,7 @@ impl Udct {
     ///
     /// Errors: an invalid configuration, or a size not divisible by every decimation factor
     /// (the message names the divisor each axis needs).
-    pub fn new(rows: usize, cols: usize, config: &UdctConfig) -> Result<Self> {
+    pub fn new(rows: usize, cols: usize, config: &UdctParams) -> Result<Self> {
         config.validate()?;
         let need = Self::required_divisors(config);
         for (axis, (&n, &d)) in [rows, cols].iter().zip(&need).enumerate() {
@@ -328,7 +328,7 @@ impl Udct {
 
     /// The divisor each axis length must be a multiple of: every decimation factor along it
     /// and 4 (the frequency grid of the windows is rolled by three quarters).
-    pub fn required_divisors(config: &UdctConfig) -> [usize; 2] {
+    pub fn required_divisors(config: &UdctParams) -> [usize; 2] {
         let lcm = |a: usize, b: usize| {
             let (mut x, mut y) = (a, b);
             while y != 0 {
@@ -358,7 +358,7 @@ impl Udct {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &UdctConfig {
+    pub fn config(&self) -> &UdctParams {
         &self.config
     }
 
@@ -825,7 +825,7 @@ mod tests {
     #[test]
     fn small_transform_is_a_tight_frame() {
         let (r, c) = (32, 48);
-        let u = Udct::new(r, c, &UdctConfig::default()).unwrap();
+        let u = Udct::new(r, c, &UdctParams::default()).unwrap();
         assert_eq!(u.num_real_coeffs(), 4 * r * c);
         let x = rng::normal_vec(1, r * c, 0.0, 1.0).unwrap();
         let co = u.forward(&x).unwrap();
@@ -848,7 +848,7 @@ mod tests {
     #[test]
     fn block_outputs_and_pooled_buffers_match_the_plain_transform() {
         let (r, c) = (32, 48);
-        let cfg = UdctConfig::default();
+        let cfg = UdctParams::default();
         let u = Udct::new(r, c, &cfg).unwrap();
         let x1 = rng::normal_vec(2, r * c, 0.0, 1.0).unwrap();
         let x2 = rng::normal_vec(3, r * c, 0.0, 1.0).unwrap();

@@ -19,7 +19,7 @@
 
 use std::f64::consts::PI;
 
-use super::UdctConfig;
+use super::UdctParams;
 
 /// The window `M(x; p)`, evaluated as `ucurv.util.fun_meyer` does (the falling edge is
 /// applied last).
@@ -164,7 +164,7 @@ fn fftshift2(a: &[f64], r: usize, c: usize) -> Vec<f64> {
 /// The decimation factors `[rows, cols]` of band `(scale, pyramid)` for `J` scales:
 /// `2^(J - scale)` along the pyramid's axis, `2 (n / 3) 2^(J - scale - 1)` along the other,
 /// `n` being the wedge count of that other axis.
-pub(crate) fn band_decimation(cfg: &UdctConfig, scale: usize, pyramid: usize) -> [usize; 2] {
+pub(crate) fn band_decimation(cfg: &UdctParams, scale: usize, pyramid: usize) -> [usize; 2] {
     let j = cfg.wedges.len();
     let mut d = [0; 2];
     for (axis, v) in d.iter_mut().enumerate() {
@@ -178,14 +178,14 @@ pub(crate) fn band_decimation(cfg: &UdctConfig, scale: usize, pyramid: usize) ->
 }
 
 /// The low-pass decimation `2^(J-1)` on both axes.
-pub(crate) fn lowpass_decimation(cfg: &UdctConfig) -> [usize; 2] {
+pub(crate) fn lowpass_decimation(cfg: &UdctParams) -> [usize; 2] {
     let d = 1 << (cfg.wedges.len() - 1);
     [d, d]
 }
 
 /// The windows of a `rows x cols` transform in FFT order (DC at index 0): the low-pass window
 /// and the band windows in the order scale, pyramid, wedge (`ucurv`'s dictionary order).
-pub(crate) fn windows(rows: usize, cols: usize, cfg: &UdctConfig) -> (Vec<f64>, Vec<Vec<f64>>) {
+pub(crate) fn windows(rows: usize, cols: usize, cfg: &UdctParams) -> (Vec<f64>, Vec<Vec<f64>>) {
     let n = [rows, cols];
     let nscales = cfg.wedges.len();
     let r = cfg.radial;

@@ -30,7 +30,7 @@ pub enum AmbiguousRule {
 
 /// Options of the LSN baseline.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct LsnOpts {
+pub struct LsnParams {
     /// Ambiguous-face assumption.
     pub ambiguous_face: AmbiguousRule,
 }
@@ -85,7 +85,7 @@ pub(crate) fn normal(
     g: &ScalarGrid,
     iso: f32,
     v: &EdgeVertex,
-    opts: &LsnOpts,
+    opts: &LsnParams,
 ) -> ([f32; 3], Outcome) {
     let a = v.axis;
     let (b, c) = ((a + 1) % 3, (a + 2) % 3);

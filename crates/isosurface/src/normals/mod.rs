@@ -20,8 +20,8 @@ use wscg_math::{Error, Result};
 use crate::extract::{vertex_on_edge, EdgeId};
 use crate::grid::{check_iso, ScalarGrid};
 
-pub use lsn::{AmbiguousRule, LsnOpts};
-pub use spline::{SplineOpts, TetSelection};
+pub use lsn::{AmbiguousRule, LsnParams};
+pub use spline::{SplineParams, TetSelection};
 
 /// Which vertex normals to compute.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -29,9 +29,9 @@ pub enum NormalMethod {
     /// Central differences of the grid, interpolated along the edge (eq. 1).
     CentralDifference,
     /// The paper's tetrahedral-spline estimator.
-    Spline(SplineOpts),
+    Spline(SplineParams),
     /// Locally Supported Normals (Nielson et al. 2002), reconstructed.
-    Lsn(LsnOpts),
+    Lsn(LsnParams),
     /// No normals.
     #[default]
     None,
@@ -40,12 +40,12 @@ pub enum NormalMethod {
 impl NormalMethod {
     /// The paper's estimator with its defaults.
     pub fn spline() -> Self {
-        NormalMethod::Spline(SplineOpts::default())
+        NormalMethod::Spline(SplineParams::default())
     }
 
     /// The LSN baseline with its defaults.
     pub fn lsn() -> Self {
-        NormalMethod::Lsn(LsnOpts::default())
+        NormalMethod::Lsn(LsnParams::default())
     }
 
     /// Parses `"spline"`, `"lsn"`, `"central"` (or `"cd"`) and `"none"`.

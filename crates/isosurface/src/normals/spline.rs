@@ -15,7 +15,7 @@
 //!
 //! The seed's eq. 8 keeps only the barycentric terms of the edge it differentiates, which on
 //! the vertex's edge scales the two components across the edge by `lambda_0` and all three by
-//! 1/2; [`SplineOpts::eq8_literal`] reproduces it for experiments (the default is the exact
+//! 1/2; [`SplineParams::eq8_literal`] reproduces it for experiments (the default is the exact
 //! spline gradient).
 //!
 //! Of the two corner tetrahedra containing the vertex's edge `(p, q)`, the paper picks the one
@@ -45,7 +45,7 @@ pub enum TetSelection {
 
 /// Options of the spline estimator; `Default` is the paper's method.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SplineOpts {
+pub struct SplineParams {
     /// How the corner tetrahedron is chosen in each cell.
     pub selection: TetSelection,
     /// Use the seed's literal eq. 8 instead of the exact spline gradient.
@@ -102,7 +102,7 @@ pub(crate) fn cell_contribution(
     le: usize,
     t: f64,
     inv_h: [f64; 3],
-    opts: &SplineOpts,
+    opts: &SplineParams,
     acc: &mut [f64; 3],
 ) -> usize {
     let a = le / 4;
@@ -174,7 +174,7 @@ pub(crate) fn normal(
     g: &ScalarGrid,
     iso: f32,
     v: &EdgeVertex,
-    opts: &SplineOpts,
+    opts: &SplineParams,
 ) -> ([f32; 3], Outcome) {
     let a = v.axis;
     let (b, c) = ((a + 1) % 3, (a + 2) % 3);

@@ -12,9 +12,9 @@ use super::cache::Record;
 use super::camera::Camera;
 use super::gbuffer::{trace_primary, GBuffer};
 use super::placement::{AdaptiveParams, Placement};
-use super::render::{build_cache, render, render_power, render_reference, CacheStats, IcParams};
+use super::render::{build_cache, render, render_power, render_reference, CacheStats, ImportanceCachingParams};
 use super::scene::Scene;
-use super::vpl::{generate_vpls, Vpl, VplSettings};
+use super::vpl::{generate_vpls, Vpl, VplParams};
 use super::weights::Interp;
 use crate::spectral::srgb_oetf;
 
@@ -85,11 +85,11 @@ impl Method {
 
 /// Everything a run needs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Settings {
+pub struct ManyLightParams {
     /// VPL generation.
-    pub vpl: VplSettings,
+    pub vpl: VplParams,
     /// Cache and sampling.
-    pub ic: IcParams,
+    pub ic: ImportanceCachingParams,
     /// The paper's placement.
     pub adaptive: AdaptiveParams,
     /// The paper's weights (the ablation and the baseline use uniform weights).
@@ -123,7 +123,7 @@ pub fn run(
     scene: &Scene,
     cam: &Camera,
     method: Method,
-    s: &Settings,
+    s: &ManyLightParams,
     progress: &dyn Progress,
 ) -> Result<Output> {
     let t0 = Instant::now();
@@ -146,7 +146,7 @@ pub fn run_with(
     g: &GBuffer,
     vpls: &[Vpl],
     method: Method,
-    s: &Settings,
+    s: &ManyLightParams,
     progress: &dyn Progress,
     setup_seconds: f64,
 ) -> Result<Output> {
@@ -190,7 +190,7 @@ pub fn compare(
     g: &GBuffer,
     vpls: &[Vpl],
     methods: &[Method],
-    s: &Settings,
+    s: &ManyLightParams,
     progress: &dyn Progress,
 ) -> Result<Vec<(Method, Output)>> {
     let mut done: Vec<Option<Output>> = vec![None; methods.len()];

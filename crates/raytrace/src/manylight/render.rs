@@ -21,7 +21,7 @@ use super::weights::Interp;
 
 /// Importance-caching parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct IcParams {
+pub struct ImportanceCachingParams {
     /// Records (cache points): the budget of the adaptive placement, the count of the screen
     /// grid; 1 % of the pixels in the paper's scenes.
     pub n_cache: usize,
@@ -43,7 +43,7 @@ pub struct IcParams {
     pub max_cache_bytes: usize,
 }
 
-impl Default for IcParams {
+impl Default for ImportanceCachingParams {
     fn default() -> Self {
         Self {
             n_cache: 1000,
@@ -58,7 +58,7 @@ impl Default for IcParams {
     }
 }
 
-impl IcParams {
+impl ImportanceCachingParams {
     /// Errors: `n_cache = 0`, `m_nearest = 0`, `spp = 0`, no strategy, a negative or
     /// non-finite alpha.
     pub fn validate(&self) -> Result<()> {
@@ -122,7 +122,7 @@ pub fn build_cache(
     vpls: &[Vpl],
     placement: &Placement,
     interp: Interp,
-    p: &IcParams,
+    p: &ImportanceCachingParams,
 ) -> Result<(ImportanceCache, CacheStats)> {
     p.validate()?;
     interp.validate()?;
@@ -205,7 +205,7 @@ pub fn estimate(
     sh: &Shading,
     cache: &ImportanceCache,
     x: &ShadingPoint,
-    p: &IcParams,
+    p: &ImportanceCachingParams,
     rng: &mut impl Rng,
 ) -> Rgb {
     let mut out = x.emitted;
@@ -267,7 +267,7 @@ pub fn render(
     g: &GBuffer,
     vpls: &[Vpl],
     cache: &ImportanceCache,
-    p: &IcParams,
+    p: &ImportanceCachingParams,
     progress: &dyn Progress,
 ) -> Result<Image<f32>> {
     p.validate()?;
@@ -333,7 +333,7 @@ pub fn render_power(
     scene: &Scene,
     g: &GBuffer,
     vpls: &[Vpl],
-    p: &IcParams,
+    p: &ImportanceCachingParams,
     progress: &dyn Progress,
 ) -> Result<Image<f32>> {
     p.validate()?;

@@ -50,7 +50,7 @@ impl Vpl {
 
 /// VPL generation parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct VplSettings {
+pub struct VplParams {
     /// Light paths traced (one emitter VPL each, plus one VPL per bounce); 1000.
     pub n_paths: usize,
     /// Bounces per light path (surface VPLs), 2.
@@ -59,7 +59,7 @@ pub struct VplSettings {
     pub seed: u64,
 }
 
-impl Default for VplSettings {
+impl Default for VplParams {
     fn default() -> Self {
         Self {
             n_paths: 1000,
@@ -85,7 +85,7 @@ pub fn cosine_hemisphere(n: &Vector3<f64>, u1: f64, u2: f64) -> Vector3<f64> {
 /// random stream each, so the result does not depend on the thread count.
 ///
 /// Errors: no emitter in the scene, `n_paths = 0`.
-pub fn generate_vpls(scene: &Scene, s: &VplSettings) -> Result<Vec<Vpl>> {
+pub fn generate_vpls(scene: &Scene, s: &VplParams) -> Result<Vec<Vpl>> {
     let emitters = scene.emitters();
     if emitters.is_empty() {
         return Err(Error::invalid(

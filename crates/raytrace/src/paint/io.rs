@@ -52,7 +52,7 @@ pub fn write_xyz_exr(img: &XyzImage, path: impl AsRef<Path>) -> Result<()> {
 /// Writes the view's radiance per band as a 32-bit float OpenEXR file, one channel per band
 /// named by its wavelength (`380nm`, `385nm`, ...).
 ///
-/// Errors: a view rendered without [`super::render::RenderSettings::keep_spectrum`], or a
+/// Errors: a view rendered without [`super::render::PaintRenderParams::keep_spectrum`], or a
 /// file that cannot be written.
 pub fn write_spectral_exr(img: &XyzImage, path: impl AsRef<Path>) -> Result<()> {
     let n = img.bands_nm.len();

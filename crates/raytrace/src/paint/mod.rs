@@ -17,10 +17,10 @@ pub use layers::{Coat, DiscLight, PlateStack};
 pub use observer::{
     binocular_overlap, features, glint_stats, Condition, GlintStats, VirtualObserver,
 };
-pub use photons::{trace_photons, Photon, PhotonMap, PhotonSettings};
+pub use photons::{trace_photons, Photon, PhotonMap, PhotonParams};
 pub use plate::{FlakePlate, PlacedFlake};
 pub use render::{
     render, render_with_progress, ColourMode, FlakeHit, Microstructure, NoFlakes, Plate, Rect,
-    RenderSettings, XyzImage, NO_FLAKE, RGB_BAND_NM,
+    PaintRenderParams, XyzImage, NO_FLAKE, RGB_BAND_NM,
 };
-pub use workshop::{plate_features, score_runs, WorkshopConfig, WorkshopScores};
+pub use workshop::{plate_features, score_runs, WorkshopParams, WorkshopScores};

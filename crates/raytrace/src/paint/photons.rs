@@ -34,7 +34,7 @@ const MAX_EVENTS: usize = 32;
 
 /// Photon-mapping parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PhotonSettings {
+pub struct PhotonParams {
     /// Photons shot from the lamp over the rendered area (2 000 000).
     pub count: usize,
     /// Photons in a density estimate (50).
@@ -48,7 +48,7 @@ pub struct PhotonSettings {
     pub seed: u64,
 }
 
-impl Default for PhotonSettings {
+impl Default for PhotonParams {
     fn default() -> Self {
         Self {
             count: 2_000_000,
@@ -60,7 +60,7 @@ impl Default for PhotonSettings {
     }
 }
 
-impl PhotonSettings {
+impl PhotonParams {
     /// Errors: no photons, more than 500 million, `k = 0`, a non-positive radius, a negative
     /// margin.
     pub fn validate(&self) -> Result<()> {
@@ -110,7 +110,7 @@ pub struct PhotonMap {
     band_flux: Vec<f32>,
     n_bands: usize,
     /// Gathering parameters.
-    pub settings: PhotonSettings,
+    pub settings: PhotonParams,
 }
 
 impl PhotonMap {
@@ -182,7 +182,7 @@ pub fn trace_photons(
     plate: &Plate,
     light: &DiscLight,
     area_um: [f64; 4],
-    settings: &PhotonSettings,
+    settings: &PhotonParams,
     caustic_only: bool,
 ) -> Result<PhotonMap> {
     light.validate()?;

@@ -26,7 +26,7 @@ use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::{Error, Result};
 
 use super::layers::{DiscLight, PlateStack};
-use super::photons::{trace_photons, PhotonMap, PhotonSettings};
+use super::photons::{trace_photons, PhotonMap, PhotonParams};
 use crate::spectral::{
     fresnel_conductor, fresnel_dielectric, tables, xyz_to_rgb, SpectralGrid, XYZ_TO_SRGB,
 };
@@ -195,7 +195,7 @@ impl Rect {
 
 /// Rendering parameters.
 #[derive(Clone, Debug, PartialEq)]
-pub struct RenderSettings {
+pub struct PaintRenderParams {
     /// Samples per pixel (jittered over the pixel's footprint on the plate), 64.
     pub spp: u32,
     /// Most scattering events (flake reflections, internal reflections) per chain, 8.
@@ -216,10 +216,10 @@ pub struct RenderSettings {
     pub keep_spectrum: bool,
     /// Photon map of the caustics on a diffuse base (used only when the stack's
     /// `base_albedo > 0`; `None` leaves them out).
-    pub photons: Option<PhotonSettings>,
+    pub photons: Option<PhotonParams>,
 }
 
-impl Default for RenderSettings {
+impl Default for PaintRenderParams {
     fn default() -> Self {
         Self {
             spp: 64,
@@ -230,7 +230,7 @@ impl Default for RenderSettings {
             independent_samples: false,
             colour: ColourMode::Spectral,
             keep_spectrum: false,
-            photons: Some(PhotonSettings::default()),
+            photons: Some(PhotonParams::default()),
         }
     }
 }
@@ -264,7 +264,7 @@ pub struct XyzImage {
     pub bands_nm: Vec<f64>,
     /// Radiance per pixel and band (pixel-major), relative to the lamp's radiance scaled
     /// like XYZ (a white Lambertian plate has the lamp's relative spectrum times
-    /// `1 / Y_white`); empty unless [`RenderSettings::keep_spectrum`].
+    /// `1 / Y_white`); empty unless [`PaintRenderParams::keep_spectrum`].
     pub spectrum: Vec<f32>,
 }
 
@@ -351,7 +351,7 @@ const ROULETTE_BELOW: f64 = 0.5;
 /// flake, radiance per band (when kept).
 type PixelResult = ([f32; 3], u64, Vec<u64>, Vec<f32>);
 
-/// Most scattering events per chain ([`RenderSettings::max_depth`]).
+/// Most scattering events per chain ([`PaintRenderParams::max_depth`]).
 pub const MAX_DEPTH: u32 = 16;
 
 /// One chain's scratch state: the flakes met so far.
@@ -663,7 +663,7 @@ pub fn render(
     light: &DiscLight,
     rig: &StereoRig,
     eye: Eye,
-    s: &RenderSettings,
+    s: &PaintRenderParams,
 ) -> Result<XyzImage> {
     render_with_progress(plate, light, rig, eye, s, &NoProgress)
 }
@@ -675,7 +675,7 @@ fn caustic_map(
     plate: &Plate,
     light: &DiscLight,
     region: Rect,
-    s: &RenderSettings,
+    s: &PaintRenderParams,
     bands: &[Band],
 ) -> Result<Option<PhotonMap>> {
     let Some(ps) = s.photons.filter(|_| plate.stack.base_albedo > 0.0) else {
@@ -703,7 +703,7 @@ pub fn render_with_progress(
     light: &DiscLight,
     rig: &StereoRig,
     eye: Eye,
-    s: &RenderSettings,
+    s: &PaintRenderParams,
     progress: &dyn Progress,
 ) -> Result<XyzImage> {
     light.validate()?;

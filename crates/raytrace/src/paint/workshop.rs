@@ -11,12 +11,12 @@ use super::flakes::FlakeParams;
 use super::layers::{DiscLight, PlateStack};
 use super::observer::{features, Condition, VirtualObserver, DEFAULT_JND_LOG};
 use super::plate::FlakePlate;
-use super::render::{render, Plate, Rect, RenderSettings};
+use super::render::{render, Plate, Rect, PaintRenderParams};
 use crate::stereo::{Eye, StereoRig};
 
 /// What the workshop renders and how.
 #[derive(Clone, Debug)]
-pub struct WorkshopConfig {
+pub struct WorkshopParams {
     /// Microstructure parameters other than radius and density.
     pub base: FlakeParams,
     /// The plate's layers.
@@ -28,7 +28,7 @@ pub struct WorkshopConfig {
     pub rig: StereoRig,
     /// Rendering: a 10 x 10 mm patch at the plate's centre, magnified 4x (144 x 144 pixels),
     /// 64 samples per pixel.
-    pub settings: RenderSettings,
+    pub settings: PaintRenderParams,
     /// Renders of the reference (different microstructure seeds) that calibrate the
     /// observer: 4.
     pub reference_renders: usize,
@@ -42,18 +42,18 @@ pub struct WorkshopConfig {
     pub distinct_cells: bool,
 }
 
-impl Default for WorkshopConfig {
+impl Default for WorkshopParams {
     fn default() -> Self {
         Self {
             base: FlakeParams::default(),
             stack: PlateStack::default(),
             light: DiscLight::from_elevation(75.0, 1.0),
             rig: StereoRig::default(),
-            settings: RenderSettings {
+            settings: PaintRenderParams {
                 spp: 64,
                 region_mm: Some(Rect::centred(0.0, 0.0, 10.0, 10.0)),
                 magnification: 4.0,
-                ..RenderSettings::default()
+                ..PaintRenderParams::default()
             },
             reference_renders: 4,
             condition: Condition::Stereo,
@@ -84,7 +84,7 @@ pub fn plate_features(
     radius_um: f64,
     density: f64,
     seed: u64,
-    cfg: &WorkshopConfig,
+    cfg: &WorkshopParams,
 ) -> Result<Vec<f64>> {
     let mut params = FlakeParams {
         radius_um,
@@ -122,7 +122,7 @@ pub fn plate_features(
 pub fn score_runs(
     reference: (f64, f64),
     runs: &[(f64, f64)],
-    cfg: &WorkshopConfig,
+    cfg: &WorkshopParams,
     seed: u64,
     progress: &dyn Progress,
 ) -> Result<WorkshopScores> {

@@ -220,7 +220,7 @@ impl Light {
 
 /// Settings shared by every method.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderSettings {
+pub struct IlluminationParams {
     /// Reconstruction filter.
     pub interp: Interp,
     /// Background colour composited behind the volume.
@@ -229,7 +229,7 @@ pub struct RenderSettings {
     pub early_stop: f32,
 }
 
-impl Default for RenderSettings {
+impl Default for IlluminationParams {
     fn default() -> Self {
         Self {
             interp: Interp::Trilinear,
@@ -239,7 +239,7 @@ impl Default for RenderSettings {
     }
 }
 
-impl RenderSettings {
+impl IlluminationParams {
     /// Errors: background outside `[0, 1]`, early stop outside `(0, 1]`.
     pub fn check(&self) -> Result<()> {
         if !self.background.iter().all(|v| (0.0..=1.0).contains(v)) {

@@ -35,7 +35,7 @@ pub use camera::{SliceCamera, Slicing};
 pub use classify::{SampleLut, TransferFunction};
 pub use field::{Interp, ScalarField};
 pub use kernel::{Kernel, StepKernel};
-pub use method::{Light, LightAtten, Method, Phong, RenderSettings, MAX_SUBSAMPLES};
+pub use method::{Light, LightAtten, Method, Phong, IlluminationParams, MAX_SUBSAMPLES};
 pub use preintegration::PreIntegrationTable;
 
 use wscg_math::{Error, Image, Result};
@@ -67,7 +67,7 @@ pub fn render(
     cam: &SliceCamera,
     light: &Light,
     method: &Method,
-    settings: &RenderSettings,
+    settings: &IlluminationParams,
 ) -> Result<Rendered> {
     let mut out = render_many(
         field,
@@ -89,7 +89,7 @@ pub fn render_many(
     cams: &[SliceCamera],
     light: &Light,
     method: &Method,
-    settings: &RenderSettings,
+    settings: &IlluminationParams,
 ) -> Result<Vec<Rendered>> {
     if cams.is_empty() {
         return Err(Error::Empty("cameras"));
@@ -151,7 +151,7 @@ pub fn light_buffer_at(
     cam: &SliceCamera,
     light: &Light,
     method: &Method,
-    settings: &RenderSettings,
+    settings: &IlluminationParams,
     depth: f64,
 ) -> Result<(Image<f32>, f64)> {
     let frame = cam.frame()?;

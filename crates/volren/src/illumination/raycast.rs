@@ -12,7 +12,7 @@ use wscg_math::Result;
 use super::camera::{Frame, Slicing};
 use super::classify::SampleLut;
 use super::field::ScalarField;
-use super::method::{Light, Phong, RenderSettings};
+use super::method::{Light, Phong, IlluminationParams};
 use super::sampler::{Loc, Sampler};
 use super::slicer::MAX_SLICES;
 
@@ -35,7 +35,7 @@ pub(crate) fn raycast(
     lut: &SampleLut,
     frame: &Frame,
     light: &Light,
-    settings: &RenderSettings,
+    settings: &IlluminationParams,
     step: f32,
     shading: RayShading,
 ) -> Result<(Vec<f32>, usize)> {

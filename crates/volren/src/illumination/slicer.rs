@@ -24,7 +24,7 @@ use super::camera::{Frame, Slicing};
 use super::classify::{SampleLut, TransferFunction};
 use super::field::ScalarField;
 use super::kernel::{Kernel, StepKernel};
-use super::method::{Light, LightAtten, Method, RenderSettings};
+use super::method::{Light, LightAtten, Method, IlluminationParams};
 use super::preintegration::PreIntegrationTable;
 use super::sampler::Sampler;
 
@@ -65,7 +65,7 @@ impl<'a> Prepared<'a> {
     pub fn new(
         field: &'a ScalarField,
         tf: &TransferFunction,
-        settings: &RenderSettings,
+        settings: &IlluminationParams,
         method: &Method,
     ) -> Result<Self> {
         let Method::Ics {
@@ -178,7 +178,7 @@ impl<'a> SliceRun<'a> {
         prep: &'a Prepared<'a>,
         frame: &Frame,
         light: &Light,
-        settings: &RenderSettings,
+        settings: &IlluminationParams,
     ) -> Result<Self> {
         let l = light.unit_dir()?;
         let (ds, m, delta) = (prep.ds, prep.m, prep.delta);
@@ -674,7 +674,7 @@ mod tests {
     #[test]
     fn skipping_transparent_runs_is_exact() {
         let (field, tf) = sparse_scene();
-        let settings = RenderSettings::default();
+        let settings = IlluminationParams::default();
         let mut slice_only = Method::scs(1.2, 2);
         if let Method::Ics { light_atten, .. } = &mut slice_only {
             *light_atten = LightAtten::SliceOnly;

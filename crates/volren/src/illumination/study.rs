@@ -11,7 +11,7 @@ use wscg_math::{Error, Image, Result};
 use super::camera::SliceCamera;
 use super::classify::TransferFunction;
 use super::field::ScalarField;
-use super::method::{Light, Method, RenderSettings};
+use super::method::{Light, Method, IlluminationParams};
 use super::render_many;
 
 /// Mean absolute difference over all pixels and the RGB channels of two `H x W x C` images
@@ -130,7 +130,7 @@ pub fn render_views(
     views: &[SliceCamera],
     light: &Light,
     method: &Method,
-    settings: &RenderSettings,
+    settings: &IlluminationParams,
 ) -> Result<(Vec<Image<f32>>, f64)> {
     if views.is_empty() {
         return Err(Error::Empty("views"));
@@ -153,7 +153,7 @@ pub fn sweep(
     tf: &TransferFunction,
     views: &[SliceCamera],
     light: &Light,
-    settings: &RenderSettings,
+    settings: &IlluminationParams,
     reference: &Method,
     fine: &Method,
     configs: &[Method],

@@ -139,7 +139,7 @@ const MIN_SIDE: usize = 32;
 
 /// Parameters of [`generate`]; the defaults are the paper's data set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SynthConfig {
+pub struct HandposeSynthParams {
     /// Frames per class (3000).
     pub n_per_class: usize,
     /// Number of subjects (3); each has its own palm and finger sizes.
@@ -152,7 +152,7 @@ pub struct SynthConfig {
     pub height: usize,
 }
 
-impl Default for SynthConfig {
+impl Default for HandposeSynthParams {
     fn default() -> Self {
         Self {
             n_per_class: 3000,
@@ -720,7 +720,7 @@ fn hand_box(z: &[f32], h: usize, w: usize, margin: usize) -> Option<(usize, usiz
 ///
 /// Errors: `n_per_class` or `subjects` zero, a canvas side under 32 px, more than 2^31 pixels
 /// in all.
-pub fn generate(cfg: &SynthConfig) -> Result<SynthData> {
+pub fn generate(cfg: &HandposeSynthParams) -> Result<SynthData> {
     generate_with(cfg, &Jitter::default())
 }
 
@@ -729,7 +729,7 @@ pub fn generate(cfg: &SynthConfig) -> Result<SynthData> {
 /// is `generate(cfg)`.
 ///
 /// Errors: as [`generate`]; a [`Jitter`] amplitude negative or non-finite.
-pub fn generate_with(cfg: &SynthConfig, jitter: &Jitter) -> Result<SynthData> {
+pub fn generate_with(cfg: &HandposeSynthParams, jitter: &Jitter) -> Result<SynthData> {
     jitter.validate()?;
     if cfg.n_per_class == 0 {
         return Err(Error::invalid("n_per_class", "must be at least 1"));
@@ -1085,11 +1085,11 @@ pub fn rotated_rows(
 mod tests {
     use super::*;
 
-    fn small(seed: u64) -> SynthConfig {
-        SynthConfig {
+    fn small(seed: u64) -> HandposeSynthParams {
+        HandposeSynthParams {
             n_per_class: 40,
             seed,
-            ..SynthConfig::default()
+            ..HandposeSynthParams::default()
         }
     }
 
@@ -1165,9 +1165,9 @@ mod tests {
 
     #[test]
     fn generated_frames_have_features() {
-        let d = generate(&SynthConfig {
+        let d = generate(&HandposeSynthParams {
             n_per_class: 4,
-            ..SynthConfig::default()
+            ..HandposeSynthParams::default()
         })
         .unwrap();
         let f = crate::sfa::handpose::physical_features_batch(
@@ -1203,28 +1203,28 @@ mod tests {
     #[test]
     fn bad_configs_are_rejected() {
         for cfg in [
-            SynthConfig {
+            HandposeSynthParams {
                 n_per_class: 0,
-                ..SynthConfig::default()
+                ..HandposeSynthParams::default()
             },
-            SynthConfig {
+            HandposeSynthParams {
                 subjects: 0,
-                ..SynthConfig::default()
+                ..HandposeSynthParams::default()
             },
-            SynthConfig {
+            HandposeSynthParams {
                 width: 10,
-                ..SynthConfig::default()
+                ..HandposeSynthParams::default()
             },
-            SynthConfig {
+            HandposeSynthParams {
                 n_per_class: usize::MAX / 2,
-                ..SynthConfig::default()
+                ..HandposeSynthParams::default()
             },
         ] {
             assert!(generate(&cfg).is_err(), "{cfg:?}");
         }
-        let cfg = SynthConfig {
+        let cfg = HandposeSynthParams {
             n_per_class: 1,
-            ..SynthConfig::default()
+            ..HandposeSynthParams::default()
         };
         for j in [
             Jitter {

@@ -36,7 +36,7 @@ use super::generate::{rotated_rows, Split, SynthData, CLASS_NAMES, DOWNSCALE};
 use crate::sfa::isomap::{Isomap, IsomapParams, MAX_EXACT_POINTS};
 use crate::sfa::scatter::group_labels;
 use crate::sfa::{
-    confusion_matrix, ClassSfaConfig, GlobalRule, GlobalSfa, Knn, KnnTie, PerClassSfa,
+    confusion_matrix, ClassSfaParams, GlobalRule, GlobalSfa, Knn, KnnTie, PerClassSfa,
 };
 use crate::subspace::classify::accuracy;
 use crate::subspace::{column_means, select_rows, Pca, Projector};
@@ -105,9 +105,9 @@ impl Method {
 /// Parameters of [`compare`]; the defaults are the paper's (§3.2.2, §4) with our choices
 /// where it is silent (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
-pub struct CompareConfig {
+pub struct CompareParams {
     /// The class-wise and full-data-set SFA (PCA-35, quadratic, 10 functions, gamma = 1).
-    pub sfa: ClassSfaConfig,
+    pub sfa: ClassSfaParams,
     /// Neighbours of every KNN (5).
     pub k: usize,
     /// Training frames per class for the physical-feature KNN (1500).
@@ -125,10 +125,10 @@ pub struct CompareConfig {
     pub seed: u64,
 }
 
-impl Default for CompareConfig {
+impl Default for CompareParams {
     fn default() -> Self {
         Self {
-            sfa: ClassSfaConfig::default(),
+            sfa: ClassSfaParams::default(),
             k: 5,
             physical_per_class: 1500,
             isomap: IsomapParams::default(),
@@ -351,7 +351,7 @@ pub struct FeatureSets {
 pub fn compare(
     data: &SynthData,
     split: &Split,
-    cfg: &CompareConfig,
+    cfg: &CompareParams,
     methods: &[Method],
     progress: impl FnMut(Method),
 ) -> Result<Comparison> {
@@ -380,7 +380,7 @@ pub fn compare_masks(
     h: usize,
     w: usize,
     split: &Split,
-    cfg: &CompareConfig,
+    cfg: &CompareParams,
     methods: &[Method],
     progress: impl FnMut(Method),
 ) -> Result<Comparison> {
@@ -448,7 +448,7 @@ pub fn compare_rows(
     ytr: &[u32],
     xte: MatRef<'_, f64>,
     yte: &[u32],
-    cfg: &CompareConfig,
+    cfg: &CompareParams,
     methods: &[Method],
     physical: Option<&FeatureSets>,
     mut progress: impl FnMut(Method),
@@ -588,7 +588,7 @@ pub fn rotation_robustness(
     h: usize,
     w: usize,
     split: &Split,
-    sfa: &ClassSfaConfig,
+    sfa: &ClassSfaParams,
     fitted: Option<&PerClassSfa>,
     unaugmented: bool,
     seed: u64,

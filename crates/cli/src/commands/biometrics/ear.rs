@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand, ValueEnum};
 use serde::{Deserialize, Serialize};
 use wscg_biometrics::data::files::image_files;
-use wscg_biometrics::ear::synth::{self, OcclusionKind, SynthConfig};
+use wscg_biometrics::ear::synth::{self, OcclusionKind, EarSynthParams};
 use wscg_biometrics::ear::{
     baseline_params, detect_occlusion, enroll, make_baseline_probe, make_probe, rank, scores,
     EarParams, Gallery, ScoreRule, SkinRule,
@@ -404,7 +404,7 @@ pub fn run(cmd: EarCommand) -> Result<()> {
                 OcclusionName::BlondHair => OcclusionKind::Hair { dark: false },
             };
             let p = EarParams::default();
-            let set = synth::generate(subjects, probes, kind, seed, &SynthConfig::default(), &p)?;
+            let set = synth::generate(subjects, probes, kind, seed, &EarSynthParams::default(), &p)?;
             let mkdir = |d: &Path| std::fs::create_dir_all(d).map_err(|e| Error::io(d, e));
             let mut truth = String::from("file,subject,occluded_pct\n");
             for (i, im) in set.enrol.iter().enumerate() {

@@ -17,7 +17,7 @@ use wscg_biometrics::data::files::{
 use wscg_biometrics::data::{split_per_subject, IdentityImages};
 use wscg_biometrics::subspace::{
     evaluate, select_rows, FdkecaParams, Gamma, Kernel, Method, Metric as NnMetric, Model,
-    Ordering, ProtocolOptions, Recognizer, Sigma,
+    Ordering, ProtocolParams, Recognizer, Sigma,
 };
 use wscg_math::progress::Progress;
 use wscg_math::{Error, Result};
@@ -351,7 +351,7 @@ pub fn run(cmd: BiometricsCommand) -> Result<()> {
             );
             let ytr: Vec<u32> = tr.iter().map(|&i| img.labels[i]).collect();
             let yte: Vec<u32> = te.iter().map(|&i| img.labels[i]).collect();
-            let opt = ProtocolOptions {
+            let opt = ProtocolParams {
                 max_dim,
                 cv_folds: (folds > 0).then_some(folds),
                 seed,

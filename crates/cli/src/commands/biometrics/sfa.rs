@@ -14,11 +14,11 @@ use serde::{Deserialize, Serialize};
 use wscg_biometrics::data::files::{load_identity_folder, read_npy_labels};
 use wscg_biometrics::sfa::handpose::protocol::{compare_masks, rows_to_mat};
 use wscg_biometrics::sfa::handpose::{
-    downscale, generate_with, rotation_robustness, split_masks, CompareConfig, Jitter, Method,
-    SynthConfig, CLASS_NAMES,
+    downscale, generate_with, rotation_robustness, split_masks, CompareParams, Jitter, Method,
+    HandposeSynthParams, CLASS_NAMES,
 };
 use wscg_biometrics::sfa::{
-    ClassObjective, ClassSfaConfig, GlobalRule, GlobalSfa, PerClassSfa, QuadraticExpansion,
+    ClassObjective, ClassSfaParams, GlobalRule, GlobalSfa, PerClassSfa, QuadraticExpansion,
 };
 use wscg_math::image::Image;
 use wscg_math::progress::Progress;
@@ -155,13 +155,13 @@ pub enum MethodArg {
 }
 
 impl SfaArgs {
-    fn config(&self) -> Result<ClassSfaConfig> {
+    fn config(&self) -> Result<ClassSfaParams> {
         let expansion = match self.degree {
             1 => None,
             2 => Some(QuadraticExpansion::default()),
             d => return Err(Error::invalid("degree", format!("must be 1 or 2, got {d}"))),
         };
-        let cfg = ClassSfaConfig {
+        let cfg = ClassSfaParams {
             pca_dims: self.pca_dims,
             expansion,
             m_per_class: self.m,
@@ -171,7 +171,7 @@ impl SfaArgs {
                 ClassObjective::WithinMinusOutOfClass { gamma: self.gamma }
             },
             shrinkage: self.shrinkage,
-            ..ClassSfaConfig::default()
+            ..ClassSfaParams::default()
         };
         cfg.validate()?;
         Ok(cfg)
@@ -358,11 +358,11 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             let bars = Bars::new("generate");
             bars.begin("frames", 1);
             let data = generate_with(
-                &SynthConfig {
+                &HandposeSynthParams {
                     n_per_class,
                     subjects,
                     seed,
-                    ..SynthConfig::default()
+                    ..HandposeSynthParams::default()
                 },
                 &Jitter {
                     translation_px: translation,
@@ -549,11 +549,11 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
                 seed,
             )?;
             model.warn_small_classes(&split.train_y, &ds.names);
-            let cfg = CompareConfig {
+            let cfg = CompareParams {
                 sfa: model.config()?,
                 k,
                 seed,
-                ..CompareConfig::default()
+                ..CompareParams::default()
             };
             let methods: Vec<Method> = methods
                 .iter()

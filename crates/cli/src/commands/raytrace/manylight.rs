@@ -14,7 +14,7 @@ use wscg_math::image::Image;
 use wscg_math::{Error, Result};
 use wscg_raytrace::manylight::{
     compare, generate_vpls, load_obj, run_with, scenes, to_display, trace_primary, Camera, Method,
-    Output, Scene, Settings,
+    Output, Scene, ManyLightParams,
 };
 
 use crate::progress::Bars;
@@ -147,7 +147,7 @@ pub fn run(a: &ManyLightArgs) -> Result<()> {
         return Err(Error::invalid("exposure", "must be finite and positive"));
     }
     let (scene, cam) = scene_of(a)?;
-    let mut s = Settings::default();
+    let mut s = ManyLightParams::default();
     s.vpl.n_paths = a.vpl_paths;
     s.vpl.max_bounces = a.max_bounces;
     s.ic.spp = a.spp;

@@ -17,8 +17,8 @@ use wscg_doe::{ccd, decode, fit_quadratic, CcdAlpha, CcdFace};
 use wscg_math::{Error, Result};
 use wscg_raytrace::paint::{
     anaglyph, render_with_progress, score_runs, side_by_side, write_spectral_exr, write_xyz_exr,
-    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, PhotonSettings, Plate, PlateStack,
-    Rect, RenderSettings, StackModel, TiltDist, WorkshopConfig, XyzImage,
+    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, PhotonParams, Plate, PlateStack,
+    Rect, PaintRenderParams, StackModel, TiltDist, WorkshopParams, XyzImage,
 };
 use wscg_raytrace::spectral::XYZ_TO_SRGB;
 use wscg_raytrace::stereo::{Eye, StereoRig};
@@ -208,8 +208,8 @@ impl PlateArgs {
         }
     }
 
-    fn settings(&self, colour: ColourMode) -> RenderSettings {
-        RenderSettings {
+    fn settings(&self, colour: ColourMode) -> PaintRenderParams {
+        PaintRenderParams {
             spp: self.spp,
             magnification: self.magnification,
             region_mm: self.region.as_ref().map(|r| Rect {
@@ -219,11 +219,11 @@ impl PlateArgs {
                 y1: r[3],
             }),
             colour,
-            photons: (self.photons > 0).then(|| PhotonSettings {
+            photons: (self.photons > 0).then(|| PhotonParams {
                 count: self.photons,
-                ..PhotonSettings::default()
+                ..PhotonParams::default()
             }),
-            ..RenderSettings::default()
+            ..PaintRenderParams::default()
         }
     }
 }
@@ -321,7 +321,7 @@ fn paint(a: &PaintArgs) -> Result<()> {
     let micro = FlakePlate::new(&flakes, stack.size_mm, seed)?;
     let plate = Plate::new(stack, Box::new(micro))?;
     let light = DiscLight::from_elevation(p.light_elevation, p.light_deg);
-    let s = RenderSettings {
+    let s = PaintRenderParams {
         keep_spectrum: a.spectral,
         ..p.settings(if a.rgb {
             ColourMode::Rgb
@@ -366,16 +366,16 @@ fn workshop(a: &WorkshopArgs) -> Result<()> {
     let design = ccd(2, CcdFace::Inscribed, CcdAlpha::Rotatable, 5)?;
     let physical = decode(&design, &LOW, &HIGH)?;
     let runs: Vec<(f64, f64)> = physical.row_iter().map(|r| (r[0], r[1])).collect();
-    let cfg = WorkshopConfig {
+    let cfg = WorkshopParams {
         condition: match a.condition {
             ConditionName::Mono => Condition::Mono,
             ConditionName::Stereo => Condition::Stereo,
         },
-        settings: RenderSettings {
+        settings: PaintRenderParams {
             spp: a.spp,
-            ..WorkshopConfig::default().settings
+            ..WorkshopParams::default().settings
         },
-        ..WorkshopConfig::default()
+        ..WorkshopParams::default()
     };
     let reference = (a.reference[0], a.reference[1]);
     let ws = score_runs(reference, &runs, &cfg, a.seed, &Bars::new("workshop"))?;

@@ -17,7 +17,7 @@ use wscg_volren::illumination::scenes::{
 };
 use wscg_volren::illumination::study::{grid, sweep, AliasCriterion};
 use wscg_volren::illumination::{
-    render, Kernel, Light, LightAtten, Method, Phong, RenderSettings, ScalarField, SliceCamera,
+    render, Kernel, Light, LightAtten, Method, Phong, IlluminationParams, ScalarField, SliceCamera,
     TransferFunction,
 };
 use wscg_volren::vti::read_vti;
@@ -282,7 +282,7 @@ pub fn run(a: IllumArgs) -> Result<()> {
             },
         },
     };
-    let settings = RenderSettings {
+    let settings = IlluminationParams {
         background: triple(&a.background, "background")?,
         ..Default::default()
     };

@@ -19,7 +19,7 @@ use std::sync::Arc;
 use clap::{Args, Subcommand};
 use wscg_math::{Error, Result, Volume};
 use wscg_volren::net::{serve, RemoteServer};
-use wscg_volren::{Camera, HybridClient, HybridServer, PlTf, RenderOpts, ServerOpts};
+use wscg_volren::{Camera, HybridClient, HybridServer, PlTf, RenderParams, ServerParams};
 
 #[derive(Subcommand, Debug)]
 pub enum VolrenCommand {
@@ -174,7 +174,7 @@ fn server_from(a: &VolumeArgs) -> Result<HybridServer> {
         a.tf.as_ref()
             .ok_or_else(|| Error::invalid("tf", "--tf is required"))?;
     let (tfs, canonical) = load_tfs(tf)?;
-    let opts = ServerOpts {
+    let opts = ServerParams {
         steps_sent: a.steps_sent,
         ..Default::default()
     };
@@ -246,7 +246,7 @@ pub fn run(cmd: VolrenCommand) -> Result<()> {
                 client.set_roi(p)?;
             }
             let cam = Camera::orbit(client.dims, a.azimuth, a.elevation, a.size);
-            let img = client.render(&cam, a.roi_tf, &RenderOpts::default())?;
+            let img = client.render(&cam, a.roi_tf, &RenderParams::default())?;
             wscg_volren::render::rgb(&img)?.save(&a.out)?;
             println!(
                 "static package {} bytes, ROI package {} bytes; image written to {}",
