@@ -13,14 +13,14 @@ use wscg::biometrics::sfa::{ClassSfaParams, PerClassSfa, QuadraticExpansion, Tem
 use wscg::biometrics::subspace::{FdkecaParams, Kernel, Method, Projector};
 
 fn images(n: usize, side: usize, seed: u64) -> Mat<f64> {
-    finger_veins(&FingerVeinParams {
-        subjects: n / 10,
-        samples: 10,
-        size: (side, side),
-        canvas: (4 * side, 4 * side),
-        seed,
-        ..Default::default()
-    })
+    finger_veins(
+        &FingerVeinParams::default()
+            .subjects(n / 10)
+            .samples(10)
+            .size((side, side))
+            .canvas((4 * side, 4 * side))
+            .seed(seed),
+    )
     .unwrap()
     .x
 }
@@ -35,10 +35,7 @@ fn fit_transform(method: &Method, xtr: &Mat<f64>, xte: &Mat<f64>) -> Mat<f64> {
 
 fn bench_subspace(c: &mut Criterion) {
     let l = Some(100);
-    let fd = Method::Fdkeca(FdkecaParams {
-        n_components: l,
-        ..Default::default()
-    });
+    let fd = Method::Fdkeca(FdkecaParams::default().n_components(l));
     let pca = Method::Pca {
         n_components: l,
         whiten: false,

@@ -10,11 +10,9 @@ use wscg::cloth::{grid_triangles, ClothModel, Method, NcgVariant, Relaxation, Si
 fn sim(model: &ClothModel, method: Method, relaxation: Relaxation) -> Sim {
     let mut s = Sim::new(
         model.clone(),
-        SolverParams {
-            method,
-            relaxation,
-            ..Default::default()
-        },
+        SolverParams::default()
+            .method(method)
+            .relaxation(relaxation),
     )
     .unwrap();
     // Start from a moving, deformed state.

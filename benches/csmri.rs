@@ -34,10 +34,7 @@ fn bench(c: &mut Criterion) {
             .map(|&v| num_complex::Complex64::new(v, 0.0))
             .collect();
         for red in [Redundancy::Less, Redundancy::More] {
-            let cfg = SflctParams {
-                redundancy: red,
-                ..Default::default()
-            };
+            let cfg = SflctParams::default().redundancy(red);
             let t = Sflct::new(n, n, &cfg).unwrap();
             g.bench_function(format!("sflct {red:?} forward+adjoint {n}^2"), |b| {
                 b.iter(|| black_box(t.adjoint(&t.forward(&xc).unwrap()).unwrap()))
@@ -55,30 +52,21 @@ fn bench(c: &mut Criterion) {
             black_box(csalsa(&data, &udct, Regularizer::default(), &p, None, &NoProgress).unwrap())
         })
     });
-    let pw = CsalsaParams {
-        tau0: 0.04,
-        ..Default::default()
-    };
+    let pw = CsalsaParams::default().tau0(0.04);
     g.bench_function("csalsa db4-l1 70 it 256^2", |b| {
         b.iter(|| {
             black_box(csalsa(&data, &db4, Regularizer::default(), &pw, None, &NoProgress).unwrap())
         })
     });
     let fdct = FdctSparsifier::new(n, n, &FdctParams::default()).unwrap();
-    let pf = CsalsaParams {
-        tau0: sparsifier::tuned_tau0("fdct"),
-        ..Default::default()
-    };
+    let pf = CsalsaParams::default().tau0(sparsifier::tuned_tau0("fdct"));
     g.bench_function("csalsa fdct-l1 70 it 256^2", |b| {
         b.iter(|| {
             black_box(csalsa(&data, &fdct, Regularizer::default(), &pf, None, &NoProgress).unwrap())
         })
     });
     let mr = sparsifier::by_name("mrsflct", n, n, &sparsifier::PriorParams::default()).unwrap();
-    let pm = CsalsaParams {
-        tau0: sparsifier::tuned_tau0("mrsflct"),
-        ..Default::default()
-    };
+    let pm = CsalsaParams::default().tau0(sparsifier::tuned_tau0("mrsflct"));
     g.bench_function("csalsa mrsflct-l1 70 it 256^2", |b| {
         b.iter(|| {
             black_box(

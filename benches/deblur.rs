@@ -6,10 +6,10 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use wscg::deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
+use wscg::deblur::synth::{self, BlurRenderParams, Burst, ShakeParams};
 use wscg::deblur::{
-    deblur_multiframe, deblur_piecewise, deconv_hl, kernel_grid, Gamma, GyroTrack, HyperLaplacianParams,
-    Intrinsics, Kernel, Method, MultiframeParams, Tiling,
+    deblur_multiframe, deblur_piecewise, deconv_hl, kernel_grid, Gamma, GyroTrack,
+    HyperLaplacianParams, Intrinsics, Kernel, Method, MultiframeParams, Tiling,
 };
 use wscg::math::progress::NoProgress;
 
@@ -39,16 +39,16 @@ fn bench(c: &mut Criterion) {
     let mut lin = sb.frames[2].image.clone();
     Gamma::default().linearise(lin.data_mut());
     let timing = burst.timing(2, h);
-    let opts = MultiframeParams {
-        t_delay: burst.t_delay,
-        ..Default::default()
-    };
+    let opts = MultiframeParams::default().t_delay(burst.t_delay);
     g.bench_function("kernel_grid 720x480 (24x16 regions)", |b| {
         b.iter(|| black_box(kernel_grid(&track, &timing, &kk, w, h, 30, &opts.kernel).unwrap()))
     });
     let grid = kernel_grid(&track, &timing, &kk, w, h, 30, &opts.kernel).unwrap();
     for (name, m) in [
-        ("KS", Method::HyperLaplacian(HyperLaplacianParams::default())),
+        (
+            "KS",
+            Method::HyperLaplacian(HyperLaplacianParams::default()),
+        ),
         ("Wiener", Method::Wiener { nsr: 0.01 }),
         ("RL 30 it", Method::RichardsonLucy { iters: 30 }),
     ] {

@@ -7,7 +7,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use wscg::biometrics::ear::synth::{self, OcclusionKind, EarSynthParams};
+use wscg::biometrics::ear::synth::{self, EarSynthParams, OcclusionKind};
 use wscg::biometrics::ear::{
     baseline_params, enroll, make_baseline_probe, make_probe, scores, EarParams, EarTemplate,
     Gallery,

@@ -18,12 +18,10 @@ use wscg::math::progress::NoProgress;
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("paper13");
     g.sample_size(10);
-    let cfg = SceneParams {
-        height: 1110,
-        width: 1282,
-        times: vec![0.005, 0.04, 0.3],
-        ..SceneParams::default()
-    };
+    let cfg = SceneParams::default()
+        .height(1110)
+        .width(1282)
+        .times(vec![0.005, 0.04, 0.3]);
     let sc = layered_scene(&cfg, 1).unwrap();
     let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
     let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
@@ -33,12 +31,10 @@ fn bench(c: &mut Criterion) {
         .unwrap();
     let max_d = 70;
     for iters in [2, 3] {
-        let p = PatchMatchParams {
-            iters,
-            d_min: -max_d,
-            d_max: max_d,
-            ..PatchMatchParams::default()
-        };
+        let p = PatchMatchParams::default()
+            .iters(iters)
+            .d_min(-max_d)
+            .d_max(max_d);
         g.bench_function(
             format!("patchmatch 1282x1110, {iters} it, 1 thread"),
             |bch| bch.iter(|| one.install(|| black_box(patchmatch(&a, &b, &p).unwrap()))),
@@ -51,14 +47,12 @@ fn bench(c: &mut Criterion) {
     }
     g.bench_function("patchmatch_2d 1282x1110, 2 it, 1 thread", |bch| {
         bch.iter(|| {
-            one.install(|| black_box(patchmatch(&a, &b, &PatchMatchParams::barnes(7, 2, 0)).unwrap()))
+            one.install(|| {
+                black_box(patchmatch(&a, &b, &PatchMatchParams::barnes(7, 2, 0)).unwrap())
+            })
         })
     });
-    let p = PatchMatchParams {
-        d_min: -max_d,
-        d_max: max_d,
-        ..PatchMatchParams::default()
-    };
+    let p = PatchMatchParams::default().d_min(-max_d).d_max(max_d);
     let rs = patchmatch(&a, &b, &p).unwrap();
     let sr = patchmatch(&b, &a, &p).unwrap();
     let src = to_samples(&sc.views[1], &sc.crf, sc.times[1])
@@ -77,10 +71,7 @@ fn bench(c: &mut Criterion) {
     g.bench_function("merge_stack 5 x 1282x1110x3", |bch| {
         bch.iter(|| black_box(merge_stack(&stack, &times, &crfs).unwrap()))
     });
-    let mp = MultiscopicParams {
-        pm: p,
-        ..MultiscopicParams::default()
-    };
+    let mp = MultiscopicParams::default().pm(p);
     g.bench_function("multiscopic_hdr 3 views 1282x1110, 2 it", |bch| {
         bch.iter(|| {
             black_box(multiscopic_hdr(&sc.views, &sc.times, &crfs, &mp, &NoProgress).unwrap())

@@ -9,7 +9,7 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use wscg::volren::illumination::scenes::tissue_tf;
 use wscg::volren::illumination::{
-    render, Kernel, Light, Method, Phong, PreIntegrationTable, IlluminationParams, ScalarField,
+    render, IlluminationParams, Kernel, Light, Method, Phong, PreIntegrationTable, ScalarField,
     SliceCamera,
 };
 use wscg::volren::phantoms::head;

@@ -33,10 +33,7 @@ fn bench_pcg(c: &mut Criterion) {
     let a = CsrMatrix::laplacian_3d(n, n, n).unwrap();
     let b = vec![1.0; n * n * n];
     let jac = Jacobi::new(&a.diagonal()).unwrap();
-    let opts = PcgParams {
-        tol: 1e-6,
-        max_iter: Some(2000),
-    };
+    let opts = PcgParams::default().tol(1e-6).max_iter(Some(2000));
     let mut g = c.benchmark_group("pcg");
     g.sample_size(10);
     g.bench_function("pcg_poisson3d_100^3_tol1e-6", |bch| {

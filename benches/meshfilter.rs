@@ -21,10 +21,7 @@ fn bench(c: &mut Criterion) {
         .build()
         .unwrap();
     for (name, rebuild) in [("rebuild", true), ("fixed neighbours", false)] {
-        let q = JbmdParams {
-            rebuild_neighbors: rebuild,
-            ..p
-        };
+        let q = p.rebuild_neighbors(rebuild);
         g.bench_function(
             format!("JBMD 98k vertices k 20 10 it, {name}, 1 thread"),
             |b| one.install(|| b.iter(|| black_box(jbmd(&noisy, &q).unwrap()))),

@@ -12,7 +12,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use wscg::motion::anechoic::{fit_anechoic, AnechoicParams};
 use wscg::motion::map::SvrMapParams;
 use wscg::motion::stepwise::{fit_stepwise, StepwiseParams};
-use wscg::motion::synthesizer::{planner_for, MapKind, SynthesizerParams, Synthesizer};
+use wscg::motion::synthesizer::{planner_for, MapKind, Synthesizer, SynthesizerParams};
 use wscg::motion::walker::{reach_walk, WalkerParams};
 
 /// Sweeps of the timed demixing run (`tol = 0`, so every run does exactly this many).
@@ -42,23 +42,16 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("paper16");
     g.sample_size(10);
 
-    let (_, truth) = reach_walk(&WalkerParams {
-        n_trials: 10,
-        noise: 0.0,
-        ..WalkerParams::default()
-    })
-    .unwrap();
+    let (_, truth) = reach_walk(&WalkerParams::default().n_trials(10).noise(0.0)).unwrap();
     let x = &truth.periodic[0];
-    let cfg = AnechoicParams {
-        n_sources: 3,
-        n_harmonics: 8,
-        restarts: 1,
-        max_iter: SWEEPS,
-        tol: 0.0,
+    let cfg = AnechoicParams::default()
+        .n_sources(3)
+        .n_harmonics(8)
+        .restarts(1)
+        .max_iter(SWEEPS)
+        .tol(0.0)
         // The ALS alone (the numpy reference of benches/peers/16.py has no delay search).
-        delay_search: 0,
-        ..AnechoicParams::default()
-    };
+        .delay_search(0);
     g.bench_function(
         format!("fit_anechoic R=10 I=51 N=100 J=3 K=8, 1 run x {SWEEPS} sweeps"),
         |b| {
@@ -72,10 +65,7 @@ fn bench(c: &mut Criterion) {
 
     // The default fit: 10 runs (PCA start, the orbit-subspace start, 8 random ones), then
     // the per-channel delay search.
-    let default = AnechoicParams {
-        n_sources: 3,
-        ..AnechoicParams::default()
-    };
+    let default = AnechoicParams::default().n_sources(3);
     g.bench_function(
         "fit_anechoic R=10 I=51 N=100 J=3, default config (10 restarts)",
         |b| b.iter(|| fit_anechoic(black_box(x), &default).unwrap()),
@@ -94,10 +84,7 @@ fn bench(c: &mut Criterion) {
         let mut syn = Synthesizer::new(
             lib.clone(),
             planner_for(&lib),
-            SynthesizerParams {
-                map,
-                ..SynthesizerParams::default()
-            },
+            SynthesizerParams::default().map(map),
         )
         .unwrap();
         g.bench_function(format!("synthesis 10 s at 120 fps, {name} maps"), |b| {

@@ -21,10 +21,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| black_box(build(&blob, &BuildParams::default()).unwrap()))
     });
     g.bench_function("build blob 1.3M L=9 full octree", |b| {
-        let p = BuildParams {
-            early_stop: false,
-            ..Default::default()
-        };
+        let p = BuildParams::default().early_stop(false);
         b.iter(|| black_box(build(&blob, &p).unwrap()))
     });
     drop(blob);

@@ -8,8 +8,8 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use wscg::doe::{ccd, fit_quadratic, CcdAlpha, CcdFace};
 use wscg::raytrace::paint::{
-    generate_tile, render, DiscLight, FlakeParams, FlakePlate, Plate, PlateStack, Rect,
-    PaintRenderParams,
+    generate_tile, render, DiscLight, FlakeParams, FlakePlate, PaintRenderParams, Plate,
+    PlateStack, Rect,
 };
 use wscg::raytrace::stereo::{Eye, StereoRig};
 
@@ -25,22 +25,18 @@ fn bench_paint(c: &mut Criterion) {
     let plate = Plate::new(stack, Box::new(micro)).unwrap();
     let rig = StereoRig::default();
     let light = DiscLight::from_elevation(75.0, 1.0);
-    let patch = PaintRenderParams {
-        spp: 64,
-        region_mm: Some(Rect::centred(0.0, 0.0, 10.0, 10.0)),
-        magnification: 4.0,
-        ..PaintRenderParams::default()
-    };
+    let patch = PaintRenderParams::default()
+        .spp(64)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 10.0, 10.0)))
+        .magnification(4.0);
     g.bench_function("render 10x10 mm at 4x (144x144), 64 spp", |b| {
         b.iter(|| black_box(render(&plate, &light, &rig, Eye::Left, &patch).unwrap()))
     });
     // The peer benchmark's view: 20 x 20 mm on 256 x 256 pixels, cyclopean eye.
-    let peer = PaintRenderParams {
-        spp: 64,
-        region_mm: Some(Rect::centred(0.0, 0.0, 20.0, 20.0)),
-        magnification: 256.0 * rig.pixel_pitch_m().0 * 1e3 / 20.0,
-        ..PaintRenderParams::default()
-    };
+    let peer = PaintRenderParams::default()
+        .spp(64)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 20.0, 20.0)))
+        .magnification(256.0 * rig.pixel_pitch_m().0 * 1e3 / 20.0);
     g.bench_function("render 20x20 mm 256x256, 64 spp (peer view)", |b| {
         b.iter(|| black_box(render(&plate, &light, &rig, Eye::Cyclopean, &peer).unwrap()))
     });
@@ -59,8 +55,8 @@ fn bench_paint(c: &mut Criterion) {
 fn bench_manylight(c: &mut Criterion) {
     use wscg::raytrace::manylight::placement::AdaptiveParams;
     use wscg::raytrace::manylight::{
-        build_cache, generate_vpls, render, scenes, trace_primary, ImportanceCachingParams, Interp, Placement,
-        VplParams,
+        build_cache, generate_vpls, render, scenes, trace_primary, ImportanceCachingParams, Interp,
+        Placement, VplParams,
     };
     use wscg_math::progress::NoProgress;
     let mut g = c.benchmark_group("paper08");
@@ -80,19 +76,9 @@ fn bench_manylight(c: &mut Criterion) {
     });
     // Cache and render on the colonnade at 256 x 192 with 490 records, ~4200 VPLs.
     let (scene, cam) = scenes::colonnade(1, 256, 192).unwrap();
-    let vpls = generate_vpls(
-        &scene,
-        &VplParams {
-            n_paths: 1400,
-            ..VplParams::default()
-        },
-    )
-    .unwrap();
+    let vpls = generate_vpls(&scene, &VplParams::default().n_paths(1400)).unwrap();
     let gb = trace_primary(&scene, &cam).unwrap();
-    let p = ImportanceCachingParams {
-        n_cache: 490,
-        ..ImportanceCachingParams::default()
-    };
+    let p = ImportanceCachingParams::default().n_cache(490);
     let adaptive = Placement::Adaptive(AdaptiveParams::default());
     g.bench_function("cache adaptive colonnade 256x192 490 records", |bch| {
         bch.iter(|| {

@@ -27,10 +27,7 @@ fn bench_video(c: &mut Criterion) {
             )
         })
     });
-    let pf = WexlerParams {
-        seed_per_frame: true,
-        ..WexlerParams::default()
-    };
+    let pf = WexlerParams::default().seed_per_frame(true);
     g.bench_function("per_frame_patchmatch pan 640x360x16", |b| {
         b.iter(|| black_box(per_frame_patchmatch(&clip.observed, &clip.hole, &pf).unwrap()))
     });

@@ -15,7 +15,9 @@ fn bench(c: &mut Criterion) {
     let v = thorax([n; 3], 1).unwrap();
     let tfs = thorax_tfs();
     g.bench_function("server: wavelets + gradient octree, thorax 256^3", |b| {
-        b.iter(|| black_box(HybridServer::new(&v, tfs.clone(), 0, ServerParams::default()).unwrap()))
+        b.iter(|| {
+            black_box(HybridServer::new(&v, tfs.clone(), 0, ServerParams::default()).unwrap())
+        })
     });
     let s = HybridServer::new(&v, tfs, 0, ServerParams::default()).unwrap();
     // The paper's thorax ROI 256 x 160 x 256 at half the size.

@@ -15,12 +15,8 @@ use wscg::volseg::{
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("paper18");
     g.sample_size(10);
-    let ph = fractured_shell_phantom(&PhantomParams {
-        dims: [256; 3],
-        fragments: 8,
-        ..PhantomParams::default()
-    })
-    .unwrap();
+    let ph =
+        fractured_shell_phantom(&PhantomParams::default().dims([256; 3]).fragments(8)).unwrap();
     let p = RandomWalkParams::default();
     let graph = BoneGraph::build(&ph.ct, &p).unwrap();
     let n = graph.len();
@@ -29,13 +25,7 @@ fn bench(c: &mut Criterion) {
     });
     for (name, q) in [
         ("K-block Jacobi-PCG f32", p),
-        (
-            "per-label Jacobi-PCG f32",
-            RandomWalkParams {
-                solver: Solver::PerLabel,
-                ..p
-            },
-        ),
+        ("per-label Jacobi-PCG f32", p.solver(Solver::PerLabel)),
     ] {
         let mut s = RwSession::new(graph.clone(), q).unwrap();
         s.set_seeds(&ph.seeds).unwrap();

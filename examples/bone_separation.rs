@@ -23,11 +23,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let k = num(3, 15)?;
     let variants = args.get(4).map_or("block,jacobi", String::as_str);
     let t = Instant::now();
-    let ph = fractured_shell_phantom(&PhantomParams {
-        dims,
-        fragments: k,
-        ..PhantomParams::default()
-    })?;
+    let ph = fractured_shell_phantom(&PhantomParams::default().dims(dims).fragments(k))?;
     println!(
         "phantom {dims:?}, K = {k}: built in {:.1} s",
         t.elapsed().as_secs_f64()
@@ -64,33 +60,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "block" => ("K-block Jacobi-PCG, f32, all threads", base),
             "block64" => (
                 "K-block Jacobi-PCG, f64, all threads",
-                RandomWalkParams {
-                    precision: Precision::F64,
-                    ..base
-                },
+                base.precision(Precision::F64),
             ),
             "jacobi" => (
                 "per-label Jacobi-PCG, all threads",
-                RandomWalkParams {
-                    solver: Solver::PerLabel,
-                    ..base
-                },
+                base.solver(Solver::PerLabel),
             ),
             "jacobi1" => (
                 "per-label Jacobi-PCG, one thread",
-                RandomWalkParams {
-                    solver: Solver::PerLabel,
-                    threads: Some(1),
-                    ..base
-                },
+                base.solver(Solver::PerLabel).threads(Some(1)),
             ),
             "cg" => (
                 "per-label plain CG, all threads",
-                RandomWalkParams {
-                    solver: Solver::PerLabel,
-                    jacobi: false,
-                    ..base
-                },
+                base.solver(Solver::PerLabel).jacobi(false),
             ),
             other => return Err(format!("unknown variant {other}").into()),
         };

@@ -20,12 +20,10 @@ fn main() -> wscg::math::Result<()> {
         let model = ClothModel::fem_grid(20, 20, (1.0, 1.0), 0.1, 500.0, 0.3)?;
         let mut sim = Sim::new(
             model,
-            SolverParams {
-                alpha: ab,
-                beta: ab,
-                iterations,
-                ..Default::default()
-            },
+            SolverParams::default()
+                .alpha(ab)
+                .beta(ab)
+                .iterations(iterations),
         )?;
         println!("alpha = beta = {ab}, {iterations} iterations");
         for second in 0..=5 {

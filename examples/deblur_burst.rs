@@ -8,9 +8,10 @@
 use std::time::Instant;
 
 use wscg::deblur::metrics::quality;
-use wscg::deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
+use wscg::deblur::synth::{self, BlurRenderParams, Burst, ShakeParams};
 use wscg::deblur::{
-    deblur_frame, deblur_multiframe, GyroTrack, HyperLaplacianParams, Intrinsics, Method, MultiframeParams,
+    deblur_frame, deblur_multiframe, GyroTrack, HyperLaplacianParams, Intrinsics, Method,
+    MultiframeParams,
 };
 use wscg::math::progress::NoProgress;
 use wscg::math::Image;
@@ -43,10 +44,7 @@ fn main() -> wscg::math::Result<()> {
     );
     let track = GyroTrack::from_camera_rates(&sb.measured)?;
     let k = Intrinsics::centred(burst.f, w, h);
-    let opts = MultiframeParams {
-        t_delay: burst.t_delay,
-        ..Default::default()
-    };
+    let opts = MultiframeParams::default().t_delay(burst.t_delay);
     let report = |name: &str, img: &Image<f32>, secs: f64| -> wscg::math::Result<()> {
         let (p, s) = quality(img, &sb.sharp_display, 16)?;
         println!(
@@ -82,10 +80,7 @@ fn main() -> wscg::math::Result<()> {
             2,
             &track,
             &k,
-            &MultiframeParams {
-                radius: Some(radius),
-                ..opts
-            },
+            &opts.radius(Some(radius)),
             &NoProgress,
         )?;
         let secs = t.elapsed().as_secs_f64();

@@ -4,7 +4,7 @@
 //! `cargo run --release --example ear_recognition`
 
 use wscg::biometrics::ear::protocol::evaluate;
-use wscg::biometrics::ear::synth::{self, OcclusionKind, EarSynthParams};
+use wscg::biometrics::ear::synth::{self, EarSynthParams, OcclusionKind};
 use wscg::biometrics::ear::{EarParams, ScoreRule};
 
 fn main() -> wscg::math::Result<()> {
@@ -22,13 +22,7 @@ fn main() -> wscg::math::Result<()> {
     )?;
     for (label, params) in [
         ("paper's pre-processing", p.clone()),
-        (
-            "equalised on skin",
-            EarParams {
-                equalize_on_skin: true,
-                ..p.clone()
-            },
-        ),
+        ("equalised on skin", p.clone().equalize_on_skin(true)),
     ] {
         let ev = evaluate(&set, &params, 10)?;
         println!(

@@ -27,10 +27,7 @@ fn main() -> wscg::math::Result<()> {
 
     let fd = Fdkeca::fit(
         xtr.as_ref(),
-        &FdkecaParams {
-            n_components: Some(60),
-            ..Default::default()
-        },
+        &FdkecaParams::default().n_components(Some(60)),
     )?;
     println!(
         "FDKECA: sigma = {:.3} (median heuristic), Renyi estimate V = {:.4}",
@@ -53,14 +50,11 @@ fn main() -> wscg::math::Result<()> {
     let ten = Mat::from_fn(10, 200, |i, j| data.x[(i, j)]);
     let poly = Fdkeca::fit(
         ten.as_ref(),
-        &FdkecaParams {
-            kernel: Kernel::Polynomial {
-                degree: 2,
-                gamma: Gamma::InvDim,
-                coef0: 1.0,
-            },
-            ..Default::default()
-        },
+        &FdkecaParams::default().kernel(Kernel::Polynomial {
+            degree: 2,
+            gamma: Gamma::InvDim,
+            coef0: 1.0,
+        }),
     )?;
     for (k, img) in poly.axis_images(63, 10, 20)?.iter().enumerate() {
         img.save(format!("{out}/fdkeca_axis_{:02}.png", k + 1))?;

@@ -21,11 +21,7 @@ fn main() -> wscg::math::Result<()> {
         "{} views of {} x {}, exposures {:?} s, |disparity| <= {max_disp} px",
         n, cfg.height, cfg.width, cfg.times
     );
-    let pm = PatchMatchParams {
-        d_min: -max_disp,
-        d_max: max_disp,
-        ..PatchMatchParams::default()
-    };
+    let pm = PatchMatchParams::default().d_min(-max_disp).d_max(max_disp);
     let methods = [
         (
             "ours (epipolar + coherence, BDS)",
@@ -37,10 +33,7 @@ fn main() -> wscg::math::Result<()> {
             "ours without coherence",
             Align::Ours,
             Synthesis::Bds,
-            PatchMatchParams {
-                coherence: false,
-                ..pm
-            },
+            pm.coherence(false),
         ),
         ("ours, direct warp", Align::Ours, Synthesis::Direct, pm),
         (
@@ -53,13 +46,11 @@ fn main() -> wscg::math::Result<()> {
         ("no alignment", Align::None, Synthesis::Bds, pm),
     ];
     for (name, align, synthesis, pm) in methods {
-        let p = MultiscopicParams {
-            pm,
-            align,
-            synthesis,
-            ordered: false,
-            ..Default::default()
-        };
+        let p = MultiscopicParams::default()
+            .pm(pm)
+            .align(align)
+            .synthesis(synthesis)
+            .ordered(false);
         let t0 = Instant::now();
         let out = multiscopic_hdr(
             &scene.views,

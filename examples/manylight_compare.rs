@@ -6,7 +6,7 @@
 //! Run: `cargo run --release --example manylight_compare [width height]`.
 
 use wscg::raytrace::manylight::{
-    compare, generate_vpls, run_with, scenes, trace_primary, Method, ManyLightParams, VplParams,
+    compare, generate_vpls, run_with, scenes, trace_primary, ManyLightParams, Method, VplParams,
 };
 use wscg_math::progress::NoProgress;
 
@@ -17,13 +17,7 @@ fn main() -> wscg_math::Result<()> {
         .collect();
     let (w, h) = (*args.first().unwrap_or(&256), *args.get(1).unwrap_or(&192));
     let (scene, cam) = scenes::colonnade(1, w, h)?;
-    let mut s = ManyLightParams {
-        vpl: VplParams {
-            n_paths: 1400,
-            ..VplParams::default()
-        },
-        ..ManyLightParams::default()
-    };
+    let mut s = ManyLightParams::default().vpl(VplParams::default().n_paths(1400));
     s.ic.n_cache = (w * h / 100).max(1);
     let vpls = generate_vpls(&scene, &s.vpl)?;
     let g = trace_primary(&scene, &cam)?;

@@ -15,10 +15,7 @@ fn main() -> wscg::math::Result<()> {
     let clean = colored_cube(30)?;
     let mvd = mean_vertex_distance(&clean)?;
     let noisy = add_noise(&clean, 0.5 * mvd, false, NOISE_SEED)?;
-    let params = JbmdParams {
-        iterations: 15,
-        ..JbmdParams::from_mvd(mvd)
-    };
+    let params = JbmdParams::from_mvd(mvd).iterations(15);
     let denoised = jbmd(&noisy, &params)?;
     let smoothed = laplacian(&noisy, 0.5, 4)?;
     let me = |x: &[[f64; 3]]| mean_error(x, &clean.positions).map(|e| e / mvd);

@@ -9,7 +9,7 @@ use std::time::Instant;
 use wscg::motion::bvh::{motion_from_frames, write_bvh};
 use wscg::motion::planner::Action;
 use wscg::motion::stepwise::{fit_stepwise, StepwiseParams};
-use wscg::motion::synthesizer::{planner_for, MapKind, SynthesizerParams, Synthesizer};
+use wscg::motion::synthesizer::{planner_for, MapKind, Synthesizer, SynthesizerParams};
 use wscg::motion::walker::{reach_walk, WalkerParams};
 
 fn main() -> wscg::math::Result<()> {
@@ -38,10 +38,7 @@ fn main() -> wscg::math::Result<()> {
     let mut syn = Synthesizer::new(
         lib,
         planner,
-        SynthesizerParams {
-            map: MapKind::Lut(1024),
-            ..SynthesizerParams::default()
-        },
+        SynthesizerParams::default().map(MapKind::Lut(1024)),
     )?;
     let t0 = Instant::now();
     let s = syn.run(goal, fps, &[], 60.0)?;

@@ -24,28 +24,17 @@ fn main() -> wscg::math::Result<()> {
     let udct = UdctSparsifier::new(n, n, &UdctParams::default())?;
     let db4 = WaveletSparsifier::new(n, n, 4, 4)?;
     let fdct = FdctSparsifier::new(n, n, &FdctParams::default())?;
-    let curvelet = CsalsaParams {
-        tau0: sparsifier::tuned_tau0("fdct"),
-        ..Default::default()
-    };
-    let comp = CompositeParams {
-        a: 0.004,
-        b: 0.0025,
-        group_weight: 0.0025,
-        ..Default::default()
-    };
-    let wavelet = CsalsaParams {
-        tau0: sparsifier::tuned_tau0("db4"),
-        ..Default::default()
-    };
+    let curvelet = CsalsaParams::default().tau0(sparsifier::tuned_tau0("fdct"));
+    let comp = CompositeParams::default()
+        .a(0.004)
+        .b(0.0025)
+        .group_weight(0.0025);
+    let wavelet = CsalsaParams::default().tau0(sparsifier::tuned_tau0("db4"));
     let sflct = |prior: &'static str| {
         let data = &data;
         move || {
             let psi = sparsifier::by_name(prior, n, n, &sparsifier::PriorParams::default())?;
-            let p = CsalsaParams {
-                tau0: sparsifier::tuned_tau0(prior),
-                ..Default::default()
-            };
+            let p = CsalsaParams::default().tau0(sparsifier::tuned_tau0(prior));
             csalsa(
                 data,
                 psi.as_ref(),

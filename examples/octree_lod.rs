@@ -18,13 +18,7 @@ fn main() -> wscg_math::Result<()> {
         "city" => scenes::city(40, 7)?,
         _ => scenes::forest(13, 6, 64, 3)?,
     };
-    let (full, _) = build(
-        &mesh,
-        &BuildParams {
-            early_stop: false,
-            ..Default::default()
-        },
-    )?;
+    let (full, _) = build(&mesh, &BuildParams::default().early_stop(false))?;
     let (oct, stats) = build(&mesh, &BuildParams::default())?;
     let (a, b) = (full.memory_report(), oct.memory_report());
     println!(

@@ -5,8 +5,8 @@
 
 use wscg::math::Result;
 use wscg::raytrace::paint::{
-    binocular_overlap, glint_stats, render, DiscLight, FlakeParams, FlakePlate, Plate, PlateStack,
-    Rect, PaintRenderParams,
+    binocular_overlap, glint_stats, render, DiscLight, FlakeParams, FlakePlate, PaintRenderParams,
+    Plate, PlateStack, Rect,
 };
 use wscg::raytrace::spectral::XYZ_TO_SRGB;
 use wscg::raytrace::stereo::{Eye, StereoRig};
@@ -16,21 +16,17 @@ fn main() -> Result<()> {
         .skip(1)
         .filter_map(|a| a.parse().ok())
         .collect();
-    let flakes = FlakeParams {
-        radius_um: args.first().copied().unwrap_or(30.0),
-        density: args.get(1).copied().unwrap_or(6.5),
-        ..FlakeParams::default()
-    };
+    let flakes = FlakeParams::default()
+        .radius_um(args.first().copied().unwrap_or(30.0))
+        .density(args.get(1).copied().unwrap_or(6.5));
     let stack = PlateStack::default();
     // One microstructure for both eyes: the same flakes, seen from 6.5 cm apart.
     let micro = FlakePlate::new(&flakes, stack.size_mm, 1)?;
     let plate = Plate::new(stack, Box::new(micro))?;
     let light = DiscLight::from_elevation(75.0, 1.0);
-    let settings = PaintRenderParams {
-        region_mm: Some(Rect::centred(0.0, 0.0, 10.0, 10.0)),
-        magnification: 4.0,
-        ..PaintRenderParams::default()
-    };
+    let settings = PaintRenderParams::default()
+        .region_mm(Some(Rect::centred(0.0, 0.0, 10.0, 10.0)))
+        .magnification(4.0);
     let rig = StereoRig::default();
     let mut views = Vec::new();
     for (eye, file) in [

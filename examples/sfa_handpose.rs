@@ -7,7 +7,8 @@
 //! comma-separated list of `sfa,physical,pca,isomap,global` (default: all).
 
 use wscg::biometrics::sfa::handpose::{
-    compare, generate, rotation_robustness, split_protocol, CompareParams, Method, HandposeSynthParams,
+    compare, generate, rotation_robustness, split_protocol, CompareParams, HandposeSynthParams,
+    Method,
 };
 
 fn main() -> wscg::math::Result<()> {
@@ -18,10 +19,7 @@ fn main() -> wscg::math::Result<()> {
         .map_err(|e| wscg::math::Error::invalid("FRAMES_PER_CLASS", e.to_string()))?
         .unwrap_or(3000);
     let t = std::time::Instant::now();
-    let data = generate(&HandposeSynthParams {
-        n_per_class,
-        ..HandposeSynthParams::default()
-    })?;
+    let data = generate(&HandposeSynthParams::default().n_per_class(n_per_class))?;
     let test = (n_per_class / 10).max(1);
     let split = split_protocol(&data, test, n_per_class / 3, 0)?;
     println!(

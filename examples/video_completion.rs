@@ -44,10 +44,7 @@ fn run(name: &str, clip: &Clip, baselines: bool) -> wscg::math::Result<()> {
         out.stats.working_size, out.stats.seconds
     );
     let t = Instant::now();
-    let cfg = CompletionParams {
-        refine: None,
-        ..Default::default()
-    };
+    let cfg = CompletionParams::default().refine(None);
     let out = complete_video(&clip.observed, &clip.hole, &cfg)?;
     report(
         "without refinement",

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use wscg::volren::illumination::scenes::{marschner_lobb, marschner_lobb_tf};
 use wscg::volren::illumination::study::mean_abs_diff;
-use wscg::volren::illumination::{render, Light, Method, IlluminationParams, SliceCamera};
+use wscg::volren::illumination::{render, IlluminationParams, Light, Method, SliceCamera};
 
 fn main() -> wscg::math::Result<()> {
     let prefix = std::env::args()

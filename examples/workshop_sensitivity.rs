@@ -22,10 +22,7 @@ fn main() -> wscg::math::Result<()> {
         _ => Condition::Mono,
     };
     let seeds: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(8).max(2);
-    let cfg = WorkshopParams {
-        condition,
-        ..WorkshopParams::default()
-    };
+    let cfg = WorkshopParams::default().condition(condition);
     // Log features of one plate over the seeds, per feature (mean, standard deviation): the
     // observer's own calibration, without the just-noticeable-difference floor.
     let stats = |radius: f64, density: f64| -> wscg::math::Result<Vec<(f64, f64)>> {

@@ -50,10 +50,7 @@ fn workshop(condition: Condition, seed: u64) -> (Vec<(f64, f64)>, Vec<f64>, RsmF
     let design = ccd(2, CcdFace::Inscribed, CcdAlpha::Rotatable, 5).unwrap();
     let physical = decode(&design, &LOW, &HIGH).unwrap();
     let runs: Vec<(f64, f64)> = physical.row_iter().map(|r| (r[0], r[1])).collect();
-    let cfg = WorkshopParams {
-        condition,
-        ..WorkshopParams::default()
-    };
+    let cfg = WorkshopParams::default().condition(condition);
     let ws = score_runs(HIDDEN, &runs, &cfg, seed, &NoProgress).unwrap();
     let fit = fit_quadratic(&design, &ws.scores, true).unwrap();
     eprintln!(

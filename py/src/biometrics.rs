@@ -59,20 +59,21 @@ fn method_from(spec: &Bound<'_, PyDict>) -> PyResult<Method> {
     let name: String = item(spec, "method")?.unwrap_or_else(|| "fdkeca".into());
     let n_components: Option<usize> = item(spec, "n_components")?;
     Ok(match name.as_str() {
-        "fdkeca" => Method::Fdkeca(FdkecaParams {
-            kernel: kernel_from(spec)?,
-            n_components,
-            ordering: match item::<String>(spec, "ordering")?.as_deref() {
-                None | Some("entropy") => Ordering::Entropy,
-                Some("eigenvalue") => Ordering::Eigenvalue,
-                Some(o) => {
-                    return Err(value_error(format!(
-                        "`ordering` must be 'entropy' or 'eigenvalue', got {o:?}"
-                    )))
-                }
-            },
-            center: item(spec, "center")?.unwrap_or(true),
-        }),
+        "fdkeca" => Method::Fdkeca(
+            FdkecaParams::default()
+                .kernel(kernel_from(spec)?)
+                .n_components(n_components)
+                .ordering(match item::<String>(spec, "ordering")?.as_deref() {
+                    None | Some("entropy") => Ordering::Entropy,
+                    Some("eigenvalue") => Ordering::Eigenvalue,
+                    Some(o) => {
+                        return Err(value_error(format!(
+                            "`ordering` must be 'entropy' or 'eigenvalue', got {o:?}"
+                        )))
+                    }
+                })
+                .center(item(spec, "center")?.unwrap_or(true)),
+        ),
         "pca" => Method::Pca {
             n_components,
             whiten: item(spec, "whiten")?.unwrap_or(false),
@@ -379,17 +380,16 @@ fn finger_veins<'py>(
     blur: f64,
     seed: u64,
 ) -> PyResult<(Arr<'py, f64>, Arr<'py, i64>)> {
-    let p = FingerVeinParams {
-        subjects,
-        samples,
-        canvas,
-        size,
-        max_shift,
-        max_rotation_deg,
-        noise,
-        blur,
-        seed,
-    };
+    let p = FingerVeinParams::default()
+        .subjects(subjects)
+        .samples(samples)
+        .canvas(canvas)
+        .size(size)
+        .max_shift(max_shift)
+        .max_rotation_deg(max_rotation_deg)
+        .noise(noise)
+        .blur(blur)
+        .seed(seed);
     let data = py.detach(|| gen_finger_veins(&p)).py_err()?;
     let (n, d) = (data.x.nrows(), data.x.ncols());
     let pixels = (0..n)

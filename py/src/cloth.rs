@@ -390,13 +390,13 @@ impl PySim {
         velocity_damping: f64,
         options: &Bound<'_, PyDict>,
     ) -> PyResult<Self> {
-        let cfg = SolverParams {
-            method: method_from(method, options)?,
-            iterations,
-            alpha,
-            beta,
-            gamma,
-            lambda_mode: match lambda_mode {
+        let cfg = SolverParams::default()
+            .method(method_from(method, options)?)
+            .iterations(iterations)
+            .alpha(alpha)
+            .beta(beta)
+            .gamma(gamma)
+            .lambda_mode(match lambda_mode {
                 "accumulate" => LambdaMode::Accumulate,
                 "paper" => LambdaMode::PaperReset,
                 other => {
@@ -404,10 +404,9 @@ impl PySim {
                         "`lambda_mode` must be 'accumulate' or 'paper', got {other:?}"
                     )))
                 }
-            },
-            velocity_damping,
-            relaxation: relaxation_from(options)?,
-        };
+            })
+            .velocity_damping(velocity_damping)
+            .relaxation(relaxation_from(options)?);
         Ok(Self {
             inner: Sim::new(model.inner.clone(), cfg).py_err()?,
         })

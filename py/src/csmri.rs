@@ -19,12 +19,10 @@ use crate::convert::{array, dims2, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 fn config(wedges: Vec<[usize; 2]>, alpha: f64, tight: bool) -> UdctParams {
-    UdctParams {
-        wedges,
-        alpha,
-        tight,
-        ..Default::default()
-    }
+    UdctParams::default()
+        .wedges(wedges)
+        .alpha(alpha)
+        .tight(tight)
 }
 
 /// Checks that the image `x` is 2-D with the shape a transform was planned for.
@@ -220,12 +218,11 @@ impl PyFdct {
         finest: &str,
         transition: f64,
     ) -> PyResult<Self> {
-        let cfg = FdctParams {
-            scales,
-            angles_coarse,
-            finest: Finest::by_name(finest).py_err()?,
-            transition,
-        };
+        let cfg = FdctParams::default()
+            .scales(scales)
+            .angles_coarse(angles_coarse)
+            .finest(Finest::by_name(finest).py_err()?)
+            .transition(transition);
         Ok(PyFdct {
             inner: Fdct::new(rows, cols, &cfg).py_err()?,
         })
@@ -387,10 +384,9 @@ impl PySflct {
 impl PySflct {
     #[new]
     fn new(rows: usize, cols: usize, redundancy: &str, levels: Vec<usize>) -> PyResult<Self> {
-        let cfg = SflctParams {
-            redundancy: Redundancy::by_name(redundancy).py_err()?,
-            dfb_levels: levels,
-        };
+        let cfg = SflctParams::default()
+            .redundancy(Redundancy::by_name(redundancy).py_err()?)
+            .dfb_levels(levels);
         Ok(PySflct {
             inner: Sflct::new(rows, cols, &cfg).py_err()?,
         })
@@ -549,29 +545,26 @@ fn reconstruct<'py>(
             )))
         }
     };
-    let p = CsalsaParams {
-        max_iter,
-        tau0,
-        rho,
-        tau_cap,
-        epsilon,
-        tol,
-        record_history: record_history || reference.is_some(),
-    };
-    let cfg = PriorParams {
-        udct: config(wedges, alpha, true),
-        fdct: match fdct {
-            Some((scales, angles_coarse, finest, transition)) => FdctParams {
-                scales,
-                angles_coarse,
-                finest: Finest::by_name(&finest).py_err()?,
-                transition,
-            },
+    let p = CsalsaParams::default()
+        .max_iter(max_iter)
+        .tau0(tau0)
+        .rho(rho)
+        .tau_cap(tau_cap)
+        .epsilon(epsilon)
+        .tol(tol)
+        .record_history(record_history || reference.is_some());
+    let cfg = PriorParams::default()
+        .udct(config(wedges, alpha, true))
+        .fdct(match fdct {
+            Some((scales, angles_coarse, finest, transition)) => FdctParams::default()
+                .scales(scales)
+                .angles_coarse(angles_coarse)
+                .finest(Finest::by_name(&finest).py_err()?)
+                .transition(transition),
             None => FdctParams::default(),
-        },
-        sflct_levels: sflct_levels.unwrap_or_else(|| SflctParams::default().dfb_levels),
-        levels,
-    };
+        })
+        .sflct_levels(sflct_levels.unwrap_or_else(|| SflctParams::default().dfb_levels))
+        .levels(levels);
     let rec = py
         .detach(|| {
             let psi = sparsifier::by_name(prior, r, c, &cfg)?;
@@ -609,17 +602,16 @@ fn composite<'py>(
 ) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
     let data = kspace_in(&kspace, &mask)?;
     let reference = reference_in(&reference, data.shape())?;
-    let p = CompositeParams {
-        a,
-        b,
-        group_weight,
-        mu_g,
-        max_iter,
-        tv_inner,
-        order,
-        levels,
-        record_history: record_history || reference.is_some(),
-    };
+    let p = CompositeParams::default()
+        .a(a)
+        .b(b)
+        .group_weight(group_weight)
+        .mu_g(mu_g)
+        .max_iter(max_iter)
+        .tv_inner(tv_inner)
+        .order(order)
+        .levels(levels)
+        .record_history(record_history || reference.is_some());
     let f = match method {
         "fcsa" => baselines::fcsa,
         "tvcmri" => baselines::tvcmri,

@@ -6,10 +6,10 @@ use nalgebra::{Matrix3, Rotation3, Vector3};
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use wscg_deblur::synth::{self, ShakeParams, BlurRenderParams};
+use wscg_deblur::synth::{self, BlurRenderParams, ShakeParams};
 use wscg_deblur::{
-    AlignMode, AlignParams, FrameInput, Gamma, GyroSample, GyroTrack, HyperLaplacianParams, Intrinsics, Kernel,
-    KernelGrid, KernelParams, Method, MultiframeParams, Tiling, Timing,
+    AlignMode, AlignParams, FrameInput, Gamma, GyroSample, GyroTrack, HyperLaplacianParams,
+    Intrinsics, Kernel, KernelGrid, KernelParams, Method, MultiframeParams, Tiling, Timing,
 };
 use wscg_math::progress::NoProgress;
 use wscg_math::Image;
@@ -156,7 +156,13 @@ fn render_kernel<'py>(
     let t = timing(tim, height);
     let k = py
         .detach(|| {
-            wscg_deblur::render_kernel(&track, &t, &intrinsics(cam), (x, y), &KernelParams::default())
+            wscg_deblur::render_kernel(
+                &track,
+                &t,
+                &intrinsics(cam),
+                (x, y),
+                &KernelParams::default(),
+            )
         })
         .py_err()?;
     kernel_out(py, k)
@@ -200,12 +206,10 @@ fn blurriness(kernel: PyReadonlyArrayDyn<f32>, origin: (usize, usize)) -> PyResu
 }
 
 fn hl_params(lam: f32, alpha: f32, beta_max: f32) -> HyperLaplacianParams {
-    HyperLaplacianParams {
-        lambda: lam,
-        alpha,
-        beta_max,
-        ..Default::default()
-    }
+    HyperLaplacianParams::default()
+        .lambda(lam)
+        .alpha(alpha)
+        .beta_max(beta_max)
 }
 
 #[pyfunction]
@@ -409,22 +413,20 @@ fn deblur_multiframe<'py>(
             )))
         }
     };
-    let opts = MultiframeParams {
-        t_exposure: tim.0,
-        t_readout: tim.1,
-        t_delay: tim.2,
-        gamma: gamma.map(Gamma),
-        tiling: Tiling {
+    let opts = MultiframeParams::default()
+        .t_exposure(tim.0)
+        .t_readout(tim.1)
+        .t_delay(tim.2)
+        .gamma(gamma.map(Gamma))
+        .tiling(Tiling {
             tile,
             ..Default::default()
-        },
-        hl: hl_params(lam, alpha, beta_max),
-        mu,
-        align,
-        min_ncc,
-        radius,
-        ..Default::default()
-    };
+        })
+        .hl(hl_params(lam, alpha, beta_max))
+        .mu(mu)
+        .align(align)
+        .min_ncc(min_ncc)
+        .radius(radius);
     let k = intrinsics(cam);
     let out = py
         .detach(|| wscg_deblur::deblur_multiframe(&inputs, main, &track, &k, &opts, &NoProgress))
@@ -559,13 +561,12 @@ fn ou_gyro<'py>(
     t0: f64,
     seed: u64,
 ) -> PyResult<Arr<'py, f64>> {
-    let p = ShakeParams {
-        rate,
-        tau,
-        std: [std.0, std.1, std.2],
-        t0,
-        duration,
-    };
+    let p = ShakeParams::default()
+        .rate(rate)
+        .tau(tau)
+        .std([std.0, std.1, std.2])
+        .t0(t0)
+        .duration(duration);
     let s = synth::ou_gyro(&p, seed).py_err()?;
     samples_out(py, &s)
 }
@@ -610,12 +611,10 @@ fn render_blurred<'py>(
     if let Some(g) = g {
         g.validate().py_err()?;
     }
-    let opts = BlurRenderParams {
-        noise_sigma,
-        gamma: g,
-        quantise,
-        ..Default::default()
-    };
+    let opts = BlurRenderParams::default()
+        .noise_sigma(noise_sigma)
+        .gamma(g)
+        .quantise(quantise);
     let t = timing(tim, img.height());
     let out = py
         .detach(|| synth::render_blurred(&img, &track, &t, &intrinsics(cam), t_world, &opts, seed))

@@ -13,7 +13,7 @@ use pyo3::types::PyDict;
 use rayon::prelude::*;
 use wscg_biometrics::ear::features::check_input;
 use wscg_biometrics::ear::protocol::evaluate_images;
-use wscg_biometrics::ear::synth::{generate, OcclusionKind, EarSynthParams};
+use wscg_biometrics::ear::synth::{generate, EarSynthParams, OcclusionKind};
 use wscg_biometrics::ear::{
     self, EarParams, EarTemplate, Gallery, Identification, OcclusionReport, ScoreRule, SkinModel,
     SkinRule,
@@ -596,16 +596,15 @@ fn synth_ears<'py>(
     };
     let d = EarSynthParams::default();
     let (height, width) = canvas.unwrap_or((d.height, d.width));
-    let cfg = EarSynthParams {
-        height,
-        width,
-        shape_spread: shape_spread.unwrap_or(d.shape_spread),
-        shift_px: shift_px.unwrap_or(d.shift_px),
-        rotation_deg: rotation_deg.unwrap_or(d.rotation_deg),
-        gain: gain.unwrap_or(d.gain),
-        white_balance: white_balance.unwrap_or(d.white_balance),
-        noise_sigma: noise_sigma.unwrap_or(d.noise_sigma),
-    };
+    let cfg = EarSynthParams::default()
+        .height(height)
+        .width(width)
+        .shape_spread(shape_spread.unwrap_or(d.shape_spread))
+        .shift_px(shift_px.unwrap_or(d.shift_px))
+        .rotation_deg(rotation_deg.unwrap_or(d.rotation_deg))
+        .gain(gain.unwrap_or(d.gain))
+        .white_balance(white_balance.unwrap_or(d.white_balance))
+        .noise_sigma(noise_sigma.unwrap_or(d.noise_sigma));
     const MAX_PIXELS: usize = 1 << 31;
     let total = n_subjects
         .checked_add(n_subjects.saturating_mul(n_probes))

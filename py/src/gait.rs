@@ -176,11 +176,10 @@ fn hist(bin_deg: f64, lo_deg: f64, hi_deg: f64) -> PyResult<HistSpec> {
 }
 
 fn dtw_params(cost: &str, window: Option<usize>, normalize: bool) -> PyResult<DtwParams> {
-    Ok(DtwParams {
-        cost: LocalCost::parse(cost).py_err()?,
-        window,
-        normalize,
-    })
+    Ok(DtwParams::default()
+        .cost(LocalCost::parse(cost).py_err()?)
+        .window(window)
+        .normalize(normalize))
 }
 
 fn start_leg_in(s: &str) -> PyResult<StartLeg> {
@@ -279,14 +278,13 @@ fn detect_cycle<'py>(
             )))
         }
     };
-    let p = CycleParams {
-        smooth_window,
-        min_step_s,
-        min_prominence,
-        up: up_in(up)?,
-        choice,
-        start_leg: start_leg_in(start_leg)?,
-    };
+    let p = CycleParams::default()
+        .smooth_window(smooth_window)
+        .min_step_s(min_step_s)
+        .min_prominence(min_prominence)
+        .up(up_in(up)?)
+        .choice(choice)
+        .start_leg(start_leg_in(start_leg)?);
     let s = seq_in(py, "frames", &frames, fps)?;
     let c = py.detach(|| gait::detect_gait_cycle(&s, &p)).py_err()?;
     let d = PyDict::new(py);
@@ -635,17 +633,12 @@ impl PyRecognizer {
                 walks.len()
             )));
         }
-        let p = GaitParams {
-            cycle: CycleParams {
-                start_leg: start_leg_in(start_leg)?,
-                ..CycleParams::default()
-            },
-            hist: hist(bin_deg, 0.0, 180.0)?,
-            min_bins,
-            dtw: dtw_params(cost, window, false)?,
-            vote: Vote::parse(vote).py_err()?,
-            ..GaitParams::default()
-        };
+        let p = GaitParams::default()
+            .cycle(CycleParams::default().start_leg(start_leg_in(start_leg)?))
+            .hist(hist(bin_deg, 0.0, 180.0)?)
+            .min_bins(min_bins)
+            .dtw(dtw_params(cost, window, false)?)
+            .vote(Vote::parse(vote).py_err()?);
         let seqs = walks
             .iter()
             .enumerate()
@@ -767,12 +760,12 @@ fn synth_walkers<'py>(
                 // The sessions `walkers` draws, without sensor noise.
                 let subjects = synth::subjects(n_subjects, seed);
                 let sessions: Vec<SessionParams> = (0..n_subjects * n_sessions)
-                    .map(|k| SessionParams {
-                        noise: NoiseParams::none(),
-                        ..SessionParams::draw(
+                    .map(|k| {
+                        (SessionParams::draw(
                             &ranges,
                             seed.wrapping_mul(1_000_003).wrapping_add(k as u64),
-                        )
+                        ))
+                        .noise(NoiseParams::none())
                     })
                     .collect();
                 synth::walkers_with(&subjects, n_sessions, &sessions, seed)

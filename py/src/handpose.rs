@@ -8,7 +8,7 @@ use pyo3::types::PyDict;
 use wscg_biometrics::sfa::handpose::protocol::compare_masks;
 use wscg_biometrics::sfa::handpose::{
     downscale as downscale_mask, generate_with, physical_features_batch, rotate_mask as rotate,
-    rotated_rows, split_masks, CompareParams, Jitter, Method, HandposeSynthParams, DOWNSCALE,
+    rotated_rows, split_masks, CompareParams, HandposeSynthParams, Jitter, Method, DOWNSCALE,
 };
 use wscg_biometrics::sfa::isomap::{Isomap, IsomapParams};
 use wscg_biometrics::sfa::ClassSfaParams;
@@ -43,13 +43,12 @@ fn hand_poses<'py>(
     height: usize,
     jitter: [f64; 6],
 ) -> PyResult<HandPoseArrays<'py>> {
-    let cfg = HandposeSynthParams {
-        n_per_class,
-        subjects,
-        seed,
-        width,
-        height,
-    };
+    let cfg = HandposeSynthParams::default()
+        .n_per_class(n_per_class)
+        .subjects(subjects)
+        .seed(seed)
+        .width(width)
+        .height(height);
     let j = Jitter {
         extension: jitter[0],
         finger_angle_deg: jitter[1],
@@ -215,26 +214,28 @@ fn hand_pose_comparison<'py>(
         .py_err()?;
     let m = values(&masks);
     let d = depth.as_ref().map(values);
-    let cfg = CompareParams {
-        sfa: ClassSfaParams {
-            pca_dims: sfa.0,
-            m_per_class: sfa.1,
-            objective: wscg_biometrics::sfa::ClassObjective::WithinMinusOutOfClass { gamma: sfa.2 },
-            shrinkage: sfa.3,
-            ..ClassSfaParams::default()
-        },
-        k,
-        physical_per_class,
-        isomap: IsomapParams {
-            n_neighbors: isomap.0,
-            n_components: isomap.1,
-            n_landmarks: None,
-        },
-        isomap_per_class: isomap.2,
-        isomap_landmarks: isomap.3,
-        global_rule: wscg_biometrics::sfa::global::parse_rule(global_rule).py_err()?,
-        seed,
-    };
+    let cfg = CompareParams::default()
+        .sfa(
+            ClassSfaParams::default()
+                .pca_dims(sfa.0)
+                .m_per_class(sfa.1)
+                .objective(
+                    wscg_biometrics::sfa::ClassObjective::WithinMinusOutOfClass { gamma: sfa.2 },
+                )
+                .shrinkage(sfa.3),
+        )
+        .k(k)
+        .physical_per_class(physical_per_class)
+        .isomap(
+            IsomapParams::default()
+                .n_neighbors(isomap.0)
+                .n_components(isomap.1)
+                .n_landmarks(None),
+        )
+        .isomap_per_class(isomap.2)
+        .isomap_landmarks(isomap.3)
+        .global_rule(wscg_biometrics::sfa::global::parse_rule(global_rule).py_err()?)
+        .seed(seed);
     let (split, res) = py
         .detach(|| {
             let split = split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed)?;
@@ -341,11 +342,10 @@ fn isomap_fit(
     n_landmarks: Option<usize>,
 ) -> PyResult<PyIsomap> {
     let x = crate::convert::mat("x", &x)?;
-    let p = IsomapParams {
-        n_neighbors,
-        n_components,
-        n_landmarks,
-    };
+    let p = IsomapParams::default()
+        .n_neighbors(n_neighbors)
+        .n_components(n_components)
+        .n_landmarks(n_landmarks);
     let inner = py.detach(|| Isomap::fit(x.as_ref(), &p)).py_err()?;
     Ok(PyIsomap { inner })
 }

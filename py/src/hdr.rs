@@ -191,24 +191,20 @@ fn multiscopic_hdr<'py>(
             )))
         }
     };
-    let p = MultiscopicParams {
-        pm: PatchMatchParams {
-            patch,
-            iters,
-            d_min,
-            d_max,
-            coherence,
-            epipolar,
-            weighted_cost,
-            seed,
-            ..PatchMatchParams::default()
-        },
-        align: Align::by_name(align).py_err()?,
-        synthesis,
-        ordered,
-        fill_saturated,
-        ..MultiscopicParams::default()
-    };
+    let p = MultiscopicParams::default()
+        .pm(PatchMatchParams::default()
+            .patch(patch)
+            .iters(iters)
+            .d_min(d_min)
+            .d_max(d_max)
+            .coherence(coherence)
+            .epipolar(epipolar)
+            .weighted_cost(weighted_cost)
+            .seed(seed))
+        .align(Align::by_name(align).py_err()?)
+        .synthesis(synthesis)
+        .ordered(ordered)
+        .fill_saturated(fill_saturated);
     let out = py
         .detach(|| wscg_hdr::multiscopic_hdr(&imgs, &times, &crfs, &p, &NoProgress))
         .py_err()?;
@@ -393,14 +389,13 @@ fn calibrate_mitsunaga_nayar<'py>(
     max_iter: usize,
 ) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
     let imgs = codes_list("stack", &stack)?;
-    let p = wscg_hdr::MitsunagaNayarParams {
-        degree,
-        max_degree,
-        samples,
-        refine_ratios,
-        tol,
-        max_iter,
-    };
+    let p = wscg_hdr::MitsunagaNayarParams::default()
+        .degree(degree)
+        .max_degree(max_degree)
+        .samples(samples)
+        .refine_ratios(refine_ratios)
+        .tol(tol)
+        .max_iter(max_iter);
     let fit = py
         .detach(|| wscg_hdr::calibrate_mitsunaga_nayar(&imgs, &times, bits, &p))
         .py_err()?;
@@ -453,19 +448,18 @@ fn pm_params(
     seed: u64,
 ) -> PyResult<PatchMatchParams> {
     check_range(d_min, d_max)?;
-    Ok(PatchMatchParams {
-        patch,
-        iters,
-        d_min,
-        d_max,
-        v_tol,
-        alpha,
-        epipolar,
-        coherence,
-        c_min,
-        seed,
-        weighted_cost: false,
-    })
+    Ok(PatchMatchParams::default()
+        .patch(patch)
+        .iters(iters)
+        .d_min(d_min)
+        .d_max(d_max)
+        .v_tol(v_tol)
+        .alpha(alpha)
+        .epipolar(epipolar)
+        .coherence(coherence)
+        .c_min(c_min)
+        .seed(seed)
+        .weighted_cost(false))
 }
 
 type Field<'py> = (Arr<'py, i32>, Arr<'py, f32>);
@@ -528,12 +522,11 @@ fn zncc_stereo<'py>(
     if lr_tol < 0 {
         return Err(value_error(format!("`lr_tol` must be >= 0, got {lr_tol}")));
     }
-    let p = StereoParams {
-        window,
-        d_min,
-        d_max,
-        lr_tol,
-    };
+    let p = StereoParams::default()
+        .window(window)
+        .d_min(d_min)
+        .d_max(d_max)
+        .lr_tol(lr_tol);
     let f = py.detach(|| wscg_hdr::zncc_stereo(&ia, &ib, &p)).py_err()?;
     nnf_out(py, f)
 }
@@ -601,14 +594,12 @@ fn synth_scene<'py>(
             "a {height} x {width} scene is too large (at most 2^26 pixels per view)"
         )));
     }
-    let cfg = SceneParams {
-        height,
-        width,
-        times,
-        emitter_peak,
-        noise,
-        ..SceneParams::default()
-    };
+    let cfg = SceneParams::default()
+        .height(height)
+        .width(width)
+        .times(times)
+        .emitter_peak(emitter_peak)
+        .noise(noise);
     let sc = py.detach(|| layered_scene(&cfg, seed)).py_err()?;
     let d = PyDict::new(py);
     let views = sc

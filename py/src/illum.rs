@@ -18,8 +18,8 @@ use rayon::prelude::*;
 use wscg_math::{Error, Image};
 use wscg_volren::illumination::study::{self, AliasCriterion};
 use wscg_volren::illumination::{
-    light_buffer_at, render as render_field, scenes, Interp, Kernel, Light, LightAtten, Method,
-    Phong, PreIntegrationTable, IlluminationParams, ScalarField, SliceCamera, TransferFunction,
+    light_buffer_at, render as render_field, scenes, IlluminationParams, Interp, Kernel, Light,
+    LightAtten, Method, Phong, PreIntegrationTable, ScalarField, SliceCamera, TransferFunction,
     MAX_SUBSAMPLES,
 };
 use wscg_volren::vti::{self, VtiValues};
@@ -483,11 +483,9 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
             )))
         }
     };
-    let settings = IlluminationParams {
-        interp,
-        background: bg.map(|c| c as f32),
-        ..Default::default()
-    };
+    let settings = IlluminationParams::default()
+        .interp(interp)
+        .background(bg.map(|c| c as f32));
     settings.check().py_err()?;
     Ok(Scene {
         cam,

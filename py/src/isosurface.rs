@@ -51,27 +51,32 @@ fn pack_sides(sides: &PyReadonlyArrayDyn<bool>, shape: &[usize]) -> PyResult<Vec
 fn method_from(name: &str, options: &Bound<'_, PyDict>) -> PyResult<NormalMethod> {
     let m = NormalMethod::parse(name).py_err()?;
     Ok(match m {
-        NormalMethod::Spline(_) => NormalMethod::Spline(SplineParams {
-            selection: match dict_item::<String>(options, "selection")?.as_deref() {
-                None | Some("mesh") => TetSelection::MeshAware,
-                Some("nearest") => TetSelection::NearestCorner,
-                Some("both") => TetSelection::AverageBoth,
-                Some(other) => {
-                    return Err(value_error(format!(
-                        "selection {other:?} is not valid; valid: mesh, nearest, both"
-                    )))
-                }
-            },
-            eq8_literal: dict_item(options, "eq8_literal")?.unwrap_or(false),
-            normalize_before_mean: dict_item(options, "normalize_before_mean")?.unwrap_or(false),
-        }),
-        NormalMethod::Lsn(_) => NormalMethod::Lsn(LsnParams {
-            ambiguous_face: rule_from(
+        NormalMethod::Spline(_) => NormalMethod::Spline(
+            SplineParams::default()
+                .selection(
+                    match dict_item::<String>(options, "selection")?.as_deref() {
+                        None | Some("mesh") => TetSelection::MeshAware,
+                        Some("nearest") => TetSelection::NearestCorner,
+                        Some("both") => TetSelection::AverageBoth,
+                        Some(other) => {
+                            return Err(value_error(format!(
+                                "selection {other:?} is not valid; valid: mesh, nearest, both"
+                            )))
+                        }
+                    },
+                )
+                .eq8_literal(dict_item(options, "eq8_literal")?.unwrap_or(false))
+                .normalize_before_mean(
+                    dict_item(options, "normalize_before_mean")?.unwrap_or(false),
+                ),
+        ),
+        NormalMethod::Lsn(_) => NormalMethod::Lsn(
+            LsnParams::default().ambiguous_face(rule_from(
                 dict_item::<String>(options, "ambiguous_face")?
                     .as_deref()
                     .unwrap_or("inside"),
-            )?,
-        }),
+            )?),
+        ),
         other => other,
     })
 }

@@ -7,7 +7,9 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
-use wscg_raytrace::manylight::{load_obj, run, scenes, Camera, Interp, Method, Scene, ManyLightParams};
+use wscg_raytrace::manylight::{
+    load_obj, run, scenes, Camera, Interp, ManyLightParams, Method, Scene,
+};
 
 use crate::convert::{array, rows3, values, Arr};
 use crate::errors::IntoPy;

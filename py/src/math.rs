@@ -60,13 +60,12 @@ fn ssim(
     same_shape(a.shape(), b.shape())?;
     let (h, w, c) = image_dims("a", a.shape())?;
     let (va, vb) = (values(&a), values(&b));
-    let p = SsimParams {
-        data_range,
-        sigma,
-        truncate,
-        k1,
-        k2,
-    };
+    let p = SsimParams::default()
+        .data_range(data_range)
+        .sigma(sigma)
+        .truncate(truncate)
+        .k1(k1)
+        .k2(k2);
     py.detach(|| {
         let mut total = 0.0;
         for ch in 0..c {
@@ -306,10 +305,7 @@ fn cg<'py>(
         Some(x) => InitialGuess::Given(x),
         None => InitialGuess::Zero,
     };
-    let opts = PcgParams {
-        tol,
-        max_iter: maxiter,
-    };
+    let opts = PcgParams::default().tol(tol).max_iter(maxiter);
     let res = match preconditioner {
         None | Some("none") => py.detach(|| pcg(&a, &bv, guess, &IdentityPrecond, &opts)),
         Some("jacobi") => {

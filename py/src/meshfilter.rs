@@ -48,17 +48,16 @@ fn jbmd<'py>(
     rebuild_neighbors: bool,
 ) -> PyResult<Arr<'py, f64>> {
     let mesh = mesh_in(&vertices, &faces, colors.as_ref())?;
-    let p = JbmdParams {
-        sigma_d,
-        sigma_o,
-        sigma_c,
-        lambda: lam,
-        k,
-        iterations,
-        anti_shrink,
-        use_color: mesh.colors.is_some(),
-        rebuild_neighbors,
-    };
+    let p = JbmdParams::default()
+        .sigma_d(sigma_d)
+        .sigma_o(sigma_o)
+        .sigma_c(sigma_c)
+        .lambda(lam)
+        .k(k)
+        .iterations(iterations)
+        .anti_shrink(anti_shrink)
+        .use_color(mesh.colors.is_some())
+        .rebuild_neighbors(rebuild_neighbors);
     let out = py.detach(|| wscg_meshfilter::jbmd(&mesh, &p)).py_err()?;
     positions_out(py, out)
 }
@@ -75,12 +74,11 @@ fn bilateral<'py>(
     volume_preserve: bool,
 ) -> PyResult<Arr<'py, f64>> {
     let mesh = mesh_in(&vertices, &faces, None)?;
-    let p = BmdParams {
-        sigma_c,
-        sigma_s,
-        iterations,
-        volume_preserve,
-    };
+    let p = BmdParams::default()
+        .sigma_c(sigma_c)
+        .sigma_s(sigma_s)
+        .iterations(iterations)
+        .volume_preserve(volume_preserve);
     let out = py.detach(|| bmd(&mesh, &p)).py_err()?;
     positions_out(py, out)
 }

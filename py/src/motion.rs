@@ -26,7 +26,7 @@ use wscg_motion::skeleton::{bones as bones_rs, forward_kinematics as fk_rs, JOIN
 use wscg_motion::stats::{fit_line as fit_line_rs, regression_p_value as p_value_rs};
 use wscg_motion::stepwise::{fit_stepwise as fit_stepwise_rs, ActionLibrary, StepwiseParams};
 use wscg_motion::svr::Svr;
-use wscg_motion::synthesizer::{planner_for, MapKind, SynthesizerParams, Synthesizer};
+use wscg_motion::synthesizer::{planner_for, MapKind, Synthesizer, SynthesizerParams};
 use wscg_motion::walker::{reach_walk, WalkerParams};
 
 use crate::convert::{array, values, Arr};
@@ -119,15 +119,13 @@ fn make_synthetic_dataset<'py>(
             MAX_VALUES / (6 * N_CHANNELS)
         )));
     }
-    let cfg = WalkerParams {
-        n_trials,
-        n_samples,
-        noise,
-        seed,
-        model_seed,
-        human_like,
-        ..WalkerParams::default()
-    };
+    let cfg = WalkerParams::default()
+        .n_trials(n_trials)
+        .n_samples(n_samples)
+        .noise(noise)
+        .seed(seed)
+        .model_seed(model_seed)
+        .human_like(human_like);
     let (data, truth) = py.detach(|| reach_walk(&cfg)).py_err()?;
     let (r_n, i_n, n) = (data.trials.len(), data.n_channels, data.n_samples);
     let mut angles = Vec::with_capacity(r_n * 3 * i_n * n);
@@ -245,18 +243,16 @@ fn fit_anechoic<'py>(
     }
     let set = trials_in("x", &x)?;
     check_restarts(restarts)?;
-    let cfg = AnechoicParams {
-        n_sources,
-        n_harmonics,
-        delays: delay_mode(delays)?,
-        max_iter,
-        tol,
-        restarts,
-        init: init_from(init)?,
-        seed,
-        delay_search,
-        ..AnechoicParams::default()
-    };
+    let cfg = AnechoicParams::default()
+        .n_sources(n_sources)
+        .n_harmonics(n_harmonics)
+        .delays(delay_mode(delays)?)
+        .max_iter(max_iter)
+        .tol(tol)
+        .restarts(restarts)
+        .init(init_from(init)?)
+        .seed(seed)
+        .delay_search(delay_search);
     let (model, recon) = py
         .detach(|| {
             let m = fit_anechoic_rs(&set, &cfg)?;
@@ -568,20 +564,18 @@ fn fit_stepwise(
         distances.as_ref(),
     )?;
     check_restarts(restarts)?;
-    let cfg = StepwiseParams {
-        n_sources_first,
-        n_sources_extra,
-        demix: AnechoicParams {
-            n_harmonics,
-            restarts,
-            max_iter,
-            tol,
-            seed,
-            delay_search,
-            ..AnechoicParams::default()
-        },
-        ..StepwiseParams::default()
-    };
+    let cfg = StepwiseParams::default()
+        .n_sources_first(n_sources_first)
+        .n_sources_extra(n_sources_extra)
+        .demix(
+            AnechoicParams::default()
+                .n_harmonics(n_harmonics)
+                .restarts(restarts)
+                .max_iter(max_iter)
+                .tol(tol)
+                .seed(seed)
+                .delay_search(delay_search),
+        );
     let inner = py.detach(|| fit_stepwise_rs(&data, &cfg)).py_err()?;
     Ok(PyLibrary { inner })
 }
@@ -678,12 +672,12 @@ impl PySynthesizer {
                 MapKind::Lut(lut_size)
             }
             "fourier" => MapKind::Fourier,
-            "svr" => MapKind::Svr(SvrMapParams {
-                c: svr_c,
-                epsilon: svr_epsilon,
-                gamma: svr_gamma,
-                ..SvrMapParams::default()
-            }),
+            "svr" => MapKind::Svr(
+                SvrMapParams::default()
+                    .c(svr_c)
+                    .epsilon(svr_epsilon)
+                    .gamma(svr_gamma),
+            ),
             other => {
                 return Err(value_error(format!(
                     "`map` must be 'lut', 'fourier' or 'svr', got {other:?}"
@@ -699,12 +693,11 @@ impl PySynthesizer {
             human_like,
             ..planner_for(&lib.inner)
         };
-        let cfg = SynthesizerParams {
-            beta,
-            coupling,
-            map,
-            bandwidth,
-        };
+        let cfg = SynthesizerParams::default()
+            .beta(beta)
+            .coupling(coupling)
+            .map(map)
+            .bandwidth(bandwidth);
         let lib = lib.inner.clone();
         let inner = py.detach(|| Synthesizer::new(lib, planner, cfg)).py_err()?;
         Ok(Self { inner })

@@ -344,12 +344,10 @@ fn build_octree<'py>(
         (None, None) => None,
         _ => return Err(value_error("domain needs both its corner and its side")),
     };
-    let p = BuildParams {
-        max_depth: depth,
-        early_stop,
-        domain,
-        ..Default::default()
-    };
+    let p = BuildParams::default()
+        .max_depth(depth)
+        .early_stop(early_stop)
+        .domain(domain);
     let (oct, st) = py.detach(|| build(&mesh, &p)).py_err()?;
     Ok((PyOctree { inner: oct }, stats_dict(py, &st)?))
 }

@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
 use wscg_raytrace::paint::{
     self, binocular_overlap, glint_stats, Coat, ColourMode, Condition, DiscLight, FlakeParams,
-    FlakePlate, PhotonParams, Plate, PlateStack, Rect, PaintRenderParams, StackModel, TiltDist,
+    FlakePlate, PaintRenderParams, PhotonParams, Plate, PlateStack, Rect, StackModel, TiltDist,
     WorkshopParams,
 };
 use wscg_raytrace::spectral::{self, daylight_d, MetalIor, SpectralGrid, Spectrum};
@@ -58,18 +58,17 @@ fn flake_params(c: &Cfg) -> PyResult<FlakeParams> {
             )))
         }
     };
-    Ok(FlakeParams {
-        radius_um: c.get("radius_um", d.radius_um)?,
-        radius_cv: c.get("radius_cv", d.radius_cv)?,
-        thickness_um: c.get("thickness_um", d.thickness_um)?,
-        density: c.get("density", d.density)?,
-        tilt,
-        layer_um: c.get("layer_um", d.layer_um)?,
-        tile_um: c.get("tile_um", d.tile_um)?,
-        model,
-        tiles_in_pool: c.get("tiles_in_pool", d.tiles_in_pool)?,
-        max_clamped_fraction: c.get("max_clamped_fraction", d.max_clamped_fraction)?,
-    })
+    Ok(FlakeParams::default()
+        .radius_um(c.get("radius_um", d.radius_um)?)
+        .radius_cv(c.get("radius_cv", d.radius_cv)?)
+        .thickness_um(c.get("thickness_um", d.thickness_um)?)
+        .density(c.get("density", d.density)?)
+        .tilt(tilt)
+        .layer_um(c.get("layer_um", d.layer_um)?)
+        .tile_um(c.get("tile_um", d.tile_um)?)
+        .model(model)
+        .tiles_in_pool(c.get("tiles_in_pool", d.tiles_in_pool)?)
+        .max_clamped_fraction(c.get("max_clamped_fraction", d.max_clamped_fraction)?))
 }
 
 fn stack(c: &Cfg, flakes: &FlakeParams) -> PyResult<PlateStack> {
@@ -133,24 +132,23 @@ fn settings(c: &Cfg) -> PyResult<PaintRenderParams> {
             )))
         }
     };
-    Ok(PaintRenderParams {
-        spp: c.get("spp", d.spp)?,
-        max_depth: c.get("max_depth", d.max_depth)?,
-        seed: c.get("render_seed", d.seed)?,
-        region_mm: region,
-        magnification: c.get("magnification", d.magnification)?,
-        independent_samples: c.get("independent_samples", false)?,
-        colour,
-        keep_spectrum: c.get("keep_spectrum", false)?,
-        photons: match c.get("photons", PhotonParams::default().count)? {
+    Ok(PaintRenderParams::default()
+        .spp(c.get("spp", d.spp)?)
+        .max_depth(c.get("max_depth", d.max_depth)?)
+        .seed(c.get("render_seed", d.seed)?)
+        .region_mm(region)
+        .magnification(c.get("magnification", d.magnification)?)
+        .independent_samples(c.get("independent_samples", false)?)
+        .colour(colour)
+        .keep_spectrum(c.get("keep_spectrum", false)?)
+        .photons(match c.get("photons", PhotonParams::default().count)? {
             0 => None,
-            count => Some(PhotonParams {
-                count,
-                k: c.get("photon_k", PhotonParams::default().k)?,
-                ..PhotonParams::default()
-            }),
-        },
-    })
+            count => Some(
+                PhotonParams::default()
+                    .count(count)
+                    .k(c.get("photon_k", PhotonParams::default().k)?),
+            ),
+        }))
 }
 
 fn eye_of(name: &str) -> PyResult<Eye> {
@@ -344,23 +342,22 @@ fn workshop<'py>(
     if s.region_mm.is_none() {
         s.region_mm = defaults.settings.region_mm;
     }
-    let cfg = WorkshopParams {
-        base: fp,
-        stack: stack(&c, &fp)?,
-        light: if c.0.contains("light_elevation_deg")? {
+    let cfg = defaults
+        .clone()
+        .base(fp)
+        .stack(stack(&c, &fp)?)
+        .light(if c.0.contains("light_elevation_deg")? {
             light(&c)?
         } else {
             DiscLight {
                 angular_radius_deg: c.get("light_deg", 1.0)?,
                 ..defaults.light.clone()
             }
-        },
-        settings: s,
-        reference_renders,
-        condition,
-        jnd_log,
-        ..defaults
-    };
+        })
+        .settings(s)
+        .reference_renders(reference_renders)
+        .condition(condition)
+        .jnd_log(jnd_log);
     let seed: u64 = c.get("seed", 0)?;
     let ws = py
         .detach(|| paint::score_runs(reference, &runs, &cfg, seed, &NoProgress))

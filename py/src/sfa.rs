@@ -120,16 +120,15 @@ fn sfa_fit(
 ) -> PyResult<PySfa> {
     let x = mat("x", &x)?;
     let y = labels_from("y", &y)?;
-    let cfg = ClassSfaParams {
-        pca_dims,
-        expansion: expansion(degree, include_linear)?,
-        m_per_class: m,
-        objective: gamma.map_or(ClassObjective::WithinOnly, |gamma| {
+    let cfg = ClassSfaParams::default()
+        .pca_dims(pca_dims)
+        .expansion(expansion(degree, include_linear)?)
+        .m_per_class(m)
+        .objective(gamma.map_or(ClassObjective::WithinOnly, |gamma| {
             ClassObjective::WithinMinusOutOfClass { gamma }
-        }),
-        shrinkage,
-        rank_tol,
-    };
+        }))
+        .shrinkage(shrinkage)
+        .rank_tol(rank_tol);
     let inner = match rule {
         None => Fitted::PerClass(
             py.detach(|| PerClassSfa::fit(x.as_ref(), &y, &cfg))

@@ -102,10 +102,7 @@ fn complete_video<'py>(
             seed,
         },
         "exact" => SearchMethod::Exact,
-        "pca_kdtree" => SearchMethod::PcaKdTree(wscg_video::PcaKdParams {
-            seed,
-            ..Default::default()
-        }),
+        "pca_kdtree" => SearchMethod::PcaKdTree(wscg_video::PcaKdParams::default().seed(seed)),
         other => {
             return Err(value_error(format!(
                 "{other:?} is not a valid search. Valid searches are 'patchmatch', 'pca_kdtree', 'exact'"
@@ -121,32 +118,29 @@ fn complete_video<'py>(
             )))
         }
     };
-    let cfg = CompletionParams {
-        low: LowResParams {
-            target_width: lowres_width,
-            levels,
-            patch: patch(patch_size),
-            iters,
-            init: init_method(init, seed)?,
-            search,
-            onion_order,
-            causal_first_sweep,
-            ..LowResParams::default()
-        },
-        refine: (refine_iters > 0).then(|| RefineParams {
-            iterations: refine_iters,
-            ..RefineParams::default()
-        }),
-        local: LocalSearchParams {
-            windows,
-            max_iterations,
-            min_energy_drop,
-            temporal_radius,
-            step,
-            propagate,
-        },
-        global_fine_search,
-    };
+    let cfg = CompletionParams::default()
+        .low(
+            LowResParams::default()
+                .target_width(lowres_width)
+                .levels(levels)
+                .patch(patch(patch_size))
+                .iters(iters)
+                .init(init_method(init, seed)?)
+                .search(search)
+                .onion_order(onion_order)
+                .causal_first_sweep(causal_first_sweep),
+        )
+        .refine((refine_iters > 0).then(|| RefineParams::default().iterations(refine_iters)))
+        .local(
+            LocalSearchParams::default()
+                .windows(windows)
+                .max_iterations(max_iterations)
+                .min_energy_drop(min_energy_drop)
+                .temporal_radius(temporal_radius)
+                .step(step)
+                .propagate(propagate),
+        )
+        .global_fine_search(global_fine_search);
     // The owned copy of the frames becomes the output: no second copy of the video.
     let (field, s) = py
         .detach(|| {
@@ -211,15 +205,13 @@ fn wexler<'py>(
 ) -> PyResult<Arr<'py, u8>> {
     let v = video_in("frames", &frames)?;
     let m = mask_in(&mask, &v)?;
-    let cfg = WexlerParams {
-        patch: patch(patch_size),
-        min_width,
-        iters,
-        patchmatch_iters,
-        seed,
-        seed_per_frame,
-        ..WexlerParams::default()
-    };
+    let cfg = WexlerParams::default()
+        .patch(patch(patch_size))
+        .min_width(min_width)
+        .iters(iters)
+        .patchmatch_iters(patchmatch_iters)
+        .seed(seed)
+        .seed_per_frame(seed_per_frame);
     let out = py
         .detach(|| {
             if per_frame {

@@ -117,11 +117,9 @@ impl PyServer {
     ) -> PyResult<Self> {
         let v = volume_in(&volume)?;
         let tfs = tfs.iter().map(tf_in).collect::<PyResult<Vec<_>>>()?;
-        let opts = ServerParams {
-            steps_sent,
-            quant: HaarQuant { delta: [delta; 4] },
-            ..Default::default()
-        };
+        let opts = ServerParams::default()
+            .steps_sent(steps_sent)
+            .quant(HaarQuant { delta: [delta; 4] });
         let inner = py
             .detach(|| HybridServer::new(&v, tfs, canonical, opts))
             .py_err()?;

@@ -687,12 +687,10 @@ fn phantom_cfg(
             "`n_fragments` must be in 2..={MAX_FRAGMENTS}, got {n_fragments}"
         )));
     }
-    let mut c = PhantomParams {
-        dims: [shape.2, shape.1, shape.0],
-        fragments: n_fragments,
-        seed,
-        ..PhantomParams::default()
-    };
+    let mut c = PhantomParams::default()
+        .dims([shape.2, shape.1, shape.0])
+        .fragments(n_fragments)
+        .seed(seed);
     let Some(d) = d else {
         return Ok(c);
     };

@@ -3,7 +3,7 @@
 //! (check 9), the reject threshold, CMC, and bad input. The OpenCV / PyWavelets /
 //! scikit-image equalities of checks 1-3 are in `py/tests/test_ear.py`.
 
-use wscg_biometrics::ear::synth::{self, OcclusionKind, EarSynthParams};
+use wscg_biometrics::ear::synth::{self, EarSynthParams, OcclusionKind};
 use wscg_biometrics::ear::{
     self, baseline_params, baseline_score, block_features, cmc, detect_occlusion, enroll,
     make_baseline_probe, make_probe, score, scores, EarParams, EarTemplate, Gallery,
@@ -174,10 +174,7 @@ fn gallery_scores_equal_the_reference_path_for_every_rule() {
         let one_pass = ear::scores_by_rule(&probe, &gallery, &p, &ScoreRule::ALL).unwrap();
         for rule in ScoreRule::ALL {
             assert_eq!(ScoreRule::ALL[rule.index()], rule);
-            let pp = EarParams {
-                score: rule,
-                ..p.clone()
-            };
+            let pp = p.clone().score(rule);
             let fast = scores(&probe, &gallery, &pp).unwrap();
             assert_eq!(fast, one_pass[rule.index()]);
             for (g, t) in templates.iter().enumerate() {
@@ -295,10 +292,7 @@ fn rejection_threshold_is_strictly_above_sixty_percent() {
         Identification::Rejected { occluded_pct } => assert!((occluded_pct - 70.0).abs() < 1e-12),
         other => panic!("expected a rejection, got {other:?}"),
     }
-    let lenient = EarParams {
-        reject_above_pct: 75.0,
-        ..p.clone()
-    };
+    let lenient = p.clone().reject_above_pct(75.0);
     let probe = make_probe(&half_blue(66), &lenient).unwrap();
     assert_eq!(probe.index, (56..80).collect::<Vec<_>>());
     assert!(ear::identify(&probe, &gallery, &lenient)
@@ -327,62 +321,28 @@ fn bad_input_is_an_error_naming_the_problem() {
     let msg = |e: wscg_math::Error| e.to_string();
     assert!(msg(detect_occlusion(&grey, &p).unwrap_err()).contains("grey"));
     assert!(msg(enroll(&grey, &p).unwrap_err()).contains("gray_enrolment"));
-    assert!(enroll(
-        &grey,
-        &EarParams {
-            gray_enrolment: true,
-            ..p.clone()
-        }
-    )
-    .is_ok());
+    assert!(enroll(&grey, &p.clone().gray_enrolment(true)).is_ok());
     assert!(msg(make_probe(&tiny, &p).unwrap_err()).contains("2 x 2"));
     assert!(msg(enroll(&four, &p).unwrap_err()).contains("3 colour channels"));
     assert!(Image::<u8>::new(0, 5, 3, vec![]).is_err());
     for bad in [
-        EarParams {
-            block: 12,
-            ..p.clone()
-        },
-        EarParams {
-            block: 5,
-            ..p.clone()
-        },
-        EarParams {
-            block_skin_fraction: 0.0,
-            ..p.clone()
-        },
-        EarParams {
-            block_skin_fraction: 1.5,
-            ..p.clone()
-        },
-        EarParams {
-            shifts: vec![],
-            ..p.clone()
-        },
-        EarParams {
-            close_radius: f64::NAN,
-            ..p.clone()
-        },
-        EarParams {
-            skin_model: SkinModel {
-                mean: [0.45, 0.32],
-                cov: [[1e-3, 2e-3], [2e-3, 1e-3]],
-            },
-            ..p.clone()
-        },
-        EarParams {
-            skin_model: SkinModel {
-                mean: [f64::NAN, 0.32],
-                cov: [[1e-3, 0.0], [0.0, 1e-3]],
-            },
-            ..p.clone()
-        },
-        EarParams {
-            skin_rule: SkinRule::Joint {
-                min_likelihood: 0.0,
-            },
-            ..p.clone()
-        },
+        p.clone().block(12),
+        p.clone().block(5),
+        p.clone().block_skin_fraction(0.0),
+        p.clone().block_skin_fraction(1.5),
+        p.clone().shifts(vec![]),
+        p.clone().close_radius(f64::NAN),
+        p.clone().skin_model(SkinModel {
+            mean: [0.45, 0.32],
+            cov: [[1e-3, 2e-3], [2e-3, 1e-3]],
+        }),
+        p.clone().skin_model(SkinModel {
+            mean: [f64::NAN, 0.32],
+            cov: [[1e-3, 0.0], [0.0, 1e-3]],
+        }),
+        p.clone().skin_rule(SkinRule::Joint {
+            min_likelihood: 0.0,
+        }),
     ] {
         assert!(enroll(&rgb, &bad).is_err(), "{bad:?}");
         assert!(detect_occlusion(&rgb, &bad).is_err());

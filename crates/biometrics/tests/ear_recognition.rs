@@ -5,7 +5,9 @@
 use std::sync::OnceLock;
 
 use wscg_biometrics::ear::protocol::{evaluate, Evaluation};
-use wscg_biometrics::ear::synth::{self, translate_replicate, EarSet, OcclusionKind, EarSynthParams};
+use wscg_biometrics::ear::synth::{
+    self, translate_replicate, EarSet, EarSynthParams, OcclusionKind,
+};
 use wscg_biometrics::ear::{
     detect_occlusion, enroll, make_probe, rank, score, scores, EarParams, EarTemplate, Gallery,
     ScoreRule, SkinRule,
@@ -99,10 +101,7 @@ fn occlusion_accuracy(p: &EarParams) -> (f64, f64, f64) {
 /// dark-grey occluders for skin.
 #[test]
 fn occlusion_estimate_matches_the_ground_truth_masks() {
-    let joint = EarParams {
-        skin_rule: SkinRule::joint(),
-        ..EarParams::default()
-    };
+    let joint = EarParams::default().skin_rule(SkinRule::joint());
     for (name, p) in [("marginal AND", EarParams::default()), ("joint", joint)] {
         let (err, within, agree) = occlusion_accuracy(&p);
         println!(
@@ -133,10 +132,7 @@ fn shift_stats() -> &'static ShiftStats {
     STATS.get_or_init(|| {
         let set = generate(100, 0, OcclusionKind::None, 1406);
         let p = EarParams::default();
-        let no_shift = EarParams {
-            shifts: vec![(0, 0)],
-            ..p.clone()
-        };
+        let no_shift = p.clone().shifts(vec![(0, 0)]);
         let templates: Vec<EarTemplate> =
             set.enrol.iter().map(|im| enroll(im, &p).unwrap()).collect();
         let gallery = Gallery::new(&templates).unwrap();
@@ -255,10 +251,7 @@ fn check7(ev: &Evaluation) {
 /// S_B rank-1 0.933, rank-10 0.993, S_m 0.807, baseline 0.557.
 #[test]
 fn index_based_matching_beats_the_baseline_with_skin_equalisation() {
-    let p = EarParams {
-        equalize_on_skin: true,
-        ..EarParams::default()
-    };
+    let p = EarParams::default().equalize_on_skin(true);
     let ev = evaluate(colour_set(), &p, 10).unwrap();
     print_cmc("colour occluders 10-50 %, equalised on skin", &ev);
     check7(&ev);
@@ -292,10 +285,7 @@ fn degradation(ev: &Evaluation, title: &str) -> Vec<f64> {
 #[test]
 fn heavily_occluded_probes_are_rejected_never_ranked() {
     for eq_skin in [true, false] {
-        let p = EarParams {
-            equalize_on_skin: eq_skin,
-            ..EarParams::default()
-        };
+        let p = EarParams::default().equalize_on_skin(eq_skin);
         let ev = evaluate(wide_set(), &p, 10).unwrap();
         // The rejections follow the truth: the share rejected is within 3 points of the
         // share of probes with more than 60 % of their blocks occluded.
@@ -332,10 +322,7 @@ fn rank1_degrades_with_occlusion() {
         (true, "equalised on skin"),
         (false, "paper's pre-processing"),
     ] {
-        let p = EarParams {
-            equalize_on_skin: eq_skin,
-            ..EarParams::default()
-        };
+        let p = EarParams::default().equalize_on_skin(eq_skin);
         let ev = evaluate(wide_set(), &p, 10).unwrap();
         println!(
             "rejected {:.3} of {}",
@@ -367,10 +354,7 @@ fn hair_stress_test_reports_both_luminance_gates() {
         for pr in &set.probes {
             let mut est = [0.0; 2];
             for (k, gate) in [0u8, 35].into_iter().enumerate() {
-                let p = EarParams {
-                    min_intensity: gate,
-                    ..EarParams::default()
-                };
+                let p = EarParams::default().min_intensity(gate);
                 est[k] = detect_occlusion(&pr.image.rgb, &p).unwrap().occluded_pct;
                 errs[k] += (est[k] - pr.occluded_pct()).abs();
                 under[k] += usize::from(est[k] + 7.5 < pr.occluded_pct());

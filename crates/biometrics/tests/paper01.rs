@@ -40,14 +40,7 @@ fn kernels() -> Vec<Kernel> {
 fn entropy_identity_and_ordering_for_every_kernel() {
     let x = structured(60, 25, 1);
     for kernel in kernels() {
-        let m = Fdkeca::fit(
-            x.as_ref(),
-            &FdkecaParams {
-                kernel,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let m = Fdkeca::fit(x.as_ref(), &FdkecaParams::default().kernel(kernel)).unwrap();
         let total: f64 = m.entropy_terms.iter().sum();
         assert!(
             (total - m.kernel_sum).abs() <= 1e-10 * m.kernel_sum.abs(),
@@ -68,12 +61,11 @@ fn entropy_identity_and_ordering_for_every_kernel() {
 fn linear_kernel_reduces_to_pca() {
     let (n, d) = (200, 30);
     let x = structured(n, d, 2);
-    let p = FdkecaParams {
-        kernel: Kernel::Linear,
-        ordering: Ordering::Eigenvalue,
-        center: true,
-        n_components: None,
-    };
+    let p = FdkecaParams::default()
+        .kernel(Kernel::Linear)
+        .ordering(Ordering::Eigenvalue)
+        .center(true)
+        .n_components(None);
     let f = Fdkeca::fit(x.as_ref(), &p).unwrap();
     let pca = Pca::fit(x.as_ref(), None, false).unwrap();
     for k in 0..d {
@@ -235,15 +227,13 @@ fn ranks_for_few_samples() {
     let rank = |v: &[f64]| v.iter().filter(|&&e| e > 1e-10 * v[0]).count();
     assert_eq!(rank(&pca.variances), 9);
     for (coef0, expect) in [(1.0, 55), (0.0, 45)] {
-        let p = FdkecaParams {
-            kernel: Kernel::Polynomial {
+        let p = FdkecaParams::default()
+            .kernel(Kernel::Polynomial {
                 degree: 2,
                 gamma: Gamma::InvDim,
                 coef0,
-            },
-            ordering: Ordering::Eigenvalue,
-            ..Default::default()
-        };
+            })
+            .ordering(Ordering::Eigenvalue);
         let m = Fdkeca::fit(x.as_ref(), &p).unwrap();
         assert_eq!(rank(&m.eigenvalues), expect, "coef0 = {coef0}");
     }
@@ -305,18 +295,13 @@ fn accuracy_curve_and_cv_selection() {
 
 #[test]
 fn finger_vein_generator_is_deterministic() {
-    let p = FingerVeinParams {
-        subjects: 4,
-        samples: 3,
-        seed: 7,
-        ..Default::default()
-    };
+    let p = FingerVeinParams::default().subjects(4).samples(3).seed(7);
     let a = finger_veins(&p).unwrap();
     let b = finger_veins(&p).unwrap();
     assert_eq!((a.x.nrows(), a.x.ncols()), (12, 200));
     assert_eq!(a.x, b.x);
     assert_eq!(a.labels, vec![0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3]);
-    let c = finger_veins(&FingerVeinParams { seed: 8, ..p }).unwrap();
+    let c = finger_veins(&p.seed(8)).unwrap();
     assert_ne!(a.x, c.x);
     // Samples of one subject are closer to each other than to other subjects on average.
     let dist = |i: usize, j: usize| {
@@ -325,7 +310,7 @@ fn finger_vein_generator_is_deterministic() {
             .sum::<f64>()
     };
     assert!(dist(0, 1) < dist(0, 3) && dist(3, 4) < dist(3, 7));
-    assert!(finger_veins(&FingerVeinParams { subjects: 0, ..p }).is_err());
+    assert!(finger_veins(&p.subjects(0)).is_err());
 }
 
 /// Check 8: the paper's Table 1 protocol on 200 x 10 synthetic finger veins, 5/5 split,
@@ -336,11 +321,7 @@ fn recognition_on_synthetic_finger_veins() {
     let opt = ProtocolParams::default();
     println!("seed method  max acc %  (l)   validated %  (l)");
     for seed in 0..3 {
-        let data = finger_veins(&FingerVeinParams {
-            seed,
-            ..Default::default()
-        })
-        .unwrap();
+        let data = finger_veins(&FingerVeinParams::default().seed(seed)).unwrap();
         let (tr, te) = split_per_subject(&data.labels, 5, seed).unwrap();
         let pick = |idx: &[usize]| select_rows(data.x.as_ref(), idx);
         let (xtr, xte) = (pick(&tr), pick(&te));
@@ -387,37 +368,17 @@ fn bad_input_is_rejected() {
     let m = Fdkeca::fit(x.as_ref(), &p).unwrap();
     assert!(m.transform(random(3, 4, 2).as_ref()).is_err());
     assert!(m.truncated(0).is_err() && m.truncated(6).is_err());
-    assert!(Fdkeca::fit(
-        x.as_ref(),
-        &FdkecaParams {
-            n_components: Some(0),
-            ..p
-        }
-    )
-    .is_err());
-    assert!(Fdkeca::fit(
-        x.as_ref(),
-        &FdkecaParams {
-            n_components: Some(6),
-            ..p
-        }
-    )
-    .is_err());
-    let bad_sigma = FdkecaParams {
-        kernel: Kernel::Gaussian {
-            sigma: Sigma::Fixed(-1.0),
-        },
-        ..p
-    };
+    assert!(Fdkeca::fit(x.as_ref(), &p.n_components(Some(0))).is_err());
+    assert!(Fdkeca::fit(x.as_ref(), &p.n_components(Some(6))).is_err());
+    let bad_sigma = p.kernel(Kernel::Gaussian {
+        sigma: Sigma::Fixed(-1.0),
+    });
     assert!(Fdkeca::fit(x.as_ref(), &bad_sigma).is_err());
-    let bad_degree = FdkecaParams {
-        kernel: Kernel::Polynomial {
-            degree: 0,
-            gamma: Gamma::InvDim,
-            coef0: 1.0,
-        },
-        ..p
-    };
+    let bad_degree = p.kernel(Kernel::Polynomial {
+        degree: 0,
+        gamma: Gamma::InvDim,
+        coef0: 1.0,
+    });
     assert!(Fdkeca::fit(x.as_ref(), &bad_degree).is_err());
     let constant = Mat::from_fn(10, 5, |_, _| 2.0);
     let err = Fdkeca::fit(constant.as_ref(), &p).unwrap_err().to_string();

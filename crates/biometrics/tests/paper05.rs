@@ -134,11 +134,7 @@ fn closed_forms_equal_the_pairwise_definitions() {
 fn bad_input_is_rejected() {
     let x = random(60, 8, 7);
     let y: Vec<u32> = (0..60).map(|i| (i % 3) as u32).collect();
-    let cfg = ClassSfaParams {
-        pca_dims: 5,
-        m_per_class: 3,
-        ..Default::default()
-    };
+    let cfg = ClassSfaParams::default().pca_dims(5).m_per_class(3);
     assert!(PerClassSfa::fit(x.as_ref(), &y, &cfg).is_ok());
     let empty = Mat::<f64>::zeros(0, 8);
     assert!(PerClassSfa::fit(empty.as_ref(), &[], &cfg).is_err());
@@ -150,16 +146,8 @@ fn bad_input_is_rejected() {
     let mut few = y.clone();
     few[0] = 9; // a class with one row
     assert!(PerClassSfa::fit(x.as_ref(), &few, &cfg).is_err());
-    assert!(PerClassSfa::fit(
-        x.as_ref(),
-        &y,
-        &ClassSfaParams {
-            m_per_class: 100,
-            ..cfg
-        }
-    )
-    .is_err());
-    assert!(PerClassSfa::fit(x.as_ref(), &y, &ClassSfaParams { pca_dims: 9, ..cfg }).is_err());
+    assert!(PerClassSfa::fit(x.as_ref(), &y, &cfg.m_per_class(100)).is_err());
+    assert!(PerClassSfa::fit(x.as_ref(), &y, &cfg.pca_dims(9)).is_err());
     let constant = Mat::from_fn(60, 8, |_, _| 1.0);
     assert!(PerClassSfa::fit(constant.as_ref(), &y, &cfg).is_err());
     let model = PerClassSfa::fit(x.as_ref(), &y, &cfg).unwrap();

@@ -4,8 +4,8 @@
 //! its robustness to rotated test frames with and without the rotation augmentation.
 
 use wscg_biometrics::sfa::handpose::{
-    compare, generate, rotation_robustness, split_protocol, CompareParams, Method, Split,
-    HandposeSynthParams, SynthData,
+    compare, generate, rotation_robustness, split_protocol, CompareParams, HandposeSynthParams,
+    Method, Split, SynthData,
 };
 
 fn paper_protocol() -> (SynthData, Split) {

@@ -169,15 +169,9 @@ fn dtw_equals_brute_force_enumeration() {
             }
             assert!((sum - want).abs() < 1e-12);
             // A band wide enough is the full grid; any band is at least the full DTW.
-            let wide = DtwParams {
-                window: Some(8),
-                ..p
-            };
+            let wide = p.window(Some(8));
             assert!((dtw(&a, &b, &wide).unwrap() - want).abs() < 1e-12);
-            let narrow = DtwParams {
-                window: Some(1),
-                ..p
-            };
+            let narrow = p.window(Some(1));
             assert!(dtw(&a, &b, &narrow).unwrap() >= want - 1e-12);
         }
     }
@@ -200,18 +194,12 @@ fn dtw_known_cases() {
     );
     // Band on equal lengths: r = 0 is the Euclidean (lock-step) sum.
     let (a, b) = ([0.0, 1.0, 0.0, 2.0], [1.0, 0.0, 2.0, 0.0]);
-    let p = DtwParams {
-        window: Some(0),
-        ..DtwParams::default()
-    };
+    let p = DtwParams::default().window(Some(0));
     assert_eq!(dtw(&a, &b, &p).unwrap(), 6.0);
     let full = dtw(&a, &b, &DtwParams::default()).unwrap();
     assert!(full < 6.0);
     // Path-length normalisation divides by n + m.
-    let n = DtwParams {
-        normalize: true,
-        ..DtwParams::default()
-    };
+    let n = DtwParams::default().normalize(true);
     assert!((dtw(&a, &b, &n).unwrap() - full / 8.0).abs() < 1e-15);
 }
 
@@ -222,18 +210,12 @@ fn dtw_band_restricts_the_path() {
     let b: Vec<f64> = (0..20).map(|i| if i == 8 { 1.0 } else { 0.0 }).collect();
     let full = dtw(&a, &b, &DtwParams::default()).unwrap();
     assert_eq!(full, 0.0);
-    let banded = DtwParams {
-        window: Some(1),
-        ..DtwParams::default()
-    };
+    let banded = DtwParams::default().window(Some(1));
     assert!(dtw(&a, &b, &banded).unwrap() > 0.5);
     let (c, path) = dtw_path(&a, &b, &banded).unwrap();
     assert!((c - dtw(&a, &b, &banded).unwrap()).abs() < 1e-12);
     assert!(path.iter().all(|&(i, j)| i.abs_diff(j) <= 1));
-    let three = DtwParams {
-        window: Some(3),
-        ..DtwParams::default()
-    };
+    let three = DtwParams::default().window(Some(3));
     assert_eq!(dtw(&a, &b, &three).unwrap(), 0.0);
 }
 
@@ -323,10 +305,7 @@ fn cycle_detection_finds_true_leg_crossings() {
                 c.minima,
                 t.walk_frames
             );
-            let last = CycleParams {
-                choice: CycleChoice::MostRegular,
-                ..CycleParams::default()
-            };
+            let last = CycleParams::default().choice(CycleChoice::MostRegular);
             assert!(detect_gait_cycle(w, &last).unwrap().end < t.walk_frames + 2);
         }
     }
@@ -348,10 +327,7 @@ fn cycle_starts_with_the_requested_leg() {
             .map(|k| clean.at(last, Joint::SpineBase)[k] - clean.at(0, Joint::SpineBase)[k])
             .collect();
         for leg in [StartLeg::Left, StartLeg::Right] {
-            let p = CycleParams {
-                start_leg: leg,
-                ..CycleParams::default()
-            };
+            let p = CycleParams::default().start_leg(leg);
             let c = detect_gait_cycle(w, &p).unwrap();
             if c.minima.len() < 4 {
                 continue; // a single cycle: the fallback may return the other order
@@ -395,10 +371,7 @@ fn walks_shorter_than_one_stride_have_no_cycle() {
     let subs = subjects(10, 4);
     for s in &subs {
         let stride_s = 120.0 / s.cadence;
-        let ses = SessionParams {
-            walk_s: 0.8 * stride_s,
-            ..SessionParams::default()
-        };
+        let ses = SessionParams::default().walk_s(0.8 * stride_s);
         let (w, _) = walk(s, &ses, 9).unwrap();
         let e = detect_gait_cycle(&w, &CycleParams::default()).unwrap_err();
         assert!(e.to_string().contains("no full gait cycle"), "{e}");
@@ -490,13 +463,11 @@ fn narrow_pairs_are_constant_without_noise() {
     use Joint::*;
     let subs = subjects(5, 8);
     for (k, s) in subs.iter().enumerate() {
-        let ses = SessionParams {
-            noise: NoiseParams::none(),
-            heading_deg: 20.0 * k as f64 - 40.0,
-            pitch_deg: 3.0,
-            walk_s: 3.0,
-            ..SessionParams::default()
-        };
+        let ses = SessionParams::default()
+            .noise(NoiseParams::none())
+            .heading_deg(20.0 * k as f64 - 40.0)
+            .pitch_deg(3.0)
+            .walk_s(3.0);
         let (w, _) = walk(s, &ses, k as u64).unwrap();
         let c = GaitCycle::from_frames(&w, 0, w.len() / 2, w.len() - 1).unwrap();
         let set = jra_matrix(&w, &c, SpineBase).unwrap();
@@ -731,10 +702,7 @@ fn bad_input_gets_clear_errors() {
     let p = GaitParams::default();
     assert!(GaitRecognizer::fit(&set.walks, &[0], &p).is_err());
     assert!(GaitRecognizer::fit(&[], &[], &p).is_err());
-    let high = GaitParams {
-        min_bins: 500.0,
-        ..GaitParams::default()
-    };
+    let high = GaitParams::default().min_bins(500.0);
     let e = GaitRecognizer::fit(&set.walks, &set.labels, &high)
         .unwrap_err()
         .to_string();
@@ -750,10 +718,7 @@ fn bad_input_gets_clear_errors() {
         "{e}"
     );
     // Bad parameters.
-    let bad_cycle = CycleParams {
-        smooth_window: 0,
-        ..CycleParams::default()
-    };
+    let bad_cycle = CycleParams::default().smooth_window(0);
     assert!(detect_gait_cycle(w, &bad_cycle).is_err());
     assert!(LocalCost::parse("cosine").is_err());
     assert!(GaitCycle::from_frames(w, 5, 3, 9).is_err());
@@ -822,11 +787,10 @@ fn channel_fused_kernel_equals_per_channel_dtw() {
         .collect();
     for cost in [LocalCost::Abs, LocalCost::Squared] {
         for normalize in [false, true] {
-            let p = DtwParams {
-                cost,
-                window: None,
-                normalize,
-            };
+            let p = DtwParams::default()
+                .cost(cost)
+                .window(None)
+                .normalize(normalize);
             let m = dissimilarity_matrix(&set, &set, &p).unwrap();
             let s = self_dissimilarity(&set, &p).unwrap();
             let cache = ChannelCache::compute(&set, &p);
@@ -885,14 +849,12 @@ fn baseline_features_recover_the_walkers_body_and_gait() {
     use wscg_biometrics::gait::{ball_features, preis_features};
     let subs = subjects(4, 90);
     for (k, s) in subs.iter().enumerate() {
-        let ses = SessionParams {
-            noise: NoiseParams::none(),
-            jitter_deg: 0.0,
-            bone_bias: 0.0,
-            heading_deg: 30.0 * k as f64 - 45.0,
-            walk_s: 4.0,
-            ..SessionParams::default()
-        };
+        let ses = SessionParams::default()
+            .noise(NoiseParams::none())
+            .jitter_deg(0.0)
+            .bone_bias(0.0)
+            .heading_deg(30.0 * k as f64 - 45.0)
+            .walk_s(4.0);
         let (w, _) = walk(s, &ses, k as u64).unwrap();
         let c = detect_gait_cycle(&w, &CycleParams::default()).unwrap();
         let p = preis_features(&w, &c).unwrap();

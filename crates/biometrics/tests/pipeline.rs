@@ -10,12 +10,12 @@ use wscg_biometrics::subspace::*;
 use wscg_math::{npy, Image};
 
 fn veins(subjects: usize, samples: usize) -> wscg_biometrics::data::LabelledImages {
-    finger_veins(&FingerVeinParams {
-        subjects,
-        samples,
-        seed: 3,
-        ..Default::default()
-    })
+    finger_veins(
+        &FingerVeinParams::default()
+            .subjects(subjects)
+            .samples(samples)
+            .seed(3),
+    )
     .unwrap()
 }
 
@@ -67,11 +67,9 @@ fn linear_models_reconstruct_exactly_at_full_rank() {
     // Reconstruction error shrinks as axes are added (eigenvalue order, linear kernel).
     let lin = Fdkeca::fit(
         x,
-        &FdkecaParams {
-            kernel: Kernel::Linear,
-            ordering: Ordering::Eigenvalue,
-            ..Default::default()
-        },
+        &FdkecaParams::default()
+            .kernel(Kernel::Linear)
+            .ordering(Ordering::Eigenvalue),
     )
     .unwrap();
     let err = |l: usize| {
@@ -101,10 +99,7 @@ fn recognizer_identifies_saves_and_loads() {
     let ytr: Vec<u32> = tr.iter().map(|&i| data.labels[i]).collect();
     let yte: Vec<u32> = te.iter().map(|&i| data.labels[i]).collect();
     let names: Vec<String> = (0..20).map(|s| format!("subject-{s:02}")).collect();
-    let method = Method::Fdkeca(FdkecaParams {
-        n_components: Some(40),
-        ..Default::default()
-    });
+    let method = Method::Fdkeca(FdkecaParams::default().n_components(Some(40)));
     let rec = Recognizer::fit(
         &method,
         xtr.as_ref(),

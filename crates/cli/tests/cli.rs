@@ -168,12 +168,12 @@ fn bad_files_give_errors_not_crashes() {
 /// A gallery of synthetic finger veins: one folder per identity, `samples` PNGs each.
 fn write_vein_gallery(root: &Path, subjects: usize, samples: usize) {
     use wscg::biometrics::data::{finger_veins, FingerVeinParams};
-    let data = finger_veins(&FingerVeinParams {
-        subjects,
-        samples,
-        seed: 4,
-        ..Default::default()
-    })
+    let data = finger_veins(
+        &FingerVeinParams::default()
+            .subjects(subjects)
+            .samples(samples)
+            .seed(4),
+    )
     .unwrap();
     for i in 0..data.x.nrows() {
         let dir = root.join(format!("person{:02}", data.labels[i]));
@@ -520,21 +520,17 @@ fn meshfilter_denoises_a_coloured_mesh() {
         match method {
             "jbmd" => wscg::meshfilter::jbmd(
                 m,
-                &JbmdParams {
-                    iterations: 5,
-                    ..JbmdParams::from_mvd(mean_vertex_distance(m).unwrap())
-                },
+                &(JbmdParams::from_mvd(mean_vertex_distance(m).unwrap())).iterations(5),
             ),
             "bmd" => {
                 let d = mean_vertex_distance(m).unwrap();
                 bmd::bmd(
                     m,
-                    &bmd::BmdParams {
-                        sigma_c: d,
-                        sigma_s: 0.5 * d,
-                        iterations: 5,
-                        volume_preserve: false,
-                    },
+                    &bmd::BmdParams::default()
+                        .sigma_c(d)
+                        .sigma_s(0.5 * d)
+                        .iterations(5)
+                        .volume_preserve(false),
                 )
             }
             "laplacian" => smoothing::laplacian(m, 0.5, 5),
@@ -636,21 +632,13 @@ fn sfa_generate_fit_predict_evaluate_match_the_library() {
     ]);
     assert_eq!(std::fs::read(&masks).unwrap(), before, "input modified");
     // The same model through the library: generated frames, downscaled by 3.
-    let data = generate(&HandposeSynthParams {
-        n_per_class: 120,
-        ..HandposeSynthParams::default()
-    })
-    .unwrap();
+    let data = generate(&HandposeSynthParams::default().n_per_class(120)).unwrap();
     let (h, w) = (data.height, data.width);
     let rows: Vec<f64> = (0..data.len())
         .flat_map(|i| downscale(data.mask(i).unwrap(), h, w, 3).unwrap())
         .collect();
     let x = wscg::biometrics::sfa::handpose::protocol::rows_to_mat(&rows, rows.len() / data.len());
-    let cfg = ClassSfaParams {
-        pca_dims: 8,
-        m_per_class: 3,
-        ..ClassSfaParams::default()
-    };
+    let cfg = ClassSfaParams::default().pca_dims(8).m_per_class(3);
     let lib = PerClassSfa::fit(x.as_ref(), &data.labels, &cfg).unwrap();
     let want = lib.predict(x.as_ref()).unwrap();
     let got: Vec<u32> = out
@@ -1210,14 +1198,7 @@ fn octree_build_info_render_on_a_mesh_file() {
     assert_eq!(std::fs::read(&obj).unwrap(), before, "input untouched");
     // The saved tree is the library's tree of the mesh as read back from the file.
     let read = TriMesh::read(&obj).unwrap();
-    let (lib, _) = build(
-        &read,
-        &BuildParams {
-            max_depth: 7,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let (lib, _) = build(&read, &BuildParams::default().max_depth(7)).unwrap();
     let saved = HybridOctree::load(&tree).unwrap();
     assert_eq!(saved, lib);
     let text = wscg_ok(&["octree", "info", tree.to_str().unwrap()]);
@@ -1404,11 +1385,7 @@ fn mri_mask_phantom_recon_on_files() {
     let data = KSpace::new(64, 64, k.data, m).unwrap();
     // What the library gives for the same prior and iterations.
     let library = |psi: &dyn wscg::csmri::Sparsifier, max_iter: usize, tau0: f64| {
-        let params = CsalsaParams {
-            max_iter,
-            tau0,
-            ..Default::default()
-        };
+        let params = CsalsaParams::default().max_iter(max_iter).tau0(tau0);
         let noop = wscg::math::progress::NoProgress;
         csalsa(&data, psi, Regularizer::default(), &params, None, &noop)
             .unwrap()
@@ -1433,15 +1410,8 @@ fn mri_mask_phantom_recon_on_files() {
             &p("fd.npy"),
         ],
     ));
-    let fdct = FdctSparsifier::new(
-        64,
-        64,
-        &FdctParams {
-            finest: Finest::Curvelets,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let fdct =
+        FdctSparsifier::new(64, 64, &FdctParams::default().finest(Finest::Curvelets)).unwrap();
     let want = library(&fdct, 10, sparsifier::tuned_tau0("fdct"));
     let got = wscg::math::npy::read_complex(p("fd.npy")).unwrap();
     let diff = metrics::rlne(&want, &got.data).unwrap();
@@ -1465,10 +1435,7 @@ fn mri_mask_phantom_recon_on_files() {
         "mrsflct",
         64,
         64,
-        &sparsifier::PriorParams {
-            sflct_levels: vec![2, 3],
-            ..Default::default()
-        },
+        &sparsifier::PriorParams::default().sflct_levels(vec![2, 3]),
     )
     .unwrap();
     let want = library(mr.as_ref(), 8, sparsifier::tuned_tau0("mrsflct"));
@@ -2155,7 +2122,7 @@ fn ear_demo_reports_the_rules_and_the_baseline() {
 
 #[test]
 fn volren_illum_renders_a_volume_file_like_the_library_and_runs_the_study() {
-    use wscg::volren::illumination::{render, Light, Method, IlluminationParams, SliceCamera};
+    use wscg::volren::illumination::{render, IlluminationParams, Light, Method, SliceCamera};
     let dir = tempfile::tempdir().unwrap();
     let field = wscg::volren::illumination::scenes::marschner_lobb(41).unwrap();
     let vol = wscg::math::Volume::new([41; 3], [1.0; 3], field.data().to_vec()).unwrap();

@@ -301,10 +301,7 @@ pub(crate) fn implicit_euler_linearised(
                 &b,
                 InitialGuess::Zero,
                 &IdentityPrecond,
-                &PcgParams {
-                    tol,
-                    max_iter: Some(max_iter),
-                },
+                &PcgParams::default().tol(tol).max_iter(Some(max_iter)),
             )?
             .x
         }

@@ -216,10 +216,9 @@ pub(crate) fn global_step(
             &sys,
             &rhs,
             InitialGuess::Zero,
-            &PcgParams {
-                tol,
-                max_iter: Some(10 * rhs.len().max(1)),
-            },
+            &PcgParams::default()
+                .tol(tol)
+                .max_iter(Some(10 * rhs.len().max(1))),
         )?;
         let wjd = sys.w_jt(&sol.x);
         for q in 0..m.len() {

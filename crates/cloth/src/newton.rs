@@ -134,10 +134,7 @@ pub fn minimize(
             &b,
             InitialGuess::Zero,
             &IdentityPrecond,
-            &PcgParams {
-                tol: 1e-14,
-                max_iter: Some(20 * 3 * n),
-            },
+            &PcgParams::default().tol(1e-14).max_iter(Some(20 * 3 * n)),
         )?;
         let dir: Vec<Vector3<f64>> = (0..n)
             .map(|q| Vector3::new(sol.x[3 * q], sol.x[3 * q + 1], sol.x[3 * q + 2]))

@@ -90,27 +90,29 @@ pub enum Method {
     },
 }
 
-/// Parameters of a [`Sim`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SolverParams {
-    /// Integrator (default soft projection).
-    pub method: Method,
-    /// Gauss-Seidel sweeps per step (25 in the paper's experiments).
-    pub iterations: usize,
-    /// Force blending `alpha` in `(0, 1]` (1: implicit Euler).
-    pub alpha: f64,
-    /// Position blending `beta` in `(0, 1]` (1: implicit Euler).
-    pub beta: f64,
-    /// Constraint damping `gamma = d/k` in seconds (>= 0).
-    pub gamma: f64,
-    /// Multiplier mode (default accumulate).
-    pub lambda_mode: LambdaMode,
-    /// Velocity-projection damping factor `k_d` in `[0, 1]` applied after each step (the
-    /// baseline of the paper's Fig. 5; default 0).
-    pub velocity_damping: f64,
-    /// How each sweep of the soft projection visits the constraints (default sequential
-    /// Gauss-Seidel).
-    pub relaxation: Relaxation,
+wscg_math::params! {
+    /// Parameters of a [`Sim`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct SolverParams {
+        /// Integrator (default soft projection).
+        pub method: Method,
+        /// Gauss-Seidel sweeps per step (25 in the paper's experiments).
+        pub iterations: usize,
+        /// Force blending `alpha` in `(0, 1]` (1: implicit Euler).
+        pub alpha: f64,
+        /// Position blending `beta` in `(0, 1]` (1: implicit Euler).
+        pub beta: f64,
+        /// Constraint damping `gamma = d/k` in seconds (>= 0).
+        pub gamma: f64,
+        /// Multiplier mode (default accumulate).
+        pub lambda_mode: LambdaMode,
+        /// Velocity-projection damping factor `k_d` in `[0, 1]` applied after each step (the
+        /// baseline of the paper's Fig. 5; default 0).
+        pub velocity_damping: f64,
+        /// How each sweep of the soft projection visits the constraints (default sequential
+        /// Gauss-Seidel).
+        pub relaxation: Relaxation,
+    }
 }
 
 impl Default for SolverParams {

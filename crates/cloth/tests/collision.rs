@@ -267,12 +267,9 @@ fn bad_collision_settings_are_rejected() {
     assert!(MeshCollider::new(&[], &[]).is_err());
     let mut ncg = Sim::new(
         m,
-        SolverParams {
-            method: Method::Ncg {
-                variant: wscg_cloth::NcgVariant::Consistent,
-            },
-            ..Default::default()
-        },
+        SolverParams::default().method(Method::Ncg {
+            variant: wscg_cloth::NcgVariant::Consistent,
+        }),
     )
     .unwrap();
     let err = ncg

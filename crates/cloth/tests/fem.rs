@@ -160,13 +160,10 @@ fn settle(model: wscg_cloth::ClothModel) -> wscg_cloth::Sim {
     use wscg_cloth::{Method, Sim, SolverParams};
     let mut sim = Sim::new(
         model,
-        SolverParams {
-            method: Method::ImplicitEulerCg {
-                tol: 1e-12,
-                max_iter: 2000,
-            },
-            ..Default::default()
-        },
+        SolverParams::default().method(Method::ImplicitEulerCg {
+            tol: 1e-12,
+            max_iter: 2000,
+        }),
     )
     .unwrap();
     for _ in 0..4000 {

@@ -33,12 +33,12 @@ fn linear_oscillator_matches_closed_form() {
     for (alpha, beta) in [(1.0, 1.0), (0.6, 0.6), (0.55, 0.55), (0.5, 0.5)] {
         let mut runs = Vec::new();
         for iterations in [1, 25] {
-            let mut sim = oscillator(SolverParams {
-                alpha,
-                beta,
-                iterations,
-                ..Default::default()
-            });
+            let mut sim = oscillator(
+                SolverParams::default()
+                    .alpha(alpha)
+                    .beta(beta)
+                    .iterations(iterations),
+            );
             let (mut x, mut v) = (0.05, 0.0);
             for step in 0..1000 {
                 let xn = ((1.0 - H * H * beta * (1.0 - alpha) * w2) * x + H * v)
@@ -59,11 +59,7 @@ fn linear_oscillator_matches_closed_form() {
         assert!((runs[0].0 - runs[1].0).abs() <= 1e-14 && (runs[0].1 - runs[1].1).abs() <= 1e-13);
     }
     // alpha = beta = 1/2 conserves the oscillator's energy: drift < 1e-10 over 1e4 steps.
-    let mut sim = oscillator(SolverParams {
-        alpha: 0.5,
-        beta: 0.5,
-        ..Default::default()
-    });
+    let mut sim = oscillator(SolverParams::default().alpha(0.5).beta(0.5));
     let e0 = sim.energy().total;
     sim.run(H, 10_000).unwrap();
     let drift = (sim.energy().total - e0).abs() / e0;
@@ -92,10 +88,7 @@ fn linear_oscillator_matches_closed_form() {
 #[test]
 fn damped_oscillator_matches_closed_form() {
     let (w2, gamma) = (100.0, 10.0 * H);
-    let mut sim = oscillator(SolverParams {
-        gamma,
-        ..Default::default()
-    });
+    let mut sim = oscillator(SolverParams::default().gamma(gamma));
     let (mut x, mut v) = (0.05f64, 0.0f64);
     for step in 0..1000 {
         v = (v - H * w2 * x) / (1.0 + w2 * H * (H + gamma));
@@ -114,12 +107,10 @@ fn chain_elongations(iterations: usize, mode: LambdaMode) -> Vec<f64> {
     let model = ClothModel::chain(10, 0.1, 0.1, 100.0).unwrap();
     let mut sim = Sim::new(
         model,
-        SolverParams {
-            iterations,
-            gamma: 0.1,
-            lambda_mode: mode,
-            ..Default::default()
-        },
+        SolverParams::default()
+            .iterations(iterations)
+            .gamma(0.1)
+            .lambda_mode(mode),
     )
     .unwrap();
     sim.run(H, 30 * 60).unwrap();
@@ -174,20 +165,16 @@ fn paper_reset_iteration_is_relaxed_pbd() {
     let omega = 1.0 / (1.0 + 1.0 / (H * H * k * a));
     let mut soft = Sim::new(
         build(),
-        SolverParams {
-            iterations: 1,
-            lambda_mode: LambdaMode::PaperReset,
-            ..Default::default()
-        },
+        SolverParams::default()
+            .iterations(1)
+            .lambda_mode(LambdaMode::PaperReset),
     )
     .unwrap();
     let mut pbd = Sim::new(
         build(),
-        SolverParams {
-            iterations: 1,
-            method: Method::PlainPbd { stiffness: omega },
-            ..Default::default()
-        },
+        SolverParams::default()
+            .iterations(1)
+            .method(Method::PlainPbd { stiffness: omega }),
     )
     .unwrap();
     soft.step(H).unwrap();
@@ -204,15 +191,7 @@ fn paper_reset_iteration_is_relaxed_pbd() {
 fn alpha_beta_scheme_loses_less_energy_than_implicit_euler() {
     let loss = |ab: f64| {
         let model = ClothModel::grid(10, 10, (1.0, 1.0), 0.1, 2.0, Some(2.0), Some(2.0)).unwrap();
-        let mut sim = Sim::new(
-            model,
-            SolverParams {
-                alpha: ab,
-                beta: ab,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let mut sim = Sim::new(model, SolverParams::default().alpha(ab).beta(ab)).unwrap();
         let e0 = sim.energy().total;
         sim.run(H, 600).unwrap();
         e0 - sim.energy().total
@@ -228,26 +207,11 @@ fn bad_input_is_rejected() {
     let mut sim = ok();
     assert!(sim.step(0.0).is_err() && sim.step(-H).is_err() && sim.step(f64::NAN).is_err());
     for cfg in [
-        SolverParams {
-            alpha: 0.0,
-            ..Default::default()
-        },
-        SolverParams {
-            beta: 1.5,
-            ..Default::default()
-        },
-        SolverParams {
-            gamma: -1.0,
-            ..Default::default()
-        },
-        SolverParams {
-            iterations: 0,
-            ..Default::default()
-        },
-        SolverParams {
-            method: Method::PlainPbd { stiffness: 0.0 },
-            ..Default::default()
-        },
+        SolverParams::default().alpha(0.0),
+        SolverParams::default().beta(1.5),
+        SolverParams::default().gamma(-1.0),
+        SolverParams::default().iterations(0),
+        SolverParams::default().method(Method::PlainPbd { stiffness: 0.0 }),
     ] {
         assert!(Sim::new(ok().model().clone(), cfg).is_err(), "{cfg:?}");
     }
@@ -284,10 +248,7 @@ fn linearised_implicit_euler_matches_closed_form_on_linear_oscillator() {
         },
         Method::ImplicitEulerDirect,
     ] {
-        let mut sim = oscillator(SolverParams {
-            method,
-            ..Default::default()
-        });
+        let mut sim = oscillator(SolverParams::default().method(method));
         let (mut x, mut v) = (0.05f64, 0.0f64);
         let d = 1.0 + H * H * 100.0;
         for _ in 0..300 {
@@ -312,14 +273,7 @@ fn direct_and_cg_linearised_steps_agree() {
         .add_roller(40, Vector3::new(0.0, 0.0, 1.0), model.x[40].z)
         .unwrap();
     let run = |method| {
-        let mut sim = Sim::new(
-            model.clone(),
-            SolverParams {
-                method,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let mut sim = Sim::new(model.clone(), SolverParams::default().method(method)).unwrap();
         sim.run(H, 20).unwrap();
         sim.model().x.clone()
     };
@@ -348,10 +302,7 @@ fn symplectic_euler_reference_conserves_energy() {
     let model = ClothModel::grid(10, 10, (1.0, 1.0), 0.1, 2.0, Some(2.0), Some(2.0)).unwrap();
     let mut sim = Sim::new(
         model,
-        SolverParams {
-            method: Method::SymplecticEuler { substeps: 64 },
-            ..Default::default()
-        },
+        SolverParams::default().method(Method::SymplecticEuler { substeps: 64 }),
     )
     .unwrap();
     let e0 = sim.energy();
@@ -379,14 +330,7 @@ fn velocity_projection_scales_relative_normal_velocity() {
         m.gravity = Vector3::zeros();
         m.v = vec![Vector3::new(-0.5, 0.2, 0.0), Vector3::new(0.7, -0.1, 0.3)];
         m.add_link(0, 1, 50.0, Some(1.0)).unwrap();
-        let mut sim = Sim::new(
-            m,
-            SolverParams {
-                velocity_damping: kd,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let mut sim = Sim::new(m, SolverParams::default().velocity_damping(kd)).unwrap();
         sim.step(H).unwrap();
         sim.model().clone()
     };
@@ -401,10 +345,7 @@ fn velocity_projection_scales_relative_normal_velocity() {
     assert!((t(&a) - t(&b)).norm() < 1e-13);
     assert!(Sim::new(
         ClothModel::chain(3, 0.1, 0.1, 10.0).unwrap(),
-        SolverParams {
-            velocity_damping: 1.5,
-            ..Default::default()
-        }
+        SolverParams::default().velocity_damping(1.5)
     )
     .is_err());
 }
@@ -437,10 +378,7 @@ fn conjugate_residual_on_constraint_space_system() {
             &sys,
             &b,
             InitialGuess::Zero,
-            &PcgParams {
-                tol: 1e-10,
-                max_iter: Some(m),
-            },
+            &PcgParams::default().tol(1e-10).max_iter(Some(m)),
         )
         .unwrap();
         assert!(cr.converged, "fem {fem}: {} iterations", cr.iterations);
@@ -481,11 +419,9 @@ fn soft_projection_equivalence_with_implicit_euler() {
     let one_step = |method: Method, iterations: usize| {
         let mut sim = Sim::new(
             model.clone(),
-            SolverParams {
-                method,
-                iterations,
-                ..Default::default()
-            },
+            SolverParams::default()
+                .method(method)
+                .iterations(iterations),
         )
         .unwrap();
         sim.step(H).unwrap();
@@ -584,14 +520,8 @@ fn settle_steps(curve: &[f64]) -> usize {
 #[ignore = "check 9 not met: 1.23x faster settling with gamma = 10h, 2x required"]
 fn constraint_damping_settles_faster() {
     let plain = settle_steps(&swing_curve(SolverParams::default()));
-    let damped = settle_steps(&swing_curve(SolverParams {
-        gamma: 10.0 * H,
-        ..Default::default()
-    }));
-    let projected = settle_steps(&swing_curve(SolverParams {
-        velocity_damping: 0.5,
-        ..Default::default()
-    }));
+    let damped = settle_steps(&swing_curve(SolverParams::default().gamma(10.0 * H)));
+    let projected = settle_steps(&swing_curve(SolverParams::default().velocity_damping(0.5)));
     println!("steps to settle: gamma = 0: {plain}, gamma = 10h: {damped}, velocity projection 0.5: {projected}");
     assert!(2 * damped <= plain, "{damped} vs {plain}");
 }

@@ -36,11 +36,9 @@ fn run_stats(
 ) -> (Sim, StepStats) {
     let mut sim = Sim::new(
         model.clone(),
-        SolverParams {
-            iterations,
-            relaxation,
-            ..Default::default()
-        },
+        SolverParams::default()
+            .iterations(iterations)
+            .relaxation(relaxation),
     )
     .unwrap();
     let mut stats = StepStats::default();
@@ -78,10 +76,7 @@ fn all_sweeps_reach_the_implicit_euler_step_of_a_chain() {
     }
     let mut newton = Sim::new(
         model.clone(),
-        SolverParams {
-            method: wscg_cloth::Method::ImplicitEulerNewton { tol: 1e-13 },
-            ..Default::default()
-        },
+        SolverParams::default().method(wscg_cloth::Method::ImplicitEulerNewton { tol: 1e-13 }),
     )
     .unwrap();
     newton.step(H).unwrap();
@@ -150,10 +145,7 @@ fn relaxation_factors_out_of_range_are_rejected() {
         Relaxation::Sor { omega: 2.0 },
         Relaxation::Sor { omega: f64::NAN },
     ] {
-        let cfg = SolverParams {
-            relaxation,
-            ..Default::default()
-        };
+        let cfg = SolverParams::default().relaxation(relaxation);
         let err = Sim::new(model.clone(), cfg).unwrap_err().to_string();
         assert!(err.contains("omega"), "{err}");
     }

@@ -29,27 +29,29 @@ use crate::kspace::KSpace;
 use crate::prox::{project_ball, soft_coeffs};
 use crate::sparsifier::{CoeffVec, Sparsifier, WaveletSparsifier};
 
-/// Parameters of the composite-objective baselines (B1).
-#[derive(Clone, Debug, PartialEq)]
-pub struct CompositeParams {
-    /// TV weight `a` (for unit-peak images).
-    pub a: f64,
-    /// Wavelet l1 weight `b`.
-    pub b: f64,
-    /// WaTMRI's parent-child group weight `b_g`.
-    pub group_weight: f64,
-    /// WaTMRI's coupling `mu_g` of the replicated group variables.
-    pub mu_g: f64,
-    /// Iterations.
-    pub max_iter: usize,
-    /// Chambolle iterations per TV prox (FCSA, WaTMRI).
-    pub tv_inner: usize,
-    /// Daubechies order of `Phi_w`.
-    pub order: usize,
-    /// Wavelet levels.
-    pub levels: usize,
-    /// Record an [`IterStat`] per iteration (objective = (B1)).
-    pub record_history: bool,
+wscg_math::params! {
+    /// Parameters of the composite-objective baselines (B1).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct CompositeParams {
+        /// TV weight `a` (for unit-peak images).
+        pub a: f64,
+        /// Wavelet l1 weight `b`.
+        pub b: f64,
+        /// WaTMRI's parent-child group weight `b_g`.
+        pub group_weight: f64,
+        /// WaTMRI's coupling `mu_g` of the replicated group variables.
+        pub mu_g: f64,
+        /// Iterations.
+        pub max_iter: usize,
+        /// Chambolle iterations per TV prox (FCSA, WaTMRI).
+        pub tv_inner: usize,
+        /// Daubechies order of `Phi_w`.
+        pub order: usize,
+        /// Wavelet levels.
+        pub levels: usize,
+        /// Record an [`IterStat`] per iteration (objective = (B1)).
+        pub record_history: bool,
+    }
 }
 
 impl Default for CompositeParams {

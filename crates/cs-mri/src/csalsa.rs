@@ -54,25 +54,27 @@ impl Default for Regularizer {
     }
 }
 
-/// C-SALSA parameters.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CsalsaParams {
-    /// Iterations (paper: 70).
-    pub max_iter: usize,
-    /// Threshold `tau = lambda / mu` on the image normalised to `max |x0| = 1`. The default
-    /// 0.01 was the best of {0.005, 0.01, 0.02, 0.04, 0.08} for the UDCT prior on the
-    /// development image of the tests (db4 did best at 0.04 there).
-    pub tau0: f64,
-    /// Growth of `tau` per iteration (1 = constant).
-    pub rho: f64,
-    /// Upper bound of `tau` as a multiple of `tau0` when `rho > 1`.
-    pub tau_cap: f64,
-    /// Noise radius `eps >= 0` in the units of the k-space data (0 = exact data consistency).
-    pub epsilon: f64,
-    /// Stop when `||x_k - x_{k-1}|| / ||x_{k-1}|| < tol` (0 = always run `max_iter`).
-    pub tol: f64,
-    /// Record an [`IterStat`] per iteration.
-    pub record_history: bool,
+wscg_math::params! {
+    /// C-SALSA parameters.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct CsalsaParams {
+        /// Iterations (paper: 70).
+        pub max_iter: usize,
+        /// Threshold `tau = lambda / mu` on the image normalised to `max |x0| = 1`. The default
+        /// 0.01 was the best of {0.005, 0.01, 0.02, 0.04, 0.08} for the UDCT prior on the
+        /// development image of the tests (db4 did best at 0.04 there).
+        pub tau0: f64,
+        /// Growth of `tau` per iteration (1 = constant).
+        pub rho: f64,
+        /// Upper bound of `tau` as a multiple of `tau0` when `rho > 1`.
+        pub tau_cap: f64,
+        /// Noise radius `eps >= 0` in the units of the k-space data (0 = exact data consistency).
+        pub epsilon: f64,
+        /// Stop when `||x_k - x_{k-1}|| / ||x_{k-1}|| < tol` (0 = always run `max_iter`).
+        pub tol: f64,
+        /// Record an [`IterStat`] per iteration.
+        pub record_history: bool,
+    }
 }
 
 impl Default for CsalsaParams {

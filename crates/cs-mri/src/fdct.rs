@@ -68,22 +68,24 @@ impl Finest {
     }
 }
 
-/// FDCT configuration (CurveLab's `fdct_wrapping` arguments).
-#[derive(Clone, Debug, PartialEq)]
-pub struct FdctParams {
-    /// Number of scales `J` including the coarse one; `None`: `ceil(log2(min(N1, N2))) - 3`
-    /// (5 for 256 x 256), at least 2.
-    pub scales: Option<usize>,
-    /// Wedges at the coarsest curvelet scale: a multiple of 4, at least 8 (default 16).
-    pub angles_coarse: usize,
-    /// Wavelets or curvelets at the finest scale.
-    pub finest: Finest,
-    /// Share of a wedge's width taken by its angular transitions, in `(0, 1]`. The default
-    /// 1 is the paper's `V`, supported on two wedge widths (`sum_l V^2(t - l) = 1` with
-    /// `V` on `[-1, 1]`); smaller values give narrower wedges and fewer coefficients
-    /// (redundancy at 256 x 256 with wavelets at the finest scale: 5.3 at 1, 4.2 at 0.5,
-    /// 3.5 at 0.25).
-    pub transition: f64,
+wscg_math::params! {
+    /// FDCT configuration (CurveLab's `fdct_wrapping` arguments).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct FdctParams {
+        /// Number of scales `J` including the coarse one; `None`: `ceil(log2(min(N1, N2))) - 3`
+        /// (5 for 256 x 256), at least 2.
+        pub scales: Option<usize>,
+        /// Wedges at the coarsest curvelet scale: a multiple of 4, at least 8 (default 16).
+        pub angles_coarse: usize,
+        /// Wavelets or curvelets at the finest scale.
+        pub finest: Finest,
+        /// Share of a wedge's width taken by its angular transitions, in `(0, 1]`. The default
+        /// 1 is the paper's `V`, supported on two wedge widths (`sum_l V^2(t - l) = 1` with
+        /// `V` on `[-1, 1]`); smaller values give narrower wedges and fewer coefficients
+        /// (redundancy at 256 x 256 with wavelets at the finest scale: 5.3 at 1, 4.2 at 0.5,
+        /// 3.5 at 0.25).
+        pub transition: f64,
+    }
 }
 
 impl Default for FdctParams {

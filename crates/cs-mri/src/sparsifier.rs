@@ -508,17 +508,19 @@ pub fn tuned_tau0(prior: &str) -> f64 {
     }
 }
 
-/// Configuration of the priors [`by_name`] builds.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PriorParams {
-    /// The UDCT of `"udct"`.
-    pub udct: UdctParams,
-    /// The FDCT of `"fdct"`.
-    pub fdct: FdctParams,
-    /// Directional levels per scale (coarsest first) of `"lrsflct"` and `"mrsflct"`.
-    pub sflct_levels: Vec<usize>,
-    /// Levels of the `"db<N>"` wavelets (the paper's baselines: 4).
-    pub levels: usize,
+wscg_math::params! {
+    /// Configuration of the priors [`by_name`] builds.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct PriorParams {
+        /// The UDCT of `"udct"`.
+        pub udct: UdctParams,
+        /// The FDCT of `"fdct"`.
+        pub fdct: FdctParams,
+        /// Directional levels per scale (coarsest first) of `"lrsflct"` and `"mrsflct"`.
+        pub sflct_levels: Vec<usize>,
+        /// Levels of the `"db<N>"` wavelets (the paper's baselines: 4).
+        pub levels: usize,
+    }
 }
 
 impl Default for PriorParams {

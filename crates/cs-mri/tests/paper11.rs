@@ -44,10 +44,7 @@ fn configs() -> Vec<Vec<[usize; 2]>> {
 fn udct_is_an_exact_tight_frame_of_redundancy_four() {
     for n in [256usize, 512] {
         for wedges in configs() {
-            let cfg = UdctParams {
-                wedges: wedges.clone(),
-                ..Default::default()
-            };
+            let cfg = UdctParams::default().wedges(wedges.clone());
             let u = Udct::new(n, n, &cfg).unwrap();
             assert_eq!(u.num_real_coeffs(), 4 * n * n, "{wedges:?}");
             for x in [
@@ -93,22 +90,10 @@ fn tight_windows_differ_from_the_reference_windows_only_in_aliased_tails() {
         let loose = Udct::new(
             n,
             n,
-            &UdctParams {
-                wedges: wedges.clone(),
-                tight: false,
-                ..Default::default()
-            },
+            &UdctParams::default().wedges(wedges.clone()).tight(false),
         )
         .unwrap();
-        let tight = Udct::new(
-            n,
-            n,
-            &UdctParams {
-                wedges: wedges.clone(),
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let tight = Udct::new(n, n, &UdctParams::default().wedges(wedges.clone())).unwrap();
         let x = rng::normal_vec(3, n * n, 0.0, 1.0).unwrap();
         let ex: f64 = x.iter().map(|v| v * v).sum();
         let pl = (loose.forward(&x).unwrap().energy() - ex).abs() / ex;
@@ -206,15 +191,7 @@ fn fdct_is_an_exact_tight_frame() {
         (131, 200, Finest::Wavelets),
     ];
     for (r, c, finest) in cases {
-        let f = Fdct::new(
-            r,
-            c,
-            &FdctParams {
-                finest,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let f = Fdct::new(r, c, &FdctParams::default().finest(finest)).unwrap();
         let mut inputs = vec![rng::complex_normal_vec(r as u64, r * c, 1.0).unwrap()];
         if r == c {
             let img = phantom::shepp_logan_image(r).unwrap();
@@ -357,10 +334,7 @@ fn headline_reconstruction_data_consistency_and_convergence() {
     let (data, reference) = shepp_logan(n, 0.4, 1);
     assert!((data.rate() - 0.4).abs() < 0.01);
     let zf = data.zero_filled();
-    let p = CsalsaParams {
-        record_history: true,
-        ..Default::default()
-    };
+    let p = CsalsaParams::default().record_history(true);
     let rec = udct_l1(&data, &p, Some(&reference));
     let (pz, pr) = (
         metrics::psnr(&reference, &zf).unwrap(),
@@ -398,10 +372,7 @@ fn headline_reconstruction_data_consistency_and_convergence() {
 fn mse_reaches_its_floor_by_iteration_25() {
     let n = 256;
     let (data, reference) = shepp_logan(n, 0.4, 1);
-    let p = CsalsaParams {
-        record_history: true,
-        ..Default::default()
-    };
+    let p = CsalsaParams::default().record_history(true);
     let rec = udct_l1(&data, &p, Some(&reference));
     let h: Vec<f64> = rec.history.iter().map(|s| s.mse.unwrap()).collect();
     for k in 10..h.len() {
@@ -448,10 +419,7 @@ fn noisy_case(n: usize) -> (KSpace, Vec<Complex64>, f64, f64) {
 #[test]
 fn noisy_reconstruction_beats_the_full_noisy_image_and_respects_eps() {
     let (data, reference, eps, noisy_full_psnr) = noisy_case(256);
-    let p = CsalsaParams {
-        epsilon: eps,
-        ..Default::default()
-    };
+    let p = CsalsaParams::default().epsilon(eps);
     let rec = udct_l1(&data, &p, None);
     let pr = metrics::psnr(&reference, &rec.image).unwrap();
     println!("full noisy {noisy_full_psnr:.2} dB, UDCSMRI(l1) {pr:.2} dB");
@@ -468,11 +436,7 @@ fn noisy_reconstruction_beats_the_full_noisy_image_and_respects_eps() {
 #[test]
 fn mse_reaches_its_floor_by_iteration_25_on_noisy_data() {
     let (data, reference, eps, noisy_full_psnr) = noisy_case(256);
-    let p = CsalsaParams {
-        epsilon: eps,
-        record_history: true,
-        ..Default::default()
-    };
+    let p = CsalsaParams::default().epsilon(eps).record_history(true);
     let rec = udct_l1(&data, &p, Some(&reference));
     let h: Vec<f64> = rec.history.iter().map(|s| s.mse.unwrap()).collect();
     assert_eq!(h.len(), 70);
@@ -498,10 +462,7 @@ fn tv_variant_matches_a_direct_tv_constrained_solver() {
     let n = 128;
     let (data, reference) = shepp_logan(n, 0.4, 1);
     let psi = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
-    let p = CsalsaParams {
-        max_iter: 500,
-        ..Default::default()
-    };
+    let p = CsalsaParams::default().max_iter(500);
     let tv = csalsa(
         &data,
         &psi,
@@ -604,40 +565,20 @@ fn bad_input_is_rejected_with_clear_errors() {
     assert!(e.to_string().contains("divisible by 16"), "{e}");
     // Wedge counts.
     for w in [vec![[4, 6]], vec![[0, 3]], vec![]] {
-        assert!(Udct::new(
-            64,
-            64,
-            &UdctParams {
-                wedges: w,
-                ..Default::default()
-            }
-        )
-        .is_err());
+        assert!(Udct::new(64, 64, &UdctParams::default().wedges(w)).is_err());
     }
     // eps < 0, tau <= 0.
     let data = KSpace::new(n, n, k, mask).unwrap();
     let psi = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
     for p in [
-        CsalsaParams {
-            epsilon: -1.0,
-            ..Default::default()
-        },
-        CsalsaParams {
-            tau0: 0.0,
-            ..Default::default()
-        },
-        CsalsaParams {
-            rho: f64::NAN,
-            ..Default::default()
-        },
+        CsalsaParams::default().epsilon(-1.0),
+        CsalsaParams::default().tau0(0.0),
+        CsalsaParams::default().rho(f64::NAN),
     ] {
         assert!(csalsa(&data, &psi, Regularizer::default(), &p, None, &NoProgress).is_err());
     }
     // max_iter = 0 returns the zero-filled image.
-    let p = CsalsaParams {
-        max_iter: 0,
-        ..Default::default()
-    };
+    let p = CsalsaParams::default().max_iter(0);
     let r = csalsa(&data, &psi, Regularizer::default(), &p, None, &NoProgress).unwrap();
     assert_eq!(r.image, data.zero_filled());
     // A prior planned for another shape.
@@ -657,11 +598,11 @@ fn bad_input_is_rejected_with_clear_errors() {
     assert!(masks::pseudo_radial(n, n, 1.5).is_err());
     assert!(sparsifier::by_name("curvelet", n, n, &PriorParams::default()).is_err());
     // FDCT configuration and inputs.
-    let fd = |angles_coarse: usize, scales: Option<usize>, transition: f64| FdctParams {
-        angles_coarse,
-        scales,
-        transition,
-        ..Default::default()
+    let fd = |angles_coarse: usize, scales: Option<usize>, transition: f64| {
+        FdctParams::default()
+            .angles_coarse(angles_coarse)
+            .scales(scales)
+            .transition(transition)
     };
     for (cfg, what) in [
         (fd(6, None, 1.0), "angles_coarse"),
@@ -743,12 +684,7 @@ fn tune_on_development_image() {
         let mut best = (f64::MIN, 0.0, 0.0);
         for a in A_GRID {
             for b in B_GRID {
-                let p = CompositeParams {
-                    a,
-                    b,
-                    group_weight: b,
-                    ..Default::default()
-                };
+                let p = CompositeParams::default().a(a).b(b).group_weight(b);
                 let r = f(&data, &p, None, &NoProgress).unwrap();
                 let q = metrics::psnr(&img, &r.image).unwrap();
                 if q > best.0 {
@@ -775,10 +711,7 @@ fn udct_prior_is_not_worse_than_db4_on_a_complex_phase_image() {
     let udct = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
     let db4 = WaveletSparsifier::new(n, n, 4, 4).unwrap();
     let run = |psi: &dyn Sparsifier, tau0: f64| {
-        let p = CsalsaParams {
-            tau0,
-            ..Default::default()
-        };
+        let p = CsalsaParams::default().tau0(tau0);
         let r = csalsa(&data, psi, Regularizer::default(), &p, None, &NoProgress).unwrap();
         metrics::psnr(&img, &r.image).unwrap()
     };
@@ -801,12 +734,10 @@ fn udct_prior_is_not_worse_than_the_composite_baselines() {
     let p = CsalsaParams::default();
     let r = csalsa(&data, &udct, Regularizer::default(), &p, None, &NoProgress).unwrap();
     let pu = metrics::psnr(&img, &r.image).unwrap();
-    let cp = CompositeParams {
-        a: 0.004,
-        b: 0.0025,
-        group_weight: 0.0025,
-        ..Default::default()
-    };
+    let cp = CompositeParams::default()
+        .a(0.004)
+        .b(0.0025)
+        .group_weight(0.0025);
     for (name, f) in [
         (
             "FCSA",
@@ -844,12 +775,10 @@ fn tvcmri_and_fcsa_reach_the_same_objective() {
 fn objectives_after(iters: usize) -> (f64, f64) {
     let n = 128;
     let (data, _) = shepp_logan(n, 0.4, 1);
-    let p = CompositeParams {
-        a: 0.004,
-        b: 0.0025,
-        max_iter: iters,
-        ..Default::default()
-    };
+    let p = CompositeParams::default()
+        .a(0.004)
+        .b(0.0025)
+        .max_iter(iters);
     let f = baselines::fcsa(&data, &p, None, &NoProgress).unwrap();
     let t = baselines::tvcmri(&data, &p, None, &NoProgress).unwrap();
     (
@@ -865,11 +794,7 @@ fn condat_vu_reaches_a_lower_objective_than_fcsa() {
     let (of, ot) = objectives_after(300);
     let n = 128;
     let (data, _) = shepp_logan(n, 0.4, 1);
-    let p = CompositeParams {
-        a: 0.004,
-        b: 0.0025,
-        ..Default::default()
-    };
+    let p = CompositeParams::default().a(0.004).b(0.0025);
     let o0 = baselines::composite_objective(&data, &data.zero_filled(), &p, false).unwrap();
     println!("objective zero-filled {o0:.4}, FCSA {of:.4}, TVCMRI {ot:.4}");
     assert!(ot <= of, "{ot} vs {of}");
@@ -879,10 +804,7 @@ fn condat_vu_reaches_a_lower_objective_than_fcsa() {
 // ---------- the SFLCT priors of Tables 2 and 3 (Lu & Do 2006) ----------
 
 fn sflct(redundancy: sflct::Redundancy) -> sflct::Sflct {
-    let cfg = sflct::SflctParams {
-        redundancy,
-        ..Default::default()
-    };
+    let cfg = sflct::SflctParams::default().redundancy(redundancy);
     sflct::Sflct::new(256, 256, &cfg).unwrap()
 }
 
@@ -991,10 +913,7 @@ fn sflct_plane_waves_land_in_their_wedge() {
 
 /// PSNR of C-SALSA-l1 (70 iterations) with the prior `psi` at `tau0`.
 fn psnr_at(data: &KSpace, reference: &[Complex64], psi: &dyn Sparsifier, tau0: f64) -> f64 {
-    let p = CsalsaParams {
-        tau0,
-        ..Default::default()
-    };
+    let p = CsalsaParams::default().tau0(tau0);
     let rec = csalsa(data, psi, Regularizer::default(), &p, None, &NoProgress).unwrap();
     metrics::psnr(reference, &rec.image).unwrap()
 }
@@ -1058,10 +977,7 @@ fn udct_prior_beats_both_sflct_priors() {
 /// rejected with messages naming the problem.
 #[test]
 fn sflct_bad_input_is_rejected() {
-    let cfg = |levels: Vec<usize>| sflct::SflctParams {
-        dfb_levels: levels,
-        ..Default::default()
-    };
+    let cfg = |levels: Vec<usize>| sflct::SflctParams::default().dfb_levels(levels);
     let e = sflct::Sflct::new(200, 256, &cfg(vec![3, 3, 4]))
         .err()
         .unwrap();
@@ -1079,10 +995,7 @@ fn sflct_bad_input_is_rejected() {
         "mrsflct",
         64,
         64,
-        &PriorParams {
-            sflct_levels: vec![2, 3],
-            ..Default::default()
-        },
+        &PriorParams::default().sflct_levels(vec![2, 3]),
     )
     .unwrap();
     let e = csalsa(

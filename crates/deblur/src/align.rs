@@ -11,15 +11,17 @@ use wscg_math::{Error, Image, Result};
 use crate::tiling::check_frame;
 use crate::warp::{apply_h, bilinear};
 
-/// Options of [`align_homography`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AlignParams {
-    /// Pyramid levels (1 = full resolution only; default 3).
-    pub levels: usize,
-    /// ECC iterations per level, coarsest first; the last value repeats (default 30, 15, 5).
-    pub iterations: [usize; 3],
-    /// Stop a level when the parameter update is below this (default 1e-5).
-    pub eps: f64,
+wscg_math::params! {
+    /// Options of [`align_homography`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct AlignParams {
+        /// Pyramid levels (1 = full resolution only; default 3).
+        pub levels: usize,
+        /// ECC iterations per level, coarsest first; the last value repeats (default 30, 15, 5).
+        pub iterations: [usize; 3],
+        /// Stop a level when the parameter update is below this (default 1e-5).
+        pub eps: f64,
+    }
 }
 
 impl Default for AlignParams {

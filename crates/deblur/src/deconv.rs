@@ -10,21 +10,23 @@ use wscg_math::{Error, Result};
 use crate::spectral::{Grid, Scratch};
 use crate::wstep::WLut;
 
-/// Parameters of the hyper-Laplacian solver (paper eqs. 7-8, Krishnan & Fergus 2009).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HyperLaplacianParams {
-    /// Data weight `lambda` for intensities in `[0, 1]` (default 2000, KF's demo value).
-    pub lambda: f32,
-    /// Gradient exponent `alpha` in `(0, 2]` (default 1/2, the paper's choice).
-    pub alpha: f32,
-    /// First penalty weight `beta_0` (default 1).
-    pub beta0: f32,
-    /// Factor between penalty weights (default `2 sqrt 2`).
-    pub beta_rate: f32,
-    /// Continuation stops once `beta >= beta_max` (default 256: six steps).
-    pub beta_max: f32,
-    /// Alternations of w- and I-steps per `beta` (default 1).
-    pub inner: usize,
+wscg_math::params! {
+    /// Parameters of the hyper-Laplacian solver (paper eqs. 7-8, Krishnan & Fergus 2009).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct HyperLaplacianParams {
+        /// Data weight `lambda` for intensities in `[0, 1]` (default 2000, KF's demo value).
+        pub lambda: f32,
+        /// Gradient exponent `alpha` in `(0, 2]` (default 1/2, the paper's choice).
+        pub alpha: f32,
+        /// First penalty weight `beta_0` (default 1).
+        pub beta0: f32,
+        /// Factor between penalty weights (default `2 sqrt 2`).
+        pub beta_rate: f32,
+        /// Continuation stops once `beta >= beta_max` (default 256: six steps).
+        pub beta_max: f32,
+        /// Alternations of w- and I-steps per `beta` (default 1).
+        pub inner: usize,
+    }
 }
 
 impl Default for HyperLaplacianParams {

@@ -200,19 +200,21 @@ pub fn blurriness(k: &Kernel) -> f64 {
     (vx + vy).sqrt()
 }
 
-/// Options of [`render_kernel`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct KernelParams {
-    /// Fewest time sub-steps over the exposure (default 32).
-    pub min_steps: usize,
-    /// Sub-steps are refined until consecutive projections are closer than this (px, 0.25).
-    pub max_step_px: f64,
-    /// Most sub-steps (default 4096).
-    pub max_steps: usize,
-    /// Crop threshold relative to the peak weight (default 1e-4).
-    pub threshold: f64,
-    /// Largest allowed kernel side in pixels (default 128); larger blur is an error.
-    pub max_size: usize,
+wscg_math::params! {
+    /// Options of [`render_kernel`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct KernelParams {
+        /// Fewest time sub-steps over the exposure (default 32).
+        pub min_steps: usize,
+        /// Sub-steps are refined until consecutive projections are closer than this (px, 0.25).
+        pub max_step_px: f64,
+        /// Most sub-steps (default 4096).
+        pub max_steps: usize,
+        /// Crop threshold relative to the peak weight (default 1e-4).
+        pub threshold: f64,
+        /// Largest allowed kernel side in pixels (default 128); larger blur is an error.
+        pub max_size: usize,
+    }
 }
 
 impl Default for KernelParams {

@@ -53,7 +53,8 @@ pub use deconv::HyperLaplacianParams;
 pub use gyro::{GyroSample, GyroTrack};
 pub use kernel::{blurriness, kernel_grid, render_kernel, Kernel, KernelGrid, KernelParams};
 pub use multiframe::{
-    deblur_frame, deblur_multiframe, frame_weights, AlignMode, DeblurOutput, FrameInput, MultiframeParams,
+    deblur_frame, deblur_multiframe, frame_weights, AlignMode, DeblurOutput, FrameInput,
+    MultiframeParams,
 };
 pub use spectral::smooth_size;
 pub use tiling::{

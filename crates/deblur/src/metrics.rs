@@ -32,10 +32,7 @@ pub fn quality(restored: &Image<f32>, truth: &Image<f32>, border: usize) -> Resu
         &b,
         h - 2 * border,
         w - 2 * border,
-        &SsimParams {
-            data_range: 255.0,
-            ..Default::default()
-        },
+        &SsimParams::default().data_range(255.0),
     )?;
     Ok((p, s))
 }

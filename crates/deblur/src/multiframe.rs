@@ -35,33 +35,35 @@ pub enum AlignMode {
     Ecc(AlignParams),
 }
 
-/// Options of [`deblur_multiframe`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MultiframeParams {
-    /// Exposure time `t_e` (s).
-    pub t_exposure: f64,
-    /// Rolling-shutter readout `t_r` (s, 0 for a global shutter).
-    pub t_readout: f64,
-    /// Gyro-camera delay `t_d` (s).
-    pub t_delay: f64,
-    /// Camera response (default gamma 2.2, section 3.3); `None` treats values as linear.
-    pub gamma: Option<Gamma>,
-    /// Region layout (30 px regions).
-    pub tiling: Tiling,
-    /// Hyper-Laplacian solver parameters.
-    pub hl: HyperLaplacianParams,
-    /// Weight `mu` of the multi-frame prior (eq. 9; default 250 = lambda / 8, tuned on the
-    /// development image, benches/peers/_12_tune.py).
-    pub mu: f32,
-    /// Kernel rendering options.
-    pub kernel: KernelParams,
-    /// Alignment of the neighbours.
-    pub align: AlignMode,
-    /// A neighbour whose aligned correlation with the main estimate is below this is dropped
-    /// (default 0.8).
-    pub min_ncc: f64,
-    /// Use at most this many frames on each side of the main frame (`None`: all).
-    pub radius: Option<usize>,
+wscg_math::params! {
+    /// Options of [`deblur_multiframe`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct MultiframeParams {
+        /// Exposure time `t_e` (s).
+        pub t_exposure: f64,
+        /// Rolling-shutter readout `t_r` (s, 0 for a global shutter).
+        pub t_readout: f64,
+        /// Gyro-camera delay `t_d` (s).
+        pub t_delay: f64,
+        /// Camera response (default gamma 2.2, section 3.3); `None` treats values as linear.
+        pub gamma: Option<Gamma>,
+        /// Region layout (30 px regions).
+        pub tiling: Tiling,
+        /// Hyper-Laplacian solver parameters.
+        pub hl: HyperLaplacianParams,
+        /// Weight `mu` of the multi-frame prior (eq. 9; default 250 = lambda / 8, tuned on the
+        /// development image, benches/peers/_12_tune.py).
+        pub mu: f32,
+        /// Kernel rendering options.
+        pub kernel: KernelParams,
+        /// Alignment of the neighbours.
+        pub align: AlignMode,
+        /// A neighbour whose aligned correlation with the main estimate is below this is dropped
+        /// (default 0.8).
+        pub min_ncc: f64,
+        /// Use at most this many frames on each side of the main frame (`None`: all).
+        pub radius: Option<usize>,
+    }
 }
 
 impl Default for MultiframeParams {

@@ -15,20 +15,22 @@ use crate::gyro::{GyroSample, GyroTrack};
 use crate::tiling::check_frame;
 use crate::warp::bicubic;
 
-/// Hand-shake model: an Ornstein-Uhlenbeck process per camera axis.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShakeParams {
-    /// Sampling rate in Hz (default 200, the paper's phone gyroscope).
-    pub rate: f64,
-    /// Correlation time in seconds (default 0.05).
-    pub tau: f64,
-    /// Stationary standard deviation of the rate about x (pitch), y (yaw), z (roll), rad/s
-    /// (default 0.35, 0.35, 0.10).
-    pub std: [f64; 3],
-    /// Start time of the trace (s).
-    pub t0: f64,
-    /// Duration (s).
-    pub duration: f64,
+wscg_math::params! {
+    /// Hand-shake model: an Ornstein-Uhlenbeck process per camera axis.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct ShakeParams {
+        /// Sampling rate in Hz (default 200, the paper's phone gyroscope).
+        pub rate: f64,
+        /// Correlation time in seconds (default 0.05).
+        pub tau: f64,
+        /// Stationary standard deviation of the rate about x (pitch), y (yaw), z (roll), rad/s
+        /// (default 0.35, 0.35, 0.10).
+        pub std: [f64; 3],
+        /// Start time of the trace (s).
+        pub t0: f64,
+        /// Duration (s).
+        pub duration: f64,
+    }
 }
 
 impl Default for ShakeParams {
@@ -92,18 +94,20 @@ pub fn add_gyro_noise(samples: &[GyroSample], sigma: f64, seed: u64) -> Result<V
         .collect())
 }
 
-/// Options of [`render_blurred`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BlurRenderParams {
-    /// Fewest time sub-steps per row (default 64); more are used so that consecutive
-    /// sub-steps move the image by at most half a pixel.
-    pub min_steps: usize,
-    /// Standard deviation of the Gaussian noise added to the linear image (default 0.005).
-    pub noise_sigma: f32,
-    /// Camera response applied after the noise (default gamma 2.2); `None` keeps linear values.
-    pub gamma: Option<Gamma>,
-    /// Quantise the display values to 8 bits (default true).
-    pub quantise: bool,
+wscg_math::params! {
+    /// Options of [`render_blurred`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct BlurRenderParams {
+        /// Fewest time sub-steps per row (default 64); more are used so that consecutive
+        /// sub-steps move the image by at most half a pixel.
+        pub min_steps: usize,
+        /// Standard deviation of the Gaussian noise added to the linear image (default 0.005).
+        pub noise_sigma: f32,
+        /// Camera response applied after the noise (default gamma 2.2); `None` keeps linear values.
+        pub gamma: Option<Gamma>,
+        /// Quantise the display values to 8 bits (default true).
+        pub quantise: bool,
+    }
 }
 
 impl Default for BlurRenderParams {

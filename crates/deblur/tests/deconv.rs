@@ -3,8 +3,8 @@
 use wscg_deblur::tiling::{convolve, convolve_piecewise};
 use wscg_deblur::wstep::{w_energy, w_exact, WLut};
 use wscg_deblur::{
-    deblur_piecewise, deconv_hl, richardson_lucy, synth, wiener, HyperLaplacianParams, Kernel, KernelGrid,
-    Method, Tiling,
+    deblur_piecewise, deconv_hl, richardson_lucy, synth, wiener, HyperLaplacianParams, Kernel,
+    KernelGrid, Method, Tiling,
 };
 use wscg_math::metrics::psnr;
 use wscg_math::{rng, Image};
@@ -112,10 +112,7 @@ fn krishnan_fergus_beats_blur_and_the_best_wiener_on_a_diagonal_line_blur() {
                 &deconv_hl(
                     &blurred,
                     &k,
-                    &HyperLaplacianParams {
-                        lambda,
-                        ..Default::default()
-                    },
+                    &HyperLaplacianParams::default().lambda(lambda),
                 )
                 .unwrap(),
                 &sharp,
@@ -216,18 +213,9 @@ fn solver_rejects_bad_parameters() {
     let img = synth::scene(40, 40, 1).unwrap();
     let k = Kernel::delta();
     for p in [
-        HyperLaplacianParams {
-            alpha: 0.0,
-            ..Default::default()
-        },
-        HyperLaplacianParams {
-            alpha: 2.5,
-            ..Default::default()
-        },
-        HyperLaplacianParams {
-            lambda: -1.0,
-            ..Default::default()
-        },
+        HyperLaplacianParams::default().alpha(0.0),
+        HyperLaplacianParams::default().alpha(2.5),
+        HyperLaplacianParams::default().lambda(-1.0),
     ] {
         assert!(deconv_hl(&img, &k, &p).is_err());
     }

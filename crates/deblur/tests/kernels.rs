@@ -37,7 +37,14 @@ fn segment_length(var: f64) -> f64 {
 #[test]
 fn pure_yaw_kernel_is_a_horizontal_segment_of_six_pixels() {
     let track = GyroTrack::from_camera_rates(&constant_rate([0.0, 0.3, 0.0], 200.0, 1.0)).unwrap();
-    let k = render_kernel(&track, &timing(), &K, (K.cx, K.cy), &KernelParams::default()).unwrap();
+    let k = render_kernel(
+        &track,
+        &timing(),
+        &K,
+        (K.cx, K.cy),
+        &KernelParams::default(),
+    )
+    .unwrap();
     let sum: f64 = k.data.iter().map(|&v| v as f64).sum();
     assert!((sum - 1.0).abs() < 1e-6, "sum {sum}");
     assert!(k.data.iter().all(|&v| v >= 0.0));
@@ -113,17 +120,21 @@ fn camera_imu_rotation_permutes_the_axes() {
         &KernelParams::default(),
     )
     .unwrap();
-    let b = render_kernel(&wrong, &timing(), &K, (K.cx, K.cy), &KernelParams::default()).unwrap();
+    let b = render_kernel(
+        &wrong,
+        &timing(),
+        &K,
+        (K.cx, K.cy),
+        &KernelParams::default(),
+    )
+    .unwrap();
     assert!(a.l1_distance(&b) > 0.5);
 }
 
 #[test]
 fn adaptive_steps_match_a_fine_fixed_sampling() {
     let samples = wscg_deblur::synth::ou_gyro(
-        &wscg_deblur::synth::ShakeParams {
-            std: [0.6, 0.6, 0.4],
-            ..Default::default()
-        },
+        &wscg_deblur::synth::ShakeParams::default().std([0.6, 0.6, 0.4]),
         3,
     )
     .unwrap();

@@ -1,7 +1,7 @@
 //! Blur model (checks 2, 8, 9): the gyro kernels reproduce densely rendered blur, the
 //! rolling-shutter rectification removes the shear, the time delay is recovered.
 
-use wscg_deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
+use wscg_deblur::synth::{self, BlurRenderParams, Burst, ShakeParams};
 use wscg_deblur::tiling::convolve_piecewise;
 use wscg_deblur::{
     estimate_time_delay, kernel_grid, phase_correlation, rectify_rolling_shutter, GyroSample,
@@ -10,12 +10,10 @@ use wscg_deblur::{
 use wscg_math::Image;
 
 fn linear() -> BlurRenderParams {
-    BlurRenderParams {
-        noise_sigma: 0.0,
-        gamma: None,
-        quantise: false,
-        ..Default::default()
-    }
+    BlurRenderParams::default()
+        .noise_sigma(0.0)
+        .gamma(None)
+        .quantise(false)
 }
 
 /// PSNR (range 1) over region interiors (4 px from region borders, 16 px from the frame edge).
@@ -47,14 +45,8 @@ fn region_kernels_reproduce_dense_blur_and_flipped_kernels_do_not() {
     let tiling = Tiling::default();
     let (mut worst, mut worst_gap) = (f64::MAX, f64::MAX);
     for seed in 0..20 {
-        let samples = synth::ou_gyro(
-            &ShakeParams {
-                duration: burst.duration(),
-                ..Default::default()
-            },
-            seed,
-        )
-        .unwrap();
+        let samples =
+            synth::ou_gyro(&ShakeParams::default().duration(burst.duration()), seed).unwrap();
         let track = GyroTrack::from_camera_rates(&samples).unwrap();
         let timing = burst.timing(0, h);
         let dense =
@@ -149,12 +141,10 @@ fn time_delay_is_recovered_from_ten_seconds_of_video() {
         ..Default::default()
     };
     let samples = synth::ou_gyro(
-        &ShakeParams {
-            duration: burst.duration(),
-            std: [0.3, 0.3, 0.05],
-            tau: 0.1,
-            ..Default::default()
-        },
+        &ShakeParams::default()
+            .duration(burst.duration())
+            .std([0.3, 0.3, 0.05])
+            .tau(0.1),
         5,
     )
     .unwrap();
@@ -163,10 +153,7 @@ fn time_delay_is_recovered_from_ten_seconds_of_video() {
     let measured_track = GyroTrack::from_camera_rates(&measured).unwrap();
     // Each consecutive pair is rendered with the world in the first frame's pose, so the
     // shake of ten seconds never leaves the scene.
-    let opts = BlurRenderParams {
-        min_steps: 16,
-        ..Default::default()
-    };
+    let opts = BlurRenderParams::default().min_steps(16);
     let render = |i: usize, world: f64, seed: u64| {
         synth::render_blurred(&sharp, &track, &burst.timing(i, h), &k, world, &opts, seed).unwrap()
     };

@@ -2,7 +2,7 @@
 //! Table-1 analogue on scikit-image's photographs.
 
 use wscg_deblur::metrics::quality;
-use wscg_deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
+use wscg_deblur::synth::{self, BlurRenderParams, Burst, ShakeParams};
 use wscg_deblur::{
     blurriness, deblur_frame, deblur_multiframe, render_kernel, FrameInput, GyroSample, GyroTrack,
     HyperLaplacianParams, Intrinsics, KernelParams, Method, MultiframeParams, Timing,
@@ -34,10 +34,7 @@ fn table1(sharp: &Image<f32>, seed: u64) -> Scores {
     .unwrap();
     let track = GyroTrack::from_camera_rates(&sb.measured).unwrap();
     let k = Intrinsics::centred(600.0, w, h);
-    let opts = MultiframeParams {
-        t_delay: burst.t_delay,
-        ..Default::default()
-    };
+    let opts = MultiframeParams::default().t_delay(burst.t_delay);
     let main = &sb.frames[2];
     let q = |img: &Image<f32>| quality(img, &sb.sharp_display, 16).unwrap();
     // Single-frame baselines (development-tuned parameters of Method::by_name).
@@ -48,10 +45,7 @@ fn table1(sharp: &Image<f32>, seed: u64) -> Scores {
             2,
             &track,
             &k,
-            &MultiframeParams {
-                radius: Some(radius),
-                ..opts
-            },
+            &opts.radius(Some(radius)),
             &NoProgress,
         )
         .unwrap()
@@ -131,10 +125,7 @@ fn piecewise_kernels_beat_one_global_kernel_under_roll() {
     let (mut ks, mut gu) = (0.0, 0.0);
     let seeds = 3;
     for seed in 0..seeds {
-        let ou = ShakeParams {
-            std: [0.1, 0.1, 1.0],
-            ..Default::default()
-        };
+        let ou = ShakeParams::default().std([0.1, 0.1, 1.0]);
         let sb = synth::make_burst(
             &sharp,
             &burst,
@@ -146,10 +137,7 @@ fn piecewise_kernels_beat_one_global_kernel_under_roll() {
         )
         .unwrap();
         let track = GyroTrack::from_camera_rates(&sb.measured).unwrap();
-        let opts = MultiframeParams {
-            t_delay: burst.t_delay,
-            ..Default::default()
-        };
+        let opts = MultiframeParams::default().t_delay(burst.t_delay);
         let q = |m: Method| {
             let img = deblur_frame(&sb.frames[0], &track, &k, &m, &opts)
                 .unwrap()
@@ -256,11 +244,7 @@ fn weights_steer_to_the_sharper_neighbour_per_region() {
             }
         })
         .collect();
-    let opts = MultiframeParams {
-        t_exposure: t_e,
-        t_delay: t_d,
-        ..Default::default()
-    };
+    let opts = MultiframeParams::default().t_exposure(t_e).t_delay(t_d);
     let out = deblur_multiframe(&frames, 1, &track, &k, &opts, &NoProgress).unwrap();
     assert_eq!(out.used_frames, vec![0, 1, 2], "{:?}", out.warnings);
     let (rows, cols) = (out.kernels.rows, out.kernels.cols);
@@ -348,10 +332,7 @@ fn multiframe_bad_input_and_all_neighbours_dropped() {
     .unwrap();
     let track = GyroTrack::from_camera_rates(&sb.measured).unwrap();
     let k = Intrinsics::centred(600.0, w, h);
-    let opts = MultiframeParams {
-        t_delay: burst.t_delay,
-        ..Default::default()
-    };
+    let opts = MultiframeParams::default().t_delay(burst.t_delay);
     let err = |frames: &[FrameInput], main: usize| {
         deblur_multiframe(frames, main, &track, &k, &opts, &NoProgress)
             .unwrap_err()
@@ -365,10 +346,7 @@ fn multiframe_bad_input_and_all_neighbours_dropped() {
     let mut nan = sb.frames.clone();
     nan[0].image.data_mut()[5] = f32::NAN;
     assert!(err(&nan, 1).contains("non-finite"));
-    let late = MultiframeParams {
-        t_delay: 5.0,
-        ..opts
-    };
+    let late = opts.t_delay(5.0);
     let e = deblur_multiframe(&sb.frames, 1, &track, &k, &late, &NoProgress)
         .unwrap_err()
         .to_string();

@@ -49,7 +49,7 @@ pub mod vote;
 
 pub use crf::{calibrate_debevec, Crf};
 pub use merge::{merge, merge_stack, MergeInput, Merged};
-pub use mitsunaga_nayar::{calibrate_mitsunaga_nayar, MnChannel, MnFit, MitsunagaNayarParams};
+pub use mitsunaga_nayar::{calibrate_mitsunaga_nayar, MitsunagaNayarParams, MnChannel, MnFit};
 pub use multiscopic::{multiscopic_hdr, Align, MultiscopicOut, MultiscopicParams, Synthesis};
 pub use nnf::Nnf;
 pub use pm::{patchmatch, patchmatch_2d, patchmatch_weighted, PatchMatchParams};

@@ -26,26 +26,28 @@ use wscg_math::{dense, Error, Image, Result};
 
 use crate::crf::{check_stack, monotone_channel, sample_grid, Crf};
 
-/// Parameters of [`calibrate_mitsunaga_nayar`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MitsunagaNayarParams {
-    /// Degree `N` of the polynomial; `None` picks it in `1..=max_degree` per channel by the
-    /// error on held-out samples (every second sample fits, the others judge; the smallest
-    /// degree within 25 % of the best error).
-    pub degree: Option<usize>,
-    /// Largest degree tried when `degree` is `None` (10).
-    pub max_degree: usize,
-    /// Sample pixels on a regular grid (2000; each gives one equation per pair of
-    /// consecutive exposures in which both codes lie within 2-98 % of the range).
-    pub samples: usize,
-    /// Re-estimate the exposure ratios (the method's iteration, true), or keep the ratios of
-    /// the given times (false).
-    pub refine_ratios: bool,
-    /// Convergence: the largest change of `f` over the codes between iterations (1e-7); the
-    /// alternation also stops once that change has not shrunk for two iterations.
-    pub tol: f64,
-    /// Most iterations of the alternation (100).
-    pub max_iter: usize,
+wscg_math::params! {
+    /// Parameters of [`calibrate_mitsunaga_nayar`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct MitsunagaNayarParams {
+        /// Degree `N` of the polynomial; `None` picks it in `1..=max_degree` per channel by the
+        /// error on held-out samples (every second sample fits, the others judge; the smallest
+        /// degree within 25 % of the best error).
+        pub degree: Option<usize>,
+        /// Largest degree tried when `degree` is `None` (10).
+        pub max_degree: usize,
+        /// Sample pixels on a regular grid (2000; each gives one equation per pair of
+        /// consecutive exposures in which both codes lie within 2-98 % of the range).
+        pub samples: usize,
+        /// Re-estimate the exposure ratios (the method's iteration, true), or keep the ratios of
+        /// the given times (false).
+        pub refine_ratios: bool,
+        /// Convergence: the largest change of `f` over the codes between iterations (1e-7); the
+        /// alternation also stops once that change has not shrunk for two iterations.
+        pub tol: f64,
+        /// Most iterations of the alternation (100).
+        pub max_iter: usize,
+    }
 }
 
 impl Default for MitsunagaNayarParams {

@@ -55,28 +55,30 @@ pub enum Synthesis {
     Direct,
 }
 
-/// Parameters of [`multiscopic_hdr`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MultiscopicParams {
-    /// Matching parameters; `pm.iters` are the iterations per direction.
-    pub pm: PatchMatchParams,
-    /// Alignment method.
-    pub align: Align,
-    /// Synthesis of the patch-based methods (the ZNCC baseline always warps directly).
-    pub synthesis: Synthesis,
-    /// Views are ordered left to right: a source right of the reference searches only
-    /// `[-Max_disp, 0]`, one on the left only `[0, Max_disp]` (halves the search, as the
-    /// epipolar argument of section 3.1 intends).
-    pub ordered: bool,
-    /// Window of the ZNCC baseline.
-    pub zncc_window: usize,
-    /// Fill the offsets of pixels clipped high in the reference from the nearest unclipped
-    /// pixel of their row, and vote radiance weighted by the Khan weights (an extension,
-    /// off by default). The paper leaves saturated reference areas unsolved: a clipped patch
-    /// carries no data, so the matcher's offsets there are arbitrary (on the five-view
-    /// scene under 1 % of them lie within a pixel of the truth). See [`fill_saturated_rows`]
-    /// and [`ViewSamples::stacked_weighted`].
-    pub fill_saturated: bool,
+wscg_math::params! {
+    /// Parameters of [`multiscopic_hdr`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct MultiscopicParams {
+        /// Matching parameters; `pm.iters` are the iterations per direction.
+        pub pm: PatchMatchParams,
+        /// Alignment method.
+        pub align: Align,
+        /// Synthesis of the patch-based methods (the ZNCC baseline always warps directly).
+        pub synthesis: Synthesis,
+        /// Views are ordered left to right: a source right of the reference searches only
+        /// `[-Max_disp, 0]`, one on the left only `[0, Max_disp]` (halves the search, as the
+        /// epipolar argument of section 3.1 intends).
+        pub ordered: bool,
+        /// Window of the ZNCC baseline.
+        pub zncc_window: usize,
+        /// Fill the offsets of pixels clipped high in the reference from the nearest unclipped
+        /// pixel of their row, and vote radiance weighted by the Khan weights (an extension,
+        /// off by default). The paper leaves saturated reference areas unsolved: a clipped patch
+        /// carries no data, so the matcher's offsets there are arbitrary (on the five-view
+        /// scene under 1 % of them lie within a pixel of the truth). See [`fill_saturated_rows`]
+        /// and [`ViewSamples::stacked_weighted`].
+        pub fill_saturated: bool,
+    }
 }
 
 impl Default for MultiscopicParams {
@@ -213,7 +215,9 @@ fn match_pair(e: &[ViewSamples], r: usize, s: usize, p: &MultiscopicParams) -> R
     let (a, b) = (&e[r].radiance, &e[s].radiance);
     let mut f = match p.align {
         Align::Ours => patchmatch_weighted(a, b, &e[r].weight, &e[s].weight, &pm),
-        Align::PatchMatch2d => patchmatch(a, b, &PatchMatchParams::barnes(pm.patch, pm.iters, pm.seed)),
+        Align::PatchMatch2d => {
+            patchmatch(a, b, &PatchMatchParams::barnes(pm.patch, pm.iters, pm.seed))
+        }
         Align::Zncc => zncc_stereo(
             a,
             b,

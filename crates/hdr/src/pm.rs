@@ -20,34 +20,36 @@ use wscg_math::{rng, Error, Image, Result};
 
 use crate::nnf::Nnf;
 
-/// Parameters of [`patchmatch`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PatchMatchParams {
-    /// Patch side `N` (odd, `>= 3`; the paper's figures use 7).
-    pub patch: usize,
-    /// Iterations (the paper: "two iterations were enough").
-    pub iters: usize,
-    /// Smallest horizontal offset searched (epipolar mode).
-    pub d_min: i32,
-    /// Largest horizontal offset searched (epipolar mode).
-    pub d_max: i32,
-    /// Vertical tolerance of the epipolar search (0: exact rectification).
-    pub v_tol: i32,
-    /// Ratio `alpha` of the random search radii (eq. 1; 1/2 as suggested).
-    pub alpha: f32,
-    /// Search on the epipolar line (the paper) or over the whole image (2-D).
-    pub epipolar: bool,
-    /// Divide the SSD by the coherence term `C` (eq. 2) or use the SSD alone.
-    pub coherence: bool,
-    /// Lower bound of `C` (the paper leaves `C <= 0` undefined).
-    pub c_min: f32,
-    /// Seed of the initialisation and the random search.
-    pub seed: u64,
-    /// Not in the paper (an ablation): weight each squared difference by the smaller Khan
-    /// weight of the two samples, so clipped pixels do not drive the match (used by
-    /// [`patchmatch_weighted`] and the multiscopic driver; plain [`patchmatch`] has no
-    /// weights and ignores it).
-    pub weighted_cost: bool,
+wscg_math::params! {
+    /// Parameters of [`patchmatch`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct PatchMatchParams {
+        /// Patch side `N` (odd, `>= 3`; the paper's figures use 7).
+        pub patch: usize,
+        /// Iterations (the paper: "two iterations were enough").
+        pub iters: usize,
+        /// Smallest horizontal offset searched (epipolar mode).
+        pub d_min: i32,
+        /// Largest horizontal offset searched (epipolar mode).
+        pub d_max: i32,
+        /// Vertical tolerance of the epipolar search (0: exact rectification).
+        pub v_tol: i32,
+        /// Ratio `alpha` of the random search radii (eq. 1; 1/2 as suggested).
+        pub alpha: f32,
+        /// Search on the epipolar line (the paper) or over the whole image (2-D).
+        pub epipolar: bool,
+        /// Divide the SSD by the coherence term `C` (eq. 2) or use the SSD alone.
+        pub coherence: bool,
+        /// Lower bound of `C` (the paper leaves `C <= 0` undefined).
+        pub c_min: f32,
+        /// Seed of the initialisation and the random search.
+        pub seed: u64,
+        /// Not in the paper (an ablation): weight each squared difference by the smaller Khan
+        /// weight of the two samples, so clipped pixels do not drive the match (used by
+        /// [`patchmatch_weighted`] and the multiscopic driver; plain [`patchmatch`] has no
+        /// weights and ignores it).
+        pub weighted_cost: bool,
+    }
 }
 
 impl Default for PatchMatchParams {

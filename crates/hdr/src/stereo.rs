@@ -9,17 +9,19 @@ use wscg_math::{Error, Image, Result};
 use crate::nnf::Nnf;
 use crate::pm::{check_pair, check_patch};
 
-/// Parameters of [`zncc_stereo`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StereoParams {
-    /// Window side (odd, `>= 3`).
-    pub window: usize,
-    /// Smallest horizontal offset `d` (pixel `x` of `A` matches `x + d` of `B`).
-    pub d_min: i32,
-    /// Largest horizontal offset.
-    pub d_max: i32,
-    /// Left-right consistency tolerance `|d_AB + d_BA| <= tol`.
-    pub lr_tol: i32,
+wscg_math::params! {
+    /// Parameters of [`zncc_stereo`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct StereoParams {
+        /// Window side (odd, `>= 3`).
+        pub window: usize,
+        /// Smallest horizontal offset `d` (pixel `x` of `A` matches `x + d` of `B`).
+        pub d_min: i32,
+        /// Largest horizontal offset.
+        pub d_max: i32,
+        /// Left-right consistency tolerance `|d_AB + d_BA| <= tol`.
+        pub lr_tol: i32,
+    }
 }
 
 impl Default for StereoParams {

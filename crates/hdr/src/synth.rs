@@ -94,25 +94,27 @@ pub struct Layer {
     pub seed: u64,
 }
 
-/// Configuration of [`layered_scene`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct SceneParams {
-    /// Image height.
-    pub height: usize,
-    /// Image width.
-    pub width: usize,
-    /// Exposure time of each camera, seconds (the number of cameras).
-    pub times: Vec<f64>,
-    /// Planes, back to front (the first one should cover the image).
-    pub layers: Vec<Layer>,
-    /// Peak of the emitter relative to the base illumination.
-    pub emitter_peak: f64,
-    /// Response of the cameras.
-    pub response: Response,
-    /// Sensor noise, standard deviation of the signal in `[0, 1]` before quantisation.
-    pub noise: f64,
-    /// Bit depth of the views.
-    pub bits: u8,
+wscg_math::params! {
+    /// Configuration of [`layered_scene`].
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct SceneParams {
+        /// Image height.
+        pub height: usize,
+        /// Image width.
+        pub width: usize,
+        /// Exposure time of each camera, seconds (the number of cameras).
+        pub times: Vec<f64>,
+        /// Planes, back to front (the first one should cover the image).
+        pub layers: Vec<Layer>,
+        /// Peak of the emitter relative to the base illumination.
+        pub emitter_peak: f64,
+        /// Response of the cameras.
+        pub response: Response,
+        /// Sensor noise, standard deviation of the signal in `[0, 1]` before quantisation.
+        pub noise: f64,
+        /// Bit depth of the views.
+        pub bits: u8,
+    }
 }
 
 impl Default for SceneParams {

@@ -32,12 +32,10 @@ fn radiance_pair(
     times: [f64; 2],
     seed: u64,
 ) -> (Image<f32>, Image<f32>, SynthScene) {
-    let cfg = SceneParams {
-        height,
-        width,
-        times: times.to_vec(),
-        ..SceneParams::default()
-    };
+    let cfg = SceneParams::default()
+        .height(height)
+        .width(width)
+        .times(times.to_vec());
     let sc = layered_scene(&cfg, seed).unwrap();
     let a = to_radiance(&sc.views[0], &sc.crf, sc.times[0]).unwrap();
     let b = to_radiance(&sc.views[1], &sc.crf, sc.times[1]).unwrap();
@@ -45,11 +43,7 @@ fn radiance_pair(
 }
 
 fn params(d_min: i32, d_max: i32) -> PatchMatchParams {
-    PatchMatchParams {
-        d_min,
-        d_max,
-        ..PatchMatchParams::default()
-    }
+    PatchMatchParams::default().d_min(d_min).d_max(d_max)
 }
 
 #[test]
@@ -83,11 +77,7 @@ fn epipolar_patchmatch_recovers_a_known_shift() {
 fn costs_are_the_patch_distances_of_the_offsets() {
     // A sub-pixel shift: no exact matches, every cost positive.
     let (a, b) = (texture(40, 80, 0.0), texture(40, 80, 6.4));
-    let p = PatchMatchParams {
-        coherence: false,
-        iters: 3,
-        ..params(-16, 16)
-    };
+    let p = params(-16, 16).coherence(false).iters(3);
     let f = patchmatch(&a, &b, &p).unwrap();
     let (h, w, half) = (40i32, 80i32, 3i32);
     let mut positive = 0;
@@ -137,10 +127,7 @@ fn costs_are_the_patch_distances_of_the_offsets() {
 fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
     let (a, b, _) = radiance_pair(64, 112, [0.02, 0.08], 3);
     for (lo, hi) in [(-40, 0), (-25, 30), (5, 12)] {
-        let p = PatchMatchParams {
-            seed: 9,
-            ..params(lo, hi)
-        };
+        let p = params(lo, hi).seed(9);
         let f = patchmatch(&a, &b, &p).unwrap();
         for y in 0..64 {
             for x in 0..112 {
@@ -159,26 +146,8 @@ fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
         assert_eq!(f, patchmatch(&a, &b, &p).unwrap(), "same seed, same field");
     }
     // Another seed gives another (random) initialisation.
-    let f1 = patchmatch(
-        &a,
-        &b,
-        &PatchMatchParams {
-            iters: 0,
-            seed: 1,
-            ..params(-40, 40)
-        },
-    )
-    .unwrap();
-    let f2 = patchmatch(
-        &a,
-        &b,
-        &PatchMatchParams {
-            iters: 0,
-            seed: 2,
-            ..params(-40, 40)
-        },
-    )
-    .unwrap();
+    let f1 = patchmatch(&a, &b, &params(-40, 40).iters(0).seed(1)).unwrap();
+    let f2 = patchmatch(&a, &b, &params(-40, 40).iters(0).seed(2)).unwrap();
     assert_ne!(f1.off, f2.off);
 }
 
@@ -191,17 +160,8 @@ fn fields_stay_on_the_scanline_in_range_and_are_deterministic() {
 fn fields_do_not_depend_on_the_thread_count() {
     let (a, b, _) = radiance_pair(72, 136, [0.02, 0.08], 4);
     let configs = [
-        PatchMatchParams {
-            iters: 5,
-            seed: 3,
-            ..params(-50, 10)
-        },
-        PatchMatchParams {
-            iters: 4,
-            v_tol: 2,
-            seed: 4,
-            ..params(-30, 30)
-        },
+        params(-50, 10).iters(5).seed(3),
+        params(-30, 30).iters(4).v_tol(2).seed(4),
         PatchMatchParams::barnes(5, 3, 5),
     ];
     let pool = |n| {
@@ -251,15 +211,7 @@ fn the_coherence_term_makes_fields_more_coherent() {
     let (a, b, sc) = radiance_pair(96, 160, [0.03, 0.12], 5);
     let truth: Vec<f32> = sc.disparity[0].data().iter().map(|d| -d).collect();
     let with = patchmatch(&a, &b, &params(-48, 48)).unwrap();
-    let without = patchmatch(
-        &a,
-        &b,
-        &PatchMatchParams {
-            coherence: false,
-            ..params(-48, 48)
-        },
-    )
-    .unwrap();
+    let without = patchmatch(&a, &b, &params(-48, 48).coherence(false)).unwrap();
     let (iw, io) = (incoherence(&with), incoherence(&without));
     let (bw, bo) = (
         bad_rate(&with, &truth, 2.0, None).unwrap(),
@@ -437,16 +389,7 @@ fn zncc_stereo_recovers_a_shift_under_an_exposure_change() {
     let (a, b) = (texture(48, 96, 0.0), texture(48, 96, 7.0));
     // Four times the exposure: ZNCC does not care about gain.
     let b4 = b.map(|v| 4.0 * v);
-    let f = zncc_stereo(
-        &a,
-        &b4,
-        &StereoParams {
-            d_min: -16,
-            d_max: 16,
-            ..StereoParams::default()
-        },
-    )
-    .unwrap();
+    let f = zncc_stereo(&a, &b4, &StereoParams::default().d_min(-16).d_max(16)).unwrap();
     let ok = (0..48 * 96)
         .filter(|&i| i % 96 >= 10 && f.off[i] == [-7, 0])
         .count();
@@ -465,10 +408,7 @@ fn bad_matching_inputs_are_errors() {
     let a = texture(20, 30, 0.0);
     let b = texture(20, 30, 1.0);
     for patch in [4, 1, 21] {
-        let p = PatchMatchParams {
-            patch,
-            ..params(-5, 5)
-        };
+        let p = params(-5, 5).patch(patch);
         let e = patchmatch(&a, &b, &p).unwrap_err().to_string();
         assert!(e.contains("patch"), "{e}");
     }
@@ -481,25 +421,12 @@ fn bad_matching_inputs_are_errors() {
     let mut nan = a.clone();
     nan.set(3, 3, 0, f32::NAN);
     assert!(patchmatch(&nan, &b, &params(-5, 5)).is_err());
-    assert!(zncc_stereo(
-        &a,
-        &b,
-        &StereoParams {
-            window: 8,
-            ..StereoParams::default()
-        }
-    )
-    .is_err());
+    assert!(zncc_stereo(&a, &b, &StereoParams::default().window(8)).is_err());
     assert!(
         zncc_stereo(&a, &b, &StereoParams::default()).is_err(),
         "64 >= width 30"
     );
-    let neg = StereoParams {
-        d_min: -5,
-        d_max: 5,
-        lr_tol: -1,
-        ..StereoParams::default()
-    };
+    let neg = StereoParams::default().d_min(-5).d_max(5).lr_tol(-1);
     assert!(zncc_stereo(&a, &b, &neg).is_err());
     // Extreme ranges are errors, not overflows.
     assert!(patchmatch(&a, &b, &params(i32::MIN, 0)).is_err());
@@ -510,10 +437,7 @@ fn the_weighted_cost_ablation_ignores_zero_weight_samples() {
     use wscg_hdr::patchmatch_weighted;
     let (a, b) = (texture(40, 80, 0.0), texture(40, 80, 5.0));
     let ones = |im: &Image<f32>| im.map(|_| 1.0f32);
-    let p = PatchMatchParams {
-        weighted_cost: true,
-        ..params(-12, 12)
-    };
+    let p = params(-12, 12).weighted_cost(true);
     // Unit weights: the plain cost (summed in another order: ties may break otherwise).
     let plain = patchmatch(&a, &b, &params(-12, 12)).unwrap();
     let unit = patchmatch_weighted(&a, &b, &ones(&a), &ones(&b), &p).unwrap();
@@ -548,10 +472,7 @@ fn the_weighted_cost_ablation_ignores_zero_weight_samples() {
     assert!(ew >= 300, "{ew}");
     assert!(ew > eu);
     // Without the flag the weights are ignored.
-    let off = PatchMatchParams {
-        weighted_cost: false,
-        ..p
-    };
+    let off = p.weighted_cost(false);
     assert_eq!(
         patchmatch_weighted(&bad, &b, &wa, &ones(&b), &off).unwrap(),
         unweighted

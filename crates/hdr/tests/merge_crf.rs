@@ -11,11 +11,7 @@ use wscg_math::Image;
 
 /// The central view's true radiance of the default scene, 5 exposures.
 fn stack_truth() -> (Image<f32>, Vec<f64>) {
-    let cfg = SceneParams {
-        height: 96,
-        width: 128,
-        ..SceneParams::default()
-    };
+    let cfg = SceneParams::default().height(96).width(128);
     let sc = layered_scene(&cfg, 1).unwrap();
     (sc.radiance[2].clone(), cfg.times.clone())
 }

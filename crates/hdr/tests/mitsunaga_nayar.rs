@@ -6,7 +6,7 @@
 
 use wscg_hdr::metrics::response_log_error;
 use wscg_hdr::synth::{encode, gradient_target, layered_scene, Response, SceneParams};
-use wscg_hdr::{calibrate_debevec, calibrate_mitsunaga_nayar, Crf, MnFit, MitsunagaNayarParams};
+use wscg_hdr::{calibrate_debevec, calibrate_mitsunaga_nayar, Crf, MitsunagaNayarParams, MnFit};
 use wscg_math::Image;
 
 fn gradient() -> Image<f32> {
@@ -57,11 +57,9 @@ fn a_cubic_response_is_recovered_from_fine_codes() {
     let truth = Response::Cubic([0.3, 0.2, 0.5]);
     let (imgs, times) = stack(&gradient(), truth, 7, 16, 0.0);
     for (degree, refine_ratios) in [(Some(3), false), (None, false), (Some(3), true)] {
-        let p = MitsunagaNayarParams {
-            degree,
-            refine_ratios,
-            ..MitsunagaNayarParams::default()
-        };
+        let p = MitsunagaNayarParams::default()
+            .degree(degree)
+            .refine_ratios(refine_ratios);
         let fit = calibrate_mitsunaga_nayar(&imgs, &times, 16, &p).unwrap();
         let err = worst(&fit.crf, truth, 0, u16::MAX);
         let rerr = largest_ratio_error(&fit, 0.5);
@@ -90,15 +88,10 @@ fn the_exposure_ratios_are_recovered_from_wrong_times() {
         .zip([1.0, 1.12, 0.9, 1.15, 0.88, 1.1, 1.0])
         .map(|(t, k)| t * k)
         .collect();
-    let fixed = MitsunagaNayarParams {
-        degree: Some(3),
-        refine_ratios: false,
-        ..MitsunagaNayarParams::default()
-    };
-    let refined = MitsunagaNayarParams {
-        refine_ratios: true,
-        ..fixed
-    };
+    let fixed = MitsunagaNayarParams::default()
+        .degree(Some(3))
+        .refine_ratios(false);
+    let refined = fixed.refine_ratios(true);
     // With the wrong ratios kept, the cubic cannot fit: far off, or not even increasing.
     let eb = calibrate_mitsunaga_nayar(&imgs, &wrong, 16, &fixed)
         .map_or(f64::INFINITY, |bad| worst(&bad.crf, truth, 0, u16::MAX));
@@ -119,7 +112,8 @@ fn the_exposure_ratios_are_recovered_from_wrong_times() {
 fn eight_bit_gamma_and_s_shaped_cameras_are_calibrated() {
     for (truth, limit) in [(Response::Gamma(2.2), 0.01), (Response::SCurve(3.0), 0.05)] {
         let (imgs, times) = stack(&gradient(), truth, 7, 8, 0.001);
-        let fit = calibrate_mitsunaga_nayar(&imgs, &times, 8, &MitsunagaNayarParams::default()).unwrap();
+        let fit =
+            calibrate_mitsunaga_nayar(&imgs, &times, 8, &MitsunagaNayarParams::default()).unwrap();
         let dm = calibrate_debevec(&imgs, &times, 8, 70, 10.0).unwrap();
         let e_mn = worst(&fit.crf, truth, 5, 250);
         // Both in the measure of the Debevec-Malik test: max |ln f - ln f_true| over codes
@@ -144,14 +138,11 @@ fn eight_bit_gamma_and_s_shaped_cameras_are_calibrated() {
 fn a_dark_scene_is_refused_with_the_reason() {
     // The layered scene: 1-2 % of its pixels reach the upper half of the codes before they
     // saturate, so f(1) = 1 cannot fix the polynomial's scale.
-    let cfg = SceneParams {
-        height: 96,
-        width: 128,
-        ..SceneParams::default()
-    };
+    let cfg = SceneParams::default().height(96).width(128);
     let e = layered_scene(&cfg, 1).unwrap().radiance[2].clone();
     let (imgs, times) = stack(&e, Response::Gamma(2.2), 7, 8, 0.001);
-    let err = calibrate_mitsunaga_nayar(&imgs, &times, 8, &MitsunagaNayarParams::default()).unwrap_err();
+    let err =
+        calibrate_mitsunaga_nayar(&imgs, &times, 8, &MitsunagaNayarParams::default()).unwrap_err();
     assert!(err.to_string().contains("upper half"), "{err}");
 }
 
@@ -167,23 +158,17 @@ fn bad_inputs_are_errors() {
     assert!(calibrate_mitsunaga_nayar(&imgs, &times, 4, &p).is_err());
     assert!(calibrate_mitsunaga_nayar(&imgs, &times, 17, &p).is_err());
     for bad in [
-        MitsunagaNayarParams {
-            degree: Some(0),
-            ..p
-        },
-        MitsunagaNayarParams {
-            max_degree: 11,
-            ..p
-        },
-        MitsunagaNayarParams { samples: 0, ..p },
-        MitsunagaNayarParams { tol: 0.0, ..p },
-        MitsunagaNayarParams { max_iter: 0, ..p },
+        p.degree(Some(0)),
+        p.max_degree(11),
+        p.samples(0),
+        p.tol(0.0),
+        p.max_iter(0),
     ] {
         assert!(calibrate_mitsunaga_nayar(&imgs, &times, 8, &bad).is_err());
     }
     // All black: no equation.
     let black = Image::new(8, 8, 1, vec![0u16; 64]).unwrap();
-    let few = MitsunagaNayarParams { samples: 16, ..p };
+    let few = p.samples(16);
     let e = calibrate_mitsunaga_nayar(&[black.clone(), black.clone()], &[0.1, 0.2], 8, &few);
     assert!(e
         .unwrap_err()

@@ -22,19 +22,18 @@ fn scene() -> &'static SynthScene {
 const MAX_DISP: i32 = 137;
 
 fn params(align: Align, synthesis: Synthesis, pm: PatchMatchParams) -> MultiscopicParams {
-    MultiscopicParams {
-        pm: PatchMatchParams {
-            d_min: -MAX_DISP,
-            d_max: MAX_DISP,
-            ..pm
-        },
-        align,
-        synthesis,
-        ..MultiscopicParams::default()
-    }
+    MultiscopicParams::default()
+        .pm(pm.d_min(-MAX_DISP).d_max(MAX_DISP))
+        .align(align)
+        .synthesis(synthesis)
 }
 
-fn run(sc: &SynthScene, align: Align, synthesis: Synthesis, pm: PatchMatchParams) -> MultiscopicOut {
+fn run(
+    sc: &SynthScene,
+    align: Align,
+    synthesis: Synthesis,
+    pm: PatchMatchParams,
+) -> MultiscopicOut {
     run_params(sc, &params(align, synthesis, pm))
 }
 
@@ -130,14 +129,8 @@ fn clipped_everywhere(sc: &SynthScene) -> (Vec<f64>, MultiscopicOut) {
     let views: Vec<Image<u16>> = (0..5)
         .map(|k| encode(&sc.radiance[k], times[k], sc.response, 0.0, 8, k as u64).unwrap())
         .collect();
-    let p = MultiscopicParams {
-        pm: PatchMatchParams {
-            d_min: -MAX_DISP,
-            d_max: MAX_DISP,
-            ..PatchMatchParams::default()
-        },
-        ..MultiscopicParams::default()
-    };
+    let p = MultiscopicParams::default()
+        .pm(PatchMatchParams::default().d_min(-MAX_DISP).d_max(MAX_DISP));
     let out = multiscopic_hdr(
         &views,
         &times,
@@ -194,14 +187,7 @@ fn pixels_clipped_in_every_view_take_the_fallback_and_are_counted() {
     }
     // All-white views: every pixel falls back, nothing breaks.
     let white = vec![Image::filled(32, 48, 3, 255u16).unwrap(); 3];
-    let p = MultiscopicParams {
-        pm: PatchMatchParams {
-            d_min: -8,
-            d_max: 8,
-            ..PatchMatchParams::default()
-        },
-        ..MultiscopicParams::default()
-    };
+    let p = MultiscopicParams::default().pm(PatchMatchParams::default().d_min(-8).d_max(8));
     let out = multiscopic_hdr(
         &white,
         &[0.01, 0.1, 1.0],
@@ -226,10 +212,7 @@ fn the_baselines_run_and_are_reported() {
             "ours, no coherence",
             Align::Ours,
             Synthesis::Bds,
-            PatchMatchParams {
-                coherence: false,
-                ..pm
-            },
+            pm.coherence(false),
         ),
         ("PatchMatch 2-D", Align::PatchMatch2d, Synthesis::Bds, pm),
         ("ZNCC stereo", Align::Zncc, Synthesis::Direct, pm),
@@ -259,22 +242,13 @@ fn the_baselines_run_and_are_reported() {
 
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
-    let cfg = SceneParams {
-        height: 48,
-        width: 80,
-        times: vec![0.005, 0.04, 0.3],
-        ..SceneParams::default()
-    };
+    let cfg = SceneParams::default()
+        .height(48)
+        .width(80)
+        .times(vec![0.005, 0.04, 0.3]);
     let sc = layered_scene(&cfg, 2).unwrap();
-    let p = MultiscopicParams {
-        pm: PatchMatchParams {
-            d_min: -70,
-            d_max: 70,
-            seed: 5,
-            ..PatchMatchParams::default()
-        },
-        ..MultiscopicParams::default()
-    };
+    let p =
+        MultiscopicParams::default().pm(PatchMatchParams::default().d_min(-70).d_max(70).seed(5));
     let go = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -311,14 +285,7 @@ fn results_do_not_depend_on_the_thread_count() {
 fn bad_multiscopic_inputs_are_errors() {
     let crf = Crf::gamma(2.2, 8, 1).unwrap();
     let v = Image::filled(24, 32, 3, 100u16).unwrap();
-    let p = MultiscopicParams {
-        pm: PatchMatchParams {
-            d_min: -8,
-            d_max: 8,
-            ..PatchMatchParams::default()
-        },
-        ..MultiscopicParams::default()
-    };
+    let p = MultiscopicParams::default().pm(PatchMatchParams::default().d_min(-8).d_max(8));
     let go = |views: &[Image<u16>], times: &[f64], crfs: &[Crf], p: &MultiscopicParams| {
         multiscopic_hdr(views, times, crfs, p, &NoProgress)
             .unwrap_err()
@@ -363,14 +330,7 @@ fn bad_multiscopic_inputs_are_errors() {
     .contains("times"));
     let three = [crf.clone(), crf.clone(), crf.clone()];
     assert!(go(&[v.clone(), v.clone()], &[0.1, 0.2], &three, &p).contains("crfs"));
-    let wide = MultiscopicParams {
-        pm: PatchMatchParams {
-            d_min: -40,
-            d_max: 40,
-            ..PatchMatchParams::default()
-        },
-        ..p
-    };
+    let wide = p.pm(PatchMatchParams::default().d_min(-40).d_max(40));
     assert!(go(
         &[v.clone(), v.clone()],
         &[0.1, 0.2],
@@ -378,10 +338,7 @@ fn bad_multiscopic_inputs_are_errors() {
         &wide
     )
     .contains("width"));
-    let even = MultiscopicParams {
-        pm: PatchMatchParams { patch: 6, ..p.pm },
-        ..p
-    };
+    let even = p.pm(p.pm.patch(6));
     assert!(go(
         &[v.clone(), v.clone()],
         &[0.1, 0.2],
@@ -399,13 +356,8 @@ fn three_iterations_each_way_beat_six_one_way() {
     // direction than only six from I_r to I_s."
     let sc = scene();
     let pm = PatchMatchParams::default();
-    let bds3 = run(sc, Align::Ours, Synthesis::Bds, PatchMatchParams { iters: 3, ..pm });
-    let one6 = run(
-        sc,
-        Align::Ours,
-        Synthesis::Direct,
-        PatchMatchParams { iters: 6, ..pm },
-    );
+    let bds3 = run(sc, Align::Ours, Synthesis::Bds, pm.iters(3));
+    let one6 = run(sc, Align::Ours, Synthesis::Direct, pm.iters(6));
     let mean = |o: &MultiscopicOut| {
         (0..5)
             .map(|k| err(sc, o, k, &evaluation_mask(sc, k, Region::SeenByAll)))
@@ -442,10 +394,7 @@ fn five_view_scene_every_view_within_the_spec_bound_when_saturated_areas_are_fil
     let sc = scene();
     let filled = run_params(
         sc,
-        &MultiscopicParams {
-            fill_saturated: true,
-            ..params(Align::Ours, Synthesis::Bds, PatchMatchParams::default())
-        },
+        &(params(Align::Ours, Synthesis::Bds, PatchMatchParams::default())).fill_saturated(true),
     );
     let plain = run(sc, Align::Ours, Synthesis::Bds, PatchMatchParams::default());
     let zmax = sc.crf.z_max();

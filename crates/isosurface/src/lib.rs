@@ -40,6 +40,7 @@ pub use extract::{extract, marching_cubes, vertex_on_edge, EdgeId, IsoMesh};
 pub use grid::{random_dropouts, sparsify_for_isosurface, ScalarGrid};
 pub use metrics::{angular_errors, rms, RmsSummary};
 pub use normals::{
-    estimate_normals, AmbiguousRule, LsnParams, NormalMethod, NormalStats, SplineParams, TetSelection,
+    estimate_normals, AmbiguousRule, LsnParams, NormalMethod, NormalStats, SplineParams,
+    TetSelection,
 };
 pub use tables::mc_rotation_class;

@@ -87,11 +87,12 @@ fn check1_linear_fields_are_exact() {
             // Every tetrahedron choice and averaging of the spline is exact on a linear field.
             for selection in [TetSelection::NearestCorner, TetSelection::AverageBoth] {
                 for normalize_before_mean in [false, true] {
-                    let o = NormalMethod::Spline(SplineParams {
-                        selection,
-                        eq8_literal: false,
-                        normalize_before_mean,
-                    });
+                    let o = NormalMethod::Spline(
+                        SplineParams::default()
+                            .selection(selection)
+                            .eq8_literal(false)
+                            .normalize_before_mean(normalize_before_mean),
+                    );
                     let (n, _) = estimate_normals(grid, iso, &mesh.vertex_edge, o).unwrap();
                     check(&format!("{o:?} ({label})"), &n);
                 }
@@ -434,11 +435,12 @@ fn spline_normals_in_the_extraction_equal_the_per_vertex_route() {
             for (eq8_literal, normalize_before_mean) in
                 [(false, false), (true, false), (false, true)]
             {
-                let m = NormalMethod::Spline(SplineParams {
-                    selection,
-                    eq8_literal,
-                    normalize_before_mean,
-                });
+                let m = NormalMethod::Spline(
+                    SplineParams::default()
+                        .selection(selection)
+                        .eq8_literal(eq8_literal)
+                        .normalize_before_mean(normalize_before_mean),
+                );
                 let mesh = marching_cubes(g, 0.5, m).unwrap();
                 let (n, st) = estimate_normals(g, 0.5, &mesh.vertex_edge, m).unwrap();
                 assert_eq!(st.fallback, mesh.stats.fallback);
@@ -496,11 +498,12 @@ fn literal_eq8_on_a_linear_field() {
     let a = [0.3, 0.5, 0.7];
     let s = fields::sample_voxels(&Linear { a, b: 0.01 }, [16; 3]).unwrap();
     let g = s.grid().unwrap();
-    let o = NormalMethod::Spline(SplineParams {
-        selection: TetSelection::NearestCorner,
-        eq8_literal: true,
-        normalize_before_mean: false,
-    });
+    let o = NormalMethod::Spline(
+        SplineParams::default()
+            .selection(TetSelection::NearestCorner)
+            .eq8_literal(true)
+            .normalize_before_mean(false),
+    );
     let iso = 9.37f32;
     let m = marching_cubes(&g, iso, o).unwrap();
     assert!(m.vertices.len() > 50);

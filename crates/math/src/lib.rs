@@ -20,6 +20,8 @@
 //! - [`tv`]: isotropic total variation, gradient / divergence and Chambolle's TV prox.
 //! - [`knn`]: a kd-tree with exact k-nearest and nearest-point queries.
 //! - [`vec3`]: small helpers on `[f64; 3]` points and vectors.
+//! - [`params`]: the [`params!`] macro that declares every `XxxParams` struct of the workspace
+//!   (`#[non_exhaustive]`, with chainable setters).
 //! - [`rng`]: seeded, portable random generation.
 //! - [`progress`]: a progress-reporting trait that the CLI renders as progress bars.
 //! - [`error`]: the one [`Error`] type.
@@ -40,6 +42,7 @@ pub mod knn_graph;
 pub mod mesh;
 pub mod metrics;
 pub mod npy;
+pub mod params;
 pub mod patchmatch;
 pub mod progress;
 pub mod reduce;

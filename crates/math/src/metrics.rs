@@ -69,19 +69,21 @@ pub fn psnr<T: Copy + Into<f64> + Sync>(a: &[T], b: &[T], data_range: f64) -> Re
     })
 }
 
-/// Parameters of [`ssim`] (defaults: Wang et al. 2004 with a Gaussian window).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SsimParams {
-    /// Dynamic range `R` of the data (1 for `[0, 1]` images).
-    pub data_range: f64,
-    /// Standard deviation of the Gaussian window (1.5).
-    pub sigma: f64,
-    /// Window radius in standard deviations (3.5, giving an 11 x 11 window at sigma 1.5).
-    pub truncate: f64,
-    /// `K1` (0.01).
-    pub k1: f64,
-    /// `K2` (0.03).
-    pub k2: f64,
+crate::params! {
+    /// Parameters of [`ssim`] (defaults: Wang et al. 2004 with a Gaussian window).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct SsimParams {
+        /// Dynamic range `R` of the data (1 for `[0, 1]` images).
+        pub data_range: f64,
+        /// Standard deviation of the Gaussian window (1.5).
+        pub sigma: f64,
+        /// Window radius in standard deviations (3.5, giving an 11 x 11 window at sigma 1.5).
+        pub truncate: f64,
+        /// `K1` (0.01).
+        pub k1: f64,
+        /// `K2` (0.03).
+        pub k2: f64,
+    }
 }
 
 impl Default for SsimParams {

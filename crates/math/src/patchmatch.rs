@@ -45,15 +45,17 @@ pub struct Match {
     pub dist: f32,
 }
 
-/// Parameters of [`patchmatch`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PatchMatchParams {
-    /// Iterations (each: propagation and random search for every target).
-    pub iterations: usize,
-    /// Seed of the random search.
-    pub seed: u64,
-    /// Largest random-search radius per axis `(t, y, x)`; `None`: the grid extents.
-    pub max_radius: Option<[u32; 3]>,
+crate::params! {
+    /// Parameters of [`patchmatch`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct PatchMatchParams {
+        /// Iterations (each: propagation and random search for every target).
+        pub iterations: usize,
+        /// Seed of the random search.
+        pub seed: u64,
+        /// Largest random-search radius per axis `(t, y, x)`; `None`: the grid extents.
+        pub max_radius: Option<[u32; 3]>,
+    }
 }
 
 impl Default for PatchMatchParams {

@@ -337,13 +337,15 @@ pub enum InitialGuess<'a> {
     Given(&'a [f64]),
 }
 
-/// Stopping rules of [`pcg`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PcgParams {
-    /// Stop when `||b - A x|| <= tol * ||b||` (default 1e-8).
-    pub tol: f64,
-    /// Maximum number of iterations (default: `None`, meaning `10 * n`).
-    pub max_iter: Option<usize>,
+crate::params! {
+    /// Stopping rules of [`pcg`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct PcgParams {
+        /// Stop when `||b - A x|| <= tol * ||b||` (default 1e-8).
+        pub tol: f64,
+        /// Maximum number of iterations (default: `None`, meaning `10 * n`).
+        pub max_iter: Option<usize>,
+    }
 }
 
 impl Default for PcgParams {

@@ -13,17 +13,39 @@ use wscg_math::{Error, Result, TriMesh};
 
 use crate::jbmd::{check_mesh, movable};
 
-/// Parameters of [`bmd`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BmdParams {
-    /// Spatial range `sigma_c` (the neighbourhood radius is `2 sigma_c`).
-    pub sigma_c: f64,
-    /// Offset range `sigma_s`.
-    pub sigma_s: f64,
-    /// Iterations.
-    pub iterations: usize,
-    /// Rescale to the initial volume after every iteration.
-    pub volume_preserve: bool,
+wscg_math::params! {
+    /// Parameters of [`bmd`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct BmdParams {
+        /// Spatial range `sigma_c` (the neighbourhood radius is `2 sigma_c`).
+        pub sigma_c: f64,
+        /// Offset range `sigma_s`.
+        pub sigma_s: f64,
+        /// Iterations.
+        pub iterations: usize,
+        /// Rescale to the initial volume after every iteration.
+        pub volume_preserve: bool,
+    }
+}
+
+impl BmdParams {
+    /// Ranges relative to the mean vertex distance `mvd`: `sigma_c = mvd` (a neighbourhood
+    /// radius of two edges), `sigma_s = 0.5 mvd`, 10 iterations, no volume rescaling.
+    pub fn from_mvd(mvd: f64) -> Self {
+        Self {
+            sigma_c: mvd,
+            sigma_s: 0.5 * mvd,
+            iterations: 10,
+            volume_preserve: false,
+        }
+    }
+}
+
+/// [`BmdParams::from_mvd`] for a mesh whose mean vertex distance is 1.
+impl Default for BmdParams {
+    fn default() -> Self {
+        Self::from_mvd(1.0)
+    }
 }
 
 /// Runs bilateral mesh denoising, calling `observe(iteration, positions)` after each

@@ -2,28 +2,38 @@
 
 use wscg_math::{Error, Result};
 
-/// Parameters of [`crate::jbmd`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JbmdParams {
-    /// Spatial range `sigma_d` (length units).
-    pub sigma_d: f64,
-    /// Offset range `sigma_o` at the first iteration (length units); multiplied by `lambda`
-    /// after every iteration.
-    pub sigma_o: f64,
-    /// Colour range `sigma_c` on the 0-255 RGB scale.
-    pub sigma_c: f64,
-    /// Decay of `sigma_o` per iteration, in `(0, 1]` (1: no decay, the paper's ablation).
-    pub lambda: f64,
-    /// Neighbours per vertex (the paper gives no value; 20 by default).
-    pub k: usize,
-    /// Iterations.
-    pub iterations: usize,
-    /// Second pass: local anti-shrinking (paper eq. 2).
-    pub anti_shrink: bool,
-    /// Colour weight (off: the no-colour ablation, or meshes without colours).
-    pub use_color: bool,
-    /// Recompute the neighbours at every iteration on the current positions.
-    pub rebuild_neighbors: bool,
+wscg_math::params! {
+    /// Parameters of [`crate::jbmd`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct JbmdParams {
+        /// Spatial range `sigma_d` (length units).
+        pub sigma_d: f64,
+        /// Offset range `sigma_o` at the first iteration (length units); multiplied by `lambda`
+        /// after every iteration.
+        pub sigma_o: f64,
+        /// Colour range `sigma_c` on the 0-255 RGB scale.
+        pub sigma_c: f64,
+        /// Decay of `sigma_o` per iteration, in `(0, 1]` (1: no decay, the paper's ablation).
+        pub lambda: f64,
+        /// Neighbours per vertex (the paper gives no value; 20 by default).
+        pub k: usize,
+        /// Iterations.
+        pub iterations: usize,
+        /// Second pass: local anti-shrinking (paper eq. 2).
+        pub anti_shrink: bool,
+        /// Colour weight (off: the no-colour ablation, or meshes without colours).
+        pub use_color: bool,
+        /// Recompute the neighbours at every iteration on the current positions.
+        pub rebuild_neighbors: bool,
+    }
+}
+
+/// [`JbmdParams::from_mvd`] for a mesh whose mean vertex distance is 1: scale the ranges
+/// `sigma_d` and `sigma_o` to your mesh, or start from `from_mvd`.
+impl Default for JbmdParams {
+    fn default() -> Self {
+        Self::from_mvd(1.0)
+    }
 }
 
 impl JbmdParams {

@@ -47,11 +47,7 @@ fn curves(s: &Scene, p: &JbmdParams) -> (Vec<f64>, Vec<f64>) {
 }
 
 fn params(s: &Scene) -> JbmdParams {
-    JbmdParams {
-        k: 40,
-        iterations: 15,
-        ..JbmdParams::from_mvd(s.mvd)
-    }
+    JbmdParams::from_mvd(s.mvd).k(40).iterations(15)
 }
 
 /// A baseline at its ME-optimal setting and iteration: (ME, edge-band error), in MVD.
@@ -82,13 +78,7 @@ fn cad_part_creases_and_fillet() {
     };
     let p = params(&s);
     let (me, eb) = curves(&s, &p);
-    let (_, eb_nc) = curves(
-        &s,
-        &JbmdParams {
-            use_color: false,
-            ..p
-        },
-    );
+    let (_, eb_nc) = curves(&s, &p.use_color(false));
     let best_lap = best_swept(&s, Setting::laplacian_grid());
     let best_bmd = best_swept(&s, Setting::bmd_grid(s.mvd));
     let out = wscg_meshfilter::jbmd(&s.noisy, &p).unwrap();
@@ -117,13 +107,7 @@ fn ablations_and_baselines() {
     let p = params(&s);
     let (me, eb) = curves(&s, &p);
     // Check 3: without anti-shrinking, as good early, clearly worse late.
-    let (me_nas, _) = curves(
-        &s,
-        &JbmdParams {
-            anti_shrink: false,
-            ..p
-        },
-    );
+    let (me_nas, _) = curves(&s, &p.anti_shrink(false));
     println!(
         "JBMD ME {:.3} edge band {:.3}; no anti-shrink ME {me_nas:.3?}",
         me[14], eb[14]
@@ -139,7 +123,7 @@ fn ablations_and_baselines() {
     }
     assert!(me_nas[14] >= 1.3 * me[14], "{} vs {}", me_nas[14], me[14]);
     // Check 2, no decay: the error turns back up.
-    let (me_nd, _) = curves(&s, &JbmdParams { lambda: 1.0, ..p });
+    let (me_nd, _) = curves(&s, &p.lambda(1.0));
     let (arg, min) =
         me_nd.iter().enumerate().fold(
             (0, f64::INFINITY),
@@ -153,13 +137,7 @@ fn ablations_and_baselines() {
     // argmin at iteration <= 6 (index < 6).
     assert!(arg < 6 && me_nd[14] >= 1.15 * min);
     // Check 4: colour helps, most at the edges.
-    let (me_nc, eb_nc) = curves(
-        &s,
-        &JbmdParams {
-            use_color: false,
-            ..p
-        },
-    );
+    let (me_nc, eb_nc) = curves(&s, &p.use_color(false));
     println!("no colour: ME {:.3} edge band {:.3}", me_nc[14], eb_nc[14]);
     assert!(me[14] <= 0.97 * me_nc[14]);
     assert!(eb[14] <= 0.9 * eb_nc[14]);
@@ -179,15 +157,8 @@ fn colour_edge_without_geometric_edge_is_smoothed() {
     let plane = colored_plane(40).unwrap();
     let mvd = mean_vertex_distance(&plane).unwrap();
     let noisy = add_noise(&plane, 0.5 * mvd, false, NOISE_SEED).unwrap();
-    let out = wscg_meshfilter::jbmd(
-        &noisy,
-        &JbmdParams {
-            k: 40,
-            iterations: 15,
-            ..JbmdParams::from_mvd(mvd)
-        },
-    )
-    .unwrap();
+    let out =
+        wscg_meshfilter::jbmd(&noisy, &JbmdParams::from_mvd(mvd).k(40).iterations(15)).unwrap();
     let me0 = mean_error(&noisy.positions, &plane.positions).unwrap();
     let me1 = mean_error(&out, &plane.positions).unwrap();
     // Mean height on each side of the colour edge, away from the frozen boundary.
@@ -218,7 +189,7 @@ fn clean_cube_stays_sharp() {
     let s = scene();
     let p = params(&s);
     let clean = s.gt.clone();
-    let one = wscg_meshfilter::jbmd(&clean, &JbmdParams { iterations: 1, ..p }).unwrap();
+    let one = wscg_meshfilter::jbmd(&clean, &p.iterations(1)).unwrap();
     let far = 8.0 / N as f64;
     for (a, b) in one.iter().zip(&clean.positions) {
         // Distance to the nearest cube edge: the second smallest distance to a face plane.
@@ -237,10 +208,7 @@ fn clean_cube_stays_sharp() {
         )
     };
     let (me, eb) = band(&p);
-    let (_, eb_nas) = band(&JbmdParams {
-        anti_shrink: false,
-        ..p
-    });
+    let (_, eb_nas) = band(&p.anti_shrink(false));
     println!("clean cube after 15 iterations: ME {me:.3}, edge band {eb:.3}; without anti-shrinking {eb_nas:.3}");
     assert!(me <= 0.08 && eb <= 0.2 && eb_nas > 0.5);
 }

@@ -35,16 +35,9 @@ fn sphere_keeps_its_radius_with_anti_shrinking() {
     let mvd = mean_vertex_distance(&s).unwrap();
     let noisy = add_noise(&s, 0.5 * mvd, false, NOISE_SEED).unwrap();
     let (_, noisy_std) = radii(&noisy.positions);
-    let p = JbmdParams {
-        k: 40,
-        iterations: 15,
-        ..JbmdParams::from_mvd(mvd)
-    };
+    let p = JbmdParams::from_mvd(mvd).k(40).iterations(15);
     let (mean, std) = radii(&jbmd(&noisy, &p).unwrap());
-    let no_as = JbmdParams {
-        anti_shrink: false,
-        ..p
-    };
+    let no_as = p.anti_shrink(false);
     let (mean_shrunk, _) = radii(&jbmd(&noisy, &no_as).unwrap());
     println!(
         "sphere: radius {mean:.4} +- {std:.4} (noisy +- {noisy_std:.4}); without anti-shrinking \
@@ -62,11 +55,7 @@ fn cube_converges_below_the_noise() {
     assert_eq!((cube.num_vertices(), cube.num_faces()), (5402, 10800));
     let mvd = mean_vertex_distance(&cube).unwrap();
     let noisy = add_noise(&cube, 0.5 * mvd, false, NOISE_SEED).unwrap();
-    let p = JbmdParams {
-        k: 40,
-        iterations: 15,
-        ..JbmdParams::from_mvd(mvd)
-    };
+    let p = JbmdParams::from_mvd(mvd).k(40).iterations(15);
     let mut me = Vec::new();
     jbmd_trace(&noisy, &p, |_, x, _| {
         me.push(mean_error(x, &cube.positions).unwrap() / mvd)
@@ -108,11 +97,7 @@ fn mean_error_matches_brute_force_and_scale_invariance() {
         .iter_mut()
         .for_each(|p| *p = p.map(|c| 1000.0 * c));
     let p = JbmdParams::from_mvd(mvd);
-    let pb = JbmdParams {
-        sigma_d: 1000.0 * p.sigma_d,
-        sigma_o: 1000.0 * p.sigma_o,
-        ..p
-    };
+    let pb = p.sigma_d(1000.0 * p.sigma_d).sigma_o(1000.0 * p.sigma_o);
     let small = jbmd(&noisy, &p).unwrap();
     let large = jbmd(&big, &pb).unwrap();
     for (a, b) in small.iter().zip(&large) {
@@ -179,19 +164,13 @@ fn bad_input_is_rejected() {
     nan.positions[3][1] = f64::NAN;
     assert!(jbmd(&nan, &p).is_err());
     for bad in [
-        JbmdParams { sigma_d: 0.0, ..p },
-        JbmdParams { sigma_o: -1.0, ..p },
-        JbmdParams {
-            sigma_c: f64::NAN,
-            ..p
-        },
-        JbmdParams { lambda: 0.0, ..p },
-        JbmdParams { lambda: 1.5, ..p },
-        JbmdParams { k: 0, ..p },
-        JbmdParams {
-            k: m.num_vertices(),
-            ..p
-        },
+        p.sigma_d(0.0),
+        p.sigma_o(-1.0),
+        p.sigma_c(f64::NAN),
+        p.lambda(0.0),
+        p.lambda(1.5),
+        p.k(0),
+        p.k(m.num_vertices()),
     ] {
         assert!(jbmd(&m, &bad).is_err(), "{bad:?}");
     }
@@ -205,11 +184,7 @@ fn sphere_beats_the_best_laplacian() {
     let s = icosphere(4).unwrap();
     let mvd = mean_vertex_distance(&s).unwrap();
     let noisy = add_noise(&s, 0.5 * mvd, false, NOISE_SEED).unwrap();
-    let p = JbmdParams {
-        k: 40,
-        iterations: 15,
-        ..JbmdParams::from_mvd(mvd)
-    };
+    let p = JbmdParams::from_mvd(mvd).k(40).iterations(15);
     let ours = mean_error(&jbmd(&noisy, &p).unwrap(), &s.positions).unwrap() / mvd;
     let best = wscg_meshfilter::sweep::sweep(
         &noisy,

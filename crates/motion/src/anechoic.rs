@@ -63,37 +63,39 @@ pub enum Init {
     Orbit,
 }
 
-/// Parameters of [`fit_anechoic`] (defaults for paper 16: three periodic sources with delays
-/// shared over trials, as in its first action, §2.3; the rest are our choices).
-#[derive(Clone, Debug, PartialEq)]
-pub struct AnechoicParams {
-    /// Number of periodic sources `J`.
-    pub n_sources: usize,
-    /// Harmonics `K` per source (band limit).
-    pub n_harmonics: usize,
-    /// Delay constraint.
-    pub delays: DelayMode,
-    /// Maximal number of ALS sweeps per run.
-    pub max_iter: usize,
-    /// Stop when one sweep changes `Q` by less than this.
-    pub tol: f64,
-    /// Number of runs; run 0 starts from [`Config::init`](AnechoicParams::init), run 1 from the
-    /// orbit-subspace start ([`Init::Orbit`], where it applies and run 0 is not already one),
-    /// the others from random starts. The best `Q` is kept.
-    pub restarts: usize,
-    /// Start of run 0.
-    pub init: Init,
-    /// Seed of the random starts.
-    pub seed: u64,
-    /// Sweeps every run gets before only the best one continues to `max_iter` (successive
-    /// screening of the restarts; `max_iter` or more: every run goes the full length).
-    pub screen_iter: usize,
-    /// Grid points per period of the per-channel delay search run after the ALS, with shared
-    /// delays and at least two sources ([`crate::delay_search`]; 0: off). Every channel's
-    /// pairs of delays are searched on this grid with the sources held; channels where it
-    /// finds a lower residual take the new delays and the ALS continues from there, so `Q`
-    /// can only rise; repeated while channels move (at most 5 rounds). 0 or 8..=4096; 128.
-    pub delay_search: usize,
+wscg_math::params! {
+    /// Parameters of [`fit_anechoic`] (defaults for paper 16: three periodic sources with delays
+    /// shared over trials, as in its first action, §2.3; the rest are our choices).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct AnechoicParams {
+        /// Number of periodic sources `J`.
+        pub n_sources: usize,
+        /// Harmonics `K` per source (band limit).
+        pub n_harmonics: usize,
+        /// Delay constraint.
+        pub delays: DelayMode,
+        /// Maximal number of ALS sweeps per run.
+        pub max_iter: usize,
+        /// Stop when one sweep changes `Q` by less than this.
+        pub tol: f64,
+        /// Number of runs; run 0 starts from [`Config::init`](AnechoicParams::init), run 1 from the
+        /// orbit-subspace start ([`Init::Orbit`], where it applies and run 0 is not already one),
+        /// the others from random starts. The best `Q` is kept.
+        pub restarts: usize,
+        /// Start of run 0.
+        pub init: Init,
+        /// Seed of the random starts.
+        pub seed: u64,
+        /// Sweeps every run gets before only the best one continues to `max_iter` (successive
+        /// screening of the restarts; `max_iter` or more: every run goes the full length).
+        pub screen_iter: usize,
+        /// Grid points per period of the per-channel delay search run after the ALS, with shared
+        /// delays and at least two sources ([`crate::delay_search`]; 0: off). Every channel's
+        /// pairs of delays are searched on this grid with the sources held; channels where it
+        /// finds a lower residual take the new delays and the ALS continues from there, so `Q`
+        /// can only rise; repeated while channels move (at most 5 rounds). 0 or 8..=4096; 128.
+        pub delay_search: usize,
+    }
 }
 
 impl Default for AnechoicParams {

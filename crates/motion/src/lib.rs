@@ -42,7 +42,7 @@ pub mod synthesizer;
 pub mod walker;
 
 pub use anechoic::{
-    fit_anechoic, refine_anechoic, refit_weights, AnechoicParams, AnechoicModel, DelayMode, Init,
+    fit_anechoic, refine_anechoic, refit_weights, AnechoicModel, AnechoicParams, DelayMode, Init,
 };
 pub use blend::blend_alpha;
 pub use data::{quality, TrialSet};
@@ -53,5 +53,5 @@ pub use pca::{pca_qualities, pca_quality};
 pub use planner::{Action, Plan, PlannedAction, Planner};
 pub use stepwise::{fit_stepwise, ActionLibrary, StepwiseParams};
 pub use svr::Svr;
-pub use synthesizer::{MapKind, SynthesizerParams, Synthesis, Synthesizer};
+pub use synthesizer::{MapKind, Synthesis, Synthesizer, SynthesizerParams};
 pub use walker::{reach_walk, WalkerParams, WalkerTruth};

@@ -185,20 +185,22 @@ impl DelayedLuts {
     }
 }
 
-/// Hyper-parameters of the SVR state maps. The paper (§2.2) gives none; the defaults are ours,
-/// for unit-RMS sources.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SvrMapParams {
-    /// Box constraint `C`.
-    pub c: f64,
-    /// Tube width `ε`.
-    pub epsilon: f64,
-    /// RBF `γ`.
-    pub gamma: f64,
-    /// Training phases per period.
-    pub n_phases: usize,
-    /// Radii of the training rings (1 is the attractor; the others keep transients sane).
-    pub radii: Vec<f64>,
+wscg_math::params! {
+    /// Hyper-parameters of the SVR state maps. The paper (§2.2) gives none; the defaults are ours,
+    /// for unit-RMS sources.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct SvrMapParams {
+        /// Box constraint `C`.
+        pub c: f64,
+        /// Tube width `ε`.
+        pub epsilon: f64,
+        /// RBF `γ`.
+        pub gamma: f64,
+        /// Training phases per period.
+        pub n_phases: usize,
+        /// Radii of the training rings (1 is the attractor; the others keep transients sane).
+        pub radii: Vec<f64>,
+    }
 }
 
 impl Default for SvrMapParams {

@@ -13,7 +13,7 @@
 //! after removing the means and the non-periodic part by the `[1, s₀]` least squares (paper
 //! Fig. 4 caption).
 
-use crate::anechoic::{fit_anechoic, refine_anechoic, AnechoicParams, AnechoicModel, DelayMode};
+use crate::anechoic::{fit_anechoic, refine_anechoic, AnechoicModel, AnechoicParams, DelayMode};
 use crate::data::TrialSet;
 use crate::dataset::Dataset;
 use crate::fourier::PeriodicSource;
@@ -22,22 +22,24 @@ use rayon::prelude::*;
 use std::f64::consts::PI;
 use wscg_math::{Error, Result};
 
-/// Parameters of [`fit_stepwise`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct StepwiseParams {
-    /// Periodic sources of action 1 (the paper's 3).
-    pub n_sources_first: usize,
-    /// Sources added in action 2 (the paper's 2).
-    pub n_sources_extra: usize,
-    /// Demixing settings (the number of sources is set per stage).
-    pub demix: AnechoicParams,
-    /// Rounds of alternation between the joint least squares of means and weights and the
-    /// demixing of the data without means and non-periodic part (0: the plain step-wise
-    /// regression). The first `[1, s₀]` regression also absorbs the part of the periodic
-    /// sources that correlates with `s₀`; alternating removes that bias.
-    pub rounds: usize,
-    /// ALS sweeps per alternation round.
-    pub round_iter: usize,
+wscg_math::params! {
+    /// Parameters of [`fit_stepwise`].
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct StepwiseParams {
+        /// Periodic sources of action 1 (the paper's 3).
+        pub n_sources_first: usize,
+        /// Sources added in action 2 (the paper's 2).
+        pub n_sources_extra: usize,
+        /// Demixing settings (the number of sources is set per stage).
+        pub demix: AnechoicParams,
+        /// Rounds of alternation between the joint least squares of means and weights and the
+        /// demixing of the data without means and non-periodic part (0: the plain step-wise
+        /// regression). The first `[1, s₀]` regression also absorbs the part of the periodic
+        /// sources that correlates with `s₀`; alternating removes that bias.
+        pub rounds: usize,
+        /// ALS sweeps per alternation round.
+        pub round_iter: usize,
+    }
 }
 
 impl Default for StepwiseParams {

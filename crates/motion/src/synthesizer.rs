@@ -30,17 +30,19 @@ pub enum MapKind {
     Svr(SvrMapParams),
 }
 
-/// Parameters of the synthesizer.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SynthesizerParams {
-    /// Blend half-width `β` (radians), `π/5` in the paper.
-    pub beta: f64,
-    /// Coupling `k` of the followers (not given in the paper; > 1 guarantees contraction).
-    pub coupling: f64,
-    /// State maps.
-    pub map: MapKind,
-    /// LWLR bandwidth of the weight regression (`None`: leave-one-out selection).
-    pub bandwidth: Option<f64>,
+wscg_math::params! {
+    /// Parameters of the synthesizer.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct SynthesizerParams {
+        /// Blend half-width `β` (radians), `π/5` in the paper.
+        pub beta: f64,
+        /// Coupling `k` of the followers (not given in the paper; > 1 guarantees contraction).
+        pub coupling: f64,
+        /// State maps.
+        pub map: MapKind,
+        /// LWLR bandwidth of the weight regression (`None`: leave-one-out selection).
+        pub bandwidth: Option<f64>,
+    }
 }
 
 impl Default for SynthesizerParams {

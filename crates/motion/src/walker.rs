@@ -28,26 +28,28 @@ use std::f64::consts::{PI, TAU};
 use wscg_math::rng::Rng;
 use wscg_math::{Error, Result};
 
-/// Parameters of [`reach_walk`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct WalkerParams {
-    /// Number of trials.
-    pub n_trials: usize,
-    /// Samples per action.
-    pub n_samples: usize,
-    /// Noise standard deviation as a fraction of each channel's RMS.
-    pub noise: f64,
-    /// Seed of the trial parameters and the noise.
-    pub seed: u64,
-    /// Seed of the ground-truth model (sources, delays, weight functions); trials drawn with
-    /// different `seed` but the same `model_seed` come from the same "subject".
-    pub model_seed: u64,
-    /// Step-length range of action 1 (metres).
-    pub range1: (f64, f64),
-    /// Step-length range of action 2 (metres).
-    pub range2: (f64, f64),
-    /// Draw the human-like set of paper Fig. 2 instead of the learning set.
-    pub human_like: bool,
+wscg_math::params! {
+    /// Parameters of [`reach_walk`].
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct WalkerParams {
+        /// Number of trials.
+        pub n_trials: usize,
+        /// Samples per action.
+        pub n_samples: usize,
+        /// Noise standard deviation as a fraction of each channel's RMS.
+        pub noise: f64,
+        /// Seed of the trial parameters and the noise.
+        pub seed: u64,
+        /// Seed of the ground-truth model (sources, delays, weight functions); trials drawn with
+        /// different `seed` but the same `model_seed` come from the same "subject".
+        pub model_seed: u64,
+        /// Step-length range of action 1 (metres).
+        pub range1: (f64, f64),
+        /// Step-length range of action 2 (metres).
+        pub range2: (f64, f64),
+        /// Draw the human-like set of paper Fig. 2 instead of the learning set.
+        pub human_like: bool,
+    }
 }
 
 impl Default for WalkerParams {

@@ -16,7 +16,9 @@ use wscg_motion::planner::{Action, Planner};
 use wscg_motion::skeleton::{is_arm_channel, N_CHANNELS};
 use wscg_motion::stats::regression_p_value;
 use wscg_motion::stepwise::{fit_stepwise, ActionLibrary, StepwiseParams};
-use wscg_motion::synthesizer::{mix_frame, planner_for, ActionWeights, SynthesizerParams, Synthesizer};
+use wscg_motion::synthesizer::{
+    mix_frame, planner_for, ActionWeights, Synthesizer, SynthesizerParams,
+};
 use wscg_motion::walker::{reach_walk, WalkerParams};
 
 /// The step-wise library of the noise-free 20-trial set, fitted once per test binary.
@@ -32,12 +34,7 @@ fn noisy_library() -> &'static ActionLibrary {
 }
 
 fn walker(noise: f64, n_trials: usize) -> (wscg_motion::Dataset, wscg_motion::WalkerTruth) {
-    reach_walk(&WalkerParams {
-        noise,
-        n_trials,
-        ..WalkerParams::default()
-    })
-    .unwrap()
+    reach_walk(&WalkerParams::default().noise(noise).n_trials(n_trials)).unwrap()
 }
 
 /// Action-1 periodic part (first 3 sources) with optional noise of `noise` × channel RMS.
@@ -208,11 +205,7 @@ fn fit3(x: &TrialSet) -> wscg_motion::AnechoicModel {
 fn fit3_searching(x: &TrialSet, grid: usize) -> wscg_motion::AnechoicModel {
     fit_anechoic(
         x,
-        &AnechoicParams {
-            n_sources: 3,
-            delay_search: grid,
-            ..AnechoicParams::default()
-        },
+        &AnechoicParams::default().n_sources(3).delay_search(grid),
     )
     .unwrap()
 }
@@ -296,14 +289,7 @@ fn anechoic_beats_pca_fig4_ordering() {
     let qp = pca_qualities(&x).unwrap();
     let mut qa = Vec::new();
     for j in 1..=6 {
-        let m = fit_anechoic(
-            &x,
-            &AnechoicParams {
-                n_sources: j,
-                ..AnechoicParams::default()
-            },
-        )
-        .unwrap();
+        let m = fit_anechoic(&x, &AnechoicParams::default().n_sources(j)).unwrap();
         assert!(
             m.q >= qp[j - 1] - 1e-9,
             "J={j}: anechoic {} < PCA {}",
@@ -340,28 +326,20 @@ fn anechoic_beats_pca_fig4_ordering() {
     for j in [1, 2] {
         let zero = fit_anechoic(
             &x,
-            &AnechoicParams {
-                n_sources: j,
-                delays: DelayMode::Zero,
-                ..AnechoicParams::default()
-            },
+            &AnechoicParams::default()
+                .n_sources(j)
+                .delays(DelayMode::Zero),
         )
         .unwrap();
         let shared = refine_anechoic(
             &x,
-            &AnechoicParams {
-                delays: DelayMode::Shared,
-                ..AnechoicParams::default()
-            },
+            &AnechoicParams::default().delays(DelayMode::Shared),
             &zero,
         )
         .unwrap();
         let free = refine_anechoic(
             &x,
-            &AnechoicParams {
-                delays: DelayMode::PerTrial,
-                ..AnechoicParams::default()
-            },
+            &AnechoicParams::default().delays(DelayMode::PerTrial),
             &shared,
         )
         .unwrap();
@@ -803,31 +781,10 @@ fn bad_input_is_an_error() {
     let x = data.action_set(0).unwrap();
     assert!(TrialSet::new(1, 1, 3, vec![0.0, f64::NAN, 1.0]).is_err());
     assert!(TrialSet::stack(&[vec![0.0; 6], vec![0.0; 4]], 2, 3).is_err());
-    assert!(fit_anechoic(
-        &x,
-        &AnechoicParams {
-            n_sources: 50,
-            ..AnechoicParams::default()
-        }
-    )
-    .is_err());
-    assert!(fit_anechoic(
-        &x,
-        &AnechoicParams {
-            n_harmonics: 50,
-            ..AnechoicParams::default()
-        }
-    )
-    .is_err());
+    assert!(fit_anechoic(&x, &AnechoicParams::default().n_sources(50)).is_err());
+    assert!(fit_anechoic(&x, &AnechoicParams::default().n_harmonics(50)).is_err());
     for grid in [4, 5000] {
-        let e = fit_anechoic(
-            &x,
-            &AnechoicParams {
-                delay_search: grid,
-                ..AnechoicParams::default()
-            },
-        )
-        .unwrap_err();
+        let e = fit_anechoic(&x, &AnechoicParams::default().delay_search(grid)).unwrap_err();
         assert!(e.to_string().contains("delay_search"), "{e}");
     }
     let mut bad = data.clone();
@@ -852,15 +809,7 @@ fn bad_input_is_an_error() {
     );
     let lib = fit_stepwise(&data, &StepwiseParams::default()).unwrap();
     let planner = planner_for(&lib);
-    assert!(Synthesizer::new(
-        lib,
-        planner,
-        SynthesizerParams {
-            beta: 4.0,
-            ..SynthesizerParams::default()
-        }
-    )
-    .is_err());
+    assert!(Synthesizer::new(lib, planner, SynthesizerParams::default().beta(4.0)).is_err());
 }
 
 #[test]

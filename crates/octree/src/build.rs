@@ -20,21 +20,23 @@ use crate::node::{oct_encode, Node, Voxel, EMPTY, INDEX_MASK, LEAF_BIT};
 use crate::octree::HybridOctree;
 use crate::voxelize::{columns, voxelize, Fragment};
 
-/// Construction parameters; `Default` gives the paper's values.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BuildParams {
-    /// Deepest level `L` (the paper voxelizes at 512^3: `L = 9`). At most 21.
-    pub max_depth: u8,
-    /// A node with at most this many distinct triangles becomes a leaf (paper: 2).
-    pub leaf_max_tris: u8,
-    /// Stop early at small nodes (the paper's method); `false` builds the "full octree" of
-    /// Table 2, split down to level `L` wherever there is geometry.
-    pub early_stop: bool,
-    /// Explicit cube domain (must hold every vertex); `None`: the mesh's bounding cube.
-    pub domain: Option<Cube>,
-    /// Bits of the node word that index children and triangle codes (30 in the paper's
-    /// layout). Smaller values exist to test the overflow error on small meshes.
-    pub index_bits: u8,
+wscg_math::params! {
+    /// Construction parameters; `Default` gives the paper's values.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct BuildParams {
+        /// Deepest level `L` (the paper voxelizes at 512^3: `L = 9`). At most 21.
+        pub max_depth: u8,
+        /// A node with at most this many distinct triangles becomes a leaf (paper: 2).
+        pub leaf_max_tris: u8,
+        /// Stop early at small nodes (the paper's method); `false` builds the "full octree" of
+        /// Table 2, split down to level `L` wherever there is geometry.
+        pub early_stop: bool,
+        /// Explicit cube domain (must hold every vertex); `None`: the mesh's bounding cube.
+        pub domain: Option<Cube>,
+        /// Bits of the node word that index children and triangle codes (30 in the paper's
+        /// layout). Smaller values exist to test the overflow error on small meshes.
+        pub index_bits: u8,
+    }
 }
 
 impl Default for BuildParams {

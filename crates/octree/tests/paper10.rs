@@ -16,11 +16,9 @@ use wscg_octree::{
 };
 
 fn params(depth: u8, early_stop: bool) -> BuildParams {
-    BuildParams {
-        max_depth: depth,
-        early_stop,
-        ..Default::default()
-    }
+    BuildParams::default()
+        .max_depth(depth)
+        .early_stop(early_stop)
 }
 
 /// 1,000 triangles in the grid units of a 64^3 grid: general, slivers, axis-aligned on cell
@@ -239,35 +237,18 @@ fn structure_invariants_hold_on_the_scenes() {
 fn exact_square_counts_for_every_depth() {
     let (mesh, cube) = scenes::exact_square().unwrap();
     for l in 1..=9u8 {
-        let p = BuildParams {
-            domain: Some(cube),
-            ..params(l, true)
-        };
+        let p = params(l, true).domain(Some(cube));
         let (early, _) = build(&mesh, &p).unwrap();
         assert_eq!(early.nodes.len(), 1);
         assert!(early.nodes[0].is_leaf());
         assert_eq!(early.decode_leaf(0), LeafTris::Pair(0, 1));
-        let (full, _) = build(
-            &mesh,
-            &BuildParams {
-                early_stop: false,
-                ..p
-            },
-        )
-        .unwrap();
+        let (full, _) = build(&mesh, &p.early_stop(false)).unwrap();
         let f4 = 4u64.pow(u32::from(l));
         assert_eq!(full.nodes.len() as u64, 1 + 8 * (f4 - 1) / 3, "L = {l}");
         assert_eq!(full.voxels.len() as u64, (4 * f4 - 1) / 3, "L = {l}");
     }
     // Depth 0 is valid: a single node.
-    let (z, _) = build(
-        &mesh,
-        &BuildParams {
-            domain: Some(cube),
-            ..params(0, false)
-        },
-    )
-    .unwrap();
+    let (z, _) = build(&mesh, &params(0, false).domain(Some(cube))).unwrap();
     assert_eq!(z.nodes.len(), 1);
 }
 
@@ -861,24 +842,10 @@ fn bad_input_is_rejected() {
         .to_string()
         .contains("max_depth"));
     // Index overflow: 10-bit node words cannot hold the full tree of this mesh.
-    let e = build(
-        &ok,
-        &BuildParams {
-            index_bits: 10,
-            ..params(8, false)
-        },
-    )
-    .unwrap_err();
+    let e = build(&ok, &params(8, false).index_bits(10)).unwrap_err();
     assert!(matches!(e, wscg_math::Error::LimitExceeded(_)), "{e}");
     let small = Cube::new([0.0; 3], 0.1).unwrap();
-    assert!(build(
-        &ok,
-        &BuildParams {
-            domain: Some(small),
-            ..Default::default()
-        }
-    )
-    .is_err());
+    assert!(build(&ok, &BuildParams::default().domain(Some(small))).is_err());
     // All-degenerate mesh.
     let flat = TriMesh::new(
         vec![[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]],

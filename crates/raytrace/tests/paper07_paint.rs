@@ -138,13 +138,11 @@ fn interpenetrate(a: &Flake, b: &Flake, h: f64, shift: Vector3<f64>) -> bool {
 fn check7_deposit_statistics_and_no_interpenetration() {
     // Parameters at which the deposit fits the layer (the study's densities do not: see
     // `FlakeParams::model`).
-    let p = FlakeParams {
-        model: StackModel::Deposit,
-        radius_um: 15.0,
-        density: 3.5,
-        tilt: TiltDist::HalfNormal { sigma_deg: 3.0 },
-        ..FlakeParams::default()
-    };
+    let p = FlakeParams::default()
+        .model(StackModel::Deposit)
+        .radius_um(15.0)
+        .density(3.5)
+        .tilt(TiltDist::HalfNormal { sigma_deg: 3.0 });
     let tiles = check_statistics(&p);
     let l = p.tile_um;
     let (mut pairs, mut under) = (0, 0);
@@ -182,12 +180,7 @@ fn check7_deposit_statistics_and_no_interpenetration() {
         zc.iter().sum::<f64>() / zc.len() as f64
     );
     // The same check finds the interpenetration of the Boolean model.
-    let b = FlakeParams {
-        model: StackModel::Boolean,
-        radius_um: 10.0,
-        density: 6.5,
-        ..p
-    };
+    let b = p.model(StackModel::Boolean).radius_um(10.0).density(6.5);
     let t = generate_tile(&b, 5).unwrap();
     let f = &t.flakes;
     let crossing = (0..f.len())
@@ -202,12 +195,10 @@ fn check7_deposit_statistics_and_no_interpenetration() {
 
 #[test]
 fn check7_boolean_statistics() {
-    let p = FlakeParams {
-        model: StackModel::Boolean,
-        radius_um: 10.0,
-        tilt: TiltDist::UniformCap { max_deg: 20.0 },
-        ..FlakeParams::default()
-    };
+    let p = FlakeParams::default()
+        .model(StackModel::Boolean)
+        .radius_um(10.0)
+        .tilt(TiltDist::UniformCap { max_deg: 20.0 });
     let tiles = check_statistics(&p);
     // Heights uniform over the allowed range: mean at the layer's middle.
     let z: Vec<f64> = tiles
@@ -217,12 +208,7 @@ fn check7_boolean_statistics() {
     let m = z.iter().sum::<f64>() / z.len() as f64;
     assert!((m - 0.5 * p.layer_um).abs() < 0.05, "{m}");
     // Coverage of untilted discs is 1 - exp(-density) (Matheron).
-    let flat = FlakeParams {
-        tilt: TiltDist::Flat,
-        radius_cv: 0.0,
-        density: 1.2,
-        ..p
-    };
+    let flat = p.tilt(TiltDist::Flat).radius_cv(0.0).density(1.2);
     let t = generate_tile(&flat, 9).unwrap();
     let mut covered = 0usize;
     let k = 300;
@@ -244,16 +230,14 @@ fn check7_boolean_statistics() {
 /// The paint of checks 8: sparse, small flakes with normals uniform over a cap, in the
 /// Boolean model (no stacking), under the default coat.
 fn sparse_plate(max_tilt_deg: f64, density: f64, seed: u64) -> (FlakePlate, Plate) {
-    let p = FlakeParams {
-        model: StackModel::Boolean,
-        radius_um: 10.0,
-        radius_cv: 0.0,
-        density,
-        tilt: TiltDist::UniformCap {
+    let p = FlakeParams::default()
+        .model(StackModel::Boolean)
+        .radius_um(10.0)
+        .radius_cv(0.0)
+        .density(density)
+        .tilt(TiltDist::UniformCap {
             max_deg: max_tilt_deg,
-        },
-        ..FlakeParams::default()
-    };
+        });
     let micro = FlakePlate::new(&p, (150.0, 100.0), seed).unwrap();
     let plate = Plate::new(PlateStack::default(), Box::new(micro.clone())).unwrap();
     (micro, plate)
@@ -341,12 +325,10 @@ fn check8_glints_follow_the_mirror_chain() {
     let rig = StereoRig::default();
     let light = DiscLight::from_elevation(45.0, 6.0);
     let half = 4.0;
-    let s = PaintRenderParams {
-        spp: 4,
-        region_mm: Some(Rect::centred(0.0, 0.0, 2.0 * half, 2.0 * half)),
-        magnification: 27.75,
-        ..PaintRenderParams::default()
-    };
+    let s = PaintRenderParams::default()
+        .spp(4)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 2.0 * half, 2.0 * half)))
+        .magnification(27.75);
     let img = render(&plate, &light, &rig, Eye::Left, &s).unwrap();
     let flakes = micro.flakes_in(
         -half * 1e3 + 20.0,
@@ -390,12 +372,10 @@ fn check8_binocular_overlap_is_the_lens_of_two_lamp_cones() {
     let (_, plate) = sparse_plate(10.0, 0.3, 18);
     let rig = StereoRig::default();
     let sep = (rig.eye_sep_m / rig.dist_m).atan().to_degrees();
-    let s = PaintRenderParams {
-        spp: 4,
-        region_mm: Some(Rect::centred(0.0, 0.0, 5.0, 5.0)),
-        magnification: 27.75,
-        ..PaintRenderParams::default()
-    };
+    let s = PaintRenderParams::default()
+        .spp(4)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 5.0, 5.0)))
+        .magnification(27.75);
     for radius in [1.0, 3.0, 4.0, 6.0] {
         let light = DiscLight::from_elevation(70.0, radius);
         let l = render(&plate, &light, &rig, Eye::Left, &s).unwrap();
@@ -418,12 +398,10 @@ fn check8_binocular_overlap_is_the_lens_of_two_lamp_cones() {
 #[test]
 fn check9_energy_and_coat_only() {
     let rig = StereoRig::default();
-    let s = PaintRenderParams {
-        spp: 4,
-        region_mm: Some(Rect::centred(0.0, 0.0, 10.0, 10.0)),
-        magnification: 2.0,
-        ..PaintRenderParams::default()
-    };
+    let s = PaintRenderParams::default()
+        .spp(4)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 10.0, 10.0)))
+        .magnification(2.0);
     // Without flakes, a lamp straight above: every pixel sees the lamp in the coat, Y = F(cos) Y_lamp.
     let bare = Plate::new(PlateStack::default(), Box::new(NoFlakes)).unwrap();
     let above = DiscLight::from_elevation(90.0, 1.0);
@@ -464,18 +442,15 @@ fn check9_error_falls_as_one_over_root_spp() {
     // A lamp of 4 degrees: with 1 degree the glints are so rare and bright that one
     // realisation's error is dominated by a handful of events.
     let light = DiscLight::from_elevation(75.0, 4.0);
-    let base = PaintRenderParams {
-        region_mm: Some(Rect::centred(0.0, 0.0, 3.0, 3.0)),
-        magnification: 4.0,
-        ..PaintRenderParams::default()
-    };
+    let base = PaintRenderParams::default()
+        .region_mm(Some(Rect::centred(0.0, 0.0, 3.0, 3.0)))
+        .magnification(4.0);
     let run = |spp: u32, seed: u64, independent: bool| {
-        let s = PaintRenderParams {
-            spp,
-            seed,
-            independent_samples: independent,
-            ..base.clone()
-        };
+        let s = base
+            .clone()
+            .spp(spp)
+            .seed(seed)
+            .independent_samples(independent);
         render(&plate, &light, &rig, Eye::Cyclopean, &s)
             .unwrap()
             .luminance()
@@ -509,12 +484,10 @@ fn check5_white_lambertian_plate_renders_to_the_illuminant() {
     };
     let plate = Plate::new(stack, Box::new(NoFlakes)).unwrap();
     let rig = StereoRig::default();
-    let s = PaintRenderParams {
-        spp: 16,
-        region_mm: Some(Rect::centred(0.0, 0.0, 5.0, 5.0)),
-        magnification: 1.0,
-        ..PaintRenderParams::default()
-    };
+    let s = PaintRenderParams::default()
+        .spp(16)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 5.0, 5.0)))
+        .magnification(1.0);
     for (name, spd, xy) in cref::ILLUMINANTS.iter() {
         let light = DiscLight {
             spectrum: Spectrum::new(SpectralGrid::VISIBLE, spd.to_vec()).unwrap(),
@@ -548,12 +521,10 @@ fn left_and_right_share_the_microstructure() {
     let plate = Plate::new(PlateStack::default(), Box::new(micro)).unwrap();
     let light = DiscLight::from_elevation(75.0, 3.0);
     let rig = StereoRig::default();
-    let s = PaintRenderParams {
-        spp: 4,
-        region_mm: Some(Rect::centred(0.0, 0.0, 5.0, 5.0)),
-        magnification: 4.0,
-        ..PaintRenderParams::default()
-    };
+    let s = PaintRenderParams::default()
+        .spp(4)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 5.0, 5.0)))
+        .magnification(4.0);
     let l = render(&plate, &light, &rig, Eye::Left, &s).unwrap();
     let r = render(&plate, &light, &rig, Eye::Right, &s).unwrap();
     let ov = binocular_overlap(&l.glint_ids, &r.glint_ids);
@@ -572,50 +543,28 @@ fn left_and_right_share_the_microstructure() {
 fn bad_input_is_an_error() {
     let p = FlakeParams::default();
     for bad in [
-        FlakeParams {
-            radius_um: 0.0,
-            ..p
-        },
-        FlakeParams {
-            radius_um: 300.0,
-            ..p
-        },
-        FlakeParams { density: -1.0, ..p },
-        FlakeParams {
-            density: f64::NAN,
-            ..p
-        },
-        FlakeParams {
-            thickness_um: 21.0,
-            ..p
-        },
-        FlakeParams {
-            tiles_in_pool: 0,
-            ..p
-        },
-        FlakeParams {
-            tilt: TiltDist::UniformCap { max_deg: 95.0 },
-            ..p
-        },
+        p.radius_um(0.0),
+        p.radius_um(300.0),
+        p.density(-1.0),
+        p.density(f64::NAN),
+        p.thickness_um(21.0),
+        p.tiles_in_pool(0),
+        p.tilt(TiltDist::UniformCap { max_deg: 95.0 }),
     ] {
         assert!(generate_tile(&bad, 0).is_err(), "{bad:?}");
     }
     // A deposit that overflows the layer is an error, not a silent clamp.
-    let over = FlakeParams {
-        model: StackModel::Deposit,
-        density: 40.0,
-        max_clamped_fraction: 0.01,
-        ..p
-    };
+    let over = p
+        .model(StackModel::Deposit)
+        .density(40.0)
+        .max_clamped_fraction(0.01);
     let e = generate_tile(&over, 0).unwrap_err().to_string();
     assert!(e.contains("overflow"), "{e}");
     // Tilts at which a flake would leave the layer are lowered to the largest that fits.
-    let tall = FlakeParams {
-        model: StackModel::Boolean,
-        radius_cv: 0.0,
-        tilt: TiltDist::UniformCap { max_deg: 60.0 },
-        ..p
-    };
+    let tall = p
+        .model(StackModel::Boolean)
+        .radius_cv(0.0)
+        .tilt(TiltDist::UniformCap { max_deg: 60.0 });
     let t = generate_tile(&tall, 0).unwrap();
     let limit = max_tilt(30.0, 0.5, 20.24);
     assert!(
@@ -652,26 +601,13 @@ fn bad_input_is_an_error() {
     let light = DiscLight::default();
     let ok = PaintRenderParams::default();
     for bad in [
-        PaintRenderParams {
-            spp: 0,
-            ..ok.clone()
-        },
-        PaintRenderParams {
-            max_depth: 0,
-            ..ok.clone()
-        },
-        PaintRenderParams {
-            magnification: 0.0,
-            ..ok.clone()
-        },
-        PaintRenderParams {
-            region_mm: Some(Rect::centred(0.0, 0.0, 0.0, 1.0)),
-            ..ok.clone()
-        },
-        PaintRenderParams {
-            region_mm: Some(Rect::centred(100.0, 0.0, 10.0, 10.0)),
-            ..ok.clone()
-        },
+        ok.clone().spp(0),
+        ok.clone().max_depth(0),
+        ok.clone().magnification(0.0),
+        ok.clone()
+            .region_mm(Some(Rect::centred(0.0, 0.0, 0.0, 1.0))),
+        ok.clone()
+            .region_mm(Some(Rect::centred(100.0, 0.0, 10.0, 10.0))),
     ] {
         assert!(
             render(&plate, &light, &rig, Eye::Left, &bad).is_err(),
@@ -688,16 +624,11 @@ fn rgb_baseline_equals_spectral_for_grey_flakes_only() {
     let rig = StereoRig::default();
     let light = DiscLight::from_elevation(75.0, 3.0);
     let micro = FlakePlate::new(&FlakeParams::default(), (150.0, 100.0), 12).unwrap();
-    let s = PaintRenderParams {
-        spp: 16,
-        region_mm: Some(Rect::centred(0.0, 0.0, 3.0, 3.0)),
-        magnification: 4.0,
-        ..PaintRenderParams::default()
-    };
-    let rgb = PaintRenderParams {
-        colour: ColourMode::Rgb,
-        ..s.clone()
-    };
+    let s = PaintRenderParams::default()
+        .spp(16)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 3.0, 3.0)))
+        .magnification(4.0);
+    let rgb = s.clone().colour(ColourMode::Rgb);
     let render_both = |metal: MetalIor| {
         let stack = PlateStack {
             metal,
@@ -729,13 +660,11 @@ fn spectral_output_integrates_to_xyz_and_round_trips_through_exr() {
     use wscg_raytrace::spectral::tables::{CMF_X, CMF_Y, CMF_Z};
     let micro = FlakePlate::new(&FlakeParams::default(), (150.0, 100.0), 5).unwrap();
     let plate = Plate::new(PlateStack::default(), Box::new(micro)).unwrap();
-    let s = PaintRenderParams {
-        spp: 4,
-        region_mm: Some(Rect::centred(0.0, 0.0, 2.0, 2.0)),
-        magnification: 4.0,
-        keep_spectrum: true,
-        ..PaintRenderParams::default()
-    };
+    let s = PaintRenderParams::default()
+        .spp(4)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 2.0, 2.0)))
+        .magnification(4.0)
+        .keep_spectrum(true);
     let img = render(
         &plate,
         &DiscLight::from_elevation(75.0, 3.0),
@@ -789,10 +718,7 @@ fn spectral_output_integrates_to_xyz_and_round_trips_through_exr() {
         &DiscLight::default(),
         &StereoRig::default(),
         Eye::Left,
-        &PaintRenderParams {
-            keep_spectrum: false,
-            ..s
-        },
+        &s.clone().keep_spectrum(false),
     )
     .unwrap();
     assert!(write_spectral_exr(&plain, dir.path().join("x.exr")).is_err());
@@ -834,11 +760,7 @@ fn photon_map_direct_irradiance_matches_the_refracted_lamp() {
     };
     let plate = Plate::new(stack.clone(), Box::new(NoFlakes)).unwrap();
     let light = DiscLight::from_elevation(40.0, 1.0);
-    let ps = PhotonParams {
-        count: 1_000_000,
-        k: 400,
-        ..PhotonParams::default()
-    };
+    let ps = PhotonParams::default().count(1_000_000).k(400);
     let map = trace_photons(
         &plate,
         &light,
@@ -883,10 +805,7 @@ fn mean_y_with_and_without_photons(
             .unwrap()
             .mean_xyz()[1]
     };
-    let without = PaintRenderParams {
-        photons: None,
-        ..s.clone()
-    };
+    let without = s.clone().photons(None);
     (y(s), y(&without))
 }
 
@@ -910,13 +829,11 @@ fn photon_map_caustic_of_a_tilted_mirror() {
     };
     let plate = Plate::new(stack.clone(), Box::new(mirror)).unwrap();
     let light = DiscLight::from_elevation(45.0, 0.5);
-    let ps = PhotonParams {
-        count: 2_000_000,
-        k: 200,
-        max_radius_um: 20.0,
-        margin_um: 300.0,
-        ..PhotonParams::default()
-    };
+    let ps = PhotonParams::default()
+        .count(2_000_000)
+        .k(200)
+        .max_radius_um(20.0)
+        .margin_um(300.0);
     let mut map = trace_photons(&plate, &light, [-200.0, -300.0, 200.0, 200.0], &ps, true).unwrap();
     let ct = light.dir_to_light.z;
     let nb = stack.binder_ior;
@@ -966,13 +883,11 @@ fn photon_map_caustic_of_a_tilted_mirror() {
 
     // The renderer adds the caustic to the light-sampled direct light: over the strip, a
     // base of albedo 1 seen from above is brighter by 1 + R tan(theta_b) with the photons.
-    let s = PaintRenderParams {
-        spp: 16,
-        region_mm: Some(Rect::centred(0.0, y_mid * 1e-3, 0.06, 0.02)),
-        magnification: 30.0,
-        photons: Some(ps),
-        ..PaintRenderParams::default()
-    };
+    let s = PaintRenderParams::default()
+        .spp(16)
+        .region_mm(Some(Rect::centred(0.0, y_mid * 1e-3, 0.06, 0.02)))
+        .magnification(30.0)
+        .photons(Some(ps));
     let (with, without) = mean_y_with_and_without_photons(&plate, &light, &s);
     let ratio = with / without;
     let r560 = plate.relative_index(560.0);
@@ -986,10 +901,7 @@ fn photon_map_caustic_of_a_tilted_mirror() {
 #[test]
 fn caustics_brighten_a_diffuse_base_and_bad_photon_settings_are_errors() {
     // A sparse paint (half the base visible), so that the base shows.
-    let p = FlakeParams {
-        density: 0.7,
-        ..FlakeParams::default()
-    };
+    let p = FlakeParams::default().density(0.7);
     let micro = FlakePlate::new(&p, (150.0, 100.0), 5).unwrap();
     let stack = PlateStack {
         base_albedo: 0.5,
@@ -998,44 +910,25 @@ fn caustics_brighten_a_diffuse_base_and_bad_photon_settings_are_errors() {
     let plate = Plate::new(stack, Box::new(micro)).unwrap();
     let light = DiscLight::default();
     let rig = StereoRig::default();
-    let s = PaintRenderParams {
-        spp: 4,
-        region_mm: Some(Rect::centred(0.0, 0.0, 2.0, 2.0)),
-        magnification: 4.0,
-        photons: Some(PhotonParams {
-            count: 300_000,
-            margin_um: 500.0,
-            ..PhotonParams::default()
-        }),
-        ..PaintRenderParams::default()
-    };
+    let s = PaintRenderParams::default()
+        .spp(4)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 2.0, 2.0)))
+        .magnification(4.0)
+        .photons(Some(
+            PhotonParams::default().count(300_000).margin_um(500.0),
+        ));
     let (a, b) = mean_y_with_and_without_photons(&plate, &light, &s);
     eprintln!("diffuse base 0.5: Y with caustics {a:.4}, without {b:.4}");
     // Light reflected up by the flakes comes back down at the top surface (Fresnel, and
     // total internal reflection beyond 42 degrees): a few percent more on the base.
     assert!(a > 1.005 * b, "caustics add light: {a} vs {b}");
     for bad in [
-        PhotonParams {
-            count: 0,
-            ..PhotonParams::default()
-        },
-        PhotonParams {
-            k: 0,
-            ..PhotonParams::default()
-        },
-        PhotonParams {
-            max_radius_um: f64::NAN,
-            ..PhotonParams::default()
-        },
-        PhotonParams {
-            margin_um: -1.0,
-            ..PhotonParams::default()
-        },
+        PhotonParams::default().count(0),
+        PhotonParams::default().k(0),
+        PhotonParams::default().max_radius_um(f64::NAN),
+        PhotonParams::default().margin_um(-1.0),
     ] {
-        let s = PaintRenderParams {
-            photons: Some(bad),
-            ..s.clone()
-        };
+        let s = s.clone().photons(Some(bad));
         assert!(render(&plate, &light, &rig, Eye::Cyclopean, &s).is_err());
     }
 }

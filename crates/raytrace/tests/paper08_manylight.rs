@@ -224,17 +224,11 @@ fn bad_input_is_an_error() {
     let vpls = [emitter_vpl(Vector3::new(0.0, 1.0, 0.0), -Vector3::y(), 1.0)];
     let ok = ImportanceCachingParams::default();
     for bad in [
-        ImportanceCachingParams { n_cache: 0, ..ok },
-        ImportanceCachingParams { m_nearest: 0, ..ok },
-        ImportanceCachingParams { spp: 0, ..ok },
-        ImportanceCachingParams {
-            strategies: [false; 4],
-            ..ok
-        },
-        ImportanceCachingParams {
-            n_cache: 10_000,
-            ..ok
-        },
+        ok.n_cache(0),
+        ok.m_nearest(0),
+        ok.spp(0),
+        ok.strategies([false; 4]),
+        ok.n_cache(10_000),
     ] {
         let r = build_cache(
             &scene,
@@ -252,20 +246,14 @@ fn bad_input_is_an_error() {
         &[],
         &Placement::RandomScreen,
         Interp::Uniform,
-        &ImportanceCachingParams { n_cache: 10, ..ok }
+        &ok.n_cache(10)
     )
     .is_err());
     for bad in [
-        AdaptiveParams {
-            delta: -1.0,
-            ..AdaptiveParams::default()
-        },
-        AdaptiveParams {
-            init_fraction: 0.0,
-            ..AdaptiveParams::default()
-        },
+        AdaptiveParams::default().delta(-1.0),
+        AdaptiveParams::default().init_fraction(0.0),
     ] {
-        let p = ImportanceCachingParams { n_cache: 10, ..ok };
+        let p = ok.n_cache(10);
         assert!(build_cache(
             &scene,
             &g,
@@ -281,7 +269,7 @@ fn bad_input_is_an_error() {
         lambda: 5.0,
         dmax_factor: 2.0,
     };
-    let p = ImportanceCachingParams { n_cache: 10, ..ok };
+    let p = ok.n_cache(10);
     assert!(build_cache(&scene, &g, &vpls, &Placement::RandomScreen, bad_interp, &p).is_err());
     // A camera that sees nothing: a black image for the reference, an error for a cache.
     let away = Camera {

@@ -21,14 +21,8 @@ fn ratios(
     n_cache: usize,
     seeds: u64,
 ) -> (Vec<f64>, Vec<f64>) {
-    let s = ManyLightParams {
-        vpl: VplParams {
-            n_paths,
-            max_bounces: 2,
-            seed: 1,
-        },
-        ..ManyLightParams::default()
-    };
+    let s = ManyLightParams::default()
+        .vpl(VplParams::default().n_paths(n_paths).max_bounces(2).seed(1));
     let vpls = generate_vpls(scene, &s.vpl).unwrap();
     let g = trace_primary(scene, cam).unwrap();
     let reference = run_with(scene, &g, &vpls, Method::Reference, &s, &NoProgress, 0.0).unwrap();
@@ -97,19 +91,9 @@ fn check3_variance_reduction_conference() {
 #[test]
 fn check2_estimators_are_unbiased() {
     let (scene, cam) = cornell_box(1, 64, 48).unwrap();
-    let s = ManyLightParams {
-        vpl: VplParams {
-            n_paths: 400,
-            max_bounces: 2,
-            seed: 3,
-        },
-        ic: ImportanceCachingParams {
-            n_cache: 150,
-            spp: 8,
-            ..ImportanceCachingParams::default()
-        },
-        ..ManyLightParams::default()
-    };
+    let s = ManyLightParams::default()
+        .vpl(VplParams::default().n_paths(400).max_bounces(2).seed(3))
+        .ic(ImportanceCachingParams::default().n_cache(150).spp(8));
     let vpls = generate_vpls(&scene, &s.vpl).unwrap();
     assert!((900..=1150).contains(&vpls.len()), "{} VPLs", vpls.len());
     let g = trace_primary(&scene, &cam).unwrap();
@@ -196,18 +180,9 @@ struct Check4 {
 
 fn check4_setup() -> Check4 {
     let (scene, cam) = cornell_box(1, 128, 96).unwrap();
-    let s = ManyLightParams {
-        vpl: VplParams {
-            n_paths: 1000,
-            max_bounces: 0,
-            seed: 2,
-        },
-        ic: ImportanceCachingParams {
-            n_cache: 300,
-            ..ImportanceCachingParams::default()
-        },
-        ..ManyLightParams::default()
-    };
+    let s = ManyLightParams::default()
+        .vpl(VplParams::default().n_paths(1000).max_bounces(0).seed(2))
+        .ic(ImportanceCachingParams::default().n_cache(300));
     let vpls = generate_vpls(&scene, &s.vpl).unwrap();
     let g = trace_primary(&scene, &cam).unwrap();
     let reference = run_with(&scene, &g, &vpls, Method::Reference, &s, &NoProgress, 0.0)
@@ -341,17 +316,9 @@ fn check7_clustering() {
         "{k} clusters for {k0}"
     );
     // The record budget holds.
-    let s = ManyLightParams {
-        vpl: VplParams {
-            n_paths: 200,
-            ..VplParams::default()
-        },
-        ic: ImportanceCachingParams {
-            n_cache: 200,
-            ..ImportanceCachingParams::default()
-        },
-        ..ManyLightParams::default()
-    };
+    let s = ManyLightParams::default()
+        .vpl(VplParams::default().n_paths(200))
+        .ic(ImportanceCachingParams::default().n_cache(200));
     let vpls = generate_vpls(&scene, &s.vpl).unwrap();
     let out = run_with(&scene, &g, &vpls, Method::Adaptive, &s, &NoProgress, 0.0).unwrap();
     assert!(out.records.len() <= 200);
@@ -360,17 +327,9 @@ fn check7_clustering() {
 #[test]
 fn check8_deterministic_with_one_and_two_threads() {
     let (scene, cam) = cornell_box(1, 64, 48).unwrap();
-    let s = ManyLightParams {
-        vpl: VplParams {
-            n_paths: 300,
-            ..VplParams::default()
-        },
-        ic: ImportanceCachingParams {
-            n_cache: 100,
-            ..ImportanceCachingParams::default()
-        },
-        ..ManyLightParams::default()
-    };
+    let s = ManyLightParams::default()
+        .vpl(VplParams::default().n_paths(300))
+        .ic(ImportanceCachingParams::default().n_cache(100));
     let go = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -403,11 +362,7 @@ fn emitter_vpls_converge_to_the_area_lights_direct_light() {
     assert!((p.pos - x).norm() < 1e-3 && p.normal.y > 0.99);
     let vpls = generate_vpls(
         &scene,
-        &VplParams {
-            n_paths: 40_000,
-            max_bounces: 0,
-            seed: 5,
-        },
+        &VplParams::default().n_paths(40_000).max_bounces(0).seed(5),
     )
     .unwrap();
     let img = render_reference(&scene, &g, &vpls, Some(0.0), &NoProgress).unwrap();

@@ -17,18 +17,20 @@ use crate::refine::{refine_matches, RefineParams, RefineStats};
 use crate::search::{source_list, Searcher};
 use crate::video::{Mask3, Video};
 
-/// Parameters of the whole completion.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CompletionParams {
-    /// Stage 1.
-    pub low: LowResParams,
-    /// Stage 2 (`None`: the no-refinement ablation of Fig. 5b).
-    pub refine: Option<RefineParams>,
-    /// Stage 3.
-    pub local: LocalSearchParams,
-    /// Replace stage 3's localized search by exact global search at every finer level (an
-    /// ablation for small videos: the cost the paper avoids).
-    pub global_fine_search: bool,
+wscg_math::params! {
+    /// Parameters of the whole completion.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct CompletionParams {
+        /// Stage 1.
+        pub low: LowResParams,
+        /// Stage 2 (`None`: the no-refinement ablation of Fig. 5b).
+        pub refine: Option<RefineParams>,
+        /// Stage 3.
+        pub local: LocalSearchParams,
+        /// Replace stage 3's localized search by exact global search at every finer level (an
+        /// ablation for small videos: the cost the paper avoids).
+        pub global_fine_search: bool,
+    }
 }
 
 impl Default for CompletionParams {

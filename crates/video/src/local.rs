@@ -28,28 +28,30 @@ pub enum UpscaleStep {
     Direct,
 }
 
-/// Parameters of stage 3.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LocalSearchParams {
-    /// Window widths of the first iterations (17, 13, 9, 5: Fig. 9); later iterations keep
-    /// the last width.
-    pub windows: Vec<usize>,
-    /// Iterations at most (at least `windows.len()` are run): 16.
-    pub max_iterations: usize,
-    /// After the listed windows, stop once an iteration lowers the energy by no more than
-    /// this fraction (stage 1's rule; a plateau or a rise stops too): 5e-3.
-    pub min_energy_drop: f64,
-    /// Frames searched on each side of the match's frame (0: the match's frame only).
-    pub temporal_radius: usize,
-    /// Level schedule.
-    pub step: UpscaleStep,
-    /// After its window, each pixel also tries the sources its four spatial neighbours'
-    /// current matches imply (`q' - (q - p)`, the coherence candidates of stage 2). The
-    /// paper's windows are re-centred on a pixel's own match only, so a region whose best
-    /// sources lie beyond the window from the up-scaled match cannot reach them; the
-    /// neighbours' matches carry good offsets across it. Four more candidates per pixel;
-    /// `false` is the paper's stage 3 alone. True.
-    pub propagate: bool,
+wscg_math::params! {
+    /// Parameters of stage 3.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct LocalSearchParams {
+        /// Window widths of the first iterations (17, 13, 9, 5: Fig. 9); later iterations keep
+        /// the last width.
+        pub windows: Vec<usize>,
+        /// Iterations at most (at least `windows.len()` are run): 16.
+        pub max_iterations: usize,
+        /// After the listed windows, stop once an iteration lowers the energy by no more than
+        /// this fraction (stage 1's rule; a plateau or a rise stops too): 5e-3.
+        pub min_energy_drop: f64,
+        /// Frames searched on each side of the match's frame (0: the match's frame only).
+        pub temporal_radius: usize,
+        /// Level schedule.
+        pub step: UpscaleStep,
+        /// After its window, each pixel also tries the sources its four spatial neighbours'
+        /// current matches imply (`q' - (q - p)`, the coherence candidates of stage 2). The
+        /// paper's windows are re-centred on a pixel's own match only, so a region whose best
+        /// sources lie beyond the window from the up-scaled match cannot reach them; the
+        /// neighbours' matches carry good offsets across it. Four more candidates per pixel;
+        /// `false` is the paper's stage 3 alone. True.
+        pub propagate: bool,
+    }
 }
 
 impl LocalSearchParams {

@@ -16,36 +16,38 @@ use crate::pyramid::downscale;
 use crate::search::{random_matches, SearchMethod, Searcher};
 use crate::video::{Mask3, Video};
 
-/// Parameters of stage 1.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LowResParams {
-    /// Width of the working resolution (480 in the paper: 1920 x 1080 is completed at
-    /// 480 x 270).
-    pub target_width: usize,
-    /// Pyramid levels below the working resolution included (`None`: halve while the next
-    /// level is at least 120 pixels wide and the hole is thicker than two patch radii).
-    pub levels: Option<usize>,
-    /// Patch extents.
-    pub patch: PatchSize,
-    /// Sweeps per level, coarsest first (the last value repeats for further levels).
-    pub iters: Vec<usize>,
-    /// Initial colours of the hole at the coarsest level.
-    pub init: InitMethod,
-    /// Best-match search.
-    pub search: SearchMethod,
-    /// Onion-peel filling order (`false`: scan-line order, the ablation).
-    pub onion_order: bool,
-    /// The first sweep at the coarsest level fills the hole causally: pixel after pixel in
-    /// the filling order, each comparing only known pixels and pixels already filled in that
-    /// sweep (a weighted SSD with weight 0 for not yet visited hole pixels; the paper, §3.2:
-    /// "space-time points in E or space-time points already processed during the
-    /// current iteration"). `false`: the first sweep compares with the inpainted colours,
-    /// shell by shell in parallel like the later sweeps.
-    pub causal_first_sweep: bool,
-    /// A level stops early when fewer than this fraction of matches change in a sweep...
-    pub min_changed: f64,
-    /// ...or the energy drops by no more than this fraction ([`crate::field::energy_settled`]).
-    pub min_energy_drop: f64,
+wscg_math::params! {
+    /// Parameters of stage 1.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct LowResParams {
+        /// Width of the working resolution (480 in the paper: 1920 x 1080 is completed at
+        /// 480 x 270).
+        pub target_width: usize,
+        /// Pyramid levels below the working resolution included (`None`: halve while the next
+        /// level is at least 120 pixels wide and the hole is thicker than two patch radii).
+        pub levels: Option<usize>,
+        /// Patch extents.
+        pub patch: PatchSize,
+        /// Sweeps per level, coarsest first (the last value repeats for further levels).
+        pub iters: Vec<usize>,
+        /// Initial colours of the hole at the coarsest level.
+        pub init: InitMethod,
+        /// Best-match search.
+        pub search: SearchMethod,
+        /// Onion-peel filling order (`false`: scan-line order, the ablation).
+        pub onion_order: bool,
+        /// The first sweep at the coarsest level fills the hole causally: pixel after pixel in
+        /// the filling order, each comparing only known pixels and pixels already filled in that
+        /// sweep (a weighted SSD with weight 0 for not yet visited hole pixels; the paper, §3.2:
+        /// "space-time points in E or space-time points already processed during the
+        /// current iteration"). `false`: the first sweep compares with the inpainted colours,
+        /// shell by shell in parallel like the later sweeps.
+        pub causal_first_sweep: bool,
+        /// A level stops early when fewer than this fraction of matches change in a sweep...
+        pub min_changed: f64,
+        /// ...or the energy drops by no more than this fraction ([`crate::field::energy_settled`]).
+        pub min_energy_drop: f64,
+    }
 }
 
 impl Default for LowResParams {
@@ -201,11 +203,10 @@ fn complete_level(
         if pm_iters > 0 {
             let cubes = Cubes::new(v, &sources, cfg.patch);
             field.refresh(&cubes);
-            let p = PatchMatchParams {
-                iterations: pm_iters,
-                seed: seed ^ (1000 * (k + 1) + sweep) as u64,
-                max_radius: None,
-            };
+            let p = PatchMatchParams::default()
+                .iterations(pm_iters)
+                .seed(seed ^ (1000 * (k + 1) + sweep) as u64)
+                .max_radius(None);
             patchmatch(&cubes, &field.targets, &mut field.matches, &p);
         }
         // The causal first sweep: one pixel at a time, comparing only known pixels and

@@ -10,10 +10,7 @@ use crate::video::{Mask3, Video};
 /// The SSIM parameters of the paper's measure: Wang et al. 2004, Gaussian window of sigma 1.5
 /// (11 x 11), `K1 = 0.01`, `K2 = 0.03`, data range 255.
 pub fn ssim_params() -> SsimParams {
-    SsimParams {
-        data_range: 255.0,
-        ..SsimParams::default()
-    }
+    SsimParams::default().data_range(255.0)
 }
 
 fn check(a: &Video, b: &Video, hole: &Mask3) -> Result<usize> {

@@ -17,19 +17,21 @@ use crate::patch::{Cubes, PatchSize};
 use crate::telea::MinEntry;
 use crate::video::{Mask3, Video};
 
-/// Parameters of the PCA + kd-tree search.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PcaKdParams {
-    /// Principal axes kept (24).
-    pub dims: usize,
-    /// Candidates re-ranked by exact SSD (8).
-    pub rerank: usize,
-    /// Leaves visited per query (64).
-    pub max_checks: usize,
-    /// Patches sampled to fit the PCA (50000).
-    pub samples: usize,
-    /// Seed of the sample.
-    pub seed: u64,
+wscg_math::params! {
+    /// Parameters of the PCA + kd-tree search.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub struct PcaKdParams {
+        /// Principal axes kept (24).
+        pub dims: usize,
+        /// Candidates re-ranked by exact SSD (8).
+        pub rerank: usize,
+        /// Leaves visited per query (64).
+        pub max_checks: usize,
+        /// Patches sampled to fit the PCA (50000).
+        pub samples: usize,
+        /// Seed of the sample.
+        pub seed: u64,
+    }
 }
 
 impl Default for PcaKdParams {

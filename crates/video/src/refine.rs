@@ -12,17 +12,19 @@ use crate::onion::onion_order;
 use crate::patch::{Cubes, PatchSize};
 use crate::video::{Mask3, Video};
 
-/// Parameters of stage 2.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RefineParams {
-    /// Fraction of pairs above the first threshold (0.15).
-    pub initial_fraction: f64,
-    /// Threshold decrease per iteration, as a fraction of the initial threshold (0.20).
-    pub decrement: f64,
-    /// Iterations (4; Fig. 7 shows 2 and 4).
-    pub iterations: usize,
-    /// Also try the `+-t` neighbours (an extension; the paper uses the four spatial ones).
-    pub temporal_neighbors: bool,
+wscg_math::params! {
+    /// Parameters of stage 2.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct RefineParams {
+        /// Fraction of pairs above the first threshold (0.15).
+        pub initial_fraction: f64,
+        /// Threshold decrease per iteration, as a fraction of the initial threshold (0.20).
+        pub decrement: f64,
+        /// Iterations (4; Fig. 7 shows 2 and 4).
+        pub iterations: usize,
+        /// Also try the `+-t` neighbours (an extension; the paper uses the four spatial ones).
+        pub temporal_neighbors: bool,
+    }
 }
 
 impl Default for RefineParams {

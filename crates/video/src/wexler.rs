@@ -18,24 +18,26 @@ use crate::pyramid::downscale;
 use crate::search::{exact_best_all, random_matches, source_list};
 use crate::video::{Mask3, Video};
 
-/// Parameters of the Wexler baseline.
-#[derive(Clone, Debug, PartialEq)]
-pub struct WexlerParams {
-    /// Patch extents.
-    pub patch: PatchSize,
-    /// Coarsest level width: the pyramid halves while the next level is at least this wide.
-    pub min_width: usize,
-    /// EM iterations (search + vote) per level, coarsest first; the last value repeats.
-    pub iters: Vec<usize>,
-    /// PatchMatch iterations per search (`0`: exact search over every source).
-    pub patchmatch_iters: usize,
-    /// Seed of the random start and the random search.
-    pub seed: u64,
-    /// Base of the distance-to-`E` weight decay (1.3).
-    pub decay: f64,
-    /// [`per_frame_patchmatch`] seeds frame `t` with `seed + t` (as separate runs of an image
-    /// tool would be) instead of `seed` for every frame.
-    pub seed_per_frame: bool,
+wscg_math::params! {
+    /// Parameters of the Wexler baseline.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct WexlerParams {
+        /// Patch extents.
+        pub patch: PatchSize,
+        /// Coarsest level width: the pyramid halves while the next level is at least this wide.
+        pub min_width: usize,
+        /// EM iterations (search + vote) per level, coarsest first; the last value repeats.
+        pub iters: Vec<usize>,
+        /// PatchMatch iterations per search (`0`: exact search over every source).
+        pub patchmatch_iters: usize,
+        /// Seed of the random start and the random search.
+        pub seed: u64,
+        /// Base of the distance-to-`E` weight decay (1.3).
+        pub decay: f64,
+        /// [`per_frame_patchmatch`] seeds frame `t` with `seed + t` (as separate runs of an image
+        /// tool would be) instead of `seed` for every frame.
+        pub seed_per_frame: bool,
+    }
 }
 
 impl Default for WexlerParams {
@@ -140,11 +142,10 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerParams) -> Resul
                 nnf = exact_best_all(&cubes, &pts, &source_list(&sources));
             } else {
                 refresh(&v, &sources, cfg.patch, &targets, &mut nnf);
-                let p = PatchMatchParams {
-                    iterations: cfg.patchmatch_iters,
-                    seed: cfg.seed ^ ((k * 1000 + it) as u64),
-                    max_radius: None,
-                };
+                let p = PatchMatchParams::default()
+                    .iterations(cfg.patchmatch_iters)
+                    .seed(cfg.seed ^ ((k * 1000 + it) as u64))
+                    .max_radius(None);
                 patchmatch(&cubes, &targets, &mut nnf, &p);
             }
             let before = v.data.clone();

@@ -113,13 +113,7 @@ fn check4_refinement_lowers_the_worst_distances() {
     let mut cfg = CompletionParams::default();
     cfg.low.search = SearchMethod::PcaKdTree(PcaKdParams::default());
     let with = complete(&clip, &cfg);
-    let without = complete(
-        &clip,
-        &CompletionParams {
-            refine: None,
-            ..cfg.clone()
-        },
-    );
+    let without = complete(&clip, &cfg.clone().refine(None));
     let st = with.stats.refine.clone().unwrap();
     let pairs = with.stats.lowres.last().unwrap().hole_pixels;
     let (before, after) = st.initial_set_mean;
@@ -149,21 +143,10 @@ fn localized_vs_global(clip: &Clip, half_width: usize) -> ([f64; 3], u64, u64) {
     let local = complete(clip, &cfg);
     let windows_only = complete(
         clip,
-        &CompletionParams {
-            local: LocalSearchParams {
-                propagate: false,
-                ..LocalSearchParams::default()
-            },
-            ..cfg.clone()
-        },
+        &cfg.clone()
+            .local(LocalSearchParams::default().propagate(false)),
     );
-    let global = complete(
-        clip,
-        &CompletionParams {
-            global_fine_search: true,
-            ..cfg.clone()
-        },
-    );
+    let global = complete(clip, &cfg.clone().global_fine_search(true));
     // All three stop where stage 3's rule first fires: localized and global search are
     // compared after iterating alike.
     for (name, c) in [
@@ -260,10 +243,7 @@ fn check7_temporal_consistency() {
     let per_frame = per_frame_patchmatch(
         &clip.observed,
         &clip.hole,
-        &WexlerParams {
-            seed_per_frame: true,
-            ..Default::default()
-        },
+        &WexlerParams::default().seed_per_frame(true),
     )
     .unwrap();
     let theirs = flicker(&per_frame, &clip.hole).unwrap();
@@ -362,10 +342,7 @@ fn ablations_and_baselines_run() {
     let w = wexler_complete(
         &clip.observed,
         &clip.hole,
-        &WexlerParams {
-            patchmatch_iters: 0,
-            ..Default::default()
-        },
+        &WexlerParams::default().patchmatch_iters(0),
     )
     .unwrap();
     assert!(ssim(&clip, &w.video) > 0.9);

@@ -34,15 +34,17 @@ const KIND_STATIC: u8 = 1;
 const KIND_ROI: u8 = 2;
 const HEADER: usize = 6 + 1 + 1 + 8 + 4;
 
-/// Server parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ServerParams {
-    /// Wavelet steps sent in the static package (1..=4; 2 gives the paper's 1/64 volume).
-    pub steps_sent: u8,
-    /// Quantisation of the wavelet details.
-    pub quant: HaarQuant,
-    /// Which voxels the octree stores.
-    pub edge_rule: EdgeRule,
+wscg_math::params! {
+    /// Server parameters.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct ServerParams {
+        /// Wavelet steps sent in the static package (1..=4; 2 gives the paper's 1/64 volume).
+        pub steps_sent: u8,
+        /// Quantisation of the wavelet details.
+        pub quant: HaarQuant,
+        /// Which voxels the octree stores.
+        pub edge_rule: EdgeRule,
+    }
 }
 
 impl Default for ServerParams {
@@ -196,7 +198,12 @@ impl HybridServer {
     ///
     /// Errors: empty volume, no transfer function or more than 255, more than 63 materials,
     /// `canonical` out of range, bad options.
-    pub fn new(v: &Volume<u8>, tfs: Vec<PlTf>, canonical: usize, opts: ServerParams) -> Result<Self> {
+    pub fn new(
+        v: &Volume<u8>,
+        tfs: Vec<PlTf>,
+        canonical: usize,
+        opts: ServerParams,
+    ) -> Result<Self> {
         if v.dims().contains(&0) {
             return Err(Error::Empty("volume"));
         }

@@ -186,23 +186,25 @@ impl Frame {
     }
 }
 
-/// Ray-casting parameters (the paper's choices where it gives them).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderParams {
-    /// Step inside the ROI and of the reference renderer (voxels).
-    pub step: f64,
-    /// Step through the low-resolution context (voxels; half a `V_W` voxel at `w_l = 2`).
-    pub context_step: f64,
-    /// Opacity at which a ray stops.
-    pub early_stop: f32,
-    /// Background colour.
-    pub background: [f32; 3],
-    /// Ambient, diffuse and specular weights of the shading.
-    pub ka: f32,
-    /// Diffuse weight.
-    pub kd: f32,
-    /// Specular weight (exponent 32).
-    pub ks: f32,
+wscg_math::params! {
+    /// Ray-casting parameters (the paper's choices where it gives them).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct RenderParams {
+        /// Step inside the ROI and of the reference renderer (voxels).
+        pub step: f64,
+        /// Step through the low-resolution context (voxels; half a `V_W` voxel at `w_l = 2`).
+        pub context_step: f64,
+        /// Opacity at which a ray stops.
+        pub early_stop: f32,
+        /// Background colour.
+        pub background: [f32; 3],
+        /// Ambient, diffuse and specular weights of the shading.
+        pub ka: f32,
+        /// Diffuse weight.
+        pub kd: f32,
+        /// Specular weight (exponent 32).
+        pub ks: f32,
+    }
 }
 
 impl Default for RenderParams {

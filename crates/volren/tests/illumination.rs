@@ -157,10 +157,7 @@ fn penumbra_row_in(ds: f32, light: &Light, zr: std::ops::Range<usize>) -> Vec<f3
     )
     .unwrap();
     let cam = along_z(&field, 128, 64);
-    let settings = IlluminationParams {
-        interp: Interp::Nearest,
-        ..Default::default()
-    };
+    let settings = IlluminationParams::default().interp(Interp::Nearest);
     // The last slice sampling the occluder (voxel k spans depths [k, k + 1) from the front).
     let k_o = (0..1000usize)
         .filter(|&k| {
@@ -523,10 +520,7 @@ fn invariants() {
     let clear = TransferFunction::from_points(&[(0.0, [1.0, 0.0, 0.0, 0.0])], 16).unwrap();
     let cam = SliceCamera::fit(&field, [0.0, 0.3, 1.0], [0.0, 1.0, 0.0], 48, 40).unwrap();
     let light = headlight(Kernel::default());
-    let s = IlluminationParams {
-        background: [0.1, 0.2, 0.3],
-        ..Default::default()
-    };
+    let s = IlluminationParams::default().background([0.1, 0.2, 0.3]);
     for m in [
         Method::ics(0.7),
         Method::scs(1.0, 2),
@@ -648,10 +642,7 @@ fn phong_shades_a_ramp_by_its_analytic_normal() {
         let (nl, nh) = (dot(l, 1.0), dot(h, hn));
         let shade = ph.ka as f64 + ph.kd as f64 * nl + ph.ks as f64 * nh.powf(ph.shininess as f64);
         for interp in [Interp::Trilinear, Interp::Nearest] {
-            let s = IlluminationParams {
-                interp,
-                ..Default::default()
-            };
+            let s = IlluminationParams::default().interp(interp);
             let m = Method::RaycastPhong {
                 step: 0.5,
                 phong: ph,
@@ -684,7 +675,17 @@ fn deterministic_across_thread_counts() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| render(&field, &tf, &cam, &light, &m, &IlluminationParams::default()).unwrap())
+            .install(|| {
+                render(
+                    &field,
+                    &tf,
+                    &cam,
+                    &light,
+                    &m,
+                    &IlluminationParams::default(),
+                )
+                .unwrap()
+            })
     };
     for m in [
         Method::scs(0.8, 2),

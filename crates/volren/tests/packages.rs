@@ -120,10 +120,7 @@ fn bad_packages_are_rejected() {
     let v = head([32, 32, 32], 1).unwrap();
     assert!(HybridServer::new(&v, head_tfs(), 2, ServerParams::default()).is_err());
     assert!(HybridServer::new(&v, Vec::<PlTf>::new(), 0, ServerParams::default()).is_err());
-    let opts = ServerParams {
-        steps_sent: 5,
-        ..Default::default()
-    };
+    let opts = ServerParams::default().steps_sent(5);
     assert!(HybridServer::new(&v, head_tfs(), 0, opts).is_err());
 }
 

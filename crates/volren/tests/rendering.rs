@@ -94,6 +94,6 @@ fn hybrid_rendering_is_consistent_and_helps_in_the_roi() {
     let mut bad = cam;
     bad.target = bad.eye;
     assert!(client.render(&bad, 1, &opts).is_err());
-    let zero = RenderParams { step: 0.0, ..opts };
+    let zero = opts.step(0.0);
     assert!(client.render(&cam, 1, &zero).is_err());
 }

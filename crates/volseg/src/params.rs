@@ -40,35 +40,37 @@ pub enum Precision {
     F64,
 }
 
-/// Parameters of [`crate::walker::RwSession`], the paper's values by default.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RandomWalkParams {
-    /// Bone threshold `t_bone`, HU: voxels with `I >= t_bone` form the graph (300).
-    pub t_bone: f64,
-    /// Weight sharpness β of eq. 1 (3000; 2000-4000 give similar results).
-    pub beta: f64,
-    /// Constant ε added to every edge weight (0.01).
-    pub eps: f64,
-    /// Regulariser κ added to every unseeded diagonal entry (1e-3): keeps systems of
-    /// components without seeds non-singular.
-    pub kappa: f64,
-    /// Relative residual `‖r‖ / ‖b‖` at which CG stops (3e-3).
-    pub tol: f64,
-    /// Iteration cap per label (2000).
-    pub max_iter: usize,
-    /// Intensity normalisation.
-    pub norm: IntensityNorm,
-    /// Divide intensity differences by the voxel spacing along the edge (scikit-image's
-    /// convention); `false` is the paper's eq. 1.
-    pub spacing_in_weights: bool,
-    /// Solver layout (block of all labels by default).
-    pub solver: Solver,
-    /// Vector precision (`f32` by default).
-    pub precision: Precision,
-    /// Jacobi preconditioner (`true`, the paper's choice; `false` gives plain CG).
-    pub jacobi: bool,
-    /// Worker threads (`None`: the global rayon pool).
-    pub threads: Option<usize>,
+wscg_math::params! {
+    /// Parameters of [`crate::walker::RwSession`], the paper's values by default.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct RandomWalkParams {
+        /// Bone threshold `t_bone`, HU: voxels with `I >= t_bone` form the graph (300).
+        pub t_bone: f64,
+        /// Weight sharpness β of eq. 1 (3000; 2000-4000 give similar results).
+        pub beta: f64,
+        /// Constant ε added to every edge weight (0.01).
+        pub eps: f64,
+        /// Regulariser κ added to every unseeded diagonal entry (1e-3): keeps systems of
+        /// components without seeds non-singular.
+        pub kappa: f64,
+        /// Relative residual `‖r‖ / ‖b‖` at which CG stops (3e-3).
+        pub tol: f64,
+        /// Iteration cap per label (2000).
+        pub max_iter: usize,
+        /// Intensity normalisation.
+        pub norm: IntensityNorm,
+        /// Divide intensity differences by the voxel spacing along the edge (scikit-image's
+        /// convention); `false` is the paper's eq. 1.
+        pub spacing_in_weights: bool,
+        /// Solver layout (block of all labels by default).
+        pub solver: Solver,
+        /// Vector precision (`f32` by default).
+        pub precision: Precision,
+        /// Jacobi preconditioner (`true`, the paper's choice; `false` gives plain CG).
+        pub jacobi: bool,
+        /// Worker threads (`None`: the global rayon pool).
+        pub threads: Option<usize>,
+    }
 }
 
 impl Default for RandomWalkParams {

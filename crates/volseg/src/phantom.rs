@@ -12,37 +12,39 @@ use wscg_math::rng::stream;
 use wscg_math::vec3::{dot, norm, sub};
 use wscg_math::{Error, Result, Volume};
 
-/// Parameters of [`fractured_shell_phantom`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PhantomParams {
-    /// Volume size (x, y, z).
-    pub dims: [usize; 3],
-    /// Number of fragments `K` (6).
-    pub fragments: usize,
-    /// Seed of the sites, strokes and noise.
-    pub seed: u64,
-    /// Shell radii as fractions of the half-size ([0.60, 0.68]).
-    pub shell: [f64; 2],
-    /// Bone density, HU (1200).
-    pub bone_hu: f64,
-    /// Fracture-gap density, HU (450: above the 300 HU threshold).
-    pub gap_hu: f64,
-    /// Half-width of the fracture gap, voxels of arc (0.75).
-    pub gap_width: f64,
-    /// Partial-volume blur, voxels (0.8).
-    pub blur_sigma: f64,
-    /// CT noise standard deviation, HU (30).
-    pub noise_hu: f64,
-    /// Bone threshold used for the truth mask, HU (300).
-    pub t_bone: f64,
-    /// Stroke ball radius, voxels (2).
-    pub stroke_radius: f64,
-    /// Smallest arc distance of a stroke centre from its fragment's boundary, voxels (4).
-    pub stroke_margin: f64,
-    /// Strokes painted on the outer surface (as with the paper's 3D brush): the bone voxels
-    /// with a 6-neighbour outside the bone within 3 voxels of a point of the outer surface,
-    /// instead of balls at mid-shell.
-    pub surface_strokes: bool,
+wscg_math::params! {
+    /// Parameters of [`fractured_shell_phantom`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct PhantomParams {
+        /// Volume size (x, y, z).
+        pub dims: [usize; 3],
+        /// Number of fragments `K` (6).
+        pub fragments: usize,
+        /// Seed of the sites, strokes and noise.
+        pub seed: u64,
+        /// Shell radii as fractions of the half-size ([0.60, 0.68]).
+        pub shell: [f64; 2],
+        /// Bone density, HU (1200).
+        pub bone_hu: f64,
+        /// Fracture-gap density, HU (450: above the 300 HU threshold).
+        pub gap_hu: f64,
+        /// Half-width of the fracture gap, voxels of arc (0.75).
+        pub gap_width: f64,
+        /// Partial-volume blur, voxels (0.8).
+        pub blur_sigma: f64,
+        /// CT noise standard deviation, HU (30).
+        pub noise_hu: f64,
+        /// Bone threshold used for the truth mask, HU (300).
+        pub t_bone: f64,
+        /// Stroke ball radius, voxels (2).
+        pub stroke_radius: f64,
+        /// Smallest arc distance of a stroke centre from its fragment's boundary, voxels (4).
+        pub stroke_margin: f64,
+        /// Strokes painted on the outer surface (as with the paper's 3D brush): the bone voxels
+        /// with a 6-neighbour outside the bone within 3 voxels of a point of the outer surface,
+        /// instead of balls at mid-shell.
+        pub surface_strokes: bool,
+    }
 }
 
 impl Default for PhantomParams {

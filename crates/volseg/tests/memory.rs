@@ -6,7 +6,8 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 use wscg_volseg::{
-    fractured_shell_phantom, full_image_graph, BoneGraph, PhantomParams, RandomWalkParams, RwSession,
+    fractured_shell_phantom, full_image_graph, BoneGraph, PhantomParams, RandomWalkParams,
+    RwSession,
 };
 
 struct Counting;
@@ -42,12 +43,8 @@ fn peak_of<R>(f: impl FnOnce() -> R) -> (R, usize) {
 
 #[test]
 fn bone_only_graph_needs_under_15_percent_of_the_full_image_graph() {
-    let ph = fractured_shell_phantom(&PhantomParams {
-        dims: [256; 3],
-        fragments: 4,
-        ..PhantomParams::default()
-    })
-    .unwrap();
+    let ph =
+        fractured_shell_phantom(&PhantomParams::default().dims([256; 3]).fragments(4)).unwrap();
     let p = RandomWalkParams::default();
     let (bone_nodes, bone) = peak_of(|| {
         let g = BoneGraph::build(&ph.ct, &p).unwrap();
@@ -75,7 +72,7 @@ fn bone_only_graph_needs_under_15_percent_of_the_full_image_graph() {
             }
         }
     }
-    let q = RandomWalkParams { max_iter: 5, ..p };
+    let q = p.max_iter(5);
     let (full_nodes, full) = peak_of(|| {
         let g = full_image_graph(&ph.ct, &q).unwrap();
         let n = g.len();

@@ -10,12 +10,8 @@ use wscg_volseg::{fractured_shell_phantom, BoneGraph, PhantomParams, RandomWalkP
 #[test]
 fn case_one_size_converges_in_the_papers_iteration_range() {
     let t = Instant::now();
-    let ph = fractured_shell_phantom(&PhantomParams {
-        dims: [512, 512, 337],
-        fragments: 15,
-        ..PhantomParams::default()
-    })
-    .unwrap();
+    let ph = fractured_shell_phantom(&PhantomParams::default().dims([512, 512, 337]).fragments(15))
+        .unwrap();
     let t_phantom = t.elapsed().as_secs_f64();
     let p = RandomWalkParams::default();
     let t = Instant::now();

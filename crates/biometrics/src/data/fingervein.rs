@@ -24,27 +24,29 @@ use wscg_math::image::Image;
 use wscg_math::resize::{resize, Interpolation};
 use wscg_math::{rng, Error, Result};
 
-/// Parameters of [`finger_veins`] (defaults reproduce the paper's database shape).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FingerVeinParams {
-    /// Number of subjects (200).
-    pub subjects: usize,
-    /// Samples per subject (10).
-    pub samples: usize,
-    /// Canvas height x width before downsampling (40 x 80).
-    pub canvas: (usize, usize),
-    /// Output height x width (10 x 20).
-    pub size: (usize, usize),
-    /// Largest shift in canvas pixels (3.5).
-    pub max_shift: f64,
-    /// Largest rotation in degrees (3).
-    pub max_rotation_deg: f64,
-    /// Standard deviation of the additive noise (0.03).
-    pub noise: f64,
-    /// Blur standard deviation in canvas pixels (1).
-    pub blur: f64,
-    /// Seed.
-    pub seed: u64,
+wscg_math::params! {
+    /// Parameters of [`finger_veins`] (defaults reproduce the paper's database shape).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct FingerVeinParams {
+        /// Number of subjects (200).
+        pub subjects: usize,
+        /// Samples per subject (10).
+        pub samples: usize,
+        /// Canvas height x width before downsampling (40 x 80).
+        pub canvas: (usize, usize),
+        /// Output height x width (10 x 20).
+        pub size: (usize, usize),
+        /// Largest shift in canvas pixels (3.5).
+        pub max_shift: f64,
+        /// Largest rotation in degrees (3).
+        pub max_rotation_deg: f64,
+        /// Standard deviation of the additive noise (0.03).
+        pub noise: f64,
+        /// Blur standard deviation in canvas pixels (1).
+        pub blur: f64,
+        /// Seed.
+        pub seed: u64,
+    }
 }
 
 impl Default for FingerVeinParams {

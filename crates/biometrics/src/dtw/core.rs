@@ -28,20 +28,22 @@ impl LocalCost {
     }
 }
 
-/// Parameters of [`dtw`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct DtwParams {
-    /// Local cost (default [`LocalCost::Abs`], the paper's).
-    pub cost: LocalCost,
-    /// Optional Sakoe-Chiba band half-width `r` in samples of the second sequence: cell
-    /// `(i, j)` (0-based) is allowed when `|j - i (m-1)/(n-1)| <= r`. For equal lengths this
-    /// is the usual `|i - j| <= r` (`r = 0`: the lock-step Euclidean sum); for different
-    /// lengths `r` is raised to `ceil((m-1)/(n-1))` when needed so that a warp path exists.
-    /// `None` (default, the paper's) is the full grid.
-    pub window: Option<usize>,
-    /// Divide the accumulated cost by `n + m` (a path-length normalisation the paper does not
-    /// use; default `false`).
-    pub normalize: bool,
+wscg_math::params! {
+    /// Parameters of [`dtw`].
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct DtwParams {
+        /// Local cost (default [`LocalCost::Abs`], the paper's).
+        pub cost: LocalCost,
+        /// Optional Sakoe-Chiba band half-width `r` in samples of the second sequence: cell
+        /// `(i, j)` (0-based) is allowed when `|j - i (m-1)/(n-1)| <= r`. For equal lengths this
+        /// is the usual `|i - j| <= r` (`r = 0`: the lock-step Euclidean sum); for different
+        /// lengths `r` is raised to `ceil((m-1)/(n-1))` when needed so that a warp path exists.
+        /// `None` (default, the paper's) is the full grid.
+        pub window: Option<usize>,
+        /// Divide the accumulated cost by `n + m` (a path-length normalisation the paper does not
+        /// use; default `false`).
+        pub normalize: bool,
+    }
 }
 
 impl DtwParams {

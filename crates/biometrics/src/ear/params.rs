@@ -83,46 +83,48 @@ impl ScoreRule {
     }
 }
 
-/// Parameters of enrolment, occlusion detection (Algorithm 1) and matching (eqs. 7-18).
-/// `Default` holds the paper's values; the skin model is ours (the paper cites one without
-/// numbers), fit your own with [`SkinModel::fit`] on enrolment images.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EarParams {
-    /// Rows of the normalised ear image (paper: 100).
-    pub height: usize,
-    /// Columns of the normalised ear image (paper: 80).
-    pub width: usize,
-    /// Block side in pixels (paper: 10, giving 10 x 8 = 80 blocks); must be even and divide
-    /// both sizes.
-    pub block: usize,
-    /// Skin colour model in normalised `(r, g)` (eqs. 2-5).
-    pub skin_model: SkinModel,
-    /// Per-pixel skin decision (paper steps 5-6; default the paper's AND of the two marginal
-    /// likelihoods, see [`SkinRule`]).
-    pub skin_rule: SkinRule,
-    /// Luminance gate (not in the paper): skin also needs `(R + G + B) / 3 >= min_intensity`.
-    /// 0 (default) is the paper; about 35 rejects dark hair, whose chromaticity is skin-like.
-    pub min_intensity: u8,
-    /// Radius of the closing disk in pixels of the normalised image (paper step 7: 10).
-    pub close_radius: f64,
-    /// Fill holes of the closed skin mask (background not 4-connected to the border).
-    pub fill_holes: bool,
-    /// A block is un-occluded when at least this fraction of its pixels is skin (0, 1].
-    pub block_skin_fraction: f64,
-    /// Probes with more than this percentage of occluded blocks are rejected (step 12: 60).
-    pub reject_above_pct: f64,
-    /// Block shifts tried when matching (default: the nine of eqs. 8-16).
-    pub shifts: Vec<(i32, i32)>,
-    /// Score rule (default: block-wise maximum).
-    pub score: ScoreRule,
-    /// Extract probe features from the masked image `X = Y . Z` (step 8) instead of `Y`.
-    pub mask_features: bool,
-    /// Accept single-channel images at enrolment (no colour is needed there).
-    pub gray_enrolment: bool,
-    /// Equalise a probe with the histogram of its skin pixels only (not in the paper, which
-    /// equalises the whole image before detecting occlusion): a large occluder then no
-    /// longer shifts the grey levels of the visible ear.
-    pub equalize_on_skin: bool,
+wscg_math::params! {
+    /// Parameters of enrolment, occlusion detection (Algorithm 1) and matching (eqs. 7-18).
+    /// `Default` holds the paper's values; the skin model is ours (the paper cites one without
+    /// numbers), fit your own with [`SkinModel::fit`] on enrolment images.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct EarParams {
+        /// Rows of the normalised ear image (paper: 100).
+        pub height: usize,
+        /// Columns of the normalised ear image (paper: 80).
+        pub width: usize,
+        /// Block side in pixels (paper: 10, giving 10 x 8 = 80 blocks); must be even and divide
+        /// both sizes.
+        pub block: usize,
+        /// Skin colour model in normalised `(r, g)` (eqs. 2-5).
+        pub skin_model: SkinModel,
+        /// Per-pixel skin decision (paper steps 5-6; default the paper's AND of the two marginal
+        /// likelihoods, see [`SkinRule`]).
+        pub skin_rule: SkinRule,
+        /// Luminance gate (not in the paper): skin also needs `(R + G + B) / 3 >= min_intensity`.
+        /// 0 (default) is the paper; about 35 rejects dark hair, whose chromaticity is skin-like.
+        pub min_intensity: u8,
+        /// Radius of the closing disk in pixels of the normalised image (paper step 7: 10).
+        pub close_radius: f64,
+        /// Fill holes of the closed skin mask (background not 4-connected to the border).
+        pub fill_holes: bool,
+        /// A block is un-occluded when at least this fraction of its pixels is skin (0, 1].
+        pub block_skin_fraction: f64,
+        /// Probes with more than this percentage of occluded blocks are rejected (step 12: 60).
+        pub reject_above_pct: f64,
+        /// Block shifts tried when matching (default: the nine of eqs. 8-16).
+        pub shifts: Vec<(i32, i32)>,
+        /// Score rule (default: block-wise maximum).
+        pub score: ScoreRule,
+        /// Extract probe features from the masked image `X = Y . Z` (step 8) instead of `Y`.
+        pub mask_features: bool,
+        /// Accept single-channel images at enrolment (no colour is needed there).
+        pub gray_enrolment: bool,
+        /// Equalise a probe with the histogram of its skin pixels only (not in the paper, which
+        /// equalises the whole image before detecting occlusion): a large occluder then no
+        /// longer shifts the grey levels of the visible ear.
+        pub equalize_on_skin: bool,
+    }
 }
 
 impl Default for EarParams {

@@ -39,26 +39,28 @@ use wscg_math::{Error, Result};
 use super::params::EarParams;
 use super::skin::SkinModel;
 
-/// Generator settings. `Default` is the calibrated setting used by the tests and demos.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EarSynthParams {
-    /// Canvas rows (200).
-    pub height: usize,
-    /// Canvas columns (160).
-    pub width: usize,
-    /// Scale of the inter-subject shape variation around the mean ear (1 = the ranges of
-    /// the module documentation; default 2.2, the calibrated setting).
-    pub shape_spread: f64,
-    /// Largest capture translation per axis in canvas pixels (6).
-    pub shift_px: f64,
-    /// Largest capture rotation in degrees (3).
-    pub rotation_deg: f64,
-    /// Capture gain range (0.85, 1.15).
-    pub gain: (f64, f64),
-    /// Largest per-channel white-balance deviation (0.03).
-    pub white_balance: f64,
-    /// Standard deviation of the additive Gaussian noise in grey levels (3).
-    pub noise_sigma: f64,
+wscg_math::params! {
+    /// Generator settings. `Default` is the calibrated setting used by the tests and demos.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct EarSynthParams {
+        /// Canvas rows (200).
+        pub height: usize,
+        /// Canvas columns (160).
+        pub width: usize,
+        /// Scale of the inter-subject shape variation around the mean ear (1 = the ranges of
+        /// the module documentation; default 2.2, the calibrated setting).
+        pub shape_spread: f64,
+        /// Largest capture translation per axis in canvas pixels (6).
+        pub shift_px: f64,
+        /// Largest capture rotation in degrees (3).
+        pub rotation_deg: f64,
+        /// Capture gain range (0.85, 1.15).
+        pub gain: (f64, f64),
+        /// Largest per-channel white-balance deviation (0.03).
+        pub white_balance: f64,
+        /// Standard deviation of the additive Gaussian noise in grey levels (3).
+        pub noise_sigma: f64,
+    }
 }
 
 impl Default for EarSynthParams {

@@ -50,23 +50,25 @@ pub enum StartLeg {
     Right,
 }
 
-/// Parameters of [`detect_gait_cycle`].
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CycleParams {
-    /// Width of the centred moving average, frames (5: about 0.17 s at 30 fps; the paper
-    /// smooths with a moving average of unstated width).
-    pub smooth_window: usize,
-    /// Smallest time between two minima, seconds (0.25).
-    pub min_step_s: f64,
-    /// Smallest prominence of a minimum as a fraction of the robust range `p95 - p5` of the
-    /// smoothed distance (0.2).
-    pub min_prominence: f64,
-    /// Vertical direction.
-    pub up: UpAxis,
-    /// Which cycle to return.
-    pub choice: CycleChoice,
-    /// Which leg's step opens the cycle.
-    pub start_leg: StartLeg,
+wscg_math::params! {
+    /// Parameters of [`detect_gait_cycle`].
+    #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+    pub struct CycleParams {
+        /// Width of the centred moving average, frames (5: about 0.17 s at 30 fps; the paper
+        /// smooths with a moving average of unstated width).
+        pub smooth_window: usize,
+        /// Smallest time between two minima, seconds (0.25).
+        pub min_step_s: f64,
+        /// Smallest prominence of a minimum as a fraction of the robust range `p95 - p5` of the
+        /// smoothed distance (0.2).
+        pub min_prominence: f64,
+        /// Vertical direction.
+        pub up: UpAxis,
+        /// Which cycle to return.
+        pub choice: CycleChoice,
+        /// Which leg's step opens the cycle.
+        pub start_leg: StartLeg,
+    }
 }
 
 impl Default for CycleParams {

@@ -83,21 +83,23 @@ pub fn vote(ranked: &[(u32, f64)], rule: Vote) -> Result<u32> {
     Ok(tally[0].0)
 }
 
-/// Parameters of the pipeline, the paper's values by default.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GaitParams {
-    /// Gait cycle detection.
-    pub cycle: CycleParams,
-    /// Reference joint of the angles (SpineBase).
-    pub reference: Joint,
-    /// Histogram of the relevance measure (1° bins on [0°, 180°]).
-    pub hist: HistSpec,
-    /// Relevance threshold `t`: keep pairs occupying at least this many bins (20).
-    pub min_bins: f64,
-    /// DTW of the kernel (absolute cost, full window).
-    pub dtw: DtwParams,
-    /// Vote rule (1-NN).
-    pub vote: Vote,
+wscg_math::params! {
+    /// Parameters of the pipeline, the paper's values by default.
+    #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+    pub struct GaitParams {
+        /// Gait cycle detection.
+        pub cycle: CycleParams,
+        /// Reference joint of the angles (SpineBase).
+        pub reference: Joint,
+        /// Histogram of the relevance measure (1° bins on [0°, 180°]).
+        pub hist: HistSpec,
+        /// Relevance threshold `t`: keep pairs occupying at least this many bins (20).
+        pub min_bins: f64,
+        /// DTW of the kernel (absolute cost, full window).
+        pub dtw: DtwParams,
+        /// Vote rule (1-NN).
+        pub vote: Vote,
+    }
 }
 
 impl Default for GaitParams {

@@ -89,58 +89,62 @@ impl Segments {
     }
 }
 
-/// The fixed gait of one synthetic person. Angles in degrees.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SubjectParams {
-    /// Identity.
-    pub id: u32,
-    /// Body height, metres.
-    pub height: f64,
-    /// Segment lengths.
-    pub seg: Segments,
-    /// Steps per minute.
-    pub cadence: f64,
-    /// Hip flexion `h0 + h1 cos 2πφ + Σ_{k=2,3} (a_k cos 2πkφ + b_k sin 2πkφ)`:
-    /// `[h0, h1, a2, b2, a3, b3]`.
-    pub hip: [f64; 6],
-    /// Knee flexion bump heights `[K1, K2]` of `K1 g(φ; 0.15, 0.08) + K2 g(φ; 0.72, 0.12)`.
-    pub knee: [f64; 2],
-    /// Ankle sinusoid amplitude.
-    pub ankle_amp: f64,
-    /// Ankle sinusoid phase, radians.
-    pub ankle_phase: f64,
-    /// Arm swing amplitude `A` of `β(φ) = −A cos 2πφ`.
-    pub arm_swing: f64,
-    /// Mean elbow flexion (a 5° swing is added).
-    pub elbow: f64,
-    /// Vertical pelvic bob amplitude, metres (twice per stride).
-    pub bob: f64,
-    /// Lateral sway amplitude, metres (once per stride).
-    pub sway: f64,
-    /// Pelvis rotation amplitude about the vertical.
-    pub pelvis_rot: f64,
-    /// Shoulder-girdle counter-rotation amplitude about the trunk axis.
-    pub girdle_rot: f64,
-    /// Forward trunk lean.
-    pub lean: f64,
+wscg_math::params! {
+    /// The fixed gait of one synthetic person. Angles in degrees.
+    #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+    pub struct SubjectParams {
+        /// Identity.
+        pub id: u32,
+        /// Body height, metres.
+        pub height: f64,
+        /// Segment lengths.
+        pub seg: Segments,
+        /// Steps per minute.
+        pub cadence: f64,
+        /// Hip flexion `h0 + h1 cos 2πφ + Σ_{k=2,3} (a_k cos 2πkφ + b_k sin 2πkφ)`:
+        /// `[h0, h1, a2, b2, a3, b3]`.
+        pub hip: [f64; 6],
+        /// Knee flexion bump heights `[K1, K2]` of `K1 g(φ; 0.15, 0.08) + K2 g(φ; 0.72, 0.12)`.
+        pub knee: [f64; 2],
+        /// Ankle sinusoid amplitude.
+        pub ankle_amp: f64,
+        /// Ankle sinusoid phase, radians.
+        pub ankle_phase: f64,
+        /// Arm swing amplitude `A` of `β(φ) = −A cos 2πφ`.
+        pub arm_swing: f64,
+        /// Mean elbow flexion (a 5° swing is added).
+        pub elbow: f64,
+        /// Vertical pelvic bob amplitude, metres (twice per stride).
+        pub bob: f64,
+        /// Lateral sway amplitude, metres (once per stride).
+        pub sway: f64,
+        /// Pelvis rotation amplitude about the vertical.
+        pub pelvis_rot: f64,
+        /// Shoulder-girdle counter-rotation amplitude about the trunk axis.
+        pub girdle_rot: f64,
+        /// Forward trunk lean.
+        pub lean: f64,
+    }
 }
 
-/// Noise of the simulated sensor: AR(1) in time with coefficient `rho`, standard deviations
-/// in metres.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct NoiseParams {
-    /// AR(1) coefficient (0.7).
-    pub rho: f64,
-    /// Whole-skeleton translation (0.01).
-    pub common: f64,
-    /// Spine, hips, shoulders, neck, head (0.002).
-    pub trunk: f64,
-    /// Elbows, knees (0.005).
-    pub middle: f64,
-    /// Wrists, ankles (0.008).
-    pub distal: f64,
-    /// Hands, feet, hand tips, thumbs (0.012).
-    pub extremity: f64,
+wscg_math::params! {
+    /// Noise of the simulated sensor: AR(1) in time with coefficient `rho`, standard deviations
+    /// in metres.
+    #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+    pub struct NoiseParams {
+        /// AR(1) coefficient (0.7).
+        pub rho: f64,
+        /// Whole-skeleton translation (0.01).
+        pub common: f64,
+        /// Spine, hips, shoulders, neck, head (0.002).
+        pub trunk: f64,
+        /// Elbows, knees (0.005).
+        pub middle: f64,
+        /// Wrists, ankles (0.008).
+        pub distal: f64,
+        /// Hands, feet, hand tips, thumbs (0.012).
+        pub extremity: f64,
+    }
 }
 
 impl Default for NoiseParams {
@@ -181,31 +185,33 @@ impl NoiseParams {
     }
 }
 
-/// One recording of a subject.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SessionParams {
-    /// Cadence multiplier (a pure time warp; default drawn in [0.9, 1.1]).
-    pub speed: f64,
-    /// Walking direction about the vertical, degrees; 0 walks straight at the sensor.
-    pub heading_deg: f64,
-    /// Sensor pitch, degrees.
-    pub pitch_deg: f64,
-    /// Walk midpoint, metres: lateral and depth offsets from (0, 3.2 m) in front of the sensor.
-    pub offset: [f64; 2],
-    /// Seconds of walking.
-    pub walk_s: f64,
-    /// Append a 1 s "sit down" tail.
-    pub sit_tail: bool,
-    /// Standard deviation of the per-session jitter of every angle parameter, degrees (1).
-    pub jitter_deg: f64,
-    /// Half-range of the per-session bone-length bias (0.02 = ±2 %).
-    pub bone_bias: f64,
-    /// Initial gait phase in [0, 1).
-    pub phase0: f64,
-    /// Frame rate (30).
-    pub fps: f64,
-    /// Sensor noise.
-    pub noise: NoiseParams,
+wscg_math::params! {
+    /// One recording of a subject.
+    #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+    pub struct SessionParams {
+        /// Cadence multiplier (a pure time warp; default drawn in [0.9, 1.1]).
+        pub speed: f64,
+        /// Walking direction about the vertical, degrees; 0 walks straight at the sensor.
+        pub heading_deg: f64,
+        /// Sensor pitch, degrees.
+        pub pitch_deg: f64,
+        /// Walk midpoint, metres: lateral and depth offsets from (0, 3.2 m) in front of the sensor.
+        pub offset: [f64; 2],
+        /// Seconds of walking.
+        pub walk_s: f64,
+        /// Append a 1 s "sit down" tail.
+        pub sit_tail: bool,
+        /// Standard deviation of the per-session jitter of every angle parameter, degrees (1).
+        pub jitter_deg: f64,
+        /// Half-range of the per-session bone-length bias (0.02 = ±2 %).
+        pub bone_bias: f64,
+        /// Initial gait phase in [0, 1).
+        pub phase0: f64,
+        /// Frame rate (30).
+        pub fps: f64,
+        /// Sensor noise.
+        pub noise: NoiseParams,
+    }
 }
 
 impl Default for SessionParams {

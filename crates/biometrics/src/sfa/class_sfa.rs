@@ -49,21 +49,23 @@ pub enum ClassObjective {
     },
 }
 
-/// Parameters of [`PerClassSfa`] (and of [`super::GlobalSfa`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ClassSfaParams {
-    /// PCA dimensions before the expansion (35 in the paper).
-    pub pca_dims: usize,
-    /// The expansion (quadratic with linear terms by default; `None`: linear SFA).
-    pub expansion: Option<QuadraticExpansion>,
-    /// Slow functions per class (10 in the paper).
-    pub m_per_class: usize,
-    /// The objective (eq. 14 with `gamma = 1` by default).
-    pub objective: ClassObjective,
-    /// Shrinkage `alpha` of the within-class scatter: `S_C + alpha tr(S_C)/r I` (whitened).
-    pub shrinkage: f64,
-    /// Relative eigenvalue below which whitening drops a direction.
-    pub rank_tol: f64,
+wscg_math::params! {
+    /// Parameters of [`PerClassSfa`] (and of [`super::GlobalSfa`]).
+    #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+    pub struct ClassSfaParams {
+        /// PCA dimensions before the expansion (35 in the paper).
+        pub pca_dims: usize,
+        /// The expansion (quadratic with linear terms by default; `None`: linear SFA).
+        pub expansion: Option<QuadraticExpansion>,
+        /// Slow functions per class (10 in the paper).
+        pub m_per_class: usize,
+        /// The objective (eq. 14 with `gamma = 1` by default).
+        pub objective: ClassObjective,
+        /// Shrinkage `alpha` of the within-class scatter: `S_C + alpha tr(S_C)/r I` (whitened).
+        pub shrinkage: f64,
+        /// Relative eigenvalue below which whitening drops a direction.
+        pub rank_tol: f64,
+    }
 }
 
 impl Default for ClassSfaParams {

@@ -65,18 +65,20 @@ pub const MAX_EXACT_POINTS: usize = 5000;
 /// allocates.
 pub const MAX_GEODESIC_ENTRIES: usize = 1 << 29;
 
-/// Parameters of [`Isomap::fit`].
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct IsomapParams {
-    /// Neighbours per point in the graph and for out-of-sample points, `1 <= k < n`.
-    /// Default 8 (the paper does not say).
-    pub n_neighbors: usize,
-    /// Embedding dimension, `1 <= l <= n` (`<= n_landmarks` in landmark mode). Default 9
-    /// (the paper's "9-D Isomap").
-    pub n_components: usize,
-    /// `None`: exact Isomap (at most [`MAX_EXACT_POINTS`] points). `Some(m)`: Landmark
-    /// Isomap with `m` geodesic-MaxMin landmarks, `n_components <= m <= n`. Default `None`.
-    pub n_landmarks: Option<usize>,
+wscg_math::params! {
+    /// Parameters of [`Isomap::fit`].
+    #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+    pub struct IsomapParams {
+        /// Neighbours per point in the graph and for out-of-sample points, `1 <= k < n`.
+        /// Default 8 (the paper does not say).
+        pub n_neighbors: usize,
+        /// Embedding dimension, `1 <= l <= n` (`<= n_landmarks` in landmark mode). Default 9
+        /// (the paper's "9-D Isomap").
+        pub n_components: usize,
+        /// `None`: exact Isomap (at most [`MAX_EXACT_POINTS`] points). `Some(m)`: Landmark
+        /// Isomap with `m` geodesic-MaxMin landmarks, `n_components <= m <= n`. Default `None`.
+        pub n_landmarks: Option<usize>,
+    }
 }
 
 impl Default for IsomapParams {

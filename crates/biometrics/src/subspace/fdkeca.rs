@@ -37,17 +37,19 @@ pub enum Ordering {
     Eigenvalue,
 }
 
-/// Parameters of [`Fdkeca::fit`].
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FdkecaParams {
-    /// Kernel between feature vectors (default: Gaussian, sigma = median distance).
-    pub kernel: Kernel,
-    /// Number of axes kept (default: all `d`).
-    pub n_components: Option<usize>,
-    /// Ranking of the eigenpairs (default: entropy).
-    pub ordering: Ordering,
-    /// Subtract the mean image before building the kernel (default: true, section 4).
-    pub center: bool,
+wscg_math::params! {
+    /// Parameters of [`Fdkeca::fit`].
+    #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+    pub struct FdkecaParams {
+        /// Kernel between feature vectors (default: Gaussian, sigma = median distance).
+        pub kernel: Kernel,
+        /// Number of axes kept (default: all `d`).
+        pub n_components: Option<usize>,
+        /// Ranking of the eigenpairs (default: entropy).
+        pub ordering: Ordering,
+        /// Subtract the mean image before building the kernel (default: true, section 4).
+        pub center: bool,
+    }
 }
 
 impl Default for FdkecaParams {

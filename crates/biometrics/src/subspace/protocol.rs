@@ -10,17 +10,19 @@ use wscg_math::Result;
 
 use super::{accuracy_curve, best_dimension, select_dimension_cv, Method, Metric, Projector};
 
-/// Options of [`evaluate`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ProtocolParams {
-    /// Largest dimension of the sweep (200 for the paper's finger-vein experiment).
-    pub max_dim: usize,
-    /// Folds of the validated protocol (`None` skips it).
-    pub cv_folds: Option<usize>,
-    /// Seed of the cross-validation folds.
-    pub seed: u64,
-    /// Nearest-neighbour distance.
-    pub metric: Metric,
+wscg_math::params! {
+    /// Options of [`evaluate`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct ProtocolParams {
+        /// Largest dimension of the sweep (200 for the paper's finger-vein experiment).
+        pub max_dim: usize,
+        /// Folds of the validated protocol (`None` skips it).
+        pub cv_folds: Option<usize>,
+        /// Seed of the cross-validation folds.
+        pub seed: u64,
+        /// Nearest-neighbour distance.
+        pub metric: Metric,
+    }
 }
 
 impl Default for ProtocolParams {

@@ -240,19 +240,19 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
     };
     let mut sim = Sim::new(
         model,
-        SolverParams {
-            method,
-            iterations: a.iterations,
-            alpha: a.alpha_beta,
-            beta: a.alpha_beta,
-            gamma: a.gamma,
-            lambda_mode: if a.paper_reset {
+        SolverParams::default()
+            .method(method)
+            .iterations(a.iterations)
+            .alpha(a.alpha_beta)
+            .beta(a.alpha_beta)
+            .gamma(a.gamma)
+            .lambda_mode(if a.paper_reset {
                 LambdaMode::PaperReset
             } else {
                 LambdaMode::Accumulate
-            },
-            velocity_damping: 0.0,
-            relaxation: match a.relaxation {
+            })
+            .velocity_damping(0.0)
+            .relaxation(match a.relaxation {
                 RelaxationName::Gs => Relaxation::GaussSeidel,
                 RelaxationName::Colored => Relaxation::ColoredGaussSeidel,
                 RelaxationName::Jacobi => Relaxation::Jacobi {
@@ -261,8 +261,7 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
                 RelaxationName::Sor => Relaxation::Sor {
                     omega: a.omega.unwrap_or(1.5),
                 },
-            },
-        },
+            }),
     )?;
     sim.set_collisions(Collisions {
         colliders: colliders(&a)?,

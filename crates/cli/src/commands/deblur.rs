@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
 use wscg_deblur::metrics::quality;
-use wscg_deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
+use wscg_deblur::synth::{self, BlurRenderParams, Burst, ShakeParams};
 use wscg_deblur::{
     deblur_frame, deblur_multiframe, render_kernel, AlignMode, Gamma, GyroSample, GyroTrack,
     HyperLaplacianParams, Intrinsics, KernelParams, Method, MultiframeParams,
@@ -349,10 +349,7 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                 f: a.f,
                 ..Default::default()
             };
-            let ou = ShakeParams {
-                std: [p, y, r],
-                ..Default::default()
-            };
+            let ou = ShakeParams::default().std([p, y, r]);
             let sb = synth::make_burst(
                 &sharp,
                 &burst,
@@ -430,26 +427,21 @@ fn frames(a: FramesArgs) -> Result<()> {
     let (h, w) = (images[0].height(), images[0].width());
     let setup = a.camera.setup(w, h)?;
     let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
-    let hl = HyperLaplacianParams {
-        lambda: a.lambda,
-        ..Default::default()
-    };
+    let hl = HyperLaplacianParams::default().lambda(a.lambda);
     let gamma = (!a.linear).then(Gamma::default);
-    let opts = MultiframeParams {
-        t_exposure: setup.exposure,
-        t_readout: setup.readout,
-        t_delay: setup.delay,
-        gamma,
-        hl,
-        mu: a.mu,
-        radius: Some(a.radius),
-        align: if a.gyro_align {
+    let opts = MultiframeParams::default()
+        .t_exposure(setup.exposure)
+        .t_readout(setup.readout)
+        .t_delay(setup.delay)
+        .gamma(gamma)
+        .hl(hl)
+        .mu(a.mu)
+        .radius(Some(a.radius))
+        .align(if a.gyro_align {
             AlignMode::Gyro
         } else {
             MultiframeParams::default().align
-        },
-        ..Default::default()
-    };
+        });
     let input: Vec<_> = images
         .into_iter()
         .zip(&times)

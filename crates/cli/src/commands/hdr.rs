@@ -183,12 +183,10 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
                     calibrate_debevec(&images, &times, bits, a.samples.unwrap_or(70), a.lambda)?
                 }
                 CalMethod::MitsunagaNayar => {
-                    let p = MitsunagaNayarParams {
-                        degree: a.degree,
-                        samples: a.samples.unwrap_or(MitsunagaNayarParams::default().samples),
-                        refine_ratios: !a.fixed_ratios,
-                        ..MitsunagaNayarParams::default()
-                    };
+                    let p = MitsunagaNayarParams::default()
+                        .degree(a.degree)
+                        .samples(a.samples.unwrap_or(MitsunagaNayarParams::default().samples))
+                        .refine_ratios(!a.fixed_ratios);
                     let fit = calibrate_mitsunaga_nayar(&images, &times, bits, &p)?;
                     for (c, ch) in fit.channels.iter().enumerate() {
                         let r: Vec<String> = ch.ratios.iter().map(|r| format!("{r:.4}")).collect();
@@ -336,22 +334,18 @@ fn multiscopic(a: MultiscopicArgs) -> Result<()> {
             ))
         }
     };
-    let p = MultiscopicParams {
-        pm: PatchMatchParams {
-            patch: a.patch,
-            iters: a.iterations,
-            d_min: -a.max_disparity,
-            d_max: a.max_disparity,
-            coherence: !a.no_coherence,
-            seed: a.seed,
-            ..PatchMatchParams::default()
-        },
-        align: Align::by_name(&a.align)?,
-        synthesis,
-        ordered: a.ordered,
-        fill_saturated: a.fill_saturated,
-        ..MultiscopicParams::default()
-    };
+    let p = MultiscopicParams::default()
+        .pm(PatchMatchParams::default()
+            .patch(a.patch)
+            .iters(a.iterations)
+            .d_min(-a.max_disparity)
+            .d_max(a.max_disparity)
+            .coherence(!a.no_coherence)
+            .seed(a.seed))
+        .align(Align::by_name(&a.align)?)
+        .synthesis(synthesis)
+        .ordered(a.ordered)
+        .fill_saturated(a.fill_saturated);
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
     let out = multiscopic_hdr(&views, &times, &[crf], &p, &Bars::new("hdr"))?;
     for (k, hdr) in out.hdr.iter().enumerate() {
@@ -375,11 +369,7 @@ fn multiscopic(a: MultiscopicArgs) -> Result<()> {
 }
 
 fn simulate(a: SimulateArgs) -> Result<()> {
-    let cfg = SceneParams {
-        height: a.height,
-        width: a.width,
-        ..SceneParams::default()
-    };
+    let cfg = SceneParams::default().height(a.height).width(a.width);
     let sc = layered_scene(&cfg, a.seed)?;
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
     for (k, v) in sc.views.iter().enumerate() {

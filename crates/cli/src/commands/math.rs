@@ -90,14 +90,7 @@ pub fn run(cmd: MathCommand) -> Result<()> {
             a.ensure_same_shape(&b)?;
             let m = mse(a.data(), b.data())?;
             let p = psnr(a.data(), b.data(), data_range)?;
-            let s = ssim(
-                &a,
-                &b,
-                &SsimParams {
-                    data_range,
-                    ..Default::default()
-                },
-            )?;
+            let s = ssim(&a, &b, &SsimParams::default().data_range(data_range))?;
             println!(
                 "mse  {m:.6e}\nrmse {:.6e}\npsnr {p:.4} dB\nssim {s:.6}",
                 m.sqrt()

@@ -90,17 +90,16 @@ pub fn run(cmd: MeshfilterCommand) -> Result<()> {
     let mvd = mean_vertex_distance(&mesh)?;
     let positions = match a.method {
         MethodName::Jbmd => {
-            let mut p = JbmdParams {
-                sigma_d: a.sigma_d.unwrap_or(2.0) * mvd,
-                sigma_o: a.sigma_o.unwrap_or(0.5) * mvd,
-                sigma_c: a.sigma_c,
-                lambda: a.lambda,
-                k: a.k,
-                iterations: a.iterations,
-                anti_shrink: !a.no_anti_shrink,
-                use_color: !a.no_color,
-                rebuild_neighbors: true,
-            };
+            let mut p = JbmdParams::default()
+                .sigma_d(a.sigma_d.unwrap_or(2.0) * mvd)
+                .sigma_o(a.sigma_o.unwrap_or(0.5) * mvd)
+                .sigma_c(a.sigma_c)
+                .lambda(a.lambda)
+                .k(a.k)
+                .iterations(a.iterations)
+                .anti_shrink(!a.no_anti_shrink)
+                .use_color(!a.no_color)
+                .rebuild_neighbors(true);
             if let Some(name) = &a.preset {
                 let t = JbmdParams::preset(name).ok_or_else(|| {
                     wscg_math::Error::invalid(
@@ -115,12 +114,11 @@ pub fn run(cmd: MeshfilterCommand) -> Result<()> {
         }
         MethodName::Bmd => bmd(
             &mesh,
-            &BmdParams {
-                sigma_c: a.sigma_d.unwrap_or(1.0) * mvd,
-                sigma_s: a.sigma_o.unwrap_or(0.5) * mvd,
-                iterations: a.iterations,
-                volume_preserve: a.volume_preserve,
-            },
+            &BmdParams::default()
+                .sigma_c(a.sigma_d.unwrap_or(1.0) * mvd)
+                .sigma_s(a.sigma_o.unwrap_or(0.5) * mvd)
+                .iterations(a.iterations)
+                .volume_preserve(a.volume_preserve),
         )?,
         MethodName::Laplacian => {
             smoothing::laplacian(&mesh, a.factor.unwrap_or(0.5), a.iterations)?

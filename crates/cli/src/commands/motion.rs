@@ -232,14 +232,11 @@ pub fn read_dataset(dir: &Path) -> Result<Dataset> {
 }
 
 fn learn(data: &Dataset, restarts: usize, delay_search: usize) -> Result<ActionLibrary> {
-    let cfg = StepwiseParams {
-        demix: AnechoicParams {
-            restarts,
-            delay_search,
-            ..AnechoicParams::default()
-        },
-        ..StepwiseParams::default()
-    };
+    let cfg = StepwiseParams::default().demix(
+        AnechoicParams::default()
+            .restarts(restarts)
+            .delay_search(delay_search),
+    );
     fit_stepwise(data, &cfg)
 }
 
@@ -262,12 +259,12 @@ fn parse_change(s: &str, approach: Option<f64>) -> Result<(f64, f64)> {
 pub fn run(cmd: MotionCommand) -> Result<()> {
     match cmd {
         MotionCommand::MakeData(a) => {
-            let (data, _) = reach_walk(&WalkerParams {
-                n_trials: a.trials,
-                seed: a.seed,
-                noise: a.noise,
-                ..WalkerParams::default()
-            })?;
+            let (data, _) = reach_walk(
+                &WalkerParams::default()
+                    .n_trials(a.trials)
+                    .seed(a.seed)
+                    .noise(a.noise),
+            )?;
             write_dataset(&a.dir, &data)?;
             println!(
                 "wrote {} trials x 3 actions x {} channels x {} samples to {}",

@@ -310,38 +310,15 @@ fn recon(a: ReconArgs) -> Result<()> {
                 "tv" => Regularizer::Tv { inner_iters: 20 },
                 o => return Err(Error::invalid("reg", format!("{o:?} is not l1 or tv"))),
             };
-            let cfg = PriorParams {
-                udct: UdctParams {
-                    wedges: parse_wedges(&a.wedges)?,
-                    ..Default::default()
-                },
-                fdct: FdctParams {
-                    scales: a.fdct_scales,
-                    finest: Finest::by_name(&a.fdct_finest)?,
-                    ..Default::default()
-                },
-                sflct_levels: parse_levels(&a.sflct_levels)?,
-                levels: 4,
-            };
+            let cfg = PriorParams::default().udct(UdctParams::default().wedges(parse_wedges(&a.wedges)?)).fdct(FdctParams::default().scales(a.fdct_scales).finest(Finest::by_name(&a.fdct_finest)?)).sflct_levels(parse_levels(&a.sflct_levels)?).levels(4);
             let psi = sparsifier::by_name(&a.prior, rows, cols, &cfg)?;
             let tau0 = a.tau0.unwrap_or(sparsifier::tuned_tau0(&a.prior));
-            let p = CsalsaParams {
-                max_iter: a.iters,
-                tau0,
-                epsilon: a.epsilon,
-                ..Default::default()
-            };
+            let p = CsalsaParams::default().max_iter(a.iters).tau0(tau0).epsilon(a.epsilon);
             csalsa(&data, psi.as_ref(), reg, &p, None, progress)?
         }
         "zero-filled" => baselines::zero_filled(&data),
         m @ ("fcsa" | "tvcmri" | "watmri") => {
-            let p = CompositeParams {
-                a: a.a,
-                b: a.b,
-                group_weight: a.b,
-                max_iter: a.iters,
-                ..Default::default()
-            };
+            let p = CompositeParams::default().a(a.a).b(a.b).group_weight(a.b).max_iter(a.iters);
             match m {
                 "fcsa" => baselines::fcsa(&data, &p, None, progress)?,
                 "tvcmri" => baselines::tvcmri(&data, &p, None, progress)?,

@@ -164,11 +164,9 @@ pub fn run(cmd: OctreeCommand) -> Result<()> {
     match cmd {
         OctreeCommand::Build(a) => {
             let mesh = TriMesh::read(&a.mesh)?;
-            let p = BuildParams {
-                max_depth: a.depth,
-                early_stop: !a.full,
-                ..Default::default()
-            };
+            let p = BuildParams::default()
+                .max_depth(a.depth)
+                .early_stop(!a.full);
             let (oct, st) = build(&mesh, &p)?;
             println!(
                 "{} fragments ({} zero-area triangles skipped); voxelize {:.2} s, hierarchy {:.2} s, attributes {:.2} s",

@@ -173,18 +173,13 @@ fn complete(a: CompleteArgs) -> Result<()> {
                     iters: 5,
                     seed: a.seed,
                 },
-                SearchName::PcaKdtree => {
-                    wscg_video::SearchMethod::PcaKdTree(wscg_video::PcaKdParams {
-                        seed: a.seed,
-                        ..Default::default()
-                    })
-                }
+                SearchName::PcaKdtree => wscg_video::SearchMethod::PcaKdTree(
+                    wscg_video::PcaKdParams::default().seed(a.seed),
+                ),
                 SearchName::Exact => wscg_video::SearchMethod::Exact,
             };
-            cfg.refine = (a.refine_iters > 0).then(|| RefineParams {
-                iterations: a.refine_iters,
-                ..RefineParams::default()
-            });
+            cfg.refine =
+                (a.refine_iters > 0).then(|| RefineParams::default().iterations(a.refine_iters));
             cfg.local.windows = a.windows.clone();
             cfg.local.max_iterations = a.max_iterations;
             cfg.local.propagate = !a.no_propagate;
@@ -196,20 +191,14 @@ fn complete(a: CompleteArgs) -> Result<()> {
             c.video
         }
         MethodName::Wexler => {
-            let cfg = WexlerParams {
-                patch,
-                seed: a.seed,
-                ..WexlerParams::default()
-            };
+            let cfg = WexlerParams::default().patch(patch).seed(a.seed);
             wexler_complete(&v, &m, &cfg)?.video
         }
         MethodName::PerFrame => {
-            let cfg = WexlerParams {
-                patch: PatchSize { pt: 1, ..patch },
-                seed: a.seed,
-                seed_per_frame: true,
-                ..WexlerParams::default()
-            };
+            let cfg = WexlerParams::default()
+                .patch(PatchSize { pt: 1, ..patch })
+                .seed(a.seed)
+                .seed_per_frame(true);
             per_frame_patchmatch(&v, &m, &cfg)?
         }
     };

@@ -18,7 +18,8 @@ use wscg_math::mesh::TriMesh;
 use wscg_math::{Error, Result, Volume};
 use wscg_volseg::{
     dice_multilabel, fractured_shell_phantom, gaussian_smooth3, nearest_seed_labels,
-    remove_small_components, BoneGraph, PhantomParams, Precision, RandomWalkParams, RwSession, Solver,
+    remove_small_components, BoneGraph, PhantomParams, Precision, RandomWalkParams, RwSession,
+    Solver,
 };
 
 #[derive(Subcommand, Debug)]
@@ -268,12 +269,12 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
             fragments,
             seed,
         } => {
-            let ph = fractured_shell_phantom(&PhantomParams {
-                dims: [size; 3],
-                fragments,
-                seed,
-                ..PhantomParams::default()
-            })?;
+            let ph = fractured_shell_phantom(
+                &PhantomParams::default()
+                    .dims([size; 3])
+                    .fragments(fragments)
+                    .seed(seed),
+            )?;
             std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
             let f = |v: &Volume<u16>| {
                 Volume::new(
@@ -313,23 +314,21 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
                 SolverArg::PerLabel => (Solver::PerLabel, true),
                 SolverArg::Cg => (Solver::PerLabel, false),
             };
-            let p = RandomWalkParams {
-                t_bone: a.t_bone,
-                beta: a.beta,
-                eps: a.eps,
-                kappa: a.kappa,
-                tol: a.tol,
-                spacing_in_weights: a.spacing_in_weights,
-                solver,
-                jacobi,
-                precision: if a.f64 {
+            let p = RandomWalkParams::default()
+                .t_bone(a.t_bone)
+                .beta(a.beta)
+                .eps(a.eps)
+                .kappa(a.kappa)
+                .tol(a.tol)
+                .spacing_in_weights(a.spacing_in_weights)
+                .solver(solver)
+                .jacobi(jacobi)
+                .precision(if a.f64 {
                     Precision::F64
                 } else {
                     Precision::F32
-                },
-                threads: a.threads,
-                ..RandomWalkParams::default()
-            };
+                })
+                .threads(a.threads);
             let g = BoneGraph::build(&ct, &p)?;
             println!(
                 "{} bone voxels, {} edges (threshold {} HU)",

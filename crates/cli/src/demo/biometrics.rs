@@ -165,29 +165,20 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.begin("eigen-images", 1);
     let ten = Mat::from_fn(10, h * w, |i, j| data.x[(i, j)]);
     let pca = Pca::fit(ten.as_ref(), None, false)?;
-    let poly = |coef0| FdkecaParams {
-        kernel: Kernel::Polynomial {
+    let poly = |coef0| {
+        FdkecaParams::default().kernel(Kernel::Polynomial {
             degree: 2,
             gamma: Gamma::InvDim,
             coef0,
-        },
-        ..Default::default()
+        })
     };
     let fd = Fdkeca::fit(ten.as_ref(), &poly(1.0))?;
     let rank = |v: &[f64]| {
         let top = v.iter().cloned().fold(0.0, f64::max);
         v.iter().filter(|&&e| e > 1e-10 * top).count()
     };
-    let fd_rank = rank(
-        &Fdkeca::fit(
-            ten.as_ref(),
-            &FdkecaParams {
-                ordering: Ordering::Eigenvalue,
-                ..poly(1.0)
-            },
-        )?
-        .eigenvalues,
-    );
+    let fd_rank =
+        rank(&Fdkeca::fit(ten.as_ref(), &poly(1.0).ordering(Ordering::Eigenvalue))?.eigenvalues);
     let pca_axes = pca.axis_images(pca.components.len(), h, w)?;
     montage(&pca_axes, 10, 4)?.save(out.join("pca_axes.png"))?;
     montage(&fd.axis_images(63, h, w)?, 9, 4)?.save(out.join("fdkeca_axes.png"))?;
@@ -222,11 +213,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
 
     // The paper's main claim: FDKECA's cost hardly depends on N, KECA's grows like N^3.
     progress.begin("cost in N", 4);
-    let big = finger_veins(&FingerVeinParams {
-        subjects: 160,
-        seed: 1,
-        ..Default::default()
-    })?;
+    let big = finger_veins(&FingerVeinParams::default().subjects(160).seed(1))?;
     let first = |n: usize| Mat::from_fn(n, big.x.ncols(), |i, j| big.x[(i, j)]);
     let (small_x, large_x) = (first(400), first(1600));
     let fd = Method::Fdkeca(FdkecaParams::default());

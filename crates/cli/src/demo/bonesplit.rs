@@ -72,11 +72,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.advance(1);
     let rw = s.labels()?.into_data();
     // scikit-image's weights (eps 1e-10, no diagonal regulariser): sharper fracture barriers.
-    let q = RandomWalkParams {
-        eps: 1e-10,
-        kappa: 0.0,
-        ..p
-    };
+    let q = p.eps(1e-10).kappa(0.0);
     let mut sk = RwSession::new(BoneGraph::build(&ph.ct, &q)?, q)?;
     sk.set_seeds(&ph.seeds)?;
     let r_sk = rep.time("random walks, eps 1e-10, kappa 0", || sk.solve(false))?;

@@ -31,12 +31,7 @@ fn energy_curve(method: Method, ab: f64, steps: usize) -> Result<Vec<f64>> {
     let model = ClothModel::grid(10, 10, (1.0, 1.0), 0.1, 2.0, Some(2.0), Some(2.0))?;
     let mut sim = Sim::new(
         model,
-        SolverParams {
-            method,
-            alpha: ab,
-            beta: ab,
-            ..Default::default()
-        },
+        SolverParams::default().method(method).alpha(ab).beta(ab),
     )?;
     let mut out = vec![sim.energy().total];
     for _ in 0..steps {
@@ -49,12 +44,10 @@ fn energy_curve(method: Method, ab: f64, steps: usize) -> Result<Vec<f64>> {
 fn chain_elongation(iterations: usize, mode: LambdaMode) -> Result<f64> {
     let mut sim = Sim::new(
         ClothModel::chain(10, 0.1, 0.1, 100.0)?,
-        SolverParams {
-            iterations,
-            gamma: 0.1,
-            lambda_mode: mode,
-            ..Default::default()
-        },
+        SolverParams::default()
+            .iterations(iterations)
+            .gamma(0.1)
+            .lambda_mode(mode),
     )?;
     sim.run(H, 30 * 60)?;
     let m = sim.model();

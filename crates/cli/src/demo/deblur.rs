@@ -6,9 +6,10 @@
 use std::path::Path;
 
 use wscg_deblur::metrics::quality;
-use wscg_deblur::synth::{self, Burst, ShakeParams, BlurRenderParams};
+use wscg_deblur::synth::{self, BlurRenderParams, Burst, ShakeParams};
 use wscg_deblur::{
-    deblur_frame, deblur_multiframe, GyroTrack, HyperLaplacianParams, Intrinsics, Method, MultiframeParams,
+    deblur_frame, deblur_multiframe, GyroTrack, HyperLaplacianParams, Intrinsics, Method,
+    MultiframeParams,
 };
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
@@ -42,10 +43,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     )?;
     let track = GyroTrack::from_camera_rates(&sb.measured)?;
     let k = Intrinsics::centred(f, w, h);
-    let opts = MultiframeParams {
-        t_delay: burst.t_delay,
-        ..Default::default()
-    };
+    let opts = MultiframeParams::default().t_delay(burst.t_delay);
     let single = |m: Method| deblur_frame(&sb.frames[2], &track, &k, &m, &opts);
     let (wiener, grid) = rep.time("Wiener per region", || single(Method::Wiener { nsr: 0.03 }))?;
     let (rl, _) = rep.time("Richardson-Lucy per region, 20 it", || {
@@ -55,17 +53,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         single(Method::GlobalUniform(HyperLaplacianParams::default()))
     })?;
     let km3 = rep.time("multi-frame pipeline, 3 frames", || {
-        deblur_multiframe(
-            &sb.frames,
-            2,
-            &track,
-            &k,
-            &MultiframeParams {
-                radius: Some(1),
-                ..opts
-            },
-            progress,
-        )
+        deblur_multiframe(&sb.frames, 2, &track, &k, &opts.radius(Some(1)), progress)
     })?;
     let km5 = rep.time("multi-frame pipeline, 5 frames", || {
         deblur_multiframe(&sb.frames, 2, &track, &k, &opts, progress)

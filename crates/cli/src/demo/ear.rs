@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use wscg_biometrics::ear::protocol::{evaluate, Evaluation};
-use wscg_biometrics::ear::synth::{self, EarSet, OcclusionKind, EarSynthParams};
+use wscg_biometrics::ear::synth::{self, EarSet, EarSynthParams, OcclusionKind};
 use wscg_biometrics::ear::{detect_occlusion, normalise, EarParams, ScoreRule};
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
@@ -115,10 +115,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let mut rep = Report::default();
     let cfg = EarSynthParams::default();
     let p = EarParams::default();
-    let skin_eq = EarParams {
-        equalize_on_skin: true,
-        ..p.clone()
-    };
+    let skin_eq = p.clone().equalize_on_skin(true);
     progress.begin("synthetic ears", 2);
     let gen = |kind, seed| synth::generate(100, 3, kind, seed, &cfg, &p);
     let colour: EarSet = rep.time("generate 100 subjects + 300 occluded probes", || {

@@ -11,8 +11,8 @@ use wscg_hdr::metrics::{
 use wscg_hdr::synth::{encode, gradient_target, layered_scene, Response, SceneParams, SynthScene};
 use wscg_hdr::tonemap::reinhard;
 use wscg_hdr::{
-    calibrate_debevec, calibrate_mitsunaga_nayar, multiscopic_hdr, Align, Crf, MitsunagaNayarParams,
-    MultiscopicOut, MultiscopicParams, Nnf, PatchMatchParams, Synthesis,
+    calibrate_debevec, calibrate_mitsunaga_nayar, multiscopic_hdr, Align, Crf,
+    MitsunagaNayarParams, MultiscopicOut, MultiscopicParams, Nnf, PatchMatchParams, Synthesis,
 };
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
@@ -93,19 +93,13 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let max_d = (cfg.layers.iter().map(|l| l.disparity).fold(0.0, f64::max) * (n - 1) as f64).ceil()
         as i32
         + 1;
-    let pm = PatchMatchParams {
-        d_min: -max_d,
-        d_max: max_d,
-        ..PatchMatchParams::default()
-    };
+    let pm = PatchMatchParams::default().d_min(-max_d).d_max(max_d);
     let crfs = [sc.crf.clone()];
     let mut go = |label: &str, align, synthesis, pm| {
-        let p = MultiscopicParams {
-            pm,
-            align,
-            synthesis,
-            ..MultiscopicParams::default()
-        };
+        let p = MultiscopicParams::default()
+            .pm(pm)
+            .align(align)
+            .synthesis(synthesis);
         rep.time(label, || {
             multiscopic_hdr(&sc.views, &sc.times, &crfs, &p, progress)
         })
@@ -120,10 +114,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         "ours without the coherence term",
         Align::Ours,
         Synthesis::Bds,
-        PatchMatchParams {
-            coherence: false,
-            ..pm
-        },
+        pm.coherence(false),
     )?;
     let direct = go("ours with direct warp", Align::Ours, Synthesis::Direct, pm)?;
     let pm2d = go(

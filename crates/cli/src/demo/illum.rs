@@ -11,7 +11,7 @@ use wscg_math::Result;
 use wscg_volren::illumination::scenes::{constant, marschner_lobb, marschner_lobb_tf};
 use wscg_volren::illumination::study::mean_abs_diff;
 use wscg_volren::illumination::{
-    render, Kernel, Light, Method, Phong, IlluminationParams, ScalarField, SliceCamera,
+    render, IlluminationParams, Kernel, Light, Method, Phong, ScalarField, SliceCamera,
     TransferFunction,
 };
 use wscg_volren::phantoms::head;

@@ -11,8 +11,8 @@ use wscg_math::image::Image;
 use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::Result;
 use wscg_raytrace::manylight::{
-    generate_vpls, run_with, scenes, to_display, trace_primary, Camera, Method, Output, Scene,
-    ManyLightParams, Shading, VplParams,
+    generate_vpls, run_with, scenes, to_display, trace_primary, Camera, ManyLightParams, Method,
+    Output, Scene, Shading, VplParams,
 };
 
 use super::figures::montage;
@@ -29,14 +29,8 @@ pub const DEMO: Demo = Demo {
 /// The Cornell box with its records marked: initial ones red, inserted ones cyan.
 fn records_figure(out: &Path, rep: &mut Report, progress: &dyn Progress) -> Result<()> {
     let (scene, cam) = scenes::cornell_box(1, 256, 192)?;
-    let mut s = ManyLightParams {
-        vpl: VplParams {
-            n_paths: 1000,
-            max_bounces: 0,
-            seed: 2,
-        },
-        ..ManyLightParams::default()
-    };
+    let mut s =
+        ManyLightParams::default().vpl(VplParams::default().n_paths(1000).max_bounces(0).seed(2));
     s.ic.n_cache = 490;
     let vpls = generate_vpls(&scene, &s.vpl)?;
     let g = trace_primary(&scene, &cam)?;
@@ -128,14 +122,8 @@ fn compare(
     n_cache: usize,
     progress: &dyn Progress,
 ) -> Result<Vec<(Method, Output)>> {
-    let mut s = ManyLightParams {
-        vpl: VplParams {
-            n_paths: 1400,
-            max_bounces: 2,
-            seed: 1,
-        },
-        ..ManyLightParams::default()
-    };
+    let mut s =
+        ManyLightParams::default().vpl(VplParams::default().n_paths(1400).max_bounces(2).seed(1));
     s.ic.n_cache = n_cache;
     let vpls = generate_vpls(scene, &s.vpl)?;
     let g = trace_primary(scene, cam)?;

@@ -170,10 +170,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let u = rng::uniform_vec(11, n * n * n, -1.0, 1.0)?;
     let b = a.mul_vec(&u)?;
     let jac = Jacobi::new(&a.diagonal())?;
-    let opts = PcgParams {
-        tol: 1e-10,
-        max_iter: None,
-    };
+    let opts = PcgParams::default().tol(1e-10).max_iter(None);
     let res = rep.time("pcg Poisson 64^3 (s)", || {
         pcg(&a, &b, InitialGuess::Zero, &jac, &opts)
     })?;

@@ -78,37 +78,24 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         ))
     };
     let to_surface = |x: &[[f64; 3]]| -> Result<f64> { Ok(surface_error(x, &gt)? / mvd) };
-    let base = JbmdParams {
-        k: 40,
-        iterations: ITERS,
-        ..JbmdParams::from_mvd(mvd)
-    };
+    let base = JbmdParams::from_mvd(mvd).k(40).iterations(ITERS);
     let variants = [
         ("JBMD", base, [0.85, 0.1, 0.1], "0.153 / - / 0.23"),
         (
             "JBMD without colour",
-            JbmdParams {
-                use_color: false,
-                ..base
-            },
+            base.use_color(false),
             [0.95, 0.55, 0.1],
             "0.167",
         ),
         (
             "JBMD without sigma_o decay",
-            JbmdParams {
-                lambda: 1.0,
-                ..base
-            },
+            base.lambda(1.0),
             [0.1, 0.6, 0.2],
             "min 0.172 at 5, 0.213 at 15",
         ),
         (
             "JBMD without anti-shrinking",
-            JbmdParams {
-                anti_shrink: false,
-                ..base
-            },
+            base.anti_shrink(false),
             [0.1, 0.35, 0.85],
             "0.186 at 4, 0.244 at 15",
         ),
@@ -263,21 +250,11 @@ fn cad_rows(rep: &mut Report, out: &Path) -> Result<()> {
         ));
         Ok(())
     };
-    let p = JbmdParams {
-        k: 40,
-        iterations: ITERS,
-        ..JbmdParams::from_mvd(mvd)
-    };
+    let p = JbmdParams::from_mvd(mvd).k(40).iterations(ITERS);
     let x = jbmd(&noisy, &p)?;
     row("noisy input", &noisy.positions)?;
     row("JBMD", &x)?;
-    let nc = jbmd(
-        &noisy,
-        &JbmdParams {
-            use_color: false,
-            ..p
-        },
-    )?;
+    let nc = jbmd(&noisy, &p.use_color(false))?;
     row("JBMD without colour", &nc)?;
     let me = |x: &[[f64; 3]]| mean_error(x, &gt.positions).unwrap_or(f64::INFINITY);
     for (name, grid) in [

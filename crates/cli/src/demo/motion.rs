@@ -83,23 +83,13 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     };
     progress.begin("motion demo", 4);
     // Fig. 4: anechoic vs PCA on action-1's periodic part.
-    let (_, truth) = reach_walk(&WalkerParams {
-        noise: 0.0,
-        n_trials: 10,
-        ..WalkerParams::default()
-    })?;
+    let (_, truth) = reach_walk(&WalkerParams::default().noise(0.0).n_trials(10))?;
     let x = &truth.periodic[0];
     let qp = pca_qualities(x)?;
     let mut qa = Vec::new();
     for j in 1..=6 {
         let m = rep.time(&format!("fit_anechoic J={j} (10 restarts)"), || {
-            fit_anechoic(
-                x,
-                &AnechoicParams {
-                    n_sources: j,
-                    ..AnechoicParams::default()
-                },
-            )
+            fit_anechoic(x, &AnechoicParams::default().n_sources(j))
         })?;
         qa.push(m.q);
         rep.table.push(Row::new(
@@ -169,12 +159,12 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.advance(1);
 
     // Human-like statistics (paper Fig. 2).
-    let (human, _) = reach_walk(&WalkerParams {
-        n_trials: 10,
-        human_like: true,
-        seed: 3,
-        ..WalkerParams::default()
-    })?;
+    let (human, _) = reach_walk(
+        &WalkerParams::default()
+            .n_trials(10)
+            .human_like(true)
+            .seed(3),
+    )?;
     let l1: Vec<f64> = human.trials.iter().map(|t| t[0].step_length).collect();
     let l2: Vec<f64> = human.trials.iter().map(|t| t[1].step_length).collect();
     let f1 = fit_line(&human.distances, &l1)?;

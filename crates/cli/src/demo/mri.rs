@@ -62,17 +62,11 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         sparsifier::tuned_tau0("fdct"),
         sparsifier::tuned_tau0("db4"),
     );
-    let cs = |tau0: f64, rec: bool| CsalsaParams {
-        tau0,
-        record_history: rec,
-        ..Default::default()
-    };
-    let comp = CompositeParams {
-        a: A_TUNED,
-        b: B_TUNED,
-        group_weight: B_TUNED,
-        ..Default::default()
-    };
+    let cs = |tau0: f64, rec: bool| CsalsaParams::default().tau0(tau0).record_history(rec);
+    let comp = CompositeParams::default()
+        .a(A_TUNED)
+        .b(B_TUNED)
+        .group_weight(B_TUNED);
     let mut runs: Vec<(&str, Recon, &str)> = Vec::new();
     runs.push(("zero-filled", baselines::zero_filled(&data), ""));
     let r = rep.time("TVCMRI (Condat-Vu), 70 it", || {
@@ -248,11 +242,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let mut noisy = KSpace::new(n, n, data.data().to_vec(), mask.clone())?;
     noisy.add_noise(sigma, 12)?;
     let eps = noise_epsilon(sigma, noisy.sampled().len());
-    let p = CsalsaParams {
-        epsilon: eps,
-        tau0: tau_udct,
-        ..Default::default()
-    };
+    let p = CsalsaParams::default().epsilon(eps).tau0(tau_udct);
     let r = csalsa(&noisy, &udct, Regularizer::default(), &p, None, progress)?;
     rep.table.push(Row::new(
         "Noisy (full-sampled 29.9 dB): UDCSMRI(l1) PSNR dB / gain over full-sampled",

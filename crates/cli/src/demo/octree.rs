@@ -105,13 +105,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let mut forest_tree = None;
     for (name, mesh, paper) in &scenes_list {
         let t = Instant::now();
-        let (full, _) = build(
-            mesh,
-            &BuildParams {
-                early_stop: false,
-                ..Default::default()
-            },
-        )?;
+        let (full, _) = build(mesh, &BuildParams::default().early_stop(false))?;
         let tf = t.elapsed().as_secs_f64();
         let t = Instant::now();
         let (early, _) = build(mesh, &BuildParams::default())?;
@@ -148,18 +142,9 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
 
     // The exact case.
     let (sq, cube) = scenes::exact_square()?;
-    let p = BuildParams {
-        domain: Some(cube),
-        ..Default::default()
-    };
+    let p = BuildParams::default().domain(Some(cube));
     let (e, _) = build(&sq, &p)?;
-    let (f, _) = build(
-        &sq,
-        &BuildParams {
-            early_stop: false,
-            ..p
-        },
-    )?;
+    let (f, _) = build(&sq, &p.early_stop(false))?;
     rep.table.push(Row::new(
         "two-triangle square at z = 1/3, L = 9: nodes early / full; voxels full",
         format!("{} / {}; {}", e.nodes.len(), f.nodes.len(), f.voxels.len()),

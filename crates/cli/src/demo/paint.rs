@@ -11,7 +11,7 @@ use wscg_math::progress::Progress;
 use wscg_math::Result;
 use wscg_raytrace::paint::{
     binocular_overlap, generate_tile, render_with_progress, score_runs, ColourMode, Condition,
-    DiscLight, FlakeParams, FlakePlate, Plate, PlateStack, Rect, PaintRenderParams, StackModel,
+    DiscLight, FlakeParams, FlakePlate, PaintRenderParams, Plate, PlateStack, Rect, StackModel,
     TiltDist, WorkshopParams, XyzImage,
 };
 use wscg_raytrace::spectral::{xyz_to_xy, MetalIor, XYZ_TO_SRGB};
@@ -40,10 +40,7 @@ fn spectral_and_rgb(
 ) -> Result<(XyzImage, XyzImage)> {
     let rig = StereoRig::default();
     let spectral = render_with_progress(plate, light, &rig, Eye::Cyclopean, s, progress)?;
-    let rgb = PaintRenderParams {
-        colour: ColourMode::Rgb,
-        ..s.clone()
-    };
+    let rgb = s.clone().colour(ColourMode::Rgb);
     let rgb = render_with_progress(plate, light, &rig, Eye::Cyclopean, &rgb, progress)?;
     Ok((spectral, rgb))
 }
@@ -79,13 +76,11 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         format!("{:.1}", p.expected_count()),
         "Poisson mean density 450² / (pi E[r²])",
     ));
-    let dep = FlakeParams {
-        model: StackModel::Deposit,
-        radius_um: 15.0,
-        density: 3.5,
-        tilt: TiltDist::HalfNormal { sigma_deg: 3.0 },
-        ..p
-    };
+    let dep = p
+        .model(StackModel::Deposit)
+        .radius_um(15.0)
+        .density(3.5)
+        .tilt(TiltDist::HalfNormal { sigma_deg: 3.0 });
     let t = generate_tile(&dep, 1)?;
     let mean_z = t.flakes.iter().map(|f| f.c.z).sum::<f64>() / t.flakes.len().max(1) as f64;
     rep.table.push(Row::new(
@@ -101,12 +96,10 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let micro = FlakePlate::new(&p, stack.size_mm, 3)?;
     let plate = Plate::new(stack.clone(), Box::new(micro.clone()))?;
     let light = DiscLight::from_elevation(75.0, 1.0);
-    let s = PaintRenderParams {
-        spp: 64,
-        region_mm: Some(Rect::centred(0.0, 0.0, 10.0, 10.0)),
-        magnification: 4.0,
-        ..PaintRenderParams::default()
-    };
+    let s = PaintRenderParams::default()
+        .spp(64)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 10.0, 10.0)))
+        .magnification(4.0);
     let mut views = Vec::new();
     for eye in [Eye::Left, Eye::Right] {
         let img = rep.time(
@@ -148,23 +141,19 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     ));
 
     // Overlap against the lens ratio for wider lamps (sparse flakes, fine pixels).
-    let sparse = FlakeParams {
-        radius_um: 10.0,
-        radius_cv: 0.0,
-        density: 0.3,
-        tilt: TiltDist::UniformCap { max_deg: 10.0 },
-        ..p
-    };
+    let sparse = p
+        .radius_um(10.0)
+        .radius_cv(0.0)
+        .density(0.3)
+        .tilt(TiltDist::UniformCap { max_deg: 10.0 });
     let sparse_plate = Plate::new(
         stack.clone(),
         Box::new(FlakePlate::new(&sparse, stack.size_mm, 18)?),
     )?;
-    let fine = PaintRenderParams {
-        spp: 4,
-        region_mm: Some(Rect::centred(0.0, 0.0, 5.0, 5.0)),
-        magnification: 27.75,
-        ..PaintRenderParams::default()
-    };
+    let fine = PaintRenderParams::default()
+        .spp(4)
+        .region_mm(Some(Rect::centred(0.0, 0.0, 5.0, 5.0)))
+        .magnification(27.75);
     for radius in [3.0, 4.0, 6.0] {
         let lamp = DiscLight::from_elevation(70.0, radius);
         let a = render_with_progress(&sparse_plate, &lamp, &rig, Eye::Left, &fine, progress)?;
@@ -240,10 +229,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let runs: Vec<(f64, f64)> = physical.row_iter().map(|r| (r[0], r[1])).collect();
     let hidden = (26.0, 7.3);
     for condition in [Condition::Mono, Condition::Stereo] {
-        let cfg = WorkshopParams {
-            condition,
-            ..WorkshopParams::default()
-        };
+        let cfg = WorkshopParams::default().condition(condition);
         let ws = rep.time(&format!("workshop, {condition:?}: 17 plates (s)"), || {
             score_runs(hidden, &runs, &cfg, 7, progress)
         })?;

@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use wscg_biometrics::sfa::handpose::{
-    compare, generate, rotation_robustness, split_protocol, CompareParams, Method, HandposeSynthParams,
-    CLASS_NAMES,
+    compare, generate, rotation_robustness, split_protocol, CompareParams, HandposeSynthParams,
+    Method, CLASS_NAMES,
 };
 use wscg_math::image::Image;
 use wscg_math::progress::Progress;

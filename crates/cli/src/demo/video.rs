@@ -97,10 +97,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         let no_refine = complete_video_with(
             &clip.observed,
             &clip.hole,
-            &CompletionParams {
-                refine: None,
-                ..cfg.clone()
-            },
+            &cfg.clone().refine(None),
             progress,
         )?;
         let wexler = rep.time(&format!("{name}: Wexler et al. 2007 (s)"), || {
@@ -110,10 +107,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
             per_frame_patchmatch(
                 &clip.observed,
                 &clip.hole,
-                &WexlerParams {
-                    seed_per_frame: true,
-                    ..WexlerParams::default()
-                },
+                &WexlerParams::default().seed_per_frame(true),
             )
         })?;
         let results = [

@@ -47,14 +47,16 @@ impl Redundancy {
     }
 }
 
-/// SFLCT configuration.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SflctParams {
-    /// Pyramid redundancy.
-    pub redundancy: Redundancy,
-    /// Directional levels per scale, coarsest first (`n` gives `2^n` directions); the number
-    /// of entries is the number of scales.
-    pub dfb_levels: Vec<usize>,
+wscg_math::params! {
+    /// SFLCT configuration.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct SflctParams {
+        /// Pyramid redundancy.
+        pub redundancy: Redundancy,
+        /// Directional levels per scale, coarsest first (`n` gives `2^n` directions); the number
+        /// of entries is the number of scales.
+        pub dfb_levels: Vec<usize>,
+    }
 }
 
 impl Default for SflctParams {

@@ -26,23 +26,25 @@ use rayon::prelude::*;
 use wscg_math::fft::{Direction, Plan2, RealPlan2};
 use wscg_math::{Error, Result};
 
-/// Transform configuration (paper 11, section 2.2 and 3.1).
-#[derive(Clone, Debug, PartialEq)]
-pub struct UdctParams {
-    /// Per scale (coarse to fine) the wedge counts `[n_rows, n_cols]`: the number of angular
-    /// windows spanning the axis. Each must be a multiple of 3 and at least 3. The paper uses
-    /// one scale with 12 directional bands (`[[6, 6]]`) for brain images and three such
-    /// scales for the water phantom.
-    pub wedges: Vec<[usize; 2]>,
-    /// Angular overlap of neighbouring wedges (paper and `ucurv`: 0.1).
-    pub alpha: f64,
-    /// Radial window corners `r1..r4`: default `pi (1/3, 2/3, 2/3, 4/3)`.
-    pub radial: [f64; 4],
-    /// Exact tight frame (default): window tails that would alias on the decimated grid are
-    /// dropped before normalisation, so Parseval holds to rounding. `false` keeps every
-    /// entry, which reproduces the reference implementation `ucurv` 0.1.1 bit for bit in
-    /// its windows but is tight only to about 1e-10.
-    pub tight: bool,
+wscg_math::params! {
+    /// Transform configuration (paper 11, section 2.2 and 3.1).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct UdctParams {
+        /// Per scale (coarse to fine) the wedge counts `[n_rows, n_cols]`: the number of angular
+        /// windows spanning the axis. Each must be a multiple of 3 and at least 3. The paper uses
+        /// one scale with 12 directional bands (`[[6, 6]]`) for brain images and three such
+        /// scales for the water phantom.
+        pub wedges: Vec<[usize; 2]>,
+        /// Angular overlap of neighbouring wedges (paper and `ucurv`: 0.1).
+        pub alpha: f64,
+        /// Radial window corners `r1..r4`: default `pi (1/3, 2/3, 2/3, 4/3)`.
+        pub radial: [f64; 4],
+        /// Exact tight frame (default): window tails that would alias on the decimated grid are
+        /// dropped before normalisation, so Parseval holds to rounding. `false` keeps every
+        /// entry, which reproduces the reference implementation `ucurv` 0.1.1 bit for bit in
+        /// its windows but is tight only to about 1e-10.
+        pub tight: bool,
+    }
 }
 
 impl Default for UdctParams {

@@ -28,11 +28,13 @@ pub enum AmbiguousRule {
     IsolateOutside,
 }
 
-/// Options of the LSN baseline.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct LsnParams {
-    /// Ambiguous-face assumption.
-    pub ambiguous_face: AmbiguousRule,
+wscg_math::params! {
+    /// Options of the LSN baseline.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+    pub struct LsnParams {
+        /// Ambiguous-face assumption.
+        pub ambiguous_face: AmbiguousRule,
+    }
 }
 
 /// The MC vertex on the grid edge between `u` and `w` (adjacent grid points, any order).

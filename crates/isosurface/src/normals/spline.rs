@@ -43,15 +43,17 @@ pub enum TetSelection {
     AverageBoth,
 }
 
-/// Options of the spline estimator; `Default` is the paper's method.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SplineParams {
-    /// How the corner tetrahedron is chosen in each cell.
-    pub selection: TetSelection,
-    /// Use the seed's literal eq. 8 instead of the exact spline gradient.
-    pub eq8_literal: bool,
-    /// Normalise each cell's gradient before averaging (the paper averages raw gradients).
-    pub normalize_before_mean: bool,
+wscg_math::params! {
+    /// Options of the spline estimator; `Default` is the paper's method.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+    pub struct SplineParams {
+        /// How the corner tetrahedron is chosen in each cell.
+        pub selection: TetSelection,
+        /// Use the seed's literal eq. 8 instead of the exact spline gradient.
+        pub eq8_literal: bool,
+        /// Normalise each cell's gradient before averaging (the paper averages raw gradients).
+        pub normalize_before_mean: bool,
+    }
 }
 
 /// Gradient of the corner tetrahedron at local corner `k` of a cell with corner values `vals`

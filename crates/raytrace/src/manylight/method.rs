@@ -12,7 +12,9 @@ use super::cache::Record;
 use super::camera::Camera;
 use super::gbuffer::{trace_primary, GBuffer};
 use super::placement::{AdaptiveParams, Placement};
-use super::render::{build_cache, render, render_power, render_reference, CacheStats, ImportanceCachingParams};
+use super::render::{
+    build_cache, render, render_power, render_reference, CacheStats, ImportanceCachingParams,
+};
 use super::scene::Scene;
 use super::vpl::{generate_vpls, Vpl, VplParams};
 use super::weights::Interp;
@@ -83,17 +85,19 @@ impl Method {
     }
 }
 
-/// Everything a run needs.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ManyLightParams {
-    /// VPL generation.
-    pub vpl: VplParams,
-    /// Cache and sampling.
-    pub ic: ImportanceCachingParams,
-    /// The paper's placement.
-    pub adaptive: AdaptiveParams,
-    /// The paper's weights (the ablation and the baseline use uniform weights).
-    pub weights: Interp,
+wscg_math::params! {
+    /// Everything a run needs.
+    #[derive(Clone, Copy, Debug, Default, PartialEq)]
+    pub struct ManyLightParams {
+        /// VPL generation.
+        pub vpl: VplParams,
+        /// Cache and sampling.
+        pub ic: ImportanceCachingParams,
+        /// The paper's placement.
+        pub adaptive: AdaptiveParams,
+        /// The paper's weights (the ablation and the baseline use uniform weights).
+        pub weights: Interp,
+    }
 }
 
 /// What a run produced.

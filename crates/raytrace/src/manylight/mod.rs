@@ -31,10 +31,12 @@ pub mod weights;
 pub use cache::{Distributions, ImportanceCache, Record};
 pub use camera::{Camera, CameraFrame};
 pub use gbuffer::{trace_primary, GBuffer, ShadingPoint};
-pub use method::{compare, run, run_with, to_display, Method, Output, ManyLightParams};
+pub use method::{compare, run, run_with, to_display, ManyLightParams, Method, Output};
 pub use obj::load_obj;
 pub use placement::{AdaptiveParams, Placement};
-pub use render::{build_cache, render, render_power, render_reference, CacheStats, ImportanceCachingParams};
+pub use render::{
+    build_cache, render, render_power, render_reference, CacheStats, ImportanceCachingParams,
+};
 pub use scene::{luminance, Hit, Rgb, Scene, Triangle};
 pub use scenes::{colonnade, conference_room, cornell_box, plane_with_light};
 pub use shading::{Receiver, Shading};

@@ -11,20 +11,22 @@ use super::gbuffer::{shade_point, GBuffer};
 use super::shading::Shading;
 use super::weights::Interp;
 
-/// Parameters of the paper's placement. The paper gives no thresholds; these are ours.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AdaptiveParams {
-    /// Share of the record budget placed by the clustering (0.6); the rest is inserted.
-    pub init_fraction: f64,
-    /// A cluster whose 6-D box diagonal is at most this is not split (0.02).
-    pub leaf_min_extent: f64,
-    /// Insertion threshold on the disagreement `D_i` of eq. (5) (0.5; `D_i` lies in [0, 2]).
-    pub delta: f64,
-    /// A pass that inserts fewer records than this share of the records ends the insertion
-    /// (0.01, at least one record).
-    pub min_inserted_fraction: f64,
-    /// Most insertion passes (8).
-    pub max_passes: u32,
+wscg_math::params! {
+    /// Parameters of the paper's placement. The paper gives no thresholds; these are ours.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct AdaptiveParams {
+        /// Share of the record budget placed by the clustering (0.6); the rest is inserted.
+        pub init_fraction: f64,
+        /// A cluster whose 6-D box diagonal is at most this is not split (0.02).
+        pub leaf_min_extent: f64,
+        /// Insertion threshold on the disagreement `D_i` of eq. (5) (0.5; `D_i` lies in [0, 2]).
+        pub delta: f64,
+        /// A pass that inserts fewer records than this share of the records ends the insertion
+        /// (0.01, at least one record).
+        pub min_inserted_fraction: f64,
+        /// Most insertion passes (8).
+        pub max_passes: u32,
+    }
 }
 
 impl Default for AdaptiveParams {

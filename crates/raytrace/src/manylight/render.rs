@@ -19,28 +19,30 @@ use super::shading::Shading;
 use super::vpl::Vpl;
 use super::weights::Interp;
 
-/// Importance-caching parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ImportanceCachingParams {
-    /// Records (cache points): the budget of the adaptive placement, the count of the screen
-    /// grid; 1 % of the pixels in the paper's scenes.
-    pub n_cache: usize,
-    /// Records mixed at a shading point (`M`), 3.
-    pub m_nearest: usize,
-    /// VPL samples per pixel (`N_s` of eq. 1), 16: shared out equally among the strategies
-    /// available at the pixel.
-    pub spp: u32,
-    /// Which of the four strategies (full, unoccluded, bounded, conservative) are used; the
-    /// conservative one keeps the estimator unbiased.
-    pub strategies: [bool; 4],
-    /// Weights of the alpha-max heuristic, 1 each.
-    pub alpha: [f64; 4],
-    /// Clamping distance of the geometry term (`None`: 1 % of the scene's diagonal; 0: none).
-    pub clamp_dist: Option<f64>,
-    /// Seed of the placement and the sampling.
-    pub seed: u64,
-    /// Largest memory for the distributions (bytes), 4 GiB.
-    pub max_cache_bytes: usize,
+wscg_math::params! {
+    /// Importance-caching parameters.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct ImportanceCachingParams {
+        /// Records (cache points): the budget of the adaptive placement, the count of the screen
+        /// grid; 1 % of the pixels in the paper's scenes.
+        pub n_cache: usize,
+        /// Records mixed at a shading point (`M`), 3.
+        pub m_nearest: usize,
+        /// VPL samples per pixel (`N_s` of eq. 1), 16: shared out equally among the strategies
+        /// available at the pixel.
+        pub spp: u32,
+        /// Which of the four strategies (full, unoccluded, bounded, conservative) are used; the
+        /// conservative one keeps the estimator unbiased.
+        pub strategies: [bool; 4],
+        /// Weights of the alpha-max heuristic, 1 each.
+        pub alpha: [f64; 4],
+        /// Clamping distance of the geometry term (`None`: 1 % of the scene's diagonal; 0: none).
+        pub clamp_dist: Option<f64>,
+        /// Seed of the placement and the sampling.
+        pub seed: u64,
+        /// Largest memory for the distributions (bytes), 4 GiB.
+        pub max_cache_bytes: usize,
+    }
 }
 
 impl Default for ImportanceCachingParams {

@@ -48,15 +48,17 @@ impl Vpl {
     }
 }
 
-/// VPL generation parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct VplParams {
-    /// Light paths traced (one emitter VPL each, plus one VPL per bounce); 1000.
-    pub n_paths: usize,
-    /// Bounces per light path (surface VPLs), 2.
-    pub max_bounces: u32,
-    /// Seed.
-    pub seed: u64,
+wscg_math::params! {
+    /// VPL generation parameters.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct VplParams {
+        /// Light paths traced (one emitter VPL each, plus one VPL per bounce); 1000.
+        pub n_paths: usize,
+        /// Bounces per light path (surface VPLs), 2.
+        pub max_bounces: u32,
+        /// Seed.
+        pub seed: u64,
+    }
 }
 
 impl Default for VplParams {

@@ -123,36 +123,38 @@ impl TiltDist {
     }
 }
 
-/// Microstructure parameters (paper 07, section 2.2 and Table 1).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FlakeParams {
-    /// Mean flake radius (µm): 30 in the paper (physical value), studied 15-45.
-    pub radius_um: f64,
-    /// Coefficient of variation of the (lognormal) radius: 0.15 (not given in the paper).
-    pub radius_cv: f64,
-    /// Flake thickness (µm): 0.5 (not given; aluminium pigments are 0.1-1 µm thick).
-    pub thickness_um: f64,
-    /// Mean coverage number (flakes above a point): 6.5 at the centre of the paper's range
-    /// 3.5-9.5 (the paper's unit is not defined; this is ours).
-    pub density: f64,
-    /// Tilt distribution: half-normal with sigma 8 degrees. A drawn tilt at which the flake
-    /// would not fit the layer is lowered to the largest that fits ([`max_tilt`]; with radius
-    /// 30 µm in the 20.24 µm layer that is 19.2 degrees).
-    pub tilt: TiltDist,
-    /// Thickness of the flake layer (µm): 20.24 in the paper.
-    pub layer_um: f64,
-    /// Side of a square tile (µm): 450 in the paper.
-    pub tile_um: f64,
-    /// Height model: Boolean. The sequential deposit cannot hold the study's densities
-    /// without interpenetration (at the design's centre, radius 30 µm, density 6.5, tilts of
-    /// sigma 8 degrees, two thirds of the flakes find no place in the 20.24 µm layer), so the
-    /// default is the Boolean model, whose flakes may cross.
-    pub model: StackModel,
-    /// Distinct tiles the plate draws from: 16.
-    pub tiles_in_pool: usize,
-    /// Largest fraction of flakes that [`StackModel::Deposit`] may clamp to the layer's top
-    /// before generation fails (0.05).
-    pub max_clamped_fraction: f64,
+wscg_math::params! {
+    /// Microstructure parameters (paper 07, section 2.2 and Table 1).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct FlakeParams {
+        /// Mean flake radius (µm): 30 in the paper (physical value), studied 15-45.
+        pub radius_um: f64,
+        /// Coefficient of variation of the (lognormal) radius: 0.15 (not given in the paper).
+        pub radius_cv: f64,
+        /// Flake thickness (µm): 0.5 (not given; aluminium pigments are 0.1-1 µm thick).
+        pub thickness_um: f64,
+        /// Mean coverage number (flakes above a point): 6.5 at the centre of the paper's range
+        /// 3.5-9.5 (the paper's unit is not defined; this is ours).
+        pub density: f64,
+        /// Tilt distribution: half-normal with sigma 8 degrees. A drawn tilt at which the flake
+        /// would not fit the layer is lowered to the largest that fits ([`max_tilt`]; with radius
+        /// 30 µm in the 20.24 µm layer that is 19.2 degrees).
+        pub tilt: TiltDist,
+        /// Thickness of the flake layer (µm): 20.24 in the paper.
+        pub layer_um: f64,
+        /// Side of a square tile (µm): 450 in the paper.
+        pub tile_um: f64,
+        /// Height model: Boolean. The sequential deposit cannot hold the study's densities
+        /// without interpenetration (at the design's centre, radius 30 µm, density 6.5, tilts of
+        /// sigma 8 degrees, two thirds of the flakes find no place in the 20.24 µm layer), so the
+        /// default is the Boolean model, whose flakes may cross.
+        pub model: StackModel,
+        /// Distinct tiles the plate draws from: 16.
+        pub tiles_in_pool: usize,
+        /// Largest fraction of flakes that [`StackModel::Deposit`] may clamp to the layer's top
+        /// before generation fails (0.05).
+        pub max_clamped_fraction: f64,
+    }
 }
 
 impl Default for FlakeParams {

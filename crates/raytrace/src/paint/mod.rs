@@ -20,7 +20,7 @@ pub use observer::{
 pub use photons::{trace_photons, Photon, PhotonMap, PhotonParams};
 pub use plate::{FlakePlate, PlacedFlake};
 pub use render::{
-    render, render_with_progress, ColourMode, FlakeHit, Microstructure, NoFlakes, Plate, Rect,
-    PaintRenderParams, XyzImage, NO_FLAKE, RGB_BAND_NM,
+    render, render_with_progress, ColourMode, FlakeHit, Microstructure, NoFlakes,
+    PaintRenderParams, Plate, Rect, XyzImage, NO_FLAKE, RGB_BAND_NM,
 };
 pub use workshop::{plate_features, score_runs, WorkshopParams, WorkshopScores};

@@ -32,20 +32,22 @@ pub const PHOTON_FLAKES: usize = 4;
 /// Most scattering events followed per photon.
 const MAX_EVENTS: usize = 32;
 
-/// Photon-mapping parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PhotonParams {
-    /// Photons shot from the lamp over the rendered area (2 000 000).
-    pub count: usize,
-    /// Photons in a density estimate (50).
-    pub k: usize,
-    /// Largest gather radius (µm, 250): photons farther away are not used.
-    pub max_radius_um: f64,
-    /// How far around the rendered region photons are shot (µm, 1500): light entering there
-    /// can reach the region's base after travelling sideways in the plate.
-    pub margin_um: f64,
-    /// Seed of the photon paths.
-    pub seed: u64,
+wscg_math::params! {
+    /// Photon-mapping parameters.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct PhotonParams {
+        /// Photons shot from the lamp over the rendered area (2 000 000).
+        pub count: usize,
+        /// Photons in a density estimate (50).
+        pub k: usize,
+        /// Largest gather radius (µm, 250): photons farther away are not used.
+        pub max_radius_um: f64,
+        /// How far around the rendered region photons are shot (µm, 1500): light entering there
+        /// can reach the region's base after travelling sideways in the plate.
+        pub margin_um: f64,
+        /// Seed of the photon paths.
+        pub seed: u64,
+    }
 }
 
 impl Default for PhotonParams {

@@ -193,30 +193,32 @@ impl Rect {
     }
 }
 
-/// Rendering parameters.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PaintRenderParams {
-    /// Samples per pixel (jittered over the pixel's footprint on the plate), 64.
-    pub spp: u32,
-    /// Most scattering events (flake reflections, internal reflections) per chain, 8.
-    pub max_depth: u32,
-    /// Seed of the pixel sampling (the microstructure has its own).
-    pub seed: u64,
-    /// Part of the plate to render (mm); `None`: the whole plate.
-    pub region_mm: Option<Rect>,
-    /// Magnification: 1 renders at the rig's screen pixel size (the plate at 1:1 scale on the
-    /// study's screen); 4 renders pixels four times smaller.
-    pub magnification: f64,
-    /// Draw the samples of a pixel independently instead of jittered on a grid (the grid is
-    /// used when `spp` is a square number and this is false).
-    pub independent_samples: bool,
-    /// Spectral (the paper) or the RGB baseline.
-    pub colour: ColourMode,
-    /// Keep each pixel's radiance per band ([`XyzImage::spectrum`]).
-    pub keep_spectrum: bool,
-    /// Photon map of the caustics on a diffuse base (used only when the stack's
-    /// `base_albedo > 0`; `None` leaves them out).
-    pub photons: Option<PhotonParams>,
+wscg_math::params! {
+    /// Rendering parameters.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct PaintRenderParams {
+        /// Samples per pixel (jittered over the pixel's footprint on the plate), 64.
+        pub spp: u32,
+        /// Most scattering events (flake reflections, internal reflections) per chain, 8.
+        pub max_depth: u32,
+        /// Seed of the pixel sampling (the microstructure has its own).
+        pub seed: u64,
+        /// Part of the plate to render (mm); `None`: the whole plate.
+        pub region_mm: Option<Rect>,
+        /// Magnification: 1 renders at the rig's screen pixel size (the plate at 1:1 scale on the
+        /// study's screen); 4 renders pixels four times smaller.
+        pub magnification: f64,
+        /// Draw the samples of a pixel independently instead of jittered on a grid (the grid is
+        /// used when `spp` is a square number and this is false).
+        pub independent_samples: bool,
+        /// Spectral (the paper) or the RGB baseline.
+        pub colour: ColourMode,
+        /// Keep each pixel's radiance per band ([`XyzImage::spectrum`]).
+        pub keep_spectrum: bool,
+        /// Photon map of the caustics on a diffuse base (used only when the stack's
+        /// `base_albedo > 0`; `None` leaves them out).
+        pub photons: Option<PhotonParams>,
+    }
 }
 
 impl Default for PaintRenderParams {

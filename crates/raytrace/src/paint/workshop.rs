@@ -11,35 +11,37 @@ use super::flakes::FlakeParams;
 use super::layers::{DiscLight, PlateStack};
 use super::observer::{features, Condition, VirtualObserver, DEFAULT_JND_LOG};
 use super::plate::FlakePlate;
-use super::render::{render, Plate, Rect, PaintRenderParams};
+use super::render::{render, PaintRenderParams, Plate, Rect};
 use crate::stereo::{Eye, StereoRig};
 
-/// What the workshop renders and how.
-#[derive(Clone, Debug)]
-pub struct WorkshopParams {
-    /// Microstructure parameters other than radius and density.
-    pub base: FlakeParams,
-    /// The plate's layers.
-    pub stack: PlateStack,
-    /// The lamp: by default 1 degree, 75 degrees above the plate (towards its top edge), so that
-    /// the plate seen from the front sparkles over a grey background.
-    pub light: DiscLight,
-    /// The viewing rig.
-    pub rig: StereoRig,
-    /// Rendering: a 10 x 10 mm patch at the plate's centre, magnified 4x (144 x 144 pixels),
-    /// 64 samples per pixel.
-    pub settings: PaintRenderParams,
-    /// Renders of the reference (different microstructure seeds) that calibrate the
-    /// observer: 4.
-    pub reference_renders: usize,
-    /// Viewing condition.
-    pub condition: Condition,
-    /// The observer's just-noticeable difference of a feature (log units), 0.25.
-    pub jnd_log: f64,
-    /// Draw the tile pool as large as the number of cells the region covers, so that the
-    /// rendered patch shows (nearly) no repeated tile, as the paper's plate of distinct
-    /// microstructures does; otherwise `base.tiles_in_pool` tiles. True.
-    pub distinct_cells: bool,
+wscg_math::params! {
+    /// What the workshop renders and how.
+    #[derive(Clone, Debug)]
+    pub struct WorkshopParams {
+        /// Microstructure parameters other than radius and density.
+        pub base: FlakeParams,
+        /// The plate's layers.
+        pub stack: PlateStack,
+        /// The lamp: by default 1 degree, 75 degrees above the plate (towards its top edge), so that
+        /// the plate seen from the front sparkles over a grey background.
+        pub light: DiscLight,
+        /// The viewing rig.
+        pub rig: StereoRig,
+        /// Rendering: a 10 x 10 mm patch at the plate's centre, magnified 4x (144 x 144 pixels),
+        /// 64 samples per pixel.
+        pub settings: PaintRenderParams,
+        /// Renders of the reference (different microstructure seeds) that calibrate the
+        /// observer: 4.
+        pub reference_renders: usize,
+        /// Viewing condition.
+        pub condition: Condition,
+        /// The observer's just-noticeable difference of a feature (log units), 0.25.
+        pub jnd_log: f64,
+        /// Draw the tile pool as large as the number of cells the region covers, so that the
+        /// rendered patch shows (nearly) no repeated tile, as the paper's plate of distinct
+        /// microstructures does; otherwise `base.tiles_in_pool` tiles. True.
+        pub distinct_cells: bool,
+    }
 }
 
 impl Default for WorkshopParams {

@@ -218,15 +218,17 @@ impl Light {
     }
 }
 
-/// Settings shared by every method.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct IlluminationParams {
-    /// Reconstruction filter.
-    pub interp: Interp,
-    /// Background colour composited behind the volume.
-    pub background: [f32; 3],
-    /// Opacity at which a ray stops (ray casters) or a pixel's eye pass stops compositing.
-    pub early_stop: f32,
+wscg_math::params! {
+    /// Settings shared by every method.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct IlluminationParams {
+        /// Reconstruction filter.
+        pub interp: Interp,
+        /// Background colour composited behind the volume.
+        pub background: [f32; 3],
+        /// Opacity at which a ray stops (ray casters) or a pixel's eye pass stops compositing.
+        pub early_stop: f32,
+    }
 }
 
 impl Default for IlluminationParams {

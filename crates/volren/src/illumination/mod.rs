@@ -35,7 +35,7 @@ pub use camera::{SliceCamera, Slicing};
 pub use classify::{SampleLut, TransferFunction};
 pub use field::{Interp, ScalarField};
 pub use kernel::{Kernel, StepKernel};
-pub use method::{Light, LightAtten, Method, Phong, IlluminationParams, MAX_SUBSAMPLES};
+pub use method::{IlluminationParams, Light, LightAtten, Method, Phong, MAX_SUBSAMPLES};
 pub use preintegration::PreIntegrationTable;
 
 use wscg_math::{Error, Image, Result};

@@ -12,7 +12,7 @@ use wscg_math::Result;
 use super::camera::{Frame, Slicing};
 use super::classify::SampleLut;
 use super::field::ScalarField;
-use super::method::{Light, Phong, IlluminationParams};
+use super::method::{IlluminationParams, Light, Phong};
 use super::sampler::{Loc, Sampler};
 use super::slicer::MAX_SLICES;
 

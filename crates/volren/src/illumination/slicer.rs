@@ -24,7 +24,7 @@ use super::camera::{Frame, Slicing};
 use super::classify::{SampleLut, TransferFunction};
 use super::field::ScalarField;
 use super::kernel::{Kernel, StepKernel};
-use super::method::{Light, LightAtten, Method, IlluminationParams};
+use super::method::{IlluminationParams, Light, LightAtten, Method};
 use super::preintegration::PreIntegrationTable;
 use super::sampler::Sampler;
 

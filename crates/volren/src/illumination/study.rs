@@ -11,7 +11,7 @@ use wscg_math::{Error, Image, Result};
 use super::camera::SliceCamera;
 use super::classify::TransferFunction;
 use super::field::ScalarField;
-use super::method::{Light, Method, IlluminationParams};
+use super::method::{IlluminationParams, Light, Method};
 use super::render_many;
 
 /// Mean absolute difference over all pixels and the RGB channels of two `H x W x C` images

@@ -137,19 +137,21 @@ const MAX_PIXELS: usize = 1 << 31;
 /// Smallest canvas side accepted.
 const MIN_SIDE: usize = 32;
 
-/// Parameters of [`generate`]; the defaults are the paper's data set.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct HandposeSynthParams {
-    /// Frames per class (3000).
-    pub n_per_class: usize,
-    /// Number of subjects (3); each has its own palm and finger sizes.
-    pub subjects: usize,
-    /// Seed of every random draw (0).
-    pub seed: u64,
-    /// Canvas width in pixels (120).
-    pub width: usize,
-    /// Canvas height in pixels (165).
-    pub height: usize,
+wscg_math::params! {
+    /// Parameters of [`generate`]; the defaults are the paper's data set.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub struct HandposeSynthParams {
+        /// Frames per class (3000).
+        pub n_per_class: usize,
+        /// Number of subjects (3); each has its own palm and finger sizes.
+        pub subjects: usize,
+        /// Seed of every random draw (0).
+        pub seed: u64,
+        /// Canvas width in pixels (120).
+        pub width: usize,
+        /// Canvas height in pixels (165).
+        pub height: usize,
+    }
 }
 
 impl Default for HandposeSynthParams {

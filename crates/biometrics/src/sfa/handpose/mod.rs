@@ -26,7 +26,7 @@ pub mod protocol;
 pub use features::{physical_features, physical_features_batch, FEATURE_NAMES, N_FEATURES};
 pub use generate::{
     downscale, generate, generate_with, rotate_mask, rotated_rows, split_masks, split_protocol,
-    Jitter, Split, HandposeSynthParams, SynthData, CLASS_NAMES, DOWNSCALE, N_CLASSES,
+    HandposeSynthParams, Jitter, Split, SynthData, CLASS_NAMES, DOWNSCALE, N_CLASSES,
 };
 pub use protocol::{
     compare, compare_masks, compare_rows, rotation_robustness, CompareParams, Comparison,

@@ -102,27 +102,29 @@ impl Method {
     }
 }
 
-/// Parameters of [`compare`]; the defaults are the paper's (§3.2.2, §4) with our choices
-/// where it is silent (see the module docs).
-#[derive(Clone, Debug, PartialEq)]
-pub struct CompareParams {
-    /// The class-wise and full-data-set SFA (PCA-35, quadratic, 10 functions, gamma = 1).
-    pub sfa: ClassSfaParams,
-    /// Neighbours of every KNN (5).
-    pub k: usize,
-    /// Training frames per class for the physical-feature KNN (1500).
-    pub physical_per_class: usize,
-    /// Isomap parameters (8 neighbours, 9 components; `n_landmarks` is set by
-    /// `isomap_landmarks` when the training set exceeds the exact limit).
-    pub isomap: IsomapParams,
-    /// Training rows per class for Isomap (`None`: all).
-    pub isomap_per_class: Option<usize>,
-    /// Landmarks of Landmark Isomap above the exact limit (2000).
-    pub isomap_landmarks: usize,
-    /// Decision rule of the full-data-set SFA (the paper-style variance rule).
-    pub global_rule: GlobalRule,
-    /// Seed of the random subsets (physical features, Isomap).
-    pub seed: u64,
+wscg_math::params! {
+    /// Parameters of [`compare`]; the defaults are the paper's (§3.2.2, §4) with our choices
+    /// where it is silent (see the module docs).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct CompareParams {
+        /// The class-wise and full-data-set SFA (PCA-35, quadratic, 10 functions, gamma = 1).
+        pub sfa: ClassSfaParams,
+        /// Neighbours of every KNN (5).
+        pub k: usize,
+        /// Training frames per class for the physical-feature KNN (1500).
+        pub physical_per_class: usize,
+        /// Isomap parameters (8 neighbours, 9 components; `n_landmarks` is set by
+        /// `isomap_landmarks` when the training set exceeds the exact limit).
+        pub isomap: IsomapParams,
+        /// Training rows per class for Isomap (`None`: all).
+        pub isomap_per_class: Option<usize>,
+        /// Landmarks of Landmark Isomap above the exact limit (2000).
+        pub isomap_landmarks: usize,
+        /// Decision rule of the full-data-set SFA (the paper-style variance rule).
+        pub global_rule: GlobalRule,
+        /// Seed of the random subsets (physical features, Isomap).
+        pub seed: u64,
+    }
 }
 
 impl Default for CompareParams {

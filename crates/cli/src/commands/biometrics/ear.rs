@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand, ValueEnum};
 use serde::{Deserialize, Serialize};
 use wscg_biometrics::data::files::image_files;
-use wscg_biometrics::ear::synth::{self, OcclusionKind, EarSynthParams};
+use wscg_biometrics::ear::synth::{self, EarSynthParams, OcclusionKind};
 use wscg_biometrics::ear::{
     baseline_params, detect_occlusion, enroll, make_baseline_probe, make_probe, rank, scores,
     EarParams, Gallery, ScoreRule, SkinRule,
@@ -156,28 +156,26 @@ pub struct ParamArgs {
 
 impl ParamArgs {
     fn params(&self) -> Result<EarParams> {
-        let mut p = EarParams {
-            score: match self.score {
+        let mut p = EarParams::default()
+            .score(match self.score {
                 RuleName::BlockwiseMax => ScoreRule::BlockwiseMax,
                 RuleName::OverallMax => ScoreRule::OverallMax,
                 RuleName::BlockwiseMean => ScoreRule::BlockwiseMean,
                 RuleName::OverallMean => ScoreRule::OverallMean,
                 RuleName::LiteralEq18 => ScoreRule::LiteralEq18,
-            },
-            skin_rule: {
+            })
+            .skin_rule({
                 let base = match self.skin_rule {
                     SkinRuleName::MarginalAnd => SkinRule::marginal_and(),
                     SkinRuleName::Joint => SkinRule::joint(),
                 };
                 self.min_likelihood
                     .map_or(base, |t| base.with_min_likelihood(t))
-            },
-            min_intensity: self.min_intensity,
-            close_radius: self.close_radius,
-            reject_above_pct: self.reject_above,
-            equalize_on_skin: self.equalize_on_skin,
-            ..EarParams::default()
-        };
+            })
+            .min_intensity(self.min_intensity)
+            .close_radius(self.close_radius)
+            .reject_above_pct(self.reject_above)
+            .equalize_on_skin(self.equalize_on_skin);
         if let Some(m) = &self.skin_mean {
             p.skin_model.mean = [m[0], m[1]];
         }
@@ -404,7 +402,8 @@ pub fn run(cmd: EarCommand) -> Result<()> {
                 OcclusionName::BlondHair => OcclusionKind::Hair { dark: false },
             };
             let p = EarParams::default();
-            let set = synth::generate(subjects, probes, kind, seed, &EarSynthParams::default(), &p)?;
+            let set =
+                synth::generate(subjects, probes, kind, seed, &EarSynthParams::default(), &p)?;
             let mkdir = |d: &Path| std::fs::create_dir_all(d).map_err(|e| Error::io(d, e));
             let mut truth = String::from("file,subject,occluded_pct\n");
             for (i, im) in set.enrol.iter().enumerate() {

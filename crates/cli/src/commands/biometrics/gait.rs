@@ -168,18 +168,15 @@ pub struct GaitArgs {
 
 impl GaitArgs {
     fn params(&self) -> Result<GaitParams> {
-        let mut p = GaitParams {
-            min_bins: self.min_bins,
-            vote: Vote::parse(&self.vote)?,
-            ..GaitParams::default()
-        };
+        let mut p = GaitParams::default()
+            .min_bins(self.min_bins)
+            .vote(Vote::parse(&self.vote)?);
         p.hist.bin_deg = self.bin_deg;
         p.hist.validate()?;
-        p.dtw = DtwParams {
-            cost: self.cost.into(),
-            window: self.window,
-            normalize: false,
-        };
+        p.dtw = DtwParams::default()
+            .cost(self.cost.into())
+            .window(self.window)
+            .normalize(false);
         p.cycle.start_leg = self.start_leg.into();
         Ok(p)
     }
@@ -362,11 +359,10 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             window,
         } => {
             let (tr, te) = (read_ts(&train)?, read_ts(&test)?);
-            let p = DtwParams {
-                cost: cost.into(),
-                window,
-                normalize: false,
-            };
+            let p = DtwParams::default()
+                .cost(cost.into())
+                .window(window)
+                .normalize(false);
             let (ltr, lte) = (tr.labels.clone(), te.labels.clone());
             if ltr.is_empty() || lte.is_empty() {
                 return Err(Error::invalid("ts", "both files need class labels"));

@@ -221,15 +221,16 @@ impl ModelArgs {
     fn method(&self, name: MethodName) -> Method {
         let n_components = self.components;
         match name {
-            MethodName::Fdkeca => Method::Fdkeca(FdkecaParams {
-                kernel: self.kernel(),
-                n_components,
-                ordering: match self.ordering {
-                    OrderName::Entropy => Ordering::Entropy,
-                    OrderName::Eigenvalue => Ordering::Eigenvalue,
-                },
-                center: true,
-            }),
+            MethodName::Fdkeca => Method::Fdkeca(
+                FdkecaParams::default()
+                    .kernel(self.kernel())
+                    .n_components(n_components)
+                    .ordering(match self.ordering {
+                        OrderName::Entropy => Ordering::Entropy,
+                        OrderName::Eigenvalue => Ordering::Eigenvalue,
+                    })
+                    .center(true),
+            ),
             MethodName::Pca => Method::Pca {
                 n_components,
                 whiten: self.whiten,
@@ -351,12 +352,11 @@ pub fn run(cmd: BiometricsCommand) -> Result<()> {
             );
             let ytr: Vec<u32> = tr.iter().map(|&i| img.labels[i]).collect();
             let yte: Vec<u32> = te.iter().map(|&i| img.labels[i]).collect();
-            let opt = ProtocolParams {
-                max_dim,
-                cv_folds: (folds > 0).then_some(folds),
-                seed,
-                metric: model.metric(),
-            };
+            let opt = ProtocolParams::default()
+                .max_dim(max_dim)
+                .cv_folds((folds > 0).then_some(folds))
+                .seed(seed)
+                .metric(model.metric());
             let bars = Bars::new("evaluate");
             bars.begin("methods", methods.len() as u64);
             println!(

@@ -14,8 +14,8 @@ use serde::{Deserialize, Serialize};
 use wscg_biometrics::data::files::{load_identity_folder, read_npy_labels};
 use wscg_biometrics::sfa::handpose::protocol::{compare_masks, rows_to_mat};
 use wscg_biometrics::sfa::handpose::{
-    downscale, generate_with, rotation_robustness, split_masks, CompareParams, Jitter, Method,
-    HandposeSynthParams, CLASS_NAMES,
+    downscale, generate_with, rotation_robustness, split_masks, CompareParams, HandposeSynthParams,
+    Jitter, Method, CLASS_NAMES,
 };
 use wscg_biometrics::sfa::{
     ClassObjective, ClassSfaParams, GlobalRule, GlobalSfa, PerClassSfa, QuadraticExpansion,
@@ -161,18 +161,16 @@ impl SfaArgs {
             2 => Some(QuadraticExpansion::default()),
             d => return Err(Error::invalid("degree", format!("must be 1 or 2, got {d}"))),
         };
-        let cfg = ClassSfaParams {
-            pca_dims: self.pca_dims,
-            expansion,
-            m_per_class: self.m,
-            objective: if self.gamma == 0.0 {
+        let cfg = ClassSfaParams::default()
+            .pca_dims(self.pca_dims)
+            .expansion(expansion)
+            .m_per_class(self.m)
+            .objective(if self.gamma == 0.0 {
                 ClassObjective::WithinOnly
             } else {
                 ClassObjective::WithinMinusOutOfClass { gamma: self.gamma }
-            },
-            shrinkage: self.shrinkage,
-            ..ClassSfaParams::default()
-        };
+            })
+            .shrinkage(self.shrinkage);
         cfg.validate()?;
         Ok(cfg)
     }
@@ -358,12 +356,10 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             let bars = Bars::new("generate");
             bars.begin("frames", 1);
             let data = generate_with(
-                &HandposeSynthParams {
-                    n_per_class,
-                    subjects,
-                    seed,
-                    ..HandposeSynthParams::default()
-                },
+                &HandposeSynthParams::default()
+                    .n_per_class(n_per_class)
+                    .subjects(subjects)
+                    .seed(seed),
                 &Jitter {
                     translation_px: translation,
                     ..Jitter::default()
@@ -549,12 +545,10 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
                 seed,
             )?;
             model.warn_small_classes(&split.train_y, &ds.names);
-            let cfg = CompareParams {
-                sfa: model.config()?,
-                k,
-                seed,
-                ..CompareParams::default()
-            };
+            let cfg = CompareParams::default()
+                .sfa(model.config()?)
+                .k(k)
+                .seed(seed);
             let methods: Vec<Method> = methods
                 .iter()
                 .map(|m| match m {

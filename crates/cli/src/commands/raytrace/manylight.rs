@@ -13,8 +13,8 @@ use nalgebra::Vector3;
 use wscg_math::image::Image;
 use wscg_math::{Error, Result};
 use wscg_raytrace::manylight::{
-    compare, generate_vpls, load_obj, run_with, scenes, to_display, trace_primary, Camera, Method,
-    Output, Scene, ManyLightParams,
+    compare, generate_vpls, load_obj, run_with, scenes, to_display, trace_primary, Camera,
+    ManyLightParams, Method, Output, Scene,
 };
 
 use crate::progress::Bars;

@@ -17,8 +17,8 @@ use wscg_doe::{ccd, decode, fit_quadratic, CcdAlpha, CcdFace};
 use wscg_math::{Error, Result};
 use wscg_raytrace::paint::{
     anaglyph, render_with_progress, score_runs, side_by_side, write_spectral_exr, write_xyz_exr,
-    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, PhotonParams, Plate, PlateStack,
-    Rect, PaintRenderParams, StackModel, TiltDist, WorkshopParams, XyzImage,
+    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, PaintRenderParams, PhotonParams,
+    Plate, PlateStack, Rect, StackModel, TiltDist, WorkshopParams, XyzImage,
 };
 use wscg_raytrace::spectral::XYZ_TO_SRGB;
 use wscg_raytrace::stereo::{Eye, StereoRig};
@@ -186,18 +186,16 @@ impl PlateArgs {
     }
 
     fn flakes(&self) -> FlakeParams {
-        FlakeParams {
-            radius_um: self.radius,
-            density: self.density,
-            tilt: TiltDist::HalfNormal {
+        FlakeParams::default()
+            .radius_um(self.radius)
+            .density(self.density)
+            .tilt(TiltDist::HalfNormal {
                 sigma_deg: self.tilt_deg,
-            },
-            model: match self.model {
+            })
+            .model(match self.model {
                 ModelName::Boolean => StackModel::Boolean,
                 ModelName::Deposit => StackModel::Deposit,
-            },
-            ..FlakeParams::default()
-        }
+            })
     }
 
     fn stack(&self) -> PlateStack {
@@ -209,22 +207,17 @@ impl PlateArgs {
     }
 
     fn settings(&self, colour: ColourMode) -> PaintRenderParams {
-        PaintRenderParams {
-            spp: self.spp,
-            magnification: self.magnification,
-            region_mm: self.region.as_ref().map(|r| Rect {
+        PaintRenderParams::default()
+            .spp(self.spp)
+            .magnification(self.magnification)
+            .region_mm(self.region.as_ref().map(|r| Rect {
                 x0: r[0],
                 y0: r[1],
                 x1: r[2],
                 y1: r[3],
-            }),
-            colour,
-            photons: (self.photons > 0).then(|| PhotonParams {
-                count: self.photons,
-                ..PhotonParams::default()
-            }),
-            ..PaintRenderParams::default()
-        }
+            }))
+            .colour(colour)
+            .photons((self.photons > 0).then(|| PhotonParams::default().count(self.photons)))
     }
 }
 
@@ -321,14 +314,13 @@ fn paint(a: &PaintArgs) -> Result<()> {
     let micro = FlakePlate::new(&flakes, stack.size_mm, seed)?;
     let plate = Plate::new(stack, Box::new(micro))?;
     let light = DiscLight::from_elevation(p.light_elevation, p.light_deg);
-    let s = PaintRenderParams {
-        keep_spectrum: a.spectral,
-        ..p.settings(if a.rgb {
+    let s = p
+        .settings(if a.rgb {
             ColourMode::Rgb
         } else {
             ColourMode::Spectral
         })
-    };
+        .keep_spectrum(a.spectral);
     let rig = StereoRig::default();
     let views: Vec<(Eye, &str)> = match a.eye {
         EyeName::Cyclopean => vec![(Eye::Cyclopean, "")],
@@ -366,17 +358,12 @@ fn workshop(a: &WorkshopArgs) -> Result<()> {
     let design = ccd(2, CcdFace::Inscribed, CcdAlpha::Rotatable, 5)?;
     let physical = decode(&design, &LOW, &HIGH)?;
     let runs: Vec<(f64, f64)> = physical.row_iter().map(|r| (r[0], r[1])).collect();
-    let cfg = WorkshopParams {
-        condition: match a.condition {
+    let cfg = WorkshopParams::default()
+        .condition(match a.condition {
             ConditionName::Mono => Condition::Mono,
             ConditionName::Stereo => Condition::Stereo,
-        },
-        settings: PaintRenderParams {
-            spp: a.spp,
-            ..WorkshopParams::default().settings
-        },
-        ..WorkshopParams::default()
-    };
+        })
+        .settings((WorkshopParams::default().settings).spp(a.spp));
     let reference = (a.reference[0], a.reference[1]);
     let ws = score_runs(reference, &runs, &cfg, a.seed, &Bars::new("workshop"))?;
     let fit = fit_quadratic(&design, &ws.scores, true)?;

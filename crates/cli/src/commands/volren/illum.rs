@@ -17,7 +17,7 @@ use wscg_volren::illumination::scenes::{
 };
 use wscg_volren::illumination::study::{grid, sweep, AliasCriterion};
 use wscg_volren::illumination::{
-    render, Kernel, Light, LightAtten, Method, Phong, IlluminationParams, ScalarField, SliceCamera,
+    render, IlluminationParams, Kernel, Light, LightAtten, Method, Phong, ScalarField, SliceCamera,
     TransferFunction,
 };
 use wscg_volren::vti::read_vti;
@@ -282,10 +282,7 @@ pub fn run(a: IllumArgs) -> Result<()> {
             },
         },
     };
-    let settings = IlluminationParams {
-        background: triple(&a.background, "background")?,
-        ..Default::default()
-    };
+    let settings = IlluminationParams::default().background(triple(&a.background, "background")?);
     if a.study {
         if a.views == 0 {
             return Err(Error::invalid("views", "needs at least one view"));

@@ -174,10 +174,7 @@ fn server_from(a: &VolumeArgs) -> Result<HybridServer> {
         a.tf.as_ref()
             .ok_or_else(|| Error::invalid("tf", "--tf is required"))?;
     let (tfs, canonical) = load_tfs(tf)?;
-    let opts = ServerParams {
-        steps_sent: a.steps_sent,
-        ..Default::default()
-    };
+    let opts = ServerParams::default().steps_sent(a.steps_sent);
     HybridServer::new(&v, tfs, canonical, opts)
 }
 
