@@ -38,3 +38,8 @@ pub use wscg_raytrace as raytrace;
 pub use wscg_video as video;
 pub use wscg_volren as volren;
 pub use wscg_volseg as volseg;
+
+/// The README's Rust examples, compiled and run as doc tests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
