@@ -176,7 +176,7 @@ pub(crate) fn global_step(
     outer: usize,
     tol: f64,
     primal_residual: bool,
-) -> wscg_math::Result<crate::solver::Stepped> {
+) -> wscg_math::Result<crate::system::Stepped> {
     use wscg_math::sparse::{conjugate_residual, InitialGuess, PcgParams};
     if m.links.iter().any(|l| l.compliance == 0.0) || !m.rollers.is_empty() {
         return Err(wscg_math::Error::invalid(
@@ -184,7 +184,7 @@ pub(crate) fn global_step(
             "the global constraint solve needs soft constraints only",
         ));
     }
-    let xt = crate::newton::inertial_target(m, h);
+    let xt = crate::system::inertial_target(m, h);
     let mut x = xt.clone();
     let mut lambda = vec![0.0; m.links.len() + 3 * m.tris.len()];
     let h2 = h * h;
@@ -231,5 +231,5 @@ pub(crate) fn global_step(
     let v = x.iter().zip(&m.x).map(|(a, b)| (a - b) / h).collect();
     let mut full = lambda;
     full.resize(m.constraint_rows(), 0.0);
-    Ok(crate::solver::Stepped::new(x, v, full))
+    Ok(crate::system::Stepped::new(x, v, full))
 }

@@ -40,6 +40,7 @@ pub mod ncg;
 pub mod newton;
 pub mod projection;
 pub mod solver;
+mod system;
 
 pub use collision::{Collider, Collisions, MeshCollider};
 pub use energy::Energy;

@@ -16,9 +16,8 @@ use nalgebra::Vector3;
 use wscg_math::sparse::LinOp;
 use wscg_math::Result;
 
-use crate::baselines::{elastic_forces, filters, ImplicitOperator};
 use crate::model::ClothModel;
-use crate::solver::Stepped;
+use crate::system::{elastic_forces, filters, ImplicitOperator, Stepped};
 
 /// Residual of the NCG iteration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

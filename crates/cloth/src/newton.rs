@@ -10,10 +10,10 @@ use nalgebra::Vector3;
 use wscg_math::sparse::{pcg, IdentityPrecond, InitialGuess, PcgParams};
 use wscg_math::{Error, Result};
 
-use crate::baselines::{elastic_forces, filters, ImplicitOperator};
 use crate::energy::elastic_energy;
 use crate::model::ClothModel;
-use crate::solver::Stepped;
+pub use crate::system::inertial_target;
+use crate::system::{elastic_forces, filters, ImplicitOperator, Stepped};
 
 fn free(m: &ClothModel, q: usize) -> bool {
     m.inv_mass[q] > 0.0
@@ -42,20 +42,6 @@ fn gradient_norm(m: &ClothModel, x: &[Vector3<f64>], xt: &[Vector3<f64>], h: f64
         .map(|q| ((x[q] - xt[q]) / (h * h * m.inv_mass[q]) - f[q]).norm_squared())
         .sum::<f64>()
         .sqrt()
-}
-
-/// The candidate `x~ = x + h v + h^2 g` (pinned particles: `x + h v`).
-pub fn inertial_target(m: &ClothModel, h: f64) -> Vec<Vector3<f64>> {
-    (0..m.len())
-        .map(|q| {
-            let g = if free(m, q) {
-                m.gravity
-            } else {
-                Vector3::zeros()
-            };
-            m.x[q] + (m.v[q] + g * h) * h
-        })
-        .collect()
 }
 
 /// Minimises `Phi` from the start `x0` until `|grad Phi| <= tol max(|M (x - x~)/h^2|, |f|)`

@@ -27,10 +27,12 @@ use nalgebra::Vector3;
 use wscg_math::{Error, Result};
 
 use crate::baselines::{self, LinearSolve};
-use crate::collision::{CollisionState, Collisions, StepContacts};
+use crate::collision::{CollisionState, Collisions};
 use crate::energy::Energy;
 use crate::model::ClothModel;
 use crate::projection::{self, Prepared, Relaxation, StepConsts, VelocityFrame};
+pub use crate::system::StepStats;
+use crate::system::Stepped;
 
 /// How the constraint multipliers enter each iteration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -204,58 +206,6 @@ impl SolverParams {
             ));
         }
         Ok(())
-    }
-}
-
-/// What a step did.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct StepStats {
-    /// Largest constraint residual `|alpha (c + gamma J v) + Lambda|` met in the last sweep
-    /// (m): the correction the last sweep still had to make (0 when converged).
-    pub max_residual: f64,
-    /// Contacts found at the start of the step (obstacle contacts and particle pairs).
-    pub contacts: usize,
-    /// Largest contact penetration corrected in the last iteration (m).
-    pub max_penetration: f64,
-}
-
-/// The result of one step, committed only when finite.
-pub(crate) struct Stepped {
-    pub(crate) x: Vec<Vector3<f64>>,
-    pub(crate) v: Vec<Vector3<f64>>,
-    pub(crate) lambda: Vec<f64>,
-    pub(crate) stats: StepStats,
-}
-
-impl Stepped {
-    pub(crate) fn new(x: Vec<Vector3<f64>>, v: Vec<Vector3<f64>>, lambda: Vec<f64>) -> Self {
-        Self {
-            x,
-            v,
-            lambda,
-            stats: StepStats::default(),
-        }
-    }
-
-    /// The result of a projection step, with its residual and contact statistics.
-    fn projected(
-        x: Vec<Vector3<f64>>,
-        v: Vec<Vector3<f64>>,
-        lambda: Vec<f64>,
-        max_residual: f64,
-        contacts: &Option<StepContacts>,
-        max_penetration: f64,
-    ) -> Self {
-        Self {
-            x,
-            v,
-            lambda,
-            stats: StepStats {
-                max_residual,
-                contacts: contacts.as_ref().map_or(0, StepContacts::len),
-                max_penetration,
-            },
-        }
     }
 }
 
