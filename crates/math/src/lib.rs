@@ -19,6 +19,8 @@
 //! - [`wavelet`]: orthonormal Daubechies wavelets (periodized, PyWavelets' conventions).
 //! - [`tv`]: isotropic total variation, gradient / divergence and Chambolle's TV prox.
 //! - [`knn`]: a kd-tree with exact k-nearest and nearest-point queries.
+//! - [`bvh`]: a binned-SAH bounding volume hierarchy over axis-aligned boxes, traversed
+//!   front to back (the ray tracers of papers 07 and 08 and the octree baseline of paper 10).
 //! - [`vec3`]: small helpers on `[f64; 3]` points and vectors.
 //! - [`params`]: the [`params!`] macro that declares every `XxxParams` struct of the workspace
 //!   (`#[non_exhaustive]`, with chainable setters).
@@ -29,6 +31,7 @@
 
 pub mod error;
 
+pub mod bvh;
 pub mod dense;
 pub mod dist;
 pub mod distance;

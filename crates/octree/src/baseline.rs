@@ -1,11 +1,11 @@
 //! Triangle ray-casting baselines: brute force over every triangle (the reference of the
-//! equivalence checks) and a binned-SAH bounding volume hierarchy (`wscg_raytrace::bvh`), the
+//! equivalence checks) and a binned-SAH bounding volume hierarchy ([`wscg_math::bvh`]), the
 //! structure a ray tracer would otherwise use.
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
+use wscg_math::bvh::{Aabb, Bvh};
 use wscg_math::{Error, Result, TriMesh};
-use wscg_raytrace::bvh::{Aabb, Bvh};
 
 use crate::octree::Tri;
 use crate::traverse::{intersect_tri, Ray};

@@ -13,7 +13,9 @@
 //! - [`stereo`]: the off-axis stereo rig of section 3.
 #![warn(missing_docs)]
 
-pub mod bvh;
+/// The bounding volume hierarchy of the scenes and the flake layer, shared with the octree's
+/// baseline and kept in `wscg-math`.
+pub use wscg_math::bvh;
 pub mod frame;
 pub mod manylight;
 pub mod paint;

@@ -1,7 +1,8 @@
 //! A bounding volume hierarchy over axis-aligned boxes: binary, built with the binned surface
 //! area heuristic (SAH), flattened depth-first, traversed front to back with a small stack.
 //! The hierarchy knows only the primitives' boxes; the caller intersects the primitives of a
-//! leaf (discs for the paint's flakes), so one structure serves every primitive type.
+//! leaf (triangles of a scene, discs of the paint's flakes, the triangles of the octree's
+//! baseline), so one structure serves every primitive type.
 
 use nalgebra::Vector3;
 
