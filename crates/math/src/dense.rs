@@ -9,15 +9,7 @@
 use faer::{Mat, MatRef, Side};
 
 use crate::error::{Error, Result};
-
-/// Eigenvalues and eigenvectors of a symmetric matrix.
-#[derive(Clone, Debug)]
-pub struct SymEigen {
-    /// Eigenvalues, in the order documented by the function that returned them.
-    pub values: Vec<f64>,
-    /// Unit eigenvectors as columns, in the same order as `values`.
-    pub vectors: Mat<f64>,
-}
+pub use crate::sym_eigen::{check_matrix, check_symmetric, eigh, SymEigen};
 
 /// Thin singular value decomposition `A = U diag(s) V'`.
 #[derive(Clone, Debug)]
@@ -188,65 +180,6 @@ pub fn gram(x: MatRef<'_, f64>, alpha: f64) -> Mat<f64> {
     let mut g = Mat::zeros(x.ncols(), x.ncols());
     gram_accumulate(&mut g, x, alpha);
     g
-}
-
-/// Errors unless `a` is non-empty and finite.
-pub fn check_matrix(name: &'static str, a: MatRef<'_, f64>) -> Result<()> {
-    if a.nrows() == 0 || a.ncols() == 0 {
-        return Err(Error::Empty(name));
-    }
-    for j in 0..a.ncols() {
-        for i in 0..a.nrows() {
-            if !a[(i, j)].is_finite() {
-                return Err(Error::NonFinite {
-                    name,
-                    index: i * a.ncols() + j,
-                });
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Errors unless `a` is square, finite and symmetric to a relative tolerance of 1e-8.
-pub fn check_symmetric(name: &'static str, a: MatRef<'_, f64>) -> Result<()> {
-    check_matrix(name, a)?;
-    let n = a.nrows();
-    if a.ncols() != n {
-        return Err(Error::ShapeMismatch(format!(
-            "`{name}` must be square, got {}x{}",
-            n,
-            a.ncols()
-        )));
-    }
-    let mut scale = 0.0f64;
-    let mut asym = 0.0f64;
-    for j in 0..n {
-        for i in 0..n {
-            scale = scale.max(a[(i, j)].abs());
-            asym = asym.max((a[(i, j)] - a[(j, i)]).abs());
-        }
-    }
-    if asym > 1e-8 * scale.max(f64::MIN_POSITIVE) {
-        return Err(Error::invalid(
-            name,
-            format!("must be symmetric; max |A - A'| = {asym:e} (max |A| = {scale:e})"),
-        ));
-    }
-    Ok(())
-}
-
-/// All eigenpairs of the symmetric matrix `a`, eigenvalues in non-decreasing order.
-pub fn eigh(a: MatRef<'_, f64>) -> Result<SymEigen> {
-    check_symmetric("a", a)?;
-    let e = a
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|e| Error::Numerical(format!("symmetric eigendecomposition failed: {e:?}")))?;
-    let values = (0..a.nrows()).map(|i| e.S()[i]).collect();
-    Ok(SymEigen {
-        values,
-        vectors: e.U().to_owned(),
-    })
 }
 
 fn select(e: SymEigen, k: usize, largest: bool) -> Result<SymEigen> {

@@ -13,8 +13,8 @@
 
 use faer::{Mat, MatRef};
 
-use crate::dense::SymEigen;
 use crate::eigh_partial::eigh_selected;
+use crate::sym_eigen::SymEigen;
 
 /// Relative residual a Ritz pair must reach.
 const TOL: f64 = 1e-13;
@@ -184,7 +184,7 @@ pub fn eigh_largest_restarted(a: MatRef<'_, f64>, k: usize) -> Option<SymEigen> 
         let m = v.ncols();
         let h = v.transpose() * &av;
         let h = Mat::from_fn(m, m, |i, j| 0.5 * (h[(i, j)] + h[(j, i)]));
-        let e = crate::dense::eigh(h.as_ref()).ok()?;
+        let e = crate::sym_eigen::eigh(h.as_ref()).ok()?;
         let norm = e
             .values
             .iter()
@@ -268,7 +268,7 @@ mod tests {
         let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
         let k = 9;
         let e = eigh_largest_restarted(a.as_ref(), k).expect("converges");
-        let full = crate::dense::eigh(a.as_ref()).unwrap();
+        let full = crate::sym_eigen::eigh(a.as_ref()).unwrap();
         for c in 0..k {
             let want = full.values[n - 1 - c];
             assert!((e.values[c] - want).abs() < 1e-11 * lam[0], "{c}");

@@ -13,8 +13,8 @@ use faer::linalg::householder;
 use faer::{Conj, Mat, MatRef};
 use rayon::prelude::*;
 
-use crate::dense::SymEigen;
 use crate::error::{Error, Result};
+use crate::sym_eigen::SymEigen;
 
 /// The symmetric tridiagonal matrix: diagonal `d` (length `n`) and off-diagonal `e`
 /// (length `n - 1`).
@@ -246,7 +246,7 @@ pub fn eigh_selected(a: MatRef<'_, f64>, k: usize, largest: bool) -> Result<SymE
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dense::eigh;
+    use crate::sym_eigen::eigh;
 
     /// `Q diag(values) Q'` with a random orthogonal `Q`.
     fn with_spectrum(values: &[f64], seed: u64) -> Mat<f64> {

@@ -14,6 +14,7 @@
 use rayon::prelude::*;
 
 use crate::error::{ensure_finite, Error, Result};
+use crate::kbest::Best;
 use crate::vec3::dist2;
 
 /// Leaves hold at most this many points.
@@ -104,56 +105,6 @@ fn build(pts: &[[f64; 3]], ids: &mut [u32], nodes: &mut [Node], base: usize, sta
     } else {
         build(pts, left_ids, left_nodes, base + 1, start);
         build(pts, right_ids, right_nodes, base + 1 + nl, start + mid);
-    }
-}
-
-/// The `k` best candidates `(squared distance, index)` so far, sorted, nearest first.
-pub(crate) struct Best {
-    pub(crate) k: usize,
-    pub(crate) items: Vec<(f64, u32)>,
-}
-
-impl Best {
-    pub(crate) fn new(k: usize) -> Self {
-        Self {
-            k,
-            items: Vec::with_capacity(k + 1),
-        }
-    }
-
-    pub(crate) fn clear(&mut self) {
-        self.items.clear();
-    }
-
-    /// The squared distance a candidate must not exceed to enter.
-    #[inline]
-    pub(crate) fn bound(&self) -> f64 {
-        if self.items.len() < self.k {
-            f64::INFINITY
-        } else {
-            self.items[self.k - 1].0
-        }
-    }
-
-    #[inline]
-    pub(crate) fn offer(&mut self, d2: f64, id: u32) {
-        let full = self.items.len() == self.k;
-        if full {
-            let w = self.items[self.k - 1];
-            if d2 > w.0 || (d2 == w.0 && id > w.1) {
-                return;
-            }
-            self.items.pop();
-        }
-        let mut pos = self.items.len();
-        while pos > 0 {
-            let p = self.items[pos - 1];
-            if p.0 < d2 || (p.0 == d2 && p.1 < id) {
-                break;
-            }
-            pos -= 1;
-        }
-        self.items.insert(pos, (d2, id));
     }
 }
 
@@ -267,7 +218,6 @@ impl KdTree {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::knn_graph::knn_graph;
 
     #[test]
     fn knn_matches_brute_force() {
@@ -295,43 +245,8 @@ mod tests {
             assert_eq!(tree.nearest(&p).1, brute_nearest(&pts, &p));
         }
         assert_eq!(tree.knn(&[0.0; 3], 5000, None).len(), pts.len());
-        // The graph of the points: every row is the point's own query.
-        let graph = knn_graph(&pts, 12).unwrap();
-        for i in (0..pts.len()).step_by(37) {
-            let own: Vec<u32> = tree
-                .knn(&pts[i], 12, Some(i))
-                .iter()
-                .map(|x| x.0 as u32)
-                .collect();
-            assert_eq!(&graph[12 * i..12 * (i + 1)], &own[..]);
-        }
-        assert!(knn_graph(&pts, 0).is_err());
-        assert!(knn_graph(&pts, pts.len()).is_err());
         assert!(KdTree::new(&[]).is_err());
         assert!(KdTree::new(&[[0.0, f64::NAN, 0.0]]).is_err());
-    }
-
-    #[test]
-    fn parallel_build_matches_brute_force() {
-        // Enough points for the parallel build; a grid has many exact ties, broken by index.
-        let mut pts = Vec::new();
-        for i in 0..30 {
-            for j in 0..30 {
-                for l in 0..12 {
-                    pts.push([i as f64, j as f64 * 0.5, l as f64 * 2.0]);
-                }
-            }
-        }
-        let graph = knn_graph(&pts, 10).unwrap();
-        for i in (0..pts.len()).step_by(101) {
-            let mut brute: Vec<(f64, u32)> = (0..pts.len())
-                .filter(|&j| j != i)
-                .map(|j| (dist2(pts[i], pts[j]), j as u32))
-                .collect();
-            brute.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            let want: Vec<u32> = brute[..10].iter().map(|c| c.1).collect();
-            assert_eq!(&graph[10 * i..10 * (i + 1)], &want[..]);
-        }
     }
 
     fn brute_nearest(pts: &[[f64; 3]], p: &[f64; 3]) -> f64 {

@@ -11,7 +11,7 @@
 use rayon::prelude::*;
 
 use crate::error::{ensure_finite, Error, Result};
-use crate::knn::Best;
+use crate::kbest::Best;
 use crate::vec3::dist2;
 
 /// Points whose k-th-neighbour distance sizes the grid cells.
@@ -366,6 +366,35 @@ mod tests {
         check(&helix, 16);
         // Two points.
         check(&[[0.0; 3], [1.0, 0.0, 0.0]], 1);
+        // Random points squashed along y, with duplicates.
+        let u = crate::rng::uniform_vec(3, 3 * 2000, -1.0, 1.0).unwrap();
+        let mut pts: Vec<[f64; 3]> = u.chunks(3).map(|c| [c[0], c[1] * 0.1, c[2]]).collect();
+        pts.extend_from_within(..50);
+        check(&pts, 12);
+        assert!(knn_graph(&pts, pts.len()).is_err());
+    }
+
+    #[test]
+    fn grid_with_exact_ties_matches_brute_force() {
+        // A lattice has many exact ties, broken by index.
+        let mut pts = Vec::new();
+        for i in 0..30 {
+            for j in 0..30 {
+                for l in 0..12 {
+                    pts.push([i as f64, j as f64 * 0.5, l as f64 * 2.0]);
+                }
+            }
+        }
+        let graph = knn_graph(&pts, 10).unwrap();
+        for i in (0..pts.len()).step_by(101) {
+            let mut brute: Vec<(f64, u32)> = (0..pts.len())
+                .filter(|&j| j != i)
+                .map(|j| (dist2(pts[i], pts[j]), j as u32))
+                .collect();
+            brute.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let want: Vec<u32> = brute[..10].iter().map(|c| c.1).collect();
+            assert_eq!(&graph[10 * i..10 * (i + 1)], &want[..]);
+        }
     }
 
     #[test]
