@@ -192,6 +192,27 @@ pub fn sample_grid(height: usize, width: usize, samples: usize) -> Result<Vec<(u
     Ok(pts)
 }
 
+/// Checks exposure times: `n` of them, all finite and `> 0`.
+pub fn check_times(times: &[f64], n: usize) -> Result<()> {
+    if times.len() != n {
+        return Err(Error::invalid(
+            "times",
+            format!("{} exposure times for {n} images", times.len()),
+        ));
+    }
+    if let Some((i, t)) = times
+        .iter()
+        .enumerate()
+        .find(|(_, t)| !(t.is_finite() && **t > 0.0))
+    {
+        return Err(Error::invalid(
+            "times",
+            format!("exposure time {i} must be finite and > 0, got {t}"),
+        ));
+    }
+    Ok(())
+}
+
 /// Checks a static calibration stack: at least two exposures of one shape, one valid time
 /// each, every code below `2^bits`. Returns the number of codes and the images' shape.
 pub(crate) fn check_stack(
@@ -206,7 +227,7 @@ pub(crate) fn check_stack(
             format!("needs at least 2 exposures, got {}", stack.len()),
         ));
     }
-    crate::radiance::check_times(times, stack.len())?;
+    check_times(times, stack.len())?;
     let shape = stack[0].shape();
     for (k, im) in stack.iter().enumerate() {
         if im.shape() != shape {

@@ -4,6 +4,7 @@
 use rayon::prelude::*;
 use wscg_math::{Error, Image, Result};
 
+pub use crate::crf::check_times;
 use crate::crf::Crf;
 
 /// Khan, Akyuz & Reinhard (2006) weight of code `z` (paper eq. 7):
@@ -14,27 +15,6 @@ pub fn khan_weight(z: f32, z_max: f32) -> f32 {
     let t2 = t * t;
     let t4 = t2 * t2;
     (1.0 - t4 * t4 * t4).max(0.0)
-}
-
-/// Checks exposure times: `n` of them, all finite and `> 0`.
-pub fn check_times(times: &[f64], n: usize) -> Result<()> {
-    if times.len() != n {
-        return Err(Error::invalid(
-            "times",
-            format!("{} exposure times for {n} images", times.len()),
-        ));
-    }
-    if let Some((i, t)) = times
-        .iter()
-        .enumerate()
-        .find(|(_, t)| !(t.is_finite() && **t > 0.0))
-    {
-        return Err(Error::invalid(
-            "times",
-            format!("exposure time {i} must be finite and > 0, got {t}"),
-        ));
-    }
-    Ok(())
 }
 
 /// One view in radiance space: per pixel and channel the radiance `f^-1(Z) / dt`, the Khan
