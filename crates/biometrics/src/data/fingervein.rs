@@ -65,6 +65,49 @@ impl Default for FingerVeinParams {
     }
 }
 
+impl FingerVeinParams {
+    /// Errors: `subjects` or `samples` zero, an output `size` with a zero side or larger
+    /// than the `canvas`, a negative or non-finite shift, rotation, noise or blur.
+    pub fn validate(&self) -> Result<()> {
+        if self.subjects == 0 {
+            return Err(Error::invalid("subjects", "must be >= 1"));
+        }
+        if self.samples == 0 {
+            return Err(Error::invalid("samples", "must be >= 1"));
+        }
+        let ((ch, cw), (oh, ow)) = (self.canvas, self.size);
+        if oh == 0 || ow == 0 {
+            return Err(Error::invalid(
+                "size",
+                format!("needs 0 < size <= canvas, got size {:?}", self.size),
+            ));
+        }
+        if ch < oh || cw < ow {
+            return Err(Error::invalid(
+                "canvas",
+                format!(
+                    "need 0 < size <= canvas, got size {:?} canvas {:?}",
+                    self.size, self.canvas
+                ),
+            ));
+        }
+        for (name, v) in [
+            ("max_shift", self.max_shift),
+            ("max_rotation_deg", self.max_rotation_deg),
+            ("noise", self.noise),
+            ("blur", self.blur),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and >= 0, got {v}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Images flattened row-major into the rows of `x`, with labels.
 #[derive(Clone, Debug)]
 pub struct LabelledImages {
@@ -158,32 +201,8 @@ fn template_value(s: &Subject, x: f64, y: f64) -> f64 {
 /// Errors: zero subjects, samples or sizes, a canvas smaller than the output, negative
 /// noise, blur or motion amplitudes.
 pub fn finger_veins(p: &FingerVeinParams) -> Result<LabelledImages> {
-    if p.subjects == 0 || p.samples == 0 {
-        return Err(Error::invalid("subjects, samples", "must be >= 1"));
-    }
+    p.validate()?;
     let ((ch, cw), (oh, ow)) = (p.canvas, p.size);
-    if oh == 0 || ow == 0 || ch < oh || cw < ow {
-        return Err(Error::invalid(
-            "canvas, size",
-            format!(
-                "need 0 < size <= canvas, got size {:?} canvas {:?}",
-                p.size, p.canvas
-            ),
-        ));
-    }
-    for (name, v) in [
-        ("max_shift", p.max_shift),
-        ("max_rotation_deg", p.max_rotation_deg),
-        ("noise", p.noise),
-        ("blur", p.blur),
-    ] {
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(Error::invalid(
-                name,
-                format!("must be finite and >= 0, got {v}"),
-            ));
-        }
-    }
     let subjects: Vec<Subject> = (0..p.subjects)
         .map(|k| subject(p.seed, k, p.canvas))
         .collect();

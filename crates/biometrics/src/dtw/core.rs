@@ -47,6 +47,13 @@ wscg_math::params! {
 }
 
 impl DtwParams {
+    /// Every value of every field is valid (a band `r = 0` is the lock-step sum, a band
+    /// narrower than the length ratio is widened), so this never fails; it is here so that
+    /// every parameter struct is checked the same way.
+    pub fn validate(&self) -> Result<()> {
+        Ok(())
+    }
+
     /// The paper's DTW with the given local cost.
     pub fn with_cost(cost: LocalCost) -> Self {
         Self {
@@ -73,6 +80,7 @@ pub(crate) fn check_seq(name: &'static str, a: &[f64]) -> Result<()> {
 ///
 /// Two rows of memory (`O(min(n, m))`). Errors: an empty or non-finite sequence.
 pub fn dtw(a: &[f64], b: &[f64], p: &DtwParams) -> Result<f64> {
+    p.validate()?;
     check_seq("a", a)?;
     check_seq("b", b)?;
     let mut scratch = Vec::new();
@@ -224,6 +232,7 @@ fn stale_of(i: usize, slope: f64, r: f64, m: usize) -> (usize, usize) {
 /// monotone, steps (1,0), (0,1), (1,1)); ties prefer the diagonal step. Full `(n+1) x (m+1)`
 /// table. Errors as [`dtw`].
 pub fn dtw_path(a: &[f64], b: &[f64], p: &DtwParams) -> Result<(f64, Vec<(usize, usize)>)> {
+    p.validate()?;
     check_seq("a", a)?;
     check_seq("b", b)?;
     let (n, m) = (a.len(), b.len());

@@ -41,6 +41,7 @@ fn check_set(name: &'static str, set: &[Vec<Vec<f64>>], channels: usize) -> Resu
 ///
 /// Errors: different channel counts, an empty or non-finite channel.
 pub fn dtw_kernel(a: &[Vec<f64>], b: &[Vec<f64>], p: &DtwParams) -> Result<f64> {
+    p.validate()?;
     check_sample("a", a)?;
     check_sample("b", b)?;
     if a.len() != b.len() {
@@ -114,6 +115,7 @@ pub fn dissimilarity_matrix(
     gallery: &[Vec<Vec<f64>>],
     p: &DtwParams,
 ) -> Result<DistMatrix> {
+    p.validate()?;
     if queries.is_empty() {
         return Err(Error::Empty("queries"));
     }
@@ -152,6 +154,7 @@ pub fn dissimilarity_matrix(
 ///
 /// Errors as [`dissimilarity_matrix`].
 pub fn self_dissimilarity(samples: &[Vec<Vec<f64>>], p: &DtwParams) -> Result<DistMatrix> {
+    p.validate()?;
     if samples.is_empty() {
         return Err(Error::Empty("samples"));
     }
@@ -188,6 +191,7 @@ pub fn nearest(
     gallery: &[Vec<Vec<f64>>],
     p: &DtwParams,
 ) -> Result<(usize, f64)> {
+    p.validate()?;
     check_sample("query", query)?;
     if gallery.is_empty() {
         return Err(Error::Empty("gallery"));

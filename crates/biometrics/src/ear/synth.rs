@@ -79,15 +79,19 @@ impl Default for EarSynthParams {
 }
 
 impl EarSynthParams {
-    fn validate(&self) -> Result<()> {
-        if self.height < 16 || self.width < 16 {
-            return Err(Error::invalid(
-                "canvas",
-                format!(
-                    "must be at least 16 x 16, got {} x {}",
-                    self.height, self.width
-                ),
-            ));
+    /// Errors: a canvas side under 16 pixels, a negative or non-finite spread, shift,
+    /// rotation, white balance or noise, a gain range that is not `0 < low <= high`.
+    pub fn validate(&self) -> Result<()> {
+        for (name, v) in [("height", self.height), ("width", self.width)] {
+            if v < 16 {
+                return Err(Error::invalid(
+                    name,
+                    format!(
+                        "the canvas must be at least 16 x 16, got {} x {}",
+                        self.height, self.width
+                    ),
+                ));
+            }
         }
         let finite_nonneg = [
             ("shape_spread", self.shape_spread),
@@ -703,6 +707,8 @@ pub fn occluders_for(
     cfg: &EarSynthParams,
     p: &EarParams,
 ) -> Result<Vec<Occluder>> {
+    cfg.validate()?;
+    p.validate()?;
     Ok(match kind {
         OcclusionKind::None => Vec::new(),
         OcclusionKind::Colour { min_pct, max_pct } => {

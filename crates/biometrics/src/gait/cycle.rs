@@ -85,7 +85,9 @@ impl Default for CycleParams {
 }
 
 impl CycleParams {
-    fn validate(&self) -> Result<()> {
+    /// Errors: `smooth_window == 0`, a negative or non-finite `min_step_s` or
+    /// `min_prominence`, a non-finite or zero `up` vector.
+    pub fn validate(&self) -> Result<()> {
         if self.smooth_window == 0 {
             return Err(Error::invalid("smooth_window", "must be at least 1"));
         }

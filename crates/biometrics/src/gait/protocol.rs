@@ -109,6 +109,7 @@ pub fn prepare(
     session: &[usize],
     p: &GaitParams,
 ) -> Result<PreparedWalks> {
+    p.validate()?;
     if labels.len() != walks.len() || session.len() != walks.len() {
         return Err(Error::ShapeMismatch(format!(
             "{} walks, {} labels, {} session indices",

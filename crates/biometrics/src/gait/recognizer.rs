@@ -115,6 +115,29 @@ impl Default for GaitParams {
     }
 }
 
+impl GaitParams {
+    /// Errors: invalid cycle detection, histogram or DTW parameters (the error names the
+    /// field), a non-finite `min_bins`, a majority vote with `k == 0`.
+    pub fn validate(&self) -> Result<()> {
+        self.cycle.validate()?;
+        self.hist.validate()?;
+        if !self.min_bins.is_finite() {
+            return Err(Error::invalid(
+                "min_bins",
+                format!("must be finite, got {}", self.min_bins),
+            ));
+        }
+        self.dtw.validate()?;
+        if self.vote == (Vote::Majority { k: 0 }) {
+            return Err(Error::invalid(
+                "vote",
+                "a majority vote needs k >= 1 voters, got 0",
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// One walk prepared for recognition: its cycle and the JRA sequences of all 276 pairs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GaitSample {
@@ -126,6 +149,7 @@ pub struct GaitSample {
 
 /// Detects the cycle of a walk and computes its JRA sequences.
 pub fn gait_sample(s: &SkeletonSeq, p: &GaitParams) -> Result<GaitSample> {
+    p.validate()?;
     let cycle = detect_gait_cycle(s, &p.cycle)?;
     let jra = jra_matrix(s, &cycle, p.reference)?;
     Ok(GaitSample { cycle, jra })
@@ -165,6 +189,7 @@ impl GaitRecognizer {
     /// Fits on whole walks. Errors: empty gallery, label count, a walk without a full gait
     /// cycle (the error names the walk), no pair above the threshold.
     pub fn fit(walks: &[SkeletonSeq], labels: &[u32], p: &GaitParams) -> Result<Self> {
+        p.validate()?;
         let samples = walks
             .iter()
             .enumerate()
@@ -190,6 +215,7 @@ impl GaitRecognizer {
         extra: &[JraSet],
         p: &GaitParams,
     ) -> Result<Self> {
+        p.validate()?;
         if samples.is_empty() {
             return Err(Error::Empty("training walks"));
         }
@@ -214,6 +240,7 @@ impl GaitRecognizer {
         pairs: Vec<Pair>,
         p: &GaitParams,
     ) -> Result<Self> {
+        p.validate()?;
         if pairs.is_empty() {
             return Err(Error::Empty("pairs"));
         }

@@ -173,6 +173,31 @@ impl NoiseParams {
         }
     }
 
+    /// Errors: `rho` outside `[0, 1)`, a negative or non-finite standard deviation.
+    pub fn validate(&self) -> Result<()> {
+        if !(0.0..1.0).contains(&self.rho) {
+            return Err(Error::invalid(
+                "rho",
+                format!("the AR(1) coefficient must lie in [0, 1), got {}", self.rho),
+            ));
+        }
+        for (name, v) in [
+            ("common", self.common),
+            ("trunk", self.trunk),
+            ("middle", self.middle),
+            ("distal", self.distal),
+            ("extremity", self.extremity),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("noise standard deviation must be finite and >= 0, got {v}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     fn joint_sigma(&self, j: usize) -> f64 {
         use Joint::*;
         match Joint::ALL[j] {
@@ -279,7 +304,10 @@ impl SessionParams {
         }
     }
 
-    fn validate(&self) -> Result<()> {
+    /// Errors: a non-positive or non-finite `speed`, `walk_s` or `fps`; non-finite angles,
+    /// offsets or phase; a negative `jitter_deg`; `bone_bias` outside `[0, 1)`; invalid noise
+    /// (see [`NoiseParams::validate`]); more than 10^6 frames.
+    pub fn validate(&self) -> Result<()> {
         let pos = |name: &'static str, v: f64| {
             if v.is_finite() && v > 0.0 {
                 Ok(())
@@ -290,29 +318,33 @@ impl SessionParams {
         pos("speed", self.speed)?;
         pos("walk_s", self.walk_s)?;
         pos("fps", self.fps)?;
-        let fin = [
-            self.heading_deg,
-            self.pitch_deg,
-            self.offset[0],
-            self.offset[1],
-            self.jitter_deg,
-            self.bone_bias,
-            self.phase0,
-        ];
-        if fin.iter().any(|v| !v.is_finite()) || self.jitter_deg < 0.0 || self.bone_bias < 0.0 {
+        for (name, v) in [
+            ("heading_deg", self.heading_deg),
+            ("pitch_deg", self.pitch_deg),
+            ("offset", self.offset[0]),
+            ("offset", self.offset[1]),
+            ("phase0", self.phase0),
+        ] {
+            if !v.is_finite() {
+                return Err(Error::invalid(name, format!("must be finite, got {v}")));
+            }
+        }
+        if !(self.jitter_deg.is_finite() && self.jitter_deg >= 0.0) {
             return Err(Error::invalid(
-                "session",
-                "angles, offsets, jitter and bias must be finite (jitter, bias >= 0)",
+                "jitter_deg",
+                format!("must be finite and >= 0, got {}", self.jitter_deg),
             ));
         }
-        let n = &self.noise;
-        let sig = [n.common, n.trunk, n.middle, n.distal, n.extremity];
-        if sig.iter().any(|v| !(v.is_finite() && *v >= 0.0)) || !(0.0..1.0).contains(&n.rho) {
+        if !(0.0..1.0).contains(&self.bone_bias) {
             return Err(Error::invalid(
-                "noise",
-                "needs sigmas >= 0 and 0 <= rho < 1",
+                "bone_bias",
+                format!(
+                    "must lie in [0, 1) (bone lengths are scaled by 1 +- bone_bias), got {}",
+                    self.bone_bias
+                ),
             ));
         }
+        self.noise.validate()?;
         if self.walk_s * self.fps > 1e6 {
             return Err(Error::invalid("walk_s", "more than 10^6 frames"));
         }

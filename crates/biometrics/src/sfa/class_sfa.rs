@@ -82,16 +82,26 @@ impl Default for ClassSfaParams {
 }
 
 impl ClassSfaParams {
-    /// Checks the numeric parameters.
+    /// Checks the numeric parameters. Errors: `pca_dims` or `m_per_class` zero, a negative
+    /// or non-finite `shrinkage`, `rank_tol` or `gamma`.
     pub fn validate(&self) -> Result<()> {
         if self.pca_dims == 0 {
             return Err(Error::invalid("pca_dims", "must be at least 1"));
         }
         if self.m_per_class == 0 {
-            return Err(Error::invalid("m", "must be at least 1"));
+            return Err(Error::invalid(
+                "m_per_class",
+                "the number m of slow functions must be at least 1",
+            ));
         }
         if !(self.shrinkage.is_finite() && self.shrinkage >= 0.0) {
             return Err(Error::invalid("shrinkage", "must be finite and >= 0"));
+        }
+        if !(self.rank_tol.is_finite() && self.rank_tol >= 0.0) {
+            return Err(Error::invalid(
+                "rank_tol",
+                format!("must be finite and >= 0, got {}", self.rank_tol),
+            ));
         }
         if let ClassObjective::WithinMinusOutOfClass { gamma } = self.objective {
             if !(gamma.is_finite() && gamma >= 0.0) {

@@ -91,6 +91,38 @@ impl Default for IsomapParams {
     }
 }
 
+impl IsomapParams {
+    /// Errors: `n_neighbors` or `n_components` zero, `n_landmarks` below 2 or below
+    /// `n_components`. The bounds that depend on the number of samples `n` are checked by
+    /// [`Isomap::fit`].
+    pub fn validate(&self) -> Result<()> {
+        if self.n_neighbors == 0 {
+            return Err(Error::invalid("n_neighbors", "must be >= 1"));
+        }
+        if self.n_components == 0 {
+            return Err(Error::invalid("n_components", "must be >= 1, got 0"));
+        }
+        if let Some(m) = self.n_landmarks {
+            if m < 2 {
+                return Err(Error::invalid(
+                    "n_landmarks",
+                    format!("must be at least 2, got {m}"),
+                ));
+            }
+            if self.n_components > m {
+                return Err(Error::invalid(
+                    "n_components",
+                    format!(
+                        "must be between 1 and n_landmarks = {m}, got {}",
+                        self.n_components
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// A fitted Isomap (exact or landmark).
 ///
 /// "Landmarks" below are all training points, in index order, for the exact method.
@@ -129,15 +161,13 @@ impl Isomap {
     /// a larger `n_neighbors`); a geodesic kernel without positive eigenvalue (all samples
     /// coincide).
     pub fn fit(x: MatRef<'_, f64>, params: &IsomapParams) -> Result<Self> {
+        params.validate()?;
         if x.nrows() == 0 {
             return Err(Error::Empty("x"));
         }
         check_data("x", x, 2)?;
         let n = x.nrows();
         let k = params.n_neighbors;
-        if k == 0 {
-            return Err(Error::invalid("n_neighbors", "must be >= 1"));
-        }
         if k >= n {
             return Err(Error::invalid(
                 "n_neighbors",
@@ -153,7 +183,7 @@ impl Isomap {
                 )))
             }
             None => n,
-            Some(m) if m < 2 || m > n => {
+            Some(m) if m > n => {
                 return Err(Error::invalid(
                     "n_landmarks",
                     format!("must be between 2 and the number of samples n = {n}, got {m}"),
@@ -170,7 +200,7 @@ impl Isomap {
             }
         };
         let l = params.n_components;
-        if l == 0 || l > m {
+        if l > m {
             let what = if params.n_landmarks.is_some() {
                 "n_landmarks"
             } else {

@@ -63,6 +63,19 @@ impl Default for FdkecaParams {
     }
 }
 
+impl FdkecaParams {
+    /// Errors: bad fixed kernel parameters (the error names the kernel parameter: `degree`,
+    /// `gamma`, `coef0`, `sigma` or `sigma_scale`), `n_components == Some(0)`. Whether
+    /// `n_components` exceeds the feature count `d` is checked by [`Fdkeca::fit`].
+    pub fn validate(&self) -> Result<()> {
+        super::kernel::validate(&self.kernel)?;
+        if self.n_components == Some(0) {
+            return Err(Error::invalid("n_components", "must be >= 1, got 0"));
+        }
+        Ok(())
+    }
+}
+
 /// A fitted FDKECA model.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Fdkeca {
@@ -90,6 +103,7 @@ impl Fdkeca {
     /// Errors: `N < 2`, `d = 0`, NaN/inf, bad kernel parameters, `n_components` 0 or > d,
     /// all feature vectors identical under the median heuristic.
     pub fn fit(x: MatRef<'_, f64>, p: &FdkecaParams) -> Result<Self> {
+        p.validate()?;
         let (n, d) = (x.nrows(), x.ncols());
         let fk = feature_kernel(x, &p.kernel, p.center)?;
         let l = check_components(p.n_components, d)?;

@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use faer::MatRef;
-use wscg_math::Result;
+use wscg_math::{Error, Result};
 
 use super::{accuracy_curve, best_dimension, select_dimension_cv, Method, Metric, Projector};
 
@@ -36,6 +36,25 @@ impl Default for ProtocolParams {
     }
 }
 
+impl ProtocolParams {
+    /// Errors: `max_dim == 0`, fewer than 2 cross-validation folds. Whether the training set
+    /// has as many rows as folds is checked by the cross-validation itself.
+    pub fn validate(&self) -> Result<()> {
+        if self.max_dim == 0 {
+            return Err(Error::invalid("max_dim", "must be >= 1, got 0"));
+        }
+        if let Some(folds) = self.cv_folds {
+            if folds < 2 {
+                return Err(Error::invalid(
+                    "cv_folds",
+                    format!("must be at least 2, got {folds}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The outcome for one method.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProtocolResult {
@@ -60,6 +79,7 @@ pub fn evaluate(
     yte: &[u32],
     opt: &ProtocolParams,
 ) -> Result<ProtocolResult> {
+    opt.validate()?;
     let t = Instant::now();
     let model = method.fit(xtr)?;
     let fit_seconds = t.elapsed().as_secs_f64();

@@ -166,6 +166,31 @@ impl Default for HandposeSynthParams {
     }
 }
 
+impl HandposeSynthParams {
+    /// Errors: `n_per_class` or `subjects` zero, a canvas side under 32 px. The total size is
+    /// checked by [`generate`] ([`Error::LimitExceeded`] above 2^31 pixels).
+    pub fn validate(&self) -> Result<()> {
+        if self.n_per_class == 0 {
+            return Err(Error::invalid("n_per_class", "must be at least 1"));
+        }
+        if self.subjects == 0 {
+            return Err(Error::invalid("subjects", "must be at least 1"));
+        }
+        for (name, v) in [("width", self.width), ("height", self.height)] {
+            if v < MIN_SIDE {
+                return Err(Error::invalid(
+                    name,
+                    format!(
+                        "canvas sides must be at least {MIN_SIDE} px, got {} x {}",
+                        self.width, self.height
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Amplitudes of the per-frame variation (each value is drawn uniformly in `[-a, a]`); the
 /// defaults are those of [`Jitter::tight`] but for the translation (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -732,22 +757,8 @@ pub fn generate(cfg: &HandposeSynthParams) -> Result<SynthData> {
 ///
 /// Errors: as [`generate`]; a [`Jitter`] amplitude negative or non-finite.
 pub fn generate_with(cfg: &HandposeSynthParams, jitter: &Jitter) -> Result<SynthData> {
+    cfg.validate()?;
     jitter.validate()?;
-    if cfg.n_per_class == 0 {
-        return Err(Error::invalid("n_per_class", "must be at least 1"));
-    }
-    if cfg.subjects == 0 {
-        return Err(Error::invalid("subjects", "must be at least 1"));
-    }
-    if cfg.width < MIN_SIDE || cfg.height < MIN_SIDE {
-        return Err(Error::invalid(
-            "width, height",
-            format!(
-                "canvas sides must be at least {MIN_SIDE} px, got {} x {}",
-                cfg.width, cfg.height
-            ),
-        ));
-    }
     let (h, w) = (cfg.height, cfg.width);
     let hw = h * w;
     let n = cfg

@@ -142,6 +142,34 @@ impl Default for CompareParams {
     }
 }
 
+impl CompareParams {
+    /// Errors: invalid SFA or Isomap parameters (the error names the field), `k`,
+    /// `physical_per_class` or `isomap_per_class` zero, fewer than 2 `isomap_landmarks`.
+    pub fn validate(&self) -> Result<()> {
+        self.sfa.validate()?;
+        if self.k == 0 {
+            return Err(Error::invalid("k", "must be at least 1"));
+        }
+        if self.physical_per_class == 0 {
+            return Err(Error::invalid("physical_per_class", "must be at least 1"));
+        }
+        self.isomap.validate()?;
+        if self.isomap_per_class == Some(0) {
+            return Err(Error::invalid("isomap_per_class", "must be at least 1"));
+        }
+        if self.isomap_landmarks < 2 {
+            return Err(Error::invalid(
+                "isomap_landmarks",
+                format!(
+                    "Landmark Isomap needs at least 2 landmarks, got {}",
+                    self.isomap_landmarks
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// The result of one method.
 #[derive(Clone, Debug)]
 pub struct MethodResult {
@@ -386,6 +414,7 @@ pub fn compare_masks(
     methods: &[Method],
     progress: impl FnMut(Method),
 ) -> Result<Comparison> {
+    cfg.validate()?;
     let n = masks.len() / (h * w).max(1);
     if split.shape != (h.div_ceil(DOWNSCALE), w.div_ceil(DOWNSCALE))
         || split
@@ -455,11 +484,9 @@ pub fn compare_rows(
     physical: Option<&FeatureSets>,
     mut progress: impl FnMut(Method),
 ) -> Result<Comparison> {
+    cfg.validate()?;
     if methods.is_empty() {
         return Err(Error::Empty("methods"));
-    }
-    if cfg.k == 0 {
-        return Err(Error::invalid("k", "must be at least 1"));
     }
     if yte.len() != xte.nrows() {
         return Err(Error::ShapeMismatch(format!(
