@@ -28,6 +28,7 @@
 #![warn(missing_docs)]
 
 pub(crate) mod cell;
+pub(crate) mod edge;
 pub mod extract;
 pub mod fields;
 pub mod grid;

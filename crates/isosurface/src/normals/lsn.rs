@@ -14,7 +14,7 @@
 //! coincide with `V`, is reported as an undefined normal (the paper's Table 5), never replaced.
 
 use super::{unit, EdgeVertex, Outcome};
-use crate::extract::vertex_on_edge;
+use crate::edge::vertex_on_edge;
 use crate::grid::ScalarGrid;
 
 /// Which vertex of an ambiguous face (four crossing edges) the virtual mesh connects `V` to.

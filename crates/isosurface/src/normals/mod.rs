@@ -17,7 +17,7 @@ pub mod spline;
 use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
-use crate::extract::{vertex_on_edge, EdgeId};
+use crate::edge::{vertex_on_edge, EdgeId};
 use crate::grid::{check_iso, ScalarGrid};
 
 pub use lsn::{AmbiguousRule, LsnParams};
