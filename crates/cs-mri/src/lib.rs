@@ -37,7 +37,7 @@
 //! let mask = masks::cartesian(n, n, 0.4, 0.08, 1).unwrap();
 //! let data = KSpace::new(n, n, phantom::shepp_logan_kspace(n).unwrap(), mask).unwrap();
 //! let psi = UdctSparsifier::new(n, n, &UdctParams::default()).unwrap();
-//! let p = CsalsaParams { max_iter: 20, ..Default::default() };
+//! let p = CsalsaParams::default().max_iter(20);
 //! let rec = csalsa(&data, &psi, Regularizer::default(), &p, None, &NoProgress).unwrap();
 //! assert_eq!(rec.image.len(), n * n);
 //! ```

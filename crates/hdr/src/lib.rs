@@ -23,11 +23,12 @@
 //!
 //! ```
 //! use wscg_hdr::{multiscopic_hdr, synth, MultiscopicParams, PatchMatchParams};
-//! let cfg = synth::SceneParams { height: 48, width: 64, times: vec![0.005, 0.04, 0.3],
-//!                             ..Default::default() };
+//! let cfg = synth::SceneParams::default()
+//!     .height(48)
+//!     .width(64)
+//!     .times(vec![0.005, 0.04, 0.3]);
 //! let scene = synth::layered_scene(&cfg, 1).unwrap();
-//! let p = MultiscopicParams { pm: PatchMatchParams { d_min: -40, d_max: 40, ..Default::default() },
-//!                             ..Default::default() };
+//! let p = MultiscopicParams::default().pm(PatchMatchParams::default().d_min(-40).d_max(40));
 //! let out = multiscopic_hdr(&scene.views, &scene.times, &[scene.crf.clone()], &p,
 //!                           &wscg_math::progress::NoProgress).unwrap();
 //! assert_eq!(out.hdr.len(), 3);

@@ -29,7 +29,7 @@
 //! ```
 //! use wscg_octree::{build, scenes, BuildParams, Ray, TraceMode};
 //! let mesh = scenes::blob(3).unwrap();
-//! let (oct, stats) = build(&mesh, &BuildParams { max_depth: 6, ..Default::default() }).unwrap();
+//! let (oct, stats) = build(&mesh, &BuildParams::default().max_depth(6)).unwrap();
 //! assert!(stats.early_leaves > 0);
 //! let hit = oct.intersect(&Ray::new([0.0, 0.0, -2.0], [0.0, 0.0, 1.0]), &TraceMode::Triangles, None);
 //! assert!(hit.is_some());
