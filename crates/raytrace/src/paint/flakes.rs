@@ -26,8 +26,8 @@ use rand::Rng;
 use rand_distr::{Distribution, LogNormal, Normal, Poisson};
 use wscg_math::{Error, Result};
 
+pub use super::disc::Flake;
 use super::grid::FlakeGrid;
-use crate::bvh::Aabb;
 
 /// How flakes are placed in height.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -244,56 +244,6 @@ impl FlakeParams {
     /// Expected number of flakes per tile.
     pub fn expected_count(&self) -> f64 {
         self.intensity() * self.tile_um * self.tile_um
-    }
-}
-
-/// One flake: a disc of centre `c` (tile frame, µm), unit normal `n` (pointing up), radius
-/// `r`, thickness `h`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Flake {
-    /// Centre (µm): `x, y` in `[0, tile)`, `z` above the base.
-    pub c: Vector3<f64>,
-    /// Unit normal with `n.z > 0`.
-    pub n: Vector3<f64>,
-    /// Radius (µm).
-    pub r: f64,
-}
-
-impl Flake {
-    /// Tilt angle (radians).
-    pub fn tilt(&self) -> f64 {
-        self.n.z.clamp(-1.0, 1.0).acos()
-    }
-
-    /// Half of the flake's vertical extent: `r sin(tilt) + h/2 cos(tilt)`.
-    pub fn half_height(&self, h: f64) -> f64 {
-        let nz = self.n.z;
-        let s = (1.0 - nz * nz).max(0.0).sqrt();
-        self.r * s + 0.5 * h * nz
-    }
-
-    /// Bounding box of the disc (zero thickness).
-    pub fn aabb(&self) -> Aabb {
-        let e = self.n.map(|v| self.r * (1.0 - v * v).max(0.0).sqrt());
-        Aabb {
-            min: self.c - e,
-            max: self.c + e,
-        }
-    }
-
-    /// Ray parameter of the hit of `o + t d` with the disc's mid-plane inside its radius.
-    #[inline]
-    pub fn intersect(&self, o: &Vector3<f64>, d: &Vector3<f64>) -> Option<(f64, Vector3<f64>)> {
-        let dn = d.dot(&self.n);
-        if dn.abs() < 1e-12 {
-            return None;
-        }
-        let t = (self.c - o).dot(&self.n) / dn;
-        if t <= 1e-9 {
-            return None;
-        }
-        let p = o + d * t;
-        ((p - self.c).norm_squared() <= self.r * self.r).then_some((t, p))
     }
 }
 
@@ -605,4 +555,41 @@ fn lens_range(a: (f64, f64, f64), b: (f64, f64, f64), w: Vector3<f64>) -> Option
         (l.min(v), h.max(v))
     });
     Some((lo, hi))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tile grid's nearest hit equals a brute-force search over every disc of a tile, for steep and
+    /// grazing rays going down and up.
+    #[test]
+    fn grid_nearest_equals_brute_force() {
+        let t = generate_tile(&FlakeParams::default(), 1).unwrap();
+        let discs: Vec<Flake> = t.pieces().iter().map(|(f, _)| *f).collect();
+        let grid = FlakeGrid::build(&discs, 450.0);
+        let dirs = [
+            Vector3::new(0.05, 0.03, -1.0),
+            Vector3::new(0.5, -0.3, 0.4),
+            Vector3::new(-0.9, 0.2, -0.1),
+            Vector3::new(0.0, 0.0, 1.0),
+        ];
+        for k in 0..4000 {
+            let x = (k as f64 * 0.618034).fract() * 500.0 - 25.0;
+            let y = (k as f64 * 0.7548776).fract() * 500.0 - 25.0;
+            let d = dirs[k % 4].normalize();
+            let o = Vector3::new(x, y, if d.z < 0.0 { 20.24 } else { 0.0 });
+            let brute = discs
+                .iter()
+                .enumerate()
+                .filter_map(|(i, f)| {
+                    let (tt, p) = f.intersect(&o, &d)?;
+                    let inside = p.x >= 0.0 && p.x < 450.0 && p.y >= 0.0 && p.y < 450.0;
+                    (tt <= 60.0 && inside).then_some((tt, i as u32))
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let fast = grid.nearest(&discs, &o, &d, 60.0);
+            assert_eq!(brute.map(|b| b.1), fast.map(|f| f.1), "ray {k}");
+        }
+    }
 }

@@ -8,7 +8,7 @@
 
 use nalgebra::Vector3;
 
-use super::flakes::Flake;
+use super::disc::Flake;
 
 /// Inclusive ranges of cell columns and rows a disc reaches.
 type CellSpan = ((usize, usize), (usize, usize));
@@ -189,44 +189,6 @@ impl FlakeGrid {
                 return None;
             }
             t_in = t_out;
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::paint::flakes::{generate_tile, FlakeParams};
-
-    /// The grid's nearest hit equals a brute-force search over every disc, for steep and
-    /// grazing rays going down and up.
-    #[test]
-    fn nearest_equals_brute_force() {
-        let t = generate_tile(&FlakeParams::default(), 1).unwrap();
-        let discs: Vec<Flake> = t.pieces().iter().map(|(f, _)| *f).collect();
-        let grid = FlakeGrid::build(&discs, 450.0);
-        let dirs = [
-            Vector3::new(0.05, 0.03, -1.0),
-            Vector3::new(0.5, -0.3, 0.4),
-            Vector3::new(-0.9, 0.2, -0.1),
-            Vector3::new(0.0, 0.0, 1.0),
-        ];
-        for k in 0..4000 {
-            let x = (k as f64 * 0.618034).fract() * 500.0 - 25.0;
-            let y = (k as f64 * 0.7548776).fract() * 500.0 - 25.0;
-            let d = dirs[k % 4].normalize();
-            let o = Vector3::new(x, y, if d.z < 0.0 { 20.24 } else { 0.0 });
-            let brute = discs
-                .iter()
-                .enumerate()
-                .filter_map(|(i, f)| {
-                    let (tt, p) = f.intersect(&o, &d)?;
-                    let inside = p.x >= 0.0 && p.x < 450.0 && p.y >= 0.0 && p.y < 450.0;
-                    (tt <= 60.0 && inside).then_some((tt, i as u32))
-                })
-                .min_by(|a, b| a.0.total_cmp(&b.0));
-            let fast = grid.nearest(&discs, &o, &d, 60.0);
-            assert_eq!(brute.map(|b| b.1), fast.map(|f| f.1), "ray {k}");
         }
     }
 }

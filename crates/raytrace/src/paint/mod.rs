@@ -1,10 +1,13 @@
 //! Metallic-flake paint (paper 07, sections 2.2-2.3): the flake microstructure, the plate's
 //! layers and lamp, and the spectral renderer.
 
+mod disc;
 pub mod flakes;
 pub mod grid;
+mod interface;
 pub mod io;
 pub mod layers;
+mod microstructure;
 pub mod observer;
 pub mod photons;
 pub mod plate;

@@ -21,8 +21,9 @@ use rayon::prelude::*;
 use wscg_math::knn::KdTree;
 use wscg_math::{Error, Result};
 
+use super::interface::{cross_interface, reflect, refract_horizontal, Crossing};
 use super::layers::DiscLight;
-use super::render::{cross_interface, reflect, refract_horizontal, Crossing, Plate};
+use super::microstructure::Plate;
 use crate::spectral::{fresnel_conductor, fresnel_dielectric};
 
 /// Most flake reflections a stored photon remembers; longer paths are dropped (their flux

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
 use super::flakes::{generate_tile, Flake, FlakeParams, FlakeTile};
-use super::render::{FlakeHit, Microstructure};
+use super::microstructure::{FlakeHit, Microstructure};
 
 /// The microstructure of a plate.
 #[derive(Clone, Debug)]

@@ -25,71 +25,14 @@ use wscg_math::image::Image;
 use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::{Error, Result};
 
-use super::layers::{DiscLight, PlateStack};
+use super::interface::{cross_interface, reflect, refract_horizontal, Crossing};
+use super::layers::DiscLight;
+pub use super::microstructure::{FlakeHit, Microstructure, NoFlakes, Plate};
 use super::photons::{trace_photons, PhotonMap, PhotonParams};
 use crate::spectral::{
     fresnel_conductor, fresnel_dielectric, tables, xyz_to_rgb, SpectralGrid, XYZ_TO_SRGB,
 };
 use crate::stereo::{Eye, StereoRig};
-
-/// A flake hit: distance along the ray, unit normal of the flake (either orientation), and a
-/// flake identifier unique over the plate.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FlakeHit {
-    /// Ray parameter of the hit (µm when the direction is a unit vector).
-    pub t: f64,
-    /// Unit normal of the flake's disc.
-    pub normal: Vector3<f64>,
-    /// Identifier of the flake.
-    pub id: u64,
-}
-
-/// What the renderer needs of the binder's microstructure: the nearest flake along a ray.
-/// Coordinates in µm: `x, y` in the plate's plane with the plate's centre at the origin (x
-/// right, y towards the plate's top edge), `z` from the base (0) to the binder's top.
-pub trait Microstructure: Send + Sync {
-    /// The nearest flake hit with `0 < t <= t_max` along `origin + t dir` (`dir` unit).
-    fn hit(&self, origin: &Vector3<f64>, dir: &Vector3<f64>, t_max: f64) -> Option<FlakeHit>;
-}
-
-/// A binder without flakes.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct NoFlakes;
-
-impl Microstructure for NoFlakes {
-    fn hit(&self, _: &Vector3<f64>, _: &Vector3<f64>, _: f64) -> Option<FlakeHit> {
-        None
-    }
-}
-
-/// A plate ready to render: its layers and its flakes. Build it once and render every view
-/// from it, so that the left and right eyes see the same microstructure.
-pub struct Plate {
-    /// The layers.
-    pub stack: PlateStack,
-    micro: Box<dyn Microstructure>,
-}
-
-impl Plate {
-    /// A plate from its layers and microstructure.
-    ///
-    /// Errors: invalid layers ([`PlateStack::validate`]).
-    pub fn new(stack: PlateStack, micro: Box<dyn Microstructure>) -> Result<Self> {
-        stack.validate()?;
-        Ok(Self { stack, micro })
-    }
-
-    /// The nearest flake along a ray (plate coordinates, µm).
-    pub fn hit(&self, origin: &Vector3<f64>, dir: &Vector3<f64>, t_max: f64) -> Option<FlakeHit> {
-        self.micro.hit(origin, dir, t_max)
-    }
-
-    /// `(n + i k) / n_binder` of the flakes at `lambda_nm`: they sit in the binder.
-    pub fn relative_index(&self, lambda_nm: f64) -> Complex64 {
-        let (n, k) = self.stack.metal.nk(lambda_nm);
-        Complex64::new(n, k) / self.stack.binder_ior
-    }
-}
 
 /// How colour is carried along a chain.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -304,23 +247,6 @@ impl XyzImage {
     }
 }
 
-/// Mirror reflection of `d` about the unit normal `n`.
-pub(crate) fn reflect(d: &Vector3<f64>, n: &Vector3<f64>) -> Vector3<f64> {
-    d - n * (2.0 * d.dot(n))
-}
-
-/// Refraction through the horizontal interface: `d` crosses from index `n1` to `n2`; the
-/// horizontal components scale by `n1 / n2` (Snell). `None` under total internal reflection.
-pub(crate) fn refract_horizontal(d: &Vector3<f64>, n1: f64, n2: f64) -> Option<Vector3<f64>> {
-    let eta = n1 / n2;
-    let (x, y) = (d.x * eta, d.y * eta);
-    let s2 = x * x + y * y;
-    if s2 >= 1.0 {
-        return None;
-    }
-    Some(Vector3::new(x, y, (1.0 - s2).sqrt().copysign(d.z)))
-}
-
 /// Per-wavelength lamp weights `L(l) cmf(l) dl / Y_white`, the lamp's own `Y`, and the
 /// normalisation `1 / Y_white`.
 fn lamp_weights(light: &DiscLight) -> (Vec<[f64; 3]>, f64, f64) {
@@ -373,39 +299,6 @@ impl Chain {
         self.bounces += 1;
         self.events += 1;
         self.events <= max_depth
-    }
-}
-
-/// What a ray does at the coat-binder interface.
-pub(crate) enum Crossing {
-    /// Reflected back (chosen with the Fresnel probability); `dir.z` is flipped.
-    Reflected,
-    /// Refracted through (or no interface: equal indices); `dir` is the new direction.
-    Refracted,
-    /// Totally reflected where the deterministic refraction has no solution.
-    Lost,
-}
-
-/// Crossing of the horizontal interface from index `n1` to `n2` by `dir`.
-pub(crate) fn cross_interface(
-    dir: &mut Vector3<f64>,
-    n1: f64,
-    n2: f64,
-    rng: &mut impl Rng,
-) -> Crossing {
-    if n1 == n2 {
-        return Crossing::Refracted;
-    }
-    if rng.random::<f64>() < fresnel_dielectric(dir.z.abs(), n2 / n1) {
-        dir.z = -dir.z;
-        return Crossing::Reflected;
-    }
-    match refract_horizontal(dir, n1, n2) {
-        Some(r) => {
-            *dir = r;
-            Crossing::Refracted
-        }
-        None => Crossing::Lost,
     }
 }
 
