@@ -34,6 +34,23 @@ impl Default for AlignParams {
     }
 }
 
+impl AlignParams {
+    /// Errors: `levels == 0`, a negative or non-finite `eps` (zero iterations at a level are
+    /// allowed: that level keeps its starting homography).
+    pub fn validate(&self) -> Result<()> {
+        if self.levels == 0 {
+            return Err(Error::invalid("levels", "must be >= 1"));
+        }
+        if !(self.eps.is_finite() && self.eps >= 0.0) {
+            return Err(Error::invalid(
+                "eps",
+                format!("must be finite and >= 0, got {}", self.eps),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Result of [`align_homography`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Alignment {
@@ -291,11 +308,9 @@ pub fn align_homography(
     init: Option<Matrix3<f64>>,
     opts: &AlignParams,
 ) -> Result<Alignment> {
+    opts.validate()?;
     check_frame(src, "src")?;
     check_frame(dst, "dst")?;
-    if opts.levels == 0 {
-        return Err(Error::invalid("levels", "must be >= 1"));
-    }
     let init = init.unwrap_or_else(Matrix3::identity);
     // ECC estimates the warp from dst (template) pixels to src (image) pixels.
     let mut warp = init

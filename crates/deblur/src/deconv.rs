@@ -58,15 +58,25 @@ impl HyperLaplacianParams {
                 format!("must lie in (0, 2], got {}", self.alpha),
             ));
         }
-        if !(self.beta0.is_finite()
-            && self.beta0 > 0.0
-            && self.beta_rate.is_finite()
-            && self.beta_rate > 1.0
-            && self.beta_max.is_finite())
-        {
+        if !(self.beta0.is_finite() && self.beta0 > 0.0) {
             return Err(Error::invalid(
-                "beta",
-                "need beta0 > 0, beta_rate > 1 and a finite beta_max",
+                "beta0",
+                format!("must be finite and > 0, got {}", self.beta0),
+            ));
+        }
+        if !(self.beta_rate.is_finite() && self.beta_rate > 1.0) {
+            return Err(Error::invalid(
+                "beta_rate",
+                format!(
+                    "the beta schedule must grow: beta_rate must be finite and > 1, got {}",
+                    self.beta_rate
+                ),
+            ));
+        }
+        if !self.beta_max.is_finite() {
+            return Err(Error::invalid(
+                "beta_max",
+                format!("must be finite, got {}", self.beta_max),
             ));
         }
         if self.inner == 0 {

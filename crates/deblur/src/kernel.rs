@@ -239,14 +239,34 @@ impl KernelParams {
         }
     }
 
-    fn validate(&self) -> Result<()> {
-        if self.min_steps == 0 || self.max_steps < self.min_steps {
-            return Err(Error::invalid("steps", "need 1 <= min_steps <= max_steps"));
-        }
-        if !(self.max_step_px > 0.0 && self.threshold >= 0.0 && self.threshold < 1.0) {
+    /// Errors: `min_steps == 0`, `max_steps < min_steps`, a non-positive or non-finite
+    /// `max_step_px`, `threshold` outside `[0, 1)`, `max_size == 0`.
+    pub fn validate(&self) -> Result<()> {
+        if self.min_steps == 0 {
             return Err(Error::invalid(
-                "kernel options",
-                "need max_step_px > 0 and 0 <= threshold < 1",
+                "min_steps",
+                "need 1 <= min_steps <= max_steps, got 0",
+            ));
+        }
+        if self.max_steps < self.min_steps {
+            return Err(Error::invalid(
+                "max_steps",
+                format!(
+                    "need 1 <= min_steps <= max_steps, got min_steps {} and max_steps {}",
+                    self.min_steps, self.max_steps
+                ),
+            ));
+        }
+        if !(self.max_step_px.is_finite() && self.max_step_px > 0.0) {
+            return Err(Error::invalid(
+                "max_step_px",
+                format!("must be finite and > 0, got {}", self.max_step_px),
+            ));
+        }
+        if !(self.threshold >= 0.0 && self.threshold < 1.0) {
+            return Err(Error::invalid(
+                "threshold",
+                format!("must lie in [0, 1), got {}", self.threshold),
             ));
         }
         if self.max_size == 0 {
@@ -475,6 +495,7 @@ pub fn kernel_grid(
     tile: usize,
     opts: &KernelParams,
 ) -> Result<KernelGrid> {
+    opts.validate()?;
     let (rows, cols) = grid_shape(width, height, tile)?;
     let kernels = (0..rows * cols)
         .into_par_iter()

@@ -105,7 +105,10 @@ pub struct DeblurOutput {
 }
 
 impl MultiframeParams {
-    fn validate(&self) -> Result<()> {
+    /// Errors: invalid timing (`t_exposure <= 0`, `t_readout < 0`, non-finite times), gamma,
+    /// tiling, solver, kernel or alignment parameters (the error names the field), a negative
+    /// or non-finite `mu`, a non-finite `min_ncc`.
+    pub fn validate(&self) -> Result<()> {
         Timing {
             t_frame: 0.0,
             t_exposure: self.t_exposure,
@@ -119,6 +122,10 @@ impl MultiframeParams {
         }
         self.tiling.validate()?;
         self.hl.validate()?;
+        self.kernel.validate()?;
+        if let AlignMode::Ecc(a) = self.align {
+            a.validate()?;
+        }
         if !(self.mu.is_finite() && self.mu >= 0.0) {
             return Err(Error::invalid(
                 "mu",
@@ -224,6 +231,7 @@ pub fn deblur_multiframe(
     opts: &MultiframeParams,
     progress: &dyn Progress,
 ) -> Result<DeblurOutput> {
+    opts.validate()?;
     if frames.is_empty() {
         return Err(Error::Empty("frames"));
     }
@@ -233,7 +241,6 @@ pub fn deblur_multiframe(
             format!("index {main} is out of range for {} frames", frames.len()),
         ));
     }
-    opts.validate()?;
     k.validate()?;
     for f in frames {
         check_frame(&f.image, "frames")?;

@@ -45,19 +45,44 @@ impl Default for ShakeParams {
     }
 }
 
+impl ShakeParams {
+    /// Errors: a non-positive or non-finite `rate`, `tau` or `duration`, a negative or
+    /// non-finite deviation, a non-finite `t0`.
+    pub fn validate(&self) -> Result<()> {
+        for (name, v) in [
+            ("rate", self.rate),
+            ("tau", self.tau),
+            ("duration", self.duration),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and > 0, got {v}"),
+                ));
+            }
+        }
+        if let Some(s) = self.std.iter().find(|s| !(s.is_finite() && **s >= 0.0)) {
+            return Err(Error::invalid(
+                "std",
+                format!("rate deviations must be finite and >= 0, got {s}"),
+            ));
+        }
+        if !self.t0.is_finite() {
+            return Err(Error::invalid(
+                "t0",
+                format!("must be finite, got {}", self.t0),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Samples an Ornstein-Uhlenbeck angular-rate trace (exact discretisation, started from the
 /// stationary distribution), in camera axes, noise-free.
 ///
 /// Errors: non-positive rate, correlation time or duration; negative deviations.
 pub fn ou_gyro(p: &ShakeParams, seed: u64) -> Result<Vec<GyroSample>> {
-    if !(p.rate > 0.0 && p.tau > 0.0 && p.duration > 0.0 && p.t0.is_finite())
-        || p.std.iter().any(|s| s.is_nan() || *s < 0.0)
-    {
-        return Err(Error::invalid(
-            "ou",
-            "need rate, tau, duration > 0 and std >= 0",
-        ));
-    }
+    p.validate()?;
     let n = (p.duration * p.rate).ceil() as usize + 1;
     if n > 100_000_000 {
         return Err(Error::LimitExceeded(format!("{n} gyroscope samples")));
@@ -121,6 +146,25 @@ impl Default for BlurRenderParams {
     }
 }
 
+impl BlurRenderParams {
+    /// Errors: `min_steps == 0`, a negative or non-finite `noise_sigma`, an invalid gamma.
+    pub fn validate(&self) -> Result<()> {
+        if self.min_steps == 0 {
+            return Err(Error::invalid("min_steps", "must be >= 1"));
+        }
+        if !(self.noise_sigma.is_finite() && self.noise_sigma >= 0.0) {
+            return Err(Error::invalid(
+                "noise_sigma",
+                format!("must be finite and >= 0, got {}", self.noise_sigma),
+            ));
+        }
+        if let Some(g) = self.gamma {
+            g.validate()?;
+        }
+        Ok(())
+    }
+}
+
 /// Renders a blurred frame of a planar scene densely (eq. 2 with the rotation-only homography
 /// of eq. 5): `sharp` holds the linear image seen in the pose at `t_world` (ground truth); row
 /// `y` of the frame averages, over the sub-steps `tau` of its exposure (eq. 6), the sharp image
@@ -139,6 +183,7 @@ pub fn render_blurred(
     opts: &BlurRenderParams,
     seed: u64,
 ) -> Result<Image<f32>> {
+    opts.validate()?;
     check_frame(sharp, "sharp")?;
     timing.validate()?;
     k.validate()?;
@@ -388,6 +433,7 @@ pub fn make_burst(
     render: &BlurRenderParams,
     seed: u64,
 ) -> Result<SyntheticBurst> {
+    render.validate()?;
     if main >= burst.frames {
         return Err(Error::invalid(
             "main",
