@@ -115,6 +115,43 @@ impl Default for AnechoicParams {
     }
 }
 
+impl AnechoicParams {
+    /// Errors: `n_sources`, `n_harmonics`, `max_iter` or `restarts` zero, a `delay_search`
+    /// grid other than 0 or 8..=4096 points, a negative or non-finite `tol`. The bounds that
+    /// depend on the data (`n_harmonics < N/2`, `n_sources < min(I·R, N/2)`) are checked by
+    /// [`fit_anechoic`].
+    pub fn validate(&self) -> Result<()> {
+        if self.n_sources == 0 {
+            return Err(Error::invalid("n_sources", "must be >= 1, got 0"));
+        }
+        if self.n_harmonics == 0 {
+            return Err(Error::invalid("n_harmonics", "must be >= 1, got 0"));
+        }
+        if self.max_iter == 0 {
+            return Err(Error::invalid("max_iter", "must be >= 1"));
+        }
+        if self.restarts == 0 {
+            return Err(Error::invalid("restarts", "must be >= 1"));
+        }
+        if self.delay_search != 0 && !(8..=4096).contains(&self.delay_search) {
+            return Err(Error::invalid(
+                "delay_search",
+                format!(
+                    "grid points per period must be 0 (off) or in 8..=4096, got {}",
+                    self.delay_search
+                ),
+            ));
+        }
+        if !(self.tol.is_finite() && self.tol >= 0.0) {
+            return Err(Error::invalid(
+                "tol",
+                format!("must be finite and >= 0, got {}", self.tol),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// A fitted anechoic model.
 #[derive(Clone, Debug)]
 pub struct AnechoicModel {
@@ -205,8 +242,9 @@ impl AnechoicModel {
 
 /// Validates the configuration against the data shape.
 fn check_config(x: &TrialSet, cfg: &AnechoicParams) -> Result<()> {
+    cfg.validate()?;
     let n = x.n_samples;
-    if cfg.n_harmonics == 0 || 2 * cfg.n_harmonics >= n {
+    if 2 * cfg.n_harmonics >= n {
         return Err(Error::invalid(
             "n_harmonics",
             format!(
@@ -217,34 +255,13 @@ fn check_config(x: &TrialSet, cfg: &AnechoicParams) -> Result<()> {
         ));
     }
     let cap = (x.n_trials * x.n_channels).min(n / 2);
-    if cfg.n_sources == 0 || cfg.n_sources >= cap {
+    if cfg.n_sources >= cap {
         return Err(Error::invalid(
             "n_sources",
             format!(
                 "must be >= 1 and < min(I*R, N/2) = {cap}, got {}",
                 cfg.n_sources
             ),
-        ));
-    }
-    if cfg.max_iter == 0 {
-        return Err(Error::invalid("max_iter", "must be >= 1"));
-    }
-    if cfg.restarts == 0 {
-        return Err(Error::invalid("restarts", "must be >= 1"));
-    }
-    if cfg.delay_search != 0 && !(8..=4096).contains(&cfg.delay_search) {
-        return Err(Error::invalid(
-            "delay_search",
-            format!(
-                "grid points per period must be 0 (off) or in 8..=4096, got {}",
-                cfg.delay_search
-            ),
-        ));
-    }
-    if !(cfg.tol.is_finite() && cfg.tol >= 0.0) {
-        return Err(Error::invalid(
-            "tol",
-            format!("must be finite and >= 0, got {}", cfg.tol),
         ));
     }
     Ok(())

@@ -215,6 +215,37 @@ impl Default for SvrMapParams {
     }
 }
 
+impl SvrMapParams {
+    /// Errors: a non-positive or non-finite `c` or `gamma`, a negative or non-finite
+    /// `epsilon`, `n_phases == 0`, no radii or a non-positive or non-finite radius.
+    pub fn validate(&self) -> Result<()> {
+        for (name, v) in [("c", self.c), ("gamma", self.gamma)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and > 0, got {v}"),
+                ));
+            }
+        }
+        if !(self.epsilon.is_finite() && self.epsilon >= 0.0) {
+            return Err(Error::invalid(
+                "epsilon",
+                format!("must be finite and >= 0, got {}", self.epsilon),
+            ));
+        }
+        if self.n_phases == 0 {
+            return Err(Error::invalid("n_phases", "must be >= 1, got 0"));
+        }
+        if self.radii.is_empty() {
+            return Err(Error::invalid("radii", "needs at least one training ring"));
+        }
+        if self.radii.iter().any(|r| !(r.is_finite() && *r > 0.0)) {
+            return Err(Error::invalid("radii", "must be finite and > 0"));
+        }
+        Ok(())
+    }
+}
+
 /// An ε-SVR learned from attractor states to source values.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SvrMap {
@@ -228,14 +259,9 @@ impl SvrMap {
     /// Learns the map of `source` from `(r cos θ, r sin θ) → s(θ/2π)` on the configured rings.
     ///
     /// # Errors
-    /// No phases or radii, non-positive radii, and the SVR's own errors.
+    /// Invalid parameters (see [`SvrMapParams::validate`]) and the SVR's own errors.
     pub fn fit(source: &PeriodicSource, cfg: &SvrMapParams) -> Result<Self> {
-        if cfg.n_phases == 0 || cfg.radii.is_empty() {
-            return Err(Error::Empty("svr map training set"));
-        }
-        if cfg.radii.iter().any(|r| !(r.is_finite() && *r > 0.0)) {
-            return Err(Error::invalid("radii", "must be finite and > 0"));
-        }
+        cfg.validate()?;
         let mut x = Vec::with_capacity(cfg.n_phases * cfg.radii.len());
         let mut y = Vec::with_capacity(x.capacity());
         for m in 0..cfg.n_phases {

@@ -54,6 +54,29 @@ impl Default for StepwiseParams {
     }
 }
 
+impl StepwiseParams {
+    /// Errors: `n_sources_first == 0`, invalid demixing settings (their `n_sources` is set
+    /// per stage and not checked; see [`AnechoicParams::validate`]), `round_iter == 0` with
+    /// alternation rounds.
+    pub fn validate(&self) -> Result<()> {
+        if self.n_sources_first == 0 {
+            return Err(Error::invalid("n_sources_first", "must be >= 1"));
+        }
+        AnechoicParams {
+            n_sources: 1,
+            ..self.demix.clone()
+        }
+        .validate()?;
+        if self.rounds > 0 && self.round_iter == 0 {
+            return Err(Error::invalid(
+                "round_iter",
+                format!("must be >= 1 with {} alternation rounds", self.rounds),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// The fit of one action: per-trial means and weights, and its quality.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ActionFit {
@@ -289,10 +312,8 @@ fn widen(weights: &[f64], j_from: usize, j_to: usize) -> Vec<f64> {
 }
 
 fn check_stepwise(data: &Dataset, cfg: &StepwiseParams) -> Result<()> {
+    cfg.validate()?;
     data.validate()?;
-    if cfg.n_sources_first == 0 {
-        return Err(Error::invalid("n_sources_first", "must be >= 1"));
-    }
     if data.trials.len() < 3 {
         return Err(Error::invalid(
             "trials",

@@ -13,7 +13,7 @@ use crate::blend::{
 };
 use crate::hopf::{rotate, StarNetwork};
 use crate::lwlr::{Lwlr, DEFAULT_RIDGE};
-use crate::map::{DelayedLuts, FourierMap, StateMap, SvrMap, SvrMapParams};
+use crate::map::{DelayedLuts, FourierMap, StateMap, SvrMap, SvrMapParams, MAX_LUT_SIZE};
 use crate::planner::{Action, PlannedAction, Planner};
 use crate::stepwise::ActionLibrary;
 use std::f64::consts::TAU;
@@ -53,6 +53,37 @@ impl Default for SynthesizerParams {
             map: MapKind::Lut(1024),
             bandwidth: None,
         }
+    }
+}
+
+impl SynthesizerParams {
+    /// Errors: `beta` outside `(0, π)`, a negative or non-finite `coupling`, a phase table
+    /// size outside `4..=`[`MAX_LUT_SIZE`], invalid SVR map parameters, a non-positive or NaN
+    /// `bandwidth` (`+inf` is global linear least squares).
+    pub fn validate(&self) -> Result<()> {
+        check_beta(self.beta)?;
+        if !(self.coupling.is_finite() && self.coupling >= 0.0) {
+            return Err(Error::invalid(
+                "coupling",
+                format!("must be finite and >= 0, got {}", self.coupling),
+            ));
+        }
+        match &self.map {
+            MapKind::Lut(size) if !(4..=MAX_LUT_SIZE).contains(size) => {
+                return Err(Error::invalid(
+                    "map",
+                    format!("the phase table size must be in 4..={MAX_LUT_SIZE}, got {size}"),
+                ));
+            }
+            MapKind::Svr(c) => c.validate()?,
+            MapKind::Lut(_) | MapKind::Fourier => {}
+        }
+        if let Some(h) = self.bandwidth {
+            if h.is_nan() || h <= 0.0 {
+                return Err(Error::invalid("bandwidth", format!("must be > 0, got {h}")));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -342,10 +373,10 @@ impl Synthesizer {
     /// use [`Synthesizer::run`]).
     ///
     /// # Errors
-    /// `β ∉ (0, π)`, negative coupling, invalid planner, or a regression or map that cannot be
-    /// fitted.
+    /// Invalid parameters (see [`SynthesizerParams::validate`]), an invalid planner, or a
+    /// regression or map that cannot be fitted.
     pub fn new(lib: ActionLibrary, planner: Planner, cfg: SynthesizerParams) -> Result<Self> {
-        check_beta(cfg.beta)?;
+        cfg.validate()?;
         planner.validate()?;
         let regs = fit_regressions(&lib, cfg.bandwidth)?;
         // The LUT path reads its delayed tables directly; the other kinds go through the maps.

@@ -67,6 +67,37 @@ impl Default for WalkerParams {
     }
 }
 
+impl WalkerParams {
+    /// Errors: `n_trials == 0`, fewer than 8 samples per action, a negative or non-finite
+    /// noise level, a step-length range that is not `0 < lo < hi`.
+    pub fn validate(&self) -> Result<()> {
+        if self.n_trials == 0 {
+            return Err(Error::invalid("n_trials", "must be >= 1"));
+        }
+        if self.n_samples < 8 {
+            return Err(Error::invalid(
+                "n_samples",
+                format!("must be >= 8, got {}", self.n_samples),
+            ));
+        }
+        if !(self.noise.is_finite() && self.noise >= 0.0) {
+            return Err(Error::invalid(
+                "noise",
+                format!("must be finite and >= 0, got {}", self.noise),
+            ));
+        }
+        for (name, r) in [("range1", self.range1), ("range2", self.range2)] {
+            if !(r.0.is_finite() && r.1.is_finite() && r.0 > 0.0 && r.1 > r.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("must satisfy 0 < lo < hi, got ({}, {})", r.0, r.1),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Number of ground-truth periodic sources.
 pub const N_SOURCES: usize = 5;
 /// Periodic sources active in action 1.
@@ -218,29 +249,7 @@ fn draw_source(rng: &mut Rng) -> PeriodicSource {
 /// Fewer than 1 trial, fewer than 8 samples per action, a negative or non-finite noise level,
 /// or empty step ranges.
 pub fn reach_walk(cfg: &WalkerParams) -> Result<(Dataset, WalkerTruth)> {
-    if cfg.n_trials == 0 {
-        return Err(Error::invalid("n_trials", "must be >= 1"));
-    }
-    if cfg.n_samples < 8 {
-        return Err(Error::invalid(
-            "n_samples",
-            format!("must be >= 8, got {}", cfg.n_samples),
-        ));
-    }
-    if !(cfg.noise.is_finite() && cfg.noise >= 0.0) {
-        return Err(Error::invalid(
-            "noise",
-            format!("must be finite and >= 0, got {}", cfg.noise),
-        ));
-    }
-    for (name, r) in [("range1", cfg.range1), ("range2", cfg.range2)] {
-        if !(r.0.is_finite() && r.1.is_finite() && r.0 > 0.0 && r.1 > r.0) {
-            return Err(Error::invalid(
-                name,
-                format!("must satisfy 0 < lo < hi, got ({}, {})", r.0, r.1),
-            ));
-        }
-    }
+    cfg.validate()?;
     let (r_n, i_n, n) = (cfg.n_trials, N_CHANNELS, cfg.n_samples);
     let mut mrng = wscg_math::rng::seeded(cfg.model_seed);
     let sources: Vec<PeriodicSource> = (0..N_SOURCES).map(|_| draw_source(&mut mrng)).collect();
