@@ -2,7 +2,7 @@
 //! baselines). The documented public API is `python/wscg/biometrics.py`: scikit-learn-style
 //! classes that hold a native [`PyModel`] and map arbitrary labels to `0..k`.
 
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::PyReadonlyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_biometrics::data::{finger_veins as gen_finger_veins, FingerVeinParams};
@@ -13,7 +13,7 @@ use wscg_biometrics::subspace::{
 };
 use wscg_math::Error;
 
-use crate::convert::{array, mat, mat_map, mat_out, values, Arr};
+use crate::convert::{array, labels_from, mat, mat_map, mat_out, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// Reads an optional item of the spec dictionary.
@@ -102,23 +102,6 @@ fn metric_from(name: &str) -> PyResult<Metric> {
             "`metric` must be 'euclidean' or 'cosine', got {other:?}"
         ))),
     }
-}
-
-/// A 1-D int64 label array as `u32` labels.
-pub(crate) fn labels_from(name: &str, a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<u32>> {
-    if a.shape().len() != 1 {
-        return Err(value_error(format!(
-            "`{name}` must be a 1-D array, got shape {:?}",
-            a.shape()
-        )));
-    }
-    values(a)
-        .iter()
-        .map(|&v| {
-            u32::try_from(v)
-                .map_err(|_| value_error(format!("`{name}` holds {v}, not a label in 0..2^32")))
-        })
-        .collect()
 }
 
 /// A fitted FDKECA, PCA, KPCA or KECA model.

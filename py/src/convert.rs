@@ -189,6 +189,43 @@ pub fn dict_item<'py, T: pyo3::conversion::FromPyObjectOwned<'py>>(
     }
 }
 
+/// Reads typed entries of the parameter dict, with defaults.
+pub(crate) struct Cfg<'a, 'py>(pub(crate) &'a Bound<'py, pyo3::types::PyDict>);
+
+impl<'py> Cfg<'_, 'py> {
+    pub(crate) fn get<T: pyo3::conversion::FromPyObjectOwned<'py>>(
+        &self,
+        key: &str,
+        default: T,
+    ) -> PyResult<T> {
+        Ok(dict_item(self.0, key)?.unwrap_or(default))
+    }
+
+    pub(crate) fn opt<T: pyo3::conversion::FromPyObjectOwned<'py>>(
+        &self,
+        key: &str,
+    ) -> PyResult<Option<T>> {
+        dict_item(self.0, key)
+    }
+}
+
+/// A 1-D int64 label array as `u32` labels.
+pub fn labels_from(name: &str, a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<u32>> {
+    if a.shape().len() != 1 {
+        return Err(value_error(format!(
+            "`{name}` must be a 1-D array, got shape {:?}",
+            a.shape()
+        )));
+    }
+    values(a)
+        .iter()
+        .map(|&v| {
+            u32::try_from(v)
+                .map_err(|_| value_error(format!("`{name}` holds {v}, not a label in 0..2^32")))
+        })
+        .collect()
+}
+
 /// Sets `target.field` from the optional `field` entry of the dict `d` (see [`dict_item`]),
 /// for every `field: type` listed.
 macro_rules! set_fields {

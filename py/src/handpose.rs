@@ -13,8 +13,7 @@ use wscg_biometrics::sfa::handpose::{
 use wscg_biometrics::sfa::isomap::{Isomap, IsomapParams};
 use wscg_biometrics::sfa::ClassSfaParams;
 
-use crate::biometrics::labels_from;
-use crate::convert::{array, mat_map, mat_out, values, Arr};
+use crate::convert::{array, labels_from, mat_map, mat_out, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// `(n, h, w)` of a mask stack (a single `(h, w)` mask counts as `n = 1`).

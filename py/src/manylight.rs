@@ -11,9 +11,8 @@ use wscg_raytrace::manylight::{
     load_obj, run, scenes, Camera, Interp, ManyLightParams, Method, Scene,
 };
 
-use crate::convert::{array, rows3, values, Arr};
+use crate::convert::{array, rows3, values, Arr, Cfg};
 use crate::errors::IntoPy;
-use crate::raytrace::Cfg;
 
 /// A many-light scene: Lambertian triangles (some emissive) and a camera.
 #[pyclass(module = "wscg._native.raytrace", name = "ManyLightScene", frozen)]

@@ -15,23 +15,8 @@ use wscg_raytrace::paint::{
 use wscg_raytrace::spectral::{self, daylight_d, MetalIor, SpectralGrid, Spectrum};
 use wscg_raytrace::stereo::{Eye, StereoRig};
 
-use pyo3::conversion::FromPyObjectOwned;
-
-use crate::convert::{array, dict_item, values, Arr};
+use crate::convert::{array, values, Arr, Cfg};
 use crate::errors::{value_error, IntoPy};
-
-/// Reads typed entries of the parameter dict, with defaults.
-pub(crate) struct Cfg<'a, 'py>(pub(crate) &'a Bound<'py, PyDict>);
-
-impl<'py> Cfg<'_, 'py> {
-    pub(crate) fn get<T: FromPyObjectOwned<'py>>(&self, key: &str, default: T) -> PyResult<T> {
-        Ok(dict_item(self.0, key)?.unwrap_or(default))
-    }
-
-    pub(crate) fn opt<T: FromPyObjectOwned<'py>>(&self, key: &str) -> PyResult<Option<T>> {
-        dict_item(self.0, key)
-    }
-}
 
 fn flake_params(c: &Cfg) -> PyResult<FlakeParams> {
     let d = FlakeParams::default();

@@ -11,8 +11,7 @@ use wscg_biometrics::sfa::{
     PerClassSfa, QuadraticExpansion, TemporalSfa,
 };
 
-use crate::biometrics::labels_from;
-use crate::convert::{array, mat, mat_map, mat_out, row_blocks, Arr};
+use crate::convert::{array, labels_from, mat, mat_map, mat_out, row_blocks, Arr};
 use crate::errors::{value_error, IntoPy};
 
 fn expansion(degree: usize, include_linear: bool) -> PyResult<Option<QuadraticExpansion>> {
