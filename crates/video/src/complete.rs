@@ -44,6 +44,19 @@ impl Default for CompletionParams {
     }
 }
 
+impl CompletionParams {
+    /// Errors: invalid stage 1, 2 or 3 parameters (the error names the field; see
+    /// [`LowResParams::validate`], [`RefineParams::validate`] and
+    /// [`LocalSearchParams::validate`]).
+    pub fn validate(&self) -> Result<()> {
+        self.low.validate()?;
+        if let Some(r) = &self.refine {
+            r.validate()?;
+        }
+        self.local.validate()
+    }
+}
+
 /// Statistics of a completion.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Stats {
@@ -79,29 +92,9 @@ pub fn complete_video(video: &Video, hole: &Mask3, cfg: &CompletionParams) -> Re
 
 /// Errors unless `video` and `hole` can be completed with `cfg` (shape, patch, a known pixel).
 pub fn check_input(video: &Video, hole: &Mask3, cfg: &CompletionParams) -> Result<()> {
+    cfg.validate()?;
     video.check_mask(hole)?;
     cfg.low.patch.check(video.dims())?;
-    if cfg.local.windows.is_empty() || cfg.local.windows.iter().any(|&w| w == 0 || w % 2 == 0) {
-        return Err(Error::invalid(
-            "windows",
-            format!(
-                "window widths must be odd and positive, got {:?}",
-                cfg.local.windows
-            ),
-        ));
-    }
-    if !(cfg.local.min_energy_drop.is_finite() && cfg.local.min_energy_drop >= 0.0) {
-        return Err(Error::invalid(
-            "min_energy_drop",
-            format!("must be finite and >= 0, got {}", cfg.local.min_energy_drop),
-        ));
-    }
-    if cfg.low.target_width == 0 || cfg.low.iters.is_empty() {
-        return Err(Error::invalid(
-            "low",
-            "target_width and iters must be positive",
-        ));
-    }
     if hole.count() == hole.len_grid() {
         return Err(Error::invalid(
             "mask",

@@ -93,6 +93,29 @@ impl Default for LocalSearchParams {
     }
 }
 
+impl LocalSearchParams {
+    /// Errors: no window, a window width that is even or zero, a negative or non-finite
+    /// `min_energy_drop`.
+    pub fn validate(&self) -> wscg_math::Result<()> {
+        if self.windows.is_empty() || self.windows.iter().any(|&w| w == 0 || w % 2 == 0) {
+            return Err(wscg_math::Error::invalid(
+                "windows",
+                format!(
+                    "window widths must be odd and positive, got {:?}",
+                    self.windows
+                ),
+            ));
+        }
+        if !(self.min_energy_drop.is_finite() && self.min_energy_drop >= 0.0) {
+            return Err(wscg_math::Error::invalid(
+                "min_energy_drop",
+                format!("must be finite and >= 0, got {}", self.min_energy_drop),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// What stage 3 did at one level.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LocalStats {
@@ -118,6 +141,7 @@ pub fn localized_search(
     patch: PatchSize,
     cfg: &LocalSearchParams,
 ) -> wscg_math::Result<LocalStats> {
+    cfg.validate()?;
     let order = onion_order(hole, &field.targets)?;
     let dims = video.dims();
     let mut st = LocalStats {

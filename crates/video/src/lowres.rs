@@ -67,6 +67,38 @@ impl Default for LowResParams {
     }
 }
 
+impl LowResParams {
+    /// Errors: `target_width == 0`, an even or zero patch extent, no sweep count, invalid
+    /// PCA + kd-tree parameters, a negative or non-finite `min_changed` or `min_energy_drop`.
+    pub fn validate(&self) -> Result<()> {
+        if self.target_width == 0 {
+            return Err(Error::invalid("target_width", "must be positive, got 0"));
+        }
+        self.patch.validate()?;
+        if self.iters.is_empty() {
+            return Err(Error::invalid(
+                "iters",
+                "needs the sweep count of at least one level",
+            ));
+        }
+        if let SearchMethod::PcaKdTree(p) = &self.search {
+            p.validate()?;
+        }
+        for (name, v) in [
+            ("min_changed", self.min_changed),
+            ("min_energy_drop", self.min_energy_drop),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and >= 0, got {v}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// What stage 1 did at one level.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LevelStats {
@@ -120,6 +152,7 @@ pub fn lowres_complete(
     hole: &Mask3,
     cfg: &LowResParams,
 ) -> Result<(MatchField, Vec<LevelStats>)> {
+    cfg.validate()?;
     video.check_mask(hole)?;
     cfg.patch.check(video.dims())?;
     let mut coarser = pyramid(video, hole, cfg);

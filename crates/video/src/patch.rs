@@ -46,8 +46,8 @@ impl PatchSize {
         self.px * self.py * self.pt
     }
 
-    /// Errors unless every extent is odd and positive and the video holds at least one cube.
-    pub fn check(&self, dims: [usize; 3]) -> Result<()> {
+    /// Errors unless every extent is odd and positive.
+    pub fn validate(&self) -> Result<()> {
         for (name, v) in [("px", self.px), ("py", self.py), ("pt", self.pt)] {
             if v == 0 || v % 2 == 0 {
                 return Err(Error::invalid(
@@ -56,6 +56,12 @@ impl PatchSize {
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// Errors unless every extent is odd and positive and the video holds at least one cube.
+    pub fn check(&self, dims: [usize; 3]) -> Result<()> {
+        self.validate()?;
         if self.pt > dims[0] || self.py > dims[1] || self.px > dims[2] {
             return Err(Error::invalid(
                 "patch",

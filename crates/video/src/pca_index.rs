@@ -46,6 +46,23 @@ impl Default for PcaKdParams {
     }
 }
 
+impl PcaKdParams {
+    /// Errors: `dims`, `rerank`, `max_checks` or `samples` zero.
+    pub fn validate(&self) -> Result<()> {
+        for (name, v) in [
+            ("dims", self.dims),
+            ("rerank", self.rerank),
+            ("max_checks", self.max_checks),
+            ("samples", self.samples),
+        ] {
+            if v == 0 {
+                return Err(wscg_math::Error::invalid(name, "must be >= 1, got 0"));
+            }
+        }
+        Ok(())
+    }
+}
+
 const LEAF: usize = 16;
 
 #[derive(Clone, Debug)]
@@ -101,13 +118,14 @@ impl PcaIndex {
     /// Builds the index of the valid `sources` of `video` (its known colours: sources' cubes
     /// contain no hole pixel, so the index does not change while the hole is filled).
     ///
-    /// Errors: no source; a PCA failure.
+    /// Errors: invalid parameters; no source; a PCA failure.
     pub fn build(
         video: &Video,
         sources: &Mask3,
         patch: PatchSize,
         params: PcaKdParams,
     ) -> Result<Self> {
+        params.validate()?;
         let list = sources.points();
         if list.is_empty() {
             return Err(wscg_math::Error::Empty("sources"));

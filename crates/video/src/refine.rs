@@ -38,6 +38,26 @@ impl Default for RefineParams {
     }
 }
 
+impl RefineParams {
+    /// Errors: `initial_fraction` outside `(0, 1]`, a negative or non-finite `decrement`
+    /// (zero iterations are allowed: stage 2 then changes nothing).
+    pub fn validate(&self) -> wscg_math::Result<()> {
+        if !(self.initial_fraction > 0.0 && self.initial_fraction <= 1.0) {
+            return Err(wscg_math::Error::invalid(
+                "initial_fraction",
+                format!("must lie in (0, 1], got {}", self.initial_fraction),
+            ));
+        }
+        if !(self.decrement.is_finite() && self.decrement >= 0.0) {
+            return Err(wscg_math::Error::invalid(
+                "decrement",
+                format!("must be finite and >= 0, got {}", self.decrement),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// What stage 2 did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RefineStats {
@@ -68,6 +88,7 @@ pub fn refine_matches(
     patch: PatchSize,
     cfg: &RefineParams,
 ) -> wscg_math::Result<RefineStats> {
+    cfg.validate()?;
     let mut st = RefineStats::default();
     if field.is_empty() || cfg.iterations == 0 {
         return Ok(st);

@@ -54,6 +54,21 @@ impl Default for WexlerParams {
     }
 }
 
+impl WexlerParams {
+    /// Errors: an even or zero patch extent, a non-positive or non-finite `decay` (the
+    /// weights are `decay^-distance`).
+    pub fn validate(&self) -> Result<()> {
+        self.patch.validate()?;
+        if !(self.decay.is_finite() && self.decay > 0.0) {
+            return Err(Error::invalid(
+                "decay",
+                format!("must be finite and > 0, got {}", self.decay),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// The points within the patch radius of the hole: every target patch that overlaps `H`.
 fn dilated_targets(hole: &Mask3, r: [u32; 3]) -> TargetSet {
     let dims = hole.dims();
@@ -77,6 +92,7 @@ fn dilated_targets(hole: &Mask3, r: [u32; 3]) -> TargetSet {
 ///
 /// Errors: shapes, patch sizes, a mask covering every pixel, no valid source at some level.
 pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerParams) -> Result<Completion> {
+    cfg.validate()?;
     video.check_mask(hole)?;
     cfg.patch.check(video.dims())?;
     if hole.count() == hole.len_grid() {
@@ -248,6 +264,7 @@ fn vote_into(
 /// Per-frame image PatchMatch inpainting: [`wexler_complete`] on every frame with a hole
 /// separately, with flat `px x py x 1` patches (frames without a hole are copied).
 pub fn per_frame_patchmatch(video: &Video, hole: &Mask3, cfg: &WexlerParams) -> Result<Video> {
+    cfg.validate()?;
     video.check_mask(hole)?;
     let mut out = video.clone();
     let mut frame_cfg = cfg.clone();
