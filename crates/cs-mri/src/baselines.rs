@@ -21,6 +21,7 @@ use num_complex::Complex64;
 use rayon::prelude::*;
 use wscg_math::progress::Progress;
 use wscg_math::tv::{divergence, gradient, tv_norm, TvProx};
+use wscg_math::wavelet::Daubechies;
 use wscg_math::{Error, Result};
 
 use crate::csalsa::{check_inputs, mse, IterStat, Recon};
@@ -71,7 +72,9 @@ impl Default for CompositeParams {
 }
 
 impl CompositeParams {
-    /// Checks the ranges.
+    /// Checks the ranges: negative or non-finite weights, a Daubechies order outside 1..=8,
+    /// zero wavelet levels (whether the image sides are divisible by `2^levels` is checked
+    /// when the wavelet is planned).
     pub fn validate(&self) -> Result<()> {
         for (name, v) in [
             ("a", self.a),
@@ -82,6 +85,10 @@ impl CompositeParams {
             if !(v >= 0.0 && v.is_finite()) {
                 return Err(Error::invalid(name, format!("{v} must be finite and >= 0")));
             }
+        }
+        Daubechies::new(self.order)?;
+        if self.levels == 0 {
+            return Err(Error::invalid("levels", "must be at least 1"));
         }
         Ok(())
     }

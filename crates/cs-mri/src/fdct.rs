@@ -99,6 +99,17 @@ impl Default for FdctParams {
     }
 }
 
+/// The FDCT takes 2 to 16 scales.
+fn check_scale_count(j: usize) -> Result<()> {
+    if !(2..=16).contains(&j) {
+        return Err(Error::invalid(
+            "scales",
+            format!("{j} scales; the FDCT needs 2 to 16"),
+        ));
+    }
+    Ok(())
+}
+
 impl FdctParams {
     /// The number of scales for a `rows x cols` image.
     pub fn scales_for(&self, rows: usize, cols: usize) -> usize {
@@ -108,11 +119,10 @@ impl FdctParams {
         })
     }
 
-    /// Checks the configuration against the image size; returns the number of scales.
-    pub fn validate(&self, rows: usize, cols: usize) -> Result<usize> {
-        if rows == 0 || cols == 0 {
-            return Err(Error::Empty("FDCT image (an axis has length 0)"));
-        }
+    /// Checks what does not depend on the image size: the wedge count (a multiple of 4
+    /// between 8 and 256), the transition share in `(0, 1]` and a given scale count in
+    /// `2..=16`.
+    pub fn validate(&self) -> Result<()> {
         if self.angles_coarse < 8
             || !self.angles_coarse.is_multiple_of(4)
             || self.angles_coarse > 256
@@ -131,13 +141,21 @@ impl FdctParams {
                 format!("{} is outside (0, 1]", self.transition),
             ));
         }
-        let j = self.scales_for(rows, cols);
-        if !(2..=16).contains(&j) {
-            return Err(Error::invalid(
-                "scales",
-                format!("{j} scales; the FDCT needs 2 to 16"),
-            ));
+        if let Some(j) = self.scales {
+            check_scale_count(j)?;
         }
+        Ok(())
+    }
+
+    /// [`FdctParams::validate`], then the configuration against a `rows x cols` image;
+    /// returns the number of scales.
+    pub fn validate_for(&self, rows: usize, cols: usize) -> Result<usize> {
+        self.validate()?;
+        if rows == 0 || cols == 0 {
+            return Err(Error::Empty("FDCT image (an axis has length 0)"));
+        }
+        let j = self.scales_for(rows, cols);
+        check_scale_count(j)?;
         // The coarse window must be at least a few samples wide: M_0 >= 1 on both axes.
         let m0 = rows.min(cols) as f64 / 3.0 / f64::powi(2.0, j as i32 - 2);
         if m0 < 1.0 {
@@ -283,7 +301,7 @@ impl Fdct {
     /// Errors: a zero dimension, an invalid configuration, or more scales than the image
     /// size allows.
     pub fn new(rows: usize, cols: usize, config: &FdctParams) -> Result<Self> {
-        let scales = config.validate(rows, cols)?;
+        let scales = config.validate_for(rows, cols)?;
         let nbands: Vec<usize> = (0..scales).map(|j| config.angles(scales, j)).collect();
         let first: Vec<usize> = nbands
             .iter()

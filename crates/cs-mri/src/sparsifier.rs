@@ -534,6 +534,21 @@ impl Default for PriorParams {
     }
 }
 
+impl PriorParams {
+    /// Checks every prior's configuration, whichever [`by_name`] builds: the UDCT's and the
+    /// FDCT's (see [`UdctParams::validate`] and [`FdctParams::validate`]), 1 to 6 SFLCT
+    /// scales of at most 8 directional levels, at least one wavelet level.
+    pub fn validate(&self) -> Result<()> {
+        self.udct.validate()?;
+        self.fdct.validate()?;
+        crate::sflct::check_dfb_levels("sflct_levels", &self.sflct_levels)?;
+        if self.levels == 0 {
+            return Err(Error::invalid("levels", "must be at least 1"));
+        }
+        Ok(())
+    }
+}
+
 /// The priors a user can name: `"udct"`, `"fdct"`, `"lrsflct"`, `"mrsflct"`, `"db1"` ...
 /// `"db8"`, `"identity"`, configured by `config`.
 pub fn by_name(
@@ -542,6 +557,7 @@ pub fn by_name(
     cols: usize,
     config: &PriorParams,
 ) -> Result<Box<dyn Sparsifier>> {
+    config.validate()?;
     match name {
         "udct" => Ok(Box::new(UdctSparsifier::new(rows, cols, &config.udct)?)),
         "fdct" => Ok(Box::new(FdctSparsifier::new(rows, cols, &config.fdct)?)),

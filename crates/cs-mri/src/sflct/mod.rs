@@ -69,6 +69,33 @@ impl Default for SflctParams {
     }
 }
 
+impl SflctParams {
+    /// Checks the directional levels: 1 to 6 scales of at most 8 levels each (whether the
+    /// image sides are divisible by what the pyramid and the filter banks need is checked by
+    /// [`Sflct::new`]).
+    pub fn validate(&self) -> Result<()> {
+        check_dfb_levels("dfb_levels", &self.dfb_levels)
+    }
+}
+
+/// Checks a list of directional levels per scale (`name` is the parameter holding it).
+pub(crate) fn check_dfb_levels(name: &'static str, levels: &[usize]) -> Result<()> {
+    let scales = levels.len();
+    if scales == 0 || scales > 6 {
+        return Err(Error::invalid(
+            name,
+            format!("{scales} scales requested; use 1 to 6"),
+        ));
+    }
+    if let Some(l) = levels.iter().find(|&&l| l > 8) {
+        return Err(Error::invalid(
+            name,
+            format!("{l} directional levels requested; at most 8 are supported"),
+        ));
+    }
+    Ok(())
+}
+
 /// One subband: its scale (0 = the low-pass, then coarse to fine), direction index within
 /// the scale, shape and coefficient range.
 #[derive(Clone, Debug, PartialEq)]
@@ -98,13 +125,8 @@ impl Sflct {
     /// Plans the transform. Errors: no scale, too many directional levels, or sides the
     /// downsampling and the DFBs do not divide.
     pub fn new(rows: usize, cols: usize, config: &SflctParams) -> Result<Self> {
+        config.validate()?;
         let scales = config.dfb_levels.len();
-        if scales == 0 || scales > 6 {
-            return Err(Error::invalid(
-                "dfb_levels",
-                format!("{scales} scales requested; use 1 to 6"),
-            ));
-        }
         let specs: Vec<LevelSpec> = (0..scales)
             .map(|k| match (config.redundancy, k) {
                 (Redundancy::More, 0) => LevelSpec {
