@@ -96,20 +96,28 @@ impl Default for RandomWalkParams {
 }
 
 impl RandomWalkParams {
-    /// Errors: non-finite values, negative β, ε or κ, `tol <= 0`, `max_iter == 0`, a window
-    /// with `hi <= lo`.
+    /// Errors: non-finite values, negative β, ε or κ, `tol <= 0`, `max_iter == 0`,
+    /// `threads == Some(0)`, a window with `hi <= lo`.
     pub fn validate(&self) -> Result<()> {
-        let fin = [self.t_bone, self.beta, self.eps, self.kappa, self.tol];
-        if fin.iter().any(|v| !v.is_finite()) {
+        if !self.t_bone.is_finite() {
             return Err(Error::invalid(
-                "params",
-                "t_bone, beta, eps, kappa and tol must be finite",
+                "t_bone",
+                format!("must be finite, got {}", self.t_bone),
             ));
         }
-        if self.beta < 0.0 || self.eps < 0.0 || self.kappa < 0.0 {
-            return Err(Error::invalid("params", "beta, eps and kappa must be >= 0"));
+        for (name, v) in [
+            ("beta", self.beta),
+            ("eps", self.eps),
+            ("kappa", self.kappa),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and >= 0, got {v}"),
+                ));
+            }
         }
-        if self.tol <= 0.0 {
+        if !(self.tol.is_finite() && self.tol > 0.0) {
             return Err(Error::invalid(
                 "tol",
                 format!("must be > 0, got {}", self.tol),

@@ -67,6 +67,58 @@ impl Default for PhantomParams {
     }
 }
 
+impl PhantomParams {
+    /// Errors: fewer than 2 or more than 65535 fragments, a side below 16 voxels, a blur
+    /// outside `0..=16` voxels, non-finite densities or widths, a negative gap width, noise,
+    /// stroke radius or stroke margin, shell radii that are not `0 < inner < outer < 0.9`.
+    pub fn validate(&self) -> Result<()> {
+        if self.fragments < 2 || self.fragments > u16::MAX as usize {
+            return Err(Error::invalid(
+                "fragments",
+                format!("needs 2..=65535, got {}", self.fragments),
+            ));
+        }
+        if self.dims.iter().any(|&d| d < 16) {
+            return Err(Error::invalid(
+                "dims",
+                format!("each side needs at least 16 voxels, got {:?}", self.dims),
+            ));
+        }
+        if !(self.blur_sigma.is_finite() && (0.0..=16.0).contains(&self.blur_sigma)) {
+            return Err(Error::invalid(
+                "blur_sigma",
+                format!("needs 0..=16 voxels, got {}", self.blur_sigma),
+            ));
+        }
+        for (name, v) in [
+            ("bone_hu", self.bone_hu),
+            ("gap_hu", self.gap_hu),
+            ("t_bone", self.t_bone),
+        ] {
+            if !v.is_finite() {
+                return Err(Error::invalid(name, format!("must be finite, got {v}")));
+            }
+        }
+        for (name, v) in [
+            ("gap_width", self.gap_width),
+            ("noise_hu", self.noise_hu),
+            ("stroke_radius", self.stroke_radius),
+            ("stroke_margin", self.stroke_margin),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and >= 0, got {v}"),
+                ));
+            }
+        }
+        if !(self.shell[0] > 0.0 && self.shell[1] > self.shell[0] && self.shell[1] < 0.9) {
+            return Err(Error::invalid("shell", "needs 0 < inner < outer < 0.9"));
+        }
+        Ok(())
+    }
+}
+
 /// The phantom CT, its truth and seed strokes.
 #[derive(Clone, Debug)]
 pub struct Phantom {
@@ -105,42 +157,7 @@ fn voronoi(d: [f64; 3], sites: &[[f64; 3]]) -> (usize, f64) {
 /// Generates the phantom. Errors: fewer than 2 fragments, a side below 16 voxels, invalid
 /// radii or densities.
 pub fn fractured_shell_phantom(c: &PhantomParams) -> Result<Phantom> {
-    if c.fragments < 2 || c.fragments > u16::MAX as usize {
-        return Err(Error::invalid(
-            "fragments",
-            format!("needs 2..=65535, got {}", c.fragments),
-        ));
-    }
-    if c.dims.iter().any(|&d| d < 16) {
-        return Err(Error::invalid(
-            "dims",
-            format!("each side needs at least 16 voxels, got {:?}", c.dims),
-        ));
-    }
-    if !(c.blur_sigma.is_finite() && (0.0..=16.0).contains(&c.blur_sigma)) {
-        return Err(Error::invalid(
-            "blur_sigma",
-            format!("needs 0..=16 voxels, got {}", c.blur_sigma),
-        ));
-    }
-    let finite = [
-        c.bone_hu,
-        c.gap_hu,
-        c.gap_width,
-        c.noise_hu,
-        c.t_bone,
-        c.stroke_radius,
-        c.stroke_margin,
-    ];
-    if finite.iter().any(|v| !v.is_finite()) || c.noise_hu < 0.0 || c.stroke_radius < 0.0 {
-        return Err(Error::invalid(
-            "phantom",
-            "densities, widths, noise and stroke sizes must be finite (noise and radius >= 0)",
-        ));
-    }
-    if !(c.shell[0] > 0.0 && c.shell[1] > c.shell[0] && c.shell[1] < 0.9) {
-        return Err(Error::invalid("shell", "needs 0 < inner < outer < 0.9"));
-    }
+    c.validate()?;
     let mut rng = stream(c.seed, 18);
     let gauss = |r: &mut wscg_math::rng::Rng| -> f64 { StandardNormal.sample(r) };
     let sites: Vec<[f64; 3]> = (0..c.fragments)
