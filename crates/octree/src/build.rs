@@ -51,6 +51,31 @@ impl Default for BuildParams {
     }
 }
 
+impl BuildParams {
+    /// Errors: `max_depth > 21`, `leaf_max_tris == 0`, `index_bits` outside 1..=30, a domain
+    /// cube with a non-finite corner or a side that is not finite and positive. Whether the
+    /// domain holds the mesh and the mesh fits the node word is checked by [`build`].
+    pub fn validate(&self) -> Result<()> {
+        check_depth(self.max_depth)?;
+        if !(1..=30).contains(&self.index_bits) {
+            return Err(Error::invalid(
+                "index_bits",
+                format!("must be in 1..=30, got {}", self.index_bits),
+            ));
+        }
+        if self.leaf_max_tris == 0 {
+            return Err(Error::invalid(
+                "leaf_max_tris",
+                "must be at least 1 (the paper uses 2)",
+            ));
+        }
+        if let Some(c) = self.domain {
+            Cube::new(c.min, c.size)?;
+        }
+        Ok(())
+    }
+}
+
 /// What the construction did and how long each phase took.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct BuildStats {
@@ -109,19 +134,7 @@ fn distinct_prims(frags: &[Fragment], limit: usize, all: bool) -> Vec<u32> {
 
 /// Checks the mesh and the parameters, returning the cube domain.
 fn check_input(mesh: &TriMesh, p: &BuildParams) -> Result<Cube> {
-    check_depth(p.max_depth)?;
-    if !(1..=30).contains(&p.index_bits) {
-        return Err(Error::invalid(
-            "index_bits",
-            format!("must be in 1..=30, got {}", p.index_bits),
-        ));
-    }
-    if p.leaf_max_tris == 0 {
-        return Err(Error::invalid(
-            "leaf_max_tris",
-            "must be at least 1 (the paper uses 2)",
-        ));
-    }
+    p.validate()?;
     mesh.validate()?;
     if mesh.faces.is_empty() {
         return Err(Error::Empty("mesh faces"));
@@ -136,7 +149,6 @@ fn check_input(mesh: &TriMesh, p: &BuildParams) -> Result<Cube> {
     let (lo, hi) = mesh.bounding_box().ok_or(Error::Empty("mesh positions"))?;
     match p.domain {
         Some(c) => {
-            let c = Cube::new(c.min, c.size)?;
             if !c.contains_box(lo, hi) {
                 return Err(Error::invalid(
                     "domain",
