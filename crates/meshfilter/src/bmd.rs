@@ -48,6 +48,22 @@ impl Default for BmdParams {
     }
 }
 
+impl BmdParams {
+    /// Errors: `sigma_c` or `sigma_s` not finite and positive (whether the mesh encloses a
+    /// volume for `volume_preserve` is checked by [`bmd`]).
+    pub fn validate(&self) -> Result<()> {
+        for (name, v) in [("sigma_c", self.sigma_c), ("sigma_s", self.sigma_s)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and > 0, got {v}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Runs bilateral mesh denoising, calling `observe(iteration, positions)` after each
 /// iteration.
 ///
@@ -57,15 +73,8 @@ pub fn bmd_trace(
     p: &BmdParams,
     mut observe: impl FnMut(usize, &[[f64; 3]]),
 ) -> Result<Vec<[f64; 3]>> {
+    p.validate()?;
     check_mesh(mesh)?;
-    for (name, v) in [("sigma_c", p.sigma_c), ("sigma_s", p.sigma_s)] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Error::invalid(
-                name,
-                format!("must be finite and > 0, got {v}"),
-            ));
-        }
-    }
     let v0 = mesh.signed_volume();
     if p.volume_preserve && v0.abs() < 1e-300 {
         return Err(Error::invalid(

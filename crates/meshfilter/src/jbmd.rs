@@ -70,8 +70,9 @@ pub fn jbmd_trace(
     p: &JbmdParams,
     mut observe: impl FnMut(usize, &[[f64; 3]], &IterStats),
 ) -> Result<(Vec<[f64; 3]>, Vec<IterStats>)> {
+    p.validate()?;
     check_mesh(mesh)?;
-    p.validate(mesh.num_vertices())?;
+    p.validate_for(mesh.num_vertices())?;
     let colors: Option<Vec<[f64; 3]>> = match (&mesh.colors, p.use_color) {
         (Some(c), true) => Some(c.iter().map(|v| v.map(|x| 255.0 * x as f64)).collect()),
         _ => None,

@@ -75,8 +75,10 @@ impl JbmdParams {
         })
     }
 
-    /// Checks the ranges for a mesh of `n` vertices.
-    pub fn validate(&self, n: usize) -> Result<()> {
+    /// Checks the ranges: `sigma_d`, `sigma_o` and `sigma_c` finite and positive, `lambda` in
+    /// `(0, 1]`, `k >= 1` (whether `k` is below the vertex count is checked by
+    /// [`JbmdParams::validate_for`]).
+    pub fn validate(&self) -> Result<()> {
         for (name, v) in [
             ("sigma_d", self.sigma_d),
             ("sigma_o", self.sigma_o),
@@ -95,7 +97,17 @@ impl JbmdParams {
                 format!("must be in (0, 1], got {}", self.lambda),
             ));
         }
-        if self.k == 0 || self.k >= n {
+        if self.k == 0 {
+            return Err(Error::invalid("k", "must be >= 1, got 0"));
+        }
+        Ok(())
+    }
+
+    /// [`JbmdParams::validate`], then `k` against a mesh of `n` vertices (fewer neighbours
+    /// than vertices).
+    pub fn validate_for(&self, n: usize) -> Result<()> {
+        self.validate()?;
+        if self.k >= n {
             return Err(Error::invalid(
                 "k",
                 format!(
