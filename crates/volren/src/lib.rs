@@ -27,6 +27,7 @@
 #![warn(missing_docs)]
 
 mod bytes;
+mod client;
 pub mod gradient_octree;
 pub mod illumination;
 pub mod net;

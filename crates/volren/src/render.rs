@@ -19,7 +19,6 @@ use wscg_math::{Error, Image, Result, Volume};
 
 use crate::gradient_octree::{lookup, GoStructure, Roi};
 use crate::normal_code::decode_voxel;
-use crate::package::HybridClient;
 use crate::tf::{MaterialTable, PlTf};
 
 type V3 = [f64; 3];
@@ -297,7 +296,7 @@ fn shade(rgba: [f32; 4], n: [f32; 3], d: V3, o: &RenderParams) -> [f32; 4] {
 
 /// What a ray samples in a segment.
 #[derive(Clone, Copy)]
-enum Source<'a> {
+pub(crate) enum Source<'a> {
     /// The low-resolution volume (`factor` voxels per `V_W` voxel) under `tf`, unlit.
     Context {
         lowres: &'a Volume<f32>,
@@ -372,7 +371,7 @@ impl Source<'_> {
 
 /// Casts every pixel: the volume box `dims`, with `inside` sampled in the ROI box and
 /// `outside` elsewhere (`roi = None`: `outside` everywhere).
-fn cast(
+pub(crate) fn cast(
     dims: [usize; 3],
     cam: &Camera,
     opts: &RenderParams,
@@ -434,159 +433,6 @@ fn cast(
             }
         });
     Image::new(h, w, 4, data)
-}
-
-fn tf_index(tfs: &[PlTf], k: usize) -> Result<&PlTf> {
-    tfs.get(k)
-        .ok_or_else(|| Error::invalid("roi_tf", format!("transfer function {k} of {}", tfs.len())))
-}
-
-impl HybridClient {
-    fn context(&self) -> Source<'_> {
-        Source::Context {
-            lowres: &self.lowres,
-            factor: self.lowres_factor as f64,
-            tf: &self.tfs[self.canonical],
-            empty: &self.context_empty,
-        }
-    }
-
-    fn roi_source<'a>(
-        &'a self,
-        tf: &'a PlTf,
-        exact: Option<&'a Volume<u8>>,
-    ) -> Option<(&'a Roi, Source<'a>)> {
-        self.roi.as_ref().map(|(r, s, leaves)| {
-            (
-                r,
-                Source::Octree {
-                    structure: s,
-                    leaves,
-                    mats: &self.materials,
-                    tf,
-                    exact,
-                },
-            )
-        })
-    }
-
-    /// The hybrid image: `V_W` under the canonical transfer function outside the ROI, the
-    /// octree under transfer function `roi_tf` inside (the context only without a ROI).
-    /// RGBA, `height x width x 4`.
-    ///
-    /// Errors: bad camera or options, `roi_tf` out of range.
-    pub fn render(&self, cam: &Camera, roi_tf: usize, opts: &RenderParams) -> Result<Image<f32>> {
-        self.render_with(cam, roi_tf, opts, None)
-    }
-
-    /// [`HybridClient::render`] with the ROI shaded by unquantised normals computed from
-    /// `volume` (the server's volume): the reference that measures the normal code's loss.
-    ///
-    /// Errors: as `render`, and a volume of other dims than the client's.
-    pub fn render_exact_normals(
-        &self,
-        volume: &Volume<u8>,
-        cam: &Camera,
-        roi_tf: usize,
-        opts: &RenderParams,
-    ) -> Result<Image<f32>> {
-        if volume.dims() != self.dims {
-            return Err(Error::ShapeMismatch(format!(
-                "volume {:?} for a client of {:?}",
-                volume.dims(),
-                self.dims
-            )));
-        }
-        self.render_with(cam, roi_tf, opts, Some(volume))
-    }
-
-    fn render_with(
-        &self,
-        cam: &Camera,
-        roi_tf: usize,
-        opts: &RenderParams,
-        exact: Option<&Volume<u8>>,
-    ) -> Result<Image<f32>> {
-        let tf = tf_index(&self.tfs, roi_tf)?;
-        let roi = self.roi_source(tf, exact).map(|(r, s)| (r, s, opts.step));
-        cast(
-            self.dims,
-            cam,
-            opts,
-            roi,
-            (self.context(), opts.context_step),
-        )
-    }
-
-    /// The Gradient-Octree baseline: the ROI's octree alone under `roi_tf`, nothing outside
-    /// (with the ROI set to the whole volume, the paper's full Gradient Octree viewer).
-    ///
-    /// Errors: no ROI set, bad camera or options, `roi_tf` out of range.
-    pub fn render_octree(
-        &self,
-        cam: &Camera,
-        roi_tf: usize,
-        opts: &RenderParams,
-    ) -> Result<Image<f32>> {
-        let tf = tf_index(&self.tfs, roi_tf)?;
-        let (_, src) = self
-            .roi_source(tf, None)
-            .ok_or_else(|| Error::invalid("roi", "no ROI package received"))?;
-        cast(self.dims, cam, opts, None, (src, opts.step))
-    }
-
-    /// The wavelet scheme's client (baseline [1] of the paper): with every wavelet step
-    /// received (`full`, the `w_l = 4` decode of a package sent with 4 steps), the decoded
-    /// full-resolution volume under `roi_tf` inside the ROI box and `V_W` under the canonical
-    /// transfer function outside, both unlit.
-    ///
-    /// Errors: no ROI set, `full` of another size than the client's padded volume, bad camera,
-    /// options or `roi_tf`.
-    pub fn render_wavelet_scheme(
-        &self,
-        full: &Volume<f32>,
-        cam: &Camera,
-        roi_tf: usize,
-        opts: &RenderParams,
-    ) -> Result<Image<f32>> {
-        let tf = tf_index(&self.tfs, roi_tf)?;
-        let (roi, _, _) = self
-            .roi
-            .as_ref()
-            .ok_or_else(|| Error::invalid("roi", "no ROI package received"))?;
-        let padded = self.lowres.dims().map(|d| d * self.lowres_factor);
-        if full.dims() != padded {
-            return Err(Error::ShapeMismatch(format!(
-                "full-resolution decode {:?} for a padded volume {padded:?}",
-                full.dims()
-            )));
-        }
-        let empty = EmptyCells::new(full, tf);
-        let inside = Source::Context {
-            lowres: full,
-            factor: 1.0,
-            tf,
-            empty: &empty,
-        };
-        cast(
-            self.dims,
-            cam,
-            opts,
-            Some((roi, inside, opts.step)),
-            (self.context(), opts.context_step),
-        )
-    }
-
-    /// The wavelet-context baseline: `V_W` everywhere, no ROI.
-    pub fn render_context(&self, cam: &Camera, opts: &RenderParams) -> Result<Image<f32>> {
-        cast(
-            self.dims,
-            cam,
-            opts,
-            None,
-            (self.context(), opts.context_step),
-        )
-    }
 }
 
 /// The full-resolution reference ("VrMed"): trilinear densities and central-difference
