@@ -13,8 +13,8 @@
 
 use std::sync::OnceLock;
 
-use super::field::{axis_cell, axis_nearest, Interp, ScalarField};
-use super::sampler::CELL;
+use super::cells::CELL;
+use super::voxels::{axis_cell, axis_nearest, Interp, Voxels};
 
 /// Voxels per brick side: the cell and one voxel on each side.
 const SIDE: usize = CELL + 2;
@@ -27,9 +27,9 @@ pub(crate) struct Bricks {
 }
 
 impl Bricks {
-    /// Empty slots for a field's cells.
-    pub fn new(field: &ScalarField) -> Self {
-        let cells = field.dims().map(|d| d.div_ceil(CELL));
+    /// Empty slots for the cells of a field's voxels.
+    pub fn new(v: &Voxels) -> Self {
+        let cells = v.dims.map(|d| d.div_ceil(CELL));
         Self {
             cells,
             slots: (0..cells[0] * cells[1] * cells[2])
@@ -40,24 +40,18 @@ impl Bricks {
 
     /// The brick of cell `c` (index per axis), built on first use.
     #[inline]
-    fn brick(&self, field: &ScalarField, c: [usize; 3]) -> &[[f32; 4]] {
+    fn brick(&self, v: &Voxels, c: [usize; 3]) -> &[[f32; 4]] {
         let i = c[0] + self.cells[0] * (c[1] + self.cells[1] * c[2]);
-        self.slots[i].get_or_init(|| build(field, c))
+        self.slots[i].get_or_init(|| build(v, c))
     }
 
     /// `[value, gradient]` at `p` (voxel coordinates, inside the box) whose nearest voxel
     /// lies in cell `c`: the trilinear (or nearest) interpolation of the brick, the value
-    /// equal to [`ScalarField::sample`]'s.
+    /// equal to [`Voxels::sample`]'s.
     #[inline]
-    pub fn sample(
-        &self,
-        field: &ScalarField,
-        c: [usize; 3],
-        p: [f32; 3],
-        interp: Interp,
-    ) -> [f32; 4] {
-        let b = self.brick(field, c);
-        let dims = field.dims();
+    pub fn sample(&self, v: &Voxels, c: [usize; 3], p: [f32; 3], interp: Interp) -> [f32; 4] {
+        let b = self.brick(v, c);
+        let dims = v.dims;
         // Local index of voxel `i` of axis `a` (the apron starts one voxel before the cell).
         let local = |i: usize, a: usize| i + 1 - CELL * c[a];
         let at = |x: usize, y: usize, z: usize| b[x + SIDE * (y + SIDE * z)];
@@ -73,7 +67,7 @@ impl Bricks {
                 let (x0, x1) = (local(x0, 0), local(x1, 0));
                 let (y0, y1) = (local(y0, 1), local(y1, 1));
                 let (z0, z1) = (local(z0, 2), local(z1, 2));
-                // The same operation order as `ScalarField::trilinear_inside`: x, then y, z.
+                // The same operation order as `Voxels::trilinear_inside`: x, then y, z.
                 let l = |a: [f32; 4], b: [f32; 4], t: f32| -> [f32; 4] {
                     std::array::from_fn(|k| a[k] + (b[k] - a[k]) * t)
                 };
@@ -89,10 +83,10 @@ impl Bricks {
 
 /// The brick of cell `c`: voxels `CELL c - 1 ..= CELL c + CELL` per axis, indices clamped to
 /// the volume.
-fn build(field: &ScalarField, c: [usize; 3]) -> Box<[[f32; 4]]> {
-    let [nx, ny, nz] = field.dims();
-    let d = field.data();
-    let s = field.scale();
+fn build(v: &Voxels, c: [usize; 3]) -> Box<[[f32; 4]]> {
+    let [nx, ny, nz] = v.dims;
+    let d = &v.data;
+    let s = v.scale;
     let inv = s.map(|v| (0.5 / v) as f32);
     let clamp = |i: isize, n: usize| i.clamp(0, n as isize - 1) as usize;
     let mut out = Vec::with_capacity(SIDE * SIDE * SIDE);
@@ -130,7 +124,9 @@ fn build(field: &ScalarField, c: [usize; 3]) -> Box<[[f32; 4]]> {
 mod tests {
     use super::*;
 
-    fn field(dims: [usize; 3], spacing: [f64; 3]) -> ScalarField {
+    /// The voxels of a smooth field, scaled as [`super::super::field::ScalarField`] scales
+    /// them (`spacing / min(spacing)`).
+    fn field(dims: [usize; 3], spacing: [f64; 3]) -> Voxels {
         let [nx, ny, _] = dims;
         let data = (0..dims.iter().product::<usize>())
             .map(|i| {
@@ -139,7 +135,12 @@ mod tests {
                 (0.5 + 0.3 * v).clamp(0.0, 1.0) as f32
             })
             .collect();
-        ScalarField::from_f32(dims, spacing, data).unwrap()
+        let m = spacing.iter().cloned().fold(f64::INFINITY, f64::min);
+        Voxels {
+            dims,
+            scale: spacing.map(|s| s / m),
+            data,
+        }
     }
 
     /// The value is the field's trilinear sample exactly; away from the faces the gradient is
@@ -149,7 +150,7 @@ mod tests {
     fn bricks_match_trilinear_samples_and_their_central_differences() {
         let f = field([21, 18, 11], [1.0, 1.0, 1.5]);
         let b = Bricks::new(&f);
-        let dims = f.dims();
+        let dims = f.dims;
         let u = wscg_math::rng::uniform_vec(12345, 3 * 4000, 0.0, 0.9999).unwrap();
         for q in u.chunks_exact(3) {
             let p: [f32; 3] = std::array::from_fn(|a| -0.5 + (q[a] * dims[a] as f64) as f32);

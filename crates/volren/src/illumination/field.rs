@@ -13,17 +13,9 @@ use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
 use super::bricks::Bricks;
-use super::sampler::{cell_ranges, CellRanges};
-
-/// Reconstruction filter of the scalar field.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Interp {
-    /// Trilinear interpolation of the eight surrounding voxels (edge-clamped).
-    #[default]
-    Trilinear,
-    /// The nearest voxel, `floor(p + 1/2)`.
-    Nearest,
-}
+use super::cells::CellRanges;
+pub use super::voxels::Interp;
+use super::voxels::Voxels;
 
 /// A scalar volume normalised to `[0, 1]`, `x` fastest.
 ///
@@ -32,11 +24,9 @@ pub enum Interp {
 /// many views of one field pay for them once.
 #[derive(Clone, Debug)]
 pub struct ScalarField {
-    dims: [usize; 3],
+    /// The voxels and their sampling.
+    vox: Voxels,
     spacing: [f64; 3],
-    /// World units per voxel along each axis (`spacing / min(spacing)`).
-    scale: [f64; 3],
-    data: Vec<f32>,
     /// Value ranges of 8^3 cells, for empty-space skipping (computed on first use).
     cells: OnceLock<CellRanges>,
     /// Value-and-gradient bricks of the Phong ray caster (slots made on first use).
@@ -93,10 +83,8 @@ impl ScalarField {
     fn checked(dims: [usize; 3], spacing: [f64; 3], data: Vec<f32>) -> Result<Self> {
         let (scale, _) = Self::build(dims, spacing, data.len())?;
         Ok(Self {
-            dims,
+            vox: Voxels { dims, scale, data },
             spacing,
-            scale,
-            data,
             cells: OnceLock::new(),
             bricks: OnceLock::new(),
         })
@@ -165,17 +153,22 @@ impl ScalarField {
 
     /// Value ranges of 8^3 cells (with the one-voxel apron of trilinear sampling).
     pub(crate) fn cell_ranges(&self) -> &CellRanges {
-        cell_ranges(self, &self.cells)
+        self.cells.get_or_init(|| CellRanges::new(&self.vox))
     }
 
     /// The value-and-gradient bricks (each built when first sampled).
     pub(crate) fn bricks(&self) -> &Bricks {
-        self.bricks.get_or_init(|| Bricks::new(self))
+        self.bricks.get_or_init(|| Bricks::new(&self.vox))
+    }
+
+    /// The voxels (what the cell ranges and the bricks are built from).
+    pub(crate) fn voxels(&self) -> &Voxels {
+        &self.vox
     }
 
     /// Voxel counts `[nx, ny, nz]`.
     pub fn dims(&self) -> [usize; 3] {
-        self.dims
+        self.vox.dims
     }
 
     /// Physical voxel spacing as given.
@@ -185,40 +178,36 @@ impl ScalarField {
 
     /// World units per voxel along each axis.
     pub fn scale(&self) -> [f64; 3] {
-        self.scale
+        self.vox.scale
     }
 
     /// Normalised values, `x` fastest.
     pub fn data(&self) -> &[f32] {
-        &self.data
+        &self.vox.data
     }
 
     /// The world-space box `[lo, hi]` of the volume.
     pub fn world_box(&self) -> ([f64; 3], [f64; 3]) {
-        let lo = std::array::from_fn(|a| -0.5 * self.scale[a]);
-        let hi = std::array::from_fn(|a| (self.dims[a] as f64 - 0.5) * self.scale[a]);
+        let lo = std::array::from_fn(|a| -0.5 * self.vox.scale[a]);
+        let hi = std::array::from_fn(|a| (self.vox.dims[a] as f64 - 0.5) * self.vox.scale[a]);
         (lo, hi)
     }
 
     /// The world-space centre of the box.
     pub fn world_center(&self) -> [f64; 3] {
-        std::array::from_fn(|a| 0.5 * (self.dims[a] as f64 - 1.0) * self.scale[a])
+        std::array::from_fn(|a| 0.5 * (self.vox.dims[a] as f64 - 1.0) * self.vox.scale[a])
     }
 
     /// The sample at `p` in **voxel** coordinates; 0 outside the box `[-1/2, n - 1/2]`.
     #[inline]
     pub fn sample(&self, p: [f32; 3], interp: Interp) -> f32 {
-        if !self.contains(p) {
-            return 0.0;
-        }
-        self.sample_inside(p, interp)
+        self.vox.sample(p, interp)
     }
 
     /// True if `p` (voxel coordinates) lies in the box `[-1/2, n - 1/2)`.
     #[inline]
     pub fn contains(&self, p: [f32; 3]) -> bool {
-        let inside = |c: f32, n: usize| c >= -0.5 && c < n as f32 - 0.5;
-        inside(p[0], self.dims[0]) && inside(p[1], self.dims[1]) && inside(p[2], self.dims[2])
+        self.vox.contains(p)
     }
 
     /// The sample at `p` with `p` clamped to the box (edge values continue outside).
@@ -227,72 +216,12 @@ impl ScalarField {
         if !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()) {
             return 0.0;
         }
-        self.sample_inside(p, interp)
+        self.vox.sample_inside(p, interp)
     }
 
     /// The sample at `p` known to be inside the box (coordinates are clamped to it).
     #[inline(always)]
     pub(crate) fn sample_inside(&self, p: [f32; 3], interp: Interp) -> f32 {
-        match interp {
-            Interp::Trilinear => self.trilinear_inside(p),
-            Interp::Nearest => self.nearest_inside(p),
-        }
+        self.vox.sample_inside(p, interp)
     }
-
-    /// Nearest sample of a point known to be inside the box.
-    #[inline]
-    pub(crate) fn nearest_inside(&self, p: [f32; 3]) -> f32 {
-        let [nx, ny, nz] = self.dims;
-        self.data
-            [axis_nearest(p[0], nx) + nx * (axis_nearest(p[1], ny) + ny * axis_nearest(p[2], nz))]
-    }
-
-    /// Trilinear sample of a point known to be inside the box (edge-clamped).
-    #[inline(always)]
-    pub(crate) fn trilinear_inside(&self, p: [f32; 3]) -> f32 {
-        let [nx, ny, nz] = self.dims;
-        let (x0, x1, tx) = axis_cell(p[0], nx);
-        let (y0, y1, ty) = axis_cell(p[1], ny);
-        let (z0, z1, tz) = axis_cell(p[2], nz);
-        let d = &self.data;
-        let r00 = nx * (y0 + ny * z0);
-        let r10 = nx * (y1 + ny * z0);
-        let r01 = nx * (y0 + ny * z1);
-        let r11 = nx * (y1 + ny * z1);
-        let l = |a: f32, b: f32, t: f32| a + (b - a) * t;
-        let c00 = l(d[r00 + x0], d[r00 + x1], tx);
-        let c10 = l(d[r10 + x0], d[r10 + x1], tx);
-        let c01 = l(d[r01 + x0], d[r01 + x1], tx);
-        let c11 = l(d[r11 + x0], d[r11 + x1], tx);
-        l(l(c00, c10, ty), l(c01, c11, ty), tz)
-    }
-
-    /// Gradient by central differences of samples one voxel apart, in value per world unit:
-    /// the definition the Phong ray caster's bricks reproduce (their test's reference).
-    #[cfg(test)]
-    pub(crate) fn gradient(&self, p: [f32; 3], interp: Interp) -> [f32; 3] {
-        std::array::from_fn(|a| {
-            let mut lo = p;
-            let mut hi = p;
-            lo[a] -= 1.0;
-            hi[a] += 1.0;
-            0.5 * (self.sample(hi, interp) - self.sample(lo, interp)) / self.scale[a] as f32
-        })
-    }
-}
-
-/// The voxel along one axis nearest to coordinate `c`, `floor(c + 1/2)` clamped to `[0, n - 1]`.
-#[inline]
-pub(crate) fn axis_nearest(c: f32, n: usize) -> usize {
-    ((c + 0.5).floor().max(0.0) as usize).min(n - 1)
-}
-
-/// The two voxels along one axis that a trilinear sample at coordinate `c` interpolates, and
-/// the weight of the second: edge-clamped to `[0, n - 1]`.
-#[inline]
-pub(crate) fn axis_cell(c: f32, n: usize) -> (usize, usize, f32) {
-    let c = c.clamp(0.0, (n - 1) as f32);
-    let i = (c as usize).min(n.saturating_sub(2));
-    let t = c - i as f32;
-    (i, (i + 1).min(n - 1), t)
 }

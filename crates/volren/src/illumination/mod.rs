@@ -20,6 +20,7 @@
 
 mod bricks;
 pub mod camera;
+mod cells;
 pub mod classify;
 pub mod field;
 pub mod kernel;
@@ -30,6 +31,7 @@ mod sampler;
 pub mod scenes;
 mod slicer;
 pub mod study;
+mod voxels;
 
 pub use camera::{SliceCamera, Slicing};
 pub use classify::{SampleLut, TransferFunction};

@@ -57,6 +57,7 @@ pub(crate) fn raycast(
     let half = normalized_or_zero(add(lw, frame.d.map(|c| -c)));
     let (l32, h32) = (lw.map(|c| c as f32), half.map(|c| c as f32));
     let bricks = field.bricks();
+    let vox = field.voxels();
     let (w, h) = (frame.width, frame.height);
     let bg = settings.background;
     let ka = light.ambient;
@@ -107,7 +108,7 @@ pub(crate) fn raycast(
                     }
                     Loc::Cell(c) => match shading {
                         RayShading::Phong(_) => {
-                            let s4 = bricks.sample(field, c, p, settings.interp);
+                            let s4 = bricks.sample(vox, c, p, settings.interp);
                             (s4[0], [s4[1], s4[2], s4[3]])
                         }
                         _ => (sampler.value(p), [0.0; 3]),

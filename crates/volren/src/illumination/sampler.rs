@@ -11,6 +11,7 @@ use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
+use super::cells::CELL;
 use super::classify::TransferFunction;
 use super::field::{Interp, ScalarField};
 
@@ -18,59 +19,6 @@ use super::field::{Interp, ScalarField};
 /// counted, in voxels: far above the rounding of single-precision sample positions, which the
 /// caller computes independently.
 const MARGIN: f32 = 1e-2;
-
-/// Side of a cell in voxels.
-pub(crate) const CELL: usize = 8;
-
-/// Value range per cell, `x` fastest.
-#[derive(Clone, Debug)]
-pub(crate) struct CellRanges {
-    pub cells: [usize; 3],
-    pub range: Vec<(f32, f32)>,
-}
-
-impl CellRanges {
-    fn new(field: &ScalarField) -> Self {
-        let dims = field.dims();
-        let cells = dims.map(|d| d.div_ceil(CELL));
-        let data = field.data();
-        let [nx, ny, nz] = dims;
-        let range = (0..cells[0] * cells[1] * cells[2])
-            .into_par_iter()
-            .map(|c| {
-                let (cx, cy, cz) = (
-                    c % cells[0],
-                    (c / cells[0]) % cells[1],
-                    c / (cells[0] * cells[1]),
-                );
-                let span = |ci: usize, n: usize| {
-                    (ci * CELL).saturating_sub(1)..((ci + 1) * CELL + 1).min(n)
-                };
-                let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
-                for z in span(cz, nz) {
-                    for y in span(cy, ny) {
-                        let row = &data[nx * (y + ny * z)..];
-                        // The values are finite: plain comparisons (no NaN handling).
-                        for &v in &row[span(cx, nx)] {
-                            lo = if v < lo { v } else { lo };
-                            hi = if v > hi { v } else { hi };
-                        }
-                    }
-                }
-                (lo, hi)
-            })
-            .collect();
-        Self { cells, range }
-    }
-}
-
-/// The cell ranges of a field, computed on first use and kept with it.
-pub(crate) fn cell_ranges<'a>(
-    field: &'a ScalarField,
-    slot: &'a OnceLock<CellRanges>,
-) -> &'a CellRanges {
-    slot.get_or_init(|| CellRanges::new(field))
-}
 
 /// Where a sample point lies (see [`Sampler::locate`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

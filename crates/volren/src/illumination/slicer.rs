@@ -236,7 +236,7 @@ impl<'a> SliceRun<'a> {
             })
             .collect();
         let [org, dx, dy, dz] = frame.voxel_steps(field, x0 as f64, y0 as f64);
-        let short_segments = (delta as usize) < super::sampler::CELL;
+        let short_segments = (delta as usize) < super::cells::CELL;
         Ok(Self {
             sampler: &prep.sampler,
             classifier: &prep.classifier,
