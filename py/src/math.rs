@@ -11,12 +11,13 @@ use pyo3::types::PyDict;
 use wscg_math::dense::{self, SymEigen};
 use wscg_math::fft::{self, Direction, Norm};
 use wscg_math::filter::{gaussian_kernel, separable_plane, Border};
-use wscg_math::image::{Image, PixelDepth};
-use wscg_math::mesh::{PlyEncoding, TriMesh};
+use wscg_math::image::Image;
+use wscg_math::io::{PixelDepth, PlyEncoding, RawType};
+use wscg_math::mesh::TriMesh;
 use wscg_math::metrics::{self, SsimParams};
 use wscg_math::resize::{resize as resize_image, Interpolation};
 use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, Jacobi, PcgParams};
-use wscg_math::volume::{RawType, Volume};
+use wscg_math::volume::Volume;
 use wscg_math::{rng, Error};
 
 use crate::convert::{

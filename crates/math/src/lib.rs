@@ -1,32 +1,56 @@
 //! # wscg-math
 //!
-//! Shared types and numerics of the wscg workspace: what two or more paper crates need, and
-//! only that.
+//! Shared types and numerics of the wscg workspace: what two or more crates need, and only
+//! that (a piece that a single paper crate uses lives in that crate).
 //!
-//! - [`image`]: [`Image`], an H x W x C row-major buffer with PNG/JPEG/16-bit PNG/EXR/HDR IO.
-//! - [`volume`]: [`Volume`], an X x Y x Z grid with voxel spacing, trilinear sampling, gradients,
-//!   raw, NIfTI and `.npy` IO.
-//! - [`mesh`]: [`TriMesh`] with adjacency, normals, areas, OBJ and PLY (ascii and binary) IO.
+//! Types and numerics, always compiled:
+//!
+//! - [`image`]: [`Image`], an H x W x C row-major pixel buffer.
+//! - [`volume`]: [`Volume`], an X x Y x Z grid with voxel spacing, trilinear sampling and
+//!   gradients; [`volume::filter`]: Gaussian smoothing.
+//! - [`mesh`]: [`TriMesh`] with adjacency, normals, areas and volumes; [`mesh::shapes`]: the
+//!   icosphere, cube and grid generators.
 //! - [`sparse`]: CSR matrices (faer storage) and a preconditioned conjugate gradient written
 //!   against the [`sparse::LinOp`] operator trait.
 //! - [`dense`]: symmetric eigen, SVD, least squares and the generalized symmetric eigenproblem
-//!   through faer.
+//!   through faer; [`eigh_partial`] and [`eigh_krylov`]: the few extreme eigenpairs of large
+//!   matrices.
 //! - [`fft`]: 1-D, 2-D and 3-D FFTs (rustfft) with numpy's normalisation conventions, and
 //!   planned 2-D transforms ([`fft::Plan2`]) for repeated use.
 //! - [`filter`], [`resize`]: separable Gaussian and box filters, area and bilinear resizing.
+//! - [`distance`]: exact Euclidean distance transforms.
 //! - [`dist`]: Student-t and F tail probabilities and the t quantile.
 //! - [`metrics`]: MSE, RMSE, PSNR, SSIM (Wang et al. 2004), Dice.
 //! - [`wavelet`]: orthonormal Daubechies wavelets (periodized, PyWavelets' conventions).
 //! - [`tv`]: isotropic total variation, gradient / divergence and Chambolle's TV prox.
-//! - [`knn`]: a kd-tree with exact k-nearest and nearest-point queries.
+//! - [`knn`]: a kd-tree with exact k-nearest and nearest-point queries; [`knn_graph`]: the
+//!   k-nearest-neighbour graph of a whole point set.
 //! - [`bvh`]: a binned-SAH bounding volume hierarchy over axis-aligned boxes, traversed
 //!   front to back (the ray tracers of papers 07 and 08 and the octree baseline of paper 10).
-//! - [`vec3`]: small helpers on `[f64; 3]` points and vectors.
+//! - [`vec3`]: small helpers on `[f64; 3]` points and vectors; [`reduce`]: sums in a fixed
+//!   order, identical for any number of threads.
 //! - [`params`]: the [`params!`] macro that declares every `XxxParams` struct of the workspace
 //!   (`#[non_exhaustive]`, with chainable setters).
 //! - [`rng`]: seeded, portable random generation.
 //! - [`progress`]: a progress-reporting trait that the CLI renders as progress bars.
 //! - [`error`]: the one [`Error`] type.
+//!
+//! # File formats and cargo features
+//!
+//! [`io`] holds one module per file format, each behind a cargo feature, so that a crate
+//! compiles only the codecs it reads and writes:
+//!
+//! | feature | modules | adds | dependency |
+//! |---|---|---|---|
+//! | `io-image` | `io::raster` | PNG (8/16-bit), JPEG, OpenEXR and Radiance HDR for [`Image`] (`Image::load`, `Image::save`, ...) | `image` |
+//! | `io-npy` | `io::npy`, also named `npy` | numpy `.npy` arrays | `ndarray-npy` |
+//! | `io-volume` | `io::raw`, `io::nifti`, `io::npy` | raw, NIfTI-1 and `.npy` files for [`Volume`] (`Volume::read`, ...); enables `io-npy` | `nifti` |
+//! | `io-mesh` | `io::obj`, `io::ply` | OBJ and PLY files for [`TriMesh`] (`TriMesh::read`, ...) | `ply-rs` |
+//!
+//! All four are default features: a plain dependency on `wscg-math` reads and writes every
+//! format. The workspace declares the dependency with `default-features = false`, and each
+//! crate names the features it uses (`wscg-math = { workspace = true, features = ["io-image"]
+//! }`); a crate that names none, like `wscg-doe`, compiles no codec.
 #![warn(missing_docs)]
 
 pub mod error;
@@ -40,12 +64,12 @@ pub mod eigh_partial;
 pub mod fft;
 pub mod filter;
 pub mod image;
+pub mod io;
 mod kbest;
 pub mod knn;
 pub mod knn_graph;
 pub mod mesh;
 pub mod metrics;
-pub mod npy;
 pub mod params;
 pub mod patchmatch;
 pub mod progress;
@@ -61,5 +85,10 @@ pub mod wavelet;
 
 pub use error::{Error, Result};
 pub use image::Image;
-pub use mesh::{Adjacency, PlyEncoding, TriMesh};
+pub use mesh::{Adjacency, TriMesh};
 pub use volume::Volume;
+
+#[cfg(feature = "io-npy")]
+pub use io::npy;
+#[cfg(feature = "io-mesh")]
+pub use io::PlyEncoding;

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 use wscg_isosurface::study::{compare_with_full_cd, percentile_isovalues};
 use wscg_isosurface::{marching_cubes, NormalMethod, ScalarGrid};
-use wscg_math::volume::RawType;
+use wscg_math::io::RawType;
 use wscg_math::{Error, Result, TriMesh, Volume};
 
 #[derive(Subcommand, Debug)]

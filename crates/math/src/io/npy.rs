@@ -246,6 +246,217 @@ fn values<T: NpyTarget>(path: &Path, bytes: &[u8]) -> Result<Option<Vec<T>>> {
     Ok(None)
 }
 
+/// `.npy` volumes: arrays indexed `arr[z, y, x]`.
+#[cfg(feature = "io-volume")]
+mod volume_files {
+    use std::fs::File;
+    use std::io::{self, Write};
+    use std::path::Path;
+
+    use ndarray::ArrayView3;
+
+    use crate::error::{Error, Result};
+    use crate::volume::{check_spacing, voxel_count, Real, Volume, MAX_VOXELS};
+
+    impl<T: Real> Volume<T> {
+        /// Writes a numpy `.npy` file holding an `f32` array of shape `(nz, ny, nx)` in C order,
+        /// indexed `arr[z, y, x]` (so `np.load(path)[z, y, x] == vol.at(x, y, z)`).
+        pub fn write_npy(&self, path: impl AsRef<Path>) -> Result<()> {
+            use ndarray_npy::WriteNpyExt;
+            let path = path.as_ref();
+            let values = T::as_f32_slice(&self.data);
+            let [nx, ny, nz] = self.dims;
+            let array = ArrayView3::from_shape((nz, ny, nx), &values[..])
+                .expect("volume invariant: data length equals nx * ny * nz");
+            let file = File::create(path).map_err(|e| Error::io(path, e))?;
+            let mut writer = io::BufWriter::new(file);
+            array.write_npy(&mut writer).map_err(|e| match e {
+                ndarray_npy::WriteNpyError::Io(e) => Error::io(path, e),
+                e => Error::io(path, io::Error::other(e.to_string())),
+            })?;
+            writer.flush().map_err(|e| Error::io(path, e))
+        }
+    }
+
+    impl Volume<f32> {
+        /// Reads a numpy `.npy` file holding a 3-D array **indexed `arr[z, y, x]`** (shape
+        /// `(nz, ny, nx)`), the order in which Python users usually hold CT/MRI stacks; C and
+        /// Fortran layouts are both read correctly, so `vol.at(x, y, z) == arr[z, y, x]`. An array
+        /// ordered `(X, Y, Z)` in Python must be saved as `np.save(path, arr.transpose(2, 1, 0))`.
+        ///
+        /// Accepted dtypes (either byte order): float32, float64, uint8, int8, uint16, int16,
+        /// uint32, int32, uint64, int64; values are converted to `f32` unchanged. `spacing` is the
+        /// voxel size `[sx, sy, sz]` (a `.npy` file does not store one).
+        ///
+        /// Errors: [`Error::Io`]; [`Error::Format`] for a malformed or truncated file or an array
+        /// that is not 3-D or has an empty axis; [`Error::UnsupportedFormat`] for other dtypes;
+        /// [`Error::LimitExceeded`] above [`MAX_VOXELS`]; invalid `spacing` as [`Volume::new`].
+        pub fn read_npy(path: impl AsRef<Path>, spacing: [f64; 3]) -> Result<Self> {
+            let path = path.as_ref();
+            check_spacing(spacing)?;
+            let arr = super::read_with_limit::<f32>(path, MAX_VOXELS)?;
+            let shape = &arr.shape;
+            if shape.len() != 3 {
+                return Err(Error::format(
+                    path,
+                    format!(
+                        "expected a 3-D array indexed [z, y, x], found a {}-D array of shape {shape:?}",
+                        shape.len()
+                    ),
+                ));
+            }
+            let dims = [shape[2], shape[1], shape[0]];
+            if dims.contains(&0) {
+                return Err(Error::format(
+                    path,
+                    format!("the array of shape {shape:?} has an empty axis"),
+                ));
+            }
+            voxel_count(dims)?;
+            Volume::new(dims, spacing, arr.data)
+        }
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::*;
+        use crate::io::test_files::patch;
+        use crate::volume::tests::unique_volume;
+        use ndarray::{Array3, ShapeBuilder};
+        use ndarray_npy::WriteNpyExt;
+
+        // ---------------------------------------------------------------- npy
+
+        #[test]
+        fn npy_round_trip_uses_zyx_convention() {
+            let dir = tempfile::tempdir().unwrap();
+            let v = unique_volume([0.5, 1.0, 2.0]);
+            let p = dir.path().join("v.npy");
+            v.write_npy(&p).unwrap();
+            let arr: Array3<f32> = ndarray_npy::read_npy(&p).unwrap();
+            assert_eq!(arr.dim(), (5, 4, 3));
+            for ((z, y, x), &a) in arr.indexed_iter() {
+                assert_eq!(a, v.at(x, y, z));
+            }
+            let header = String::from_utf8_lossy(&std::fs::read(&p).unwrap()[..128]).into_owned();
+            assert!(header.contains("(5, 4, 3)"), "{header}");
+            assert!(header.contains("'fortran_order': False"), "{header}");
+            let back = Volume::read_npy(&p, [0.5, 1.0, 2.0]).unwrap();
+            assert_eq!(back, v);
+            assert_eq!(Volume::read(&p, Some([0.5, 1.0, 2.0])).unwrap(), v);
+            assert_eq!(Volume::read(&p, None).unwrap().spacing(), [1.0; 3]);
+        }
+
+        #[test]
+        fn npy_reads_other_dtypes_and_fortran_order() {
+            let dir = tempfile::tempdir().unwrap();
+            let f = |z: usize, y: usize, x: usize| x + 10 * y + 100 * z;
+            let want = unique_volume([1.0; 3]);
+            let check = |name: &str, write: &dyn Fn(&Path)| {
+                let p = dir.path().join(name);
+                write(&p);
+                assert_eq!(Volume::read_npy(&p, [1.0; 3]).unwrap(), want, "{name}");
+            };
+            check("f64.npy", &|p| {
+                ndarray_npy::write_npy(
+                    p,
+                    &Array3::from_shape_fn((5, 4, 3), |(z, y, x)| f(z, y, x) as f64),
+                )
+                .unwrap()
+            });
+            check("u16.npy", &|p| {
+                ndarray_npy::write_npy(
+                    p,
+                    &Array3::from_shape_fn((5, 4, 3), |(z, y, x)| f(z, y, x) as u16),
+                )
+                .unwrap()
+            });
+            check("i16_fortran.npy", &|p| {
+                let a = Array3::from_shape_fn((5, 4, 3).f(), |(z, y, x)| f(z, y, x) as i16);
+                ndarray_npy::write_npy(p, &a).unwrap()
+            });
+            let small = Volume::from_fn([3, 4, 5], [1.0; 3], |x, y, z| (x + 3 * y + 12 * z) as f32)
+                .unwrap();
+            let p = dir.path().join("u8.npy");
+            let a = Array3::from_shape_fn((5, 4, 3), |(z, y, x)| (x + 3 * y + 12 * z) as u8);
+            let mut file = File::create(&p).unwrap();
+            a.write_npy(&mut file).unwrap();
+            drop(file);
+            assert_eq!(Volume::read_npy(&p, [1.0; 3]).unwrap(), small);
+        }
+
+        #[test]
+        fn npy_bad_files_are_errors() {
+            let dir = tempfile::tempdir().unwrap();
+            let p2 = dir.path().join("flat.npy");
+            ndarray_npy::write_npy(&p2, &ndarray::Array2::<f32>::zeros((4, 5))).unwrap();
+            let e = Volume::read_npy(&p2, [1.0; 3]).unwrap_err();
+            assert!(e.to_string().contains("3-D"), "{e}");
+            assert!(e.to_string().contains("flat.npy"), "{e}");
+
+            let pb = dir.path().join("bool.npy");
+            ndarray_npy::write_npy(&pb, &Array3::from_elem((2, 2, 2), true)).unwrap();
+            assert!(matches!(
+                Volume::read_npy(&pb, [1.0; 3]),
+                Err(Error::UnsupportedFormat(_))
+            ));
+
+            let good = dir.path().join("good.npy");
+            unique_volume([1.0; 3]).write_npy(&good).unwrap();
+            let bytes = std::fs::read(&good).unwrap();
+            let cut = dir.path().join("cut.npy");
+            std::fs::write(&cut, &bytes[..bytes.len() - 3]).unwrap();
+            assert!(matches!(
+                Volume::read_npy(&cut, [1.0; 3]),
+                Err(Error::Format { .. })
+            ));
+            // Hostile shapes in the header: an error before any allocation of that size.
+            let start = bytes.windows(9).position(|w| w == b"(5, 4, 3)").unwrap();
+            for (shape, limit) in [
+                (&b"(99999, 999, 999)"[..], true),
+                (b"(1000, 999, 100)", false),
+            ] {
+                let mut hb = bytes[..start].to_vec();
+                hb.extend_from_slice(shape);
+                hb.extend_from_slice(&bytes[start + 9..]);
+                // Keep the declared header length right: drop as many padding spaces as added.
+                let nl = hb.iter().position(|&c| c == b'\n').unwrap();
+                hb.drain(nl - (shape.len() - 9)..nl);
+                let hp = dir.path().join("hostile.npy");
+                std::fs::write(&hp, &hb).unwrap();
+                let e = Volume::read_npy(&hp, [1.0; 3]).unwrap_err();
+                if limit {
+                    assert!(matches!(e, Error::LimitExceeded(_)), "{e}");
+                } else {
+                    assert!(matches!(e, Error::Format { .. }), "{e}");
+                    assert!(e.to_string().contains("truncated"), "{e}");
+                }
+            }
+            // Header length field pointing past the end of the file.
+            let mut lie = bytes.clone();
+            patch(&mut lie, 8, &u16::MAX.to_le_bytes());
+            let lp = dir.path().join("lie.npy");
+            std::fs::write(&lp, &lie).unwrap();
+            assert!(matches!(
+                Volume::read_npy(&lp, [1.0; 3]),
+                Err(Error::Format { .. })
+            ));
+
+            let garbage = dir.path().join("garbage.npy");
+            std::fs::write(&garbage, b"not numpy").unwrap();
+            assert!(matches!(
+                Volume::read_npy(&garbage, [1.0; 3]),
+                Err(Error::Format { .. })
+            ));
+            assert!(matches!(
+                Volume::read_npy(dir.path().join("missing.npy"), [1.0; 3]),
+                Err(Error::Io { .. })
+            ));
+            assert!(Volume::read_npy(&good, [0.0, 1.0, 1.0]).is_err());
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
