@@ -20,7 +20,6 @@
 use num_complex::Complex64;
 use rayon::prelude::*;
 use wscg_math::progress::Progress;
-use wscg_math::tv::{divergence, gradient, tv_norm, TvProx};
 use wscg_math::wavelet::Daubechies;
 use wscg_math::{Error, Result};
 
@@ -29,6 +28,7 @@ use crate::fourier::Fourier;
 use crate::kspace::KSpace;
 use crate::prox::{project_ball, soft_coeffs};
 use crate::sparsifier::{CoeffVec, Sparsifier, WaveletSparsifier};
+use crate::tv::{divergence, gradient, tv_norm, TvProx};
 
 wscg_math::params! {
     /// Parameters of the composite-objective baselines (B1).

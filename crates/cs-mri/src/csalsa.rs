@@ -22,12 +22,12 @@ use num_complex::Complex64;
 use rayon::prelude::*;
 use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::reduce::chunked_sum_pairs;
-use wscg_math::tv::{tv_norm, TvProx};
 use wscg_math::{Error, Result};
 
 use crate::kspace::KSpace;
 use crate::prox::{admm_l1_step, project_ball};
 use crate::sparsifier::{CoeffVec, Sparsifier};
+use crate::tv::{tv_norm, TvProx};
 
 /// The regulariser `Phi` of eq. 1.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -22,6 +22,8 @@
 //!   Daubechies, identity).
 //! - [`csalsa()`]: the solver, l1 and TV regularisers, noise radius `eps`, per-iteration
 //!   history (paper Fig. 6); frames that are not Parseval get a CG x-update.
+//! - [`tv`]: isotropic total variation of complex images, gradient / divergence and
+//!   Chambolle's TV prox (the TV regulariser and the TV baselines).
 //! - [`baselines`]: zero-filled, FCSA, TVCMRI (Condat-Vu on its objective), WaTMRI and a
 //!   direct TV-constrained solver (Chambolle-Pock).
 //! - [`masks`]: variable-density Cartesian and pseudo-radial masks (paper Fig. 2).
@@ -55,6 +57,7 @@ pub mod phantom;
 pub mod prox;
 pub mod sflct;
 pub mod sparsifier;
+pub mod tv;
 pub mod udct;
 
 pub use baselines::CompositeParams;

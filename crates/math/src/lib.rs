@@ -22,7 +22,6 @@
 //! - [`dist`]: Student-t and F tail probabilities and the t quantile.
 //! - [`metrics`]: MSE, RMSE, PSNR, SSIM (Wang et al. 2004), Dice.
 //! - [`wavelet`]: orthonormal Daubechies wavelets (periodized, PyWavelets' conventions).
-//! - [`tv`]: isotropic total variation, gradient / divergence and Chambolle's TV prox.
 //! - [`knn`]: a kd-tree with exact k-nearest and nearest-point queries; [`knn_graph`]: the
 //!   k-nearest-neighbour graph of a whole point set.
 //! - [`bvh`]: a binned-SAH bounding volume hierarchy over axis-aligned boxes, traversed
@@ -71,14 +70,12 @@ pub mod knn_graph;
 pub mod mesh;
 pub mod metrics;
 pub mod params;
-pub mod patchmatch;
 pub mod progress;
 pub mod reduce;
 pub mod resize;
 pub mod rng;
 pub mod sparse;
 mod sym_eigen;
-pub mod tv;
 pub mod vec3;
 pub mod volume;
 pub mod wavelet;

@@ -3,7 +3,6 @@
 
 use std::time::Instant;
 
-use wscg_math::patchmatch::TargetSet;
 use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::{Error, Result};
 
@@ -12,6 +11,7 @@ use crate::local::{localized_search, LocalSearchParams, LocalStats, UpscaleStep}
 use crate::lowres::{lowres_complete, sweep_once, LevelStats, LowResParams};
 use crate::onion::onion_order;
 use crate::patch::{valid_sources, Cubes};
+use crate::patchmatch::TargetSet;
 use crate::pyramid::{downscale, working_factor};
 use crate::refine::{refine_matches, RefineParams, RefineStats};
 use crate::search::{source_list, Searcher};

@@ -3,9 +3,9 @@
 //! coarse level to a finer one (section 3.4, Fig. 8).
 
 use rayon::prelude::*;
-use wscg_math::patchmatch::{Match, TargetSet, P3};
 
 use crate::patch::Cubes;
+use crate::patchmatch::{Match, TargetSet, P3};
 use crate::video::{Mask3, Video};
 
 /// One match per hole pixel of a level.

@@ -15,7 +15,8 @@
 //! [`complete::complete_video`] runs the three stages. Baselines ([`wexler`]): Wexler et
 //! al. 2007 (global search with weighted voting at every level) and per-frame image
 //! PatchMatch inpainting. Measures ([`metrics`]): SSIM and PSNR in the hole, flicker.
-//! Test clips with exact ground truth: [`synth`]. Frame folders: [`io`].
+//! Test clips with exact ground truth: [`synth`]. Frame folders: [`io`]. The space-time
+//! PatchMatch search and patch voting that the stages and the baselines share: [`patchmatch`].
 #![warn(missing_docs)]
 
 pub mod complete;
@@ -27,6 +28,7 @@ pub mod lowres;
 pub mod metrics;
 pub mod onion;
 pub mod patch;
+pub mod patchmatch;
 pub mod pca_index;
 pub mod pyramid;
 pub mod refine;

@@ -12,11 +12,11 @@
 //! paper's "less than a thousand patches are searched for each p_h".
 
 use rayon::prelude::*;
-use wscg_math::patchmatch::Match;
 
 use crate::field::{energy_settled, MatchField};
 use crate::onion::onion_order;
 use crate::patch::{Cubes, PatchSize};
+use crate::patchmatch::Match;
 use crate::video::{Mask3, Video};
 
 /// How stage 3 climbs from the working resolution to the full one.

@@ -5,13 +5,13 @@
 //! outside ("3D hole-filling"), takes the centre colour of its single best-matching source
 //! cube. Matches are carried to the next finer level offset-preserving.
 
-use wscg_math::patchmatch::{patchmatch, Match, PatchMatchParams, TargetSet};
 use wscg_math::{Error, Result};
 
 use crate::field::{energy_settled, upscale_matches, MatchField};
 use crate::init::{initialize, InitMethod};
 use crate::onion::{onion_order, scanline_order};
 use crate::patch::{valid_sources, Cubes, PatchSize};
+use crate::patchmatch::{patchmatch, Match, PatchMatchParams, TargetSet};
 use crate::pyramid::downscale;
 use crate::search::{random_matches, SearchMethod, Searcher};
 use crate::video::{Mask3, Video};

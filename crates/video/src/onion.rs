@@ -2,9 +2,9 @@
 //! distance to the known region `E`, outer shell first, so that every patch being updated
 //! sees known pixels or pixels already updated in the current iteration.
 
-use wscg_math::patchmatch::{TargetSet, P3};
 use wscg_math::Result;
 
+use crate::patchmatch::{TargetSet, P3};
 use crate::video::Mask3;
 
 /// The exact 3-D Euclidean distance (voxel units) to the known region `E`, held on the hole's

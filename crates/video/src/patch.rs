@@ -4,9 +4,9 @@
 //! inside the known region `E`).
 
 use rayon::prelude::*;
-use wscg_math::patchmatch::{PatchSpace, P3};
 use wscg_math::{Error, Result};
 
+use crate::patchmatch::{PatchSpace, P3};
 use crate::video::{Mask3, Video};
 
 /// Patch extents in pixels along `x`, `y` and `t` (odd; 5 x 5 x 5 by default, the paper's

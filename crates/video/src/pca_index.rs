@@ -10,10 +10,10 @@ use std::collections::BinaryHeap;
 use faer::Mat;
 use rand::Rng as _;
 use rayon::prelude::*;
-use wscg_math::patchmatch::{Match, P3};
 use wscg_math::Result;
 
 use crate::patch::{Cubes, PatchSize};
+use crate::patchmatch::{Match, P3};
 use crate::telea::MinEntry;
 use crate::video::{Mask3, Video};
 

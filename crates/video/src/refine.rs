@@ -5,11 +5,11 @@
 //! for the top neighbour `q = p + (0, -1)` matched to `q'`, the pixel below `q'`.
 
 use rayon::prelude::*;
-use wscg_math::patchmatch::Match;
 
 use crate::field::MatchField;
 use crate::onion::onion_order;
 use crate::patch::{Cubes, PatchSize};
+use crate::patchmatch::Match;
 use crate::video::{Mask3, Video};
 
 wscg_math::params! {

@@ -5,9 +5,9 @@
 //! sweep) and a random search around the best so far.
 
 use rayon::prelude::*;
-use wscg_math::patchmatch::{propagate, random_search, target_rng, Match, TargetSet, P3};
 
 use crate::patch::Cubes;
+use crate::patchmatch::{propagate, random_search, target_rng, Match, TargetSet, P3};
 use crate::pca_index::{PcaIndex, PcaKdParams};
 use crate::video::Mask3;
 
@@ -161,7 +161,7 @@ pub fn random_matches(sources: &Mask3, n: usize, seed: u64) -> Vec<Match> {
                 .find(|&j| sources.contains_index(j))
                 .expect("a source");
             Match {
-                source: wscg_math::patchmatch::position(dims, k as u64),
+                source: crate::patchmatch::position(dims, k as u64),
                 dist: f32::INFINITY,
             }
         })

@@ -1,8 +1,9 @@
 //! The data of video completion: a video as one contiguous `(t, y, x, c)` byte buffer and a
 //! hole mask as a bit set of the same `(t, y, x)` grid.
 
-use wscg_math::patchmatch::P3;
 use wscg_math::{Error, Result};
+
+use crate::patchmatch::P3;
 
 /// A video of `frames` frames of `height x width` pixels with `channels` (1 or 3) bytes each,
 /// stored frame by frame, row by row (`(t, y, x, c)` order).

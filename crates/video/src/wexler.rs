@@ -7,13 +7,13 @@
 //! 1.3^(-dist(p_i, E))`, `sigma^2` the 75th percentile of the patch distances `D_i` of the
 //! level, `dist` the distance of the patch centre to the known region.
 
-use wscg_math::patchmatch::{patchmatch, vote, Match, PatchMatchParams, TargetSet, P3};
 use wscg_math::{Error, Result};
 
 use crate::complete::{Completion, Stats};
 use crate::field::{upscale_matches, MatchField};
 use crate::init::{initialize, InitMethod};
 use crate::patch::{valid_sources, Cubes, PatchSize};
+use crate::patchmatch::{patchmatch, vote, Match, PatchMatchParams, TargetSet, P3};
 use crate::pyramid::downscale;
 use crate::search::{exact_best_all, random_matches, source_list};
 use crate::video::{Mask3, Video};

@@ -173,7 +173,7 @@ impl TvProx {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng;
+    use wscg_math::rng;
 
     fn random(n: usize, seed: u64) -> Vec<Complex64> {
         rng::complex_normal_vec(seed, n, 1.0).unwrap()

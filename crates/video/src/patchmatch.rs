@@ -10,8 +10,7 @@
 //! result does not depend on the thread count.
 //!
 //! What a patch *is*, which sources are valid and how two patches compare is the caller's
-//! [`PatchSpace`]: video completion (paper 06) compares RGB cubes, multiscopic HDR (paper 13)
-//! compares radiance patches along a scanline.
+//! [`PatchSpace`]: the completion stages compare RGB cubes of the video ([`crate::patch`]).
 //!
 //! Voting ([`vote`]): the value of a pixel is the weighted mean of what every target patch
 //! covering it proposes there (Wexler et al. 2007).
@@ -19,7 +18,7 @@
 use rand::Rng as _;
 use rayon::prelude::*;
 
-use crate::rng;
+use wscg_math::rng;
 
 /// A grid position `(t, y, x)`.
 pub type P3 = [u32; 3];
@@ -45,7 +44,7 @@ pub struct Match {
     pub dist: f32,
 }
 
-crate::params! {
+wscg_math::params! {
     /// Parameters of [`patchmatch`].
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct PatchMatchParams {
