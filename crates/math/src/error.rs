@@ -71,6 +71,15 @@ impl Error {
         }
     }
 
+    /// The argument an [`Error::InvalidArgument`] names, `None` for every other error: lets a
+    /// caller tell which of its inputs was refused without parsing the message.
+    pub fn argument(&self) -> Option<&'static str> {
+        match self {
+            Error::InvalidArgument { name, .. } => Some(name),
+            _ => None,
+        }
+    }
+
     /// Shorthand for [`Error::Io`].
     pub fn io(path: impl AsRef<Path>, source: std::io::Error) -> Self {
         Error::Io {
