@@ -98,6 +98,17 @@ impl Default for SsimParams {
     }
 }
 
+impl SsimParams {
+    /// Checks the ranges: `data_range`, `sigma`, `truncate`, `k1` and `k2` finite and > 0.
+    pub fn validate(&self) -> Result<()> {
+        ensure_positive("data_range", self.data_range)?;
+        ensure_positive("sigma", self.sigma)?;
+        ensure_positive("truncate", self.truncate)?;
+        ensure_positive("k1", self.k1)?;
+        ensure_positive("k2", self.k2)
+    }
+}
+
 /// Per-thread row buffers of the streaming SSIM.
 struct RowBufs {
     /// Vertically filtered moments of one row: mean a, mean b, a^2, b^2, ab.
@@ -136,6 +147,7 @@ fn ssim_setup<'a>(
     w: usize,
     p: &SsimParams,
 ) -> Result<SsimSetup<'a>> {
+    p.validate()?;
     check_pair(a, b)?;
     if a.len() != h * w {
         return Err(Error::ShapeMismatch(format!(
@@ -143,9 +155,6 @@ fn ssim_setup<'a>(
             a.len()
         )));
     }
-    ensure_positive("data_range", p.data_range)?;
-    ensure_positive("k1", p.k1)?;
-    ensure_positive("k2", p.k2)?;
     Ok(SsimSetup {
         a,
         b,
@@ -260,6 +269,7 @@ pub fn ssim_plane(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) -> R
 /// Errors: shape mismatch, non-finite pixels, images smaller than the 11 x 11 window (a
 /// window of `2 * int(truncate * sigma + 0.5) + 1` in general), bad parameters.
 pub fn ssim(a: &Image<f32>, b: &Image<f32>, p: &SsimParams) -> Result<f64> {
+    p.validate()?;
     a.ensure_same_shape(b)?;
     let (h, w, c) = a.shape();
     let mut total = 0.0;

@@ -357,6 +357,14 @@ impl Default for PcgParams {
     }
 }
 
+impl PcgParams {
+    /// Checks the ranges: `tol` finite and > 0 (`max_iter` may be any count; `Some(0)`
+    /// returns the starting vector).
+    pub fn validate(&self) -> Result<()> {
+        ensure_positive("tol", self.tol)
+    }
+}
+
 /// Outcome of [`pcg`].
 #[derive(Clone, Debug)]
 pub struct PcgResult {
@@ -394,6 +402,7 @@ fn krylov_setup(
     guess: InitialGuess<'_>,
     opts: &PcgParams,
 ) -> Result<(usize, Vec<f64>, usize)> {
+    opts.validate()?;
     let n = a.nrows();
     if a.ncols() != n {
         return Err(Error::ShapeMismatch(format!(
@@ -409,7 +418,6 @@ fn krylov_setup(
         )));
     }
     ensure_finite("b", b)?;
-    ensure_positive("tol", opts.tol)?;
     let max_iter = opts.max_iter.unwrap_or(10 * n.max(1));
     let x = match guess {
         InitialGuess::Zero => vec![0.0; n],

@@ -1,0 +1,54 @@
+//! Every parameter struct of the crate: its `Default` passes `validate()`, and a field set
+//! out of range fails with an error naming that field (also at the start of the method that
+//! takes the parameters).
+
+use wscg_math::metrics::{ssim, ssim_plane, SsimParams};
+use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, PcgParams};
+use wscg_math::{Error, Image, Result};
+
+/// The field an `Error::InvalidArgument` names; panics on success or another error.
+fn field<T: std::fmt::Debug>(r: Result<T>) -> &'static str {
+    match r {
+        Err(e @ Error::InvalidArgument { .. }) => {
+            let Error::InvalidArgument { name, .. } = e else {
+                unreachable!()
+            };
+            assert!(e.to_string().contains(name), "{e}");
+            name
+        }
+        other => panic!("expected an invalid-argument error, got {other:?}"),
+    }
+}
+
+#[test]
+fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
+    assert!(PcgParams::default().validate().is_ok());
+    assert!(PcgParams::default().max_iter(Some(0)).validate().is_ok());
+    assert_eq!(field(PcgParams::default().tol(0.0).validate()), "tol");
+    assert_eq!(field(PcgParams::default().tol(f64::NAN).validate()), "tol");
+
+    assert!(SsimParams::default().validate().is_ok());
+    assert_eq!(
+        field(SsimParams::default().data_range(0.0).validate()),
+        "data_range"
+    );
+    assert_eq!(field(SsimParams::default().sigma(-1.0).validate()), "sigma");
+    assert_eq!(
+        field(SsimParams::default().truncate(f64::INFINITY).validate()),
+        "truncate"
+    );
+    assert_eq!(field(SsimParams::default().k1(0.0).validate()), "k1");
+    assert_eq!(field(SsimParams::default().k2(f64::NAN).validate()), "k2");
+
+    // The methods check their parameters before their data.
+    let a = CsrMatrix::from_triplets(2, 2, &[(0, 0, 2.0), (1, 1, 3.0)]).unwrap();
+    let bad = PcgParams::default().tol(-1.0);
+    assert_eq!(
+        field(pcg(&a, &[1.0], InitialGuess::Zero, &IdentityPrecond, &bad)),
+        "tol"
+    );
+    let bad = SsimParams::default().sigma(0.0);
+    assert_eq!(field(ssim_plane(&[], &[1.0], 1, 1, &bad)), "sigma");
+    let img = Image::<f32>::filled(4, 4, 1, 0.5).unwrap();
+    assert_eq!(field(ssim(&img, &img, &bad)), "sigma");
+}
