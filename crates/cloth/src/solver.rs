@@ -133,7 +133,10 @@ impl Default for SolverParams {
 }
 
 impl SolverParams {
-    /// Checks the parameter ranges.
+    /// Checks the parameter ranges: `alpha` and `beta` in `(0, 1]`, `gamma` finite and
+    /// `>= 0`, `iterations >= 1`, `velocity_damping` in `[0, 1]`, and the settings inside
+    /// `method` and `relaxation` (each error names the setting, such as `stiffness`, `tol`,
+    /// `substeps` or `omega`).
     pub fn validate(&self) -> Result<()> {
         for (name, v) in [("alpha", self.alpha), ("beta", self.beta)] {
             if !(v > 0.0 && v <= 1.0) {
@@ -156,31 +159,37 @@ impl SolverParams {
                     format!("PBD stiffness must be in (0, 1], got {stiffness}"),
                 ))
             }
-            Method::GlobalCr { tol, .. }
-                if tol.is_nan()
-                    || tol <= 0.0
-                    || self.alpha != 1.0
-                    || self.beta != 1.0
-                    || self.gamma != 0.0 =>
+            Method::GlobalCr { tol, .. } if !(tol.is_finite() && tol > 0.0) => {
+                return Err(Error::invalid(
+                    "tol",
+                    format!("the global CR solve needs a finite tol > 0, got {tol}"),
+                ))
+            }
+            Method::GlobalCr { .. }
+                if self.alpha != 1.0 || self.beta != 1.0 || self.gamma != 0.0 =>
             {
                 return Err(Error::invalid(
                     "method",
                     "the global CR solve needs tol > 0, alpha = beta = 1 and gamma = 0",
                 ))
             }
-            Method::ImplicitEulerNewton { tol } if tol.is_nan() || tol <= 0.0 => {
-                return Err(Error::invalid("tol", "Newton tolerance must be > 0"))
+            Method::ImplicitEulerNewton { tol } if !(tol.is_finite() && tol > 0.0) => {
+                return Err(Error::invalid(
+                    "tol",
+                    format!("Newton tolerance must be finite and > 0, got {tol}"),
+                ))
             }
             Method::SymplecticEuler { substeps: 0 } => {
                 return Err(Error::invalid("substeps", "must be >= 1"))
             }
-            Method::ImplicitEulerCg { tol, max_iter }
-                if tol.is_nan() || tol <= 0.0 || max_iter == 0 =>
-            {
+            Method::ImplicitEulerCg { tol, .. } if !(tol.is_finite() && tol > 0.0) => {
                 return Err(Error::invalid(
-                    "tol, max_iter",
-                    "CG needs tol > 0 and max_iter >= 1",
+                    "tol",
+                    format!("CG needs a finite tol > 0, got {tol}"),
                 ))
+            }
+            Method::ImplicitEulerCg { max_iter: 0, .. } => {
+                return Err(Error::invalid("max_iter", "CG needs max_iter >= 1, got 0"))
             }
             _ => {}
         }
