@@ -94,6 +94,25 @@ impl Default for MultiscopicParams {
     }
 }
 
+impl MultiscopicParams {
+    /// Checks the ranges: with alignment, `pm` (see [`PatchMatchParams::validate`]); with
+    /// [`Align::Zncc`], `zncc_window` odd and `>= 3` (the bounds set by the image size are
+    /// checked where [`multiscopic_hdr`] has the views).
+    pub fn validate(&self) -> Result<()> {
+        if self.align != Align::None {
+            self.pm.validate()?;
+        }
+        if self.align == Align::Zncc && (self.zncc_window < 3 || self.zncc_window.is_multiple_of(2))
+        {
+            return Err(Error::invalid(
+                "zncc_window",
+                format!("must be odd and >= 3, got {}", self.zncc_window),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// The HDR images of every view and the fields that aligned them.
 #[derive(Clone, Debug)]
 pub struct MultiscopicOut {
@@ -252,10 +271,11 @@ pub fn multiscopic_hdr(
     p: &MultiscopicParams,
     progress: &dyn Progress,
 ) -> Result<MultiscopicOut> {
+    p.validate()?;
     check_views(views, times, crfs)?;
     let (h, w, _) = views[0].shape();
     if p.align != Align::None {
-        p.pm.validate(h, w)?;
+        p.pm.validate_for(h, w)?;
     }
     let n = views.len();
     let e: Vec<ViewSamples> = (0..n)

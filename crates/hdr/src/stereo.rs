@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use wscg_math::{Error, Image, Result};
 
 use crate::nnf::Nnf;
-use crate::pm::{check_pair, check_patch};
+use crate::pm::check_pair;
 
 wscg_math::params! {
     /// Parameters of [`zncc_stereo`].
@@ -32,6 +32,55 @@ impl Default for StereoParams {
             d_max: 64,
             lr_tol: 1,
         }
+    }
+}
+
+impl StereoParams {
+    /// Checks the ranges: `window` odd and `>= 3`, `d_min <= d_max`, `lr_tol >= 0` (the
+    /// bounds set by the image size are checked by [`StereoParams::validate_for`]).
+    pub fn validate(&self) -> Result<()> {
+        if self.window < 3 || self.window.is_multiple_of(2) {
+            return Err(Error::invalid(
+                "window",
+                format!("must be odd and >= 3, got {}", self.window),
+            ));
+        }
+        if self.lr_tol < 0 {
+            return Err(Error::invalid(
+                "lr_tol",
+                format!("must be >= 0, got {}", self.lr_tol),
+            ));
+        }
+        if self.d_min > self.d_max {
+            return Err(Error::invalid(
+                "d_min",
+                format!("d_min = {} > d_max = {}", self.d_min, self.d_max),
+            ));
+        }
+        Ok(())
+    }
+
+    /// [`StereoParams::validate`], then the bounds for images of `(height, width)`: the
+    /// window fits and every `|d|` is below the width.
+    pub fn validate_for(&self, height: usize, width: usize) -> Result<()> {
+        self.validate()?;
+        if self.window > height.min(width) {
+            return Err(Error::invalid(
+                "window",
+                format!(
+                    "must be <= min(height, width) = {}, got {}",
+                    height.min(width),
+                    self.window
+                ),
+            ));
+        }
+        if self.d_min.unsigned_abs().max(self.d_max.unsigned_abs()) as usize >= width {
+            return Err(Error::invalid(
+                "max_disparity",
+                format!("|disparity| must be < the image width {width}"),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -138,6 +187,7 @@ fn wta(
 /// Errors: shapes or channels differ; even or too large window; `d_min > d_max`;
 /// `|d| >= width`; non-finite values.
 pub fn zncc_stereo(a: &Image<f32>, b: &Image<f32>, p: &StereoParams) -> Result<Nnf> {
+    p.validate()?;
     check_pair(a, b)?;
     if a.shape() != b.shape() {
         return Err(Error::ShapeMismatch(format!(
@@ -147,25 +197,7 @@ pub fn zncc_stereo(a: &Image<f32>, b: &Image<f32>, p: &StereoParams) -> Result<N
         )));
     }
     let (h, w, _) = a.shape();
-    check_patch(p.window, h, w)?;
-    if p.lr_tol < 0 {
-        return Err(Error::invalid(
-            "lr_tol",
-            format!("must be >= 0, got {}", p.lr_tol),
-        ));
-    }
-    if p.d_min > p.d_max {
-        return Err(Error::invalid(
-            "d_min",
-            format!("d_min = {} > d_max = {}", p.d_min, p.d_max),
-        ));
-    }
-    if p.d_min.unsigned_abs().max(p.d_max.unsigned_abs()) as usize >= w {
-        return Err(Error::invalid(
-            "max_disparity",
-            format!("|disparity| must be < the image width {w}"),
-        ));
-    }
+    p.validate_for(h, w)?;
     let half = p.window / 2;
     let (ga, pw) = grey_padded(a, half);
     let (gb, _) = grey_padded(b, half);

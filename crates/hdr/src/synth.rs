@@ -234,22 +234,39 @@ fn covers(l: &Layer, y: f64, u: f64, h: usize, w: usize) -> bool {
 }
 
 impl SceneParams {
-    fn check(&self) -> Result<()> {
+    /// Checks the ranges: 2 to 32 finite, positive `times`, at least one layer, `height`
+    /// and `width` at least 8, `noise` finite and `>= 0`, `emitter_peak` finite and `>= 1`,
+    /// `bits` a supported depth.
+    pub fn validate(&self) -> Result<()> {
         if !(2..=32).contains(&self.times.len()) {
-            return Err(Error::invalid("times", "needs 2 to 32 cameras"));
+            return Err(Error::invalid(
+                "times",
+                format!("needs 2 to 32 cameras, got {}", self.times.len()),
+            ));
         }
         crate::radiance::check_times(&self.times, self.times.len())?;
         if self.layers.is_empty() {
             return Err(Error::invalid("layers", "needs at least one layer"));
         }
-        if self.height < 8 || self.width < 8 {
-            return Err(Error::invalid("size", "images must be at least 8 x 8"));
+        for (name, v) in [("height", self.height), ("width", self.width)] {
+            if v < 8 {
+                return Err(Error::invalid(
+                    name,
+                    format!("images must be at least 8 x 8, got {name} {v}"),
+                ));
+            }
         }
         if !(self.noise.is_finite() && self.noise >= 0.0) {
-            return Err(Error::invalid("noise", "must be finite and >= 0"));
+            return Err(Error::invalid(
+                "noise",
+                format!("must be finite and >= 0, got {}", self.noise),
+            ));
         }
         if !(self.emitter_peak.is_finite() && self.emitter_peak >= 1.0) {
-            return Err(Error::invalid("emitter_peak", "must be finite and >= 1"));
+            return Err(Error::invalid(
+                "emitter_peak",
+                format!("must be finite and >= 1, got {}", self.emitter_peak),
+            ));
         }
         levels_of(self.bits).map(|_| ())
     }
@@ -333,7 +350,7 @@ pub fn gradient_target(height: usize, width: usize) -> Result<Image<f32>> {
 
 /// The layered multi-view scene of `cfg` with noise seed `seed`.
 pub fn layered_scene(cfg: &SceneParams, seed: u64) -> Result<SynthScene> {
-    cfg.check()?;
+    cfg.validate()?;
     let (h, w, n) = (cfg.height, cfg.width, cfg.times.len());
     let c = cfg.centre();
     let mut radiance = Vec::with_capacity(n);

@@ -101,9 +101,16 @@ impl PatchMatchParams {
             .clamp(1, i32::MAX as u32) as i32
     }
 
-    /// Checks the parameters for images of `(height, width)`.
-    pub fn validate(&self, height: usize, width: usize) -> Result<()> {
-        check_patch(self.patch, height, width)?;
+    /// Checks the ranges: `patch` odd and `>= 3`, `alpha` in `(0, 1)`, `c_min` in `(0, 1]`,
+    /// and in epipolar mode `d_min <= d_max` and `v_tol >= 0` (the bounds set by the image
+    /// size are checked by [`PatchMatchParams::validate_for`]).
+    pub fn validate(&self) -> Result<()> {
+        if self.patch < 3 || self.patch.is_multiple_of(2) {
+            return Err(Error::invalid(
+                "patch",
+                format!("must be odd and >= 3, got {}", self.patch),
+            ));
+        }
         if self.epipolar {
             if self.d_min > self.d_max {
                 return Err(Error::invalid(
@@ -111,19 +118,10 @@ impl PatchMatchParams {
                     format!("d_min = {} > d_max = {}", self.d_min, self.d_max),
                 ));
             }
-            if self.max_disp() as usize >= width {
-                return Err(Error::invalid(
-                    "max_disparity",
-                    format!(
-                        "|disparity| up to {} must be < the image width {width}",
-                        self.max_disp()
-                    ),
-                ));
-            }
-            if self.v_tol < 0 || self.v_tol as usize >= height {
+            if self.v_tol < 0 {
                 return Err(Error::invalid(
                     "v_tol",
-                    format!("must be in 0..{height}, got {}", self.v_tol),
+                    format!("must be >= 0, got {}", self.v_tol),
                 ));
             }
         }
@@ -138,6 +136,32 @@ impl PatchMatchParams {
                 "c_min",
                 format!("must be in (0, 1], got {}", self.c_min),
             ));
+        }
+        Ok(())
+    }
+
+    /// [`PatchMatchParams::validate`], then the bounds for images of `(height, width)`: the
+    /// patch fits, and in epipolar mode the largest disparity is below the width and `v_tol`
+    /// below the height.
+    pub fn validate_for(&self, height: usize, width: usize) -> Result<()> {
+        self.validate()?;
+        check_patch(self.patch, height, width)?;
+        if self.epipolar {
+            if self.max_disp() as usize >= width {
+                return Err(Error::invalid(
+                    "max_disparity",
+                    format!(
+                        "|disparity| up to {} must be < the image width {width}",
+                        self.max_disp()
+                    ),
+                ));
+            }
+            if self.v_tol as usize >= height {
+                return Err(Error::invalid(
+                    "v_tol",
+                    format!("must be in 0..{height}, got {}", self.v_tol),
+                ));
+            }
         }
         Ok(())
     }
@@ -184,8 +208,9 @@ pub fn check_pair(a: &Image<f32>, b: &Image<f32>) -> Result<()> {
 /// radius `max(W, H)`.
 ///
 /// Errors: channel counts differ; non-finite values; invalid parameters (see
-/// [`PatchMatchParams::validate`]).
+/// [`PatchMatchParams::validate_for`]).
 pub fn patchmatch(a: &Image<f32>, b: &Image<f32>, p: &PatchMatchParams) -> Result<Nnf> {
+    p.validate()?;
     run_patchmatch(a, b, None, p)
 }
 
@@ -202,6 +227,7 @@ pub fn patchmatch_weighted(
     wb: &Image<f32>,
     p: &PatchMatchParams,
 ) -> Result<Nnf> {
+    p.validate()?;
     if wa.shape() != a.shape() || wb.shape() != b.shape() {
         return Err(Error::ShapeMismatch(
             "the weights must have the shapes of their images".into(),
@@ -222,7 +248,7 @@ fn run_patchmatch(
     check_pair(a, b)?;
     let (ha, wa, c) = a.shape();
     let (hb, wb, _) = b.shape();
-    p.validate(ha.min(hb), wa.min(wb))?;
+    p.validate_for(ha.min(hb), wa.min(wb))?;
     let n = ha * wa;
     // The 4-lane padded layout serves the weighted ablation and patch rows of fewer than 8
     // samples; otherwise every path reads the samples as they are and nothing is copied.
