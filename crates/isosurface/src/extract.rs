@@ -65,6 +65,7 @@ const CROSS_SHIFT: u8 = 3;
 /// # Errors
 /// An invalid grid (see [`ScalarGrid::validate`]) or a non-finite isovalue.
 pub fn marching_cubes(grid: &ScalarGrid, iso: f32, normals: NormalMethod) -> Result<IsoMesh> {
+    normals.validate()?;
     match normals {
         NormalMethod::Spline(opts) => run(grid, iso, Some(opts)),
         NormalMethod::None => run(grid, iso, None),

@@ -37,6 +37,14 @@ wscg_math::params! {
     }
 }
 
+impl LsnParams {
+    /// Checks the ranges; the only field is a choice between two rules, each valid, so this
+    /// always succeeds.
+    pub fn validate(&self) -> wscg_math::Result<()> {
+        Ok(())
+    }
+}
+
 /// The MC vertex on the grid edge between `u` and `w` (adjacent grid points, any order).
 fn vertex_between(g: &ScalarGrid, iso: f32, u: [usize; 3], w: [usize; 3]) -> Option<[f32; 3]> {
     let axis = (0..3).find(|&i| u[i] != w[i])?;

@@ -62,6 +62,16 @@ impl NormalMethod {
         }
     }
 
+    /// Checks the parameters of the estimator ([`SplineParams::validate`],
+    /// [`LsnParams::validate`]).
+    pub fn validate(&self) -> Result<()> {
+        match self {
+            NormalMethod::Spline(p) => p.validate(),
+            NormalMethod::Lsn(p) => p.validate(),
+            NormalMethod::CentralDifference | NormalMethod::None => Ok(()),
+        }
+    }
+
     /// Short name (`spline`, `lsn`, `central`, `none`).
     pub fn name(&self) -> &'static str {
         match self {
@@ -145,6 +155,7 @@ pub fn estimate_normals(
     edges: &[EdgeId],
     method: NormalMethod,
 ) -> Result<(Vec<[f32; 3]>, NormalStats)> {
+    method.validate()?;
     grid.validate()?;
     check_iso(iso)?;
     if matches!(method, NormalMethod::None) {

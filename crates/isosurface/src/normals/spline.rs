@@ -56,6 +56,14 @@ wscg_math::params! {
     }
 }
 
+impl SplineParams {
+    /// Checks the ranges; the fields are a choice of tetrahedron and two switches, every
+    /// value valid, so this always succeeds.
+    pub fn validate(&self) -> wscg_math::Result<()> {
+        Ok(())
+    }
+}
+
 /// Gradient of the corner tetrahedron at local corner `k` of a cell with corner values `vals`
 /// (NaN = missing) (eq. 8), or `None` when one of its four samples is missing. `lambda0` is the
 /// barycentric weight of the corner at the vertex (used only by the literal eq. 8), `axis` the
