@@ -178,27 +178,32 @@ impl PyModel {
     }
 
     /// The same model with its first `l` components.
-    fn truncated(&self, l: usize) -> PyResult<Self> {
+    fn truncated(&self, py: Python<'_>, l: usize) -> PyResult<Self> {
         Ok(Self {
-            inner: self.inner.truncated(l).py_err()?,
+            inner: crate::pool::detach(py, || self.inner.truncated(l)).py_err()?,
         })
     }
 
     /// The fitted model as JSON (for pickling and files).
-    fn to_json(&self) -> PyResult<String> {
-        self.inner.to_json().py_err()
+    fn to_json(&self, py: Python<'_>) -> PyResult<String> {
+        crate::pool::detach(py, || self.inner.to_json()).py_err()
     }
 
     /// Reads a model written by `to_json`.
     #[staticmethod]
-    fn from_json(s: &str) -> PyResult<Self> {
+    fn from_json(py: Python<'_>, s: &str) -> PyResult<Self> {
         Ok(Self {
-            inner: Model::from_json(s).py_err()?,
+            inner: crate::pool::detach(py, || Model::from_json(s)).py_err()?,
         })
     }
 
     /// The fitted quantities as a dict of numpy arrays and numbers.
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let embedding = crate::pool::detach(py, || match &self.inner {
+            Model::KernelPca(m) => Some(m.embedding()),
+            Model::Keca(m) => Some(m.embedding()),
+            _ => None,
+        });
         let d = PyDict::new(py);
         match &self.inner {
             Model::Fdkeca(m) => {
@@ -220,7 +225,9 @@ impl PyModel {
             Model::KernelPca(m) => {
                 d.set_item("eigenvalues", vec_out(py, &m.eigenvalues)?)?;
                 d.set_item("eigenvectors", rows_out(py, &m.eigenvectors)?)?;
-                d.set_item("embedding", mat_out(py, &m.embedding())?)?;
+                if let Some(e) = &embedding {
+                    d.set_item("embedding", mat_out(py, e)?)?;
+                }
                 d.set_item("n_train", m.train.len())?;
                 kernel_info(&d, &m.kernel)?;
             }
@@ -228,7 +235,9 @@ impl PyModel {
                 d.set_item("eigenvalues", vec_out(py, &m.eigenvalues)?)?;
                 d.set_item("entropy_terms", vec_out(py, &m.entropy_terms)?)?;
                 d.set_item("eigenvectors", rows_out(py, &m.eigenvectors)?)?;
-                d.set_item("embedding", mat_out(py, &m.embedding())?)?;
+                if let Some(e) = &embedding {
+                    d.set_item("embedding", mat_out(py, e)?)?;
+                }
                 d.set_item("kernel_sum", m.kernel_sum)?;
                 d.set_item("renyi_entropy_estimate", m.renyi_entropy_estimate())?;
                 d.set_item("n_train", m.train.len())?;
@@ -244,7 +253,7 @@ impl PyModel {
 fn fit(py: Python<'_>, x: PyReadonlyArrayDyn<f64>, spec: &Bound<'_, PyDict>) -> PyResult<PyModel> {
     let method = method_from(spec)?;
     let x = mat("x", &x)?;
-    let inner = py.detach(|| method.fit(x.as_ref())).py_err()?;
+    let inner = crate::pool::detach(py, || method.fit(x.as_ref())).py_err()?;
     Ok(PyModel { inner })
 }
 
@@ -258,9 +267,7 @@ fn feature_kernel<'py>(
     let kernel = kernel_from(spec)?;
     let center = item(spec, "center")?.unwrap_or(true);
     let x = mat("x", &x)?;
-    let fk = py
-        .detach(|| fd_kernel(x.as_ref(), &kernel, center))
-        .py_err()?;
+    let fk = crate::pool::detach(py, || fd_kernel(x.as_ref(), &kernel, center)).py_err()?;
     let info = PyDict::new(py);
     kernel_info(&info, &fk.kernel)?;
     Ok((mat_out(py, &fk.k)?, info))
@@ -276,9 +283,10 @@ fn nearest<'py>(
 ) -> PyResult<(Arr<'py, i64>, Arr<'py, f64>)> {
     let metric = metric_from(metric)?;
     let (tr, te) = (mat("train", &train)?, mat("test", &test)?);
-    let nb = py
-        .detach(|| subspace::nearest_neighbours(tr.as_ref(), te.as_ref(), metric))
-        .py_err()?;
+    let nb = crate::pool::detach(py, || {
+        subspace::nearest_neighbours(tr.as_ref(), te.as_ref(), metric)
+    })
+    .py_err()?;
     let n = nb.len();
     Ok((
         array(py, &[n], nb.iter().map(|b| b.index as i64).collect())?,
@@ -303,9 +311,10 @@ fn accuracy_curve<'py>(
         labels_from("ytrain", &ytrain)?,
         labels_from("ytest", &ytest)?,
     );
-    let curve = py
-        .detach(|| subspace::accuracy_curve(ztr.as_ref(), &ytr, zte.as_ref(), &yte, &dims, metric))
-        .py_err()?;
+    let curve = crate::pool::detach(py, || {
+        subspace::accuracy_curve(ztr.as_ref(), &ytr, zte.as_ref(), &yte, &dims, metric)
+    })
+    .py_err()?;
     let k = curve.len();
     array(
         py,
@@ -334,9 +343,10 @@ fn select_dimension_cv<'py>(
     let fit = |m: faer::MatRef<'_, f64>| -> wscg_math::Result<Box<dyn Projector>> {
         Ok(Box::new(method.fit(m)?))
     };
-    let (l, curve) = py
-        .detach(|| subspace::select_dimension_cv(x.as_ref(), &y, &dims, folds, seed, &fit, metric))
-        .py_err()?;
+    let (l, curve) = crate::pool::detach(py, || {
+        subspace::select_dimension_cv(x.as_ref(), &y, &dims, folds, seed, &fit, metric)
+    })
+    .py_err()?;
     let k = curve.len();
     Ok((
         l,
@@ -373,7 +383,7 @@ fn finger_veins<'py>(
         .noise(noise)
         .blur(blur)
         .seed(seed);
-    let data = py.detach(|| gen_finger_veins(&p)).py_err()?;
+    let data = crate::pool::detach(py, || gen_finger_veins(&p)).py_err()?;
     let (n, d) = (data.x.nrows(), data.x.ncols());
     let pixels = (0..n)
         .flat_map(|i| (0..d).map(move |j| (i, j)))
@@ -394,8 +404,10 @@ fn split_per_subject<'py>(
     seed: u64,
 ) -> PyResult<(Arr<'py, i64>, Arr<'py, i64>)> {
     let labels = labels_from("labels", &labels)?;
-    let (tr, te) =
-        wscg_biometrics::data::split_per_subject(&labels, train_per_subject, seed).py_err()?;
+    let (tr, te) = crate::pool::detach(py, || {
+        wscg_biometrics::data::split_per_subject(&labels, train_per_subject, seed)
+    })
+    .py_err()?;
     let out = |v: Vec<usize>| array(py, &[v.len()], v.into_iter().map(|i| i as i64).collect());
     Ok((out(tr)?, out(te)?))
 }
@@ -410,14 +422,14 @@ fn axis_images<'py>(
     height: usize,
     width: usize,
 ) -> PyResult<Arr<'py, f32>> {
-    let imgs = match &model.inner {
+    let imgs = crate::pool::detach(py, || match &model.inner {
         Model::Fdkeca(m) => m.axis_images(k, height, width),
         Model::Pca(m) => m.axis_images(k, height, width),
         other => Err(Error::invalid(
             "model",
             format!("{} has no image-space axes", other.name()),
         )),
-    }
+    })
     .py_err()?;
     let data: Vec<f32> = imgs.iter().flat_map(|i| i.data().to_vec()).collect();
     array(py, &[imgs.len(), height, width], data)

@@ -127,7 +127,10 @@ impl PyModel {
 
     /// Energy of the state: kinetic, gravity, elastic, total (J).
     fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        energy_dict(py, &wscg_cloth::Energy::of(&self.inner))
+        energy_dict(
+            py,
+            &crate::pool::detach(py, || wscg_cloth::Energy::of(&self.inner)),
+        )
     }
 }
 
@@ -143,13 +146,14 @@ fn energy_dict<'py>(py: Python<'py>, e: &wscg_cloth::Energy) -> PyResult<Bound<'
 /// Free particles without constraints (see `wscg.cloth.particles`).
 #[pyfunction]
 fn particles(
+    py: Python<'_>,
     positions: PyReadonlyArrayDyn<f64>,
     masses: PyReadonlyArrayDyn<f64>,
     pinned: Vec<usize>,
 ) -> PyResult<PyModel> {
     let x = points("positions", &positions)?;
     let m = values(&masses);
-    let inner = ClothModel::new(x, &m, &pinned).py_err()?;
+    let inner = crate::pool::detach(py, || ClothModel::new(x, &m, &pinned)).py_err()?;
     Ok(PyModel { inner })
 }
 
@@ -157,6 +161,7 @@ fn particles(
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 fn grid(
+    py: Python<'_>,
     nx: usize,
     ny: usize,
     size: (f64, f64),
@@ -168,15 +173,22 @@ fn grid(
     young: f64,
     poisson: f64,
 ) -> PyResult<PyModel> {
-    let inner = match model {
-        "links" => ClothModel::grid(nx, ny, size, mass, k_stretch, k_shear, k_bend),
-        "fem" => ClothModel::fem_grid(nx, ny, size, mass, young, poisson),
+    let fem = match model {
+        "links" => false,
+        "fem" => true,
         other => {
             return Err(value_error(format!(
                 "`model` must be 'links' or 'fem', got {other:?}"
             )))
         }
-    }
+    };
+    let inner = crate::pool::detach(py, || {
+        if fem {
+            ClothModel::fem_grid(nx, ny, size, mass, young, poisson)
+        } else {
+            ClothModel::grid(nx, ny, size, mass, k_stretch, k_shear, k_bend)
+        }
+    })
     .py_err()?;
     Ok(PyModel { inner })
 }
@@ -225,7 +237,9 @@ impl PyCollider {
         p: PyReadonlyArrayDyn<f64>,
     ) -> PyResult<Arr<'py, f64>> {
         let p = points("points", &p)?;
-        let d = p.iter().map(|q| self.inner.signed_distance(q).0).collect();
+        let d = crate::pool::detach(py, || {
+            p.iter().map(|q| self.inner.signed_distance(q).0).collect()
+        });
         array(py, &[p.len()], d)
     }
 
@@ -267,13 +281,14 @@ fn capsule(a: [f64; 3], b: [f64; 3], radius: f64) -> PyResult<PyCollider> {
 /// A closed triangle mesh obstacle with outward normals.
 #[pyfunction]
 fn mesh_collider(
+    py: Python<'_>,
     vertices: PyReadonlyArrayDyn<f64>,
     faces: PyReadonlyArrayDyn<i64>,
 ) -> PyResult<PyCollider> {
     let v = points("vertices", &vertices)?;
     let f = faces_in(&faces)?;
     Ok(PyCollider {
-        inner: Collider::Mesh(MeshCollider::new(&v, &f).py_err()?),
+        inner: Collider::Mesh(crate::pool::detach(py, || MeshCollider::new(&v, &f)).py_err()?),
     })
 }
 
@@ -281,6 +296,7 @@ fn mesh_collider(
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 fn from_mesh(
+    py: Python<'_>,
     vertices: PyReadonlyArrayDyn<f64>,
     faces: PyReadonlyArrayDyn<i64>,
     mass: f64,
@@ -301,7 +317,10 @@ fn from_mesh(
             )))
         }
     };
-    let inner = ClothModel::from_trimesh(&v, &f, mass, material, k_edge, k_bend).py_err()?;
+    let inner = crate::pool::detach(py, || {
+        ClothModel::from_trimesh(&v, &f, mass, material, k_edge, k_bend)
+    })
+    .py_err()?;
     Ok(PyModel { inner })
 }
 
@@ -380,6 +399,7 @@ impl PySim {
     #[new]
     #[allow(clippy::too_many_arguments)]
     fn new(
+        py: Python<'_>,
         model: &PyModel,
         method: &str,
         iterations: usize,
@@ -408,7 +428,7 @@ impl PySim {
             .velocity_damping(velocity_damping)
             .relaxation(relaxation_from(options)?);
         Ok(Self {
-            inner: Sim::new(model.inner.clone(), cfg).py_err()?,
+            inner: crate::pool::detach(py, || Sim::new(model.inner.clone(), cfg)).py_err()?,
         })
     }
 
@@ -416,36 +436,36 @@ impl PySim {
     /// `(n, 4)` array (kinetic, gravity, elastic, total).
     fn step<'py>(&mut self, py: Python<'py>, h: f64, n: usize) -> PyResult<Arr<'py, f64>> {
         let sim = &mut self.inner;
-        let rows = py
-            .detach(|| -> wscg_math::Result<Vec<f64>> {
-                let mut out = Vec::with_capacity(4 * n);
-                for _ in 0..n {
-                    sim.step(h)?;
-                    let e = sim.energy();
-                    out.extend([e.kinetic, e.gravity, e.elastic, e.total]);
-                }
-                Ok(out)
-            })
-            .py_err()?;
+        let rows = crate::pool::detach(py, || -> wscg_math::Result<Vec<f64>> {
+            let mut out = Vec::with_capacity(4 * n);
+            for _ in 0..n {
+                sim.step(h)?;
+                let e = sim.energy();
+                out.extend([e.kinetic, e.gravity, e.elastic, e.total]);
+            }
+            Ok(out)
+        })
+        .py_err()?;
         array(py, &[n, 4], rows)
     }
 
     /// Sets the obstacles, thickness, friction and self contacts.
     fn set_collisions(
         &mut self,
+        py: Python<'_>,
         colliders: Vec<PyRef<'_, PyCollider>>,
         thickness: f64,
         friction: f64,
         self_collision: bool,
     ) -> PyResult<()> {
-        self.inner
-            .set_collisions(Collisions {
-                colliders: colliders.iter().map(|c| c.inner.clone()).collect(),
-                thickness,
-                friction,
-                self_collision,
-            })
-            .py_err()
+        let c = Collisions {
+            colliders: colliders.iter().map(|c| c.inner.clone()).collect(),
+            thickness,
+            friction,
+            self_collision,
+        };
+        let sim = &mut self.inner;
+        crate::pool::detach(py, || sim.set_collisions(c)).py_err()
     }
 
     /// Positions `(n, 3)`.
@@ -475,7 +495,7 @@ impl PySim {
 
     /// Current energy.
     fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        energy_dict(py, &self.inner.energy())
+        energy_dict(py, &crate::pool::detach(py, || self.inner.energy()))
     }
 
     /// The current state as a model.

@@ -66,10 +66,14 @@ pub fn shape_of<T: Element>(a: &PyReadonlyArrayDyn<'_, T>) -> Vec<usize> {
     a.shape().to_vec()
 }
 
-/// A 2-D float64 array as a faer matrix (copied, by a blocked transpose from C order).
+/// A 2-D float64 array as a faer matrix (copied, by a parallel blocked transpose from C order,
+/// in the process's pool).
 pub fn mat(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<faer::Mat<f64>> {
     let (r, c) = dims2(name, a)?;
-    Ok(wscg_math::dense::from_row_major(&values(a), r, c))
+    let v = values(a);
+    Ok(crate::pool::detach(a.py(), || {
+        wscg_math::dense::from_row_major(&v, r, c)
+    }))
 }
 
 /// A faer matrix as a new 2-D numpy array.
@@ -95,7 +99,8 @@ pub fn dims2<T: Element>(name: &str, a: &PyReadonlyArrayDyn<'_, T>) -> PyResult<
 }
 
 /// The per-block results of `f`, a row-wise map (every output row depends on its input row
-/// only: projections, predictions), over the 2-D float64 array `a`, with the GIL released.
+/// only: projections, predictions), over the 2-D float64 array `a`, in the process's pool
+/// with the GIL released.
 /// The rows go through one reused column-major buffer
 /// ([`wscg_math::dense::map_row_blocks`]), so a large input is never copied whole.
 pub fn row_blocks<T: Send>(
@@ -107,8 +112,7 @@ pub fn row_blocks<T: Send>(
     use crate::errors::IntoPy;
     let (r, c) = dims2(name, a)?;
     let v = values(a);
-    py.detach(|| wscg_math::dense::map_row_blocks(&v, r, c, &f))
-        .py_err()
+    crate::pool::detach(py, || wscg_math::dense::map_row_blocks(&v, r, c, &f)).py_err()
 }
 
 /// [`row_blocks`] for a map to a matrix: the stacked result as a new `(rows, k)` array.
@@ -156,7 +160,7 @@ pub fn faces_u32(faces: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<[u32; 3]>> {
 }
 
 /// A triangle mesh from `(V, 3)` vertices, `(F, 3)` faces and optional `(V, 3)` colours in
-/// `[0, 1]`.
+/// `[0, 1]` (checked in parallel, in the process's pool).
 pub fn mesh_in(
     vertices: &PyReadonlyArrayDyn<f64>,
     faces: &PyReadonlyArrayDyn<i64>,
@@ -165,13 +169,17 @@ pub fn mesh_in(
     use crate::errors::IntoPy;
     let pos = rows3("vertices", &values(vertices), vertices.shape())?;
     let faces = faces_u32(faces)?;
-    let mut mesh = wscg_math::TriMesh::new(pos, faces).py_err()?;
-    if let Some(c) = colors {
-        mesh = mesh
-            .with_colors(rows3("colors", &values(c), c.shape())?)
-            .py_err()?;
-    }
-    Ok(mesh)
+    let colors = colors
+        .map(|c| rows3("colors", &values(c), c.shape()))
+        .transpose()?;
+    crate::pool::detach(vertices.py(), || {
+        let mesh = wscg_math::TriMesh::new(pos, faces)?;
+        match colors {
+            Some(c) => mesh.with_colors(c),
+            None => Ok(mesh),
+        }
+    })
+    .py_err()
 }
 
 /// The entry `key` of a parameter dict, extracted as `T`; `None` when absent or `None`. A

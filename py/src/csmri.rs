@@ -50,14 +50,16 @@ impl PyUdct {
     #[new]
     #[pyo3(signature = (rows, cols, wedges, alpha, tight))]
     fn new(
+        py: Python<'_>,
         rows: usize,
         cols: usize,
         wedges: Vec<[usize; 2]>,
         alpha: f64,
         tight: bool,
     ) -> PyResult<Self> {
+        let cfg = config(wedges, alpha, tight);
         Ok(PyUdct {
-            inner: Udct::new(rows, cols, &config(wedges, alpha, tight)).py_err()?,
+            inner: crate::pool::detach(py, || Udct::new(rows, cols, &cfg)).py_err()?,
         })
     }
 
@@ -108,8 +110,7 @@ impl PyUdct {
                 outs.push(head);
                 rest = tail;
             }
-            py.detach(|| self.inner.forward_parts(&v, low, outs))
-                .py_err()?;
+            crate::pool::detach(py, || self.inner.forward_parts(&v, low, outs)).py_err()?;
         }
         let bands = layout
             .iter()
@@ -160,9 +161,7 @@ impl PyUdct {
         let low = values(&lowpass);
         let parts: Vec<_> = bands.iter().map(values).collect();
         let slices: Vec<&[Complex64]> = parts.iter().map(|p| p.as_ref()).collect();
-        let out = py
-            .detach(|| self.inner.backward_parts(&low, &slices))
-            .py_err()?;
+        let out = crate::pool::detach(py, || self.inner.backward_parts(&low, &slices)).py_err()?;
         let (r, c) = self.inner.shape();
         array(py, &[r, c], out)
     }
@@ -211,6 +210,7 @@ impl PyFdct {
     #[new]
     #[pyo3(signature = (rows, cols, scales, angles_coarse, finest, transition))]
     fn new(
+        py: Python<'_>,
         rows: usize,
         cols: usize,
         scales: Option<usize>,
@@ -224,7 +224,7 @@ impl PyFdct {
             .finest(Finest::by_name(finest).py_err()?)
             .transition(transition);
         Ok(PyFdct {
-            inner: Fdct::new(rows, cols, &cfg).py_err()?,
+            inner: crate::pool::detach(py, || Fdct::new(rows, cols, &cfg)).py_err()?,
         })
     }
 
@@ -268,7 +268,7 @@ impl PyFdct {
     ) -> PyResult<Vec<Arr<'py, Complex64>>> {
         planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
-        let co = py.detach(|| self.inner.forward(&v)).py_err()?;
+        let co = crate::pool::detach(py, || self.inner.forward(&v)).py_err()?;
         split_bands(py, &co, &self.slots())
     }
 
@@ -279,7 +279,7 @@ impl PyFdct {
     ) -> PyResult<Arr<'py, Complex64>> {
         let info = self.slots();
         let co = join_bands(&bands, &info, self.inner.coeff_len())?;
-        let out = py.detach(|| self.inner.backward(&co)).py_err()?;
+        let out = crate::pool::detach(py, || self.inner.backward(&co)).py_err()?;
         let (r, c) = self.inner.shape();
         array(py, &[r, c], out)
     }
@@ -366,15 +366,14 @@ impl PySflct {
         adjoint: bool,
     ) -> PyResult<Arr<'py, Complex64>> {
         let co = join_bands(&bands, &self.slots(), self.inner.coeff_len())?;
-        let out = py
-            .detach(|| {
-                if adjoint {
-                    self.inner.adjoint(&co)
-                } else {
-                    self.inner.inverse(&co)
-                }
-            })
-            .py_err()?;
+        let out = crate::pool::detach(py, || {
+            if adjoint {
+                self.inner.adjoint(&co)
+            } else {
+                self.inner.inverse(&co)
+            }
+        })
+        .py_err()?;
         let (r, c) = self.inner.shape();
         array(py, &[r, c], out)
     }
@@ -383,12 +382,18 @@ impl PySflct {
 #[pymethods]
 impl PySflct {
     #[new]
-    fn new(rows: usize, cols: usize, redundancy: &str, levels: Vec<usize>) -> PyResult<Self> {
+    fn new(
+        py: Python<'_>,
+        rows: usize,
+        cols: usize,
+        redundancy: &str,
+        levels: Vec<usize>,
+    ) -> PyResult<Self> {
         let cfg = SflctParams::default()
             .redundancy(Redundancy::by_name(redundancy).py_err()?)
             .dfb_levels(levels);
         Ok(PySflct {
-            inner: Sflct::new(rows, cols, &cfg).py_err()?,
+            inner: crate::pool::detach(py, || Sflct::new(rows, cols, &cfg)).py_err()?,
         })
     }
 
@@ -417,7 +422,7 @@ impl PySflct {
     ) -> PyResult<Vec<Arr<'py, Complex64>>> {
         planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
-        let co = py.detach(|| self.inner.forward(&v)).py_err()?;
+        let co = crate::pool::detach(py, || self.inner.forward(&v)).py_err()?;
         split_bands(py, &co, &self.slots())
     }
 
@@ -565,19 +570,18 @@ fn reconstruct<'py>(
         })
         .sflct_levels(sflct_levels.unwrap_or_else(|| SflctParams::default().dfb_levels))
         .levels(levels);
-    let rec = py
-        .detach(|| {
-            let psi = sparsifier::by_name(prior, r, c, &cfg)?;
-            csalsa(
-                &data,
-                psi.as_ref(),
-                regularizer,
-                &p,
-                reference.as_deref(),
-                &NoProgress,
-            )
-        })
-        .py_err()?;
+    let rec = crate::pool::detach(py, || {
+        let psi = sparsifier::by_name(prior, r, c, &cfg)?;
+        csalsa(
+            &data,
+            psi.as_ref(),
+            regularizer,
+            &p,
+            reference.as_deref(),
+            &NoProgress,
+        )
+    })
+    .py_err()?;
     recon_out(py, rec)
 }
 
@@ -618,9 +622,8 @@ fn composite<'py>(
         "watmri" => baselines::watmri,
         other => return Err(value_error(format!("{other:?} is not a baseline"))),
     };
-    let rec = py
-        .detach(|| f(&data, &p, reference.as_deref(), &NoProgress))
-        .py_err()?;
+    let rec =
+        crate::pool::detach(py, || f(&data, &p, reference.as_deref(), &NoProgress)).py_err()?;
     recon_out(py, rec)
 }
 
@@ -633,9 +636,10 @@ fn tv_constrained<'py>(
     max_iter: usize,
 ) -> PyResult<Arr<'py, Complex64>> {
     let data = kspace_in(&kspace, &mask)?;
-    let rec = py
-        .detach(|| baselines::tv_constrained(&data, epsilon, max_iter, None))
-        .py_err()?;
+    let rec = crate::pool::detach(py, || {
+        baselines::tv_constrained(&data, epsilon, max_iter, None)
+    })
+    .py_err()?;
     array(py, &[rec.shape.0, rec.shape.1], rec.image)
 }
 
@@ -648,7 +652,8 @@ fn mask_cartesian<'py>(
     center_frac: f64,
     seed: u64,
 ) -> PyResult<Arr<'py, bool>> {
-    let m = masks::cartesian(rows, cols, rate, center_frac, seed).py_err()?;
+    let m = crate::pool::detach(py, || masks::cartesian(rows, cols, rate, center_frac, seed))
+        .py_err()?;
     array(py, &[rows, cols], m)
 }
 
@@ -659,16 +664,25 @@ fn mask_pseudo_radial<'py>(
     cols: usize,
     rate: f64,
 ) -> PyResult<(Arr<'py, bool>, usize)> {
-    let (m, lines) = masks::pseudo_radial(rows, cols, rate).py_err()?;
+    let (m, lines) = crate::pool::detach(py, || masks::pseudo_radial(rows, cols, rate)).py_err()?;
     Ok((array(py, &[rows, cols], m)?, lines))
 }
 
 #[pyfunction]
 fn shepp_logan<'py>(py: Python<'py>, n: usize, what: &str) -> PyResult<Bound<'py, PyAny>> {
     Ok(match what {
-        "kspace" => array(py, &[n, n], phantom::shepp_logan_kspace(n).py_err()?)?.into_any(),
-        "reference" => array(py, &[n, n], phantom::shepp_logan_reference(n).py_err()?)?.into_any(),
-        _ => array(py, &[n, n], phantom::shepp_logan_image(n).py_err()?)?.into_any(),
+        "kspace" => {
+            let k = crate::pool::detach(py, || phantom::shepp_logan_kspace(n)).py_err()?;
+            array(py, &[n, n], k)?.into_any()
+        }
+        "reference" => {
+            let r = crate::pool::detach(py, || phantom::shepp_logan_reference(n)).py_err()?;
+            array(py, &[n, n], r)?.into_any()
+        }
+        _ => {
+            let i = crate::pool::detach(py, || phantom::shepp_logan_image(n)).py_err()?;
+            array(py, &[n, n], i)?.into_any()
+        }
     })
 }
 
@@ -679,13 +693,15 @@ fn with_smooth_phase<'py>(
     seed: u64,
 ) -> PyResult<Arr<'py, Complex64>> {
     let (r, c) = dims2("magnitude", &magnitude)?;
-    let out = phantom::with_smooth_phase(&values(&magnitude), r, c, seed).py_err()?;
+    let m = values(&magnitude);
+    let out = crate::pool::detach(py, || phantom::with_smooth_phase(&m, r, c, seed)).py_err()?;
     array(py, &[r, c], out)
 }
 
 #[pyfunction]
 fn diamond_lattice<'py>(py: Python<'py>, n: usize, period: f64) -> PyResult<Arr<'py, f64>> {
-    array(py, &[n, n], phantom::diamond_lattice(n, period).py_err()?)
+    let d = crate::pool::detach(py, || phantom::diamond_lattice(n, period)).py_err()?;
+    array(py, &[n, n], d)
 }
 
 fn pair(
@@ -704,25 +720,30 @@ fn pair(
 
 #[pyfunction]
 fn psnr(
+    py: Python<'_>,
     reference: PyReadonlyArrayDyn<Complex64>,
     x: PyReadonlyArrayDyn<Complex64>,
 ) -> PyResult<f64> {
     let (r, x) = pair(&reference, &x)?;
-    metrics::psnr(&r, &x).py_err()
+    crate::pool::detach(py, || metrics::psnr(&r, &x)).py_err()
 }
 
 #[pyfunction]
 fn rlne(
+    py: Python<'_>,
     reference: PyReadonlyArrayDyn<Complex64>,
     x: PyReadonlyArrayDyn<Complex64>,
     magnitude: bool,
 ) -> PyResult<f64> {
     let (r, x) = pair(&reference, &x)?;
-    if magnitude {
-        metrics::rlne_magnitude(&r, &x).py_err()
-    } else {
-        metrics::rlne(&r, &x).py_err()
-    }
+    crate::pool::detach(py, || {
+        if magnitude {
+            metrics::rlne_magnitude(&r, &x)
+        } else {
+            metrics::rlne(&r, &x)
+        }
+    })
+    .py_err()
 }
 
 #[pyfunction]

@@ -154,17 +154,16 @@ fn render_kernel<'py>(
 ) -> PyResult<(Arr<'py, f32>, (usize, usize))> {
     let track = track_in(&gyro, r_cam_imu.as_ref(), bias)?;
     let t = timing(tim, height);
-    let k = py
-        .detach(|| {
-            wscg_deblur::render_kernel(
-                &track,
-                &t,
-                &intrinsics(cam),
-                (x, y),
-                &KernelParams::default(),
-            )
-        })
-        .py_err()?;
+    let k = crate::pool::detach(py, || {
+        wscg_deblur::render_kernel(
+            &track,
+            &t,
+            &intrinsics(cam),
+            (x, y),
+            &KernelParams::default(),
+        )
+    })
+    .py_err()?;
     kernel_out(py, k)
 }
 
@@ -184,19 +183,18 @@ fn kernel_grid<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let track = track_in(&gyro, r_cam_imu.as_ref(), bias)?;
     let t = timing(tim, height);
-    let g = py
-        .detach(|| {
-            wscg_deblur::kernel_grid(
-                &track,
-                &t,
-                &intrinsics(cam),
-                width,
-                height,
-                tile,
-                &KernelParams::default(),
-            )
-        })
-        .py_err()?;
+    let g = crate::pool::detach(py, || {
+        wscg_deblur::kernel_grid(
+            &track,
+            &t,
+            &intrinsics(cam),
+            width,
+            height,
+            tile,
+            &KernelParams::default(),
+        )
+    })
+    .py_err()?;
     grid_out(py, &g)
 }
 
@@ -225,9 +223,7 @@ fn deconv_krishnan<'py>(
     let img = image_in("image", &image)?;
     let k = kernel_in(&kernel, origin)?;
     let p = hl_params(lam, alpha, beta_max);
-    let out = py
-        .detach(|| wscg_deblur::deconv_hl(&img, &k, &p))
-        .py_err()?;
+    let out = crate::pool::detach(py, || wscg_deblur::deconv_hl(&img, &k, &p)).py_err()?;
     image_out(py, out)
 }
 
@@ -248,9 +244,8 @@ fn deconv_krishnan_multi<'py>(
     let pr = image_in("prior", &prior)?;
     let k = kernel_in(&kernel, origin)?;
     let p = hl_params(lam, alpha, beta_max);
-    let out = py
-        .detach(|| wscg_deblur::deconv_hl_multi(&img, &k, &pr, mu, &p))
-        .py_err()?;
+    let out =
+        crate::pool::detach(py, || wscg_deblur::deconv_hl_multi(&img, &k, &pr, mu, &p)).py_err()?;
     image_out(py, out)
 }
 
@@ -264,7 +259,7 @@ fn wiener<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let img = image_in("image", &image)?;
     let k = kernel_in(&kernel, origin)?;
-    let out = py.detach(|| wscg_deblur::wiener(&img, &k, nsr)).py_err()?;
+    let out = crate::pool::detach(py, || wscg_deblur::wiener(&img, &k, nsr)).py_err()?;
     image_out(py, out)
 }
 
@@ -278,9 +273,7 @@ fn richardson_lucy<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let img = image_in("image", &image)?;
     let k = kernel_in(&kernel, origin)?;
-    let out = py
-        .detach(|| wscg_deblur::richardson_lucy(&img, &k, iters))
-        .py_err()?;
+    let out = crate::pool::detach(py, || wscg_deblur::richardson_lucy(&img, &k, iters)).py_err()?;
     image_out(py, out)
 }
 
@@ -293,9 +286,7 @@ fn convolve<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let img = image_in("image", &image)?;
     let k = kernel_in(&kernel, origin)?;
-    let out = py
-        .detach(|| wscg_deblur::tiling::convolve(&img, &k))
-        .py_err()?;
+    let out = crate::pool::detach(py, || wscg_deblur::tiling::convolve(&img, &k)).py_err()?;
     image_out(py, out)
 }
 
@@ -345,21 +336,20 @@ fn deblur_piecewise<'py>(
     tiling.validate().py_err()?;
     let t = timing(tim, img.height());
     let k = intrinsics(cam);
-    let (out, grid) = py
-        .detach(|| {
-            let grid = wscg_deblur::kernel_grid(
-                &track,
-                &t,
-                &k,
-                img.width(),
-                img.height(),
-                tile,
-                &KernelParams::default(),
-            )?;
-            let out = wscg_deblur::deblur_piecewise(&img, &grid, &m, &tiling)?;
-            Ok((out, grid))
-        })
-        .py_err()?;
+    let (out, grid) = crate::pool::detach(py, || {
+        let grid = wscg_deblur::kernel_grid(
+            &track,
+            &t,
+            &k,
+            img.width(),
+            img.height(),
+            tile,
+            &KernelParams::default(),
+        )?;
+        let out = wscg_deblur::deblur_piecewise(&img, &grid, &m, &tiling)?;
+        Ok((out, grid))
+    })
+    .py_err()?;
     Ok((image_out(py, out)?, grid_out(py, &grid)?))
 }
 
@@ -428,9 +418,10 @@ fn deblur_multiframe<'py>(
         .min_ncc(min_ncc)
         .radius(radius);
     let k = intrinsics(cam);
-    let out = py
-        .detach(|| wscg_deblur::deblur_multiframe(&inputs, main, &track, &k, &opts, &NoProgress))
-        .py_err()?;
+    let out = crate::pool::detach(py, || {
+        wscg_deblur::deblur_multiframe(&inputs, main, &track, &k, &opts, &NoProgress)
+    })
+    .py_err()?;
     let d = PyDict::new(py);
     let (rows, cols, nf) = (out.kernels.rows, out.kernels.cols, out.frames);
     d.set_item("kernels", grid_out(py, &out.kernels)?)?;
@@ -456,9 +447,10 @@ fn rectify_rolling_shutter<'py>(
     let img = image_in("frame", &frame)?;
     let track = track_in(&gyro, r_cam_imu.as_ref(), bias)?;
     let t = timing(tim, img.height());
-    let out = py
-        .detach(|| wscg_deblur::rectify_rolling_shutter(&img, &track, &t, &intrinsics(cam)))
-        .py_err()?;
+    let out = crate::pool::detach(py, || {
+        wscg_deblur::rectify_rolling_shutter(&img, &track, &t, &intrinsics(cam))
+    })
+    .py_err()?;
     image_out(py, out)
 }
 
@@ -469,8 +461,7 @@ fn phase_correlation(
     b: PyReadonlyArrayDyn<f32>,
 ) -> PyResult<(f64, f64)> {
     let (ia, ib) = (image_in("a", &a)?, image_in("b", &b)?);
-    py.detach(|| wscg_deblur::phase_correlation(&ia, &ib))
-        .py_err()
+    crate::pool::detach(py, || wscg_deblur::phase_correlation(&ia, &ib)).py_err()
 }
 
 #[pyfunction]
@@ -504,7 +495,7 @@ fn estimate_time_delay(
     // The shift prediction uses the opening of the middle row, `t_d + t_r / 2`: the frame
     // height cancels, any positive height gives the same timing.
     let t = timing((0.0, t_exposure, t_readout, 0.0), 1);
-    py.detach(|| {
+    crate::pool::detach(py, || {
         wscg_deblur::estimate_time_delay(
             &track,
             &frame_times,
@@ -542,7 +533,7 @@ fn w_step<'py>(
             "`v` contains a non-finite value at flat index {i}"
         )));
     }
-    let out: Vec<f64> = py.detach(|| {
+    let out: Vec<f64> = crate::pool::detach(py, || {
         data.iter()
             .map(|&x| wscg_deblur::wstep::w_exact(x, alpha, beta))
             .collect()
@@ -616,15 +607,16 @@ fn render_blurred<'py>(
         .gamma(g)
         .quantise(quantise);
     let t = timing(tim, img.height());
-    let out = py
-        .detach(|| synth::render_blurred(&img, &track, &t, &intrinsics(cam), t_world, &opts, seed))
-        .py_err()?;
+    let out = crate::pool::detach(py, || {
+        synth::render_blurred(&img, &track, &t, &intrinsics(cam), t_world, &opts, seed)
+    })
+    .py_err()?;
     image_out(py, out)
 }
 
 #[pyfunction]
 fn scene<'py>(py: Python<'py>, height: usize, width: usize, seed: u64) -> PyResult<Arr<'py, f32>> {
-    let img = py.detach(|| synth::scene(height, width, seed)).py_err()?;
+    let img = crate::pool::detach(py, || synth::scene(height, width, seed)).py_err()?;
     image_out(py, img)
 }
 

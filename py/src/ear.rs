@@ -275,7 +275,7 @@ fn enroll<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let p = params_from(params.as_ref())?;
     let im = image_in("img", &img)?;
-    let t = py.detach(|| ear::enroll(&im, &p)).py_err()?;
+    let t = crate::pool::detach(py, || ear::enroll(&im, &p)).py_err()?;
     template_out(py, &t)
 }
 
@@ -292,13 +292,12 @@ fn enroll_many<'py>(
         return Err(value_error("`images` is empty: nothing to enrol"));
     }
     let imgs = images_in("images", &images)?;
-    let ts = py
-        .detach(|| {
-            imgs.par_iter()
-                .map(|im| ear::enroll(im, &p))
-                .collect::<wscg_math::Result<Vec<_>>>()
-        })
-        .py_err()?;
+    let ts = crate::pool::detach(py, || {
+        imgs.par_iter()
+            .map(|im| ear::enroll(im, &p))
+            .collect::<wscg_math::Result<Vec<_>>>()
+    })
+    .py_err()?;
     let flat: Vec<f32> = ts
         .iter()
         .flat_map(|t| t.features().iter().copied())
@@ -316,7 +315,7 @@ fn detect_occlusion<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let p = params_from(params.as_ref())?;
     let im = image_in("img", &img)?;
-    let r = py.detach(|| ear::detect_occlusion(&im, &p)).py_err()?;
+    let r = crate::pool::detach(py, || ear::detect_occlusion(&im, &p)).py_err()?;
     report_dict(py, &r, &p)
 }
 
@@ -331,7 +330,7 @@ fn skin_pixels<'py>(
     let p = params_from(params.as_ref())?;
     let im = image_in("img", &img)?;
     check_input(&im, false).py_err()?;
-    let s = py.detach(|| ear::skin_pixels(&im, &p));
+    let s = crate::pool::detach(py, || ear::skin_pixels(&im, &p));
     mask_out(py, &s, im.height(), im.width())
 }
 
@@ -348,13 +347,12 @@ fn score<'py>(
     let im = image_in("img", &img)?;
     let t = template_in("template", &template)?;
     t.check(&p).py_err()?;
-    let (probe, b) = py
-        .detach(|| -> wscg_math::Result<_> {
-            let probe = ear::make_probe(&im, &p)?;
-            let b = ear::score(&probe, &t, &p)?;
-            Ok((probe, b))
-        })
-        .py_err()?;
+    let (probe, b) = crate::pool::detach(py, || -> wscg_math::Result<_> {
+        let probe = ear::make_probe(&im, &p)?;
+        let b = ear::score(&probe, &t, &p)?;
+        Ok((probe, b))
+    })
+    .py_err()?;
     let (ns, m) = (p.shifts.len(), probe.index.len());
     let d = PyDict::new(py);
     let rules = PyDict::new(py);
@@ -409,7 +407,7 @@ fn baseline_score(
     let p = params_from(params.as_ref())?;
     let im = image_in("img", &img)?;
     let t = template_in("template", &template)?;
-    py.detach(|| {
+    crate::pool::detach(py, || {
         let probe = ear::make_baseline_probe(&im, &p)?;
         ear::baseline_score(&probe, &t, &p)
     })
@@ -426,7 +424,7 @@ pub struct PyEarMatcher {
 impl PyEarMatcher {
     fn probe(&self, py: Python<'_>, img: &PyReadonlyArrayDyn<'_, u8>) -> PyResult<ear::Probe> {
         let im = image_in("img", img)?;
-        py.detach(|| ear::make_probe(&im, &self.params)).py_err()
+        crate::pool::detach(py, || ear::make_probe(&im, &self.params)).py_err()
     }
 }
 
@@ -458,9 +456,8 @@ impl PyEarMatcher {
             )));
         }
         let flat = values(&templates);
-        let gallery = py
-            .detach(|| Gallery::from_features(&flat, n, b, k))
-            .py_err()?;
+        let gallery =
+            crate::pool::detach(py, || Gallery::from_features(&flat, n, b, k)).py_err()?;
         Ok(Self { gallery, params: p })
     }
 
@@ -487,8 +484,7 @@ impl PyEarMatcher {
     ) -> PyResult<(bool, f64, Arr<'py, i64>, Arr<'py, f64>)> {
         let probe = self.probe(py, &img)?;
         let pct = probe.report.as_ref().map_or(f64::NAN, |r| r.occluded_pct);
-        let id = py
-            .detach(|| ear::identify(&probe, &self.gallery, &self.params))
+        let id = crate::pool::detach(py, || ear::identify(&probe, &self.gallery, &self.params))
             .py_err()?;
         match id {
             Identification::Rejected { occluded_pct } => {
@@ -511,8 +507,7 @@ impl PyEarMatcher {
     ) -> PyResult<(Arr<'py, f64>, bool, f64)> {
         let probe = self.probe(py, &img)?;
         let pct = probe.report.as_ref().map_or(f64::NAN, |r| r.occluded_pct);
-        let s = py
-            .detach(|| ear::scores(&probe, &self.gallery, &self.params))
+        let s = crate::pool::detach(py, || ear::scores(&probe, &self.gallery, &self.params))
             .py_err()?;
         Ok((vec_out(py, s)?, probe.rejected(), pct))
     }
@@ -524,9 +519,10 @@ impl PyEarMatcher {
         img: PyReadonlyArrayDyn<'py, u8>,
     ) -> PyResult<(Arr<'py, i64>, Arr<'py, f64>)> {
         let im = image_in("img", &img)?;
-        let id = py
-            .detach(|| ear::identify_baseline(&im, &self.gallery, &self.params))
-            .py_err()?;
+        let id = crate::pool::detach(py, || {
+            ear::identify_baseline(&im, &self.gallery, &self.params)
+        })
+        .py_err()?;
         ranking_out(py, id.ranking().unwrap_or(&[]))
     }
 }
@@ -617,8 +613,7 @@ fn synth_ears<'py>(
              (at most 2^31 bytes of images)"
         )));
     }
-    let set = py
-        .detach(|| generate(n_subjects, n_probes, kind, seed, &cfg, &p))
+    let set = crate::pool::detach(py, || generate(n_subjects, n_probes, kind, seed, &cfg, &p))
         .py_err()?;
     let (h, w) = (cfg.height, cfg.width);
     let (gr, gc) = p.grid();
@@ -717,9 +712,7 @@ fn evaluate<'py>(
             (subj[k], im, t)
         })
         .collect();
-    let ev = py
-        .detach(|| evaluate_images(&gal, &items, &p, max_rank))
-        .py_err()?;
+    let ev = crate::pool::detach(py, || evaluate_images(&gal, &items, &p, max_rank)).py_err()?;
     let n = ev.outcomes.len();
     let d = PyDict::new(py);
     let names: Vec<&str> = ScoreRule::ALL.iter().map(|r| r.name()).collect();
@@ -812,7 +805,7 @@ fn skin_fit(py: Python<'_>, pixels: PyReadonlyArrayDyn<'_, u8>) -> PyResult<Mode
         .chunks_exact(3)
         .map(|c| [c[0], c[1], c[2]])
         .collect();
-    let m = py.detach(|| SkinModel::fit(&px)).py_err()?;
+    let m = crate::pool::detach(py, || SkinModel::fit(&px)).py_err()?;
     Ok((m.mean, m.cov))
 }
 
@@ -829,7 +822,7 @@ fn skin_fit_rg(py: Python<'_>, points: PyReadonlyArrayDyn<'_, f64>) -> PyResult<
         .chunks_exact(2)
         .map(|c| [c[0], c[1]])
         .collect();
-    let m = py.detach(|| SkinModel::fit_rg(&pts)).py_err()?;
+    let m = crate::pool::detach(py, || SkinModel::fit_rg(&pts)).py_err()?;
     Ok((m.mean, m.cov))
 }
 
@@ -941,7 +934,7 @@ fn resize<'py>(
             "target size {height} x {width} is too large (at most 2^26 pixels)"
         )));
     }
-    let r = py.detach(|| tone::resize_u8(&im, height, width)).py_err()?;
+    let r = crate::pool::detach(py, || tone::resize_u8(&im, height, width)).py_err()?;
     image_out(py, r, flat)
 }
 
@@ -949,7 +942,8 @@ fn resize<'py>(
 #[pyfunction]
 fn haar_ll<'py>(py: Python<'py>, plane: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Arr<'py, f64>> {
     let (r, c) = dims2("plane", &plane)?;
-    let ll = wscg_math::wavelet::haar_ll(&values(&plane), r, c).py_err()?;
+    let v = values(&plane);
+    let ll = crate::pool::detach(py, || wscg_math::wavelet::haar_ll(&v, r, c)).py_err()?;
     array(py, &[r / 2, c / 2], ll)
 }
 
@@ -969,7 +963,8 @@ fn block_features<'py>(
             p.height, p.width
         )));
     }
-    let f = ear::block_features(&values(&plane), &p).py_err()?;
+    let v = values(&plane);
+    let f = crate::pool::detach(py, || ear::block_features(&v, &p)).py_err()?;
     array(py, &[p.blocks(), p.block_len()], f)
 }
 
@@ -990,7 +985,7 @@ fn disk_morphology<'py>(
         "erode" => mask::erode_disk,
         other => return Err(value_error(format!("unknown morphology {other:?}"))),
     };
-    let out = py.detach(|| f(&v, h, w, radius)).py_err()?;
+    let out = crate::pool::detach(py, || f(&v, h, w, radius)).py_err()?;
     mask_out(py, &out, h, w)
 }
 
@@ -998,7 +993,7 @@ fn disk_morphology<'py>(
 #[pyfunction]
 fn fill_holes<'py>(py: Python<'py>, m: PyReadonlyArrayDyn<'py, bool>) -> PyResult<Arr<'py, bool>> {
     let (v, h, w) = mask_in("mask", &m)?;
-    let out = py.detach(|| mask::fill_holes(&v, h, w)).py_err()?;
+    let out = crate::pool::detach(py, || mask::fill_holes(&v, h, w)).py_err()?;
     mask_out(py, &out, h, w)
 }
 

@@ -54,7 +54,7 @@ fn seq_in(
         }
     };
     let v = values(a);
-    py.detach(|| SkeletonSeq::from_flat(fps, &v, t, j))
+    crate::pool::detach(py, || SkeletonSeq::from_flat(fps, &v, t, j))
         .map_err(|e| value_error(format!("`{name}`: {e}")))
 }
 
@@ -286,7 +286,7 @@ fn detect_cycle<'py>(
         .choice(choice)
         .start_leg(start_leg_in(start_leg)?);
     let s = seq_in(py, "frames", &frames, fps)?;
-    let c = py.detach(|| gait::detect_gait_cycle(&s, &p)).py_err()?;
+    let c = crate::pool::detach(py, || gait::detect_gait_cycle(&s, &p)).py_err()?;
     let d = PyDict::new(py);
     d.set_item("start", c.start)?;
     d.set_item("mid", c.mid)?;
@@ -317,15 +317,14 @@ fn jra_sequences<'py>(
         return Err(value_error("`pairs` is empty"));
     }
     let s = seq_in(py, "frames", &frames, fps)?;
-    let (set, c) = py
-        .detach(|| -> wscg_math::Result<_> {
-            let c = cycle_of(&s, cycle)?;
-            Ok((
-                gait::jra_sequences(&s, &c, r, &pairs)?,
-                (c.start, c.mid, c.end),
-            ))
-        })
-        .py_err()?;
+    let (set, c) = crate::pool::detach(py, || -> wscg_math::Result<_> {
+        let c = cycle_of(&s, cycle)?;
+        Ok((
+            gait::jra_sequences(&s, &c, r, &pairs)?,
+            (c.start, c.mid, c.end),
+        ))
+    })
+    .py_err()?;
     let l = set.frames();
     let flat: Vec<f64> = set.seqs.into_iter().flatten().collect();
     Ok((array(py, &[pairs.len(), l], flat)?, c))
@@ -381,7 +380,7 @@ fn relevance_matrix<'py>(
         })
         .collect::<PyResult<Vec<_>>>()?;
     let refs: Vec<&JraSet> = sets.iter().collect();
-    let m = py.detach(|| gait::relevance_matrix(&refs, &h)).py_err()?;
+    let m = crate::pool::detach(py, || gait::relevance_matrix(&refs, &h)).py_err()?;
     map_out(py, &m)
 }
 
@@ -428,7 +427,7 @@ fn dtw_distance(
 ) -> PyResult<f64> {
     let p = dtw_params(cost, window, normalize)?;
     let (a, b) = (vec1("a", &a)?, vec1("b", &b)?);
-    py.detach(|| dtw::dtw(&a, &b, &p)).py_err()
+    crate::pool::detach(py, || dtw::dtw(&a, &b, &p)).py_err()
 }
 
 /// DTW distance and an optimal warp path `(L, 2)`.
@@ -444,7 +443,7 @@ fn dtw_path<'py>(
 ) -> PyResult<(f64, Arr<'py, i64>)> {
     let p = dtw_params(cost, window, normalize)?;
     let (a, b) = (vec1("a", &a)?, vec1("b", &b)?);
-    let (d, path) = py.detach(|| dtw::dtw_path(&a, &b, &p)).py_err()?;
+    let (d, path) = crate::pool::detach(py, || dtw::dtw_path(&a, &b, &p)).py_err()?;
     let flat: Vec<i64> = path
         .iter()
         .flat_map(|&(i, j)| [i as i64, j as i64])
@@ -465,7 +464,7 @@ fn dtw_kernel(
 ) -> PyResult<f64> {
     let p = dtw_params(cost, window, normalize)?;
     let (a, b) = (sample_in("a", &a)?, sample_in("b", &b)?);
-    py.detach(|| dtw::dtw_kernel(&a, &b, &p)).py_err()
+    crate::pool::detach(py, || dtw::dtw_kernel(&a, &b, &p)).py_err()
 }
 
 /// Δ between every query and gallery sample; the symmetric self matrix when `gallery` is
@@ -485,9 +484,9 @@ fn dissimilarity_matrix<'py>(
     let m = match gallery {
         Some(g) => {
             let g = set_in("gallery", &g)?;
-            py.detach(|| dtw::dissimilarity_matrix(&q, &g, &p))
+            crate::pool::detach(py, || dtw::dissimilarity_matrix(&q, &g, &p))
         }
-        None => py.detach(|| dtw::self_dissimilarity(&q, &p)),
+        None => crate::pool::detach(py, || dtw::self_dissimilarity(&q, &p)),
     }
     .py_err()?;
     mat_out(py, &m)
@@ -507,14 +506,14 @@ fn nearest(
     let p = dtw_params(cost, window, normalize)?;
     let q = sample_in("query", &query)?;
     let g = set_in("gallery", &gallery)?;
-    py.detach(|| dtw::nearest(&q, &g, &p)).py_err()
+    crate::pool::detach(py, || dtw::nearest(&q, &g, &p)).py_err()
 }
 
 /// A UCR/UEA `.ts` file: `{problem, series (case -> dimension -> 1-D array), labels,
 /// class_labels}`.
 #[pyfunction]
 fn read_ts(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
-    let data = py.detach(|| ts_file::read_ts(&path)).py_err()?;
+    let data = crate::pool::detach(py, || ts_file::read_ts(&path)).py_err()?;
     let series = PyList::empty(py);
     for case in data.series {
         let dims = PyList::empty(py);
@@ -537,7 +536,7 @@ fn read_ts(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
 /// A skeleton stream from a CSV (`frame, joint, x, y, z`) or `.npy` file, `(T, 25, 3)`.
 #[pyfunction]
 fn read_skeleton(py: Python<'_>, path: PathBuf, fps: f64) -> PyResult<Arr<'_, f64>> {
-    let s = py.detach(|| gait::read_skeleton(&path, fps)).py_err()?;
+    let s = crate::pool::detach(py, || gait::read_skeleton(&path, fps)).py_err()?;
     seq_out(py, &s)
 }
 
@@ -550,7 +549,7 @@ fn write_skeleton_csv(
     fps: f64,
 ) -> PyResult<()> {
     let s = seq_in(py, "frames", &frames, fps)?;
-    py.detach(|| gait::write_skeleton_csv(&path, &s)).py_err()
+    crate::pool::detach(py, || gait::write_skeleton_csv(&path, &s)).py_err()
 }
 
 /// Features of a walk over a cycle (default: detected) by one of the baselines' extractors.
@@ -562,7 +561,7 @@ fn baseline_features<'py>(
     extract: fn(&SkeletonSeq, &GaitCycle) -> wscg_math::Result<Vec<f64>>,
 ) -> PyResult<Arr<'py, f64>> {
     let s = seq_in(py, "frames", &frames, fps)?;
-    let f = py.detach(|| extract(&s, &cycle_of(&s, cycle)?)).py_err()?;
+    let f = crate::pool::detach(py, || extract(&s, &cycle_of(&s, cycle)?)).py_err()?;
     vec_out(py, f)
 }
 
@@ -644,9 +643,7 @@ impl PyRecognizer {
             .enumerate()
             .map(|(i, w)| seq_in(py, &format!("walks[{i}]"), w, fps))
             .collect::<PyResult<Vec<_>>>()?;
-        let inner = py
-            .detach(|| GaitRecognizer::fit(&seqs, &labels, &p))
-            .py_err()?;
+        let inner = crate::pool::detach(py, || GaitRecognizer::fit(&seqs, &labels, &p)).py_err()?;
         Ok(Self { inner })
     }
 
@@ -680,7 +677,7 @@ impl PyRecognizer {
         Option<(usize, usize, usize)>,
     )> {
         let s = seq_in(py, "frames", &frames, fps)?;
-        let pr = py.detach(|| self.inner.predict(&s)).py_err()?;
+        let pr = crate::pool::detach(py, || self.inner.predict(&s)).py_err()?;
         let idx = idx_out(py, pr.ranked.iter().map(|r| r.0))?;
         let labels = pr.ranked.iter().map(|r| r.1).collect();
         let d = vec_out(py, pr.ranked.iter().map(|r| r.2).collect())?;
@@ -752,26 +749,25 @@ fn synth_walkers<'py>(
             ranges.walk_s[1]
         )));
     }
-    let set = py
-        .detach(|| {
-            if noise {
-                synth::walkers(n_subjects, n_sessions, &ranges, seed)
-            } else {
-                // The sessions `walkers` draws, without sensor noise.
-                let subjects = synth::subjects(n_subjects, seed);
-                let sessions: Vec<SessionParams> = (0..n_subjects * n_sessions)
-                    .map(|k| {
-                        (SessionParams::draw(
-                            &ranges,
-                            seed.wrapping_mul(1_000_003).wrapping_add(k as u64),
-                        ))
-                        .noise(NoiseParams::none())
-                    })
-                    .collect();
-                synth::walkers_with(&subjects, n_sessions, &sessions, seed)
-            }
-        })
-        .py_err()?;
+    let set = crate::pool::detach(py, || {
+        if noise {
+            synth::walkers(n_subjects, n_sessions, &ranges, seed)
+        } else {
+            // The sessions `walkers` draws, without sensor noise.
+            let subjects = synth::subjects(n_subjects, seed);
+            let sessions: Vec<SessionParams> = (0..n_subjects * n_sessions)
+                .map(|k| {
+                    (SessionParams::draw(
+                        &ranges,
+                        seed.wrapping_mul(1_000_003).wrapping_add(k as u64),
+                    ))
+                    .noise(NoiseParams::none())
+                })
+                .collect();
+            synth::walkers_with(&subjects, n_sessions, &sessions, seed)
+        }
+    })
+    .py_err()?;
     let frames = PyList::empty(py);
     for w in &set.walks {
         frames.append(seq_out(py, w)?)?;
@@ -814,14 +810,13 @@ fn evaluate_synthetic(
              {n_subjects} x {n_sessions}"
         )));
     }
-    let r = py
-        .detach(|| -> wscg_math::Result<_> {
-            let set = synth::walkers(n_subjects, n_sessions, &SessionRanges::default(), seed)?;
-            let proto = Protocol::default();
-            let prep = gait::prepare(&set.walks, &set.labels, &set.session_index, &proto.params)?;
-            gait::cross_validate(&prep, None, &proto)
-        })
-        .py_err()?;
+    let r = crate::pool::detach(py, || -> wscg_math::Result<_> {
+        let set = synth::walkers(n_subjects, n_sessions, &SessionRanges::default(), seed)?;
+        let proto = Protocol::default();
+        let prep = gait::prepare(&set.walks, &set.labels, &set.session_index, &proto.params)?;
+        gait::cross_validate(&prep, None, &proto)
+    })
+    .py_err()?;
     let d = PyDict::new(py);
     d.set_item("decisions", r.decisions)?;
     d.set_item("jra_nearest", r.jra_nearest)?;

@@ -56,7 +56,7 @@ fn hand_poses<'py>(
         scale: jitter[4],
         translation_px: jitter[5],
     };
-    let d = py.detach(|| generate_with(&cfg, &j)).py_err()?;
+    let d = crate::pool::detach(py, || generate_with(&cfg, &j)).py_err()?;
     let (n, h, w) = (d.len(), d.height, d.width);
     let labels = d.labels.iter().map(|&l| i64::from(l)).collect();
     let subj = d.subjects.iter().map(|&l| i64::from(l)).collect();
@@ -105,9 +105,8 @@ fn physical_features<'py>(
             )));
         }
     }
-    let f = py
-        .detach(|| physical_features_batch(&m, d.as_deref(), n, h, w))
-        .py_err()?;
+    let f =
+        crate::pool::detach(py, || physical_features_batch(&m, d.as_deref(), n, h, w)).py_err()?;
     let k = f.len() / n.max(1);
     array(py, &[n, k], f)
 }
@@ -130,7 +129,8 @@ fn rotate_mask<'py>(
     degrees: f64,
 ) -> PyResult<Arr<'py, u8>> {
     let (h, w) = mask_dims(&mask)?;
-    let out = rotate(&values(&mask), h, w, degrees).py_err()?;
+    let m = values(&mask);
+    let out = crate::pool::detach(py, || rotate(&m, h, w, degrees)).py_err()?;
     array(py, &[h, w], out)
 }
 
@@ -142,7 +142,8 @@ fn downscale<'py>(
     factor: usize,
 ) -> PyResult<Arr<'py, f64>> {
     let (h, w) = mask_dims(&mask)?;
-    let out = downscale_mask(&values(&mask), h, w, factor).py_err()?;
+    let m = values(&mask);
+    let out = crate::pool::detach(py, || downscale_mask(&m, h, w, factor)).py_err()?;
     array(
         py,
         &[h.div_ceil(factor.max(1)), w.div_ceil(factor.max(1))],
@@ -163,9 +164,10 @@ fn hand_pose_split<'py>(
     let (_, h, w) = stack_dims("masks", masks.shape())?;
     let y = labels_from("labels", &labels)?;
     let m = values(&masks);
-    let s = py
-        .detach(|| split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed))
-        .py_err()?;
+    let s = crate::pool::detach(py, || {
+        split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed)
+    })
+    .py_err()?;
     let d = PyDict::new(py);
     let i64s = |v: &[u32]| v.iter().map(|&l| i64::from(l)).collect::<Vec<_>>();
     let idx = |v: &[usize]| v.iter().map(|&l| l as i64).collect::<Vec<_>>();
@@ -235,13 +237,12 @@ fn hand_pose_comparison<'py>(
         .isomap_landmarks(isomap.3)
         .global_rule(wscg_biometrics::sfa::global::parse_rule(global_rule).py_err()?)
         .seed(seed);
-    let (split, res) = py
-        .detach(|| {
-            let split = split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed)?;
-            let res = compare_masks(&m, d.as_deref(), h, w, &split, &cfg, &methods, |_| {})?;
-            Ok::<_, wscg_math::Error>((split, res))
-        })
-        .py_err()?;
+    let (split, res) = crate::pool::detach(py, || {
+        let split = split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed)?;
+        let res = compare_masks(&m, d.as_deref(), h, w, &split, &cfg, &methods, |_| {})?;
+        Ok::<_, wscg_math::Error>((split, res))
+    })
+    .py_err()?;
     let mut out = Vec::new();
     for r in res.results {
         let n = r.predictions.len();
@@ -277,9 +278,8 @@ fn rotated_frame_rows<'py>(
 ) -> PyResult<Arr<'py, f64>> {
     let (_, h, w) = stack_dims("masks", masks.shape())?;
     let m = values(&masks);
-    let rows = py
-        .detach(|| rotated_rows(&m, h, w, &frames, lo, hi, seed))
-        .py_err()?;
+    let rows =
+        crate::pool::detach(py, || rotated_rows(&m, h, w, &frames, lo, hi, seed)).py_err()?;
     let dim = h.div_ceil(DOWNSCALE) * w.div_ceil(DOWNSCALE);
     array(py, &[frames.len(), dim], rows)
 }
@@ -323,9 +323,9 @@ impl PyIsomap {
 
     /// A model from `to_json`.
     #[staticmethod]
-    fn from_json(s: &str) -> PyResult<Self> {
+    fn from_json(py: Python<'_>, s: &str) -> PyResult<Self> {
         Ok(Self {
-            inner: Isomap::from_json(s).py_err()?,
+            inner: crate::pool::detach(py, || Isomap::from_json(s)).py_err()?,
         })
     }
 }
@@ -345,7 +345,7 @@ fn isomap_fit(
         .n_neighbors(n_neighbors)
         .n_components(n_components)
         .n_landmarks(n_landmarks);
-    let inner = py.detach(|| Isomap::fit(x.as_ref(), &p)).py_err()?;
+    let inner = crate::pool::detach(py, || Isomap::fit(x.as_ref(), &p)).py_err()?;
     Ok(PyIsomap { inner })
 }
 

@@ -101,7 +101,12 @@ fn crf_in(arg: &CrfArg<'_>, bits: u8) -> PyResult<Crf> {
 
 /// The responses of `images`: `bits` (or the smallest depth covering their codes) for named
 /// responses, one shared or one per image.
-fn crfs_in(crfs: &[CrfArg<'_>], images: &[Image<u16>], bits: Option<u8>) -> PyResult<Vec<Crf>> {
+fn crfs_in(
+    py: Python<'_>,
+    crfs: &[CrfArg<'_>],
+    images: &[Image<u16>],
+    bits: Option<u8>,
+) -> PyResult<Vec<Crf>> {
     if crfs.is_empty() {
         return Err(value_error(
             "`crf`: give one response or one per view, got none",
@@ -116,13 +121,13 @@ fn crfs_in(crfs: &[CrfArg<'_>], images: &[Image<u16>], bits: Option<u8>) -> PyRe
     }
     let bits = match bits {
         Some(b) => b,
-        None => bits_for(
+        None => bits_for(crate::pool::detach(py, || {
             images
                 .iter()
                 .map(wscg_hdr::radiance::max_code)
                 .max()
-                .unwrap_or(0),
-        ),
+                .unwrap_or(0)
+        })),
     };
     crfs.iter().map(|c| crf_in(c, bits)).collect()
 }
@@ -180,7 +185,7 @@ fn multiscopic_hdr<'py>(
     }
     let flat = views[0].ndim() == 2;
     let imgs = codes_list("views", &views)?;
-    let crfs = crfs_in(&crfs, &imgs, bits)?;
+    let crfs = crfs_in(py, &crfs, &imgs, bits)?;
     check_range(d_min, d_max)?;
     let synthesis = match synthesis {
         "bds" => Synthesis::Bds,
@@ -205,9 +210,10 @@ fn multiscopic_hdr<'py>(
         .synthesis(synthesis)
         .ordered(ordered)
         .fill_saturated(fill_saturated);
-    let out = py
-        .detach(|| wscg_hdr::multiscopic_hdr(&imgs, &times, &crfs, &p, &NoProgress))
-        .py_err()?;
+    let out = crate::pool::detach(py, || {
+        wscg_hdr::multiscopic_hdr(&imgs, &times, &crfs, &p, &NoProgress)
+    })
+    .py_err()?;
     let fields = if details {
         let d = PyDict::new(py);
         for ((r, s), f) in out.nnfs {
@@ -272,7 +278,7 @@ fn merge<'py>(
             samples.len()
         )));
     }
-    let m = py.detach(|| wscg_hdr::merge(&inputs)).py_err()?;
+    let m = crate::pool::detach(py, || wscg_hdr::merge(&inputs)).py_err()?;
     Ok((image_out(py, m.hdr, flat)?, m.fallback_pixels))
 }
 
@@ -301,10 +307,8 @@ fn merge_stack<'py>(
             imgs[0].shape()
         )));
     }
-    let crfs = crfs_in(&crfs, &imgs, bits)?;
-    let m = py
-        .detach(|| wscg_hdr::merge_stack(&imgs, &times, &crfs))
-        .py_err()?;
+    let crfs = crfs_in(py, &crfs, &imgs, bits)?;
+    let m = crate::pool::detach(py, || wscg_hdr::merge_stack(&imgs, &times, &crfs)).py_err()?;
     Ok((image_out(py, m.hdr, flat)?, m.fallback_pixels))
 }
 
@@ -319,10 +323,13 @@ fn to_radiance<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let flat = image.ndim() == 2;
     let img = codes_in("image", &image)?;
-    let crf = crfs_in(std::slice::from_ref(&crf), std::slice::from_ref(&img), bits)?;
-    let e = py
-        .detach(|| wscg_hdr::to_radiance(&img, &crf[0], dt))
-        .py_err()?;
+    let crf = crfs_in(
+        py,
+        std::slice::from_ref(&crf),
+        std::slice::from_ref(&img),
+        bits,
+    )?;
+    let e = crate::pool::detach(py, || wscg_hdr::to_radiance(&img, &crf[0], dt)).py_err()?;
     image_out(py, e, flat)
 }
 
@@ -367,9 +374,10 @@ fn calibrate_debevec<'py>(
         )));
     }
     let imgs = codes_list("stack", &stack)?;
-    let crf = py
-        .detach(|| wscg_hdr::calibrate_debevec(&imgs, &times, bits, samples, lam))
-        .py_err()?;
+    let crf = crate::pool::detach(py, || {
+        wscg_hdr::calibrate_debevec(&imgs, &times, bits, samples, lam)
+    })
+    .py_err()?;
     array(py, &[crf.levels(), crf.channels()], crf.table().to_vec())
 }
 
@@ -396,9 +404,10 @@ fn calibrate_mitsunaga_nayar<'py>(
         .refine_ratios(refine_ratios)
         .tol(tol)
         .max_iter(max_iter);
-    let fit = py
-        .detach(|| wscg_hdr::calibrate_mitsunaga_nayar(&imgs, &times, bits, &p))
-        .py_err()?;
+    let fit = crate::pool::detach(py, || {
+        wscg_hdr::calibrate_mitsunaga_nayar(&imgs, &times, bits, &p)
+    })
+    .py_err()?;
     let info = PyDict::new(py);
     let ch = &fit.channels;
     info.set_item(
@@ -487,7 +496,7 @@ fn patchmatch<'py>(
     let p = pm_params(
         patch, iters, d_min, d_max, v_tol, coherence, epipolar, c_min, alpha, seed,
     )?;
-    let f = py.detach(|| wscg_hdr::patchmatch(&ia, &ib, &p)).py_err()?;
+    let f = crate::pool::detach(py, || wscg_hdr::patchmatch(&ia, &ib, &p)).py_err()?;
     nnf_out(py, f)
 }
 
@@ -501,8 +510,7 @@ fn patchmatch_2d<'py>(
     seed: u64,
 ) -> PyResult<Field<'py>> {
     let (ia, ib) = (float_in("a", &a)?, float_in("b", &b)?);
-    let f = py
-        .detach(|| wscg_hdr::patchmatch_2d(&ia, &ib, patch, iters, seed))
+    let f = crate::pool::detach(py, || wscg_hdr::patchmatch_2d(&ia, &ib, patch, iters, seed))
         .py_err()?;
     nnf_out(py, f)
 }
@@ -527,7 +535,7 @@ fn zncc_stereo<'py>(
         .d_min(d_min)
         .d_max(d_max)
         .lr_tol(lr_tol);
-    let f = py.detach(|| wscg_hdr::zncc_stereo(&ia, &ib, &p)).py_err()?;
+    let f = crate::pool::detach(py, || wscg_hdr::zncc_stereo(&ia, &ib, &p)).py_err()?;
     nnf_out(py, f)
 }
 
@@ -558,9 +566,7 @@ fn vote_bds<'py>(
     let rs = nnf_in("offsets_rs", &offsets_rs)?;
     let sr = nnf_in("offsets_sr", &offsets_sr)?;
     field_fits("offsets_sr", &sr, &img)?;
-    let out = py
-        .detach(|| wscg_hdr::vote_bds(&img, &rs, &sr, patch))
-        .py_err()?;
+    let out = crate::pool::detach(py, || wscg_hdr::vote_bds(&img, &rs, &sr, patch)).py_err()?;
     image_out(py, out, flat)
 }
 
@@ -573,7 +579,7 @@ fn warp_direct<'py>(
     let flat = src.ndim() == 2;
     let img = float_in("src", &src)?;
     let rs = nnf_in("offsets_rs", &offsets_rs)?;
-    let out = py.detach(|| wscg_hdr::warp_direct(&img, &rs)).py_err()?;
+    let out = crate::pool::detach(py, || wscg_hdr::warp_direct(&img, &rs)).py_err()?;
     image_out(py, out, flat)
 }
 
@@ -600,7 +606,7 @@ fn synth_scene<'py>(
         .times(times)
         .emitter_peak(emitter_peak)
         .noise(noise);
-    let sc = py.detach(|| layered_scene(&cfg, seed)).py_err()?;
+    let sc = crate::pool::detach(py, || layered_scene(&cfg, seed)).py_err()?;
     let d = PyDict::new(py);
     let views = sc
         .views
@@ -670,8 +676,7 @@ fn rmse_log2(
         }
         None => None,
     };
-    py.detach(|| metrics::rmse_log2(&e, &g, m.as_deref()))
-        .py_err()
+    crate::pool::detach(py, || metrics::rmse_log2(&e, &g, m.as_deref())).py_err()
 }
 
 #[pyfunction]
@@ -705,14 +710,13 @@ fn bad_rate(
         None => None,
     };
     let t = values(&truth);
-    py.detach(|| metrics::bad_rate(&f, &t, k, m.as_deref()))
-        .py_err()
+    crate::pool::detach(py, || metrics::bad_rate(&f, &t, k, m.as_deref())).py_err()
 }
 
 #[pyfunction]
 fn incoherence(py: Python<'_>, offsets: PyReadonlyArrayDyn<'_, i32>) -> PyResult<f64> {
     let f = nnf_in("offsets", &offsets)?;
-    Ok(py.detach(|| metrics::incoherence(&f)))
+    Ok(crate::pool::detach(py, || metrics::incoherence(&f)))
 }
 
 /// Registers the submodule.

@@ -158,8 +158,10 @@ fn field_in(
 ) -> PyResult<ScalarField> {
     let range = value_range.map(|(lo, hi)| (lo as f32, hi as f32));
     let ranged = |dims, data: &[f32], lo, hi| {
-        py.detach(|| ScalarField::from_f32_range(dims, spacing, data, lo, hi))
-            .py_err()
+        crate::pool::detach(py, || {
+            ScalarField::from_f32_range(dims, spacing, data, lo, hi)
+        })
+        .py_err()
     };
     // Integer volumes: the type's own normalisation, or the range.
     fn integers<T: numpy::Element + Copy + Into<f32>>(
@@ -174,11 +176,13 @@ fn field_in(
             let dims = dims3("volume", a.shape())?;
             let v = values(&a);
             match range {
-                None => py.detach(|| own(dims, spacing, &v)).py_err(),
+                None => crate::pool::detach(py, || own(dims, spacing, &v)).py_err(),
                 Some((lo, hi)) => {
                     let f: Vec<f32> = v.iter().map(|&x| x.into()).collect();
-                    py.detach(|| ScalarField::from_f32_range(dims, spacing, &f, lo, hi))
-                        .py_err()
+                    crate::pool::detach(py, || {
+                        ScalarField::from_f32_range(dims, spacing, &f, lo, hi)
+                    })
+                    .py_err()
                 }
             }
         })())
@@ -192,7 +196,7 @@ fn field_in(
     if let Ok(a) = volume.extract::<PyReadonlyArrayDyn<f32>>() {
         let dims = dims3("volume", a.shape())?;
         let v = values(&a);
-        if !py.detach(|| v.par_iter().all(|x| x.is_finite())) {
+        if !crate::pool::detach(py, || v.par_iter().all(|x| x.is_finite())) {
             let i = v.iter().position(|x| !x.is_finite()).unwrap_or(0);
             return Err(value_error(format!(
                 "`volume` contains a non-finite value (NaN or infinity) at flat index {i}"
@@ -201,7 +205,7 @@ fn field_in(
         let (lo, hi) = match range {
             Some(r) => r,
             // Finite values: plain comparisons.
-            None => py.detach(|| {
+            None => crate::pool::detach(py, || {
                 let id = || (f32::INFINITY, f32::NEG_INFINITY);
                 let join = |(a, b): (f32, f32), (c, d): (f32, f32)| {
                     (if c < a { c } else { a }, if d > b { d } else { b })
@@ -214,9 +218,7 @@ fn field_in(
         if range.is_none() && lo >= hi {
             // Constant (or empty) volume: no range to normalise by.
             let data = v.iter().map(|x| x.clamp(0.0, 1.0)).collect();
-            return py
-                .detach(|| ScalarField::from_f32(dims, spacing, data))
-                .py_err();
+            return crate::pool::detach(py, || ScalarField::from_f32(dims, spacing, data)).py_err();
         }
         return ranged(dims, &v, lo, hi);
     }
@@ -510,9 +512,10 @@ fn illum_render<'py>(
     let field = field_arg(py, volume, spacing, value_range)?;
     let field: &ScalarField = &field;
     let s = scene_in(field, opts)?;
-    let r = py
-        .detach(|| render_field(field, &tf, &s.cam, &s.light, &s.method, &s.settings))
-        .py_err()?;
+    let r = crate::pool::detach(py, || {
+        render_field(field, &tf, &s.cam, &s.light, &s.method, &s.settings)
+    })
+    .py_err()?;
     let (h, w, c) = r.image.shape();
     array(py, &[h, w, c], r.image.into_data())
 }
@@ -539,9 +542,10 @@ fn illum_light_buffer<'py>(
             "`depth` must be finite and >= 0, got {depth}"
         )));
     }
-    let (img, z) = py
-        .detach(|| light_buffer_at(field, &tf, &s.cam, &s.light, &s.method, &s.settings, depth))
-        .py_err()?;
+    let (img, z) = crate::pool::detach(py, || {
+        light_buffer_at(field, &tf, &s.cam, &s.light, &s.method, &s.settings, depth)
+    })
+    .py_err()?;
     let (h, w, _) = img.shape();
     Ok((array(py, &[h, w], img.into_data())?, z))
 }
@@ -555,7 +559,7 @@ fn preintegration_table<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let tf = tf_in(&tf)?;
     let ds = positive("ds", ds)? as f32;
-    let t = py.detach(|| PreIntegrationTable::build(&tf, ds)).py_err()?;
+    let t = crate::pool::detach(py, || PreIntegrationTable::build(&tf, ds)).py_err()?;
     let n = t.n;
     array(py, &[n, n, 4], t.rgba.into_iter().flatten().collect())
 }
@@ -564,7 +568,7 @@ fn preintegration_table<'py>(
 #[pyfunction]
 fn marschner_lobb(py: Python<'_>, n: i64) -> PyResult<Arr<'_, f32>> {
     let n = int_in("n", n, 2, MAX_ML_SIDE as i64)? as usize;
-    let f = py.detach(|| scenes::marschner_lobb(n)).py_err()?;
+    let f = crate::pool::detach(py, || scenes::marschner_lobb(n)).py_err()?;
     array(py, &[n, n, n], f.data().to_vec())
 }
 
@@ -597,9 +601,8 @@ fn labels_to_density<'py>(
     let dims = dims3("labels", labels.shape())?;
     let sigma = non_negative("sigma", sigma)?;
     let v = values(&labels);
-    let f = py
-        .detach(|| scenes::labels_to_field(&v, dims, spacing, sigma))
-        .py_err()?;
+    let f =
+        crate::pool::detach(py, || scenes::labels_to_field(&v, dims, spacing, sigma)).py_err()?;
     array(py, &[dims[2], dims[1], dims[0]], f.data().to_vec())
 }
 
@@ -608,22 +611,21 @@ fn labels_to_density<'py>(
 /// malformed or unsupported.
 #[pyfunction]
 fn read_vti(py: Python<'_>, path: PathBuf) -> PyResult<(Bound<'_, PyAny>, (f64, f64, f64))> {
-    let img = py
-        .detach(|| {
-            // The parser validates what it reads; a panic on a hostile file would still be a
-            // malformed file, not a crash of the interpreter.
-            std::panic::catch_unwind(|| vti::read_vti(&path))
-        })
-        .map_err(|_| {
-            value_error(format!(
-                "cannot decode {}: malformed VTK image data",
-                path.display()
-            ))
-        })?
-        .map_err(|e| match e {
-            Error::Io { .. } => PyOSError::new_err(e.to_string()),
-            e => PyValueError::new_err(e.to_string()),
-        })?;
+    let img = crate::pool::detach(py, || {
+        // The parser validates what it reads; a panic on a hostile file would still be a
+        // malformed file, not a crash of the interpreter.
+        std::panic::catch_unwind(|| vti::read_vti(&path))
+    })
+    .map_err(|_| {
+        value_error(format!(
+            "cannot decode {}: malformed VTK image data",
+            path.display()
+        ))
+    })?
+    .map_err(|e| match e {
+        Error::Io { .. } => PyOSError::new_err(e.to_string()),
+        e => PyValueError::new_err(e.to_string()),
+    })?;
     let [nx, ny, nz] = img.dims;
     let shape = [nz, ny, nx];
     let arr = match img.values {
@@ -740,22 +742,21 @@ fn illum_study<'py>(
     let d32: Vec<f32> = distances.iter().map(|&d| d as f32).collect();
     let configs = study::grid(&d32, max_m);
     let settings = IlluminationParams::default();
-    let st = py
-        .detach(|| {
-            study::sweep(
-                field,
-                &tf,
-                &cams,
-                &light,
-                &settings,
-                &Method::ics(reference as f32),
-                &Method::ics(fine as f32),
-                &configs,
-                &criterion,
-                |_, _| {},
-            )
-        })
-        .py_err()?;
+    let st = crate::pool::detach(py, || {
+        study::sweep(
+            field,
+            &tf,
+            &cams,
+            &light,
+            &settings,
+            &Method::ics(reference as f32),
+            &Method::ics(fine as f32),
+            &configs,
+            &criterion,
+            |_, _| {},
+        )
+    })
+    .py_err()?;
     // `grid` emits 2 (max_m + 1) configurations per distance, in the order given.
     let per = 2 * (max_m as usize + 1);
     let entries = PyList::empty(py);

@@ -34,14 +34,15 @@ fn pack_sides(sides: &PyReadonlyArrayDyn<bool>, shape: &[usize]) -> PyResult<Vec
         )));
     }
     let v = values(sides);
-    let bits = v
-        .par_chunks(8)
-        .map(|c| {
-            c.iter()
-                .enumerate()
-                .fold(0u8, |acc, (i, &b)| acc | (u8::from(b) << i))
-        })
-        .collect();
+    let bits = crate::pool::detach(sides.py(), || {
+        v.par_chunks(8)
+            .map(|c| {
+                c.iter()
+                    .enumerate()
+                    .fold(0u8, |acc, (i, &b)| acc | (u8::from(b) << i))
+            })
+            .collect()
+    });
     Ok(bits)
 }
 
@@ -100,17 +101,18 @@ fn stats_dict<'py>(py: Python<'py>, s: &NormalStats) -> PyResult<Bound<'py, PyDi
 }
 
 fn edges_out<'py>(py: Python<'py>, e: &[EdgeId]) -> PyResult<Arr<'py, i64>> {
-    let data = e
-        .par_iter()
-        .flat_map_iter(|e| {
-            [
-                e.point[0] as i64,
-                e.point[1] as i64,
-                e.point[2] as i64,
-                e.axis as i64,
-            ]
-        })
-        .collect();
+    let data = crate::pool::detach(py, || {
+        e.par_iter()
+            .flat_map_iter(|e| {
+                [
+                    e.point[0] as i64,
+                    e.point[1] as i64,
+                    e.point[2] as i64,
+                    e.axis as i64,
+                ]
+            })
+            .collect()
+    });
     array(py, &[e.len(), 4], data)
 }
 
@@ -152,11 +154,12 @@ fn mesh_out<'py>(py: Python<'py>, m: IsoMesh) -> PyResult<MeshOut<'py>> {
         .collect();
     info.set_item("cells", array(py, &[m.cell_config.len(), 2], cells)?)?;
     let (nv, nt, nn) = (m.vertices.len(), m.triangles.len(), m.normals.len());
-    let faces = m
-        .triangles
-        .par_iter()
-        .flat_map_iter(|t| t.map(|i| i as i64))
-        .collect();
+    let faces = crate::pool::detach(py, || {
+        m.triangles
+            .par_iter()
+            .flat_map_iter(|t| t.map(|i| i as i64))
+            .collect()
+    });
     Ok((
         array(py, &[nv, 3], m.vertices.concat())?,
         array(py, &[nt, 3], faces)?,
@@ -216,9 +219,8 @@ fn marching_cubes<'py>(
     let v = values(&volume);
     let g = p.grid(&v, spacing)?;
     let method = p.method;
-    let mesh = py
-        .detach(|| wscg_isosurface::marching_cubes(&g, level, method))
-        .py_err()?;
+    let mesh =
+        crate::pool::detach(py, || wscg_isosurface::marching_cubes(&g, level, method)).py_err()?;
     mesh_out(py, mesh)
 }
 
@@ -240,9 +242,10 @@ fn estimate_normals<'py>(
     let v = values(&volume);
     let g = p.grid(&v, spacing)?;
     let method = p.method;
-    let (n, stats) = py
-        .detach(|| wscg_isosurface::estimate_normals(&g, level, &e, method))
-        .py_err()?;
+    let (n, stats) = crate::pool::detach(py, || {
+        wscg_isosurface::estimate_normals(&g, level, &e, method)
+    })
+    .py_err()?;
     let len = n.len();
     Ok((array(py, &[len, 3], n.concat())?, stats_dict(py, &stats)?))
 }
@@ -257,9 +260,10 @@ fn sparsify<'py>(
     let dims = dims_of(volume.shape())?;
     let shape = volume.shape().to_vec();
     let v = values(&volume);
-    let (sparse, bits) = py
-        .detach(|| wscg_isosurface::sparsify_for_isosurface(&v, dims, level))
-        .py_err()?;
+    let (sparse, bits) = crate::pool::detach(py, || {
+        wscg_isosurface::sparsify_for_isosurface(&v, dims, level)
+    })
+    .py_err()?;
     let sides: Vec<bool> = (0..v.len())
         .map(|i| bits[i / 8] >> (i % 8) & 1 == 1)
         .collect();
@@ -276,7 +280,7 @@ fn random_dropouts<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let shape = volume.shape().to_vec();
     let mut v = values(&volume).into_owned();
-    wscg_isosurface::random_dropouts(&mut v, rate, seed).py_err()?;
+    crate::pool::detach(py, || wscg_isosurface::random_dropouts(&mut v, rate, seed)).py_err()?;
     array(py, &shape, v)
 }
 
@@ -289,7 +293,7 @@ fn angular_errors<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let x = rows3("a", &values(&a), a.shape())?;
     let y = rows3("b", &values(&b), b.shape())?;
-    let e = wscg_isosurface::angular_errors(&x, &y).py_err()?;
+    let e = crate::pool::detach(py, || wscg_isosurface::angular_errors(&x, &y)).py_err()?;
     let n = e.len();
     array(py, &[n], e)
 }
@@ -305,12 +309,16 @@ fn rms_dict<'py>(py: Python<'py>, r: &RmsSummary) -> PyResult<Bound<'py, PyDict>
 /// RMS angular error (see `wscg.isosurface.angular_rms`): (rms, count, undefined).
 #[pyfunction]
 fn angular_rms(
+    py: Python<'_>,
     a: PyReadonlyArrayDyn<f32>,
     b: PyReadonlyArrayDyn<f32>,
 ) -> PyResult<(f64, usize, usize)> {
     let x = rows3("a", &values(&a), a.shape())?;
     let y = rows3("b", &values(&b), b.shape())?;
-    let r = wscg_isosurface::rms(&wscg_isosurface::angular_errors(&x, &y).py_err()?);
+    let r = crate::pool::detach(py, || {
+        wscg_isosurface::angular_errors(&x, &y).map(|e| wscg_isosurface::rms(&e))
+    })
+    .py_err()?;
     Ok((r.rms, r.count, r.undefined))
 }
 
@@ -322,11 +330,11 @@ fn rotation_class(config: u8) -> u8 {
 
 /// The Table 4 enumeration.
 #[pyfunction]
-fn at_risk(ambiguous_face: &str, threshold: f32) -> PyResult<Vec<u8>> {
-    Ok(at_risk_configurations(
-        rule_from(ambiguous_face)?,
-        threshold,
-    ))
+fn at_risk(py: Python<'_>, ambiguous_face: &str, threshold: f32) -> PyResult<Vec<u8>> {
+    let rule = rule_from(ambiguous_face)?;
+    Ok(crate::pool::detach(py, || {
+        at_risk_configurations(rule, threshold)
+    }))
 }
 
 type SampledOut<'py> = (Arr<'py, f32>, (f32, f32, f32), (f64, f64, f64));
@@ -334,7 +342,7 @@ type SampledOut<'py> = (Arr<'py, f32>, (f32, f32, f32), (f64, f64, f64));
 /// A named analytic field on an n^3 grid: (volume [z, y, x], spacing xyz, origin xyz).
 #[pyfunction]
 fn sample_field<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<SampledOut<'py>> {
-    let (_, s) = fields::named(name, n).py_err()?;
+    let s = crate::pool::detach(py, || fields::named(name, n).map(|(_, s)| s)).py_err()?;
     let [nx, ny, nz] = s.dims;
     Ok((
         array(py, &[nz, ny, nx], s.values)?,
@@ -351,9 +359,11 @@ fn field_normals<'py>(
     n: usize,
     vertices: PyReadonlyArrayDyn<f32>,
 ) -> PyResult<Arr<'py, f32>> {
-    let (f, s) = fields::named(name, n).py_err()?;
     let v = rows3("vertices", &values(&vertices), vertices.shape())?;
-    let out = s.exact_normals(f.as_ref(), &v);
+    let out = crate::pool::detach(py, || {
+        fields::named(name, n).map(|(f, s)| s.exact_normals(f.as_ref(), &v))
+    })
+    .py_err()?;
     let len = out.len();
     array(py, &[len, 3], out.concat())
 }
@@ -369,7 +379,10 @@ fn noisy_sphere<'py>(
     seed: u64,
 ) -> PyResult<Arr<'py, f32>> {
     let centre = fields::grid_centre(n);
-    let s = fields::noisy_sphere_u8([n; 3], centre, radius, width, noise, seed).py_err()?;
+    let s = crate::pool::detach(py, || {
+        fields::noisy_sphere_u8([n; 3], centre, radius, width, noise, seed)
+    })
+    .py_err()?;
     array(py, &[n, n, n], s.values)
 }
 
@@ -383,9 +396,10 @@ fn study_full_cd<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let dims = dims_of(volume.shape())?;
     let v = values(&volume);
-    let c = py
-        .detach(|| compare_with_full_cd(&v, dims, spacing3(spacing), level))
-        .py_err()?;
+    let c = crate::pool::detach(py, || {
+        compare_with_full_cd(&v, dims, spacing3(spacing), level)
+    })
+    .py_err()?;
     let d = PyDict::new(py);
     d.set_item("vertices", c.vertices)?;
     d.set_item("triangles", c.triangles)?;
@@ -402,11 +416,12 @@ fn study_full_cd<'py>(
 /// Table 3 protocol on a named field.
 #[pyfunction]
 fn study_exact<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<Bound<'py, PyDict>> {
-    let (f, s) = fields::named(name, n).py_err()?;
-    let iso = f.iso() as f32;
-    let c = py
-        .detach(|| compare_with_exact(f.as_ref(), &s, iso))
-        .py_err()?;
+    let (iso, c) = crate::pool::detach(py, || -> wscg_math::Result<_> {
+        let (f, s) = fields::named(name, n)?;
+        let iso = f.iso() as f32;
+        Ok((iso, compare_with_exact(f.as_ref(), &s, iso)?))
+    })
+    .py_err()?;
     let d = PyDict::new(py);
     d.set_item("vertices", c.vertices)?;
     d.set_item("central", rms_dict(py, &c.cd_full)?)?;

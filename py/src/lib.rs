@@ -26,6 +26,7 @@ mod math;
 mod meshfilter;
 mod motion;
 mod octree;
+mod pool;
 mod raytrace;
 mod sfa;
 mod video;
@@ -36,6 +37,7 @@ mod volseg;
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    pool::register(m)?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
     let subs: [(&str, Register); 17] = [
         ("math", math::register),

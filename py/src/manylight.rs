@@ -121,7 +121,7 @@ impl PyScene {
             p.iter().map(|a| Vector3::new(a[0], a[1], a[2])).collect()
         };
         let (o, t) = (v(&o), v(&t));
-        let hit = py.detach(|| self.scene.occluded_batch(&o, &t)).py_err()?;
+        let hit = crate::pool::detach(py, || self.scene.occluded_batch(&o, &t)).py_err()?;
         array(py, &[hit.len()], hit)
     }
 
@@ -138,8 +138,15 @@ impl PyScene {
 
 /// A procedural scene: 'cornell', 'colonnade', 'conference' or 'plane'.
 #[pyfunction]
-fn manylight_scene(name: &str, subdiv: u32, width: usize, height: usize) -> PyResult<PyScene> {
-    let (scene, camera) = scenes::by_name(name, subdiv, width, height).py_err()?;
+fn manylight_scene(
+    py: Python<'_>,
+    name: &str,
+    subdiv: u32,
+    width: usize,
+    height: usize,
+) -> PyResult<PyScene> {
+    let (scene, camera) =
+        crate::pool::detach(py, || scenes::by_name(name, subdiv, width, height)).py_err()?;
     Ok(PyScene { scene, camera })
 }
 
@@ -160,6 +167,7 @@ fn default_camera() -> Camera {
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, albedo, emission, camera=None))]
 fn manylight_from_arrays(
+    py: Python<'_>,
     vertices: PyReadonlyArrayDyn<f64>,
     faces: PyReadonlyArrayDyn<i64>,
     albedo: PyReadonlyArrayDyn<f64>,
@@ -170,7 +178,7 @@ fn manylight_from_arrays(
     let f = crate::convert::faces_u32(&faces)?;
     let a = rows3("albedo", &values(&albedo), albedo.shape())?;
     let e = rows3("emission", &values(&emission), emission.shape())?;
-    let scene = Scene::from_triangles(&v, &f, &a, &e).py_err()?;
+    let scene = crate::pool::detach(py, || Scene::from_triangles(&v, &f, &a, &e)).py_err()?;
     let camera = camera_from(camera, &default_camera())?;
     Ok(PyScene { scene, camera })
 }
@@ -179,10 +187,11 @@ fn manylight_from_arrays(
 #[pyfunction]
 #[pyo3(signature = (path, camera=None))]
 fn manylight_load_obj(
+    py: Python<'_>,
     path: std::path::PathBuf,
     camera: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyScene> {
-    let scene = load_obj(&path).py_err()?;
+    let scene = crate::pool::detach(py, || load_obj(&path)).py_err()?;
     let camera = camera_from(camera, &default_camera())?;
     Ok(PyScene { scene, camera })
 }
@@ -224,9 +233,8 @@ fn manylight_render<'py>(
             dmax_factor: c.get("dmax_factor", dmax_factor)?,
         };
     }
-    let out = py
-        .detach(|| run(&scene.scene, &camera, method, &s, &NoProgress))
-        .py_err()?;
+    let out =
+        crate::pool::detach(py, || run(&scene.scene, &camera, method, &s, &NoProgress)).py_err()?;
     let (h, w, _) = out.image.shape();
     let img = array(py, &[h, w, 3], out.image.into_data())?;
     let d = PyDict::new(py);

@@ -31,7 +31,7 @@ use crate::errors::{value_error, IntoPy};
 fn mse(py: Python<'_>, a: PyReadonlyArrayDyn<f64>, b: PyReadonlyArrayDyn<f64>) -> PyResult<f64> {
     same_shape(a.shape(), b.shape())?;
     let (va, vb) = (values(&a), values(&b));
-    py.detach(|| metrics::mse(&va, &vb)).py_err()
+    crate::pool::detach(py, || metrics::mse(&va, &vb)).py_err()
 }
 
 #[pyfunction]
@@ -43,7 +43,7 @@ fn psnr(
 ) -> PyResult<f64> {
     same_shape(a.shape(), b.shape())?;
     let (va, vb) = (values(&a), values(&b));
-    py.detach(|| metrics::psnr(&va, &vb, data_range)).py_err()
+    crate::pool::detach(py, || metrics::psnr(&va, &vb, data_range)).py_err()
 }
 
 #[pyfunction]
@@ -67,7 +67,7 @@ fn ssim(
         .truncate(truncate)
         .k1(k1)
         .k2(k2);
-    py.detach(|| {
+    crate::pool::detach(py, || {
         let mut total = 0.0;
         for ch in 0..c {
             total += metrics::ssim_plane(&plane(&va, c, ch), &plane(&vb, c, ch), h, w, &p)?;
@@ -78,9 +78,10 @@ fn ssim(
 }
 
 #[pyfunction]
-fn dice(a: PyReadonlyArrayDyn<bool>, b: PyReadonlyArrayDyn<bool>) -> PyResult<f64> {
+fn dice(py: Python<'_>, a: PyReadonlyArrayDyn<bool>, b: PyReadonlyArrayDyn<bool>) -> PyResult<f64> {
     same_shape(a.shape(), b.shape())?;
-    metrics::dice(&values(&a), &values(&b)).py_err()
+    let (va, vb) = (values(&a), values(&b));
+    crate::pool::detach(py, || metrics::dice(&va, &vb)).py_err()
 }
 
 // ---------------------------------------------------------------- filters and resizing
@@ -112,18 +113,17 @@ fn filter_channels<'py>(
     let (h, w, c) = image_dims("image", &shape)?;
     let v = values(img);
     wscg_math::error::ensure_finite("image", &v).py_err()?;
-    let out = py
-        .detach(|| -> wscg_math::Result<Vec<f64>> {
-            let mut out = vec![0.0; v.len()];
-            for ch in 0..c {
-                let res = separable_plane(&plane(&v, c, ch), h, w, k, k, b)?;
-                for (o, r) in out.iter_mut().skip(ch).step_by(c).zip(res) {
-                    *o = r;
-                }
+    let out = crate::pool::detach(py, || -> wscg_math::Result<Vec<f64>> {
+        let mut out = vec![0.0; v.len()];
+        for ch in 0..c {
+            let res = separable_plane(&plane(&v, c, ch), h, w, k, k, b)?;
+            for (o, r) in out.iter_mut().skip(ch).step_by(c).zip(res) {
+                *o = r;
             }
-            Ok(out)
-        })
-        .py_err()?;
+        }
+        Ok(out)
+    })
+    .py_err()?;
     array(py, &shape, out)
 }
 
@@ -190,9 +190,7 @@ fn resize<'py>(
     };
     let shape = shape_of(&image);
     let img = to_image("image", &shape, &values(&image))?;
-    let out = py
-        .detach(|| resize_image(&img, height, width, m))
-        .py_err()?;
+    let out = crate::pool::detach(py, || resize_image(&img, height, width, m)).py_err()?;
     image_out(py, shape.len() == 2, out)
 }
 
@@ -230,8 +228,7 @@ fn fftn<'py>(
         Direction::Forward
     };
     let mut data = values(&x).into_owned();
-    py.detach(|| fft::fft_axes(&mut data, &shape, &axes, dir, n))
-        .py_err()?;
+    crate::pool::detach(py, || fft::fft_axes(&mut data, &shape, &axes, dir, n)).py_err()?;
     array(py, &shape, data)
 }
 
@@ -243,11 +240,13 @@ fn fftshift_c<'py>(
 ) -> PyResult<Arr<'py, Complex64>> {
     let shape = shape_of(&x);
     let v = values(&x);
-    let out = if inverse {
-        fft::ifftshift(&v, &shape)
-    } else {
-        fft::fftshift(&v, &shape)
-    }
+    let out = crate::pool::detach(py, || {
+        if inverse {
+            fft::ifftshift(&v, &shape)
+        } else {
+            fft::fftshift(&v, &shape)
+        }
+    })
     .py_err()?;
     array(py, &shape, out)
 }
@@ -260,11 +259,13 @@ fn fftshift_f<'py>(
 ) -> PyResult<Arr<'py, f64>> {
     let shape = shape_of(&x);
     let v = values(&x);
-    let out = if inverse {
-        fft::ifftshift(&v, &shape)
-    } else {
-        fft::fftshift(&v, &shape)
-    }
+    let out = crate::pool::detach(py, || {
+        if inverse {
+            fft::ifftshift(&v, &shape)
+        } else {
+            fft::fftshift(&v, &shape)
+        }
+    })
     .py_err()?;
     array(py, &shape, out)
 }
@@ -299,7 +300,11 @@ fn cg<'py>(
     if p.is_empty() {
         return Err(value_error("`indptr` must have length nrows + 1 >= 1"));
     }
-    let a = CsrMatrix::from_csr_arrays(p.len() - 1, ncols, &p, &c, &values(&data)).py_err()?;
+    let d = values(&data);
+    let a = crate::pool::detach(py, || {
+        CsrMatrix::from_csr_arrays(p.len() - 1, ncols, &p, &c, &d)
+    })
+    .py_err()?;
     let bv = values(&b);
     let x0v = x0.as_ref().map(|x| values(x));
     let guess = match &x0v {
@@ -308,11 +313,12 @@ fn cg<'py>(
     };
     let opts = PcgParams::default().tol(tol).max_iter(maxiter);
     let res = match preconditioner {
-        None | Some("none") => py.detach(|| pcg(&a, &bv, guess, &IdentityPrecond, &opts)),
-        Some("jacobi") => {
-            let j = Jacobi::new(&a.diagonal()).py_err()?;
-            py.detach(|| pcg(&a, &bv, guess, &j, &opts))
+        None | Some("none") => {
+            crate::pool::detach(py, || pcg(&a, &bv, guess, &IdentityPrecond, &opts))
         }
+        Some("jacobi") => crate::pool::detach(py, || {
+            pcg(&a, &bv, guess, &Jacobi::new(&a.diagonal())?, &opts)
+        }),
         Some(other) => {
             return Err(value_error(format!(
                 "{other:?} is not a valid preconditioner. Valid values are 'jacobi', None"
@@ -332,7 +338,7 @@ type Csr<'py> = (Arr<'py, i64>, Arr<'py, i64>, Arr<'py, f64>);
 
 #[pyfunction]
 fn laplacian_3d(py: Python<'_>, nx: usize, ny: usize, nz: usize) -> PyResult<Csr<'_>> {
-    let a = py.detach(|| CsrMatrix::laplacian_3d(nx, ny, nz)).py_err()?;
+    let a = crate::pool::detach(py, || CsrMatrix::laplacian_3d(nx, ny, nz)).py_err()?;
     let p: Vec<i64> = a.indptr().iter().map(|&v| v as i64).collect();
     let c: Vec<i64> = a.indices().iter().map(|&v| v as i64).collect();
     Ok((
@@ -360,19 +366,19 @@ fn eigh<'py>(
     which: &str,
 ) -> PyResult<Eig<'py>> {
     let m = mat("a", &a)?;
-    let e = py
-        .detach(|| match (k, which) {
-            (None, "smallest") => dense::eigh(m.as_ref()),
-            (None, "largest") => dense::eigh(m.as_ref())
-                .and_then(|e| dense::eigh_largest(m.as_ref(), e.values.len())),
-            (Some(k), "largest") => dense::eigh_largest(m.as_ref(), k),
-            (Some(k), "smallest") => dense::eigh_smallest(m.as_ref(), k),
-            (_, other) => Err(Error::invalid(
-                "which",
-                format!("{other:?} is not valid; use 'largest' or 'smallest'"),
-            )),
-        })
-        .py_err()?;
+    let e = crate::pool::detach(py, || match (k, which) {
+        (None, "smallest") => dense::eigh(m.as_ref()),
+        (None, "largest") => {
+            dense::eigh(m.as_ref()).and_then(|e| dense::eigh_largest(m.as_ref(), e.values.len()))
+        }
+        (Some(k), "largest") => dense::eigh_largest(m.as_ref(), k),
+        (Some(k), "smallest") => dense::eigh_smallest(m.as_ref(), k),
+        (_, other) => Err(Error::invalid(
+            "which",
+            format!("{other:?} is not valid; use 'largest' or 'smallest'"),
+        )),
+    })
+    .py_err()?;
     eig_out(py, e)
 }
 
@@ -383,9 +389,8 @@ fn eigh_generalized<'py>(
     b: PyReadonlyArrayDyn<f64>,
 ) -> PyResult<Eig<'py>> {
     let (ma, mb) = (mat("a", &a)?, mat("b", &b)?);
-    let e = py
-        .detach(|| dense::eigh_generalized(ma.as_ref(), mb.as_ref()))
-        .py_err()?;
+    let e =
+        crate::pool::detach(py, || dense::eigh_generalized(ma.as_ref(), mb.as_ref())).py_err()?;
     eig_out(py, e)
 }
 
@@ -395,7 +400,7 @@ fn svd<'py>(
     a: PyReadonlyArrayDyn<f64>,
 ) -> PyResult<(Arr<'py, f64>, Arr<'py, f64>, Arr<'py, f64>)> {
     let m = mat("a", &a)?;
-    let d = py.detach(|| dense::svd(m.as_ref())).py_err()?;
+    let d = crate::pool::detach(py, || dense::svd(m.as_ref())).py_err()?;
     let vt = d.v.transpose().to_owned();
     let n = d.s.len();
     Ok((mat_out(py, &d.u)?, array(py, &[n], d.s)?, mat_out(py, &vt)?))
@@ -409,9 +414,7 @@ fn lstsq<'py>(
     rcond: Option<f64>,
 ) -> PyResult<Arr<'py, f64>> {
     let (ma, mb) = (mat("a", &a)?, mat("b", &b)?);
-    let x = py
-        .detach(|| dense::lstsq(ma.as_ref(), mb.as_ref(), rcond))
-        .py_err()?;
+    let x = crate::pool::detach(py, || dense::lstsq(ma.as_ref(), mb.as_ref(), rcond)).py_err()?;
     mat_out(py, &x)
 }
 
@@ -419,24 +422,24 @@ fn lstsq<'py>(
 
 #[pyfunction]
 fn normal(py: Python<'_>, seed: u64, n: usize, mean: f64, std: f64) -> PyResult<Arr<'_, f64>> {
-    let v = py.detach(|| rng::normal_vec(seed, n, mean, std)).py_err()?;
+    let v = crate::pool::detach(py, || rng::normal_vec(seed, n, mean, std)).py_err()?;
     array(py, &[n], v)
 }
 
 #[pyfunction]
 fn uniform(py: Python<'_>, seed: u64, n: usize, low: f64, high: f64) -> PyResult<Arr<'_, f64>> {
-    let v = py
-        .detach(|| rng::uniform_vec(seed, n, low, high))
-        .py_err()?;
+    let v = crate::pool::detach(py, || rng::uniform_vec(seed, n, low, high)).py_err()?;
     array(py, &[n], v)
 }
 
 #[pyfunction]
 fn permutation(py: Python<'_>, seed: u64, n: usize) -> PyResult<Arr<'_, i64>> {
-    let v: Vec<i64> = rng::permutation(seed, n)
-        .into_iter()
-        .map(|i| i as i64)
-        .collect();
+    let v: Vec<i64> = crate::pool::detach(py, || {
+        rng::permutation(seed, n)
+            .into_iter()
+            .map(|i| i as i64)
+            .collect()
+    });
     array(py, &[n], v)
 }
 
@@ -444,7 +447,7 @@ fn permutation(py: Python<'_>, seed: u64, n: usize) -> PyResult<Arr<'_, i64>> {
 
 #[pyfunction]
 fn load_image(py: Python<'_>, path: PathBuf) -> PyResult<Arr<'_, f32>> {
-    let img = py.detach(|| Image::load(&path)).py_err()?;
+    let img = crate::pool::detach(py, || Image::load(&path)).py_err()?;
     image_out(py, true, img)
 }
 
@@ -467,7 +470,7 @@ fn save_image(
             )))
         }
     };
-    py.detach(|| match depth {
+    crate::pool::detach(py, || match depth {
         None => img.save(&path),
         Some(d) => img.save_with_depth(&path, d),
     })
@@ -495,9 +498,7 @@ fn load_volume(
     path: PathBuf,
     spacing: Option<(f64, f64, f64)>,
 ) -> PyResult<(Arr<'_, f32>, (f64, f64, f64))> {
-    let v = py
-        .detach(|| Volume::read(&path, spacing.map(spacing_xyz)))
-        .py_err()?;
+    let v = crate::pool::detach(py, || Volume::read(&path, spacing.map(spacing_xyz))).py_err()?;
     volume_out(py, v)
 }
 
@@ -511,9 +512,10 @@ fn read_raw_volume<'py>(
 ) -> PyResult<(Arr<'py, f32>, (f64, f64, f64))> {
     let t: RawType = dtype.parse().py_err()?;
     let dims = [shape.2, shape.1, shape.0];
-    let v = py
-        .detach(|| Volume::read_raw(&path, dims, spacing_xyz(spacing), t))
-        .py_err()?;
+    let v = crate::pool::detach(py, || {
+        Volume::read_raw(&path, dims, spacing_xyz(spacing), t)
+    })
+    .py_err()?;
     volume_out(py, v)
 }
 
@@ -533,9 +535,9 @@ fn save_volume(
     let data = values(&volume);
     let view = ArrayView3::from_shape((shape[0], shape[1], shape[2]), &data)
         .map_err(|e| value_error(e.to_string()))?;
-    let vol = Volume::from_zyx(view, spacing_xyz(spacing)).py_err()?;
     let name = path.to_string_lossy().to_ascii_lowercase();
-    py.detach(|| {
+    crate::pool::detach(py, || {
+        let vol = Volume::from_zyx(view, spacing_xyz(spacing))?;
         if name.ends_with(".nii") || name.ends_with(".nii.gz") {
             vol.write_nifti(&path)
         } else if name.ends_with(".npy") {
@@ -556,7 +558,7 @@ fn save_volume(
 
 #[pyfunction]
 fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
-    let m = py.detach(|| TriMesh::read(&path)).py_err()?;
+    let m = crate::pool::detach(py, || TriMesh::read(&path)).py_err()?;
     let d = PyDict::new(py);
     let nv = m.positions.len();
     d.set_item("vertices", array(py, &[nv, 3], m.positions.concat())?)?;
@@ -582,16 +584,18 @@ fn write_mesh(
     normals: Option<PyReadonlyArrayDyn<f64>>,
     binary: bool,
 ) -> PyResult<()> {
-    let mut mesh = mesh_in(&vertices, &faces, colors.as_ref())?;
-    if let Some(n) = normals {
-        mesh = mesh
-            .with_normals(rows3("normals", &values(&n), n.shape())?)
-            .py_err()?;
-    }
+    let mesh = mesh_in(&vertices, &faces, colors.as_ref())?;
+    let normals = normals
+        .map(|n| rows3("normals", &values(&n), n.shape()))
+        .transpose()?;
     let is_ply = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
-    py.detach(|| {
+    crate::pool::detach(py, || {
+        let mesh = match normals {
+            Some(n) => mesh.with_normals(n)?,
+            None => mesh,
+        };
         if is_ply && !binary {
             mesh.write_ply(&path, PlyEncoding::Ascii)
         } else {
@@ -616,7 +620,7 @@ fn wavelet2<'py>(
     let w = Wavelet2::new(r, c, Daubechies::new(order).py_err()?, levels).py_err()?;
     let v = values(&x);
     let mut out = vec![0.0; r * c];
-    py.detach(|| {
+    crate::pool::detach(py, || {
         if inverse {
             w.inverse(&v, &mut out)
         } else {

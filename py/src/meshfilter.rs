@@ -58,7 +58,7 @@ fn jbmd<'py>(
         .anti_shrink(anti_shrink)
         .use_color(mesh.colors.is_some())
         .rebuild_neighbors(rebuild_neighbors);
-    let out = py.detach(|| wscg_meshfilter::jbmd(&mesh, &p)).py_err()?;
+    let out = crate::pool::detach(py, || wscg_meshfilter::jbmd(&mesh, &p)).py_err()?;
     positions_out(py, out)
 }
 
@@ -79,7 +79,7 @@ fn bilateral<'py>(
         .sigma_s(sigma_s)
         .iterations(iterations)
         .volume_preserve(volume_preserve);
-    let out = py.detach(|| bmd(&mesh, &p)).py_err()?;
+    let out = crate::pool::detach(py, || bmd(&mesh, &p)).py_err()?;
     positions_out(py, out)
 }
 
@@ -95,47 +95,57 @@ fn smooth<'py>(
     iterations: usize,
 ) -> PyResult<Arr<'py, f64>> {
     let mesh = mesh_in(&vertices, &faces, None)?;
-    let out = py
-        .detach(|| match kind {
-            "laplacian" => smoothing::laplacian(&mesh, a, iterations),
-            "taubin" => smoothing::taubin(&mesh, a, b, iterations),
-            "hc" => smoothing::hc_laplacian(&mesh, a, b, iterations),
-            other => Err(wscg_math::Error::invalid("kind", format!("{other:?}"))),
-        })
-        .py_err()?;
+    let out = crate::pool::detach(py, || match kind {
+        "laplacian" => smoothing::laplacian(&mesh, a, iterations),
+        "taubin" => smoothing::taubin(&mesh, a, b, iterations),
+        "hc" => smoothing::hc_laplacian(&mesh, a, b, iterations),
+        other => Err(wscg_math::Error::invalid("kind", format!("{other:?}"))),
+    })
+    .py_err()?;
     positions_out(py, out)
 }
 
 /// Paper eq. 3: mean distance to the nearest ground-truth vertex.
 #[pyfunction]
-fn mean_error(x: PyReadonlyArrayDyn<f64>, gt: PyReadonlyArrayDyn<f64>) -> PyResult<f64> {
+fn mean_error(
+    py: Python<'_>,
+    x: PyReadonlyArrayDyn<f64>,
+    gt: PyReadonlyArrayDyn<f64>,
+) -> PyResult<f64> {
     let x = rows3("x", &values(&x), x.shape())?;
     let g = rows3("gt", &values(&gt), gt.shape())?;
-    me(&x, &g).py_err()
+    crate::pool::detach(py, || me(&x, &g)).py_err()
 }
 
 /// Mean distance to the ground-truth surface (parry BVH projection).
 #[pyfunction]
 fn surface_error(
+    py: Python<'_>,
     x: PyReadonlyArrayDyn<f64>,
     vertices: PyReadonlyArrayDyn<f64>,
     faces: PyReadonlyArrayDyn<i64>,
 ) -> PyResult<f64> {
     let x = rows3("x", &values(&x), x.shape())?;
-    se(&x, &mesh_in(&vertices, &faces, None)?).py_err()
+    let mesh = mesh_in(&vertices, &faces, None)?;
+    crate::pool::detach(py, || se(&x, &mesh)).py_err()
 }
 
 /// Mean vertex distance (mean edge length).
 #[pyfunction]
-fn mvd(vertices: PyReadonlyArrayDyn<f64>, faces: PyReadonlyArrayDyn<i64>) -> PyResult<f64> {
-    mean_vertex_distance(&mesh_in(&vertices, &faces, None)?).py_err()
+fn mvd(
+    py: Python<'_>,
+    vertices: PyReadonlyArrayDyn<f64>,
+    faces: PyReadonlyArrayDyn<i64>,
+) -> PyResult<f64> {
+    let mesh = mesh_in(&vertices, &faces, None)?;
+    crate::pool::detach(py, || mean_vertex_distance(&mesh)).py_err()
 }
 
 /// Synthetic meshes: "cube" (n), "cad" (n per unit length), "sphere" (subdivisions),
 /// "plane" (n).
 #[pyfunction]
 fn synthetic<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<MeshArrays<'py>> {
-    let m = match name {
+    let m = crate::pool::detach(py, || match name {
         "cube" => synth::colored_cube(n),
         "cad" => synth::cad_part(n).map(|p| p.mesh),
         "sphere" => synth::icosphere(n as u32),
@@ -144,7 +154,7 @@ fn synthetic<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<MeshArrays<
             "name",
             format!("unknown mesh {other:?}"),
         )),
-    }
+    })
     .py_err()?;
     mesh_out(py, m)
 }
@@ -152,7 +162,7 @@ fn synthetic<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<MeshArrays<
 /// The CAD part's per-vertex labels: (patch, crease band).
 #[pyfunction]
 fn cad_labels<'py>(py: Python<'py>, n: usize) -> PyResult<(Arr<'py, i64>, Arr<'py, bool>)> {
-    let p = synth::cad_part(n).py_err()?;
+    let p = crate::pool::detach(py, || synth::cad_part(n)).py_err()?;
     let nv = p.patch.len();
     Ok((
         array(py, &[nv], p.patch.iter().map(|&x| i64::from(x)).collect())?,
@@ -171,7 +181,8 @@ fn add_noise<'py>(
     seed: u64,
 ) -> PyResult<Arr<'py, f64>> {
     let mesh = mesh_in(&vertices, &faces, None)?;
-    let out = synth::add_noise(&mesh, sigma, isotropic, seed).py_err()?;
+    let out =
+        crate::pool::detach(py, || synth::add_noise(&mesh, sigma, isotropic, seed)).py_err()?;
     positions_out(py, out.positions)
 }
 

@@ -126,7 +126,7 @@ fn make_synthetic_dataset<'py>(
         .seed(seed)
         .model_seed(model_seed)
         .human_like(human_like);
-    let (data, truth) = py.detach(|| reach_walk(&cfg)).py_err()?;
+    let (data, truth) = crate::pool::detach(py, || reach_walk(&cfg)).py_err()?;
     let (r_n, i_n, n) = (data.trials.len(), data.n_channels, data.n_samples);
     let mut angles = Vec::with_capacity(r_n * 3 * i_n * n);
     let mut steps = Vec::with_capacity(r_n * 3);
@@ -253,13 +253,12 @@ fn fit_anechoic<'py>(
         .init(init_from(init)?)
         .seed(seed)
         .delay_search(delay_search);
-    let (model, recon) = py
-        .detach(|| {
-            let m = fit_anechoic_rs(&set, &cfg)?;
-            let r = m.reconstruct();
-            Ok::<_, Error>((m, r))
-        })
-        .py_err()?;
+    let (model, recon) = crate::pool::detach(py, || {
+        let m = fit_anechoic_rs(&set, &cfg)?;
+        let r = m.reconstruct();
+        Ok::<_, Error>((m, r))
+    })
+    .py_err()?;
     let (r_n, i_n, n, j_n) = (
         model.n_trials,
         model.n_channels,
@@ -302,7 +301,7 @@ fn fit_anechoic<'py>(
 #[pyfunction]
 fn pca_qualities<'py>(py: Python<'py>, x: PyReadonlyArrayDyn<f64>) -> PyResult<Arr<'py, f64>> {
     let set = trials_in("x", &x)?;
-    let q = py.detach(|| pca_qualities_rs(&set)).py_err()?;
+    let q = crate::pool::detach(py, || pca_qualities_rs(&set)).py_err()?;
     vec_out(py, &q)
 }
 
@@ -310,7 +309,7 @@ fn pca_qualities<'py>(py: Python<'py>, x: PyReadonlyArrayDyn<f64>) -> PyResult<A
 #[pyfunction]
 fn pca_quality(py: Python<'_>, x: PyReadonlyArrayDyn<f64>, j: usize) -> PyResult<f64> {
     let set = trials_in("x", &x)?;
-    let q = py.detach(|| pca_qualities_rs(&set)).py_err()?;
+    let q = crate::pool::detach(py, || pca_qualities_rs(&set)).py_err()?;
     if j == 0 || j > q.len() {
         return Err(value_error(format!(
             "`j` must be in 1..={}, got {j}",
@@ -576,7 +575,7 @@ fn fit_stepwise(
                 .seed(seed)
                 .delay_search(delay_search),
         );
-    let inner = py.detach(|| fit_stepwise_rs(&data, &cfg)).py_err()?;
+    let inner = crate::pool::detach(py, || fit_stepwise_rs(&data, &cfg)).py_err()?;
     Ok(PyLibrary { inner })
 }
 
@@ -699,7 +698,7 @@ impl PySynthesizer {
             .map(map)
             .bandwidth(bandwidth);
         let lib = lib.inner.clone();
-        let inner = py.detach(|| Synthesizer::new(lib, planner, cfg)).py_err()?;
+        let inner = crate::pool::detach(py, || Synthesizer::new(lib, planner, cfg)).py_err()?;
         Ok(Self { inner })
     }
 
@@ -741,9 +740,8 @@ impl PySynthesizer {
             )));
         }
         let syn = &mut self.inner;
-        let out = py
-            .detach(|| syn.run(goal, fps, &goal_changes, max_seconds))
-            .py_err()?;
+        let out =
+            crate::pool::detach(py, || syn.run(goal, fps, &goal_changes, max_seconds)).py_err()?;
         let t_n = out.frames.len();
         let i_n = out.frames.first().map_or(0, |f| f.angles.len());
         let mut angles = Vec::with_capacity(t_n * i_n);
@@ -828,13 +826,13 @@ fn write_bvh(
         angles: frames,
         root,
     };
-    py.detach(|| bvh::write_bvh(&path, &motion)).py_err()
+    crate::pool::detach(py, || bvh::write_bvh(&path, &motion)).py_err()
 }
 
 /// Reads a BVH file of the 17-joint skeleton.
 #[pyfunction]
 fn read_bvh<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyDict>> {
-    let m = py.detach(|| bvh::read_bvh(&path)).py_err()?;
+    let m = crate::pool::detach(py, || bvh::read_bvh(&path)).py_err()?;
     let t_n = m.angles.len();
     let d = PyDict::new(py);
     d.set_item("angles", array(py, &[t_n, N_CHANNELS], m.angles.concat())?)?;
@@ -855,7 +853,7 @@ fn forward_kinematics<'py>(
 ) -> PyResult<Arr<'py, f64>> {
     let frames = frames_in("angles", &angles)?;
     let root = root_in(&root, frames.len())?;
-    let pts: Vec<Vec<[f64; 3]>> = py.detach(|| {
+    let pts: Vec<Vec<[f64; 3]>> = crate::pool::detach(py, || {
         frames
             .iter()
             .zip(&root)
@@ -964,14 +962,13 @@ fn svr_fit_predict<'py>(
         )));
     }
     let y = values(&y_train).into_owned();
-    let (svr, pred) = py
-        .detach(|| {
-            let svr = Svr::fit_tol(&xt, &y, c, epsilon, gamma, tol)?;
-            let fast = svr.expansion();
-            let pred: Vec<f64> = xq.iter().map(|&p| fast.eval(p)).collect();
-            Ok::<_, Error>((svr, pred))
-        })
-        .py_err()?;
+    let (svr, pred) = crate::pool::detach(py, || {
+        let svr = Svr::fit_tol(&xt, &y, c, epsilon, gamma, tol)?;
+        let fast = svr.expansion();
+        let pred: Vec<f64> = xq.iter().map(|&p| fast.eval(p)).collect();
+        Ok::<_, Error>((svr, pred))
+    })
+    .py_err()?;
     Ok((
         vec_out(py, &pred)?,
         svr.n_support(),
@@ -1020,20 +1017,19 @@ fn hopf_simulate<'py>(
     net.leader = [leader.0, leader.1];
     net.followers = fs;
     let f_n = net.followers.len();
-    let (lead, fol) = py
-        .detach(|| {
-            let mut lead = Vec::with_capacity(2 * (steps + 1));
-            let mut fol = Vec::with_capacity(2 * f_n * (steps + 1));
+    let (lead, fol) = crate::pool::detach(py, || {
+        let mut lead = Vec::with_capacity(2 * (steps + 1));
+        let mut fol = Vec::with_capacity(2 * f_n * (steps + 1));
+        lead.extend(net.leader);
+        fol.extend(net.followers.iter().flatten().copied());
+        for _ in 0..steps {
+            net.step_rk4(dt)?;
             lead.extend(net.leader);
             fol.extend(net.followers.iter().flatten().copied());
-            for _ in 0..steps {
-                net.step_rk4(dt)?;
-                lead.extend(net.leader);
-                fol.extend(net.followers.iter().flatten().copied());
-            }
-            Ok::<_, Error>((lead, fol))
-        })
-        .py_err()?;
+        }
+        Ok::<_, Error>((lead, fol))
+    })
+    .py_err()?;
     let d = PyDict::new(py);
     let time: Vec<f64> = (0..=steps).map(|s| s as f64 * dt).collect();
     d.set_item("time", vec_out(py, &time)?)?;

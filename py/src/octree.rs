@@ -167,7 +167,7 @@ impl PyOctree {
         });
         let oct = &self.inner;
         // Shading: the full hits; otherwise `cast`, which skips the normal and colour reads.
-        let hits: Vec<HitRow> = py.detach(|| {
+        let hits: Vec<HitRow> = crate::pool::detach(py, || {
             rays.par_iter()
                 .map(|r| {
                     if shading {
@@ -263,9 +263,8 @@ impl PyOctree {
             ..Default::default()
         };
         let oct = &self.inner;
-        let (img, st) = py
-            .detach(|| render(oct, &cam, &light, &mode, &shading))
-            .py_err()?;
+        let (img, st) =
+            crate::pool::detach(py, || render(oct, &cam, &light, &mode, &shading)).py_err()?;
         let d = PyDict::new(py);
         d.set_item("triangle_hits", st.triangle_hits)?;
         d.set_item("voxel_hits", st.voxel_hits)?;
@@ -314,13 +313,13 @@ impl PyOctree {
     }
 
     /// Writes the tree and its mesh to `path`.
-    fn save(&self, path: PathBuf) -> PyResult<()> {
-        self.inner.save(path).py_err()
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        crate::pool::detach(py, || self.inner.save(path)).py_err()
     }
 
     /// The serialized tree (the file's bytes).
     fn to_bytes<'py>(&self, py: Python<'py>) -> Bound<'py, pyo3::types::PyBytes> {
-        pyo3::types::PyBytes::new(py, &self.inner.to_bytes())
+        pyo3::types::PyBytes::new(py, &crate::pool::detach(py, || self.inner.to_bytes()))
     }
 }
 
@@ -348,23 +347,26 @@ fn build_octree<'py>(
         .max_depth(depth)
         .early_stop(early_stop)
         .domain(domain);
-    let (oct, st) = py.detach(|| build(&mesh, &p)).py_err()?;
+    let (oct, st) = crate::pool::detach(py, || build(&mesh, &p)).py_err()?;
     Ok((PyOctree { inner: oct }, stats_dict(py, &st)?))
 }
 
 /// Reads a tree saved by `HybridOctree.save`.
 #[pyfunction]
-fn load(path: PathBuf) -> PyResult<PyOctree> {
+fn load(py: Python<'_>, path: PathBuf) -> PyResult<PyOctree> {
     Ok(PyOctree {
-        inner: HybridOctree::load(path).py_err()?,
+        inner: crate::pool::detach(py, || HybridOctree::load(path)).py_err()?,
     })
 }
 
 /// A tree from `HybridOctree.to_bytes`.
 #[pyfunction]
-fn from_bytes(data: &[u8]) -> PyResult<PyOctree> {
+fn from_bytes(py: Python<'_>, data: &[u8]) -> PyResult<PyOctree> {
     Ok(PyOctree {
-        inner: HybridOctree::from_bytes(data, std::path::Path::new("<bytes>")).py_err()?,
+        inner: crate::pool::detach(py, || {
+            HybridOctree::from_bytes(data, std::path::Path::new("<bytes>"))
+        })
+        .py_err()?,
     })
 }
 
@@ -387,7 +389,9 @@ fn voxelize<'py>(
             return Err(value_error("the domain cube does not contain the mesh"));
         }
     }
-    let f = py.detach(|| wscg_octree::voxelize(&mesh.positions, &mesh.faces, None, &cube, depth));
+    let f = crate::pool::detach(py, || {
+        wscg_octree::voxelize(&mesh.positions, &mesh.faces, None, &cube, depth)
+    });
     let cells = f
         .list
         .iter()
@@ -411,8 +415,9 @@ fn bvh_intersect<'py>(
 ) -> PyResult<(Arr<'py, f32>, Arr<'py, i64>)> {
     let mesh = mesh_in(&vertices, &faces, None)?;
     let rays = rays_in(&origins, &dirs)?;
-    let bvh = py.detach(|| TriangleBvh::build(&mesh)).py_err()?;
-    let hits: Vec<_> = py.detach(|| rays.par_iter().map(|r| bvh.intersect(r)).collect());
+    let bvh = crate::pool::detach(py, || TriangleBvh::build(&mesh)).py_err()?;
+    let hits: Vec<_> =
+        crate::pool::detach(py, || rays.par_iter().map(|r| bvh.intersect(r)).collect());
     let t = hits
         .iter()
         .map(|h| h.map_or(f32::INFINITY, |h| h.1))
@@ -433,32 +438,31 @@ fn scene<'py>(
     size: usize,
     seed: u64,
 ) -> PyResult<(Arr<'py, f64>, Arr<'py, i64>, Arr<'py, f32>)> {
-    let mesh = match name {
-        "atrium" => scenes::atrium(size.max(2)),
-        "city" => scenes::city(size.max(1), seed),
-        "blob" => {
-            if size > 9 {
-                return Err(value_error(format!(
-                    "blob subdivisions must be at most 9, got {size}"
-                )));
-            }
-            scenes::blob(size as u32)
+    match name {
+        "blob" if size > 9 => {
+            return Err(value_error(format!(
+                "blob subdivisions must be at most 9, got {size}"
+            )))
         }
-        "forest" => {
-            if size > 7 {
-                return Err(value_error(format!(
-                    "forest branch levels must be at most 7, got {size}"
-                )));
-            }
-            scenes::forest(13, size, 64, seed)
+        "forest" if size > 7 => {
+            return Err(value_error(format!(
+                "forest branch levels must be at most 7, got {size}"
+            )))
         }
-        "square" => scenes::exact_square().map(|(m, _)| m),
+        "atrium" | "city" | "blob" | "forest" | "square" => {}
         other => {
             return Err(value_error(format!(
                 "scene {other:?} is not valid; valid: atrium, city, blob, forest, square"
             )))
         }
     }
+    let mesh = crate::pool::detach(py, || match name {
+        "atrium" => scenes::atrium(size.max(2)),
+        "city" => scenes::city(size.max(1), seed),
+        "blob" => scenes::blob(size as u32),
+        "forest" => scenes::forest(13, size, 64, seed),
+        _ => scenes::exact_square().map(|(m, _)| m),
+    })
     .py_err()?;
     let v = mesh.positions.iter().flatten().copied().collect();
     let f = mesh.faces.iter().flatten().map(|&i| i64::from(i)).collect();

@@ -174,15 +174,14 @@ fn render_plate<'py>(
         .map(|e| eye_of(e))
         .collect::<PyResult<Vec<_>>>()?;
     let rig = StereoRig::default();
-    let images = py
-        .detach(|| -> wscg_math::Result<Vec<paint::XyzImage>> {
-            let micro = FlakePlate::new(&fp, st.size_mm, seed)?;
-            let plate = Plate::new(st, Box::new(micro))?;
-            eyes.iter()
-                .map(|&e| paint::render(&plate, &li, &rig, e, &s))
-                .collect()
-        })
-        .py_err()?;
+    let images = crate::pool::detach(py, || -> wscg_math::Result<Vec<paint::XyzImage>> {
+        let micro = FlakePlate::new(&fp, st.size_mm, seed)?;
+        let plate = Plate::new(st, Box::new(micro))?;
+        eyes.iter()
+            .map(|&e| paint::render(&plate, &li, &rig, e, &s))
+            .collect()
+    })
+    .py_err()?;
     images
         .into_iter()
         .map(|im| {
@@ -220,7 +219,7 @@ fn generate_tile<'py>(
     let c = Cfg(&params);
     let fp = flake_params(&c)?;
     let seed: u64 = c.get("seed", 0)?;
-    let t = py.detach(|| paint::generate_tile(&fp, seed)).py_err()?;
+    let t = crate::pool::detach(py, || paint::generate_tile(&fp, seed)).py_err()?;
     let v: Vec<f64> = t
         .flakes
         .iter()
@@ -244,9 +243,7 @@ fn plate_layout<'py>(
     let fp = flake_params(&c)?;
     let st = stack(&c, &fp)?;
     let seed: u64 = c.get("seed", 0)?;
-    let plate = py
-        .detach(|| FlakePlate::new(&fp, st.size_mm, seed))
-        .py_err()?;
+    let plate = crate::pool::detach(py, || FlakePlate::new(&fp, st.size_mm, seed)).py_err()?;
     let pool = plate
         .pool()
         .iter()
@@ -344,9 +341,10 @@ fn workshop<'py>(
         .condition(condition)
         .jnd_log(jnd_log);
     let seed: u64 = c.get("seed", 0)?;
-    let ws = py
-        .detach(|| paint::score_runs(reference, &runs, &cfg, seed, &NoProgress))
-        .py_err()?;
+    let ws = crate::pool::detach(py, || {
+        paint::score_runs(reference, &runs, &cfg, seed, &NoProgress)
+    })
+    .py_err()?;
     let d = PyDict::new(py);
     d.set_item("scores", ws.scores)?;
     d.set_item("features", ws.features)?;

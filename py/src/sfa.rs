@@ -91,11 +91,11 @@ impl PySfa {
 
     /// A model from `to_json` (`global` for a full-data-set model).
     #[staticmethod]
-    fn from_json(s: &str, global: bool) -> PyResult<Self> {
+    fn from_json(py: Python<'_>, s: &str, global: bool) -> PyResult<Self> {
         let inner = if global {
-            Fitted::Global(GlobalSfa::from_json(s).py_err()?)
+            Fitted::Global(crate::pool::detach(py, || GlobalSfa::from_json(s)).py_err()?)
         } else {
-            Fitted::PerClass(PerClassSfa::from_json(s).py_err()?)
+            Fitted::PerClass(crate::pool::detach(py, || PerClassSfa::from_json(s)).py_err()?)
         };
         Ok(Self { inner })
     }
@@ -130,14 +130,12 @@ fn sfa_fit(
         .rank_tol(rank_tol);
     let inner = match rule {
         None => Fitted::PerClass(
-            py.detach(|| PerClassSfa::fit(x.as_ref(), &y, &cfg))
-                .py_err()?,
+            crate::pool::detach(py, || PerClassSfa::fit(x.as_ref(), &y, &cfg)).py_err()?,
         ),
         Some(r) => {
             let r = parse_rule(r).py_err()?;
             Fitted::Global(
-                py.detach(|| GlobalSfa::fit(x.as_ref(), &y, &cfg, r))
-                    .py_err()?,
+                crate::pool::detach(py, || GlobalSfa::fit(x.as_ref(), &y, &cfg, r)).py_err()?,
             )
         }
     };
@@ -184,9 +182,10 @@ fn temporal_sfa_fit(
 ) -> PyResult<PyTemporal> {
     let x = mat("x", &x)?;
     let e = expansion(degree, include_linear)?;
-    let inner = py
-        .detach(|| TemporalSfa::fit(x.as_ref(), n_components, e, rank_tol))
-        .py_err()?;
+    let inner = crate::pool::detach(py, || {
+        TemporalSfa::fit(x.as_ref(), n_components, e, rank_tol)
+    })
+    .py_err()?;
     Ok(PyTemporal { inner })
 }
 
@@ -214,9 +213,10 @@ fn knn_predict<'py>(
         mat("x_test", &test)?,
         labels_from("y", &y)?,
     );
-    let p = py
-        .detach(|| Knn::fit(train.as_ref(), &y, k, tie).and_then(|m| m.predict(test.as_ref())))
-        .py_err()?;
+    let p = crate::pool::detach(py, || {
+        Knn::fit(train.as_ref(), &y, k, tie).and_then(|m| m.predict(test.as_ref()))
+    })
+    .py_err()?;
     let n = p.len();
     array(py, &[n], p.into_iter().map(i64::from).collect())
 }
@@ -230,12 +230,11 @@ fn confusion_matrix<'py>(
     n_classes: u32,
 ) -> PyResult<Arr<'py, f64>> {
     let classes: Vec<u32> = (0..n_classes).collect();
-    let m = confusion(
-        &labels_from("y_true", &y_true)?,
-        &labels_from("y_pred", &y_pred)?,
-        &classes,
-    )
-    .py_err()?;
+    let (t, p) = (
+        labels_from("y_true", &y_true)?,
+        labels_from("y_pred", &y_pred)?,
+    );
+    let m = crate::pool::detach(py, || confusion(&t, &p, &classes)).py_err()?;
     mat_out(py, &m)
 }
 

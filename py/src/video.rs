@@ -142,11 +142,10 @@ fn complete_video<'py>(
         )
         .global_fine_search(global_fine_search);
     // The owned copy of the frames becomes the output: no second copy of the video.
-    let (field, s) = py
-        .detach(|| {
-            wscg_video::complete_in_place(&mut v, &m, &cfg, &wscg_math::progress::NoProgress)
-        })
-        .py_err()?;
+    let (field, s) = crate::pool::detach(py, || {
+        wscg_video::complete_in_place(&mut v, &m, &cfg, &wscg_math::progress::NoProgress)
+    })
+    .py_err()?;
     let stats = PyDict::new(py);
     let s = &s;
     stats.set_item("working_size", s.working_size)?;
@@ -212,21 +211,21 @@ fn wexler<'py>(
         .patchmatch_iters(patchmatch_iters)
         .seed(seed)
         .seed_per_frame(seed_per_frame);
-    let out = py
-        .detach(|| {
-            if per_frame {
-                wscg_video::per_frame_patchmatch(&v, &m, &cfg)
-            } else {
-                wscg_video::wexler_complete(&v, &m, &cfg).map(|c| c.video)
-            }
-        })
-        .py_err()?;
+    let out = crate::pool::detach(py, || {
+        if per_frame {
+            wscg_video::per_frame_patchmatch(&v, &m, &cfg)
+        } else {
+            wscg_video::wexler_complete(&v, &m, &cfg).map(|c| c.video)
+        }
+    })
+    .py_err()?;
     video_out(py, out)
 }
 
 /// `(ssim, psnr)` over the hole, or flicker (see `wscg.video`).
 #[pyfunction]
 fn measure(
+    py: Python<'_>,
     a: PyReadonlyArrayDyn<u8>,
     b: Option<PyReadonlyArrayDyn<u8>>,
     mask: PyReadonlyArrayDyn<u8>,
@@ -236,9 +235,9 @@ fn measure(
     let m = mask_in(&mask, &a)?;
     let b = b.map(|b| video_in("b", &b)).transpose()?;
     match (what, b) {
-        ("ssim", Some(b)) => metrics::ssim_masked(&a, &b, &m).py_err(),
-        ("psnr", Some(b)) => metrics::psnr_masked(&a, &b, &m).py_err(),
-        ("flicker", _) => metrics::flicker(&a, &m).py_err(),
+        ("ssim", Some(b)) => crate::pool::detach(py, || metrics::ssim_masked(&a, &b, &m)).py_err(),
+        ("psnr", Some(b)) => crate::pool::detach(py, || metrics::psnr_masked(&a, &b, &m)).py_err(),
+        ("flicker", _) => crate::pool::detach(py, || metrics::flicker(&a, &m)).py_err(),
         _ => Err(value_error(format!("unknown measure {what:?}"))),
     }
 }
@@ -261,17 +260,17 @@ fn synthetic<'py>(
     noise: f64,
     seed: u64,
 ) -> PyResult<(Arr<'py, u8>, Arr<'py, u8>, Arr<'py, u8>)> {
-    let clip = match kind {
+    if !matches!(kind, "sprite" | "pan" | "zoom" | "periodic") {
+        return Err(value_error(format!(
+            "{kind:?} is not a valid clip. Valid clips are 'sprite', 'pan', 'zoom', 'periodic'"
+        )));
+    }
+    let clip = crate::pool::detach(py, || match kind {
         "sprite" => synth::sprite_clip(frames, height, width, radius, speed, noise, seed),
         "pan" => synth::pan_clip(frames, height, width, step, hole.0, hole.1, seed),
         "zoom" => synth::zoom_clip(frames, height, width, zoom, radius, speed, seed),
-        "periodic" => synth::periodic_clip(frames, height, width, period, hole.0),
-        other => {
-            return Err(value_error(format!(
-                "{other:?} is not a valid clip. Valid clips are 'sprite', 'pan', 'zoom', 'periodic'"
-            )))
-        }
-    }
+        _ => synth::periodic_clip(frames, height, width, period, hole.0),
+    })
     .py_err()?;
     let m = clip.hole.to_bytes();
     Ok((
@@ -309,14 +308,16 @@ fn inpaint_telea<'py>(
             "`mask` covers the whole image: no known pixel to fill from",
         ));
     }
-    py.detach(|| wscg_video::telea::telea(&mut data, h, w, c, &hole, radius));
+    crate::pool::detach(py, || {
+        wscg_video::telea::telea(&mut data, h, w, c, &hole, radius)
+    });
     array(py, &shape, data)
 }
 
 /// Frames of a folder (see `wscg.video.read_frames`).
 #[pyfunction]
 fn read_frames<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Arr<'py, u8>> {
-    let v = py.detach(|| wscg_video::io::read_frames(&path)).py_err()?;
+    let v = crate::pool::detach(py, || wscg_video::io::read_frames(&path)).py_err()?;
     video_out(py, v)
 }
 
@@ -329,18 +330,22 @@ fn read_mask<'py>(
     height: usize,
     width: usize,
 ) -> PyResult<Arr<'py, u8>> {
-    let m = wscg_video::io::read_mask(&path, frames, height, width).py_err()?;
+    let m = crate::pool::detach(py, || {
+        wscg_video::io::read_mask(&path, frames, height, width)
+    })
+    .py_err()?;
     array(py, &[frames, height, width], m.to_bytes())
 }
 
 /// Writes frames as PNG files (see `wscg.video.write_frames`).
 #[pyfunction]
 fn write_frames(
+    py: Python<'_>,
     frames: PyReadonlyArrayDyn<u8>,
     path: std::path::PathBuf,
 ) -> PyResult<Vec<std::path::PathBuf>> {
     let v = video_in("frames", &frames)?;
-    wscg_video::io::write_frames(&v, &path).py_err()
+    crate::pool::detach(py, || wscg_video::io::write_frames(&v, &path)).py_err()
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

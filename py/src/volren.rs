@@ -120,14 +120,13 @@ impl PyServer {
         let opts = ServerParams::default()
             .steps_sent(steps_sent)
             .quant(HaarQuant { delta: [delta; 4] });
-        let inner = py
-            .detach(|| HybridServer::new(&v, tfs, canonical, opts))
-            .py_err()?;
+        let inner =
+            crate::pool::detach(py, || HybridServer::new(&v, tfs, canonical, opts)).py_err()?;
         Ok(Self { inner })
     }
 
     fn static_package<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
-        PyBytes::new(py, &self.inner.static_package())
+        PyBytes::new(py, &crate::pool::detach(py, || self.inner.static_package()))
     }
 
     fn roi_package<'py>(
@@ -136,7 +135,8 @@ impl PyServer {
         roi: (u32, u32, u32, u32, u32, u32),
     ) -> PyResult<Bound<'py, PyBytes>> {
         let (lo, hi) = roi_in(roi);
-        Ok(PyBytes::new(py, &self.inner.roi_package(lo, hi).py_err()?))
+        let p = crate::pool::detach(py, || self.inner.roi_package(lo, hi)).py_err()?;
+        Ok(PyBytes::new(py, &p))
     }
 
     /// Stored (edge) voxels of the Gradient Octree.
@@ -160,8 +160,7 @@ impl PyServer {
     ) -> PyResult<Bound<'py, PyDict>> {
         let (lo, hi) = roi_in(roi);
         let cam = view.map(camera);
-        let r = py
-            .detach(|| self.inner.size_report(lo, hi, roi_tf, cam.as_ref()))
+        let r = crate::pool::detach(py, || self.inner.size_report(lo, hi, roi_tf, cam.as_ref()))
             .py_err()?;
         let d = PyDict::new(py);
         d.set_item("raw", r.raw)?;
@@ -185,12 +184,13 @@ pub struct PyClient {
 impl PyClient {
     #[new]
     fn new(py: Python<'_>, package: &[u8]) -> PyResult<Self> {
-        let inner = py.detach(|| HybridClient::from_static(package)).py_err()?;
+        let inner = crate::pool::detach(py, || HybridClient::from_static(package)).py_err()?;
         Ok(Self { inner })
     }
 
-    fn set_roi(&mut self, package: &[u8]) -> PyResult<()> {
-        self.inner.set_roi(package).py_err()
+    fn set_roi(&mut self, py: Python<'_>, package: &[u8]) -> PyResult<()> {
+        let client = &mut self.inner;
+        crate::pool::detach(py, || client.set_roi(package)).py_err()
     }
 
     fn clear_roi(&mut self) {
@@ -229,17 +229,16 @@ impl PyClient {
         let cam = camera(view);
         let o = RenderParams::default();
         let c = &self.inner;
-        let img = py
-            .detach(|| match mode {
-                "hybrid" => c.render(&cam, roi_tf, &o),
-                "context" => c.render_context(&cam, &o),
-                "octree" => c.render_octree(&cam, roi_tf, &o),
-                other => Err(wscg_math::Error::invalid(
-                    "mode",
-                    format!("{other:?}; use 'hybrid', 'context' or 'octree'"),
-                )),
-            })
-            .py_err()?;
+        let img = crate::pool::detach(py, || match mode {
+            "hybrid" => c.render(&cam, roi_tf, &o),
+            "context" => c.render_context(&cam, &o),
+            "octree" => c.render_octree(&cam, roi_tf, &o),
+            other => Err(wscg_math::Error::invalid(
+                "mode",
+                format!("{other:?}; use 'hybrid', 'context' or 'octree'"),
+            )),
+        })
+        .py_err()?;
         image_out(py, img)
     }
 }
@@ -265,26 +264,24 @@ fn render_reference<'py>(
         _ => return Err(value_error("`roi` and `roi_tf` go together")),
     };
     let cam = camera(view);
-    let img = py
-        .detach(|| {
-            reference(
-                &v,
-                &tf,
-                roi.as_ref().map(|(r, t)| (r, t)),
-                &cam,
-                &RenderParams::default(),
-            )
-        })
-        .py_err()?;
+    let img = crate::pool::detach(py, || {
+        reference(
+            &v,
+            &tf,
+            roi.as_ref().map(|(r, t)| (r, t)),
+            &cam,
+            &RenderParams::default(),
+        )
+    })
+    .py_err()?;
     image_out(py, img)
 }
 
 /// The head phantom `[z, y, x]` (uint8).
 #[pyfunction]
 fn phantom_head(py: Python<'_>, shape: (usize, usize, usize), seed: u64) -> PyResult<Arr<'_, u8>> {
-    let v = py
-        .detach(|| phantoms::head([shape.2, shape.1, shape.0], seed))
-        .py_err()?;
+    let v =
+        crate::pool::detach(py, || phantoms::head([shape.2, shape.1, shape.0], seed)).py_err()?;
     volume_out(py, &v)
 }
 
@@ -295,9 +292,8 @@ fn phantom_thorax(
     shape: (usize, usize, usize),
     seed: u64,
 ) -> PyResult<Arr<'_, u8>> {
-    let v = py
-        .detach(|| phantoms::thorax([shape.2, shape.1, shape.0], seed))
-        .py_err()?;
+    let v =
+        crate::pool::detach(py, || phantoms::thorax([shape.2, shape.1, shape.0], seed)).py_err()?;
     volume_out(py, &v)
 }
 
@@ -337,9 +333,7 @@ fn haar_blocks<'py>(py: Python<'py>, blocks: PyReadonlyArrayDyn<f32>) -> PyResul
         }
     };
     let data = values(&blocks);
-    let out = py
-        .detach(|| wscg_volren::wavelet::forward_blocks(&data))
-        .py_err()?;
+    let out = crate::pool::detach(py, || wscg_volren::wavelet::forward_blocks(&data)).py_err()?;
     array(py, &[n, 4096], out)
 }
 

@@ -177,7 +177,7 @@ fn params_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<RandomWalkParams> {
     if let Some(t) = dict_item::<usize>(d, "threads")? {
         if t == 0 || t > MAX_THREADS {
             return Err(value_error(format!(
-                "`threads` must be in 1..={MAX_THREADS} (or None for the global pool), got {t}"
+                "`threads` must be in 1..={MAX_THREADS} (or None for the wscg pool), got {t}"
             )));
         }
         p.threads = Some(t);
@@ -297,22 +297,21 @@ fn random_walker<'py>(
     same_shape_as_ct("seeds", &seeds, shape)?;
     let ct = vol_in("ct", &ct, spacing)?;
     let seeds = vol_in("seeds", &seeds, spacing)?;
-    let (session, report, labels, probs) = py
-        .detach(|| -> wscg_math::Result<_> {
-            let g = graph_of(&ct, None, passes, &p)?;
-            let mut s = RwSession::new(g, p)?;
-            s.set_seeds(&seeds)?;
-            check_memory(&s, if return_prob { ct.len() } else { 0 })?;
-            let r = s.solve(false)?;
-            let labels = s.labels()?;
-            let probs = if return_prob {
-                Some(all_probabilities(&s, s.n_labels())?)
-            } else {
-                None
-            };
-            Ok((s, r, labels, probs))
-        })
-        .py_err()?;
+    let (session, report, labels, probs) = crate::pool::detach(py, || -> wscg_math::Result<_> {
+        let g = graph_of(&ct, None, passes, &p)?;
+        let mut s = RwSession::new(g, p)?;
+        s.set_seeds(&seeds)?;
+        check_memory(&s, if return_prob { ct.len() } else { 0 })?;
+        let r = s.solve(false)?;
+        let labels = s.labels()?;
+        let probs = if return_prob {
+            Some(all_probabilities(&s, s.n_labels())?)
+        } else {
+            None
+        };
+        Ok((s, r, labels, probs))
+    })
+    .py_err()?;
     let report = report_out(py, &report, &session)?;
     let k = session.n_labels();
     let probs = match probs {
@@ -355,9 +354,10 @@ impl PySession {
             }
             None => None,
         };
-        let inner = py
-            .detach(|| RwSession::new(graph_of(&ct, mask.as_deref(), passes, &p)?, p))
-            .py_err()?;
+        let inner = crate::pool::detach(py, || {
+            RwSession::new(graph_of(&ct, mask.as_deref(), passes, &p)?, p)
+        })
+        .py_err()?;
         Ok(Self {
             inner,
             shape,
@@ -372,7 +372,7 @@ impl PySession {
         let sp = self.inner.graph().spacing();
         let seeds = vol_in("seeds", &seeds, (sp[2], sp[1], sp[0]))?;
         let s = &mut self.inner;
-        py.detach(|| s.set_seeds(&seeds)).py_err()
+        crate::pool::detach(py, || s.set_seeds(&seeds)).py_err()
     }
 
     /// Adds seeds of `label` at `(N, 3)` voxel coordinates `(z, y, x)`; returns how many lie on
@@ -408,12 +408,11 @@ impl PySession {
     #[pyo3(signature = (warm_start=true))]
     fn solve<'py>(&mut self, py: Python<'py>, warm_start: bool) -> PyResult<Bound<'py, PyDict>> {
         let s = &mut self.inner;
-        let r = py
-            .detach(|| {
-                check_memory(s, 0)?;
-                s.solve(warm_start)
-            })
-            .py_err()?;
+        let r = crate::pool::detach(py, || {
+            check_memory(s, 0)?;
+            s.solve(warm_start)
+        })
+        .py_err()?;
         self.solved_k = self.inner.n_labels();
         report_out(py, &r, &self.inner)
     }
@@ -421,14 +420,14 @@ impl PySession {
     /// Label volume `[z, y, x]` (uint16).
     fn labels<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, u16>> {
         let s = &self.inner;
-        let v = py.detach(|| s.labels()).py_err()?;
+        let v = crate::pool::detach(py, || s.labels()).py_err()?;
         vol_out(py, v)
     }
 
     /// Probability volume `[z, y, x]` (float32) of `label` from the last solve.
     fn probabilities<'py>(&self, py: Python<'py>, label: u16) -> PyResult<Arr<'py, f32>> {
         let s = &self.inner;
-        let v = py.detach(|| s.probabilities(label)).py_err()?;
+        let v = crate::pool::detach(py, || s.probabilities(label)).py_err()?;
         vol_out(py, v)
     }
 
@@ -446,7 +445,7 @@ impl PySession {
                 MAX_SOLVER_BYTES >> 30
             )));
         }
-        let v = py.detach(|| all_probabilities(s, k)).py_err()?;
+        let v = crate::pool::detach(py, || all_probabilities(s, k)).py_err()?;
         array(py, &[k, z, y, x], v)
     }
 
@@ -470,7 +469,7 @@ impl PySession {
     fn nearest_seed<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, u16>> {
         let g = self.inner.graph();
         let seeds = self.inner.node_seeds();
-        let labels = py.detach(|| nearest_seed_labels(g, seeds));
+        let labels = crate::pool::detach(py, || nearest_seed_labels(g, seeds));
         let mut out = vec![0u16; self.shape.iter().product()];
         for (i, l) in labels.into_iter().enumerate() {
             out[g.voxel(i)] = l;
@@ -534,23 +533,22 @@ fn nearest_seed<'py>(
     };
     let ct = vol_in("ct", &ct, (1.0, 1.0, 1.0))?;
     let seeds = values(&seeds);
-    let out = py
-        .detach(|| -> wscg_math::Result<Vec<u16>> {
-            let g = graph_of(&ct, mask.as_deref(), 0, &p)?;
-            let node_seeds: Vec<u16> = (0..g.len()).map(|i| seeds[g.voxel(i)]).collect();
-            if node_seeds.iter().all(|&l| l == 0) {
-                return Err(wscg_math::Error::invalid(
-                    "seeds",
-                    "no seed lies on a bone voxel; place at least one stroke on the bone",
-                ));
-            }
-            let mut out = vec![0u16; ct.len()];
-            for (i, l) in nearest_seed_labels(&g, &node_seeds).into_iter().enumerate() {
-                out[g.voxel(i)] = l;
-            }
-            Ok(out)
-        })
-        .py_err()?;
+    let out = crate::pool::detach(py, || -> wscg_math::Result<Vec<u16>> {
+        let g = graph_of(&ct, mask.as_deref(), 0, &p)?;
+        let node_seeds: Vec<u16> = (0..g.len()).map(|i| seeds[g.voxel(i)]).collect();
+        if node_seeds.iter().all(|&l| l == 0) {
+            return Err(wscg_math::Error::invalid(
+                "seeds",
+                "no seed lies on a bone voxel; place at least one stroke on the bone",
+            ));
+        }
+        let mut out = vec![0u16; ct.len()];
+        for (i, l) in nearest_seed_labels(&g, &node_seeds).into_iter().enumerate() {
+            out[g.voxel(i)] = l;
+        }
+        Ok(out)
+    })
+    .py_err()?;
     array(py, &shape, out)
 }
 
@@ -577,7 +575,7 @@ fn smooth<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let passes = passes_in(passes)?;
     let ct = vol_in("ct", &ct, spacing)?;
-    let v = py.detach(|| gaussian_smooth3(&ct, passes)).py_err()?;
+    let v = crate::pool::detach(py, || gaussian_smooth3(&ct, passes)).py_err()?;
     vol_out(py, v)
 }
 
@@ -641,12 +639,11 @@ fn grow_edit<'py>(
     let ct = vol_in("ct", &ct, (1.0, 1.0, 1.0))?;
     let mut labels = vol_in("labels", &labels, (1.0, 1.0, 1.0))?;
     let center = [center_zyx.2, center_zyx.1, center_zyx.0];
-    let n = py
-        .detach(|| {
-            ct.ensure_finite("ct")?;
-            local_grow_edit(&mut labels, &ct, &p, center, radius, active, &w)
-        })
-        .py_err()?;
+    let n = crate::pool::detach(py, || {
+        ct.ensure_finite("ct")?;
+        local_grow_edit(&mut labels, &ct, &p, center, radius, active, &w)
+    })
+    .py_err()?;
     Ok((vol_out(py, labels)?, n))
 }
 
@@ -659,7 +656,7 @@ fn remove_small<'py>(
     min_voxels: usize,
 ) -> PyResult<(Arr<'py, u16>, usize)> {
     let mut labels = vol_in("labels", &labels, (1.0, 1.0, 1.0))?;
-    let n = py.detach(|| remove_small_components(&mut labels, min_voxels));
+    let n = crate::pool::detach(py, || remove_small_components(&mut labels, min_voxels));
     Ok((vol_out(py, labels)?, n))
 }
 
@@ -763,7 +760,7 @@ fn phantom<'py>(
     options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<(Arr<'py, f32>, Arr<'py, u16>, Arr<'py, u16>, Arr<'py, f32>)> {
     let c = phantom_cfg(shape, n_fragments, seed, options.as_ref())?;
-    let ph = py.detach(|| fractured_shell_phantom(&c)).py_err()?;
+    let ph = crate::pool::detach(py, || fractured_shell_phantom(&c)).py_err()?;
     let dims = [shape.0, shape.1, shape.2];
     let dist: Vec<f32> = ph.boundary_distance.iter().map(|&d| d as f32).collect();
     Ok((

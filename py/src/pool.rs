@@ -1,0 +1,240 @@
+//! The one rayon thread pool that runs the Rust work of every binding in this process.
+//!
+//! Every binding releases the GIL and runs its Rust work inside this pool ([`detach`]); no
+//! binding touches rayon's global pool. The pool belongs to the process that built it: a
+//! child created by `fork` inherits the parent's memory but none of its threads, so a pool
+//! built before the fork would wait forever for workers that do not exist. [`pool`] therefore
+//! builds a fresh pool in a forked child (detected by an at-fork handler and by the process
+//! id) and leaks the parent's, whose locks may have been held by threads that are gone.
+//!
+//! The number of threads is one process-wide setting: `wscg.set_num_threads(n)`, with the
+//! default taken from the environment variable `WSCG_NUM_THREADS` when the module is
+//! imported, else rayon's default (`RAYON_NUM_THREADS`, else the available parallelism).
+//!
+//! [`pool`] is only called with the GIL held, and `os.fork` holds the GIL too, so no thread
+//! of the parent is inside the pool's mutex when the process forks.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, Once};
+
+use pyo3::exceptions::{PyRuntimeError, PyRuntimeWarning};
+use pyo3::prelude::*;
+use pyo3::types::PyModule;
+
+use crate::errors::value_error;
+
+/// Largest accepted thread count (the bound `volseg` uses for its per-solve pools).
+const MAX_THREADS: usize = 1024;
+
+/// The environment variable that sets the default thread count at import.
+const ENV_VAR: &str = "WSCG_NUM_THREADS";
+
+/// The pool setting and the pool built from it.
+struct Setting {
+    /// Requested thread count; 0 is rayon's default.
+    requested: usize,
+    /// The pool, when one has been built.
+    built: Option<Built>,
+}
+
+/// A pool together with the process (and fork generation) it was built in.
+struct Built {
+    /// Process id when the pool was built.
+    pid: u32,
+    /// Value of [`FORKS`] when the pool was built.
+    generation: u64,
+    /// The requested count the pool was built for (0: rayon's default).
+    requested: usize,
+    /// The pool; a running binding holds a clone, so a replaced pool lives until it returns.
+    pool: Arc<rayon::ThreadPool>,
+}
+
+static SETTING: Mutex<Setting> = Mutex::new(Setting {
+    requested: 0,
+    built: None,
+});
+
+/// Number of forks this process descends from since the module was loaded (bumped in the
+/// child by the at-fork handler).
+static FORKS: AtomicU64 = AtomicU64::new(0);
+
+#[cfg(unix)]
+extern "C" fn bump_fork_generation() {
+    // Async-signal-safe: one atomic add, nothing else runs in the forked child here.
+    FORKS.fetch_add(1, Ordering::SeqCst);
+}
+
+/// Registers the at-fork handler once per process (the handler is inherited by children).
+fn register_at_fork() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        #[cfg(unix)]
+        {
+            extern "C" {
+                fn pthread_atfork(
+                    prepare: Option<extern "C" fn()>,
+                    parent: Option<extern "C" fn()>,
+                    child: Option<extern "C" fn()>,
+                ) -> std::os::raw::c_int;
+            }
+            // SAFETY: registers a handler that only performs an atomic add; the function
+            // pointer stays valid for the life of the process (the module is never unloaded).
+            unsafe {
+                pthread_atfork(None, None, Some(bump_fork_generation));
+            }
+        }
+    });
+}
+
+fn setting() -> MutexGuard<'static, Setting> {
+    // A panic while holding the lock leaves a consistent state (every update is a single
+    // assignment), so a poisoned lock is used as is.
+    SETTING.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Builds a pool of `requested` threads (0: rayon's default).
+fn build(requested: usize) -> Result<rayon::ThreadPool, rayon::ThreadPoolBuildError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(requested)
+        .thread_name(|i| format!("wscg-{i}"))
+        .build()
+}
+
+/// The pool of `s`, (re)built when there is none, when it was built in another process (a
+/// `fork`ed child sees its parent's pool, whose threads it does not have) or for another
+/// thread count.
+fn current(s: &mut Setting) -> Result<Arc<rayon::ThreadPool>, rayon::ThreadPoolBuildError> {
+    let (pid, generation) = (std::process::id(), FORKS.load(Ordering::SeqCst));
+    match &s.built {
+        Some(b) if b.pid == pid && b.generation == generation && b.requested == s.requested => {
+            return Ok(Arc::clone(&b.pool));
+        }
+        _ => {}
+    }
+    let pool = Arc::new(build(s.requested)?);
+    let old = s.built.replace(Built {
+        pid,
+        generation,
+        requested: s.requested,
+        pool: Arc::clone(&pool),
+    });
+    if let Some(old) = old {
+        if old.pid != pid || old.generation != generation {
+            // Built before a fork: its workers do not exist in this process and its locks
+            // may be held by them, so it must never be dropped (dropping wakes the workers).
+            std::mem::forget(old);
+        }
+    }
+    Ok(pool)
+}
+
+/// The process's pool, built on first use and rebuilt after a `fork` or a change of the
+/// thread count. Call with the GIL held.
+///
+/// # Panics
+/// When the operating system refuses to start the pool's threads.
+pub fn pool() -> Arc<rayon::ThreadPool> {
+    current(&mut setting()).unwrap_or_else(|e| panic!("cannot start the wscg thread pool: {e}"))
+}
+
+/// Runs `f` in the process's pool with the GIL released: the way every binding runs its
+/// Rust work (rayon calls inside `f` use this pool, never rayon's global one). A panic in `f`
+/// propagates to the caller.
+pub fn detach<T, F>(py: Python<'_>, f: F) -> T
+where
+    F: FnOnce() -> T + Send,
+    T: Send,
+{
+    let pool = pool();
+    py.detach(move || pool.install(f))
+}
+
+/// Sets the requested thread count (0: default) and starts the pool for it, so that a count
+/// the system cannot provide is an error here rather than in a later call.
+fn set(requested: usize) -> PyResult<()> {
+    let mut s = setting();
+    let previous = s.requested;
+    s.requested = requested;
+    if let Err(e) = current(&mut s) {
+        s.requested = previous;
+        return Err(PyRuntimeError::new_err(format!(
+            "cannot start a thread pool of {requested} threads: {e}"
+        )));
+    }
+    Ok(())
+}
+
+/// `n` as a requested thread count: `None` or 0 is the default, 1..=1024 a count.
+fn requested_count(n: Option<i64>) -> PyResult<usize> {
+    match n {
+        None | Some(0) => Ok(0),
+        Some(n) if n >= 1 && n as u64 <= MAX_THREADS as u64 => Ok(n as usize),
+        Some(n) => Err(value_error(format!(
+            "`n` must be a thread count in 1..={MAX_THREADS} (or 0 or None for the default), \
+             got {n}"
+        ))),
+    }
+}
+
+/// Sets the number of threads of the pool that runs every wscg function in this process;
+/// `None` or 0 restores the default.
+#[pyfunction]
+#[pyo3(signature = (n))]
+fn set_num_threads(n: Option<i64>) -> PyResult<()> {
+    set(requested_count(n)?)
+}
+
+/// The number of threads of the pool that runs every wscg function in this process.
+#[pyfunction]
+fn get_num_threads() -> usize {
+    pool().current_num_threads()
+}
+
+/// Whether rayon's global pool was ever started in this process. A check for the tests:
+/// it starts a one-thread global pool when there was none, so call it only in a process about
+/// to exit (a forked child).
+#[pyfunction]
+fn _global_pool_started() -> bool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build_global()
+        .is_err()
+}
+
+/// The default thread count from `WSCG_NUM_THREADS`: unset or empty is rayon's default, an
+/// integer in 0..=1024 a count (0: default). Any other value keeps the default and warns. The
+/// pool itself starts on first use.
+fn from_env(py: Python<'_>) -> PyResult<()> {
+    let Some(raw) = std::env::var_os(ENV_VAR) else {
+        return Ok(());
+    };
+    let raw = raw.to_string_lossy();
+    let text = raw.trim();
+    if text.is_empty() {
+        return Ok(());
+    }
+    match text.parse::<usize>() {
+        Ok(n) if n <= MAX_THREADS => {
+            setting().requested = n;
+            Ok(())
+        }
+        _ => {
+            let msg = format!(
+                "{ENV_VAR}={text:?} is not a thread count in 0..={MAX_THREADS}; \
+                 using the default number of threads"
+            );
+            let msg = std::ffi::CString::new(msg).unwrap_or_default();
+            PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &msg, 1)
+        }
+    }
+}
+
+/// Adds `set_num_threads`, `get_num_threads` and the test check to the module, registers the
+/// at-fork handler and applies `WSCG_NUM_THREADS`.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    register_at_fork();
+    m.add_function(wrap_pyfunction!(set_num_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(get_num_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(_global_pool_started, m)?)?;
+    from_env(m.py())
+}
