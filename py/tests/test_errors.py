@@ -15,7 +15,7 @@ from wscg import math as wm
 
 
 def _modules():
-    names = [n for n in wscg.__all__ if n not in ("IntegerRangeError", "__version__")]
+    names = [n for n in wscg.__all__ if inspect.ismodule(getattr(wscg, n))]
     return [importlib.import_module(f"wscg.{n}") for n in names] + [
         importlib.import_module("wscg._manylight")]
 

@@ -68,7 +68,7 @@ wscg_math::params! {
         pub precision: Precision,
         /// Jacobi preconditioner (`true`, the paper's choice; `false` gives plain CG).
         pub jacobi: bool,
-        /// Worker threads (`None`: the global rayon pool).
+        /// Worker threads (`None`: the rayon pool the solve is called from).
         pub threads: Option<usize>,
     }
 }

@@ -48,16 +48,58 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
 
+Threads: every module runs its Rust work in one thread pool per process, sized by
+:func:`set_num_threads` (default: the environment variable ``WSCG_NUM_THREADS`` read at
+import, else ``RAYON_NUM_THREADS``, else one thread per CPU core) and read back by
+:func:`get_num_threads`. A process created by ``fork`` (``multiprocessing``,
+``ProcessPoolExecutor``, joblib) starts its own pool on its first wscg call.
+
 Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files). A negative or
 too large integer for a count, size or seed raises :class:`IntegerRangeError`, a
 ``ValueError`` (and ``OverflowError``) that names the argument.
 """
 
+from __future__ import annotations
+
+import numpy as _np
+
 from . import _native
-from ._checks import IntegerRangeError
+from ._checks import IntegerRangeError, _int
 from . import biometrics, cloth, csmri, deblur, doe, ear, gait, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren, volseg
 
 __version__: str = _native.__version__
 
+#: Most threads :func:`set_num_threads` accepts.
+MAX_THREADS = 1024
+
+
+def set_num_threads(n: int | None) -> None:
+    """Sets the number of threads of the pool that runs the Rust work of every wscg module
+    in this process.
+
+    Parameters
+    ----------
+    n : int or None
+        Threads, 1..1024; 0 or None restores the default (``WSCG_NUM_THREADS`` as read at
+        import, else ``RAYON_NUM_THREADS``, else one per CPU core). With N worker
+        processes on N cores, ``set_num_threads(1)`` in each keeps the machine at N
+        threads. Results do not depend on the number of threads.
+
+    Raises
+    ------
+    ValueError
+        ``n`` is not an integer in 0..1024.
+    """
+    if isinstance(n, (bool, _np.bool_)):
+        raise ValueError(f"`n` must be an integer thread count, got {n!r}")
+    _native.set_num_threads(None if n is None else _int("n", n, 0, MAX_THREADS))
+
+
+def get_num_threads() -> int:
+    """The number of threads of the pool that runs the Rust work of every wscg module in
+    this process (see :func:`set_num_threads`)."""
+    return _native.get_num_threads()
+
+
 __all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "gait", "hdr", "isosurface", "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
-           "IntegerRangeError", "__version__"]
+           "IntegerRangeError", "set_num_threads", "get_num_threads", "__version__"]

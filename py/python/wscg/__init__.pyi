@@ -19,5 +19,14 @@ from . import volseg as volseg
 class IntegerRangeError(ValueError, OverflowError):
     """A negative or too large integer for a count, size or seed; names the argument."""
 
+MAX_THREADS: int
+
+def set_num_threads(n: int | None) -> None:
+    """Sets the number of threads (1..1024; 0 or None: the default) of the pool that runs
+    every wscg module in this process."""
+
+def get_num_threads() -> int:
+    """The number of threads of the pool that runs every wscg module in this process."""
+
 __version__: str
 __all__: list[str]

@@ -446,9 +446,10 @@ def patchmatch(a, b, *, patch: int = 7, iterations: int = 2, min_disparity: int 
         Patch side ``N`` (odd, >= 3, <= the smaller image side).
     iterations : int, default 2
         Sweeps: even ones scan top-left to bottom-right and propagate from the left and top
-        neighbours, odd ones scan back. The rows of a sweep run on all cores as a pipeline
-        that gives exactly the sequential scan's field, so the result depends on ``seed``
-        only, never on the thread count.
+        neighbours, odd ones scan back. The rows of a sweep run on every thread of wscg's
+        pool (:func:`wscg.set_num_threads`) as a pipeline that gives exactly the
+        sequential scan's field, so the result depends on ``seed`` only, never on the
+        thread count.
     min_disparity, max_disparity : int, default -64, 64
         Range of the horizontal offset ``dx`` (epipolar mode); ``|d| < width``.
     v_tol : int, default 0
@@ -485,8 +486,8 @@ def patchmatch(a, b, *, patch: int = 7, iterations: int = 2, min_disparity: int 
     neighbours' offsets (propagation) and ``u_i = v_0 + w alpha^i R_i``, ``R_i ~ U[-1, 1]``,
     ``w = Max_disp``, while ``w alpha^i >= 1`` (random search, eq. 1). The cost of the
     current match is recomputed before each comparison because ``C`` depends on neighbours
-    that moved. The sequential scan's field, computed on all cores, and deterministic for a
-    given ``seed``.
+    that moved. The sequential scan's field, computed on every thread of wscg's pool, and
+    deterministic for a given ``seed``.
 
     References
     ----------

@@ -275,7 +275,8 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
     jacobi : bool, default True
         Jacobi preconditioner (False: plain CG).
     threads : int, optional
-        Worker threads (1..1024); default: all cores. Results do not depend on it.
+        Worker threads of this solve (1..1024); default: the threads of wscg's pool
+        (:func:`wscg.set_num_threads`). Results do not depend on it.
     return_prob : bool, default False
         Also return the K probability volumes.
     return_report : bool, default False
