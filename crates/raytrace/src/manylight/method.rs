@@ -100,6 +100,17 @@ wscg_math::params! {
     }
 }
 
+impl ManyLightParams {
+    /// Checks every part: [`VplParams::validate`], [`ImportanceCachingParams::validate`],
+    /// [`AdaptiveParams::validate`] and [`Interp::validate`].
+    pub fn validate(&self) -> Result<()> {
+        self.vpl.validate()?;
+        self.ic.validate()?;
+        self.adaptive.validate()?;
+        self.weights.validate()
+    }
+}
+
 /// What a run produced.
 #[derive(Clone, Debug)]
 pub struct Output {
@@ -130,6 +141,7 @@ pub fn run(
     s: &ManyLightParams,
     progress: &dyn Progress,
 ) -> Result<Output> {
+    s.validate()?;
     let t0 = Instant::now();
     let vpls = generate_vpls(scene, &s.vpl)?;
     let g = trace_primary(scene, cam)?;
@@ -154,6 +166,7 @@ pub fn run_with(
     progress: &dyn Progress,
     setup_seconds: f64,
 ) -> Result<Output> {
+    s.validate()?;
     let t = Instant::now();
     let (image, records, cache, cache_seconds) = match method.cache_setup(&s.adaptive, s.weights) {
         Some((placement, interp)) => {
@@ -197,6 +210,7 @@ pub fn compare(
     s: &ManyLightParams,
     progress: &dyn Progress,
 ) -> Result<Vec<(Method, Output)>> {
+    s.validate()?;
     let mut done: Vec<Option<Output>> = vec![None; methods.len()];
     let mut st = *s;
     if let Some(i) = methods.iter().position(|m| *m == Method::Adaptive) {

@@ -62,7 +62,7 @@ impl Default for ImportanceCachingParams {
 
 impl ImportanceCachingParams {
     /// Errors: `n_cache = 0`, `m_nearest = 0`, `spp = 0`, no strategy, a negative or
-    /// non-finite alpha.
+    /// non-finite alpha, a given `clamp_dist` negative or not finite.
     pub fn validate(&self) -> Result<()> {
         if self.n_cache == 0 {
             return Err(Error::invalid("n_cache", "at least one record is needed"));
@@ -90,6 +90,14 @@ impl ImportanceCachingParams {
                 "alpha",
                 format!("must be finite and positive, got {:?}", self.alpha),
             ));
+        }
+        if let Some(dc) = self.clamp_dist {
+            if !(dc.is_finite() && dc >= 0.0) {
+                return Err(Error::invalid(
+                    "clamp_dist",
+                    format!("must be finite and >= 0, got {dc}"),
+                ));
+            }
         }
         Ok(())
     }

@@ -71,6 +71,19 @@ impl Default for VplParams {
     }
 }
 
+impl VplParams {
+    /// Errors: `n_paths = 0` (any bounce count and seed is valid).
+    pub fn validate(&self) -> Result<()> {
+        if self.n_paths == 0 {
+            return Err(Error::invalid(
+                "n_paths",
+                "at least one light path is needed, got 0",
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// A direction from the cosine-weighted hemisphere around the unit normal `n`.
 pub fn cosine_hemisphere(n: &Vector3<f64>, u1: f64, u2: f64) -> Vector3<f64> {
     let r = u1.sqrt();
@@ -88,17 +101,12 @@ pub fn cosine_hemisphere(n: &Vector3<f64>, u1: f64, u2: f64) -> Vector3<f64> {
 ///
 /// Errors: no emitter in the scene, `n_paths = 0`.
 pub fn generate_vpls(scene: &Scene, s: &VplParams) -> Result<Vec<Vpl>> {
+    s.validate()?;
     let emitters = scene.emitters();
     if emitters.is_empty() {
         return Err(Error::invalid(
             "scene",
             "no emissive triangle: many-light rendering needs at least one emitter",
-        ));
-    }
-    if s.n_paths == 0 {
-        return Err(Error::invalid(
-            "n_paths",
-            "at least one light path is needed",
         ));
     }
     let tris = scene.triangles();

@@ -67,8 +67,10 @@ impl PhotonParams {
     /// Errors: no photons, more than 500 million, `k = 0`, a non-positive radius, a negative
     /// margin.
     pub fn validate(&self) -> Result<()> {
-        if self.count == 0 || self.k == 0 {
-            return Err(Error::invalid("photons", "count and k must be at least 1"));
+        for (name, v) in [("count", self.count), ("k", self.k)] {
+            if v == 0 {
+                return Err(Error::invalid(name, "must be at least 1, got 0"));
+            }
         }
         if self.count > 500_000_000 {
             return Err(Error::LimitExceeded(format!(

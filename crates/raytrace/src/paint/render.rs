@@ -180,6 +180,45 @@ impl Default for PaintRenderParams {
     }
 }
 
+impl PaintRenderParams {
+    /// Errors: `spp = 0`, `max_depth` outside `1..=`[`MAX_DEPTH`], a non-positive or
+    /// non-finite magnification, an empty or non-finite `region_mm`, invalid `photons` (see
+    /// [`PhotonParams::validate`]). Whether the region lies on the plate is checked by
+    /// [`render`].
+    pub fn validate(&self) -> Result<()> {
+        if self.spp == 0 {
+            return Err(Error::invalid(
+                "spp",
+                "at least one sample per pixel is needed, got 0",
+            ));
+        }
+        if !(1..=MAX_DEPTH).contains(&self.max_depth) {
+            return Err(Error::invalid(
+                "max_depth",
+                format!("must lie in 1..={MAX_DEPTH}, got {}", self.max_depth),
+            ));
+        }
+        if !(self.magnification.is_finite() && self.magnification > 0.0) {
+            return Err(Error::invalid(
+                "magnification",
+                format!("must be finite and positive, got {}", self.magnification),
+            ));
+        }
+        if let Some(region) = self.region_mm {
+            let ok = [region.x0, region.y0, region.x1, region.y1]
+                .iter()
+                .all(|v| v.is_finite());
+            if !ok || region.x1 <= region.x0 || region.y1 <= region.y0 {
+                return Err(Error::invalid("region_mm", format!("{region:?} is empty")));
+            }
+        }
+        if let Some(ps) = &self.photons {
+            ps.validate()?;
+        }
+        Ok(())
+    }
+}
+
 /// Marks a pixel without a glint in [`XyzImage::flake_id`].
 pub const NO_FLAKE: u64 = u64::MAX;
 
@@ -551,8 +590,8 @@ impl Ctx<'_> {
 /// are computed in parallel with a random stream per pixel, so the image does not depend on
 /// the thread count.
 ///
-/// Errors: invalid lamp or rig, `spp` = 0, a non-positive magnification, an empty region or
-/// one outside the plate.
+/// Errors: invalid parameters (see [`PaintRenderParams::validate`]), lamp or rig, a region
+/// outside the plate.
 pub fn render(
     plate: &Plate,
     light: &DiscLight,
@@ -576,7 +615,6 @@ fn caustic_map(
     let Some(ps) = s.photons.filter(|_| plate.stack.base_albedo > 0.0) else {
         return Ok(None);
     };
-    ps.validate()?;
     let m = ps.margin_um;
     let (pw, ph) = plate.stack.size_mm;
     let half = [500.0 * pw, 500.0 * ph];
@@ -601,35 +639,12 @@ pub fn render_with_progress(
     s: &PaintRenderParams,
     progress: &dyn Progress,
 ) -> Result<XyzImage> {
+    s.validate()?;
     light.validate()?;
     rig.validate()?;
-    if s.spp == 0 {
-        return Err(Error::invalid(
-            "spp",
-            "at least one sample per pixel is needed",
-        ));
-    }
-    if !(1..=MAX_DEPTH).contains(&s.max_depth) {
-        return Err(Error::invalid(
-            "max_depth",
-            format!("must lie in 1..={MAX_DEPTH}, got {}", s.max_depth),
-        ));
-    }
-    if !(s.magnification.is_finite() && s.magnification > 0.0) {
-        return Err(Error::invalid(
-            "magnification",
-            format!("must be finite and positive, got {}", s.magnification),
-        ));
-    }
     let (pw, ph) = plate.stack.size_mm;
     let full = Rect::centred(0.0, 0.0, pw, ph);
     let region = s.region_mm.unwrap_or(full);
-    let ok = [region.x0, region.y0, region.x1, region.y1]
-        .iter()
-        .all(|v| v.is_finite());
-    if !ok || region.x1 <= region.x0 || region.y1 <= region.y0 {
-        return Err(Error::invalid("region_mm", format!("{region:?} is empty")));
-    }
     let eps = 1e-9;
     if region.x0 < full.x0 - eps
         || region.x1 > full.x1 + eps

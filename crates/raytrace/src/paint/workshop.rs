@@ -65,6 +65,35 @@ impl Default for WorkshopParams {
     }
 }
 
+impl WorkshopParams {
+    /// Checks every part: `base` ([`FlakeParams::validate`]; the radius and density of each
+    /// plate are checked where they are set), `stack`, `light`, `rig` and `settings`, at
+    /// least 2 `reference_renders`, `jnd_log` finite and `>= 0`.
+    pub fn validate(&self) -> Result<()> {
+        self.base.validate()?;
+        self.stack.validate()?;
+        self.light.validate()?;
+        self.rig.validate()?;
+        self.settings.validate()?;
+        if self.reference_renders < 2 {
+            return Err(Error::invalid(
+                "reference_renders",
+                format!(
+                    "at least 2 are needed to calibrate the observer, got {}",
+                    self.reference_renders
+                ),
+            ));
+        }
+        if !(self.jnd_log.is_finite() && self.jnd_log >= 0.0) {
+            return Err(Error::invalid(
+                "jnd_log",
+                format!("must be finite and >= 0, got {}", self.jnd_log),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// The scores of a workshop run.
 #[derive(Clone, Debug)]
 pub struct WorkshopScores {
@@ -88,6 +117,7 @@ pub fn plate_features(
     seed: u64,
     cfg: &WorkshopParams,
 ) -> Result<Vec<f64>> {
+    cfg.validate()?;
     let mut params = FlakeParams {
         radius_um,
         density,
@@ -128,17 +158,9 @@ pub fn score_runs(
     seed: u64,
     progress: &dyn Progress,
 ) -> Result<WorkshopScores> {
+    cfg.validate()?;
     if runs.is_empty() {
         return Err(Error::Empty("runs"));
-    }
-    if cfg.reference_renders < 2 {
-        return Err(Error::invalid(
-            "reference_renders",
-            format!(
-                "at least 2 are needed to calibrate the observer, got {}",
-                cfg.reference_renders
-            ),
-        ));
     }
     let total = (cfg.reference_renders + runs.len()) as u64;
     progress.begin("virtual workshop: renders", total);
