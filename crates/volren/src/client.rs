@@ -50,6 +50,7 @@ impl HybridClient {
     ///
     /// Errors: bad camera or options, `roi_tf` out of range.
     pub fn render(&self, cam: &Camera, roi_tf: usize, opts: &RenderParams) -> Result<Image<f32>> {
+        opts.validate()?;
         self.render_with(cam, roi_tf, opts, None)
     }
 
@@ -64,6 +65,7 @@ impl HybridClient {
         roi_tf: usize,
         opts: &RenderParams,
     ) -> Result<Image<f32>> {
+        opts.validate()?;
         if volume.dims() != self.dims {
             return Err(Error::ShapeMismatch(format!(
                 "volume {:?} for a client of {:?}",
@@ -102,6 +104,7 @@ impl HybridClient {
         roi_tf: usize,
         opts: &RenderParams,
     ) -> Result<Image<f32>> {
+        opts.validate()?;
         let tf = tf_index(&self.tfs, roi_tf)?;
         let (_, src) = self
             .roi_source(tf, None)
@@ -123,6 +126,7 @@ impl HybridClient {
         roi_tf: usize,
         opts: &RenderParams,
     ) -> Result<Image<f32>> {
+        opts.validate()?;
         let tf = tf_index(&self.tfs, roi_tf)?;
         let (roi, _, _) = self
             .roi
@@ -153,6 +157,7 @@ impl HybridClient {
 
     /// The wavelet-context baseline: `V_W` everywhere, no ROI.
     pub fn render_context(&self, cam: &Camera, opts: &RenderParams) -> Result<Image<f32>> {
+        opts.validate()?;
         cast(
             self.dims,
             cam,

@@ -57,6 +57,34 @@ impl Default for ServerParams {
     }
 }
 
+impl ServerParams {
+    /// Errors: `steps_sent` outside `1..=4`, a quantisation step of `quant` not finite and
+    /// positive (`edge_rule` is a choice, each valid).
+    pub fn validate(&self) -> Result<()> {
+        if !(1..=4).contains(&self.steps_sent) {
+            return Err(Error::invalid(
+                "steps_sent",
+                format!("must be in 1..=4, got {}", self.steps_sent),
+            ));
+        }
+        if self
+            .quant
+            .delta
+            .iter()
+            .any(|d| !(d.is_finite() && *d > 0.0))
+        {
+            return Err(Error::invalid(
+                "quant",
+                format!(
+                    "quantisation steps must be finite and > 0, got {:?}",
+                    self.quant.delta
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 fn frame(kind: u8, payload: Vec<u8>) -> Vec<u8> {
     let mut out = Vec::with_capacity(HEADER + payload.len());
     out.extend_from_slice(MAGIC);
@@ -204,6 +232,7 @@ impl HybridServer {
         canonical: usize,
         opts: ServerParams,
     ) -> Result<Self> {
+        opts.validate()?;
         if v.dims().contains(&0) {
             return Err(Error::Empty("volume"));
         }

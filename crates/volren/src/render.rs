@@ -221,10 +221,37 @@ impl Default for RenderParams {
 }
 
 impl RenderParams {
-    fn validate(&self) -> Result<()> {
-        let ok = |v: f64| v.is_finite() && v > 0.0 && v <= 64.0;
-        if !(ok(self.step) && ok(self.context_step)) {
-            return Err(Error::invalid("opts", "steps must be in (0, 64] voxels"));
+    /// Errors: `step` or `context_step` outside `(0, 64]` voxels, `early_stop` outside
+    /// `(0, 1]`, a background colour outside `[0, 1]`, `ka`, `kd` or `ks` negative or not
+    /// finite.
+    pub fn validate(&self) -> Result<()> {
+        for (name, v) in [("step", self.step), ("context_step", self.context_step)] {
+            if !(v.is_finite() && v > 0.0 && v <= 64.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("steps must be in (0, 64] voxels, got {v}"),
+                ));
+            }
+        }
+        if !(self.early_stop > 0.0 && self.early_stop <= 1.0) {
+            return Err(Error::invalid(
+                "early_stop",
+                format!("must be in (0, 1], got {}", self.early_stop),
+            ));
+        }
+        if !self.background.iter().all(|v| (0.0..=1.0).contains(v)) {
+            return Err(Error::invalid(
+                "background",
+                format!("must be in [0, 1], got {:?}", self.background),
+            ));
+        }
+        for (name, v) in [("ka", self.ka), ("kd", self.kd), ("ks", self.ks)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!("must be finite and >= 0, got {v}"),
+                ));
+            }
         }
         Ok(())
     }
@@ -379,7 +406,6 @@ pub(crate) fn cast(
     outside: (Source, f64),
 ) -> Result<Image<f32>> {
     let frame = cam.frame()?;
-    opts.validate()?;
     let hi = dims.map(|d| d as f64);
     let (w, h) = (cam.width, cam.height);
     let mut data = vec![0.0f32; w * h * 4];
@@ -448,6 +474,7 @@ pub fn render_reference(
     cam: &Camera,
     opts: &RenderParams,
 ) -> Result<Image<f32>> {
+    opts.validate()?;
     if v.dims().contains(&0) {
         return Err(Error::Empty("volume"));
     }

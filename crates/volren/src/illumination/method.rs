@@ -242,14 +242,26 @@ impl Default for IlluminationParams {
 }
 
 impl IlluminationParams {
-    /// Errors: background outside `[0, 1]`, early stop outside `(0, 1]`.
-    pub fn check(&self) -> Result<()> {
+    /// Errors: background outside `[0, 1]`, early stop outside `(0, 1]` (`interp` is a
+    /// choice of filter, each valid).
+    pub fn validate(&self) -> Result<()> {
         if !self.background.iter().all(|v| (0.0..=1.0).contains(v)) {
-            return Err(Error::invalid("background", "must be in [0, 1]"));
+            return Err(Error::invalid(
+                "background",
+                format!("must be in [0, 1], got {:?}", self.background),
+            ));
         }
         if !(self.early_stop > 0.0 && self.early_stop <= 1.0) {
-            return Err(Error::invalid("early_stop", "must be in (0, 1]"));
+            return Err(Error::invalid(
+                "early_stop",
+                format!("must be in (0, 1], got {}", self.early_stop),
+            ));
         }
         Ok(())
+    }
+
+    /// [`IlluminationParams::validate`] under its earlier name.
+    pub fn check(&self) -> Result<()> {
+        self.validate()
     }
 }

@@ -93,12 +93,12 @@ pub fn render_many(
     method: &Method,
     settings: &IlluminationParams,
 ) -> Result<Vec<Rendered>> {
+    settings.validate()?;
     if cams.is_empty() {
         return Err(Error::Empty("cameras"));
     }
     let frames = cams.iter().map(|c| c.frame()).collect::<Result<Vec<_>>>()?;
     method.check()?;
-    settings.check()?;
     light.unit_dir()?;
     let image = |cam: &SliceCamera, rgba: Vec<f32>| Image::new(cam.height, cam.width, 4, rgba);
     match *method {
@@ -156,9 +156,9 @@ pub fn light_buffer_at(
     settings: &IlluminationParams,
     depth: f64,
 ) -> Result<(Image<f32>, f64)> {
+    settings.validate()?;
     let frame = cam.frame()?;
     method.check()?;
-    settings.check()?;
     if !(depth.is_finite() && depth >= 0.0) {
         return Err(Error::invalid(
             "depth",
