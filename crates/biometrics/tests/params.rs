@@ -16,126 +16,166 @@ use wscg_biometrics::sfa::handpose::protocol::CompareParams;
 use wscg_biometrics::sfa::isomap::IsomapParams;
 use wscg_biometrics::sfa::{ClassObjective, ClassSfaParams};
 use wscg_biometrics::subspace::{FdkecaParams, Kernel, ProtocolParams, Sigma};
-use wscg_math::Result;
-
-/// The field an `Error::InvalidArgument` names; panics on success or another error.
-fn field<T>(r: Result<T>) -> &'static str {
-    match r {
-        Err(e) => e
-            .argument()
-            .unwrap_or_else(|| panic!("expected an invalid-argument error, got {e}")),
-        Ok(_) => panic!("expected an invalid-argument error, got a result"),
-    }
-}
+use wscg_math::RefusedArgument;
 
 #[test]
 fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
     // subspace
     assert!(FdkecaParams::default().validate().is_ok());
     assert_eq!(
-        field(FdkecaParams::default().n_components(Some(0)).validate()),
-        "n_components"
+        FdkecaParams::default()
+            .n_components(Some(0))
+            .validate()
+            .refused_argument(),
+        Some("n_components")
     );
     let bad_kernel = Kernel::Gaussian {
         sigma: Sigma::Fixed(-1.0),
     };
     assert_eq!(
-        field(FdkecaParams::default().kernel(bad_kernel).validate()),
-        "sigma"
+        FdkecaParams::default()
+            .kernel(bad_kernel)
+            .validate()
+            .refused_argument(),
+        Some("sigma")
     );
     assert!(ProtocolParams::default().validate().is_ok());
     assert_eq!(
-        field(ProtocolParams::default().max_dim(0).validate()),
-        "max_dim"
+        ProtocolParams::default()
+            .max_dim(0)
+            .validate()
+            .refused_argument(),
+        Some("max_dim")
     );
     assert_eq!(
-        field(ProtocolParams::default().cv_folds(Some(1)).validate()),
-        "cv_folds"
+        ProtocolParams::default()
+            .cv_folds(Some(1))
+            .validate()
+            .refused_argument(),
+        Some("cv_folds")
     );
 
     // gait
     assert!(CycleParams::default().validate().is_ok());
     assert_eq!(
-        field(CycleParams::default().smooth_window(0).validate()),
-        "smooth_window"
+        CycleParams::default()
+            .smooth_window(0)
+            .validate()
+            .refused_argument(),
+        Some("smooth_window")
     );
     assert_eq!(
-        field(CycleParams::default().min_step_s(f64::NAN).validate()),
-        "min_step_s"
+        CycleParams::default()
+            .min_step_s(f64::NAN)
+            .validate()
+            .refused_argument(),
+        Some("min_step_s")
     );
     assert_eq!(
-        field(CycleParams::default().min_prominence(-1.0).validate()),
-        "min_prominence"
+        CycleParams::default()
+            .min_prominence(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("min_prominence")
     );
     assert_eq!(
-        field(
-            CycleParams::default()
-                .up(UpAxis::Vector([0.0; 3]))
-                .validate()
-        ),
-        "up"
+        CycleParams::default()
+            .up(UpAxis::Vector([0.0; 3]))
+            .validate()
+            .refused_argument(),
+        Some("up")
     );
     assert!(GaitParams::default().validate().is_ok());
     assert_eq!(
-        field(GaitParams::default().min_bins(f64::INFINITY).validate()),
-        "min_bins"
+        GaitParams::default()
+            .min_bins(f64::INFINITY)
+            .validate()
+            .refused_argument(),
+        Some("min_bins")
     );
     assert_eq!(
-        field(
-            GaitParams::default()
-                .vote(Vote::Majority { k: 0 })
-                .validate()
-        ),
-        "vote"
+        GaitParams::default()
+            .vote(Vote::Majority { k: 0 })
+            .validate()
+            .refused_argument(),
+        Some("vote")
     );
     assert_eq!(
-        field(
-            GaitParams::default()
-                .cycle(CycleParams::default().smooth_window(0))
-                .validate()
-        ),
-        "smooth_window"
+        GaitParams::default()
+            .cycle(CycleParams::default().smooth_window(0))
+            .validate()
+            .refused_argument(),
+        Some("smooth_window")
     );
     let hist = HistSpec {
         bin_deg: 0.0,
         ..HistSpec::default()
     };
     assert_eq!(
-        field(GaitParams::default().hist(hist).validate()),
-        "bin_deg"
+        GaitParams::default()
+            .hist(hist)
+            .validate()
+            .refused_argument(),
+        Some("bin_deg")
     );
     assert!(NoiseParams::default().validate().is_ok());
     assert!(NoiseParams::none().validate().is_ok());
-    assert_eq!(field(NoiseParams::default().rho(1.0).validate()), "rho");
     assert_eq!(
-        field(NoiseParams::default().distal(-0.1).validate()),
-        "distal"
+        NoiseParams::default()
+            .rho(1.0)
+            .validate()
+            .refused_argument(),
+        Some("rho")
+    );
+    assert_eq!(
+        NoiseParams::default()
+            .distal(-0.1)
+            .validate()
+            .refused_argument(),
+        Some("distal")
     );
     assert!(SessionParams::default().validate().is_ok());
     assert_eq!(
-        field(SessionParams::default().speed(0.0).validate()),
-        "speed"
-    );
-    assert_eq!(field(SessionParams::default().fps(-30.0).validate()), "fps");
-    assert_eq!(
-        field(SessionParams::default().heading_deg(f64::NAN).validate()),
-        "heading_deg"
+        SessionParams::default()
+            .speed(0.0)
+            .validate()
+            .refused_argument(),
+        Some("speed")
     );
     assert_eq!(
-        field(SessionParams::default().jitter_deg(-1.0).validate()),
-        "jitter_deg"
+        SessionParams::default()
+            .fps(-30.0)
+            .validate()
+            .refused_argument(),
+        Some("fps")
     );
     assert_eq!(
-        field(SessionParams::default().bone_bias(1.0).validate()),
-        "bone_bias"
+        SessionParams::default()
+            .heading_deg(f64::NAN)
+            .validate()
+            .refused_argument(),
+        Some("heading_deg")
     );
     assert_eq!(
-        field(
-            SessionParams::default()
-                .noise(NoiseParams::default().trunk(f64::NAN))
-                .validate()
-        ),
-        "trunk"
+        SessionParams::default()
+            .jitter_deg(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("jitter_deg")
+    );
+    assert_eq!(
+        SessionParams::default()
+            .bone_bias(1.0)
+            .validate()
+            .refused_argument(),
+        Some("bone_bias")
+    );
+    assert_eq!(
+        SessionParams::default()
+            .noise(NoiseParams::default().trunk(f64::NAN))
+            .validate()
+            .refused_argument(),
+        Some("trunk")
     );
 
     // DTW: every value of every field is valid.
@@ -149,163 +189,239 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
     // sfa
     assert!(ClassSfaParams::default().validate().is_ok());
     assert_eq!(
-        field(ClassSfaParams::default().pca_dims(0).validate()),
-        "pca_dims"
+        ClassSfaParams::default()
+            .pca_dims(0)
+            .validate()
+            .refused_argument(),
+        Some("pca_dims")
     );
     assert_eq!(
-        field(ClassSfaParams::default().m_per_class(0).validate()),
-        "m_per_class"
+        ClassSfaParams::default()
+            .m_per_class(0)
+            .validate()
+            .refused_argument(),
+        Some("m_per_class")
     );
     assert_eq!(
-        field(ClassSfaParams::default().shrinkage(-1.0).validate()),
-        "shrinkage"
+        ClassSfaParams::default()
+            .shrinkage(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("shrinkage")
     );
     assert_eq!(
-        field(ClassSfaParams::default().rank_tol(f64::NAN).validate()),
-        "rank_tol"
+        ClassSfaParams::default()
+            .rank_tol(f64::NAN)
+            .validate()
+            .refused_argument(),
+        Some("rank_tol")
     );
     assert_eq!(
-        field(
-            ClassSfaParams::default()
-                .objective(ClassObjective::WithinMinusOutOfClass { gamma: -1.0 })
-                .validate()
-        ),
-        "gamma"
+        ClassSfaParams::default()
+            .objective(ClassObjective::WithinMinusOutOfClass { gamma: -1.0 })
+            .validate()
+            .refused_argument(),
+        Some("gamma")
     );
     assert!(IsomapParams::default().validate().is_ok());
     assert_eq!(
-        field(IsomapParams::default().n_neighbors(0).validate()),
-        "n_neighbors"
+        IsomapParams::default()
+            .n_neighbors(0)
+            .validate()
+            .refused_argument(),
+        Some("n_neighbors")
     );
     assert_eq!(
-        field(IsomapParams::default().n_components(0).validate()),
-        "n_components"
+        IsomapParams::default()
+            .n_components(0)
+            .validate()
+            .refused_argument(),
+        Some("n_components")
     );
     assert_eq!(
-        field(IsomapParams::default().n_landmarks(Some(1)).validate()),
-        "n_landmarks"
+        IsomapParams::default()
+            .n_landmarks(Some(1))
+            .validate()
+            .refused_argument(),
+        Some("n_landmarks")
     );
     assert_eq!(
-        field(IsomapParams::default().n_landmarks(Some(4)).validate()),
-        "n_components"
+        IsomapParams::default()
+            .n_landmarks(Some(4))
+            .validate()
+            .refused_argument(),
+        Some("n_components")
     );
     assert!(CompareParams::default().validate().is_ok());
-    assert_eq!(field(CompareParams::default().k(0).validate()), "k");
     assert_eq!(
-        field(CompareParams::default().physical_per_class(0).validate()),
-        "physical_per_class"
+        CompareParams::default().k(0).validate().refused_argument(),
+        Some("k")
     );
     assert_eq!(
-        field(
-            CompareParams::default()
-                .isomap_per_class(Some(0))
-                .validate()
-        ),
-        "isomap_per_class"
+        CompareParams::default()
+            .physical_per_class(0)
+            .validate()
+            .refused_argument(),
+        Some("physical_per_class")
     );
     assert_eq!(
-        field(CompareParams::default().isomap_landmarks(1).validate()),
-        "isomap_landmarks"
+        CompareParams::default()
+            .isomap_per_class(Some(0))
+            .validate()
+            .refused_argument(),
+        Some("isomap_per_class")
     );
     assert_eq!(
-        field(
-            CompareParams::default()
-                .isomap(IsomapParams::default().n_neighbors(0))
-                .validate()
-        ),
-        "n_neighbors"
+        CompareParams::default()
+            .isomap_landmarks(1)
+            .validate()
+            .refused_argument(),
+        Some("isomap_landmarks")
     );
     assert_eq!(
-        field(
-            CompareParams::default()
-                .sfa(ClassSfaParams::default().pca_dims(0))
-                .validate()
-        ),
-        "pca_dims"
+        CompareParams::default()
+            .isomap(IsomapParams::default().n_neighbors(0))
+            .validate()
+            .refused_argument(),
+        Some("n_neighbors")
+    );
+    assert_eq!(
+        CompareParams::default()
+            .sfa(ClassSfaParams::default().pca_dims(0))
+            .validate()
+            .refused_argument(),
+        Some("pca_dims")
     );
     assert!(HandposeSynthParams::default().validate().is_ok());
     assert_eq!(
-        field(HandposeSynthParams::default().n_per_class(0).validate()),
-        "n_per_class"
+        HandposeSynthParams::default()
+            .n_per_class(0)
+            .validate()
+            .refused_argument(),
+        Some("n_per_class")
     );
     assert_eq!(
-        field(HandposeSynthParams::default().subjects(0).validate()),
-        "subjects"
+        HandposeSynthParams::default()
+            .subjects(0)
+            .validate()
+            .refused_argument(),
+        Some("subjects")
     );
     assert_eq!(
-        field(HandposeSynthParams::default().width(31).validate()),
-        "width"
+        HandposeSynthParams::default()
+            .width(31)
+            .validate()
+            .refused_argument(),
+        Some("width")
     );
     assert_eq!(
-        field(HandposeSynthParams::default().height(0).validate()),
-        "height"
+        HandposeSynthParams::default()
+            .height(0)
+            .validate()
+            .refused_argument(),
+        Some("height")
     );
     assert_eq!(
-        field(generate(&HandposeSynthParams::default().subjects(0))),
-        "subjects"
+        generate(&HandposeSynthParams::default().subjects(0)).refused_argument(),
+        Some("subjects")
     );
 
     // data
     assert!(FingerVeinParams::default().validate().is_ok());
     assert_eq!(
-        field(FingerVeinParams::default().subjects(0).validate()),
-        "subjects"
+        FingerVeinParams::default()
+            .subjects(0)
+            .validate()
+            .refused_argument(),
+        Some("subjects")
     );
     assert_eq!(
-        field(FingerVeinParams::default().samples(0).validate()),
-        "samples"
+        FingerVeinParams::default()
+            .samples(0)
+            .validate()
+            .refused_argument(),
+        Some("samples")
     );
     assert_eq!(
-        field(FingerVeinParams::default().size((0, 20)).validate()),
-        "size"
+        FingerVeinParams::default()
+            .size((0, 20))
+            .validate()
+            .refused_argument(),
+        Some("size")
     );
     assert_eq!(
-        field(FingerVeinParams::default().canvas((5, 80)).validate()),
-        "canvas"
+        FingerVeinParams::default()
+            .canvas((5, 80))
+            .validate()
+            .refused_argument(),
+        Some("canvas")
     );
     assert_eq!(
-        field(FingerVeinParams::default().blur(-1.0).validate()),
-        "blur"
+        FingerVeinParams::default()
+            .blur(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("blur")
     );
     assert_eq!(
-        field(finger_veins(&FingerVeinParams::default().noise(f64::NAN))),
-        "noise"
+        finger_veins(&FingerVeinParams::default().noise(f64::NAN)).refused_argument(),
+        Some("noise")
     );
 
     // ear
     assert!(EarSynthParams::default().validate().is_ok());
     assert_eq!(
-        field(EarSynthParams::default().height(15).validate()),
-        "height"
+        EarSynthParams::default()
+            .height(15)
+            .validate()
+            .refused_argument(),
+        Some("height")
     );
     assert_eq!(
-        field(EarSynthParams::default().width(8).validate()),
-        "width"
+        EarSynthParams::default()
+            .width(8)
+            .validate()
+            .refused_argument(),
+        Some("width")
     );
     assert_eq!(
-        field(EarSynthParams::default().noise_sigma(-3.0).validate()),
-        "noise_sigma"
+        EarSynthParams::default()
+            .noise_sigma(-3.0)
+            .validate()
+            .refused_argument(),
+        Some("noise_sigma")
     );
     assert_eq!(
-        field(EarSynthParams::default().gain((1.2, 1.0)).validate()),
-        "gain"
+        EarSynthParams::default()
+            .gain((1.2, 1.0))
+            .validate()
+            .refused_argument(),
+        Some("gain")
     );
     assert!(EarParams::default().validate().is_ok());
-    assert_eq!(field(EarParams::default().block(3).validate()), "block");
     assert_eq!(
-        field(EarParams::default().block_skin_fraction(0.0).validate()),
-        "block_skin_fraction"
+        EarParams::default().block(3).validate().refused_argument(),
+        Some("block")
     );
     assert_eq!(
-        field(EarParams::default().close_radius(-1.0).validate()),
-        "close_radius"
+        EarParams::default()
+            .block_skin_fraction(0.0)
+            .validate()
+            .refused_argument(),
+        Some("block_skin_fraction")
     );
     assert_eq!(
-        field(
-            EarParams::default()
-                .skin_rule(SkinRule::joint().with_min_likelihood(2.0))
-                .validate()
-        ),
-        "skin_rule"
+        EarParams::default()
+            .close_radius(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("close_radius")
+    );
+    assert_eq!(
+        EarParams::default()
+            .skin_rule(SkinRule::joint().with_min_likelihood(2.0))
+            .validate()
+            .refused_argument(),
+        Some("skin_rule")
     );
 }

@@ -7,163 +7,231 @@ use wscg_deblur::synth::{ou_gyro, BlurRenderParams, ShakeParams};
 use wscg_deblur::{
     AlignParams, Gamma, HyperLaplacianParams, KernelParams, MultiframeParams, Tiling,
 };
-use wscg_math::Result;
-
-/// The field an `Error::InvalidArgument` names; panics on success or another error.
-fn field<T>(r: Result<T>) -> &'static str {
-    match r {
-        Err(e) => e
-            .argument()
-            .unwrap_or_else(|| panic!("expected an invalid-argument error, got {e}")),
-        Ok(_) => panic!("expected an invalid-argument error, got a result"),
-    }
-}
+use wscg_math::RefusedArgument;
 
 #[test]
 fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
     assert!(AlignParams::default().validate().is_ok());
     assert!(AlignParams::default().iterations([0; 3]).validate().is_ok());
-    assert_eq!(field(AlignParams::default().levels(0).validate()), "levels");
-    assert_eq!(field(AlignParams::default().eps(-1.0).validate()), "eps");
+    assert_eq!(
+        AlignParams::default()
+            .levels(0)
+            .validate()
+            .refused_argument(),
+        Some("levels")
+    );
+    assert_eq!(
+        AlignParams::default()
+            .eps(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("eps")
+    );
 
     assert!(ShakeParams::default().validate().is_ok());
-    assert_eq!(field(ShakeParams::default().rate(0.0).validate()), "rate");
     assert_eq!(
-        field(ShakeParams::default().tau(f64::NAN).validate()),
-        "tau"
+        ShakeParams::default()
+            .rate(0.0)
+            .validate()
+            .refused_argument(),
+        Some("rate")
     );
     assert_eq!(
-        field(ShakeParams::default().duration(-1.0).validate()),
-        "duration"
+        ShakeParams::default()
+            .tau(f64::NAN)
+            .validate()
+            .refused_argument(),
+        Some("tau")
     );
     assert_eq!(
-        field(ShakeParams::default().std([0.1, -0.1, 0.1]).validate()),
-        "std"
+        ShakeParams::default()
+            .duration(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("duration")
     );
     assert_eq!(
-        field(ShakeParams::default().t0(f64::INFINITY).validate()),
-        "t0"
+        ShakeParams::default()
+            .std([0.1, -0.1, 0.1])
+            .validate()
+            .refused_argument(),
+        Some("std")
     );
-    assert_eq!(field(ou_gyro(&ShakeParams::default().tau(0.0), 1)), "tau");
+    assert_eq!(
+        ShakeParams::default()
+            .t0(f64::INFINITY)
+            .validate()
+            .refused_argument(),
+        Some("t0")
+    );
+    assert_eq!(
+        ou_gyro(&ShakeParams::default().tau(0.0), 1).refused_argument(),
+        Some("tau")
+    );
 
     assert!(BlurRenderParams::default().validate().is_ok());
     assert_eq!(
-        field(BlurRenderParams::default().min_steps(0).validate()),
-        "min_steps"
+        BlurRenderParams::default()
+            .min_steps(0)
+            .validate()
+            .refused_argument(),
+        Some("min_steps")
     );
     assert_eq!(
-        field(BlurRenderParams::default().noise_sigma(-0.1).validate()),
-        "noise_sigma"
+        BlurRenderParams::default()
+            .noise_sigma(-0.1)
+            .validate()
+            .refused_argument(),
+        Some("noise_sigma")
     );
     assert_eq!(
-        field(
-            BlurRenderParams::default()
-                .gamma(Some(Gamma(0.0)))
-                .validate()
-        ),
-        "gamma"
+        BlurRenderParams::default()
+            .gamma(Some(Gamma(0.0)))
+            .validate()
+            .refused_argument(),
+        Some("gamma")
     );
 
     assert!(HyperLaplacianParams::default().validate().is_ok());
     assert_eq!(
-        field(HyperLaplacianParams::default().lambda(0.0).validate()),
-        "lambda"
+        HyperLaplacianParams::default()
+            .lambda(0.0)
+            .validate()
+            .refused_argument(),
+        Some("lambda")
     );
     assert_eq!(
-        field(HyperLaplacianParams::default().alpha(2.5).validate()),
-        "alpha"
+        HyperLaplacianParams::default()
+            .alpha(2.5)
+            .validate()
+            .refused_argument(),
+        Some("alpha")
     );
     assert_eq!(
-        field(HyperLaplacianParams::default().beta0(0.0).validate()),
-        "beta0"
+        HyperLaplacianParams::default()
+            .beta0(0.0)
+            .validate()
+            .refused_argument(),
+        Some("beta0")
     );
     assert_eq!(
-        field(HyperLaplacianParams::default().beta_rate(1.0).validate()),
-        "beta_rate"
+        HyperLaplacianParams::default()
+            .beta_rate(1.0)
+            .validate()
+            .refused_argument(),
+        Some("beta_rate")
     );
     assert_eq!(
-        field(
-            HyperLaplacianParams::default()
-                .beta_max(f32::INFINITY)
-                .validate()
-        ),
-        "beta_max"
+        HyperLaplacianParams::default()
+            .beta_max(f32::INFINITY)
+            .validate()
+            .refused_argument(),
+        Some("beta_max")
     );
     assert_eq!(
-        field(HyperLaplacianParams::default().inner(0).validate()),
-        "inner"
+        HyperLaplacianParams::default()
+            .inner(0)
+            .validate()
+            .refused_argument(),
+        Some("inner")
     );
 
     assert!(KernelParams::default().validate().is_ok());
     assert!(KernelParams::fixed(8).validate().is_ok());
     assert_eq!(
-        field(KernelParams::default().min_steps(0).validate()),
-        "min_steps"
+        KernelParams::default()
+            .min_steps(0)
+            .validate()
+            .refused_argument(),
+        Some("min_steps")
     );
     assert_eq!(
-        field(KernelParams::default().max_steps(16).validate()),
-        "max_steps"
+        KernelParams::default()
+            .max_steps(16)
+            .validate()
+            .refused_argument(),
+        Some("max_steps")
     );
     assert_eq!(
-        field(KernelParams::default().max_step_px(0.0).validate()),
-        "max_step_px"
+        KernelParams::default()
+            .max_step_px(0.0)
+            .validate()
+            .refused_argument(),
+        Some("max_step_px")
     );
     assert_eq!(
-        field(KernelParams::default().threshold(1.0).validate()),
-        "threshold"
+        KernelParams::default()
+            .threshold(1.0)
+            .validate()
+            .refused_argument(),
+        Some("threshold")
     );
     assert_eq!(
-        field(KernelParams::default().max_size(0).validate()),
-        "max_size"
+        KernelParams::default()
+            .max_size(0)
+            .validate()
+            .refused_argument(),
+        Some("max_size")
     );
 
     assert!(MultiframeParams::default().validate().is_ok());
     assert_eq!(
-        field(MultiframeParams::default().t_exposure(0.0).validate()),
-        "t_exposure"
+        MultiframeParams::default()
+            .t_exposure(0.0)
+            .validate()
+            .refused_argument(),
+        Some("t_exposure")
     );
     assert_eq!(
-        field(MultiframeParams::default().t_readout(-1.0).validate()),
-        "t_readout"
-    );
-    assert_eq!(field(MultiframeParams::default().mu(-1.0).validate()), "mu");
-    assert_eq!(
-        field(MultiframeParams::default().min_ncc(f64::NAN).validate()),
-        "min_ncc"
+        MultiframeParams::default()
+            .t_readout(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("t_readout")
     );
     assert_eq!(
-        field(
-            MultiframeParams::default()
-                .tiling(Tiling {
-                    tile: 0,
-                    ..Tiling::default()
-                })
-                .validate()
-        ),
-        "tile"
+        MultiframeParams::default()
+            .mu(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("mu")
     );
     assert_eq!(
-        field(
-            MultiframeParams::default()
-                .hl(HyperLaplacianParams::default().inner(0))
-                .validate()
-        ),
-        "inner"
+        MultiframeParams::default()
+            .min_ncc(f64::NAN)
+            .validate()
+            .refused_argument(),
+        Some("min_ncc")
     );
     assert_eq!(
-        field(
-            MultiframeParams::default()
-                .kernel(KernelParams::default().max_size(0))
-                .validate()
-        ),
-        "max_size"
+        MultiframeParams::default()
+            .tiling(Tiling {
+                tile: 0,
+                ..Tiling::default()
+            })
+            .validate()
+            .refused_argument(),
+        Some("tile")
     );
     assert_eq!(
-        field(
-            MultiframeParams::default()
-                .align(AlignMode::Ecc(AlignParams::default().levels(0)))
-                .validate()
-        ),
-        "levels"
+        MultiframeParams::default()
+            .hl(HyperLaplacianParams::default().inner(0))
+            .validate()
+            .refused_argument(),
+        Some("inner")
+    );
+    assert_eq!(
+        MultiframeParams::default()
+            .kernel(KernelParams::default().max_size(0))
+            .validate()
+            .refused_argument(),
+        Some("max_size")
+    );
+    assert_eq!(
+        MultiframeParams::default()
+            .align(AlignMode::Ecc(AlignParams::default().levels(0)))
+            .validate()
+            .refused_argument(),
+        Some("levels")
     );
 }

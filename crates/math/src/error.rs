@@ -62,6 +62,19 @@ pub enum Error {
 /// `Result` with [`Error`] as the error type.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
+/// Which argument a call refused, read from its [`Result`] without matching the error:
+/// `params.validate().refused_argument() == Some("k")`.
+pub trait RefusedArgument {
+    /// The argument an [`Error::InvalidArgument`] names; `None` for `Ok` and other errors.
+    fn refused_argument(&self) -> Option<&'static str>;
+}
+
+impl<T> RefusedArgument for Result<T> {
+    fn refused_argument(&self) -> Option<&'static str> {
+        self.as_ref().err().and_then(Error::argument)
+    }
+}
+
 impl Error {
     /// Shorthand for [`Error::InvalidArgument`].
     pub fn invalid(name: &'static str, reason: impl Into<String>) -> Self {

@@ -80,7 +80,7 @@ pub mod vec3;
 pub mod volume;
 pub mod wavelet;
 
-pub use error::{Error, Result};
+pub use error::{Error, RefusedArgument, Result};
 pub use image::Image;
 pub use mesh::{Adjacency, TriMesh};
 pub use volume::Volume;

@@ -4,47 +4,70 @@
 
 use wscg_math::metrics::{ssim, ssim_plane, SsimParams};
 use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, PcgParams};
-use wscg_math::{Image, Result};
-
-/// The field an `Error::InvalidArgument` names; panics on success or another error.
-fn field<T>(r: Result<T>) -> &'static str {
-    match r {
-        Err(e) => e
-            .argument()
-            .unwrap_or_else(|| panic!("expected an invalid-argument error, got {e}")),
-        Ok(_) => panic!("expected an invalid-argument error, got a result"),
-    }
-}
+use wscg_math::{Image, RefusedArgument};
 
 #[test]
 fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
     assert!(PcgParams::default().validate().is_ok());
     assert!(PcgParams::default().max_iter(Some(0)).validate().is_ok());
-    assert_eq!(field(PcgParams::default().tol(0.0).validate()), "tol");
-    assert_eq!(field(PcgParams::default().tol(f64::NAN).validate()), "tol");
+    assert_eq!(
+        PcgParams::default().tol(0.0).validate().refused_argument(),
+        Some("tol")
+    );
+    assert_eq!(
+        PcgParams::default()
+            .tol(f64::NAN)
+            .validate()
+            .refused_argument(),
+        Some("tol")
+    );
 
     assert!(SsimParams::default().validate().is_ok());
     assert_eq!(
-        field(SsimParams::default().data_range(0.0).validate()),
-        "data_range"
+        SsimParams::default()
+            .data_range(0.0)
+            .validate()
+            .refused_argument(),
+        Some("data_range")
     );
-    assert_eq!(field(SsimParams::default().sigma(-1.0).validate()), "sigma");
     assert_eq!(
-        field(SsimParams::default().truncate(f64::INFINITY).validate()),
-        "truncate"
+        SsimParams::default()
+            .sigma(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("sigma")
     );
-    assert_eq!(field(SsimParams::default().k1(0.0).validate()), "k1");
-    assert_eq!(field(SsimParams::default().k2(f64::NAN).validate()), "k2");
+    assert_eq!(
+        SsimParams::default()
+            .truncate(f64::INFINITY)
+            .validate()
+            .refused_argument(),
+        Some("truncate")
+    );
+    assert_eq!(
+        SsimParams::default().k1(0.0).validate().refused_argument(),
+        Some("k1")
+    );
+    assert_eq!(
+        SsimParams::default()
+            .k2(f64::NAN)
+            .validate()
+            .refused_argument(),
+        Some("k2")
+    );
 
     // The methods check their parameters before their data.
     let a = CsrMatrix::from_triplets(2, 2, &[(0, 0, 2.0), (1, 1, 3.0)]).unwrap();
     let bad = PcgParams::default().tol(-1.0);
     assert_eq!(
-        field(pcg(&a, &[1.0], InitialGuess::Zero, &IdentityPrecond, &bad)),
-        "tol"
+        pcg(&a, &[1.0], InitialGuess::Zero, &IdentityPrecond, &bad).refused_argument(),
+        Some("tol")
     );
     let bad = SsimParams::default().sigma(0.0);
-    assert_eq!(field(ssim_plane(&[], &[1.0], 1, 1, &bad)), "sigma");
+    assert_eq!(
+        ssim_plane(&[], &[1.0], 1, 1, &bad).refused_argument(),
+        Some("sigma")
+    );
     let img = Image::<f32>::filled(4, 4, 1, 0.5).unwrap();
-    assert_eq!(field(ssim(&img, &img, &bad)), "sigma");
+    assert_eq!(ssim(&img, &img, &bad).refused_argument(), Some("sigma"));
 }

@@ -2,85 +2,114 @@
 //! out of range fails with an error naming that field (also at the start of the method that
 //! takes the parameters, where that method needs no data).
 
-use wscg_math::Result;
+use wscg_math::RefusedArgument;
 use wscg_motion::map::SvrMapParams;
 use wscg_motion::{
     reach_walk, AnechoicParams, MapKind, StepwiseParams, SynthesizerParams, WalkerParams,
 };
 
-/// The field an `Error::InvalidArgument` names; panics on success or another error.
-fn field<T>(r: Result<T>) -> &'static str {
-    match r {
-        Err(e) => e
-            .argument()
-            .unwrap_or_else(|| panic!("expected an invalid-argument error, got {e}")),
-        Ok(_) => panic!("expected an invalid-argument error, got a result"),
-    }
-}
-
 #[test]
 fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
     assert!(WalkerParams::default().validate().is_ok());
     assert_eq!(
-        field(WalkerParams::default().n_trials(0).validate()),
-        "n_trials"
+        WalkerParams::default()
+            .n_trials(0)
+            .validate()
+            .refused_argument(),
+        Some("n_trials")
     );
     assert_eq!(
-        field(WalkerParams::default().n_samples(7).validate()),
-        "n_samples"
+        WalkerParams::default()
+            .n_samples(7)
+            .validate()
+            .refused_argument(),
+        Some("n_samples")
     );
     assert_eq!(
-        field(WalkerParams::default().noise(-0.1).validate()),
-        "noise"
+        WalkerParams::default()
+            .noise(-0.1)
+            .validate()
+            .refused_argument(),
+        Some("noise")
     );
     assert_eq!(
-        field(WalkerParams::default().range1((1.0, 0.5)).validate()),
-        "range1"
+        WalkerParams::default()
+            .range1((1.0, 0.5))
+            .validate()
+            .refused_argument(),
+        Some("range1")
     );
     assert_eq!(
-        field(WalkerParams::default().range2((0.0, 1.0)).validate()),
-        "range2"
+        WalkerParams::default()
+            .range2((0.0, 1.0))
+            .validate()
+            .refused_argument(),
+        Some("range2")
     );
     assert_eq!(
-        field(reach_walk(&WalkerParams::default().n_samples(0))),
-        "n_samples"
+        reach_walk(&WalkerParams::default().n_samples(0)).refused_argument(),
+        Some("n_samples")
     );
 
     assert!(AnechoicParams::default().validate().is_ok());
     assert_eq!(
-        field(AnechoicParams::default().n_sources(0).validate()),
-        "n_sources"
+        AnechoicParams::default()
+            .n_sources(0)
+            .validate()
+            .refused_argument(),
+        Some("n_sources")
     );
     assert_eq!(
-        field(AnechoicParams::default().n_harmonics(0).validate()),
-        "n_harmonics"
+        AnechoicParams::default()
+            .n_harmonics(0)
+            .validate()
+            .refused_argument(),
+        Some("n_harmonics")
     );
     assert_eq!(
-        field(AnechoicParams::default().max_iter(0).validate()),
-        "max_iter"
+        AnechoicParams::default()
+            .max_iter(0)
+            .validate()
+            .refused_argument(),
+        Some("max_iter")
     );
     assert_eq!(
-        field(AnechoicParams::default().restarts(0).validate()),
-        "restarts"
+        AnechoicParams::default()
+            .restarts(0)
+            .validate()
+            .refused_argument(),
+        Some("restarts")
     );
     assert_eq!(
-        field(AnechoicParams::default().delay_search(7).validate()),
-        "delay_search"
+        AnechoicParams::default()
+            .delay_search(7)
+            .validate()
+            .refused_argument(),
+        Some("delay_search")
     );
     assert!(AnechoicParams::default().delay_search(0).validate().is_ok());
     assert_eq!(
-        field(AnechoicParams::default().tol(f64::NAN).validate()),
-        "tol"
+        AnechoicParams::default()
+            .tol(f64::NAN)
+            .validate()
+            .refused_argument(),
+        Some("tol")
     );
 
     assert!(StepwiseParams::default().validate().is_ok());
     assert_eq!(
-        field(StepwiseParams::default().n_sources_first(0).validate()),
-        "n_sources_first"
+        StepwiseParams::default()
+            .n_sources_first(0)
+            .validate()
+            .refused_argument(),
+        Some("n_sources_first")
     );
     assert_eq!(
-        field(StepwiseParams::default().round_iter(0).validate()),
-        "round_iter"
+        StepwiseParams::default()
+            .round_iter(0)
+            .validate()
+            .refused_argument(),
+        Some("round_iter")
     );
     assert!(StepwiseParams::default()
         .rounds(0)
@@ -88,12 +117,11 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
         .validate()
         .is_ok());
     assert_eq!(
-        field(
-            StepwiseParams::default()
-                .demix(AnechoicParams::default().restarts(0))
-                .validate()
-        ),
-        "restarts"
+        StepwiseParams::default()
+            .demix(AnechoicParams::default().restarts(0))
+            .validate()
+            .refused_argument(),
+        Some("restarts")
     );
     // The demixing's own source count is set per stage, so it is not checked.
     assert!(StepwiseParams::default()
@@ -102,52 +130,81 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
         .is_ok());
 
     assert!(SvrMapParams::default().validate().is_ok());
-    assert_eq!(field(SvrMapParams::default().c(0.0).validate()), "c");
     assert_eq!(
-        field(SvrMapParams::default().epsilon(-1.0).validate()),
-        "epsilon"
+        SvrMapParams::default().c(0.0).validate().refused_argument(),
+        Some("c")
     );
     assert_eq!(
-        field(SvrMapParams::default().gamma(f64::INFINITY).validate()),
-        "gamma"
+        SvrMapParams::default()
+            .epsilon(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("epsilon")
     );
     assert_eq!(
-        field(SvrMapParams::default().n_phases(0).validate()),
-        "n_phases"
+        SvrMapParams::default()
+            .gamma(f64::INFINITY)
+            .validate()
+            .refused_argument(),
+        Some("gamma")
     );
     assert_eq!(
-        field(SvrMapParams::default().radii(vec![]).validate()),
-        "radii"
+        SvrMapParams::default()
+            .n_phases(0)
+            .validate()
+            .refused_argument(),
+        Some("n_phases")
     );
     assert_eq!(
-        field(SvrMapParams::default().radii(vec![1.0, -1.0]).validate()),
-        "radii"
+        SvrMapParams::default()
+            .radii(vec![])
+            .validate()
+            .refused_argument(),
+        Some("radii")
+    );
+    assert_eq!(
+        SvrMapParams::default()
+            .radii(vec![1.0, -1.0])
+            .validate()
+            .refused_argument(),
+        Some("radii")
     );
 
     assert!(SynthesizerParams::default().validate().is_ok());
     assert_eq!(
-        field(SynthesizerParams::default().beta(0.0).validate()),
-        "beta"
+        SynthesizerParams::default()
+            .beta(0.0)
+            .validate()
+            .refused_argument(),
+        Some("beta")
     );
     assert_eq!(
-        field(SynthesizerParams::default().coupling(-1.0).validate()),
-        "coupling"
+        SynthesizerParams::default()
+            .coupling(-1.0)
+            .validate()
+            .refused_argument(),
+        Some("coupling")
     );
     assert_eq!(
-        field(SynthesizerParams::default().map(MapKind::Lut(2)).validate()),
-        "map"
+        SynthesizerParams::default()
+            .map(MapKind::Lut(2))
+            .validate()
+            .refused_argument(),
+        Some("map")
     );
     assert_eq!(
-        field(
-            SynthesizerParams::default()
-                .map(MapKind::Svr(SvrMapParams::default().n_phases(0)))
-                .validate()
-        ),
-        "n_phases"
+        SynthesizerParams::default()
+            .map(MapKind::Svr(SvrMapParams::default().n_phases(0)))
+            .validate()
+            .refused_argument(),
+        Some("n_phases")
     );
     assert_eq!(
-        field(SynthesizerParams::default().bandwidth(Some(0.0)).validate()),
-        "bandwidth"
+        SynthesizerParams::default()
+            .bandwidth(Some(0.0))
+            .validate()
+            .refused_argument(),
+        Some("bandwidth")
     );
     assert!(SynthesizerParams::default()
         .bandwidth(Some(f64::INFINITY))
