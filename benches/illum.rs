@@ -18,7 +18,7 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("paper15");
     g.sample_size(10);
     let v = head([192, 192, 84], 1).unwrap();
-    let field = ScalarField::from_u8(v.dims(), v.spacing(), v.data()).unwrap();
+    let field = ScalarField::from_u8(v.view()).unwrap();
     let tf = tissue_tf();
     let cam = SliceCamera::orbit(&field, 30.0, 25.0, 256).unwrap();
     let light = Light {

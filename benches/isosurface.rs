@@ -28,7 +28,8 @@ fn bench(c: &mut Criterion) {
         b.iter(|| black_box(marching_cubes(&grid, iso, NormalMethod::CentralDifference).unwrap()))
     });
     let mesh = extract(&grid, iso).unwrap();
-    let (sparse, sides) = sparsify_for_isosurface(&ml.values, ml.dims, iso).unwrap();
+    let (sparse, sides) = sparsify_for_isosurface(ml.view(), iso).unwrap();
+    let sparse = sparse.into_data();
     let sg = ScalarGrid::with_spacing(ml.dims, ml.spacing, &sparse)
         .unwrap()
         .with_side_hint(&sides)

@@ -18,7 +18,7 @@ fn main() -> Result<()> {
         None => 40.0,
     };
     let vol = noisy_sphere_u8([64; 3], [31.37, 32.21, 30.83], 20.0, 1.5, 3.0, 7)?;
-    let c = compare_with_full_cd(&vol.values, vol.dims, vol.spacing, iso)?;
+    let c = compare_with_full_cd(vol.view(), iso)?;
     println!(
         "isovalue {iso}: {} vertices; {:.1}% of the samples kept; central differences defined \
          at {:.2}% of the vertices on the sparse grid",
@@ -31,7 +31,8 @@ fn main() -> Result<()> {
          spline {}, LSN {}",
         c.spline.rms, c.lsn.rms, c.spline_undefined, c.lsn_undefined
     );
-    let (sparse, sides) = sparsify_for_isosurface(&vol.values, vol.dims, iso)?;
+    let (sparse, sides) = sparsify_for_isosurface(vol.view(), iso)?;
+    let sparse = sparse.into_data();
     let g = ScalarGrid::new(vol.dims, &sparse)?.with_side_hint(&sides)?;
     let mesh = marching_cubes(&g, iso, NormalMethod::spline())?;
     let out = TriMesh::new(

@@ -35,7 +35,7 @@ fn main() -> Result<()> {
     ] {
         let img = render(&plate, &light, &rig, eye, &settings)?;
         img.to_display(1.0, &XYZ_TO_SRGB)?.save(file)?;
-        let s = glint_stats(&img.luminance(), img.width, img.height, img.mm_per_px)?;
+        let s = glint_stats(img.luminance().view(), img.mm_per_px)?;
         println!(
             "{file}: {} x {} px, {:.2} glints per mm², mean glint area {:.4} mm²",
             img.width, img.height, s.glint_density_per_mm2, s.mean_glint_area_mm2

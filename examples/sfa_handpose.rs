@@ -45,9 +45,7 @@ fn main() -> wscg::math::Result<()> {
     // Rotation robustness: every test frame rotated by +-U(10, 20) degrees, for the model
     // trained with the rotated copies and for one trained on the original frames only.
     let rot = rotation_robustness(
-        &data.masks,
-        data.height,
-        data.width,
+        data.mask_stack()?,
         &split,
         &cfg.sfa,
         res.class_sfa.as_ref(),

@@ -9,6 +9,7 @@ use std::borrow::Cow;
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{Element, IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use wscg_math::Image;
 
 use crate::errors::value_error;
 
@@ -32,6 +33,20 @@ pub fn array<'py, T: Element>(
     let a = ArrayD::from_shape_vec(IxDyn(shape), data)
         .map_err(|e| value_error(format!("internal shape error: {e}")))?;
     Ok(a.into_pyarray(py))
+}
+
+/// An image as an array of `(H, W)` when `flat` and single-channel, `(H, W, C)` otherwise.
+pub fn image_array<'py, T: Element + Copy>(
+    py: Python<'py>,
+    img: Image<T>,
+    flat: bool,
+) -> PyResult<Arr<'py, T>> {
+    let (h, w, c) = img.shape();
+    if flat && c == 1 {
+        array(py, &[h, w], img.into_data())
+    } else {
+        array(py, &[h, w, c], img.into_data())
+    }
 }
 
 /// `(height, width, channels)` of an image array of shape `(H, W)` or `(H, W, C)`.

@@ -14,6 +14,7 @@ use wscg_cs_mri::{
     KSpace, Recon, Regularizer, Udct, UdctParams,
 };
 use wscg_math::progress::NoProgress;
+use wscg_math::ImageView;
 
 use crate::convert::{array, dims2, values, Arr};
 use crate::errors::{value_error, IntoPy};
@@ -694,8 +695,11 @@ fn with_smooth_phase<'py>(
 ) -> PyResult<Arr<'py, Complex64>> {
     let (r, c) = dims2("magnitude", &magnitude)?;
     let m = values(&magnitude);
-    let out = crate::pool::detach(py, || phantom::with_smooth_phase(&m, r, c, seed)).py_err()?;
-    array(py, &[r, c], out)
+    let out = crate::pool::detach(py, || {
+        phantom::with_smooth_phase(ImageView::plane(r, c, &m)?, seed)
+    })
+    .py_err()?;
+    array(py, &[r, c], out.into_data())
 }
 
 #[pyfunction]

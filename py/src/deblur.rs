@@ -104,11 +104,6 @@ fn image_in(name: &str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<Image<f32>> {
     Image::new(h, w, 1, values(a).into_owned()).py_err()
 }
 
-fn image_out<'py>(py: Python<'py>, img: Image<f32>) -> PyResult<Arr<'py, f32>> {
-    let (h, w, _) = img.shape();
-    array(py, &[h, w], img.into_data())
-}
-
 /// A `(kh, kw)` float32 array with zero displacement at `origin` as a kernel.
 fn kernel_in(k: &PyReadonlyArrayDyn<f32>, origin: (usize, usize)) -> PyResult<Kernel> {
     let (h, w) = dims2("kernel", k)?;
@@ -224,7 +219,7 @@ fn deconv_krishnan<'py>(
     let k = kernel_in(&kernel, origin)?;
     let p = hl_params(lam, alpha, beta_max);
     let out = crate::pool::detach(py, || wscg_deblur::deconv_hl(&img, &k, &p)).py_err()?;
-    image_out(py, out)
+    crate::convert::image_array(py, out, true)
 }
 
 #[pyfunction]
@@ -246,7 +241,7 @@ fn deconv_krishnan_multi<'py>(
     let p = hl_params(lam, alpha, beta_max);
     let out =
         crate::pool::detach(py, || wscg_deblur::deconv_hl_multi(&img, &k, &pr, mu, &p)).py_err()?;
-    image_out(py, out)
+    crate::convert::image_array(py, out, true)
 }
 
 #[pyfunction]
@@ -260,7 +255,7 @@ fn wiener<'py>(
     let img = image_in("image", &image)?;
     let k = kernel_in(&kernel, origin)?;
     let out = crate::pool::detach(py, || wscg_deblur::wiener(&img, &k, nsr)).py_err()?;
-    image_out(py, out)
+    crate::convert::image_array(py, out, true)
 }
 
 #[pyfunction]
@@ -274,7 +269,7 @@ fn richardson_lucy<'py>(
     let img = image_in("image", &image)?;
     let k = kernel_in(&kernel, origin)?;
     let out = crate::pool::detach(py, || wscg_deblur::richardson_lucy(&img, &k, iters)).py_err()?;
-    image_out(py, out)
+    crate::convert::image_array(py, out, true)
 }
 
 #[pyfunction]
@@ -287,7 +282,7 @@ fn convolve<'py>(
     let img = image_in("image", &image)?;
     let k = kernel_in(&kernel, origin)?;
     let out = crate::pool::detach(py, || wscg_deblur::tiling::convolve(&img, &k)).py_err()?;
-    image_out(py, out)
+    crate::convert::image_array(py, out, true)
 }
 
 fn method_in(
@@ -350,7 +345,10 @@ fn deblur_piecewise<'py>(
         Ok((out, grid))
     })
     .py_err()?;
-    Ok((image_out(py, out)?, grid_out(py, &grid)?))
+    Ok((
+        crate::convert::image_array(py, out, true)?,
+        grid_out(py, &grid)?,
+    ))
 }
 
 #[pyfunction]
@@ -426,8 +424,8 @@ fn deblur_multiframe<'py>(
     let (rows, cols, nf) = (out.kernels.rows, out.kernels.cols, out.frames);
     d.set_item("kernels", grid_out(py, &out.kernels)?)?;
     d.set_item("weights", array(py, &[rows, cols, nf], out.weights)?)?;
-    d.set_item("image", image_out(py, out.image)?)?;
-    d.set_item("single", image_out(py, out.single)?)?;
+    d.set_item("image", crate::convert::image_array(py, out.image, true)?)?;
+    d.set_item("single", crate::convert::image_array(py, out.single, true)?)?;
     d.set_item("used_frames", out.used_frames)?;
     d.set_item("warnings", out.warnings)?;
     Ok(d)
@@ -451,7 +449,7 @@ fn rectify_rolling_shutter<'py>(
         wscg_deblur::rectify_rolling_shutter(&img, &track, &t, &intrinsics(cam))
     })
     .py_err()?;
-    image_out(py, out)
+    crate::convert::image_array(py, out, true)
 }
 
 #[pyfunction]
@@ -611,13 +609,13 @@ fn render_blurred<'py>(
         synth::render_blurred(&img, &track, &t, &intrinsics(cam), t_world, &opts, seed)
     })
     .py_err()?;
-    image_out(py, out)
+    crate::convert::image_array(py, out, true)
 }
 
 #[pyfunction]
 fn scene<'py>(py: Python<'py>, height: usize, width: usize, seed: u64) -> PyResult<Arr<'py, f32>> {
     let img = crate::pool::detach(py, || synth::scene(height, width, seed)).py_err()?;
-    image_out(py, img)
+    crate::convert::image_array(py, img, true)
 }
 
 /// Registers the submodule.

@@ -19,7 +19,7 @@ use wscg_biometrics::ear::{
     SkinRule,
 };
 use wscg_biometrics::imgops::{mask, tone};
-use wscg_math::Image;
+use wscg_math::{Image, ImageView};
 
 use crate::convert::{array, dict_item, dims2, image_dims, indices, values, Arr};
 use crate::errors::{value_error, IntoPy};
@@ -178,16 +178,6 @@ fn images_in(name: &str, v: &[PyReadonlyArrayDyn<u8>]) -> PyResult<Vec<Image<u8>
         .collect()
 }
 
-/// An image as an `(H, W)` array when it has one channel and `flat`, `(H, W, C)` otherwise.
-fn image_out<'py>(py: Python<'py>, img: Image<u8>, flat: bool) -> PyResult<Arr<'py, u8>> {
-    let (h, w, c) = img.shape();
-    if flat && c == 1 {
-        array(py, &[h, w], img.into_data())
-    } else {
-        array(py, &[h, w, c], img.into_data())
-    }
-}
-
 /// A template from a `(blocks, block_len)` float32 array.
 fn template_in(name: &str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<EarTemplate> {
     let (b, k) = dims2(name, a)?;
@@ -207,8 +197,8 @@ fn mask_in(name: &str, a: &PyReadonlyArrayDyn<bool>) -> PyResult<(Vec<u8>, usize
     Ok((values(a).iter().map(|&v| u8::from(v)).collect(), h, w))
 }
 
-fn mask_out<'py>(py: Python<'py>, v: &[u8], h: usize, w: usize) -> PyResult<Arr<'py, bool>> {
-    array(py, &[h, w], v.iter().map(|&x| x != 0).collect())
+fn mask_out<'py>(py: Python<'py>, mask: Image<u8>) -> PyResult<Arr<'py, bool>> {
+    crate::convert::image_array(py, mask.map(|x| x != 0), true)
 }
 
 fn vec_out<'py>(py: Python<'py>, v: Vec<f64>) -> PyResult<Arr<'py, f64>> {
@@ -238,7 +228,7 @@ fn report_dict<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let (gr, gc) = p.grid();
     let d = PyDict::new(py);
-    d.set_item("mask", mask_out(py, r.skin_mask.data(), p.height, p.width)?)?;
+    d.set_item("mask", mask_out(py, r.skin_mask.clone())?)?;
     d.set_item("blocks", array(py, &[gr, gc], r.block_unoccluded.clone())?)?;
     d.set_item(
         "block_skin_fraction",
@@ -331,7 +321,7 @@ fn skin_pixels<'py>(
     let im = image_in("img", &img)?;
     check_input(&im, false).py_err()?;
     let s = crate::pool::detach(py, || ear::skin_pixels(&im, &p));
-    mask_out(py, &s, im.height(), im.width())
+    mask_out(py, Image::new(im.height(), im.width(), 1, s).py_err()?)
 }
 
 /// Every quantity of the match of a probe image against one template.
@@ -935,7 +925,7 @@ fn resize<'py>(
         )));
     }
     let r = crate::pool::detach(py, || tone::resize_u8(&im, height, width)).py_err()?;
-    image_out(py, r, flat)
+    crate::convert::image_array(py, r, flat)
 }
 
 /// Level-1 Haar LL band of a 2-D float64 plane with even sizes.
@@ -943,8 +933,11 @@ fn resize<'py>(
 fn haar_ll<'py>(py: Python<'py>, plane: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Arr<'py, f64>> {
     let (r, c) = dims2("plane", &plane)?;
     let v = values(&plane);
-    let ll = crate::pool::detach(py, || wscg_math::wavelet::haar_ll(&v, r, c)).py_err()?;
-    array(py, &[r / 2, c / 2], ll)
+    let ll = crate::pool::detach(py, || {
+        wscg_math::wavelet::haar_ll(ImageView::plane(r, c, &v)?)
+    })
+    .py_err()?;
+    crate::convert::image_array(py, ll, true)
 }
 
 /// Haar LL features `(blocks, block_len)` of every block of a `(height, width)` plane.
@@ -957,14 +950,9 @@ fn block_features<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let p = params_from(params.as_ref())?;
     let (r, c) = dims2("plane", &plane)?;
-    if (r, c) != (p.height, p.width) {
-        return Err(value_error(format!(
-            "shape mismatch: `plane` is {r} x {c}, the parameters need {} x {}",
-            p.height, p.width
-        )));
-    }
     let v = values(&plane);
-    let f = crate::pool::detach(py, || ear::block_features(&v, &p)).py_err()?;
+    let f = crate::pool::detach(py, || ear::block_features(ImageView::plane(r, c, &v)?, &p))
+        .py_err()?;
     array(py, &[p.blocks(), p.block_len()], f)
 }
 
@@ -978,23 +966,23 @@ fn disk_morphology<'py>(
 ) -> PyResult<Arr<'py, bool>> {
     let (v, h, w) = mask_in("mask", &m)?;
     let radius = radius_in(radius)?;
-    type Op = fn(&[u8], usize, usize, f64) -> wscg_math::Result<Vec<u8>>;
+    type Op = fn(ImageView<'_, u8>, f64) -> wscg_math::Result<Image<u8>>;
     let f: Op = match op {
         "close" => mask::close_disk,
         "dilate" => mask::dilate_disk,
         "erode" => mask::erode_disk,
         other => return Err(value_error(format!("unknown morphology {other:?}"))),
     };
-    let out = crate::pool::detach(py, || f(&v, h, w, radius)).py_err()?;
-    mask_out(py, &out, h, w)
+    let out = crate::pool::detach(py, || f(ImageView::plane(h, w, &v)?, radius)).py_err()?;
+    mask_out(py, out)
 }
 
 /// Hole filling of a 2-D bool mask.
 #[pyfunction]
 fn fill_holes<'py>(py: Python<'py>, m: PyReadonlyArrayDyn<'py, bool>) -> PyResult<Arr<'py, bool>> {
     let (v, h, w) = mask_in("mask", &m)?;
-    let out = crate::pool::detach(py, || mask::fill_holes(&v, h, w)).py_err()?;
-    mask_out(py, &out, h, w)
+    let out = crate::pool::detach(py, || mask::fill_holes(ImageView::plane(h, w, &v)?)).py_err()?;
+    mask_out(py, out)
 }
 
 /// Registers the submodule's functions and classes.

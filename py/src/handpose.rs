@@ -13,7 +13,9 @@ use wscg_biometrics::sfa::handpose::{
 use wscg_biometrics::sfa::isomap::{Isomap, IsomapParams};
 use wscg_biometrics::sfa::ClassSfaParams;
 
-use crate::convert::{array, labels_from, mat_map, mat_out, values, Arr};
+use wscg_math::{ImageStackView, ImageView};
+
+use crate::convert::{array, image_array, labels_from, mat_map, mat_out, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// `(n, h, w)` of a mask stack (a single `(h, w)` mask counts as `n = 1`).
@@ -105,8 +107,14 @@ fn physical_features<'py>(
             )));
         }
     }
-    let f =
-        crate::pool::detach(py, || physical_features_batch(&m, d.as_deref(), n, h, w)).py_err()?;
+    let f = crate::pool::detach(py, || {
+        let depth = d
+            .as_deref()
+            .map(|d| ImageStackView::new(n, h, w, d))
+            .transpose()?;
+        physical_features_batch(ImageStackView::new(n, h, w, &m)?, depth)
+    })
+    .py_err()?;
     let k = f.len() / n.max(1);
     array(py, &[n, k], f)
 }
@@ -130,8 +138,8 @@ fn rotate_mask<'py>(
 ) -> PyResult<Arr<'py, u8>> {
     let (h, w) = mask_dims(&mask)?;
     let m = values(&mask);
-    let out = crate::pool::detach(py, || rotate(&m, h, w, degrees)).py_err()?;
-    array(py, &[h, w], out)
+    let out = crate::pool::detach(py, || rotate(ImageView::plane(h, w, &m)?, degrees)).py_err()?;
+    image_array(py, out, true)
 }
 
 /// Area-average downscaling of one mask by an integer factor.
@@ -143,12 +151,9 @@ fn downscale<'py>(
 ) -> PyResult<Arr<'py, f64>> {
     let (h, w) = mask_dims(&mask)?;
     let m = values(&mask);
-    let out = crate::pool::detach(py, || downscale_mask(&m, h, w, factor)).py_err()?;
-    array(
-        py,
-        &[h.div_ceil(factor.max(1)), w.div_ceil(factor.max(1))],
-        out,
-    )
+    let out =
+        crate::pool::detach(py, || downscale_mask(ImageView::plane(h, w, &m)?, factor)).py_err()?;
+    image_array(py, out, true)
 }
 
 /// The paper's split and augmentation of a mask stack: a dict of arrays.
@@ -161,11 +166,12 @@ fn hand_pose_split<'py>(
     augment_per_class: usize,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (_, h, w) = stack_dims("masks", masks.shape())?;
+    let (n, h, w) = stack_dims("masks", masks.shape())?;
     let y = labels_from("labels", &labels)?;
     let m = values(&masks);
     let s = crate::pool::detach(py, || {
-        split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed)
+        let stack = ImageStackView::new(n, h, w, &m)?;
+        split_masks(stack, &y, test_per_class, augment_per_class, seed)
     })
     .py_err()?;
     let d = PyDict::new(py);
@@ -206,7 +212,7 @@ fn hand_pose_comparison<'py>(
     Arr<'py, i64>,
     Vec<(String, Arr<'py, f64>, Arr<'py, i64>, f64, f64)>,
 )> {
-    let (_, h, w) = stack_dims("masks", masks.shape())?;
+    let (n, h, w) = stack_dims("masks", masks.shape())?;
     let y = labels_from("labels", &labels)?;
     let methods: Vec<Method> = methods
         .iter()
@@ -238,8 +244,13 @@ fn hand_pose_comparison<'py>(
         .global_rule(wscg_biometrics::sfa::global::parse_rule(global_rule).py_err()?)
         .seed(seed);
     let (split, res) = crate::pool::detach(py, || {
-        let split = split_masks(&m, &y, h, w, test_per_class, augment_per_class, seed)?;
-        let res = compare_masks(&m, d.as_deref(), h, w, &split, &cfg, &methods, |_| {})?;
+        let stack = ImageStackView::new(n, h, w, &m)?;
+        let depth = d
+            .as_deref()
+            .map(|d| ImageStackView::new(n, h, w, d))
+            .transpose()?;
+        let split = split_masks(stack, &y, test_per_class, augment_per_class, seed)?;
+        let res = compare_masks(stack, depth, &split, &cfg, &methods, |_| {})?;
         Ok::<_, wscg_math::Error>((split, res))
     })
     .py_err()?;
@@ -276,10 +287,12 @@ fn rotated_frame_rows<'py>(
     hi: f64,
     seed: u64,
 ) -> PyResult<Arr<'py, f64>> {
-    let (_, h, w) = stack_dims("masks", masks.shape())?;
+    let (n, h, w) = stack_dims("masks", masks.shape())?;
     let m = values(&masks);
-    let rows =
-        crate::pool::detach(py, || rotated_rows(&m, h, w, &frames, lo, hi, seed)).py_err()?;
+    let rows = crate::pool::detach(py, || {
+        rotated_rows(ImageStackView::new(n, h, w, &m)?, &frames, lo, hi, seed)
+    })
+    .py_err()?;
     let dim = h.div_ceil(DOWNSCALE) * w.div_ceil(DOWNSCALE);
     array(py, &[frames.len(), dim], rows)
 }

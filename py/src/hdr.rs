@@ -29,16 +29,6 @@ fn float_in(name: &'static str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<Image<f
     Ok(img)
 }
 
-/// An image as an array of `(H, W)` when `flat` (one channel), `(H, W, C)` otherwise.
-fn image_out<'py>(py: Python<'py>, img: Image<f32>, flat: bool) -> PyResult<Arr<'py, f32>> {
-    let (h, w, c) = img.shape();
-    if flat && c == 1 {
-        array(py, &[h, w], img.into_data())
-    } else {
-        array(py, &[h, w, c], img.into_data())
-    }
-}
-
 /// A field from an `(H, W, 2)` array of offsets `(dx, dy)` (costs zero).
 fn nnf_in(name: &str, off: &PyReadonlyArrayDyn<i32>) -> PyResult<Nnf> {
     let (h, w) = match *off.shape() {
@@ -226,7 +216,7 @@ fn multiscopic_hdr<'py>(
     let hdr = out
         .hdr
         .into_iter()
-        .map(|im| image_out(py, im, flat))
+        .map(|im| crate::convert::image_array(py, im, flat))
         .collect::<PyResult<_>>()?;
     Ok((hdr, fields, out.fallback_pixels))
 }
@@ -279,7 +269,10 @@ fn merge<'py>(
         )));
     }
     let m = crate::pool::detach(py, || wscg_hdr::merge(&inputs)).py_err()?;
-    Ok((image_out(py, m.hdr, flat)?, m.fallback_pixels))
+    Ok((
+        crate::convert::image_array(py, m.hdr, flat)?,
+        m.fallback_pixels,
+    ))
 }
 
 #[pyfunction]
@@ -309,7 +302,10 @@ fn merge_stack<'py>(
     }
     let crfs = crfs_in(py, &crfs, &imgs, bits)?;
     let m = crate::pool::detach(py, || wscg_hdr::merge_stack(&imgs, &times, &crfs)).py_err()?;
-    Ok((image_out(py, m.hdr, flat)?, m.fallback_pixels))
+    Ok((
+        crate::convert::image_array(py, m.hdr, flat)?,
+        m.fallback_pixels,
+    ))
 }
 
 #[pyfunction]
@@ -330,7 +326,7 @@ fn to_radiance<'py>(
         bits,
     )?;
     let e = crate::pool::detach(py, || wscg_hdr::to_radiance(&img, &crf[0], dt)).py_err()?;
-    image_out(py, e, flat)
+    crate::convert::image_array(py, e, flat)
 }
 
 #[pyfunction]
@@ -567,7 +563,7 @@ fn vote_bds<'py>(
     let sr = nnf_in("offsets_sr", &offsets_sr)?;
     field_fits("offsets_sr", &sr, &img)?;
     let out = crate::pool::detach(py, || wscg_hdr::vote_bds(&img, &rs, &sr, patch)).py_err()?;
-    image_out(py, out, flat)
+    crate::convert::image_array(py, out, flat)
 }
 
 #[pyfunction]
@@ -580,7 +576,7 @@ fn warp_direct<'py>(
     let img = float_in("src", &src)?;
     let rs = nnf_in("offsets_rs", &offsets_rs)?;
     let out = crate::pool::detach(py, || wscg_hdr::warp_direct(&img, &rs)).py_err()?;
-    image_out(py, out, flat)
+    crate::convert::image_array(py, out, flat)
 }
 
 #[pyfunction]
@@ -631,13 +627,13 @@ fn synth_scene<'py>(
     let radiance = sc
         .radiance
         .into_iter()
-        .map(|e| image_out(py, e, false))
+        .map(|e| crate::convert::image_array(py, e, false))
         .collect::<PyResult<Vec<_>>>()?;
     d.set_item("radiance", radiance)?;
     let disparity = sc
         .disparity
         .into_iter()
-        .map(|e| image_out(py, e, true))
+        .map(|e| crate::convert::image_array(py, e, true))
         .collect::<PyResult<Vec<_>>>()?;
     d.set_item("disparity", disparity)?;
     let seen = sc

@@ -15,7 +15,7 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
-use wscg_math::{Error, Image};
+use wscg_math::{Error, Image, Volume, VolumeView};
 use wscg_volren::illumination::study::{self, AliasCriterion};
 use wscg_volren::illumination::{
     light_buffer_at, render as render_field, scenes, IlluminationParams, Interp, Kernel, Light,
@@ -134,7 +134,7 @@ fn int_in(name: &str, v: i64, lo: i64, hi: i64) -> PyResult<i64> {
 }
 
 /// A `ScalarField` constructor from integer data (`from_u8`, `from_u16`).
-type FieldOf<T> = fn([usize; 3], [f64; 3], &[T]) -> wscg_math::Result<ScalarField>;
+type FieldOf<T> = fn(VolumeView<'_, T>) -> wscg_math::Result<ScalarField>;
 
 /// `[nx, ny, nz]` of a `[z, y, x]` array.
 fn dims3(name: &str, shape: &[usize]) -> PyResult<[usize; 3]> {
@@ -159,7 +159,7 @@ fn field_in(
     let range = value_range.map(|(lo, hi)| (lo as f32, hi as f32));
     let ranged = |dims, data: &[f32], lo, hi| {
         crate::pool::detach(py, || {
-            ScalarField::from_f32_range(dims, spacing, data, lo, hi)
+            ScalarField::from_f32_range(VolumeView::new(dims, spacing, data)?, lo, hi)
         })
         .py_err()
     };
@@ -176,11 +176,13 @@ fn field_in(
             let dims = dims3("volume", a.shape())?;
             let v = values(&a);
             match range {
-                None => crate::pool::detach(py, || own(dims, spacing, &v)).py_err(),
+                None => {
+                    crate::pool::detach(py, || own(VolumeView::new(dims, spacing, &v)?)).py_err()
+                }
                 Some((lo, hi)) => {
                     let f: Vec<f32> = v.iter().map(|&x| x.into()).collect();
                     crate::pool::detach(py, || {
-                        ScalarField::from_f32_range(dims, spacing, &f, lo, hi)
+                        ScalarField::from_f32_range(VolumeView::new(dims, spacing, &f)?, lo, hi)
                     })
                     .py_err()
                 }
@@ -218,7 +220,10 @@ fn field_in(
         if range.is_none() && lo >= hi {
             // Constant (or empty) volume: no range to normalise by.
             let data = v.iter().map(|x| x.clamp(0.0, 1.0)).collect();
-            return crate::pool::detach(py, || ScalarField::from_f32(dims, spacing, data)).py_err();
+            return crate::pool::detach(py, || {
+                ScalarField::from_f32(Volume::new(dims, spacing, data)?)
+            })
+            .py_err();
         }
         return ranged(dims, &v, lo, hi);
     }
@@ -601,8 +606,10 @@ fn labels_to_density<'py>(
     let dims = dims3("labels", labels.shape())?;
     let sigma = non_negative("sigma", sigma)?;
     let v = values(&labels);
-    let f =
-        crate::pool::detach(py, || scenes::labels_to_field(&v, dims, spacing, sigma)).py_err()?;
+    let f = crate::pool::detach(py, || {
+        scenes::labels_to_field(VolumeView::new(dims, spacing, &v)?, sigma)
+    })
+    .py_err()?;
     array(py, &[dims[2], dims[1], dims[0]], f.data().to_vec())
 }
 

@@ -11,6 +11,7 @@ use wscg_isosurface::{
     AmbiguousRule, EdgeId, IsoMesh, LsnParams, NormalMethod, NormalStats, RmsSummary, ScalarGrid,
     SplineParams, TetSelection,
 };
+use wscg_math::VolumeView;
 
 use crate::convert::{array, dict_item, rows3, values, Arr};
 use crate::errors::{value_error, IntoPy};
@@ -261,9 +262,10 @@ fn sparsify<'py>(
     let shape = volume.shape().to_vec();
     let v = values(&volume);
     let (sparse, bits) = crate::pool::detach(py, || {
-        wscg_isosurface::sparsify_for_isosurface(&v, dims, level)
+        wscg_isosurface::sparsify_for_isosurface(VolumeView::new(dims, [1.0; 3], &v)?, level)
     })
     .py_err()?;
+    let sparse = sparse.into_data();
     let sides: Vec<bool> = (0..v.len())
         .map(|i| bits[i / 8] >> (i % 8) & 1 == 1)
         .collect();
@@ -397,7 +399,8 @@ fn study_full_cd<'py>(
     let dims = dims_of(volume.shape())?;
     let v = values(&volume);
     let c = crate::pool::detach(py, || {
-        compare_with_full_cd(&v, dims, spacing3(spacing), level)
+        let spacing = spacing3(spacing).map(f64::from);
+        compare_with_full_cd(VolumeView::new(dims, spacing, &v)?, level)
     })
     .py_err()?;
     let d = PyDict::new(py);

@@ -18,7 +18,7 @@ use wscg_math::metrics::{self, SsimParams};
 use wscg_math::resize::{resize as resize_image, Interpolation};
 use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, Jacobi, PcgParams};
 use wscg_math::volume::Volume;
-use wscg_math::{rng, Error};
+use wscg_math::{rng, Error, ImageView};
 
 use crate::convert::{
     self, array, image_dims, mat, mat_out, mesh_in, plane, rows3, same_shape, shape_of, values, Arr,
@@ -70,7 +70,12 @@ fn ssim(
     crate::pool::detach(py, || {
         let mut total = 0.0;
         for ch in 0..c {
-            total += metrics::ssim_plane(&plane(&va, c, ch), &plane(&vb, c, ch), h, w, &p)?;
+            let (pa, pb) = (plane(&va, c, ch), plane(&vb, c, ch));
+            total += metrics::ssim_plane(
+                ImageView::plane(h, w, &pa)?,
+                ImageView::plane(h, w, &pb)?,
+                &p,
+            )?;
         }
         Ok(total / c as f64)
     })
@@ -116,8 +121,9 @@ fn filter_channels<'py>(
     let out = crate::pool::detach(py, || -> wscg_math::Result<Vec<f64>> {
         let mut out = vec![0.0; v.len()];
         for ch in 0..c {
-            let res = separable_plane(&plane(&v, c, ch), h, w, k, k, b)?;
-            for (o, r) in out.iter_mut().skip(ch).step_by(c).zip(res) {
+            let p = plane(&v, c, ch);
+            let res = separable_plane(ImageView::plane(h, w, &p)?, k, k, b)?;
+            for (o, &r) in out.iter_mut().skip(ch).step_by(c).zip(res.data()) {
                 *o = r;
             }
         }

@@ -7,6 +7,7 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
+use wscg_math::ImageView;
 use wscg_raytrace::paint::{
     self, binocular_overlap, glint_stats, Coat, ColourMode, Condition, DiscLight, FlakeParams,
     FlakePlate, PaintRenderParams, PhotonParams, Plate, PlateStack, Rect, StackModel, TiltDist,
@@ -278,7 +279,10 @@ fn glint_statistics<'py>(
             y.shape()
         )));
     };
-    let s = glint_stats(&values(&y), w, h, mm_per_px).py_err()?;
+    let y = values(&y);
+    let s = ImageView::plane(h, w, &y)
+        .and_then(|y| glint_stats(y, mm_per_px))
+        .py_err()?;
     let d = PyDict::new(py);
     d.set_item("glint_density_per_mm2", s.glint_density_per_mm2)?;
     d.set_item("mean_y", s.mean_y)?;

@@ -11,6 +11,8 @@ use wscg_video::{
     SearchMethod, UpscaleStep, Video, WexlerParams,
 };
 
+use wscg_math::ImageView;
+
 use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -296,22 +298,21 @@ fn inpaint_telea<'py>(
             mask.shape()
         )));
     }
-    if !(radius.is_finite() && radius >= 1.0) {
-        return Err(value_error(format!(
-            "`radius` must be at least 1, got {radius}"
-        )));
-    }
-    let mut data = values(&image).into_owned();
+    let data = values(&image);
     let hole: Vec<bool> = values(&mask).iter().map(|&v| v != 0).collect();
-    if hole.iter().all(|&b| b) {
-        return Err(value_error(
-            "`mask` covers the whole image: no known pixel to fill from",
-        ));
-    }
-    crate::pool::detach(py, || {
-        wscg_video::telea::telea(&mut data, h, w, c, &hole, radius)
-    });
-    array(py, &shape, data)
+    let out = crate::pool::detach(py, || {
+        wscg_video::telea::telea(
+            ImageView::new(h, w, c, &data)?,
+            ImageView::plane(h, w, &hole)?,
+            radius,
+        )
+    })
+    .map_err(|e| match e.argument() {
+        // The Python function names the hole `mask`.
+        Some("hole") => value_error("`mask` covers the whole image: no known pixel to fill from"),
+        _ => crate::errors::to_py(e),
+    })?;
+    array(py, &shape, out.into_data())
 }
 
 /// Frames of a folder (see `wscg.video.read_frames`).

@@ -12,6 +12,7 @@ use wscg_biometrics::ear::{
 use wscg_math::image::Image;
 use wscg_math::rng::seeded;
 use wscg_math::wavelet::haar_ll;
+use wscg_math::ImageView;
 
 fn small_set(n: usize, probes: usize, kind: OcclusionKind, seed: u64) -> synth::EarSet {
     synth::generate(
@@ -33,8 +34,9 @@ fn block_features_are_the_whole_image_haar_ll_rearranged() {
     let mut r = seeded(3);
     use rand::Rng;
     let plane: Vec<f64> = (0..100 * 80).map(|_| r.random::<f64>()).collect();
-    let feats = block_features(&plane, &p).unwrap();
-    let ll = haar_ll(&plane, 100, 80).unwrap();
+    let view = ImageView::plane(100, 80, &plane).unwrap();
+    let feats = block_features(view, &p).unwrap();
+    let ll = haar_ll(view).unwrap().into_data();
     assert_eq!(feats.len(), 80 * 25);
     for b in 0..80 {
         let (bi, bj) = (b / 8, b % 8);

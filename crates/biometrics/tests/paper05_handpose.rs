@@ -53,11 +53,8 @@ fn hand_pose_tables_and_rotation_robustness() {
     // Check 5: every test frame rotated by +-U(10, 20) degrees; the augmented model is the
     // one the comparison fitted.
     let cfg = CompareParams::default();
-    let (h, w) = (data.height, data.width);
     let rot = rotation_robustness(
-        &data.masks,
-        h,
-        w,
+        data.mask_stack().unwrap(),
         &split,
         &cfg.sfa,
         res.class_sfa.as_ref(),
@@ -82,17 +79,8 @@ fn hand_pose_tables_and_rotation_robustness() {
 fn augmented_model_drops_at_most_three_points_on_rotated_frames() {
     let (data, split) = paper_protocol();
     let cfg = CompareParams::default();
-    let rot = rotation_robustness(
-        &data.masks,
-        data.height,
-        data.width,
-        &split,
-        &cfg.sfa,
-        None,
-        false,
-        1,
-    )
-    .unwrap();
+    let rot =
+        rotation_robustness(data.mask_stack().unwrap(), &split, &cfg.sfa, None, false, 1).unwrap();
     assert!(
         rot.augmented_drop() <= 3.0,
         "drop {} pp",

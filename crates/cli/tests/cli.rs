@@ -633,9 +633,8 @@ fn sfa_generate_fit_predict_evaluate_match_the_library() {
     assert_eq!(std::fs::read(&masks).unwrap(), before, "input modified");
     // The same model through the library: generated frames, downscaled by 3.
     let data = generate(&HandposeSynthParams::default().n_per_class(120)).unwrap();
-    let (h, w) = (data.height, data.width);
     let rows: Vec<f64> = (0..data.len())
-        .flat_map(|i| downscale(data.mask(i).unwrap(), h, w, 3).unwrap())
+        .flat_map(|i| downscale(data.mask(i).unwrap(), 3).unwrap().into_data())
         .collect();
     let x = wscg::biometrics::sfa::handpose::protocol::rows_to_mat(&rows, rows.len() / data.len());
     let cfg = ClassSfaParams::default().pca_dims(8).m_per_class(3);

@@ -14,7 +14,7 @@ use std::f64::consts::PI;
 
 use num_complex::Complex64;
 use rand::Rng;
-use wscg_math::{Error, Result};
+use wscg_math::{Error, Image, ImageView, Result};
 
 use crate::fourier::{signed_frequency, Fourier};
 
@@ -121,19 +121,12 @@ pub fn shepp_logan_image(n: usize) -> Result<Vec<f64>> {
 }
 
 /// `magnitude * exp(i phi)` with a smooth random quadratic phase `phi` whose peak-to-peak
-/// value over the image is `2 pi` (seeded).
-pub fn with_smooth_phase(
-    magnitude: &[f64],
-    rows: usize,
-    cols: usize,
-    seed: u64,
-) -> Result<Vec<Complex64>> {
-    if magnitude.len() != rows * cols || magnitude.is_empty() {
-        return Err(Error::ShapeMismatch(format!(
-            "magnitude has {} values, not {rows} x {cols}",
-            magnitude.len()
-        )));
-    }
+/// value over the image is `2 pi` (seeded): a complex image of the shape of `magnitude`.
+///
+/// Errors: `magnitude` with more than one channel.
+pub fn with_smooth_phase(magnitude: ImageView<'_, f64>, seed: u64) -> Result<Image<Complex64>> {
+    magnitude.ensure_plane("magnitude")?;
+    let (rows, cols) = (magnitude.height(), magnitude.width());
     let mut r = wscg_math::rng::seeded(seed);
     let c: [f64; 5] = std::array::from_fn(|_| r.random_range(-1.0..1.0));
     let raw: Vec<f64> = (0..rows * cols)
@@ -147,11 +140,13 @@ pub fn with_smooth_phase(
         .iter()
         .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
     let span = (hi - lo).max(1e-12);
-    Ok(magnitude
+    let data = magnitude
+        .data()
         .iter()
         .zip(&raw)
         .map(|(&m, &p)| Complex64::from_polar(m, 2.0 * PI * (p - lo) / span - PI))
-        .collect())
+        .collect();
+    Image::new(rows, cols, 1, data)
 }
 
 /// A disk of radius 0.8 (field of view [-1, 1]^2) filled with the rhombic lattice

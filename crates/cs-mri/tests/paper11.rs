@@ -5,7 +5,7 @@ use wscg_cs_mri::baselines::{self, CompositeParams};
 use wscg_cs_mri::sparsifier::PriorParams;
 use wscg_cs_mri::*;
 use wscg_math::progress::NoProgress;
-use wscg_math::rng;
+use wscg_math::{rng, ImageView};
 
 fn rel_err(a: &[f64], b: &[f64]) -> f64 {
     let num: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
@@ -195,7 +195,11 @@ fn fdct_is_an_exact_tight_frame() {
         let mut inputs = vec![rng::complex_normal_vec(r as u64, r * c, 1.0).unwrap()];
         if r == c {
             let img = phantom::shepp_logan_image(r).unwrap();
-            inputs.push(phantom::with_smooth_phase(&img, r, c, 5).unwrap());
+            inputs.push(
+                phantom::with_smooth_phase(ImageView::plane(r, c, &img).unwrap(), 5)
+                    .unwrap()
+                    .into_data(),
+            );
         }
         for x in inputs {
             let co = f.forward(&x).unwrap();
@@ -637,14 +641,19 @@ fn development_case(n: usize) -> (KSpace, Vec<Complex64>) {
     let turned: Vec<f64> = (0..n * n)
         .map(|k| raster[(k % n) * n + (n - 1 - k / n)])
         .collect();
-    let img = phantom::with_smooth_phase(&turned, n, n, 3).unwrap();
+    let img = phantom::with_smooth_phase(ImageView::plane(n, n, &turned).unwrap(), 3)
+        .unwrap()
+        .into_data();
     let mask = masks::cartesian(n, n, 0.4, 0.08, 2).unwrap();
     (KSpace::simulate(n, n, &img, mask).unwrap(), img)
 }
 
 /// The complex-phase test image of check 3: the phantom with a smooth quadratic phase.
 fn complex_phase_case(n: usize) -> (KSpace, Vec<Complex64>) {
-    let img = phantom::with_smooth_phase(&phantom::shepp_logan_image(n).unwrap(), n, n, 7).unwrap();
+    let magnitude = phantom::shepp_logan_image(n).unwrap();
+    let img = phantom::with_smooth_phase(ImageView::plane(n, n, &magnitude).unwrap(), 7)
+        .unwrap()
+        .into_data();
     let mask = masks::cartesian(n, n, 0.4, 0.08, 1).unwrap();
     (KSpace::simulate(n, n, &img, mask).unwrap(), img)
 }

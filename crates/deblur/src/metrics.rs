@@ -4,7 +4,7 @@
 //! display values, excluding a border.
 
 use wscg_math::metrics::{psnr, ssim_plane, SsimParams};
-use wscg_math::{Error, Image, Result};
+use wscg_math::{Error, Image, ImageView, Result};
 
 /// `(PSNR, SSIM)` of `restored` against `truth` (display values in `[0, 1]`, quantised to 8
 /// bits here) over the frame minus `border` pixels on each side.
@@ -27,11 +27,10 @@ pub fn quality(restored: &Image<f32>, truth: &Image<f32>, border: usize) -> Resu
     };
     let (a, b) = (crop(restored), crop(truth));
     let p = psnr(&a, &b, 255.0)?;
+    let (ch, cw) = (h - 2 * border, w - 2 * border);
     let s = ssim_plane(
-        &a,
-        &b,
-        h - 2 * border,
-        w - 2 * border,
+        ImageView::plane(ch, cw, &a)?,
+        ImageView::plane(ch, cw, &b)?,
         &SsimParams::default().data_range(255.0),
     )?;
     Ok((p, s))

@@ -12,7 +12,7 @@ use crate::tiling::check_frame;
 /// Bilinear sample of a `h x w` plane at `(x, y)` (pixel centres at integers), `None` outside
 /// `[0, w-1] x [0, h-1]`.
 #[inline]
-pub fn bilinear(plane: &[f32], h: usize, w: usize, x: f64, y: f64) -> Option<f32> {
+pub(crate) fn bilinear(plane: &[f32], h: usize, w: usize, x: f64, y: f64) -> Option<f32> {
     if !(x >= 0.0 && y >= 0.0 && x <= (w - 1) as f64 && y <= (h - 1) as f64) {
         return None;
     }
@@ -43,7 +43,7 @@ fn cubic_weights(t: f64) -> [f64; 4] {
 
 /// Bicubic (Keys) sample at `(x, y)`, borders replicated.
 #[inline]
-pub fn bicubic(plane: &[f32], h: usize, w: usize, x: f64, y: f64) -> f32 {
+pub(crate) fn bicubic(plane: &[f32], h: usize, w: usize, x: f64, y: f64) -> f32 {
     let (xf, yf) = (x.floor(), y.floor());
     let (wx, wy) = (cubic_weights(x - xf), cubic_weights(y - yf));
     let (xi, yi) = (xf as isize, yf as isize);

@@ -7,7 +7,7 @@
 
 use rand_distr::{Distribution, Normal};
 use std::f64::consts::PI;
-use wscg_math::{rng, Error, Result};
+use wscg_math::{rng, Error, Result, VolumeView};
 
 use crate::grid::ScalarGrid;
 
@@ -271,6 +271,12 @@ pub struct Sampled {
 }
 
 impl Sampled {
+    /// The samples as a volume view (spacing widened to `f64`).
+    pub fn view(&self) -> VolumeView<'_, f32> {
+        VolumeView::new(self.dims, self.spacing.map(f64::from), &self.values)
+            .expect("sample() checks dims and spacing")
+    }
+
     /// The grid view of the samples (no side hints).
     pub fn grid(&self) -> Result<ScalarGrid<'_>> {
         ScalarGrid::with_spacing(self.dims, self.spacing, &self.values)

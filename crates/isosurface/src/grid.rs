@@ -10,7 +10,7 @@
 //! sample equals the isovalue, which is exactly where degenerate triangles arise).
 
 use rand::Rng as _;
-use wscg_math::{rng, Error, Result};
+use wscg_math::{rng, Error, Result, Volume, VolumeView};
 
 /// A scalar grid with missing samples (borrowed).
 #[derive(Clone, Copy, Debug)]
@@ -53,6 +53,18 @@ impl<'a> ScalarGrid<'a> {
         };
         g.validate()?;
         Ok(g)
+    }
+
+    /// The grid of a volume (its spacing rounded to `f32`); no side hints. NaN voxels are
+    /// missing samples.
+    ///
+    /// Errors: as [`ScalarGrid::validate`] (fewer than 2 samples along an axis).
+    pub fn from_volume(volume: VolumeView<'a, f32>) -> Result<Self> {
+        Self::with_spacing(
+            volume.dims(),
+            volume.spacing().map(|s| s as f32),
+            volume.data(),
+        )
     }
 
     /// The same grid with side hints for its missing samples.
@@ -186,16 +198,16 @@ pub(crate) fn check_iso(iso: f32) -> Result<()> {
 
 /// The paper's sparsification protocol (section 5): keep only the samples that are endpoints of
 /// edges crossing the isosurface `iso`, set every other sample to NaN. Returns the sparse
-/// values and the side bits of *every* sample (packed as [`ScalarGrid::side_hint`]), so that
+/// values (a volume of the input's dims and spacing) and the side bits of *every* sample (packed as [`ScalarGrid::side_hint`]), so that
 /// marching cubes on the sparse grid reproduces the full grid's mesh exactly. Missing samples of
 /// the input stay missing and get side bit 0.
 pub fn sparsify_for_isosurface(
-    values: &[f32],
-    dims: [usize; 3],
+    volume: VolumeView<'_, f32>,
     iso: f32,
-) -> Result<(Vec<f32>, Vec<u8>)> {
-    let g = ScalarGrid::new(dims, values)?;
+) -> Result<(Volume<f32>, Vec<u8>)> {
+    let g = ScalarGrid::from_volume(volume)?;
     check_iso(iso)?;
+    let (values, dims) = (volume.data(), volume.dims());
     let [nx, ny, nz] = dims;
     let inside = |i: usize| values[i] >= iso;
     let mut keep = vec![false; values.len()];
@@ -221,6 +233,7 @@ pub fn sparsify_for_isosurface(
         .zip(&keep)
         .map(|(&v, &k)| if k { v } else { f32::NAN })
         .collect();
+    let sparse = Volume::new(dims, volume.spacing(), sparse)?;
     let mut bits = vec![0u8; values.len().div_ceil(8)];
     for (i, &v) in values.iter().enumerate() {
         if v >= iso {
@@ -272,7 +285,9 @@ mod tests {
         // f = x on 4x2x2, iso 1.5: only the samples at x = 1 and x = 2 survive.
         let dims = [4, 2, 2];
         let v: Vec<f32> = (0..16).map(|i| (i % 4) as f32).collect();
-        let (s, bits) = sparsify_for_isosurface(&v, dims, 1.5).unwrap();
+        let vol = VolumeView::new(dims, [1.0; 3], &v).unwrap();
+        let (s, bits) = sparsify_for_isosurface(vol, 1.5).unwrap();
+        let s = s.data();
         for i in 0..16 {
             let x = i % 4;
             assert_eq!(s[i].is_nan(), !(x == 1 || x == 2), "sample {i}");

@@ -20,8 +20,8 @@
 //! ```
 //! use wscg_isosurface::{fields, marching_cubes, sparsify_for_isosurface, NormalMethod, ScalarGrid};
 //! let s = fields::sample_voxels(&fields::Sphere { centre: [7.3, 7.6, 7.1], radius: 5.0 }, [16; 3]).unwrap();
-//! let (sparse, sides) = sparsify_for_isosurface(&s.values, s.dims, 0.0).unwrap();
-//! let g = ScalarGrid::new(s.dims, &sparse).unwrap().with_side_hint(&sides).unwrap();
+//! let (sparse, sides) = sparsify_for_isosurface(s.view(), 0.0).unwrap();
+//! let g = ScalarGrid::from_volume(sparse.view()).unwrap().with_side_hint(&sides).unwrap();
 //! let mesh = marching_cubes(&g, 0.0, NormalMethod::spline()).unwrap();
 //! assert!(mesh.normals.iter().all(|n| n != &[0.0; 3]));
 //! ```

@@ -10,7 +10,7 @@
 
 use std::collections::HashSet;
 
-use wscg_math::{Error, Result};
+use wscg_math::{Error, Result, VolumeView};
 
 use crate::extract::{marching_cubes, IsoMesh};
 use crate::fields::{Field, Sampled};
@@ -89,16 +89,13 @@ pub struct SparseComparison {
 
 /// The Table 1/2/4 protocol at one isovalue: central differences on the full grid as the
 /// reference, spline and LSN on the sparsified grid (with side hints, so the mesh is the same).
-pub fn compare_with_full_cd(
-    values: &[f32],
-    dims: [usize; 3],
-    spacing: [f32; 3],
-    iso: f32,
-) -> Result<SparseComparison> {
-    let full = ScalarGrid::with_spacing(dims, spacing, values)?;
+pub fn compare_with_full_cd(volume: VolumeView<'_, f32>, iso: f32) -> Result<SparseComparison> {
+    let full = ScalarGrid::from_volume(volume)?;
     let reference = marching_cubes(&full, iso, NormalMethod::CentralDifference)?;
-    let (sparse, sides) = sparsify_for_isosurface(values, dims, iso)?;
-    let sg = ScalarGrid::with_spacing(dims, spacing, &sparse)?.with_side_hint(&sides)?;
+    let (sparse, sides) = sparsify_for_isosurface(volume, iso)?;
+    let sg = ScalarGrid::from_volume(sparse.view())?.with_side_hint(&sides)?;
+    let (dims, values) = (volume.dims(), volume.data());
+    let sparse = sparse.data();
     let edges = &reference.vertex_edge;
     let (spline, s_stats) = estimate_normals(&sg, iso, edges, NormalMethod::spline())?;
     let (lsn, l_stats) = estimate_normals(&sg, iso, edges, NormalMethod::lsn())?;
@@ -169,8 +166,8 @@ pub fn compare_with_exact(field: &dyn Field, s: &Sampled, iso: f32) -> Result<Ex
     let full = s.grid()?;
     let mesh = marching_cubes(&full, iso, NormalMethod::CentralDifference)?;
     let exact = s.exact_normals(field, &mesh.vertices);
-    let (sparse, sides) = sparsify_for_isosurface(&s.values, s.dims, iso)?;
-    let sg = ScalarGrid::with_spacing(s.dims, s.spacing, &sparse)?.with_side_hint(&sides)?;
+    let (sparse, sides) = sparsify_for_isosurface(s.view(), iso)?;
+    let sg = ScalarGrid::from_volume(sparse.view())?.with_side_hint(&sides)?;
     let e = &mesh.vertex_edge;
     let err = |n: &[[f32; 3]]| angular_errors(n, &exact).map(|x| rms(&x));
     Ok(ExactComparison {

@@ -3,6 +3,8 @@
 
 use std::collections::HashMap;
 
+use wscg_math::VolumeView;
+
 use wscg_isosurface::fields::{self, Field, Linear, Sphere, Torus};
 use wscg_isosurface::study::{
     at_risk_configurations, compare_with_exact, compare_with_full_cd, config_divergence,
@@ -67,7 +69,8 @@ fn check1_linear_fields_are_exact() {
     // Five random isovalues inside the field's range (0.01 .. 46.5).
     let isos = wscg_math::rng::uniform_vec(9, 5, 3.0, 43.0).unwrap();
     for iso in isos.into_iter().map(|x| x as f32) {
-        let (sparse, sides) = sparsify_for_isosurface(&s.values, s.dims, iso).unwrap();
+        let (sparse, sides) = sparsify_for_isosurface(s.view(), iso).unwrap();
+        let sparse = sparse.into_data();
         let sg = sparse_grid(&sparse, &sides, s.dims);
         let mesh = marching_cubes(&g, iso, NormalMethod::CentralDifference).unwrap();
         assert!(mesh.vertices.len() > 100);
@@ -117,7 +120,8 @@ fn check2_sparsification_protocol_on_the_sphere() {
     let s = sphere();
     let full = s.grid().unwrap();
     let reference = marching_cubes(&full, 0.0, NormalMethod::CentralDifference).unwrap();
-    let (sparse, sides) = sparsify_for_isosurface(&s.values, s.dims, 0.0).unwrap();
+    let (sparse, sides) = sparsify_for_isosurface(s.view(), 0.0).unwrap();
+    let sparse = sparse.into_data();
     assert!(sparse.iter().filter(|v| v.is_nan()).count() > sparse.len() * 9 / 10);
     let sg = sparse_grid(&sparse, &sides, s.dims);
     // The same mesh with side hints, and without them (sides inferred from neighbours).
@@ -221,7 +225,7 @@ fn check5_degenerate_spike() {
 fn check5_noisy_8bit_sphere_table5_behaviour() {
     for (seed, iso) in [(11u64, 128.0f32), (12, 40.0)] {
         let s = fields::noisy_sphere_u8([64; 3], CENTRE, 20.0, 1.5, 3.0, seed).unwrap();
-        let c = compare_with_full_cd(&s.values, s.dims, s.spacing, iso).unwrap();
+        let c = compare_with_full_cd(s.view(), iso).unwrap();
         let frac = c.lsn_undefined as f64 / c.vertices as f64;
         println!(
             "noisy sphere iso {iso}: {} vertices, LSN zero {} ({:.2}%), spline zero {}, RMS vs full CD spline {:.4} LSN {:.4}",
@@ -249,7 +253,8 @@ fn check6_spline_normals_never_point_through_their_edge() {
     .unwrap();
     let noisy = fields::noisy_sphere_u8([48; 3], [23.4, 24.1, 22.8], 15.0, 1.5, 3.0, 5).unwrap();
     for (s, iso) in [(&ml, 0.5f32), (&noisy, 40.0), (&noisy, 128.0)] {
-        let (sparse, sides) = sparsify_for_isosurface(&s.values, s.dims, iso).unwrap();
+        let (sparse, sides) = sparsify_for_isosurface(s.view(), iso).unwrap();
+        let sparse = sparse.into_data();
         let g = ScalarGrid::with_spacing(s.dims, s.spacing, &sparse)
             .unwrap()
             .with_side_hint(&sides)
@@ -381,7 +386,9 @@ fn check10_bad_input() {
     let g = ScalarGrid::new([3; 3], &v).unwrap();
     assert!(g.with_side_hint(&[0u8; 3]).is_err());
     assert!(marching_cubes(&g, f32::NAN, NormalMethod::spline()).is_err());
-    assert!(sparsify_for_isosurface(&v, [3; 3], f32::NAN).is_err());
+    assert!(
+        sparsify_for_isosurface(VolumeView::new([3; 3], [1.0; 3], &v).unwrap(), f32::NAN).is_err()
+    );
     // An isovalue outside the data range and an all-missing grid give empty meshes.
     let m = marching_cubes(&g, 5.0, NormalMethod::spline()).unwrap();
     assert!(m.vertices.is_empty() && m.triangles.is_empty());
@@ -415,7 +422,8 @@ fn spline_normals_in_the_extraction_equal_the_per_vertex_route() {
         [1.0; 3],
     )
     .unwrap();
-    let (sparse, sides) = sparsify_for_isosurface(&ml.values, ml.dims, 0.5).unwrap();
+    let (sparse, sides) = sparsify_for_isosurface(ml.view(), 0.5).unwrap();
+    let sparse = sparse.into_data();
     let mut dropped = ml.values.clone();
     random_dropouts(&mut dropped, 0.15, 3).unwrap();
     let grids = [

@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use crate::error::{ensure_finite, ensure_positive, Error, Result};
 use crate::image::Image;
+use crate::view::ImageView;
 
 /// How samples outside the array are defined (names and meanings as in `scipy.ndimage`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -89,31 +90,22 @@ fn check_kernel(name: &'static str, k: &[f64]) -> Result<()> {
     ensure_finite(name, k)
 }
 
-/// Correlates the `h x w` row-major plane `src` with `ky` along rows (vertical) and `kx`
-/// along columns (horizontal). Kernels have odd length and are centred.
+/// Correlates the single-channel image `src` with `ky` along rows (vertical) and `kx` along
+/// columns (horizontal). Kernels have odd length and are centred.
 ///
-/// Errors: plane size mismatch, even or non-finite kernels.
+/// Errors: `src` with more than one channel, even or non-finite kernels.
 pub fn separable_plane(
-    src: &[f64],
-    h: usize,
-    w: usize,
+    src: ImageView<'_, f64>,
     ky: &[f64],
     kx: &[f64],
     border: Border,
-) -> Result<Vec<f64>> {
-    if src.len() != h * w {
-        return Err(Error::ShapeMismatch(format!(
-            "plane has {} values, expected {h}x{w}",
-            src.len()
-        )));
-    }
+) -> Result<Image<f64>> {
+    src.ensure_plane("src")?;
     check_kernel("ky", ky)?;
     check_kernel("kx", kx)?;
-    if h == 0 || w == 0 {
-        return Ok(Vec::new());
-    }
-    let tmp = vertical(src, h, w, ky, border);
-    Ok(horizontal(&tmp, h, w, kx, border))
+    let (h, w) = (src.height(), src.width());
+    let tmp = vertical(src.data(), h, w, ky, border);
+    Image::new(h, w, 1, horizontal(&tmp, h, w, kx, border))
 }
 
 fn vertical(src: &[f64], h: usize, w: usize, k: &[f64], border: Border) -> Vec<f64> {
@@ -161,14 +153,14 @@ fn horizontal(src: &[f64], h: usize, w: usize, k: &[f64], border: Border) -> Vec
 /// Applies `f` (a plane filter) to every channel of `img` and reassembles the image.
 pub fn per_channel(
     img: &Image<f32>,
-    f: impl Fn(&[f64], usize, usize) -> Result<Vec<f64>>,
+    f: impl Fn(ImageView<'_, f64>) -> Result<Image<f64>>,
 ) -> Result<Image<f32>> {
     let (h, w, c) = img.shape();
     let mut out = vec![0.0f32; h * w * c];
     for ch in 0..c {
         let plane = img.plane_f64(ch);
-        let res = f(&plane, h, w)?;
-        for (o, v) in out.iter_mut().skip(ch).step_by(c).zip(res) {
+        let res = f(ImageView::plane(h, w, &plane)?)?;
+        for (o, &v) in out.iter_mut().skip(ch).step_by(c).zip(res.data()) {
             *o = v as f32;
         }
     }
@@ -187,7 +179,7 @@ pub fn gaussian_filter(
 ) -> Result<Image<f32>> {
     img.ensure_finite("img")?;
     let k = gaussian_kernel(sigma, truncate)?;
-    per_channel(img, |p, h, w| separable_plane(p, h, w, &k, &k, border))
+    per_channel(img, |p| separable_plane(p, &k, &k, border))
 }
 
 /// Mean over a `(2 radius + 1)^2` window of every channel, as
@@ -196,7 +188,7 @@ pub fn box_filter(img: &Image<f32>, radius: usize, border: Border) -> Result<Ima
     img.ensure_finite("img")?;
     let n = 2 * radius + 1;
     let k = vec![1.0 / n as f64; n];
-    per_channel(img, |p, h, w| separable_plane(p, h, w, &k, &k, border))
+    per_channel(img, |p| separable_plane(p, &k, &k, border))
 }
 
 #[cfg(test)]
@@ -280,8 +272,10 @@ mod tests {
 
     #[test]
     fn bad_input_is_rejected() {
-        assert!(separable_plane(&[0.0; 5], 2, 3, &[1.0], &[1.0], Border::Reflect).is_err());
-        assert!(separable_plane(&[0.0; 6], 2, 3, &[0.5, 0.5], &[1.0], Border::Reflect).is_err());
+        let two = ImageView::new(1, 3, 2, &[0.0; 6]).unwrap();
+        assert!(separable_plane(two, &[1.0], &[1.0], Border::Reflect).is_err());
+        let plane = ImageView::plane(2, 3, &[0.0; 6]).unwrap();
+        assert!(separable_plane(plane, &[0.5, 0.5], &[1.0], Border::Reflect).is_err());
         let nan = Image::new(1, 2, 1, vec![0.0, f32::NAN]).unwrap();
         assert!(gaussian_filter(&nan, 1.0, 4.0, Border::Reflect).is_err());
     }

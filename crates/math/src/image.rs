@@ -9,6 +9,28 @@
 use ndarray::{Array3, ArrayView3};
 
 use crate::error::{ensure_finite, Error, Result};
+use crate::view::ImageView;
+
+/// Checks an image shape against a buffer length: no zero dimension ([`Error::Empty`]), no
+/// overflow ([`Error::LimitExceeded`]), `len = height * width * channels`
+/// ([`Error::ShapeMismatch`]).
+pub(crate) fn check_len(height: usize, width: usize, channels: usize, len: usize) -> Result<()> {
+    if height == 0 || width == 0 || channels == 0 {
+        return Err(Error::Empty(
+            "image (height, width and channels must be > 0)",
+        ));
+    }
+    let n = height
+        .checked_mul(width)
+        .and_then(|v| v.checked_mul(channels))
+        .ok_or_else(|| Error::LimitExceeded(format!("image {height}x{width}x{channels}")))?;
+    if len != n {
+        return Err(Error::ShapeMismatch(format!(
+            "image data has {len} values, expected {height}x{width}x{channels} = {n}"
+        )));
+    }
+    Ok(())
+}
 
 /// A row-major H x W x C image (f32 by default).
 #[derive(Clone, Debug, PartialEq)]
@@ -25,27 +47,19 @@ impl<T: Copy> Image<T> {
     /// Errors: a zero dimension ([`Error::Empty`]) or a length that does not match
     /// ([`Error::ShapeMismatch`]).
     pub fn new(height: usize, width: usize, channels: usize, data: Vec<T>) -> Result<Self> {
-        if height == 0 || width == 0 || channels == 0 {
-            return Err(Error::Empty(
-                "image (height, width and channels must be > 0)",
-            ));
-        }
-        let n = height
-            .checked_mul(width)
-            .and_then(|v| v.checked_mul(channels))
-            .ok_or_else(|| Error::LimitExceeded(format!("image {height}x{width}x{channels}")))?;
-        if data.len() != n {
-            return Err(Error::ShapeMismatch(format!(
-                "image data has {} values, expected {height}x{width}x{channels} = {n}",
-                data.len()
-            )));
-        }
+        check_len(height, width, channels, data.len())?;
         Ok(Self {
             height,
             width,
             channels,
             data,
         })
+    }
+
+    /// A borrowed view of the image (see [`ImageView`]), what functions that only read an
+    /// image take.
+    pub fn view(&self) -> ImageView<'_, T> {
+        ImageView::from_parts(self.height, self.width, self.channels, &self.data)
     }
 
     /// An image with every value equal to `value`.

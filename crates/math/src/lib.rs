@@ -8,6 +8,9 @@
 //! - [`image`]: [`Image`], an H x W x C row-major pixel buffer.
 //! - [`volume`]: [`Volume`], an X x Y x Z grid with voxel spacing, trilinear sampling and
 //!   gradients; [`volume::filter`]: Gaussian smoothing.
+//! - [`view`]: [`ImageView`], [`ImageStackView`] and [`VolumeView`], the borrowed views that
+//!   functions reading an image, a stack of images or a volume take (no copy of a caller's
+//!   buffer); [`Image::view`] and [`Volume::view`] make them from owned data.
 //! - [`mesh`]: [`TriMesh`] with adjacency, normals, areas and volumes; [`mesh::shapes`]: the
 //!   icosphere, cube and grid generators.
 //! - [`sparse`]: CSR matrices (faer storage) and a preconditioned conjugate gradient written
@@ -77,12 +80,14 @@ pub mod rng;
 pub mod sparse;
 mod sym_eigen;
 pub mod vec3;
+pub mod view;
 pub mod volume;
 pub mod wavelet;
 
 pub use error::{Error, RefusedArgument, Result};
 pub use image::Image;
 pub use mesh::{Adjacency, TriMesh};
+pub use view::{ImageStackView, ImageView, VolumeView};
 pub use volume::Volume;
 
 #[cfg(feature = "io-npy")]

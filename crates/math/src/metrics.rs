@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use crate::error::{ensure_finite, ensure_positive, Error, Result};
 use crate::filter::{gaussian_kernel, Border};
 use crate::image::Image;
+use crate::view::ImageView;
 
 /// Errors unless `a` and `b` have the same, non-zero length (`what` names them).
 fn check_lengths(what: &'static str, a: usize, b: usize) -> Result<()> {
@@ -141,25 +142,19 @@ struct SsimSetup<'a> {
 }
 
 fn ssim_setup<'a>(
-    a: &'a [f64],
-    b: &'a [f64],
-    h: usize,
-    w: usize,
+    a: ImageView<'a, f64>,
+    b: ImageView<'a, f64>,
     p: &SsimParams,
 ) -> Result<SsimSetup<'a>> {
     p.validate()?;
-    check_pair(a, b)?;
-    if a.len() != h * w {
-        return Err(Error::ShapeMismatch(format!(
-            "plane has {} values, expected {h}x{w}",
-            a.len()
-        )));
-    }
+    a.ensure_plane("a")?;
+    a.ensure_same_shape(&b, "b")?;
+    check_pair(a.data(), b.data())?;
     Ok(SsimSetup {
-        a,
-        b,
-        h,
-        w,
+        a: a.data(),
+        b: b.data(),
+        h: a.height(),
+        w: a.width(),
         k: gaussian_kernel(p.sigma, p.truncate)?,
         c1: (p.k1 * p.data_range).powi(2),
         c2: (p.k2 * p.data_range).powi(2),
@@ -217,28 +212,33 @@ fn ssim_row(s: &SsimSetup, y: usize, buf: &mut RowBufs, out: &mut [f64]) {
     }
 }
 
-/// SSIM map of two `h x w` planes (eq. 13 of Wang et al. 2004 at every pixel), uncropped.
+/// SSIM map of two single-channel images of one shape (eq. 13 of Wang et al. 2004 at every
+/// pixel), uncropped.
+///
+/// Errors: more than one channel, different shapes, non-finite values, bad parameters.
 pub fn ssim_map_plane(
-    a: &[f64],
-    b: &[f64],
-    h: usize,
-    w: usize,
+    a: ImageView<'_, f64>,
+    b: ImageView<'_, f64>,
     p: &SsimParams,
-) -> Result<Vec<f64>> {
-    let s = ssim_setup(a, b, h, w, p)?;
+) -> Result<Image<f64>> {
+    let s = ssim_setup(a, b, p)?;
+    let (h, w) = (s.h, s.w);
     let r = s.k.len() / 2;
     let mut map = vec![0.0; h * w];
     map.par_chunks_mut(w).enumerate().for_each_init(
         || RowBufs::new(w, r),
         |buf, (y, out)| ssim_row(&s, y, buf, out),
     );
-    Ok(map)
+    Image::new(h, w, 1, map)
 }
 
-/// Mean SSIM of two `h x w` planes over the map cropped by the window radius (scikit-image's
-/// averaging), without storing the map.
-pub fn ssim_plane(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) -> Result<f64> {
-    let s = ssim_setup(a, b, h, w, p)?;
+/// Mean SSIM of two single-channel images of one shape over the map cropped by the window
+/// radius (scikit-image's averaging), without storing the map.
+///
+/// Errors: as [`ssim_map_plane`]; images smaller than the window.
+pub fn ssim_plane(a: ImageView<'_, f64>, b: ImageView<'_, f64>, p: &SsimParams) -> Result<f64> {
+    let s = ssim_setup(a, b, p)?;
+    let (h, w) = (s.h, s.w);
     let r = s.k.len() / 2;
     if h <= 2 * r || w <= 2 * r {
         return Err(Error::invalid(
@@ -269,13 +269,16 @@ pub fn ssim_plane(a: &[f64], b: &[f64], h: usize, w: usize, p: &SsimParams) -> R
 /// Errors: shape mismatch, non-finite pixels, images smaller than the 11 x 11 window (a
 /// window of `2 * int(truncate * sigma + 0.5) + 1` in general), bad parameters.
 pub fn ssim(a: &Image<f32>, b: &Image<f32>, p: &SsimParams) -> Result<f64> {
-    p.validate()?;
     a.ensure_same_shape(b)?;
     let (h, w, c) = a.shape();
     let mut total = 0.0;
     for ch in 0..c {
         let (pa, pb) = (a.plane_f64(ch), b.plane_f64(ch));
-        total += ssim_plane(&pa, &pb, h, w, p)?;
+        total += ssim_plane(
+            ImageView::plane(h, w, &pa)?,
+            ImageView::plane(h, w, &pb)?,
+            p,
+        )?;
     }
     Ok(total / c as f64)
 }
@@ -374,7 +377,11 @@ mod tests {
         let b: Vec<f64> = n.data().iter().map(|&v| v as f64).collect();
         let p = SsimParams::default();
         let k = gaussian_kernel(p.sigma, p.truncate).unwrap();
-        let f = |v: &[f64]| separable_plane(v, h, w, &k, &k, Border::Reflect).unwrap();
+        let f = |v: &[f64]| {
+            separable_plane(ImageView::plane(h, w, v).unwrap(), &k, &k, Border::Reflect)
+                .unwrap()
+                .into_data()
+        };
         let prod = |g: &dyn Fn(f64, f64) -> f64| -> Vec<f64> {
             a.iter().zip(&b).map(|(&x, &y)| g(x, y)).collect()
         };
@@ -384,7 +391,11 @@ mod tests {
             f(&prod(&|_, y| y * y)),
             f(&prod(&|x, y| x * y)),
         );
-        let map = ssim_map_plane(&a, &b, h, w, &p).unwrap();
+        let (va, vb) = (
+            ImageView::plane(h, w, &a).unwrap(),
+            ImageView::plane(h, w, &b).unwrap(),
+        );
+        let map = ssim_map_plane(va, vb, &p).unwrap().into_data();
         let (c1, c2) = (1e-4, 9e-4);
         for i in 0..h * w {
             let (vx, vy, vxy) = (
@@ -403,7 +414,7 @@ mod tests {
             }
         }
         let mean = s / ((h - 10) * (w - 10)) as f64;
-        assert!((ssim_plane(&a, &b, h, w, &p).unwrap() - mean).abs() < 1e-12);
+        assert!((ssim_plane(va, vb, &p).unwrap() - mean).abs() < 1e-12);
     }
 
     #[test]

@@ -12,6 +12,8 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::image::Image;
+use crate::view::ImageView;
 
 /// Decomposition low-pass filters of Daubechies' orthonormal wavelets db1 ... db8, as
 /// PyWavelets lists them (`pywt.Wavelet("dbN").dec_lo`).
@@ -212,34 +214,30 @@ impl Daubechies {
 }
 
 /// Approximation (LL) band of one level of the orthonormal 2-D Haar transform of a
-/// `rows x cols` plane (C order): `LL[u][v] = (x[2u][2v] + x[2u][2v+1] + x[2u+1][2v] +
-/// x[2u+1][2v+1]) / 2`, a `rows/2 x cols/2` plane. For even sizes this is the approximation
-/// of [`Wavelet2`] with `db1` and of `pywt.dwt2(x, "haar")[0]` (any extension mode, since
-/// the Haar filter never reaches past an even-sized edge); it is the only band paper 14's
-/// ear features keep.
+/// single-channel image `x`: `LL[u][v] = (x[2u][2v] + x[2u][2v+1] + x[2u+1][2v] +
+/// x[2u+1][2v+1]) / 2`, an image of half the height and width. For even sizes this is the
+/// approximation of [`Wavelet2`] with `db1` and of `pywt.dwt2(x, "haar")[0]` (any extension
+/// mode, since the Haar filter never reaches past an even-sized edge); it is the only band
+/// paper 14's ear features keep.
 ///
-/// Errors: an odd or zero size, `plane.len() != rows * cols`.
-pub fn haar_ll(plane: &[f64], rows: usize, cols: usize) -> Result<Vec<f64>> {
-    if rows == 0 || cols == 0 || rows % 2 == 1 || cols % 2 == 1 {
+/// Errors: an odd size, more than one channel.
+pub fn haar_ll(plane: ImageView<'_, f64>) -> Result<Image<f64>> {
+    plane.ensure_plane("plane")?;
+    let (rows, cols) = (plane.height(), plane.width());
+    if rows % 2 == 1 || cols % 2 == 1 {
         return Err(Error::ShapeMismatch(format!(
-            "the Haar LL band needs even, non-zero sizes; the plane is {rows} x {cols}"
-        )));
-    }
-    if plane.len() != rows * cols {
-        return Err(Error::ShapeMismatch(format!(
-            "plane has {} values, expected {rows} x {cols}",
-            plane.len()
+            "the Haar LL band needs even sizes; the plane is {rows} x {cols}"
         )));
     }
     let (hr, hc) = (rows / 2, cols / 2);
     let mut out = Vec::with_capacity(hr * hc);
     for u in 0..hr {
-        let (a, b) = (&plane[2 * u * cols..], &plane[(2 * u + 1) * cols..]);
+        let (a, b) = (plane.row(2 * u), plane.row(2 * u + 1));
         for v in 0..hc {
             out.push(0.5 * ((a[2 * v] + a[2 * v + 1]) + (b[2 * v] + b[2 * v + 1])));
         }
     }
-    Ok(out)
+    Image::new(hr, hc, 1, out)
 }
 
 /// A multi-level separable 2-D periodic wavelet transform of `rows x cols` images.
@@ -554,7 +552,8 @@ mod tests {
         let x: Vec<f64> = (0..r * c)
             .map(|i| ((i * 37) % 11) as f64 * 0.3 - 1.0)
             .collect();
-        let ll = haar_ll(&x, r, c).unwrap();
+        let ll = haar_ll(ImageView::plane(r, c, &x).unwrap()).unwrap();
+        let ll = ll.data();
         let w = Wavelet2::new(r, c, Daubechies::new(1).unwrap(), 1).unwrap();
         let mut y = vec![0.0; r * c];
         w.forward(&x, &mut y);
@@ -563,7 +562,8 @@ mod tests {
                 assert!((ll[u * c / 2 + v] - y[u * c + v]).abs() < 1e-12);
             }
         }
-        assert!(haar_ll(&x, 5, 12).is_err());
-        assert!(haar_ll(&x, 6, 8).is_err());
+        assert!(haar_ll(ImageView::plane(5, 12, &x).unwrap()).is_err());
+        assert!(haar_ll(ImageView::plane(6, 8, &x[..48]).unwrap()).is_ok());
+        assert!(haar_ll(ImageView::new(3, 10, 2, &x).unwrap()).is_err());
     }
 }

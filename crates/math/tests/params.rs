@@ -4,7 +4,7 @@
 
 use wscg_math::metrics::{ssim, ssim_plane, SsimParams};
 use wscg_math::sparse::{pcg, CsrMatrix, IdentityPrecond, InitialGuess, PcgParams};
-use wscg_math::{Image, RefusedArgument};
+use wscg_math::{Image, ImageView, RefusedArgument};
 
 #[test]
 fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
@@ -65,7 +65,12 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
     );
     let bad = SsimParams::default().sigma(0.0);
     assert_eq!(
-        ssim_plane(&[], &[1.0], 1, 1, &bad).refused_argument(),
+        ssim_plane(
+            ImageView::plane(1, 1, &[0.0]).unwrap(),
+            ImageView::plane(1, 2, &[1.0, 1.0]).unwrap(),
+            &bad
+        )
+        .refused_argument(),
         Some("sigma")
     );
     let img = Image::<f32>::filled(4, 4, 1, 0.5).unwrap();

@@ -408,7 +408,7 @@ fn check9_energy_and_coat_only() {
     let img = render(&bare, &above, &rig, Eye::Cyclopean, &s).unwrap();
     let y = img.luminance();
     let f0 = fresnel_dielectric(1.0, 1.5);
-    for &v in &y {
+    for &v in y.data() {
         assert!(
             (v as f64 / img.lamp_y / f0 - 1.0).abs() < 2e-3,
             "{} vs {}",
@@ -425,7 +425,7 @@ fn check9_energy_and_coat_only() {
     let plate = Plate::new(PlateStack::default(), Box::new(micro)).unwrap();
     for light in [above, side] {
         let img = render(&plate, &light, &rig, Eye::Left, &s).unwrap();
-        let max = img.luminance().iter().fold(0.0f32, |m, &v| m.max(v));
+        let max = img.luminance().data().iter().fold(0.0f32, |m, &v| m.max(v));
         assert!(
             max as f64 <= img.lamp_y * (1.0 + 1e-9) && max > 0.0,
             "{max} vs {}",
@@ -454,6 +454,7 @@ fn check9_error_falls_as_one_over_root_spp() {
         render(&plate, &light, &rig, Eye::Cyclopean, &s)
             .unwrap()
             .luminance()
+            .into_data()
     };
     let reference = run(4096, 99, true);
     let rmse = |a: &[f32]| {

@@ -71,7 +71,7 @@ pub fn initialize(video: &mut Video, hole: &Mask3, method: InitMethod) {
                         let m: Vec<bool> = (0..h * w)
                             .map(|i| hole.contains_index(t * h * w + i))
                             .collect();
-                        crate::telea::telea(frame, h, w, c, &m, 5.0);
+                        crate::telea::telea_in_place(frame, h, w, c, &m, 5.0);
                     }
                 });
         }

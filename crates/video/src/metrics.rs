@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 use wscg_math::metrics::{ssim_map_plane, SsimParams};
-use wscg_math::{Error, Result};
+use wscg_math::{Error, ImageView, Result};
 
 use crate::video::{Mask3, Video};
 
@@ -55,8 +55,13 @@ pub fn ssim_masked(a: &Video, b: &Video, hole: &Mask3) -> Result<f64> {
                         .map(|&x| x as f64)
                         .collect()
                 };
-                let map = ssim_map_plane(&plane(a), &plane(b), h, w, &p)?;
-                for (m, v) in mean_map.iter_mut().zip(map) {
+                let (pa, pb) = (plane(a), plane(b));
+                let map = ssim_map_plane(
+                    ImageView::plane(h, w, &pa)?,
+                    ImageView::plane(h, w, &pb)?,
+                    &p,
+                )?;
+                for (m, v) in mean_map.iter_mut().zip(map.data()) {
                     *m += v / c as f64;
                 }
             }

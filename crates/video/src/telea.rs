@@ -10,6 +10,11 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
+use wscg_math::{Error, Image, ImageView, Result};
+
+/// Most channels a frame may have (grey, grey + alpha, RGB, RGBA).
+pub const MAX_CHANNELS: usize = 4;
+
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Flag {
     Known,
@@ -55,9 +60,60 @@ fn solve(a: f32, b: f32) -> f32 {
     }
 }
 
-/// Inpaints the pixels of `frame` (`h x w`, `c` interleaved channels) where `hole` is true,
-/// with neighbourhood radius `radius` (pixels). Known pixels are not written.
-pub fn telea(frame: &mut [u8], h: usize, w: usize, c: usize, hole: &[bool], radius: f32) {
+/// `frame` (up to [`MAX_CHANNELS`] channels) with the pixels where the single-channel `hole`
+/// is true inpainted from the others, with neighbourhood radius `radius` (pixels). The other
+/// pixels are copied unchanged.
+///
+/// Errors: more than [`MAX_CHANNELS`] channels, `hole` not one channel of the frame's height
+/// and width, a hole covering the whole frame (nothing to fill from), `radius` not finite and
+/// at least 1.
+pub fn telea(
+    frame: ImageView<'_, u8>,
+    hole: ImageView<'_, bool>,
+    radius: f32,
+) -> Result<Image<u8>> {
+    let (h, w, c) = frame.shape();
+    if c > MAX_CHANNELS {
+        return Err(Error::invalid(
+            "frame",
+            format!("has {c} channels, at most {MAX_CHANNELS} are supported"),
+        ));
+    }
+    hole.ensure_plane("hole")?;
+    if (hole.height(), hole.width()) != (h, w) {
+        return Err(Error::ShapeMismatch(format!(
+            "`hole` is {} x {}, the frame {h} x {w}",
+            hole.height(),
+            hole.width()
+        )));
+    }
+    if hole.data().iter().all(|&b| b) {
+        return Err(Error::invalid(
+            "hole",
+            "covers the whole frame: no known pixel to fill from",
+        ));
+    }
+    if !(radius.is_finite() && radius >= 1.0) {
+        return Err(Error::invalid(
+            "radius",
+            format!("must be finite and at least 1, got {radius}"),
+        ));
+    }
+    let mut out = frame.to_image();
+    telea_in_place(out.data_mut(), h, w, c, hole.data(), radius);
+    Ok(out)
+}
+
+/// [`telea`] on an unchecked `h x w x c` frame buffer, written in place (the shapes are the
+/// caller's invariant; `c <= MAX_CHANNELS`).
+pub(crate) fn telea_in_place(
+    frame: &mut [u8],
+    h: usize,
+    w: usize,
+    c: usize,
+    hole: &[bool],
+    radius: f32,
+) {
     let n = h * w;
     let mut flag: Vec<Flag> = hole
         .iter()
@@ -217,7 +273,10 @@ mod tests {
                 *v = 0;
             }
         }
-        telea(&mut f, h, w, 1, &hole, 5.0);
+        let holes = ImageView::plane(h, w, &hole).unwrap();
+        let f = telea(ImageView::plane(h, w, &f).unwrap(), holes, 5.0)
+            .unwrap()
+            .into_data();
         let err = f
             .iter()
             .zip(&data)
@@ -230,5 +289,24 @@ mod tests {
                 assert_eq!(f[i], data[i]);
             }
         }
+    }
+
+    #[test]
+    fn bad_arguments_are_refused_by_name() {
+        let frame = vec![0u8; 12];
+        let hole = [true, false, false, false];
+        let f = ImageView::new(2, 2, 3, &frame).unwrap();
+        let m = ImageView::plane(2, 2, &hole[..]).unwrap();
+        assert!(telea(f, m, 3.0).is_ok());
+        let arg = |r: Result<Image<u8>>| r.unwrap_err().argument();
+        assert_eq!(arg(telea(f, m, 0.5)), Some("radius"));
+        assert_eq!(arg(telea(f, m, f32::NAN)), Some("radius"));
+        let all = ImageView::plane(2, 2, &[true; 4][..]).unwrap();
+        assert_eq!(arg(telea(f, all, 3.0)), Some("hole"));
+        let wide = ImageView::new(1, 2, 6, &frame).unwrap();
+        let m2 = ImageView::plane(1, 2, &hole[..2]).unwrap();
+        assert_eq!(arg(telea(wide, m2, 3.0)), Some("frame"));
+        let small = ImageView::plane(1, 2, &hole[..2]).unwrap();
+        assert!(telea(f, small, 3.0).is_err());
     }
 }

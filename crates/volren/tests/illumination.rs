@@ -3,6 +3,7 @@
 //! against analytic integrals, the Table-1 shape on Marschner-Lobb, invariants, determinism
 //! and bad input.
 
+use wscg_math::{Volume, VolumeView};
 use wscg_volren::illumination::kernel::discrete_gaussian;
 use wscg_volren::illumination::preintegration::integrate_segment;
 use wscg_volren::illumination::scenes::{
@@ -388,7 +389,7 @@ fn preintegration_tracks_the_fine_integral() {
             }
         }
     }
-    let field = ScalarField::from_f32([n; 3], [1.0; 3], data).unwrap();
+    let field = ScalarField::from_f32(Volume::new([n; 3], [1.0; 3], data).unwrap()).unwrap();
     let tf = marschner_lobb_tf();
     let cam = SliceCamera::fit(&field, [0.4, -0.7, 1.0], [0.0, 1.0, 0.0], 96, 96).unwrap();
     let unlit = Light {
@@ -619,7 +620,7 @@ fn phong_shades_a_ramp_by_its_analytic_normal() {
             (0.5 + 0.02 * d) as f32
         })
         .collect();
-    let field = ScalarField::from_f32(dims, spacing, data).unwrap();
+    let field = ScalarField::from_f32(Volume::new(dims, spacing, data).unwrap()).unwrap();
     // Transparent below the iso-value 0.5 (and outside the box), white and opaque above it:
     // the view rays enter through the transparent side (the ramp rises along the view).
     let lut: Vec<[f32; 4]> = (0..256)
@@ -708,19 +709,22 @@ fn deterministic_across_thread_counts() {
 #[test]
 fn bad_input_is_rejected() {
     let dims = [4, 4, 4];
-    assert!(ScalarField::from_u8(dims, [1.0; 3], &[0; 63]).is_err());
-    assert!(ScalarField::from_u8([0, 4, 4], [1.0; 3], &[]).is_err());
-    assert!(ScalarField::from_u8(dims, [1.0, 0.0, 1.0], &[0; 64]).is_err());
-    assert!(ScalarField::from_u8(dims, [1.0, f64::NAN, 1.0], &[0; 64]).is_err());
+    assert!(VolumeView::new(dims, [1.0; 3], &[0u8; 63]).is_err());
+    assert!(VolumeView::<u8>::new([0, 4, 4], [1.0; 3], &[]).is_err());
+    assert!(VolumeView::new(dims, [1.0, 0.0, 1.0], &[0u8; 64]).is_err());
+    assert!(VolumeView::new(dims, [1.0, f64::NAN, 1.0], &[0u8; 64]).is_err());
     let mut nan = vec![0.5f32; 64];
     nan[7] = f32::NAN;
-    assert!(ScalarField::from_f32(dims, [1.0; 3], nan.clone()).is_err());
-    assert!(ScalarField::from_f32_range(dims, [1.0; 3], &nan, 0.0, 1.0).is_err());
-    assert!(ScalarField::from_f32_range(dims, [1.0; 3], &[0.0; 64], 1.0, 1.0).is_err());
+    assert!(ScalarField::from_f32(Volume::new(dims, [1.0; 3], nan.clone()).unwrap()).is_err());
+    let nan_view = VolumeView::new(dims, [1.0; 3], &nan).unwrap();
+    assert!(ScalarField::from_f32_range(nan_view, 0.0, 1.0).is_err());
+    let zeros = VolumeView::new(dims, [1.0; 3], &[0.0f32; 64]).unwrap();
+    assert!(ScalarField::from_f32_range(zeros, 1.0, 1.0).is_err());
     assert!(TransferFunction::from_lut(&[[0.0, 0.0, 0.0, 0.5]]).is_err());
     assert!(TransferFunction::from_lut(&[[0.0; 4], [0.0, 0.0, 0.0, 1.5]]).is_err());
     assert!(TransferFunction::from_lut(&[[0.0; 4], [0.0, 0.0, f32::NAN, 1.0]]).is_err());
-    let field = ScalarField::from_u8(dims, [1.0; 3], &[100; 64]).unwrap();
+    let field =
+        ScalarField::from_u8(VolumeView::new(dims, [1.0; 3], &[100u8; 64]).unwrap()).unwrap();
     let tf = marschner_lobb_tf();
     let cam = SliceCamera::fit(&field, [0.0, 0.0, 1.0], [0.0, 1.0, 0.0], 8, 8).unwrap();
     let light = Light::default();

@@ -2,7 +2,7 @@
 //! out of range fails with an error naming that field (also at the start of the method that
 //! takes the parameters).
 
-use wscg_math::RefusedArgument;
+use wscg_math::{RefusedArgument, Volume};
 use wscg_volren::illumination::{
     render, IlluminationParams, Light, Method, ScalarField, SliceCamera, TransferFunction,
 };
@@ -66,7 +66,7 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
     assert_eq!(sp().quant(q).validate().refused_argument(), Some("quant"));
 
     // The methods check their parameters before their data.
-    let f = ScalarField::from_f32([4; 3], [1.0; 3], vec![0.0; 64]).unwrap();
+    let f = ScalarField::from_f32(Volume::filled([4; 3], [1.0; 3], 0.0).unwrap()).unwrap();
     let tf = TransferFunction::from_points(&[(0.0, [1.0, 0.0, 0.0, 0.5])], 16).unwrap();
     let cam = SliceCamera::fit(&f, [0.0, 0.3, 1.0], [0.0, 1.0, 0.0], 8, 8).unwrap();
     let bad = il().early_stop(2.0);

@@ -11,7 +11,7 @@
 
 use wscg_math::image::Image;
 use wscg_math::wavelet::haar_ll;
-use wscg_math::{Error, Result};
+use wscg_math::{Error, ImageView, Result};
 
 use super::params::EarParams;
 use crate::imgops::tone::{equalize_hist_within, resize_u8, rgb_to_gray};
@@ -107,23 +107,36 @@ pub fn normalise(img: &Image<u8>, p: &EarParams) -> Result<Image<u8>> {
 /// so that the chromaticity of the skin test is untouched); grey (1-channel) input skips the
 /// colour conversion. With `within`, the equalisation histogram counts only those pixels (see
 /// [`EarParams::equalize_on_skin`]).
-pub fn feature_plane(small: &Image<u8>, within: Option<&[u8]>) -> Result<Vec<f64>> {
+pub fn feature_plane(small: &Image<u8>, within: Option<&[u8]>) -> Result<Image<f64>> {
     let gray = if small.channels() == 1 {
         small.data().to_vec()
     } else {
         rgb_to_gray(small)?
     };
-    Ok(equalize_hist_within(&gray, within)
+    let plane = equalize_hist_within(&gray, within)
         .into_iter()
         .map(|v| v as f64 / 255.0)
-        .collect())
+        .collect();
+    Image::new(small.height(), small.width(), 1, plane)
 }
 
-/// Haar LL features of every block of a `p.height x p.width` plane (paper §3.2: the
-/// low-frequency subband of a one-level 2-D Haar DWT per block; orthonormal Haar,
+/// Haar LL features of every block of a single-channel `p.height x p.width` plane (paper
+/// §3.2: the low-frequency subband of a one-level 2-D Haar DWT per block; orthonormal Haar,
 /// `LL = (sum of a 2 x 2 cell) / 2`), `blocks x block_len`, row-major by block index.
-pub fn block_features(plane: &[f64], p: &EarParams) -> Result<Vec<f32>> {
-    let ll = haar_ll(plane, p.height, p.width)?;
+///
+/// Errors: a plane of another size or with more than one channel.
+pub fn block_features(plane: ImageView<'_, f64>, p: &EarParams) -> Result<Vec<f32>> {
+    if (plane.height(), plane.width()) != (p.height, p.width) {
+        return Err(Error::ShapeMismatch(format!(
+            "`plane` is {} x {}, the parameters need {} x {}",
+            plane.height(),
+            plane.width(),
+            p.height,
+            p.width
+        )));
+    }
+    let ll = haar_ll(plane)?;
+    let ll = ll.data();
     let (gr, gc) = p.grid();
     let (hb, lw) = (p.block / 2, p.width / 2);
     let mut out = Vec::with_capacity(p.blocks() * p.block_len());
@@ -148,5 +161,5 @@ pub fn enroll(img: &Image<u8>, p: &EarParams) -> Result<EarTemplate> {
     check_input(img, p.gray_enrolment)?;
     let small = normalise(img, p)?;
     let plane = feature_plane(&small, None)?;
-    EarTemplate::new(block_features(&plane, p)?, p.blocks(), p.block_len())
+    EarTemplate::new(block_features(plane.view(), p)?, p.blocks(), p.block_len())
 }

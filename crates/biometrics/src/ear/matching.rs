@@ -62,11 +62,11 @@ pub fn make_probe(img: &Image<u8>, p: &EarParams) -> Result<Probe> {
     let within = p.equalize_on_skin.then(|| report.skin_mask.data());
     let mut plane = feature_plane(&small, within)?;
     if p.mask_features {
-        for (v, &z) in plane.iter_mut().zip(report.skin_mask.data()) {
+        for (v, &z) in plane.data_mut().iter_mut().zip(report.skin_mask.data()) {
             *v *= z as f64;
         }
     }
-    let all = block_features(&plane, p)?;
+    let all = block_features(plane.view(), p)?;
     let index = report.index();
     let k = p.block_len();
     let feats = index
@@ -87,7 +87,7 @@ pub fn make_baseline_probe(img: &Image<u8>, p: &EarParams) -> Result<Probe> {
     check_input(img, p.gray_enrolment)?;
     let plane = feature_plane(&normalise(img, p)?, None)?;
     Ok(Probe {
-        feats: block_features(&plane, p)?,
+        feats: block_features(plane.view(), p)?,
         index: (0..p.blocks()).collect(),
         report: None,
     })

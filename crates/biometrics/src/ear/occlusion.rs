@@ -8,7 +8,7 @@
 //! `E > 60` (step 12; exactly 60 % is accepted).
 
 use wscg_math::image::Image;
-use wscg_math::Result;
+use wscg_math::{ImageView, Result};
 
 use super::features::{check_input, normalise};
 use super::params::EarParams;
@@ -64,10 +64,12 @@ pub fn detect_occlusion(img: &Image<u8>, p: &EarParams) -> Result<OcclusionRepor
 /// [`detect_occlusion`] on an image already at the normalised size.
 pub(crate) fn detect_on_normalised(small: &Image<u8>, p: &EarParams) -> Result<OcclusionReport> {
     let (h, w) = (p.height, p.width);
-    let mut z = close_disk(&skin_pixels(small, p), h, w, p.close_radius)?;
+    let skin = skin_pixels(small, p);
+    let mut z = close_disk(ImageView::plane(h, w, &skin)?, p.close_radius)?;
     if p.fill_holes {
-        z = fill_holes(&z, h, w)?;
+        z = fill_holes(z.view())?;
     }
+    let zd = z.data();
     let (gr, gc) = p.grid();
     let area = (p.block * p.block) as f64;
     let mut frac = Vec::with_capacity(gr * gc);
@@ -75,7 +77,7 @@ pub(crate) fn detect_on_normalised(small: &Image<u8>, p: &EarParams) -> Result<O
         for bj in 0..gc {
             let mut n = 0usize;
             for y in bi * p.block..(bi + 1) * p.block {
-                let row = &z[y * w + bj * p.block..y * w + (bj + 1) * p.block];
+                let row = &zd[y * w + bj * p.block..y * w + (bj + 1) * p.block];
                 n += row.iter().filter(|&&v| v != 0).count();
             }
             frac.push(n as f64 / area);
@@ -85,7 +87,7 @@ pub(crate) fn detect_on_normalised(small: &Image<u8>, p: &EarParams) -> Result<O
     let m = keep.iter().filter(|&&k| k).count();
     let occluded_pct = 100.0 * (keep.len() - m) as f64 / keep.len() as f64;
     Ok(OcclusionReport {
-        skin_mask: Image::new(h, w, 1, z)?,
+        skin_mask: z,
         block_skin_fraction: frac,
         block_unoccluded: keep,
         occluded_pct,

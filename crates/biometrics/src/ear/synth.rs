@@ -34,7 +34,7 @@ use rayon::prelude::*;
 use wscg_math::image::Image;
 use wscg_math::resize::{resize, Interpolation};
 use wscg_math::rng::{stream, Rng};
-use wscg_math::{Error, Result};
+use wscg_math::{Error, ImageView, Result};
 
 use super::params::EarParams;
 use super::skin::SkinModel;
@@ -580,12 +580,15 @@ pub fn render(
 /// Ground-truth occluded blocks of a canvas-size occluder mask: the mask is resized to the
 /// normalised size by area averaging and a block is occluded when its mean occluder fraction
 /// is at least 0.5.
-pub fn block_ground_truth(mask: &[u8], h: usize, w: usize, p: &EarParams) -> Result<Vec<bool>> {
+///
+/// Errors: a mask with more than one channel.
+pub fn block_ground_truth(mask: ImageView<'_, u8>, p: &EarParams) -> Result<Vec<bool>> {
+    mask.ensure_plane("mask")?;
     let img = Image::new(
-        h,
-        w,
+        mask.height(),
+        mask.width(),
         1,
-        mask.iter().map(|&m| (m != 0) as u8 as f32).collect(),
+        mask.data().iter().map(|&m| (m != 0) as u8 as f32).collect(),
     )?;
     let frac = resize(&img, p.height, p.width, Interpolation::Area)?;
     let (gr, gc) = p.grid();
@@ -625,7 +628,7 @@ fn blocks_covered(
             u8::from(scene.occluder_at(capture.to_subject(q)).is_some())
         })
         .collect();
-    Ok(block_ground_truth(&mask, h, w, p)?
+    Ok(block_ground_truth(ImageView::plane(h, w, &mask)?, p)?
         .iter()
         .filter(|&&b| b)
         .count())
@@ -844,8 +847,10 @@ pub fn generate(
             let cap = Capture::random(&mut r, cfg);
             let occ = occluders_for(&mut r, &subjects[i], &cap, kind, cfg, p)?;
             let image = render(&subjects[i], &cap, &occ, cfg)?;
-            let occluded_blocks =
-                block_ground_truth(&image.occluder_mask, cfg.height, cfg.width, p)?;
+            let occluded_blocks = block_ground_truth(
+                ImageView::plane(cfg.height, cfg.width, &image.occluder_mask)?,
+                p,
+            )?;
             Ok(SynthProbe {
                 subject: i,
                 image,

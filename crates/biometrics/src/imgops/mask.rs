@@ -3,11 +3,12 @@
 //! contour tracing, convex hulls and convexity defects. Used by the hand-pose generator and
 //! features (paper 05) and by the ear occlusion detector (paper 14).
 //!
-//! Conventions: masks are row-major `h x w` buffers, any non-zero byte is foreground; a pixel
+//! Conventions: masks are single-channel [`ImageView`]s of bytes, any non-zero byte is
+//! foreground; a pixel
 //! is identified with its centre, at integer coordinates `(x, y) = (column, row)`; the area
 //! outside the image is background (the disk operations state their own border rule).
 
-use wscg_math::{Error, Result};
+use wscg_math::{Error, Image, ImageView, Result};
 
 /// The eight neighbour offsets `(dx, dy)`, clockwise on screen (y pointing down), starting
 /// east: E, SE, S, SW, W, NW, N, NE.
@@ -36,35 +37,23 @@ fn dir_index(dx: i64, dy: i64) -> usize {
     }
 }
 
-/// Checks that a buffer of `len` elements holds an `h x w` image.
-pub(crate) fn check_shape(name: &'static str, len: usize, h: usize, w: usize) -> Result<()> {
-    if h == 0 || w == 0 {
-        return Err(Error::invalid(
-            name,
-            format!("image size must be positive, got {h} x {w}"),
-        ));
-    }
-    match h.checked_mul(w) {
-        Some(n) if n == len => Ok(()),
-        _ => Err(Error::ShapeMismatch(format!(
-            "`{name}` has {len} elements, expected {h} x {w}"
-        ))),
-    }
+/// The values, height and width of a single-channel mask (the error names `mask`).
+fn plane(mask: ImageView<'_, u8>) -> Result<(&[u8], usize, usize)> {
+    mask.ensure_plane("mask")?;
+    Ok((mask.data(), mask.height(), mask.width()))
 }
 
-/// Inclusive box `(x0, x1, y0, y1)` of the pixels of an `h x w` image (`v` row-major) for
-/// which `inside` holds, grown by `margin` and clipped to the image; `None` when there are
-/// none.
-pub fn bounding_box<T>(
-    v: &[T],
-    h: usize,
-    w: usize,
+/// Inclusive box `(x0, x1, y0, y1)` of the pixels of the single-channel image `v` for which
+/// `inside` holds, grown by `margin` and clipped to the image; `None` when there are none.
+pub fn bounding_box<T: Copy>(
+    v: ImageView<'_, T>,
     margin: usize,
     inside: impl Fn(&T) -> bool,
 ) -> Option<(usize, usize, usize, usize)> {
+    let (h, w) = (v.height(), v.width());
     let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
     for y in 0..h {
-        let row = &v[y * w..(y + 1) * w];
+        let row = &v.data()[y * w..(y + 1) * w];
         let Some(first) = row.iter().position(&inside) else {
             continue;
         };
@@ -87,9 +76,9 @@ pub fn bounding_box<T>(
 /// The largest 8-connected component of `mask` as a 0/1 mask, with its area in pixels.
 ///
 /// Ties go to the component reached first in row-major order. An empty mask gives an all-zero
-/// mask and area 0. Errors: `mask.len() != h * w` or a zero size.
-pub fn largest_component(mask: &[u8], h: usize, w: usize) -> Result<(Vec<u8>, usize)> {
-    check_shape("mask", mask.len(), h, w)?;
+/// mask and area 0. Errors: a mask with more than one channel.
+pub fn largest_component(mask: ImageView<'_, u8>) -> Result<(Image<u8>, usize)> {
+    let (mask, h, w) = plane(mask)?;
     let mut label = vec![0u32; h * w];
     let mut stack = Vec::new();
     let (mut best_label, mut best_area) = (0u32, 0usize);
@@ -126,15 +115,15 @@ pub fn largest_component(mask: &[u8], h: usize, w: usize) -> Result<(Vec<u8>, us
         .iter()
         .map(|&l| u8::from(best_area > 0 && l == best_label))
         .collect();
-    Ok((out, best_area))
+    Ok((Image::new(h, w, 1, out)?, best_area))
 }
 
 /// `mask` with its holes filled: background pixels that are not 4-connected to the image
 /// border (the background connectivity that goes with 8-connected foreground) become 1. The
 /// result is 0/1, the binary image of the filled outer contours (as OpenCV's `drawContours`
-/// with `FILLED` of the external contours). Errors: `mask.len() != h * w` or a zero size.
-pub fn fill_holes(mask: &[u8], h: usize, w: usize) -> Result<Vec<u8>> {
-    check_shape("mask", mask.len(), h, w)?;
+/// with `FILLED` of the external contours). Errors: a mask with more than one channel.
+pub fn fill_holes(mask: ImageView<'_, u8>) -> Result<Image<u8>> {
+    let (mask, h, w) = plane(mask)?;
     // 0: background not reached (yet), 1: foreground, 2: background reached from the border.
     let mut state: Vec<u8> = mask.iter().map(|&m| u8::from(m != 0)).collect();
     let mut stack: Vec<usize> = Vec::new();
@@ -167,7 +156,7 @@ pub fn fill_holes(mask: &[u8], h: usize, w: usize) -> Result<Vec<u8>> {
             visit(i + w);
         }
     }
-    Ok(state.iter().map(|&s| u8::from(s != 2)).collect())
+    Image::new(h, w, 1, state.iter().map(|&s| u8::from(s != 2)).collect())
 }
 
 /// Exact squared Euclidean distance of every pixel to the nearest background pixel (0 on the
@@ -175,17 +164,18 @@ pub fn fill_holes(mask: &[u8], h: usize, w: usize) -> Result<Vec<u8>> {
 /// has distance 1).
 ///
 /// Felzenszwalb-Huttenlocher ([`wscg_math::distance::squared_edt`]): `O(h w)`, exact.
-/// Errors: `mask.len() != h * w` or a zero size.
-pub fn squared_distance_transform(mask: &[u8], h: usize, w: usize) -> Result<Vec<f64>> {
-    check_shape("mask", mask.len(), h, w)?;
+/// Errors: a mask with more than one channel.
+pub fn squared_distance_transform(mask: ImageView<'_, u8>) -> Result<Image<f64>> {
+    let (mask, h, w) = plane(mask)?;
     let background: Vec<bool> = mask.iter().map(|&m| m == 0).collect();
-    wscg_math::distance::squared_edt(&background, &[h, w], &[1.0, 1.0], true)
+    let d2 = wscg_math::distance::squared_edt(&background, &[h, w], &[1.0, 1.0], true)?;
+    Image::new(h, w, 1, d2)
 }
 
 /// Exact Euclidean distance transform: the square root of [`squared_distance_transform`].
-pub fn distance_transform(mask: &[u8], h: usize, w: usize) -> Result<Vec<f64>> {
-    let mut d = squared_distance_transform(mask, h, w)?;
-    for v in &mut d {
+pub fn distance_transform(mask: ImageView<'_, u8>) -> Result<Image<f64>> {
+    let mut d = squared_distance_transform(mask)?;
+    for v in d.data_mut() {
         *v = v.sqrt();
     }
     Ok(d)
@@ -196,9 +186,9 @@ pub fn distance_transform(mask: &[u8], h: usize, w: usize) -> Result<Vec<f64>> {
 /// is background (it dilates nothing in). Computed as a threshold of the exact distance
 /// transform of the foreground, `O(h w)` for any radius. Result 0/1.
 ///
-/// Errors: shape mismatch, a zero size, a negative or non-finite radius.
-pub fn dilate_disk(mask: &[u8], h: usize, w: usize, radius: f64) -> Result<Vec<u8>> {
-    disk_threshold(mask, h, w, radius, true)
+/// Errors: a mask with more than one channel, a negative or non-finite radius.
+pub fn dilate_disk(mask: ImageView<'_, u8>, radius: f64) -> Result<Image<u8>> {
+    disk_threshold(mask, radius, true)
 }
 
 /// Erosion of `mask` by the exact Euclidean disk of `radius`: a pixel stays set iff no
@@ -206,22 +196,22 @@ pub fn dilate_disk(mask: &[u8], h: usize, w: usize, radius: f64) -> Result<Vec<u
 /// as foreground, so erosion does not eat in from the border (the convention of
 /// `skimage.morphology.binary_erosion` and of `scipy.ndimage.binary_erosion(border_value=1)`).
 /// Result 0/1. Errors as [`dilate_disk`].
-pub fn erode_disk(mask: &[u8], h: usize, w: usize, radius: f64) -> Result<Vec<u8>> {
-    disk_threshold(mask, h, w, radius, false)
+pub fn erode_disk(mask: ImageView<'_, u8>, radius: f64) -> Result<Image<u8>> {
+    disk_threshold(mask, radius, false)
 }
 
 /// Closing (dilation, then erosion) by the exact Euclidean disk of `radius`, with the border
 /// rules of [`dilate_disk`] and [`erode_disk`]; the closing is then extensive (every input
 /// foreground pixel stays set), equal to `skimage.morphology.binary_closing(mask,
 /// skimage.morphology.disk(radius))` for integer radii. Errors as [`dilate_disk`].
-pub fn close_disk(mask: &[u8], h: usize, w: usize, radius: f64) -> Result<Vec<u8>> {
-    let d = dilate_disk(mask, h, w, radius)?;
-    erode_disk(&d, h, w, radius)
+pub fn close_disk(mask: ImageView<'_, u8>, radius: f64) -> Result<Image<u8>> {
+    let d = dilate_disk(mask, radius)?;
+    erode_disk(d.view(), radius)
 }
 
 /// Dilation (`dilate`) or erosion as a threshold of an exact squared distance transform.
-fn disk_threshold(mask: &[u8], h: usize, w: usize, radius: f64, dilate: bool) -> Result<Vec<u8>> {
-    check_shape("mask", mask.len(), h, w)?;
+fn disk_threshold(mask: ImageView<'_, u8>, radius: f64, dilate: bool) -> Result<Image<u8>> {
+    let (mask, h, w) = plane(mask)?;
     if !(radius.is_finite() && radius >= 0.0) {
         return Err(Error::invalid(
             "radius",
@@ -233,10 +223,11 @@ fn disk_threshold(mask: &[u8], h: usize, w: usize, radius: f64, dilate: bool) ->
     let feature: Vec<bool> = mask.iter().map(|&m| (m != 0) == dilate).collect();
     let d2 = wscg_math::distance::squared_edt(&feature, &[h, w], &[1.0, 1.0], false)?;
     let r2 = radius * radius;
-    Ok(d2
+    let out = d2
         .iter()
         .map(|&d| u8::from(if dilate { d <= r2 } else { d > r2 }))
-        .collect())
+        .collect();
+    Image::new(h, w, 1, out)
 }
 
 /// Outer boundary of the 8-connected component holding the first foreground pixel in
@@ -246,10 +237,10 @@ fn disk_threshold(mask: &[u8], h: usize, w: usize, radius: f64, dilate: bool) ->
 /// The trace starts at that first pixel and stops when the step from the start pixel to the
 /// second boundary pixel would repeat, so pixels on one-pixel-wide parts appear once per
 /// visit (as the contours of OpenCV's `findContours`). Holes are not traced. An empty mask
-/// gives an empty contour, a lone pixel a one-point contour. Errors: `mask.len() != h * w`
-/// or a zero size.
-pub fn trace_contour(mask: &[u8], h: usize, w: usize) -> Result<Vec<(i64, i64)>> {
-    check_shape("mask", mask.len(), h, w)?;
+/// gives an empty contour, a lone pixel a one-point contour. Errors: a mask with more than
+/// one channel.
+pub fn trace_contour(mask: ImageView<'_, u8>) -> Result<Vec<(i64, i64)>> {
+    let (mask, h, w) = plane(mask)?;
     let Some(first) = mask.iter().position(|&m| m != 0) else {
         return Ok(Vec::new());
     };
@@ -423,12 +414,13 @@ mod tests {
         let mut r = wscg_math::rng::seeded(11);
         for (h, w, p) in [(13, 17, 0.8), (20, 9, 0.95), (1, 6, 1.0), (7, 7, 0.3)] {
             let mask: Vec<u8> = (0..h * w).map(|_| u8::from(r.random_bool(p))).collect();
-            let fast = squared_distance_transform(&mask, h, w).unwrap();
+            let view = ImageView::plane(h, w, &mask).unwrap();
+            let fast = squared_distance_transform(view).unwrap().into_data();
             let slow = brute_sq_dt(&mask, h, w);
             for (a, b) in fast.iter().zip(&slow) {
                 assert!((a - b).abs() <= 1e-12, "{a} vs {b}");
             }
-            let e = distance_transform(&mask, h, w).unwrap();
+            let e = distance_transform(view).unwrap().into_data();
             for (a, b) in e.iter().zip(&slow) {
                 assert!((a - b.sqrt()).abs() <= 1e-12);
             }
@@ -444,12 +436,12 @@ mod tests {
             0, 1, 0, 1, 1,
             0, 0, 0, 0, 1,
         ];
-        let (c, area) = largest_component(&m, 3, 5).unwrap();
+        let (c, area) = largest_component(ImageView::plane(3, 5, &m).unwrap()).unwrap();
         assert_eq!(area, 3);
-        assert_eq!(c, vec![0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 1]);
-        let (c, area) = largest_component(&[0; 6], 2, 3).unwrap();
-        assert_eq!((c, area), (vec![0; 6], 0));
-        assert!(largest_component(&m, 2, 5).is_err());
+        assert_eq!(c.data(), [0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 1]);
+        let (c, area) = largest_component(ImageView::plane(2, 3, &[0; 6]).unwrap()).unwrap();
+        assert_eq!((c.data(), area), (&[0u8; 6][..], 0));
+        assert!(largest_component(ImageView::new(1, 5, 3, &m).unwrap()).is_err());
     }
 
     #[test]
@@ -472,9 +464,10 @@ mod tests {
             0, 1, 1, 1, 0, 1, 0,
             0, 0, 0, 0, 0, 0, 0,
         ];
-        assert_eq!(fill_holes(&m, 5, 7).unwrap(), want.to_vec());
-        assert_eq!(fill_holes(&[1, 0, 1], 1, 3).unwrap(), vec![1, 0, 1]);
-        assert!(fill_holes(&m, 5, 6).is_err());
+        let filled = |m: &[u8], h, w| fill_holes(ImageView::plane(h, w, m).unwrap()).unwrap();
+        assert_eq!(filled(&m, 5, 7).data(), want);
+        assert_eq!(filled(&[1, 0, 1], 1, 3).data(), [1, 0, 1]);
+        assert!(fill_holes(ImageView::new(5, 1, 7, &m).unwrap()).is_err());
     }
 
     #[test]
@@ -486,7 +479,8 @@ mod tests {
                 m[y * 5 + x] = 1;
             }
         }
-        let c = trace_contour(&m, 5, 5).unwrap();
+        let trace = |m: &[u8], h, w| trace_contour(ImageView::plane(h, w, m).unwrap()).unwrap();
+        let c = trace(&m, 5, 5);
         assert_eq!(
             c,
             vec![
@@ -501,10 +495,10 @@ mod tests {
             ]
         );
         // A horizontal line is walked out and back.
-        let c = trace_contour(&[1, 1, 1], 1, 3).unwrap();
+        let c = trace(&[1, 1, 1], 1, 3);
         assert_eq!(c, vec![(0, 0), (1, 0), (2, 0), (1, 0)]);
-        assert_eq!(trace_contour(&[0, 1], 1, 2).unwrap(), vec![(1, 0)]);
-        assert!(trace_contour(&[0, 0], 1, 2).unwrap().is_empty());
+        assert_eq!(trace(&[0, 1], 1, 2), vec![(1, 0)]);
+        assert!(trace(&[0, 0], 1, 2).is_empty());
     }
 
     #[test]
@@ -558,14 +552,16 @@ mod tests {
             }
             out
         };
-        let d = dilate_disk(&mask, h, w, r).unwrap();
-        assert_eq!(d, brute(&mask, true));
-        let e = erode_disk(&mask, h, w, r).unwrap();
-        assert_eq!(e, brute(&mask, false));
-        let c = close_disk(&mask, h, w, r).unwrap();
-        assert_eq!(c, brute(&brute(&mask, true), false));
-        assert!(mask.iter().zip(&c).all(|(&m, &c)| m == 0 || c == 1));
-        assert!(dilate_disk(&mask, h, w, f64::NAN).is_err());
-        assert!(close_disk(&mask, h, w + 1, 2.0).is_err());
+        let view = ImageView::plane(h, w, &mask).unwrap();
+        let d = dilate_disk(view, r).unwrap();
+        assert_eq!(d.data(), brute(&mask, true));
+        let e = erode_disk(view, r).unwrap();
+        assert_eq!(e.data(), brute(&mask, false));
+        let c = close_disk(view, r).unwrap();
+        assert_eq!(c.data(), brute(&brute(&mask, true), false));
+        assert!(mask.iter().zip(c.data()).all(|(&m, &c)| m == 0 || c == 1));
+        assert!(dilate_disk(view, f64::NAN).is_err());
+        let two = ImageView::new(h, w / 2, 2, &mask[..h * (w / 2) * 2]).unwrap();
+        assert!(close_disk(two, 2.0).is_err());
     }
 }

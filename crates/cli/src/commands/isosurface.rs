@@ -156,7 +156,6 @@ pub fn run(cmd: IsosurfaceCommand) -> Result<()> {
         }
         IsosurfaceCommand::Study(a) => {
             let v = read_volume(&a.input)?;
-            let spacing = v.spacing().map(|s| s as f32);
             let isos = percentile_isovalues(v.data(), a.isovalues, 5.0, 95.0)?;
             println!(
                 "{:>12} {:>9} {:>10} {:>10} {:>9} {:>9} {:>8}",
@@ -164,7 +163,7 @@ pub fn run(cmd: IsosurfaceCommand) -> Result<()> {
             );
             let (mut ss, mut sl, mut k) = (0.0, 0.0, 0);
             for iso in isos {
-                let c = compare_with_full_cd(v.data(), v.dims(), spacing, iso)?;
+                let c = compare_with_full_cd(v.view(), iso)?;
                 println!(
                     "{iso:>12.4} {:>9} {:>10.4} {:>10.4} {:>9} {:>8.2}% {:>7.2}%",
                     c.vertices,

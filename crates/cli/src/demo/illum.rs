@@ -86,7 +86,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.advance(1);
     // The head phantom.
     let v = head([192, 192, 84], 1)?;
-    let field = ScalarField::from_u8(v.dims(), v.spacing(), v.data())?;
+    let field = ScalarField::from_u8(v.view())?;
     let tf = head_tf()?;
     let cam = SliceCamera::orbit(&field, 30.0, 25.0, 256)?;
     let light = Light {

@@ -102,7 +102,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let (mut ss, mut sl, mut zeros, mut total, mut k) = (0.0, 0.0, 0usize, 0usize, 0usize);
     for &iso in &isos {
         let iso = iso.round();
-        let c = compare_with_full_cd(&noisy.values, noisy.dims, noisy.spacing, iso)?;
+        let c = compare_with_full_cd(noisy.view(), iso)?;
         if c.spline.count > 0 {
             ss += c.spline.rms;
             sl += c.lsn.rms;
@@ -178,7 +178,8 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         [-1.0; 3],
         [1.0; 3],
     )?;
-    let (sp, sides) = sparsify_for_isosurface(&ml.values, ml.dims, 0.5)?;
+    let (sp, sides) = sparsify_for_isosurface(ml.view(), 0.5)?;
+    let sp = sp.into_data();
     let sg = ScalarGrid::with_spacing(ml.dims, ml.spacing, &sp)?.with_side_hint(&sides)?;
     let mesh = extract(&sg, 0.5)?;
     let best_of = |f: &dyn Fn() -> Result<()>| -> Result<f64> {
@@ -222,7 +223,8 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
 
     // Fig. 9 style: the noisy sphere at isovalue 40 shaded with each estimator.
     let iso = 40.0;
-    let (sp, sides) = sparsify_for_isosurface(&noisy.values, noisy.dims, iso)?;
+    let (sp, sides) = sparsify_for_isosurface(noisy.view(), iso)?;
+    let sp = sp.into_data();
     let g = ScalarGrid::new(noisy.dims, &sp)?.with_side_hint(&sides)?;
     let full = ScalarGrid::new(noisy.dims, &noisy.values)?;
     let m = marching_cubes(&g, iso, NormalMethod::spline())?;

@@ -10,7 +10,7 @@ use wscg_biometrics::sfa::handpose::{
 };
 use wscg_math::image::Image;
 use wscg_math::progress::Progress;
-use wscg_math::Result;
+use wscg_math::{Error, Result};
 
 use super::figures::montage;
 use super::{Demo, Figure, Report, Row};
@@ -40,19 +40,13 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let split = rep.time("split and augment (s)", || {
         split_protocol(&data, 300, 1000, 0)
     })?;
-    let (h, w) = (data.height, data.width);
     // Four frames of each pose, one row per class.
     let mut tiles = Vec::new();
     for c in 0..5 {
         for k in 0..4 {
             let i = c * 3000 + k * 700;
-            let m = data.mask(i).unwrap_or_default();
-            tiles.push(Image::new(
-                h,
-                w,
-                1,
-                m.iter().map(|&v| f32::from(v)).collect(),
-            )?);
+            let m = data.mask(i).ok_or(Error::Empty("frame"))?;
+            tiles.push(m.to_image().map(f32::from));
         }
     }
     montage(&tiles, 4, 1)?.save(out.join("hand_poses.png"))?;
@@ -117,9 +111,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     // Rotation robustness: every test frame rotated by +-U(10, 20) degrees, with the model
     // the comparison fitted.
     let rot = rotation_robustness(
-        &data.masks,
-        h,
-        w,
+        data.mask_stack()?,
         &split,
         &CompareParams::default().sfa,
         res.class_sfa.as_ref(),

@@ -29,6 +29,7 @@ use ndarray::{Array3, ArrayView3, ArrayViewMut3};
 use rayon::prelude::*;
 
 use crate::error::{ensure_positive, Error, Result};
+use crate::view::VolumeView;
 
 pub mod filter;
 
@@ -113,6 +114,14 @@ pub(crate) fn check_spacing(spacing: [f64; 3]) -> Result<()> {
         ensure_positive("spacing", s)?;
     }
     Ok(())
+}
+
+impl<T: Copy> Volume<T> {
+    /// A borrowed view of the volume (see [`VolumeView`]), what functions that only read a
+    /// volume take.
+    pub fn view(&self) -> VolumeView<'_, T> {
+        VolumeView::from_parts(self.dims, self.spacing, &self.data)
+    }
 }
 
 impl<T> Volume<T> {

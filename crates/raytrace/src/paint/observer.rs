@@ -12,7 +12,7 @@
 //! different seeds (floored at a just-noticeable difference); the score is
 //! `10 (1 - exp(-D / 3))`.
 
-use wscg_math::{Error, Result};
+use wscg_math::{Error, ImageView, Result};
 
 use super::render::XyzImage;
 
@@ -37,19 +37,14 @@ pub struct GlintStats {
     pub threshold: f64,
 }
 
-/// Sparkle statistics of the luminance image `y` (`width x height`, row-major) whose pixels
-/// are `mm_per_px` wide on the plate.
+/// Sparkle statistics of the single-channel luminance image `y` whose pixels are
+/// `mm_per_px` wide on the plate.
 ///
-/// Errors: a size that does not match, an empty image, a non-finite or negative luminance,
-/// a non-positive pixel size.
-pub fn glint_stats(y: &[f32], width: usize, height: usize, mm_per_px: f64) -> Result<GlintStats> {
-    wscg_math::error::ensure_nonempty("y", y.len())?;
-    if y.len() != width * height {
-        return Err(Error::ShapeMismatch(format!(
-            "luminance has {} values for a {width} x {height} image",
-            y.len()
-        )));
-    }
+/// Errors: more than one channel, a non-finite or negative luminance, a non-positive pixel
+/// size.
+pub fn glint_stats(y: ImageView<'_, f32>, mm_per_px: f64) -> Result<GlintStats> {
+    y.ensure_plane("y")?;
+    let (width, height, y) = (y.width(), y.height(), y.data());
     wscg_math::error::ensure_positive("mm_per_px", mm_per_px)?;
     if let Some(index) = y.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
         return Err(Error::NonFinite { name: "y", index });
@@ -187,7 +182,7 @@ pub const FEATURE_NAMES: [&str; 5] = [
 /// Errors: a stereo condition without a right image, images of different sizes, bad
 /// luminances ([`glint_stats`]).
 pub fn features(first: &XyzImage, right: Option<&XyzImage>) -> Result<Vec<f64>> {
-    let stats = |im: &XyzImage| glint_stats(&im.luminance(), im.width, im.height, im.mm_per_px);
+    let stats = |im: &XyzImage| glint_stats(im.luminance().view(), im.mm_per_px);
     let a = stats(first)?;
     let pack = |s: &GlintStats, lamp_y: f64| {
         [
@@ -329,13 +324,13 @@ mod tests {
         y[0] = 10.0;
         y[7] = 9.0; // diagonal neighbour of 0: same glint
         y[5] = 4.5;
-        let s = glint_stats(&y, 6, 4, 0.5).unwrap();
+        let s = glint_stats(ImageView::plane(4, 6, &y).unwrap(), 0.5).unwrap();
         assert_eq!(s.glints, 2);
         assert!((s.glint_density_per_mm2 - 2.0 / 6.0).abs() < 1e-12);
         assert!((s.mean_glint_area_mm2 - 1.5 * 0.25).abs() < 1e-12);
         assert_eq!(s.median_y, 1.0);
-        assert!(glint_stats(&y, 5, 4, 0.5).is_err());
-        assert!(glint_stats(&[f32::NAN], 1, 1, 0.5).is_err());
+        assert!(glint_stats(ImageView::new(4, 3, 2, &y).unwrap(), 0.5).is_err());
+        assert!(glint_stats(ImageView::plane(1, 1, &[f32::NAN]).unwrap(), 0.5).is_err());
     }
 
     #[test]

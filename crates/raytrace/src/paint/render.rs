@@ -253,9 +253,10 @@ pub struct XyzImage {
 }
 
 impl XyzImage {
-    /// The `Y` channel.
-    pub fn luminance(&self) -> Vec<f32> {
-        self.xyz.chunks_exact(3).map(|p| p[1]).collect()
+    /// The `Y` channel, a single-channel image.
+    pub fn luminance(&self) -> Image<f32> {
+        let y = self.xyz.chunks_exact(3).map(|p| p[1]).collect();
+        Image::new(self.height, self.width, 1, y).expect("xyz holds 3 values per pixel")
     }
 
     /// Mean `X, Y, Z` over the image.

@@ -10,7 +10,7 @@ use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
-use wscg_math::{Error, Result};
+use wscg_math::{Error, Result, Volume, VolumeView};
 
 use super::bricks::Bricks;
 use super::cells::CellRanges;
@@ -34,67 +34,46 @@ pub struct ScalarField {
 }
 
 impl ScalarField {
-    fn build(dims: [usize; 3], spacing: [f64; 3], len: usize) -> Result<([f64; 3], usize)> {
-        if dims.contains(&0) {
-            return Err(Error::invalid(
-                "dims",
-                format!("every dimension must be at least 1, got {dims:?}"),
-            ));
-        }
-        let n = dims
-            .iter()
-            .try_fold(1usize, |a, &d| a.checked_mul(d))
-            .ok_or_else(|| Error::invalid("dims", format!("{dims:?} overflows")))?;
-        if len != n {
-            return Err(Error::ShapeMismatch(format!(
-                "volume data has {len} values, dims {dims:?} need {n}"
-            )));
-        }
-        if !spacing.iter().all(|s| s.is_finite() && *s > 0.0) {
-            return Err(Error::invalid(
-                "spacing",
-                format!("must be finite and > 0, got {spacing:?}"),
-            ));
-        }
+    /// An 8-bit volume; values map to `v / 255`.
+    pub fn from_u8(volume: VolumeView<'_, u8>) -> Result<Self> {
+        let data = volume
+            .data()
+            .par_iter()
+            .map(|&v| v as f32 / 255.0)
+            .collect();
+        Ok(Self::normalised(volume.dims(), volume.spacing(), data))
+    }
+
+    /// A 16-bit volume; values map to `v / 65535`.
+    pub fn from_u16(volume: VolumeView<'_, u16>) -> Result<Self> {
+        let data = volume
+            .data()
+            .par_iter()
+            .map(|&v| v as f32 / 65535.0)
+            .collect();
+        Ok(Self::normalised(volume.dims(), volume.spacing(), data))
+    }
+
+    /// A field of values known to be in `[0, 1]`, dims and spacing checked by a volume.
+    fn normalised(dims: [usize; 3], spacing: [f64; 3], data: Vec<f32>) -> Self {
         let m = spacing.iter().cloned().fold(f64::INFINITY, f64::min);
-        Ok((spacing.map(|s| s / m), n))
-    }
-
-    /// An 8-bit volume; values map to `v / 255`. Errors: zero or mismatched dims, spacing
-    /// not finite and positive.
-    pub fn from_u8(dims: [usize; 3], spacing: [f64; 3], data: &[u8]) -> Result<Self> {
-        Self::checked(
-            dims,
-            spacing,
-            data.par_iter().map(|&v| v as f32 / 255.0).collect(),
-        )
-    }
-
-    /// A 16-bit volume; values map to `v / 65535`. Errors as [`ScalarField::from_u8`].
-    pub fn from_u16(dims: [usize; 3], spacing: [f64; 3], data: &[u16]) -> Result<Self> {
-        Self::checked(
-            dims,
-            spacing,
-            data.par_iter().map(|&v| v as f32 / 65535.0).collect(),
-        )
-    }
-
-    /// A field of values known to be in `[0, 1]`, after checking dims and spacing.
-    fn checked(dims: [usize; 3], spacing: [f64; 3], data: Vec<f32>) -> Result<Self> {
-        let (scale, _) = Self::build(dims, spacing, data.len())?;
-        Ok(Self {
-            vox: Voxels { dims, scale, data },
+        Self {
+            vox: Voxels {
+                dims,
+                scale: spacing.map(|s| s / m),
+                data,
+            },
             spacing,
             cells: OnceLock::new(),
             bricks: OnceLock::new(),
-        })
+        }
     }
 
-    /// A float volume already in `[0, 1]`. Errors as [`ScalarField::from_u8`], plus
-    /// non-finite values and values outside `[0, 1]` (use [`ScalarField::from_f32_range`]
-    /// to map another range).
-    pub fn from_f32(dims: [usize; 3], spacing: [f64; 3], data: Vec<f32>) -> Result<Self> {
-        Self::build(dims, spacing, data.len())?;
+    /// A float volume already in `[0, 1]`, taken without a copy. Errors: non-finite values
+    /// and values outside `[0, 1]` (use [`ScalarField::from_f32_range`] to map another range).
+    pub fn from_f32(volume: Volume<f32>) -> Result<Self> {
+        let (dims, spacing) = (volume.dims(), volume.spacing());
+        let data = volume.into_data();
         // One parallel pass for valid data (NaN fails the range test too); the error names the
         // first offending value.
         if !data.par_iter().all(|v| (0.0..=1.0).contains(v)) {
@@ -116,31 +95,21 @@ impl ScalarField {
                 ),
             ));
         }
-        Self::checked(dims, spacing, data)
+        Ok(Self::normalised(dims, spacing, data))
     }
 
     /// A float volume whose range `[lo, hi]` maps linearly onto `[0, 1]` (values outside
-    /// are clamped). Errors as [`ScalarField::from_f32`], plus `lo >= hi` or non-finite bounds.
-    pub fn from_f32_range(
-        dims: [usize; 3],
-        spacing: [f64; 3],
-        data: &[f32],
-        lo: f32,
-        hi: f32,
-    ) -> Result<Self> {
+    /// are clamped). Errors: non-finite values, `lo >= hi` or non-finite bounds.
+    pub fn from_f32_range(volume: VolumeView<'_, f32>, lo: f32, hi: f32) -> Result<Self> {
         if !(lo.is_finite() && hi.is_finite() && lo < hi) {
             return Err(Error::invalid(
                 "value_range",
                 format!("needs finite lo < hi, got ({lo}, {hi})"),
             ));
         }
-        Self::build(dims, spacing, data.len())?;
+        let data = volume.data();
         if !data.par_iter().all(|v| v.is_finite()) {
-            let i = data.iter().position(|v| !v.is_finite()).unwrap_or(0);
-            return Err(Error::NonFinite {
-                name: "volume",
-                index: i,
-            });
+            volume.ensure_finite("volume")?;
         }
         let (lo, k) = (lo as f64, 1.0 / (hi as f64 - lo as f64));
         // Finite values clamped: in [0, 1] by construction.
@@ -148,7 +117,7 @@ impl ScalarField {
             .par_iter()
             .map(|&v| ((v as f64 - lo) * k).clamp(0.0, 1.0) as f32)
             .collect();
-        Self::checked(dims, spacing, mapped)
+        Ok(Self::normalised(volume.dims(), volume.spacing(), mapped))
     }
 
     /// Value ranges of 8^3 cells (with the one-voxel apron of trilinear sampling).

@@ -228,15 +228,10 @@ impl StepKernel {
         }
     }
 
-    /// `dst = K * src` on a `w x h` buffer whose outside is 1; `tmp` is scratch of the same
-    /// size. Rows in parallel.
-    pub fn apply(&self, src: &[f32], tmp: &mut [f32], dst: &mut [f32], w: usize, h: usize) {
-        self.apply_rect(src, tmp, dst, w, h, [0, w, 0, h]);
-    }
-
-    /// [`StepKernel::apply`] computing only the pixels `[x0, x1) x [y0, y1)` of `dst`
+    /// `dst = K * src` on a `w x h` buffer whose outside is 1 (`tmp` is scratch of the same
+    /// size, rows in parallel), computing only the pixels `[x0, x1) x [y0, y1)` of `dst`
     /// (`out = [x0, x1, y0, y1]`); the rest of `dst` is left untouched.
-    pub fn apply_rect(
+    pub(crate) fn apply_rect(
         &self,
         src: &[f32],
         tmp: &mut [f32],

@@ -366,6 +366,7 @@ fn chebyshev_clearance(cells: [usize; 3], empty: &[bool]) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wscg_math::Volume;
 
     /// A field of `background` with a few voxels of 1 (each makes its cell and the cells
     /// sharing its apron visible), and a transfer function transparent on `[0.3, 0.7]` only,
@@ -379,7 +380,7 @@ mod tests {
             let v: [usize; 3] = std::array::from_fn(|a| (u[3 * k + a] * dims[a] as f64) as usize);
             data[v[0] + dims[0] * (v[1] + dims[1] * v[2])] = 1.0;
         }
-        let field = ScalarField::from_f32(dims, [1.0; 3], data).unwrap();
+        let field = ScalarField::from_f32(Volume::new(dims, [1.0; 3], data).unwrap()).unwrap();
         let a0 = if open { 0.0 } else { 0.4 };
         let tf = TransferFunction::from_points(
             &[

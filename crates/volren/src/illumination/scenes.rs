@@ -5,7 +5,7 @@
 //! CT-like density field, each with a transfer function.
 
 use wscg_math::filter::Border;
-use wscg_math::{Error, Result, Volume};
+use wscg_math::{Error, Result, Volume, VolumeView};
 
 use super::classify::TransferFunction;
 use super::field::ScalarField;
@@ -36,7 +36,7 @@ pub fn marschner_lobb(n: usize) -> Result<ScalarField> {
             }
         }
     }
-    ScalarField::from_f32([n; 3], [1.0; 3], data)
+    ScalarField::from_f32(Volume::new([n; 3], [1.0; 3], data)?)
 }
 
 /// A sharp transfer function for the Marschner-Lobb volume: a thin opaque shell around the
@@ -58,8 +58,7 @@ pub fn marschner_lobb_tf() -> TransferFunction {
 /// A volume of `dims` filled with `value` (a homogeneous slab, whose light and image have
 /// closed forms).
 pub fn constant(dims: [usize; 3], value: f32) -> Result<ScalarField> {
-    let n = dims.iter().product();
-    ScalarField::from_f32(dims, [1.0; 3], vec![value; n])
+    ScalarField::from_f32(Volume::filled(dims, [1.0; 3], value)?)
 }
 
 /// A half-plane occluder (a shadow edge whose blur measures the kernel): value 1 at the `z`
@@ -78,7 +77,7 @@ pub fn half_plane(
             }
         }
     }
-    ScalarField::from_f32(dims, [1.0; 3], data)
+    ScalarField::from_f32(Volume::new(dims, [1.0; 3], data)?)
 }
 
 /// Blobs in empty space: each `(centre, radius)` (voxel units) a cone of value
@@ -105,7 +104,7 @@ pub fn blobs(
             }
         }
     }
-    ScalarField::from_f32(dims, spacing, data)
+    ScalarField::from_f32(Volume::new(dims, spacing, data)?)
 }
 
 /// A transfer function for [`blobs`]: transparent below 0.2 (the empty space around the
@@ -136,18 +135,14 @@ pub fn label_density(k: u8, max_label: u8) -> f32 {
 /// A CT-like density field from a tissue label volume: labels mapped by [`label_density`],
 /// then a Gaussian blur of `sigma` voxels (sharp boundaries stay sharp for `sigma ~ 1`).
 /// Errors: as [`ScalarField::from_f32`], negative `sigma`.
-pub fn labels_to_field(
-    labels: &[u8],
-    dims: [usize; 3],
-    spacing: [f64; 3],
-    sigma: f64,
-) -> Result<ScalarField> {
-    let max_label = labels.iter().copied().max().unwrap_or(0);
+pub fn labels_to_field(labels: VolumeView<'_, u8>, sigma: f64) -> Result<ScalarField> {
+    let max_label = labels.data().iter().copied().max().unwrap_or(0);
     let dens: Vec<f32> = labels
+        .data()
         .iter()
         .map(|&k| label_density(k, max_label))
         .collect();
-    let vol = Volume::new(dims, spacing, dens)?;
+    let vol = Volume::new(labels.dims(), labels.spacing(), dens)?;
     let vol = if sigma > 0.0 {
         vol.gaussian_filter([sigma; 3], 3.0, Border::Nearest)?
     } else if sigma == 0.0 {
@@ -158,12 +153,7 @@ pub fn labels_to_field(
             format!("must be >= 0, got {sigma}"),
         ));
     };
-    let data = vol
-        .into_data()
-        .into_iter()
-        .map(|v| v.clamp(0.0, 1.0))
-        .collect();
-    ScalarField::from_f32(dims, spacing, data)
+    ScalarField::from_f32(vol.map(|v| v.clamp(0.0, 1.0)))
 }
 
 /// A sharp transfer function for tissue fields made by [`labels_to_field`]: faint skin, red

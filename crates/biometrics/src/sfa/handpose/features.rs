@@ -43,12 +43,11 @@
 //!   the palm centre.
 
 use rayon::prelude::*;
-use wscg_math::error::ensure_finite;
-use wscg_math::{Error, Result};
+use wscg_math::{Error, Image, ImageStackView, ImageView, Result};
 
 use super::morphology::{
-    bounding_box, check_shape, convex_hull, hull_lattice_count, largest_component,
-    max_defect_depth, squared_distance_transform, trace_contour,
+    bounding_box, convex_hull, hull_lattice_count, largest_component, max_defect_depth,
+    squared_distance_transform, trace_contour,
 };
 
 /// Number of physical features with depth (without depth: one fewer).
@@ -67,45 +66,48 @@ pub const FEATURE_NAMES: [&str; N_FEATURES] = [
     "azimuth_deg",
 ];
 
-/// The physical features of one `h x w` mask (row-major, any non-zero byte is foreground; see
-/// the module docs for the definitions and the order): 9 values with a depth map (`h x w`, any
-/// unit, usually mm), 8 without.
+/// The physical features of one single-channel mask (any non-zero byte is foreground; see
+/// the module docs for the definitions and the order): 9 values with a depth map of the same
+/// size (any unit, usually mm), 8 without.
 ///
-/// Errors: a size of zero, `mask` or `depth` not `h x w`, non-finite depth, a mask without
-/// foreground.
+/// Errors: `mask` or `depth` with more than one channel, `depth` of another size, non-finite
+/// depth, a mask without foreground.
 pub fn physical_features(
-    mask: &[u8],
-    depth: Option<&[f32]>,
-    h: usize,
-    w: usize,
+    mask: ImageView<'_, u8>,
+    depth: Option<ImageView<'_, f32>>,
 ) -> Result<Vec<f64>> {
-    check_shape("mask", mask.len(), h, w)?;
+    mask.ensure_plane("mask")?;
     if let Some(d) = depth {
-        check_shape("depth", d.len(), h, w)?;
-        ensure_finite("depth", d)?;
+        mask.ensure_same_shape(&d, "depth")?;
+        d.ensure_finite("depth")?;
     }
-    features_unchecked(mask, depth, h, w)
+    features_unchecked(mask, depth)
 }
 
-fn features_unchecked(mask: &[u8], depth: Option<&[f32]>, h: usize, w: usize) -> Result<Vec<f64>> {
-    let (full, area) = largest_component(mask, h, w)?;
+fn features_unchecked(
+    mask: ImageView<'_, u8>,
+    depth: Option<ImageView<'_, f32>>,
+) -> Result<Vec<f64>> {
+    let w = mask.width();
+    let (full, area) = largest_component(mask)?;
     if area == 0 {
         return Err(Error::Empty("mask"));
     }
     // Work in the component's bounding box: the area outside the image is background for the
     // distance transform and the contour, so the crop changes nothing but the offsets.
-    let (ox, x1, oy, y1) = bounding_box(&full, h, w, 0, |&m| m != 0).ok_or(Error::Empty("mask"))?;
+    let (ox, x1, oy, y1) = bounding_box(full.view(), 0, |&m| m != 0).ok_or(Error::Empty("mask"))?;
     let (cw, ch) = (x1 + 1 - ox, y1 + 1 - oy);
     let mut comp = Vec::with_capacity(cw * ch);
     for y in oy..oy + ch {
-        comp.extend_from_slice(&full[y * w + ox..y * w + ox + cw]);
+        comp.extend_from_slice(&full.data()[y * w + ox..y * w + ox + cw]);
     }
-    let (w_full, h, w) = (w, ch, cw);
+    let comp = Image::new(ch, cw, 1, comp)?;
+    let (w_full, w) = (w, cw);
     // Palm centre: first maximum of the distance transform in row-major order.
-    let dt = squared_distance_transform(&comp, h, w)?;
+    let dt = squared_distance_transform(comp.view())?;
     let (mut centre, mut best) = (0usize, -1.0f64);
-    for (i, &d) in dt.iter().enumerate() {
-        if comp[i] != 0 && d > best {
+    for (i, &d) in dt.data().iter().enumerate() {
+        if comp.data()[i] != 0 && d > best {
             best = d;
             centre = i;
         }
@@ -113,7 +115,7 @@ fn features_unchecked(mask: &[u8], depth: Option<&[f32]>, h: usize, w: usize) ->
     let (cx, cy) = ((centre % w) as i64, (centre / w) as i64);
     let centre_full = (oy + centre / w) * w_full + ox + centre % w;
     // Fingertip: contour point farthest from the centre.
-    let contour = trace_contour(&comp, h, w)?;
+    let contour = trace_contour(comp.view())?;
     let mut tip = contour[0];
     let mut far = -1i64;
     for &p in &contour {
@@ -140,6 +142,7 @@ fn features_unchecked(mask: &[u8], depth: Option<&[f32]>, h: usize, w: usize) ->
         polar,
     ];
     if let Some(d) = depth {
+        let d = d.data();
         let dist = (dx * dx + dy * dy).sqrt();
         let tip_full = (oy + tip.1 as usize) * w_full + ox + tip.0 as usize;
         let rise = f64::from(d[centre_full]) - f64::from(d[tip_full]);
@@ -153,49 +156,25 @@ fn features_unchecked(mask: &[u8], depth: Option<&[f32]>, h: usize, w: usize) ->
     Ok(out)
 }
 
-/// [`physical_features`] of `n` masks stored one after the other (`n x h x w`, with depth
-/// maps likewise), frames in parallel: `n` rows of 9 values (8 without depth), row-major.
+/// [`physical_features`] of every mask of a stack (with depth maps likewise), frames in
+/// parallel: one row of 9 values (8 without depth) per frame, row-major.
 ///
-/// Errors: as [`physical_features`], for the first failing frame; `n = 0` gives
-/// [`Error::Empty`].
+/// Errors: as [`physical_features`], for the first failing frame; `depth` not of the shape
+/// of `masks`.
 pub fn physical_features_batch(
-    masks: &[u8],
-    depth: Option<&[f32]>,
-    n: usize,
-    h: usize,
-    w: usize,
+    masks: ImageStackView<'_, u8>,
+    depth: Option<ImageStackView<'_, f32>>,
 ) -> Result<Vec<f64>> {
-    if n == 0 {
-        return Err(Error::Empty("masks"));
-    }
-    let hw = h
-        .checked_mul(w)
-        .filter(|&p| p > 0)
-        .ok_or_else(|| Error::invalid("h, w", format!("bad image size {h} x {w}")))?;
-    let total = hw
-        .checked_mul(n)
-        .ok_or_else(|| Error::invalid("n", "n x h x w overflows"))?;
-    if masks.len() != total {
-        return Err(Error::ShapeMismatch(format!(
-            "`masks` has {} elements, expected {n} x {h} x {w}",
-            masks.len()
-        )));
-    }
     if let Some(d) = depth {
-        if d.len() != total {
-            return Err(Error::ShapeMismatch(format!(
-                "`depth` has {} elements, expected {n} x {h} x {w}",
-                d.len()
-            )));
-        }
-        ensure_finite("depth", d)?;
+        masks.ensure_same_shape(&d, "depth")?;
+        d.ensure_finite("depth")?;
     }
-    let rows: Vec<Vec<f64>> = (0..n)
+    let rows: Vec<Vec<f64>> = (0..masks.frames())
         .into_par_iter()
         .map(|i| {
-            let m = &masks[i * hw..(i + 1) * hw];
-            let d = depth.map(|d| &d[i * hw..(i + 1) * hw]);
-            features_unchecked(m, d, h, w).map_err(|e| match e {
+            let m = masks.frame(i).expect("frame index in range");
+            let d = depth.and_then(|d| d.frame(i));
+            features_unchecked(m, d).map_err(|e| match e {
                 Error::Empty(_) => Error::invalid("masks", format!("frame {i} is empty")),
                 e => e,
             })
@@ -207,6 +186,24 @@ pub fn physical_features_batch(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`physical_features`] of row-major buffers.
+    fn features(mask: &[u8], depth: Option<&[f32]>, h: usize, w: usize) -> Result<Vec<f64>> {
+        let depth = depth.map(|d| ImageView::plane(h, w, d)).transpose()?;
+        physical_features(ImageView::plane(h, w, mask)?, depth)
+    }
+
+    /// [`physical_features_batch`] of row-major buffers.
+    fn batch(
+        masks: &[u8],
+        depth: Option<&[f32]>,
+        n: usize,
+        h: usize,
+        w: usize,
+    ) -> Result<Vec<f64>> {
+        let depth = depth.map(|d| ImageStackView::new(n, h, w, d)).transpose()?;
+        physical_features_batch(ImageStackView::new(n, h, w, masks)?, depth)
+    }
 
     /// Pixel centres `(x, y)` inside the union of discs and capsules.
     enum Shape {
@@ -239,7 +236,7 @@ mod tests {
     fn disc_is_convex() {
         let (h, w) = (60, 70);
         let m = raster(&[Shape::Disc((35.0, 30.0), 20.0)], h, w);
-        let f = physical_features(&m, None, h, w).unwrap();
+        let f = features(&m, None, h, w).unwrap();
         assert_eq!(f.len(), 8);
         eprintln!("disc r=20: {f:?}");
         assert!(f[5] >= 0.98, "convex ratio {}", f[5]);
@@ -274,7 +271,7 @@ mod tests {
                 depth[y * w + x] = (300.0 - 10.0 * along / 50.0) as f32;
             }
         }
-        let f = physical_features(&m, Some(&depth), h, w).unwrap();
+        let f = features(&m, Some(&depth), h, w).unwrap();
         eprintln!("disc + finger: {f:?}, analytic tip {tip:?}");
         assert_eq!(f.len(), 9);
         let err = ((f[0] - tip.0).powi(2) + (f[1] - tip.1).powi(2)).sqrt();
@@ -287,7 +284,7 @@ mod tests {
         assert!((f[8] - expect).abs() < 1e-4, "azimuth {} vs {expect}", f[8]);
         assert!((f[8] - (10.0f64 / 50.0).atan().to_degrees()).abs() < 1.0);
         // Without depth: the same first 8 values.
-        assert_eq!(physical_features(&m, None, h, w).unwrap(), f[..8].to_vec());
+        assert_eq!(features(&m, None, h, w).unwrap(), f[..8].to_vec());
     }
 
     #[test]
@@ -310,7 +307,7 @@ mod tests {
             h,
             w,
         );
-        let f = physical_features(&m, None, h, w).unwrap();
+        let f = features(&m, None, h, w).unwrap();
         eprintln!("V gap: analytic {expect:.3}, measured {:.3}", f[6]);
         assert!((f[6] - expect).abs() <= 1.5, "{} vs {expect}", f[6]);
         assert!((expect - 12.0).abs() < 0.05);
@@ -320,21 +317,21 @@ mod tests {
     #[test]
     fn bad_input_is_rejected() {
         assert!(matches!(
-            physical_features(&[0; 12], None, 3, 4),
+            features(&[0; 12], None, 3, 4),
             Err(Error::Empty(_))
         ));
-        assert!(physical_features(&[1; 12], None, 4, 4).is_err());
-        assert!(physical_features(&[1; 12], None, 0, 4).is_err());
+        assert!(features(&[1; 12], None, 4, 4).is_err());
+        assert!(features(&[1; 12], None, 0, 4).is_err());
         let mut d = vec![1f32; 12];
-        assert!(physical_features(&[1; 12], Some(&d), 3, 4).is_ok());
+        assert!(features(&[1; 12], Some(&d), 3, 4).is_ok());
         d[5] = f32::NAN;
-        assert!(physical_features(&[1; 12], Some(&d), 3, 4).is_err());
-        assert!(physical_features(&[1; 12], Some(&d[..11]), 3, 4).is_err());
-        assert!(physical_features_batch(&[], None, 0, 3, 4).is_err());
-        assert!(physical_features_batch(&[1; 12], None, 2, 3, 4).is_err());
+        assert!(features(&[1; 12], Some(&d), 3, 4).is_err());
+        assert!(features(&[1; 12], Some(&d[..11]), 3, 4).is_err());
+        assert!(batch(&[], None, 0, 3, 4).is_err());
+        assert!(batch(&[1; 12], None, 2, 3, 4).is_err());
         let mut two = vec![1u8; 24];
         two[12..].fill(0);
-        assert!(physical_features_batch(&two, None, 2, 3, 4).is_err());
+        assert!(batch(&two, None, 2, 3, 4).is_err());
     }
 
     #[test]
@@ -351,12 +348,12 @@ mod tests {
         );
         let masks = [a.clone(), b.clone()].concat();
         let depth: Vec<f32> = (0..2 * h * w).map(|i| 300.0 - (i % 7) as f32).collect();
-        let batch = physical_features_batch(&masks, Some(&depth), 2, h, w).unwrap();
-        assert_eq!(batch.len(), 18);
-        let fa = physical_features(&a, Some(&depth[..h * w]), h, w).unwrap();
-        let fb = physical_features(&b, Some(&depth[h * w..]), h, w).unwrap();
-        assert_eq!(batch, [fa, fb].concat());
-        let no_depth = physical_features_batch(&masks, None, 2, h, w).unwrap();
+        let rows = batch(&masks, Some(&depth), 2, h, w).unwrap();
+        assert_eq!(rows.len(), 18);
+        let fa = features(&a, Some(&depth[..h * w]), h, w).unwrap();
+        let fb = features(&b, Some(&depth[h * w..]), h, w).unwrap();
+        assert_eq!(rows, [fa, fb].concat());
+        let no_depth = batch(&masks, None, 2, h, w).unwrap();
         assert_eq!(no_depth.len(), 16);
     }
 }

@@ -105,9 +105,9 @@ use rand::Rng;
 use rand_distr::{Distribution, Normal};
 use rayon::prelude::*;
 use wscg_math::rng::{self, Rng as SeededRng};
-use wscg_math::{Error, Result};
+use wscg_math::{Error, Image, ImageStackView, ImageView, Result};
 
-use super::morphology::{bounding_box, check_shape, fill_holes, largest_component};
+use super::morphology::{bounding_box, fill_holes, largest_component};
 use crate::sfa::scatter::group_labels;
 
 /// Names of the five poses, indexed by label.
@@ -302,16 +302,28 @@ impl SynthData {
         self.height * self.width
     }
 
-    /// Mask of frame `i` (`None` past the end).
-    pub fn mask(&self, i: usize) -> Option<&[u8]> {
-        let p = self.frame_len();
-        self.masks.get(i * p..(i + 1) * p)
+    /// Mask of frame `i` (`None` past the end or for an inconsistent data set).
+    pub fn mask(&self, i: usize) -> Option<ImageView<'_, u8>> {
+        self.mask_stack().ok()?.frame(i)
     }
 
-    /// Depth map of frame `i` (`None` past the end).
-    pub fn depth_map(&self, i: usize) -> Option<&[f32]> {
-        let p = self.frame_len();
-        self.depth.get(i * p..(i + 1) * p)
+    /// Depth map of frame `i` (`None` past the end or for an inconsistent data set).
+    pub fn depth_map(&self, i: usize) -> Option<ImageView<'_, f32>> {
+        self.depth_stack().ok()?.frame(i)
+    }
+
+    /// The masks as a stack of images.
+    ///
+    /// Errors: `masks` not `len() x height x width`, no frame.
+    pub fn mask_stack(&self) -> Result<ImageStackView<'_, u8>> {
+        ImageStackView::new(self.len(), self.height, self.width, &self.masks)
+    }
+
+    /// The depth maps as a stack of images.
+    ///
+    /// Errors: `depth` not `len() x height x width`, no frame.
+    pub fn depth_stack(&self) -> Result<ImageStackView<'_, f32>> {
+        ImageStackView::new(self.len(), self.height, self.width, &self.depth)
     }
 
     fn check(&self) -> Result<()> {
@@ -716,8 +728,10 @@ fn render_frame(
             s.sub.push(u8::from(amplitude > threshold));
         }
     }
-    let comp = largest_component(&s.sub, bh, bw)
-        .and_then(|(c, _)| fill_holes(&c, bh, bw))
+    let comp = ImageView::plane(bh, bw, &s.sub)
+        .and_then(largest_component)
+        .and_then(|(c, _)| fill_holes(c.view()))
+        .map(Image::into_data)
         .unwrap_or_else(|_| vec![0; bh * bw]);
     mask.fill(0);
     depth.fill(0.0);
@@ -740,7 +754,7 @@ fn render_frame(
 
 /// Inclusive box `(x0, x1, y0, y1)` of the hand (finite depth) in `z`, grown by `margin`.
 fn hand_box(z: &[f32], h: usize, w: usize, margin: usize) -> Option<(usize, usize, usize, usize)> {
-    bounding_box(z, h, w, margin, |v| v.is_finite())
+    bounding_box(ImageView::plane(h, w, z).ok()?, margin, |v| v.is_finite())
 }
 
 /// Generates the synthetic hand-pose data set (see the module docs), frames in parallel.
@@ -810,9 +824,10 @@ pub fn generate_with(cfg: &HandposeSynthParams, jitter: &Jitter) -> Result<Synth
 /// centroid)`, 0 when that falls outside the image. The output is 0/1. Multiples of 90 degrees
 /// use exact sines and cosines. An empty mask comes back unchanged (as 0/1).
 ///
-/// Errors: `mask.len() != h * w`, a zero size, non-finite `degrees`.
-pub fn rotate_mask(mask: &[u8], h: usize, w: usize, degrees: f64) -> Result<Vec<u8>> {
-    check_shape("mask", mask.len(), h, w)?;
+/// Errors: a mask with more than one channel, non-finite `degrees`.
+pub fn rotate_mask(mask: ImageView<'_, u8>, degrees: f64) -> Result<Image<u8>> {
+    mask.ensure_plane("mask")?;
+    let (h, w, mask) = (mask.height(), mask.width(), mask.data());
     if !degrees.is_finite() {
         return Err(Error::invalid(
             "degrees",
@@ -828,7 +843,7 @@ pub fn rotate_mask(mask: &[u8], h: usize, w: usize, degrees: f64) -> Result<Vec<
         }
     }
     if count == 0 {
-        return Ok(vec![0; h * w]);
+        return Image::filled(h, w, 1, 0);
     }
     let (cx, cy) = (sx / count as f64, sy / count as f64);
     let quarter = degrees / 90.0;
@@ -856,17 +871,18 @@ pub fn rotate_mask(mask: &[u8], h: usize, w: usize, degrees: f64) -> Result<Vec<
             }
         }
     }
-    Ok(out)
+    Image::new(h, w, 1, out)
 }
 
 /// Area-average downscaling of a binary `h x w` mask by an integer `factor`: each output value
-/// is the fraction of foreground pixels in its `factor x factor` block (in `[0, 1]`), row-major,
-/// `ceil(h / factor) x ceil(w / factor)` values; blocks cut by the image edge average the
+/// is the fraction of foreground pixels in its `factor x factor` block (in `[0, 1]`), an
+/// image of `ceil(h / factor) x ceil(w / factor)`; blocks cut by the image edge average the
 /// pixels they hold. 120 x 165 by 3 gives 40 x 55.
 ///
-/// Errors: `mask.len() != h * w`, a zero size, `factor == 0`.
-pub fn downscale(mask: &[u8], h: usize, w: usize, factor: usize) -> Result<Vec<f64>> {
-    check_shape("mask", mask.len(), h, w)?;
+/// Errors: a mask with more than one channel, `factor == 0`.
+pub fn downscale(mask: ImageView<'_, u8>, factor: usize) -> Result<Image<f64>> {
+    mask.ensure_plane("mask")?;
+    let (h, w, mask) = (mask.height(), mask.width(), mask.data());
     if factor == 0 {
         return Err(Error::invalid("factor", "must be at least 1"));
     }
@@ -881,11 +897,12 @@ pub fn downscale(mask: &[u8], h: usize, w: usize, factor: usize) -> Result<Vec<f
             cnt[o] += 1;
         }
     }
-    Ok(sum
+    let mean = sum
         .iter()
         .zip(&cnt)
         .map(|(&s, &c)| f64::from(s) / f64::from(c))
-        .collect())
+        .collect();
+    Image::new(oh, ow, 1, mean)
 }
 
 /// Train / test rows of the paper's protocol (see [`split_protocol`]).
@@ -931,43 +948,33 @@ pub fn split_protocol(
 ) -> Result<Split> {
     data.check()?;
     split_masks(
-        &data.masks,
+        data.mask_stack()?,
         &data.labels,
-        data.height,
-        data.width,
         test_per_class,
         augment_per_class,
         seed,
     )
 }
 
-/// [`split_protocol`] on any stack of `n` binary `h x w` masks (`masks` holds `n h w` bytes,
-/// non-zero = foreground) with one label each: the user's own silhouettes.
+/// [`split_protocol`] on any stack of binary masks (non-zero = foreground) with one label
+/// each: the user's own silhouettes.
 ///
-/// Errors: as [`split_protocol`]; `masks` not `labels.len() x h x w`; empty input.
+/// Errors: as [`split_protocol`]; not one label per mask.
 pub fn split_masks(
-    masks: &[u8],
+    masks: ImageStackView<'_, u8>,
     labels: &[u32],
-    h: usize,
-    w: usize,
     test_per_class: usize,
     augment_per_class: usize,
     seed: u64,
 ) -> Result<Split> {
-    if labels.is_empty() {
-        return Err(Error::Empty("labels"));
-    }
-    let hw = h
-        .checked_mul(w)
-        .filter(|&p| p > 0)
-        .ok_or_else(|| Error::invalid("h, w", format!("bad frame size {h} x {w}")))?;
-    if labels.len().checked_mul(hw) != Some(masks.len()) {
+    if labels.len() != masks.frames() {
         return Err(Error::ShapeMismatch(format!(
-            "{} mask values for {} labels of {h} x {w} frames",
-            masks.len(),
-            labels.len()
+            "{} labels for {} masks",
+            labels.len(),
+            masks.frames()
         )));
     }
+    let (h, w) = (masks.height(), masks.width());
     let (classes, frames) = group_labels(labels);
     let mut r = rng::seeded(seed);
     let mut train = Vec::new();
@@ -1010,9 +1017,9 @@ pub fn split_masks(
         .map(|&f| (f, 0.0))
         .chain(augment.iter().copied())
         .collect();
-    let train_x = frame_rows(masks, h, w, &jobs)?;
+    let train_x = frame_rows(masks, &jobs)?;
     let test_jobs: Vec<(usize, f64)> = test.iter().map(|&f| (f, 0.0)).collect();
-    let test_x = frame_rows(masks, h, w, &test_jobs)?;
+    let test_x = frame_rows(masks, &test_jobs)?;
     Ok(Split {
         train_x,
         train_y: jobs.iter().map(|&(f, _)| labels[f]).collect(),
@@ -1036,25 +1043,25 @@ fn signed_angle(r: &mut SeededRng, lo: f64, hi: f64) -> f64 {
     }
 }
 
-/// One row per `(frame, degrees)` job: the `h x w` mask of `frame` in the stack `masks`,
-/// rotated about its centroid by `degrees` (not at all for 0) and downscaled by
-/// [`DOWNSCALE`]; jobs in parallel.
-fn frame_rows(masks: &[u8], h: usize, w: usize, jobs: &[(usize, f64)]) -> Result<Vec<f64>> {
-    let hw = h * w;
+/// One row per `(frame, degrees)` job: the mask of `frame` in the stack `masks`, rotated
+/// about its centroid by `degrees` (not at all for 0) and downscaled by [`DOWNSCALE`]; jobs in
+/// parallel.
+fn frame_rows(masks: ImageStackView<'_, u8>, jobs: &[(usize, f64)]) -> Result<Vec<f64>> {
+    let (h, w) = (masks.height(), masks.width());
     let dim = h.div_ceil(DOWNSCALE) * w.div_ceil(DOWNSCALE);
     let mut x = vec![0.0; jobs.len() * dim];
     x.par_chunks_mut(dim)
         .zip(jobs)
         .try_for_each(|(out, &(f, angle))| -> Result<()> {
             let m = masks
-                .get(f * hw..(f + 1) * hw)
+                .frame(f)
                 .ok_or_else(|| Error::invalid("frames", format!("no frame {f} in the masks")))?;
             let d = if angle == 0.0 {
-                downscale(m, h, w, DOWNSCALE)?
+                downscale(m, DOWNSCALE)?
             } else {
-                downscale(&rotate_mask(m, h, w, angle)?, h, w, DOWNSCALE)?
+                downscale(rotate_mask(m, angle)?.view(), DOWNSCALE)?
             };
-            out.copy_from_slice(&d);
+            out.copy_from_slice(d.data());
             Ok(())
         })?;
     Ok(x)
@@ -1067,11 +1074,9 @@ fn frame_rows(masks: &[u8], h: usize, w: usize, jobs: &[(usize, f64)]) -> Result
 /// rows equal the unrotated ones.
 /// Deterministic given `seed`.
 ///
-/// Errors: angles not finite or `lo > hi`, a zero size, a frame index past the stack.
+/// Errors: angles not finite or `lo > hi`, a frame index past the stack.
 pub fn rotated_rows(
-    masks: &[u8],
-    h: usize,
-    w: usize,
+    masks: ImageStackView<'_, u8>,
     frames: &[usize],
     lo: f64,
     hi: f64,
@@ -1083,20 +1088,27 @@ pub fn rotated_rows(
             format!("need finite 0 <= lo <= hi, got {lo}, {hi}"),
         ));
     }
-    if h == 0 || w == 0 {
-        return Err(Error::invalid("h, w", format!("bad frame size {h} x {w}")));
-    }
     let mut r = rng::seeded(seed);
     let jobs: Vec<(usize, f64)> = frames
         .iter()
         .map(|&f| (f, signed_angle(&mut r, lo, hi)))
         .collect();
-    frame_rows(masks, h, w, &jobs)
+    frame_rows(masks, &jobs)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`rotate_mask`] of a row-major buffer.
+    fn rot(mask: &[u8], h: usize, w: usize, degrees: f64) -> Result<Vec<u8>> {
+        Ok(rotate_mask(ImageView::plane(h, w, mask)?, degrees)?.into_data())
+    }
+
+    /// [`downscale`] of a row-major buffer.
+    fn down(mask: &[u8], h: usize, w: usize, factor: usize) -> Result<Vec<f64>> {
+        Ok(downscale(ImageView::plane(h, w, mask)?, factor)?.into_data())
+    }
 
     fn small(seed: u64) -> HandposeSynthParams {
         HandposeSynthParams {
@@ -1138,8 +1150,8 @@ mod tests {
         let mut width = [0.0f64; 5];
         let mut rise = [0.0f64; 5];
         for i in 0..d.len() {
-            let m = d.mask(i).unwrap();
-            let z = d.depth_map(i).unwrap();
+            let m = d.mask(i).unwrap().data();
+            let z = d.depth_map(i).unwrap().data();
             let a = m.iter().filter(|&&v| v == 1).count();
             assert!(a > 1000, "frame {i} area {a}");
             // Depth is in the camera's range on the hand and 0 elsewhere.
@@ -1184,11 +1196,8 @@ mod tests {
         })
         .unwrap();
         let f = crate::sfa::handpose::physical_features_batch(
-            &d.masks,
-            Some(&d.depth),
-            d.len(),
-            d.height,
-            d.width,
+            d.mask_stack().unwrap(),
+            Some(d.depth_stack().unwrap()),
         )
         .unwrap();
         assert_eq!(f.len(), 20 * 9);
@@ -1265,7 +1274,7 @@ mod tests {
             ..Jitter::default()
         };
         let d = generate_with(&cfg, &wide).unwrap();
-        assert!((0..d.len()).all(|i| d.mask(i).unwrap().contains(&1)));
+        assert!((0..d.len()).all(|i| d.mask(i).unwrap().data().contains(&1)));
     }
 
     #[test]
@@ -1277,9 +1286,9 @@ mod tests {
             plus[10 * w + 6 + k] = 1; // row 10, columns 6..=18
             plus[(4 + k) * w + 12] = 1; // column 12, rows 4..=16
         }
-        assert_eq!(rotate_mask(&plus, h, w, 0.0).unwrap(), plus);
-        assert_eq!(rotate_mask(&plus, h, w, 90.0).unwrap(), plus);
-        assert_eq!(rotate_mask(&plus, h, w, -270.0).unwrap(), plus);
+        assert_eq!(rot(&plus, h, w, 0.0).unwrap(), plus);
+        assert_eq!(rot(&plus, h, w, 90.0).unwrap(), plus);
+        assert_eq!(rot(&plus, h, w, -270.0).unwrap(), plus);
         // A horizontal bar through (12, 10) becomes a vertical one.
         let mut bar = vec![0u8; h * w];
         let mut vbar = vec![0u8; h * w];
@@ -1287,8 +1296,8 @@ mod tests {
             bar[10 * w + 9 + k] = 1;
             vbar[(7 + k) * w + 12] = 1;
         }
-        assert_eq!(rotate_mask(&bar, h, w, 90.0).unwrap(), vbar);
-        assert_eq!(rotate_mask(&vbar, h, w, -90.0).unwrap(), bar);
+        assert_eq!(rot(&bar, h, w, 90.0).unwrap(), vbar);
+        assert_eq!(rot(&vbar, h, w, -90.0).unwrap(), bar);
         // An L: foot to the right at the bottom; +90 (counter-clockwise on screen) turns the
         // foot upwards.
         let mut l = vec![0u8; h * w];
@@ -1297,7 +1306,7 @@ mod tests {
         }
         l[12 * w + 11] = 1;
         l[12 * w + 12] = 1;
-        let rl = rotate_mask(&l, h, w, 90.0).unwrap();
+        let rl = rot(&l, h, w, 90.0).unwrap();
         assert_eq!(rl.iter().filter(|&&v| v == 1).count(), 7);
         let pts: Vec<(usize, usize)> = (0..h * w)
             .filter(|&i| rl[i] == 1)
@@ -1311,15 +1320,15 @@ mod tests {
         let right = *xs.iter().max().unwrap();
         assert_eq!(xs.iter().filter(|&&x| x == right).count(), 3);
         // Arbitrary angles keep the mask binary; a 360 turn is the identity.
-        let r = rotate_mask(&l, h, w, 13.7).unwrap();
+        let r = rot(&l, h, w, 13.7).unwrap();
         assert!(r.iter().all(|&v| v <= 1));
-        assert_eq!(rotate_mask(&l, h, w, 360.0).unwrap(), l);
+        assert_eq!(rot(&l, h, w, 360.0).unwrap(), l);
         // Any non-zero byte counts as foreground.
         let l7: Vec<u8> = l.iter().map(|&v| 7 * v).collect();
-        assert_eq!(rotate_mask(&l7, h, w, 0.0).unwrap(), l);
-        assert!(rotate_mask(&l, h, w, f64::NAN).is_err());
-        assert!(rotate_mask(&l, h, w + 1, 10.0).is_err());
-        assert_eq!(rotate_mask(&[0; 6], 2, 3, 30.0).unwrap(), vec![0; 6]);
+        assert_eq!(rot(&l7, h, w, 0.0).unwrap(), l);
+        assert!(rot(&l, h, w, f64::NAN).is_err());
+        assert!(rot(&l, h, w + 1, 10.0).is_err());
+        assert_eq!(rot(&[0; 6], 2, 3, 30.0).unwrap(), vec![0; 6]);
     }
 
     #[test]
@@ -1331,15 +1340,15 @@ mod tests {
             0, 0, 0, 0, 1,
             1, 1, 1, 1, 0,
         ];
-        let d = downscale(&m, 4, 5, 3).unwrap();
+        let d = down(&m, 4, 5, 3).unwrap();
         // Blocks: rows 0-2 x cols 0-2, rows 0-2 x cols 3-4, row 3 x cols 0-2, row 3 x 3-4.
         assert_eq!(d, vec![3.0 / 9.0, 4.0 / 6.0, 1.0, 0.5]);
-        let d = downscale(&m, 4, 5, 1).unwrap();
+        let d = down(&m, 4, 5, 1).unwrap();
         assert_eq!(d, m.iter().map(|&v| f64::from(v)).collect::<Vec<_>>());
-        assert!(downscale(&m, 4, 5, 0).is_err());
-        assert!(downscale(&m, 5, 5, 2).is_err());
+        assert!(down(&m, 4, 5, 0).is_err());
+        assert!(down(&m, 5, 5, 2).is_err());
         let full = vec![1u8; 165 * 120];
-        let d = downscale(&full, 165, 120, DOWNSCALE).unwrap();
+        let d = down(&full, 165, 120, DOWNSCALE).unwrap();
         assert_eq!(d.len(), 2200);
         assert!(d.iter().all(|&v| v == 1.0));
     }
@@ -1435,32 +1444,22 @@ mod tests {
         let f = s.train_index[0];
         assert_eq!(
             &s.train_x[..2200],
-            downscale(d.mask(f).unwrap(), 165, 120, 3)
-                .unwrap()
-                .as_slice()
+            downscale(d.mask(f).unwrap(), 3).unwrap().data()
         );
         let test: std::collections::HashSet<usize> = s.test_index.iter().copied().collect();
         assert!(s.train_index.iter().all(|f| !test.contains(f)));
         // A rotated copy is the rotated, downscaled source frame.
         let i = s.train_rotation.iter().position(|&a| a != 0.0).unwrap();
         let (f, a) = (s.train_index[i], s.train_rotation[i]);
-        let want = downscale(
-            &rotate_mask(d.mask(f).unwrap(), 165, 120, a).unwrap(),
-            165,
-            120,
-            3,
-        );
-        assert_eq!(
-            &s.train_x[i * 2200..(i + 1) * 2200],
-            want.unwrap().as_slice()
-        );
+        let want = downscale(rotate_mask(d.mask(f).unwrap(), a).unwrap().view(), 3).unwrap();
+        assert_eq!(&s.train_x[i * 2200..(i + 1) * 2200], want.data());
         // Rotated test rows: none at angle 0; otherwise the test frames rotated.
-        let same = rotated_rows(&d.masks, 165, 120, &s.test_index, 0.0, 0.0, 5).unwrap();
+        let same = rotated_rows(d.mask_stack().unwrap(), &s.test_index, 0.0, 0.0, 5).unwrap();
         assert_eq!(same, s.test_x);
-        let rot = rotated_rows(&d.masks, 165, 120, &s.test_index, 10.0, 20.0, 5).unwrap();
+        let rot = rotated_rows(d.mask_stack().unwrap(), &s.test_index, 10.0, 20.0, 5).unwrap();
         assert_eq!(rot.len(), s.test_x.len());
         assert_ne!(rot, s.test_x);
-        assert!(rotated_rows(&d.masks, 165, 120, &s.test_index, 20.0, 10.0, 5).is_err());
-        assert!(rotated_rows(&d.masks, 165, 120, &[d.len()], 10.0, 20.0, 5).is_err());
+        assert!(rotated_rows(d.mask_stack().unwrap(), &s.test_index, 20.0, 10.0, 5).is_err());
+        assert!(rotated_rows(d.mask_stack().unwrap(), &[d.len()], 10.0, 20.0, 5).is_err());
     }
 }

@@ -29,7 +29,7 @@ use std::time::Instant;
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
 use wscg_math::rng;
-use wscg_math::{Error, Result};
+use wscg_math::{Error, ImageStackView, Result};
 
 use super::features::physical_features;
 use super::generate::{rotated_rows, Split, SynthData, CLASS_NAMES, DOWNSCALE};
@@ -300,24 +300,19 @@ fn subset_per_class(y: &[u32], per_class: Option<usize>, seed: u64) -> Vec<usize
     out
 }
 
-/// Physical features of the given frames of a mask stack (`h x w` each, with depth maps when
-/// given), `frames.len() x 9` (8 without depth).
+/// Physical features of the given frames of a mask stack (with depth maps when given),
+/// `frames.len() x 9` (8 without depth).
 fn frame_features(
-    masks: &[u8],
-    depth: Option<&[f32]>,
-    h: usize,
-    w: usize,
+    masks: ImageStackView<'_, u8>,
+    depth: Option<ImageStackView<'_, f32>>,
     frames: &[usize],
 ) -> Result<Mat<f64>> {
-    let hw = h * w;
     let rows: Vec<Vec<f64>> = frames
         .par_iter()
         .map(|&f| {
-            let m = masks
-                .get(f * hw..(f + 1) * hw)
-                .ok_or(Error::Empty("frame"))?;
-            let d = depth.and_then(|d| d.get(f * hw..(f + 1) * hw));
-            physical_features(m, d, h, w)
+            let m = masks.frame(f).ok_or(Error::Empty("frame"))?;
+            let d = depth.and_then(|d| d.frame(f));
+            physical_features(m, d)
         })
         .collect::<Result<_>>()?;
     let d = rows.first().map_or(0, Vec::len);
@@ -385,12 +380,9 @@ pub fn compare(
     methods: &[Method],
     progress: impl FnMut(Method),
 ) -> Result<Comparison> {
-    let (h, w) = (data.height, data.width);
     compare_masks(
-        &data.masks,
-        Some(&data.depth),
-        h,
-        w,
+        data.mask_stack()?,
+        Some(data.depth_stack()?),
         split,
         cfg,
         methods,
@@ -398,24 +390,21 @@ pub fn compare(
     )
 }
 
-/// [`compare`] on any mask stack (`n x h x w` bytes, non-zero = foreground; depth maps
-/// optional: without them the physical features have 8 values) that `split` was made from
-/// by [`super::split_masks`].
+/// [`compare`] on any mask stack (non-zero = foreground; depth maps optional: without them
+/// the physical features have 8 values) that `split` was made from by
+/// [`super::split_masks`].
 ///
-/// Errors: as [`compare`]; `depth` not the size of `masks`.
-#[allow(clippy::too_many_arguments)]
+/// Errors: as [`compare`]; `depth` not the shape of `masks`.
 pub fn compare_masks(
-    masks: &[u8],
-    depth: Option<&[f32]>,
-    h: usize,
-    w: usize,
+    masks: ImageStackView<'_, u8>,
+    depth: Option<ImageStackView<'_, f32>>,
     split: &Split,
     cfg: &CompareParams,
     methods: &[Method],
     progress: impl FnMut(Method),
 ) -> Result<Comparison> {
     cfg.validate()?;
-    let n = masks.len() / (h * w).max(1);
+    let (n, h, w) = (masks.frames(), masks.height(), masks.width());
     if split.shape != (h.div_ceil(DOWNSCALE), w.div_ceil(DOWNSCALE))
         || split
             .train_index
@@ -427,10 +416,8 @@ pub fn compare_masks(
             "the split was not made from these frames".into(),
         ));
     }
-    if depth.is_some_and(|d| d.len() != masks.len()) {
-        return Err(Error::ShapeMismatch(
-            "the depth maps are not the size of the masks".into(),
-        ));
+    if let Some(d) = depth {
+        masks.ensure_same_shape(&d, "depth")?;
     }
     let physical = if methods.contains(&Method::KnnPhysical) {
         let ytr = &split.train_y;
@@ -443,8 +430,8 @@ pub fn compare_masks(
             .map(|i| originals[i])
             .collect();
         let frames: Vec<usize> = chosen.iter().map(|&i| split.train_index[i]).collect();
-        let (train, train_seconds) = timed(|| frame_features(masks, depth, h, w, &frames))?;
-        let (test, test_seconds) = timed(|| frame_features(masks, depth, h, w, &split.test_index))?;
+        let (train, train_seconds) = timed(|| frame_features(masks, depth, &frames))?;
+        let (test, test_seconds) = timed(|| frame_features(masks, depth, &split.test_index))?;
         Some(FeatureSets {
             train,
             train_y: chosen.iter().map(|&i| ytr[i]).collect(),
@@ -611,11 +598,8 @@ impl RotationCheck {
 /// trained without the rotated copies.
 ///
 /// Errors: as [`rotated_rows`] and [`PerClassSfa::fit`].
-#[allow(clippy::too_many_arguments)]
 pub fn rotation_robustness(
-    masks: &[u8],
-    h: usize,
-    w: usize,
+    masks: ImageStackView<'_, u8>,
     split: &Split,
     sfa: &ClassSfaParams,
     fitted: Option<&PerClassSfa>,
@@ -623,7 +607,7 @@ pub fn rotation_robustness(
     seed: u64,
 ) -> Result<RotationCheck> {
     let rotated = rows_to_mat(
-        &rotated_rows(masks, h, w, &split.test_index, 10.0, 20.0, seed)?,
+        &rotated_rows(masks, &split.test_index, 10.0, 20.0, seed)?,
         split.dim,
     );
     let plain = rows_to_mat(&split.test_x, split.dim);

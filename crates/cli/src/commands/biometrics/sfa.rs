@@ -22,7 +22,7 @@ use wscg_biometrics::sfa::{
 };
 use wscg_math::image::Image;
 use wscg_math::progress::Progress;
-use wscg_math::{npy, Error, Result};
+use wscg_math::{npy, Error, ImageStackView, Result};
 
 use super::DataArgs;
 use crate::progress::Bars;
@@ -331,10 +331,9 @@ fn rows(
         }
         Some((h, w)) => {
             let masks = binarise(values)?;
-            let hw = h * w;
             let mut out = Vec::new();
-            for i in 0..n {
-                out.extend(downscale(&masks[i * hw..(i + 1) * hw], h, w, factor)?);
+            for mask in ImageStackView::new(n, h, w, &masks)?.iter() {
+                out.extend_from_slice(downscale(mask, factor)?.data());
             }
             let d = out.len() / n.max(1);
             Ok(rows_to_mat(&out, d))
@@ -382,7 +381,8 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
                 for k in 0..png.min(n_per_class) {
                     let i = c * n_per_class + k;
                     let m = data.mask(i).ok_or(Error::Empty("frame"))?;
-                    let img = Image::new(h, w, 1, m.iter().map(|&v| f32::from(v)).collect())?;
+                    let img =
+                        Image::new(h, w, 1, m.data().iter().map(|&v| f32::from(v)).collect())?;
                     img.save(dir.join(format!("frame_{i:05}.png")))?;
                 }
             }
@@ -535,15 +535,12 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
                 }
                 None => None,
             };
-            let split = split_masks(
-                &masks,
-                &ds.labels,
-                h,
-                w,
-                test_per_class,
-                augment_per_class,
-                seed,
-            )?;
+            let stack = ImageStackView::new(ds.n, h, w, &masks)?;
+            let depth = depth
+                .as_deref()
+                .map(|d| ImageStackView::new(ds.n, h, w, d))
+                .transpose()?;
+            let split = split_masks(stack, &ds.labels, test_per_class, augment_per_class, seed)?;
             model.warn_small_classes(&split.train_y, &ds.names);
             let cfg = CompareParams::default()
                 .sfa(model.config()?)
@@ -568,23 +565,12 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             );
             let bars = Bars::new("evaluate");
             bars.begin("methods", methods.len() as u64);
-            let res = compare_masks(
-                &masks,
-                depth.as_deref(),
-                h,
-                w,
-                &split,
-                &cfg,
-                &methods,
-                |_| bars.advance(1),
-            )?;
+            let res = compare_masks(stack, depth, &split, &cfg, &methods, |_| bars.advance(1))?;
             bars.finish();
             print!("{}", res.format_tables_with(&ds.names));
             if rotated {
                 let rot = rotation_robustness(
-                    &masks,
-                    h,
-                    w,
+                    stack,
                     &split,
                     &cfg.sfa,
                     res.class_sfa.as_ref(),

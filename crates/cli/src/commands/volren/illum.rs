@@ -11,7 +11,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use wscg_math::{Error, Result, Volume};
+use wscg_math::{Error, Result, Volume, VolumeView};
 use wscg_volren::illumination::scenes::{
     labels_to_field, marschner_lobb, marschner_lobb_tf, skin_tf, tissue_tf,
 };
@@ -175,7 +175,7 @@ fn load_field(a: &IllumArgs) -> Result<ScalarField> {
             ));
         }
         let labels: Vec<u8> = data.iter().map(|&v| v as u8).collect();
-        return labels_to_field(&labels, dims, spacing, 1.0);
+        return labels_to_field(VolumeView::new(dims, spacing, &labels)?, 1.0);
     }
     let (lo, hi) = if a.value_range.is_empty() {
         data.iter()
@@ -190,7 +190,7 @@ fn load_field(a: &IllumArgs) -> Result<ScalarField> {
         (r[0], r[1])
     };
     let hi = if hi > lo { hi } else { lo + 1.0 };
-    ScalarField::from_f32_range(dims, spacing, &data, lo, hi)
+    ScalarField::from_f32_range(VolumeView::new(dims, spacing, &data)?, lo, hi)
 }
 
 /// Reads a volume file: dims, spacing, values.
