@@ -5,10 +5,12 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use wscg::cloth::{grid_triangles, ClothModel, Method, NcgVariant, Relaxation, Sim, SolverParams};
+use wscg::cloth::{
+    grid_triangles, ClothModel, Method, NcgVariant, Relaxation, Simulation, SolverParams,
+};
 
-fn sim(model: &ClothModel, method: Method, relaxation: Relaxation) -> Sim {
-    let mut s = Sim::new(
+fn sim(model: &ClothModel, method: Method, relaxation: Relaxation) -> Simulation {
+    let mut s = Simulation::new(
         model.clone(),
         SolverParams::default()
             .method(method)

@@ -9,7 +9,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use wscg::volseg::{
-    fractured_shell_phantom, BoneGraph, PhantomParams, RandomWalkParams, RwSession, Solver,
+    fractured_shell_phantom, BoneGraph, PhantomParams, RandomWalkParams, RandomWalkSession, Solver,
 };
 
 fn bench(c: &mut Criterion) {
@@ -27,14 +27,14 @@ fn bench(c: &mut Criterion) {
         ("K-block Jacobi-PCG f32", p),
         ("per-label Jacobi-PCG f32", p.solver(Solver::PerLabel)),
     ] {
-        let mut s = RwSession::new(graph.clone(), q).unwrap();
+        let mut s = RandomWalkSession::new(graph.clone(), q).unwrap();
         s.set_seeds(&ph.seeds).unwrap();
         g.bench_function(format!("{name}, K = 8, {n} nodes"), |b| {
             b.iter(|| s.solve(false).unwrap())
         });
     }
     // Warm start after one more stroke of label 1 (a few voxels of its truth region).
-    let mut s = RwSession::new(graph.clone(), p).unwrap();
+    let mut s = RandomWalkSession::new(graph.clone(), p).unwrap();
     s.set_seeds(&ph.seeds).unwrap();
     s.solve(false).unwrap();
     let extra: Vec<usize> = ph

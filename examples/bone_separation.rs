@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use wscg::volseg::{
     dice_multilabel, fractured_shell_phantom, nearest_seed_labels, BoneGraph, PhantomParams,
-    Precision, RandomWalkParams, RwSession, Solver,
+    Precision, RandomWalkParams, RandomWalkSession, Solver,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -76,7 +76,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ),
             other => return Err(format!("unknown variant {other}").into()),
         };
-        let mut s = RwSession::new(graph.clone(), p)?;
+        let mut s = RandomWalkSession::new(graph.clone(), p)?;
         s.set_seeds(&ph.seeds)?;
         let t = Instant::now();
         let r = s.solve(false)?;

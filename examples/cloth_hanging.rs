@@ -8,7 +8,7 @@
 //!
 //! Run: `cargo run --release --example cloth_hanging [OUT.obj]`
 
-use wscg::cloth::{ClothModel, Sim, SolverParams};
+use wscg::cloth::{ClothModel, Simulation, SolverParams};
 use wscg::math::TriMesh;
 
 fn main() -> wscg::math::Result<()> {
@@ -18,7 +18,7 @@ fn main() -> wscg::math::Result<()> {
     let h = 1.0 / 60.0;
     for (ab, iterations) in [(1.0, 100), (0.6, 200)] {
         let model = ClothModel::fem_grid(20, 20, (1.0, 1.0), 0.1, 500.0, 0.3)?;
-        let mut sim = Sim::new(
+        let mut sim = Simulation::new(
             model,
             SolverParams::default()
                 .alpha(ab)

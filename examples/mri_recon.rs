@@ -9,7 +9,7 @@ use std::time::Instant;
 use wscg::csmri::baselines::{self, CompositeParams};
 use wscg::csmri::{
     csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, FdctParams, FdctSparsifier, KSpace,
-    Recon, Regularizer, UdctParams, UdctSparsifier, WaveletSparsifier,
+    Reconstruction, Regularizer, UdctParams, UdctSparsifier, WaveletSparsifier,
 };
 use wscg::math::progress::NoProgress;
 
@@ -45,7 +45,7 @@ fn main() -> wscg::math::Result<()> {
             )
         }
     };
-    type Run<'a> = Box<dyn Fn() -> wscg::math::Result<Recon> + 'a>;
+    type Run<'a> = Box<dyn Fn() -> wscg::math::Result<Reconstruction> + 'a>;
     let runs: Vec<(&str, Run)> = vec![
         (
             "zero-filled",

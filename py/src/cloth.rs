@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_cloth::{
     ClothModel, Collider, Collisions, LambdaMode, MeshCollider, Method, NcgVariant, Relaxation,
-    Sim, SolverParams,
+    Simulation, SolverParams,
 };
 
 use crate::convert::{self, array, index, values, Arr};
@@ -327,7 +327,7 @@ fn from_mesh(
 /// A running simulation.
 #[pyclass(module = "wscg._native.cloth", name = "Sim")]
 pub struct PySim {
-    inner: Sim,
+    inner: Simulation,
 }
 
 /// The option `key` of `spec`, or `default` when absent or None.
@@ -428,7 +428,8 @@ impl PySim {
             .velocity_damping(velocity_damping)
             .relaxation(relaxation_from(options)?);
         Ok(Self {
-            inner: crate::pool::detach(py, || Sim::new(model.inner.clone(), cfg)).py_err()?,
+            inner: crate::pool::detach(py, || Simulation::new(model.inner.clone(), cfg))
+                .py_err()?,
         })
     }
 

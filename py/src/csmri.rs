@@ -11,7 +11,7 @@ use wscg_cs_mri::sflct::{Redundancy, Sflct, SflctParams};
 use wscg_cs_mri::sparsifier::PriorParams;
 use wscg_cs_mri::{
     csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, Fdct, FdctParams, Finest, IterStat,
-    KSpace, Recon, Regularizer, Udct, UdctParams,
+    KSpace, Reconstruction, Regularizer, Udct, UdctParams,
 };
 use wscg_math::progress::NoProgress;
 use wscg_math::ImageView;
@@ -507,7 +507,7 @@ fn history<'py>(py: Python<'py>, h: &[IterStat]) -> PyResult<Bound<'py, PyDict>>
 
 fn recon_out<'py>(
     py: Python<'py>,
-    r: Recon,
+    r: Reconstruction,
 ) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
     let h = history(py, &r.history)?;
     h.set_item("iters", r.iters)?;

@@ -10,8 +10,8 @@ use wscg_volren::gradient_octree::octree_address as address;
 use wscg_volren::phantoms;
 use wscg_volren::wavelet::HaarQuant;
 use wscg_volren::{
-    render_reference as reference, Camera, HybridClient, HybridServer, PlTf, RenderParams, Roi,
-    ServerParams,
+    render_reference as reference, Camera, HybridClient, HybridServer, PiecewiseTransferFunction,
+    RenderParams, Roi, ServerParams,
 };
 
 use crate::convert::{array, values, Arr};
@@ -36,7 +36,7 @@ fn volume_out<'py, T: numpy::Element + Clone>(
 }
 
 /// A transfer function from an `(n, 5)` array of `(density, r, g, b, a)` rows.
-fn tf_in(a: &PyReadonlyArrayDyn<f64>) -> PyResult<PlTf> {
+fn tf_in(a: &PyReadonlyArrayDyn<f64>) -> PyResult<PiecewiseTransferFunction> {
     match *a.shape() {
         [_, 5] => {
             let pts = values(a)
@@ -48,7 +48,7 @@ fn tf_in(a: &PyReadonlyArrayDyn<f64>) -> PyResult<PlTf> {
                     )
                 })
                 .collect();
-            PlTf::new(pts).py_err()
+            PiecewiseTransferFunction::new(pts).py_err()
         }
         ref s => Err(value_error(format!(
             "a transfer function is an (n, 5) array (density, r, g, b, a), got shape {s:?}"
@@ -56,7 +56,7 @@ fn tf_in(a: &PyReadonlyArrayDyn<f64>) -> PyResult<PlTf> {
     }
 }
 
-fn tf_out<'py>(py: Python<'py>, t: &PlTf) -> PyResult<Arr<'py, f64>> {
+fn tf_out<'py>(py: Python<'py>, t: &PiecewiseTransferFunction) -> PyResult<Arr<'py, f64>> {
     let data = t
         .points()
         .iter()

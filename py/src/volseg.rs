@@ -17,7 +17,7 @@ use wscg_math::Volume;
 use wscg_volseg::{
     dice_multilabel, fractured_shell_phantom, gaussian_smooth3, local_grow_edit,
     nearest_seed_labels, remove_small_components, BoneGraph, GrowWeights, IntensityNorm,
-    PhantomParams, Precision, RandomWalkParams, RwSession, SolveReport, Solver,
+    PhantomParams, Precision, RandomWalkParams, RandomWalkSession, SolveReport, Solver,
 };
 
 use crate::convert::{array, choice, dict_item, set_fields, values, Arr};
@@ -221,7 +221,7 @@ fn graph_of(
 fn report_out<'py>(
     py: Python<'py>,
     r: &SolveReport,
-    s: &RwSession,
+    s: &RandomWalkSession,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("iterations", r.iterations.clone())?;
@@ -240,7 +240,7 @@ fn report_out<'py>(
 
 /// Errors when a solve of `s` (and `prob_voxels` voxels of probability volumes per label)
 /// would need more than [`MAX_SOLVER_BYTES`].
-fn check_memory(s: &RwSession, prob_voxels: usize) -> wscg_math::Result<()> {
+fn check_memory(s: &RandomWalkSession, prob_voxels: usize) -> wscg_math::Result<()> {
     let k = s.n_labels();
     let lane = match s.params().precision {
         Precision::F32 => 4,
@@ -265,7 +265,7 @@ fn check_memory(s: &RwSession, prob_voxels: usize) -> wscg_math::Result<()> {
 }
 
 /// Probability volumes of labels `1..=k` stacked as `k x nz x ny x nx`.
-fn all_probabilities(s: &RwSession, k: usize) -> wscg_math::Result<Vec<f32>> {
+fn all_probabilities(s: &RandomWalkSession, k: usize) -> wscg_math::Result<Vec<f32>> {
     let n: usize = s.graph().dims().iter().product();
     let mut out = Vec::with_capacity(k * n);
     for l in 1..=k {
@@ -299,7 +299,7 @@ fn random_walker<'py>(
     let seeds = vol_in("seeds", &seeds, spacing)?;
     let (session, report, labels, probs) = crate::pool::detach(py, || -> wscg_math::Result<_> {
         let g = graph_of(&ct, None, passes, &p)?;
-        let mut s = RwSession::new(g, p)?;
+        let mut s = RandomWalkSession::new(g, p)?;
         s.set_seeds(&seeds)?;
         check_memory(&s, if return_prob { ct.len() } else { 0 })?;
         let r = s.solve(false)?;
@@ -324,7 +324,7 @@ fn random_walker<'py>(
 /// An interactive random-walk segmentation: the bone graph, the seeds and the last solution.
 #[pyclass(module = "wscg._native.volseg", name = "Session")]
 pub struct PySession {
-    inner: RwSession,
+    inner: RandomWalkSession,
     /// `(nz, ny, nx)`.
     shape: [usize; 3],
     /// Number of labels of the last solve (0 before the first).
@@ -355,7 +355,7 @@ impl PySession {
             None => None,
         };
         let inner = crate::pool::detach(py, || {
-            RwSession::new(graph_of(&ct, mask.as_deref(), passes, &p)?, p)
+            RandomWalkSession::new(graph_of(&ct, mask.as_deref(), passes, &p)?, p)
         })
         .py_err()?;
         Ok(Self {

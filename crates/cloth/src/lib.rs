@@ -48,4 +48,4 @@ pub use fem::FemTri;
 pub use model::{grid_triangles, ClothModel, Link, Roller};
 pub use ncg::NcgVariant;
 pub use projection::Relaxation;
-pub use solver::{LambdaMode, Method, Sim, SolverParams, StepStats};
+pub use solver::{LambdaMode, Method, Simulation, SolverParams, StepStats};

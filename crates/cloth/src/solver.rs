@@ -93,7 +93,7 @@ pub enum Method {
 }
 
 wscg_math::params! {
-    /// Parameters of a [`Sim`].
+    /// Parameters of a [`Simulation`].
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct SolverParams {
         /// Integrator (default soft projection).
@@ -220,7 +220,7 @@ impl SolverParams {
 
 /// A running simulation.
 #[derive(Clone, Debug)]
-pub struct Sim {
+pub struct Simulation {
     model: ClothModel,
     cfg: SolverParams,
     /// Multipliers of the last step: one per link (N), then three per triangle.
@@ -232,7 +232,7 @@ pub struct Sim {
     collisions: CollisionState,
 }
 
-impl Sim {
+impl Simulation {
     /// A simulation of `model` with `cfg`. Errors: invalid model or parameters.
     pub fn new(model: ClothModel, cfg: SolverParams) -> Result<Self> {
         model.validate()?;

@@ -3,14 +3,15 @@
 
 use nalgebra::Vector3;
 use wscg_cloth::{
-    grid_triangles, ClothModel, Collider, Collisions, MeshCollider, Method, Sim, SolverParams,
+    grid_triangles, ClothModel, Collider, Collisions, MeshCollider, Method, Simulation,
+    SolverParams,
 };
 
 const H: f64 = 1.0 / 60.0;
 const G: f64 = 9.81;
 
-fn sim_with(model: ClothModel, collisions: Collisions) -> Sim {
-    let mut sim = Sim::new(model, SolverParams::default()).unwrap();
+fn sim_with(model: ClothModel, collisions: Collisions) -> Simulation {
+    let mut sim = Simulation::new(model, SolverParams::default()).unwrap();
     sim.set_collisions(collisions).unwrap();
     sim
 }
@@ -235,7 +236,7 @@ fn self_contacts_keep_layers_apart() {
 #[test]
 fn bad_collision_settings_are_rejected() {
     let m = free_cloth(3, 0.0);
-    let mut sim = Sim::new(m.clone(), SolverParams::default()).unwrap();
+    let mut sim = Simulation::new(m.clone(), SolverParams::default()).unwrap();
     for bad in [
         Collisions {
             thickness: -1.0,
@@ -265,7 +266,7 @@ fn bad_collision_settings_are_rejected() {
     assert!(Collider::plane(Vector3::zeros(), Vector3::zeros()).is_err());
     assert!(MeshCollider::new(&[Vector3::zeros()], &[[0, 1, 2]]).is_err());
     assert!(MeshCollider::new(&[], &[]).is_err());
-    let mut ncg = Sim::new(
+    let mut ncg = Simulation::new(
         m,
         SolverParams::default().method(Method::Ncg {
             variant: wscg_cloth::NcgVariant::Consistent,

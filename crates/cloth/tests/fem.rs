@@ -156,9 +156,9 @@ fn world_strain(t: &FemTri, rest: &[Vector3<f64>], x: &[Vector3<f64>]) -> (f64, 
 
 /// Run to rest under linearised implicit Euler (its fixed point is the exact equilibrium
 /// `f(x) = 0`).
-fn settle(model: wscg_cloth::ClothModel) -> wscg_cloth::Sim {
-    use wscg_cloth::{Method, Sim, SolverParams};
-    let mut sim = Sim::new(
+fn settle(model: wscg_cloth::ClothModel) -> wscg_cloth::Simulation {
+    use wscg_cloth::{Method, Simulation, SolverParams};
+    let mut sim = Simulation::new(
         model,
         SolverParams::default().method(Method::ImplicitEulerCg {
             tol: 1e-12,

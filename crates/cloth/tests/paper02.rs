@@ -3,13 +3,13 @@
 //! the accumulated multipliers, the relaxation identity, energy ordering and bad input.
 
 use nalgebra::Vector3;
-use wscg_cloth::{ClothModel, LambdaMode, Method, Sim, SolverParams};
+use wscg_cloth::{ClothModel, LambdaMode, Method, Simulation, SolverParams};
 
 const H: f64 = 1.0 / 60.0;
 
 /// One 1 kg particle on a link (k = 100 N/m, rest 1 m) to a pinned anchor, stretched 5 cm
 /// along x, no gravity.
-fn oscillator(cfg: SolverParams) -> Sim {
+fn oscillator(cfg: SolverParams) -> Simulation {
     let mut m = ClothModel::new(
         vec![Vector3::zeros(), Vector3::new(1.05, 0.0, 0.0)],
         &[1.0, 1.0],
@@ -18,10 +18,10 @@ fn oscillator(cfg: SolverParams) -> Sim {
     .unwrap();
     m.gravity = Vector3::zeros();
     m.add_link(0, 1, 100.0, Some(1.0)).unwrap();
-    Sim::new(m, cfg).unwrap()
+    Simulation::new(m, cfg).unwrap()
 }
 
-fn state(sim: &Sim) -> (f64, f64) {
+fn state(sim: &Simulation) -> (f64, f64) {
     let m = sim.model();
     (m.x[1].x - 1.0, m.v[1].x)
 }
@@ -105,7 +105,7 @@ fn damped_oscillator_matches_closed_form() {
 /// Elongation of each link of a settled chain.
 fn chain_elongations(iterations: usize, mode: LambdaMode) -> Vec<f64> {
     let model = ClothModel::chain(10, 0.1, 0.1, 100.0).unwrap();
-    let mut sim = Sim::new(
+    let mut sim = Simulation::new(
         model,
         SolverParams::default()
             .iterations(iterations)
@@ -163,14 +163,14 @@ fn paper_reset_iteration_is_relaxed_pbd() {
     };
     let a = 1.0 / 0.5 + 1.0 / 2.0;
     let omega = 1.0 / (1.0 + 1.0 / (H * H * k * a));
-    let mut soft = Sim::new(
+    let mut soft = Simulation::new(
         build(),
         SolverParams::default()
             .iterations(1)
             .lambda_mode(LambdaMode::PaperReset),
     )
     .unwrap();
-    let mut pbd = Sim::new(
+    let mut pbd = Simulation::new(
         build(),
         SolverParams::default()
             .iterations(1)
@@ -191,7 +191,7 @@ fn paper_reset_iteration_is_relaxed_pbd() {
 fn alpha_beta_scheme_loses_less_energy_than_implicit_euler() {
     let loss = |ab: f64| {
         let model = ClothModel::grid(10, 10, (1.0, 1.0), 0.1, 2.0, Some(2.0), Some(2.0)).unwrap();
-        let mut sim = Sim::new(model, SolverParams::default().alpha(ab).beta(ab)).unwrap();
+        let mut sim = Simulation::new(model, SolverParams::default().alpha(ab).beta(ab)).unwrap();
         let e0 = sim.energy().total;
         sim.run(H, 600).unwrap();
         e0 - sim.energy().total
@@ -213,7 +213,10 @@ fn bad_input_is_rejected() {
         SolverParams::default().iterations(0),
         SolverParams::default().method(Method::PlainPbd { stiffness: 0.0 }),
     ] {
-        assert!(Sim::new(ok().model().clone(), cfg).is_err(), "{cfg:?}");
+        assert!(
+            Simulation::new(ok().model().clone(), cfg).is_err(),
+            "{cfg:?}"
+        );
     }
     let p = vec![Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)];
     assert!(ClothModel::new(p.clone(), &[1.0], &[]).is_err());
@@ -231,7 +234,7 @@ fn bad_input_is_rejected() {
     let mut m = ok().model().clone();
     m.links[0].compliance = 1e-300;
     m.x[1] = Vector3::new(1e300, 0.0, 0.0);
-    let mut sim = Sim::new(m.clone(), SolverParams::default()).unwrap();
+    let mut sim = Simulation::new(m.clone(), SolverParams::default()).unwrap();
     assert!(sim.step(H).is_err());
     assert_eq!(sim.model(), &m);
     assert_eq!(sim.steps(), 0);
@@ -273,7 +276,8 @@ fn direct_and_cg_linearised_steps_agree() {
         .add_roller(40, Vector3::new(0.0, 0.0, 1.0), model.x[40].z)
         .unwrap();
     let run = |method| {
-        let mut sim = Sim::new(model.clone(), SolverParams::default().method(method)).unwrap();
+        let mut sim =
+            Simulation::new(model.clone(), SolverParams::default().method(method)).unwrap();
         sim.run(H, 20).unwrap();
         sim.model().x.clone()
     };
@@ -300,7 +304,7 @@ fn direct_and_cg_linearised_steps_agree() {
 #[test]
 fn symplectic_euler_reference_conserves_energy() {
     let model = ClothModel::grid(10, 10, (1.0, 1.0), 0.1, 2.0, Some(2.0), Some(2.0)).unwrap();
-    let mut sim = Sim::new(
+    let mut sim = Simulation::new(
         model,
         SolverParams::default().method(Method::SymplecticEuler { substeps: 64 }),
     )
@@ -330,7 +334,7 @@ fn velocity_projection_scales_relative_normal_velocity() {
         m.gravity = Vector3::zeros();
         m.v = vec![Vector3::new(-0.5, 0.2, 0.0), Vector3::new(0.7, -0.1, 0.3)];
         m.add_link(0, 1, 50.0, Some(1.0)).unwrap();
-        let mut sim = Sim::new(m, SolverParams::default().velocity_damping(kd)).unwrap();
+        let mut sim = Simulation::new(m, SolverParams::default().velocity_damping(kd)).unwrap();
         sim.step(H).unwrap();
         sim.model().clone()
     };
@@ -343,7 +347,7 @@ fn velocity_projection_scales_relative_normal_velocity() {
     assert!((p(&a) - p(&b)).norm() < 1e-13);
     let t = |m: &ClothModel| (m.v[1] - m.v[0]) - n * rel(m);
     assert!((t(&a) - t(&b)).norm() < 1e-13);
-    assert!(Sim::new(
+    assert!(Simulation::new(
         ClothModel::chain(3, 0.1, 0.1, 10.0).unwrap(),
         SolverParams::default().velocity_damping(1.5)
     )
@@ -366,7 +370,7 @@ fn conjugate_residual_on_constraint_space_system() {
         };
         // A deformed state: let the cloth fall for a few steps.
         let cfg = SolverParams::default();
-        let mut sim = Sim::new(model.clone(), cfg).unwrap();
+        let mut sim = Simulation::new(model.clone(), cfg).unwrap();
         sim.run(H, 20).unwrap();
         model = sim.model().clone();
         let sys = ConstraintSystem::new(&model, &model.x, H * H);
@@ -417,7 +421,7 @@ fn soft_projection_equivalence_with_implicit_euler() {
         }
     }
     let one_step = |method: Method, iterations: usize| {
-        let mut sim = Sim::new(
+        let mut sim = Simulation::new(
             model.clone(),
             SolverParams::default()
                 .method(method)
@@ -485,7 +489,7 @@ fn soft_projection_equivalence_with_implicit_euler() {
 fn swing_curve(cfg: SolverParams) -> Vec<f64> {
     let model =
         ClothModel::grid(40, 40, (1.0, 1.0), 0.1, 2000.0, Some(2000.0), Some(2000.0)).unwrap();
-    let mut sim = Sim::new(model, cfg).unwrap();
+    let mut sim = Simulation::new(model, cfg).unwrap();
     let mut out = Vec::with_capacity(181);
     let e = sim.energy();
     out.push(e.kinetic + e.gravity);

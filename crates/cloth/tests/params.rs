@@ -1,7 +1,7 @@
 //! Every parameter struct of the crate: its `Default` passes `validate()`, and a field set
-//! out of range fails with an error naming that field (also where [`Sim::new`] starts).
+//! out of range fails with an error naming that field (also where [`Simulation::new`] starts).
 
-use wscg_cloth::{ClothModel, Method, Relaxation, Sim, SolverParams};
+use wscg_cloth::{ClothModel, Method, Relaxation, Simulation, SolverParams};
 use wscg_math::RefusedArgument;
 
 #[test]
@@ -91,8 +91,8 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
     // The simulation refuses bad parameters when it is built.
     let model = ClothModel::grid(3, 3, (1.0, 1.0), 0.1, 2.0, None, None).unwrap();
     assert_eq!(
-        Sim::new(model.clone(), d().alpha(2.0)).refused_argument(),
+        Simulation::new(model.clone(), d().alpha(2.0)).refused_argument(),
         Some("alpha")
     );
-    assert!(Sim::new(model, d()).is_ok());
+    assert!(Simulation::new(model, d()).is_ok());
 }

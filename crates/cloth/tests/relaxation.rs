@@ -3,7 +3,7 @@
 //! race-free, so its result does not depend on the number of threads.
 
 use nalgebra::Vector3;
-use wscg_cloth::{grid_triangles, ClothModel, Relaxation, Sim, SolverParams, StepStats};
+use wscg_cloth::{grid_triangles, ClothModel, Relaxation, Simulation, SolverParams, StepStats};
 
 const H: f64 = 1.0 / 60.0;
 
@@ -23,7 +23,7 @@ fn membrane(n: usize) -> ClothModel {
     m
 }
 
-fn run(model: &ClothModel, relaxation: Relaxation, iterations: usize, steps: usize) -> Sim {
+fn run(model: &ClothModel, relaxation: Relaxation, iterations: usize, steps: usize) -> Simulation {
     run_stats(model, relaxation, iterations, steps).0
 }
 
@@ -33,8 +33,8 @@ fn run_stats(
     relaxation: Relaxation,
     iterations: usize,
     steps: usize,
-) -> (Sim, StepStats) {
-    let mut sim = Sim::new(
+) -> (Simulation, StepStats) {
+    let mut sim = Simulation::new(
         model.clone(),
         SolverParams::default()
             .iterations(iterations)
@@ -48,7 +48,7 @@ fn run_stats(
     (sim, stats)
 }
 
-fn dist(a: &Sim, b: &Sim) -> f64 {
+fn dist(a: &Simulation, b: &Simulation) -> f64 {
     a.model()
         .x
         .iter()
@@ -74,7 +74,7 @@ fn all_sweeps_reach_the_implicit_euler_step_of_a_chain() {
     for (q, v) in model.v.iter_mut().enumerate().skip(1) {
         v.y = 0.4 * ((q as f64) * 1.3).sin();
     }
-    let mut newton = Sim::new(
+    let mut newton = Simulation::new(
         model.clone(),
         SolverParams::default().method(wscg_cloth::Method::ImplicitEulerNewton { tol: 1e-13 }),
     )
@@ -146,7 +146,7 @@ fn relaxation_factors_out_of_range_are_rejected() {
         Relaxation::Sor { omega: f64::NAN },
     ] {
         let cfg = SolverParams::default().relaxation(relaxation);
-        let err = Sim::new(model.clone(), cfg).unwrap_err().to_string();
+        let err = Simulation::new(model.clone(), cfg).unwrap_err().to_string();
         assert!(err.contains("omega"), "{err}");
     }
 }

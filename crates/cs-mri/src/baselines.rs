@@ -23,7 +23,7 @@ use wscg_math::progress::Progress;
 use wscg_math::wavelet::Daubechies;
 use wscg_math::{Error, Result};
 
-use crate::csalsa::{check_inputs, mse, IterStat, Recon};
+use crate::csalsa::{check_inputs, mse, IterStat, Reconstruction};
 use crate::fourier::Fourier;
 use crate::kspace::KSpace;
 use crate::prox::{project_ball, soft_coeffs};
@@ -186,8 +186,8 @@ impl Setup {
         }
     }
 
-    fn finish(&self, x: Vec<Complex64>, iters: usize, history: Vec<IterStat>) -> Recon {
-        Recon {
+    fn finish(&self, x: Vec<Complex64>, iters: usize, history: Vec<IterStat>) -> Reconstruction {
+        Reconstruction {
             image: x.into_iter().map(|v| v * self.s).collect(),
             shape: (self.rows, self.cols),
             iters,
@@ -196,9 +196,9 @@ impl Setup {
     }
 }
 
-/// The zero-filled reconstruction as a [`Recon`].
-pub fn zero_filled(data: &KSpace) -> Recon {
-    Recon {
+/// The zero-filled reconstruction as a [`Reconstruction`].
+pub fn zero_filled(data: &KSpace) -> Reconstruction {
+    Reconstruction {
         image: data.zero_filled(),
         shape: data.shape(),
         iters: 0,
@@ -236,7 +236,7 @@ pub fn fcsa(
     p: &CompositeParams,
     reference: Option<&[Complex64]>,
     progress: &dyn Progress,
-) -> Result<Recon> {
+) -> Result<Reconstruction> {
     composite_fista(data, p, reference, progress, false)
 }
 
@@ -249,7 +249,7 @@ pub fn watmri(
     p: &CompositeParams,
     reference: Option<&[Complex64]>,
     progress: &dyn Progress,
-) -> Result<Recon> {
+) -> Result<Reconstruction> {
     composite_fista(data, p, reference, progress, true)
 }
 
@@ -277,7 +277,7 @@ fn composite_fista(
     reference: Option<&[Complex64]>,
     progress: &dyn Progress,
     tree: bool,
-) -> Result<Recon> {
+) -> Result<Reconstruction> {
     let st = Setup::new(data, p, reference)?;
     let idx = data.sampled();
     let n = st.rows * st.cols;
@@ -346,7 +346,7 @@ pub fn tvcmri(
     p: &CompositeParams,
     reference: Option<&[Complex64]>,
     progress: &dyn Progress,
-) -> Result<Recon> {
+) -> Result<Reconstruction> {
     let st = Setup::new(data, p, reference)?;
     let idx = data.sampled();
     let (rows, cols) = (st.rows, st.cols);
@@ -419,7 +419,7 @@ pub fn tv_constrained(
     epsilon: f64,
     max_iter: usize,
     reference: Option<&[Complex64]>,
-) -> Result<Recon> {
+) -> Result<Reconstruction> {
     if !(epsilon >= 0.0 && epsilon.is_finite()) {
         return Err(Error::invalid(
             "epsilon",
@@ -486,7 +486,7 @@ pub fn tv_constrained(
             }
         }
     }
-    Ok(Recon {
+    Ok(Reconstruction {
         image: x.into_iter().map(|v| v * s).collect(),
         shape: (rows, cols),
         iters: max_iter,

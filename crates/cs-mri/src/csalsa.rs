@@ -145,7 +145,7 @@ pub struct IterStat {
 
 /// A reconstruction and how it was reached.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Recon {
+pub struct Reconstruction {
     /// The complex image, row-major.
     pub image: Vec<Complex64>,
     /// `(rows, cols)`.
@@ -209,7 +209,7 @@ pub fn csalsa(
     p: &CsalsaParams,
     reference: Option<&[Complex64]>,
     progress: &dyn Progress,
-) -> Result<Recon> {
+) -> Result<Reconstruction> {
     p.validate()?;
     check_inputs(data, Some(psi.shape()), reference)?;
     if !psi.is_parseval() && matches!(reg, Regularizer::Tv { .. }) {
@@ -228,7 +228,7 @@ pub fn csalsa(
     let x0 = data.zero_filled();
     let s = x0.iter().map(|v| v.norm()).fold(0.0, f64::max);
     if p.max_iter == 0 || s == 0.0 {
-        return Ok(Recon {
+        return Ok(Reconstruction {
             image: x0,
             shape: (rows, cols),
             iters: 0,
@@ -376,7 +376,7 @@ pub fn csalsa(
     }
     fourier.inverse(&mut xhat);
     xhat.iter_mut().for_each(|v| *v *= s);
-    Ok(Recon {
+    Ok(Reconstruction {
         image: xhat,
         shape: (rows, cols),
         iters,
@@ -536,7 +536,7 @@ pub fn reconstruct(
     psi: &dyn Sparsifier,
     reg: Regularizer,
     p: &CsalsaParams,
-) -> Result<Recon> {
+) -> Result<Reconstruction> {
     csalsa(data, psi, reg, p, None, &NoProgress)
 }
 

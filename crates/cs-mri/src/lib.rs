@@ -61,7 +61,7 @@ pub mod tv;
 pub mod udct;
 
 pub use baselines::CompositeParams;
-pub use csalsa::{csalsa, reconstruct, CsalsaParams, IterStat, Recon, Regularizer};
+pub use csalsa::{csalsa, reconstruct, CsalsaParams, IterStat, Reconstruction, Regularizer};
 pub use fdct::{Fdct, FdctBand, FdctParams, Finest};
 pub use fourier::Fourier;
 pub use kspace::{noise_epsilon, KSpace};

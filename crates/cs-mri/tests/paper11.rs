@@ -317,7 +317,7 @@ fn shepp_logan(n: usize, rate: f64, seed: u64) -> (KSpace, Vec<Complex64>) {
     (data, reference)
 }
 
-fn udct_l1(data: &KSpace, p: &CsalsaParams, reference: Option<&[Complex64]>) -> Recon {
+fn udct_l1(data: &KSpace, p: &CsalsaParams, reference: Option<&[Complex64]>) -> Reconstruction {
     let (r, c) = data.shape();
     let psi = UdctSparsifier::new(r, c, &UdctParams::default()).unwrap();
     csalsa(
@@ -684,7 +684,7 @@ fn tune_on_development_image() {
         &CompositeParams,
         Option<&[Complex64]>,
         &dyn wscg_math::progress::Progress,
-    ) -> wscg_math::Result<Recon>;
+    ) -> wscg_math::Result<Reconstruction>;
     for (name, f) in [
         ("fcsa", baselines::fcsa as Solver),
         ("tvcmri", baselines::tvcmri),
@@ -756,7 +756,7 @@ fn udct_prior_is_not_worse_than_the_composite_baselines() {
                     &CompositeParams,
                     Option<&[Complex64]>,
                     &dyn wscg_math::progress::Progress,
-                ) -> wscg_math::Result<Recon>,
+                ) -> wscg_math::Result<Reconstruction>,
         ),
         ("TVCMRI", baselines::tvcmri),
         ("WaTMRI", baselines::watmri),

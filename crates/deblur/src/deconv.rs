@@ -8,7 +8,7 @@ use num_complex::Complex32;
 use wscg_math::{Error, Result};
 
 use crate::spectral::{Grid, Scratch};
-use crate::wstep::WLut;
+use crate::wstep::WStepTable;
 
 wscg_math::params! {
     /// Parameters of the hyper-Laplacian solver (paper eqs. 7-8, Krishnan & Fergus 2009).
@@ -103,10 +103,10 @@ impl HyperLaplacianParams {
     }
 
     /// The w-step tables of the continuation.
-    pub(crate) fn luts(&self) -> Vec<Arc<WLut>> {
+    pub(crate) fn luts(&self) -> Vec<Arc<WStepTable>> {
         self.betas()
             .iter()
-            .map(|&b| WLut::shared(self.alpha as f64, b as f64))
+            .map(|&b| WStepTable::shared(self.alpha as f64, b as f64))
             .collect()
     }
 }
@@ -131,7 +131,7 @@ pub(crate) fn hyper_laplacian(
     otf: &[Complex32],
     prior: Option<(&[f32], f32)>,
     p: &HyperLaplacianParams,
-    luts: &[Arc<WLut>],
+    luts: &[Arc<WStepTable>],
     work: &mut Work,
 ) -> Vec<f32> {
     let (rows, cols, n) = (grid.rows, grid.cols, grid.len());

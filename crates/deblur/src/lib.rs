@@ -53,7 +53,7 @@ pub use deconv::HyperLaplacianParams;
 pub use gyro::{GyroSample, GyroTrack};
 pub use kernel::{blurriness, kernel_grid, render_kernel, Kernel, KernelGrid, KernelParams};
 pub use multiframe::{
-    deblur_frame, deblur_multiframe, frame_weights, AlignMode, DeblurOutput, FrameInput,
+    deblur_frame, deblur_multiframe, frame_weights, AlignMode, DeblurResult, FrameInput,
     MultiframeParams,
 };
 pub use spectral::smooth_size;

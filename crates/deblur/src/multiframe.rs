@@ -86,7 +86,7 @@ impl Default for MultiframeParams {
 
 /// Result of [`deblur_multiframe`].
 #[derive(Clone, Debug)]
-pub struct DeblurOutput {
+pub struct DeblurResult {
     /// The deblurred main frame, display values in `[0, 1]` (KM).
     pub image: Image<f32>,
     /// The single-frame result of the main frame (KS), display values.
@@ -230,7 +230,7 @@ pub fn deblur_multiframe(
     k: &Intrinsics,
     opts: &MultiframeParams,
     progress: &dyn Progress,
-) -> Result<DeblurOutput> {
+) -> Result<DeblurResult> {
     opts.validate()?;
     if frames.is_empty() {
         return Err(Error::Empty("frames"));
@@ -396,7 +396,7 @@ pub fn deblur_multiframe(
         .chain(aligned.iter().map(|a| a.0))
         .collect();
     used_frames.sort_unstable();
-    Ok(DeblurOutput {
+    Ok(DeblurResult {
         image: encode(multi)?,
         single: encode(main_est)?,
         kernels: main_grid,

@@ -12,7 +12,7 @@
 //!
 //! Odd symmetry gives `v < 0`.
 //!
-//! [`WLut`] tabulates the solution for one `(alpha, beta)` on the non-zero branch (exact
+//! [`WStepTable`] tabulates the solution for one `(alpha, beta)` on the non-zero branch (exact
 //! threshold, linear interpolation, the exact solver beyond the table), as KF's lookup tables.
 
 use std::collections::HashMap;
@@ -121,11 +121,11 @@ pub fn w_threshold(alpha: f64, beta: f64) -> f64 {
 }
 
 /// Tables by the bits of `(alpha, beta)`.
-type LutCache = HashMap<(u64, u64), Arc<WLut>>;
+type LutCache = HashMap<(u64, u64), Arc<WStepTable>>;
 
 /// Lookup table of the w-step for one `(alpha, beta)`.
 #[derive(Debug)]
-pub struct WLut {
+pub struct WStepTable {
     alpha: f64,
     beta: f64,
     /// Smallest f32 at or above `threshold`: the f32 test `|v| >= threshold_f32` equals the
@@ -135,12 +135,12 @@ pub struct WLut {
     table: Vec<f32>,
 }
 
-/// Samples of a [`WLut`] on `[threshold, threshold + SPAN]`.
+/// Samples of a [`WStepTable`] on `[threshold, threshold + SPAN]`.
 const LUT_SAMPLES: usize = 16384;
 /// Width of the tabulated range of `|v|`; intensities in `[0, 1]` give gradients below 1.
 const LUT_SPAN: f64 = 2.0;
 
-impl WLut {
+impl WStepTable {
     /// Builds the table (16384 exact solves).
     pub fn new(alpha: f64, beta: f64) -> Self {
         let threshold = w_threshold(alpha, beta);
@@ -162,7 +162,7 @@ impl WLut {
         if (threshold_f32 as f64) < threshold {
             threshold_f32 = threshold_f32.next_up();
         }
-        WLut {
+        WStepTable {
             alpha,
             beta,
             threshold_f32,
@@ -172,14 +172,14 @@ impl WLut {
     }
 
     /// A shared table for `(alpha, beta)`, built on first use.
-    pub fn shared(alpha: f64, beta: f64) -> Arc<WLut> {
+    pub fn shared(alpha: f64, beta: f64) -> Arc<WStepTable> {
         static CACHE: OnceLock<Mutex<LutCache>> = OnceLock::new();
         let key = (alpha.to_bits(), beta.to_bits());
         let cache = CACHE.get_or_init(Default::default);
         if let Some(l) = cache.lock().map(|c| c.get(&key).cloned()).ok().flatten() {
             return l;
         }
-        let lut = Arc::new(WLut::new(alpha, beta));
+        let lut = Arc::new(WStepTable::new(alpha, beta));
         if let Ok(mut c) = cache.lock() {
             c.insert(key, lut.clone());
         }

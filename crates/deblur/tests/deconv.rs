@@ -1,7 +1,7 @@
 //! The Krishnan-Fergus solver (check 3), the baselines and the tiling (check 7).
 
 use wscg_deblur::tiling::{convolve, convolve_piecewise};
-use wscg_deblur::wstep::{w_energy, w_exact, WLut};
+use wscg_deblur::wstep::{w_energy, w_exact, WStepTable};
 use wscg_deblur::{
     deblur_piecewise, deconv_hl, richardson_lucy, synth, wiener, HyperLaplacianParams, Kernel,
     KernelGrid, Method, Tiling,
@@ -57,7 +57,7 @@ fn w_step_for_other_exponents_is_a_minimum() {
 fn lookup_table_agrees_with_the_exact_solver() {
     for alpha in [0.5f64, 2.0 / 3.0, 1.0] {
         for &beta in &HyperLaplacianParams::default().betas() {
-            let lut = WLut::new(alpha, beta as f64);
+            let lut = WStepTable::new(alpha, beta as f64);
             for i in 0..=20_000 {
                 let v = -3.0 + 6.0 * i as f64 / 20_000.0;
                 let exact = w_exact(v as f32 as f64, alpha, beta as f64);

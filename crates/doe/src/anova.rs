@@ -262,7 +262,7 @@ pub fn rm_anova_oneway(scores: &DMatrix<f64>) -> Result<AnovaEffect> {
 
 /// Result of Fisher's least significant difference test on one condition.
 #[derive(Debug, Clone, PartialEq)]
-pub struct LsdResult {
+pub struct LeastSignificantDifference {
     /// Significance level α of the two-sided comparisons.
     pub alpha: f64,
     /// Critical value `t_{1−α/2, df_error}`.
@@ -287,7 +287,7 @@ pub struct LsdResult {
 ///
 /// # Errors
 /// As [`rm_anova_oneway`], plus [`Error::InvalidArgument`] for `alpha` outside (0, 1).
-pub fn lsd_pairs(scores: &DMatrix<f64>, alpha: f64) -> Result<LsdResult> {
+pub fn lsd_pairs(scores: &DMatrix<f64>, alpha: f64) -> Result<LeastSignificantDifference> {
     if !(alpha > 0.0 && alpha < 1.0) {
         return Err(Error::invalid(
             "alpha",
@@ -306,7 +306,7 @@ pub fn lsd_pairs(scores: &DMatrix<f64>, alpha: f64) -> Result<LsdResult> {
         }
     }
     let n_separated = pairs.iter().filter(|p| p.2).count();
-    Ok(LsdResult {
+    Ok(LeastSignificantDifference {
         alpha,
         t_crit,
         ms_error: aov.ms_error,

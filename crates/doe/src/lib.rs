@@ -54,7 +54,9 @@ pub mod panel;
 pub mod rsm;
 pub mod williams;
 
-pub use anova::{lsd_pairs, rm_anova, rm_anova_oneway, AnovaEffect, AnovaTable, LsdResult};
+pub use anova::{
+    lsd_pairs, rm_anova, rm_anova_oneway, AnovaEffect, AnovaTable, LeastSignificantDifference,
+};
 pub use ccd::{ccd, ccd_blocks, decode, encode, CcdAlpha, CcdFace};
 pub use panel::panel_pca;
 pub use rsm::{fit_quadratic, fit_quadratic_blocked, predict, RsmFit};

@@ -50,8 +50,10 @@ pub mod vote;
 
 pub use crf::{calibrate_debevec, Crf};
 pub use merge::{merge, merge_stack, MergeInput, Merged};
-pub use mitsunaga_nayar::{calibrate_mitsunaga_nayar, MitsunagaNayarParams, MnChannel, MnFit};
-pub use multiscopic::{multiscopic_hdr, Align, MultiscopicOut, MultiscopicParams, Synthesis};
+pub use mitsunaga_nayar::{
+    calibrate_mitsunaga_nayar, MitsunagaNayarChannel, MitsunagaNayarFit, MitsunagaNayarParams,
+};
+pub use multiscopic::{multiscopic_hdr, Align, MultiscopicParams, MultiscopicResult, Synthesis};
 pub use nnf::Nnf;
 pub use pm::{patchmatch, patchmatch_2d, patchmatch_weighted, PatchMatchParams};
 pub use radiance::{khan_weight, to_radiance, to_samples, ViewSamples};

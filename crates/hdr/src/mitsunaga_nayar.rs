@@ -102,7 +102,7 @@ impl MitsunagaNayarParams {
 
 /// One channel's fit.
 #[derive(Clone, Debug, PartialEq)]
-pub struct MnChannel {
+pub struct MitsunagaNayarChannel {
     /// `c_0 .. c_N` of `f(M)`, summing to 1.
     pub coefficients: Vec<f64>,
     /// Exposure ratios `t_q / t_{q+1}` of consecutive exposures in order of time, as
@@ -118,11 +118,11 @@ pub struct MnChannel {
 
 /// The result of [`calibrate_mitsunaga_nayar`].
 #[derive(Clone, Debug, PartialEq)]
-pub struct MnFit {
+pub struct MitsunagaNayarFit {
     /// The inverse response table, `f(Z / z_max)` per code and channel (`f(z_max) = 1`).
     pub crf: Crf,
     /// Each channel's polynomial, ratios and residual.
-    pub channels: Vec<MnChannel>,
+    pub channels: Vec<MitsunagaNayarChannel>,
 }
 
 /// One equation's two normalised codes and the pair of exposures it belongs to.
@@ -242,7 +242,7 @@ pub fn calibrate_mitsunaga_nayar(
     times: &[f64],
     bits: u8,
     p: &MitsunagaNayarParams,
-) -> Result<MnFit> {
+) -> Result<MitsunagaNayarFit> {
     p.validate()?;
     let (levels, (h, w, ch)) = check_stack(stack, times, bits)?;
     let zmax = levels - 1;
@@ -350,7 +350,7 @@ pub fn calibrate_mitsunaga_nayar(
         for (z, f) in v.iter().enumerate() {
             table[z * ch + c] = f.max(0.0) as f32;
         }
-        channels.push(MnChannel {
+        channels.push(MitsunagaNayarChannel {
             rms: rms(&obs, &coef, &ratios),
             coefficients: coef,
             ratios,
@@ -358,7 +358,7 @@ pub fn calibrate_mitsunaga_nayar(
             iterations,
         });
     }
-    Ok(MnFit {
+    Ok(MitsunagaNayarFit {
         crf: Crf::from_table(&table, levels, ch)?,
         channels,
     })

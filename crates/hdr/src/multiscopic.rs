@@ -115,7 +115,7 @@ impl MultiscopicParams {
 
 /// The HDR images of every view and the fields that aligned them.
 #[derive(Clone, Debug)]
-pub struct MultiscopicOut {
+pub struct MultiscopicResult {
     /// One HDR radiance image per view.
     pub hdr: Vec<Image<f32>>,
     /// The field of every ordered pair `(r, s)` (reference to source); empty for
@@ -270,7 +270,7 @@ pub fn multiscopic_hdr(
     crfs: &[Crf],
     p: &MultiscopicParams,
     progress: &dyn Progress,
-) -> Result<MultiscopicOut> {
+) -> Result<MultiscopicResult> {
     p.validate()?;
     check_views(views, times, crfs)?;
     let (h, w, _) = views[0].shape();
@@ -354,7 +354,7 @@ pub fn multiscopic_hdr(
         .into_iter()
         .map(|m| (m.hdr, m.fallback_pixels))
         .unzip();
-    Ok(MultiscopicOut {
+    Ok(MultiscopicResult {
         hdr,
         nnfs,
         fallback_pixels,

@@ -6,7 +6,9 @@
 
 use wscg_hdr::metrics::response_log_error;
 use wscg_hdr::synth::{encode, gradient_target, layered_scene, Response, SceneParams};
-use wscg_hdr::{calibrate_debevec, calibrate_mitsunaga_nayar, Crf, MitsunagaNayarParams, MnFit};
+use wscg_hdr::{
+    calibrate_debevec, calibrate_mitsunaga_nayar, Crf, MitsunagaNayarFit, MitsunagaNayarParams,
+};
 use wscg_math::Image;
 
 fn gradient() -> Image<f32> {
@@ -43,7 +45,7 @@ fn worst(crf: &Crf, truth: Response, lo: u16, hi: u16) -> f64 {
     w
 }
 
-fn largest_ratio_error(fit: &MnFit, want: f64) -> f64 {
+fn largest_ratio_error(fit: &MitsunagaNayarFit, want: f64) -> f64 {
     fit.channels
         .iter()
         .flat_map(|c| c.ratios.iter())

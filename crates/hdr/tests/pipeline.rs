@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 use wscg_hdr::metrics::{evaluation_mask, rmse_log2, Region};
 use wscg_hdr::synth::{encode, layered_scene, SceneParams, SynthScene};
 use wscg_hdr::{
-    multiscopic_hdr, Align, Crf, MultiscopicOut, MultiscopicParams, PatchMatchParams, Synthesis,
+    multiscopic_hdr, Align, Crf, MultiscopicParams, MultiscopicResult, PatchMatchParams, Synthesis,
 };
 use wscg_math::progress::{CountingProgress, NoProgress};
 use wscg_math::Image;
@@ -33,11 +33,11 @@ fn run(
     align: Align,
     synthesis: Synthesis,
     pm: PatchMatchParams,
-) -> MultiscopicOut {
+) -> MultiscopicResult {
     run_params(sc, &params(align, synthesis, pm))
 }
 
-fn run_params(sc: &SynthScene, p: &MultiscopicParams) -> MultiscopicOut {
+fn run_params(sc: &SynthScene, p: &MultiscopicParams) -> MultiscopicResult {
     multiscopic_hdr(
         &sc.views,
         &sc.times,
@@ -48,7 +48,7 @@ fn run_params(sc: &SynthScene, p: &MultiscopicParams) -> MultiscopicOut {
     .unwrap()
 }
 
-fn err(sc: &SynthScene, out: &MultiscopicOut, k: usize, mask: &[bool]) -> f64 {
+fn err(sc: &SynthScene, out: &MultiscopicResult, k: usize, mask: &[bool]) -> f64 {
     rmse_log2(&out.hdr[k], &sc.radiance[k], Some(mask)).unwrap()
 }
 
@@ -124,7 +124,7 @@ fn the_darkest_view_is_recovered_where_it_is_under_exposed() {
 
 /// The scene re-encoded at twenty times its exposures without noise (the emitter saturates
 /// every camera at code 255) and its multiscopic result: the times and the output.
-fn clipped_everywhere(sc: &SynthScene) -> (Vec<f64>, MultiscopicOut) {
+fn clipped_everywhere(sc: &SynthScene) -> (Vec<f64>, MultiscopicResult) {
     let times: Vec<f64> = sc.times.iter().map(|t| 20.0 * t).collect();
     let views: Vec<Image<u16>> = (0..5)
         .map(|k| encode(&sc.radiance[k], times[k], sc.response, 0.0, 8, k as u64).unwrap())
@@ -358,7 +358,7 @@ fn three_iterations_each_way_beat_six_one_way() {
     let pm = PatchMatchParams::default();
     let bds3 = run(sc, Align::Ours, Synthesis::Bds, pm.iters(3));
     let one6 = run(sc, Align::Ours, Synthesis::Direct, pm.iters(6));
-    let mean = |o: &MultiscopicOut| {
+    let mean = |o: &MultiscopicResult| {
         (0..5)
             .map(|k| err(sc, o, k, &evaluation_mask(sc, k, Region::SeenByAll)))
             .sum::<f64>()

@@ -523,7 +523,7 @@ pub fn pcg(
 
 /// Result of [`conjugate_residual`].
 #[derive(Clone, Debug)]
-pub struct CrResult {
+pub struct ConjugateResidualResult {
     /// The solution estimate.
     pub x: Vec<f64>,
     /// Iterations performed.
@@ -544,7 +544,7 @@ pub fn conjugate_residual(
     b: &[f64],
     guess: InitialGuess<'_>,
     opts: &PcgParams,
-) -> Result<CrResult> {
+) -> Result<ConjugateResidualResult> {
     let (n, mut x, max_iter) = krylov_setup("conjugate residual", a, b, guess, opts)?;
     let mut r = vec![0.0; n];
     a.apply(&x, &mut r);
@@ -585,7 +585,7 @@ pub fn conjugate_residual(
             ap[i] = ar[i] + beta * ap[i];
         }
     }
-    Ok(CrResult {
+    Ok(ConjugateResidualResult {
         x,
         iterations: it,
         converged: rnorm <= target,

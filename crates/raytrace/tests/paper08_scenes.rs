@@ -36,7 +36,7 @@ fn ratios(
         let (a, u, ic) = (&out[0].1, &out[1].1, &out[2].1);
         // The baseline gets the adaptive run's record count (no primary ray misses the hall).
         assert_eq!(ic.records.len(), a.records.len());
-        let e = |o: &Output| rmse(&o.image, &reference.image);
+        let e = |o: &ManyLightResult| rmse(&o.image, &reference.image);
         eprintln!(
             "seed {seed}: {} VPLs, records {} (inserted {}), ic records {}; RMSE adaptive {:.5}, uniform {:.5}, ic {:.5}; cache s {:.2} / {:.2}",
             vpls.len(),

@@ -7,10 +7,10 @@ use wscg_math::{Error, Image, Result, Volume};
 use crate::gradient_octree::Roi;
 use crate::package::HybridClient;
 use crate::render::{cast, Camera, EmptyCells, RenderParams, Source};
-use crate::tf::PlTf;
+use crate::tf::PiecewiseTransferFunction;
 
 /// Transfer function `k` of `tfs`, or an error naming the ROI's transfer function.
-fn tf_index(tfs: &[PlTf], k: usize) -> Result<&PlTf> {
+fn tf_index(tfs: &[PiecewiseTransferFunction], k: usize) -> Result<&PiecewiseTransferFunction> {
     tfs.get(k)
         .ok_or_else(|| Error::invalid("roi_tf", format!("transfer function {k} of {}", tfs.len())))
 }
@@ -27,7 +27,7 @@ impl HybridClient {
 
     fn roi_source<'a>(
         &'a self,
-        tf: &'a PlTf,
+        tf: &'a PiecewiseTransferFunction,
         exact: Option<&'a Volume<u8>>,
     ) -> Option<(&'a Roi, Source<'a>)> {
         self.roi.as_ref().map(|(r, s, leaves)| {

@@ -42,4 +42,4 @@ pub mod wavelet;
 pub use gradient_octree::{GoStructure, GradientOctree, Roi};
 pub use package::{HybridClient, HybridServer, ServerParams, SizeReport};
 pub use render::{render_reference, Camera, RenderParams};
-pub use tf::{MaterialTable, PlTf};
+pub use tf::{MaterialTable, PiecewiseTransferFunction};

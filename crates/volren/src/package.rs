@@ -24,7 +24,7 @@ use wscg_math::{Error, Result, Volume};
 
 use crate::bytes::{Reader, Writer};
 use crate::gradient_octree::{EdgeRule, GoStructure, GradientOctree, Roi};
-use crate::tf::{MaterialTable, PlTf};
+use crate::tf::{MaterialTable, PiecewiseTransferFunction};
 use crate::wavelet::{decode_lowres, encode_blocks, HaarQuant, WaveletPackage};
 
 const MAGIC: &[u8; 6] = b"WSCG03";
@@ -150,7 +150,7 @@ fn fnv1a<'a>(parts: impl IntoIterator<Item = &'a [u8]>) -> u64 {
     h
 }
 
-fn write_tfs(w: &mut Writer, tfs: &[PlTf]) {
+fn write_tfs(w: &mut Writer, tfs: &[PiecewiseTransferFunction]) {
     w.u8(tfs.len() as u8);
     for t in tfs {
         w.u16(t.points().len() as u16);
@@ -161,7 +161,7 @@ fn write_tfs(w: &mut Writer, tfs: &[PlTf]) {
     }
 }
 
-fn read_tfs(r: &mut Reader) -> Result<Vec<PlTf>> {
+fn read_tfs(r: &mut Reader) -> Result<Vec<PiecewiseTransferFunction>> {
     let n = r.u8()?;
     (0..n)
         .map(|_| {
@@ -169,7 +169,7 @@ fn read_tfs(r: &mut Reader) -> Result<Vec<PlTf>> {
             let pts = (0..k)
                 .map(|_| Ok((r.f32()?, [r.f32()?, r.f32()?, r.f32()?, r.f32()?])))
                 .collect::<Result<Vec<_>>>()?;
-            PlTf::new(pts)
+            PiecewiseTransferFunction::new(pts)
         })
         .collect()
 }
@@ -178,7 +178,7 @@ fn read_tfs(r: &mut Reader) -> Result<Vec<PlTf>> {
 #[derive(Clone, Debug)]
 pub struct HybridServer {
     volume: Volume<u8>,
-    tfs: Vec<PlTf>,
+    tfs: Vec<PiecewiseTransferFunction>,
     canonical: usize,
     wavelet: WaveletPackage,
     octree: GradientOctree,
@@ -228,7 +228,7 @@ impl HybridServer {
     /// `canonical` out of range, bad options.
     pub fn new(
         v: &Volume<u8>,
-        tfs: Vec<PlTf>,
+        tfs: Vec<PiecewiseTransferFunction>,
         canonical: usize,
         opts: ServerParams,
     ) -> Result<Self> {
@@ -369,7 +369,7 @@ pub struct HybridClient {
     /// Volume size.
     pub dims: [usize; 3],
     /// Transfer functions (index `canonical` colours the context).
-    pub tfs: Vec<PlTf>,
+    pub tfs: Vec<PiecewiseTransferFunction>,
     /// Canonical transfer function index.
     pub canonical: usize,
     /// Materials of the transfer functions.

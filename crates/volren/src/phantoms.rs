@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use wscg_math::filter::Border;
 use wscg_math::{Error, Result, Volume};
 
-use crate::tf::PlTf;
+use crate::tf::PiecewiseTransferFunction;
 
 /// Schabel's modified Shepp-Logan table: value, semi-axes (a, b, c), centre (x0, y0, z0),
 /// Euler angles (phi, theta, psi) in degrees.
@@ -130,14 +130,14 @@ pub fn head(dims: [usize; 3], seed: u64) -> Result<Volume<u8>> {
 }
 
 /// Transfer functions of [`head`]: soft tissue (canonical, index 0) and bone.
-pub fn head_tfs() -> Vec<PlTf> {
-    let soft = PlTf::new(vec![
+pub fn head_tfs() -> Vec<PiecewiseTransferFunction> {
+    let soft = PiecewiseTransferFunction::new(vec![
         (30.0, [0.9, 0.6, 0.5, 0.0]),
         (60.0, [0.9, 0.6, 0.5, 0.05]),
         (110.0, [0.9, 0.6, 0.5, 0.05]),
         (120.0, [0.9, 0.6, 0.5, 0.0]),
     ]);
-    let bone = PlTf::new(vec![
+    let bone = PiecewiseTransferFunction::new(vec![
         (180.0, [1.0, 1.0, 0.9, 0.0]),
         (255.0, [1.0, 1.0, 0.9, 0.8]),
     ]);
@@ -218,8 +218,8 @@ pub fn thorax(dims: [usize; 3], seed: u64) -> Result<Volume<u8>> {
 
 /// Transfer functions of [`thorax`]: all structures (canonical, index 0), bone (ramp 170 to
 /// 230), lungs (window 5 to 30) and skin (window 55 to 85).
-pub fn thorax_tfs() -> Vec<PlTf> {
-    let tf = |pts: Vec<(f32, [f32; 4])>| PlTf::new(pts).expect("valid");
+pub fn thorax_tfs() -> Vec<PiecewiseTransferFunction> {
+    let tf = |pts: Vec<(f32, [f32; 4])>| PiecewiseTransferFunction::new(pts).expect("valid");
     vec![
         tf(vec![
             (5.0, [0.8, 0.5, 0.4, 0.0]),

@@ -19,7 +19,7 @@ use wscg_math::{Error, Image, Result, Volume};
 
 use crate::gradient_octree::{lookup, GoStructure, Roi};
 use crate::normal_code::decode_voxel;
-use crate::tf::{MaterialTable, PlTf};
+use crate::tf::{MaterialTable, PiecewiseTransferFunction};
 
 type V3 = [f64; 3];
 
@@ -48,7 +48,7 @@ pub struct EmptyCells {
 
 impl EmptyCells {
     /// The cells of `v` under `tf`.
-    pub fn new(v: &Volume<f32>, tf: &PlTf) -> Self {
+    pub fn new(v: &Volume<f32>, tf: &PiecewiseTransferFunction) -> Self {
         let vd = v.dims();
         let dims = vd.map(|d| d.div_ceil(CELL));
         let empty = (0..dims[0] * dims[1] * dims[2])
@@ -328,7 +328,7 @@ pub(crate) enum Source<'a> {
     Context {
         lowres: &'a Volume<f32>,
         factor: f64,
-        tf: &'a PlTf,
+        tf: &'a PiecewiseTransferFunction,
         empty: &'a EmptyCells,
     },
     /// A (restricted) Gradient Octree under `tf`, shaded with the stored normals, or with
@@ -337,13 +337,13 @@ pub(crate) enum Source<'a> {
         structure: &'a GoStructure,
         leaves: &'a [[u8; 3]],
         mats: &'a MaterialTable,
-        tf: &'a PlTf,
+        tf: &'a PiecewiseTransferFunction,
         exact: Option<&'a Volume<u8>>,
     },
     /// The full-resolution volume under `tf`, shaded with its gradient when `lit`.
     Full {
         v: &'a Volume<f32>,
-        tf: &'a PlTf,
+        tf: &'a PiecewiseTransferFunction,
         lit: bool,
     },
 }
@@ -469,8 +469,8 @@ pub(crate) fn cast(
 /// Errors: empty volume, bad camera or options.
 pub fn render_reference(
     v: &Volume<u8>,
-    tf: &PlTf,
-    roi: Option<(&Roi, &PlTf)>,
+    tf: &PiecewiseTransferFunction,
+    roi: Option<(&Roi, &PiecewiseTransferFunction)>,
     cam: &Camera,
     opts: &RenderParams,
 ) -> Result<Image<f32>> {
@@ -512,7 +512,7 @@ mod tests {
             }
         })
         .unwrap();
-        let tf = PlTf::new(vec![
+        let tf = PiecewiseTransferFunction::new(vec![
             (50.0, [1.0, 1.0, 1.0, 0.0]),
             (60.0, [1.0, 1.0, 1.0, 0.5]),
         ])

@@ -11,11 +11,11 @@ use wscg_math::{Error, Result};
 
 /// A piecewise-linear transfer function: density (0..=255) to RGBA, opacity per voxel length.
 #[derive(Clone, Debug, PartialEq)]
-pub struct PlTf {
+pub struct PiecewiseTransferFunction {
     points: Vec<(f32, [f32; 4])>,
 }
 
-impl PlTf {
+impl PiecewiseTransferFunction {
     /// A transfer function from control points `(density, [r, g, b, a])`, constant beyond the
     /// first and last point.
     ///
@@ -116,7 +116,7 @@ impl MaterialTable {
     /// The materials induced by `tfs`.
     ///
     /// Errors: no transfer function, more than 63 materials.
-    pub fn from_tfs(tfs: &[PlTf]) -> Result<Self> {
+    pub fn from_tfs(tfs: &[PiecewiseTransferFunction]) -> Result<Self> {
         if tfs.is_empty() {
             return Err(Error::Empty("transfer functions"));
         }
@@ -170,8 +170,9 @@ impl MaterialTable {
 mod tests {
     use super::*;
 
-    fn ramp(lo: f32, hi: f32, top: f32) -> PlTf {
-        PlTf::new(vec![(lo, [1.0, 1.0, 1.0, 0.0]), (hi, [1.0, 1.0, 1.0, top])]).unwrap()
+    fn ramp(lo: f32, hi: f32, top: f32) -> PiecewiseTransferFunction {
+        PiecewiseTransferFunction::new(vec![(lo, [1.0, 1.0, 1.0, 0.0]), (hi, [1.0, 1.0, 1.0, top])])
+            .unwrap()
     }
 
     #[test]
@@ -187,7 +188,7 @@ mod tests {
     #[test]
     fn materials_follow_the_segments() {
         let bone = ramp(180.0, 255.0, 0.8);
-        let soft = PlTf::new(vec![
+        let soft = PiecewiseTransferFunction::new(vec![
             (30.0, [1.0, 0.5, 0.5, 0.0]),
             (60.0, [1.0, 0.5, 0.5, 0.05]),
             (110.0, [1.0, 0.5, 0.5, 0.05]),
@@ -219,15 +220,15 @@ mod tests {
     #[test]
     fn bad_transfer_functions_are_rejected() {
         let p = |d: f32, a: f32| (d, [0.5, 0.5, 0.5, a]);
-        assert!(PlTf::new(vec![p(0.0, 0.0)]).is_err());
-        assert!(PlTf::new(vec![p(10.0, 0.0), p(5.0, 0.5)]).is_err());
-        assert!(PlTf::new(vec![p(10.0, 0.0), p(10.0, 0.5)]).is_err());
-        assert!(PlTf::new(vec![p(0.0, 0.0), p(300.0, 0.5)]).is_err());
-        assert!(PlTf::new(vec![p(0.0, 0.0), p(10.0, 1.5)]).is_err());
-        assert!(PlTf::new(vec![p(0.0, f32::NAN), p(10.0, 0.5)]).is_err());
+        assert!(PiecewiseTransferFunction::new(vec![p(0.0, 0.0)]).is_err());
+        assert!(PiecewiseTransferFunction::new(vec![p(10.0, 0.0), p(5.0, 0.5)]).is_err());
+        assert!(PiecewiseTransferFunction::new(vec![p(10.0, 0.0), p(10.0, 0.5)]).is_err());
+        assert!(PiecewiseTransferFunction::new(vec![p(0.0, 0.0), p(300.0, 0.5)]).is_err());
+        assert!(PiecewiseTransferFunction::new(vec![p(0.0, 0.0), p(10.0, 1.5)]).is_err());
+        assert!(PiecewiseTransferFunction::new(vec![p(0.0, f32::NAN), p(10.0, 0.5)]).is_err());
         assert!(MaterialTable::from_tfs(&[]).is_err());
         // 64 opaque segments: one too many.
         let many: Vec<_> = (0..=64).map(|k| p(k as f32 * 3.0, 1.0)).collect();
-        assert!(MaterialTable::from_tfs(&[PlTf::new(many).unwrap()]).is_err());
+        assert!(MaterialTable::from_tfs(&[PiecewiseTransferFunction::new(many).unwrap()]).is_err());
     }
 }

@@ -25,7 +25,7 @@ use rayon::prelude::*;
 use wscg_math::{Error, Result, Volume};
 
 use crate::bytes::Reader;
-use crate::tf::PlTf;
+use crate::tf::PiecewiseTransferFunction;
 
 /// Block side.
 pub const BLOCK: usize = 16;
@@ -197,7 +197,7 @@ fn morton_order(n: usize) -> Vec<usize> {
 
 /// The pre-processed volume (steps 1 and 2 above): null voxels zeroed, padded to multiples
 /// of 16, smoothed per block. Dimensions are the padded ones.
-pub fn preprocess(v: &Volume<u8>, canonical: &PlTf) -> Result<Volume<f32>> {
+pub fn preprocess(v: &Volume<u8>, canonical: &PiecewiseTransferFunction) -> Result<Volume<f32>> {
     let dims = v.dims();
     if dims.contains(&0) {
         return Err(Error::Empty("volume"));
@@ -344,7 +344,7 @@ fn code_block(
 /// Errors: empty volume, `w_sent` outside 1..=4, a non-positive quantisation step.
 pub fn encode_blocks(
     v: &Volume<u8>,
-    canonical: &PlTf,
+    canonical: &PiecewiseTransferFunction,
     q: &HaarQuant,
     w_sent: u8,
 ) -> Result<WaveletPackage> {

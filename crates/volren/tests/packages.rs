@@ -3,7 +3,7 @@
 //! check 10 (truncated, corrupted, foreign or inconsistent packages).
 
 use wscg_volren::phantoms::{head, head_tfs};
-use wscg_volren::{HybridClient, HybridServer, PlTf, Roi, ServerParams};
+use wscg_volren::{HybridClient, HybridServer, PiecewiseTransferFunction, Roi, ServerParams};
 
 fn server() -> HybridServer {
     let v = head([96, 96, 48], 3).unwrap();
@@ -119,7 +119,13 @@ fn bad_packages_are_rejected() {
     assert!(s.roi_package([500, 0, 0], [510, 10, 10]).is_err());
     let v = head([32, 32, 32], 1).unwrap();
     assert!(HybridServer::new(&v, head_tfs(), 2, ServerParams::default()).is_err());
-    assert!(HybridServer::new(&v, Vec::<PlTf>::new(), 0, ServerParams::default()).is_err());
+    assert!(HybridServer::new(
+        &v,
+        Vec::<PiecewiseTransferFunction>::new(),
+        0,
+        ServerParams::default()
+    )
+    .is_err());
     let opts = ServerParams::default().steps_sent(5);
     assert!(HybridServer::new(&v, head_tfs(), 0, opts).is_err());
 }

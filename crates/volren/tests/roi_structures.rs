@@ -10,10 +10,11 @@ use wscg_volren::normal_code::decode_voxel;
 use wscg_volren::wavelet::{
     decode_lowres, encode_blocks, forward_block, inverse_block, pool, preprocess, HaarQuant,
 };
-use wscg_volren::{GoStructure, GradientOctree, MaterialTable, PlTf, Roi};
+use wscg_volren::{GoStructure, GradientOctree, MaterialTable, PiecewiseTransferFunction, Roi};
 
-fn ramp(lo: f32, hi: f32) -> PlTf {
-    PlTf::new(vec![(lo, [1.0, 1.0, 1.0, 0.0]), (hi, [1.0, 1.0, 1.0, 0.8])]).unwrap()
+fn ramp(lo: f32, hi: f32) -> PiecewiseTransferFunction {
+    PiecewiseTransferFunction::new(vec![(lo, [1.0, 1.0, 1.0, 0.0]), (hi, [1.0, 1.0, 1.0, 0.8])])
+        .unwrap()
 }
 
 /// Overlapping balls of densities 60, 120, 200 and 250 in a non-cubic volume, with noise.
@@ -43,8 +44,8 @@ fn blobs(dims: [usize; 3]) -> Volume<u8> {
     .unwrap()
 }
 
-fn two_tfs() -> Vec<PlTf> {
-    let soft = PlTf::new(vec![
+fn two_tfs() -> Vec<PiecewiseTransferFunction> {
+    let soft = PiecewiseTransferFunction::new(vec![
         (40.0, [1.0, 0.6, 0.5, 0.0]),
         (70.0, [1.0, 0.6, 0.5, 0.1]),
         (140.0, [1.0, 0.6, 0.5, 0.1]),
@@ -175,7 +176,8 @@ fn sphere_edge_voxels_match_the_morphological_boundary() {
         }
     })
     .unwrap();
-    let tf = PlTf::new(vec![(150.0, [1.0, 1.0, 1.0, 0.0]), (151.0, [1.0; 4])]).unwrap();
+    let tf = PiecewiseTransferFunction::new(vec![(150.0, [1.0, 1.0, 1.0, 0.0]), (151.0, [1.0; 4])])
+        .unwrap();
     let mats = MaterialTable::from_tfs(&[tf]).unwrap();
     let go = GradientOctree::build(&v, &mats, EdgeRule::Boundary).unwrap();
     // mask & ~erosion(mask, 6-connectivity, border 0).

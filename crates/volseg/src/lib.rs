@@ -39,4 +39,4 @@ pub use metrics::dice_multilabel;
 pub use params::{IntensityNorm, Precision, RandomWalkParams, Solver};
 pub use phantom::{fractured_shell_phantom, Phantom, PhantomParams};
 pub use preprocess::{gaussian_smooth3, threshold};
-pub use walker::{RwSession, SolveReport};
+pub use walker::{RandomWalkSession, SolveReport};

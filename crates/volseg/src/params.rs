@@ -41,7 +41,7 @@ pub enum Precision {
 }
 
 wscg_math::params! {
-    /// Parameters of [`crate::walker::RwSession`], the paper's values by default.
+    /// Parameters of [`crate::walker::RandomWalkSession`], the paper's values by default.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct RandomWalkParams {
         /// Bone threshold `t_bone`, HU: voxels with `I >= t_bone` form the graph (300).

@@ -11,7 +11,7 @@ use crate::block::{try_filled, Block, BlockOutcome, Lane, EXCLUDED, MAX_LANES, U
 use crate::graph::BoneGraph;
 use crate::params::{Precision, RandomWalkParams, Solver};
 
-/// Outcome of one [`RwSession::solve`], per label `1..=K`.
+/// Outcome of one [`RandomWalkSession::solve`], per label `1..=K`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SolveReport {
     /// CG iterations.
@@ -57,7 +57,7 @@ enum Probs {
 
 /// An interactive segmentation: the graph, the seeds placed so far and the last solution.
 #[derive(Clone, Debug)]
-pub struct RwSession {
+pub struct RandomWalkSession {
     graph: BoneGraph,
     params: RandomWalkParams,
     /// Seed label of every node (0 = unseeded).
@@ -68,7 +68,7 @@ pub struct RwSession {
     x: Option<Probs>,
 }
 
-impl RwSession {
+impl RandomWalkSession {
     /// A session on `graph`. Errors: invalid parameters.
     pub fn new(graph: BoneGraph, params: RandomWalkParams) -> Result<Self> {
         params.validate()?;

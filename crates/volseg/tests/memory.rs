@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 use wscg_volseg::{
     fractured_shell_phantom, full_image_graph, BoneGraph, PhantomParams, RandomWalkParams,
-    RwSession,
+    RandomWalkSession,
 };
 
 struct Counting;
@@ -49,7 +49,7 @@ fn bone_only_graph_needs_under_15_percent_of_the_full_image_graph() {
     let (bone_nodes, bone) = peak_of(|| {
         let g = BoneGraph::build(&ph.ct, &p).unwrap();
         let n = g.len();
-        let mut s = RwSession::new(g, p).unwrap();
+        let mut s = RandomWalkSession::new(g, p).unwrap();
         s.set_seeds(&ph.seeds).unwrap();
         let r = s.solve(false).unwrap();
         assert!(r.converged.iter().all(|&c| c), "{r:?}");
@@ -76,7 +76,7 @@ fn bone_only_graph_needs_under_15_percent_of_the_full_image_graph() {
     let (full_nodes, full) = peak_of(|| {
         let g = full_image_graph(&ph.ct, &q).unwrap();
         let n = g.len();
-        let mut s = RwSession::new(g, q).unwrap();
+        let mut s = RandomWalkSession::new(g, q).unwrap();
         s.set_seeds(&seeds).unwrap();
         let r = s.solve(false).unwrap();
         assert!(r.iterations.iter().all(|&i| i == 5), "{r:?}");

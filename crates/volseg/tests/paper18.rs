@@ -8,7 +8,7 @@ use wscg_volseg::graph::NONE;
 use wscg_volseg::{
     dice_multilabel, fractured_shell_phantom, gaussian_smooth3, local_grow_edit,
     nearest_seed_labels, remove_small_components, BoneGraph, GrowWeights, Phantom, PhantomParams,
-    Precision, RandomWalkParams, RwSession, Solver,
+    Precision, RandomWalkParams, RandomWalkSession, Solver,
 };
 
 fn chain(p: RandomWalkParams) -> Vec<f64> {
@@ -16,7 +16,7 @@ fn chain(p: RandomWalkParams) -> Vec<f64> {
     let g = BoneGraph::build(&ct, &p).unwrap();
     assert_eq!(g.len(), 101);
     assert_eq!(g.edges(), 100);
-    let mut s = RwSession::new(g, p).unwrap();
+    let mut s = RandomWalkSession::new(g, p).unwrap();
     s.add_seeds(&[0], 1).unwrap();
     s.add_seeds(&[100], 2).unwrap();
     let r = s.solve(false).unwrap();
@@ -122,9 +122,9 @@ fn phantom() -> Phantom {
 }
 
 /// Random-walk labels of the phantom with parameters `p`, and the session.
-fn segment(ph: &Phantom, p: RandomWalkParams) -> (Vec<u16>, RwSession) {
+fn segment(ph: &Phantom, p: RandomWalkParams) -> (Vec<u16>, RandomWalkSession) {
     let g = BoneGraph::build(&ph.ct, &p).unwrap();
-    let mut s = RwSession::new(g, p).unwrap();
+    let mut s = RandomWalkSession::new(g, p).unwrap();
     s.set_seeds(&ph.seeds).unwrap();
     s.solve(false).unwrap();
     (s.labels().unwrap().into_data(), s)
@@ -313,7 +313,7 @@ fn isolated_components_with(kappa: f64) {
     }
     ph.ct = Volume::new(dims, [1.0; 3], ct).unwrap();
     let g = BoneGraph::build(&ph.ct, &p).unwrap();
-    let mut s = RwSession::new(g, p).unwrap();
+    let mut s = RandomWalkSession::new(g, p).unwrap();
     s.set_seeds(&ph.seeds).unwrap();
     let r = s.solve(false).unwrap();
     assert!(r.converged.iter().all(|&c| c), "{r:?}");
@@ -348,7 +348,7 @@ fn bad_input_gets_clear_errors() {
         assert!(BoneGraph::build(&ct, &q).is_err());
     }
     let g = BoneGraph::build(&ct, &p).unwrap();
-    let mut s = RwSession::new(g, p).unwrap();
+    let mut s = RandomWalkSession::new(g, p).unwrap();
     assert!(s.solve(false).unwrap_err().to_string().contains("no seed"));
     let wrong = Volume::new([4, 4, 5], [1.0; 3], vec![0u16; 80]).unwrap();
     assert!(s.set_seeds(&wrong).is_err());
@@ -358,7 +358,7 @@ fn bad_input_gets_clear_errors() {
     let air = Volume::new([4, 4, 4], [1.0; 3], vec![-1000.0f32; 64]).unwrap();
     let g = BoneGraph::build(&air, &p).unwrap();
     assert!(g.is_empty());
-    let mut s = RwSession::new(g, p).unwrap();
+    let mut s = RandomWalkSession::new(g, p).unwrap();
     assert_eq!(s.add_seeds(&[3], 1).unwrap(), 0);
     assert!(s.solve(false).is_err());
     assert!(dice_multilabel(&[1, 2], &[1]).is_err());
@@ -486,7 +486,7 @@ fn converged_means_the_true_residual_meets_the_tolerance() {
     for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
         let p = RandomWalkParams::default().tol(tol).max_iter(3000);
         let g = BoneGraph::build(&ct, &p).unwrap();
-        let mut s = RwSession::new(g, p).unwrap();
+        let mut s = RandomWalkSession::new(g, p).unwrap();
         s.add_seeds(&[0], 1).unwrap();
         s.add_seeds(&[n - 1], 2).unwrap();
         let r = s.solve(false).unwrap();

@@ -5,7 +5,9 @@
 
 use std::time::Instant;
 
-use wscg_volseg::{fractured_shell_phantom, BoneGraph, PhantomParams, RandomWalkParams, RwSession};
+use wscg_volseg::{
+    fractured_shell_phantom, BoneGraph, PhantomParams, RandomWalkParams, RandomWalkSession,
+};
 
 #[test]
 fn case_one_size_converges_in_the_papers_iteration_range() {
@@ -18,7 +20,7 @@ fn case_one_size_converges_in_the_papers_iteration_range() {
     let g = BoneGraph::build(&ph.ct, &p).unwrap();
     let t_graph = t.elapsed().as_secs_f64();
     let n = g.len();
-    let mut s = RwSession::new(g, p).unwrap();
+    let mut s = RandomWalkSession::new(g, p).unwrap();
     s.set_seeds(&ph.seeds).unwrap();
     let t = Instant::now();
     let r = s.solve(false).unwrap();

@@ -12,7 +12,7 @@ use clap::{Args, Subcommand, ValueEnum};
 use nalgebra::Vector3;
 use wscg_cloth::{
     ClothModel, Collider, Collisions, LambdaMode, MeshCollider, Method, NcgVariant, Relaxation,
-    Sim, SolverParams,
+    Simulation, SolverParams,
 };
 use wscg_math::progress::Progress;
 use wscg_math::{Error, Result, TriMesh};
@@ -238,7 +238,7 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
         MethodName::IeDirect => Method::ImplicitEulerDirect,
         MethodName::IeNewton => Method::ImplicitEulerNewton { tol: 1e-10 },
     };
-    let mut sim = Sim::new(
+    let mut sim = Simulation::new(
         model,
         SolverParams::default()
             .method(method)

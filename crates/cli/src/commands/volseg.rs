@@ -18,8 +18,8 @@ use wscg_math::mesh::TriMesh;
 use wscg_math::{Error, Result, Volume};
 use wscg_volseg::{
     dice_multilabel, fractured_shell_phantom, gaussian_smooth3, nearest_seed_labels,
-    remove_small_components, BoneGraph, PhantomParams, Precision, RandomWalkParams, RwSession,
-    Solver,
+    remove_small_components, BoneGraph, PhantomParams, Precision, RandomWalkParams,
+    RandomWalkSession, Solver,
 };
 
 #[derive(Subcommand, Debug)]
@@ -336,7 +336,7 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
                 g.edges(),
                 p.t_bone
             );
-            let mut s = RwSession::new(g, p)?;
+            let mut s = RandomWalkSession::new(g, p)?;
             let placed = s.set_seeds(&seeds)?;
             let total = seeds.data().iter().filter(|&&l| l != 0).count();
             if placed < total {

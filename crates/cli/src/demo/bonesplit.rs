@@ -8,7 +8,7 @@ use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
 use wscg_volseg::{
     dice_multilabel, fractured_shell_phantom, nearest_seed_labels, BoneGraph, PhantomParams,
-    RandomWalkParams, RwSession,
+    RandomWalkParams, RandomWalkSession,
 };
 
 use super::figures::montage;
@@ -66,14 +66,14 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     let p = RandomWalkParams::default();
     let g = rep.time("bone graph", || BoneGraph::build(&ph.ct, &p))?;
     let (nodes, edges) = (g.len(), g.edges());
-    let mut s = RwSession::new(g, p)?;
+    let mut s = RandomWalkSession::new(g, p)?;
     s.set_seeds(&ph.seeds)?;
     let r = rep.time("random walks, all labels", || s.solve(false))?;
     progress.advance(1);
     let rw = s.labels()?.into_data();
     // scikit-image's weights (eps 1e-10, no diagonal regulariser): sharper fracture barriers.
     let q = p.eps(1e-10).kappa(0.0);
-    let mut sk = RwSession::new(BoneGraph::build(&ph.ct, &q)?, q)?;
+    let mut sk = RandomWalkSession::new(BoneGraph::build(&ph.ct, &q)?, q)?;
     sk.set_seeds(&ph.seeds)?;
     let r_sk = rep.time("random walks, eps 1e-10, kappa 0", || sk.solve(false))?;
     let rw_sk = sk.labels()?.into_data();

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 use wscg_cloth::{
-    grid_triangles, ClothModel, Collider, Collisions, LambdaMode, Method, NcgVariant, Sim,
+    grid_triangles, ClothModel, Collider, Collisions, LambdaMode, Method, NcgVariant, Simulation,
     SolverParams,
 };
 use wscg_math::progress::Progress;
@@ -29,7 +29,7 @@ const H: f64 = 1.0 / 60.0;
 
 fn energy_curve(method: Method, ab: f64, steps: usize) -> Result<Vec<f64>> {
     let model = ClothModel::grid(10, 10, (1.0, 1.0), 0.1, 2.0, Some(2.0), Some(2.0))?;
-    let mut sim = Sim::new(
+    let mut sim = Simulation::new(
         model,
         SolverParams::default().method(method).alpha(ab).beta(ab),
     )?;
@@ -42,7 +42,7 @@ fn energy_curve(method: Method, ab: f64, steps: usize) -> Result<Vec<f64>> {
 }
 
 fn chain_elongation(iterations: usize, mode: LambdaMode) -> Result<f64> {
-    let mut sim = Sim::new(
+    let mut sim = Simulation::new(
         ClothModel::chain(10, 0.1, 0.1, 100.0)?,
         SolverParams::default()
             .iterations(iterations)
@@ -208,7 +208,7 @@ fn drape(out: &Path, rep: &mut Report) -> Result<()> {
         .collect();
     let faces = grid_triangles(n, n);
     let model = ClothModel::from_trimesh(&v, &faces, 0.1, Some((500.0, 0.3)), 0.0, Some(5.0))?;
-    let mut sim = Sim::new(model, SolverParams::default())?;
+    let mut sim = Simulation::new(model, SolverParams::default())?;
     sim.set_collisions(Collisions {
         colliders: vec![Collider::Sphere {
             center: Vector3::zeros(),

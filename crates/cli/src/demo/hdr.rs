@@ -12,7 +12,7 @@ use wscg_hdr::synth::{encode, gradient_target, layered_scene, Response, ScenePar
 use wscg_hdr::tonemap::reinhard;
 use wscg_hdr::{
     calibrate_debevec, calibrate_mitsunaga_nayar, multiscopic_hdr, Align, Crf,
-    MitsunagaNayarParams, MultiscopicOut, MultiscopicParams, Nnf, PatchMatchParams, Synthesis,
+    MitsunagaNayarParams, MultiscopicParams, MultiscopicResult, Nnf, PatchMatchParams, Synthesis,
 };
 use wscg_math::progress::Progress;
 use wscg_math::{Image, Result};
@@ -70,7 +70,7 @@ fn calibration_rows(rep: &mut Report) -> Result<()> {
 }
 
 /// Mean over views of the RMSE log2 on points seen by every view.
-fn mean_error(sc: &SynthScene, out: &MultiscopicOut) -> Result<f64> {
+fn mean_error(sc: &SynthScene, out: &MultiscopicResult) -> Result<f64> {
     let mut s = 0.0;
     for k in 0..sc.views.len() {
         let m = evaluation_mask(sc, k, Region::SeenByAll);
@@ -80,7 +80,7 @@ fn mean_error(sc: &SynthScene, out: &MultiscopicOut) -> Result<f64> {
 }
 
 /// The field of pair `(r, s)` of a run.
-fn field(out: &MultiscopicOut, r: usize, s: usize) -> &Nnf {
+fn field(out: &MultiscopicResult, r: usize, s: usize) -> &Nnf {
     &out.nnfs.iter().find(|(p, _)| *p == (r, s)).expect("pair").1
 }
 
@@ -182,7 +182,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         file: "views.png".into(),
         caption: "The five LDR views, left to right, exposures 5, 30, 61, 122, 280 ms".into(),
     });
-    let tm = |o: &MultiscopicOut| -> Result<Vec<Image>> {
+    let tm = |o: &MultiscopicResult| -> Result<Vec<Image>> {
         o.hdr.iter().map(|h| reinhard(h, 0.18)).collect()
     };
     let mut tiles = tm(&ours)?;

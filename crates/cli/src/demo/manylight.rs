@@ -11,8 +11,8 @@ use wscg_math::image::Image;
 use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::Result;
 use wscg_raytrace::manylight::{
-    generate_vpls, run_with, scenes, to_display, trace_primary, Camera, ManyLightParams, Method,
-    Output, Scene, Shading, VplParams,
+    generate_vpls, run_with, scenes, to_display, trace_primary, Camera, ManyLightParams,
+    ManyLightResult, Method, Scene, Shading, VplParams,
 };
 
 use super::figures::montage;
@@ -121,7 +121,7 @@ fn compare(
     cam: &Camera,
     n_cache: usize,
     progress: &dyn Progress,
-) -> Result<Vec<(Method, Output)>> {
+) -> Result<Vec<(Method, ManyLightResult)>> {
     let mut s =
         ManyLightParams::default().vpl(VplParams::default().n_paths(1400).max_bounces(2).seed(1));
     s.ic.n_cache = n_cache;
@@ -169,7 +169,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     for (name, paper_scene, paper_ratio, (scene, cam)) in cases {
         let res = rep.time(name, || compare(&scene, &cam, 490, progress))?;
         let reference = &res[0].1.image;
-        let err = |o: &Output| wscg_math::metrics::rmse(o.image.data(), reference.data());
+        let err = |o: &ManyLightResult| wscg_math::metrics::rmse(o.image.data(), reference.data());
         let tiles: Vec<Image<f32>> = res.iter().map(|(_, o)| to_display(&o.image, 1.0)).collect();
         let file = format!("manylight_{name}.png");
         montage(&tiles, 4, 1)?.save(out.join(&file))?;

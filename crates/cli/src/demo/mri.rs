@@ -11,7 +11,7 @@ use num_complex::Complex64;
 use wscg_cs_mri::baselines::{self, CompositeParams};
 use wscg_cs_mri::{
     csalsa, masks, metrics, noise_epsilon, phantom, sparsifier, CsalsaParams, FdctParams,
-    FdctSparsifier, KSpace, Recon, Regularizer, Udct, UdctParams, UdctSparsifier,
+    FdctSparsifier, KSpace, Reconstruction, Regularizer, Udct, UdctParams, UdctSparsifier,
     WaveletSparsifier,
 };
 use wscg_math::fft::fftshift;
@@ -67,7 +67,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         .a(A_TUNED)
         .b(B_TUNED)
         .group_weight(B_TUNED);
-    let mut runs: Vec<(&str, Recon, &str)> = Vec::new();
+    let mut runs: Vec<(&str, Reconstruction, &str)> = Vec::new();
     runs.push(("zero-filled", baselines::zero_filled(&data), ""));
     let r = rep.time("TVCMRI (Condat-Vu), 70 it", || {
         baselines::tvcmri(&data, &comp, None, progress)

@@ -11,8 +11,8 @@
 //!
 //! with `F = f ⊗ f` the modulated PKVA filter (a half-sample delay). The ladder makes the
 //! bank perfectly reconstructing for any `f`; the PKVA filter makes it nearly orthogonal, so
-//! the transform is a frame with bounds close to 1 and [`Dfb::adjoint`] differs slightly from
-//! [`Dfb::inverse`].
+//! the transform is a frame with bounds close to 1 and [`DirectionalFilterBank::adjoint`] differs slightly from
+//! [`DirectionalFilterBank::inverse`].
 //!
 //! Boundaries are periodic; the first stage's polyphase components are quincunx-periodic
 //! (a row wrap shifts the columns by half the width). The final back-sampling of Do's
@@ -121,7 +121,7 @@ struct Stage {
 }
 
 /// An `n`-level ladder DFB planned for one image shape.
-pub struct Dfb {
+pub struct DirectionalFilterBank {
     rows: usize,
     cols: usize,
     levels: usize,
@@ -133,7 +133,7 @@ pub struct Dfb {
     taps: [Vec<(i64, f64)>; 2],
 }
 
-impl Dfb {
+impl DirectionalFilterBank {
     /// Plans an `levels`-level DFB (`2^levels` directional subbands) for `rows x cols`
     /// images. Errors: sides not divisible by `2^levels`, or more than 8 levels.
     pub fn new(rows: usize, cols: usize, levels: usize) -> Result<Self> {
@@ -209,7 +209,7 @@ impl Dfb {
                 y
             }
         };
-        Ok(Dfb {
+        Ok(DirectionalFilterBank {
             rows,
             cols,
             levels,
@@ -254,7 +254,7 @@ impl Dfb {
         self.backward(c, out, false);
     }
 
-    /// The adjoint `D^H` of [`Dfb::forward`].
+    /// The adjoint `D^H` of [`DirectionalFilterBank::forward`].
     pub fn adjoint(&self, c: &[Complex64], out: &mut [Complex64]) {
         self.backward(c, out, true);
     }
@@ -405,7 +405,7 @@ mod tests {
             (64, 64, 4),
             (128, 128, 5),
         ] {
-            let d = Dfb::new(r, c, n).unwrap();
+            let d = DirectionalFilterBank::new(r, c, n).unwrap();
             let shapes = d.band_shapes();
             assert_eq!(shapes.len(), 1 << n);
             assert_eq!(shapes.iter().map(|s| s.0 * s.1).sum::<usize>(), r * c);
@@ -436,8 +436,8 @@ mod tests {
         }
     }
 
-    /// Energy share of each subband of `Dfb::forward` for a real plane wave.
-    fn band_shares(d: &Dfb, ky: f64, kx: f64) -> Vec<f64> {
+    /// Energy share of each subband of `DirectionalFilterBank::forward` for a real plane wave.
+    fn band_shares(d: &DirectionalFilterBank, ky: f64, kx: f64) -> Vec<f64> {
         let (r, c) = d.shape();
         let tau = 2.0 * std::f64::consts::PI;
         let x: Vec<Complex64> = (0..r * c)
@@ -469,7 +469,7 @@ mod tests {
     #[test]
     fn plane_waves_land_in_their_wedge_in_order() {
         for n in [2usize, 3, 4] {
-            let d = Dfb::new(128, 128, n).unwrap();
+            let d = DirectionalFilterBank::new(128, 128, n).unwrap();
             let m = 1usize << (n - 1);
             let mut angles = Vec::new();
             for k in 0..m {
@@ -524,7 +524,7 @@ mod tests {
         let r = conv.get(&0).copied().unwrap_or(0.0).powi(2);
         let want = (1.0 + sq(&t[0]) + sq(&t[1]) + p - 4.0 * r + 4.0) / 4.0;
         assert!((want - 1.038).abs() < 5e-4, "{want}");
-        let d = Dfb::new(256, 256, 1).unwrap();
+        let d = DirectionalFilterBank::new(256, 256, 1).unwrap();
         let (mut ex, mut ey) = (0.0, 0.0);
         for seed in 0..4 {
             let x = random(256 * 256, 20 + seed);
@@ -538,8 +538,8 @@ mod tests {
 
     #[test]
     fn bad_shapes_are_rejected() {
-        assert!(Dfb::new(24, 32, 4).is_err());
-        assert!(Dfb::new(64, 64, 9).is_err());
-        assert!(Dfb::new(8, 8, 0).is_ok());
+        assert!(DirectionalFilterBank::new(24, 32, 4).is_err());
+        assert!(DirectionalFilterBank::new(64, 64, 9).is_err());
+        assert!(DirectionalFilterBank::new(8, 8, 0).is_ok());
     }
 }

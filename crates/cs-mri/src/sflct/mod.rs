@@ -21,7 +21,7 @@ use num_complex::Complex64;
 use wscg_math::{Error, Result};
 
 use crate::fourier::Fourier;
-use dfb::Dfb;
+use dfb::DirectionalFilterBank;
 use pyramid::{LevelSpec, Pyramid};
 
 /// Low (LRSFLCT) or more (MRSFLCT) redundancy.
@@ -116,7 +116,7 @@ pub struct Sflct {
     config: SflctParams,
     pyramid: Pyramid,
     /// DFBs of the high-pass images, finest first (as the pyramid's levels).
-    dfbs: Vec<Dfb>,
+    dfbs: Vec<DirectionalFilterBank>,
     bands: Vec<SflctBand>,
     fourier: Fourier,
 }
@@ -151,7 +151,11 @@ impl Sflct {
         let mut dfbs = Vec::with_capacity(scales);
         for (k, &(r, c)) in shapes.iter().enumerate() {
             // Finest first: the last entry of the coarse-to-fine list.
-            dfbs.push(Dfb::new(r, c, config.dfb_levels[scales - 1 - k])?);
+            dfbs.push(DirectionalFilterBank::new(
+                r,
+                c,
+                config.dfb_levels[scales - 1 - k],
+            )?);
         }
         let mut bands = Vec::new();
         let (lr, lc) = pyramid.lowpass_shape();

@@ -113,7 +113,7 @@ impl ManyLightParams {
 
 /// What a run produced.
 #[derive(Clone, Debug)]
-pub struct Output {
+pub struct ManyLightResult {
     /// Linear RGB radiance, `height x width x 3`.
     pub image: Image<f32>,
     /// The records (cached methods).
@@ -140,7 +140,7 @@ pub fn run(
     method: Method,
     s: &ManyLightParams,
     progress: &dyn Progress,
-) -> Result<Output> {
+) -> Result<ManyLightResult> {
     s.validate()?;
     let t0 = Instant::now();
     let vpls = generate_vpls(scene, &s.vpl)?;
@@ -165,7 +165,7 @@ pub fn run_with(
     s: &ManyLightParams,
     progress: &dyn Progress,
     setup_seconds: f64,
-) -> Result<Output> {
+) -> Result<ManyLightResult> {
     s.validate()?;
     let t = Instant::now();
     let (image, records, cache, cache_seconds) = match method.cache_setup(&s.adaptive, s.weights) {
@@ -188,7 +188,7 @@ pub fn run_with(
             0.0,
         ),
     };
-    Ok(Output {
+    Ok(ManyLightResult {
         image,
         records,
         cache,
@@ -209,9 +209,9 @@ pub fn compare(
     methods: &[Method],
     s: &ManyLightParams,
     progress: &dyn Progress,
-) -> Result<Vec<(Method, Output)>> {
+) -> Result<Vec<(Method, ManyLightResult)>> {
     s.validate()?;
-    let mut done: Vec<Option<Output>> = vec![None; methods.len()];
+    let mut done: Vec<Option<ManyLightResult>> = vec![None; methods.len()];
     let mut st = *s;
     if let Some(i) = methods.iter().position(|m| *m == Method::Adaptive) {
         let o = run_with(scene, g, vpls, Method::Adaptive, s, progress, 0.0)?;

@@ -31,7 +31,7 @@ pub mod weights;
 pub use cache::{Distributions, ImportanceCache, Record};
 pub use camera::{Camera, CameraFrame};
 pub use gbuffer::{trace_primary, GBuffer, ShadingPoint};
-pub use method::{compare, run, run_with, to_display, ManyLightParams, Method, Output};
+pub use method::{compare, run, run_with, to_display, ManyLightParams, ManyLightResult, Method};
 pub use obj::load_obj;
 pub use placement::{AdaptiveParams, Placement};
 pub use render::{

@@ -14,7 +14,7 @@ use wscg_math::image::Image;
 use wscg_math::{Error, Result};
 use wscg_raytrace::manylight::{
     compare, generate_vpls, load_obj, run_with, scenes, to_display, trace_primary, Camera,
-    ManyLightParams, Method, Output, Scene,
+    ManyLightParams, ManyLightResult, Method, Scene,
 };
 
 use crate::progress::Bars;
@@ -127,7 +127,7 @@ fn save(img: &Image<f32>, exposure: f64, path: &Path) -> Result<()> {
     }
 }
 
-fn report(o: &Output, method: Method, rmse: Option<f64>) {
+fn report(o: &ManyLightResult, method: Method, rmse: Option<f64>) {
     let records = o.cache.as_ref().map_or(0, |c| c.records);
     let inserted = o.cache.as_ref().map_or(0, |c| c.inserted);
     println!(

@@ -19,7 +19,9 @@ use std::sync::Arc;
 use clap::{Args, Subcommand};
 use wscg_math::{Error, Result, Volume};
 use wscg_volren::net::{serve, RemoteServer};
-use wscg_volren::{Camera, HybridClient, HybridServer, PlTf, RenderParams, ServerParams};
+use wscg_volren::{
+    Camera, HybridClient, HybridServer, PiecewiseTransferFunction, RenderParams, ServerParams,
+};
 
 #[derive(Subcommand, Debug)]
 pub enum VolrenCommand {
@@ -122,7 +124,7 @@ fn load_volume(a: &VolumeArgs) -> Result<Volume<u8>> {
 }
 
 /// Reads the transfer-function file.
-fn load_tfs(path: &Path) -> Result<(Vec<PlTf>, usize)> {
+fn load_tfs(path: &Path) -> Result<(Vec<PiecewiseTransferFunction>, usize)> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let bad = |m: String| Error::format(path, m);
     let json: serde_json::Value =
@@ -162,7 +164,7 @@ fn load_tfs(path: &Path) -> Result<(Vec<PlTf>, usize)> {
                     }
                 })
                 .collect::<Result<Vec<_>>>()?;
-            PlTf::new(pts)
+            PiecewiseTransferFunction::new(pts)
         })
         .collect::<Result<Vec<_>>>()?;
     Ok((tfs, canonical))
