@@ -12,7 +12,7 @@
 
 use crate::error::{ensure_finite, Error, Result};
 use crate::image::{check_len, Image};
-use crate::volume::{check_spacing, voxel_count, Volume};
+use crate::volume::{check_parts, Volume};
 
 /// A borrowed `H x W x C` image (row-major, interleaved channels).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -281,14 +281,7 @@ impl<'a, T: Copy> VolumeView<'a, T> {
     ///
     /// Errors: as [`Volume::new`].
     pub fn new(dims: [usize; 3], spacing: [f64; 3], data: &'a [T]) -> Result<Self> {
-        let n = voxel_count(dims)?;
-        check_spacing(spacing)?;
-        if data.len() != n {
-            return Err(Error::ShapeMismatch(format!(
-                "volume data has {} values, but dims {dims:?} need {n}",
-                data.len()
-            )));
-        }
+        check_parts(dims, spacing, data.len())?;
         Ok(Self {
             dims,
             spacing,

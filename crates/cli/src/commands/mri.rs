@@ -31,7 +31,7 @@ use crate::progress::Bars;
 #[derive(Subcommand, Debug)]
 pub enum MriCommand {
     /// Reconstruct an image from undersampled k-space.
-    Reconstruction(Box<ReconArgs>),
+    Recon(Box<ReconArgs>),
     /// Write a sampling mask (PNG: centred; .npy: un-shifted).
     Mask(MaskArgs),
     /// Write the analytic Shepp-Logan k-space as a complex .npy.
@@ -241,7 +241,7 @@ pub fn parse_levels(s: &str) -> Result<Vec<usize>> {
 
 pub fn run(cmd: MriCommand) -> Result<()> {
     match cmd {
-        MriCommand::Reconstruction(a) => recon(*a),
+        MriCommand::Recon(a) => recon(*a),
         MriCommand::Mask(a) => {
             let (rows, cols) = parse_size(&a.size)?;
             let (m, what) = match (a.cartesian, a.radial) {

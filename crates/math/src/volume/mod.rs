@@ -108,6 +108,19 @@ pub(crate) fn voxel_count(dims: [usize; 3]) -> Result<usize> {
         })
 }
 
+/// Checks the parts of a volume: dims (as [`voxel_count`]), spacing (as [`check_spacing`]) and
+/// a data length of `nx * ny * nz` ([`Error::ShapeMismatch`]).
+pub(crate) fn check_parts(dims: [usize; 3], spacing: [f64; 3], len: usize) -> Result<()> {
+    let n = voxel_count(dims)?;
+    check_spacing(spacing)?;
+    if len != n {
+        return Err(Error::ShapeMismatch(format!(
+            "volume data has {len} values, but dims {dims:?} need {n}"
+        )));
+    }
+    Ok(())
+}
+
 /// Checks that every spacing component is finite and > 0.
 pub(crate) fn check_spacing(spacing: [f64; 3]) -> Result<()> {
     for s in spacing {
@@ -135,14 +148,7 @@ impl<T> Volume<T> {
     /// ([`Error::InvalidArgument`] naming `spacing`), a data length other than `nx * ny * nz`
     /// ([`Error::ShapeMismatch`]).
     pub fn new(dims: [usize; 3], spacing: [f64; 3], data: Vec<T>) -> Result<Self> {
-        let n = voxel_count(dims)?;
-        check_spacing(spacing)?;
-        if data.len() != n {
-            return Err(Error::ShapeMismatch(format!(
-                "volume data has {} values, but dims {dims:?} need {n}",
-                data.len()
-            )));
-        }
+        check_parts(dims, spacing, data.len())?;
         Ok(Volume {
             dims,
             spacing,
