@@ -73,7 +73,7 @@ pub fn mat(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<faer::Mat<f64>> 
     let v = values(a);
     Ok(crate::pool::detach(a.py(), || {
         wscg_math::dense::from_row_major(&v, r, c)
-    }))
+    })?)
 }
 
 /// A faer matrix as a new 2-D numpy array.

@@ -537,7 +537,7 @@ fn w_step<'py>(
         data.iter()
             .map(|&x| wscg_deblur::wstep::w_exact(x, alpha, beta))
             .collect()
-    });
+    })?;
     array(py, &shape, out)
 }
 

@@ -314,11 +314,11 @@ fn cg<'py>(
     let opts = PcgParams::default().tol(tol).max_iter(maxiter);
     let res = match preconditioner {
         None | Some("none") => {
-            crate::pool::detach(py, || pcg(&a, &bv, guess, &IdentityPrecond, &opts))
+            crate::pool::detach(py, || pcg(&a, &bv, guess, &IdentityPrecond, &opts))?
         }
         Some("jacobi") => crate::pool::detach(py, || {
             pcg(&a, &bv, guess, &Jacobi::new(&a.diagonal())?, &opts)
-        }),
+        })?,
         Some(other) => {
             return Err(value_error(format!(
                 "{other:?} is not a valid preconditioner. Valid values are 'jacobi', None"
@@ -439,7 +439,7 @@ fn permutation(py: Python<'_>, seed: u64, n: usize) -> PyResult<Arr<'_, i64>> {
             .into_iter()
             .map(|i| i as i64)
             .collect()
-    });
+    })?;
     array(py, &[n], v)
 }
 
@@ -510,7 +510,7 @@ fn read_raw_volume<'py>(
     dtype: &str,
     spacing: (f64, f64, f64),
 ) -> PyResult<(Arr<'py, f32>, (f64, f64, f64))> {
-    let t: RawType = dtype.parse().py_err()?;
+    let t = dtype.parse::<RawType>().py_err()?;
     let dims = [shape.2, shape.1, shape.0];
     let v = crate::pool::detach(py, || {
         Volume::read_raw(&path, dims, spacing_xyz(spacing), t)
@@ -626,7 +626,7 @@ fn wavelet2<'py>(
         } else {
             w.forward(&v, &mut out)
         }
-    });
+    })?;
     array(py, &[r, c], out)
 }
 

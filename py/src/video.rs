@@ -310,7 +310,7 @@ fn inpaint_telea<'py>(
     }
     crate::pool::detach(py, || {
         wscg_video::telea::telea(&mut data, h, w, c, &hole, radius)
-    });
+    })?;
     array(py, &shape, data)
 }
 

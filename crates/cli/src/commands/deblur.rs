@@ -383,7 +383,7 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                 (dir.join("times.txt"), times),
                 (a.out_dir.join("camera.json"), camera),
             ] {
-                std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
+                wscg_math::io::atomic::write(&path, text)?;
             }
             println!(
                 "wrote {} frames and times.txt to {}, gyro.csv, camera.json and sharp.png to {} (f = {}, exposure {} s, delay {} s)",

@@ -311,13 +311,13 @@ fn write_crf(crf: &Crf, path: &Path) -> Result<()> {
         text.push_str(&cells.join(","));
         text.push('\n');
     }
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+    wscg_math::io::atomic::write(path, text)
 }
 
 /// Writes exposure times, one per line.
 fn write_times(times: &[f64], path: &Path) -> Result<()> {
     let text: String = times.iter().map(|t| format!("{t}\n")).collect();
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+    wscg_math::io::atomic::write(path, text)
 }
 
 fn multiscopic(a: MultiscopicArgs) -> Result<()> {

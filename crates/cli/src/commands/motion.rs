@@ -141,7 +141,7 @@ fn write_dataset(dir: &Path, data: &Dataset) -> Result<()> {
         }
     }
     let p = dir.join("steps.csv");
-    std::fs::write(&p, csv).map_err(|e| Error::io(&p, e))
+    wscg_math::io::atomic::write(&p, csv)
 }
 
 /// Reads a training folder.

@@ -283,7 +283,7 @@ pub fn run(cmd: EarCommand) -> Result<()> {
             let json = serde_json::to_string_pretty(&info)
                 .map_err(|e| Error::invalid("gallery", e.to_string()))?;
             let path = out.join("gallery.json");
-            std::fs::write(&path, json).map_err(|e| Error::io(&path, e))?;
+            wscg_math::io::atomic::write(&path, json)?;
             println!(
                 "enrolled {} images of {} identities into {}",
                 files.len(),
@@ -423,7 +423,7 @@ pub fn run(cmd: EarCommand) -> Result<()> {
                 ));
             }
             let tp = out.join("truth.csv");
-            std::fs::write(&tp, truth).map_err(|e| Error::io(&tp, e))?;
+            wscg_math::io::atomic::write(&tp, truth)?;
             println!(
                 "wrote {} enrolment and {} probe images to {}",
                 set.enrol.len(),

@@ -427,7 +427,7 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             };
             let text = serde_json::to_string(&file)
                 .map_err(|e| Error::Numerical(format!("model JSON: {e}")))?;
-            std::fs::write(&out, text).map_err(|e| Error::io(&out, e))?;
+            wscg_math::io::atomic::write(&out, text)?;
             println!(
                 "{kind} SFA fitted on {} samples of {} classes ({} values each); model written \
                  to {}",

@@ -398,7 +398,7 @@ fn workshop(a: &WorkshopArgs) -> Result<()> {
         None => println!("the surface has no stationary point"),
     }
     if let Some(path) = &a.csv {
-        std::fs::write(path, csv).map_err(|e| Error::io(path, e))?;
+        wscg_math::io::atomic::write(path, csv)?;
     }
     Ok(())
 }
