@@ -276,6 +276,7 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             Ok(())
         }
         MotionCommand::Learn(a) => {
+            crate::commands::overwrite::check_folder("out", &a.out, [&a.data])?;
             let data = read_dataset(&a.data)?;
             let lib = learn(&data, a.restarts, a.delay_search)?;
             for (k, f) in lib.actions.iter().enumerate() {
@@ -316,6 +317,12 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             Ok(())
         }
         MotionCommand::Synth(a) => {
+            let outputs = [("out", Some(&a.out)), ("npy", a.npy.as_ref()), ("png", a.png.as_ref())];
+            for (arg, out) in outputs {
+                if let Some(out) = out {
+                    crate::commands::overwrite::check_file(arg, out, &a.data)?;
+                }
+            }
             let data = match &a.data {
                 Some(d) => read_dataset(d)?,
                 None => reach_walk(&WalkerParams::default())?.0,

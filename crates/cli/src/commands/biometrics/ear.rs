@@ -219,6 +219,7 @@ pub fn run(cmd: EarCommand) -> Result<()> {
             out,
             params,
         } => {
+            crate::commands::overwrite::check_folder("out", &out, [&gallery])?;
             let p = params.params()?;
             let mut identities = Vec::new();
             let mut labels = Vec::new();
@@ -300,6 +301,9 @@ pub fn run(cmd: EarCommand) -> Result<()> {
             baseline,
             params,
         } => {
+            if let Some(dir) = &masks {
+                crate::commands::overwrite::check_folder("masks", dir, probes.iter().chain([&gallery]))?;
+            }
             let p = params.params()?;
             let path = gallery.join("gallery.json");
             let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
@@ -362,6 +366,9 @@ pub fn run(cmd: EarCommand) -> Result<()> {
             masks,
             params,
         } => {
+            if let Some(dir) = &masks {
+                crate::commands::overwrite::check_folder("masks", dir, &probes)?;
+            }
             let p = params.params()?;
             for probe_path in &probes {
                 let img = Image::load_u8(probe_path)?;

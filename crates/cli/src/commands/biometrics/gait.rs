@@ -265,6 +265,7 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             out,
             params,
         } => {
+            crate::commands::overwrite::check_file("out", &out, [&gallery])?;
             let p = params.params()?;
             let files = gallery_files(&gallery)?;
             let mut identities: Vec<String> = files.iter().map(|f| f.0.clone()).collect();

@@ -305,6 +305,7 @@ pub(super) fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
 }
 
 fn paint(a: &PaintArgs) -> Result<()> {
+    crate::commands::overwrite::check_file("out", &a.out, &a.paint)?;
     let p = &a.plate;
     let desc = match &a.paint {
         Some(path) => read_paint(path)?,
