@@ -150,9 +150,8 @@ where
     F: FnOnce() -> T + Send,
     T: Send,
 {
-    let pool = current(&mut setting()).map_err(|e| {
-        PyRuntimeError::new_err(format!("cannot start the wscg thread pool: {e}"))
-    })?;
+    let pool = current(&mut setting())
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start the wscg thread pool: {e}")))?;
     py.detach(move || pool.install(|| std::panic::catch_unwind(AssertUnwindSafe(f))))
         .map_err(|payload| panic_error(payload.as_ref()))
 }

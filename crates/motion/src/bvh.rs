@@ -360,10 +360,16 @@ mod tests {
         let huge = text.replacen("CHANNELS 3", "CHANNELS 18446744073709551615", 1);
         assert!(parse_bvh(&huge, Path::new("h.bvh")).is_err());
         let none = text
-            .replace("CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation", "CHANNELS 0")
+            .replace(
+                "CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation",
+                "CHANNELS 0",
+            )
             .replace("CHANNELS 3 Zrotation Xrotation Yrotation", "CHANNELS 0");
         let motion = none.find("MOTION").unwrap();
-        let none = format!("{}MOTION\nFrames: 1000000000000\nFrame Time: 0.01\n", &none[..motion]);
+        let none = format!(
+            "{}MOTION\nFrames: 1000000000000\nFrame Time: 0.01\n",
+            &none[..motion]
+        );
         let err = parse_bvh(&none, Path::new("none.bvh")).unwrap_err();
         assert!(err.to_string().contains("no channels"), "{err}");
     }

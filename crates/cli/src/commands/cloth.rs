@@ -202,7 +202,11 @@ fn read_mesh(path: &std::path::Path) -> Result<MeshData> {
 /// Runs a `wscg cloth` command.
 pub fn run(cmd: ClothCommand) -> Result<()> {
     let ClothCommand::Simulate(a) = cmd;
-    crate::commands::overwrite::check_folder("out", &a.out, [&a.mesh].into_iter().chain(&a.collider))?;
+    crate::commands::overwrite::check_folder(
+        "out",
+        &a.out,
+        [&a.mesh].into_iter().chain(&a.collider),
+    )?;
     let mesh = TriMesh::read(&a.mesh)?;
     let (v, faces) = read_mesh(&a.mesh)?;
     let material = match a.material {

@@ -406,7 +406,11 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
 fn frames(a: FramesArgs) -> Result<()> {
     let to_folder = a.main.is_none() && (a.out.is_dir() || a.out.extension().is_none());
     let mut inputs: Vec<&Path> = a.frames.iter().map(PathBuf::as_path).collect();
-    let more = [Some(&a.camera.gyro), a.camera.camera.as_ref(), a.reference.as_ref()];
+    let more = [
+        Some(&a.camera.gyro),
+        a.camera.camera.as_ref(),
+        a.reference.as_ref(),
+    ];
     inputs.extend(more.into_iter().flatten().map(PathBuf::as_path));
     if to_folder {
         crate::commands::overwrite::check_folder("out", &a.out, &inputs)?;

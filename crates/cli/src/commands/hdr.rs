@@ -180,7 +180,11 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
         }
         HdrCommand::Calibrate(a) => {
             let inputs = a.images.iter().map(PathBuf::as_path);
-            crate::commands::overwrite::check_file("out", &a.out, inputs.chain([Path::new(&a.times)]))?;
+            crate::commands::overwrite::check_file(
+                "out",
+                &a.out,
+                inputs.chain([Path::new(&a.times)]),
+            )?;
             let (images, bits) = load_views(&a.images)?;
             let times = read_times(&a.times)?;
             let crf = match a.method {

@@ -317,7 +317,11 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             Ok(())
         }
         MotionCommand::Synth(a) => {
-            let outputs = [("out", Some(&a.out)), ("npy", a.npy.as_ref()), ("png", a.png.as_ref())];
+            let outputs = [
+                ("out", Some(&a.out)),
+                ("npy", a.npy.as_ref()),
+                ("png", a.png.as_ref()),
+            ];
             for (arg, out) in outputs {
                 if let Some(out) = out {
                     crate::commands::overwrite::check_file(arg, out, &a.data)?;

@@ -133,7 +133,10 @@ mod tests {
     fn resolve_appends_the_missing_part() {
         let dir = tempfile::tempdir().unwrap();
         let base = dir.path().canonicalize().unwrap();
-        assert_eq!(resolve(&dir.path().join("a/./b/../c.png")), base.join("a/c.png"));
+        assert_eq!(
+            resolve(&dir.path().join("a/./b/../c.png")),
+            base.join("a/c.png")
+        );
         assert_eq!(resolve(&dir.path().join("x/..")), base);
     }
 }

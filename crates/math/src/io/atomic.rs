@@ -45,7 +45,9 @@ where
         .and_then(|file| {
             let mut out = BufWriter::new(file);
             fill(&mut out)?;
-            let file = out.into_inner().map_err(|e| Error::io(path, e.into_error()))?;
+            let file = out
+                .into_inner()
+                .map_err(|e| Error::io(path, e.into_error()))?;
             finish(file, &tmp, path)
         });
     if result.is_err() {
@@ -205,7 +207,10 @@ mod tests {
             .output()
             .unwrap();
         let stdout = String::from_utf8_lossy(&child.stdout);
-        assert!(child.status.success() && stdout.contains("1 passed"), "{stdout}");
+        assert!(
+            child.status.success() && stdout.contains("1 passed"),
+            "{stdout}"
+        );
         assert_eq!(std::fs::read(&p).unwrap(), b"old");
         assert_eq!(names(dir.path()), ["a.bin"]);
     }

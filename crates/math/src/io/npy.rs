@@ -270,7 +270,9 @@ mod volume_files {
             let array = ArrayView3::from_shape((nz, ny, nx), &values[..])
                 .expect("volume invariant: data length equals nx * ny * nz");
             crate::io::atomic::write_with(path, |out| {
-                array.write_npy(out).map_err(|e| super::npy_write_error(path, e))
+                array
+                    .write_npy(out)
+                    .map_err(|e| super::npy_write_error(path, e))
             })
         }
     }

@@ -302,7 +302,11 @@ pub fn run(cmd: EarCommand) -> Result<()> {
             params,
         } => {
             if let Some(dir) = &masks {
-                crate::commands::overwrite::check_folder("masks", dir, probes.iter().chain([&gallery]))?;
+                crate::commands::overwrite::check_folder(
+                    "masks",
+                    dir,
+                    probes.iter().chain([&gallery]),
+                )?;
             }
             let p = params.params()?;
             let path = gallery.join("gallery.json");
