@@ -605,7 +605,13 @@ fn write_mesh(
     .py_err()
 }
 
-/// Adds every function of this module to `m`.
+/// Writes `data` to `path` atomically (`wscg_math::io::atomic`): the writer of the files the
+/// Python package writes itself (model JSON), so that they too leave no truncated file.
+#[pyfunction]
+fn write_file(py: Python<'_>, path: PathBuf, data: Vec<u8>) -> PyResult<()> {
+    crate::pool::detach(py, || wscg_math::io::atomic::write(&path, &data)).py_err()
+}
+
 /// Multi-level periodized Daubechies wavelet transform (Mallat layout), or its inverse.
 #[pyfunction]
 fn wavelet2<'py>(
@@ -659,5 +665,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(save_volume, m)?)?;
     m.add_function(wrap_pyfunction!(read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(write_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(write_file, m)?)?;
     Ok(())
 }
