@@ -29,8 +29,9 @@ WRITERS = {
         "frame_00000.png",
     ),
     "octree.HybridOctree.save": ("octree.build(*mesh, depth=3).save(path)", None),
-    "biometrics.PerClassSFA.save": ("sfa(B.PerClassSFA).save(path)", None),
-    "biometrics.GlobalSFA.save": ("sfa(B.GlobalSFA).save(path)", None),
+    "biometrics.PerClassSFA.save": ("sfa(B.PerClassSFA(pca_dims=6, m=2)).save(path)", None),
+    "biometrics.GlobalSFA.save": ("sfa(B.GlobalSFA(pca_dims=6, n_components=2)).save(path)",
+                                  None),
 }
 
 SUFFIX = {"math.save_image": ".png", "math.save_volume": ".nii", "math.write_mesh": ".obj",
@@ -49,10 +50,10 @@ CHILD = textwrap.dedent("""
                       for j in range(7)])
     mesh = (verts, faces)
 
-    def sfa(cls):
+    def sfa(model):
         X = rng.random((60, 12))
         y = np.repeat(np.arange(3), 20)
-        return cls(pca_dims=6, m=2).fit(X, y)
+        return model.fit(X, y)
 
     cases = json.loads(sys.argv[1])
     # The models and meshes above are built before the limit: only the writes must fail.

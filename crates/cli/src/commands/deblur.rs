@@ -412,6 +412,7 @@ fn frames(a: FramesArgs) -> Result<()> {
         a.reference.as_ref(),
     ];
     inputs.extend(more.into_iter().flatten().map(PathBuf::as_path));
+    inputs.extend(a.times.as_deref().map(Path::new));
     if to_folder {
         crate::commands::overwrite::check_folder("out", &a.out, &inputs)?;
     } else {
