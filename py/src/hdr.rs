@@ -716,7 +716,7 @@ fn bad_rate(
 #[pyfunction]
 fn incoherence(py: Python<'_>, offsets: PyReadonlyArrayDyn<'_, i32>) -> PyResult<f64> {
     let f = nnf_in("offsets", &offsets)?;
-    Ok(crate::pool::detach(py, || metrics::incoherence(&f))?)
+    crate::pool::detach(py, || metrics::incoherence(&f))
 }
 
 /// Registers the submodule.

@@ -332,9 +332,7 @@ fn rotation_class(config: u8) -> u8 {
 #[pyfunction]
 fn at_risk(py: Python<'_>, ambiguous_face: &str, threshold: f32) -> PyResult<Vec<u8>> {
     let rule = rule_from(ambiguous_face)?;
-    Ok(crate::pool::detach(py, || {
-        at_risk_configurations(rule, threshold)
-    })?)
+    crate::pool::detach(py, || at_risk_configurations(rule, threshold))
 }
 
 type SampledOut<'py> = (Arr<'py, f32>, (f32, f32, f32), (f64, f64, f64));

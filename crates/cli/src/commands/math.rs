@@ -88,7 +88,7 @@ pub fn run(cmd: MathCommand) -> Result<()> {
             sigma,
             mode,
         } => {
-            crate::commands::overwrite::check_file("output", &output, &[&input])?;
+            crate::commands::overwrite::check_file("output", &output, [&input])?;
             let border = match mode {
                 Mode::Reflect => Border::Reflect,
                 Mode::Mirror => Border::Mirror,
@@ -106,7 +106,7 @@ pub fn run(cmd: MathCommand) -> Result<()> {
             width,
             method,
         } => {
-            crate::commands::overwrite::check_file("output", &output, &[&input])?;
+            crate::commands::overwrite::check_file("output", &output, [&input])?;
             let m = match method {
                 Method::Area => Interpolation::Area,
                 Method::Bilinear => Interpolation::Bilinear,
@@ -114,7 +114,7 @@ pub fn run(cmd: MathCommand) -> Result<()> {
             resize(&Image::load(&input)?, height, width, m)?.save(&output)
         }
         MathCommand::Spectrum { input, output } => {
-            crate::commands::overwrite::check_file("output", &output, &[&input])?;
+            crate::commands::overwrite::check_file("output", &output, [&input])?;
             let g = Image::load(&input)?.to_gray();
             let (h, w, _) = g.shape();
             let mut c: Vec<Complex<f64>> = g
