@@ -71,20 +71,22 @@ CHILD = textwrap.dedent("""
 
 
 def _public_writers():
-    """Public functions and methods whose name says they write a file."""
+    """Public functions and methods of every submodule whose name says they write a file."""
     found = set()
-    for modname in ("math", "motion", "gait", "video", "octree", "biometrics", "ear", "cloth",
-                    "meshfilter", "isosurface", "csmri", "deblur", "hdr", "volseg", "volren",
-                    "raytrace", "doe"):
-        mod = getattr(wscg, modname, None) or __import__(f"wscg.{modname}", fromlist=["x"])
+    writes = ("save", "write")
+    for modname in wscg.__all__:
+        mod = getattr(wscg, modname)
+        if not inspect.ismodule(mod):
+            continue
+        short = mod.__name__.removeprefix("wscg.")
         for name in getattr(mod, "__all__", []):
             obj = getattr(mod, name)
             if inspect.isclass(obj):
-                for m in ("save", "write"):
-                    if callable(getattr(obj, m, None)):
-                        found.add(f"{modname}.{name}.{m}")
-            elif name.startswith(("save", "write")):
-                found.add(f"{modname}.{name}")
+                for attr in dir(obj):
+                    if attr.startswith(writes) and callable(getattr(obj, attr)):
+                        found.add(f"{short}.{name}.{attr}")
+            elif callable(obj) and name.startswith(writes):
+                found.add(f"{short}.{name}")
     return found
 
 

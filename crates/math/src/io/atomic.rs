@@ -7,7 +7,8 @@
 //! leaves the previous file untouched (or no file), and a writer killed half-way leaves no
 //! truncated file at the destination: at worst a `wscg_tmp_*` file next to it.
 //!
-//! A destination that already exists keeps its permissions. The rename replaces a symbolic
+//! A destination that already exists keeps its permissions, and a read-only one is refused
+//! (as opening it for writing would be) rather than replaced. The rename replaces a symbolic
 //! link at the destination by the new file rather than writing through it.
 
 use std::fs::{File, OpenOptions};
@@ -39,6 +40,7 @@ where
     F: FnOnce(&mut BufWriter<File>) -> Result<()>,
 {
     let path = path.as_ref();
+    refuse_read_only(path)?;
     let tmp = temp_sibling(path, "tmp");
     let result = create_new(&tmp)
         .map_err(|e| Error::io(path, e))
@@ -68,6 +70,7 @@ where
     F: FnOnce(&Path) -> Result<()>,
 {
     let path = path.as_ref();
+    refuse_read_only(path)?;
     let tmp = temp_sibling(path, ext);
     let result = fill(&tmp).and_then(|()| {
         let file = OpenOptions::new()
@@ -95,6 +98,20 @@ fn finish(file: File, tmp: &Path, path: &Path) -> Result<()> {
     }
     drop(file);
     std::fs::rename(tmp, path).map_err(io)
+}
+
+/// [`Error::Io`] (permission denied) when `path` is an existing read-only file.
+fn refuse_read_only(path: &Path) -> Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() && m.permissions().readonly() => Err(Error::io(
+            path,
+            std::io::Error::new(
+                std::io::ErrorKind::PermissionDenied,
+                "the file is read-only",
+            ),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// Creates `path`, failing if it exists (a temporary name is never shared).
@@ -226,5 +243,9 @@ mod tests {
         write(&p, b"new").unwrap();
         let mode = std::fs::metadata(&p).unwrap().permissions().mode() & 0o777;
         assert_eq!(mode, 0o640);
+        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o444)).unwrap();
+        let err = write(&p, b"newer").unwrap_err();
+        assert!(err.to_string().contains("read-only"), "{err}");
+        assert_eq!(std::fs::read(&p).unwrap(), b"new");
     }
 }
