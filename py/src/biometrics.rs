@@ -203,7 +203,7 @@ impl PyModel {
             Model::KernelPca(m) => Some(m.embedding()),
             Model::Keca(m) => Some(m.embedding()),
             _ => None,
-        });
+        })?;
         let d = PyDict::new(py);
         match &self.inner {
             Model::Fdkeca(m) => {

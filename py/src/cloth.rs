@@ -129,7 +129,7 @@ impl PyModel {
     fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         energy_dict(
             py,
-            &crate::pool::detach(py, || wscg_cloth::Energy::of(&self.inner)),
+            &crate::pool::detach(py, || wscg_cloth::Energy::of(&self.inner))?,
         )
     }
 }
@@ -239,7 +239,7 @@ impl PyCollider {
         let p = points("points", &p)?;
         let d = crate::pool::detach(py, || {
             p.iter().map(|q| self.inner.signed_distance(q).0).collect()
-        });
+        })?;
         array(py, &[p.len()], d)
     }
 
@@ -496,7 +496,7 @@ impl PySim {
 
     /// Current energy.
     fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        energy_dict(py, &crate::pool::detach(py, || self.inner.energy()))
+        energy_dict(py, &crate::pool::detach(py, || self.inner.energy())?)
     }
 
     /// The current state as a model.

@@ -86,9 +86,7 @@ pub fn shape_of<T: Element>(a: &PyReadonlyArrayDyn<'_, T>) -> Vec<usize> {
 pub fn mat(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<faer::Mat<f64>> {
     let (r, c) = dims2(name, a)?;
     let v = values(a);
-    Ok(crate::pool::detach(a.py(), || {
-        wscg_math::dense::from_row_major(&v, r, c)
-    }))
+    crate::pool::detach(a.py(), || wscg_math::dense::from_row_major(&v, r, c))
 }
 
 /// A faer matrix as a new 2-D numpy array.

@@ -535,7 +535,7 @@ fn w_step<'py>(
         data.iter()
             .map(|&x| wscg_deblur::wstep::w_exact(x, alpha, beta))
             .collect()
-    });
+    })?;
     array(py, &shape, out)
 }
 

@@ -34,8 +34,8 @@ fn ccd<'py>(
     alpha: &str,
     center: (usize, usize),
 ) -> PyResult<Arr<'py, f64>> {
-    let face: CcdFace = face.parse().py_err()?;
-    let alpha: CcdAlpha = alpha.parse().py_err()?;
+    let face = face.parse::<CcdFace>().py_err()?;
+    let alpha = alpha.parse::<CcdAlpha>().py_err()?;
     let m = wscg_doe::ccd_blocks(k, face, alpha, center).py_err()?;
     dmat_out(py, &m)
 }

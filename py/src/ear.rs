@@ -320,7 +320,7 @@ fn skin_pixels<'py>(
     let p = params_from(params.as_ref())?;
     let im = image_in("img", &img)?;
     check_input(&im, false).py_err()?;
-    let s = crate::pool::detach(py, || ear::skin_pixels(&im, &p));
+    let s = crate::pool::detach(py, || ear::skin_pixels(&im, &p))?;
     mask_out(py, Image::new(im.height(), im.width(), 1, s).py_err()?)
 }
 

@@ -29,3 +29,11 @@ impl<T> IntoPy<T> for wscg_math::Result<T> {
         self.map_err(to_py)
     }
 }
+
+/// The result of `crate::pool::detach` running a fallible closure: the panic (outer) or the
+/// closure's error (inner), whichever happened.
+impl<T> IntoPy<T> for pyo3::PyResult<wscg_math::Result<T>> {
+    fn py_err(self) -> pyo3::PyResult<T> {
+        self.and_then(|r| r.map_err(to_py))
+    }
+}

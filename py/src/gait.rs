@@ -54,7 +54,7 @@ fn seq_in(
         }
     };
     let v = values(a);
-    crate::pool::detach(py, || SkeletonSeq::from_flat(fps, &v, t, j))
+    crate::pool::detach(py, || SkeletonSeq::from_flat(fps, &v, t, j))?
         .map_err(|e| value_error(format!("`{name}`: {e}")))
 }
 
@@ -484,9 +484,9 @@ fn dissimilarity_matrix<'py>(
     let m = match gallery {
         Some(g) => {
             let g = set_in("gallery", &g)?;
-            crate::pool::detach(py, || dtw::dissimilarity_matrix(&q, &g, &p))
+            crate::pool::detach(py, || dtw::dissimilarity_matrix(&q, &g, &p))?
         }
-        None => crate::pool::detach(py, || dtw::self_dissimilarity(&q, &p)),
+        None => crate::pool::detach(py, || dtw::self_dissimilarity(&q, &p))?,
     }
     .py_err()?;
     mat_out(py, &m)

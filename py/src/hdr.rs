@@ -117,7 +117,7 @@ fn crfs_in(
                 .map(wscg_hdr::radiance::max_code)
                 .max()
                 .unwrap_or(0)
-        })),
+        })?),
     };
     crfs.iter().map(|c| crf_in(c, bits)).collect()
 }
@@ -712,7 +712,7 @@ fn bad_rate(
 #[pyfunction]
 fn incoherence(py: Python<'_>, offsets: PyReadonlyArrayDyn<'_, i32>) -> PyResult<f64> {
     let f = nnf_in("offsets", &offsets)?;
-    Ok(crate::pool::detach(py, || metrics::incoherence(&f)))
+    crate::pool::detach(py, || metrics::incoherence(&f))
 }
 
 /// Registers the submodule.

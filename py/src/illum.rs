@@ -198,7 +198,7 @@ fn field_in(
     if let Ok(a) = volume.extract::<PyReadonlyArrayDyn<f32>>() {
         let dims = dims3("volume", a.shape())?;
         let v = values(&a);
-        if !crate::pool::detach(py, || v.par_iter().all(|x| x.is_finite())) {
+        if !crate::pool::detach(py, || v.par_iter().all(|x| x.is_finite()))? {
             let i = v.iter().position(|x| !x.is_finite()).unwrap_or(0);
             return Err(value_error(format!(
                 "`volume` contains a non-finite value (NaN or infinity) at flat index {i}"
@@ -215,7 +215,7 @@ fn field_in(
                 v.par_iter()
                     .fold(id, |acc, &x| join(acc, (x, x)))
                     .reduce(id, join)
-            }),
+            })?,
         };
         if range.is_none() && lo >= hi {
             // Constant (or empty) volume: no range to normalise by.
@@ -622,7 +622,7 @@ fn read_vti(py: Python<'_>, path: PathBuf) -> PyResult<(Bound<'_, PyAny>, (f64, 
         // The parser validates what it reads; a panic on a hostile file would still be a
         // malformed file, not a crash of the interpreter.
         std::panic::catch_unwind(|| vti::read_vti(&path))
-    })
+    })?
     .map_err(|_| {
         value_error(format!(
             "cannot decode {}: malformed VTK image data",

@@ -43,7 +43,7 @@ fn pack_sides(sides: &PyReadonlyArrayDyn<bool>, shape: &[usize]) -> PyResult<Vec
                     .fold(0u8, |acc, (i, &b)| acc | (u8::from(b) << i))
             })
             .collect()
-    });
+    })?;
     Ok(bits)
 }
 
@@ -113,7 +113,7 @@ fn edges_out<'py>(py: Python<'py>, e: &[EdgeId]) -> PyResult<Arr<'py, i64>> {
                 ]
             })
             .collect()
-    });
+    })?;
     array(py, &[e.len(), 4], data)
 }
 
@@ -160,7 +160,7 @@ fn mesh_out<'py>(py: Python<'py>, m: IsoMesh) -> PyResult<MeshOut<'py>> {
             .par_iter()
             .flat_map_iter(|t| t.map(|i| i as i64))
             .collect()
-    });
+    })?;
     Ok((
         array(py, &[nv, 3], m.vertices.concat())?,
         array(py, &[nt, 3], faces)?,
@@ -334,9 +334,7 @@ fn rotation_class(config: u8) -> u8 {
 #[pyfunction]
 fn at_risk(py: Python<'_>, ambiguous_face: &str, threshold: f32) -> PyResult<Vec<u8>> {
     let rule = rule_from(ambiguous_face)?;
-    Ok(crate::pool::detach(py, || {
-        at_risk_configurations(rule, threshold)
-    }))
+    crate::pool::detach(py, || at_risk_configurations(rule, threshold))
 }
 
 type SampledOut<'py> = (Arr<'py, f32>, (f32, f32, f32), (f64, f64, f64));

@@ -3,7 +3,8 @@
 //! The Python package (`py/python/wscg`) wraps these functions: it coerces inputs to
 //! C-contiguous arrays of the dtype the native side expects, documents every function and
 //! re-exports them as `wscg.math`, ... Errors from Rust become `ValueError` (bad arguments)
-//! or `OSError` (files); a Rust panic surfaces as pyo3's `PanicException`, never a crash.
+//! or `OSError` (files); a Rust panic in a binding's work (a bug) surfaces as `RuntimeError` with the panic's message
+//! (`pool::detach` catches it), never a crash.
 #![warn(missing_docs)]
 
 use pyo3::prelude::*;

@@ -320,11 +320,11 @@ fn cg<'py>(
     let opts = PcgParams::default().tol(tol).max_iter(maxiter);
     let res = match preconditioner {
         None | Some("none") => {
-            crate::pool::detach(py, || pcg(&a, &bv, guess, &IdentityPrecond, &opts))
+            crate::pool::detach(py, || pcg(&a, &bv, guess, &IdentityPrecond, &opts))?
         }
         Some("jacobi") => crate::pool::detach(py, || {
             pcg(&a, &bv, guess, &Jacobi::new(&a.diagonal())?, &opts)
-        }),
+        })?,
         Some(other) => {
             return Err(value_error(format!(
                 "{other:?} is not a valid preconditioner. Valid values are 'jacobi', None"
@@ -445,7 +445,7 @@ fn permutation(py: Python<'_>, seed: u64, n: usize) -> PyResult<Arr<'_, i64>> {
             .into_iter()
             .map(|i| i as i64)
             .collect()
-    });
+    })?;
     array(py, &[n], v)
 }
 
@@ -516,7 +516,7 @@ fn read_raw_volume<'py>(
     dtype: &str,
     spacing: (f64, f64, f64),
 ) -> PyResult<(Arr<'py, f32>, (f64, f64, f64))> {
-    let t: RawType = dtype.parse().py_err()?;
+    let t = dtype.parse::<RawType>().py_err()?;
     let dims = [shape.2, shape.1, shape.0];
     let v = crate::pool::detach(py, || {
         Volume::read_raw(&path, dims, spacing_xyz(spacing), t)
@@ -611,7 +611,13 @@ fn write_mesh(
     .py_err()
 }
 
-/// Adds every function of this module to `m`.
+/// Writes `data` to `path` atomically (`wscg_math::io::atomic`): the writer of the files the
+/// Python package writes itself (model JSON), so that they too leave no truncated file.
+#[pyfunction]
+fn write_file(py: Python<'_>, path: PathBuf, data: Vec<u8>) -> PyResult<()> {
+    crate::pool::detach(py, || wscg_math::io::atomic::write(&path, &data)).py_err()
+}
+
 /// Multi-level periodized Daubechies wavelet transform (Mallat layout), or its inverse.
 #[pyfunction]
 fn wavelet2<'py>(
@@ -632,7 +638,7 @@ fn wavelet2<'py>(
         } else {
             w.forward(&v, &mut out)
         }
-    });
+    })?;
     array(py, &[r, c], out)
 }
 
@@ -665,5 +671,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(save_volume, m)?)?;
     m.add_function(wrap_pyfunction!(read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(write_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(write_file, m)?)?;
     Ok(())
 }

@@ -859,7 +859,7 @@ fn forward_kinematics<'py>(
             .zip(&root)
             .map(|(a, r)| fk_rs(a, *r))
             .collect()
-    });
+    })?;
     let p_n = pts.first().map_or(0, Vec::len);
     let flat: Vec<f64> = pts.iter().flatten().flatten().copied().collect();
     array(py, &[pts.len(), p_n, 3], flat)

@@ -180,7 +180,7 @@ impl PyOctree {
                     }
                 })
                 .collect()
-        });
+        })?;
         let n = hits.len();
         let mut t = Vec::with_capacity(n);
         let mut prim = Vec::with_capacity(n);
@@ -318,8 +318,9 @@ impl PyOctree {
     }
 
     /// The serialized tree (the file's bytes).
-    fn to_bytes<'py>(&self, py: Python<'py>) -> Bound<'py, pyo3::types::PyBytes> {
-        pyo3::types::PyBytes::new(py, &crate::pool::detach(py, || self.inner.to_bytes()))
+    fn to_bytes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        let bytes = crate::pool::detach(py, || self.inner.to_bytes())?;
+        Ok(pyo3::types::PyBytes::new(py, &bytes))
     }
 }
 
@@ -391,7 +392,7 @@ fn voxelize<'py>(
     }
     let f = crate::pool::detach(py, || {
         wscg_octree::voxelize(&mesh.positions, &mesh.faces, None, &cube, depth)
-    });
+    })?;
     let cells = f
         .list
         .iter()
@@ -417,7 +418,7 @@ fn bvh_intersect<'py>(
     let rays = rays_in(&origins, &dirs)?;
     let bvh = crate::pool::detach(py, || TriangleBvh::build(&mesh)).py_err()?;
     let hits: Vec<_> =
-        crate::pool::detach(py, || rays.par_iter().map(|r| bvh.intersect(r)).collect());
+        crate::pool::detach(py, || rays.par_iter().map(|r| bvh.intersect(r)).collect())?;
     let t = hits
         .iter()
         .map(|h| h.map_or(f32::INFINITY, |h| h.1))

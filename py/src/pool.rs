@@ -14,6 +14,7 @@
 //! [`pool`] is only called with the GIL held, and `os.fork` holds the GIL too, so no thread
 //! of the parent is inside the pool's mutex when the process forks.
 
+use std::panic::AssertUnwindSafe;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, Once};
 
@@ -138,15 +139,33 @@ pub fn pool() -> Arc<rayon::ThreadPool> {
 }
 
 /// Runs `f` in the process's pool with the GIL released: the way every binding runs its
-/// Rust work (rayon calls inside `f` use this pool, never rayon's global one). A panic in `f`
-/// propagates to the caller.
-pub fn detach<T, F>(py: Python<'_>, f: F) -> T
+/// Rust work (rayon calls inside `f` use this pool, never rayon's global one).
+///
+/// A panic in `f` (a bug: bad input is an error, never a panic) is caught here and returned
+/// as a `RuntimeError` carrying the panic message, which `except Exception` catches, rather
+/// than reaching Python as pyo3's `PanicException`, a `BaseException`. A pool that cannot be
+/// started is a `RuntimeError` too.
+pub fn detach<T, F>(py: Python<'_>, f: F) -> PyResult<T>
 where
     F: FnOnce() -> T + Send,
     T: Send,
 {
-    let pool = pool();
-    py.detach(move || pool.install(f))
+    let pool = current(&mut setting())
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start the wscg thread pool: {e}")))?;
+    py.detach(move || pool.install(|| std::panic::catch_unwind(AssertUnwindSafe(f))))
+        .map_err(|payload| panic_error(payload.as_ref()))
+}
+
+/// The `RuntimeError` for a caught panic, with the panic's message.
+fn panic_error(payload: &(dyn std::any::Any + Send)) -> PyErr {
+    let message = payload
+        .downcast_ref::<String>()
+        .map(String::as_str)
+        .or_else(|| payload.downcast_ref::<&str>().copied())
+        .unwrap_or("no message");
+    PyRuntimeError::new_err(format!(
+        "internal error in wscg (please report it): {message}"
+    ))
 }
 
 /// Sets the requested thread count (0: default) and starts the pool for it, so that a count
@@ -229,6 +248,13 @@ fn from_env(py: Python<'_>) -> PyResult<()> {
     }
 }
 
+/// Panics inside [`detach`] with `message`: a hook for the tests that check that a panic
+/// reaches Python as a `RuntimeError`. Not part of the API.
+#[pyfunction]
+fn _panic_in_detach_for_tests(py: Python<'_>, message: String) -> PyResult<()> {
+    detach(py, move || -> () { panic!("{message}") })
+}
+
 /// Adds `set_num_threads`, `get_num_threads` and the test check to the module, registers the
 /// at-fork handler and applies `WSCG_NUM_THREADS`.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -236,5 +262,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(set_num_threads, m)?)?;
     m.add_function(wrap_pyfunction!(get_num_threads, m)?)?;
     m.add_function(wrap_pyfunction!(_global_pool_started, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_in_detach_for_tests, m)?)?;
     from_env(m.py())
 }

@@ -306,7 +306,7 @@ fn inpaint_telea<'py>(
             ImageView::plane(h, w, &hole)?,
             radius,
         )
-    })
+    })?
     .map_err(|e| match e.argument() {
         // The Python function names the hole `mask`.
         Some("hole") => value_error("`mask` covers the whole image: no known pixel to fill from"),

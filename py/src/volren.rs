@@ -125,8 +125,9 @@ impl PyServer {
         Ok(Self { inner })
     }
 
-    fn static_package<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
-        PyBytes::new(py, &crate::pool::detach(py, || self.inner.static_package()))
+    fn static_package<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let bytes = crate::pool::detach(py, || self.inner.static_package())?;
+        Ok(PyBytes::new(py, &bytes))
     }
 
     fn roi_package<'py>(

@@ -469,7 +469,7 @@ impl PySession {
     fn nearest_seed<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, u16>> {
         let g = self.inner.graph();
         let seeds = self.inner.node_seeds();
-        let labels = crate::pool::detach(py, || nearest_seed_labels(g, seeds));
+        let labels = crate::pool::detach(py, || nearest_seed_labels(g, seeds))?;
         let mut out = vec![0u16; self.shape.iter().product()];
         for (i, l) in labels.into_iter().enumerate() {
             out[g.voxel(i)] = l;
@@ -656,7 +656,7 @@ fn remove_small<'py>(
     min_voxels: usize,
 ) -> PyResult<(Arr<'py, u16>, usize)> {
     let mut labels = vol_in("labels", &labels, (1.0, 1.0, 1.0))?;
-    let n = crate::pool::detach(py, || remove_small_components(&mut labels, min_voxels));
+    let n = crate::pool::detach(py, || remove_small_components(&mut labels, min_voxels))?;
     Ok((vol_out(py, labels)?, n))
 }
 

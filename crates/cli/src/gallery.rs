@@ -44,7 +44,7 @@ pub fn run<'a>(
     }
     let html = render(&entries);
     let index = out.join("index.html");
-    std::fs::write(&index, html).map_err(|e| Error::io(&index, e))?;
+    wscg_math::io::atomic::write(&index, html)?;
     Ok(entries)
 }
 

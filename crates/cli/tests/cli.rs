@@ -122,7 +122,7 @@ fn file_commands_write_outputs_and_never_touch_inputs() {
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("overwrite the input"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("give --overwrite"));
     assert_eq!(std::fs::read(&input).unwrap(), before);
 }
 

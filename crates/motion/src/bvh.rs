@@ -125,7 +125,7 @@ pub fn to_bvh_string(motion: &BvhMotion) -> Result<String> {
 pub fn write_bvh(path: impl AsRef<Path>, motion: &BvhMotion) -> Result<()> {
     let path = path.as_ref();
     let text = to_bvh_string(motion)?;
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+    wscg_math::io::atomic::write(path, text)
 }
 
 /// A motion of synthesized frames (`angles`, pelvis forward positions along +z).
@@ -191,9 +191,8 @@ pub fn parse_bvh(text: &str, origin: &Path) -> Result<BvhMotion> {
                     .next()
                     .and_then(|v| v.parse().ok())
                     .ok_or_else(|| bad("bad CHANNELS count".into()))?;
-                let names: Vec<String> = (0..n)
-                    .filter_map(|_| tokens.next().map(str::to_string))
-                    .collect();
+                // At most the tokens the text holds, whatever count it declares.
+                let names: Vec<String> = tokens.by_ref().take(n).map(str::to_string).collect();
                 if names.len() != n || in_end > 0 {
                     return Err(bad("truncated CHANNELS line".into()));
                 }
@@ -240,13 +239,23 @@ pub fn parse_bvh(text: &str, origin: &Path) -> Result<BvhMotion> {
         return Err(bad(format!("frame time must be > 0, got {frame_time}")));
     }
     let per_frame: usize = layout.iter().map(|l| l.1.len()).sum();
+    if per_frame == 0 {
+        return Err(bad("the HIERARCHY declares no channels".into()));
+    }
+    // A declared count is checked against the values the text holds before anything is
+    // allocated from it: `Frames: 1e18` overflows `frames x channels`.
+    let expected = n_frames.checked_mul(per_frame).ok_or_else(|| {
+        bad(format!(
+            "{n_frames} frames of {per_frame} channels is more values than any file can hold"
+        ))
+    })?;
     let values: Vec<f64> = tokens
         .map(|v| {
             v.parse::<f64>()
                 .map_err(|_| bad(format!("bad number `{v}`")))
         })
         .collect::<Result<_>>()?;
-    if values.len() != n_frames * per_frame {
+    if values.len() != expected {
         return Err(bad(format!(
             "{} motion values for {n_frames} frames of {per_frame} channels",
             values.len()
@@ -312,4 +321,56 @@ pub fn read_bvh(path: impl AsRef<Path>) -> Result<BvhMotion> {
     let bytes = wscg_math::error::read_file(path)?;
     let text = String::from_utf8(bytes).map_err(|_| Error::format(path, "not UTF-8 text"))?;
     parse_bvh(&text, path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two_frames() -> String {
+        let m = BvhMotion {
+            frame_time: 1.0 / 120.0,
+            angles: vec![vec![0.0; N_CHANNELS]; 2],
+            root: vec![[0.0; 3]; 2],
+        };
+        to_bvh_string(&m).unwrap()
+    }
+
+    #[test]
+    fn a_frame_count_that_overflows_the_values_is_an_error_naming_the_file() {
+        let text = two_frames();
+        assert!(parse_bvh(&text, Path::new("ok.bvh")).is_ok());
+        // 54 channels per frame: (2^63 + 2) x 54 wraps to the 108 values the file holds.
+        let per_frame = 6 + 3 * (N_JOINTS - 1);
+        assert_eq!(per_frame, 54);
+        for frames in ["9223372036854775810", "18446744073709551615", "3"] {
+            let bad = text.replace("Frames: 2", &format!("Frames: {frames}"));
+            let dir = tempfile::tempdir().unwrap();
+            let p = dir.path().join("huge.bvh");
+            std::fs::write(&p, bad).unwrap();
+            let err = read_bvh(&p).unwrap_err();
+            assert!(matches!(err, Error::Format { .. }), "{err}");
+            assert!(err.to_string().contains("huge.bvh"), "{err}");
+        }
+    }
+
+    #[test]
+    fn huge_or_empty_channel_declarations_are_errors() {
+        let text = two_frames();
+        let huge = text.replacen("CHANNELS 3", "CHANNELS 18446744073709551615", 1);
+        assert!(parse_bvh(&huge, Path::new("h.bvh")).is_err());
+        let none = text
+            .replace(
+                "CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation",
+                "CHANNELS 0",
+            )
+            .replace("CHANNELS 3 Zrotation Xrotation Yrotation", "CHANNELS 0");
+        let motion = none.find("MOTION").unwrap();
+        let none = format!(
+            "{}MOTION\nFrames: 1000000000000\nFrame Time: 0.01\n",
+            &none[..motion]
+        );
+        let err = parse_bvh(&none, Path::new("none.bvh")).unwrap_err();
+        assert!(err.to_string().contains("no channels"), "{err}");
+    }
 }

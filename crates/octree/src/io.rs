@@ -181,10 +181,9 @@ impl HybridOctree {
         Ok(oct)
     }
 
-    /// Writes the tree to `path` (overwriting it).
+    /// Writes the tree to `path`, atomically (a failed write leaves any previous file).
     pub fn save(&self, path: impl AsRef<Path>) -> Result<()> {
-        let path = path.as_ref();
-        std::fs::write(path, self.to_bytes()).map_err(|e| Error::io(path, e))
+        wscg_math::io::atomic::write(path, self.to_bytes())
     }
 
     /// Reads a tree saved by [`HybridOctree::save`].

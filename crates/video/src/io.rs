@@ -160,16 +160,21 @@ pub fn write_frames(video: &Video, dir: &Path) -> Result<Vec<PathBuf>> {
     for t in 0..video.frames {
         let path = dir.join(format!("frame_{t:05}.png"));
         let (w, h) = (video.width as u32, video.height as u32);
-        let res = if video.channels == 3 {
-            image::RgbImage::from_raw(w, h, video.frame(t).to_vec()).map(|i| i.save(&path))
-        } else {
-            image::GrayImage::from_raw(w, h, video.frame(t).to_vec()).map(|i| i.save(&path))
+        let data = video.frame(t);
+        let color = match video.channels {
+            3 => image::ExtendedColorType::Rgb8,
+            _ => image::ExtendedColorType::L8,
         };
-        match res {
-            Some(Ok(())) => {}
-            Some(Err(e)) => return Err(Error::format(&path, e.to_string())),
-            None => return Err(Error::invalid("video", "frame buffer of the wrong size")),
+        if data.len() != video.width * video.height * video.channels {
+            return Err(Error::invalid("video", "frame buffer of the wrong size"));
         }
+        wscg_math::io::atomic::write_with(&path, |out| {
+            image::write_buffer_with_format(out, data, w, h, color, image::ImageFormat::Png)
+                .map_err(|e| match e {
+                    image::ImageError::IoError(e) => Error::io(&path, e),
+                    e => Error::format(&path, e.to_string()),
+                })
+        })?;
         out.push(path);
     }
     Ok(out)

@@ -36,6 +36,7 @@ Bad arguments raise ``ValueError`` naming the problem; the GIL is released while
 
 from __future__ import annotations
 
+import os
 import warnings
 from typing import Optional, Sequence, Tuple, Union
 
@@ -699,13 +700,16 @@ class _SFAClassifier(_Params, _JsonPickled):
         return float(np.mean(self.predict(X) == np.asarray(y)))
 
     def save(self, path) -> None:
-        """Writes the fitted model (JSON)."""
+        """Writes the fitted model (JSON), atomically: a failed write raises ``OSError`` and
+        leaves any previous file."""
         import json
 
-        with open(path, "w") as f:
-            json.dump({"params": self.get_params(), "classes": self.classes_.tolist(),
-                       "n_features_in": self.n_features_in_,
-                       "model": self._fitted().to_json()}, f)
+        from ._native import math as _m
+
+        text = json.dumps({"params": self.get_params(), "classes": self.classes_.tolist(),
+                           "n_features_in": self.n_features_in_,
+                           "model": self._fitted().to_json()})
+        _m.write_file(os.fspath(path), text.encode())
 
     @classmethod
     def load(cls, path):

@@ -2,7 +2,6 @@
 //! name or index, as Kinect recording tools export them) and `.npy` arrays `(T, 25, 3)`.
 
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::Path;
 
 use wscg_math::{Error, Result};
@@ -146,9 +145,7 @@ pub fn write_skeleton_csv(path: impl AsRef<Path>, s: &SkeletonSeq) -> Result<()>
             ));
         }
     }
-    let mut file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-    file.write_all(buf.as_bytes())
-        .map_err(|e| Error::io(path, e))
+    wscg_math::io::atomic::write(path, buf)
 }
 
 /// Writes a `.npy` array `(T, 25, 3)` of f64.

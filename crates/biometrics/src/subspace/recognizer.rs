@@ -105,7 +105,7 @@ impl Recognizer {
         let path = path.as_ref();
         let json =
             serde_json::to_string(self).map_err(|e| Error::invalid("recognizer", e.to_string()))?;
-        std::fs::write(path, json).map_err(|e| Error::io(path, e))
+        wscg_math::io::atomic::write(path, json)
     }
 
     /// Reads a file written by [`Recognizer::save`].

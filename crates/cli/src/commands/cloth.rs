@@ -5,7 +5,6 @@
 //! and self contacts) and writes one OBJ per output frame (`frame_0000.obj`, ...) plus an
 //! `energy.csv` with the kinetic, gravitational, elastic and total energy of every frame.
 
-use std::io::Write;
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand, ValueEnum};
@@ -203,6 +202,11 @@ fn read_mesh(path: &std::path::Path) -> Result<MeshData> {
 /// Runs a `wscg cloth` command.
 pub fn run(cmd: ClothCommand) -> Result<()> {
     let ClothCommand::Simulate(a) = cmd;
+    crate::commands::overwrite::check_folder(
+        "out",
+        &a.out,
+        [&a.mesh].into_iter().chain(&a.collider),
+    )?;
     let mesh = TriMesh::read(&a.mesh)?;
     let (v, faces) = read_mesh(&a.mesh)?;
     let material = match a.material {
@@ -271,7 +275,6 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
     })?;
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
     let csv_path = a.out.join("energy.csv");
-    let mut csv = std::fs::File::create(&csv_path).map_err(|e| Error::io(&csv_path, e))?;
     let mut lines = String::from("frame,time,kinetic,gravity,elastic,total\n");
     let bars = Bars::new("cloth");
     bars.begin("simulating", a.frames as u64);
@@ -295,8 +298,7 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
         bars.advance(1);
     }
     bars.finish();
-    csv.write_all(lines.as_bytes())
-        .map_err(|e| Error::io(&csv_path, e))?;
+    wscg_math::io::atomic::write(&csv_path, lines)?;
     println!(
         "{} frames of {} vertices ({} pinned) written to {}",
         a.frames,

@@ -297,6 +297,8 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
     match cmd {
         DeblurCommand::Frames(a) => frames(a),
         DeblurCommand::Kernel(a) => {
+            let inputs = [Some(&a.camera.gyro), a.camera.camera.as_ref()];
+            crate::commands::overwrite::check_file("out", &a.out, inputs.into_iter().flatten())?;
             let setup = a.camera.setup(a.width, a.height)?;
             let k = setup.k;
             let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
@@ -331,6 +333,7 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
             Ok(())
         }
         DeblurCommand::Simulate(a) => {
+            crate::commands::overwrite::check_folder("out-dir", &a.out_dir, [&a.image])?;
             let display = load_gray(&a.image)?;
             let mut sharp = display.clone();
             Gamma::default().linearise(sharp.data_mut());
@@ -383,7 +386,7 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                 (dir.join("times.txt"), times),
                 (a.out_dir.join("camera.json"), camera),
             ] {
-                std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
+                wscg_math::io::atomic::write(&path, text)?;
             }
             println!(
                 "wrote {} frames and times.txt to {}, gyro.csv, camera.json and sharp.png to {} (f = {}, exposure {} s, delay {} s)",
@@ -401,6 +404,20 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
 
 /// `wscg deblur frames`: one frame (file output) or every frame (folder output).
 fn frames(a: FramesArgs) -> Result<()> {
+    let to_folder = a.main.is_none() && (a.out.is_dir() || a.out.extension().is_none());
+    let mut inputs: Vec<&Path> = a.frames.iter().map(PathBuf::as_path).collect();
+    let more = [
+        Some(&a.camera.gyro),
+        a.camera.camera.as_ref(),
+        a.reference.as_ref(),
+    ];
+    inputs.extend(more.into_iter().flatten().map(PathBuf::as_path));
+    inputs.extend(a.times.as_deref().map(Path::new));
+    if to_folder {
+        crate::commands::overwrite::check_folder("out", &a.out, &inputs)?;
+    } else {
+        crate::commands::overwrite::check_file("out", &a.out, &inputs)?;
+    }
     let (paths, folder) = match a.frames.as_slice() {
         [dir] if dir.is_dir() => (frame_files(dir)?, Some(dir.clone())),
         files => (files.to_vec(), None),
@@ -473,7 +490,6 @@ fn frames(a: FramesArgs) -> Result<()> {
         };
         Ok(deblur_frame(&input[main], &track, &setup.k, &method, &opts)?.0)
     };
-    let to_folder = a.main.is_none() && (a.out.is_dir() || a.out.extension().is_none());
     if to_folder {
         std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
         for (i, p) in paths.iter().enumerate() {

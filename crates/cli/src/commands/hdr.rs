@@ -162,6 +162,9 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
     match cmd {
         HdrCommand::Multiscopic(a) => multiscopic(a),
         HdrCommand::Merge(a) => {
+            let inputs = a.images.iter().map(PathBuf::as_path);
+            let exposures = [Path::new(&a.exposures.times), Path::new(&a.exposures.crf)];
+            crate::commands::overwrite::check_file("out", &a.out, inputs.chain(exposures))?;
             let (images, bits) = load_views(&a.images)?;
             let times = exposure_times(&a.exposures.times)?;
             let crf = load_crf(&a.exposures.crf, bits, images[0].channels())?;
@@ -176,6 +179,12 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
             Ok(())
         }
         HdrCommand::Calibrate(a) => {
+            let inputs = a.images.iter().map(PathBuf::as_path);
+            crate::commands::overwrite::check_file(
+                "out",
+                &a.out,
+                inputs.chain([Path::new(&a.times)]),
+            )?;
             let (images, bits) = load_views(&a.images)?;
             let times = read_times(&a.times)?;
             let crf = match a.method {
@@ -311,16 +320,19 @@ fn write_crf(crf: &Crf, path: &Path) -> Result<()> {
         text.push_str(&cells.join(","));
         text.push('\n');
     }
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+    wscg_math::io::atomic::write(path, text)
 }
 
 /// Writes exposure times, one per line.
 fn write_times(times: &[f64], path: &Path) -> Result<()> {
     let text: String = times.iter().map(|t| format!("{t}\n")).collect();
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+    wscg_math::io::atomic::write(path, text)
 }
 
 fn multiscopic(a: MultiscopicArgs) -> Result<()> {
+    let inputs = a.views.iter().map(PathBuf::as_path);
+    let exposures = [Path::new(&a.exposures.times), Path::new(&a.exposures.crf)];
+    crate::commands::overwrite::check_folder("out", &a.out, inputs.chain(exposures))?;
     let (views, bits) = load_views(&a.views)?;
     let times = exposure_times(&a.exposures.times)?;
     let crf = load_crf(&a.exposures.crf, bits, views[0].channels())?;

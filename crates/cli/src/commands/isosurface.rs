@@ -129,6 +129,8 @@ fn grid(v: &Volume<f32>) -> Result<ScalarGrid<'_>> {
 pub fn run(cmd: IsosurfaceCommand) -> Result<()> {
     match cmd {
         IsosurfaceCommand::Extract(a) => {
+            let inputs = [Some(&a.input.volume), a.input.mask.as_ref()];
+            crate::commands::overwrite::check_file("out", &a.out, inputs.into_iter().flatten())?;
             let v = read_volume(&a.input)?;
             let method = NormalMethod::parse(&a.normals)?;
             let g = grid(&v)?;

@@ -1,6 +1,6 @@
 //! `wscg math ...`: the shared numerics on the user's image files.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::{Subcommand, ValueEnum};
 use num_complex::Complex;
@@ -9,7 +9,7 @@ use wscg_math::filter::{gaussian_filter, Border};
 use wscg_math::image::Image;
 use wscg_math::metrics::{mse, psnr, ssim, SsimParams};
 use wscg_math::resize::{resize, Interpolation};
-use wscg_math::{Error, Result};
+use wscg_math::Result;
 
 #[derive(Subcommand, Debug)]
 pub enum MathCommand {
@@ -63,21 +63,6 @@ pub enum Method {
     Bilinear,
 }
 
-/// Refuses to write over an input file.
-fn check_output(input: &Path, output: &Path) -> Result<()> {
-    let same = match (input.canonicalize(), output.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => input == output,
-    };
-    if same {
-        return Err(Error::invalid(
-            "output",
-            format!("{} would overwrite the input", output.display()),
-        ));
-    }
-    Ok(())
-}
-
 pub fn run(cmd: MathCommand) -> Result<()> {
     match cmd {
         MathCommand::Metrics {
@@ -103,7 +88,7 @@ pub fn run(cmd: MathCommand) -> Result<()> {
             sigma,
             mode,
         } => {
-            check_output(&input, &output)?;
+            crate::commands::overwrite::check_file("output", &output, [&input])?;
             let border = match mode {
                 Mode::Reflect => Border::Reflect,
                 Mode::Mirror => Border::Mirror,
@@ -121,7 +106,7 @@ pub fn run(cmd: MathCommand) -> Result<()> {
             width,
             method,
         } => {
-            check_output(&input, &output)?;
+            crate::commands::overwrite::check_file("output", &output, [&input])?;
             let m = match method {
                 Method::Area => Interpolation::Area,
                 Method::Bilinear => Interpolation::Bilinear,
@@ -129,7 +114,7 @@ pub fn run(cmd: MathCommand) -> Result<()> {
             resize(&Image::load(&input)?, height, width, m)?.save(&output)
         }
         MathCommand::Spectrum { input, output } => {
-            check_output(&input, &output)?;
+            crate::commands::overwrite::check_file("output", &output, [&input])?;
             let g = Image::load(&input)?.to_gray();
             let (h, w, _) = g.shape();
             let mut c: Vec<Complex<f64>> = g

@@ -86,6 +86,7 @@ pub struct DenoiseArgs {
 /// Runs a `wscg meshfilter` command.
 pub fn run(cmd: MeshfilterCommand) -> Result<()> {
     let MeshfilterCommand::Denoise(a) = cmd;
+    crate::commands::overwrite::check_file("out", &a.out, [&a.mesh])?;
     let mesh = TriMesh::read(&a.mesh)?;
     let mvd = mean_vertex_distance(&mesh)?;
     let positions = match a.method {

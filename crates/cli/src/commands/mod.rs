@@ -18,6 +18,7 @@ mod meshfilter;
 mod motion;
 mod mri;
 mod octree;
+mod overwrite;
 mod raytrace;
 mod video;
 mod volren;
@@ -29,6 +30,10 @@ mod volseg;
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Allow an output to replace an input file (or to be written into an input folder);
+    /// without it such a command is refused.
+    #[arg(long, global = true)]
+    overwrite: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -107,6 +112,7 @@ enum Command {
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<()> {
+    overwrite::allow(cli.overwrite);
     match cli.command {
         Command::Demo { name, out, list } => {
             if list || name.is_none() {

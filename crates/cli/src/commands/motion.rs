@@ -141,7 +141,7 @@ fn write_dataset(dir: &Path, data: &Dataset) -> Result<()> {
         }
     }
     let p = dir.join("steps.csv");
-    std::fs::write(&p, csv).map_err(|e| Error::io(&p, e))
+    wscg_math::io::atomic::write(&p, csv)
 }
 
 /// Reads a training folder.
@@ -276,6 +276,7 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             Ok(())
         }
         MotionCommand::Learn(a) => {
+            crate::commands::overwrite::check_folder("out", &a.out, [&a.data])?;
             let data = read_dataset(&a.data)?;
             let lib = learn(&data, a.restarts, a.delay_search)?;
             for (k, f) in lib.actions.iter().enumerate() {
@@ -316,6 +317,16 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             Ok(())
         }
         MotionCommand::Synth(a) => {
+            let outputs = [
+                ("out", Some(&a.out)),
+                ("npy", a.npy.as_ref()),
+                ("png", a.png.as_ref()),
+            ];
+            for (arg, out) in outputs {
+                if let Some(out) = out {
+                    crate::commands::overwrite::check_file(arg, out, &a.data)?;
+                }
+            }
             let data = match &a.data {
                 Some(d) => read_dataset(d)?,
                 None => reach_walk(&WalkerParams::default())?.0,

@@ -289,6 +289,8 @@ pub fn run(cmd: MriCommand) -> Result<()> {
 }
 
 fn recon(a: ReconArgs) -> Result<()> {
+    let inputs = [Some(&a.input), Some(&a.mask), a.reference.as_ref()];
+    crate::commands::overwrite::check_file("out", &a.out, inputs.into_iter().flatten())?;
     let (rows, cols, input) = read_2d(&a.input)?;
     let mask = read_mask(&a.mask, rows, cols)?;
     let is_kspace = ext(&a.input) == "npy" && input.iter().any(|v| v.im != 0.0);

@@ -163,6 +163,7 @@ fn report(oct: &HybridOctree) {
 pub fn run(cmd: OctreeCommand) -> Result<()> {
     match cmd {
         OctreeCommand::Build(a) => {
+            crate::commands::overwrite::check_file("out", &a.out, [&a.mesh])?;
             let mesh = TriMesh::read(&a.mesh)?;
             let p = BuildParams::default()
                 .max_depth(a.depth)
@@ -178,6 +179,7 @@ pub fn run(cmd: OctreeCommand) -> Result<()> {
             Ok(())
         }
         OctreeCommand::Render(a) => {
+            crate::commands::overwrite::check_file("out", &a.out, [&a.tree])?;
             let oct = HybridOctree::load(&a.tree)?;
             let mode = mode_arg(&a.mode, a.level)?;
             let cam = camera_arg(&a.camera, &oct, a.fov, size_arg(&a.size)?)?;

@@ -148,6 +148,7 @@ fn load(frames: &std::path::Path, mask: &std::path::Path) -> Result<(Video, wscg
 }
 
 fn complete(a: CompleteArgs) -> Result<()> {
+    crate::commands::overwrite::check_folder("out", &a.out, [&a.frames, &a.mask])?;
     let (v, m) = load(&a.frames, &a.mask)?;
     let patch = PatchSize {
         px: a.patch[0],

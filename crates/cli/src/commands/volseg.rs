@@ -291,6 +291,17 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
             Ok(())
         }
         VolsegCommand::Split(a) => {
+            let inputs = [
+                Some(&a.ct),
+                a.seeds.as_ref(),
+                a.strokes.as_ref(),
+                a.truth.as_ref(),
+            ];
+            let inputs: Vec<_> = inputs.into_iter().flatten().collect();
+            crate::commands::overwrite::check_file("out", &a.out, &inputs)?;
+            if let Some(dir) = &a.meshes {
+                crate::commands::overwrite::check_folder("meshes", dir, &inputs)?;
+            }
             let ct = gaussian_smooth3(&Volume::read(&a.ct, None)?, a.smooth)?;
             let seeds = match (&a.seeds, &a.strokes) {
                 (Some(path), _) => {

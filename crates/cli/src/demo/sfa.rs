@@ -78,8 +78,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
                   physical features, KNN on PCA-35, KNN on 9-D Isomap, full-data-set SFA"
             .into(),
     });
-    std::fs::write(out.join("tables.txt"), res.format_tables())
-        .map_err(|e| wscg_math::Error::io(out.join("tables.txt"), e))?;
+    wscg_math::io::atomic::write(out.join("tables.txt"), res.format_tables())?;
     for r in &res.results {
         let paper = PAPER
             .iter()

@@ -11,6 +11,10 @@
 //! | [`obj`] | Wavefront OBJ | `io-mesh` | `TriMesh::read_obj`, `TriMesh::write_obj` |
 //! | [`ply`] | Stanford PLY, ASCII and binary (`ply-rs`) | `io-mesh` | `TriMesh::read_ply`, `TriMesh::write_ply` |
 //!
+//! Every writer goes through [`atomic`]: a temporary file in the destination's folder,
+//! flushed, synced and renamed over the destination, every error returned, so a failed or
+//! killed write never leaves a truncated file.
+//!
 //! `Volume::read` (`io-volume`) and `TriMesh::read` / `TriMesh::write` (`io-mesh`), defined
 //! here, pick the format from the file extension.
 //!
@@ -22,6 +26,7 @@
 //! [`Error::Format`]: crate::Error::Format
 //! [`Error::Io`]: crate::Error::Io
 
+pub mod atomic;
 #[cfg(feature = "io-volume")]
 pub mod nifti;
 #[cfg(feature = "io-npy")]

@@ -7,8 +7,7 @@
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 
 use ndarray::{ArrayView3, Ix3, ShapeBuilder};
 use nifti::{IntoNdArray, NiftiError, NiftiHeader, NiftiType};
@@ -22,17 +21,6 @@ const MAX_NIFTI_VOX_OFFSET: u64 = 1 << 30;
 
 /// Size of a NIfTI-1 header in bytes.
 const NIFTI1_HEADER_BYTES: usize = 348;
-
-/// A fresh temporary file name next to `path`, with extension `ext` and no other dots.
-fn temp_sibling(path: &Path, ext: &str) -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let name = format!("wscg_tmp_{}_{n}.{ext}", std::process::id());
-    match path.parent() {
-        Some(dir) => dir.join(name),
-        None => PathBuf::from(name),
-    }
-}
 
 /// Converts a header `f32` to the `f64` with the same shortest decimal form (0.7f32 -> 0.7),
 /// so that spacings written as `f32` read back as the decimal the user gave.
@@ -84,21 +72,18 @@ impl<T: Real> Volume<T> {
         let array = ArrayView3::from_shape((nx, ny, nz).f(), &values[..])
             .expect("volume invariant: data length equals nx * ny * nz");
 
-        // The nifti writer rewrites file names with several dots; write under a plain
-        // temporary name in the same folder and rename, which also makes the write atomic.
-        let tmp = temp_sibling(path, if gz { "nii.gz" } else { "nii" });
-        let written = nifti::writer::WriterOptions::new(&tmp)
-            .reference_header(&header)
-            .write_nifti(&array);
-        let result = match written {
-            Ok(()) => std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)),
-            Err(NiftiError::Io(e)) => Err(Error::io(path, e)),
-            Err(e) => Err(Error::io(path, io::Error::other(e.to_string()))),
-        };
-        if result.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        result
+        // The nifti writer rewrites file names with several dots: it writes a plain temporary
+        // name in the same folder, which is then renamed.
+        super::atomic::write_via_temp_path(path, if gz { "nii.gz" } else { "nii" }, |tmp| {
+            match nifti::writer::WriterOptions::new(tmp)
+                .reference_header(&header)
+                .write_nifti(&array)
+            {
+                Ok(()) => Ok(()),
+                Err(NiftiError::Io(e)) => Err(Error::io(path, e)),
+                Err(e) => Err(Error::io(path, io::Error::other(e.to_string()))),
+            }
+        })
     }
 }
 

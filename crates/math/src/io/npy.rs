@@ -7,8 +7,7 @@
 //! array. Malformed or truncated files are [`Error::Format`], other dtypes
 //! [`Error::UnsupportedFormat`], never a panic.
 
-use std::fs::File;
-use std::io::{self, Write};
+use std::io;
 use std::path::Path;
 
 use ndarray::{ArrayD, ArrayViewD, IxDyn};
@@ -172,13 +171,17 @@ pub fn write<T: ndarray_npy::WritableElement>(
             data.len()
         ))
     })?;
-    let file = File::create(path).map_err(|e| Error::io(path, e))?;
-    let mut writer = io::BufWriter::new(file);
-    view.write_npy(&mut writer).map_err(|e| match e {
+    crate::io::atomic::write_with(path, |out| {
+        view.write_npy(out).map_err(|e| npy_write_error(path, e))
+    })
+}
+
+/// An `ndarray-npy` write error as [`Error::Io`] naming `path`.
+fn npy_write_error(path: &Path, e: ndarray_npy::WriteNpyError) -> Error {
+    match e {
         ndarray_npy::WriteNpyError::Io(e) => Error::io(path, e),
         e => Error::io(path, io::Error::other(e.to_string())),
-    })?;
-    writer.flush().map_err(|e| Error::io(path, e))
+    }
 }
 
 /// Checks the `.npy` preamble and returns the offset of the array data; guards the header
@@ -249,8 +252,6 @@ fn values<T: NpyTarget>(path: &Path, bytes: &[u8]) -> Result<Option<Vec<T>>> {
 /// `.npy` volumes: arrays indexed `arr[z, y, x]`.
 #[cfg(feature = "io-volume")]
 mod volume_files {
-    use std::fs::File;
-    use std::io::{self, Write};
     use std::path::Path;
 
     use ndarray::ArrayView3;
@@ -268,13 +269,11 @@ mod volume_files {
             let [nx, ny, nz] = self.dims;
             let array = ArrayView3::from_shape((nz, ny, nx), &values[..])
                 .expect("volume invariant: data length equals nx * ny * nz");
-            let file = File::create(path).map_err(|e| Error::io(path, e))?;
-            let mut writer = io::BufWriter::new(file);
-            array.write_npy(&mut writer).map_err(|e| match e {
-                ndarray_npy::WriteNpyError::Io(e) => Error::io(path, e),
-                e => Error::io(path, io::Error::other(e.to_string())),
-            })?;
-            writer.flush().map_err(|e| Error::io(path, e))
+            crate::io::atomic::write_with(path, |out| {
+                array
+                    .write_npy(out)
+                    .map_err(|e| super::npy_write_error(path, e))
+            })
         }
     }
 
@@ -379,7 +378,7 @@ mod volume_files {
                 .unwrap();
             let p = dir.path().join("u8.npy");
             let a = Array3::from_shape_fn((5, 4, 3), |(z, y, x)| (x + 3 * y + 12 * z) as u8);
-            let mut file = File::create(&p).unwrap();
+            let mut file = std::fs::File::create(&p).unwrap();
             a.write_npy(&mut file).unwrap();
             drop(file);
             assert_eq!(Volume::read_npy(&p, [1.0; 3]).unwrap(), small);

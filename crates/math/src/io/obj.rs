@@ -9,8 +9,7 @@
 //! groups (which opens closed meshes). This reader keeps the file's vertices, their order and
 //! their `f64` values.
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
 use crate::error::{read_file, Error, Result};
@@ -54,11 +53,9 @@ impl TriMesh {
     pub fn write_obj(&self, path: impl AsRef<Path>) -> Result<()> {
         let path = path.as_ref();
         self.check_writable()?;
-        let io = |e| Error::io(path, e);
-        let file = File::create(path).map_err(io)?;
-        let mut out = BufWriter::new(file);
-        self.write_obj_to(&mut out).map_err(io)?;
-        out.flush().map_err(io)
+        super::atomic::write_with(path, |out| {
+            self.write_obj_to(out).map_err(|e| Error::io(path, e))
+        })
     }
 
     fn write_obj_to(&self, out: &mut impl Write) -> std::io::Result<()> {

@@ -4,8 +4,7 @@
 //! header are checked against the size of the file before reading, so a hostile header cannot
 //! make the reader allocate without bound.
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
 use ply_rs::parser::Parser as PlyParser;
@@ -63,11 +62,10 @@ impl TriMesh {
                 self.positions.len()
             )));
         }
-        let io = |e| Error::io(path, e);
-        let file = File::create(path).map_err(io)?;
-        let mut out = BufWriter::new(file);
-        self.write_ply_to(&mut out, encoding).map_err(io)?;
-        out.flush().map_err(io)
+        super::atomic::write_with(path, |out| {
+            self.write_ply_to(out, encoding)
+                .map_err(|e| Error::io(path, e))
+        })
     }
 
     fn write_ply_to(&self, out: &mut impl Write, encoding: PlyEncoding) -> std::io::Result<()> {

@@ -174,9 +174,11 @@ impl Image<f32> {
             )));
         }
         let img = self.to_dynamic(depth)?;
-        img.save_with_format(path, format).map_err(|e| match e {
-            image::ImageError::IoError(io) => Error::io(path, io),
-            other => Error::format(path, other.to_string()),
+        super::atomic::write_with(path, |out| {
+            img.write_to(out, format).map_err(|e| match e {
+                image::ImageError::IoError(io) => Error::io(path, io),
+                other => Error::format(path, other.to_string()),
+            })
         })
     }
 }

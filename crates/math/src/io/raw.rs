@@ -119,7 +119,7 @@ impl<T: Real> Volume<T> {
         for v in values.iter() {
             bytes.extend_from_slice(&v.to_le_bytes());
         }
-        std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
+        super::atomic::write(path, bytes)
     }
 }
 

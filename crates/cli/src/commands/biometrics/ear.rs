@@ -219,6 +219,7 @@ pub fn run(cmd: EarCommand) -> Result<()> {
             out,
             params,
         } => {
+            crate::commands::overwrite::check_folder("out", &out, [&gallery])?;
             let p = params.params()?;
             let mut identities = Vec::new();
             let mut labels = Vec::new();
@@ -283,7 +284,7 @@ pub fn run(cmd: EarCommand) -> Result<()> {
             let json = serde_json::to_string_pretty(&info)
                 .map_err(|e| Error::invalid("gallery", e.to_string()))?;
             let path = out.join("gallery.json");
-            std::fs::write(&path, json).map_err(|e| Error::io(&path, e))?;
+            wscg_math::io::atomic::write(&path, json)?;
             println!(
                 "enrolled {} images of {} identities into {}",
                 files.len(),
@@ -300,6 +301,13 @@ pub fn run(cmd: EarCommand) -> Result<()> {
             baseline,
             params,
         } => {
+            if let Some(dir) = &masks {
+                crate::commands::overwrite::check_folder(
+                    "masks",
+                    dir,
+                    probes.iter().chain([&gallery]),
+                )?;
+            }
             let p = params.params()?;
             let path = gallery.join("gallery.json");
             let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
@@ -362,6 +370,9 @@ pub fn run(cmd: EarCommand) -> Result<()> {
             masks,
             params,
         } => {
+            if let Some(dir) = &masks {
+                crate::commands::overwrite::check_folder("masks", dir, &probes)?;
+            }
             let p = params.params()?;
             for probe_path in &probes {
                 let img = Image::load_u8(probe_path)?;
@@ -423,7 +434,7 @@ pub fn run(cmd: EarCommand) -> Result<()> {
                 ));
             }
             let tp = out.join("truth.csv");
-            std::fs::write(&tp, truth).map_err(|e| Error::io(&tp, e))?;
+            wscg_math::io::atomic::write(&tp, truth)?;
             println!(
                 "wrote {} enrolment and {} probe images to {}",
                 set.enrol.len(),

@@ -246,7 +246,7 @@ fn gallery_files(root: &Path) -> Result<Vec<(String, PathBuf)>> {
 
 fn write_json(path: &Path, v: &impl Serialize) -> Result<()> {
     let text = serde_json::to_string(v).map_err(|e| Error::invalid("model", e.to_string()))?;
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+    wscg_math::io::atomic::write(path, text)
 }
 
 fn read_model(path: &Path) -> Result<ModelFile> {
@@ -265,6 +265,7 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             out,
             params,
         } => {
+            crate::commands::overwrite::check_file("out", &out, [&gallery])?;
             let p = params.params()?;
             let files = gallery_files(&gallery)?;
             let mut identities: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
@@ -420,7 +421,7 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
                 ));
             }
             let tp = out.join("truth.csv");
-            std::fs::write(&tp, truth).map_err(|e| Error::io(&tp, e))?;
+            wscg_math::io::atomic::write(&tp, truth)?;
             println!(
                 "wrote {} walks of {subjects} subjects to {}",
                 set.walks.len(),

@@ -275,6 +275,8 @@ pub fn run(cmd: BiometricsCommand) -> Result<()> {
     };
     match cmd {
         FdkecaCommand::Fit { data, model, out } => {
+            let inputs = [&data.gallery, &data.npy, &data.labels];
+            crate::commands::overwrite::check_file("out", &out, inputs.into_iter().flatten())?;
             let ds = load(&data)?;
             let img = &ds.images;
             let method = model.method(model.method);
@@ -394,6 +396,7 @@ pub fn run(cmd: BiometricsCommand) -> Result<()> {
             Ok(())
         }
         FdkecaCommand::Axes { model, out, count } => {
+            crate::commands::overwrite::check_folder("out", &out, [&model])?;
             let rec = Recognizer::load(&model)?;
             let (h, w) = rec.image_shape;
             let imgs = match &rec.classifier.projector {

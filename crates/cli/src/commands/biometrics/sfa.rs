@@ -394,6 +394,8 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             Ok(())
         }
         SfaCommand::Fit { data, model, out } => {
+            let inputs = [&data.src.gallery, &data.src.npy, &data.src.labels];
+            crate::commands::overwrite::check_file("out", &out, inputs.into_iter().flatten())?;
             let cfg = model.config()?;
             let ds = load(&data)?;
             let x = rows(&ds.values, ds.n, ds.shape, data.downscale)?;
@@ -427,7 +429,7 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             };
             let text = serde_json::to_string(&file)
                 .map_err(|e| Error::Numerical(format!("model JSON: {e}")))?;
-            std::fs::write(&out, text).map_err(|e| Error::io(&out, e))?;
+            wscg_math::io::atomic::write(&out, text)?;
             println!(
                 "{kind} SFA fitted on {} samples of {} classes ({} values each); model written \
                  to {}",
@@ -444,6 +446,10 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             npy: npy_path,
             scores: scores_out,
         } => {
+            if let Some(out) = &scores_out {
+                let inputs = queries.iter().chain(npy_path.as_ref()).chain([&model]);
+                crate::commands::overwrite::check_file("scores", out, inputs)?;
+            }
             let text = std::fs::read_to_string(&model).map_err(|e| Error::io(&model, e))?;
             let file: ModelFile = serde_json::from_str(&text)
                 .map_err(|e| Error::format(&model, format!("not a wscg SFA model: {e}")))?;

@@ -143,6 +143,7 @@ fn report(o: &ManyLightResult, method: Method, rmse: Option<f64>) {
 
 /// Runs `wscg raytrace manylight`.
 pub fn run(a: &ManyLightArgs) -> Result<()> {
+    crate::commands::overwrite::check_file("out", &a.out, &a.obj)?;
     if !(a.exposure.is_finite() && a.exposure > 0.0) {
         return Err(Error::invalid("exposure", "must be finite and positive"));
     }

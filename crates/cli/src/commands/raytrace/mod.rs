@@ -305,6 +305,7 @@ pub(super) fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
 }
 
 fn paint(a: &PaintArgs) -> Result<()> {
+    crate::commands::overwrite::check_file("out", &a.out, &a.paint)?;
     let p = &a.plate;
     let desc = match &a.paint {
         Some(path) => read_paint(path)?,
@@ -398,7 +399,7 @@ fn workshop(a: &WorkshopArgs) -> Result<()> {
         None => println!("the surface has no stationary point"),
     }
     if let Some(path) = &a.csv {
-        std::fs::write(path, csv).map_err(|e| Error::io(path, e))?;
+        wscg_math::io::atomic::write(path, csv)?;
     }
     Ok(())
 }

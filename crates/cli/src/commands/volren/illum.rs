@@ -269,6 +269,10 @@ fn method_of(a: &IllumArgs) -> Method {
 
 /// Runs `wscg volren illum`.
 pub fn run(a: IllumArgs) -> Result<()> {
+    if let Some(out) = &a.out {
+        let inputs = [a.volume.as_deref(), Some(std::path::Path::new(&a.tf))];
+        crate::commands::overwrite::check_file("out", out, inputs.into_iter().flatten())?;
+    }
     let field = load_field(&a)?;
     let tf = load_tf(&a.tf)?;
     let light = Light {

@@ -214,6 +214,8 @@ pub fn run(cmd: VolrenCommand) -> Result<()> {
             serve(server, listener, a.connections)
         }
         VolrenCommand::RoiView(a) => {
+            let inputs = [&a.volume.volume, &a.volume.tf];
+            crate::commands::overwrite::check_file("out", &a.out, inputs.into_iter().flatten())?;
             let (stat, roi_pkg) = match &a.server {
                 Some(addr) => {
                     let mut remote = RemoteServer::connect(addr.as_str())?;
