@@ -57,6 +57,34 @@ pub enum Error {
     /// A numerical method failed (matrix not positive definite, no convergence, ...).
     #[error("numerical failure: {0}")]
     Numerical(String),
+    /// A buffer sized by an argument does not fit in memory: its size overflows, exceeds the
+    /// memory limit of [`crate::alloc`], or the allocator refused it. The Python bindings raise
+    /// `MemoryError`.
+    #[error(
+        "cannot allocate {} for `{what}`: {}",
+        crate::alloc::describe_bytes(*bytes),
+        match limit {
+            Some(l) => format!(
+                "more than the memory limit of {} (the machine's physical memory unless set \
+                 through {} or set_memory_limit)",
+                crate::alloc::describe_bytes(Some(*l as u128)),
+                crate::alloc::ENV_VAR
+            ),
+            None => "the system refused the allocation".to_string(),
+        }
+    )]
+    OutOfMemory {
+        /// The argument whose value sets the size.
+        what: &'static str,
+        /// The bytes requested; `None` when the count overflowed.
+        bytes: Option<u128>,
+        /// The limit in force, or `None` when the allocator itself refused.
+        limit: Option<u64>,
+    },
+    /// The work was stopped by a cancellation request ([`crate::cancel`]), as Ctrl-C makes in
+    /// Python. The Python bindings raise `KeyboardInterrupt`.
+    #[error("interrupted")]
+    Interrupted,
 }
 
 /// `Result` with [`Error`] as the error type.
@@ -84,11 +112,13 @@ impl Error {
         }
     }
 
-    /// The argument an [`Error::InvalidArgument`] names, `None` for every other error: lets a
-    /// caller tell which of its inputs was refused without parsing the message.
+    /// The argument an [`Error::InvalidArgument`] or [`Error::OutOfMemory`] names, `None` for
+    /// every other error: lets a caller tell which of its inputs was refused without parsing
+    /// the message.
     pub fn argument(&self) -> Option<&'static str> {
         match self {
             Error::InvalidArgument { name, .. } => Some(name),
+            Error::OutOfMemory { what, .. } => Some(what),
             _ => None,
         }
     }

@@ -278,7 +278,7 @@ pub fn split_per_subject(
                 format!("subject {s} has only {} samples", rows.len()),
             ));
         }
-        let perm = rng::permutation(seed.wrapping_add(s as u64), rows.len());
+        let perm = rng::permutation(seed.wrapping_add(s as u64), rows.len())?;
         for (k, &p) in perm.iter().enumerate() {
             if k < train_per_subject {
                 tr.push(rows[p]);

@@ -142,13 +142,13 @@ impl<T> Volume<T> {
     }
 
     /// A volume whose voxel `(x, y, z)` is `f(x, y, z)`, evaluated in parallel (rayon, one task
-    /// per z slice). Errors as [`Volume::new`].
+    /// per z slice). Errors as [`Volume::filled`].
     pub fn from_fn<F>(dims: [usize; 3], spacing: [f64; 3], f: F) -> Result<Self>
     where
         T: Send,
         F: Fn(usize, usize, usize) -> T + Sync + Send,
     {
-        voxel_count(dims)?;
+        crate::alloc::ensure::<T>("dims", voxel_count(dims)?)?;
         check_spacing(spacing)?;
         let [nx, ny, nz] = dims;
         let f = &f;
@@ -363,14 +363,15 @@ impl<T> Volume<T> {
 
 impl<T: Clone> Volume<T> {
     /// A volume of `dims` voxels of size `spacing`, every voxel equal to `value`.
-    /// Errors as [`Volume::new`].
+    /// Errors as [`Volume::new`], and [`Error::OutOfMemory`] naming `dims` when the voxels do
+    /// not fit in memory ([`crate::alloc`]).
     pub fn filled(dims: [usize; 3], spacing: [f64; 3], value: T) -> Result<Self> {
         let n = voxel_count(dims)?;
         check_spacing(spacing)?;
         Ok(Volume {
             dims,
             spacing,
-            data: vec![value; n],
+            data: crate::alloc::try_vec("dims", value, n)?,
         })
     }
 }

@@ -1,0 +1,227 @@
+//! Allocations whose size comes from a user's argument, checked before any memory is taken.
+//!
+//! Rust aborts the process when an allocation fails, and on Linux (which overcommits memory)
+//! a request far larger than the machine often *succeeds* and the process is killed later by
+//! the out-of-memory killer. So every buffer whose length follows from an argument (an image
+//! size, a sample count, a number of frames) goes through this module, which
+//!
+//! 1. multiplies the dimensions with overflow checks ([`elements`]),
+//! 2. refuses a request larger than the memory limit ([`limit`]): by default the machine's
+//!    physical memory, read once from the operating system; a user may raise or lower it with
+//!    the environment variable `WSCG_MAX_MEMORY` (bytes, read on first use) or with
+//!    [`set_limit`] (the Python `wscg.set_memory_limit`),
+//! 3. reserves with [`Vec::try_reserve_exact`], so a refusal of the allocator is an error too.
+//!
+//! A refusal is [`Error::OutOfMemory`] naming the argument; the Python bindings raise
+//! `MemoryError` for it, as numpy does for an array that does not fit.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::OnceLock;
+
+use crate::error::{Error, Result};
+
+/// The environment variable that sets the memory limit in bytes (read once, on first use).
+pub const ENV_VAR: &str = "WSCG_MAX_MEMORY";
+
+/// The limit set by [`set_limit`]; 0 when none was set (the default applies).
+static LIMIT: AtomicU64 = AtomicU64::new(0);
+
+/// The machine's physical memory in bytes, read once (`MemTotal` of `/proc/meminfo` on
+/// Linux); `None` where the operating system does not tell.
+pub fn physical_memory() -> Option<u64> {
+    static MEM: OnceLock<Option<u64>> = OnceLock::new();
+    *MEM.get_or_init(read_physical_memory)
+}
+
+#[cfg(target_os = "linux")]
+fn read_physical_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn read_physical_memory() -> Option<u64> {
+    None
+}
+
+/// The limit before any [`set_limit`]: `WSCG_MAX_MEMORY` when it holds a byte count > 0, else
+/// the physical memory, else no limit (`u64::MAX`).
+pub fn default_limit() -> u64 {
+    static DEFAULT: OnceLock<u64> = OnceLock::new();
+    *DEFAULT.get_or_init(|| {
+        std::env::var(ENV_VAR)
+            .ok()
+            .and_then(|v| v.trim().parse::<u64>().ok())
+            .filter(|&v| v > 0)
+            .or_else(physical_memory)
+            .unwrap_or(u64::MAX)
+    })
+}
+
+/// The largest single allocation, in bytes, that [`ensure_bytes`] accepts.
+pub fn limit() -> u64 {
+    match LIMIT.load(Ordering::Relaxed) {
+        0 => default_limit(),
+        n => n,
+    }
+}
+
+/// Sets the limit for the whole process (`None` or `Some(0)` restores [`default_limit`]).
+/// Raising it above the physical memory lets a machine with swap or a generous overcommit
+/// policy take larger requests.
+pub fn set_limit(bytes: Option<u64>) {
+    LIMIT.store(bytes.unwrap_or(0), Ordering::Relaxed);
+}
+
+/// Refuses a request of `bytes` bytes (`None`: a count that overflowed) for the argument
+/// `what` that exceeds [`limit`].
+pub fn ensure_bytes(what: &'static str, bytes: Option<u128>) -> Result<()> {
+    let limit = limit();
+    match bytes {
+        Some(b) if b <= limit as u128 && b <= isize::MAX as u128 => Ok(()),
+        _ => Err(Error::OutOfMemory {
+            what,
+            bytes,
+            limit: Some(limit),
+        }),
+    }
+}
+
+/// The error for a size that overflows before it can be counted in bytes (a product or sum
+/// of arguments beyond `usize`), naming `what`.
+pub fn overflow(what: &'static str) -> Error {
+    Error::OutOfMemory {
+        what,
+        bytes: None,
+        limit: Some(limit()),
+    }
+}
+
+/// The product of `dims`, the number of elements of an array of that shape, checked: an
+/// overflow of `usize` is [`Error::OutOfMemory`] naming `what`.
+pub fn elements(what: &'static str, dims: &[usize]) -> Result<usize> {
+    dims.iter()
+        .try_fold(1usize, |acc, &d| acc.checked_mul(d))
+        .ok_or_else(|| Error::OutOfMemory {
+            what,
+            bytes: dims
+                .iter()
+                .try_fold(1u128, |acc, &d| acc.checked_mul(d as u128)),
+            limit: Some(limit()),
+        })
+}
+
+/// Checks that `n` values of `T` fit in [`limit`].
+pub fn ensure<T>(what: &'static str, n: usize) -> Result<()> {
+    ensure_bytes(
+        what,
+        (n as u128).checked_mul(std::mem::size_of::<T>() as u128),
+    )
+}
+
+/// Checks that an array of shape `dims` with elements of `T` fits; returns its element count.
+pub fn ensure_shape<T>(what: &'static str, dims: &[usize]) -> Result<usize> {
+    let n = elements(what, dims)?;
+    ensure::<T>(what, n)?;
+    Ok(n)
+}
+
+/// An empty vector with room for `n` values of `T`, or [`Error::OutOfMemory`] naming `what`
+/// when `n` values exceed [`limit`] or the allocator refuses them.
+pub fn try_with_capacity<T>(what: &'static str, n: usize) -> Result<Vec<T>> {
+    ensure::<T>(what, n)?;
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| Error::OutOfMemory {
+        what,
+        bytes: (n as u128).checked_mul(std::mem::size_of::<T>() as u128),
+        limit: None,
+    })?;
+    Ok(v)
+}
+
+/// `n` copies of `value` (`vec![value; n]`), or [`Error::OutOfMemory`] naming `what`.
+pub fn try_vec<T: Clone>(what: &'static str, value: T, n: usize) -> Result<Vec<T>> {
+    let mut v = try_with_capacity(what, n)?;
+    v.resize(n, value);
+    Ok(v)
+}
+
+/// `vec![value; n]` for an `n` that a user's argument sets: evaluates to
+/// `wscg_math::Result<Vec<_>>`, refusing with [`Error::OutOfMemory`] naming the argument
+/// (`try_vec![0.0f32; h * w; "shape"]`; the size expression is computed as written, so
+/// multiply with [`elements`] where a product could overflow).
+#[macro_export]
+macro_rules! try_vec {
+    ($value:expr; $n:expr; $what:expr) => {
+        $crate::alloc::try_vec($what, $value, $n)
+    };
+}
+
+/// Formats a byte count for a message: `8.0 TB (8000000000000 bytes)`.
+pub(crate) fn describe_bytes(bytes: Option<u128>) -> String {
+    match bytes {
+        None => "a size beyond the address space".to_string(),
+        Some(b) => {
+            let units = ["bytes", "kB", "MB", "GB", "TB", "PB", "EB"];
+            let mut v = b as f64;
+            let mut u = 0;
+            while v >= 1000.0 && u + 1 < units.len() {
+                v /= 1000.0;
+                u += 1;
+            }
+            if u == 0 {
+                format!("{b} bytes")
+            } else if v < 1e6 {
+                format!("{v:.1} {} ({b} bytes)", units[u])
+            } else {
+                format!("{b} bytes")
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overflowing_shapes_are_refused_by_name() {
+        let e = elements("shape", &[usize::MAX, 2]).unwrap_err();
+        assert_eq!(e.argument(), Some("shape"));
+        assert!(matches!(e, Error::OutOfMemory { .. }));
+        assert_eq!(elements("shape", &[3, 4, 5]).unwrap(), 60);
+        assert_eq!(elements("shape", &[]).unwrap(), 1);
+    }
+
+    #[test]
+    fn requests_above_the_limit_are_refused_before_allocating() {
+        // 2^61 f64 values are 16 EiB: more than any machine, so refused whatever the limit.
+        let e = try_vec("n", 0.0f64, 1usize << 61).unwrap_err();
+        assert_eq!(e.argument(), Some("n"));
+        let msg = e.to_string();
+        assert!(msg.contains("`n`") && msg.contains("bytes"), "{msg}");
+        assert_eq!(try_vec("n", 7u8, 3).unwrap(), vec![7, 7, 7]);
+        assert_eq!(crate::try_vec![1i32; 2; "k"].unwrap(), vec![1, 1]);
+        assert!(try_with_capacity::<u64>("n", 10).unwrap().capacity() >= 10);
+    }
+
+    #[test]
+    fn physical_memory_is_the_default_limit() {
+        if std::env::var_os(ENV_VAR).is_none() {
+            if let Some(m) = physical_memory() {
+                assert!(m > 1 << 20);
+                assert_eq!(default_limit(), m);
+            }
+        }
+        assert!(limit() > 0);
+    }
+
+    #[test]
+    fn byte_counts_read_well() {
+        assert_eq!(describe_bytes(Some(12)), "12 bytes");
+        assert_eq!(describe_bytes(Some(8_000_000_000_000)), "8.0 TB (8000000000000 bytes)");
+        assert!(describe_bytes(None).contains("address space"));
+    }
+}
