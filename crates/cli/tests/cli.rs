@@ -2696,7 +2696,7 @@ fn huge_sizes_are_refused_before_allocating() {
                 .into_iter()
                 .chain(["--out".into(), out("gs")])
                 .collect(),
-            "n_subjects",
+            "n_subjects, n_sessions",
         ),
         (
             ["motion", "make-data", "--trials", "10000000000"]
