@@ -15,9 +15,10 @@
 //! of the parent is inside the pool's mutex when the process forks.
 
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard, Once};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, Once};
+use std::time::Duration;
 
-use pyo3::exceptions::{PyRuntimeError, PyRuntimeWarning};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyRuntimeWarning};
 use pyo3::prelude::*;
 use pyo3::types::PyModule;
 
@@ -137,16 +138,98 @@ pub fn pool() -> Arc<rayon::ThreadPool> {
     current(&mut setting()).unwrap_or_else(|e| panic!("cannot start the wscg thread pool: {e}"))
 }
 
+/// Whether a job has finished, with a condition variable to wait for it.
+#[derive(Default)]
+struct Done {
+    finished: Mutex<bool>,
+    changed: Condvar,
+}
+
+impl Done {
+    /// Waits up to `timeout`; true once the job has finished.
+    fn wait(&self, timeout: Duration) -> bool {
+        let g = self.finished.lock().unwrap_or_else(|e| e.into_inner());
+        let (g, _) = self
+            .changed
+            .wait_timeout_while(g, timeout, |finished| !*finished)
+            .unwrap_or_else(|e| e.into_inner());
+        *g
+    }
+
+    /// A guard that marks the job finished when dropped.
+    fn finisher(&self) -> Finisher<'_> {
+        Finisher(self)
+    }
+}
+
+/// Marks its [`Done`] finished when dropped (also while unwinding from a panic).
+struct Finisher<'a>(&'a Done);
+
+impl Drop for Finisher<'_> {
+    fn drop(&mut self) {
+        *self.0.finished.lock().unwrap_or_else(|e| e.into_inner()) = true;
+        self.0.changed.notify_all();
+    }
+}
+
+/// How long the calling thread waits, with the GIL released, between two looks for Ctrl-C.
+const SLICE: Duration = Duration::from_millis(50);
+
 /// Runs `f` in the process's pool with the GIL released: the way every binding runs its
 /// Rust work (rayon calls inside `f` use this pool, never rayon's global one). A panic in `f`
 /// propagates to the caller.
+///
+/// Ctrl-C: while `f` runs, the calling thread waits in slices of [`SLICE`], taking the GIL
+/// back after each to look for a SIGINT that Python has received (only the main thread sees
+/// one). On one it requests a cancellation ([`wscg_math::cancel`]), which the long loops of
+/// the Rust work poll and turn into [`wscg_math::Error::Interrupted`], waits for `f` to
+/// return, and sets the signal pending again: the binding's error then becomes the handler's
+/// exception (`KeyboardInterrupt`) through [`interrupted`], and work that finished without
+/// polling returns normally and Python raises the exception right after.
 pub fn detach<T, F>(py: Python<'_>, f: F) -> T
 where
     F: FnOnce() -> T + Send,
     T: Send,
 {
     let pool = pool();
-    py.detach(move || pool.install(f))
+    if pool.current_thread_index().is_some() {
+        // Called back from inside the pool's own work: waiting here could hold the only
+        // worker, so run in place.
+        return py.detach(f);
+    }
+    let done = Done::default();
+    let mut out = None;
+    let mut request = None;
+    let slot = &mut out;
+    let signal = &done;
+    pool.in_place_scope(|scope| {
+        scope.spawn(move |_| {
+            // Dropped when `f` returns or, while unwinding, when it panics: ends the wait.
+            let _finish = signal.finisher();
+            *slot = Some(f());
+        });
+        while !py.detach(|| done.wait(SLICE)) {
+            // SAFETY: the GIL is held (outside `py.detach`); the call reads and clears the
+            // interpreter's SIGINT flag and is a no-op off the main thread.
+            if request.is_none() && unsafe { pyo3::ffi::PyOS_InterruptOccurred() } != 0 {
+                request = Some(wscg_math::cancel::Request::new());
+            }
+        }
+        // The scope waits for the job (already finishing) and rethrows its panic.
+    });
+    if request.take().is_some() {
+        // SAFETY: GIL held; marks SIGINT pending again so that Python runs its handler.
+        unsafe { pyo3::ffi::PyErr_SetInterrupt() };
+    }
+    out.expect("the scope ran the job to completion")
+}
+
+/// The exception for work stopped by a cancellation: what the SIGINT handler raises (by
+/// default `KeyboardInterrupt`), run now that [`detach`] has set the signal pending again;
+/// a plain `KeyboardInterrupt` when the handler raises nothing.
+pub fn interrupted() -> PyErr {
+    Python::attach(|py| py.check_signals().err())
+        .unwrap_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))
 }
 
 /// Sets the requested thread count (0: default) and starts the pool for it, so that a count
