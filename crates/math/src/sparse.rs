@@ -474,6 +474,7 @@ pub fn pcg(
     let target = opts.tol * bnorm;
     let mut it = 0;
     while rnorm > target && it < max_iter {
+        crate::cancel::check()?;
         a.apply(&p, &mut ap);
         let pap = dot(&p, &ap);
         if pap.is_nan() || pap <= 0.0 || pap.is_infinite() {
@@ -560,6 +561,7 @@ pub fn conjugate_residual(
     let mut rar = dot(&r, &ar);
     let mut it = 0;
     while rnorm > target && it < max_iter {
+        crate::cancel::check()?;
         let apap = dot(&ap, &ap);
         if !(apap > 0.0 && apap.is_finite()) {
             return Err(Error::Numerical(format!(

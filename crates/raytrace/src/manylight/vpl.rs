@@ -124,6 +124,9 @@ pub fn generate_vpls(scene: &Scene, s: &VplParams) -> Result<Vec<Vpl>> {
     let paths: Vec<Vec<Vpl>> = (0..s.n_paths)
         .into_par_iter()
         .map(|p| {
+            if wscg_math::cancel::requested() {
+                return Vec::new();
+            }
             let mut rng = wscg_math::rng::stream(s.seed, p as u64);
             let k = pick.sample(rng.random());
             let tri = &tris[emitters[k] as usize];
@@ -168,5 +171,6 @@ pub fn generate_vpls(scene: &Scene, s: &VplParams) -> Result<Vec<Vpl>> {
             out
         })
         .collect();
+    wscg_math::cancel::check()?;
     Ok(paths.into_iter().flatten().collect())
 }
