@@ -27,7 +27,7 @@ pub fn frame_files(dir: &Path) -> Result<Vec<PathBuf>> {
 }
 
 fn open(path: &Path) -> Result<image::DynamicImage> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = wscg_math::error::read_file(path)?;
     wscg_math::io::raster::decode_dynamic(&bytes, path)
 }
 

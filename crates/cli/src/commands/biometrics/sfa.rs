@@ -444,7 +444,7 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             npy: npy_path,
             scores: scores_out,
         } => {
-            let text = std::fs::read_to_string(&model).map_err(|e| Error::io(&model, e))?;
+            let text = wscg_math::error::read_text(&model)?;
             let file: ModelFile = serde_json::from_str(&text)
                 .map_err(|e| Error::format(&model, format!("not a wscg SFA model: {e}")))?;
             let inner = file.model.to_string();
