@@ -2612,19 +2612,33 @@ fn huge_sizes_are_refused_before_allocating() {
     let png = png.to_string_lossy().into_owned();
     let cases: Vec<(Vec<String>, &str)> = vec![
         (
-            vec!["mri", "mask", "--cartesian", "0.4", "--size", "10000000x10000000"]
-                .into_iter()
-                .map(String::from)
-                .chain(["--out".into(), out("m.npy")])
-                .collect(),
+            vec![
+                "mri",
+                "mask",
+                "--cartesian",
+                "0.4",
+                "--size",
+                "10000000x10000000",
+            ]
+            .into_iter()
+            .map(String::from)
+            .chain(["--out".into(), out("m.npy")])
+            .collect(),
             "shape",
         ),
         (
-            ["mri", "mask", "--radial", "0.4", "--size", "10000000x10000000"]
-                .map(String::from)
-                .into_iter()
-                .chain(["--out".into(), out("r.npy")])
-                .collect(),
+            [
+                "mri",
+                "mask",
+                "--radial",
+                "0.4",
+                "--size",
+                "10000000x10000000",
+            ]
+            .map(String::from)
+            .into_iter()
+            .chain(["--out".into(), out("r.npy")])
+            .collect(),
             "shape",
         ),
         (
@@ -2652,34 +2666,50 @@ fn huge_sizes_are_refused_before_allocating() {
             "truncate * sigma",
         ),
         (
-            vec!["volseg".into(), "phantom".into(), "--size".into(), "100000".into()]
-                .into_iter()
-                .chain(["--out".into(), out("vp")])
-                .collect(),
+            vec![
+                "volseg".into(),
+                "phantom".into(),
+                "--size".into(),
+                "100000".into(),
+            ]
+            .into_iter()
+            .chain(["--out".into(), out("vp")])
+            .collect(),
             "dims",
         ),
         (
-            ["hdr", "simulate", "--height", "1000000", "--width", "1000000"]
-                .map(String::from)
-                .into_iter()
-                .chain(["--out".into(), out("hs")])
-                .collect(),
+            [
+                "hdr", "simulate", "--height", "1000000", "--width", "1000000",
+            ]
+            .map(String::from)
+            .into_iter()
+            .chain(["--out".into(), out("hs")])
+            .collect(),
             "height, width",
         ),
         (
-            ["raytrace", "manylight", "--width", "1000000", "--height", "1000000"]
-                .map(String::from)
-                .into_iter()
-                .chain(["--out".into(), out("ml.png")])
-                .collect(),
+            [
+                "raytrace",
+                "manylight",
+                "--width",
+                "1000000",
+                "--height",
+                "1000000",
+            ]
+            .map(String::from)
+            .into_iter()
+            .chain(["--out".into(), out("ml.png")])
+            .collect(),
             "width, height",
         ),
         (
-            ["video", "synth", "--frames", "1000000", "--height", "10000", "--width", "10000"]
-                .map(String::from)
-                .into_iter()
-                .chain(["--out".into(), out("vs")])
-                .collect(),
+            [
+                "video", "synth", "--frames", "1000000", "--height", "10000", "--width", "10000",
+            ]
+            .map(String::from)
+            .into_iter()
+            .chain(["--out".into(), out("vs")])
+            .collect(),
             "frames, height, width",
         ),
         (
@@ -2691,11 +2721,17 @@ fn huge_sizes_are_refused_before_allocating() {
             "n_subjects",
         ),
         (
-            ["biometrics", "gait", "simulate", "--subjects", "10000000000"]
-                .map(String::from)
-                .into_iter()
-                .chain(["--out".into(), out("gs")])
-                .collect(),
+            [
+                "biometrics",
+                "gait",
+                "simulate",
+                "--subjects",
+                "10000000000",
+            ]
+            .map(String::from)
+            .into_iter()
+            .chain(["--out".into(), out("gs")])
+            .collect(),
             "n_subjects, n_sessions",
         ),
         (

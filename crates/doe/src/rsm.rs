@@ -167,7 +167,10 @@ pub fn quadratic_design(x: &DMatrix<f64>, interaction: bool) -> Result<DMatrix<f
     // The least-squares fit sums squares of the model columns: entries above 1e150 (factor
     // values above about 1e75) would overflow to infinity there, and the SVD never converges
     // on infinities.
-    if let Some(v) = design.iter().find(|v| !(v.abs() <= MAX_MODEL_ENTRY)) {
+    if let Some(v) = design
+        .iter()
+        .find(|v| v.is_nan() || v.abs() > MAX_MODEL_ENTRY)
+    {
         return Err(Error::invalid(
             "x",
             format!(

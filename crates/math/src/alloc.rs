@@ -221,7 +221,10 @@ mod tests {
     #[test]
     fn byte_counts_read_well() {
         assert_eq!(describe_bytes(Some(12)), "12 bytes");
-        assert_eq!(describe_bytes(Some(8_000_000_000_000)), "8.0 TB (8000000000000 bytes)");
+        assert_eq!(
+            describe_bytes(Some(8_000_000_000_000)),
+            "8.0 TB (8000000000000 bytes)"
+        );
         assert!(describe_bytes(None).contains("address space"));
     }
 }

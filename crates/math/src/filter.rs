@@ -250,7 +250,10 @@ mod tests {
             assert!(matches!(e, Error::OutOfMemory { .. }), "{e}");
             assert_eq!(e.argument(), Some("truncate * sigma"));
         }
-        assert_eq!(box_kernel(usize::MAX).unwrap_err().argument(), Some("radius"));
+        assert_eq!(
+            box_kernel(usize::MAX).unwrap_err().argument(),
+            Some("radius")
+        );
         assert_eq!(box_kernel(1 << 40).unwrap_err().argument(), Some("radius"));
         assert_eq!(box_kernel(2).unwrap(), vec![0.2; 5]);
     }

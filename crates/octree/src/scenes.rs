@@ -237,7 +237,11 @@ pub fn atrium(pillars: usize) -> Result<TriMesh> {
 /// cannot fit in memory or in 32-bit vertex indices.
 pub fn city(n: usize, seed: u64) -> Result<TriMesh> {
     // Four facades of 5 x 12 vertices and a roof of 4 per building.
-    check_units("n", wscg_math::alloc::elements("n", &[n, n])?, 4 * 5 * 12 + 4)?;
+    check_units(
+        "n",
+        wscg_math::alloc::elements("n", &[n, n])?,
+        4 * 5 * 12 + 4,
+    )?;
     let mut s = SceneBuilder::default();
     let mut r = rng::seeded(seed);
     let pitch = 1.0;

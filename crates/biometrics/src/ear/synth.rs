@@ -831,10 +831,7 @@ pub fn generate(
         "n_subjects",
         &[n_subjects, probes_per_subject.saturating_add(1)],
     )?;
-    wscg_math::alloc::ensure_shape::<[u8; 3]>(
-        "n_subjects",
-        &[captures, cfg.height, cfg.width],
-    )?;
+    wscg_math::alloc::ensure_shape::<[u8; 3]>("n_subjects", &[captures, cfg.height, cfg.width])?;
     let subjects: Vec<EarSubject> = (0..n_subjects)
         .map(|i| EarSubject::generate(seed, i, cfg))
         .collect();

@@ -39,8 +39,8 @@ pub mod raw;
 pub use ply::PlyEncoding;
 #[cfg(feature = "io-image")]
 pub use raster::{
-    max_image_pixels, set_max_image_pixels, PixelDepth, DEFAULT_MAX_IMAGE_PIXELS,
-    MAX_DECODE_BYTES, MAX_DECODE_SIDE,
+    max_image_pixels, set_max_image_pixels, PixelDepth, DEFAULT_MAX_IMAGE_PIXELS, MAX_DECODE_BYTES,
+    MAX_DECODE_SIDE,
 };
 #[cfg(feature = "io-volume")]
 pub use raw::RawType;

@@ -457,7 +457,11 @@ mod tests {
         let mut ihdr = w.to_be_bytes().to_vec();
         ihdr.extend(h.to_be_bytes());
         ihdr.extend([8, 0, 0, 0, 0]);
-        for (kind, data) in [(&b"IHDR"[..], &ihdr[..]), (b"IDAT", &[0x78, 0x9c]), (b"IEND", &[])] {
+        for (kind, data) in [
+            (&b"IHDR"[..], &ihdr[..]),
+            (b"IDAT", &[0x78, 0x9c]),
+            (b"IEND", &[]),
+        ] {
             out.extend((data.len() as u32).to_be_bytes());
             let chunk = [kind, data].concat();
             out.extend(&chunk);
@@ -471,7 +475,11 @@ mod tests {
         for &b in data {
             c ^= u32::from(b);
             for _ in 0..8 {
-                c = if c & 1 != 0 { 0xEDB8_8320 ^ (c >> 1) } else { c >> 1 };
+                c = if c & 1 != 0 {
+                    0xEDB8_8320 ^ (c >> 1)
+                } else {
+                    c >> 1
+                };
             }
         }
         !c
@@ -484,7 +492,10 @@ mod tests {
         let e = Image::decode(&png_header(20000, 20000), Path::new("bomb.png")).unwrap_err();
         assert!(matches!(e, Error::LimitExceeded(_)), "{e}");
         let msg = e.to_string();
-        assert!(msg.contains("bomb.png") && msg.contains("20000 x 20000"), "{msg}");
+        assert!(
+            msg.contains("bomb.png") && msg.contains("20000 x 20000"),
+            "{msg}"
+        );
         assert!(Image::<u16>::load_codes(Path::new("/nonexistent.png")).is_err());
         // Under the cap, the same truncated header is a format error, not a limit.
         let small = Image::decode(&png_header(100, 100), Path::new("cut.png")).unwrap_err();

@@ -301,9 +301,16 @@ f 5 6 7 8
         // `/dev/zero` would be read until memory runs out: only regular files are read.
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("zero.obj");
-        std::fs::write(&path, "mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        std::fs::write(
+            &path,
+            "mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        )
+        .unwrap();
         let e = load_obj(&path).unwrap_err();
-        assert!(e.to_string().contains("/dev/zero") && e.to_string().contains("regular"), "{e}");
+        assert!(
+            e.to_string().contains("/dev/zero") && e.to_string().contains("regular"),
+            "{e}"
+        );
     }
 
     /// Odd and hostile lines give a scene or an error, never a panic.
