@@ -1,7 +1,7 @@
 //! Rust errors to Python exceptions.
 
-use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
-use pyo3::PyErr;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyMemoryError, PyOSError, PyValueError};
+use pyo3::{PyErr, Python};
 use wscg_math::Error;
 
 /// Maps a `wscg_math::Error` to a Python exception with the same message: `MemoryError` for a
@@ -12,10 +12,18 @@ use wscg_math::Error;
 pub fn to_py(e: Error) -> PyErr {
     match e {
         Error::OutOfMemory { .. } => PyMemoryError::new_err(e.to_string()),
-        Error::Interrupted => crate::pool::interrupted(),
+        Error::Interrupted => interrupted(),
         e if e.is_io() => PyOSError::new_err(e.to_string()),
         e => PyValueError::new_err(e.to_string()),
     }
+}
+
+/// The exception for work stopped by a cancellation: what the SIGINT handler raises (by
+/// default `KeyboardInterrupt`), run now that `pool::detach` has set the signal pending
+/// again; a plain `KeyboardInterrupt` when the handler raises nothing.
+pub fn interrupted() -> PyErr {
+    Python::attach(|py| py.check_signals().err())
+        .unwrap_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))
 }
 
 /// A `ValueError` with the given message.

@@ -18,7 +18,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, Once};
 use std::time::Duration;
 
-use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyRuntimeWarning};
+use pyo3::exceptions::{PyRuntimeError, PyRuntimeWarning};
 use pyo3::prelude::*;
 use pyo3::types::PyModule;
 
@@ -184,7 +184,7 @@ const SLICE: Duration = Duration::from_millis(50);
 /// one). On one it requests a cancellation ([`wscg_math::cancel`]), which the long loops of
 /// the Rust work poll and turn into [`wscg_math::Error::Interrupted`], waits for `f` to
 /// return, and sets the signal pending again: the binding's error then becomes the handler's
-/// exception (`KeyboardInterrupt`) through [`interrupted`], and work that finished without
+/// exception (`KeyboardInterrupt`) through `errors::interrupted`, and work that finished without
 /// polling returns normally and Python raises the exception right after.
 pub fn detach<T, F>(py: Python<'_>, f: F) -> T
 where
@@ -222,14 +222,6 @@ where
         unsafe { pyo3::ffi::PyErr_SetInterrupt() };
     }
     out.expect("the scope ran the job to completion")
-}
-
-/// The exception for work stopped by a cancellation: what the SIGINT handler raises (by
-/// default `KeyboardInterrupt`), run now that [`detach`] has set the signal pending again;
-/// a plain `KeyboardInterrupt` when the handler raises nothing.
-pub fn interrupted() -> PyErr {
-    Python::attach(|py| py.check_signals().err())
-        .unwrap_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))
 }
 
 /// Sets the requested thread count (0: default) and starts the pool for it, so that a count

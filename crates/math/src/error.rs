@@ -62,13 +62,13 @@ pub enum Error {
     /// `MemoryError`.
     #[error(
         "cannot allocate {} for `{what}`: {}",
-        crate::alloc::describe_bytes(*bytes),
+        crate::memory_limit::describe_bytes(*bytes),
         match limit {
             Some(l) => format!(
                 "more than the memory limit of {} (the machine's physical memory unless set \
                  through {} or set_memory_limit)",
-                crate::alloc::describe_bytes(Some(*l as u128)),
-                crate::alloc::ENV_VAR
+                crate::memory_limit::describe_bytes(Some(*l as u128)),
+                crate::memory_limit::ENV_VAR
             ),
             None => "the system refused the allocation".to_string(),
         }
@@ -182,7 +182,7 @@ pub fn ensure_positive(name: &'static str, value: f64) -> Result<()> {
 ///
 /// Only regular files are read: a device (`/dev/zero`, `/dev/urandom`) or a pipe has no end
 /// and would be read until memory runs out, so it is refused ([`Error::Io`]), as is a
-/// file larger than the memory limit of [`crate::alloc`] ([`Error::LimitExceeded`]). Every
+/// file larger than the memory limit of [`crate::memory_limit`] ([`Error::LimitExceeded`]). Every
 /// reader of the workspace reads its files through this function or [`read_text`].
 pub fn read_file(path: &Path) -> Result<Vec<u8>> {
     use std::io::Read;
@@ -197,7 +197,7 @@ pub fn read_file(path: &Path) -> Result<Vec<u8>> {
             ),
         ));
     }
-    let limit = crate::alloc::limit();
+    let limit = crate::memory_limit::limit();
     if meta.len() > limit {
         return Err(Error::LimitExceeded(format!(
             "{}: {} bytes, more than the memory limit of {limit} bytes",

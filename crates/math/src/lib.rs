@@ -34,8 +34,8 @@
 //! - [`progress`]: a progress-reporting trait that the CLI renders as progress bars.
 //! - [`error`]: the one [`Error`] type.
 //! - [`alloc`]: buffers sized by a user's argument, checked against overflow and the memory
-//!   limit before allocating ([`try_vec!`]); [`cancel`]: the cancellation flag that long loops
-//!   poll (Ctrl-C in Python).
+//!   limit ([`memory_limit`]) before allocating ([`try_vec!`]); [`cancel`]: the cancellation
+//!   flag that long loops poll (Ctrl-C in Python).
 //!
 //! # File formats and cargo features
 //!
@@ -59,6 +59,7 @@ pub mod error;
 
 pub mod alloc;
 pub mod cancel;
+pub mod memory_limit;
 
 pub mod bvh;
 pub mod dense;
