@@ -276,7 +276,7 @@ fn fftfreq<'py>(py: Python<'py>, n: usize, d: f64) -> PyResult<Arr<'py, f64>> {
         return Err(value_error("`n` must be > 0"));
     }
     wscg_math::error::ensure_positive("d", d).py_err()?;
-    array(py, &[n], fft::fftfreq(n, d))
+    array(py, &[n], fft::fftfreq(n, d).py_err()?)
 }
 
 // ---------------------------------------------------------------- sparse

@@ -24,6 +24,7 @@ import json, sys
 import numpy as np
 import wscg
 from wscg import math, csmri, ear, raytrace, video, volren, cloth, octree, doe
+import wscg.biometrics, wscg.isosurface
 a = np.zeros((8, 8))
 """
 
@@ -56,6 +57,14 @@ HUGE = {
     "octree.voxelize": ("octree.voxelize(*octree.scene('square')[:2], depth=21, "
                         "domain=((0, 0, 0), 1.0))", "ValueError", "depth"),
     "octree.scene city": ("octree.scene('city', size=10**9)", "MemoryError", "`n`"),
+    "math.fftfreq": ("math.fftfreq(10**12)", "MemoryError", "`n`"),
+    "csmri.mask_pseudo_radial": ("csmri.mask_pseudo_radial((10**7, 10**7), .4)",
+                                 "MemoryError", "`shape`"),
+    "csmri.Sflct": ("csmri.Sflct((10**6, 10**6))", "MemoryError", "`shape`"),
+    "biometrics.make_finger_veins": ("wscg.biometrics.make_finger_veins(subjects=10**9)",
+                                     "MemoryError", "subjects"),
+    "isosurface.study_exact": ("wscg.isosurface.study_exact('sphere', n=10**5)",
+                               "MemoryError", "`dims`"),
     "octree.scene atrium": ("octree.scene('atrium', size=10**12)", "MemoryError",
                             "`pillars`"),
 }

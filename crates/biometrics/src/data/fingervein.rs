@@ -203,6 +203,9 @@ fn template_value(s: &Subject, x: f64, y: f64) -> f64 {
 pub fn finger_veins(p: &FingerVeinParams) -> Result<LabelledImages> {
     p.validate()?;
     let ((ch, cw), (oh, ow)) = (p.canvas, p.size);
+    // One canvas per subject and one output image per sample, 8 bytes per pixel at most.
+    wscg_math::alloc::ensure_shape::<f64>("subjects", &[p.subjects, ch, cw])?;
+    wscg_math::alloc::ensure_shape::<f64>("subjects, samples", &[p.subjects, p.samples, oh, ow])?;
     let subjects: Vec<Subject> = (0..p.subjects)
         .map(|k| subject(p.seed, k, p.canvas))
         .collect();
