@@ -315,7 +315,7 @@ pub fn sample(field: &dyn Field, dims: [usize; 3], lo: [f64; 3], hi: [f64; 3]) -
             format!("the box {lo:?}..{hi:?} must have positive size"),
         ));
     }
-    let [nx, ny, nz] = dims;
+    let [nx, ny, _] = dims;
     let n = wscg_math::alloc::ensure_shape::<f32>("dims", &dims)?;
     let mut values = wscg_math::alloc::try_vec("dims", 0.0f32, n)?;
     values
