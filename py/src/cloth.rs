@@ -438,7 +438,10 @@ impl PySim {
     fn step<'py>(&mut self, py: Python<'py>, h: f64, n: usize) -> PyResult<Arr<'py, f64>> {
         let sim = &mut self.inner;
         let rows = crate::pool::detach(py, || -> wscg_math::Result<Vec<f64>> {
-            let mut out = Vec::with_capacity(4 * n);
+            let mut out = wscg_math::alloc::try_with_capacity(
+                "n",
+                wscg_math::alloc::elements("n", &[n, 4])?,
+            )?;
             for _ in 0..n {
                 sim.step(h)?;
                 let e = sim.energy();

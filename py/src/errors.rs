@@ -1,16 +1,29 @@
 //! Rust errors to Python exceptions.
 
-use pyo3::exceptions::{PyOSError, PyValueError};
-use pyo3::PyErr;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyMemoryError, PyOSError, PyValueError};
+use pyo3::{PyErr, Python};
+use wscg_math::Error;
 
-/// Maps a `wscg_math::Error` to `OSError` (files: I/O, decoding, unsupported formats) or
-/// `ValueError` (everything else), with the same message.
-pub fn to_py(e: wscg_math::Error) -> PyErr {
-    if e.is_io() {
-        PyOSError::new_err(e.to_string())
-    } else {
-        PyValueError::new_err(e.to_string())
+/// Maps a `wscg_math::Error` to a Python exception with the same message: `MemoryError` for a
+/// buffer that does not fit ([`Error::OutOfMemory`]), `KeyboardInterrupt` (or what the
+/// process's SIGINT handler raises) for work stopped by Ctrl-C ([`Error::Interrupted`]),
+/// `OSError` for files (I/O, decoding, unsupported formats) and `ValueError` for everything
+/// else.
+pub fn to_py(e: Error) -> PyErr {
+    match e {
+        Error::OutOfMemory { .. } => PyMemoryError::new_err(e.to_string()),
+        Error::Interrupted => interrupted(),
+        e if e.is_io() => PyOSError::new_err(e.to_string()),
+        e => PyValueError::new_err(e.to_string()),
     }
+}
+
+/// The exception for work stopped by a cancellation: what the SIGINT handler raises (by
+/// default `KeyboardInterrupt`), run now that `pool::detach` has set the signal pending
+/// again; a plain `KeyboardInterrupt` when the handler raises nothing.
+pub fn interrupted() -> PyErr {
+    Python::attach(|py| py.check_signals().err())
+        .unwrap_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))
 }
 
 /// A `ValueError` with the given message.

@@ -2,9 +2,11 @@
 //!
 //! The Python package (`py/python/wscg`) wraps these functions: it coerces inputs to
 //! C-contiguous arrays of the dtype the native side expects, documents every function and
-//! re-exports them as `wscg.math`, ... Errors from Rust become `ValueError` (bad arguments)
-//! or `OSError` (files); a Rust panic in a binding's work (a bug) surfaces as `RuntimeError` with the panic's message
-//! (`pool::detach` catches it), never a crash.
+//! re-exports them as `wscg.math`, ... Errors from Rust become `ValueError` (bad arguments),
+//! `OSError` (files), `MemoryError` (a size that does not fit in memory) or
+//! `KeyboardInterrupt` (Ctrl-C during a call); a Rust panic in a binding's work (a bug)
+//! surfaces as `RuntimeError` with the panic's message (`pool::detach` catches it), never a
+//! crash.
 #![warn(missing_docs)]
 
 use pyo3::prelude::*;
@@ -22,6 +24,7 @@ mod handpose;
 mod hdr;
 mod illum;
 mod isosurface;
+mod limits;
 mod manylight;
 mod math;
 mod meshfilter;
@@ -39,6 +42,7 @@ mod volseg;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     pool::register(m)?;
+    limits::register(m)?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
     let subs: [(&str, Register); 17] = [
         ("math", math::register),

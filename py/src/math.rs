@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_math::dense::{self, SymEigen};
 use wscg_math::fft::{self, Direction, Norm};
-use wscg_math::filter::{gaussian_kernel, separable_plane, Border};
+use wscg_math::filter::{box_kernel, gaussian_kernel, separable_plane, Border};
 use wscg_math::image::Image;
 use wscg_math::io::{PixelDepth, PlyEncoding, RawType};
 use wscg_math::mesh::TriMesh;
@@ -154,8 +154,8 @@ fn box_filter<'py>(
     mode: &str,
     cval: f64,
 ) -> PyResult<Arr<'py, f64>> {
-    let n = 2 * radius + 1;
-    filter_channels(py, &image, &vec![1.0 / n as f64; n], border(mode, cval)?)
+    let k = box_kernel(radius).py_err()?;
+    filter_channels(py, &image, &k, border(mode, cval)?)
 }
 
 fn to_image(name: &str, shape: &[usize], v: &[f64]) -> PyResult<Image<f32>> {
@@ -282,7 +282,7 @@ fn fftfreq<'py>(py: Python<'py>, n: usize, d: f64) -> PyResult<Arr<'py, f64>> {
         return Err(value_error("`n` must be > 0"));
     }
     wscg_math::error::ensure_positive("d", d).py_err()?;
-    array(py, &[n], fft::fftfreq(n, d))
+    array(py, &[n], fft::fftfreq(n, d).py_err()?)
 }
 
 // ---------------------------------------------------------------- sparse
@@ -441,11 +441,9 @@ fn uniform(py: Python<'_>, seed: u64, n: usize, low: f64, high: f64) -> PyResult
 #[pyfunction]
 fn permutation(py: Python<'_>, seed: u64, n: usize) -> PyResult<Arr<'_, i64>> {
     let v: Vec<i64> = crate::pool::detach(py, || {
-        rng::permutation(seed, n)
-            .into_iter()
-            .map(|i| i as i64)
-            .collect()
-    })?;
+        rng::permutation(seed, n).map(|p| p.into_iter().map(|i| i as i64).collect())
+    })
+    .py_err()?;
     array(py, &[n], v)
 }
 

@@ -392,7 +392,8 @@ fn voxelize<'py>(
     }
     let f = crate::pool::detach(py, || {
         wscg_octree::voxelize(&mesh.positions, &mesh.faces, None, &cube, depth)
-    })?;
+    })
+    .py_err()?;
     let cells = f
         .list
         .iter()

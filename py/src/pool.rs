@@ -16,7 +16,8 @@
 
 use std::panic::AssertUnwindSafe;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard, Once};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, Once};
+use std::time::Duration;
 
 use pyo3::exceptions::{PyRuntimeError, PyRuntimeWarning};
 use pyo3::prelude::*;
@@ -138,6 +139,43 @@ pub fn pool() -> Arc<rayon::ThreadPool> {
     current(&mut setting()).unwrap_or_else(|e| panic!("cannot start the wscg thread pool: {e}"))
 }
 
+/// Whether a job has finished, with a condition variable to wait for it.
+#[derive(Default)]
+struct Done {
+    finished: Mutex<bool>,
+    changed: Condvar,
+}
+
+impl Done {
+    /// Waits up to `timeout`; true once the job has finished.
+    fn wait(&self, timeout: Duration) -> bool {
+        let g = self.finished.lock().unwrap_or_else(|e| e.into_inner());
+        let (g, _) = self
+            .changed
+            .wait_timeout_while(g, timeout, |finished| !*finished)
+            .unwrap_or_else(|e| e.into_inner());
+        *g
+    }
+
+    /// A guard that marks the job finished when dropped.
+    fn finisher(&self) -> Finisher<'_> {
+        Finisher(self)
+    }
+}
+
+/// Marks its [`Done`] finished when dropped (also while unwinding from a panic).
+struct Finisher<'a>(&'a Done);
+
+impl Drop for Finisher<'_> {
+    fn drop(&mut self) {
+        *self.0.finished.lock().unwrap_or_else(|e| e.into_inner()) = true;
+        self.0.changed.notify_all();
+    }
+}
+
+/// How long the calling thread waits, with the GIL released, between two looks for Ctrl-C.
+const SLICE: Duration = Duration::from_millis(50);
+
 /// Runs `f` in the process's pool with the GIL released: the way every binding runs its
 /// Rust work (rayon calls inside `f` use this pool, never rayon's global one).
 ///
@@ -145,6 +183,14 @@ pub fn pool() -> Arc<rayon::ThreadPool> {
 /// as a `RuntimeError` carrying the panic message, which `except Exception` catches, rather
 /// than reaching Python as pyo3's `PanicException`, a `BaseException`. A pool that cannot be
 /// started is a `RuntimeError` too.
+///
+/// Ctrl-C: while `f` runs, the calling thread waits in slices of [`SLICE`], taking the GIL
+/// back after each to look for a SIGINT that Python has received (only the main thread sees
+/// one). On one it requests a cancellation ([`wscg_math::cancel`]), which the long loops of
+/// the Rust work poll and turn into [`wscg_math::Error::Interrupted`], waits for `f` to
+/// return, and sets the signal pending again: the binding's error then becomes the handler's
+/// exception (`KeyboardInterrupt`) through `errors::interrupted`, and work that finished without
+/// polling returns normally and Python raises the exception right after.
 pub fn detach<T, F>(py: Python<'_>, f: F) -> PyResult<T>
 where
     F: FnOnce() -> T + Send,
@@ -152,7 +198,38 @@ where
 {
     let pool = current(&mut setting())
         .map_err(|e| PyRuntimeError::new_err(format!("cannot start the wscg thread pool: {e}")))?;
-    py.detach(move || pool.install(|| std::panic::catch_unwind(AssertUnwindSafe(f))))
+    let f = move || std::panic::catch_unwind(AssertUnwindSafe(f));
+    if pool.current_thread_index().is_some() {
+        // Called back from inside the pool's own work: waiting here could hold the only
+        // worker, so run in place.
+        return py
+            .detach(f)
+            .map_err(|payload| panic_error(payload.as_ref()));
+    }
+    let done = Done::default();
+    let mut out = None;
+    let mut request = None;
+    let slot = &mut out;
+    let signal = &done;
+    pool.in_place_scope(|scope| {
+        scope.spawn(move |_| {
+            // Dropped when `f` returns: ends the wait.
+            let _finish = signal.finisher();
+            *slot = Some(f());
+        });
+        while !py.detach(|| done.wait(SLICE)) {
+            // SAFETY: the GIL is held (outside `py.detach`); the call reads and clears the
+            // interpreter's SIGINT flag and is a no-op off the main thread.
+            if request.is_none() && unsafe { pyo3::ffi::PyOS_InterruptOccurred() } != 0 {
+                request = Some(wscg_math::cancel::Request::new());
+            }
+        }
+    });
+    if request.take().is_some() {
+        // SAFETY: GIL held; marks SIGINT pending again so that Python runs its handler.
+        unsafe { pyo3::ffi::PyErr_SetInterrupt() };
+    }
+    out.expect("the scope ran the job to completion")
         .map_err(|payload| panic_error(payload.as_ref()))
 }
 

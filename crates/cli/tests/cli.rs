@@ -2599,3 +2599,156 @@ fn volseg_splits_a_phantom_and_beats_the_baseline() {
     assert!(text.contains("DSC geodesic nearest seed"), "{text}");
     assert!(demo.join("slices.png").exists());
 }
+
+/// Sizes far beyond any machine's memory are refused with a message naming the argument:
+/// an error exit, not an abort (a failed allocation kills the process with SIGABRT, 134).
+#[test]
+fn huge_sizes_are_refused_before_allocating() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("small.png");
+    write_test_image(&png, 0.0);
+    let out = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let png = png.to_string_lossy().into_owned();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![
+                "mri",
+                "mask",
+                "--cartesian",
+                "0.4",
+                "--size",
+                "10000000x10000000",
+            ]
+            .into_iter()
+            .map(String::from)
+            .chain(["--out".into(), out("m.npy")])
+            .collect(),
+            "shape",
+        ),
+        (
+            [
+                "mri",
+                "mask",
+                "--radial",
+                "0.4",
+                "--size",
+                "10000000x10000000",
+            ]
+            .map(String::from)
+            .into_iter()
+            .chain(["--out".into(), out("r.npy")])
+            .collect(),
+            "shape",
+        ),
+        (
+            vec![
+                "math".into(),
+                "resize".into(),
+                png.clone(),
+                out("big.png"),
+                "--height".into(),
+                "1000000".into(),
+                "--width".into(),
+                "1000000".into(),
+            ],
+            "height, width",
+        ),
+        (
+            vec![
+                "math".into(),
+                "blur".into(),
+                png.clone(),
+                out("blur.png"),
+                "--sigma".into(),
+                "1e12".into(),
+            ],
+            "truncate * sigma",
+        ),
+        (
+            vec![
+                "volseg".into(),
+                "phantom".into(),
+                "--size".into(),
+                "100000".into(),
+            ]
+            .into_iter()
+            .chain(["--out".into(), out("vp")])
+            .collect(),
+            "dims",
+        ),
+        (
+            [
+                "hdr", "simulate", "--height", "1000000", "--width", "1000000",
+            ]
+            .map(String::from)
+            .into_iter()
+            .chain(["--out".into(), out("hs")])
+            .collect(),
+            "height, width",
+        ),
+        (
+            [
+                "raytrace",
+                "manylight",
+                "--width",
+                "1000000",
+                "--height",
+                "1000000",
+            ]
+            .map(String::from)
+            .into_iter()
+            .chain(["--out".into(), out("ml.png")])
+            .collect(),
+            "width, height",
+        ),
+        (
+            [
+                "video", "synth", "--frames", "1000000", "--height", "10000", "--width", "10000",
+            ]
+            .map(String::from)
+            .into_iter()
+            .chain(["--out".into(), out("vs")])
+            .collect(),
+            "frames, height, width",
+        ),
+        (
+            ["biometrics", "ear", "simulate", "--subjects", "10000000000"]
+                .map(String::from)
+                .into_iter()
+                .chain(["--out".into(), out("es")])
+                .collect(),
+            "n_subjects",
+        ),
+        (
+            [
+                "biometrics",
+                "gait",
+                "simulate",
+                "--subjects",
+                "10000000000",
+            ]
+            .map(String::from)
+            .into_iter()
+            .chain(["--out".into(), out("gs")])
+            .collect(),
+            "n_subjects, n_sessions",
+        ),
+        (
+            ["motion", "make-data", "--trials", "10000000000"]
+                .map(String::from)
+                .into_iter()
+                .chain([out("md")])
+                .collect(),
+            "n_trials",
+        ),
+    ];
+    for (args, name) in cases {
+        let o = wscg().args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {:?} {err}", o.status);
+        assert!(
+            err.contains("cannot allocate") && err.contains(&format!("`{name}`")),
+            "{args:?}: {err}"
+        );
+    }
+}

@@ -189,6 +189,7 @@ pub(crate) fn global_step(
     let mut lambda = vec![0.0; m.links.len() + 3 * m.tris.len()];
     let h2 = h * h;
     for _ in 0..outer {
+        wscg_math::cancel::check()?;
         let sys = ConstraintSystem::new(m, &x, h2);
         let g: Vec<Vector3<f64>> = if primal_residual {
             let jl = sys.jt(&lambda);

@@ -403,6 +403,9 @@ impl ClothModel {
         if !(size.0 > 0.0 && size.1 > 0.0) {
             return Err(Error::invalid("size", "must be positive"));
         }
+        // Per particle: state vectors, masses, about six links and the solver's rows; 512
+        // bytes bounds them all.
+        wscg_math::alloc::ensure_shape::<[u8; 512]>("nx, ny", &[nx, ny])?;
         let id = |i: usize, j: usize| j * nx + i;
         let x = (0..ny)
             .flat_map(|j| {

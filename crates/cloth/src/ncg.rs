@@ -74,6 +74,7 @@ pub(crate) fn step(
     let mut flat = vec![0.0; 3 * n];
     let mut sq = vec![0.0; 3 * n];
     for _ in 0..iterations {
+        wscg_math::cancel::check()?;
         if delta == 0.0 {
             break;
         }

@@ -305,8 +305,8 @@ impl Simulation {
         Energy::of(&self.model)
     }
 
-    /// Advances by `h` seconds. Errors: `h` not positive and finite; a non-finite result
-    /// (the state is then left unchanged).
+    /// Advances by `h` seconds. Errors: `h` not positive and finite; a non-finite result or a
+    /// cancellation ([`wscg_math::cancel`]; the state is then left unchanged).
     pub fn step(&mut self, h: f64) -> Result<StepStats> {
         if !(h > 0.0 && h.is_finite()) {
             return Err(Error::invalid("h", format!("must be positive, got {h}")));
@@ -352,6 +352,9 @@ impl Simulation {
                 primal_residual,
             )?,
         };
+        // A step whose iterations a cancellation request cut short is dropped: the state is
+        // left as it was.
+        wscg_math::cancel::check()?;
         if self.cfg.velocity_damping > 0.0 {
             baselines::project_velocities(&self.model, &x, &mut v, self.cfg.velocity_damping);
         }
@@ -459,6 +462,9 @@ impl Simulation {
         let prep = &*prep;
         let mut sweeps = || {
             for _ in 0..iterations {
+                if wscg_math::cancel::requested() {
+                    break;
+                }
                 let (lam_el, lam_roll) = lambda.split_at_mut(r0);
                 max_residual =
                     projection::sweep(prep, cfg.relaxation, &mut x, &mut scratch, lam_el, &k, vf);

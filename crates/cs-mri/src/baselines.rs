@@ -295,6 +295,7 @@ fn composite_fista(
     let mut history = Vec::new();
     progress.begin(if tree { "WaTMRI" } else { "FCSA" }, p.max_iter as u64);
     for k in 0..p.max_iter {
+        wscg_math::cancel::check()?;
         st.data_step(&r, idx, &mut xg);
         if tree {
             // xg -= mu_g Phi^H G^H (G Phi r - z), z = group_soft(G Phi r, b_g).
@@ -365,6 +366,7 @@ pub fn tvcmri(
     let mut history = Vec::new();
     progress.begin("TVCMRI", p.max_iter as u64);
     for k in 0..p.max_iter {
+        wscg_math::cancel::check()?;
         // x - tau grad f(x) = data_step(x) for tau = 1; then + tau div p.
         st.data_step(&x, idx, &mut step);
         divergence(&py, &px, rows, cols, &mut div);
@@ -448,6 +450,7 @@ pub fn tv_constrained(
     let mut b = vec![zero; idx.len()];
     let mut history = Vec::new();
     for k in 0..max_iter {
+        wscg_math::cancel::check()?;
         gradient(&xbar, rows, cols, &mut gy, &mut gx);
         py.par_iter_mut()
             .zip(px.par_iter_mut())

@@ -278,6 +278,7 @@ pub fn csalsa(
     let mut frame = (!psi.is_parseval()).then(|| FrameSolve::new(psi, idx));
     progress.begin("C-SALSA", p.max_iter as u64);
     for k in 0..p.max_iter {
+        wscg_math::cancel::check()?;
         // x-update: x = (I + F_u^H F_u)^{-1} (Psi^H (v1 + d1) + F_u^H (v2 + d2)).
         psi.synthesis_spectrum(&sum, &mut xhat);
         for (i, &kk) in idx.iter().enumerate() {

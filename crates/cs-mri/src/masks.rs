@@ -28,6 +28,7 @@ pub fn cartesian(
     if rows == 0 || cols == 0 {
         return Err(Error::Empty("mask shape"));
     }
+    let n = wscg_math::alloc::ensure_shape::<bool>("shape", &[rows, cols])?;
     if !(0.0..=rate).contains(&center_frac) {
         return Err(Error::invalid(
             "center_frac",
@@ -62,7 +63,9 @@ pub fn cartesian(
     for &(_, i) in keyed.iter().take(total - centre) {
         chosen[i] = true;
     }
-    Ok((0..rows * cols).map(|k| chosen[k / cols]).collect())
+    let mut mask = wscg_math::alloc::try_with_capacity("shape", n)?;
+    mask.extend((0..n).map(|k| chosen[k / cols]));
+    Ok(mask)
 }
 
 /// Marks the pixels of a Bresenham line from `(r0, c0)` to `(r1, c1)` that fall inside the grid.
@@ -108,7 +111,8 @@ pub fn radial_lines(rows: usize, cols: usize, lines: usize) -> Result<Vec<bool>>
     if lines == 0 {
         return Err(Error::invalid("lines", "must be at least 1"));
     }
-    let mut centred = vec![false; rows * cols];
+    let n = wscg_math::alloc::ensure_shape::<bool>("shape", &[rows, cols])?;
+    let mut centred = wscg_math::alloc::try_vec("shape", false, n)?;
     let (cr, cc) = ((rows / 2) as i64, (cols / 2) as i64);
     let reach = rows.max(cols) as f64;
     for l in 0..lines {

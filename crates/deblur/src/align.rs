@@ -250,6 +250,7 @@ fn ecc_level(
     let stride = if t.h * t.w > 200_000 { 2 } else { 1 };
     let total = ((t.h.div_ceil(stride)) * (t.w.div_ceil(stride))) as f64;
     for _ in 0..iters {
+        wscg_math::cancel::check()?;
         let s = accumulate(t, img, &grads, &warp, stride);
         if s.n < 64.0 {
             return Err(Error::Numerical(

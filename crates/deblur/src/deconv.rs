@@ -227,6 +227,10 @@ pub(crate) fn richardson_lucy(
     let mut ratio = vec![0f32; n];
     let mut corr = vec![0f32; n];
     for _ in 0..iters {
+        // Stops early on a cancellation request, which the tiling reports.
+        if wscg_math::cancel::requested() {
+            break;
+        }
         grid.convolve(
             &img,
             otf,

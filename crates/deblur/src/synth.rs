@@ -253,14 +253,14 @@ pub fn render_blurred(
             *o = (*a / steps as f64) as f32;
         }
     });
-    finish(&mut out, opts, seed);
+    finish(&mut out, opts, seed)?;
     Image::new(h, w, 1, out)
 }
 
 /// Noise, camera response and quantisation of a rendered linear frame.
-fn finish(data: &mut [f32], opts: &BlurRenderParams, seed: u64) {
+fn finish(data: &mut [f32], opts: &BlurRenderParams, seed: u64) -> Result<()> {
     if opts.noise_sigma > 0.0 {
-        rng::par_fill(seed, data.len(), |r| r.sample::<f32, _>(StandardNormal))
+        rng::par_fill(seed, data.len(), |r| r.sample::<f32, _>(StandardNormal))?
             .iter()
             .zip(data.iter_mut())
             .for_each(|(n, v)| *v += opts.noise_sigma * n);
@@ -270,6 +270,7 @@ fn finish(data: &mut [f32], opts: &BlurRenderParams, seed: u64) {
         data.iter_mut()
             .for_each(|v| *v = (*v * 255.0).round() / 255.0);
     }
+    Ok(())
 }
 
 /// A textured test scene of `height x width` linear intensities in `[0.02, 0.98]`: smooth

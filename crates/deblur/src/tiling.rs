@@ -238,6 +238,8 @@ where
     acc.iter_mut()
         .zip(&wsum)
         .for_each(|(a, s)| *a /= s.max(1e-12));
+    // Iterative methods stop early on a cancellation request.
+    wscg_math::cancel::check()?;
     Image::new(h, w, 1, acc)
 }
 

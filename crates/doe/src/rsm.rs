@@ -152,7 +152,9 @@ pub fn term_names(k: usize, interaction: bool) -> Vec<String> {
 /// order (`1, x_1 … x_k, x_1² … x_k², x_1x_2 …`).
 ///
 /// # Errors
-/// [`Error::Empty`] for no runs or no factors; [`Error::NonFinite`] for NaN/∞ in `x`.
+/// [`Error::Empty`] for no runs or no factors; [`Error::NonFinite`] for NaN/∞ in `x`;
+/// [`Error::InvalidArgument`] naming `x` when a model entry (a value, square or cross
+/// product) exceeds 1e150 in magnitude, beyond what a least-squares fit sums without overflow.
 pub fn quadratic_design(x: &DMatrix<f64>, interaction: bool) -> Result<DMatrix<f64>> {
     if x.nrows() == 0 {
         return Err(Error::Empty("x (runs)"));
@@ -161,8 +163,27 @@ pub fn quadratic_design(x: &DMatrix<f64>, interaction: bool) -> Result<DMatrix<f
         return Err(Error::Empty("x (factors)"));
     }
     ensure_finite("x", x.as_slice())?;
-    Ok(design_unchecked(x, interaction))
+    let design = design_unchecked(x, interaction);
+    // The least-squares fit sums squares of the model columns: entries above 1e150 (factor
+    // values above about 1e75) would overflow to infinity there, and the SVD never converges
+    // on infinities.
+    if let Some(v) = design
+        .iter()
+        .find(|v| v.is_nan() || v.abs() > MAX_MODEL_ENTRY)
+    {
+        return Err(Error::invalid(
+            "x",
+            format!(
+                "a squared or cross term is {v:e}, beyond the {MAX_MODEL_ENTRY:e} a least-squares \
+                 fit can sum without overflow; code the factors (for example to [-1, 1])"
+            ),
+        ));
+    }
+    Ok(design)
 }
+
+/// Largest magnitude of a model-matrix entry (a factor value, its square or a cross product).
+const MAX_MODEL_ENTRY: f64 = 1e150;
 
 fn design_unchecked(x: &DMatrix<f64>, interaction: bool) -> DMatrix<f64> {
     let (n, k) = x.shape();
@@ -367,7 +388,11 @@ fn ols(
         ));
     }
 
-    let svd = design.clone().svd(true, true);
+    // A bounded number of sweeps: an SVD that does not converge is an error, never a hang.
+    let svd = design
+        .clone()
+        .try_svd(true, true, f64::EPSILON, 10_000)
+        .ok_or_else(|| Error::Numerical("the SVD of the design matrix did not converge".into()))?;
     let (u, v_t) = match (svd.u, svd.v_t) {
         (Some(u), Some(v_t)) => (u, v_t),
         _ => return Err(Error::Numerical("SVD of the design matrix failed".into())),
@@ -488,6 +513,30 @@ mod tests {
         let d = quadratic_design(&x, true).unwrap();
         let want = [1.0, 2.0, 3.0, 5.0, 4.0, 9.0, 25.0, 6.0, 10.0, 15.0];
         assert_eq!(d.as_slice(), &want);
+    }
+
+    #[test]
+    fn values_whose_squares_overflow_are_refused() {
+        // A 3x3 grid with one value of 1e155: its square is infinite, which made the SVD loop
+        // forever; refused by name before any fit.
+        let mut pts = Vec::new();
+        for a in [-1.0, 0.0, 1.0] {
+            for b in [-1.0, 0.0, 1.0] {
+                pts.extend_from_slice(&[a, b]);
+            }
+        }
+        pts[0] = 1e155;
+        let x = DMatrix::from_row_slice(9, 2, &pts);
+        let y: Vec<f64> = (0..9).map(|i| i as f64).collect();
+        let e = fit_quadratic(&x, &y, true).unwrap_err();
+        assert_eq!(e.argument(), Some("x"), "{e}");
+        // Below the bound the fit runs (this design is then too ill-conditioned to be of full
+        // rank, which is its own error).
+        pts[0] = 1e74;
+        let x = DMatrix::from_row_slice(9, 2, &pts);
+        if let Err(e) = fit_quadratic(&x, &y, true) {
+            assert!(!e.to_string().contains("overflow"), "{e}");
+        }
     }
 
     #[test]

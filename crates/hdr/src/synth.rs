@@ -256,6 +256,11 @@ impl SceneParams {
                 ));
             }
         }
+        // Per camera and pixel: radiance, disparity, visibility, the view and its copies.
+        wscg_math::alloc::ensure_shape::<[f32; 8]>(
+            "height, width",
+            &[self.height, self.width, self.times.len()],
+        )?;
         if !(self.noise.is_finite() && self.noise >= 0.0) {
             return Err(Error::invalid(
                 "noise",
@@ -337,7 +342,8 @@ pub fn encode(
 /// the rows (`10^(-1 + 3.5 u)`, `u` from 0 to 1 through the image in reading order), the
 /// three channels 10 % apart, so that exposures one stop apart cover every code.
 pub fn gradient_target(height: usize, width: usize) -> Result<Image<f32>> {
-    let mut d = Vec::with_capacity(height * width * 3);
+    let n = wscg_math::alloc::elements("height, width", &[height, width, 3])?;
+    let mut d = wscg_math::alloc::try_with_capacity("height, width", n)?;
     for y in 0..height {
         for x in 0..width {
             let u = (x as f64 + y as f64 / height as f64) / width as f64;

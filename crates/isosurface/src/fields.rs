@@ -321,8 +321,9 @@ pub fn sample(field: &dyn Field, dims: [usize; 3], lo: [f64; 3], hi: [f64; 3]) -
             format!("the box {lo:?}..{hi:?} must have positive size"),
         ));
     }
-    let [nx, ny, nz] = dims;
-    let mut values = vec![0.0f32; nx * ny * nz];
+    let [nx, ny, _] = dims;
+    let n = wscg_math::alloc::ensure_shape::<f32>("dims", &dims)?;
+    let mut values = wscg_math::alloc::try_vec("dims", 0.0f32, n)?;
     values
         .par_chunks_mut(nx * ny)
         .enumerate()

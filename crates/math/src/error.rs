@@ -57,6 +57,34 @@ pub enum Error {
     /// A numerical method failed (matrix not positive definite, no convergence, ...).
     #[error("numerical failure: {0}")]
     Numerical(String),
+    /// A buffer sized by an argument does not fit in memory: its size overflows, exceeds the
+    /// memory limit of [`crate::alloc`], or the allocator refused it. The Python bindings raise
+    /// `MemoryError`.
+    #[error(
+        "cannot allocate {} for `{what}`: {}",
+        crate::memory_limit::describe_bytes(*bytes),
+        match limit {
+            Some(l) => format!(
+                "more than the memory limit of {} (the machine's physical memory unless set \
+                 through {} or set_memory_limit)",
+                crate::memory_limit::describe_bytes(Some(*l as u128)),
+                crate::memory_limit::ENV_VAR
+            ),
+            None => "the system refused the allocation".to_string(),
+        }
+    )]
+    OutOfMemory {
+        /// The argument whose value sets the size.
+        what: &'static str,
+        /// The bytes requested; `None` when the count overflowed.
+        bytes: Option<u128>,
+        /// The limit in force, or `None` when the allocator itself refused.
+        limit: Option<u64>,
+    },
+    /// The work was stopped by a cancellation request ([`crate::cancel`]), as Ctrl-C makes in
+    /// Python. The Python bindings raise `KeyboardInterrupt`.
+    #[error("interrupted")]
+    Interrupted,
 }
 
 /// `Result` with [`Error`] as the error type.
@@ -84,11 +112,13 @@ impl Error {
         }
     }
 
-    /// The argument an [`Error::InvalidArgument`] names, `None` for every other error: lets a
-    /// caller tell which of its inputs was refused without parsing the message.
+    /// The argument an [`Error::InvalidArgument`] or [`Error::OutOfMemory`] names, `None` for
+    /// every other error: lets a caller tell which of its inputs was refused without parsing
+    /// the message.
     pub fn argument(&self) -> Option<&'static str> {
         match self {
             Error::InvalidArgument { name, .. } => Some(name),
+            Error::OutOfMemory { what, .. } => Some(what),
             _ => None,
         }
     }
@@ -149,8 +179,48 @@ pub fn ensure_positive(name: &'static str, value: f64) -> Result<()> {
 }
 
 /// Reads a whole file, mapping the failure to [`Error::Io`] naming the path.
+///
+/// Only regular files are read: a device (`/dev/zero`, `/dev/urandom`) or a pipe has no end
+/// and would be read until memory runs out, so it is refused ([`Error::Io`]), as is a
+/// file larger than the memory limit of [`crate::memory_limit`] ([`Error::LimitExceeded`]). Every
+/// reader of the workspace reads its files through this function or [`read_text`].
 pub fn read_file(path: &Path) -> Result<Vec<u8>> {
-    std::fs::read(path).map_err(|e| Error::io(path, e))
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let meta = file.metadata().map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(Error::io(
+            path,
+            std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a regular file (a folder, device or pipe)",
+            ),
+        ));
+    }
+    let limit = crate::memory_limit::limit();
+    if meta.len() > limit {
+        return Err(Error::LimitExceeded(format!(
+            "{}: {} bytes, more than the memory limit of {limit} bytes",
+            path.display(),
+            meta.len()
+        )));
+    }
+    let mut bytes = Vec::new();
+    bytes
+        .try_reserve_exact(meta.len() as usize)
+        .map_err(|_| Error::LimitExceeded(format!("{}: cannot hold the file", path.display())))?;
+    // A file that grows while it is read stops at the limit.
+    file.take(limit)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    Ok(bytes)
+}
+
+/// Reads a whole text file as [`read_file`] does; content that is not UTF-8 is
+/// [`Error::Format`] naming the file.
+pub fn read_text(path: &Path) -> Result<String> {
+    String::from_utf8(read_file(path)?)
+        .map_err(|e| Error::format(path, format!("not UTF-8 text: {e}")))
 }
 
 /// Maps errors of a decoding reader: corrupt or truncated data is a format error, the rest
@@ -189,6 +259,21 @@ mod tests {
             assert!(ensure_positive("sigma", v).is_err(), "{v}");
         }
         assert!(ensure_positive("sigma", 1e-9).is_ok());
+    }
+
+    #[test]
+    fn only_regular_files_are_read() {
+        let dir = tempfile::tempdir().unwrap();
+        // A folder, and on Unix a device without end: refused by name instead of read.
+        let e = read_file(dir.path()).unwrap_err();
+        assert!(e.is_io() && e.to_string().contains("regular file"), "{e}");
+        #[cfg(unix)]
+        assert!(read_file(Path::new("/dev/zero")).is_err());
+        let f = dir.path().join("a.txt");
+        std::fs::write(&f, "héllo").unwrap();
+        assert_eq!(read_text(&f).unwrap(), "héllo");
+        std::fs::write(&f, [0xff, 0xfe]).unwrap();
+        assert!(read_text(&f).unwrap_err().is_io());
     }
 
     #[test]

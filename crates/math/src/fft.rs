@@ -539,18 +539,20 @@ fn roll<T: Copy + Send + Sync>(
 }
 
 /// Sample frequencies of an FFT of length `n` with sample spacing `d` (numpy's `fftfreq`).
-pub fn fftfreq(n: usize, d: f64) -> Vec<f64> {
+///
+/// Errors: [`crate::Error::OutOfMemory`] naming `n` when `n` values do not fit in memory.
+pub fn fftfreq(n: usize, d: f64) -> Result<Vec<f64>> {
     let half = n.div_ceil(2);
-    (0..n)
-        .map(|i| {
-            let k = if i < half {
-                i as f64
-            } else {
-                i as f64 - n as f64
-            };
-            k / (n as f64 * d)
-        })
-        .collect()
+    let mut out = crate::alloc::try_with_capacity("n", n)?;
+    out.extend((0..n).map(|i| {
+        let k = if i < half {
+            i as f64
+        } else {
+            i as f64 - n as f64
+        };
+        k / (n as f64 * d)
+    }));
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -729,7 +731,7 @@ mod tests {
         assert_eq!(ifftshift(&s, &[3, 4]).unwrap(), a);
         // Row 0 of the shifted 3x4 grid is old row 2, shifted by 2: [10, 11, 8, 9].
         assert_eq!(&s[0..4], &[10, 11, 8, 9]);
-        assert_eq!(fftfreq(5, 0.5), vec![0.0, 0.4, 0.8, -0.8, -0.4]);
+        assert_eq!(fftfreq(5, 0.5).unwrap(), vec![0.0, 0.4, 0.8, -0.8, -0.4]);
     }
 
     #[test]

@@ -67,14 +67,20 @@ impl Border {
 /// The sampled, normalised Gaussian of standard deviation `sigma` (pixels), of radius
 /// `int(truncate * sigma + 0.5)` (scipy's `_gaussian_kernel1d`). Length `2 * radius + 1`.
 ///
-/// Errors: `sigma` or `truncate` not finite and > 0.
+/// Errors: `sigma` or `truncate` not finite and > 0; [`Error::OutOfMemory`] naming
+/// `truncate * sigma` when the kernel does not fit in memory ([`crate::alloc`]).
 pub fn gaussian_kernel(sigma: f64, truncate: f64) -> Result<Vec<f64>> {
     ensure_positive("sigma", sigma)?;
     ensure_positive("truncate", truncate)?;
-    let radius = (truncate * sigma + 0.5) as isize;
-    let mut k: Vec<f64> = (-radius..=radius)
-        .map(|x| (-0.5 * (x * x) as f64 / (sigma * sigma)).exp())
-        .collect();
+    let what = "truncate * sigma";
+    let radius = (truncate * sigma + 0.5).floor();
+    // 2^62 taps are far beyond any memory limit; the check keeps the conversions exact.
+    if radius >= (1u64 << 62) as f64 {
+        return Err(crate::alloc::overflow(what));
+    }
+    let radius = radius as isize;
+    let mut k = crate::alloc::try_with_capacity(what, 2 * radius as usize + 1)?;
+    k.extend((-radius..=radius).map(|x| (-0.5 * (x as f64) * (x as f64) / (sigma * sigma)).exp()));
     let s: f64 = k.iter().sum();
     k.iter_mut().for_each(|v| *v /= s);
     Ok(k)
@@ -182,12 +188,24 @@ pub fn gaussian_filter(
     per_channel(img, |p| separable_plane(p, &k, &k, border))
 }
 
+/// The normalised box kernel of radius `radius` (length `2 radius + 1`, every tap equal).
+///
+/// Errors: [`Error::OutOfMemory`] naming `radius` when the kernel does not fit in memory.
+pub fn box_kernel(radius: usize) -> Result<Vec<f64>> {
+    let n = radius
+        .checked_mul(2)
+        .and_then(|d| d.checked_add(1))
+        .ok_or_else(|| crate::alloc::overflow("radius"))?;
+    crate::alloc::try_vec("radius", 1.0 / n as f64, n)
+}
+
 /// Mean over a `(2 radius + 1)^2` window of every channel, as
 /// `scipy.ndimage.uniform_filter(img, size=2*radius+1)` per channel.
+///
+/// Errors: non-finite pixels; [`Error::OutOfMemory`] naming `radius` (see [`box_kernel`]).
 pub fn box_filter(img: &Image<f32>, radius: usize, border: Border) -> Result<Image<f32>> {
     img.ensure_finite("img")?;
-    let n = 2 * radius + 1;
-    let k = vec![1.0 / n as f64; n];
+    let k = box_kernel(radius)?;
     per_channel(img, |p| separable_plane(p, &k, &k, border))
 }
 
@@ -219,6 +237,17 @@ mod tests {
         assert!((k.iter().sum::<f64>() - 1.0).abs() < 1e-14);
         assert!(gaussian_kernel(0.0, 4.0).is_err());
         assert!(gaussian_kernel(1.0, f64::NAN).is_err());
+        for (sigma, truncate) in [(1e12, 4.0), (1.0, 1e15), (1e300, 1e300)] {
+            let e = gaussian_kernel(sigma, truncate).unwrap_err();
+            assert!(matches!(e, Error::OutOfMemory { .. }), "{e}");
+            assert_eq!(e.argument(), Some("truncate * sigma"));
+        }
+        assert_eq!(
+            box_kernel(usize::MAX).unwrap_err().argument(),
+            Some("radius")
+        );
+        assert_eq!(box_kernel(1 << 40).unwrap_err().argument(), Some("radius"));
+        assert_eq!(box_kernel(2).unwrap(), vec![0.2; 5]);
     }
 
     #[test]

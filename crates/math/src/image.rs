@@ -9,7 +9,6 @@
 use ndarray::{Array3, ArrayView3};
 
 use crate::error::{ensure_finite, Error, Result};
-use crate::view::ImageView;
 
 /// Checks an image shape against a buffer length: no zero dimension ([`Error::Empty`]), no
 /// overflow ([`Error::LimitExceeded`]), `len = height * width * channels`
@@ -56,21 +55,24 @@ impl<T: Copy> Image<T> {
         })
     }
 
-    /// A borrowed view of the image (see [`ImageView`]), what functions that only read an
-    /// image take.
-    pub fn view(&self) -> ImageView<'_, T> {
-        ImageView::from_parts(self.height, self.width, self.channels, &self.data)
-    }
-
     /// An image with every value equal to `value`.
+    ///
+    /// Errors: as [`Image::new`]; [`Error::OutOfMemory`] naming `height, width` when the image
+    /// does not fit in memory ([`crate::alloc`]).
     pub fn filled(height: usize, width: usize, channels: usize, value: T) -> Result<Self> {
-        let n = height.saturating_mul(width).saturating_mul(channels);
-        Self::new(height, width, channels, vec![value; n])
+        let n = crate::alloc::elements("height, width", &[height, width, channels])?;
+        Self::new(
+            height,
+            width,
+            channels,
+            crate::alloc::try_vec("height, width", value, n)?,
+        )
     }
 
     /// Builds a single-channel image from `f(y, x)`.
     pub fn from_fn(height: usize, width: usize, f: impl Fn(usize, usize) -> T) -> Result<Self> {
-        let mut data = Vec::with_capacity(height.saturating_mul(width));
+        let n = crate::alloc::elements("height, width", &[height, width])?;
+        let mut data = crate::alloc::try_with_capacity("height, width", n)?;
         for y in 0..height {
             for x in 0..width {
                 data.push(f(y, x));

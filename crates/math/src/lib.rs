@@ -36,6 +36,9 @@
 //! - [`rng`]: seeded, portable random generation.
 //! - [`progress`]: a progress-reporting trait that the CLI renders as progress bars.
 //! - [`error`]: the one [`Error`] type.
+//! - [`alloc`]: buffers sized by a user's argument, checked against overflow and the memory
+//!   limit ([`memory_limit`]) before allocating ([`try_vec!`]); [`cancel`]: the cancellation
+//!   flag that long loops poll (Ctrl-C in Python).
 //!
 //! # File formats and cargo features
 //!
@@ -56,6 +59,10 @@
 #![warn(missing_docs)]
 
 pub mod error;
+
+pub mod alloc;
+pub mod cancel;
+pub mod memory_limit;
 
 pub mod bvh;
 pub mod dense;

@@ -14,6 +14,7 @@
 
 use rayon::prelude::*;
 
+use crate::alloc;
 use crate::error::{Error, Result};
 use crate::image::Image;
 
@@ -63,7 +64,8 @@ fn taps(n_in: usize, n_out: usize, method: Interpolation) -> Taps {
 
 /// Resizes `img` to `height x width` (channels kept) with the given method.
 ///
-/// Errors: a zero target size, non-finite pixels.
+/// Errors: a zero target size, non-finite pixels; [`Error::OutOfMemory`] naming
+/// `height, width` when the output does not fit in memory ([`crate::alloc`]).
 pub fn resize(
     img: &Image<f32>,
     height: usize,
@@ -78,10 +80,14 @@ pub fn resize(
     }
     img.ensure_finite("img")?;
     let (h, w, c) = img.shape();
+    let what = "height, width";
+    let n_out = alloc::ensure_shape::<f32>(what, &[height, width, c])?;
+    let n_tmp = alloc::ensure_shape::<f64>(what, &[h, width, c])?;
+    alloc::ensure::<(usize, f64)>(what, height.saturating_add(width).saturating_mul(2))?;
     let tx = taps(w, width, method);
     let ty = taps(h, height, method);
     // Horizontal pass: h x width x c.
-    let mut tmp = vec![0.0f64; h * width * c];
+    let mut tmp = alloc::try_vec(what, 0.0f64, n_tmp)?;
     tmp.par_chunks_mut(width * c)
         .enumerate()
         .for_each(|(y, row)| {
@@ -95,7 +101,7 @@ pub fn resize(
             }
         });
     // Vertical pass.
-    let mut out = vec![0.0f32; height * width * c];
+    let mut out = alloc::try_vec(what, 0.0f32, n_out)?;
     out.par_chunks_mut(width * c)
         .enumerate()
         .for_each(|(y, row)| {

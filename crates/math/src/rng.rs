@@ -45,14 +45,15 @@ pub fn normal_vec(seed: u64, n: usize, mean: f64, std: f64) -> Result<Vec<f64>> 
         .ok()
         .filter(|_| std.is_finite() && std >= 0.0)
         .ok_or_else(|| Error::invalid("std", format!("must be finite and >= 0, got {std}")))?;
-    Ok(par_fill(seed, n, |r| dist.sample(r)))
+    par_fill(seed, n, |r| dist.sample(r))
 }
 
 /// `n` complex samples with independent N(0, `std`^2) real and imaginary parts.
 ///
 /// Errors: as [`normal_vec`].
 pub fn complex_normal_vec(seed: u64, n: usize, std: f64) -> Result<Vec<num_complex::Complex64>> {
-    let v = normal_vec(seed, 2 * n, 0.0, std)?;
+    let twice = crate::alloc::elements("n", &[n, 2])?;
+    let v = normal_vec(seed, twice, 0.0, std)?;
     Ok(v.chunks(2)
         .map(|p| num_complex::Complex64::new(p[0], p[1]))
         .collect())
@@ -60,12 +61,14 @@ pub fn complex_normal_vec(seed: u64, n: usize, std: f64) -> Result<Vec<num_compl
 
 /// `n` values drawn by `sample`, in blocks of [`BLOCK`] with one stream per block, so the
 /// output depends on the seed only, not on the thread count.
+///
+/// Errors: [`Error::OutOfMemory`] naming `n` when `n` values do not fit ([`crate::alloc`]).
 pub fn par_fill<T: Send + Default + Clone>(
     seed: u64,
     n: usize,
     sample: impl Fn(&mut Rng) -> T + Sync,
-) -> Vec<T> {
-    let mut out = vec![T::default(); n];
+) -> Result<Vec<T>> {
+    let mut out = crate::alloc::try_vec("n", T::default(), n)?;
     out.par_chunks_mut(BLOCK)
         .enumerate()
         .for_each(|(b, chunk)| {
@@ -74,7 +77,7 @@ pub fn par_fill<T: Send + Default + Clone>(
                 *v = sample(&mut r);
             }
         });
-    out
+    Ok(out)
 }
 
 /// `n` samples uniform in `[lo, hi)`, filled in parallel.
@@ -87,14 +90,17 @@ pub fn uniform_vec(seed: u64, n: usize, lo: f64, hi: f64) -> Result<Vec<f64>> {
             format!("need finite lo < hi, got [{lo}, {hi})"),
         ));
     }
-    Ok(par_fill(seed, n, |r| r.random_range(lo..hi)))
+    par_fill(seed, n, |r| r.random_range(lo..hi))
 }
 
 /// A uniformly random permutation of `0..n`.
-pub fn permutation(seed: u64, n: usize) -> Vec<usize> {
-    let mut p: Vec<usize> = (0..n).collect();
+///
+/// Errors: [`Error::OutOfMemory`] naming `n` when `n` indices do not fit ([`crate::alloc`]).
+pub fn permutation(seed: u64, n: usize) -> Result<Vec<usize>> {
+    let mut p = crate::alloc::try_with_capacity("n", n)?;
+    p.extend(0..n);
     shuffle(&mut p, &mut seeded(seed));
-    p
+    Ok(p)
 }
 
 /// Shuffles `v` in place (Fisher-Yates, from the last element down).
@@ -141,7 +147,7 @@ mod tests {
         let a: u64 = stream(1, 0).random();
         let b: u64 = stream(1, 1).random();
         assert_ne!(a, b);
-        let mut p = permutation(3, 100);
+        let mut p = permutation(3, 100).unwrap();
         assert_ne!(p, (0..100).collect::<Vec<_>>());
         p.sort();
         assert_eq!(p, (0..100).collect::<Vec<_>>());

@@ -191,9 +191,10 @@ impl CsrMatrix {
         if nx == 0 || ny == 0 || nz == 0 {
             return Err(Error::Empty("grid (nx, ny, nz must be > 0)"));
         }
-        let n = nx * ny * nz;
+        let what = "nx, ny, nz";
+        let n = crate::alloc::elements(what, &[nx, ny, nz])?;
         let idx = |x: usize, y: usize, z: usize| x + nx * (y + ny * z);
-        let mut t = Vec::with_capacity(7 * n);
+        let mut t = crate::alloc::try_with_capacity(what, crate::alloc::elements(what, &[n, 7])?)?;
         for z in 0..nz {
             for y in 0..ny {
                 for x in 0..nx {
@@ -473,6 +474,7 @@ pub fn pcg(
     let target = opts.tol * bnorm;
     let mut it = 0;
     while rnorm > target && it < max_iter {
+        crate::cancel::check()?;
         a.apply(&p, &mut ap);
         let pap = dot(&p, &ap);
         if pap.is_nan() || pap <= 0.0 || pap.is_infinite() {
@@ -559,6 +561,7 @@ pub fn conjugate_residual(
     let mut rar = dot(&r, &ar);
     let mut it = 0;
     while rnorm > target && it < max_iter {
+        crate::cancel::check()?;
         let apap = dot(&ap, &ap);
         if !(apap > 0.0 && apap.is_finite()) {
             return Err(Error::Numerical(format!(

@@ -139,6 +139,14 @@ impl<'a, T: Copy> ImageView<'a, T> {
     }
 }
 
+impl<T: Copy> Image<T> {
+    /// A borrowed view of the image (see [`ImageView`]), what functions that only read an
+    /// image take.
+    pub fn view(&self) -> ImageView<'_, T> {
+        ImageView::from_parts(self.height, self.width, self.channels, &self.data)
+    }
+}
+
 impl<'a, T: Copy> From<&'a Image<T>> for ImageView<'a, T> {
     fn from(image: &'a Image<T>) -> Self {
         image.view()
@@ -348,6 +356,14 @@ impl<'a, T: Copy> VolumeView<'a, T> {
         T: Into<f64>,
     {
         ensure_finite(name, self.data)
+    }
+}
+
+impl<T: Copy> Volume<T> {
+    /// A borrowed view of the volume (see [`VolumeView`]), what functions that only read a
+    /// volume take.
+    pub fn view(&self) -> VolumeView<'_, T> {
+        VolumeView::from_parts(self.dims, self.spacing, &self.data)
     }
 }
 

@@ -88,6 +88,7 @@ pub fn bmd_trace(
     let (ic2, is2) = (0.5 / (p.sigma_c * p.sigma_c), 0.5 / (p.sigma_s * p.sigma_s));
     let mut work = mesh.clone();
     for it in 0..p.iterations {
+        wscg_math::cancel::check()?;
         let normals = work.vertex_normals();
         let pos = &work.positions;
         let next: Vec<[f64; 3]> = (0..pos.len())

@@ -87,6 +87,7 @@ pub fn jbmd_trace(
     let (id2, ic2) = (0.5 / (p.sigma_d * p.sigma_d), 0.5 / (p.sigma_c * p.sigma_c));
     let mut stats = Vec::with_capacity(p.iterations);
     for it in 0..p.iterations {
+        wscg_math::cancel::check()?;
         let normals = work.vertex_normals();
         let v = &work.positions;
         if it == 0 || p.rebuild_neighbors {

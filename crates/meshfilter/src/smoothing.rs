@@ -59,6 +59,7 @@ pub fn laplacian_trace(
     let (adj, moving) = (mesh.vertex_adjacency(), movable(mesh));
     let mut pos = mesh.positions.clone();
     for it in 0..iterations {
+        wscg_math::cancel::check()?;
         pos = umbrella(&adj, &pos, lambda, &moving);
         observe(it + 1, &pos);
     }
@@ -75,6 +76,7 @@ pub fn taubin(mesh: &TriMesh, lambda: f64, mu: f64, iterations: usize) -> Result
     let (adj, moving) = (mesh.vertex_adjacency(), movable(mesh));
     let mut pos = mesh.positions.clone();
     for _ in 0..iterations {
+        wscg_math::cancel::check()?;
         pos = umbrella(&adj, &pos, lambda, &moving);
         pos = umbrella(&adj, &pos, mu, &moving);
     }
@@ -100,6 +102,7 @@ pub fn hc_laplacian(
     let orig = &mesh.positions;
     let mut q = orig.clone();
     for _ in 0..iterations {
+        wscg_math::cancel::check()?;
         let p = umbrella(&adj, &q, 1.0, &moving);
         let b: Vec<[f64; 3]> = (0..p.len())
             .map(|i| {

@@ -968,6 +968,7 @@ fn run(sp: &Spectra, cfg: &AnechoicParams, mut state: State) -> Result<(State, f
     let (mut q, mut ph, mut stats) = state.assess(sp);
     let mut hist = vec![q];
     for it in 0..cfg.max_iter {
+        wscg_math::cancel::check()?;
         let before = state.clone();
         state.update_sources(sp, &ph, stats.as_ref())?;
         // The sources change the delayed-source table; the weights do not, so the weight and

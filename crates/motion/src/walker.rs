@@ -251,6 +251,8 @@ fn draw_source(rng: &mut Rng) -> PeriodicSource {
 pub fn reach_walk(cfg: &WalkerParams) -> Result<(Dataset, WalkerTruth)> {
     cfg.validate()?;
     let (r_n, i_n, n) = (cfg.n_trials, N_CHANNELS, cfg.n_samples);
+    // Each trial holds I channels of three actions of n samples, and its clean copy.
+    wscg_math::alloc::ensure_shape::<f64>("n_trials", &[r_n, i_n, n, 3, 2])?;
     let mut mrng = wscg_math::rng::seeded(cfg.model_seed);
     let sources: Vec<PeriodicSource> = (0..N_SOURCES).map(|_| draw_source(&mut mrng)).collect();
     let delays: Vec<f64> = (0..i_n * N_SOURCES).map(|_| mrng.random::<f64>()).collect();

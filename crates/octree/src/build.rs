@@ -18,7 +18,7 @@ use wscg_math::{Error, Result, TriMesh};
 use crate::cube::{check_depth, child_octant, Cube};
 use crate::node::{oct_encode, Node, Voxel, EMPTY, INDEX_MASK, LEAF_BIT};
 use crate::octree::HybridOctree;
-use crate::voxelize::{columns, voxelize, Fragment};
+use crate::voxelize::{voxelize, Fragment};
 
 wscg_math::params! {
     /// Construction parameters; `Default` gives the paper's values.
@@ -99,9 +99,6 @@ pub struct BuildStats {
     pub attributes_s: f64,
 }
 
-/// Most grid columns a voxelization may scan (about 32 GB of fragments).
-const MAX_COLUMNS: f64 = 2e9;
-
 /// What one level's pass decides for an active node.
 enum Decision {
     /// A leaf with these distinct triangles (sorted).
@@ -173,22 +170,6 @@ pub fn build(mesh: &TriMesh, p: &BuildParams) -> Result<(HybridOctree, BuildStat
     let cube = check_input(mesh, p)?;
     let depth = p.max_depth;
     let limit = 1usize << p.index_bits;
-    // Refuse voxelizations that cannot fit in memory (16 bytes per fragment) before starting.
-    let scan: f64 = mesh
-        .faces
-        .par_iter()
-        .map(|f| {
-            columns(
-                f.map(|i| cube.to_grid(mesh.positions[i as usize], depth)),
-                depth,
-            )
-        })
-        .sum();
-    if scan > MAX_COLUMNS {
-        return Err(Error::LimitExceeded(format!(
-            "voxelizing at max_depth {depth} scans about {scan:.3e} cells (more than {MAX_COLUMNS:.0e} fragments, 16 bytes each): lower max_depth"
-        )));
-    }
     let t0 = Instant::now();
     let frags = voxelize(
         &mesh.positions,
@@ -196,7 +177,7 @@ pub fn build(mesh: &TriMesh, p: &BuildParams) -> Result<(HybridOctree, BuildStat
         mesh.colors.as_deref(),
         &cube,
         depth,
-    );
+    )?;
     if frags.list.is_empty() {
         return Err(Error::invalid(
             "mesh",

@@ -189,7 +189,7 @@ impl HybridOctree {
     /// Reads a tree saved by [`HybridOctree::save`].
     pub fn load(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = wscg_math::error::read_file(path)?;
         Self::from_bytes(&bytes, path)
     }
 }

@@ -430,6 +430,10 @@ fn ambient_occlusion(
     let reach = s.ao_radius * oct.cube.size as f32;
     let mut open = 0u32;
     for i in 0..s.ao_samples {
+        // A huge sample count stays interruptible: the caller reports the cancellation.
+        if i % 1024 == 1023 && wscg_math::cancel::requested() {
+            break;
+        }
         let k = seed.wrapping_mul(0x2545_f491_4f6c_dd1d) ^ u64::from(i) << 40;
         let (r1, r2) = (hash01(k.wrapping_mul(2)), hash01(k.wrapping_mul(2) | 1));
         let (r, phi) = (r1.sqrt(), std::f32::consts::TAU * r2);
@@ -491,6 +495,9 @@ pub fn render(
         .enumerate()
         .map(|(y, row)| {
             let mut st = empty;
+            if wscg_math::cancel::requested() {
+                return st;
+            }
             let xs = if inside.y.contains(&y) {
                 inside.x.clone()
             } else {
@@ -538,6 +545,8 @@ pub fn render(
             st
         })
         .reduce(|| empty, RenderStats::merge);
+    // Rows skipped (and sample loops cut short) after a cancellation request.
+    wscg_math::cancel::check()?;
     if stats.voxel_hits == 0 {
         stats.blend_min = 1.0;
         stats.blend_max = 1.0;

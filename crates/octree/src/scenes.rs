@@ -9,7 +9,7 @@
 //! - [`exact_square`]: two triangles with closed-form node counts.
 
 use rand::Rng;
-use wscg_math::{rng, Result, TriMesh};
+use wscg_math::{rng, Error, Result, TriMesh};
 
 use crate::cube::Cube;
 
@@ -118,6 +118,23 @@ impl SceneBuilder {
     }
 }
 
+/// Refuses, before building it, a scene of `units` repeated parts (buildings, pillars) of at
+/// most `vertices` vertices each whose mesh cannot fit in memory or index its vertices with
+/// `u32`.
+fn check_units(what: &'static str, units: usize, vertices: usize) -> Result<()> {
+    // A vertex holds a position and a colour (36 bytes) and comes with about 1.5 triangles
+    // (18 bytes); 64 bytes bound both.
+    let total = wscg_math::alloc::elements(what, &[units, vertices])?;
+    wscg_math::alloc::ensure::<[u8; 64]>(what, total)?;
+    if total >= u32::MAX as usize {
+        return Err(Error::invalid(
+            what,
+            format!("{units} parts of up to {vertices} vertices exceed the 2^32 vertex indices of a mesh"),
+        ));
+    }
+    Ok(())
+}
+
 /// A case with an exactly known voxelization: the square `[0,1]^2` at `z = 1/3` as two
 /// triangles, and the unit cube as its domain (1/3 is never on a dyadic cell boundary).
 pub fn exact_square() -> Result<(TriMesh, Cube)> {
@@ -131,7 +148,12 @@ pub fn exact_square() -> Result<(TriMesh, Cube)> {
 
 /// Sponza-like hall: floor, ceiling and walls of a 4 x 2 x 1.6 box, two rows of `pillars`
 /// octagonal pillars with arches between them. Most triangles span many voxels at 512^3.
+///
+/// Errors: [`Error::OutOfMemory`] or [`Error::InvalidArgument`] naming `pillars` when the
+/// mesh cannot fit in memory or in 32-bit vertex indices.
 pub fn atrium(pillars: usize) -> Result<TriMesh> {
+    // Per pillar and row: a prism of 16 vertices and an arch of 8 prisms of 12.
+    check_units("pillars", pillars, 2 * (16 + 8 * 12))?;
     let mut s = SceneBuilder::default();
     let (lx, ly, lz) = (4.0, 2.0, 1.6);
     let stone = [0.75, 0.68, 0.55];
@@ -210,7 +232,16 @@ pub fn atrium(pillars: usize) -> Result<TriMesh> {
 
 /// Urban-Sprawl-like city: an `n x n` grid of buildings of random height on a ground plane,
 /// facades tessellated into one cell per window (4 per side and floor).
+///
+/// Errors: [`Error::OutOfMemory`] or [`Error::InvalidArgument`] naming `n` when the mesh
+/// cannot fit in memory or in 32-bit vertex indices.
 pub fn city(n: usize, seed: u64) -> Result<TriMesh> {
+    // Four facades of 5 x 12 vertices and a roof of 4 per building.
+    check_units(
+        "n",
+        wscg_math::alloc::elements("n", &[n, n])?,
+        4 * 5 * 12 + 4,
+    )?;
     let mut s = SceneBuilder::default();
     let mut r = rng::seeded(seed);
     let pitch = 1.0;

@@ -10,6 +10,7 @@
 
 use rayon::prelude::*;
 use wscg_math::vec3::{cross, dot, sub};
+use wscg_math::{Error, Result};
 
 use crate::cube::{morton, Cube};
 use crate::overlap::{tri_box_overlap, CELL_HALF};
@@ -182,17 +183,34 @@ pub fn columns(g: [[f64; 3]; 3], depth: u8) -> f64 {
     span((w + 1) % 3) * span((w + 2) % 3)
 }
 
+/// Most grid columns a voxelization may scan (about 32 GB of fragments).
+pub const MAX_COLUMNS: f64 = 2e9;
+
 /// Voxelizes `faces` of `positions` (world units) at level `depth` of `cube`: one fragment per
 /// overlapped (cell, triangle), sorted by `(morton, prim)`. `colors` are per-vertex RGB in
 /// `[0, 1]`. Triangles of zero area are skipped and counted. The caller validates the mesh
 /// (indices in range, finite positions, the cube holding every vertex).
+///
+/// Errors: before any fragment is made, a voxelization that would scan more than
+/// [`MAX_COLUMNS`] grid columns ([`Error::LimitExceeded`] naming the depth) or whose fragments
+/// do not fit in memory ([`Error::OutOfMemory`] naming `depth`, see [`wscg_math::alloc`]).
 pub fn voxelize(
     positions: &[[f64; 3]],
     faces: &[[u32; 3]],
     colors: Option<&[[f32; 3]]>,
     cube: &Cube,
     depth: u8,
-) -> Fragments {
+) -> Result<Fragments> {
+    let scan: f64 = faces
+        .par_iter()
+        .map(|f| columns(f.map(|i| cube.to_grid(positions[i as usize], depth)), depth))
+        .sum();
+    if scan > MAX_COLUMNS {
+        return Err(Error::LimitExceeded(format!(
+            "voxelizing at depth {depth} scans about {scan:.3e} cells (more than {MAX_COLUMNS:.0e} fragments, 16 bytes each): lower the depth"
+        )));
+    }
+    wscg_math::alloc::ensure::<Fragment>("depth", scan as usize)?;
     const CHUNK: usize = 2048;
     let parts: Vec<(Vec<Fragment>, usize)> = faces
         .par_chunks(CHUNK)
@@ -232,5 +250,5 @@ pub fn voxelize(
         degenerate += d;
     }
     list.par_sort_unstable_by_key(|f| (f.morton, f.prim));
-    Fragments { list, degenerate }
+    Ok(Fragments { list, degenerate })
 }

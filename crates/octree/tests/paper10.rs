@@ -87,7 +87,7 @@ fn voxelization_is_exact_on_random_triangles() {
         .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
         .collect();
     let cube = Cube::new([0.0; 3], 64.0).unwrap();
-    let frags = wscg_octree::voxelize(&positions, &faces, None, &cube, 6);
+    let frags = wscg_octree::voxelize(&positions, &faces, None, &cube, 6).unwrap();
     let ours: HashSet<(u64, u32)> = frags.list.iter().map(|f| (f.morton, f.prim)).collect();
     assert_eq!(
         ours.len(),
@@ -206,7 +206,7 @@ fn check_invariants(mesh: &TriMesh, depth: u8) {
     assert_eq!(early, stats.early_leaves);
     // Every (cell, triangle) fragment lies in a leaf referencing the triangle.
     let cube = oct.cube;
-    let frags = wscg_octree::voxelize(&mesh.positions, &mesh.faces, None, &cube, depth);
+    let frags = wscg_octree::voxelize(&mesh.positions, &mesh.faces, None, &cube, depth).unwrap();
     let bad = frags
         .list
         .par_iter()

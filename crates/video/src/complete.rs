@@ -183,6 +183,7 @@ pub fn complete_in_place(
     let clock = Instant::now();
     let mut f = s0;
     while f > 1 {
+        wscg_math::cancel::check()?;
         let next = match cfg.local.step {
             UpscaleStep::Double if f.is_multiple_of(2) => f / 2,
             _ => 1,

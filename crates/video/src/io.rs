@@ -27,8 +27,8 @@ pub fn frame_files(dir: &Path) -> Result<Vec<PathBuf>> {
 }
 
 fn open(path: &Path) -> Result<image::DynamicImage> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    image::load_from_memory(&bytes).map_err(|e| Error::format(path, e.to_string()))
+    let bytes = wscg_math::error::read_file(path)?;
+    wscg_math::io::raster::decode_dynamic(&bytes, path)
 }
 
 /// Reads the frames of `dir` as an RGB video.

@@ -151,6 +151,7 @@ pub fn localized_search(
         candidates: 0,
     };
     while !cfg.converged(&st.energy) {
+        wscg_math::cancel::check()?;
         let r = (cfg.window(st.energy.len()) / 2) as i64;
         let rt = cfg.temporal_radius as i64;
         for shell in &order {

@@ -231,6 +231,7 @@ fn complete_level(
         changed: Vec::new(),
     };
     for sweep in 0..sweeps {
+        wscg_math::cancel::check()?;
         // Whole-field PatchMatch with the current colours (before the causal first sweep:
         // the inpainted ones, which is what the initialisation is for).
         if pm_iters > 0 {

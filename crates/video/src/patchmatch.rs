@@ -227,6 +227,10 @@ pub fn patchmatch(
         .unwrap_or([dims[0] as u32, dims[1] as u32, dims[2] as u32]);
     let mut changed = 0;
     for it in 0..params.iterations {
+        // Stops early on a cancellation request; the caller reports it.
+        if wscg_math::cancel::requested() {
+            break;
+        }
         let prev: &[Match] = nnf;
         let next: Vec<Match> = (0..targets.len())
             .into_par_iter()

@@ -110,6 +110,7 @@ pub fn refine_matches(
         steps.extend(MatchField::TEMPORAL_STEPS);
     }
     for k in 0..cfg.iterations {
+        wscg_math::cancel::check()?;
         let tau = (tau0 * (1.0 - cfg.decrement * k as f64)).max(0.0) as f32;
         let mut candidates = 0;
         let mut changed = 0;

@@ -113,6 +113,8 @@ fn check_dims(frames: usize, h: usize, w: usize) -> Result<()> {
             ),
         ));
     }
+    // The clean clip and its painted copy, 3 bytes per pixel each.
+    wscg_math::alloc::ensure_shape::<u8>("frames, height, width", &[frames, h, w, 3, 2])?;
     Ok(())
 }
 
@@ -127,7 +129,7 @@ fn render(
     colour: impl Fn(usize, f64, f64) -> [f64; 3] + Sync,
 ) -> Video {
     use rayon::prelude::*;
-    let mut data = vec![0u8; frames * h * w * 3];
+    let mut data = vec![0u8; frames * h * w * 3]; // sized by check_dims
     data.par_chunks_mut(w * 3)
         .enumerate()
         .for_each(|(row, out)| {

@@ -71,6 +71,8 @@ impl Video {
     }
 
     /// A video filled with `value`.
+    ///
+    /// Errors: as [`Video::new`]; [`wscg_math::Error::OutOfMemory`] when it does not fit.
     pub fn filled(
         frames: usize,
         height: usize,
@@ -78,12 +80,14 @@ impl Video {
         channels: usize,
         value: u8,
     ) -> Result<Self> {
+        let what = "frames, height, width";
+        let n = wscg_math::alloc::elements(what, &[frames, height, width, channels])?;
         Self::new(
             frames,
             height,
             width,
             channels,
-            vec![value; frames * height * width * channels],
+            wscg_math::alloc::try_vec(what, value, n)?,
         )
     }
 

@@ -152,6 +152,7 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerParams) -> Resul
             vote_into(&mut v, &targets, &nnf, &known_dist, &hole_pts, r, cfg.decay);
         }
         for it in 0..level_iters {
+            wscg_math::cancel::check()?;
             let cubes = Cubes::new(&v, &sources, cfg.patch);
             if cfg.patchmatch_iters == 0 {
                 let pts: Vec<P3> = (0..targets.len()).map(|i| targets.get(i)).collect();
@@ -271,6 +272,7 @@ pub fn per_frame_patchmatch(video: &Video, hole: &Mask3, cfg: &WexlerParams) -> 
     frame_cfg.patch.pt = 1;
     let (h, w, c) = (video.height, video.width, video.channels);
     for t in 0..video.frames {
+        wscg_math::cancel::check()?;
         if !hole.frame_any(t) {
             continue;
         }

@@ -66,9 +66,11 @@ fn rasterise(
     if dims.contains(&0) {
         return Err(Error::Empty("phantom dims"));
     }
+    // The samples, their noise (f64), the blurred copy and the bytes: 4 f32 per voxel.
+    let n = wscg_math::alloc::ensure_shape::<[f32; 4]>("dims", &dims)?;
     // Size of a voxel in phantom units along each axis.
     let h = dims.map(|n| 2.0 / n as f64);
-    let mut data = vec![0.0f32; dims[0] * dims[1] * dims[2]];
+    let mut data = wscg_math::alloc::try_vec("dims", 0.0f32, n)?;
     data.par_chunks_mut(dims[0] * dims[1])
         .enumerate()
         .for_each(|(z, slab)| {

@@ -412,6 +412,10 @@ pub(crate) fn cast(
     data.par_chunks_mut(w * 4)
         .enumerate()
         .for_each(|(py, row)| {
+            // After a cancellation request the remaining rows are skipped (and reported).
+            if wscg_math::cancel::requested() {
+                return;
+            }
             for px in 0..w {
                 let d = frame.ray(px, py);
                 let mut acc = Accum {
@@ -458,6 +462,7 @@ pub(crate) fn cast(
                 row[4 * px + 3] = acc.a;
             }
         });
+    wscg_math::cancel::check()?;
     Image::new(h, w, 4, data)
 }
 

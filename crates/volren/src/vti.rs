@@ -166,7 +166,7 @@ fn numbers<T: std::str::FromStr>(s: &str) -> Option<Vec<T>> {
 /// unsupported variant of the format ([`Error::Format`]).
 pub fn read_vti(path: impl AsRef<Path>) -> Result<VtiImage> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = wscg_math::error::read_file(path)?;
     parse_vti(&bytes).map_err(|reason| Error::Format {
         path: path.to_path_buf(),
         reason,

@@ -257,6 +257,7 @@ impl Block<'_> {
             last_true = res;
             restarts += 1;
             while active.iter().any(|&a| a) && it < self.max_iter {
+                wscg_math::cancel::check()?;
                 if self.shrink && L >= 4 && 4 * active.iter().filter(|&&a| a).count() <= L {
                     handed_back = true;
                     break;

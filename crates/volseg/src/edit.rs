@@ -123,6 +123,7 @@ pub fn local_grow_edit(
     let offs: Vec<[i64; 3]> = offsets26().collect();
     let mut changed = 0;
     for _ in 0..w.max_sweeps {
+        wscg_math::cancel::check()?;
         let cur = labels.data();
         let grow: Vec<usize> = brush
             .par_iter()

@@ -84,6 +84,9 @@ impl PhantomParams {
                 format!("each side needs at least 16 voxels, got {:?}", self.dims),
             ));
         }
+        // Per voxel: HU and boundary distance (f64), label (u16), the blurred and stored
+        // copies; 32 bytes bound them.
+        wscg_math::alloc::ensure_shape::<[u8; 32]>("dims", &self.dims)?;
         if !(self.blur_sigma.is_finite() && (0.0..=16.0).contains(&self.blur_sigma)) {
             return Err(Error::invalid(
                 "blur_sigma",

@@ -57,6 +57,16 @@ import, else ``RAYON_NUM_THREADS``, else one thread per CPU core) and read back 
 Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files). A negative or
 too large integer for a count, size or seed raises :class:`IntegerRangeError`, a
 ``ValueError`` (and ``OverflowError``) that names the argument.
+
+Limits: a size argument that would need a buffer larger than the memory limit (default: the
+machine's physical memory; :func:`set_memory_limit` or the environment variable
+``WSCG_MAX_MEMORY``, in bytes) raises ``MemoryError`` naming the argument, before anything is
+allocated. An image file declaring more than :func:`get_max_image_pixels` pixels (default
+16384 x 16384; :func:`set_max_image_pixels` or ``WSCG_MAX_IMAGE_PIXELS``) is refused with a
+``ValueError`` before it is decoded, and only regular files are read (a device such as
+``/dev/zero`` raises ``OSError``). Ctrl-C stops a long call (rendering, iterative solvers,
+video completion, simulation steps) with ``KeyboardInterrupt`` within a fraction of a second;
+it stops every wscg call running in the process at that moment.
 """
 
 from __future__ import annotations
@@ -101,5 +111,51 @@ def get_num_threads() -> int:
     return _native.get_num_threads()
 
 
+def set_memory_limit(nbytes: int | None) -> None:
+    """Sets the largest single buffer, in bytes, that a size argument may make wscg
+    allocate, for the whole process; 0 or None restores the default (``WSCG_MAX_MEMORY`` as
+    read on first use, else the machine's physical memory). A request above it raises
+    ``MemoryError`` naming the argument before anything is allocated. Raise it on a machine
+    with swap or a generous overcommit policy; lower it to keep a service within a budget.
+
+    Raises
+    ------
+    ValueError
+        ``nbytes`` is not a non-negative integer.
+    """
+    if isinstance(nbytes, (bool, _np.bool_)):
+        raise ValueError(f"`nbytes` must be an integer byte count, got {nbytes!r}")
+    _native.set_memory_limit(None if nbytes is None else _int("nbytes", nbytes, 0, 2**64 - 1))
+
+
+def get_memory_limit() -> int:
+    """The largest single buffer, in bytes, that a size argument may make wscg allocate (see
+    :func:`set_memory_limit`)."""
+    return _native.get_memory_limit()
+
+
+def set_max_image_pixels(pixels: int | None) -> None:
+    """Sets the largest ``width x height`` an image file may declare to be decoded, for the
+    whole process; 0 or None restores the default (``WSCG_MAX_IMAGE_PIXELS`` as read on first
+    use, else 16384 x 16384). A larger file raises ``ValueError`` naming it, from its header,
+    before any pixel is decoded (a small PNG can declare gigabytes of pixels).
+
+    Raises
+    ------
+    ValueError
+        ``pixels`` is not a non-negative integer.
+    """
+    if isinstance(pixels, (bool, _np.bool_)):
+        raise ValueError(f"`pixels` must be an integer pixel count, got {pixels!r}")
+    _native.set_max_image_pixels(None if pixels is None else _int("pixels", pixels, 0, 2**64 - 1))
+
+
+def get_max_image_pixels() -> int:
+    """The largest ``width x height`` an image file may declare to be decoded (see
+    :func:`set_max_image_pixels`)."""
+    return _native.get_max_image_pixels()
+
+
 __all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "gait", "hdr", "isosurface", "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
-           "IntegerRangeError", "set_num_threads", "get_num_threads", "__version__"]
+           "IntegerRangeError", "set_num_threads", "get_num_threads", "set_memory_limit",
+           "get_memory_limit", "set_max_image_pixels", "get_max_image_pixels", "__version__"]

@@ -28,5 +28,21 @@ def set_num_threads(n: int | None) -> None:
 def get_num_threads() -> int:
     """The number of threads of the pool that runs every wscg module in this process."""
 
+def set_memory_limit(nbytes: int | None) -> None:
+    """Sets the largest single buffer in bytes that a size argument may make wscg allocate
+    (0 or None: the default, ``WSCG_MAX_MEMORY`` or the physical memory); larger requests
+    raise ``MemoryError`` naming the argument."""
+
+def get_memory_limit() -> int:
+    """The largest single buffer in bytes that a size argument may make wscg allocate."""
+
+def set_max_image_pixels(pixels: int | None) -> None:
+    """Sets the largest width x height an image file may declare to be decoded (0 or None:
+    the default, ``WSCG_MAX_IMAGE_PIXELS`` or 16384 x 16384); larger files raise
+    ``ValueError`` before decoding."""
+
+def get_max_image_pixels() -> int:
+    """The largest width x height an image file may declare to be decoded."""
+
 __version__: str
 __all__: list[str]

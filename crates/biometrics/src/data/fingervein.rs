@@ -203,6 +203,9 @@ fn template_value(s: &Subject, x: f64, y: f64) -> f64 {
 pub fn finger_veins(p: &FingerVeinParams) -> Result<LabelledImages> {
     p.validate()?;
     let ((ch, cw), (oh, ow)) = (p.canvas, p.size);
+    // One canvas per subject and one output image per sample, 8 bytes per pixel at most.
+    wscg_math::alloc::ensure_shape::<f64>("subjects", &[p.subjects, ch, cw])?;
+    wscg_math::alloc::ensure_shape::<f64>("subjects, samples", &[p.subjects, p.samples, oh, ow])?;
     let subjects: Vec<Subject> = (0..p.subjects)
         .map(|k| subject(p.seed, k, p.canvas))
         .collect();
@@ -278,7 +281,7 @@ pub fn split_per_subject(
                 format!("subject {s} has only {} samples", rows.len()),
             ));
         }
-        let perm = rng::permutation(seed.wrapping_add(s as u64), rows.len());
+        let perm = rng::permutation(seed.wrapping_add(s as u64), rows.len())?;
         for (k, &p) in perm.iter().enumerate() {
             if k < train_per_subject {
                 tr.push(rows[p]);

@@ -55,7 +55,7 @@ pub fn read_ts(path: impl AsRef<Path>) -> Result<TsData> {
             meta.len()
         )));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = wscg_math::error::read_text(path)?;
     parse_ts(&text).map_err(|reason| match reason {
         Error::InvalidArgument { reason, .. } => Error::Format {
             path: path.to_path_buf(),

@@ -633,7 +633,15 @@ pub fn cmc(ranks: &[Option<usize>], max_rank: usize) -> Result<Vec<f64>> {
         return Err(Error::Empty("ranks (no accepted probe)"));
     }
     let n = accepted.len() as f64;
-    Ok((0..max_rank)
-        .map(|r| accepted.iter().filter(|&&a| a <= r).count() as f64 / n)
-        .collect())
+    // Probes per rank, then the running sum: O(probes + max_rank).
+    let mut curve = wscg_math::alloc::try_vec("max_rank", 0.0f64, max_rank)?;
+    for &a in accepted.iter().filter(|&&a| a < max_rank) {
+        curve[a] += 1.0;
+    }
+    let mut total = 0.0;
+    for c in &mut curve {
+        total += *c;
+        *c = total / n;
+    }
+    Ok(curve)
 }

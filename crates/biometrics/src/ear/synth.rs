@@ -828,6 +828,13 @@ pub fn generate(
     }
     cfg.validate()?;
     p.validate()?;
+    // One enrolment and `probes_per_subject` captures per subject, each an RGB canvas and a
+    // mask: 3 bytes per canvas pixel bound one capture.
+    let captures = wscg_math::alloc::elements(
+        "n_subjects",
+        &[n_subjects, probes_per_subject.saturating_add(1)],
+    )?;
+    wscg_math::alloc::ensure_shape::<[u8; 3]>("n_subjects", &[captures, cfg.height, cfg.width])?;
     let subjects: Vec<EarSubject> = (0..n_subjects)
         .map(|i| EarSubject::generate(seed, i, cfg))
         .collect();

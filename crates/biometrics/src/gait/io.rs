@@ -34,7 +34,7 @@ pub fn read_skeleton_csv(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq
             meta.len()
         )));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = wscg_math::error::read_text(path)?;
     let mut frames: BTreeMap<i64, [Option<[f64; 3]>; N_JOINTS]> = BTreeMap::new();
     for (ln, line) in text.lines().enumerate() {
         let line = line.trim();

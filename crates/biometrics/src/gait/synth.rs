@@ -813,6 +813,12 @@ pub fn walkers(
     ranges: &SessionRanges,
     seed: u64,
 ) -> Result<WalkSet> {
+    // A walk of a few hundred frames of 25 joints (f64 x, y, z) and its noise-free copy:
+    // 128 kB bound one walk from below, enough to refuse absurd counts before allocating.
+    wscg_math::alloc::ensure_shape::<[u8; 1 << 17]>(
+        "n_subjects, n_sessions",
+        &[n_subjects, n_sessions],
+    )?;
     let subjects = subjects(n_subjects, seed);
     let sessions: Vec<SessionParams> = (0..n_subjects * n_sessions)
         .map(|k| SessionParams::draw(ranges, seed.wrapping_mul(1_000_003).wrapping_add(k as u64)))

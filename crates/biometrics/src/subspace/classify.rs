@@ -245,7 +245,7 @@ pub fn select_dimension_cv(
             ),
         ));
     }
-    let perm = rng::permutation(seed, x.nrows());
+    let perm = rng::permutation(seed, x.nrows())?;
     let mut fold_of = vec![0usize; x.nrows()];
     for (k, &i) in perm.iter().enumerate() {
         fold_of[i] = k % folds;

@@ -93,7 +93,7 @@ pub fn run(cmd: DoeCommand) -> Result<()> {
             Ok(())
         }
         DoeCommand::Fit(a) => {
-            let text = std::fs::read_to_string(&a.csv).map_err(|e| Error::io(&a.csv, e))?;
+            let text = wscg_math::error::read_text(&a.csv)?;
             let (x, y) = parse_runs(&text).map_err(|e| Error::format(&a.csv, e))?;
             let fit = fit_quadratic(&x, &y, !a.no_interaction)?;
             print_fit(&fit);
@@ -187,12 +187,12 @@ fn parse_study(text: &str) -> std::result::Result<Study, String> {
 }
 
 fn analyze(a: &AnalyzeArgs) -> Result<()> {
-    let text = std::fs::read_to_string(&a.scores).map_err(|e| Error::io(&a.scores, e))?;
+    let text = wscg_math::error::read_text(&a.scores)?;
     let st = parse_study(&text).map_err(|e| Error::format(&a.scores, e))?;
     let (ns, nc, nk) = (st.subjects.len(), st.conditions.len(), st.stimuli);
     let design = match &a.design {
         Some(p) => {
-            let t = std::fs::read_to_string(p).map_err(|e| Error::io(p, e))?;
+            let t = wscg_math::error::read_text(p)?;
             parse_matrix(&t).map_err(|e| Error::format(p, e))?
         }
         None if nk == 13 => ccd_blocks(2, CcdFace::Inscribed, CcdAlpha::Rotatable, (3, 2))?,

@@ -166,7 +166,7 @@ pub fn read_dataset(dir: &Path) -> Result<Dataset> {
         Err(e) => return Err(e),
     };
     let csv_path = dir.join("steps.csv");
-    let text = std::fs::read_to_string(&csv_path).map_err(|e| Error::io(&csv_path, e))?;
+    let text = wscg_math::error::read_text(&csv_path)?;
     let mut params = vec![[(f64::NAN, f64::NAN); 3]; r];
     for (line_no, line) in text.lines().enumerate().skip(1) {
         if line.trim().is_empty() {

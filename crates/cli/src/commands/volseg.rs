@@ -130,7 +130,7 @@ fn one() -> f64 {
 
 /// Paints the balls of the strokes in `path` into a seed volume shaped like `like`.
 fn strokes_volume(path: &Path, like: &Volume<f32>) -> Result<Volume<u16>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = wscg_math::error::read_text(path)?;
     let strokes: Vec<Stroke> = serde_json::from_str(&text).map_err(|e| {
         Error::invalid(
             "strokes",

@@ -126,6 +126,9 @@ impl Sflct {
     /// downsampling and the DFBs do not divide.
     pub fn new(rows: usize, cols: usize, config: &SflctParams) -> Result<Self> {
         config.validate()?;
+        // The transform holds a few complex planes of rows x cols per scale and direction;
+        // refuse a shape whose single plane cannot fit.
+        wscg_math::alloc::ensure_shape::<[f64; 2]>("shape", &[rows, cols])?;
         let scales = config.dfb_levels.len();
         let specs: Vec<LevelSpec> = (0..scales)
             .map(|k| match (config.redundancy, k) {

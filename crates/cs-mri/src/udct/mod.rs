@@ -249,6 +249,16 @@ impl Udct {
                 )));
             }
         }
+        // One window of rows x cols per band and the low pass, indexed with u32.
+        let bands = 1 + config.wedges.iter().map(|w| w[0] + w[1]).sum::<usize>();
+        let pixels = wscg_math::alloc::elements("shape", &[rows, cols])?;
+        wscg_math::alloc::ensure_shape::<f64>("shape", &[pixels, bands])?;
+        if pixels > u32::MAX as usize {
+            return Err(Error::invalid(
+                "shape",
+                format!("{rows} x {cols} has more than 2^32 - 1 pixels"),
+            ));
+        }
         let (low_w, band_w) = window::windows(rows, cols, config);
         let mut plans: Vec<Plan2<f64>> = Vec::new();
         let mut plan_for = |small: [usize; 2]| -> Result<usize> {

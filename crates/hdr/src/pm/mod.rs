@@ -294,6 +294,7 @@ fn run_patchmatch(
     };
     run.init();
     for it in 0..p.iters {
+        wscg_math::cancel::check()?;
         run.sweep(it);
     }
     if p.iters == 0 {

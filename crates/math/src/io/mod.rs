@@ -43,7 +43,10 @@ pub mod raw;
 #[cfg(feature = "io-mesh")]
 pub use ply::PlyEncoding;
 #[cfg(feature = "io-image")]
-pub use raster::{PixelDepth, MAX_DECODE_BYTES, MAX_DECODE_SIDE};
+pub use raster::{
+    max_image_pixels, set_max_image_pixels, PixelDepth, DEFAULT_MAX_IMAGE_PIXELS, MAX_DECODE_BYTES,
+    MAX_DECODE_SIDE,
+};
 #[cfg(feature = "io-volume")]
 pub use raw::RawType;
 #[cfg(feature = "io-volume")]

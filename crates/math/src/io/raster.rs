@@ -1,20 +1,109 @@
 //! Raster image files through the `image` crate: 8- and 16-bit PNG, JPEG, OpenEXR and
 //! Radiance HDR, loaded into and saved from [`Image`]. Integer formats are scaled to `[0, 1]`
-//! on load (`v / 255`, `v / 65535`); floating-point formats keep their values. Decoding is
-//! bounded by [`MAX_DECODE_SIDE`] and [`MAX_DECODE_BYTES`].
+//! on load (`v / 255`, `v / 65535`); floating-point formats keep their values.
+//!
+//! Decoding is bounded before any pixel is decoded: a file whose header declares more than
+//! [`max_image_pixels`] pixels (default [`DEFAULT_MAX_IMAGE_PIXELS`], 16384 x 16384), a side
+//! above [`MAX_DECODE_SIDE`], or a decoder allocation above [`MAX_DECODE_BYTES`] (or 16 bytes
+//! per allowed pixel, when larger) is refused with [`Error::LimitExceeded`] naming the file.
+//! A small compressed file can declare a huge image (a PNG of a few hundred kilobytes
+//! inflates to gigabytes), so the header, not the file size, is what is checked. The pixel
+//! cap can be raised for the whole process with [`set_max_image_pixels`] (Python
+//! `wscg.set_max_image_pixels`) or the environment variable `WSCG_MAX_IMAGE_PIXELS` (read on
+//! first use; the way to raise it for the command line).
 
 use std::io::Cursor;
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::OnceLock;
 
-use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Limits};
+use image::{DynamicImage, ImageBuffer, ImageDecoder, ImageFormat, ImageReader, Limits};
 
 use crate::error::{read_file, Error, Result};
 use crate::image::Image;
 
 /// Largest width or height accepted when decoding a file (a guard against hostile headers).
 pub const MAX_DECODE_SIDE: u32 = 1 << 16;
-/// Largest number of bytes a decoder may allocate for one file.
+/// Largest number of bytes a decoder may allocate for one file (raised to 16 bytes per pixel
+/// of [`max_image_pixels`] when that is larger).
 pub const MAX_DECODE_BYTES: u64 = 4 << 30;
+/// The default of [`max_image_pixels`]: 16384 x 16384 = 268 million pixels (1 GiB as 8-bit
+/// RGBA, 4 GiB as one f32 channel), far above any camera and below what a typical machine
+/// can hold once decoded to floats.
+pub const DEFAULT_MAX_IMAGE_PIXELS: u64 = 1 << 28;
+/// The environment variable that sets [`max_image_pixels`] for the process (read on first
+/// use; a positive integer).
+pub const MAX_IMAGE_PIXELS_ENV: &str = "WSCG_MAX_IMAGE_PIXELS";
+
+/// The pixel cap set by [`set_max_image_pixels`]; 0 when none was set.
+static MAX_PIXELS: AtomicU64 = AtomicU64::new(0);
+
+/// The largest `width x height` an image file may declare to be decoded: the value set by
+/// [`set_max_image_pixels`], else `WSCG_MAX_IMAGE_PIXELS`, else
+/// [`DEFAULT_MAX_IMAGE_PIXELS`].
+pub fn max_image_pixels() -> u64 {
+    static FROM_ENV: OnceLock<u64> = OnceLock::new();
+    match MAX_PIXELS.load(Ordering::Relaxed) {
+        0 => *FROM_ENV.get_or_init(|| {
+            std::env::var(MAX_IMAGE_PIXELS_ENV)
+                .ok()
+                .and_then(|v| v.trim().parse::<u64>().ok())
+                .filter(|&v| v > 0)
+                .unwrap_or(DEFAULT_MAX_IMAGE_PIXELS)
+        }),
+        n => n,
+    }
+}
+
+/// Sets [`max_image_pixels`] for the whole process (`None` or `Some(0)` restores the default).
+pub fn set_max_image_pixels(pixels: Option<u64>) {
+    MAX_PIXELS.store(pixels.unwrap_or(0), Ordering::Relaxed);
+}
+
+/// Maps a decoding error of the `image` crate for the file `origin`.
+fn image_error(origin: &Path, e: image::ImageError) -> Error {
+    match e {
+        image::ImageError::Limits(l) => Error::LimitExceeded(format!("{}: {l}", origin.display())),
+        image::ImageError::Unsupported(u) => {
+            Error::UnsupportedFormat(format!("{}: {u}", origin.display()))
+        }
+        image::ImageError::IoError(io) => crate::error::read_error(origin, io),
+        other => Error::format(origin, other.to_string()),
+    }
+}
+
+/// Decodes an image file held in memory (format guessed from the content) under the limits
+/// of this module: the header is read first, and a declared size above [`max_image_pixels`]
+/// or [`MAX_DECODE_SIDE`] is refused before any pixel is decoded. `origin` names the source
+/// in error messages. Every raster reader of the workspace decodes through this function.
+pub fn decode_dynamic(bytes: &[u8], origin: &Path) -> Result<DynamicImage> {
+    let mut reader = ImageReader::new(Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| Error::io(origin, e))?;
+    if reader.format().is_none() {
+        return Err(Error::format(
+            origin,
+            "not a recognised image (PNG, JPEG, OpenEXR or Radiance HDR)",
+        ));
+    }
+    let max_pixels = max_image_pixels();
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_DECODE_SIDE);
+    limits.max_image_height = Some(MAX_DECODE_SIDE);
+    limits.max_alloc = Some(MAX_DECODE_BYTES.max(max_pixels.saturating_mul(16)));
+    reader.limits(limits);
+    let decoder = reader.into_decoder().map_err(|e| image_error(origin, e))?;
+    let (w, h) = decoder.dimensions();
+    let pixels = u64::from(w) * u64::from(h);
+    if pixels > max_pixels {
+        return Err(Error::LimitExceeded(format!(
+            "{}: declares {w} x {h} = {pixels} pixels, more than the limit of {max_pixels} \
+             (raise it with set_max_image_pixels or {MAX_IMAGE_PIXELS_ENV})",
+            origin.display()
+        )));
+    }
+    DynamicImage::from_decoder(decoder).map_err(|e| image_error(origin, e))
+}
 
 impl Image<f32> {
     /// Converts a decoded [`DynamicImage`]: integer formats scaled to `[0, 1]`, float formats
@@ -109,30 +198,7 @@ impl Image<f32> {
     /// Decodes an image from bytes in memory (format guessed from the content).
     /// `origin` names the source in error messages.
     pub fn decode(bytes: &[u8], origin: &Path) -> Result<Self> {
-        let mut reader = ImageReader::new(Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| Error::io(origin, e))?;
-        if reader.format().is_none() {
-            return Err(Error::format(
-                origin,
-                "not a recognised image (PNG, JPEG, OpenEXR or Radiance HDR)",
-            ));
-        }
-        let mut limits = Limits::default();
-        limits.max_image_width = Some(MAX_DECODE_SIDE);
-        limits.max_image_height = Some(MAX_DECODE_SIDE);
-        limits.max_alloc = Some(MAX_DECODE_BYTES);
-        reader.limits(limits);
-        let img = reader.decode().map_err(|e| match e {
-            image::ImageError::Limits(l) => {
-                Error::LimitExceeded(format!("{}: {l}", origin.display()))
-            }
-            image::ImageError::Unsupported(u) => {
-                Error::UnsupportedFormat(format!("{}: {u}", origin.display()))
-            }
-            other => Error::format(origin, other.to_string()),
-        })?;
-        Ok(Self::from_dynamic(&img))
+        Ok(Self::from_dynamic(&decode_dynamic(bytes, origin)?))
     }
 
     /// Loads PNG (8/16-bit), JPEG, OpenEXR or Radiance HDR. Integer formats are scaled to
@@ -191,11 +257,7 @@ impl Image<u16> {
     pub fn load_codes(path: impl AsRef<Path>) -> Result<(Self, u8)> {
         let path = path.as_ref();
         let bytes = read_file(path)?;
-        let img = ImageReader::new(Cursor::new(&bytes))
-            .with_guessed_format()
-            .map_err(|e| Error::io(path, e))?
-            .decode()
-            .map_err(|e| Error::format(path, e.to_string()))?;
+        let img = decode_dynamic(&bytes, path)?;
         let (w, h) = (img.width() as usize, img.height() as usize);
         let (channels, bits, data): (usize, u8, Vec<u16>) = match &img {
             DynamicImage::ImageLuma8(b) => (1, 8, b.iter().map(|&v| v as u16).collect()),
@@ -389,6 +451,58 @@ mod tests {
             / 1024.0;
         assert!(err < 0.02, "mean abs error {err}");
         assert!(ramp(4, 4, 2).save(dir.path().join("x.jpg")).is_err());
+    }
+
+    /// A PNG declaring `w x h` 8-bit grey pixels whose pixel data stops after the zlib header.
+    fn png_header(w: u32, h: u32) -> Vec<u8> {
+        let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+        let mut ihdr = w.to_be_bytes().to_vec();
+        ihdr.extend(h.to_be_bytes());
+        ihdr.extend([8, 0, 0, 0, 0]);
+        for (kind, data) in [
+            (&b"IHDR"[..], &ihdr[..]),
+            (b"IDAT", &[0x78, 0x9c]),
+            (b"IEND", &[]),
+        ] {
+            out.extend((data.len() as u32).to_be_bytes());
+            let chunk = [kind, data].concat();
+            out.extend(&chunk);
+            out.extend(crc32(&chunk).to_be_bytes());
+        }
+        out
+    }
+
+    fn crc32(data: &[u8]) -> u32 {
+        let mut c = !0u32;
+        for &b in data {
+            c ^= u32::from(b);
+            for _ in 0..8 {
+                c = if c & 1 != 0 {
+                    0xEDB8_8320 ^ (c >> 1)
+                } else {
+                    c >> 1
+                };
+            }
+        }
+        !c
+    }
+
+    #[test]
+    fn declared_sizes_above_the_pixel_cap_are_refused_before_decoding() {
+        // 20000 x 20000 = 4e8 pixels > the default cap: refused from the header alone (a
+        // decoder that went on would report the missing pixel data instead).
+        let e = Image::decode(&png_header(20000, 20000), Path::new("bomb.png")).unwrap_err();
+        assert!(matches!(e, Error::LimitExceeded(_)), "{e}");
+        let msg = e.to_string();
+        assert!(
+            msg.contains("bomb.png") && msg.contains("20000 x 20000"),
+            "{msg}"
+        );
+        assert!(Image::<u16>::load_codes(Path::new("/nonexistent.png")).is_err());
+        // Under the cap, the same truncated header is a format error, not a limit.
+        let small = Image::decode(&png_header(100, 100), Path::new("cut.png")).unwrap_err();
+        assert!(small.is_io(), "{small}");
+        assert_eq!(max_image_pixels(), DEFAULT_MAX_IMAGE_PIXELS);
     }
 
     #[test]

@@ -29,7 +29,6 @@ use ndarray::{Array3, ArrayView3, ArrayViewMut3};
 use rayon::prelude::*;
 
 use crate::error::{ensure_positive, Error, Result};
-use crate::view::VolumeView;
 
 pub mod filter;
 
@@ -129,14 +128,6 @@ pub(crate) fn check_spacing(spacing: [f64; 3]) -> Result<()> {
     Ok(())
 }
 
-impl<T: Copy> Volume<T> {
-    /// A borrowed view of the volume (see [`VolumeView`]), what functions that only read a
-    /// volume take.
-    pub fn view(&self) -> VolumeView<'_, T> {
-        VolumeView::from_parts(self.dims, self.spacing, &self.data)
-    }
-}
-
 impl<T> Volume<T> {
     /// Wraps `data` (length `nx * ny * nz`, x fastest) as a volume of `dims = [nx, ny, nz]`
     /// voxels of size `spacing = [sx, sy, sz]` (physical units, e.g. mm).
@@ -157,13 +148,13 @@ impl<T> Volume<T> {
     }
 
     /// A volume whose voxel `(x, y, z)` is `f(x, y, z)`, evaluated in parallel (rayon, one task
-    /// per z slice). Errors as [`Volume::new`].
+    /// per z slice). Errors as [`Volume::filled`].
     pub fn from_fn<F>(dims: [usize; 3], spacing: [f64; 3], f: F) -> Result<Self>
     where
         T: Send,
         F: Fn(usize, usize, usize) -> T + Sync + Send,
     {
-        voxel_count(dims)?;
+        crate::alloc::ensure::<T>("dims", voxel_count(dims)?)?;
         check_spacing(spacing)?;
         let [nx, ny, nz] = dims;
         let f = &f;
@@ -378,14 +369,15 @@ impl<T> Volume<T> {
 
 impl<T: Clone> Volume<T> {
     /// A volume of `dims` voxels of size `spacing`, every voxel equal to `value`.
-    /// Errors as [`Volume::new`].
+    /// Errors as [`Volume::new`], and [`Error::OutOfMemory`] naming `dims` when the voxels do
+    /// not fit in memory ([`crate::alloc`]).
     pub fn filled(dims: [usize; 3], spacing: [f64; 3], value: T) -> Result<Self> {
         let n = voxel_count(dims)?;
         check_spacing(spacing)?;
         Ok(Volume {
             dims,
             spacing,
-            data: vec![value; n],
+            data: crate::alloc::try_vec("dims", value, n)?,
         })
     }
 }

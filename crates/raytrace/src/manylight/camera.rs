@@ -43,6 +43,9 @@ impl Camera {
                 format!("image size {} x {} is empty", self.width, self.height),
             ));
         }
+        // Per pixel: the G-buffer point (about 120 bytes), the image and the per-pixel
+        // statistics; 256 bytes bound them.
+        wscg_math::alloc::ensure_shape::<[u8; 256]>("width, height", &[self.width, self.height])?;
         if !(self.fov_deg > 0.0 && self.fov_deg < 180.0) {
             return Err(Error::invalid(
                 "fov_deg",

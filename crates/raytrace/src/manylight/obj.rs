@@ -33,7 +33,7 @@ pub const DEFAULT_ALBEDO: Rgb = [0.8, 0.8, 0.8];
 /// built from the file's content (no triangle, a non-finite vertex; the reason of
 /// [`Scene::from_triangles`] is quoted).
 pub fn load_obj(path: &Path) -> Result<Scene> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = wscg_math::error::read_file(path)?;
     let dir = path.parent().unwrap_or_else(|| Path::new(""));
     let mtl_error: RefCell<Option<Error>> = RefCell::new(None);
     let options = tobj::LoadOptions {
@@ -104,7 +104,7 @@ fn mtl_text(obj: &Path, mtl: &Path, name: &Path) -> Result<String> {
     if name.as_os_str().is_empty() {
         return Err(Error::format(obj, "`mtllib` names no file"));
     }
-    let bytes = std::fs::read(mtl).map_err(|e| Error::io(mtl, e))?;
+    let bytes = wscg_math::error::read_file(mtl)?;
     expand_colours(mtl, &bytes)
 }
 
@@ -293,6 +293,24 @@ f 5 6 7 8
                 assert_eq!((s.albedo(i), s.emission(i)), ([0.25; 3], [0.0; 3]));
             }
         }
+    }
+
+    #[test]
+    #[cfg(unix)]
+    fn a_material_library_that_never_ends_is_refused() {
+        // `/dev/zero` would be read until memory runs out: only regular files are read.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("zero.obj");
+        std::fs::write(
+            &path,
+            "mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        )
+        .unwrap();
+        let e = load_obj(&path).unwrap_err();
+        assert!(
+            e.to_string().contains("/dev/zero") && e.to_string().contains("regular"),
+            "{e}"
+        );
     }
 
     /// Odd and hostile lines give a scene or an error, never a panic.

@@ -243,7 +243,10 @@ pub fn estimate(
         if !avail[s] {
             continue;
         }
-        for _ in 0..n_s {
+        for k in 0..n_s {
+            if k % 1024 == 1023 && wscg_math::cancel::requested() {
+                break;
+            }
             let Some(j) = cache.sample(&mix[s], s, rng.random(), rng.random()) else {
                 continue;
             };
@@ -305,14 +308,19 @@ fn per_pixel(
     let rows: Vec<Vec<Rgb>> = (0..g.height)
         .into_par_iter()
         .map(|y| {
+            // After a cancellation request the remaining pixels are skipped (and reported).
             let row = (y * g.width..(y + 1) * g.width)
-                .map(|i| g.points[i].as_ref().map_or([0.0; 3], |x| f(i, x)))
+                .map(|i| match &g.points[i] {
+                    Some(x) if !wscg_math::cancel::requested() => f(i, x),
+                    _ => [0.0; 3],
+                })
                 .collect();
             progress.advance(1);
             row
         })
         .collect();
     progress.finish();
+    wscg_math::cancel::check()?;
     image(g, rows.into_iter().flatten().collect())
 }
 
@@ -354,7 +362,10 @@ pub fn render_power(
         let mut rng = wscg_math::rng::stream(p.seed ^ 0x90_0000_0000, i as u64);
         let mut out = x.emitted;
         let r = x.receiver();
-        for _ in 0..p.spp {
+        for k in 0..p.spp {
+            if k % 1024 == 1023 && wscg_math::cancel::requested() {
+                break;
+            }
             let j = pmf.sample(rng.random());
             let i = sh.contribution(&r, j);
             add(&mut out, &i, 1.0 / (p.spp as f64 * pmf.pdf(j)));

@@ -99,7 +99,8 @@ pub fn cosine_hemisphere(n: &Vector3<f64>, u1: f64, u2: f64) -> Vector3<f64> {
 /// which is then multiplied by the surface's albedo. The paths are traced in parallel with a
 /// random stream each, so the result does not depend on the thread count.
 ///
-/// Errors: no emitter in the scene, `n_paths = 0`.
+/// Errors: no emitter in the scene, `n_paths = 0`; [`Error::OutOfMemory`] naming `n_paths`
+/// when the VPLs cannot fit in memory.
 pub fn generate_vpls(scene: &Scene, s: &VplParams) -> Result<Vec<Vpl>> {
     s.validate()?;
     let emitters = scene.emitters();
@@ -116,10 +117,16 @@ pub fn generate_vpls(scene: &Scene, s: &VplParams) -> Result<Vec<Vpl>> {
         .collect();
     let pick = Pmf::new(&weights)
         .ok_or_else(|| Error::invalid("scene", "the emitters have no luminous power"))?;
+    // At most 1 + max_bounces VPLs per path, held per path and then flattened (twice).
+    let most = wscg_math::alloc::elements("n_paths", &[s.n_paths, 2 + s.max_bounces as usize])?;
+    wscg_math::alloc::ensure::<Vpl>("n_paths", most)?;
     let eps = 1e-6 * scene.diagonal();
     let paths: Vec<Vec<Vpl>> = (0..s.n_paths)
         .into_par_iter()
         .map(|p| {
+            if wscg_math::cancel::requested() {
+                return Vec::new();
+            }
             let mut rng = wscg_math::rng::stream(s.seed, p as u64);
             let k = pick.sample(rng.random());
             let tri = &tris[emitters[k] as usize];
@@ -164,5 +171,6 @@ pub fn generate_vpls(scene: &Scene, s: &VplParams) -> Result<Vec<Vpl>> {
             out
         })
         .collect();
+    wscg_math::cancel::check()?;
     Ok(paths.into_iter().flatten().collect())
 }

@@ -696,6 +696,17 @@ pub fn render_with_progress(
         let mut first = NO_FLAKE;
         let mut ids = Vec::new();
         for k in 0..s.spp {
+            if k % 1024 == 1023 {
+                // A huge sample count stays interruptible (the caller reports it) and keeps
+                // its flake list bounded by the distinct flakes seen.
+                if wscg_math::cancel::requested() {
+                    break;
+                }
+                if ids.len() > 1 << 16 {
+                    ids.sort_unstable();
+                    ids.dedup();
+                }
+            }
             let (u, v) = if stratified {
                 (
                     ((k % side) as f64 + rng.random::<f64>()) / side as f64,
@@ -726,12 +737,16 @@ pub fn render_with_progress(
     let rows: Vec<Vec<PixelResult>> = (0..height)
         .into_par_iter()
         .map(|j| {
+            if wscg_math::cancel::requested() {
+                return Vec::new();
+            }
             let row = (j * width..(j + 1) * width).map(pixel).collect();
             progress.advance(1);
             row
         })
         .collect();
     progress.finish();
+    wscg_math::cancel::check()?;
     let pixels = rows.into_iter().flatten();
     let mut xyz = Vec::with_capacity(3 * width * height);
     let mut flake_id = Vec::with_capacity(width * height);

@@ -108,6 +108,7 @@ pub fn render_many(
                 .zip(&frames)
                 .map(|(cam, frame)| {
                     let out = SliceRun::new(field, &prep, frame, light, settings)?.render();
+                    wscg_math::cancel::check()?;
                     Ok(Rendered {
                         image: image(cam, out.rgba)?,
                         slices: out.slices,
@@ -131,6 +132,7 @@ pub fn render_many(
                 .map(|(cam, frame)| {
                     let (rgba, n) =
                         raycast(field, &sampler, &lut, frame, light, settings, step, shading)?;
+                    wscg_math::cancel::check()?;
                     Ok(Rendered {
                         image: image(cam, rgba)?,
                         slices: n,

@@ -63,6 +63,10 @@ pub(crate) fn raycast(
     let ka = light.ambient;
     let mut rgba = vec![0f32; w * h * 4];
     rgba.par_chunks_mut(4 * w).enumerate().for_each(|(y, row)| {
+        // After a cancellation request the remaining rows are skipped (the caller reports it).
+        if wscg_math::cancel::requested() {
+            return;
+        }
         for (x, px) in row.chunks_mut(4).enumerate() {
             let p0: [f32; 3] =
                 std::array::from_fn(|a| org[a] + x as f32 * dx[a] + y as f32 * dy[a]);

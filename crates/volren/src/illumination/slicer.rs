@@ -275,6 +275,10 @@ impl<'a> SliceRun<'a> {
         // then split among the workers without a caller thread sleeping and waking per pass.
         rayon::scope(|_| {
             for n in 0..self.slicing.n {
+                // Stops early on a cancellation request; the caller reports it.
+                if wscg_math::cancel::requested() {
+                    break;
+                }
                 self.step(&mut st, n);
             }
         });

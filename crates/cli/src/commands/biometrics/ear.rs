@@ -310,7 +310,7 @@ pub fn run(cmd: EarCommand) -> Result<()> {
             }
             let p = params.params()?;
             let path = gallery.join("gallery.json");
-            let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+            let text = wscg_math::error::read_text(&path)?;
             let info: GalleryInfo =
                 serde_json::from_str(&text).map_err(|e| Error::format(&path, e.to_string()))?;
             let arr = npy::read::<f32>(gallery.join("templates.npy"))?;

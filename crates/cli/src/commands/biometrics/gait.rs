@@ -250,7 +250,7 @@ fn write_json(path: &Path, v: &impl Serialize) -> Result<()> {
 }
 
 fn read_model(path: &Path) -> Result<ModelFile> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = wscg_math::error::read_text(path)?;
     serde_json::from_str(&text).map_err(|e| Error::Format {
         path: path.to_path_buf(),
         reason: format!("not a gait model written by `wscg biometrics gait enroll`: {e}"),

@@ -450,7 +450,7 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
                 let inputs = queries.iter().chain(npy_path.as_ref()).chain([&model]);
                 crate::commands::overwrite::check_file("scores", out, inputs)?;
             }
-            let text = std::fs::read_to_string(&model).map_err(|e| Error::io(&model, e))?;
+            let text = wscg_math::error::read_text(&model)?;
             let file: ModelFile = serde_json::from_str(&text)
                 .map_err(|e| Error::format(&model, format!("not a wscg SFA model: {e}")))?;
             let inner = file.model.to_string();

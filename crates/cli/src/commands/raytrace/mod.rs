@@ -126,7 +126,7 @@ struct PaintDescription {
 
 /// Reads a paint description file.
 fn read_paint(path: &Path) -> Result<PaintDescription> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = wscg_math::error::read_text(path)?;
     serde_json::from_str(&text).map_err(|e| Error::format(path, e.to_string()))
 }
 

@@ -225,7 +225,7 @@ fn load_tf(spec: &str) -> Result<TransferFunction> {
         _ => {}
     }
     let path = Path::new(spec);
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = wscg_math::error::read_text(path)?;
     let pts: Vec<[f32; 5]> = serde_json::from_str(&text).map_err(|e| Error::Format {
         path: path.to_path_buf(),
         reason: format!("expected [[s, r, g, b, a], ...]: {e}"),

@@ -125,7 +125,7 @@ fn load_volume(a: &VolumeArgs) -> Result<Volume<u8>> {
 
 /// Reads the transfer-function file.
 fn load_tfs(path: &Path) -> Result<(Vec<PiecewiseTransferFunction>, usize)> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = wscg_math::error::read_text(path)?;
     let bad = |m: String| Error::format(path, m);
     let json: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| bad(format!("not JSON: {e}")))?;
