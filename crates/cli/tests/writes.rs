@@ -126,10 +126,9 @@ fn meshfilter_and_octree_refuse_to_write_over_the_input_mesh() {
     assert!(wscg::octree::HybridOctree::load(&tree).is_ok());
 }
 
-#[test]
-fn mri_recon_refuses_to_write_over_the_k_space_or_the_mask() {
-    let dir = tempfile::tempdir().unwrap();
-    let (k, m) = (dir.path().join("k.npy"), dir.path().join("mask.npy"));
+/// A 32 x 32 k-space (`k.npy`) and a Cartesian mask (`mask.npy`) made by the CLI in `dir`.
+fn mri_inputs(dir: &Path) -> (PathBuf, PathBuf) {
+    let (k, m) = (dir.join("k.npy"), dir.join("mask.npy"));
     ok(&["mri", "phantom", "--size", "32", "--out", s(&k)]);
     ok(&[
         "mri",
@@ -141,6 +140,13 @@ fn mri_recon_refuses_to_write_over_the_k_space_or_the_mask() {
         "--out",
         s(&m),
     ]);
+    (k, m)
+}
+
+#[test]
+fn mri_recon_refuses_to_write_over_the_k_space_or_the_mask() {
+    let dir = tempfile::tempdir().unwrap();
+    let (k, m) = mri_inputs(dir.path());
     let recon = [
         "mri",
         "recon",
@@ -316,18 +322,7 @@ fn a_full_disk_is_an_error_and_keeps_the_previous_output() {
         "2",
     ]);
     let ct = d.join("ct.nii");
-    let (k, m) = (d.join("k.npy"), d.join("mask.npy"));
-    ok(&["mri", "phantom", "--size", "32", "--out", s(&k)]);
-    ok(&[
-        "mri",
-        "mask",
-        "--cartesian",
-        "0.5",
-        "--size",
-        "32x32",
-        "--out",
-        s(&m),
-    ]);
+    let (k, m) = mri_inputs(d);
     let old = b"previous content".to_vec();
     let cases: Vec<(&str, Vec<String>)> = vec![
         (
