@@ -163,10 +163,8 @@ fn mri_recon_refuses_to_write_over_the_k_space_or_the_mask() {
     assert!(wscg::math::npy::read_complex(&k).is_ok());
 }
 
-#[test]
-fn volseg_split_refuses_to_write_over_the_ct() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
+/// A small CT phantom (`ct.nii`, `seeds.nii`, ...) written by the CLI into `d`.
+fn volseg_phantom(d: &Path) {
     ok(&[
         "volseg",
         "phantom",
@@ -177,6 +175,13 @@ fn volseg_split_refuses_to_write_over_the_ct() {
         "--fragments",
         "2",
     ]);
+}
+
+#[test]
+fn volseg_split_refuses_to_write_over_the_ct() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    volseg_phantom(d);
     let (ct, seeds) = (d.join("ct.nii"), d.join("seeds.nii"));
     let split = ["volseg", "split", s(&ct), "--seeds", s(&seeds), "--out"];
     refused(&[&split[..], &[s(&ct)]].concat(), s(&ct), &ct);
@@ -311,16 +316,7 @@ fn a_full_disk_is_an_error_and_keeps_the_previous_output() {
         .save(&img)
         .unwrap();
     let mesh = small_mesh(d);
-    ok(&[
-        "volseg",
-        "phantom",
-        "--out",
-        s(d),
-        "--size",
-        "24",
-        "--fragments",
-        "2",
-    ]);
+    volseg_phantom(d);
     let ct = d.join("ct.nii");
     let (k, m) = mri_inputs(d);
     let old = b"previous content".to_vec();

@@ -818,7 +818,7 @@ pub fn generate_with(cfg: &HandposeSynthParams, jitter: &Jitter) -> Result<Synth
     })
 }
 
-/// Rotates a binary `h x w` mask by `degrees` (counter-clockwise as displayed, y pointing
+/// Rotates a binary single-channel mask by `degrees` (counter-clockwise as displayed, y pointing
 /// down) about the centroid of its foreground, by nearest-neighbour resampling: output pixel
 /// `q` takes the value of the input pixel nearest to the centroid + `R(-degrees) (q -
 /// centroid)`, 0 when that falls outside the image. The output is 0/1. Multiples of 90 degrees
@@ -874,7 +874,7 @@ pub fn rotate_mask(mask: ImageView<'_, u8>, degrees: f64) -> Result<Image<u8>> {
     Image::new(h, w, 1, out)
 }
 
-/// Area-average downscaling of a binary `h x w` mask by an integer `factor`: each output value
+/// Area-average downscaling of a binary single-channel `h x w` mask by an integer `factor`: each output value
 /// is the fraction of foreground pixels in its `factor x factor` block (in `[0, 1]`), an
 /// image of `ceil(h / factor) x ceil(w / factor)`; blocks cut by the image edge average the
 /// pixels they hold. 120 x 165 by 3 gives 40 x 55.
@@ -1067,7 +1067,7 @@ fn frame_rows(masks: ImageStackView<'_, u8>, jobs: &[(usize, f64)]) -> Result<Ve
     Ok(x)
 }
 
-/// The rows of the given frames of a mask stack (`n x h x w` bytes), each rotated about its
+/// The rows of the given frames of a mask stack, each rotated about its
 /// centroid by an angle `~ U(lo, hi)` degrees with a random sign, then downscaled as
 /// [`split_protocol`] does: the test of the rotational invariance that the augmentation trains
 /// (§3.2.1; `lo = 10`, `hi = 20`, `frames` = [`Split::test_index`]). With `lo = hi = 0` the
