@@ -25,6 +25,7 @@ mod hdr;
 mod illum;
 mod isosurface;
 mod limits;
+mod logs;
 mod manylight;
 mod math;
 mod meshfilter;
@@ -43,6 +44,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     pool::register(m)?;
     limits::register(m)?;
+    logs::install(m.py())?;
     type Register = fn(&Bound<'_, PyModule>) -> PyResult<()>;
     let subs: [(&str, Register); 17] = [
         ("math", math::register),

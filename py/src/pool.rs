@@ -202,9 +202,9 @@ where
     if pool.current_thread_index().is_some() {
         // Called back from inside the pool's own work: waiting here could hold the only
         // worker, so run in place.
-        return py
-            .detach(f)
-            .map_err(|payload| panic_error(payload.as_ref()));
+        let out = py.detach(f);
+        crate::logs::flush(py);
+        return out.map_err(|payload| panic_error(payload.as_ref()));
     }
     let done = Done::default();
     let mut out = None;
@@ -218,6 +218,7 @@ where
             *slot = Some(f());
         });
         while !py.detach(|| done.wait(SLICE)) {
+            crate::logs::flush(py);
             // SAFETY: the GIL is held (outside `py.detach`); the call reads and clears the
             // interpreter's SIGINT flag and is a no-op off the main thread.
             if request.is_none() && unsafe { pyo3::ffi::PyOS_InterruptOccurred() } != 0 {
@@ -225,6 +226,7 @@ where
             }
         }
     });
+    crate::logs::flush(py);
     if request.take().is_some() {
         // SAFETY: GIL held; marks SIGINT pending again so that Python runs its handler.
         unsafe { pyo3::ffi::PyErr_SetInterrupt() };

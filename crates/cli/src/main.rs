@@ -8,6 +8,7 @@ use clap::Parser;
 mod commands;
 mod demo;
 mod gallery;
+mod logging;
 mod progress;
 
 fn main() -> ExitCode {

@@ -21,8 +21,10 @@ impl Bars {
 
 impl Progress for Bars {
     fn begin(&self, stage: &str, total: u64) {
-        self.bar
-            .set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        if !crate::logging::quiet() {
+            self.bar
+                .set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        }
         self.bar.reset();
         self.bar.set_length(total);
         self.bar.set_style(

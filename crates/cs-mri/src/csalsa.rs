@@ -377,6 +377,10 @@ pub fn csalsa(
     }
     fourier.inverse(&mut xhat);
     xhat.iter_mut().for_each(|v| *v *= s);
+    log::info!(
+        "C-SALSA on {rows} x {cols}: {iters} of at most {} iterations",
+        p.max_iter
+    );
     Ok(Reconstruction {
         image: xhat,
         shape: (rows, cols),

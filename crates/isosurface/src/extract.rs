@@ -364,6 +364,18 @@ fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineParams>) -> Result<IsoM
         mesh.cell_config.extend_from_slice(&l.cells);
         mesh.stats.skipped_cells += l.skipped;
     }
+    log::debug!(
+        "marching cubes at level {iso}: {} vertices, {} triangles",
+        mesh.vertices.len(),
+        mesh.triangles.len()
+    );
+    if mesh.stats.skipped_cells > 0 {
+        log::info!(
+            "marching cubes at level {iso}: {} cells with missing corners whose sides could not \
+             be inferred were skipped (give a side hint to triangulate them)",
+            mesh.stats.skipped_cells
+        );
+    }
     Ok(mesh)
 }
 

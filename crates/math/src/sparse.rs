@@ -515,6 +515,7 @@ pub fn pcg(
             .for_each(|(p, z)| *p = z + beta * *p);
         it += 1;
     }
+    log_solve("conjugate gradients", it, rnorm / bnorm, rnorm <= target);
     Ok(PcgResult {
         x,
         iterations: it,
@@ -551,7 +552,8 @@ pub fn conjugate_residual(
     let mut r = vec![0.0; n];
     a.apply(&x, &mut r);
     r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
-    let target = opts.tol * dot(b, b).sqrt();
+    let bnorm = dot(b, b).sqrt();
+    let target = opts.tol * bnorm;
     let mut rnorm = dot(&r, &r).sqrt();
     let mut residuals = vec![rnorm];
     let mut p = r.clone();
@@ -588,12 +590,33 @@ pub fn conjugate_residual(
             ap[i] = ar[i] + beta * ap[i];
         }
     }
+    log_solve(
+        "conjugate residual",
+        it,
+        rnorm / bnorm.max(f64::MIN_POSITIVE),
+        rnorm <= target,
+    );
     Ok(ConjugateResidualResult {
         x,
         iterations: it,
         converged: rnorm <= target,
         residuals,
     })
+}
+
+/// One log record per Krylov solve: its iterations and relative residual at debug level, a
+/// warning when it stopped at the iteration cap (the result says so too, in `converged`).
+fn log_solve(method: &str, iterations: usize, relative_residual: f64, converged: bool) {
+    if converged {
+        log::debug!(
+            "{method}: converged in {iterations} iterations, relative residual {relative_residual:.3e}"
+        );
+    } else {
+        log::warn!(
+            "{method}: stopped after {iterations} iterations at relative residual \
+             {relative_residual:.3e}, above the tolerance"
+        );
+    }
 }
 
 #[cfg(test)]

@@ -1219,6 +1219,11 @@ fn fit_checked(x: &TrialSet, cfg: &AnechoicParams) -> Result<AnechoicModel> {
             break;
         }
     }
+    log::info!(
+        "anechoic demixing: best of {} starts after {} iterations, quality Q = {q:.4}",
+        cfg.restarts,
+        hist.len() - 1
+    );
     Ok(state.into_model(&sp, q, hist))
 }
 

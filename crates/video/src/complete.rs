@@ -170,6 +170,12 @@ pub fn complete_in_place(
     progress.finish();
     stats.lowres = low;
     stats.seconds[0] = clock.elapsed().as_secs_f64();
+    log::info!(
+        "stage 1 (low-resolution completion) at {} x {}: {:.2} s",
+        wv.width,
+        wv.height,
+        stats.seconds[0]
+    );
     let clock = Instant::now();
     if let Some(rc) = &cfg.refine {
         progress.begin("match refinement", 1);
@@ -227,6 +233,15 @@ pub fn complete_in_place(
         };
         progress.advance(cfg.local.iteration_cap() as u64);
         progress.finish();
+        log::info!(
+            "stage 3 at {} x {}: {} sweeps over {} hole pixels, energy {:.4e} -> {:.4e}",
+            lv.width,
+            lv.height,
+            st.energy.len(),
+            st.hole_pixels,
+            st.energy.first().copied().unwrap_or(0.0),
+            st.energy.last().copied().unwrap_or(0.0)
+        );
         stats.local.push(st);
         ml = field;
         f = next;

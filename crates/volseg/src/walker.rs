@@ -329,6 +329,7 @@ impl RandomWalkSession {
                 x[i * k + s as usize - 1] = T::from_f64(1.0);
             }
         }
+        log_report(&report, warm);
         Ok((wrap(x), report))
     }
 
@@ -399,5 +400,31 @@ impl RandomWalkSession {
             out[self.graph.voxel(i)] = l;
         }
         Volume::new(self.graph.dims(), self.graph.spacing(), out)
+    }
+}
+
+/// One record per solve: labels, iterations and time at info level; a warning naming the
+/// labels that stopped at the iteration cap (their probabilities are approximate).
+fn log_report(report: &SolveReport, warm: bool) {
+    let seconds: f64 = report.seconds.iter().sum();
+    log::info!(
+        "random walker ({}): {} labels, iterations {:?}, {seconds:.2} s",
+        if warm { "warm re-solve" } else { "cold solve" },
+        report.iterations.len(),
+        report.iterations
+    );
+    let stopped: Vec<usize> = (0..report.converged.len())
+        .filter(|&l| !report.converged[l])
+        .map(|l| l + 1)
+        .collect();
+    if !stopped.is_empty() {
+        log::warn!(
+            "random walker: labels {stopped:?} reached the iteration cap before the tolerance \
+             (relative residuals {:?})",
+            stopped
+                .iter()
+                .map(|&l| report.residuals[l - 1])
+                .collect::<Vec<_>>()
+        );
     }
 }

@@ -54,6 +54,16 @@ import, else ``RAYON_NUM_THREADS``, else one thread per CPU core) and read back 
 :func:`get_num_threads`. A process created by ``fork`` (``multiprocessing``,
 ``ProcessPoolExecutor``, joblib) starts its own pool on its first wscg call.
 
+Logging: the Rust code reports through Python's :mod:`logging`, on the logger ``wscg`` and its
+children named after the Rust module (``wscg.volseg.walker``, ``wscg.math.sparse``,
+``wscg.math.io.nifti``, ...): solver convergence and stage summaries at ``INFO`` and
+``DEBUG``, problems a result does not show at ``WARNING`` (a solver stopped at its iteration
+cap, a NIfTI orientation that is not applied). Nothing is shown until the application configures logging (the ``wscg`` logger has
+only a ``NullHandler``):
+``logging.basicConfig(level=logging.INFO)`` or
+``logging.getLogger("wscg").setLevel(logging.DEBUG)`` with a handler shows them. Records
+written on worker threads reach ``logging`` from the calling thread while it waits, in order.
+
 Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files). A negative or
 too large integer for a count, size or seed raises :class:`IntegerRangeError`, a
 ``ValueError`` (and ``OverflowError``) that names the argument.
@@ -71,6 +81,8 @@ it stops every wscg call running in the process at that moment.
 
 from __future__ import annotations
 
+import logging as _logging
+
 import numpy as _np
 
 from . import _native
@@ -78,6 +90,9 @@ from ._checks import IntegerRangeError, _int
 from . import biometrics, cloth, csmri, deblur, doe, ear, gait, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren, volseg
 
 __version__: str = _native.__version__
+
+# A library's logger stays silent until the application configures logging.
+_logging.getLogger("wscg").addHandler(_logging.NullHandler())
 
 #: Most threads :func:`set_num_threads` accepts.
 MAX_THREADS = 1024

@@ -34,6 +34,13 @@ pub struct Cli {
     /// without it such a command is refused.
     #[arg(long, global = true)]
     overwrite: bool,
+    /// More messages on standard error: -v the stages of each method, -vv solver details
+    /// (iterations, residuals), -vvv everything. Default: warnings and errors.
+    #[arg(short, long, action = clap::ArgAction::Count, global = true)]
+    verbose: u8,
+    /// Errors only on standard error: no warnings, no progress bars.
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -113,6 +120,7 @@ enum Command {
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<()> {
     overwrite::allow(cli.overwrite);
+    crate::logging::init(cli.verbose, cli.quiet);
     match cli.command {
         Command::Demo { name, out, list } => {
             if list || name.is_none() {

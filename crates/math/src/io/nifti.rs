@@ -329,7 +329,45 @@ fn read_nifti_stream(
             1.0
         }
     });
+    if let Some(what) = unapplied_orientation(&header) {
+        log::warn!(
+            "{}: the file's {what} rotates or flips the axes, which is not applied: the volume \
+             keeps the stored voxel order (axis x of the file is axis x of the volume)",
+            path.display()
+        );
+    }
+    log::debug!(
+        "read {}: {} x {} x {} voxels, spacing {:?} (x, y, z)",
+        path.display(),
+        dims[0],
+        dims[1],
+        dims[2],
+        spacing
+    );
     Volume::new(dims, spacing, data)
+}
+
+/// Which of the header's transforms (`"sform"`, `"qform"`) is more than a positive scaling and
+/// a shift, if any: a rotation, an oblique axis or a flip that [`Volume`] does not keep.
+fn unapplied_orientation(h: &nifti::NiftiHeader) -> Option<&'static str> {
+    if h.sform_code > 0 {
+        let rows = [h.srow_x, h.srow_y, h.srow_z];
+        let oriented = (0..3).any(|r| {
+            (0..3).any(|c| {
+                let v = rows[r][c];
+                if r == c {
+                    v < 0.0
+                } else {
+                    v != 0.0
+                }
+            })
+        });
+        return oriented.then_some("sform");
+    }
+    let rotated = [h.quatern_b, h.quatern_c, h.quatern_d]
+        .iter()
+        .any(|&q| q != 0.0);
+    (h.qform_code > 0 && (rotated || h.pixdim[0] < 0.0)).then_some("qform")
 }
 
 #[cfg(test)]
