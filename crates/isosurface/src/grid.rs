@@ -74,7 +74,8 @@ impl<'a> ScalarGrid<'a> {
         Ok(self)
     }
 
-    /// Checks dims (each >= 2), the value count, the spacing (finite, > 0) and the hint length.
+    /// Checks dims (each >= 2), the value count, the values (finite or NaN), the spacing
+    /// (finite, > 0) and the hint length.
     pub fn validate(&self) -> Result<()> {
         for (axis, &n) in ["x", "y", "z"].iter().zip(&self.dims) {
             if n < 2 {
@@ -103,6 +104,22 @@ impl<'a> ScalarGrid<'a> {
                     format!("must be finite and > 0 along {axis}, got {h}"),
                 ));
             }
+        }
+        // NaN marks a missing sample; an infinite one has no place on an edge (the crossing
+        // point of an edge from 1 to inf is at its first end, its normals are NaN).
+        if let Some(i) = self.values.iter().position(|v| v.is_infinite()) {
+            let (nx, ny) = (self.dims[0], self.dims[1]);
+            return Err(Error::invalid(
+                "volume",
+                format!(
+                    "sample [z={}, y={}, x={}] is {}: values must be finite, or NaN for a \
+                     missing sample",
+                    i / (nx * ny),
+                    (i / nx) % ny,
+                    i % nx,
+                    self.values[i]
+                ),
+            ));
         }
         if let Some(bits) = self.side_hint {
             if bits.len() != n.div_ceil(8) {
@@ -278,6 +295,16 @@ mod tests {
         let g = ScalarGrid::new([2, 2, 2], &v).unwrap();
         assert!(g.with_side_hint(&[0, 0]).is_err());
         assert!(g.with_side_hint(&[0]).is_ok());
+        // Infinite samples are refused by position; NaN is a missing sample.
+        let mut w: Vec<f32> = vec![0.0; 3 * 2 * 2];
+        w[7] = f32::NAN;
+        assert!(ScalarGrid::new([3, 2, 2], &w).is_ok());
+        w[10] = f32::NEG_INFINITY;
+        let err = ScalarGrid::new([3, 2, 2], &w).unwrap_err().to_string();
+        assert!(
+            err.contains("[z=1, y=1, x=1]") && err.contains("-inf"),
+            "{err}"
+        );
     }
 
     #[test]

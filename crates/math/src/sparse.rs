@@ -449,6 +449,56 @@ pub fn pcg(
     precond: &dyn Preconditioner,
     opts: &PcgParams,
 ) -> Result<PcgResult> {
+    solve_scaled(
+        b,
+        guess,
+        |b, guess| pcg_in_range(a, b, guess, precond, opts),
+        |r, s| r.x.iter_mut().for_each(|v| *v *= s),
+    )
+}
+
+/// The factor that brings `b`'s largest entry to 1 when squaring the entries could overflow
+/// or underflow (largest magnitude beyond 1e±150), else None.
+fn rhs_scale(b: &[f64]) -> Option<f64> {
+    let m = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    (m > 0.0 && m.is_finite() && !(1e-150..=1e150).contains(&m)).then_some(m)
+}
+
+/// Runs a Krylov solve on `A x = b / s` with the guess divided by `s` and multiplies the
+/// solution (and any absolute residual) by `s` through `rescale`, where `s` is [`rhs_scale`]: the iterates' dot products stay in range for
+/// any finite `b` (without it a right-hand side of 1e300 overflows `b'b` and the solver
+/// reports `x = 0` as converged). The relative residual does not change with `s`.
+fn solve_scaled<T>(
+    b: &[f64],
+    guess: InitialGuess<'_>,
+    solve: impl FnOnce(&[f64], InitialGuess<'_>) -> Result<T>,
+    rescale: impl FnOnce(&mut T, f64),
+) -> Result<T> {
+    let Some(s) = rhs_scale(b) else {
+        return solve(b, guess);
+    };
+    let scaled: Vec<f64> = b.iter().map(|v| v / s).collect();
+    let start: Vec<f64>;
+    let guess = match guess {
+        InitialGuess::Zero => InitialGuess::Zero,
+        InitialGuess::Given(x0) => {
+            start = x0.iter().map(|v| v / s).collect();
+            InitialGuess::Given(&start)
+        }
+    };
+    let mut out = solve(&scaled, guess)?;
+    rescale(&mut out, s);
+    Ok(out)
+}
+
+/// [`pcg`] for a right-hand side whose squared norm does not overflow.
+fn pcg_in_range(
+    a: &dyn LinOp,
+    b: &[f64],
+    guess: InitialGuess<'_>,
+    precond: &dyn Preconditioner,
+    opts: &PcgParams,
+) -> Result<PcgResult> {
     let (n, mut x, max_iter) = krylov_setup("conjugate gradient", a, b, guess, opts)?;
     let bnorm = dot(b, b).sqrt();
     if bnorm == 0.0 {
@@ -543,6 +593,24 @@ pub struct ConjugateResidualResult {
 ///
 /// Errors: as [`pcg`]; [`Error::Numerical`] when `A p = 0` for a search direction.
 pub fn conjugate_residual(
+    a: &dyn LinOp,
+    b: &[f64],
+    guess: InitialGuess<'_>,
+    opts: &PcgParams,
+) -> Result<ConjugateResidualResult> {
+    solve_scaled(
+        b,
+        guess,
+        |b, guess| conjugate_residual_in_range(a, b, guess, opts),
+        |r, s| {
+            r.x.iter_mut().for_each(|v| *v *= s);
+            r.residuals.iter_mut().for_each(|v| *v *= s);
+        },
+    )
+}
+
+/// [`conjugate_residual`] for a right-hand side whose squared norm does not overflow.
+fn conjugate_residual_in_range(
     a: &dyn LinOp,
     b: &[f64],
     guess: InitialGuess<'_>,
@@ -837,6 +905,43 @@ mod tests {
         assert!(CsrMatrix::from_csr_arrays(2, 2, &[0, 1, 2], &[0, 2], &[1.0, 1.0]).is_err());
         assert!(CsrMatrix::from_csr_arrays(2, 2, &[0, 1, 2], &[0, 1], &[1.0, f64::NAN]).is_err());
         assert!(CsrMatrix::from_triplets(2, 2, &[(0, 0, f64::NAN)]).is_err());
+    }
+
+    #[test]
+    fn right_hand_sides_near_the_float_range_solve_like_their_scaled_copies() {
+        // b'b overflows for b ~ 1e300 and underflows for b ~ 1e-300; the solution is linear
+        // in b, so x(b s) = s x(b) must hold at both ends.
+        let a = CsrMatrix::laplacian_3d(6, 5, 4).unwrap();
+        let n = a.nrows();
+        let b: Vec<f64> = (0..n).map(|i| 1.0 + (i % 7) as f64).collect();
+        let opts = PcgParams::default().tol(1e-10);
+        let unit = pcg(&a, &b, InitialGuess::Zero, &IdentityPrecond, &opts).unwrap();
+        for s in [1e300, 1e-300] {
+            let big: Vec<f64> = b.iter().map(|v| v * s).collect();
+            let guess: Vec<f64> = unit.x.iter().map(|v| 0.5 * v * s).collect();
+            for g in [InitialGuess::Zero, InitialGuess::Given(&guess)] {
+                let r = pcg(&a, &big, g, &IdentityPrecond, &opts).unwrap();
+                assert!(r.converged && r.relative_residual.is_finite(), "{s}: {r:?}");
+                for (x, u) in r.x.iter().zip(&unit.x) {
+                    assert!(
+                        (x / s - u).abs() <= 1e-8 * u.abs().max(1.0),
+                        "{s}: {x} vs {u}"
+                    );
+                }
+            }
+            let cr = conjugate_residual(&a, &big, InitialGuess::Zero, &opts).unwrap();
+            assert!(cr.converged, "{s}");
+            assert!(
+                (cr.residuals[0] / s - b.iter().map(|v| v * v).sum::<f64>().sqrt()).abs()
+                    <= 1e-9 * b.iter().map(|v| v * v).sum::<f64>().sqrt()
+            );
+            for (x, u) in cr.x.iter().zip(&unit.x) {
+                assert!(
+                    (x / s - u).abs() <= 1e-7 * u.abs().max(1.0),
+                    "{s}: {x} vs {u}"
+                );
+            }
+        }
     }
 
     #[test]

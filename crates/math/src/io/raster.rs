@@ -86,6 +86,9 @@ pub fn decode_dynamic(bytes: &[u8], origin: &Path) -> Result<DynamicImage> {
             "not a recognised image (PNG, JPEG, OpenEXR or Radiance HDR)",
         ));
     }
+    if reader.format() == Some(ImageFormat::Jpeg) {
+        check_jpeg_complete(bytes, origin)?;
+    }
     let max_pixels = max_image_pixels();
     let mut limits = Limits::default();
     limits.max_image_width = Some(MAX_DECODE_SIDE);
@@ -103,6 +106,29 @@ pub fn decode_dynamic(bytes: &[u8], origin: &Path) -> Result<DynamicImage> {
         )));
     }
     DynamicImage::from_decoder(decoder).map_err(|e| image_error(origin, e))
+}
+
+/// Refuses a JPEG stream that ends before its end-of-image marker. The JPEG decoder fills
+/// the missing part of a truncated file (an interrupted download or copy) with grey and
+/// reports no error; this check makes it an error naming the file, as libjpeg and PIL do.
+///
+/// The marker `FF D9` is looked for after the first start-of-scan (`FF DA`): inside
+/// entropy-coded data every `FF` byte is followed by `00` or a restart marker (ITU-T T.81,
+/// B.1.1.5), so `FF D9` there can only be the end of the image; an EXIF thumbnail's own end
+/// marker comes before the main scan.
+fn check_jpeg_complete(bytes: &[u8], origin: &Path) -> Result<()> {
+    let scan = bytes.windows(2).position(|w| w == [0xFF, 0xDA]);
+    let complete =
+        scan.is_some_and(|start| bytes[start + 2..].windows(2).any(|w| w == [0xFF, 0xD9]));
+    if complete {
+        Ok(())
+    } else {
+        Err(Error::format(
+            origin,
+            "truncated JPEG: the file ends before its end-of-image marker (an incomplete \
+             download or copy?)",
+        ))
+    }
 }
 
 impl Image<f32> {
@@ -393,6 +419,47 @@ mod tests {
         assert!(err < 0.05, "{err}");
         assert!(ramp(4, 4, 2).encode_jpeg(80).is_err());
         assert!(img.encode_jpeg(0).is_err());
+    }
+
+    #[test]
+    fn truncated_jpeg_and_png_files_are_refused() {
+        // A photograph-like image (smooth ramp plus texture), so that half of the file is
+        // well inside the entropy-coded scan.
+        let img = ramp(64, 96, 3);
+        for (name, bytes) in [
+            ("half.jpg", img.encode_jpeg(90).unwrap()),
+            ("half.png", {
+                let mut out = Vec::new();
+                img.to_dynamic(PixelDepth::U8)
+                    .unwrap()
+                    .write_to(&mut Cursor::new(&mut out), ImageFormat::Png)
+                    .unwrap();
+                out
+            }),
+        ] {
+            assert!(Image::decode(&bytes, Path::new(name)).is_ok());
+            // A JPEG cut anywhere loses its end-of-image marker; a PNG cut after its last
+            // pixel row but inside the IEND chunk is complete, as for libpng.
+            let cuts = if name.ends_with(".jpg") {
+                vec![bytes.len() / 2, bytes.len() - 2]
+            } else {
+                vec![bytes.len() / 2]
+            };
+            for cut in cuts {
+                let Err(err) = Image::decode(&bytes[..cut], Path::new(name)) else {
+                    panic!("{name} cut at {cut} of {} bytes decoded", bytes.len());
+                };
+                assert!(
+                    matches!(err, Error::Format { .. }) || matches!(err, Error::Io { .. }),
+                    "{name} cut at {cut}: {err}"
+                );
+                assert!(err.to_string().contains(name), "{err}");
+            }
+        }
+        // Bytes after the end-of-image marker (some cameras append data) are accepted.
+        let mut padded = img.encode_jpeg(90).unwrap();
+        padded.extend_from_slice(&[0u8; 64]);
+        assert!(Image::decode(&padded, Path::new("padded.jpg")).is_ok());
     }
 
     #[test]
