@@ -2594,6 +2594,37 @@ fn volseg_splits_a_phantom_and_beats_the_baseline() {
         .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("label must be >= 1"));
+    // A stroke outside the volume, or one that covers no voxel centre, is refused by its
+    // number and label (it used to drop that label silently).
+    for (stroke, expected) in [
+        (
+            r#"{"label": 2, "points": [[10, 10, 64.5]]}"#,
+            "stroke 1 (label 2) has the point",
+        ),
+        (
+            r#"{"label": 2, "points": [[10, -1, 3]]}"#,
+            "outside the volume",
+        ),
+        (
+            r#"{"label": 2, "points": [[10.5, 10.5, 3], [4.5, 4, 3]], "radius": 0.4}"#,
+            "covers no voxel",
+        ),
+        (r#"{"label": 2, "points": []}"#, "has no points"),
+    ] {
+        std::fs::write(&json, format!("[{}, {stroke}]", strokes[0])).unwrap();
+        let out = wscg()
+            .args(["volseg", "split", ct.to_str().unwrap(), "--strokes"])
+            .arg(&json)
+            .args(["--out", "x.nii"])
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{stroke}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains(expected) && err.contains("strokes.json"),
+            "{stroke}: {err}"
+        );
+    }
     let demo = dir.path().join("demo");
     let text = wscg_ok(&["demo", "bonesplit", "--out", demo.to_str().unwrap()]);
     assert!(text.contains("DSC geodesic nearest seed"), "{text}");

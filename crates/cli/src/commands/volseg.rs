@@ -146,11 +146,36 @@ fn strokes_volume(path: &Path, like: &Volume<f32>) -> Result<Volume<u16>> {
                 format!("stroke {n}: label must be >= 1 and radius finite and >= 0"),
             ));
         }
+        if s.points.is_empty() {
+            return Err(Error::invalid(
+                "strokes",
+                format!(
+                    "{}: stroke {n} (label {}) has no points",
+                    path.display(),
+                    s.label
+                ),
+            ));
+        }
+        let mut painted = false;
         for c in &s.points {
             if c.iter().any(|x| !x.is_finite()) {
                 return Err(Error::invalid(
                     "strokes",
                     format!("stroke {n}: non-finite point"),
+                ));
+            }
+            if c.iter().zip(d).any(|(&x, n)| x < 0.0 || x > (n - 1) as f64) {
+                return Err(Error::invalid(
+                    "strokes",
+                    format!(
+                        "{}: stroke {n} (label {}) has the point {c:?} outside the volume: \
+                         points are voxel indices [x, y, z] within [0, {}] x [0, {}] x [0, {}]",
+                        path.display(),
+                        s.label,
+                        d[0] - 1,
+                        d[1] - 1,
+                        d[2] - 1
+                    ),
                 ));
             }
             let lo = c.map(|x| (x - s.radius).floor().max(0.0) as usize);
@@ -163,10 +188,23 @@ fn strokes_volume(path: &Path, like: &Volume<f32>) -> Result<Volume<u16>> {
                             + (z as f64 - c[2]).powi(2);
                         if r2 <= s.radius * s.radius {
                             v.set(x, y, z, s.label);
+                            painted = true;
                         }
                     }
                 }
             }
+        }
+        if !painted {
+            return Err(Error::invalid(
+                "strokes",
+                format!(
+                    "{}: stroke {n} (label {}) covers no voxel centre (radius {} around \
+                     non-integer points): give a radius of at least 0.5",
+                    path.display(),
+                    s.label,
+                    s.radius
+                ),
+            ));
         }
     }
     Ok(v)
