@@ -297,9 +297,7 @@ fn method_in(
     let hl = hl_params(lam, alpha, beta_max);
     Ok(match Method::by_name(name).py_err()? {
         Method::Wiener { .. } => Method::Wiener { nsr },
-        Method::RichardsonLucy { .. } => Method::RichardsonLucy {
-            iters: rl_n_iter,
-        },
+        Method::RichardsonLucy { .. } => Method::RichardsonLucy { iters: rl_n_iter },
         Method::HyperLaplacian(_) => Method::HyperLaplacian(hl),
         Method::GlobalUniform(_) => Method::GlobalUniform(hl),
     })
@@ -617,7 +615,12 @@ fn render_blurred<'py>(
 }
 
 #[pyfunction]
-fn make_scene<'py>(py: Python<'py>, height: usize, width: usize, seed: u64) -> PyResult<Arr<'py, f32>> {
+fn make_scene<'py>(
+    py: Python<'py>,
+    height: usize,
+    width: usize,
+    seed: u64,
+) -> PyResult<Arr<'py, f32>> {
     let img = crate::pool::detach(py, || synth::scene(height, width, seed)).py_err()?;
     crate::convert::image_array(py, img, true)
 }

@@ -506,8 +506,10 @@ fn patchmatch_2d<'py>(
     seed: u64,
 ) -> PyResult<Field<'py>> {
     let (ia, ib) = (float_in("a", &a)?, float_in("b", &b)?);
-    let f = crate::pool::detach(py, || wscg_hdr::patchmatch_2d(&ia, &ib, patch, n_iter, seed))
-        .py_err()?;
+    let f = crate::pool::detach(py, || {
+        wscg_hdr::patchmatch_2d(&ia, &ib, patch, n_iter, seed)
+    })
+    .py_err()?;
     nnf_out(py, f)
 }
 
