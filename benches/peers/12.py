@@ -59,7 +59,7 @@ def main():
     cx, cy = (w - 1) / 2, (h - 1) / 2
     truth = sharp ** (1 / 2.2)
     lin = (frames[2] ** 2.2).astype(np.float64)
-    kernels = deblur.kernel_grid(gyro, times[2], EXPOSURE, F, cx, cy, w, h, t_delay=DELAY)
+    kernels = deblur.kernel_grid(gyro, times[2], EXPOSURE, F, cx, cy, h, w, t_delay=DELAY)
 
     def q(x):
         return quality(np.clip(x, 0, 1) ** (1 / 2.2), truth)[0]

@@ -354,7 +354,7 @@ fn deblur_piecewise<'py>(
 }
 
 #[pyfunction]
-#[pyo3(signature = (frames, frame_times, gyro, cam, tim, main, mu, lam, alpha, beta_max, gamma, align, min_ncc, radius, tile, r_cam_imu=None, bias=None))]
+#[pyo3(signature = (frames, frame_times, gyro, cam, tim, main, mu, lam, alpha, beta_max, gamma, align, min_ncc, temporal_radius, tile, r_cam_imu=None, bias=None))]
 #[allow(clippy::too_many_arguments)]
 fn deblur_multiframe<'py>(
     py: Python<'py>,
@@ -371,7 +371,7 @@ fn deblur_multiframe<'py>(
     gamma: Option<f32>,
     align: &str,
     min_ncc: f64,
-    radius: Option<usize>,
+    temporal_radius: Option<usize>,
     tile: usize,
     r_cam_imu: Option<PyReadonlyArrayDyn<f64>>,
     bias: Option<(f64, f64, f64)>,
@@ -416,7 +416,7 @@ fn deblur_multiframe<'py>(
         .mu(mu)
         .align(align)
         .min_ncc(min_ncc)
-        .radius(radius);
+        .radius(temporal_radius);
     let k = intrinsics(cam);
     let out = crate::pool::detach(py, || {
         wscg_deblur::deblur_multiframe(&inputs, main, &track, &k, &opts, &NoProgress)

@@ -64,7 +64,7 @@ def table1(sharp, seed, mu=None, lam=2000.0, methods=("B", "W", "RL", "KS", "KM3
             radius = 2 if m == "KM5" else 1
             gamma = None if m.endswith("linear") else 2.2
             r = deblur.deblur_multiframe(frames, times, gyro, F, cx, cy, EXPOSURE, t_delay=DELAY,
-                                         radius=radius, gamma=gamma, **kw)
+                                         temporal_radius=radius, gamma=gamma, **kw)
             res[m] = quality(r["single"] if m == "KS" else r["image"], truth)
     return res
 

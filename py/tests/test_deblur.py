@@ -111,7 +111,7 @@ def test_camera_imu_rotation_permutes_the_rates():
 def test_kernel_grid_matches_render_kernel_at_region_centres():
     gyro = deblur.make_gyro(0.4, seed=5)
     w, h, tile = 100, 70, 30
-    grid = deblur.kernel_grid(gyro, 0.1, 0.03, F, 49.5, 34.5, w, h, tile=tile, t_delay=0.015)
+    grid = deblur.kernel_grid(gyro, 0.1, 0.03, F, 49.5, 34.5, h, w, tile=tile, t_delay=0.015)
     assert grid.dtype == np.float32 and grid.shape[:2] == (3, 4)
     kk = grid.shape[2]
     assert grid.shape[3] == kk and kk % 2 == 1
@@ -421,7 +421,7 @@ def test_multiframe(burst):
     assert np.abs(out8["image"] - img).max() < 1e-5
     assert out8["used_frames"] == out["used_frames"]
     # No neighbours: the result is the single-frame one.
-    alone = deblur.deblur_multiframe(b["frames"], *args, t_delay=0.015, radius=0)
+    alone = deblur.deblur_multiframe(b["frames"], *args, t_delay=0.015, temporal_radius=0)
     assert alone["used_frames"] == [1] and not alone["weights"].any()
     assert np.allclose(alone["image"], alone["single"], atol=1e-6)
 

@@ -363,12 +363,12 @@ def test_detect_cycle_matches_the_true_leg_crossings(walks):
 
 def test_detect_cycle_details_and_options(walks):
     f = walks["frames"][1]
-    d = gait.detect_cycle(f, details=True)
+    d = gait.detect_cycle(f, return_details=True)
     assert set(d) >= {"start", "mid", "end", "ankle_dist", "minima", "first_step"}
     assert d["ankle_dist"].shape == (len(f),) and d["first_step"] == "left"
     assert (d["start"], d["mid"], d["end"]) == gait.detect_cycle(f)
     assert list(d["minima"]).index(d["start"]) + 2 == list(d["minima"]).index(d["end"])
-    right = gait.detect_cycle(f, start_leg="right", details=True)
+    right = gait.detect_cycle(f, start_leg="right", return_details=True)
     assert right["first_step"] == "right" and right["start"] != d["start"]
     assert gait.detect_cycle(f, up="y") is not None
     assert gait.detect_cycle(f, up=[0.0, 2.0, 0.0]) == gait.detect_cycle(f, up="y")

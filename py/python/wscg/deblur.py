@@ -289,9 +289,9 @@ def render_kernel(gyro, t_frame: float, t_exposure: float, f: float, cx: float, 
 
 
 def kernel_grid(gyro, t_frame: float, t_exposure: float, f: float, cx: float, cy: float,
-                width: int, height: int, tile: int = 30, t_readout: float = 0.0,
+                height: int, width: int, tile: int = 30, t_readout: float = 0.0,
                 t_delay: float = 0.0, r_cam_imu=None, bias=None) -> np.ndarray:
-    """Render the piecewise-uniform kernels of a ``width x height`` frame: one kernel per
+    """Render the piecewise-uniform kernels of a ``height x width`` frame: one kernel per
     ``tile x tile`` region, at the region's centre with its centre row's timing (paper
     section 3, Fig. 3).
 
@@ -299,8 +299,8 @@ def kernel_grid(gyro, t_frame: float, t_exposure: float, f: float, cx: float, cy
     ----------
     gyro, t_frame, t_exposure, f, cx, cy, t_readout, t_delay, r_cam_imu, bias
         As in :func:`render_kernel`.
-    width, height : int
-        Frame size in pixels.
+    height, width : int
+        Frame size in pixels (rows, columns: the array's axis order).
     tile : int, default 30
         Region side (the last row and column of regions may be narrower).
 
@@ -319,7 +319,7 @@ def kernel_grid(gyro, t_frame: float, t_exposure: float, f: float, cx: float, cy
     --------
     >>> from wscg import deblur
     >>> gyro = deblur.make_gyro(0.5, seed=1)
-    >>> deblur.kernel_grid(gyro, 0.1, 0.03, 600, 74.5, 59.5, 150, 120).shape[:2]
+    >>> deblur.kernel_grid(gyro, 0.1, 0.03, 600, 74.5, 59.5, 120, 150).shape[:2]
     (4, 5)
     """
     g = _gyro(gyro)
@@ -623,7 +623,8 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
                       t_exposure: float, t_readout: float = 0.0, t_delay: float = 0.0,
                       main: Optional[int] = None, mu: float = 250.0, lam: float = 2000.0,
                       alpha: float = 0.5, gamma: Optional[float] = 2.2, align: str = "ecc",
-                      min_ncc: float = 0.8, radius: Optional[int] = None, tile: int = 30,
+                      min_ncc: float = 0.8, temporal_radius: Optional[int] = None,
+                      tile: int = 30,
                       r_cam_imu=None, bias=None) -> Dict[str, object]:
     """Multi-frame blur removal of ``frames[main]`` (paper section 5, eq. 9).
 
@@ -655,7 +656,7 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
         3-level pyramid, or the gyroscope's homography as is.
     min_ncc : float, default 0.8
         Neighbours whose aligned correlation with the main estimate is lower are dropped.
-    radius : int, optional
+    temporal_radius : int, optional
         Use at most this many frames on each side of ``main`` (default: all).
     tile : int, default 30
         Region side in pixels.
@@ -733,12 +734,12 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
         raise ValueError(f"`mu` must be finite and >= 0, got {mu}")
     if gamma is not None:
         gamma = _positive("gamma", gamma)
-    if radius is not None:
-        radius = _count("radius", radius, lo=0)
+    if temporal_radius is not None:
+        temporal_radius = _count("temporal_radius", temporal_radius, lo=0)
     tim = _timing(0.0, t_exposure, t_readout, t_delay)[1:]
     out = _d.deblur_multiframe(
         imgs, [float(t) for t in times], _gyro(gyro), _cam(f, cx, cy), tim, int(main), mu,
-        _positive("lam", lam), float(alpha), 256.0, gamma, align, float(min_ncc), radius,
+        _positive("lam", lam), float(alpha), 256.0, gamma, align, float(min_ncc), temporal_radius,
         _count("tile", tile), _rotation(r_cam_imu), _bias(bias))
     for w in out["warnings"]:
         warnings.warn(w, UserWarning, stacklevel=2)

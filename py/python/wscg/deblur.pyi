@@ -11,7 +11,7 @@ def render_kernel(gyro: np.ndarray, t_frame: float, t_exposure: float, f: float,
                   height: Optional[int] = ..., r_cam_imu: Optional[np.ndarray] = ...,
                   bias: Optional[Sequence[float]] = ...) -> Tuple[np.ndarray, Tuple[int, int]]: ...
 def kernel_grid(gyro: np.ndarray, t_frame: float, t_exposure: float, f: float, cx: float,
-                cy: float, width: int, height: int, tile: int = ..., t_readout: float = ...,
+                cy: float, height: int, width: int, tile: int = ..., t_readout: float = ...,
                 t_delay: float = ..., r_cam_imu: Optional[np.ndarray] = ...,
                 bias: Optional[Sequence[float]] = ...) -> np.ndarray: ...
 def blurriness(kernel: np.ndarray, origin: Optional[Tuple[int, int]] = ...) -> float: ...
@@ -46,7 +46,7 @@ def deblur_multiframe(frames: Sequence[np.ndarray], frame_times: Sequence[float]
                       t_readout: float = ..., t_delay: float = ..., main: Optional[int] = ...,
                       mu: float = ..., lam: float = ..., alpha: float = ...,
                       gamma: Optional[float] = ..., align: str = ..., min_ncc: float = ...,
-                      radius: Optional[int] = ..., tile: int = ...,
+                      temporal_radius: Optional[int] = ..., tile: int = ...,
                       r_cam_imu: Optional[np.ndarray] = ...,
                       bias: Optional[Sequence[float]] = ...) -> Dict[str, object]: ...
 def rectify_rolling_shutter(frame: np.ndarray, gyro: np.ndarray, t_frame: float,

@@ -60,7 +60,8 @@ class EarMatcher:
     def identify_baseline(self, image: ArrayLike) -> Dict[str, Any]: ...
 
 def score(
-    image: ArrayLike, template: ArrayLike, *, height: int = ..., width: int = ..., block: int = ...,
+    image: ArrayLike, template: ArrayLike, *, height: int = ..., width: int = ...,
+    block: int = ...,
     skin_model: Optional[SkinModel] = ..., skin_mean: Optional[Sequence[float]] = ...,
     skin_cov: Optional[Sequence[Sequence[float]]] = ..., skin_rule: str = ...,
     min_likelihood: Optional[float] = ..., min_intensity: int = ...,
@@ -69,8 +70,8 @@ def score(
     shifts: Sequence[Tuple[int, int]] = ..., score: str = ..., mask_features: bool = ...,
     equalize_on_skin: bool = ...,
 ) -> Dict[str, Any]: ...
-def baseline_score(image: ArrayLike, template: ArrayLike, *, height: int = ..., width: int = ..., block: int = ...,
-                   gray_enrolment: bool = ...) -> float: ...
+def baseline_score(image: ArrayLike, template: ArrayLike, *, height: int = ...,
+                   width: int = ..., block: int = ..., gray_enrolment: bool = ...) -> float: ...
 
 class SkinModel:
     def __init__(self, mean: ArrayLike = ..., cov: ArrayLike = ...) -> None: ...
@@ -94,11 +95,12 @@ def make_ears(n_subjects: int, n_probes: int, seed: int = ..., occlusion: str = 
               min_pct: float = ..., max_pct: float = ..., *,
               canvas: Tuple[int, int] = ..., shape_spread: float = ..., shift_px: float = ...,
               rotation_deg: float = ..., gain: Tuple[float, float] = ...,
-              white_balance: float = ..., noise_sigma: float = ..., height: int = ..., width: int = ..., block: int = ...
-              ) -> Dict[str, np.ndarray]: ...
+              white_balance: float = ..., noise_sigma: float = ..., height: int = ...,
+              width: int = ..., block: int = ...) -> Dict[str, np.ndarray]: ...
 def evaluate(
     enrol: _Images, probes: _Images, labels: ArrayLike, true_pct: Optional[ArrayLike] = ...,
-    max_rank: int = ..., edges: Optional[Sequence[float]] = ..., *, height: int = ..., width: int = ..., block: int = ...,
+    max_rank: int = ..., edges: Optional[Sequence[float]] = ..., *, height: int = ...,
+    width: int = ..., block: int = ...,
     skin_model: Optional[SkinModel] = ..., skin_mean: Optional[Sequence[float]] = ...,
     skin_cov: Optional[Sequence[Sequence[float]]] = ..., skin_rule: str = ...,
     min_likelihood: Optional[float] = ..., min_intensity: int = ...,

@@ -275,7 +275,7 @@ def jra(p1, p2, r) -> float:
 
 def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: float = 0.25,
                  min_prominence: float = 0.2, up="estimate", choice: str = "first",
-                 start_leg: str = "left", details: bool = False):
+                 start_leg: str = "left", return_details: bool = False):
     """Detects one full gait cycle (section 3.1).
 
     Parameters
@@ -301,14 +301,14 @@ def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: 
     start_leg : {"left", "right", "any"}, default "left"
         Which foot steps forward in the first half of the returned cycle (falls back to the
         first cycle when no cycle of that order exists).
-    details : bool, default False
+    return_details : bool, default False
         Return a dict with the intermediate results instead of the tuple.
 
     Returns
     -------
     (start, mid, end) : tuple of int
         Frames of the three consecutive minima; the cycle is ``frames[start:end + 1]``.
-        With ``details=True`` a dict with keys ``start``, ``mid``, ``end``, ``ankle_dist``
+        With ``return_details=True`` a dict with keys ``start``, ``mid``, ``end``, ``ankle_dist``
         (the smoothed horizontal ankle distance of every frame, metres), ``minima`` (all
         accepted leg crossings) and ``first_step`` (``"left"`` or ``"right"``).
 
@@ -332,7 +332,7 @@ def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: 
                         _real("min_step_s", min_step_s), _real("min_prominence", min_prominence),
                         up, _str("choice", choice, ("first", "most_regular")),
                         _str("start_leg", start_leg, ("left", "right", "any")))
-    if details:
+    if return_details:
         return d
     return int(d["start"]), int(d["mid"]), int(d["end"])
 
