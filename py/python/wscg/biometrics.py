@@ -737,11 +737,11 @@ class _SFAClassifier(_Params, _JsonPickled):
 
 class PerClassSFA(_SFAClassifier):
     """Class-wise slow feature analysis (paper 05, Tewari et al.): PCA to
-    ``pca_n_components``,
-    quadratic expansion, and per class ``m`` functions minimising the within-class
-    differences minus ``gamma`` times the differences to the other classes (eq. 14, in the
-    closed forms ``2 S_C`` and ``S_C + S_not + d d'``), under unit variance over all training
-    rows; a sample goes to the class whose centred responses have the least energy.
+    ``pca_n_components``, quadratic expansion, and per class ``m`` functions minimising the
+    within-class differences minus ``gamma`` times the differences to the other classes
+    (eq. 14, in the closed forms ``2 S_C`` and ``S_C + S_not + d d'``), under unit variance
+    over all training rows; a sample goes to the class whose centred responses have the
+    least energy.
 
     ``degree=2`` with ``include_linear=True`` expands ``d`` inputs to ``d + d(d+1)/2``
     (665 for 35); ``include_linear=False`` gives the paper's literal 630. ``objective=

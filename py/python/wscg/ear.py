@@ -286,7 +286,7 @@ def enroll_many(images, *, height: int = 100, width: int = 80, block: int = 10,
 
 @_documented
 def detect_occlusion(image, *, height: int = 100, width: int = 80, block: int = 10,
-                     skin_model: Optional["SkinModel"] = None, skin_mean=None, skin_cov=None,
+                     skin_model: Optional[SkinModel] = None, skin_mean=None, skin_cov=None,
                      skin_rule: str = "marginal-and", min_likelihood: Optional[float] = None,
                      min_intensity: int = 0, close_radius: float = 10.0,
                      fill_holes: bool = True, block_skin_fraction: float = 0.5,
@@ -310,7 +310,7 @@ def detect_occlusion(image, *, height: int = 100, width: int = 80, block: int = 
 
 
 @_documented
-def skin_pixels(image, *, skin_model: Optional["SkinModel"] = None, skin_mean=None,
+def skin_pixels(image, *, skin_model: Optional[SkinModel] = None, skin_mean=None,
                 skin_cov=None, skin_rule: str = "marginal-and",
                 min_likelihood: Optional[float] = None, min_intensity: int = 0) -> np.ndarray:
     """Per-pixel skin decision (Algorithm 1, steps 2-6: skin model, rule and luminance
@@ -336,7 +336,7 @@ class EarMatcher:
 
     @_documented
     def __init__(self, templates, *, height: int = 100, width: int = 80, block: int = 10,
-                 skin_model: Optional["SkinModel"] = None, skin_mean=None, skin_cov=None,
+                 skin_model: Optional[SkinModel] = None, skin_mean=None, skin_cov=None,
                  skin_rule: str = "marginal-and", min_likelihood: Optional[float] = None,
                  min_intensity: int = 0, close_radius: float = 10.0, fill_holes: bool = True,
                  block_skin_fraction: float = 0.5, reject_above_pct: float = 60.0,
@@ -421,7 +421,7 @@ def _rebuild_matcher(templates, params):
 
 @_documented
 def score(image, template, *, height: int = 100, width: int = 80, block: int = 10,
-          skin_model: Optional["SkinModel"] = None, skin_mean=None, skin_cov=None,
+          skin_model: Optional[SkinModel] = None, skin_mean=None, skin_cov=None,
           skin_rule: str = "marginal-and", min_likelihood: Optional[float] = None,
           min_intensity: int = 0, close_radius: float = 10.0, fill_holes: bool = True,
           block_skin_fraction: float = 0.5, reject_above_pct: float = 60.0,
@@ -621,7 +621,7 @@ def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "n
 @_documented
 def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
              edges: Optional[Sequence[float]] = None, *, height: int = 100, width: int = 80,
-             block: int = 10, skin_model: Optional["SkinModel"] = None, skin_mean=None,
+             block: int = 10, skin_model: Optional[SkinModel] = None, skin_mean=None,
              skin_cov=None, skin_rule: str = "marginal-and",
              min_likelihood: Optional[float] = None, min_intensity: int = 0,
              close_radius: float = 10.0, fill_holes: bool = True,
