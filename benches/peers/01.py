@@ -25,7 +25,7 @@ L = 100
 
 
 def images(n, side, seed):
-    X, _ = B.make_finger_veins(subjects=n // 10, samples=10, size=(side, side),
+    X, _ = B.make_finger_veins(n_subjects=n // 10, n_per_subject=10, size=(side, side),
                                canvas=(4 * side, 4 * side), seed=seed)
     return X.reshape(n, -1)
 

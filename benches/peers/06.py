@@ -34,7 +34,7 @@ HOLE = (160 // SCALE, 240 // SCALE)
 
 
 def clip():
-    return V.synthetic("pan", frames=F, height=H, width=W, step=8.0, hole=HOLE, seed=0)
+    return V.make_clip("pan", n_frames=F, height=H, width=W, step=8.0, hole=HOLE, seed=0)
 
 
 clean, observed, mask = clip()
@@ -71,7 +71,7 @@ for name, v in [("wscg localized search", ours), ("pypatchmatch per frame", pm),
 child = f"""
 import resource, os
 from wscg import video as V
-c, o, m = V.synthetic("pan", frames={F}, height={H}, width={W}, step=8.0, hole={HOLE}, seed=0)
+c, o, m = V.make_clip("pan", n_frames={F}, height={H}, width={W}, step=8.0, hole={HOLE}, seed=0)
 del c
 base = int([l for l in open("/proc/self/status") if l.startswith("VmHWM")][0].split()[1])
 V.complete_video(o, m)

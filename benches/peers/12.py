@@ -59,7 +59,7 @@ def main():
     cx, cy = (w - 1) / 2, (h - 1) / 2
     truth = sharp ** (1 / 2.2)
     lin = (frames[2] ** 2.2).astype(np.float64)
-    kernels = deblur.kernel_grid(gyro, times[2], EXPOSURE, F, cx, cy, w, h, t_delay=DELAY)
+    kernels = deblur.kernel_grid(gyro, times[2], EXPOSURE, F, cx, cy, h, w, t_delay=DELAY)
 
     def q(x):
         return quality(np.clip(x, 0, 1) ** (1 / 2.2), truth)[0]
@@ -71,7 +71,7 @@ def main():
     print(f"720x480, {kernels.shape[0]}x{kernels.shape[1]} regions, blurry input PSNR {q(lin):.2f} dB")
     t_ks, ks = best(ours("krishnan"))
     t_w, wi = best(ours("wiener", nsr=0.01))
-    t_rl, rl = best(ours("rl", iters=30))
+    t_rl, rl = best(ours("rl", rl_n_iter=30))
     t_skrl, skrl = best(lambda: tile_loop(lin, kernels, lambda x, k: restoration.richardson_lucy(
         x, k, num_iter=30, clip=False)), repeat=1)
     t_skw, skw = best(lambda: tile_loop(lin, kernels, lambda x, k: restoration.wiener(x, k, balance=0.01)))
@@ -85,7 +85,7 @@ def main():
         print(f"{name:40s} ours {a * 1e3:9.1f} ms  peer {b * 1e3:9.1f} ms  peer/ours {b / a:6.2f}x"
               f"  PSNR ours {pa:.2f} dB, peer {pb:.2f} dB")
     t_km, km = best(lambda: deblur.deblur_multiframe(frames, times, gyro, F, cx, cy, EXPOSURE,
-                                                     delay=DELAY), repeat=2)
+                                                     t_delay=DELAY), repeat=2)
     print(f"{'multi-frame KM, 5 frames 720x480':40s} ours {t_km:9.3f} s   (paper: 18 s, i7-4700MQ)"
           f"  PSNR {quality(km['image'], truth)[0]:.2f} dB")
 

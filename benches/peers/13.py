@@ -53,7 +53,7 @@ def equalised(er, t_left):
 
 def matching(name, left8, right8, el, er, truth, dmax, rows, quality, t_left):
     for iters in (2, 3):
-        f = lambda: hdr.patchmatch(el, er, iterations=iters, min_disparity=-dmax, max_disparity=0)
+        f = lambda: hdr.patchmatch(el, er, n_iter=iters, min_disparity=-dmax, max_disparity=0)
         t = best_time(f, repeat=3)
         off, _ = f()
         bad = hdr.bad_rate(off, np.where(np.isfinite(truth), -truth, np.nan), 2.0)
@@ -76,7 +76,7 @@ def main():
     er = hdr.to_radiance(R, "gamma2.2", 4.0)
     matching("motorcycle 741x500", L, R, el, er, truth, 64, rows, quality, 1.0)
 
-    sc = hdr.synth_scene(height=1110, width=1282, exposure_times=(0.005, 0.04, 0.3), seed=1)
+    sc = hdr.make_scene(height=1110, width=1282, exposure_times=(0.005, 0.04, 0.3), seed=1)
     v0, v1 = sc["views"][0], sc["views"][1]
     t0, t1 = sc["exposure_times"][0], sc["exposure_times"][1]
     e0, e1 = hdr.to_radiance(v0, "gamma2.2", t0), hdr.to_radiance(v1, "gamma2.2", t1)

@@ -114,7 +114,7 @@ class BlockMajorPeer:
 
 
 def main():
-    data = ear.synth_ears(50, 1, seed=14, occlusion="colour", min_pct=10, max_pct=50)
+    data = ear.make_ears(50, 1, seed=14, occlusion="colour", min_pct=10, max_pct=50)
     enrol, probes = data["enrol"], data["probes"]
     base = ear.enroll_many(enrol)
     n = 10_000

@@ -248,7 +248,7 @@ print(f"real time: SVR path {10.0 / t_syn_svr:.0f}x (spec >= 50x), LUT path "
 def ours_fit(restarts=1, delay_search=0):
     # The numpy reference is the ALS alone, so the comparison runs ours without the
     # per-channel delay search that follows the sweeps by default.
-    return M.fit_anechoic(X, J, delays="shared", n_harmonics=K, restarts=restarts,
+    return M.fit_anechoic(X, J, delays="shared", n_harmonics=K, n_restarts=restarts,
                           max_iter=SWEEPS, tol=0.0, delay_search=delay_search)
 
 

@@ -38,5 +38,5 @@ def baseline(**kw):
 for nsr in [0.001, 0.003, 0.01, 0.03, 0.1]:
     print(f"wiener nsr {nsr}: PSNR {baseline(method='wiener', nsr=nsr)[0]:.3f} SSIM {baseline(method='wiener', nsr=nsr)[1]:.4f}", flush=True)
 for iters in [10, 20, 30, 60]:
-    p, s = baseline(method="rl", iters=iters)
+    p, s = baseline(method="rl", rl_n_iter=iters)
     print(f"rl iters {iters}: PSNR {p:.3f} SSIM {s:.4f}", flush=True)

@@ -14,7 +14,7 @@ use wscg_biometrics::subspace::{
 use wscg_math::Error;
 
 use crate::convert::{array, labels_from, mat, mat_map, mat_out, Arr};
-use crate::errors::{value_error, IntoPy};
+use crate::errors::{value_error, IntoPy, IntoPyRenamed};
 
 /// Reads an optional item of the spec dictionary.
 fn item<'py, T: FromPyObjectOwned<'py>>(
@@ -332,7 +332,7 @@ fn select_dimension_cv<'py>(
     y: PyReadonlyArrayDyn<i64>,
     spec: &Bound<'py, PyDict>,
     dims: Vec<usize>,
-    folds: usize,
+    n_folds: usize,
     seed: u64,
     metric: &str,
 ) -> PyResult<(usize, Arr<'py, f64>)> {
@@ -344,9 +344,9 @@ fn select_dimension_cv<'py>(
         Ok(Box::new(method.fit(m)?))
     };
     let (l, curve) = crate::pool::detach(py, || {
-        subspace::select_dimension_cv(x.as_ref(), &y, &dims, folds, seed, &fit, metric)
+        subspace::select_dimension_cv(x.as_ref(), &y, &dims, n_folds, seed, &fit, metric)
     })
-    .py_err()?;
+    .py_err_renamed(&[("folds", "n_folds")])?;
     let k = curve.len();
     Ok((
         l,
@@ -361,10 +361,10 @@ fn select_dimension_cv<'py>(
 /// Synthetic finger-vein images `(n, h, w)` and subject labels.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
-fn finger_veins<'py>(
+fn make_finger_veins<'py>(
     py: Python<'py>,
-    subjects: usize,
-    samples: usize,
+    n_subjects: usize,
+    n_per_subject: usize,
     size: (usize, usize),
     canvas: (usize, usize),
     max_shift: f64,
@@ -374,8 +374,8 @@ fn finger_veins<'py>(
     seed: u64,
 ) -> PyResult<(Arr<'py, f64>, Arr<'py, i64>)> {
     let p = FingerVeinParams::default()
-        .subjects(subjects)
-        .samples(samples)
+        .subjects(n_subjects)
+        .samples(n_per_subject)
         .canvas(canvas)
         .size(size)
         .max_shift(max_shift)
@@ -383,7 +383,11 @@ fn finger_veins<'py>(
         .noise(noise)
         .blur(blur)
         .seed(seed);
-    let data = crate::pool::detach(py, || gen_finger_veins(&p)).py_err()?;
+    let data = crate::pool::detach(py, || gen_finger_veins(&p)).py_err_renamed(&[
+        ("subjects", "n_subjects"),
+        ("samples", "n_per_subject"),
+        ("subjects, samples", "n_subjects, n_per_subject"),
+    ])?;
     let (n, d) = (data.x.nrows(), data.x.ncols());
     let pixels = (0..n)
         .flat_map(|i| (0..d).map(move |j| (i, j)))
@@ -400,31 +404,31 @@ fn finger_veins<'py>(
 fn split_per_subject<'py>(
     py: Python<'py>,
     labels: PyReadonlyArrayDyn<i64>,
-    train_per_subject: usize,
+    n_train_per_subject: usize,
     seed: u64,
 ) -> PyResult<(Arr<'py, i64>, Arr<'py, i64>)> {
     let labels = labels_from("labels", &labels)?;
     let (tr, te) = crate::pool::detach(py, || {
-        wscg_biometrics::data::split_per_subject(&labels, train_per_subject, seed)
+        wscg_biometrics::data::split_per_subject(&labels, n_train_per_subject, seed)
     })
-    .py_err()?;
+    .py_err_renamed(&[("train_per_subject", "n_train_per_subject")])?;
     let out = |v: Vec<usize>| array(py, &[v.len()], v.into_iter().map(|i| i as i64).collect());
     Ok((out(tr)?, out(te)?))
 }
 
-/// The first `k` axes of a FDKECA or PCA model as min-max scaled `(k, h, w)` images (the
-/// paper's eigenface view, section 4).
+/// The first `n_components` axes of a FDKECA or PCA model as min-max scaled
+/// `(n_components, h, w)` images (the paper's eigenface view, section 4).
 #[pyfunction]
 fn axis_images<'py>(
     py: Python<'py>,
     model: &PyModel,
-    k: usize,
+    n_components: usize,
     height: usize,
     width: usize,
 ) -> PyResult<Arr<'py, f32>> {
     let imgs = crate::pool::detach(py, || match &model.inner {
-        Model::Fdkeca(m) => m.axis_images(k, height, width),
-        Model::Pca(m) => m.axis_images(k, height, width),
+        Model::Fdkeca(m) => m.axis_images(n_components, height, width),
+        Model::Pca(m) => m.axis_images(n_components, height, width),
         other => Err(Error::invalid(
             "model",
             format!("{} has no image-space axes", other.name()),
@@ -443,7 +447,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(nearest, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy_curve, m)?)?;
     m.add_function(wrap_pyfunction!(select_dimension_cv, m)?)?;
-    m.add_function(wrap_pyfunction!(finger_veins, m)?)?;
+    m.add_function(wrap_pyfunction!(make_finger_veins, m)?)?;
     m.add_function(wrap_pyfunction!(axis_images, m)?)?;
     m.add_function(wrap_pyfunction!(split_per_subject, m)?)?;
     crate::sfa::register(m)?;

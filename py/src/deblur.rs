@@ -15,7 +15,7 @@ use wscg_math::progress::NoProgress;
 use wscg_math::Image;
 
 use crate::convert::{array, dims2, values, Arr};
-use crate::errors::{value_error, IntoPy};
+use crate::errors::{value_error, IntoPy, IntoPyRenamed};
 
 /// Camera intrinsics `(f, cx, cy)` in pixels.
 type Cam = (f64, f64, f64);
@@ -264,11 +264,12 @@ fn richardson_lucy<'py>(
     image: PyReadonlyArrayDyn<f32>,
     kernel: PyReadonlyArrayDyn<f32>,
     origin: (usize, usize),
-    iters: usize,
+    n_iter: usize,
 ) -> PyResult<Arr<'py, f32>> {
     let img = image_in("image", &image)?;
     let k = kernel_in(&kernel, origin)?;
-    let out = crate::pool::detach(py, || wscg_deblur::richardson_lucy(&img, &k, iters)).py_err()?;
+    let out = crate::pool::detach(py, || wscg_deblur::richardson_lucy(&img, &k, n_iter))
+        .py_err_renamed(&[("iters", "n_iter")])?;
     crate::convert::image_array(py, out, true)
 }
 
@@ -291,19 +292,20 @@ fn method_in(
     alpha: f32,
     beta_max: f32,
     nsr: f32,
-    iters: usize,
+    rl_n_iter: usize,
 ) -> PyResult<Method> {
     let hl = hl_params(lam, alpha, beta_max);
     Ok(match Method::by_name(name).py_err()? {
         Method::Wiener { .. } => Method::Wiener { nsr },
-        Method::RichardsonLucy { .. } => Method::RichardsonLucy { iters },
+        Method::RichardsonLucy { .. } => Method::RichardsonLucy { iters: rl_n_iter },
         Method::HyperLaplacian(_) => Method::HyperLaplacian(hl),
         Method::GlobalUniform(_) => Method::GlobalUniform(hl),
     })
 }
 
 #[pyfunction]
-#[pyo3(signature = (frame, gyro, tim, cam, method, tile, lam, alpha, beta_max, nsr, iters, r_cam_imu=None, bias=None))]
+#[pyo3(signature = (frame, gyro, tim, cam, method, tile, lam, alpha, beta_max, nsr, rl_n_iter,
+                    r_cam_imu=None, bias=None))]
 #[allow(clippy::too_many_arguments)]
 fn deblur_piecewise<'py>(
     py: Python<'py>,
@@ -317,13 +319,13 @@ fn deblur_piecewise<'py>(
     alpha: f32,
     beta_max: f32,
     nsr: f32,
-    iters: usize,
+    rl_n_iter: usize,
     r_cam_imu: Option<PyReadonlyArrayDyn<f64>>,
     bias: Option<(f64, f64, f64)>,
 ) -> PyResult<(Arr<'py, f32>, Arr<'py, f32>)> {
     let img = image_in("frame", &frame)?;
     let track = track_in(&gyro, r_cam_imu.as_ref(), bias)?;
-    let m = method_in(method, lam, alpha, beta_max, nsr, iters)?;
+    let m = method_in(method, lam, alpha, beta_max, nsr, rl_n_iter)?;
     let tiling = Tiling {
         tile,
         ..Default::default()
@@ -344,7 +346,7 @@ fn deblur_piecewise<'py>(
         let out = wscg_deblur::deblur_piecewise(&img, &grid, &m, &tiling)?;
         Ok((out, grid))
     })
-    .py_err()?;
+    .py_err_renamed(&[("iters", "rl_n_iter")])?;
     Ok((
         crate::convert::image_array(py, out, true)?,
         grid_out(py, &grid)?,
@@ -352,7 +354,7 @@ fn deblur_piecewise<'py>(
 }
 
 #[pyfunction]
-#[pyo3(signature = (frames, frame_times, gyro, cam, tim, main, mu, lam, alpha, beta_max, gamma, align, min_ncc, radius, tile, r_cam_imu=None, bias=None))]
+#[pyo3(signature = (frames, frame_times, gyro, cam, tim, main, mu, lam, alpha, beta_max, gamma, align, min_ncc, temporal_radius, tile, r_cam_imu=None, bias=None))]
 #[allow(clippy::too_many_arguments)]
 fn deblur_multiframe<'py>(
     py: Python<'py>,
@@ -369,7 +371,7 @@ fn deblur_multiframe<'py>(
     gamma: Option<f32>,
     align: &str,
     min_ncc: f64,
-    radius: Option<usize>,
+    temporal_radius: Option<usize>,
     tile: usize,
     r_cam_imu: Option<PyReadonlyArrayDyn<f64>>,
     bias: Option<(f64, f64, f64)>,
@@ -414,7 +416,7 @@ fn deblur_multiframe<'py>(
         .mu(mu)
         .align(align)
         .min_ncc(min_ncc)
-        .radius(radius);
+        .radius(temporal_radius);
     let k = intrinsics(cam);
     let out = crate::pool::detach(py, || {
         wscg_deblur::deblur_multiframe(&inputs, main, &track, &k, &opts, &NoProgress)
@@ -541,7 +543,7 @@ fn w_step<'py>(
 
 #[pyfunction]
 #[pyo3(signature = (duration, rate, tau, std, t0, seed))]
-fn ou_gyro<'py>(
+fn make_gyro<'py>(
     py: Python<'py>,
     duration: f64,
     rate: f64,
@@ -613,7 +615,12 @@ fn render_blurred<'py>(
 }
 
 #[pyfunction]
-fn scene<'py>(py: Python<'py>, height: usize, width: usize, seed: u64) -> PyResult<Arr<'py, f32>> {
+fn make_scene<'py>(
+    py: Python<'py>,
+    height: usize,
+    width: usize,
+    seed: u64,
+) -> PyResult<Arr<'py, f32>> {
     let img = crate::pool::detach(py, || synth::scene(height, width, seed)).py_err()?;
     crate::convert::image_array(py, img, true)
 }
@@ -634,9 +641,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(phase_correlation, m)?)?;
     m.add_function(wrap_pyfunction!(estimate_time_delay, m)?)?;
     m.add_function(wrap_pyfunction!(w_step, m)?)?;
-    m.add_function(wrap_pyfunction!(ou_gyro, m)?)?;
+    m.add_function(wrap_pyfunction!(make_gyro, m)?)?;
     m.add_function(wrap_pyfunction!(add_gyro_noise, m)?)?;
     m.add_function(wrap_pyfunction!(render_blurred, m)?)?;
-    m.add_function(wrap_pyfunction!(scene, m)?)?;
+    m.add_function(wrap_pyfunction!(make_scene, m)?)?;
     Ok(())
 }

@@ -257,14 +257,14 @@ fn ranking_out<'py>(
 
 /// Enrolment template `(blocks, block_len)` of one clean ear crop.
 #[pyfunction]
-#[pyo3(signature = (img, params=None))]
+#[pyo3(signature = (image, params=None))]
 fn enroll<'py>(
     py: Python<'py>,
-    img: PyReadonlyArrayDyn<'py, u8>,
+    image: PyReadonlyArrayDyn<'py, u8>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Arr<'py, f32>> {
     let p = params_from(params.as_ref())?;
-    let im = image_in("img", &img)?;
+    let im = image_in("image", &image)?;
     let t = crate::pool::detach(py, || ear::enroll(&im, &p)).py_err()?;
     template_out(py, &t)
 }
@@ -297,28 +297,28 @@ fn enroll_many<'py>(
 
 /// Occlusion report (Algorithm 1) of an RGB ear crop.
 #[pyfunction]
-#[pyo3(signature = (img, params=None))]
+#[pyo3(signature = (image, params=None))]
 fn detect_occlusion<'py>(
     py: Python<'py>,
-    img: PyReadonlyArrayDyn<'py, u8>,
+    image: PyReadonlyArrayDyn<'py, u8>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let p = params_from(params.as_ref())?;
-    let im = image_in("img", &img)?;
+    let im = image_in("image", &image)?;
     let r = crate::pool::detach(py, || ear::detect_occlusion(&im, &p)).py_err()?;
     report_dict(py, &r, &p)
 }
 
 /// Per-pixel skin decision (steps 2-6, before closing) of an RGB image at its own size.
 #[pyfunction]
-#[pyo3(signature = (img, params=None))]
+#[pyo3(signature = (image, params=None))]
 fn skin_pixels<'py>(
     py: Python<'py>,
-    img: PyReadonlyArrayDyn<'py, u8>,
+    image: PyReadonlyArrayDyn<'py, u8>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Arr<'py, bool>> {
     let p = params_from(params.as_ref())?;
-    let im = image_in("img", &img)?;
+    let im = image_in("image", &image)?;
     check_input(&im, false).py_err()?;
     let s = crate::pool::detach(py, || ear::skin_pixels(&im, &p))?;
     mask_out(py, Image::new(im.height(), im.width(), 1, s).py_err()?)
@@ -326,15 +326,15 @@ fn skin_pixels<'py>(
 
 /// Every quantity of the match of a probe image against one template.
 #[pyfunction]
-#[pyo3(signature = (img, template, params=None))]
+#[pyo3(signature = (image, template, params=None))]
 fn score<'py>(
     py: Python<'py>,
-    img: PyReadonlyArrayDyn<'py, u8>,
+    image: PyReadonlyArrayDyn<'py, u8>,
     template: PyReadonlyArrayDyn<'py, f32>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let p = params_from(params.as_ref())?;
-    let im = image_in("img", &img)?;
+    let im = image_in("image", &image)?;
     let t = template_in("template", &template)?;
     t.check(&p).py_err()?;
     let (probe, b) = crate::pool::detach(py, || -> wscg_math::Result<_> {
@@ -387,15 +387,15 @@ fn score<'py>(
 
 /// Whole-ear baseline score (Fig. 12) of a probe image against one template.
 #[pyfunction]
-#[pyo3(signature = (img, template, params=None))]
+#[pyo3(signature = (image, template, params=None))]
 fn baseline_score(
     py: Python<'_>,
-    img: PyReadonlyArrayDyn<'_, u8>,
+    image: PyReadonlyArrayDyn<'_, u8>,
     template: PyReadonlyArrayDyn<'_, f32>,
     params: Option<Bound<'_, PyDict>>,
 ) -> PyResult<f64> {
     let p = params_from(params.as_ref())?;
-    let im = image_in("img", &img)?;
+    let im = image_in("image", &image)?;
     let t = template_in("template", &template)?;
     crate::pool::detach(py, || {
         let probe = ear::make_baseline_probe(&im, &p)?;
@@ -412,8 +412,8 @@ pub struct PyEarMatcher {
 }
 
 impl PyEarMatcher {
-    fn probe(&self, py: Python<'_>, img: &PyReadonlyArrayDyn<'_, u8>) -> PyResult<ear::Probe> {
-        let im = image_in("img", img)?;
+    fn probe(&self, py: Python<'_>, image: &PyReadonlyArrayDyn<'_, u8>) -> PyResult<ear::Probe> {
+        let im = image_in("image", image)?;
         crate::pool::detach(py, || ear::make_probe(&im, &self.params)).py_err()
     }
 }
@@ -470,9 +470,9 @@ impl PyEarMatcher {
     fn identify<'py>(
         &self,
         py: Python<'py>,
-        img: PyReadonlyArrayDyn<'py, u8>,
+        image: PyReadonlyArrayDyn<'py, u8>,
     ) -> PyResult<(bool, f64, Arr<'py, i64>, Arr<'py, f64>)> {
-        let probe = self.probe(py, &img)?;
+        let probe = self.probe(py, &image)?;
         let pct = probe.report.as_ref().map_or(f64::NAN, |r| r.occluded_pct);
         let id = crate::pool::detach(py, || ear::identify(&probe, &self.gallery, &self.params))
             .py_err()?;
@@ -493,9 +493,9 @@ impl PyEarMatcher {
     fn scores<'py>(
         &self,
         py: Python<'py>,
-        img: PyReadonlyArrayDyn<'py, u8>,
+        image: PyReadonlyArrayDyn<'py, u8>,
     ) -> PyResult<(Arr<'py, f64>, bool, f64)> {
-        let probe = self.probe(py, &img)?;
+        let probe = self.probe(py, &image)?;
         let pct = probe.report.as_ref().map_or(f64::NAN, |r| r.occluded_pct);
         let s = crate::pool::detach(py, || ear::scores(&probe, &self.gallery, &self.params))
             .py_err()?;
@@ -506,9 +506,9 @@ impl PyEarMatcher {
     fn identify_baseline<'py>(
         &self,
         py: Python<'py>,
-        img: PyReadonlyArrayDyn<'py, u8>,
+        image: PyReadonlyArrayDyn<'py, u8>,
     ) -> PyResult<(Arr<'py, i64>, Arr<'py, f64>)> {
-        let im = image_in("img", &img)?;
+        let im = image_in("image", &image)?;
         let id = crate::pool::detach(py, || {
             ear::identify_baseline(&im, &self.gallery, &self.params)
         })
@@ -549,7 +549,7 @@ fn cmc<'py>(
                     shape_spread=None, shift_px=None, rotation_deg=None, gain=None,
                     white_balance=None, noise_sigma=None, params=None))]
 #[allow(clippy::too_many_arguments)]
-fn synth_ears<'py>(
+fn make_ears<'py>(
     py: Python<'py>,
     n_subjects: usize,
     n_probes: usize,
@@ -628,7 +628,7 @@ fn synth_ears<'py>(
     out.set_item("enrol", array(py, &[set.enrol.len(), h, w, 3], enrol)?)?;
     out.set_item("probes", array(py, &[m, h, w, 3], probes)?)?;
     out.set_item(
-        "subjects",
+        "labels",
         idx_out(py, set.probes.iter().map(|pr| pr.subject))?,
     )?;
     out.set_item("occluder_masks", array(py, &[m, h, w], masks)?)?;
@@ -650,13 +650,13 @@ fn synth_ears<'py>(
 
 /// The paper's experiments on labelled images (`protocol::evaluate_images`).
 #[pyfunction]
-#[pyo3(signature = (enrol, probes, subjects, true_pct, max_rank, edges=None, params=None))]
+#[pyo3(signature = (enrol, probes, labels, true_pct, max_rank, edges=None, params=None))]
 #[allow(clippy::too_many_arguments)]
 fn evaluate<'py>(
     py: Python<'py>,
     enrol: Vec<PyReadonlyArrayDyn<'py, u8>>,
     probes: Vec<PyReadonlyArrayDyn<'py, u8>>,
-    subjects: Vec<i64>,
+    labels: Vec<i64>,
     true_pct: Option<Vec<f64>>,
     max_rank: usize,
     edges: Option<Vec<f64>>,
@@ -668,11 +668,11 @@ fn evaluate<'py>(
             "`enrol` is empty: no gallery to identify against",
         ));
     }
-    if subjects.len() != probes.len() {
+    if labels.len() != probes.len() {
         return Err(value_error(format!(
-            "{} probes need as many subjects, got {}",
+            "{} probes need as many labels, got {}",
             probes.len(),
-            subjects.len()
+            labels.len()
         )));
     }
     if let Some(t) = &true_pct {
@@ -691,7 +691,7 @@ fn evaluate<'py>(
             )));
         }
     }
-    let subj = indices("subjects", &subjects)?;
+    let subj = indices("labels", &labels)?;
     let gal = images_in("enrol", &enrol)?;
     let prb = images_in("probes", &probes)?;
     let items: Vec<(usize, &Image<u8>, Option<f64>)> = prb
@@ -875,8 +875,8 @@ fn skin_likelihood<'py>(
 
 /// OpenCV's fixed-point RGB to grey of an `(H, W, 3)` uint8 image.
 #[pyfunction]
-fn rgb_to_gray<'py>(py: Python<'py>, img: PyReadonlyArrayDyn<'py, u8>) -> PyResult<Arr<'py, u8>> {
-    let im = image_in("img", &img)?;
+fn rgb_to_gray<'py>(py: Python<'py>, image: PyReadonlyArrayDyn<'py, u8>) -> PyResult<Arr<'py, u8>> {
+    let im = image_in("image", &image)?;
     let g = tone::rgb_to_gray(&im).py_err()?;
     array(py, &[im.height(), im.width()], g)
 }
@@ -913,12 +913,12 @@ fn equalize_hist<'py>(
 #[pyfunction]
 fn resize<'py>(
     py: Python<'py>,
-    img: PyReadonlyArrayDyn<'py, u8>,
+    image: PyReadonlyArrayDyn<'py, u8>,
     height: usize,
     width: usize,
 ) -> PyResult<Arr<'py, u8>> {
-    let flat = img.shape().len() == 2;
-    let im = image_in("img", &img)?;
+    let flat = image.shape().len() == 2;
+    let im = image_in("image", &image)?;
     if height.checked_mul(width).is_none_or(|n| n > MAX_NORMALISED) {
         return Err(value_error(format!(
             "target size {height} x {width} is too large (at most 2^26 pixels)"
@@ -1001,7 +1001,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(score, m)?)?;
     m.add_function(wrap_pyfunction!(baseline_score, m)?)?;
     m.add_function(wrap_pyfunction!(cmc, m)?)?;
-    m.add_function(wrap_pyfunction!(synth_ears, m)?)?;
+    m.add_function(wrap_pyfunction!(make_ears, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(skin_check, m)?)?;
     m.add_function(wrap_pyfunction!(skin_fit, m)?)?;

@@ -50,3 +50,49 @@ impl<T> IntoPy<T> for pyo3::PyResult<wscg_math::Result<T>> {
         self.and_then(|r| r.map_err(to_py))
     }
 }
+
+/// `(Rust name, Python name)` pairs of the arguments a binding passes under another name
+/// than the Python API's (`n_subjects` for the crate's `subjects`).
+pub type Renames = [(&'static str, &'static str)];
+
+/// `e` naming the argument it refuses by its Python name (see [`Renames`]), so that the
+/// message of the `ValueError` or `MemoryError` names what the caller passed.
+pub fn renamed(e: Error, renames: &Renames) -> Error {
+    let py = |n: &'static str| {
+        renames
+            .iter()
+            .find(|(rust, _)| *rust == n)
+            .map_or(n, |(_, python)| python)
+    };
+    match e {
+        Error::InvalidArgument { name, reason } => Error::InvalidArgument {
+            name: py(name),
+            reason,
+        },
+        Error::OutOfMemory { what, bytes, limit } => Error::OutOfMemory {
+            what: py(what),
+            bytes,
+            limit,
+        },
+        e => e,
+    }
+}
+
+/// Extension to turn `wscg_math::Result` into `PyResult` with the refused argument under its
+/// Python name.
+pub trait IntoPyRenamed<T> {
+    /// Converts the error with [`renamed`], then [`to_py`].
+    fn py_err_renamed(self, renames: &Renames) -> pyo3::PyResult<T>;
+}
+
+impl<T> IntoPyRenamed<T> for wscg_math::Result<T> {
+    fn py_err_renamed(self, renames: &Renames) -> pyo3::PyResult<T> {
+        self.map_err(|e| to_py(renamed(e, renames)))
+    }
+}
+
+impl<T> IntoPyRenamed<T> for pyo3::PyResult<wscg_math::Result<T>> {
+    fn py_err_renamed(self, renames: &Renames) -> pyo3::PyResult<T> {
+        self.and_then(|r| r.map_err(|e| to_py(renamed(e, renames))))
+    }
+}

@@ -512,7 +512,7 @@ fn nearest(
 /// A UCR/UEA `.ts` file: `{problem, series (case -> dimension -> 1-D array), labels,
 /// class_labels}`.
 #[pyfunction]
-fn read_ts(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
+fn load_ts(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     let data = crate::pool::detach(py, || ts_file::read_ts(&path)).py_err()?;
     let series = PyList::empty(py);
     for case in data.series {
@@ -535,14 +535,14 @@ fn read_ts(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
 
 /// A skeleton stream from a CSV (`frame, joint, x, y, z`) or `.npy` file, `(T, 25, 3)`.
 #[pyfunction]
-fn read_skeleton(py: Python<'_>, path: PathBuf, fps: f64) -> PyResult<Arr<'_, f64>> {
+fn load_skeleton(py: Python<'_>, path: PathBuf, fps: f64) -> PyResult<Arr<'_, f64>> {
     let s = crate::pool::detach(py, || gait::read_skeleton(&path, fps)).py_err()?;
     seq_out(py, &s)
 }
 
 /// Writes a skeleton CSV.
 #[pyfunction]
-fn write_skeleton_csv(
+fn save_skeleton_csv(
     py: Python<'_>,
     path: PathBuf,
     frames: PyReadonlyArrayDyn<'_, f64>,
@@ -707,7 +707,7 @@ fn range2(name: &str, r: (f64, f64)) -> PyResult<[f64; 2]> {
 #[pyfunction]
 #[pyo3(signature = (n_subjects, n_sessions, seed, heading_deg, speed, walk_s, sit_prob, noise))]
 #[allow(clippy::too_many_arguments)]
-fn synth_walkers<'py>(
+fn make_walkers<'py>(
     py: Python<'py>,
     n_subjects: usize,
     n_sessions: usize,
@@ -853,12 +853,12 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(dtw_kernel, m)?)?;
     m.add_function(wrap_pyfunction!(dissimilarity_matrix, m)?)?;
     m.add_function(wrap_pyfunction!(nearest, m)?)?;
-    m.add_function(wrap_pyfunction!(read_ts, m)?)?;
-    m.add_function(wrap_pyfunction!(read_skeleton, m)?)?;
-    m.add_function(wrap_pyfunction!(write_skeleton_csv, m)?)?;
+    m.add_function(wrap_pyfunction!(load_ts, m)?)?;
+    m.add_function(wrap_pyfunction!(load_skeleton, m)?)?;
+    m.add_function(wrap_pyfunction!(save_skeleton_csv, m)?)?;
     m.add_function(wrap_pyfunction!(ball_features, m)?)?;
     m.add_function(wrap_pyfunction!(preis_features, m)?)?;
-    m.add_function(wrap_pyfunction!(synth_walkers, m)?)?;
+    m.add_function(wrap_pyfunction!(make_walkers, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate_synthetic, m)?)?;
     Ok(())
 }

@@ -16,7 +16,7 @@ use wscg_biometrics::sfa::ClassSfaParams;
 use wscg_math::{ImageStackView, ImageView};
 
 use crate::convert::{array, image_array, labels_from, mat_map, mat_out, values, Arr};
-use crate::errors::{value_error, IntoPy};
+use crate::errors::{value_error, IntoPy, IntoPyRenamed, Renames};
 
 /// `(n, h, w)` of a mask stack (a single `(h, w)` mask counts as `n = 1`).
 fn stack_dims(name: &str, shape: &[usize]) -> PyResult<(usize, usize, usize)> {
@@ -38,7 +38,7 @@ type HandPoseArrays<'py> = (Arr<'py, u8>, Arr<'py, f32>, Arr<'py, i64>, Arr<'py,
 fn hand_poses<'py>(
     py: Python<'py>,
     n_per_class: usize,
-    subjects: usize,
+    n_subjects: usize,
     seed: u64,
     width: usize,
     height: usize,
@@ -46,7 +46,7 @@ fn hand_poses<'py>(
 ) -> PyResult<HandPoseArrays<'py>> {
     let cfg = HandposeSynthParams::default()
         .n_per_class(n_per_class)
-        .subjects(subjects)
+        .subjects(n_subjects)
         .seed(seed)
         .width(width)
         .height(height);
@@ -58,7 +58,8 @@ fn hand_poses<'py>(
         scale: jitter[4],
         translation_px: jitter[5],
     };
-    let d = crate::pool::detach(py, || generate_with(&cfg, &j)).py_err()?;
+    let d = crate::pool::detach(py, || generate_with(&cfg, &j))
+        .py_err_renamed(&[("subjects", "n_subjects")])?;
     let (n, h, w) = (d.len(), d.height, d.width);
     let labels = d.labels.iter().map(|&l| i64::from(l)).collect();
     let subj = d.subjects.iter().map(|&l| i64::from(l)).collect();
@@ -156,14 +157,20 @@ fn downscale<'py>(
     image_array(py, out, true)
 }
 
+/// The Python names of the split's counts.
+const SPLIT: &Renames = &[
+    ("test_per_class", "n_test_per_class"),
+    ("augment_per_class", "n_augment_per_class"),
+];
+
 /// The paper's split and augmentation of a mask stack: a dict of arrays.
 #[pyfunction]
 fn hand_pose_split<'py>(
     py: Python<'py>,
     masks: PyReadonlyArrayDyn<u8>,
     labels: PyReadonlyArrayDyn<i64>,
-    test_per_class: usize,
-    augment_per_class: usize,
+    n_test_per_class: usize,
+    n_augment_per_class: usize,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (n, h, w) = stack_dims("masks", masks.shape())?;
@@ -171,9 +178,9 @@ fn hand_pose_split<'py>(
     let m = values(&masks);
     let s = crate::pool::detach(py, || {
         let stack = ImageStackView::new(n, h, w, &m)?;
-        split_masks(stack, &y, test_per_class, augment_per_class, seed)
+        split_masks(stack, &y, n_test_per_class, n_augment_per_class, seed)
     })
-    .py_err()?;
+    .py_err_renamed(SPLIT)?;
     let d = PyDict::new(py);
     let i64s = |v: &[u32]| v.iter().map(|&l| i64::from(l)).collect::<Vec<_>>();
     let idx = |v: &[usize]| v.iter().map(|&l| l as i64).collect::<Vec<_>>();
@@ -199,12 +206,12 @@ fn hand_pose_comparison<'py>(
     depth: Option<PyReadonlyArrayDyn<f32>>,
     labels: PyReadonlyArrayDyn<i64>,
     methods: Vec<String>,
-    test_per_class: usize,
-    augment_per_class: usize,
+    n_test_per_class: usize,
+    n_augment_per_class: usize,
     seed: u64,
     sfa: (usize, usize, f64, f64),
-    k: usize,
-    physical_per_class: usize,
+    knn_n_neighbors: usize,
+    physical_n_per_class: usize,
     isomap: (usize, usize, Option<usize>, usize),
     global_rule: &str,
 ) -> PyResult<(
@@ -231,8 +238,8 @@ fn hand_pose_comparison<'py>(
                 )
                 .shrinkage(sfa.3),
         )
-        .k(k)
-        .physical_per_class(physical_per_class)
+        .k(knn_n_neighbors)
+        .physical_per_class(physical_n_per_class)
         .isomap(
             IsomapParams::default()
                 .n_neighbors(isomap.0)
@@ -249,11 +256,22 @@ fn hand_pose_comparison<'py>(
             .as_deref()
             .map(|d| ImageStackView::new(n, h, w, d))
             .transpose()?;
-        let split = split_masks(stack, &y, test_per_class, augment_per_class, seed)?;
+        let split = split_masks(stack, &y, n_test_per_class, n_augment_per_class, seed)?;
         let res = compare_masks(stack, depth, &split, &cfg, &methods, |_| {})?;
         Ok::<_, wscg_math::Error>((split, res))
     })
-    .py_err()?;
+    .py_err_renamed(&[
+        ("test_per_class", "n_test_per_class"),
+        ("augment_per_class", "n_augment_per_class"),
+        ("pca_dims", "pca_n_components"),
+        ("m_per_class", "m"),
+        ("k", "knn_n_neighbors"),
+        ("physical_per_class", "physical_n_per_class"),
+        ("isomap_per_class", "isomap_n_per_class"),
+        ("isomap_landmarks", "isomap_n_landmarks"),
+        ("n_neighbors", "isomap_n_neighbors"),
+        ("n_components", "isomap_n_components"),
+    ])?;
     let mut out = Vec::new();
     for r in res.results {
         let n = r.predictions.len();
@@ -282,7 +300,7 @@ fn hand_pose_comparison<'py>(
 fn rotated_frame_rows<'py>(
     py: Python<'py>,
     masks: PyReadonlyArrayDyn<u8>,
-    frames: Vec<usize>,
+    test_index: Vec<usize>,
     lo: f64,
     hi: f64,
     seed: u64,
@@ -290,11 +308,11 @@ fn rotated_frame_rows<'py>(
     let (n, h, w) = stack_dims("masks", masks.shape())?;
     let m = values(&masks);
     let rows = crate::pool::detach(py, || {
-        rotated_rows(ImageStackView::new(n, h, w, &m)?, &frames, lo, hi, seed)
+        rotated_rows(ImageStackView::new(n, h, w, &m)?, &test_index, lo, hi, seed)
     })
-    .py_err()?;
+    .py_err_renamed(&[("frames", "test_index")])?;
     let dim = h.div_ceil(DOWNSCALE) * w.div_ceil(DOWNSCALE);
-    array(py, &[frames.len(), dim], rows)
+    array(py, &[test_index.len(), dim], rows)
 }
 
 /// A fitted Isomap.

@@ -143,7 +143,7 @@ fn check_range(d_min: i32, d_max: i32) -> PyResult<()> {
 type HdrResult<'py> = (Vec<Arr<'py, f32>>, Option<Bound<'py, PyDict>>, Vec<usize>);
 
 #[pyfunction]
-#[pyo3(signature = (views, times, crfs, bits, patch, iters, d_min, d_max, coherence, epipolar,
+#[pyo3(signature = (views, times, crfs, bits, patch, n_iter, d_min, d_max, coherence, epipolar,
                     align, synthesis, ordered, weighted_cost, fill_saturated, seed, details))]
 #[allow(clippy::too_many_arguments)]
 fn multiscopic_hdr<'py>(
@@ -153,7 +153,7 @@ fn multiscopic_hdr<'py>(
     crfs: Vec<CrfArg<'py>>,
     bits: Option<u8>,
     patch: usize,
-    iters: usize,
+    n_iter: usize,
     d_min: i32,
     d_max: i32,
     coherence: bool,
@@ -189,7 +189,7 @@ fn multiscopic_hdr<'py>(
     let p = MultiscopicParams::default()
         .pm(PatchMatchParams::default()
             .patch(patch)
-            .iters(iters)
+            .iters(n_iter)
             .d_min(d_min)
             .d_max(d_max)
             .coherence(coherence)
@@ -352,12 +352,12 @@ fn khan_weight<'py>(
 }
 
 #[pyfunction]
-#[pyo3(signature = (stack, times, samples, lam, bits))]
+#[pyo3(signature = (stack, times, n_samples, lam, bits))]
 fn calibrate_debevec<'py>(
     py: Python<'py>,
     stack: Vec<PyReadonlyArrayDyn<'py, u16>>,
     times: Vec<f64>,
-    samples: usize,
+    n_samples: usize,
     lam: f64,
     bits: u8,
 ) -> PyResult<Arr<'py, f32>> {
@@ -371,14 +371,14 @@ fn calibrate_debevec<'py>(
     }
     let imgs = codes_list("stack", &stack)?;
     let crf = crate::pool::detach(py, || {
-        wscg_hdr::calibrate_debevec(&imgs, &times, bits, samples, lam)
+        wscg_hdr::calibrate_debevec(&imgs, &times, bits, n_samples, lam)
     })
     .py_err()?;
     array(py, &[crf.levels(), crf.channels()], crf.table().to_vec())
 }
 
 #[pyfunction]
-#[pyo3(signature = (stack, times, bits, degree, max_degree, samples, refine_ratios, tol, max_iter))]
+#[pyo3(signature = (stack, times, bits, degree, max_degree, n_samples, refine_ratios, tol, max_iter))]
 #[allow(clippy::too_many_arguments)]
 fn calibrate_mitsunaga_nayar<'py>(
     py: Python<'py>,
@@ -387,7 +387,7 @@ fn calibrate_mitsunaga_nayar<'py>(
     bits: u8,
     degree: Option<usize>,
     max_degree: usize,
-    samples: usize,
+    n_samples: usize,
     refine_ratios: bool,
     tol: f64,
     max_iter: usize,
@@ -396,7 +396,7 @@ fn calibrate_mitsunaga_nayar<'py>(
     let p = wscg_hdr::MitsunagaNayarParams::default()
         .degree(degree)
         .max_degree(max_degree)
-        .samples(samples)
+        .samples(n_samples)
         .refine_ratios(refine_ratios)
         .tol(tol)
         .max_iter(max_iter);
@@ -442,7 +442,7 @@ fn calibrate_mitsunaga_nayar<'py>(
 #[allow(clippy::too_many_arguments)]
 fn pm_params(
     patch: usize,
-    iters: usize,
+    n_iter: usize,
     d_min: i32,
     d_max: i32,
     v_tol: i32,
@@ -455,7 +455,7 @@ fn pm_params(
     check_range(d_min, d_max)?;
     Ok(PatchMatchParams::default()
         .patch(patch)
-        .iters(iters)
+        .iters(n_iter)
         .d_min(d_min)
         .d_max(d_max)
         .v_tol(v_tol)
@@ -470,7 +470,7 @@ fn pm_params(
 type Field<'py> = (Arr<'py, i32>, Arr<'py, f32>);
 
 #[pyfunction]
-#[pyo3(signature = (a, b, patch, iters, d_min, d_max, v_tol, coherence, epipolar, c_min, alpha,
+#[pyo3(signature = (a, b, patch, n_iter, d_min, d_max, v_tol, coherence, epipolar, c_min, alpha,
                     seed))]
 #[allow(clippy::too_many_arguments)]
 fn patchmatch<'py>(
@@ -478,7 +478,7 @@ fn patchmatch<'py>(
     a: PyReadonlyArrayDyn<'py, f32>,
     b: PyReadonlyArrayDyn<'py, f32>,
     patch: usize,
-    iters: usize,
+    n_iter: usize,
     d_min: i32,
     d_max: i32,
     v_tol: i32,
@@ -490,7 +490,7 @@ fn patchmatch<'py>(
 ) -> PyResult<Field<'py>> {
     let (ia, ib) = (float_in("a", &a)?, float_in("b", &b)?);
     let p = pm_params(
-        patch, iters, d_min, d_max, v_tol, coherence, epipolar, c_min, alpha, seed,
+        patch, n_iter, d_min, d_max, v_tol, coherence, epipolar, c_min, alpha, seed,
     )?;
     let f = crate::pool::detach(py, || wscg_hdr::patchmatch(&ia, &ib, &p)).py_err()?;
     nnf_out(py, f)
@@ -502,12 +502,14 @@ fn patchmatch_2d<'py>(
     a: PyReadonlyArrayDyn<'py, f32>,
     b: PyReadonlyArrayDyn<'py, f32>,
     patch: usize,
-    iters: usize,
+    n_iter: usize,
     seed: u64,
 ) -> PyResult<Field<'py>> {
     let (ia, ib) = (float_in("a", &a)?, float_in("b", &b)?);
-    let f = crate::pool::detach(py, || wscg_hdr::patchmatch_2d(&ia, &ib, patch, iters, seed))
-        .py_err()?;
+    let f = crate::pool::detach(py, || {
+        wscg_hdr::patchmatch_2d(&ia, &ib, patch, n_iter, seed)
+    })
+    .py_err()?;
     nnf_out(py, f)
 }
 
@@ -581,7 +583,7 @@ fn warp_direct<'py>(
 
 #[pyfunction]
 #[pyo3(signature = (height, width, times, emitter_peak, noise, seed))]
-fn synth_scene<'py>(
+fn make_scene<'py>(
     py: Python<'py>,
     height: usize,
     width: usize,
@@ -729,7 +731,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(zncc_stereo, m)?)?;
     m.add_function(wrap_pyfunction!(vote_bds, m)?)?;
     m.add_function(wrap_pyfunction!(warp_direct, m)?)?;
-    m.add_function(wrap_pyfunction!(synth_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(make_scene, m)?)?;
     m.add_function(wrap_pyfunction!(rmse_log2, m)?)?;
     m.add_function(wrap_pyfunction!(bad_rate, m)?)?;
     m.add_function(wrap_pyfunction!(incoherence, m)?)?;

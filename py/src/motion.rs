@@ -209,10 +209,10 @@ fn init_from(s: &str) -> PyResult<Init> {
     }
 }
 
-fn check_restarts(restarts: usize) -> PyResult<()> {
-    if restarts > MAX_RESTARTS {
+fn check_restarts(n_restarts: usize) -> PyResult<()> {
+    if n_restarts > MAX_RESTARTS {
         return Err(value_error(format!(
-            "`restarts` must be <= {MAX_RESTARTS}, got {restarts}"
+            "`n_restarts` must be <= {MAX_RESTARTS}, got {n_restarts}"
         )));
     }
     Ok(())
@@ -220,7 +220,7 @@ fn check_restarts(restarts: usize) -> PyResult<()> {
 
 /// Anechoic demixing of `x` (`R x I x N`): quality, sources, delays, weights, reconstruction.
 #[pyfunction]
-#[pyo3(signature = (x, n_sources, delays, n_harmonics, restarts, max_iter, tol, seed, init, delay_search))]
+#[pyo3(signature = (x, n_sources, delays, n_harmonics, n_restarts, max_iter, tol, seed, init, delay_search))]
 #[allow(clippy::too_many_arguments)]
 fn fit_anechoic<'py>(
     py: Python<'py>,
@@ -228,7 +228,7 @@ fn fit_anechoic<'py>(
     n_sources: usize,
     delays: &str,
     n_harmonics: usize,
-    restarts: usize,
+    n_restarts: usize,
     max_iter: usize,
     tol: f64,
     seed: u64,
@@ -242,14 +242,14 @@ fn fit_anechoic<'py>(
         )));
     }
     let set = trials_in("x", &x)?;
-    check_restarts(restarts)?;
+    check_restarts(n_restarts)?;
     let cfg = AnechoicParams::default()
         .n_sources(n_sources)
         .n_harmonics(n_harmonics)
         .delays(delay_mode(delays)?)
         .max_iter(max_iter)
         .tol(tol)
-        .restarts(restarts)
+        .restarts(n_restarts)
         .init(init_from(init)?)
         .seed(seed)
         .delay_search(delay_search);
@@ -537,7 +537,7 @@ impl PyLibrary {
 /// Step-wise learning of the three actions from a dataset's arrays.
 #[pyfunction]
 #[pyo3(signature = (angles, step_length, duration, root, distances, n_sources_first,
-                    n_sources_extra, n_harmonics, restarts, max_iter, tol, seed, delay_search))]
+                    n_sources_extra, n_harmonics, n_restarts, max_iter, tol, seed, delay_search))]
 #[allow(clippy::too_many_arguments)]
 fn fit_stepwise(
     py: Python<'_>,
@@ -549,7 +549,7 @@ fn fit_stepwise(
     n_sources_first: usize,
     n_sources_extra: usize,
     n_harmonics: usize,
-    restarts: usize,
+    n_restarts: usize,
     max_iter: usize,
     tol: f64,
     seed: u64,
@@ -562,14 +562,14 @@ fn fit_stepwise(
         root.as_ref(),
         distances.as_ref(),
     )?;
-    check_restarts(restarts)?;
+    check_restarts(n_restarts)?;
     let cfg = StepwiseParams::default()
         .n_sources_first(n_sources_first)
         .n_sources_extra(n_sources_extra)
         .demix(
             AnechoicParams::default()
                 .n_harmonics(n_harmonics)
-                .restarts(restarts)
+                .restarts(n_restarts)
                 .max_iter(max_iter)
                 .tol(tol)
                 .seed(seed)
@@ -811,7 +811,7 @@ fn root_in(a: &PyReadonlyArrayDyn<f64>, t_n: usize) -> PyResult<Vec<[f64; 3]>> {
 
 /// Writes frames as a BVH file of the 17-joint skeleton.
 #[pyfunction]
-fn write_bvh(
+fn save_bvh(
     py: Python<'_>,
     path: std::path::PathBuf,
     angles: PyReadonlyArrayDyn<f64>,
@@ -831,7 +831,7 @@ fn write_bvh(
 
 /// Reads a BVH file of the 17-joint skeleton.
 #[pyfunction]
-fn read_bvh<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyDict>> {
+fn load_bvh<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyDict>> {
     let m = crate::pool::detach(py, || bvh::read_bvh(&path)).py_err()?;
     let t_n = m.angles.len();
     let d = PyDict::new(py);
@@ -1054,8 +1054,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(quality, m)?)?;
     m.add_function(wrap_pyfunction!(fit_stepwise, m)?)?;
     m.add_function(wrap_pyfunction!(plan_steps, m)?)?;
-    m.add_function(wrap_pyfunction!(write_bvh, m)?)?;
-    m.add_function(wrap_pyfunction!(read_bvh, m)?)?;
+    m.add_function(wrap_pyfunction!(save_bvh, m)?)?;
+    m.add_function(wrap_pyfunction!(load_bvh, m)?)?;
     m.add_function(wrap_pyfunction!(forward_kinematics, m)?)?;
     m.add_function(wrap_pyfunction!(skeleton, m)?)?;
     m.add_function(wrap_pyfunction!(regression_p_value, m)?)?;

@@ -12,7 +12,7 @@ use wscg_biometrics::sfa::{
 };
 
 use crate::convert::{array, labels_from, mat, mat_map, mat_out, row_blocks, Arr};
-use crate::errors::{value_error, IntoPy};
+use crate::errors::{value_error, IntoPy, IntoPyRenamed, Renames};
 
 fn expansion(degree: usize, include_linear: bool) -> PyResult<Option<QuadraticExpansion>> {
     match degree {
@@ -108,7 +108,7 @@ fn sfa_fit(
     py: Python<'_>,
     x: PyReadonlyArrayDyn<f64>,
     y: PyReadonlyArrayDyn<i64>,
-    pca_dims: usize,
+    pca_n_components: usize,
     m: usize,
     degree: usize,
     include_linear: bool,
@@ -120,7 +120,7 @@ fn sfa_fit(
     let x = mat("x", &x)?;
     let y = labels_from("y", &y)?;
     let cfg = ClassSfaParams::default()
-        .pca_dims(pca_dims)
+        .pca_dims(pca_n_components)
         .expansion(expansion(degree, include_linear)?)
         .m_per_class(m)
         .objective(gamma.map_or(ClassObjective::WithinOnly, |gamma| {
@@ -128,14 +128,23 @@ fn sfa_fit(
         }))
         .shrinkage(shrinkage)
         .rank_tol(rank_tol);
+    // The Python classes name the functions per class `m` (PerClassSFA) or `n_components`
+    // (GlobalSFA).
+    const PER_CLASS: &Renames = &[("pca_dims", "pca_n_components"), ("m_per_class", "m")];
+    const GLOBAL: &Renames = &[
+        ("pca_dims", "pca_n_components"),
+        ("m_per_class", "n_components"),
+    ];
     let inner = match rule {
         None => Fitted::PerClass(
-            crate::pool::detach(py, || PerClassSfa::fit(x.as_ref(), &y, &cfg)).py_err()?,
+            crate::pool::detach(py, || PerClassSfa::fit(x.as_ref(), &y, &cfg))
+                .py_err_renamed(PER_CLASS)?,
         ),
         Some(r) => {
             let r = parse_rule(r).py_err()?;
             Fitted::Global(
-                crate::pool::detach(py, || GlobalSfa::fit(x.as_ref(), &y, &cfg, r)).py_err()?,
+                crate::pool::detach(py, || GlobalSfa::fit(x.as_ref(), &y, &cfg, r))
+                    .py_err_renamed(GLOBAL)?,
             )
         }
     };
@@ -196,7 +205,7 @@ fn knn_predict<'py>(
     train: PyReadonlyArrayDyn<f64>,
     y: PyReadonlyArrayDyn<i64>,
     test: PyReadonlyArrayDyn<f64>,
-    k: usize,
+    n_neighbors: usize,
     tie: &str,
 ) -> PyResult<Arr<'py, i64>> {
     let tie = match tie {
@@ -214,9 +223,9 @@ fn knn_predict<'py>(
         labels_from("y", &y)?,
     );
     let p = crate::pool::detach(py, || {
-        Knn::fit(train.as_ref(), &y, k, tie).and_then(|m| m.predict(test.as_ref()))
+        Knn::fit(train.as_ref(), &y, n_neighbors, tie).and_then(|m| m.predict(test.as_ref()))
     })
-    .py_err()?;
+    .py_err_renamed(&[("k", "n_neighbors")])?;
     let n = p.len();
     array(py, &[n], p.into_iter().map(i64::from).collect())
 }

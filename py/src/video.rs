@@ -14,7 +14,7 @@ use wscg_video::{
 use wscg_math::ImageView;
 
 use crate::convert::{array, values, Arr};
-use crate::errors::{value_error, IntoPy};
+use crate::errors::{value_error, IntoPy, IntoPyRenamed};
 
 /// A `(F, H, W, C)` (C = 1 or 3) or `(F, H, W)` uint8 array as a video.
 fn video_in(name: &str, a: &PyReadonlyArrayDyn<u8>) -> PyResult<Video> {
@@ -78,17 +78,17 @@ fn complete_video<'py>(
     mask: PyReadonlyArrayDyn<u8>,
     patch_size: (usize, usize, usize),
     lowres_width: usize,
-    levels: Option<usize>,
-    iters: Vec<usize>,
+    n_levels: Option<usize>,
+    lowres_max_iter: Vec<usize>,
     init: &str,
     search: &str,
-    patchmatch_iters: usize,
+    patchmatch_n_iter: usize,
     seed: u64,
     onion_order: bool,
     causal_first_sweep: bool,
-    refine_iters: usize,
+    refine_max_iter: usize,
     windows: Vec<usize>,
-    max_iterations: usize,
+    fine_max_iter: usize,
     min_energy_drop: f64,
     temporal_radius: usize,
     propagate: bool,
@@ -100,7 +100,7 @@ fn complete_video<'py>(
     let m = mask_in(&mask, &v)?;
     let search = match search {
         "patchmatch" => SearchMethod::PatchMatch3D {
-            iters: patchmatch_iters,
+            iters: patchmatch_n_iter,
             seed,
         },
         "exact" => SearchMethod::Exact,
@@ -124,19 +124,19 @@ fn complete_video<'py>(
         .low(
             LowResParams::default()
                 .target_width(lowres_width)
-                .levels(levels)
+                .levels(n_levels)
                 .patch(patch(patch_size))
-                .iters(iters)
+                .iters(lowres_max_iter)
                 .init(init_method(init, seed)?)
                 .search(search)
                 .onion_order(onion_order)
                 .causal_first_sweep(causal_first_sweep),
         )
-        .refine((refine_iters > 0).then(|| RefineParams::default().iterations(refine_iters)))
+        .refine((refine_max_iter > 0).then(|| RefineParams::default().iterations(refine_max_iter)))
         .local(
             LocalSearchParams::default()
                 .windows(windows)
-                .max_iterations(max_iterations)
+                .max_iterations(fine_max_iter)
                 .min_energy_drop(min_energy_drop)
                 .temporal_radius(temporal_radius)
                 .step(step)
@@ -147,7 +147,7 @@ fn complete_video<'py>(
     let (field, s) = crate::pool::detach(py, || {
         wscg_video::complete_in_place(&mut v, &m, &cfg, &wscg_math::progress::NoProgress)
     })
-    .py_err()?;
+    .py_err_renamed(&[("iters", "lowres_max_iter")])?;
     let stats = PyDict::new(py);
     let s = &s;
     stats.set_item("working_size", s.working_size)?;
@@ -198,8 +198,8 @@ fn wexler<'py>(
     mask: PyReadonlyArrayDyn<u8>,
     patch_size: (usize, usize, usize),
     min_width: usize,
-    iters: Vec<usize>,
-    patchmatch_iters: usize,
+    max_iter: Vec<usize>,
+    patchmatch_n_iter: usize,
     seed: u64,
     per_frame: bool,
     seed_per_frame: bool,
@@ -209,8 +209,8 @@ fn wexler<'py>(
     let cfg = WexlerParams::default()
         .patch(patch(patch_size))
         .min_width(min_width)
-        .iters(iters)
-        .patchmatch_iters(patchmatch_iters)
+        .iters(max_iter)
+        .patchmatch_iters(patchmatch_n_iter)
         .seed(seed)
         .seed_per_frame(seed_per_frame);
     let out = crate::pool::detach(py, || {
@@ -244,13 +244,13 @@ fn measure(
     }
 }
 
-/// Synthetic clips G1-G4 (see `wscg.video.synthetic`).
+/// Synthetic clips G1-G4 (see `wscg.video.make_clip`).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
-fn synthetic<'py>(
+fn make_clip<'py>(
     py: Python<'py>,
     kind: &str,
-    frames: usize,
+    n_frames: usize,
     height: usize,
     width: usize,
     radius: f64,
@@ -268,17 +268,17 @@ fn synthetic<'py>(
         )));
     }
     let clip = crate::pool::detach(py, || match kind {
-        "sprite" => synth::sprite_clip(frames, height, width, radius, speed, noise, seed),
-        "pan" => synth::pan_clip(frames, height, width, step, hole.0, hole.1, seed),
-        "zoom" => synth::zoom_clip(frames, height, width, zoom, radius, speed, seed),
-        _ => synth::periodic_clip(frames, height, width, period, hole.0),
+        "sprite" => synth::sprite_clip(n_frames, height, width, radius, speed, noise, seed),
+        "pan" => synth::pan_clip(n_frames, height, width, step, hole.0, hole.1, seed),
+        "zoom" => synth::zoom_clip(n_frames, height, width, zoom, radius, speed, seed),
+        _ => synth::periodic_clip(n_frames, height, width, period, hole.0),
     })
-    .py_err()?;
+    .py_err_renamed(&[("frames, height, width", "n_frames, height, width")])?;
     let m = clip.hole.to_bytes();
     Ok((
         video_out(py, clip.clean)?,
         video_out(py, clip.observed)?,
-        array(py, &[frames, height, width], m)?,
+        array(py, &[n_frames, height, width], m)?,
     ))
 }
 
@@ -315,35 +315,35 @@ fn inpaint_telea<'py>(
     array(py, &shape, out.into_data())
 }
 
-/// Frames of a folder (see `wscg.video.read_frames`).
+/// Frames of a folder (see `wscg.video.load_frames`).
 #[pyfunction]
-fn read_frames<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Arr<'py, u8>> {
+fn load_frames<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Arr<'py, u8>> {
     let v = crate::pool::detach(py, || wscg_video::io::read_frames(&path)).py_err()?;
     video_out(py, v)
 }
 
-/// A mask image or folder (see `wscg.video.read_mask`).
+/// A mask image or folder (see `wscg.video.load_mask`).
 #[pyfunction]
-fn read_mask<'py>(
+fn load_mask<'py>(
     py: Python<'py>,
     path: std::path::PathBuf,
-    frames: usize,
+    n_frames: usize,
     height: usize,
     width: usize,
 ) -> PyResult<Arr<'py, u8>> {
     let m = crate::pool::detach(py, || {
-        wscg_video::io::read_mask(&path, frames, height, width)
+        wscg_video::io::read_mask(&path, n_frames, height, width)
     })
-    .py_err()?;
-    array(py, &[frames, height, width], m.to_bytes())
+    .py_err_renamed(&[("frames", "n_frames")])?;
+    array(py, &[n_frames, height, width], m.to_bytes())
 }
 
-/// Writes frames as PNG files (see `wscg.video.write_frames`).
+/// Writes frames as PNG files (see `wscg.video.save_frames`).
 #[pyfunction]
-fn write_frames(
+fn save_frames(
     py: Python<'_>,
-    frames: PyReadonlyArrayDyn<u8>,
     path: std::path::PathBuf,
+    frames: PyReadonlyArrayDyn<u8>,
 ) -> PyResult<Vec<std::path::PathBuf>> {
     let v = video_in("frames", &frames)?;
     crate::pool::detach(py, || wscg_video::io::write_frames(&v, &path)).py_err()
@@ -353,10 +353,10 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(complete_video, m)?)?;
     m.add_function(wrap_pyfunction!(wexler, m)?)?;
     m.add_function(wrap_pyfunction!(measure, m)?)?;
-    m.add_function(wrap_pyfunction!(synthetic, m)?)?;
+    m.add_function(wrap_pyfunction!(make_clip, m)?)?;
     m.add_function(wrap_pyfunction!(inpaint_telea, m)?)?;
-    m.add_function(wrap_pyfunction!(read_frames, m)?)?;
-    m.add_function(wrap_pyfunction!(read_mask, m)?)?;
-    m.add_function(wrap_pyfunction!(write_frames, m)?)?;
+    m.add_function(wrap_pyfunction!(load_frames, m)?)?;
+    m.add_function(wrap_pyfunction!(load_mask, m)?)?;
+    m.add_function(wrap_pyfunction!(save_frames, m)?)?;
     Ok(())
 }

@@ -25,11 +25,11 @@ def make_burst(sharp, seed, frames=5, std=(0.35, 0.35, 0.10), gyro_noise=0.002):
     h, w = sharp.shape
     cx, cy = (w - 1) / 2, (h - 1) / 2
     times = 0.1 + np.arange(frames) / FPS
-    truth = deblur.synth.ou_gyro(times[-1] + 0.3, std=std, seed=seed)
-    measured = deblur.synth.add_gyro_noise(truth, gyro_noise, seed=seed + 1000)
+    truth = deblur.make_gyro(times[-1] + 0.3, std=std, seed=seed)
+    measured = deblur.add_gyro_noise(truth, gyro_noise, seed=seed + 1000)
     world = times[frames // 2] + DELAY
-    out = [deblur.synth.render_blurred(sharp, truth, t, EXPOSURE, F, cx, cy, world, t_delay=DELAY,
-                                       seed=seed * 31 + i) for i, t in enumerate(times)]
+    out = [deblur.render_blurred(sharp, truth, t, EXPOSURE, F, cx, cy, world, t_delay=DELAY,
+                                 seed=seed * 31 + i) for i, t in enumerate(times)]
     return out, times, measured
 
 
@@ -63,8 +63,8 @@ def table1(sharp, seed, mu=None, lam=2000.0, methods=("B", "W", "RL", "KS", "KM3
         elif m in ("KS", "KM3", "KM5", "KM3-linear"):
             radius = 2 if m == "KM5" else 1
             gamma = None if m.endswith("linear") else 2.2
-            r = deblur.deblur_multiframe(frames, times, gyro, F, cx, cy, EXPOSURE, delay=DELAY,
-                                         radius=radius, gamma=gamma, **kw)
+            r = deblur.deblur_multiframe(frames, times, gyro, F, cx, cy, EXPOSURE, t_delay=DELAY,
+                                         temporal_radius=radius, gamma=gamma, **kw)
             res[m] = quality(r["single"] if m == "KS" else r["image"], truth)
     return res
 

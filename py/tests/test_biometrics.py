@@ -195,12 +195,12 @@ def test_accuracy_curve_matches_truncated_prediction(digits):
         assert t.score(Xte, yte) == pytest.approx(acc)
         ref = KNeighborsClassifier(1).fit(t.transform(Xtr), ytr).predict(t.transform(Xte))
         assert np.mean(ref == yte) == pytest.approx(acc, abs=2 / len(yte))
-    l, cv = B.select_dimension_cv(B.PCA(), Xtr, ytr, dims=[2, 8, 30], folds=3)
+    l, cv = B.select_dimension_cv(B.PCA(), Xtr, ytr, dims=[2, 8, 30], n_folds=3)
     assert l in (2, 8, 30) and cv.shape == (3, 2) and np.all(cv[:, 1] <= 1.0)
 
 
 def test_finger_veins_recognition():
-    X, y = B.make_finger_veins(subjects=40, samples=10, seed=1)
+    X, y = B.make_finger_veins(n_subjects=40, n_per_subject=10, seed=1)
     assert X.shape == (400, 10, 20) and np.all(np.bincount(y) == 10)
     tr, te = B.split_per_subject(y, 5, seed=0)
     assert len(tr) == 200 and len(te) == 200 and not set(tr) & set(te)
@@ -288,7 +288,8 @@ def test_bad_input_raises_value_error():
         (lambda: B.FDKECA().fit(np.zeros((2, 3, 4, 5))), "2-D"),
         (lambda: B.FDKECA().fit([["a", "b"], ["c", "d"]]), "numeric"),
         (lambda: B.nn_classify(X, np.arange(20), X[:, :3]), "columns"),
-        (lambda: B.make_finger_veins(subjects=0), "subjects"),
+        (lambda: B.make_finger_veins(n_subjects=0), "`n_subjects`"),
+        (lambda: B.make_finger_veins(n_per_subject=0), "`n_per_subject`"),
         (lambda: B.split_per_subject(np.zeros(4, dtype=int), 4), "samples"),
         (lambda: B.PCA().fit(X).axis_images(3), "shape"),
     ]

@@ -50,8 +50,8 @@ HUGE = {
         "n_vpl_paths=10**10)", "MemoryError", "n_paths"),
     "raytrace.manylight_scene": ("raytrace.manylight_scene('cornell', width=10**6, "
                                  "height=10**6)", "MemoryError", "width, height"),
-    "video.synthetic": ("video.synthetic('sprite', frames=10**6, height=10**4, width=10**4)",
-                        "MemoryError", "frames, height, width"),
+    "video.make_clip": ("video.make_clip('sprite', n_frames=10**6, height=10**4, width=10**4)",
+                        "MemoryError", "n_frames, height, width"),
     "volren.phantom": ("volren.phantom('head', shape=(10**5,) * 3)", "MemoryError", "`dims`"),
     "cloth.grid": ("cloth.grid(10**6, 10**6)", "MemoryError", "nx, ny"),
     "octree.voxelize": ("octree.voxelize(*octree.scene('square')[:2], depth=21, "
@@ -61,8 +61,8 @@ HUGE = {
     "csmri.mask_pseudo_radial": ("csmri.mask_pseudo_radial((10**7, 10**7), .4)",
                                  "MemoryError", "`shape`"),
     "csmri.Sflct": ("csmri.Sflct((10**6, 10**6))", "MemoryError", "`shape`"),
-    "biometrics.make_finger_veins": ("wscg.biometrics.make_finger_veins(subjects=10**9)",
-                                     "MemoryError", "subjects"),
+    "biometrics.make_finger_veins": ("wscg.biometrics.make_finger_veins(n_subjects=10**9)",
+                                     "MemoryError", "n_subjects"),
     "isosurface.study_exact": ("wscg.isosurface.study_exact('sphere', n=10**5)",
                                "MemoryError", "`dims`"),
     "octree.scene atrium": ("octree.scene('atrium', size=10**12)", "MemoryError",

@@ -109,9 +109,9 @@ def test_camera_imu_rotation_permutes_the_rates():
 
 
 def test_kernel_grid_matches_render_kernel_at_region_centres():
-    gyro = deblur.synth.ou_gyro(0.4, seed=5)
+    gyro = deblur.make_gyro(0.4, seed=5)
     w, h, tile = 100, 70, 30
-    grid = deblur.kernel_grid(gyro, 0.1, 0.03, F, 49.5, 34.5, w, h, tile=tile, t_delay=0.015)
+    grid = deblur.kernel_grid(gyro, 0.1, 0.03, F, 49.5, 34.5, h, w, tile=tile, t_delay=0.015)
     assert grid.dtype == np.float32 and grid.shape[:2] == (3, 4)
     kk = grid.shape[2]
     assert grid.shape[3] == kk and kk % 2 == 1
@@ -207,7 +207,7 @@ def _rl_reference(b, k, iters):
 @pytest.mark.parametrize("iters", [5, 30])
 def test_richardson_lucy_equals_a_periodic_reference(periodic_case, asymmetric_kernel, iters):
     _, y = periodic_case
-    ours = deblur.richardson_lucy(y, asymmetric_kernel, iters=iters)
+    ours = deblur.richardson_lucy(y, asymmetric_kernel, n_iter=iters)
     # Measured 1.1e-6 (float32); scikit-image starts from 0.5 instead of the data and pads
     # with zeros, so its iterates differ: see the PSNR comparison below.
     assert np.abs(ours - _rl_reference(y, asymmetric_kernel, iters)).max() < 1e-5
@@ -220,7 +220,7 @@ def test_rl_and_wiener_psnr_not_below_scikit_image(camera):
     k[4, :] = 1 / 9
     b = ndimage.convolve(sharp, k, mode="reflect")
     b = b + 0.005 * np.random.default_rng(3).standard_normal(b.shape)
-    ours = _psnr8(deblur.richardson_lucy(b, k, iters=30), sharp)
+    ours = _psnr8(deblur.richardson_lucy(b, k, n_iter=30), sharp)
     ref = _psnr8(restoration.richardson_lucy(b, k, num_iter=30, clip=False), sharp)
     # Measured: ours 26.2 dB, scikit-image 20.3 dB (zero padding rings at the borders).
     assert ours >= ref - 0.5, (ours, ref)
@@ -327,9 +327,9 @@ def test_rolling_shutter_shear_is_removed():
     sharp[:, 76:84] = 0.9
     gyro = _constant_rate(wy=1.0)
     cx, cy = (w - 1) / 2, (h - 1) / 2
-    frame = deblur.synth.render_blurred(sharp, gyro, 0.1, 1e-4, F, cx, cy, 0.1125,
-                                        t_readout=0.025, noise_sigma=0, gamma=None,
-                                        quantise=False)
+    frame = deblur.render_blurred(sharp, gyro, 0.1, 1e-4, F, cx, cy, 0.1125,
+                                  t_readout=0.025, noise_sigma=0, gamma=None,
+                                  quantise=False)
 
     def shear(img):
         wgt = np.clip(img - 0.1, 0, None)
@@ -344,12 +344,12 @@ def test_rolling_shutter_shear_is_removed():
 
 def test_time_delay_is_recovered():
     h, w = 96, 128
-    sharp = deblur.synth.scene(h, w, seed=7)
-    gyro = deblur.synth.ou_gyro(2.2, std=(0.2, 0.2, 0.05), seed=7)
+    sharp = deblur.make_scene(h, w, seed=7)
+    gyro = deblur.make_gyro(2.2, std=(0.2, 0.2, 0.05), seed=7)
     f, cx, cy = 300.0, (w - 1) / 2, (h - 1) / 2
     times = [0.1 + i / 30 for i in range(60)]
-    frames = [deblur.synth.render_blurred(sharp, gyro, t, 0.01, f, cx, cy, 0.0, t_delay=0.015,
-                                          noise_sigma=0.002, seed=i) for i, t in enumerate(times)]
+    frames = [deblur.render_blurred(sharp, gyro, t, 0.01, f, cx, cy, 0.0, t_delay=0.015,
+                                    noise_sigma=0.002, seed=i) for i, t in enumerate(times)]
     shifts = np.array([deblur.phase_correlation(a, b) for a, b in zip(frames, frames[1:])])
     td = deblur.estimate_time_delay(gyro, times, shifts, 0.01, 0.0, f, cx, cy, -0.05, 0.05)
     assert abs(td - 0.015) < 0.002, td
@@ -361,14 +361,14 @@ def test_time_delay_is_recovered():
 
 @pytest.fixture(scope="module")
 def burst():
-    sharp = deblur.synth.scene(120, 150, seed=1)
+    sharp = deblur.make_scene(120, 150, seed=1)
     h, w = sharp.shape
     cx, cy = (w - 1) / 2, (h - 1) / 2
-    gyro = deblur.synth.ou_gyro(0.4, seed=1)
+    gyro = deblur.make_gyro(0.4, seed=1)
     times = [0.1 + i / 30 for i in range(3)]
     t_world = times[1] + 0.015  # shutter opening of the main frame on the gyro clock
-    frames = [deblur.synth.render_blurred(sharp, gyro, t, 0.03, F, cx, cy, t_world,
-                                          t_delay=0.015, seed=10 + i)
+    frames = [deblur.render_blurred(sharp, gyro, t, 0.03, F, cx, cy, t_world,
+                                    t_delay=0.015, seed=10 + i)
               for i, t in enumerate(times)]
     return dict(sharp=sharp, cx=cx, cy=cy, gyro=gyro, times=times, frames=frames)
 
@@ -395,7 +395,7 @@ def test_multiframe(burst):
     b = burst
     ref = b["sharp"] ** (1 / 2.2)
     args = (b["times"], b["gyro"], F, b["cx"], b["cy"], 0.03)
-    out = deblur.deblur_multiframe(b["frames"], *args, delay=0.015)
+    out = deblur.deblur_multiframe(b["frames"], *args, t_delay=0.015)
     assert set(out) >= {"image", "single", "weights", "used_frames", "warnings", "kernels"}
     img, single, wts = out["image"], out["single"], out["weights"]
     assert img.shape == single.shape == (120, 150) and img.dtype == np.float32
@@ -417,11 +417,11 @@ def test_multiframe(burst):
     # uint8 frames give the same result (the rendered frames are quantised to 8 bits). Not
     # bit-identical: the ECC sums are reduced in a thread-dependent order (1-ulp differences).
     u8 = [np.round(f * 255).astype(np.uint8) for f in b["frames"]]
-    out8 = deblur.deblur_multiframe(u8, *args, delay=0.015, main=1)
+    out8 = deblur.deblur_multiframe(u8, *args, t_delay=0.015, main=1)
     assert np.abs(out8["image"] - img).max() < 1e-5
     assert out8["used_frames"] == out["used_frames"]
     # No neighbours: the result is the single-frame one.
-    alone = deblur.deblur_multiframe(b["frames"], *args, delay=0.015, radius=0)
+    alone = deblur.deblur_multiframe(b["frames"], *args, t_delay=0.015, temporal_radius=0)
     assert alone["used_frames"] == [1] and not alone["weights"].any()
     assert np.allclose(alone["image"], alone["single"], atol=1e-6)
 
@@ -432,20 +432,20 @@ def test_multiframe_drops_a_frame_that_does_not_align(burst):
     frames[2] = np.random.default_rng(0).random(frames[2].shape).astype(np.float32)
     with pytest.warns(UserWarning, match="frame 2"):
         out = deblur.deblur_multiframe(frames, b["times"], b["gyro"], F, b["cx"], b["cy"], 0.03,
-                                       delay=0.015, align="gyro")
+                                       t_delay=0.015, align="gyro")
     assert 2 not in out["used_frames"] and (out["weights"][..., 2] == 0).all()
     assert any("frame 2" in w for w in out["warnings"])
 
 
 def test_synth_is_seeded():
-    g1 = deblur.synth.ou_gyro(0.5, seed=4)
+    g1 = deblur.make_gyro(0.5, seed=4)
     assert g1.shape == (101, 4) and np.allclose(np.diff(g1[:, 0]), 1 / 200)
-    assert np.array_equal(g1, deblur.synth.ou_gyro(0.5, seed=4))
-    assert not np.array_equal(g1, deblur.synth.ou_gyro(0.5, seed=5))
-    noisy = deblur.synth.add_gyro_noise(g1, 0.002, seed=1)
+    assert np.array_equal(g1, deblur.make_gyro(0.5, seed=4))
+    assert not np.array_equal(g1, deblur.make_gyro(0.5, seed=5))
+    noisy = deblur.add_gyro_noise(g1, 0.002, seed=1)
     assert np.array_equal(noisy[:, 0], g1[:, 0])
     assert 0.001 < np.std(noisy[:, 1:] - g1[:, 1:]) < 0.003
-    s = deblur.synth.scene(40, 50, seed=2)
+    s = deblur.make_scene(40, 50, seed=2)
     assert s.shape == (40, 50) and s.dtype == np.float32 and 0.02 <= s.min() <= s.max() <= 0.98
 
 
@@ -513,7 +513,7 @@ def test_bad_input_raises_value_error(burst):
     with pytest.raises(ValueError, match="shifts"):
         deblur.estimate_time_delay(gyro, times, np.zeros((3, 2)), 0.03, 0.0, *cam, 0.0, 0.03)
     with pytest.raises(ValueError, match="std"):
-        deblur.synth.ou_gyro(1.0, std=(0.1, -0.1, 0.1))
+        deblur.make_gyro(1.0, std=(0.1, -0.1, 0.1))
     # The native module validates too (direct calls bypass the wrappers).
     from wscg._native import deblur as native
     with pytest.raises(ValueError, match="strictly increasing"):

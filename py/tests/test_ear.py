@@ -381,13 +381,13 @@ SEED = 5
 
 @pytest.fixture(scope="module")
 def clean():
-    return ear.synth_ears(N_SUBJECTS, 1, seed=SEED)
+    return ear.make_ears(N_SUBJECTS, 1, seed=SEED)
 
 
 @pytest.fixture(scope="module")
 def occluded():
     # Same seed: the same subjects and enrolment captures, probes with colour occluders.
-    return ear.synth_ears(N_SUBJECTS, 1, seed=SEED, occlusion="colour", min_pct=10,
+    return ear.make_ears(N_SUBJECTS, 1, seed=SEED, occlusion="colour", min_pct=10,
                           max_pct=50)
 
 
@@ -396,11 +396,11 @@ def matcher(clean):
     return ear.EarMatcher(ear.enroll_many(clean["enrol"]))
 
 
-def test_synth_ears_shapes_and_ground_truth(clean, occluded):
+def test_make_ears_shapes_and_ground_truth(clean, occluded):
     n = N_SUBJECTS
     assert clean["enrol"].shape == (n, 200, 160, 3) and clean["enrol"].dtype == np.uint8
     assert clean["probes"].shape == (n, 200, 160, 3)
-    np.testing.assert_array_equal(clean["subjects"], np.arange(n))
+    np.testing.assert_array_equal(clean["labels"], np.arange(n))
     assert clean["occluder_masks"].shape == (n, 200, 160)
     assert not clean["occluder_masks"].any() and not clean["occluded_blocks"].any()
     np.testing.assert_array_equal(clean["enrol"], occluded["enrol"])
@@ -408,7 +408,7 @@ def test_synth_ears_shapes_and_ground_truth(clean, occluded):
     np.testing.assert_allclose(occluded["occluded_pct"],
                                100 * occluded["occluded_blocks"].mean((1, 2)))
     assert np.all((occluded["occluded_pct"] >= 5) & (occluded["occluded_pct"] <= 55))
-    again = ear.synth_ears(2, 1, seed=SEED, occlusion="colour", min_pct=10, max_pct=50)
+    again = ear.make_ears(2, 1, seed=SEED, occlusion="colour", min_pct=10, max_pct=50)
     np.testing.assert_array_equal(again["probes"], occluded["probes"][:2])
     assert clean["skin_rg"].shape == (n, 2)
 
@@ -416,7 +416,7 @@ def test_synth_ears_shapes_and_ground_truth(clean, occluded):
 def test_clean_probes_are_identified(clean, matcher):
     assert len(matcher) == N_SUBJECTS
     hits = 0
-    for img, sub in zip(clean["probes"], clean["subjects"]):
+    for img, sub in zip(clean["probes"], clean["labels"]):
         r = matcher.identify(img)
         assert not r["rejected"] and r["occluded_pct"] <= 10
         assert r["order"].dtype == np.int64 and r["scores"].dtype == np.float64
@@ -432,7 +432,7 @@ def test_colour_occluded_probes_give_a_mask_and_are_identified(occluded, matcher
     # (measured on this set: S_B rank-1 0.50 vs 0.90 equalised on skin, baseline 0.75).
     on_skin = ear.EarMatcher(matcher.templates, equalize_on_skin=True)
     close, hits = 0, 0
-    for img, sub, om, pct in zip(occluded["probes"], occluded["subjects"],
+    for img, sub, om, pct in zip(occluded["probes"], occluded["labels"],
                                  occluded["occluder_masks"], occluded["occluded_pct"]):
         d = ear.detect_occlusion(img)
         assert d["mask"].shape == (100, 80) and d["mask"].dtype == np.bool_
@@ -459,7 +459,7 @@ def test_colour_occluded_probes_give_a_mask_and_are_identified(occluded, matcher
 
 
 def test_heavily_occluded_probes_are_rejected_not_ranked(matcher):
-    heavy = ear.synth_ears(12, 1, seed=11, occlusion="colour", min_pct=70, max_pct=80)
+    heavy = ear.make_ears(12, 1, seed=11, occlusion="colour", min_pct=70, max_pct=80)
     rejected = 0
     for img, pct in zip(heavy["probes"], heavy["occluded_pct"]):
         r = matcher.identify(img)
@@ -537,7 +537,7 @@ def test_check9_baseline_is_the_pipeline_with_all_blocks_b0_overall_max(clean, m
 
 
 def test_evaluate_agrees_with_the_matcher(occluded, matcher):
-    ev = ear.evaluate(occluded["enrol"], occluded["probes"], occluded["subjects"],
+    ev = ear.evaluate(occluded["enrol"], occluded["probes"], occluded["labels"],
                       true_pct=occluded["occluded_pct"], max_rank=5, edges=[0, 20, 40, 60])
     n = N_SUBJECTS
     assert ev["rules"] == list(ear.RULES)
@@ -600,7 +600,8 @@ def _img(h=40, w=32):
     lambda: ear.enroll(_img()[..., 0]),  # grey without gray_enrolment
     lambda: ear.enroll(_img()[..., :2]),
     lambda: ear.detect_occlusion(_img()[..., 0]),
-    lambda: ear.detect_occlusion(_img()[..., 0], gray_enrolment=True),
+    # Probes need colour even where grey enrolment is allowed.
+    lambda: ear.EarMatcher(ear.enroll(_img())[None], gray_enrolment=True).identify(_img()[..., 0]),
     lambda: ear.detect_occlusion(np.zeros((0, 0, 3), np.uint8)),
     lambda: ear.detect_occlusion(np.zeros((5, 5, 4), np.uint8)),
     lambda: ear.enroll_many([]),
@@ -665,12 +666,45 @@ def test_bad_templates_raise_value_error():
     (dict(min_intensity=300), "min_intensity"),
     (dict(min_intensity=-1), "min_intensity"),
     (dict(fill_holes=1), "fill_holes"),
-    (dict(colour="red"), "unknown parameter"),
     (dict(skin_model=(0.4, 0.3)), "skin_model"),
 ], ids=lambda v: str(v) if isinstance(v, str) else "")
 def test_bad_parameters_raise_value_error(params, match):
+    # The matcher takes every pipeline parameter; the functions that take a parameter check
+    # it the same way.
+    tpl = ear.enroll(_img())[None]
     with pytest.raises(ValueError, match=match):
-        ear.detect_occlusion(_img(), **params)
+        ear.EarMatcher(tpl, **params)
+    takes = [f for f in (ear.detect_occlusion, ear.score, ear.evaluate)
+             if set(params) <= set(inspect.signature(f).parameters)]
+    assert takes, params
+    with pytest.raises(ValueError, match=match):
+        if takes[0] is ear.detect_occlusion:
+            ear.detect_occlusion(_img(), **params)
+        else:
+            ear.score(_img(), tpl[0], **params)
+
+
+def test_parameters_are_explicit_keywords():
+    # Every pipeline function names its parameters: an unknown one is a TypeError, and a
+    # parameter the function does not use is not accepted either.
+    with pytest.raises(TypeError, match="colour"):
+        ear.detect_occlusion(_img(), colour="red")
+    with pytest.raises(TypeError, match="score"):
+        ear.enroll(_img(), score="sum")
+    with pytest.raises(TypeError):
+        ear.detect_occlusion(_img(), 100)  # keyword-only
+    assert set(inspect.signature(ear.EarMatcher).parameters) == {"templates", *ear.PARAMS}
+    assert set(inspect.signature(ear.evaluate).parameters) >= set(ear.PARAMS)
+    for f in (ear.enroll, ear.detect_occlusion, ear.score, ear.make_ears, ear.EarMatcher):
+        doc = inspect.getdoc(f if f is not ear.EarMatcher else f.__init__)
+        for name, p in inspect.signature(f).parameters.items():
+            if name in ear.PARAMS:
+                assert p.kind is p.KEYWORD_ONLY, (f.__name__, name)
+                assert f"\n{name} : " in doc, (f.__name__, name)
+    # The defaults are the paper's values and give the same template as no argument.
+    img = _img()
+    np.testing.assert_array_equal(ear.enroll(img, height=100, width=80, block=10),
+                                  ear.enroll(img))
 
 
 def test_other_bad_input_raises_value_error():
@@ -695,15 +729,15 @@ def test_other_bad_input_raises_value_error():
     with pytest.raises(ValueError):
         ear.cmc([0.5], 3)
     with pytest.raises(ValueError):
-        ear.synth_ears(0, 1)
+        ear.make_ears(0, 1)
     with pytest.raises(ValueError):
-        ear.synth_ears(2, 1, occlusion="paint")
+        ear.make_ears(2, 1, occlusion="paint")
     with pytest.raises(ValueError):
-        ear.synth_ears(2, 1, occlusion="colour", min_pct=50, max_pct=20)
+        ear.make_ears(2, 1, occlusion="colour", min_pct=50, max_pct=20)
     with pytest.raises(ValueError):
-        ear.synth_ears(2, 1, noise_sigma=-1)
+        ear.make_ears(2, 1, noise_sigma=-1)
     with pytest.raises(ValueError):
-        ear.synth_ears(10 ** 6, 10 ** 6)
+        ear.make_ears(10 ** 6, 10 ** 6)
     with pytest.raises(ValueError):
         ear.equalize_hist(np.zeros((0, 4), np.uint8))
     with pytest.raises(ValueError):
@@ -731,7 +765,7 @@ def test_other_bad_input_raises_value_error():
     with pytest.raises(ValueError):
         ear.fill_holes(np.zeros(5, bool))
     tpl = ear.enroll(_img())[None]
-    with pytest.raises(ValueError, match="as many subjects"):
+    with pytest.raises(ValueError, match="as many labels"):
         ear.evaluate([_img()], [_img(), _img()], [0])
     with pytest.raises(ValueError):
         ear.evaluate([_img()], [_img()], [1])  # identity outside the gallery

@@ -30,7 +30,7 @@ CASES = [
     ("max_iter", lambda: csmri.fcsa(*_kspace(), max_iter=-1)),
     ("n", lambda: csmri.shepp_logan_kspace(-4)),
     ("seed", lambda: csmri.mask_cartesian((32, 32), 0.4, seed=2 ** 70)),
-    ("frames", lambda: video.synthetic("g1", frames=-2)),
+    ("n_frames", lambda: video.make_clip("g1", n_frames=-2)),
     ("levels", lambda: wm.wavedec2(np.zeros((16, 16)), "db2", level=-1)),
     ("nx", lambda: cloth.grid(-3, 4)),
     ("iterations", lambda: cloth.Sim(cloth.grid(3, 3), iterations=-1)),

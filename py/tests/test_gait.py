@@ -2,7 +2,7 @@
 angles and a DTW kernel, Ahmed, Paul and Gavrilova, WSCG 2015).
 
 The DTW is pinned down by published UCR/UEA 1-NN error rates on the sets shipped inside the
-sktime wheel (read with our own ``read_ts``; sktime is never imported), by dtaidistance and
+sktime wheel (read with our own ``load_ts``; sktime is never imported), by dtaidistance and
 by brute-force enumeration of warp paths; the gait pipeline by the synthetic walker's ground
 truth.
 """
@@ -32,7 +32,7 @@ def _ucr_dir():
 
 
 def _load(name, split):
-    return gait.read_ts(f"{_ucr_dir()}/{name}/{name}_{split.upper()}.ts")
+    return gait.load_ts(f"{_ucr_dir()}/{name}/{name}_{split.upper()}.ts")
 
 
 def _one_nn_dtw(name, cost="squared"):
@@ -75,7 +75,7 @@ def _random_rotation(rng):
 @pytest.fixture(scope="module")
 def walks():
     """14 subjects x 3 sessions of noisy synthetic walks (~42 walks)."""
-    return gait.synth_walkers(14, 3, seed=11)
+    return gait.make_walkers(14, 3, seed=11)
 
 
 # ----------------------------------------------------------------------------------------
@@ -363,12 +363,12 @@ def test_detect_cycle_matches_the_true_leg_crossings(walks):
 
 def test_detect_cycle_details_and_options(walks):
     f = walks["frames"][1]
-    d = gait.detect_cycle(f, details=True)
+    d = gait.detect_cycle(f, return_details=True)
     assert set(d) >= {"start", "mid", "end", "ankle_dist", "minima", "first_step"}
     assert d["ankle_dist"].shape == (len(f),) and d["first_step"] == "left"
     assert (d["start"], d["mid"], d["end"]) == gait.detect_cycle(f)
     assert list(d["minima"]).index(d["start"]) + 2 == list(d["minima"]).index(d["end"])
-    right = gait.detect_cycle(f, start_leg="right", details=True)
+    right = gait.detect_cycle(f, start_leg="right", return_details=True)
     assert right["first_step"] == "right" and right["start"] != d["start"]
     assert gait.detect_cycle(f, up="y") is not None
     assert gait.detect_cycle(f, up=[0.0, 2.0, 0.0]) == gait.detect_cycle(f, up="y")
@@ -376,8 +376,8 @@ def test_detect_cycle_details_and_options(walks):
 
 
 def test_noise_free_walkers_share_sessions_with_noisy_ones():
-    noisy = gait.synth_walkers(3, 2, seed=4)
-    clean = gait.synth_walkers(3, 2, seed=4, noise=False)
+    noisy = gait.make_walkers(3, 2, seed=4)
+    clean = gait.make_walkers(3, 2, seed=4, noise=False)
     for a, b in zip(noisy["frames"], clean["frames"]):
         assert a.shape == b.shape and 0 < np.abs(a - b).max() < 0.1
     for a, b in zip(noisy["minima"], clean["minima"]):
@@ -418,14 +418,14 @@ def _leave_session_out(s, **kw):
 def test_recognizer_leave_session_out_accuracy():
     # 8 subjects x 3 sessions per seed; single seeds range 0.75..1.0 (24 decisions), the
     # mean over six seeds is the stable quantity.
-    accs = [_leave_session_out(gait.synth_walkers(8, 3, seed=s)) for s in range(6)]
+    accs = [_leave_session_out(gait.make_walkers(8, 3, seed=s)) for s in range(6)]
     print("\nleave-session-out 1-NN accuracy, 8 subjects, seeds 0-5:", np.round(accs, 3))
     assert np.mean(accs) >= 0.9
     assert min(accs) >= 0.7
 
 
 def test_recognizer_labels_rank_and_attributes():
-    s = gait.synth_walkers(6, 3, seed=0)
+    s = gait.make_walkers(6, 3, seed=0)
     fr, lab, ses = s["frames"], s["labels"], s["sessions"]
     names = np.array(["ann", "bob", "cy", "dee", "eve", "fay"])[lab]
     tr = np.flatnonzero(ses != 2)
@@ -449,7 +449,7 @@ def test_recognizer_labels_rank_and_attributes():
     rec2 = gait.GaitRecognizer(vote="paper").fit([fr[i] for i in tr], objs)
     assert rec2.predict(fr[te[0]]) in set(objs)
     for vote, k in (("majority", 3), ("majority:2", None), ("nearest", None)):
-        gait.GaitRecognizer(vote=vote, k=k).fit([fr[i] for i in tr], lab[tr])
+        gait.GaitRecognizer(vote=vote, n_neighbors=k).fit([fr[i] for i in tr], lab[tr])
 
 
 def test_evaluate_synthetic_reproduces_check_7():
@@ -491,19 +491,19 @@ def test_baseline_features(walks):
 def test_skeleton_files_round_trip(tmp_path, walks):
     f = walks["frames"][0][:40]
     csv = tmp_path / "walk.csv"
-    gait.write_skeleton_csv(csv, f)
-    back = gait.read_skeleton(csv)
+    gait.save_skeleton_csv(csv, f)
+    back = gait.load_skeleton(csv)
     assert back.shape == f.shape
     np.testing.assert_allclose(back, f, atol=5e-7)
     npy = tmp_path / "walk.npy"
     np.save(npy, f)
-    np.testing.assert_array_equal(gait.read_skeleton(str(npy)), f)
+    np.testing.assert_array_equal(gait.load_skeleton(str(npy)), f)
     with pytest.raises(OSError):
-        gait.read_skeleton(tmp_path / "missing.csv")
+        gait.load_skeleton(tmp_path / "missing.csv")
     bad = tmp_path / "bad.csv"
     bad.write_text("frame,joint,x,y,z\n0,SpineBase,0,0,0\n")
     with pytest.raises(OSError, match="has no SpineMid"):
-        gait.read_skeleton(bad)
+        gait.load_skeleton(bad)
 
 
 # ----------------------------------------------------------------------------------------
@@ -616,16 +616,16 @@ def test_bad_recognizer_input(walks):
 
 def test_bad_files_and_generators(tmp_path):
     with pytest.raises(OSError):
-        gait.read_ts(tmp_path / "missing.ts")
+        gait.load_ts(tmp_path / "missing.ts")
     bad = tmp_path / "bad.ts"
     bad.write_text("@problemName x\n@classLabel true a b\n1,2,3:a\n")
     with pytest.raises(OSError, match="@data"):
-        gait.read_ts(bad)
+        gait.load_ts(bad)
     with pytest.raises(ValueError, match="n_subjects"):
-        gait.synth_walkers(0, 3)
+        gait.make_walkers(0, 3)
     with pytest.raises(ValueError, match="sit_prob"):
-        gait.synth_walkers(2, 2, sit_prob=1.5)
+        gait.make_walkers(2, 2, sit_prob=1.5)
     with pytest.raises(ValueError, match="speed"):
-        gait.synth_walkers(2, 2, speed=(0.0, 1.0))
+        gait.make_walkers(2, 2, speed=(0.0, 1.0))
     with pytest.raises(ValueError, match="n_sessions"):
         gait.evaluate_synthetic(5, 1)

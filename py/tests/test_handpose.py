@@ -87,21 +87,22 @@ def test_physical_features_of_a_disc():
 
 def test_split_and_comparison(hands):
     masks, depth, labels, _ = hands
-    s = B.hand_pose_split(masks, labels, test_per_class=30, augment_per_class=40, seed=0)
+    s = B.hand_pose_split(masks, labels, n_test_per_class=30, n_augment_per_class=40,
+                          seed=0)
     assert s["X_train"].shape == (5 * 160, 55 * 40) and s["X_test"].shape == (150, 2200)
     assert np.sum(s["train_rotation"] != 0) == 200
     assert not set(s["test_index"]) & set(s["train_index"])
-    r = B.hand_pose_comparison(masks, labels, depth=depth, test_per_class=30,
-                               augment_per_class=40, methods=("sfa", "physical", "pca",
-                                                              "global"),
-                               pca_dims=10, m=4, physical_per_class=100)
+    r = B.hand_pose_comparison(masks, labels, depth=depth, n_test_per_class=30,
+                               n_augment_per_class=40, methods=("sfa", "physical", "pca",
+                                                                "global"),
+                               pca_n_components=10, m=4, physical_n_per_class=100)
     np.testing.assert_array_equal(r["y_test"], s["y_test"])
     for name, res in r["results"].items():
         np.testing.assert_allclose(res["confusion"].sum(axis=1), 100.0)
         acc = 100 * np.mean(res["predictions"] == r["y_test"])
         assert abs(acc - res["accuracy"]) < 1e-9  # equal class sizes: mean diagonal
     # The comparison's class-wise SFA is PerClassSFA on the split's rows.
-    model = B.PerClassSFA(pca_dims=10, m=4).fit(s["X_train"], s["y_train"])
+    model = B.PerClassSFA(pca_n_components=10, m=4).fit(s["X_train"], s["y_train"])
     np.testing.assert_array_equal(model.predict(s["X_test"]), r["results"]["sfa"]["predictions"])
     # Rotated test rows: no rotation gives the split's rows exactly; a rotation keeps each
     # hand's area (within resampling error) but moves its pixels.
@@ -138,7 +139,7 @@ def test_python_equals_the_rust_command_line(hands, tmp_path):
                          check=True, capture_output=True, text=True).stdout
     rust_pred = np.array([int(line.split("\t")[1]) for line in out.splitlines()[1:]])
     rust_scores = np.load(tmp_path / "s.npy")
-    py = B.PerClassSFA(pca_dims=10, m=4).fit(_rows(masks), labels)
+    py = B.PerClassSFA(pca_n_components=10, m=4).fit(_rows(masks), labels)
     X = _rows(masks)
     np.testing.assert_array_equal(py.predict(X), rust_pred)
     scores = py.decision_function(X)
@@ -157,7 +158,7 @@ def test_results_do_not_depend_on_the_thread_count(hands, tmp_path):
         "import numpy as np, sys\n"
         "from wscg import biometrics as B\n"
         f"X = np.load(r'{tmp_path / 'X.npy'}'); y = np.load(r'{tmp_path / 'y.npy'}')\n"
-        "m = B.PerClassSFA(pca_dims=10, m=4).fit(X, y)\n"
+        "m = B.PerClassSFA(pca_n_components=10, m=4).fit(X, y)\n"
         "np.save(sys.argv[1], m.decision_function(X))\n"
     )
     outs = []
@@ -187,10 +188,10 @@ def test_bad_input_raises_value_error(hands):
     with pytest.raises(ValueError):
         B.hand_pose_split(masks, labels[:-1])
     with pytest.raises(ValueError):
-        B.hand_pose_split(masks, labels, test_per_class=150)
+        B.hand_pose_split(masks, labels, n_test_per_class=150)
     with pytest.raises(ValueError):
-        B.hand_pose_comparison(masks, labels, methods=("cnn",), test_per_class=10,
-                               augment_per_class=0)
+        B.hand_pose_comparison(masks, labels, methods=("cnn",), n_test_per_class=10,
+                               n_augment_per_class=0)
     with pytest.raises(ValueError):
         B.Isomap(n_neighbors=0).fit(np.random.default_rng(0).normal(size=(20, 3)))
     with pytest.raises(ValueError):

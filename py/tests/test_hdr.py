@@ -64,16 +64,16 @@ def moto_fields(moto):
     la, lb = moto["left"].astype(np.float32), moto["right"].astype(np.float32)
     kw = dict(min_disparity=D_MIN, max_disparity=D_MAX, patch=7, seed=0)
     jobs = {
-        "ours2": lambda: hdr.patchmatch(ea, eb, iterations=2, **kw),
-        "ours10": lambda: hdr.patchmatch(ea, eb, iterations=10, **kw),
-        "nocoh2": lambda: hdr.patchmatch(ea, eb, iterations=2, coherence=False, **kw),
-        "pm2d2": lambda: hdr.patchmatch_2d(ea, eb, patch=7, iterations=2, seed=0),
-        "pm2d5": lambda: hdr.patchmatch_2d(ea, eb, patch=7, iterations=5, seed=0),
-        "ldr2": lambda: hdr.patchmatch(la, lb, iterations=2, **kw),
+        "ours2": lambda: hdr.patchmatch(ea, eb, n_iter=2, **kw),
+        "ours10": lambda: hdr.patchmatch(ea, eb, n_iter=10, **kw),
+        "nocoh2": lambda: hdr.patchmatch(ea, eb, n_iter=2, coherence=False, **kw),
+        "pm2d2": lambda: hdr.patchmatch_2d(ea, eb, patch=7, n_iter=2, seed=0),
+        "pm2d5": lambda: hdr.patchmatch_2d(ea, eb, patch=7, n_iter=5, seed=0),
+        "ldr2": lambda: hdr.patchmatch(la, lb, n_iter=2, **kw),
         # Mirrored pair: [D_MIN, D_MAX] becomes [-D_MAX, -D_MIN].
         "mirror2": lambda: hdr.patchmatch(
             np.ascontiguousarray(ea[:, ::-1]), np.ascontiguousarray(eb[:, ::-1]),
-            iterations=2, patch=7, seed=0, min_disparity=-D_MAX, max_disparity=-D_MIN),
+            n_iter=2, patch=7, seed=0, min_disparity=-D_MAX, max_disparity=-D_MIN),
         "zncc": lambda: hdr.zncc_stereo(ea, eb, window=9, min_disparity=D_MIN,
                                         max_disparity=D_MAX),
     }
@@ -161,7 +161,7 @@ def test_native_calls_release_the_gil(moto):
     def work():
         t0 = time.perf_counter()
         # Enough sweeps to last well past the skip threshold on two cores.
-        hdr.patchmatch(ea, eb, iterations=8, seed=3)
+        hdr.patchmatch(ea, eb, n_iter=8, seed=3)
         span["t"] = time.perf_counter() - t0
         done.set()
 
@@ -185,7 +185,7 @@ def test_native_calls_release_the_gil(moto):
 
 @pytest.fixture(scope="module")
 def scene():
-    return hdr.synth_scene()
+    return hdr.make_scene()
 
 
 _TANH = np.tanh(1.5)
@@ -206,7 +206,7 @@ def test_debevec_calibration_matches_the_truth_and_opencv(scene):
     e = scene["radiance"][2].astype(np.float64)
     times = 0.004 * 2.0 ** np.arange(7)
     stack = [np.round(_s_curve(e * t) * 255).astype(np.uint8) for t in times]
-    ours = hdr.calibrate_debevec(stack, times, samples=70, lam=10.0)
+    ours = hdr.calibrate_debevec(stack, times, n_samples=70, lam=10.0)
     assert ours.shape == (256, 3) and ours.dtype == np.float32
     assert (np.diff(ours, axis=0) >= 0).all()
     cal = cv2.createCalibrateDebevec(samples=70, lambda_=10.0, random=False)
@@ -276,12 +276,12 @@ def test_mitsunaga_nayar_bad_input():
     with pytest.raises(ValueError, match="refine_ratios"):
         hdr.calibrate_mitsunaga_nayar(stack, times, refine_ratios="yes")
     with pytest.raises(ValueError, match="same time"):
-        hdr.calibrate_mitsunaga_nayar(stack, [0.01, 0.01, 0.04], samples=100)
+        hdr.calibrate_mitsunaga_nayar(stack, [0.01, 0.01, 0.04], n_samples=100)
     with pytest.raises(ValueError, match="at least 2"):
         hdr.calibrate_mitsunaga_nayar(stack[:1], times[:1])
     dark = [np.full((24, 32), 10, np.uint8), np.full((24, 32), 20, np.uint8)]
     with pytest.raises(ValueError, match="upper half"):
-        hdr.calibrate_mitsunaga_nayar(dark, [0.01, 0.02], samples=100)
+        hdr.calibrate_mitsunaga_nayar(dark, [0.01, 0.02], n_samples=100)
 
 
 def test_khan_weight_values():
@@ -357,8 +357,8 @@ def test_to_radiance_and_bit_depths():
     assert np.allclose(out[..., 1], 2 * out[..., 0]) and np.allclose(out[..., 0], z / 255 / 2)
 
 
-def test_synth_scene_structure_and_encoding():
-    sc = hdr.synth_scene(height=40, width=64, exposure_times=(0.005, 0.04, 0.3), noise=0.0)
+def test_make_scene_structure_and_encoding():
+    sc = hdr.make_scene(height=40, width=64, exposure_times=(0.005, 0.04, 0.3), noise=0.0)
     assert set(sc) == {"views", "exposure_times", "crf", "radiance", "disparity", "seen_by"}
     assert len(sc["views"]) == 3 and sc["exposure_times"] == [0.005, 0.04, 0.3]
     assert sc["crf"].shape == (256, 1) and sc["crf"].dtype == np.float32
@@ -375,7 +375,7 @@ def test_synth_scene_structure_and_encoding():
         want = np.round(np.clip(e.astype(np.float64) * sc["exposure_times"][k], 0, 1)
                         ** (1 / 2.2) * 255)
         assert np.abs(v - want).max() <= 1 and (v == want).mean() > 0.999
-    assert np.array_equal(sc["views"][0], hdr.synth_scene(
+    assert np.array_equal(sc["views"][0], hdr.make_scene(
         height=40, width=64, exposure_times=(0.005, 0.04, 0.3), noise=0.0)["views"][0])
 
 
@@ -446,7 +446,7 @@ def test_fill_saturated_brings_every_view_within_the_bound(scene):
 
 
 def _small_scene():
-    return hdr.synth_scene(height=48, width=64, exposure_times=(0.005, 0.04, 0.3), seed=2)
+    return hdr.make_scene(height=48, width=64, exposure_times=(0.005, 0.04, 0.3), seed=2)
 
 
 def test_multiscopic_is_deterministic_and_seeded():
@@ -465,9 +465,9 @@ def test_multiscopic_is_deterministic_and_seeded():
     assert g[0].shape == (48, 64) and all(np.isfinite(x).all() for x in g)
     for align, synthesis in (("pm2d", "bds"), ("zncc", "direct"), ("ours", "direct")):
         r = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], max_disparity=40,
-                                align=align, synthesis=synthesis, iterations=1)
+                                align=align, synthesis=synthesis, n_iter=1)
         assert len(r) == 3 and all(np.isfinite(x).all() for x in r)
-    ne = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], epipolar=False, iterations=1,
+    ne = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], epipolar=False, n_iter=1,
                              return_details=True)
     assert len(ne[1]) == 6
 
@@ -475,7 +475,7 @@ def test_multiscopic_is_deterministic_and_seeded():
 _THREADS_SCRIPT = """
 import hashlib, numpy as np
 from wscg import hdr
-sc = hdr.synth_scene(height=48, width=64, exposure_times=(0.005, 0.04, 0.3), seed=2)
+sc = hdr.make_scene(height=48, width=64, exposure_times=(0.005, 0.04, 0.3), seed=2)
 out, f, _ = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], max_disparity=40, seed=5,
                                 return_details=True)
 h = hashlib.sha256()
@@ -584,23 +584,23 @@ def test_patchmatch_and_zncc_recover_a_shift_under_an_exposure_change(rng):
     b = (4 * np.roll(base, -6, axis=1)).astype(np.float32)  # b(x - 6) = 4 a(x)
     sl = np.s_[4:-4, 12:-12]
     # PatchMatch compares radiance, so it gets b in a's units; ZNCC is gain-invariant.
-    off, cost = hdr.patchmatch(a, b / 4, min_disparity=-12, max_disparity=12, iterations=3)
+    off, cost = hdr.patchmatch(a, b / 4, min_disparity=-12, max_disparity=12, n_iter=3)
     assert cost.shape == (48, 96) and cost.dtype == np.float32
     assert (off[sl][..., 0] == -6).mean() > 0.99 and (off[..., 1] == 0).all()
     z, _ = hdr.zncc_stereo(a, b, min_disparity=-12, max_disparity=12)
     assert (z[sl][..., 0] == -6).mean() > 0.98
-    p2, _ = hdr.patchmatch_2d(a, b / 4, iterations=5, seed=1)
+    p2, _ = hdr.patchmatch_2d(a, b / 4, n_iter=5, seed=1)
     assert ((p2[sl][..., 0] == -6) & (p2[sl][..., 1] == 0)).mean() > 0.9
     # Same seed, same field; another seed, another field.
-    again, _ = hdr.patchmatch(a, b / 4, min_disparity=-12, max_disparity=12, iterations=3)
+    again, _ = hdr.patchmatch(a, b / 4, min_disparity=-12, max_disparity=12, n_iter=3)
     assert np.array_equal(off, again)
-    o1, _ = hdr.patchmatch(a, b / 4, min_disparity=-12, max_disparity=12, iterations=0, seed=1)
-    o2, _ = hdr.patchmatch(a, b / 4, min_disparity=-12, max_disparity=12, iterations=0, seed=2)
+    o1, _ = hdr.patchmatch(a, b / 4, min_disparity=-12, max_disparity=12, n_iter=0, seed=1)
+    o2, _ = hdr.patchmatch(a, b / 4, min_disparity=-12, max_disparity=12, n_iter=0, seed=2)
     assert not np.array_equal(o1, o2)
     assert ((o1[..., 0] >= -12) & (o1[..., 0] <= 12)).all()
     # float64 input is accepted.
     o64, _ = hdr.patchmatch(a.astype(np.float64), b.astype(np.float64) / 4,
-                            min_disparity=-12, max_disparity=12, iterations=3)
+                            min_disparity=-12, max_disparity=12, n_iter=3)
     assert np.array_equal(o64, off)
 
 
@@ -725,9 +725,9 @@ def test_bad_input_raises_value_error():
     with pytest.raises(ValueError, match="bits"):
         hdr.calibrate_debevec(views, times, bits=16)
     with pytest.raises(ValueError, match="exposure_times"):
-        hdr.synth_scene(exposure_times=(0.01,))
+        hdr.make_scene(exposure_times=(0.01,))
     with pytest.raises(ValueError, match="height"):
-        hdr.synth_scene(height=4)
+        hdr.make_scene(height=4)
     with pytest.raises(ValueError, match="seed"):
         hdr.patchmatch(img, img, min_disparity=-10, max_disparity=10, seed=-1)
     with pytest.raises(ValueError, match="c_min"):

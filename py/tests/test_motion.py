@@ -24,7 +24,7 @@ def clean_action1(data):
 
 @pytest.fixture(scope="module")
 def lib(data):
-    return M.fit_stepwise(data, restarts=3, max_iter=300)
+    return M.fit_stepwise(data, n_restarts=3, max_iter=300)
 
 
 @pytest.fixture(scope="module")
@@ -87,7 +87,7 @@ def test_pca_quality_matches_sklearn(clean_action1):
 def test_anechoic_beats_pca(clean_action1):
     X = clean_action1
     for j in (1, 2, 3):
-        fit = M.fit_anechoic(X, j, delays="shared", restarts=3, max_iter=300)
+        fit = M.fit_anechoic(X, j, delays="shared", n_restarts=3, max_iter=300)
         q_pca = M.pca_quality(X, j)
         assert fit["q"] >= q_pca - 1e-9, (j, fit["q"], q_pca)
         hist = fit["q_history"]
@@ -113,7 +113,7 @@ def _best_circular_similarity(a, b):
 
 def test_orbit_start_identifies_the_generating_sources(data, clean_action1):
     X = clean_action1
-    fit = M.fit_anechoic(X, 3, delays="shared", restarts=1, init="orbit")
+    fit = M.fit_anechoic(X, 3, delays="shared", n_restarts=1, init="orbit")
     assert fit["q"] > 1 - 1e-6
     truth = data["truth"]["sources"][:3]
     for t in truth:
@@ -145,9 +145,9 @@ def test_delay_search_moves_delays_to_a_better_fit(clean_action1):
 def test_anechoic_delay_modes(clean_action1):
     X = clean_action1
     R, I, _ = X.shape
-    per = M.fit_anechoic(X, 2, delays="per_trial", restarts=1, max_iter=20)
+    per = M.fit_anechoic(X, 2, delays="per_trial", n_restarts=1, max_iter=20)
     assert per["delays"].shape == (R, I, 2)
-    zero = M.fit_anechoic(X, 2, delays="zero", restarts=1, max_iter=20)
+    zero = M.fit_anechoic(X, 2, delays="zero", n_restarts=1, max_iter=20)
     assert np.all(zero["delays"] == 0)
     assert 0 < zero["q"] <= 1
 
@@ -305,8 +305,8 @@ def test_bvh_round_trip_small_angles(tmp_path):
     angles = rng.uniform(-0.5, 0.5, (T, 51))
     root_x = np.linspace(0, 1.3, T)
     path = tmp_path / "small.bvh"
-    M.write_bvh(path, angles, root_x, fps=120)
-    back = M.read_bvh(path)
+    M.save_bvh(path, angles, root_x, fps=120)
+    back = M.load_bvh(path)
     assert back["angles"].shape == (T, 51)
     assert abs(back["frame_time"] - 1 / 120) < 1e-8
     np.testing.assert_allclose(back["angles"], angles, atol=1e-6)
@@ -319,8 +319,8 @@ def test_bvh_round_trip_synthesis(tmp_path, synthesis):
 
     a, x = synthesis["angles"], synthesis["root_x"]
     path = tmp_path / "synth.bvh"
-    M.write_bvh(str(path), a, x, fps=120)
-    back = M.read_bvh(str(path))
+    M.save_bvh(str(path), a, x, fps=120)
+    back = M.load_bvh(str(path))
     T = a.shape[0]
     # Compare rotations, not exponential-map representations.
     r0 = Rotation.from_rotvec(a.reshape(-1, 3)).as_matrix()
@@ -337,7 +337,7 @@ def test_bvh_package_parses_file(tmp_path, synthesis):
     bvh = pytest.importorskip("bvh")
     a, x = synthesis["angles"], synthesis["root_x"]
     path = tmp_path / "synth.bvh"
-    M.write_bvh(path, a, x, fps=120)
+    M.save_bvh(path, a, x, fps=120)
     mocap = bvh.Bvh(path.read_text())
     names = mocap.get_joints_names()
     assert len(names) == 17
@@ -457,19 +457,19 @@ def test_bad_input(tmp_path, clean_action1, lib, data):
     assert abs(2.6 - syn.run(goal=2.6, fps=30)["root_x"][-1] - 0.6) < 0.02
     # Files.
     with pytest.raises(OSError):
-        M.read_bvh(tmp_path / "missing.bvh")
+        M.load_bvh(tmp_path / "missing.bvh")
     junk = tmp_path / "junk.bvh"
     junk.write_text("HIERARCHY\nROOT Nobody\n{\n}\nMOTION\n")
     with pytest.raises(OSError):
-        M.read_bvh(junk)
+        M.load_bvh(junk)
     with pytest.raises(OSError):
-        M.write_bvh(tmp_path / "no" / "dir.bvh", np.zeros((2, 51)), np.zeros(2))
+        M.save_bvh(tmp_path / "no" / "dir.bvh", np.zeros((2, 51)), np.zeros(2))
     with pytest.raises(ValueError):
-        M.write_bvh(tmp_path / "x.bvh", np.zeros((2, 50)), np.zeros(2))
+        M.save_bvh(tmp_path / "x.bvh", np.zeros((2, 50)), np.zeros(2))
     with pytest.raises(ValueError):
-        M.write_bvh(tmp_path / "x.bvh", np.full((2, 51), np.nan), np.zeros(2))
+        M.save_bvh(tmp_path / "x.bvh", np.full((2, 51), np.nan), np.zeros(2))
     with pytest.raises(ValueError):
-        M.write_bvh(tmp_path / "x.bvh", np.zeros((2, 51)), np.zeros(3))
+        M.save_bvh(tmp_path / "x.bvh", np.zeros((2, 51)), np.zeros(3))
     # Statistics and SVR.
     with pytest.raises(ValueError):
         M.regression_p_value(1.5, 10)

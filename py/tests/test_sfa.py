@@ -26,14 +26,14 @@ def _per_digit(y_true, y_pred):
 
 
 def test_digits_class_separation_and_full_dataset(digits):
-    # Check 6: pca_dims=10, m=10, shrinkage 1e-3; class-separation >= 88 %, Gaussian
+    # Check 6: pca_n_components=10, m=10, shrinkage 1e-3; class-separation >= 88 %, Gaussian
     # full-data-set SFA >= 93 %; Table-1-style rows printed for both SFA variants.
     Xtr, Xte, ytr, yte = digits
-    per_class = B.PerClassSFA(pca_dims=10, m=10, shrinkage=1e-3).fit(Xtr, ytr)
+    per_class = B.PerClassSFA(pca_n_components=10, m=10, shrinkage=1e-3).fit(Xtr, ytr)
     acc = per_class.score(Xte, yte)
-    gauss = B.GlobalSFA(pca_dims=10, n_components=10, shrinkage=1e-3, rule="gaussian")
+    gauss = B.GlobalSFA(pca_n_components=10, n_components=10, shrinkage=1e-3, rule="gaussian")
     acc_g = gauss.fit(Xtr, ytr).score(Xte, yte)
-    var = B.GlobalSFA(pca_dims=10, n_components=10, shrinkage=1e-3).fit(Xtr, ytr)
+    var = B.GlobalSFA(pca_n_components=10, n_components=10, shrinkage=1e-3).fit(Xtr, ytr)
     acc_v = var.score(Xte, yte)
     for name, model in [("Full dataset (variance)", var), ("Class separation", per_class)]:
         row = _per_digit(yte, model.predict(Xte))
@@ -56,7 +56,7 @@ def test_knn_matches_sklearn(digits):
 
 def test_confusion_matrix_layout(digits):
     Xtr, Xte, ytr, yte = digits
-    pred = B.PerClassSFA(pca_dims=10, m=10, shrinkage=1e-3).fit(Xtr, ytr).predict(Xte)
+    pred = B.PerClassSFA(pca_n_components=10, m=10, shrinkage=1e-3).fit(Xtr, ytr).predict(Xte)
     m, classes = B.confusion_matrix(yte, pred)
     np.testing.assert_array_equal(classes, np.arange(10))
     np.testing.assert_allclose(m.sum(axis=1), 100.0)
@@ -80,7 +80,7 @@ def test_generalized_problem_matches_scipy(digits):
     # eigh(A_C, B) on the same expanded data (no shrinkage, full rank).
     Xtr, _, ytr, _ = digits
     pcs = 6
-    model = B.PerClassSFA(pca_dims=pcs, m=5, shrinkage=0.0).fit(Xtr, ytr)
+    model = B.PerClassSFA(pca_n_components=pcs, m=5, shrinkage=0.0).fit(Xtr, ytr)
     Xc = Xtr - Xtr.mean(0)
     _, _, vt = np.linalg.svd(Xc, full_matrices=False)
     P = Xc @ vt[:pcs].T
@@ -100,7 +100,7 @@ def test_round_trips_and_labels(digits, tmp_path):
     Xtr, Xte, ytr, _ = digits
     names = np.array(["zero", "one", "two", "three", "four", "five", "six", "seven", "eight",
                       "nine"])
-    model = B.PerClassSFA(pca_dims=10, m=5, shrinkage=1e-3).fit(Xtr, names[ytr])
+    model = B.PerClassSFA(pca_n_components=10, m=5, shrinkage=1e-3).fit(Xtr, names[ytr])
     pred = model.predict(Xte)
     assert set(pred) <= set(names)
     back = pickle.loads(pickle.dumps(model))
@@ -109,7 +109,7 @@ def test_round_trips_and_labels(digits, tmp_path):
     model.save(tmp_path / "m.json")
     np.testing.assert_array_equal(B.PerClassSFA.load(tmp_path / "m.json").predict(Xte), pred)
     assert model.responses(Xte, "three").shape == (len(Xte), 5)
-    g = B.GlobalSFA(pca_dims=10, n_components=9, rule="gaussian").fit(Xtr, ytr)
+    g = B.GlobalSFA(pca_n_components=10, n_components=9, rule="gaussian").fit(Xtr, ytr)
     g.save(tmp_path / "g.json")
     np.testing.assert_array_equal(B.GlobalSFA.load(tmp_path / "g.json").predict(Xte),
                                   g.predict(Xte))
@@ -119,17 +119,17 @@ def test_bad_input(digits):
     Xtr, Xte, ytr, _ = digits
     bad = [
         lambda: B.PerClassSFA().fit(np.zeros((0, 64)), []),
-        lambda: B.PerClassSFA(pca_dims=10).fit(np.where(np.arange(64) == 3, np.nan, Xtr), ytr),
-        lambda: B.PerClassSFA(pca_dims=10).fit(Xtr, ytr[:-1]),
-        lambda: B.PerClassSFA(pca_dims=10).fit(Xtr, np.zeros(len(Xtr))),
-        lambda: B.PerClassSFA(pca_dims=10, m=0).fit(Xtr, ytr),
-        lambda: B.PerClassSFA(pca_dims=100).fit(Xtr, ytr),
-        lambda: B.PerClassSFA(pca_dims=10, degree=3).fit(Xtr, ytr),
-        lambda: B.PerClassSFA(pca_dims=10, objective="x").fit(Xtr, ytr),
-        lambda: B.PerClassSFA(pca_dims=3).fit(np.ones((50, 5)), np.arange(50) % 2),
-        lambda: B.PerClassSFA(pca_dims=10).fit(Xtr, ytr).predict(Xte[:, :10]),
-        lambda: B.PerClassSFA(pca_dims=10).predict(Xte),
-        lambda: B.GlobalSFA(pca_dims=10, rule="bayes").fit(Xtr, ytr),
+        lambda: B.PerClassSFA(pca_n_components=10).fit(np.where(np.arange(64) == 3, np.nan, Xtr), ytr),
+        lambda: B.PerClassSFA(pca_n_components=10).fit(Xtr, ytr[:-1]),
+        lambda: B.PerClassSFA(pca_n_components=10).fit(Xtr, np.zeros(len(Xtr))),
+        lambda: B.PerClassSFA(pca_n_components=10, m=0).fit(Xtr, ytr),
+        lambda: B.PerClassSFA(pca_n_components=100).fit(Xtr, ytr),
+        lambda: B.PerClassSFA(pca_n_components=10, degree=3).fit(Xtr, ytr),
+        lambda: B.PerClassSFA(pca_n_components=10, objective="x").fit(Xtr, ytr),
+        lambda: B.PerClassSFA(pca_n_components=3).fit(np.ones((50, 5)), np.arange(50) % 2),
+        lambda: B.PerClassSFA(pca_n_components=10).fit(Xtr, ytr).predict(Xte[:, :10]),
+        lambda: B.PerClassSFA(pca_n_components=10).predict(Xte),
+        lambda: B.GlobalSFA(pca_n_components=10, rule="bayes").fit(Xtr, ytr),
         lambda: B.KNN(0).fit(Xtr, ytr).predict(Xte),
         lambda: B.KNN(5, tie="x").fit(Xtr, ytr).predict(Xte),
         lambda: B.TemporalSFA(n_components=50, degree=1).fit(np.random.rand(100, 3)),

@@ -12,7 +12,7 @@ from wscg import video as V
 
 @pytest.fixture(scope="module")
 def pan():
-    return V.synthetic("pan", frames=12, height=90, width=160, step=6.0, hole=(16, 20), seed=4)
+    return V.make_clip("pan", n_frames=12, height=90, width=160, step=6.0, hole=(16, 20), seed=4)
 
 
 def cv2_inpaint(observed, mask, flag):
@@ -51,7 +51,7 @@ def test_completion_beats_per_frame_inpainting(pan):
 
 
 def test_periodic_structure_against_navier_stokes():
-    clean, observed, mask = V.synthetic("periodic", frames=6, height=90, width=160,
+    clean, observed, mask = V.make_clip("periodic", n_frames=6, height=90, width=160,
                                         period=24.0, hole=(16, 16))
     ours = V.ssim_masked(V.complete_video(observed, mask), clean, mask)
     ns = V.ssim_masked(cv2_inpaint(observed, mask, cv2.INPAINT_NS), clean, mask)
@@ -90,22 +90,22 @@ def test_baselines_and_flicker(pan):
 
 def test_frames_round_trip(tmp_path, pan):
     _, observed, mask = pan
-    files = V.write_frames(observed[:3], tmp_path / "frames")
+    files = V.save_frames(tmp_path / "frames", observed[:3])
     assert len(files) == 3
-    np.testing.assert_array_equal(V.read_frames(tmp_path / "frames"), observed[:3])
+    np.testing.assert_array_equal(V.load_frames(tmp_path / "frames"), observed[:3])
     cv2.imwrite(str(tmp_path / "mask.png"), (mask[0] * 255).astype(np.uint8))
-    m = V.read_mask(tmp_path / "mask.png", 3, *mask.shape[1:])
+    m = V.load_mask(tmp_path / "mask.png", 3, *mask.shape[1:])
     np.testing.assert_array_equal(m, np.broadcast_to(mask[0] != 0, m.shape))
 
 
 def test_stage3_iterates_past_the_windows_until_the_energy_settles(pan):
     # Stage 3 runs one iteration per listed window, then goes on at the last window until an
-    # iteration lowers the energy by no more than min_energy_drop, or max_iterations.
+    # iteration lowers the energy by no more than min_energy_drop, or fine_max_iter.
     _, observed, mask = pan
     runs = {}
     for cap, drop in [(4, 5e-3), (16, 5e-3), (16, 0.0), (40, 0.0)]:
-        _, stats = V.complete_video(observed, mask, lowres_width=48, levels=0,
-                                    max_iterations=cap, min_energy_drop=drop,
+        _, stats = V.complete_video(observed, mask, lowres_width=48, n_levels=0,
+                                    fine_max_iter=cap, min_energy_drop=drop,
                                     return_stats=True)
         runs[cap, drop] = stats["local_energy"]
     for (cap, drop), levels in runs.items():
@@ -138,13 +138,17 @@ def test_bad_input(tmp_path, pan):
         V.complete_video(observed, mask, search="kd")
     with pytest.raises(ValueError, match="min_energy_drop"):
         V.complete_video(observed, mask, min_energy_drop=float("nan"))
-    with pytest.raises(ValueError, match="max_iterations"):
-        V.complete_video(observed, mask, max_iterations=-1)
+    with pytest.raises(ValueError, match="fine_max_iter"):
+        V.complete_video(observed, mask, fine_max_iter=-1)
+    with pytest.raises(ValueError, match="lowres_max_iter"):
+        V.complete_video(observed, mask, lowres_max_iter=())
+    with pytest.raises(ValueError, match="max_iter"):
+        V.wexler_complete(observed, mask, max_iter=[])
     with pytest.raises(OSError):
-        V.read_frames(tmp_path / "missing")
+        V.load_frames(tmp_path / "missing")
     (tmp_path / "bad").mkdir()
     (tmp_path / "bad" / "a.png").write_bytes(b"not a png")
     with pytest.raises(OSError):
-        V.read_frames(tmp_path / "bad")
+        V.load_frames(tmp_path / "bad")
     same = V.complete_video(observed, np.zeros_like(mask))
     np.testing.assert_array_equal(same, observed)

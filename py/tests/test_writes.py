@@ -22,20 +22,21 @@ WRITERS = {
     "math.save_image": ("wm.save_image(path, rng.random((64, 64)))", None),
     "math.save_volume": ("wm.save_volume(path, rng.random((16, 16, 16)))", None),
     "math.write_mesh": ("wm.write_mesh(path, *mesh)", None),
-    "motion.write_bvh": ("motion.write_bvh(path, np.zeros((40, 51)), np.zeros(40))", None),
-    "gait.write_skeleton_csv": ("gait.write_skeleton_csv(path, rng.random((20, 25, 3)))", None),
-    "video.write_frames": (
-        "video.write_frames((rng.random((2, 32, 32)) * 255).astype(np.uint8), path)",
+    "motion.save_bvh": ("motion.save_bvh(path, np.zeros((40, 51)), np.zeros(40))", None),
+    "gait.save_skeleton_csv": ("gait.save_skeleton_csv(path, rng.random((20, 25, 3)))", None),
+    "video.save_frames": (
+        "video.save_frames(path, (rng.random((2, 32, 32)) * 255).astype(np.uint8))",
         "frame_00000.png",
     ),
     "octree.HybridOctree.save": ("octree.build(*mesh, depth=3).save(path)", None),
-    "biometrics.PerClassSFA.save": ("sfa(B.PerClassSFA(pca_dims=6, m=2)).save(path)", None),
-    "biometrics.GlobalSFA.save": ("sfa(B.GlobalSFA(pca_dims=6, n_components=2)).save(path)",
-                                  None),
+    "biometrics.PerClassSFA.save": ("sfa(B.PerClassSFA(pca_n_components=6, m=2)).save(path)",
+                                    None),
+    "biometrics.GlobalSFA.save": (
+        "sfa(B.GlobalSFA(pca_n_components=6, n_components=2)).save(path)", None),
 }
 
 SUFFIX = {"math.save_image": ".png", "math.save_volume": ".nii", "math.write_mesh": ".obj",
-          "motion.write_bvh": ".bvh", "gait.write_skeleton_csv": ".csv"}
+          "motion.save_bvh": ".bvh", "gait.save_skeleton_csv": ".csv"}
 
 CHILD = textwrap.dedent("""
     import json, resource, signal, sys
@@ -133,7 +134,7 @@ def test_a_panic_is_a_runtime_error_with_its_message():
 
 def test_a_bvh_whose_frame_count_overflows_is_an_oserror_naming_the_file(tmp_path):
     good = tmp_path / "good.bvh"
-    motion.write_bvh(good, np.zeros((2, 51)), np.zeros(2))
+    motion.save_bvh(good, np.zeros((2, 51)), np.zeros(2))
     text = good.read_text()
     assert "Frames: 2" in text
     # 54 channels per frame: (2^63 + 2) x 54 wraps around to the 108 values in the file.
@@ -141,5 +142,5 @@ def test_a_bvh_whose_frame_count_overflows_is_an_oserror_naming_the_file(tmp_pat
         bad = tmp_path / "huge.bvh"
         bad.write_text(text.replace("Frames: 2", f"Frames: {frames}"))
         with pytest.raises(OSError, match="huge.bvh"):
-            motion.read_bvh(bad)
-    assert motion.read_bvh(good)["angles"].shape[0] == 2
+            motion.load_bvh(bad)
+    assert motion.load_bvh(good)["angles"].shape[0] == 2

@@ -43,7 +43,7 @@ from typing import Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._native import biometrics as _b
-from ._checks import integer_ranges as _integer_ranges
+from ._checks import _int, integer_ranges as _integer_ranges
 
 __all__ = [
     "FDKECA", "PCA", "KernelPCA", "KECA",
@@ -312,16 +312,18 @@ class _Linear(_Subspace):
         Zm, _ = _matrix(Z, "Z")
         return self._fitted().inverse_transform(Zm)
 
-    def axis_images(self, k: Optional[int] = None, shape: Optional[Tuple[int, int]] = None):
-        """The first ``k`` axes as images ``(k, h, w)``, each min-max scaled to ``[0, 1]``
-        (the paper's eigenface view, section 4). ``shape`` defaults to the shape of the
-        image stack given to ``fit``."""
+    def axis_images(self, n_components: Optional[int] = None,
+                    shape: Optional[Tuple[int, int]] = None):
+        """The first ``n_components`` axes (default all kept) as images
+        ``(n_components, h, w)``, each min-max scaled to ``[0, 1]`` (the paper's eigenface
+        view, section 4). ``shape`` defaults to the shape of the image stack given to
+        ``fit``."""
         model = self._fitted()
         shape = shape or self.image_shape_
         if shape is None:
             raise ValueError("`shape` is required when the model was fitted on a 2-D matrix")
-        k = model.n_components if k is None else int(k)
-        return _b.axis_images(model, k, int(shape[0]), int(shape[1]))
+        n = model.n_components if n_components is None else _int("n_components", n_components, 0)
+        return _b.axis_images(model, n, int(shape[0]), int(shape[1]))
 
 
 class FDKECA(_Linear, _KernelParams):
@@ -368,7 +370,7 @@ class FDKECA(_Linear, _KernelParams):
 
     Examples
     --------
-    >>> X, y = make_finger_veins(subjects=20, samples=6)
+    >>> X, y = make_finger_veins(n_subjects=20, n_per_subject=6)
     >>> m = FDKECA(n_components=40).fit(X[::2], y[::2])
     >>> m.score(X[1::2], y[1::2]) > 0.8
     True
@@ -572,9 +574,9 @@ def best_dimension(curve) -> Tuple[int, float]:
     return int(c[i, 0]), float(c[i, 1])
 
 
-def select_dimension_cv(model, X, y, dims: Optional[Sequence[int]] = None, folds: int = 5,
+def select_dimension_cv(model, X, y, dims: Optional[Sequence[int]] = None, n_folds: int = 5,
                         seed: int = 0) -> Tuple[int, np.ndarray]:
-    """The validated protocol: choose the number of components by ``folds``-fold
+    """The validated protocol: choose the number of components by ``n_folds``-fold
     cross-validation inside the training set (refitting ``model``'s method on each fold).
 
     Returns
@@ -589,7 +591,8 @@ def select_dimension_cv(model, X, y, dims: Optional[Sequence[int]] = None, folds
     if dims is None:
         dims = range(1, Xm.shape[1] + 1)
     return _b.select_dimension_cv(Xm, codes, model._spec(), [int(d) for d in dims],
-                                  int(folds), int(seed), _check_metric(model.metric))
+                                  _int("n_folds", n_folds, 0), int(seed),
+                                  _check_metric(model.metric))
 
 
 def feature_kernel(X, kernel: str = "rbf", sigma=None, sigma_scale: float = 1.0,
@@ -607,7 +610,7 @@ def feature_kernel(X, kernel: str = "rbf", sigma=None, sigma_scale: float = 1.0,
     return _b.feature_kernel(Xm, spec)
 
 
-def make_finger_veins(subjects: int = 200, samples: int = 10, size=(10, 20),
+def make_finger_veins(n_subjects: int = 200, n_per_subject: int = 10, size=(10, 20),
                       canvas=(40, 80), max_shift: float = 3.5,
                       max_rotation_deg: float = 3.0, noise: float = 0.03, blur: float = 1.0,
                       seed: int = 0) -> Tuple[np.ndarray, np.ndarray]:
@@ -621,21 +624,24 @@ def make_finger_veins(subjects: int = 200, samples: int = 10, size=(10, 20),
 
     Returns
     -------
-    images : ndarray (subjects * samples, h, w), float64
-    labels : ndarray (subjects * samples,), int64
+    images : ndarray (n_subjects * n_per_subject, h, w), float64
+    labels : ndarray (n_subjects * n_per_subject,), int64
         Subject of each image (rows ordered subject by subject).
     """
-    return _b.finger_veins(int(subjects), int(samples), (int(size[0]), int(size[1])),
-                           (int(canvas[0]), int(canvas[1])), float(max_shift),
-                           float(max_rotation_deg), float(noise), float(blur), int(seed))
+    return _b.make_finger_veins(_int("n_subjects", n_subjects, 0),
+                                _int("n_per_subject", n_per_subject, 0),
+                                (int(size[0]), int(size[1])),
+                                (int(canvas[0]), int(canvas[1])), float(max_shift),
+                                float(max_rotation_deg), float(noise), float(blur), int(seed))
 
 
-def split_per_subject(labels, train_per_subject: int, seed: int = 0
+def split_per_subject(labels, n_train_per_subject: int, seed: int = 0
                       ) -> Tuple[np.ndarray, np.ndarray]:
-    """Row indices ``(train, test)``: for every subject, ``train_per_subject`` random
+    """Row indices ``(train, test)``: for every subject, ``n_train_per_subject`` random
     samples train and the rest test (the paper's 5/5 and 9/1 protocols)."""
     _, codes = _encode_labels(labels, len(np.asarray(labels)), "labels")
-    return _b.split_per_subject(codes, int(train_per_subject), int(seed))
+    return _b.split_per_subject(codes, _int("n_train_per_subject", n_train_per_subject, 0),
+                                int(seed))
 
 
 # ---------------------------------------------------------------------------------------
@@ -671,7 +677,7 @@ class _SFAClassifier(_Params, _JsonPickled):
         self.classes_, codes = _encode_labels(y, X.shape[0])
         if self.degree not in (1, 2):
             raise ValueError(f"`degree` must be 1 or 2, got {self.degree}")
-        self._model = _b.sfa_fit(X, codes, int(self.pca_dims), int(m), int(self.degree),
+        self._model = _b.sfa_fit(X, codes, int(self.pca_n_components), int(m), int(self.degree),
                                  bool(self.include_linear), gamma, float(self.shrinkage),
                                  float(self.rank_tol), rule)
         self.n_features_in_ = X.shape[1]
@@ -730,11 +736,12 @@ class _SFAClassifier(_Params, _JsonPickled):
 
 
 class PerClassSFA(_SFAClassifier):
-    """Class-wise slow feature analysis (paper 05, Tewari et al.): PCA to ``pca_dims``,
-    quadratic expansion, and per class ``m`` functions minimising the within-class
-    differences minus ``gamma`` times the differences to the other classes (eq. 14, in the
-    closed forms ``2 S_C`` and ``S_C + S_not + d d'``), under unit variance over all training
-    rows; a sample goes to the class whose centred responses have the least energy.
+    """Class-wise slow feature analysis (paper 05, Tewari et al.): PCA to
+    ``pca_n_components``, quadratic expansion, and per class ``m`` functions minimising the
+    within-class differences minus ``gamma`` times the differences to the other classes
+    (eq. 14, in the closed forms ``2 S_C`` and ``S_C + S_not + d d'``), under unit variance
+    over all training rows; a sample goes to the class whose centred responses have the
+    least energy.
 
     ``degree=2`` with ``include_linear=True`` expands ``d`` inputs to ``d + d(d+1)/2``
     (665 for 35); ``include_linear=False`` gives the paper's literal 630. ``objective=
@@ -746,13 +753,13 @@ class PerClassSFA(_SFAClassifier):
     Labels may be any values; ``predict`` returns them as given.
     """
 
-    _param_names = ("pca_dims", "m", "degree", "include_linear", "objective", "gamma",
+    _param_names = ("pca_n_components", "m", "degree", "include_linear", "objective", "gamma",
                     "shrinkage", "rank_tol")
 
-    def __init__(self, pca_dims: int = 35, m: int = 10, degree: int = 2,
+    def __init__(self, pca_n_components: int = 35, m: int = 10, degree: int = 2,
                  include_linear: bool = True, objective: str = "within_minus_out",
                  gamma: float = 1.0, shrinkage: float = 1e-6, rank_tol: float = 1e-10):
-        self.pca_dims, self.m, self.degree = pca_dims, m, degree
+        self.pca_n_components, self.m, self.degree = pca_n_components, m, degree
         self.include_linear, self.objective, self.gamma = include_linear, objective, gamma
         self.shrinkage, self.rank_tol = shrinkage, rank_tol
         self._model = None
@@ -781,13 +788,14 @@ class GlobalSFA(_SFAClassifier):
     is Berkes' SFA, equivalent to Fisher discriminant analysis."""
 
     _global = True
-    _param_names = ("pca_dims", "n_components", "degree", "include_linear", "gamma",
+    _param_names = ("pca_n_components", "n_components", "degree", "include_linear", "gamma",
                     "shrinkage", "rank_tol", "rule")
 
-    def __init__(self, pca_dims: int = 35, n_components: int = 10, degree: int = 2,
+    def __init__(self, pca_n_components: int = 35, n_components: int = 10, degree: int = 2,
                  include_linear: bool = True, gamma: float = 1.0, shrinkage: float = 1e-6,
                  rank_tol: float = 1e-10, rule: str = "variance"):
-        self.pca_dims, self.n_components, self.degree = pca_dims, n_components, degree
+        self.pca_n_components, self.n_components, self.degree = (
+            pca_n_components, n_components, degree)
         self.include_linear, self.gamma, self.shrinkage = include_linear, gamma, shrinkage
         self.rank_tol, self.rule = rank_tol, rule
         self._model = None
@@ -842,14 +850,15 @@ class TemporalSFA(_Params, _NativeTransform):
 
 
 class KNN(_Params):
-    """k-nearest-neighbour classifier (Euclidean, majority vote) of paper 05's baselines.
-    Ties of the vote go to the class with the nearest member (``tie="nearest"``) or to the
-    smallest label (``tie="smallest"``, as scikit-learn's ``KNeighborsClassifier``)."""
+    """k-nearest-neighbour classifier (Euclidean, majority vote of the ``n_neighbors``
+    nearest training rows) of paper 05's baselines. Ties of the vote go to the class with the
+    nearest member (``tie="nearest"``) or to the smallest label (``tie="smallest"``, as
+    scikit-learn's ``KNeighborsClassifier``)."""
 
-    _param_names = ("k", "tie")
+    _param_names = ("n_neighbors", "tie")
 
-    def __init__(self, k: int = 5, tie: str = "nearest"):
-        self.k, self.tie = k, tie
+    def __init__(self, n_neighbors: int = 5, tie: str = "nearest"):
+        self.n_neighbors, self.tie = n_neighbors, tie
 
     def fit(self, X, y):
         self._X, _ = _matrix(X)
@@ -858,7 +867,9 @@ class KNN(_Params):
 
     def predict(self, X) -> np.ndarray:
         X, _ = _matrix(X)
-        return self.classes_[_b.knn_predict(self._X, self._codes, X, int(self.k), self.tie)]
+        return self.classes_[_b.knn_predict(self._X, self._codes, X,
+                                            _int("n_neighbors", self.n_neighbors, 0),
+                                            self.tie)]
 
     def score(self, X, y) -> float:
         return float(np.mean(self.predict(X) == np.asarray(y)))
@@ -935,7 +946,7 @@ def hand_pose_jitter(preset: str = "default") -> dict:
     return dict(zip(_JITTER_KEYS, default if preset == "default" else tight))
 
 
-def make_hand_poses(n_per_class: int = 3000, subjects: int = 3, seed: int = 0,
+def make_hand_poses(n_per_class: int = 3000, n_subjects: int = 3, seed: int = 0,
                     size: Tuple[int, int] = (165, 120), jitter: Optional[dict] = None):
     """Synthetic time-of-flight hand poses standing in for paper 05's private recordings
     (5 poses ``HAND_POSE_CLASSES``, frames stored class by class): returns ``(masks,
@@ -949,7 +960,8 @@ def make_hand_poses(n_per_class: int = 3000, subjects: int = 3, seed: int = 0,
             raise ValueError(f"unknown jitter key {k!r}; expected one of {_JITTER_KEYS}")
         amp[k] = float(v)
     h, w = size
-    return _b.hand_poses(int(n_per_class), int(subjects), int(seed), int(w), int(h),
+    return _b.hand_poses(_int("n_per_class", n_per_class, 0), _int("n_subjects", n_subjects, 0),
+                         int(seed), int(w), int(h),
                          [amp[k] for k in _JITTER_KEYS])
 
 
@@ -983,44 +995,55 @@ def downscale_mask(mask, factor: int = 3) -> np.ndarray:
     return _b.downscale(_masks(mask), int(factor))
 
 
-def hand_pose_split(masks, labels, test_per_class: int = 300, augment_per_class: int = 1000,
-                    seed: int = 0) -> dict:
-    """The paper's protocol on a mask stack: per class ``test_per_class`` random test frames,
-    the rest train; then ``augment_per_class`` training frames per class rotated by
+def hand_pose_split(masks, labels, n_test_per_class: int = 300,
+                    n_augment_per_class: int = 1000, seed: int = 0) -> dict:
+    """The paper's protocol on a mask stack: per class ``n_test_per_class`` random test
+    frames, the rest train; then ``n_augment_per_class`` training frames per class rotated by
     +-U(10, 20) degrees and appended. Rows are the masks downscaled by 3, flattened.
     Returns a dict with ``X_train``, ``y_train``, ``X_test``, ``y_test``, ``train_index``,
     ``test_index`` (source frames), ``train_rotation`` (degrees) and ``shape``."""
     m = _masks(masks)
     classes, codes = _encode_labels(labels, m.shape[0] if m.ndim == 3 else 1, "labels")
-    d = _b.hand_pose_split(m, codes, int(test_per_class), int(augment_per_class), int(seed))
+    d = _b.hand_pose_split(m, codes, _int("n_test_per_class", n_test_per_class, 0),
+                           _int("n_augment_per_class", n_augment_per_class, 0), int(seed))
     d["y_train"] = classes[d["y_train"]]
     d["y_test"] = classes[d["y_test"]]
     return d
 
 
 def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", "pca",
-                         "isomap", "global"), test_per_class: int = 300,
-                         augment_per_class: int = 1000, seed: int = 0, pca_dims: int = 35,
-                         m: int = 10, gamma: float = 1.0, shrinkage: float = 1e-6, k: int = 5,
-                         physical_per_class: int = 1500, isomap_neighbors: int = 8,
-                         isomap_components: int = 9, isomap_per_class: Optional[int] = None,
-                         isomap_landmarks: int = 2000, global_rule: str = "variance") -> dict:
+                         "isomap", "global"), n_test_per_class: int = 300,
+                         n_augment_per_class: int = 1000, seed: int = 0,
+                         pca_n_components: int = 35, m: int = 10, gamma: float = 1.0,
+                         shrinkage: float = 1e-6, knn_n_neighbors: int = 5,
+                         physical_n_per_class: int = 1500, isomap_n_neighbors: int = 8,
+                         isomap_n_components: int = 9, isomap_n_per_class: Optional[int] = None,
+                         isomap_n_landmarks: int = 2000, global_rule: str = "variance") -> dict:
     """Paper 05's comparison (Tables 3-6) on a mask stack: the split of
-    :func:`hand_pose_split`, then class-wise SFA (``"sfa"``), KNN on physical features
-    (``"physical"``, z-scored, ``physical_per_class`` original training frames per class),
-    KNN on PCA-35 (``"pca"``), KNN on Isomap (``"isomap"``; Landmark Isomap above 5000
-    rows) and full-data-set SFA (``"global"``). Returns ``{"classes", "y_test", "results"}``
+    :func:`hand_pose_split`, then class-wise SFA (``"sfa"``; ``pca_n_components``, ``m``,
+    ``gamma`` and ``shrinkage`` as in :class:`PerClassSFA`), KNN (``knn_n_neighbors``
+    neighbours) on physical features (``"physical"``, z-scored, ``physical_n_per_class``
+    original training frames per class), on PCA-35 (``"pca"``) and on Isomap (``"isomap"``;
+    ``isomap_n_neighbors``, ``isomap_n_components``, ``isomap_n_per_class`` training frames
+    per class (default all); Landmark Isomap with ``isomap_n_landmarks`` landmarks above 5000
+    rows) and full-data-set SFA (``"global"``, ``global_rule`` as :class:`GlobalSFA`'s
+    ``rule``). Returns ``{"classes", "y_test", "results"}``
     with ``results[name] = {"confusion" (% per true class), "predictions", "accuracy"
     (mean of the diagonal, %), "fit_seconds", "predict_seconds"}``."""
     mk = _masks(masks)
     classes, codes = _encode_labels(labels, mk.shape[0] if mk.ndim == 3 else 1, "labels")
     d = None if depth is None else np.ascontiguousarray(depth, dtype=np.float32)
     cls, y_test, res = _b.hand_pose_comparison(
-        mk, d, codes, [str(x) for x in methods], int(test_per_class), int(augment_per_class),
-        int(seed), (int(pca_dims), int(m), float(gamma), float(shrinkage)), int(k),
-        int(physical_per_class),
-        (int(isomap_neighbors), int(isomap_components),
-         None if isomap_per_class is None else int(isomap_per_class), int(isomap_landmarks)),
+        mk, d, codes, [str(x) for x in methods], _int("n_test_per_class", n_test_per_class, 0),
+        _int("n_augment_per_class", n_augment_per_class, 0), int(seed),
+        (_int("pca_n_components", pca_n_components, 0), _int("m", m, 0), float(gamma),
+         float(shrinkage)),
+        _int("knn_n_neighbors", knn_n_neighbors, 0),
+        _int("physical_n_per_class", physical_n_per_class, 0),
+        (_int("isomap_n_neighbors", isomap_n_neighbors, 0),
+         _int("isomap_n_components", isomap_n_components, 0),
+         None if isomap_n_per_class is None else _int("isomap_n_per_class", isomap_n_per_class, 0),
+         _int("isomap_n_landmarks", isomap_n_landmarks, 0)),
         str(global_rule))
     out = {"classes": classes[np.asarray(cls)], "y_test": classes[y_test], "results": {}}
     for name, conf, pred, tf, tp in res:

@@ -21,8 +21,10 @@ their kernels (KM, eq. 9).
 - :func:`rectify_rolling_shutter`, :func:`phase_correlation`, :func:`estimate_time_delay`:
   rolling-shutter rectification and gyro-camera delay calibration.
 - :func:`w_step`: the exact per-pixel minimiser of the Krishnan-Fergus w-subproblem.
-- :class:`synth`: Ornstein-Uhlenbeck hand shake and densely rendered blurred frames with
-  exact ground truth.
+- :func:`make_gyro`, :func:`add_gyro_noise`, :func:`render_blurred`, :func:`make_scene`:
+  Ornstein-Uhlenbeck hand shake and densely rendered blurred frames with exact ground truth,
+  standing in for the paper's recorded hand shake (section 6.2), which is not public: the
+  tests never blur with the kernels they deblur with.
 
 Conventions: images are 2-D grayscale arrays ``(H, W)``, pixel ``(x, y)`` = column, row with
 centres at integer coordinates. The solvers work on **linear** intensities in ``[0, 1]``;
@@ -58,8 +60,8 @@ from ._checks import integer_ranges as _integer_ranges
 __all__ = [
     "render_kernel", "kernel_grid", "blurriness", "deconv_krishnan", "deconv_krishnan_multi",
     "wiener", "richardson_lucy", "convolve", "deblur_piecewise", "deblur_multiframe",
-    "rectify_rolling_shutter", "phase_correlation", "estimate_time_delay", "w_step", "synth",
-    "METHODS",
+    "rectify_rolling_shutter", "phase_correlation", "estimate_time_delay", "w_step",
+    "make_gyro", "add_gyro_noise", "render_blurred", "make_scene", "METHODS",
 ]
 
 #: Valid ``method`` names of :func:`deblur_piecewise`.
@@ -287,9 +289,9 @@ def render_kernel(gyro, t_frame: float, t_exposure: float, f: float, cx: float, 
 
 
 def kernel_grid(gyro, t_frame: float, t_exposure: float, f: float, cx: float, cy: float,
-                width: int, height: int, tile: int = 30, t_readout: float = 0.0,
+                height: int, width: int, tile: int = 30, t_readout: float = 0.0,
                 t_delay: float = 0.0, r_cam_imu=None, bias=None) -> np.ndarray:
-    """Render the piecewise-uniform kernels of a ``width x height`` frame: one kernel per
+    """Render the piecewise-uniform kernels of a ``height x width`` frame: one kernel per
     ``tile x tile`` region, at the region's centre with its centre row's timing (paper
     section 3, Fig. 3).
 
@@ -297,8 +299,8 @@ def kernel_grid(gyro, t_frame: float, t_exposure: float, f: float, cx: float, cy
     ----------
     gyro, t_frame, t_exposure, f, cx, cy, t_readout, t_delay, r_cam_imu, bias
         As in :func:`render_kernel`.
-    width, height : int
-        Frame size in pixels.
+    height, width : int
+        Frame size in pixels (rows, columns: the array's axis order).
     tile : int, default 30
         Region side (the last row and column of regions may be narrower).
 
@@ -316,8 +318,8 @@ def kernel_grid(gyro, t_frame: float, t_exposure: float, f: float, cx: float, cy
     Examples
     --------
     >>> from wscg import deblur
-    >>> gyro = deblur.synth.ou_gyro(0.5, seed=1)
-    >>> deblur.kernel_grid(gyro, 0.1, 0.03, 600, 74.5, 59.5, 150, 120).shape[:2]
+    >>> gyro = deblur.make_gyro(0.5, seed=1)
+    >>> deblur.kernel_grid(gyro, 0.1, 0.03, 600, 74.5, 59.5, 120, 150).shape[:2]
     (4, 5)
     """
     g = _gyro(gyro)
@@ -382,7 +384,7 @@ def deconv_krishnan(image, kernel, origin=None, lam: float = 2000.0, alpha: floa
     --------
     >>> import numpy as np
     >>> from wscg import deblur
-    >>> sharp = deblur.synth.scene(64, 64, seed=1)
+    >>> sharp = deblur.make_scene(64, 64, seed=1)
     >>> k = np.ones((1, 7)) / 7
     >>> blurred = deblur.convolve(sharp, k)
     >>> restored = deblur.deconv_krishnan(blurred, k)
@@ -433,7 +435,7 @@ def deconv_krishnan_multi(image, kernel, prior, mu: float = 250.0, origin=None,
     --------
     >>> import numpy as np
     >>> from wscg import deblur
-    >>> sharp = deblur.synth.scene(48, 48, seed=1)
+    >>> sharp = deblur.make_scene(48, 48, seed=1)
     >>> k = np.ones((1, 5)) / 5
     >>> out = deblur.deconv_krishnan_multi(deblur.convolve(sharp, k), k, sharp, mu=1e6)
     >>> bool(np.abs(out - sharp).max() < 1e-2)
@@ -493,7 +495,7 @@ def wiener(image, kernel, origin=None, nsr: float = 0.01) -> np.ndarray:
     return out.astype(_out_dtype(image), copy=False)
 
 
-def richardson_lucy(image, kernel, origin=None, iters: int = 30) -> np.ndarray:
+def richardson_lucy(image, kernel, origin=None, n_iter: int = 30) -> np.ndarray:
     """Richardson-Lucy deconvolution ``I <- I . k^T (B / (k * I))`` from ``I = max(B, 0)``
     (the paper's "RL" baseline, 30 iterations).
 
@@ -503,7 +505,7 @@ def richardson_lucy(image, kernel, origin=None, iters: int = 30) -> np.ndarray:
         Blurred linear-intensity image (negative values are treated as 0).
     kernel, origin
         As in :func:`deconv_krishnan`.
-    iters : int, default 30
+    n_iter : int, default 30
         Iterations (>= 1); ``skimage.restoration.richardson_lucy``'s ``num_iter``.
 
     Returns
@@ -523,12 +525,12 @@ def richardson_lucy(image, kernel, origin=None, iters: int = 30) -> np.ndarray:
     --------
     >>> import numpy as np
     >>> from wscg import deblur
-    >>> deblur.richardson_lucy(np.full((32, 32), 0.5), np.ones((1, 5)), iters=5).shape
+    >>> deblur.richardson_lucy(np.full((32, 32), 0.5), np.ones((1, 5)), n_iter=5).shape
     (32, 32)
     """
     img = _image(image, "image")
     k, o = _kernel(kernel, origin)
-    out = _d.richardson_lucy(img, k, o, _count("iters", iters))
+    out = _d.richardson_lucy(img, k, o, _count("n_iter", n_iter))
     return out.astype(_out_dtype(image), copy=False)
 
 
@@ -548,7 +550,7 @@ def convolve(image, kernel, origin=None) -> np.ndarray:
 def deblur_piecewise(frame, gyro, t_frame: float, t_exposure: float, f: float, cx: float,
                      cy: float, t_readout: float = 0.0, t_delay: float = 0.0,
                      method: str = "krishnan", tile: int = 30, lam: float = 2000.0,
-                     alpha: float = 0.5, nsr: float = 0.03, iters: int = 20,
+                     alpha: float = 0.5, nsr: float = 0.03, rl_n_iter: int = 20,
                      r_cam_imu=None, bias=None, return_kernels: bool = False):
     """Deblur one frame region by region with its gyroscope kernels (paper sections 3-4).
 
@@ -569,8 +571,8 @@ def deblur_piecewise(frame, gyro, t_frame: float, t_exposure: float, f: float, c
         Krishnan-Fergus parameters (see :func:`deconv_krishnan`).
     nsr : float, default 0.03
         Wiener noise-to-signal ratio.
-    iters : int, default 20
-        Richardson-Lucy iterations.
+    rl_n_iter : int, default 20
+        Richardson-Lucy iterations (``method="rl"``).
     return_kernels : bool, default False
         Also return the region kernels as :func:`kernel_grid` does.
 
@@ -594,9 +596,9 @@ def deblur_piecewise(frame, gyro, t_frame: float, t_exposure: float, f: float, c
     Examples
     --------
     >>> from wscg import deblur
-    >>> gyro = deblur.synth.ou_gyro(0.5, seed=2)
-    >>> sharp = deblur.synth.scene(90, 120, seed=2)
-    >>> b = deblur.synth.render_blurred(sharp, gyro, 0.1, 0.03, 600, 59.5, 44.5, 0.1,
+    >>> gyro = deblur.make_gyro(0.5, seed=2)
+    >>> sharp = deblur.make_scene(90, 120, seed=2)
+    >>> b = deblur.render_blurred(sharp, gyro, 0.1, 0.03, 600, 59.5, 44.5, 0.1,
     ...                                 gamma=None, quantise=False)
     >>> deblur.deblur_piecewise(b, gyro, 0.1, 0.03, 600, 59.5, 44.5).shape
     (90, 120)
@@ -611,16 +613,18 @@ def deblur_piecewise(frame, gyro, t_frame: float, t_exposure: float, f: float, c
     out, kernels = _d.deblur_piecewise(
         img, g, _timing(t_frame, t_exposure, t_readout, t_delay), _cam(f, cx, cy), method,
         _count("tile", tile), _positive("lam", lam), float(alpha), 256.0,
-        _positive("nsr", nsr), _count("iters", iters), _rotation(r_cam_imu), _bias(bias))
+        _positive("nsr", nsr), _count("rl_n_iter", rl_n_iter), _rotation(r_cam_imu),
+        _bias(bias))
     out = out.astype(_out_dtype(frame), copy=False)
     return (out, kernels) if return_kernels else out
 
 
 def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, cy: float,
-                      exposure: float, readout: float = 0.0, delay: float = 0.0,
+                      t_exposure: float, t_readout: float = 0.0, t_delay: float = 0.0,
                       main: Optional[int] = None, mu: float = 250.0, lam: float = 2000.0,
                       alpha: float = 0.5, gamma: Optional[float] = 2.2, align: str = "ecc",
-                      min_ncc: float = 0.8, radius: Optional[int] = None, tile: int = 30,
+                      min_ncc: float = 0.8, temporal_radius: Optional[int] = None,
+                      tile: int = 30,
                       r_cam_imu=None, bias=None) -> Dict[str, object]:
     """Multi-frame blur removal of ``frames[main]`` (paper section 5, eq. 9).
 
@@ -635,8 +639,9 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
         Gyroscope samples ``(t, wx, wy, wz)`` covering every exposure.
     f, cx, cy : float
         Intrinsics in pixels.
-    exposure, readout, delay : float
-        Exposure ``t_e``, rolling-shutter readout ``t_r`` and gyro-camera delay ``t_d`` (s).
+    t_exposure, t_readout, t_delay : float
+        Exposure ``t_e``, rolling-shutter readout ``t_r`` and gyro-camera delay ``t_d`` (s),
+        as in :func:`render_kernel`.
     main : int, optional
         Index of the frame to deblur; default the middle one, ``len(frames) // 2``.
     mu : float, default 250
@@ -651,7 +656,7 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
         3-level pyramid, or the gyroscope's homography as is.
     min_ncc : float, default 0.8
         Neighbours whose aligned correlation with the main estimate is lower are dropped.
-    radius : int, optional
+    temporal_radius : int, optional
         Use at most this many frames on each side of ``main`` (default: all).
     tile : int, default 30
         Region side in pixels.
@@ -693,10 +698,10 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
     Examples
     --------
     >>> from wscg import deblur
-    >>> gyro = deblur.synth.ou_gyro(0.6, seed=3)
-    >>> sharp = deblur.synth.scene(90, 120, seed=3)
+    >>> gyro = deblur.make_gyro(0.6, seed=3)
+    >>> sharp = deblur.make_scene(90, 120, seed=3)
     >>> times = [0.1 + i / 30 for i in range(3)]
-    >>> frames = [deblur.synth.render_blurred(sharp, gyro, t, 0.03, 600, 59.5, 44.5, 0.1,
+    >>> frames = [deblur.render_blurred(sharp, gyro, t, 0.03, 600, 59.5, 44.5, 0.1,
     ...                                       seed=i) for i, t in enumerate(times)]
     >>> out = deblur.deblur_multiframe(frames, times, gyro, 600, 59.5, 44.5, 0.03)
     >>> out["image"].shape, out["weights"].shape
@@ -729,12 +734,12 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
         raise ValueError(f"`mu` must be finite and >= 0, got {mu}")
     if gamma is not None:
         gamma = _positive("gamma", gamma)
-    if radius is not None:
-        radius = _count("radius", radius, lo=0)
-    tim = _timing(0.0, exposure, readout, delay)[1:]
+    if temporal_radius is not None:
+        temporal_radius = _count("temporal_radius", temporal_radius, lo=0)
+    tim = _timing(0.0, t_exposure, t_readout, t_delay)[1:]
     out = _d.deblur_multiframe(
         imgs, [float(t) for t in times], _gyro(gyro), _cam(f, cx, cy), tim, int(main), mu,
-        _positive("lam", lam), float(alpha), 256.0, gamma, align, float(min_ncc), radius,
+        _positive("lam", lam), float(alpha), 256.0, gamma, align, float(min_ncc), temporal_radius,
         _count("tile", tile), _rotation(r_cam_imu), _bias(bias))
     for w in out["warnings"]:
         warnings.warn(w, UserWarning, stacklevel=2)
@@ -808,7 +813,7 @@ def phase_correlation(a, b) -> Tuple[float, float]:
     --------
     >>> import numpy as np
     >>> from wscg import deblur
-    >>> a = deblur.synth.scene(64, 64, seed=4)
+    >>> a = deblur.make_scene(64, 64, seed=4)
     >>> dx, dy = deblur.phase_correlation(a, np.roll(a, (2, 5), axis=(0, 1)))
     >>> round(dx), round(dy)
     (5, 2)
@@ -917,108 +922,103 @@ def w_step(v, alpha: float, beta: float) -> np.ndarray:
 # Synthetic data
 # ----------------------------------------------------------------------------------------
 
-class synth:  # noqa: N801 - a namespace named like the Rust module (``synth.ou_gyro(...)``)
-    """Synthetic hand shake and densely rendered blurred frames with exact ground truth,
-    standing in for the paper's recorded hand shake (section 6.2), which is not public: the
-    tests never blur with the kernels they deblur with."""
+def make_gyro(duration: float, rate: float = 200.0, tau: float = 0.05,
+              std=(0.35, 0.35, 0.10), t0: float = 0.0, seed: int = 0) -> np.ndarray:
+    """A synthetic hand-shake gyroscope trace: Ornstein-Uhlenbeck angular rates per camera
+    axis (exact discretisation, started from the stationary distribution), noise-free.
 
-    @staticmethod
-    def ou_gyro(duration: float, rate: float = 200.0, tau: float = 0.05,
-                std=(0.35, 0.35, 0.10), t0: float = 0.0, seed: int = 0) -> np.ndarray:
-        """Ornstein-Uhlenbeck angular rates per camera axis (exact discretisation, started
-        from the stationary distribution), noise-free.
+    Parameters
+    ----------
+    duration : float
+        Length of the trace (s); ``ceil(duration * rate) + 1`` samples from ``t0``.
+    rate : float, default 200
+        Sampling rate (Hz; the paper's phone gyroscope).
+    tau : float, default 0.05
+        Correlation time (s).
+    std : (float, float, float), default (0.35, 0.35, 0.10)
+        Stationary standard deviation of the pitch, yaw and roll rates (rad/s).
+    t0 : float, default 0
+        Time of the first sample.
+    seed : int, default 0
 
-        Parameters
-        ----------
-        duration : float
-            Length of the trace (s); ``ceil(duration * rate) + 1`` samples from ``t0``.
-        rate : float, default 200
-            Sampling rate (Hz; the paper's phone gyroscope).
-        tau : float, default 0.05
-            Correlation time (s).
-        std : (float, float, float), default (0.35, 0.35, 0.10)
-            Stationary standard deviation of the pitch, yaw and roll rates (rad/s).
-        t0 : float, default 0
-            Time of the first sample.
-        seed : int, default 0
+    Returns
+    -------
+    gyro : float64 array (N, 4) of rows ``(t, wx, wy, wz)``.
+    """
+    s = np.asarray(std, dtype=np.float64).ravel()
+    if s.shape != (3,) or not (np.isfinite(s).all() and (s >= 0).all()):
+        raise ValueError(f"`std` must be 3 finite deviations >= 0 (rad/s), got {std!r}")
+    return _d.make_gyro(_positive("duration", duration), _positive("rate", rate),
+                        _positive("tau", tau), (float(s[0]), float(s[1]), float(s[2])),
+                        float(t0), int(seed))
 
-        Returns
-        -------
-        gyro : float64 array (N, 4) of rows ``(t, wx, wy, wz)``.
-        """
-        s = np.asarray(std, dtype=np.float64).ravel()
-        if s.shape != (3,) or not (np.isfinite(s).all() and (s >= 0).all()):
-            raise ValueError(f"`std` must be 3 finite deviations >= 0 (rad/s), got {std!r}")
-        return _d.ou_gyro(_positive("duration", duration), _positive("rate", rate),
-                          _positive("tau", tau), (float(s[0]), float(s[1]), float(s[2])),
-                          float(t0), int(seed))
 
-    @staticmethod
-    def add_gyro_noise(gyro, sigma: float = 0.002, seed: int = 0) -> np.ndarray:
-        """``gyro`` with white Gaussian noise of standard deviation ``sigma`` (rad/s) added to
-        every rate (time stamps unchanged)."""
-        sigma = float(sigma)
-        if not (np.isfinite(sigma) and sigma >= 0):
-            raise ValueError(f"`sigma` must be finite and >= 0, got {sigma}")
-        return _d.add_gyro_noise(_gyro(gyro), sigma, int(seed))
+def add_gyro_noise(gyro, sigma: float = 0.002, seed: int = 0) -> np.ndarray:
+    """``gyro`` with white Gaussian noise of standard deviation ``sigma`` (rad/s) added to
+    every rate (time stamps unchanged)."""
+    sigma = float(sigma)
+    if not (np.isfinite(sigma) and sigma >= 0):
+        raise ValueError(f"`sigma` must be finite and >= 0, got {sigma}")
+    return _d.add_gyro_noise(_gyro(gyro), sigma, int(seed))
 
-    @staticmethod
-    def render_blurred(sharp, gyro, t_frame: float, t_exposure: float, f: float, cx: float,
-                       cy: float, t_world: float, t_readout: float = 0.0, t_delay: float = 0.0,
-                       noise_sigma: float = 0.005, gamma: Optional[float] = 2.2,
-                       quantise: bool = True, seed: int = 0, r_cam_imu=None,
-                       bias=None) -> np.ndarray:
-        """Render a blurred frame of a planar scene densely (eq. 2 with the homography of eq. 5).
 
-        Parameters
-        ----------
-        sharp : array (H, W)
-            Linear sharp image seen in the camera pose at gyroscope time ``t_world``.
-        gyro, t_frame, t_exposure, f, cx, cy, t_readout, t_delay, r_cam_imu, bias
-            As in :func:`render_kernel`; the frame height is ``H``.
-        t_world : float
-            Gyroscope time of the ground-truth pose. The deblurring functions restore the
-            pose of the shutter opening, ``t_frame + t_delay`` (plus ``t_readout / 2`` for
-            :func:`deblur_multiframe`, which rectifies to the middle row).
-        noise_sigma : float, default 0.005
-            Gaussian noise added to the linear image.
-        gamma : float or None, default 2.2
-            Camera response applied after the noise (display = linear ** (1 / gamma)),
-            ``None`` keeps linear values (clipped to [0, 1]).
-        quantise : bool, default True
-            Round to 8-bit levels (multiples of 1/255).
-        seed : int, default 0
-            Noise seed.
+def render_blurred(sharp, gyro, t_frame: float, t_exposure: float, f: float, cx: float,
+                   cy: float, t_world: float, t_readout: float = 0.0, t_delay: float = 0.0,
+                   noise_sigma: float = 0.005, gamma: Optional[float] = 2.2,
+                   quantise: bool = True, seed: int = 0, r_cam_imu=None,
+                   bias=None) -> np.ndarray:
+    """Render a blurred frame of a planar scene densely (eq. 2 with the homography of eq. 5).
 
-        Returns
-        -------
-        frame : float32 array (H, W) in [0, 1].
+    Parameters
+    ----------
+    sharp : array (H, W)
+        Linear sharp image seen in the camera pose at gyroscope time ``t_world``.
+    gyro, t_frame, t_exposure, f, cx, cy, t_readout, t_delay, r_cam_imu, bias
+        As in :func:`render_kernel`; the frame height is ``H``.
+    t_world : float
+        Gyroscope time of the ground-truth pose. The deblurring functions restore the
+        pose of the shutter opening, ``t_frame + t_delay`` (plus ``t_readout / 2`` for
+        :func:`deblur_multiframe`, which rectifies to the middle row).
+    noise_sigma : float, default 0.005
+        Gaussian noise added to the linear image.
+    gamma : float or None, default 2.2
+        Camera response applied after the noise (display = linear ** (1 / gamma)),
+        ``None`` keeps linear values (clipped to [0, 1]).
+    quantise : bool, default True
+        Round to 8-bit levels (multiples of 1/255).
+    seed : int, default 0
+        Noise seed.
 
-        Notes
-        -----
-        Row ``y`` averages, over at least 64 time sub-steps of its exposure (more when the
-        image moves by more than half a pixel per step), the sharp image warped by
-        ``K R(t_world)^T R(tau) K^-1`` (bicubic, borders replicated).
-        """
-        img = _image(sharp, "sharp")
-        ns = float(noise_sigma)
-        if not (np.isfinite(ns) and ns >= 0):
-            raise ValueError(f"`noise_sigma` must be finite and >= 0, got {ns}")
-        if gamma is not None:
-            gamma = _positive("gamma", gamma)
-        t_world = float(t_world)
-        if not np.isfinite(t_world):
-            raise ValueError(f"`t_world` must be finite, got {t_world}")
-        return _d.render_blurred(img, _gyro(gyro),
-                                 _timing(t_frame, t_exposure, t_readout, t_delay),
-                                 _cam(f, cx, cy), t_world, ns, gamma, bool(quantise),
-                                 int(seed), _rotation(r_cam_imu), _bias(bias))
+    Returns
+    -------
+    frame : float32 array (H, W) in [0, 1].
 
-    @staticmethod
-    def scene(height: int, width: int, seed: int = 0) -> np.ndarray:
-        """A textured test scene of linear intensities in [0.02, 0.98] (smooth blobs,
-        sharp-edged discs and bars, fine stripes): float32 ``(height, width)``."""
-        return _d.scene(_count("height", height), _count("width", width), int(seed))
+    Notes
+    -----
+    Row ``y`` averages, over at least 64 time sub-steps of its exposure (more when the
+    image moves by more than half a pixel per step), the sharp image warped by
+    ``K R(t_world)^T R(tau) K^-1`` (bicubic, borders replicated).
+    """
+    img = _image(sharp, "sharp")
+    ns = float(noise_sigma)
+    if not (np.isfinite(ns) and ns >= 0):
+        raise ValueError(f"`noise_sigma` must be finite and >= 0, got {ns}")
+    if gamma is not None:
+        gamma = _positive("gamma", gamma)
+    t_world = float(t_world)
+    if not np.isfinite(t_world):
+        raise ValueError(f"`t_world` must be finite, got {t_world}")
+    return _d.render_blurred(img, _gyro(gyro),
+                             _timing(t_frame, t_exposure, t_readout, t_delay),
+                             _cam(f, cx, cy), t_world, ns, gamma, bool(quantise),
+                             int(seed), _rotation(r_cam_imu), _bias(bias))
+
+
+def make_scene(height: int, width: int, seed: int = 0) -> np.ndarray:
+    """A textured test scene of linear intensities in [0.02, 0.98] (smooth blobs,
+    sharp-edged discs and bars, fine stripes): float32 ``(height, width)``."""
+    return _d.make_scene(_count("height", height), _count("width", width), int(seed))
+
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

@@ -11,7 +11,7 @@ def render_kernel(gyro: np.ndarray, t_frame: float, t_exposure: float, f: float,
                   height: Optional[int] = ..., r_cam_imu: Optional[np.ndarray] = ...,
                   bias: Optional[Sequence[float]] = ...) -> Tuple[np.ndarray, Tuple[int, int]]: ...
 def kernel_grid(gyro: np.ndarray, t_frame: float, t_exposure: float, f: float, cx: float,
-                cy: float, width: int, height: int, tile: int = ..., t_readout: float = ...,
+                cy: float, height: int, width: int, tile: int = ..., t_readout: float = ...,
                 t_delay: float = ..., r_cam_imu: Optional[np.ndarray] = ...,
                 bias: Optional[Sequence[float]] = ...) -> np.ndarray: ...
 def blurriness(kernel: np.ndarray, origin: Optional[Tuple[int, int]] = ...) -> float: ...
@@ -24,29 +24,29 @@ def deconv_krishnan_multi(image: np.ndarray, kernel: np.ndarray, prior: np.ndarr
 def wiener(image: np.ndarray, kernel: np.ndarray, origin: Optional[Tuple[int, int]] = ...,
            nsr: float = ...) -> np.ndarray: ...
 def richardson_lucy(image: np.ndarray, kernel: np.ndarray,
-                    origin: Optional[Tuple[int, int]] = ..., iters: int = ...) -> np.ndarray: ...
+                    origin: Optional[Tuple[int, int]] = ..., n_iter: int = ...) -> np.ndarray: ...
 def convolve(image: np.ndarray, kernel: np.ndarray,
              origin: Optional[Tuple[int, int]] = ...) -> np.ndarray: ...
 @overload
 def deblur_piecewise(frame: np.ndarray, gyro: np.ndarray, t_frame: float, t_exposure: float,
                      f: float, cx: float, cy: float, t_readout: float = ..., t_delay: float = ...,
                      method: str = ..., tile: int = ..., lam: float = ..., alpha: float = ...,
-                     nsr: float = ..., iters: int = ..., r_cam_imu: Optional[np.ndarray] = ...,
+                     nsr: float = ..., rl_n_iter: int = ..., r_cam_imu: Optional[np.ndarray] = ...,
                      bias: Optional[Sequence[float]] = ...,
                      return_kernels: Literal[False] = ...) -> np.ndarray: ...
 @overload
 def deblur_piecewise(frame: np.ndarray, gyro: np.ndarray, t_frame: float, t_exposure: float,
                      f: float, cx: float, cy: float, t_readout: float = ..., t_delay: float = ...,
                      method: str = ..., tile: int = ..., lam: float = ..., alpha: float = ...,
-                     nsr: float = ..., iters: int = ..., r_cam_imu: Optional[np.ndarray] = ...,
+                     nsr: float = ..., rl_n_iter: int = ..., r_cam_imu: Optional[np.ndarray] = ...,
                      bias: Optional[Sequence[float]] = ..., *,
                      return_kernels: Literal[True]) -> Tuple[np.ndarray, np.ndarray]: ...
 def deblur_multiframe(frames: Sequence[np.ndarray], frame_times: Sequence[float],
-                      gyro: np.ndarray, f: float, cx: float, cy: float, exposure: float,
-                      readout: float = ..., delay: float = ..., main: Optional[int] = ...,
+                      gyro: np.ndarray, f: float, cx: float, cy: float, t_exposure: float,
+                      t_readout: float = ..., t_delay: float = ..., main: Optional[int] = ...,
                       mu: float = ..., lam: float = ..., alpha: float = ...,
                       gamma: Optional[float] = ..., align: str = ..., min_ncc: float = ...,
-                      radius: Optional[int] = ..., tile: int = ...,
+                      temporal_radius: Optional[int] = ..., tile: int = ...,
                       r_cam_imu: Optional[np.ndarray] = ...,
                       bias: Optional[Sequence[float]] = ...) -> Dict[str, object]: ...
 def rectify_rolling_shutter(frame: np.ndarray, gyro: np.ndarray, t_frame: float,
@@ -62,18 +62,13 @@ def estimate_time_delay(gyro: np.ndarray, frame_times: Sequence[float], shifts: 
 def w_step(v: Union[np.ndarray, Sequence[float], float], alpha: float,
            beta: float) -> np.ndarray: ...
 
-class synth:
-    @staticmethod
-    def ou_gyro(duration: float, rate: float = ..., tau: float = ...,
-                std: Sequence[float] = ..., t0: float = ..., seed: int = ...) -> np.ndarray: ...
-    @staticmethod
-    def add_gyro_noise(gyro: np.ndarray, sigma: float = ..., seed: int = ...) -> np.ndarray: ...
-    @staticmethod
-    def render_blurred(sharp: np.ndarray, gyro: np.ndarray, t_frame: float, t_exposure: float,
-                       f: float, cx: float, cy: float, t_world: float, t_readout: float = ...,
-                       t_delay: float = ..., noise_sigma: float = ...,
-                       gamma: Optional[float] = ..., quantise: bool = ..., seed: int = ...,
-                       r_cam_imu: Optional[np.ndarray] = ...,
-                       bias: Optional[Sequence[float]] = ...) -> np.ndarray: ...
-    @staticmethod
-    def scene(height: int, width: int, seed: int = ...) -> np.ndarray: ...
+def make_gyro(duration: float, rate: float = ..., tau: float = ...,
+              std: Sequence[float] = ..., t0: float = ..., seed: int = ...) -> np.ndarray: ...
+def add_gyro_noise(gyro: np.ndarray, sigma: float = ..., seed: int = ...) -> np.ndarray: ...
+def render_blurred(sharp: np.ndarray, gyro: np.ndarray, t_frame: float, t_exposure: float,
+                   f: float, cx: float, cy: float, t_world: float, t_readout: float = ...,
+                   t_delay: float = ..., noise_sigma: float = ...,
+                   gamma: Optional[float] = ..., quantise: bool = ..., seed: int = ...,
+                   r_cam_imu: Optional[np.ndarray] = ...,
+                   bias: Optional[Sequence[float]] = ...) -> np.ndarray: ...
+def make_scene(height: int, width: int, seed: int = ...) -> np.ndarray: ...

@@ -21,7 +21,7 @@ Closed-set ear identification that survives hair, earrings, headphones and scarv
    Fig. 11 (:data:`RULES`) combine them, the block-wise maximum by default.
 
 The whole-ear Haar baseline of Fig. 12 is :meth:`EarMatcher.identify_baseline` /
-:func:`baseline_score`; :func:`cmc` computes CMC curves, :func:`synth_ears` generates
+:func:`baseline_score`; :func:`cmc` computes CMC curves, :func:`make_ears` makes
 colour ears with exact occluder masks (the paper's WPUT database is not redistributable)
 and :func:`evaluate` runs the paper's experiments on labelled images. The building blocks
 are exposed for comparison with OpenCV, scikit-image, SciPy and PyWavelets:
@@ -31,42 +31,16 @@ are exposed for comparison with OpenCV, scikit-image, SciPy and PyWavelets:
 
 Parameters
 ----------
-Every pipeline function takes the parameters of the method as keyword arguments (the
-defaults are the paper's values):
-
-``height=100``, ``width=80``, ``block=10``
-    Normalised image size and block side (even, dividing both sizes).
-``skin_model`` (a :class:`SkinModel`) or ``skin_mean=(0.45, 0.32)``,
-``skin_cov=((1.6e-3, 0), (0, 2.5e-4))``
-    Skin colour Gaussian in ``(r, g)`` (ours: the paper cites one without numbers; fit your
-    own with :meth:`SkinModel.fit` on enrolment images).
-``skin_rule="marginal-and"``, ``min_likelihood``
-    Per-pixel skin decision: ``"marginal-and"`` (the paper's steps 5-6 read literally, both
-    marginal likelihoods ``>= min_likelihood``, default ``exp(-2)``) or ``"joint"`` (the
-    likelihood of eq. 5 ``>= min_likelihood``, default 0.05, the 95 % ellipse). The joint
-    ellipse reaches further along one channel, so it takes noisy dark-grey occluders for
-    skin more often; the marginal rule in turn drops skin tones more than two standard
-    deviations from the model's mean in one channel (fit the model on your enrolment
-    images).
-``min_intensity=0``
-    Luminance gate (not in the paper): skin also needs ``(R + G + B) / 3 >= min_intensity``;
-    about 35 rejects dark hair, whose chromaticity is skin-like.
-``close_radius=10.0``, ``fill_holes=True``
-    Closing disk radius in pixels of the normalised image; hole filling.
-``block_skin_fraction=0.5``
-    A block is un-occluded when at least this fraction of it is skin, in ``(0, 1]``.
-``reject_above_pct=60.0``
-    Probes with more than this percentage of occluded blocks are rejected.
-``shifts=SHIFTS_NINE``
-    Block shifts ``(d_row, d_col)`` tried when matching (at least one).
-``score="blockwise-max"``
-    Score rule, one of :data:`RULES`.
-``mask_features=False``
-    Probe features from the masked image ``X = Y . Z`` instead of ``Y``.
-``gray_enrolment=False``
-    Accept single-channel ``(H, W)`` images at enrolment (and for the baseline).
-``equalize_on_skin=False``
-    Equalise a probe with the histogram of its skin pixels only (not in the paper).
+Every pipeline function takes the parameters of the method that it uses as keyword-only
+arguments whose defaults are the paper's values (ours where the paper gives none); each
+function's docstring lists its own, and :data:`PARAMS` names them all. They are the size of
+the normalised image and of its blocks (``height``, ``width``, ``block``), the skin model
+and rule (``skin_model`` or ``skin_mean`` / ``skin_cov``, ``skin_rule``,
+``min_likelihood``, ``min_intensity``), the occlusion mask (``close_radius``,
+``fill_holes``, ``block_skin_fraction``, ``reject_above_pct``), the matching (``shifts``,
+``score``, ``mask_features``, ``equalize_on_skin``) and ``gray_enrolment``. The default
+skin model is ours (the paper cites one without numbers): fit your own with
+:meth:`SkinModel.fit` on enrolment images.
 
 Conventions: images are uint8 arrays ``(H, W, 3)`` with channels R, G, B (any size; they
 are resized to the normalised size); block ``b`` sits at grid row ``b // 8``, column
@@ -84,6 +58,8 @@ Recognition", WSCG 2015, Journal of WSCG vol. 23.
 
 from __future__ import annotations
 
+import inspect
+import textwrap
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -93,7 +69,7 @@ from ._native import ear as _e
 
 __all__ = [
     "enroll", "enroll_many", "detect_occlusion", "skin_pixels", "EarMatcher", "score",
-    "baseline_score", "SkinModel", "cmc", "synth_ears", "evaluate", "rgb_to_gray",
+    "baseline_score", "SkinModel", "cmc", "make_ears", "evaluate", "rgb_to_gray",
     "equalize_hist", "resize", "haar_ll", "block_features", "close_disk", "dilate_disk",
     "erode_disk", "fill_holes", "RULES", "SHIFTS_NINE", "PARAMS", "OCCLUSIONS",
 ]
@@ -104,13 +80,74 @@ RULES: Tuple[str, ...] = tuple(_e.RULES)
 SHIFTS_NINE: Tuple[Tuple[int, int], ...] = tuple(tuple(s) for s in _e.SHIFTS_NINE)
 #: Names of the keyword parameters of the pipeline (plus ``skin_model``).
 PARAMS: Tuple[str, ...] = tuple(_e.PARAM_KEYS) + ("skin_model",)
-#: Occluder kinds of :func:`synth_ears`.
+#: Occluder kinds of :func:`make_ears`.
 OCCLUSIONS: Tuple[str, ...] = ("none", "colour", "earring", "dark-hair", "blond-hair")
 
 _FLAGS = ("fill_holes", "mask_features", "gray_enrolment", "equalize_on_skin")
 _INTS = ("height", "width", "block", "min_intensity")
 _REALS = ("min_likelihood", "close_radius", "block_skin_fraction", "reject_above_pct")
 
+# The docstring entry of every pipeline parameter (numpydoc), appended by `_documented` to
+# the docstring of each function that takes it.
+_PARAM_DOCS: Dict[str, str] = {
+    "height": """height : int, default 100
+    Rows of the normalised image: the crop is resized to ``height x width`` (section 3.2).""",
+    "width": """width : int, default 80
+    Columns of the normalised image.""",
+    "block": """block : int, default 10
+    Block side in pixels, even and dividing ``height`` and ``width`` (10 x 8 = 80 blocks).""",
+    "skin_model": """skin_model : SkinModel, optional
+    Skin colour Gaussian in ``(r, g)`` (eqs. 2-5); default ``SkinModel()``. Give either it
+    or ``skin_mean`` / ``skin_cov``.""",
+    "skin_mean": """skin_mean : (float, float), optional
+    Mean ``(r, g)`` of the skin model, instead of ``skin_model`` (default
+    ``(0.45, 0.32)``).""",
+    "skin_cov": """skin_cov : 2 x 2 floats, optional
+    Covariance of the skin model, instead of ``skin_model`` (default
+    ``((1.6e-3, 0), (0, 2.5e-4))``).""",
+    "skin_rule": """skin_rule : {"marginal-and", "joint"}, default "marginal-and"
+    Per-pixel skin decision: the paper's steps 5-6 read literally (both marginal likelihoods
+    ``>= min_likelihood``) or the likelihood of eq. 5 ``>= min_likelihood``. The joint
+    ellipse reaches further along one channel, so it takes noisy dark-grey occluders for
+    skin more often; the marginal rule drops skin tones more than two standard deviations
+    from the model's mean in one channel.""",
+    "min_likelihood": """min_likelihood : float, optional
+    Threshold of ``skin_rule`` in ``(0, 1)``: default ``exp(-2)`` for ``"marginal-and"``,
+    0.05 (the 95 % ellipse) for ``"joint"``.""",
+    "min_intensity": """min_intensity : int, default 0
+    Luminance gate (not in the paper): skin also needs ``(R + G + B) / 3 >= min_intensity``;
+    about 35 rejects dark hair, whose chromaticity is skin-like.""",
+    "close_radius": """close_radius : float, default 10.0
+    Radius of the closing disk in pixels of the normalised image (Algorithm 1, step 7).""",
+    "fill_holes": """fill_holes : bool, default True
+    Fill the holes of the closed skin mask.""",
+    "block_skin_fraction": """block_skin_fraction : float, default 0.5
+    A block is un-occluded when at least this fraction of it is skin, in ``(0, 1]``.""",
+    "reject_above_pct": """reject_above_pct : float, default 60.0
+    Probes with more than this percentage of occluded blocks are rejected (step 12).""",
+    "shifts": """shifts : sequence of (int, int), default SHIFTS_NINE
+    Block shifts ``(d_row, d_col)`` tried when matching (eqs. 8-16; at least one).""",
+    "score": """score : str, default "blockwise-max"
+    Score rule, one of :data:`RULES` (Fig. 11).""",
+    "mask_features": """mask_features : bool, default False
+    Probe features from the masked image ``X = Y . Z`` (step 8) instead of ``Y``.""",
+    "gray_enrolment": """gray_enrolment : bool, default False
+    Accept single-channel ``(H, W)`` images at enrolment (and for the baseline).""",
+    "equalize_on_skin": """equalize_on_skin : bool, default False
+    Equalise a probe with the histogram of its skin pixels only (not in the paper, which
+    equalises the whole image before detecting occlusion): a large occluder then no longer
+    shifts the grey levels of the visible ear.""",
+}
+
+
+def _documented(f):
+    """``f`` with the docstring entries of its pipeline parameters appended, in signature
+    order, under "Keyword parameters"."""
+    names = [n for n in inspect.signature(f).parameters if n in _PARAM_DOCS]
+    entries = "\n".join(_PARAM_DOCS[n] for n in names)
+    body = textwrap.indent(f"Keyword parameters\n------------------\n{entries}", "    ")
+    f.__doc__ = f"{f.__doc__.rstrip()}\n\n{body}\n"
+    return f
 
 # ----------------------------------------------------------------------------------------
 # Input validation
@@ -143,14 +180,12 @@ def _shifts(v) -> List[Tuple[int, int]]:
     return [(int(r), int(c)) for r, c in a]
 
 
-def _params(kw: dict) -> dict:
-    """The keyword parameters as the dict the native module reads."""
+def _params(given: dict) -> dict:
+    """The pipeline parameters among the arguments ``given`` (a function's ``locals()``)
+    as the dict the native module reads; ``None`` leaves the native default."""
+    kw = {k: v for k, v in given.items() if k in PARAMS and v is not None}
     out: dict = {}
     for k, v in kw.items():
-        if k not in PARAMS:
-            raise ValueError(f"unknown parameter {k!r}; valid: {', '.join(PARAMS)}")
-        if v is None:
-            continue
         if k == "skin_model":
             if not isinstance(v, SkinModel):
                 raise ValueError(f"`skin_model` must be a SkinModel, got {type(v).__name__}")
@@ -175,9 +210,9 @@ def _params(kw: dict) -> dict:
     return out
 
 
-def _image(name: str, img) -> np.ndarray:
+def _image(name: str, image) -> np.ndarray:
     """A C-contiguous uint8 image (shape and size are checked by the native side)."""
-    a = np.asarray(img)
+    a = np.asarray(image)
     if a.dtype != np.uint8:
         raise ValueError(f"`{name}` must be a uint8 image, got dtype {a.dtype}")
     return np.ascontiguousarray(a)
@@ -226,26 +261,36 @@ def _plane(name: str, p) -> np.ndarray:
 # Pipeline
 # ----------------------------------------------------------------------------------------
 
-def enroll(img, **params) -> np.ndarray:
+@_documented
+def enroll(image, *, height: int = 100, width: int = 80, block: int = 10,
+           gray_enrolment: bool = False) -> np.ndarray:
     """Enrolment template of one clean ear crop (section 3.2).
 
-    ``img`` is a uint8 ``(H, W, 3)`` RGB image (``(H, W)`` grey with
+    ``image`` is a uint8 ``(H, W, 3)`` RGB image (``(H, W)`` grey with
     ``gray_enrolment=True``), any size of at least 2 x 2. Returns the float32 Haar LL
     features ``(blocks, block_len)``, ``(80, 25)`` with the default parameters: row ``b``
     holds the 5 x 5 LL band of block ``b`` (row-major), computed on the resized,
     equalised grey image divided by 255. No skin masking (enrolment images are assumed
     un-occluded)."""
-    return _e.enroll(_image("img", img), _params(params))
+    return _e.enroll(_image("image", image), _params(locals()))
 
 
-def enroll_many(images, **params) -> np.ndarray:
+@_documented
+def enroll_many(images, *, height: int = 100, width: int = 80, block: int = 10,
+                gray_enrolment: bool = False) -> np.ndarray:
     """Templates ``(n, blocks, block_len)`` of a list (or stacked ``(n, H, W, 3)`` array) of
     clean ear crops, enrolled in parallel; the input of :class:`EarMatcher`. Same rules as
     :func:`enroll` for each image."""
-    return _e.enroll_many(_images("images", images), _params(params))
+    return _e.enroll_many(_images("images", images), _params(locals()))
 
 
-def detect_occlusion(img, **params) -> Dict[str, object]:
+@_documented
+def detect_occlusion(image, *, height: int = 100, width: int = 80, block: int = 10,
+                     skin_model: Optional[SkinModel] = None, skin_mean=None, skin_cov=None,
+                     skin_rule: str = "marginal-and", min_likelihood: Optional[float] = None,
+                     min_intensity: int = 0, close_radius: float = 10.0,
+                     fill_holes: bool = True, block_skin_fraction: float = 0.5,
+                     reject_above_pct: float = 60.0) -> Dict[str, object]:
     """Occlusion report of an RGB ear crop (section 3.3, Algorithm 1).
 
     The crop is resized to ``height x width``; every pixel is classified by the skin model
@@ -261,14 +306,17 @@ def detect_occlusion(img, **params) -> Dict[str, object]:
     - ``rejected``: ``E > reject_above_pct`` (reacquire the probe).
 
     A grey image raises ``ValueError`` (the skin test needs colour)."""
-    return _e.detect_occlusion(_image("img", img), _params(params))
+    return _e.detect_occlusion(_image("image", image), _params(locals()))
 
 
-def skin_pixels(img, **params) -> np.ndarray:
+@_documented
+def skin_pixels(image, *, skin_model: Optional[SkinModel] = None, skin_mean=None,
+                skin_cov=None, skin_rule: str = "marginal-and",
+                min_likelihood: Optional[float] = None, min_intensity: int = 0) -> np.ndarray:
     """Per-pixel skin decision (Algorithm 1, steps 2-6: skin model, rule and luminance
     gate) of an RGB uint8 image at its own size, before closing and hole filling: bool
     ``(H, W)``. Black pixels are never skin."""
-    return _e.skin_pixels(_image("img", img), _params(params))
+    return _e.skin_pixels(_image("image", image), _params(locals()))
 
 
 class EarMatcher:
@@ -277,25 +325,37 @@ class EarMatcher:
 
     ``templates`` is a float array ``(n, blocks, block_len)`` (e.g. from
     :func:`enroll_many`; stored as float32, block-major for fast matching); gallery entry
-    ``i`` is identity ``i``. The keyword parameters are those of the module (``score``
-    selects the rule used by :meth:`identify` and :meth:`scores`); the block count and
-    length of the templates must fit them.
+    ``i`` is identity ``i``. The keyword parameters are those of the whole pipeline
+    (``score`` selects the rule used by :meth:`identify` and :meth:`scores`); the block
+    count and length of the templates must fit them.
 
     >>> m = EarMatcher(enroll_many(gallery_images))
     >>> r = m.identify(probe)
     >>> None if r["rejected"] else r["order"][0]
     """
 
-    def __init__(self, templates, **params):
-        self._params = dict(params)
-        self._m = _e.EarMatcher(_templates("templates", templates), _params(params))
+    @_documented
+    def __init__(self, templates, *, height: int = 100, width: int = 80, block: int = 10,
+                 skin_model: Optional[SkinModel] = None, skin_mean=None, skin_cov=None,
+                 skin_rule: str = "marginal-and", min_likelihood: Optional[float] = None,
+                 min_intensity: int = 0, close_radius: float = 10.0, fill_holes: bool = True,
+                 block_skin_fraction: float = 0.5, reject_above_pct: float = 60.0,
+                 shifts: Sequence[Tuple[int, int]] = SHIFTS_NINE,
+                 score: str = "blockwise-max", mask_features: bool = False,
+                 gray_enrolment: bool = False, equalize_on_skin: bool = False):
+        """A matcher of ``templates`` with the pipeline parameters below."""
+        given = dict(locals())
+        self._params = {k: given[k] for k in PARAMS}
+        self._m = _e.EarMatcher(_templates("templates", templates), _params(given))
 
     def __len__(self) -> int:
         """Number of enrolled templates."""
         return len(self._m)
 
     def __repr__(self) -> str:
-        return f"EarMatcher({len(self)} templates, {self._params or 'default parameters'})"
+        defaults = inspect.signature(EarMatcher.__init__).parameters
+        changed = {k: v for k, v in self._params.items() if not _same(v, defaults[k].default)}
+        return f"EarMatcher({len(self)} templates, {changed or 'default parameters'})"
 
     def __reduce__(self):
         return (_rebuild_matcher, (self.templates, self._params))
@@ -307,10 +367,10 @@ class EarMatcher:
 
     @property
     def params(self) -> dict:
-        """The keyword parameters the matcher was built with."""
+        """The keyword parameters the matcher was built with (every one, by name)."""
         return dict(self._params)
 
-    def identify(self, img) -> Dict[str, object]:
+    def identify(self, image) -> Dict[str, object]:
         """Identifies an RGB probe: occlusion detection, then index-based matching against
         every template. Returns a dict:
 
@@ -323,10 +383,10 @@ class EarMatcher:
 
         Raises ``ValueError`` for bad input, or when no block is un-occluded and the probe
         is not rejected (only possible with ``reject_above_pct >= 100``)."""
-        rej, pct, order, scores = self._m.identify(_image("img", img))
+        rej, pct, order, scores = self._m.identify(_image("image", image))
         return {"rejected": rej, "occluded_pct": pct, "order": order, "scores": scores}
 
-    def scores(self, img) -> np.ndarray:
+    def scores(self, image) -> np.ndarray:
         """Scores of an RGB probe against every template, float64 ``(n,)`` in gallery order,
         under the matcher's rule.
 
@@ -335,23 +395,38 @@ class EarMatcher:
         :func:`detect_occlusion` or use :meth:`identify` for the decision). A rule with
         nothing defined (e.g. ``"overall-max"`` when no shift covers half of the kept blocks)
         scores ``-inf``. Raises ``ValueError`` when no block is un-occluded."""
-        s, _rejected, _pct = self._m.scores(_image("img", img))
+        s, _rejected, _pct = self._m.scores(_image("image", image))
         return s
 
-    def identify_baseline(self, img) -> Dict[str, object]:
+    def identify_baseline(self, image) -> Dict[str, object]:
         """The whole-ear Haar baseline (Fig. 12): every block, the single shift B0, no
         occlusion detection and never rejected. Returns ``{"order", "scores"}`` as
         :meth:`identify` (score ``1 - |t - r| / (2 sqrt(block_len) sqrt(blocks))``). Grey
         probes are accepted with ``gray_enrolment=True``."""
-        order, scores = self._m.identify_baseline(_image("img", img))
+        order, scores = self._m.identify_baseline(_image("image", image))
         return {"order": order, "scores": scores}
+
+
+def _same(a, b) -> bool:
+    """Whether a parameter value equals its default (arrays and mixed types: no)."""
+    try:
+        return a is b or (type(a) is type(b) and bool(a == b))
+    except (TypeError, ValueError):
+        return False
 
 
 def _rebuild_matcher(templates, params):
     return EarMatcher(templates, **params)
 
 
-def score(img, template, **params) -> Dict[str, object]:
+@_documented
+def score(image, template, *, height: int = 100, width: int = 80, block: int = 10,
+          skin_model: Optional[SkinModel] = None, skin_mean=None, skin_cov=None,
+          skin_rule: str = "marginal-and", min_likelihood: Optional[float] = None,
+          min_intensity: int = 0, close_radius: float = 10.0, fill_holes: bool = True,
+          block_skin_fraction: float = 0.5, reject_above_pct: float = 60.0,
+          shifts: Sequence[Tuple[int, int]] = SHIFTS_NINE, score: str = "blockwise-max",
+          mask_features: bool = False, equalize_on_skin: bool = False) -> Dict[str, object]:
     """Every quantity of the match of an RGB probe image against one template (the
     reference path of eqs. 7-18; :class:`EarMatcher` computes the same scores for a whole
     gallery).
@@ -373,16 +448,17 @@ def score(img, template, **params) -> Dict[str, object]:
       rejected).
 
     Raises ``ValueError`` when no block is un-occluded or the template does not fit."""
-    return _e.score(_image("img", img), _templates("template", template), _params(params))
+    return _e.score(_image("image", image), _templates("template", template), _params(locals()))
 
 
-def baseline_score(img, template, **params) -> float:
+@_documented
+def baseline_score(image, template, *, height: int = 100, width: int = 80, block: int = 10,
+                   gray_enrolment: bool = False) -> float:
     """Whole-ear baseline score (Fig. 12) of an image against one template: ``1 - |t - r| /
     (2 sqrt(block_len) sqrt(blocks))`` on the full Haar LL vectors, no occlusion
     detection."""
-    return _e.baseline_score(_image("img", img), _templates("template", template),
-                             _params(params))
-
+    return _e.baseline_score(_image("image", image), _templates("template", template),
+                             _params(locals()))
 
 # ----------------------------------------------------------------------------------------
 # Skin model
@@ -488,13 +564,14 @@ def cmc(ranks, max_rank: int) -> np.ndarray:
     return _e.cmc(r, _int("max_rank", max_rank, 0))
 
 
-def synth_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "none",
-               min_pct: float = 10.0, max_pct: float = 50.0, *,
-               canvas: Optional[Tuple[int, int]] = None, shape_spread: Optional[float] = None,
-               shift_px: Optional[float] = None, rotation_deg: Optional[float] = None,
-               gain: Optional[Tuple[float, float]] = None,
-               white_balance: Optional[float] = None, noise_sigma: Optional[float] = None,
-               **params) -> Dict[str, np.ndarray]:
+@_documented
+def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "none",
+              min_pct: float = 10.0, max_pct: float = 50.0, *,
+              canvas: Tuple[int, int] = (200, 160), shape_spread: float = 2.2,
+              shift_px: float = 6.0, rotation_deg: float = 3.0,
+              gain: Tuple[float, float] = (0.85, 1.15), white_balance: float = 0.03,
+              noise_sigma: float = 3.0, height: int = 100, width: int = 80,
+              block: int = 10) -> Dict[str, np.ndarray]:
     """Synthetic colour ears with exact occluder masks (the paper's WPUT database is not
     redistributable).
 
@@ -503,38 +580,61 @@ def synth_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "
     with occluders of kind ``occlusion`` (:data:`OCCLUSIONS`): ``"none"``; ``"colour"``, a
     non-skin region (scarf, headphone) covering a share of blocks drawn in ``[min_pct,
     max_pct]`` percent; ``"earring"``; ``"dark-hair"`` / ``"blond-hair"``, 10-60 strands of
-    skin-like chromaticity (the stress set). The generator settings (``canvas=(200, 160)``,
-    ``shape_spread=2.2``, ``shift_px=6``, ``rotation_deg=3``, ``gain=(0.85, 1.15)``,
-    ``white_balance=0.03``, ``noise_sigma=3``) default to the calibrated ones; the pipeline
-    parameters size the occluders and the ground truth. Deterministic for a ``seed``.
+    skin-like chromaticity (the stress set). The generator settings default to the
+    calibrated ones; the pipeline parameters (``height``, ``width``, ``block``) size the
+    occluders and the ground truth. Deterministic for a ``seed``.
+
+    Parameters
+    ----------
+    canvas : (int, int), default (200, 160)
+        ``(height, width)`` of the generated images, at least 16 x 16.
+    shape_spread : float, default 2.2
+        Spread of the ear shapes between subjects.
+    shift_px, rotation_deg : float, default 6.0, 3.0
+        Largest shift (pixels) and rotation (degrees) of a capture.
+    gain : (float, float), default (0.85, 1.15)
+        Range of the brightness gain of a capture, ``0 < low <= high``.
+    white_balance : float, default 0.03
+        Largest white-balance change of a capture.
+    noise_sigma : float, default 3.0
+        Sensor noise standard deviation in grey levels.
 
     Returns a dict (``m = n_subjects * n_probes``, probes subject-major):
     ``enrol`` uint8 ``(n_subjects, H, W, 3)``, ``probes`` uint8 ``(m, H, W, 3)``,
-    ``subjects`` int64 ``(m,)`` true identities, ``occluder_masks`` bool ``(m, H, W)``,
+    ``labels`` int64 ``(m,)`` true identities, ``occluder_masks`` bool ``(m, H, W)``,
     ``occluded_blocks`` bool ``(m, rows, cols)`` (block occluded when at least half of it is
     covered after resizing), ``occluded_pct`` float64 ``(m,)`` and ``skin_rg`` float64
     ``(n_subjects, 2)`` the subjects' skin chromaticities."""
     if not isinstance(occlusion, str):
         raise ValueError(f"`occlusion` must be one of {OCCLUSIONS}, got {occlusion!r}")
-    cv = None if canvas is None else (_int("canvas", canvas[0], 0), _int("canvas", canvas[1], 0))
-    g = None if gain is None else (_real("gain", gain[0]), _real("gain", gain[1]))
-    opt = lambda name, v: None if v is None else _real(name, v)  # noqa: E731
-    return _e.synth_ears(_int("n_subjects", n_subjects, 0), _int("n_probes", n_probes, 0),
-                         _int("seed", seed, 0), occlusion, _real("min_pct", min_pct),
-                         _real("max_pct", max_pct), cv, opt("shape_spread", shape_spread),
-                         opt("shift_px", shift_px), opt("rotation_deg", rotation_deg), g,
-                         opt("white_balance", white_balance), opt("noise_sigma", noise_sigma),
-                         _params(params))
+    p = _params(locals())
+    cv = (_int("canvas", canvas[0], 0), _int("canvas", canvas[1], 0))
+    g = (_real("gain", gain[0]), _real("gain", gain[1]))
+    return _e.make_ears(_int("n_subjects", n_subjects, 0), _int("n_probes", n_probes, 0),
+                        _int("seed", seed, 0), occlusion, _real("min_pct", min_pct),
+                        _real("max_pct", max_pct), cv, _real("shape_spread", shape_spread),
+                        _real("shift_px", shift_px), _real("rotation_deg", rotation_deg), g,
+                        _real("white_balance", white_balance),
+                        _real("noise_sigma", noise_sigma), p)
 
 
-def evaluate(enrol, probes, subjects, true_pct=None, max_rank: int = 10,
-             edges: Optional[Sequence[float]] = None, **params) -> Dict[str, object]:
+@_documented
+def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
+             edges: Optional[Sequence[float]] = None, *, height: int = 100, width: int = 80,
+             block: int = 10, skin_model: Optional[SkinModel] = None, skin_mean=None,
+             skin_cov=None, skin_rule: str = "marginal-and",
+             min_likelihood: Optional[float] = None, min_intensity: int = 0,
+             close_radius: float = 10.0, fill_holes: bool = True,
+             block_skin_fraction: float = 0.5, reject_above_pct: float = 60.0,
+             shifts: Sequence[Tuple[int, int]] = SHIFTS_NINE, score: str = "blockwise-max",
+             mask_features: bool = False, gray_enrolment: bool = False,
+             equalize_on_skin: bool = False) -> Dict[str, object]:
     """The paper's experiments (section 4) on labelled images: enrols ``enrol`` (image ``i``
     is identity ``i``), identifies every probe under all rules of :data:`RULES` and the
     baseline.
 
     ``enrol`` and ``probes`` are lists of uint8 RGB images or stacked ``(n, H, W, 3)``
-    arrays; ``subjects`` the true identity of each probe; ``true_pct`` optional ground-truth
+    arrays; ``labels`` the true identity of each probe; ``true_pct`` optional ground-truth
     occlusion percentages (NaN: unknown). With ``edges`` (increasing occlusion percentages)
     the rank-1 rate per bin of estimated occlusion is reported too (Fig. 13).
 
@@ -547,26 +647,26 @@ def evaluate(enrol, probes, subjects, true_pct=None, max_rank: int = 10,
     float64 (bins, 4)}`` rows ``(lo, hi, count, rank1)`` (rank1 NaN for an empty bin).
 
     ``ValueError`` when every probe is rejected (no CMC can be formed)."""
+    p = _params(locals())
     enrol_l = _images("enrol", enrol)
     probe_l = _images("probes", probes)
-    subj = np.asarray(subjects)
-    if subj.ndim != 1 or (subj.size and not np.issubdtype(subj.dtype, np.integer)):
-        raise ValueError("`subjects` must be a 1-D array of integer identities")
+    lab = np.asarray(labels)
+    if lab.ndim != 1 or (lab.size and not np.issubdtype(lab.dtype, np.integer)):
+        raise ValueError("`labels` must be a 1-D array of integer identities")
     tp = None if true_pct is None else _floats("true_pct", true_pct).ravel().tolist()
     e = None if edges is None else _floats("edges", edges).ravel().tolist()
-    return _e.evaluate(enrol_l, probe_l, [int(s) for s in subj], tp,
-                       _int("max_rank", max_rank, 0), e, _params(params))
-
+    return _e.evaluate(enrol_l, probe_l, [int(s) for s in lab], tp,
+                       _int("max_rank", max_rank, 0), e, p)
 
 # ----------------------------------------------------------------------------------------
 # Building blocks
 # ----------------------------------------------------------------------------------------
 
-def rgb_to_gray(img) -> np.ndarray:
+def rgb_to_gray(image) -> np.ndarray:
     """Grey levels of a uint8 ``(H, W, 3)`` RGB image with OpenCV's fixed-point BT.601,
     ``Y = (4899 R + 9617 G + 1868 B + 8192) >> 14``: bit-exact
-    ``cv2.cvtColor(img, cv2.COLOR_RGB2GRAY)``. Returns uint8 ``(H, W)``."""
-    return _e.rgb_to_gray(_image("img", img))
+    ``cv2.cvtColor(image, cv2.COLOR_RGB2GRAY)``. Returns uint8 ``(H, W)``."""
+    return _e.rgb_to_gray(_image("image", image))
 
 
 def equalize_hist(gray, within=None) -> np.ndarray:
@@ -578,12 +678,12 @@ def equalize_hist(gray, within=None) -> np.ndarray:
     return _e.equalize_hist(_image("gray", gray), None if within is None else _mask("within", within))
 
 
-def resize(img, height: int, width: int) -> np.ndarray:
+def resize(image, height: int, width: int) -> np.ndarray:
     """Resizes a uint8 ``(H, W)`` or ``(H, W, C)`` image to ``height x width``: exact area
     averaging when neither axis grows (``cv2.INTER_AREA``; within one grey level of OpenCV
     for non-integer factors), bilinear with half-pixel centres when an axis grows; rounded
     half to even."""
-    return _e.resize(_image("img", img), _int("height", height, 0), _int("width", width, 0))
+    return _e.resize(_image("image", image), _int("height", height, 0), _int("width", width, 0))
 
 
 def haar_ll(plane) -> np.ndarray:
@@ -594,13 +694,14 @@ def haar_ll(plane) -> np.ndarray:
     return _e.haar_ll(_plane("plane", plane))
 
 
-def block_features(plane, **params) -> np.ndarray:
+@_documented
+def block_features(plane, *, height: int = 100, width: int = 80, block: int = 10) -> np.ndarray:
     """Haar LL features of every block of a ``(height, width)`` float plane (paper §3.2: the
     LL subband of a one-level 2-D Haar DWT per block, ``(a + b + c + d) / 2``): float32
     ``(blocks, block_len)``, row ``b`` the ``block/2 x block/2`` LL of block ``b``
-    flattened row-major. :func:`enroll` is this on ``equalize_hist(rgb_to_gray(resize(img,
+    flattened row-major. :func:`enroll` is this on ``equalize_hist(rgb_to_gray(resize(image,
     100, 80))) / 255``."""
-    return _e.block_features(_plane("plane", plane), _params(params))
+    return _e.block_features(_plane("plane", plane), _params(locals()))
 
 
 def close_disk(mask, radius: float = 10.0) -> np.ndarray:

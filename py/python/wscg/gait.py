@@ -21,14 +21,15 @@ Person identification from Kinect v2 skeleton streams (25 joints x 3-D, 30 fps):
    each pair warping on its own (independent multivariate DTW), no resampling: the two
    cycles may have different lengths.
 5. **Vote** (:class:`GaitRecognizer`): training walks ranked by ``Delta``; 1-NN (default),
-   majority of ``k``, or the paper's majority among the top ``#classes + 1``.
+   majority of the ``n_neighbors`` nearest, or the paper's majority among the top
+   ``#classes + 1``.
 
 Baselines: :func:`ball_features` (Ball et al. 2012) and :func:`preis_features` (Preis et al.
-2012). :func:`synth_walkers` is a synthetic Kinect walker with ground-truth cycles and
+2012). :func:`make_walkers` makes synthetic Kinect walks with ground-truth cycles and
 identities (the paper's database is private); :func:`evaluate_synthetic` runs the paper's
-3-fold cross-validation (Table 1, Fig. 9) on it. :func:`read_ts` reads the UCR/UEA archive's
-``.ts`` files, on which the DTW is checked against published error rates;
-:func:`read_skeleton` and :func:`write_skeleton_csv` read and write skeleton streams.
+3-fold cross-validation (Table 1, Fig. 9) on them. :func:`load_ts` reads the UCR/UEA
+archive's ``.ts`` files, on which the DTW is checked against published error rates;
+:func:`load_skeleton` and :func:`save_skeleton_csv` read and write skeleton streams.
 
 Conventions: a walk (``frames``) is a float64 array of shape ``(T, 25, 3)``: frames x the 25
 Kinect v2 joints in the SDK's ``JointType`` order (:data:`JOINT_NAMES`) x ``(x, y, z)`` in
@@ -57,8 +58,8 @@ from ._native import gait as _g
 __all__ = [
     "JOINT_NAMES", "N_PAIRS", "all_pairs", "jra", "detect_cycle", "jra_sequences",
     "relevance_matrix", "occupied_bins", "select_pairs", "dtw", "dtw_path", "dtw_kernel",
-    "dissimilarity_matrix", "nearest", "read_ts", "read_skeleton", "write_skeleton_csv",
-    "ball_features", "preis_features", "GaitRecognizer", "synth_walkers",
+    "dissimilarity_matrix", "nearest", "load_ts", "load_skeleton", "save_skeleton_csv",
+    "ball_features", "preis_features", "GaitRecognizer", "make_walkers",
     "evaluate_synthetic",
 ]
 
@@ -274,7 +275,7 @@ def jra(p1, p2, r) -> float:
 
 def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: float = 0.25,
                  min_prominence: float = 0.2, up="estimate", choice: str = "first",
-                 start_leg: str = "left", details: bool = False):
+                 start_leg: str = "left", return_details: bool = False):
     """Detects one full gait cycle (section 3.1).
 
     Parameters
@@ -300,14 +301,14 @@ def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: 
     start_leg : {"left", "right", "any"}, default "left"
         Which foot steps forward in the first half of the returned cycle (falls back to the
         first cycle when no cycle of that order exists).
-    details : bool, default False
+    return_details : bool, default False
         Return a dict with the intermediate results instead of the tuple.
 
     Returns
     -------
     (start, mid, end) : tuple of int
         Frames of the three consecutive minima; the cycle is ``frames[start:end + 1]``.
-        With ``details=True`` a dict with keys ``start``, ``mid``, ``end``, ``ankle_dist``
+        With ``return_details=True`` a dict with keys ``start``, ``mid``, ``end``, ``ankle_dist``
         (the smoothed horizontal ankle distance of every frame, metres), ``minima`` (all
         accepted leg crossings) and ``first_step`` (``"left"`` or ``"right"``).
 
@@ -331,7 +332,7 @@ def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: 
                         _real("min_step_s", min_step_s), _real("min_prominence", min_prominence),
                         up, _str("choice", choice, ("first", "most_regular")),
                         _str("start_leg", start_leg, ("left", "right", "any")))
-    if details:
+    if return_details:
         return d
     return int(d["start"]), int(d["mid"]), int(d["end"])
 
@@ -573,7 +574,7 @@ def nearest(query, gallery, cost: str = "abs", window: Optional[int] = None,
     return int(i), float(d)
 
 
-def read_ts(path) -> Tuple[List[List[np.ndarray]], List[str]]:
+def load_ts(path) -> Tuple[List[List[np.ndarray]], List[str]]:
     """Reads a UCR/UEA archive ``.ts`` file (as shipped inside the sktime wheel).
 
     Parameters
@@ -593,7 +594,7 @@ def read_ts(path) -> Tuple[List[List[np.ndarray]], List[str]]:
     OSError
         Unreadable or malformed file.
     """
-    d = _g.read_ts(os.fspath(path))
+    d = _g.load_ts(os.fspath(path))
     return d["series"], list(d["labels"])
 
 
@@ -601,7 +602,7 @@ def read_ts(path) -> Tuple[List[List[np.ndarray]], List[str]]:
 # Files and baselines
 # ----------------------------------------------------------------------------------------
 
-def read_skeleton(path, fps: float = 30.0) -> np.ndarray:
+def load_skeleton(path, fps: float = 30.0) -> np.ndarray:
     """Reads a skeleton stream: ``.npy`` (shape ``(T, 25, 3)``) or CSV rows ``frame, joint,
     x, y, z`` (joint by Kinect v2 name or index; optional header; ``#`` comments).
 
@@ -622,10 +623,10 @@ def read_skeleton(path, fps: float = 30.0) -> np.ndarray:
     ValueError
         NaN coordinates, fewer than 3 frames, ``fps <= 0``, a wrong ``.npy`` shape.
     """
-    return _g.read_skeleton(os.fspath(path), _fps(fps))
+    return _g.load_skeleton(os.fspath(path), _fps(fps))
 
 
-def write_skeleton_csv(path, frames, fps: float = 30.0) -> None:
+def save_skeleton_csv(path, frames, fps: float = 30.0) -> None:
     """Writes a skeleton CSV (header ``frame,joint,x,y,z``, joints by name, 6 decimals).
 
     Parameters
@@ -635,7 +636,7 @@ def write_skeleton_csv(path, frames, fps: float = 30.0) -> None:
     fps : float, default 30.0
         Only validated (CSV files carry no frame rate).
     """
-    _g.write_skeleton_csv(os.fspath(path), _frames(frames), _fps(fps))
+    _g.save_skeleton_csv(os.fspath(path), _frames(frames), _fps(fps))
 
 
 def ball_features(frames, cycle=None, fps: float = 30.0) -> np.ndarray:
@@ -697,14 +698,14 @@ def preis_features(frames, cycle=None, fps: float = 30.0) -> np.ndarray:
 # Recognizer
 # ----------------------------------------------------------------------------------------
 
-def _vote_spec(vote, k) -> str:
+def _vote_spec(vote, n_neighbors) -> str:
     if not isinstance(vote, str):
         raise ValueError(f"`vote` must be 'nearest', 'paper', 'majority' or 'majority:K', "
                          f"got {vote!r}")
     if vote == "majority":
-        return f"majority:{_int('k', 3 if k is None else k, 1)}"
-    if k is not None:
-        raise ValueError("`k` is only used with vote='majority'")
+        return f"majority:{_int('n_neighbors', 3 if n_neighbors is None else n_neighbors, 1)}"
+    if n_neighbors is not None:
+        raise ValueError("`n_neighbors` is only used with vote='majority'")
     if vote in ("nearest", "paper"):
         return vote
     if vote.startswith("majority:"):
@@ -753,10 +754,10 @@ class GaitRecognizer:
     min_bins : float, default 20.0
         Relevance threshold ``t`` (occupied 1-degree bins).
     vote : {"nearest", "paper", "majority", "majority:K"}, default "nearest"
-        1-NN; the paper's majority of the top ``#classes + 1`` walks; majority of ``k``
-        (ties: the tied class with the smallest sum of its voters' ranks, then the
-        smallest ``Delta``).
-    k : int, optional
+        1-NN; the paper's majority of the top ``#classes + 1`` walks; majority of the
+        ``n_neighbors`` nearest walks (ties: the tied class with the smallest sum of its
+        voters' ranks, then the smallest ``Delta``).
+    n_neighbors : int, optional
         Voters of ``vote="majority"`` (default 3).
     cost : {"abs", "squared"}, default "abs"
         DTW local cost.
@@ -785,15 +786,17 @@ class GaitRecognizer:
     including the test ones).
     """
 
-    def __init__(self, min_bins: float = 20.0, vote: str = "nearest", k: Optional[int] = None,
-                 cost: str = "abs", window: Optional[int] = None, bin_deg: float = 1.0,
-                 start_leg: str = "left", fps: float = 30.0):
-        self.min_bins, self.vote, self.k, self.cost = min_bins, vote, k, cost
+    def __init__(self, min_bins: float = 20.0, vote: str = "nearest",
+                 n_neighbors: Optional[int] = None, cost: str = "abs",
+                 window: Optional[int] = None, bin_deg: float = 1.0, start_leg: str = "left",
+                 fps: float = 30.0):
+        self.min_bins, self.vote, self.n_neighbors, self.cost = min_bins, vote, n_neighbors, cost
         self.window, self.bin_deg, self.start_leg, self.fps = window, bin_deg, start_leg, fps
         self._model = None
 
     def __repr__(self) -> str:
-        return (f"GaitRecognizer(min_bins={self.min_bins!r}, vote={self.vote!r}, k={self.k!r}, "
+        return (f"GaitRecognizer(min_bins={self.min_bins!r}, vote={self.vote!r}, "
+                f"n_neighbors={self.n_neighbors!r}, "
                 f"cost={self.cost!r}, window={self.window!r}, bin_deg={self.bin_deg!r}, "
                 f"start_leg={self.start_leg!r}, fps={self.fps!r})")
 
@@ -818,7 +821,7 @@ class GaitRecognizer:
             index), no pair reaching ``min_bins`` (the message gives the largest relevance),
             bad parameters.
         """
-        vote = _vote_spec(self.vote, self.k)
+        vote = _vote_spec(self.vote, self.n_neighbors)
         cost = _cost(self.cost)
         window = _window(self.window)
         start_leg = _str("start_leg", self.start_leg, ("left", "right", "any"))
@@ -899,7 +902,7 @@ def _range(name: str, r) -> Tuple[float, float]:
     return _real(name, lo), _real(name, hi)
 
 
-def synth_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
+def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
                   heading_deg=(-60.0, 60.0), speed=(0.9, 1.1), walk_s=(2.5, 4.0),
                   sit_prob: float = 0.5, noise: bool = True) -> Dict[str, Any]:
     """Synthetic Kinect v2 walks with ground truth (the paper's database is private).
@@ -936,14 +939,14 @@ def synth_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
     """
     if not isinstance(noise, (bool, np.bool_)):
         raise ValueError(f"`noise` must be True or False, got {noise!r}")
-    return _g.synth_walkers(_int("n_subjects", n_subjects, 1), _int("n_sessions", n_sessions, 1),
+    return _g.make_walkers(_int("n_subjects", n_subjects, 1), _int("n_sessions", n_sessions, 1),
                             _int("seed", seed, 0, 2 ** 64 - 1), _range("heading_deg", heading_deg),
                             _range("speed", speed), _range("walk_s", walk_s),
                             _real("sit_prob", sit_prob), bool(noise))
 
 
 def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0) -> Dict[str, Any]:
-    """The paper's evaluation (section 4.1, Table 1, Fig. 9) on :func:`synth_walkers`.
+    """The paper's evaluation (section 4.1, Table 1, Fig. 9) on :func:`make_walkers`.
 
     Fold ``k`` tests session ``k`` of every subject and trains on the others; relevance
     maps and thresholds use the training walks only. Accuracies are fractions in [0, 1].

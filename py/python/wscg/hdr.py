@@ -18,7 +18,7 @@ patch voting (eq. 5) and merged with the reference's own samples using Khan's we
 - :func:`calibrate_debevec`, :func:`calibrate_mitsunaga_nayar`, :func:`to_radiance`,
   :func:`khan_weight`, :func:`merge_stack`: camera responses, radiance space, weights and the
   merge of an aligned exposure stack.
-- :func:`synth_scene`: a layered five-camera scene with ground-truth radiance, disparity and
+- :func:`make_scene`: a layered five-camera scene with ground-truth radiance, disparity and
   visibility.
 - :func:`rmse_log2`, :func:`bad_rate`, :func:`incoherence`: the evaluation metrics.
 
@@ -60,7 +60,7 @@ __all__ = [
     "multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
     "warp_direct", "calibrate_debevec", "calibrate_mitsunaga_nayar", "to_radiance",
     "khan_weight", "merge", "merge_stack",
-    "synth_scene", "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS",
+    "make_scene", "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS",
     "SYNTHESIS_METHODS", "CRF_NAMES",
 ]
 
@@ -287,7 +287,7 @@ def _channels_match(a: np.ndarray, b: np.ndarray) -> None:
 # ----------------------------------------------------------------------------------------
 
 def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
-                    iterations: int = 2, max_disparity: int = 64,
+                    n_iter: int = 2, max_disparity: int = 64,
                     min_disparity: Optional[int] = None, coherence: bool = True,
                     epipolar: bool = True, align: str = "ours", synthesis: str = "bds",
                     ordered: bool = False, weighted_cost: bool = False,
@@ -309,7 +309,7 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
         returns), or a list of those, one per view (each camera needs its own response).
     patch : int, default 7
         Patch side ``N`` (odd, >= 3; the paper's figures use 7 x 7).
-    iterations : int, default 2
+    n_iter : int, default 2
         PatchMatch iterations per direction (the paper: "two iterations were enough").
     max_disparity : int, default 64
         Largest horizontal offset searched, ``Max_disp`` of eqs. 1 and 4 (< width).
@@ -382,7 +382,7 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
     Examples
     --------
     >>> from wscg import hdr
-    >>> sc = hdr.synth_scene(height=48, width=64, exposure_times=(0.005, 0.04, 0.3))
+    >>> sc = hdr.make_scene(height=48, width=64, exposure_times=(0.005, 0.04, 0.3))
     >>> out = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], max_disparity=40)
     >>> len(out), out[0].shape, out[0].dtype
     (3, (48, 64, 3), dtype('float32'))
@@ -418,7 +418,7 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
             d_min = -d_max if min_disparity is None else _int("min_disparity",
                                                              min_disparity, -2 ** 24, 2 ** 24)
     hdr_list, fields, fallback = _h.multiscopic_hdr(
-        vs, times, crfs, nbits, p, _int("iterations", iterations, 0, 100000), d_min, d_max,
+        vs, times, crfs, nbits, p, _int("n_iter", n_iter, 0, 100000), d_min, d_max,
         _flag("coherence", coherence), epipolar, align, synthesis, _flag("ordered", ordered),
         _flag("weighted_cost", weighted_cost), _flag("fill_saturated", fill_saturated),
         _seed(seed), _flag("return_details", return_details))
@@ -431,7 +431,7 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
 # Matching and synthesis
 # ----------------------------------------------------------------------------------------
 
-def patchmatch(a, b, *, patch: int = 7, iterations: int = 2, min_disparity: int = -64,
+def patchmatch(a, b, *, patch: int = 7, n_iter: int = 2, min_disparity: int = -64,
                max_disparity: int = 64, v_tol: int = 0, coherence: bool = True,
                epipolar: bool = True, c_min: float = 0.05, alpha: float = 0.5,
                seed: int = 0) -> Tuple[np.ndarray, np.ndarray]:
@@ -444,7 +444,7 @@ def patchmatch(a, b, *, patch: int = 7, iterations: int = 2, min_disparity: int 
         differ in size.
     patch : int, default 7
         Patch side ``N`` (odd, >= 3, <= the smaller image side).
-    iterations : int, default 2
+    n_iter : int, default 2
         Sweeps: even ones scan top-left to bottom-right and propagate from the left and top
         neighbours, odd ones scan back. The rows of a sweep run on every thread of wscg's
         pool (:func:`wscg.set_num_threads`) as a pipeline that gives exactly the
@@ -500,7 +500,7 @@ def patchmatch(a, b, *, patch: int = 7, iterations: int = 2, min_disparity: int 
     >>> rng = np.random.default_rng(0)
     >>> a = rng.random((32, 64)).astype(np.float32)
     >>> b = np.roll(a, -5, axis=1)            # b(x - 5) = a(x): true offset -5
-    >>> off, cost = hdr.patchmatch(a, b, min_disparity=-10, max_disparity=10, iterations=4)
+    >>> off, cost = hdr.patchmatch(a, b, min_disparity=-10, max_disparity=10, n_iter=4)
     >>> float(np.mean(off[4:-4, 8:-8, 0] == -5)) > 0.95
     True
     """
@@ -524,11 +524,11 @@ def patchmatch(a, b, *, patch: int = 7, iterations: int = 2, min_disparity: int 
     alpha = _real("alpha", alpha)
     if not 0 < alpha < 1:
         raise ValueError(f"`alpha` must be in (0, 1), got {alpha}")
-    return _h.patchmatch(fa, fb, p, _int("iterations", iterations, 0, 100000), d_min, d_max, vt,
+    return _h.patchmatch(fa, fb, p, _int("n_iter", n_iter, 0, 100000), d_min, d_max, vt,
                          _flag("coherence", coherence), epipolar, c_min, alpha, _seed(seed))
 
 
-def patchmatch_2d(a, b, *, patch: int = 7, iterations: int = 5,
+def patchmatch_2d(a, b, *, patch: int = 7, n_iter: int = 5,
                   seed: int = 0) -> Tuple[np.ndarray, np.ndarray]:
     """The original PatchMatch of Barnes et al. (2009), the paper's "PM" baseline: 2-D
     offsets anywhere in ``b``, SSD cost without the coherence term.
@@ -539,7 +539,7 @@ def patchmatch_2d(a, b, *, patch: int = 7, iterations: int = 5,
         Images with the same number of channels.
     patch : int, default 7
         Patch side (odd, >= 3).
-    iterations : int, default 5
+    n_iter : int, default 5
         Sweeps (Barnes et al. suggest 4-5; the paper compares 2 and 5).
     seed : int, default 0
 
@@ -564,7 +564,7 @@ def patchmatch_2d(a, b, *, patch: int = 7, iterations: int = 5,
     _channels_match(fa, fb)
     h, w = min(fa.shape[0], fb.shape[0]), min(fa.shape[1], fb.shape[1])
     p = _patch("patch", patch, h, w)
-    return _h.patchmatch_2d(fa, fb, p, _int("iterations", iterations, 0, 100000), _seed(seed))
+    return _h.patchmatch_2d(fa, fb, p, _int("n_iter", n_iter, 0, 100000), _seed(seed))
 
 
 def zncc_stereo(a, b, *, window: int = 9, min_disparity: int = -64, max_disparity: int = 64,
@@ -695,7 +695,7 @@ def _calibration_stack(stack, exposure_times, bits, max_bits: int):
     return imgs, times, bits
 
 
-def calibrate_debevec(stack, exposure_times, *, samples: int = 70, lam: float = 10.0,
+def calibrate_debevec(stack, exposure_times, *, n_samples: int = 70, lam: float = 10.0,
                       bits: int = 8) -> np.ndarray:
     """Recover the inverse camera response from a static exposure stack (Debevec & Malik
     1997; the paper's section 3: "for 8bits LDR images a CRF per camera needs to be
@@ -707,7 +707,7 @@ def calibrate_debevec(stack, exposure_times, *, samples: int = 70, lam: float = 
         At least two aligned exposures of a static scene.
     exposure_times : sequence of float
         Exposure time of every image (seconds, > 0).
-    samples : int, default 70
+    n_samples : int, default 70
         Sample pixels, on a regular grid (as OpenCV's ``CalibrateDebevec`` with
         ``random=False`` places them).
     lam : float, default 10
@@ -735,12 +735,12 @@ def calibrate_debevec(stack, exposure_times, *, samples: int = 70, lam: float = 
     WSCG vol. 23, section 3.
     """
     imgs, times, bits = _calibration_stack(stack, exposure_times, bits, 12)
-    return _h.calibrate_debevec(imgs, times, _int("samples", samples, 1, 10 ** 6),
+    return _h.calibrate_debevec(imgs, times, _int("n_samples", n_samples, 1, 10 ** 6),
                                 _positive("lam", lam), bits)
 
 
 def calibrate_mitsunaga_nayar(stack, exposure_times, *, degree: Optional[int] = None,
-                              max_degree: int = 10, samples: int = 2000,
+                              max_degree: int = 10, n_samples: int = 2000,
                               refine_ratios: bool = True, tol: float = 1e-7,
                               max_iter: int = 100,
                               bits: int = 8) -> Tuple[np.ndarray, Dict[str, list]]:
@@ -763,7 +763,7 @@ def calibrate_mitsunaga_nayar(stack, exposure_times, *, degree: Optional[int] = 
         smallest degree within 25 % of the best held-out error whose fit increases).
     max_degree : int, default 10
         Largest degree tried when ``degree`` is None.
-    samples : int, default 2000
+    n_samples : int, default 2000
         Sample pixels on a regular grid; each gives one equation per pair of consecutive
         exposures (in time) where both codes lie within 2-98 % of the range.
     refine_ratios : bool, default True
@@ -808,7 +808,7 @@ def calibrate_mitsunaga_nayar(stack, exposure_times, *, degree: Optional[int] = 
         raise ValueError(f"`refine_ratios` must be a bool, got {refine_ratios!r}")
     table, info = _h.calibrate_mitsunaga_nayar(
         imgs, times, bits, deg, _int("max_degree", max_degree, 1, 10),
-        _int("samples", samples, 1, 10 ** 7), bool(refine_ratios), _positive("tol", tol),
+        _int("n_samples", n_samples, 1, 10 ** 7), bool(refine_ratios), _positive("tol", tol),
         _int("max_iter", max_iter, 1, 10 ** 6))
     return table, info
 
@@ -1003,7 +1003,7 @@ def merge(radiances, weights, levels, exposure_times) -> Tuple[np.ndarray, int]:
 # Synthetic scene and metrics
 # ----------------------------------------------------------------------------------------
 
-def synth_scene(*, height: int = 160, width: int = 256,
+def make_scene(*, height: int = 160, width: int = 256,
                 exposure_times: Sequence[float] = (0.005, 0.030, 0.061, 0.122, 0.280),
                 emitter_peak: float = 300.0, noise: float = 0.002,
                 seed: int = 7) -> Dict[str, object]:
@@ -1058,7 +1058,7 @@ def synth_scene(*, height: int = 160, width: int = 256,
     nz = _real("noise", noise)
     if nz < 0:
         raise ValueError(f"`noise` must be >= 0, got {nz}")
-    return _h.synth_scene(h, w, times, peak, nz, _seed(seed))
+    return _h.make_scene(h, w, times, peak, nz, _seed(seed))
 
 
 def rmse_log2(est, gt, mask=None) -> float:

@@ -14,7 +14,7 @@ _Fields = Dict[Tuple[int, int], np.ndarray]
 
 @overload
 def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float],
-                    crf: _CrfArg = ..., *, patch: int = ..., iterations: int = ...,
+                    crf: _CrfArg = ..., *, patch: int = ..., n_iter: int = ...,
                     max_disparity: int = ..., min_disparity: Optional[int] = ...,
                     coherence: bool = ..., epipolar: bool = ..., align: str = ...,
                     synthesis: str = ..., ordered: bool = ..., weighted_cost: bool = ...,
@@ -22,18 +22,18 @@ def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float]
                     return_details: Literal[False] = ...) -> List[np.ndarray]: ...
 @overload
 def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float],
-                    crf: _CrfArg = ..., *, patch: int = ..., iterations: int = ...,
+                    crf: _CrfArg = ..., *, patch: int = ..., n_iter: int = ...,
                     max_disparity: int = ..., min_disparity: Optional[int] = ...,
                     coherence: bool = ..., epipolar: bool = ..., align: str = ...,
                     synthesis: str = ..., ordered: bool = ..., weighted_cost: bool = ...,
                     fill_saturated: bool = ..., bits: Optional[int] = ..., seed: int = ...,
                     return_details: Literal[True]
                     ) -> Tuple[List[np.ndarray], _Fields, List[int]]: ...
-def patchmatch(a: np.ndarray, b: np.ndarray, *, patch: int = ..., iterations: int = ...,
+def patchmatch(a: np.ndarray, b: np.ndarray, *, patch: int = ..., n_iter: int = ...,
                min_disparity: int = ..., max_disparity: int = ..., v_tol: int = ...,
                coherence: bool = ..., epipolar: bool = ..., c_min: float = ...,
                alpha: float = ..., seed: int = ...) -> Tuple[np.ndarray, np.ndarray]: ...
-def patchmatch_2d(a: np.ndarray, b: np.ndarray, *, patch: int = ..., iterations: int = ...,
+def patchmatch_2d(a: np.ndarray, b: np.ndarray, *, patch: int = ..., n_iter: int = ...,
                   seed: int = ...) -> Tuple[np.ndarray, np.ndarray]: ...
 def zncc_stereo(a: np.ndarray, b: np.ndarray, *, window: int = ..., min_disparity: int = ...,
                 max_disparity: int = ..., lr_tol: int = ...) -> Tuple[np.ndarray, np.ndarray]: ...
@@ -41,10 +41,10 @@ def vote_bds(src: np.ndarray, offsets_rs: np.ndarray, offsets_sr: np.ndarray, *,
              patch: int = ...) -> np.ndarray: ...
 def warp_direct(src: np.ndarray, offsets_rs: np.ndarray) -> np.ndarray: ...
 def calibrate_debevec(stack: Sequence[np.ndarray], exposure_times: Sequence[float], *,
-                      samples: int = ..., lam: float = ..., bits: int = ...) -> np.ndarray: ...
+                      n_samples: int = ..., lam: float = ..., bits: int = ...) -> np.ndarray: ...
 def calibrate_mitsunaga_nayar(stack: Sequence[np.ndarray], exposure_times: Sequence[float], *,
                               degree: Optional[int] = ..., max_degree: int = ...,
-                              samples: int = ..., refine_ratios: bool = ..., tol: float = ...,
+                              n_samples: int = ..., refine_ratios: bool = ..., tol: float = ...,
                               max_iter: int = ...,
                               bits: int = ...) -> Tuple[np.ndarray, Dict[str, list]]: ...
 def to_radiance(image: np.ndarray, crf: _Crf, exposure_time: float, *,
@@ -58,7 +58,7 @@ def merge(radiances: Sequence[np.ndarray], weights: Sequence[np.ndarray],
           exposure_times: Sequence[float]) -> Tuple[np.ndarray, int]: ...
 def merge_stack(images: Sequence[np.ndarray], exposure_times: Sequence[float],
                 crf: _CrfArg = ..., *, bits: Optional[int] = ...) -> Tuple[np.ndarray, int]: ...
-def synth_scene(*, height: int = ..., width: int = ..., exposure_times: Sequence[float] = ...,
+def make_scene(*, height: int = ..., width: int = ..., exposure_times: Sequence[float] = ...,
                 emitter_peak: float = ..., noise: float = ...,
                 seed: int = ...) -> Dict[str, object]: ...
 def rmse_log2(est: np.ndarray, gt: np.ndarray, mask: Optional[np.ndarray] = ...) -> float: ...

@@ -11,7 +11,7 @@ for the step, 2 more for the shortened step, the reach reuses all 5) into a :cla
 A :class:`Synthesizer` turns the library into *dynamic primitives* (a star network of Hopf
 oscillators whose followers are mapped onto the sources), regresses the weights from the step
 parameters, blends actions at the leader's phase wrap and re-plans the steps with the
-predictive planner (:func:`plan_steps`) when the goal moves. :func:`write_bvh` exports the
+predictive planner (:func:`plan_steps`) when the goal moves. :func:`save_bvh` exports the
 result for any animation tool.
 
 Data: :func:`make_synthetic_dataset` draws trials of a seeded synthetic walker with known
@@ -42,7 +42,7 @@ from ._native import motion as _m
 
 __all__ = [
     "make_synthetic_dataset", "fit_anechoic", "pca_quality", "pca_qualities", "quality",
-    "fit_stepwise", "Library", "plan_steps", "Synthesizer", "write_bvh", "read_bvh",
+    "fit_stepwise", "Library", "plan_steps", "Synthesizer", "save_bvh", "load_bvh",
     "forward_kinematics", "skeleton", "regression_p_value", "fit_line", "svr_fit_predict",
     "hopf_simulate", "ACTIONS", "DELAY_MODES", "MAPS", "N_CHANNELS",
 ]
@@ -143,7 +143,7 @@ def make_synthetic_dataset(n_trials: int = 40, seed: int = 0, noise: float = 0.0
 
 
 def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8,
-                 restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
+                 n_restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
                  init: str = "pca", delay_search: int = 128) -> dict:
     """Anechoic demixing ``x_i^r(t) ~ sum_j w_ij^r s_j(t - tau_ij)`` of mean-free trials.
 
@@ -161,7 +161,7 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
         per trial, or no delays (synchronous model with band-limited sources).
     n_harmonics : int
         Harmonics per source ``K`` (band limit), ``1 <= K < N / 2``.
-    restarts : int
+    n_restarts : int
         Runs: run 0 starts from ``init``, run 1 from the orbit-subspace start (``"orbit"``;
         with delays and at least ``n_sources`` trials, unless run 0 is one), the others from
         seeded random starts. Every run gets 60 sweeps; the best continues to ``max_iter``
@@ -202,8 +202,9 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
     if init not in ("pca", "random", "greedy", "orbit"):
         raise ValueError(f"`init` must be 'pca', 'random', 'greedy' or 'orbit', got {init!r}")
     return _m.fit_anechoic(x, _u("n_sources", n_sources, 1), delays,
-                           _u("n_harmonics", n_harmonics, 1), _u("restarts", restarts, 1),
-                           _u("max_iter", max_iter, 1), _float("tol", tol),
+                           _u("n_harmonics", n_harmonics, 1),
+                           _u("n_restarts", n_restarts, 1), _u("max_iter", max_iter, 1),
+                           _float("tol", tol),
                            _u("seed", seed, 0), init, _u("delay_search", delay_search, 0))
 
 
@@ -261,7 +262,7 @@ def quality(X, Xhat) -> float:
 
 
 def fit_stepwise(dataset: dict, n_sources_first: int = 3, n_sources_extra: int = 2,
-                 n_harmonics: int = 8, restarts: int = 10, max_iter: int = 500,
+                 n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
                  tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> Library:
     """Learns the three actions step by step (paper section 2.3) into a :class:`Library`.
 
@@ -279,7 +280,7 @@ def fit_stepwise(dataset: dict, n_sources_first: int = 3, n_sources_extra: int =
         At least 3 trials.
     n_sources_first, n_sources_extra : int
         Sources of action 1 and sources added in action 2 (the paper's 3 and 2).
-    n_harmonics, restarts, max_iter, tol, seed, delay_search
+    n_harmonics, n_restarts, max_iter, tol, seed, delay_search
         Demixing settings, as in :func:`fit_anechoic`.
     """
     if not isinstance(dataset, dict):
@@ -295,7 +296,7 @@ def fit_stepwise(dataset: dict, n_sources_first: int = 3, n_sources_extra: int =
         None if root is None else _array("root", root),
         None if dist is None else _array("distances", dist),
         _u("n_sources_first", n_sources_first, 1), _u("n_sources_extra", n_sources_extra, 0),
-        _u("n_harmonics", n_harmonics, 1), _u("restarts", restarts, 1),
+        _u("n_harmonics", n_harmonics, 1), _u("n_restarts", n_restarts, 1),
         _u("max_iter", max_iter, 1), _float("tol", tol), _u("seed", seed, 0),
         _u("delay_search", delay_search, 0))
 
@@ -459,7 +460,7 @@ def _frames(angles, root) -> Tuple[np.ndarray, np.ndarray]:
     return a, r
 
 
-def write_bvh(path: Union[str, os.PathLike], angles, root_x, fps: float = 120.0) -> None:
+def save_bvh(path: Union[str, os.PathLike], angles, root, fps: float = 120.0) -> None:
     """Writes frames of the 17-joint skeleton as a BVH file.
 
     Rotations become ``Zrotation Xrotation Yrotation`` Euler angles in degrees; positions
@@ -470,16 +471,17 @@ def write_bvh(path: Union[str, os.PathLike], angles, root_x, fps: float = 120.0)
     path : str or PathLike
     angles : array_like, shape (T, 51)
         Exponential-map channels per frame.
-    root_x : array_like, shape (T,) or (T, 3)
-        Pelvis forward position in metres (hips at the rest height), or full positions.
+    root : array_like, shape (T,) or (T, 3)
+        Pelvis forward position in metres (hips at the rest height), or full positions (as
+        :func:`forward_kinematics` takes them).
     fps : float
         Frame rate (> 0).
     """
-    a, r = _frames(angles, root_x)
-    _m.write_bvh(os.fspath(path), a, r, _float("fps", fps))
+    a, r = _frames(angles, root)
+    _m.save_bvh(os.fspath(path), a, r, _float("fps", fps))
 
 
-def read_bvh(path: Union[str, os.PathLike]) -> dict:
+def load_bvh(path: Union[str, os.PathLike]) -> dict:
     """Reads a BVH file of the 17-joint skeleton (joints matched by name, any channel order).
 
     Returns
@@ -488,7 +490,7 @@ def read_bvh(path: Union[str, os.PathLike]) -> dict:
         ``"angles"`` ``(T, 51)`` exponential maps (made continuous over time), ``"root"``
         ``(T, 3)`` pelvis positions in metres, ``"frame_time"`` seconds.
     """
-    return _m.read_bvh(os.fspath(path))
+    return _m.load_bvh(os.fspath(path))
 
 
 def forward_kinematics(angles, root) -> np.ndarray:

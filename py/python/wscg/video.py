@@ -12,7 +12,8 @@ Pixels outside the hole are never modified.
 Baselines: :func:`wexler_complete` (Wexler et al. 2007: global search and weighted voting at
 every level) and :func:`per_frame_patchmatch` (image PatchMatch inpainting of each frame).
 Measures: :func:`ssim_masked`, :func:`psnr_masked`, :func:`flicker`. Test clips with exact
-ground truth: :func:`synthetic`. Frames are ``(F, H, W, 3)`` (or ``(F, H, W)`` grey) uint8
+ground truth: :func:`make_clip`. Frame folders: :func:`load_frames`, :func:`load_mask`,
+:func:`save_frames`. Frames are ``(F, H, W, 3)`` (or ``(F, H, W)`` grey) uint8
 arrays, masks ``(F, H, W)`` bool or uint8 (non-zero = hole). Bad input raises
 ``ValueError``; unreadable files raise ``OSError``.
 """
@@ -24,10 +25,11 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from ._native import video as _v
-from ._checks import integer_ranges as _integer_ranges
+from ._checks import _int, integer_ranges as _integer_ranges
 
-__all__ = ["complete_video", "wexler_complete", "per_frame_patchmatch", "inpaint_telea", "ssim_masked",
-           "psnr_masked", "flicker", "synthetic", "read_frames", "read_mask", "write_frames"]
+__all__ = ["complete_video", "wexler_complete", "per_frame_patchmatch", "inpaint_telea",
+           "ssim_masked", "psnr_masked", "flicker", "make_clip", "load_frames", "load_mask",
+           "save_frames"]
 
 
 def _frames(frames, name: str = "frames") -> np.ndarray:
@@ -51,6 +53,17 @@ def _mask(mask, frames: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(m.astype(np.uint8))
 
 
+def _sweeps(name: str, counts) -> list:
+    """Per-level iteration caps: a non-empty sequence of counts."""
+    try:
+        out = [_int(name, c, 0) for c in counts]
+    except TypeError:
+        raise ValueError(f"`{name}` must be a sequence of counts, got {counts!r}") from None
+    if not out:
+        raise ValueError(f"`{name}` needs the iteration count of at least one level")
+    return out
+
+
 def _patch(patch) -> Tuple[int, int, int]:
     p = tuple(int(v) for v in patch)
     if len(p) != 3:
@@ -59,11 +72,11 @@ def _patch(patch) -> Tuple[int, int, int]:
 
 
 def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width: int = 480,
-                   levels: Optional[int] = None, iters: Sequence[int] = (10, 5, 3),
+                   n_levels: Optional[int] = None, lowres_max_iter: Sequence[int] = (10, 5, 3),
                    init: str = "harmonic2d", search: str = "patchmatch",
-                   patchmatch_iters: int = 5, seed: int = 0, onion_order: bool = True,
-                   causal_first_sweep: bool = True, refine_iters: int = 4,
-                   windows: Sequence[int] = (17, 13, 9, 5), max_iterations: int = 16,
+                   patchmatch_n_iter: int = 5, seed: int = 0, onion_order: bool = True,
+                   causal_first_sweep: bool = True, refine_max_iter: int = 4,
+                   windows: Sequence[int] = (17, 13, 9, 5), fine_max_iter: int = 16,
                    min_energy_drop: float = 5e-3, temporal_radius: int = 0,
                    propagate: bool = True,
                    step: str = "double", global_fine_search: bool = False,
@@ -81,15 +94,17 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
     lowres_width : int
         Width of stage 1's working resolution (the video is down-scaled by
         ``round(W / lowres_width)``; 480 for the paper's 1920 x 1080 -> 480 x 270).
-    levels : int, optional
+    n_levels : int, optional
         Pyramid levels below the working resolution (default: halve while the next level is
         at least 120 pixels wide and the hole is thicker than two patch radii).
-    iters : sequence of int
-        Stage 1 sweeps per level, coarsest first.
+    lowres_max_iter : sequence of int
+        Stage 1 sweeps per level at most, coarsest first (the last value repeats for further
+        levels); a level stops earlier once fewer than 0.1 % of its matches change or its
+        energy drops by no more than ``min_energy_drop``.
     init : {'harmonic2d', 'harmonic3d', 'telea', 'random'}
         Initial colours of the hole at the coarsest level.
     search : {'patchmatch', 'pca_kdtree', 'exact'}
-        Stage 1 search: space-time PatchMatch (``patchmatch_iters`` whole-field iterations
+        Stage 1 search: space-time PatchMatch (``patchmatch_n_iter`` whole-field iterations
         before each sweep; memory: one match per hole pixel), the paper's PCA-24 + kd-tree
         index with exact re-ranking (memory: 96 bytes per valid source), or exact search
         (small videos).
@@ -100,12 +115,12 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
     causal_first_sweep : bool
         The first sweep fills pixel after pixel comparing only known and already filled
         pixels.
-    refine_iters : int
-        Stage 2 iterations (0: no refinement).
+    refine_max_iter : int
+        Stage 2 iterations at most (0: no refinement); it stops once no match changes.
     windows : sequence of odd int
         Stage 3 search windows (pixels) of the first iterations, one each; later iterations
         keep the last width.
-    max_iterations : int
+    fine_max_iter : int
         Stage 3 iterations at most (at least one per window). 16 keeps the default windows'
         candidates under the paper's thousand per pixel.
     min_energy_drop : float
@@ -137,15 +152,15 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
     squared RGB difference of their patch to their source's: the paper's eq. 1 as a sum
     instead of a product, since a product of distances is zero as soon as one match is exact.
     """
-    if int(max_iterations) < 0:
-        raise ValueError(f"`max_iterations` must be >= 0, got {max_iterations}")
+    fine = _int("fine_max_iter", fine_max_iter, 0)
+    sweeps = _sweeps("lowres_max_iter", lowres_max_iter)
     f = _frames(frames)
     m = _mask(mask, f)
     out, matches, stats = _v.complete_video(
-        f, m, _patch(patch), int(lowres_width), None if levels is None else int(levels),
-        [int(i) for i in iters], str(init), str(search), int(patchmatch_iters), int(seed),
-        bool(onion_order), bool(causal_first_sweep), int(refine_iters),
-        [int(w) for w in windows], int(max_iterations), float(min_energy_drop),
+        f, m, _patch(patch), int(lowres_width), None if n_levels is None else int(n_levels),
+        sweeps, str(init), str(search), int(patchmatch_n_iter), int(seed),
+        bool(onion_order), bool(causal_first_sweep), int(refine_max_iter),
+        [int(w) for w in windows], fine, float(min_energy_drop),
         int(temporal_radius), bool(propagate), str(step),
         bool(global_fine_search),
         bool(return_matches))
@@ -155,32 +170,35 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
 
 
 def wexler_complete(frames, mask, patch: Sequence[int] = (5, 5, 5), min_width: int = 64,
-                    iters: Sequence[int] = (10, 5, 3), patchmatch_iters: int = 4,
+                    max_iter: Sequence[int] = (10, 5, 3), patchmatch_n_iter: int = 4,
                     seed: int = 0) -> np.ndarray:
     """Wexler et al. 2007 space-time completion (the paper's baseline): random start,
-    PatchMatch (``patchmatch_iters``; 0 = exact) global search at every pyramid level up to
-    full resolution, and voting ``w = exp(-D / (2 sigma^2)) * 1.3^-dist(p, E)`` of all patches
-    covering a pixel. Slow at HD (the paper reports an hour per iteration)."""
+    PatchMatch (``patchmatch_n_iter`` iterations; 0 = exact) global search at every pyramid
+    level up to full resolution, and voting ``w = exp(-D / (2 sigma^2)) * 1.3^-dist(p, E)``
+    of all patches covering a pixel, at most ``max_iter[k]`` search-and-vote iterations at
+    level ``k`` (coarsest first, the last value repeats; a level stops when the vote changes
+    nothing). Slow at HD (the paper reports an hour per iteration)."""
     f = _frames(frames)
     m = _mask(mask, f)
-    out = _v.wexler(f, m, _patch(patch), int(min_width), [int(i) for i in iters],
-                    int(patchmatch_iters), int(seed), False, False)
+    out = _v.wexler(f, m, _patch(patch), int(min_width), _sweeps("max_iter", max_iter),
+                    int(patchmatch_n_iter), int(seed), False, False)
     return out.reshape(f.shape)
 
 
 def per_frame_patchmatch(frames, mask, patch: Sequence[int] = (5, 5), min_width: int = 64,
-                         iters: Sequence[int] = (10, 5, 3), patchmatch_iters: int = 4,
+                         max_iter: Sequence[int] = (10, 5, 3), patchmatch_n_iter: int = 4,
                          seed: int = 0, seed_per_frame: bool = True) -> np.ndarray:
     """Image PatchMatch inpainting of every frame separately (``(px, py)`` patches, Wexler
-    voting): what an image tool applied frame by frame gives. ``seed_per_frame`` seeds frame
-    ``t`` with ``seed + t``, as separate runs would be."""
+    voting; ``max_iter`` and ``patchmatch_n_iter`` as in :func:`wexler_complete`): what an
+    image tool applied frame by frame gives. ``seed_per_frame`` seeds frame ``t`` with
+    ``seed + t``, as separate runs would be."""
     f = _frames(frames)
     m = _mask(mask, f)
     p = tuple(int(v) for v in patch)
     if len(p) != 2:
         raise ValueError(f"`patch` must be (px, py), got {patch!r}")
-    out = _v.wexler(f, m, (p[0], p[1], 1), int(min_width), [int(i) for i in iters],
-                    int(patchmatch_iters), int(seed), True, bool(seed_per_frame))
+    out = _v.wexler(f, m, (p[0], p[1], 1), int(min_width), _sweeps("max_iter", max_iter),
+                    int(patchmatch_n_iter), int(seed), True, bool(seed_per_frame))
     return out.reshape(f.shape)
 
 
@@ -220,11 +238,12 @@ def flicker(frames, mask) -> float:
     return _v.measure(f, None, _mask(mask, f), "flicker")
 
 
-def synthetic(kind: str, frames: int = 20, height: int = 180, width: int = 320,
+def make_clip(kind: str, n_frames: int = 20, height: int = 180, width: int = 320,
               radius: float = 25.0, speed: float = 8.0, step: float = 8.0,
               zoom: float = 1.003, hole: Tuple[int, int] = (30, 40), period: float = 24.0,
               noise: float = 0.0, seed: int = 0):
-    """A synthetic clip with exact ground truth: returns ``(clean, observed, mask)``.
+    """A synthetic clip of ``n_frames`` frames of ``height x width`` with exact ground truth:
+    returns ``(clean, observed, mask)``.
 
     ``kind``: ``'sprite'`` (static camera, an opaque disc of ``radius`` moving ``speed``
     px/frame, Gaussian ``noise``), ``'pan'`` (camera panning ``step`` px/frame under a static
@@ -232,27 +251,28 @@ def synthetic(kind: str, frames: int = 20, height: int = 180, width: int = 320,
     moving ``speed`` px/frame), ``'periodic'`` (stripes of ``period`` px over bricks, a
     static square hole of side ``hole[0]`` hidden in every frame). **Synthetic data.**"""
     h = tuple(int(v) for v in hole)
-    return _v.synthetic(str(kind), int(frames), int(height), int(width), float(radius),
+    return _v.make_clip(str(kind), int(n_frames), int(height), int(width), float(radius),
                         float(speed), float(step), float(zoom), (h[0], h[-1]), float(period),
                         float(noise), int(seed))
 
 
-def read_frames(path) -> np.ndarray:
+def load_frames(path) -> np.ndarray:
     """The PNG/JPEG files of a folder, in name order, as an ``(F, H, W, 3)`` uint8 array
     (``OSError`` for unreadable files or frames of different sizes)."""
-    return _v.read_frames(str(path))
+    return _v.load_frames(str(path))
 
 
-def read_mask(path, frames: int, height: int, width: int) -> np.ndarray:
+def load_mask(path, n_frames: int, height: int, width: int) -> np.ndarray:
     """A hole mask from one image (used for every frame) or a folder of one image per frame;
-    a pixel is in the hole when any channel is non-zero. Returns ``(F, H, W)`` bool."""
-    return _v.read_mask(str(path), int(frames), int(height), int(width)).astype(bool)
+    a pixel is in the hole when any channel is non-zero. Returns ``(n_frames, height,
+    width)`` bool."""
+    return _v.load_mask(str(path), int(n_frames), int(height), int(width)).astype(bool)
 
 
-def write_frames(frames, path) -> list:
+def save_frames(path, frames) -> list:
     """Writes ``frame_00000.png``, ... into the folder ``path`` (created if missing); returns
     the file paths."""
-    return [str(p) for p in _v.write_frames(_frames(frames), str(path))]
+    return [str(p) for p in _v.save_frames(str(path), _frames(frames))]
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())
