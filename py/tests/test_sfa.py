@@ -108,6 +108,14 @@ def test_round_trips_and_labels(digits, tmp_path):
     np.testing.assert_array_equal(back.decision_function(Xte), model.decision_function(Xte))
     model.save(tmp_path / "m.json")
     np.testing.assert_array_equal(B.PerClassSFA.load(tmp_path / "m.json").predict(Xte), pred)
+    # A file written before the 1.0 rename (hyper-parameter pca_dims) still loads.
+    import json
+    d = json.loads((tmp_path / "m.json").read_text())
+    d["params"]["pca_dims"] = d["params"].pop("pca_n_components")
+    (tmp_path / "old.json").write_text(json.dumps(d))
+    old = B.PerClassSFA.load(tmp_path / "old.json")
+    assert old.pca_n_components == 10
+    np.testing.assert_array_equal(old.predict(Xte), pred)
     assert model.responses(Xte, "three").shape == (len(Xte), 5)
     g = B.GlobalSFA(pca_n_components=10, n_components=9, rule="gaussian").fit(Xtr, ytr)
     g.save(tmp_path / "g.json")

@@ -724,7 +724,8 @@ class _SFAClassifier(_Params, _JsonPickled):
 
         with open(path) as f:
             d = json.load(f)
-        obj = cls(**d["params"])
+        # Files written before the 1.0 rename keep loading.
+        obj = cls(**{_SAVED_PARAM_RENAMES.get(k, k): v for k, v in d["params"].items()})
         obj._model = _b.SfaModel.from_json(d["model"], cls._global)
         obj.classes_ = np.asarray(d["classes"])
         obj.n_features_in_ = d["n_features_in"]
@@ -733,6 +734,10 @@ class _SFAClassifier(_Params, _JsonPickled):
 
     def _model_from_json(self, text):
         return _b.SfaModel.from_json(text, self._global)
+
+
+#: Hyper-parameter names in model files written before the 1.0 rename -> today's names.
+_SAVED_PARAM_RENAMES = {"pca_dims": "pca_n_components"}
 
 
 class PerClassSFA(_SFAClassifier):
