@@ -21,7 +21,7 @@ from wscg import motion
 WRITERS = {
     "math.save_image": ("wm.save_image(path, rng.random((64, 64)))", None),
     "math.save_volume": ("wm.save_volume(path, rng.random((16, 16, 16)))", None),
-    "math.write_mesh": ("wm.write_mesh(path, *mesh)", None),
+    "math.save_mesh": ("wm.save_mesh(path, *mesh)", None),
     "motion.write_bvh": ("motion.write_bvh(path, np.zeros((40, 51)), np.zeros(40))", None),
     "gait.write_skeleton_csv": ("gait.write_skeleton_csv(path, rng.random((20, 25, 3)))", None),
     "video.write_frames": (
@@ -34,7 +34,7 @@ WRITERS = {
                                   None),
 }
 
-SUFFIX = {"math.save_image": ".png", "math.save_volume": ".nii", "math.write_mesh": ".obj",
+SUFFIX = {"math.save_image": ".png", "math.save_volume": ".nii", "math.save_mesh": ".obj",
           "motion.write_bvh": ".bvh", "gait.write_skeleton_csv": ".csv"}
 
 CHILD = textwrap.dedent("""
