@@ -54,6 +54,12 @@ import, else ``RAYON_NUM_THREADS``, else one thread per CPU core) and read back 
 :func:`get_num_threads`. A process created by ``fork`` (``multiprocessing``,
 ``ProcessPoolExecutor``, joblib) starts its own pool on its first wscg call.
 
+Conventions (``py/API.md``): one name per concept across the modules, ``load_`` / ``save_``
+with the path first, ``make_`` for generated data; a volume ``[z, y, x]`` has its ``spacing``
+``(dz, dy, dx)`` and ``origin`` ``(oz, oy, ox)`` in array axis order, and its voxel ``[k, j,
+i]`` lies at the world point ``(x, y, z) = (ox + i dx, oy + j dy, oz + k dz)`` in every
+module.
+
 Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files). A negative or
 too large integer for a count, size or seed raises :class:`IntegerRangeError`, a
 ``ValueError`` (and ``OverflowError``) that names the argument.
@@ -156,6 +162,7 @@ def get_max_image_pixels() -> int:
     return _native.get_max_image_pixels()
 
 
-__all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "gait", "hdr", "isosurface", "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
+__all__ = ["biometrics", "cloth", "csmri", "deblur", "doe", "ear", "gait", "hdr", "isosurface",
+           "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
            "IntegerRangeError", "set_num_threads", "get_num_threads", "set_memory_limit",
            "get_memory_limit", "set_max_image_pixels", "get_max_image_pixels", "__version__"]
