@@ -786,7 +786,12 @@ fn illum_study<'py>(
     let field: &ScalarField = &field;
     let units = Units::of(field);
     let tf = units.tf_in(tf)?;
-    let views = int_in("n_views", dict_item(opts, "n_views")?.unwrap_or(4), 1, 1 << 16)? as usize;
+    let views = int_in(
+        "n_views",
+        dict_item(opts, "n_views")?.unwrap_or(4),
+        1,
+        1 << 16,
+    )? as usize;
     let size = dict_item::<i64>(opts, "size")?.unwrap_or(256);
     let size = size_in((size, size))?.0;
     let azimuth = finite("azimuth", dict_item(opts, "azimuth")?.unwrap_or(30.0))?;

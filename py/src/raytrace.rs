@@ -228,10 +228,7 @@ fn render_plate<'py>(
 /// One tile of the microstructure as an (N, 7) array `cx, cy, cz, nx, ny, nz, r` and the
 /// number of clamped flakes.
 #[pyfunction]
-fn make_tile<'py>(
-    py: Python<'py>,
-    params: Bound<'py, PyDict>,
-) -> PyResult<(Arr<'py, f64>, usize)> {
+fn make_tile<'py>(py: Python<'py>, params: Bound<'py, PyDict>) -> PyResult<(Arr<'py, f64>, usize)> {
     let c = Cfg(&params);
     let fp = flake_params(&c)?;
     let seed: u64 = c.get("seed", 0)?;

@@ -397,7 +397,7 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
     Examples
     --------
     >>> from wscg import csmri
-    >>> k = csmri.shepp_logan_kspace(64)
+    >>> k = csmri.make_shepp_logan_kspace(64)
     >>> m = csmri.mask_cartesian((64, 64), 0.4, seed=1)
     >>> x = csmri.reconstruct(k, m, max_iter=10)
     >>> x.shape
