@@ -116,7 +116,7 @@ def pbd_run(model, pd, out, key):
 
 def ours_run(model, out, key, relaxation="gauss_seidel"):
     def run():
-        sim = cloth.Sim(model, method="soft", iterations=ITER, relaxation=relaxation)
+        sim = cloth.Sim(model, method="soft", n_iter=ITER, relaxation=relaxation)
         sim.step(H, STEPS)
         out[key] = float(sim.positions[:, 1].min())
     return run

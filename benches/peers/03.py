@@ -40,7 +40,7 @@ def blocks_of(vol):
 
 rows = []
 for name, shape in [("head", (112, 256, 256)), ("thorax", (256, 256, 256))]:
-    blocks = blocks_of(V.phantom(name, shape, seed=1))
+    blocks = blocks_of(V.make_phantom(name, shape, seed=1))
     ours = best_time(lambda: V.haar_blocks(blocks), repeat=5)
     peer = best_time(lambda: pywt.wavedecn(blocks, "haar", mode="periodization", level=4,
                                            axes=(1, 2, 3)), repeat=3)
@@ -69,7 +69,7 @@ def vtk_frame_time(vol, tf, cam, size, frames=10):
 
 
 n = int(os.environ.get("WSCG_THORAX", "256"))
-vol = V.phantom("thorax", (n, n, n), seed=1)
+vol = V.make_phantom("thorax", (n, n, n), seed=1)
 tfs = V.phantom_tfs("thorax")
 server = V.HybridServer(vol, tfs)
 client = V.HybridClient(server.static_package())

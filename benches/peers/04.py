@@ -33,7 +33,7 @@ from _common import best_time, print_table  # noqa: E402
 from jbmd_reference import reference_jbmd  # noqa: E402
 
 N, ITERS, K = 128, 10, 20
-gt, faces, colors = M.synthetic("cube", N)
+gt, faces, colors = M.make_mesh("cube", N)
 mvd = M.mvd(gt, faces)
 noisy = M.add_noise(gt, faces, 0.5 * mvd, seed=0x9E3779B97F4A7C15)
 tol = 1.0 / N + 1e-9
@@ -43,8 +43,8 @@ print(f"S1 cube n = {N}: {len(gt)} vertices, {len(faces)} faces, MVD {mvd:.5f}, 
 
 
 def ours_jbmd(rebuild=True):
-    return M.jbmd(noisy, faces, colors, sigma_d=2 * mvd, sigma_o=0.5 * mvd, k=K,
-                  iterations=ITERS, rebuild_neighbors=rebuild)
+    return M.jbmd(noisy, faces, colors, sigma_d=2 * mvd, sigma_o=0.5 * mvd, n_neighbors=K,
+                  n_iter=ITERS, rebuild_neighbors=rebuild)
 
 
 def o3d_mesh(x=None, f=None):
@@ -133,14 +133,14 @@ for name, x in results:
 
 print()
 print("CAD part S2 (n = 20), 15 iterations (MVD): ME / to surface / crease band, fillet radius")
-cad, cf, cc = M.synthetic("cad", 20)
+cad, cf, cc = M.make_mesh("cad", 20)
 patch, crease = M.cad_labels(20)
 cd = M.mvd(cad, cf)
 cnoisy = M.add_noise(cad, cf, 0.5 * cd, seed=0x9E3779B97F4A7C15)
 cad_results = [
     ("noisy input", cnoisy),
-    ("wscg JBMD (k=40)", M.jbmd(cnoisy, cf, cc, sigma_d=2 * cd, sigma_o=0.5 * cd, k=40,
-                                iterations=15)),
+    ("wscg JBMD (k=40)", M.jbmd(cnoisy, cf, cc, sigma_d=2 * cd, sigma_o=0.5 * cd, n_neighbors=40,
+                                n_iter=15)),
     ("wscg taubin", M.taubin(cnoisy, cf, 0.5, -0.53, 15)),
     ("open3d taubin", o3d_taubin(o3d_mesh(cnoisy, cf), 15)),
     ("pymeshlab two-step", meshlab_two_step(cnoisy, cf, 15)),

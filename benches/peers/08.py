@@ -23,7 +23,7 @@ from wscg import raytrace as rt
 
 
 def shadow_rays():
-    scene = rt.manylight_scene("colonnade", subdiv=20, width=64, height=48)
+    scene = rt.make_manylight_scene("colonnade", subdiv=20, width=64, height=48)
     tris = scene.triangle_vertices()
     lo = tris.reshape(-1, 3).min(axis=0) + 0.1
     hi = tris.reshape(-1, 3).max(axis=0) - 0.1
@@ -33,7 +33,7 @@ def shadow_rays():
     b = lo + rng.random((n, 3)) * (hi - lo)
     ours = best_time(lambda: scene.occluded(a, b), repeat=3)
     hit_ours = scene.occluded(a, b)
-    print(f"{scene.triangles} triangles, {n} segments, {hit_ours.mean():.3f} blocked (ours)")
+    print(f"{scene.n_triangles} triangles, {n} segments, {hit_ours.mean():.3f} blocked (ours)")
     try:
         from embreex import rtcore_scene as rtcs
         from embreex.mesh_construction import TriangleMesh
@@ -60,7 +60,7 @@ def shadow_rays():
 
 
 def table1():
-    scene = rt.manylight_scene("colonnade", subdiv=1, width=512, height=384)
+    scene = rt.make_manylight_scene("colonnade", subdiv=1, width=512, height=384)
     kw = dict(n_vpl_paths=1400, spp=16, n_cache=1966)
     ref, st = rt.render_manylight(scene, "reference", **kw)
     print(f"colonnade 512 x 384, {st['n_vpls']} VPLs, reference {st['render_seconds']:.1f} s")
@@ -93,7 +93,7 @@ def mitsuba_cornell():
         print(f"Mitsuba 3 could not run: {e}")
         return
     w, h = 128, 96
-    scene = rt.manylight_scene("cornell", width=w, height=h)
+    scene = rt.make_manylight_scene("cornell", width=w, height=h)
     cam = scene.camera
     kw = dict(n_vpl_paths=1400, spp=16, n_cache=w * h // 100)
     ref, _ = rt.render_manylight(scene, "reference", **kw)

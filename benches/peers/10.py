@@ -46,7 +46,7 @@ def camera_rays(eye, target, up=(0.0, 0.0, 1.0)):
     return np.ascontiguousarray(o, dtype=np.float32), np.ascontiguousarray(d, dtype=np.float32)
 
 
-v, f, c = octree.scene("forest")
+v, f, c = octree.make_scene("forest")
 print(f"forest: {len(f)} triangles, L = 9, {RES}x{RES} primary rays")
 rows = []
 t_build = best_time(lambda: octree.build(v, f, c, depth=9), repeat=3)

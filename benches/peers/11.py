@@ -37,7 +37,7 @@ def transforms():
     from curvelets.numpy import UDCT
     import ucurv
     for n in [256, 512]:
-        x = csmri.shepp_logan_image(n)
+        x = csmri.make_shepp_logan_image(n)
         ours = csmri.Udct((n, n), wedges=[[6, 6]])
         t_ours, _ = best(lambda: ours.backward(*ours.forward(x)))
         cv = UDCT((n, n), angular_wedges_config=np.array([[6, 6]]), window_overlap=0.1)
@@ -56,11 +56,11 @@ def fdct_transforms():
         print("curvepy-fdct not installed; FDCT peer skipped")
         return
     for n in [256, 512]:
-        x = csmri.shepp_logan_image(n)
+        x = csmri.make_shepp_logan_image(n)
         ours = csmri.Fdct((n, n))
         t_ours, y = best(lambda: ours.backward(ours.forward(x)))
         # The same number of scales as ours (ceil(log2 n) - 3, CurveLab's default).
-        cp = CurveletFrequencyGrid(n, n, ours.num_scales)
+        cp = CurveletFrequencyGrid(n, n, ours.n_scales)
         cp.forward_transform(x)  # fills its window cache, as a user's second call would
         t_cp, z = best(lambda: cp.inverse_transform(cp.forward_transform(x)), repeat=3)
         err = lambda v: np.linalg.norm(np.real(v) - x) / np.linalg.norm(x)
@@ -69,8 +69,8 @@ def fdct_transforms():
             f"coefficients per pixel ours {ours.redundancy:.2f}, curvepy "
             f"{sum(c.size for s in cp.forward_transform(x) for c in s) / n / n:.2f}")
     n = 256
-    k = csmri.shepp_logan_kspace(n)
-    ref = csmri.shepp_logan_reference(n)
+    k = csmri.make_shepp_logan_kspace(n)
+    ref = csmri.make_shepp_logan_reference(n)
     m = csmri.mask_cartesian((n, n), 0.4, seed=1)
     t_f, xf = best(lambda: csmri.reconstruct(k, m, prior="fdct"), repeat=3)
     print(f"{'csalsa fdct-l1 70 it 256^2':48s} ours {t_f * 1e3:9.2f} ms   PSNR {csmri.psnr(ref, xf):.2f} dB")
@@ -88,8 +88,8 @@ def fitted_psnr(ref, x):
 
 def solvers():
     n = 256
-    k = csmri.shepp_logan_kspace(n)
-    ref = csmri.shepp_logan_reference(n)
+    k = csmri.make_shepp_logan_kspace(n)
+    ref = csmri.make_shepp_logan_reference(n)
     m = csmri.mask_cartesian((n, n), 0.4, seed=1)
     y = np.where(m, k, 0)
     t_u, xu = best(lambda: csmri.reconstruct(y, m), repeat=3)

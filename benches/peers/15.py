@@ -2,7 +2,7 @@
 quality/speed study, on the frog tissue volume shipped inside the ``pyvista`` wheel.
 
 Volume (spec section 3): ``pyvista/examples/frog_tissues.vti`` (500 x 470 x 136 labels,
-spacing 1 x 1 x 1.5), read with ``wscg.volren.read_vti`` (pyvista itself is not imported),
+spacing 1 x 1 x 1.5), read with ``wscg.volren.load_vti`` (pyvista itself is not imported),
 labels mapped to densities and blurred by one voxel (``labels_to_density``), the steep
 ``skin_tf`` (an almost opaque body surface, like the paper's skin transfer function). Viewport 512 x 512, orthographic, orbit views, all threads.
 
@@ -41,12 +41,13 @@ from _common import print_table, vtk_fixed_point_window  # noqa: E402
 
 SIZE = 512
 VIEWS = int(os.environ.get("WSCG_VIEWS", "4"))
-SPACING = (1.0, 1.0, 1.5)
+SPACING = (1.5, 1.0, 1.0)  # (dz, dy, dx), wscg's order
+SPACING_XYZ = SPACING[::-1]  # VTK's order
 
 
 def frog():
     loc = importlib.util.find_spec("pyvista").submodule_search_locations[0]
-    labels, spacing = V.read_vti(os.path.join(loc, "examples", "frog_tissues.vti"))
+    labels, spacing = V.load_vti(os.path.join(loc, "examples", "frog_tissues.vti"))
     assert tuple(spacing) == SPACING, spacing
     return V.labels_to_density(labels, spacing=SPACING, sigma=1.0)
 
@@ -84,10 +85,11 @@ def vtk_phong_time(vol, tf, views, size):
     nz, ny, nx = vol8.shape
     n = len(tf)
     points = [(255.0 * i / (n - 1), r, g, b, a) for i, (r, g, b, a) in enumerate(tf)]
-    win, ren = vtk_fixed_point_window(vol8, points, size, spacing=SPACING,
+    win, ren = vtk_fixed_point_window(vol8, points, size, spacing=SPACING_XYZ,
                                       shade=(0.3, 0.6, 0.3, 20.0))
-    centre = np.array([(nx - 1) * SPACING[0], (ny - 1) * SPACING[1], (nz - 1) * SPACING[2]]) / 2
-    radius = 0.5 * np.linalg.norm([nx * SPACING[0], ny * SPACING[1], nz * SPACING[2]])
+    sx, sy, sz = SPACING_XYZ
+    centre = np.array([(nx - 1) * sx, (ny - 1) * sy, (nz - 1) * sz]) / 2
+    radius = 0.5 * np.linalg.norm([nx * sx, ny * sy, nz * sz])
     total = 0.0
     for k, d in enumerate(views):
         c = ren.GetActiveCamera()
@@ -110,13 +112,13 @@ tf = V.skin_tf()
 # volume and gradients between frames (both sides get a warm-up frame).
 pv = V.PreparedVolume(vol, spacing=SPACING)
 views = view_dirs(VIEWS)
-print(f"frog density volume {vol.shape[::-1]} (x, y, z), spacing {SPACING}, "
+print(f"frog density volume {vol.shape[::-1]} (x, y, z), spacing {SPACING_XYZ}, "
       f"{VIEWS} views, {SIZE} x {SIZE}")
 
 # 1. Local illumination against VTK (same orthographic framing: VTK's parallel scale is the
 # half-diagonal of the volume, so the pixel size is its diagonal over the image side).
 nz, ny, nx = vol.shape
-diag = float(np.linalg.norm([nx * SPACING[0], ny * SPACING[1], nz * SPACING[2]]))
+diag = float(np.linalg.norm([nx * SPACING_XYZ[0], ny * SPACING_XYZ[1], nz * SPACING_XYZ[2]]))
 phong = dict(method="phong", slice_distance=0.5, pixel_size=diag / SIZE)
 ours_frames(pv, tf, views[:1], SIZE, **phong)  # warm-up
 _, t_phong = ours_frames(pv, tf, views, SIZE, **phong)
@@ -144,14 +146,14 @@ for ds in (0.2, 0.4, 0.6, 0.8):
         else:
             method = "ics" if m == 0 else "scs"
             imgs, t = ours_frames(pv, tf, views, SIZE, method=method, slice_distance=ds,
-                                  subsamples=m)
+                                  n_subsamples=m)
         mad = np.mean([V.mean_abs_diff(a, b) for a, b in zip(imgs, ref)])
         times[(ds, m)] = (t, mad)
         print(f"{'ICS' if m == 0 else 'SCS'} ds={ds} m={m:<10} {1e3 * t:>9.1f} {mad:>8.4f} "
               f"{t / t_ref:>14.3f}")
 pi_imgs, t_pi = ours_frames(pv, tf, views, SIZE, method="pi-ics", slice_distance=0.8)
 pis_imgs, t_pis = ours_frames(pv, tf, views, SIZE, method="pi-scs", slice_distance=0.8,
-                              subsamples=3)
+                              n_subsamples=3)
 mad_pis = np.mean([V.mean_abs_diff(a, b) for a, b in zip(pis_imgs, ref)])
 t08 = times[(0.8, 0)][0]
 print(f"time(0.8, m=0) / time(0.2, m=0) = {t08 / t_ref:.3f}   (paper 0.32, spec <= 0.35)")
@@ -168,7 +170,7 @@ print(f"SCS(0.8, 3) vs ICS(0.2): {t_ref / t_scs:.2f}x faster, MAD {mad_scs:.4f} 
       f"(target >= 2.5x with MAD <= 0.01)")
 
 # 4. Check 7: the equal-quality protocol.
-st = V.study(pv, tf, views=4, size=256)
+st = V.study(pv, tf, n_views=4, size=256)
 alias_free = [e for e in st["entries"] if e["alias_free"]]
 best_ics = min((e for e in alias_free if e["method"] == "ics"), key=lambda e: e["seconds"],
                default=None)
@@ -177,12 +179,12 @@ best_other = min((e for e in alias_free if e["method"] != "ics"), key=lambda e: 
 print()
 print(f"study at 256 x 256, 4 views: reference ICS(0.2) {1e3 * st['reference_seconds']:.1f} ms")
 for e in st["entries"]:
-    print(f"  {e['method']:<7} ds={e['slice_distance']:.1f} m={e['subsamples']} "
+    print(f"  {e['method']:<7} ds={e['slice_distance']:.1f} m={e['n_subsamples']} "
           f"MAD={e['mad']:.4f} energy={e['energy']:.2e} {1e3 * e['seconds']:7.1f} ms "
           f"{'alias-free' if e['alias_free'] else ''}")
 if best_ics and best_other:
     print(f"fastest alias-free ICS: ds={best_ics['slice_distance']:.1f} "
           f"{1e3 * best_ics['seconds']:.1f} ms; fastest alias-free other: {best_other['method']} "
-          f"ds={best_other['slice_distance']:.1f} m={best_other['subsamples']} "
+          f"ds={best_other['slice_distance']:.1f} m={best_other['n_subsamples']} "
           f"{1e3 * best_other['seconds']:.1f} ms; speed-up "
           f"{best_ics['seconds'] / best_other['seconds']:.2f}x (spec >= 1.8x)")

@@ -37,7 +37,7 @@ K = 8
 def inputs():
     from wscg import volseg as V
 
-    ct, truth, seeds = V.fractured_shell_phantom(shape=(SIZE, SIZE, SIZE), n_fragments=K, seed=0)
+    ct, truth, seeds = V.make_fractured_shell_phantom(shape=(SIZE, SIZE, SIZE), n_fragments=K, seed=0)
     return ct, truth, seeds
 
 

@@ -31,7 +31,7 @@ inv_diag = scipy.sparse.diags(1.0 / a.diagonal())
 
 
 def ours_cg():
-    return wm.cg(indptr, indices, data, b, tol=1e-6, maxiter=2000, preconditioner="jacobi")
+    return wm.cg(indptr, indices, data, b, tol=1e-6, max_iter=2000, preconditioner="jacobi")
 
 
 def scipy_cg():

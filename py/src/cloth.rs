@@ -346,7 +346,10 @@ fn method_from(name: &str, spec: &Bound<'_, PyDict>) -> PyResult<Method> {
             stiffness: opt(spec, "stiffness", 1.0)?,
         },
         "symplectic" => Method::SymplecticEuler {
-            substeps: opt(spec, "substeps", 64usize)?,
+            substeps: match opt(spec, "n_substeps", 64usize)? {
+                0 => return Err(value_error("`n_substeps` must be >= 1, got 0")),
+                n => n,
+            },
         },
         "ie_cg" => Method::ImplicitEulerCg {
             tol: opt(spec, "tol", 1e-8)?,
@@ -402,7 +405,7 @@ impl PySim {
         py: Python<'_>,
         model: &PyModel,
         method: &str,
-        iterations: usize,
+        n_iter: usize,
         alpha: f64,
         beta: f64,
         gamma: f64,
@@ -410,9 +413,12 @@ impl PySim {
         velocity_damping: f64,
         options: &Bound<'_, PyDict>,
     ) -> PyResult<Self> {
+        if n_iter == 0 {
+            return Err(value_error("`n_iter` must be >= 1, got 0"));
+        }
         let cfg = SolverParams::default()
             .method(method_from(method, options)?)
-            .iterations(iterations)
+            .iterations(n_iter)
             .alpha(alpha)
             .beta(beta)
             .gamma(gamma)
@@ -433,14 +439,15 @@ impl PySim {
         })
     }
 
-    /// Advances `n` steps of `h` seconds; returns the energies after each step as a
-    /// `(n, 4)` array (kinetic, gravity, elastic, total).
-    fn step<'py>(&mut self, py: Python<'py>, h: f64, n: usize) -> PyResult<Arr<'py, f64>> {
+    /// Advances `n_steps` steps of `h` seconds; returns the energies after each step as a
+    /// `(n_steps, 4)` array (kinetic, gravity, elastic, total).
+    fn step<'py>(&mut self, py: Python<'py>, h: f64, n_steps: usize) -> PyResult<Arr<'py, f64>> {
+        let n = n_steps;
         let sim = &mut self.inner;
         let rows = crate::pool::detach(py, || -> wscg_math::Result<Vec<f64>> {
             let mut out = wscg_math::alloc::try_with_capacity(
-                "n",
-                wscg_math::alloc::elements("n", &[n, 4])?,
+                "n_steps",
+                wscg_math::alloc::elements("n_steps", &[n, 4])?,
             )?;
             for _ in 0..n {
                 sim.step(h)?;
@@ -493,7 +500,7 @@ impl PySim {
 
     /// Steps taken.
     #[getter]
-    fn steps(&self) -> u64 {
+    fn n_steps(&self) -> u64 {
         self.inner.steps()
     }
 

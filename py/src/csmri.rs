@@ -515,7 +515,7 @@ fn recon_out<'py>(
 }
 
 #[pyfunction]
-#[pyo3(signature = (kspace, mask, prior, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedges, alpha, levels, inner_iters, shrink_lowpass, reference, record_history, fdct = None, sflct_levels = None))]
+#[pyo3(signature = (kspace, mask, prior, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedges, alpha, levels, tv_n_iter, shrink_lowpass, reference, record_history, fdct = None, sflct_levels = None))]
 #[allow(clippy::too_many_arguments)]
 fn reconstruct<'py>(
     py: Python<'py>,
@@ -532,7 +532,7 @@ fn reconstruct<'py>(
     wedges: Vec<[usize; 2]>,
     alpha: f64,
     levels: usize,
-    inner_iters: usize,
+    tv_n_iter: usize,
     shrink_lowpass: bool,
     reference: Option<PyReadonlyArrayDyn<Complex64>>,
     record_history: bool,
@@ -544,7 +544,9 @@ fn reconstruct<'py>(
     let reference = reference_in(&reference, (r, c))?;
     let regularizer = match reg {
         "l1" => Regularizer::L1 { shrink_lowpass },
-        "tv" => Regularizer::Tv { inner_iters },
+        "tv" => Regularizer::Tv {
+            inner_iters: tv_n_iter,
+        },
         other => {
             return Err(value_error(format!(
                 "{other:?} is not a valid reg. Valid regularisers are 'l1', 'tv'"
@@ -587,7 +589,7 @@ fn reconstruct<'py>(
 }
 
 #[pyfunction]
-#[pyo3(signature = (method, kspace, mask, a, b, group_weight, mu_g, max_iter, tv_inner, order, levels, reference, record_history))]
+#[pyo3(signature = (method, kspace, mask, a, b, group_weight, mu_g, n_iter, tv_n_iter, order, levels, reference, record_history))]
 #[allow(clippy::too_many_arguments)]
 fn composite<'py>(
     py: Python<'py>,
@@ -598,8 +600,8 @@ fn composite<'py>(
     b: f64,
     group_weight: f64,
     mu_g: f64,
-    max_iter: usize,
-    tv_inner: usize,
+    n_iter: usize,
+    tv_n_iter: usize,
     order: usize,
     levels: usize,
     reference: Option<PyReadonlyArrayDyn<Complex64>>,
@@ -612,8 +614,8 @@ fn composite<'py>(
         .b(b)
         .group_weight(group_weight)
         .mu_g(mu_g)
-        .max_iter(max_iter)
-        .tv_inner(tv_inner)
+        .max_iter(n_iter)
+        .tv_inner(tv_n_iter)
         .order(order)
         .levels(levels)
         .record_history(record_history || reference.is_some());
@@ -634,11 +636,11 @@ fn tv_constrained<'py>(
     kspace: PyReadonlyArrayDyn<Complex64>,
     mask: PyReadonlyArrayDyn<bool>,
     epsilon: f64,
-    max_iter: usize,
+    n_iter: usize,
 ) -> PyResult<Arr<'py, Complex64>> {
     let data = kspace_in(&kspace, &mask)?;
     let rec = crate::pool::detach(py, || {
-        baselines::tv_constrained(&data, epsilon, max_iter, None)
+        baselines::tv_constrained(&data, epsilon, n_iter, None)
     })
     .py_err()?;
     array(py, &[rec.shape.0, rec.shape.1], rec.image)

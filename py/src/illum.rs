@@ -7,6 +7,15 @@
 //! camera, light and method of a render as a dict (keys: [`RENDER_KEYS`]; those of a study:
 //! [`STUDY_KEYS`]). Every function validates its input again, so a direct call cannot panic
 //! on bad arguments; the GIL is released while Rust works.
+//!
+//! Coordinates follow `py/API.md`: `spacing` is `(dz, dy, dx)`, an image `size` is `(height,
+//! width)`, and the world point of voxel `[k, j, i]` is `(i dx, j dy, k dz)` in the units of
+//! the spacing, in which every length (slice distance, pixel size, spread, depth) is
+//! measured and every transfer-function opacity refers to one unit of length.
+//! `wscg_volren::illumination` measures in voxels of the finest axis instead (voxel `(i, j,
+//! k)` at `(i dx, j dy, k dz) / u`, `u = min(spacing)`): points and lengths are divided by
+//! `u` on the way in ([`Units`]) and multiplied on the way out, and opacities are corrected
+//! to the length `u`.
 
 use std::path::PathBuf;
 
@@ -36,7 +45,7 @@ pub const RENDER_KEYS: [&str; 16] = [
     "center",
     "method",
     "slice_distance",
-    "subsamples",
+    "n_subsamples",
     "kernel",
     "spread",
     "tan_half",
@@ -49,7 +58,7 @@ pub const RENDER_KEYS: [&str; 16] = [
 
 /// Keys of the options dict of `illum_study`.
 pub const STUDY_KEYS: [&str; 13] = [
-    "views",
+    "n_views",
     "size",
     "azimuth",
     "elevation",
@@ -131,6 +140,58 @@ fn int_in(name: &str, v: i64, lo: i64, hi: i64) -> PyResult<i64> {
             "`{name}` must be in {lo}..={hi}, got {v}"
         )))
     }
+}
+
+/// The binding's units (see the module documentation): `u = min(spacing)` of the units of
+/// the spacing per world unit of `wscg_volren::illumination`.
+#[derive(Clone, Copy, Debug)]
+struct Units(f64);
+
+impl Units {
+    fn of(field: &ScalarField) -> Self {
+        Units(field.spacing().into_iter().fold(f64::INFINITY, f64::min))
+    }
+
+    /// A length or point coordinate `name = v` of the API in the renderer's world units;
+    /// an error when it does not fit a finite `f32` there (an extreme spacing).
+    fn length_in(self, name: &str, v: f64) -> PyResult<f64> {
+        let r = v / self.0;
+        if (r as f32).is_finite() {
+            Ok(r)
+        } else {
+            Err(value_error(format!(
+                "`{name}` = {v:?} is out of range for a spacing whose smallest step is {:?}",
+                self.0
+            )))
+        }
+    }
+
+    /// A length of the renderer in the API's units.
+    fn length_out(self, v: f64) -> f64 {
+        v * self.0
+    }
+
+    /// A transfer function whose opacities refer to one unit of the spacing's length as one
+    /// whose opacities refer to `u` of them: `a' = 1 - (1 - a)^u` (extinction times `u`).
+    fn tf_in(self, tf: TransferFunction) -> PyResult<TransferFunction> {
+        if self.0 == 1.0 {
+            return Ok(tf);
+        }
+        let lut: Vec<[f32; 4]> = tf
+            .entries()
+            .iter()
+            .map(|&[r, g, b, a]| {
+                let a = 1.0 - (1.0 - f64::from(a)).powf(self.0);
+                [r, g, b, a.clamp(0.0, 1.0) as f32]
+            })
+            .collect();
+        TransferFunction::from_lut(&lut).py_err()
+    }
+}
+
+/// Python spacing `(dz, dy, dx)` (array axis order) as `[sx, sy, sz]`.
+fn spacing_xyz(s: [f64; 3]) -> [f64; 3] {
+    [s[2], s[1], s[0]]
 }
 
 /// A `ScalarField` constructor from integer data (`from_u8`, `from_u16`).
@@ -254,7 +315,7 @@ impl IllumVolume {
         value_range: Option<(f64, f64)>,
     ) -> PyResult<Self> {
         Ok(Self {
-            field: field_in(py, volume, spacing, value_range)?,
+            field: field_in(py, volume, spacing_xyz(spacing), value_range)?,
         })
     }
 
@@ -265,11 +326,11 @@ impl IllumVolume {
         (nz, ny, nx)
     }
 
-    /// `(sx, sy, sz)`.
+    /// `(dz, dy, dx)`.
     #[getter]
     fn spacing(&self) -> (f64, f64, f64) {
         let [x, y, z] = self.field.spacing();
-        (x, y, z)
+        (z, y, x)
     }
 }
 
@@ -308,7 +369,7 @@ fn field_arg<'py>(
     Ok(FieldArg::Owned(field_in(
         py,
         volume,
-        spacing.unwrap_or([1.0; 3]),
+        spacing_xyz(spacing.unwrap_or([1.0; 3])),
         value_range,
     )?))
 }
@@ -342,11 +403,13 @@ struct Scene {
     settings: IlluminationParams,
 }
 
-fn kernel_in(name: &str, spread: f64, tan_half: f64) -> PyResult<Kernel> {
-    let spread = non_negative("spread", spread)? as f32;
+fn kernel_in(name: &str, spread: f64, tan_half: f64, units: Units) -> PyResult<Kernel> {
+    let spread = non_negative("spread", spread)?;
     let tan_half = non_negative("tan_half", tan_half)? as f32;
     match name {
-        "gaussian" => Ok(Kernel::Gaussian { spread }),
+        "gaussian" => Ok(Kernel::Gaussian {
+            spread: units.length_in("spread", spread)? as f32,
+        }),
         "delta" => Ok(Kernel::Delta),
         "disk" => Ok(Kernel::Disk { tan_half }),
         other => Err(value_error(format!(
@@ -355,9 +418,10 @@ fn kernel_in(name: &str, spread: f64, tan_half: f64) -> PyResult<Kernel> {
     }
 }
 
-fn method_in(name: &str, ds: f64, m: i64, atten: &str) -> PyResult<Method> {
-    let slice = positive("slice_distance", ds)? as f32;
-    let m = int_in("subsamples", m, 0, MAX_SUBSAMPLES as i64)? as u32;
+fn method_in(name: &str, ds: f64, m: i64, atten: &str, units: Units) -> PyResult<Method> {
+    positive("slice_distance", ds)?;
+    let slice = positive("slice_distance", units.length_in("slice_distance", ds)?)? as f32;
+    let m = int_in("n_subsamples", m, 0, MAX_SUBSAMPLES as i64)? as u32;
     let light_atten = match atten {
         "segment" => LightAtten::Segment,
         "slice-only" => LightAtten::SliceOnly,
@@ -376,7 +440,7 @@ fn method_in(name: &str, ds: f64, m: i64, atten: &str) -> PyResult<Method> {
     let none = |alt: &str| {
         if m > 0 {
             Err(value_error(format!(
-                "`subsamples` = {m} with method {name:?}: use {alt:?} for sub-samples"
+                "`n_subsamples` = {m} with method {name:?}: use {alt:?} for sub-samples"
             )))
         } else {
             Ok(())
@@ -385,7 +449,7 @@ fn method_in(name: &str, ds: f64, m: i64, atten: &str) -> PyResult<Method> {
     let ray = || {
         if m > 0 {
             Err(value_error(format!(
-                "`subsamples` = {m}: sub-samples apply to the slice methods only, not {name:?}"
+                "`n_subsamples` = {m}: sub-samples apply to the slice methods only, not {name:?}"
             )))
         } else {
             Ok(slice)
@@ -417,12 +481,12 @@ fn method_in(name: &str, ds: f64, m: i64, atten: &str) -> PyResult<Method> {
     })
 }
 
-/// `(width, height)` of an image, both at least 1.
+/// `(width, height)` of an image given as `size = (height, width)`, both at least 1.
 fn size_in(size: (i64, i64)) -> PyResult<(usize, usize)> {
-    let (w, h) = size;
+    let (h, w) = size;
     if w < 1 || h < 1 || w.saturating_mul(h) > 1 << 26 {
         return Err(value_error(format!(
-            "`size` (width, height) must be positive with at most 2^26 pixels, got ({w}, {h})"
+            "`size` (height, width) must be positive with at most 2^26 pixels, got ({h}, {w})"
         )));
     }
     Ok((w as usize, h as usize))
@@ -430,6 +494,7 @@ fn size_in(size: (i64, i64)) -> PyResult<(usize, usize)> {
 
 fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
     check_keys(opts, &RENDER_KEYS)?;
+    let units = Units::of(field);
     let view_dir = finite3(
         "view_dir",
         dict_item(opts, "view_dir")?.unwrap_or([0.0, 0.0, 1.0]),
@@ -437,7 +502,14 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
     let up = finite3("up", dict_item(opts, "up")?.unwrap_or([0.0, 1.0, 0.0]))?;
     let (width, height) = size_in(dict_item(opts, "size")?.unwrap_or((512, 512)))?;
     let center = dict_item::<[f64; 3]>(opts, "center")?
-        .map(|c| finite3("center", c))
+        .map(|c| -> PyResult<[f64; 3]> {
+            let [x, y, z] = finite3("center", c)?;
+            Ok([
+                units.length_in("center", x)?,
+                units.length_in("center", y)?,
+                units.length_in("center", z)?,
+            ])
+        })
         .transpose()?;
     let cam = match dict_item::<f64>(opts, "pixel_size")? {
         None => {
@@ -453,7 +525,10 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
             center: center.unwrap_or_else(|| field.world_center()),
             width,
             height,
-            pixel_size: positive("pixel_size", p)?,
+            pixel_size: positive(
+                "pixel_size",
+                units.length_in("pixel_size", positive("pixel_size", p)?)?,
+            )?,
         },
     };
     cam.frame().py_err()?;
@@ -461,6 +536,7 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
         &dict_item::<String>(opts, "kernel")?.unwrap_or_else(|| "gaussian".into()),
         dict_item(opts, "spread")?.unwrap_or(0.5),
         dict_item(opts, "tan_half")?.unwrap_or(0.5),
+        units,
     )?;
     let light = Light {
         dir_view: finite3(
@@ -474,8 +550,9 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
     let method = method_in(
         &dict_item::<String>(opts, "method")?.unwrap_or_else(|| "scs".into()),
         dict_item(opts, "slice_distance")?.unwrap_or(1.0),
-        dict_item(opts, "subsamples")?.unwrap_or(0),
+        dict_item(opts, "n_subsamples")?.unwrap_or(0),
         &dict_item::<String>(opts, "light_attenuation")?.unwrap_or_else(|| "segment".into()),
+        units,
     )?;
     let bg = finite3(
         "background",
@@ -516,6 +593,7 @@ fn illum_render<'py>(
     let tf = tf_in(&tf)?;
     let field = field_arg(py, volume, spacing, value_range)?;
     let field: &ScalarField = &field;
+    let tf = Units::of(field).tf_in(tf)?;
     let s = scene_in(field, opts)?;
     let r = crate::pool::detach(py, || {
         render_field(field, &tf, &s.cam, &s.light, &s.method, &s.settings)
@@ -541,18 +619,21 @@ fn illum_light_buffer<'py>(
     let tf = tf_in(&tf)?;
     let field = field_arg(py, volume, spacing, value_range)?;
     let field: &ScalarField = &field;
+    let units = Units::of(field);
+    let tf = units.tf_in(tf)?;
     let s = scene_in(field, opts)?;
     if !(depth.is_finite() && depth >= 0.0) {
         return Err(value_error(format!(
             "`depth` must be finite and >= 0, got {depth}"
         )));
     }
+    let depth = units.length_in("depth", depth)?;
     let (img, z) = crate::pool::detach(py, || {
         light_buffer_at(field, &tf, &s.cam, &s.light, &s.method, &s.settings, depth)
     })
     .py_err()?;
     let (h, w, _) = img.shape();
-    Ok((array(py, &[h, w], img.into_data())?, z))
+    Ok((array(py, &[h, w], img.into_data())?, units.length_out(z)))
 }
 
 /// The pre-integration table `(N, N, 4)` of a transfer function for segment length `ds`.
@@ -606,6 +687,7 @@ fn labels_to_density<'py>(
     let dims = dims3("labels", labels.shape())?;
     let sigma = non_negative("sigma", sigma)?;
     let v = values(&labels);
+    let spacing = spacing_xyz(spacing);
     let f = crate::pool::detach(py, || {
         scenes::labels_to_field(VolumeView::new(dims, spacing, &v)?, sigma)
     })
@@ -614,10 +696,10 @@ fn labels_to_density<'py>(
 }
 
 /// Reads a `.vti` file: the first array `[z, y, x]` in its stored dtype and the spacing
-/// `(sx, sy, sz)`. `OSError` when the file cannot be read, `ValueError` when its content is
+/// `(dz, dy, dx)`. `OSError` when the file cannot be read, `ValueError` when its content is
 /// malformed or unsupported.
 #[pyfunction]
-fn read_vti(py: Python<'_>, path: PathBuf) -> PyResult<(Bound<'_, PyAny>, (f64, f64, f64))> {
+fn load_vti(py: Python<'_>, path: PathBuf) -> PyResult<(Bound<'_, PyAny>, (f64, f64, f64))> {
     let img = crate::pool::detach(py, || {
         // The parser validates what it reads; a panic on a hostile file would still be a
         // malformed file, not a crash of the interpreter.
@@ -648,7 +730,7 @@ fn read_vti(py: Python<'_>, path: PathBuf) -> PyResult<(Bound<'_, PyAny>, (f64, 
         VtiValues::F64(v) => array(py, &shape, v)?.into_any(),
     };
     let s = img.spacing;
-    Ok((arr, (s[0], s[1], s[2])))
+    Ok((arr, (s[2], s[1], s[0])))
 }
 
 /// An `(H, W, C)` float32 image with `C >= 3` and finite values.
@@ -702,7 +784,14 @@ fn illum_study<'py>(
     let tf = tf_in(&tf)?;
     let field = field_arg(py, volume, spacing, value_range)?;
     let field: &ScalarField = &field;
-    let views = int_in("views", dict_item(opts, "views")?.unwrap_or(4), 1, 1 << 16)? as usize;
+    let units = Units::of(field);
+    let tf = units.tf_in(tf)?;
+    let views = int_in(
+        "n_views",
+        dict_item(opts, "n_views")?.unwrap_or(4),
+        1,
+        1 << 16,
+    )? as usize;
     let size = dict_item::<i64>(opts, "size")?.unwrap_or(256);
     let size = size_in((size, size))?.0;
     let azimuth = finite("azimuth", dict_item(opts, "azimuth")?.unwrap_or(30.0))?;
@@ -729,7 +818,12 @@ fn illum_study<'py>(
             dict_item(opts, "light_dir")?.unwrap_or([0.0, 0.0, 1.0]),
         )?,
         ambient: finite("ambient", dict_item(opts, "ambient")?.unwrap_or(0.0))? as f32,
-        kernel: kernel_in("gaussian", dict_item(opts, "spread")?.unwrap_or(0.5), 0.0)?,
+        kernel: kernel_in(
+            "gaussian",
+            dict_item(opts, "spread")?.unwrap_or(0.5),
+            0.0,
+            units,
+        )?,
     };
     light.unit_dir().py_err()?;
     let criterion = AliasCriterion {
@@ -746,7 +840,14 @@ fn illum_study<'py>(
         })
         .collect::<wscg_math::Result<Vec<_>>>()
         .py_err()?;
-    let d32: Vec<f32> = distances.iter().map(|&d| d as f32).collect();
+    let d32: Vec<f32> = distances
+        .iter()
+        .map(|&d| units.length_in("distances", d).map(|d| d as f32))
+        .collect::<PyResult<_>>()?;
+    let (reference, fine) = (
+        units.length_in("reference", reference)?,
+        units.length_in("fine", fine)?,
+    );
     let configs = study::grid(&d32, max_m);
     let settings = IlluminationParams::default();
     let st = crate::pool::detach(py, || {
@@ -775,7 +876,7 @@ fn illum_study<'py>(
         };
         d.set_item("method", e.method.name())?;
         d.set_item("slice_distance", distances[i / per])?;
-        d.set_item("subsamples", m)?;
+        d.set_item("n_subsamples", m)?;
         d.set_item("mad", e.mad)?;
         d.set_item("energy", e.energy)?;
         d.set_item("seconds", e.seconds)?;
@@ -801,7 +902,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tissue_tf, m)?)?;
     m.add_function(wrap_pyfunction!(skin_tf, m)?)?;
     m.add_function(wrap_pyfunction!(labels_to_density, m)?)?;
-    m.add_function(wrap_pyfunction!(read_vti, m)?)?;
+    m.add_function(wrap_pyfunction!(load_vti, m)?)?;
     m.add_function(wrap_pyfunction!(mean_abs_diff, m)?)?;
     Ok(())
 }

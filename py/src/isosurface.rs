@@ -101,15 +101,17 @@ fn stats_dict<'py>(py: Python<'py>, s: &NormalStats) -> PyResult<Bound<'py, PyDi
     Ok(d)
 }
 
+/// Grid edges as `(n, 4)` rows `(k, j, i, a)`: the array index `[k, j, i]` of the edge's low
+/// end and the array axis `a` it runs along (0: z, 1: y, 2: x), the order of `py/API.md`.
 fn edges_out<'py>(py: Python<'py>, e: &[EdgeId]) -> PyResult<Arr<'py, i64>> {
     let data = crate::pool::detach(py, || {
         e.par_iter()
             .flat_map_iter(|e| {
                 [
-                    e.point[0] as i64,
-                    e.point[1] as i64,
                     e.point[2] as i64,
-                    e.axis as i64,
+                    e.point[1] as i64,
+                    e.point[0] as i64,
+                    2 - e.axis as i64,
                 ]
             })
             .collect()
@@ -117,11 +119,12 @@ fn edges_out<'py>(py: Python<'py>, e: &[EdgeId]) -> PyResult<Arr<'py, i64>> {
     array(py, &[e.len(), 4], data)
 }
 
+/// Grid edges from `(n, 4)` rows `(k, j, i, a)` (see [`edges_out`]).
 fn edges_in(a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<EdgeId>> {
     let s = a.shape();
     if s.len() != 2 || s[1] != 4 {
         return Err(value_error(format!(
-            "`edges` must be an (n, 4) integer array (x, y, z, axis), got shape {s:?}"
+            "`edges` must be an (n, 4) integer array (k, j, i, axis), got shape {s:?}"
         )));
     }
     values(a)
@@ -131,8 +134,8 @@ fn edges_in(a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<EdgeId>> {
                 return Err(value_error(format!("invalid edge {r:?}")));
             }
             Ok(EdgeId {
-                point: [r[0] as u32, r[1] as u32, r[2] as u32],
-                axis: r[3] as u8,
+                point: [r[2] as u32, r[1] as u32, r[0] as u32],
+                axis: 2 - r[3] as u8,
             })
         })
         .collect()
@@ -169,8 +172,9 @@ fn mesh_out<'py>(py: Python<'py>, m: IsoMesh) -> PyResult<MeshOut<'py>> {
     ))
 }
 
+/// Python spacing `(dz, dy, dx)` (array axis order) as the grid's `[sx, sy, sz]`.
 fn spacing3(spacing: (f32, f32, f32)) -> [f32; 3] {
-    [spacing.0, spacing.1, spacing.2]
+    [spacing.2, spacing.1, spacing.0]
 }
 
 /// The volume's dims, the normal method and the packed side hints of a call.
@@ -339,19 +343,23 @@ fn at_risk(py: Python<'_>, ambiguous_face: &str, threshold: f32) -> PyResult<Vec
 
 type SampledOut<'py> = (Arr<'py, f32>, (f32, f32, f32), (f64, f64, f64));
 
-/// A named analytic field on an n^3 grid: (volume [z, y, x], spacing xyz, origin xyz).
+/// A named analytic field on an n^3 grid: (volume [z, y, x], spacing (dz, dy, dx), origin
+/// (oz, oy, ox)), both in array axis order: sample `[k, j, i]` lies at the field point
+/// `(ox + i dx, oy + j dy, oz + k dz)`.
 #[pyfunction]
 fn sample_field<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<SampledOut<'py>> {
     let s = crate::pool::detach(py, || fields::named(name, n).map(|(_, s)| s)).py_err()?;
     let [nx, ny, nz] = s.dims;
     Ok((
         array(py, &[nz, ny, nx], s.values)?,
-        (s.spacing[0], s.spacing[1], s.spacing[2]),
-        (s.origin[0], s.origin[1], s.origin[2]),
+        (s.spacing[2], s.spacing[1], s.spacing[0]),
+        (s.origin[2], s.origin[1], s.origin[0]),
     ))
 }
 
-/// Exact unit normals of a named field at mesh vertices (grid world units).
+/// Exact unit normals of a named field at world points `(x, y, z)` (the field's own
+/// coordinates, origin included: where `marching_cubes` with the field's spacing and origin
+/// puts its vertices).
 #[pyfunction]
 fn field_normals<'py>(
     py: Python<'py>,
@@ -361,7 +369,14 @@ fn field_normals<'py>(
 ) -> PyResult<Arr<'py, f32>> {
     let v = rows3("vertices", &values(&vertices), vertices.shape())?;
     let out = crate::pool::detach(py, || {
-        fields::named(name, n).map(|(f, s)| s.exact_normals(f.as_ref(), &v))
+        fields::named(name, n).map(|(f, s)| {
+            // `exact_normals` takes points relative to the grid's first sample.
+            let rel: Vec<[f32; 3]> = v
+                .iter()
+                .map(|p| std::array::from_fn(|a| (p[a] as f64 - s.origin[a]) as f32))
+                .collect();
+            s.exact_normals(f.as_ref(), &rel)
+        })
     })
     .py_err()?;
     let len = out.len();

@@ -58,19 +58,19 @@ fn camera_from(spec: Option<&Bound<'_, PyDict>>, base: &Camera) -> PyResult<Came
 impl PyScene {
     /// Number of (non-degenerate) triangles.
     #[getter]
-    fn triangles(&self) -> usize {
+    fn n_triangles(&self) -> usize {
         self.scene.len()
     }
 
     /// Number of emissive triangles.
     #[getter]
-    fn emitters(&self) -> usize {
+    fn n_emitters(&self) -> usize {
         self.scene.emitters().len()
     }
 
     /// Degenerate input triangles that were skipped.
     #[getter]
-    fn skipped_degenerate(&self) -> usize {
+    fn n_skipped_degenerate(&self) -> usize {
         self.scene.skipped_degenerate
     }
 
@@ -138,7 +138,7 @@ impl PyScene {
 
 /// A procedural scene: 'cornell', 'colonnade', 'conference' or 'plane'.
 #[pyfunction]
-fn manylight_scene(
+fn make_manylight_scene(
     py: Python<'_>,
     name: &str,
     subdiv: u32,
@@ -186,7 +186,7 @@ fn manylight_from_arrays(
 /// A scene from a Wavefront OBJ file (MTL `Kd` albedo, `Ke` emission).
 #[pyfunction]
 #[pyo3(signature = (path, camera=None))]
-fn manylight_load_obj(
+fn load_manylight_obj(
     py: Python<'_>,
     path: std::path::PathBuf,
     camera: Option<&Bound<'_, PyDict>>,
@@ -270,9 +270,9 @@ fn manylight_render<'py>(
 /// Registers the many-light functions in the `raytrace` submodule.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyScene>()?;
-    m.add_function(wrap_pyfunction!(manylight_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(make_manylight_scene, m)?)?;
     m.add_function(wrap_pyfunction!(manylight_from_arrays, m)?)?;
-    m.add_function(wrap_pyfunction!(manylight_load_obj, m)?)?;
+    m.add_function(wrap_pyfunction!(load_manylight_obj, m)?)?;
     m.add_function(wrap_pyfunction!(manylight_render, m)?)?;
     Ok(())
 }

@@ -298,7 +298,7 @@ fn cg<'py>(
     b: PyReadonlyArrayDyn<f64>,
     x0: Option<PyReadonlyArrayDyn<f64>>,
     tol: f64,
-    maxiter: Option<usize>,
+    max_iter: Option<usize>,
     preconditioner: Option<&str>,
 ) -> PyResult<(Arr<'py, f64>, Bound<'py, PyDict>)> {
     let p = convert::indices("indptr", &values(&indptr))?;
@@ -317,7 +317,7 @@ fn cg<'py>(
         Some(x) => InitialGuess::Given(x),
         None => InitialGuess::Zero,
     };
-    let opts = PcgParams::default().tol(tol).max_iter(maxiter);
+    let opts = PcgParams::default().tol(tol).max_iter(max_iter);
     let res = match preconditioner {
         None | Some("none") => {
             crate::pool::detach(py, || pcg(&a, &bv, guess, &IdentityPrecond, &opts))?
@@ -507,7 +507,7 @@ fn load_volume(
 }
 
 #[pyfunction]
-fn read_raw_volume<'py>(
+fn load_raw_volume<'py>(
     py: Python<'py>,
     path: PathBuf,
     shape: (usize, usize, usize),
@@ -561,7 +561,7 @@ fn save_volume(
 // ---------------------------------------------------------------- meshes
 
 #[pyfunction]
-fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
+fn load_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     let m = crate::pool::detach(py, || TriMesh::read(&path)).py_err()?;
     let d = PyDict::new(py);
     let nv = m.positions.len();
@@ -579,7 +579,7 @@ fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
 
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
-fn write_mesh(
+fn save_mesh(
     py: Python<'_>,
     path: PathBuf,
     vertices: PyReadonlyArrayDyn<f64>,
@@ -665,10 +665,10 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_image, m)?)?;
     m.add_function(wrap_pyfunction!(save_image, m)?)?;
     m.add_function(wrap_pyfunction!(load_volume, m)?)?;
-    m.add_function(wrap_pyfunction!(read_raw_volume, m)?)?;
+    m.add_function(wrap_pyfunction!(load_raw_volume, m)?)?;
     m.add_function(wrap_pyfunction!(save_volume, m)?)?;
-    m.add_function(wrap_pyfunction!(read_mesh, m)?)?;
-    m.add_function(wrap_pyfunction!(write_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(load_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(save_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(write_file, m)?)?;
     Ok(())
 }

@@ -9,7 +9,7 @@ use wscg_meshfilter::metrics::{mean_error as me, mean_vertex_distance, surface_e
 use wscg_meshfilter::{smoothing, synth, JbmdParams};
 
 use crate::convert::{array, mesh_in, rows3, values, Arr};
-use crate::errors::IntoPy;
+use crate::errors::{value_error, IntoPy};
 
 fn positions_out<'py>(py: Python<'py>, p: Vec<[f64; 3]>) -> PyResult<Arr<'py, f64>> {
     let n = p.len();
@@ -42,19 +42,30 @@ fn jbmd<'py>(
     sigma_o: f64,
     sigma_c: f64,
     lam: f64,
-    k: usize,
-    iterations: usize,
+    n_neighbors: usize,
+    n_iter: usize,
     anti_shrink: bool,
     rebuild_neighbors: bool,
 ) -> PyResult<Arr<'py, f64>> {
     let mesh = mesh_in(&vertices, &faces, colors.as_ref())?;
+    // The parameters' own checks name the paper's symbols (`k`, `lambda`); these name the
+    // Python arguments.
+    let nv = mesh.positions.len();
+    if n_neighbors == 0 || (nv > 0 && n_neighbors >= nv) {
+        return Err(value_error(format!(
+            "`n_neighbors` must be in 1..{nv} (fewer than the {nv} vertices), got {n_neighbors}"
+        )));
+    }
+    if !(lam > 0.0 && lam <= 1.0) {
+        return Err(value_error(format!("`lam` must be in (0, 1], got {lam}")));
+    }
     let p = JbmdParams::default()
         .sigma_d(sigma_d)
         .sigma_o(sigma_o)
         .sigma_c(sigma_c)
         .lambda(lam)
-        .k(k)
-        .iterations(iterations)
+        .k(n_neighbors)
+        .iterations(n_iter)
         .anti_shrink(anti_shrink)
         .use_color(mesh.colors.is_some())
         .rebuild_neighbors(rebuild_neighbors);
@@ -70,14 +81,14 @@ fn bilateral<'py>(
     faces: PyReadonlyArrayDyn<i64>,
     sigma_c: f64,
     sigma_s: f64,
-    iterations: usize,
+    n_iter: usize,
     volume_preserve: bool,
 ) -> PyResult<Arr<'py, f64>> {
     let mesh = mesh_in(&vertices, &faces, None)?;
     let p = BmdParams::default()
         .sigma_c(sigma_c)
         .sigma_s(sigma_s)
-        .iterations(iterations)
+        .iterations(n_iter)
         .volume_preserve(volume_preserve);
     let out = crate::pool::detach(py, || bmd(&mesh, &p)).py_err()?;
     positions_out(py, out)
@@ -92,13 +103,13 @@ fn smooth<'py>(
     faces: PyReadonlyArrayDyn<i64>,
     a: f64,
     b: f64,
-    iterations: usize,
+    n_iter: usize,
 ) -> PyResult<Arr<'py, f64>> {
     let mesh = mesh_in(&vertices, &faces, None)?;
     let out = crate::pool::detach(py, || match kind {
-        "laplacian" => smoothing::laplacian(&mesh, a, iterations),
-        "taubin" => smoothing::taubin(&mesh, a, b, iterations),
-        "hc" => smoothing::hc_laplacian(&mesh, a, b, iterations),
+        "laplacian" => smoothing::laplacian(&mesh, a, n_iter),
+        "taubin" => smoothing::taubin(&mesh, a, b, n_iter),
+        "hc" => smoothing::hc_laplacian(&mesh, a, b, n_iter),
         other => Err(wscg_math::Error::invalid("kind", format!("{other:?}"))),
     })
     .py_err()?;
@@ -144,7 +155,7 @@ fn mvd(
 /// Synthetic meshes: "cube" (n), "cad" (n per unit length), "sphere" (subdivisions),
 /// "plane" (n).
 #[pyfunction]
-fn synthetic<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<MeshArrays<'py>> {
+fn make_mesh<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<MeshArrays<'py>> {
     let m = crate::pool::detach(py, || match name {
         "cube" => synth::colored_cube(n),
         "cad" => synth::cad_part(n).map(|p| p.mesh),
@@ -194,7 +205,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mean_error, m)?)?;
     m.add_function(wrap_pyfunction!(surface_error, m)?)?;
     m.add_function(wrap_pyfunction!(mvd, m)?)?;
-    m.add_function(wrap_pyfunction!(synthetic, m)?)?;
+    m.add_function(wrap_pyfunction!(make_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(cad_labels, m)?)?;
     m.add_function(wrap_pyfunction!(add_noise, m)?)?;
     Ok(())

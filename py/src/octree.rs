@@ -213,7 +213,7 @@ impl PyOctree {
     }
 
     /// Renders an image (primary rays, Phong, one shadow ray).
-    #[pyo3(signature = (eye, target, up, fov_deg, width, height, mode, light_pos, shadows, lod_scale, blend, small_leaves_as_voxels, level, focus, ao_samples, ao_radius))]
+    #[pyo3(signature = (eye, target, up, fov_deg, width, height, mode, light_pos, shadows, lod_scale, blend, small_leaves_as_voxels, level, focus, n_ao_samples, ao_radius))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -232,7 +232,7 @@ impl PyOctree {
         small_leaves_as_voxels: bool,
         level: Option<u8>,
         focus: Option<[f32; 5]>,
-        ao_samples: u32,
+        n_ao_samples: u32,
         ao_radius: f32,
     ) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
         let mode = mode_from(mode, lod_scale, blend, small_leaves_as_voxels, level)?;
@@ -253,7 +253,7 @@ impl PyOctree {
         };
         let shading = Shading {
             shadows,
-            ao_samples,
+            ao_samples: n_ao_samples,
             ao_radius,
             focus: focus.map(|f| Focus {
                 centre: [f[0], f[1]],
@@ -275,7 +275,7 @@ impl PyOctree {
         Ok((array(py, &[height, width, 3], img.into_data())?, d))
     }
 
-    /// Cells ``(x, y, z)`` of the non-empty nodes at `level`.
+    /// Cells `(k, j, i)` (array axis order: `i` along x) of the non-empty nodes at `level`.
     fn occupancy<'py>(&self, py: Python<'py>, level: u8) -> PyResult<Arr<'py, i64>> {
         if level > self.inner.max_depth {
             return Err(value_error(format!(
@@ -284,7 +284,10 @@ impl PyOctree {
             )));
         }
         let cells = self.inner.occupancy(level);
-        let data = cells.iter().flat_map(|c| c.map(i64::from)).collect();
+        let data = cells
+            .iter()
+            .flat_map(|&[i, j, k]| [k, j, i].map(i64::from))
+            .collect();
         array(py, &[cells.len(), 3], data)
     }
 
@@ -371,8 +374,8 @@ fn from_bytes(py: Python<'_>, data: &[u8]) -> PyResult<PyOctree> {
     })
 }
 
-/// Fragments of the exact voxelization: finest cells `(K, 3)` and triangle indices `(K,)`,
-/// sorted by Morton code then triangle.
+/// Fragments of the exact voxelization: finest cells `(K, 3)` as `(k, j, i)` (array axis
+/// order: `i` along x) and triangle indices `(K,)`, sorted by Morton code then triangle.
 #[pyfunction]
 fn voxelize<'py>(
     py: Python<'py>,
@@ -397,7 +400,10 @@ fn voxelize<'py>(
     let cells = f
         .list
         .iter()
-        .flat_map(|x| wscg_octree::cube::demorton(x.morton).map(i64::from))
+        .flat_map(|x| {
+            let [i, j, k] = wscg_octree::cube::demorton(x.morton);
+            [k, j, i].map(i64::from)
+        })
         .collect();
     let prims = f.list.iter().map(|x| i64::from(x.prim)).collect();
     Ok((

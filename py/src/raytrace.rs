@@ -1,7 +1,9 @@
 //! `wscg._native.raytrace`: bindings of `wscg-raytrace` (paper 07: metallic-flake paint,
 //! spectral rendering, stereo rig, virtual observer). The documented API is
 //! `python/wscg/raytrace.py`; it passes the plate's parameters as one dict whose keys are
-//! the Rust fields' names.
+//! the Python argument names (mostly the Rust fields' names; the counts are `n_pool_tiles`,
+//! `n_photons` and `n_photon_neighbors`, the colour mode `color_mode`). The counts are checked
+//! here so that an error names the Python argument.
 
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -44,6 +46,12 @@ fn flake_params(c: &Cfg) -> PyResult<FlakeParams> {
             )))
         }
     };
+    let n_pool_tiles: usize = c.get("n_pool_tiles", d.tiles_in_pool)?;
+    if n_pool_tiles == 0 {
+        return Err(value_error(
+            "`n_pool_tiles` must be >= 1: at least one tile is needed",
+        ));
+    }
     Ok(FlakeParams::default()
         .radius_um(c.get("radius_um", d.radius_um)?)
         .radius_cv(c.get("radius_cv", d.radius_cv)?)
@@ -53,7 +61,7 @@ fn flake_params(c: &Cfg) -> PyResult<FlakeParams> {
         .layer_um(c.get("layer_um", d.layer_um)?)
         .tile_um(c.get("tile_um", d.tile_um)?)
         .model(model)
-        .tiles_in_pool(c.get("tiles_in_pool", d.tiles_in_pool)?)
+        .tiles_in_pool(n_pool_tiles)
         .max_clamped_fraction(c.get("max_clamped_fraction", d.max_clamped_fraction)?))
 }
 
@@ -109,15 +117,26 @@ fn settings(c: &Cfg) -> PyResult<PaintRenderParams> {
     let region = c
         .opt::<(f64, f64, f64, f64)>("region_mm")?
         .map(|(x0, y0, x1, y1)| Rect { x0, y0, x1, y1 });
-    let colour = match c.get("colour", "spectral".to_string())?.as_str() {
+    let colour = match c.get("color_mode", "spectral".to_string())?.as_str() {
         "spectral" => ColourMode::Spectral,
         "rgb" => ColourMode::Rgb,
         other => {
             return Err(value_error(format!(
-                "{other:?} is not a valid colour mode. Valid modes are 'spectral', 'rgb'"
+                "{other:?} is not a valid `color_mode`. Valid modes are 'spectral', 'rgb'"
             )))
         }
     };
+    let photon_defaults = PhotonParams::default();
+    let n_photons: usize = c.get("n_photons", photon_defaults.count)?;
+    let n_neighbors: usize = c.get("n_photon_neighbors", photon_defaults.k)?;
+    if n_photons > 500_000_000 {
+        return Err(value_error(format!(
+            "`n_photons` must be at most 500 million, got {n_photons}"
+        )));
+    }
+    if n_neighbors == 0 {
+        return Err(value_error("`n_photon_neighbors` must be >= 1, got 0"));
+    }
     Ok(PaintRenderParams::default()
         .spp(c.get("spp", d.spp)?)
         .max_depth(c.get("max_depth", d.max_depth)?)
@@ -127,13 +146,9 @@ fn settings(c: &Cfg) -> PyResult<PaintRenderParams> {
         .independent_samples(c.get("independent_samples", false)?)
         .colour(colour)
         .keep_spectrum(c.get("keep_spectrum", false)?)
-        .photons(match c.get("photons", PhotonParams::default().count)? {
+        .photons(match n_photons {
             0 => None,
-            count => Some(
-                PhotonParams::default()
-                    .count(count)
-                    .k(c.get("photon_k", PhotonParams::default().k)?),
-            ),
+            count => Some(photon_defaults.count(count).k(n_neighbors)),
         }))
 }
 
@@ -213,10 +228,7 @@ fn render_plate<'py>(
 /// One tile of the microstructure as an (N, 7) array `cx, cy, cz, nx, ny, nz, r` and the
 /// number of clamped flakes.
 #[pyfunction]
-fn generate_tile<'py>(
-    py: Python<'py>,
-    params: Bound<'py, PyDict>,
-) -> PyResult<(Arr<'py, f64>, usize)> {
+fn make_tile<'py>(py: Python<'py>, params: Bound<'py, PyDict>) -> PyResult<(Arr<'py, f64>, usize)> {
     let c = Cfg(&params);
     let fp = flake_params(&c)?;
     let seed: u64 = c.get("seed", 0)?;
@@ -309,9 +321,15 @@ fn workshop<'py>(
     reference: (f64, f64),
     runs: Vec<(f64, f64)>,
     condition: &str,
-    reference_renders: usize,
+    n_reference_renders: usize,
     jnd_log: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
+    if n_reference_renders < 2 {
+        return Err(value_error(format!(
+            "`n_reference_renders` must be >= 2 to calibrate the observer, got \
+             {n_reference_renders}"
+        )));
+    }
     let c = Cfg(&params);
     let fp = flake_params(&c)?;
     let condition = match condition {
@@ -341,7 +359,7 @@ fn workshop<'py>(
             }
         })
         .settings(s)
-        .reference_renders(reference_renders)
+        .reference_renders(n_reference_renders)
         .condition(condition)
         .jnd_log(jnd_log);
     let seed: u64 = c.get("seed", 0)?;
@@ -425,7 +443,7 @@ fn project<'py>(
 /// Registers the functions.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render_plate, m)?)?;
-    m.add_function(wrap_pyfunction!(generate_tile, m)?)?;
+    m.add_function(wrap_pyfunction!(make_tile, m)?)?;
     m.add_function(wrap_pyfunction!(plate_layout, m)?)?;
     m.add_function(wrap_pyfunction!(glint_statistics, m)?)?;
     m.add_function(wrap_pyfunction!(overlap, m)?)?;

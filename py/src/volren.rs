@@ -1,6 +1,12 @@
 //! `wscg._native.volren`: bindings of `wscg-volren` (paper 03, hybrid ROI visualisation; the
 //! paper-15 functions live in [`crate::illum`] and register into the same submodule).
 //! The documented API is `python/wscg/volren.py`.
+//!
+//! Coordinates follow `py/API.md`: a box of voxels is given per array axis, `(z0, z1, y0, y1,
+//! x0, x1)`, a voxel by its index `(k, j, i)`, and a point in space as `(x, y, z)` with the
+//! centre of voxel `[k, j, i]` at `(i, j, k)` (the volumes of paper 03 have unit spacing).
+//! The renderers of `wscg_volren` let voxel `(i, j, k)` cover `[i, i + 1) x ...` (its centre
+//! at `i + 1/2`): [`camera`] shifts eye and target by half a voxel on the way in.
 
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -76,16 +82,19 @@ fn tf_out<'py>(py: Python<'py>, t: &PiecewiseTransferFunction) -> PyResult<Arr<'
 /// A camera from Python: eye, target, up, vertical field of view (degrees), width, height.
 type View = ([f64; 3], [f64; 3], [f64; 3], f64, usize, usize);
 
-/// `(x0, x1, y0, y1, z0, z1)` as min and max corners.
+/// A ROI box `(z0, z1, y0, y1, x0, x1)` (array axis order, half-open) as the min and max
+/// corners `[x, y, z]` of `wscg_volren`.
 fn roi_in(r: (u32, u32, u32, u32, u32, u32)) -> ([u32; 3], [u32; 3]) {
-    ([r.0, r.2, r.4], [r.1, r.3, r.5])
+    ([r.4, r.2, r.0], [r.5, r.3, r.1])
 }
 
+/// A camera whose eye and target are `py/API.md` world points (voxel `[k, j, i]` centred at
+/// `(i, j, k)`), in the renderers' coordinates (centred at `(i, j, k) + 1/2`).
 fn camera(v: View) -> Camera {
     let (eye, target, up, fov_deg, width, height) = v;
     Camera {
-        eye,
-        target,
+        eye: eye.map(|c| c + 0.5),
+        target: target.map(|c| c + 0.5),
         up,
         fov_deg,
         width,
@@ -198,12 +207,12 @@ impl PyClient {
         self.inner.clear_roi();
     }
 
-    /// The ROI box `(x0, x1, y0, y1, z0, z1)` or None.
+    /// The ROI box `(z0, z1, y0, y1, x0, x1)` or None.
     #[getter]
     fn roi(&self) -> Option<(u32, u32, u32, u32, u32, u32)> {
         self.inner.roi.as_ref().map(|(r, _, _)| {
             let Roi { min, max } = *r;
-            (min[0], max[0], min[1], max[1], min[2], max[2])
+            (min[2], max[2], min[1], max[1], min[0], max[0])
         })
     }
 
@@ -309,16 +318,19 @@ fn phantom_tfs<'py>(py: Python<'py>, name: &str) -> PyResult<Vec<Arr<'py, f64>>>
     tfs.iter().map(|t| tf_out(py, t)).collect()
 }
 
-/// Eq. 1 addressing: the level-32 cell and the slots of voxel `(x, y, z)` in a cube of side
-/// `r`.
+/// Eq. 1 addressing: the level-32 cell `(k, j, i)` and the slots of voxel `index = (k, j, i)`
+/// (array axis order) in a cube of side `r`.
 #[pyfunction]
-fn octree_address(ijk: [u32; 3], r: usize) -> PyResult<([u32; 3], Vec<u8>)> {
-    if !r.is_power_of_two() || r < 32 || ijk.iter().any(|&c| c as usize >= r) {
+fn octree_address(index: [u32; 3], r: usize) -> PyResult<([u32; 3], Vec<u8>)> {
+    if !r.is_power_of_two() || r < 32 || index.iter().any(|&c| c as usize >= r) {
         return Err(value_error(format!(
-            "needs r a power of two >= 32 and a voxel inside the cube, got r = {r}, {ijk:?}"
+            "needs r a power of two >= 32 and a voxel inside the cube, got r = {r}, `index` \
+             {index:?}"
         )));
     }
-    Ok(address(ijk, r))
+    let [k, j, i] = index;
+    let ([cx, cy, cz], slots) = address([i, j, k], r);
+    Ok(([cz, cy, cx], slots))
 }
 
 /// The 4-step block Haar transform of `(n, 16, 16, 16)` blocks indexed `[block, z, y, x]`:

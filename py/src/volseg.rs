@@ -125,7 +125,7 @@ const PARAM_KEYS: [&str; 14] = [
     "solver",
     "precision",
     "jacobi",
-    "threads",
+    "n_threads",
 ];
 
 /// Refuses keys of `d` outside `allowed`.
@@ -174,10 +174,10 @@ fn params_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<RandomWalkParams> {
             &[("f32", Precision::F32), ("f64", Precision::F64)],
         )?;
     }
-    if let Some(t) = dict_item::<usize>(d, "threads")? {
+    if let Some(t) = dict_item::<usize>(d, "n_threads")? {
         if t == 0 || t > MAX_THREADS {
             return Err(value_error(format!(
-                "`threads` must be in 1..={MAX_THREADS} (or None for the wscg pool), got {t}"
+                "`n_threads` must be in 1..={MAX_THREADS} (or None for the wscg pool), got {t}"
             )));
         }
         p.threads = Some(t);
@@ -186,10 +186,10 @@ fn params_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<RandomWalkParams> {
     Ok(p)
 }
 
-fn passes_in(passes: u32) -> PyResult<u32> {
+fn passes_in(name: &str, passes: u32) -> PyResult<u32> {
     if passes > MAX_PASSES {
         return Err(value_error(format!(
-            "`smooth_passes` must be in 0..={MAX_PASSES}, got {passes}"
+            "`{name}` must be in 0..={MAX_PASSES}, got {passes}"
         )));
     }
     Ok(passes)
@@ -280,19 +280,19 @@ fn all_probabilities(s: &RandomWalkSession, k: usize) -> wscg_math::Result<Vec<f
 /// Random-walk labels (and optionally the K probability volumes) of `ct` from `seeds`, with
 /// the solve report.
 #[pyfunction]
-#[pyo3(signature = (ct, seeds, spacing, smooth_passes, params, return_prob))]
+#[pyo3(signature = (ct, seeds, spacing, n_smooth_passes, params, return_prob))]
 #[allow(clippy::type_complexity)]
 fn random_walker<'py>(
     py: Python<'py>,
     ct: PyReadonlyArrayDyn<'py, f32>,
     seeds: PyReadonlyArrayDyn<'py, u16>,
     spacing: (f64, f64, f64),
-    smooth_passes: u32,
+    n_smooth_passes: u32,
     params: Option<Bound<'py, PyDict>>,
     return_prob: bool,
 ) -> PyResult<(Arr<'py, u16>, Option<Arr<'py, f32>>, Bound<'py, PyDict>)> {
     let p = params_in(params.as_ref())?;
-    let passes = passes_in(smooth_passes)?;
+    let passes = passes_in("n_smooth_passes", n_smooth_passes)?;
     let shape = shape3("ct", ct.shape())?;
     same_shape_as_ct("seeds", &seeds, shape)?;
     let ct = vol_in("ct", &ct, spacing)?;
@@ -334,17 +334,17 @@ pub struct PySession {
 #[pymethods]
 impl PySession {
     #[new]
-    #[pyo3(signature = (ct, mask, spacing, smooth_passes, params))]
+    #[pyo3(signature = (ct, mask, spacing, n_smooth_passes, params))]
     fn new(
         py: Python<'_>,
         ct: PyReadonlyArrayDyn<'_, f32>,
         mask: Option<PyReadonlyArrayDyn<'_, bool>>,
         spacing: (f64, f64, f64),
-        smooth_passes: u32,
+        n_smooth_passes: u32,
         params: Option<Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let p = params_in(params.as_ref())?;
-        let passes = passes_in(smooth_passes)?;
+        let passes = passes_in("n_smooth_passes", n_smooth_passes)?;
         let shape = shape3("ct", ct.shape())?;
         let ct = vol_in("ct", &ct, spacing)?;
         let mask = match &mask {
@@ -565,15 +565,15 @@ fn dice(a: PyReadonlyArrayDyn<'_, u16>, b: PyReadonlyArrayDyn<'_, u16>) -> PyRes
     dice_multilabel(&values(&a), &values(&b)).py_err()
 }
 
-/// `passes` rounds of the anisotropy-aware 3-tap Gaussian.
+/// `n_passes` rounds of the anisotropy-aware 3-tap Gaussian.
 #[pyfunction]
 fn smooth<'py>(
     py: Python<'py>,
     ct: PyReadonlyArrayDyn<'py, f32>,
-    passes: u32,
+    n_passes: u32,
     spacing: (f64, f64, f64),
 ) -> PyResult<Arr<'py, f32>> {
-    let passes = passes_in(passes)?;
+    let passes = passes_in("n_passes", n_passes)?;
     let ct = vol_in("ct", &ct, spacing)?;
     let v = crate::pool::detach(py, || gaussian_smooth3(&ct, passes)).py_err()?;
     vol_out(py, v)

@@ -46,17 +46,17 @@ HUGE = {
     "csmri.Udct": ("csmri.Udct((10**6, 10**6))", "MemoryError", "`shape`"),
     "ear.cmc": ("ear.cmc(np.array([0, 1, 2]), 10**10)", "MemoryError", "`max_rank`"),
     "raytrace.render_manylight": (
-        "raytrace.render_manylight(raytrace.manylight_scene('cornell', width=8, height=8), "
+        "raytrace.render_manylight(raytrace.make_manylight_scene('cornell', width=8, height=8), "
         "n_vpl_paths=10**10)", "MemoryError", "n_paths"),
-    "raytrace.manylight_scene": ("raytrace.manylight_scene('cornell', width=10**6, "
+    "raytrace.make_manylight_scene": ("raytrace.make_manylight_scene('cornell', width=10**6, "
                                  "height=10**6)", "MemoryError", "width, height"),
     "video.make_clip": ("video.make_clip('sprite', n_frames=10**6, height=10**4, width=10**4)",
                         "MemoryError", "n_frames, height, width"),
-    "volren.phantom": ("volren.phantom('head', shape=(10**5,) * 3)", "MemoryError", "`dims`"),
+    "volren.make_phantom": ("volren.make_phantom('head', shape=(10**5,) * 3)", "MemoryError", "`dims`"),
     "cloth.grid": ("cloth.grid(10**6, 10**6)", "MemoryError", "nx, ny"),
-    "octree.voxelize": ("octree.voxelize(*octree.scene('square')[:2], depth=21, "
+    "octree.voxelize": ("octree.voxelize(*octree.make_scene('square')[:2], depth=21, "
                         "domain=((0, 0, 0), 1.0))", "ValueError", "depth"),
-    "octree.scene city": ("octree.scene('city', size=10**9)", "MemoryError", "`n`"),
+    "octree.make_scene city": ("octree.make_scene('city', size=10**9)", "MemoryError", "`n`"),
     "math.fftfreq": ("math.fftfreq(10**12)", "MemoryError", "`n`"),
     "csmri.mask_pseudo_radial": ("csmri.mask_pseudo_radial((10**7, 10**7), .4)",
                                  "MemoryError", "`shape`"),
@@ -65,7 +65,7 @@ HUGE = {
                                      "MemoryError", "n_subjects"),
     "isosurface.study_exact": ("wscg.isosurface.study_exact('sphere', n=10**5)",
                                "MemoryError", "`dims`"),
-    "octree.scene atrium": ("octree.scene('atrium', size=10**12)", "MemoryError",
+    "octree.make_scene atrium": ("octree.make_scene('atrium', size=10**12)", "MemoryError",
                             "`pillars`"),
 }
 
@@ -169,7 +169,7 @@ def test_a_material_library_that_never_ends_is_not_read(tmp_path):
         pytest.skip("no /dev/zero")
     obj = tmp_path / "zero.obj"
     obj.write_text("mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
-    got = outcome(f"raytrace.manylight_load_obj({str(obj)!r})")
+    got = outcome(f"raytrace.load_manylight_obj({str(obj)!r})")
     assert got["type"] == "OSError" and "/dev/zero" in got["msg"], got
 
 
@@ -184,13 +184,13 @@ doe.fit_rsm(x, np.arange(9.0))
 
 # Long calls that Ctrl-C must stop: each would run for hours.
 LONG = {
-    "manylight spp": "raytrace.render_manylight(raytrace.manylight_scene('cornell', width=16, "
+    "manylight spp": "raytrace.render_manylight(raytrace.make_manylight_scene('cornell', width=16, "
                      "height=16), 'power', n_vpl_paths=50, spp=10**9)",
-    "octree ao_samples": "octree.build(*octree.scene('blob', size=2)[:2], depth=6)"
-                         ".render((3, 3, 3), (0, 0, 0), width=16, height=16, ao_samples=10**9)",
-    "volren slices": "volren.render(volren.phantom('head', shape=(32, 32, 32)), "
+    "octree n_ao_samples": "octree.build(*octree.make_scene('blob', size=2)[:2], depth=6)"
+                         ".render((3, 3, 3), (0, 0, 0), width=16, height=16, n_ao_samples=10**9)",
+    "volren slices": "volren.render(volren.make_phantom('head', shape=(32, 32, 32)), "
                      "[[0, 0, 0, 0], [1, 1, 1, 0.5]], size=(256, 256), slice_distance=1e-4)",
-    "cloth iterations": "cloth.Sim(cloth.grid(20, 20), iterations=10**9).step(1e-3)",
+    "cloth n_iter": "cloth.Sim(cloth.grid(20, 20), n_iter=10**9).step(1e-3)",
 }
 
 

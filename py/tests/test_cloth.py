@@ -16,7 +16,7 @@ def test_alpha_beta_closed_form_on_a_link():
     m.add_link(0, 1, 100.0, rest=1.0)
     w2 = 100.0
     for ab in (1.0, 0.6, 0.5):
-        sim = cloth.Sim(m, alpha=ab, beta=ab, iterations=5)
+        sim = cloth.Sim(m, alpha=ab, beta=ab, n_iter=5)
         x, v = 0.05, 0.0
         for _ in range(200):
             xn = ((1 - H * H * ab * (1 - ab) * w2) * x + H * v) / (1 + H * H * ab * ab * w2)
@@ -38,11 +38,11 @@ def test_energy_behaviour_and_methods():
         assert np.allclose(energies[:, 3], energies[:, :3].sum(axis=1))
         losses[ab] = e0 - energies[-1, 3]
     assert losses[0.6] < losses[1.0]
-    for method, opts in [("pbd", {"stiffness": 0.5}), ("symplectic", {"substeps": 8}),
+    for method, opts in [("pbd", {"stiffness": 0.5}), ("symplectic", {"n_substeps": 8}),
                          ("ie_cg", {"tol": 1e-13})]:
-        sim = cloth.Sim(m, method=method, iterations=10, **opts)
+        sim = cloth.Sim(m, method=method, n_iter=10, **opts)
         sim.step(H, 3)
-        assert np.all(np.isfinite(sim.positions)) and sim.steps == 3
+        assert np.all(np.isfinite(sim.positions)) and sim.n_steps == 3
     # The linearised step by sparse Cholesky equals the CG solve.
     direct = cloth.Sim(m, method="ie_direct")
     direct.step(H, 3)
@@ -52,13 +52,13 @@ def test_energy_behaviour_and_methods():
     stiff = cloth.grid(6, 6, mass=0.1, k_stretch=500.0, k_shear=500.0)
     states = {}
     for method, it in [("ie_newton", 1), ("global_cr", 40), ("ncg", 400)]:
-        sim = cloth.Sim(stiff, method=method, iterations=it)
+        sim = cloth.Sim(stiff, method=method, n_iter=it)
         sim.step(H, 3)
         states[method] = sim.positions
     for method in ("global_cr", "ncg"):
         np.testing.assert_allclose(states[method], states["ie_newton"], atol=1e-8)
     # The regularized projection (XPBD) reaches a different point; it is not exact IE.
-    sim = cloth.Sim(stiff, iterations=200)
+    sim = cloth.Sim(stiff, n_iter=200)
     sim.step(H, 3)
     assert np.abs(sim.positions - states["ie_newton"]).max() > 1e-6
     # The model given to Sim is not modified.
@@ -68,7 +68,7 @@ def test_energy_behaviour_and_methods():
 def test_fem_mesh_and_grid():
     m = cloth.grid(8, 8, model="fem", young=500.0, poisson=0.3)
     assert m.counts == (0, 2 * 7 * 7, 0)
-    sim = cloth.Sim(m, iterations=10)
+    sim = cloth.Sim(m, n_iter=10)
     sim.step(H, 30)
     assert sim.positions[:, 1].min() < -0.05
     v = np.array([[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1]], dtype=float)
@@ -103,7 +103,7 @@ def test_bad_input():
         lambda: m.set_velocities(np.zeros((3, 3))),
         lambda: cloth.particles([[0, 0, 0]], [-1.0]),
         lambda: cloth.particles([[0, 0, 0]], [1.0, 2.0]),
-        lambda: cloth.Sim(m, method="symplectic", substeps="many"),
+        lambda: cloth.Sim(m, method="symplectic", n_substeps="many"),
         lambda: cloth.Sim(m, relaxation="chebyshev"),
         lambda: cloth.Sim(m, relaxation="jacobi", omega=1.5),
         lambda: cloth.Sim(m, relaxation="sor", omega=2.0),
@@ -129,7 +129,7 @@ def test_sweep_variants_agree_on_energy():
     m = cloth.grid(12, 12, k_stretch=500.0, k_shear=500.0)
 
     def total(relaxation, omega, iterations):
-        sim = cloth.Sim(m, iterations=iterations, relaxation=relaxation, omega=omega)
+        sim = cloth.Sim(m, n_iter=iterations, relaxation=relaxation, omega=omega)
         return sim.step(H, 60)[-1, 3]
 
     ref = total("gauss_seidel", None, 200)

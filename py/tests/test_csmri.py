@@ -50,7 +50,7 @@ def test_udct_is_exact_on_the_camera(camera):
     ex = np.sum(camera ** 2)
     assert abs(e - ex) / ex < 1e-12
     assert np.linalg.norm(u.backward(lp, bands) - camera) / np.linalg.norm(camera) < 1e-12
-    assert lp.size + 2 * sum(b.size for b in bands) == 4 * camera.size == u.num_real_coeffs
+    assert lp.size + 2 * sum(b.size for b in bands) == 4 * camera.size == u.n_real_coeffs
 
 
 def _fdct_by_numpy(f, x):
@@ -126,7 +126,7 @@ def test_wavelet_equals_pywavelets(wavelet, rng):
 def test_metrics_match_scikit_image_and_the_identity(rng):
     from skimage.metrics import peak_signal_noise_ratio
 
-    ref = csmri.shepp_logan_reference(64)
+    ref = csmri.make_shepp_logan_reference(64)
     x = ref * (1 + 0.05 * rng.standard_normal(ref.shape)) + 0.01j
     want = peak_signal_noise_ratio(np.abs(ref), np.abs(x), data_range=np.abs(ref).max())
     assert abs(csmri.psnr(ref, x) - want) < 1e-9
@@ -137,8 +137,8 @@ def test_metrics_match_scikit_image_and_the_identity(rng):
 
 def test_headline_reconstruction_and_data_consistency():
     n = 256
-    k = csmri.shepp_logan_kspace(n)
-    ref = csmri.shepp_logan_reference(n)
+    k = csmri.make_shepp_logan_kspace(n)
+    ref = csmri.make_shepp_logan_reference(n)
     assert np.allclose(np.fft.ifft2(k, norm="ortho"), ref)
     m = csmri.mask_cartesian((n, n), 0.4, seed=1)
     assert abs(m.mean() - 0.4) < 0.01 and m[0].all()
@@ -192,8 +192,8 @@ def test_udct_prior_beats_the_fdct_prior_on_the_complex_camera(camera):
 
 def test_fdct_prior_reconstructs_at_its_tuned_tau0():
     n = 64
-    k = csmri.shepp_logan_kspace(n)
-    ref = csmri.shepp_logan_reference(n)
+    k = csmri.make_shepp_logan_kspace(n)
+    ref = csmri.make_shepp_logan_reference(n)
     m = csmri.mask_cartesian((n, n), 0.4, seed=1)
     x = csmri.reconstruct(k, m, prior="fdct", max_iter=20)
     assert np.array_equal(x, csmri.reconstruct(k, m, prior="fdct", tau0=0.02, max_iter=20))
@@ -239,7 +239,7 @@ def test_masks():
 
 
 def test_bad_input_raises_value_error():
-    k = csmri.shepp_logan_kspace(64)
+    k = csmri.make_shepp_logan_kspace(64)
     m = csmri.mask_cartesian((64, 64), 0.4, seed=1)
     with pytest.raises(ValueError, match="mask"):
         csmri.reconstruct(k, m[:32])
@@ -311,7 +311,7 @@ def test_cli_reconstructs_user_files(tmp_path):
     exe = os.environ.get("WSCG_BIN")
     if not exe or not os.path.exists(exe):
         pytest.skip("WSCG_BIN (the wscg binary) is not set")
-    k = csmri.shepp_logan_kspace(64)
+    k = csmri.make_shepp_logan_kspace(64)
     m = csmri.mask_cartesian((64, 64), 0.4, seed=1)
     np.save(tmp_path / "k.npy", np.where(m, k, 0))
     np.save(tmp_path / "m.npy", m.astype(np.uint8))
@@ -365,8 +365,8 @@ def test_sflct_lowpass_equals_a_numpy_pyramid_and_the_transform_is_exact(redunda
 
 def test_sflct_priors_reconstruct():
     n = 64
-    k = csmri.shepp_logan_kspace(n)
-    ref = csmri.shepp_logan_reference(n)
+    k = csmri.make_shepp_logan_kspace(n)
+    ref = csmri.make_shepp_logan_reference(n)
     m = csmri.mask_cartesian((n, n), 0.4, seed=1)
     zf = csmri.psnr(ref, csmri.zero_filled(k, m))
     for prior, tau0 in [("lrsflct", 0.01), ("mrsflct", 0.02)]:

@@ -27,21 +27,21 @@ def _python_defined(obj) -> bool:
 
 CASES = [
     ("max_iter", lambda: csmri.reconstruct(*_kspace(), max_iter=-1)),
-    ("max_iter", lambda: csmri.fcsa(*_kspace(), max_iter=-1)),
-    ("n", lambda: csmri.shepp_logan_kspace(-4)),
+    ("n_iter", lambda: csmri.fcsa(*_kspace(), n_iter=-1)),
+    ("n", lambda: csmri.make_shepp_logan_kspace(-4)),
     ("seed", lambda: csmri.mask_cartesian((32, 32), 0.4, seed=2 ** 70)),
     ("n_frames", lambda: video.make_clip("g1", n_frames=-2)),
     ("levels", lambda: wm.wavedec2(np.zeros((16, 16)), "db2", level=-1)),
     ("nx", lambda: cloth.grid(-3, 4)),
-    ("iterations", lambda: cloth.Sim(cloth.grid(3, 3), iterations=-1)),
-    ("n", lambda: cloth.Sim(cloth.grid(3, 3)).step(n=-1)),
+    ("n_iter", lambda: cloth.Sim(cloth.grid(3, 3), n_iter=-1)),
+    ("n_steps", lambda: cloth.Sim(cloth.grid(3, 3)).step(n_steps=-1)),
     ("k", lambda: doe.ccd(-2)),
 ]
 
 
 def _kspace():
     m = csmri.mask_cartesian((32, 32), 0.4)
-    return csmri.shepp_logan_kspace(32) * m, m
+    return csmri.make_shepp_logan_kspace(32) * m, m
 
 
 @pytest.mark.parametrize("name,call", CASES, ids=[f"{i}-{n}" for i, (n, _) in enumerate(CASES)])

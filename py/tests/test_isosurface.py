@@ -24,14 +24,14 @@ def test_vertices_equal_scikit_image_on_full_grids(name, level):
     vol, spacing, _ = iso.fields.sample(name, 48)
     assert not np.any(vol == np.float32(level))  # no sample on the level: > and >= agree
     v, f, n, info = iso.marching_cubes(vol, level, spacing=spacing, normals=None)
-    # scikit-image works in array order (z, y, x) with spacing per array axis.
-    sv, sf, _, _ = measure.marching_cubes(vol, level, spacing=spacing[::-1], method="lorensen")
+    # scikit-image returns vertices in array order (z, y, x); spacing is (dz, dy, dx) in both.
+    sv, sf, _, _ = measure.marching_cubes(vol, level, spacing=spacing, method="lorensen")
     assert len(v) == len(sv)
     d, idx = _match(v[:, ::-1], sv)
     assert d.max() < 1e-5 and len(set(idx)) == len(v)  # a one-to-one match
     assert len(f) == len(sf)
     # Lewiner's MC33 adds interior vertices in some cases; every one of ours is among its.
-    lv, _, _, _ = measure.marching_cubes(vol, level, spacing=spacing[::-1], method="lewiner")
+    lv, _, _, _ = measure.marching_cubes(vol, level, spacing=spacing, method="lewiner")
     assert _match(v[:, ::-1], lv)[0].max() < 1e-5
 
 
@@ -71,7 +71,7 @@ def test_normals_agree_with_scikit_image_direction():
 
 
 def test_spline_beats_lsn_on_the_noisy_8bit_sphere():
-    vol = iso.fields.noisy_sphere(48, radius=15.0, seed=3)
+    vol = iso.fields.make_noisy_sphere(48, radius=15.0, seed=3)
     res = iso.study_full_cd(vol, 40.0)
     assert res["spline_undefined"] == 0
     assert res["lsn_undefined"] > 0
@@ -86,9 +86,10 @@ def test_fields_and_study_exact():
     assert vol.shape == (33, 33, 33) and spacing == pytest.approx((1 / 16,) * 3)
     assert origin == pytest.approx((-1, -1, -1))
     # The field's exact normals at the vertices agree with central differences on a fine
-    # grid of the smooth genus-3 surface.
+    # grid of the smooth genus-3 surface; the vertices are field points with the field's
+    # spacing and origin.
     vol, spacing, origin = iso.fields.sample("genus3", 96)
-    v, f, n, _ = iso.marching_cubes(vol, 0.0, spacing=spacing, normals="central")
+    v, f, n, _ = iso.marching_cubes(vol, 0.0, spacing=spacing, origin=origin, normals="central")
     exact = iso.fields.exact_normals("genus3", 96, v)
     assert exact.shape == v.shape
     assert iso.angular_rms(n, exact)[0] < 0.05

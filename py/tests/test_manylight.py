@@ -9,7 +9,7 @@ from wscg import raytrace as rt
 def test_plane_under_a_tiny_light_is_the_closed_form():
     # Emitter VPLs only, no clamping: the tiny square light of power pi acts as a point light
     # at height 1, so L = 0.5 h^2 / (pi d^4) on the plane.
-    s = rt.manylight_scene("plane", width=48, height=36)
+    s = rt.make_manylight_scene("plane", width=48, height=36)
     img, st = rt.render_manylight(s, "reference", n_vpl_paths=64, max_bounces=0, clamp_dist=0.0)
     assert st["n_vpls"] == 64
     cam = s.camera
@@ -38,7 +38,7 @@ def test_plane_under_a_tiny_light_is_the_closed_form():
 
 
 def test_methods_agree_with_the_reference_on_average():
-    s = rt.manylight_scene("cornell", width=48, height=36)
+    s = rt.make_manylight_scene("cornell", width=48, height=36)
     kw = dict(n_vpl_paths=300, n_cache=60, spp=8)
     ref, _ = rt.render_manylight(s, "reference", **kw)
     lum = lambda im: float((im @ np.array([0.2126, 0.7152, 0.0722])).mean())
@@ -61,7 +61,7 @@ def test_user_mesh_and_obj(tmp_path):
     emission = np.zeros((4, 3)); emission[2:] = 5.0
     cam = dict(eye=[0, 4, -6], target=[0, 0, 0], up=[0, 1, 0], fov_deg=50, width=32, height=24)
     s = rt.manylight_from_arrays(v, f, albedo, emission, camera=cam)
-    assert (s.triangles, s.emitters) == (4, 2)
+    assert (s.n_triangles, s.n_emitters) == (4, 2)
     img, _ = rt.render_manylight(s, "adaptive", n_vpl_paths=50, n_cache=20, spp=4)
     assert img.shape == (24, 32, 3) and img.max() > 0
     obj = tmp_path / "scene.obj"
@@ -70,8 +70,8 @@ def test_user_mesh_and_obj(tmp_path):
     obj.write_text("mtllib scene.mtl\n" + "".join(f"v {a} {b} {c}\n" for a, b, c in v)
                    + "usemtl floor\nf 1 3 2\nf 1 4 3\nusemtl lamp\nf 5 6 7\nf 5 7 8\n")
     before = obj.read_bytes()
-    t = rt.manylight_load_obj(obj, camera=cam)
-    assert (t.triangles, t.emitters) == (4, 2)
+    t = rt.load_manylight_obj(obj, camera=cam)
+    assert (t.n_triangles, t.n_emitters) == (4, 2)
     a, _ = rt.render_manylight(t, "reference", n_vpl_paths=50)
     b, _ = rt.render_manylight(s, "reference", n_vpl_paths=50)
     np.testing.assert_allclose(a, b, rtol=1e-5, atol=1e-7)
@@ -79,7 +79,7 @@ def test_user_mesh_and_obj(tmp_path):
 
 
 def test_bad_input():
-    s = rt.manylight_scene("cornell", width=16, height=12)
+    s = rt.make_manylight_scene("cornell", width=16, height=12)
     with pytest.raises(ValueError):
         rt.render_manylight(s, "magic")
     with pytest.raises(ValueError):
@@ -93,7 +93,7 @@ def test_bad_input():
     with pytest.raises(ValueError):
         rt.render_manylight(s, "adaptive", camera=dict(width=0))
     with pytest.raises(ValueError):
-        rt.manylight_scene("sponza")
+        rt.make_manylight_scene("sponza")
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
     with pytest.raises(ValueError):
         rt.manylight_from_arrays(v, [[0, 1, 5]], [[0.5] * 3], [[0.0] * 3])
@@ -105,4 +105,4 @@ def test_bad_input():
     with pytest.raises(ValueError, match="emissive"):
         rt.render_manylight(dark, "reference")
     with pytest.raises(OSError, match="missing.obj"):
-        rt.manylight_load_obj("/nonexistent/missing.obj")
+        rt.load_manylight_obj("/nonexistent/missing.obj")

@@ -71,12 +71,12 @@ def test_raw_volume(tmp_path):
     data = np.arange(2 * 3 * 4, dtype="<u2").reshape(2, 3, 4)
     p = tmp_path / "v.raw"
     p.write_bytes(data.tobytes())
-    vol, spacing = wm.read_raw_volume(p, (2, 3, 4), "u16le", spacing=(3.0, 2.0, 1.0))
+    vol, spacing = wm.load_raw_volume(p, (2, 3, 4), "u16le", spacing=(3.0, 2.0, 1.0))
     assert np.array_equal(vol, data.astype(np.float32)) and spacing == (3.0, 2.0, 1.0)
     with pytest.raises(OSError, match="truncated"):
-        wm.read_raw_volume(p, (2, 3, 5), "u16le")
+        wm.load_raw_volume(p, (2, 3, 5), "u16le")
     with pytest.raises(ValueError, match="raw type"):
-        wm.read_raw_volume(p, (2, 3, 4), "u17")
+        wm.load_raw_volume(p, (2, 3, 4), "u17")
 
 
 def test_volume_errors(tmp_path):
@@ -103,8 +103,8 @@ def test_mesh_round_trip(tmp_path, name, binary):
     f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
     c = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [0.5, 0.5, 0.5]], dtype=np.float32)
     p = tmp_path / name
-    wm.write_mesh(p, v, f, colors=c, binary=binary)
-    m = wm.read_mesh(p)
+    wm.save_mesh(p, v, f, colors=c, binary=binary)
+    m = wm.load_mesh(p)
     assert np.allclose(m["vertices"], v) and np.array_equal(m["faces"], f)
     assert np.max(np.abs(m["colors"] - c)) <= 0.5 / 255 + 1e-6
 
@@ -112,16 +112,16 @@ def test_mesh_round_trip(tmp_path, name, binary):
 def test_mesh_errors(tmp_path):
     v = np.zeros((3, 3))
     with pytest.raises(ValueError, match="faces"):
-        wm.write_mesh(tmp_path / "m.obj", v, np.array([[0, 1, 5]]))
+        wm.save_mesh(tmp_path / "m.obj", v, np.array([[0, 1, 5]]))
     with pytest.raises(ValueError, match="faces"):
-        wm.write_mesh(tmp_path / "m.obj", v, np.array([[0, 1, -1]]))
+        wm.save_mesh(tmp_path / "m.obj", v, np.array([[0, 1, -1]]))
     with pytest.raises(ValueError, match="vertices"):
-        wm.write_mesh(tmp_path / "m.obj", np.zeros((3, 2)), np.array([[0, 1, 2]]))
+        wm.save_mesh(tmp_path / "m.obj", np.zeros((3, 2)), np.array([[0, 1, 2]]))
     with pytest.raises(OSError):
-        wm.read_mesh(tmp_path / "missing.ply")
+        wm.load_mesh(tmp_path / "missing.ply")
     bad = tmp_path / "bad.ply"
     bad.write_bytes(b"ply\nformat ascii 1.0\nelement vertex 1000000000000\nend_header\n")
     with pytest.raises(OSError):
-        wm.read_mesh(bad)
+        wm.load_mesh(bad)
     with pytest.raises(OSError):
-        wm.write_mesh(tmp_path / "m.stl", np.eye(3), np.array([[0, 1, 2]]))
+        wm.save_mesh(tmp_path / "m.stl", np.eye(3), np.array([[0, 1, 2]]))

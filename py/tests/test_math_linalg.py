@@ -52,7 +52,7 @@ def test_cg_bad_input():
     with pytest.raises(ValueError, match="b"):
         wm.cg(indptr, indices, data, np.full(8, np.nan))
     with pytest.warns(RuntimeWarning, match="did not converge"):
-        _, info = wm.cg(*wm.laplacian_3d(6, 6, 6), np.ones(216), tol=1e-14, maxiter=2)
+        _, info = wm.cg(*wm.laplacian_3d(6, 6, 6), np.ones(216), tol=1e-14, max_iter=2)
     assert not info["converged"]
 
 

@@ -11,22 +11,22 @@ from wscg import meshfilter as M
 
 
 def test_jbmd_matches_the_numpy_reference():
-    v, f, c = M.synthetic("cube", 12)
+    v, f, c = M.make_mesh("cube", 12)
     d = M.mvd(v, f)
     noisy = M.add_noise(v, f, 0.5 * d, seed=3)
-    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, sigma_o=0.5 * d, k=20, iterations=4)
+    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, sigma_o=0.5 * d, n_neighbors=20, n_iter=4)
     ref = reference_jbmd(noisy, f, c, 2 * d, 0.5 * d, 30.0, 0.8, 20, 4)
     np.testing.assert_allclose(ours, ref, atol=1e-9)
     # float32 and int32 inputs are accepted.
-    ours32 = M.jbmd(noisy.astype(np.float32), f.astype(np.int32), c.astype(np.uint8), k=20,
-                    iterations=1)
+    ours32 = M.jbmd(noisy.astype(np.float32), f.astype(np.int32), c.astype(np.uint8), n_neighbors=20,
+                    n_iter=1)
     assert ours32.shape == v.shape
     # Denoising works: the error drops well below the noise.
     assert M.mean_error(ours, v) < 0.6 * M.mean_error(noisy, v)
 
 
 def test_cad_part_and_its_labels():
-    v, f, c = M.synthetic("cad", 10)
+    v, f, c = M.make_mesh("cad", 10)
     patch, crease = M.cad_labels(10)
     assert len(patch) == len(crease) == len(v)
     fillet = v[patch == 5]
@@ -37,7 +37,7 @@ def test_cad_part_and_its_labels():
     # The open extrusion's boundary loops stay, JBMD equals the numpy reference there too.
     d = M.mvd(v, f)
     noisy = M.add_noise(v, f, 0.5 * d, seed=5)
-    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, sigma_o=0.5 * d, k=20, iterations=3)
+    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, sigma_o=0.5 * d, n_neighbors=20, n_iter=3)
     ref = reference_jbmd(noisy, f, c, 2 * d, 0.5 * d, 30.0, 0.8, 20, 3)
     np.testing.assert_allclose(ours, ref, atol=1e-9)
     ends = (v[:, 2] == 0.0) | (v[:, 2] == 1.0)
@@ -67,7 +67,7 @@ def _umbrella(v, rings, fixed, lam):
 def test_laplacian_family_matches_numpy():
     """Laplacian, Taubin and HC-Laplacian equal direct numpy implementations of their
     update rules (an open grid, so the frozen boundary is exercised)."""
-    v, f, _ = M.synthetic("plane", 8)
+    v, f, _ = M.make_mesh("plane", 8)
     v = M.add_noise(v, f, 0.02, isotropic=True, seed=2)
     rings, fixed = _rings(v, f), _boundary(v, f)
     ref = v.copy()
@@ -93,7 +93,7 @@ def test_laplacian_family_matches_numpy():
 def test_bilateral_matches_numpy_and_keeps_volume():
     """One BMD iteration equals a direct implementation (neighbours within 2 sigma_c on the
     connected surface, Fleishman's weights); volume preservation keeps the volume."""
-    v, f, _ = M.synthetic("sphere", 2)
+    v, f, _ = M.make_mesh("sphere", 2)
     d = M.mvd(v, f)
     noisy = M.add_noise(v, f, 0.3 * d, seed=1)
     sc, ss = 1.5 * d, 0.5 * d
@@ -125,7 +125,7 @@ def test_bilateral_matches_numpy_and_keeps_volume():
 
 
 def test_mean_error_matches_brute_force():
-    v, _, _ = M.synthetic("sphere", 3)
+    v, _, _ = M.make_mesh("sphere", 3)
     x = np.random.default_rng(0).normal(size=(300, 3))
     brute = np.linalg.norm(x[:, None, :] - v[None, :, :], axis=2).min(1).mean()
     assert M.mean_error(x, v) == pytest.approx(brute, abs=1e-12)
@@ -151,7 +151,7 @@ def _point_triangle_distance(p, a, b, c):
 
 
 def test_surface_error_matches_brute_force():
-    v, f, _ = M.synthetic("sphere", 2)
+    v, f, _ = M.make_mesh("sphere", 2)
     gt = M.add_noise(v, f, 0.05, seed=3)
     x = np.random.default_rng(1).normal(scale=0.7, size=(400, 3))
     brute = _point_triangle_distance(x, gt[f[:, 0]], gt[f[:, 1]], gt[f[:, 2]]).min(1).mean()
@@ -161,12 +161,12 @@ def test_surface_error_matches_brute_force():
 
 
 def test_bad_input():
-    v, f, c = M.synthetic("cube", 4)
+    v, f, c = M.make_mesh("cube", 4)
     bad = [
         lambda: M.jbmd(v, f, sigma_d=0.0),
         lambda: M.jbmd(v, f, lam=1.5),
-        lambda: M.jbmd(v, f, k=0),
-        lambda: M.jbmd(v, f, k=len(v)),
+        lambda: M.jbmd(v, f, n_neighbors=0),
+        lambda: M.jbmd(v, f, n_neighbors=len(v)),
         lambda: M.jbmd(v, f, c[:5]),
         lambda: M.jbmd(v, f[:, :2]),
         lambda: M.jbmd(v, f + len(v)),
@@ -174,7 +174,7 @@ def test_bad_input():
         lambda: M.jbmd(np.zeros((0, 3)), np.zeros((0, 3), int)),
         lambda: M.bilateral(v, f, -1.0, 1.0),
         lambda: M.laplacian(v, f, 0.0),
-        lambda: M.synthetic("torus"),
+        lambda: M.make_mesh("torus"),
         lambda: M.add_noise(v, f, -1.0),
         lambda: M.surface_error(np.zeros((0, 3)), v, f),
         lambda: M.surface_error(v[:, :2], v, f),

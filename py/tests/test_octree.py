@@ -44,7 +44,7 @@ def _random_rays(lo, hi, n, seed):
 
 
 def test_triangle_mode_matches_numpy_brute_force_and_the_bvh():
-    v, f, c = octree.scene("blob", 2)
+    v, f, c = octree.make_scene("blob", 2)
     tree = octree.build(v, f, c, depth=8)
     o, d = _random_rays(v.min(0), v.max(0), 4000, 1)
     hits = tree.intersect(o, d, mode="triangles")
@@ -62,7 +62,7 @@ def test_triangle_mode_matches_numpy_brute_force_and_the_bvh():
 
 
 def test_intersect_without_shading_returns_the_same_hits():
-    v, f, c = octree.scene("blob", 2)
+    v, f, c = octree.make_scene("blob", 2)
     tree = octree.build(v, f, c, depth=8)
     o, d = _random_rays(v.min(0), v.max(0), 4000, 2)
     for mode, spread in [("triangles", 0.0), ("hybrid", 0.01), ("voxels", 0.0)]:
@@ -107,12 +107,13 @@ def test_voxelize_equals_a_numpy_separating_axis_reference():
     ref = set()
     for i, t in enumerate(tris):
         hit = _sat_overlap(t, g + 0.5, 0.5 + 1e-7)
-        ref |= {(tuple(x), i) for x in g[hit].tolist()}
+        # g holds cells (x, y, z); voxelize returns them in array axis order (k, j, i).
+        ref |= {(tuple(x[::-1]), i) for x in g[hit].tolist()}
     assert ours == ref
 
 
 def test_exact_square_counts_and_occupancy():
-    v, f, _ = octree.scene("square")
+    v, f, _ = octree.make_scene("square")
     for level in range(1, 6):
         early = octree.build(v, f, depth=level, domain=((0, 0, 0), 1.0))
         assert early.n_nodes == 1
@@ -121,13 +122,16 @@ def test_exact_square_counts_and_occupancy():
         assert full.n_voxels == (4 ** (level + 1) - 1) // 3
     # Occupancy of the full tree at every level = the voxelization's cells coarsened.
     cells, _ = octree.voxelize(v, f, 5, ((0, 0, 0), 1.0))
+    # The square lies in the plane z = 1/3: every cell has the array index k = 32 / 3 // 1
+    # (the first column, array axis order), and covers the 32 x 32 cells of that slab.
+    assert np.all(cells[:, 0] == 10) and len({tuple(c) for c in cells[:, 1:].tolist()}) == 1024
     for k in range(6):
         occ = {tuple(c) for c in full.occupancy(k).tolist()}
         assert occ == {tuple(c) for c in (cells >> (5 - k)).tolist()}
 
 
 def test_memory_report_full_against_early_stop():
-    v, f, c = octree.scene("atrium", 4)
+    v, f, c = octree.make_scene("atrium", 4)
     full = octree.build(v, f, c, depth=8, early_stop=False).memory_report()
     early = octree.build(v, f, c, depth=8).memory_report()
     assert set(full) == {"nodes", "triangles", "tri_index", "voxels", "total"}
@@ -137,7 +141,7 @@ def test_memory_report_full_against_early_stop():
 
 
 def test_render_modes_and_lod():
-    v, f, c = octree.scene("blob", 6)
+    v, f, c = octree.make_scene("blob", 6)
     tree = octree.build(v, f, c, depth=9)
     (mn, side) = tree.cube
     centre = np.array(mn) + side / 2
@@ -157,7 +161,7 @@ def test_render_modes_and_lod():
                           return_stats=True)
     _, st_h = tree.render(mid_eye, centre, width=128, height=128, return_stats=True)
     assert st_f["voxel_hits"] > st_h["voxel_hits"]
-    img_ao = tree.render(near_eye, centre, mode="triangles", width=64, height=48, ao_samples=4)
+    img_ao = tree.render(near_eye, centre, mode="triangles", width=64, height=48, n_ao_samples=4)
     assert np.isfinite(img_ao).all()
     with pytest.raises(ValueError, match="focus"):
         tree.render(mid_eye, centre, width=16, height=16, focus=(8, 8, 0, 4, 2))
@@ -178,7 +182,7 @@ def test_voxel_attributes_of_a_constant_colour_plane():
 
 
 def test_save_load_pickle_and_damaged_files(tmp_path):
-    v, f, c = octree.scene("blob", 3)
+    v, f, c = octree.make_scene("blob", 3)
     tree = octree.build(v, f, c, depth=6)
     p = tmp_path / "t.oct"
     tree.save(p)
@@ -197,7 +201,7 @@ def test_save_load_pickle_and_damaged_files(tmp_path):
 
 
 def test_bad_input_raises_value_error_and_strided_arrays_work():
-    v, f, c = octree.scene("blob", 1)
+    v, f, c = octree.make_scene("blob", 1)
     with pytest.raises(ValueError):
         octree.build(v, f[:, :2])
     with pytest.raises(ValueError):

@@ -31,7 +31,7 @@ def test_pair_shares_the_microstructure_and_is_deterministic():
 
 def test_white_plate_is_srgb_white_under_d65():
     from wscg.raytrace import daylight
-    img = rt.render_plate("cyclopean", out="srgb", coat_ior=1.0, binder_ior=1.0, base_albedo=1.0,
+    img = rt.render_plate("cyclopean", color_space="srgb", coat_ior=1.0, binder_ior=1.0, base_albedo=1.0,
                           density=0.0, light_cct=6504.0, light_elevation_deg=60.0,
                           light_deg=2.0, **SMALL)
     # CIE D65 is the daylight spectrum at 6504 K: the white plate is sRGB white.
@@ -53,7 +53,7 @@ def test_glint_stats_against_skimage_labels(rng):
 def test_tile_statistics():
     counts = []
     for seed in range(40):
-        tile, clamped = rt.generate_tile(radius_um=20.0, density=3.0, seed=seed)
+        tile, clamped = rt.make_tile(radius_um=20.0, density=3.0, seed=seed)
         counts.append(len(tile))
         assert clamped == 0
         assert np.allclose(tile["nx"] ** 2 + tile["ny"] ** 2 + tile["nz"] ** 2, 1.0)
@@ -91,7 +91,7 @@ def test_stereo_parallax():
 def test_rgb_baseline_matches_spectral_for_a_grey_metal():
     kw = dict(light_deg=3.0, light_elevation_deg=75.0, metal_nk=(1.2, 7.0), **SMALL)
     a = rt.render_plate("cyclopean", **kw)
-    b = rt.render_plate("cyclopean", colour="rgb", **kw)
+    b = rt.render_plate("cyclopean", color_mode="rgb", **kw)
     np.testing.assert_allclose(a.mean(axis=(0, 1)), b.mean(axis=(0, 1)), rtol=1e-5)
 
 
@@ -104,21 +104,21 @@ def test_bad_paint_input():
     with pytest.raises(ValueError):
         rt.render_plate("nose")
     with pytest.raises(ValueError):
-        rt.generate_tile(thickness_um=30.0)
+        rt.make_tile(thickness_um=30.0)
 
 
 def test_caustics_on_a_diffuse_base():
     # A sparse paint over a white-ish base: the photon map adds the light the flakes send
     # down (via the top surface); without photons only the direct light reaches the base.
     kw = dict(SMALL, density=0.7, base_albedo=0.5)
-    with_c = rt.render_plate("cyclopean", photons=200_000, **kw)
-    without = rt.render_plate("cyclopean", photons=0, **kw)
+    with_c = rt.render_plate("cyclopean", n_photons=200_000, **kw)
+    without = rt.render_plate("cyclopean", n_photons=0, **kw)
     assert with_c[..., 1].mean() > 1.005 * without[..., 1].mean()
     black = dict(SMALL, density=0.7)
-    np.testing.assert_array_equal(rt.render_plate("cyclopean", photons=200_000, **black),
-                                  rt.render_plate("cyclopean", photons=0, **black))
+    np.testing.assert_array_equal(rt.render_plate("cyclopean", n_photons=200_000, **black),
+                                  rt.render_plate("cyclopean", n_photons=0, **black))
     with pytest.raises(ValueError):
-        rt.render_plate("cyclopean", photons=100, photon_k=0, **kw)
+        rt.render_plate("cyclopean", n_photons=100, n_photon_neighbors=0, **kw)
 
 
 def test_ccd_is_the_papers_design():
@@ -194,7 +194,7 @@ def test_plate_layout_places_the_pool_on_the_cells():
 
 def test_workshop_scores_the_reference_above_a_far_plate():
     res = rt.workshop(reference=(26.0, 7.3), runs=[(26.0, 7.3), (45.0, 3.5)], condition="mono",
-                      reference_renders=2, spp=4)
+                      n_reference_renders=2, spp=4)
     assert res["runs"] == [(26.0, 7.3), (45.0, 3.5)]
     assert len(res["features"]) == 2 and len(res["feature_names"]) == 5
     near, far = res["scores"]

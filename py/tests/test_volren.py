@@ -9,10 +9,11 @@ from wscg import volren as V
 
 
 def test_addressing_example():
-    # Check 1: the paper's example.
-    assert V.octree_address((171, 312, 237), 512) == ((10, 19, 14), [7, 1, 4, 5])
+    # Check 1: the paper's example, voxel (x, y, z) = (171, 312, 237) given by its index
+    # (k, j, i) in array axis order; the cell comes back in the same order.
+    assert V.octree_address((237, 312, 171), 512) == ((14, 19, 10), [7, 1, 4, 5])
     with pytest.raises(ValueError):
-        V.octree_address((600, 0, 0), 512)
+        V.octree_address((0, 0, 600), 512)
 
 
 def test_sphere_edge_voxels_match_scipy():
@@ -36,7 +37,7 @@ def test_sphere_edge_voxels_match_scipy():
 
 
 def test_server_client_round_trip_and_rendering():
-    vol = V.phantom("head", (48, 96, 96), seed=1)
+    vol = V.make_phantom("head", (48, 96, 96), seed=1)
     assert vol.shape == (48, 96, 96) and vol.dtype == np.uint8
     tfs = V.phantom_tfs("head")
     s = V.HybridServer(vol, tfs)
@@ -47,24 +48,25 @@ def test_server_client_round_trip_and_rendering():
     context = c.render(**cam, size=(40, 48), mode="context")
     assert context.shape == (40, 48, 4) and context.dtype == np.float32
     np.testing.assert_array_equal(c.render(**cam, size=(40, 48)), context)
-    c.set_roi(s.roi_package((20, 50, 30, 60, 5, 30)))
-    assert c.roi == (16, 64, 16, 64, 0, 32)
+    # (z0, z1, y0, y1, x0, x1), snapped outward to multiples of 16.
+    c.set_roi(s.roi_package((5, 30, 30, 60, 20, 50)))
+    assert c.roi == (0, 32, 16, 64, 16, 64)
     hybrid = c.render(**cam, size=(40, 48))
     assert np.abs(hybrid - context).max() > 0.01
     ref = V.render_reference(vol, tfs[0], **cam, size=(40, 48), roi=c.roi, roi_tf=tfs[1])
     assert ref.shape == (40, 48, 4)
     # ROI = whole volume: the hybrid image is the Gradient Octree image.
-    c.set_roi(s.roi_package((0, 96, 0, 96, 0, 48)))
+    c.set_roi(s.roi_package((0, 48, 0, 96, 0, 96)))
     np.testing.assert_array_equal(c.render(**cam, size=(24, 24)),
                                   c.render(**cam, size=(24, 24), mode="octree"))
-    r = s.size_report((16, 64, 16, 64, 0, 32), thin_client_view=cam, viewport=(64, 64))
+    r = s.size_report((0, 32, 16, 64, 16, 64), thin_client_view=cam, viewport=(64, 64))
     assert r["hybrid"] == r["hybrid_static"] + r["hybrid_roi"]
     assert r["hybrid"] < r["gradient_octree"] < r["raw"] == vol.size
     assert r["thin_client_frame"] > 0
 
 
 def test_bad_input():
-    vol = V.phantom("head", (32, 32, 32), seed=2)
+    vol = V.make_phantom("head", (32, 32, 32), seed=2)
     tfs = V.phantom_tfs("head")
     s = V.HybridServer(vol, tfs)
     pkg = s.static_package()
@@ -91,7 +93,7 @@ def test_bad_input():
         lambda: c.render((0, 0, 0), (0, 0, 0)),
         lambda: c.render((100, 0, 0), (0, 0, 0), size=(0, 10)),
         lambda: c.render((100, 0, 0), (0, 0, 0), mode="mip"),
-        lambda: V.phantom("knee"),
+        lambda: V.make_phantom("knee"),
     ]
     for fn in bad:
         with pytest.raises(ValueError):

@@ -128,7 +128,7 @@ def test_slab_light_buffer():
     ds = 0.5
     for depth in (0.0, 7.3, 20.1):
         buf, z = V.light_buffer(SLAB, tf, depth, method="ics", slice_distance=ds,
-                                **{**SLAB_CAM, "size": (80, 72)})
+                                **{**SLAB_CAM, "size": (72, 80)})
         assert buf.shape == (72, 80) and buf.dtype == np.float32
         k = max(round(depth / ds - 0.5), 0)
         assert z == pytest.approx((k + 0.5) * ds)
@@ -138,7 +138,7 @@ def test_slab_light_buffer():
     # The outside of the box is the value 0 throughout the volume's depth range: classified
     # by an opaque tf[0], it casts shadows too.
     fog, _ = V.light_buffer(SLAB, _constant_tf((1, 1, 1), 0.05), 20.1, method="ics",
-                            slice_distance=ds, **{**SLAB_CAM, "size": (80, 72)})
+                            slice_distance=ds, **{**SLAB_CAM, "size": (72, 80)})
     assert fog[36, 2] == pytest.approx(0.95 ** (ds * 40), abs=1e-5)
 
 
@@ -147,7 +147,7 @@ def test_slab_light_buffer():
 
 
 def test_delta_kernel_equals_shadow_rays():
-    vol, tf = V.marschner_lobb(41), V.marschner_lobb_tf()
+    vol, tf = V.make_marschner_lobb(41), V.marschner_lobb_tf()
     assert vol.shape == (41, 41, 41) and vol.dtype == np.float32 and tf.shape == (256, 4)
     cam = dict(view_dir=(0.3, -0.5, 1.0), up=(0, 1, 0), size=(64, 64), kernel="delta",
                value_range=(0, 1))
@@ -167,7 +167,7 @@ def test_delta_kernel_equals_shadow_rays():
 def test_marschner_lobb_values():
     """The analytic function on the axis r = 0 (rho = 1): (1 - sin(pi z / 2) + 0.5) / 2.5,
     that is 1, 0.6 and 0.2 at z = -1, 0, 1."""
-    v = V.marschner_lobb(41)
+    v = V.make_marschner_lobb(41)
     assert v[0, 20, 20] == pytest.approx(1.0, abs=1e-6)   # z = -1, r = 0
     assert v[20, 20, 20] == pytest.approx(0.6, abs=1e-6)  # z = 0, r = 0
     assert v[40, 20, 20] == pytest.approx(0.2, abs=1e-6)  # z = 1, r = 0
@@ -211,27 +211,28 @@ def test_preintegration_table():
 @pytest.fixture(scope="module")
 def frog():
     """The frog tissue labels ``[z, y, x]`` and spacing, read once."""
-    return V.read_vti(_pyvista_example("frog_tissues.vti"))
+    return V.load_vti(_pyvista_example("frog_tissues.vti"))
 
 
-def test_read_vti_frog_matches_independent_decoder(frog):
+def test_load_vti_frog_matches_independent_decoder(frog):
     path = _pyvista_example("frog_tissues.vti")
     labels, spacing = frog
     assert labels.shape == (136, 470, 500) and labels.dtype == np.uint8
-    assert spacing == (1.0, 1.0, 1.5)
+    # (dz, dy, dx): the file's Spacing="1 1 1.5" lists x first.
+    assert spacing == (1.5, 1.0, 1.0)
     assert labels.min() == 0 and labels.max() == 29
     ref, ref_spacing = _decode_vti(path)
-    assert ref_spacing == spacing
+    assert ref_spacing[::-1] == spacing
     np.testing.assert_array_equal(labels, ref)
     assert set(np.unique(labels)) <= set(range(30))
     # str paths work too.
-    np.testing.assert_array_equal(V.read_vti(str(path))[0][::17, ::13, ::11],
+    np.testing.assert_array_equal(V.load_vti(str(path))[0][::17, ::13, ::11],
                                   labels[::17, ::13, ::11])
 
 
-def test_read_vti_appended_int64_cells():
+def test_load_vti_appended_int64_cells():
     path = _pyvista_example("channels.vti")
-    facies, spacing = V.read_vti(path)
+    facies, spacing = V.load_vti(path)
     ref, ref_spacing = _decode_vti(path)
     assert facies.dtype == np.int64 and facies.shape == ref.shape == (100, 250, 250)
     assert spacing == ref_spacing == (1.0, 1.0, 1.0)
@@ -239,7 +240,7 @@ def test_read_vti_appended_int64_cells():
     assert facies.min() == 0 and facies.max() == 4
 
 
-def test_read_vti_bad_files(tmp_path):
+def test_load_vti_bad_files(tmp_path):
     raw = _pyvista_example("frog_tissues.vti").read_bytes()
     appended = _pyvista_example("channels.vti").read_bytes()
     cut_points = [len(raw) // 2, len(raw) - 100, 700, 400, 300, 50]
@@ -247,12 +248,12 @@ def test_read_vti_bad_files(tmp_path):
         p = tmp_path / f"frog_cut{i}.vti"
         p.write_bytes(raw[:cut])
         with pytest.raises(ValueError):
-            V.read_vti(p)
+            V.load_vti(p)
     for i, cut in enumerate([len(appended) // 2, len(appended) - 50, 1000]):
         p = tmp_path / f"channels_cut{i}.vti"
         p.write_bytes(appended[:cut])
         with pytest.raises(ValueError):
-            V.read_vti(p)
+            V.load_vti(p)
     # A corrupted compressed block and a header announcing more blocks than there are.
     start = raw.index(b'format="binary"')
     start = raw.index(b">", start) + 1
@@ -262,12 +263,12 @@ def test_read_vti_bad_files(tmp_path):
     corrupt[offset + 20000: offset + 20008] = b"AAAAAAAA"
     (tmp_path / "corrupt.vti").write_bytes(bytes(corrupt))
     with pytest.raises(ValueError):
-        V.read_vti(tmp_path / "corrupt.vti")
+        V.load_vti(tmp_path / "corrupt.vti")
     lying = bytearray(raw)
     lying[offset: offset + 8] = base64.b64encode(struct.pack("<I", 5000) + b"\0\0")
     (tmp_path / "lying.vti").write_bytes(bytes(lying))
     with pytest.raises(ValueError):
-        V.read_vti(tmp_path / "lying.vti")
+        V.load_vti(tmp_path / "lying.vti")
     # Headers the parser indexes past (a padded first quantum; a UInt64 block count that
     # overflows): still a ValueError, not a Rust panic surfacing as PanicException.
     tiny = ('<?xml version="1.0"?>\n<VTKFile type="ImageData" version="0.1" '
@@ -279,16 +280,16 @@ def test_read_vti_bad_files(tmp_path):
                     ("UInt64", base64.b64encode(struct.pack("<QQQ", 2**64 - 1, 8, 8)).decode())]:
         (tmp_path / "hostile.vti").write_text(tiny.format(h=h, body=body))
         with pytest.raises(ValueError):
-            V.read_vti(tmp_path / "hostile.vti")
+            V.load_vti(tmp_path / "hostile.vti")
     (tmp_path / "text.vti").write_text("not xml at all")
     with pytest.raises(ValueError):
-        V.read_vti(tmp_path / "text.vti")
+        V.load_vti(tmp_path / "text.vti")
     with pytest.raises(OSError):
-        V.read_vti(tmp_path / "missing.vti")
+        V.load_vti(tmp_path / "missing.vti")
     with pytest.raises(OSError):
-        V.read_vti(tmp_path)  # a directory
+        V.load_vti(tmp_path)  # a directory
     with pytest.raises(ValueError):
-        V.read_vti(12)
+        V.load_vti(12)
 
 
 # --------------------------------------------------------------------------------------------
@@ -297,7 +298,7 @@ def test_read_vti_bad_files(tmp_path):
 
 def test_table1_shape_on_frog(frog):
     labels, _ = frog
-    dens = V.labels_to_density(labels[::2, ::2, ::2], spacing=(1, 1, 1.5), sigma=1.0)
+    dens = V.labels_to_density(labels[::2, ::2, ::2], spacing=(1.5, 1, 1), sigma=1.0)
     assert dens.shape == (68, 235, 250) and dens.dtype == np.float32
     assert dens.min() >= 0 and dens.max() <= 1
     # The steep skin transfer function (the paper's sharp-TF scenes): the body surface
@@ -307,8 +308,8 @@ def test_table1_shape_on_frog(frog):
              dict(view_dir=(-0.7, 1, -0.4), up=(0, 0, 1))]
 
     def images(method, ds, m):
-        return [V.render(dens, tf, spacing=(1, 1, 1.5), size=(128, 128), method=method,
-                         slice_distance=ds, subsamples=m, value_range=(0, 1), **v)
+        return [V.render(dens, tf, spacing=(1.5, 1, 1), size=(128, 128), method=method,
+                         slice_distance=ds, n_subsamples=m, value_range=(0, 1), **v)
                 for v in views]
 
     ref = images("ics", 0.2, 0)
@@ -332,12 +333,12 @@ def test_table1_shape_on_frog(frog):
 
 def test_study_matches_independent_renders():
     # A 32-entry transfer function keeps the pre-integration tables (N x N) small.
-    vol, tf = V.marschner_lobb(21), V.marschner_lobb_tf()[::8]
-    kw = dict(views=2, size=24, azimuth=10.0, elevation=25.0, distances=(0.5, 1.0),
+    vol, tf = V.make_marschner_lobb(21), V.marschner_lobb_tf()[::8]
+    kw = dict(n_views=2, size=24, azimuth=10.0, elevation=25.0, distances=(0.5, 1.0),
               max_subsamples=1, reference=0.25, fine=0.125, value_range=(0, 1))
     st = V.study(vol, tf, **kw)
     assert set(st) == {"reference_seconds", "fine_energy", "entries"}
-    got = [(e["method"], e["slice_distance"], e["subsamples"]) for e in st["entries"]]
+    got = [(e["method"], e["slice_distance"], e["n_subsamples"]) for e in st["entries"]]
     assert got == [("ics", 0.5, 0), ("scs", 0.5, 1), ("pi-ics", 0.5, 0), ("pi-scs", 0.5, 1),
                    ("ics", 1.0, 0), ("scs", 1.0, 1), ("pi-ics", 1.0, 0), ("pi-scs", 1.0, 1)]
     # The orbit cameras, the reference and the scores, rebuilt from render().
@@ -349,7 +350,7 @@ def test_study_matches_independent_renders():
     assert st["fine_energy"] == pytest.approx(fine_energy, rel=1e-4)
     for e in st["entries"]:
         imgs = [V.render(vol, tf, method=e["method"], slice_distance=e["slice_distance"],
-                         subsamples=e["subsamples"], **c) for c in cams]
+                         n_subsamples=e["n_subsamples"], **c) for c in cams]
         assert e["mad"] == pytest.approx(np.mean([V.mean_abs_diff(a, r)
                                                   for a, r in zip(imgs, ref)]), rel=1e-4)
         assert e["energy"] == pytest.approx(np.mean([_laplacian_energy(a, r)
@@ -371,7 +372,7 @@ def test_dtype_normalisation_paths_agree():
     u8 = rng.integers(0, 256, (12, 14, 16), dtype=np.uint8)
     u8[0, 0, 0], u8[-1, -1, -1] = 0, 255
     tf = np.column_stack([np.linspace(0, 1, 64)] * 3 + [np.linspace(0, 0.4, 64)])
-    kw = dict(view_dir=(0.2, 0.3, 1), size=(20, 18), method="scs", subsamples=1,
+    kw = dict(view_dir=(0.2, 0.3, 1), size=(18, 20), method="scs", n_subsamples=1,
               slice_distance=0.7)
     base = V.render(u8, tf, **kw)
     assert base.shape == (18, 20, 4)
@@ -395,12 +396,12 @@ def test_dtype_normalisation_paths_agree():
 
 
 def test_deterministic_and_inputs_untouched():
-    vol = V.marschner_lobb(25)
+    vol = V.make_marschner_lobb(25)
     tf = V.marschner_lobb_tf()
     vol_copy, tf_copy = vol.copy(), tf.copy()
     for method, m in (("scs", 2), ("pi-scs", 1), ("phong", 0), ("ics", 0)):
         kw = dict(view_dir=(0.4, -0.7, 1.0), size=(40, 32), method=method,
-                  slice_distance=0.8, subsamples=m, light_dir=(0.3, 0.2, 1.0), ambient=0.1,
+                  slice_distance=0.8, n_subsamples=m, light_dir=(0.3, 0.2, 1.0), ambient=0.1,
                   background=(0.2, 0.3, 0.4))
         a = V.render(vol, tf, **kw)
         b = V.render(vol, tf, **kw)
@@ -410,32 +411,32 @@ def test_deterministic_and_inputs_untouched():
             assert a.max() <= 1 + 1e-6
     np.testing.assert_array_equal(vol, vol_copy)
     np.testing.assert_array_equal(tf, tf_copy)
-    labels = (V.marschner_lobb(16) * 5).astype(np.uint8)
+    labels = (V.make_marschner_lobb(16) * 5).astype(np.uint8)
     labels_copy = labels.copy()
     V.labels_to_density(labels)
     np.testing.assert_array_equal(labels, labels_copy)
 
 
 def test_prepared_volume_renders_like_the_array():
-    vol, tf = V.marschner_lobb(25), V.marschner_lobb_tf()
+    vol, tf = V.make_marschner_lobb(25), V.marschner_lobb_tf()
     vol_copy = vol.copy()
-    pv = V.PreparedVolume(vol, spacing=(1.0, 1.0, 1.5))
-    assert pv.shape == vol.shape and pv.spacing == (1.0, 1.0, 1.5)
+    pv = V.PreparedVolume(vol, spacing=(1.5, 1.0, 1.0))
+    assert pv.shape == vol.shape and pv.spacing == (1.5, 1.0, 1.0)
     assert "PreparedVolume" in repr(pv)
     for method, m in (("phong", 0), ("raycast", 0), ("ics", 0), ("pi-scs", 1)):
         kw = dict(view_dir=(0.4, -0.7, 1.0), size=(40, 32), method=method,
-                  slice_distance=0.8, subsamples=m, light_dir=(0.3, 0.2, 1.0))
-        want = V.render(vol, tf, spacing=(1.0, 1.0, 1.5), **kw)
+                  slice_distance=0.8, n_subsamples=m, light_dir=(0.3, 0.2, 1.0))
+        want = V.render(vol, tf, spacing=(1.5, 1.0, 1.0), **kw)
         for _ in range(2):  # the second render reuses the cells and bricks
             np.testing.assert_array_equal(V.render(pv, tf, **kw), want)
     buf, z = V.light_buffer(pv, tf, 5.0, size=(20, 20), method="ics", slice_distance=0.5)
-    buf2, z2 = V.light_buffer(vol, tf, 5.0, spacing=(1.0, 1.0, 1.5), size=(20, 20),
+    buf2, z2 = V.light_buffer(vol, tf, 5.0, spacing=(1.5, 1.0, 1.0), size=(20, 20),
                               method="ics", slice_distance=0.5)
     np.testing.assert_array_equal(buf, buf2)
     assert z == z2
-    kw = dict(views=1, size=24, distances=(0.8,), max_subsamples=1)
+    kw = dict(n_views=1, size=24, distances=(0.8,), max_subsamples=1)
     a = V.study(pv, tf, **kw)["entries"]
-    b = V.study(vol, tf, spacing=(1.0, 1.0, 1.5), **kw)["entries"]
+    b = V.study(vol, tf, spacing=(1.5, 1.0, 1.0), **kw)["entries"]
     assert [e["mad"] for e in a] == [e["mad"] for e in b]
     np.testing.assert_array_equal(vol, vol_copy)
     with pytest.raises(ValueError, match="PreparedVolume"):
@@ -451,7 +452,7 @@ def test_prepared_volume_renders_like_the_array():
 
 
 def test_methods_kernels_and_transparent_volume():
-    vol, tf = V.marschner_lobb(21), V.marschner_lobb_tf()
+    vol, tf = V.make_marschner_lobb(21), V.marschner_lobb_tf()
     kw = dict(view_dir=(0.4, -0.7, 1.0), size=(24, 24), slice_distance=0.5,
               value_range=(0, 1))
     imgs = {k: V.render(vol, tf, method="ics", kernel=k, tan_half=6.0, **kw)
@@ -510,12 +511,12 @@ def test_bad_input_raises_value_error():
         (lambda: r(vol, tf, slice_distance=-1), "slice_distance"),
         (lambda: r(vol, tf, slice_distance=np.nan), "slice_distance"),
         (lambda: r(vol, tf, method="raycast", slice_distance=0), "slice_distance"),
-        (lambda: r(vol, tf, subsamples=65), "subsamples"),
-        (lambda: r(vol, tf, subsamples=-1), "subsamples"),
-        (lambda: r(vol, tf, subsamples=1.5), "subsamples"),
-        (lambda: r(vol, tf, method="ics", subsamples=2), "scs"),
-        (lambda: r(vol, tf, method="pi-ics", subsamples=2), "pi-scs"),
-        (lambda: r(vol, tf, method="raycast", subsamples=2), "subsamples"),
+        (lambda: r(vol, tf, n_subsamples=65), "n_subsamples"),
+        (lambda: r(vol, tf, n_subsamples=-1), "n_subsamples"),
+        (lambda: r(vol, tf, n_subsamples=1.5), "n_subsamples"),
+        (lambda: r(vol, tf, method="ics", n_subsamples=2), "scs"),
+        (lambda: r(vol, tf, method="pi-ics", n_subsamples=2), "pi-scs"),
+        (lambda: r(vol, tf, method="raycast", n_subsamples=2), "n_subsamples"),
         (lambda: r(vol, tf, size=(0, 10)), "size"),
         (lambda: r(vol, tf, size=(10, -1)), "size"),
         (lambda: r(vol, tf, size=(1 << 14, 1 << 14)), "size"),
@@ -524,7 +525,9 @@ def test_bad_input_raises_value_error():
         # Renders that would not finish or would exhaust memory.
         (lambda: r(vol, tf, slice_distance=1e-7), "slice_distance"),
         (lambda: r(vol, tf, method="shadow-rays", slice_distance=1e-7), "slice_distance"),
-        (lambda: r(vol, tf, spacing=(1e-300, 1, 1)), "slices"),
+        # Lengths are in the units of the spacing: an extreme spacing makes them unusable.
+        (lambda: r(vol, tf, spacing=(1e-300, 1, 1)), "spread"),
+        (lambda: r(vol, tf, spacing=(1e-300, 1, 1), kernel="delta"), "slice_distance"),
         (lambda: r(vol, tf, spread=1e30), "spread"),
         (lambda: r(vol, tf, kernel="disk", tan_half=1e9), "tan_half"),
         (lambda: V.study(vol, tf, spread=1e30), "spread"),
@@ -550,8 +553,8 @@ def test_bad_input_raises_value_error():
         (lambda: V.preintegration_table(tf, 0), "ds"),
         (lambda: V.preintegration_table(tf, np.nan), "ds"),
         (lambda: V.preintegration_table(tf[:, :2], 1), "tf"),
-        (lambda: V.marschner_lobb(1), "n"),
-        (lambda: V.marschner_lobb(100000), "n"),
+        (lambda: V.make_marschner_lobb(1), "n"),
+        (lambda: V.make_marschner_lobb(100000), "n"),
         (lambda: V.labels_to_density(vol.astype(np.float32)), "labels"),
         (lambda: V.labels_to_density(vol.astype(np.int16) - 1), "labels"),
         (lambda: V.labels_to_density(vol[0]), "labels"),
@@ -561,7 +564,7 @@ def test_bad_input_raises_value_error():
         (lambda: V.mean_abs_diff(img[..., :2], img[..., :2]), "C >= 3"),
         (lambda: V.mean_abs_diff(img[..., 0], img[..., 0]), "a"),
         (lambda: V.mean_abs_diff(img * np.nan, img), "a"),
-        (lambda: V.study(vol, tf, views=0), "views"),
+        (lambda: V.study(vol, tf, n_views=0), "n_views"),
         (lambda: V.study(vol, tf, size=0), "size"),
         (lambda: V.study(vol, tf, distances=()), "distances"),
         (lambda: V.study(vol, tf, distances=(0.5, 0)), "distances"),
@@ -587,11 +590,11 @@ def test_native_functions_validate_directly():
         N.illum_render(np.zeros((4, 4, 4)), tf, [1, 1, 1], None, {})
     with pytest.raises(ValueError, match="unknown option"):
         N.illum_render(vol, tf, [1, 1, 1], None, {"slice_distanse": 1.0})
-    with pytest.raises(ValueError, match="subsamples"):
-        N.illum_render(vol, tf, [1, 1, 1], None, {"subsamples": -3})
+    with pytest.raises(ValueError, match="n_subsamples"):
+        N.illum_render(vol, tf, [1, 1, 1], None, {"n_subsamples": -3})
     with pytest.raises(ValueError, match="size"):
         N.illum_render(vol, tf, [1, 1, 1], None, {"size": (-4, 4)})
     with pytest.raises(ValueError, match="`tf`"):
         N.illum_render(vol, np.zeros((3, 3), np.float32), [1, 1, 1], None, {})
     img = N.illum_render(vol, tf, [1, 1, 1], None, {"size": (8, 6), "method": "ics"})
-    assert img.shape == (6, 8, 4) and img.dtype == np.float32
+    assert img.shape == (8, 6, 4) and img.dtype == np.float32  # size is (height, width)

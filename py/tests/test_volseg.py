@@ -22,7 +22,7 @@ from wscg._native import volseg as _native
 # ----------------------------------------------------------------------------------------
 
 def _phantom(shape=(48, 48, 48), k=4, seed=0):
-    return volseg.fractured_shell_phantom(shape, n_fragments=k, seed=seed)
+    return volseg.make_fractured_shell_phantom(shape, n_fragments=k, seed=seed)
 
 
 def _skimage_agreement(shape, k, tol, precision, spacing=(1.0, 1.0, 1.0), prob=False):
@@ -121,7 +121,7 @@ def test_matches_skimage_probabilities_at_tight_tolerance():
 # ----------------------------------------------------------------------------------------
 
 def test_random_walks_beat_nearest_seed_on_the_phantom():
-    ct, truth, seeds = volseg.fractured_shell_phantom()  # 128^3, K = 6, seed 0
+    ct, truth, seeds = volseg.make_fractured_shell_phantom()  # 128^3, K = 6, seed 0
     assert ct.shape == truth.shape == seeds.shape == (128, 128, 128)
     assert ct.dtype == np.float32 and truth.dtype == seeds.dtype == np.uint16
     labels, report = volseg.random_walker_bone(ct, seeds, return_report=True)
@@ -141,13 +141,13 @@ def test_random_walks_beat_nearest_seed_on_the_phantom():
 
 
 def test_phantom_is_deterministic_and_configurable():
-    a = volseg.fractured_shell_phantom((32, 32, 32), 3, seed=5)
-    b = volseg.fractured_shell_phantom((32, 32, 32), 3, seed=5)
+    a = volseg.make_fractured_shell_phantom((32, 32, 32), 3, seed=5)
+    b = volseg.make_fractured_shell_phantom((32, 32, 32), 3, seed=5)
     for x, y in zip(a, b):
         np.testing.assert_array_equal(x, y)
-    c = volseg.fractured_shell_phantom((32, 32, 32), 3, seed=6)
+    c = volseg.make_fractured_shell_phantom((32, 32, 32), 3, seed=6)
     assert not np.array_equal(a[0], c[0])
-    ct, truth, seeds, dist = volseg.fractured_shell_phantom(
+    ct, truth, seeds, dist = volseg.make_fractured_shell_phantom(
         (16, 24, 32), 3, noise_hu=0.0, blur_sigma=0.0, return_distance=True)
     assert ct.shape == truth.shape == dist.shape == (16, 24, 32)
     assert set(np.unique(ct)) <= {-1000.0, 40.0, 450.0, 1200.0}
@@ -155,7 +155,7 @@ def test_phantom_is_deterministic_and_configurable():
     assert seeds.max() == 3 and np.all(truth[seeds > 0] == seeds[seeds > 0])
     assert dist.dtype == np.float32 and np.all(dist >= 0)
     # Surface strokes: every seed voxel has a non-bone 6-neighbour (or the border).
-    ct, truth, seeds = volseg.fractured_shell_phantom((48, 48, 48), 4, surface_strokes=True)
+    ct, truth, seeds = volseg.make_fractured_shell_phantom((48, 48, 48), 4, surface_strokes=True)
     bone = np.pad(ct >= 300.0, 1)
     inner = np.ones_like(bone)
     for ax in range(3):
@@ -175,7 +175,7 @@ def test_dice_and_bone_mask():
     assert volseg.dice(a, [[0, 1, 2, 2]]) == pytest.approx(2 * 2 / 6)
     ct, _, _ = _phantom((32, 32, 32), 3)
     np.testing.assert_array_equal(volseg.bone_mask(ct), ct >= 300)
-    assert volseg.bone_mask(ct, smooth_passes=1).sum() > 0
+    assert volseg.bone_mask(ct, n_smooth_passes=1).sum() > 0
 
 
 # ----------------------------------------------------------------------------------------
@@ -312,7 +312,7 @@ def test_probabilities_shape_and_range():
 def test_solver_variants_agree():
     ct, _, seeds = _phantom((32, 32, 32), 3)
     base = volseg.random_walker_bone(ct, seeds, tol=1e-6, precision="f64")
-    for opts in [dict(solver="per_label"), dict(precision="f32"), dict(threads=1),
+    for opts in [dict(solver="per_label"), dict(precision="f32"), dict(n_threads=1),
                  dict(jacobi=False, max_iter=20_000)]:
         other = volseg.random_walker_bone(ct, seeds, tol=1e-6, **{"precision": "f64", **opts})
         assert np.mean(other == base) > 0.999, opts
@@ -324,7 +324,7 @@ def test_smoothing_and_normalisation_options():
     assert sm.shape == ct.shape and sm.dtype == np.float32
     assert sm.std() < ct.std()
     np.testing.assert_array_equal(volseg.smooth(ct, 0), ct)
-    for kw in [dict(smooth_passes=1), dict(norm="minmax", beta=3000.0 * (4095 / 1500) ** 2),
+    for kw in [dict(n_smooth_passes=1), dict(norm="minmax", beta=3000.0 * (4095 / 1500) ** 2),
                dict(norm=("window", -1024, 3071)), dict(spacing=(2.0, 1.0, 1.0))]:
         labels = volseg.random_walker_bone(ct, seeds, **kw)
         assert volseg.dice(labels, truth) > 0.5, kw
@@ -402,9 +402,9 @@ def test_bad_input_raises_value_error():
         (lambda: rw(ct, seeds, norm=("window", 10, 0)), "norm"),
         (lambda: rw(ct, seeds, solver="amg"), "solver"),
         (lambda: rw(ct, seeds, precision="f16"), "precision"),
-        (lambda: rw(ct, seeds, threads=0), "threads"),
-        (lambda: rw(ct, seeds, smooth_passes=-1), "smooth_passes"),
-        (lambda: rw(ct, seeds, smooth_passes=1000), "smooth_passes"),
+        (lambda: rw(ct, seeds, n_threads=0), "n_threads"),
+        (lambda: rw(ct, seeds, n_smooth_passes=-1), "n_smooth_passes"),
+        (lambda: rw(ct, seeds, n_smooth_passes=1000), "n_smooth_passes"),
         (lambda: rw(np.zeros((0, 4, 4)), np.zeros((0, 4, 4))), "empty"),
         (lambda: volseg.nearest_seed(ct, np.zeros_like(seeds)), "no seed"),
         (lambda: volseg.dice(seeds, seeds[0]), "shape mismatch"),
@@ -416,22 +416,24 @@ def test_bad_input_raises_value_error():
         (lambda: volseg.RandomWalkerSession(ct).add_seeds([[0, 0]], 1), "(N, 3)"),
         (lambda: volseg.RandomWalkerSession(ct).add_seeds([[0, 0, 0]], 0), "label"),
         (lambda: volseg.RandomWalkerSession(ct).add_seeds([[0.5, 0, 0]], 1), "integer"),
-        (lambda: volseg.fractured_shell_phantom((8, 32, 32)), "shape"),
-        (lambda: volseg.fractured_shell_phantom((32, 32, 32), 1), "n_fragments"),
-        (lambda: volseg.fractured_shell_phantom((32, 32, 32), 100), "n_fragments"),
-        (lambda: volseg.fractured_shell_phantom((4096, 4096, 4096)), "voxels"),
-        (lambda: volseg.fractured_shell_phantom((32, 32, 32), shell=(0.7, 0.6)), "shell"),
-        (lambda: volseg.fractured_shell_phantom((32, 32, 32), blur_sigma=1e9), "blur_sigma"),
-        (lambda: volseg.fractured_shell_phantom((32, 32, 32), noise_hu=float("nan")),
+        (lambda: volseg.make_fractured_shell_phantom((8, 32, 32)), "shape"),
+        (lambda: volseg.make_fractured_shell_phantom((32, 32, 32), 1), "n_fragments"),
+        (lambda: volseg.make_fractured_shell_phantom((32, 32, 32), 100), "n_fragments"),
+        (lambda: volseg.make_fractured_shell_phantom((4096, 4096, 4096)), "voxels"),
+        (lambda: volseg.make_fractured_shell_phantom((32, 32, 32), shell=(0.7, 0.6)), "shell"),
+        (lambda: volseg.make_fractured_shell_phantom((32, 32, 32), blur_sigma=1e9), "blur_sigma"),
+        (lambda: volseg.make_fractured_shell_phantom((32, 32, 32), noise_hu=float("nan")),
          "noise_hu"),
-        (lambda: volseg.fractured_shell_phantom((32, 32, 32), colour=1), "unknown"),
-        (lambda: volseg.fractured_shell_phantom((32, 32, 32), stroke_margin=1e6), "fragment"),
+        (lambda: volseg.make_fractured_shell_phantom((32, 32, 32), stroke_margin=1e6), "fragment"),
         (lambda: volseg.smooth(ct, 1, spacing=(0, 1, 1)), "spacing"),
         (lambda: volseg.remove_small_components(seeds, -1), "min_voxels"),
     ]
     for i, (f, match) in enumerate(cases):
         with pytest.raises(ValueError, match=match):
             f()
+    # The phantom's options are explicit keyword arguments: an unknown one is a TypeError.
+    with pytest.raises(TypeError, match="colour"):
+        volseg.make_fractured_shell_phantom((32, 32, 32), colour=1)
 
 
 def test_native_functions_refuse_bad_arguments():
@@ -447,8 +449,10 @@ def test_native_functions_refuse_bad_arguments():
         _native.random_walker(ct, seeds[:2], one, 0, None, False)
     with pytest.raises(ValueError, match="unknown parameter"):
         _native.random_walker(ct, seeds, one, 0, {"gamma": 1.0}, False)
-    with pytest.raises(ValueError, match="threads"):
-        _native.random_walker(ct, seeds, one, 0, {"threads": 10**6}, False)
+    with pytest.raises(ValueError, match="n_threads"):
+        _native.random_walker(ct, seeds, one, 0, {"n_threads": 10**6}, False)
+    with pytest.raises(ValueError, match="unknown parameter"):
+        _native.random_walker(ct, seeds, one, 0, {"threads": 2}, False)
     with pytest.raises(ValueError, match="spacing"):
         _native.random_walker(ct, seeds, (1.0, float("nan"), 1.0), 0, None, False)
     with pytest.raises(ValueError, match="beta"):

@@ -21,7 +21,7 @@ from wscg import motion
 WRITERS = {
     "math.save_image": ("wm.save_image(path, rng.random((64, 64)))", None),
     "math.save_volume": ("wm.save_volume(path, rng.random((16, 16, 16)))", None),
-    "math.write_mesh": ("wm.write_mesh(path, *mesh)", None),
+    "math.save_mesh": ("wm.save_mesh(path, *mesh)", None),
     "motion.save_bvh": ("motion.save_bvh(path, np.zeros((40, 51)), np.zeros(40))", None),
     "gait.save_skeleton_csv": ("gait.save_skeleton_csv(path, rng.random((20, 25, 3)))", None),
     "video.save_frames": (
@@ -35,7 +35,7 @@ WRITERS = {
         "sfa(B.GlobalSFA(pca_n_components=6, n_components=2)).save(path)", None),
 }
 
-SUFFIX = {"math.save_image": ".png", "math.save_volume": ".nii", "math.write_mesh": ".obj",
+SUFFIX = {"math.save_image": ".png", "math.save_volume": ".nii", "math.save_mesh": ".obj",
           "motion.save_bvh": ".bvh", "gait.save_skeleton_csv": ".csv"}
 
 CHILD = textwrap.dedent("""

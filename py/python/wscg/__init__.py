@@ -58,11 +58,17 @@ Logging: the Rust code reports through Python's :mod:`logging`, on the logger ``
 children named after the Rust module (``wscg.volseg.walker``, ``wscg.math.sparse``,
 ``wscg.math.io.nifti``, ...): solver convergence and stage summaries at ``INFO`` and
 ``DEBUG``, problems a result does not show at ``WARNING`` (a solver stopped at its iteration
-cap, a NIfTI orientation that is not applied). Nothing is shown until the application configures logging (the ``wscg`` logger has
-only a ``NullHandler``):
-``logging.basicConfig(level=logging.INFO)`` or
-``logging.getLogger("wscg").setLevel(logging.DEBUG)`` with a handler shows them. Records
+cap, a NIfTI orientation that is not applied). Nothing is shown until the application
+configures logging (the ``wscg`` logger has only a ``NullHandler``):
+``logging.basicConfig(level=logging.INFO)`` or ``logging.getLogger("wscg").setLevel(
+logging.DEBUG)`` with a handler shows them. Records
 written on worker threads reach ``logging`` from the calling thread while it waits, in order.
+
+Conventions (``py/API.md``): one name per concept across the modules, ``load_`` / ``save_``
+with the path first, ``make_`` for generated data; a volume ``[z, y, x]`` has its ``spacing``
+``(dz, dy, dx)`` and ``origin`` ``(oz, oy, ox)`` in array axis order, and its voxel ``[k, j,
+i]`` lies at the world point ``(x, y, z) = (ox + i dx, oy + j dy, oz + k dz)`` in every
+module.
 
 Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files). A negative or
 too large integer for a count, size or seed raises :class:`IntegerRangeError`, a
@@ -171,6 +177,7 @@ def get_max_image_pixels() -> int:
     return _native.get_max_image_pixels()
 
 
-__all__ = ["biometrics", "cloth", "deblur", "doe", "ear", "gait", "hdr", "isosurface", "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
+__all__ = ["biometrics", "cloth", "csmri", "deblur", "doe", "ear", "gait", "hdr", "isosurface",
+           "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
            "IntegerRangeError", "set_num_threads", "get_num_threads", "set_memory_limit",
            "get_memory_limit", "set_max_image_pixels", "get_max_image_pixels", "__version__"]

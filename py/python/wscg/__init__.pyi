@@ -45,4 +45,7 @@ def get_max_image_pixels() -> int:
     """The largest width x height an image file may declare to be decoded."""
 
 __version__: str
-__all__: list[str]
+__all__ = ["biometrics", "cloth", "csmri", "deblur", "doe", "ear", "gait", "hdr", "isosurface",
+           "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
+           "IntegerRangeError", "set_num_threads", "get_num_threads", "set_memory_limit",
+           "get_memory_limit", "set_max_image_pixels", "get_max_image_pixels", "__version__"]

@@ -28,12 +28,12 @@ from ._checks import integer_ranges as _integer_ranges
 
 ManyLightScene = _r.ManyLightScene
 
-__all__ = ["ManyLightScene", "manylight_scene", "manylight_from_arrays", "manylight_load_obj",
-           "render_manylight"]
+__all__ = ["ManyLightScene", "make_manylight_scene", "manylight_from_arrays",
+           "load_manylight_obj", "render_manylight"]
 
 
-def manylight_scene(name: str = "cornell", subdiv: int = 1, width: int = 256,
-                    height: int = 192) -> ManyLightScene:
+def make_manylight_scene(name: str = "cornell", subdiv: int = 1, width: int = 256,
+                         height: int = 192) -> ManyLightScene:
     """A procedural scene with its camera.
 
     ``name``: ``'cornell'`` (the Cornell box of the paper's Fig. 3), ``'colonnade'`` (a hall
@@ -42,11 +42,11 @@ def manylight_scene(name: str = "cornell", subdiv: int = 1, width: int = 256,
     plane under a tiny light, for the closed-form check). ``subdiv`` splits every quad into
     ``subdiv x subdiv`` cells (more triangles, same picture).
 
-    >>> s = manylight_scene("cornell", width=64, height=48)
-    >>> s.triangles, s.emitters
+    >>> s = make_manylight_scene("cornell", width=64, height=48)
+    >>> s.n_triangles, s.n_emitters
     (36, 2)
     """
-    return _r.manylight_scene(name, int(subdiv), int(width), int(height))
+    return _r.make_manylight_scene(name, int(subdiv), int(width), int(height))
 
 
 def manylight_from_arrays(vertices, faces, albedo, emission,
@@ -55,7 +55,7 @@ def manylight_from_arrays(vertices, faces, albedo, emission,
     (counter-clockwise seen from the front; emitters radiate from the front), per-face
     ``albedo`` (F, 3) in [0, 1] and emitted radiance ``emission`` (F, 3) >= 0. ``camera``:
     dict with ``eye``, ``target``, ``up``, ``fov_deg`` (vertical, degrees), ``width``,
-    ``height``. Degenerate triangles are skipped (``skipped_degenerate``)."""
+    ``height``. Degenerate triangles are skipped (counted by ``n_skipped_degenerate``)."""
     return _r.manylight_from_arrays(
         np.ascontiguousarray(vertices, dtype=np.float64),
         np.ascontiguousarray(faces, dtype=np.int64),
@@ -63,10 +63,10 @@ def manylight_from_arrays(vertices, faces, albedo, emission,
         np.ascontiguousarray(emission, dtype=np.float64), camera)
 
 
-def manylight_load_obj(path, camera: Optional[dict] = None) -> ManyLightScene:
+def load_manylight_obj(path, camera: Optional[dict] = None) -> ManyLightScene:
     """A scene from a Wavefront OBJ file and its MTL library (``Kd``: albedo, ``Ke``:
     emitted radiance). The file is only read."""
-    return _r.manylight_load_obj(str(path), camera)
+    return _r.load_manylight_obj(str(path), camera)
 
 
 def render_manylight(scene: ManyLightScene, method: str = "adaptive",
@@ -88,7 +88,7 @@ def render_manylight(scene: ManyLightScene, method: str = "adaptive",
     ``init_fraction``: the adaptive insertion's threshold and the share of records placed by
     clustering; ``theta_max``, ``lam``, ``dmax_factor``: the similarity weights (eqs. 2-4).
 
-    >>> s = manylight_scene("cornell", width=32, height=24)
+    >>> s = make_manylight_scene("cornell", width=32, height=24)
     >>> img, st = render_manylight(s, "adaptive", n_vpl_paths=100, n_cache=30, spp=4)
     >>> img.shape, img.dtype
     ((24, 32, 3), dtype('float32'))

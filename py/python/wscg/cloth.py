@@ -12,7 +12,7 @@ Implicit Euler on stiff springs equals the projection of *regularized* constrain
 - ``"global_cr"``: global constraint-space solves by Conjugate Residuals (exact implicit
   Euler with the momentum residual);
 - baselines ``"pbd"`` (plain position-based dynamics, option ``stiffness``),
-  ``"symplectic"`` (explicit, option ``substeps``), ``"ie_cg"`` (one linearised implicit
+  ``"symplectic"`` (explicit, option ``n_substeps``), ``"ie_cg"`` (one linearised implicit
   Euler step by CG), ``"ie_direct"`` (the same step by sparse Cholesky) and ``"ie_newton"`` (exact implicit Euler by Newton's method);
 - membrane triangles with StVK elasticity (Young's modulus in N/m, Poisson ratio) as soft
   constraints (``model="fem"``), or link networks (``model="links"``);
@@ -32,7 +32,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from ._native import cloth as _c
-from ._checks import integer_ranges as _integer_ranges
+from ._checks import _int, integer_ranges as _integer_ranges
 
 __all__ = ["Model", "Sim", "Collider", "particles", "grid", "from_mesh", "plane", "sphere",
            "capsule", "mesh_collider"]
@@ -120,8 +120,9 @@ class Sim:
         From :func:`grid` or :func:`from_mesh` (copied; the model is not modified).
     method : str, default "soft"
         See the module documentation.
-    iterations : int, default 25
-        Gauss-Seidel sweeps (soft, pbd), NCG iterations or global CR outer iterations.
+    n_iter : int, default 25
+        Gauss-Seidel sweeps (soft, pbd), NCG iterations or global CR outer iterations per
+        step (a fixed count, >= 1).
     alpha, beta : float in (0, 1], default 1
         The paper's blending of forces and positions (soft projection).
     gamma : float >= 0, default 0
@@ -139,20 +140,37 @@ class Sim:
         default 1.5).
     omega : float, optional
         Relaxation factor of Jacobi and SOR.
-    **options
-        Method options: ``stiffness`` (pbd), ``substeps`` (symplectic), ``tol``,
-        ``max_iter`` (ie_cg), ``tol`` (ie_newton, global_cr), ``primal_residual``
-        (global_cr).
+    stiffness : float in (0, 1], default 1
+        PBD stiffness (method ``"pbd"``).
+    n_substeps : int, default 64
+        Explicit substeps per step (method ``"symplectic"``, >= 1).
+    tol : float, optional
+        Relative tolerance: of the CG solve (``"ie_cg"``, default 1e-8), of Newton's
+        gradient (``"ie_newton"``, default 1e-10) or of each CR solve (``"global_cr"``,
+        default 1e-10).
+    max_iter : int, default 1000
+        Iteration cap of the CG solve (``"ie_cg"``).
+    primal_residual : bool, default True
+        Keep the momentum residual, so that ``"global_cr"`` is exact implicit Euler.
+
+    Options of other methods than the chosen one are ignored.
     """
 
-    def __init__(self, model: "Model", method: str = "soft", iterations: int = 25,
+    def __init__(self, model: "Model", method: str = "soft", n_iter: int = 25,
                  alpha: float = 1.0, beta: float = 1.0, gamma: float = 0.0,
                  lambda_mode: str = "accumulate", velocity_damping: float = 0.0,
-                 relaxation: str = "gauss_seidel", omega: Optional[float] = None, **options):
-        options = dict(options, relaxation=str(relaxation))
+                 relaxation: str = "gauss_seidel", omega: Optional[float] = None, *,
+                 stiffness: float = 1.0, n_substeps: int = 64, tol: Optional[float] = None,
+                 max_iter: int = 1000, primal_residual: bool = True):
+        options = {"relaxation": str(relaxation), "stiffness": float(stiffness),
+                   "n_substeps": _int("n_substeps", n_substeps, 1),
+                   "max_iter": _int("max_iter", max_iter, 0),
+                   "primal_residual": bool(primal_residual)}
         if omega is not None:
             options["omega"] = float(omega)
-        self._sim = _c.Sim(model, method, int(iterations), float(alpha), float(beta),
+        if tol is not None:
+            options["tol"] = float(tol)
+        self._sim = _c.Sim(model, method, int(n_iter), float(alpha), float(beta),
                            float(gamma), lambda_mode, float(velocity_damping), options)
 
     def set_collisions(self, colliders: Sequence["Collider"] = (), thickness: float = 0.005,
@@ -165,10 +183,10 @@ class Sim:
         self._sim.set_collisions(list(colliders), float(thickness), float(friction),
                                  bool(self_collision))
 
-    def step(self, h: float = 1.0 / 60.0, n: int = 1) -> np.ndarray:
-        """Advances ``n`` steps of ``h`` seconds; returns the energy after each step as an
-        ``(n, 4)`` array: kinetic, gravitational, elastic, total (J)."""
-        return self._sim.step(float(h), int(n))
+    def step(self, h: float = 1.0 / 60.0, n_steps: int = 1) -> np.ndarray:
+        """Advances ``n_steps`` steps of ``h`` seconds; returns the energy after each step as
+        an ``(n_steps, 4)`` array: kinetic, gravitational, elastic, total (J)."""
+        return self._sim.step(float(h), int(n_steps))
 
     @property
     def positions(self) -> np.ndarray:
@@ -187,9 +205,9 @@ class Sim:
         return self._sim.multipliers
 
     @property
-    def steps(self) -> int:
+    def n_steps(self) -> int:
         """Steps taken."""
-        return self._sim.steps
+        return self._sim.n_steps
 
     def energy(self) -> dict:
         """Energies of the current state (J): kinetic, gravity, elastic, total."""

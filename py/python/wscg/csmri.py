@@ -21,8 +21,9 @@ of ``x`` and ``Phi`` the l1 norm (``reg="l1"``) or the total variation of the sy
   composite objective; TVCMRI is solved by Condat-Vu on its objective);
   :func:`tv_constrained` is a direct TV-constrained solver (Chambolle-Pock).
 - :func:`mask_cartesian`, :func:`mask_pseudo_radial`: sampling masks (paper Fig. 2).
-- :func:`shepp_logan_kspace` (analytic, no inverse crime), :func:`shepp_logan_reference`,
-  :func:`shepp_logan_image`, :func:`with_smooth_phase`, :func:`diamond_lattice`: test data.
+- :func:`make_shepp_logan_kspace` (analytic, no inverse crime),
+  :func:`make_shepp_logan_reference`, :func:`make_shepp_logan_image`,
+  :func:`with_smooth_phase`, :func:`make_diamond_lattice`: test data.
 - :func:`psnr`, :func:`rlne`, :func:`noise_epsilon`: the paper's metrics and the noise radius.
 
 Conventions: k-space is **un-shifted** (DC at index ``[0, 0]``, as ``numpy.fft.fft2``
@@ -48,8 +49,9 @@ from ._checks import integer_ranges as _integer_ranges
 
 __all__ = [
     "Udct", "Fdct", "Sflct", "reconstruct", "fcsa", "tvcmri", "watmri", "tv_constrained", "zero_filled",
-    "simulate", "mask_cartesian", "mask_pseudo_radial", "shepp_logan_kspace",
-    "shepp_logan_reference", "shepp_logan_image", "with_smooth_phase", "diamond_lattice",
+    "simulate", "mask_cartesian", "mask_pseudo_radial", "make_shepp_logan_kspace",
+    "make_shepp_logan_reference", "make_shepp_logan_image", "with_smooth_phase",
+    "make_diamond_lattice",
     "psnr", "rlne", "noise_epsilon",
 ]
 
@@ -119,7 +121,7 @@ class Udct:
         return self._u.band_ids()
 
     @property
-    def num_real_coeffs(self) -> int:
+    def n_real_coeffs(self) -> int:
         return self._u.num_real_coeffs()
 
     def forward(self, x) -> Tuple[np.ndarray, List[np.ndarray]]:
@@ -202,7 +204,7 @@ class Fdct:
         return self._f.shape()
 
     @property
-    def num_scales(self) -> int:
+    def n_scales(self) -> int:
         return self._f.num_scales()
 
     @property
@@ -216,7 +218,7 @@ class Fdct:
         return self._f.redundancy()
 
     def _nest(self, flat):
-        out: List[list] = [[] for _ in range(self.num_scales)]
+        out: List[list] = [[] for _ in range(self.n_scales)]
         for (s, _, _), v in zip(self._bands, flat):
             out[s].append(v)
         return out
@@ -227,8 +229,8 @@ class Fdct:
 
     def backward(self, coeffs: Sequence[Sequence]) -> np.ndarray:
         """The complex image of ``coeffs[scale][angle]`` (inverse and adjoint)."""
-        if len(coeffs) != self.num_scales:
-            raise ValueError(f"{len(coeffs)} scales given, the transform has {self.num_scales}")
+        if len(coeffs) != self.n_scales:
+            raise ValueError(f"{len(coeffs)} scales given, the transform has {self.n_scales}")
         flat = [np.ascontiguousarray(b, dtype=np.complex128) for scale in coeffs for b in scale]
         return self._f.backward(flat)
 
@@ -337,7 +339,7 @@ class Sflct:
 def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: float = 0.0,
                 max_iter: int = 70, tau0: Optional[float] = None, rho: float = 1.0,
                 tau_cap: float = 10.0, tol: float = 0.0, wedges=((6, 6),), alpha: float = 0.1,
-                levels: int = 4, inner_iters: int = 20, shrink_lowpass: bool = True,
+                levels: int = 4, tv_n_iter: int = 20, shrink_lowpass: bool = True,
                 reference=None, return_history: bool = False,
                 sflct_levels: Sequence[int] = (3, 3, 4)):
     """Reconstruct an image from undersampled k-space by C-SALSA (UDCSMRI).
@@ -360,7 +362,8 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
         Noise radius in k-space units (0: exact data consistency). For complex Gaussian noise
         of standard deviation ``sigma`` per component use :func:`noise_epsilon`.
     max_iter : int
-        ADMM iterations (paper: 70). 0 returns the zero-filled image.
+        ADMM iteration cap (paper: 70; fewer when ``tol`` stops it). 0 returns the
+        zero-filled image.
     tau0 : float, optional
         Threshold on the image normalised to unit peak. Default 0.01 for ``"udct"``, 0.02 for
         ``"fdct"`` and the SFLCTs and 0.04 for wavelets (chosen on a development image by grid
@@ -375,8 +378,8 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
         Wavelet levels for the ``db`` priors.
     sflct_levels : sequence of int
         Directional levels per scale (coarsest first) of the SFLCT priors.
-    inner_iters : int
-        Chambolle iterations of the TV prox (``reg="tv"``).
+    tv_n_iter : int
+        Chambolle iterations of the TV prox (``reg="tv"``), a fixed count.
     shrink_lowpass : bool
         Whether the l1 norm includes the low-pass coefficients (paper: yes).
     reference : complex array, optional
@@ -394,7 +397,7 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
     Examples
     --------
     >>> from wscg import csmri
-    >>> k = csmri.shepp_logan_kspace(64)
+    >>> k = csmri.make_shepp_logan_kspace(64)
     >>> m = csmri.mask_cartesian((64, 64), 0.4, seed=1)
     >>> x = csmri.reconstruct(k, m, max_iter=10)
     >>> x.shape
@@ -412,59 +415,63 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
     ref = None if reference is None else _complex2(reference, "reference")
     img, hist = _c.reconstruct(k, m, str(prior), str(reg), float(epsilon), int(max_iter),
                                float(tau0), float(rho), float(tau_cap), float(tol),
-                               _wedges(wedges), float(alpha), int(levels), int(inner_iters),
+                               _wedges(wedges), float(alpha), int(levels), int(tv_n_iter),
                                bool(shrink_lowpass), ref, bool(return_history), fdct,
                                [int(v) for v in sflct_levels])
     return (img, hist) if return_history else img
 
 
-def _composite(method, kspace, mask, a, b, group_weight, mu_g, max_iter, tv_inner, order,
+def _composite(method, kspace, mask, a, b, group_weight, mu_g, n_iter, tv_n_iter, order,
                levels, reference, return_history):
     k = _complex2(kspace, "kspace")
     m = _mask(mask, k.shape)
     ref = None if reference is None else _complex2(reference, "reference")
     img, hist = _c.composite(method, k, m, float(a), float(b), float(group_weight), float(mu_g),
-                             int(max_iter), int(tv_inner), int(order), int(levels), ref,
+                             int(n_iter), int(tv_n_iter), int(order), int(levels), ref,
                              bool(return_history))
     return (img, hist) if return_history else img
 
 
-def fcsa(kspace, mask, a: float = 0.001, b: float = 0.035, max_iter: int = 70,
-         tv_inner: int = 20, order: int = 4, levels: int = 4, reference=None,
+def fcsa(kspace, mask, a: float = 0.001, b: float = 0.035, n_iter: int = 70,
+         tv_n_iter: int = 20, order: int = 4, levels: int = 4, reference=None,
          return_history: bool = False):
     """FCSA (Huang, Zhang and Metaxas 2011): FISTA on
     ``1/2 ||P F x - y||^2 + a TV(x) + b ||W x||_1`` (``W``: db``order``, periodic) with the
-    composite-splitting average of the two proximal steps. ``a`` and ``b`` are for images of
-    unit peak (data are normalised internally). Returns the complex image (and history)."""
-    return _composite("fcsa", kspace, mask, a, b, b, 0.001, max_iter, tv_inner, order, levels,
+    composite-splitting average of the two proximal steps, ``n_iter`` iterations (a fixed
+    count) with ``tv_n_iter`` Chambolle iterations per TV prox. ``a`` and ``b`` are for
+    images of unit peak (data are normalised internally). Returns the complex image (and
+    history)."""
+    return _composite("fcsa", kspace, mask, a, b, b, 0.001, n_iter, tv_n_iter, order, levels,
                       reference, return_history)
 
 
-def tvcmri(kspace, mask, a: float = 0.001, b: float = 0.035, max_iter: int = 70,
+def tvcmri(kspace, mask, a: float = 0.001, b: float = 0.035, n_iter: int = 70,
            order: int = 4, levels: int = 4, reference=None, return_history: bool = False):
     """TVCMRI's objective (Ma et al. 2008), the same as :func:`fcsa`'s, minimised by the
     Condat-Vu primal-dual algorithm (gradient step on the data, wavelet shrinkage, projected
-    TV dual variables)."""
-    return _composite("tvcmri", kspace, mask, a, b, b, 0.001, max_iter, 0, order, levels,
+    TV dual variables), ``n_iter`` iterations (a fixed count)."""
+    return _composite("tvcmri", kspace, mask, a, b, b, 0.001, n_iter, 0, order, levels,
                       reference, return_history)
 
 
 def watmri(kspace, mask, a: float = 0.001, b: float = 0.035, group_weight: Optional[float] = None,
-           mu_g: float = 0.001, max_iter: int = 70, tv_inner: int = 20, order: int = 4,
+           mu_g: float = 0.001, n_iter: int = 70, tv_n_iter: int = 20, order: int = 4,
            levels: int = 4, reference=None, return_history: bool = False):
     """WaTMRI (Chen and Huang 2012): :func:`fcsa` plus wavelet-tree sparsity
     ``group_weight * sum ||(W x)_{child, parent}||_2`` handled by group replication with
-    coupling ``mu_g``. ``group_weight`` defaults to ``b``."""
+    coupling ``mu_g``. ``group_weight`` defaults to ``b``; ``n_iter`` and ``tv_n_iter`` as in
+    :func:`fcsa`."""
     gw = b if group_weight is None else group_weight
-    return _composite("watmri", kspace, mask, a, b, gw, mu_g, max_iter, tv_inner, order, levels,
+    return _composite("watmri", kspace, mask, a, b, gw, mu_g, n_iter, tv_n_iter, order, levels,
                       reference, return_history)
 
 
-def tv_constrained(kspace, mask, epsilon: float = 0.0, max_iter: int = 2000) -> np.ndarray:
+def tv_constrained(kspace, mask, epsilon: float = 0.0, n_iter: int = 2000) -> np.ndarray:
     """``min TV(x) s.t. ||P F x - y|| <= epsilon`` by Chambolle-Pock (the problem
-    ``reconstruct(..., reg="tv")`` solves, by another algorithm)."""
+    ``reconstruct(..., reg="tv")`` solves, by another algorithm), ``n_iter`` iterations (a
+    fixed count)."""
     k = _complex2(kspace, "kspace")
-    return _c.tv_constrained(k, _mask(mask, k.shape), float(epsilon), int(max_iter))
+    return _c.tv_constrained(k, _mask(mask, k.shape), float(epsilon), int(n_iter))
 
 
 def zero_filled(kspace, mask) -> np.ndarray:
@@ -497,18 +504,18 @@ def mask_pseudo_radial(shape: Tuple[int, int], rate: float = 0.302) -> Tuple[np.
     return _c.mask_pseudo_radial(rows, cols, float(rate))
 
 
-def shepp_logan_kspace(n: int = 256) -> np.ndarray:
+def make_shepp_logan_kspace(n: int = 256) -> np.ndarray:
     """Analytic k-space of the modified Shepp-Logan phantom, ``(n, n)``, un-shifted,
     unitary scaling (no inverse crime: it is not the FFT of a raster)."""
     return _c.shepp_logan(int(n), "kspace")
 
 
-def shepp_logan_reference(n: int = 256) -> np.ndarray:
-    """The reference image: inverse unitary FFT of :func:`shepp_logan_kspace`."""
+def make_shepp_logan_reference(n: int = 256) -> np.ndarray:
+    """The reference image: inverse unitary FFT of :func:`make_shepp_logan_kspace`."""
     return _c.shepp_logan(int(n), "reference")
 
 
-def shepp_logan_image(n: int = 256) -> np.ndarray:
+def make_shepp_logan_image(n: int = 256) -> np.ndarray:
     """The phantom rasterised on an ``(n, n)`` grid (float64)."""
     return _c.shepp_logan(int(n), "image")
 
@@ -521,7 +528,7 @@ def with_smooth_phase(magnitude, seed: int = 0) -> np.ndarray:
     return _c.with_smooth_phase(np.ascontiguousarray(a, dtype=np.float64), int(seed))
 
 
-def diamond_lattice(n: int = 256, period: float = 12.0) -> np.ndarray:
+def make_diamond_lattice(n: int = 256, period: float = 12.0) -> np.ndarray:
     """A disk (radius 0.8 of the half field of view) filled with a rhombic lattice of the
     given period in pixels: the directional texture of the paper's water phantom."""
     return _c.diamond_lattice(int(n), float(period))

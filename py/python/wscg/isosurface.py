@@ -20,10 +20,13 @@ Vertex normals (all pointing toward increasing ``f``):
 - ``"central"``: central differences interpolated along the edge (classic MC); undefined
   (zero) where a neighbour is missing.
 
-Conventions: volumes are numpy arrays indexed ``[z, y, x]``; ``spacing`` is given as
-``(sx, sy, sz)`` (x first, the reverse of the array axes); vertices are returned as
-``(x, y, z)`` in world units (sample index times spacing); faces index the vertices and are
-wound so that their right-hand normal points toward increasing ``f``. Bad input raises
+Conventions (``py/API.md``): volumes are numpy arrays indexed ``[z, y, x]``; ``spacing`` is
+``(dz, dy, dx)`` and ``origin`` ``(oz, oy, ox)``, in array axis order (as in
+:mod:`wscg.math`, :mod:`wscg.volseg`, :mod:`wscg.volren` and scikit-image); vertices are
+world points ``(x, y, z)``: the sample ``[k, j, i]`` lies at ``(ox + i dx, oy + j dy, oz + k
+dz)``. Faces index the vertices and are wound so that their right-hand normal points toward
+increasing ``f``. Grid edges (``info["edges"]``) are rows ``(k, j, i, axis)``: the index of
+the edge's low end and the array axis it runs along (0: z, 1: y, 2: x). Bad input raises
 ``ValueError``.
 
 References: B. A. Wood, T. S. Newman, Journal of WSCG 23 (2015), 73-82. G. M. Nielson,
@@ -54,11 +57,26 @@ def _vol(v) -> np.ndarray:
     return a
 
 
-def _spacing(spacing) -> Tuple[float, float, float]:
-    s = tuple(float(x) for x in spacing)
+def _triple(name: str, v, what: str) -> Tuple[float, float, float]:
+    try:
+        s = tuple(float(x) for x in v)
+    except (TypeError, ValueError):
+        raise ValueError(f"`{name}` must be 3 numbers {what}, got {v!r}") from None
     if len(s) != 3:
-        raise ValueError(f"spacing must have 3 entries (sx, sy, sz), got {spacing!r}")
+        raise ValueError(f"`{name}` must have 3 entries {what}, got {v!r}")
     return s  # type: ignore[return-value]
+
+
+def _spacing(spacing) -> Tuple[float, float, float]:
+    return _triple("spacing", spacing, "(dz, dy, dx)")
+
+
+def _origin(origin) -> np.ndarray:
+    """``(oz, oy, ox)`` as the float32 ``(x, y, z)`` offset of the vertices."""
+    o = _triple("origin", origin, "(oz, oy, ox)")
+    if not all(np.isfinite(o)):
+        raise ValueError(f"`origin` must be finite, got {origin!r}")
+    return np.array(o[::-1], dtype=np.float32)
 
 
 def _method(normals) -> str:
@@ -83,9 +101,10 @@ def _options(selection, eq8_literal, normalize_before_mean, ambiguous_face) -> d
             "ambiguous_face": str(ambiguous_face)}
 
 
-def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0), normals: Optional[str] = "spline",
-                   side_hint=None, selection: str = "mesh", eq8_literal: bool = False,
-                   normalize_before_mean: bool = False, ambiguous_face: str = "inside"):
+def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0),
+                   normals: Optional[str] = "spline", side_hint=None, selection: str = "mesh",
+                   eq8_literal: bool = False, normalize_before_mean: bool = False,
+                   ambiguous_face: str = "inside", origin=(0.0, 0.0, 0.0)):
     """Marching cubes of ``level`` on a volume that may have missing (NaN) samples.
 
     Parameters
@@ -94,8 +113,8 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0), normals: Optio
         Samples; NaN marks a missing sample. Converted to float32.
     level : float
         Isovalue (finite). A level outside the data range gives an empty mesh.
-    spacing : (sx, sy, sz)
-        Distance between samples along x, y, z (finite, > 0). Note the order: x first.
+    spacing : (dz, dy, dx), default (1, 1, 1)
+        Distance between samples along each array axis (finite, > 0).
     normals : {"spline", "lsn", "central", None}
         Vertex normal estimator (see the module documentation).
     side_hint : (nz, ny, nx) bool array, optional
@@ -110,11 +129,14 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0), normals: Optio
         Normalise each cell's spline gradient before averaging (the paper averages raw ones).
     ambiguous_face : {"inside", "outside"}
         LSN's assumption on ambiguous faces (isolate the inside or the outside corner).
+    origin : (oz, oy, ox), default (0, 0, 0)
+        World position of the sample ``[0, 0, 0]``.
 
     Returns
     -------
     verts : (n, 3) float32
-        Vertex positions (x, y, z) in world units.
+        Vertex positions ``(x, y, z)`` in world units: the sample ``[k, j, i]`` is at
+        ``(ox + i dx, oy + j dy, oz + k dz)``.
     faces : (m, 3) int64
         Triangles.
     normals : (n, 3) float32
@@ -123,8 +145,9 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0), normals: Optio
     info : dict
         ``undefined`` (zero normals), ``fallback`` (spline normals from the fallback),
         ``skipped_cells`` (cells that could not be triangulated), ``edges`` ((n, 4) int64:
-        the grid edge of each vertex as x, y, z of its low end and its axis) and ``cells``
-        ((k, 2) int64: flat index and 8-bit configuration of every triangulated cell).
+        the grid edge of each vertex as ``(k, j, i, axis)``, the index of its low end and the
+        array axis it runs along, 0: z, 1: y, 2: x) and ``cells`` ((k, 2) int64: flat index
+        and 8-bit configuration of every triangulated cell).
 
     Examples
     --------
@@ -138,19 +161,25 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0), normals: Optio
     0
     """
     v = _vol(volume)
-    return _m.marching_cubes(v, float(level), _spacing(spacing), _method(normals),
-                             _hint(side_hint, v.shape),
-                             _options(selection, eq8_literal, normalize_before_mean,
-                                      ambiguous_face))
+    o = _origin(origin)
+    verts, faces, nrm, info = _m.marching_cubes(v, float(level), _spacing(spacing),
+                                                _method(normals), _hint(side_hint, v.shape),
+                                                _options(selection, eq8_literal,
+                                                         normalize_before_mean, ambiguous_face))
+    if o.any():
+        verts += o
+    return verts, faces, nrm, info
 
 
 def estimate_normals(volume, level: float, edges, spacing=(1.0, 1.0, 1.0),
                      normals: str = "spline", side_hint=None, selection: str = "mesh",
                      eq8_literal: bool = False, normalize_before_mean: bool = False,
                      ambiguous_face: str = "inside"):
-    """Normals of the vertices on ``edges`` (``info["edges"]`` of :func:`marching_cubes`) with
-    any estimator, e.g. to compare estimators on one mesh. Returns ``(normals (n, 3),
-    stats dict)``. An edge that does not cross ``level`` on this volume raises ValueError."""
+    """Normals of the vertices on ``edges`` (``info["edges"]`` of :func:`marching_cubes`:
+    rows ``(k, j, i, axis)``) with any estimator, e.g. to compare estimators on one mesh;
+    ``spacing`` is ``(dz, dy, dx)`` and the other arguments are those of
+    :func:`marching_cubes`. Returns ``(normals (n, 3), stats dict)``. An edge that does not
+    cross ``level`` on this volume raises ValueError."""
     v = _vol(volume)
     e = np.ascontiguousarray(np.asarray(edges, dtype=np.int64))
     return _m.estimate_normals(v, float(level), e, _spacing(spacing), _method(normals),
@@ -204,7 +233,8 @@ def at_risk_configurations(threshold: float = np.pi / 2, ambiguous_face: str = "
 
 def study_full_cd(volume, level: float, spacing=(1.0, 1.0, 1.0)) -> dict:
     """The paper's Table 1/2 protocol at one level: central differences on the full volume
-    as the reference, spline and LSN normals on the sparsified volume. Returns a dict with
+    (``spacing`` ``(dz, dy, dx)``) as the reference, spline and LSN normals on the sparsified
+    volume. Returns a dict with
     the vertex count, the RMS errors (``spline``, ``lsn``: dicts of rms/count/undefined),
     the zero-normal counts and the fraction of vertices where central differences would be
     defined on the sparse volume."""
@@ -226,25 +256,28 @@ class fields:  # noqa: N801 - a namespace named like the Rust module (``fields.s
 
     @staticmethod
     def sample(name: str, n: int = 64):
-        """``(volume [z, y, x] float32, spacing (sx, sy, sz), origin (x, y, z))`` of a named
-        field on ``n^3`` samples over its domain."""
+        """``(volume [z, y, x] float32, spacing (dz, dy, dx), origin (oz, oy, ox))`` of a
+        named field on ``n^3`` samples over its domain: the sample ``[k, j, i]`` is the
+        field at ``(ox + i dx, oy + j dy, oz + k dz)``. Pass ``spacing`` and ``origin`` to
+        :func:`marching_cubes` to get vertices in the field's coordinates."""
         return _m.sample_field(str(name), int(n))
 
     @staticmethod
     def exact_normals(name: str, n: int, vertices) -> np.ndarray:
         """Exact unit normals of the named field (sampled as by :meth:`sample` with the same
-        ``n``) at vertex positions in world units."""
+        ``n``) at world points ``(x, y, z)``: the vertices :func:`marching_cubes` returns with
+        the field's ``spacing`` and ``origin``."""
         return _m.field_normals(str(name), int(n),
                                 np.ascontiguousarray(np.asarray(vertices, dtype=np.float32)))
 
     @staticmethod
-    def marschner_lobb(n: int = 64) -> np.ndarray:
+    def make_marschner_lobb(n: int = 64) -> np.ndarray:
         """The Marschner-Lobb signal on [-1, 1]^3 (level 0.5)."""
         return fields.sample("marschner_lobb", n)[0]
 
     @staticmethod
-    def noisy_sphere(n: int = 64, radius: float = 20.0, width: float = 1.5, noise: float = 3.0,
-                     seed: int = 0) -> np.ndarray:
+    def make_noisy_sphere(n: int = 64, radius: float = 20.0, width: float = 1.5,
+                          noise: float = 3.0, seed: int = 0) -> np.ndarray:
         """An 8-bit-like noisy ball: ``round(255 / (1 + exp((r - radius) / width)) +
         N(0, noise))`` clamped to [0, 255], float32 holding integers."""
         return _m.noisy_sphere(int(n), float(radius), float(width), float(noise), int(seed))

@@ -11,8 +11,12 @@ Conventions
 - Images are ``(H, W)`` or ``(H, W, C)`` arrays. Files load as float32 in ``[0, 1]`` for
   8/16-bit formats.
 - Volumes are 3-D arrays indexed ``[z, y, x]``; voxel spacing is given in the same axis
-  order, ``(dz, dy, dx)``.
-- Meshes are ``vertices`` ``(N, 3)`` float64 and ``faces`` ``(M, 3)`` integer arrays.
+  order, ``(dz, dy, dx)``. The voxel at index ``[k, j, i]`` sits at the world point
+  ``(x, y, z) = (i dx, j dy, k dz)``: the affine of the NIfTI files :func:`save_volume`
+  writes, and the formula of every module (``py/API.md``).
+- Meshes are ``vertices`` ``(N, 3)`` float64 ``(x, y, z)`` world coordinates and ``faces``
+  ``(M, 3)`` integer arrays.
+- Files: ``load_<what>(path, ...)`` reads, ``save_<what>(path, data, ...)`` writes.
 """
 
 from __future__ import annotations
@@ -33,8 +37,8 @@ __all__ = [
     "cg", "solve_cg", "laplacian_3d",
     "eigh", "eigh_generalized", "svd", "lstsq",
     "normal", "uniform", "permutation",
-    "load_image", "save_image", "load_volume", "save_volume", "read_raw_volume",
-    "read_mesh", "write_mesh",
+    "load_image", "save_image", "load_volume", "save_volume", "load_raw_volume",
+    "load_mesh", "save_mesh",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -530,7 +534,7 @@ def fftfreq(n: int, d: float = 1.0) -> np.ndarray:
 
 
 def cg(indptr, indices, data, b, shape: Optional[Tuple[int, int]] = None, x0=None,
-       tol: float = 1e-8, maxiter: Optional[int] = None,
+       tol: float = 1e-8, max_iter: Optional[int] = None,
        preconditioner: Optional[str] = "jacobi"):
     """Preconditioned conjugate gradient for a sparse SPD matrix in CSR form.
 
@@ -547,8 +551,8 @@ def cg(indptr, indices, data, b, shape: Optional[Tuple[int, int]] = None, x0=Non
         Initial guess (warm start); default zeros.
     tol : float, default 1e-8
         Stop when ``||b - A x|| <= tol ||b||``.
-    maxiter : int, optional
-        Iteration limit; default ``10 n``.
+    max_iter : int, optional
+        Iteration cap; default ``10 n``.
     preconditioner : {'jacobi', None}, default 'jacobi'
         Diagonal (Jacobi) preconditioning or none.
 
@@ -568,7 +572,7 @@ def cg(indptr, indices, data, b, shape: Optional[Tuple[int, int]] = None, x0=Non
     Notes
     -----
     Hestenes-Stiefel CG with a preconditioner (Saad, *Iterative Methods for Sparse Linear
-    Systems*, alg. 9.1). Not converging within ``maxiter`` is reported in ``info``, as
+    Systems*, alg. 9.1). Not converging within ``max_iter`` is reported in ``info``, as
     ``scipy.sparse.linalg.cg`` reports it in its return code. A warning is issued too.
     """
     indptr = np.ascontiguousarray(indptr, dtype=np.int64)
@@ -579,7 +583,7 @@ def cg(indptr, indices, data, b, shape: Optional[Tuple[int, int]] = None, x0=Non
     x, info = _m.cg(indptr, np.ascontiguousarray(indices, dtype=np.int64),
                     _real(data, "data"), ncols, _real(b, "b"),
                     None if x0 is None else _real(x0, "x0"), float(tol),
-                    None if maxiter is None else int(maxiter), preconditioner)
+                    None if max_iter is None else int(max_iter), preconditioner)
     if not info["converged"]:
         import warnings
         warnings.warn(f"cg did not converge: relative residual {info['relative_residual']:.3e} "
@@ -588,7 +592,8 @@ def cg(indptr, indices, data, b, shape: Optional[Tuple[int, int]] = None, x0=Non
     return x, info
 
 
-def solve_cg(a, b, **kwargs):
+def solve_cg(a, b, x0=None, tol: float = 1e-8, max_iter: Optional[int] = None,
+             preconditioner: Optional[str] = "jacobi"):
     """:func:`cg` on a ``scipy.sparse`` matrix (or anything with ``tocsr()``).
 
     Parameters
@@ -597,8 +602,14 @@ def solve_cg(a, b, **kwargs):
         Symmetric positive definite matrix.
     b : array_like
         Right-hand side.
-    **kwargs
-        Passed to :func:`cg` (``x0``, ``tol``, ``maxiter``, ``preconditioner``).
+    x0 : array_like, optional
+        Initial guess (warm start); default zeros.
+    tol : float, default 1e-8
+        Stop when ``||b - A x|| <= tol ||b||``.
+    max_iter : int, optional
+        Iteration cap; default ``10 n``.
+    preconditioner : {'jacobi', None}, default 'jacobi'
+        Diagonal (Jacobi) preconditioning or none.
 
     Returns
     -------
@@ -608,7 +619,8 @@ def solve_cg(a, b, **kwargs):
     if not hasattr(a, "tocsr"):
         raise ValueError("`a` must be a scipy.sparse matrix (with a tocsr() method)")
     csr = a.tocsr()
-    return cg(csr.indptr, csr.indices, csr.data, b, shape=csr.shape, **kwargs)
+    return cg(csr.indptr, csr.indices, csr.data, b, shape=csr.shape, x0=x0, tol=tol,
+              max_iter=max_iter, preconditioner=preconditioner)
 
 
 def laplacian_3d(nx: int, ny: int, nz: int):
@@ -864,8 +876,11 @@ def load_volume(path: PathLike, spacing: Optional[Tuple[float, float, float]] = 
     Returns
     -------
     volume : ndarray of float32
-        Indexed ``[z, y, x]`` (a .npy file is read in that order; NIfTI data is converted).
+        Indexed ``[z, y, x]`` (a .npy file is read in that order; NIfTI data is converted:
+        its ``(i, j, k)`` voxel is ``volume[k, j, i]``).
     spacing : (dz, dy, dx)
+        The NIfTI header's ``pixdim`` in array axis order. The header's orientation and
+        offset are not applied: voxel ``[k, j, i]`` is at ``(i dx, j dy, k dz)``.
 
     Raises
     ------
@@ -875,7 +890,7 @@ def load_volume(path: PathLike, spacing: Optional[Tuple[float, float, float]] = 
     return _m.load_volume(_path(path), None if spacing is None else tuple(float(s) for s in spacing))
 
 
-def read_raw_volume(path: PathLike, shape: Tuple[int, int, int], dtype: str,
+def load_raw_volume(path: PathLike, shape: Tuple[int, int, int], dtype: str,
                     spacing: Tuple[float, float, float] = (1.0, 1.0, 1.0)):
     """Reads a headerless raw volume.
 
@@ -902,7 +917,7 @@ def read_raw_volume(path: PathLike, shape: Tuple[int, int, int], dtype: str,
         Missing or wrongly sized file.
     """
     nz, ny, nx = (int(v) for v in shape)
-    return _m.read_raw_volume(_path(path), (nz, ny, nx), dtype,
+    return _m.load_raw_volume(_path(path), (nz, ny, nx), dtype,
                               tuple(float(s) for s in spacing))
 
 
@@ -916,7 +931,9 @@ def save_volume(path: PathLike, volume, spacing: Tuple[float, float, float] = (1
     volume : array_like
         3-D array indexed ``[z, y, x]``.
     spacing : (dz, dy, dx), default (1, 1, 1)
-        Voxel size (> 0).
+        Voxel size (> 0). A NIfTI file gets the affine of ``py/API.md``: its voxel ``(i, j,
+        k)``, which is ``volume[k, j, i]``, maps to ``(x, y, z) = (i dx, j dy, k dz)``
+        (``pixdim = (dx, dy, dz)``, scaling-only qform and sform).
 
     Raises
     ------
@@ -928,7 +945,7 @@ def save_volume(path: PathLike, volume, spacing: Tuple[float, float, float] = (1
     _m.save_volume(_path(path), _real(volume, "volume", np.float32), tuple(float(s) for s in spacing))
 
 
-def read_mesh(path: PathLike) -> dict:
+def load_mesh(path: PathLike) -> dict:
     """Reads a triangle mesh from .obj or .ply (ascii or binary).
 
     Parameters
@@ -939,7 +956,8 @@ def read_mesh(path: PathLike) -> dict:
     Returns
     -------
     dict
-        ``vertices`` (N, 3) float64, ``faces`` (M, 3) int64, and ``normals`` (N, 3) float64 /
+        ``vertices`` (N, 3) float64 ``(x, y, z)``, ``faces`` (M, 3) int64, and ``normals``
+        (N, 3) float64 /
         ``colors`` (N, 3) float32 in [0, 1] when the file has them.
 
     Raises
@@ -947,11 +965,11 @@ def read_mesh(path: PathLike) -> dict:
     OSError
         Missing, malformed or truncated file, indices out of range, unknown extension.
     """
-    return _m.read_mesh(_path(path))
+    return _m.load_mesh(_path(path))
 
 
-def write_mesh(path: PathLike, vertices, faces, colors=None, normals=None,
-               binary: bool = True) -> None:
+def save_mesh(path: PathLike, vertices, faces, colors=None, normals=None,
+              binary: bool = True) -> None:
     """Writes a triangle mesh as .obj or .ply.
 
     Parameters
@@ -959,6 +977,7 @@ def write_mesh(path: PathLike, vertices, faces, colors=None, normals=None,
     path : str or os.PathLike
         Output file; the extension picks the format.
     vertices : array_like, (N, 3)
+        ``(x, y, z)`` positions.
     faces : array_like of int, (M, 3)
         Vertex indices, 0-based.
     colors : array_like, (N, 3), optional
@@ -978,7 +997,7 @@ def write_mesh(path: PathLike, vertices, faces, colors=None, normals=None,
     faces = np.asarray(faces)
     if not np.issubdtype(faces.dtype, np.integer):
         raise ValueError(f"`faces` must be an integer array, got dtype {faces.dtype}")
-    _m.write_mesh(_path(path), _real(vertices, "vertices"),
+    _m.save_mesh(_path(path), _real(vertices, "vertices"),
                   np.ascontiguousarray(faces, dtype=np.int64),
                   None if colors is None else _real(colors, "colors", np.float32),
                   None if normals is None else _real(normals, "normals"), bool(binary))

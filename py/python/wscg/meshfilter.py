@@ -1,16 +1,17 @@
 """Joint bilateral mesh denoising with colour and local anti-shrinking: paper 04 of WSCG
 vol. 23 (Wasenmüller, Bleser and Stricker).
 
-Every vertex moves along its (area-weighted) normal by a bilateral mean of its ``k`` nearest
-neighbours' offsets to its tangent plane, weighted by distance (``sigma_d``), offset
-(``sigma_o``) and vertex colour difference (``sigma_c``, 0-255 RGB); a second pass removes
-the local shrinkage, and ``sigma_o`` is multiplied by ``lam`` after every iteration.
+Every vertex moves along its (area-weighted) normal by a bilateral mean of its
+``n_neighbors`` (the paper's ``k``) nearest neighbours' offsets to its tangent plane,
+weighted by distance (``sigma_d``), offset (``sigma_o``) and vertex colour difference
+(``sigma_c``, 0-255 RGB); a second pass removes the local shrinkage, and ``sigma_o`` is
+multiplied by ``lam`` after every iteration.
 Baselines: bilateral mesh denoising (Fleishman et al. 2003, with or without volume
 preservation), uniform Laplacian, Taubin and HC-Laplacian smoothing.
 
-Vertices are ``(n, 3)`` float arrays, faces ``(m, 3)`` integer arrays, colours ``(n, 3)``
-RGB in 0..255 (uint8 or float). Boundary vertices stay in place. Bad input raises
-``ValueError``.
+Vertices are ``(n, 3)`` float arrays ``(x, y, z)``, faces ``(m, 3)`` integer arrays, colours
+``(n, 3)`` RGB in 0..255 (uint8 or float). Every filter runs ``n_iter`` iterations (a fixed
+count). Boundary vertices stay in place. Bad input raises ``ValueError``.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from ._native import meshfilter as _m
 from ._checks import integer_ranges as _integer_ranges
 
 __all__ = ["jbmd", "bilateral", "laplacian", "taubin", "hc_laplacian", "mean_error",
-           "surface_error", "mvd", "synthetic", "cad_labels", "add_noise"]
+           "surface_error", "mvd", "make_mesh", "cad_labels", "add_noise"]
 
 
 def _v(v) -> np.ndarray:
@@ -40,13 +41,14 @@ def mvd(vertices, faces) -> float:
 
 
 def jbmd(vertices, faces, colors=None, sigma_d: Optional[float] = None,
-         sigma_o: Optional[float] = None, sigma_c: float = 30.0, lam: float = 0.8, k: int = 20,
-         iterations: int = 10, anti_shrink: bool = True,
+         sigma_o: Optional[float] = None, sigma_c: float = 30.0, lam: float = 0.8,
+         n_neighbors: int = 20, n_iter: int = 10, anti_shrink: bool = True,
          rebuild_neighbors: bool = True) -> np.ndarray:
-    """Denoised vertices ``(n, 3)``. ``sigma_d`` and ``sigma_o`` default to 2 and 0.5 times
-    the mean vertex distance; without ``colors`` the colour weight is left out (the paper's
-    no-colour ablation). ``lam=1`` disables the offset-range decay, ``anti_shrink=False``
-    the second pass."""
+    """Denoised vertices ``(n, 3)`` after ``n_iter`` iterations over the ``n_neighbors``
+    nearest neighbours of every vertex (the paper's ``k``). ``sigma_d`` and ``sigma_o``
+    default to 2 and 0.5 times the mean vertex distance; without ``colors`` the colour
+    weight is left out (the paper's no-colour ablation). ``lam=1`` disables the offset-range
+    decay, ``anti_shrink=False`` the second pass."""
     v, f = _v(vertices), _f(faces)
     if sigma_d is None or sigma_o is None:
         d = mvd(v, f)
@@ -55,34 +57,34 @@ def jbmd(vertices, faces, colors=None, sigma_d: Optional[float] = None,
     c = None
     if colors is not None:
         c = np.ascontiguousarray(np.asarray(colors, dtype=np.float32) / 255.0)
-    return _m.jbmd(v, f, c, float(sigma_d), float(sigma_o), float(sigma_c), float(lam), int(k),
-                   int(iterations), bool(anti_shrink), bool(rebuild_neighbors))
+    return _m.jbmd(v, f, c, float(sigma_d), float(sigma_o), float(sigma_c), float(lam),
+                   int(n_neighbors), int(n_iter), bool(anti_shrink), bool(rebuild_neighbors))
 
 
-def bilateral(vertices, faces, sigma_c: float, sigma_s: float, iterations: int = 5,
+def bilateral(vertices, faces, sigma_c: float, sigma_s: float, n_iter: int = 5,
               volume_preserve: bool = True) -> np.ndarray:
     """Bilateral mesh denoising (Fleishman, Drori and Cohen-Or 2003): neighbours within
     ``2 sigma_c`` on the connected surface, offset range ``sigma_s``; with
     ``volume_preserve`` the mesh is rescaled to its initial volume after every iteration."""
     return _m.bilateral(_v(vertices), _f(faces), float(sigma_c), float(sigma_s),
-                        int(iterations), bool(volume_preserve))
+                        int(n_iter), bool(volume_preserve))
 
 
-def laplacian(vertices, faces, lam: float = 0.5, iterations: int = 5) -> np.ndarray:
+def laplacian(vertices, faces, lam: float = 0.5, n_iter: int = 5) -> np.ndarray:
     """Uniform (umbrella) Laplacian smoothing ``v + lam (mean(1-ring) - v)``."""
-    return _m.smooth("laplacian", _v(vertices), _f(faces), float(lam), 0.0, int(iterations))
+    return _m.smooth("laplacian", _v(vertices), _f(faces), float(lam), 0.0, int(n_iter))
 
 
 def taubin(vertices, faces, lam: float = 0.5, mu: float = -0.53,
-           iterations: int = 5) -> np.ndarray:
+           n_iter: int = 5) -> np.ndarray:
     """Taubin lambda/mu smoothing."""
-    return _m.smooth("taubin", _v(vertices), _f(faces), float(lam), float(mu), int(iterations))
+    return _m.smooth("taubin", _v(vertices), _f(faces), float(lam), float(mu), int(n_iter))
 
 
 def hc_laplacian(vertices, faces, alpha: float = 0.0, beta: float = 0.5,
-                 iterations: int = 5) -> np.ndarray:
+                 n_iter: int = 5) -> np.ndarray:
     """HC-Laplacian smoothing (Vollmer, Mencl and Mueller 1999)."""
-    return _m.smooth("hc", _v(vertices), _f(faces), float(alpha), float(beta), int(iterations))
+    return _m.smooth("hc", _v(vertices), _f(faces), float(alpha), float(beta), int(n_iter))
 
 
 def mean_error(x, gt) -> float:
@@ -99,7 +101,7 @@ def surface_error(x, vertices, faces) -> float:
     return _m.surface_error(_v(x), _v(vertices), _f(faces))
 
 
-def synthetic(name: str = "cube", n: int = 30) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+def make_mesh(name: str = "cube", n: int = 30) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(vertices, faces, colors)`` of a synthetic mesh with exact ground truth:
     ``"cube"`` (unit cube, ``n x n`` grid per face, one saturated colour per face),
     ``"cad"`` (a fandisk-like extruded profile with four convex creases, a concave one and
@@ -107,12 +109,12 @@ def synthetic(name: str = "cube", n: int = 30) -> Tuple[np.ndarray, np.ndarray, 
     z = 0 and z = 1; labels from :func:`cad_labels`), ``"sphere"`` (unit icosphere, ``n``
     subdivisions) or ``"plane"`` (unit square with a colour step at x = 0.5). Colours are
     0..255 float32."""
-    v, f, c = _m.synthetic(name, int(n))
+    v, f, c = _m.make_mesh(name, int(n))
     return v, f, c * 255.0
 
 
 def cad_labels(n: int = 20) -> Tuple[np.ndarray, np.ndarray]:
-    """Per-vertex ground-truth labels of ``synthetic("cad", n)``: the profile patch (0..6;
+    """Per-vertex ground-truth labels of ``make_mesh("cad", n)``: the profile patch (0..6;
     5 is the fillet of radius 0.5 around the axis x = 0.5, y = 1.5) and the crease band (the
     vertices within one sample spacing of a convex or concave crease)."""
     return _m.cad_labels(int(n))

@@ -14,13 +14,18 @@ footprint (with colour blending against the parent level) and intersect triangle
   ``.memory_report`` gives the columns of the paper's Table 2; ``.save`` / :func:`load` keep
   the tree and its mesh in a checksummed file.
 - :func:`voxelize` returns the exact (cell, triangle) fragments; :func:`bvh_intersect` is the
-  BVH baseline; :func:`scene` generates the synthetic test scenes.
+  BVH baseline; :func:`make_scene` generates the synthetic test scenes.
 
-Conventions: vertices ``(V, 3)`` float64, faces ``(F, 3)`` integer, colours ``(V, 3)`` in
-``[0, 1]``; rays ``(N, 3)`` float32 origins and directions (any length; ``t`` is measured in
-direction units). The domain is a cube; by default the mesh's bounding box grown to a cube by
-``1e-5`` of its side, centred. Bad input raises ``ValueError``; unreadable or damaged files
-raise ``OSError``.
+Conventions (``py/API.md``): vertices ``(V, 3)`` float64 ``(x, y, z)``, faces ``(F, 3)``
+integer, colours ``(V, 3)`` in ``[0, 1]``; rays ``(N, 3)`` float32 origins and directions
+(any length; ``t`` is measured in direction units); camera and light positions are world
+points ``(x, y, z)``. The domain is a cube; by default the mesh's bounding box grown to a
+cube by ``1e-5`` of its side, centred. Grid cells (:func:`voxelize`,
+:meth:`HybridOctree.occupancy`) are indices ``(k, j, i)`` in array axis order, so that they
+index a ``(2^level,) * 3`` array ``[z, y, x]``: with the root cell ``(min_xyz, side)`` and
+``h = side / 2^level``, cell ``(k, j, i)`` covers ``min_xyz + h * [(i, j, k), (i + 1, j +
+1, k + 1)]``. Bad input raises ``ValueError``; unreadable or damaged files raise
+``OSError``.
 
 References: Crassin and Green, "Octree-based sparse voxelization using the GPU hardware
 rasterizer", OpenGL Insights (2012); Laine and Karras, "Efficient sparse voxel octrees",
@@ -37,7 +42,8 @@ import numpy as np
 from ._native import octree as _o
 from ._checks import integer_ranges as _integer_ranges
 
-__all__ = ["HybridOctree", "build", "load", "from_bytes", "voxelize", "bvh_intersect", "scene"]
+__all__ = ["HybridOctree", "build", "load", "from_bytes", "voxelize", "bvh_intersect",
+           "make_scene"]
 
 _MODES = ("triangles", "voxels", "hybrid")
 
@@ -151,7 +157,7 @@ class HybridOctree:
                light_pos: Optional[Sequence[float]] = None, shadows: bool = True,
                lod_scale: float = 1.0, blend: bool = True,
                small_leaves_as_voxels: bool = False, level: Optional[int] = None,
-               focus: Optional[Sequence[float]] = None, ao_samples: int = 0,
+               focus: Optional[Sequence[float]] = None, n_ao_samples: int = 0,
                ao_radius: float = 0.05, return_stats: bool = False):
         """Renders a ``(height, width, 3)`` float32 linear-RGB image: one primary ray per
         pixel, Phong shading (ka 0.1, kd 0.8, ks 0.2, shininess 32), one point light
@@ -159,8 +165,9 @@ class HybridOctree:
 
         ``focus = (cx, cy, a, b, falloff)`` (pixels) gives view-dependent detail in hybrid
         mode (the paper's display-wall application): triangles inside the ellipse, the LoD
-        scale doubling every ``falloff`` pixels outside it. ``ao_samples`` ambient-occlusion
-        rays of length ``ao_radius`` cube sides scale the ambient term. With
+        scale doubling every ``falloff`` pixels outside it. ``n_ao_samples``
+        ambient-occlusion rays of length ``ao_radius`` cube sides scale the ambient term.
+        ``eye``, ``target`` and ``light_pos`` are world points ``(x, y, z)``. With
         ``return_stats`` also returns a dict of hit counts (``triangle_hits``,
         ``voxel_hits``, ``misses``), blend factor range and seconds."""
         if mode not in _MODES:
@@ -173,12 +180,13 @@ class HybridOctree:
                                  bool(small_leaves_as_voxels),
                                  None if level is None else int(level),
                                  None if focus is None else [float(x) for x in focus],
-                                 int(ao_samples), float(ao_radius))
+                                 int(n_ao_samples), float(ao_radius))
         return (img, st) if return_stats else img
 
     def occupancy(self, level: int) -> np.ndarray:
-        """``(K, 3)`` integer cells of the non-empty nodes at ``level`` (leaves that stopped
-        above it are not expanded)."""
+        """``(K, 3)`` integer cells ``(k, j, i)`` (array axis order, ``i`` along x; see the
+        module documentation) of the non-empty nodes at ``level`` (leaves that stopped above
+        it are not expanded)."""
         return self._n.occupancy(int(level))
 
     def voxels(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -247,8 +255,10 @@ def from_bytes(data: bytes) -> HybridOctree:
 
 def voxelize(vertices, faces, depth: int, domain: Tuple[Sequence[float], float]):
     """Exact surface voxelization: every (finest cell, triangle) pair whose closed boxes
-    overlap (separating-axis test). Returns integer cells ``(K, 3)`` and triangle indices
-    ``(K,)``, sorted by Morton code then triangle; zero-area triangles produce nothing."""
+    overlap (separating-axis test), in the cube ``domain = (min_xyz, side)``. Returns integer
+    cells ``(K, 3)`` as ``(k, j, i)`` (array axis order, ``i`` along x; see the module
+    documentation) and triangle indices ``(K,)``, sorted by Morton code then triangle;
+    zero-area triangles produce nothing."""
     v, f, _ = _mesh(vertices, faces)
     if not 0 <= int(depth) <= 255:
         raise ValueError(f"depth must be in 0..=21, got {depth}")
@@ -263,7 +273,7 @@ def bvh_intersect(vertices, faces, origins, dirs) -> Tuple[np.ndarray, np.ndarra
     return _o.bvh_intersect(v, f, o, d)
 
 
-def scene(name: str, size: Optional[int] = None, seed: int = 3):
+def make_scene(name: str, size: Optional[int] = None, seed: int = 3):
     """A synthetic scene ``(vertices, faces, colors)``: ``"atrium"`` (``size`` pillars per
     row, default 10), ``"city"`` (``size x size`` buildings, default 40), ``"blob"``
     (icosphere subdivisions, default 8: 1,310,720 triangles), ``"forest"`` (13 trees of

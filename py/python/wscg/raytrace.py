@@ -9,28 +9,31 @@ known spectrum and small angular size, for the left and right eyes of an off-axi
 the cyclopean eye (the monoscopic condition), and score the result against a reference with
 a virtual observer.
 
-Plate parameters (keyword arguments of :func:`render_plate`, :func:`generate_tile`,
-:func:`workshop`; every one has the paper's value or a documented default):
+Plate parameters: keyword-only arguments of :func:`render_plate` (all of them),
+:func:`make_tile` (the microstructure), :func:`plate_layout` (the microstructure and
+``size_mm``) and :func:`workshop` (all but ``radius_um`` and ``density``, which its runs set);
+every one has the paper's value or a documented default:
 
 - microstructure: ``radius_um`` (30), ``radius_cv`` (0.15, lognormal), ``thickness_um``
   (0.5), ``density`` (6.5, mean number of flakes above a point), ``tilt`` ('halfnormal',
   'cap' or 'flat') with ``tilt_deg`` (8), ``layer_um`` (20.24), ``tile_um`` (450),
-  ``model`` ('boolean' or 'deposit'), ``tiles_in_pool`` (16), ``max_clamped_fraction``
-  (0.05), ``seed`` (0);
+  ``model`` ('boolean' or 'deposit'), ``n_pool_tiles`` (16, tiles in the pool the plate is
+  paved with), ``max_clamped_fraction`` (0.05), ``seed`` (0);
 - layers: ``size_mm`` ((150, 100)), ``coat_ior`` (1.5; 1 for no coat), ``coat_um`` (40),
   ``binder_ior`` (1.5), ``binder_sigma_a_per_mm`` (0), ``base_albedo`` (0, the black
   base), ``metal`` ('al_k6': aluminium with the paper's k = 6; 'al': Rakic's aluminium) or
   ``metal_nk=(n, k)``;
 - lamp: ``light_elevation_deg`` (45), ``light_deg`` (angular radius, 1), ``light_cct``
-  (CIE daylight at 4700 K by default, the SOLUX lamp) or ``light_spectrum`` (81 values);
+  (CIE daylight at 4700 K by default, the SOLUX lamp) or ``light_spectrum`` (81 values),
+  ``radiance_scale`` (1, a factor on the lamp's radiance);
 - rendering: ``spp`` (64), ``max_depth`` (8), ``render_seed`` (0), ``region_mm``
   ((x0, y0, x1, y1), plate centre at the origin, y up; default the whole plate),
   ``magnification`` (1: the rig's screen pixels), ``independent_samples`` (False),
-  ``colour`` ('spectral' or 'rgb', the non-spectral baseline), ``keep_spectrum`` (False: with
-  ``return_info``, also the radiance per band as ``info['spectrum']`` (H, W, bands) and
-  ``info['bands_nm']``), ``photons`` (2 000 000 photons for the flakes' caustics on a
+  ``color_mode`` ('spectral' or 'rgb', the non-spectral baseline), ``keep_spectrum`` (False:
+  with ``return_info``, also the radiance per band as ``info['spectrum']`` (H, W, bands) and
+  ``info['bands_nm']``), ``n_photons`` (2 000 000 photons for the flakes' caustics on a
   diffuse base, used only when ``base_albedo > 0``; 0 leaves the caustics out),
-  ``photon_k`` (50 photons per density estimate).
+  ``n_photon_neighbors`` (50 photons per density estimate).
 
 Bad input raises ``ValueError``.
 """
@@ -42,18 +45,18 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from ._native import raytrace as _r
-from ._checks import integer_ranges as _integer_ranges
-from ._manylight import (ManyLightScene, manylight_from_arrays, manylight_load_obj,
-                         manylight_scene, render_manylight)
+from ._checks import _int, integer_ranges as _integer_ranges
+from ._manylight import (ManyLightScene, load_manylight_obj, make_manylight_scene,
+                         manylight_from_arrays, render_manylight)
 
-__all__ = ["render_plate", "xyz_to_srgb", "generate_tile", "plate_layout", "glint_stats", "binocular_overlap",
-           "workshop", "fresnel_conductor", "fresnel_dielectric", "aluminium_nk", "daylight",
+__all__ = ["render_plate", "xyz_to_srgb", "make_tile", "plate_layout", "glint_stats",
+           "binocular_overlap", "workshop", "fresnel_conductor", "fresnel_dielectric", "aluminium_nk", "daylight",
            "spectrum_to_xyz", "project", "FLAKE_DTYPE",
            # paper 08: many-light rendering
-           "ManyLightScene", "manylight_scene", "manylight_from_arrays", "manylight_load_obj",
-           "render_manylight"]
+           "ManyLightScene", "make_manylight_scene", "manylight_from_arrays",
+           "load_manylight_obj", "render_manylight"]
 
-#: Fields of the structured array returned by :func:`generate_tile`.
+#: Fields of the structured array returned by :func:`make_tile`.
 FLAKE_DTYPE = np.dtype([("cx", "f8"), ("cy", "f8"), ("cz", "f8"), ("nx", "f8"), ("ny", "f8"),
                         ("nz", "f8"), ("r", "f8")])
 
@@ -80,8 +83,89 @@ def xyz_to_srgb(xyz, exposure: float = 1.0) -> np.ndarray:
     return out.astype(np.float32)
 
 
-def render_plate(eye: str = "cyclopean", out: str = "xyz", return_info: bool = False,
-                 **params):
+def _microstructure(radius_um, radius_cv, thickness_um, density, tilt, tilt_deg, layer_um,
+                    tile_um, model, n_pool_tiles, max_clamped_fraction, seed) -> dict:
+    """The native parameter entries of the flake microstructure (paper 07 section 2.2)."""
+    p = {"radius_cv": float(radius_cv), "thickness_um": float(thickness_um),
+         "tilt": str(tilt), "tilt_deg": float(tilt_deg), "layer_um": float(layer_um),
+         "tile_um": float(tile_um), "model": str(model),
+         "n_pool_tiles": _int("n_pool_tiles", n_pool_tiles, 1),
+         "max_clamped_fraction": float(max_clamped_fraction),
+         "seed": _int("seed", seed, 0, 2**64 - 1)}
+    if radius_um is not None:
+        p["radius_um"] = float(radius_um)
+    if density is not None:
+        p["density"] = float(density)
+    return p
+
+
+def _stack(size_mm, coat_ior, coat_um, binder_ior, binder_sigma_a_per_mm, base_albedo, metal,
+           metal_nk) -> dict:
+    """The native parameter entries of the paint's layers."""
+    try:
+        w, h = (float(v) for v in size_mm)
+    except (TypeError, ValueError):
+        raise ValueError(f"`size_mm` must be (width, height) in mm, got {size_mm!r}") from None
+    p = {"size_mm": (w, h), "coat_ior": float(coat_ior), "coat_um": float(coat_um),
+         "binder_ior": float(binder_ior), "binder_sigma_a_per_mm": float(binder_sigma_a_per_mm),
+         "base_albedo": float(base_albedo), "metal": str(metal)}
+    if metal_nk is not None:
+        try:
+            n, k = (float(v) for v in metal_nk)
+        except (TypeError, ValueError):
+            raise ValueError(f"`metal_nk` must be (n, k), got {metal_nk!r}") from None
+        p["metal_nk"] = (n, k)
+    return p
+
+
+def _lamp(light_elevation_deg, light_deg, light_cct, light_spectrum, radiance_scale) -> dict:
+    """The native parameter entries of the lamp."""
+    p = {"light_elevation_deg": float(light_elevation_deg), "light_deg": float(light_deg),
+         "radiance_scale": float(radiance_scale)}
+    if light_cct is not None:
+        p["light_cct"] = float(light_cct)
+    if light_spectrum is not None:
+        p["light_spectrum"] = [float(v) for v in np.asarray(light_spectrum, dtype=np.float64)
+                               .ravel()]
+    return p
+
+
+def _rendering(spp, max_depth, render_seed, region_mm, magnification, independent_samples,
+               color_mode, keep_spectrum, n_photons, n_photon_neighbors) -> dict:
+    """The native parameter entries of the renderer."""
+    p = {"spp": _int("spp", spp, 0), "max_depth": _int("max_depth", max_depth, 0),
+         "render_seed": _int("render_seed", render_seed, 0, 2**64 - 1),
+         "magnification": float(magnification),
+         "independent_samples": bool(independent_samples), "color_mode": str(color_mode),
+         "keep_spectrum": bool(keep_spectrum),
+         "n_photons": _int("n_photons", n_photons, 0, 500_000_000),
+         "n_photon_neighbors": _int("n_photon_neighbors", n_photon_neighbors, 1)}
+    if region_mm is not None:
+        try:
+            x0, y0, x1, y1 = (float(v) for v in region_mm)
+        except (TypeError, ValueError):
+            raise ValueError(f"`region_mm` must be (x0, y0, x1, y1), got {region_mm!r}") from None
+        p["region_mm"] = (x0, y0, x1, y1)
+    return p
+
+
+def render_plate(eye: str = "cyclopean", color_space: str = "xyz", return_info: bool = False, *,
+                 radius_um: float = 30.0, radius_cv: float = 0.15, thickness_um: float = 0.5,
+                 density: float = 6.5, tilt: str = "halfnormal", tilt_deg: float = 8.0,
+                 layer_um: float = 20.24, tile_um: float = 450.0, model: str = "boolean",
+                 n_pool_tiles: int = 16, max_clamped_fraction: float = 0.05, seed: int = 0,
+                 size_mm: Tuple[float, float] = (150.0, 100.0), coat_ior: float = 1.5,
+                 coat_um: float = 40.0, binder_ior: float = 1.5,
+                 binder_sigma_a_per_mm: float = 0.0, base_albedo: float = 0.0,
+                 metal: str = "al_k6", metal_nk: Optional[Tuple[float, float]] = None,
+                 light_elevation_deg: float = 45.0, light_deg: float = 1.0,
+                 light_cct: Optional[float] = None, light_spectrum=None,
+                 radiance_scale: float = 1.0, spp: int = 64, max_depth: int = 8,
+                 render_seed: int = 0,
+                 region_mm: Optional[Tuple[float, float, float, float]] = None,
+                 magnification: float = 1.0, independent_samples: bool = False,
+                 color_mode: str = "spectral", keep_spectrum: bool = False,
+                 n_photons: int = 2_000_000, n_photon_neighbors: int = 50):
     """Renders the metallic-paint plate for one eye or the stereo pair (paper 07).
 
     Parameters
@@ -89,7 +173,7 @@ def render_plate(eye: str = "cyclopean", out: str = "xyz", return_info: bool = F
     eye : {'cyclopean', 'left', 'right', 'pair'}
         The view: the monoscopic condition's cyclopean eye, one eye of the off-axis rig, or
         both eyes (same microstructure).
-    out : {'xyz', 'srgb'}
+    color_space : {'xyz', 'srgb'}
         CIE XYZ normalised so that a perfect white diffuser under the lamp has Y = 1, or
         display sRGB (glints clip at 1).
     return_info : bool
@@ -97,8 +181,14 @@ def render_plate(eye: str = "cyclopean", out: str = "xyz", return_info: bool = F
         directly in each pixel, ``2**64 - 1`` for none), ``glint_ids`` (sorted ids of every
         flake glinting directly), ``mm_per_px``, ``lamp_y`` (the lamp's own luminance, the
         largest a pixel can have) and ``region_mm``.
-    **params
-        Plate parameters (see the module's documentation).
+    radius_um, radius_cv, thickness_um, density, tilt, tilt_deg, layer_um, tile_um, model, n_pool_tiles, max_clamped_fraction, seed
+        The flake microstructure (see the module documentation).
+    size_mm, coat_ior, coat_um, binder_ior, binder_sigma_a_per_mm, base_albedo, metal, metal_nk
+        The paint's layers.
+    light_elevation_deg, light_deg, light_cct, light_spectrum, radiance_scale
+        The lamp.
+    spp, max_depth, render_seed, region_mm, magnification, independent_samples, color_mode, keep_spectrum, n_photons, n_photon_neighbors
+        The renderer.
 
     Returns
     -------
@@ -127,12 +217,22 @@ def render_plate(eye: str = "cyclopean", out: str = "xyz", return_info: bool = F
     if eye not in ("cyclopean", "left", "right", "pair"):
         raise ValueError(f"{eye!r} is not a valid eye. Valid eyes are 'cyclopean', 'left', "
                          "'right', 'pair'")
-    if out not in ("xyz", "srgb"):
-        raise ValueError(f"{out!r} is not a valid output. Valid outputs are 'xyz', 'srgb'")
+    if color_space not in ("xyz", "srgb"):
+        raise ValueError(f"{color_space!r} is not a valid `color_space`. Valid values are "
+                         "'xyz', 'srgb'")
+    params = {**_microstructure(radius_um, radius_cv, thickness_um, density, tilt, tilt_deg,
+                                layer_um, tile_um, model, n_pool_tiles, max_clamped_fraction,
+                                seed),
+              **_stack(size_mm, coat_ior, coat_um, binder_ior, binder_sigma_a_per_mm,
+                       base_albedo, metal, metal_nk),
+              **_lamp(light_elevation_deg, light_deg, light_cct, light_spectrum, radiance_scale),
+              **_rendering(spp, max_depth, render_seed, region_mm, magnification,
+                           independent_samples, color_mode, keep_spectrum, n_photons,
+                           n_photon_neighbors)}
     eyes = ["left", "right"] if eye == "pair" else [eye]
     views = []
-    for xyz, flake_id, glint_ids, info in _r.render_plate(dict(params), eyes):
-        img = xyz_to_srgb(xyz) if out == "srgb" else xyz
+    for xyz, flake_id, glint_ids, info in _r.render_plate(params, eyes):
+        img = xyz_to_srgb(xyz) if color_space == "srgb" else xyz
         if return_info:
             info = dict(info, flake_id=flake_id, glint_ids=glint_ids)
             views.append((img, info))
@@ -141,28 +241,43 @@ def render_plate(eye: str = "cyclopean", out: str = "xyz", return_info: bool = F
     return tuple(views) if eye == "pair" else views[0]
 
 
-def generate_tile(**params) -> Tuple[np.ndarray, int]:
+def make_tile(*, radius_um: float = 30.0, radius_cv: float = 0.15, thickness_um: float = 0.5,
+              density: float = 6.5, tilt: str = "halfnormal", tilt_deg: float = 8.0,
+              layer_um: float = 20.24, tile_um: float = 450.0, model: str = "boolean",
+              n_pool_tiles: int = 16, max_clamped_fraction: float = 0.05,
+              seed: int = 0) -> Tuple[np.ndarray, int]:
     """One 450 x 450 µm tile of the flake microstructure (stack model, paper 07 section 2.2).
 
     Returns a structured array of :data:`FLAKE_DTYPE` (centre in µm with z above the base,
     unit normal, radius), in deposition order, and the number of flakes the deposit model
-    had to clamp to the layer's top. Parameters: the microstructure keys of the module
-    documentation.
+    had to clamp to the layer's top. Parameters: the microstructure of the module
+    documentation (``n_pool_tiles`` is only checked here).
     """
-    arr, clamped = _r.generate_tile(dict(params))
+    params = _microstructure(radius_um, radius_cv, thickness_um, density, tilt, tilt_deg,
+                             layer_um, tile_um, model, n_pool_tiles, max_clamped_fraction, seed)
+    arr, clamped = _r.make_tile(params)
     return _records(arr), clamped
 
 
-def plate_layout(region_mm: Tuple[float, float, float, float], **params):
+def plate_layout(region_mm: Tuple[float, float, float, float], *, radius_um: float = 30.0,
+                 radius_cv: float = 0.15, thickness_um: float = 0.5, density: float = 6.5,
+                 tilt: str = "halfnormal", tilt_deg: float = 8.0, layer_um: float = 20.24,
+                 tile_um: float = 450.0, model: str = "boolean", n_pool_tiles: int = 16,
+                 max_clamped_fraction: float = 0.05, seed: int = 0,
+                 size_mm: Tuple[float, float] = (150.0, 100.0)):
     """The plate's microstructure over ``region_mm`` (x0, y0, x1, y1), for export to another
     renderer: the pool of tiles (a list of :data:`FLAKE_DTYPE` arrays, tile frame in µm) and
     the cells overlapping the region as ``(x0_um, y0_um, tile, quarter_turns)``. A tile point
     ``q`` appears at ``(x0, y0) + L/2 + R_k (q - L/2)`` (``L`` = ``tile_um``, ``R_k`` a turn
-    of ``k`` quarter turns counter-clockwise), clipped to the cell's square."""
+    of ``k`` quarter turns counter-clockwise), clipped to the cell's square. The other
+    parameters are the microstructure and ``size_mm`` of the module documentation."""
     x0, y0, x1, y1 = (float(v) * 1e3 for v in region_mm)
-    pool, cells = _r.plate_layout(dict(params), (x0, y0, x1, y1))
+    params = {**_microstructure(radius_um, radius_cv, thickness_um, density, tilt, tilt_deg,
+                                layer_um, tile_um, model, n_pool_tiles, max_clamped_fraction,
+                                seed),
+              **_stack(size_mm, 1.5, 40.0, 1.5, 0.0, 0.0, "al_k6", None)}
+    pool, cells = _r.plate_layout(params, (x0, y0, x1, y1))
     return [_records(a) for a in pool], cells
-
 
 def glint_stats(y, mm_per_px: float) -> dict:
     """Sparkle statistics of a luminance image (the virtual observer's features).
@@ -185,15 +300,33 @@ def binocular_overlap(left_ids, right_ids) -> float:
 
 def workshop(reference: Tuple[float, float] = (26.0, 7.3),
              runs: Optional[Sequence[Tuple[float, float]]] = None, condition: str = "stereo",
-             reference_renders: int = 4, jnd_log: float = 0.25, **params) -> dict:
+             n_reference_renders: int = 4, jnd_log: float = 0.25, *,
+             radius_cv: float = 0.15, thickness_um: float = 0.5, tilt: str = "halfnormal",
+             tilt_deg: float = 8.0, layer_um: float = 20.24, tile_um: float = 450.0,
+             model: str = "boolean", n_pool_tiles: int = 16,
+             max_clamped_fraction: float = 0.05, seed: int = 0,
+             size_mm: Tuple[float, float] = (150.0, 100.0), coat_ior: float = 1.5,
+             coat_um: float = 40.0, binder_ior: float = 1.5,
+             binder_sigma_a_per_mm: float = 0.0, base_albedo: float = 0.0,
+             metal: str = "al_k6", metal_nk: Optional[Tuple[float, float]] = None,
+             light_elevation_deg: float = 75.0, light_deg: float = 1.0,
+             light_cct: Optional[float] = None, light_spectrum=None,
+             radiance_scale: float = 1.0, spp: int = 64, max_depth: int = 8,
+             render_seed: int = 0,
+             region_mm: Optional[Tuple[float, float, float, float]] = None,
+             magnification: float = 4.0, independent_samples: bool = False,
+             color_mode: str = "spectral", keep_spectrum: bool = False,
+             n_photons: int = 2_000_000, n_photon_neighbors: int = 50) -> dict:
     """The virtual material workshop: virtual-observer scores of candidate plates.
 
-    The hidden ``reference`` (radius µm, density) is rendered ``reference_renders`` times
-    with different microstructure seeds to calibrate the observer; each candidate of ``runs``
-    (default: the paper's 13-run inscribed central composite design over radius 15-45 µm and
-    density 3.5-9.5) is rendered once and scored 0 (identical) ... 10 (different). By
-    default a 10 x 10 mm patch at 4x magnification, 64 spp, lamp 75 degrees above the plate.
-    Fit the scores with :func:`wscg.doe.fit_rsm` and read the stationary point.
+    The hidden ``reference`` (radius µm, density) is rendered ``n_reference_renders`` times
+    (>= 2) with different microstructure seeds to calibrate the observer; each candidate of
+    ``runs`` (default: the paper's 13-run inscribed central composite design over radius
+    15-45 µm and density 3.5-9.5) is rendered once and scored 0 (identical) ... 10
+    (different). The plate parameters are those of :func:`render_plate` but for
+    ``radius_um`` and ``density`` (the runs set them), with other defaults: a 10 x 10 mm
+    patch (``region_mm=None``) at 4x magnification, 64 spp, the lamp 75 degrees above the
+    plate. Fit the scores with :func:`wscg.doe.fit_rsm` and read the stationary point.
 
     Returns a dict with ``runs``, ``scores``, ``features``, ``reference_features``,
     ``feature_names`` and ``scale_log``.
@@ -205,11 +338,18 @@ def workshop(reference: Tuple[float, float] = (26.0, 7.3),
     if condition not in ("mono", "stereo"):
         raise ValueError(f"{condition!r} is not a valid condition. Valid conditions are "
                          "'mono', 'stereo'")
-    params.setdefault("spp", 64)
-    params.setdefault("magnification", 4.0)
+    params = {**_microstructure(None, radius_cv, thickness_um, None, tilt, tilt_deg, layer_um,
+                                tile_um, model, n_pool_tiles, max_clamped_fraction, seed),
+              **_stack(size_mm, coat_ior, coat_um, binder_ior, binder_sigma_a_per_mm,
+                       base_albedo, metal, metal_nk),
+              **_lamp(light_elevation_deg, light_deg, light_cct, light_spectrum, radiance_scale),
+              **_rendering(spp, max_depth, render_seed, region_mm, magnification,
+                           independent_samples, color_mode, keep_spectrum, n_photons,
+                           n_photon_neighbors)}
     runs = [(float(r), float(d)) for r, d in runs]
-    res = _r.workshop(dict(params), (float(reference[0]), float(reference[1])), runs,
-                      condition, int(reference_renders), float(jnd_log))
+    res = _r.workshop(params, (float(reference[0]), float(reference[1])), runs,
+                      condition, _int("n_reference_renders", n_reference_renders, 2),
+                      float(jnd_log))
     res["runs"] = runs
     return res
 

@@ -13,38 +13,43 @@ A :class:`HybridClient` rebuilds the octree structure losslessly, checks every p
 (magic, version, length, CRC-32, volume id, leaf count) and ray-casts the low-resolution
 volume outside the ROI and the octree inside it.
 
-Volumes are ``uint8`` arrays indexed ``[z, y, x]``; voxel coordinates ``(x, y, z)`` place
-voxel ``(i, j, k)`` in ``[i, i + 1) x [j, j + 1) x [k, k + 1)``. ROIs are
-``(x0, x1, y0, y1, z0, z1)`` half-open boxes, snapped outward to multiples of 16. Transfer
-functions are ``(n, 5)`` arrays of ``(density, r, g, b, opacity)`` rows with increasing
-densities in ``[0, 255]``. Images are ``(height, width, 4)`` float32 RGBA arrays. Bad input
-raises ``ValueError``.
+Paper-03 conventions: volumes are ``uint8`` arrays indexed ``[z, y, x]`` with unit spacing;
+world points (camera ``eye`` and ``target``) are ``(x, y, z)`` with the centre of voxel ``[k,
+j, i]`` at ``(i, j, k)`` (``py/API.md``). ROIs are half-open boxes of voxel indices in array
+axis order, ``(z0, z1, y0, y1, x0, x1)``, snapped outward to multiples of 16; a voxel is
+given by its index ``(k, j, i)``. Transfer functions are ``(n, 5)`` arrays of ``(density, r,
+g, b, opacity)`` rows with increasing densities in ``[0, 255]``. Images are ``(height, width,
+4)`` float32 RGBA arrays and ``size`` is ``(height, width)``. Bad input raises
+``ValueError``.
 
 **Paper 15** (Angelelli and Bruckner, "Performance and Quality Analysis of Convolution-Based
 Volume Illumination"). :func:`render` draws a volume slice by slice with *instant
 convolution shadows* (ICS): a 2-D light buffer is attenuated by each view-aligned slice and
 blurred by a kernel before it reaches the next one, so shadows cost one convolution per
 slice and no 3-D illumination volume. The paper decouples the light sampling (the slice
-distance) from the tissue sampling: ``"scs"`` takes ``subsamples`` extra tissue samples
+distance) from the tissue sampling: ``"scs"`` takes ``n_subsamples`` extra tissue samples
 between slices lit by interpolated light, ``"pi-ics"`` pre-integrates each slab
 (:func:`preintegration_table`) and ``"pi-scs"`` does both. Baselines: emission-absorption
 (``"raycast"``) and Blinn-Phong (``"phong"``) ray casting and ray casting with shadow rays
 (``"shadow-rays"``, what ICS with the delta kernel equals). :func:`study` runs the paper's
 quality/speed sweep (:func:`mean_abs_diff` is its Table 1 error); :func:`light_buffer`
 exposes the light arriving at a depth. :class:`PreparedVolume` normalises a volume once for
-many renders. Test data: :func:`marschner_lobb`, the tissue labels
-of a ``.vti`` file (:func:`read_vti`, e.g. the frog shipped with pyvista) turned into a
+many renders. Test data: :func:`make_marschner_lobb`, the tissue labels
+of a ``.vti`` file (:func:`load_vti`, e.g. the frog shipped with pyvista) turned into a
 CT-like field by :func:`labels_to_density`, and their transfer functions.
 
-Paper-15 conventions: volumes are ``uint8``, ``uint16`` or ``float32`` arrays indexed
-``[z, y, x]`` with a physical ``spacing`` ``(sx, sy, sz)``; world units are voxels of the
-finest axis (voxel ``(i, j, k)`` sits at ``(i sx, j sy, k sz) / min(spacing)``, voxel
-centres at integer positions, the volume box ``[-1/2, n - 1/2]`` per axis). Transfer
-functions are ``(N, 4)`` float arrays of RGBA rows evenly spaced over the normalised value
-range ``[0, 1]``, the opacity referring to one world unit of length. Images are
-``(height, width, 4)`` float32 RGBA arrays, colour composited over the background and alpha
-the accumulated opacity; ``size`` is ``(width, height)`` here. Bad input raises
-``ValueError``; a file that cannot be read raises ``OSError``.
+Paper-15 conventions (``py/API.md``): volumes are ``uint8``, ``uint16`` or ``float32`` arrays
+indexed ``[z, y, x]`` with a physical ``spacing`` ``(dz, dy, dx)`` in array axis order (as
+in :mod:`wscg.math`, :mod:`wscg.volseg` and :mod:`wscg.isosurface`). World points
+(``center``) are ``(x, y, z)`` with voxel ``[k, j, i]`` at ``(i dx, j dy, k dz)`` (the volume
+box is ``[-d/2, (n - 1/2) d]`` per axis); world directions (``view_dir``, ``up``) are ``(x, y,
+z)`` too. Every length (``slice_distance``, ``pixel_size``, ``spread``, ``depth``) is in the
+units of the spacing (millimetres for medical volumes; voxels for the default spacing ``(1,
+1, 1)``). Transfer functions are ``(N, 4)`` float arrays of RGBA rows evenly spaced over the
+normalised value range ``[0, 1]``, the opacity referring to one unit of length of the
+spacing. Images are ``(height, width, 4)`` float32 RGBA arrays, colour composited over the
+background and alpha the accumulated opacity; ``size`` is ``(height, width)``. Bad input
+raises ``ValueError``; a file that cannot be read raises ``OSError``.
 """
 
 from __future__ import annotations
@@ -58,12 +63,12 @@ import numpy as np
 from ._native import volren as _v
 from ._checks import integer_ranges as _integer_ranges
 
-__all__ = ["HybridServer", "HybridClient", "render_reference", "phantom", "phantom_tfs",
+__all__ = ["HybridServer", "HybridClient", "render_reference", "make_phantom", "phantom_tfs",
            "octree_address", "orbit_camera", "haar_blocks",
            # paper 15
-           "render", "PreparedVolume", "light_buffer", "preintegration_table", "marschner_lobb",
-           "marschner_lobb_tf", "tissue_tf", "skin_tf", "labels_to_density", "read_vti", "mean_abs_diff",
-           "study", "METHODS", "KERNELS"]
+           "render", "PreparedVolume", "light_buffer", "preintegration_table",
+           "make_marschner_lobb", "marschner_lobb_tf", "tissue_tf", "skin_tf",
+           "labels_to_density", "load_vti", "mean_abs_diff", "study", "METHODS", "KERNELS"]
 
 Roi = Tuple[int, int, int, int, int, int]
 
@@ -79,7 +84,7 @@ def _tf(t) -> np.ndarray:
 def _roi(r) -> Roi:
     r = tuple(int(c) for c in r)
     if len(r) != 6 or min(r) < 0:
-        raise ValueError(f"a ROI is (x0, x1, y0, y1, z0, z1) with non-negative ints, got {r}")
+        raise ValueError(f"a ROI is (z0, z1, y0, y1, x0, x1) with non-negative ints, got {r}")
     return r  # type: ignore[return-value]
 
 
@@ -91,11 +96,13 @@ def _view(eye, target, up, fov_deg, size) -> tuple:
 
 def orbit_camera(shape: Sequence[int], azimuth: float = 30.0, elevation: float = 20.0,
                  fov_deg: float = 30.0) -> dict:
-    """A camera (keyword arguments of the render functions) looking at the centre of a volume
-    of ``shape`` ``(z, y, x)`` from ``azimuth``/``elevation`` degrees, ``z`` up, far enough
-    for the volume to fill about 80 % of the view."""
+    """A camera (keyword arguments of the paper-03 render functions) looking at the centre
+    ``((nx - 1) / 2, (ny - 1) / 2, (nz - 1) / 2)`` of a volume of ``shape`` ``(nz, ny, nx)``
+    from ``azimuth`` degrees about the ``z`` axis and ``elevation`` degrees above the ``xy``
+    plane, ``z`` up, far enough for the volume to fill about 80 % of the view. ``eye`` and
+    ``target`` are world points ``(x, y, z)``, voxel ``[k, j, i]`` at ``(i, j, k)``."""
     nz, ny, nx = (float(s) for s in shape)
-    c = np.array([nx, ny, nz]) / 2
+    c = (np.array([nx, ny, nz]) - 1) / 2
     radius = 0.5 * np.sqrt(nx * nx + ny * ny + nz * nz)
     dist = radius / (np.tan(np.radians(fov_deg / 2)) * 0.8)
     a, e = np.radians(azimuth), np.radians(elevation)
@@ -130,7 +137,8 @@ class HybridServer:
         return self._s.static_package()
 
     def roi_package(self, roi: Roi) -> bytes:
-        """The dynamic package of ``roi`` ``(x0, x1, y0, y1, z0, z1)``."""
+        """The dynamic package of ``roi`` ``(z0, z1, y0, y1, x0, x1)`` (half-open voxel index
+        ranges in array axis order)."""
         return self._s.roi_package(_roi(roi))
 
     @property
@@ -174,7 +182,7 @@ class HybridClient:
 
     @property
     def roi(self) -> Optional[Roi]:
-        """The current ROI box, snapped, or None."""
+        """The current ROI box ``(z0, z1, y0, y1, x0, x1)``, snapped, or None."""
         return self._c.roi
 
     @property
@@ -190,7 +198,9 @@ class HybridClient:
     def render(self, eye, target, up=(0.0, 0.0, 1.0), fov_deg: float = 30.0,
                size: Tuple[int, int] = (512, 512), roi_tf: int = 1,
                mode: str = "hybrid") -> np.ndarray:
-        """Ray-casts a ``size`` ``(height, width)`` RGBA image. ``mode="hybrid"``: the
+        """Ray-casts a ``size`` ``(height, width)`` RGBA image from ``eye`` towards ``target``
+        (world points ``(x, y, z)``, voxel ``[k, j, i]`` at ``(i, j, k)``; ``up`` a direction,
+        ``fov_deg`` the vertical field of view). ``mode="hybrid"``: the
         low-resolution volume under the canonical transfer function outside the ROI and the
         octree under ``roi_tf`` inside; ``"context"``: the low-resolution volume only (the
         wavelet baseline); ``"octree"``: the ROI's octree only (the Gradient Octree
@@ -202,16 +212,16 @@ def render_reference(volume, tf, eye, target, up=(0.0, 0.0, 1.0), fov_deg: float
                      size: Tuple[int, int] = (512, 512), roi: Optional[Roi] = None,
                      roi_tf=None) -> np.ndarray:
     """Full-resolution ray casting of ``volume`` (trilinear densities, central-difference
-    gradients, Phong shading) under ``tf``; with ``roi`` and ``roi_tf``, the full-resolution
-    counterpart of the hybrid image (``tf`` unlit outside the box, ``roi_tf`` shaded
-    inside)."""
+    gradients, Phong shading) under ``tf``; with ``roi`` ``(z0, z1, y0, y1, x0, x1)`` and
+    ``roi_tf``, the full-resolution counterpart of the hybrid image (``tf`` unlit outside the
+    box, ``roi_tf`` shaded inside). The camera is that of :meth:`HybridClient.render`."""
     return _v.render_reference(_volume(volume), _tf(tf), _view(eye, target, up, fov_deg, size),
                                None if roi is None else _roi(roi),
                                None if roi_tf is None else _tf(roi_tf))
 
 
-def phantom(name: str = "head", shape: Optional[Tuple[int, int, int]] = None,
-            seed: int = 0) -> np.ndarray:
+def make_phantom(name: str = "head", shape: Optional[Tuple[int, int, int]] = None,
+                 seed: int = 0) -> np.ndarray:
     """An analytic CT-like phantom ``[z, y, x]`` (uint8): ``"head"`` (3-D modified
     Shepp-Logan; the paper's skull is ``(112, 256, 256)``, the default) or ``"thorax"``
     (body, lungs with vessels, heart, spine, ribs; default ``(256, 256, 256)``, the paper's
@@ -229,10 +239,11 @@ def phantom_tfs(name: str = "head") -> List[np.ndarray]:
     return _v.phantom_tfs(name)
 
 
-def octree_address(ijk: Sequence[int], r: int) -> Tuple[Tuple[int, int, int], List[int]]:
-    """The paper's eq. 1: the level-32 cell of voxel ``(x, y, z)`` in a cube of side ``r``
-    and the child slot taken at each level 32, 64, ..., r/2."""
-    cell, slots = _v.octree_address([int(c) for c in ijk], int(r))
+def octree_address(index: Sequence[int], r: int) -> Tuple[Tuple[int, int, int], List[int]]:
+    """The paper's eq. 1: the level-32 cell ``(k, j, i)`` of the voxel ``index`` ``(k, j,
+    i)`` (array axis order) in a cube of side ``r``, and the child slot taken at each level
+    32, 64, ..., r/2."""
+    cell, slots = _v.octree_address([int(c) for c in index], int(r))
     return tuple(cell), list(slots)
 
 
@@ -293,13 +304,13 @@ class PreparedVolume:
     ----------
     volume : uint8, uint16 or float32 array ``[z, y, x]``
         As in :func:`render` (copied; not modified).
-    spacing : (sx, sy, sz), default (1, 1, 1)
-        Physical voxel spacing.
+    spacing : (dz, dy, dx), default (1, 1, 1)
+        Physical voxel spacing, in array axis order.
     value_range : (lo, hi), optional
         As in :func:`render`.
 
-    Attributes: ``shape`` ``(nz, ny, nx)`` and ``spacing``. Raises ``ValueError`` for bad
-    input.
+    Attributes: ``shape`` ``(nz, ny, nx)`` and ``spacing`` ``(dz, dy, dx)``. Raises
+    ``ValueError`` for bad input.
     """
 
     def __init__(self, volume, spacing: Sequence[float] = (1.0, 1.0, 1.0),
@@ -360,13 +371,13 @@ def _vec(name: str, v, n: int = 3) -> tuple:
 
 def _size(size) -> Tuple[int, int]:
     try:
-        w, h = size
+        h, w = size
     except (TypeError, ValueError):
-        raise ValueError(f"`size` must be (width, height), got {size!r}") from None
-    w, h = _int("size", w), _int("size", h)
+        raise ValueError(f"`size` must be (height, width), got {size!r}") from None
+    h, w = _int("size", h), _int("size", w)
     if w < 1 or h < 1:
-        raise ValueError(f"`size` (width, height) must be positive, got ({w}, {h})")
-    return w, h
+        raise ValueError(f"`size` (height, width) must be positive, got ({h}, {w})")
+    return h, w
 
 
 def _name(name: str, v, allowed: Sequence[str]) -> str:
@@ -382,13 +393,13 @@ def _range(value_range) -> Optional[Tuple[float, float]]:
     return lo, hi
 
 
-def _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance, subsamples,
+def _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance, n_subsamples,
                  kernel, spread, tan_half, light_dir, ambient, background, interp,
                  light_attenuation) -> dict:
     """The native options dict of a render (validated types; values checked natively)."""
-    subsamples = _int("subsamples", subsamples)
-    if not 0 <= subsamples <= 64:
-        raise ValueError(f"`subsamples` must be in 0..=64, got {subsamples}")
+    n_subsamples = _int("n_subsamples", n_subsamples)
+    if not 0 <= n_subsamples <= 64:
+        raise ValueError(f"`n_subsamples` must be in 0..=64, got {n_subsamples}")
     return {
         "view_dir": _vec("view_dir", view_dir),
         "up": _vec("up", up),
@@ -397,7 +408,7 @@ def _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance,
         "center": None if center is None else _vec("center", center),
         "method": _name("method", method, METHODS),
         "slice_distance": _num("slice_distance", slice_distance),
-        "subsamples": subsamples,
+        "n_subsamples": n_subsamples,
         "kernel": _name("kernel", kernel, KERNELS),
         "spread": _num("spread", spread),
         "tan_half": _num("tan_half", tan_half),
@@ -414,7 +425,7 @@ def render(volume, tf, spacing: Optional[Sequence[float]] = None,
            view_dir: Sequence[float] = (0.0, 0.0, 1.0), up: Sequence[float] = (0.0, 1.0, 0.0),
            size: Tuple[int, int] = (512, 512), pixel_size: Optional[float] = None,
            center: Optional[Sequence[float]] = None, method: str = "scs",
-           slice_distance: float = 1.0, subsamples: int = 0, kernel: str = "gaussian",
+           slice_distance: float = 1.0, n_subsamples: int = 0, kernel: str = "gaussian",
            spread: float = 0.5, tan_half: float = 0.5,
            light_dir: Sequence[float] = (0.0, 0.0, 1.0), ambient: float = 0.0,
            background: Sequence[float] = (0.0, 0.0, 0.0), interp: str = "trilinear",
@@ -432,33 +443,37 @@ def render(volume, tf, spacing: Optional[Sequence[float]] = None,
         Not modified.
     tf : ``(N, 4)`` float array, ``N >= 2``
         Transfer function: RGBA rows in ``[0, 1]`` evenly spaced over the normalised values;
-        the opacity refers to one world unit of length (the extinction ``-ln(1 - a)`` is
-        interpolated linearly between rows and every sampling distance is opacity-corrected).
+        the opacity refers to one unit of length of the spacing (the extinction ``-ln(1 -
+        a)`` is interpolated linearly between rows and every sampling distance is
+        opacity-corrected).
         Outside its box the volume has the value 0, classified by the first row throughout
         the volume's depth range: give that row zero opacity for empty surroundings.
-    spacing : (sx, sy, sz), default None (``(1, 1, 1)``)
-        Physical voxel spacing; world units are voxels of the finest axis. Leave None (and
+    spacing : (dz, dy, dx), default None (``(1, 1, 1)``)
+        Physical voxel spacing in array axis order: voxel ``[k, j, i]`` is at the world point
+        ``(i dx, j dy, k dz)``, and lengths are in the spacing's units. Leave None (and
         ``value_range`` None) with a :class:`PreparedVolume`, which has its own.
     view_dir, up : 3 floats
         Orthographic viewing direction and up vector in world ``(x, y, z)`` (the image's
         right is ``view_dir x up``, its down ``view_dir x right``).
-    size : (width, height), default (512, 512)
+    size : (height, width), default (512, 512)
         Image size in pixels; the result has shape ``(height, width, 4)``.
     pixel_size, center : optional
         With ``pixel_size=None`` the camera looks at the volume's centre and fits its whole
-        projection (2 % border); otherwise pixels are ``pixel_size`` world units wide and the
-        image centre is ``center`` (default: the volume's world centre).
+        projection (2 % border); otherwise pixels are ``pixel_size`` units of length wide and
+        the image centre is the world point ``center`` ``(x, y, z)`` (default: the volume's
+        centre, ``((nx - 1) dx / 2, (ny - 1) dy / 2, (nz - 1) dz / 2)``).
     method : str, default "scs"
-        ``"ics"`` (instant convolution shadows), ``"scs"`` (with ``subsamples`` tissue
+        ``"ics"`` (instant convolution shadows), ``"scs"`` (with ``n_subsamples`` tissue
         samples between slices, lit by linearly interpolated light), ``"pi-ics"`` and
         ``"pi-scs"`` (pre-integrated slabs, resp. sub-slabs), or the ray casters
         ``"raycast"`` (emission-absorption), ``"phong"`` (Blinn-Phong, ``k_a, k_d, k_s, n =
         0.3, 0.6, 0.3, 20``) and ``"shadow-rays"`` (a Beer-Lambert shadow ray per sample).
     slice_distance : float, default 1
-        Slice distance (world units) of the slice methods, sample step of the ray casters.
-    subsamples : int in 0..=64, default 0
+        Slice distance (units of the spacing) of the slice methods, sample step of the ray
+        casters.
+    n_subsamples : int in 0..=64, default 0
         Tissue sub-samples per slice (``"scs"``, ``"pi-scs"``): tissue step
-        ``slice_distance / (subsamples + 1)``. Not allowed with ``"ics"``/``"pi-ics"`` (use
+        ``slice_distance / (n_subsamples + 1)``. Not allowed with ``"ics"``/``"pi-ics"`` (use
         ``"scs"``/``"pi-scs"``) or the ray casters.
     kernel : str, default "gaussian"
         Light kernel per slice: ``"gaussian"`` (variance ``2 spread slice_distance``, so the
@@ -466,7 +481,7 @@ def render(volume, tf, spacing: Optional[Sequence[float]] = None,
         ``"delta"`` (hard shadows) or ``"disk"`` (radius ``slice_distance * tan_half``, the
         cone of directional occlusion shading).
     spread, tan_half : float >= 0
-        Parameters of the Gaussian and disk kernels.
+        Parameters of the Gaussian (a length) and disk (a slope) kernels.
     light_dir : 3 floats, default (0, 0, 1)
         Direction towards the light in view coordinates (``x`` right, ``y`` up, ``z``
         towards the viewer); ``z > 0`` is required (slices carry light front to back).
@@ -491,7 +506,7 @@ def render(volume, tf, spacing: Optional[Sequence[float]] = None,
     while rendering.
     """
     opts = _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance,
-                        subsamples, kernel, spread, tan_half, light_dir, ambient, background,
+                        n_subsamples, kernel, spread, tan_half, light_dir, ambient, background,
                         interp, light_attenuation)
     vol, sp, vr = _illum_source(volume, spacing, value_range)
     return _v.illum_render(vol, _rgba_tf(tf), sp, vr, opts)
@@ -501,7 +516,7 @@ def light_buffer(volume, tf, depth: float, spacing: Optional[Sequence[float]] = 
                  view_dir: Sequence[float] = (0.0, 0.0, 1.0),
                  up: Sequence[float] = (0.0, 1.0, 0.0), size: Tuple[int, int] = (512, 512),
                  pixel_size: Optional[float] = None, center: Optional[Sequence[float]] = None,
-                 method: str = "scs", slice_distance: float = 1.0, subsamples: int = 0,
+                 method: str = "scs", slice_distance: float = 1.0, n_subsamples: int = 0,
                  kernel: str = "gaussian", spread: float = 0.5, tan_half: float = 0.5,
                  light_dir: Sequence[float] = (0.0, 0.0, 1.0), ambient: float = 0.0,
                  background: Sequence[float] = (0.0, 0.0, 0.0), interp: str = "trilinear",
@@ -510,14 +525,14 @@ def light_buffer(volume, tf, depth: float, spacing: Optional[Sequence[float]] = 
     """The light buffer arriving at the slice nearest to ``depth`` (a test and debugging
     hook of the slice methods).
 
-    ``depth`` is in world units behind the front of the volume's depth range along the view
-    direction; the other arguments are those of :func:`render` (``method`` must be a slice
-    method). Returns an ``(height, width)`` float32 array in ``[0, 1]``, 1 where nothing is
-    in the way, and the exact depth of the slice it belongs to (``(k + 1/2)
+    ``depth`` is a length (units of the spacing) behind the front of the volume's depth range
+    along the view direction; the other arguments are those of :func:`render` (``method``
+    must be a slice method). Returns an ``(height, width)`` float32 array in ``[0, 1]``, 1
+    where nothing is in the way, and the exact depth of the slice it belongs to (``(k + 1/2)
     slice_distance``).
     """
     opts = _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance,
-                        subsamples, kernel, spread, tan_half, light_dir, ambient, background,
+                        n_subsamples, kernel, spread, tan_half, light_dir, ambient, background,
                         interp, light_attenuation)
     vol, sp, vr = _illum_source(volume, spacing, value_range)
     buf, z = _v.illum_light_buffer(vol, _rgba_tf(tf), _num("depth", depth), sp, vr, opts)
@@ -525,7 +540,8 @@ def light_buffer(volume, tf, depth: float, spacing: Optional[Sequence[float]] = 
 
 
 def preintegration_table(tf, ds: float) -> np.ndarray:
-    """The pre-integration table of ``tf`` for segments of length ``ds`` (world units):
+    """The pre-integration table of ``tf`` for segments of length ``ds`` (in the unit of
+    length the opacities of ``tf`` refer to):
     an ``(N, N, 4)`` float32 array whose entry ``[f, b]`` holds the self-attenuated
     associated colour ``(C_r, C_g, C_b)`` and the opacity ``alpha`` of a segment along which
     the value varies linearly from ``f / (N - 1)`` (front) to ``b / (N - 1)`` (back).
@@ -534,7 +550,7 @@ def preintegration_table(tf, ds: float) -> np.ndarray:
     return _v.preintegration_table(_rgba_tf(tf), _num("ds", ds))
 
 
-def marschner_lobb(n: int = 41) -> np.ndarray:
+def make_marschner_lobb(n: int = 41) -> np.ndarray:
     """The Marschner-Lobb aliasing test volume (``f_M = 6``, ``alpha = 1/4``) sampled at
     ``n^3`` points spanning ``[-1, 1]^3``: an ``(n, n, n)`` float32 array ``[z, y, x]`` with
     values in ``[0, 1]`` (pass ``value_range=(0, 1)`` to :func:`render` to keep them as
@@ -543,7 +559,7 @@ def marschner_lobb(n: int = 41) -> np.ndarray:
 
 
 def marschner_lobb_tf() -> np.ndarray:
-    """A sharp transfer function for :func:`marschner_lobb`: a thin opaque orange shell
+    """A sharp transfer function for :func:`make_marschner_lobb`: a thin opaque orange shell
     around the value 1/2; ``(256, 4)`` float32."""
     return _v.marschner_lobb_tf()
 
@@ -567,7 +583,7 @@ def labels_to_density(labels, spacing: Sequence[float] = (1.0, 1.0, 1.0),
     """A CT-like density field from a tissue label volume ``[z, y, x]`` (uint8, or any
     integer dtype with values in 0..255): label 0 is background (0), labels ``1..max``
     spread over ``[0.3, 1]`` in label order, then a Gaussian blur of ``sigma >= 0`` voxels
-    per axis (``spacing`` ``(sx, sy, sz)`` is only validated). Returns float32
+    per axis (``spacing`` ``(dz, dy, dx)`` is only validated). Returns float32
     ``[z, y, x]`` in ``[0, 1]``; render it with :func:`tissue_tf` and
     ``value_range=(0, 1)``."""
     a = np.asarray(labels)
@@ -583,10 +599,11 @@ def labels_to_density(labels, spacing: Sequence[float] = (1.0, 1.0, 1.0),
                                 _num("sigma", sigma))
 
 
-def read_vti(path: Union[str, os.PathLike]) -> Tuple[np.ndarray, Vec3]:
+def load_vti(path: Union[str, os.PathLike]) -> Tuple[np.ndarray, Vec3]:
     """Reads a VTK XML image file (``.vti``): the first array of its point data (else of its
     cell data) as an array ``[z, y, x]`` in the stored dtype (uint8 ... float64) and the
-    spacing ``(sx, sy, sz)``.
+    spacing ``(dz, dy, dx)`` (array axis order; the file stores ``Spacing="dx dy dz"``). The
+    file's ``Origin`` is not read.
 
     Supported: one piece, one-component little-endian arrays, inline base64 ("binary") or
     appended (base64 or raw) data, zlib compression or none, UInt32 or UInt64 headers.
@@ -599,7 +616,7 @@ def read_vti(path: Union[str, os.PathLike]) -> Tuple[np.ndarray, Vec3]:
         raise ValueError(f"`path` must be a str or os.PathLike, got {path!r}") from None
     if isinstance(p, bytes):
         p = os.fsdecode(p)
-    data, spacing = _v.read_vti(p)
+    data, spacing = _v.load_vti(p)
     return data, tuple(float(s) for s in spacing)  # type: ignore[return-value]
 
 
@@ -611,7 +628,7 @@ def mean_abs_diff(a, b) -> float:
     return _v.mean_abs_diff(fa, fb)
 
 
-def study(volume, tf, views: int = 4, size: int = 256, azimuth: float = 30.0,
+def study(volume, tf, n_views: int = 4, size: int = 256, azimuth: float = 30.0,
           elevation: float = 20.0, distances: Sequence[float] = _DISTANCES,
           max_subsamples: int = 5, reference: float = 0.2, fine: float = 0.1,
           spacing: Optional[Sequence[float]] = None, spread: float = 0.5,
@@ -621,10 +638,11 @@ def study(volume, tf, views: int = 4, size: int = 256, azimuth: float = 30.0,
     """The paper's quality and speed study (its section 5), with a quantitative alias test
     in place of the paper's visual judgement.
 
-    Renders ``views`` orbit views (azimuth ``azimuth + 360 k / views`` degrees about the
+    Renders ``n_views`` orbit views (azimuth ``azimuth + 360 k / n_views`` degrees about the
     volume's ``z`` axis, ``elevation`` degrees above its ``xy`` plane, ``z`` up,
     ``size x size`` pixels, the whole volume in view) with the reference ICS at slice
-    distance ``reference``, a finer ICS at ``fine`` (the aliasing scale) and every
+    distance ``reference``, a finer ICS at ``fine`` (the aliasing scale; these and
+    ``distances`` are lengths in the units of the spacing) and every
     configuration of the grid: for each distance of ``distances``, ICS, SCS with
     ``1..max_subsamples`` sub-samples and PI-SCS with ``0..max_subsamples`` (``m = 0`` is
     PI-ICS). Every configuration is scored against the reference, averaged over the views:
@@ -636,12 +654,12 @@ def study(volume, tf, views: int = 4, size: int = 256, azimuth: float = 30.0,
     in :func:`render`.
 
     Returns ``{"reference_seconds": float, "fine_energy": float, "entries": [{"method",
-    "slice_distance", "subsamples", "mad", "energy", "seconds", "alias_free"}, ...]}``, the
+    "slice_distance", "n_subsamples", "mad", "energy", "seconds", "alias_free"}, ...]}``, the
     entries in grid order.
     """
     ds = [_num("distances", d) for d in distances]
     opts = {
-        "views": _int("views", views),
+        "n_views": _int("n_views", n_views),
         "size": _int("size", size),
         "azimuth": _num("azimuth", azimuth),
         "elevation": _num("elevation", elevation),

@@ -20,17 +20,20 @@ strokes (seeds), one label per bone or fragment:
 3. **Editing** (section 2.6, stage 3): :func:`local_grow_edit`, the local 3-D grow brush;
    :func:`remove_small_components`, the removal of small label islands.
 4. **Evaluation**: :func:`dice` (eq. 2, multi-label Dice), :func:`nearest_seed` (geodesic
-   nearest-seed labelling, the cheap baseline) and :func:`fractured_shell_phantom`, a CT
-   phantom of a fractured bone shell with exact fragment labels and seed strokes (no clinical
-   CT ships with a Python package).
+   nearest-seed labelling, the cheap baseline) and :func:`make_fractured_shell_phantom`, a
+   CT phantom of a fractured bone shell with exact fragment labels and seed strokes (no
+   clinical CT ships with a Python package).
 
-Conventions: volumes are 3-D numpy arrays indexed ``[z, y, x]``; ``spacing`` is ``(dz, dy,
-dx)`` in the same axis order (as in :mod:`wscg.math` and scikit-image); CT values are
-Hounsfield units (any real dtype, converted to float32); label volumes are uint16 with 0 for
-"no label" (seeds: integer arrays with values in ``0..65534``). Bad input (wrong shapes or
-dtypes, NaN or infinite CT values, negative ``beta``, ``eps`` or ``kappa``, ``tol <= 0``,
-non-positive spacing, no seed on a bone voxel, unknown option names) raises ``ValueError``
-naming the problem. Inputs are never modified. The GIL is released while Rust computes.
+Conventions (``py/API.md``): volumes are 3-D numpy arrays indexed ``[z, y, x]``; ``spacing``
+is ``(dz, dy, dx)`` in the same axis order (as in :mod:`wscg.math`, :mod:`wscg.isosurface`,
+:mod:`wscg.volren` and scikit-image), so the voxel ``[k, j, i]`` lies at the world point
+``(x, y, z) = (i dx, j dy, k dz)``; strokes and brush centres are voxel indices ``(z, y,
+x)``. CT values are Hounsfield units (any real dtype, converted to float32); label volumes
+are uint16 with 0 for "no label" (seeds: integer arrays with values in ``0..65534``). Bad
+input (wrong shapes or dtypes, NaN or infinite CT values, negative ``beta``, ``eps`` or
+``kappa``, ``tol <= 0``, non-positive spacing, no seed on a bone voxel) raises
+``ValueError`` naming the problem. Inputs are never modified. The GIL is released while Rust
+computes.
 
 References
 ----------
@@ -53,7 +56,7 @@ from ._native import volseg as _v
 
 __all__ = [
     "random_walker_bone", "RandomWalkerSession", "nearest_seed", "dice", "bone_mask",
-    "smooth", "local_grow_edit", "remove_small_components", "fractured_shell_phantom",
+    "smooth", "local_grow_edit", "remove_small_components", "make_fractured_shell_phantom",
 ]
 
 #: Default intensity window (HU) mapped to ``[0, 1]`` before the edge weights.
@@ -153,7 +156,7 @@ def _norm(norm) -> Dict[str, Any]:
 
 
 def _params(t_bone, beta, eps, kappa, tol, max_iter, norm, spacing_in_weights, solver,
-            precision, jacobi, threads) -> Dict[str, Any]:
+            precision, jacobi, n_threads) -> Dict[str, Any]:
     """The parameter dict of the native module, each value checked and named."""
     p: Dict[str, Any] = {}
     for name, v in (("t_bone", t_bone), ("beta", beta), ("eps", eps), ("kappa", kappa),
@@ -173,12 +176,12 @@ def _params(t_bone, beta, eps, kappa, tol, max_iter, norm, spacing_in_weights, s
     p["solver"] = _choice("solver", solver, _SOLVERS)
     p["precision"] = _choice("precision", precision, _PRECISIONS)
     p["jacobi"] = bool(jacobi)
-    p["threads"] = None if threads is None else _int("threads", threads, 1, 1024)
+    p["n_threads"] = None if n_threads is None else _int("n_threads", n_threads, 1, 1024)
     return p
 
 
-def _passes(smooth_passes) -> int:
-    return _int("smooth_passes", smooth_passes, 0, 100)
+def _passes(n, name: str = "n_smooth_passes") -> int:
+    return _int(name, n, 0, 100)
 
 
 def _present(seeds: np.ndarray) -> np.ndarray:
@@ -217,11 +220,11 @@ def _warn_unconverged(report: Dict[str, Any], stacklevel: int = 3) -> None:
 def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0,
                        eps: float = 0.01, kappa: float = 1e-3, tol: float = 3e-3,
                        max_iter: int = 2000, spacing: Sequence[float] = (1.0, 1.0, 1.0),
-                       smooth_passes: int = 0,
+                       n_smooth_passes: int = 0,
                        norm: Union[str, Tuple[str, float, float]] = "window",
                        spacing_in_weights: bool = False, solver: str = "block",
                        precision: str = "f32", jacobi: bool = True,
-                       threads: Optional[int] = None, return_prob: bool = False,
+                       n_threads: Optional[int] = None, return_prob: bool = False,
                        return_report: bool = False):
     """Random-walks bone separation (BoneSplit, paper 18 section 2.4).
 
@@ -240,7 +243,7 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
         ``UserWarning``.
     t_bone : float, default 300
         Bone threshold, HU: the graph holds the voxels with ``ct >= t_bone`` (after
-        smoothing when ``smooth_passes > 0``).
+        smoothing when ``n_smooth_passes > 0``).
     beta : float, default 3000
         Weight sharpness of eq. 1 on the normalised intensities (the paper finds 2000-4000
         equivalent). ``>= 0``.
@@ -257,9 +260,9 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
         converge).
     spacing : (dz, dy, dx), default (1, 1, 1)
         Voxel spacing (finite, > 0); used by the smoothing and by ``spacing_in_weights``.
-    smooth_passes : int, default 0
-        Passes of the anisotropy-aware 3-tap Gaussian (sigma 0.6 voxel on the finest axis)
-        before thresholding (0..100; the paper smooths noisy scans once).
+    n_smooth_passes : int, default 0
+        Passes of the anisotropy-aware 3-tap Gaussian (sigma 0.6 voxel on the finest axis;
+        :func:`smooth`) before thresholding (0..100; the paper smooths noisy scans once).
     norm : 'window', ('window', lo, hi), 'minmax' or 'none', default 'window'
         Map of the CT to ``g`` in eq. 1: ``clip((ct - lo) / (hi - lo), 0, 1)`` with the
         default window ``(-1024, 3071)`` HU; the bone voxels' own range; or the values as
@@ -274,7 +277,7 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
         Precision of the CG vectors (dot products are always accumulated in float64).
     jacobi : bool, default True
         Jacobi preconditioner (False: plain CG).
-    threads : int, optional
+    n_threads : int, optional
         Worker threads of this solve (1..1024); default: the threads of wscg's pool
         (:func:`wscg.set_num_threads`). Results do not depend on it.
     return_prob : bool, default False
@@ -304,7 +307,7 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
     ------
     ValueError
         Shapes differ or are not 3-D, NaN or infinite CT values, out-of-range parameters,
-        unknown option names, no seed on a bone voxel (also when ``t_bone`` is above the
+        no seed on a bone voxel (also when ``t_bone`` is above the
         data's range: the graph is empty), a solver state above 32 GiB.
 
     See Also
@@ -331,7 +334,7 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
     Examples
     --------
     >>> from wscg import volseg
-    >>> ct, truth, seeds = volseg.fractured_shell_phantom((48, 48, 48), n_fragments=4)
+    >>> ct, truth, seeds = volseg.make_fractured_shell_phantom((48, 48, 48), n_fragments=4)
     >>> labels = volseg.random_walker_bone(ct, seeds)
     >>> volseg.dice(labels, truth) > 0.5
     True
@@ -339,12 +342,12 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
     a = _ct(ct)
     s = _labels(seeds, "seeds", a.shape, hi=_MAX_LABEL)
     p = _params(t_bone, beta, eps, kappa, tol, max_iter, norm, spacing_in_weights, solver,
-                precision, jacobi, threads)
+                precision, jacobi, n_threads)
     present = _present(s)
     consecutive = present.size == 0 or present[-1] == present.size
     lut = None if consecutive else _compact(present)
     labels, probs, report = _v.random_walker(a, s if lut is None else lut[s], _spacing(spacing),
-                                             _passes(smooth_passes), p, bool(return_prob))
+                                             _passes(n_smooth_passes), p, bool(return_prob))
     user = np.concatenate([[0], present]).astype(np.uint16)
     if lut is not None:
         labels = user[labels]
@@ -372,7 +375,7 @@ class RandomWalkerSession:
         CT volume in HU (converted to float32).
     mask : (Z, Y, X) bool array, optional
         Graph nodes. Default: ``ct >= t_bone`` (after smoothing).
-    t_bone, beta, eps, kappa, tol, max_iter, spacing, smooth_passes, norm, spacing_in_weights, solver, precision, jacobi, threads
+    t_bone, beta, eps, kappa, tol, max_iter, spacing, n_smooth_passes, norm, spacing_in_weights, solver, precision, jacobi, n_threads
         As in :func:`random_walker_bone`.
 
     Attributes
@@ -389,7 +392,7 @@ class RandomWalkerSession:
     Examples
     --------
     >>> from wscg import volseg
-    >>> ct, truth, seeds = volseg.fractured_shell_phantom((48, 48, 48), n_fragments=4)
+    >>> ct, truth, seeds = volseg.make_fractured_shell_phantom((48, 48, 48), n_fragments=4)
     >>> s = volseg.RandomWalkerSession(ct)
     >>> s.set_seeds(seeds) > 0
     True
@@ -400,15 +403,16 @@ class RandomWalkerSession:
     def __init__(self, ct, mask=None, *, t_bone: float = 300.0, beta: float = 3000.0,
                  eps: float = 0.01, kappa: float = 1e-3, tol: float = 3e-3,
                  max_iter: int = 2000, spacing: Sequence[float] = (1.0, 1.0, 1.0),
-                 smooth_passes: int = 0, norm: Union[str, Tuple[str, float, float]] = "window",
+                 n_smooth_passes: int = 0,
+                 norm: Union[str, Tuple[str, float, float]] = "window",
                  spacing_in_weights: bool = False, solver: str = "block",
                  precision: str = "f32", jacobi: bool = True,
-                 threads: Optional[int] = None) -> None:
+                 n_threads: Optional[int] = None) -> None:
         a = _ct(ct)
         p = _params(t_bone, beta, eps, kappa, tol, max_iter, norm, spacing_in_weights, solver,
-                    precision, jacobi, threads)
+                    precision, jacobi, n_threads)
         self._s = _v.Session(a, _mask(mask, a.shape), _spacing(spacing),
-                             _passes(smooth_passes), p)
+                             _passes(n_smooth_passes), p)
         self._report: Optional[Dict[str, Any]] = None
         # User label of every internal label 1..K (the native session numbers labels 1..K).
         self._user = np.zeros(1, np.uint16)
@@ -609,42 +613,44 @@ def dice(a, b) -> float:
     return float(_v.dice(x.reshape(-1), y.reshape(-1)))
 
 
-def bone_mask(ct, t_bone: float = 300.0, *, smooth_passes: int = 0,
+def bone_mask(ct, t_bone: float = 300.0, *, n_smooth_passes: int = 0,
               spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> np.ndarray:
-    """The collective bone mask ``ct >= t_bone`` (paper section 2.1, after ``smooth_passes`` of
-    :func:`smooth`): the nodes of the graph :func:`random_walker_bone` builds."""
+    """The collective bone mask ``ct >= t_bone`` (paper section 2.1, after ``n_smooth_passes``
+    passes of :func:`smooth` with ``spacing`` ``(dz, dy, dx)``): the nodes of the graph
+    :func:`random_walker_bone` builds."""
     a = _ct(ct)
     t = _real("t_bone", t_bone)
     if not np.isfinite(t):
         raise ValueError(f"`t_bone` must be finite, got {t_bone!r}")
-    if _passes(smooth_passes) > 0:
-        a = smooth(a, smooth_passes, spacing=spacing)
+    if _passes(n_smooth_passes) > 0:
+        a = smooth(a, n_smooth_passes, spacing=spacing)
     elif not np.all(np.isfinite(a)):
         raise ValueError("`ct` contains NaN or infinity")
     return a.astype(np.float64) >= t
 
 
-def smooth(ct, passes: int = 1, *, spacing: Sequence[float] = (1.0, 1.0, 1.0)):
+def smooth(ct, n_passes: int = 1, *, spacing: Sequence[float] = (1.0, 1.0, 1.0)):
     """Anisotropy-aware 3-tap Gaussian smoothing (paper section 2.1).
 
-    Along axis ``a`` the standard deviation is ``0.6 * min(spacing) / spacing[a]`` voxels
-    (3 taps, replicated border; an axis whose sigma falls below 0.3 voxel is left alone),
-    applied ``passes`` times.
+    Along array axis ``a`` the standard deviation is ``0.6 * min(spacing) / spacing[a]``
+    voxels, i.e. ``0.6 * min(spacing)`` in world units on every axis (3 taps, replicated
+    border; an axis whose sigma falls below 0.3 voxel is left alone), applied ``n_passes``
+    times.
 
     Parameters
     ----------
     ct : (Z, Y, X) array
         CT volume (converted to float32; no NaN).
-    passes : int, default 1
+    n_passes : int, default 1
         Number of passes (0..100; 0 returns a float32 copy).
     spacing : (dz, dy, dx), default (1, 1, 1)
-        Voxel spacing (finite, > 0).
+        Voxel spacing (finite, > 0), in array axis order.
 
     Returns
     -------
     (Z, Y, X) float32 array
     """
-    return _v.smooth(_ct(ct), _passes(passes), _spacing(spacing))
+    return _v.smooth(_ct(ct), _passes(n_passes, "n_passes"), _spacing(spacing))
 
 
 # ----------------------------------------------------------------------------------------
@@ -744,23 +750,25 @@ def remove_small_components(labels, min_voxels: int):
 # Phantom
 # ----------------------------------------------------------------------------------------
 
-_PHANTOM_OPTIONS = ("shell", "bone_hu", "gap_hu", "gap_width", "blur_sigma", "noise_hu",
-                    "t_bone", "stroke_radius", "stroke_margin", "surface_strokes")
-
-
-def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
-                            seed: int = 0, *, return_distance: bool = False, **overrides):
+def make_fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
+                                 seed: int = 0, *, return_distance: bool = False,
+                                 shell: Tuple[float, float] = (0.60, 0.68),
+                                 bone_hu: float = 1200.0, gap_hu: float = 450.0,
+                                 gap_width: float = 0.75, blur_sigma: float = 0.8,
+                                 noise_hu: float = 30.0, t_bone: float = 300.0,
+                                 stroke_radius: float = 2.0, stroke_margin: float = 4.0,
+                                 surface_strokes: bool = False):
     """A CT phantom of a fractured bone shell with exact fragment labels and seed strokes
     (a stand-in for the paper's clinical cases of section 3; no clinical CT is
     redistributable).
 
-    An ellipsoidal shell (``shell`` radii as fractions of the half-size, 1200 HU) split into
-    ``n_fragments`` pieces by the spherical Voronoi cells of random directions; fracture gaps
-    of 450 HU (above the 300 HU threshold, so the thresholded bone stays in one piece); soft
-    tissue (40 HU) inside, air (-1000 HU) outside; Gaussian partial-volume blur, CT noise,
-    rounding to integers. Seeds: one stroke per fragment, a ball around a random mid-shell point
-    away from its boundary (not at the Voronoi site, so nearest-seed labelling does not
-    reproduce the truth by construction), or a patch of its outer surface.
+    An ellipsoidal shell (``shell`` radii as fractions of the half-size, ``bone_hu``) split
+    into ``n_fragments`` pieces by the spherical Voronoi cells of random directions; fracture
+    gaps of ``gap_hu`` (above the 300 HU threshold, so the thresholded bone stays in one
+    piece); soft tissue (40 HU) inside, air (-1000 HU) outside; Gaussian partial-volume blur,
+    CT noise, rounding to integers. Seeds: one stroke per fragment, a ball around a random
+    mid-shell point away from its boundary (not at the Voronoi site, so nearest-seed
+    labelling does not reproduce the truth by construction), or a patch of its outer surface.
 
     Parameters
     ----------
@@ -773,11 +781,27 @@ def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments:
     return_distance : bool, default False
         Also return the arc distance (voxels) of every voxel from the nearest fracture
         boundary, float32.
-    **overrides
-        ``shell=(0.60, 0.68)``, ``bone_hu=1200``, ``gap_hu=450``, ``gap_width=0.75``
-        (voxels), ``blur_sigma=0.8`` (voxels, <= 16), ``noise_hu=30``, ``t_bone=300``,
-        ``stroke_radius=2``, ``stroke_margin=4`` (voxels), ``surface_strokes=False``
-        (True: strokes painted on the outer surface, as with the paper's 3-D brush: the bone
+    shell : (inner, outer), default (0.60, 0.68)
+        Radii of the shell as fractions of the half-size of each axis (``0 < inner < outer
+        < 0.9``).
+    bone_hu : float, default 1200
+        CT value of the bone, HU.
+    gap_hu : float, default 450
+        CT value inside the fracture gaps, HU.
+    gap_width : float, default 0.75
+        Width of the fracture gaps, voxels (>= 0).
+    blur_sigma : float, default 0.8
+        Partial-volume blur, voxels (0..16).
+    noise_hu : float, default 30
+        Standard deviation of the CT noise, HU (>= 0).
+    t_bone : float, default 300
+        Threshold of the ``truth`` labels and of the seed voxels, HU.
+    stroke_radius : float, default 2
+        Radius of each seed stroke, voxels (>= 0).
+    stroke_margin : float, default 4
+        Least distance of a stroke from its fragment's boundary, voxels (>= 0).
+    surface_strokes : bool, default False
+        Paint the strokes on the outer surface, as with the paper's 3-D brush (the bone
         voxels with a non-bone 6-neighbour within 3 voxels of a point of the outer surface).
 
     Returns
@@ -799,21 +823,15 @@ def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments:
         raise ValueError(f"`shape` must be 3 integers (Z, Y, X), got {shape!r}")
     k = _int("n_fragments", n_fragments, 2, 64)
     sd = _int("seed", seed, 0, 2**64 - 1)
-    opts: Dict[str, Any] = {}
-    for key, v in overrides.items():
-        if key not in _PHANTOM_OPTIONS:
-            raise ValueError(f"unknown phantom option {key!r}; known: "
-                             + ", ".join(_PHANTOM_OPTIONS))
-        if key == "shell":
-            try:
-                a, b = (float(x) for x in v)
-            except (TypeError, ValueError):
-                raise ValueError(f"`shell` must be (inner, outer), got {v!r}") from None
-            opts[key] = (a, b)
-        elif key == "surface_strokes":
-            opts[key] = bool(v)
-        else:
-            opts[key] = _real(key, v)
+    try:
+        inner, outer = (float(x) for x in shell)
+    except (TypeError, ValueError):
+        raise ValueError(f"`shell` must be (inner, outer), got {shell!r}") from None
+    opts: Dict[str, Any] = {"shell": (inner, outer), "surface_strokes": bool(surface_strokes)}
+    for key, v in (("bone_hu", bone_hu), ("gap_hu", gap_hu), ("gap_width", gap_width),
+                   ("blur_sigma", blur_sigma), ("noise_hu", noise_hu), ("t_bone", t_bone),
+                   ("stroke_radius", stroke_radius), ("stroke_margin", stroke_margin)):
+        opts[key] = _real(key, v)
     ct, truth, seeds, dist = _v.phantom(sh, k, sd, opts)
     if return_distance:
         return ct, truth, seeds, dist

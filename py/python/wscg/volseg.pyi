@@ -19,43 +19,47 @@ DEFAULT_WINDOW: Tuple[float, float]
 @overload
 def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
                        eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
-                       spacing: Sequence[float] = ..., smooth_passes: int = ..., norm: _Norm = ...,
+                       spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
+                       norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
                        precision: _Precision = ..., jacobi: bool = ...,
-                       threads: Optional[int] = ..., return_prob: Literal[False] = ...,
+                       n_threads: Optional[int] = ..., return_prob: Literal[False] = ...,
                        return_report: Literal[False] = ...) -> U16: ...
 @overload
 def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
                        eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
-                       spacing: Sequence[float] = ..., smooth_passes: int = ..., norm: _Norm = ...,
+                       spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
+                       norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
                        precision: _Precision = ..., jacobi: bool = ...,
-                       threads: Optional[int] = ..., return_prob: Literal[True],
+                       n_threads: Optional[int] = ..., return_prob: Literal[True],
                        return_report: Literal[False] = ...) -> Tuple[U16, F32]: ...
 @overload
 def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
                        eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
-                       spacing: Sequence[float] = ..., smooth_passes: int = ..., norm: _Norm = ...,
+                       spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
+                       norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
                        precision: _Precision = ..., jacobi: bool = ...,
-                       threads: Optional[int] = ..., return_prob: Literal[False] = ...,
+                       n_threads: Optional[int] = ..., return_prob: Literal[False] = ...,
                        return_report: Literal[True]) -> Tuple[U16, _Report]: ...
 @overload
 def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
                        eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
-                       spacing: Sequence[float] = ..., smooth_passes: int = ..., norm: _Norm = ...,
+                       spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
+                       norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
                        precision: _Precision = ..., jacobi: bool = ...,
-                       threads: Optional[int] = ..., return_prob: Literal[True],
+                       n_threads: Optional[int] = ..., return_prob: Literal[True],
                        return_report: Literal[True]) -> Tuple[U16, F32, _Report]: ...
 
 class RandomWalkerSession:
     def __init__(self, ct: ArrayLike, mask: Optional[ArrayLike] = None, *, t_bone: float = ...,
                  beta: float = ..., eps: float = ..., kappa: float = ..., tol: float = ...,
-                 max_iter: int = ..., spacing: Sequence[float] = ..., smooth_passes: int = ...,
+                 max_iter: int = ..., spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                  norm: _Norm = ..., spacing_in_weights: bool = ..., solver: _Solver = ...,
                  precision: _Precision = ..., jacobi: bool = ...,
-                 threads: Optional[int] = ...) -> None: ...
+                 n_threads: Optional[int] = ...) -> None: ...
     def set_seeds(self, seeds: ArrayLike) -> int: ...
     def add_seeds(self, zyx_indices: ArrayLike, label: int) -> int: ...
     def solve(self, warm_start: bool = True) -> _Report: ...
@@ -78,9 +82,9 @@ class RandomWalkerSession:
 def nearest_seed(ct: ArrayLike, seeds: ArrayLike, t_bone: float = 300.0, *,
                  mask: Optional[ArrayLike] = None) -> U16: ...
 def dice(a: ArrayLike, b: ArrayLike) -> float: ...
-def bone_mask(ct: ArrayLike, t_bone: float = 300.0, *, smooth_passes: int = 0,
+def bone_mask(ct: ArrayLike, t_bone: float = 300.0, *, n_smooth_passes: int = 0,
               spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> Bool: ...
-def smooth(ct: ArrayLike, passes: int = 1, *,
+def smooth(ct: ArrayLike, n_passes: int = 1, *,
            spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> F32: ...
 def local_grow_edit(labels: ArrayLike, ct: ArrayLike, center_zyx: Sequence[float], radius: float,
                     active: int, t_bone: float = 300.0, *, norm: _Norm = "window",
@@ -89,10 +93,20 @@ def local_grow_edit(labels: ArrayLike, ct: ArrayLike, center_zyx: Sequence[float
                     max_sweeps: int = 10) -> Tuple[U16, int]: ...
 def remove_small_components(labels: ArrayLike, min_voxels: int) -> Tuple[U16, int]: ...
 @overload
-def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
-                            seed: int = 0, *, return_distance: Literal[False] = ...,
-                            **overrides: Any) -> Tuple[F32, U16, U16]: ...
+def make_fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
+                                 seed: int = 0, *, return_distance: Literal[False] = ...,
+                                 shell: Tuple[float, float] = (0.60, 0.68),
+                                 bone_hu: float = 1200.0, gap_hu: float = 450.0,
+                                 gap_width: float = 0.75, blur_sigma: float = 0.8,
+                                 noise_hu: float = 30.0, t_bone: float = 300.0,
+                                 stroke_radius: float = 2.0, stroke_margin: float = 4.0,
+                                 surface_strokes: bool = False) -> Tuple[F32, U16, U16]: ...
 @overload
-def fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
-                            seed: int = 0, *, return_distance: Literal[True],
-                            **overrides: Any) -> Tuple[F32, U16, U16, F32]: ...
+def make_fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
+                                 seed: int = 0, *, return_distance: Literal[True],
+                                 shell: Tuple[float, float] = (0.60, 0.68),
+                                 bone_hu: float = 1200.0, gap_hu: float = 450.0,
+                                 gap_width: float = 0.75, blur_sigma: float = 0.8,
+                                 noise_hu: float = 30.0, t_bone: float = 300.0,
+                                 stroke_radius: float = 2.0, stroke_margin: float = 4.0,
+                                 surface_strokes: bool = False) -> Tuple[F32, U16, U16, F32]: ...
