@@ -34,10 +34,10 @@ def test_feature_kernel_equals_sklearn_kernels(digits):
     Xc = X - X.mean(axis=0)
     K, info = B.feature_kernel(X, kernel="rbf")
     assert K.shape == (64, 64)
-    gamma = 1.0 / (2.0 * info["sigma"] ** 2)
+    gamma = 1.0 / (2.0 * info.sigma ** 2)
     assert rel_err(K, rbf_kernel(Xc.T, gamma=gamma)) <= 1e-10
     K, info = B.feature_kernel(X, kernel="poly", degree=2, coef0=1.0)
-    assert info["gamma"] == pytest.approx(1.0 / 500)
+    assert info.gamma == pytest.approx(1.0 / 500)
     ref = polynomial_kernel(Xc.T, degree=2, gamma=1.0 / 500, coef0=1.0)
     assert rel_err(K, ref) <= 1e-10
 
@@ -49,7 +49,7 @@ def test_median_sigma_is_median_feature_distance(digits):
     iu = np.triu_indices(64, 1)
     med = np.median(D[iu][D[iu] > 1e-9])
     _, info = B.feature_kernel(X, kernel="rbf", sigma_scale=2.0)
-    assert info["sigma"] == pytest.approx(2.0 * med, rel=1e-9)
+    assert info.sigma == pytest.approx(2.0 * med, rel=1e-9)
 
 
 # ------------------------------------------------------------ check 2: entropy identity

@@ -136,21 +136,21 @@ def test_rsm_against_numpy_least_squares(rng):
     f = doe.fit_rsm(x, y, interaction=False)
     a = np.column_stack([np.ones(13), x, x ** 2])
     coef, *_ = np.linalg.lstsq(a, y, rcond=None)
-    np.testing.assert_allclose(f["coef"], coef, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(f.coef, coef, rtol=1e-9, atol=1e-12)
     h = np.diag(a @ np.linalg.solve(a.T @ a, a.T))
-    np.testing.assert_allclose(f["leverage"], h, rtol=1e-9)
+    np.testing.assert_allclose(f.leverage, h, rtol=1e-9)
     # PRESS by refitting without each run.
     press = 0.0
     for i in range(13):
         keep = np.arange(13) != i
         c, *_ = np.linalg.lstsq(a[keep], y[keep], rcond=None)
         press += (y[i] - a[i] @ c) ** 2
-    assert f["press"] == pytest.approx(press, rel=1e-9)
+    assert f.press == pytest.approx(press, rel=1e-9)
     resid = y - a @ coef
     s2 = resid @ resid / (13 - 5)
     se = np.sqrt(np.diag(np.linalg.inv(a.T @ a)) * s2)
-    np.testing.assert_allclose(f["p"], 2 * stats.t.sf(np.abs(coef / se), 8), rtol=1e-7)
-    assert all(e > 0 for e in f["canonical_eigs"])
+    np.testing.assert_allclose(f.p, 2 * stats.t.sf(np.abs(coef / se), 8), rtol=1e-7)
+    assert all(e > 0 for e in f.canonical_eigs)
 
 
 def test_anova_lsd_williams_panel(rng):
@@ -160,11 +160,11 @@ def test_anova_lsd_williams_panel(rng):
     t = doe.rm_anova(scores)
     # Two conditions: F of the condition equals the paired t statistic squared.
     tt = stats.ttest_rel(scores[:, 0].mean(axis=1), scores[:, 1].mean(axis=1))
-    assert t["condition"]["F"] == pytest.approx(tt.statistic ** 2, rel=1e-9)
-    assert t["condition"]["p"] == pytest.approx(tt.pvalue, rel=1e-6)
+    assert t.condition.F == pytest.approx(tt.statistic ** 2, rel=1e-9)
+    assert t.condition.p == pytest.approx(tt.pvalue, rel=1e-6)
     l = doe.lsd(scores[:, 0], 0.05)
     one = doe.rm_anova_oneway(scores[:, 0])
-    assert l["lsd"] == pytest.approx(stats.t.ppf(0.975, one["df_error"]) * np.sqrt(2 * one["ms_error"] / 26))
+    assert l.lsd == pytest.approx(stats.t.ppf(0.975, one.df_error) * np.sqrt(2 * one.ms_error / 26))
     w = doe.williams(13)
     assert w.shape == (26, 13)
     assert all(sorted(r) == list(range(13)) for r in w)
