@@ -18,6 +18,7 @@ import scipy.ndimage as ndi
 import skimage.morphology as skm
 
 import wscg
+from results_check import check_result
 from wscg import ear
 
 
@@ -561,6 +562,27 @@ def test_evaluate_agrees_with_the_matcher(occluded, matcher):
     np.testing.assert_allclose(ev.cmc["blockwise-max"], ear.cmc(acc, 5))
     deg = ev.degradation["blockwise-max"]
     assert deg.shape == (3, 4) and deg[:, 2].sum() == np.sum(~ev.rejected)
+
+
+def test_results_are_typed(clean, occluded, matcher):
+    check_result(clean, ear.EarDataset)
+    img = occluded.probes[0]
+    d = ear.detect_occlusion(img)
+    check_result(d, ear.OcclusionReport)
+    r = matcher.identify(img)
+    text = check_result(r, ear.Identification)
+    assert f"order=array(shape=({len(matcher)},), dtype=int64)" in text or r.rejected
+    base = matcher.identify_baseline(img)
+    check_result(base, ear.Ranking)
+    assert base.order.shape == base.scores.shape == (len(matcher),)
+    s = ear.score(img, matcher.templates[0])
+    check_result(s, ear.MatchScore)
+    assert set(s.rules) == set(ear.RULES) and s.score == s.rules["blockwise-max"]
+    assert (s.occluded_pct, s.rejected) == (d.occluded_pct, d.rejected)
+    ev = ear.evaluate(occluded.enrol[:3], occluded.probes[:3], occluded.labels[:3], max_rank=2)
+    check_result(ev, ear.EarEvaluation)
+    assert ev.degradation is None  # no `edges`
+    assert np.isnan(ev.true_pct).all()  # no `true_pct`
 
 
 def test_cmc():

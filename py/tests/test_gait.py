@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import wscg
+from results_check import check_result
 from wscg import gait
 
 
@@ -91,7 +92,9 @@ def test_module_is_exposed_twice_and_documented():
     assert gait.JOINT_NAMES[20] == "SpineShoulder" and gait.JOINT_NAMES[24] == "ThumbRight"
     for name in gait.__all__:
         obj = getattr(gait, name)
-        if callable(obj):
+        if isinstance(obj, type) and obj is not gait.GaitRecognizer:  # a result class
+            assert obj.__doc__ and "Attributes" in obj.__doc__, name
+        elif callable(obj):
             assert obj.__doc__ and "Parameters" in obj.__doc__, name
 
 
@@ -359,12 +362,20 @@ def test_detect_cycle_matches_the_true_leg_crossings(walks):
                     for k in range(len(m) - 2))
     assert hits / len(frames) >= 0.95
     assert any(walks.sit_tail) and not all(walks.sit_tail)
+    check_result(walks, gait.SyntheticWalks)
+    c = gait.detect_cycle(walks.frames[0])
+    assert check_result(c, gait.GaitCycle) == f"GaitCycle(start={c[0]}, mid={c[1]}, end={c[2]})"
+    start, mid, end = c
+    assert (c.start, c.mid, c.end) == (start, mid, end) and start < mid < end
 
 
 def test_detect_cycle_details_and_options(walks):
     f = walks.frames[1]
     d = gait.detect_cycle(f, return_details=True)
-    assert set(d) >= {"start", "mid", "end", "ankle_dist", "minima", "first_step"}
+    text = check_result(d, gait.CycleDetails)
+    assert f"ankle_dist=array(shape=({len(f)},), dtype=float64)" in text
+    assert d.cycle == gait.detect_cycle(f) and type(d.cycle) is gait.GaitCycle
+    np.testing.assert_array_equal(gait.jra_sequences(f, cycle=d), gait.jra_sequences(f))
     assert d.ankle_dist.shape == (len(f),) and d.first_step == "left"
     assert (d.start, d.mid, d.end) == gait.detect_cycle(f)
     assert list(d.minima).index(d.start) + 2 == list(d.minima).index(d.end)
@@ -454,18 +465,18 @@ def test_recognizer_labels_rank_and_attributes():
 
 def test_evaluate_synthetic_reproduces_check_7():
     r = gait.evaluate_synthetic(seed=0)
-    keys = {"decisions", "jra_nearest", "jra_paper_vote", "jra_majority", "jra_fixed",
-            "jra_normalized", "jra_resampled", "raw_dtw", "ball_nn", "preis_nb", "preis_nn",
-            "chosen_t", "curve", "relevance"}
-    assert keys <= set(r)
+    check_result(r, gait.GaitEvaluation)
+    accuracies = ("jra_nearest", "jra_paper_vote", "jra_majority", "jra_fixed",
+                  "jra_normalized", "jra_resampled", "raw_dtw", "ball_nn", "preis_nb",
+                  "preis_nn")
+    assert all(0 <= getattr(r, k) <= 1 for k in accuracies)
     assert r.decisions == 60
     assert r.jra_nearest >= 0.9
     assert r.curve.shape == (30, 2)
     np.testing.assert_array_equal(r.curve[:, 0], np.arange(1, 31))
     assert len(r.chosen_t) == 3
     print("\nTable 1 analogue (seed 0):",
-          {k: round(float(r[k]), 3) for k in sorted(keys - {"chosen_t", "curve", "relevance",
-                                                             "decisions"})})
+          {k: round(float(getattr(r, k)), 3) for k in sorted(accuracies)})
 
 
 # ----------------------------------------------------------------------------------------

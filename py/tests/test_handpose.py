@@ -12,6 +12,7 @@ import pytest
 from sklearn.datasets import make_swiss_roll
 from sklearn.manifold import Isomap as SkIsomap
 
+from results_check import check_result
 from wscg import biometrics as B
 
 
@@ -92,11 +93,18 @@ def test_split_and_comparison(hands):
     assert s.X_train.shape == (5 * 160, 55 * 40) and s.X_test.shape == (150, 2200)
     assert np.sum(s.train_rotation != 0) == 200
     assert not set(s.test_index) & set(s.train_index)
+    check_result(s, B.HandPoseSplit)
+    assert s.shape == (55, 40) and s.X_test.shape[1] == s.shape[0] * s.shape[1]
     r = B.hand_pose_comparison(masks, labels, depth=depth, n_test_per_class=30,
                                n_augment_per_class=40, methods=("sfa", "physical", "pca",
                                                                 "global"),
                                pca_n_components=10, m=4, physical_n_per_class=100)
     np.testing.assert_array_equal(r.y_test, s.y_test)
+    check_result(r, B.HandPoseComparison)
+    assert list(r.results) == ["sfa", "physical", "pca", "global"]
+    for run in r.results.values():
+        check_result(run, B.ClassifierRun)
+        assert run.fit_seconds >= 0 and run.predict_seconds >= 0
     for name, res in r.results.items():
         np.testing.assert_allclose(res.confusion.sum(axis=1), 100.0)
         acc = 100 * np.mean(res.predictions == r.y_test)

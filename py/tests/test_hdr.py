@@ -4,6 +4,7 @@ Khan-weighted merge against the truth and OpenCV's MergeDebevec (check 1), the m
 pipeline on the layered five-camera scene (check 7), numpy references of voting, warping and
 the metrics, determinism, the GIL, bad input and the docstrings."""
 
+import dataclasses
 import hashlib
 import inspect
 import os
@@ -17,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from results_check import check_result
 from wscg import hdr
 
 D_MIN, D_MAX = -64, 64
@@ -246,6 +248,9 @@ def test_mitsunaga_nayar_recovers_a_gamma_camera_from_approximate_times():
     z = np.arange(5, 251)
     err = np.abs(crf[z] - ((z / 255.0) ** 2.2)[:, None]).max()
     ratios = np.array(info.ratios)
+    check_result(info, hdr.PolynomialResponse)
+    assert len(info.n_equations) == len(info.n_iter) == len(info.rms) == 3
+    assert all(n > 0 for n in info.n_equations) and all(1 <= n <= 100 for n in info.n_iter)
     kept, _ = hdr.calibrate_mitsunaga_nayar(stack, wrong, refine_ratios=False)
     err_kept = np.abs(kept[z] - ((z / 255.0) ** 2.2)[:, None]).max()
     print(f"\n[mitsunaga-nayar] degrees {info.degree}, max |f - z^2.2| {err:.4f} "
@@ -264,6 +269,21 @@ def test_mitsunaga_nayar_recovers_a_gamma_camera_from_approximate_times():
     merged, _ = hdr.merge_stack(stack, times, crf)
     truth, _ = hdr.merge_stack(stack, times, "gamma2.2")
     assert np.median(np.abs(np.log(merged / truth))) < 0.02
+
+
+def test_results_are_typed():
+    sc = hdr.make_scene(height=24, width=40, exposure_times=(0.01, 0.08))
+    text = check_result(sc, hdr.HdrScene)
+    assert "views=[2 x array(shape=(24, 40, 3), dtype=uint8)]" in text
+    assert sc.exposure_times == [0.01, 0.08]
+    details = hdr.multiscopic_hdr(sc.views, sc.exposure_times, max_disparity=20,
+                                  return_details=True)
+    check_result(details, hdr.HdrSequence)
+    radiance, fields, fallback = details  # a named tuple: unpacking keeps working
+    assert radiance is details.radiance and fields is details.fields
+    assert set(fields) == {(0, 1), (1, 0)} and len(fallback) == 2
+    plain = hdr.multiscopic_hdr(sc.views, sc.exposure_times, max_disparity=20)
+    assert type(plain) is list and all(np.array_equal(a, b) for a, b in zip(plain, radiance))
 
 
 def test_mitsunaga_nayar_bad_input():
@@ -359,7 +379,8 @@ def test_to_radiance_and_bit_depths():
 
 def test_make_scene_structure_and_encoding():
     sc = hdr.make_scene(height=40, width=64, exposure_times=(0.005, 0.04, 0.3), noise=0.0)
-    assert set(sc) == {"views", "exposure_times", "crf", "radiance", "disparity", "seen_by"}
+    assert {f.name for f in dataclasses.fields(sc)} == {"views", "exposure_times", "crf",
+                                                        "radiance", "disparity", "seen_by"}
     assert len(sc.views) == 3 and sc.exposure_times == [0.005, 0.04, 0.3]
     assert sc.crf.shape == (256, 1) and sc.crf.dtype == np.float32
     for k in range(3):
@@ -775,6 +796,9 @@ def test_every_function_is_documented_and_stubbed():
             continue
         doc = inspect.getdoc(obj)
         assert doc and len(doc) > 200, name
+        if isinstance(obj, type):  # a result class: its fields, with units
+            assert "Attributes" in doc and f"class {name}" in stub, name
+            continue
         assert "References" in doc and "Returns" in doc, name
         assert f"def {name}(" in stub, name
     assert "Parameters" in inspect.getdoc(hdr.multiscopic_hdr)

@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 
+from results_check import check_result
 from wscg import motion as M
 
 
@@ -157,6 +158,42 @@ def test_anechoic_delay_modes(clean_action1):
 # Regression statistics and SVR
 
 
+def test_results_are_typed(data, lib, synthesis, clean_action1, tmp_path):
+    check_result(data, M.MotionDataset)
+    check_result(data.truth, M.MotionTruth)
+    assert data.truth.source_coeffs.dtype == np.complex128
+    fit = M.fit_anechoic(clean_action1, 2, n_restarts=1, max_iter=5)
+    check_result(fit, M.AnechoicFit)
+    assert len(fit.q_history) >= 2 and fit.q == pytest.approx(fit.q_history[-1])
+    af = lib.action_fit(2)
+    check_result(af, M.ActionFit)
+    assert af.n_sources == 5 and af.means.shape == (16, 51)
+    plan = M.plan_steps(2.6)
+    assert check_result(plan, M.StepPlan).startswith(
+        "StepPlan(actions=[('step', 0.77), ('short_step', 1.23), ('reach', 0)], ")
+    syn = M.Synthesizer(lib)
+    p = syn.planner
+    assert syn.plan(2.6) == M.plan_steps(2.6, p["comfort"], p["gamma"], p["range1"],
+                                         p["range2"])
+    check_result(synthesis, M.Synthesis)
+    M.save_bvh(tmp_path / "s.bvh", synthesis.angles[:5], synthesis.root_x[:5])
+    back = M.load_bvh(tmp_path / "s.bvh")
+    check_result(back, M.BvhMotion)
+    assert back.angles.shape == (5, 51)
+    check_result(M.skeleton(), M.Skeleton)
+    line = M.fit_line([0.0, 1.0, 2.0, 3.0], [1.0, 3.0, 5.0, 7.0])
+    check_result(line, M.LineFit)
+    assert (line.slope, line.intercept, line.n_points) == (pytest.approx(2.0),
+                                                           pytest.approx(1.0), 4)
+    x = np.random.default_rng(0).random((30, 2))
+    pred, info = M.svr_fit_predict(x, x.sum(axis=1), x[:3], return_info=True)
+    assert check_result(info, M.SvrInfo).startswith(f"SvrInfo(n_support={info.n_support}, ")
+    assert pred.shape == (3,) and info.n_iter > 0
+    hopf = M.hopf_simulate(0.1, dt=0.01, followers=[[0.5, 0.0]])
+    check_result(hopf, M.HopfTrajectory)
+    assert hopf.followers.shape == (11, 1, 2)
+
+
 def test_svr_matches_sklearn():
     from sklearn.svm import SVR
 
@@ -260,7 +297,7 @@ def test_synthesis_reaches_comfort_distance(synthesis, lib):
     T = out.angles.shape[0]
     assert out.angles.shape == (T, 51)
     for k in ("root_x", "time", "phase", "action"):
-        assert out[k].shape == (T,)
+        assert getattr(out, k).shape == (T,)
     assert np.all(np.isfinite(out.angles))
     assert np.all(np.diff(out.time) > 0) and abs(out.time[1] - 1 / 120) < 1e-9
     assert np.all(np.diff(out.root_x) >= -1e-12)
@@ -413,7 +450,7 @@ def test_bad_input(tmp_path, clean_action1, lib, data):
     with pytest.raises(ValueError):
         M.make_synthetic_dataset(noise=float("nan"))
     # Datasets: too few trials, NaN, wrong shapes, missing keys.
-    small = {k: data[k][:2] for k in ("angles", "step_length", "duration")}
+    small = {k: getattr(data, k)[:2] for k in ("angles", "step_length", "duration")}
     with pytest.raises(ValueError):
         M.fit_stepwise(small)
     bad = dataclasses.replace(data, angles=data.angles.copy())

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from skimage.metrics import structural_similarity
 
+from results_check import check_result
 from wscg import video as V
 
 
@@ -48,6 +49,8 @@ def test_completion_beats_per_frame_inpainting(pan):
     print(f"SSIM in the hole: ours {ours:.4f}, cv2 Telea {telea:.4f}")
     assert ours >= telea + 0.15
     assert stats.working_factor == 1 and stats.energy > 0
+    check_result(stats, V.CompletionStats)
+    assert len(stats.seconds) == 3 and all(s >= 0 for s in stats.seconds)
 
 
 def test_periodic_structure_against_navier_stokes():

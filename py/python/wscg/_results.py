@@ -5,7 +5,8 @@ A function that returns several values returns a documented result class instead
 as ``array(shape=..., dtype=...)``, never dumped), equality that compares arrays element-wise,
 and pickling; :func:`tuple_repr` gives a ``typing.NamedTuple`` the same ``repr`` where the
 result is naturally a tuple that users unpack (a NamedTuple takes no mixin base on Python
-3.9, so the class assigns ``__repr__ = tuple_repr`` in its body).
+3.9, so the class assigns ``__repr__ = tuple_repr`` in its body, and ``__eq__ = tuple_eq``,
+``__ne__ = tuple_ne`` when it holds arrays).
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from typing import Any, Callable, Dict, Iterable, Optional, Tuple, TypeVar
 
 import numpy as np
 
-__all__ = ["result", "tuple_repr", "from_mapping", "summary"]
+__all__ = ["result", "tuple_repr", "tuple_eq", "tuple_ne", "from_mapping", "summary"]
 
 T = TypeVar("T")
 
@@ -133,6 +134,20 @@ def result(cls: type) -> type:
 def tuple_repr(self) -> str:
     """``__repr__`` of a ``typing.NamedTuple`` result (assigned in the class body)."""
     return _fields_repr(type(self).__name__, zip(self._fields, self))
+
+
+def tuple_eq(self, other) -> bool:
+    """``__eq__`` of a ``typing.NamedTuple`` result that holds arrays (assigned in the class
+    body; the class is then not hashable): element-wise as :func:`result`'s."""
+    if not isinstance(other, tuple):
+        return NotImplemented
+    return len(self) == len(other) and all(_equal(a, b) for a, b in zip(self, other))
+
+
+def tuple_ne(self, other) -> bool:
+    """``__ne__`` to go with :func:`tuple_eq` (a tuple's own would compare the arrays)."""
+    eq = tuple_eq(self, other)
+    return eq if eq is NotImplemented else not eq
 
 
 def from_mapping(cls: Callable[..., T], d: dict, rename: Optional[Dict[str, str]] = None,

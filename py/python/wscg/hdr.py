@@ -56,6 +56,7 @@ import numpy as np
 from ._checks import _int, integer_ranges as _integer_ranges
 from ._native import hdr as _h
 from ._results import (from_mapping as _from_mapping, result as _result,
+                       tuple_eq as _tuple_eq, tuple_ne as _tuple_ne,
                        tuple_repr as _tuple_repr)
 
 __all__ = [
@@ -98,6 +99,9 @@ class HdrSequence(NamedTuple):
     fallback_pixels: List[int]
 
     __repr__ = _tuple_repr
+    __eq__ = _tuple_eq
+    __ne__ = _tuple_ne
+    __hash__ = None  # type: ignore[assignment]
 
 
 @_result
