@@ -169,8 +169,8 @@ def test_results_are_typed(data, lib, synthesis, clean_action1, tmp_path):
     check_result(af, M.ActionFit)
     assert af.n_sources == 5 and af.means.shape == (16, 51)
     plan = M.plan_steps(2.6)
-    assert check_result(plan, M.StepPlan).startswith(
-        "StepPlan(actions=[('step', 0.77), ('short_step', 1.23), ('reach', 0)], ")
+    assert "actions=[('step', 0.77), ('short_step', 1.23), ('reach', 0)]," in check_result(
+        plan, M.StepPlan)
     syn = M.Synthesizer(lib)
     p = syn.planner
     assert syn.plan(2.6) == M.plan_steps(2.6, p["comfort"], p["gamma"], p["range1"],

@@ -28,7 +28,8 @@ _WIDTH = 88
 
 
 def summary(v: Any) -> str:
-    """A one-line, bounded description of ``v`` for a result's ``repr``."""
+    """A bounded description of ``v`` for a result's ``repr`` (one line, but for a nested
+    result too long for one)."""
     if type(v).__repr__ in (_dataclass_repr, tuple_repr):
         return repr(v)
     if isinstance(v, np.ndarray):

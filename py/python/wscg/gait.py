@@ -48,7 +48,7 @@ the Most Relevant Joint Relative Angles", WSCG 2015, Journal of WSCG vol. 23.
 from __future__ import annotations
 
 import os
-from typing import Any, List, NamedTuple, Optional, Sequence, Tuple, Union
+from typing import List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
