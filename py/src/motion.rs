@@ -504,9 +504,9 @@ impl PyLibrary {
         )
     }
 
-    /// The fit of action `a`: means and non-periodic weights `(R, I)`, weights `(R, I, J)`,
-    /// `q` and the number of sources it uses.
-    fn action_fit<'py>(&self, py: Python<'py>, a: usize) -> PyResult<Bound<'py, PyDict>> {
+    /// The fit of action `a` as a `wscg.motion.ActionFit`: means and non-periodic weights
+    /// `(R, I)`, weights `(R, I, J)`, `q` and the number of sources it uses.
+    fn action_fit<'py>(&self, py: Python<'py>, a: usize) -> PyResult<Bound<'py, PyAny>> {
         let f = self
             .inner
             .actions
@@ -520,7 +520,9 @@ impl PyLibrary {
         d.set_item("weights", array(py, &[r_n, i_n, j_n], f.weights.clone())?)?;
         d.set_item("q", f.q)?;
         d.set_item("n_sources", f.n_sources)?;
-        Ok(d)
+        py.import("wscg.motion")?
+            .getattr("ActionFit")?
+            .call((), Some(&d))
     }
 
     fn __repr__(&self) -> String {

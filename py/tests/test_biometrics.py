@@ -13,6 +13,7 @@ from sklearn.metrics.pairwise import euclidean_distances, polynomial_kernel, rbf
 from sklearn.model_selection import train_test_split
 from sklearn.neighbors import KNeighborsClassifier
 
+from results_check import check_result
 from wscg import biometrics as B
 
 
@@ -34,12 +35,24 @@ def test_feature_kernel_equals_sklearn_kernels(digits):
     Xc = X - X.mean(axis=0)
     K, info = B.feature_kernel(X, kernel="rbf")
     assert K.shape == (64, 64)
-    gamma = 1.0 / (2.0 * info["sigma"] ** 2)
+    gamma = 1.0 / (2.0 * info.sigma ** 2)
     assert rel_err(K, rbf_kernel(Xc.T, gamma=gamma)) <= 1e-10
     K, info = B.feature_kernel(X, kernel="poly", degree=2, coef0=1.0)
-    assert info["gamma"] == pytest.approx(1.0 / 500)
+    assert info.gamma == pytest.approx(1.0 / 500)
     ref = polynomial_kernel(Xc.T, degree=2, gamma=1.0 / 500, coef0=1.0)
     assert rel_err(K, ref) <= 1e-10
+
+
+def test_feature_kernel_reports_a_resolved_kernel(digits):
+    X = digits[0][:200]
+    _, rbf = B.feature_kernel(X, kernel="rbf", sigma=3.0)
+    assert check_result(rbf, B.ResolvedKernel) == (
+        "ResolvedKernel(kernel='rbf', sigma=3, degree=None, gamma=None, coef0=None)")
+    _, poly = B.feature_kernel(X, kernel="poly", degree=3, gamma=0.5, coef0=2.0)
+    check_result(poly, B.ResolvedKernel)
+    assert (poly.kernel, poly.degree, poly.gamma, poly.coef0, poly.sigma) == ("poly", 3, 0.5,
+                                                                               2.0, None)
+    assert B.feature_kernel(X, kernel="linear")[1] == B.ResolvedKernel("linear")
 
 
 def test_median_sigma_is_median_feature_distance(digits):
@@ -49,7 +62,7 @@ def test_median_sigma_is_median_feature_distance(digits):
     iu = np.triu_indices(64, 1)
     med = np.median(D[iu][D[iu] > 1e-9])
     _, info = B.feature_kernel(X, kernel="rbf", sigma_scale=2.0)
-    assert info["sigma"] == pytest.approx(2.0 * med, rel=1e-9)
+    assert info.sigma == pytest.approx(2.0 * med, rel=1e-9)
 
 
 # ------------------------------------------------------------ check 2: entropy identity

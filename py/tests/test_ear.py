@@ -18,6 +18,7 @@ import scipy.ndimage as ndi
 import skimage.morphology as skm
 
 import wscg
+from results_check import check_result
 from wscg import ear
 
 
@@ -393,36 +394,36 @@ def occluded():
 
 @pytest.fixture(scope="module")
 def matcher(clean):
-    return ear.EarMatcher(ear.enroll_many(clean["enrol"]))
+    return ear.EarMatcher(ear.enroll_many(clean.enrol))
 
 
 def test_make_ears_shapes_and_ground_truth(clean, occluded):
     n = N_SUBJECTS
-    assert clean["enrol"].shape == (n, 200, 160, 3) and clean["enrol"].dtype == np.uint8
-    assert clean["probes"].shape == (n, 200, 160, 3)
-    np.testing.assert_array_equal(clean["labels"], np.arange(n))
-    assert clean["occluder_masks"].shape == (n, 200, 160)
-    assert not clean["occluder_masks"].any() and not clean["occluded_blocks"].any()
-    np.testing.assert_array_equal(clean["enrol"], occluded["enrol"])
-    assert occluded["occluded_blocks"].shape == (n, 10, 8)
-    np.testing.assert_allclose(occluded["occluded_pct"],
-                               100 * occluded["occluded_blocks"].mean((1, 2)))
-    assert np.all((occluded["occluded_pct"] >= 5) & (occluded["occluded_pct"] <= 55))
+    assert clean.enrol.shape == (n, 200, 160, 3) and clean.enrol.dtype == np.uint8
+    assert clean.probes.shape == (n, 200, 160, 3)
+    np.testing.assert_array_equal(clean.labels, np.arange(n))
+    assert clean.occluder_masks.shape == (n, 200, 160)
+    assert not clean.occluder_masks.any() and not clean.occluded_blocks.any()
+    np.testing.assert_array_equal(clean.enrol, occluded.enrol)
+    assert occluded.occluded_blocks.shape == (n, 10, 8)
+    np.testing.assert_allclose(occluded.occluded_pct,
+                               100 * occluded.occluded_blocks.mean((1, 2)))
+    assert np.all((occluded.occluded_pct >= 5) & (occluded.occluded_pct <= 55))
     again = ear.make_ears(2, 1, seed=SEED, occlusion="colour", min_pct=10, max_pct=50)
-    np.testing.assert_array_equal(again["probes"], occluded["probes"][:2])
-    assert clean["skin_rg"].shape == (n, 2)
+    np.testing.assert_array_equal(again.probes, occluded.probes[:2])
+    assert clean.skin_rg.shape == (n, 2)
 
 
 def test_clean_probes_are_identified(clean, matcher):
     assert len(matcher) == N_SUBJECTS
     hits = 0
-    for img, sub in zip(clean["probes"], clean["labels"]):
+    for img, sub in zip(clean.probes, clean.labels):
         r = matcher.identify(img)
-        assert not r["rejected"] and r["occluded_pct"] <= 10
-        assert r["order"].dtype == np.int64 and r["scores"].dtype == np.float64
-        assert sorted(r["order"].tolist()) == list(range(N_SUBJECTS))
-        assert np.all(np.diff(r["scores"]) <= 0)
-        hits += r["order"][0] == sub
+        assert not r.rejected and r.occluded_pct <= 10
+        assert r.order.dtype == np.int64 and r.scores.dtype == np.float64
+        assert sorted(r.order.tolist()) == list(range(N_SUBJECTS))
+        assert np.all(np.diff(r.scores) <= 0)
+        hits += r.order[0] == sub
     assert hits >= 0.9 * N_SUBJECTS
 
 
@@ -432,26 +433,26 @@ def test_colour_occluded_probes_give_a_mask_and_are_identified(occluded, matcher
     # (measured on this set: S_B rank-1 0.50 vs 0.90 equalised on skin, baseline 0.75).
     on_skin = ear.EarMatcher(matcher.templates, equalize_on_skin=True)
     close, hits = 0, 0
-    for img, sub, om, pct in zip(occluded["probes"], occluded["labels"],
-                                 occluded["occluder_masks"], occluded["occluded_pct"]):
+    for img, sub, om, pct in zip(occluded.probes, occluded.labels,
+                                 occluded.occluder_masks, occluded.occluded_pct):
         d = ear.detect_occlusion(img)
-        assert d["mask"].shape == (100, 80) and d["mask"].dtype == np.bool_
-        assert d["blocks"].shape == (10, 8) and d["block_skin_fraction"].shape == (10, 8)
-        np.testing.assert_array_equal(d["blocks"], d["block_skin_fraction"] >= 0.5)
-        np.testing.assert_array_equal(np.flatnonzero(d["blocks"]), d["index"])
-        assert d["occluded_pct"] == pytest.approx(100 * (1 - d["blocks"].mean()))
-        assert d["rejected"] == (d["occluded_pct"] > 60)
-        if abs(d["occluded_pct"] - pct) <= 7.5:
+        assert d.mask.shape == (100, 80) and d.mask.dtype == np.bool_
+        assert d.blocks.shape == (10, 8) and d.block_skin_fraction.shape == (10, 8)
+        np.testing.assert_array_equal(d.blocks, d.block_skin_fraction >= 0.5)
+        np.testing.assert_array_equal(np.flatnonzero(d.blocks), d.index)
+        assert d.occluded_pct == pytest.approx(100 * (1 - d.blocks.mean()))
+        assert d.rejected == (d.occluded_pct > 60)
+        if abs(d.occluded_pct - pct) <= 7.5:
             close += 1
             # Where the estimate is right, the skin mask is the complement of the occluder
             # on >= 95 % of the pixels (measured: 96.8-99.9 %; the closing fills concave
             # bays of the wavy occluder edge).
             r = ear.resize(om.astype(np.uint8) * 255, 100, 80) >= 128
-            assert np.mean(d["mask"] == r) <= 0.05
-            assert np.mean(d["mask"][~r]) >= 0.99
+            assert np.mean(d.mask == r) <= 0.05
+            assert np.mean(d.mask[~r]) >= 0.99
         res = on_skin.identify(img)
-        assert res["occluded_pct"] == d["occluded_pct"]
-        hits += (not res["rejected"]) and res["order"][0] == sub
+        assert res.occluded_pct == d.occluded_pct
+        hits += (not res.rejected) and res.order[0] == sub
     # Measured: 19 of 20 within 7.5 points (the miss is a dark-grey occluder whose noisy
     # chromaticity speckles into the skin ellipse and is closed over); rank-1 18 of 20.
     assert close >= 0.85 * N_SUBJECTS
@@ -461,106 +462,127 @@ def test_colour_occluded_probes_give_a_mask_and_are_identified(occluded, matcher
 def test_heavily_occluded_probes_are_rejected_not_ranked(matcher):
     heavy = ear.make_ears(12, 1, seed=11, occlusion="colour", min_pct=70, max_pct=80)
     rejected = 0
-    for img, pct in zip(heavy["probes"], heavy["occluded_pct"]):
+    for img, pct in zip(heavy.probes, heavy.occluded_pct):
         r = matcher.identify(img)
         d = ear.detect_occlusion(img)
-        assert r["rejected"] == d["rejected"] and r["occluded_pct"] == d["occluded_pct"]
-        if abs(d["occluded_pct"] - pct) <= 7.5:
-            assert r["rejected"]  # a detected 70-80 % occlusion is always rejected
-        if r["rejected"]:
+        assert r.rejected == d.rejected and r.occluded_pct == d.occluded_pct
+        if abs(d.occluded_pct - pct) <= 7.5:
+            assert r.rejected  # a detected 70-80 % occlusion is always rejected
+        if r.rejected:
             rejected += 1
-            assert r["occluded_pct"] > 60
-            assert r["order"].shape == (0,) and r["scores"].shape == (0,)
+            assert r.occluded_pct > 60
+            assert r.order.shape == (0,) and r.scores.shape == (0,)
             # The raw scores and the baseline still answer (no reject path there).
             assert matcher.scores(img).shape == (len(matcher),)
-            assert matcher.identify_baseline(img)["order"].shape == (len(matcher),)
+            assert matcher.identify_baseline(img).order.shape == (len(matcher),)
         else:
-            assert r["order"].shape == (len(matcher),)
+            assert r.order.shape == (len(matcher),)
     # Measured: 9 of 12; the others are dark-grey occluders taken for skin (see above).
-    assert rejected >= 0.6 * len(heavy["probes"])
+    assert rejected >= 0.6 * len(heavy.probes)
     # The threshold is a parameter: nothing is rejected at 100 %.
     lax = ear.EarMatcher(matcher.templates, reject_above_pct=100)
-    assert not lax.identify(heavy["probes"][0])["rejected"]
+    assert not lax.identify(heavy.probes[0]).rejected
 
 
 def test_gallery_scores_equal_the_reference_scorer(occluded, matcher):
     tpl = matcher.templates
-    for img in occluded["probes"][:4]:
+    for img in occluded.probes[:4]:
         per = [ear.score(img, t) for t in tpl]
         for rule in ear.RULES:
             m = ear.EarMatcher(tpl, score=rule)
-            ref = np.array([p["rules"][rule] for p in per])
+            ref = np.array([p.rules[rule] for p in per])
             np.testing.assert_allclose(m.scores(img), ref, rtol=0, atol=1e-5)
-        assert per[0]["score"] == per[0]["rules"]["blockwise-max"]
+        assert per[0].score == per[0].rules["blockwise-max"]
 
 
 def test_score_breakdown_is_consistent(occluded, matcher):
-    img, t = occluded["probes"][0], matcher.templates[0]
+    img, t = occluded.probes[0], matcher.templates[0]
     s = ear.score(img, t)
-    m = len(s["index"])
-    assert s["distances"].shape == (9, m) and s["per_shift"].shape == (9,)
-    np.testing.assert_array_equal(s["shifts"], np.array(ear.SHIFTS_NINE))
-    d = s["distances"]
+    m = len(s.index)
+    assert s.distances.shape == (9, m) and s.per_shift.shape == (9,)
+    np.testing.assert_array_equal(s.shifts, np.array(ear.SHIFTS_NINE))
+    d = s.distances
     # Blockwise max: mean over blocks of 1 - the smallest valid distance (float32 sums).
     best = np.nanmin(d, axis=0)
-    assert s["rules"]["blockwise-max"] == pytest.approx(np.mean(1 - best), abs=1e-6)
-    assert s["rules"]["literal-eq18"] == pytest.approx(np.max(1 - best), abs=1e-6)
+    assert s.rules["blockwise-max"] == pytest.approx(np.mean(1 - best), abs=1e-6)
+    assert s.rules["literal-eq18"] == pytest.approx(np.max(1 - best), abs=1e-6)
     bm = np.nanmean(1 - d, axis=0)
-    assert s["rules"]["blockwise-mean"] == pytest.approx(np.mean(bm), abs=1e-6)
-    ok = ~np.isnan(s["per_shift"])
+    assert s.rules["blockwise-mean"] == pytest.approx(np.mean(bm), abs=1e-6)
+    ok = ~np.isnan(s.per_shift)
     ref = 1 - np.sqrt(np.nanmean(d ** 2, axis=1))
     cnt = np.sum(~np.isnan(d), axis=1)
-    np.testing.assert_allclose(s["per_shift"][ok], ref[ok], atol=1e-6)
+    np.testing.assert_allclose(s.per_shift[ok], ref[ok], atol=1e-6)
     np.testing.assert_array_equal(ok, cnt >= np.ceil(m / 2))
-    assert s["rules"]["overall-max"] == pytest.approx(np.max(s["per_shift"][ok]), abs=1e-12)
-    assert s["rules"]["overall-mean"] == pytest.approx(np.mean(s["per_shift"][ok]), abs=1e-12)
-    np.testing.assert_array_equal(s["best_shift"], np.nanargmin(np.where(np.isnan(d), np.inf, d),
+    assert s.rules["overall-max"] == pytest.approx(np.max(s.per_shift[ok]), abs=1e-12)
+    assert s.rules["overall-mean"] == pytest.approx(np.mean(s.per_shift[ok]), abs=1e-12)
+    np.testing.assert_array_equal(s.best_shift, np.nanargmin(np.where(np.isnan(d), np.inf, d),
                                                                 axis=0))
     # Partners outside the 10 x 8 grid are undefined: block 0 has no partner to the left/up.
-    if s["index"][0] == 0:
+    if s.index[0] == 0:
         assert np.isnan(d[5, 0]) and np.isnan(d[6, 0]) and np.isnan(d[7, 0])
     # The normalised distance is |t - r| / 10 for B0.
     feats = ear.enroll(img)  # the probe's own unmasked features (equalised on the image)
     np.testing.assert_allclose(
-        d[0], np.linalg.norm(feats[s["index"]] - t[s["index"]], axis=1) / 10, atol=1e-6)
+        d[0], np.linalg.norm(feats[s.index] - t[s.index], axis=1) / 10, atol=1e-6)
 
 
 def test_check9_baseline_is_the_pipeline_with_all_blocks_b0_overall_max(clean, matcher):
     tpl = matcher.templates
-    img = clean["probes"][3]
-    assert ear.detect_occlusion(img)["occluded_pct"] == 0  # every block kept
+    img = clean.probes[3]
+    assert ear.detect_occlusion(img).occluded_pct == 0  # every block kept
     base = matcher.identify_baseline(img)
     b = np.array([ear.baseline_score(img, t) for t in tpl])
-    np.testing.assert_allclose(base["scores"], b[base["order"]], atol=1e-6)
+    np.testing.assert_allclose(base.scores, b[base.order], atol=1e-6)
     piped = ear.EarMatcher(tpl, shifts=[(0, 0)], score="overall-max").scores(img)
     np.testing.assert_allclose(piped, b, atol=1e-6)
 
 
 def test_evaluate_agrees_with_the_matcher(occluded, matcher):
-    ev = ear.evaluate(occluded["enrol"], occluded["probes"], occluded["labels"],
-                      true_pct=occluded["occluded_pct"], max_rank=5, edges=[0, 20, 40, 60])
+    ev = ear.evaluate(occluded.enrol, occluded.probes, occluded.labels,
+                      true_pct=occluded.occluded_pct, max_rank=5, edges=[0, 20, 40, 60])
     n = N_SUBJECTS
-    assert ev["rules"] == list(ear.RULES)
-    assert set(ev["cmc"]) == set(ear.RULES)
-    for c in list(ev["cmc"].values()) + [ev["baseline_cmc"], ev["baseline_cmc_all"]]:
+    assert ev.rules == list(ear.RULES)
+    assert set(ev.cmc) == set(ear.RULES)
+    for c in list(ev.cmc.values()) + [ev.baseline_cmc, ev.baseline_cmc_all]:
         assert c.shape == (5,) and np.all(np.diff(c) >= 0) and c[-1] <= 1
-    assert ev["ranks"].shape == (n, 5) and ev["ranks"].dtype == np.int64
-    np.testing.assert_array_equal(ev["true_pct"], occluded["occluded_pct"])
-    assert ev["rejection_rate"] == pytest.approx(np.mean(ev["rejected"]))
-    for k, img in enumerate(occluded["probes"]):
+    assert ev.ranks.shape == (n, 5) and ev.ranks.dtype == np.int64
+    np.testing.assert_array_equal(ev.true_pct, occluded.occluded_pct)
+    assert ev.rejection_rate == pytest.approx(np.mean(ev.rejected))
+    for k, img in enumerate(occluded.probes):
         r = matcher.identify(img)
-        assert r["rejected"] == ev["rejected"][k]
-        assert r["occluded_pct"] == ev["estimated_pct"][k]
-        if r["rejected"]:
-            assert np.all(ev["ranks"][k] == -1)
+        assert r.rejected == ev.rejected[k]
+        assert r.occluded_pct == ev.estimated_pct[k]
+        if r.rejected:
+            assert np.all(ev.ranks[k] == -1)
         else:
-            assert ev["ranks"][k, 0] == np.flatnonzero(r["order"] == k)[0]
-        base = matcher.identify_baseline(img)["order"]
-        assert ev["baseline_rank"][k] == np.flatnonzero(base == k)[0]
-    acc = ev["ranks"][~ev["rejected"], 0]
-    np.testing.assert_allclose(ev["cmc"]["blockwise-max"], ear.cmc(acc, 5))
-    deg = ev["degradation"]["blockwise-max"]
-    assert deg.shape == (3, 4) and deg[:, 2].sum() == np.sum(~ev["rejected"])
+            assert ev.ranks[k, 0] == np.flatnonzero(r.order == k)[0]
+        base = matcher.identify_baseline(img).order
+        assert ev.baseline_rank[k] == np.flatnonzero(base == k)[0]
+    acc = ev.ranks[~ev.rejected, 0]
+    np.testing.assert_allclose(ev.cmc["blockwise-max"], ear.cmc(acc, 5))
+    deg = ev.degradation["blockwise-max"]
+    assert deg.shape == (3, 4) and deg[:, 2].sum() == np.sum(~ev.rejected)
+
+
+def test_results_are_typed(clean, occluded, matcher):
+    check_result(clean, ear.EarDataset)
+    img = occluded.probes[0]
+    d = ear.detect_occlusion(img)
+    check_result(d, ear.OcclusionReport)
+    r = matcher.identify(img)
+    text = check_result(r, ear.Identification)
+    assert f"order=array(shape=({len(matcher)},), dtype=int64)" in text or r.rejected
+    base = matcher.identify_baseline(img)
+    check_result(base, ear.Ranking)
+    assert base.order.shape == base.scores.shape == (len(matcher),)
+    s = ear.score(img, matcher.templates[0])
+    check_result(s, ear.MatchScore)
+    assert set(s.rules) == set(ear.RULES) and s.score == s.rules["blockwise-max"]
+    assert (s.occluded_pct, s.rejected) == (d.occluded_pct, d.rejected)
+    ev = ear.evaluate(occluded.enrol[:3], occluded.probes[:3], occluded.labels[:3], max_rank=2)
+    check_result(ev, ear.EarEvaluation)
+    assert ev.degradation is None  # no `edges`
+    assert np.isnan(ev.true_pct).all()  # no `true_pct`
 
 
 def test_cmc():
@@ -572,7 +594,7 @@ def test_cmc():
 def test_matcher_pickles_and_reports(matcher, clean):
     m2 = pickle.loads(pickle.dumps(matcher))
     np.testing.assert_array_equal(m2.templates, matcher.templates)
-    img = clean["probes"][0]
+    img = clean.probes[0]
     np.testing.assert_array_equal(m2.scores(img), matcher.scores(img))
     assert "EarMatcher(20 templates" in repr(matcher)
 
@@ -779,7 +801,7 @@ def test_other_bad_input_raises_value_error():
     # A probe with nothing un-occluded cannot be scored (but is rejected by identify).
     blue = np.zeros((40, 32, 3), np.uint8)
     blue[..., 2] = 200
-    assert m.identify(blue)["rejected"]
+    assert m.identify(blue).rejected
     with pytest.raises(ValueError, match="un-occluded"):
         m.scores(blue)
 

@@ -7,6 +7,7 @@ import pytest
 from scipy import stats
 from skimage.measure import label
 
+from results_check import check_result
 from wscg import doe, raytrace as rt
 
 SMALL = dict(region_mm=(-1.5, -1.5, 1.5, 1.5), magnification=4.0, spp=4)
@@ -136,21 +137,21 @@ def test_rsm_against_numpy_least_squares(rng):
     f = doe.fit_rsm(x, y, interaction=False)
     a = np.column_stack([np.ones(13), x, x ** 2])
     coef, *_ = np.linalg.lstsq(a, y, rcond=None)
-    np.testing.assert_allclose(f["coef"], coef, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(f.coef, coef, rtol=1e-9, atol=1e-12)
     h = np.diag(a @ np.linalg.solve(a.T @ a, a.T))
-    np.testing.assert_allclose(f["leverage"], h, rtol=1e-9)
+    np.testing.assert_allclose(f.leverage, h, rtol=1e-9)
     # PRESS by refitting without each run.
     press = 0.0
     for i in range(13):
         keep = np.arange(13) != i
         c, *_ = np.linalg.lstsq(a[keep], y[keep], rcond=None)
         press += (y[i] - a[i] @ c) ** 2
-    assert f["press"] == pytest.approx(press, rel=1e-9)
+    assert f.press == pytest.approx(press, rel=1e-9)
     resid = y - a @ coef
     s2 = resid @ resid / (13 - 5)
     se = np.sqrt(np.diag(np.linalg.inv(a.T @ a)) * s2)
-    np.testing.assert_allclose(f["p"], 2 * stats.t.sf(np.abs(coef / se), 8), rtol=1e-7)
-    assert all(e > 0 for e in f["canonical_eigs"])
+    np.testing.assert_allclose(f.p, 2 * stats.t.sf(np.abs(coef / se), 8), rtol=1e-7)
+    assert all(e > 0 for e in f.canonical_eigs)
 
 
 def test_anova_lsd_williams_panel(rng):
@@ -160,11 +161,11 @@ def test_anova_lsd_williams_panel(rng):
     t = doe.rm_anova(scores)
     # Two conditions: F of the condition equals the paired t statistic squared.
     tt = stats.ttest_rel(scores[:, 0].mean(axis=1), scores[:, 1].mean(axis=1))
-    assert t["condition"]["F"] == pytest.approx(tt.statistic ** 2, rel=1e-9)
-    assert t["condition"]["p"] == pytest.approx(tt.pvalue, rel=1e-6)
+    assert t.condition.F == pytest.approx(tt.statistic ** 2, rel=1e-9)
+    assert t.condition.p == pytest.approx(tt.pvalue, rel=1e-6)
     l = doe.lsd(scores[:, 0], 0.05)
     one = doe.rm_anova_oneway(scores[:, 0])
-    assert l["lsd"] == pytest.approx(stats.t.ppf(0.975, one["df_error"]) * np.sqrt(2 * one["ms_error"] / 26))
+    assert l.lsd == pytest.approx(stats.t.ppf(0.975, one.df_error) * np.sqrt(2 * one.ms_error / 26))
     w = doe.williams(13)
     assert w.shape == (26, 13)
     assert all(sorted(r) == list(range(13)) for r in w)
@@ -177,6 +178,37 @@ def test_anova_lsd_williams_panel(rng):
         doe.fit_rsm(x=np.zeros((3, 2)), y=[1, 2, 3])
     with pytest.raises(ValueError):
         doe.ccd(1, "inscribed", "rotatable", 2)
+
+
+def test_doe_results_are_typed(rng):
+    x = doe.ccd(2, "inscribed", "rotatable", (3, 2))
+    y = 3 + x[:, 0] - 2 * x[:, 1] + 5 * x[:, 0] ** 2 + 2 * x[:, 1] ** 2 + rng.normal(0, 0.3, 13)
+    f = doe.fit_rsm(x, y)
+    check_result(f, doe.RsmFit)
+    assert f.names == ["b0", "b1", "b2", "b11", "b22", "b12"]
+    assert f.coef.shape == f.p.shape == (6,) and f.residuals.shape == (13,)
+    np.testing.assert_allclose(f.fitted + f.residuals, y, atol=1e-12)
+    assert f.stationary.shape == (2,) and f.canonical_axes.shape == (2, 2)
+    blocked = doe.fit_rsm_blocked(x, y + rng.normal(0, 0.3, (4, 13)))
+    check_result(blocked, doe.RsmFit)
+    assert blocked.names[-3:] == ["subject0", "subject1", "subject2"]
+    # Three conditions tell the effects apart by their degrees of freedom: condition 2,
+    # stimulus 12, their interaction 24 (the native "condition:stimulus").
+    scores = 5 + rng.normal(0, 1, (10, 3, 13))
+    t = doe.rm_anova(scores)
+    check_result(t, doe.AnovaTable)
+    check_result(t.interaction, doe.AnovaEffect)
+    assert (t.condition.df, t.stimulus.df, t.interaction.df) == (2, 12, 24)
+    assert t.interaction.df_error == 24 * 9
+    total = t.condition.ss + t.stimulus.ss + t.interaction.ss + t.ss_subject
+    total += t.condition.ss_error + t.stimulus.ss_error + t.interaction.ss_error
+    assert total == pytest.approx(t.ss_total, rel=1e-10)
+    one = doe.rm_anova_oneway(scores[:, 0])
+    assert type(one) is doe.AnovaEffect and one.df == 12
+    l = doe.lsd(scores[:, 0])
+    check_result(l, doe.LeastSignificantDifference)
+    assert len(l.pairs) == 78 and l.n_separated == sum(sep for _, _, sep in l.pairs)
+    assert l.means.shape == (13,) and l.df_error == one.df_error
 
 
 def test_plate_layout_places_the_pool_on_the_cells():

@@ -38,12 +38,13 @@ from __future__ import annotations
 
 import os
 import warnings
-from typing import Optional, Sequence, Tuple, Union
+from typing import Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._native import biometrics as _b
 from ._checks import _int, integer_ranges as _integer_ranges
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
     "FDKECA", "PCA", "KernelPCA", "KECA",
@@ -52,10 +53,39 @@ __all__ = [
     "PerClassSFA", "GlobalSFA", "TemporalSFA", "KNN", "confusion_matrix", "Isomap",
     "HAND_POSE_CLASSES", "hand_pose_jitter", "make_hand_poses", "physical_features",
     "rotate_mask", "downscale_mask", "hand_pose_split", "hand_pose_comparison",
-    "hand_pose_rotated_test",
+    "hand_pose_rotated_test", "ResolvedKernel", "HandPoseSplit", "ClassifierRun",
+    "HandPoseComparison",
 ]
 
 _METRICS = ("euclidean", "cosine")
+
+
+@_result
+class ResolvedKernel:
+    """The kernel :func:`feature_kernel` used, with the values it resolved from the data
+    (eq. 10 of paper 01). Parameters a kernel does not have are ``None``.
+
+    Attributes
+    ----------
+    kernel : str
+        ``"rbf"``, ``"poly"`` or ``"linear"``.
+    sigma : float or None
+        Gaussian width ``sigma`` of ``exp(-|a - b|^2 / (2 sigma^2))``, in the units of ``X``
+        (``rbf``; the median feature distance times ``sigma_scale`` unless given).
+    degree : int or None
+        Polynomial degree (``poly``).
+    gamma : float or None
+        Polynomial scale of ``(gamma a.b + coef0)^degree`` (``poly``; ``1 / n`` unless
+        given).
+    coef0 : float or None
+        Polynomial offset (``poly``).
+    """
+
+    kernel: str
+    sigma: Optional[float] = None
+    degree: Optional[int] = None
+    gamma: Optional[float] = None
+    coef0: Optional[float] = None
 
 
 def _matrix(X, name: str = "X") -> Tuple[np.ndarray, Optional[Tuple[int, int]]]:
@@ -597,9 +627,10 @@ def select_dimension_cv(model, X, y, dims: Optional[Sequence[int]] = None, n_fol
 
 def feature_kernel(X, kernel: str = "rbf", sigma=None, sigma_scale: float = 1.0,
                    degree: int = 2, gamma=None, coef0: float = 1.0,
-                   center: bool = True) -> Tuple[np.ndarray, dict]:
+                   center: bool = True) -> Tuple[np.ndarray, ResolvedKernel]:
     """FDKECA's ``d x d`` kernel between the feature vectors (columns of the centred
-    ``X``), eq. 10 of the paper, and the kernel parameters used.
+    ``X``), eq. 10 of the paper, and the kernel parameters used (a
+    :class:`ResolvedKernel`).
 
     Equals ``sklearn.metrics.pairwise.rbf_kernel(Xc.T, gamma=1/(2 sigma^2))`` or
     ``polynomial_kernel(Xc.T, degree, gamma, coef0)``.
@@ -607,7 +638,8 @@ def feature_kernel(X, kernel: str = "rbf", sigma=None, sigma_scale: float = 1.0,
     Xm, _ = _matrix(X)
     spec = _kernel_spec(kernel, sigma, sigma_scale, degree, gamma, coef0)
     spec["center"] = bool(center)
-    return _b.feature_kernel(Xm, spec)
+    K, info = _b.feature_kernel(Xm, spec)
+    return K, _from_mapping(ResolvedKernel, info)
 
 
 def make_finger_veins(n_subjects: int = 200, n_per_subject: int = 10, size=(10, 20),
@@ -936,6 +968,84 @@ _JITTER_KEYS = ("extension", "finger_angle_deg", "spread", "rotation_deg", "scal
                 "translation_px")
 
 
+@_result
+class HandPoseSplit:
+    """Paper 05's protocol applied by :func:`hand_pose_split`: rows are masks downscaled by
+    3 and flattened (values in ``[0, 1]``, the fraction of hand in each 3 x 3 cell).
+
+    Attributes
+    ----------
+    X_train : float64 array (n_train, h * w)
+        Training rows, the rotated copies appended after the original frames.
+    y_train : array (n_train,)
+        Their labels (as given).
+    X_test : float64 array (n_test, h * w)
+        Test rows.
+    y_test : array (n_test,)
+        Their labels.
+    train_index : int64 array (n_train,)
+        Source frame of each training row.
+    test_index : int64 array (n_test,)
+        Source frame of each test row.
+    train_rotation : float64 array (n_train,)
+        Rotation of each training row in degrees (0 for the original frames).
+    shape : (int, int)
+        ``(h, w)`` of the downscaled masks.
+    """
+
+    X_train: np.ndarray
+    y_train: np.ndarray
+    X_test: np.ndarray
+    y_test: np.ndarray
+    train_index: np.ndarray
+    test_index: np.ndarray
+    train_rotation: np.ndarray
+    shape: Tuple[int, int]
+
+
+@_result
+class ClassifierRun:
+    """One method of :func:`hand_pose_comparison` on the test rows.
+
+    Attributes
+    ----------
+    confusion : float64 array (n_classes, n_classes)
+        Row-normalised confusion matrix in percent (row = true class, column = predicted).
+    predictions : array (n_test,)
+        Predicted label of each test row.
+    accuracy : float
+        Mean of the confusion diagonal, percent.
+    fit_seconds, predict_seconds : float
+        Wall time of fitting and of predicting the test rows, seconds.
+    """
+
+    confusion: np.ndarray
+    predictions: np.ndarray
+    accuracy: float
+    fit_seconds: float
+    predict_seconds: float
+
+
+@_result
+class HandPoseComparison:
+    """Paper 05's comparison (Tables 3-6) run by :func:`hand_pose_comparison`.
+
+    Attributes
+    ----------
+    classes : array (n_classes,)
+        Class order of the confusion matrices.
+    y_test : array (n_test,)
+        True label of each test row.
+    results : dict mapping str to ClassifierRun
+        One entry per method run, by name (``"sfa"``, ``"physical"``, ``"pca"``,
+        ``"isomap"``, ``"global"``).
+    """
+
+    classes: np.ndarray
+    y_test: np.ndarray
+    results: Dict[str, ClassifierRun]
+
+
 def hand_pose_jitter(preset: str = "default") -> dict:
     """Per-frame variation amplitudes of :func:`make_hand_poses`: ``"default"`` (the tight
     amplitudes with the hand translated by +-25 px, which makes FLAT/OPEN and FIST/GRAB
@@ -1001,19 +1111,19 @@ def downscale_mask(mask, factor: int = 3) -> np.ndarray:
 
 
 def hand_pose_split(masks, labels, n_test_per_class: int = 300,
-                    n_augment_per_class: int = 1000, seed: int = 0) -> dict:
+                    n_augment_per_class: int = 1000, seed: int = 0) -> HandPoseSplit:
     """The paper's protocol on a mask stack: per class ``n_test_per_class`` random test
     frames, the rest train; then ``n_augment_per_class`` training frames per class rotated by
     +-U(10, 20) degrees and appended. Rows are the masks downscaled by 3, flattened.
-    Returns a dict with ``X_train``, ``y_train``, ``X_test``, ``y_test``, ``train_index``,
-    ``test_index`` (source frames), ``train_rotation`` (degrees) and ``shape``."""
+    Returns a :class:`HandPoseSplit` with ``X_train``, ``y_train``, ``X_test``, ``y_test``,
+    ``train_index``, ``test_index`` (source frames), ``train_rotation`` (degrees) and
+    ``shape``."""
     m = _masks(masks)
     classes, codes = _encode_labels(labels, m.shape[0] if m.ndim == 3 else 1, "labels")
     d = _b.hand_pose_split(m, codes, _int("n_test_per_class", n_test_per_class, 0),
                            _int("n_augment_per_class", n_augment_per_class, 0), int(seed))
-    d["y_train"] = classes[d["y_train"]]
-    d["y_test"] = classes[d["y_test"]]
-    return d
+    return _from_mapping(HandPoseSplit, d, y_train=classes[d["y_train"]],
+                         y_test=classes[d["y_test"]], shape=tuple(d["shape"]))
 
 
 def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", "pca",
@@ -1023,7 +1133,8 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
                          shrinkage: float = 1e-6, knn_n_neighbors: int = 5,
                          physical_n_per_class: int = 1500, isomap_n_neighbors: int = 8,
                          isomap_n_components: int = 9, isomap_n_per_class: Optional[int] = None,
-                         isomap_n_landmarks: int = 2000, global_rule: str = "variance") -> dict:
+                         isomap_n_landmarks: int = 2000,
+                         global_rule: str = "variance") -> HandPoseComparison:
     """Paper 05's comparison (Tables 3-6) on a mask stack: the split of
     :func:`hand_pose_split`, then class-wise SFA (``"sfa"``; ``pca_n_components``, ``m``,
     ``gamma`` and ``shrinkage`` as in :class:`PerClassSFA`), KNN (``knn_n_neighbors``
@@ -1032,9 +1143,10 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
     ``isomap_n_neighbors``, ``isomap_n_components``, ``isomap_n_per_class`` training frames
     per class (default all); Landmark Isomap with ``isomap_n_landmarks`` landmarks above 5000
     rows) and full-data-set SFA (``"global"``, ``global_rule`` as :class:`GlobalSFA`'s
-    ``rule``). Returns ``{"classes", "y_test", "results"}``
-    with ``results[name] = {"confusion" (% per true class), "predictions", "accuracy"
-    (mean of the diagonal, %), "fit_seconds", "predict_seconds"}``."""
+    ``rule``). Returns a :class:`HandPoseComparison`: ``classes``, ``y_test`` and
+    ``results[name]``, a :class:`ClassifierRun` (``confusion`` in % per true class,
+    ``predictions``, ``accuracy``: mean of the diagonal in %, ``fit_seconds``,
+    ``predict_seconds``)."""
     mk = _masks(masks)
     classes, codes = _encode_labels(labels, mk.shape[0] if mk.ndim == 3 else 1, "labels")
     d = None if depth is None else np.ascontiguousarray(depth, dtype=np.float32)
@@ -1050,18 +1162,18 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
          None if isomap_n_per_class is None else _int("isomap_n_per_class", isomap_n_per_class, 0),
          _int("isomap_n_landmarks", isomap_n_landmarks, 0)),
         str(global_rule))
-    out = {"classes": classes[np.asarray(cls)], "y_test": classes[y_test], "results": {}}
-    for name, conf, pred, tf, tp in res:
-        out["results"][name] = {"confusion": conf, "predictions": classes[pred],
-                                "accuracy": float(np.mean(np.diag(conf))),
-                                "fit_seconds": tf, "predict_seconds": tp}
-    return out
+    runs = {name: ClassifierRun(confusion=conf, predictions=classes[pred],
+                                accuracy=float(np.mean(np.diag(conf))), fit_seconds=tf,
+                                predict_seconds=tp)
+            for name, conf, pred, tf, tp in res}
+    return HandPoseComparison(classes=classes[np.asarray(cls)], y_test=classes[y_test],
+                              results=runs)
 
 
 def hand_pose_rotated_test(masks, test_index, angles=(10.0, 20.0),
                            seed: int = 1) -> np.ndarray:
     """Rows of the frames ``test_index`` of a mask stack (e.g. ``hand_pose_split(...)
-    ["test_index"]``), each rotated about its centroid by +-U(angles) degrees and downscaled
+    .test_index``), each rotated about its centroid by +-U(angles) degrees and downscaled
     as :func:`hand_pose_split` does: the rotation-robustness check. ``angles=(0, 0)`` gives
     the unrotated test rows."""
     mk = _masks(masks)

@@ -1,4 +1,5 @@
-from typing import Any, Optional, Sequence, Tuple, Union
+from dataclasses import dataclass
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -12,6 +13,39 @@ F32 = npt.NDArray[np.float32]
 I64 = npt.NDArray[np.int64]
 
 __all__: list[str]
+
+@dataclass(frozen=True)
+class ResolvedKernel:
+    kernel: str
+    sigma: Optional[float] = ...
+    degree: Optional[int] = ...
+    gamma: Optional[float] = ...
+    coef0: Optional[float] = ...
+
+@dataclass(frozen=True)
+class HandPoseSplit:
+    X_train: F64
+    y_train: np.ndarray
+    X_test: F64
+    y_test: np.ndarray
+    train_index: I64
+    test_index: I64
+    train_rotation: F64
+    shape: Tuple[int, int]
+
+@dataclass(frozen=True)
+class ClassifierRun:
+    confusion: F64
+    predictions: np.ndarray
+    accuracy: float
+    fit_seconds: float
+    predict_seconds: float
+
+@dataclass(frozen=True)
+class HandPoseComparison:
+    classes: np.ndarray
+    y_test: np.ndarray
+    results: Dict[str, ClassifierRun]
 
 class _Subspace:
     n_components_: int
@@ -96,7 +130,7 @@ def select_dimension_cv(model: _Subspace, X: ArrayLike, y: ArrayLike,
 def feature_kernel(X: ArrayLike, kernel: str = "rbf", sigma: Union[float, str, None] = None,
                    sigma_scale: float = 1.0, degree: int = 2,
                    gamma: Union[float, str, None] = None, coef0: float = 1.0,
-                   center: bool = True) -> Tuple[F64, dict[str, Any]]: ...
+                   center: bool = True) -> Tuple[F64, ResolvedKernel]: ...
 def make_finger_veins(n_subjects: int = 200, n_per_subject: int = 10,
                       size: Tuple[int, int] = (10, 20), canvas: Tuple[int, int] = (40, 80),
                       max_shift: float = 3.5, max_rotation_deg: float = 3.0,
@@ -172,7 +206,7 @@ def physical_features(masks: npt.ArrayLike, depth: Optional[npt.ArrayLike] = Non
 def rotate_mask(mask: npt.ArrayLike, degrees: float) -> npt.NDArray[np.uint8]: ...
 def downscale_mask(mask: npt.ArrayLike, factor: int = 3) -> npt.NDArray[np.float64]: ...
 def hand_pose_split(masks: npt.ArrayLike, labels: npt.ArrayLike, n_test_per_class: int = 300,
-                    n_augment_per_class: int = 1000, seed: int = 0) -> dict: ...
+                    n_augment_per_class: int = 1000, seed: int = 0) -> HandPoseSplit: ...
 def hand_pose_comparison(masks: npt.ArrayLike, labels: npt.ArrayLike,
                          depth: Optional[npt.ArrayLike] = None,
                          methods: Sequence[str] = ..., n_test_per_class: int = 300,
@@ -182,7 +216,7 @@ def hand_pose_comparison(masks: npt.ArrayLike, labels: npt.ArrayLike,
                          physical_n_per_class: int = 1500, isomap_n_neighbors: int = 8,
                          isomap_n_components: int = 9, isomap_n_per_class: Optional[int] = None,
                          isomap_n_landmarks: int = 2000,
-                         global_rule: str = "variance") -> dict: ...
+                         global_rule: str = "variance") -> HandPoseComparison: ...
 def hand_pose_rotated_test(masks: npt.ArrayLike, test_index: npt.ArrayLike,
                            angles: Tuple[float, float] = ..., seed: int = 1
                            ) -> npt.NDArray[np.float64]: ...

@@ -66,12 +66,15 @@ import numpy as np
 
 from ._checks import _int, _real, integer_ranges as _integer_ranges
 from ._native import ear as _e
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
     "enroll", "enroll_many", "detect_occlusion", "skin_pixels", "EarMatcher", "score",
     "baseline_score", "SkinModel", "cmc", "make_ears", "evaluate", "rgb_to_gray",
     "equalize_hist", "resize", "haar_ll", "block_features", "close_disk", "dilate_disk",
     "erode_disk", "fill_holes", "RULES", "SHIFTS_NINE", "PARAMS", "OCCLUSIONS",
+    "OcclusionReport", "Identification", "Ranking", "MatchScore", "EarDataset",
+    "EarEvaluation",
 ]
 
 #: Score rules, in the order of Fig. 11 followed by the literal eq. 18.
@@ -258,6 +261,197 @@ def _plane(name: str, p) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------------------
+# Results
+# ----------------------------------------------------------------------------------------
+
+@_result
+class OcclusionReport:
+    """The occlusion decision of :func:`detect_occlusion` (section 3.3, Algorithm 1) on the
+    normalised ``(height, width)`` image cut into ``(rows, cols)`` blocks.
+
+    Attributes
+    ----------
+    mask : bool array (height, width)
+        Skin (un-occluded) mask ``Z`` after closing and hole filling.
+    blocks : bool array (rows, cols)
+        Grid of un-occluded blocks (``(10, 8)`` by default).
+    block_skin_fraction : float64 array (rows, cols)
+        Skin fraction of every block, in ``[0, 1]``.
+    index : int64 array
+        Indices of the un-occluded blocks, ascending (block ``b`` at row ``b // cols``).
+    occluded_pct : float
+        Percentage of occluded blocks ``E``.
+    rejected : bool
+        ``E > reject_above_pct``: reacquire the probe.
+    """
+
+    mask: np.ndarray
+    blocks: np.ndarray
+    block_skin_fraction: np.ndarray
+    index: np.ndarray
+    occluded_pct: float
+    rejected: bool
+
+
+@_result
+class Identification:
+    """A probe identified by :meth:`EarMatcher.identify`.
+
+    Attributes
+    ----------
+    rejected : bool
+        Whether the probe has more than ``reject_above_pct`` occluded blocks (it is then
+        not ranked: reacquire it).
+    occluded_pct : float
+        Its percentage of occluded blocks.
+    order : int64 array (n,)
+        Gallery indices, best first (ties: lower index first); empty when rejected.
+    scores : float64 array (n,)
+        Scores in that order (1 is a perfect match); empty when rejected.
+    """
+
+    rejected: bool
+    occluded_pct: float
+    order: np.ndarray
+    scores: np.ndarray
+
+
+@_result
+class Ranking:
+    """The gallery ranked by the whole-ear baseline (:meth:`EarMatcher.identify_baseline`;
+    never rejected).
+
+    Attributes
+    ----------
+    order : int64 array (n,)
+        Gallery indices, best first (ties: lower index first).
+    scores : float64 array (n,)
+        Scores ``1 - |t - r| / (2 sqrt(block_len) sqrt(blocks))`` in that order.
+    """
+
+    order: np.ndarray
+    scores: np.ndarray
+
+
+@_result
+class MatchScore:
+    """Every quantity of the match of one probe against one template (:func:`score`, eqs.
+    7-18), with ``S`` shifts and ``m`` kept (un-occluded) blocks. Scores and distances are
+    dimensionless, scores in ``[0, 1]`` (1 is a perfect match).
+
+    Attributes
+    ----------
+    rules : dict mapping str to float
+        The score under every rule of :data:`RULES` (``-inf`` where the rule has nothing
+        defined).
+    score : float
+        The score under the ``score`` parameter.
+    per_shift : float64 array (S,)
+        Per-shift scores ``S_s`` (eqs. 8-16), NaN where undefined (fewer than
+        ``ceil(m / 2)`` blocks with a partner).
+    distances : float64 array (S, m)
+        Normalised block distances ``d_{s,j}``, NaN where the partner block lies outside the
+        grid.
+    best_shift : int64 array (m,)
+        Index into ``shifts`` of each kept block's best shift.
+    index : int64 array (m,)
+        The kept block indices.
+    shifts : int64 array (S, 2)
+        The shifts ``(d_row, d_col)``, in blocks.
+    occluded_pct : float
+        Percentage of occluded blocks of the probe.
+    rejected : bool
+        The occlusion decision (the probe is scored even when rejected).
+    """
+
+    rules: Dict[str, float]
+    score: float
+    per_shift: np.ndarray
+    distances: np.ndarray
+    best_shift: np.ndarray
+    index: np.ndarray
+    shifts: np.ndarray
+    occluded_pct: float
+    rejected: bool
+
+
+@_result
+class EarDataset:
+    """Synthetic colour ears of :func:`make_ears` with exact occluder masks; ``m =
+    n_subjects * n_probes`` probes, subject-major.
+
+    Attributes
+    ----------
+    enrol : uint8 array (n_subjects, H, W, 3)
+        One clean enrolment capture per subject.
+    probes : uint8 array (m, H, W, 3)
+        The probe captures.
+    labels : int64 array (m,)
+        True identity of each probe.
+    occluder_masks : bool array (m, H, W)
+        Pixels covered by an occluder.
+    occluded_blocks : bool array (m, rows, cols)
+        Blocks occluded in the normalised image (at least half covered after resizing).
+    occluded_pct : float64 array (m,)
+        Percentage of occluded blocks of each probe.
+    skin_rg : float64 array (n_subjects, 2)
+        The subjects' skin chromaticities ``(r, g)``.
+    """
+
+    enrol: np.ndarray
+    probes: np.ndarray
+    labels: np.ndarray
+    occluder_masks: np.ndarray
+    occluded_blocks: np.ndarray
+    occluded_pct: np.ndarray
+    skin_rg: np.ndarray
+
+
+@_result
+class EarEvaluation:
+    """The paper's experiments (section 4) run by :func:`evaluate` on ``n`` probes. CMC
+    values and rates are fractions in ``[0, 1]``; percentages are of blocks.
+
+    Attributes
+    ----------
+    rules : list of str
+        The rules of :data:`RULES`, the column order of ``ranks``.
+    cmc : dict mapping str to float64 arrays (max_rank,)
+        CMC curve of every rule over the accepted probes.
+    baseline_cmc : float64 array (max_rank,)
+        The whole-ear baseline over the same accepted probes.
+    baseline_cmc_all : float64 array (max_rank,)
+        The baseline over every probe (it has no reject path).
+    rejection_rate : float
+        Fraction of rejected probes.
+    estimated_pct : float64 array (n,)
+        Estimated occlusion percentage of each probe.
+    true_pct : float64 array (n,)
+        Ground-truth occlusion percentage (NaN where unknown).
+    rejected : bool array (n,)
+        Whether each probe was rejected.
+    ranks : int64 array (n, len(rules))
+        0-based rank of the true identity under each rule (-1 when rejected).
+    baseline_rank : int64 array (n,)
+        0-based rank of the true identity under the baseline.
+    degradation : dict mapping str to float64 arrays (bins, 4), or None
+        With ``edges``: per rule, rows ``(lo, hi, count, rank1)`` (rank-1 rate per bin of
+        estimated occlusion, NaN for an empty bin; Fig. 13); ``None`` without ``edges``.
+    """
+
+    rules: List[str]
+    cmc: Dict[str, np.ndarray]
+    baseline_cmc: np.ndarray
+    baseline_cmc_all: np.ndarray
+    rejection_rate: float
+    estimated_pct: np.ndarray
+    true_pct: np.ndarray
+    rejected: np.ndarray
+    ranks: np.ndarray
+    baseline_rank: np.ndarray
+    degradation: Optional[Dict[str, np.ndarray]] = None
+
+# ----------------------------------------------------------------------------------------
 # Pipeline
 # ----------------------------------------------------------------------------------------
 
@@ -290,13 +484,13 @@ def detect_occlusion(image, *, height: int = 100, width: int = 80, block: int = 
                      skin_rule: str = "marginal-and", min_likelihood: Optional[float] = None,
                      min_intensity: int = 0, close_radius: float = 10.0,
                      fill_holes: bool = True, block_skin_fraction: float = 0.5,
-                     reject_above_pct: float = 60.0) -> Dict[str, object]:
+                     reject_above_pct: float = 60.0) -> OcclusionReport:
     """Occlusion report of an RGB ear crop (section 3.3, Algorithm 1).
 
     The crop is resized to ``height x width``; every pixel is classified by the skin model
     and rule, the skin mask is closed with a disk of ``close_radius`` and its holes filled,
     and a block is un-occluded when its skin fraction is at least ``block_skin_fraction``.
-    Returns a dict:
+    Returns an :class:`OcclusionReport`:
 
     - ``mask``: bool ``(height, width)`` skin (un-occluded) mask ``Z``;
     - ``blocks``: bool ``(rows, cols)`` grid of un-occluded blocks (``(10, 8)``);
@@ -306,7 +500,8 @@ def detect_occlusion(image, *, height: int = 100, width: int = 80, block: int = 
     - ``rejected``: ``E > reject_above_pct`` (reacquire the probe).
 
     A grey image raises ``ValueError`` (the skin test needs colour)."""
-    return _e.detect_occlusion(_image("image", image), _params(locals()))
+    return _from_mapping(OcclusionReport,
+                         _e.detect_occlusion(_image("image", image), _params(locals())))
 
 
 @_documented
@@ -331,7 +526,7 @@ class EarMatcher:
 
     >>> m = EarMatcher(enroll_many(gallery_images))
     >>> r = m.identify(probe)
-    >>> None if r["rejected"] else r["order"][0]
+    >>> None if r.rejected else r.order[0]
     """
 
     @_documented
@@ -370,9 +565,9 @@ class EarMatcher:
         """The keyword parameters the matcher was built with (every one, by name)."""
         return dict(self._params)
 
-    def identify(self, image) -> Dict[str, object]:
+    def identify(self, image) -> Identification:
         """Identifies an RGB probe: occlusion detection, then index-based matching against
-        every template. Returns a dict:
+        every template. Returns an :class:`Identification`:
 
         - ``rejected``: whether the probe has more than ``reject_above_pct`` occluded blocks
           (it is then not ranked: reacquire it);
@@ -384,7 +579,7 @@ class EarMatcher:
         Raises ``ValueError`` for bad input, or when no block is un-occluded and the probe
         is not rejected (only possible with ``reject_above_pct >= 100``)."""
         rej, pct, order, scores = self._m.identify(_image("image", image))
-        return {"rejected": rej, "occluded_pct": pct, "order": order, "scores": scores}
+        return Identification(rejected=rej, occluded_pct=pct, order=order, scores=scores)
 
     def scores(self, image) -> np.ndarray:
         """Scores of an RGB probe against every template, float64 ``(n,)`` in gallery order,
@@ -398,13 +593,13 @@ class EarMatcher:
         s, _rejected, _pct = self._m.scores(_image("image", image))
         return s
 
-    def identify_baseline(self, image) -> Dict[str, object]:
+    def identify_baseline(self, image) -> Ranking:
         """The whole-ear Haar baseline (Fig. 12): every block, the single shift B0, no
-        occlusion detection and never rejected. Returns ``{"order", "scores"}`` as
-        :meth:`identify` (score ``1 - |t - r| / (2 sqrt(block_len) sqrt(blocks))``). Grey
+        occlusion detection and never rejected. Returns a :class:`Ranking`, ``order`` and
+        ``scores`` as :meth:`identify` (score ``1 - |t - r| / (2 sqrt(block_len) sqrt(blocks))``). Grey
         probes are accepted with ``gray_enrolment=True``."""
         order, scores = self._m.identify_baseline(_image("image", image))
-        return {"order": order, "scores": scores}
+        return Ranking(order=order, scores=scores)
 
 
 def _same(a, b) -> bool:
@@ -426,13 +621,13 @@ def score(image, template, *, height: int = 100, width: int = 80, block: int = 1
           min_intensity: int = 0, close_radius: float = 10.0, fill_holes: bool = True,
           block_skin_fraction: float = 0.5, reject_above_pct: float = 60.0,
           shifts: Sequence[Tuple[int, int]] = SHIFTS_NINE, score: str = "blockwise-max",
-          mask_features: bool = False, equalize_on_skin: bool = False) -> Dict[str, object]:
+          mask_features: bool = False, equalize_on_skin: bool = False) -> MatchScore:
     """Every quantity of the match of an RGB probe image against one template (the
     reference path of eqs. 7-18; :class:`EarMatcher` computes the same scores for a whole
     gallery).
 
     ``template`` is a float ``(blocks, block_len)`` array. With ``S`` shifts and ``m`` kept
-    blocks, returns a dict:
+    blocks, returns a :class:`MatchScore`:
 
     - ``rules``: ``{name: score}`` under every rule of :data:`RULES` (``-inf`` where the
       rule has nothing defined);
@@ -448,7 +643,9 @@ def score(image, template, *, height: int = 100, width: int = 80, block: int = 1
       rejected).
 
     Raises ``ValueError`` when no block is un-occluded or the template does not fit."""
-    return _e.score(_image("image", image), _templates("template", template), _params(locals()))
+    return _from_mapping(MatchScore, _e.score(_image("image", image),
+                                              _templates("template", template),
+                                              _params(locals())))
 
 
 @_documented
@@ -571,7 +768,7 @@ def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "n
               shift_px: float = 6.0, rotation_deg: float = 3.0,
               gain: Tuple[float, float] = (0.85, 1.15), white_balance: float = 0.03,
               noise_sigma: float = 3.0, height: int = 100, width: int = 80,
-              block: int = 10) -> Dict[str, np.ndarray]:
+              block: int = 10) -> EarDataset:
     """Synthetic colour ears with exact occluder masks (the paper's WPUT database is not
     redistributable).
 
@@ -599,7 +796,7 @@ def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "n
     noise_sigma : float, default 3.0
         Sensor noise standard deviation in grey levels.
 
-    Returns a dict (``m = n_subjects * n_probes``, probes subject-major):
+    Returns an :class:`EarDataset` (``m = n_subjects * n_probes``, probes subject-major):
     ``enrol`` uint8 ``(n_subjects, H, W, 3)``, ``probes`` uint8 ``(m, H, W, 3)``,
     ``labels`` int64 ``(m,)`` true identities, ``occluder_masks`` bool ``(m, H, W)``,
     ``occluded_blocks`` bool ``(m, rows, cols)`` (block occluded when at least half of it is
@@ -610,12 +807,12 @@ def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "n
     p = _params(locals())
     cv = (_int("canvas", canvas[0], 0), _int("canvas", canvas[1], 0))
     g = (_real("gain", gain[0]), _real("gain", gain[1]))
-    return _e.make_ears(_int("n_subjects", n_subjects, 0), _int("n_probes", n_probes, 0),
-                        _int("seed", seed, 0), occlusion, _real("min_pct", min_pct),
-                        _real("max_pct", max_pct), cv, _real("shape_spread", shape_spread),
-                        _real("shift_px", shift_px), _real("rotation_deg", rotation_deg), g,
-                        _real("white_balance", white_balance),
-                        _real("noise_sigma", noise_sigma), p)
+    return _from_mapping(EarDataset, _e.make_ears(
+        _int("n_subjects", n_subjects, 0), _int("n_probes", n_probes, 0), _int("seed", seed, 0),
+        occlusion, _real("min_pct", min_pct), _real("max_pct", max_pct), cv,
+        _real("shape_spread", shape_spread), _real("shift_px", shift_px),
+        _real("rotation_deg", rotation_deg), g, _real("white_balance", white_balance),
+        _real("noise_sigma", noise_sigma), p))
 
 
 @_documented
@@ -628,7 +825,7 @@ def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
              block_skin_fraction: float = 0.5, reject_above_pct: float = 60.0,
              shifts: Sequence[Tuple[int, int]] = SHIFTS_NINE, score: str = "blockwise-max",
              mask_features: bool = False, gray_enrolment: bool = False,
-             equalize_on_skin: bool = False) -> Dict[str, object]:
+             equalize_on_skin: bool = False) -> EarEvaluation:
     """The paper's experiments (section 4) on labelled images: enrols ``enrol`` (image ``i``
     is identity ``i``), identifies every probe under all rules of :data:`RULES` and the
     baseline.
@@ -638,13 +835,14 @@ def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
     occlusion percentages (NaN: unknown). With ``edges`` (increasing occlusion percentages)
     the rank-1 rate per bin of estimated occlusion is reported too (Fig. 13).
 
-    Returns a dict: ``rules`` (names), ``cmc`` ``{rule: float64 (max_rank,)}`` over accepted
+    Returns an :class:`EarEvaluation`: ``rules`` (names), ``cmc`` ``{rule: float64 (max_rank,)}`` over accepted
     probes, ``baseline_cmc`` (the baseline over the same accepted probes),
     ``baseline_cmc_all`` (over every probe; it has no reject path), ``rejection_rate``,
     per probe ``estimated_pct``, ``true_pct`` (NaN where unknown), ``rejected`` (bool),
     ``ranks`` int64 ``(n, 5)`` 0-based rank of the true identity under each rule (-1 when
     rejected) and ``baseline_rank`` int64 ``(n,)``; with ``edges``, ``degradation`` ``{rule:
-    float64 (bins, 4)}`` rows ``(lo, hi, count, rank1)`` (rank1 NaN for an empty bin).
+    float64 (bins, 4)}`` rows ``(lo, hi, count, rank1)`` (rank1 NaN for an empty bin;
+    ``None`` without ``edges``).
 
     ``ValueError`` when every probe is rejected (no CMC can be formed)."""
     p = _params(locals())
@@ -655,8 +853,9 @@ def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
         raise ValueError("`labels` must be a 1-D array of integer identities")
     tp = None if true_pct is None else _floats("true_pct", true_pct).ravel().tolist()
     e = None if edges is None else _floats("edges", edges).ravel().tolist()
-    return _e.evaluate(enrol_l, probe_l, [int(s) for s in lab], tp,
-                       _int("max_rank", max_rank, 0), e, p)
+    return _from_mapping(EarEvaluation,
+                         _e.evaluate(enrol_l, probe_l, [int(s) for s in lab], tp,
+                                     _int("max_rank", max_rank, 0), e, p))
 
 # ----------------------------------------------------------------------------------------
 # Building blocks

@@ -48,19 +48,21 @@ the Most Relevant Joint Relative Angles", WSCG 2015, Journal of WSCG vol. 23.
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._checks import _int, _real, integer_ranges as _integer_ranges
 from ._native import gait as _g
+from ._results import (from_mapping as _from_mapping, result as _result,
+                       tuple_repr as _tuple_repr)
 
 __all__ = [
     "JOINT_NAMES", "N_PAIRS", "all_pairs", "jra", "detect_cycle", "jra_sequences",
     "relevance_matrix", "occupied_bins", "select_pairs", "dtw", "dtw_path", "dtw_kernel",
     "dissimilarity_matrix", "nearest", "load_ts", "load_skeleton", "save_skeleton_csv",
     "ball_features", "preis_features", "GaitRecognizer", "make_walkers",
-    "evaluate_synthetic",
+    "evaluate_synthetic", "GaitCycle", "CycleDetails", "SyntheticWalks", "GaitEvaluation",
 ]
 
 #: Names of the 25 Kinect v2 joints in index (``JointType``) order.
@@ -69,6 +71,139 @@ JOINT_NAMES: List[str] = list(_g.JOINT_NAMES)
 N_PAIRS: int = 276
 
 _COSTS = ("abs", "squared")
+
+
+# ----------------------------------------------------------------------------------------
+# Results
+# ----------------------------------------------------------------------------------------
+
+class GaitCycle(NamedTuple):
+    """One gait cycle found by :func:`detect_cycle`: the frames of three consecutive leg
+    crossings, a named tuple (``start, mid, end = detect_cycle(frames)``); the cycle is
+    ``frames[start:end + 1]``.
+
+    Attributes
+    ----------
+    start, mid, end : int
+        Frame indices of the first, middle and last leg crossing.
+    """
+
+    start: int
+    mid: int
+    end: int
+
+    __repr__ = _tuple_repr
+
+
+@_result
+class CycleDetails:
+    """The cycle of :func:`detect_cycle` with its intermediate results
+    (``return_details=True``). Accepted wherever a ``cycle`` is (its :attr:`cycle` is the
+    :class:`GaitCycle`).
+
+    Attributes
+    ----------
+    start, mid, end : int
+        Frames of the three consecutive minima (leg crossings) of the cycle.
+    ankle_dist : float64 array (T,)
+        The smoothed horizontal ankle distance of every frame, metres.
+    minima : int64 array
+        Frames of all accepted leg crossings, ascending.
+    first_step : str or None
+        ``"left"`` or ``"right"``: the foot that steps forward in the first half of the
+        cycle (``None`` when it cannot be told).
+    """
+
+    start: int
+    mid: int
+    end: int
+    ankle_dist: np.ndarray
+    minima: np.ndarray
+    first_step: Optional[str]
+
+    @property
+    def cycle(self) -> GaitCycle:
+        """``(start, mid, end)`` as a :class:`GaitCycle`."""
+        return GaitCycle(self.start, self.mid, self.end)
+
+
+@_result
+class SyntheticWalks:
+    """Synthetic Kinect v2 walks of :func:`make_walkers` with their ground truth, walks in
+    subject-major order.
+
+    Attributes
+    ----------
+    frames : list of float64 arrays (T_i, 25, 3)
+        The walks, joint positions in metres at 30 fps.
+    labels : int64 array (n,)
+        Subject of each walk.
+    sessions : int64 array (n,)
+        Session index of each walk.
+    minima : list of int64 arrays
+        The true leg-crossing frames of each walk (minima of the noise-free horizontal ankle
+        distance during the walk).
+    walk_frames : int64 array (n,)
+        Frames of walking; a sit-down tail starts there.
+    sit_tail : list of bool
+        Whether each walk ends with a sit-down tail.
+    """
+
+    frames: List[np.ndarray]
+    labels: np.ndarray
+    sessions: np.ndarray
+    minima: List[np.ndarray]
+    walk_frames: np.ndarray
+    sit_tail: List[bool]
+
+
+@_result
+class GaitEvaluation:
+    """The paper's cross-validation on synthetic walks (:func:`evaluate_synthetic`, section
+    4.1, Table 1, Fig. 9). Accuracies are fractions in ``[0, 1]``.
+
+    Attributes
+    ----------
+    decisions : int
+        Number of test decisions.
+    jra_nearest, jra_paper_vote, jra_majority : float
+        JRA + DTW kernel with the threshold chosen on the training folds: 1-NN, the paper's
+        vote (top ``#classes + 1``), majority of the nearest walks.
+    jra_fixed : float
+        JRA + DTW kernel at the fixed threshold ``t = 20``, 1-NN.
+    jra_normalized : float
+        Path-length-normalised DTW, chosen threshold, 1-NN.
+    jra_resampled : float
+        JRA sequences resampled to 32 samples + Euclidean sum, chosen threshold.
+    raw_dtw : float
+        DTW kernel on raw SpineBase-relative coordinates, 1-NN.
+    ball_nn : float
+        Ball et al.'s features, z-scored, 1-NN.
+    preis_nb, preis_nn : float
+        Preis et al.'s features: Gaussian naive Bayes, and z-scored 1-NN.
+    chosen_t : list of float
+        Threshold (occupied bins) chosen on the training walks of each fold.
+    curve : float64 array (30, 2)
+        Rows ``(threshold, 1-NN accuracy)``, Fig. 9; NaN where no pair reaches the
+        threshold.
+    relevance : float64 array (25, 25)
+        Relevance map of the first fold's training walks (Fig. 8), mean occupied bins.
+    """
+
+    decisions: int
+    jra_nearest: float
+    jra_paper_vote: float
+    jra_majority: float
+    jra_fixed: float
+    jra_normalized: float
+    jra_resampled: float
+    raw_dtw: float
+    ball_nn: float
+    preis_nb: float
+    preis_nn: float
+    chosen_t: List[float]
+    curve: np.ndarray
+    relevance: np.ndarray
 
 
 # ----------------------------------------------------------------------------------------
@@ -197,7 +332,9 @@ def _pairs(pairs) -> Optional[np.ndarray]:
 def _cycle(cycle) -> Optional[Tuple[int, int, int]]:
     if cycle is None:
         return None
-    if isinstance(cycle, dict):
+    if isinstance(cycle, CycleDetails):
+        cycle = cycle.cycle
+    elif isinstance(cycle, dict):
         cycle = (cycle["start"], cycle["mid"], cycle["end"])
     try:
         c = tuple(cycle)
@@ -275,7 +412,8 @@ def jra(p1, p2, r) -> float:
 
 def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: float = 0.25,
                  min_prominence: float = 0.2, up="estimate", choice: str = "first",
-                 start_leg: str = "left", return_details: bool = False):
+                 start_leg: str = "left",
+                 return_details: bool = False) -> Union[GaitCycle, CycleDetails]:
     """Detects one full gait cycle (section 3.1).
 
     Parameters
@@ -302,15 +440,16 @@ def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: 
         Which foot steps forward in the first half of the returned cycle (falls back to the
         first cycle when no cycle of that order exists).
     return_details : bool, default False
-        Return a dict with the intermediate results instead of the tuple.
+        Return a :class:`CycleDetails` with the intermediate results instead.
 
     Returns
     -------
-    (start, mid, end) : tuple of int
-        Frames of the three consecutive minima; the cycle is ``frames[start:end + 1]``.
-        With ``return_details=True`` a dict with keys ``start``, ``mid``, ``end``, ``ankle_dist``
-        (the smoothed horizontal ankle distance of every frame, metres), ``minima`` (all
-        accepted leg crossings) and ``first_step`` (``"left"`` or ``"right"``).
+    GaitCycle
+        The named tuple ``(start, mid, end)``: frames of the three consecutive minima; the
+        cycle is ``frames[start:end + 1]``. With ``return_details=True`` a
+        :class:`CycleDetails`: ``start``, ``mid``, ``end``, ``ankle_dist`` (the smoothed
+        horizontal ankle distance of every frame, metres), ``minima`` (all accepted leg
+        crossings) and ``first_step`` (``"left"`` or ``"right"``).
 
     Raises
     ------
@@ -333,8 +472,9 @@ def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: 
                         up, _str("choice", choice, ("first", "most_regular")),
                         _str("start_leg", start_leg, ("left", "right", "any")))
     if return_details:
-        return d
-    return int(d["start"]), int(d["mid"]), int(d["end"])
+        return _from_mapping(CycleDetails, d, start=int(d["start"]), mid=int(d["mid"]),
+                             end=int(d["end"]))
+    return GaitCycle(int(d["start"]), int(d["mid"]), int(d["end"]))
 
 
 def jra_sequences(frames, cycle=None, pairs=None, reference: Union[str, int] = "SpineBase",
@@ -345,7 +485,7 @@ def jra_sequences(frames, cycle=None, pairs=None, reference: Union[str, int] = "
     ----------
     frames : array_like, shape (T, 25, 3)
         The walk.
-    cycle : (start, mid, end) or dict, optional
+    cycle : (start, mid, end) or CycleDetails, optional
         The cycle's frames (e.g. from :func:`detect_cycle`); default: detected with the
         default parameters.
     pairs : array_like of int, shape (P, 2), or list of (name, name), optional
@@ -904,7 +1044,7 @@ def _range(name: str, r) -> Tuple[float, float]:
 
 def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
                   heading_deg=(-60.0, 60.0), speed=(0.9, 1.1), walk_s=(2.5, 4.0),
-                  sit_prob: float = 0.5, noise: bool = True) -> Dict[str, Any]:
+                  sit_prob: float = 0.5, noise: bool = True) -> SyntheticWalks:
     """Synthetic Kinect v2 walks with ground truth (the paper's database is private).
 
     Subjects differ in body proportions and above all in gait dynamics (hip, knee, ankle
@@ -930,7 +1070,7 @@ def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
 
     Returns
     -------
-    dict
+    SyntheticWalks
         ``frames`` (list of ``(T_i, 25, 3)`` arrays, 30 fps), ``labels`` (subject of each
         walk), ``sessions`` (session index), ``minima`` (list of int arrays: the true
         leg-crossing frames, minima of the noise-free horizontal ankle distance during the
@@ -939,13 +1079,15 @@ def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
     """
     if not isinstance(noise, (bool, np.bool_)):
         raise ValueError(f"`noise` must be True or False, got {noise!r}")
-    return _g.make_walkers(_int("n_subjects", n_subjects, 1), _int("n_sessions", n_sessions, 1),
-                            _int("seed", seed, 0, 2 ** 64 - 1), _range("heading_deg", heading_deg),
-                            _range("speed", speed), _range("walk_s", walk_s),
-                            _real("sit_prob", sit_prob), bool(noise))
+    d = _g.make_walkers(_int("n_subjects", n_subjects, 1), _int("n_sessions", n_sessions, 1),
+                        _int("seed", seed, 0, 2 ** 64 - 1), _range("heading_deg", heading_deg),
+                        _range("speed", speed), _range("walk_s", walk_s),
+                        _real("sit_prob", sit_prob), bool(noise))
+    return _from_mapping(SyntheticWalks, d)
 
 
-def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0) -> Dict[str, Any]:
+def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3,
+                       seed: int = 0) -> GaitEvaluation:
     """The paper's evaluation (section 4.1, Table 1, Fig. 9) on :func:`make_walkers`.
 
     Fold ``k`` tests session ``k`` of every subject and trains on the others; relevance
@@ -959,7 +1101,7 @@ def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0)
 
     Returns
     -------
-    dict
+    GaitEvaluation
         ``decisions``; ``jra_nearest``, ``jra_paper_vote``, ``jra_majority`` (JRA + DTW
         kernel with the threshold chosen on the training folds, three vote rules);
         ``jra_fixed`` (t = 20); ``jra_normalized`` (path-length-normalised DTW);
@@ -969,9 +1111,10 @@ def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0)
         threshold and 1-NN accuracy, Fig. 9; NaN where no pair reaches the threshold);
         ``relevance`` (``(25, 25)`` map of the first fold's training walks).
     """
-    return _g.evaluate_synthetic(_int("n_subjects", n_subjects, 2),
-                                 _int("n_sessions", n_sessions, 2),
-                                 _int("seed", seed, 0, 2 ** 64 - 1))
+    return _from_mapping(GaitEvaluation,
+                         _g.evaluate_synthetic(_int("n_subjects", n_subjects, 2),
+                                               _int("n_sessions", n_sessions, 2),
+                                               _int("seed", seed, 0, 2 ** 64 - 1)))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())
