@@ -15,7 +15,7 @@
 
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
-use wscg_math::Result;
+use wscg_math::{Error, Result};
 
 use super::expansion::{expand_opt, QuadraticExpansion};
 use super::scatter::{ClassMoments, Whitening};
@@ -100,6 +100,32 @@ impl TemporalSfa {
     /// Delta values (slowness) of the outputs, ascending.
     pub fn delta_values(&self) -> &[f64] {
         &self.delta
+    }
+
+    /// The model as JSON.
+    pub fn to_json(&self) -> Result<String> {
+        serde_json::to_string(self).map_err(|e| Error::invalid("model", e.to_string()))
+    }
+
+    /// A model from [`Self::to_json`] output. Errors: not a model, or sizes that disagree
+    /// (expanded dimension, mean, `W`, delta values).
+    pub fn from_json(s: &str) -> Result<Self> {
+        let m: Self = serde_json::from_str(s)
+            .map_err(|e| Error::invalid("model", format!("not a temporal SFA model: {e}")))?;
+        let dim = m.expansion.map_or(m.input_dim, |e| e.out_dim(m.input_dim));
+        if m.mean.len() != dim || m.w.nrows() != dim || m.delta.len() != m.w.ncols() {
+            return Err(Error::invalid(
+                "model",
+                format!(
+                    "sizes disagree: expanded dimension {dim}, mean {}, W {} x {}, {} delta values",
+                    m.mean.len(),
+                    m.w.nrows(),
+                    m.w.ncols(),
+                    m.delta.len()
+                ),
+            ));
+        }
+        Ok(m)
     }
 }
 
