@@ -14,8 +14,8 @@
 //! coefficients, which is what makes the demixing linear in the sources for fixed delays.
 
 use num_complex::Complex64;
-use serde::{Deserialize, Serialize};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
 /// A real, zero-mean, 1-periodic Fourier series stored by its positive harmonics `c_1..c_K`.

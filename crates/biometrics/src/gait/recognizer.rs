@@ -338,7 +338,11 @@ impl GaitRecognizer {
         if m.labels.len() != m.gallery.len() || m.gallery.is_empty() {
             return Err(Error::invalid(
                 "model",
-                format!("{} labels for {} gallery walks", m.labels.len(), m.gallery.len()),
+                format!(
+                    "{} labels for {} gallery walks",
+                    m.labels.len(),
+                    m.gallery.len()
+                ),
             ));
         }
         if let Some(i) = m.gallery.iter().position(|g| g.len() != m.pairs.len()) {

@@ -176,5 +176,14 @@ mod tests {
         assert!(sfa.delta_values().windows(2).all(|w| w[0] <= w[1]));
         assert!(TemporalSfa::fit(x.subrows(0, 2), 1, None, 1e-10).is_err());
         assert!(TemporalSfa::fit(x.as_ref(), 9, None, 1e-10).is_err());
+        // JSON round trip: the same features to the bit.
+        let back = TemporalSfa::from_json(&sfa.to_json().unwrap()).unwrap();
+        let y2 = back.transform(x.as_ref()).unwrap();
+        assert!((0..n).all(|i| (0..3).all(|j| y2[(i, j)].to_bits() == y[(i, j)].to_bits())));
+        assert_eq!(back.delta_values(), sfa.delta_values());
+        let mut bad = back.clone();
+        bad.mean.pop();
+        assert!(TemporalSfa::from_json(&bad.to_json().unwrap()).is_err());
+        assert!(TemporalSfa::from_json("{}").is_err());
     }
 }
