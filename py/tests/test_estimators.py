@@ -317,6 +317,9 @@ def test_ear_matcher_protocol():
                          e.identify_baseline(probes[1])),
               {"score": "overall-max", "reject_above_pct": 90.0})
     assert len(est) == 6 and est.templates_.shape == tpl.shape
+    assert bool(ear.EarMatcher())  # an unfitted matcher is true; len() needs fit
+    with pytest.raises(wscg.NotFittedError):
+        len(ear.EarMatcher())
     # Parameters take effect at the next fit, as in scikit-learn.
     before = est.scores(probes[0])
     est.set_params(score="blockwise-max")

@@ -451,6 +451,9 @@ def test_recognizer_labels_rank_and_attributes():
     objs = [("id", int(v)) for v in lab[tr]]
     rec2 = gait.GaitRecognizer(vote="paper").fit([fr[i] for i in tr], objs)
     assert rec2.predict([fr[te[0]]])[0] in set(objs)
+    truth = [("id", int(v)) for v in lab[te]]
+    assert rec2.score([fr[i] for i in te], truth) == np.mean(
+        [p == t for p, t in zip(rec2.predict([fr[i] for i in te]), truth)])
     for vote, k in (("majority", 3), ("majority:2", None), ("nearest", None)):
         gait.GaitRecognizer(vote=vote, n_neighbors=k).fit([fr[i] for i in tr], lab[tr])
 

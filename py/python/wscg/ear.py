@@ -378,9 +378,13 @@ class EarMatcher(Estimator):
         return self
 
     def __len__(self) -> int:
-        """Number of enrolled templates."""
+        """Number of enrolled templates (``NotFittedError`` before ``fit``)."""
         self._check_fitted()
         return self.n_templates_
+
+    def __bool__(self) -> bool:
+        """Always true, fitted or not (``len`` needs a fitted matcher)."""
+        return True
 
     def __getstate__(self) -> dict:
         state = self.__dict__.copy()

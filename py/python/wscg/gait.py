@@ -871,10 +871,13 @@ class GaitRecognizer(Estimator):
     def score(self, X, y) -> float:
         """Fraction of the walks ``X`` identified as ``y``."""
         pred = self.predict(X)
-        y = np.asarray(list(y) if not isinstance(y, np.ndarray) else y)
-        if y.shape != pred.shape:
-            raise ValueError(f"`y` has shape {y.shape}, expected {pred.shape}")
-        return float(np.mean(pred == y))
+        try:
+            ys = list(y)
+        except TypeError:
+            raise ValueError("`y` must be a sequence with one label per walk") from None
+        if len(ys) != len(pred):
+            raise ValueError(f"`y` has {len(ys)} labels for {len(pred)} walks")
+        return float(np.mean([bool(p == t) for p, t in zip(pred, ys)]))
 
     def rank(self, frames) -> Tuple[np.ndarray, np.ndarray]:
         """The training walks ranked by ``Delta`` to a walk.
