@@ -81,6 +81,21 @@ def test_sklearn_check_estimator(estimator, check):
     check(estimator)
 
 
+@pytest.mark.parametrize("est", MATRIX_ESTIMATORS, ids=lambda e: type(e).__name__)
+def test_matrix_estimators_copy_fitted_or_not(est):
+    rng = np.random.default_rng(3)
+    X = rng.standard_normal((60, 4)) + np.repeat(np.eye(3, 4) * 3, 20, axis=0)
+    y = np.repeat(["a", "b", "c"], 20)
+    for copied in (pickle.loads(pickle.dumps(est)), copy.deepcopy(est)):
+        assert not copied.__sklearn_is_fitted__() and repr(copied) == repr(est)
+    fitted = clone(est).fit(X, y)
+    methods = [m for m in ("predict", "transform", "decision_function") if hasattr(est, m)]
+    for copied in (pickle.loads(pickle.dumps(fitted)), copy.deepcopy(fitted)):
+        for m in methods:
+            np.testing.assert_array_equal(getattr(copied, m)(X), getattr(fitted, m)(X))
+    assert not clone(fitted).__sklearn_is_fitted__()
+
+
 def test_matrix_estimators_are_tagged():
     for est in MATRIX_ESTIMATORS:
         tags = get_tags(est)
