@@ -25,6 +25,8 @@ from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 
+from ._checks import integer_ranges
+
 __all__ = ["Estimator", "NotFittedError", "DataConversionWarning"]
 
 
@@ -277,3 +279,7 @@ def as_matrix(X, name: str = "X", min_samples: int = 1,
         what = "NaN" if np.isnan(a).any() else "infinity"
         raise ValueError(f"`{name}` contains {what}")
     return a
+
+
+# The public methods carry the package's translation of OverflowError (as every module's).
+integer_ranges(globals())
