@@ -121,7 +121,7 @@ def main():
     rng = np.random.default_rng(0)
     gallery = (base[np.arange(n) % len(base)]
                + 0.01 * rng.uniform(-1, 1, (n, 80, 25))).astype(np.float32)
-    matcher = ear.EarMatcher(gallery)
+    matcher = ear.EarMatcher().fit(gallery)
     ps = probes[:20]
     ours = best_time(lambda: [matcher.identify(p) for p in ps], repeat=3) / len(ps)
     peer = best_time(lambda: [peer_identify(p, gallery) for p in ps], repeat=3) / len(ps)

@@ -525,6 +525,19 @@ impl PyLibrary {
             .call((), Some(&d))
     }
 
+    /// The library as JSON (floats round-trip exactly).
+    fn to_json(&self, py: Python<'_>) -> PyResult<String> {
+        crate::pool::detach(py, || self.inner.to_json()).py_err()
+    }
+
+    /// A library from `to_json`.
+    #[staticmethod]
+    fn from_json(py: Python<'_>, s: &str) -> PyResult<Self> {
+        Ok(Self {
+            inner: crate::pool::detach(py, || ActionLibrary::from_json(s)).py_err()?,
+        })
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Library(n_sources={}, n_channels={}, n_samples={}, q_total={:.6})",

@@ -283,7 +283,6 @@ CONVERTED = {
     "gait.make_walkers": "SyntheticWalks",
     "gait.evaluate_synthetic": "GaitEvaluation",
     "motion.make_synthetic_dataset": "MotionDataset",
-    "motion.fit_anechoic": "AnechoicFit",
     "motion.plan_steps": "StepPlan",
     "motion.Synthesizer.plan": "StepPlan",
     "motion.Synthesizer.run": "Synthesis",

@@ -277,12 +277,12 @@ def test_bad_input_raises_value_error():
     rng = np.random.default_rng(0)
     X = rng.standard_normal((20, 8))
     cases = [
-        (lambda: B.FDKECA().fit(np.zeros((0, 8))), "rows"),
-        (lambda: B.FDKECA().fit(X[:1]), "at least 2"),
-        (lambda: B.FDKECA().fit(np.zeros((5, 0))), "d = 0"),
+        (lambda: B.FDKECA().fit(np.zeros((0, 8))), "0 sample"),
+        (lambda: B.FDKECA().fit(X[:1]), "minimum of 2"),
+        (lambda: B.FDKECA().fit(np.zeros((5, 0))), "0 feature"),
         (lambda: B.FDKECA().fit(np.where(np.eye(20, 8) > 0, np.nan, X)), "NaN|non-finite|finite"),
-        (lambda: B.FDKECA().fit(np.where(np.eye(20, 8) > 0, np.inf, X)), "finite"),
-        (lambda: B.FDKECA().fit(X).transform(X[:, :5]), "columns"),
+        (lambda: B.FDKECA().fit(np.where(np.eye(20, 8) > 0, np.inf, X)), "infinity"),
+        (lambda: B.FDKECA().fit(X).transform(X[:, :5]), "X has 5 features, but FDKECA is expecting 8"),
         (lambda: B.FDKECA(sigma=0.0).fit(X), "sigma"),
         (lambda: B.FDKECA(sigma=-1.0).fit(X), "sigma"),
         (lambda: B.FDKECA(sigma_scale=np.nan).fit(X), "sigma|scale"),
@@ -298,7 +298,7 @@ def test_bad_input_raises_value_error():
         (lambda: B.FDKECA(ordering="random").fit(X), "ordering"),
         (lambda: B.FDKECA().fit(X).predict(X), "without labels"),
         (lambda: B.FDKECA().transform(X), "not fitted"),
-        (lambda: B.FDKECA().fit(np.zeros((2, 3, 4, 5))), "2-D"),
+        (lambda: B.FDKECA().fit(np.zeros((2, 3, 4, 5))), "4-D"),
         (lambda: B.FDKECA().fit([["a", "b"], ["c", "d"]]), "numeric"),
         (lambda: B.nn_classify(X, np.arange(20), X[:, :3]), "columns"),
         (lambda: B.make_finger_veins(n_subjects=0), "`n_subjects`"),

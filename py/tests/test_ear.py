@@ -258,14 +258,14 @@ def test_check4_fit_recovers_a_known_gaussian(rng):
     mean = np.array([0.45, 0.32])
     cov = np.array([[1.6e-3, 3.0e-4], [3.0e-4, 2.5e-4]])
     pts = rng.multivariate_normal(mean, cov, 100_000)
-    m = ear.SkinModel.fit_rg(pts)
-    assert np.abs(m.mean - mean).max() <= 1e-3
-    assert np.all(np.abs(np.diag(m.cov) / np.diag(cov) - 1) <= 0.03)
-    assert np.linalg.norm(m.cov - cov) <= 0.03 * np.linalg.norm(cov)
-    assert m.cov[0, 1] == m.cov[1, 0]
+    m = ear.SkinModel().fit_rg(pts)
+    assert np.abs(m.mean_ - mean).max() <= 1e-3
+    assert np.all(np.abs(np.diag(m.cov_) / np.diag(cov) - 1) <= 0.03)
+    assert np.linalg.norm(m.cov_ - cov) <= 0.03 * np.linalg.norm(cov)
+    assert m.cov_[0, 1] == m.cov_[1, 0]
     # ML estimate, covariance divided by n.
-    np.testing.assert_allclose(m.mean, pts.mean(0), atol=1e-12)
-    np.testing.assert_allclose(m.cov, np.cov(pts.T, bias=True), rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(m.mean_, pts.mean(0), atol=1e-12)
+    np.testing.assert_allclose(m.cov_, np.cov(pts.T, bias=True), rtol=1e-9, atol=1e-15)
     # Joint rule with tau = 0.05: the 95 % ellipse (chi^2 with 2 dof, threshold 5.991).
     inside = np.mean(m.likelihood_rg(pts[:, 0], pts[:, 1]) >= 0.05)
     assert abs(inside - 0.95) <= 0.005
@@ -277,12 +277,12 @@ def test_fit_on_rgb_pixels_is_fit_on_their_chromaticities(rng):
     s = px.astype(np.float64).sum(1)
     ok = s > 0
     rg = px[ok, :2] / s[ok, None]
-    a, b = ear.SkinModel.fit(px), ear.SkinModel.fit_rg(rg)
-    np.testing.assert_allclose(a.mean, b.mean, atol=1e-12)
-    np.testing.assert_allclose(a.cov, b.cov, rtol=1e-9)
+    a, b = ear.SkinModel().fit(px), ear.SkinModel().fit_rg(rg)
+    np.testing.assert_allclose(a.mean_, b.mean_, atol=1e-12)
+    np.testing.assert_allclose(a.cov_, b.cov_, rtol=1e-9)
     # An image works as a pixel list too.
-    c = ear.SkinModel.fit(px[:4800].reshape(60, 80, 3))
-    assert np.all(np.isfinite(c.cov))
+    c = ear.SkinModel().fit(px[:4800].reshape(60, 80, 3))
+    assert np.all(np.isfinite(c.cov_))
 
 
 # (label, (r, g) or RGB, Mahalanobis^2 under the default skin model (E7), skin?)
@@ -329,7 +329,7 @@ def test_skin_model_is_vectorised_and_matches_the_formula(rng):
     r = rng.uniform(0.2, 0.6, (7, 5))
     g = rng.uniform(0.2, 0.5, (5,))
     d = np.stack(np.broadcast_arrays(r - 0.44, g - 0.31), -1)
-    ref = np.einsum("...i,ij,...j->...", d, np.linalg.inv(m.cov), d)
+    ref = np.einsum("...i,ij,...j->...", d, np.linalg.inv(m.cov_), d)
     np.testing.assert_allclose(m.mahalanobis2_rg(r, g), ref, rtol=1e-10)
     np.testing.assert_allclose(m.likelihood_rg(r, g), np.exp(-0.5 * ref), rtol=1e-10)
     pr, pg = m.marginal_likelihoods_rg(r, g)
@@ -365,11 +365,16 @@ def test_skin_pixels_match_a_numpy_reference(rng):
     np.testing.assert_array_equal(ear.skin_pixels(img, min_likelihood=0.5),
                                   (pr >= 0.5) & (pg >= 0.5) & (s > 0))
     assert not np.array_equal(marginal, (lik >= 0.05) & (s > 0))
-    # A fitted model passes through the parameters.
-    fitted = ear.SkinModel((0.4, 0.33), ((1e-3, 0), (0, 1e-3)))
+    # A given model passes through the parameters, and so does a fitted one.
+    given = ear.SkinModel((0.4, 0.33), ((1e-3, 0), (0, 1e-3)))
+    np.testing.assert_array_equal(
+        ear.skin_pixels(img, skin_model=given),
+        ear.skin_pixels(img, skin_mean=(0.4, 0.33), skin_cov=((1e-3, 0), (0, 1e-3))))
+    fitted = ear.SkinModel().fit(img[:8])
     np.testing.assert_array_equal(
         ear.skin_pixels(img, skin_model=fitted),
-        ear.skin_pixels(img, skin_mean=(0.4, 0.33), skin_cov=((1e-3, 0), (0, 1e-3))))
+        ear.skin_pixels(img, skin_mean=fitted.mean_, skin_cov=fitted.cov_))
+    assert not np.allclose(fitted.mean_, ear.SkinModel().mean_)
 
 
 # ----------------------------------------------------------------------------------------
@@ -394,7 +399,7 @@ def occluded():
 
 @pytest.fixture(scope="module")
 def matcher(clean):
-    return ear.EarMatcher(ear.enroll_many(clean.enrol))
+    return ear.EarMatcher().fit(ear.enroll_many(clean.enrol))
 
 
 def test_make_ears_shapes_and_ground_truth(clean, occluded):
@@ -431,7 +436,7 @@ def test_colour_occluded_probes_give_a_mask_and_are_identified(occluded, matcher
     # Identification equalises on the detected skin (``equalize_on_skin``): with the paper's
     # whole-image equalisation a large occluder shifts the grey levels of the visible ear
     # (measured on this set: S_B rank-1 0.50 vs 0.90 equalised on skin, baseline 0.75).
-    on_skin = ear.EarMatcher(matcher.templates, equalize_on_skin=True)
+    on_skin = ear.EarMatcher(equalize_on_skin=True).fit(matcher.templates_)
     close, hits = 0, 0
     for img, sub, om, pct in zip(occluded.probes, occluded.labels,
                                  occluded.occluder_masks, occluded.occluded_pct):
@@ -480,23 +485,23 @@ def test_heavily_occluded_probes_are_rejected_not_ranked(matcher):
     # Measured: 9 of 12; the others are dark-grey occluders taken for skin (see above).
     assert rejected >= 0.6 * len(heavy.probes)
     # The threshold is a parameter: nothing is rejected at 100 %.
-    lax = ear.EarMatcher(matcher.templates, reject_above_pct=100)
+    lax = ear.EarMatcher(reject_above_pct=100).fit(matcher.templates_)
     assert not lax.identify(heavy.probes[0]).rejected
 
 
 def test_gallery_scores_equal_the_reference_scorer(occluded, matcher):
-    tpl = matcher.templates
+    tpl = matcher.templates_
     for img in occluded.probes[:4]:
         per = [ear.score(img, t) for t in tpl]
         for rule in ear.RULES:
-            m = ear.EarMatcher(tpl, score=rule)
+            m = ear.EarMatcher(score=rule).fit(tpl)
             ref = np.array([p.rules[rule] for p in per])
             np.testing.assert_allclose(m.scores(img), ref, rtol=0, atol=1e-5)
         assert per[0].score == per[0].rules["blockwise-max"]
 
 
 def test_score_breakdown_is_consistent(occluded, matcher):
-    img, t = occluded.probes[0], matcher.templates[0]
+    img, t = occluded.probes[0], matcher.templates_[0]
     s = ear.score(img, t)
     m = len(s.index)
     assert s.distances.shape == (9, m) and s.per_shift.shape == (9,)
@@ -527,13 +532,13 @@ def test_score_breakdown_is_consistent(occluded, matcher):
 
 
 def test_check9_baseline_is_the_pipeline_with_all_blocks_b0_overall_max(clean, matcher):
-    tpl = matcher.templates
+    tpl = matcher.templates_
     img = clean.probes[3]
     assert ear.detect_occlusion(img).occluded_pct == 0  # every block kept
     base = matcher.identify_baseline(img)
     b = np.array([ear.baseline_score(img, t) for t in tpl])
     np.testing.assert_allclose(base.scores, b[base.order], atol=1e-6)
-    piped = ear.EarMatcher(tpl, shifts=[(0, 0)], score="overall-max").scores(img)
+    piped = ear.EarMatcher(shifts=[(0, 0)], score="overall-max").fit(tpl).scores(img)
     np.testing.assert_allclose(piped, b, atol=1e-6)
 
 
@@ -593,10 +598,12 @@ def test_cmc():
 
 def test_matcher_pickles_and_reports(matcher, clean):
     m2 = pickle.loads(pickle.dumps(matcher))
-    np.testing.assert_array_equal(m2.templates, matcher.templates)
+    np.testing.assert_array_equal(m2.templates_, matcher.templates_)
     img = clean.probes[0]
     np.testing.assert_array_equal(m2.scores(img), matcher.scores(img))
-    assert "EarMatcher(20 templates" in repr(matcher)
+    assert len(m2) == len(matcher) == 20
+    assert repr(matcher) == "EarMatcher()"
+    assert repr(ear.EarMatcher(score="overall-max")) == "EarMatcher(score='overall-max')"
 
 
 def test_module_is_reachable_from_biometrics():
@@ -623,7 +630,7 @@ def _img(h=40, w=32):
     lambda: ear.enroll(_img()[..., :2]),
     lambda: ear.detect_occlusion(_img()[..., 0]),
     # Probes need colour even where grey enrolment is allowed.
-    lambda: ear.EarMatcher(ear.enroll(_img())[None], gray_enrolment=True).identify(_img()[..., 0]),
+    lambda: ear.EarMatcher(gray_enrolment=True).fit(ear.enroll(_img())[None]).identify(_img()[..., 0]),
     lambda: ear.detect_occlusion(np.zeros((0, 0, 3), np.uint8)),
     lambda: ear.detect_occlusion(np.zeros((5, 5, 4), np.uint8)),
     lambda: ear.enroll_many([]),
@@ -638,15 +645,15 @@ def test_bad_images_raise_value_error(call):
 def test_bad_templates_raise_value_error():
     t = ear.enroll(_img())
     with pytest.raises(ValueError, match="shape mismatch"):
-        ear.EarMatcher(t[None, :40])
+        ear.EarMatcher().fit(t[None, :40])
     with pytest.raises(ValueError, match="3-D"):
-        ear.EarMatcher(t)
+        ear.EarMatcher().fit(t)
     with pytest.raises(ValueError, match="empty"):
-        ear.EarMatcher(np.zeros((0, 80, 25), np.float32))
+        ear.EarMatcher().fit(np.zeros((0, 80, 25), np.float32))
     bad = np.stack([t, t])
     bad[1, 3, 4] = np.nan
     with pytest.raises(ValueError, match="non-finite"):
-        ear.EarMatcher(bad)
+        ear.EarMatcher().fit(bad)
     with pytest.raises(ValueError, match="shape mismatch"):
         ear.score(_img(), t[:, :20])
     with pytest.raises(ValueError):
@@ -656,10 +663,10 @@ def test_bad_templates_raise_value_error():
     with pytest.raises(ValueError):
         ear.baseline_score(_img(), t[:79])
     with pytest.raises(ValueError):
-        ear.EarMatcher(np.array([["a"]]))
+        ear.EarMatcher().fit(np.array([["a"]]))
     # Templates of one block size do not fit parameters of another.
     with pytest.raises(ValueError, match="shape mismatch"):
-        ear.EarMatcher(t[None], block=20)
+        ear.EarMatcher(block=20).fit(t[None])
 
 
 @pytest.mark.parametrize("params,match", [
@@ -695,7 +702,7 @@ def test_bad_parameters_raise_value_error(params, match):
     # it the same way.
     tpl = ear.enroll(_img())[None]
     with pytest.raises(ValueError, match=match):
-        ear.EarMatcher(tpl, **params)
+        ear.EarMatcher(**params).fit(tpl)
     takes = [f for f in (ear.detect_occlusion, ear.score, ear.evaluate)
              if set(params) <= set(inspect.signature(f).parameters)]
     assert takes, params
@@ -715,7 +722,7 @@ def test_parameters_are_explicit_keywords():
         ear.enroll(_img(), score="sum")
     with pytest.raises(TypeError):
         ear.detect_occlusion(_img(), 100)  # keyword-only
-    assert set(inspect.signature(ear.EarMatcher).parameters) == {"templates", *ear.PARAMS}
+    assert set(inspect.signature(ear.EarMatcher).parameters) == set(ear.PARAMS)
     assert set(inspect.signature(ear.evaluate).parameters) >= set(ear.PARAMS)
     for f in (ear.enroll, ear.detect_occlusion, ear.score, ear.make_ears, ear.EarMatcher):
         doc = inspect.getdoc(f if f is not ear.EarMatcher else f.__init__)
@@ -730,18 +737,23 @@ def test_parameters_are_explicit_keywords():
 
 
 def test_other_bad_input_raises_value_error():
+    # The parameters are checked when the model is used (scikit-learn's protocol: not in
+    # __init__).
+    bad_cov = ear.SkinModel(cov=((1e-3, 0), (0, 0)))
     with pytest.raises(ValueError):
-        ear.SkinModel(cov=((1e-3, 0), (0, 0)))
+        bad_cov.likelihood_rg(0.4, 0.3)
     with pytest.raises(ValueError):
-        ear.SkinModel(mean=(0.4, 0.3, 0.2))
+        ear.skin_pixels(_img(), skin_model=bad_cov)
+    with pytest.raises(ValueError):
+        ear.SkinModel(mean=(0.4, 0.3, 0.2)).mean_
     with pytest.raises(ValueError, match="at least 3"):
-        ear.SkinModel.fit(np.zeros((10, 3), np.uint8))  # all black
+        ear.SkinModel().fit(np.zeros((10, 3), np.uint8))  # all black
     with pytest.raises(ValueError):
-        ear.SkinModel.fit_rg(np.full((5, 2), 0.4))  # singular
+        ear.SkinModel().fit_rg(np.full((5, 2), 0.4))  # singular
     with pytest.raises(ValueError):
-        ear.SkinModel.fit_rg(np.zeros((5, 3)))
+        ear.SkinModel().fit_rg(np.zeros((5, 3)))
     with pytest.raises(ValueError, match="non-finite"):
-        ear.SkinModel.fit_rg(np.array([[0.4, 0.3], [np.nan, 0.3], [0.5, 0.2], [0.45, 0.3]]))
+        ear.SkinModel().fit_rg(np.array([[0.4, 0.3], [np.nan, 0.3], [0.5, 0.2], [0.45, 0.3]]))
     with pytest.raises(ValueError):
         ear.cmc([-1, -1], 3)  # every probe rejected
     with pytest.raises(ValueError):
@@ -795,7 +807,7 @@ def test_other_bad_input_raises_value_error():
         ear.evaluate([], [_img()], [0])
     with pytest.raises(ValueError):
         ear.evaluate([_img()], [_img()], [0], edges=[10, 5])
-    m = ear.EarMatcher(tpl)
+    m = ear.EarMatcher().fit(tpl)
     with pytest.raises(ValueError):
         m.identify(_img()[..., 0])
     # A probe with nothing un-occluded cannot be scored (but is rejected by identify).
@@ -811,9 +823,9 @@ def test_docstrings():
         obj = getattr(ear, name)
         if callable(obj):
             assert inspect.getdoc(obj), name
-    for meth in ("identify", "scores", "identify_baseline", "templates", "params"):
+    for meth in ("fit", "identify", "scores", "identify_baseline", "templates_", "params"):
         assert inspect.getdoc(getattr(ear.EarMatcher, meth)), meth
-    for meth in ("fit", "fit_rg", "likelihood", "likelihood_rg", "mahalanobis2_rg", "mean",
-                 "cov", "marginal_likelihoods_rg"):
+    for meth in ("fit", "fit_rg", "likelihood", "likelihood_rg", "mahalanobis2_rg", "mean_",
+                 "cov_", "marginal_likelihoods_rg"):
         assert inspect.getdoc(getattr(ear.SkinModel, meth)), meth
     assert len(ear.__doc__) > 1000

@@ -422,7 +422,7 @@ def _leave_session_out(s, **kw):
         tr = np.flatnonzero(ses != k)
         te = np.flatnonzero(ses == k)
         rec = gait.GaitRecognizer(**kw).fit([fr[i] for i in tr], lab[tr])
-        correct += sum(rec.predict(fr[i]) == lab[i] for i in te)
+        correct += int(np.sum(rec.predict([fr[i] for i in te]) == lab[te]))
     return correct / len(fr)
 
 
@@ -446,19 +446,25 @@ def test_recognizer_labels_rank_and_attributes():
     assert rec.pairs_.ndim == 2 and rec.pairs_.shape[1] == 2 and len(rec.pairs_) > 0
     assert rec.relevance_.shape == (25, 25)
     assert all(rec.relevance_[a, b] >= 20 for a, b in rec.pairs_)
-    preds = [rec.predict(fr[i]) for i in te]
-    assert all(isinstance(p, str) and p in set(names) for p in preds)
-    assert np.mean(np.array(preds) == names[te]) >= 5 / 6
+    preds = rec.predict([fr[i] for i in te])
+    assert preds.shape == (len(te),) and all(p in set(names) for p in preds)
+    assert np.mean(preds == names[te]) >= 5 / 6
+    assert rec.score([fr[i] for i in te], names[te]) == np.mean(preds == names[te])
     labels, deltas = rec.rank(fr[te[0]])
     assert len(labels) == len(tr) and np.all(np.diff(deltas) >= 0)
-    assert labels[0] == rec.predict(fr[te[0]])
+    assert labels[0] == rec.predict([fr[te[0]]])[0]
+    with pytest.raises(ValueError, match="one walk"):
+        rec.predict(fr[te[0]])
     # A training walk is its own nearest neighbour at Delta = 0.
     idx, d = rec.rank_indices(fr[tr[4]])
     assert idx[0] == 4 and d[0] == 0
     # Hashable non-orderable labels round-trip too.
     objs = [("id", int(v)) for v in lab[tr]]
     rec2 = gait.GaitRecognizer(vote="paper").fit([fr[i] for i in tr], objs)
-    assert rec2.predict(fr[te[0]]) in set(objs)
+    assert rec2.predict([fr[te[0]]])[0] in set(objs)
+    truth = [("id", int(v)) for v in lab[te]]
+    assert rec2.score([fr[i] for i in te], truth) == np.mean(
+        [p == t for p, t in zip(rec2.predict([fr[i] for i in te]), truth)])
     for vote, k in (("majority", 3), ("majority:2", None), ("nearest", None)):
         gait.GaitRecognizer(vote=vote, n_neighbors=k).fit([fr[i] for i in tr], lab[tr])
 
@@ -616,12 +622,12 @@ def test_bad_recognizer_input(walks):
     with pytest.raises(ValueError, match="largest relevance"):
         gait.GaitRecognizer(min_bins=500).fit(fr, lab)
     with pytest.raises(ValueError, match="not fitted"):
-        gait.GaitRecognizer().predict(fr[0])
+        gait.GaitRecognizer().predict([fr[0]])
     short = [f.copy() for f in fr]
     short[3] = short[3][:12]
     with pytest.raises(ValueError, match="training walk 3.*gait cycle"):
         gait.GaitRecognizer().fit(short, lab)
-    with pytest.raises(ValueError, match=r"walks\[2\].*25 joints"):
+    with pytest.raises(ValueError, match=r"X\[2\].*25 joints"):
         gait.GaitRecognizer().fit([f if i != 2 else f[:, :24] for i, f in enumerate(fr)], lab)
 
 

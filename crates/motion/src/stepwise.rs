@@ -19,6 +19,7 @@ use crate::dataset::Dataset;
 use crate::fourier::PeriodicSource;
 use crate::linalg::lstsq_columns;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use wscg_math::{Error, Result};
 
@@ -78,7 +79,7 @@ impl StepwiseParams {
 }
 
 /// The fit of one action: per-trial means and weights, and its quality.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ActionFit {
     /// Means, `R × I`.
     pub means: Vec<f64>,
@@ -95,7 +96,7 @@ pub struct ActionFit {
 }
 
 /// What [`fit_stepwise`] learns.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ActionLibrary {
     /// Channels `I`.
     pub n_channels: usize,
@@ -147,6 +148,52 @@ impl ActionLibrary {
         let i = (x.floor() as usize).min(m - 1);
         let f = x - i as f64;
         self.progress[i] * (1.0 - f) + self.progress[i + 1] * f
+    }
+
+    /// The library as JSON (exact: floats round-trip).
+    pub fn to_json(&self) -> Result<String> {
+        serde_json::to_string(self).map_err(|e| Error::invalid("library", e.to_string()))
+    }
+
+    /// A library from [`Self::to_json`] output. Errors: not a library, or sizes that
+    /// disagree (delays, per-action means and weights, step parameters, progress curve).
+    pub fn from_json(s: &str) -> Result<Self> {
+        let lib: Self = serde_json::from_str(s)
+            .map_err(|e| Error::invalid("library", format!("not an action library: {e}")))?;
+        lib.check_sizes()?;
+        Ok(lib)
+    }
+
+    fn check_sizes(&self) -> Result<()> {
+        let (i_n, j_n) = (self.n_channels, self.n_sources());
+        let bad = |what: String| Err(Error::invalid("library", what));
+        if i_n == 0 || j_n == 0 || self.n_samples == 0 {
+            return bad(format!(
+                "{i_n} channels, {j_n} sources, {} samples",
+                self.n_samples
+            ));
+        }
+        if self.sources.iter().any(|s| s.coeffs.is_empty()) {
+            return bad("a source without harmonics".into());
+        }
+        if self.delays.len() != i_n * j_n {
+            return bad(format!("{} delays for {i_n} x {j_n}", self.delays.len()));
+        }
+        for (a, (f, p)) in self.actions.iter().zip(&self.params).enumerate() {
+            let r_n = p.len();
+            if r_n == 0
+                || f.means.len() != r_n * i_n
+                || f.w0.len() != r_n * i_n
+                || f.weights.len() != r_n * i_n * j_n
+                || f.n_sources > j_n
+            {
+                return bad(format!("action {a}: sizes disagree with {r_n} trials"));
+            }
+        }
+        if self.progress.len() < 2 {
+            return bad(format!("{} progress samples", self.progress.len()));
+        }
+        Ok(())
     }
 }
 

@@ -3,10 +3,13 @@ component analysis, Damavandinejadmonfared and Varadharajan) with the baselines 
 compared against, PCA, kernel PCA and KECA, and the 1-NN recognition pipeline of its
 section 5.
 
-Every model is a scikit-learn-style estimator: ``fit(X, y=None)``, ``transform``,
-``fit_transform``, ``inverse_transform`` (FDKECA, PCA), and, when fitted with labels,
-``predict``, ``score`` and ``kneighbors`` (nearest gallery sample in the subspace).
-``get_params``/``set_params`` make them work with ``sklearn.base.clone``; models pickle.
+Every model is a scikit-learn estimator: ``fit(X, y=None)`` returns the estimator,
+``transform``, ``fit_transform``, ``inverse_transform`` (FDKECA, PCA), and, when fitted with
+labels, ``predict``, ``score`` and ``kneighbors`` (nearest gallery sample in the subspace).
+Hyper-parameters are the arguments of ``__init__`` (``get_params`` / ``set_params``), what
+``fit`` learns ends in ``_``; ``sklearn.base.clone``, ``Pipeline`` and ``GridSearchCV`` take
+them, each passes ``sklearn.utils.estimator_checks.check_estimator``, and fitted or not they
+pickle and deep-copy. A method called before ``fit`` raises :class:`wscg.NotFittedError`.
 
 Data: one sample per row, ``X`` of shape ``(n, d)``, or a stack of images ``(n, h, w)``
 that is flattened row-major (the image shape is remembered for :meth:`FDKECA.axis_images`).
@@ -45,6 +48,7 @@ import numpy as np
 from ._native import biometrics as _b
 from ._checks import _int, integer_ranges as _integer_ranges
 from ._results import from_mapping as _from_mapping, result as _result
+from ._estimator import Estimator, as_matrix
 
 __all__ = [
     "FDKECA", "PCA", "KernelPCA", "KECA",
@@ -146,31 +150,9 @@ def _kernel_spec(kernel, sigma, sigma_scale, degree, gamma, coef0) -> dict:
     }
 
 
-class _Params:
-    """The scikit-learn parameter protocol over the names in ``_param_names``."""
-
-    _param_names: Tuple[str, ...] = ()
-
-    def get_params(self, deep: bool = True) -> dict:
-        """The constructor parameters (scikit-learn protocol)."""
-        return {k: getattr(self, k) for k in self._param_names}
-
-    def set_params(self, **params):
-        """Sets constructor parameters (scikit-learn protocol); returns ``self``."""
-        for k, v in params.items():
-            if k not in self._param_names:
-                raise ValueError(f"unknown parameter {k!r} for {type(self).__name__}")
-            setattr(self, k, v)
-        return self
-
-    def __repr__(self) -> str:
-        args = ", ".join(f"{k}={getattr(self, k)!r}" for k in self._param_names)
-        return f"{type(self).__name__}({args})"
-
-
-class _Subspace(_Params):
-    """Shared estimator machinery; subclasses set ``_method`` and ``_param_names`` and
-    define ``_spec()``, the parameters passed to the native ``fit``."""
+class _Subspace(Estimator):
+    """Shared estimator machinery; subclasses set ``_method`` and define ``_spec()``, the
+    parameters passed to the native ``fit``."""
 
     _method = ""
 
@@ -197,9 +179,12 @@ class _Subspace(_Params):
             more than available, labels of the wrong length.
         """
         _check_metric(self.metric)
-        Xm, shape = _matrix(X)
+        if not hasattr(X, "tocsr"):  # sparse input is refused by _validate_X
+            X = np.asarray(X)
+        shape = X.shape[1:] if getattr(X, "ndim", 0) == 3 else None
+        Xm = self._validate_X(X, reset=True, min_samples=2, allow_images=True)
         if y is not None:
-            classes, codes = _encode_labels(y, Xm.shape[0])
+            classes, codes = _encode_labels(self._validate_y(y, Xm.shape[0]), Xm.shape[0])
         self._model = _b.fit(Xm, self._spec())
         self.image_shape_ = shape
         self.n_features_in_ = Xm.shape[1]
@@ -222,21 +207,22 @@ class _Subspace(_Params):
         self.n_components_ = self._model.n_components
 
     def _fitted(self):
-        model = getattr(self, "_model", None)
-        if model is None:
-            raise ValueError(f"this {type(self).__name__} is not fitted yet; call fit first")
-        return model
+        self._check_fitted()
+        return self._model
 
     def transform(self, X) -> np.ndarray:
-        """Projects the rows of ``X`` to ``(n, n_components_)``.
+        """Projects the rows of ``X`` (``(n, d)``, or an ``(n, h, w)`` image stack) to
+        ``(n, n_components_)``.
 
         Raises
         ------
+        NotFittedError
+            Before ``fit``.
         ValueError
-            Not fitted, wrong width, NaN/inf.
+            Wrong width, NaN/inf.
         """
-        Xm, _ = _matrix(X)
-        return self._fitted().transform(Xm)
+        Xm = self._validate_X(X, reset=False, allow_images=True)
+        return self._model.transform(Xm)
 
     def fit_transform(self, X, y=None) -> np.ndarray:
         """``fit(X, y)`` then ``transform(X)``."""
@@ -339,8 +325,12 @@ class _Linear(_Subspace):
     def inverse_transform(self, Z) -> np.ndarray:
         """Reconstructs samples from projections ``Z`` of shape ``(m, n_components_)``:
         ``mean_ + Z @ components_`` (exact at ``n_components_ = d``)."""
-        Zm, _ = _matrix(Z, "Z")
-        return self._fitted().inverse_transform(Zm)
+        model = self._fitted()
+        Zm = as_matrix(Z, "Z")
+        if Zm.shape[1] != self.n_components_:
+            raise ValueError(f"`Z` has {Zm.shape[1]} columns, but this {type(self).__name__} "
+                             f"has {self.n_components_} components")
+        return model.inverse_transform(Zm)
 
     def axis_images(self, n_components: Optional[int] = None,
                     shape: Optional[Tuple[int, int]] = None):
@@ -407,8 +397,6 @@ class FDKECA(_Linear, _KernelParams):
     """
 
     _method = "fdkeca"
-    _param_names = ("n_components", "kernel", "sigma", "sigma_scale", "degree", "gamma",
-                    "coef0", "ordering", "center", "metric")
 
     def __init__(self, n_components: Optional[int] = None, kernel: str = "rbf",
                  sigma: Union[float, str, None] = None, sigma_scale: float = 1.0,
@@ -455,7 +443,6 @@ class PCA(_Linear):
     """
 
     _method = "pca"
-    _param_names = ("n_components", "whiten", "metric")
 
     def __init__(self, n_components: Optional[int] = None, whiten: bool = False,
                  metric: str = "euclidean"):
@@ -472,8 +459,6 @@ class PCA(_Linear):
 
 
 class _SampleKernel(_Subspace, _KernelParams):
-    _param_names = ("n_components", "kernel", "sigma", "sigma_scale", "degree", "gamma",
-                    "coef0", "metric")
 
     def __init__(self, n_components: Optional[int] = None, kernel: str = "rbf",
                  sigma: Union[float, str, None] = None, sigma_scale: float = 1.0,
@@ -699,39 +684,50 @@ class _JsonPickled:
         self.__dict__.update(state)
 
 
-class _SFAClassifier(_Params, _JsonPickled):
+class _SFAClassifier(Estimator, _JsonPickled):
     """Shared plumbing of :class:`PerClassSFA` and :class:`GlobalSFA`."""
 
+    _estimator_type = "classifier"
+    _requires_y = True
     _global = False
 
     def _fit(self, X, y, m: int, gamma, rule):
-        X, _ = _matrix(X)
-        self.classes_, codes = _encode_labels(y, X.shape[0])
+        X = self._validate_X(X, reset=True, min_samples=2, allow_images=True)
+        classes, codes = _encode_labels(self._validate_y(y, X.shape[0]), X.shape[0])
         if self.degree not in (1, 2):
             raise ValueError(f"`degree` must be 1 or 2, got {self.degree}")
         self._model = _b.sfa_fit(X, codes, int(self.pca_n_components), int(m), int(self.degree),
                                  bool(self.include_linear), gamma, float(self.shrinkage),
                                  float(self.rank_tol), rule)
+        self.classes_ = classes
         self.n_features_in_ = X.shape[1]
         self.eigenvalues_, self.rank_ = self._model.eigenvalues()
         return self
 
     def _fitted(self):
-        if getattr(self, "_model", None) is None:
-            raise ValueError("the model is not fitted: call fit(X, y) first")
+        self._check_fitted()
         return self._model
 
+    def class_scores(self, X) -> np.ndarray:
+        """``(n, n_classes)`` scores of the paper, columns in ``classes_`` order; **smaller
+        is better**: the energy ``Var_C`` of eq. 16 (:class:`PerClassSFA`, and
+        :class:`GlobalSFA` with ``rule="variance"``) or the negative Gaussian log-likelihood
+        (``rule="gaussian"``). :meth:`predict` picks the smallest (eq. 17)."""
+        X = self._validate_X(X, reset=False, allow_images=True)
+        return self._model.decision_scores(X)
+
     def decision_function(self, X) -> np.ndarray:
-        """``(n, n_classes)`` scores, columns in ``classes_`` order; **smaller is better**
-        (the paper's ``Var_C``, eq. 16, or the negative Gaussian log-likelihood)."""
-        X, _ = _matrix(X)
-        return self._fitted().decision_scores(X)
+        """Confidence scores as scikit-learn defines them, **larger is better**: the
+        negated :meth:`class_scores`, ``(n, n_classes)``; with two classes the ``(n,)``
+        difference ``class_scores[:, 0] - class_scores[:, 1]``, positive for
+        ``classes_[1]``."""
+        s = self.class_scores(X)
+        return s[:, 0] - s[:, 1] if s.shape[1] == 2 else -s
 
     def predict(self, X) -> np.ndarray:
         """The class of smallest score for every row (eq. 17), ties to the first class."""
-        model = self._fitted()
-        X, _ = _matrix(X)
-        return self.classes_[model.predict(X)]
+        X = self._validate_X(X, reset=False, allow_images=True)
+        return self.classes_[self._model.predict(X)]
 
     def score(self, X, y) -> float:
         """Mean accuracy."""
@@ -744,9 +740,10 @@ class _SFAClassifier(_Params, _JsonPickled):
 
         from ._native import math as _m
 
+        model = self._fitted()
         text = json.dumps({"params": self.get_params(), "classes": self.classes_.tolist(),
                            "n_features_in": self.n_features_in_,
-                           "model": self._fitted().to_json()})
+                           "model": model.to_json()})
         _m.write_file(os.fspath(path), text.encode())
 
     @classmethod
@@ -787,11 +784,9 @@ class PerClassSFA(_SFAClassifier):
     Directions of the expanded covariance below ``rank_tol`` times its largest eigenvalue
     are dropped (``rank_`` reports how many remain).
 
-    Labels may be any values; ``predict`` returns them as given.
+    Labels may be any values; ``predict`` returns them as given. Continuous (non-integer
+    float) labels raise ``ValueError``.
     """
-
-    _param_names = ("pca_n_components", "m", "degree", "include_linear", "objective", "gamma",
-                    "shrinkage", "rank_tol")
 
     def __init__(self, pca_n_components: int = 35, m: int = 10, degree: int = 2,
                  include_linear: bool = True, objective: str = "within_minus_out",
@@ -799,10 +794,10 @@ class PerClassSFA(_SFAClassifier):
         self.pca_n_components, self.m, self.degree = pca_n_components, m, degree
         self.include_linear, self.objective, self.gamma = include_linear, objective, gamma
         self.shrinkage, self.rank_tol = shrinkage, rank_tol
-        self._model = None
 
     def fit(self, X, y):
-        """Fits to rows ``X`` (``(n, d)`` or an ``(n, h, w)`` image stack) and labels ``y``."""
+        """Fits to rows ``X`` (``(n, d)`` or an ``(n, h, w)`` image stack) and labels ``y``;
+        returns ``self``."""
         if self.objective not in _OBJECTIVES:
             raise ValueError(f"`objective` must be one of {_OBJECTIVES}, got {self.objective!r}")
         gamma = float(self.gamma) if self.objective == "within_minus_out" else None
@@ -810,11 +805,11 @@ class PerClassSFA(_SFAClassifier):
 
     def responses(self, X, cls) -> np.ndarray:
         """The centred responses ``r_C = W_C'(z - mu_C)`` (``(n, m)``) of class ``cls``."""
-        X, _ = _matrix(X)
+        X = self._validate_X(X, reset=False, allow_images=True)
         idx = np.flatnonzero(self.classes_ == cls)
         if len(idx) == 0:
             raise ValueError(f"{cls!r} is not a trained class")
-        return self._fitted().responses(X, int(idx[0]))
+        return self._model.responses(X, int(idx[0]))
 
 
 class GlobalSFA(_SFAClassifier):
@@ -825,8 +820,6 @@ class GlobalSFA(_SFAClassifier):
     is Berkes' SFA, equivalent to Fisher discriminant analysis."""
 
     _global = True
-    _param_names = ("pca_n_components", "n_components", "degree", "include_linear", "gamma",
-                    "shrinkage", "rank_tol", "rule")
 
     def __init__(self, pca_n_components: int = 35, n_components: int = 10, degree: int = 2,
                  include_linear: bool = True, gamma: float = 1.0, shrinkage: float = 1e-6,
@@ -835,18 +828,21 @@ class GlobalSFA(_SFAClassifier):
             pca_n_components, n_components, degree)
         self.include_linear, self.gamma, self.shrinkage = include_linear, gamma, shrinkage
         self.rank_tol, self.rule = rank_tol, rule
-        self._model = None
 
     def fit(self, X, y):
-        """Fits to rows ``X`` and labels ``y``."""
+        """Fits to rows ``X`` and labels ``y``; returns ``self``."""
         if self.rule not in ("variance", "gaussian"):
             raise ValueError(f"`rule` must be 'variance' or 'gaussian', got {self.rule!r}")
         return self._fit(X, y, self.n_components, float(self.gamma), self.rule)
 
     def transform(self, X) -> np.ndarray:
         """The shared outputs ``W'z`` (``(n, n_components)``)."""
-        X, _ = _matrix(X)
-        return self._fitted().responses(X, 0)
+        X = self._validate_X(X, reset=False, allow_images=True)
+        return self._model.responses(X, 0)
+
+    def fit_transform(self, X, y) -> np.ndarray:
+        """``fit(X, y)`` then ``transform(X)``."""
+        return self.fit(X, y).transform(X)
 
 
 class _NativeTransform:
@@ -854,61 +850,70 @@ class _NativeTransform:
     embedding of new rows, sklearn's ``Isomap.transform`` semantics)."""
 
     def transform(self, X) -> np.ndarray:
-        if getattr(self, "_model", None) is None:
-            raise ValueError("the model is not fitted: call fit(X) first")
-        X, _ = _matrix(X)
+        """The fitted mapping applied to the rows of ``X``, ``(n, n_components)``."""
+        X = self._validate_X(X, reset=False)
         return self._model.transform(X)
 
 
-class TemporalSFA(_Params, _NativeTransform):
+class TemporalSFA(Estimator, _NativeTransform, _JsonPickled):
     """Temporal slow feature analysis (Wiskott and Sejnowski 2002; paper 05, section 2.1):
     the ``n_components`` slowest, decorrelated, unit-variance functions of the (quadratically
-    expanded, ``degree=2``) signal ``X`` with one time step per row. ``delta_values_`` are
-    the slowness values, ascending."""
-
-    _param_names = ("n_components", "degree", "include_linear", "rank_tol")
+    expanded, ``degree=2``) signal ``X`` with one time step per row (at least 3).
+    ``delta_values_`` are the slowness values, ascending."""
 
     def __init__(self, n_components: int = 2, degree: int = 2, include_linear: bool = True,
                  rank_tol: float = 1e-10):
         self.n_components, self.degree = n_components, degree
         self.include_linear, self.rank_tol = include_linear, rank_tol
-        self._model = None
 
     def fit(self, X, y=None):
-        X, _ = _matrix(X)
+        """Fits to the time series ``X`` (``(T, d)``, rows in time order); ``y`` is ignored.
+        Returns ``self``."""
+        X = self._validate_X(X, reset=True, min_samples=3)
         self._model = _b.temporal_sfa_fit(X, int(self.n_components), int(self.degree),
                                           bool(self.include_linear), float(self.rank_tol))
+        self.n_features_in_ = X.shape[1]
         self.delta_values_ = np.asarray(self._model.delta_values())
         self.rank_ = self._model.rank()
         return self
 
     def fit_transform(self, X, y=None) -> np.ndarray:
+        """``fit(X)`` then ``transform(X)``."""
         return self.fit(X).transform(X)
 
+    def _model_from_json(self, text):
+        return _b.TemporalSfaModel.from_json(text)
 
-class KNN(_Params):
+
+class KNN(Estimator):
     """k-nearest-neighbour classifier (Euclidean, majority vote of the ``n_neighbors``
     nearest training rows) of paper 05's baselines. Ties of the vote go to the class with the
     nearest member (``tie="nearest"``) or to the smallest label (``tie="smallest"``, as
     scikit-learn's ``KNeighborsClassifier``)."""
 
-    _param_names = ("n_neighbors", "tie")
+    _estimator_type = "classifier"
+    _requires_y = True
 
     def __init__(self, n_neighbors: int = 5, tie: str = "nearest"):
         self.n_neighbors, self.tie = n_neighbors, tie
 
     def fit(self, X, y):
-        self._X, _ = _matrix(X)
-        self.classes_, self._codes = _encode_labels(y, self._X.shape[0])
+        """Stores the training rows ``X`` and labels ``y``; returns ``self``."""
+        X = self._validate_X(X, reset=True)
+        self.classes_, self._codes = _encode_labels(self._validate_y(y, X.shape[0]), X.shape[0])
+        self._X = X
+        self.n_features_in_ = X.shape[1]
         return self
 
     def predict(self, X) -> np.ndarray:
-        X, _ = _matrix(X)
+        """The majority label of the ``n_neighbors`` nearest training rows of every row."""
+        X = self._validate_X(X, reset=False)
         return self.classes_[_b.knn_predict(self._X, self._codes, X,
                                             _int("n_neighbors", self.n_neighbors, 0),
                                             self.tie)]
 
     def score(self, X, y) -> float:
+        """Mean accuracy."""
         return float(np.mean(self.predict(X) == np.asarray(y)))
 
 
@@ -926,7 +931,7 @@ def confusion_matrix(y_true, y_pred, classes=None) -> Tuple[np.ndarray, np.ndarr
     return _b.confusion_matrix(t, p, len(classes)), classes
 
 
-class Isomap(_Params, _NativeTransform, _JsonPickled):
+class Isomap(Estimator, _NativeTransform, _JsonPickled):
     """Isomap (Tenenbaum et al. 2000): the "KNN on 9-D Isomap" baseline of paper 05
     (Table 6). Exact Isomap follows scikit-learn's ``Isomap`` step by step (brute-force
     neighbourhood graph, Dijkstra geodesics, kernel PCA of ``-D^2/2``, ``transform`` of new
@@ -937,26 +942,25 @@ class Isomap(_Params, _NativeTransform, _JsonPickled):
     A disconnected neighbourhood graph raises ``ValueError`` (use a larger
     ``n_neighbors``)."""
 
-    _param_names = ("n_neighbors", "n_components", "n_landmarks")
-
     def __init__(self, n_neighbors: int = 8, n_components: int = 9,
                  n_landmarks: Optional[int] = None):
         self.n_neighbors, self.n_components, self.n_landmarks = (
             n_neighbors, n_components, n_landmarks)
-        self._model = None
 
     def fit(self, X, y=None):
-        X, _ = _matrix(X)
+        """Fits to the rows of ``X``; ``y`` is ignored. Returns ``self``."""
+        X = self._validate_X(X, reset=True, min_samples=2)
         nl = None if self.n_landmarks is None else int(self.n_landmarks)
         self._model = _b.isomap_fit(X, int(self.n_neighbors), int(self.n_components), nl)
+        self.n_features_in_ = X.shape[1]
         self.embedding_ = self._model.embedding()
         self.eigenvalues_ = np.asarray(self._model.eigenvalues())
         lm = self._model.landmarks()
         self.landmarks_ = None if lm is None else np.asarray(lm)
-        self.n_features_in_ = X.shape[1]
         return self
 
     def fit_transform(self, X, y=None) -> np.ndarray:
+        """``fit(X)``, returning ``embedding_``."""
         return self.fit(X).embedding_
 
     def _model_from_json(self, text):

@@ -6,6 +6,7 @@ import numpy.typing as npt
 
 from . import ear as ear
 from . import gait as gait
+from ._estimator import Estimator
 
 ArrayLike = npt.ArrayLike
 F64 = npt.NDArray[np.float64]
@@ -47,14 +48,12 @@ class HandPoseComparison:
     y_test: np.ndarray
     results: Dict[str, ClassifierRun]
 
-class _Subspace:
+class _Subspace(Estimator):
     n_components_: int
     n_features_in_: int
     image_shape_: Optional[Tuple[int, int]]
     classes_: Optional[np.ndarray]
     metric: str
-    def get_params(self, deep: bool = True) -> dict[str, Any]: ...
-    def set_params(self, **params: Any) -> "_Subspace": ...
     def fit(self, X: ArrayLike, y: Optional[ArrayLike] = None) -> "_Subspace": ...
     def transform(self, X: ArrayLike) -> F64: ...
     def fit_transform(self, X: ArrayLike, y: Optional[ArrayLike] = None) -> F64: ...
@@ -139,15 +138,25 @@ def make_finger_veins(n_subjects: int = 200, n_per_subject: int = 10,
 def split_per_subject(labels: ArrayLike, n_train_per_subject: int,
                       seed: int = 0) -> Tuple[I64, I64]: ...
 
-class PerClassSFA:
+class PerClassSFA(Estimator):
     classes_: np.ndarray
+    n_features_in_: int
     eigenvalues_: list
     rank_: int
+    pca_n_components: int
+    m: int
+    degree: int
+    include_linear: bool
+    objective: str
+    gamma: float
+    shrinkage: float
+    rank_tol: float
     def __init__(self, pca_n_components: int = 35, m: int = 10, degree: int = 2,
                  include_linear: bool = True, objective: str = "within_minus_out",
                  gamma: float = 1.0, shrinkage: float = 1e-6, rank_tol: float = 1e-10) -> None: ...
     def fit(self, X: npt.ArrayLike, y: npt.ArrayLike) -> "PerClassSFA": ...
     def predict(self, X: npt.ArrayLike) -> np.ndarray: ...
+    def class_scores(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def decision_function(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def responses(self, X: npt.ArrayLike, cls: object) -> npt.NDArray[np.float64]: ...
     def score(self, X: npt.ArrayLike, y: npt.ArrayLike) -> float: ...
@@ -155,27 +164,51 @@ class PerClassSFA:
     @classmethod
     def load(cls, path: str) -> "PerClassSFA": ...
 
-class GlobalSFA:
+class GlobalSFA(Estimator):
     classes_: np.ndarray
+    n_features_in_: int
+    eigenvalues_: list
+    rank_: int
+    pca_n_components: int
+    n_components: int
+    degree: int
+    include_linear: bool
+    gamma: float
+    shrinkage: float
+    rank_tol: float
+    rule: str
     def __init__(self, pca_n_components: int = 35, n_components: int = 10, degree: int = 2,
                  include_linear: bool = True, gamma: float = 1.0, shrinkage: float = 1e-6,
                  rank_tol: float = 1e-10, rule: str = "variance") -> None: ...
     def fit(self, X: npt.ArrayLike, y: npt.ArrayLike) -> "GlobalSFA": ...
     def predict(self, X: npt.ArrayLike) -> np.ndarray: ...
+    def class_scores(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def decision_function(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def transform(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def score(self, X: npt.ArrayLike, y: npt.ArrayLike) -> float: ...
+    def save(self, path: str) -> None: ...
+    @classmethod
+    def load(cls, path: str) -> "GlobalSFA": ...
 
-class TemporalSFA:
+class TemporalSFA(Estimator):
+    n_features_in_: int
     delta_values_: npt.NDArray[np.float64]
     rank_: int
+    n_components: int
+    degree: int
+    include_linear: bool
+    rank_tol: float
     def __init__(self, n_components: int = 2, degree: int = 2, include_linear: bool = True,
                  rank_tol: float = 1e-10) -> None: ...
     def fit(self, X: npt.ArrayLike, y: object = None) -> "TemporalSFA": ...
     def transform(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def fit_transform(self, X: npt.ArrayLike, y: object = None) -> npt.NDArray[np.float64]: ...
 
-class KNN:
+class KNN(Estimator):
+    classes_: np.ndarray
+    n_features_in_: int
+    n_neighbors: int
+    tie: str
     def __init__(self, n_neighbors: int = 5, tie: str = "nearest") -> None: ...
     def fit(self, X: npt.ArrayLike, y: npt.ArrayLike) -> "KNN": ...
     def predict(self, X: npt.ArrayLike) -> np.ndarray: ...
@@ -184,7 +217,11 @@ class KNN:
 def confusion_matrix(y_true: npt.ArrayLike, y_pred: npt.ArrayLike,
                      classes: Optional[npt.ArrayLike] = ...) -> Tuple[npt.NDArray[np.float64], np.ndarray]: ...
 
-class Isomap:
+class Isomap(Estimator):
+    n_features_in_: int
+    n_neighbors: int
+    n_components: int
+    n_landmarks: Optional[int]
     embedding_: npt.NDArray[np.float64]
     eigenvalues_: npt.NDArray[np.float64]
     landmarks_: Optional[np.ndarray]

@@ -40,7 +40,7 @@ and rule (``skin_model`` or ``skin_mean`` / ``skin_cov``, ``skin_rule``,
 ``fill_holes``, ``block_skin_fraction``, ``reject_above_pct``), the matching (``shifts``,
 ``score``, ``mask_features``, ``equalize_on_skin``) and ``gray_enrolment``. The default
 skin model is ours (the paper cites one without numbers): fit your own with
-:meth:`SkinModel.fit` on enrolment images.
+``SkinModel().fit(pixels)`` on enrolment images.
 
 Conventions: images are uint8 arrays ``(H, W, 3)`` with channels R, G, B (any size; they
 are resized to the normalised size); block ``b`` sits at grid row ``b // 8``, column
@@ -65,6 +65,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._checks import _int, _real, integer_ranges as _integer_ranges
+from ._estimator import Estimator
 from ._native import ear as _e
 from ._results import from_mapping as _from_mapping, result as _result
 
@@ -194,8 +195,8 @@ def _params(given: dict) -> dict:
                 raise ValueError(f"`skin_model` must be a SkinModel, got {type(v).__name__}")
             if "skin_mean" in kw or "skin_cov" in kw:
                 raise ValueError("give either `skin_model` or `skin_mean`/`skin_cov`, not both")
-            out["skin_mean"] = v.mean.tolist()
-            out["skin_cov"] = v.cov.tolist()
+            out["skin_mean"] = v.mean_.tolist()
+            out["skin_cov"] = v.cov_.tolist()
         elif k in _FLAGS:
             out[k] = _flag(k, v)
         elif k in _INTS:
@@ -514,23 +515,29 @@ def skin_pixels(image, *, skin_model: Optional[SkinModel] = None, skin_mean=None
     return _e.skin_pixels(_image("image", image), _params(locals()))
 
 
-class EarMatcher:
+class EarMatcher(Estimator):
     """A gallery of enrolled ear templates and the parameters to identify probes against it
     (section 3.4).
 
-    ``templates`` is a float array ``(n, blocks, block_len)`` (e.g. from
-    :func:`enroll_many`; stored as float32, block-major for fast matching); gallery entry
-    ``i`` is identity ``i``. The keyword parameters are those of the whole pipeline
-    (``score`` selects the rule used by :meth:`identify` and :meth:`scores`); the block
-    count and length of the templates must fit them.
+    The keyword parameters are those of the whole pipeline (``score`` selects the rule used
+    by :meth:`identify` and :meth:`scores`). ``fit(X)`` enrols the gallery: ``X`` is a float
+    array of templates ``(n, blocks, block_len)`` (e.g. from :func:`enroll_many` with the
+    same ``height``, ``width``, ``block`` and ``gray_enrolment``; stored as float32,
+    block-major for fast matching), whose block count and length must fit the parameters;
+    gallery entry ``i`` is identity ``i``. A scikit-learn estimator: ``get_params`` /
+    ``set_params`` (``set_params`` takes effect at the next ``fit``), ``sklearn.base.clone``;
+    fitted or not it pickles and deep-copies.
 
-    >>> m = EarMatcher(enroll_many(gallery_images))
+    >>> m = EarMatcher().fit(enroll_many(gallery_images))
     >>> r = m.identify(probe)
     >>> None if r.rejected else r.order[0]
     """
 
+    _matrix_input = False
+    _fitted_attr = "n_templates_"
+
     @_documented
-    def __init__(self, templates, *, height: int = 100, width: int = 80, block: int = 10,
+    def __init__(self, *, height: int = 100, width: int = 80, block: int = 10,
                  skin_model: Optional[SkinModel] = None, skin_mean=None, skin_cov=None,
                  skin_rule: str = "marginal-and", min_likelihood: Optional[float] = None,
                  min_intensity: int = 0, close_radius: float = 10.0, fill_holes: bool = True,
@@ -538,32 +545,64 @@ class EarMatcher:
                  shifts: Sequence[Tuple[int, int]] = SHIFTS_NINE,
                  score: str = "blockwise-max", mask_features: bool = False,
                  gray_enrolment: bool = False, equalize_on_skin: bool = False):
-        """A matcher of ``templates`` with the pipeline parameters below."""
-        given = dict(locals())
-        self._params = {k: given[k] for k in PARAMS}
-        self._m = _e.EarMatcher(_templates("templates", templates), _params(given))
+        """A matcher with the pipeline parameters below; :meth:`fit` enrols the gallery."""
+        self.height, self.width, self.block = height, width, block
+        self.skin_model, self.skin_mean, self.skin_cov = skin_model, skin_mean, skin_cov
+        self.skin_rule, self.min_likelihood = skin_rule, min_likelihood
+        self.min_intensity, self.close_radius, self.fill_holes = (
+            min_intensity, close_radius, fill_holes)
+        self.block_skin_fraction, self.reject_above_pct = block_skin_fraction, reject_above_pct
+        self.shifts, self.score, self.mask_features = shifts, score, mask_features
+        self.gray_enrolment, self.equalize_on_skin = gray_enrolment, equalize_on_skin
+
+    def fit(self, X, y=None) -> "EarMatcher":
+        """Enrols the templates ``X`` ``(n, blocks, block_len)``; ``y`` is ignored (entry
+        ``i`` is identity ``i``). Returns ``self``.
+
+        Raises
+        ------
+        ValueError
+            Bad parameters, no template, non-finite values, or templates that do not fit
+            the parameters.
+        """
+        templates = _templates("X", X)
+        params = self.get_params(deep=False)
+        self._m = _e.EarMatcher(templates, _params(params))
+        self._fit_params = params
+        self.n_templates_ = len(self._m)
+        return self
 
     def __len__(self) -> int:
-        """Number of enrolled templates."""
-        return len(self._m)
+        """Number of enrolled templates (``NotFittedError`` before ``fit``)."""
+        self._check_fitted()
+        return self.n_templates_
 
-    def __repr__(self) -> str:
-        defaults = inspect.signature(EarMatcher.__init__).parameters
-        changed = {k: v for k, v in self._params.items() if not _same(v, defaults[k].default)}
-        return f"EarMatcher({len(self)} templates, {changed or 'default parameters'})"
+    def __bool__(self) -> bool:
+        """Always true, fitted or not (``len`` needs a fitted matcher)."""
+        return True
 
-    def __reduce__(self):
-        return (_rebuild_matcher, (self.templates, self._params))
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        if "_m" in state:
+            state["_m"] = state["_m"].templates()
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        state = dict(state)
+        if isinstance(state.get("_m"), np.ndarray):
+            state["_m"] = _e.EarMatcher(state["_m"], _params(state["_fit_params"]))
+        self.__dict__.update(state)
 
     @property
-    def templates(self) -> np.ndarray:
-        """A copy of the templates, float32 ``(n, blocks, block_len)``."""
+    def templates_(self) -> np.ndarray:
+        """A copy of the enrolled templates, float32 ``(n, blocks, block_len)``."""
+        self._check_fitted()
         return self._m.templates()
 
     @property
     def params(self) -> dict:
-        """The keyword parameters the matcher was built with (every one, by name)."""
-        return dict(self._params)
+        """Every keyword parameter by name (``get_params(deep=False)``)."""
+        return self.get_params(deep=False)
 
     def identify(self, image) -> Identification:
         """Identifies an RGB probe: occlusion detection, then index-based matching against
@@ -578,6 +617,7 @@ class EarMatcher:
 
         Raises ``ValueError`` for bad input, or when no block is un-occluded and the probe
         is not rejected (only possible with ``reject_above_pct >= 100``)."""
+        self._check_fitted()
         rej, pct, order, scores = self._m.identify(_image("image", image))
         return Identification(rejected=rej, occluded_pct=pct, order=order, scores=scores)
 
@@ -590,6 +630,7 @@ class EarMatcher:
         :func:`detect_occlusion` or use :meth:`identify` for the decision). A rule with
         nothing defined (e.g. ``"overall-max"`` when no shift covers half of the kept blocks)
         scores ``-inf``. Raises ``ValueError`` when no block is un-occluded."""
+        self._check_fitted()
         s, _rejected, _pct = self._m.scores(_image("image", image))
         return s
 
@@ -598,20 +639,9 @@ class EarMatcher:
         occlusion detection and never rejected. Returns a :class:`Ranking`, ``order`` and
         ``scores`` as :meth:`identify` (score ``1 - |t - r| / (2 sqrt(block_len) sqrt(blocks))``). Grey
         probes are accepted with ``gray_enrolment=True``."""
+        self._check_fitted()
         order, scores = self._m.identify_baseline(_image("image", image))
         return Ranking(order=order, scores=scores)
-
-
-def _same(a, b) -> bool:
-    """Whether a parameter value equals its default (arrays and mixed types: no)."""
-    try:
-        return a is b or (type(a) is type(b) and bool(a == b))
-    except (TypeError, ValueError):
-        return False
-
-
-def _rebuild_matcher(templates, params):
-    return EarMatcher(templates, **params)
 
 
 @_documented
@@ -661,52 +691,102 @@ def baseline_score(image, template, *, height: int = 100, width: int = 80, block
 # Skin model
 # ----------------------------------------------------------------------------------------
 
-class SkinModel:
+class SkinModel(Estimator):
     """Gaussian skin colour model in normalised chromaticity ``(r, g)``, ``r = R / (R + G +
     B)``, ``g = G / (R + G + B)`` (eqs. 2-5): mean ``A`` and covariance ``C``, likelihood
     ``L(x) = exp(-1/2 (x - A)^T C^-1 (x - A))``.
 
-    The default is ours (the paper cites a model without numbers): ``A = (0.45, 0.32)``,
-    ``C = diag(1.6e-3, 2.5e-4)``. Pass a model to the pipeline with ``skin_model=``.
-    ``ValueError`` for a non-finite, asymmetric or non-positive-definite covariance."""
+    ``mean`` and ``cov`` give the model until :meth:`fit` (or :meth:`fit_rg`) learns one
+    from skin samples; ``mean_`` and ``cov_`` are the model in use. The default is ours (the
+    paper cites a model without numbers): ``A = (0.45, 0.32)``, ``C = diag(1.6e-3,
+    2.5e-4)``. Pass a model to the pipeline with ``skin_model=``. A non-finite, asymmetric
+    or non-positive-definite covariance raises ``ValueError`` when the model is used.
+
+    A scikit-learn estimator whose samples are RGB pixels: ``fit(X)`` returns ``self``,
+    ``get_params`` / ``set_params``; it pickles and deep-copies. ``sklearn.base.clone``
+    keeps the learned ``mean_`` and ``cov_`` (as scikit-learn's ``FrozenEstimator``
+    does): a skin model is fitted once on enrolment images and is a fixed part of the
+    pipelines it is passed to, so cloning an :class:`EarMatcher` that holds it keeps its
+    colours.
+
+    Parameters
+    ----------
+    mean : (float, float), default (0.45, 0.32)
+        Mean chromaticity ``(r, g)`` used until ``fit``.
+    cov : 2 x 2 floats, default ((1.6e-3, 0), (0, 2.5e-4))
+        Covariance used until ``fit``.
+
+    Attributes
+    ----------
+    mean_ : ndarray, shape (2,)
+        Mean chromaticity of the model in use (fitted, else ``mean``).
+    cov_ : ndarray, shape (2, 2)
+        Its covariance (fitted, else ``cov``).
+    """
+
+    _matrix_input = False
+    _fitted_attr = "_learned"
 
     def __init__(self, mean=(0.45, 0.32), cov=((1.6e-3, 0.0), (0.0, 2.5e-4))):
-        m, c = _e.skin_check(_floats("mean", mean).ravel().tolist(),
-                             _floats("cov", cov).tolist())
-        self._mean = np.array(m, dtype=np.float64)
-        self._cov = np.array(c, dtype=np.float64)
+        self.mean = mean
+        self.cov = cov
 
-    @classmethod
-    def fit(cls, pixels) -> "SkinModel":
-        """Maximum-likelihood model (covariance divided by ``n``) of uint8 RGB skin pixels,
-        an ``(n, 3)`` array (or any ``(..., 3)`` array, flattened); black pixels, whose
-        chromaticity is undefined, are skipped. Recommended: the central part of the
-        enrolment images. ``ValueError`` for fewer than 3 usable pixels or a singular
-        result."""
-        a = _image("pixels", pixels)
+    def fit(self, X, y=None) -> "SkinModel":
+        """Maximum-likelihood model (covariance divided by ``n``) of uint8 RGB skin pixels
+        ``X``, an ``(n, 3)`` array (or any ``(..., 3)`` array, flattened); black pixels,
+        whose chromaticity is undefined, are skipped; ``y`` is ignored. Recommended: the
+        central part of the enrolment images. Returns ``self``.
+
+        Raises
+        ------
+        ValueError
+            Not uint8, fewer than 3 usable pixels, or a singular result.
+        """
+        a = _image("X", X)
         if a.ndim >= 1 and a.shape[-1] == 3:
             a = np.ascontiguousarray(a.reshape(-1, 3))
-        return cls(*_e.skin_fit(a))
+        return self._learn(*_e.skin_fit(a))
 
-    @classmethod
-    def fit_rg(cls, points) -> "SkinModel":
-        """Maximum-likelihood model of chromaticity samples, a float ``(n, 2)`` array of
-        ``(r, g)``."""
-        return cls(*_e.skin_fit_rg(np.ascontiguousarray(_floats("points", points))))
+    def fit_rg(self, X, y=None) -> "SkinModel":
+        """Maximum-likelihood model of chromaticity samples ``X``, a float ``(n, 2)`` array
+        of ``(r, g)``; ``y`` is ignored. Returns ``self``."""
+        return self._learn(*_e.skin_fit_rg(np.ascontiguousarray(_floats("X", X))))
+
+    def _learn(self, mean, cov) -> "SkinModel":
+        m, c = _e.skin_check(_floats("mean", mean).ravel().tolist(),
+                             _floats("cov", cov).tolist())
+        self._learned = (np.array(m, dtype=np.float64), np.array(c, dtype=np.float64))
+        return self
+
+    def _model(self) -> Tuple[np.ndarray, np.ndarray]:
+        """``(mean, cov)`` in use: learned by ``fit``, else the checked parameters."""
+        learned = self.__dict__.get("_learned")
+        if learned is not None:
+            return learned
+        m, c = _e.skin_check(_floats("mean", self.mean).ravel().tolist(),
+                             _floats("cov", self.cov).tolist())
+        return np.array(m, dtype=np.float64), np.array(c, dtype=np.float64)
+
+    def __sklearn_clone__(self) -> "SkinModel":
+        out = type(self)(**self.get_params(deep=False))
+        if "_learned" in self.__dict__:
+            out._learned = tuple(a.copy() for a in self._learned)
+        return out
 
     @property
-    def mean(self) -> np.ndarray:
-        """Mean chromaticity ``(r, g)``, float64 ``(2,)`` (a copy)."""
-        return self._mean.copy()
+    def mean_(self) -> np.ndarray:
+        """Mean chromaticity ``(r, g)`` of the model in use, float64 ``(2,)`` (a copy)."""
+        return self._model()[0].copy()
 
     @property
-    def cov(self) -> np.ndarray:
-        """Covariance, float64 ``(2, 2)`` (a copy)."""
-        return self._cov.copy()
+    def cov_(self) -> np.ndarray:
+        """Covariance of the model in use, float64 ``(2, 2)`` (a copy)."""
+        return self._model()[1].copy()
 
     def _eval(self, r, g, what):
+        mean, cov = self._model()
         ra, ga = np.broadcast_arrays(_floats("r", r), _floats("g", g))
-        out = _e.skin_eval_rg(self._mean.tolist(), self._cov.tolist(),
+        out = _e.skin_eval_rg(mean.tolist(), cov.tolist(),
                               np.ascontiguousarray(ra).ravel(),
                               np.ascontiguousarray(ga).ravel(), what).reshape(ra.shape)
         return float(out) if out.ndim == 0 else out
@@ -729,19 +809,27 @@ class SkinModel:
     def likelihood(self, rgb):
         """Skin likelihood of uint8 RGB pixels, a ``(..., 3)`` array: float64 ``(...)`` (a
         float for one pixel); 0 for black."""
+        mean, cov = self._model()
         a = _image("rgb", rgb)
-        out = _e.skin_likelihood(self._mean.tolist(), self._cov.tolist(), a)
+        out = _e.skin_likelihood(mean.tolist(), cov.tolist(), a)
         out = out.reshape(a.shape[:-1]) if a.ndim >= 1 else out
         return float(out) if out.ndim == 0 else out
 
     def __eq__(self, other) -> bool:
-        return (isinstance(other, SkinModel) and np.array_equal(self._mean, other._mean)
-                and np.array_equal(self._cov, other._cov))
+        """Whether both use the same model (``mean_`` and ``cov_``)."""
+        if not isinstance(other, SkinModel):
+            return NotImplemented
+        (m1, c1), (m2, c2) = self._model(), other._model()
+        return np.array_equal(m1, m2) and np.array_equal(c1, c2)
 
     __hash__ = None  # type: ignore[assignment]
 
     def __repr__(self) -> str:
-        return f"SkinModel(mean={self._mean.tolist()}, cov={self._cov.tolist()})"
+        learned = self.__dict__.get("_learned")
+        if learned is None:
+            return super().__repr__()
+        return (f"SkinModel(fitted: mean_={learned[0].tolist()}, "
+                f"cov_={learned[1].tolist()})")
 
 
 # ----------------------------------------------------------------------------------------

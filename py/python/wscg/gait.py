@@ -53,6 +53,7 @@ from typing import List, NamedTuple, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._checks import _int, _real, integer_ranges as _integer_ranges
+from ._estimator import Estimator
 from ._native import gait as _g
 from ._results import (from_mapping as _from_mapping, result as _result,
                        tuple_repr as _tuple_repr)
@@ -865,9 +866,9 @@ def _encode(labels, n: int) -> Tuple[np.ndarray, List[int]]:
     try:
         seq = list(labels)
     except TypeError:
-        raise ValueError("`labels` must be a sequence with one label per walk") from None
+        raise ValueError("`y` must be a sequence with one label per walk") from None
     if len(seq) != n:
-        raise ValueError(f"{len(seq)} labels for {n} walks: give one label per walk")
+        raise ValueError(f"`y` has {len(seq)} labels for {n} walks: give one label per walk")
     try:
         arr = np.asarray(seq)
         if arr.ndim != 1 or arr.dtype == object:
@@ -882,12 +883,17 @@ def _encode(labels, n: int) -> Tuple[np.ndarray, List[int]]:
         return classes, [index[x] for x in seq]
 
 
-class GaitRecognizer:
+class GaitRecognizer(Estimator):
     """Gait recognition with the most relevant JRA sequences and the DTW kernel (Fig. 6).
 
     ``fit`` detects a gait cycle in every training walk, computes the JRA sequences of all
     276 pairs, the relevance map of the training walks and the pairs reaching ``min_bins``;
-    ``predict`` ranks the training walks by ``Delta`` to the query and votes.
+    ``predict`` ranks the training walks by ``Delta`` to each query and votes.
+
+    A scikit-learn classifier whose samples are walks: ``fit(X, y)`` returns ``self``,
+    ``predict(X)`` and ``score(X, y)`` take a sequence of walks; ``get_params`` /
+    ``set_params``, ``sklearn.base.clone`` and ``cross_val_score`` work, fitted or not it
+    pickles and deep-copies.
 
     Parameters
     ----------
@@ -926,28 +932,26 @@ class GaitRecognizer:
     including the test ones).
     """
 
+    _estimator_type = "classifier"
+    _requires_y = True
+    _matrix_input = False
+    _fitted_attr = "classes_"
+
     def __init__(self, min_bins: float = 20.0, vote: str = "nearest",
                  n_neighbors: Optional[int] = None, cost: str = "abs",
                  window: Optional[int] = None, bin_deg: float = 1.0, start_leg: str = "left",
                  fps: float = 30.0):
         self.min_bins, self.vote, self.n_neighbors, self.cost = min_bins, vote, n_neighbors, cost
         self.window, self.bin_deg, self.start_leg, self.fps = window, bin_deg, start_leg, fps
-        self._model = None
 
-    def __repr__(self) -> str:
-        return (f"GaitRecognizer(min_bins={self.min_bins!r}, vote={self.vote!r}, "
-                f"n_neighbors={self.n_neighbors!r}, "
-                f"cost={self.cost!r}, window={self.window!r}, bin_deg={self.bin_deg!r}, "
-                f"start_leg={self.start_leg!r}, fps={self.fps!r})")
-
-    def fit(self, walks, labels) -> "GaitRecognizer":
+    def fit(self, X, y) -> "GaitRecognizer":
         """Fits the recognizer.
 
         Parameters
         ----------
-        walks : sequence of array_like, each of shape (T_i, 25, 3)
-            Training walks (lengths may differ).
-        labels : array_like, shape (n,)
+        X : sequence of array_like, each of shape (T_i, 25, 3)
+            Training walks (lengths may differ), or an ``(n, T, 25, 3)`` array.
+        y : array_like, shape (n,)
             Identity of each walk (any hashable values).
 
         Returns
@@ -966,16 +970,13 @@ class GaitRecognizer:
         window = _window(self.window)
         start_leg = _str("start_leg", self.start_leg, ("left", "right", "any"))
         fps = _fps(self.fps)
-        if isinstance(walks, np.ndarray) and walks.dtype != object and walks.ndim == 4:
-            walks = [walks[i] for i in range(walks.shape[0])]
-        try:
-            ws = list(walks)
-        except TypeError:
-            raise ValueError("`walks` must be a list of (T, 25, 3) arrays") from None
+        ws = _walks(X)
         if not ws:
-            raise ValueError("`walks` is empty: the gallery needs at least one walk")
-        classes, codes = _encode(labels, len(ws))
-        arrs = [_frames(w, f"walks[{i}]") for i, w in enumerate(ws)]
+            raise ValueError("`X` is empty: the gallery needs at least one walk")
+        if y is None:
+            raise ValueError("GaitRecognizer requires y to be passed, but the target y is None")
+        classes, codes = _encode(y, len(ws))
+        arrs = [_frames(w, f"X[{i}]") for i, w in enumerate(ws)]
         self._model = _g.Recognizer(arrs, codes, fps, _real("min_bins", self.min_bins), vote,
                                     cost, window, _real("bin_deg", self.bin_deg), start_leg)
         self.classes_ = classes
@@ -983,29 +984,40 @@ class GaitRecognizer:
         self.relevance_ = self._model.relevance()
         return self
 
-    def _check(self):
-        if self._model is None:
-            raise ValueError("this GaitRecognizer is not fitted yet: call fit(walks, labels)")
-        return self._model
+    def _predict(self, frames, name: str = "frames"):
+        self._check_fitted()
+        return self._model.predict(_frames(frames, name), _fps(self.fps))
 
-    def _predict(self, frames):
-        m = self._check()
-        return m.predict(_frames(frames), _fps(self.fps))
-
-    def predict(self, frames):
-        """Identifies a walk.
+    def predict(self, X) -> np.ndarray:
+        """Identifies walks.
 
         Parameters
         ----------
-        frames : array_like, shape (T, 25, 3)
+        X : sequence of array_like, each of shape (T_i, 25, 3)
+            The walks, or an ``(n, T, 25, 3)`` array (``predict([walk])[0]`` for one walk).
 
         Returns
         -------
-        label
-            One of :attr:`classes_`.
+        ndarray, shape (n,)
+            One of :attr:`classes_` per walk.
         """
-        code = self._predict(frames)[0]
-        return self.classes_[code]
+        self._check_fitted()
+        if isinstance(X, np.ndarray) and X.dtype != object and X.ndim == 3:
+            raise ValueError(f"`X` of shape {X.shape} is one walk: predict takes a sequence "
+                             "of walks (use predict([walk])[0])")
+        codes = [self._predict(w, f"X[{i}]")[0] for i, w in enumerate(_walks(X))]
+        return self.classes_[np.asarray(codes, dtype=np.int64)]
+
+    def score(self, X, y) -> float:
+        """Fraction of the walks ``X`` identified as ``y``."""
+        pred = self.predict(X)
+        try:
+            ys = list(y)
+        except TypeError:
+            raise ValueError("`y` must be a sequence with one label per walk") from None
+        if len(ys) != len(pred):
+            raise ValueError(f"`y` has {len(ys)} labels for {len(pred)} walks")
+        return float(np.mean([bool(p == t) for p, t in zip(pred, ys)]))
 
     def rank(self, frames) -> Tuple[np.ndarray, np.ndarray]:
         """The training walks ranked by ``Delta`` to a walk.
@@ -1028,6 +1040,29 @@ class GaitRecognizer:
         """Like :meth:`rank`, with the indices of the training walks instead of labels."""
         _, idx, _, deltas, _ = self._predict(frames)
         return idx, deltas
+
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        if "_model" in state:
+            state["_model"] = state["_model"].to_json()
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        state = dict(state)
+        if isinstance(state.get("_model"), str):
+            state["_model"] = _g.Recognizer.from_json(state["_model"])
+        self.__dict__.update(state)
+
+
+def _walks(X) -> list:
+    """The walks of ``X``: a sequence of ``(T, 25, 3)`` arrays or an ``(n, T, 25, 3)``
+    array."""
+    if isinstance(X, np.ndarray) and X.dtype != object and X.ndim == 4:
+        return [X[i] for i in range(X.shape[0])]
+    try:
+        return list(X)
+    except TypeError:
+        raise ValueError("`X` must be a sequence of (T, 25, 3) walks") from None
 
 
 # ----------------------------------------------------------------------------------------

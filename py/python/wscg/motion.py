@@ -5,14 +5,19 @@ computer graphics").
 Joint-angle trajectories of a walk-then-reach task (a normal step, a shortened step, a reach
 into a drawer) are decomposed into *kinematic primitives* by anechoic demixing,
 ``x_i^r(t) ~ sum_j w_ij^r s_j(t - tau_ij)``, with band-limited periodic sources and delays
-shared across trials (:func:`fit_anechoic`); PCA is the synchronous baseline
-(:func:`pca_quality`). :func:`fit_stepwise` learns the three actions step by step (3 sources
-for the step, 2 more for the shortened step, the reach reuses all 5) into a :class:`Library`.
-A :class:`Synthesizer` turns the library into *dynamic primitives* (a star network of Hopf
-oscillators whose followers are mapped onto the sources), regresses the weights from the step
-parameters, blends actions at the leader's phase wrap and re-plans the steps with the
-predictive planner (:func:`plan_steps`) when the goal moves. :func:`save_bvh` exports the
-result for any animation tool.
+shared across trials (:class:`AnechoicModel`, :func:`fit_anechoic`); PCA is the synchronous
+baseline (:func:`pca_quality`). :class:`StepwiseModel` (:func:`fit_stepwise`) learns the three
+actions step by step (3 sources for the step, 2 more for the shortened step, the reach reuses
+all 5) into a :class:`Library`. A :class:`Synthesizer`, fitted on that library, turns it into
+*dynamic primitives* (a star network of Hopf oscillators whose followers are mapped onto the
+sources), regresses the weights from the step parameters, blends actions at the leader's phase
+wrap and re-plans the steps with the predictive planner (:func:`plan_steps`) when the goal
+moves. :func:`save_bvh` exports the result for any animation tool.
+
+The three models are scikit-learn estimators: hyper-parameters in ``__init__``
+(``get_params`` / ``set_params``, ``sklearn.base.clone``), ``fit(X)`` returns the model, what
+it learns ends in ``_``; fitted or not they pickle and deep-copy (a :class:`Library` pickles
+through its exact JSON form).
 
 Data: :func:`make_synthetic_dataset` draws trials of a seeded synthetic walker with known
 ground truth (17 joints, 51 exponential-map channels, 5 periodic sources with shared delays),
@@ -30,23 +35,26 @@ read or written raises ``OSError``. The GIL is released while Rust works.
 
 from __future__ import annotations
 
+import copyreg
 import math as _math
 import numbers
 import os
-from typing import List, Mapping, Optional, Sequence, Tuple, Union
+from collections.abc import Mapping
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._checks import _int, integer_ranges as _integer_ranges
+from ._estimator import Estimator
 from ._native import motion as _m
 from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
-    "make_synthetic_dataset", "fit_anechoic", "pca_quality", "pca_qualities", "quality",
-    "fit_stepwise", "Library", "plan_steps", "Synthesizer", "save_bvh", "load_bvh",
+    "make_synthetic_dataset", "AnechoicModel", "fit_anechoic", "pca_quality", "pca_qualities",
+    "quality", "StepwiseModel", "fit_stepwise", "Library", "plan_steps", "Synthesizer", "save_bvh", "load_bvh",
     "forward_kinematics", "skeleton", "regression_p_value", "fit_line", "svr_fit_predict",
     "hopf_simulate", "ACTIONS", "DELAY_MODES", "MAPS", "N_CHANNELS",
-    "MotionTruth", "MotionDataset", "AnechoicFit", "ActionFit", "StepPlan", "Synthesis",
+    "MotionTruth", "MotionDataset", "ActionFit", "StepPlan", "Synthesis",
     "BvhMotion", "Skeleton", "LineFit", "SvrInfo", "HopfTrajectory",
 ]
 
@@ -126,38 +134,6 @@ class MotionDataset:
     root: np.ndarray
     distances: np.ndarray
     truth: MotionTruth
-
-
-@_result
-class AnechoicFit:
-    """The anechoic demixing of :func:`fit_anechoic` (``R`` trials, ``I`` channels, ``J``
-    sources, ``K`` harmonics, ``N`` samples per period).
-
-    Attributes
-    ----------
-    q : float
-        Approximation quality ``1 - ||X - Xhat||^2 / ||X||^2``.
-    q_history : float64 array
-        ``Q`` at the start and after every sweep of the kept run.
-    sources : float64 array (J, N)
-        The sources over one period (unit RMS).
-    source_coeffs : complex128 array (J, K)
-        Their complex harmonics ``c_1 .. c_K``.
-    delays : float64 array (I, J), or (R, I, J) for ``delays="per_trial"``
-        Delays in periods.
-    weights : float64 array (R, I, J)
-        Mixing weights.
-    reconstruction : float64 array (R, I, N)
-        ``Xhat``.
-    """
-
-    q: float
-    q_history: np.ndarray
-    sources: np.ndarray
-    source_coeffs: np.ndarray
-    delays: np.ndarray
-    weights: np.ndarray
-    reconstruction: np.ndarray
 
 
 @_result
@@ -358,6 +334,14 @@ class HopfTrajectory:
     leader_phase: np.ndarray
 
 
+def _library_from_json(text: str) -> Library:
+    return Library.from_json(text)
+
+
+# A Library pickles and deep-copies through its JSON form (floats round-trip exactly).
+copyreg.pickle(Library, lambda lib: (_library_from_json, (lib.to_json(),)))
+
+
 def _u(name: str, v, lo: int = 0) -> int:
     """``v`` as a Python int in ``[lo, 2**63 - 1]`` (the native side takes unsigned sizes)."""
     return _int(name, v, lo, 2**63 - 1)
@@ -442,9 +426,7 @@ def make_synthetic_dataset(n_trials: int = 40, seed: int = 0, noise: float = 0.0
 # Demixing and PCA
 
 
-def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8,
-                 n_restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
-                 init: str = "pca", delay_search: int = 128) -> AnechoicFit:
+class AnechoicModel(Estimator):
     """Anechoic demixing ``x_i^r(t) ~ sum_j w_ij^r s_j(t - tau_ij)`` of mean-free trials.
 
     Fourier-domain alternating least squares: sources, weights and delays are updated in turn,
@@ -452,9 +434,7 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
 
     Parameters
     ----------
-    X : array_like, shape (R, I, N)
-        Trials x channels x samples of one period each; finite.
-    n_sources : int
+    n_sources : int, default 3
         Number of sources ``J``, ``1 <= J < min(R * I, N / 2)``.
     delays : {"shared", "per_trial", "zero"}
         One delay per (channel, source) shared by all trials (the paper's model), free delays
@@ -465,7 +445,7 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
         Runs: run 0 starts from ``init``, run 1 from the orbit-subspace start (``"orbit"``;
         with delays and at least ``n_sources`` trials, unless run 0 is one), the others from
         seeded random starts. Every run gets 60 sweeps; the best continues to ``max_iter``
-        sweeps and is returned.
+        sweeps and is kept.
     max_iter, tol : int, float
         Sweeps per run, and the change of ``Q`` below which a run stops.
     seed : int
@@ -485,26 +465,74 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
         (at most 5 rounds). ``Q`` can only rise. It finds the delays of channels where two
         sources must move together, which single-delay sweeps cannot.
 
-    Returns
-    -------
-    AnechoicFit
-        ``q`` (``1 - ||X - Xhat||^2 / ||X||^2``), ``q_history`` (``Q`` at the start and
-        after every sweep of the kept run), ``sources`` ``(J, N)`` samples (unit RMS),
-        ``source_coeffs`` ``(J, K)`` complex harmonics ``c_1..c_K``, ``delays`` in periods
-        ``(I, J)`` (``(R, I, J)`` for ``"per_trial"``), ``weights`` ``(R, I, J)`` and
-        ``reconstruction`` ``(R, I, N)``.
+    Attributes
+    ----------
+    q_ : float
+        ``1 - ||X - Xhat||^2 / ||X||^2``.
+    q_history_ : ndarray
+        ``Q`` at the start and after every sweep of the kept run.
+    sources_ : ndarray, shape (J, N)
+        The sources sampled over one period (unit RMS).
+    source_coeffs_ : ndarray of complex, shape (J, K)
+        Their harmonics ``c_1..c_K``.
+    delays_ : ndarray, shape (I, J), or (R, I, J) for ``delays="per_trial"``
+        Delays in periods.
+    weights_ : ndarray, shape (R, I, J)
+    reconstruction_ : ndarray, shape (R, I, N)
+        The model's approximation of the training trials.
     """
-    x = _array("X", X)
-    if x.ndim != 3:
-        raise ValueError(f"`X` must be an (R, I, N) array, got shape {x.shape}")
-    if delays not in DELAY_MODES:
-        raise ValueError(f"`delays` must be one of {DELAY_MODES}, got {delays!r}")
-    if init not in ("pca", "random", "greedy", "orbit"):
-        raise ValueError(f"`init` must be 'pca', 'random', 'greedy' or 'orbit', got {init!r}")
-    return _from_mapping(AnechoicFit, _m.fit_anechoic(
-        x, _u("n_sources", n_sources, 1), delays, _u("n_harmonics", n_harmonics, 1),
-        _u("n_restarts", n_restarts, 1), _u("max_iter", max_iter, 1), _float("tol", tol),
-        _u("seed", seed, 0), init, _u("delay_search", delay_search, 0)))
+
+    _matrix_input = False
+    _fitted_attr = "sources_"
+
+    def __init__(self, n_sources: int = 3, delays: str = "shared", n_harmonics: int = 8,
+                 n_restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
+                 init: str = "pca", delay_search: int = 128):
+        self.n_sources, self.delays, self.n_harmonics = n_sources, delays, n_harmonics
+        self.n_restarts, self.max_iter, self.tol, self.seed = n_restarts, max_iter, tol, seed
+        self.init, self.delay_search = init, delay_search
+
+    def fit(self, X, y=None) -> "AnechoicModel":
+        """Demixes the trials ``X``, an array ``(R, I, N)`` (trials x channels x samples of
+        one period each; finite); ``y`` is ignored. Returns ``self``.
+
+        Raises
+        ------
+        ValueError
+            ``X`` not 3-D or not finite, bad parameters (named).
+        """
+        x = _array("X", X)
+        if x.ndim != 3:
+            raise ValueError(f"`X` must be an (R, I, N) array, got shape {x.shape}")
+        if self.delays not in DELAY_MODES:
+            raise ValueError(f"`delays` must be one of {DELAY_MODES}, got {self.delays!r}")
+        if self.init not in ("pca", "random", "greedy", "orbit"):
+            raise ValueError("`init` must be 'pca', 'random', 'greedy' or 'orbit', "
+                             f"got {self.init!r}")
+        res = _m.fit_anechoic(x, _u("n_sources", self.n_sources, 1), self.delays,
+                              _u("n_harmonics", self.n_harmonics, 1),
+                              _u("n_restarts", self.n_restarts, 1),
+                              _u("max_iter", self.max_iter, 1), _float("tol", self.tol),
+                              _u("seed", self.seed, 0), self.init,
+                              _u("delay_search", self.delay_search, 0))
+        self.q_ = res["q"]
+        self.q_history_ = np.asarray(res["q_history"])
+        self.source_coeffs_ = res["source_coeffs"]
+        self.delays_ = res["delays"]
+        self.weights_ = res["weights"]
+        self.reconstruction_ = res["reconstruction"]
+        self.sources_ = res["sources"]
+        return self
+
+
+def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8,
+                 n_restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
+                 init: str = "pca", delay_search: int = 128) -> AnechoicModel:
+    """``AnechoicModel(n_sources, ...).fit(X)``: the fitted :class:`AnechoicModel` (its
+    parameters and attributes are documented there)."""
+    return AnechoicModel(n_sources=n_sources, delays=delays, n_harmonics=n_harmonics,
+                         n_restarts=n_restarts, max_iter=max_iter, tol=tol, seed=seed,
+                         init=init, delay_search=delay_search).fit(X)
 
 
 def _trials(name: str, X) -> np.ndarray:
@@ -560,9 +588,20 @@ def quality(X, Xhat) -> float:
 # Step-wise learning
 
 
-def fit_stepwise(dataset: Union[MotionDataset, Mapping[str, np.ndarray]], n_sources_first: int = 3, n_sources_extra: int = 2,
-                 n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
-                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> Library:
+def _field(dataset, key: str, required: bool = True):
+    """``dataset[key]`` of a mapping, else the attribute ``key``; ``None`` when optional
+    and absent."""
+    if isinstance(dataset, Mapping):
+        v = dataset.get(key)
+    else:
+        v = getattr(dataset, key, None)
+    if v is None and required:
+        raise ValueError(f"`X` lacks {key!r}: it must be a dataset as make_synthetic_dataset "
+                         "returns, with 'angles', 'step_length' and 'duration'")
+    return v
+
+
+class StepwiseModel(Estimator):
     """Learns the three actions step by step (paper section 2.3) into a :class:`Library`.
 
     Action 1: per trial and channel, means and the non-periodic weight are removed by least
@@ -572,38 +611,60 @@ def fit_stepwise(dataset: Union[MotionDataset, Mapping[str, np.ndarray]], n_sour
 
     Parameters
     ----------
-    dataset : MotionDataset or mapping of arrays
-        As returned by :func:`make_synthetic_dataset`, or a mapping (e.g. a dict of your
-        own recordings) with the same names: ``"angles"`` ``(R, 3, I, N)``,
-        ``"step_length"`` and ``"duration"`` ``(R, 3)``; optional ``"root"`` ``(R, 3, N)``
-        (pelvis travel, for the learned progress curve) and ``"distances"`` ``(R,)``.
-        At least 3 trials.
-    n_sources_first, n_sources_extra : int
+    n_sources_first, n_sources_extra : int, default 3 and 2
         Sources of action 1 and sources added in action 2 (the paper's 3 and 2).
     n_harmonics, n_restarts, max_iter, tol, seed, delay_search
-        Demixing settings, as in :func:`fit_anechoic`.
+        Demixing settings, as in :class:`AnechoicModel`.
+
+    Attributes
+    ----------
+    library_ : Library
+        The learned sources, shared delays and per-trial weights of the three actions
+        (the input of :meth:`Synthesizer.fit`).
     """
-    if isinstance(dataset, MotionDataset):
-        dataset = {"angles": dataset.angles, "step_length": dataset.step_length,
-                   "duration": dataset.duration, "root": dataset.root,
-                   "distances": dataset.distances}
-    if not isinstance(dataset, Mapping):
-        raise ValueError("`dataset` must be a MotionDataset or a mapping of arrays, got "
-                         f"{type(dataset).__name__}")
-    for k in ("angles", "step_length", "duration"):
-        if k not in dataset:
-            raise ValueError(f"`dataset` lacks the key {k!r}")
-    root = dataset.get("root")
-    dist = dataset.get("distances")
-    return _m.fit_stepwise(
-        _array("angles", dataset["angles"]), _array("step_length", dataset["step_length"]),
-        _array("duration", dataset["duration"]),
-        None if root is None else _array("root", root),
-        None if dist is None else _array("distances", dist),
-        _u("n_sources_first", n_sources_first, 1), _u("n_sources_extra", n_sources_extra, 0),
-        _u("n_harmonics", n_harmonics, 1), _u("n_restarts", n_restarts, 1),
-        _u("max_iter", max_iter, 1), _float("tol", tol), _u("seed", seed, 0),
-        _u("delay_search", delay_search, 0))
+
+    _matrix_input = False
+    _fitted_attr = "library_"
+
+    def __init__(self, n_sources_first: int = 3, n_sources_extra: int = 2,
+                 n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
+                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128):
+        self.n_sources_first, self.n_sources_extra = n_sources_first, n_sources_extra
+        self.n_harmonics, self.n_restarts, self.max_iter = n_harmonics, n_restarts, max_iter
+        self.tol, self.seed, self.delay_search = tol, seed, delay_search
+
+    def fit(self, X, y=None) -> "StepwiseModel":
+        """Learns the library from the dataset ``X``; ``y`` is ignored. Returns ``self``.
+
+        ``X`` is a dataset as :func:`make_synthetic_dataset` returns (a mapping, or an
+        object with these attributes): ``angles`` ``(R, 3, I, N)``, ``step_length`` and
+        ``duration`` ``(R, 3)``; optional ``root`` ``(R, 3, N)`` (pelvis travel, for the
+        learned progress curve) and ``distances`` ``(R,)``. At least 3 trials.
+        """
+        root = _field(X, "root", required=False)
+        dist = _field(X, "distances", required=False)
+        self.library_ = _m.fit_stepwise(
+            _array("angles", _field(X, "angles")),
+            _array("step_length", _field(X, "step_length")),
+            _array("duration", _field(X, "duration")),
+            None if root is None else _array("root", root),
+            None if dist is None else _array("distances", dist),
+            _u("n_sources_first", self.n_sources_first, 1),
+            _u("n_sources_extra", self.n_sources_extra, 0),
+            _u("n_harmonics", self.n_harmonics, 1), _u("n_restarts", self.n_restarts, 1),
+            _u("max_iter", self.max_iter, 1), _float("tol", self.tol), _u("seed", self.seed, 0),
+            _u("delay_search", self.delay_search, 0))
+        return self
+
+
+def fit_stepwise(dataset, n_sources_first: int = 3, n_sources_extra: int = 2,
+                 n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
+                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> StepwiseModel:
+    """``StepwiseModel(...).fit(dataset)``: the fitted :class:`StepwiseModel` (its
+    parameters and ``library_`` are documented there)."""
+    return StepwiseModel(n_sources_first=n_sources_first, n_sources_extra=n_sources_extra,
+                         n_harmonics=n_harmonics, n_restarts=n_restarts, max_iter=max_iter,
+                         tol=tol, seed=seed, delay_search=delay_search).fit(dataset)
 
 
 # ------------------------------------------------------------------------------------------
@@ -655,7 +716,7 @@ def _plan(d) -> StepPlan:
     return _from_mapping(StepPlan, d, actions=[(str(a), float(x)) for a, x in d["actions"]])
 
 
-class Synthesizer:
+class Synthesizer(Estimator):
     """Online synthesis of the walk-and-reach sequence from a learned :class:`Library`.
 
     A star network of Hopf oscillators runs at the current action's frequency; each source is
@@ -663,11 +724,11 @@ class Synthesizer:
     weights come from locally weighted linear regression of the step parameters and are
     blended over ``+-beta`` around each action boundary; the planner (step ranges from the
     library's training data) is re-run from the remaining distance before every boundary.
+    :meth:`fit` builds the state maps (training the SVR maps with ``map="svr"``) and the
+    weight regression from a library; :meth:`run` and :meth:`plan` use them.
 
     Parameters
     ----------
-    lib : Library
-        From :func:`fit_stepwise`.
     comfort, gamma : float
         Planner parameters (see :func:`plan_steps`).
     map : {"lut", "fourier", "svr"}
@@ -685,32 +746,63 @@ class Synthesizer:
         LWLR bandwidth (default: leave-one-out selection).
     human_like : float, optional
         Fixed normal-step length of the non-predictive planner variant.
+
+    Attributes
+    ----------
+    library_ : Library
+        The library the synthesizer was fitted on.
     """
 
-    def __init__(self, lib: Library, comfort: float = 0.6, gamma: float = 0.385,
-                 map: str = "lut", beta: float = _math.pi / 5, coupling: float = 2.0,
-                 lut_size: int = 1024, bandwidth: Optional[float] = None,
-                 human_like: Optional[float] = None, svr_C: float = 10.0,
-                 svr_epsilon: float = 0.01, svr_gamma: float = 2.0):
+    _matrix_input = False
+    _fitted_attr = "library_"
+
+    def __init__(self, comfort: float = 0.6, gamma: float = 0.385, map: str = "lut",
+                 beta: float = _math.pi / 5, coupling: float = 2.0, lut_size: int = 1024,
+                 bandwidth: Optional[float] = None, human_like: Optional[float] = None,
+                 svr_C: float = 10.0, svr_epsilon: float = 0.01, svr_gamma: float = 2.0):
+        self.comfort, self.gamma, self.map, self.beta = comfort, gamma, map, beta
+        self.coupling, self.lut_size, self.bandwidth = coupling, lut_size, bandwidth
+        self.human_like, self.svr_C, self.svr_epsilon = human_like, svr_C, svr_epsilon
+        self.svr_gamma = svr_gamma
+
+    def fit(self, X, y=None) -> "Synthesizer":
+        """Builds the synthesizer from ``X``, a :class:`Library` or a fitted
+        :class:`StepwiseModel` (its ``library_``); ``y`` is ignored. Returns ``self``.
+
+        Raises
+        ------
+        ValueError
+            ``X`` is neither, or a parameter is out of range (named).
+        """
+        lib = getattr(X, "library_", X) if isinstance(X, StepwiseModel) else X
         if not isinstance(lib, Library):
-            raise ValueError(f"`lib` must be a wscg.motion.Library, got {type(lib).__name__}")
-        if map not in MAPS:
-            raise ValueError(f"`map` must be one of {MAPS}, got {map!r}")
-        self.library = lib
-        self._s = _m.Synthesizer(
-            lib, _float("comfort", comfort), _float("gamma", gamma), map, _float("beta", beta),
-            _float("coupling", coupling), _int("lut_size", lut_size, 4, 65536),
-            _opt_float("bandwidth", bandwidth), _opt_float("human_like", human_like),
-            _float("svr_C", svr_C), _float("svr_epsilon", svr_epsilon),
-            _float("svr_gamma", svr_gamma))
+            raise ValueError("`X` must be a wscg.motion.Library or a fitted StepwiseModel, "
+                             f"got {type(X).__name__}")
+        params = self.get_params(deep=False)
+        self._s = _synthesizer(lib, params)
+        self._fit_params = params
+        self.library_ = lib
+        return self
+
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state.pop("_s", None)
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        if "library_" in state:
+            self._s = _synthesizer(self.library_, self._fit_params)
 
     @property
     def planner(self) -> dict:
         """The planner's ``comfort``, ``gamma``, ``range1``, ``range2`` and ``human_like``."""
+        self._check_fitted()
         return self._s.planner
 
     def plan(self, D: float) -> StepPlan:
         """The synthesizer's plan for a goal at distance ``D`` (as :func:`plan_steps`)."""
+        self._check_fitted()
         return _plan(self._s.plan(_float("D", D)))
 
     def run(self, goal: float = 2.6, fps: float = 120.0,
@@ -740,6 +832,7 @@ class Synthesizer:
             action boundary ``(n, 51)``, ``too_short`` (only the reach was performed) and
             ``goal``.
         """
+        self._check_fitted()
         changes = []
         for c in goal_changes:
             try:
@@ -752,9 +845,17 @@ class Synthesizer:
         return _from_mapping(Synthesis, d,
                              executed=[(str(a), float(x)) for a, x in d["executed"]])
 
-    def __repr__(self) -> str:
-        p = self.planner
-        return f"Synthesizer({self.library!r}, comfort={p['comfort']}, gamma={p['gamma']})"
+
+def _synthesizer(lib: Library, p: dict):
+    """The native synthesizer of ``lib`` with the parameters ``p`` (checked, named)."""
+    if p["map"] not in MAPS:
+        raise ValueError(f"`map` must be one of {MAPS}, got {p['map']!r}")
+    return _m.Synthesizer(
+        lib, _float("comfort", p["comfort"]), _float("gamma", p["gamma"]), p["map"],
+        _float("beta", p["beta"]), _float("coupling", p["coupling"]),
+        _int("lut_size", p["lut_size"], 4, 65536), _opt_float("bandwidth", p["bandwidth"]),
+        _opt_float("human_like", p["human_like"]), _float("svr_C", p["svr_C"]),
+        _float("svr_epsilon", p["svr_epsilon"]), _float("svr_gamma", p["svr_gamma"]))
 
 
 # ------------------------------------------------------------------------------------------

@@ -8,6 +8,7 @@ import numpy.typing as npt
 F64 = npt.NDArray[np.float64]
 C128 = npt.NDArray[np.complex128]
 I64 = npt.NDArray[np.int64]
+from ._estimator import Estimator
 
 __all__: list[str]
 
@@ -35,15 +36,6 @@ class MotionDataset:
     distances: F64
     truth: MotionTruth
 
-@dataclass(frozen=True)
-class AnechoicFit:
-    q: float
-    q_history: F64
-    sources: F64
-    source_coeffs: C128
-    delays: F64
-    weights: F64
-    reconstruction: F64
 
 @dataclass(frozen=True)
 class ActionFit:
@@ -110,10 +102,32 @@ class HopfTrajectory:
 def make_synthetic_dataset(n_trials: int = 40, seed: int = 0, noise: float = 0.01,
                            human_like: bool = False, n_samples: int = 100,
                            model_seed: int = 7) -> MotionDataset: ...
+class AnechoicModel(Estimator):
+    n_sources: int
+    delays: str
+    n_harmonics: int
+    n_restarts: int
+    max_iter: int
+    tol: float
+    seed: int
+    init: str
+    delay_search: int
+    q_: float
+    q_history_: npt.NDArray[np.float64]
+    sources_: npt.NDArray[np.float64]
+    source_coeffs_: npt.NDArray[np.complex128]
+    delays_: npt.NDArray[np.float64]
+    weights_: npt.NDArray[np.float64]
+    reconstruction_: npt.NDArray[np.float64]
+    def __init__(self, n_sources: int = 3, delays: str = "shared", n_harmonics: int = 8,
+                 n_restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
+                 init: str = "pca", delay_search: int = 128) -> None: ...
+    def fit(self, X: npt.ArrayLike, y: object = None) -> "AnechoicModel": ...
+
 def fit_anechoic(X: npt.ArrayLike, n_sources: int, delays: str = "shared",
                  n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
                  tol: float = 1e-9, seed: int = 0, init: str = "pca",
-                 delay_search: int = 128) -> AnechoicFit: ...
+                 delay_search: int = 128) -> AnechoicModel: ...
 def pca_qualities(X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
 def pca_quality(X: npt.ArrayLike, j: int) -> float: ...
 def quality(X: npt.ArrayLike, Xhat: npt.ArrayLike) -> float: ...
@@ -139,22 +153,52 @@ class Library:
     def progress(self) -> npt.NDArray[np.float64]: ...
     def params(self, a: int) -> npt.NDArray[np.float64]: ...
     def action_fit(self, a: int) -> ActionFit: ...
+    def to_json(self) -> str: ...
+    @staticmethod
+    def from_json(s: str) -> "Library": ...
 
-def fit_stepwise(dataset: Union[MotionDataset, Mapping[str, npt.ArrayLike]], n_sources_first: int = 3, n_sources_extra: int = 2,
+class StepwiseModel(Estimator):
+    n_sources_first: int
+    n_sources_extra: int
+    n_harmonics: int
+    n_restarts: int
+    max_iter: int
+    tol: float
+    seed: int
+    delay_search: int
+    library_: Library
+    def __init__(self, n_sources_first: int = 3, n_sources_extra: int = 2,
                  n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
-                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> Library: ...
+                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> None: ...
+    def fit(self, X: object, y: object = None) -> "StepwiseModel": ...
+
+def fit_stepwise(dataset: object, n_sources_first: int = 3, n_sources_extra: int = 2,
+                 n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
+                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> StepwiseModel: ...
 def plan_steps(D: float, comfort: float = 0.6, gamma: float = 0.385,
                range1: Tuple[float, float] = (0.670, 0.901),
                range2: Tuple[float, float] = (1.070, 1.439),
                human_like: Optional[float] = None, max_steps: int = 1000) -> StepPlan: ...
 
-class Synthesizer:
-    library: Library
-    def __init__(self, lib: Library, comfort: float = 0.6, gamma: float = 0.385,
+class Synthesizer(Estimator):
+    comfort: float
+    gamma: float
+    map: str
+    beta: float
+    coupling: float
+    lut_size: int
+    bandwidth: Optional[float]
+    human_like: Optional[float]
+    svr_C: float
+    svr_epsilon: float
+    svr_gamma: float
+    library_: Library
+    def __init__(self, comfort: float = 0.6, gamma: float = 0.385,
                  map: str = "lut", beta: float = ..., coupling: float = 2.0,
                  lut_size: int = 1024, bandwidth: Optional[float] = None,
                  human_like: Optional[float] = None, svr_C: float = 10.0,
                  svr_epsilon: float = 0.01, svr_gamma: float = 2.0) -> None: ...
+    def fit(self, X: "Union[Library, StepwiseModel]", y: object = None) -> "Synthesizer": ...
     @property
     def planner(self) -> Dict[str, Any]: ...
     def plan(self, D: float) -> StepPlan: ...
