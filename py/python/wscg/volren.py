@@ -766,7 +766,7 @@ def study(volume, tf, n_views: int = 4, size: int = 256, azimuth: float = 30.0,
     vol, sp, vr = _illum_source(volume, spacing, value_range)
     st = _v.illum_study(vol, _rgba_tf(tf), sp, vr, opts)
     return _from_mapping(IlluminationStudy, st,
-                         entries=[StudyEntry(**e) for e in st["entries"]])
+                         entries=[_from_mapping(StudyEntry, e) for e in st["entries"]])
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

@@ -53,7 +53,7 @@ import numpy as np
 
 from ._checks import _int, _real, integer_ranges as _integer_ranges
 from ._native import volseg as _v
-from ._results import result as _result
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
     "random_walker_bone", "RandomWalkerSession", "nearest_seed", "dice", "bone_mask",
@@ -114,18 +114,13 @@ def _solve_report(d: Dict[str, Any], labels, order=None) -> SolveReport:
     """The :class:`SolveReport` of the native report ``d``, whose per-label lists follow the
     internal labels ``1..K``: ``labels`` are the user's labels in that order, ``order`` the
     permutation that sorts them (None when they are sorted)."""
-    def per_label(key):
-        v = list(d[key])
-        return v if order is None else [v[i] for i in order]
-    labels = [int(u) for u in labels]
-    return SolveReport(
-        labels=labels if order is None else [labels[i] for i in order],
-        n_iter=[int(i) for i in per_label("iterations")],
-        residuals=[float(r) for r in per_label("residuals")],
-        converged=[bool(c) for c in per_label("converged")],
-        seconds=[float(t) for t in per_label("seconds")],
-        n_unreached=int(d["unreached"]), n_labels=int(d["n_labels"]),
-        n_nodes=int(d["n_nodes"]), n_seeds=int(d["n_seeds"]))
+    order = range(len(labels)) if order is None else order
+    per_label = lambda key: [d[key][i] for i in order]  # noqa: E731
+    return _from_mapping(
+        SolveReport, d, rename={"iterations": "n_iter", "unreached": "n_unreached"},
+        labels=[int(labels[i]) for i in order], n_iter=per_label("iterations"),
+        residuals=per_label("residuals"), converged=per_label("converged"),
+        seconds=per_label("seconds"))
 
 
 # ----------------------------------------------------------------------------------------
