@@ -155,6 +155,13 @@ def test_results_are_typed():
     text = check_result(info, iso.MeshInfo)
     assert "edges=array(shape=(%d, 4), dtype=int64)" % len(v) in text
     assert info.cells.shape[1] == 2 and info.n_fallback >= 0
+    # Each cell's configuration has bit c set when its corner (c & 1, c >> 1 & 1, c >> 2)
+    # (x, y, z offsets from the low corner) is inside.
+    flat, config = info.cells.T
+    k, j, i = np.unravel_index(flat, vol.shape)
+    bits = sum(inside[k + (c >> 2), j + (c >> 1 & 1), i + (c & 1)].astype(np.int64) << c
+               for c in range(8))
+    np.testing.assert_array_equal(bits, config)
     # Every vertex's edge crosses the level: its low end is inside on exactly one side.
     k, j, i, a = info.edges.T
     step = np.eye(3, dtype=np.int64)[a]

@@ -95,8 +95,10 @@ class MeshInfo:
         The grid edge of each vertex as ``(k, j, i, axis)``: the index of its low end and the
         array axis it runs along (0: z, 1: y, 2: x); pass it to :func:`estimate_normals`.
     cells : int64 array (k, 2)
-        Flat index (``[z, y, x]`` order) and 8-bit corner configuration of every
-        triangulated cell.
+        Every triangulated cell: the flat index of its low corner in the volume
+        (``np.ravel_multi_index((k, j, i), volume.shape)``) and its 8-bit configuration (bit
+        ``c`` set when the corner at offsets ``(x, y, z) = (c & 1, c >> 1 & 1, c >> 2)`` is
+        inside, ``f >= level``).
     """
 
     n_undefined: int

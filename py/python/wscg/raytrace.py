@@ -85,8 +85,8 @@ class PlateInfo:
     bands_nm : float64 array (B,) or None
         Wavelengths of the spectrum's bands, nanometres; None without ``keep_spectrum``.
     spectrum : float32 array (H, W, B) or None
-        Radiance per band (relative units of the lamp's spectrum); None without
-        ``keep_spectrum``.
+        Radiance per band, in the units that :func:`spectrum_to_xyz` maps to the image's
+        XYZ; None without ``keep_spectrum``.
     """
 
     flake_id: np.ndarray
