@@ -125,22 +125,20 @@ impl PyModel {
             .py_err()
     }
 
-    /// Energy of the state: kinetic, gravity, elastic, total (J).
-    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        energy_dict(
+    /// Energy of the state as a `wscg.cloth.Energy`: kinetic, gravity, elastic, total (J).
+    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        energy_out(
             py,
             &crate::pool::detach(py, || wscg_cloth::Energy::of(&self.inner))?,
         )
     }
 }
 
-fn energy_dict<'py>(py: Python<'py>, e: &wscg_cloth::Energy) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("kinetic", e.kinetic)?;
-    d.set_item("gravity", e.gravity)?;
-    d.set_item("elastic", e.elastic)?;
-    d.set_item("total", e.total)?;
-    Ok(d)
+/// `e` as the Python result class `wscg.cloth.Energy` (a named tuple, joules).
+fn energy_out<'py>(py: Python<'py>, e: &wscg_cloth::Energy) -> PyResult<Bound<'py, PyAny>> {
+    py.import("wscg.cloth")?
+        .getattr("Energy")?
+        .call1((e.kinetic, e.gravity, e.elastic, e.total))
 }
 
 /// Free particles without constraints (see `wscg.cloth.particles`).
@@ -504,9 +502,9 @@ impl PySim {
         self.inner.steps()
     }
 
-    /// Current energy.
-    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        energy_dict(py, &crate::pool::detach(py, || self.inner.energy())?)
+    /// Current energy as a `wscg.cloth.Energy`.
+    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        energy_out(py, &crate::pool::detach(py, || self.inner.energy())?)
     }
 
     /// The current state as a model.

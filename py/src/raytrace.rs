@@ -371,7 +371,14 @@ fn workshop<'py>(
     d.set_item("scores", ws.scores)?;
     d.set_item("features", ws.features)?;
     d.set_item("reference_features", ws.reference_features)?;
-    d.set_item("feature_names", paint::observer::FEATURE_NAMES.to_vec())?;
+    // The mono condition has no binocular overlap: the names of the features it has.
+    let n_features = ws.observer.std_log.len();
+    let names: Vec<&str> = paint::observer::FEATURE_NAMES
+        .iter()
+        .take(n_features)
+        .copied()
+        .collect();
+    d.set_item("feature_names", names)?;
     d.set_item("scale_log", ws.observer.std_log)?;
     Ok(d)
 }

@@ -17,17 +17,20 @@ def test_pair_shares_the_microstructure_and_is_deterministic():
     (l, li), (r, ri) = rt.render_plate("pair", return_info=True, light_deg=4.0,
                                        light_elevation_deg=75.0, **SMALL)
     assert l.shape == r.shape == (43, 43, 3) and l.dtype == np.float32
-    assert li["mm_per_px"] == pytest.approx(3.0 / 43)
-    ov = rt.binocular_overlap(li["glint_ids"], ri["glint_ids"])
+    assert li.mm_per_px == pytest.approx(3.0 / 43)
+    ov = rt.binocular_overlap(li.glint_ids, ri.glint_ids)
     assert 0.05 < ov < 0.95
     again, info = rt.render_plate("left", return_info=True, light_deg=4.0,
                                   light_elevation_deg=75.0, **SMALL)
     np.testing.assert_array_equal(again, l)
     # Every pixel's glinting flake is among the image's glinting flakes.
-    ids = info["flake_id"][info["flake_id"] != np.iinfo(np.uint64).max]
-    assert np.isin(ids, info["glint_ids"]).all() and ids.size > 0
+    ids = info.flake_id[info.flake_id != np.iinfo(np.uint64).max]
+    assert np.isin(ids, info.glint_ids).all() and ids.size > 0
     # No pixel brighter than the lamp.
-    assert l[..., 1].max() <= info["lamp_y"] * (1 + 1e-6)
+    assert l[..., 1].max() <= info.lamp_y * (1 + 1e-6)
+    text = check_result(info, rt.PlateInfo)
+    assert "flake_id=array(shape=(43, 43), dtype=uint64)" in text and info.spectrum is None
+    assert info.region_mm == pytest.approx((-1.5, -1.5, 1.5, 1.5))
 
 
 def test_white_plate_is_srgb_white_under_d65():
@@ -44,9 +47,11 @@ def test_glint_stats_against_skimage_labels(rng):
     y = (rng.random((60, 80)) < 0.03).astype(np.float32) * 5.0 + 0.1
     s = rt.glint_stats(y, 0.05)
     lab, n = label(y > 4 * np.median(y), connectivity=2, return_num=True)
-    assert s["glints"] == n
-    assert s["glint_density_per_mm2"] == pytest.approx(n / (60 * 80 * 0.05 ** 2))
-    assert s["mean_glint_area_mm2"] == pytest.approx((lab > 0).sum() / n * 0.05 ** 2)
+    check_result(s, rt.GlintStats)
+    assert s.n_glints == n
+    assert s.glint_density_per_mm2 == pytest.approx(n / (60 * 80 * 0.05 ** 2))
+    assert s.mean_glint_area_mm2 == pytest.approx((lab > 0).sum() / n * 0.05 ** 2)
+    assert s.threshold == pytest.approx(4 * np.median(y))
     with pytest.raises(ValueError):
         rt.glint_stats(np.full((4, 4), np.nan), 0.1)
 
@@ -227,9 +232,14 @@ def test_plate_layout_places_the_pool_on_the_cells():
 def test_workshop_scores_the_reference_above_a_far_plate():
     res = rt.workshop(reference=(26.0, 7.3), runs=[(26.0, 7.3), (45.0, 3.5)], condition="mono",
                       n_reference_renders=2, spp=4)
-    assert res["runs"] == [(26.0, 7.3), (45.0, 3.5)]
-    assert len(res["features"]) == 2 and len(res["feature_names"]) == 5
-    near, far = res["scores"]
+    check_result(res, rt.WorkshopScores)
+    assert res.runs == [(26.0, 7.3), (45.0, 3.5)]
+    # Mono: the four sparkle statistics, no binocular overlap.
+    assert res.feature_names == ["glint density", "mean luminance", "mean glint peak / lamp",
+                                 "mean glint area"]
+    assert res.features.shape == res.reference_features.shape == (2, 4)
+    assert res.scale_log.shape == (4,)
+    near, far = res.scores
     assert 0.0 <= near < far <= 10.0
     with pytest.raises(ValueError):
         rt.workshop(runs=[(26.0, 7.3)], condition="both")
@@ -238,8 +248,8 @@ def test_workshop_scores_the_reference_above_a_far_plate():
 def test_spectrum_output_integrates_to_the_xyz_image():
     img, info = rt.render_plate("left", return_info=True, keep_spectrum=True, light_deg=3.0,
                                 light_elevation_deg=75.0, **SMALL)
-    spec = info["spectrum"]
-    assert spec.shape == img.shape[:2] + (81,) and info["bands_nm"][0] == 380.0
+    spec = info.spectrum
+    assert spec.shape == img.shape[:2] + (81,) and info.bands_nm[0] == 380.0
     y, x = np.unravel_index(np.argmax(img[..., 1]), img.shape[:2])
     assert img[y, x, 1] > 0
     np.testing.assert_allclose(rt.spectrum_to_xyz(spec[y, x]), img[y, x], rtol=1e-4)
