@@ -580,7 +580,7 @@ def test_results_are_typed(clean, occluded, matcher):
     base = matcher.identify_baseline(img)
     check_result(base, ear.Ranking)
     assert base.order.shape == base.scores.shape == (len(matcher),)
-    s = ear.score(img, matcher.templates[0])
+    s = ear.score(img, matcher.templates_[0])
     check_result(s, ear.MatchScore)
     assert set(s.rules) == set(ear.RULES) and s.score == s.rules["blockwise-max"]
     assert (s.occluded_pct, s.rejected) == (d.occluded_pct, d.rejected)

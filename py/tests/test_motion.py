@@ -171,7 +171,7 @@ def test_results_are_typed(data, lib, synthesis, clean_action1, tmp_path):
     plan = M.plan_steps(2.6)
     assert "actions=[('step', 0.77), ('short_step', 1.23), ('reach', 0)]," in check_result(
         plan, M.StepPlan)
-    syn = M.Synthesizer(lib)
+    syn = M.Synthesizer().fit(lib)
     p = syn.planner
     assert syn.plan(2.6) == M.plan_steps(2.6, p["comfort"], p["gamma"], p["range1"],
                                          p["range2"])
