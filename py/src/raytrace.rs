@@ -236,7 +236,7 @@ fn make_tile<'py>(py: Python<'py>, params: Bound<'py, PyDict>) -> PyResult<(Arr<
     let v: Vec<f64> = t
         .flakes
         .iter()
-        .flat_map(|f| [f.c.x, f.c.y, f.c.z, f.n.x, f.n.y, f.n.z, f.r])
+        .flat_map(|f| [f.c[0], f.c[1], f.c[2], f.n[0], f.n[1], f.n[2], f.r])
         .collect();
     Ok((array(py, &[t.flakes.len(), 7], v)?, t.clamped))
 }
@@ -264,7 +264,7 @@ fn plate_layout<'py>(
             let v: Vec<f64> = t
                 .flakes
                 .iter()
-                .flat_map(|f| [f.c.x, f.c.y, f.c.z, f.n.x, f.n.y, f.n.z, f.r])
+                .flat_map(|f| [f.c[0], f.c[1], f.c[2], f.n[0], f.n[1], f.n[2], f.r])
                 .collect();
             array(py, &[t.flakes.len(), 7], v)
         })
@@ -439,9 +439,7 @@ fn project<'py>(
     let rig = StereoRig::default();
     let mut out = Vec::with_capacity(2 * pts.len());
     for p in pts {
-        let (x, y) = rig
-            .project(e, nalgebra::Vector3::new(p[0], p[1], p[2]))
-            .unwrap_or((f64::NAN, f64::NAN));
+        let (x, y) = rig.project(e, p).unwrap_or((f64::NAN, f64::NAN));
         out.extend([x, y]);
     }
     array(py, &[out.len() / 2, 2], out)
