@@ -16,7 +16,7 @@ use nalgebra::{Matrix2, Matrix3, Vector3};
 use wscg_math::{Error, Result};
 
 /// One membrane triangle.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FemTri {
     /// Vertex indices.
     pub idx: [usize; 3],

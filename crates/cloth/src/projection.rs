@@ -25,7 +25,7 @@ use crate::model::ClothModel;
 type V3 = Vector3<f64>;
 
 /// How the constraints of one sweep are visited.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Relaxation {
     /// Sequential Gauss-Seidel in creation order (links, triangles, rollers, contacts).
     #[default]

@@ -33,7 +33,7 @@ use std::f64::consts::TAU;
 use wscg_math::{Error, Result};
 
 /// How delays are constrained.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum DelayMode {
     /// One delay per (channel, source), equal over trials (the paper's model).
     Shared,
@@ -153,7 +153,7 @@ impl AnechoicParams {
 }
 
 /// A fitted anechoic model.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct AnechoicModel {
     /// `R`.
     pub n_trials: usize,

@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use std::f64::consts::TAU;
 
 /// A real, zero-mean, 1-periodic Fourier series stored by its positive harmonics `c_1..c_K`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PeriodicSource {
     /// `c_k` for `k = 1..=K` (index `k − 1`).
     pub coeffs: Vec<Complex64>,

@@ -34,7 +34,12 @@ pub struct Triangle {
 impl Triangle {
     /// The triangle `a, b, c`; `None` when degenerate (zero area).
     pub fn new(a: Vector3<f64>, b: Vector3<f64>, c: Vector3<f64>) -> Option<Self> {
-        let (e1, e2) = (b - a, c - a);
+        Self::from_edges(a, b - a, c - a)
+    }
+
+    /// The triangle with first vertex `p0` and edges `e1 = p1 - p0`, `e2 = p2 - p0` (the
+    /// fields of a triangle, which rebuild it exactly); `None` when degenerate.
+    pub fn from_edges(a: Vector3<f64>, e1: Vector3<f64>, e2: Vector3<f64>) -> Option<Self> {
         let n = e1.cross(&e2);
         let len = n.norm();
         let scale = e1.norm() * e2.norm();
@@ -102,6 +107,27 @@ pub struct Hit {
     pub normal: Vector3<f64>,
 }
 
+/// Checks per-face albedos (finite, in `[0, 1]`) and emissions (finite, `>= 0`).
+fn check_materials(albedo: &[Rgb], emission: &[Rgb]) -> Result<()> {
+    for (i, (a, e)) in albedo.iter().zip(emission).enumerate() {
+        if a.iter()
+            .any(|c| !(c.is_finite() && (0.0..=1.0).contains(c)))
+        {
+            return Err(Error::invalid(
+                "albedo",
+                format!("face {i}: {a:?} must lie in [0, 1]"),
+            ));
+        }
+        if e.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
+            return Err(Error::invalid(
+                "emission",
+                format!("face {i}: {e:?} must be finite and >= 0"),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// A scene of Lambertian triangles with per-triangle albedo and emitted radiance.
 #[derive(Clone, Debug)]
 pub struct Scene {
@@ -147,22 +173,7 @@ impl Scene {
                 });
             }
         }
-        for (i, (a, e)) in albedo.iter().zip(emission).enumerate() {
-            if a.iter()
-                .any(|c| !(c.is_finite() && (0.0..=1.0).contains(c)))
-            {
-                return Err(Error::invalid(
-                    "albedo",
-                    format!("face {i}: {a:?} must lie in [0, 1]"),
-                ));
-            }
-            if e.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
-                return Err(Error::invalid(
-                    "emission",
-                    format!("face {i}: {e:?} must be finite and >= 0"),
-                ));
-            }
-        }
+        check_materials(albedo, emission)?;
         let mut tris = Vec::with_capacity(faces.len());
         let mut alb = Vec::with_capacity(faces.len());
         let mut emi = Vec::with_capacity(faces.len());
@@ -189,6 +200,42 @@ impl Scene {
         }
         if tris.is_empty() {
             return Err(Error::invalid("faces", "every triangle is degenerate"));
+        }
+        Self::from_parts(tris, alb, emi, skipped)
+    }
+
+    /// A scene from its parts: the triangles (see [`Triangle::from_edges`]), their albedo and
+    /// emission, and the count of degenerate input triangles that were skipped. The parts of
+    /// a scene ([`Self::triangles`], [`Self::albedo`], [`Self::emission`],
+    /// [`Self::skipped_degenerate`]) rebuild the same scene.
+    ///
+    /// Errors: no triangle, per-triangle arrays of another length, a negative or non-finite
+    /// albedo or emission, an albedo above 1, a non-finite triangle.
+    pub fn from_parts(
+        tris: Vec<Triangle>,
+        alb: Vec<Rgb>,
+        emi: Vec<Rgb>,
+        skipped: usize,
+    ) -> Result<Self> {
+        if tris.is_empty() {
+            return Err(Error::Empty("triangles"));
+        }
+        if alb.len() != tris.len() || emi.len() != tris.len() {
+            return Err(Error::ShapeMismatch(format!(
+                "{} triangles but {} albedos and {} emissions",
+                tris.len(),
+                alb.len(),
+                emi.len()
+            )));
+        }
+        check_materials(&alb, &emi)?;
+        if let Some(index) = tris.iter().position(|t| {
+            !(t.p0.iter().chain(&t.e1).chain(&t.e2).all(|c| c.is_finite()) && t.area > 0.0)
+        }) {
+            return Err(Error::NonFinite {
+                name: "triangles",
+                index,
+            });
         }
         let boxes: Vec<Aabb> = tris.iter().map(Triangle::bounds).collect();
         let bounds = boxes.iter().fold(Aabb::empty(), |a, b| a.union(b));
