@@ -786,7 +786,11 @@ fn rgb_image_in(name: &str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<Image<f32>>
 
 /// Mean absolute RGB difference of two images (the paper's Table 1 error).
 #[pyfunction]
-fn mean_abs_diff(a: PyReadonlyArrayDyn<'_, f32>, b: PyReadonlyArrayDyn<'_, f32>) -> PyResult<f64> {
+fn mean_abs_diff(
+    py: Python<'_>,
+    a: PyReadonlyArrayDyn<'_, f32>,
+    b: PyReadonlyArrayDyn<'_, f32>,
+) -> PyResult<f64> {
     if a.shape() != b.shape() {
         return Err(value_error(format!(
             "`a` and `b` must have the same shape, got {:?} and {:?}",
@@ -798,7 +802,7 @@ fn mean_abs_diff(a: PyReadonlyArrayDyn<'_, f32>, b: PyReadonlyArrayDyn<'_, f32>)
     if a.height() == 0 || a.width() == 0 {
         return Err(value_error("`a` and `b` are empty images"));
     }
-    study::mean_abs_diff(&a, &b).py_err()
+    crate::pool::detach(py, || study::mean_abs_diff(&a, &b)).py_err()
 }
 
 /// The quality and speed study over orbit views (see `wscg.volren.study`).

@@ -321,7 +321,11 @@ fn pca_quality(py: Python<'_>, x: PyReadonlyArrayDyn<f64>, j: usize) -> PyResult
 
 /// `Q = 1 - ||X - Xhat||^2 / ||X||^2` for arrays of the same shape.
 #[pyfunction]
-fn quality(x: PyReadonlyArrayDyn<f64>, xhat: PyReadonlyArrayDyn<f64>) -> PyResult<f64> {
+fn quality(
+    py: Python<'_>,
+    x: PyReadonlyArrayDyn<f64>,
+    xhat: PyReadonlyArrayDyn<f64>,
+) -> PyResult<f64> {
     if x.shape() != xhat.shape() {
         return Err(value_error(format!(
             "shape mismatch: `x` has shape {:?}, `xhat` {:?}",
@@ -335,7 +339,7 @@ fn quality(x: PyReadonlyArrayDyn<f64>, xhat: PyReadonlyArrayDyn<f64>) -> PyResul
     let n = a.len();
     let xs = TrialSet::new(1, 1, n, a.into_owned()).py_err()?;
     let ys = TrialSet::new(1, 1, n, b.into_owned()).py_err()?;
-    quality_rs(&xs, &ys).py_err()
+    crate::pool::detach(py, || quality_rs(&xs, &ys)).py_err()
 }
 
 // ------------------------------------------------------------------------------------------
