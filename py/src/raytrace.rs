@@ -310,8 +310,13 @@ fn glint_statistics<'py>(
 
 /// Dice overlap of two sets of flake ids.
 #[pyfunction]
-fn overlap(left: PyReadonlyArrayDyn<u64>, right: PyReadonlyArrayDyn<u64>) -> f64 {
-    binocular_overlap(&values(&left), &values(&right))
+fn overlap(
+    py: Python<'_>,
+    left: PyReadonlyArrayDyn<u64>,
+    right: PyReadonlyArrayDyn<u64>,
+) -> PyResult<f64> {
+    let (l, r) = (values(&left), values(&right));
+    crate::pool::detach(py, || binocular_overlap(&l, &r))
 }
 
 /// The virtual workshop: scores of `runs` against the hidden reference.

@@ -489,3 +489,18 @@ def test_copies_run_in_threads_at_once():
            session.probabilities()]
     _same(out[0], ref)
     _same(out[1], ref)
+
+
+def test_models_travel_to_spawned_workers():
+    """A fresh interpreter (the ``spawn`` start method, as Dask and Ray workers are) unpickles
+    a simulation and a session and continues them exactly as the original does."""
+    import concurrent.futures as cf
+    import multiprocessing as mp
+    import operator
+
+    sim, session = _sim(), _session()
+    with cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn")) as ex:
+        stepped = ex.submit(operator.methodcaller("step", 0.01, 4), sim)
+        labels = ex.submit(operator.methodcaller("labels"), session)
+        got = [stepped.result(), labels.result()]
+    _same(got, [sim.step(0.01, 4), session.labels()])
