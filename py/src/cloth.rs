@@ -127,6 +127,19 @@ impl PyModel {
             &crate::pool::detach(py, || wscg_cloth::Energy::of(&self.inner))?,
         )
     }
+
+    /// Pickles as the model's state (particles, constraints, gravity).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<crate::state::Reduced<'py>> {
+        crate::state::reduce(py, "cloth", "_model_from_state", &self.inner)
+    }
+}
+
+/// A model from the state that `Model.__reduce__` pickles.
+#[pyfunction]
+fn _model_from_state(py: Python<'_>, state: &[u8]) -> PyResult<PyModel> {
+    let inner: ClothModel = crate::state::from_bytes(py, "cloth model", state)?;
+    inner.validate().py_err()?;
+    Ok(PyModel { inner })
 }
 
 /// `e` as the Python result class `wscg.cloth.Energy` (a named tuple, joules).
@@ -238,6 +251,19 @@ impl PyCollider {
     fn __repr__(&self) -> String {
         format!("{:?}", self.inner)
     }
+
+    /// Pickles as the obstacle's parameters (a mesh as its vertices and triangles).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<crate::state::Reduced<'py>> {
+        crate::state::reduce(py, "cloth", "_collider_from_state", &self.inner)
+    }
+}
+
+/// An obstacle from the state that `Collider.__reduce__` pickles.
+#[pyfunction]
+fn _collider_from_state(py: Python<'_>, state: &[u8]) -> PyResult<PyCollider> {
+    let inner: Collider = crate::state::from_bytes(py, "cloth collider", state)?;
+    inner.validate().py_err()?;
+    Ok(PyCollider { inner })
 }
 
 /// The half-space above the plane through `point` with outward `normal`.
@@ -507,6 +533,20 @@ impl PySim {
             inner: self.inner.model().clone(),
         }
     }
+
+    /// Pickles as the simulation's state (model, parameters, multipliers of the last step,
+    /// step count, collisions): the copy steps exactly as the original.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<crate::state::Reduced<'py>> {
+        crate::state::reduce(py, "cloth", "_sim_from_state", &self.inner)
+    }
+}
+
+/// A simulation from the state that `Sim.__reduce__` pickles.
+#[pyfunction]
+fn _sim_from_state(py: Python<'_>, state: &[u8]) -> PyResult<PySim> {
+    Ok(PySim {
+        inner: crate::state::from_bytes(py, "cloth simulation", state)?,
+    })
 }
 
 /// Registers the submodule's functions and classes.
@@ -521,5 +561,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sphere, m)?)?;
     m.add_function(wrap_pyfunction!(capsule, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_collider, m)?)?;
+    m.add_function(wrap_pyfunction!(_model_from_state, m)?)?;
+    m.add_function(wrap_pyfunction!(_collider_from_state, m)?)?;
+    m.add_function(wrap_pyfunction!(_sim_from_state, m)?)?;
     Ok(())
 }

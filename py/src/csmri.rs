@@ -170,19 +170,14 @@ impl PyUdct {
     /// Dense windows in FFT order: the low-pass first, then every band.
     fn windows<'py>(&self, py: Python<'py>) -> PyResult<Vec<Arr<'py, f64>>> {
         let (r, c) = self.inner.shape();
-        let mut out = vec![array(
-            py,
-            &[r, c],
-            self.inner.window(None).expect("low-pass"),
-        )?];
-        for b in 0..self.inner.bands().len() {
-            out.push(array(
-                py,
-                &[r, c],
-                self.inner.window(Some(b)).expect("band"),
-            )?);
-        }
-        Ok(out)
+        let u = &self.inner;
+        let windows: Vec<Vec<f64>> = crate::pool::detach(py, || {
+            std::iter::once(None)
+                .chain((0..u.bands().len()).map(Some))
+                .map(|b| u.window(b).expect("low-pass and bands exist"))
+                .collect()
+        })?;
+        windows.into_iter().map(|w| array(py, &[r, c], w)).collect()
     }
 }
 
@@ -288,9 +283,13 @@ impl PyFdct {
     /// Dense windows in FFT order, one per band.
     fn windows<'py>(&self, py: Python<'py>) -> PyResult<Vec<Arr<'py, f64>>> {
         let (r, c) = self.inner.shape();
-        (0..self.inner.bands().len())
-            .map(|b| array(py, &[r, c], self.inner.window(b).expect("band")))
-            .collect()
+        let f = &self.inner;
+        let windows: Vec<Vec<f64>> = crate::pool::detach(py, || {
+            (0..f.bands().len())
+                .map(|b| f.window(b).expect("band exists"))
+                .collect()
+        })?;
+        windows.into_iter().map(|w| array(py, &[r, c], w)).collect()
     }
 }
 

@@ -561,7 +561,7 @@ fn make_gyro<'py>(
         .std([std.0, std.1, std.2])
         .t0(t0)
         .duration(duration);
-    let s = synth::ou_gyro(&p, seed).py_err()?;
+    let s = crate::pool::detach(py, || synth::ou_gyro(&p, seed)).py_err()?;
     samples_out(py, &s)
 }
 
@@ -573,7 +573,7 @@ fn add_gyro_noise<'py>(
     seed: u64,
 ) -> PyResult<Arr<'py, f64>> {
     let s = samples_in(&gyro)?;
-    let out = synth::add_gyro_noise(&s, sigma, seed).py_err()?;
+    let out = crate::pool::detach(py, || synth::add_gyro_noise(&s, sigma, seed)).py_err()?;
     samples_out(py, &out)
 }
 

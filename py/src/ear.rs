@@ -843,7 +843,9 @@ fn skin_eval_rg<'py>(
         "marginal_g" => |m, r, g| m.marginal_likelihoods_rg(r, g).1,
         other => return Err(value_error(format!("unknown skin quantity {other:?}"))),
     };
-    let out = r.iter().zip(g.iter()).map(|(&r, &g)| f(&m, r, g)).collect();
+    let out = crate::pool::detach(py, || {
+        r.iter().zip(g.iter()).map(|(&r, &g)| f(&m, r, g)).collect()
+    })?;
     vec_out(py, out)
 }
 
@@ -862,10 +864,12 @@ fn skin_likelihood<'py>(
             rgb.shape()
         )));
     }
-    let out = values(&rgb)
-        .chunks_exact(3)
-        .map(|c| m.likelihood([c[0], c[1], c[2]]))
-        .collect();
+    let rgb = values(&rgb);
+    let out = crate::pool::detach(py, || {
+        rgb.chunks_exact(3)
+            .map(|c| m.likelihood([c[0], c[1], c[2]]))
+            .collect()
+    })?;
     vec_out(py, out)
 }
 
@@ -905,7 +909,8 @@ fn equalize_hist<'py>(
         }
         None => None,
     };
-    let out = tone::equalize_hist_within(&values(&gray), sel.as_deref());
+    let gray = values(&gray);
+    let out = crate::pool::detach(py, || tone::equalize_hist_within(&gray, sel.as_deref()))?;
     array(py, &[h, w], out)
 }
 

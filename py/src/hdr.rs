@@ -347,7 +347,9 @@ fn khan_weight<'py>(
             "`z` contains a non-finite value (NaN or infinity)",
         ));
     }
-    let out = v.iter().map(|&x| wscg_hdr::khan_weight(x, z_max)).collect();
+    let out = crate::pool::detach(py, || {
+        v.iter().map(|&x| wscg_hdr::khan_weight(x, z_max)).collect()
+    })?;
     array(py, &shape, out)
 }
 

@@ -332,6 +332,38 @@ impl IllumVolume {
         let [x, y, z] = self.field.spacing();
         (z, y, x)
     }
+
+    /// Pickles as the normalised field `[z, y, x]` (float32 in `[0, 1]`) and the spacing; the
+    /// empty-space cells and shading bricks are rebuilt on first use.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Arr<'py, f32>, (f64, f64, f64)))> {
+        let (nz, ny, nx) = self.shape();
+        let data = array(py, &[nz, ny, nx], self.field.data().to_vec())?;
+        let restore = py
+            .import("wscg._native.volren")?
+            .getattr("_illum_from_normalised")?;
+        Ok((restore, (data, self.spacing())))
+    }
+}
+
+/// A prepared volume from the normalised field and spacing that `IllumVolume.__reduce__`
+/// pickles.
+#[pyfunction]
+fn _illum_from_normalised(
+    py: Python<'_>,
+    field: PyReadonlyArrayDyn<'_, f32>,
+    spacing: [f64; 3],
+) -> PyResult<IllumVolume> {
+    let [nz, ny, nx] = dims3("field", field.shape())?;
+    let data = values(&field).into_owned();
+    let field = crate::pool::detach(py, || {
+        ScalarField::from_f32(Volume::new([nx, ny, nz], spacing_xyz(spacing), data)?)
+    })
+    .py_err()?;
+    Ok(IllumVolume { field })
 }
 
 /// The field of a render's `volume` argument: a prepared volume as it is, an array normalised
@@ -754,7 +786,11 @@ fn rgb_image_in(name: &str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<Image<f32>>
 
 /// Mean absolute RGB difference of two images (the paper's Table 1 error).
 #[pyfunction]
-fn mean_abs_diff(a: PyReadonlyArrayDyn<'_, f32>, b: PyReadonlyArrayDyn<'_, f32>) -> PyResult<f64> {
+fn mean_abs_diff(
+    py: Python<'_>,
+    a: PyReadonlyArrayDyn<'_, f32>,
+    b: PyReadonlyArrayDyn<'_, f32>,
+) -> PyResult<f64> {
     if a.shape() != b.shape() {
         return Err(value_error(format!(
             "`a` and `b` must have the same shape, got {:?} and {:?}",
@@ -766,7 +802,7 @@ fn mean_abs_diff(a: PyReadonlyArrayDyn<'_, f32>, b: PyReadonlyArrayDyn<'_, f32>)
     if a.height() == 0 || a.width() == 0 {
         return Err(value_error("`a` and `b` are empty images"));
     }
-    study::mean_abs_diff(&a, &b).py_err()
+    crate::pool::detach(py, || study::mean_abs_diff(&a, &b)).py_err()
 }
 
 /// The quality and speed study over orbit views (see `wscg.volren.study`).
@@ -893,6 +929,7 @@ fn illum_study<'py>(
 /// Registers the paper-15 functions into the `volren` submodule.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<IllumVolume>()?;
+    m.add_function(wrap_pyfunction!(_illum_from_normalised, m)?)?;
     m.add_function(wrap_pyfunction!(illum_render, m)?)?;
     m.add_function(wrap_pyfunction!(illum_light_buffer, m)?)?;
     m.add_function(wrap_pyfunction!(illum_study, m)?)?;

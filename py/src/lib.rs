@@ -34,6 +34,7 @@ mod octree;
 mod pool;
 mod raytrace;
 mod sfa;
+mod state;
 mod video;
 mod volren;
 mod volseg;
@@ -65,10 +66,16 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         ("gait", gait::register),
         ("volseg", volseg::register),
     ];
+    // Each submodule is importable by its full name (`wscg._native.cloth`, ...), the
+    // `__module__` of its classes and functions, so that pickle finds them by reference:
+    // the native objects pickle by naming a class or a function of their submodule.
+    let modules = m.py().import("sys")?.getattr("modules")?;
     for (name, register) in subs {
-        let sub = PyModule::new(m.py(), name)?;
+        let full = format!("wscg._native.{name}");
+        let sub = PyModule::new(m.py(), &full)?;
         register(&sub)?;
-        m.add_submodule(&sub)?;
+        m.add(name, &sub)?;
+        modules.set_item(&full, &sub)?;
     }
     Ok(())
 }

@@ -8,7 +8,7 @@ use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
 use wscg_math::vec3::add;
 use wscg_raytrace::manylight::{
-    load_obj, run, scenes, Camera, Interp, ManyLightParams, Method, Scene,
+    load_obj, run, scenes, Camera, Interp, ManyLightParams, Method, Scene, Triangle,
 };
 
 use crate::convert::{array, rows3, values, Arr, Cfg};
@@ -118,6 +118,43 @@ impl PyScene {
         array(py, &[hit.len()], hit)
     }
 
+    /// Pickles as the scene's parts: the triangles as `(p0, e1, e2)` rows `(F, 3, 3)`, albedo
+    /// and emission `(F, 3)`, the skipped count and the camera (the hierarchy is rebuilt).
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(
+        Bound<'py, PyAny>,
+        (
+            Arr<'py, f64>,
+            Arr<'py, f64>,
+            Arr<'py, f64>,
+            usize,
+            Bound<'py, PyDict>,
+        ),
+    )> {
+        let t = self.scene.triangles();
+        let tris = t
+            .iter()
+            .flat_map(|t| [t.p0, t.e1, t.e2])
+            .flatten()
+            .collect();
+        let restore = py
+            .import("wscg._native.raytrace")?
+            .getattr("_manylight_scene_from_parts")?;
+        Ok((
+            restore,
+            (
+                array(py, &[t.len(), 3, 3], tris)?,
+                self.triangle_albedo(py)?,
+                self.triangle_emission(py)?,
+                self.scene.skipped_degenerate,
+                camera_dict(py, &self.camera)?,
+            ),
+        ))
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "ManyLightScene({} triangles, {} emitters, camera {} x {})",
@@ -173,6 +210,40 @@ fn manylight_from_arrays(
     let e = rows3("emission", &values(&emission), emission.shape())?;
     let scene = crate::pool::detach(py, || Scene::from_triangles(&v, &f, &a, &e)).py_err()?;
     let camera = camera_from(camera, &default_camera())?;
+    Ok(PyScene { scene, camera })
+}
+
+/// A scene from the parts that `ManyLightScene.__reduce__` pickles.
+#[pyfunction]
+fn _manylight_scene_from_parts(
+    py: Python<'_>,
+    triangles: PyReadonlyArrayDyn<f64>,
+    albedo: PyReadonlyArrayDyn<f64>,
+    emission: PyReadonlyArrayDyn<f64>,
+    skipped: usize,
+    camera: &Bound<'_, PyDict>,
+) -> PyResult<PyScene> {
+    let rows = match triangles.shape() {
+        [f, 3, 3] => rows3("triangles", &values(&triangles), &[f * 3, 3])?,
+        s => {
+            return Err(crate::errors::value_error(format!(
+                "`triangles` must have shape (F, 3, 3), got {s:?}"
+            )))
+        }
+    };
+    let tris = rows
+        .chunks_exact(3)
+        .enumerate()
+        .map(|(i, r)| {
+            Triangle::from_edges(r[0], r[1], r[2]).ok_or_else(|| {
+                crate::errors::value_error(format!("triangle {i} of `triangles` is degenerate"))
+            })
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let a = rows3("albedo", &values(&albedo), albedo.shape())?;
+    let e = rows3("emission", &values(&emission), emission.shape())?;
+    let scene = crate::pool::detach(py, || Scene::from_parts(tris, a, e, skipped)).py_err()?;
+    let camera = camera_from(Some(camera), &default_camera())?;
     Ok(PyScene { scene, camera })
 }
 
@@ -261,6 +332,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyScene>()?;
     m.add_function(wrap_pyfunction!(make_manylight_scene, m)?)?;
     m.add_function(wrap_pyfunction!(manylight_from_arrays, m)?)?;
+    m.add_function(wrap_pyfunction!(_manylight_scene_from_parts, m)?)?;
     m.add_function(wrap_pyfunction!(load_manylight_obj, m)?)?;
     m.add_function(wrap_pyfunction!(manylight_render, m)?)?;
     Ok(())

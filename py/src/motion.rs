@@ -321,7 +321,11 @@ fn pca_quality(py: Python<'_>, x: PyReadonlyArrayDyn<f64>, j: usize) -> PyResult
 
 /// `Q = 1 - ||X - Xhat||^2 / ||X||^2` for arrays of the same shape.
 #[pyfunction]
-fn quality(x: PyReadonlyArrayDyn<f64>, xhat: PyReadonlyArrayDyn<f64>) -> PyResult<f64> {
+fn quality(
+    py: Python<'_>,
+    x: PyReadonlyArrayDyn<f64>,
+    xhat: PyReadonlyArrayDyn<f64>,
+) -> PyResult<f64> {
     if x.shape() != xhat.shape() {
         return Err(value_error(format!(
             "shape mismatch: `x` has shape {:?}, `xhat` {:?}",
@@ -335,7 +339,7 @@ fn quality(x: PyReadonlyArrayDyn<f64>, xhat: PyReadonlyArrayDyn<f64>) -> PyResul
     let n = a.len();
     let xs = TrialSet::new(1, 1, n, a.into_owned()).py_err()?;
     let ys = TrialSet::new(1, 1, n, b.into_owned()).py_err()?;
-    quality_rs(&xs, &ys).py_err()
+    crate::pool::detach(py, || quality_rs(&xs, &ys)).py_err()
 }
 
 // ------------------------------------------------------------------------------------------
@@ -538,6 +542,11 @@ impl PyLibrary {
         })
     }
 
+    /// Pickles as the learned library's state (sources, delays, fits, progress).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<crate::state::Reduced<'py>> {
+        crate::state::reduce(py, "motion", "_library_from_state", &self.inner)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Library(n_sources={}, n_channels={}, n_samples={}, q_total={:.6})",
@@ -547,6 +556,14 @@ impl PyLibrary {
             self.inner.q_total
         )
     }
+}
+
+/// A library from the state that `Library.__reduce__` pickles.
+#[pyfunction]
+fn _library_from_state(py: Python<'_>, state: &[u8]) -> PyResult<PyLibrary> {
+    let inner: ActionLibrary = crate::state::from_bytes(py, "motion library", state)?;
+    inner.validate().py_err()?;
+    Ok(PyLibrary { inner })
 }
 
 /// Step-wise learning of the three actions from a dataset's arrays.
@@ -1061,6 +1078,7 @@ fn hopf_simulate<'py>(
 /// Registers the submodule's functions and classes.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyLibrary>()?;
+    m.add_function(wrap_pyfunction!(_library_from_state, m)?)?;
     m.add_class::<PySynthesizer>()?;
     m.add_function(wrap_pyfunction!(make_synthetic_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(fit_anechoic, m)?)?;

@@ -283,12 +283,14 @@ impl PyOctree {
                 self.inner.max_depth
             )));
         }
-        let cells = self.inner.occupancy(level);
-        let data = cells
-            .iter()
-            .flat_map(|&[i, j, k]| [k, j, i].map(i64::from))
-            .collect();
-        array(py, &[cells.len(), 3], data)
+        let o = &self.inner;
+        let data: Vec<i64> = crate::pool::detach(py, || {
+            o.occupancy(level)
+                .iter()
+                .flat_map(|&[i, j, k]| [k, j, i].map(i64::from))
+                .collect()
+        })?;
+        array(py, &[data.len() / 3, 3], data)
     }
 
     /// Voxel colours (RGB in [0, 1]) and unit normals of every non-empty node, in node order,
@@ -298,15 +300,18 @@ impl PyOctree {
         py: Python<'py>,
     ) -> PyResult<(Arr<'py, f32>, Arr<'py, f32>, Arr<'py, i64>)> {
         let o = &self.inner;
-        let levels = o.node_levels();
-        let mut lv = Vec::with_capacity(o.voxels.len());
-        for (i, n) in o.nodes.iter().enumerate() {
-            if !n.is_empty() {
-                lv.push(i64::from(levels[i]));
+        let (c, nn, lv) = crate::pool::detach(py, || {
+            let levels = o.node_levels();
+            let mut lv = Vec::with_capacity(o.voxels.len());
+            for (i, n) in o.nodes.iter().enumerate() {
+                if !n.is_empty() {
+                    lv.push(i64::from(levels[i]));
+                }
             }
-        }
-        let c = o.voxels.iter().flat_map(|v| v.color()).collect();
-        let nn = o.voxels.iter().flat_map(|v| v.normal()).collect();
+            let c: Vec<f32> = o.voxels.iter().flat_map(|v| v.color()).collect();
+            let nn: Vec<f32> = o.voxels.iter().flat_map(|v| v.normal()).collect();
+            (c, nn, lv)
+        })?;
         let m = o.voxels.len();
         Ok((
             array(py, &[m, 3], c)?,

@@ -292,9 +292,10 @@ fn glint_statistics<'py>(
         )));
     };
     let y = values(&y);
-    let s = ImageView::plane(h, w, &y)
-        .and_then(|y| glint_stats(y, mm_per_px))
-        .py_err()?;
+    let s = crate::pool::detach(py, || {
+        ImageView::plane(h, w, &y).and_then(|y| glint_stats(y, mm_per_px))
+    })
+    .py_err()?;
     let d = PyDict::new(py);
     d.set_item("glint_density_per_mm2", s.glint_density_per_mm2)?;
     d.set_item("mean_y", s.mean_y)?;
@@ -309,8 +310,13 @@ fn glint_statistics<'py>(
 
 /// Dice overlap of two sets of flake ids.
 #[pyfunction]
-fn overlap(left: PyReadonlyArrayDyn<u64>, right: PyReadonlyArrayDyn<u64>) -> f64 {
-    binocular_overlap(&values(&left), &values(&right))
+fn overlap(
+    py: Python<'_>,
+    left: PyReadonlyArrayDyn<u64>,
+    right: PyReadonlyArrayDyn<u64>,
+) -> PyResult<f64> {
+    let (l, r) = (values(&left), values(&right));
+    crate::pool::detach(py, || binocular_overlap(&l, &r))
 }
 
 /// The virtual workshop: scores of `runs` against the hidden reference.
@@ -437,11 +443,14 @@ fn project<'py>(
     let e = eye_of(eye)?;
     let pts = crate::convert::rows3("points", &values(&points), points.shape())?;
     let rig = StereoRig::default();
-    let mut out = Vec::with_capacity(2 * pts.len());
-    for p in pts {
-        let (x, y) = rig.project(e, p).unwrap_or((f64::NAN, f64::NAN));
-        out.extend([x, y]);
-    }
+    let out: Vec<f64> = crate::pool::detach(py, || {
+        pts.iter()
+            .flat_map(|p| {
+                let (x, y) = rig.project(e, *p).unwrap_or((f64::NAN, f64::NAN));
+                [x, y]
+            })
+            .collect()
+    })?;
     array(py, &[out.len() / 2, 2], out)
 }
 

@@ -161,6 +161,35 @@ impl PyServer {
         self.inner.octree().structure.node_counts()
     }
 
+    /// Pickles as the constructor's arguments (volume, transfer functions, canonical index,
+    /// steps sent, quantisation step): the server is a function of them.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(
+        Bound<'py, pyo3::types::PyType>,
+        (Arr<'py, u8>, Vec<Arr<'py, f64>>, usize, u8, f32),
+    )> {
+        let py = slf.py();
+        let s = &slf.borrow().inner;
+        let p = s.params();
+        let tfs = s
+            .tfs()
+            .iter()
+            .map(|t| tf_out(py, t))
+            .collect::<PyResult<_>>()?;
+        Ok((
+            slf.get_type(),
+            (
+                volume_out(py, s.volume())?,
+                tfs,
+                s.canonical(),
+                p.steps_sent,
+                p.quant.delta[0],
+            ),
+        ))
+    }
+
     fn size_report<'py>(
         &self,
         py: Python<'py>,
@@ -184,27 +213,63 @@ impl PyServer {
     }
 }
 
-/// The hybrid client (see `wscg.volren.HybridClient`).
+/// The hybrid client (see `wscg.volren.HybridClient`), with the packages it was given (its
+/// pickled state).
 #[pyclass(module = "wscg._native.volren", name = "HybridClient")]
 pub struct PyClient {
     inner: HybridClient,
+    /// The static package.
+    static_package: Vec<u8>,
+    /// The package of the current ROI.
+    roi_package: Option<Vec<u8>>,
 }
 
 #[pymethods]
 impl PyClient {
     #[new]
-    fn new(py: Python<'_>, package: &[u8]) -> PyResult<Self> {
+    #[pyo3(signature = (package, roi_package=None))]
+    fn new(py: Python<'_>, package: &[u8], roi_package: Option<&[u8]>) -> PyResult<Self> {
         let inner = crate::pool::detach(py, || HybridClient::from_static(package)).py_err()?;
-        Ok(Self { inner })
+        let mut client = Self {
+            inner,
+            static_package: package.to_vec(),
+            roi_package: None,
+        };
+        if let Some(roi) = roi_package {
+            client.set_roi(py, roi)?;
+        }
+        Ok(client)
     }
 
     fn set_roi(&mut self, py: Python<'_>, package: &[u8]) -> PyResult<()> {
         let client = &mut self.inner;
-        crate::pool::detach(py, || client.set_roi(package)).py_err()
+        crate::pool::detach(py, || client.set_roi(package)).py_err()?;
+        self.roi_package = Some(package.to_vec());
+        Ok(())
     }
 
     fn clear_roi(&mut self) {
         self.inner.clear_roi();
+        self.roi_package = None;
+    }
+
+    /// Pickles as the packages received: the static one and that of the current ROI.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(
+        Bound<'py, pyo3::types::PyType>,
+        (Bound<'py, PyBytes>, Option<Bound<'py, PyBytes>>),
+    )> {
+        let py = slf.py();
+        let c = slf.borrow();
+        Ok((
+            slf.get_type(),
+            (
+                PyBytes::new(py, &c.static_package),
+                c.roi_package.as_ref().map(|p| PyBytes::new(py, p)),
+            ),
+        ))
     }
 
     /// The ROI box `(z0, z1, y0, y1, x0, x1)` or None.

@@ -506,6 +506,23 @@ impl PySession {
     fn graph_bytes(&self) -> usize {
         self.inner.graph().memory_bytes()
     }
+
+    /// Pickles as the session's state: graph, parameters, seeds and last solution.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<crate::state::Reduced<'py>> {
+        crate::state::reduce(py, "volseg", "_session_from_state", &self.inner)
+    }
+}
+
+/// A session from the state that `Session.__reduce__` pickles.
+#[pyfunction]
+fn _session_from_state(py: Python<'_>, state: &[u8]) -> PyResult<PySession> {
+    let inner: RandomWalkSession = crate::state::from_bytes(py, "random-walk session", state)?;
+    let [nx, ny, nz] = inner.graph().dims();
+    Ok(PySession {
+        shape: [nz, ny, nx],
+        solved_k: inner.solved_labels(),
+        inner,
+    })
 }
 
 // ------------------------------------------------------------------------------------------
@@ -774,6 +791,7 @@ fn phantom<'py>(
 /// Registers the functions of `wscg._native.volseg`.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySession>()?;
+    m.add_function(wrap_pyfunction!(_session_from_state, m)?)?;
     m.add_function(wrap_pyfunction!(random_walker, m)?)?;
     m.add_function(wrap_pyfunction!(nearest_seed, m)?)?;
     m.add_function(wrap_pyfunction!(dice, m)?)?;

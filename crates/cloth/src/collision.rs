@@ -28,7 +28,7 @@ use crate::model::ClothModel;
 use crate::vecs::V3;
 
 /// A static obstacle.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub enum Collider {
     /// The half-space `normal . x >= offset` (a floor, a wall).
     Plane {
@@ -58,7 +58,11 @@ pub enum Collider {
 }
 
 /// A triangle-mesh obstacle with its bounding volume hierarchy.
-#[derive(Clone)]
+///
+/// It serialises as its vertices (single precision, as the hierarchy stores them) and
+/// triangles; deserialising rebuilds the hierarchy.
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+#[serde(into = "MeshParts", try_from = "MeshParts")]
 pub struct MeshCollider {
     mesh: Arc<ParryMesh>,
 }
@@ -66,6 +70,33 @@ pub struct MeshCollider {
 impl std::fmt::Debug for MeshCollider {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "MeshCollider({} triangles)", self.mesh.indices().len())
+    }
+}
+
+/// The serialised form of a [`MeshCollider`].
+#[derive(serde::Serialize, serde::Deserialize)]
+struct MeshParts {
+    vertices: Vec<[f32; 3]>,
+    faces: Vec<[u32; 3]>,
+}
+
+impl From<MeshCollider> for MeshParts {
+    fn from(m: MeshCollider) -> Self {
+        Self {
+            vertices: m.mesh.vertices().iter().map(|v| [v.x, v.y, v.z]).collect(),
+            faces: m.mesh.indices().to_vec(),
+        }
+    }
+}
+
+impl TryFrom<MeshParts> for MeshCollider {
+    type Error = Error;
+
+    fn try_from(p: MeshParts) -> Result<Self> {
+        // Single-precision vertices round-trip through f64 unchanged.
+        let v: Vec<[f64; 3]> = p.vertices.iter().map(|c| c.map(f64::from)).collect();
+        let f: Vec<[usize; 3]> = p.faces.iter().map(|f| f.map(|i| i as usize)).collect();
+        Self::new(&v, &f)
     }
 }
 
@@ -206,7 +237,7 @@ impl Collider {
 }
 
 /// Collision settings of a simulation.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Collisions {
     /// Static obstacles.
     pub colliders: Vec<Collider>,

@@ -18,7 +18,7 @@ use wscg_math::{Error, Result};
 use crate::vecs::{v3s, V3};
 
 /// One membrane triangle.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FemTri {
     /// Vertex indices.
     pub idx: [usize; 3],

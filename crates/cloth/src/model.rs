@@ -8,7 +8,7 @@ use crate::fem::FemTri;
 use crate::vecs::{v3s, V3};
 
 /// A distance constraint between two particles.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Link {
     /// First particle.
     pub i: usize,
@@ -22,7 +22,7 @@ pub struct Link {
 
 /// A hard equality constraint `n . x_p = offset` on one particle: a roller that lets the
 /// particle slide in the plane (boundary conditions of the FEM patch test).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Roller {
     /// Particle.
     pub p: usize,
@@ -33,7 +33,7 @@ pub struct Roller {
 }
 
 /// Particles and constraints.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ClothModel {
     /// Positions (m).
     pub x: Vec<[f64; 3]>,

@@ -20,7 +20,7 @@ use crate::model::ClothModel;
 use crate::system::{elastic_forces_v, filters, ImplicitOperator, Stepped};
 
 /// Residual of the NCG iteration.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum NcgVariant {
     /// `r = P(h f - M (v - v~))`: the gradient of the incremental potential (default).
     #[default]

@@ -23,7 +23,7 @@ use crate::model::ClothModel;
 use crate::vecs::V3;
 
 /// How the constraints of one sweep are visited.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Relaxation {
     /// Sequential Gauss-Seidel in creation order (links, triangles, rollers, contacts).
     #[default]

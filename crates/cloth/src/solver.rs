@@ -36,7 +36,7 @@ use crate::system::Stepped;
 use crate::vecs::{into_arrays, V3};
 
 /// How the constraint multipliers enter each iteration.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum LambdaMode {
     /// `Lambda = eps lambda_acc` (default): iteration-count independent stiffness.
     #[default]
@@ -46,7 +46,7 @@ pub enum LambdaMode {
 }
 
 /// The integrator.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Method {
     /// Projection of soft constraints with the `alpha`/`beta` scheme (the paper's method).
     SoftProjection,
@@ -95,7 +95,7 @@ pub enum Method {
 
 wscg_math::params! {
     /// Parameters of a [`Simulation`].
-    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
     pub struct SolverParams {
         /// Integrator (default soft projection).
         pub method: Method,
@@ -220,6 +220,10 @@ impl SolverParams {
 }
 
 /// A running simulation.
+///
+/// It serialises with `serde` as its state (model, parameters, multipliers of the last step,
+/// step count, collision settings); deserialising rebuilds the derived data, so that the
+/// deserialised simulation steps exactly as the original would.
 #[derive(Clone, Debug)]
 pub struct Simulation {
     model: ClothModel,
@@ -231,6 +235,69 @@ pub struct Simulation {
     prep: Prepared,
     /// Obstacles and self-collision settings.
     collisions: CollisionState,
+}
+
+/// The serialised state of a [`Simulation`] (borrowed to serialise).
+#[derive(serde::Serialize)]
+struct StateRef<'a> {
+    model: &'a ClothModel,
+    cfg: &'a SolverParams,
+    lambda: &'a [f64],
+    steps: u64,
+    collisions: &'a Collisions,
+}
+
+/// The serialised state of a [`Simulation`], as [`StateRef`] writes it.
+#[derive(serde::Deserialize)]
+struct State {
+    model: ClothModel,
+    cfg: SolverParams,
+    lambda: Vec<f64>,
+    steps: u64,
+    collisions: Collisions,
+}
+
+impl serde::Serialize for Simulation {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        StateRef {
+            model: &self.model,
+            cfg: &self.cfg,
+            lambda: &self.lambda,
+            steps: self.steps,
+            collisions: &self.collisions.settings,
+        }
+        .serialize(s)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Simulation {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let State {
+            model,
+            cfg,
+            lambda,
+            steps,
+            collisions,
+        } = State::deserialize(d)?;
+        let restore = || -> Result<Self> {
+            let mut sim = Self::new(model, cfg)?;
+            if lambda.len() != sim.lambda.len() {
+                return Err(Error::invalid(
+                    "lambda",
+                    format!(
+                        "{} multipliers for {} constraint rows",
+                        lambda.len(),
+                        sim.lambda.len()
+                    ),
+                ));
+            }
+            sim.lambda = lambda;
+            sim.steps = steps;
+            sim.set_collisions(collisions)?;
+            Ok(sim)
+        };
+        restore().map_err(serde::de::Error::custom)
+    }
 }
 
 impl Simulation {

@@ -278,6 +278,27 @@ impl HybridServer {
         &self.octree
     }
 
+    /// The volume the server was built from.
+    pub fn volume(&self) -> &Volume<u8> {
+        &self.volume
+    }
+
+    /// The transfer functions the clients may choose.
+    pub fn tfs(&self) -> &[PiecewiseTransferFunction] {
+        &self.tfs
+    }
+
+    /// The index of the canonical transfer function (the low-resolution context's).
+    pub fn canonical(&self) -> usize {
+        self.canonical
+    }
+
+    /// The server parameters. [`HybridServer::new`] of [`Self::volume`], [`Self::tfs`],
+    /// [`Self::canonical`] and these rebuilds the same server (the same packages).
+    pub fn params(&self) -> &ServerParams {
+        &self.opts
+    }
+
     /// The static package (sent once).
     pub fn static_package(&self) -> Vec<u8> {
         let mut w = Writer::default();

@@ -9,11 +9,16 @@ use crate::params::{IntensityNorm, RandomWalkParams};
 pub const NONE: u32 = u32::MAX;
 
 /// A 6-connected weighted graph on the bone voxels of a volume.
-#[derive(Clone, Debug)]
+///
+/// It serialises with `serde` without the voxel-to-node map, which deserialising rebuilds
+/// after checking that the parts agree (sizes, node and voxel indices in range).
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "GraphParts")]
 pub struct BoneGraph {
     dims: [usize; 3],
     spacing: [f64; 3],
     /// Node id of every voxel, [`NONE`] for non-bone voxels.
+    #[serde(skip_serializing)]
     node_of_voxel: Vec<u32>,
     /// Voxel index of every node (raster order).
     voxel_of_node: Vec<u32>,
@@ -22,6 +27,57 @@ pub struct BoneGraph {
     /// Edge weights in the same order (0 where there is no edge), `f32` like the solver's
     /// vectors (48 bytes of neighbours and weights per node).
     w: Vec<[f32; 6]>,
+}
+
+/// The serialised fields of a [`BoneGraph`], in its field order.
+#[derive(serde::Deserialize)]
+struct GraphParts {
+    dims: [usize; 3],
+    spacing: [f64; 3],
+    voxel_of_node: Vec<u32>,
+    nbr: Vec<[u32; 6]>,
+    w: Vec<[f32; 6]>,
+}
+
+impl TryFrom<GraphParts> for BoneGraph {
+    type Error = Error;
+
+    /// Rebuilds the voxel-to-node map; errors when the parts disagree.
+    fn try_from(p: GraphParts) -> Result<Self> {
+        let voxels = p
+            .dims
+            .iter()
+            .try_fold(1usize, |a, &d| a.checked_mul(d))
+            .filter(|&v| v < NONE as usize)
+            .ok_or_else(|| Error::invalid("graph", format!("dims {:?} too large", p.dims)))?;
+        let n = p.voxel_of_node.len();
+        let bad = |what: &str| Err(Error::invalid("graph", format!("inconsistent {what}")));
+        if p.nbr.len() != n || p.w.len() != n {
+            return bad("neighbour or weight count");
+        }
+        if p.nbr
+            .iter()
+            .flatten()
+            .any(|&m| m != NONE && m as usize >= n)
+        {
+            return bad("neighbour ids");
+        }
+        let mut node_of_voxel = vec![NONE; voxels];
+        for (i, &v) in p.voxel_of_node.iter().enumerate() {
+            match node_of_voxel.get_mut(v as usize) {
+                Some(slot) if *slot == NONE => *slot = i as u32,
+                _ => return bad("voxel ids"),
+            }
+        }
+        Ok(Self {
+            dims: p.dims,
+            spacing: p.spacing,
+            node_of_voxel,
+            voxel_of_node: p.voxel_of_node,
+            nbr: p.nbr,
+            w: p.w,
+        })
+    }
 }
 
 /// The map `I ↦ g` of `norm` (the paper does not say how intensities are scaled before `β`

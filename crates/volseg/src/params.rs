@@ -3,7 +3,7 @@
 use wscg_math::{Error, Result};
 
 /// How CT values are mapped to `g ∈ [0, 1]` before the edge weights.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum IntensityNorm {
     /// `g = clamp((I − lo) / (hi − lo), 0, 1)`; default `lo = −1024`, `hi = 3071` HU (12-bit
     /// CT): β = 3000 only makes sense on a [0, 1] scale and the paper does not state one.
@@ -20,7 +20,7 @@ pub enum IntensityNorm {
 }
 
 /// How the K systems are solved (the variants of the paper's Fig. 9).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Solver {
     /// All labels advance together, one sweep over the graph per iteration (ours: the graph is
     /// streamed once per iteration instead of K times).
@@ -31,7 +31,7 @@ pub enum Solver {
 }
 
 /// Scalar type of the solver's vectors.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Precision {
     /// `f32` vectors, `f64` dot products (half the memory traffic).
     #[default]
@@ -42,7 +42,7 @@ pub enum Precision {
 
 wscg_math::params! {
     /// Parameters of [`crate::walker::RandomWalkSession`], the paper's values by default.
-    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
     pub struct RandomWalkParams {
         /// Bone threshold `t_bone`, HU: voxels with `I >= t_bone` form the graph (300).
         pub t_bone: f64,

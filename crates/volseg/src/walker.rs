@@ -49,14 +49,19 @@ fn mean(v: impl ExactSizeIterator<Item = f64>) -> f64 {
 }
 
 /// Probabilities of the last solve, interleaved per node (`x[i·K + k − 1]`).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 enum Probs {
     F32(Vec<f32>),
     F64(Vec<f64>),
 }
 
 /// An interactive segmentation: the graph, the seeds placed so far and the last solution.
-#[derive(Clone, Debug)]
+///
+/// It serialises with `serde`: graph, parameters, seeds and the last solution, so that a
+/// deserialised session re-solves (warm start included) exactly as the original would;
+/// deserialising checks that the parts agree.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "SessionParts")]
 pub struct RandomWalkSession {
     graph: BoneGraph,
     params: RandomWalkParams,
@@ -66,6 +71,51 @@ pub struct RandomWalkSession {
     k: usize,
     /// Probabilities from the last solve (`None` before the first).
     x: Option<Probs>,
+}
+
+/// The serialised fields of a [`RandomWalkSession`], in its field order.
+#[derive(serde::Deserialize)]
+struct SessionParts {
+    graph: BoneGraph,
+    params: RandomWalkParams,
+    seeds: Vec<u16>,
+    k: usize,
+    x: Option<Probs>,
+}
+
+impl TryFrom<SessionParts> for RandomWalkSession {
+    type Error = Error;
+
+    /// Checks that the parts agree: valid parameters, one seed per node, `K` probabilities
+    /// per node.
+    fn try_from(p: SessionParts) -> Result<Self> {
+        p.params.validate()?;
+        let n = p.graph.len();
+        let lanes = match &p.x {
+            Some(Probs::F32(x)) => Some(x.len()),
+            Some(Probs::F64(x)) => Some(x.len()),
+            None => None,
+        };
+        let consistent = p.seeds.len() == n
+            && match lanes {
+                Some(len) => p.k.checked_mul(n) == Some(len),
+                // A failed solve leaves no solution and the earlier label count.
+                None => true,
+            };
+        if !consistent {
+            return Err(Error::invalid(
+                "session",
+                "seeds or probabilities do not match the graph",
+            ));
+        }
+        Ok(Self {
+            graph: p.graph,
+            params: p.params,
+            seeds: p.seeds,
+            k: p.k,
+            x: p.x,
+        })
+    }
 }
 
 impl RandomWalkSession {

@@ -155,7 +155,13 @@ class Udct:
     def __init__(self, shape: Tuple[int, int], wedges=((6, 6),), alpha: float = 0.1,
                  tight: bool = True):
         rows, cols = (int(v) for v in shape)
-        self._u = _c.Udct(rows, cols, _wedges(wedges), float(alpha), bool(tight))
+        w = _wedges(wedges)
+        self._u = _c.Udct(rows, cols, w, float(alpha), bool(tight))
+        self._args = ((rows, cols), [tuple(p) for p in w], float(alpha), bool(tight))
+
+    def __reduce__(self):
+        # A plan is a function of its arguments: pickles and copies rebuild it.
+        return (type(self), self._args)
 
     @property
     def shape(self) -> Tuple[int, int]:
@@ -244,6 +250,10 @@ class Fdct:
                         float(transition))
         self._f = _c.Fdct(rows, cols, *self._config)
         self._bands = self._f.bands()
+
+    def __reduce__(self):
+        # A plan is a function of its arguments: pickles and copies rebuild it.
+        return (type(self), (self.shape, *self._config))
 
     @property
     def shape(self) -> Tuple[int, int]:
@@ -337,6 +347,11 @@ class Sflct:
         self._t = _c.Sflct(rows, cols, str(redundancy), lv)
         self._bands = self._t.bands()
         self._scales = len(lv) + 1
+        self._args = ((rows, cols), str(redundancy), tuple(lv))
+
+    def __reduce__(self):
+        # A plan is a function of its arguments: pickles and copies rebuild it.
+        return (type(self), self._args)
 
     @property
     def shape(self) -> Tuple[int, int]:

@@ -35,8 +35,18 @@ pub struct Triangle {
 impl Triangle {
     /// The triangle `a, b, c`; `None` when degenerate (zero area).
     pub fn new(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<Self> {
-        let a = Vector3::from(a);
-        let (e1, e2) = (Vector3::from(b) - a, Vector3::from(c) - a);
+        let a3 = Vector3::from(a);
+        Self::from_edges(
+            a,
+            (Vector3::from(b) - a3).into(),
+            (Vector3::from(c) - a3).into(),
+        )
+    }
+
+    /// The triangle with first vertex `p0` and edges `e1 = p1 - p0`, `e2 = p2 - p0` (the
+    /// fields of a triangle, which rebuild it exactly); `None` when degenerate.
+    pub fn from_edges(a: [f64; 3], e1: [f64; 3], e2: [f64; 3]) -> Option<Self> {
+        let (a, e1, e2) = (Vector3::from(a), Vector3::from(e1), Vector3::from(e2));
         let n = e1.cross(&e2);
         let len = n.norm();
         let scale = e1.norm() * e2.norm();
@@ -104,6 +114,27 @@ pub struct Hit {
     pub normal: [f64; 3],
 }
 
+/// Checks per-face albedos (finite, in `[0, 1]`) and emissions (finite, `>= 0`).
+fn check_materials(albedo: &[Rgb], emission: &[Rgb]) -> Result<()> {
+    for (i, (a, e)) in albedo.iter().zip(emission).enumerate() {
+        if a.iter()
+            .any(|c| !(c.is_finite() && (0.0..=1.0).contains(c)))
+        {
+            return Err(Error::invalid(
+                "albedo",
+                format!("face {i}: {a:?} must lie in [0, 1]"),
+            ));
+        }
+        if e.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
+            return Err(Error::invalid(
+                "emission",
+                format!("face {i}: {e:?} must be finite and >= 0"),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// A scene of Lambertian triangles with per-triangle albedo and emitted radiance.
 #[derive(Clone, Debug)]
 pub struct Scene {
@@ -149,22 +180,7 @@ impl Scene {
                 });
             }
         }
-        for (i, (a, e)) in albedo.iter().zip(emission).enumerate() {
-            if a.iter()
-                .any(|c| !(c.is_finite() && (0.0..=1.0).contains(c)))
-            {
-                return Err(Error::invalid(
-                    "albedo",
-                    format!("face {i}: {a:?} must lie in [0, 1]"),
-                ));
-            }
-            if e.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
-                return Err(Error::invalid(
-                    "emission",
-                    format!("face {i}: {e:?} must be finite and >= 0"),
-                ));
-            }
-        }
+        check_materials(albedo, emission)?;
         let mut tris = Vec::with_capacity(faces.len());
         let mut alb = Vec::with_capacity(faces.len());
         let mut emi = Vec::with_capacity(faces.len());
@@ -190,6 +206,42 @@ impl Scene {
         }
         if tris.is_empty() {
             return Err(Error::invalid("faces", "every triangle is degenerate"));
+        }
+        Self::from_parts(tris, alb, emi, skipped)
+    }
+
+    /// A scene from its parts: the triangles (see [`Triangle::from_edges`]), their albedo and
+    /// emission, and the count of degenerate input triangles that were skipped. The parts of
+    /// a scene ([`Self::triangles`], [`Self::albedo`], [`Self::emission`],
+    /// [`Self::skipped_degenerate`]) rebuild the same scene.
+    ///
+    /// Errors: no triangle, per-triangle arrays of another length, a negative or non-finite
+    /// albedo or emission, an albedo above 1, a non-finite triangle.
+    pub fn from_parts(
+        tris: Vec<Triangle>,
+        alb: Vec<Rgb>,
+        emi: Vec<Rgb>,
+        skipped: usize,
+    ) -> Result<Self> {
+        if tris.is_empty() {
+            return Err(Error::Empty("triangles"));
+        }
+        if alb.len() != tris.len() || emi.len() != tris.len() {
+            return Err(Error::ShapeMismatch(format!(
+                "{} triangles but {} albedos and {} emissions",
+                tris.len(),
+                alb.len(),
+                emi.len()
+            )));
+        }
+        check_materials(&alb, &emi)?;
+        if let Some(index) = tris.iter().position(|t| {
+            !(t.p0.iter().chain(&t.e1).chain(&t.e2).all(|c| c.is_finite()) && t.area > 0.0)
+        }) {
+            return Err(Error::NonFinite {
+                name: "triangles",
+                index,
+            });
         }
         let boxes: Vec<Aabb> = tris.iter().map(Triangle::bounds).collect();
         let bounds = boxes.iter().fold(Aabb::empty(), |a, b| a.union(b));
