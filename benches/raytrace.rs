@@ -67,8 +67,9 @@ fn bench_manylight(c: &mut Criterion) {
     // Low-discrepancy points of the scene's box (additive recurrences).
     let pt = |k: usize| {
         let f = |a: f64| (0.5 + k as f64 * a).fract();
-        let u = nalgebra::Vector3::new(f(0.754_877_666), f(0.569_840_291), f(0.362_361_227));
-        b.min + (b.max - b.min).component_mul(&u) * 0.98 + (b.max - b.min) * 0.01
+        let u = [f(0.754_877_666), f(0.569_840_291), f(0.362_361_227)];
+        let e = b.extent();
+        [0, 1, 2].map(|c| b.min[c] + e[c] * u[c] * 0.98 + e[c] * 0.01)
     };
     let (a, t): (Vec<_>, Vec<_>) = (0..100_000).map(|k| (pt(2 * k), pt(2 * k + 1))).unzip();
     g.bench_function("shadow rays 100k, colonnade 96k triangles", |bch| {

@@ -37,8 +37,7 @@ fn main() -> wscg::math::Result<()> {
         if ab == 0.6 {
             let m = sim.model();
             let faces = m.tris.iter().map(|t| t.idx.map(|i| i as u32)).collect();
-            let pos = m.x.iter().map(|p| [p.x, p.y, p.z]).collect();
-            TriMesh::new(pos, faces)?.write_obj(&out)?;
+            TriMesh::new(m.x.clone(), faces)?.write_obj(&out)?;
             println!("last frame written to {out}");
         }
     }

@@ -96,7 +96,7 @@ class NumpySFA:
 
 masks, _, labels, _ = B.make_hand_poses(3000, seed=0)
 split = B.hand_pose_split(masks, labels, 300, 1000, seed=0)
-Xtr, ytr = split["X_train"], split["y_train"]
+Xtr, ytr = split.X_train, split.y_train
 Xq = Xtr[(np.arange(10_000) * 7) % len(Xtr)]
 print(f"hand poses: {Xtr.shape[0]} training rows x {Xtr.shape[1]} pixels, "
       f"{len(Xq)} rows to predict")
@@ -130,7 +130,7 @@ print_table("paper 05: class-wise and temporal SFA", rows)
 
 print()
 agree = np.mean(ours.predict(Xq) == ref.predict(Xq))
-Xs = split["X_test"]
+Xs = split.X_test
 angles = [scipy.linalg.subspace_angles(ours.responses(Xs, c), ref.responses(Xs, k)).max()
           for k, c in enumerate(ref.classes_)]
 print(f"class-wise SFA: predictions agree on {100 * agree:.2f} % of {len(Xq)} rows; largest "

@@ -59,8 +59,8 @@ print_table(f"paper 06: G2 pan {W}x{H}x{F}", [
     (f"complete_video {W}x{H}x{F}", t_ours, "pypatchmatch per frame", t_pm),
     (f"complete_video {W}x{H}x{F}", t_ours, "cv2.inpaint Telea per frame", t_telea),
 ])
-print(f"our stages (s): low resolution {stats['seconds'][0]:.1f}, refinement "
-      f"{stats['seconds'][1]:.1f}, localized search {stats['seconds'][2]:.1f}")
+print(f"our stages (s): low resolution {stats.seconds[0]:.1f}, refinement "
+      f"{stats.seconds[1]:.1f}, localized search {stats.seconds[2]:.1f}")
 print()
 print("quality in the hole: SSIM / PSNR (dB) / flicker (the pan itself moves 8 px/frame)")
 for name, v in [("wscg localized search", ours), ("pypatchmatch per frame", pm),

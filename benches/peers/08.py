@@ -63,7 +63,7 @@ def table1():
     scene = rt.make_manylight_scene("colonnade", subdiv=1, width=512, height=384)
     kw = dict(n_vpl_paths=1400, spp=16, n_cache=1966)
     ref, st = rt.render_manylight(scene, "reference", **kw)
-    print(f"colonnade 512 x 384, {st['n_vpls']} VPLs, reference {st['render_seconds']:.1f} s")
+    print(f"colonnade 512 x 384, {st.n_vpls} VPLs, reference {st.render_seconds:.1f} s")
     print(f"{'method':<18} {'records':>8} {'cache s':>8} {'render s':>9} {'total s':>8} {'RMSE':>9}")
     rows = {}
     for method in ["adaptive", "adaptive_uniform", "ic"]:
@@ -71,9 +71,9 @@ def table1():
             kw = dict(kw, n_cache=rows["adaptive"][0])
         img, s = rt.render_manylight(scene, method, **kw)
         err = float(np.sqrt(np.mean((img.astype(np.float64) - ref) ** 2)))
-        rows[method] = (s["n_records"], s["cache_seconds"], s["render_seconds"], err)
-        print(f"{method:<18} {s['n_records']:>8} {s['cache_seconds']:>8.2f} {s['render_seconds']:>9.2f} "
-              f"{s['cache_seconds'] + s['render_seconds']:>8.2f} {err:>9.5f}")
+        rows[method] = (s.n_records, s.cache_seconds, s.render_seconds, err)
+        print(f"{method:<18} {s.n_records:>8} {s.cache_seconds:>8.2f} {s.render_seconds:>9.2f} "
+              f"{s.cache_seconds + s.render_seconds:>8.2f} {err:>9.5f}")
     a, ic = rows["adaptive"], rows["ic"]
     print(f"RMSE adaptive / ic {a[3] / ic[3]:.3f}; total time adaptive / ic {(a[1] + a[2]) / (ic[1] + ic[2]):.3f}")
     # Equal time: importance caching gets the samples its render can take in the time the
@@ -81,7 +81,7 @@ def table1():
     spp = max(16, int(round(16 * (a[1] + a[2] - ic[1]) / ic[2])))
     img, s = rt.render_manylight(scene, "ic", **dict(kw, spp=spp))
     err = float(np.sqrt(np.mean((img.astype(np.float64) - ref) ** 2)))
-    total = s["cache_seconds"] + s["render_seconds"]
+    total = s.cache_seconds + s.render_seconds
     print(f"equal time: ic at {spp} spp {total:.2f} s, RMSE {err:.5f}; adaptive / ic {a[3] / err:.3f}")
 
 

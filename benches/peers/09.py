@@ -65,7 +65,7 @@ except ImportError:
 sparse, inside = iso.sparsify(vol, LEVEL)
 v, f, n, info = iso.marching_cubes(sparse, LEVEL, spacing=spacing, side_hint=inside,
                                    normals=None)
-edges = info["edges"]
+edges = info.edges
 t_spline = best_time(lambda: iso.estimate_normals(sparse, LEVEL, edges, spacing=spacing,
                                                   normals="spline", side_hint=inside))
 t_lsn = best_time(lambda: iso.estimate_normals(sparse, LEVEL, edges, spacing=spacing,

@@ -91,9 +91,9 @@ for label, dist in [("far view (4 S)", 4.0), ("near view (0.7 S)", 0.7)]:
     theirs = es.run(o, d, output=1)
     pe = np.asarray(theirs["primID"]).astype(np.int64)
     pe[pe == 2**32 - 1] = -1
-    hit_o, hit_e = ours["prim"] >= 0, pe >= 0
+    hit_o, hit_e = ours.prim >= 0, pe >= 0
     both = hit_o & hit_e
-    same = np.mean(ours["prim"][both] == pe[both]) if both.any() else float("nan")
+    same = np.mean(ours.prim[both] == pe[both]) if both.any() else float("nan")
     print(f"{label}: hits ours {hit_o.sum()}, Embree {hit_e.sum()}, hit/miss agreement "
           f"{np.mean(hit_o == hit_e):.5f}, same triangle on {same:.5f} of common hits")
     rows.append((f"{label} triangles", t_tri, "embreex run (primary)", t_em))

@@ -87,7 +87,7 @@ def main():
     t_km, km = best(lambda: deblur.deblur_multiframe(frames, times, gyro, F, cx, cy, EXPOSURE,
                                                      t_delay=DELAY), repeat=2)
     print(f"{'multi-frame KM, 5 frames 720x480':40s} ours {t_km:9.3f} s   (paper: 18 s, i7-4700MQ)"
-          f"  PSNR {quality(km['image'], truth)[0]:.2f} dB")
+          f"  PSNR {quality(km.image, truth)[0]:.2f} dB")
 
 
 if __name__ == "__main__":

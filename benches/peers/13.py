@@ -77,14 +77,14 @@ def main():
     matching("motorcycle 741x500", L, R, el, er, truth, 64, rows, quality, 1.0)
 
     sc = hdr.make_scene(height=1110, width=1282, exposure_times=(0.005, 0.04, 0.3), seed=1)
-    v0, v1 = sc["views"][0], sc["views"][1]
-    t0, t1 = sc["exposure_times"][0], sc["exposure_times"][1]
+    v0, v1 = sc.views[0], sc.views[1]
+    t0, t1 = sc.exposure_times[0], sc.exposure_times[1]
     e0, e1 = hdr.to_radiance(v0, "gamma2.2", t0), hdr.to_radiance(v1, "gamma2.2", t1)
     # View 0 -> view 1: a point at x is at x - d in view 1 (d = layer disparity).
-    matching("generated 1282x1110", v0, v1, e0, e1, sc["disparity"][0], 48, rows, quality, t0)
+    matching("generated 1282x1110", v0, v1, e0, e1, sc.disparity[0], 48, rows, quality, t0)
 
     times = [0.005, 0.03, 0.061, 0.122, 0.28]
-    rad = sc["radiance"][1]
+    rad = sc.radiance[1]
     stack = [np.round(np.clip(rad * t, 0, 1) ** (1 / 2.2) * 255).astype(np.uint8) for t in times]
     resp = np.repeat(((np.arange(256) / 255.0) ** 2.2)[:, None, None], 3, axis=2).astype(np.float32)
     resp[0] = 1e-6  # OpenCV takes the log of the response
@@ -96,7 +96,7 @@ def main():
     rows.append(("merge 5 x 1282x1110x3", ours, "cv2.MergeDebevec", peer))
 
     t = time.perf_counter()
-    hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], "gamma2.2", max_disparity=70)
+    hdr.multiscopic_hdr(sc.views, sc.exposure_times, "gamma2.2", max_disparity=70)
     e2e = time.perf_counter() - t
     print_table("Paper 13: matching and merging (OpenCV peers)", rows)
     for q in quality:

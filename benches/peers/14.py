@@ -115,19 +115,19 @@ class BlockMajorPeer:
 
 def main():
     data = ear.make_ears(50, 1, seed=14, occlusion="colour", min_pct=10, max_pct=50)
-    enrol, probes = data["enrol"], data["probes"]
+    enrol, probes = data.enrol, data.probes
     base = ear.enroll_many(enrol)
     n = 10_000
     rng = np.random.default_rng(0)
     gallery = (base[np.arange(n) % len(base)]
                + 0.01 * rng.uniform(-1, 1, (n, 80, 25))).astype(np.float32)
-    matcher = ear.EarMatcher(gallery)
+    matcher = ear.EarMatcher().fit(gallery)
     ps = probes[:20]
     ours = best_time(lambda: [matcher.identify(p) for p in ps], repeat=3) / len(ps)
     peer = best_time(lambda: [peer_identify(p, gallery) for p in ps], repeat=3) / len(ps)
     fast = BlockMajorPeer(gallery)
     peer_bm = best_time(lambda: [fast.identify(p) for p in ps], repeat=3) / len(ps)
-    agree = sum(int(matcher.identify(p)["order"][0] == peer_identify(p, gallery)[0]
+    agree = sum(int(matcher.identify(p).order[0] == peer_identify(p, gallery)[0]
                     == fast.identify(p)[0]) for p in ps)
     e_ours = best_time(lambda: ear.enroll_many(enrol), repeat=3) / len(enrol)
     e_peer = best_time(lambda: [peer_enroll(im) for im in enrol], repeat=3) / len(enrol)

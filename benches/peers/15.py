@@ -171,20 +171,20 @@ print(f"SCS(0.8, 3) vs ICS(0.2): {t_ref / t_scs:.2f}x faster, MAD {mad_scs:.4f} 
 
 # 4. Check 7: the equal-quality protocol.
 st = V.study(pv, tf, n_views=4, size=256)
-alias_free = [e for e in st["entries"] if e["alias_free"]]
-best_ics = min((e for e in alias_free if e["method"] == "ics"), key=lambda e: e["seconds"],
+alias_free = [e for e in st.entries if e.alias_free]
+best_ics = min((e for e in alias_free if e.method == "ics"), key=lambda e: e.seconds,
                default=None)
-best_other = min((e for e in alias_free if e["method"] != "ics"), key=lambda e: e["seconds"],
+best_other = min((e for e in alias_free if e.method != "ics"), key=lambda e: e.seconds,
                  default=None)
 print()
-print(f"study at 256 x 256, 4 views: reference ICS(0.2) {1e3 * st['reference_seconds']:.1f} ms")
-for e in st["entries"]:
-    print(f"  {e['method']:<7} ds={e['slice_distance']:.1f} m={e['n_subsamples']} "
-          f"MAD={e['mad']:.4f} energy={e['energy']:.2e} {1e3 * e['seconds']:7.1f} ms "
-          f"{'alias-free' if e['alias_free'] else ''}")
+print(f"study at 256 x 256, 4 views: reference ICS(0.2) {1e3 * st.reference_seconds:.1f} ms")
+for e in st.entries:
+    print(f"  {e.method:<7} ds={e.slice_distance:.1f} m={e.n_subsamples} "
+          f"MAD={e.mad:.4f} energy={e.energy:.2e} {1e3 * e.seconds:7.1f} ms "
+          f"{'alias-free' if e.alias_free else ''}")
 if best_ics and best_other:
-    print(f"fastest alias-free ICS: ds={best_ics['slice_distance']:.1f} "
-          f"{1e3 * best_ics['seconds']:.1f} ms; fastest alias-free other: {best_other['method']} "
-          f"ds={best_other['slice_distance']:.1f} m={best_other['n_subsamples']} "
-          f"{1e3 * best_other['seconds']:.1f} ms; speed-up "
-          f"{best_ics['seconds'] / best_other['seconds']:.2f}x (spec >= 1.8x)")
+    print(f"fastest alias-free ICS: ds={best_ics.slice_distance:.1f} "
+          f"{1e3 * best_ics.seconds:.1f} ms; fastest alias-free other: {best_other.method} "
+          f"ds={best_other.slice_distance:.1f} m={best_other.n_subsamples} "
+          f"{1e3 * best_other.seconds:.1f} ms; speed-up "
+          f"{best_ics.seconds / best_other.seconds:.2f}x (spec >= 1.8x)")

@@ -168,9 +168,10 @@ def numpy_fit(x, sweeps):
 # Data
 
 walk10 = M.make_synthetic_dataset(n_trials=10, noise=0.0)
-X = np.ascontiguousarray(walk10["truth"]["periodic"][0])  # (10, 51, 100), noise-free action 1
+X = np.ascontiguousarray(walk10.truth.periodic[0])  # (10, 51, 100), noise-free action 1
 walk40 = M.make_synthetic_dataset(n_trials=40)
-lib, t_lib = timed(lambda: M.fit_stepwise(walk40))
+model, t_lib = timed(lambda: M.fit_stepwise(walk40))
+lib = model.library_
 print(f"synthetic walker: action-1 periodic part {X.shape} (R, I, N); library of 40 trials "
       f"({lib.n_sources} sources, Q total {lib.q_total:.4f}) learned in {t_lib:.2f} s")
 
@@ -212,16 +213,16 @@ t_ours_fit = best_time(lambda: M.svr_fit_predict(x_train, y_train, x_test[:1], *
 t_ours_all = best_time(lambda: M.svr_fit_predict(x_train, y_train, x_test, **SVR_KW),
                        repeat=REPEAT)
 t_ours_pred = t_ours_all - t_ours_fit
-print(f"support vectors: ours {info['n_support']}, sklearn {peer.support_.size}; "
+print(f"support vectors: ours {info.n_support}, sklearn {peer.support_.size}; "
       f"max |ours - sklearn| prediction {np.max(np.abs(pred_ours - pred_peer)):.2e} "
       f"(source RMS {np.sqrt(np.mean(src ** 2)):.2f})")
 
 
 def synth_per_10s(map_name):
-    syn = M.Synthesizer(lib, map=map_name)
+    syn = M.Synthesizer(map=map_name).fit(lib)
     goal = 12.0
     out = syn.run(goal=goal, fps=FPS, max_seconds=600.0)
-    frames = len(out["time"])
+    frames = len(out.time)
     t = best_time(lambda: syn.run(goal=goal, fps=FPS, max_seconds=600.0), repeat=REPEAT)
     return t * FRAMES / frames, frames
 
@@ -254,15 +255,15 @@ def ours_fit(restarts=1, delay_search=0):
 
 m = ours_fit()
 hist_np = numpy_fit(X, SWEEPS)
-assert len(m["q_history"]) == SWEEPS + 1
+assert len(m.q_history_) == SWEEPS + 1
 t_ours = best_time(ours_fit, repeat=REPEAT)
 t_np = best_time(lambda: numpy_fit(X, SWEEPS), repeat=max(REPEAT // 2, 2))
 t_ours10 = best_time(lambda: ours_fit(10), repeat=max(REPEAT // 2, 2))
 t_search = best_time(lambda: ours_fit(10, 128), repeat=max(REPEAT // 2, 2))
 print()
-print(f"Q after {SWEEPS} sweeps: ours {m['q']:.6f}, numpy {hist_np[-1]:.6f}; start "
-      f"{m['q_history'][0]:.6f} / {hist_np[0]:.6f}; max |Q_ours - Q_numpy| over the sweeps "
-      f"{np.max(np.abs(np.asarray(m['q_history']) - np.asarray(hist_np))):.1e}")
+print(f"Q after {SWEEPS} sweeps: ours {m.q_:.6f}, numpy {hist_np[-1]:.6f}; start "
+      f"{m.q_history_[0]:.6f} / {hist_np[0]:.6f}; max |Q_ours - Q_numpy| over the sweeps "
+      f"{np.max(np.abs(np.asarray(m.q_history_) - np.asarray(hist_np))):.1e}")
 print_table(f"paper 16: fit_anechoic R=10 I=51 N=100 J={J} K={K}, 1 run x {SWEEPS} sweeps", [
     (f"fit_anechoic ({SWEEPS} sweeps)", t_ours, "numpy ALS reference", t_np),
 ])
@@ -286,7 +287,7 @@ q_ica = M.quality(rows, xhat)
 print()
 print(f"Q_PCA(1..6): ours {np.array2string(q_ours[:6], precision=4)}, max |ours - sklearn| "
       f"over all {q_ours.size} components {np.max(np.abs(q_ours - q_sk[:q_ours.size])):.1e}")
-print(f"Q at J = {J}: anechoic (shared delays) {m['q']:.4f}, PCA {q_ours[J - 1]:.4f}, FastICA "
+print(f"Q at J = {J}: anechoic (shared delays) {m.q_:.4f}, PCA {q_ours[J - 1]:.4f}, FastICA "
       f"{q_ica:.4f}")
 print_table("paper 16: PCA qualities of the (R I) x N matrix", [
     ("pca_qualities (all components)", t_pca, "sklearn PCA().fit", t_sk),

@@ -32,7 +32,7 @@ from _common import best_time, print_table  # noqa: E402
 REPEAT = int(os.environ.get("WSCG_REPEAT", "3"))
 
 data = G.make_walkers(n_subjects=100, n_sessions=3, seed=17)
-walks = [G.jra_sequences(f)[0:200:2] for f in data["frames"]]
+walks = [G.jra_sequences(f)[0:200:2] for f in data.frames]
 lengths = [w.shape[1] for w in walks]
 channels = [[np.ascontiguousarray(w[c]) for w in walks] for c in range(100)]
 

@@ -43,7 +43,7 @@ def scipy_cg():
 
 xo, info = ours_cg()
 xs, _ = scipy_cg()
-assert info["converged"] and np.linalg.norm(xo - xs) <= 1e-4 * np.linalg.norm(xs)
+assert info.converged and np.linalg.norm(xo - xs) <= 1e-4 * np.linalg.norm(xs)
 rows.append(("pcg_poisson3d_100^3_tol1e-6", best_time(ours_cg, repeat=3), "scipy.sparse.linalg.cg",
              best_time(scipy_cg, repeat=3)))
 

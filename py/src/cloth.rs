@@ -1,7 +1,6 @@
 //! `wscg._native.cloth`: bindings of `wscg-cloth` (paper 02, cloth with soft constraints).
 //! The documented API is `python/wscg/cloth.py`.
 
-use nalgebra::Vector3;
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -13,11 +12,11 @@ use wscg_cloth::{
 use crate::convert::{self, array, index, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
-fn points(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<Vector3<f64>>> {
+fn points(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<[f64; 3]>> {
     match a.shape() {
         [_, 3] => Ok(values(a)
             .chunks_exact(3)
-            .map(|c| Vector3::new(c[0], c[1], c[2]))
+            .map(|c| [c[0], c[1], c[2]])
             .collect()),
         s => Err(value_error(format!(
             "`{name}` must have shape (n, 3), got {s:?}"
@@ -25,12 +24,8 @@ fn points(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<Vector3<f64>>
     }
 }
 
-fn points_out<'py>(py: Python<'py>, p: &[Vector3<f64>]) -> PyResult<Arr<'py, f64>> {
-    array(
-        py,
-        &[p.len(), 3],
-        p.iter().flat_map(|v| [v.x, v.y, v.z]).collect(),
-    )
+fn points_out<'py>(py: Python<'py>, p: &[[f64; 3]]) -> PyResult<Arr<'py, f64>> {
+    array(py, &[p.len(), 3], p.as_flattened().to_vec())
 }
 
 /// A cloth: particles and constraints.
@@ -104,8 +99,8 @@ impl PyModel {
 
     /// Sets gravity (m/s^2).
     fn set_gravity(&mut self, g: (f64, f64, f64)) -> PyResult<()> {
-        let g = Vector3::new(g.0, g.1, g.2);
-        wscg_math::error::ensure_finite("gravity", g.as_slice()).py_err()?;
+        let g = [g.0, g.1, g.2];
+        wscg_math::error::ensure_finite("gravity", &g).py_err()?;
         self.inner.gravity = g;
         Ok(())
     }
@@ -121,13 +116,13 @@ impl PyModel {
     fn add_roller(&mut self, p: i64, normal: (f64, f64, f64), offset: f64) -> PyResult<()> {
         let p = index("p", p)?;
         self.inner
-            .add_roller(p, Vector3::new(normal.0, normal.1, normal.2), offset)
+            .add_roller(p, [normal.0, normal.1, normal.2], offset)
             .py_err()
     }
 
-    /// Energy of the state: kinetic, gravity, elastic, total (J).
-    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        energy_dict(
+    /// Energy of the state as a `wscg.cloth.Energy`: kinetic, gravity, elastic, total (J).
+    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        energy_out(
             py,
             &crate::pool::detach(py, || wscg_cloth::Energy::of(&self.inner))?,
         )
@@ -147,13 +142,11 @@ fn _model_from_state(py: Python<'_>, state: &[u8]) -> PyResult<PyModel> {
     Ok(PyModel { inner })
 }
 
-fn energy_dict<'py>(py: Python<'py>, e: &wscg_cloth::Energy) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("kinetic", e.kinetic)?;
-    d.set_item("gravity", e.gravity)?;
-    d.set_item("elastic", e.elastic)?;
-    d.set_item("total", e.total)?;
-    Ok(d)
+/// `e` as the Python result class `wscg.cloth.Energy` (a named tuple, joules).
+fn energy_out<'py>(py: Python<'py>, e: &wscg_cloth::Energy) -> PyResult<Bound<'py, PyAny>> {
+    py.import("wscg.cloth")?
+        .getattr("Energy")?
+        .call1((e.kinetic, e.gravity, e.elastic, e.total))
 }
 
 /// Free particles without constraints (see `wscg.cloth.particles`).
@@ -225,10 +218,9 @@ fn faces_in(faces: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<[usize; 3]>> {
     }
 }
 
-fn point(name: &str, p: [f64; 3]) -> PyResult<Vector3<f64>> {
-    let v = Vector3::from(p);
-    if v.iter().all(|c| c.is_finite()) {
-        Ok(v)
+fn point(name: &str, p: [f64; 3]) -> PyResult<[f64; 3]> {
+    if p.iter().all(|c| c.is_finite()) {
+        Ok(p)
     } else {
         Err(value_error(format!("`{name}` must be finite, got {p:?}")))
     }
@@ -251,7 +243,7 @@ impl PyCollider {
     ) -> PyResult<Arr<'py, f64>> {
         let p = points("points", &p)?;
         let d = crate::pool::detach(py, || {
-            p.iter().map(|q| self.inner.signed_distance(q).0).collect()
+            p.iter().map(|&q| self.inner.signed_distance(q).0).collect()
         })?;
         array(py, &[p.len()], d)
     }
@@ -530,9 +522,9 @@ impl PySim {
         self.inner.steps()
     }
 
-    /// Current energy.
-    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        energy_dict(py, &crate::pool::detach(py, || self.inner.energy())?)
+    /// Current energy as a `wscg.cloth.Energy`.
+    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        energy_out(py, &crate::pool::detach(py, || self.inner.energy())?)
     }
 
     /// The current state as a model.

@@ -2,7 +2,7 @@
 //! blur estimation and removal). The documented API is `python/wscg/deblur.py`, which passes
 //! C-contiguous float32 images and float64 gyroscope arrays.
 
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use nalgebra::{Matrix3, Rotation3};
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -57,7 +57,10 @@ fn samples_in(gyro: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<GyroSample>> {
 }
 
 fn samples_out<'py>(py: Python<'py>, s: &[GyroSample]) -> PyResult<Arr<'py, f64>> {
-    let data = s.iter().flat_map(|g| [g.t, g.w.x, g.w.y, g.w.z]).collect();
+    let data = s
+        .iter()
+        .flat_map(|g| [g.t, g.w[0], g.w[1], g.w[2]])
+        .collect();
     array(py, &[s.len(), 4], data)
 }
 
@@ -94,7 +97,7 @@ fn track_in(
 ) -> PyResult<GyroTrack> {
     let samples = samples_in(gyro)?;
     let r = rotation_in(r_cam_imu)?;
-    let b = bias.map_or_else(Vector3::zeros, |b| Vector3::new(b.0, b.1, b.2));
+    let b = bias.map_or([0.0; 3], |b| [b.0, b.1, b.2]);
     GyroTrack::new(&samples, r, b).py_err()
 }
 

@@ -662,6 +662,19 @@ impl PyRecognizer {
         self.inner.labels.clone()
     }
 
+    /// The fitted recognizer as JSON.
+    fn to_json(&self, py: Python<'_>) -> PyResult<String> {
+        crate::pool::detach(py, || self.inner.to_json()).py_err()
+    }
+
+    /// A recognizer from `to_json`.
+    #[staticmethod]
+    fn from_json(py: Python<'_>, s: &str) -> PyResult<Self> {
+        Ok(Self {
+            inner: crate::pool::detach(py, || GaitRecognizer::from_json(s)).py_err()?,
+        })
+    }
+
     /// `(label, training indices, their labels, their Δ, (start, mid, end))`, Δ ascending.
     #[allow(clippy::type_complexity)]
     fn predict<'py>(

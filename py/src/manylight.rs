@@ -2,11 +2,11 @@
 //! importance caching), registered in `wscg._native.raytrace`. The documented API is
 //! `python/wscg/_manylight.py`, re-exported by `wscg.raytrace`.
 
-use nalgebra::Vector3;
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
+use wscg_math::vec3::add;
 use wscg_raytrace::manylight::{
     load_obj, run, scenes, Camera, Interp, ManyLightParams, Method, Scene, Triangle,
 };
@@ -23,9 +23,9 @@ pub struct PyScene {
 
 fn camera_dict<'py>(py: Python<'py>, c: &Camera) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("eye", [c.eye.x, c.eye.y, c.eye.z])?;
-    d.set_item("target", [c.target.x, c.target.y, c.target.z])?;
-    d.set_item("up", [c.up.x, c.up.y, c.up.z])?;
+    d.set_item("eye", c.eye)?;
+    d.set_item("target", c.target)?;
+    d.set_item("up", c.up)?;
     d.set_item("fov_deg", c.fov_deg)?;
     d.set_item("width", c.width)?;
     d.set_item("height", c.height)?;
@@ -38,10 +38,7 @@ fn camera_from(spec: Option<&Bound<'_, PyDict>>, base: &Camera) -> PyResult<Came
         return Ok(base.clone());
     };
     let c = Cfg(spec);
-    let v = |k: &str, d: Vector3<f64>| -> PyResult<Vector3<f64>> {
-        Ok(c.opt::<[f64; 3]>(k)?
-            .map_or(d, |a| Vector3::new(a[0], a[1], a[2])))
-    };
+    let v = |k: &str, d: [f64; 3]| -> PyResult<[f64; 3]> { Ok(c.opt::<[f64; 3]>(k)?.unwrap_or(d)) };
     let cam = Camera {
         eye: v("eye", base.eye)?,
         target: v("target", base.target)?,
@@ -86,8 +83,8 @@ impl PyScene {
         let data = t
             .iter()
             .flat_map(|t| {
-                let (a, b, c) = (t.p0, t.p0 + t.e1, t.p0 + t.e2);
-                [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z]
+                let (a, b, c) = (t.p0, add(t.p0, t.e1), add(t.p0, t.e2));
+                [a, b, c].into_iter().flatten()
             })
             .collect();
         array(py, &[t.len(), 3, 3], data)
@@ -117,10 +114,6 @@ impl PyScene {
     ) -> PyResult<Arr<'py, bool>> {
         let o = rows3("origins", &values(&origins), origins.shape())?;
         let t = rows3("targets", &values(&targets), targets.shape())?;
-        let v = |p: &[[f64; 3]]| -> Vec<Vector3<f64>> {
-            p.iter().map(|a| Vector3::new(a[0], a[1], a[2])).collect()
-        };
-        let (o, t) = (v(&o), v(&t));
         let hit = crate::pool::detach(py, || self.scene.occluded_batch(&o, &t)).py_err()?;
         array(py, &[hit.len()], hit)
     }
@@ -145,7 +138,7 @@ impl PyScene {
         let tris = t
             .iter()
             .flat_map(|t| [t.p0, t.e1, t.e2])
-            .flat_map(|v| [v.x, v.y, v.z])
+            .flatten()
             .collect();
         let restore = py
             .import("wscg._native.raytrace")?
@@ -190,9 +183,9 @@ fn make_manylight_scene(
 /// The camera used when a user scene comes without one.
 fn default_camera() -> Camera {
     Camera {
-        eye: Vector3::new(0.0, 0.0, 5.0),
-        target: Vector3::zeros(),
-        up: Vector3::y(),
+        eye: [0.0, 0.0, 5.0],
+        target: [0.0; 3],
+        up: [0.0, 1.0, 0.0],
         fov_deg: 45.0,
         width: 256,
         height: 192,
@@ -238,12 +231,11 @@ fn _manylight_scene_from_parts(
             )))
         }
     };
-    let v = |a: [f64; 3]| Vector3::new(a[0], a[1], a[2]);
     let tris = rows
         .chunks_exact(3)
         .enumerate()
         .map(|(i, r)| {
-            Triangle::from_edges(v(r[0]), v(r[1]), v(r[2])).ok_or_else(|| {
+            Triangle::from_edges(r[0], r[1], r[2]).ok_or_else(|| {
                 crate::errors::value_error(format!("triangle {i} of `triangles` is degenerate"))
             })
         })
@@ -315,11 +307,7 @@ fn manylight_render<'py>(
     d.set_item("setup_seconds", out.setup_seconds)?;
     d.set_item("cache_seconds", out.cache_seconds)?;
     d.set_item("render_seconds", out.render_seconds)?;
-    let pos: Vec<f64> = out
-        .records
-        .iter()
-        .flat_map(|r| [r.at.pos.x, r.at.pos.y, r.at.pos.z])
-        .collect();
+    let pos: Vec<f64> = out.records.iter().flat_map(|r| r.at.pos).collect();
     d.set_item("records", array(py, &[out.records.len(), 3], pos)?)?;
     let pix: Vec<i64> = out
         .records

@@ -508,9 +508,9 @@ impl PyLibrary {
         )
     }
 
-    /// The fit of action `a`: means and non-periodic weights `(R, I)`, weights `(R, I, J)`,
-    /// `q` and the number of sources it uses.
-    fn action_fit<'py>(&self, py: Python<'py>, a: usize) -> PyResult<Bound<'py, PyDict>> {
+    /// The fit of action `a` as a `wscg.motion.ActionFit`: means and non-periodic weights
+    /// `(R, I)`, weights `(R, I, J)`, `q` and the number of sources it uses.
+    fn action_fit<'py>(&self, py: Python<'py>, a: usize) -> PyResult<Bound<'py, PyAny>> {
         let f = self
             .inner
             .actions
@@ -524,12 +524,22 @@ impl PyLibrary {
         d.set_item("weights", array(py, &[r_n, i_n, j_n], f.weights.clone())?)?;
         d.set_item("q", f.q)?;
         d.set_item("n_sources", f.n_sources)?;
-        Ok(d)
+        py.import("wscg.motion")?
+            .getattr("ActionFit")?
+            .call((), Some(&d))
     }
 
-    /// Pickles as the learned library's state (sources, delays, fits, progress).
-    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<crate::state::Reduced<'py>> {
-        crate::state::reduce(py, "motion", "_library_from_state", &self.inner)
+    /// The library as JSON (floats round-trip exactly).
+    fn to_json(&self, py: Python<'_>) -> PyResult<String> {
+        crate::pool::detach(py, || self.inner.to_json()).py_err()
+    }
+
+    /// A library from `to_json`.
+    #[staticmethod]
+    fn from_json(py: Python<'_>, s: &str) -> PyResult<Self> {
+        Ok(Self {
+            inner: crate::pool::detach(py, || ActionLibrary::from_json(s)).py_err()?,
+        })
     }
 
     fn __repr__(&self) -> String {
@@ -541,14 +551,6 @@ impl PyLibrary {
             self.inner.q_total
         )
     }
-}
-
-/// A library from the state that `Library.__reduce__` pickles.
-#[pyfunction]
-fn _library_from_state(py: Python<'_>, state: &[u8]) -> PyResult<PyLibrary> {
-    let inner: ActionLibrary = crate::state::from_bytes(py, "motion library", state)?;
-    inner.validate().py_err()?;
-    Ok(PyLibrary { inner })
 }
 
 /// Step-wise learning of the three actions from a dataset's arrays.
@@ -1063,7 +1065,6 @@ fn hopf_simulate<'py>(
 /// Registers the submodule's functions and classes.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyLibrary>()?;
-    m.add_function(wrap_pyfunction!(_library_from_state, m)?)?;
     m.add_class::<PySynthesizer>()?;
     m.add_function(wrap_pyfunction!(make_synthetic_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(fit_anechoic, m)?)?;

@@ -236,7 +236,7 @@ fn make_tile<'py>(py: Python<'py>, params: Bound<'py, PyDict>) -> PyResult<(Arr<
     let v: Vec<f64> = t
         .flakes
         .iter()
-        .flat_map(|f| [f.c.x, f.c.y, f.c.z, f.n.x, f.n.y, f.n.z, f.r])
+        .flat_map(|f| [f.c[0], f.c[1], f.c[2], f.n[0], f.n[1], f.n[2], f.r])
         .collect();
     Ok((array(py, &[t.flakes.len(), 7], v)?, t.clamped))
 }
@@ -264,7 +264,7 @@ fn plate_layout<'py>(
             let v: Vec<f64> = t
                 .flakes
                 .iter()
-                .flat_map(|f| [f.c.x, f.c.y, f.c.z, f.n.x, f.n.y, f.n.z, f.r])
+                .flat_map(|f| [f.c[0], f.c[1], f.c[2], f.n[0], f.n[1], f.n[2], f.r])
                 .collect();
             array(py, &[t.flakes.len(), 7], v)
         })
@@ -377,7 +377,14 @@ fn workshop<'py>(
     d.set_item("scores", ws.scores)?;
     d.set_item("features", ws.features)?;
     d.set_item("reference_features", ws.reference_features)?;
-    d.set_item("feature_names", paint::observer::FEATURE_NAMES.to_vec())?;
+    // The mono condition has no binocular overlap: the names of the features it has.
+    let n_features = ws.observer.std_log.len();
+    let names: Vec<&str> = paint::observer::FEATURE_NAMES
+        .iter()
+        .take(n_features)
+        .copied()
+        .collect();
+    d.set_item("feature_names", names)?;
     d.set_item("scale_log", ws.observer.std_log)?;
     Ok(d)
 }
@@ -438,10 +445,8 @@ fn project<'py>(
     let rig = StereoRig::default();
     let out: Vec<f64> = crate::pool::detach(py, || {
         pts.iter()
-            .flat_map(|p| {
-                let (x, y) = rig
-                    .project(e, nalgebra::Vector3::new(p[0], p[1], p[2]))
-                    .unwrap_or((f64::NAN, f64::NAN));
+            .flat_map(|&p| {
+                let (x, y) = rig.project(e, p).unwrap_or((f64::NAN, f64::NAN));
                 [x, y]
             })
             .collect()

@@ -177,6 +177,19 @@ impl PyTemporal {
     fn rank(&self) -> usize {
         self.inner.rank
     }
+
+    /// The model as JSON.
+    fn to_json(&self) -> PyResult<String> {
+        self.inner.to_json().py_err()
+    }
+
+    /// A model from `to_json`.
+    #[staticmethod]
+    fn from_json(py: Python<'_>, s: &str) -> PyResult<Self> {
+        Ok(Self {
+            inner: crate::pool::detach(py, || TemporalSfa::from_json(s)).py_err()?,
+        })
+    }
 }
 
 /// Fits temporal SFA to a time series (one step per row).

@@ -65,7 +65,7 @@ def table1(sharp, seed, mu=None, lam=2000.0, methods=("B", "W", "RL", "KS", "KM3
             gamma = None if m.endswith("linear") else 2.2
             r = deblur.deblur_multiframe(frames, times, gyro, F, cx, cy, EXPOSURE, t_delay=DELAY,
                                          temporal_radius=radius, gamma=gamma, **kw)
-            res[m] = quality(r["single"] if m == "KS" else r["image"], truth)
+            res[m] = quality(r.single if m == "KS" else r.image, truth)
     return res
 
 

@@ -5,9 +5,14 @@ from the convention fails here, naming the module, the callable and the rule."""
 
 from __future__ import annotations
 
+import ast
+import collections.abc
+import dataclasses
 import importlib
 import inspect
+import pathlib
 import re
+import typing
 
 import pytest
 
@@ -58,6 +63,7 @@ PENDING = {
     "verbs": set(),
     "var_keyword": set(),
     "all": set(),
+    "results": set(),
 }
 
 
@@ -176,3 +182,173 @@ def test_all_is_complete(module):
 def test_top_level_all_lists_every_module():
     missing = [m for m in MODULES if m not in wscg.__all__]
     assert not missing, f"wscg.__all__ lacks {missing}"
+
+
+# ---------------------------------------------------------------------------------------
+# Results (py/API.md, section Results): no public function or method returns a bare dict.
+
+# Annotations that name a mapping: `dict`, `Dict[...]`, `Mapping[...]` (also inside a
+# Union, Tuple or Optional), evaluated or written as a string.
+_MAPPING_WORDS = re.compile(r"\b(dict|Dict|Mapping|MutableMapping|OrderedDict)\b")
+_MAPPING_TYPES = (dict, collections.abc.Mapping, collections.abc.MutableMapping)
+
+# Callables that return a mapping by nature, with the reason; they keep a `dict`.
+RESULT_EXCEPTIONS = {
+    "get_params": "scikit-learn's protocol: the hyper-parameters by name, for set_params",
+    "biometrics.hand_pose_jitter": "a configuration the user edits and passes back as "
+                                   "make_hand_poses(jitter=...)",
+    "ear.EarMatcher.params": "the keyword parameters the matcher was built with, by name",
+    "motion.Synthesizer.planner": "the planner's parameters by name (comfort, gamma, ranges)",
+    "volren.orbit_camera": "keyword arguments of the paper-03 render functions "
+                           "(client.render(**cam)), also passed as size_report(thin_client_view=)",
+    "raytrace.ManyLightScene.camera": "the camera as the dict that camera= of "
+                                      "render_manylight takes back, entries edited by name",
+}
+
+
+def _names_mapping(annotation) -> bool:
+    if annotation is inspect.Signature.empty or annotation is None:
+        return False
+    if isinstance(annotation, str):
+        return bool(_MAPPING_WORDS.search(annotation))
+    if isinstance(annotation, type) and issubclass(annotation, _MAPPING_TYPES):
+        return True
+    origin = typing.get_origin(annotation)
+    if isinstance(origin, type) and issubclass(origin, _MAPPING_TYPES):
+        return True
+    return any(_names_mapping(a) for a in typing.get_args(annotation))
+
+
+def _excepted(qual: str) -> bool:
+    short = qual.split(".", 1)[1]
+    return short in RESULT_EXCEPTIONS or short.rsplit(".", 1)[-1] in RESULT_EXCEPTIONS
+
+
+def _stub_returns(mod):
+    """(qualified name, return annotation as written) of the public functions, methods and
+    properties of the stub file next to ``mod`` (the annotations type checkers see; native
+    methods have none at run time)."""
+    path = pathlib.Path(mod.__file__).with_suffix(".pyi")
+    if not path.exists():
+        return []
+    tree = ast.parse(path.read_text())
+    out = []
+
+    def walk(body, prefix):
+        for node in body:
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                if node.returns is not None and not node.name.startswith("_"):
+                    out.append((f"{prefix}.{node.name}", ast.unparse(node.returns)))
+            elif isinstance(node, ast.ClassDef) and not node.name.startswith("_"):
+                walk(node.body, f"{prefix}.{node.name}")
+
+    walk(tree.body, mod.__name__)
+    return out
+
+
+@pytest.mark.parametrize("module", _modules("results"))
+def test_no_function_returns_a_dict(module):
+    bad = []
+    mod = importlib.import_module(f"wscg.{module}")
+    for qual, ann in _stub_returns(mod):
+        if not _excepted(qual) and _names_mapping(ann):
+            bad.append(f"{qual} -> {ann} (stub)")
+    for qual, obj in _public(mod):
+        if _excepted(qual):
+            continue
+        members = [(qual, obj)]
+        if inspect.isclass(obj):
+            # Properties: the annotation of the getter.
+            members = [(f"{qual}.{a}", p.fget) for a, p in vars(obj).items()
+                       if isinstance(p, property) and not a.startswith("_")
+                       and not _excepted(f"{qual}.{a}")]
+        for name, fn in members:
+            sig = _signature(fn)
+            if sig is not None and _names_mapping(sig.return_annotation):
+                bad.append(f"{name} -> {sig.return_annotation}")
+    assert not bad, ("functions annotated to return a mapping (py/API.md wants a result "
+                     "class):\n" + "\n".join(sorted(bad)))
+
+
+# Every function converted from a dict to a result class, with the class its annotation
+# names: the check above cannot see a function without an annotation.
+CONVERTED = {
+    "biometrics.feature_kernel": "ResolvedKernel",
+    "biometrics.hand_pose_split": "HandPoseSplit",
+    "biometrics.hand_pose_comparison": "HandPoseComparison",
+    "ear.detect_occlusion": "OcclusionReport",
+    "ear.EarMatcher.identify": "Identification",
+    "ear.EarMatcher.identify_baseline": "Ranking",
+    "ear.score": "MatchScore",
+    "ear.make_ears": "EarDataset",
+    "ear.evaluate": "EarEvaluation",
+    "gait.detect_cycle": "CycleDetails",
+    "gait.make_walkers": "SyntheticWalks",
+    "gait.evaluate_synthetic": "GaitEvaluation",
+    "motion.make_synthetic_dataset": "MotionDataset",
+    "motion.plan_steps": "StepPlan",
+    "motion.Synthesizer.plan": "StepPlan",
+    "motion.Synthesizer.run": "Synthesis",
+    "motion.load_bvh": "BvhMotion",
+    "motion.skeleton": "Skeleton",
+    "motion.fit_line": "LineFit",
+    "motion.svr_fit_predict": "SvrInfo",
+    "motion.hopf_simulate": "HopfTrajectory",
+    "hdr.multiscopic_hdr": "HdrSequence",
+    "hdr.calibrate_mitsunaga_nayar": "PolynomialResponse",
+    "hdr.make_scene": "HdrScene",
+    "deblur.deblur_multiframe": "MultiframeDeblur",
+    "video.complete_video": "CompletionStats",
+    "doe.fit_rsm": "RsmFit",
+    "doe.fit_rsm_blocked": "RsmFit",
+    "doe.rm_anova": "AnovaTable",
+    "doe.rm_anova_oneway": "AnovaEffect",
+    "doe.lsd": "LeastSignificantDifference",
+    "math.cg": "CgInfo",
+    "math.solve_cg": "CgInfo",
+    "math.load_mesh": "Mesh",
+    "volseg.random_walker_bone": "SolveReport",
+    "volseg.RandomWalkerSession.solve": "SolveReport",
+    "volseg.RandomWalkerSession.report": "SolveReport",
+    "isosurface.marching_cubes": "MeshInfo",
+    "isosurface.estimate_normals": "NormalStats",
+    "isosurface.angular_rms": "AngularRms",
+    "isosurface.study_full_cd": "SparseComparison",
+    "isosurface.study_exact": "ExactComparison",
+    "volren.HybridServer.size_report": "SizeReport",
+    "volren.study": "IlluminationStudy",
+    "octree.HybridOctree.memory_report": "MemoryReport",
+    "octree.HybridOctree.intersect": "RayHits",
+    "octree.HybridOctree.render": "RenderStats",
+    "csmri.reconstruct": "ReconstructionHistory",
+    "csmri.fcsa": "ReconstructionHistory",
+    "csmri.tvcmri": "ReconstructionHistory",
+    "csmri.watmri": "ReconstructionHistory",
+    "raytrace.render_plate": "PlateInfo",
+    "raytrace.glint_stats": "GlintStats",
+    "raytrace.workshop": "WorkshopScores",
+    "raytrace.render_manylight": "ManyLightStats",
+    "cloth.Sim.energy": "Energy",
+}
+
+
+@pytest.mark.parametrize("qual", sorted(CONVERTED))
+def test_converted_functions_name_their_result_class(qual):
+    module, *path = qual.split(".")
+    mod = importlib.import_module(f"wscg.{module}")
+    obj = mod
+    for p in path:
+        obj = getattr(obj, p)
+    cls_name = CONVERTED[qual]
+    cls = getattr(mod, cls_name)
+    assert cls_name in mod.__all__, f"wscg.{module}.{cls_name} is not exported"
+    assert cls.__doc__ and "Attributes" in cls.__doc__, f"{cls_name} documents no fields"
+    ann = inspect.signature(obj).return_annotation
+    text = ann if isinstance(ann, str) else repr(ann)
+    assert re.search(rf"\b{cls_name}\b", text), f"{qual} is annotated {text!r}"
+    # Every field is documented (with its unit or shape) in the class docstring.
+    fields = (cls._fields if hasattr(cls, "_fields")
+              else [f.name for f in dataclasses.fields(cls)])
+    undocumented = [f for f in fields if not re.search(rf"^\s*[\w, ]*\b{f}\b[\w, ]* :",
+                                                        cls.__doc__, re.M)]
+    assert not undocumented, f"{cls_name} does not document {undocumented}"

@@ -13,6 +13,7 @@ from sklearn.metrics.pairwise import euclidean_distances, polynomial_kernel, rbf
 from sklearn.model_selection import train_test_split
 from sklearn.neighbors import KNeighborsClassifier
 
+from results_check import check_result
 from wscg import biometrics as B
 
 
@@ -34,12 +35,24 @@ def test_feature_kernel_equals_sklearn_kernels(digits):
     Xc = X - X.mean(axis=0)
     K, info = B.feature_kernel(X, kernel="rbf")
     assert K.shape == (64, 64)
-    gamma = 1.0 / (2.0 * info["sigma"] ** 2)
+    gamma = 1.0 / (2.0 * info.sigma ** 2)
     assert rel_err(K, rbf_kernel(Xc.T, gamma=gamma)) <= 1e-10
     K, info = B.feature_kernel(X, kernel="poly", degree=2, coef0=1.0)
-    assert info["gamma"] == pytest.approx(1.0 / 500)
+    assert info.gamma == pytest.approx(1.0 / 500)
     ref = polynomial_kernel(Xc.T, degree=2, gamma=1.0 / 500, coef0=1.0)
     assert rel_err(K, ref) <= 1e-10
+
+
+def test_feature_kernel_reports_a_resolved_kernel(digits):
+    X = digits[0][:200]
+    _, rbf = B.feature_kernel(X, kernel="rbf", sigma=3.0)
+    assert check_result(rbf, B.ResolvedKernel) == (
+        "ResolvedKernel(kernel='rbf', sigma=3, degree=None, gamma=None, coef0=None)")
+    _, poly = B.feature_kernel(X, kernel="poly", degree=3, gamma=0.5, coef0=2.0)
+    check_result(poly, B.ResolvedKernel)
+    assert (poly.kernel, poly.degree, poly.gamma, poly.coef0, poly.sigma) == ("poly", 3, 0.5,
+                                                                               2.0, None)
+    assert B.feature_kernel(X, kernel="linear")[1] == B.ResolvedKernel("linear")
 
 
 def test_median_sigma_is_median_feature_distance(digits):
@@ -49,7 +62,7 @@ def test_median_sigma_is_median_feature_distance(digits):
     iu = np.triu_indices(64, 1)
     med = np.median(D[iu][D[iu] > 1e-9])
     _, info = B.feature_kernel(X, kernel="rbf", sigma_scale=2.0)
-    assert info["sigma"] == pytest.approx(2.0 * med, rel=1e-9)
+    assert info.sigma == pytest.approx(2.0 * med, rel=1e-9)
 
 
 # ------------------------------------------------------------ check 2: entropy identity
@@ -264,12 +277,12 @@ def test_bad_input_raises_value_error():
     rng = np.random.default_rng(0)
     X = rng.standard_normal((20, 8))
     cases = [
-        (lambda: B.FDKECA().fit(np.zeros((0, 8))), "rows"),
-        (lambda: B.FDKECA().fit(X[:1]), "at least 2"),
-        (lambda: B.FDKECA().fit(np.zeros((5, 0))), "d = 0"),
+        (lambda: B.FDKECA().fit(np.zeros((0, 8))), "0 sample"),
+        (lambda: B.FDKECA().fit(X[:1]), "minimum of 2"),
+        (lambda: B.FDKECA().fit(np.zeros((5, 0))), "0 feature"),
         (lambda: B.FDKECA().fit(np.where(np.eye(20, 8) > 0, np.nan, X)), "NaN|non-finite|finite"),
-        (lambda: B.FDKECA().fit(np.where(np.eye(20, 8) > 0, np.inf, X)), "finite"),
-        (lambda: B.FDKECA().fit(X).transform(X[:, :5]), "columns"),
+        (lambda: B.FDKECA().fit(np.where(np.eye(20, 8) > 0, np.inf, X)), "infinity"),
+        (lambda: B.FDKECA().fit(X).transform(X[:, :5]), "X has 5 features, but FDKECA is expecting 8"),
         (lambda: B.FDKECA(sigma=0.0).fit(X), "sigma"),
         (lambda: B.FDKECA(sigma=-1.0).fit(X), "sigma"),
         (lambda: B.FDKECA(sigma_scale=np.nan).fit(X), "sigma|scale"),
@@ -285,7 +298,7 @@ def test_bad_input_raises_value_error():
         (lambda: B.FDKECA(ordering="random").fit(X), "ordering"),
         (lambda: B.FDKECA().fit(X).predict(X), "without labels"),
         (lambda: B.FDKECA().transform(X), "not fitted"),
-        (lambda: B.FDKECA().fit(np.zeros((2, 3, 4, 5))), "2-D"),
+        (lambda: B.FDKECA().fit(np.zeros((2, 3, 4, 5))), "4-D"),
         (lambda: B.FDKECA().fit([["a", "b"], ["c", "d"]]), "numeric"),
         (lambda: B.nn_classify(X, np.arange(20), X[:, :3]), "columns"),
         (lambda: B.make_finger_veins(n_subjects=0), "`n_subjects`"),

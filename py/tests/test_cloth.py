@@ -4,6 +4,7 @@ meshes and bad input."""
 import numpy as np
 import pytest
 
+from results_check import check_result
 from wscg import cloth
 
 H = 1.0 / 60.0
@@ -32,10 +33,16 @@ def test_energy_behaviour_and_methods():
     losses = {}
     for ab in (0.6, 1.0):
         sim = cloth.Sim(m, alpha=ab, beta=ab)
-        e0 = sim.energy()["total"]
+        e0 = sim.energy().total
         energies = sim.step(H, 300)
         assert energies.shape == (300, 4)
         assert np.allclose(energies[:, 3], energies[:, :3].sum(axis=1))
+        # The energy of the state is the last row of the step's energies, in its order.
+        e = sim.energy()
+        check_result(e, cloth.Energy)
+        np.testing.assert_allclose(e, energies[-1], rtol=1e-12, atol=1e-15)
+        assert e.total == pytest.approx(e.kinetic + e.gravity + e.elastic)
+        assert sim.model().energy() == pytest.approx(e)
         losses[ab] = e0 - energies[-1, 3]
     assert losses[0.6] < losses[1.0]
     for method, opts in [("pbd", {"stiffness": 0.5}), ("symplectic", {"n_substeps": 8}),

@@ -8,6 +8,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from results_check import check_result
 from wscg import csmri
 from wscg import math as wm
 
@@ -135,6 +136,18 @@ def test_metrics_match_scikit_image_and_the_identity(rng):
     assert abs(csmri.rlne(ref, x) - np.linalg.norm(x - ref) / np.linalg.norm(ref)) < 1e-12
 
 
+def test_baseline_histories_are_typed():
+    k = csmri.make_shepp_logan_kspace(32)
+    m = csmri.mask_cartesian((32, 32), 0.4, seed=1)
+    for method in (csmri.fcsa, csmri.tvcmri, csmri.watmri):
+        x, h = method(k, m, n_iter=3, return_history=True)
+        check_result(h, csmri.ReconstructionHistory)
+        assert h.n_iter == 3 and h.mse is None and h.objective.shape == (3,)
+        np.testing.assert_array_equal(method(k, m, n_iter=3), x)
+    x, h = csmri.reconstruct(k, m, max_iter=0, return_history=True)
+    assert h.n_iter == 0 and h.rel_change.shape == (0,)
+
+
 def test_headline_reconstruction_and_data_consistency():
     n = 256
     k = csmri.make_shepp_logan_kspace(n)
@@ -146,7 +159,14 @@ def test_headline_reconstruction_and_data_consistency():
     x, hist = csmri.reconstruct(k, m, reference=ref, return_history=True)
     assert csmri.psnr(ref, x) >= csmri.psnr(ref, zf) + 10
     assert csmri.rlne(ref, x) <= 0.05
-    assert len(hist["mse"]) == 70 and hist["iters"] == 70
+    assert len(hist.mse) == 70 and hist.n_iter == 70
+    text = check_result(hist, csmri.ReconstructionHistory)
+    assert "mse=array(shape=(70,), dtype=float64)" in text
+    np.testing.assert_array_equal(hist.iteration, np.arange(1, 71))
+    # The last iterate is the returned image but for the final projection onto the data
+    # constraint (its residual is small, not 0).
+    assert hist.mse[-1] == pytest.approx(np.mean(np.abs(x - ref) ** 2), rel=1e-3)
+    assert 0 < hist.residual[-1] <= 1e-3 * np.linalg.norm(k[m])
     f = np.fft.fft2(x, norm="ortho")
     assert np.abs(f[m] - k[m]).max() <= 1e-8 * np.abs(k[m]).max()
     # Fortran-ordered and non-contiguous inputs are accepted.

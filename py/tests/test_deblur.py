@@ -10,6 +10,7 @@ from scipy import ndimage
 from wscg import deblur
 
 from deblur_table1 import mean_table, photo
+from results_check import check_result
 
 F = 600.0
 
@@ -396,8 +397,9 @@ def test_multiframe(burst):
     ref = b["sharp"] ** (1 / 2.2)
     args = (b["times"], b["gyro"], F, b["cx"], b["cy"], 0.03)
     out = deblur.deblur_multiframe(b["frames"], *args, t_delay=0.015)
-    assert set(out) >= {"image", "single", "weights", "used_frames", "warnings", "kernels"}
-    img, single, wts = out["image"], out["single"], out["weights"]
+    text = check_result(out, deblur.MultiframeDeblur)
+    assert "image=array(shape=(120, 150), dtype=float32)" in text
+    img, single, wts = out.image, out.single, out.weights
     assert img.shape == single.shape == (120, 150) and img.dtype == np.float32
     assert 0 <= img.min() and img.max() <= 1
     assert wts.shape == (4, 5, 3) and wts.dtype == np.float32
@@ -406,8 +408,8 @@ def test_multiframe(burst):
     sums = wts.sum(axis=-1)
     used = (wts > 0).any(axis=-1)
     assert used.any() and np.allclose(sums[used], 1, atol=1e-5)
-    assert 1 in out["used_frames"] and out["used_frames"] == sorted(out["used_frames"])
-    assert out["kernels"].shape[:2] == (4, 5)
+    assert 1 in out.used_frames and out.used_frames == sorted(out.used_frames)
+    assert out.kernels.shape[:2] == (4, 5)
     p_b = _psnr_display(b["frames"][1], ref)
     p_ks = _psnr_display(single, ref)
     p_km = _psnr_display(img, ref)
@@ -418,12 +420,12 @@ def test_multiframe(burst):
     # bit-identical: the ECC sums are reduced in a thread-dependent order (1-ulp differences).
     u8 = [np.round(f * 255).astype(np.uint8) for f in b["frames"]]
     out8 = deblur.deblur_multiframe(u8, *args, t_delay=0.015, main=1)
-    assert np.abs(out8["image"] - img).max() < 1e-5
-    assert out8["used_frames"] == out["used_frames"]
+    assert np.abs(out8.image - img).max() < 1e-5
+    assert out8.used_frames == out.used_frames
     # No neighbours: the result is the single-frame one.
     alone = deblur.deblur_multiframe(b["frames"], *args, t_delay=0.015, temporal_radius=0)
-    assert alone["used_frames"] == [1] and not alone["weights"].any()
-    assert np.allclose(alone["image"], alone["single"], atol=1e-6)
+    assert alone.used_frames == [1] and not alone.weights.any()
+    assert np.allclose(alone.image, alone.single, atol=1e-6)
 
 
 def test_multiframe_drops_a_frame_that_does_not_align(burst):
@@ -433,8 +435,8 @@ def test_multiframe_drops_a_frame_that_does_not_align(burst):
     with pytest.warns(UserWarning, match="frame 2"):
         out = deblur.deblur_multiframe(frames, b["times"], b["gyro"], F, b["cx"], b["cy"], 0.03,
                                        t_delay=0.015, align="gyro")
-    assert 2 not in out["used_frames"] and (out["weights"][..., 2] == 0).all()
-    assert any("frame 2" in w for w in out["warnings"])
+    assert 2 not in out.used_frames and (out.weights[..., 2] == 0).all()
+    assert any("frame 2" in w for w in out.warnings)
 
 
 def test_synth_is_seeded():

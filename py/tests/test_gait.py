@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import wscg
+from results_check import check_result
 from wscg import gait
 
 
@@ -91,7 +92,9 @@ def test_module_is_exposed_twice_and_documented():
     assert gait.JOINT_NAMES[20] == "SpineShoulder" and gait.JOINT_NAMES[24] == "ThumbRight"
     for name in gait.__all__:
         obj = getattr(gait, name)
-        if callable(obj):
+        if isinstance(obj, type) and obj is not gait.GaitRecognizer:  # a result class
+            assert obj.__doc__ and "Attributes" in obj.__doc__, name
+        elif callable(obj):
             assert obj.__doc__ and "Parameters" in obj.__doc__, name
 
 
@@ -278,7 +281,7 @@ def test_jra_matches_eq1_and_is_undefined_at_the_reference():
 
 def test_jra_sequences_are_invariant_to_similarity_transforms(walks):
     rng = np.random.default_rng(12)
-    for w in walks["frames"][:6]:
+    for w in walks.frames[:6]:
         cyc = gait.detect_cycle(w)
         theta = gait.jra_sequences(w, cyc)
         assert theta.shape == (276, cyc[2] - cyc[0] + 1)
@@ -295,7 +298,7 @@ def test_jra_sequences_are_invariant_to_similarity_transforms(walks):
 
 
 def test_jra_sequences_pairs_by_index_and_name(walks):
-    w = walks["frames"][0]
+    w = walks.frames[0]
     cyc = gait.detect_cycle(w)
     full = gait.jra_sequences(w, cyc)
     allp = gait.all_pairs()
@@ -309,7 +312,7 @@ def test_jra_sequences_pairs_by_index_and_name(walks):
 
 
 def test_relevance_map_and_pair_selection(walks):
-    sets = [gait.jra_sequences(w) for w in walks["frames"][:12]]
+    sets = [gait.jra_sequences(w) for w in walks.frames[:12]]
     R = gait.relevance_matrix(sets)
     assert R.shape == (25, 25)
     np.testing.assert_array_equal(R, R.T)
@@ -347,10 +350,10 @@ def test_occupied_bins_known_cases():
 # ----------------------------------------------------------------------------------------
 
 def test_detect_cycle_matches_the_true_leg_crossings(walks):
-    frames, minima = walks["frames"], walks["minima"]
+    frames, minima = walks.frames, walks.minima
     assert len(frames) >= 40
     hits = 0
-    for f, m, wf in zip(frames, minima, walks["walk_frames"]):
+    for f, m, wf in zip(frames, minima, walks.walk_frames):
         start, mid, end = gait.detect_cycle(f)
         assert start < mid < end < len(f)
         assert end < wf  # never overlaps the sit-down tail
@@ -358,40 +361,48 @@ def test_detect_cycle_matches_the_true_leg_crossings(walks):
         hits += any(np.all(np.abs(m[k:k + 3] - [start, mid, end]) <= 2)
                     for k in range(len(m) - 2))
     assert hits / len(frames) >= 0.95
-    assert any(walks["sit_tail"]) and not all(walks["sit_tail"])
+    assert any(walks.sit_tail) and not all(walks.sit_tail)
+    check_result(walks, gait.SyntheticWalks)
+    c = gait.detect_cycle(walks.frames[0])
+    assert check_result(c, gait.GaitCycle) == f"GaitCycle(start={c[0]}, mid={c[1]}, end={c[2]})"
+    start, mid, end = c
+    assert (c.start, c.mid, c.end) == (start, mid, end) and start < mid < end
 
 
 def test_detect_cycle_details_and_options(walks):
-    f = walks["frames"][1]
+    f = walks.frames[1]
     d = gait.detect_cycle(f, return_details=True)
-    assert set(d) >= {"start", "mid", "end", "ankle_dist", "minima", "first_step"}
-    assert d["ankle_dist"].shape == (len(f),) and d["first_step"] == "left"
-    assert (d["start"], d["mid"], d["end"]) == gait.detect_cycle(f)
-    assert list(d["minima"]).index(d["start"]) + 2 == list(d["minima"]).index(d["end"])
+    text = check_result(d, gait.CycleDetails)
+    assert f"ankle_dist=array(shape=({len(f)},), dtype=float64)" in text
+    assert d.cycle == gait.detect_cycle(f) and type(d.cycle) is gait.GaitCycle
+    np.testing.assert_array_equal(gait.jra_sequences(f, cycle=d), gait.jra_sequences(f))
+    assert d.ankle_dist.shape == (len(f),) and d.first_step == "left"
+    assert (d.start, d.mid, d.end) == gait.detect_cycle(f)
+    assert list(d.minima).index(d.start) + 2 == list(d.minima).index(d.end)
     right = gait.detect_cycle(f, start_leg="right", return_details=True)
-    assert right["first_step"] == "right" and right["start"] != d["start"]
+    assert right.first_step == "right" and right.start != d.start
     assert gait.detect_cycle(f, up="y") is not None
     assert gait.detect_cycle(f, up=[0.0, 2.0, 0.0]) == gait.detect_cycle(f, up="y")
-    assert gait.detect_cycle(f, choice="most_regular")[0] in d["minima"]
+    assert gait.detect_cycle(f, choice="most_regular")[0] in d.minima
 
 
 def test_noise_free_walkers_share_sessions_with_noisy_ones():
     noisy = gait.make_walkers(3, 2, seed=4)
     clean = gait.make_walkers(3, 2, seed=4, noise=False)
-    for a, b in zip(noisy["frames"], clean["frames"]):
+    for a, b in zip(noisy.frames, clean.frames):
         assert a.shape == b.shape and 0 < np.abs(a - b).max() < 0.1
-    for a, b in zip(noisy["minima"], clean["minima"]):
+    for a, b in zip(noisy.minima, clean.minima):
         np.testing.assert_array_equal(a, b)
     # Noise-free: the narrow pairs are analytically constant over the cycle.
     J = {n: i for i, n in enumerate(gait.JOINT_NAMES)}
-    f = clean["frames"][0]
+    f = clean.frames[0]
     th = gait.jra_sequences(f, pairs=[("SpineShoulder", "SpineMid"), ("HipLeft", "HipRight")])
     assert np.ptp(th, axis=1).max() < 1e-9
     assert J["SpineMid"] == 1
 
 
 def test_short_walk_has_no_gait_cycle(walks):
-    f = walks["frames"][0]
+    f = walks.frames[0]
     start, mid, end = gait.detect_cycle(f)
     short = f[: (mid - start) + 3]  # less than one stride
     with pytest.raises(ValueError, match="gait cycle"):
@@ -405,13 +416,13 @@ def test_short_walk_has_no_gait_cycle(walks):
 # ----------------------------------------------------------------------------------------
 
 def _leave_session_out(s, **kw):
-    fr, lab, ses = s["frames"], s["labels"], s["sessions"]
+    fr, lab, ses = s.frames, s.labels, s.sessions
     correct = 0
     for k in np.unique(ses):
         tr = np.flatnonzero(ses != k)
         te = np.flatnonzero(ses == k)
         rec = gait.GaitRecognizer(**kw).fit([fr[i] for i in tr], lab[tr])
-        correct += sum(rec.predict(fr[i]) == lab[i] for i in te)
+        correct += int(np.sum(rec.predict([fr[i] for i in te]) == lab[te]))
     return correct / len(fr)
 
 
@@ -426,7 +437,7 @@ def test_recognizer_leave_session_out_accuracy():
 
 def test_recognizer_labels_rank_and_attributes():
     s = gait.make_walkers(6, 3, seed=0)
-    fr, lab, ses = s["frames"], s["labels"], s["sessions"]
+    fr, lab, ses = s.frames, s.labels, s.sessions
     names = np.array(["ann", "bob", "cy", "dee", "eve", "fay"])[lab]
     tr = np.flatnonzero(ses != 2)
     te = np.flatnonzero(ses == 2)
@@ -435,37 +446,43 @@ def test_recognizer_labels_rank_and_attributes():
     assert rec.pairs_.ndim == 2 and rec.pairs_.shape[1] == 2 and len(rec.pairs_) > 0
     assert rec.relevance_.shape == (25, 25)
     assert all(rec.relevance_[a, b] >= 20 for a, b in rec.pairs_)
-    preds = [rec.predict(fr[i]) for i in te]
-    assert all(isinstance(p, str) and p in set(names) for p in preds)
-    assert np.mean(np.array(preds) == names[te]) >= 5 / 6
+    preds = rec.predict([fr[i] for i in te])
+    assert preds.shape == (len(te),) and all(p in set(names) for p in preds)
+    assert np.mean(preds == names[te]) >= 5 / 6
+    assert rec.score([fr[i] for i in te], names[te]) == np.mean(preds == names[te])
     labels, deltas = rec.rank(fr[te[0]])
     assert len(labels) == len(tr) and np.all(np.diff(deltas) >= 0)
-    assert labels[0] == rec.predict(fr[te[0]])
+    assert labels[0] == rec.predict([fr[te[0]]])[0]
+    with pytest.raises(ValueError, match="one walk"):
+        rec.predict(fr[te[0]])
     # A training walk is its own nearest neighbour at Delta = 0.
     idx, d = rec.rank_indices(fr[tr[4]])
     assert idx[0] == 4 and d[0] == 0
     # Hashable non-orderable labels round-trip too.
     objs = [("id", int(v)) for v in lab[tr]]
     rec2 = gait.GaitRecognizer(vote="paper").fit([fr[i] for i in tr], objs)
-    assert rec2.predict(fr[te[0]]) in set(objs)
+    assert rec2.predict([fr[te[0]]])[0] in set(objs)
+    truth = [("id", int(v)) for v in lab[te]]
+    assert rec2.score([fr[i] for i in te], truth) == np.mean(
+        [p == t for p, t in zip(rec2.predict([fr[i] for i in te]), truth)])
     for vote, k in (("majority", 3), ("majority:2", None), ("nearest", None)):
         gait.GaitRecognizer(vote=vote, n_neighbors=k).fit([fr[i] for i in tr], lab[tr])
 
 
 def test_evaluate_synthetic_reproduces_check_7():
     r = gait.evaluate_synthetic(seed=0)
-    keys = {"decisions", "jra_nearest", "jra_paper_vote", "jra_majority", "jra_fixed",
-            "jra_normalized", "jra_resampled", "raw_dtw", "ball_nn", "preis_nb", "preis_nn",
-            "chosen_t", "curve", "relevance"}
-    assert keys <= set(r)
-    assert r["decisions"] == 60
-    assert r["jra_nearest"] >= 0.9
-    assert r["curve"].shape == (30, 2)
-    np.testing.assert_array_equal(r["curve"][:, 0], np.arange(1, 31))
-    assert len(r["chosen_t"]) == 3
+    check_result(r, gait.GaitEvaluation)
+    accuracies = ("jra_nearest", "jra_paper_vote", "jra_majority", "jra_fixed",
+                  "jra_normalized", "jra_resampled", "raw_dtw", "ball_nn", "preis_nb",
+                  "preis_nn")
+    assert all(0 <= getattr(r, k) <= 1 for k in accuracies)
+    assert r.decisions == 60
+    assert r.jra_nearest >= 0.9
+    assert r.curve.shape == (30, 2)
+    np.testing.assert_array_equal(r.curve[:, 0], np.arange(1, 31))
+    assert len(r.chosen_t) == 3
     print("\nTable 1 analogue (seed 0):",
-          {k: round(float(r[k]), 3) for k in sorted(keys - {"chosen_t", "curve", "relevance",
-                                                             "decisions"})})
+          {k: round(float(getattr(r, k)), 3) for k in sorted(accuracies)})
 
 
 # ----------------------------------------------------------------------------------------
@@ -473,7 +490,7 @@ def test_evaluate_synthetic_reproduces_check_7():
 # ----------------------------------------------------------------------------------------
 
 def test_baseline_features(walks):
-    f = walks["frames"][2]
+    f = walks.frames[2]
     cyc = gait.detect_cycle(f)
     b = gait.ball_features(f)
     p = gait.preis_features(f, cyc)
@@ -489,7 +506,7 @@ def test_baseline_features(walks):
 
 
 def test_skeleton_files_round_trip(tmp_path, walks):
-    f = walks["frames"][0][:40]
+    f = walks.frames[0][:40]
     csv = tmp_path / "walk.csv"
     gait.save_skeleton_csv(csv, f)
     back = gait.load_skeleton(csv)
@@ -511,7 +528,7 @@ def test_skeleton_files_round_trip(tmp_path, walks):
 # ----------------------------------------------------------------------------------------
 
 def test_bad_frames(walks):
-    f = walks["frames"][0]
+    f = walks.frames[0]
     f0 = f.copy()
     with pytest.raises(ValueError, match="25 joints"):
         gait.detect_cycle(f[:, :24])
@@ -576,7 +593,7 @@ def test_bad_dtw_input():
 
 
 def test_bad_relevance_input(walks):
-    s = gait.jra_sequences(walks["frames"][0])
+    s = gait.jra_sequences(walks.frames[0])
     with pytest.raises(ValueError, match="empty"):
         gait.relevance_matrix([])
     with pytest.raises(ValueError, match="276"):
@@ -590,8 +607,8 @@ def test_bad_relevance_input(walks):
 
 
 def test_bad_recognizer_input(walks):
-    fr = walks["frames"][:6]
-    lab = walks["labels"][:6]
+    fr = walks.frames[:6]
+    lab = walks.labels[:6]
     with pytest.raises(ValueError, match="5 labels for 6 walks"):
         gait.GaitRecognizer().fit(fr, lab[:5])
     with pytest.raises(ValueError, match="empty"):
@@ -605,12 +622,12 @@ def test_bad_recognizer_input(walks):
     with pytest.raises(ValueError, match="largest relevance"):
         gait.GaitRecognizer(min_bins=500).fit(fr, lab)
     with pytest.raises(ValueError, match="not fitted"):
-        gait.GaitRecognizer().predict(fr[0])
+        gait.GaitRecognizer().predict([fr[0]])
     short = [f.copy() for f in fr]
     short[3] = short[3][:12]
     with pytest.raises(ValueError, match="training walk 3.*gait cycle"):
         gait.GaitRecognizer().fit(short, lab)
-    with pytest.raises(ValueError, match=r"walks\[2\].*25 joints"):
+    with pytest.raises(ValueError, match=r"X\[2\].*25 joints"):
         gait.GaitRecognizer().fit([f if i != 2 else f[:, :24] for i, f in enumerate(fr)], lab)
 
 

@@ -12,6 +12,7 @@ import pytest
 from sklearn.datasets import make_swiss_roll
 from sklearn.manifold import Isomap as SkIsomap
 
+from results_check import check_result
 from wscg import biometrics as B
 
 
@@ -89,29 +90,36 @@ def test_split_and_comparison(hands):
     masks, depth, labels, _ = hands
     s = B.hand_pose_split(masks, labels, n_test_per_class=30, n_augment_per_class=40,
                           seed=0)
-    assert s["X_train"].shape == (5 * 160, 55 * 40) and s["X_test"].shape == (150, 2200)
-    assert np.sum(s["train_rotation"] != 0) == 200
-    assert not set(s["test_index"]) & set(s["train_index"])
+    assert s.X_train.shape == (5 * 160, 55 * 40) and s.X_test.shape == (150, 2200)
+    assert np.sum(s.train_rotation != 0) == 200
+    assert not set(s.test_index) & set(s.train_index)
+    check_result(s, B.HandPoseSplit)
+    assert s.shape == (55, 40) and s.X_test.shape[1] == s.shape[0] * s.shape[1]
     r = B.hand_pose_comparison(masks, labels, depth=depth, n_test_per_class=30,
                                n_augment_per_class=40, methods=("sfa", "physical", "pca",
                                                                 "global"),
                                pca_n_components=10, m=4, physical_n_per_class=100)
-    np.testing.assert_array_equal(r["y_test"], s["y_test"])
-    for name, res in r["results"].items():
-        np.testing.assert_allclose(res["confusion"].sum(axis=1), 100.0)
-        acc = 100 * np.mean(res["predictions"] == r["y_test"])
-        assert abs(acc - res["accuracy"]) < 1e-9  # equal class sizes: mean diagonal
+    np.testing.assert_array_equal(r.y_test, s.y_test)
+    check_result(r, B.HandPoseComparison)
+    assert list(r.results) == ["sfa", "physical", "pca", "global"]
+    for run in r.results.values():
+        check_result(run, B.ClassifierRun)
+        assert run.fit_seconds >= 0 and run.predict_seconds >= 0
+    for name, res in r.results.items():
+        np.testing.assert_allclose(res.confusion.sum(axis=1), 100.0)
+        acc = 100 * np.mean(res.predictions == r.y_test)
+        assert abs(acc - res.accuracy) < 1e-9  # equal class sizes: mean diagonal
     # The comparison's class-wise SFA is PerClassSFA on the split's rows.
-    model = B.PerClassSFA(pca_n_components=10, m=4).fit(s["X_train"], s["y_train"])
-    np.testing.assert_array_equal(model.predict(s["X_test"]), r["results"]["sfa"]["predictions"])
+    model = B.PerClassSFA(pca_n_components=10, m=4).fit(s.X_train, s.y_train)
+    np.testing.assert_array_equal(model.predict(s.X_test), r.results["sfa"].predictions)
     # Rotated test rows: no rotation gives the split's rows exactly; a rotation keeps each
     # hand's area (within resampling error) but moves its pixels.
-    same = B.hand_pose_rotated_test(masks, s["test_index"], angles=(0.0, 0.0))
-    np.testing.assert_array_equal(same, s["X_test"])
-    rot = B.hand_pose_rotated_test(masks, s["test_index"])
-    area, area_rot = s["X_test"].sum(axis=1), rot.sum(axis=1)
+    same = B.hand_pose_rotated_test(masks, s.test_index, angles=(0.0, 0.0))
+    np.testing.assert_array_equal(same, s.X_test)
+    rot = B.hand_pose_rotated_test(masks, s.test_index)
+    area, area_rot = s.X_test.sum(axis=1), rot.sum(axis=1)
     assert np.max(np.abs(area_rot / area - 1)) < 0.05
-    moved = np.abs(rot - s["X_test"]).sum(axis=1) / area
+    moved = np.abs(rot - s.X_test).sum(axis=1) / area
     assert np.min(moved) > 0.05
 
 
@@ -142,12 +150,13 @@ def test_python_equals_the_rust_command_line(hands, tmp_path):
     py = B.PerClassSFA(pca_n_components=10, m=4).fit(_rows(masks), labels)
     X = _rows(masks)
     np.testing.assert_array_equal(py.predict(X), rust_pred)
-    scores = py.decision_function(X)
+    scores = py.class_scores(X)  # the paper's scores, as the command line writes them
     assert np.max(np.abs(scores - rust_scores)) <= 1e-12 * np.max(np.abs(rust_scores))
+    np.testing.assert_array_equal(py.decision_function(X), -scores)
     # Save / load round trip: bit-identical.
     py.save(tmp_path / "py.json")
     again = B.PerClassSFA.load(tmp_path / "py.json")
-    np.testing.assert_array_equal(again.decision_function(X), scores)
+    np.testing.assert_array_equal(again.class_scores(X), scores)
 
 
 def test_results_do_not_depend_on_the_thread_count(hands, tmp_path):

@@ -4,6 +4,7 @@ Khan-weighted merge against the truth and OpenCV's MergeDebevec (check 1), the m
 pipeline on the layered five-camera scene (check 7), numpy references of voting, warping and
 the metrics, determinism, the GIL, bad input and the docstrings."""
 
+import dataclasses
 import hashlib
 import inspect
 import os
@@ -17,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from results_check import check_result
 from wscg import hdr
 
 D_MIN, D_MAX = -64, 64
@@ -203,7 +205,7 @@ def _s_curve_inv(v):
 
 def test_debevec_calibration_matches_the_truth_and_opencv(scene):
     cv2 = pytest.importorskip("cv2")
-    e = scene["radiance"][2].astype(np.float64)
+    e = scene.radiance[2].astype(np.float64)
     times = 0.004 * 2.0 ** np.arange(7)
     stack = [np.round(_s_curve(e * t) * 255).astype(np.uint8) for t in times]
     ours = hdr.calibrate_debevec(stack, times, n_samples=70, lam=10.0)
@@ -245,17 +247,20 @@ def test_mitsunaga_nayar_recovers_a_gamma_camera_from_approximate_times():
     assert (np.diff(crf, axis=0) >= 0).all() and np.allclose(crf[255], 1.0)
     z = np.arange(5, 251)
     err = np.abs(crf[z] - ((z / 255.0) ** 2.2)[:, None]).max()
-    ratios = np.array(info["ratios"])
+    ratios = np.array(info.ratios)
+    check_result(info, hdr.PolynomialResponse)
+    assert len(info.n_equations) == len(info.n_iter) == len(info.rms) == 3
+    assert all(n > 0 for n in info.n_equations) and all(1 <= n <= 100 for n in info.n_iter)
     kept, _ = hdr.calibrate_mitsunaga_nayar(stack, wrong, refine_ratios=False)
     err_kept = np.abs(kept[z] - ((z / 255.0) ** 2.2)[:, None]).max()
-    print(f"\n[mitsunaga-nayar] degrees {info['degree']}, max |f - z^2.2| {err:.4f} "
+    print(f"\n[mitsunaga-nayar] degrees {info.degree}, max |f - z^2.2| {err:.4f} "
           f"(wrong ratios kept: {err_kept:.4f}), ratios {ratios.min():.4f}..{ratios.max():.4f}")
     # Measured: 0.0009 refined, 0.0371 with the wrong ratios kept.
     assert err <= 0.02 and err <= 0.6 * err_kept
     assert np.abs(ratios / 0.5 - 1).max() <= 0.01
     for c in range(3):
-        coef = np.array(info["coefficients"][c])
-        assert len(coef) == info["degree"][c] + 1
+        coef = np.array(info.coefficients[c])
+        assert len(coef) == info.degree[c] + 1
         assert abs(coef.sum() - 1) < 1e-12
         # The table is the polynomial at the observed codes (within 2-98 % of the range).
         zo = np.arange(10, 246)
@@ -264,6 +269,21 @@ def test_mitsunaga_nayar_recovers_a_gamma_camera_from_approximate_times():
     merged, _ = hdr.merge_stack(stack, times, crf)
     truth, _ = hdr.merge_stack(stack, times, "gamma2.2")
     assert np.median(np.abs(np.log(merged / truth))) < 0.02
+
+
+def test_results_are_typed():
+    sc = hdr.make_scene(height=24, width=40, exposure_times=(0.01, 0.08))
+    text = check_result(sc, hdr.HdrScene)
+    assert "views=[2 x array(shape=(24, 40, 3), dtype=uint8)]" in text
+    assert sc.exposure_times == [0.01, 0.08]
+    details = hdr.multiscopic_hdr(sc.views, sc.exposure_times, max_disparity=20,
+                                  return_details=True)
+    check_result(details, hdr.HdrSequence)
+    radiance, fields, fallback = details  # a named tuple: unpacking keeps working
+    assert radiance is details.radiance and fields is details.fields
+    assert set(fields) == {(0, 1), (1, 0)} and len(fallback) == 2
+    plain = hdr.multiscopic_hdr(sc.views, sc.exposure_times, max_disparity=20)
+    assert type(plain) is list and all(np.array_equal(a, b) for a, b in zip(plain, radiance))
 
 
 def test_mitsunaga_nayar_bad_input():
@@ -299,8 +319,8 @@ def test_khan_weight_values():
 
 def test_merge_stack_is_accurate_and_no_worse_than_opencv(scene):
     cv2 = pytest.importorskip("cv2")
-    e = scene["radiance"][1]
-    times = np.array(scene["exposure_times"])
+    e = scene.radiance[1]
+    times = np.array(scene.exposure_times)
     codes = np.stack([np.clip(e.astype(np.float64) * t, 0, 1) ** (1 / 2.2) * 255
                       for t in times])
     stack = [np.round(c).astype(np.uint8) for c in codes]
@@ -327,7 +347,7 @@ def test_merge_stack_is_accurate_and_no_worse_than_opencv(scene):
 
 
 def test_pixels_clipped_everywhere_take_the_fallback(scene):
-    times = np.array(scene["exposure_times"])
+    times = np.array(scene.exposure_times)
     stack = [np.full((4, 5, 3), 255, np.uint8) for _ in times]
     stack[0][0, 0, 0] = 100  # one channel of one pixel has a sample; its other channels not
     merged, fallback = hdr.merge_stack(stack, times)
@@ -359,24 +379,25 @@ def test_to_radiance_and_bit_depths():
 
 def test_make_scene_structure_and_encoding():
     sc = hdr.make_scene(height=40, width=64, exposure_times=(0.005, 0.04, 0.3), noise=0.0)
-    assert set(sc) == {"views", "exposure_times", "crf", "radiance", "disparity", "seen_by"}
-    assert len(sc["views"]) == 3 and sc["exposure_times"] == [0.005, 0.04, 0.3]
-    assert sc["crf"].shape == (256, 1) and sc["crf"].dtype == np.float32
+    assert {f.name for f in dataclasses.fields(sc)} == {"views", "exposure_times", "crf",
+                                                        "radiance", "disparity", "seen_by"}
+    assert len(sc.views) == 3 and sc.exposure_times == [0.005, 0.04, 0.3]
+    assert sc.crf.shape == (256, 1) and sc.crf.dtype == np.float32
     for k in range(3):
-        v, e = sc["views"][k], sc["radiance"][k]
+        v, e = sc.views[k], sc.radiance[k]
         assert v.dtype == np.uint8 and v.shape == (40, 64, 3)
         assert e.dtype == np.float32 and e.shape == (40, 64, 3) and (e > 0).all()
-        assert sc["disparity"][k].shape == (40, 64)
-        assert set(np.unique(sc["disparity"][k])) <= {np.float32(7.5), np.float32(18.3),
+        assert sc.disparity[k].shape == (40, 64)
+        assert set(np.unique(sc.disparity[k])) <= {np.float32(7.5), np.float32(18.3),
                                                       np.float32(33.7)}
-        s = sc["seen_by"][k]
+        s = sc.seen_by[k]
         assert s.dtype == np.uint32 and ((s >> k) & 1).all() and (s < 8).all()
         # Noise-free views are the gamma-2.2 encoding of the radiance.
-        want = np.round(np.clip(e.astype(np.float64) * sc["exposure_times"][k], 0, 1)
+        want = np.round(np.clip(e.astype(np.float64) * sc.exposure_times[k], 0, 1)
                         ** (1 / 2.2) * 255)
         assert np.abs(v - want).max() <= 1 and (v == want).mean() > 0.999
-    assert np.array_equal(sc["views"][0], hdr.make_scene(
-        height=40, width=64, exposure_times=(0.005, 0.04, 0.3), noise=0.0)["views"][0])
+    assert np.array_equal(sc.views[0], hdr.make_scene(
+        height=40, width=64, exposure_times=(0.005, 0.04, 0.3), noise=0.0).views[0])
 
 
 # ----------------------------------------------------------------------------------------
@@ -386,17 +407,17 @@ def test_make_scene_structure_and_encoding():
 def _eval_mask(sc, k):
     """Pixel-channels seen by all views, well exposed (noiseless 10 <= Z <= 245) in some
     view, and not clipped in the reference view itself."""
-    e = sc["radiance"][k].astype(np.float64)
-    n = len(sc["views"])
-    codes = np.stack([np.clip(e * t, 0, 1) ** (1 / 2.2) * 255 for t in sc["exposure_times"]])
+    e = sc.radiance[k].astype(np.float64)
+    n = len(sc.views)
+    codes = np.stack([np.clip(e * t, 0, 1) ** (1 / 2.2) * 255 for t in sc.exposure_times])
     well = ((codes >= 10) & (codes <= 245)).any(axis=0)
-    seen = (sc["seen_by"][k] == (1 << n) - 1)[:, :, None]
-    v = sc["views"][k]
+    seen = (sc.seen_by[k] == (1 << n) - 1)[:, :, None]
+    v = sc.views[k]
     return well & seen & (v > 0) & (v < 255)
 
 
 def test_multiscopic_hdr_on_the_five_view_scene(scene):
-    views, times = scene["views"], scene["exposure_times"]
+    views, times = scene.views, scene.exposure_times
     t0 = time.perf_counter()
     out, fields, fallback = hdr.multiscopic_hdr(views, times, max_disparity=137,
                                                 return_details=True)
@@ -413,8 +434,8 @@ def test_multiscopic_hdr_on_the_five_view_scene(scene):
         assert out[k].dtype == np.float32 and out[k].shape == (160, 256, 3)
         assert np.isfinite(out[k]).all() and (out[k] > 0).all()
         m = _eval_mask(scene, k)
-        e_ours = hdr.rmse_log2(out[k], scene["radiance"][k], m)
-        e_none = hdr.rmse_log2(none[k], scene["radiance"][k], m)
+        e_ours = hdr.rmse_log2(out[k], scene.radiance[k], m)
+        e_none = hdr.rmse_log2(none[k], scene.radiance[k], m)
         errs.append((e_ours, e_none))
         assert e_ours <= 0.2, (k, e_ours)
         assert e_ours <= e_none / 3, (k, e_ours, e_none)
@@ -426,23 +447,23 @@ def test_fill_saturated_brings_every_view_within_the_bound(scene):
     """Check 7 on all pixels, those clipped in the reference included: the paper's pipeline
     leaves the longest exposure at 0.22; the saturated-area extension (not in the paper)
     fills the offsets of clipped reference pixels from their row."""
-    views, times = scene["views"], scene["exposure_times"]
+    views, times = scene.views, scene.exposure_times
     paper = hdr.multiscopic_hdr(views, times, max_disparity=137)
     filled = hdr.multiscopic_hdr(views, times, max_disparity=137, fill_saturated=True)
     n = len(views)
     for k in range(n):
-        e = scene["radiance"][k].astype(np.float64)
+        e = scene.radiance[k].astype(np.float64)
         codes = np.stack([np.clip(e * t, 0, 1) ** (1 / 2.2) * 255 for t in times])
         m = ((codes >= 10) & (codes <= 245)).any(axis=0)
-        m &= (scene["seen_by"][k] == (1 << n) - 1)[:, :, None]
-        e_fill = hdr.rmse_log2(filled[k], scene["radiance"][k], m)
+        m &= (scene.seen_by[k] == (1 << n) - 1)[:, :, None]
+        e_fill = hdr.rmse_log2(filled[k], scene.radiance[k], m)
         assert e_fill <= 0.2, (k, e_fill)
         if k == n - 1:
             clipped = m & (views[k] == 255)
-            a = hdr.rmse_log2(filled[k], scene["radiance"][k], clipped)
-            b = hdr.rmse_log2(paper[k], scene["radiance"][k], clipped)
+            a = hdr.rmse_log2(filled[k], scene.radiance[k], clipped)
+            b = hdr.rmse_log2(paper[k], scene.radiance[k], clipped)
             assert a < 0.6 * b, (a, b)
-            assert hdr.rmse_log2(paper[k], scene["radiance"][k], m) > 0.2
+            assert hdr.rmse_log2(paper[k], scene.radiance[k], m) > 0.2
 
 
 def _small_scene():
@@ -452,22 +473,22 @@ def _small_scene():
 def test_multiscopic_is_deterministic_and_seeded():
     sc = _small_scene()
     kw = dict(max_disparity=40, return_details=True)
-    a, fa, _ = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], seed=5, **kw)
-    b, fb, _ = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], seed=5, **kw)
-    c, fc, _ = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], seed=6, **kw)
+    a, fa, _ = hdr.multiscopic_hdr(sc.views, sc.exposure_times, seed=5, **kw)
+    b, fb, _ = hdr.multiscopic_hdr(sc.views, sc.exposure_times, seed=5, **kw)
+    c, fc, _ = hdr.multiscopic_hdr(sc.views, sc.exposure_times, seed=6, **kw)
     assert all(np.array_equal(x, y) for x, y in zip(a, b))
     assert all(np.array_equal(fa[k], fb[k]) for k in fa)
     assert any(not np.array_equal(fa[k], fc[k]) for k in fa)
     # Grey (H, W) views give (H, W) images; per-view responses; the ablations run.
-    grey = [v[..., 1] for v in sc["views"]]
-    g = hdr.multiscopic_hdr(grey, sc["exposure_times"], [sc["crf"][:, 0]] * 3, max_disparity=40,
+    grey = [v[..., 1] for v in sc.views]
+    g = hdr.multiscopic_hdr(grey, sc.exposure_times, [sc.crf[:, 0]] * 3, max_disparity=40,
                             ordered=True, weighted_cost=True)
     assert g[0].shape == (48, 64) and all(np.isfinite(x).all() for x in g)
     for align, synthesis in (("pm2d", "bds"), ("zncc", "direct"), ("ours", "direct")):
-        r = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], max_disparity=40,
+        r = hdr.multiscopic_hdr(sc.views, sc.exposure_times, max_disparity=40,
                                 align=align, synthesis=synthesis, n_iter=1)
         assert len(r) == 3 and all(np.isfinite(x).all() for x in r)
-    ne = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], epipolar=False, n_iter=1,
+    ne = hdr.multiscopic_hdr(sc.views, sc.exposure_times, epipolar=False, n_iter=1,
                              return_details=True)
     assert len(ne[1]) == 6
 
@@ -476,7 +497,7 @@ _THREADS_SCRIPT = """
 import hashlib, numpy as np
 from wscg import hdr
 sc = hdr.make_scene(height=48, width=64, exposure_times=(0.005, 0.04, 0.3), seed=2)
-out, f, _ = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], max_disparity=40, seed=5,
+out, f, _ = hdr.multiscopic_hdr(sc.views, sc.exposure_times, max_disparity=40, seed=5,
                                 return_details=True)
 h = hashlib.sha256()
 for x in out:
@@ -645,7 +666,7 @@ def test_metrics_equal_numpy(rng):
 
 def test_bad_input_raises_value_error():
     sc = _small_scene()
-    views, times = sc["views"], sc["exposure_times"]
+    views, times = sc.views, sc.exposure_times
     img = np.ones((20, 30, 3), np.float32)
     with pytest.raises(ValueError, match="merge_stack"):
         hdr.multiscopic_hdr(views[:1], times[:1])
@@ -775,6 +796,9 @@ def test_every_function_is_documented_and_stubbed():
             continue
         doc = inspect.getdoc(obj)
         assert doc and len(doc) > 200, name
+        if isinstance(obj, type):  # a result class: its fields, with units
+            assert "Attributes" in doc and f"class {name}" in stub, name
+            continue
         assert "References" in doc and "Returns" in doc, name
         assert f"def {name}(" in stub, name
     assert "Parameters" in inspect.getdoc(hdr.multiscopic_hdr)

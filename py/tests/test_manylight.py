@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from results_check import check_result
 from wscg import raytrace as rt
 
 
@@ -11,7 +12,7 @@ def test_plane_under_a_tiny_light_is_the_closed_form():
     # at height 1, so L = 0.5 h^2 / (pi d^4) on the plane.
     s = rt.make_manylight_scene("plane", width=48, height=36)
     img, st = rt.render_manylight(s, "reference", n_vpl_paths=64, max_bounces=0, clamp_dist=0.0)
-    assert st["n_vpls"] == 64
+    assert st.n_vpls == 64
     cam = s.camera
     eye, target = np.array(cam["eye"]), np.array(cam["target"])
     f = (target - eye) / np.linalg.norm(target - eye)
@@ -48,9 +49,15 @@ def test_methods_agree_with_the_reference_on_average():
         assert abs(lum(mean) / lum(ref) - 1) < 0.03, method
     img, st = rt.render_manylight(s, "adaptive", **kw)
     assert img.shape == (36, 48, 3) and img.dtype == np.float32
-    assert st["n_records"] == st["records"].shape[0] <= 60
-    assert st["record_inserted"].sum() == st["inserted"]
-    assert np.all(st["record_pixels"] >= 0)
+    assert st.n_records == st.records.shape[0] <= 60
+    assert st.record_inserted.sum() == st.n_inserted
+    assert np.all(st.record_pixels >= 0)
+    text = check_result(st, rt.ManyLightStats)
+    assert st.method == "adaptive" and "records=array(shape=(" in text
+    assert st.n_passes >= 1 and st.cache_bytes > 0 and st.n_cache_shadow_rays > 0
+    _, power = rt.render_manylight(s, "power", **kw)
+    check_result(power, rt.ManyLightStats)
+    assert power.n_records is None and power.records.shape == (0, 3)
 
 
 def test_user_mesh_and_obj(tmp_path):

@@ -3,13 +3,16 @@ import pytest
 
 import wscg
 import wscg.math as wm
+from results_check import check_result
 
 
 def test_version_and_docstrings():
     assert isinstance(wscg.__version__, str) and wscg.__version__.count(".") == 2
     for name in wm.__all__:
-        doc = getattr(wm, name).__doc__
-        assert doc and "Parameters" in doc, name
+        obj = getattr(wm, name)
+        # Functions document their parameters, result classes their fields.
+        section = "Attributes" if isinstance(obj, type) else "Parameters"
+        assert obj.__doc__ and section in obj.__doc__, name
 
 
 def test_image_round_trips(tmp_path, astronaut):
@@ -105,8 +108,11 @@ def test_mesh_round_trip(tmp_path, name, binary):
     p = tmp_path / name
     wm.save_mesh(p, v, f, colors=c, binary=binary)
     m = wm.load_mesh(p)
-    assert np.allclose(m["vertices"], v) and np.array_equal(m["faces"], f)
-    assert np.max(np.abs(m["colors"] - c)) <= 0.5 / 255 + 1e-6
+    assert np.allclose(m.vertices, v) and np.array_equal(m.faces, f)
+    assert np.max(np.abs(m.colors - c)) <= 0.5 / 255 + 1e-6
+    assert m.normals is None
+    text = check_result(m, wm.Mesh)
+    assert "vertices=array(shape=(4, 3), dtype=float64)" in text and "normals=None" in text
 
 
 def test_mesh_errors(tmp_path):

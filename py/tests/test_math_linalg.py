@@ -5,6 +5,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 
 import wscg.math as wm
+from results_check import check_result
 
 
 def random_spd_sparse(n, rng):
@@ -19,14 +20,14 @@ def test_cg_equals_spsolve(rng):
     b = rng.standard_normal(300)
     x, info = wm.solve_cg(a, b, tol=1e-12)
     ref = scipy.sparse.linalg.spsolve(a.tocsc(), b)
-    assert info["converged"]
+    assert info.converged
     assert np.max(np.abs(x - ref)) < 1e-9 * np.max(np.abs(ref))
-    assert np.linalg.norm(a @ x - b) / np.linalg.norm(b) == pytest.approx(info["relative_residual"], abs=1e-12)
+    assert np.linalg.norm(a @ x - b) / np.linalg.norm(b) == pytest.approx(info.relative_residual, abs=1e-12)
     # Warm start at the solution needs no iteration; no preconditioner also converges.
     _, info2 = wm.solve_cg(a, b, x0=x, tol=1e-10)
-    assert info2["iterations"] == 0
+    assert info2.n_iter == 0
     x3, info3 = wm.solve_cg(a, b, tol=1e-12, preconditioner=None)
-    assert info3["iterations"] > info["iterations"] and np.allclose(x3, ref, atol=1e-8)
+    assert info3.n_iter > info.n_iter and np.allclose(x3, ref, atol=1e-8)
 
 
 def test_laplacian_and_cg_against_scipy():
@@ -53,7 +54,10 @@ def test_cg_bad_input():
         wm.cg(indptr, indices, data, np.full(8, np.nan))
     with pytest.warns(RuntimeWarning, match="did not converge"):
         _, info = wm.cg(*wm.laplacian_3d(6, 6, 6), np.ones(216), tol=1e-14, max_iter=2)
-    assert not info["converged"]
+    assert not info.converged
+    check_result(info, wm.CgInfo)
+    assert info.n_iter == 2 and info.relative_residual > 1e-14
+    assert repr(info).startswith("CgInfo(n_iter=2, relative_residual=")
 
 
 def test_dense_decompositions_equal_numpy_and_scipy(rng):

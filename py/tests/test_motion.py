@@ -3,11 +3,13 @@ scikit-learn, anechoic demixing against PCA, the epsilon-SVR against scikit-lear
 regression statistics against scipy, the planner's split, a whole synthesis, BVH round trips
 (and the `bvh` package's parser), the Hopf network's closed form and bad input."""
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
+from results_check import check_result
 from wscg import motion as M
 
 
@@ -19,17 +21,17 @@ def data():
 @pytest.fixture(scope="module")
 def clean_action1(data):
     """Noise-free periodic part of action 1, ``(R, I, N)``."""
-    return data["truth"]["periodic"][0]
+    return data.truth.periodic[0]
 
 
 @pytest.fixture(scope="module")
 def lib(data):
-    return M.fit_stepwise(data, n_restarts=3, max_iter=300)
+    return M.fit_stepwise(data, n_restarts=3, max_iter=300).library_
 
 
 @pytest.fixture(scope="module")
 def synthesis(lib):
-    syn = M.Synthesizer(lib)
+    syn = M.Synthesizer().fit(lib)
     return syn.run(goal=2.6, fps=120)
 
 
@@ -39,28 +41,28 @@ def synthesis(lib):
 
 def test_dataset_shapes_and_truth(data):
     R, N = 16, 100
-    assert data["angles"].shape == (R, 3, 51, N)
-    assert data["step_length"].shape == (R, 3)
-    assert data["duration"].shape == (R, 3)
-    assert data["root"].shape == (R, 3, N)
-    assert data["distances"].shape == (R,)
-    t = data["truth"]
-    assert t["periodic"].shape == (3, R, 51, N)
-    assert t["delays"].shape == (51, 5)
-    assert t["weights"].shape == (3, R, 51, 5)
-    assert t["sources"].shape == (5, N)
+    assert data.angles.shape == (R, 3, 51, N)
+    assert data.step_length.shape == (R, 3)
+    assert data.duration.shape == (R, 3)
+    assert data.root.shape == (R, 3, N)
+    assert data.distances.shape == (R,)
+    t = data.truth
+    assert t.periodic.shape == (3, R, 51, N)
+    assert t.delays.shape == (51, 5)
+    assert t.weights.shape == (3, R, 51, 5)
+    assert t.sources.shape == (5, N)
     # D = 0.6 + L1 + L2 in the learning set, the reach carries the length of step 2.
-    sl = data["step_length"]
-    np.testing.assert_allclose(data["distances"], 0.6 + sl[:, 0] + sl[:, 1], atol=1e-12)
+    sl = data.step_length
+    np.testing.assert_allclose(data.distances, 0.6 + sl[:, 0] + sl[:, 1], atol=1e-12)
     np.testing.assert_array_equal(sl[:, 2], sl[:, 1])
     assert np.all((sl[:, 0] >= 0.670) & (sl[:, 0] <= 0.901))
     # The periodic part is the truth's weights times the delayed sources (action 1: 3 sources).
-    assert np.all(t["weights"][0][:, :, 3:] == 0)
+    assert np.all(t.weights[0][:, :, 3:] == 0)
     # Seeded: the same call gives the same data.
     again = M.make_synthetic_dataset(n_trials=16, seed=0, noise=0.01)
-    np.testing.assert_array_equal(again["angles"], data["angles"])
+    np.testing.assert_array_equal(again.angles, data.angles)
     # Sources at unit RMS.
-    np.testing.assert_allclose(np.sqrt((t["sources"] ** 2).mean(axis=1)), 1.0, atol=1e-12)
+    np.testing.assert_allclose(np.sqrt((t.sources ** 2).mean(axis=1)), 1.0, atol=1e-12)
 
 
 # --------------------------------------------------------------------------------------------
@@ -89,20 +91,20 @@ def test_anechoic_beats_pca(clean_action1):
     for j in (1, 2, 3):
         fit = M.fit_anechoic(X, j, delays="shared", n_restarts=3, max_iter=300)
         q_pca = M.pca_quality(X, j)
-        assert fit["q"] >= q_pca - 1e-9, (j, fit["q"], q_pca)
-        hist = fit["q_history"]
+        assert fit.q_ >= q_pca - 1e-9, (j, fit.q_, q_pca)
+        hist = fit.q_history_
         assert np.all(np.diff(hist) >= -1e-10)
         # The reported Q is the quality of the reported reconstruction.
-        assert abs(M.quality(X, fit["reconstruction"]) - fit["q"]) < 1e-8
+        assert abs(M.quality(X, fit.reconstruction_) - fit.q_) < 1e-8
         R, I, N = X.shape
-        assert fit["sources"].shape == (j, N)
-        assert fit["delays"].shape == (I, j)
-        assert fit["weights"].shape == (R, I, j)
+        assert fit.sources_.shape == (j, N)
+        assert fit.delays_.shape == (I, j)
+        assert fit.weights_.shape == (R, I, j)
     # Three sources with shared delays are the generating model of action 1: a near-exact
     # fit (within the sweep budget), where PCA with three components is far from it (the
     # delays make it a rank-6 signal for PCA).
-    assert fit["q"] > 0.99
-    assert M.pca_quality(X, 3) < fit["q"] - 0.03
+    assert fit.q_ > 0.99
+    assert M.pca_quality(X, 3) < fit.q_ - 0.03
 
 
 def _best_circular_similarity(a, b):
@@ -114,10 +116,10 @@ def _best_circular_similarity(a, b):
 def test_orbit_start_identifies_the_generating_sources(data, clean_action1):
     X = clean_action1
     fit = M.fit_anechoic(X, 3, delays="shared", n_restarts=1, init="orbit")
-    assert fit["q"] > 1 - 1e-6
-    truth = data["truth"]["sources"][:3]
+    assert fit.q_ > 1 - 1e-6
+    truth = data.truth.sources[:3]
     for t in truth:
-        best = max(_best_circular_similarity(e, t) for e in fit["sources"])
+        best = max(_best_circular_similarity(e, t) for e in fit.sources_)
         assert best > 0.999, best
 
 
@@ -128,32 +130,68 @@ def test_delay_search_moves_delays_to_a_better_fit(clean_action1):
     X = clean_action1
     off = M.fit_anechoic(X, 2, delay_search=0)
     on = M.fit_anechoic(X, 2)
-    assert on["q"] > off["q"] + 1e-3, (on["q"], off["q"])
-    assert abs(M.quality(X, on["reconstruction"]) - on["q"]) < 1e-8
+    assert on.q_ > off.q_ + 1e-3, (on.q_, off.q_)
+    assert abs(M.quality(X, on.reconstruction_) - on.q_) < 1e-8
     # 1 % noise per channel RMS (this draw moves delays by up to 0.44 periods): Q still only
     # rises along the history, and the reported Q is the reconstruction's.
     rms = np.sqrt((X ** 2).mean(axis=2, keepdims=True))
     Xn = X + 0.01 * rms * np.random.default_rng(4).standard_normal(X.shape)
     off = M.fit_anechoic(Xn, 3, delay_search=0)
     on = M.fit_anechoic(Xn, 3)
-    moved = np.abs((on["delays"] - off["delays"] + 0.5) % 1.0 - 0.5).max()
-    assert moved > 0.01 and on["q"] > off["q"], (moved, on["q"], off["q"])
-    assert abs(M.quality(Xn, on["reconstruction"]) - on["q"]) < 1e-8
-    assert np.all(np.diff(on["q_history"]) >= -1e-10)
+    moved = np.abs((on.delays_ - off.delays_ + 0.5) % 1.0 - 0.5).max()
+    assert moved > 0.01 and on.q_ > off.q_, (moved, on.q_, off.q_)
+    assert abs(M.quality(Xn, on.reconstruction_) - on.q_) < 1e-8
+    assert np.all(np.diff(on.q_history_) >= -1e-10)
 
 
 def test_anechoic_delay_modes(clean_action1):
     X = clean_action1
     R, I, _ = X.shape
     per = M.fit_anechoic(X, 2, delays="per_trial", n_restarts=1, max_iter=20)
-    assert per["delays"].shape == (R, I, 2)
+    assert per.delays_.shape == (R, I, 2)
     zero = M.fit_anechoic(X, 2, delays="zero", n_restarts=1, max_iter=20)
-    assert np.all(zero["delays"] == 0)
-    assert 0 < zero["q"] <= 1
+    assert np.all(zero.delays_ == 0)
+    assert 0 < zero.q_ <= 1
 
 
 # --------------------------------------------------------------------------------------------
 # Regression statistics and SVR
+
+
+def test_results_are_typed(data, lib, synthesis, clean_action1, tmp_path):
+    check_result(data, M.MotionDataset)
+    check_result(data.truth, M.MotionTruth)
+    assert data.truth.source_coeffs.dtype == np.complex128
+    fit = M.fit_anechoic(clean_action1, 2, n_restarts=1, max_iter=5)
+    assert isinstance(fit, M.AnechoicModel)
+    assert len(fit.q_history_) >= 2 and fit.q_ == pytest.approx(fit.q_history_[-1])
+    af = lib.action_fit(2)
+    check_result(af, M.ActionFit)
+    assert af.n_sources == 5 and af.means.shape == (16, 51)
+    plan = M.plan_steps(2.6)
+    assert "actions=[('step', 0.77), ('short_step', 1.23), ('reach', 0)]," in check_result(
+        plan, M.StepPlan)
+    syn = M.Synthesizer().fit(lib)
+    p = syn.planner
+    assert syn.plan(2.6) == M.plan_steps(2.6, p["comfort"], p["gamma"], p["range1"],
+                                         p["range2"])
+    check_result(synthesis, M.Synthesis)
+    M.save_bvh(tmp_path / "s.bvh", synthesis.angles[:5], synthesis.root_x[:5])
+    back = M.load_bvh(tmp_path / "s.bvh")
+    check_result(back, M.BvhMotion)
+    assert back.angles.shape == (5, 51)
+    check_result(M.skeleton(), M.Skeleton)
+    line = M.fit_line([0.0, 1.0, 2.0, 3.0], [1.0, 3.0, 5.0, 7.0])
+    check_result(line, M.LineFit)
+    assert (line.slope, line.intercept, line.n_points) == (pytest.approx(2.0),
+                                                           pytest.approx(1.0), 4)
+    x = np.random.default_rng(0).random((30, 2))
+    pred, info = M.svr_fit_predict(x, x.sum(axis=1), x[:3], return_info=True)
+    assert check_result(info, M.SvrInfo).startswith(f"SvrInfo(n_support={info.n_support}, ")
+    assert pred.shape == (3,) and info.n_iter > 0
+    hopf = M.hopf_simulate(0.1, dt=0.01, followers=[[0.5, 0.0]])
+    check_result(hopf, M.HopfTrajectory)
+    assert hopf.followers.shape == (11, 1, 2)
 
 
 def test_svr_matches_sklearn():
@@ -173,8 +211,8 @@ def test_svr_matches_sklearn():
     ref = SVR(kernel="rbf", C=10, epsilon=0.01, gamma=2.0).fit(x, y)
     diff = np.abs(ours - ref.predict(xt)).max()
     assert diff < 2e-3, diff
-    assert 0 < info["n_support"] <= len(x)
-    assert abs(info["n_support"] - len(ref.support_)) <= 0.05 * len(x)
+    assert 0 < info.n_support <= len(x)
+    assert abs(info.n_support - len(ref.support_)) <= 0.05 * len(x)
 
 
 def test_regression_p_value_and_linregress():
@@ -195,8 +233,8 @@ def test_regression_p_value_and_linregress():
     assert abs(ref.rvalue ** 2 - 0.08) < 1e-12
     assert abs(p - ref.pvalue) < 1e-10
     fit = M.fit_line(x, y)
-    assert abs(fit["p_value"] - ref.pvalue) < 1e-10
-    assert abs(fit["r2"] - 0.08) < 1e-12
+    assert abs(fit.p_value - ref.pvalue) < 1e-10
+    assert abs(fit.r2 - 0.08) < 1e-12
     assert M.regression_p_value(1.0, 5) == 0.0
 
 
@@ -208,11 +246,11 @@ def test_fit_line_matches_linregress():
     y = 0.4 * x - 0.2 + rng.normal(0, 0.03, 25)
     f = M.fit_line(x, y)
     ref = stats.linregress(x, y)
-    assert abs(f["slope"] - ref.slope) < 1e-12
-    assert abs(f["intercept"] - ref.intercept) < 1e-12
-    assert abs(f["r2"] - ref.rvalue ** 2) < 1e-12
-    assert abs(f["p_value"] - ref.pvalue) < 1e-10 * max(1.0, ref.pvalue) + 1e-300
-    assert f["n"] == 25
+    assert abs(f.slope - ref.slope) < 1e-12
+    assert abs(f.intercept - ref.intercept) < 1e-12
+    assert abs(f.r2 - ref.rvalue ** 2) < 1e-12
+    assert abs(f.p_value - ref.pvalue) < 1e-10 * max(1.0, ref.pvalue) + 1e-300
+    assert f.n_points == 25
 
 
 # --------------------------------------------------------------------------------------------
@@ -221,20 +259,20 @@ def test_fit_line_matches_linregress():
 
 def test_plan_steps_paper_split():
     plan = M.plan_steps(2.7)
-    acts = plan["actions"]
+    acts = plan.actions
     assert [a[0] for a in acts] == ["step", "short_step", "reach"]
     assert abs(acts[0][1] - 0.385 * 2.1) < 1e-12
     assert abs(acts[1][1] - 0.615 * 2.1) < 1e-12
     assert acts[2][1] == 0.0
-    assert not plan["too_short"] and plan["violation"] == 0.0
-    assert abs(plan["distance"] - 2.1) < 1e-12
+    assert not plan.too_short and plan.violation == 0.0
+    assert abs(plan.distance - 2.1) < 1e-12
     # Long goals get more normal steps, short ones are flagged.
     long = M.plan_steps(5.0)
-    assert long["n_steps"] >= 3 and abs(long["distance"] - 4.4) < 1e-9
-    assert M.plan_steps(0.9)["too_short"] and M.plan_steps(0.9)["actions"] == []
+    assert long.n_steps >= 3 and abs(long.distance - 4.4) < 1e-9
+    assert M.plan_steps(0.9).too_short and M.plan_steps(0.9).actions == []
     # The non-predictive variant keeps the normal step fixed.
     hl = M.plan_steps(2.7, human_like=0.78)
-    assert abs(hl["actions"][0][1] - 0.78) < 1e-12
+    assert abs(hl.actions[0][1] - 0.78) < 1e-12
 
 
 def test_library(lib, data):
@@ -246,53 +284,53 @@ def test_library(lib, data):
     assert len(q) == 3 and all(0.9 < v <= 1.0 for v in q), q
     assert 0.9 < lib.q_total <= 1.0
     assert lib.params(0).shape == (16, 2)
-    np.testing.assert_allclose(lib.params(0)[:, 0], data["step_length"][:, 0])
+    np.testing.assert_allclose(lib.params(0)[:, 0], data.step_length[:, 0])
     f = lib.action_fit(1)
-    assert f["weights"].shape == (16, 51, 5) and f["n_sources"] == 5
-    assert lib.action_fit(0)["n_sources"] == 3
+    assert f.weights.shape == (16, 51, 5) and f.n_sources == 5
+    assert lib.action_fit(0).n_sources == 3
     p = lib.progress
     assert p[0] == 0.0 and p[-1] == 1.0 and np.all(np.diff(p) >= 0)
 
 
 def test_synthesis_reaches_comfort_distance(synthesis, lib):
     out = synthesis
-    T = out["angles"].shape[0]
-    assert out["angles"].shape == (T, 51)
+    T = out.angles.shape[0]
+    assert out.angles.shape == (T, 51)
     for k in ("root_x", "time", "phase", "action"):
-        assert out[k].shape == (T,)
-    assert np.all(np.isfinite(out["angles"]))
-    assert np.all(np.diff(out["time"]) > 0) and abs(out["time"][1] - 1 / 120) < 1e-9
-    assert np.all(np.diff(out["root_x"]) >= -1e-12)
-    assert [a[0] for a in out["executed"]] == ["step", "short_step", "reach"]
-    assert out["action"][0] == 0 and out["action"][-1] == 2
-    assert np.all(np.diff(out["action"]) >= 0)
-    assert not out["too_short"]
-    final = 2.6 - out["root_x"][-1]
+        assert getattr(out, k).shape == (T,)
+    assert np.all(np.isfinite(out.angles))
+    assert np.all(np.diff(out.time) > 0) and abs(out.time[1] - 1 / 120) < 1e-9
+    assert np.all(np.diff(out.root_x) >= -1e-12)
+    assert [a[0] for a in out.executed] == ["step", "short_step", "reach"]
+    assert out.action[0] == 0 and out.action[-1] == 2
+    assert np.all(np.diff(out.action) >= 0)
+    assert not out.too_short
+    final = 2.6 - out.root_x[-1]
     assert abs(final - 0.6) < 0.02, final
-    assert out["transitions"].shape == (2, 51)
+    assert out.transitions.shape == (2, 51)
 
 
 def test_synthesis_every_action_gets_frames(lib):
-    syn = M.Synthesizer(lib)
+    syn = M.Synthesizer().fit(lib)
     for goal, fps in ((2.4, 120), (2.6, 120), (2.85, 60), (3.3, 60)):
         out = syn.run(goal=goal, fps=fps)
-        counts = np.bincount(out["action"], minlength=3)
+        counts = np.bincount(out.action, minlength=3)
         # Each action lasts more than half a second.
-        assert np.all(counts[:2] > 0.5 * fps), (goal, fps, counts, out["executed"])
+        assert np.all(counts[:2] > 0.5 * fps), (goal, fps, counts, out.executed)
         assert counts[2] > 0.5 * fps, (goal, fps, counts)
         # Smooth: no frame-to-frame jump beyond what a walk at this frame rate produces.
-        assert np.abs(np.diff(out["angles"], axis=0)).max() < 24.0 / fps
+        assert np.abs(np.diff(out.angles, axis=0)).max() < 24.0 / fps
 
 
 def test_synthesis_goal_change_and_maps(lib):
-    syn = M.Synthesizer(lib, map="fourier")
+    syn = M.Synthesizer(map="fourier").fit(lib)
     moved = syn.run(goal=2.6, fps=60, goal_changes=[(0.2, 3.4)])
-    assert abs(3.4 - moved["root_x"][-1] - 0.6) < 0.02
-    assert len(moved["executed"]) > 3
+    assert abs(3.4 - moved.root_x[-1] - 0.6) < 0.02
+    assert len(moved.executed) > 3
     short = syn.run(goal=0.8, fps=60)
-    assert short["too_short"] and [a[0] for a in short["executed"]] == ["reach"]
+    assert short.too_short and [a[0] for a in short.executed] == ["reach"]
     assert syn.planner["comfort"] == 0.6
-    assert syn.plan(2.6)["n_steps"] == 2
+    assert syn.plan(2.6).n_steps == 2
 
 
 # --------------------------------------------------------------------------------------------
@@ -307,41 +345,41 @@ def test_bvh_round_trip_small_angles(tmp_path):
     path = tmp_path / "small.bvh"
     M.save_bvh(path, angles, root_x, fps=120)
     back = M.load_bvh(path)
-    assert back["angles"].shape == (T, 51)
-    assert abs(back["frame_time"] - 1 / 120) < 1e-8
-    np.testing.assert_allclose(back["angles"], angles, atol=1e-6)
-    np.testing.assert_allclose(back["root"][:, 2], root_x, atol=1e-7)
-    np.testing.assert_allclose(back["root"][:, 1], 0.92, atol=1e-7)
+    assert back.angles.shape == (T, 51)
+    assert abs(back.frame_time - 1 / 120) < 1e-8
+    np.testing.assert_allclose(back.angles, angles, atol=1e-6)
+    np.testing.assert_allclose(back.root[:, 2], root_x, atol=1e-7)
+    np.testing.assert_allclose(back.root[:, 1], 0.92, atol=1e-7)
 
 
 def test_bvh_round_trip_synthesis(tmp_path, synthesis):
     from scipy.spatial.transform import Rotation
 
-    a, x = synthesis["angles"], synthesis["root_x"]
+    a, x = synthesis.angles, synthesis.root_x
     path = tmp_path / "synth.bvh"
     M.save_bvh(str(path), a, x, fps=120)
     back = M.load_bvh(str(path))
     T = a.shape[0]
     # Compare rotations, not exponential-map representations.
     r0 = Rotation.from_rotvec(a.reshape(-1, 3)).as_matrix()
-    r1 = Rotation.from_rotvec(back["angles"].reshape(-1, 3)).as_matrix()
+    r1 = Rotation.from_rotvec(back.angles.reshape(-1, 3)).as_matrix()
     assert np.abs(r0 - r1).max() < 1e-6
     # Forward kinematics agree too.
     p0 = M.forward_kinematics(a, x)
-    p1 = M.forward_kinematics(back["angles"], back["root"])
+    p1 = M.forward_kinematics(back.angles, back.root)
     assert p0.shape == (T, 22, 3)
     assert np.abs(p0 - p1).max() < 1e-6
 
 
 def test_bvh_package_parses_file(tmp_path, synthesis):
     bvh = pytest.importorskip("bvh")
-    a, x = synthesis["angles"], synthesis["root_x"]
+    a, x = synthesis.angles, synthesis.root_x
     path = tmp_path / "synth.bvh"
     M.save_bvh(path, a, x, fps=120)
     mocap = bvh.Bvh(path.read_text())
     names = mocap.get_joints_names()
     assert len(names) == 17
-    assert names == M.skeleton()["names"]
+    assert names == M.skeleton().names
     assert mocap.nframes == a.shape[0]
     assert abs(mocap.frame_time - 1 / 120) < 1e-8
     z = np.array(mocap.frames_joint_channels("Hips", ["Zposition"]), dtype=float)[:, 0]
@@ -350,12 +388,12 @@ def test_bvh_package_parses_file(tmp_path, synthesis):
 
 def test_skeleton_rest_pose():
     sk = M.skeleton()
-    assert len(sk["names"]) == 17 and sk["parents"][0] == -1
+    assert len(sk.names) == 17 and sk.parents[0] == -1
     p = M.forward_kinematics(np.zeros((1, 51)), np.zeros(1))
     # Hips at the rest height, ankles 7 cm above the floor.
     assert abs(p[0, 0, 1] - 0.92) < 1e-12
     assert abs(p[0, 13, 1] - 0.07) < 1e-12
-    assert sk["bones"].shape == (21, 2)
+    assert sk.bones.shape == (21, 2)
 
 
 # --------------------------------------------------------------------------------------------
@@ -364,14 +402,14 @@ def test_skeleton_rest_pose():
 
 def test_hopf_closed_form_and_contraction():
     out = M.hopf_simulate(3.0, dt=1e-3, omega=2 * np.pi, coupling=0.0, leader=(0.1, 0.0))
-    t = out["time"]
-    r = np.hypot(out["leader"][:, 0], out["leader"][:, 1])
+    t = out.time
+    r = np.hypot(out.leader[:, 0], out.leader[:, 1])
     ref = (1 + (0.1 ** -2 - 1) * np.exp(-2 * t)) ** -0.5
     assert np.abs(r - ref).max() < 1e-8
     fol = M.hopf_simulate(4.0, dt=1e-2, coupling=2.0, followers=[[-0.8, 0.9], [1.5, 1.5]])
-    d = np.linalg.norm(fol["followers"] - fol["leader"][:, None, :], axis=2)
+    d = np.linalg.norm(fol.followers - fol.leader[:, None, :], axis=2)
     assert d[-1].max() < 1e-3 * d[0].max()
-    assert fol["leader_phase"].shape == fol["time"].shape
+    assert fol.leader_phase.shape == fol.time.shape
 
 
 # --------------------------------------------------------------------------------------------
@@ -412,19 +450,18 @@ def test_bad_input(tmp_path, clean_action1, lib, data):
     with pytest.raises(ValueError):
         M.make_synthetic_dataset(noise=float("nan"))
     # Datasets: too few trials, NaN, wrong shapes, missing keys.
-    small = {k: data[k][:2] for k in ("angles", "step_length", "duration")}
+    small = {k: getattr(data, k)[:2] for k in ("angles", "step_length", "duration")}
     with pytest.raises(ValueError):
         M.fit_stepwise(small)
-    bad = dict(data)
-    bad["angles"] = data["angles"].copy()
-    bad["angles"][1, 2, 3, 4] = np.inf
+    bad = dataclasses.replace(data, angles=data.angles.copy())
+    bad.angles[1, 2, 3, 4] = np.inf
     with pytest.raises(ValueError):
         M.fit_stepwise(bad)
     with pytest.raises(ValueError):
-        M.fit_stepwise({"angles": data["angles"][:, :2], "step_length": data["step_length"],
-                        "duration": data["duration"]})
+        M.fit_stepwise({"angles": data.angles[:, :2], "step_length": data.step_length,
+                        "duration": data.duration})
     with pytest.raises(ValueError):
-        M.fit_stepwise({"angles": data["angles"]})
+        M.fit_stepwise({"angles": data.angles})
     # Planner and synthesis goals.
     for g in (0.0, -1.0, float("nan"), float("inf")):
         with pytest.raises(ValueError):
@@ -433,7 +470,7 @@ def test_bad_input(tmp_path, clean_action1, lib, data):
         M.plan_steps(2.7, gamma=1.5)
     with pytest.raises(ValueError):
         M.plan_steps(2.7, range1=(0.9, 0.1))
-    syn = M.Synthesizer(lib)
+    syn = M.Synthesizer().fit(lib)
     with pytest.raises(ValueError):
         syn.run(goal=0)
     with pytest.raises(ValueError):
@@ -443,18 +480,18 @@ def test_bad_input(tmp_path, clean_action1, lib, data):
     with pytest.raises(ValueError):
         syn.run(goal=1e6, max_seconds=2.0)  # does not finish in time
     with pytest.raises(ValueError):
-        M.Synthesizer(lib, map="spline")
+        M.Synthesizer(map="spline").fit(lib)
     with pytest.raises(ValueError):
-        M.Synthesizer(lib, beta=4.0)
+        M.Synthesizer(beta=4.0).fit(lib)
     with pytest.raises(ValueError):
-        M.Synthesizer(lib, coupling=-1.0)
+        M.Synthesizer(coupling=-1.0).fit(lib)
     for size in (3, 65537):
         with pytest.raises(ValueError, match="lut_size"):
-            M.Synthesizer(lib, lut_size=size)
+            M.Synthesizer(lut_size=size).fit(lib)
     with pytest.raises(ValueError):
-        M.Synthesizer(object())
+        M.Synthesizer().fit(object())
     # The synthesizer still works after the errors.
-    assert abs(2.6 - syn.run(goal=2.6, fps=30)["root_x"][-1] - 0.6) < 0.02
+    assert abs(2.6 - syn.run(goal=2.6, fps=30).root_x[-1] - 0.6) < 0.02
     # Files.
     with pytest.raises(OSError):
         M.load_bvh(tmp_path / "missing.bvh")

@@ -6,6 +6,7 @@ import pickle
 import numpy as np
 import pytest
 
+from results_check import check_result
 from wscg import octree
 
 
@@ -49,13 +50,13 @@ def test_triangle_mode_matches_numpy_brute_force_and_the_bvh():
     o, d = _random_rays(v.min(0), v.max(0), 4000, 1)
     hits = tree.intersect(o, d, mode="triangles")
     t_ref, p_ref, t2 = _mt_brute_force(v, f, o.astype(np.float64), d.astype(np.float64))
-    np.testing.assert_array_equal(np.isfinite(hits["t"]), np.isfinite(t_ref))
+    np.testing.assert_array_equal(np.isfinite(hits.t), np.isfinite(t_ref))
     hit = np.isfinite(t_ref)
     assert hit.mean() > 0.5
-    np.testing.assert_allclose(hits["t"][hit], t_ref[hit], rtol=0, atol=1e-5 * (v.max() - v.min()) * 4)
+    np.testing.assert_allclose(hits.t[hit], t_ref[hit], rtol=0, atol=1e-5 * (v.max() - v.min()) * 4)
     with np.errstate(invalid="ignore"):
         untied = hit & (t2 - t_ref > 1e-4)
-    same = (hits["prim"][untied] == p_ref[untied]).mean()
+    same = (hits.prim[untied] == p_ref[untied]).mean()
     assert same >= 0.9999, same
     t_bvh, p_bvh = octree.bvh_intersect(v, f, o, d)
     assert (p_bvh[untied] == p_ref[untied]).mean() >= 0.9999
@@ -68,13 +69,31 @@ def test_intersect_without_shading_returns_the_same_hits():
     for mode, spread in [("triangles", 0.0), ("hybrid", 0.01), ("voxels", 0.0)]:
         full = tree.intersect(o, d, mode=mode, footprint_spread=spread)
         bare = tree.intersect(o, d, mode=mode, footprint_spread=spread, shading=False)
-        assert set(bare) == {"t", "prim", "level"}
-        assert np.isfinite(full["t"]).mean() > 0.5
-        for k in bare:
-            np.testing.assert_array_equal(bare[k], full[k])
+        assert bare.normal is None and bare.color is None
+        assert full.normal.shape == full.color.shape == (len(o), 3)
+        assert np.isfinite(full.t).mean() > 0.5
+        for k in ("t", "prim", "level"):
+            np.testing.assert_array_equal(getattr(bare, k), getattr(full, k))
         if mode == "hybrid":
             # At this spread it stops at voxels for some rays and at triangles for others.
-            assert (full["level"] >= 0).any() and (full["prim"] >= 0).any()
+            assert (full.level >= 0).any() and (full.prim >= 0).any()
+
+
+def test_build_stats_and_hits_are_typed():
+    v, f, c = octree.make_scene("atrium", 2)
+    tree = octree.build(v, f, c, depth=6)
+    st = tree.stats
+    check_result(st, octree.BuildStats)
+    assert st.n_nodes == tree.n_nodes and st.n_voxels == tree.n_voxels
+    assert st.n_fragments >= len(f) - st.n_degenerate_triangles
+    assert st.n_early_leaves + st.n_finest_leaves > 0 and st.voxelize_seconds >= 0
+    assert octree.from_bytes(tree.to_bytes()).stats is None
+    o, d = _random_rays(v.min(0), v.max(0), 50, 3)
+    hits = tree.intersect(o, d)
+    text = check_result(hits, octree.RayHits)
+    assert "t=array(shape=(50,), dtype=float32)" in text
+    assert hits.level.dtype == np.int8 and hits.color.shape == (50, 3)
+    check_result(tree.intersect(o, d, shading=False), octree.RayHits)
 
 
 def _sat_overlap(tri, centres, h):
@@ -134,10 +153,11 @@ def test_memory_report_full_against_early_stop():
     v, f, c = octree.make_scene("atrium", 4)
     full = octree.build(v, f, c, depth=8, early_stop=False).memory_report()
     early = octree.build(v, f, c, depth=8).memory_report()
-    assert set(full) == {"nodes", "triangles", "tri_index", "voxels", "total"}
-    assert full["triangles"] == early["triangles"] == 48 * len(f)
-    assert full["nodes"] > early["nodes"] and full["voxels"] > early["voxels"]
-    assert 1 - early["total"] / full["total"] >= 0.35
+    check_result(full, octree.MemoryReport)
+    assert full.total == full.nodes + full.triangles + full.tri_index + full.voxels
+    assert full.triangles == early.triangles == 48 * len(f)
+    assert full.nodes > early.nodes and full.voxels > early.voxels
+    assert 1 - early.total / full.total >= 0.35
 
 
 def test_render_modes_and_lod():
@@ -148,11 +168,13 @@ def test_render_modes_and_lod():
     near_eye = centre + side * np.array([0.56, -0.35, 0.25])
     tri, st_t = tree.render(near_eye, centre, mode="triangles", width=128, height=96, return_stats=True)
     assert tri.shape == (96, 128, 3) and tri.dtype == np.float32 and np.isfinite(tri).all()
-    assert st_t["voxel_hits"] == 0 and st_t["triangle_hits"] > 1000
+    assert st_t.n_voxel_hits == 0 and st_t.n_triangle_hits > 1000
     far_eye = centre + 5 * side * np.array([0.8, -0.5, 0.35])
     _, st = tree.render(far_eye, centre, mode="hybrid", width=256, height=256, return_stats=True)
-    assert st["voxel_hits"] >= 0.9 * (st["voxel_hits"] + st["triangle_hits"])
-    assert 0.0 <= st["blend_min"] <= st["blend_max"] <= 1.0
+    assert st.n_voxel_hits >= 0.9 * (st.n_voxel_hits + st.n_triangle_hits)
+    check_result(st, octree.RenderStats)
+    assert st.n_voxel_hits + st.n_triangle_hits + st.n_misses == 256 * 256
+    assert 0.0 <= st.blend_min <= st.blend_max <= 1.0
     vox = tree.render(far_eye, centre, mode="voxels", level=4, width=64, height=64)
     assert np.isfinite(vox).all()
     # Display-wall focus: triangles inside the ellipse, voxels well outside it.
@@ -160,7 +182,7 @@ def test_render_modes_and_lod():
     _, st_f = tree.render(mid_eye, centre, width=128, height=128, focus=(64, 64, 10, 10, 3),
                           return_stats=True)
     _, st_h = tree.render(mid_eye, centre, width=128, height=128, return_stats=True)
-    assert st_f["voxel_hits"] > st_h["voxel_hits"]
+    assert st_f.n_voxel_hits > st_h.n_voxel_hits
     img_ao = tree.render(near_eye, centre, mode="triangles", width=64, height=48, n_ao_samples=4)
     assert np.isfinite(img_ao).all()
     with pytest.raises(ValueError, match="focus"):
@@ -231,4 +253,4 @@ def test_bad_input_raises_value_error_and_strided_arrays_work():
     assert octree.build(vf, fs, depth=5).to_bytes() == tree.to_bytes()
     # A zero direction misses.
     h = tree.intersect(np.zeros((1, 3)), np.zeros((1, 3)))
-    assert np.isinf(h["t"][0]) and h["prim"][0] == -1
+    assert np.isinf(h.t[0]) and h.prim[0] == -1

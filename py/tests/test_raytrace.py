@@ -7,6 +7,7 @@ import pytest
 from scipy import stats
 from skimage.measure import label
 
+from results_check import check_result
 from wscg import doe, raytrace as rt
 
 SMALL = dict(region_mm=(-1.5, -1.5, 1.5, 1.5), magnification=4.0, spp=4)
@@ -16,17 +17,20 @@ def test_pair_shares_the_microstructure_and_is_deterministic():
     (l, li), (r, ri) = rt.render_plate("pair", return_info=True, light_deg=4.0,
                                        light_elevation_deg=75.0, **SMALL)
     assert l.shape == r.shape == (43, 43, 3) and l.dtype == np.float32
-    assert li["mm_per_px"] == pytest.approx(3.0 / 43)
-    ov = rt.binocular_overlap(li["glint_ids"], ri["glint_ids"])
+    assert li.mm_per_px == pytest.approx(3.0 / 43)
+    ov = rt.binocular_overlap(li.glint_ids, ri.glint_ids)
     assert 0.05 < ov < 0.95
     again, info = rt.render_plate("left", return_info=True, light_deg=4.0,
                                   light_elevation_deg=75.0, **SMALL)
     np.testing.assert_array_equal(again, l)
     # Every pixel's glinting flake is among the image's glinting flakes.
-    ids = info["flake_id"][info["flake_id"] != np.iinfo(np.uint64).max]
-    assert np.isin(ids, info["glint_ids"]).all() and ids.size > 0
+    ids = info.flake_id[info.flake_id != np.iinfo(np.uint64).max]
+    assert np.isin(ids, info.glint_ids).all() and ids.size > 0
     # No pixel brighter than the lamp.
-    assert l[..., 1].max() <= info["lamp_y"] * (1 + 1e-6)
+    assert l[..., 1].max() <= info.lamp_y * (1 + 1e-6)
+    text = check_result(info, rt.PlateInfo)
+    assert "flake_id=array(shape=(43, 43), dtype=uint64)" in text and info.spectrum is None
+    assert info.region_mm == pytest.approx((-1.5, -1.5, 1.5, 1.5))
 
 
 def test_white_plate_is_srgb_white_under_d65():
@@ -43,9 +47,11 @@ def test_glint_stats_against_skimage_labels(rng):
     y = (rng.random((60, 80)) < 0.03).astype(np.float32) * 5.0 + 0.1
     s = rt.glint_stats(y, 0.05)
     lab, n = label(y > 4 * np.median(y), connectivity=2, return_num=True)
-    assert s["glints"] == n
-    assert s["glint_density_per_mm2"] == pytest.approx(n / (60 * 80 * 0.05 ** 2))
-    assert s["mean_glint_area_mm2"] == pytest.approx((lab > 0).sum() / n * 0.05 ** 2)
+    check_result(s, rt.GlintStats)
+    assert s.n_glints == n
+    assert s.glint_density_per_mm2 == pytest.approx(n / (60 * 80 * 0.05 ** 2))
+    assert s.mean_glint_area_mm2 == pytest.approx((lab > 0).sum() / n * 0.05 ** 2)
+    assert s.threshold == pytest.approx(4 * np.median(y))
     with pytest.raises(ValueError):
         rt.glint_stats(np.full((4, 4), np.nan), 0.1)
 
@@ -136,21 +142,21 @@ def test_rsm_against_numpy_least_squares(rng):
     f = doe.fit_rsm(x, y, interaction=False)
     a = np.column_stack([np.ones(13), x, x ** 2])
     coef, *_ = np.linalg.lstsq(a, y, rcond=None)
-    np.testing.assert_allclose(f["coef"], coef, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(f.coef, coef, rtol=1e-9, atol=1e-12)
     h = np.diag(a @ np.linalg.solve(a.T @ a, a.T))
-    np.testing.assert_allclose(f["leverage"], h, rtol=1e-9)
+    np.testing.assert_allclose(f.leverage, h, rtol=1e-9)
     # PRESS by refitting without each run.
     press = 0.0
     for i in range(13):
         keep = np.arange(13) != i
         c, *_ = np.linalg.lstsq(a[keep], y[keep], rcond=None)
         press += (y[i] - a[i] @ c) ** 2
-    assert f["press"] == pytest.approx(press, rel=1e-9)
+    assert f.press == pytest.approx(press, rel=1e-9)
     resid = y - a @ coef
     s2 = resid @ resid / (13 - 5)
     se = np.sqrt(np.diag(np.linalg.inv(a.T @ a)) * s2)
-    np.testing.assert_allclose(f["p"], 2 * stats.t.sf(np.abs(coef / se), 8), rtol=1e-7)
-    assert all(e > 0 for e in f["canonical_eigs"])
+    np.testing.assert_allclose(f.p, 2 * stats.t.sf(np.abs(coef / se), 8), rtol=1e-7)
+    assert all(e > 0 for e in f.canonical_eigs)
 
 
 def test_anova_lsd_williams_panel(rng):
@@ -160,11 +166,11 @@ def test_anova_lsd_williams_panel(rng):
     t = doe.rm_anova(scores)
     # Two conditions: F of the condition equals the paired t statistic squared.
     tt = stats.ttest_rel(scores[:, 0].mean(axis=1), scores[:, 1].mean(axis=1))
-    assert t["condition"]["F"] == pytest.approx(tt.statistic ** 2, rel=1e-9)
-    assert t["condition"]["p"] == pytest.approx(tt.pvalue, rel=1e-6)
+    assert t.condition.F == pytest.approx(tt.statistic ** 2, rel=1e-9)
+    assert t.condition.p == pytest.approx(tt.pvalue, rel=1e-6)
     l = doe.lsd(scores[:, 0], 0.05)
     one = doe.rm_anova_oneway(scores[:, 0])
-    assert l["lsd"] == pytest.approx(stats.t.ppf(0.975, one["df_error"]) * np.sqrt(2 * one["ms_error"] / 26))
+    assert l.lsd == pytest.approx(stats.t.ppf(0.975, one.df_error) * np.sqrt(2 * one.ms_error / 26))
     w = doe.williams(13)
     assert w.shape == (26, 13)
     assert all(sorted(r) == list(range(13)) for r in w)
@@ -177,6 +183,37 @@ def test_anova_lsd_williams_panel(rng):
         doe.fit_rsm(x=np.zeros((3, 2)), y=[1, 2, 3])
     with pytest.raises(ValueError):
         doe.ccd(1, "inscribed", "rotatable", 2)
+
+
+def test_doe_results_are_typed(rng):
+    x = doe.ccd(2, "inscribed", "rotatable", (3, 2))
+    y = 3 + x[:, 0] - 2 * x[:, 1] + 5 * x[:, 0] ** 2 + 2 * x[:, 1] ** 2 + rng.normal(0, 0.3, 13)
+    f = doe.fit_rsm(x, y)
+    check_result(f, doe.RsmFit)
+    assert f.names == ["b0", "b1", "b2", "b11", "b22", "b12"]
+    assert f.coef.shape == f.p.shape == (6,) and f.residuals.shape == (13,)
+    np.testing.assert_allclose(f.fitted + f.residuals, y, atol=1e-12)
+    assert f.stationary.shape == (2,) and f.canonical_axes.shape == (2, 2)
+    blocked = doe.fit_rsm_blocked(x, y + rng.normal(0, 0.3, (4, 13)))
+    check_result(blocked, doe.RsmFit)
+    assert blocked.names[-3:] == ["subject0", "subject1", "subject2"]
+    # Three conditions tell the effects apart by their degrees of freedom: condition 2,
+    # stimulus 12, their interaction 24 (the native "condition:stimulus").
+    scores = 5 + rng.normal(0, 1, (10, 3, 13))
+    t = doe.rm_anova(scores)
+    check_result(t, doe.AnovaTable)
+    check_result(t.interaction, doe.AnovaEffect)
+    assert (t.condition.df, t.stimulus.df, t.interaction.df) == (2, 12, 24)
+    assert t.interaction.df_error == 24 * 9
+    total = t.condition.ss + t.stimulus.ss + t.interaction.ss + t.ss_subject
+    total += t.condition.ss_error + t.stimulus.ss_error + t.interaction.ss_error
+    assert total == pytest.approx(t.ss_total, rel=1e-10)
+    one = doe.rm_anova_oneway(scores[:, 0])
+    assert type(one) is doe.AnovaEffect and one.df == 12
+    l = doe.lsd(scores[:, 0])
+    check_result(l, doe.LeastSignificantDifference)
+    assert len(l.pairs) == 78 and l.n_separated == sum(sep for _, _, sep in l.pairs)
+    assert l.means.shape == (13,) and l.df_error == one.df_error
 
 
 def test_plate_layout_places_the_pool_on_the_cells():
@@ -195,9 +232,14 @@ def test_plate_layout_places_the_pool_on_the_cells():
 def test_workshop_scores_the_reference_above_a_far_plate():
     res = rt.workshop(reference=(26.0, 7.3), runs=[(26.0, 7.3), (45.0, 3.5)], condition="mono",
                       n_reference_renders=2, spp=4)
-    assert res["runs"] == [(26.0, 7.3), (45.0, 3.5)]
-    assert len(res["features"]) == 2 and len(res["feature_names"]) == 5
-    near, far = res["scores"]
+    check_result(res, rt.WorkshopScores)
+    assert res.runs == [(26.0, 7.3), (45.0, 3.5)]
+    # Mono: the four sparkle statistics, no binocular overlap.
+    assert res.feature_names == ["glint density", "mean luminance", "mean glint peak / lamp",
+                                 "mean glint area"]
+    assert res.features.shape == res.reference_features.shape == (2, 4)
+    assert res.scale_log.shape == (4,)
+    near, far = res.scores
     assert 0.0 <= near < far <= 10.0
     with pytest.raises(ValueError):
         rt.workshop(runs=[(26.0, 7.3)], condition="both")
@@ -206,8 +248,8 @@ def test_workshop_scores_the_reference_above_a_far_plate():
 def test_spectrum_output_integrates_to_the_xyz_image():
     img, info = rt.render_plate("left", return_info=True, keep_spectrum=True, light_deg=3.0,
                                 light_elevation_deg=75.0, **SMALL)
-    spec = info["spectrum"]
-    assert spec.shape == img.shape[:2] + (81,) and info["bands_nm"][0] == 380.0
+    spec = info.spectrum
+    assert spec.shape == img.shape[:2] + (81,) and info.bands_nm[0] == 380.0
     y, x = np.unravel_index(np.argmax(img[..., 1]), img.shape[:2])
     assert img[y, x, 1] > 0
     np.testing.assert_allclose(rt.spectrum_to_xyz(spec[y, x]), img[y, x], rtol=1e-4)

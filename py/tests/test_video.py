@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from skimage.metrics import structural_similarity
 
+from results_check import check_result
 from wscg import video as V
 
 
@@ -47,7 +48,9 @@ def test_completion_beats_per_frame_inpainting(pan):
     telea = V.ssim_masked(cv2_inpaint(observed, mask, cv2.INPAINT_TELEA), clean, mask)
     print(f"SSIM in the hole: ours {ours:.4f}, cv2 Telea {telea:.4f}")
     assert ours >= telea + 0.15
-    assert stats["working_factor"] == 1 and stats["energy"] > 0
+    assert stats.working_factor == 1 and stats.energy > 0
+    check_result(stats, V.CompletionStats)
+    assert len(stats.seconds) == 3 and all(s >= 0 for s in stats.seconds)
 
 
 def test_periodic_structure_against_navier_stokes():
@@ -107,7 +110,7 @@ def test_stage3_iterates_past_the_windows_until_the_energy_settles(pan):
         _, stats = V.complete_video(observed, mask, lowres_width=48, n_levels=0,
                                     fine_max_iter=cap, min_energy_drop=drop,
                                     return_stats=True)
-        runs[cap, drop] = stats["local_energy"]
+        runs[cap, drop] = stats.local_energy
     for (cap, drop), levels in runs.items():
         for e in levels:
             assert 4 <= len(e) <= cap

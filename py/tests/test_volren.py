@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 from scipy.ndimage import binary_erosion, generate_binary_structure
 
+from results_check import check_result
 from wscg import volren as V
 
 
@@ -60,9 +61,11 @@ def test_server_client_round_trip_and_rendering():
     np.testing.assert_array_equal(c.render(**cam, size=(24, 24)),
                                   c.render(**cam, size=(24, 24), mode="octree"))
     r = s.size_report((0, 32, 16, 64, 16, 64), thin_client_view=cam, viewport=(64, 64))
-    assert r["hybrid"] == r["hybrid_static"] + r["hybrid_roi"]
-    assert r["hybrid"] < r["gradient_octree"] < r["raw"] == vol.size
-    assert r["thin_client_frame"] > 0
+    check_result(r, V.SizeReport)
+    assert r.hybrid == r.hybrid_static + r.hybrid_roi
+    assert r.hybrid < r.gradient_octree < r.raw == vol.size
+    assert r.thin_client_frame > 0 and r.wavelets > 0
+    assert s.size_report((0, 32, 16, 64, 16, 64)).thin_client_frame is None
 
 
 def test_bad_input():

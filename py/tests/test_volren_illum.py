@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from results_check import check_result
 from wscg import volren as V
 
 
@@ -337,8 +338,10 @@ def test_study_matches_independent_renders():
     kw = dict(n_views=2, size=24, azimuth=10.0, elevation=25.0, distances=(0.5, 1.0),
               max_subsamples=1, reference=0.25, fine=0.125, value_range=(0, 1))
     st = V.study(vol, tf, **kw)
-    assert set(st) == {"reference_seconds", "fine_energy", "entries"}
-    got = [(e["method"], e["slice_distance"], e["n_subsamples"]) for e in st["entries"]]
+    text = check_result(st, V.IlluminationStudy)
+    assert "entries=list(len=8)" in text
+    check_result(st.entries[0], V.StudyEntry)
+    got = [(e.method, e.slice_distance, e.n_subsamples) for e in st.entries]
     assert got == [("ics", 0.5, 0), ("scs", 0.5, 1), ("pi-ics", 0.5, 0), ("pi-scs", 0.5, 1),
                    ("ics", 1.0, 0), ("scs", 1.0, 1), ("pi-ics", 1.0, 0), ("pi-scs", 1.0, 1)]
     # The orbit cameras, the reference and the scores, rebuilt from render().
@@ -347,20 +350,20 @@ def test_study_matches_independent_renders():
     ref = [V.render(vol, tf, method="ics", slice_distance=0.25, **c) for c in cams]
     fine = [V.render(vol, tf, method="ics", slice_distance=0.125, **c) for c in cams]
     fine_energy = np.mean([_laplacian_energy(f, r) for f, r in zip(fine, ref)])
-    assert st["fine_energy"] == pytest.approx(fine_energy, rel=1e-4)
-    for e in st["entries"]:
-        imgs = [V.render(vol, tf, method=e["method"], slice_distance=e["slice_distance"],
-                         n_subsamples=e["n_subsamples"], **c) for c in cams]
-        assert e["mad"] == pytest.approx(np.mean([V.mean_abs_diff(a, r)
+    assert st.fine_energy == pytest.approx(fine_energy, rel=1e-4)
+    for e in st.entries:
+        imgs = [V.render(vol, tf, method=e.method, slice_distance=e.slice_distance,
+                         n_subsamples=e.n_subsamples, **c) for c in cams]
+        assert e.mad == pytest.approx(np.mean([V.mean_abs_diff(a, r)
+                                               for a, r in zip(imgs, ref)]), rel=1e-4)
+        assert e.energy == pytest.approx(np.mean([_laplacian_energy(a, r)
                                                   for a, r in zip(imgs, ref)]), rel=1e-4)
-        assert e["energy"] == pytest.approx(np.mean([_laplacian_energy(a, r)
-                                                     for a, r in zip(imgs, ref)]), rel=1e-4)
-        assert e["alias_free"] == (e["mad"] <= 0.005 and e["energy"] <= 2 * st["fine_energy"])
-        assert e["seconds"] > 0
-    assert st["reference_seconds"] > 0
+        assert e.alias_free == (e.mad <= 0.005 and e.energy <= 2 * st.fine_energy)
+        assert e.seconds > 0
+    assert st.reference_seconds > 0
     # A looser criterion only adds alias-free entries.
     loose = V.study(vol, tf, **kw, max_mad=1.0, max_energy_ratio=1e9)
-    assert all(e["alias_free"] for e in loose["entries"])
+    assert all(e.alias_free for e in loose.entries)
 
 
 # --------------------------------------------------------------------------------------------
@@ -435,9 +438,9 @@ def test_prepared_volume_renders_like_the_array():
     np.testing.assert_array_equal(buf, buf2)
     assert z == z2
     kw = dict(n_views=1, size=24, distances=(0.8,), max_subsamples=1)
-    a = V.study(pv, tf, **kw)["entries"]
-    b = V.study(vol, tf, spacing=(1.5, 1.0, 1.0), **kw)["entries"]
-    assert [e["mad"] for e in a] == [e["mad"] for e in b]
+    a = V.study(pv, tf, **kw).entries
+    b = V.study(vol, tf, spacing=(1.5, 1.0, 1.0), **kw).entries
+    assert [e.mad for e in a] == [e.mad for e in b]
     np.testing.assert_array_equal(vol, vol_copy)
     with pytest.raises(ValueError, match="PreparedVolume"):
         V.render(pv, tf, spacing=(1.0, 1.0, 1.0))

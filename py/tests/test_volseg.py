@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import wscg
+from results_check import check_result
 from wscg import volseg
 from wscg._native import volseg as _native
 
@@ -53,7 +54,7 @@ def _skimage_agreement(shape, k, tol, precision, spacing=(1.0, 1.0, 1.0), prob=F
     else:
         labels, report = ours
         sk_labels, gap = sk, None
-    assert all(report["converged"]), report
+    assert all(report.converged), report
     sk_labels = np.where(sk_labels < 0, 0, sk_labels)  # skimage: -1 = unreachable
     return float(np.mean(labels[bone] == sk_labels[bone])), gap
 
@@ -131,8 +132,8 @@ def test_random_walks_beat_nearest_seed_on_the_phantom():
     assert d_rw >= d_ns + 0.05, (d_rw, d_ns)
     assert d_rw > 0.75
     bone = ct >= 300.0
-    assert report["n_nodes"] == int(bone.sum())
-    assert report["n_labels"] == 6 and all(report["converged"])
+    assert report.n_nodes == int(bone.sum())
+    assert report.n_labels == 6 and all(report.converged)
     assert not labels[~bone].any() and not baseline[~bone].any()
     on = seeds > 0
     np.testing.assert_array_equal(labels[on], seeds[on])
@@ -190,7 +191,7 @@ def test_session_warm_start_saves_iterations():
     assert s.report() is None
     assert s.set_seeds(seeds) == int(np.count_nonzero(seeds))
     first = s.solve(warm_start=False)
-    assert s.n_labels == 4 and all(first["converged"])
+    assert s.n_labels == 4 and all(first.converged)
     np.testing.assert_array_equal(s.labels(), volseg.random_walker_bone(ct, seeds))
     # One extra stroke of label 1: truth voxels 6-7 voxels from its existing stroke.
     z0 = np.argwhere(seeds == 1)[0]
@@ -205,7 +206,7 @@ def test_session_warm_start_saves_iterations():
     cold_s.set_seeds(seeds)
     cold_s.add_seeds(extra, 1)
     cold = cold_s.solve(warm_start=False)
-    w, c = sum(warm["iterations"]), sum(cold["iterations"])
+    w, c = sum(warm.n_iter), sum(cold.n_iter)
     assert w <= 0.6 * c, (w, c)  # measured 78 vs 334
     np.testing.assert_array_equal(s.seeds(), cold_s.seeds())
     assert np.mean(s.labels() == cold_s.labels()) > 0.99
@@ -232,12 +233,12 @@ def test_label_values_need_not_be_consecutive():
     ct, truth, seeds = _phantom((32, 32, 32), 3)
     ref, ref_p, ref_r = volseg.random_walker_bone(ct, seeds, return_prob=True,
                                                   return_report=True)
-    assert ref_r["labels"] == [1, 2, 3]
+    assert ref_r.labels == [1, 2, 3]
     lut = np.array([0, 300, 7, 65534])
     labels, probs, r = volseg.random_walker_bone(ct, lut[seeds], return_prob=True,
                                                  return_report=True)
     np.testing.assert_array_equal(labels, lut[ref])
-    assert r["labels"] == [7, 300, 65534] and r["n_labels"] == 3
+    assert r.labels == [7, 300, 65534] and r.n_labels == 3
     np.testing.assert_array_equal(probs, ref_p[[1, 0, 2]])
     # The session keeps a label's number across set_seeds and add_seeds.
     s = volseg.RandomWalkerSession(ct)
@@ -253,13 +254,13 @@ def test_label_values_need_not_be_consecutive():
     stroke = np.argwhere(truth == 2)[:5]
     s.add_seeds(stroke, 5)
     r = s.solve()
-    assert r["labels"] == [5, 7, 300, 65534] and len(r["iterations"]) == 4
+    assert r.labels == [5, 7, 300, 65534] and len(r.n_iter) == 4
     assert np.all(s.labels()[tuple(stroke.T)] == 5)
     assert s.probabilities().shape == (4, 32, 32, 32)
     np.testing.assert_array_equal(s.probabilities()[0], s.probabilities(5))
     s.set_seeds(seeds * 100)  # labels 100, 200, 300: 300 keeps its number
     r = s.solve()
-    assert r["labels"] == [5, 7, 100, 200, 300, 65534]
+    assert r.labels == [5, 7, 100, 200, 300, 65534]
     assert set(np.unique(s.labels())) == {0, 100, 200, 300}
 
 
@@ -359,11 +360,31 @@ def test_off_bone_seeds_are_dropped_with_a_warning():
     np.testing.assert_array_equal(labels, volseg.random_walker_bone(ct, seeds))
 
 
+def test_solve_report_is_typed():
+    ct, _, seeds = _phantom((32, 32, 32), 3)
+    _, r = volseg.random_walker_bone(ct, np.array([0, 9, 4, 6])[seeds], return_report=True)
+    text = check_result(r, volseg.SolveReport)
+    assert "labels=[4, 6, 9]" in text and "n_unreached=0" in text
+    assert r.n_labels == 3 and r.n_seeds == int(np.count_nonzero(seeds))
+    assert len(r.n_iter) == len(r.residuals) == len(r.seconds) == 3
+    assert all(res <= 3e-3 for res in r.residuals) and r.n_unreached >= 0
+    s = volseg.RandomWalkerSession(ct)
+    s.set_seeds(np.array([0, 9, 4, 6])[seeds])
+    check_result(s.solve(), volseg.SolveReport)
+    # The session reorders its per-label lists to the ascending labels, as the function.
+    assert s.report().labels == r.labels and s.report().n_iter == r.n_iter
+
+
 def test_unconverged_solve_warns():
     ct, _, seeds = _phantom((32, 32, 32), 3)
-    with pytest.warns(RuntimeWarning, match="did not reach"):
+    with pytest.warns(RuntimeWarning, match=r"did not reach .* for labels \[1, 2, 3\]"):
         _, r = volseg.random_walker_bone(ct, seeds, max_iter=2, return_report=True)
-    assert r["iterations"] == [2, 2, 2] and not any(r["converged"])
+    assert r.n_iter == [2, 2, 2] and not any(r.converged)
+    # The warning names the user's labels, not their positions.
+    s = volseg.RandomWalkerSession(ct, max_iter=2)
+    s.set_seeds(np.array([0, 30, 7, 200])[seeds])
+    with pytest.warns(RuntimeWarning, match=r"for labels \[7, 30, 200\]"):
+        s.solve()
 
 
 # ----------------------------------------------------------------------------------------

@@ -60,7 +60,7 @@ def test_isosurface_vertices_are_world_points():
     assert np.all(inward > 0)
     # The grid edges are (k, j, i, axis), array axis order: the low end of each edge is a
     # voxel whose world point lies within one spacing of the vertex along that axis.
-    e = info["edges"]
+    e = info.edges
     assert e.shape == (len(v), 4)
     low = np.stack([_world(row[:3]) for row in e])
     axis_xyz = 2 - e[:, 3]              # array axis 0 (z) is world axis 2
@@ -132,7 +132,7 @@ def test_math_mesh_files_keep_world_points(tmp_path):
     for name in ("blob.ply", "blob.obj"):
         wm.save_mesh(tmp_path / name, v, f)
         m = wm.load_mesh(tmp_path / name)
-        np.testing.assert_allclose(_mesh_centroid(m["vertices"], m["faces"]), POINT, atol=0.05)
+        np.testing.assert_allclose(_mesh_centroid(m.vertices, m.faces), POINT, atol=0.05)
 
 
 def test_volseg_smoothing_follows_the_spacing_axes():

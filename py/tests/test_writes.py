@@ -143,4 +143,4 @@ def test_a_bvh_whose_frame_count_overflows_is_an_oserror_naming_the_file(tmp_pat
         bad.write_text(text.replace("Frames: 2", f"Frames: {frames}"))
         with pytest.raises(OSError, match="huge.bvh"):
             motion.load_bvh(bad)
-    assert motion.load_bvh(good)["angles"].shape[0] == 2
+    assert motion.load_bvh(good).angles.shape[0] == 2

@@ -628,6 +628,26 @@ fn recognizer_identifies_new_walks() {
         ok += usize::from(p.label == set.labels[i]);
     }
     assert!(ok >= 7, "{ok}/8");
+    // JSON round trip: the same ranking to the bit.
+    let back = GaitRecognizer::from_json(&rec.to_json().unwrap()).unwrap();
+    assert_eq!(back.pairs, rec.pairs);
+    let (a, b) = (
+        rec.predict(&set.walks[2]).unwrap(),
+        back.predict(&set.walks[2]).unwrap(),
+    );
+    assert_eq!(a.label, b.label);
+    assert!(a
+        .ranked
+        .iter()
+        .zip(&b.ranked)
+        .all(|(x, y)| x.0 == y.0 && x.2.to_bits() == y.2.to_bits()));
+    let mut bad = back.clone();
+    bad.labels.pop();
+    assert!(GaitRecognizer::from_json(&bad.to_json().unwrap()).is_err());
+    let mut bad = back.clone();
+    bad.gallery[1].pop();
+    let e = GaitRecognizer::from_json(&bad.to_json().unwrap()).unwrap_err();
+    assert!(e.to_string().contains("gallery walk 1"), "{e}");
 }
 
 #[test]

@@ -13,7 +13,7 @@ use wscg_math::{Error, Result};
 
 use crate::model::ClothModel;
 pub use crate::system::elastic_forces;
-use crate::system::{filters, ImplicitOperator, Stepped};
+use crate::system::{elastic_forces_v, filters, ImplicitOperator, Stepped};
 
 fn require_soft(m: &ClothModel, method: &str) -> Result<()> {
     if m.links.iter().any(|l| l.compliance == 0.0) {
@@ -35,14 +35,15 @@ pub(crate) fn symplectic_euler(m: &ClothModel, h: f64, substeps: usize) -> Resul
         ));
     }
     let hs = h / substeps.max(1) as f64;
-    let mut x = m.x.clone();
-    let mut v = m.v.clone();
+    let mut x = m.xs().to_vec();
+    let mut v = m.vs().to_vec();
+    let g = m.g();
     for _ in 0..substeps.max(1) {
-        let f = elastic_forces(m, &x);
+        let f = elastic_forces_v(m, &x);
         for p in 0..x.len() {
             let w = m.inv_mass[p];
             if w > 0.0 {
-                v[p] += (m.gravity + f[p] * w) * hs;
+                v[p] += (g + f[p] * w) * hs;
             }
             x[p] += v[p] * hs;
         }
@@ -71,17 +72,18 @@ pub(crate) fn implicit_euler_linearised(
     require_soft(m, "implicit Euler")?;
     let n = m.len();
     let filters = filters(m);
+    let (x0, v0, g) = (m.xs(), m.vs(), m.g());
     let vt: Vec<Vector3<f64>> = (0..n)
         .map(|q| {
             if m.inv_mass[q] > 0.0 {
-                filters[q] * (m.v[q] + m.gravity * h)
+                filters[q] * (v0[q] + g * h)
             } else {
-                m.v[q]
+                v0[q]
             }
         })
         .collect();
-    let xt: Vec<Vector3<f64>> = (0..n).map(|q| m.x[q] + vt[q] * h).collect();
-    let f = elastic_forces(m, &xt);
+    let xt: Vec<Vector3<f64>> = (0..n).map(|q| x0[q] + vt[q] * h).collect();
+    let f = elastic_forces_v(m, &xt);
     let b: Vec<f64> = (0..n)
         .flat_map(|q| {
             let r = filters[q] * f[q] * h;
@@ -110,7 +112,12 @@ pub(crate) fn implicit_euler_linearised(
 
 /// Reduces each link's relative velocity along the link by the factor `kd` in `[0, 1]`,
 /// sharing the change by inverse masses (the velocity-projection damping baseline).
-pub fn project_velocities(m: &ClothModel, x: &[Vector3<f64>], v: &mut [Vector3<f64>], kd: f64) {
+pub(crate) fn project_velocities(
+    m: &ClothModel,
+    x: &[Vector3<f64>],
+    v: &mut [Vector3<f64>],
+    kd: f64,
+) {
     for l in &m.links {
         let (wi, wj) = (m.inv_mass[l.i], m.inv_mass[l.j]);
         let a = wi + wj;

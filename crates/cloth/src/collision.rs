@@ -25,8 +25,7 @@ use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 use wscg_math::{Error, Result};
 
 use crate::model::ClothModel;
-
-type V3 = Vector3<f64>;
+use crate::vecs::V3;
 
 /// A static obstacle.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -34,23 +33,23 @@ pub enum Collider {
     /// The half-space `normal . x >= offset` (a floor, a wall).
     Plane {
         /// Unit normal pointing out of the obstacle.
-        normal: V3,
+        normal: [f64; 3],
         /// Offset (m).
         offset: f64,
     },
     /// A solid ball.
     Sphere {
         /// Centre (m).
-        center: V3,
+        center: [f64; 3],
         /// Radius (m, > 0).
         radius: f64,
     },
     /// A solid capsule: the points within `radius` of the segment `a`-`b`.
     Capsule {
         /// First end of the axis.
-        a: V3,
+        a: [f64; 3],
         /// Second end of the axis.
-        b: V3,
+        b: [f64; 3],
         /// Radius (m, > 0).
         radius: f64,
     },
@@ -95,11 +94,7 @@ impl TryFrom<MeshParts> for MeshCollider {
 
     fn try_from(p: MeshParts) -> Result<Self> {
         // Single-precision vertices round-trip through f64 unchanged.
-        let v: Vec<V3> = p
-            .vertices
-            .iter()
-            .map(|c| V3::new(c[0] as f64, c[1] as f64, c[2] as f64))
-            .collect();
+        let v: Vec<[f64; 3]> = p.vertices.iter().map(|c| c.map(f64::from)).collect();
         let f: Vec<[usize; 3]> = p.faces.iter().map(|f| f.map(|i| i as usize)).collect();
         Self::new(&v, &f)
     }
@@ -110,7 +105,7 @@ impl MeshCollider {
     ///
     /// Errors: no triangles, non-finite vertices, indices out of range, a mesh parry cannot
     /// orient (open or inconsistently wound).
-    pub fn new(vertices: &[V3], faces: &[[usize; 3]]) -> Result<Self> {
+    pub fn new(vertices: &[[f64; 3]], faces: &[[usize; 3]]) -> Result<Self> {
         if faces.is_empty() {
             return Err(Error::Empty("collider faces"));
         }
@@ -126,7 +121,7 @@ impl MeshCollider {
         }
         let v = vertices
             .iter()
-            .map(|p| PVec::new(p.x as f32, p.y as f32, p.z as f32))
+            .map(|p| PVec::new(p[0] as f32, p[1] as f32, p[2] as f32))
             .collect();
         let idx = faces.iter().map(|f| f.map(|p| p as u32)).collect();
         let mesh = ParryMesh::with_flags(v, idx, TriMeshFlags::ORIENTED)
@@ -151,10 +146,12 @@ impl MeshCollider {
 impl Collider {
     /// Checks the parameters.
     pub fn validate(&self) -> Result<()> {
-        let finite = |v: &V3| v.iter().all(|c| c.is_finite());
+        let finite = |v: &[f64; 3]| v.iter().all(|c| c.is_finite());
         let ok = match self {
             Collider::Plane { normal, offset } => {
-                finite(normal) && offset.is_finite() && (normal.norm() - 1.0).abs() < 1e-9
+                finite(normal)
+                    && offset.is_finite()
+                    && (V3::from(*normal).norm() - 1.0).abs() < 1e-9
             }
             Collider::Sphere { center, radius } => {
                 finite(center) && radius.is_finite() && *radius > 0.0
@@ -175,15 +172,16 @@ impl Collider {
     }
 
     /// A plane through `point` with outward `normal` (normalised here).
-    pub fn plane(normal: V3, point: V3) -> Result<Self> {
+    pub fn plane(normal: [f64; 3], point: [f64; 3]) -> Result<Self> {
+        let normal = V3::from(normal);
         let len = normal.norm();
         if !(len.is_finite() && len > 0.0) {
             return Err(Error::invalid("normal", "must be finite and non-zero"));
         }
         let normal = normal / len;
         let c = Collider::Plane {
-            normal,
-            offset: normal.dot(&point),
+            normal: normal.into(),
+            offset: normal.dot(&V3::from(point)),
         };
         c.validate()?;
         Ok(c)
@@ -191,7 +189,13 @@ impl Collider {
 
     /// Signed distance of `p` to the surface and the outward normal there (the closest
     /// surface point is `p - d n`).
-    pub fn signed_distance(&self, p: &V3) -> (f64, V3) {
+    pub fn signed_distance(&self, p: [f64; 3]) -> (f64, [f64; 3]) {
+        let (d, n) = self.signed_distance_v(&V3::from(p));
+        (d, n.into())
+    }
+
+    /// [`Collider::signed_distance`] on the solvers' vectors.
+    fn signed_distance_v(&self, p: &V3) -> (f64, V3) {
         let ball = |c: V3, r: f64| {
             let d = p - c;
             let len = d.norm();
@@ -199,9 +203,13 @@ impl Collider {
             (len - r, n)
         };
         match self {
-            Collider::Plane { normal, offset } => (normal.dot(p) - offset, *normal),
-            Collider::Sphere { center, radius } => ball(*center, *radius),
+            Collider::Plane { normal, offset } => {
+                let normal = V3::from(*normal);
+                (normal.dot(p) - offset, normal)
+            }
+            Collider::Sphere { center, radius } => ball(V3::from(*center), *radius),
             Collider::Capsule { a, b, radius } => {
+                let (a, b) = (V3::from(*a), V3::from(*b));
                 let ab = b - a;
                 let l2 = ab.norm_squared();
                 let t = if l2 > 0.0 {
@@ -324,7 +332,7 @@ impl CollisionState {
     pub(crate) fn detect(&self, m: &ClothModel, x: &[V3]) -> Option<StepContacts> {
         self.settings
             .is_active()
-            .then(|| detect(&self.settings, m, x, &m.x, &self.neighbours))
+            .then(|| detect(&self.settings, m, x, m.xs(), &self.neighbours))
     }
 
     /// Projects the contacts once (see [`project`]).
@@ -335,7 +343,7 @@ impl CollisionState {
         x: &mut [V3],
     ) -> f64 {
         match contacts {
-            Some(c) => project(&self.settings, c, &m.inv_mass, x, &m.x),
+            Some(c) => project(&self.settings, c, &m.inv_mass, x, m.xs()),
             None => 0.0,
         }
     }
@@ -375,7 +383,7 @@ fn detect(
         }
         let margin = th + (xp - x_start[p]).norm();
         for c in &col.colliders {
-            let (d, n) = c.signed_distance(xp);
+            let (d, n) = c.signed_distance_v(xp);
             if d < th + margin {
                 out.obstacles.push(Contact {
                     p,

@@ -8,6 +8,7 @@ use nalgebra::{Matrix3, Vector3};
 use wscg_math::sparse::LinOp;
 
 use crate::model::ClothModel;
+use crate::vecs::{arrays, into_arrays, v3s, V3};
 
 /// One constraint row: its particles and their gradient vectors.
 #[derive(Clone, Debug)]
@@ -29,7 +30,8 @@ pub struct ConstraintSystem {
 impl ConstraintSystem {
     /// The system at positions `x` with `scale = alpha h (beta h + gamma)` (`h^2` for
     /// implicit Euler). Links of zero length contribute zero rows.
-    pub fn new(m: &ClothModel, x: &[Vector3<f64>], scale: f64) -> Self {
+    pub fn new(m: &ClothModel, x: &[[f64; 3]], scale: f64) -> Self {
+        let x = v3s(x);
         let mut rows = Vec::with_capacity(m.constraint_rows());
         let mut blocks = Vec::new();
         for l in &m.links {
@@ -46,15 +48,15 @@ impl ConstraintSystem {
             });
         }
         for t in &m.tris {
-            let st = t.strain(x);
+            let grad = t.strain_grad(x).1;
             let (c2, cs) = t.compliance();
             let mut c = Matrix3::zeros();
             c.fixed_view_mut::<2, 2>(0, 0).copy_from(&c2);
             c[(2, 2)] = cs;
             blocks.push((rows.len(), 3, c));
-            for k in 0..3 {
+            for g in grad {
                 rows.push(Row {
-                    parts: (0..3).map(|p| (t.idx[p], st.grad[k][p])).collect(),
+                    parts: t.idx.into_iter().zip(g).collect(),
                 });
             }
         }
@@ -77,7 +79,11 @@ impl ConstraintSystem {
     }
 
     /// `W J' p`: the per-particle effect of multipliers `p`.
-    pub fn w_jt(&self, p: &[f64]) -> Vec<Vector3<f64>> {
+    pub fn w_jt(&self, p: &[f64]) -> Vec<[f64; 3]> {
+        into_arrays(self.w_jt_v(p))
+    }
+
+    fn w_jt_v(&self, p: &[f64]) -> Vec<V3> {
         let mut f = vec![Vector3::zeros(); self.inv_mass.len()];
         for (row, &pk) in self.rows.iter().zip(p) {
             for &(q, g) in &row.parts {
@@ -88,7 +94,11 @@ impl ConstraintSystem {
     }
 
     /// `J' p` (no mass weighting).
-    pub fn jt(&self, p: &[f64]) -> Vec<Vector3<f64>> {
+    pub fn jt(&self, p: &[f64]) -> Vec<[f64; 3]> {
+        into_arrays(self.jt_v(p))
+    }
+
+    fn jt_v(&self, p: &[f64]) -> Vec<V3> {
         let mut f = vec![Vector3::zeros(); self.inv_mass.len()];
         for (row, &pk) in self.rows.iter().zip(p) {
             for &(q, g) in &row.parts {
@@ -99,7 +109,8 @@ impl ConstraintSystem {
     }
 
     /// `J f` for per-particle vectors `f`.
-    pub fn j(&self, f: &[Vector3<f64>]) -> Vec<f64> {
+    pub fn j(&self, f: &[[f64; 3]]) -> Vec<f64> {
+        let f = v3s(f);
         self.rows
             .iter()
             .map(|row| row.parts.iter().map(|&(q, g)| g.dot(&f[q])).sum())
@@ -142,7 +153,7 @@ impl LinOp for ConstraintSystem {
     }
     fn apply(&self, p: &[f64], y: &mut [f64]) {
         // y = scale J (W J' p) + C p.
-        let f = self.w_jt(p);
+        let f = self.w_jt_v(p);
         for (k, row) in self.rows.iter().enumerate() {
             y[k] = self.scale * row.parts.iter().map(|&(q, g)| g.dot(&f[q])).sum::<f64>();
         }
@@ -152,14 +163,15 @@ impl LinOp for ConstraintSystem {
 
 /// Constraint values at `x`: one per link (`|x_i - x_j| - rest`), three per triangle (the
 /// strains), in the row order of [`ConstraintSystem`].
-pub fn constraint_values(m: &ClothModel, x: &[Vector3<f64>]) -> Vec<f64> {
+pub fn constraint_values(m: &ClothModel, x: &[[f64; 3]]) -> Vec<f64> {
+    let x = v3s(x);
     let mut c: Vec<f64> = m
         .links
         .iter()
         .map(|l| (x[l.i] - x[l.j]).norm() - l.rest)
         .collect();
     for t in &m.tris {
-        c.extend(t.strain(x).e);
+        c.extend(t.strain_grad(x).0);
     }
     c
 }
@@ -184,15 +196,15 @@ pub(crate) fn global_step(
             "the global constraint solve needs soft constraints only",
         ));
     }
-    let xt = crate::system::inertial_target(m, h);
+    let xt = crate::system::inertial_target_v(m, h);
     let mut x = xt.clone();
     let mut lambda = vec![0.0; m.links.len() + 3 * m.tris.len()];
     let h2 = h * h;
     for _ in 0..outer {
         wscg_math::cancel::check()?;
-        let sys = ConstraintSystem::new(m, &x, h2);
+        let sys = ConstraintSystem::new(m, arrays(&x), h2);
         let g: Vec<Vector3<f64>> = if primal_residual {
-            let jl = sys.jt(&lambda);
+            let jl = sys.jt_v(&lambda);
             (0..m.len())
                 .map(|q| {
                     let w = m.inv_mass[q];
@@ -207,8 +219,8 @@ pub(crate) fn global_step(
             vec![Vector3::zeros(); m.len()]
         };
         let wg: Vec<Vector3<f64>> = g.iter().zip(&m.inv_mass).map(|(gq, &w)| gq * w).collect();
-        let jwg = sys.j(&wg);
-        let mut rhs = constraint_values(m, &x);
+        let jwg = sys.j(arrays(&wg));
+        let mut rhs = constraint_values(m, arrays(&x));
         sys.add_compliance(&lambda, &mut rhs);
         for (r, j) in rhs.iter_mut().zip(&jwg) {
             *r = -*r + h2 * j;
@@ -221,7 +233,7 @@ pub(crate) fn global_step(
                 .tol(tol)
                 .max_iter(Some(10 * rhs.len().max(1))),
         )?;
-        let wjd = sys.w_jt(&sol.x);
+        let wjd = sys.w_jt_v(&sol.x);
         for q in 0..m.len() {
             x[q] += (wjd[q] - wg[q]) * h2;
         }
@@ -229,7 +241,7 @@ pub(crate) fn global_step(
             *l += d;
         }
     }
-    let v = x.iter().zip(&m.x).map(|(a, b)| (a - b) / h).collect();
+    let v = x.iter().zip(m.xs()).map(|(a, b)| (a - b) / h).collect();
     let mut full = lambda;
     full.resize(m.constraint_rows(), 0.0);
     Ok(crate::system::Stepped::new(x, v, full))

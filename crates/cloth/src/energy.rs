@@ -1,8 +1,7 @@
 //! Energy diagnostics of a model state (the curves of the paper's Figs. 1, 4 and 5).
 
-use nalgebra::Vector3;
-
 use crate::model::ClothModel;
+use crate::vecs::v3s;
 
 /// Energy of a state, in joules.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -23,10 +22,11 @@ impl Energy {
     pub fn of(model: &ClothModel) -> Self {
         let mut kinetic = 0.0;
         let mut gravity = 0.0;
-        for ((x, v), &w) in model.x.iter().zip(&model.v).zip(&model.inv_mass) {
+        let g = model.g();
+        for ((x, v), &w) in model.xs().iter().zip(model.vs()).zip(&model.inv_mass) {
             if w > 0.0 {
                 kinetic += 0.5 * v.norm_squared() / w;
-                gravity -= model.gravity.dot(x) / w;
+                gravity -= g.dot(x) / w;
             }
         }
         let elastic = elastic_energy(model, &model.x);
@@ -41,13 +41,14 @@ impl Energy {
 
 /// Elastic energy `1/2 c' C^-1 c` of `model`'s constraints at positions `x` (soft links and
 /// membrane triangles).
-pub fn elastic_energy(model: &ClothModel, x: &[Vector3<f64>]) -> f64 {
+pub fn elastic_energy(model: &ClothModel, x: &[[f64; 3]]) -> f64 {
+    let xv = v3s(x);
     model
         .links
         .iter()
         .filter(|l| l.compliance > 0.0)
         .map(|l| {
-            let c = (x[l.i] - x[l.j]).norm() - l.rest;
+            let c = (xv[l.i] - xv[l.j]).norm() - l.rest;
             0.5 * c * c / l.compliance
         })
         .sum::<f64>()

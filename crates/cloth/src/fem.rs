@@ -15,6 +15,8 @@
 use nalgebra::{Matrix2, Matrix3, Vector3};
 use wscg_math::{Error, Result};
 
+use crate::vecs::{v3s, V3};
+
 /// One membrane triangle.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FemTri {
@@ -38,7 +40,7 @@ pub struct Strain {
     /// `(e_uu, e_vv, g_uv)`.
     pub e: [f64; 3],
     /// `grad[k][p]`: gradient of strain component `k` with respect to vertex `p`.
-    pub grad: [[Vector3<f64>; 3]; 3],
+    pub grad: [[[f64; 3]; 3]; 3],
 }
 
 impl FemTri {
@@ -85,7 +87,8 @@ impl FemTri {
 
     /// Rest coordinates of a triangle from its rest positions in 3-D (a local frame with
     /// `u` along the first edge).
-    pub fn local_uv(p: [Vector3<f64>; 3]) -> [[f64; 2]; 3] {
+    pub fn local_uv(p: [[f64; 3]; 3]) -> [[f64; 2]; 3] {
+        let p = p.map(V3::from);
         let e1 = p[1] - p[0];
         let n = e1.cross(&(p[2] - p[0]));
         let u = e1.normalize();
@@ -95,7 +98,16 @@ impl FemTri {
     }
 
     /// Strains and gradients at positions `x`.
-    pub fn strain(&self, x: &[Vector3<f64>]) -> Strain {
+    pub fn strain(&self, x: &[[f64; 3]]) -> Strain {
+        let (e, grad) = self.strain_grad(v3s(x));
+        Strain {
+            e,
+            grad: grad.map(|g| g.map(Into::into)),
+        }
+    }
+
+    /// Strains `(e_uu, e_vv, g_uv)` and their per-vertex gradients at positions `x`.
+    pub(crate) fn strain_grad(&self, x: &[V3]) -> ([f64; 3], [[V3; 3]; 3]) {
         let [p0, p1, p2] = self.idx;
         let wu = x[p0] * self.a[0] + x[p1] * self.a[1] + x[p2] * self.a[2];
         let wv = x[p0] * self.b[0] + x[p1] * self.b[1] + x[p2] * self.b[2];
@@ -104,14 +116,12 @@ impl FemTri {
             self.b.map(|b| wv * b),
             [0, 1, 2].map(|p| wv * self.a[p] + wu * self.b[p]),
         ];
-        Strain {
-            e: [
-                0.5 * (wu.dot(&wu) - 1.0),
-                0.5 * (wv.dot(&wv) - 1.0),
-                wu.dot(&wv),
-            ],
-            grad,
-        }
+        let e = [
+            0.5 * (wu.dot(&wu) - 1.0),
+            0.5 * (wv.dot(&wv) - 1.0),
+            wu.dot(&wv),
+        ];
+        (e, grad)
     }
 
     /// The plane-stress elasticity matrix `E` (N/m).
@@ -132,17 +142,17 @@ impl FemTri {
     }
 
     /// The StVK membrane energy `(area/2) e' E e` at positions `x`.
-    pub fn energy(&self, x: &[Vector3<f64>]) -> f64 {
-        let e = Vector3::from(self.strain(x).e);
+    pub fn energy(&self, x: &[[f64; 3]]) -> f64 {
+        let e = Vector3::from(self.strain_grad(v3s(x)).0);
         0.5 * self.area * e.dot(&(self.elasticity() * e))
     }
 }
 
 /// Adds the triangle's elastic forces `-sum_k (area E e)_k grad e_k` at `x` to `f`.
-pub fn add_forces(t: &FemTri, x: &[Vector3<f64>], f: &mut [Vector3<f64>]) {
-    let st = t.strain(x);
-    let s = t.elasticity() * Vector3::from(st.e) * t.area;
+pub(crate) fn add_forces(t: &FemTri, x: &[V3], f: &mut [V3]) {
+    let (e, grad) = t.strain_grad(x);
+    let s = t.elasticity() * Vector3::from(e) * t.area;
     for p in 0..3 {
-        f[t.idx[p]] -= st.grad[0][p] * s[0] + st.grad[1][p] * s[1] + st.grad[2][p] * s[2];
+        f[t.idx[p]] -= grad[0][p] * s[0] + grad[1][p] * s[1] + grad[2][p] * s[2];
     }
 }

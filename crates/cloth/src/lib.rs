@@ -41,6 +41,7 @@ pub mod newton;
 pub mod projection;
 pub mod solver;
 mod system;
+mod vecs;
 
 pub use collision::{Collider, Collisions, MeshCollider};
 pub use energy::Energy;

@@ -2,10 +2,10 @@
 //! particles), gravity, and soft link constraints `c = |x_i - x_j| - rest` with compliance
 //! `1/k` (paper section 8).
 
-use nalgebra::Vector3;
 use wscg_math::{Error, Result};
 
 use crate::fem::FemTri;
+use crate::vecs::{v3s, V3};
 
 /// A distance constraint between two particles.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -27,7 +27,7 @@ pub struct Roller {
     /// Particle.
     pub p: usize,
     /// Unit plane normal.
-    pub normal: Vector3<f64>,
+    pub normal: [f64; 3],
     /// Plane offset (m).
     pub offset: f64,
 }
@@ -36,9 +36,9 @@ pub struct Roller {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ClothModel {
     /// Positions (m).
-    pub x: Vec<Vector3<f64>>,
+    pub x: Vec<[f64; 3]>,
     /// Velocities (m/s).
-    pub v: Vec<Vector3<f64>>,
+    pub v: Vec<[f64; 3]>,
     /// Inverse masses (1/kg); 0 pins a particle.
     pub inv_mass: Vec<f64>,
     /// Link constraints, solved in this order by Gauss-Seidel.
@@ -48,10 +48,10 @@ pub struct ClothModel {
     /// Rollers (hard plane constraints on single particles, solved last).
     pub rollers: Vec<Roller>,
     /// Gravity (m/s^2).
-    pub gravity: Vector3<f64>,
+    pub gravity: [f64; 3],
 }
 
-fn finite3(name: &'static str, v: &[Vector3<f64>]) -> Result<()> {
+fn finite3(name: &'static str, v: &[[f64; 3]]) -> Result<()> {
     match v.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
         Some(i) => Err(Error::NonFinite { name, index: 3 * i }),
         None => Ok(()),
@@ -64,7 +64,7 @@ impl ClothModel {
     ///
     /// Errors: empty input, length mismatch, non-finite positions, negative or NaN masses,
     /// zero mass of a free particle, pinned index out of range.
-    pub fn new(x: Vec<Vector3<f64>>, mass: &[f64], pinned: &[usize]) -> Result<Self> {
+    pub fn new(x: Vec<[f64; 3]>, mass: &[f64], pinned: &[usize]) -> Result<Self> {
         if x.is_empty() {
             return Err(Error::Empty("positions"));
         }
@@ -96,12 +96,12 @@ impl ClothModel {
         let n = x.len();
         let m = Self {
             x,
-            v: vec![Vector3::zeros(); n],
+            v: vec![[0.0; 3]; n],
             inv_mass,
             links: Vec::new(),
             tris: Vec::new(),
             rollers: Vec::new(),
-            gravity: Vector3::new(0.0, -9.81, 0.0),
+            gravity: [0.0, -9.81, 0.0],
         };
         m.validate()?;
         Ok(m)
@@ -131,7 +131,7 @@ impl ClothModel {
                 format!("stiffness must be > 0, got {k}"),
             ));
         }
-        let rest = rest.unwrap_or_else(|| (self.x[i] - self.x[j]).norm());
+        let rest = rest.unwrap_or_else(|| (self.xs()[i] - self.xs()[j]).norm());
         if !(rest.is_finite() && rest > 0.0) {
             return Err(Error::invalid(
                 "rest",
@@ -174,13 +174,14 @@ impl ClothModel {
     /// Adds a roller keeping particle `p` on the plane `normal . x = offset`.
     ///
     /// Errors: index out of range, a zero or non-finite normal, a non-finite offset.
-    pub fn add_roller(&mut self, p: usize, normal: Vector3<f64>, offset: f64) -> Result<()> {
+    pub fn add_roller(&mut self, p: usize, normal: [f64; 3], offset: f64) -> Result<()> {
         if p >= self.x.len() {
             return Err(Error::invalid(
                 "roller",
                 format!("particle {p} out of range"),
             ));
         }
+        let normal = V3::from(normal);
         let len = normal.norm();
         if !(len.is_finite() && len > 0.0 && offset.is_finite()) {
             return Err(Error::invalid(
@@ -190,10 +191,25 @@ impl ClothModel {
         }
         self.rollers.push(Roller {
             p,
-            normal: normal / len,
+            normal: (normal / len).into(),
             offset: offset / len,
         });
         Ok(())
+    }
+
+    /// Positions as the solvers' vectors (the same memory).
+    pub(crate) fn xs(&self) -> &[V3] {
+        v3s(&self.x)
+    }
+
+    /// Velocities as the solvers' vectors (the same memory).
+    pub(crate) fn vs(&self) -> &[V3] {
+        v3s(&self.v)
+    }
+
+    /// Gravity as the solvers' vector.
+    pub(crate) fn g(&self) -> V3 {
+        V3::from(self.gravity)
     }
 
     /// Number of constraint rows: one per link, three per triangle, one per roller.
@@ -223,7 +239,7 @@ impl ClothModel {
         }
         finite3("positions", &self.x)?;
         finite3("velocities", &self.v)?;
-        wscg_math::error::ensure_finite("gravity", self.gravity.as_slice())?;
+        wscg_math::error::ensure_finite("gravity", &self.gravity)?;
         if let Some(i) = self
             .inv_mass
             .iter()
@@ -261,9 +277,7 @@ impl ClothModel {
         if n < 2 {
             return Err(Error::invalid("n", "a chain needs at least 2 particles"));
         }
-        let x = (0..n)
-            .map(|i| Vector3::new(0.0, -(i as f64) * rest, 0.0))
-            .collect();
+        let x = (0..n).map(|i| [0.0, -(i as f64) * rest, 0.0]).collect();
         let mut m = Self::new(x, &vec![mass; n], &[0])?;
         for i in 0..n - 1 {
             m.add_link(i, i + 1, k, Some(rest))?;
@@ -282,7 +296,7 @@ impl ClothModel {
     /// Errors: empty input, face index out of range or repeated, degenerate faces, bad
     /// material, non-finite vertices, a vertex in no face.
     pub fn from_trimesh(
-        vertices: &[Vector3<f64>],
+        vertices: &[[f64; 3]],
         faces: &[[usize; 3]],
         total_mass: f64,
         young: Option<(f64, f64)>,
@@ -301,6 +315,7 @@ impl ClothModel {
         let n = vertices.len();
         finite3("vertices", vertices)?;
         let mut area = vec![0.0; n];
+        let p = v3s(vertices);
         for (fi, f) in faces.iter().enumerate() {
             if f.iter().any(|&p| p >= n) || f[0] == f[1] || f[1] == f[2] || f[0] == f[2] {
                 return Err(Error::invalid(
@@ -308,10 +323,7 @@ impl ClothModel {
                     format!("face {fi} {f:?} has repeated or out-of-range indices ({n} vertices)"),
                 ));
             }
-            let a = 0.5
-                * (vertices[f[1]] - vertices[f[0]])
-                    .cross(&(vertices[f[2]] - vertices[f[0]]))
-                    .norm();
+            let a = 0.5 * (p[f[1]] - p[f[0]]).cross(&(p[f[2]] - p[f[0]])).norm();
             if a < 1e-14 {
                 return Err(Error::invalid("faces", format!("face {fi} is degenerate")));
             }
@@ -374,7 +386,7 @@ impl ClothModel {
         let mut m = Self::grid(nx, ny, size, total_mass, 1.0, None, None)?;
         m.links.clear();
         for t in grid_triangles(nx, ny) {
-            let r = t.map(|p| [m.x[p].x, m.x[p].z]);
+            let r = t.map(|p| [m.x[p][0], m.x[p][2]]);
             m.add_fem_triangle(t, Some(r), young, poisson)?;
         }
         Ok(m)
@@ -410,11 +422,11 @@ impl ClothModel {
         let x = (0..ny)
             .flat_map(|j| {
                 (0..nx).map(move |i| {
-                    Vector3::new(
+                    [
                         size.0 * i as f64 / (nx - 1) as f64,
                         0.0,
                         size.1 * j as f64 / (ny - 1) as f64,
-                    )
+                    ]
                 })
             })
             .collect();

@@ -17,7 +17,7 @@ use wscg_math::sparse::LinOp;
 use wscg_math::Result;
 
 use crate::model::ClothModel;
-use crate::system::{elastic_forces, filters, ImplicitOperator, Stepped};
+use crate::system::{elastic_forces_v, filters, ImplicitOperator, Stepped};
 
 /// Residual of the NCG iteration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -42,19 +42,14 @@ pub(crate) fn step(
 ) -> Result<Stepped> {
     let n = m.len();
     let free = |q: usize| m.inv_mass[q] > 0.0;
+    let (x0, v0, g) = (m.xs(), m.vs(), m.g());
     let vt: Vec<Vector3<f64>> = (0..n)
-        .map(|q| {
-            if free(q) {
-                m.v[q] + m.gravity * h
-            } else {
-                m.v[q]
-            }
-        })
+        .map(|q| if free(q) { v0[q] + g * h } else { v0[q] })
         .collect();
-    let mut x: Vec<Vector3<f64>> = (0..n).map(|q| m.x[q] + vt[q] * h).collect();
+    let mut x: Vec<Vector3<f64>> = (0..n).map(|q| x0[q] + vt[q] * h).collect();
     let mut v = vt.clone();
     let residual = |x: &[Vector3<f64>], v: &[Vector3<f64>]| -> Vec<Vector3<f64>> {
-        let f = elastic_forces(m, x);
+        let f = elastic_forces_v(m, x);
         (0..n)
             .map(|q| {
                 if !free(q) {

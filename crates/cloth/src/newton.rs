@@ -13,30 +13,30 @@ use wscg_math::{Error, Result};
 use crate::energy::elastic_energy;
 use crate::model::ClothModel;
 pub use crate::system::inertial_target;
-use crate::system::{elastic_forces, filters, ImplicitOperator, Stepped};
+use crate::system::{elastic_forces_v, filters, inertial_target_v, ImplicitOperator, Stepped};
+use crate::vecs::{arrays, into_arrays, v3s, V3};
 
 fn free(m: &ClothModel, q: usize) -> bool {
     m.inv_mass[q] > 0.0
 }
 
-/// `Phi` at positions `x`.
-pub fn incremental_potential(
-    m: &ClothModel,
-    x: &[Vector3<f64>],
-    xt: &[Vector3<f64>],
-    h: f64,
-) -> f64 {
+/// `Phi` at positions `x` (`xt` the candidate [`inertial_target`]).
+pub fn incremental_potential(m: &ClothModel, x: &[[f64; 3]], xt: &[[f64; 3]], h: f64) -> f64 {
+    potential(m, v3s(x), v3s(xt), h)
+}
+
+fn potential(m: &ClothModel, x: &[V3], xt: &[V3], h: f64) -> f64 {
     let inertia: f64 = (0..m.len())
         .filter(|&q| free(m, q))
         .map(|q| (x[q] - xt[q]).norm_squared() / m.inv_mass[q])
         .sum::<f64>()
         / (2.0 * h * h);
-    inertia + elastic_energy(m, x)
+    inertia + elastic_energy(m, arrays(x))
 }
 
 /// `|grad Phi|` at `x` over the free particles.
 fn gradient_norm(m: &ClothModel, x: &[Vector3<f64>], xt: &[Vector3<f64>], h: f64) -> f64 {
-    let f = elastic_forces(m, x);
+    let f = elastic_forces_v(m, x);
     (0..m.len())
         .filter(|&q| free(m, q))
         .map(|q| ((x[q] - xt[q]) / (h * h * m.inv_mass[q]) - f[q]).norm_squared())
@@ -50,12 +50,24 @@ fn gradient_norm(m: &ClothModel, x: &[Vector3<f64>], xt: &[Vector3<f64>], h: f64
 /// minimiser.
 pub fn minimize(
     m: &ClothModel,
-    xt: &[Vector3<f64>],
-    x0: &[Vector3<f64>],
+    xt: &[[f64; 3]],
+    x0: &[[f64; 3]],
     h: f64,
     tol: f64,
     max_newton: usize,
-) -> Result<Vec<Vector3<f64>>> {
+) -> Result<Vec<[f64; 3]>> {
+    minimize_v(m, v3s(xt), v3s(x0), h, tol, max_newton).map(into_arrays)
+}
+
+/// [`minimize`] on the solvers' vectors.
+fn minimize_v(
+    m: &ClothModel,
+    xt: &[V3],
+    x0: &[V3],
+    h: f64,
+    tol: f64,
+    max_newton: usize,
+) -> Result<Vec<V3>> {
     if m.links.iter().any(|l| l.compliance == 0.0) || !m.rollers.is_empty() {
         return Err(Error::invalid(
             "method",
@@ -74,7 +86,7 @@ pub fn minimize(
     let mut best = (f64::INFINITY, 0usize);
     for _ in 0..max_newton {
         // Gradient of Phi: M (x - x~)/h^2 - f(x).
-        let f = elastic_forces(m, &x);
+        let f = elastic_forces_v(m, &x);
         let grad: Vec<Vector3<f64>> = (0..n)
             .map(|q| {
                 if free(m, q) {
@@ -128,7 +140,7 @@ pub fn minimize(
         // Backtracking (Armijo) line search on Phi. Near the minimum the decrease of Phi
         // falls below its round-off; the full step is then accepted when it shrinks the
         // gradient instead.
-        let phi0 = incremental_potential(m, &x, xt, h);
+        let phi0 = potential(m, &x, xt, h);
         let slope: f64 = grad.iter().zip(&dir).map(|(g, d)| g.dot(d)).sum();
         let full: Vec<Vector3<f64>> = x.iter().zip(&dir).map(|(a, d)| a + d).collect();
         let lost_in_roundoff = -slope <= 1e-12 * phi0.abs().max(f64::MIN_POSITIVE);
@@ -139,8 +151,7 @@ pub fn minimize(
         let mut step = 1.0;
         loop {
             let trial: Vec<Vector3<f64>> = x.iter().zip(&dir).map(|(a, d)| a + d * step).collect();
-            if incremental_potential(m, &trial, xt, h) <= phi0 + 1e-4 * step * slope || step < 1e-12
-            {
+            if potential(m, &trial, xt, h) <= phi0 + 1e-4 * step * slope || step < 1e-12 {
                 x = trial;
                 break;
             }
@@ -155,8 +166,8 @@ pub fn minimize(
 
 /// One exact implicit Euler step.
 pub(crate) fn step(m: &ClothModel, h: f64, tol: f64) -> Result<Stepped> {
-    let xt = inertial_target(m, h);
-    let x = minimize(m, &xt, &xt, h, tol, 100)?;
-    let v = x.iter().zip(&m.x).map(|(a, b)| (a - b) / h).collect();
+    let xt = inertial_target_v(m, h);
+    let x = minimize_v(m, &xt, &xt, h, tol, 100)?;
+    let v = x.iter().zip(m.xs()).map(|(a, b)| (a - b) / h).collect();
     Ok(Stepped::new(x, v, vec![0.0; m.constraint_rows()]))
 }

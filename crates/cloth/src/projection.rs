@@ -17,12 +17,10 @@
 //! sweep) and graph-coloured Gauss-Seidel, whose colour classes share no particle and run in
 //! parallel.
 
-use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use crate::model::ClothModel;
-
-type V3 = Vector3<f64>;
+use crate::vecs::V3;
 
 /// How the constraints of one sweep are visited.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -338,8 +336,8 @@ impl Positions for Shared<V3> {
 /// Velocities `v = v~ + (x - x~) / (beta h)` for the damping term.
 #[derive(Clone, Copy)]
 pub(crate) struct VelocityFrame<'a> {
-    pub x0: &'a [V3],
-    pub v0: &'a [V3],
+    pub(crate) x0: &'a [V3],
+    pub(crate) v0: &'a [V3],
 }
 
 impl VelocityFrame<'_> {
@@ -601,15 +599,16 @@ pub(crate) fn project_rollers(
         if s1 <= 0.0 {
             continue;
         }
-        let mut rhs = k.alpha * (r.normal.dot(&x[r.p]) - r.offset);
+        let normal = V3::from(r.normal);
+        let mut rhs = k.alpha * (normal.dot(&x[r.p]) - r.offset);
         if k.gamma > 0.0 {
             let v = vf.v(r.p as u32, x[r.p], k.inv_bh);
-            rhs += k.alpha * k.gamma * r.normal.dot(&v);
+            rhs += k.alpha * k.gamma * normal.dot(&v);
         }
         res = res.max(rhs.abs());
         let dl = -k.omega * rhs / s1;
         *lam += dl;
-        x[r.p] += r.normal * (dl * k.sx * w);
+        x[r.p] += normal * (dl * k.sx * w);
     }
     res
 }

@@ -33,6 +33,7 @@ use crate::model::ClothModel;
 use crate::projection::{self, Prepared, Relaxation, StepConsts, VelocityFrame};
 pub use crate::system::StepStats;
 use crate::system::Stepped;
+use crate::vecs::{into_arrays, V3};
 
 /// How the constraint multipliers enter each iteration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -432,8 +433,8 @@ impl Simulation {
                 self.steps
             )));
         }
-        self.model.x = x;
-        self.model.v = v;
+        self.model.x = into_arrays(x);
+        self.model.v = into_arrays(v);
         self.lambda = lambda;
         self.steps += 1;
         Ok(stats)
@@ -464,10 +465,11 @@ impl Simulation {
             ..
         } = *cfg;
         // Elastic force at x^n: soft links from -c/eps, hard links from the stored multiplier.
+        let (xn, vn, g) = (m.xs(), m.vs(), m.g());
         let mut f = vec![Vector3::zeros(); m.len()];
         if alpha < 1.0 {
             for (l, &stored) in m.links.iter().zip(stored_lambda) {
-                let d = m.x[l.i] - m.x[l.j];
+                let d = xn[l.i] - xn[l.j];
                 let len = d.norm();
                 if len < 1e-12 {
                     continue;
@@ -482,28 +484,28 @@ impl Simulation {
                 f[l.j] -= g;
             }
             for t in &m.tris {
-                crate::fem::add_forces(t, &m.x, &mut f);
+                crate::fem::add_forces(t, xn, &mut f);
             }
             let r0 = m.links.len() + 3 * m.tris.len();
             for (r, &stored) in m.rollers.iter().zip(&stored_lambda[r0..]) {
-                f[r.p] += r.normal * stored;
+                f[r.p] += V3::from(r.normal) * stored;
             }
         }
-        let (mut x, mut v): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) =
-            m.x.iter()
-                .zip(&m.v)
-                .zip(&m.inv_mass)
-                .zip(&f)
-                .map(|(((xp, vp), &w), fp)| {
-                    if w > 0.0 {
-                        let dx = m.gravity + fp * (beta * (1.0 - alpha) * w);
-                        let dv = m.gravity + fp * ((1.0 - alpha) * w);
-                        (xp + vp * h + dx * (h * h), vp + dv * h)
-                    } else {
-                        (xp + vp * h, *vp)
-                    }
-                })
-                .unzip();
+        let (mut x, mut v): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) = xn
+            .iter()
+            .zip(vn)
+            .zip(&m.inv_mass)
+            .zip(&f)
+            .map(|(((xp, vp), &w), fp)| {
+                if w > 0.0 {
+                    let dx = g + fp * (beta * (1.0 - alpha) * w);
+                    let dv = g + fp * ((1.0 - alpha) * w);
+                    (xp + vp * h + dx * (h * h), vp + dv * h)
+                } else {
+                    (xp + vp * h, *vp)
+                }
+            })
+            .unzip();
         let x0 = x.clone();
         let contacts = collisions.detect(m, &x);
         let mut max_penetration = 0.0;
@@ -558,14 +560,15 @@ impl Simulation {
         let m = &self.model;
         let n_it = self.cfg.iterations;
         let k_it = 1.0 - (1.0 - stiffness).powf(1.0 / n_it as f64);
+        let (xn, vn) = (m.xs(), m.vs());
         let mut x: Vec<Vector3<f64>> = (0..m.len())
             .map(|p| {
                 let g = if m.inv_mass[p] > 0.0 {
-                    m.gravity
+                    m.g()
                 } else {
                     Vector3::zeros()
                 };
-                m.x[p] + (m.v[p] + g * h) * h
+                xn[p] + (vn[p] + g * h) * h
             })
             .collect();
         let contacts = self.collisions.detect(m, &x);
@@ -590,7 +593,7 @@ impl Simulation {
             }
             max_penetration = self.collisions.project(&contacts, m, &mut x);
         }
-        let v = x.iter().zip(&m.x).map(|(a, b)| (a - b) / h).collect();
+        let v = x.iter().zip(xn).map(|(a, b)| (a - b) / h).collect();
         let lambda = vec![0.0; m.constraint_rows()];
         Stepped::projected(x, v, lambda, max_residual, &contacts, max_penetration)
     }

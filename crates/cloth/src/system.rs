@@ -9,6 +9,7 @@ use wscg_math::Result;
 
 use crate::collision::StepContacts;
 use crate::model::ClothModel;
+use crate::vecs::{into_arrays, v3s, V3};
 
 /// What a step did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -63,7 +64,12 @@ impl Stepped {
 }
 
 /// Elastic forces `-sum J' C^-1 c` at positions `x`: soft links and membrane triangles.
-pub fn elastic_forces(m: &ClothModel, x: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+pub fn elastic_forces(m: &ClothModel, x: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    into_arrays(elastic_forces_v(m, v3s(x)))
+}
+
+/// [`elastic_forces`] on the solvers' vectors.
+pub(crate) fn elastic_forces_v(m: &ClothModel, x: &[V3]) -> Vec<V3> {
     let mut f = vec![Vector3::zeros(); x.len()];
     for l in m.links.iter().filter(|l| l.compliance > 0.0) {
         let d = x[l.i] - x[l.j];
@@ -82,15 +88,21 @@ pub fn elastic_forces(m: &ClothModel, x: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
 }
 
 /// The candidate `x~ = x + h v + h^2 g` (pinned particles: `x + h v`).
-pub fn inertial_target(m: &ClothModel, h: f64) -> Vec<Vector3<f64>> {
+pub fn inertial_target(m: &ClothModel, h: f64) -> Vec<[f64; 3]> {
+    into_arrays(inertial_target_v(m, h))
+}
+
+/// [`inertial_target`] as the solvers' vectors.
+pub(crate) fn inertial_target_v(m: &ClothModel, h: f64) -> Vec<V3> {
+    let (x, v) = (m.xs(), m.vs());
     (0..m.len())
         .map(|q| {
             let g = if m.inv_mass[q] > 0.0 {
-                m.gravity
+                m.g()
             } else {
                 Vector3::zeros()
             };
-            m.x[q] + (m.v[q] + g * h) * h
+            x[q] + (v[q] + g * h) * h
         })
         .collect()
 }
@@ -102,7 +114,7 @@ pub(crate) fn filters(m: &ClothModel) -> Vec<Matrix3<f64>> {
     let mut normals: Vec<Vec<Vector3<f64>>> = vec![Vec::new(); m.len()];
     for r in &m.rollers {
         // Gram-Schmidt against the particle's earlier normals.
-        let mut n = r.normal;
+        let mut n = V3::from(r.normal);
         for e in &normals[r.p] {
             n -= e * e.dot(&n);
         }
@@ -174,7 +186,7 @@ impl<'a> ImplicitOperator<'a> {
         h2: f64,
         geometric: bool,
     ) -> Self {
-        let tri_grads = m.tris.iter().map(|t| t.strain(x).grad).collect();
+        let tri_grads = m.tris.iter().map(|t| t.strain_grad(x).1).collect();
         Self {
             m,
             link_k: link_stiffness(m, x, geometric),

@@ -6,6 +6,7 @@ use wscg_cloth::{
     grid_triangles, ClothModel, Collider, Collisions, MeshCollider, Method, Simulation,
     SolverParams,
 };
+use wscg_math::vec3::{add, dist, dot, norm};
 
 const H: f64 = 1.0 / 60.0;
 const G: f64 = 9.81;
@@ -21,16 +22,16 @@ fn free_cloth(n: usize, y: f64) -> ClothModel {
     let mut m = ClothModel::grid(n, n, (1.0, 1.0), 0.1, 2000.0, Some(2000.0), Some(200.0)).unwrap();
     for (p, w) in m.inv_mass.iter_mut().enumerate() {
         *w = 1.0 / (0.1 / (n * n) as f64);
-        m.x[p] += Vector3::new(-0.5, y, -0.5);
+        m.x[p] = add(m.x[p], [-0.5, y, -0.5]);
     }
     m
 }
 
 fn sphere_mesh(r: f64) -> MeshCollider {
     let (v, f) = parry3d::shape::Ball::new(r as f32).to_trimesh(48, 48);
-    let v: Vec<Vector3<f64>> = v
+    let v: Vec<[f64; 3]> = v
         .iter()
-        .map(|p| Vector3::new(p.x as f64, p.y as f64, p.z as f64))
+        .map(|p| [p.x as f64, p.y as f64, p.z as f64])
         .collect();
     let f: Vec<[usize; 3]> = f.iter().map(|t| t.map(|i| i as usize)).collect();
     MeshCollider::new(&v, &f).unwrap()
@@ -47,7 +48,7 @@ fn cloth_drapes_over_a_sphere_without_penetrating() {
     let (r, th) = (0.3, 0.005);
     for collider in [
         Collider::Sphere {
-            center: Vector3::zeros(),
+            center: [0.0; 3],
             radius: r,
         },
         Collider::Mesh(sphere_mesh(r)),
@@ -66,24 +67,24 @@ fn cloth_drapes_over_a_sphere_without_penetrating() {
             sim.step(H).unwrap();
         }
         let x = &sim.model().x;
-        let min_dist = x.iter().map(|p| p.norm()).fold(f64::INFINITY, f64::min);
+        let min_dist = x.iter().map(|&p| norm(p)).fold(f64::INFINITY, f64::min);
         let centre = x[10 * 21 + 10];
         let lowest_corner = [0, 20, 21 * 20, 21 * 21 - 1]
             .iter()
-            .map(|&p| x[p].y)
+            .map(|&p| x[p][1])
             .fold(f64::INFINITY, f64::min);
         println!(
             "analytic {analytic}: min distance to the centre {min_dist:.5} m (r + thickness \
              {:.3}), centre particle at y = {:.5}, lowest corner y = {lowest_corner:.3}",
             r + th,
-            centre.y
+            centre[1]
         );
         let tess = if analytic { 1e-9 } else { sag(r) };
         assert!(min_dist >= r + th - tess, "penetration: {min_dist}");
         assert!(
-            (centre.y - (r + th)).abs() < 2e-3 + tess,
+            (centre[1] - (r + th)).abs() < 2e-3 + tess,
             "centre at {}",
-            centre.y
+            centre[1]
         );
         assert!(
             lowest_corner < 0.0,
@@ -97,18 +98,18 @@ fn mesh_signed_distance_matches_the_analytic_sphere() {
     let r = 0.3;
     let mesh = Collider::Mesh(sphere_mesh(r));
     let ball = Collider::Sphere {
-        center: Vector3::zeros(),
+        center: [0.0; 3],
         radius: r,
     };
     let u = wscg_math::rng::uniform_vec(4, 3 * 500, -0.6, 0.6).unwrap();
     let tess = sag(r);
     for q in u.chunks(3) {
-        let p = Vector3::new(q[0], q[1], q[2]);
-        let (dm, nm) = mesh.signed_distance(&p);
-        let (db, nb) = ball.signed_distance(&p);
+        let p = [q[0], q[1], q[2]];
+        let (dm, nm) = mesh.signed_distance(p);
+        let (db, nb) = ball.signed_distance(p);
         assert!((dm - db).abs() <= tess, "{p:?}: mesh {dm} vs sphere {db}");
         if db.abs() > 0.05 {
-            assert!(nm.dot(&nb) > 0.95, "{p:?}: normals {nm:?} vs {nb:?}");
+            assert!(dot(nm, nb) > 0.95, "{p:?}: normals {nm:?} vs {nb:?}");
         }
     }
 }
@@ -119,11 +120,11 @@ fn slide(theta: f64, mu: f64, steps: usize) -> f64 {
     let th = 0.01;
     let n = Vector3::new(-theta.sin(), theta.cos(), 0.0);
     let start = n * th;
-    let m = ClothModel::new(vec![start], &[0.01], &[]).unwrap();
+    let m = ClothModel::new(vec![start.into()], &[0.01], &[]).unwrap();
     let mut sim = sim_with(
         m,
         Collisions {
-            colliders: vec![Collider::plane(n, Vector3::zeros()).unwrap()],
+            colliders: vec![Collider::plane(n.into(), [0.0; 3]).unwrap()],
             thickness: th,
             friction: mu,
             self_collision: false,
@@ -133,7 +134,7 @@ fn slide(theta: f64, mu: f64, steps: usize) -> f64 {
         let s = sim.step(H).unwrap();
         assert_eq!(s.contacts, 1);
     }
-    let x = sim.model().x[0];
+    let x = Vector3::from(sim.model().x[0]);
     assert!(
         (n.dot(&x) - th).abs() < 1e-12,
         "left the plane: {}",
@@ -168,10 +169,10 @@ fn coulomb_friction_on_an_incline() {
 #[test]
 fn particle_rests_on_a_capsule() {
     let (r, th) = (0.1, 0.002);
-    let m = ClothModel::new(vec![Vector3::new(0.2, 0.5, 0.0)], &[0.01], &[]).unwrap();
+    let m = ClothModel::new(vec![[0.2, 0.5, 0.0]], &[0.01], &[]).unwrap();
     let capsule = Collider::Capsule {
-        a: Vector3::new(-1.0, 0.0, 0.0),
-        b: Vector3::new(1.0, 0.0, 0.0),
+        a: [-1.0, 0.0, 0.0],
+        b: [1.0, 0.0, 0.0],
         radius: r,
     };
     let mut sim = sim_with(
@@ -185,8 +186,11 @@ fn particle_rests_on_a_capsule() {
     );
     sim.run(H, 120).unwrap();
     let x = sim.model().x[0];
-    assert!((x.y - (r + th)).abs() < 1e-9 && x.z.abs() < 1e-12, "{x:?}");
-    assert!((x.x - 0.2).abs() < 1e-12, "slid along the axis: {}", x.x);
+    assert!(
+        (x[1] - (r + th)).abs() < 1e-9 && x[2].abs() < 1e-12,
+        "{x:?}"
+    );
+    assert!((x[0] - 0.2).abs() < 1e-12, "slid along the axis: {}", x[0]);
 }
 
 /// Two cloths, one 3 cm above the other, fall on the floor: with self contacts the upper one
@@ -199,11 +203,7 @@ fn self_contacts_keep_layers_apart() {
     for layer in 0..2 {
         for p in 0..n * n {
             let (i, j) = (p % n, p / n);
-            v.push(Vector3::new(
-                0.05 * i as f64,
-                0.03 * layer as f64 + th,
-                0.05 * j as f64,
-            ));
+            v.push([0.05 * i as f64, 0.03 * layer as f64 + th, 0.05 * j as f64]);
         }
     }
     let mut faces = grid_triangles(n, n);
@@ -214,7 +214,7 @@ fn self_contacts_keep_layers_apart() {
         let mut sim = sim_with(
             model.clone(),
             Collisions {
-                colliders: vec![Collider::plane(Vector3::y(), Vector3::zeros()).unwrap()],
+                colliders: vec![Collider::plane([0.0, 1.0, 0.0], [0.0; 3]).unwrap()],
                 thickness: th,
                 friction: 0.5,
                 self_collision,
@@ -224,7 +224,7 @@ fn self_contacts_keep_layers_apart() {
         let x = &sim.model().x;
         (0..n * n)
             .flat_map(|a| (n * n..2 * n * n).map(move |b| (a, b)))
-            .map(|(a, b)| (x[a] - x[b]).norm())
+            .map(|(a, b)| dist(x[a], x[b]))
             .fold(f64::INFINITY, f64::min)
     };
     let (with, without) = (gap(true), gap(false));
@@ -248,14 +248,14 @@ fn bad_collision_settings_are_rejected() {
         },
         Collisions {
             colliders: vec![Collider::Sphere {
-                center: Vector3::zeros(),
+                center: [0.0; 3],
                 radius: f64::NAN,
             }],
             ..Default::default()
         },
         Collisions {
             colliders: vec![Collider::Plane {
-                normal: Vector3::new(0.0, 2.0, 0.0),
+                normal: [0.0, 2.0, 0.0],
                 offset: 0.0,
             }],
             ..Default::default()
@@ -263,8 +263,8 @@ fn bad_collision_settings_are_rejected() {
     ] {
         assert!(sim.set_collisions(bad).is_err());
     }
-    assert!(Collider::plane(Vector3::zeros(), Vector3::zeros()).is_err());
-    assert!(MeshCollider::new(&[Vector3::zeros()], &[[0, 1, 2]]).is_err());
+    assert!(Collider::plane([0.0; 3], [0.0; 3]).is_err());
+    assert!(MeshCollider::new(&[[0.0; 3]], &[[0, 1, 2]]).is_err());
     assert!(MeshCollider::new(&[], &[]).is_err());
     let mut ncg = Simulation::new(
         m,

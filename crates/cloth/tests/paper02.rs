@@ -4,26 +4,27 @@
 
 use nalgebra::Vector3;
 use wscg_cloth::{ClothModel, LambdaMode, Method, Simulation, SolverParams};
+use wscg_math::vec3::{dist, sub};
 
 const H: f64 = 1.0 / 60.0;
+
+/// Largest absolute component of `p - q`.
+fn amax(p: [f64; 3], q: [f64; 3]) -> f64 {
+    sub(p, q).iter().fold(0.0, |m: f64, c| m.max(c.abs()))
+}
 
 /// One 1 kg particle on a link (k = 100 N/m, rest 1 m) to a pinned anchor, stretched 5 cm
 /// along x, no gravity.
 fn oscillator(cfg: SolverParams) -> Simulation {
-    let mut m = ClothModel::new(
-        vec![Vector3::zeros(), Vector3::new(1.05, 0.0, 0.0)],
-        &[1.0, 1.0],
-        &[0],
-    )
-    .unwrap();
-    m.gravity = Vector3::zeros();
+    let mut m = ClothModel::new(vec![[0.0; 3], [1.05, 0.0, 0.0]], &[1.0, 1.0], &[0]).unwrap();
+    m.gravity = [0.0; 3];
     m.add_link(0, 1, 100.0, Some(1.0)).unwrap();
     Simulation::new(m, cfg).unwrap()
 }
 
 fn state(sim: &Simulation) -> (f64, f64) {
     let m = sim.model();
-    (m.x[1].x - 1.0, m.v[1].x)
+    (m.x[1][0] - 1.0, m.v[1][0])
 }
 
 /// Check 1: the (alpha, beta) scheme reproduces its closed-form amplification.
@@ -117,7 +118,7 @@ fn chain_elongations(iterations: usize, mode: LambdaMode) -> Vec<f64> {
     let m = sim.model();
     m.links
         .iter()
-        .map(|l| (m.x[l.i] - m.x[l.j]).norm() - l.rest)
+        .map(|l| dist(m.x[l.i], m.x[l.j]) - l.rest)
         .collect()
 }
 
@@ -151,13 +152,9 @@ fn chain_elongation_is_iteration_independent_only_with_accumulation() {
 fn paper_reset_iteration_is_relaxed_pbd() {
     let k = 250.0;
     let build = || {
-        let mut m = ClothModel::new(
-            vec![Vector3::new(0.0, 0.0, 0.0), Vector3::new(0.3, 0.9, 0.2)],
-            &[0.5, 2.0],
-            &[],
-        )
-        .unwrap();
-        m.gravity = Vector3::zeros();
+        let mut m =
+            ClothModel::new(vec![[0.0, 0.0, 0.0], [0.3, 0.9, 0.2]], &[0.5, 2.0], &[]).unwrap();
+        m.gravity = [0.0; 3];
         m.add_link(0, 1, k, Some(0.7)).unwrap();
         m
     };
@@ -180,7 +177,7 @@ fn paper_reset_iteration_is_relaxed_pbd() {
     soft.step(H).unwrap();
     pbd.step(H).unwrap();
     for p in 0..2 {
-        let d = (soft.model().x[p] - pbd.model().x[p]).norm();
+        let d = dist(soft.model().x[p], pbd.model().x[p]);
         assert!(d <= 1e-14, "particle {p}: {d}");
     }
 }
@@ -218,12 +215,12 @@ fn bad_input_is_rejected() {
             "{cfg:?}"
         );
     }
-    let p = vec![Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)];
+    let p = vec![[0.0; 3], [1.0, 0.0, 0.0]];
     assert!(ClothModel::new(p.clone(), &[1.0], &[]).is_err());
     assert!(ClothModel::new(p.clone(), &[1.0, -1.0], &[]).is_err());
     assert!(ClothModel::new(p.clone(), &[1.0, f64::NAN], &[]).is_err());
     assert!(ClothModel::new(p.clone(), &[1.0, 1.0], &[5]).is_err());
-    assert!(ClothModel::new(vec![Vector3::new(f64::NAN, 0.0, 0.0)], &[1.0], &[]).is_err());
+    assert!(ClothModel::new(vec![[f64::NAN, 0.0, 0.0]], &[1.0], &[]).is_err());
     assert!(ClothModel::new(Vec::new(), &[], &[]).is_err());
     let mut m = ClothModel::new(p, &[1.0, 1.0], &[]).unwrap();
     assert!(m.add_link(0, 0, 1.0, None).is_err());
@@ -233,7 +230,7 @@ fn bad_input_is_rejected() {
     // A diverging step leaves the state unchanged.
     let mut m = ok().model().clone();
     m.links[0].compliance = 1e-300;
-    m.x[1] = Vector3::new(1e300, 0.0, 0.0);
+    m.x[1] = [1e300, 0.0, 0.0];
     let mut sim = Simulation::new(m.clone(), SolverParams::default()).unwrap();
     assert!(sim.step(H).is_err());
     assert_eq!(sim.model(), &m);
@@ -273,7 +270,7 @@ fn direct_and_cg_linearised_steps_agree() {
     let mut model = ClothModel::fem_grid(9, 9, (1.0, 1.0), 0.1, 800.0, 0.3).unwrap();
     model.add_link(0, 80, 300.0, None).unwrap();
     model
-        .add_roller(40, Vector3::new(0.0, 0.0, 1.0), model.x[40].z)
+        .add_roller(40, [0.0, 0.0, 1.0], model.x[40][2])
         .unwrap();
     let run = |method| {
         let mut sim =
@@ -289,14 +286,14 @@ fn direct_and_cg_linearised_steps_agree() {
     let d = cg
         .iter()
         .zip(&direct)
-        .map(|(p, q)| (p - q).amax())
+        .map(|(p, q)| amax(*p, *q))
         .fold(0.0, f64::max);
     assert!(d < 1e-10, "{d}");
     assert!(
-        (direct[40].z - model.x[40].z).abs() < 1e-12,
+        (direct[40][2] - model.x[40][2]).abs() < 1e-12,
         "roller violated"
     );
-    assert!(direct[80].y < -0.1, "the cloth did not fall");
+    assert!(direct[80][1] < -0.1, "the cloth did not fall");
 }
 
 /// Check 8, reference part: symplectic Euler with h/64 substeps keeps the hanging cloth's
@@ -325,27 +322,23 @@ fn symplectic_euler_reference_conserves_energy() {
 #[test]
 fn velocity_projection_scales_relative_normal_velocity() {
     let run = |kd: f64| {
-        let mut m = ClothModel::new(
-            vec![Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)],
-            &[1.0, 3.0],
-            &[],
-        )
-        .unwrap();
-        m.gravity = Vector3::zeros();
-        m.v = vec![Vector3::new(-0.5, 0.2, 0.0), Vector3::new(0.7, -0.1, 0.3)];
+        let mut m = ClothModel::new(vec![[0.0; 3], [1.0, 0.0, 0.0]], &[1.0, 3.0], &[]).unwrap();
+        m.gravity = [0.0; 3];
+        m.v = vec![[-0.5, 0.2, 0.0], [0.7, -0.1, 0.3]];
         m.add_link(0, 1, 50.0, Some(1.0)).unwrap();
         let mut sim = Simulation::new(m, SolverParams::default().velocity_damping(kd)).unwrap();
         sim.step(H).unwrap();
         sim.model().clone()
     };
     let (a, b) = (run(0.0), run(0.4));
-    let n = (a.x[1] - a.x[0]).normalize();
-    let rel = |m: &ClothModel| n.dot(&(m.v[1] - m.v[0]));
+    let v = |m: &ClothModel, q: usize| Vector3::from(m.v[q]);
+    let n = (Vector3::from(a.x[1]) - Vector3::from(a.x[0])).normalize();
+    let rel = |m: &ClothModel| n.dot(&(v(m, 1) - v(m, 0)));
     assert!((rel(&b) - 0.6 * rel(&a)).abs() < 1e-13);
     // Momentum and tangential motion are unchanged.
-    let p = |m: &ClothModel| m.v[0] * 1.0 + m.v[1] * 3.0;
+    let p = |m: &ClothModel| v(m, 0) * 1.0 + v(m, 1) * 3.0;
     assert!((p(&a) - p(&b)).norm() < 1e-13);
-    let t = |m: &ClothModel| (m.v[1] - m.v[0]) - n * rel(m);
+    let t = |m: &ClothModel| (v(m, 1) - v(m, 0)) - n * rel(m);
     assert!((t(&a) - t(&b)).norm() < 1e-13);
     assert!(Simulation::new(
         ClothModel::chain(3, 0.1, 0.1, 10.0).unwrap(),
@@ -417,7 +410,8 @@ fn soft_projection_equivalence_with_implicit_euler() {
     let r = wscg_math::rng::uniform_vec(5, 3 * 100, -1.0, 1.0).unwrap();
     for q in 0..100 {
         if model.inv_mass[q] > 0.0 {
-            model.v[q] = Vector3::new(r[3 * q], r[3 * q + 1], r[3 * q + 2]).normalize() * 0.5;
+            model.v[q] =
+                (Vector3::new(r[3 * q], r[3 * q + 1], r[3 * q + 2]).normalize() * 0.5).into();
         }
     }
     let one_step = |method: Method, iterations: usize| {
@@ -431,16 +425,16 @@ fn soft_projection_equivalence_with_implicit_euler() {
         sim.step(H).unwrap();
         sim.model().x.clone()
     };
-    let dist = |a: &[Vector3<f64>], b: &[Vector3<f64>]| {
+    let dist = |a: &[[f64; 3]], b: &[[f64; 3]]| {
         a.iter()
             .zip(b)
-            .map(|(p, q)| (p - q).amax())
+            .map(|(p, q)| amax(*p, *q))
             .fold(0.0, f64::max)
     };
     let reference = one_step(Method::ImplicitEulerNewton { tol: 1e-10 }, 1);
     let xt = inertial_target(&model, H);
     let disp = dist(&reference, &model.x);
-    let phi = |x: &[Vector3<f64>]| incremental_potential(&model, x, &xt, H);
+    let phi = |x: &[[f64; 3]]| incremental_potential(&model, x, &xt, H);
 
     let global = one_step(
         Method::GlobalCr {
@@ -534,10 +528,10 @@ fn constraint_damping_settles_faster() {
 #[test]
 fn cloth_from_triangle_mesh() {
     let v = [
-        Vector3::new(0.0, 0.0, 0.0),
-        Vector3::new(1.0, 0.0, 0.0),
-        Vector3::new(1.0, 0.0, 1.0),
-        Vector3::new(0.0, 0.0, 1.0),
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0],
     ];
     let f = [[0, 1, 2], [0, 2, 3]];
     let m = ClothModel::from_trimesh(&v, &f, 0.6, None, 100.0, Some(1.0)).unwrap();

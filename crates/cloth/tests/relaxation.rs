@@ -16,8 +16,8 @@ fn membrane(n: usize) -> ClothModel {
     let r = wscg_math::rng::uniform_vec(3, 3 * n * n, -1.0, 1.0).unwrap();
     for q in 0..n * n {
         if m.inv_mass[q] > 0.0 {
-            let out = (m.x[q] - Vector3::new(0.5, 0.0, 0.5)) * 1.0;
-            m.v[q] = out + Vector3::new(r[3 * q], r[3 * q + 1], r[3 * q + 2]) * 0.05;
+            let out = (Vector3::from(m.x[q]) - Vector3::new(0.5, 0.0, 0.5)) * 1.0;
+            m.v[q] = (out + Vector3::new(r[3 * q], r[3 * q + 1], r[3 * q + 2]) * 0.05).into();
         }
     }
     m
@@ -53,7 +53,7 @@ fn dist(a: &Simulation, b: &Simulation) -> f64 {
         .x
         .iter()
         .zip(&b.model().x)
-        .map(|(p, q)| (p - q).amax())
+        .map(|(p, q)| (Vector3::from(*p) - Vector3::from(*q)).amax())
         .fold(0.0, f64::max)
 }
 
@@ -72,7 +72,7 @@ fn sweeps() -> [(Relaxation, usize); 4] {
 fn all_sweeps_reach_the_implicit_euler_step_of_a_chain() {
     let mut model = ClothModel::chain(12, 0.01, 0.05, 50.0).unwrap();
     for (q, v) in model.v.iter_mut().enumerate().skip(1) {
-        v.y = 0.4 * ((q as f64) * 1.3).sin();
+        v[1] = 0.4 * ((q as f64) * 1.3).sin();
     }
     let mut newton = Simulation::new(
         model.clone(),

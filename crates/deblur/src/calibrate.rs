@@ -2,6 +2,7 @@
 //! consecutive frames, measured by phase correlation, is compared with the shift the gyroscope
 //! predicts for a candidate delay `t_d`; the delay that best matches the two curves wins.
 
+use nalgebra::Vector3;
 use num_complex::Complex64;
 use wscg_math::fft::{fft2, Direction, Norm};
 use wscg_math::{Error, Image, Result};
@@ -152,7 +153,7 @@ pub fn predicted_shift(
     }
     // A world point on the principal ray of frame a, seen from the pose of frame b.
     let r = track.relative(tb, ta);
-    k.project(&(r * k.ray(k.cx, k.cy)))
+    k.project((r * Vector3::from(k.ray(k.cx, k.cy))).into())
         .map(|(x, y)| (x - k.cx, y - k.cy))
 }
 

@@ -1,7 +1,7 @@
 //! Camera model of the paper (section 3): pinhole intrinsics, rolling-shutter timing (eq. 6)
 //! and the gamma camera response of section 3.3.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Matrix3;
 use wscg_math::{Error, Result};
 
 /// Pinhole intrinsics `K = [[f, 0, cx], [0, f, cy], [0, 0, 1]]` in pixels (paper eq. 5).
@@ -47,13 +47,14 @@ impl Intrinsics {
     }
 
     /// The ray `K^-1 [x, y, 1]` of a pixel (not normalised).
-    pub fn ray(&self, x: f64, y: f64) -> Vector3<f64> {
-        Vector3::new((x - self.cx) / self.f, (y - self.cy) / self.f, 1.0)
+    pub fn ray(&self, x: f64, y: f64) -> [f64; 3] {
+        [(x - self.cx) / self.f, (y - self.cy) / self.f, 1.0]
     }
 
     /// The projection `pi(K X)` of a camera-frame point; `None` behind the camera.
-    pub fn project(&self, p: &Vector3<f64>) -> Option<(f64, f64)> {
-        (p.z > 1e-9).then(|| (self.f * p.x / p.z + self.cx, self.f * p.y / p.z + self.cy))
+    pub fn project(&self, p: [f64; 3]) -> Option<(f64, f64)> {
+        let [x, y, z] = p;
+        (z > 1e-9).then(|| (self.f * x / z + self.cx, self.f * y / z + self.cy))
     }
 }
 

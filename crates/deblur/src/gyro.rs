@@ -11,16 +11,13 @@ pub struct GyroSample {
     /// Time stamp in seconds.
     pub t: f64,
     /// Angular rate in rad/s about the IMU's x, y, z axes.
-    pub w: Vector3<f64>,
+    pub w: [f64; 3],
 }
 
 impl GyroSample {
     /// A sample from a time and three rates.
     pub fn new(t: f64, wx: f64, wy: f64, wz: f64) -> Self {
-        GyroSample {
-            t,
-            w: Vector3::new(wx, wy, wz),
-        }
+        GyroSample { t, w: [wx, wy, wz] }
     }
 }
 
@@ -42,11 +39,7 @@ impl GyroTrack {
     /// `bias` (rad/s, IMU axes) subtracted from every reading.
     ///
     /// Errors: fewer than two samples, non-finite values, unsorted or duplicate time stamps.
-    pub fn new(
-        samples: &[GyroSample],
-        r_cam_imu: Rotation3<f64>,
-        bias: Vector3<f64>,
-    ) -> Result<Self> {
+    pub fn new(samples: &[GyroSample], r_cam_imu: Rotation3<f64>, bias: [f64; 3]) -> Result<Self> {
         if samples.len() < 2 {
             return Err(Error::invalid(
                 "gyro",
@@ -79,7 +72,8 @@ impl GyroTrack {
         orientations.push(q);
         for pair in samples.windows(2) {
             let dt = pair[1].t - pair[0].t;
-            let w_mid = (pair[0].w + pair[1].w) * 0.5 - bias;
+            let w_mid =
+                (Vector3::from(pair[0].w) + Vector3::from(pair[1].w)) * 0.5 - Vector3::from(bias);
             q *= UnitQuaternion::from_scaled_axis(r_cam_imu * w_mid * dt);
             orientations.push(q);
         }
@@ -91,7 +85,7 @@ impl GyroTrack {
 
     /// Integrates samples given in camera axes with no bias.
     pub fn from_camera_rates(samples: &[GyroSample]) -> Result<Self> {
-        Self::new(samples, Rotation3::identity(), Vector3::zeros())
+        Self::new(samples, Rotation3::identity(), [0.0; 3])
     }
 
     /// First and last sample time.

@@ -286,7 +286,7 @@ fn path(
     t_e: f64,
     steps: usize,
 ) -> Result<Vec<(f64, f64)>> {
-    let ray = k.ray(pixel.0, pixel.1);
+    let ray = Vector3::from(k.ray(pixel.0, pixel.1));
     let q_open_inv = track.orientation(t_open).inverse();
     (0..steps)
         .map(|s| {
@@ -295,7 +295,7 @@ fn path(
             // R_rel^T X in camera-at-tau coordinates.
             let r_rel = q_open_inv * track.orientation(tau);
             let p: Vector3<f64> = r_rel.inverse_transform_vector(&ray);
-            k.project(&p)
+            k.project(p.into())
                 .map(|(x, y)| (x - pixel.0, y - pixel.1))
                 .ok_or_else(|| {
                     Error::invalid(

@@ -8,6 +8,7 @@ use nalgebra::Vector3;
 use rand::Rng;
 use rand_distr::{Distribution, Normal, StandardNormal};
 use rayon::prelude::*;
+use wscg_math::vec3::add;
 use wscg_math::{rng, Error, Image, Result};
 
 use crate::camera::{to_display, Gamma, Intrinsics, Timing};
@@ -96,7 +97,7 @@ pub fn ou_gyro(p: &ShakeParams, seed: u64) -> Result<Vec<GyroSample>> {
     for i in 0..n {
         out.push(GyroSample {
             t: p.t0 + i as f64 * dt,
-            w: Vector3::from(w),
+            w,
         });
         for (k, wk) in w.iter_mut().enumerate() {
             *wk = a * *wk + b * p.std[k] * r.sample::<f64, _>(StandardNormal);
@@ -114,7 +115,7 @@ pub fn add_gyro_noise(samples: &[GyroSample], sigma: f64, seed: u64) -> Result<V
         .iter()
         .map(|s| GyroSample {
             t: s.t,
-            w: s.w + Vector3::from_fn(|_, _| n.sample(&mut r)),
+            w: add(s.w, std::array::from_fn(|_| n.sample(&mut r))),
         })
         .collect())
 }
@@ -221,8 +222,8 @@ pub fn render_blurred(
         );
         let r = track.relative(ta, tb);
         for &(x, y) in &corners {
-            let p = r.inverse_transform_vector(&k.ray(x, y));
-            if let Some((px, py)) = k.project(&p) {
+            let p = r.inverse_transform_vector(&Vector3::from(k.ray(x, y)));
+            if let Some((px, py)) = k.project(p.into()) {
                 longest = longest.max((px - x).hypot(py - y) * probe as f64);
             }
         }

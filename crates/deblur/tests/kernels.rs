@@ -101,17 +101,17 @@ fn camera_imu_rotation_permutes_the_axes() {
         .iter()
         .map(|s| GyroSample {
             t: s.t,
-            w: r.inverse() * s.w,
+            w: (r.inverse() * Vector3::from(s.w)).into(),
         })
         .collect();
-    let permuted = GyroTrack::new(&imu, r, Vector3::zeros()).unwrap();
+    let permuted = GyroTrack::new(&imu, r, [0.0; 3]).unwrap();
     for p in [(10.0, 20.0), (K.cx, K.cy), (700.0, 470.0)] {
         let a = render_kernel(&reference, &timing(), &K, p, &KernelParams::default()).unwrap();
         let b = render_kernel(&permuted, &timing(), &K, p, &KernelParams::default()).unwrap();
         assert!(a.l1_distance(&b) < 1e-5, "{}", a.l1_distance(&b));
     }
     // Without the rotation the kernels differ.
-    let wrong = GyroTrack::new(&imu, Rotation3::identity(), Vector3::zeros()).unwrap();
+    let wrong = GyroTrack::new(&imu, Rotation3::identity(), [0.0; 3]).unwrap();
     let a = render_kernel(
         &reference,
         &timing(),
@@ -177,7 +177,7 @@ fn bad_input_is_reported() {
     dup[5].t = dup[4].t;
     assert!(GyroTrack::from_camera_rates(&dup).is_err());
     let mut nan = good.clone();
-    nan[2].w.x = f64::NAN;
+    nan[2].w[0] = f64::NAN;
     assert!(GyroTrack::from_camera_rates(&nan)
         .unwrap_err()
         .to_string()

@@ -4,52 +4,94 @@
 //! leaf (triangles of a scene, discs of the paint's flakes, the triangles of the octree's
 //! baseline), so one structure serves every primitive type.
 
-use nalgebra::Vector3;
-
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
     /// Lower corner.
-    pub min: Vector3<f64>,
+    pub min: [f64; 3],
     /// Upper corner.
-    pub max: Vector3<f64>,
+    pub max: [f64; 3],
 }
 
 impl Aabb {
     /// The empty box (the identity of [`Aabb::union`]).
     pub fn empty() -> Self {
         Self {
-            min: Vector3::repeat(f64::INFINITY),
-            max: Vector3::repeat(f64::NEG_INFINITY),
+            min: [f64::INFINITY; 3],
+            max: [f64::NEG_INFINITY; 3],
         }
     }
 
+    /// The smallest box holding `points` (the empty box for none).
+    #[inline]
+    pub fn around(points: &[[f64; 3]]) -> Aabb {
+        points
+            .iter()
+            .fold(Aabb::empty(), |b, &p| b.union(&Aabb { min: p, max: p }))
+    }
+
     /// The smallest box holding both.
+    #[inline]
     pub fn union(&self, o: &Aabb) -> Aabb {
+        // `<=` and `>=` compile to one min/max instruction per component (`f64::min` and
+        // `f64::max` also look for NaN).
+        let lo = |a: f64, b: f64| if a <= b { a } else { b };
+        let hi = |a: f64, b: f64| if a >= b { a } else { b };
+        let (a, b) = (self, o);
         Aabb {
-            min: self.min.inf(&o.min),
-            max: self.max.sup(&o.max),
+            min: [
+                lo(a.min[0], b.min[0]),
+                lo(a.min[1], b.min[1]),
+                lo(a.min[2], b.min[2]),
+            ],
+            max: [
+                hi(a.max[0], b.max[0]),
+                hi(a.max[1], b.max[1]),
+                hi(a.max[2], b.max[2]),
+            ],
         }
     }
 
     /// Centre of the box.
-    pub fn centre(&self) -> Vector3<f64> {
-        (self.min + self.max) * 0.5
+    #[inline]
+    pub fn centre(&self) -> [f64; 3] {
+        let (a, b) = (self.min, self.max);
+        [
+            0.5 * (a[0] + b[0]),
+            0.5 * (a[1] + b[1]),
+            0.5 * (a[2] + b[2]),
+        ]
+    }
+
+    /// Edge lengths, `max - min` (negative for the empty box).
+    #[inline]
+    pub fn extent(&self) -> [f64; 3] {
+        let (a, b) = (self.min, self.max);
+        [b[0] - a[0], b[1] - a[1], b[2] - a[2]]
+    }
+
+    /// Length of the diagonal (0 for an empty box).
+    pub fn diagonal(&self) -> f64 {
+        let e = self.extent();
+        if e.iter().any(|v| *v < 0.0) {
+            return 0.0;
+        }
+        (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt()
     }
 
     /// Surface area (0 for an empty box).
     pub fn area(&self) -> f64 {
-        let e = self.max - self.min;
+        let e = self.extent();
         if e.iter().any(|v| *v < 0.0) {
             return 0.0;
         }
-        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+        2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0])
     }
 
     /// Entry and exit parameters of the ray `o + t d` (`inv_d = 1 / d` per component) within
     /// `[0, t_max]`, or `None` when it misses.
     #[inline]
-    pub fn slab(&self, o: &Vector3<f64>, inv_d: &Vector3<f64>, t_max: f64) -> Option<f64> {
+    pub fn slab(&self, o: [f64; 3], inv_d: [f64; 3], t_max: f64) -> Option<f64> {
         let mut t0 = 0.0f64;
         let mut t1 = t_max;
         for k in 0..3 {
@@ -123,13 +165,7 @@ impl Bvh {
 
     /// The nearest primitive hit along `o + t d` with `0 < t <= t_max`. `hit(i, t_best)`
     /// intersects primitive `i` and returns its hit parameter when it is below `t_best`.
-    pub fn nearest<F>(
-        &self,
-        o: &Vector3<f64>,
-        d: &Vector3<f64>,
-        t_max: f64,
-        hit: F,
-    ) -> Option<(u32, f64)>
+    pub fn nearest<F>(&self, o: [f64; 3], d: [f64; 3], t_max: f64, hit: F) -> Option<(u32, f64)>
     where
         F: FnMut(u32, f64) -> Option<f64>,
     {
@@ -138,7 +174,7 @@ impl Bvh {
 
     /// Any primitive hit along `o + t d` with `0 < t <= t_max` (a shadow ray): the traversal
     /// stops at the first hit found.
-    pub fn any<F>(&self, o: &Vector3<f64>, d: &Vector3<f64>, t_max: f64, hit: F) -> bool
+    pub fn any<F>(&self, o: [f64; 3], d: [f64; 3], t_max: f64, hit: F) -> bool
     where
         F: FnMut(u32, f64) -> Option<f64>,
     {
@@ -147,8 +183,8 @@ impl Bvh {
 
     fn traverse<F>(
         &self,
-        o: &Vector3<f64>,
-        d: &Vector3<f64>,
+        o: [f64; 3],
+        d: [f64; 3],
         t_max: f64,
         mut hit: F,
         first: bool,
@@ -157,8 +193,8 @@ impl Bvh {
         F: FnMut(u32, f64) -> Option<f64>,
     {
         let ray = SlabRay {
-            o: [o.x, o.y, o.z],
-            inv: [1.0 / d.x, 1.0 / d.y, 1.0 / d.z],
+            o,
+            inv: d.map(|c| 1.0 / c),
         };
         let mut best: Option<(u32, f64)> = None;
         let mut t_best = t_max;
@@ -248,7 +284,7 @@ impl SlabRay {
 /// What the recursive build shares.
 struct Builder<'a> {
     boxes: &'a [Aabb],
-    centres: Vec<Vector3<f64>>,
+    centres: Vec<[f64; 3]>,
     leaf_size: usize,
     nodes: Vec<Node>,
 }
@@ -261,8 +297,8 @@ impl Builder<'_> {
             .fold(Aabb::empty(), |b, &i| b.union(&self.boxes[i as usize]));
         let me = self.nodes.len() as u32;
         self.nodes.push(Node {
-            min: [bounds.min.x, bounds.min.y, bounds.min.z],
-            max: [bounds.max.x, bounds.max.y, bounds.max.z],
+            min: bounds.min,
+            max: bounds.max,
             offset: lo as u32,
             count: (hi - lo) as u32,
         });
@@ -286,20 +322,20 @@ impl Builder<'_> {
 
 /// Partitions `order` by the best binned SAH plane over the three axes and returns the size
 /// of the left part, or `None` when the centres coincide.
-fn sah_split(boxes: &[Aabb], centres: &[Vector3<f64>], order: &mut [u32]) -> Option<usize> {
+fn sah_split(boxes: &[Aabb], centres: &[[f64; 3]], order: &mut [u32]) -> Option<usize> {
     let cb = order.iter().fold(Aabb::empty(), |b, &i| {
         let c = centres[i as usize];
         b.union(&Aabb { min: c, max: c })
     });
-    let ext = cb.max - cb.min;
+    let ext = cb.extent();
     let bin_of = |i: u32, axis: usize| -> usize {
         let f = (centres[i as usize][axis] - cb.min[axis]) / ext[axis];
         ((f * BINS as f64) as usize).min(BINS - 1)
     };
     // (cost, axis, last bin of the left part)
     let mut best = (f64::INFINITY, 0usize, 0usize);
-    for axis in 0..3 {
-        if ext[axis] <= 0.0 {
+    for (axis, &e) in ext.iter().enumerate() {
+        if e <= 0.0 {
             continue;
         }
         let mut counts = [0usize; BINS];
@@ -349,16 +385,17 @@ fn sah_split(boxes: &[Aabb], centres: &[Vector3<f64>], order: &mut [u32]) -> Opt
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::vec3::{dot, normalized_or_zero, sub};
     use rand::{Rng, SeedableRng};
 
     /// Nearest hit among spheres by brute force equals the hierarchy's answer.
     #[test]
     fn nearest_matches_brute_force() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
-        let spheres: Vec<(Vector3<f64>, f64)> = (0..500)
+        let spheres: Vec<([f64; 3], f64)> = (0..500)
             .map(|_| {
                 (
-                    Vector3::new(rng.random(), rng.random(), rng.random()) * 10.0,
+                    [0; 3].map(|_| rng.random::<f64>() * 10.0),
                     rng.random_range(0.05..0.6),
                 )
             })
@@ -366,16 +403,16 @@ mod tests {
         let boxes: Vec<Aabb> = spheres
             .iter()
             .map(|(c, r)| Aabb {
-                min: c - Vector3::repeat(*r),
-                max: c + Vector3::repeat(*r),
+                min: c.map(|v| v - r),
+                max: c.map(|v| v + r),
             })
             .collect();
         let bvh = Bvh::build(&boxes, 4);
-        let sphere_hit = |o: &Vector3<f64>, d: &Vector3<f64>, i: usize| -> Option<f64> {
+        let sphere_hit = |o: [f64; 3], d: [f64; 3], i: usize| -> Option<f64> {
             let (c, r) = spheres[i];
-            let oc = o - c;
-            let b = oc.dot(d);
-            let disc = b * b - (oc.norm_squared() - r * r);
+            let oc = sub(o, c);
+            let b = dot(oc, d);
+            let disc = b * b - (dot(oc, oc) - r * r);
             if disc < 0.0 {
                 return None;
             }
@@ -383,33 +420,47 @@ mod tests {
             (t > 0.0).then_some(t)
         };
         for _ in 0..2000 {
-            let o = Vector3::new(rng.random(), rng.random(), rng.random()) * 12.0
-                - Vector3::repeat(1.0);
-            let d = Vector3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            )
-            .normalize();
+            let o = [0; 3].map(|_| rng.random::<f64>() * 12.0 - 1.0);
+            let d = normalized_or_zero([0; 3].map(|_| rng.random_range(-1.0..1.0)));
             let brute = (0..spheres.len())
                 .filter_map(|i| {
-                    sphere_hit(&o, &d, i)
+                    sphere_hit(o, d, i)
                         .filter(|t| *t <= 8.0)
                         .map(|t| (i as u32, t))
                 })
                 .min_by(|a, b| a.1.total_cmp(&b.1));
-            let fast = bvh.nearest(&o, &d, 8.0, |i, tb| {
-                sphere_hit(&o, &d, i as usize).filter(|t| *t <= tb)
+            let fast = bvh.nearest(o, d, 8.0, |i, tb| {
+                sphere_hit(o, d, i as usize).filter(|t| *t <= tb)
             });
             assert_eq!(brute.map(|b| b.0), fast.map(|f| f.0));
-            let any = bvh.any(&o, &d, 8.0, |i, tb| {
-                sphere_hit(&o, &d, i as usize).filter(|t| *t <= tb)
+            let any = bvh.any(o, d, 8.0, |i, tb| {
+                sphere_hit(o, d, i as usize).filter(|t| *t <= tb)
             });
             assert_eq!(any, brute.is_some());
         }
         assert_eq!(bvh.len(), 500);
         assert!(Bvh::build(&[], 4)
-            .nearest(&Vector3::zeros(), &Vector3::z(), 1.0, |_, _| Some(0.5))
+            .nearest([0.0; 3], [0.0, 0.0, 1.0], 1.0, |_, _| Some(0.5))
             .is_none());
+
+        // The box helpers.
+        let b = Aabb::around(&[[1.0, -2.0, 0.5], [-1.0, 2.0, 2.5]]);
+        assert_eq!(b.min, [-1.0, -2.0, 0.5]);
+        assert_eq!(b.max, [1.0, 2.0, 2.5]);
+        assert_eq!(b.centre(), [0.0, 0.0, 1.5]);
+        assert_eq!(b.extent(), [2.0, 4.0, 2.0]);
+        assert!((b.diagonal() - 24f64.sqrt()).abs() < 1e-15);
+        assert_eq!(b.area(), 2.0 * (8.0 + 8.0 + 4.0));
+        assert_eq!(Aabb::empty().diagonal(), 0.0);
+        assert_eq!(Aabb::around(&[]), Aabb::empty());
+        // The ray along +x through the box enters at x = -1.
+        assert_eq!(
+            b.slab([-3.0, 0.0, 1.0], [1.0, f64::INFINITY, f64::INFINITY], 10.0),
+            Some(2.0)
+        );
+        assert_eq!(
+            b.slab([-3.0, 5.0, 1.0], [1.0, f64::INFINITY, f64::INFINITY], 10.0),
+            None
+        );
     }
 }

@@ -29,11 +29,12 @@ use num_complex::Complex64;
 use rand::Rng as _;
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 use wscg_math::{Error, Result};
 
 /// How delays are constrained.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum DelayMode {
     /// One delay per (channel, source), equal over trials (the paper's model).
     Shared,
@@ -153,7 +154,7 @@ impl AnechoicParams {
 }
 
 /// A fitted anechoic model.
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct AnechoicModel {
     /// `R`.
     pub n_trials: usize,

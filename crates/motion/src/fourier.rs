@@ -15,13 +15,36 @@
 
 use num_complex::Complex64;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
 /// A real, zero-mean, 1-periodic Fourier series stored by its positive harmonics `c_1..c_K`.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PeriodicSource {
-    /// `c_k` for `k = 1..=K` (index `k − 1`).
+    /// `c_k` for `k = 1..=K` (index `k − 1`), serialised as `[re, im]` pairs.
+    #[serde(with = "complex_pairs")]
     pub coeffs: Vec<Complex64>,
+}
+
+/// `Vec<Complex64>` as a list of `[re, im]` pairs (exact with `serde_json`'s float round trip).
+mod complex_pairs {
+    use num_complex::Complex64;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &[Complex64], s: S) -> Result<S::Ok, S::Error> {
+        v.iter()
+            .map(|c| [c.re, c.im])
+            .collect::<Vec<_>>()
+            .serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Complex64>, D::Error> {
+        let pairs = Vec::<[f64; 2]>::deserialize(d)?;
+        Ok(pairs
+            .into_iter()
+            .map(|[re, im]| Complex64::new(re, im))
+            .collect())
+    }
 }
 
 impl PeriodicSource {

@@ -19,6 +19,7 @@ use crate::dataset::Dataset;
 use crate::fourier::PeriodicSource;
 use crate::linalg::lstsq_columns;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use wscg_math::{Error, Result};
 
@@ -78,7 +79,7 @@ impl StepwiseParams {
 }
 
 /// The fit of one action: per-trial means and weights, and its quality.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ActionFit {
     /// Means, `R × I`.
     pub means: Vec<f64>,
@@ -94,8 +95,8 @@ pub struct ActionFit {
     pub energy: (f64, f64),
 }
 
-/// What [`fit_stepwise`] learns (it serialises with `serde`).
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+/// What [`fit_stepwise`] learns.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ActionLibrary {
     /// Channels `I`.
     pub n_channels: usize,
@@ -128,31 +129,6 @@ impl ActionLibrary {
         self.sources.len()
     }
 
-    /// Checks that the parts agree (for a deserialised library): `I × J` delays, per action
-    /// `R × I` means and non-periodic weights, `R × I × J` weights and `R` trial parameters,
-    /// `N + 1` progress samples.
-    pub fn validate(&self) -> Result<()> {
-        let (i_n, j_n) = (self.n_channels, self.n_sources());
-        let fits = self.actions.iter().zip(&self.params).all(|(f, p)| {
-            let r = p.len();
-            f.means.len() == r * i_n
-                && f.w0.len() == r * i_n
-                && f.weights.len() == r * i_n * j_n
-                && f.n_sources <= j_n
-        });
-        if i_n == 0
-            || self.delays.len() != i_n * j_n
-            || self.progress.len() != self.n_samples + 1
-            || !fits
-        {
-            return Err(Error::invalid(
-                "library",
-                "inconsistent sizes of delays, weights or progress",
-            ));
-        }
-        Ok(())
-    }
-
     /// The output vector of action `a`, trial `r`, for the weight regression:
     /// `[means (I), w0 (I), weights (I × J)]`.
     pub fn weight_vector(&self, a: usize, r: usize) -> Vec<f64> {
@@ -172,6 +148,52 @@ impl ActionLibrary {
         let i = (x.floor() as usize).min(m - 1);
         let f = x - i as f64;
         self.progress[i] * (1.0 - f) + self.progress[i + 1] * f
+    }
+
+    /// The library as JSON (exact: floats round-trip).
+    pub fn to_json(&self) -> Result<String> {
+        serde_json::to_string(self).map_err(|e| Error::invalid("library", e.to_string()))
+    }
+
+    /// A library from [`Self::to_json`] output. Errors: not a library, or sizes that
+    /// disagree (delays, per-action means and weights, step parameters, progress curve).
+    pub fn from_json(s: &str) -> Result<Self> {
+        let lib: Self = serde_json::from_str(s)
+            .map_err(|e| Error::invalid("library", format!("not an action library: {e}")))?;
+        lib.check_sizes()?;
+        Ok(lib)
+    }
+
+    fn check_sizes(&self) -> Result<()> {
+        let (i_n, j_n) = (self.n_channels, self.n_sources());
+        let bad = |what: String| Err(Error::invalid("library", what));
+        if i_n == 0 || j_n == 0 || self.n_samples == 0 {
+            return bad(format!(
+                "{i_n} channels, {j_n} sources, {} samples",
+                self.n_samples
+            ));
+        }
+        if self.sources.iter().any(|s| s.coeffs.is_empty()) {
+            return bad("a source without harmonics".into());
+        }
+        if self.delays.len() != i_n * j_n {
+            return bad(format!("{} delays for {i_n} x {j_n}", self.delays.len()));
+        }
+        for (a, (f, p)) in self.actions.iter().zip(&self.params).enumerate() {
+            let r_n = p.len();
+            if r_n == 0
+                || f.means.len() != r_n * i_n
+                || f.w0.len() != r_n * i_n
+                || f.weights.len() != r_n * i_n * j_n
+                || f.n_sources > j_n
+            {
+                return bad(format!("action {a}: sizes disagree with {r_n} trials"));
+            }
+        }
+        if self.progress.len() < 2 {
+            return bad(format!("{} progress samples", self.progress.len()));
+        }
+        Ok(())
     }
 }
 

@@ -359,6 +359,29 @@ fn anechoic_beats_pca_fig4_ordering() {
 // ---------- check 6: step-wise structure ----------
 
 #[test]
+fn library_json_round_trip_is_exact() {
+    let lib = clean_library();
+    let text = lib.to_json().unwrap();
+    let back = ActionLibrary::from_json(&text).unwrap();
+    assert_eq!(back.to_json().unwrap(), text);
+    assert_eq!(back.sources, lib.sources);
+    assert_eq!(back.actions, lib.actions);
+    assert!(back
+        .delays
+        .iter()
+        .zip(&lib.delays)
+        .all(|(a, b)| a.to_bits() == b.to_bits()));
+    let mut bad = back.clone();
+    bad.delays.pop();
+    let e = ActionLibrary::from_json(&bad.to_json().unwrap()).unwrap_err();
+    assert!(e.to_string().contains("delays"), "{e}");
+    let mut bad = back;
+    bad.actions[2].weights.pop();
+    assert!(ActionLibrary::from_json(&bad.to_json().unwrap()).is_err());
+    assert!(ActionLibrary::from_json("{}").is_err());
+}
+
+#[test]
 fn stepwise_reuses_sources_and_adds_two() {
     let lib = clean_library();
     assert_eq!(lib.n_sources(), 5);

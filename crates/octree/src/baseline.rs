@@ -2,7 +2,6 @@
 //! equivalence checks) and a binned-SAH bounding volume hierarchy ([`wscg_math::bvh`]), the
 //! structure a ray tracer would otherwise use.
 
-use nalgebra::Vector3;
 use rayon::prelude::*;
 use wscg_math::bvh::{Aabb, Bvh};
 use wscg_math::{Error, Result, TriMesh};
@@ -40,13 +39,7 @@ impl TriangleBvh {
         let boxes: Vec<Aabb> = mesh
             .faces
             .par_iter()
-            .map(|f| {
-                let p = f.map(|i| Vector3::from(mesh.positions[i as usize]));
-                Aabb {
-                    min: p[0].inf(&p[1]).inf(&p[2]),
-                    max: p[0].sup(&p[1]).sup(&p[2]),
-                }
-            })
+            .map(|f| Aabb::around(&f.map(|i| mesh.positions[i as usize])))
             .collect();
         let tris = crate::octree::prepare(mesh);
         Ok(Self {
@@ -57,12 +50,12 @@ impl TriangleBvh {
 
     /// Nearest hit `(prim, t, u, v)` with `t` in the ray's range.
     pub fn intersect(&self, ray: &Ray) -> Option<(u32, f32, f32, f32)> {
-        let o = Vector3::from(ray.origin.map(f64::from));
-        let d = Vector3::from(ray.dir.map(f64::from));
+        let o = ray.origin.map(f64::from);
+        let d = ray.dir.map(f64::from);
         let t_min = ray.t_min.max(0.0);
         // Every accepted hit improves on the previous one, so the last accepted is the nearest.
         let mut last = None;
-        self.bvh.nearest(&o, &d, f64::from(ray.t_max), |i, tb| {
+        self.bvh.nearest(o, d, f64::from(ray.t_max), |i, tb| {
             let (t, u, v) = intersect_tri(&self.tris[i as usize], ray.origin, ray.dir)?;
             (t >= t_min && f64::from(t) < tb).then(|| {
                 last = Some((i, t, u, v));

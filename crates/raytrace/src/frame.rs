@@ -3,7 +3,7 @@
 use nalgebra::Vector3;
 
 /// Two unit tangents completing the unit vector `n` to an orthonormal frame `(t, b, n)`.
-pub fn tangent_frame(n: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+pub(crate) fn tangent_frame(n: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
     let helper = if n.x.abs() < 0.9 {
         Vector3::x()
     } else {

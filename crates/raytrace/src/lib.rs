@@ -16,7 +16,7 @@
 /// The bounding volume hierarchy of the scenes and the flake layer, shared with the octree's
 /// baseline and kept in `wscg-math`.
 pub use wscg_math::bvh;
-pub mod frame;
+pub(crate) mod frame;
 pub mod manylight;
 pub mod paint;
 pub mod spectral;

@@ -7,7 +7,7 @@
 //! 0)` (right), x to the right, y up, z from the viewer towards the screen; the screen (and the
 //! plate's top surface) is the plane `z = a`.
 
-use nalgebra::{Unit, Vector3};
+use nalgebra::Vector3;
 use wscg_math::{Error, Result};
 
 /// Which eye a view is rendered for.
@@ -25,9 +25,9 @@ pub enum Eye {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
     /// Origin.
-    pub origin: Vector3<f64>,
+    pub origin: [f64; 3],
     /// Unit direction.
-    pub dir: Unit<Vector3<f64>>,
+    pub dir: [f64; 3],
 }
 
 /// The viewing geometry.
@@ -86,13 +86,13 @@ impl StereoRig {
     }
 
     /// The position of `eye`.
-    pub fn eye(&self, eye: Eye) -> Vector3<f64> {
+    pub fn eye(&self, eye: Eye) -> [f64; 3] {
         let x = match eye {
             Eye::Left => -0.5 * self.eye_sep_m,
             Eye::Right => 0.5 * self.eye_sep_m,
             Eye::Cyclopean => 0.0,
         };
-        Vector3::new(x, 0.0, 0.0)
+        [x, 0.0, 0.0]
     }
 
     /// Horizontal and vertical fields of view (degrees) of the cyclopean frustum:
@@ -112,13 +112,13 @@ impl StereoRig {
 
     /// The screen point at continuous pixel coordinates `(px, py)` (pixel `(i, j)` covers
     /// `[i, i+1) x [j, j+1)`, its centre at `i + 1/2`; `j` grows downwards).
-    pub fn screen_point(&self, px: f64, py: f64) -> Vector3<f64> {
+    pub fn screen_point(&self, px: f64, py: f64) -> [f64; 3] {
         let (sx, sy) = self.pixel_pitch_m();
-        Vector3::new(
+        [
             -0.5 * self.screen_w_m + px * sx,
             0.5 * self.screen_h_m - py * sy,
             self.dist_m,
-        )
+        ]
     }
 
     /// The ray from `eye` through the screen point at `(px, py)`: each eye has its own
@@ -127,17 +127,20 @@ impl StereoRig {
         let o = self.eye(eye);
         Ray {
             origin: o,
-            dir: Unit::new_normalize(self.screen_point(px, py) - o),
+            dir: (Vector3::from(self.screen_point(px, py)) - Vector3::from(o))
+                .normalize()
+                .into(),
         }
     }
 
     /// Continuous pixel coordinates where `p` (in front of the eyes, `p.z > 0`) appears for
     /// `eye`; `None` for points at or behind the eye plane.
-    pub fn project(&self, eye: Eye, p: Vector3<f64>) -> Option<(f64, f64)> {
+    pub fn project(&self, eye: Eye, p: [f64; 3]) -> Option<(f64, f64)> {
+        let p = Vector3::from(p);
         if p.z.is_nan() || p.z <= 0.0 {
             return None;
         }
-        let o = self.eye(eye);
+        let o = Vector3::from(self.eye(eye));
         let s = o + (p - o) * (self.dist_m / p.z);
         let (sx, sy) = self.pixel_pitch_m();
         Some((
@@ -156,18 +159,17 @@ impl StereoRig {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wscg_math::vec3::add_scaled;
 
     #[test]
     fn ray_and_projection_are_inverse() {
         let rig = StereoRig::default();
         for eye in [Eye::Left, Eye::Right, Eye::Cyclopean] {
             let r = rig.ray(eye, 100.25, 700.5);
-            let p = r.origin + r.dir.into_inner() * 1.3;
+            let p = add_scaled(r.origin, 1.3, r.dir);
             let (x, y) = rig.project(eye, p).unwrap();
             assert!((x - 100.25).abs() < 1e-9 && (y - 700.5).abs() < 1e-9);
         }
-        assert!(rig
-            .project(Eye::Left, Vector3::new(0.0, 0.0, -1.0))
-            .is_none());
+        assert!(rig.project(Eye::Left, [0.0, 0.0, -1.0]).is_none());
     }
 }

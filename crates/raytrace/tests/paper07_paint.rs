@@ -74,10 +74,10 @@ fn check_statistics(p: &FlakeParams) -> Vec<FlakeTile> {
         for f in &t.flakes {
             let e = f.half_height(p.thickness_um);
             assert!(
-                f.c.z - e >= -1e-9 && f.c.z + e <= p.layer_um + 1e-9,
+                f.c[2] - e >= -1e-9 && f.c[2] + e <= p.layer_um + 1e-9,
                 "flake outside the layer"
             );
-            assert!((f.n.norm() - 1.0).abs() < 1e-12 && f.n.z > 0.0);
+            assert!((Vector3::from(f.n).norm() - 1.0).abs() < 1e-12 && f.n[2] > 0.0);
         }
     }
     let mut tilts: Vec<f64> = tiles
@@ -101,18 +101,19 @@ fn check_statistics(p: &FlakeParams) -> Vec<FlakeTile> {
 /// vertical gap between the mid-planes must keep one sign and exceed the sum of the two half
 /// vertical thicknesses.
 fn interpenetrate(a: &Flake, b: &Flake, h: f64, shift: Vector3<f64>) -> bool {
-    let bc = b.c + shift;
+    let (ac, an, bn) = (Vector3::from(a.c), Vector3::from(a.n), Vector3::from(b.n));
+    let bc = Vector3::from(b.c) + shift;
     let (u, v) = {
-        let helper = if b.n.x.abs() < 0.9 {
+        let helper = if bn.x.abs() < 0.9 {
             Vector3::x()
         } else {
             Vector3::y()
         };
-        let u = b.n.cross(&helper).normalize();
-        (u, b.n.cross(&u))
+        let u = bn.cross(&helper).normalize();
+        (u, bn.cross(&u))
     };
-    let za = |x: f64, y: f64| a.c.z - (a.n.x * (x - a.c.x) + a.n.y * (y - a.c.y)) / a.n.z;
-    let need = 0.5 * h / a.n.z + 0.5 * h / b.n.z - 1e-6;
+    let za = |x: f64, y: f64| ac.z - (an.x * (x - ac.x) + an.y * (y - ac.y)) / an.z;
+    let need = 0.5 * h / an.z + 0.5 * h / bn.z - 1e-6;
     let (mut above, mut below) = (false, false);
     for ri in 0..=16 {
         let rr = b.r * ri as f64 / 16.0;
@@ -120,7 +121,7 @@ fn interpenetrate(a: &Flake, b: &Flake, h: f64, shift: Vector3<f64>) -> bool {
             let ph = k as f64 * std::f64::consts::TAU / 64.0;
             let p = bc + (u * ph.cos() + v * ph.sin()) * rr;
             let q = Vector3::new(p.x, p.y, za(p.x, p.y));
-            if (q - a.c).norm() > a.r {
+            if (q - ac).norm() > a.r {
                 continue;
             }
             let gap = p.z - q.z;
@@ -153,7 +154,7 @@ fn check7_deposit_statistics_and_no_interpenetration() {
         for j in (0..f.len()).filter(|&j| free(j)) {
             for i in (0..j).filter(|&i| free(i)) {
                 // Nearest periodic image of j relative to i.
-                let mut d = f[j].c - f[i].c;
+                let mut d = Vector3::from(f[j].c) - Vector3::from(f[i].c);
                 let sx = -(d.x / l).round() * l;
                 let sy = -(d.y / l).round() * l;
                 d.x += sx;
@@ -166,7 +167,7 @@ fn check7_deposit_statistics_and_no_interpenetration() {
                     !interpenetrate(&f[i], &f[j], p.thickness_um, Vector3::new(sx, sy, 0.0)),
                     "flakes {i} and {j} interpenetrate"
                 );
-                under += (f[j].c.z < f[i].c.z) as usize;
+                under += (f[j].c[2] < f[i].c[2]) as usize;
             }
         }
     }
@@ -174,7 +175,7 @@ fn check7_deposit_statistics_and_no_interpenetration() {
     // Later flakes settle under raised edges too, not only on top.
     assert!(under > 0);
     // The layer is filled from the base up: the mean centre height stays well below the top.
-    let zc: Vec<f64> = tiles[0].flakes.iter().map(|f| f.c.z).collect();
+    let zc: Vec<f64> = tiles[0].flakes.iter().map(|f| f.c[2]).collect();
     eprintln!(
         "deposit: {pairs} overlapping pairs, {under} later flakes below earlier ones, mean height {:.2} µm",
         zc.iter().sum::<f64>() / zc.len() as f64
@@ -185,7 +186,9 @@ fn check7_deposit_statistics_and_no_interpenetration() {
     let f = &t.flakes;
     let crossing = (0..f.len())
         .flat_map(|j| (0..j).map(move |i| (i, j)))
-        .filter(|&(i, j)| (f[j].c - f[i].c).xy().norm() < 0.5 * (f[i].r + f[j].r))
+        .filter(|&(i, j)| {
+            (f[j].c[0] - f[i].c[0]).hypot(f[j].c[1] - f[i].c[1]) < 0.5 * (f[i].r + f[j].r)
+        })
         .any(|(i, j)| interpenetrate(&f[i], &f[j], b.thickness_um, Vector3::zeros()));
     assert!(
         crossing,
@@ -203,7 +206,7 @@ fn check7_boolean_statistics() {
     // Heights uniform over the allowed range: mean at the layer's middle.
     let z: Vec<f64> = tiles
         .iter()
-        .flat_map(|t| t.flakes.iter().map(|f| f.c.z))
+        .flat_map(|t| t.flakes.iter().map(|f| f.c[2]))
         .collect();
     let m = z.iter().sum::<f64>() / z.len() as f64;
     assert!((m - 0.5 * p.layer_um).abs() < 0.05, "{m}");
@@ -214,8 +217,8 @@ fn check7_boolean_statistics() {
     let k = 300;
     for j in 0..k {
         for i in 0..k {
-            let o = Vector3::new((i as f64 + 0.5) * 1.5, (j as f64 + 0.5) * 1.5, 30.0);
-            if t.hit(&o, &-Vector3::z(), 100.0).is_some() {
+            let o = [(i as f64 + 0.5) * 1.5, (j as f64 + 0.5) * 1.5, 30.0];
+            if t.hit(o, [0.0, 0.0, -1.0], 100.0).is_some() {
                 covered += 1;
             }
         }
@@ -265,8 +268,8 @@ fn predicted_glint(
     let z_top = stack.top_um();
     let e = rig.eye(eye);
     // Eye in plate coordinates (µm): the plate's top surface is at distance a from the eyes.
-    let eye_p = Vector3::new(e.x * 1e6, e.y * 1e6, z_top + rig.dist_m * 1e6);
-    let c = f.disc.c;
+    let eye_p = Vector3::new(e[0] * 1e6, e[1] * 1e6, z_top + rig.dist_m * 1e6);
+    let c = Vector3::from(f.disc.c);
     // Entry point: fixed-point iteration on the refracted direction.
     let mut entry = Vector3::new(c.x, c.y, z_top);
     let mut d_in = Vector3::zeros();
@@ -276,7 +279,7 @@ fn predicted_glint(
         let t = (z_top - c.z) / -d_in.z;
         entry = Vector3::new(c.x - d_in.x * t, c.y - d_in.y * t, z_top);
     }
-    let n = f.disc.n;
+    let n = Vector3::from(f.disc.n);
     let d_r = d_in - n * (2.0 * d_in.dot(&n));
     if d_r.z <= 0.0 {
         return false;
@@ -284,7 +287,7 @@ fn predicted_glint(
     let Some(out) = refract(d_r, n_c, 1.0) else {
         return false;
     };
-    if !light.contains(&out) {
+    if !light.contains(out.into()) {
         return false;
     }
     // Visibility: some point of the disc (a polar grid) is free of other flakes on the way in
@@ -293,9 +296,9 @@ fn predicted_glint(
     let clear = |p: Vector3<f64>| {
         let t_in = (tb - p.z) / -d_in.z;
         let t_out = (tb - p.z) / d_r.z;
-        let hit_in = micro.hit(&(p - d_in * t_in), &d_in, t_in * (1.0 + 1e-9));
+        let hit_in = micro.hit((p - d_in * t_in).into(), d_in.into(), t_in * (1.0 + 1e-9));
         let seen = matches!(hit_in, Some(h) if h.id == f.id && (h.t - t_in).abs() < 1e-6);
-        seen && micro.hit(&p, &d_r, t_out).is_none()
+        seen && micro.hit(p.into(), d_r.into(), t_out).is_none()
     };
     let (u, v) = {
         let helper = if n.x.abs() < 0.9 {
@@ -582,7 +585,7 @@ fn bad_input_is_an_error() {
     for f in &t.flakes {
         assert!(f.tilt() <= limit + 1e-12);
         let e = f.half_height(0.5);
-        assert!(f.c.z - e >= -1e-9 && f.c.z + e <= 20.24 + 1e-9);
+        assert!(f.c[2] - e >= -1e-9 && f.c[2] + e <= 20.24 + 1e-9);
     }
     let bad_stack = PlateStack {
         coat: Some(Coat {
@@ -735,17 +738,17 @@ struct TiltedMirror {
 }
 
 impl Microstructure for TiltedMirror {
-    fn hit(&self, o: &Vector3<f64>, d: &Vector3<f64>, t_max: f64) -> Option<FlakeHit> {
+    fn hit(&self, o: [f64; 3], d: [f64; 3], t_max: f64) -> Option<FlakeHit> {
         let n = Vector3::new(0.0, -1.0, 1.0) / 2f64.sqrt();
-        let denom = d.z - d.y;
+        let denom = d[2] - d[1];
         if denom.abs() < 1e-12 {
             return None;
         }
-        let t = (self.zm - (o.z - o.y)) / denom;
-        let z = o.z + t * d.z;
+        let t = (self.zm - (o[2] - o[1])) / denom;
+        let z = o[2] + t * d[2];
         (t > 1e-9 && t <= t_max && z >= self.z1 && z <= self.z2).then_some(FlakeHit {
             t,
-            normal: n,
+            normal: n.into(),
             id: 1,
         })
     }
@@ -770,7 +773,7 @@ fn photon_map_direct_irradiance_matches_the_refracted_lamp() {
         false,
     )
     .unwrap();
-    let ct = light.dir_to_light.z;
+    let ct = light.dir_to_light[2];
     let n = stack.top_ior();
     let st_b = (1.0 - ct * ct).sqrt() / n;
     let ct_b = (1.0 - st_b * st_b).sqrt();
@@ -836,7 +839,7 @@ fn photon_map_caustic_of_a_tilted_mirror() {
         .max_radius_um(20.0)
         .margin_um(300.0);
     let mut map = trace_photons(&plate, &light, [-200.0, -300.0, 200.0, 200.0], &ps, true).unwrap();
-    let ct = light.dir_to_light.z;
+    let ct = light.dir_to_light[2];
     let nb = stack.binder_ior;
     let st_b = (1.0 - ct * ct).sqrt() / nb;
     let ct_b = (1.0 - st_b * st_b).sqrt();
@@ -939,14 +942,16 @@ fn lamp_directions_are_uniform_in_the_disc() {
     // Uniform in solid angle over a cap of angular radius r: every direction inside, the
     // mean cosine to the axis (1 + cos r) / 2, no bias across the axis.
     let light = DiscLight::from_elevation(40.0, 5.0);
-    let a = light.dir_to_light.into_inner();
+    let a = Vector3::from(light.dir_to_light);
     let n = 100_000;
     let (mut cos_sum, mut side) = (0.0, Vector3::zeros());
     for k in 0..n {
         let u1 = (k as f64 + 0.5) / n as f64;
         let u2 = (k as f64 * 0.618_033_988_75).fract();
         let d = light.sample_direction(u1, u2);
-        assert!((d.norm() - 1.0).abs() < 1e-12 && light.contains(&d));
+        assert!(light.contains(d));
+        let d = Vector3::from(d);
+        assert!((d.norm() - 1.0).abs() < 1e-12);
         cos_sum += d.dot(&a);
         side += d - a * d.dot(&a);
     }

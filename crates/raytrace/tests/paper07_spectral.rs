@@ -130,7 +130,7 @@ fn check6_stereo_geometry() {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(6);
     // Zero-parallax plane: same pixel in both eyes.
     for _ in 0..100 {
-        let p = Vector3::new(rng.random_range(-0.2..0.2), rng.random_range(-0.1..0.1), a);
+        let p = [rng.random_range(-0.2..0.2), rng.random_range(-0.1..0.1), a];
         let (l, r) = (
             rig.project(Eye::Left, p).unwrap(),
             rig.project(Eye::Right, p).unwrap(),
@@ -141,7 +141,7 @@ fn check6_stereo_geometry() {
     let pitch = rig.screen_w_m / rig.res.0 as f64;
     for _ in 0..100 {
         let z = rng.random_range(0.3..3.0);
-        let p = Vector3::new(rng.random_range(-0.3..0.3), rng.random_range(-0.2..0.2), z);
+        let p = [rng.random_range(-0.3..0.3), rng.random_range(-0.2..0.2), z];
         let (l, r) = (
             rig.project(Eye::Left, p).unwrap(),
             rig.project(Eye::Right, p).unwrap(),
@@ -159,8 +159,8 @@ fn check6_stereo_geometry() {
     // angle the cyclopean frustum actually spans.
     let (h, _) = rig.fov_deg();
     assert!((h - 2.0 * (rig.screen_w_m / (2.0 * a)).atan().to_degrees()).abs() < 1e-12);
-    let l = rig.ray(Eye::Cyclopean, 0.0, 540.0).dir.into_inner();
-    let r = rig.ray(Eye::Cyclopean, 1920.0, 540.0).dir.into_inner();
+    let l = Vector3::from(rig.ray(Eye::Cyclopean, 0.0, 540.0).dir);
+    let r = Vector3::from(rig.ray(Eye::Cyclopean, 1920.0, 540.0).dir);
     assert!((l.angle(&r).to_degrees() - h).abs() < 1e-9);
     // The plate spans about 542 px at 1:1 (150 mm).
     assert!((0.150 / pitch - 542.0).abs() < 1.0);

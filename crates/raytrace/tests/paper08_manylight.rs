@@ -1,8 +1,8 @@
 //! Paper 08 acceptance checks that need no procedural scene:
 //! the analytic VPL term, the distributions' invariants, the weights' fallback, bad input.
 
-use nalgebra::Vector3;
 use wscg_math::progress::NoProgress;
+use wscg_math::vec3::{dist, norm, sub};
 use wscg_raytrace::manylight::cache::{BOUNDED, FULL, UNOCCLUDED};
 use wscg_raytrace::manylight::*;
 
@@ -24,16 +24,16 @@ fn plane(s: f64, rho: f64, extra: &[([[f64; 3]; 3], [f64; 3])]) -> Scene {
 
 fn top_camera(w: usize, h: usize) -> Camera {
     Camera {
-        eye: Vector3::new(0.0, 6.0, 0.0),
-        target: Vector3::zeros(),
-        up: Vector3::new(0.0, 0.0, -1.0),
+        eye: [0.0, 6.0, 0.0],
+        target: [0.0; 3],
+        up: [0.0, 0.0, -1.0],
         fov_deg: 60.0,
         width: w,
         height: h,
     }
 }
 
-fn emitter_vpl(pos: Vector3<f64>, normal: Vector3<f64>, power: f64) -> Vpl {
+fn emitter_vpl(pos: [f64; 3], normal: [f64; 3], power: f64) -> Vpl {
     Vpl {
         pos,
         normal,
@@ -48,8 +48,8 @@ fn check1_single_vpl_over_a_plane_is_analytic() {
     let g = trace_primary(&scene, &top_camera(48, 36)).unwrap();
     let h = 1.0;
     let vpls = [emitter_vpl(
-        Vector3::new(0.3, h, -0.2),
-        -Vector3::y(),
+        [0.3, h, -0.2],
+        [0.0, -1.0, 0.0],
         std::f64::consts::PI,
     )];
     for dc in [0.0, 2.0] {
@@ -57,7 +57,7 @@ fn check1_single_vpl_over_a_plane_is_analytic() {
         let mut checked = 0;
         for (i, p) in g.points.iter().enumerate() {
             let Some(p) = p else { continue };
-            let d = (vpls[0].pos - p.pos).norm();
+            let d = dist(vpls[0].pos, p.pos);
             // (rho / pi) (Phi / pi) cos_x cos_y / max(d, d_c)^2 with both cosines h / d.
             let want = 0.5 / std::f64::consts::PI * (h / d) * (h / d) / (d * d).max(dc * dc);
             for c in 0..3 {
@@ -94,16 +94,16 @@ fn check6_distributions_invariants() {
             0.5 + (k % 5) as f64 * 0.4
         };
         vpls.push(emitter_vpl(
-            Vector3::new(3.0 * t.cos(), y, 3.0 * t.sin()),
-            -Vector3::y(),
+            [3.0 * t.cos(), y, 3.0 * t.sin()],
+            [0.0, -1.0, 0.0],
             1.0 + (k % 3) as f64,
         ));
     }
     let sh = Shading::new(&scene, &vpls, None).unwrap();
     let rec = Record {
         at: Receiver {
-            pos: Vector3::new(1.0, 0.0, 0.2),
-            normal: Vector3::y(),
+            pos: [1.0, 0.0, 0.2],
+            normal: [0.0, 1.0, 0.0],
             albedo: [0.5; 3],
         },
         radius: 0.3,
@@ -133,7 +133,7 @@ fn check6_distributions_invariants() {
             full <= un && un <= bound * (1.0 + 1e-12),
             "VPL {j}: {full} {un} {bound}"
         );
-        if vpl.pos.y < 0.0 {
+        if vpl.pos[1] < 0.0 {
             assert_eq!(f.pdf(j), 0.0);
             assert_eq!(u.pdf(j), 0.0);
         }
@@ -151,9 +151,9 @@ fn check5_fallback_for_an_isolated_record() {
     // point next to the second gets no positive similarity weight (normals 90 degrees apart)
     // and falls back to the uniform choice, which keeps records facing its side.
     let scene = plane(10.0, 0.5, &[]);
-    let vpls = [emitter_vpl(Vector3::new(0.0, 1.0, 0.0), -Vector3::y(), 1.0)];
+    let vpls = [emitter_vpl([0.0, 1.0, 0.0], [0.0, -1.0, 0.0], 1.0)];
     let sh = Shading::new(&scene, &vpls, None).unwrap();
-    let mk = |pos: Vector3<f64>, normal: Vector3<f64>| Record {
+    let mk = |pos: [f64; 3], normal: [f64; 3]| Record {
         at: Receiver {
             pos,
             normal,
@@ -167,12 +167,12 @@ fn check5_fallback_for_an_isolated_record() {
     // Six records 0.2 apart on the plane (so d_max is about 0.8), one far away standing
     // perpendicular to it.
     let mut recs: Vec<Record> = (0..6)
-        .map(|k| mk(Vector3::new(0.2 * k as f64, 0.0, 0.0), Vector3::y()))
+        .map(|k| mk([0.2 * k as f64, 0.0, 0.0], [0.0, 1.0, 0.0]))
         .collect();
-    recs.push(mk(Vector3::new(5.0, 0.5, 0.0), Vector3::x()));
+    recs.push(mk([5.0, 0.5, 0.0], [1.0, 0.0, 0.0]));
     let cache = ImportanceCache::build(&sh, recs, Interp::default(), 3).unwrap();
     assert!(cache.d_max < 1.0, "d_max {}", cache.d_max);
-    let found = cache.lookup(&Vector3::new(5.0, 0.0, 0.0), &Vector3::y(), None);
+    let found = cache.lookup([5.0, 0.0, 0.0], [0.0, 1.0, 0.0], None);
     let total: f64 = found.iter().map(|e| e.1).sum();
     assert!((total - 1.0).abs() < 1e-12);
     // The fallback: the three nearest records facing +y, uniformly.
@@ -181,7 +181,7 @@ fn check5_fallback_for_an_isolated_record() {
     assert_eq!(ks, vec![3, 4, 5]);
     assert!(found.iter().all(|&(_, w)| (w - 1.0 / 3.0).abs() < 1e-12));
     // Among the plane's records the similarity weights apply: the nearest weighs most.
-    let near = cache.lookup(&Vector3::new(0.45, 0.0, 0.0), &Vector3::y(), None);
+    let near = cache.lookup([0.45, 0.0, 0.0], [0.0, 1.0, 0.0], None);
     let total: f64 = near.iter().map(|e| e.1).sum();
     assert!((total - 1.0).abs() < 1e-12 && near.len() == 3);
     let w_of = |k: usize| near.iter().find(|e| e.0 == k).map_or(0.0, |e| e.1);
@@ -221,7 +221,7 @@ fn bad_input_is_an_error() {
     cam.fov_deg = 180.0;
     assert!(trace_primary(&scene, &cam).is_err());
     let g = trace_primary(&scene, &top_camera(16, 12)).unwrap();
-    let vpls = [emitter_vpl(Vector3::new(0.0, 1.0, 0.0), -Vector3::y(), 1.0)];
+    let vpls = [emitter_vpl([0.0, 1.0, 0.0], [0.0, -1.0, 0.0], 1.0)];
     let ok = ImportanceCachingParams::default();
     for bad in [
         ok.n_cache(0),
@@ -273,9 +273,9 @@ fn bad_input_is_an_error() {
     assert!(build_cache(&scene, &g, &vpls, &Placement::RandomScreen, bad_interp, &p).is_err());
     // A camera that sees nothing: a black image for the reference, an error for a cache.
     let away = Camera {
-        eye: Vector3::new(0.0, 6.0, 0.0),
-        target: Vector3::new(0.0, 12.0, 0.0),
-        up: Vector3::z(),
+        eye: [0.0, 6.0, 0.0],
+        target: [0.0, 12.0, 0.0],
+        up: [0.0, 0.0, 1.0],
         ..top_camera(8, 6)
     };
     let g0 = trace_primary(&scene, &away).unwrap();
@@ -298,24 +298,20 @@ fn shadow_ray_batches_match_brute_force() {
     let b = scene.bounds();
     let pt = |k: usize| {
         let f = |a: f64| (0.5 + k as f64 * a).fract();
-        b.min
-            + (b.max - b.min).component_mul(&Vector3::new(
-                f(0.7548776662),
-                f(0.5698402910),
-                f(0.3623612264),
-            ))
+        let u = [f(0.7548776662), f(0.5698402910), f(0.3623612264)];
+        [0, 1, 2].map(|c| b.min[c] + (b.max[c] - b.min[c]) * u[c])
     };
     let (a, t): (Vec<_>, Vec<_>) = (0..4000).map(|k| (pt(2 * k), pt(2 * k + 1))).unzip();
     let fast = scene.occluded_batch(&a, &t).unwrap();
     let mut blocked = 0;
     for ((p, q), f) in a.iter().zip(&t).zip(&fast) {
-        let d = q - p;
-        let len = d.norm();
-        let dir = d / len;
+        let d = sub(*q, *p);
+        let len = norm(d);
+        let dir = d.map(|c| c / len);
         let brute = scene
             .triangles()
             .iter()
-            .any(|tri| tri.intersect(p, &dir, len).is_some());
+            .any(|tri| tri.intersect(*p, dir, len).is_some());
         assert_eq!(*f, brute, "segment {p:?} -> {q:?}");
         blocked += brute as usize;
     }
@@ -330,22 +326,22 @@ fn shadow_ray_batches_match_brute_force() {
 #[test]
 fn visible_share_counts_the_blocked_light() {
     let vpls = [
-        emitter_vpl(Vector3::new(-1.0, 1.0, 0.0), -Vector3::y(), 1.0),
-        emitter_vpl(Vector3::new(1.0, 1.0, 0.0), -Vector3::y(), 1.0),
+        emitter_vpl([-1.0, 1.0, 0.0], [0.0, -1.0, 0.0], 1.0),
+        emitter_vpl([1.0, 1.0, 0.0], [0.0, -1.0, 0.0], 1.0),
     ];
-    let at = |normal: Vector3<f64>| Receiver {
-        pos: Vector3::zeros(),
+    let at = |normal: [f64; 3]| Receiver {
+        pos: [0.0; 3],
         normal,
         albedo: [0.5; 3],
     };
     let open = plane(5.0, 0.5, &[]);
     let sh = Shading::new(&open, &vpls, Some(0.0)).unwrap();
-    assert_eq!(sh.visible_share(&at(Vector3::y())), Some(1.0));
-    assert_eq!(sh.visible_share(&at(-Vector3::y())), None);
+    assert_eq!(sh.visible_share(&at([0.0, 1.0, 0.0])), Some(1.0));
+    assert_eq!(sh.visible_share(&at([0.0, -1.0, 0.0])), None);
     // A horizontal triangle at height 0.5 across the segment to the second VPL only.
     let blocker = [[0.2, 0.5, -0.5], [0.9, 0.5, -0.5], [0.2, 0.5, 0.9]];
     let blocked = plane(5.0, 0.5, &[(blocker, [0.5; 3])]);
     let sh = Shading::new(&blocked, &vpls, Some(0.0)).unwrap();
-    let v = sh.visible_share(&at(Vector3::y())).unwrap();
+    let v = sh.visible_share(&at([0.0, 1.0, 0.0])).unwrap();
     assert!((v - 0.5).abs() < 1e-12, "{v}");
 }

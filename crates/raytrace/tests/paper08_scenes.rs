@@ -2,6 +2,7 @@
 //! (check 2), variance reduction (check 3), insertion at shadow boundaries (check 4),
 //! clustering (check 7), determinism (check 8).
 
+use nalgebra::Vector3;
 use wscg_math::image::Image;
 use wscg_math::progress::NoProgress;
 use wscg_raytrace::manylight::placement::cluster_to_count;
@@ -348,18 +349,18 @@ fn emitter_vpls_converge_to_the_area_lights_direct_light() {
     // A floor point of the Cornell box in full view of the ceiling light: the emitter VPLs'
     // sum against a quadrature of (rho / pi) L_e cos_x cos_y / d^2 over the light's triangles.
     let (scene, _) = cornell_box(1, 8, 8).unwrap();
-    let x = nalgebra::Vector3::new(150.0, 0.0, 450.0);
+    let x = Vector3::new(150.0, 0.0, 450.0);
     let cam = Camera {
-        eye: x + nalgebra::Vector3::new(0.0, 100.0, 0.0),
-        target: x,
-        up: nalgebra::Vector3::z(),
+        eye: (x + Vector3::new(0.0, 100.0, 0.0)).into(),
+        target: x.into(),
+        up: [0.0, 0.0, 1.0],
         fov_deg: 0.01,
         width: 1,
         height: 1,
     };
     let g = trace_primary(&scene, &cam).unwrap();
     let p = g.points[0].unwrap();
-    assert!((p.pos - x).norm() < 1e-3 && p.normal.y > 0.99);
+    assert!((Vector3::from(p.pos) - x).norm() < 1e-3 && p.normal[1] > 0.99);
     let vpls = generate_vpls(
         &scene,
         &VplParams::default().n_paths(40_000).max_bounces(0).seed(5),
@@ -370,6 +371,12 @@ fn emitter_vpls_converge_to_the_area_lights_direct_light() {
     let n = 300;
     for &t in scene.emitters() {
         let tri = scene.triangles()[t as usize];
+        let (p0, e1, e2) = (
+            Vector3::from(tri.p0),
+            Vector3::from(tri.e1),
+            Vector3::from(tri.e2),
+        );
+        let normal = Vector3::from(tri.normal);
         let le = scene.emission(t);
         // Midpoint rule on the triangle's n^2 sub-triangles (centroids of a regular split).
         let mut acc = 0.0;
@@ -382,11 +389,11 @@ fn emitter_vpls_converge_to_the_area_lights_direct_light() {
                     if a + b > n as f64 {
                         continue;
                     }
-                    let y = tri.p0 + tri.e1 * (a / n as f64) + tri.e2 * (b / n as f64);
+                    let y = p0 + e1 * (a / n as f64) + e2 * (b / n as f64);
                     let d = y - x;
                     let d2 = d.norm_squared();
                     let cx = d.y / d2.sqrt();
-                    let cy = (-tri.normal.dot(&d) / d2.sqrt()).max(0.0);
+                    let cy = (-normal.dot(&d) / d2.sqrt()).max(0.0);
                     acc += cx * cy / d2;
                 }
             }

@@ -74,6 +74,14 @@ Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files). A ne
 too large integer for a count, size or seed raises :class:`IntegerRangeError`, a
 ``ValueError`` (and ``OverflowError``) that names the argument.
 
+Estimators (the models of :mod:`wscg.biometrics`, :class:`wscg.gait.GaitRecognizer`,
+:class:`wscg.ear.EarMatcher` and :class:`wscg.ear.SkinModel`, the models of
+:mod:`wscg.motion`) follow scikit-learn's protocol without depending on it: hyper-parameters
+in ``__init__`` (``get_params`` / ``set_params``, ``sklearn.base.clone``), ``fit(X, y=None)``
+returns the estimator, what it learns ends in ``_``; they pickle and deep-copy, fitted or
+not. A method called before ``fit`` raises :class:`NotFittedError` (a ``ValueError`` and an
+``AttributeError``; also scikit-learn's ``NotFittedError`` when scikit-learn is imported).
+
 Limits: a size argument that would need a buffer larger than the memory limit (default: the
 machine's physical memory; :func:`set_memory_limit` or the environment variable
 ``WSCG_MAX_MEMORY``, in bytes) raises ``MemoryError`` naming the argument, before anything is
@@ -93,6 +101,7 @@ import numpy as _np
 
 from . import _native
 from ._checks import IntegerRangeError, _int
+from ._estimator import DataConversionWarning, NotFittedError
 from . import biometrics, cloth, csmri, deblur, doe, ear, gait, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren, volseg
 
 __version__: str = _native.__version__
@@ -179,5 +188,6 @@ def get_max_image_pixels() -> int:
 
 __all__ = ["biometrics", "cloth", "csmri", "deblur", "doe", "ear", "gait", "hdr", "isosurface",
            "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
-           "IntegerRangeError", "set_num_threads", "get_num_threads", "set_memory_limit",
+           "IntegerRangeError", "NotFittedError", "DataConversionWarning",
+           "set_num_threads", "get_num_threads", "set_memory_limit",
            "get_memory_limit", "set_max_image_pixels", "get_max_image_pixels", "__version__"]

@@ -19,6 +19,13 @@ from . import volseg as volseg
 class IntegerRangeError(ValueError, OverflowError):
     """A negative or too large integer for a count, size or seed; names the argument."""
 
+class NotFittedError(ValueError, AttributeError):
+    """A method of an estimator that needs ``fit`` was called before it (also scikit-learn's
+    ``NotFittedError`` when scikit-learn is imported)."""
+
+class DataConversionWarning(UserWarning):
+    """A column vector ``y`` ``(n, 1)`` was given where labels ``(n,)`` are expected."""
+
 MAX_THREADS: int
 
 def set_num_threads(n: int | None) -> None:

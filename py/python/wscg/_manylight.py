@@ -25,11 +25,63 @@ import numpy as np
 
 from ._native import raytrace as _r
 from ._checks import integer_ranges as _integer_ranges
+from ._results import from_mapping as _from_mapping, result as _result
 
 ManyLightScene = _r.ManyLightScene
 
 __all__ = ["ManyLightScene", "make_manylight_scene", "manylight_from_arrays",
-           "load_manylight_obj", "render_manylight"]
+           "load_manylight_obj", "render_manylight", "ManyLightStats"]
+
+
+@_result
+class ManyLightStats:
+    """What a render of :func:`render_manylight` did. The cache fields are None for the
+    methods without a cache (``'power'``, ``'reference'``).
+
+    Attributes
+    ----------
+    method : str
+        The method's name.
+    n_vpls : int
+        Virtual point lights traced from the emitters.
+    setup_seconds : float
+        Wall-clock seconds generating the VPLs and the shading points.
+    cache_seconds : float
+        Wall-clock seconds building the cache (0 without one).
+    render_seconds : float
+        Wall-clock seconds rendering.
+    records : float64 array (K, 3)
+        Positions ``(x, y, z)`` of the cache records (K = 0 without a cache).
+    record_pixels : int64 array (K,)
+        Flat pixel index (``row * width + column``) of each record; -1 for a record that is
+        not on a pixel (``'ic'`` places its records at jittered points of a screen grid).
+    record_inserted : bool array (K,)
+        Whether each record came from the adaptive insertion (not the initial placement).
+    n_records : int or None
+        Final number of records.
+    n_inserted : int or None
+        Records added by the adaptive insertion.
+    n_passes : int or None
+        Insertion passes.
+    n_cache_shadow_rays : int or None
+        Shadow rays traced for the records' full distributions.
+    cache_bytes : int or None
+        Bytes of the records' distributions.
+    """
+
+    method: str
+    n_vpls: int
+    setup_seconds: float
+    cache_seconds: float
+    render_seconds: float
+    records: np.ndarray
+    record_pixels: np.ndarray
+    record_inserted: np.ndarray
+    n_records: Optional[int] = None
+    n_inserted: Optional[int] = None
+    n_passes: Optional[int] = None
+    n_cache_shadow_rays: Optional[int] = None
+    cache_bytes: Optional[int] = None
 
 
 def make_manylight_scene(name: str = "cornell", subdiv: int = 1, width: int = 256,
@@ -75,11 +127,11 @@ def render_manylight(scene: ManyLightScene, method: str = "adaptive",
                      seed: int = 0, vpl_seed: int = 0, clamp_dist: Optional[float] = None,
                      m_nearest: int = 3, delta: float = 0.5, init_fraction: float = 0.6,
                      theta_max: float = np.pi / 6, lam: float = 5.0,
-                     dmax_factor: float = 2.0) -> Tuple[np.ndarray, dict]:
-    """Renders ``scene`` with ``method``; returns the linear RGB image (H, W, 3) float32 and a
-    dict of statistics (``n_vpls``, ``records`` (K, 3) positions, ``record_pixels``,
-    ``record_inserted``, ``n_records``, ``inserted``, ``passes``, ``cache_seconds``,
-    ``render_seconds``, ...).
+                     dmax_factor: float = 2.0) -> Tuple[np.ndarray, ManyLightStats]:
+    """Renders ``scene`` with ``method``; returns the linear RGB image (H, W, 3) float32 and
+    its :class:`ManyLightStats` (``n_vpls``, ``records`` (K, 3) positions,
+    ``record_pixels``, ``record_inserted``, ``n_records``, ``n_inserted``, ``n_passes``,
+    ``cache_seconds``, ``render_seconds``, ...).
 
     ``n_vpl_paths`` light paths of ``max_bounces`` bounces give the VPLs; ``n_cache``
     records (default 1 % of the pixels; the adaptive budget, the screen grid's count);
@@ -102,7 +154,10 @@ def render_manylight(scene: ManyLightScene, method: str = "adaptive",
         params["n_cache"] = int(n_cache)
     if clamp_dist is not None:
         params["clamp_dist"] = float(clamp_dist)
-    return _r.manylight_render(scene, method, params, camera)
+    img, st = _r.manylight_render(scene, method, params, camera)
+    return img, _from_mapping(ManyLightStats, st, rename={
+        "inserted": "n_inserted", "passes": "n_passes",
+        "shadow_rays_cache": "n_cache_shadow_rays"})
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

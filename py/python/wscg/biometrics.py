@@ -3,10 +3,13 @@ component analysis, Damavandinejadmonfared and Varadharajan) with the baselines 
 compared against, PCA, kernel PCA and KECA, and the 1-NN recognition pipeline of its
 section 5.
 
-Every model is a scikit-learn-style estimator: ``fit(X, y=None)``, ``transform``,
-``fit_transform``, ``inverse_transform`` (FDKECA, PCA), and, when fitted with labels,
-``predict``, ``score`` and ``kneighbors`` (nearest gallery sample in the subspace).
-``get_params``/``set_params`` make them work with ``sklearn.base.clone``; models pickle.
+Every model is a scikit-learn estimator: ``fit(X, y=None)`` returns the estimator,
+``transform``, ``fit_transform``, ``inverse_transform`` (FDKECA, PCA), and, when fitted with
+labels, ``predict``, ``score`` and ``kneighbors`` (nearest gallery sample in the subspace).
+Hyper-parameters are the arguments of ``__init__`` (``get_params`` / ``set_params``), what
+``fit`` learns ends in ``_``; ``sklearn.base.clone``, ``Pipeline`` and ``GridSearchCV`` take
+them, each passes ``sklearn.utils.estimator_checks.check_estimator``, and fitted or not they
+pickle and deep-copy. A method called before ``fit`` raises :class:`wscg.NotFittedError`.
 
 Data: one sample per row, ``X`` of shape ``(n, d)``, or a stack of images ``(n, h, w)``
 that is flattened row-major (the image shape is remembered for :meth:`FDKECA.axis_images`).
@@ -38,12 +41,14 @@ from __future__ import annotations
 
 import os
 import warnings
-from typing import Optional, Sequence, Tuple, Union
+from typing import Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._native import biometrics as _b
 from ._checks import _int, integer_ranges as _integer_ranges
+from ._results import from_mapping as _from_mapping, result as _result
+from ._estimator import Estimator, as_matrix
 
 __all__ = [
     "FDKECA", "PCA", "KernelPCA", "KECA",
@@ -52,10 +57,39 @@ __all__ = [
     "PerClassSFA", "GlobalSFA", "TemporalSFA", "KNN", "confusion_matrix", "Isomap",
     "HAND_POSE_CLASSES", "hand_pose_jitter", "make_hand_poses", "physical_features",
     "rotate_mask", "downscale_mask", "hand_pose_split", "hand_pose_comparison",
-    "hand_pose_rotated_test",
+    "hand_pose_rotated_test", "ResolvedKernel", "HandPoseSplit", "ClassifierRun",
+    "HandPoseComparison",
 ]
 
 _METRICS = ("euclidean", "cosine")
+
+
+@_result
+class ResolvedKernel:
+    """The kernel :func:`feature_kernel` used, with the values it resolved from the data
+    (eq. 10 of paper 01). Parameters a kernel does not have are ``None``.
+
+    Attributes
+    ----------
+    kernel : str
+        ``"rbf"``, ``"poly"`` or ``"linear"``.
+    sigma : float or None
+        Gaussian width ``sigma`` of ``exp(-|a - b|^2 / (2 sigma^2))``, in the units of ``X``
+        (``rbf``; the median feature distance times ``sigma_scale`` unless given).
+    degree : int or None
+        Polynomial degree (``poly``).
+    gamma : float or None
+        Polynomial scale of ``(gamma a.b + coef0)^degree`` (``poly``; ``1 / n`` unless
+        given).
+    coef0 : float or None
+        Polynomial offset (``poly``).
+    """
+
+    kernel: str
+    sigma: Optional[float] = None
+    degree: Optional[int] = None
+    gamma: Optional[float] = None
+    coef0: Optional[float] = None
 
 
 def _matrix(X, name: str = "X") -> Tuple[np.ndarray, Optional[Tuple[int, int]]]:
@@ -116,31 +150,9 @@ def _kernel_spec(kernel, sigma, sigma_scale, degree, gamma, coef0) -> dict:
     }
 
 
-class _Params:
-    """The scikit-learn parameter protocol over the names in ``_param_names``."""
-
-    _param_names: Tuple[str, ...] = ()
-
-    def get_params(self, deep: bool = True) -> dict:
-        """The constructor parameters (scikit-learn protocol)."""
-        return {k: getattr(self, k) for k in self._param_names}
-
-    def set_params(self, **params):
-        """Sets constructor parameters (scikit-learn protocol); returns ``self``."""
-        for k, v in params.items():
-            if k not in self._param_names:
-                raise ValueError(f"unknown parameter {k!r} for {type(self).__name__}")
-            setattr(self, k, v)
-        return self
-
-    def __repr__(self) -> str:
-        args = ", ".join(f"{k}={getattr(self, k)!r}" for k in self._param_names)
-        return f"{type(self).__name__}({args})"
-
-
-class _Subspace(_Params):
-    """Shared estimator machinery; subclasses set ``_method`` and ``_param_names`` and
-    define ``_spec()``, the parameters passed to the native ``fit``."""
+class _Subspace(Estimator):
+    """Shared estimator machinery; subclasses set ``_method`` and define ``_spec()``, the
+    parameters passed to the native ``fit``."""
 
     _method = ""
 
@@ -167,9 +179,12 @@ class _Subspace(_Params):
             more than available, labels of the wrong length.
         """
         _check_metric(self.metric)
-        Xm, shape = _matrix(X)
+        if not hasattr(X, "tocsr"):  # sparse input is refused by _validate_X
+            X = np.asarray(X)
+        shape = X.shape[1:] if getattr(X, "ndim", 0) == 3 else None
+        Xm = self._validate_X(X, reset=True, min_samples=2, allow_images=True)
         if y is not None:
-            classes, codes = _encode_labels(y, Xm.shape[0])
+            classes, codes = _encode_labels(self._validate_y(y, Xm.shape[0]), Xm.shape[0])
         self._model = _b.fit(Xm, self._spec())
         self.image_shape_ = shape
         self.n_features_in_ = Xm.shape[1]
@@ -192,21 +207,22 @@ class _Subspace(_Params):
         self.n_components_ = self._model.n_components
 
     def _fitted(self):
-        model = getattr(self, "_model", None)
-        if model is None:
-            raise ValueError(f"this {type(self).__name__} is not fitted yet; call fit first")
-        return model
+        self._check_fitted()
+        return self._model
 
     def transform(self, X) -> np.ndarray:
-        """Projects the rows of ``X`` to ``(n, n_components_)``.
+        """Projects the rows of ``X`` (``(n, d)``, or an ``(n, h, w)`` image stack) to
+        ``(n, n_components_)``.
 
         Raises
         ------
+        NotFittedError
+            Before ``fit``.
         ValueError
-            Not fitted, wrong width, NaN/inf.
+            Wrong width, NaN/inf.
         """
-        Xm, _ = _matrix(X)
-        return self._fitted().transform(Xm)
+        Xm = self._validate_X(X, reset=False, allow_images=True)
+        return self._model.transform(Xm)
 
     def fit_transform(self, X, y=None) -> np.ndarray:
         """``fit(X, y)`` then ``transform(X)``."""
@@ -309,8 +325,12 @@ class _Linear(_Subspace):
     def inverse_transform(self, Z) -> np.ndarray:
         """Reconstructs samples from projections ``Z`` of shape ``(m, n_components_)``:
         ``mean_ + Z @ components_`` (exact at ``n_components_ = d``)."""
-        Zm, _ = _matrix(Z, "Z")
-        return self._fitted().inverse_transform(Zm)
+        model = self._fitted()
+        Zm = as_matrix(Z, "Z")
+        if Zm.shape[1] != self.n_components_:
+            raise ValueError(f"`Z` has {Zm.shape[1]} columns, but this {type(self).__name__} "
+                             f"has {self.n_components_} components")
+        return model.inverse_transform(Zm)
 
     def axis_images(self, n_components: Optional[int] = None,
                     shape: Optional[Tuple[int, int]] = None):
@@ -377,8 +397,6 @@ class FDKECA(_Linear, _KernelParams):
     """
 
     _method = "fdkeca"
-    _param_names = ("n_components", "kernel", "sigma", "sigma_scale", "degree", "gamma",
-                    "coef0", "ordering", "center", "metric")
 
     def __init__(self, n_components: Optional[int] = None, kernel: str = "rbf",
                  sigma: Union[float, str, None] = None, sigma_scale: float = 1.0,
@@ -425,7 +443,6 @@ class PCA(_Linear):
     """
 
     _method = "pca"
-    _param_names = ("n_components", "whiten", "metric")
 
     def __init__(self, n_components: Optional[int] = None, whiten: bool = False,
                  metric: str = "euclidean"):
@@ -442,8 +459,6 @@ class PCA(_Linear):
 
 
 class _SampleKernel(_Subspace, _KernelParams):
-    _param_names = ("n_components", "kernel", "sigma", "sigma_scale", "degree", "gamma",
-                    "coef0", "metric")
 
     def __init__(self, n_components: Optional[int] = None, kernel: str = "rbf",
                  sigma: Union[float, str, None] = None, sigma_scale: float = 1.0,
@@ -597,9 +612,10 @@ def select_dimension_cv(model, X, y, dims: Optional[Sequence[int]] = None, n_fol
 
 def feature_kernel(X, kernel: str = "rbf", sigma=None, sigma_scale: float = 1.0,
                    degree: int = 2, gamma=None, coef0: float = 1.0,
-                   center: bool = True) -> Tuple[np.ndarray, dict]:
+                   center: bool = True) -> Tuple[np.ndarray, ResolvedKernel]:
     """FDKECA's ``d x d`` kernel between the feature vectors (columns of the centred
-    ``X``), eq. 10 of the paper, and the kernel parameters used.
+    ``X``), eq. 10 of the paper, and the kernel parameters used (a
+    :class:`ResolvedKernel`).
 
     Equals ``sklearn.metrics.pairwise.rbf_kernel(Xc.T, gamma=1/(2 sigma^2))`` or
     ``polynomial_kernel(Xc.T, degree, gamma, coef0)``.
@@ -607,7 +623,8 @@ def feature_kernel(X, kernel: str = "rbf", sigma=None, sigma_scale: float = 1.0,
     Xm, _ = _matrix(X)
     spec = _kernel_spec(kernel, sigma, sigma_scale, degree, gamma, coef0)
     spec["center"] = bool(center)
-    return _b.feature_kernel(Xm, spec)
+    K, info = _b.feature_kernel(Xm, spec)
+    return K, _from_mapping(ResolvedKernel, info)
 
 
 def make_finger_veins(n_subjects: int = 200, n_per_subject: int = 10, size=(10, 20),
@@ -667,39 +684,50 @@ class _JsonPickled:
         self.__dict__.update(state)
 
 
-class _SFAClassifier(_Params, _JsonPickled):
+class _SFAClassifier(Estimator, _JsonPickled):
     """Shared plumbing of :class:`PerClassSFA` and :class:`GlobalSFA`."""
 
+    _estimator_type = "classifier"
+    _requires_y = True
     _global = False
 
     def _fit(self, X, y, m: int, gamma, rule):
-        X, _ = _matrix(X)
-        self.classes_, codes = _encode_labels(y, X.shape[0])
+        X = self._validate_X(X, reset=True, min_samples=2, allow_images=True)
+        classes, codes = _encode_labels(self._validate_y(y, X.shape[0]), X.shape[0])
         if self.degree not in (1, 2):
             raise ValueError(f"`degree` must be 1 or 2, got {self.degree}")
         self._model = _b.sfa_fit(X, codes, int(self.pca_n_components), int(m), int(self.degree),
                                  bool(self.include_linear), gamma, float(self.shrinkage),
                                  float(self.rank_tol), rule)
+        self.classes_ = classes
         self.n_features_in_ = X.shape[1]
         self.eigenvalues_, self.rank_ = self._model.eigenvalues()
         return self
 
     def _fitted(self):
-        if getattr(self, "_model", None) is None:
-            raise ValueError("the model is not fitted: call fit(X, y) first")
+        self._check_fitted()
         return self._model
 
+    def class_scores(self, X) -> np.ndarray:
+        """``(n, n_classes)`` scores of the paper, columns in ``classes_`` order; **smaller
+        is better**: the energy ``Var_C`` of eq. 16 (:class:`PerClassSFA`, and
+        :class:`GlobalSFA` with ``rule="variance"``) or the negative Gaussian log-likelihood
+        (``rule="gaussian"``). :meth:`predict` picks the smallest (eq. 17)."""
+        X = self._validate_X(X, reset=False, allow_images=True)
+        return self._model.decision_scores(X)
+
     def decision_function(self, X) -> np.ndarray:
-        """``(n, n_classes)`` scores, columns in ``classes_`` order; **smaller is better**
-        (the paper's ``Var_C``, eq. 16, or the negative Gaussian log-likelihood)."""
-        X, _ = _matrix(X)
-        return self._fitted().decision_scores(X)
+        """Confidence scores as scikit-learn defines them, **larger is better**: the
+        negated :meth:`class_scores`, ``(n, n_classes)``; with two classes the ``(n,)``
+        difference ``class_scores[:, 0] - class_scores[:, 1]``, positive for
+        ``classes_[1]``."""
+        s = self.class_scores(X)
+        return s[:, 0] - s[:, 1] if s.shape[1] == 2 else -s
 
     def predict(self, X) -> np.ndarray:
         """The class of smallest score for every row (eq. 17), ties to the first class."""
-        model = self._fitted()
-        X, _ = _matrix(X)
-        return self.classes_[model.predict(X)]
+        X = self._validate_X(X, reset=False, allow_images=True)
+        return self.classes_[self._model.predict(X)]
 
     def score(self, X, y) -> float:
         """Mean accuracy."""
@@ -712,9 +740,10 @@ class _SFAClassifier(_Params, _JsonPickled):
 
         from ._native import math as _m
 
+        model = self._fitted()
         text = json.dumps({"params": self.get_params(), "classes": self.classes_.tolist(),
                            "n_features_in": self.n_features_in_,
-                           "model": self._fitted().to_json()})
+                           "model": model.to_json()})
         _m.write_file(os.fspath(path), text.encode())
 
     @classmethod
@@ -755,11 +784,9 @@ class PerClassSFA(_SFAClassifier):
     Directions of the expanded covariance below ``rank_tol`` times its largest eigenvalue
     are dropped (``rank_`` reports how many remain).
 
-    Labels may be any values; ``predict`` returns them as given.
+    Labels may be any values; ``predict`` returns them as given. Continuous (non-integer
+    float) labels raise ``ValueError``.
     """
-
-    _param_names = ("pca_n_components", "m", "degree", "include_linear", "objective", "gamma",
-                    "shrinkage", "rank_tol")
 
     def __init__(self, pca_n_components: int = 35, m: int = 10, degree: int = 2,
                  include_linear: bool = True, objective: str = "within_minus_out",
@@ -767,10 +794,10 @@ class PerClassSFA(_SFAClassifier):
         self.pca_n_components, self.m, self.degree = pca_n_components, m, degree
         self.include_linear, self.objective, self.gamma = include_linear, objective, gamma
         self.shrinkage, self.rank_tol = shrinkage, rank_tol
-        self._model = None
 
     def fit(self, X, y):
-        """Fits to rows ``X`` (``(n, d)`` or an ``(n, h, w)`` image stack) and labels ``y``."""
+        """Fits to rows ``X`` (``(n, d)`` or an ``(n, h, w)`` image stack) and labels ``y``;
+        returns ``self``."""
         if self.objective not in _OBJECTIVES:
             raise ValueError(f"`objective` must be one of {_OBJECTIVES}, got {self.objective!r}")
         gamma = float(self.gamma) if self.objective == "within_minus_out" else None
@@ -778,11 +805,11 @@ class PerClassSFA(_SFAClassifier):
 
     def responses(self, X, cls) -> np.ndarray:
         """The centred responses ``r_C = W_C'(z - mu_C)`` (``(n, m)``) of class ``cls``."""
-        X, _ = _matrix(X)
+        X = self._validate_X(X, reset=False, allow_images=True)
         idx = np.flatnonzero(self.classes_ == cls)
         if len(idx) == 0:
             raise ValueError(f"{cls!r} is not a trained class")
-        return self._fitted().responses(X, int(idx[0]))
+        return self._model.responses(X, int(idx[0]))
 
 
 class GlobalSFA(_SFAClassifier):
@@ -793,8 +820,6 @@ class GlobalSFA(_SFAClassifier):
     is Berkes' SFA, equivalent to Fisher discriminant analysis."""
 
     _global = True
-    _param_names = ("pca_n_components", "n_components", "degree", "include_linear", "gamma",
-                    "shrinkage", "rank_tol", "rule")
 
     def __init__(self, pca_n_components: int = 35, n_components: int = 10, degree: int = 2,
                  include_linear: bool = True, gamma: float = 1.0, shrinkage: float = 1e-6,
@@ -803,18 +828,21 @@ class GlobalSFA(_SFAClassifier):
             pca_n_components, n_components, degree)
         self.include_linear, self.gamma, self.shrinkage = include_linear, gamma, shrinkage
         self.rank_tol, self.rule = rank_tol, rule
-        self._model = None
 
     def fit(self, X, y):
-        """Fits to rows ``X`` and labels ``y``."""
+        """Fits to rows ``X`` and labels ``y``; returns ``self``."""
         if self.rule not in ("variance", "gaussian"):
             raise ValueError(f"`rule` must be 'variance' or 'gaussian', got {self.rule!r}")
         return self._fit(X, y, self.n_components, float(self.gamma), self.rule)
 
     def transform(self, X) -> np.ndarray:
         """The shared outputs ``W'z`` (``(n, n_components)``)."""
-        X, _ = _matrix(X)
-        return self._fitted().responses(X, 0)
+        X = self._validate_X(X, reset=False, allow_images=True)
+        return self._model.responses(X, 0)
+
+    def fit_transform(self, X, y) -> np.ndarray:
+        """``fit(X, y)`` then ``transform(X)``."""
+        return self.fit(X, y).transform(X)
 
 
 class _NativeTransform:
@@ -822,61 +850,70 @@ class _NativeTransform:
     embedding of new rows, sklearn's ``Isomap.transform`` semantics)."""
 
     def transform(self, X) -> np.ndarray:
-        if getattr(self, "_model", None) is None:
-            raise ValueError("the model is not fitted: call fit(X) first")
-        X, _ = _matrix(X)
+        """The fitted mapping applied to the rows of ``X``, ``(n, n_components)``."""
+        X = self._validate_X(X, reset=False)
         return self._model.transform(X)
 
 
-class TemporalSFA(_Params, _NativeTransform):
+class TemporalSFA(Estimator, _NativeTransform, _JsonPickled):
     """Temporal slow feature analysis (Wiskott and Sejnowski 2002; paper 05, section 2.1):
     the ``n_components`` slowest, decorrelated, unit-variance functions of the (quadratically
-    expanded, ``degree=2``) signal ``X`` with one time step per row. ``delta_values_`` are
-    the slowness values, ascending."""
-
-    _param_names = ("n_components", "degree", "include_linear", "rank_tol")
+    expanded, ``degree=2``) signal ``X`` with one time step per row (at least 3).
+    ``delta_values_`` are the slowness values, ascending."""
 
     def __init__(self, n_components: int = 2, degree: int = 2, include_linear: bool = True,
                  rank_tol: float = 1e-10):
         self.n_components, self.degree = n_components, degree
         self.include_linear, self.rank_tol = include_linear, rank_tol
-        self._model = None
 
     def fit(self, X, y=None):
-        X, _ = _matrix(X)
+        """Fits to the time series ``X`` (``(T, d)``, rows in time order); ``y`` is ignored.
+        Returns ``self``."""
+        X = self._validate_X(X, reset=True, min_samples=3)
         self._model = _b.temporal_sfa_fit(X, int(self.n_components), int(self.degree),
                                           bool(self.include_linear), float(self.rank_tol))
+        self.n_features_in_ = X.shape[1]
         self.delta_values_ = np.asarray(self._model.delta_values())
         self.rank_ = self._model.rank()
         return self
 
     def fit_transform(self, X, y=None) -> np.ndarray:
+        """``fit(X)`` then ``transform(X)``."""
         return self.fit(X).transform(X)
 
+    def _model_from_json(self, text):
+        return _b.TemporalSfaModel.from_json(text)
 
-class KNN(_Params):
+
+class KNN(Estimator):
     """k-nearest-neighbour classifier (Euclidean, majority vote of the ``n_neighbors``
     nearest training rows) of paper 05's baselines. Ties of the vote go to the class with the
     nearest member (``tie="nearest"``) or to the smallest label (``tie="smallest"``, as
     scikit-learn's ``KNeighborsClassifier``)."""
 
-    _param_names = ("n_neighbors", "tie")
+    _estimator_type = "classifier"
+    _requires_y = True
 
     def __init__(self, n_neighbors: int = 5, tie: str = "nearest"):
         self.n_neighbors, self.tie = n_neighbors, tie
 
     def fit(self, X, y):
-        self._X, _ = _matrix(X)
-        self.classes_, self._codes = _encode_labels(y, self._X.shape[0])
+        """Stores the training rows ``X`` and labels ``y``; returns ``self``."""
+        X = self._validate_X(X, reset=True)
+        self.classes_, self._codes = _encode_labels(self._validate_y(y, X.shape[0]), X.shape[0])
+        self._X = X
+        self.n_features_in_ = X.shape[1]
         return self
 
     def predict(self, X) -> np.ndarray:
-        X, _ = _matrix(X)
+        """The majority label of the ``n_neighbors`` nearest training rows of every row."""
+        X = self._validate_X(X, reset=False)
         return self.classes_[_b.knn_predict(self._X, self._codes, X,
                                             _int("n_neighbors", self.n_neighbors, 0),
                                             self.tie)]
 
     def score(self, X, y) -> float:
+        """Mean accuracy."""
         return float(np.mean(self.predict(X) == np.asarray(y)))
 
 
@@ -894,7 +931,7 @@ def confusion_matrix(y_true, y_pred, classes=None) -> Tuple[np.ndarray, np.ndarr
     return _b.confusion_matrix(t, p, len(classes)), classes
 
 
-class Isomap(_Params, _NativeTransform, _JsonPickled):
+class Isomap(Estimator, _NativeTransform, _JsonPickled):
     """Isomap (Tenenbaum et al. 2000): the "KNN on 9-D Isomap" baseline of paper 05
     (Table 6). Exact Isomap follows scikit-learn's ``Isomap`` step by step (brute-force
     neighbourhood graph, Dijkstra geodesics, kernel PCA of ``-D^2/2``, ``transform`` of new
@@ -905,26 +942,25 @@ class Isomap(_Params, _NativeTransform, _JsonPickled):
     A disconnected neighbourhood graph raises ``ValueError`` (use a larger
     ``n_neighbors``)."""
 
-    _param_names = ("n_neighbors", "n_components", "n_landmarks")
-
     def __init__(self, n_neighbors: int = 8, n_components: int = 9,
                  n_landmarks: Optional[int] = None):
         self.n_neighbors, self.n_components, self.n_landmarks = (
             n_neighbors, n_components, n_landmarks)
-        self._model = None
 
     def fit(self, X, y=None):
-        X, _ = _matrix(X)
+        """Fits to the rows of ``X``; ``y`` is ignored. Returns ``self``."""
+        X = self._validate_X(X, reset=True, min_samples=2)
         nl = None if self.n_landmarks is None else int(self.n_landmarks)
         self._model = _b.isomap_fit(X, int(self.n_neighbors), int(self.n_components), nl)
+        self.n_features_in_ = X.shape[1]
         self.embedding_ = self._model.embedding()
         self.eigenvalues_ = np.asarray(self._model.eigenvalues())
         lm = self._model.landmarks()
         self.landmarks_ = None if lm is None else np.asarray(lm)
-        self.n_features_in_ = X.shape[1]
         return self
 
     def fit_transform(self, X, y=None) -> np.ndarray:
+        """``fit(X)``, returning ``embedding_``."""
         return self.fit(X).embedding_
 
     def _model_from_json(self, text):
@@ -934,6 +970,84 @@ class Isomap(_Params, _NativeTransform, _JsonPickled):
 HAND_POSE_CLASSES = ("FIST", "FLAT", "INDEX", "OPEN", "GRAB")
 _JITTER_KEYS = ("extension", "finger_angle_deg", "spread", "rotation_deg", "scale",
                 "translation_px")
+
+
+@_result
+class HandPoseSplit:
+    """Paper 05's protocol applied by :func:`hand_pose_split`: rows are masks downscaled by
+    3 and flattened (values in ``[0, 1]``, the fraction of hand in each 3 x 3 cell).
+
+    Attributes
+    ----------
+    X_train : float64 array (n_train, h * w)
+        Training rows, the rotated copies appended after the original frames.
+    y_train : array (n_train,)
+        Their labels (as given).
+    X_test : float64 array (n_test, h * w)
+        Test rows.
+    y_test : array (n_test,)
+        Their labels.
+    train_index : int64 array (n_train,)
+        Source frame of each training row.
+    test_index : int64 array (n_test,)
+        Source frame of each test row.
+    train_rotation : float64 array (n_train,)
+        Rotation of each training row in degrees (0 for the original frames).
+    shape : (int, int)
+        ``(h, w)`` of the downscaled masks.
+    """
+
+    X_train: np.ndarray
+    y_train: np.ndarray
+    X_test: np.ndarray
+    y_test: np.ndarray
+    train_index: np.ndarray
+    test_index: np.ndarray
+    train_rotation: np.ndarray
+    shape: Tuple[int, int]
+
+
+@_result
+class ClassifierRun:
+    """One method of :func:`hand_pose_comparison` on the test rows.
+
+    Attributes
+    ----------
+    confusion : float64 array (n_classes, n_classes)
+        Row-normalised confusion matrix in percent (row = true class, column = predicted).
+    predictions : array (n_test,)
+        Predicted label of each test row.
+    accuracy : float
+        Mean of the confusion diagonal, percent.
+    fit_seconds, predict_seconds : float
+        Wall time of fitting and of predicting the test rows, seconds.
+    """
+
+    confusion: np.ndarray
+    predictions: np.ndarray
+    accuracy: float
+    fit_seconds: float
+    predict_seconds: float
+
+
+@_result
+class HandPoseComparison:
+    """Paper 05's comparison (Tables 3-6) run by :func:`hand_pose_comparison`.
+
+    Attributes
+    ----------
+    classes : array (n_classes,)
+        Class order of the confusion matrices.
+    y_test : array (n_test,)
+        True label of each test row.
+    results : dict mapping str to ClassifierRun
+        One entry per method run, by name (``"sfa"``, ``"physical"``, ``"pca"``,
+        ``"isomap"``, ``"global"``).
+    """
+
+    classes: np.ndarray
+    y_test: np.ndarray
+    results: Dict[str, ClassifierRun]
 
 
 def hand_pose_jitter(preset: str = "default") -> dict:
@@ -1001,19 +1115,19 @@ def downscale_mask(mask, factor: int = 3) -> np.ndarray:
 
 
 def hand_pose_split(masks, labels, n_test_per_class: int = 300,
-                    n_augment_per_class: int = 1000, seed: int = 0) -> dict:
+                    n_augment_per_class: int = 1000, seed: int = 0) -> HandPoseSplit:
     """The paper's protocol on a mask stack: per class ``n_test_per_class`` random test
     frames, the rest train; then ``n_augment_per_class`` training frames per class rotated by
     +-U(10, 20) degrees and appended. Rows are the masks downscaled by 3, flattened.
-    Returns a dict with ``X_train``, ``y_train``, ``X_test``, ``y_test``, ``train_index``,
-    ``test_index`` (source frames), ``train_rotation`` (degrees) and ``shape``."""
+    Returns a :class:`HandPoseSplit` with ``X_train``, ``y_train``, ``X_test``, ``y_test``,
+    ``train_index``, ``test_index`` (source frames), ``train_rotation`` (degrees) and
+    ``shape``."""
     m = _masks(masks)
     classes, codes = _encode_labels(labels, m.shape[0] if m.ndim == 3 else 1, "labels")
     d = _b.hand_pose_split(m, codes, _int("n_test_per_class", n_test_per_class, 0),
                            _int("n_augment_per_class", n_augment_per_class, 0), int(seed))
-    d["y_train"] = classes[d["y_train"]]
-    d["y_test"] = classes[d["y_test"]]
-    return d
+    return _from_mapping(HandPoseSplit, d, y_train=classes[d["y_train"]],
+                         y_test=classes[d["y_test"]], shape=tuple(d["shape"]))
 
 
 def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", "pca",
@@ -1023,7 +1137,8 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
                          shrinkage: float = 1e-6, knn_n_neighbors: int = 5,
                          physical_n_per_class: int = 1500, isomap_n_neighbors: int = 8,
                          isomap_n_components: int = 9, isomap_n_per_class: Optional[int] = None,
-                         isomap_n_landmarks: int = 2000, global_rule: str = "variance") -> dict:
+                         isomap_n_landmarks: int = 2000,
+                         global_rule: str = "variance") -> HandPoseComparison:
     """Paper 05's comparison (Tables 3-6) on a mask stack: the split of
     :func:`hand_pose_split`, then class-wise SFA (``"sfa"``; ``pca_n_components``, ``m``,
     ``gamma`` and ``shrinkage`` as in :class:`PerClassSFA`), KNN (``knn_n_neighbors``
@@ -1032,9 +1147,10 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
     ``isomap_n_neighbors``, ``isomap_n_components``, ``isomap_n_per_class`` training frames
     per class (default all); Landmark Isomap with ``isomap_n_landmarks`` landmarks above 5000
     rows) and full-data-set SFA (``"global"``, ``global_rule`` as :class:`GlobalSFA`'s
-    ``rule``). Returns ``{"classes", "y_test", "results"}``
-    with ``results[name] = {"confusion" (% per true class), "predictions", "accuracy"
-    (mean of the diagonal, %), "fit_seconds", "predict_seconds"}``."""
+    ``rule``). Returns a :class:`HandPoseComparison`: ``classes``, ``y_test`` and
+    ``results[name]``, a :class:`ClassifierRun` (``confusion`` in % per true class,
+    ``predictions``, ``accuracy``: mean of the diagonal in %, ``fit_seconds``,
+    ``predict_seconds``)."""
     mk = _masks(masks)
     classes, codes = _encode_labels(labels, mk.shape[0] if mk.ndim == 3 else 1, "labels")
     d = None if depth is None else np.ascontiguousarray(depth, dtype=np.float32)
@@ -1050,18 +1166,18 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
          None if isomap_n_per_class is None else _int("isomap_n_per_class", isomap_n_per_class, 0),
          _int("isomap_n_landmarks", isomap_n_landmarks, 0)),
         str(global_rule))
-    out = {"classes": classes[np.asarray(cls)], "y_test": classes[y_test], "results": {}}
-    for name, conf, pred, tf, tp in res:
-        out["results"][name] = {"confusion": conf, "predictions": classes[pred],
-                                "accuracy": float(np.mean(np.diag(conf))),
-                                "fit_seconds": tf, "predict_seconds": tp}
-    return out
+    runs = {name: ClassifierRun(confusion=conf, predictions=classes[pred],
+                                accuracy=float(np.mean(np.diag(conf))), fit_seconds=tf,
+                                predict_seconds=tp)
+            for name, conf, pred, tf, tp in res}
+    return HandPoseComparison(classes=classes[np.asarray(cls)], y_test=classes[y_test],
+                              results=runs)
 
 
 def hand_pose_rotated_test(masks, test_index, angles=(10.0, 20.0),
                            seed: int = 1) -> np.ndarray:
     """Rows of the frames ``test_index`` of a mask stack (e.g. ``hand_pose_split(...)
-    ["test_index"]``), each rotated about its centroid by +-U(angles) degrees and downscaled
+    .test_index``), each rotated about its centroid by +-U(angles) degrees and downscaled
     as :func:`hand_pose_split` does: the rotation-robustness check. ``angles=(0, 0)`` gives
     the unrotated test rows."""
     mk = _masks(masks)

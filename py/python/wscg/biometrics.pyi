@@ -1,10 +1,12 @@
-from typing import Any, Optional, Sequence, Tuple, Union
+from dataclasses import dataclass
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
 
 from . import ear as ear
 from . import gait as gait
+from ._estimator import Estimator
 
 ArrayLike = npt.ArrayLike
 F64 = npt.NDArray[np.float64]
@@ -13,14 +15,45 @@ I64 = npt.NDArray[np.int64]
 
 __all__: list[str]
 
-class _Subspace:
+@dataclass(frozen=True)
+class ResolvedKernel:
+    kernel: str
+    sigma: Optional[float] = ...
+    degree: Optional[int] = ...
+    gamma: Optional[float] = ...
+    coef0: Optional[float] = ...
+
+@dataclass(frozen=True)
+class HandPoseSplit:
+    X_train: F64
+    y_train: np.ndarray
+    X_test: F64
+    y_test: np.ndarray
+    train_index: I64
+    test_index: I64
+    train_rotation: F64
+    shape: Tuple[int, int]
+
+@dataclass(frozen=True)
+class ClassifierRun:
+    confusion: F64
+    predictions: np.ndarray
+    accuracy: float
+    fit_seconds: float
+    predict_seconds: float
+
+@dataclass(frozen=True)
+class HandPoseComparison:
+    classes: np.ndarray
+    y_test: np.ndarray
+    results: Dict[str, ClassifierRun]
+
+class _Subspace(Estimator):
     n_components_: int
     n_features_in_: int
     image_shape_: Optional[Tuple[int, int]]
     classes_: Optional[np.ndarray]
     metric: str
-    def get_params(self, deep: bool = True) -> dict[str, Any]: ...
-    def set_params(self, **params: Any) -> "_Subspace": ...
     def fit(self, X: ArrayLike, y: Optional[ArrayLike] = None) -> "_Subspace": ...
     def transform(self, X: ArrayLike) -> F64: ...
     def fit_transform(self, X: ArrayLike, y: Optional[ArrayLike] = None) -> F64: ...
@@ -96,7 +129,7 @@ def select_dimension_cv(model: _Subspace, X: ArrayLike, y: ArrayLike,
 def feature_kernel(X: ArrayLike, kernel: str = "rbf", sigma: Union[float, str, None] = None,
                    sigma_scale: float = 1.0, degree: int = 2,
                    gamma: Union[float, str, None] = None, coef0: float = 1.0,
-                   center: bool = True) -> Tuple[F64, dict[str, Any]]: ...
+                   center: bool = True) -> Tuple[F64, ResolvedKernel]: ...
 def make_finger_veins(n_subjects: int = 200, n_per_subject: int = 10,
                       size: Tuple[int, int] = (10, 20), canvas: Tuple[int, int] = (40, 80),
                       max_shift: float = 3.5, max_rotation_deg: float = 3.0,
@@ -105,15 +138,25 @@ def make_finger_veins(n_subjects: int = 200, n_per_subject: int = 10,
 def split_per_subject(labels: ArrayLike, n_train_per_subject: int,
                       seed: int = 0) -> Tuple[I64, I64]: ...
 
-class PerClassSFA:
+class PerClassSFA(Estimator):
     classes_: np.ndarray
+    n_features_in_: int
     eigenvalues_: list
     rank_: int
+    pca_n_components: int
+    m: int
+    degree: int
+    include_linear: bool
+    objective: str
+    gamma: float
+    shrinkage: float
+    rank_tol: float
     def __init__(self, pca_n_components: int = 35, m: int = 10, degree: int = 2,
                  include_linear: bool = True, objective: str = "within_minus_out",
                  gamma: float = 1.0, shrinkage: float = 1e-6, rank_tol: float = 1e-10) -> None: ...
     def fit(self, X: npt.ArrayLike, y: npt.ArrayLike) -> "PerClassSFA": ...
     def predict(self, X: npt.ArrayLike) -> np.ndarray: ...
+    def class_scores(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def decision_function(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def responses(self, X: npt.ArrayLike, cls: object) -> npt.NDArray[np.float64]: ...
     def score(self, X: npt.ArrayLike, y: npt.ArrayLike) -> float: ...
@@ -121,27 +164,51 @@ class PerClassSFA:
     @classmethod
     def load(cls, path: str) -> "PerClassSFA": ...
 
-class GlobalSFA:
+class GlobalSFA(Estimator):
     classes_: np.ndarray
+    n_features_in_: int
+    eigenvalues_: list
+    rank_: int
+    pca_n_components: int
+    n_components: int
+    degree: int
+    include_linear: bool
+    gamma: float
+    shrinkage: float
+    rank_tol: float
+    rule: str
     def __init__(self, pca_n_components: int = 35, n_components: int = 10, degree: int = 2,
                  include_linear: bool = True, gamma: float = 1.0, shrinkage: float = 1e-6,
                  rank_tol: float = 1e-10, rule: str = "variance") -> None: ...
     def fit(self, X: npt.ArrayLike, y: npt.ArrayLike) -> "GlobalSFA": ...
     def predict(self, X: npt.ArrayLike) -> np.ndarray: ...
+    def class_scores(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def decision_function(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def transform(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def score(self, X: npt.ArrayLike, y: npt.ArrayLike) -> float: ...
+    def save(self, path: str) -> None: ...
+    @classmethod
+    def load(cls, path: str) -> "GlobalSFA": ...
 
-class TemporalSFA:
+class TemporalSFA(Estimator):
+    n_features_in_: int
     delta_values_: npt.NDArray[np.float64]
     rank_: int
+    n_components: int
+    degree: int
+    include_linear: bool
+    rank_tol: float
     def __init__(self, n_components: int = 2, degree: int = 2, include_linear: bool = True,
                  rank_tol: float = 1e-10) -> None: ...
     def fit(self, X: npt.ArrayLike, y: object = None) -> "TemporalSFA": ...
     def transform(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def fit_transform(self, X: npt.ArrayLike, y: object = None) -> npt.NDArray[np.float64]: ...
 
-class KNN:
+class KNN(Estimator):
+    classes_: np.ndarray
+    n_features_in_: int
+    n_neighbors: int
+    tie: str
     def __init__(self, n_neighbors: int = 5, tie: str = "nearest") -> None: ...
     def fit(self, X: npt.ArrayLike, y: npt.ArrayLike) -> "KNN": ...
     def predict(self, X: npt.ArrayLike) -> np.ndarray: ...
@@ -150,7 +217,11 @@ class KNN:
 def confusion_matrix(y_true: npt.ArrayLike, y_pred: npt.ArrayLike,
                      classes: Optional[npt.ArrayLike] = ...) -> Tuple[npt.NDArray[np.float64], np.ndarray]: ...
 
-class Isomap:
+class Isomap(Estimator):
+    n_features_in_: int
+    n_neighbors: int
+    n_components: int
+    n_landmarks: Optional[int]
     embedding_: npt.NDArray[np.float64]
     eigenvalues_: npt.NDArray[np.float64]
     landmarks_: Optional[np.ndarray]
@@ -172,7 +243,7 @@ def physical_features(masks: npt.ArrayLike, depth: Optional[npt.ArrayLike] = Non
 def rotate_mask(mask: npt.ArrayLike, degrees: float) -> npt.NDArray[np.uint8]: ...
 def downscale_mask(mask: npt.ArrayLike, factor: int = 3) -> npt.NDArray[np.float64]: ...
 def hand_pose_split(masks: npt.ArrayLike, labels: npt.ArrayLike, n_test_per_class: int = 300,
-                    n_augment_per_class: int = 1000, seed: int = 0) -> dict: ...
+                    n_augment_per_class: int = 1000, seed: int = 0) -> HandPoseSplit: ...
 def hand_pose_comparison(masks: npt.ArrayLike, labels: npt.ArrayLike,
                          depth: Optional[npt.ArrayLike] = None,
                          methods: Sequence[str] = ..., n_test_per_class: int = 300,
@@ -182,7 +253,7 @@ def hand_pose_comparison(masks: npt.ArrayLike, labels: npt.ArrayLike,
                          physical_n_per_class: int = 1500, isomap_n_neighbors: int = 8,
                          isomap_n_components: int = 9, isomap_n_per_class: Optional[int] = None,
                          isomap_n_landmarks: int = 2000,
-                         global_rule: str = "variance") -> dict: ...
+                         global_rule: str = "variance") -> HandPoseComparison: ...
 def hand_pose_rotated_test(masks: npt.ArrayLike, test_index: npt.ArrayLike,
                            angles: Tuple[float, float] = ..., seed: int = 1
                            ) -> npt.NDArray[np.float64]: ...

@@ -27,18 +27,45 @@ Units: metres, kilograms, seconds; stiffness in N/m. Positions and velocities ar
 
 from __future__ import annotations
 
-from typing import Optional, Sequence, Tuple
+from typing import NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ._native import cloth as _c
 from ._checks import _int, integer_ranges as _integer_ranges
+from ._results import tuple_repr as _tuple_repr
 
 __all__ = ["Model", "Sim", "Collider", "particles", "grid", "from_mesh", "plane", "sphere",
-           "capsule", "mesh_collider"]
+           "capsule", "mesh_collider", "Energy"]
 
 Model = _c.Model
 Collider = _c.Collider
+
+
+class Energy(NamedTuple):
+    """The energies of a state (``Model.energy()``, :meth:`Sim.energy`), a named tuple in the
+    order of the rows of :meth:`Sim.step` (``kinetic, gravity, elastic, total =
+    sim.energy()`` unpacks it).
+
+    Attributes
+    ----------
+    kinetic : float
+        ``sum 1/2 m |v|^2`` over the free particles, joules.
+    gravity : float
+        Gravitational potential ``-sum m g . x`` over the free particles, joules.
+    elastic : float
+        ``sum 1/2 c^2 / eps`` over the soft links plus the StVK energy of the membrane
+        triangles, joules.
+    total : float
+        The sum of the three, joules.
+    """
+
+    kinetic: float
+    gravity: float
+    elastic: float
+    total: float
+
+    __repr__ = _tuple_repr
 
 
 def plane(normal, point=(0.0, 0.0, 0.0)) -> "Collider":
@@ -209,8 +236,9 @@ class Sim:
         """Steps taken."""
         return self._sim.n_steps
 
-    def energy(self) -> dict:
-        """Energies of the current state (J): kinetic, gravity, elastic, total."""
+    def energy(self) -> Energy:
+        """Energies of the current state (J), an :class:`Energy`: kinetic, gravity,
+        elastic, total."""
         return self._sim.energy()
 
     def model(self) -> "Model":

@@ -40,20 +40,66 @@ doi:10.1109/TIP.2010.2076294.
 
 from __future__ import annotations
 
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._native import csmri as _c
 from ._checks import integer_ranges as _integer_ranges
+from ._results import result as _result
 
 __all__ = [
     "Udct", "Fdct", "Sflct", "reconstruct", "fcsa", "tvcmri", "watmri", "tv_constrained", "zero_filled",
     "simulate", "mask_cartesian", "mask_pseudo_radial", "make_shepp_logan_kspace",
     "make_shepp_logan_reference", "make_shepp_logan_image", "with_smooth_phase",
     "make_diamond_lattice",
-    "psnr", "rlne", "noise_epsilon",
+    "psnr", "rlne", "noise_epsilon", "ReconstructionHistory",
 ]
+
+
+@_result
+class ReconstructionHistory:
+    """The iterations of :func:`reconstruct`, :func:`fcsa`, :func:`tvcmri` or :func:`watmri`
+    (``return_history=True``), one entry per iteration run in every array.
+
+    Attributes
+    ----------
+    n_iter : int
+        Iterations run (``max_iter`` or ``n_iter``, fewer when ``tol`` stopped C-SALSA).
+    iteration : int64 array (n_iter,)
+        The iteration numbers, from 1.
+    rel_change : float64 array (n_iter,)
+        Relative change ``||x_k - x_{k-1}|| / ||x_{k-1}||`` of the image.
+    residual : float64 array (n_iter,)
+        Data misfit ``||P F x_k - y||``, k-space units.
+    objective : float64 array (n_iter,)
+        The objective: the regulariser ``Phi(Psi x_k)`` of C-SALSA (eq. 1), or the baselines'
+        ``1/2 ||P F x - y||^2 + a TV(x) + b ||W x||_1`` (plus WaTMRI's tree term), for
+        images normalised to unit peak.
+    mse : float64 array (n_iter,) or None
+        Mean squared error against ``reference`` (the paper's Fig. 6); None without one.
+    """
+
+    n_iter: int
+    iteration: np.ndarray
+    rel_change: np.ndarray
+    residual: np.ndarray
+    objective: np.ndarray
+    mse: Optional[np.ndarray] = None
+
+
+def _history(d) -> ReconstructionHistory:
+    mse = d.get("mse")
+    return ReconstructionHistory(
+        n_iter=int(d["iters"]), iteration=np.asarray(d["iter"], dtype=np.int64),
+        rel_change=np.asarray(d["rel_change"], dtype=np.float64),
+        residual=np.asarray(d["residual"], dtype=np.float64),
+        objective=np.asarray(d["objective"], dtype=np.float64),
+        mse=None if mse is None else np.asarray(mse, dtype=np.float64))
+
+
+def _with_history(img, hist, return_history: bool):
+    return (img, _history(hist)) if return_history else img
 
 
 def _complex2(x, name: str) -> np.ndarray:
@@ -356,7 +402,8 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
                 tau_cap: float = 10.0, tol: float = 0.0, wedges=((6, 6),), alpha: float = 0.1,
                 levels: int = 4, tv_n_iter: int = 20, shrink_lowpass: bool = True,
                 reference=None, return_history: bool = False,
-                sflct_levels: Sequence[int] = (3, 3, 4)):
+                sflct_levels: Sequence[int] = (3, 3, 4)
+                ) -> Union[np.ndarray, Tuple[np.ndarray, ReconstructionHistory]]:
     """Reconstruct an image from undersampled k-space by C-SALSA (UDCSMRI).
 
     Parameters
@@ -400,14 +447,14 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
     reference : complex array, optional
         Ground truth, only used to record the MSE per iteration (paper Fig. 6).
     return_history : bool
-        Also return a dict of per-iteration ``rel_change``, ``residual``, ``objective``
-        (and ``mse``).
+        Also return a :class:`ReconstructionHistory`: ``n_iter`` and the per-iteration
+        ``rel_change``, ``residual``, ``objective`` (and ``mse`` with ``reference``).
 
     Returns
     -------
     image : complex128 array (H, W)
         The reconstruction; its sampled Fourier values satisfy ``||P F x - y|| <= epsilon``.
-    history : dict, when ``return_history``
+    history : ReconstructionHistory, when ``return_history``
 
     Examples
     --------
@@ -433,7 +480,7 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
                                _wedges(wedges), float(alpha), int(levels), int(tv_n_iter),
                                bool(shrink_lowpass), ref, bool(return_history), fdct,
                                [int(v) for v in sflct_levels])
-    return (img, hist) if return_history else img
+    return _with_history(img, hist, return_history)
 
 
 def _composite(method, kspace, mask, a, b, group_weight, mu_g, n_iter, tv_n_iter, order,
@@ -444,24 +491,26 @@ def _composite(method, kspace, mask, a, b, group_weight, mu_g, n_iter, tv_n_iter
     img, hist = _c.composite(method, k, m, float(a), float(b), float(group_weight), float(mu_g),
                              int(n_iter), int(tv_n_iter), int(order), int(levels), ref,
                              bool(return_history))
-    return (img, hist) if return_history else img
+    return _with_history(img, hist, return_history)
 
 
 def fcsa(kspace, mask, a: float = 0.001, b: float = 0.035, n_iter: int = 70,
          tv_n_iter: int = 20, order: int = 4, levels: int = 4, reference=None,
-         return_history: bool = False):
+         return_history: bool = False
+         ) -> Union[np.ndarray, Tuple[np.ndarray, ReconstructionHistory]]:
     """FCSA (Huang, Zhang and Metaxas 2011): FISTA on
     ``1/2 ||P F x - y||^2 + a TV(x) + b ||W x||_1`` (``W``: db``order``, periodic) with the
     composite-splitting average of the two proximal steps, ``n_iter`` iterations (a fixed
     count) with ``tv_n_iter`` Chambolle iterations per TV prox. ``a`` and ``b`` are for
-    images of unit peak (data are normalised internally). Returns the complex image (and
-    history)."""
+    images of unit peak (data are normalised internally). Returns the complex image (and,
+    with ``return_history``, its :class:`ReconstructionHistory`)."""
     return _composite("fcsa", kspace, mask, a, b, b, 0.001, n_iter, tv_n_iter, order, levels,
                       reference, return_history)
 
 
 def tvcmri(kspace, mask, a: float = 0.001, b: float = 0.035, n_iter: int = 70,
-           order: int = 4, levels: int = 4, reference=None, return_history: bool = False):
+           order: int = 4, levels: int = 4, reference=None, return_history: bool = False
+           ) -> Union[np.ndarray, Tuple[np.ndarray, ReconstructionHistory]]:
     """TVCMRI's objective (Ma et al. 2008), the same as :func:`fcsa`'s, minimised by the
     Condat-Vu primal-dual algorithm (gradient step on the data, wavelet shrinkage, projected
     TV dual variables), ``n_iter`` iterations (a fixed count)."""
@@ -471,7 +520,8 @@ def tvcmri(kspace, mask, a: float = 0.001, b: float = 0.035, n_iter: int = 70,
 
 def watmri(kspace, mask, a: float = 0.001, b: float = 0.035, group_weight: Optional[float] = None,
            mu_g: float = 0.001, n_iter: int = 70, tv_n_iter: int = 20, order: int = 4,
-           levels: int = 4, reference=None, return_history: bool = False):
+           levels: int = 4, reference=None, return_history: bool = False
+           ) -> Union[np.ndarray, Tuple[np.ndarray, ReconstructionHistory]]:
     """WaTMRI (Chen and Huang 2012): :func:`fcsa` plus wavelet-tree sparsity
     ``group_weight * sum ||(W x)_{child, parent}||_2`` handled by group replication with
     coupling ``mu_g``. ``group_weight`` defaults to ``b``; ``n_iter`` and ``tv_n_iter`` as in

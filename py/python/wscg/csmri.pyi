@@ -1,8 +1,18 @@
-from typing import Dict, List, Optional, Sequence, Tuple, Union, overload
+from dataclasses import dataclass
+from typing import List, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 
 __all__: List[str]
+
+@dataclass(frozen=True)
+class ReconstructionHistory:
+    n_iter: int
+    iteration: np.ndarray
+    rel_change: np.ndarray
+    residual: np.ndarray
+    objective: np.ndarray
+    mse: Optional[np.ndarray] = None
 
 class Udct:
     def __init__(self, shape: Tuple[int, int], wedges: Sequence[Sequence[int]] = ...,
@@ -53,18 +63,18 @@ def reconstruct(kspace: np.ndarray, mask: np.ndarray, prior: Union[str, Fdct] = 
                 tv_n_iter: int = ..., shrink_lowpass: bool = ...,
                 reference: Optional[np.ndarray] = ...,
                 return_history: bool = ...,
-                sflct_levels: Sequence[int] = ...) -> Union[np.ndarray, Tuple[np.ndarray, Dict[str, list]]]: ...
+                sflct_levels: Sequence[int] = ...) -> Union[np.ndarray, Tuple[np.ndarray, ReconstructionHistory]]: ...
 def fcsa(kspace: np.ndarray, mask: np.ndarray, a: float = ..., b: float = ..., n_iter: int = ...,
          tv_n_iter: int = ..., order: int = ..., levels: int = ..., reference: Optional[np.ndarray] = ...,
-         return_history: bool = ...) -> Union[np.ndarray, Tuple[np.ndarray, Dict[str, list]]]: ...
+         return_history: bool = ...) -> Union[np.ndarray, Tuple[np.ndarray, ReconstructionHistory]]: ...
 def tvcmri(kspace: np.ndarray, mask: np.ndarray, a: float = ..., b: float = ..., n_iter: int = ...,
            order: int = ..., levels: int = ..., reference: Optional[np.ndarray] = ...,
-           return_history: bool = ...) -> Union[np.ndarray, Tuple[np.ndarray, Dict[str, list]]]: ...
+           return_history: bool = ...) -> Union[np.ndarray, Tuple[np.ndarray, ReconstructionHistory]]: ...
 def watmri(kspace: np.ndarray, mask: np.ndarray, a: float = ..., b: float = ...,
            group_weight: Optional[float] = ..., mu_g: float = ..., n_iter: int = ...,
            tv_n_iter: int = ..., order: int = ..., levels: int = ...,
            reference: Optional[np.ndarray] = ...,
-           return_history: bool = ...) -> Union[np.ndarray, Tuple[np.ndarray, Dict[str, list]]]: ...
+           return_history: bool = ...) -> Union[np.ndarray, Tuple[np.ndarray, ReconstructionHistory]]: ...
 def tv_constrained(kspace: np.ndarray, mask: np.ndarray, epsilon: float = ...,
                    n_iter: int = ...) -> np.ndarray: ...
 def zero_filled(kspace: np.ndarray, mask: np.ndarray) -> np.ndarray: ...

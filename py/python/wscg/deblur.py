@@ -50,19 +50,52 @@ shutter correction using gyroscopes", Stanford CS Tech Report 2011.
 from __future__ import annotations
 
 import warnings
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ._native import deblur as _d
 from ._checks import integer_ranges as _integer_ranges
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
     "render_kernel", "kernel_grid", "blurriness", "deconv_krishnan", "deconv_krishnan_multi",
     "wiener", "richardson_lucy", "convolve", "deblur_piecewise", "deblur_multiframe",
     "rectify_rolling_shutter", "phase_correlation", "estimate_time_delay", "w_step",
     "make_gyro", "add_gyro_noise", "render_blurred", "make_scene", "METHODS",
+    "MultiframeDeblur",
 ]
+
+@_result
+class MultiframeDeblur:
+    """The result of :func:`deblur_multiframe` (paper section 5, eq. 9). Images hold display
+    values in ``[0, 1]``.
+
+    Attributes
+    ----------
+    image : float32 array (H, W)
+        The multi-frame result (KM).
+    single : float32 array (H, W)
+        The single-frame result of the main frame (KS).
+    weights : float32 array (rows, cols, frames)
+        Per-region frame weights ``nu_j`` of eq. 9 (0 for the main frame, which enters
+        through the data term, and for unused frames; they sum to 1 over the neighbours of a
+        region whenever one is used).
+    used_frames : list of int
+        The frames that contributed, sorted (the main frame included).
+    warnings : list of str
+        Why neighbours were dropped.
+    kernels : float32 array (rows, cols, K, K)
+        The main frame's region kernels.
+    """
+
+    image: np.ndarray
+    single: np.ndarray
+    weights: np.ndarray
+    used_frames: List[int]
+    warnings: List[str]
+    kernels: np.ndarray
+
 
 #: Valid ``method`` names of :func:`deblur_piecewise`.
 METHODS = ("krishnan", "wiener", "rl", "global")
@@ -625,7 +658,7 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
                       alpha: float = 0.5, gamma: Optional[float] = 2.2, align: str = "ecc",
                       min_ncc: float = 0.8, temporal_radius: Optional[int] = None,
                       tile: int = 30,
-                      r_cam_imu=None, bias=None) -> Dict[str, object]:
+                      r_cam_imu=None, bias=None) -> MultiframeDeblur:
     """Multi-frame blur removal of ``frames[main]`` (paper section 5, eq. 9).
 
     Parameters
@@ -665,15 +698,10 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
 
     Returns
     -------
-    result : dict
-        ``image``: float32 (H, W), the multi-frame result (KM), display values in [0, 1];
-        ``single``: float32 (H, W), the single-frame result of ``main`` (KS), display values;
-        ``weights``: float32 (rows, cols, frames), the per-region frame weights ``nu_j`` of
-        eq. 9 (0 for ``main``, which enters through the data term, and for unused frames;
-        they sum to 1 over the neighbours of a region whenever one is used);
-        ``used_frames``: sorted list of the frames that contributed (``main`` included);
-        ``warnings``: list of str, why neighbours were dropped;
-        ``kernels``: float32 (rows, cols, K, K), the main frame's region kernels.
+    result : MultiframeDeblur
+        ``image`` (the multi-frame result KM), ``single`` (the single-frame result KS of
+        ``main``), the per-region frame ``weights`` of eq. 9, ``used_frames``, ``warnings``
+        (why neighbours were dropped) and the main frame's region ``kernels``.
 
     Warns
     -----
@@ -704,7 +732,7 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
     >>> frames = [deblur.render_blurred(sharp, gyro, t, 0.03, 600, 59.5, 44.5, 0.1,
     ...                                       seed=i) for i, t in enumerate(times)]
     >>> out = deblur.deblur_multiframe(frames, times, gyro, 600, 59.5, 44.5, 0.03)
-    >>> out["image"].shape, out["weights"].shape
+    >>> out.image.shape, out.weights.shape
     ((90, 120), (3, 4, 3))
     """
     frames = list(frames)
@@ -743,7 +771,7 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
         _count("tile", tile), _rotation(r_cam_imu), _bias(bias))
     for w in out["warnings"]:
         warnings.warn(w, UserWarning, stacklevel=2)
-    return out
+    return _from_mapping(MultiframeDeblur, out)
 
 
 def rectify_rolling_shutter(frame, gyro, t_frame: float, t_exposure: float, t_readout: float,

@@ -1,10 +1,20 @@
-from typing import Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
+from dataclasses import dataclass
+from typing import List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 
 __all__: List[str]
 
 METHODS: Tuple[str, ...]
+
+@dataclass(frozen=True)
+class MultiframeDeblur:
+    image: np.ndarray
+    single: np.ndarray
+    weights: np.ndarray
+    used_frames: List[int]
+    warnings: List[str]
+    kernels: np.ndarray
 
 def render_kernel(gyro: np.ndarray, t_frame: float, t_exposure: float, f: float, cx: float,
                   cy: float, x: float, y: float, t_readout: float = ..., t_delay: float = ...,
@@ -48,7 +58,7 @@ def deblur_multiframe(frames: Sequence[np.ndarray], frame_times: Sequence[float]
                       gamma: Optional[float] = ..., align: str = ..., min_ncc: float = ...,
                       temporal_radius: Optional[int] = ..., tile: int = ...,
                       r_cam_imu: Optional[np.ndarray] = ...,
-                      bias: Optional[Sequence[float]] = ...) -> Dict[str, object]: ...
+                      bias: Optional[Sequence[float]] = ...) -> MultiframeDeblur: ...
 def rectify_rolling_shutter(frame: np.ndarray, gyro: np.ndarray, t_frame: float,
                             t_exposure: float, t_readout: float, t_delay: float, f: float,
                             cx: float, cy: float, r_cam_imu: Optional[np.ndarray] = ...,

@@ -13,15 +13,186 @@ condition on the panel means (:func:`fit_rsm`, Tables 2-3), :func:`rm_anova` and
 
 from __future__ import annotations
 
-from typing import Sequence, Tuple, Union
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._native import doe as _d
 from ._checks import integer_ranges as _integer_ranges
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = ["ccd", "decode", "encode", "williams", "fit_rsm", "fit_rsm_blocked", "rm_anova",
-           "rm_anova_oneway", "lsd", "panel_pca"]
+           "rm_anova_oneway", "lsd", "panel_pca", "RsmFit", "AnovaEffect", "AnovaTable",
+           "LeastSignificantDifference"]
+
+
+@_result
+class RsmFit:
+    """A second-order response surface fitted by :func:`fit_rsm` or :func:`fit_rsm_blocked`
+    (paper 07, Tables 2-3). Responses are in the units of ``y`` (the paper's 0 ... 10
+    similarity scale), factors in coded units.
+
+    Attributes
+    ----------
+    names : list of str
+        Term names in coefficient order: ``b0``, ``b1`` ... ``bk``, ``b11`` ... ``bkk``,
+        then ``b12`` ... (with interaction); a blocked fit appends ``subject0`` ....
+    coef, se, t, p : float64 arrays (n_terms,)
+        Coefficients, standard errors ``sqrt(sigma2 (X'X)^-1_jj)``, t statistics
+        ``coef / se`` and their two-sided p-values on ``df_resid`` degrees of freedom.
+    r2, r2_adj, r2_pred : float
+        ``1 - SSE / SST``, adjusted ``1 - (1 - R²)(n - 1) / df_resid`` and predicted
+        ``1 - PRESS / SST`` (``-inf`` when a run has leverage 1).
+    press : float
+        Sum of squared leave-one-out residuals ``e_i / (1 - h_ii)`` (units of ``y`` squared).
+    sse, sst : float
+        Residual and total (centred) sums of squares.
+    df_resid : int
+        Residual degrees of freedom ``n - p``.
+    sigma2 : float
+        Residual variance ``SSE / df_resid``.
+    leverage, residuals, fitted : float64 arrays (n,)
+        Per observation: hat-matrix diagonal ``h_ii``, ``y - y_hat`` and ``y_hat``.
+    stationary : float64 array (k,) or None
+        Stationary point ``-B^-1 b / 2`` in coded units; ``None`` when ``B`` is singular.
+    y_stationary : float or None
+        Predicted response there.
+    canonical_eigs : float64 array (k,)
+        Eigenvalues of ``B``, ascending; all positive: a minimum (the best match on the
+        paper's scale).
+    canonical_axes : float64 array (k, k)
+        Unit eigenvectors of ``B`` as columns, in the order of ``canonical_eigs``.
+    """
+
+    names: List[str]
+    coef: np.ndarray
+    se: np.ndarray
+    t: np.ndarray
+    p: np.ndarray
+    r2: float
+    r2_adj: float
+    r2_pred: float
+    press: float
+    sse: float
+    sst: float
+    df_resid: int
+    sigma2: float
+    leverage: np.ndarray
+    residuals: np.ndarray
+    fitted: np.ndarray
+    stationary: Optional[np.ndarray]
+    y_stationary: Optional[float]
+    canonical_eigs: np.ndarray
+    canonical_axes: np.ndarray
+
+
+@_result
+class AnovaEffect:
+    """One effect of a repeated-measures ANOVA (:func:`rm_anova`, :func:`rm_anova_oneway`).
+    Sums of squares and mean squares are in the units of the scores squared.
+
+    Attributes
+    ----------
+    ss, df, ms : float, int, float
+        Sum of squares, degrees of freedom and mean square ``ss / df`` of the effect.
+    F : float
+        F statistic ``ms / ms_error``.
+    p : float
+        Uncorrected p-value ``P(F(df, df_error) >= F)``.
+    ss_error, df_error, ms_error : float, int, float
+        The same for the effect's error term (effect x subject interaction).
+    np2 : float
+        Partial eta squared ``ss / (ss + ss_error)``.
+    eps_gg : float
+        Greenhouse-Geisser epsilon (1 for one degree of freedom; NaN when the subjects'
+        scores over the effect's cells do not vary).
+    p_gg : float
+        p-value on the Greenhouse-Geisser corrected degrees of freedom.
+    """
+
+    ss: float
+    df: int
+    ms: float
+    F: float
+    p: float
+    ss_error: float
+    df_error: int
+    ms_error: float
+    np2: float
+    eps_gg: float
+    p_gg: float
+
+
+@_result
+class AnovaTable:
+    """The two-way repeated-measures ANOVA of :func:`rm_anova` (condition x stimulus within
+    subjects; sums of squares in the units of the scores squared).
+
+    Attributes
+    ----------
+    condition, stimulus, interaction : AnovaEffect
+        The effects ``condition``, ``stimulus`` and ``condition:stimulus``.
+    ss_subject : float
+        Between-subject sum of squares (``subjects - 1`` degrees of freedom).
+    ss_total : float
+        Total sum of squares about the grand mean.
+    """
+
+    condition: AnovaEffect
+    stimulus: AnovaEffect
+    interaction: AnovaEffect
+    ss_subject: float
+    ss_total: float
+
+
+@_result
+class LeastSignificantDifference:
+    """Fisher's least significant difference on one condition (:func:`lsd`); differences
+    and means are in the units of the scores.
+
+    Attributes
+    ----------
+    alpha : float
+        Two-sided significance level.
+    t_crit : float
+        ``t(1 - alpha/2, df_error)``.
+    ms_error : float
+        Error mean square of the one-way repeated-measures ANOVA (stimulus x subject).
+    df_error : int
+        Its degrees of freedom ``(stimuli - 1)(subjects - 1)``.
+    lsd : float
+        ``t_crit sqrt(2 ms_error / subjects)``.
+    means : float64 array (stimuli,)
+        Mean score of each stimulus.
+    pairs : list of (int, int, bool)
+        Every pair ``(i, j)``, ``i < j``, lexicographic, with whether
+        ``|means[i] - means[j]| > lsd``.
+    n_separated : int
+        Number of separated pairs.
+    """
+
+    alpha: float
+    t_crit: float
+    ms_error: float
+    df_error: int
+    lsd: float
+    means: np.ndarray
+    pairs: List[Tuple[int, int, bool]]
+    n_separated: int
+
+
+_RSM_VECTORS = ("coef", "se", "t", "p", "leverage", "residuals", "fitted", "canonical_eigs")
+
+
+def _rsm(d: dict) -> RsmFit:
+    arrays = {k: np.asarray(d[k], dtype=np.float64) for k in _RSM_VECTORS}
+    st = d["stationary"]
+    return _from_mapping(RsmFit, d, **arrays,
+                         stationary=None if st is None else np.asarray(st, dtype=np.float64))
+
+
+def _effect(d: dict) -> AnovaEffect:
+    return _from_mapping(AnovaEffect, d)
 
 
 def _f64(a, name: str, ndim: int) -> np.ndarray:
@@ -80,51 +251,60 @@ def williams(n: int) -> np.ndarray:
     return np.asarray(_d.williams(int(n)), dtype=np.int64)
 
 
-def fit_rsm(x, y, interaction: bool = True) -> dict:
+def fit_rsm(x, y, interaction: bool = True) -> RsmFit:
     """Second-order response surface by ordinary least squares.
 
     ``y = b0 + sum b_i x_i + sum b_ii x_i^2 (+ sum b_ij x_i x_j)`` on the runs ``x``
     (runs x factors, coded units) and responses ``y``.
 
-    Returns a dict: ``names``, ``coef``, ``se``, ``t``, ``p`` (two-sided), ``r2``,
+    Returns an :class:`RsmFit`: coefficients with ``se``, ``t`` and two-sided ``p``, ``r2``,
     ``r2_adj``, ``r2_pred`` (1 - PRESS / SST), ``press`` (sum of squared leave-one-out
-    residuals ``e_i / (1 - h_ii)``), ``sse``, ``sst``, ``df_resid``, ``sigma2``,
-    ``leverage``, ``residuals``, ``fitted``, ``stationary`` (``-B^-1 b / 2``),
-    ``y_stationary``, ``canonical_eigs`` and ``canonical_axes`` (eigenvalues and vectors of
-    B; all positive: a minimum, the best match on the paper's scale).
+    residuals ``e_i / (1 - h_ii)``), the stationary point ``-B^-1 b / 2`` and the canonical
+    analysis (eigenvalues and vectors of B; all positive: a minimum, the best match on the
+    paper's scale).
     """
-    return _d.fit_rsm(_f64(x, "x", 2), [float(v) for v in np.asarray(y, dtype=np.float64).ravel()],
-                      bool(interaction))
+    return _rsm(_d.fit_rsm(_f64(x, "x", 2),
+                           [float(v) for v in np.asarray(y, dtype=np.float64).ravel()],
+                           bool(interaction)))
 
 
-def fit_rsm_blocked(x, scores, interaction: bool = True) -> dict:
+def fit_rsm_blocked(x, scores, interaction: bool = True) -> RsmFit:
     """The surface of :func:`fit_rsm` on every score, ``scores`` (subjects x runs), with the
     subjects as blocks (one intercept shift per subject): the fit behind significance
     levels computed on all observations rather than on panel means."""
-    return _d.fit_rsm_blocked(_f64(x, "x", 2), _f64(scores, "scores", 2), bool(interaction))
+    return _rsm(_d.fit_rsm_blocked(_f64(x, "x", 2), _f64(scores, "scores", 2),
+                                   bool(interaction)))
 
 
-def rm_anova(scores) -> dict:
+def rm_anova(scores) -> AnovaTable:
     """Two-way repeated-measures ANOVA on ``scores`` (subjects, conditions, stimuli).
 
-    Returns one dict per effect (``'condition'``, ``'stimulus'``, ``'condition:stimulus'``) with
-    ``ss, df, ms, F, p, ss_error, df_error, ms_error, np2`` (partial eta squared),
-    ``eps_gg`` and ``p_gg`` (Greenhouse-Geisser), plus ``ss_subject`` and ``ss_total``.
+    Returns an :class:`AnovaTable`: one :class:`AnovaEffect` per effect (``condition``,
+    ``stimulus`` and their ``interaction``) with ``ss, df, ms, F, p, ss_error, df_error,
+    ms_error, np2`` (partial eta squared), ``eps_gg`` and ``p_gg`` (Greenhouse-Geisser),
+    plus ``ss_subject`` and ``ss_total``.
     """
-    return _d.rm_anova(_f64(scores, "scores", 3))
+    d = _d.rm_anova(_f64(scores, "scores", 3))
+    return AnovaTable(condition=_effect(d["condition"]), stimulus=_effect(d["stimulus"]),
+                      interaction=_effect(d["condition:stimulus"]),
+                      ss_subject=d["ss_subject"], ss_total=d["ss_total"])
 
 
-def rm_anova_oneway(scores) -> dict:
-    """One-way repeated-measures ANOVA on ``scores`` (subjects, levels)."""
-    return _d.rm_anova_oneway(_f64(scores, "scores", 2))
+def rm_anova_oneway(scores) -> AnovaEffect:
+    """One-way repeated-measures ANOVA on ``scores`` (subjects, levels): the
+    :class:`AnovaEffect` of the levels."""
+    return _effect(_d.rm_anova_oneway(_f64(scores, "scores", 2)))
 
 
-def lsd(scores, alpha: float = 0.05) -> dict:
+def lsd(scores, alpha: float = 0.05) -> LeastSignificantDifference:
     """Fisher's least significant difference on one condition, ``scores`` (subjects,
-    stimuli): ``lsd = t(1 - alpha/2, df_err) sqrt(2 MS_err / subjects)``; returns ``lsd``,
-    ``t_crit``, ``ms_error``, ``df_error``, ``means``, ``pairs`` (``(i, j, separated)``) and
-    ``n_separated``."""
-    return _d.lsd(_f64(scores, "scores", 2), float(alpha))
+    stimuli): ``lsd = t(1 - alpha/2, df_err) sqrt(2 MS_err / subjects)``; returns a
+    :class:`LeastSignificantDifference` with ``lsd``, ``t_crit``, ``ms_error``,
+    ``df_error``, ``means``, ``pairs`` (``(i, j, separated)``) and ``n_separated``."""
+    d = _d.lsd(_f64(scores, "scores", 2), float(alpha))
+    return _from_mapping(LeastSignificantDifference, d,
+                         means=np.asarray(d["means"], dtype=np.float64),
+                         pairs=[(int(i), int(j), bool(s)) for i, j, s in d["pairs"]])
 
 
 def panel_pca(scores) -> np.ndarray:

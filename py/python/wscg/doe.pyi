@@ -1,4 +1,5 @@
-from typing import Any, Sequence, Tuple, Union
+from dataclasses import dataclass
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -7,15 +8,71 @@ F64 = npt.NDArray[np.float64]
 
 __all__: list[str]
 
+@dataclass(frozen=True)
+class RsmFit:
+    names: List[str]
+    coef: F64
+    se: F64
+    t: F64
+    p: F64
+    r2: float
+    r2_adj: float
+    r2_pred: float
+    press: float
+    sse: float
+    sst: float
+    df_resid: int
+    sigma2: float
+    leverage: F64
+    residuals: F64
+    fitted: F64
+    stationary: Optional[F64]
+    y_stationary: Optional[float]
+    canonical_eigs: F64
+    canonical_axes: F64
+
+@dataclass(frozen=True)
+class AnovaEffect:
+    ss: float
+    df: int
+    ms: float
+    F: float
+    p: float
+    ss_error: float
+    df_error: int
+    ms_error: float
+    np2: float
+    eps_gg: float
+    p_gg: float
+
+@dataclass(frozen=True)
+class AnovaTable:
+    condition: AnovaEffect
+    stimulus: AnovaEffect
+    interaction: AnovaEffect
+    ss_subject: float
+    ss_total: float
+
+@dataclass(frozen=True)
+class LeastSignificantDifference:
+    alpha: float
+    t_crit: float
+    ms_error: float
+    df_error: int
+    lsd: float
+    means: F64
+    pairs: List[Tuple[int, int, bool]]
+    n_separated: int
+
 def ccd(k: int, face: str = "circumscribed", alpha: Union[str, float] = "orthogonal",
         center: Union[int, Tuple[int, int]] = (4, 4)) -> F64: ...
 def decode(coded: npt.ArrayLike, low: Sequence[float], high: Sequence[float]) -> F64: ...
 def encode(physical: npt.ArrayLike, low: Sequence[float], high: Sequence[float]) -> F64: ...
 def williams(n: int) -> npt.NDArray[np.int64]: ...
-def fit_rsm(x: npt.ArrayLike, y: npt.ArrayLike, interaction: bool = True) -> dict[str, Any]: ...
+def fit_rsm(x: npt.ArrayLike, y: npt.ArrayLike, interaction: bool = True) -> RsmFit: ...
 def fit_rsm_blocked(x: npt.ArrayLike, scores: npt.ArrayLike,
-                    interaction: bool = True) -> dict[str, Any]: ...
-def rm_anova(scores: npt.ArrayLike) -> dict[str, Any]: ...
-def rm_anova_oneway(scores: npt.ArrayLike) -> dict[str, Any]: ...
-def lsd(scores: npt.ArrayLike, alpha: float = 0.05) -> dict[str, Any]: ...
+                    interaction: bool = True) -> RsmFit: ...
+def rm_anova(scores: npt.ArrayLike) -> AnovaTable: ...
+def rm_anova_oneway(scores: npt.ArrayLike) -> AnovaEffect: ...
+def lsd(scores: npt.ArrayLike, alpha: float = 0.05) -> LeastSignificantDifference: ...
 def panel_pca(scores: npt.ArrayLike) -> F64: ...

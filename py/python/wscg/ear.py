@@ -40,7 +40,7 @@ and rule (``skin_model`` or ``skin_mean`` / ``skin_cov``, ``skin_rule``,
 ``fill_holes``, ``block_skin_fraction``, ``reject_above_pct``), the matching (``shifts``,
 ``score``, ``mask_features``, ``equalize_on_skin``) and ``gray_enrolment``. The default
 skin model is ours (the paper cites one without numbers): fit your own with
-:meth:`SkinModel.fit` on enrolment images.
+``SkinModel().fit(pixels)`` on enrolment images.
 
 Conventions: images are uint8 arrays ``(H, W, 3)`` with channels R, G, B (any size; they
 are resized to the normalised size); block ``b`` sits at grid row ``b // 8``, column
@@ -65,13 +65,17 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._checks import _int, _real, integer_ranges as _integer_ranges
+from ._estimator import Estimator
 from ._native import ear as _e
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
     "enroll", "enroll_many", "detect_occlusion", "skin_pixels", "EarMatcher", "score",
     "baseline_score", "SkinModel", "cmc", "make_ears", "evaluate", "rgb_to_gray",
     "equalize_hist", "resize", "haar_ll", "block_features", "close_disk", "dilate_disk",
     "erode_disk", "fill_holes", "RULES", "SHIFTS_NINE", "PARAMS", "OCCLUSIONS",
+    "OcclusionReport", "Identification", "Ranking", "MatchScore", "EarDataset",
+    "EarEvaluation",
 ]
 
 #: Score rules, in the order of Fig. 11 followed by the literal eq. 18.
@@ -191,8 +195,8 @@ def _params(given: dict) -> dict:
                 raise ValueError(f"`skin_model` must be a SkinModel, got {type(v).__name__}")
             if "skin_mean" in kw or "skin_cov" in kw:
                 raise ValueError("give either `skin_model` or `skin_mean`/`skin_cov`, not both")
-            out["skin_mean"] = v.mean.tolist()
-            out["skin_cov"] = v.cov.tolist()
+            out["skin_mean"] = v.mean_.tolist()
+            out["skin_cov"] = v.cov_.tolist()
         elif k in _FLAGS:
             out[k] = _flag(k, v)
         elif k in _INTS:
@@ -258,6 +262,197 @@ def _plane(name: str, p) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------------------
+# Results
+# ----------------------------------------------------------------------------------------
+
+@_result
+class OcclusionReport:
+    """The occlusion decision of :func:`detect_occlusion` (section 3.3, Algorithm 1) on the
+    normalised ``(height, width)`` image cut into ``(rows, cols)`` blocks.
+
+    Attributes
+    ----------
+    mask : bool array (height, width)
+        Skin (un-occluded) mask ``Z`` after closing and hole filling.
+    blocks : bool array (rows, cols)
+        Grid of un-occluded blocks (``(10, 8)`` by default).
+    block_skin_fraction : float64 array (rows, cols)
+        Skin fraction of every block, in ``[0, 1]``.
+    index : int64 array
+        Indices of the un-occluded blocks, ascending (block ``b`` at row ``b // cols``).
+    occluded_pct : float
+        Percentage of occluded blocks ``E``.
+    rejected : bool
+        ``E > reject_above_pct``: reacquire the probe.
+    """
+
+    mask: np.ndarray
+    blocks: np.ndarray
+    block_skin_fraction: np.ndarray
+    index: np.ndarray
+    occluded_pct: float
+    rejected: bool
+
+
+@_result
+class Identification:
+    """A probe identified by :meth:`EarMatcher.identify`.
+
+    Attributes
+    ----------
+    rejected : bool
+        Whether the probe has more than ``reject_above_pct`` occluded blocks (it is then
+        not ranked: reacquire it).
+    occluded_pct : float
+        Its percentage of occluded blocks.
+    order : int64 array (n,)
+        Gallery indices, best first (ties: lower index first); empty when rejected.
+    scores : float64 array (n,)
+        Scores in that order (1 is a perfect match); empty when rejected.
+    """
+
+    rejected: bool
+    occluded_pct: float
+    order: np.ndarray
+    scores: np.ndarray
+
+
+@_result
+class Ranking:
+    """The gallery ranked by the whole-ear baseline (:meth:`EarMatcher.identify_baseline`;
+    never rejected).
+
+    Attributes
+    ----------
+    order : int64 array (n,)
+        Gallery indices, best first (ties: lower index first).
+    scores : float64 array (n,)
+        Scores ``1 - |t - r| / (2 sqrt(block_len) sqrt(blocks))`` in that order.
+    """
+
+    order: np.ndarray
+    scores: np.ndarray
+
+
+@_result
+class MatchScore:
+    """Every quantity of the match of one probe against one template (:func:`score`, eqs.
+    7-18), with ``S`` shifts and ``m`` kept (un-occluded) blocks. Scores and distances are
+    dimensionless, scores in ``[0, 1]`` (1 is a perfect match).
+
+    Attributes
+    ----------
+    rules : dict mapping str to float
+        The score under every rule of :data:`RULES` (``-inf`` where the rule has nothing
+        defined).
+    score : float
+        The score under the ``score`` parameter.
+    per_shift : float64 array (S,)
+        Per-shift scores ``S_s`` (eqs. 8-16), NaN where undefined (fewer than
+        ``ceil(m / 2)`` blocks with a partner).
+    distances : float64 array (S, m)
+        Normalised block distances ``d_{s,j}``, NaN where the partner block lies outside the
+        grid.
+    best_shift : int64 array (m,)
+        Index into ``shifts`` of each kept block's best shift.
+    index : int64 array (m,)
+        The kept block indices.
+    shifts : int64 array (S, 2)
+        The shifts ``(d_row, d_col)``, in blocks.
+    occluded_pct : float
+        Percentage of occluded blocks of the probe.
+    rejected : bool
+        The occlusion decision (the probe is scored even when rejected).
+    """
+
+    rules: Dict[str, float]
+    score: float
+    per_shift: np.ndarray
+    distances: np.ndarray
+    best_shift: np.ndarray
+    index: np.ndarray
+    shifts: np.ndarray
+    occluded_pct: float
+    rejected: bool
+
+
+@_result
+class EarDataset:
+    """Synthetic colour ears of :func:`make_ears` with exact occluder masks; ``m =
+    n_subjects * n_probes`` probes, subject-major.
+
+    Attributes
+    ----------
+    enrol : uint8 array (n_subjects, H, W, 3)
+        One clean enrolment capture per subject.
+    probes : uint8 array (m, H, W, 3)
+        The probe captures.
+    labels : int64 array (m,)
+        True identity of each probe.
+    occluder_masks : bool array (m, H, W)
+        Pixels covered by an occluder.
+    occluded_blocks : bool array (m, rows, cols)
+        Blocks occluded in the normalised image (at least half covered after resizing).
+    occluded_pct : float64 array (m,)
+        Percentage of occluded blocks of each probe.
+    skin_rg : float64 array (n_subjects, 2)
+        The subjects' skin chromaticities ``(r, g)``.
+    """
+
+    enrol: np.ndarray
+    probes: np.ndarray
+    labels: np.ndarray
+    occluder_masks: np.ndarray
+    occluded_blocks: np.ndarray
+    occluded_pct: np.ndarray
+    skin_rg: np.ndarray
+
+
+@_result
+class EarEvaluation:
+    """The paper's experiments (section 4) run by :func:`evaluate` on ``n`` probes. CMC
+    values and rates are fractions in ``[0, 1]``; percentages are of blocks.
+
+    Attributes
+    ----------
+    rules : list of str
+        The rules of :data:`RULES`, the column order of ``ranks``.
+    cmc : dict mapping str to float64 arrays (max_rank,)
+        CMC curve of every rule over the accepted probes.
+    baseline_cmc : float64 array (max_rank,)
+        The whole-ear baseline over the same accepted probes.
+    baseline_cmc_all : float64 array (max_rank,)
+        The baseline over every probe (it has no reject path).
+    rejection_rate : float
+        Fraction of rejected probes.
+    estimated_pct : float64 array (n,)
+        Estimated occlusion percentage of each probe.
+    true_pct : float64 array (n,)
+        Ground-truth occlusion percentage (NaN where unknown).
+    rejected : bool array (n,)
+        Whether each probe was rejected.
+    ranks : int64 array (n, len(rules))
+        0-based rank of the true identity under each rule (-1 when rejected).
+    baseline_rank : int64 array (n,)
+        0-based rank of the true identity under the baseline.
+    degradation : dict mapping str to float64 arrays (bins, 4), or None
+        With ``edges``: per rule, rows ``(lo, hi, count, rank1)`` (rank-1 rate per bin of
+        estimated occlusion, NaN for an empty bin; Fig. 13); ``None`` without ``edges``.
+    """
+
+    rules: List[str]
+    cmc: Dict[str, np.ndarray]
+    baseline_cmc: np.ndarray
+    baseline_cmc_all: np.ndarray
+    rejection_rate: float
+    estimated_pct: np.ndarray
+    true_pct: np.ndarray
+    rejected: np.ndarray
+    ranks: np.ndarray
+    baseline_rank: np.ndarray
+    degradation: Optional[Dict[str, np.ndarray]] = None
+
+# ----------------------------------------------------------------------------------------
 # Pipeline
 # ----------------------------------------------------------------------------------------
 
@@ -290,13 +485,13 @@ def detect_occlusion(image, *, height: int = 100, width: int = 80, block: int = 
                      skin_rule: str = "marginal-and", min_likelihood: Optional[float] = None,
                      min_intensity: int = 0, close_radius: float = 10.0,
                      fill_holes: bool = True, block_skin_fraction: float = 0.5,
-                     reject_above_pct: float = 60.0) -> Dict[str, object]:
+                     reject_above_pct: float = 60.0) -> OcclusionReport:
     """Occlusion report of an RGB ear crop (section 3.3, Algorithm 1).
 
     The crop is resized to ``height x width``; every pixel is classified by the skin model
     and rule, the skin mask is closed with a disk of ``close_radius`` and its holes filled,
     and a block is un-occluded when its skin fraction is at least ``block_skin_fraction``.
-    Returns a dict:
+    Returns an :class:`OcclusionReport`:
 
     - ``mask``: bool ``(height, width)`` skin (un-occluded) mask ``Z``;
     - ``blocks``: bool ``(rows, cols)`` grid of un-occluded blocks (``(10, 8)``);
@@ -306,7 +501,8 @@ def detect_occlusion(image, *, height: int = 100, width: int = 80, block: int = 
     - ``rejected``: ``E > reject_above_pct`` (reacquire the probe).
 
     A grey image raises ``ValueError`` (the skin test needs colour)."""
-    return _e.detect_occlusion(_image("image", image), _params(locals()))
+    return _from_mapping(OcclusionReport,
+                         _e.detect_occlusion(_image("image", image), _params(locals())))
 
 
 @_documented
@@ -319,23 +515,29 @@ def skin_pixels(image, *, skin_model: Optional[SkinModel] = None, skin_mean=None
     return _e.skin_pixels(_image("image", image), _params(locals()))
 
 
-class EarMatcher:
+class EarMatcher(Estimator):
     """A gallery of enrolled ear templates and the parameters to identify probes against it
     (section 3.4).
 
-    ``templates`` is a float array ``(n, blocks, block_len)`` (e.g. from
-    :func:`enroll_many`; stored as float32, block-major for fast matching); gallery entry
-    ``i`` is identity ``i``. The keyword parameters are those of the whole pipeline
-    (``score`` selects the rule used by :meth:`identify` and :meth:`scores`); the block
-    count and length of the templates must fit them.
+    The keyword parameters are those of the whole pipeline (``score`` selects the rule used
+    by :meth:`identify` and :meth:`scores`). ``fit(X)`` enrols the gallery: ``X`` is a float
+    array of templates ``(n, blocks, block_len)`` (e.g. from :func:`enroll_many` with the
+    same ``height``, ``width``, ``block`` and ``gray_enrolment``; stored as float32,
+    block-major for fast matching), whose block count and length must fit the parameters;
+    gallery entry ``i`` is identity ``i``. A scikit-learn estimator: ``get_params`` /
+    ``set_params`` (``set_params`` takes effect at the next ``fit``), ``sklearn.base.clone``;
+    fitted or not it pickles and deep-copies.
 
-    >>> m = EarMatcher(enroll_many(gallery_images))
+    >>> m = EarMatcher().fit(enroll_many(gallery_images))
     >>> r = m.identify(probe)
-    >>> None if r["rejected"] else r["order"][0]
+    >>> None if r.rejected else r.order[0]
     """
 
+    _matrix_input = False
+    _fitted_attr = "n_templates_"
+
     @_documented
-    def __init__(self, templates, *, height: int = 100, width: int = 80, block: int = 10,
+    def __init__(self, *, height: int = 100, width: int = 80, block: int = 10,
                  skin_model: Optional[SkinModel] = None, skin_mean=None, skin_cov=None,
                  skin_rule: str = "marginal-and", min_likelihood: Optional[float] = None,
                  min_intensity: int = 0, close_radius: float = 10.0, fill_holes: bool = True,
@@ -343,36 +545,68 @@ class EarMatcher:
                  shifts: Sequence[Tuple[int, int]] = SHIFTS_NINE,
                  score: str = "blockwise-max", mask_features: bool = False,
                  gray_enrolment: bool = False, equalize_on_skin: bool = False):
-        """A matcher of ``templates`` with the pipeline parameters below."""
-        given = dict(locals())
-        self._params = {k: given[k] for k in PARAMS}
-        self._m = _e.EarMatcher(_templates("templates", templates), _params(given))
+        """A matcher with the pipeline parameters below; :meth:`fit` enrols the gallery."""
+        self.height, self.width, self.block = height, width, block
+        self.skin_model, self.skin_mean, self.skin_cov = skin_model, skin_mean, skin_cov
+        self.skin_rule, self.min_likelihood = skin_rule, min_likelihood
+        self.min_intensity, self.close_radius, self.fill_holes = (
+            min_intensity, close_radius, fill_holes)
+        self.block_skin_fraction, self.reject_above_pct = block_skin_fraction, reject_above_pct
+        self.shifts, self.score, self.mask_features = shifts, score, mask_features
+        self.gray_enrolment, self.equalize_on_skin = gray_enrolment, equalize_on_skin
+
+    def fit(self, X, y=None) -> "EarMatcher":
+        """Enrols the templates ``X`` ``(n, blocks, block_len)``; ``y`` is ignored (entry
+        ``i`` is identity ``i``). Returns ``self``.
+
+        Raises
+        ------
+        ValueError
+            Bad parameters, no template, non-finite values, or templates that do not fit
+            the parameters.
+        """
+        templates = _templates("X", X)
+        params = self.get_params(deep=False)
+        self._m = _e.EarMatcher(templates, _params(params))
+        self._fit_params = params
+        self.n_templates_ = len(self._m)
+        return self
 
     def __len__(self) -> int:
-        """Number of enrolled templates."""
-        return len(self._m)
+        """Number of enrolled templates (``NotFittedError`` before ``fit``)."""
+        self._check_fitted()
+        return self.n_templates_
 
-    def __repr__(self) -> str:
-        defaults = inspect.signature(EarMatcher.__init__).parameters
-        changed = {k: v for k, v in self._params.items() if not _same(v, defaults[k].default)}
-        return f"EarMatcher({len(self)} templates, {changed or 'default parameters'})"
+    def __bool__(self) -> bool:
+        """Always true, fitted or not (``len`` needs a fitted matcher)."""
+        return True
 
-    def __reduce__(self):
-        return (_rebuild_matcher, (self.templates, self._params))
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        if "_m" in state:
+            state["_m"] = state["_m"].templates()
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        state = dict(state)
+        if isinstance(state.get("_m"), np.ndarray):
+            state["_m"] = _e.EarMatcher(state["_m"], _params(state["_fit_params"]))
+        self.__dict__.update(state)
 
     @property
-    def templates(self) -> np.ndarray:
-        """A copy of the templates, float32 ``(n, blocks, block_len)``."""
+    def templates_(self) -> np.ndarray:
+        """A copy of the enrolled templates, float32 ``(n, blocks, block_len)``."""
+        self._check_fitted()
         return self._m.templates()
 
     @property
     def params(self) -> dict:
-        """The keyword parameters the matcher was built with (every one, by name)."""
-        return dict(self._params)
+        """Every keyword parameter by name (``get_params(deep=False)``)."""
+        return self.get_params(deep=False)
 
-    def identify(self, image) -> Dict[str, object]:
+    def identify(self, image) -> Identification:
         """Identifies an RGB probe: occlusion detection, then index-based matching against
-        every template. Returns a dict:
+        every template. Returns an :class:`Identification`:
 
         - ``rejected``: whether the probe has more than ``reject_above_pct`` occluded blocks
           (it is then not ranked: reacquire it);
@@ -383,8 +617,9 @@ class EarMatcher:
 
         Raises ``ValueError`` for bad input, or when no block is un-occluded and the probe
         is not rejected (only possible with ``reject_above_pct >= 100``)."""
+        self._check_fitted()
         rej, pct, order, scores = self._m.identify(_image("image", image))
-        return {"rejected": rej, "occluded_pct": pct, "order": order, "scores": scores}
+        return Identification(rejected=rej, occluded_pct=pct, order=order, scores=scores)
 
     def scores(self, image) -> np.ndarray:
         """Scores of an RGB probe against every template, float64 ``(n,)`` in gallery order,
@@ -395,28 +630,18 @@ class EarMatcher:
         :func:`detect_occlusion` or use :meth:`identify` for the decision). A rule with
         nothing defined (e.g. ``"overall-max"`` when no shift covers half of the kept blocks)
         scores ``-inf``. Raises ``ValueError`` when no block is un-occluded."""
+        self._check_fitted()
         s, _rejected, _pct = self._m.scores(_image("image", image))
         return s
 
-    def identify_baseline(self, image) -> Dict[str, object]:
+    def identify_baseline(self, image) -> Ranking:
         """The whole-ear Haar baseline (Fig. 12): every block, the single shift B0, no
-        occlusion detection and never rejected. Returns ``{"order", "scores"}`` as
-        :meth:`identify` (score ``1 - |t - r| / (2 sqrt(block_len) sqrt(blocks))``). Grey
+        occlusion detection and never rejected. Returns a :class:`Ranking`, ``order`` and
+        ``scores`` as :meth:`identify` (score ``1 - |t - r| / (2 sqrt(block_len) sqrt(blocks))``). Grey
         probes are accepted with ``gray_enrolment=True``."""
+        self._check_fitted()
         order, scores = self._m.identify_baseline(_image("image", image))
-        return {"order": order, "scores": scores}
-
-
-def _same(a, b) -> bool:
-    """Whether a parameter value equals its default (arrays and mixed types: no)."""
-    try:
-        return a is b or (type(a) is type(b) and bool(a == b))
-    except (TypeError, ValueError):
-        return False
-
-
-def _rebuild_matcher(templates, params):
-    return EarMatcher(templates, **params)
+        return Ranking(order=order, scores=scores)
 
 
 @_documented
@@ -426,13 +651,13 @@ def score(image, template, *, height: int = 100, width: int = 80, block: int = 1
           min_intensity: int = 0, close_radius: float = 10.0, fill_holes: bool = True,
           block_skin_fraction: float = 0.5, reject_above_pct: float = 60.0,
           shifts: Sequence[Tuple[int, int]] = SHIFTS_NINE, score: str = "blockwise-max",
-          mask_features: bool = False, equalize_on_skin: bool = False) -> Dict[str, object]:
+          mask_features: bool = False, equalize_on_skin: bool = False) -> MatchScore:
     """Every quantity of the match of an RGB probe image against one template (the
     reference path of eqs. 7-18; :class:`EarMatcher` computes the same scores for a whole
     gallery).
 
     ``template`` is a float ``(blocks, block_len)`` array. With ``S`` shifts and ``m`` kept
-    blocks, returns a dict:
+    blocks, returns a :class:`MatchScore`:
 
     - ``rules``: ``{name: score}`` under every rule of :data:`RULES` (``-inf`` where the
       rule has nothing defined);
@@ -448,7 +673,9 @@ def score(image, template, *, height: int = 100, width: int = 80, block: int = 1
       rejected).
 
     Raises ``ValueError`` when no block is un-occluded or the template does not fit."""
-    return _e.score(_image("image", image), _templates("template", template), _params(locals()))
+    return _from_mapping(MatchScore, _e.score(_image("image", image),
+                                              _templates("template", template),
+                                              _params(locals())))
 
 
 @_documented
@@ -464,52 +691,102 @@ def baseline_score(image, template, *, height: int = 100, width: int = 80, block
 # Skin model
 # ----------------------------------------------------------------------------------------
 
-class SkinModel:
+class SkinModel(Estimator):
     """Gaussian skin colour model in normalised chromaticity ``(r, g)``, ``r = R / (R + G +
     B)``, ``g = G / (R + G + B)`` (eqs. 2-5): mean ``A`` and covariance ``C``, likelihood
     ``L(x) = exp(-1/2 (x - A)^T C^-1 (x - A))``.
 
-    The default is ours (the paper cites a model without numbers): ``A = (0.45, 0.32)``,
-    ``C = diag(1.6e-3, 2.5e-4)``. Pass a model to the pipeline with ``skin_model=``.
-    ``ValueError`` for a non-finite, asymmetric or non-positive-definite covariance."""
+    ``mean`` and ``cov`` give the model until :meth:`fit` (or :meth:`fit_rg`) learns one
+    from skin samples; ``mean_`` and ``cov_`` are the model in use. The default is ours (the
+    paper cites a model without numbers): ``A = (0.45, 0.32)``, ``C = diag(1.6e-3,
+    2.5e-4)``. Pass a model to the pipeline with ``skin_model=``. A non-finite, asymmetric
+    or non-positive-definite covariance raises ``ValueError`` when the model is used.
+
+    A scikit-learn estimator whose samples are RGB pixels: ``fit(X)`` returns ``self``,
+    ``get_params`` / ``set_params``; it pickles and deep-copies. ``sklearn.base.clone``
+    keeps the learned ``mean_`` and ``cov_`` (as scikit-learn's ``FrozenEstimator``
+    does): a skin model is fitted once on enrolment images and is a fixed part of the
+    pipelines it is passed to, so cloning an :class:`EarMatcher` that holds it keeps its
+    colours.
+
+    Parameters
+    ----------
+    mean : (float, float), default (0.45, 0.32)
+        Mean chromaticity ``(r, g)`` used until ``fit``.
+    cov : 2 x 2 floats, default ((1.6e-3, 0), (0, 2.5e-4))
+        Covariance used until ``fit``.
+
+    Attributes
+    ----------
+    mean_ : ndarray, shape (2,)
+        Mean chromaticity of the model in use (fitted, else ``mean``).
+    cov_ : ndarray, shape (2, 2)
+        Its covariance (fitted, else ``cov``).
+    """
+
+    _matrix_input = False
+    _fitted_attr = "_learned"
 
     def __init__(self, mean=(0.45, 0.32), cov=((1.6e-3, 0.0), (0.0, 2.5e-4))):
-        m, c = _e.skin_check(_floats("mean", mean).ravel().tolist(),
-                             _floats("cov", cov).tolist())
-        self._mean = np.array(m, dtype=np.float64)
-        self._cov = np.array(c, dtype=np.float64)
+        self.mean = mean
+        self.cov = cov
 
-    @classmethod
-    def fit(cls, pixels) -> "SkinModel":
-        """Maximum-likelihood model (covariance divided by ``n``) of uint8 RGB skin pixels,
-        an ``(n, 3)`` array (or any ``(..., 3)`` array, flattened); black pixels, whose
-        chromaticity is undefined, are skipped. Recommended: the central part of the
-        enrolment images. ``ValueError`` for fewer than 3 usable pixels or a singular
-        result."""
-        a = _image("pixels", pixels)
+    def fit(self, X, y=None) -> "SkinModel":
+        """Maximum-likelihood model (covariance divided by ``n``) of uint8 RGB skin pixels
+        ``X``, an ``(n, 3)`` array (or any ``(..., 3)`` array, flattened); black pixels,
+        whose chromaticity is undefined, are skipped; ``y`` is ignored. Recommended: the
+        central part of the enrolment images. Returns ``self``.
+
+        Raises
+        ------
+        ValueError
+            Not uint8, fewer than 3 usable pixels, or a singular result.
+        """
+        a = _image("X", X)
         if a.ndim >= 1 and a.shape[-1] == 3:
             a = np.ascontiguousarray(a.reshape(-1, 3))
-        return cls(*_e.skin_fit(a))
+        return self._learn(*_e.skin_fit(a))
 
-    @classmethod
-    def fit_rg(cls, points) -> "SkinModel":
-        """Maximum-likelihood model of chromaticity samples, a float ``(n, 2)`` array of
-        ``(r, g)``."""
-        return cls(*_e.skin_fit_rg(np.ascontiguousarray(_floats("points", points))))
+    def fit_rg(self, X, y=None) -> "SkinModel":
+        """Maximum-likelihood model of chromaticity samples ``X``, a float ``(n, 2)`` array
+        of ``(r, g)``; ``y`` is ignored. Returns ``self``."""
+        return self._learn(*_e.skin_fit_rg(np.ascontiguousarray(_floats("X", X))))
+
+    def _learn(self, mean, cov) -> "SkinModel":
+        m, c = _e.skin_check(_floats("mean", mean).ravel().tolist(),
+                             _floats("cov", cov).tolist())
+        self._learned = (np.array(m, dtype=np.float64), np.array(c, dtype=np.float64))
+        return self
+
+    def _model(self) -> Tuple[np.ndarray, np.ndarray]:
+        """``(mean, cov)`` in use: learned by ``fit``, else the checked parameters."""
+        learned = self.__dict__.get("_learned")
+        if learned is not None:
+            return learned
+        m, c = _e.skin_check(_floats("mean", self.mean).ravel().tolist(),
+                             _floats("cov", self.cov).tolist())
+        return np.array(m, dtype=np.float64), np.array(c, dtype=np.float64)
+
+    def __sklearn_clone__(self) -> "SkinModel":
+        out = type(self)(**self.get_params(deep=False))
+        if "_learned" in self.__dict__:
+            out._learned = tuple(a.copy() for a in self._learned)
+        return out
 
     @property
-    def mean(self) -> np.ndarray:
-        """Mean chromaticity ``(r, g)``, float64 ``(2,)`` (a copy)."""
-        return self._mean.copy()
+    def mean_(self) -> np.ndarray:
+        """Mean chromaticity ``(r, g)`` of the model in use, float64 ``(2,)`` (a copy)."""
+        return self._model()[0].copy()
 
     @property
-    def cov(self) -> np.ndarray:
-        """Covariance, float64 ``(2, 2)`` (a copy)."""
-        return self._cov.copy()
+    def cov_(self) -> np.ndarray:
+        """Covariance of the model in use, float64 ``(2, 2)`` (a copy)."""
+        return self._model()[1].copy()
 
     def _eval(self, r, g, what):
+        mean, cov = self._model()
         ra, ga = np.broadcast_arrays(_floats("r", r), _floats("g", g))
-        out = _e.skin_eval_rg(self._mean.tolist(), self._cov.tolist(),
+        out = _e.skin_eval_rg(mean.tolist(), cov.tolist(),
                               np.ascontiguousarray(ra).ravel(),
                               np.ascontiguousarray(ga).ravel(), what).reshape(ra.shape)
         return float(out) if out.ndim == 0 else out
@@ -532,19 +809,27 @@ class SkinModel:
     def likelihood(self, rgb):
         """Skin likelihood of uint8 RGB pixels, a ``(..., 3)`` array: float64 ``(...)`` (a
         float for one pixel); 0 for black."""
+        mean, cov = self._model()
         a = _image("rgb", rgb)
-        out = _e.skin_likelihood(self._mean.tolist(), self._cov.tolist(), a)
+        out = _e.skin_likelihood(mean.tolist(), cov.tolist(), a)
         out = out.reshape(a.shape[:-1]) if a.ndim >= 1 else out
         return float(out) if out.ndim == 0 else out
 
     def __eq__(self, other) -> bool:
-        return (isinstance(other, SkinModel) and np.array_equal(self._mean, other._mean)
-                and np.array_equal(self._cov, other._cov))
+        """Whether both use the same model (``mean_`` and ``cov_``)."""
+        if not isinstance(other, SkinModel):
+            return NotImplemented
+        (m1, c1), (m2, c2) = self._model(), other._model()
+        return np.array_equal(m1, m2) and np.array_equal(c1, c2)
 
     __hash__ = None  # type: ignore[assignment]
 
     def __repr__(self) -> str:
-        return f"SkinModel(mean={self._mean.tolist()}, cov={self._cov.tolist()})"
+        learned = self.__dict__.get("_learned")
+        if learned is None:
+            return super().__repr__()
+        return (f"SkinModel(fitted: mean_={learned[0].tolist()}, "
+                f"cov_={learned[1].tolist()})")
 
 
 # ----------------------------------------------------------------------------------------
@@ -571,7 +856,7 @@ def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "n
               shift_px: float = 6.0, rotation_deg: float = 3.0,
               gain: Tuple[float, float] = (0.85, 1.15), white_balance: float = 0.03,
               noise_sigma: float = 3.0, height: int = 100, width: int = 80,
-              block: int = 10) -> Dict[str, np.ndarray]:
+              block: int = 10) -> EarDataset:
     """Synthetic colour ears with exact occluder masks (the paper's WPUT database is not
     redistributable).
 
@@ -599,7 +884,7 @@ def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "n
     noise_sigma : float, default 3.0
         Sensor noise standard deviation in grey levels.
 
-    Returns a dict (``m = n_subjects * n_probes``, probes subject-major):
+    Returns an :class:`EarDataset` (``m = n_subjects * n_probes``, probes subject-major):
     ``enrol`` uint8 ``(n_subjects, H, W, 3)``, ``probes`` uint8 ``(m, H, W, 3)``,
     ``labels`` int64 ``(m,)`` true identities, ``occluder_masks`` bool ``(m, H, W)``,
     ``occluded_blocks`` bool ``(m, rows, cols)`` (block occluded when at least half of it is
@@ -610,12 +895,12 @@ def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "n
     p = _params(locals())
     cv = (_int("canvas", canvas[0], 0), _int("canvas", canvas[1], 0))
     g = (_real("gain", gain[0]), _real("gain", gain[1]))
-    return _e.make_ears(_int("n_subjects", n_subjects, 0), _int("n_probes", n_probes, 0),
-                        _int("seed", seed, 0), occlusion, _real("min_pct", min_pct),
-                        _real("max_pct", max_pct), cv, _real("shape_spread", shape_spread),
-                        _real("shift_px", shift_px), _real("rotation_deg", rotation_deg), g,
-                        _real("white_balance", white_balance),
-                        _real("noise_sigma", noise_sigma), p)
+    return _from_mapping(EarDataset, _e.make_ears(
+        _int("n_subjects", n_subjects, 0), _int("n_probes", n_probes, 0), _int("seed", seed, 0),
+        occlusion, _real("min_pct", min_pct), _real("max_pct", max_pct), cv,
+        _real("shape_spread", shape_spread), _real("shift_px", shift_px),
+        _real("rotation_deg", rotation_deg), g, _real("white_balance", white_balance),
+        _real("noise_sigma", noise_sigma), p))
 
 
 @_documented
@@ -628,7 +913,7 @@ def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
              block_skin_fraction: float = 0.5, reject_above_pct: float = 60.0,
              shifts: Sequence[Tuple[int, int]] = SHIFTS_NINE, score: str = "blockwise-max",
              mask_features: bool = False, gray_enrolment: bool = False,
-             equalize_on_skin: bool = False) -> Dict[str, object]:
+             equalize_on_skin: bool = False) -> EarEvaluation:
     """The paper's experiments (section 4) on labelled images: enrols ``enrol`` (image ``i``
     is identity ``i``), identifies every probe under all rules of :data:`RULES` and the
     baseline.
@@ -638,13 +923,14 @@ def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
     occlusion percentages (NaN: unknown). With ``edges`` (increasing occlusion percentages)
     the rank-1 rate per bin of estimated occlusion is reported too (Fig. 13).
 
-    Returns a dict: ``rules`` (names), ``cmc`` ``{rule: float64 (max_rank,)}`` over accepted
+    Returns an :class:`EarEvaluation`: ``rules`` (names), ``cmc`` ``{rule: float64 (max_rank,)}`` over accepted
     probes, ``baseline_cmc`` (the baseline over the same accepted probes),
     ``baseline_cmc_all`` (over every probe; it has no reject path), ``rejection_rate``,
     per probe ``estimated_pct``, ``true_pct`` (NaN where unknown), ``rejected`` (bool),
     ``ranks`` int64 ``(n, 5)`` 0-based rank of the true identity under each rule (-1 when
     rejected) and ``baseline_rank`` int64 ``(n,)``; with ``edges``, ``degradation`` ``{rule:
-    float64 (bins, 4)}`` rows ``(lo, hi, count, rank1)`` (rank1 NaN for an empty bin).
+    float64 (bins, 4)}`` rows ``(lo, hi, count, rank1)`` (rank1 NaN for an empty bin;
+    ``None`` without ``edges``).
 
     ``ValueError`` when every probe is rejected (no CMC can be formed)."""
     p = _params(locals())
@@ -655,8 +941,9 @@ def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
         raise ValueError("`labels` must be a 1-D array of integer identities")
     tp = None if true_pct is None else _floats("true_pct", true_pct).ravel().tolist()
     e = None if edges is None else _floats("edges", edges).ravel().tolist()
-    return _e.evaluate(enrol_l, probe_l, [int(s) for s in lab], tp,
-                       _int("max_rank", max_rank, 0), e, p)
+    return _from_mapping(EarEvaluation,
+                         _e.evaluate(enrol_l, probe_l, [int(s) for s in lab], tp,
+                                     _int("max_rank", max_rank, 0), e, p))
 
 # ----------------------------------------------------------------------------------------
 # Building blocks

@@ -1,7 +1,9 @@
+from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
+from ._estimator import Estimator
 
 ArrayLike = npt.ArrayLike
 U8 = npt.NDArray[np.uint8]
@@ -18,6 +20,63 @@ SHIFTS_NINE: Tuple[Tuple[int, int], ...]
 PARAMS: Tuple[str, ...]
 OCCLUSIONS: Tuple[str, ...]
 
+@dataclass(frozen=True)
+class OcclusionReport:
+    mask: Bool
+    blocks: Bool
+    block_skin_fraction: F64
+    index: I64
+    occluded_pct: float
+    rejected: bool
+
+@dataclass(frozen=True)
+class Identification:
+    rejected: bool
+    occluded_pct: float
+    order: I64
+    scores: F64
+
+@dataclass(frozen=True)
+class Ranking:
+    order: I64
+    scores: F64
+
+@dataclass(frozen=True)
+class MatchScore:
+    rules: Dict[str, float]
+    score: float
+    per_shift: F64
+    distances: F64
+    best_shift: I64
+    index: I64
+    shifts: I64
+    occluded_pct: float
+    rejected: bool
+
+@dataclass(frozen=True)
+class EarDataset:
+    enrol: U8
+    probes: U8
+    labels: I64
+    occluder_masks: Bool
+    occluded_blocks: Bool
+    occluded_pct: F64
+    skin_rg: F64
+
+@dataclass(frozen=True)
+class EarEvaluation:
+    rules: List[str]
+    cmc: Dict[str, F64]
+    baseline_cmc: F64
+    baseline_cmc_all: F64
+    rejection_rate: float
+    estimated_pct: F64
+    true_pct: F64
+    rejected: Bool
+    ranks: I64
+    baseline_rank: I64
+    degradation: Optional[Dict[str, F64]] = ...
+
 # The keyword parameters of the pipeline are documented in ear.py (PARAMS names them all).
 
 def enroll(image: ArrayLike, *, height: int = ..., width: int = ..., block: int = ...,
@@ -31,7 +90,7 @@ def detect_occlusion(
     min_likelihood: Optional[float] = ..., min_intensity: int = ...,
     close_radius: float = ..., fill_holes: bool = ..., block_skin_fraction: float = ...,
     reject_above_pct: float = ...,
-) -> Dict[str, Any]: ...
+) -> OcclusionReport: ...
 def skin_pixels(
     image: ArrayLike, *,
     skin_model: Optional[SkinModel] = ..., skin_mean: Optional[Sequence[float]] = ...,
@@ -39,9 +98,10 @@ def skin_pixels(
     min_likelihood: Optional[float] = ..., min_intensity: int = ...,
 ) -> Bool: ...
 
-class EarMatcher:
+class EarMatcher(Estimator):
+    n_templates_: int
     def __init__(
-        self, templates: ArrayLike, *, height: int = ..., width: int = ..., block: int = ...,
+        self, *, height: int = ..., width: int = ..., block: int = ...,
         skin_model: Optional[SkinModel] = ..., skin_mean: Optional[Sequence[float]] = ...,
         skin_cov: Optional[Sequence[Sequence[float]]] = ..., skin_rule: str = ...,
         min_likelihood: Optional[float] = ..., min_intensity: int = ...,
@@ -50,14 +110,15 @@ class EarMatcher:
         shifts: Sequence[Tuple[int, int]] = ..., score: str = ..., mask_features: bool = ...,
         gray_enrolment: bool = ..., equalize_on_skin: bool = ...,
     ) -> None: ...
+    def fit(self, X: ArrayLike, y: object = None) -> "EarMatcher": ...
     def __len__(self) -> int: ...
     @property
-    def templates(self) -> F32: ...
+    def templates_(self) -> F32: ...
     @property
     def params(self) -> Dict[str, Any]: ...
-    def identify(self, image: ArrayLike) -> Dict[str, Any]: ...
+    def identify(self, image: ArrayLike) -> Identification: ...
     def scores(self, image: ArrayLike) -> F64: ...
-    def identify_baseline(self, image: ArrayLike) -> Dict[str, Any]: ...
+    def identify_baseline(self, image: ArrayLike) -> Ranking: ...
 
 def score(
     image: ArrayLike, template: ArrayLike, *, height: int = ..., width: int = ...,
@@ -69,20 +130,20 @@ def score(
     reject_above_pct: float = ...,
     shifts: Sequence[Tuple[int, int]] = ..., score: str = ..., mask_features: bool = ...,
     equalize_on_skin: bool = ...,
-) -> Dict[str, Any]: ...
+) -> MatchScore: ...
 def baseline_score(image: ArrayLike, template: ArrayLike, *, height: int = ...,
                    width: int = ..., block: int = ..., gray_enrolment: bool = ...) -> float: ...
 
-class SkinModel:
+class SkinModel(Estimator):
+    mean: ArrayLike
+    cov: ArrayLike
     def __init__(self, mean: ArrayLike = ..., cov: ArrayLike = ...) -> None: ...
-    @classmethod
-    def fit(cls, pixels: ArrayLike) -> "SkinModel": ...
-    @classmethod
-    def fit_rg(cls, points: ArrayLike) -> "SkinModel": ...
+    def fit(self, X: ArrayLike, y: object = None) -> "SkinModel": ...
+    def fit_rg(self, X: ArrayLike, y: object = None) -> "SkinModel": ...
     @property
-    def mean(self) -> F64: ...
+    def mean_(self) -> F64: ...
     @property
-    def cov(self) -> F64: ...
+    def cov_(self) -> F64: ...
     def mahalanobis2_rg(self, r: ArrayLike, g: ArrayLike) -> Union[float, F64]: ...
     def likelihood_rg(self, r: ArrayLike, g: ArrayLike) -> Union[float, F64]: ...
     def marginal_likelihoods_rg(
@@ -96,7 +157,7 @@ def make_ears(n_subjects: int, n_probes: int, seed: int = ..., occlusion: str = 
               canvas: Tuple[int, int] = ..., shape_spread: float = ..., shift_px: float = ...,
               rotation_deg: float = ..., gain: Tuple[float, float] = ...,
               white_balance: float = ..., noise_sigma: float = ..., height: int = ...,
-              width: int = ..., block: int = ...) -> Dict[str, np.ndarray]: ...
+              width: int = ..., block: int = ...) -> EarDataset: ...
 def evaluate(
     enrol: _Images, probes: _Images, labels: ArrayLike, true_pct: Optional[ArrayLike] = ...,
     max_rank: int = ..., edges: Optional[Sequence[float]] = ..., *, height: int = ...,
@@ -108,7 +169,7 @@ def evaluate(
     reject_above_pct: float = ...,
     shifts: Sequence[Tuple[int, int]] = ..., score: str = ..., mask_features: bool = ...,
     gray_enrolment: bool = ..., equalize_on_skin: bool = ...,
-) -> Dict[str, Any]: ...
+) -> EarEvaluation: ...
 
 def rgb_to_gray(image: ArrayLike) -> U8: ...
 def equalize_hist(gray: ArrayLike, within: Optional[ArrayLike] = ...) -> U8: ...

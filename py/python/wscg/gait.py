@@ -48,19 +48,22 @@ the Most Relevant Joint Relative Angles", WSCG 2015, Journal of WSCG vol. 23.
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._checks import _int, _real, integer_ranges as _integer_ranges
+from ._estimator import Estimator
 from ._native import gait as _g
+from ._results import (from_mapping as _from_mapping, result as _result,
+                       tuple_repr as _tuple_repr)
 
 __all__ = [
     "JOINT_NAMES", "N_PAIRS", "all_pairs", "jra", "detect_cycle", "jra_sequences",
     "relevance_matrix", "occupied_bins", "select_pairs", "dtw", "dtw_path", "dtw_kernel",
     "dissimilarity_matrix", "nearest", "load_ts", "load_skeleton", "save_skeleton_csv",
     "ball_features", "preis_features", "GaitRecognizer", "make_walkers",
-    "evaluate_synthetic",
+    "evaluate_synthetic", "GaitCycle", "CycleDetails", "SyntheticWalks", "GaitEvaluation",
 ]
 
 #: Names of the 25 Kinect v2 joints in index (``JointType``) order.
@@ -69,6 +72,139 @@ JOINT_NAMES: List[str] = list(_g.JOINT_NAMES)
 N_PAIRS: int = 276
 
 _COSTS = ("abs", "squared")
+
+
+# ----------------------------------------------------------------------------------------
+# Results
+# ----------------------------------------------------------------------------------------
+
+class GaitCycle(NamedTuple):
+    """One gait cycle found by :func:`detect_cycle`: the frames of three consecutive leg
+    crossings, a named tuple (``start, mid, end = detect_cycle(frames)``); the cycle is
+    ``frames[start:end + 1]``.
+
+    Attributes
+    ----------
+    start, mid, end : int
+        Frame indices of the first, middle and last leg crossing.
+    """
+
+    start: int
+    mid: int
+    end: int
+
+    __repr__ = _tuple_repr
+
+
+@_result
+class CycleDetails:
+    """The cycle of :func:`detect_cycle` with its intermediate results
+    (``return_details=True``). Accepted wherever a ``cycle`` is (its :attr:`cycle` is the
+    :class:`GaitCycle`).
+
+    Attributes
+    ----------
+    start, mid, end : int
+        Frames of the three consecutive minima (leg crossings) of the cycle.
+    ankle_dist : float64 array (T,)
+        The smoothed horizontal ankle distance of every frame, metres.
+    minima : int64 array
+        Frames of all accepted leg crossings, ascending.
+    first_step : str or None
+        ``"left"`` or ``"right"``: the foot that steps forward in the first half of the
+        cycle (``None`` when it cannot be told).
+    """
+
+    start: int
+    mid: int
+    end: int
+    ankle_dist: np.ndarray
+    minima: np.ndarray
+    first_step: Optional[str]
+
+    @property
+    def cycle(self) -> GaitCycle:
+        """``(start, mid, end)`` as a :class:`GaitCycle`."""
+        return GaitCycle(self.start, self.mid, self.end)
+
+
+@_result
+class SyntheticWalks:
+    """Synthetic Kinect v2 walks of :func:`make_walkers` with their ground truth, walks in
+    subject-major order.
+
+    Attributes
+    ----------
+    frames : list of float64 arrays (T_i, 25, 3)
+        The walks, joint positions in metres at 30 fps.
+    labels : int64 array (n,)
+        Subject of each walk.
+    sessions : int64 array (n,)
+        Session index of each walk.
+    minima : list of int64 arrays
+        The true leg-crossing frames of each walk (minima of the noise-free horizontal ankle
+        distance during the walk).
+    walk_frames : int64 array (n,)
+        Frames of walking; a sit-down tail starts there.
+    sit_tail : list of bool
+        Whether each walk ends with a sit-down tail.
+    """
+
+    frames: List[np.ndarray]
+    labels: np.ndarray
+    sessions: np.ndarray
+    minima: List[np.ndarray]
+    walk_frames: np.ndarray
+    sit_tail: List[bool]
+
+
+@_result
+class GaitEvaluation:
+    """The paper's cross-validation on synthetic walks (:func:`evaluate_synthetic`, section
+    4.1, Table 1, Fig. 9). Accuracies are fractions in ``[0, 1]``.
+
+    Attributes
+    ----------
+    decisions : int
+        Number of test decisions.
+    jra_nearest, jra_paper_vote, jra_majority : float
+        JRA + DTW kernel with the threshold chosen on the training folds: 1-NN, the paper's
+        vote (top ``#classes + 1``), majority of the nearest walks.
+    jra_fixed : float
+        JRA + DTW kernel at the fixed threshold ``t = 20``, 1-NN.
+    jra_normalized : float
+        Path-length-normalised DTW, chosen threshold, 1-NN.
+    jra_resampled : float
+        JRA sequences resampled to 32 samples + Euclidean sum, chosen threshold.
+    raw_dtw : float
+        DTW kernel on raw SpineBase-relative coordinates, 1-NN.
+    ball_nn : float
+        Ball et al.'s features, z-scored, 1-NN.
+    preis_nb, preis_nn : float
+        Preis et al.'s features: Gaussian naive Bayes, and z-scored 1-NN.
+    chosen_t : list of float
+        Threshold (occupied bins) chosen on the training walks of each fold.
+    curve : float64 array (30, 2)
+        Rows ``(threshold, 1-NN accuracy)``, Fig. 9; NaN where no pair reaches the
+        threshold.
+    relevance : float64 array (25, 25)
+        Relevance map of the first fold's training walks (Fig. 8), mean occupied bins.
+    """
+
+    decisions: int
+    jra_nearest: float
+    jra_paper_vote: float
+    jra_majority: float
+    jra_fixed: float
+    jra_normalized: float
+    jra_resampled: float
+    raw_dtw: float
+    ball_nn: float
+    preis_nb: float
+    preis_nn: float
+    chosen_t: List[float]
+    curve: np.ndarray
+    relevance: np.ndarray
 
 
 # ----------------------------------------------------------------------------------------
@@ -197,7 +333,9 @@ def _pairs(pairs) -> Optional[np.ndarray]:
 def _cycle(cycle) -> Optional[Tuple[int, int, int]]:
     if cycle is None:
         return None
-    if isinstance(cycle, dict):
+    if isinstance(cycle, CycleDetails):
+        cycle = cycle.cycle
+    elif isinstance(cycle, dict):
         cycle = (cycle["start"], cycle["mid"], cycle["end"])
     try:
         c = tuple(cycle)
@@ -275,7 +413,8 @@ def jra(p1, p2, r) -> float:
 
 def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: float = 0.25,
                  min_prominence: float = 0.2, up="estimate", choice: str = "first",
-                 start_leg: str = "left", return_details: bool = False):
+                 start_leg: str = "left",
+                 return_details: bool = False) -> Union[GaitCycle, CycleDetails]:
     """Detects one full gait cycle (section 3.1).
 
     Parameters
@@ -302,15 +441,16 @@ def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: 
         Which foot steps forward in the first half of the returned cycle (falls back to the
         first cycle when no cycle of that order exists).
     return_details : bool, default False
-        Return a dict with the intermediate results instead of the tuple.
+        Return a :class:`CycleDetails` with the intermediate results instead.
 
     Returns
     -------
-    (start, mid, end) : tuple of int
-        Frames of the three consecutive minima; the cycle is ``frames[start:end + 1]``.
-        With ``return_details=True`` a dict with keys ``start``, ``mid``, ``end``, ``ankle_dist``
-        (the smoothed horizontal ankle distance of every frame, metres), ``minima`` (all
-        accepted leg crossings) and ``first_step`` (``"left"`` or ``"right"``).
+    GaitCycle
+        The named tuple ``(start, mid, end)``: frames of the three consecutive minima; the
+        cycle is ``frames[start:end + 1]``. With ``return_details=True`` a
+        :class:`CycleDetails`: ``start``, ``mid``, ``end``, ``ankle_dist`` (the smoothed
+        horizontal ankle distance of every frame, metres), ``minima`` (all accepted leg
+        crossings) and ``first_step`` (``"left"`` or ``"right"``).
 
     Raises
     ------
@@ -333,8 +473,9 @@ def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: 
                         up, _str("choice", choice, ("first", "most_regular")),
                         _str("start_leg", start_leg, ("left", "right", "any")))
     if return_details:
-        return d
-    return int(d["start"]), int(d["mid"]), int(d["end"])
+        return _from_mapping(CycleDetails, d, start=int(d["start"]), mid=int(d["mid"]),
+                             end=int(d["end"]))
+    return GaitCycle(int(d["start"]), int(d["mid"]), int(d["end"]))
 
 
 def jra_sequences(frames, cycle=None, pairs=None, reference: Union[str, int] = "SpineBase",
@@ -345,7 +486,7 @@ def jra_sequences(frames, cycle=None, pairs=None, reference: Union[str, int] = "
     ----------
     frames : array_like, shape (T, 25, 3)
         The walk.
-    cycle : (start, mid, end) or dict, optional
+    cycle : (start, mid, end) or CycleDetails, optional
         The cycle's frames (e.g. from :func:`detect_cycle`); default: detected with the
         default parameters.
     pairs : array_like of int, shape (P, 2), or list of (name, name), optional
@@ -725,9 +866,9 @@ def _encode(labels, n: int) -> Tuple[np.ndarray, List[int]]:
     try:
         seq = list(labels)
     except TypeError:
-        raise ValueError("`labels` must be a sequence with one label per walk") from None
+        raise ValueError("`y` must be a sequence with one label per walk") from None
     if len(seq) != n:
-        raise ValueError(f"{len(seq)} labels for {n} walks: give one label per walk")
+        raise ValueError(f"`y` has {len(seq)} labels for {n} walks: give one label per walk")
     try:
         arr = np.asarray(seq)
         if arr.ndim != 1 or arr.dtype == object:
@@ -742,12 +883,17 @@ def _encode(labels, n: int) -> Tuple[np.ndarray, List[int]]:
         return classes, [index[x] for x in seq]
 
 
-class GaitRecognizer:
+class GaitRecognizer(Estimator):
     """Gait recognition with the most relevant JRA sequences and the DTW kernel (Fig. 6).
 
     ``fit`` detects a gait cycle in every training walk, computes the JRA sequences of all
     276 pairs, the relevance map of the training walks and the pairs reaching ``min_bins``;
-    ``predict`` ranks the training walks by ``Delta`` to the query and votes.
+    ``predict`` ranks the training walks by ``Delta`` to each query and votes.
+
+    A scikit-learn classifier whose samples are walks: ``fit(X, y)`` returns ``self``,
+    ``predict(X)`` and ``score(X, y)`` take a sequence of walks; ``get_params`` /
+    ``set_params``, ``sklearn.base.clone`` and ``cross_val_score`` work, fitted or not it
+    pickles and deep-copies.
 
     Parameters
     ----------
@@ -786,28 +932,26 @@ class GaitRecognizer:
     including the test ones).
     """
 
+    _estimator_type = "classifier"
+    _requires_y = True
+    _matrix_input = False
+    _fitted_attr = "classes_"
+
     def __init__(self, min_bins: float = 20.0, vote: str = "nearest",
                  n_neighbors: Optional[int] = None, cost: str = "abs",
                  window: Optional[int] = None, bin_deg: float = 1.0, start_leg: str = "left",
                  fps: float = 30.0):
         self.min_bins, self.vote, self.n_neighbors, self.cost = min_bins, vote, n_neighbors, cost
         self.window, self.bin_deg, self.start_leg, self.fps = window, bin_deg, start_leg, fps
-        self._model = None
 
-    def __repr__(self) -> str:
-        return (f"GaitRecognizer(min_bins={self.min_bins!r}, vote={self.vote!r}, "
-                f"n_neighbors={self.n_neighbors!r}, "
-                f"cost={self.cost!r}, window={self.window!r}, bin_deg={self.bin_deg!r}, "
-                f"start_leg={self.start_leg!r}, fps={self.fps!r})")
-
-    def fit(self, walks, labels) -> "GaitRecognizer":
+    def fit(self, X, y) -> "GaitRecognizer":
         """Fits the recognizer.
 
         Parameters
         ----------
-        walks : sequence of array_like, each of shape (T_i, 25, 3)
-            Training walks (lengths may differ).
-        labels : array_like, shape (n,)
+        X : sequence of array_like, each of shape (T_i, 25, 3)
+            Training walks (lengths may differ), or an ``(n, T, 25, 3)`` array.
+        y : array_like, shape (n,)
             Identity of each walk (any hashable values).
 
         Returns
@@ -826,16 +970,13 @@ class GaitRecognizer:
         window = _window(self.window)
         start_leg = _str("start_leg", self.start_leg, ("left", "right", "any"))
         fps = _fps(self.fps)
-        if isinstance(walks, np.ndarray) and walks.dtype != object and walks.ndim == 4:
-            walks = [walks[i] for i in range(walks.shape[0])]
-        try:
-            ws = list(walks)
-        except TypeError:
-            raise ValueError("`walks` must be a list of (T, 25, 3) arrays") from None
+        ws = _walks(X)
         if not ws:
-            raise ValueError("`walks` is empty: the gallery needs at least one walk")
-        classes, codes = _encode(labels, len(ws))
-        arrs = [_frames(w, f"walks[{i}]") for i, w in enumerate(ws)]
+            raise ValueError("`X` is empty: the gallery needs at least one walk")
+        if y is None:
+            raise ValueError("GaitRecognizer requires y to be passed, but the target y is None")
+        classes, codes = _encode(y, len(ws))
+        arrs = [_frames(w, f"X[{i}]") for i, w in enumerate(ws)]
         self._model = _g.Recognizer(arrs, codes, fps, _real("min_bins", self.min_bins), vote,
                                     cost, window, _real("bin_deg", self.bin_deg), start_leg)
         self.classes_ = classes
@@ -843,29 +984,40 @@ class GaitRecognizer:
         self.relevance_ = self._model.relevance()
         return self
 
-    def _check(self):
-        if self._model is None:
-            raise ValueError("this GaitRecognizer is not fitted yet: call fit(walks, labels)")
-        return self._model
+    def _predict(self, frames, name: str = "frames"):
+        self._check_fitted()
+        return self._model.predict(_frames(frames, name), _fps(self.fps))
 
-    def _predict(self, frames):
-        m = self._check()
-        return m.predict(_frames(frames), _fps(self.fps))
-
-    def predict(self, frames):
-        """Identifies a walk.
+    def predict(self, X) -> np.ndarray:
+        """Identifies walks.
 
         Parameters
         ----------
-        frames : array_like, shape (T, 25, 3)
+        X : sequence of array_like, each of shape (T_i, 25, 3)
+            The walks, or an ``(n, T, 25, 3)`` array (``predict([walk])[0]`` for one walk).
 
         Returns
         -------
-        label
-            One of :attr:`classes_`.
+        ndarray, shape (n,)
+            One of :attr:`classes_` per walk.
         """
-        code = self._predict(frames)[0]
-        return self.classes_[code]
+        self._check_fitted()
+        if isinstance(X, np.ndarray) and X.dtype != object and X.ndim == 3:
+            raise ValueError(f"`X` of shape {X.shape} is one walk: predict takes a sequence "
+                             "of walks (use predict([walk])[0])")
+        codes = [self._predict(w, f"X[{i}]")[0] for i, w in enumerate(_walks(X))]
+        return self.classes_[np.asarray(codes, dtype=np.int64)]
+
+    def score(self, X, y) -> float:
+        """Fraction of the walks ``X`` identified as ``y``."""
+        pred = self.predict(X)
+        try:
+            ys = list(y)
+        except TypeError:
+            raise ValueError("`y` must be a sequence with one label per walk") from None
+        if len(ys) != len(pred):
+            raise ValueError(f"`y` has {len(ys)} labels for {len(pred)} walks")
+        return float(np.mean([bool(p == t) for p, t in zip(pred, ys)]))
 
     def rank(self, frames) -> Tuple[np.ndarray, np.ndarray]:
         """The training walks ranked by ``Delta`` to a walk.
@@ -889,6 +1041,29 @@ class GaitRecognizer:
         _, idx, _, deltas, _ = self._predict(frames)
         return idx, deltas
 
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        if "_model" in state:
+            state["_model"] = state["_model"].to_json()
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        state = dict(state)
+        if isinstance(state.get("_model"), str):
+            state["_model"] = _g.Recognizer.from_json(state["_model"])
+        self.__dict__.update(state)
+
+
+def _walks(X) -> list:
+    """The walks of ``X``: a sequence of ``(T, 25, 3)`` arrays or an ``(n, T, 25, 3)``
+    array."""
+    if isinstance(X, np.ndarray) and X.dtype != object and X.ndim == 4:
+        return [X[i] for i in range(X.shape[0])]
+    try:
+        return list(X)
+    except TypeError:
+        raise ValueError("`X` must be a sequence of (T, 25, 3) walks") from None
+
 
 # ----------------------------------------------------------------------------------------
 # Synthetic data and the protocol
@@ -904,7 +1079,7 @@ def _range(name: str, r) -> Tuple[float, float]:
 
 def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
                   heading_deg=(-60.0, 60.0), speed=(0.9, 1.1), walk_s=(2.5, 4.0),
-                  sit_prob: float = 0.5, noise: bool = True) -> Dict[str, Any]:
+                  sit_prob: float = 0.5, noise: bool = True) -> SyntheticWalks:
     """Synthetic Kinect v2 walks with ground truth (the paper's database is private).
 
     Subjects differ in body proportions and above all in gait dynamics (hip, knee, ankle
@@ -930,7 +1105,7 @@ def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
 
     Returns
     -------
-    dict
+    SyntheticWalks
         ``frames`` (list of ``(T_i, 25, 3)`` arrays, 30 fps), ``labels`` (subject of each
         walk), ``sessions`` (session index), ``minima`` (list of int arrays: the true
         leg-crossing frames, minima of the noise-free horizontal ankle distance during the
@@ -939,13 +1114,15 @@ def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
     """
     if not isinstance(noise, (bool, np.bool_)):
         raise ValueError(f"`noise` must be True or False, got {noise!r}")
-    return _g.make_walkers(_int("n_subjects", n_subjects, 1), _int("n_sessions", n_sessions, 1),
-                            _int("seed", seed, 0, 2 ** 64 - 1), _range("heading_deg", heading_deg),
-                            _range("speed", speed), _range("walk_s", walk_s),
-                            _real("sit_prob", sit_prob), bool(noise))
+    d = _g.make_walkers(_int("n_subjects", n_subjects, 1), _int("n_sessions", n_sessions, 1),
+                        _int("seed", seed, 0, 2 ** 64 - 1), _range("heading_deg", heading_deg),
+                        _range("speed", speed), _range("walk_s", walk_s),
+                        _real("sit_prob", sit_prob), bool(noise))
+    return _from_mapping(SyntheticWalks, d)
 
 
-def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0) -> Dict[str, Any]:
+def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3,
+                       seed: int = 0) -> GaitEvaluation:
     """The paper's evaluation (section 4.1, Table 1, Fig. 9) on :func:`make_walkers`.
 
     Fold ``k`` tests session ``k`` of every subject and trains on the others; relevance
@@ -959,7 +1136,7 @@ def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0)
 
     Returns
     -------
-    dict
+    GaitEvaluation
         ``decisions``; ``jra_nearest``, ``jra_paper_vote``, ``jra_majority`` (JRA + DTW
         kernel with the threshold chosen on the training folds, three vote rules);
         ``jra_fixed`` (t = 20); ``jra_normalized`` (path-length-normalised DTW);
@@ -969,9 +1146,10 @@ def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0)
         threshold and 1-NN accuracy, Fig. 9; NaN where no pair reaches the threshold);
         ``relevance`` (``(25, 25)`` map of the first fold's training walks).
     """
-    return _g.evaluate_synthetic(_int("n_subjects", n_subjects, 2),
-                                 _int("n_sessions", n_sessions, 2),
-                                 _int("seed", seed, 0, 2 ** 64 - 1))
+    return _from_mapping(GaitEvaluation,
+                         _g.evaluate_synthetic(_int("n_subjects", n_subjects, 2),
+                                               _int("n_sessions", n_sessions, 2),
+                                               _int("seed", seed, 0, 2 ** 64 - 1)))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

@@ -1,14 +1,17 @@
-from typing import Any, Dict, Hashable, List, Literal, Optional, Sequence, Tuple, Union
+from dataclasses import dataclass
+from typing import (Any, Dict, Hashable, List, Literal, NamedTuple, Optional, Sequence, Tuple,
+                    Union, overload)
 
 import numpy as np
 import numpy.typing as npt
+from ._estimator import Estimator
 
 ArrayLike = npt.ArrayLike
 F64 = npt.NDArray[np.float64]
 I64 = npt.NDArray[np.int64]
 _Joint = Union[str, int]
 _Pairs = Union[ArrayLike, Sequence[Tuple[_Joint, _Joint]]]
-_Cycle = Union[Tuple[int, int, int], Dict[str, Any]]
+_Cycle = Union[Tuple[int, int, int], "CycleDetails", Dict[str, Any]]
 _Sample = Union[ArrayLike, Sequence[ArrayLike]]
 _Cost = Literal["abs", "squared"]
 
@@ -17,14 +20,64 @@ __all__: List[str]
 JOINT_NAMES: List[str]
 N_PAIRS: int
 
+class GaitCycle(NamedTuple):
+    start: int
+    mid: int
+    end: int
+
+@dataclass(frozen=True)
+class CycleDetails:
+    start: int
+    mid: int
+    end: int
+    ankle_dist: F64
+    minima: I64
+    first_step: Optional[str]
+    @property
+    def cycle(self) -> GaitCycle: ...
+
+@dataclass(frozen=True)
+class SyntheticWalks:
+    frames: List[F64]
+    labels: I64
+    sessions: I64
+    minima: List[I64]
+    walk_frames: I64
+    sit_tail: List[bool]
+
+@dataclass(frozen=True)
+class GaitEvaluation:
+    decisions: int
+    jra_nearest: float
+    jra_paper_vote: float
+    jra_majority: float
+    jra_fixed: float
+    jra_normalized: float
+    jra_resampled: float
+    raw_dtw: float
+    ball_nn: float
+    preis_nb: float
+    preis_nn: float
+    chosen_t: List[float]
+    curve: F64
+    relevance: F64
+
 def all_pairs(reference: _Joint = "SpineBase") -> I64: ...
 def jra(p1: ArrayLike, p2: ArrayLike, r: ArrayLike) -> float: ...
+@overload
 def detect_cycle(frames: ArrayLike, fps: float = 30.0, smooth_window: int = 5,
                  min_step_s: float = 0.25, min_prominence: float = 0.2,
                  up: Union[Literal["estimate", "y"], ArrayLike] = "estimate",
                  choice: Literal["first", "most_regular"] = "first",
                  start_leg: Literal["left", "right", "any"] = "left",
-                 return_details: bool = False) -> Any: ...
+                 return_details: Literal[False] = False) -> GaitCycle: ...
+@overload
+def detect_cycle(frames: ArrayLike, fps: float = 30.0, smooth_window: int = 5,
+                 min_step_s: float = 0.25, min_prominence: float = 0.2,
+                 up: Union[Literal["estimate", "y"], ArrayLike] = "estimate",
+                 choice: Literal["first", "most_regular"] = "first",
+                 start_leg: Literal["left", "right", "any"] = "left", *,
+                 return_details: Literal[True]) -> CycleDetails: ...
 def jra_sequences(frames: ArrayLike, cycle: Optional[_Cycle] = None,
                   pairs: Optional[_Pairs] = None, reference: _Joint = "SpineBase",
                   fps: float = 30.0) -> F64: ...
@@ -51,7 +104,7 @@ def ball_features(frames: ArrayLike, cycle: Optional[_Cycle] = None, fps: float 
 def preis_features(frames: ArrayLike, cycle: Optional[_Cycle] = None,
                    fps: float = 30.0) -> F64: ...
 
-class GaitRecognizer:
+class GaitRecognizer(Estimator):
     min_bins: float
     vote: str
     n_neighbors: Optional[int]
@@ -68,8 +121,9 @@ class GaitRecognizer:
                  window: Optional[int] = None, bin_deg: float = 1.0,
                  start_leg: Literal["left", "right", "any"] = "left",
                  fps: float = 30.0) -> None: ...
-    def fit(self, walks: Sequence[ArrayLike], labels: Sequence[Hashable]) -> "GaitRecognizer": ...
-    def predict(self, frames: ArrayLike) -> Any: ...
+    def fit(self, X: Sequence[ArrayLike], y: Sequence[Hashable]) -> "GaitRecognizer": ...
+    def predict(self, X: Sequence[ArrayLike]) -> np.ndarray: ...
+    def score(self, X: Sequence[ArrayLike], y: Sequence[Hashable]) -> float: ...
     def rank(self, frames: ArrayLike) -> Tuple[np.ndarray, F64]: ...
     def rank_indices(self, frames: ArrayLike) -> Tuple[I64, F64]: ...
 
@@ -77,6 +131,6 @@ def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
                   heading_deg: Tuple[float, float] = (-60.0, 60.0),
                   speed: Tuple[float, float] = (0.9, 1.1),
                   walk_s: Tuple[float, float] = (2.5, 4.0), sit_prob: float = 0.5,
-                  noise: bool = True) -> Dict[str, Any]: ...
+                  noise: bool = True) -> SyntheticWalks: ...
 def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3,
-                       seed: int = 0) -> Dict[str, Any]: ...
+                       seed: int = 0) -> GaitEvaluation: ...

@@ -49,19 +49,22 @@ ICIP 2006.
 
 from __future__ import annotations
 
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._checks import _int, integer_ranges as _integer_ranges
 from ._native import hdr as _h
+from ._results import (from_mapping as _from_mapping, result as _result,
+                       tuple_eq as _tuple_eq, tuple_ne as _tuple_ne,
+                       tuple_repr as _tuple_repr)
 
 __all__ = [
     "multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
     "warp_direct", "calibrate_debevec", "calibrate_mitsunaga_nayar", "to_radiance",
     "khan_weight", "merge", "merge_stack",
     "make_scene", "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS",
-    "SYNTHESIS_METHODS", "CRF_NAMES",
+    "SYNTHESIS_METHODS", "CRF_NAMES", "HdrSequence", "PolynomialResponse", "HdrScene",
 ]
 
 #: Valid ``align`` names of :func:`multiscopic_hdr`.
@@ -72,6 +75,94 @@ SYNTHESIS_METHODS = ("bds", "direct")
 CRF_NAMES = ("gamma2.2", "linear")
 
 _REFERENCE = "Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23"
+
+
+class HdrSequence(NamedTuple):
+    """The HDR views of :func:`multiscopic_hdr` with ``return_details=True``, a named tuple
+    (``hdr, fields, fallback = multiscopic_hdr(..., return_details=True)`` unpacks it).
+
+    Attributes
+    ----------
+    radiance : list of float32 arrays
+        Radiance ``E_r^HDR`` of every view (relative units: code value per second of
+        exposure through the inverse response), of the views' shape.
+    fields : dict mapping (r, s) to int32 arrays (H, W, 2)
+        Offsets ``(dx, dy)`` in pixels from view ``r`` to view ``s`` for every ordered pair
+        (empty for ``align="none"``).
+    fallback_pixels : list of int
+        Per view, pixels where every sample of some channel was clipped (see
+        :func:`merge_stack`).
+    """
+
+    radiance: List[np.ndarray]
+    fields: Dict[Tuple[int, int], np.ndarray]
+    fallback_pixels: List[int]
+
+    __repr__ = _tuple_repr
+    __eq__ = _tuple_eq
+    __ne__ = _tuple_ne
+    __hash__ = None  # type: ignore[assignment]
+
+
+@_result
+class PolynomialResponse:
+    """The polynomial response fitted by :func:`calibrate_mitsunaga_nayar`, one entry per
+    colour channel in every list.
+
+    Attributes
+    ----------
+    coefficients : list of float64 arrays (degree + 1,)
+        ``c_0 .. c_N`` of ``f(M) = sum_n c_n M^n`` on normalised codes ``M = Z / z_max``.
+    ratios : list of float64 arrays (images - 1,)
+        Exposure ratios ``t_q / t_{q+1}`` of consecutive exposures in order of time, as
+        estimated.
+    degree : list of int
+        Polynomial degree ``N``.
+    rms : list of float
+        Root mean square of the residuals ``f(M_q) - R_q f(M_{q+1})`` (normalised response
+        units).
+    n_equations : list of int
+        Equations (pixel pairs) in the least-squares fit.
+    n_iter : list of int
+        Alternations between coefficients and ratios that were run.
+    """
+
+    coefficients: List[np.ndarray]
+    ratios: List[np.ndarray]
+    degree: List[int]
+    rms: List[float]
+    n_equations: List[int]
+    n_iter: List[int]
+
+
+@_result
+class HdrScene:
+    """The layered multi-view scene of :func:`make_scene`, with its ground truth.
+
+    Attributes
+    ----------
+    views : list of uint8 arrays (H, W, 3)
+        One view per camera, left to right.
+    exposure_times : list of float
+        Exposure time of every view, seconds.
+    crf : float32 array (256, 1)
+        Table of the inverse response ``f^-1`` (gamma 2.2).
+    radiance : list of float32 arrays (H, W, 3)
+        True radiance of every view (relative units, as :func:`multiscopic_hdr` returns).
+    disparity : list of float32 arrays (H, W)
+        True disparity per camera step of the visible layer, pixels: a point at column ``x``
+        of view ``r`` is at ``x + (r - s) d`` in view ``s``.
+    seen_by : list of uint32 arrays (H, W)
+        Bit masks of the views that see each pixel's surface point (bit ``j`` for view
+        ``j``).
+    """
+
+    views: List[np.ndarray]
+    exposure_times: List[float]
+    crf: np.ndarray
+    radiance: List[np.ndarray]
+    disparity: List[np.ndarray]
+    seen_by: List[np.ndarray]
 
 
 # ----------------------------------------------------------------------------------------
@@ -292,7 +383,7 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
                     epipolar: bool = True, align: str = "ours", synthesis: str = "bds",
                     ordered: bool = False, weighted_cost: bool = False,
                     fill_saturated: bool = False, bits: Optional[int] = None, seed: int = 0,
-                    return_details: bool = False):
+                    return_details: bool = False) -> Union[List[np.ndarray], HdrSequence]:
     """One HDR radiance image per view of a rectified multi-exposure camera array (paper
     section 3, Fig. 2).
 
@@ -346,18 +437,18 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
     seed : int, default 0
         Seed of the random initialisation and search; each ordered pair derives its own.
     return_details : bool, default False
-        Also return the fields and the fallback counts.
+        Return an :class:`HdrSequence` (the radiance, the fields and the fallback counts)
+        instead of the list of radiance images.
 
     Returns
     -------
     hdr : list of float32 arrays
         Radiance ``E_r^HDR`` of every view, of the views' shape.
-    fields : dict, only with ``return_details``
-        ``fields[(r, s)]``: int32 ``(H, W, 2)`` offsets ``(dx, dy)`` from view ``r`` to view
-        ``s`` for every ordered pair (empty for ``align="none"``).
-    fallback_pixels : list of int, only with ``return_details``
-        Per view, pixels where every sample of some channel was clipped (see
-        :func:`merge_stack`).
+    details : HdrSequence, with ``return_details``
+        A named tuple ``(radiance, fields, fallback_pixels)``: ``fields[(r, s)]``, int32
+        ``(H, W, 2)`` offsets ``(dx, dy)`` from view ``r`` to view ``s`` for every ordered
+        pair (empty for ``align="none"``); ``fallback_pixels``, per view, pixels where every
+        sample of some channel was clipped (see :func:`merge_stack`).
 
     Notes
     -----
@@ -383,7 +474,7 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
     --------
     >>> from wscg import hdr
     >>> sc = hdr.make_scene(height=48, width=64, exposure_times=(0.005, 0.04, 0.3))
-    >>> out = hdr.multiscopic_hdr(sc["views"], sc["exposure_times"], max_disparity=40)
+    >>> out = hdr.multiscopic_hdr(sc.views, sc.exposure_times, max_disparity=40)
     >>> len(out), out[0].shape, out[0].dtype
     (3, (48, 64, 3), dtype('float32'))
     """
@@ -423,7 +514,7 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
         _flag("weighted_cost", weighted_cost), _flag("fill_saturated", fill_saturated),
         _seed(seed), _flag("return_details", return_details))
     if return_details:
-        return hdr_list, fields, fallback
+        return HdrSequence(hdr_list, fields, fallback)
     return hdr_list
 
 
@@ -743,7 +834,7 @@ def calibrate_mitsunaga_nayar(stack, exposure_times, *, degree: Optional[int] = 
                               max_degree: int = 10, n_samples: int = 2000,
                               refine_ratios: bool = True, tol: float = 1e-7,
                               max_iter: int = 100,
-                              bits: int = 8) -> Tuple[np.ndarray, Dict[str, list]]:
+                              bits: int = 8) -> Tuple[np.ndarray, PolynomialResponse]:
     """Recover the inverse camera response as a polynomial (Mitsunaga & Nayar 1999, the
     model of RASCAL, which the paper used for its 8-bit views), re-estimating the exposure
     ratios from approximate times.
@@ -781,10 +872,10 @@ def calibrate_mitsunaga_nayar(stack, exposure_times, *, degree: Optional[int] = 
     crf : float32 array (2**bits, C)
         ``f(Z / z_max)`` per code and channel with ``f(z_max) = 1``, non-decreasing; usable
         as ``crf`` everywhere.
-    info : dict
+    fit : PolynomialResponse
         Per channel: ``coefficients`` (``c_0 .. c_N``), ``ratios`` (``t_q / t_{q+1}`` of
         consecutive exposures in order of time, as estimated), ``degree``, ``rms`` (of the
-        residuals ``f(M_q) - R_q f(M_{q+1})``), ``equations``, ``iterations``.
+        residuals ``f(M_q) - R_q f(M_{q+1})``), ``n_equations``, ``n_iter``.
 
     Notes
     -----
@@ -810,7 +901,11 @@ def calibrate_mitsunaga_nayar(stack, exposure_times, *, degree: Optional[int] = 
         imgs, times, bits, deg, _int("max_degree", max_degree, 1, 10),
         _int("n_samples", n_samples, 1, 10 ** 7), bool(refine_ratios), _positive("tol", tol),
         _int("max_iter", max_iter, 1, 10 ** 6))
-    return table, info
+    fit = _from_mapping(
+        PolynomialResponse, info, rename={"equations": "n_equations", "iterations": "n_iter"},
+        coefficients=[np.asarray(c, dtype=np.float64) for c in info["coefficients"]],
+        ratios=[np.asarray(r, dtype=np.float64) for r in info["ratios"]])
+    return table, fit
 
 
 def to_radiance(image, crf, exposure_time: float, *, bits: Optional[int] = None) -> np.ndarray:
@@ -1006,7 +1101,7 @@ def merge(radiances, weights, levels, exposure_times) -> Tuple[np.ndarray, int]:
 def make_scene(*, height: int = 160, width: int = 256,
                 exposure_times: Sequence[float] = (0.005, 0.030, 0.061, 0.122, 0.280),
                 emitter_peak: float = 300.0, noise: float = 0.002,
-                seed: int = 7) -> Dict[str, object]:
+                seed: int = 7) -> HdrScene:
     """A layered multi-view scene with ground truth, standing in for the paper's camera-array
     data sets (section 4), whose ground-truth radiance is unknown.
 
@@ -1032,7 +1127,7 @@ def make_scene(*, height: int = 160, width: int = 256,
 
     Returns
     -------
-    dict
+    HdrScene
         ``views``: list of uint8 ``(H, W, 3)``; ``exposure_times``: list of float; ``crf``:
         float32 ``(256, 1)`` table of ``f^-1`` (gamma 2.2); ``radiance``: list of float32
         ``(H, W, 3)`` true radiance per view; ``disparity``: list of float32 ``(H, W)``
@@ -1058,7 +1153,7 @@ def make_scene(*, height: int = 160, width: int = 256,
     nz = _real("noise", noise)
     if nz < 0:
         raise ValueError(f"`noise` must be >= 0, got {nz}")
-    return _h.make_scene(h, w, times, peak, nz, _seed(seed))
+    return _from_mapping(HdrScene, _h.make_scene(h, w, times, peak, nz, _seed(seed)))
 
 
 def rmse_log2(est, gt, mask=None) -> float:

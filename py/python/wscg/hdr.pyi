@@ -1,4 +1,5 @@
-from typing import Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
+from dataclasses import dataclass
+from typing import Dict, List, Literal, NamedTuple, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 
@@ -11,6 +12,29 @@ CRF_NAMES: Tuple[str, ...]
 _Crf = Union[str, np.ndarray]
 _CrfArg = Union[str, np.ndarray, Sequence[Union[str, np.ndarray]]]
 _Fields = Dict[Tuple[int, int], np.ndarray]
+
+class HdrSequence(NamedTuple):
+    radiance: List[np.ndarray]
+    fields: _Fields
+    fallback_pixels: List[int]
+
+@dataclass(frozen=True)
+class PolynomialResponse:
+    coefficients: List[np.ndarray]
+    ratios: List[np.ndarray]
+    degree: List[int]
+    rms: List[float]
+    n_equations: List[int]
+    n_iter: List[int]
+
+@dataclass(frozen=True)
+class HdrScene:
+    views: List[np.ndarray]
+    exposure_times: List[float]
+    crf: np.ndarray
+    radiance: List[np.ndarray]
+    disparity: List[np.ndarray]
+    seen_by: List[np.ndarray]
 
 @overload
 def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float],
@@ -27,8 +51,7 @@ def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float]
                     coherence: bool = ..., epipolar: bool = ..., align: str = ...,
                     synthesis: str = ..., ordered: bool = ..., weighted_cost: bool = ...,
                     fill_saturated: bool = ..., bits: Optional[int] = ..., seed: int = ...,
-                    return_details: Literal[True]
-                    ) -> Tuple[List[np.ndarray], _Fields, List[int]]: ...
+                    return_details: Literal[True]) -> HdrSequence: ...
 def patchmatch(a: np.ndarray, b: np.ndarray, *, patch: int = ..., n_iter: int = ...,
                min_disparity: int = ..., max_disparity: int = ..., v_tol: int = ...,
                coherence: bool = ..., epipolar: bool = ..., c_min: float = ...,
@@ -46,7 +69,7 @@ def calibrate_mitsunaga_nayar(stack: Sequence[np.ndarray], exposure_times: Seque
                               degree: Optional[int] = ..., max_degree: int = ...,
                               n_samples: int = ..., refine_ratios: bool = ..., tol: float = ...,
                               max_iter: int = ...,
-                              bits: int = ...) -> Tuple[np.ndarray, Dict[str, list]]: ...
+                              bits: int = ...) -> Tuple[np.ndarray, PolynomialResponse]: ...
 def to_radiance(image: np.ndarray, crf: _Crf, exposure_time: float, *,
                 bits: Optional[int] = ...) -> np.ndarray: ...
 @overload
@@ -60,7 +83,7 @@ def merge_stack(images: Sequence[np.ndarray], exposure_times: Sequence[float],
                 crf: _CrfArg = ..., *, bits: Optional[int] = ...) -> Tuple[np.ndarray, int]: ...
 def make_scene(*, height: int = ..., width: int = ..., exposure_times: Sequence[float] = ...,
                 emitter_peak: float = ..., noise: float = ...,
-                seed: int = ...) -> Dict[str, object]: ...
+                seed: int = ...) -> HdrScene: ...
 def rmse_log2(est: np.ndarray, gt: np.ndarray, mask: Optional[np.ndarray] = ...) -> float: ...
 def bad_rate(offsets: np.ndarray, truth: np.ndarray, k: float = ...,
              mask: Optional[np.ndarray] = ...) -> float: ...

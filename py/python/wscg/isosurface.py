@@ -25,7 +25,7 @@ Conventions (``py/API.md``): volumes are numpy arrays indexed ``[z, y, x]``; ``s
 :mod:`wscg.math`, :mod:`wscg.volseg`, :mod:`wscg.volren` and scikit-image); vertices are
 world points ``(x, y, z)``: the sample ``[k, j, i]`` lies at ``(ox + i dx, oy + j dy, oz + k
 dz)``. Faces index the vertices and are wound so that their right-hand normal points toward
-increasing ``f``. Grid edges (``info["edges"]``) are rows ``(k, j, i, axis)``: the index of
+increasing ``f``. Grid edges (``info.edges``) are rows ``(k, j, i, axis)``: the index of
 the edge's low end and the array axis it runs along (0: z, 1: y, 2: x). Bad input raises
 ``ValueError``.
 
@@ -36,18 +36,171 @@ supported isosurfaces", IEEE Visualization 2002, doi:10.1109/VISUAL.2002.1183808
 
 from __future__ import annotations
 
-from typing import Optional, Tuple
+from typing import NamedTuple, Optional, Tuple
 
 import numpy as np
 
 from ._native import isosurface as _m
 from ._checks import integer_ranges as _integer_ranges
+from ._results import (from_mapping as _from_mapping, result as _result, tuple_eq as _tuple_eq,
+                       tuple_ne as _tuple_ne, tuple_repr as _tuple_repr)
 
 __all__ = ["marching_cubes", "estimate_normals", "sparsify", "random_dropouts",
            "angular_errors", "angular_rms", "rotation_class", "at_risk_configurations",
-           "study_full_cd", "study_exact", "fields"]
+           "study_full_cd", "study_exact", "fields", "MeshInfo", "NormalStats", "AngularRms",
+           "SparseComparison", "ExactComparison"]
 
 _METHODS = ("spline", "lsn", "central", None)
+
+# Native keys renamed to the field names of py/API.md (counts are n_<things>).
+_COUNTS = {"undefined": "n_undefined", "fallback": "n_fallback",
+           "skipped_cells": "n_skipped_cells"}
+
+
+@_result
+class NormalStats:
+    """How the normals of :func:`estimate_normals` came about.
+
+    Attributes
+    ----------
+    n_undefined : int
+        Vertices whose normal is undefined (a zero row): a missing central-difference
+        neighbour, or a zero LSN perp sum at degenerate triangles (the paper's Table 5).
+    n_fallback : int
+        Spline normals taken from the fallback (no adjacent cell had a usable tetrahedron).
+    n_skipped_cells : int
+        Cells with some surface that could not be triangulated (missing corners whose side
+        is unknown).
+    """
+
+    n_undefined: int
+    n_fallback: int
+    n_skipped_cells: int
+
+
+@_result
+class MeshInfo:
+    """What :func:`marching_cubes` did besides the mesh: the normal counts of
+    :class:`NormalStats` and where every vertex and triangle comes from.
+
+    Attributes
+    ----------
+    n_undefined : int
+        Vertices with an undefined (zero) normal.
+    n_fallback : int
+        Spline normals taken from the fallback.
+    n_skipped_cells : int
+        Cells with some surface that could not be triangulated.
+    edges : int64 array (n, 4)
+        The grid edge of each vertex as ``(k, j, i, axis)``: the index of its low end and the
+        array axis it runs along (0: z, 1: y, 2: x); pass it to :func:`estimate_normals`.
+    cells : int64 array (k, 2)
+        Every triangulated cell: the flat index of its low corner in the volume
+        (``np.ravel_multi_index((k, j, i), volume.shape)``) and its 8-bit configuration (bit
+        ``c`` set when the corner at offsets ``(x, y, z) = (c & 1, c >> 1 & 1, c >> 2)`` is
+        inside, ``f >= level``).
+    """
+
+    n_undefined: int
+    n_fallback: int
+    n_skipped_cells: int
+    edges: np.ndarray
+    cells: np.ndarray
+
+
+class AngularRms(NamedTuple):
+    """The RMS angular error of :func:`angular_rms`, a named tuple (``rms, n_defined,
+    n_undefined = angular_rms(a, b)`` unpacks it).
+
+    Attributes
+    ----------
+    rms : float
+        Root mean square of the angles between matching normals, radians, over the rows
+        where both are defined; NaN when there are none.
+    n_defined : int
+        Rows in the RMS.
+    n_undefined : int
+        Rows left out: a zero (undefined) normal in either array.
+    """
+
+    rms: float
+    n_defined: int
+    n_undefined: int
+
+    __repr__ = _tuple_repr
+    # Element-wise, NaN equal to NaN: an RMS over no rows is NaN.
+    __eq__ = _tuple_eq
+    __ne__ = _tuple_ne
+
+
+def _rms(d) -> AngularRms:
+    return AngularRms(float(d["rms"]), int(d["count"]), int(d["undefined"]))
+
+
+@_result
+class SparseComparison:
+    """The paper's Table 1/2 protocol at one level (:func:`study_full_cd`): spline and LSN
+    normals on the sparsified volume against central differences on the full volume.
+
+    Attributes
+    ----------
+    n_vertices : int
+        Vertices of the mesh (the same on the full and the sparse volume).
+    n_triangles : int
+        Triangles of the mesh.
+    kept_fraction : float
+        Fraction of the samples the sparsification kept.
+    cd_defined_on_sparse : float
+        Fraction of the vertices where central differences would be defined on the sparse
+        volume.
+    n_reference_undefined : int
+        Vertices where the full-volume central-difference reference itself is zero (left
+        out of the errors).
+    spline : AngularRms
+        Spline normals (sparse) against the reference, radians.
+    lsn : AngularRms
+        LSN normals (sparse) against the reference, radians.
+    n_spline_undefined : int
+        Zero spline normals (the paper's claim: always 0).
+    n_lsn_undefined : int
+        Zero LSN normals (the paper's Table 5).
+    """
+
+    n_vertices: int
+    n_triangles: int
+    kept_fraction: float
+    cd_defined_on_sparse: float
+    n_reference_undefined: int
+    spline: AngularRms
+    lsn: AngularRms
+    n_spline_undefined: int
+    n_lsn_undefined: int
+
+
+@_result
+class ExactComparison:
+    """The paper's Table 3 protocol on an analytic field (:func:`study_exact`): normals
+    against the field's exact gradient at the vertices.
+
+    Attributes
+    ----------
+    n_vertices : int
+        Vertices of the mesh.
+    central : AngularRms
+        Central differences on the full grid, radians.
+    spline : AngularRms
+        Spline normals on the sparsified grid, radians.
+    lsn : AngularRms
+        LSN normals on the sparsified grid, radians.
+    level : float
+        The field's isovalue.
+    """
+
+    n_vertices: int
+    central: AngularRms
+    spline: AngularRms
+    lsn: AngularRms
+    level: float
 
 
 def _vol(v) -> np.ndarray:
@@ -104,7 +257,8 @@ def _options(selection, eq8_literal, normalize_before_mean, ambiguous_face) -> d
 def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0),
                    normals: Optional[str] = "spline", side_hint=None, selection: str = "mesh",
                    eq8_literal: bool = False, normalize_before_mean: bool = False,
-                   ambiguous_face: str = "inside", origin=(0.0, 0.0, 0.0)):
+                   ambiguous_face: str = "inside", origin=(0.0, 0.0, 0.0)
+                   ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, MeshInfo]:
     """Marching cubes of ``level`` on a volume that may have missing (NaN) samples.
 
     Parameters
@@ -142,9 +296,9 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0),
     normals : (n, 3) float32
         Unit normals toward increasing ``f``; zero rows where the estimator is undefined;
         empty for ``normals=None``.
-    info : dict
-        ``undefined`` (zero normals), ``fallback`` (spline normals from the fallback),
-        ``skipped_cells`` (cells that could not be triangulated), ``edges`` ((n, 4) int64:
+    info : MeshInfo
+        ``n_undefined`` (zero normals), ``n_fallback`` (spline normals from the fallback),
+        ``n_skipped_cells`` (cells that could not be triangulated), ``edges`` ((n, 4) int64:
         the grid edge of each vertex as ``(k, j, i, axis)``, the index of its low end and the
         array axis it runs along, 0: z, 1: y, 2: x) and ``cells`` ((k, 2) int64: flat index
         and 8-bit configuration of every triangulated cell).
@@ -157,7 +311,7 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0),
     >>> vol = np.sqrt((x - 15.3) ** 2 + (y - 16.1) ** 2 + (z - 15.7) ** 2) - 10
     >>> sparse, inside = iso.sparsify(vol, 0.0)
     >>> v, f, n, info = iso.marching_cubes(sparse, 0.0, side_hint=inside)
-    >>> info["undefined"]
+    >>> info.n_undefined
     0
     """
     v = _vol(volume)
@@ -168,24 +322,25 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0),
                                                          normalize_before_mean, ambiguous_face))
     if o.any():
         verts += o
-    return verts, faces, nrm, info
+    return verts, faces, nrm, _from_mapping(MeshInfo, info, rename=_COUNTS)
 
 
 def estimate_normals(volume, level: float, edges, spacing=(1.0, 1.0, 1.0),
                      normals: str = "spline", side_hint=None, selection: str = "mesh",
                      eq8_literal: bool = False, normalize_before_mean: bool = False,
-                     ambiguous_face: str = "inside"):
-    """Normals of the vertices on ``edges`` (``info["edges"]`` of :func:`marching_cubes`:
+                     ambiguous_face: str = "inside") -> Tuple[np.ndarray, NormalStats]:
+    """Normals of the vertices on ``edges`` (``info.edges`` of :func:`marching_cubes`:
     rows ``(k, j, i, axis)``) with any estimator, e.g. to compare estimators on one mesh;
     ``spacing`` is ``(dz, dy, dx)`` and the other arguments are those of
-    :func:`marching_cubes`. Returns ``(normals (n, 3), stats dict)``. An edge that does not
-    cross ``level`` on this volume raises ValueError."""
+    :func:`marching_cubes`. Returns ``(normals (n, 3) float32, NormalStats)``. An edge that
+    does not cross ``level`` on this volume raises ValueError."""
     v = _vol(volume)
     e = np.ascontiguousarray(np.asarray(edges, dtype=np.int64))
-    return _m.estimate_normals(v, float(level), e, _spacing(spacing), _method(normals),
-                               _hint(side_hint, v.shape),
-                               _options(selection, eq8_literal, normalize_before_mean,
-                                        ambiguous_face))
+    n, stats = _m.estimate_normals(v, float(level), e, _spacing(spacing), _method(normals),
+                                   _hint(side_hint, v.shape),
+                                   _options(selection, eq8_literal, normalize_before_mean,
+                                            ambiguous_face))
+    return n, _from_mapping(NormalStats, stats, rename=_COUNTS)
 
 
 def sparsify(volume, level: float):
@@ -209,11 +364,13 @@ def angular_errors(a, b) -> np.ndarray:
                              np.ascontiguousarray(np.asarray(b, dtype=np.float32)))
 
 
-def angular_rms(a, b) -> Tuple[float, int, int]:
-    """``(rms, count, undefined)``: RMS angular error in radians over the rows where both
-    normals are defined, their number, and the number of rows left out."""
-    return _m.angular_rms(np.ascontiguousarray(np.asarray(a, dtype=np.float32)),
-                          np.ascontiguousarray(np.asarray(b, dtype=np.float32)))
+def angular_rms(a, b) -> AngularRms:
+    """``AngularRms(rms, n_defined, n_undefined)``, a named tuple: the RMS angular error in
+    radians over the rows where both normals are defined, their number, and the number of
+    rows left out."""
+    rms, n, undefined = _m.angular_rms(np.ascontiguousarray(np.asarray(a, dtype=np.float32)),
+                                       np.ascontiguousarray(np.asarray(b, dtype=np.float32)))
+    return AngularRms(rms, n, undefined)
 
 
 def rotation_class(config: int) -> int:
@@ -231,21 +388,29 @@ def at_risk_configurations(threshold: float = np.pi / 2, ambiguous_face: str = "
     return list(_m.at_risk(str(ambiguous_face), float(threshold)))
 
 
-def study_full_cd(volume, level: float, spacing=(1.0, 1.0, 1.0)) -> dict:
+def study_full_cd(volume, level: float, spacing=(1.0, 1.0, 1.0)) -> SparseComparison:
     """The paper's Table 1/2 protocol at one level: central differences on the full volume
     (``spacing`` ``(dz, dy, dx)``) as the reference, spline and LSN normals on the sparsified
-    volume. Returns a dict with
-    the vertex count, the RMS errors (``spline``, ``lsn``: dicts of rms/count/undefined),
-    the zero-normal counts and the fraction of vertices where central differences would be
-    defined on the sparse volume."""
-    return _m.study_full_cd(_vol(volume), float(level), _spacing(spacing))
+    volume. Returns a :class:`SparseComparison`: the vertex and triangle counts, the RMS
+    errors (``spline``, ``lsn``: :class:`AngularRms`), the zero-normal counts and the
+    fraction of vertices where central differences would be defined on the sparse volume."""
+    d = _m.study_full_cd(_vol(volume), float(level), _spacing(spacing))
+    return _from_mapping(
+        SparseComparison, d,
+        rename={"vertices": "n_vertices", "triangles": "n_triangles",
+                "reference_undefined": "n_reference_undefined",
+                "spline_undefined": "n_spline_undefined", "lsn_undefined": "n_lsn_undefined"},
+        spline=_rms(d["spline"]), lsn=_rms(d["lsn"]))
 
 
-def study_exact(name: str, n: int = 64) -> dict:
+def study_exact(name: str, n: int = 64) -> ExactComparison:
     """The paper's Table 3 protocol on a named analytic field sampled on ``n^3``: RMS angular
-    errors against the exact gradient of central differences (full grid) and of spline and
-    LSN normals (sparsified grid)."""
-    return _m.study_exact(str(name), int(n))
+    errors (:class:`AngularRms`) against the exact gradient of central differences (full
+    grid) and of spline and LSN normals (sparsified grid), as an :class:`ExactComparison`."""
+    d = _m.study_exact(str(name), int(n))
+    return _from_mapping(ExactComparison, d, rename={"vertices": "n_vertices"},
+                         central=_rms(d["central"]), spline=_rms(d["spline"]),
+                         lsn=_rms(d["lsn"]))
 
 
 class fields:  # noqa: N801 - a namespace named like the Rust module (``fields.sample(...)``)

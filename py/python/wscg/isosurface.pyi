@@ -1,4 +1,5 @@
-from typing import Optional, Tuple
+from dataclasses import dataclass
+from typing import NamedTuple, Optional, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -8,6 +9,45 @@ I64 = npt.NDArray[np.int64]
 
 __all__: list[str]
 
+@dataclass(frozen=True)
+class NormalStats:
+    n_undefined: int
+    n_fallback: int
+    n_skipped_cells: int
+
+@dataclass(frozen=True)
+class MeshInfo:
+    n_undefined: int
+    n_fallback: int
+    n_skipped_cells: int
+    edges: I64
+    cells: I64
+
+class AngularRms(NamedTuple):
+    rms: float
+    n_defined: int
+    n_undefined: int
+
+@dataclass(frozen=True)
+class SparseComparison:
+    n_vertices: int
+    n_triangles: int
+    kept_fraction: float
+    cd_defined_on_sparse: float
+    n_reference_undefined: int
+    spline: AngularRms
+    lsn: AngularRms
+    n_spline_undefined: int
+    n_lsn_undefined: int
+
+@dataclass(frozen=True)
+class ExactComparison:
+    n_vertices: int
+    central: AngularRms
+    spline: AngularRms
+    lsn: AngularRms
+    level: float
+
 def marching_cubes(volume: npt.ArrayLike, level: float,
                    spacing: Tuple[float, float, float] = (1.0, 1.0, 1.0),
                    normals: Optional[str] = "spline", side_hint: Optional[npt.ArrayLike] = None,
@@ -15,22 +55,22 @@ def marching_cubes(volume: npt.ArrayLike, level: float,
                    normalize_before_mean: bool = False,
                    ambiguous_face: str = "inside",
                    origin: Tuple[float, float, float] = (0.0, 0.0, 0.0)
-                   ) -> Tuple[F32, I64, F32, dict]: ...
+                   ) -> Tuple[F32, I64, F32, MeshInfo]: ...
 def estimate_normals(volume: npt.ArrayLike, level: float, edges: npt.ArrayLike,
                      spacing: Tuple[float, float, float] = (1.0, 1.0, 1.0),
                      normals: str = "spline", side_hint: Optional[npt.ArrayLike] = None,
                      selection: str = "mesh", eq8_literal: bool = False,
                      normalize_before_mean: bool = False,
-                     ambiguous_face: str = "inside") -> Tuple[F32, dict]: ...
+                     ambiguous_face: str = "inside") -> Tuple[F32, NormalStats]: ...
 def sparsify(volume: npt.ArrayLike, level: float) -> Tuple[F32, npt.NDArray[np.bool_]]: ...
 def random_dropouts(volume: npt.ArrayLike, rate: float, seed: int = 0) -> F32: ...
 def angular_errors(a: npt.ArrayLike, b: npt.ArrayLike) -> F32: ...
-def angular_rms(a: npt.ArrayLike, b: npt.ArrayLike) -> Tuple[float, int, int]: ...
+def angular_rms(a: npt.ArrayLike, b: npt.ArrayLike) -> AngularRms: ...
 def rotation_class(config: int) -> int: ...
 def at_risk_configurations(threshold: float = ..., ambiguous_face: str = "inside") -> list[int]: ...
 def study_full_cd(volume: npt.ArrayLike, level: float,
-                  spacing: Tuple[float, float, float] = (1.0, 1.0, 1.0)) -> dict: ...
-def study_exact(name: str, n: int = 64) -> dict: ...
+                  spacing: Tuple[float, float, float] = (1.0, 1.0, 1.0)) -> SparseComparison: ...
+def study_exact(name: str, n: int = 64) -> ExactComparison: ...
 
 class fields:
     NAMES: Tuple[str, ...]

@@ -28,6 +28,7 @@ import numpy as np
 
 from ._native import math as _m
 from ._checks import integer_ranges as _integer_ranges
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
     "mse", "rmse", "psnr", "ssim", "dice",
@@ -38,10 +39,51 @@ __all__ = [
     "eigh", "eigh_generalized", "svd", "lstsq",
     "normal", "uniform", "permutation",
     "load_image", "save_image", "load_volume", "save_volume", "load_raw_volume",
-    "load_mesh", "save_mesh",
+    "load_mesh", "save_mesh", "CgInfo", "Mesh",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
+
+
+@_result
+class CgInfo:
+    """How a conjugate gradient solve of :func:`cg` or :func:`solve_cg` ended.
+
+    Attributes
+    ----------
+    n_iter : int
+        Iterations run (0 when the initial guess already met ``tol``).
+    relative_residual : float
+        ``||b - A x|| / ||b||`` of the returned ``x`` (dimensionless).
+    converged : bool
+        Whether ``relative_residual <= tol`` was reached within ``max_iter``.
+    """
+
+    n_iter: int
+    relative_residual: float
+    converged: bool
+
+
+@_result
+class Mesh:
+    """A triangle mesh read by :func:`load_mesh`.
+
+    Attributes
+    ----------
+    vertices : float64 array (N, 3)
+        Positions ``(x, y, z)`` in the file's units.
+    faces : int64 array (M, 3)
+        Vertex indices, 0-based (polygons triangulated as fans).
+    normals : float64 array (N, 3) or None
+        Per-vertex normals, when the file has them.
+    colors : float32 array (N, 3) or None
+        Per-vertex RGB in ``[0, 1]``, when the file has them.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    normals: Optional[np.ndarray] = None
+    colors: Optional[np.ndarray] = None
 
 
 def _real(x, name: str, dtype=np.float64) -> np.ndarray:
@@ -535,7 +577,7 @@ def fftfreq(n: int, d: float = 1.0) -> np.ndarray:
 
 def cg(indptr, indices, data, b, shape: Optional[Tuple[int, int]] = None, x0=None,
        tol: float = 1e-8, max_iter: Optional[int] = None,
-       preconditioner: Optional[str] = "jacobi"):
+       preconditioner: Optional[str] = "jacobi") -> Tuple[np.ndarray, CgInfo]:
     """Preconditioned conjugate gradient for a sparse SPD matrix in CSR form.
 
     Parameters
@@ -560,8 +602,8 @@ def cg(indptr, indices, data, b, shape: Optional[Tuple[int, int]] = None, x0=Non
     -------
     x : ndarray of float64
         Solution estimate.
-    info : dict
-        ``iterations``, ``relative_residual`` and ``converged``.
+    info : CgInfo
+        ``n_iter`` (iterations run), ``relative_residual`` and ``converged``.
 
     Raises
     ------
@@ -580,20 +622,21 @@ def cg(indptr, indices, data, b, shape: Optional[Tuple[int, int]] = None, x0=Non
     nrows, ncols = (n, n) if shape is None else (int(shape[0]), int(shape[1]))
     if nrows != n:
         raise ValueError(f"`shape` {shape} does not match len(indptr) - 1 = {n}")
-    x, info = _m.cg(indptr, np.ascontiguousarray(indices, dtype=np.int64),
-                    _real(data, "data"), ncols, _real(b, "b"),
-                    None if x0 is None else _real(x0, "x0"), float(tol),
-                    None if max_iter is None else int(max_iter), preconditioner)
-    if not info["converged"]:
+    x, d = _m.cg(indptr, np.ascontiguousarray(indices, dtype=np.int64),
+                 _real(data, "data"), ncols, _real(b, "b"),
+                 None if x0 is None else _real(x0, "x0"), float(tol),
+                 None if max_iter is None else int(max_iter), preconditioner)
+    info = _from_mapping(CgInfo, d, rename={"iterations": "n_iter"})
+    if not info.converged:
         import warnings
-        warnings.warn(f"cg did not converge: relative residual {info['relative_residual']:.3e} "
-                      f"after {info['iterations']} iterations (tol {tol})", RuntimeWarning,
+        warnings.warn(f"cg did not converge: relative residual {info.relative_residual:.3e} "
+                      f"after {info.n_iter} iterations (tol {tol})", RuntimeWarning,
                       stacklevel=2)
     return x, info
 
 
 def solve_cg(a, b, x0=None, tol: float = 1e-8, max_iter: Optional[int] = None,
-             preconditioner: Optional[str] = "jacobi"):
+             preconditioner: Optional[str] = "jacobi") -> Tuple[np.ndarray, CgInfo]:
     """:func:`cg` on a ``scipy.sparse`` matrix (or anything with ``tocsr()``).
 
     Parameters
@@ -613,7 +656,9 @@ def solve_cg(a, b, x0=None, tol: float = 1e-8, max_iter: Optional[int] = None,
 
     Returns
     -------
-    x, info
+    x : ndarray of float64
+        Solution estimate.
+    info : CgInfo
         As :func:`cg`.
     """
     if not hasattr(a, "tocsr"):
@@ -945,7 +990,7 @@ def save_volume(path: PathLike, volume, spacing: Tuple[float, float, float] = (1
     _m.save_volume(_path(path), _real(volume, "volume", np.float32), tuple(float(s) for s in spacing))
 
 
-def load_mesh(path: PathLike) -> dict:
+def load_mesh(path: PathLike) -> Mesh:
     """Reads a triangle mesh from .obj or .ply (ascii or binary).
 
     Parameters
@@ -955,17 +1000,17 @@ def load_mesh(path: PathLike) -> dict:
 
     Returns
     -------
-    dict
+    Mesh
         ``vertices`` (N, 3) float64 ``(x, y, z)``, ``faces`` (M, 3) int64, and ``normals``
-        (N, 3) float64 /
-        ``colors`` (N, 3) float32 in [0, 1] when the file has them.
+        (N, 3) float64 and ``colors`` (N, 3) float32 in [0, 1] when the file has them
+        (``None`` otherwise).
 
     Raises
     ------
     OSError
         Missing, malformed or truncated file, indices out of range, unknown extension.
     """
-    return _m.load_mesh(_path(path))
+    return _from_mapping(Mesh, _m.load_mesh(_path(path)))
 
 
 def save_mesh(path: PathLike, vertices, faces, colors=None, normals=None,

@@ -5,14 +5,19 @@ computer graphics").
 Joint-angle trajectories of a walk-then-reach task (a normal step, a shortened step, a reach
 into a drawer) are decomposed into *kinematic primitives* by anechoic demixing,
 ``x_i^r(t) ~ sum_j w_ij^r s_j(t - tau_ij)``, with band-limited periodic sources and delays
-shared across trials (:func:`fit_anechoic`); PCA is the synchronous baseline
-(:func:`pca_quality`). :func:`fit_stepwise` learns the three actions step by step (3 sources
-for the step, 2 more for the shortened step, the reach reuses all 5) into a :class:`Library`.
-A :class:`Synthesizer` turns the library into *dynamic primitives* (a star network of Hopf
-oscillators whose followers are mapped onto the sources), regresses the weights from the step
-parameters, blends actions at the leader's phase wrap and re-plans the steps with the
-predictive planner (:func:`plan_steps`) when the goal moves. :func:`save_bvh` exports the
-result for any animation tool.
+shared across trials (:class:`AnechoicModel`, :func:`fit_anechoic`); PCA is the synchronous
+baseline (:func:`pca_quality`). :class:`StepwiseModel` (:func:`fit_stepwise`) learns the three
+actions step by step (3 sources for the step, 2 more for the shortened step, the reach reuses
+all 5) into a :class:`Library`. A :class:`Synthesizer`, fitted on that library, turns it into
+*dynamic primitives* (a star network of Hopf oscillators whose followers are mapped onto the
+sources), regresses the weights from the step parameters, blends actions at the leader's phase
+wrap and re-plans the steps with the predictive planner (:func:`plan_steps`) when the goal
+moves. :func:`save_bvh` exports the result for any animation tool.
+
+The three models are scikit-learn estimators: hyper-parameters in ``__init__``
+(``get_params`` / ``set_params``, ``sklearn.base.clone``), ``fit(X)`` returns the model, what
+it learns ends in ``_``; fitted or not they pickle and deep-copy (a :class:`Library` pickles
+through its exact JSON form).
 
 Data: :func:`make_synthetic_dataset` draws trials of a seeded synthetic walker with known
 ground truth (17 joints, 51 exponential-map channels, 5 periodic sources with shared delays),
@@ -30,21 +35,27 @@ read or written raises ``OSError``. The GIL is released while Rust works.
 
 from __future__ import annotations
 
+import copyreg
 import math as _math
 import numbers
 import os
+from collections.abc import Mapping
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._checks import _int, integer_ranges as _integer_ranges
+from ._estimator import Estimator
 from ._native import motion as _m
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
-    "make_synthetic_dataset", "fit_anechoic", "pca_quality", "pca_qualities", "quality",
-    "fit_stepwise", "Library", "plan_steps", "Synthesizer", "save_bvh", "load_bvh",
+    "make_synthetic_dataset", "AnechoicModel", "fit_anechoic", "pca_quality", "pca_qualities",
+    "quality", "StepwiseModel", "fit_stepwise", "Library", "plan_steps", "Synthesizer", "save_bvh", "load_bvh",
     "forward_kinematics", "skeleton", "regression_p_value", "fit_line", "svr_fit_predict",
     "hopf_simulate", "ACTIONS", "DELAY_MODES", "MAPS", "N_CHANNELS",
+    "MotionTruth", "MotionDataset", "ActionFit", "StepPlan", "Synthesis",
+    "BvhMotion", "Skeleton", "LineFit", "SvrInfo", "HopfTrajectory",
 ]
 
 #: Names of the three actions, indexed by their integer code.
@@ -57,6 +68,278 @@ MAPS: Tuple[str, ...] = ("lut", "fourier", "svr")
 N_CHANNELS: int = 51
 
 Library = _m.Library
+
+
+# ------------------------------------------------------------------------------------------
+# Results
+
+
+@_result
+class MotionTruth:
+    """The hidden model behind :func:`make_synthetic_dataset` (``R`` trials, ``I = 51``
+    channels, ``J = 5`` sources, ``N`` samples per period, ``K`` harmonics). Angles are in
+    radians, delays in periods.
+
+    Attributes
+    ----------
+    periodic : float64 array (3, R, I, N)
+        Noise-free periodic parts of every action and trial.
+    sources : float64 array (J, N)
+        The sources over one period.
+    source_coeffs : complex128 array (J, K)
+        Their complex harmonics ``c_1 .. c_K``.
+    delays : float64 array (I, J)
+        Shared delays, periods.
+    weights : float64 array (3, R, I, J)
+        Mixing weights per action and trial.
+    means, w0 : float64 arrays (3, R, I)
+        Means and non-periodic weights.
+    """
+
+    periodic: np.ndarray
+    sources: np.ndarray
+    source_coeffs: np.ndarray
+    delays: np.ndarray
+    weights: np.ndarray
+    means: np.ndarray
+    w0: np.ndarray
+
+
+@_result
+class MotionDataset:
+    """Walk-and-reach trials of :func:`make_synthetic_dataset` (``R`` trials of three
+    actions, 51 exponential-map channels, ``N`` samples per action); the input of
+    :func:`fit_stepwise`.
+
+    Attributes
+    ----------
+    angles : float64 array (R, 3, 51, N)
+        Joint angles, radians.
+    step_length : float64 array (R, 3)
+        Step length of each action, metres (the reach carries the length of the step before
+        it).
+    duration : float64 array (R, 3)
+        Duration of each action, seconds.
+    root : float64 array (R, 3, N)
+        Pelvis travel since each action's start, metres.
+    distances : float64 array (R,)
+        Initial distance to the drawer front of each trial, metres.
+    truth : MotionTruth
+        The generating model.
+    """
+
+    angles: np.ndarray
+    step_length: np.ndarray
+    duration: np.ndarray
+    root: np.ndarray
+    distances: np.ndarray
+    truth: MotionTruth
+
+
+@_result
+class ActionFit:
+    """The fit of one action in a :class:`Library` (``Library.action_fit(a)``; ``R`` trials,
+    ``I`` channels, ``J`` sources of the library).
+
+    Attributes
+    ----------
+    means, w0 : float64 arrays (R, I)
+        Means and non-periodic weights, radians.
+    weights : float64 array (R, I, J)
+        Weights of the sources (0 for the sources the action does not use).
+    q : float
+        Approximation quality of the action.
+    n_sources : int
+        Number of sources the action uses.
+    """
+
+    means: np.ndarray
+    w0: np.ndarray
+    weights: np.ndarray
+    q: float
+    n_sources: int
+
+
+@_result
+class StepPlan:
+    """A plan of the predictive planner (:func:`plan_steps`, :meth:`Synthesizer.plan`; paper
+    section 2.5). Lengths are in metres.
+
+    Attributes
+    ----------
+    actions : list of (str, float)
+        ``(name, length)`` of each action in order, names ``"step"``, ``"short_step"`` and
+        ``"reach"`` (length 0).
+    too_short : bool
+        The goal is closer than the comfort distance plus the shortest step: no steps, only
+        the reach.
+    violation : float
+        Metres by which the step lengths leave their trained ranges (0 for a feasible plan).
+    n_steps : int
+        Number of steps.
+    distance : float
+        Total pelvis travel.
+    """
+
+    actions: List[Tuple[str, float]]
+    too_short: bool
+    violation: float
+    n_steps: int
+    distance: float
+
+
+@_result
+class Synthesis:
+    """A sequence synthesized by :meth:`Synthesizer.run` (``T`` frames, 51 exponential-map
+    channels).
+
+    Attributes
+    ----------
+    angles : float64 array (T, 51)
+        Joint angles, radians.
+    root_x : float64 array (T,)
+        Pelvis forward position, metres from the start.
+    time : float64 array (T,)
+        Time of each frame, seconds.
+    phase : float64 array (T,)
+        Leader phase in ``[0, 2 pi)``, radians.
+    action : int64 array (T,)
+        Action of each frame (index into :data:`ACTIONS`).
+    executed : list of (str, float)
+        ``(name, length)`` of the actions performed, lengths in metres.
+    transitions : float64 array (n, 51)
+        Posture at each action boundary.
+    too_short : bool
+        Only the reach was performed (the goal was too close for a step).
+    goal : float
+        The initial goal distance, metres.
+    """
+
+    angles: np.ndarray
+    root_x: np.ndarray
+    time: np.ndarray
+    phase: np.ndarray
+    action: np.ndarray
+    executed: List[Tuple[str, float]]
+    transitions: np.ndarray
+    too_short: bool
+    goal: float
+
+
+@_result
+class BvhMotion:
+    """Frames of the 17-joint skeleton read by :func:`load_bvh`.
+
+    Attributes
+    ----------
+    angles : float64 array (T, 51)
+        Exponential maps, radians (made continuous over time).
+    root : float64 array (T, 3)
+        Pelvis positions, metres.
+    frame_time : float
+        Time between frames, seconds.
+    """
+
+    angles: np.ndarray
+    root: np.ndarray
+    frame_time: float
+
+
+@_result
+class Skeleton:
+    """The 17-joint skeleton of :func:`skeleton` (axes: y up, z forward, x left).
+
+    Attributes
+    ----------
+    names : list of str
+        Joint names.
+    parents : int64 array (17,)
+        Parent of each joint, -1 for the root.
+    offsets : float64 array (17, 3)
+        Rest offsets from the parent, metres.
+    bones : int64 array (21, 2)
+        Bones as index pairs into the points of :func:`forward_kinematics`.
+    """
+
+    names: List[str]
+    parents: np.ndarray
+    offsets: np.ndarray
+    bones: np.ndarray
+
+
+@_result
+class LineFit:
+    """The least-squares line ``y = intercept + slope x`` of :func:`fit_line`.
+
+    Attributes
+    ----------
+    intercept : float
+        In the units of ``y``.
+    slope : float
+        Units of ``y`` per unit of ``x``.
+    r2 : float
+        Coefficient of determination.
+    p_value : float
+        Two-sided p-value of ``slope = 0``.
+    n_points : int
+        Number of points.
+    """
+
+    intercept: float
+    slope: float
+    r2: float
+    p_value: float
+    n_points: int
+
+
+@_result
+class SvrInfo:
+    """The trained model of :func:`svr_fit_predict` (``return_info=True``).
+
+    Attributes
+    ----------
+    n_support : int
+        Number of support vectors.
+    rho : float
+        Offset ``rho`` of the decision function ``sum_i a_i K(x_i, x) - rho``.
+    n_iter : int
+        SMO iterations run.
+    """
+
+    n_support: int
+    rho: float
+    n_iter: int
+
+
+@_result
+class HopfTrajectory:
+    """A trajectory of the Hopf star network of :func:`hopf_simulate` (``T`` steps, ``F``
+    followers).
+
+    Attributes
+    ----------
+    time : float64 array (T,)
+        Time of each state, seconds.
+    leader : float64 array (T, 2)
+        Leader state ``(x, y)``.
+    followers : float64 array (T, F, 2)
+        Follower states.
+    leader_phase : float64 array (T,)
+        Leader phase in ``[0, 2 pi)``, radians.
+    """
+
+    time: np.ndarray
+    leader: np.ndarray
+    followers: np.ndarray
+    leader_phase: np.ndarray
+
+
+def _library_from_json(text: str) -> Library:
+    return Library.from_json(text)
+
+
+# A Library pickles and deep-copies through its JSON form (floats round-trip exactly).
+copyreg.pickle(Library, lambda lib: (_library_from_json, (lib.to_json(),)))
 
 
 def _u(name: str, v, lo: int = 0) -> int:
@@ -99,7 +382,7 @@ def _opt_float(name: str, v) -> Optional[float]:
 
 def make_synthetic_dataset(n_trials: int = 40, seed: int = 0, noise: float = 0.01,
                            human_like: bool = False, n_samples: int = 100,
-                           model_seed: int = 7) -> dict:
+                           model_seed: int = 7) -> MotionDataset:
     """Walk-and-reach trials of the seeded synthetic walker, with its ground truth.
 
     Each trial is a normal step (action 1, length ``L1 ~ U[0.670, 0.901]`` m), a shortened
@@ -124,27 +407,26 @@ def make_synthetic_dataset(n_trials: int = 40, seed: int = 0, noise: float = 0.0
 
     Returns
     -------
-    dict
-        ``"angles"`` ``(R, 3, 51, N)``, ``"step_length"`` ``(R, 3)`` (the reach carries the
-        length of the step before it), ``"duration"`` ``(R, 3)`` seconds, ``"root"``
-        ``(R, 3, N)`` pelvis travel since each action's start, ``"distances"`` ``(R,)``, and
-        ``"truth"``: ``"periodic"`` ``(3, R, 51, N)`` noise-free periodic parts,
-        ``"sources"`` ``(5, N)``, ``"source_coeffs"`` ``(5, 3)`` complex harmonics,
-        ``"delays"`` ``(51, 5)`` periods, ``"weights"`` ``(3, R, 51, 5)``, ``"means"`` and
-        ``"w0"`` ``(3, R, 51)`` (means and non-periodic weights).
+    MotionDataset
+        ``angles`` ``(R, 3, 51, N)``, ``step_length`` ``(R, 3)`` (the reach carries the
+        length of the step before it), ``duration`` ``(R, 3)`` seconds, ``root``
+        ``(R, 3, N)`` pelvis travel since each action's start, ``distances`` ``(R,)``, and
+        ``truth`` (a :class:`MotionTruth`): ``periodic`` ``(3, R, 51, N)`` noise-free
+        periodic parts, ``sources`` ``(5, N)``, ``source_coeffs`` ``(5, 3)`` complex
+        harmonics, ``delays`` ``(51, 5)`` periods, ``weights`` ``(3, R, 51, 5)``, ``means``
+        and ``w0`` ``(3, R, 51)`` (means and non-periodic weights).
     """
-    return _m.make_synthetic_dataset(
+    d = _m.make_synthetic_dataset(
         _u("n_trials", n_trials, 1), _u("seed", seed, 0), _float("noise", noise),
         bool(human_like), _u("n_samples", n_samples, 8), _u("model_seed", model_seed, 0))
+    return _from_mapping(MotionDataset, d, truth=_from_mapping(MotionTruth, d["truth"]))
 
 
 # ------------------------------------------------------------------------------------------
 # Demixing and PCA
 
 
-def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8,
-                 n_restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
-                 init: str = "pca", delay_search: int = 128) -> dict:
+class AnechoicModel(Estimator):
     """Anechoic demixing ``x_i^r(t) ~ sum_j w_ij^r s_j(t - tau_ij)`` of mean-free trials.
 
     Fourier-domain alternating least squares: sources, weights and delays are updated in turn,
@@ -152,9 +434,7 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
 
     Parameters
     ----------
-    X : array_like, shape (R, I, N)
-        Trials x channels x samples of one period each; finite.
-    n_sources : int
+    n_sources : int, default 3
         Number of sources ``J``, ``1 <= J < min(R * I, N / 2)``.
     delays : {"shared", "per_trial", "zero"}
         One delay per (channel, source) shared by all trials (the paper's model), free delays
@@ -165,7 +445,7 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
         Runs: run 0 starts from ``init``, run 1 from the orbit-subspace start (``"orbit"``;
         with delays and at least ``n_sources`` trials, unless run 0 is one), the others from
         seeded random starts. Every run gets 60 sweeps; the best continues to ``max_iter``
-        sweeps and is returned.
+        sweeps and is kept.
     max_iter, tol : int, float
         Sweeps per run, and the change of ``Q`` below which a run stops.
     seed : int
@@ -185,27 +465,74 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
         (at most 5 rounds). ``Q`` can only rise. It finds the delays of channels where two
         sources must move together, which single-delay sweeps cannot.
 
-    Returns
-    -------
-    dict
-        ``"q"`` (``1 - ||X - Xhat||^2 / ||X||^2``), ``"q_history"`` (``Q`` at the start and
-        after every sweep of the kept run), ``"sources"`` ``(J, N)`` samples (unit RMS),
-        ``"source_coeffs"`` ``(J, K)`` complex harmonics ``c_1..c_K``, ``"delays"`` in periods
-        ``(I, J)`` (``(R, I, J)`` for ``"per_trial"``), ``"weights"`` ``(R, I, J)`` and
-        ``"reconstruction"`` ``(R, I, N)``.
+    Attributes
+    ----------
+    q_ : float
+        ``1 - ||X - Xhat||^2 / ||X||^2``.
+    q_history_ : ndarray
+        ``Q`` at the start and after every sweep of the kept run.
+    sources_ : ndarray, shape (J, N)
+        The sources sampled over one period (unit RMS).
+    source_coeffs_ : ndarray of complex, shape (J, K)
+        Their harmonics ``c_1..c_K``.
+    delays_ : ndarray, shape (I, J), or (R, I, J) for ``delays="per_trial"``
+        Delays in periods.
+    weights_ : ndarray, shape (R, I, J)
+    reconstruction_ : ndarray, shape (R, I, N)
+        The model's approximation of the training trials.
     """
-    x = _array("X", X)
-    if x.ndim != 3:
-        raise ValueError(f"`X` must be an (R, I, N) array, got shape {x.shape}")
-    if delays not in DELAY_MODES:
-        raise ValueError(f"`delays` must be one of {DELAY_MODES}, got {delays!r}")
-    if init not in ("pca", "random", "greedy", "orbit"):
-        raise ValueError(f"`init` must be 'pca', 'random', 'greedy' or 'orbit', got {init!r}")
-    return _m.fit_anechoic(x, _u("n_sources", n_sources, 1), delays,
-                           _u("n_harmonics", n_harmonics, 1),
-                           _u("n_restarts", n_restarts, 1), _u("max_iter", max_iter, 1),
-                           _float("tol", tol),
-                           _u("seed", seed, 0), init, _u("delay_search", delay_search, 0))
+
+    _matrix_input = False
+    _fitted_attr = "sources_"
+
+    def __init__(self, n_sources: int = 3, delays: str = "shared", n_harmonics: int = 8,
+                 n_restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
+                 init: str = "pca", delay_search: int = 128):
+        self.n_sources, self.delays, self.n_harmonics = n_sources, delays, n_harmonics
+        self.n_restarts, self.max_iter, self.tol, self.seed = n_restarts, max_iter, tol, seed
+        self.init, self.delay_search = init, delay_search
+
+    def fit(self, X, y=None) -> "AnechoicModel":
+        """Demixes the trials ``X``, an array ``(R, I, N)`` (trials x channels x samples of
+        one period each; finite); ``y`` is ignored. Returns ``self``.
+
+        Raises
+        ------
+        ValueError
+            ``X`` not 3-D or not finite, bad parameters (named).
+        """
+        x = _array("X", X)
+        if x.ndim != 3:
+            raise ValueError(f"`X` must be an (R, I, N) array, got shape {x.shape}")
+        if self.delays not in DELAY_MODES:
+            raise ValueError(f"`delays` must be one of {DELAY_MODES}, got {self.delays!r}")
+        if self.init not in ("pca", "random", "greedy", "orbit"):
+            raise ValueError("`init` must be 'pca', 'random', 'greedy' or 'orbit', "
+                             f"got {self.init!r}")
+        res = _m.fit_anechoic(x, _u("n_sources", self.n_sources, 1), self.delays,
+                              _u("n_harmonics", self.n_harmonics, 1),
+                              _u("n_restarts", self.n_restarts, 1),
+                              _u("max_iter", self.max_iter, 1), _float("tol", self.tol),
+                              _u("seed", self.seed, 0), self.init,
+                              _u("delay_search", self.delay_search, 0))
+        self.q_ = res["q"]
+        self.q_history_ = np.asarray(res["q_history"])
+        self.source_coeffs_ = res["source_coeffs"]
+        self.delays_ = res["delays"]
+        self.weights_ = res["weights"]
+        self.reconstruction_ = res["reconstruction"]
+        self.sources_ = res["sources"]
+        return self
+
+
+def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8,
+                 n_restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
+                 init: str = "pca", delay_search: int = 128) -> AnechoicModel:
+    """``AnechoicModel(n_sources, ...).fit(X)``: the fitted :class:`AnechoicModel` (its
+    parameters and attributes are documented there)."""
+    return AnechoicModel(n_sources=n_sources, delays=delays, n_harmonics=n_harmonics,
+                         n_restarts=n_restarts, max_iter=max_iter, tol=tol, seed=seed,
+                         init=init, delay_search=delay_search).fit(X)
 
 
 def _trials(name: str, X) -> np.ndarray:
@@ -261,9 +588,20 @@ def quality(X, Xhat) -> float:
 # Step-wise learning
 
 
-def fit_stepwise(dataset: dict, n_sources_first: int = 3, n_sources_extra: int = 2,
-                 n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
-                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> Library:
+def _field(dataset, key: str, required: bool = True):
+    """``dataset[key]`` of a mapping, else the attribute ``key``; ``None`` when optional
+    and absent."""
+    if isinstance(dataset, Mapping):
+        v = dataset.get(key)
+    else:
+        v = getattr(dataset, key, None)
+    if v is None and required:
+        raise ValueError(f"`X` lacks {key!r}: it must be a dataset as make_synthetic_dataset "
+                         "returns, with 'angles', 'step_length' and 'duration'")
+    return v
+
+
+class StepwiseModel(Estimator):
     """Learns the three actions step by step (paper section 2.3) into a :class:`Library`.
 
     Action 1: per trial and channel, means and the non-periodic weight are removed by least
@@ -273,32 +611,60 @@ def fit_stepwise(dataset: dict, n_sources_first: int = 3, n_sources_extra: int =
 
     Parameters
     ----------
-    dataset : dict
-        As returned by :func:`make_synthetic_dataset`: ``"angles"`` ``(R, 3, I, N)``,
-        ``"step_length"`` and ``"duration"`` ``(R, 3)``; optional ``"root"`` ``(R, 3, N)``
-        (pelvis travel, for the learned progress curve) and ``"distances"`` ``(R,)``.
-        At least 3 trials.
-    n_sources_first, n_sources_extra : int
+    n_sources_first, n_sources_extra : int, default 3 and 2
         Sources of action 1 and sources added in action 2 (the paper's 3 and 2).
     n_harmonics, n_restarts, max_iter, tol, seed, delay_search
-        Demixing settings, as in :func:`fit_anechoic`.
+        Demixing settings, as in :class:`AnechoicModel`.
+
+    Attributes
+    ----------
+    library_ : Library
+        The learned sources, shared delays and per-trial weights of the three actions
+        (the input of :meth:`Synthesizer.fit`).
     """
-    if not isinstance(dataset, dict):
-        raise ValueError(f"`dataset` must be a dict of arrays, got {type(dataset).__name__}")
-    for k in ("angles", "step_length", "duration"):
-        if k not in dataset:
-            raise ValueError(f"`dataset` lacks the key {k!r}")
-    root = dataset.get("root")
-    dist = dataset.get("distances")
-    return _m.fit_stepwise(
-        _array("angles", dataset["angles"]), _array("step_length", dataset["step_length"]),
-        _array("duration", dataset["duration"]),
-        None if root is None else _array("root", root),
-        None if dist is None else _array("distances", dist),
-        _u("n_sources_first", n_sources_first, 1), _u("n_sources_extra", n_sources_extra, 0),
-        _u("n_harmonics", n_harmonics, 1), _u("n_restarts", n_restarts, 1),
-        _u("max_iter", max_iter, 1), _float("tol", tol), _u("seed", seed, 0),
-        _u("delay_search", delay_search, 0))
+
+    _matrix_input = False
+    _fitted_attr = "library_"
+
+    def __init__(self, n_sources_first: int = 3, n_sources_extra: int = 2,
+                 n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
+                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128):
+        self.n_sources_first, self.n_sources_extra = n_sources_first, n_sources_extra
+        self.n_harmonics, self.n_restarts, self.max_iter = n_harmonics, n_restarts, max_iter
+        self.tol, self.seed, self.delay_search = tol, seed, delay_search
+
+    def fit(self, X, y=None) -> "StepwiseModel":
+        """Learns the library from the dataset ``X``; ``y`` is ignored. Returns ``self``.
+
+        ``X`` is a dataset as :func:`make_synthetic_dataset` returns (a mapping, or an
+        object with these attributes): ``angles`` ``(R, 3, I, N)``, ``step_length`` and
+        ``duration`` ``(R, 3)``; optional ``root`` ``(R, 3, N)`` (pelvis travel, for the
+        learned progress curve) and ``distances`` ``(R,)``. At least 3 trials.
+        """
+        root = _field(X, "root", required=False)
+        dist = _field(X, "distances", required=False)
+        self.library_ = _m.fit_stepwise(
+            _array("angles", _field(X, "angles")),
+            _array("step_length", _field(X, "step_length")),
+            _array("duration", _field(X, "duration")),
+            None if root is None else _array("root", root),
+            None if dist is None else _array("distances", dist),
+            _u("n_sources_first", self.n_sources_first, 1),
+            _u("n_sources_extra", self.n_sources_extra, 0),
+            _u("n_harmonics", self.n_harmonics, 1), _u("n_restarts", self.n_restarts, 1),
+            _u("max_iter", self.max_iter, 1), _float("tol", self.tol), _u("seed", self.seed, 0),
+            _u("delay_search", self.delay_search, 0))
+        return self
+
+
+def fit_stepwise(dataset, n_sources_first: int = 3, n_sources_extra: int = 2,
+                 n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
+                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> StepwiseModel:
+    """``StepwiseModel(...).fit(dataset)``: the fitted :class:`StepwiseModel` (its
+    parameters and ``library_`` are documented there)."""
+    return StepwiseModel(n_sources_first=n_sources_first, n_sources_extra=n_sources_extra,
+                         n_harmonics=n_harmonics, n_restarts=n_restarts, max_iter=max_iter,
+                         tol=tol, seed=seed, delay_search=delay_search).fit(dataset)
 
 
 # ------------------------------------------------------------------------------------------
@@ -308,7 +674,7 @@ def fit_stepwise(dataset: dict, n_sources_first: int = 3, n_sources_extra: int =
 def plan_steps(D: float, comfort: float = 0.6, gamma: float = 0.385,
                range1: Tuple[float, float] = (0.670, 0.901),
                range2: Tuple[float, float] = (1.070, 1.439),
-               human_like: Optional[float] = None, max_steps: int = 1000) -> dict:
+               human_like: Optional[float] = None, max_steps: int = 1000) -> StepPlan:
     """The predictive planner (paper section 2.5): splits the goal distance into steps.
 
     The reach starts at the comfort distance ``D3``; for three actions the rest is split as
@@ -334,19 +700,23 @@ def plan_steps(D: float, comfort: float = 0.6, gamma: float = 0.385,
 
     Returns
     -------
-    dict
-        ``"actions"``: list of ``(name, length)`` with names ``"step"``, ``"short_step"``,
-        ``"reach"`` (length 0); ``"too_short"`` (goal closer than the comfort distance plus
-        the shortest step: no actions); ``"violation"`` (metres outside the ranges);
-        ``"n_steps"``; ``"distance"`` (total pelvis travel).
+    StepPlan
+        ``actions``: list of ``(name, length)`` with names ``"step"``, ``"short_step"``,
+        ``"reach"`` (length 0); ``too_short`` (goal closer than the comfort distance plus
+        the shortest step: no actions); ``violation`` (metres outside the ranges);
+        ``n_steps``; ``distance`` (total pelvis travel).
     """
-    return _m.plan_steps(_float("D", D), _float("comfort", comfort), _float("gamma", gamma),
-                         _range("range1", range1), _range("range2", range2),
-                         _opt_float("human_like", human_like),
-                         _u("max_steps", max_steps, 1))
+    return _plan(_m.plan_steps(_float("D", D), _float("comfort", comfort),
+                               _float("gamma", gamma), _range("range1", range1),
+                               _range("range2", range2), _opt_float("human_like", human_like),
+                               _u("max_steps", max_steps, 1)))
 
 
-class Synthesizer:
+def _plan(d) -> StepPlan:
+    return _from_mapping(StepPlan, d, actions=[(str(a), float(x)) for a, x in d["actions"]])
+
+
+class Synthesizer(Estimator):
     """Online synthesis of the walk-and-reach sequence from a learned :class:`Library`.
 
     A star network of Hopf oscillators runs at the current action's frequency; each source is
@@ -354,11 +724,11 @@ class Synthesizer:
     weights come from locally weighted linear regression of the step parameters and are
     blended over ``+-beta`` around each action boundary; the planner (step ranges from the
     library's training data) is re-run from the remaining distance before every boundary.
+    :meth:`fit` builds the state maps (training the SVR maps with ``map="svr"``) and the
+    weight regression from a library; :meth:`run` and :meth:`plan` use them.
 
     Parameters
     ----------
-    lib : Library
-        From :func:`fit_stepwise`.
     comfort, gamma : float
         Planner parameters (see :func:`plan_steps`).
     map : {"lut", "fourier", "svr"}
@@ -376,37 +746,68 @@ class Synthesizer:
         LWLR bandwidth (default: leave-one-out selection).
     human_like : float, optional
         Fixed normal-step length of the non-predictive planner variant.
+
+    Attributes
+    ----------
+    library_ : Library
+        The library the synthesizer was fitted on.
     """
 
-    def __init__(self, lib: Library, comfort: float = 0.6, gamma: float = 0.385,
-                 map: str = "lut", beta: float = _math.pi / 5, coupling: float = 2.0,
-                 lut_size: int = 1024, bandwidth: Optional[float] = None,
-                 human_like: Optional[float] = None, svr_C: float = 10.0,
-                 svr_epsilon: float = 0.01, svr_gamma: float = 2.0):
+    _matrix_input = False
+    _fitted_attr = "library_"
+
+    def __init__(self, comfort: float = 0.6, gamma: float = 0.385, map: str = "lut",
+                 beta: float = _math.pi / 5, coupling: float = 2.0, lut_size: int = 1024,
+                 bandwidth: Optional[float] = None, human_like: Optional[float] = None,
+                 svr_C: float = 10.0, svr_epsilon: float = 0.01, svr_gamma: float = 2.0):
+        self.comfort, self.gamma, self.map, self.beta = comfort, gamma, map, beta
+        self.coupling, self.lut_size, self.bandwidth = coupling, lut_size, bandwidth
+        self.human_like, self.svr_C, self.svr_epsilon = human_like, svr_C, svr_epsilon
+        self.svr_gamma = svr_gamma
+
+    def fit(self, X, y=None) -> "Synthesizer":
+        """Builds the synthesizer from ``X``, a :class:`Library` or a fitted
+        :class:`StepwiseModel` (its ``library_``); ``y`` is ignored. Returns ``self``.
+
+        Raises
+        ------
+        ValueError
+            ``X`` is neither, or a parameter is out of range (named).
+        """
+        lib = getattr(X, "library_", X) if isinstance(X, StepwiseModel) else X
         if not isinstance(lib, Library):
-            raise ValueError(f"`lib` must be a wscg.motion.Library, got {type(lib).__name__}")
-        if map not in MAPS:
-            raise ValueError(f"`map` must be one of {MAPS}, got {map!r}")
-        self.library = lib
-        self._s = _m.Synthesizer(
-            lib, _float("comfort", comfort), _float("gamma", gamma), map, _float("beta", beta),
-            _float("coupling", coupling), _int("lut_size", lut_size, 4, 65536),
-            _opt_float("bandwidth", bandwidth), _opt_float("human_like", human_like),
-            _float("svr_C", svr_C), _float("svr_epsilon", svr_epsilon),
-            _float("svr_gamma", svr_gamma))
+            raise ValueError("`X` must be a wscg.motion.Library or a fitted StepwiseModel, "
+                             f"got {type(X).__name__}")
+        params = self.get_params(deep=False)
+        self._s = _synthesizer(lib, params)
+        self._fit_params = params
+        self.library_ = lib
+        return self
+
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state.pop("_s", None)
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        if "library_" in state:
+            self._s = _synthesizer(self.library_, self._fit_params)
 
     @property
     def planner(self) -> dict:
         """The planner's ``comfort``, ``gamma``, ``range1``, ``range2`` and ``human_like``."""
+        self._check_fitted()
         return self._s.planner
 
-    def plan(self, D: float) -> dict:
+    def plan(self, D: float) -> StepPlan:
         """The synthesizer's plan for a goal at distance ``D`` (as :func:`plan_steps`)."""
-        return self._s.plan(_float("D", D))
+        self._check_fitted()
+        return _plan(self._s.plan(_float("D", D)))
 
     def run(self, goal: float = 2.6, fps: float = 120.0,
             goal_changes: Sequence[Tuple[float, float]] = (),
-            max_seconds: float = 120.0) -> dict:
+            max_seconds: float = 120.0) -> Synthesis:
         """Synthesizes a whole sequence towards the goal, ending with the reach.
 
         Parameters
@@ -423,14 +824,15 @@ class Synthesizer:
 
         Returns
         -------
-        dict
-            ``"angles"`` ``(T, 51)``, ``"root_x"`` ``(T,)`` pelvis forward position (metres
-            from the start), ``"time"`` ``(T,)``, ``"phase"`` ``(T,)`` leader phase in
-            ``[0, 2 pi)``, ``"action"`` ``(T,)`` int codes (indices into :data:`ACTIONS`),
-            ``"executed"`` list of ``(name, length)``, ``"transitions"`` postures at each
-            action boundary ``(n, 51)``, ``"too_short"`` (only the reach was performed) and
-            ``"goal"``.
+        Synthesis
+            ``angles`` ``(T, 51)``, ``root_x`` ``(T,)`` pelvis forward position (metres
+            from the start), ``time`` ``(T,)``, ``phase`` ``(T,)`` leader phase in
+            ``[0, 2 pi)``, ``action`` ``(T,)`` int codes (indices into :data:`ACTIONS`),
+            ``executed`` list of ``(name, length)``, ``transitions`` postures at each
+            action boundary ``(n, 51)``, ``too_short`` (only the reach was performed) and
+            ``goal``.
         """
+        self._check_fitted()
         changes = []
         for c in goal_changes:
             try:
@@ -438,12 +840,22 @@ class Synthesizer:
             except (TypeError, ValueError):
                 raise ValueError(f"`goal_changes` must hold (time, distance) pairs, got {c!r}") from None
             changes.append((_float("goal_changes time", t), _float("goal_changes distance", d)))
-        return self._s.run(_float("goal", goal), _float("fps", fps), changes,
-                           _float("max_seconds", max_seconds))
+        d = self._s.run(_float("goal", goal), _float("fps", fps), changes,
+                        _float("max_seconds", max_seconds))
+        return _from_mapping(Synthesis, d,
+                             executed=[(str(a), float(x)) for a, x in d["executed"]])
 
-    def __repr__(self) -> str:
-        p = self.planner
-        return f"Synthesizer({self.library!r}, comfort={p['comfort']}, gamma={p['gamma']})"
+
+def _synthesizer(lib: Library, p: dict):
+    """The native synthesizer of ``lib`` with the parameters ``p`` (checked, named)."""
+    if p["map"] not in MAPS:
+        raise ValueError(f"`map` must be one of {MAPS}, got {p['map']!r}")
+    return _m.Synthesizer(
+        lib, _float("comfort", p["comfort"]), _float("gamma", p["gamma"]), p["map"],
+        _float("beta", p["beta"]), _float("coupling", p["coupling"]),
+        _int("lut_size", p["lut_size"], 4, 65536), _opt_float("bandwidth", p["bandwidth"]),
+        _opt_float("human_like", p["human_like"]), _float("svr_C", p["svr_C"]),
+        _float("svr_epsilon", p["svr_epsilon"]), _float("svr_gamma", p["svr_gamma"]))
 
 
 # ------------------------------------------------------------------------------------------
@@ -481,16 +893,16 @@ def save_bvh(path: Union[str, os.PathLike], angles, root, fps: float = 120.0) ->
     _m.save_bvh(os.fspath(path), a, r, _float("fps", fps))
 
 
-def load_bvh(path: Union[str, os.PathLike]) -> dict:
+def load_bvh(path: Union[str, os.PathLike]) -> BvhMotion:
     """Reads a BVH file of the 17-joint skeleton (joints matched by name, any channel order).
 
     Returns
     -------
-    dict
-        ``"angles"`` ``(T, 51)`` exponential maps (made continuous over time), ``"root"``
-        ``(T, 3)`` pelvis positions in metres, ``"frame_time"`` seconds.
+    BvhMotion
+        ``angles`` ``(T, 51)`` exponential maps (made continuous over time), ``root``
+        ``(T, 3)`` pelvis positions in metres, ``frame_time`` seconds.
     """
-    return _m.load_bvh(os.fspath(path))
+    return _from_mapping(BvhMotion, _m.load_bvh(os.fspath(path)))
 
 
 def forward_kinematics(angles, root) -> np.ndarray:
@@ -506,11 +918,11 @@ def forward_kinematics(angles, root) -> np.ndarray:
     return _m.forward_kinematics(a, r)
 
 
-def skeleton() -> dict:
-    """The 17-joint skeleton: ``"names"``, ``"parents"`` (-1 for the root), ``"offsets"``
-    ``(17, 3)`` metres (axes: y up, z forward, x left) and ``"bones"`` ``(21, 2)`` index pairs
-    into the points of :func:`forward_kinematics`."""
-    return _m.skeleton()
+def skeleton() -> Skeleton:
+    """The 17-joint skeleton, a :class:`Skeleton`: ``names``, ``parents`` (-1 for the root),
+    ``offsets`` ``(17, 3)`` metres (axes: y up, z forward, x left) and ``bones`` ``(21, 2)``
+    index pairs into the points of :func:`forward_kinematics`."""
+    return _from_mapping(Skeleton, _m.skeleton())
 
 
 # ------------------------------------------------------------------------------------------
@@ -531,20 +943,22 @@ def regression_p_value(r2: float, n: int) -> float:
     return _m.regression_p_value(_float("r2", r2), _u("n", n, 0))
 
 
-def fit_line(x, y) -> dict:
+def fit_line(x, y) -> LineFit:
     """Least-squares line ``y = intercept + slope x`` (as ``scipy.stats.linregress``).
 
     Returns
     -------
-    dict
-        ``"intercept"``, ``"slope"``, ``"r2"``, ``"p_value"`` (two-sided, slope = 0) and
-        ``"n"``.
+    LineFit
+        ``intercept``, ``slope``, ``r2``, ``p_value`` (two-sided, slope = 0) and
+        ``n_points``.
     """
-    return _m.fit_line(_array("x", x), _array("y", y))
+    return _from_mapping(LineFit, _m.fit_line(_array("x", x), _array("y", y)),
+                         rename={"n": "n_points"})
 
 
 def svr_fit_predict(x_train, y_train, x_test, C: float = 10.0, epsilon: float = 0.01,
-                    gamma: float = 2.0, tol: float = 1e-3, return_info: bool = False):
+                    gamma: float = 2.0, tol: float = 1e-3,
+                    return_info: bool = False) -> Union[np.ndarray, Tuple[np.ndarray, SvrInfo]]:
     """Trains the RBF epsilon-SVR (SMO with LIBSVM's working-set selection) and predicts.
 
     Same model as ``sklearn.svm.SVR(kernel="rbf", C=C, epsilon=epsilon, gamma=gamma,
@@ -559,23 +973,23 @@ def svr_fit_predict(x_train, y_train, x_test, C: float = 10.0, epsilon: float = 
     C, epsilon, gamma, tol : float
         Box constraint, tube width, RBF parameter, stopping tolerance.
     return_info : bool
-        Also return ``{"n_support", "rho", "iterations"}``.
+        Also return the model's :class:`SvrInfo` (``n_support``, ``rho``, ``n_iter``).
 
     Returns
     -------
-    ndarray, shape (m,), or (ndarray, dict) with ``return_info``.
+    ndarray, shape (m,), or (ndarray, SvrInfo) with ``return_info``.
     """
     pred, n_sv, rho, it = _m.svr_fit_predict(
         _array("x_train", x_train), _array("y_train", y_train), _array("x_test", x_test),
         _float("C", C), _float("epsilon", epsilon), _float("gamma", gamma), _float("tol", tol))
     if return_info:
-        return pred, {"n_support": n_sv, "rho": rho, "iterations": it}
+        return pred, SvrInfo(n_support=n_sv, rho=rho, n_iter=it)
     return pred
 
 
 def hopf_simulate(duration: float, dt: float = 1e-3, omega: float = 2 * _math.pi,
                   coupling: float = 2.0, leader: Tuple[float, float] = (1.0, 0.0),
-                  followers=()) -> dict:
+                  followers=()) -> HopfTrajectory:
     """Integrates a star network of Hopf oscillators (classical RK4).
 
     ``x' = (1 - x^2 - y^2) x - omega y + k (x_p - x)`` and likewise for ``y``; the leader is
@@ -596,16 +1010,18 @@ def hopf_simulate(duration: float, dt: float = 1e-3, omega: float = 2 * _math.pi
 
     Returns
     -------
-    dict
-        ``"time"`` ``(T,)``, ``"leader"`` ``(T, 2)``, ``"followers"`` ``(T, F, 2)``,
-        ``"leader_phase"`` ``(T,)`` in ``[0, 2 pi)``.
+    HopfTrajectory
+        ``time`` ``(T,)``, ``leader`` ``(T, 2)``, ``followers`` ``(T, F, 2)``,
+        ``leader_phase`` ``(T,)`` in ``[0, 2 pi)``.
     """
     f = _array("followers", followers)
     if f.size == 0:
         f = np.zeros((0, 2))
     lx, ly = _range("leader", leader)
-    return _m.hopf_simulate(_float("duration", duration), _float("dt", dt),
-                            _float("omega", omega), _float("coupling", coupling), (lx, ly), f)
+    return _from_mapping(HopfTrajectory,
+                         _m.hopf_simulate(_float("duration", duration), _float("dt", dt),
+                                          _float("omega", omega), _float("coupling", coupling),
+                                          (lx, ly), f))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

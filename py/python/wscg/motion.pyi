@@ -1,8 +1,14 @@
 import os
-from typing import Dict, List, Optional, Sequence, Tuple, Union, overload, Literal
+from dataclasses import dataclass
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, overload, Literal
 
 import numpy as np
 import numpy.typing as npt
+
+F64 = npt.NDArray[np.float64]
+C128 = npt.NDArray[np.complex128]
+I64 = npt.NDArray[np.int64]
+from ._estimator import Estimator
 
 __all__: list[str]
 
@@ -11,13 +17,117 @@ DELAY_MODES: Tuple[str, ...]
 MAPS: Tuple[str, ...]
 N_CHANNELS: int
 
+@dataclass(frozen=True)
+class MotionTruth:
+    periodic: F64
+    sources: F64
+    source_coeffs: C128
+    delays: F64
+    weights: F64
+    means: F64
+    w0: F64
+
+@dataclass(frozen=True)
+class MotionDataset:
+    angles: F64
+    step_length: F64
+    duration: F64
+    root: F64
+    distances: F64
+    truth: MotionTruth
+
+
+@dataclass(frozen=True)
+class ActionFit:
+    means: F64
+    w0: F64
+    weights: F64
+    q: float
+    n_sources: int
+
+@dataclass(frozen=True)
+class StepPlan:
+    actions: List[Tuple[str, float]]
+    too_short: bool
+    violation: float
+    n_steps: int
+    distance: float
+
+@dataclass(frozen=True)
+class Synthesis:
+    angles: F64
+    root_x: F64
+    time: F64
+    phase: F64
+    action: I64
+    executed: List[Tuple[str, float]]
+    transitions: F64
+    too_short: bool
+    goal: float
+
+@dataclass(frozen=True)
+class BvhMotion:
+    angles: F64
+    root: F64
+    frame_time: float
+
+@dataclass(frozen=True)
+class Skeleton:
+    names: List[str]
+    parents: I64
+    offsets: F64
+    bones: I64
+
+@dataclass(frozen=True)
+class LineFit:
+    intercept: float
+    slope: float
+    r2: float
+    p_value: float
+    n_points: int
+
+@dataclass(frozen=True)
+class SvrInfo:
+    n_support: int
+    rho: float
+    n_iter: int
+
+@dataclass(frozen=True)
+class HopfTrajectory:
+    time: F64
+    leader: F64
+    followers: F64
+    leader_phase: F64
+
 def make_synthetic_dataset(n_trials: int = 40, seed: int = 0, noise: float = 0.01,
                            human_like: bool = False, n_samples: int = 100,
-                           model_seed: int = 7) -> dict: ...
+                           model_seed: int = 7) -> MotionDataset: ...
+class AnechoicModel(Estimator):
+    n_sources: int
+    delays: str
+    n_harmonics: int
+    n_restarts: int
+    max_iter: int
+    tol: float
+    seed: int
+    init: str
+    delay_search: int
+    q_: float
+    q_history_: npt.NDArray[np.float64]
+    sources_: npt.NDArray[np.float64]
+    source_coeffs_: npt.NDArray[np.complex128]
+    delays_: npt.NDArray[np.float64]
+    weights_: npt.NDArray[np.float64]
+    reconstruction_: npt.NDArray[np.float64]
+    def __init__(self, n_sources: int = 3, delays: str = "shared", n_harmonics: int = 8,
+                 n_restarts: int = 10, max_iter: int = 500, tol: float = 1e-9, seed: int = 0,
+                 init: str = "pca", delay_search: int = 128) -> None: ...
+    def fit(self, X: npt.ArrayLike, y: object = None) -> "AnechoicModel": ...
+
 def fit_anechoic(X: npt.ArrayLike, n_sources: int, delays: str = "shared",
                  n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
                  tol: float = 1e-9, seed: int = 0, init: str = "pca",
-                 delay_search: int = 128) -> dict: ...
+                 delay_search: int = 128) -> AnechoicModel: ...
 def pca_qualities(X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
 def pca_quality(X: npt.ArrayLike, j: int) -> float: ...
 def quality(X: npt.ArrayLike, Xhat: npt.ArrayLike) -> float: ...
@@ -42,37 +152,67 @@ class Library:
     @property
     def progress(self) -> npt.NDArray[np.float64]: ...
     def params(self, a: int) -> npt.NDArray[np.float64]: ...
-    def action_fit(self, a: int) -> dict: ...
+    def action_fit(self, a: int) -> ActionFit: ...
+    def to_json(self) -> str: ...
+    @staticmethod
+    def from_json(s: str) -> "Library": ...
 
-def fit_stepwise(dataset: dict, n_sources_first: int = 3, n_sources_extra: int = 2,
+class StepwiseModel(Estimator):
+    n_sources_first: int
+    n_sources_extra: int
+    n_harmonics: int
+    n_restarts: int
+    max_iter: int
+    tol: float
+    seed: int
+    delay_search: int
+    library_: Library
+    def __init__(self, n_sources_first: int = 3, n_sources_extra: int = 2,
                  n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
-                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> Library: ...
+                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> None: ...
+    def fit(self, X: object, y: object = None) -> "StepwiseModel": ...
+
+def fit_stepwise(dataset: object, n_sources_first: int = 3, n_sources_extra: int = 2,
+                 n_harmonics: int = 8, n_restarts: int = 10, max_iter: int = 500,
+                 tol: float = 1e-9, seed: int = 0, delay_search: int = 128) -> StepwiseModel: ...
 def plan_steps(D: float, comfort: float = 0.6, gamma: float = 0.385,
                range1: Tuple[float, float] = (0.670, 0.901),
                range2: Tuple[float, float] = (1.070, 1.439),
-               human_like: Optional[float] = None, max_steps: int = 1000) -> dict: ...
+               human_like: Optional[float] = None, max_steps: int = 1000) -> StepPlan: ...
 
-class Synthesizer:
-    library: Library
-    def __init__(self, lib: Library, comfort: float = 0.6, gamma: float = 0.385,
+class Synthesizer(Estimator):
+    comfort: float
+    gamma: float
+    map: str
+    beta: float
+    coupling: float
+    lut_size: int
+    bandwidth: Optional[float]
+    human_like: Optional[float]
+    svr_C: float
+    svr_epsilon: float
+    svr_gamma: float
+    library_: Library
+    def __init__(self, comfort: float = 0.6, gamma: float = 0.385,
                  map: str = "lut", beta: float = ..., coupling: float = 2.0,
                  lut_size: int = 1024, bandwidth: Optional[float] = None,
                  human_like: Optional[float] = None, svr_C: float = 10.0,
                  svr_epsilon: float = 0.01, svr_gamma: float = 2.0) -> None: ...
+    def fit(self, X: "Union[Library, StepwiseModel]", y: object = None) -> "Synthesizer": ...
     @property
-    def planner(self) -> dict: ...
-    def plan(self, D: float) -> dict: ...
+    def planner(self) -> Dict[str, Any]: ...
+    def plan(self, D: float) -> StepPlan: ...
     def run(self, goal: float = 2.6, fps: float = 120.0,
             goal_changes: Sequence[Tuple[float, float]] = (),
-            max_seconds: float = 120.0) -> dict: ...
+            max_seconds: float = 120.0) -> Synthesis: ...
 
 def save_bvh(path: Union[str, os.PathLike], angles: npt.ArrayLike, root: npt.ArrayLike,
              fps: float = 120.0) -> None: ...
-def load_bvh(path: Union[str, os.PathLike]) -> dict: ...
+def load_bvh(path: Union[str, os.PathLike]) -> BvhMotion: ...
 def forward_kinematics(angles: npt.ArrayLike, root: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
-def skeleton() -> dict: ...
+def skeleton() -> Skeleton: ...
 def regression_p_value(r2: float, n: int) -> float: ...
-def fit_line(x: npt.ArrayLike, y: npt.ArrayLike) -> dict: ...
+def fit_line(x: npt.ArrayLike, y: npt.ArrayLike) -> LineFit: ...
 @overload
 def svr_fit_predict(x_train: npt.ArrayLike, y_train: npt.ArrayLike, x_test: npt.ArrayLike,
                     C: float = 10.0, epsilon: float = 0.01, gamma: float = 2.0,
@@ -82,7 +222,7 @@ def svr_fit_predict(x_train: npt.ArrayLike, y_train: npt.ArrayLike, x_test: npt.
 def svr_fit_predict(x_train: npt.ArrayLike, y_train: npt.ArrayLike, x_test: npt.ArrayLike,
                     C: float = 10.0, epsilon: float = 0.01, gamma: float = 2.0,
                     tol: float = 1e-3, *,
-                    return_info: Literal[True]) -> Tuple[npt.NDArray[np.float64], dict]: ...
+                    return_info: Literal[True]) -> Tuple[npt.NDArray[np.float64], SvrInfo]: ...
 def hopf_simulate(duration: float, dt: float = 1e-3, omega: float = ...,
                   coupling: float = 2.0, leader: Tuple[float, float] = (1.0, 0.0),
-                  followers: npt.ArrayLike = ()) -> dict: ...
+                  followers: npt.ArrayLike = ()) -> HopfTrajectory: ...

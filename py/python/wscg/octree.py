@@ -35,17 +35,130 @@ triangle-box overlap testing", JGT 6(1) 2001.
 
 from __future__ import annotations
 
-from typing import Optional, Sequence, Tuple
+from typing import Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._native import octree as _o
 from ._checks import integer_ranges as _integer_ranges
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = ["HybridOctree", "build", "load", "from_bytes", "voxelize", "bvh_intersect",
-           "make_scene"]
+           "make_scene", "BuildStats", "MemoryReport", "RayHits", "RenderStats"]
 
 _MODES = ("triangles", "voxels", "hybrid")
+
+
+@_result
+class BuildStats:
+    """What the construction of :func:`build` did (``HybridOctree.stats``).
+
+    Attributes
+    ----------
+    n_fragments : int
+        (finest cell, triangle) pairs of the exact voxelization.
+    n_degenerate_triangles : int
+        Zero-area triangles (they produce no fragment).
+    n_nodes : int
+        Nodes, empty children included.
+    n_voxels : int
+        Non-empty nodes (one voxel each).
+    n_early_leaves : int
+        Leaves that stopped above the deepest level (at most two triangles).
+    n_finest_leaves : int
+        Leaves at the deepest level.
+    voxelize_seconds, hierarchy_seconds, attributes_seconds : float
+        Wall-clock seconds of the three phases: voxelization, the level-by-level hierarchy
+        and the bottom-up voxel colours and normals.
+    """
+
+    n_fragments: int
+    n_degenerate_triangles: int
+    n_nodes: int
+    n_voxels: int
+    n_early_leaves: int
+    n_finest_leaves: int
+    voxelize_seconds: float
+    hierarchy_seconds: float
+    attributes_seconds: float
+
+
+@_result
+class MemoryReport:
+    """Bytes per part of a tree, the columns of the paper's Table 2
+    (:meth:`HybridOctree.memory_report`).
+
+    Attributes
+    ----------
+    nodes : int
+        Bytes of the nodes, 8 per node, empty children included.
+    triangles : int
+        Bytes of the triangles, 48 per triangle.
+    tri_index : int
+        Bytes of the triangle index array (pairs and lists of the leaves), 4 per word.
+    voxels : int
+        Bytes of the voxels, 8 per non-empty node.
+    total : int
+        The sum, bytes.
+    """
+
+    nodes: int
+    triangles: int
+    tri_index: int
+    voxels: int
+    total: int
+
+
+@_result
+class RayHits:
+    """The nearest hits of ``N`` rays (:meth:`HybridOctree.intersect`).
+
+    Attributes
+    ----------
+    t : float32 array (N,)
+        Ray parameter of the hit, in units of the direction's length; ``inf`` on a miss.
+    prim : int64 array (N,)
+        Triangle index of a triangle hit; -1 for a miss or a voxel hit.
+    level : int8 array (N,)
+        Octree level of a voxel hit; -1 otherwise.
+    normal : float32 array (N, 3) or None
+        Unit normal at the hit (zeros on a miss); None without ``shading``.
+    color : float32 array (N, 3) or None
+        Linear RGB in ``[0, 1]`` at the hit (zeros on a miss); None without ``shading``.
+    """
+
+    t: np.ndarray
+    prim: np.ndarray
+    level: np.ndarray
+    normal: Optional[np.ndarray] = None
+    color: Optional[np.ndarray] = None
+
+
+@_result
+class RenderStats:
+    """What a render of :meth:`HybridOctree.render` hit, per primary ray.
+
+    Attributes
+    ----------
+    n_triangle_hits : int
+        Primary rays that stopped at a triangle.
+    n_voxel_hits : int
+        Primary rays that stopped at a voxel (the LoD cut).
+    n_misses : int
+        Primary rays that hit nothing.
+    blend_min, blend_max : float
+        Range of the parent blending factor ``i = (2 v_w - f) / v_w`` over the voxel hits, in
+        ``[0, 1]``.
+    seconds : float
+        Wall-clock seconds of the render.
+    """
+
+    n_triangle_hits: int
+    n_voxel_hits: int
+    n_misses: int
+    blend_min: float
+    blend_max: float
+    seconds: float
 
 
 def _mesh(vertices, faces, colors=None):
@@ -67,10 +180,11 @@ def _rays(origins, dirs):
 class HybridOctree:
     """A built octree and the mesh it references. Create with :func:`build` or :func:`load`."""
 
-    def __init__(self, native, stats: Optional[dict] = None):
+    def __init__(self, native, stats: Optional[BuildStats] = None):
         self._n = native
-        #: What the construction did: fragments, nodes, voxels, early leaves, phase times.
-        self.stats = stats or {}
+        #: What the construction did (a :class:`BuildStats`: fragments, nodes, voxels, early
+        #: leaves, phase times); None for a tree read by :func:`load` or :func:`from_bytes`.
+        self.stats = stats
 
     @property
     def depth(self) -> int:
@@ -103,16 +217,17 @@ class HybridOctree:
         m, s = self._n.cube
         return tuple(m), s
 
-    def memory_report(self) -> dict:
-        """Bytes per part, the columns of the paper's Table 2: ``nodes`` (8 B per node,
-        empty children included), ``triangles`` (48 B per triangle), ``tri_index`` (4 B per
-        word of the pair/list array), ``voxels`` (8 B per voxel) and ``total``."""
-        return self._n.memory_report()
+    def memory_report(self) -> MemoryReport:
+        """Bytes per part, the columns of the paper's Table 2, as a :class:`MemoryReport`:
+        ``nodes`` (8 B per node, empty children included), ``triangles`` (48 B per
+        triangle), ``tri_index`` (4 B per word of the pair/list array), ``voxels`` (8 B per
+        voxel) and ``total``."""
+        return _from_mapping(MemoryReport, self._n.memory_report())
 
     def intersect(self, origins, dirs, mode: str = "triangles", footprint_spread: float = 0.0,
                   lod_scale: float = 1.0, blend: bool = True,
                   small_leaves_as_voxels: bool = False, level: Optional[int] = None,
-                  shading: bool = True) -> dict:
+                  shading: bool = True) -> RayHits:
         """Nearest hits of ``N`` rays.
 
         Parameters
@@ -139,17 +254,18 @@ class HybridOctree:
 
         Returns
         -------
-        dict
+        RayHits
             ``t`` float32 (inf on a miss), ``prim`` int64 (-1 for a miss or a voxel hit),
             ``level`` int8 (voxel level, -1 otherwise), and with ``shading`` ``normal`` and
-            ``color`` (N, 3).
+            ``color`` (N, 3) (None without).
         """
         if mode not in _MODES:
             raise ValueError(f"mode {mode!r} is not valid; valid: {', '.join(_MODES)}")
         o, d = _rays(origins, dirs)
-        return self._n.intersect(o, d, mode, float(footprint_spread), float(lod_scale),
-                                 bool(blend), bool(small_leaves_as_voxels),
-                                 None if level is None else int(level), bool(shading))
+        return _from_mapping(RayHits, self._n.intersect(
+            o, d, mode, float(footprint_spread), float(lod_scale), bool(blend),
+            bool(small_leaves_as_voxels), None if level is None else int(level),
+            bool(shading)))
 
     def render(self, eye: Sequence[float], target: Sequence[float],
                up: Sequence[float] = (0.0, 0.0, 1.0), fov_deg: float = 45.0, width: int = 512,
@@ -158,7 +274,8 @@ class HybridOctree:
                lod_scale: float = 1.0, blend: bool = True,
                small_leaves_as_voxels: bool = False, level: Optional[int] = None,
                focus: Optional[Sequence[float]] = None, n_ao_samples: int = 0,
-               ao_radius: float = 0.05, return_stats: bool = False):
+               ao_radius: float = 0.05, return_stats: bool = False
+               ) -> Union[np.ndarray, Tuple[np.ndarray, RenderStats]]:
         """Renders a ``(height, width, 3)`` float32 linear-RGB image: one primary ray per
         pixel, Phong shading (ka 0.1, kd 0.8, ks 0.2, shininess 32), one point light
         (default: above and beside the cube) and one shadow ray per hit.
@@ -168,8 +285,8 @@ class HybridOctree:
         scale doubling every ``falloff`` pixels outside it. ``n_ao_samples``
         ambient-occlusion rays of length ``ao_radius`` cube sides scale the ambient term.
         ``eye``, ``target`` and ``light_pos`` are world points ``(x, y, z)``. With
-        ``return_stats`` also returns a dict of hit counts (``triangle_hits``,
-        ``voxel_hits``, ``misses``), blend factor range and seconds."""
+        ``return_stats`` returns ``(image, RenderStats)``: hit counts (``n_triangle_hits``,
+        ``n_voxel_hits``, ``n_misses``), the blend factor range and seconds."""
         if mode not in _MODES:
             raise ValueError(f"mode {mode!r} is not valid; valid: {', '.join(_MODES)}")
         img, st = self._n.render([float(x) for x in eye], [float(x) for x in target],
@@ -181,7 +298,11 @@ class HybridOctree:
                                  None if level is None else int(level),
                                  None if focus is None else [float(x) for x in focus],
                                  int(n_ao_samples), float(ao_radius))
-        return (img, st) if return_stats else img
+        if not return_stats:
+            return img
+        return img, _from_mapping(RenderStats, st, rename={
+            "triangle_hits": "n_triangle_hits", "voxel_hits": "n_voxel_hits",
+            "misses": "n_misses"})
 
     def occupancy(self, level: int) -> np.ndarray:
         """``(K, 3)`` integer cells ``(k, j, i)`` (array axis order, ``i`` along x; see the
@@ -209,6 +330,13 @@ class HybridOctree:
                 f"nodes={self.n_nodes}, voxels={self.n_voxels}, triangles={self.n_triangles})")
 
 
+# Native keys of the build statistics renamed to the field names of py/API.md.
+_BUILD_KEYS = {"fragments": "n_fragments", "degenerate_triangles": "n_degenerate_triangles",
+               "nodes": "n_nodes", "voxels": "n_voxels", "early_leaves": "n_early_leaves",
+               "finest_leaves": "n_finest_leaves", "voxelize_s": "voxelize_seconds",
+               "hierarchy_s": "hierarchy_seconds", "attributes_s": "attributes_seconds"}
+
+
 def build(vertices, faces, colors=None, depth: int = 9, early_stop: bool = True,
           domain: Optional[Tuple[Sequence[float], float]] = None) -> HybridOctree:
     """Builds the hybrid octree of a triangle mesh.
@@ -230,7 +358,8 @@ def build(vertices, faces, colors=None, depth: int = 9, early_stop: bool = True,
     Returns
     -------
     HybridOctree
-        With ``.stats`` holding the fragment, node and voxel counts and phase times.
+        With ``.stats``, a :class:`BuildStats`: the fragment, node and voxel counts and the
+        phase times.
     """
     v, f, c = _mesh(vertices, faces, colors)
     if not 0 <= int(depth) <= 255:
@@ -240,7 +369,7 @@ def build(vertices, faces, colors=None, depth: int = 9, early_stop: bool = True,
         dmin = [float(x) for x in domain[0]]
         dsize = float(domain[1])
     n, st = _o.build_octree(v, f, c, int(depth), bool(early_stop), dmin, dsize)
-    return HybridOctree(n, st)
+    return HybridOctree(n, _from_mapping(BuildStats, st, rename=_BUILD_KEYS))
 
 
 def load(path) -> HybridOctree:

@@ -30,8 +30,8 @@ every one has the paper's value or a documented default:
   ((x0, y0, x1, y1), plate centre at the origin, y up; default the whole plate),
   ``magnification`` (1: the rig's screen pixels), ``independent_samples`` (False),
   ``color_mode`` ('spectral' or 'rgb', the non-spectral baseline), ``keep_spectrum`` (False:
-  with ``return_info``, also the radiance per band as ``info['spectrum']`` (H, W, bands) and
-  ``info['bands_nm']``), ``n_photons`` (2 000 000 photons for the flakes' caustics on a
+  with ``return_info``, also the radiance per band as ``info.spectrum`` (H, W, bands) and
+  ``info.bands_nm``), ``n_photons`` (2 000 000 photons for the flakes' caustics on a
   diffuse base, used only when ``base_albedo > 0``; 0 leaves the caustics out),
   ``n_photon_neighbors`` (50 photons per density estimate).
 
@@ -40,27 +40,127 @@ Bad input raises ``ValueError``.
 
 from __future__ import annotations
 
-from typing import Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._native import raytrace as _r
 from ._checks import _int, integer_ranges as _integer_ranges
-from ._manylight import (ManyLightScene, load_manylight_obj, make_manylight_scene,
-                         manylight_from_arrays, render_manylight)
+from ._manylight import (ManyLightScene, ManyLightStats, load_manylight_obj,
+                         make_manylight_scene, manylight_from_arrays, render_manylight)
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = ["render_plate", "xyz_to_srgb", "make_tile", "plate_layout", "glint_stats",
            "binocular_overlap", "workshop", "fresnel_conductor", "fresnel_dielectric", "aluminium_nk", "daylight",
-           "spectrum_to_xyz", "project", "FLAKE_DTYPE",
+           "spectrum_to_xyz", "project", "FLAKE_DTYPE", "PlateInfo", "GlintStats",
+           "WorkshopScores",
            # paper 08: many-light rendering
            "ManyLightScene", "make_manylight_scene", "manylight_from_arrays",
-           "load_manylight_obj", "render_manylight"]
+           "load_manylight_obj", "render_manylight", "ManyLightStats"]
 
 #: Fields of the structured array returned by :func:`make_tile`.
 FLAKE_DTYPE = np.dtype([("cx", "f8"), ("cy", "f8"), ("cz", "f8"), ("nx", "f8"), ("ny", "f8"),
                         ("nz", "f8"), ("r", "f8")])
 
 _XYZ_TO_SRGB = np.array(_r.XYZ_TO_SRGB)
+
+
+@_result
+class PlateInfo:
+    """What a view of :func:`render_plate` (``return_info=True``) shows besides the image.
+
+    Attributes
+    ----------
+    flake_id : uint64 array (H, W)
+        The flake glinting directly in each pixel; ``2**64 - 1`` where none does.
+    glint_ids : uint64 array (G,)
+        Sorted ids of every flake glinting directly in the view.
+    mm_per_px : float
+        Width of a pixel on the plate, millimetres.
+    lamp_y : float
+        The lamp's own luminance ``Y`` (the normalised XYZ units of the image): the largest a
+        pixel can have.
+    region_mm : (x0, y0, x1, y1)
+        The rendered region of the plate, millimetres (plate centre at the origin, y up).
+    bands_nm : float64 array (B,) or None
+        Wavelengths of the spectrum's bands, nanometres; None without ``keep_spectrum``.
+    spectrum : float32 array (H, W, B) or None
+        Radiance per band, in the units that :func:`spectrum_to_xyz` maps to the image's
+        XYZ; None without ``keep_spectrum``.
+    """
+
+    flake_id: np.ndarray
+    glint_ids: np.ndarray
+    mm_per_px: float
+    lamp_y: float
+    region_mm: Tuple[float, float, float, float]
+    bands_nm: Optional[np.ndarray] = None
+    spectrum: Optional[np.ndarray] = None
+
+
+@_result
+class GlintStats:
+    """Sparkle statistics of a luminance image (:func:`glint_stats`, the virtual observer's
+    features).
+
+    Attributes
+    ----------
+    glint_density_per_mm2 : float
+        Glints per mm² of plate.
+    mean_y : float
+        Mean luminance (the image's units).
+    median_y : float
+        Median luminance.
+    y99_over_median : float
+        99th percentile of the luminance over its median (infinite when the median is 0).
+    mean_glint_area_mm2 : float
+        Mean area of a glint, mm²; 0 without glints.
+    mean_glint_peak_y : float
+        Mean of the glints' brightest pixels (the image's units); 0 without glints.
+    n_glints : int
+        Glints: 8-connected groups of pixels above ``threshold``.
+    threshold : float
+        The luminance threshold: 4x the median, or any positive luminance when the median
+        is 0.
+    """
+
+    glint_density_per_mm2: float
+    mean_y: float
+    median_y: float
+    y99_over_median: float
+    mean_glint_area_mm2: float
+    mean_glint_peak_y: float
+    n_glints: int
+    threshold: float
+
+
+@_result
+class WorkshopScores:
+    """The virtual-observer scores of :func:`workshop`.
+
+    Attributes
+    ----------
+    runs : list of (float, float)
+        The candidates, ``(radius_um, density)``.
+    scores : float64 array (R,)
+        Score of each candidate: 0 (identical to the reference) ... 10 (different).
+    features : float64 array (R, F)
+        The observer's features of each candidate (see ``feature_names``).
+    reference_features : float64 array (n_reference_renders, F)
+        The features of each render of the reference.
+    feature_names : list of str
+        Names of the ``F`` features.
+    scale_log : float64 array (F,)
+        The observer's scale of each log feature: its standard deviation over the reference
+        renders, but at least ``jnd_log``.
+    """
+
+    runs: List[Tuple[float, float]]
+    scores: np.ndarray
+    features: np.ndarray
+    reference_features: np.ndarray
+    feature_names: List[str]
+    scale_log: np.ndarray
 
 
 def _records(arr: np.ndarray) -> np.ndarray:
@@ -165,7 +265,10 @@ def render_plate(eye: str = "cyclopean", color_space: str = "xyz", return_info: 
                  region_mm: Optional[Tuple[float, float, float, float]] = None,
                  magnification: float = 1.0, independent_samples: bool = False,
                  color_mode: str = "spectral", keep_spectrum: bool = False,
-                 n_photons: int = 2_000_000, n_photon_neighbors: int = 50):
+                 n_photons: int = 2_000_000, n_photon_neighbors: int = 50
+                 ) -> Union[np.ndarray, Tuple[np.ndarray, np.ndarray],
+                            Tuple[np.ndarray, PlateInfo],
+                            Tuple[Tuple[np.ndarray, PlateInfo], Tuple[np.ndarray, PlateInfo]]]:
     """Renders the metallic-paint plate for one eye or the stereo pair (paper 07).
 
     Parameters
@@ -177,10 +280,11 @@ def render_plate(eye: str = "cyclopean", color_space: str = "xyz", return_info: 
         CIE XYZ normalised so that a perfect white diffuser under the lamp has Y = 1, or
         display sRGB (glints clip at 1).
     return_info : bool
-        Also return, per view, a dict with ``flake_id`` ((H, W) uint64: the flake glinting
-        directly in each pixel, ``2**64 - 1`` for none), ``glint_ids`` (sorted ids of every
-        flake glinting directly), ``mm_per_px``, ``lamp_y`` (the lamp's own luminance, the
-        largest a pixel can have) and ``region_mm``.
+        Also return, per view, a :class:`PlateInfo` with ``flake_id`` ((H, W) uint64: the
+        flake glinting directly in each pixel, ``2**64 - 1`` for none), ``glint_ids`` (sorted
+        ids of every flake glinting directly), ``mm_per_px``, ``lamp_y`` (the lamp's own
+        luminance, the largest a pixel can have), ``region_mm`` and, with
+        ``keep_spectrum``, ``bands_nm`` and ``spectrum``.
     radius_um, radius_cv, thickness_um, density, tilt, tilt_deg, layer_um, tile_um, model, n_pool_tiles, max_clamped_fraction, seed
         The flake microstructure (see the module documentation).
     size_mm, coat_ior, coat_um, binder_ior, binder_sigma_a_per_mm, base_albedo, metal, metal_nk
@@ -234,7 +338,11 @@ def render_plate(eye: str = "cyclopean", color_space: str = "xyz", return_info: 
     for xyz, flake_id, glint_ids, info in _r.render_plate(params, eyes):
         img = xyz_to_srgb(xyz) if color_space == "srgb" else xyz
         if return_info:
-            info = dict(info, flake_id=flake_id, glint_ids=glint_ids)
+            bands = info.get("bands_nm")
+            info = _from_mapping(PlateInfo, info, flake_id=flake_id, glint_ids=glint_ids,
+                                 region_mm=tuple(info["region_mm"]),
+                                 bands_nm=None if bands is None
+                                 else np.asarray(bands, dtype=np.float64))
             views.append((img, info))
         else:
             views.append(img)
@@ -279,16 +387,17 @@ def plate_layout(region_mm: Tuple[float, float, float, float], *, radius_um: flo
     pool, cells = _r.plate_layout(params, (x0, y0, x1, y1))
     return [_records(a) for a in pool], cells
 
-def glint_stats(y, mm_per_px: float) -> dict:
+def glint_stats(y, mm_per_px: float) -> GlintStats:
     """Sparkle statistics of a luminance image (the virtual observer's features).
 
     Glints are 8-connected groups of pixels brighter than 4x the median luminance (any
-    positive luminance when the median is 0). Returns ``glint_density_per_mm2``,
-    ``mean_y``, ``median_y``, ``y99_over_median``, ``mean_glint_area_mm2``,
-    ``mean_glint_peak_y``, ``glints`` and ``threshold``.
+    positive luminance when the median is 0). Returns a :class:`GlintStats`:
+    ``glint_density_per_mm2``, ``mean_y``, ``median_y``, ``y99_over_median``,
+    ``mean_glint_area_mm2``, ``mean_glint_peak_y``, ``n_glints`` and ``threshold``.
     """
     a = np.ascontiguousarray(np.asarray(y, dtype=np.float32))
-    return _r.glint_statistics(a, float(mm_per_px))
+    return _from_mapping(GlintStats, _r.glint_statistics(a, float(mm_per_px)),
+                         rename={"glints": "n_glints"})
 
 
 def binocular_overlap(left_ids, right_ids) -> float:
@@ -316,7 +425,7 @@ def workshop(reference: Tuple[float, float] = (26.0, 7.3),
              region_mm: Optional[Tuple[float, float, float, float]] = None,
              magnification: float = 4.0, independent_samples: bool = False,
              color_mode: str = "spectral", keep_spectrum: bool = False,
-             n_photons: int = 2_000_000, n_photon_neighbors: int = 50) -> dict:
+             n_photons: int = 2_000_000, n_photon_neighbors: int = 50) -> WorkshopScores:
     """The virtual material workshop: virtual-observer scores of candidate plates.
 
     The hidden ``reference`` (radius µm, density) is rendered ``n_reference_renders`` times
@@ -328,8 +437,8 @@ def workshop(reference: Tuple[float, float] = (26.0, 7.3),
     patch (``region_mm=None``) at 4x magnification, 64 spp, the lamp 75 degrees above the
     plate. Fit the scores with :func:`wscg.doe.fit_rsm` and read the stationary point.
 
-    Returns a dict with ``runs``, ``scores``, ``features``, ``reference_features``,
-    ``feature_names`` and ``scale_log``.
+    Returns a :class:`WorkshopScores`: ``runs``, ``scores``, ``features``,
+    ``reference_features``, ``feature_names`` and ``scale_log``.
     """
     if runs is None:
         from . import doe
@@ -350,8 +459,13 @@ def workshop(reference: Tuple[float, float] = (26.0, 7.3),
     res = _r.workshop(params, (float(reference[0]), float(reference[1])), runs,
                       condition, _int("n_reference_renders", n_reference_renders, 2),
                       float(jnd_log))
-    res["runs"] = runs
-    return res
+    f64 = lambda v: np.asarray(v, dtype=np.float64)  # noqa: E731
+    n_features = len(res["feature_names"])
+    return _from_mapping(WorkshopScores, res, runs=runs, scores=f64(res["scores"]),
+                         features=f64(res["features"]).reshape(len(runs), n_features),
+                         reference_features=f64(res["reference_features"]).reshape(
+                             -1, n_features),
+                         scale_log=f64(res["scale_log"]))
 
 
 def fresnel_conductor(cos_i, n: float, k: float) -> np.ndarray:

@@ -1,4 +1,5 @@
-from typing import Any, Optional, Sequence, Tuple
+from dataclasses import dataclass
+from typing import Any, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -8,6 +9,52 @@ F64 = npt.NDArray[np.float64]
 
 __all__: list[str]
 FLAKE_DTYPE: np.dtype
+
+@dataclass(frozen=True)
+class PlateInfo:
+    flake_id: npt.NDArray[np.uint64]
+    glint_ids: npt.NDArray[np.uint64]
+    mm_per_px: float
+    lamp_y: float
+    region_mm: Tuple[float, float, float, float]
+    bands_nm: Optional[F64] = None
+    spectrum: Optional[F32] = None
+
+@dataclass(frozen=True)
+class GlintStats:
+    glint_density_per_mm2: float
+    mean_y: float
+    median_y: float
+    y99_over_median: float
+    mean_glint_area_mm2: float
+    mean_glint_peak_y: float
+    n_glints: int
+    threshold: float
+
+@dataclass(frozen=True)
+class WorkshopScores:
+    runs: List[Tuple[float, float]]
+    scores: F64
+    features: F64
+    reference_features: F64
+    feature_names: List[str]
+    scale_log: F64
+
+@dataclass(frozen=True)
+class ManyLightStats:
+    method: str
+    n_vpls: int
+    setup_seconds: float
+    cache_seconds: float
+    render_seconds: float
+    records: F64
+    record_pixels: npt.NDArray[np.int64]
+    record_inserted: npt.NDArray[np.bool_]
+    n_records: Optional[int] = None
+    n_inserted: Optional[int] = None
+    n_passes: Optional[int] = None
+    n_cache_shadow_rays: Optional[int] = None
+    cache_bytes: Optional[int] = None
 
 def xyz_to_srgb(xyz: npt.ArrayLike, exposure: float = 1.0) -> F32: ...
 def render_plate(eye: str = "cyclopean", color_space: str = "xyz", return_info: bool = False, *,
@@ -26,7 +73,9 @@ def render_plate(eye: str = "cyclopean", color_space: str = "xyz", return_info: 
                  region_mm: Optional[Tuple[float, float, float, float]] = None,
                  magnification: float = 1.0, independent_samples: bool = False,
                  color_mode: str = "spectral", keep_spectrum: bool = False,
-                 n_photons: int = 2_000_000, n_photon_neighbors: int = 50) -> Any: ...
+                 n_photons: int = 2_000_000, n_photon_neighbors: int = 50
+                 ) -> Union[F32, Tuple[F32, F32], Tuple[F32, PlateInfo],
+                            Tuple[Tuple[F32, PlateInfo], Tuple[F32, PlateInfo]]]: ...
 def make_tile(*, radius_um: float = 30.0, radius_cv: float = 0.15, thickness_um: float = 0.5,
               density: float = 6.5, tilt: str = "halfnormal", tilt_deg: float = 8.0,
               layer_um: float = 20.24, tile_um: float = 450.0, model: str = "boolean",
@@ -39,7 +88,7 @@ def plate_layout(region_mm: Tuple[float, float, float, float], *, radius_um: flo
                  max_clamped_fraction: float = 0.05, seed: int = 0,
                  size_mm: Tuple[float, float] = (150.0, 100.0)
                  ) -> Tuple[list[np.ndarray], list[Tuple[float, float, int, int]]]: ...
-def glint_stats(y: npt.ArrayLike, mm_per_px: float) -> dict[str, Any]: ...
+def glint_stats(y: npt.ArrayLike, mm_per_px: float) -> GlintStats: ...
 def binocular_overlap(left_ids: npt.ArrayLike, right_ids: npt.ArrayLike) -> float: ...
 def workshop(reference: Tuple[float, float] = (26.0, 7.3),
              runs: Optional[Sequence[Tuple[float, float]]] = None, condition: str = "stereo",
@@ -59,7 +108,7 @@ def workshop(reference: Tuple[float, float] = (26.0, 7.3),
              region_mm: Optional[Tuple[float, float, float, float]] = None,
              magnification: float = 4.0, independent_samples: bool = False,
              color_mode: str = "spectral", keep_spectrum: bool = False,
-             n_photons: int = 2_000_000, n_photon_neighbors: int = 50) -> dict[str, Any]: ...
+             n_photons: int = 2_000_000, n_photon_neighbors: int = 50) -> WorkshopScores: ...
 def fresnel_conductor(cos_i: npt.ArrayLike, n: float, k: float) -> F64: ...
 def fresnel_dielectric(cos_i: npt.ArrayLike, eta: float) -> F64: ...
 def aluminium_nk(lambda_nm: npt.ArrayLike) -> F64: ...
@@ -95,4 +144,4 @@ def render_manylight(scene: ManyLightScene, method: str = "adaptive",
                      seed: int = 0, vpl_seed: int = 0, clamp_dist: Optional[float] = None,
                      m_nearest: int = 3, delta: float = 0.5, init_fraction: float = 0.6,
                      theta_max: float = ..., lam: float = 5.0,
-                     dmax_factor: float = 2.0) -> Tuple[F32, dict]: ...
+                     dmax_factor: float = 2.0) -> Tuple[F32, ManyLightStats]: ...

@@ -20,16 +20,57 @@ arrays, masks ``(F, H, W)`` bool or uint8 (non-zero = hole). Bad input raises
 
 from __future__ import annotations
 
-from typing import Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._native import video as _v
 from ._checks import _int, integer_ranges as _integer_ranges
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = ["complete_video", "wexler_complete", "per_frame_patchmatch", "inpaint_telea",
            "ssim_masked", "psnr_masked", "flicker", "make_clip", "load_frames", "load_mask",
-           "save_frames"]
+           "save_frames", "CompletionStats"]
+
+
+@_result
+class CompletionStats:
+    """What each stage of :func:`complete_video` did (``return_stats=True``). Energies are
+    sums over the hole pixels of the mean squared RGB difference (grey levels squared) of
+    their patch to their source's patch.
+
+    Attributes
+    ----------
+    working_size : (int, int)
+        ``(height, width)`` of stage 1's working resolution.
+    working_factor : int
+        Down-scaling factor from full to working resolution.
+    seconds : list of float
+        Wall time of stages 1, 2 and 3, in seconds.
+    lowres_energy : list of list of float
+        Stage 1: the energy after each sweep, one list per level, coarsest first.
+    local_energy : list of list of float
+        Stage 3: the energy after each window iteration, one list per finer level.
+    local_candidates : list of int
+        Stage 3: candidate patches compared per finer level.
+    refine_changed : list of int or None
+        Stage 2: matches replaced in each iteration (``None`` without refinement).
+    refine_initial_set_mean : (float, float) or None
+        Stage 2: mean patch distance of the matches above the first threshold, before and
+        after refinement (``None`` without refinement).
+    energy : float
+        The energy of the final completion at full resolution.
+    """
+
+    working_size: Tuple[int, int]
+    working_factor: int
+    seconds: List[float]
+    lowres_energy: List[List[float]]
+    local_energy: List[List[float]]
+    local_candidates: List[int]
+    energy: float
+    refine_changed: Optional[List[int]] = None
+    refine_initial_set_mean: Optional[Tuple[float, float]] = None
 
 
 def _frames(frames, name: str = "frames") -> np.ndarray:
@@ -80,7 +121,10 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
                    min_energy_drop: float = 5e-3, temporal_radius: int = 0,
                    propagate: bool = True,
                    step: str = "double", global_fine_search: bool = False,
-                   return_matches: bool = False, return_stats: bool = False):
+                   return_matches: bool = False, return_stats: bool = False
+                   ) -> Union[np.ndarray, Tuple[np.ndarray, np.ndarray],
+                              Tuple[np.ndarray, CompletionStats],
+                              Tuple[np.ndarray, np.ndarray, CompletionStats]]:
     """Completes the hole ``mask`` of ``frames`` by localized search (paper 06).
 
     Parameters
@@ -139,7 +183,7 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         Exact global search instead of stage 3's windows (ablation, small videos only).
     return_matches, return_stats : bool
         Also return the ``(F, H, W, 3)`` int32 source ``(t, y, x)`` of every hole pixel (-1
-        elsewhere) and/or a dict of per-stage statistics.
+        elsewhere) and/or the per-stage statistics, a :class:`CompletionStats`.
 
     Returns
     -------
@@ -148,7 +192,7 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
 
     Notes
     -----
-    The energy reported in ``stats['energy']`` is the sum over hole pixels of the mean
+    The energy reported in ``stats.energy`` is the sum over hole pixels of the mean
     squared RGB difference of their patch to their source's: the paper's eq. 1 as a sum
     instead of a product, since a product of distances is zero as soon as one match is exact.
     """
@@ -165,7 +209,8 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         bool(global_fine_search),
         bool(return_matches))
     out = out.reshape(f.shape)
-    extra = ([matches] if return_matches else []) + ([stats] if return_stats else [])
+    extra = (([matches] if return_matches else [])
+             + ([_from_mapping(CompletionStats, stats)] if return_stats else []))
     return (out, *extra) if extra else out
 
 

@@ -1,12 +1,27 @@
-from typing import Any, Optional, Sequence, Tuple
+from dataclasses import dataclass
+from typing import Any, List, Literal, Optional, Sequence, Tuple, overload
 
 import numpy as np
 import numpy.typing as npt
 
 U8 = npt.NDArray[np.uint8]
+I32 = npt.NDArray[np.int32]
 
 __all__: list[str]
 
+@dataclass(frozen=True)
+class CompletionStats:
+    working_size: Tuple[int, int]
+    working_factor: int
+    seconds: List[float]
+    lowres_energy: List[List[float]]
+    local_energy: List[List[float]]
+    local_candidates: List[int]
+    energy: float
+    refine_changed: Optional[List[int]] = ...
+    refine_initial_set_mean: Optional[Tuple[float, float]] = ...
+
+@overload
 def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[int] = (5, 5, 5),
                    lowres_width: int = 480, n_levels: Optional[int] = None,
                    lowres_max_iter: Sequence[int] = (10, 5, 3), init: str = "harmonic2d",
@@ -15,8 +30,41 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
                    temporal_radius: int = 0, propagate: bool = True, step: str = "double",
-                   global_fine_search: bool = False, return_matches: bool = False,
-                   return_stats: bool = False) -> Any: ...
+                   global_fine_search: bool = False, return_matches: Literal[False] = ...,
+                   return_stats: Literal[False] = ...) -> U8: ...
+@overload
+def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[int] = (5, 5, 5),
+                   lowres_width: int = 480, n_levels: Optional[int] = None,
+                   lowres_max_iter: Sequence[int] = (10, 5, 3), init: str = "harmonic2d",
+                   search: str = "patchmatch", patchmatch_n_iter: int = 5, seed: int = 0,
+                   onion_order: bool = True, causal_first_sweep: bool = True,
+                   refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
+                   fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
+                   temporal_radius: int = 0, propagate: bool = True, step: str = "double",
+                   global_fine_search: bool = False, *, return_matches: Literal[True],
+                   return_stats: Literal[False] = ...) -> Tuple[U8, I32]: ...
+@overload
+def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[int] = (5, 5, 5),
+                   lowres_width: int = 480, n_levels: Optional[int] = None,
+                   lowres_max_iter: Sequence[int] = (10, 5, 3), init: str = "harmonic2d",
+                   search: str = "patchmatch", patchmatch_n_iter: int = 5, seed: int = 0,
+                   onion_order: bool = True, causal_first_sweep: bool = True,
+                   refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
+                   fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
+                   temporal_radius: int = 0, propagate: bool = True, step: str = "double",
+                   global_fine_search: bool = False, *, return_matches: Literal[False] = ...,
+                   return_stats: Literal[True]) -> Tuple[U8, CompletionStats]: ...
+@overload
+def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[int] = (5, 5, 5),
+                   lowres_width: int = 480, n_levels: Optional[int] = None,
+                   lowres_max_iter: Sequence[int] = (10, 5, 3), init: str = "harmonic2d",
+                   search: str = "patchmatch", patchmatch_n_iter: int = 5, seed: int = 0,
+                   onion_order: bool = True, causal_first_sweep: bool = True,
+                   refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
+                   fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
+                   temporal_radius: int = 0, propagate: bool = True, step: str = "double",
+                   global_fine_search: bool = False, *, return_matches: Literal[True],
+                   return_stats: Literal[True]) -> Tuple[U8, I32, CompletionStats]: ...
 def wexler_complete(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[int] = (5, 5, 5),
                     min_width: int = 64, max_iter: Sequence[int] = (10, 5, 3),
                     patchmatch_n_iter: int = 4, seed: int = 0) -> U8: ...

@@ -56,21 +56,56 @@ from __future__ import annotations
 
 import os
 import numbers
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._native import volren as _v
 from ._checks import integer_ranges as _integer_ranges
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = ["HybridServer", "HybridClient", "render_reference", "make_phantom", "phantom_tfs",
-           "octree_address", "orbit_camera", "haar_blocks",
+           "octree_address", "orbit_camera", "haar_blocks", "SizeReport",
            # paper 15
            "render", "PreparedVolume", "light_buffer", "preintegration_table",
            "make_marschner_lobb", "marschner_lobb_tf", "tissue_tf", "skin_tf",
-           "labels_to_density", "load_vti", "mean_abs_diff", "study", "METHODS", "KERNELS"]
+           "labels_to_density", "load_vti", "mean_abs_diff", "study", "METHODS", "KERNELS",
+           "IlluminationStudy", "StudyEntry"]
 
 Roi = Tuple[int, int, int, int, int, int]
+
+
+@_result
+class SizeReport:
+    """Bytes sent by every scheme of the paper's Tables 1 and 2, measured on serialized
+    buffers (:meth:`HybridServer.size_report`).
+
+    Attributes
+    ----------
+    raw : int
+        The volume itself, one byte per voxel.
+    wavelets : int
+        The TF-aware block wavelets, all steps.
+    gradient_octree : int
+        The Gradient Octree: structure and every leaf.
+    hybrid_static : int
+        The hybrid scheme's static package (low-resolution context and octree structure).
+    hybrid_roi : int
+        The hybrid scheme's dynamic package of the ROI.
+    hybrid : int
+        ``hybrid_static + hybrid_roi``.
+    thin_client_frame : int or None
+        One JPEG frame (quality 85) of a thin client at the viewport; None without
+        ``thin_client_view``.
+    """
+
+    raw: int
+    wavelets: int
+    gradient_octree: int
+    hybrid_static: int
+    hybrid_roi: int
+    hybrid: int
+    thin_client_frame: Optional[int]
 
 
 def _volume(v) -> np.ndarray:
@@ -152,18 +187,19 @@ class HybridServer:
         return self._s.node_counts
 
     def size_report(self, roi: Roi, roi_tf: int = 1, thin_client_view: Optional[dict] = None,
-                    viewport: Tuple[int, int] = (1080, 1920)) -> dict:
+                    viewport: Tuple[int, int] = (1080, 1920)) -> SizeReport:
         """Bytes of every scheme of the paper's Tables 1 and 2, measured on serialized
-        buffers: ``raw``, ``wavelets`` (all steps), ``gradient_octree`` (structure and every
-        leaf), ``hybrid_static``, ``hybrid_roi``, ``hybrid``, and with ``thin_client_view``
-        (a camera dict, e.g. from :func:`orbit_camera`) ``thin_client_frame``, the JPEG size
-        of one full-resolution frame at ``viewport`` ``(height, width)``."""
+        buffers, as a :class:`SizeReport`: ``raw``, ``wavelets`` (all steps),
+        ``gradient_octree`` (structure and every leaf), ``hybrid_static``, ``hybrid_roi``,
+        ``hybrid``, and with ``thin_client_view`` (a camera dict, e.g. from
+        :func:`orbit_camera`) ``thin_client_frame``, the JPEG size of one full-resolution
+        frame at ``viewport`` ``(height, width)``."""
         view = None
         if thin_client_view is not None:
             c = thin_client_view
             view = _view(c["eye"], c["target"], c.get("up", (0.0, 0.0, 1.0)),
                          c.get("fov_deg", 30.0), viewport)
-        return self._s.size_report(_roi(roi), int(roi_tf), view)
+        return _from_mapping(SizeReport, self._s.size_report(_roi(roi), int(roi_tf), view))
 
 
 class HybridClient:
@@ -628,13 +664,67 @@ def mean_abs_diff(a, b) -> float:
     return _v.mean_abs_diff(fa, fb)
 
 
+@_result
+class StudyEntry:
+    """One configuration of :func:`study`, scored against the reference and averaged over
+    the views.
+
+    Attributes
+    ----------
+    method : str
+        ``"ics"``, ``"scs"``, ``"pi-ics"`` or ``"pi-scs"``.
+    slice_distance : float
+        Slice distance, in the units of the spacing.
+    n_subsamples : int
+        Sub-samples per slab (0 for ICS and PI-ICS).
+    mad : float
+        Mean absolute difference of the RGB channels to the reference (:func:`mean_abs_diff`).
+    energy : float
+        Mean squared Laplacian of the RGB difference to the reference (ring and wood-grain
+        energy).
+    seconds : float
+        Wall-clock seconds per frame.
+    alias_free : bool
+        ``mad <= max_mad`` and ``energy <= max_energy_ratio * fine_energy``.
+    """
+
+    method: str
+    slice_distance: float
+    n_subsamples: int
+    mad: float
+    energy: float
+    seconds: float
+    alias_free: bool
+
+
+@_result
+class IlluminationStudy:
+    """The quality and speed study of :func:`study` (the paper's section 5).
+
+    Attributes
+    ----------
+    reference_seconds : float
+        Wall-clock seconds per frame of the reference ICS.
+    fine_energy : float
+        Laplacian energy of the finer ICS against the reference: the aliasing scale of the
+        criterion.
+    entries : list of StudyEntry
+        Every configuration of the grid, in grid order (per distance: ICS, SCS with
+        ``1..max_subsamples``, PI-ICS, PI-SCS with ``1..max_subsamples``).
+    """
+
+    reference_seconds: float
+    fine_energy: float
+    entries: List[StudyEntry]
+
+
 def study(volume, tf, n_views: int = 4, size: int = 256, azimuth: float = 30.0,
           elevation: float = 20.0, distances: Sequence[float] = _DISTANCES,
           max_subsamples: int = 5, reference: float = 0.2, fine: float = 0.1,
           spacing: Optional[Sequence[float]] = None, spread: float = 0.5,
           light_dir: Sequence[float] = (0.0, 0.0, 1.0), ambient: float = 0.0,
           max_mad: float = 0.005, max_energy_ratio: float = 2.0,
-          value_range: Optional[Tuple[float, float]] = None) -> Dict[str, object]:
+          value_range: Optional[Tuple[float, float]] = None) -> IlluminationStudy:
     """The paper's quality and speed study (its section 5), with a quantitative alias test
     in place of the paper's visual judgement.
 
@@ -653,9 +743,9 @@ def study(volume, tf, n_views: int = 4, size: int = 256, azimuth: float = 30.0,
     ``ambient`` as in :func:`render`; ``volume``, ``tf``, ``spacing`` and ``value_range`` as
     in :func:`render`.
 
-    Returns ``{"reference_seconds": float, "fine_energy": float, "entries": [{"method",
-    "slice_distance", "n_subsamples", "mad", "energy", "seconds", "alias_free"}, ...]}``, the
-    entries in grid order.
+    Returns an :class:`IlluminationStudy`: ``reference_seconds``, ``fine_energy`` and the
+    ``entries`` (:class:`StudyEntry`: ``method``, ``slice_distance``, ``n_subsamples``,
+    ``mad``, ``energy``, ``seconds``, ``alias_free``) in grid order.
     """
     ds = [_num("distances", d) for d in distances]
     opts = {
@@ -674,7 +764,9 @@ def study(volume, tf, n_views: int = 4, size: int = 256, azimuth: float = 30.0,
         "max_energy_ratio": _num("max_energy_ratio", max_energy_ratio),
     }
     vol, sp, vr = _illum_source(volume, spacing, value_range)
-    return _v.illum_study(vol, _rgba_tf(tf), sp, vr, opts)
+    st = _v.illum_study(vol, _rgba_tf(tf), sp, vr, opts)
+    return _from_mapping(IlluminationStudy, st,
+                         entries=[_from_mapping(StudyEntry, e) for e in st["entries"]])
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

@@ -1,5 +1,6 @@
 import os
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from dataclasses import dataclass
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -7,6 +8,32 @@ import numpy.typing as npt
 Roi = Tuple[int, int, int, int, int, int]
 
 __all__: list[str]
+
+@dataclass(frozen=True)
+class SizeReport:
+    raw: int
+    wavelets: int
+    gradient_octree: int
+    hybrid_static: int
+    hybrid_roi: int
+    hybrid: int
+    thin_client_frame: Optional[int]
+
+@dataclass(frozen=True)
+class StudyEntry:
+    method: str
+    slice_distance: float
+    n_subsamples: int
+    mad: float
+    energy: float
+    seconds: float
+    alias_free: bool
+
+@dataclass(frozen=True)
+class IlluminationStudy:
+    reference_seconds: float
+    fine_energy: float
+    entries: List[StudyEntry]
 
 def orbit_camera(shape: Sequence[int], azimuth: float = 30.0, elevation: float = 20.0,
                  fov_deg: float = 30.0) -> dict: ...
@@ -19,7 +46,7 @@ class HybridServer:
     def static_package(self) -> bytes: ...
     def roi_package(self, roi: Roi) -> bytes: ...
     def size_report(self, roi: Roi, roi_tf: int = 1, thin_client_view: Optional[dict] = None,
-                    viewport: Tuple[int, int] = (1080, 1920)) -> dict: ...
+                    viewport: Tuple[int, int] = (1080, 1920)) -> SizeReport: ...
 
 class HybridClient:
     roi: Optional[Roi]
@@ -95,4 +122,4 @@ def study(volume: Union[npt.ArrayLike, PreparedVolume], tf: npt.ArrayLike, n_vie
           spacing: Optional[Sequence[float]] = None, spread: float = 0.5,
           light_dir: Sequence[float] = ..., ambient: float = 0.0, max_mad: float = 0.005,
           max_energy_ratio: float = 2.0,
-          value_range: Optional[Tuple[float, float]] = None) -> Dict[str, object]: ...
+          value_range: Optional[Tuple[float, float]] = None) -> IlluminationStudy: ...

@@ -47,16 +47,18 @@ L. Grady, "Random Walks for Image Segmentation", IEEE Trans. Pattern Anal. Mach.
 from __future__ import annotations
 
 import warnings
-from typing import Any, Dict, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._checks import _int, _real, integer_ranges as _integer_ranges
 from ._native import volseg as _v
+from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
     "random_walker_bone", "RandomWalkerSession", "nearest_seed", "dice", "bone_mask",
     "smooth", "local_grow_edit", "remove_small_components", "make_fractured_shell_phantom",
+    "SolveReport",
 ]
 
 #: Default intensity window (HU) mapped to ``[0, 1]`` before the edge weights.
@@ -65,6 +67,60 @@ DEFAULT_WINDOW: Tuple[float, float] = (-1024.0, 3071.0)
 _SOLVERS = ("block", "per_label")
 _PRECISIONS = ("f32", "f64")
 _MAX_LABEL = 65534
+
+
+@_result
+class SolveReport:
+    """How the random walks of :func:`random_walker_bone` or
+    :meth:`RandomWalkerSession.solve` were solved (one conjugate gradient solve per label,
+    paper 18 section 2.4). The per-label lists follow ``labels``.
+
+    Attributes
+    ----------
+    labels : list of int
+        The seed labels, ascending (the user's values, not necessarily ``1..K``).
+    n_iter : list of int
+        Conjugate gradient iterations run per label.
+    residuals : list of float
+        Final relative residual ``||r|| / ||b||`` per label (dimensionless).
+    converged : list of bool
+        Whether each label's residual reached ``tol`` within ``max_iter``.
+    seconds : list of float
+        Wall-clock seconds per label (for the block solver, the block's time divided by the
+        number of labels).
+    n_unreached : int
+        Unseeded bone voxels in graph components without any seed: left out of the systems
+        (probability 0, label 0).
+    n_labels : int
+        Number of labels ``K`` solved for.
+    n_nodes : int
+        Graph nodes (bone voxels).
+    n_seeds : int
+        Seed voxels on the graph (seeds off the bone were dropped).
+    """
+
+    labels: List[int]
+    n_iter: List[int]
+    residuals: List[float]
+    converged: List[bool]
+    seconds: List[float]
+    n_unreached: int
+    n_labels: int
+    n_nodes: int
+    n_seeds: int
+
+
+def _solve_report(d: Dict[str, Any], labels, order=None) -> SolveReport:
+    """The :class:`SolveReport` of the native report ``d``, whose per-label lists follow the
+    internal labels ``1..K``: ``labels`` are the user's labels in that order, ``order`` the
+    permutation that sorts them (None when they are sorted)."""
+    order = range(len(labels)) if order is None else order
+    per_label = lambda key: [d[key][i] for i in order]  # noqa: E731
+    return _from_mapping(
+        SolveReport, d, rename={"iterations": "n_iter", "unreached": "n_unreached"},
+        labels=[int(labels[i]) for i in order], n_iter=per_label("iterations"),
+        residuals=per_label("residuals"), converged=per_label("converged"),
+        seconds=per_label("seconds"))
 
 
 # ----------------------------------------------------------------------------------------
@@ -204,12 +260,12 @@ def _warn_dropped(seeds: np.ndarray, placed: int, stacklevel: int = 3) -> None:
                       "or outside `mask`) and were dropped", UserWarning, stacklevel=stacklevel)
 
 
-def _warn_unconverged(report: Dict[str, Any], stacklevel: int = 3) -> None:
-    bad = [k + 1 for k, c in enumerate(report["converged"]) if not c]
+def _warn_unconverged(report: SolveReport, stacklevel: int = 3) -> None:
+    bad = [k for k, c in enumerate(report.converged) if not c]
     if bad:
         warnings.warn(f"conjugate gradient did not reach `tol` within `max_iter` for labels "
-                      f"{bad} (relative residuals "
-                      f"{[report['residuals'][k - 1] for k in bad]}); increase `max_iter` or "
+                      f"{[report.labels[k] for k in bad]} (relative residuals "
+                      f"{[report.residuals[k] for k in bad]}); increase `max_iter` or "
                       "`kappa`", RuntimeWarning, stacklevel=stacklevel)
 
 
@@ -225,7 +281,10 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
                        spacing_in_weights: bool = False, solver: str = "block",
                        precision: str = "f32", jacobi: bool = True,
                        n_threads: Optional[int] = None, return_prob: bool = False,
-                       return_report: bool = False):
+                       return_report: bool = False
+                       ) -> Union[np.ndarray, Tuple[np.ndarray, np.ndarray],
+                                  Tuple[np.ndarray, SolveReport],
+                                  Tuple[np.ndarray, np.ndarray, SolveReport]]:
     """Random-walks bone separation (BoneSplit, paper 18 section 2.4).
 
     Thresholds ``ct`` at ``t_bone``, builds the 6-connected graph on the bone voxels only
@@ -292,16 +351,15 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
         reaches. Seeds keep their labels.
     probs : (K, Z, Y, X) float32 array
         Only with ``return_prob``: ``probs[i]`` is the probability of the ``i``-th smallest
-        seed label (``report["labels"][i]``; label ``i + 1`` when the labels are ``1..K``),
+        seed label (``report.labels[i]``; label ``i + 1`` when the labels are ``1..K``),
         1 on its seeds, 0 off the graph. They are CG iterates: with a loose ``tol`` values
         can leave ``[0, 1]`` by about ``tol``. With ``kappa > 0`` the probabilities decay away from the
         seeds and do not sum to 1: compare them, never threshold them at 0.5.
-    report : dict
-        Only with ``return_report``: ``labels`` (the seed labels, ascending),
-        ``iterations``, ``residuals``, ``converged`` and ``seconds`` (lists, one entry per
-        label), ``unreached`` (unseeded bone voxels of
-        components without seeds), ``n_labels``, ``n_nodes`` (bone voxels), ``n_seeds``
-        (seeds on the graph).
+    report : SolveReport
+        Only with ``return_report``: ``labels`` (the seed labels, ascending), ``n_iter``,
+        ``residuals``, ``converged`` and ``seconds`` (lists, one entry per label),
+        ``n_unreached`` (unseeded bone voxels of components without seeds), ``n_labels``,
+        ``n_nodes`` (bone voxels), ``n_seeds`` (seeds on the graph).
 
     Raises
     ------
@@ -346,13 +404,13 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: float = 3000.0
     present = _present(s)
     consecutive = present.size == 0 or present[-1] == present.size
     lut = None if consecutive else _compact(present)
-    labels, probs, report = _v.random_walker(a, s if lut is None else lut[s], _spacing(spacing),
+    labels, probs, native = _v.random_walker(a, s if lut is None else lut[s], _spacing(spacing),
                                              _passes(n_smooth_passes), p, bool(return_prob))
     user = np.concatenate([[0], present]).astype(np.uint16)
     if lut is not None:
         labels = user[labels]
-    report["labels"] = user[1:report["n_labels"] + 1].tolist()
-    _warn_dropped(s, report["n_seeds"])
+    report = _solve_report(native, user[1:native["n_labels"] + 1])
+    _warn_dropped(s, report.n_seeds)
     _warn_unconverged(report)
     out: Tuple[Any, ...] = (labels,)
     if return_prob:
@@ -413,7 +471,7 @@ class RandomWalkerSession:
                     precision, jacobi, n_threads)
         self._s = _v.Session(a, _mask(mask, a.shape), _spacing(spacing),
                              _passes(n_smooth_passes), p)
-        self._report: Optional[Dict[str, Any]] = None
+        self._report: Optional[SolveReport] = None
         # User label of every internal label 1..K (the native session numbers labels 1..K).
         self._user = np.zeros(1, np.uint16)
         self._internal: Dict[int, int] = {}
@@ -473,22 +531,18 @@ class RandomWalkerSession:
                           "dropped", UserWarning, stacklevel=2)
         return placed
 
-    def solve(self, warm_start: bool = True) -> Dict[str, Any]:
+    def solve(self, warm_start: bool = True) -> SolveReport:
         """Solves for the current seeds, from the previous solution when ``warm_start`` (and
-        one exists), else from zero. Returns the report (see :func:`random_walker_bone`;
-        per-label lists follow ``report["labels"]``, ascending). ``ValueError`` when no
-        seed lies on the graph."""
-        r = self._s.solve(bool(warm_start))
-        k = r["n_labels"]
-        order = self._order(k)
-        for key in ("iterations", "residuals", "converged", "seconds"):
-            r[key] = [r[key][i] for i in order]
-        r["labels"] = self._user[1:k + 1][order].tolist()
+        one exists), else from zero. Returns the :class:`SolveReport` (per-label lists follow
+        ``report.labels``, ascending). ``ValueError`` when no seed lies on the graph."""
+        d = self._s.solve(bool(warm_start))
+        k = d["n_labels"]
+        r = _solve_report(d, self._user[1:k + 1], self._order(k))
         _warn_unconverged(r)
         self._report = r
         return r
 
-    def report(self) -> Optional[Dict[str, Any]]:
+    def report(self) -> Optional[SolveReport]:
         """The report of the last :meth:`solve` (None before the first)."""
         return self._report
 
@@ -500,7 +554,7 @@ class RandomWalkerSession:
     def probabilities(self, label: Optional[int] = None):
         """Probability volume ``(Z, Y, X)`` float32 of seed ``label`` from the last solve, or
         all of them ``(K, Z, Y, X)`` when ``label`` is None (in the order of
-        ``report()["labels"]``, ascending). ``ValueError`` before the first solve or for a
+        ``report().labels``, ascending). ``ValueError`` before the first solve or for a
         label without seeds then."""
         if label is None:
             if self._report is None:
@@ -511,7 +565,7 @@ class RandomWalkerSession:
         lab = _int("label", label, 1, _MAX_LABEL)
         internal = self._internal.get(lab)
         if internal is None or internal > self._s.solved_labels:
-            known = [] if self._report is None else self._report["labels"]
+            known = [] if self._report is None else self._report.labels
             raise ValueError(f"no probabilities for label {lab}; the last solve had labels "
                              f"{known}")
         return self._s.probabilities(internal)

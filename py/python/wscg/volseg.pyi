@@ -1,4 +1,5 @@
-from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
+from dataclasses import dataclass
+from typing import List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -10,9 +11,20 @@ Bool = npt.NDArray[np.bool_]
 _Norm = Union[Literal["window", "minmax", "none"], Tuple[Literal["window"], float, float]]
 _Solver = Literal["block", "per_label"]
 _Precision = Literal["f32", "f64"]
-_Report = Dict[str, Any]
 
 __all__: List[str]
+
+@dataclass(frozen=True)
+class SolveReport:
+    labels: List[int]
+    n_iter: List[int]
+    residuals: List[float]
+    converged: List[bool]
+    seconds: List[float]
+    n_unreached: int
+    n_labels: int
+    n_nodes: int
+    n_seeds: int
 
 DEFAULT_WINDOW: Tuple[float, float]
 
@@ -42,7 +54,7 @@ def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., 
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
                        precision: _Precision = ..., jacobi: bool = ...,
                        n_threads: Optional[int] = ..., return_prob: Literal[False] = ...,
-                       return_report: Literal[True]) -> Tuple[U16, _Report]: ...
+                       return_report: Literal[True]) -> Tuple[U16, SolveReport]: ...
 @overload
 def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
                        eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
@@ -51,7 +63,7 @@ def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., 
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
                        precision: _Precision = ..., jacobi: bool = ...,
                        n_threads: Optional[int] = ..., return_prob: Literal[True],
-                       return_report: Literal[True]) -> Tuple[U16, F32, _Report]: ...
+                       return_report: Literal[True]) -> Tuple[U16, F32, SolveReport]: ...
 
 class RandomWalkerSession:
     def __init__(self, ct: ArrayLike, mask: Optional[ArrayLike] = None, *, t_bone: float = ...,
@@ -62,8 +74,8 @@ class RandomWalkerSession:
                  n_threads: Optional[int] = ...) -> None: ...
     def set_seeds(self, seeds: ArrayLike) -> int: ...
     def add_seeds(self, zyx_indices: ArrayLike, label: int) -> int: ...
-    def solve(self, warm_start: bool = True) -> _Report: ...
-    def report(self) -> Optional[_Report]: ...
+    def solve(self, warm_start: bool = True) -> SolveReport: ...
+    def report(self) -> Optional[SolveReport]: ...
     def labels(self) -> U16: ...
     def probabilities(self, label: Optional[int] = None) -> F32: ...
     def seeds(self) -> U16: ...

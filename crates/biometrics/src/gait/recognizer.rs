@@ -323,4 +323,38 @@ impl GaitRecognizer {
             cycle: None,
         })
     }
+
+    /// The fitted recognizer as JSON (parameters, relevance map, pairs, gallery, labels).
+    pub fn to_json(&self) -> Result<String> {
+        serde_json::to_string(self).map_err(|e| Error::invalid("model", e.to_string()))
+    }
+
+    /// A recognizer from [`Self::to_json`] output. Errors: not a recognizer, or a gallery
+    /// whose sizes disagree (label count, one sequence per selected pair).
+    pub fn from_json(s: &str) -> Result<Self> {
+        let m: Self = serde_json::from_str(s)
+            .map_err(|e| Error::invalid("model", format!("not a gait recognizer: {e}")))?;
+        m.params.validate()?;
+        if m.labels.len() != m.gallery.len() || m.gallery.is_empty() {
+            return Err(Error::invalid(
+                "model",
+                format!(
+                    "{} labels for {} gallery walks",
+                    m.labels.len(),
+                    m.gallery.len()
+                ),
+            ));
+        }
+        if let Some(i) = m.gallery.iter().position(|g| g.len() != m.pairs.len()) {
+            return Err(Error::invalid(
+                "model",
+                format!(
+                    "gallery walk {i} has {} sequences for {} pairs",
+                    m.gallery[i].len(),
+                    m.pairs.len()
+                ),
+            ));
+        }
+        Ok(m)
+    }
 }

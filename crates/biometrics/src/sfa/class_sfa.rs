@@ -145,7 +145,11 @@ pub(crate) fn fit_pca(x: MatRef<'_, f64>, pca_dims: usize) -> Result<(Pca, Mat<f
     if pca_dims > limit {
         return Err(Error::invalid(
             "pca_dims",
-            format!("{pca_dims} exceeds min(n - 1, n_features) = {limit}"),
+            format!(
+                "{pca_dims} exceeds min(n - 1, n_features) = {limit} (n = {}, n_features = {})",
+                x.nrows(),
+                x.ncols()
+            ),
         ));
     }
     let pca = Pca::fit(x, Some(pca_dims), false)?;

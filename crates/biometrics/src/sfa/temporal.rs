@@ -15,7 +15,7 @@
 
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
-use wscg_math::Result;
+use wscg_math::{Error, Result};
 
 use super::expansion::{expand_opt, QuadraticExpansion};
 use super::scatter::{ClassMoments, Whitening};
@@ -101,6 +101,32 @@ impl TemporalSfa {
     pub fn delta_values(&self) -> &[f64] {
         &self.delta
     }
+
+    /// The model as JSON.
+    pub fn to_json(&self) -> Result<String> {
+        serde_json::to_string(self).map_err(|e| Error::invalid("model", e.to_string()))
+    }
+
+    /// A model from [`Self::to_json`] output. Errors: not a model, or sizes that disagree
+    /// (expanded dimension, mean, `W`, delta values).
+    pub fn from_json(s: &str) -> Result<Self> {
+        let m: Self = serde_json::from_str(s)
+            .map_err(|e| Error::invalid("model", format!("not a temporal SFA model: {e}")))?;
+        let dim = m.expansion.map_or(m.input_dim, |e| e.out_dim(m.input_dim));
+        if m.mean.len() != dim || m.w.nrows() != dim || m.delta.len() != m.w.ncols() {
+            return Err(Error::invalid(
+                "model",
+                format!(
+                    "sizes disagree: expanded dimension {dim}, mean {}, W {} x {}, {} delta values",
+                    m.mean.len(),
+                    m.w.nrows(),
+                    m.w.ncols(),
+                    m.delta.len()
+                ),
+            ));
+        }
+        Ok(m)
+    }
 }
 
 #[cfg(test)]
@@ -150,5 +176,14 @@ mod tests {
         assert!(sfa.delta_values().windows(2).all(|w| w[0] <= w[1]));
         assert!(TemporalSfa::fit(x.subrows(0, 2), 1, None, 1e-10).is_err());
         assert!(TemporalSfa::fit(x.as_ref(), 9, None, 1e-10).is_err());
+        // JSON round trip: the same features to the bit.
+        let back = TemporalSfa::from_json(&sfa.to_json().unwrap()).unwrap();
+        let y2 = back.transform(x.as_ref()).unwrap();
+        assert!((0..n).all(|i| (0..3).all(|j| y2[(i, j)].to_bits() == y[(i, j)].to_bits())));
+        assert_eq!(back.delta_values(), sfa.delta_values());
+        let mut bad = back.clone();
+        bad.mean.pop();
+        assert!(TemporalSfa::from_json(&bad.to_json().unwrap()).is_err());
+        assert!(TemporalSfa::from_json("{}").is_err());
     }
 }

@@ -149,9 +149,19 @@ pub fn validate(kernel: &Kernel) -> Result<()> {
 
 /// Median of the non-zero pairwise distances `sqrt(n_i + n_j - 2 g_ij)`, `i < j`, from a
 /// Gram matrix (the mean of the two middle values for an even count, as `numpy.median`).
-/// Errors when every distance is zero ("all vectors identical").
+/// Errors for fewer than two vectors, and when every distance is zero ("all vectors
+/// identical").
 pub fn median_distance(gram: MatRef<'_, f64>, what: &str) -> Result<f64> {
     let n = gram.nrows();
+    if n < 2 {
+        return Err(Error::invalid(
+            "x",
+            format!(
+                "n_{what} = {n}: the median heuristic needs at least two {what} (a distance \
+                 between them); pass a fixed sigma"
+            ),
+        ));
+    }
     let mut d: Vec<f64> = (0..n)
         .into_par_iter()
         .flat_map_iter(|i| {
@@ -307,6 +317,10 @@ mod tests {
         let same = Mat::from_fn(3, 2, |_, j| j as f64);
         let gs = &same * same.transpose();
         assert!(median_distance(gs.as_ref(), "samples").is_err());
+        // One vector has no distance: the error says how many there are.
+        let one = Mat::from_fn(1, 1, |_, _| 2.0);
+        let e = median_distance(one.as_ref(), "features").unwrap_err();
+        assert!(e.to_string().contains("n_features = 1"), "{e}");
         assert!(validate(&Kernel::Gaussian {
             sigma: Sigma::Fixed(0.0)
         })

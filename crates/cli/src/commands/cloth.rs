@@ -8,7 +8,6 @@
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand, ValueEnum};
-use nalgebra::Vector3;
 use wscg_cloth::{
     ClothModel, Collider, Collisions, LambdaMode, MeshCollider, Method, NcgVariant, Relaxation,
     Simulation, SolverParams,
@@ -144,20 +143,20 @@ pub struct SimulateArgs {
 fn colliders(a: &SimulateArgs) -> Result<Vec<Collider>> {
     let mut out = Vec::new();
     if let Some(y) = a.floor {
-        out.push(Collider::plane(Vector3::y(), Vector3::new(0.0, y, 0.0))?);
+        out.push(Collider::plane([0.0, 1.0, 0.0], [0.0, y, 0.0])?);
     }
     for s in &a.sphere {
         let s = numbers("sphere", s, 4)?;
         out.push(Collider::Sphere {
-            center: Vector3::new(s[0], s[1], s[2]),
+            center: [s[0], s[1], s[2]],
             radius: s[3],
         });
     }
     for c in &a.capsule {
         let c = numbers("capsule", c, 7)?;
         out.push(Collider::Capsule {
-            a: Vector3::new(c[0], c[1], c[2]),
-            b: Vector3::new(c[3], c[4], c[5]),
+            a: [c[0], c[1], c[2]],
+            b: [c[3], c[4], c[5]],
             radius: c[6],
         });
     }
@@ -185,18 +184,13 @@ fn numbers(name: &'static str, text: &str, n: usize) -> Result<Vec<f64>> {
 }
 
 /// Vertices and triangles of a mesh.
-type MeshData = (Vec<Vector3<f64>>, Vec<[usize; 3]>);
+type MeshData = (Vec<[f64; 3]>, Vec<[usize; 3]>);
 
 /// Vertices and triangles of an OBJ/PLY file.
 fn read_mesh(path: &std::path::Path) -> Result<MeshData> {
     let mesh = TriMesh::read(path)?;
-    let v = mesh
-        .positions
-        .iter()
-        .map(|p| Vector3::new(p[0], p[1], p[2]))
-        .collect();
     let f = mesh.faces.iter().map(|f| f.map(|i| i as usize)).collect();
-    Ok((v, f))
+    Ok((mesh.positions, f))
 }
 
 /// Runs a `wscg cloth` command.
@@ -215,8 +209,8 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
     };
     let mut model = ClothModel::from_trimesh(&v, &faces, a.mass, material, a.k_edge, a.k_bend)?;
     let pins = if a.pin.is_empty() {
-        let top = v.iter().map(|p| p.y).fold(f64::MIN, f64::max);
-        (0..v.len()).filter(|&i| v[i].y >= top - 1e-3).collect()
+        let top = v.iter().map(|p| p[1]).fold(f64::MIN, f64::max);
+        (0..v.len()).filter(|&i| v[i][1] >= top - 1e-3).collect()
     } else {
         a.pin.clone()
     };
@@ -292,7 +286,7 @@ pub fn run(cmd: ClothCommand) -> Result<()> {
             e.elastic,
             e.total
         ));
-        frame_mesh.positions = sim.model().x.iter().map(|p| [p.x, p.y, p.z]).collect();
+        frame_mesh.positions.clone_from(&sim.model().x);
         frame_mesh.normals = None;
         frame_mesh.write_obj(a.out.join(format!("frame_{f:04}.obj")))?;
         bars.advance(1);

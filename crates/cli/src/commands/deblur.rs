@@ -372,7 +372,7 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                 std::iter::once("# t,wx,wy,wz (s, rad/s, camera axes)\n".to_string())
                     .chain(
                         sb.measured.iter().map(|s| {
-                            format!("{:.6},{:.6},{:.6},{:.6}\n", s.t, s.w.x, s.w.y, s.w.z)
+                            format!("{:.6},{:.6},{:.6},{:.6}\n", s.t, s.w[0], s.w[1], s.w[2])
                         }),
                     )
                     .collect();

@@ -6,12 +6,12 @@
 
 use std::path::Path;
 
-use nalgebra::Vector3;
 use wscg_cloth::{
     grid_triangles, ClothModel, Collider, Collisions, LambdaMode, Method, NcgVariant, Simulation,
     SolverParams,
 };
 use wscg_math::progress::Progress;
+use wscg_math::vec3::{dist, norm};
 use wscg_math::Result;
 
 use super::figures::{line_plot, montage, shaded_meshes, Series, Shape};
@@ -53,7 +53,7 @@ fn chain_elongation(iterations: usize, mode: LambdaMode) -> Result<f64> {
     let m = sim.model();
     Ok(m.links
         .iter()
-        .map(|l| (m.x[l.i] - m.x[l.j]).norm() - l.rest)
+        .map(|l| dist(m.x[l.i], m.x[l.j]) - l.rest)
         .sum())
 }
 
@@ -175,14 +175,14 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
 }
 
 /// A UV sphere of radius `r` (`n` segments around, `n / 2` rings) for drawing.
-fn uv_sphere(r: f64, n: usize) -> (Vec<Vector3<f64>>, Vec<[usize; 3]>) {
+fn uv_sphere(r: f64, n: usize) -> (Vec<[f64; 3]>, Vec<[usize; 3]>) {
     let rings = n / 2;
     let mut v = Vec::new();
     for i in 0..=rings {
         let th = std::f64::consts::PI * i as f64 / rings as f64;
         for j in 0..n {
             let ph = 2.0 * std::f64::consts::PI * j as f64 / n as f64;
-            v.push(Vector3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()) * r);
+            v.push([th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()].map(|c| c * r));
         }
     }
     let id = |i: usize, j: usize| i * n + j % n;
@@ -200,10 +200,10 @@ fn uv_sphere(r: f64, n: usize) -> (Vec<Vector3<f64>>, Vec<[usize; 3]>) {
 /// sphere with friction: snapshots and the contact figures.
 fn drape(out: &Path, rep: &mut Report) -> Result<()> {
     let (n, r, th) = (24, 0.3, 0.005);
-    let v: Vec<Vector3<f64>> = (0..n * n)
+    let v: Vec<[f64; 3]> = (0..n * n)
         .map(|p| {
             let (i, j) = ((p % n) as f64, (p / n) as f64);
-            Vector3::new(i / (n - 1) as f64 - 0.5, 0.4, j / (n - 1) as f64 - 0.5)
+            [i / (n - 1) as f64 - 0.5, 0.4, j / (n - 1) as f64 - 0.5]
         })
         .collect();
     let faces = grid_triangles(n, n);
@@ -211,7 +211,7 @@ fn drape(out: &Path, rep: &mut Report) -> Result<()> {
     let mut sim = Simulation::new(model, SolverParams::default())?;
     sim.set_collisions(Collisions {
         colliders: vec![Collider::Sphere {
-            center: Vector3::zeros(),
+            center: [0.0; 3],
             radius: r,
         }],
         thickness: th,
@@ -230,7 +230,7 @@ fn drape(out: &Path, rep: &mut Report) -> Result<()> {
                 .model()
                 .x
                 .iter()
-                .map(|p| p.norm() - r - th)
+                .map(|&p| norm(p) - r - th)
                 .fold(f64::INFINITY, f64::min);
             worst_gap = worst_gap.min(gap);
         }
@@ -250,7 +250,7 @@ fn drape(out: &Path, rep: &mut Report) -> Result<()> {
                         normals: None,
                     },
                 ],
-                Vector3::new(-0.6, -0.45, -1.0),
+                [-0.6, -0.45, -1.0],
                 220,
             )?);
         }

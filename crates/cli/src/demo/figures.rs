@@ -118,7 +118,7 @@ pub fn line_plot(
 /// A triangle mesh to draw: positions, triangles and an RGB colour.
 pub struct Shape<'a> {
     /// Vertex positions.
-    pub positions: &'a [nalgebra::Vector3<f64>],
+    pub positions: &'a [[f64; 3]],
     /// Triangles (vertex indices).
     pub faces: &'a [[usize; 3]],
     /// Surface colour.
@@ -126,15 +126,15 @@ pub struct Shape<'a> {
     /// Per-vertex normals for smooth (Gouraud-interpolated normal) shading; `None` shades each
     /// triangle by its own normal. A zero normal shades black, as a renderer does with an
     /// undefined normal.
-    pub normals: Option<&'a [nalgebra::Vector3<f64>]>,
+    pub normals: Option<&'a [[f64; 3]]>,
 }
 
 /// Renders the shapes on a white `size x size` canvas: orthographic view along `view` (from
 /// the eye into the scene, `y` up), z-buffered, two-sided Lambert shading with a light
 /// from the eye's upper left. The view is fitted to the shapes' bounding box.
-pub fn shaded_meshes(shapes: &[Shape], view: nalgebra::Vector3<f64>, size: usize) -> Result<Image> {
+pub fn shaded_meshes(shapes: &[Shape], view: [f64; 3], size: usize) -> Result<Image> {
     use nalgebra::Vector3;
-    let f = view
+    let f = Vector3::from(view)
         .try_normalize(1e-12)
         .ok_or_else(|| Error::invalid("view", "must be non-zero"))?;
     let r = f
@@ -148,7 +148,10 @@ pub fn shaded_meshes(shapes: &[Shape], view: nalgebra::Vector3<f64>, size: usize
         .map(|s| {
             s.positions
                 .iter()
-                .map(|p| Vector3::new(p.dot(&r), p.dot(&u), p.dot(&f)))
+                .map(|&p| {
+                    let p = Vector3::from(p);
+                    Vector3::new(p.dot(&r), p.dot(&u), p.dot(&f))
+                })
                 .collect()
         })
         .collect();
@@ -205,7 +208,8 @@ pub fn shaded_meshes(shapes: &[Shape], view: nalgebra::Vector3<f64>, size: usize
                         depth[k] = z;
                         let shade = match shape.normals {
                             Some(vn) => {
-                                let n = vn[t[0]] * w0 + vn[t[1]] * w1 + vn[t[2]] * w2;
+                                let vn = t.map(|q| Vector3::from(vn[q]));
+                                let n = vn[0] * w0 + vn[1] * w1 + vn[2] * w2;
                                 (0.3 * n.norm().min(1.0) + 0.7 * n.dot(&light).abs()) as f32
                             }
                             None => shade,
@@ -251,16 +255,8 @@ mod tests {
 
     #[test]
     fn shaded_meshes_draws_the_nearer_surface() {
-        use nalgebra::Vector3;
         // Two unit squares facing the viewer (looking along -z), the red one nearer.
-        let square = |z: f64| {
-            vec![
-                Vector3::new(0.0, 0.0, z),
-                Vector3::new(1.0, 0.0, z),
-                Vector3::new(1.0, 1.0, z),
-                Vector3::new(0.0, 1.0, z),
-            ]
-        };
+        let square = |z: f64| vec![[0.0, 0.0, z], [1.0, 0.0, z], [1.0, 1.0, z], [0.0, 1.0, z]];
         let faces = [[0, 1, 2], [0, 2, 3]];
         let (near, far) = (square(1.0), square(0.0));
         let img = shaded_meshes(
@@ -278,7 +274,7 @@ mod tests {
                     normals: None,
                 },
             ],
-            Vector3::new(0.0, 0.0, -1.0),
+            [0.0, 0.0, -1.0],
             40,
         )
         .unwrap();

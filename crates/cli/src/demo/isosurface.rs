@@ -7,7 +7,6 @@
 use std::path::Path;
 use std::time::Instant;
 
-use nalgebra::Vector3;
 use wscg_isosurface::fields::{self, noisy_sphere_u8};
 use wscg_isosurface::study::{
     at_risk_configurations, compare_with_exact, compare_with_full_cd, percentile_isovalues,
@@ -31,15 +30,8 @@ pub const DEMO: Demo = Demo {
 };
 
 fn render(mesh: &IsoMesh, normals: &[[f32; 3]]) -> Result<wscg_math::Image> {
-    let p: Vec<Vector3<f64>> = mesh
-        .vertices
-        .iter()
-        .map(|v| Vector3::new(v[0] as f64, v[1] as f64, v[2] as f64))
-        .collect();
-    let n: Vec<Vector3<f64>> = normals
-        .iter()
-        .map(|v| Vector3::new(v[0] as f64, v[1] as f64, v[2] as f64))
-        .collect();
+    let p: Vec<[f64; 3]> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
+    let n: Vec<[f64; 3]> = normals.iter().map(|v| v.map(f64::from)).collect();
     let f: Vec<[usize; 3]> = mesh
         .triangles
         .iter()
@@ -52,7 +44,7 @@ fn render(mesh: &IsoMesh, normals: &[[f32; 3]]) -> Result<wscg_math::Image> {
             color: [0.85, 0.8, 0.7],
             normals: Some(&n),
         }],
-        Vector3::new(-0.5, -0.6, -1.0),
+        [-0.5, -0.6, -1.0],
         320,
     )
 }

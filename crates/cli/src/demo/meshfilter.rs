@@ -4,7 +4,6 @@
 
 use std::path::Path;
 
-use nalgebra::Vector3;
 use wscg_math::progress::Progress;
 use wscg_math::{Result, TriMesh};
 use wscg_meshfilter::metrics::{
@@ -30,16 +29,15 @@ pub const DEMO: Demo = Demo {
 const ITERS: usize = 15;
 
 fn view(mesh: &TriMesh, positions: &[[f64; 3]]) -> Result<wscg_math::Image> {
-    let p: Vec<Vector3<f64>> = positions.iter().map(|q| Vector3::from(*q)).collect();
     let f: Vec<[usize; 3]> = mesh.faces.iter().map(|f| f.map(|i| i as usize)).collect();
     shaded_meshes(
         &[Shape {
-            positions: &p,
+            positions,
             faces: &f,
             color: [0.8, 0.8, 0.85],
             normals: None,
         }],
-        Vector3::new(-1.0, -0.8, -1.3),
+        [-1.0, -0.8, -1.3],
         240,
     )
 }

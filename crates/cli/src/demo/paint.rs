@@ -82,7 +82,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         .density(3.5)
         .tilt(TiltDist::HalfNormal { sigma_deg: 3.0 });
     let t = generate_tile(&dep, 1)?;
-    let mean_z = t.flakes.iter().map(|f| f.c.z).sum::<f64>() / t.flakes.len().max(1) as f64;
+    let mean_z = t.flakes.iter().map(|f| f.c[2]).sum::<f64>() / t.flakes.len().max(1) as f64;
     rep.table.push(Row::new(
         "deposit (radius 15, density 3.5, tilt 3 deg): flakes clamped / mean height (µm)",
         format!("{} of {} / {mean_z:.2}", t.clamped, t.flakes.len()),

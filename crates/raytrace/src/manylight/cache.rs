@@ -1,9 +1,9 @@
 //! Importance caches (Georgiev et al. 2012, as used by paper 08): records at sparse shading
 //! points, each with exact distributions over the VPLs, interpolated at every pixel.
 
-use nalgebra::Vector3;
 use rayon::prelude::*;
 use wscg_math::knn::KdTree;
+use wscg_math::vec3::dot;
 use wscg_math::{Error, Result};
 
 use super::pmf::Pmf;
@@ -126,10 +126,7 @@ impl ImportanceCache {
         if records.is_empty() {
             return Err(Error::Empty("records"));
         }
-        let pts: Vec<[f64; 3]> = records
-            .iter()
-            .map(|r| [r.at.pos.x, r.at.pos.y, r.at.pos.z])
-            .collect();
+        let pts: Vec<[f64; 3]> = records.iter().map(|r| r.at.pos).collect();
         let tree = KdTree::new(&pts)?;
         let positive: Vec<bool> = sh.intensity.iter().map(|i| luminance(i) > 0.0).collect();
         let positive_ids: Vec<u32> = (0..positive.len() as u32)
@@ -163,27 +160,20 @@ impl ImportanceCache {
     /// record `exclude`. Uniform: the `M` nearest records facing the same side; the
     /// similarity weights: the `M` nearest within `d_max`, weighted by eqs. (2)-(4), falling
     /// back to the uniform choice when none of them has a positive weight.
-    pub fn lookup(
-        &self,
-        pos: &Vector3<f64>,
-        normal: &Vector3<f64>,
-        exclude: Option<usize>,
-    ) -> Lookup {
-        let q = [pos.x, pos.y, pos.z];
+    pub fn lookup(&self, pos: [f64; 3], normal: [f64; 3], exclude: Option<usize>) -> Lookup {
         if let Interp::Clarberg {
             theta_max, lambda, ..
         } = self.interp
         {
             let mut out: Lookup = self
                 .tree
-                .knn(&q, self.m, exclude)
+                .knn(&pos, self.m, exclude)
                 .into_iter()
                 .filter(|&(_, d)| d <= self.d_max)
                 .map(|(k, _)| {
                     let r = &self.records[k].at;
-                    let w = record_weight(
-                        pos, normal, &r.pos, &r.normal, self.d_max, theta_max, lambda,
-                    );
+                    let w =
+                        record_weight(pos, normal, r.pos, r.normal, self.d_max, theta_max, lambda);
                     (k, w)
                 })
                 .filter(|&(_, w)| w > 0.0)
@@ -194,20 +184,15 @@ impl ImportanceCache {
                 return out;
             }
         }
-        self.uniform_lookup(&q, normal, exclude)
+        self.uniform_lookup(&pos, normal, exclude)
     }
 
-    fn uniform_lookup(
-        &self,
-        q: &[f64; 3],
-        normal: &Vector3<f64>,
-        exclude: Option<usize>,
-    ) -> Lookup {
+    fn uniform_lookup(&self, q: &[f64; 3], normal: [f64; 3], exclude: Option<usize>) -> Lookup {
         let near = self.tree.knn(q, 8 * self.m, exclude);
         let mut out: Vec<usize> = near
             .iter()
             .map(|e| e.0)
-            .filter(|&k| self.records[k].at.normal.dot(normal) > 0.0)
+            .filter(|&k| dot(self.records[k].at.normal, normal) > 0.0)
             .take(self.m)
             .collect();
         if out.is_empty() {

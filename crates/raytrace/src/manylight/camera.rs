@@ -7,11 +7,11 @@ use wscg_math::{Error, Result};
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
     /// Eye position.
-    pub eye: Vector3<f64>,
+    pub eye: [f64; 3],
     /// Point looked at (the image centre).
-    pub target: Vector3<f64>,
+    pub target: [f64; 3],
     /// Up direction (need not be orthogonal to the view direction).
-    pub up: Vector3<f64>,
+    pub up: [f64; 3],
     /// Vertical field of view (degrees).
     pub fov_deg: f64,
     /// Image width (pixels).
@@ -59,13 +59,14 @@ impl Camera {
                 "eye, target and up must be finite",
             ));
         }
-        let f = self.target - self.eye;
+        let (eye, up) = (Vector3::from(self.eye), Vector3::from(self.up));
+        let f = Vector3::from(self.target) - eye;
         if f.norm() == 0.0 {
             return Err(Error::invalid("camera", "the eye lies on its target"));
         }
         let forward = f.normalize();
-        let r = forward.cross(&self.up);
-        if r.norm() <= 1e-9 * self.up.norm() {
+        let r = forward.cross(&up);
+        if r.norm() <= 1e-9 * up.norm() {
             return Err(Error::invalid(
                 "camera",
                 "up is parallel to the view direction",
@@ -73,7 +74,7 @@ impl Camera {
         }
         let right = r.normalize();
         Ok(CameraFrame {
-            eye: self.eye,
+            eye,
             right,
             up: right.cross(&forward),
             forward,
@@ -86,18 +87,22 @@ impl Camera {
 
 impl CameraFrame {
     /// Eye position.
-    pub fn eye(&self) -> Vector3<f64> {
-        self.eye
+    pub fn eye(&self) -> [f64; 3] {
+        self.eye.into()
     }
 
     /// View direction (unit).
-    pub fn forward(&self) -> Vector3<f64> {
-        self.forward
+    pub fn forward(&self) -> [f64; 3] {
+        self.forward.into()
     }
 
     /// Unit direction through image position `(x, y)` in pixels (`(0, 0)` the top-left
     /// corner, `(w, h)` the bottom-right).
-    pub fn ray(&self, x: f64, y: f64) -> Vector3<f64> {
+    pub fn ray(&self, x: f64, y: f64) -> [f64; 3] {
+        self.ray_v(x, y).into()
+    }
+
+    fn ray_v(&self, x: f64, y: f64) -> Vector3<f64> {
         let aspect = self.width as f64 / self.height as f64;
         let sx = (2.0 * x / self.width as f64 - 1.0) * self.tan_half * aspect;
         let sy = (1.0 - 2.0 * y / self.height as f64) * self.tan_half;
@@ -106,7 +111,7 @@ impl CameraFrame {
 
     /// Solid angle of `area` square pixels around image position `(x, y)`.
     pub fn solid_angle(&self, x: f64, y: f64, area: f64) -> f64 {
-        let d = self.ray(x, y);
+        let d = self.ray_v(x, y);
         // The image plane at distance 1: a pixel is (2 tan_half / height)^2 in area there.
         let px = 2.0 * self.tan_half / self.height as f64;
         let cos = d.dot(&self.forward);

@@ -11,9 +11,9 @@ use super::scene::{Rgb, Scene};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadingPoint {
     /// Hit position.
-    pub pos: Vector3<f64>,
+    pub pos: [f64; 3],
     /// Unit normal, turned towards the camera.
-    pub normal: Vector3<f64>,
+    pub normal: [f64; 3],
     /// Albedo.
     pub albedo: Rgb,
     /// Radiance emitted towards the camera.
@@ -65,13 +65,14 @@ pub fn shade_point(
     pixel_area: f64,
 ) -> Option<ShadingPoint> {
     let d = frame.ray(x, y);
-    let h = scene.intersect(&frame.eye(), &d, f64::INFINITY)?;
-    let facing = h.normal.dot(&d) < 0.0;
-    let normal = if facing { h.normal } else { -h.normal };
+    let h = scene.intersect(frame.eye(), d, f64::INFINITY)?;
+    let (d, hn) = (Vector3::from(d), Vector3::from(h.normal));
+    let facing = hn.dot(&d) < 0.0;
+    let normal = if facing { hn } else { -hn };
     let cos = normal.dot(&-d).max(1e-6);
     Some(ShadingPoint {
         pos: h.pos,
-        normal,
+        normal: normal.into(),
         albedo: scene.albedo(h.tri),
         emitted: if facing {
             scene.emission(h.tri)

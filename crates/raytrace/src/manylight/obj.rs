@@ -219,12 +219,12 @@ f 5 6 7 8
             if s.emitters().contains(&i) {
                 assert_eq!(s.emission(i), [10.0, 8.0, 6.0]);
                 assert_eq!(s.albedo(i), [0.1f32 as f64, 0.2f32 as f64, 0.3f32 as f64]);
-                assert!(t.normal.y < -0.999, "the lamp faces down");
+                assert!(t.normal[1] < -0.999, "the lamp faces down");
                 area[1] += t.area;
             } else {
                 assert_eq!(s.emission(i), [0.0; 3]);
                 assert_eq!(s.albedo(i), [0.5, 0.25, 0.125]);
-                assert!(t.normal.y > 0.999, "the floor faces up");
+                assert!(t.normal[1] > 0.999, "the floor faces up");
                 area[0] += t.area;
             }
         }

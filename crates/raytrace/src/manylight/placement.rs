@@ -134,12 +134,12 @@ pub fn features(g: &GBuffer, ids: &[usize]) -> Vec<[f64; 6]> {
     pts.iter()
         .map(|p| {
             [
-                s * (p.pos.x - c[0]),
-                s * (p.pos.y - c[1]),
-                s * (p.pos.z - c[2]),
-                p.normal.x,
-                p.normal.y,
-                p.normal.z,
+                s * (p.pos[0] - c[0]),
+                s * (p.pos[1] - c[1]),
+                s * (p.pos[2] - c[2]),
+                p.normal[0],
+                p.normal[1],
+                p.normal[2],
             ]
         })
         .collect()
@@ -261,7 +261,7 @@ pub fn disagreement(cache: &ImportanceCache, i: usize) -> f64 {
     let Some(own) = cache.dists[i].pmf[s].as_ref() else {
         return 0.0;
     };
-    let found = cache.lookup(&r.at.pos, &r.at.normal, Some(i));
+    let found = cache.lookup(r.at.pos, r.at.normal, Some(i));
     let mix = cache.mixture(&found, s);
     if mix.is_empty() {
         return 2.0;

@@ -220,7 +220,7 @@ pub fn estimate(
 ) -> Rgb {
     let mut out = x.emitted;
     let r = x.receiver();
-    let found = cache.lookup(&r.pos, &r.normal, None);
+    let found = cache.lookup(r.pos, r.normal, None);
     let mut mix: [Lookup; 4] = Default::default();
     let mut avail = [false; 4];
     for s in 0..4 {

@@ -3,6 +3,7 @@
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
+use wscg_math::vec3::{add, add_scaled, norm, sub};
 use wscg_math::{Error, Result};
 
 use crate::bvh::{Aabb, Bvh};
@@ -20,26 +21,33 @@ pub fn luminance(c: &Rgb) -> f64 {
 #[derive(Clone, Copy, Debug)]
 pub struct Triangle {
     /// First vertex.
-    pub p0: Vector3<f64>,
+    pub p0: [f64; 3],
     /// `p1 - p0`.
-    pub e1: Vector3<f64>,
+    pub e1: [f64; 3],
     /// `p2 - p0`.
-    pub e2: Vector3<f64>,
+    pub e2: [f64; 3],
     /// Unit geometric normal, `e1 x e2` normalised (counter-clockwise front).
-    pub normal: Vector3<f64>,
+    pub normal: [f64; 3],
     /// Area.
     pub area: f64,
 }
 
 impl Triangle {
     /// The triangle `a, b, c`; `None` when degenerate (zero area).
-    pub fn new(a: Vector3<f64>, b: Vector3<f64>, c: Vector3<f64>) -> Option<Self> {
-        Self::from_edges(a, b - a, c - a)
+    pub fn new(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<Self> {
+        let p0 = Vector3::from(a);
+        Self::from_edges(
+            a,
+            (Vector3::from(b) - p0).into(),
+            (Vector3::from(c) - p0).into(),
+        )
     }
 
     /// The triangle with first vertex `p0` and edges `e1 = p1 - p0`, `e2 = p2 - p0` (the
     /// fields of a triangle, which rebuild it exactly); `None` when degenerate.
-    pub fn from_edges(a: Vector3<f64>, e1: Vector3<f64>, e2: Vector3<f64>) -> Option<Self> {
+    pub fn from_edges(p0: [f64; 3], e1: [f64; 3], e2: [f64; 3]) -> Option<Self> {
+        let a = Vector3::from(p0);
+        let (e1, e2) = (Vector3::from(e1), Vector3::from(e2));
         let n = e1.cross(&e2);
         let len = n.norm();
         let scale = e1.norm() * e2.norm();
@@ -47,50 +55,50 @@ impl Triangle {
             return None;
         }
         Some(Self {
-            p0: a,
-            e1,
-            e2,
-            normal: n / len,
+            p0: a.into(),
+            e1: e1.into(),
+            e2: e2.into(),
+            normal: (n / len).into(),
             area: 0.5 * len,
         })
     }
 
     /// Möller-Trumbore: the hit parameter along `o + t d` when `t_min < t <= t_max`.
     #[inline]
-    pub fn intersect(&self, o: &Vector3<f64>, d: &Vector3<f64>, t_max: f64) -> Option<f64> {
-        let p = d.cross(&self.e2);
-        let det = self.e1.dot(&p);
+    pub fn intersect(&self, o: [f64; 3], d: [f64; 3], t_max: f64) -> Option<f64> {
+        let (o, d) = (Vector3::from(o), Vector3::from(d));
+        let (e1, e2) = (Vector3::from(self.e1), Vector3::from(self.e2));
+        let p = d.cross(&e2);
+        let det = e1.dot(&p);
         if det.abs() < 1e-300 {
             return None;
         }
         let inv = 1.0 / det;
-        let s = o - self.p0;
+        let s = o - Vector3::from(self.p0);
         let u = s.dot(&p) * inv;
         if !(0.0..=1.0).contains(&u) {
             return None;
         }
-        let q = s.cross(&self.e1);
+        let q = s.cross(&e1);
         let v = d.dot(&q) * inv;
         if v < 0.0 || u + v > 1.0 {
             return None;
         }
-        let t = self.e2.dot(&q) * inv;
+        let t = e2.dot(&q) * inv;
         (t > 0.0 && t <= t_max).then_some(t)
     }
 
     /// The point at barycentric square coordinates `(u1, u2)` in `[0, 1)^2`, uniform in area.
-    pub fn sample(&self, u1: f64, u2: f64) -> Vector3<f64> {
+    pub fn sample(&self, u1: f64, u2: f64) -> [f64; 3] {
         let s = u1.sqrt();
-        self.p0 + self.e1 * (s * (1.0 - u2)) + self.e2 * (s * u2)
+        let (a, b) = (s * (1.0 - u2), s * u2);
+        [0, 1, 2].map(|k| self.p0[k] + self.e1[k] * a + self.e2[k] * b)
     }
 
     /// Bounding box.
     pub fn bounds(&self) -> Aabb {
-        let (a, b, c) = (self.p0, self.p0 + self.e1, self.p0 + self.e2);
-        Aabb {
-            min: a.inf(&b).inf(&c),
-            max: a.sup(&b).sup(&c),
-        }
+        let p0 = self.p0;
+        Aabb::around(&[p0, add(p0, self.e1), add(p0, self.e2)])
     }
 }
 
@@ -102,9 +110,9 @@ pub struct Hit {
     /// Triangle index.
     pub tri: u32,
     /// Hit point.
-    pub pos: Vector3<f64>,
+    pub pos: [f64; 3],
     /// Unit geometric normal of the triangle (its front side).
-    pub normal: Vector3<f64>,
+    pub normal: [f64; 3],
 }
 
 /// Checks per-face albedos (finite, in `[0, 1]`) and emissions (finite, `>= 0`).
@@ -179,15 +187,14 @@ impl Scene {
         let mut emi = Vec::with_capacity(faces.len());
         let mut skipped = 0;
         for (i, f) in faces.iter().enumerate() {
-            let mut p = [Vector3::zeros(); 3];
+            let mut p = [[0.0; 3]; 3];
             for k in 0..3 {
-                let v = vertices.get(f[k] as usize).ok_or_else(|| {
+                p[k] = *vertices.get(f[k] as usize).ok_or_else(|| {
                     Error::invalid(
                         "faces",
                         format!("face {i} uses vertex {} of {}", f[k], vertices.len()),
                     )
                 })?;
-                p[k] = Vector3::new(v[0], v[1], v[2]);
             }
             match Triangle::new(p[0], p[1], p[2]) {
                 Some(t) => {
@@ -290,44 +297,39 @@ impl Scene {
 
     /// Length of the bounding box's diagonal.
     pub fn diagonal(&self) -> f64 {
-        (self.bounds.max - self.bounds.min).norm()
+        self.bounds.diagonal()
     }
 
     /// The nearest hit along `o + t d` (`d` unit) with `0 < t <= t_max`.
-    pub fn intersect(&self, o: &Vector3<f64>, d: &Vector3<f64>, t_max: f64) -> Option<Hit> {
+    pub fn intersect(&self, o: [f64; 3], d: [f64; 3], t_max: f64) -> Option<Hit> {
         let (i, t) = self.bvh.nearest(o, d, t_max, |i, tb| {
             self.tris[i as usize].intersect(o, d, tb)
         })?;
         Some(Hit {
             t,
             tri: i,
-            pos: o + d * t,
+            pos: add_scaled(o, t, d),
             normal: self.tris[i as usize].normal,
         })
     }
 
     /// Whether anything lies on the segment from `a` to `b` (both ends excluded by the
     /// caller's offsets).
-    pub fn occluded(&self, a: &Vector3<f64>, b: &Vector3<f64>) -> bool {
-        let d = b - a;
-        let len = d.norm();
+    pub fn occluded(&self, a: [f64; 3], b: [f64; 3]) -> bool {
+        let d = sub(b, a);
+        let len = norm(d);
         if len <= 0.0 {
             return false;
         }
-        let d = d / len;
-        self.bvh.any(a, &d, len, |i, tb| {
-            self.tris[i as usize].intersect(a, &d, tb)
-        })
+        let d = d.map(|c| c / len);
+        self.bvh
+            .any(a, d, len, |i, tb| self.tris[i as usize].intersect(a, d, tb))
     }
 
     /// Shadow rays in parallel: whether each segment `origins[i] -> targets[i]` is blocked.
     ///
     /// Errors: slices of different lengths.
-    pub fn occluded_batch(
-        &self,
-        origins: &[Vector3<f64>],
-        targets: &[Vector3<f64>],
-    ) -> Result<Vec<bool>> {
+    pub fn occluded_batch(&self, origins: &[[f64; 3]], targets: &[[f64; 3]]) -> Result<Vec<bool>> {
         if origins.len() != targets.len() {
             return Err(Error::ShapeMismatch(format!(
                 "{} origins but {} targets",
@@ -338,7 +340,7 @@ impl Scene {
         Ok(origins
             .par_iter()
             .zip(targets)
-            .map(|(a, b)| self.occluded(a, b))
+            .map(|(a, b)| self.occluded(*a, *b))
             .collect())
     }
 }

@@ -287,9 +287,9 @@ fn preset(
     height: usize,
 ) -> Result<Camera> {
     let cam = Camera {
-        eye: v3(eye),
-        target: v3(target),
-        up: Vector3::y(),
+        eye,
+        target,
+        up: [0.0, 1.0, 0.0],
         fov_deg,
         width,
         height,
@@ -657,8 +657,8 @@ mod tests {
             for &i in s.emitters() {
                 assert_eq!(s.emission(i), [17.0, 12.0, 4.0]);
                 let t = &s.triangles()[i as usize];
-                assert!((t.normal - Vector3::new(0.0, -1.0, 0.0)).norm() < 1e-12);
-                assert!((t.p0.y - 548.7).abs() < 1e-9);
+                assert!((v3(t.normal) - Vector3::new(0.0, -1.0, 0.0)).norm() < 1e-12);
+                assert!((t.p0[1] - 548.7).abs() < 1e-9);
             }
         }
     }
@@ -668,27 +668,27 @@ mod tests {
         let (s, _) = cornell_box(2, 64, 48).unwrap();
         let (mut floor, mut red, mut green) = (0.0, 0.0, 0.0);
         for (i, t) in s.triangles().iter().enumerate() {
-            let c = t.p0 + (t.e1 + t.e2) / 3.0;
+            let c = v3(t.p0) + (v3(t.e1) + v3(t.e2)) / 3.0;
             let a = s.albedo(i as u32);
-            if c.y.abs() < 1e-9 && t.normal.y > 0.5 {
+            if c.y.abs() < 1e-9 && t.normal[1] > 0.5 {
                 floor += t.area;
                 assert_eq!(a, [0.725; 3]);
             }
             if (c.x - 555.0).abs() < 1e-9 {
-                assert!((t.normal - Vector3::new(-1.0, 0.0, 0.0)).norm() < 1e-12);
+                assert!((v3(t.normal) - Vector3::new(-1.0, 0.0, 0.0)).norm() < 1e-12);
                 assert_eq!(a, [0.63, 0.065, 0.05]);
                 red += t.area;
             }
             if c.x.abs() < 1e-9 {
-                assert!((t.normal - Vector3::new(1.0, 0.0, 0.0)).norm() < 1e-12);
+                assert!((v3(t.normal) - Vector3::new(1.0, 0.0, 0.0)).norm() < 1e-12);
                 assert_eq!(a, [0.14, 0.45, 0.091]);
                 green += t.area;
             }
             if (c.z - 559.2).abs() < 1e-9 {
-                assert!(t.normal.z < -0.999);
+                assert!(t.normal[2] < -0.999);
             }
             if (c.y - 548.8).abs() < 1e-9 {
-                assert!(t.normal.y < -0.999);
+                assert!(t.normal[1] < -0.999);
             }
         }
         assert!((floor - 555.0 * 559.2).abs() < 1e-6 * floor);
@@ -709,8 +709,11 @@ mod tests {
             for k in 0..2000 {
                 let o = pts[k % pts.len()];
                 let d = unit(&mut rng);
-                match s.intersect(&o, &d, f64::INFINITY) {
-                    Some(h) => assert!(h.normal.dot(&d) < 0.0, "{name}: back side hit from {o:?}"),
+                match s.intersect(o.into(), d.into(), f64::INFINITY) {
+                    Some(h) => assert!(
+                        v3(h.normal).dot(&d) < 0.0,
+                        "{name}: back side hit from {o:?}"
+                    ),
                     None => {
                         assert_eq!(name, "cornell_box", "ray from {o:?} along {d:?} escaped");
                         // It leaves through the open front z = 0 inside the wall's outline.
@@ -731,43 +734,39 @@ mod tests {
     fn colonnade_light_enters_only_through_the_roof_opening() {
         let (s, _) = colonnade(1, 64, 48).unwrap();
         assert!((emitter_area(&s) - 60.0).abs() < 1e-9);
-        let down = Vector3::new(0.0, -1.0, 0.0);
+        let down = [0.0, -1.0, 0.0];
         // Straight down from the sun through the opening onto the aisle floor.
         for x in [0.5, 7.0, 15.0, 29.5] {
-            let h = s
-                .intersect(&Vector3::new(x, 10.9, 6.0), &down, f64::INFINITY)
-                .unwrap();
-            assert!(h.pos.y.abs() < 1e-9 && h.normal.y > 0.999);
+            let h = s.intersect([x, 10.9, 6.0], down, f64::INFINITY).unwrap();
+            assert!(h.pos[1].abs() < 1e-9 && h.normal[1] > 0.999);
             // From above the side aisles, the roof blocks the way up.
-            let up = Vector3::new(0.0, 1.0, 0.0);
-            let h = s
-                .intersect(&Vector3::new(x, 5.0, 1.5), &up, f64::INFINITY)
-                .unwrap();
-            assert!((h.pos.y - 10.0).abs() < 1e-9 && h.normal.y < -0.999);
+            let up = [0.0, 1.0, 0.0];
+            let h = s.intersect([x, 5.0, 1.5], up, f64::INFINITY).unwrap();
+            assert!((h.pos[1] - 10.0).abs() < 1e-9 && h.normal[1] < -0.999);
         }
         // Each pillar is there: a ray along a row hits the first pillar's face.
         let h = s
-            .intersect(&Vector3::new(0.01, 4.0, 3.5), &Vector3::x(), f64::INFINITY)
+            .intersect([0.01, 4.0, 3.5], [1.0, 0.0, 0.0], f64::INFINITY)
             .unwrap();
-        assert!((h.pos.x - (30.0 / 16.0 - 0.5)).abs() < 1e-9);
+        assert!((h.pos[0] - (30.0 / 16.0 - 0.5)).abs() < 1e-9);
     }
 
     #[test]
     fn conference_chairs_are_half_under_the_table() {
         let (s, _) = conference_room(1, 64, 48).unwrap();
         assert!((emitter_area(&s) - 2.0 * 1.2 * 0.6).abs() < 1e-9);
-        let up = Vector3::new(0.0, 1.0, 0.0);
+        let up = [0.0, 1.0, 0.0];
         for xc in [3.5, 4.5, 5.5, 6.5] {
             for (inside, outside) in [(2.85, 2.6), (4.15, 4.4)] {
                 // The inner half of the seat lies under the table top, the outer half not.
                 let h = s
-                    .intersect(&Vector3::new(xc + 0.1, 0.5, inside), &up, f64::INFINITY)
+                    .intersect([xc + 0.1, 0.5, inside], up, f64::INFINITY)
                     .unwrap();
-                assert!((h.pos.y - 0.7).abs() < 1e-9, "{xc} {inside}: {h:?}");
+                assert!((h.pos[1] - 0.7).abs() < 1e-9, "{xc} {inside}: {h:?}");
                 let h = s
-                    .intersect(&Vector3::new(xc + 0.1, 0.5, outside), &up, f64::INFINITY)
+                    .intersect([xc + 0.1, 0.5, outside], up, f64::INFINITY)
                     .unwrap();
-                assert!(h.pos.y > 2.9, "{xc} {outside}: {h:?}");
+                assert!(h.pos[1] > 2.9, "{xc} {outside}: {h:?}");
             }
         }
     }
@@ -784,15 +783,14 @@ mod tests {
             let (s, cam) = f(1, 32, 24).unwrap();
             assert_eq!((cam.width, cam.height), (32, 24));
             let fr = cam.frame().unwrap();
-            let h = s.intersect(&fr.eye(), &fr.ray(16.0, 12.0), f64::INFINITY);
+            let h = s.intersect(fr.eye(), fr.ray(16.0, 12.0), f64::INFINITY);
             assert!(h.is_some(), "{name}: the central ray misses");
             // Inside the closed rooms, the four corner rays hit the scene as well (the
             // Cornell frame has a thin margin around the box's open front, as the classic).
             if name == "colonnade" || name == "conference_room" {
                 for (x, y) in [(0.5, 0.5), (31.5, 0.5), (0.5, 23.5), (31.5, 23.5)] {
                     assert!(
-                        s.intersect(&fr.eye(), &fr.ray(x, y), f64::INFINITY)
-                            .is_some(),
+                        s.intersect(fr.eye(), fr.ray(x, y), f64::INFINITY).is_some(),
                         "{name}"
                     );
                 }
@@ -802,11 +800,9 @@ mod tests {
         // front corners (265, 296) and (423, 247) (x, z).
         let (s, cam) = cornell_box(1, 32, 24).unwrap();
         let fr = cam.frame().unwrap();
-        let h = s
-            .intersect(&fr.eye(), &fr.forward(), f64::INFINITY)
-            .unwrap();
+        let h = s.intersect(fr.eye(), fr.forward(), f64::INFINITY).unwrap();
         assert!(
-            h.pos.z > 247.0 && h.pos.z < 296.0 && h.pos.y < 330.0,
+            h.pos[2] > 247.0 && h.pos[2] < 296.0 && h.pos[1] < 330.0,
             "{h:?}"
         );
     }
@@ -820,7 +816,7 @@ mod tests {
         assert!((phi - std::f64::consts::PI).abs() < 1e-12);
         for &i in s.emitters() {
             let t = &s.triangles()[i as usize];
-            assert!(t.normal.y < -0.999 && (t.p0.y - 1.0).abs() < 1e-12);
+            assert!(t.normal[1] < -0.999 && (t.p0[1] - 1.0).abs() < 1e-12);
         }
         let plane: f64 = s
             .triangles()
@@ -828,7 +824,7 @@ mod tests {
             .enumerate()
             .filter(|(i, _)| s.emission(*i as u32) == [0.0; 3])
             .map(|(i, t)| {
-                assert!(t.normal.y > 0.999);
+                assert!(t.normal[1] > 0.999);
                 assert_eq!(s.albedo(i as u32), [0.5; 3]);
                 t.area
             })
@@ -864,16 +860,16 @@ mod tests {
         let s = m.build().unwrap();
         assert_eq!(s.len(), 2 * 8 + 6 * 8);
         let t = s.triangles();
-        assert!(t[..8].iter().all(|t| t.normal.y > 0.999));
-        assert!(t[8..16].iter().all(|t| t.normal.y < -0.999));
+        assert!(t[..8].iter().all(|t| t.normal[1] > 0.999));
+        assert!(t[8..16].iter().all(|t| t.normal[1] < -0.999));
         let centre = Vector3::new(2.5, 3.0, 3.5);
         for t in &t[16..] {
-            let c = t.p0 + (t.e1 + t.e2) / 3.0;
-            assert!(t.normal.dot(&(c - centre)) > 0.0);
+            let c = v3(t.p0) + (v3(t.e1) + v3(t.e2)) / 3.0;
+            assert!(v3(t.normal).dot(&(c - centre)) > 0.0);
         }
         let vol: f64 = t[16..]
             .iter()
-            .map(|t| t.p0.dot(&t.normal) * t.area / 3.0)
+            .map(|t| v3(t.p0).dot(&v3(t.normal)) * t.area / 3.0)
             .sum();
         assert!((vol - 6.0).abs() < 1e-9);
     }

@@ -1,6 +1,7 @@
 //! The contribution of one VPL to a shading point (paper 08, eq. 1 and its terms).
 
 use nalgebra::Vector3;
+use wscg_math::vec3::add_scaled;
 use wscg_math::{Error, Result};
 
 use super::scene::{luminance, Rgb, Scene};
@@ -10,9 +11,9 @@ use super::vpl::Vpl;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Receiver {
     /// Position.
-    pub pos: Vector3<f64>,
+    pub pos: [f64; 3],
     /// Unit normal.
-    pub normal: Vector3<f64>,
+    pub normal: [f64; 3],
     /// Albedo.
     pub albedo: Rgb,
 }
@@ -89,14 +90,14 @@ impl<'a> Shading<'a> {
     #[inline]
     pub fn geometry(&self, r: &Receiver, j: usize) -> f64 {
         let v = &self.vpls[j];
-        let d = v.pos - r.pos;
+        let d = Vector3::from(v.pos) - Vector3::from(r.pos);
         let d2 = d.norm_squared();
         if d2 == 0.0 {
             return 0.0;
         }
         let inv = 1.0 / d2.sqrt();
-        let cx = r.normal.dot(&d) * inv;
-        let cy = -v.normal.dot(&d) * inv;
+        let cx = Vector3::from(r.normal).dot(&d) * inv;
+        let cy = -Vector3::from(v.normal).dot(&d) * inv;
         if cx <= 0.0 || cy <= 0.0 {
             return 0.0;
         }
@@ -108,8 +109,8 @@ impl<'a> Shading<'a> {
     pub fn visible(&self, r: &Receiver, j: usize) -> bool {
         let v = &self.vpls[j];
         !self.scene.occluded(
-            &(r.pos + r.normal * self.eps),
-            &(v.pos + v.normal * self.eps),
+            add_scaled(r.pos, self.eps, r.normal),
+            add_scaled(v.pos, self.eps, v.normal),
         )
     }
 
@@ -163,10 +164,12 @@ impl<'a> Shading<'a> {
     /// disc allows, the receiver's cosine bounded by 1, the distance shortened by `rad`.
     pub fn bound(&self, r: &Receiver, j: usize, rad: f64) -> f64 {
         let v = &self.vpls[j];
-        let dv = r.pos - v.pos;
+        let dv = Vector3::from(r.pos) - Vector3::from(v.pos);
         let d = dv.norm();
         let theta = if d > 0.0 {
-            (v.normal.dot(&dv) / d).clamp(-1.0, 1.0).acos()
+            (Vector3::from(v.normal).dot(&dv) / d)
+                .clamp(-1.0, 1.0)
+                .acos()
         } else {
             0.0
         };

@@ -27,9 +27,9 @@ pub enum VplKind {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vpl {
     /// Position.
-    pub pos: Vector3<f64>,
+    pub pos: [f64; 3],
     /// Unit normal of the side it radiates from.
-    pub normal: Vector3<f64>,
+    pub normal: [f64; 3],
     /// Power (emitter) or incident flux (surface VPL).
     pub power: Rgb,
     /// Emitter or surface VPL.
@@ -85,7 +85,7 @@ impl VplParams {
 }
 
 /// A direction from the cosine-weighted hemisphere around the unit normal `n`.
-pub fn cosine_hemisphere(n: &Vector3<f64>, u1: f64, u2: f64) -> Vector3<f64> {
+pub(crate) fn cosine_hemisphere(n: &Vector3<f64>, u1: f64, u2: f64) -> Vector3<f64> {
     let r = u1.sqrt();
     let phi = 2.0 * std::f64::consts::PI * u2;
     let (t, b) = tangent_frame(n);
@@ -143,29 +143,27 @@ pub fn generate_vpls(scene: &Scene, s: &VplParams) -> Result<Vec<Vpl>> {
                 kind: VplKind::Emitter,
             }];
             let mut beta = power;
-            let (mut o, mut nrm) = (y, n);
+            let (mut o, mut nrm) = (Vector3::from(y), Vector3::from(n));
             for _ in 0..s.max_bounces {
                 let w = cosine_hemisphere(&nrm, rng.random(), rng.random());
-                let Some(h) = scene.intersect(&(o + nrm * eps), &w, f64::INFINITY) else {
+                let Some(h) = scene.intersect((o + nrm * eps).into(), w.into(), f64::INFINITY)
+                else {
                     break;
                 };
-                let hn = if h.normal.dot(&w) > 0.0 {
-                    -h.normal
-                } else {
-                    h.normal
-                };
+                let hn = Vector3::from(h.normal);
+                let hn = if hn.dot(&w) > 0.0 { -hn } else { hn };
                 let albedo = scene.albedo(h.tri);
                 if luminance(&albedo) <= 0.0 {
                     break;
                 }
                 out.push(Vpl {
                     pos: h.pos,
-                    normal: hn,
+                    normal: hn.into(),
                     power: beta,
                     kind: VplKind::Surface { albedo },
                 });
                 beta = [0, 1, 2].map(|c| beta[c] * albedo[c]);
-                o = h.pos;
+                o = h.pos.into();
                 nrm = hn;
             }
             out

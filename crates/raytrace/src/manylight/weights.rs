@@ -75,22 +75,23 @@ pub fn clipped_similarity(d_rel: f64, theta: f64, theta_max: f64, lambda: f64) -
 /// normal `n`: `sqrt(1 - |n . v|)` (`v` the unit vector from `x` to `p`; 1 when they
 /// coincide) times the clipped similarity of their distance and normal angle.
 pub fn record_weight(
-    x: &Vector3<f64>,
-    n: &Vector3<f64>,
-    p: &Vector3<f64>,
-    n_c: &Vector3<f64>,
+    x: [f64; 3],
+    n: [f64; 3],
+    p: [f64; 3],
+    n_c: [f64; 3],
     d_max: f64,
     theta_max: f64,
     lambda: f64,
 ) -> f64 {
-    let v = p - x;
+    let (n, n_c) = (Vector3::from(n), Vector3::from(n_c));
+    let v = Vector3::from(p) - Vector3::from(x);
     let d = v.norm();
     let tangential = if d > 0.0 {
         (1.0 - (n.dot(&v) / d).abs()).max(0.0).sqrt()
     } else {
         1.0
     };
-    let theta = n.dot(n_c).clamp(-1.0, 1.0).acos();
+    let theta = n.dot(&n_c).clamp(-1.0, 1.0).acos();
     tangential * clipped_similarity(d / d_max, theta, theta_max, lambda)
 }
 
@@ -120,26 +121,10 @@ mod tests {
             }
         }
         // In the plane of the shading point the first factor is 1; straight above it, 0.
-        let (x, n) = (Vector3::zeros(), Vector3::z());
-        let side = record_weight(
-            &x,
-            &n,
-            &Vector3::new(0.25, 0.0, 0.0),
-            &n,
-            1.0,
-            PI / 6.0,
-            5.0,
-        );
+        let (x, n) = ([0.0; 3], [0.0, 0.0, 1.0]);
+        let side = record_weight(x, n, [0.25, 0.0, 0.0], n, 1.0, PI / 6.0, 5.0);
         assert!((side - 0.636364).abs() < 1e-6);
-        let above = record_weight(
-            &x,
-            &n,
-            &Vector3::new(0.0, 0.0, 0.25),
-            &n,
-            1.0,
-            PI / 6.0,
-            5.0,
-        );
+        let above = record_weight(x, n, [0.0, 0.0, 0.25], n, 1.0, PI / 6.0, 5.0);
         assert_eq!(above, 0.0);
         assert!(Interp::Clarberg {
             theta_max: 0.0,

@@ -24,6 +24,7 @@
 use nalgebra::Vector3;
 use rand::Rng;
 use rand_distr::{Distribution, LogNormal, Normal, Poisson};
+use wscg_math::vec3::add;
 use wscg_math::{Error, Result};
 
 pub use super::disc::Flake;
@@ -272,12 +273,7 @@ pub struct FlakeTile {
 impl FlakeTile {
     /// The nearest disc hit along `o + t d` (tile frame) with `0 < t <= t_max` whose hit
     /// point lies inside the tile's square `[0, size)^2`: `(t, normal, flake index)`.
-    pub fn hit(
-        &self,
-        o: &Vector3<f64>,
-        d: &Vector3<f64>,
-        t_max: f64,
-    ) -> Option<(f64, Vector3<f64>, u32)> {
+    pub fn hit(&self, o: [f64; 3], d: [f64; 3], t_max: f64) -> Option<(f64, [f64; 3], u32)> {
         self.grid.nearest(&self.discs, o, d, t_max).map(|(t, i)| {
             let (f, id) = &self.pieces[i as usize];
             (t, f.n, *id)
@@ -330,9 +326,9 @@ pub fn generate_tile(p: &FlakeParams, seed: u64) -> Result<FlakeTile> {
                 .sample(&mut rng)
                 .min(max_tilt(r, p.thickness_um, p.layer_um));
             let ph = 2.0 * std::f64::consts::PI * rng.random::<f64>();
-            let n = Vector3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
+            let n = [th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()];
             Flake {
-                c: Vector3::new(x, y, 0.0),
+                c: [x, y, 0.0],
                 n,
                 r,
             }
@@ -351,7 +347,7 @@ pub fn generate_tile(p: &FlakeParams, seed: u64) -> Result<FlakeTile> {
             None => Some(e + rng.random::<f64>() * (t - 2.0 * e).max(0.0)),
             Some(s) => s.lowest(f, e, t - e),
         };
-        f.c.z = match z {
+        f.c[2] = match z {
             Some(z) => z,
             None => {
                 clamped_flakes.push(i as u32);
@@ -378,10 +374,11 @@ pub fn generate_tile(p: &FlakeParams, seed: u64) -> Result<FlakeTile> {
         let b = f.aabb();
         for sx in [-1.0, 0.0, 1.0] {
             for sy in [-1.0, 0.0, 1.0] {
-                let off = Vector3::new(sx * l, sy * l, 0.0);
-                let (lo, hi) = (b.min + off, b.max + off);
-                if hi.x >= 0.0 && lo.x < l && hi.y >= 0.0 && lo.y < l {
-                    pieces.push((Flake { c: f.c + off, ..*f }, i as u32));
+                let off = [sx * l, sy * l, 0.0];
+                let (lo, hi) = (add(b.min, off), add(b.max, off));
+                if hi[0] >= 0.0 && lo[0] < l && hi[1] >= 0.0 && lo[1] < l {
+                    let c = add(f.c, off);
+                    pieces.push((Flake { c, ..*f }, i as u32));
                 }
             }
         }
@@ -450,7 +447,7 @@ impl Settler {
     }
 
     fn insert(&mut self, f: &Flake) {
-        let k = self.bucket_of(f.c.y) * self.nb + self.bucket_of(f.c.x);
+        let k = self.bucket_of(f.c[1]) * self.nb + self.bucket_of(f.c[0]);
         self.cells[k].push(self.placed.len() as u32);
         self.placed.push(*f);
     }
@@ -458,14 +455,14 @@ impl Settler {
     /// The lowest centre height in `[lo, hi]` where `f` touches no placed flake.
     fn lowest(&mut self, f: &Flake, lo: f64, hi: f64) -> Option<f64> {
         let h = self.h;
-        let grad = |g: &Flake| Vector3::new(-g.n.x / g.n.z, -g.n.y / g.n.z, 0.0);
+        let grad = |g: &Flake| Vector3::new(-g.n[0] / g.n[2], -g.n[1] / g.n[2], 0.0);
         let gn = grad(f);
         let rn = f.r + 0.5 * h;
         self.intervals.clear();
         let span = if self.nb >= 3 { 1 } else { self.nb as isize };
         let (bx, by) = (
-            self.bucket_of(f.c.x) as isize,
-            self.bucket_of(f.c.y) as isize,
+            self.bucket_of(f.c[0]) as isize,
+            self.bucket_of(f.c[1]) as isize,
         );
         let nb = self.nb as isize;
         let mut seen_cells = Vec::with_capacity(9);
@@ -480,19 +477,19 @@ impl Settler {
                     let o = &self.placed[i as usize];
                     // Nearest periodic image of the old flake.
                     let mut co = o.c;
-                    co.x -= ((co.x - f.c.x) / self.size).round() * self.size;
-                    co.y -= ((co.y - f.c.y) / self.size).round() * self.size;
+                    co[0] -= ((co[0] - f.c[0]) / self.size).round() * self.size;
+                    co[1] -= ((co[1] - f.c[1]) / self.size).round() * self.size;
                     let ro = o.r + 0.5 * h;
                     let Some((m, big_m)) =
-                        lens_range((f.c.x, f.c.y, rn), (co.x, co.y, ro), gn - grad(o))
+                        lens_range((f.c[0], f.c[1], rn), (co[0], co[1], ro), gn - grad(o))
                     else {
                         continue;
                     };
                     // gap(p) = zc + w.p + K with K = -gn.cn + go.co - zo.
                     let go = grad(o);
                     let k_off =
-                        -(gn.x * f.c.x + gn.y * f.c.y) + (go.x * co.x + go.y * co.y) - o.c.z;
-                    let hh = 0.5 * h / f.n.z + 0.5 * h / o.n.z;
+                        -(gn.x * f.c[0] + gn.y * f.c[1]) + (go.x * co[0] + go.y * co[1]) - o.c[2];
+                    let hh = 0.5 * h / f.n[2] + 0.5 * h / o.n[2];
                     self.intervals.push((-hh - big_m - k_off, hh - m - k_off));
                 }
             }
@@ -578,17 +575,18 @@ mod tests {
             let x = (k as f64 * 0.618034).fract() * 500.0 - 25.0;
             let y = (k as f64 * 0.7548776).fract() * 500.0 - 25.0;
             let d = dirs[k % 4].normalize();
-            let o = Vector3::new(x, y, if d.z < 0.0 { 20.24 } else { 0.0 });
+            let o = [x, y, if d.z < 0.0 { 20.24 } else { 0.0 }];
+            let d: [f64; 3] = d.into();
             let brute = discs
                 .iter()
                 .enumerate()
                 .filter_map(|(i, f)| {
-                    let (tt, p) = f.intersect(&o, &d)?;
-                    let inside = p.x >= 0.0 && p.x < 450.0 && p.y >= 0.0 && p.y < 450.0;
+                    let (tt, p) = f.intersect(o, d)?;
+                    let inside = p[0] >= 0.0 && p[0] < 450.0 && p[1] >= 0.0 && p[1] < 450.0;
                     (tt <= 60.0 && inside).then_some((tt, i as u32))
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
-            let fast = grid.nearest(&discs, &o, &d, 60.0);
+            let fast = grid.nearest(&discs, o, d, 60.0);
             assert_eq!(brute.map(|b| b.1), fast.map(|f| f.1), "ray {k}");
         }
     }

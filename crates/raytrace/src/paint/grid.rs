@@ -49,10 +49,10 @@ impl FlakeGrid {
             .iter()
             .map(|f| {
                 let b = f.aabb();
-                if b.max.x < 0.0 || b.min.x >= size || b.max.y < 0.0 || b.min.y >= size {
+                if b.max[0] < 0.0 || b.min[0] >= size || b.max[1] < 0.0 || b.min[1] >= size {
                     return None;
                 }
-                Some((range(b.min.x, b.max.x), range(b.min.y, b.max.y)))
+                Some((range(b.min[0], b.max[0]), range(b.min[1], b.max[1])))
             })
             .collect();
         for ((i0, i1), (j0, j1)) in spans.iter().flatten() {
@@ -82,7 +82,7 @@ impl FlakeGrid {
             .iter()
             .map(|f| {
                 let b = f.aabb();
-                (b.min.z, b.max.z)
+                (b.min[2], b.max[2])
             })
             .collect();
         let mut down = items;
@@ -110,13 +110,13 @@ impl FlakeGrid {
     pub fn nearest(
         &self,
         discs: &[Flake],
-        o: &Vector3<f64>,
-        d: &Vector3<f64>,
+        o: [f64; 3],
+        d: [f64; 3],
         t_max: f64,
     ) -> Option<(f64, u32)> {
         // Clip the segment to the square.
         let (mut ta, mut tb) = (0.0f64, t_max);
-        for (oc, dc) in [(o.x, d.x), (o.y, d.y)] {
+        for (oc, dc) in [(o[0], d[0]), (o[1], d[1])] {
             if dc == 0.0 {
                 if oc < 0.0 || oc >= self.size {
                     return None;
@@ -130,10 +130,12 @@ impl FlakeGrid {
         if ta > tb {
             return None;
         }
+        // The ray as the discs' intersection takes it, converted once.
+        let (ov, dv) = (Vector3::from(o), Vector3::from(d));
         let n = self.n as isize;
         let c = self.cell;
-        let px = o.x + d.x * ta;
-        let py = o.y + d.y * ta;
+        let px = o[0] + d[0] * ta;
+        let py = o[1] + d[1] * ta;
         let mut i = ((px / c).floor() as isize).clamp(0, n - 1);
         let mut j = ((py / c).floor() as isize).clamp(0, n - 1);
         let axis = |p: f64, dc: f64, k: isize| -> (isize, f64, f64) {
@@ -145,15 +147,15 @@ impl FlakeGrid {
                 (0, f64::INFINITY, f64::INFINITY)
             }
         };
-        let (si, mut next_x, dx) = axis(px, d.x, i);
-        let (sj, mut next_y, dy) = axis(py, d.y, j);
+        let (si, mut next_x, dx) = axis(px, d[0], i);
+        let (sj, mut next_y, dy) = axis(py, d[1], j);
         let mut t_in = ta;
         loop {
             let t_out = next_x.min(next_y).min(tb);
             let k = (j * n + i) as usize;
             let mut best: Option<(f64, u32)> = None;
             let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
-            let list = if d.z < 0.0 {
+            let list = if d[2] < 0.0 {
                 &self.down[a..b]
             } else {
                 &self.up[a..b]
@@ -161,13 +163,13 @@ impl FlakeGrid {
             for &idx in list {
                 if let Some((tb, _)) = best {
                     // Discs further in the list lie wholly beyond the best hit's height.
-                    let zb = o.z + d.z * tb;
+                    let zb = o[2] + d[2] * tb;
                     let (lo, hi) = self.z_range[idx as usize];
-                    if (d.z < 0.0 && hi < zb) || (d.z > 0.0 && lo > zb) {
+                    if (d[2] < 0.0 && hi < zb) || (d[2] > 0.0 && lo > zb) {
                         break;
                     }
                 }
-                if let Some((t, _)) = discs[idx as usize].intersect(o, d) {
+                if let Some((t, _)) = discs[idx as usize].intersect_v(&ov, &dv) {
                     // Slack of 1e-9 µm at the cell's faces: a hit on a face is found in
                     // either cell.
                     if t >= t_in - 1e-9 && t <= t_out + 1e-9 && best.is_none_or(|b| t < b.0) {

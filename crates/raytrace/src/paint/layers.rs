@@ -2,7 +2,8 @@
 //! (dielectric), the binder holding the aluminium flakes, and a base ("a black surface to
 //! minimise the back-surface reflection"); a lamp of small angular size.
 
-use nalgebra::{Unit, Vector3};
+use nalgebra::Vector3;
+use wscg_math::vec3::dot;
 use wscg_math::{Error, Result};
 
 use crate::spectral::{daylight_d, MetalIor, Spectrum};
@@ -123,8 +124,9 @@ impl PlateStack {
 #[derive(Clone, Debug, PartialEq)]
 pub struct DiscLight {
     /// Unit direction from the plate to the lamp's centre, in the plate frame (x right, y
-    /// towards the plate's top edge, z out of the plate).
-    pub dir_to_light: Unit<Vector3<f64>>,
+    /// towards the plate's top edge, z out of the plate); [`DiscLight::validate`] refuses a
+    /// vector whose length is not 1.
+    pub dir_to_light: [f64; 3],
     /// Angular radius (degrees), 1 by default.
     pub angular_radius_deg: f64,
     /// Relative spectral radiance.
@@ -137,7 +139,7 @@ impl Default for DiscLight {
     fn default() -> Self {
         let e = 45f64.to_radians();
         Self {
-            dir_to_light: Unit::new_normalize(Vector3::new(0.0, e.cos(), e.sin())),
+            dir_to_light: towards_top_edge(e),
             angular_radius_deg: 1.0,
             spectrum: daylight_d(4700.0).expect("4700 K lies on the daylight locus"),
             radiance_scale: 1.0,
@@ -150,15 +152,24 @@ impl DiscLight {
     pub fn from_elevation(elevation_deg: f64, angular_radius_deg: f64) -> Self {
         let e = elevation_deg.to_radians();
         Self {
-            dir_to_light: Unit::new_normalize(Vector3::new(0.0, e.cos(), e.sin())),
+            dir_to_light: towards_top_edge(e),
             angular_radius_deg,
             ..Self::default()
         }
     }
 
-    /// Errors: an angular radius outside (0, 90) degrees, a lamp whose disc reaches below
-    /// the plate's horizon, a negative or non-finite scale or spectrum.
+    /// Errors: a direction that is not a finite unit vector, an angular radius outside
+    /// (0, 90) degrees, a lamp whose disc reaches below the plate's horizon, a negative or
+    /// non-finite scale or spectrum.
     pub fn validate(&self) -> Result<()> {
+        let d = self.dir_to_light;
+        let len = Vector3::from(d).norm();
+        if !(len.is_finite() && (len - 1.0).abs() <= 1e-9) {
+            return Err(Error::invalid(
+                "dir_to_light",
+                format!("must be a unit vector, got {d:?} of length {len}"),
+            ));
+        }
         let r = self.angular_radius_deg;
         if !(r.is_finite() && r > 0.0 && r < 90.0) {
             return Err(Error::invalid(
@@ -166,7 +177,7 @@ impl DiscLight {
                 format!("must lie in (0, 90), got {r}"),
             ));
         }
-        let elev = self.dir_to_light.z.clamp(-1.0, 1.0).asin().to_degrees();
+        let elev = self.dir_to_light[2].clamp(-1.0, 1.0).asin().to_degrees();
         if elev - r <= 0.0 {
             return Err(Error::invalid(
                 "dir_to_light",
@@ -197,14 +208,14 @@ impl DiscLight {
 
     /// A direction towards the lamp, uniform in its disc's solid angle, from two uniform
     /// numbers in `[0, 1)`.
-    pub fn sample_direction(&self, u1: f64, u2: f64) -> Vector3<f64> {
+    pub fn sample_direction(&self, u1: f64, u2: f64) -> [f64; 3] {
         let cos_r = self.cos_radius();
         let ct = 1.0 - u1 * (1.0 - cos_r);
         let phi = 2.0 * std::f64::consts::PI * u2;
         let st = (1.0 - ct * ct).max(0.0).sqrt();
-        let a = self.dir_to_light.into_inner();
+        let a = Vector3::from(self.dir_to_light);
         let (u, v) = crate::frame::tangent_frame(&a);
-        a * ct + (u * phi.cos() + v * phi.sin()) * st
+        (a * ct + (u * phi.cos() + v * phi.sin()) * st).into()
     }
 
     /// Solid angle of the lamp's disc (sr).
@@ -213,8 +224,8 @@ impl DiscLight {
     }
 
     /// Whether direction `d` (unit, plate frame) points into the lamp's disc.
-    pub fn contains(&self, d: &Vector3<f64>) -> bool {
-        d.dot(&self.dir_to_light) >= self.cos_radius()
+    pub fn contains(&self, d: [f64; 3]) -> bool {
+        dot(d, self.dir_to_light) >= self.cos_radius()
     }
 
     /// Projected solid angle of the lamp divided by pi: `sin^2(r) cos(theta_c)` (exact for a
@@ -222,6 +233,13 @@ impl DiscLight {
     /// `L * white_factor()`.
     pub fn white_factor(&self) -> f64 {
         let s = self.angular_radius_deg.to_radians().sin();
-        s * s * self.dir_to_light.z
+        s * s * self.dir_to_light[2]
     }
+}
+
+/// The unit vector `elevation` (radians) above the plate, towards its top edge.
+fn towards_top_edge(elevation: f64) -> [f64; 3] {
+    Vector3::new(0.0, elevation.cos(), elevation.sin())
+        .normalize()
+        .into()
 }

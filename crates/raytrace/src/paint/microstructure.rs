@@ -1,7 +1,6 @@
 //! What the renderer and the photon tracer see of a plate: the nearest flake along a ray
 //! ([`Microstructure`]) and the plate ready to render, its layers with its flakes ([`Plate`]).
 
-use nalgebra::Vector3;
 use num_complex::Complex64;
 use wscg_math::Result;
 
@@ -14,7 +13,7 @@ pub struct FlakeHit {
     /// Ray parameter of the hit (µm when the direction is a unit vector).
     pub t: f64,
     /// Unit normal of the flake's disc.
-    pub normal: Vector3<f64>,
+    pub normal: [f64; 3],
     /// Identifier of the flake.
     pub id: u64,
 }
@@ -24,7 +23,7 @@ pub struct FlakeHit {
 /// right, y towards the plate's top edge), `z` from the base (0) to the binder's top.
 pub trait Microstructure: Send + Sync {
     /// The nearest flake hit with `0 < t <= t_max` along `origin + t dir` (`dir` unit).
-    fn hit(&self, origin: &Vector3<f64>, dir: &Vector3<f64>, t_max: f64) -> Option<FlakeHit>;
+    fn hit(&self, origin: [f64; 3], dir: [f64; 3], t_max: f64) -> Option<FlakeHit>;
 }
 
 /// A binder without flakes.
@@ -32,7 +31,7 @@ pub trait Microstructure: Send + Sync {
 pub struct NoFlakes;
 
 impl Microstructure for NoFlakes {
-    fn hit(&self, _: &Vector3<f64>, _: &Vector3<f64>, _: f64) -> Option<FlakeHit> {
+    fn hit(&self, _: [f64; 3], _: [f64; 3], _: f64) -> Option<FlakeHit> {
         None
     }
 }
@@ -55,7 +54,7 @@ impl Plate {
     }
 
     /// The nearest flake along a ray (plate coordinates, µm).
-    pub fn hit(&self, origin: &Vector3<f64>, dir: &Vector3<f64>, t_max: f64) -> Option<FlakeHit> {
+    pub fn hit(&self, origin: [f64; 3], dir: [f64; 3], t_max: f64) -> Option<FlakeHit> {
         self.micro.hit(origin, dir, t_max)
     }
 

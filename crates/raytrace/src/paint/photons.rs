@@ -208,7 +208,7 @@ pub fn trace_photons(
             for _ in b * BLOCK..((b + 1) * BLOCK).min(n) {
                 let x = x0 + rng.random::<f64>() * w;
                 let y = y0 + rng.random::<f64>() * h;
-                let to_lamp = light.sample_direction(rng.random(), rng.random());
+                let to_lamp = Vector3::from(light.sample_direction(rng.random(), rng.random()));
                 if to_lamp.z <= 0.0 {
                     continue;
                 }
@@ -288,15 +288,16 @@ fn follow(
         } else {
             (t_bind - pos.z) / dir.z
         };
-        if let Some(h) = plate.hit(&pos, &dir, t_exit) {
+        if let Some(h) = plate.hit(pos.into(), dir.into(), t_exit) {
+            let normal = Vector3::from(h.normal);
             pos += dir * h.t;
             ph.flux *= (-sigma * h.t).exp();
             if ph.n as usize == PHOTON_FLAKES {
                 return None;
             }
-            ph.cosines[ph.n as usize] = dir.dot(&h.normal).abs() as f32;
+            ph.cosines[ph.n as usize] = dir.dot(&normal).abs() as f32;
             ph.n += 1;
-            dir = reflect(&dir, &h.normal);
+            dir = reflect(&dir, &normal);
             continue;
         }
         pos += dir * t_exit;

@@ -5,8 +5,8 @@
 //! cell it is shown in: the part of a tile's flakes inside the cell's square is what the cell
 //! shows, so neighbouring cells never overlap.
 
-use nalgebra::Vector3;
 use rayon::prelude::*;
+use wscg_math::vec3::add_scaled;
 use wscg_math::{Error, Result};
 
 use super::flakes::{generate_tile, Flake, FlakeParams, FlakeTile};
@@ -138,12 +138,12 @@ impl FlakePlate {
                 let tile = &self.pool[t];
                 for (idx, f) in tile.flakes.iter().enumerate() {
                     let b = f.aabb();
-                    if b.min.x < 0.0 || b.max.x >= l || b.min.y < 0.0 || b.max.y >= l {
+                    if b.min[0] < 0.0 || b.max[0] >= l || b.min[1] < 0.0 || b.max[1] >= l {
                         continue;
                     }
-                    let c = rotate(Vector3::new(f.c.x - 0.5 * l, f.c.y - 0.5 * l, f.c.z), k);
-                    let c = Vector3::new(c.x + ox + 0.5 * l, c.y + oy + 0.5 * l, c.z);
-                    if c.x < x0 || c.x > x1 || c.y < y0 || c.y > y1 {
+                    let c = rotate([f.c[0] - 0.5 * l, f.c[1] - 0.5 * l, f.c[2]], k);
+                    let c = [c[0] + ox + 0.5 * l, c[1] + oy + 0.5 * l, c[2]];
+                    if c[0] < x0 || c[0] > x1 || c[1] < y0 || c[1] > y1 {
                         continue;
                     }
                     out.push(PlacedFlake {
@@ -184,12 +184,13 @@ impl FlakePlate {
 
 /// Turns `v` by `k` quarter turns about the z axis.
 #[inline]
-fn rotate(v: Vector3<f64>, k: u8) -> Vector3<f64> {
+fn rotate(v: [f64; 3], k: u8) -> [f64; 3] {
+    let [x, y, z] = v;
     match k & 3 {
         0 => v,
-        1 => Vector3::new(-v.y, v.x, v.z),
-        2 => Vector3::new(-v.x, -v.y, v.z),
-        _ => Vector3::new(v.y, -v.x, v.z),
+        1 => [-y, x, z],
+        2 => [-x, -y, z],
+        _ => [y, -x, z],
     }
 }
 
@@ -202,12 +203,12 @@ fn mix(a: u64, b: u64) -> u64 {
 }
 
 impl Microstructure for FlakePlate {
-    fn hit(&self, origin: &Vector3<f64>, dir: &Vector3<f64>, t_max: f64) -> Option<FlakeHit> {
+    fn hit(&self, origin: [f64; 3], dir: [f64; 3], t_max: f64) -> Option<FlakeHit> {
         let l = self.params.tile_um;
-        let end = origin + dir * t_max;
+        let end = add_scaled(origin, t_max, dir);
         let (Some((i0, i1)), Some((j0, j1))) = (
-            self.cell_range(origin.x.min(end.x), origin.x.max(end.x), 0),
-            self.cell_range(origin.y.min(end.y), origin.y.max(end.y), 1),
+            self.cell_range(origin[0].min(end[0]), origin[0].max(end[0]), 0),
+            self.cell_range(origin[1].min(end[1]), origin[1].max(end[1]), 1),
         ) else {
             return None;
         };
@@ -220,12 +221,16 @@ impl Microstructure for FlakePlate {
                 // Into the tile's frame: translate, then undo the cell's turn about the centre.
                 let inv = (4 - k) & 3;
                 let o = rotate(
-                    Vector3::new(origin.x - ox - 0.5 * l, origin.y - oy - 0.5 * l, origin.z),
+                    [
+                        origin[0] - ox - 0.5 * l,
+                        origin[1] - oy - 0.5 * l,
+                        origin[2],
+                    ],
                     inv,
                 );
-                let o = Vector3::new(o.x + 0.5 * l, o.y + 0.5 * l, o.z);
-                let d = rotate(*dir, inv);
-                if let Some((th, n, idx)) = self.pool[t].hit(&o, &d, t_best) {
+                let o = [o[0] + 0.5 * l, o[1] + 0.5 * l, o[2]];
+                let d = rotate(dir, inv);
+                if let Some((th, n, idx)) = self.pool[t].hit(o, d, t_best) {
                     t_best = th;
                     best = Some(FlakeHit {
                         t: th,

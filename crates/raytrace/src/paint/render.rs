@@ -409,7 +409,7 @@ impl Ctx<'_> {
         } else {
             0.0
         };
-        if f > 0.0 && self.light.contains(&Vector3::new(d.x, d.y, -d.z)) {
+        if f > 0.0 && self.light.contains([d.x, d.y, -d.z]) {
             self.gather(&chain, f, out);
         }
         let mut w = 1.0 - f;
@@ -433,7 +433,7 @@ impl Ctx<'_> {
                 let ft = fresnel_dielectric(dir.z, 1.0 / n_top);
                 if ft < 1.0 {
                     if let Some(out_dir) = refract_horizontal(&dir, n_top, 1.0) {
-                        if self.light.contains(&out_dir) {
+                        if self.light.contains(out_dir.into()) {
                             self.gather(&chain, w * (1.0 - ft), out);
                             if glint.is_none() && chain.n == 1 && chain.bounces == 0 {
                                 glint = chain.first_id;
@@ -462,11 +462,12 @@ impl Ctx<'_> {
                 } else {
                     (t_bind - pos.z) / dir.z
                 };
-                match self.plate.hit(&pos, &dir, t_exit) {
+                match self.plate.hit(pos.into(), dir.into(), t_exit) {
                     Some(h) => {
+                        let normal = Vector3::from(h.normal);
                         pos += dir * h.t;
                         w *= (-sigma * h.t).exp();
-                        let c = dir.dot(&h.normal).abs();
+                        let c = dir.dot(&normal).abs();
                         if chain.n < chain.cosines.len() {
                             chain.cosines[chain.n] = c;
                             chain.n += 1;
@@ -475,7 +476,7 @@ impl Ctx<'_> {
                             chain.first_id = Some(h.id);
                         }
                         proxy *= fresnel_conductor(c, self.mid.re, self.mid.im);
-                        dir = reflect(&dir, &h.normal);
+                        dir = reflect(&dir, &normal);
                         chain.events += 1;
                         if chain.events > self.max_depth {
                             break;
@@ -554,7 +555,7 @@ impl Ctx<'_> {
         let st = &self.plate.stack;
         let light = self.light;
         let omega = light.solid_angle();
-        let wdir = light.sample_direction(rng.random(), rng.random());
+        let wdir = Vector3::from(light.sample_direction(rng.random(), rng.random()));
         if wdir.z <= 0.0 {
             return (0.0, false);
         }
@@ -575,7 +576,11 @@ impl Ctx<'_> {
             return (0.0, false);
         };
         let t_exit = st.binder_um / in_binder.z;
-        if self.plate.hit(p, &in_binder, t_exit).is_some() {
+        if self
+            .plate
+            .hit((*p).into(), in_binder.into(), t_exit)
+            .is_some()
+        {
             return (0.0, true);
         }
         let sigma = st.binder_sigma_a_per_mm * 1e-3;
@@ -675,7 +680,7 @@ pub fn render_with_progress(
         caustics,
         mid: plate.relative_index(560.0),
     };
-    let e = rig.eye(eye);
+    let e = Vector3::from(rig.eye(eye));
     let a = rig.dist_m;
     let (px_w, px_h) = (
         (region.x1 - region.x0) / width as f64,

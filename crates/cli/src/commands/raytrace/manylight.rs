@@ -9,8 +9,8 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use nalgebra::Vector3;
 use wscg_math::image::Image;
+use wscg_math::vec3::add;
 use wscg_math::{Error, Result};
 use wscg_raytrace::manylight::{
     compare, generate_vpls, load_obj, run_with, scenes, to_display, trace_primary, Camera,
@@ -90,9 +90,9 @@ fn scene_of(a: &ManyLightArgs) -> Result<(Scene, Camera)> {
             let c = b.centre();
             let r = 0.5 * s.diagonal();
             let cam = Camera {
-                eye: c + Vector3::new(0.0, 0.3 * r, 2.2 * r),
+                eye: add(c, [0.0, 0.3 * r, 2.2 * r]),
                 target: c,
-                up: Vector3::y(),
+                up: [0.0, 1.0, 0.0],
                 fov_deg: 45.0,
                 width: a.width,
                 height: a.height,
@@ -101,9 +101,7 @@ fn scene_of(a: &ManyLightArgs) -> Result<(Scene, Camera)> {
         }
         None => scenes::by_name(&a.scene, a.subdiv, a.width, a.height)?,
     };
-    let v = |o: &Option<Vec<f64>>, d: Vector3<f64>| {
-        o.as_ref().map_or(d, |v| Vector3::new(v[0], v[1], v[2]))
-    };
+    let v = |o: &Option<Vec<f64>>, d: [f64; 3]| o.as_ref().map_or(d, |v| [v[0], v[1], v[2]]);
     let cam = Camera {
         eye: v(&a.eye, base.eye),
         target: v(&a.target, base.target),
