@@ -445,8 +445,8 @@ fn project<'py>(
     let rig = StereoRig::default();
     let out: Vec<f64> = crate::pool::detach(py, || {
         pts.iter()
-            .flat_map(|&p| {
-                let (x, y) = rig.project(e, p).unwrap_or((f64::NAN, f64::NAN));
+            .flat_map(|p| {
+                let (x, y) = rig.project(e, *p).unwrap_or((f64::NAN, f64::NAN));
                 [x, y]
             })
             .collect()

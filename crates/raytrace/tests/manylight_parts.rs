@@ -49,5 +49,6 @@ fn bad_parts_are_refused() {
     let mut nan = t;
     nan[0].p0 = [f64::NAN, 0.0, 0.0];
     assert!(Scene::from_parts(nan, a, e, 0).is_err());
-    assert!(Triangle::from_edges([0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]).is_none());
+    let z = [0.0; 3];
+    assert!(Triangle::from_edges(z, [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]).is_none());
 }

@@ -35,19 +35,18 @@ pub struct Triangle {
 impl Triangle {
     /// The triangle `a, b, c`; `None` when degenerate (zero area).
     pub fn new(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<Self> {
-        let p0 = Vector3::from(a);
+        let a3 = Vector3::from(a);
         Self::from_edges(
             a,
-            (Vector3::from(b) - p0).into(),
-            (Vector3::from(c) - p0).into(),
+            (Vector3::from(b) - a3).into(),
+            (Vector3::from(c) - a3).into(),
         )
     }
 
     /// The triangle with first vertex `p0` and edges `e1 = p1 - p0`, `e2 = p2 - p0` (the
     /// fields of a triangle, which rebuild it exactly); `None` when degenerate.
-    pub fn from_edges(p0: [f64; 3], e1: [f64; 3], e2: [f64; 3]) -> Option<Self> {
-        let a = Vector3::from(p0);
-        let (e1, e2) = (Vector3::from(e1), Vector3::from(e2));
+    pub fn from_edges(a: [f64; 3], e1: [f64; 3], e2: [f64; 3]) -> Option<Self> {
+        let (a, e1, e2) = (Vector3::from(a), Vector3::from(e1), Vector3::from(e2));
         let n = e1.cross(&e2);
         let len = n.norm();
         let scale = e1.norm() * e2.norm();
