@@ -587,7 +587,9 @@ def test_long_call_releases_the_gil(name, long_calls):
         wscg.set_num_threads(threads)
     assert not errors, errors
     assert elapsed > 0.05, f"{name} took {elapsed:.3f} s: too short to tell"
-    assert n > 0.1 * rate * elapsed, (
+    # A call that held the GIL would leave the main thread no loop at all; 2 % leaves room
+    # for a machine busy with other work (a release measured 9.5 % under a parallel build).
+    assert n > 0.02 * rate * elapsed, (
         f"{name}: the main thread ran {n} loops in {elapsed:.2f} s, "
         f"{n / (rate * elapsed):.1%} of its free rate")
 
