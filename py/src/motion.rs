@@ -542,11 +542,6 @@ impl PyLibrary {
         })
     }
 
-    /// Pickles as the learned library's state (sources, delays, fits, progress).
-    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<crate::state::Reduced<'py>> {
-        crate::state::reduce(py, "motion", "_library_from_state", &self.inner)
-    }
-
     fn __repr__(&self) -> String {
         format!(
             "Library(n_sources={}, n_channels={}, n_samples={}, q_total={:.6})",
@@ -556,14 +551,6 @@ impl PyLibrary {
             self.inner.q_total
         )
     }
-}
-
-/// A library from the state that `Library.__reduce__` pickles.
-#[pyfunction]
-fn _library_from_state(py: Python<'_>, state: &[u8]) -> PyResult<PyLibrary> {
-    let inner: ActionLibrary = crate::state::from_bytes(py, "motion library", state)?;
-    inner.validate().py_err()?;
-    Ok(PyLibrary { inner })
 }
 
 /// Step-wise learning of the three actions from a dataset's arrays.
@@ -1078,7 +1065,6 @@ fn hopf_simulate<'py>(
 /// Registers the submodule's functions and classes.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyLibrary>()?;
-    m.add_function(wrap_pyfunction!(_library_from_state, m)?)?;
     m.add_class::<PySynthesizer>()?;
     m.add_function(wrap_pyfunction!(make_synthetic_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(fit_anechoic, m)?)?;

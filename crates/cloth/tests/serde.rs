@@ -1,14 +1,13 @@
 //! A serialised simulation (model, parameters, multipliers, step count, obstacles) steps
 //! exactly as the original; damaged states are refused.
 
-use nalgebra::Vector3;
 use wscg_cloth::{
     ClothModel, Collider, Collisions, LambdaMode, MeshCollider, Method, Relaxation, Simulation,
     SolverParams,
 };
 
 /// A closed octahedron of radius `r` around `c`.
-fn octahedron(c: Vector3<f64>, r: f64) -> MeshCollider {
+fn octahedron(c: [f64; 3], r: f64) -> MeshCollider {
     let v: Vec<[f64; 3]> = [
         [1.0, 0.0, 0.0],
         [-1.0, 0.0, 0.0],
@@ -18,7 +17,7 @@ fn octahedron(c: Vector3<f64>, r: f64) -> MeshCollider {
         [0.0, 0.0, -1.0],
     ]
     .iter()
-    .map(|p| (c + Vector3::from(*p) * r).into())
+    .map(|p| [c[0] + p[0] * r, c[1] + p[1] * r, c[2] + p[2] * r])
     .collect();
     let f = [
         [0, 2, 4],
@@ -56,7 +55,7 @@ fn running(method: Method, relaxation: Relaxation, fem: bool) -> Simulation {
     if projection {
         s.set_collisions(Collisions {
             colliders: vec![
-                Collider::Mesh(octahedron(Vector3::new(0.5, -0.4, 0.5), 0.3)),
+                Collider::Mesh(octahedron([0.5, -0.4, 0.5], 0.3)),
                 Collider::Sphere {
                     center: [0.2, -0.3, 0.2],
                     radius: 0.15,
@@ -120,7 +119,7 @@ fn serialised_simulation_steps_identically() {
 
 #[test]
 fn mesh_collider_round_trips() {
-    let c = Collider::Mesh(octahedron(Vector3::new(0.1, 0.2, 0.3), 0.5));
+    let c = Collider::Mesh(octahedron([0.1, 0.2, 0.3], 0.5));
     let d: Collider = serde_json::from_str(&serde_json::to_string(&c).unwrap()).unwrap();
     for p in [[0.0, 0.0, 0.0], [1.0, 0.2, 0.3], [0.3, 0.4, -0.2]] {
         assert_eq!(c.signed_distance(p), d.signed_distance(p));

@@ -95,7 +95,7 @@ pub struct ActionFit {
     pub energy: (f64, f64),
 }
 
-/// What [`fit_stepwise`] learns (it serialises with `serde`).
+/// What [`fit_stepwise`] learns.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ActionLibrary {
     /// Channels `I`.
@@ -127,31 +127,6 @@ impl ActionLibrary {
     /// Number of periodic sources `J`.
     pub fn n_sources(&self) -> usize {
         self.sources.len()
-    }
-
-    /// Checks that the parts agree (for a deserialised library): `I × J` delays, per action
-    /// `R × I` means and non-periodic weights, `R × I × J` weights and `R` trial parameters,
-    /// `N + 1` progress samples.
-    pub fn validate(&self) -> Result<()> {
-        let (i_n, j_n) = (self.n_channels, self.n_sources());
-        let fits = self.actions.iter().zip(&self.params).all(|(f, p)| {
-            let r = p.len();
-            f.means.len() == r * i_n
-                && f.w0.len() == r * i_n
-                && f.weights.len() == r * i_n * j_n
-                && f.n_sources <= j_n
-        });
-        if i_n == 0
-            || self.delays.len() != i_n * j_n
-            || self.progress.len() != self.n_samples + 1
-            || !fits
-        {
-            return Err(Error::invalid(
-                "library",
-                "inconsistent sizes of delays, weights or progress",
-            ));
-        }
-        Ok(())
     }
 
     /// The output vector of action `a`, trial `r`, for the weight regression:
