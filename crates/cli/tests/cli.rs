@@ -1,14 +1,12 @@
 //! End-to-end tests of the `wscg` binary: gallery, demos and the math commands on files.
 
 use std::path::Path;
-use std::process::Command;
 
 use wscg::hdr::synth::{encode, gradient_target, Response};
 use wscg::math::image::Image;
 
-fn wscg() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_wscg"))
-}
+mod common;
+use common::wscg;
 
 /// Runs `wscg ARGS...`, asserts success and returns standard output.
 fn wscg_ok<S: AsRef<std::ffi::OsStr> + std::fmt::Debug>(args: &[S]) -> String {
@@ -2640,136 +2638,131 @@ fn huge_sizes_are_refused_before_allocating() {
     write_test_image(&png, 0.0);
     let out = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
     let png = png.to_string_lossy().into_owned();
+    // The arguments of a case, then `--out DIR/<file>` (or, for `make-data`, the folder as
+    // a positional argument).
+    let with_out = |args: &[&str], flag: Option<&str>, file: &str| -> Vec<String> {
+        let mut v: Vec<String> = args.iter().map(|a| a.to_string()).collect();
+        v.extend(flag.map(String::from));
+        v.push(out(file));
+        v
+    };
     let cases: Vec<(Vec<String>, &str)> = vec![
         (
-            vec![
-                "mri",
-                "mask",
-                "--cartesian",
-                "0.4",
-                "--size",
-                "10000000x10000000",
-            ]
-            .into_iter()
-            .map(String::from)
-            .chain(["--out".into(), out("m.npy")])
-            .collect(),
+            with_out(
+                &[
+                    "mri",
+                    "mask",
+                    "--cartesian",
+                    "0.4",
+                    "--size",
+                    "10000000x10000000",
+                ],
+                Some("--out"),
+                "m.npy",
+            ),
             "shape",
         ),
         (
-            [
-                "mri",
-                "mask",
-                "--radial",
-                "0.4",
-                "--size",
-                "10000000x10000000",
-            ]
-            .map(String::from)
-            .into_iter()
-            .chain(["--out".into(), out("r.npy")])
-            .collect(),
+            with_out(
+                &[
+                    "mri",
+                    "mask",
+                    "--radial",
+                    "0.4",
+                    "--size",
+                    "10000000x10000000",
+                ],
+                Some("--out"),
+                "r.npy",
+            ),
             "shape",
         ),
         (
-            vec![
-                "math".into(),
-                "resize".into(),
-                png.clone(),
-                out("big.png"),
-                "--height".into(),
-                "1000000".into(),
-                "--width".into(),
-                "1000000".into(),
-            ],
+            with_out(&["math", "resize", &png], None, "big.png")
+                .into_iter()
+                .chain(["--height", "1000000", "--width", "1000000"].map(String::from))
+                .collect(),
             "height, width",
         ),
         (
-            vec![
-                "math".into(),
-                "blur".into(),
-                png.clone(),
-                out("blur.png"),
-                "--sigma".into(),
-                "1e12".into(),
-            ],
+            with_out(&["math", "blur", &png], None, "blur.png")
+                .into_iter()
+                .chain(["--sigma", "1e12"].map(String::from))
+                .collect(),
             "truncate * sigma",
         ),
         (
-            vec![
-                "volseg".into(),
-                "phantom".into(),
-                "--size".into(),
-                "100000".into(),
-            ]
-            .into_iter()
-            .chain(["--out".into(), out("vp")])
-            .collect(),
+            with_out(
+                &["volseg", "phantom", "--size", "100000"],
+                Some("--out"),
+                "vp",
+            ),
             "dims",
         ),
         (
-            [
-                "hdr", "simulate", "--height", "1000000", "--width", "1000000",
-            ]
-            .map(String::from)
-            .into_iter()
-            .chain(["--out".into(), out("hs")])
-            .collect(),
+            with_out(
+                &[
+                    "hdr", "simulate", "--height", "1000000", "--width", "1000000",
+                ],
+                Some("--out"),
+                "hs",
+            ),
             "height, width",
         ),
         (
-            [
-                "raytrace",
-                "manylight",
-                "--width",
-                "1000000",
-                "--height",
-                "1000000",
-            ]
-            .map(String::from)
-            .into_iter()
-            .chain(["--out".into(), out("ml.png")])
-            .collect(),
+            with_out(
+                &[
+                    "raytrace",
+                    "manylight",
+                    "--width",
+                    "1000000",
+                    "--height",
+                    "1000000",
+                ],
+                Some("--out"),
+                "ml.png",
+            ),
             "width, height",
         ),
         (
-            [
-                "video", "synth", "--frames", "1000000", "--height", "10000", "--width", "10000",
-            ]
-            .map(String::from)
-            .into_iter()
-            .chain(["--out".into(), out("vs")])
-            .collect(),
+            with_out(
+                &[
+                    "video", "synth", "--frames", "1000000", "--height", "10000", "--width",
+                    "10000",
+                ],
+                Some("--out"),
+                "vs",
+            ),
             "frames, height, width",
         ),
         (
-            ["biometrics", "ear", "simulate", "--subjects", "10000000000"]
-                .map(String::from)
-                .into_iter()
-                .chain(["--out".into(), out("es")])
-                .collect(),
+            with_out(
+                &["biometrics", "ear", "simulate", "--subjects", "10000000000"],
+                Some("--out"),
+                "es",
+            ),
             "n_subjects",
         ),
         (
-            [
-                "biometrics",
-                "gait",
-                "simulate",
-                "--subjects",
-                "10000000000",
-            ]
-            .map(String::from)
-            .into_iter()
-            .chain(["--out".into(), out("gs")])
-            .collect(),
+            with_out(
+                &[
+                    "biometrics",
+                    "gait",
+                    "simulate",
+                    "--subjects",
+                    "10000000000",
+                ],
+                Some("--out"),
+                "gs",
+            ),
             "n_subjects, n_sessions",
         ),
         (
-            ["motion", "make-data", "--trials", "10000000000"]
-                .map(String::from)
-                .into_iter()
-                .chain([out("md")])
-                .collect(),
+            with_out(
+                &["motion", "make-data", "--trials", "10000000000"],
+                None,
+                "md",
+            ),
             "n_trials",
         ),
     ];

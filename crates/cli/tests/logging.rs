@@ -1,13 +1,11 @@
 //! `-v` / `-q` and the library's log records on standard error.
 
 use std::path::Path;
-use std::process::Command;
 
 use wscg_math::Volume;
 
-fn wscg() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_wscg"))
-}
+mod common;
+use common::wscg;
 
 /// A 12^3 ball (value 1 inside radius 4) as NIfTI; `flip_x` makes the sform's x axis negative
 /// (as in radiological-order scans), which the reader does not apply and says so.

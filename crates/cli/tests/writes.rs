@@ -7,9 +7,8 @@ use std::process::{Command, Output};
 
 use wscg::math::image::Image;
 
-fn wscg() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_wscg"))
-}
+mod common;
+use common::wscg;
 
 fn run(args: &[&str]) -> Output {
     wscg().args(args).output().unwrap()
@@ -126,6 +125,20 @@ fn meshfilter_and_octree_refuse_to_write_over_the_input_mesh() {
     assert!(wscg::octree::HybridOctree::load(&tree).is_ok());
 }
 
+/// `wscg mri recon` of the k-space `k` with the mask `m`, up to `--out` (the output follows).
+fn recon_args<'a>(k: &'a Path, m: &'a Path) -> [&'a str; 8] {
+    [
+        "mri",
+        "recon",
+        s(k),
+        "--mask",
+        s(m),
+        "--method",
+        "zero-filled",
+        "--out",
+    ]
+}
+
 /// A 32 x 32 k-space (`k.npy`) and a Cartesian mask (`mask.npy`) made by the CLI in `dir`.
 fn mri_inputs(dir: &Path) -> (PathBuf, PathBuf) {
     let (k, m) = (dir.join("k.npy"), dir.join("mask.npy"));
@@ -147,16 +160,7 @@ fn mri_inputs(dir: &Path) -> (PathBuf, PathBuf) {
 fn mri_recon_refuses_to_write_over_the_k_space_or_the_mask() {
     let dir = tempfile::tempdir().unwrap();
     let (k, m) = mri_inputs(dir.path());
-    let recon = [
-        "mri",
-        "recon",
-        s(&k),
-        "--mask",
-        s(&m),
-        "--method",
-        "zero-filled",
-        "--out",
-    ];
+    let recon = recon_args(&k, &m);
     refused(&[&recon[..], &[s(&k)]].concat(), s(&k), &k);
     refused(&[&recon[..], &[s(&m)]].concat(), s(&m), &m);
     ok(&[&recon[..], &[s(&k), "--overwrite"]].concat());
@@ -384,21 +388,7 @@ fn a_full_disk_is_an_error_and_keeps_the_previous_output() {
             .map(String::from)
             .to_vec(),
         ),
-        (
-            "recon.npy",
-            [
-                "mri",
-                "recon",
-                s(&k),
-                "--mask",
-                s(&m),
-                "--method",
-                "zero-filled",
-                "--out",
-            ]
-            .map(String::from)
-            .to_vec(),
-        ),
+        ("recon.npy", recon_args(&k, &m).map(String::from).to_vec()),
         (
             "labels.nii",
             [
