@@ -239,9 +239,9 @@ impl PyCollider {
     fn signed_distance<'py>(
         &self,
         py: Python<'py>,
-        p: PyReadonlyArrayDyn<f64>,
+        points: PyReadonlyArrayDyn<f64>,
     ) -> PyResult<Arr<'py, f64>> {
-        let p = points("points", &p)?;
+        let p = self::points("points", &points)?;
         let d = crate::pool::detach(py, || {
             p.iter().map(|&q| self.inner.signed_distance(q).0).collect()
         })?;

@@ -56,22 +56,6 @@ FORBIDDEN_NAMES = [
     (re.compile(r"^generate_"), "make_<what>"),
 ]
 
-# Modules still being brought to the convention, per check: expected to fail (strict, so a
-# module that passes must leave its set).
-PENDING = {
-    "synonyms": set(),
-    "verbs": set(),
-    "var_keyword": set(),
-    "all": set(),
-    "results": set(),
-}
-
-
-def _modules(check):
-    return [pytest.param(m, marks=pytest.mark.xfail(strict=True, reason="renames pending"))
-            if m in PENDING[check] else m for m in MODULES]
-
-
 def _public(module):
     """(qualified name, callable) of every public function, class and method of `module`."""
     out = []
@@ -103,22 +87,24 @@ def _signature(obj):
         return None
 
 
-def _callables():
-    for m in MODULES:
-        mod = importlib.import_module(f"wscg.{m}")
-        for qual, obj in _public(mod):
-            yield m, qual, obj
+def _callables(module):
+    """(qualified name, callable) of every public callable of ``wscg.<module>``."""
+    return _public(importlib.import_module(f"wscg.{module}"))
 
 
-@pytest.mark.parametrize("module", _modules("synonyms"))
+def _signatures(module):
+    """(qualified name, signature) of the public callables of ``wscg.<module>`` that have
+    one."""
+    for qual, obj in _callables(module):
+        sig = _signature(obj)
+        if sig is not None:
+            yield qual, sig
+
+
+@pytest.mark.parametrize("module", MODULES)
 def test_no_parameter_synonyms(module):
     bad = []
-    for m, qual, obj in _callables():
-        if m != module:
-            continue
-        sig = _signature(obj)
-        if sig is None:
-            continue
+    for qual, sig in _signatures(module):
         for p in sig.parameters:
             if p in SYNONYMS:
                 bad.append(f"{qual}({p}=...): use {SYNONYMS[p]}")
@@ -128,11 +114,11 @@ def test_no_parameter_synonyms(module):
     assert not bad, "parameter names outside py/API.md's table:\n" + "\n".join(sorted(set(bad)))
 
 
-@pytest.mark.parametrize("module", _modules("verbs"))
+@pytest.mark.parametrize("module", MODULES)
 def test_verbs(module):
     bad = []
-    for m, qual, obj in _callables():
-        if m != module or inspect.isclass(obj):
+    for qual, obj in _callables(module):
+        if inspect.isclass(obj):
             continue
         name = qual.rsplit(".", 1)[-1]
         for pat, use in FORBIDDEN_NAMES:
@@ -149,22 +135,17 @@ def test_verbs(module):
     assert not bad, "names outside py/API.md's verbs:\n" + "\n".join(sorted(bad))
 
 
-@pytest.mark.parametrize("module", _modules("var_keyword"))
+@pytest.mark.parametrize("module", MODULES)
 def test_no_var_keyword_in_public_signatures(module):
     bad = []
-    for m, qual, obj in _callables():
-        if m != module:
-            continue
-        sig = _signature(obj)
-        if sig is None:
-            continue
+    for qual, sig in _signatures(module):
         for p in sig.parameters.values():
             if p.kind is inspect.Parameter.VAR_KEYWORD:
                 bad.append(f"{qual}(**{p.name})")
     assert not bad, "public signatures hide their parameters:\n" + "\n".join(sorted(bad))
 
 
-@pytest.mark.parametrize("module", _modules("all"))
+@pytest.mark.parametrize("module", MODULES)
 def test_all_is_complete(module):
     mod = importlib.import_module(f"wscg.{module}")
     assert hasattr(mod, "__all__"), f"wscg.{module} has no __all__"
@@ -246,7 +227,7 @@ def _stub_returns(mod):
     return out
 
 
-@pytest.mark.parametrize("module", _modules("results"))
+@pytest.mark.parametrize("module", MODULES)
 def test_no_function_returns_a_dict(module):
     bad = []
     mod = importlib.import_module(f"wscg.{module}")
@@ -352,3 +333,65 @@ def test_converted_functions_name_their_result_class(qual):
     undocumented = [f for f in fields if not re.search(rf"^\s*[\w, ]*\b{f}\b[\w, ]* :",
                                                         cls.__doc__, re.M)]
     assert not undocumented, f"{cls_name} does not document {undocumented}"
+
+
+def _stub_parameters(node):
+    """Parameter names (without self/cls) and defaults as written of a stub function."""
+    a = node.args
+    positional = a.posonlyargs + a.args
+    names = [x.arg for x in positional] + ([a.vararg.arg] if a.vararg else [])
+    names += [x.arg for x in a.kwonlyargs] + ([a.kwarg.arg] if a.kwarg else [])
+    defaults = {x.arg: ast.unparse(v)
+                for x, v in zip(positional[len(positional) - len(a.defaults):], a.defaults)}
+    defaults.update({x.arg: ast.unparse(v) for x, v in zip(a.kwonlyargs, a.kw_defaults)
+                     if v is not None})
+    return [n for n in names if n not in ("self", "cls")], defaults
+
+
+@pytest.mark.parametrize("module", MODULES)
+def test_stubs_match_the_signatures(module):
+    """The hand-written stub of each module names the parameters the module takes, in its
+    order, with its literal defaults (a rename that missed the stub fails here)."""
+    mod = importlib.import_module(f"wscg.{module}")
+    tree = ast.parse(pathlib.Path(mod.__file__).with_suffix(".pyi").read_text())
+    bad = []
+
+    def walk(body, obj, prefix):
+        for node in body:
+            if isinstance(node, ast.ClassDef) and not node.name.startswith("_"):
+                cls = getattr(obj, node.name, None)
+                if cls is None:
+                    bad.append(f"{prefix}.{node.name}: in the stub only")
+                else:
+                    walk(node.body, cls, f"{prefix}.{node.name}")
+            elif isinstance(node, ast.FunctionDef) and (not node.name.startswith("_")
+                                                       or node.name == "__init__"):
+                if any(isinstance(d, ast.Name) and d.id == "overload"
+                       for d in node.decorator_list):
+                    continue
+                live = getattr(obj, node.name, None)
+                if live is None:
+                    bad.append(f"{prefix}.{node.name}: in the stub only")
+                    continue
+                sig = None if isinstance(live, property) else _signature(live)
+                if sig is None:
+                    continue
+                names, defaults = _stub_parameters(node)
+                runtime = [p for p in sig.parameters if p not in ("self", "cls")]
+                if names != runtime:
+                    bad.append(f"{prefix}.{node.name}: stub {names}, module {runtime}")
+                    continue
+                for p in sig.parameters.values():
+                    written = defaults.get(p.name, "...")
+                    if written == "..." or p.default is inspect.Parameter.empty:
+                        continue
+                    try:
+                        value = ast.literal_eval(written)
+                    except ValueError:
+                        continue  # a name (a constant of the module): not compared
+                    if value != p.default:
+                        bad.append(f"{prefix}.{node.name}({p.name}): stub default {written}, "
+                                   f"module {p.default!r}")
+
+    walk(tree.body, mod, module)
+    assert not bad, "stubs that disagree with the module:\n" + "\n".join(bad)

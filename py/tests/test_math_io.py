@@ -131,3 +131,28 @@ def test_mesh_errors(tmp_path):
         wm.load_mesh(bad)
     with pytest.raises(OSError):
         wm.save_mesh(tmp_path / "m.stl", np.eye(3), np.array([[0, 1, 2]]))
+
+
+@pytest.mark.parametrize("name", ["rocket.jpg", "retina.jpg", "hubble_deep_field.jpg"])
+def test_truncated_photographs_are_refused(tmp_path, name):
+    """Camera JPEGs shipped with scikit-image: the whole file loads as OpenCV decodes it; the
+    same file cut short (an interrupted download) is an error naming it, not a picture with
+    a grey block."""
+    import os
+
+    import cv2
+    import skimage
+
+    src = os.path.join(os.path.dirname(skimage.__file__), "data", name)
+    data = open(src, "rb").read()
+    whole = wm.load_image(src)
+    ref = cv2.cvtColor(cv2.imread(src, cv2.IMREAD_COLOR), cv2.COLOR_BGR2RGB) / 255.0
+    assert whole.shape == ref.shape
+    # Two JPEG decoders differ by their IDCT and upsampling, by a few grey levels.
+    assert np.abs(whole - ref).mean() < 0.01
+    for cut in (len(data) // 2, len(data) * 9 // 10, len(data) - 2):
+        p = tmp_path / f"cut_{cut}_{name}"
+        p.write_bytes(data[:cut])
+        with pytest.raises((OSError, ValueError), match="truncated JPEG") as e:
+            wm.load_image(p)
+        assert p.name in str(e.value)

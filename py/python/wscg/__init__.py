@@ -57,12 +57,11 @@ import, else ``RAYON_NUM_THREADS``, else one thread per CPU core) and read back 
 Logging: the Rust code reports through Python's :mod:`logging`, on the logger ``wscg`` and its
 children named after the Rust module (``wscg.volseg.walker``, ``wscg.math.sparse``,
 ``wscg.math.io.nifti``, ...): solver convergence and stage summaries at ``INFO`` and
-``DEBUG``, problems a result does not show at ``WARNING`` (a solver stopped at its iteration
-cap, a NIfTI orientation that is not applied). Nothing is shown until the application
-configures logging (the ``wscg`` logger has only a ``NullHandler``):
-``logging.basicConfig(level=logging.INFO)`` or ``logging.getLogger("wscg").setLevel(
-logging.DEBUG)`` with a handler shows them. Records
-written on worker threads reach ``logging`` from the calling thread while it waits, in order.
+``DEBUG``, problems at ``WARNING`` (random-walker labels stopped at the iteration cap, a
+NIfTI orientation that is not applied). Nothing is shown until the application configures
+logging (the ``wscg`` logger has only a ``NullHandler``): ``logging.basicConfig(level=
+logging.INFO)``, or a handler on ``logging.getLogger("wscg")``, shows them. Records written
+on worker threads reach ``logging`` from the calling thread while it waits, in order.
 
 Conventions (``py/API.md``): one name per concept across the modules, ``load_`` / ``save_``
 with the path first, ``make_`` for generated data; a volume ``[z, y, x]`` has its ``spacing``
