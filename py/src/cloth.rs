@@ -28,6 +28,22 @@ fn points_out<'py>(py: Python<'py>, p: &[[f64; 3]]) -> PyResult<Arr<'py, f64>> {
     array(py, &[p.len(), 3], p.as_flattened().to_vec())
 }
 
+impl PyModel {
+    /// One 3-vector per particle from the array-like argument `name`.
+    fn per_particle(&self, name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<[f64; 3]>> {
+        let a = convert::real_f64(name, obj)?;
+        let p = points(name, &a)?;
+        if p.len() != self.inner.len() {
+            return Err(value_error(format!(
+                "`{name}` has {} rows for {} particles",
+                p.len(),
+                self.inner.len()
+            )));
+        }
+        Ok(p)
+    }
+}
+
 /// A cloth: particles and constraints.
 #[pyclass(module = "wscg._native.cloth", name = "Model")]
 #[derive(Clone)]
@@ -49,18 +65,22 @@ impl PyModel {
         points_out(py, &self.inner.v)
     }
 
-    /// Sets the velocities `(n, 3)`.
-    fn set_velocities(&mut self, v: PyReadonlyArrayDyn<f64>) -> PyResult<()> {
-        let v = points("velocities", &v)?;
-        if v.len() != self.inner.len() {
-            return Err(value_error(format!(
-                "{} velocities for {} particles",
-                v.len(),
-                self.inner.len()
-            )));
-        }
+    /// Sets the velocities `(n, 3)` (m/s; any real array-like).
+    fn set_velocities(&mut self, velocities: &Bound<'_, PyAny>) -> PyResult<()> {
+        let v = self.per_particle("velocities", velocities)?;
         let mut m = self.inner.clone();
         m.v = v;
+        m.validate().py_err()?;
+        self.inner = m;
+        Ok(())
+    }
+
+    /// Sets the positions `(n, 3)` (m; any real array-like), for instance a pre-stretched
+    /// start; the constraints keep their rest lengths and areas.
+    fn set_positions(&mut self, positions: &Bound<'_, PyAny>) -> PyResult<()> {
+        let x = self.per_particle("positions", positions)?;
+        let mut m = self.inner.clone();
+        m.x = x;
         m.validate().py_err()?;
         self.inner = m;
         Ok(())

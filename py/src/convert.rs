@@ -24,6 +24,34 @@ pub fn values<'a, T: Element + Clone>(a: &'a PyReadonlyArrayDyn<'_, T>) -> Cow<'
     }
 }
 
+/// Argument `name` (any array-like: a numpy array of any real dtype, a list, a tuple) as a
+/// float64 array: complex values and non-numeric input are refused naming the argument, as
+/// are non-finite values.
+pub fn real_f64<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<numpy::PyArrayLikeDyn<'py, f64, numpy::AllowTypeChange>> {
+    if let Ok(a) = obj.cast::<numpy::PyUntypedArray>() {
+        use numpy::PyArrayDescrMethods;
+        let kind = a.dtype().kind();
+        if !matches!(kind, b'b' | b'i' | b'u' | b'f') {
+            return Err(value_error(format!(
+                "`{name}` must be a real numeric array, got dtype {}",
+                a.dtype()
+            )));
+        }
+    }
+    let a: numpy::PyArrayLikeDyn<'py, f64, numpy::AllowTypeChange> = obj
+        .extract()
+        .map_err(|e| value_error(format!("`{name}` must be a real numeric array: {e}")))?;
+    if let Some(i) = a.as_array().iter().position(|v| !v.is_finite()) {
+        return Err(value_error(format!(
+            "`{name}` contains a non-finite value (NaN or infinity) at flat index {i}"
+        )));
+    }
+    Ok(a)
+}
+
 /// A new numpy array of `shape` holding `data` (C order).
 pub fn array<'py, T: Element>(
     py: Python<'py>,

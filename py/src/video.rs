@@ -264,7 +264,7 @@ fn make_clip<'py>(
 ) -> PyResult<(Arr<'py, u8>, Arr<'py, u8>, Arr<'py, u8>)> {
     if !matches!(kind, "sprite" | "pan" | "zoom" | "periodic") {
         return Err(value_error(format!(
-            "{kind:?} is not a valid clip. Valid clips are 'sprite', 'pan', 'zoom', 'periodic'"
+            "`kind` {kind:?} is not a valid clip. Valid clips are 'sprite', 'pan', 'zoom', 'periodic'"
         )));
     }
     let clip = crate::pool::detach(py, || match kind {

@@ -71,7 +71,10 @@ module.
 
 Errors are raised as ``ValueError`` (bad arguments) or ``OSError`` (files). A negative or
 too large integer for a count, size or seed raises :class:`IntegerRangeError`, a
-``ValueError`` (and ``OverflowError``) that names the argument.
+``ValueError`` (and ``OverflowError``) that names the argument; an argument of the wrong kind
+(``None`` where a value is required, a string or array where a number is, a complex array
+where real values are) raises :class:`ArgumentTypeError`, a ``ValueError`` (and
+``TypeError``) that names it; ``NaN`` where a number is raises ``ValueError``.
 
 Estimators (the models of :mod:`wscg.biometrics`, :class:`wscg.gait.GaitRecognizer`,
 :class:`wscg.ear.EarMatcher` and :class:`wscg.ear.SkinModel`, the models of
@@ -99,7 +102,7 @@ import logging as _logging
 import numpy as _np
 
 from . import _native
-from ._checks import IntegerRangeError, _int
+from ._checks import ArgumentTypeError, IntegerRangeError, _int
 from ._estimator import DataConversionWarning, NotFittedError
 from . import biometrics, cloth, csmri, deblur, doe, ear, gait, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren, volseg
 
@@ -187,6 +190,6 @@ def get_max_image_pixels() -> int:
 
 __all__ = ["biometrics", "cloth", "csmri", "deblur", "doe", "ear", "gait", "hdr", "isosurface",
            "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
-           "IntegerRangeError", "NotFittedError", "DataConversionWarning",
+           "IntegerRangeError", "ArgumentTypeError", "NotFittedError", "DataConversionWarning",
            "set_num_threads", "get_num_threads", "set_memory_limit",
            "get_memory_limit", "set_max_image_pixels", "get_max_image_pixels", "__version__"]

@@ -19,6 +19,10 @@ from . import volseg as volseg
 class IntegerRangeError(ValueError, OverflowError):
     """A negative or too large integer for a count, size or seed; names the argument."""
 
+class ArgumentTypeError(ValueError, TypeError):
+    """An argument of the wrong kind for its parameter (``None`` where a value is required, a
+    string or array where a number is, a complex array where real values are); names it."""
+
 class NotFittedError(ValueError, AttributeError):
     """A method of an estimator that needs ``fit`` was called before it (also scikit-learn's
     ``NotFittedError`` when scikit-learn is imported)."""
@@ -54,5 +58,5 @@ def get_max_image_pixels() -> int:
 __version__: str
 __all__ = ["biometrics", "cloth", "csmri", "deblur", "doe", "ear", "gait", "hdr", "isosurface",
            "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
-           "IntegerRangeError", "set_num_threads", "get_num_threads", "set_memory_limit",
+           "IntegerRangeError", "ArgumentTypeError", "set_num_threads", "get_num_threads", "set_memory_limit",
            "get_memory_limit", "set_max_image_pixels", "get_max_image_pixels", "__version__"]

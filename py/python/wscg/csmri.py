@@ -45,7 +45,10 @@ from typing import List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._native import csmri as _c
-from ._checks import integer_ranges as _integer_ranges
+from ._checks import _int, integer_ranges as _integer_ranges
+
+# MR images and k-space are complex throughout: every array argument may be complex.
+_TAKES_COMPLEX = True
 from ._results import result as _result
 
 __all__ = [
@@ -397,7 +400,7 @@ class Sflct:
         return np.ascontiguousarray(y.real) if real else y
 
 
-def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: float = 0.0,
+def reconstruct(kspace, mask, prior: Union[str, "Fdct"] = "udct", reg: str = "l1", epsilon: float = 0.0,
                 max_iter: int = 70, tau0: Optional[float] = None, rho: float = 1.0,
                 tau_cap: float = 10.0, tol: float = 0.0, wedges=((6, 6),), alpha: float = 0.1,
                 levels: int = 4, tv_n_iter: int = 20, shrink_lowpass: bool = True,
@@ -486,6 +489,10 @@ def reconstruct(kspace, mask, prior: str = "udct", reg: str = "l1", epsilon: flo
 def _composite(method, kspace, mask, a, b, group_weight, mu_g, n_iter, tv_n_iter, order,
                levels, reference, return_history):
     k = _complex2(kspace, "kspace")
+    div = 2 ** _int("levels", levels, 1, 30)
+    if k.shape[0] % div or k.shape[1] % div:
+        raise ValueError(f"`kspace` of shape {k.shape}: a {levels}-level wavelet transform needs "
+                         f"both sizes divisible by {div}; pad the k-space or lower `levels`")
     m = _mask(mask, k.shape)
     ref = None if reference is None else _complex2(reference, "reference")
     img, hist = _c.composite(method, k, m, float(a), float(b), float(group_weight), float(mu_g),

@@ -16,6 +16,7 @@ from __future__ import annotations
 from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from ._native import doe as _d
 from ._checks import integer_ranges as _integer_ranges
@@ -251,7 +252,7 @@ def williams(n: int) -> np.ndarray:
     return np.asarray(_d.williams(int(n)), dtype=np.int64)
 
 
-def fit_rsm(x, y, interaction: bool = True) -> RsmFit:
+def fit_rsm(x: npt.ArrayLike, y: npt.ArrayLike, interaction: bool = True) -> RsmFit:
     """Second-order response surface by ordinary least squares.
 
     ``y = b0 + sum b_i x_i + sum b_ii x_i^2 (+ sum b_ij x_i x_j)`` on the runs ``x``

@@ -257,10 +257,23 @@ def dice(a, b, label: Optional[int] = None) -> float:
     ValueError
         Shapes differ or the masks are empty arrays.
     """
-    a, b = np.asarray(a), np.asarray(b)
-    if label is not None:
-        a, b = a == label, b == label
-    return _m.dice(np.ascontiguousarray(a, dtype=bool), np.ascontiguousarray(b, dtype=bool))
+    masks = []
+    for name, m in (("a", a), ("b", b)):
+        m = np.asarray(m)
+        if m.ndim == 0:
+            raise ValueError(f"`{name}` must be a mask array, got a scalar {m!r}")
+        if m.dtype.kind not in "biuf":
+            raise ValueError(f"`{name}` must be a boolean mask or a label map, got dtype {m.dtype}")
+        if m.dtype.kind == "f":
+            if not np.isfinite(m).all():
+                i = int(np.argmax(~np.isfinite(m).ravel()))
+                raise ValueError(f"`{name}` contains a non-finite value (NaN or infinity) at "
+                                 f"flat index {i}")
+            if label is None and not np.isin(m, (0.0, 1.0)).all():
+                raise ValueError(f"`{name}` holds values other than 0 and 1; pass a boolean mask "
+                                 "or give `label` to compare label maps")
+        masks.append(m == label if label is not None else m.astype(bool, copy=False))
+    return _m.dice(np.ascontiguousarray(masks[0]), np.ascontiguousarray(masks[1]))
 
 
 # ---------------------------------------------------------------- filters and resizing

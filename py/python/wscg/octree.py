@@ -181,6 +181,9 @@ class HybridOctree:
     """A built octree and the mesh it references. Create with :func:`build` or :func:`load`."""
 
     def __init__(self, native, stats: Optional[BuildStats] = None):
+        if not isinstance(native, _o.HybridOctree):
+            raise ValueError(f"`native` must be a native tree; build one with build() or read one "
+                             f"with load() / from_bytes(), got {type(native).__name__}")
         self._n = native
         #: What the construction did (a :class:`BuildStats`: fragments, nodes, voxels, early
         #: leaves, phase times); None for a tree read by :func:`load` or :func:`from_bytes`.
@@ -410,7 +413,7 @@ def make_scene(name: str, size: Optional[int] = None, seed: int = 3):
     case: two triangles at z = 1/3 in the unit cube)."""
     defaults = {"atrium": 10, "city": 40, "blob": 8, "forest": 6, "square": 0}
     if name not in defaults:
-        raise ValueError(f"scene {name!r} is not valid; valid: {', '.join(defaults)}")
+        raise ValueError(f"`name`: scene {name!r} is not valid; valid: {', '.join(defaults)}")
     s = defaults[name] if size is None else int(size)
     if s < 0:
         raise ValueError(f"size must be >= 0, got {size}")

@@ -45,7 +45,7 @@ from typing import List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._native import raytrace as _r
-from ._checks import _int, integer_ranges as _integer_ranges
+from ._checks import _int, finite_array as _finite_array, integer_ranges as _integer_ranges
 from ._manylight import (ManyLightScene, ManyLightStats, load_manylight_obj,
                          make_manylight_scene, manylight_from_arrays, render_manylight)
 from ._results import from_mapping as _from_mapping, result as _result
@@ -470,20 +470,20 @@ def workshop(reference: Tuple[float, float] = (26.0, 7.3),
 
 def fresnel_conductor(cos_i, n: float, k: float) -> np.ndarray:
     """Unpolarised Fresnel reflectance of a conductor of relative index ``n + i k``."""
-    c = np.asarray(cos_i, dtype=np.float64)
+    c = _finite_array("cos_i", cos_i)
     return np.asarray(_r.fresnel_conductor(c.ravel().tolist(), float(n), float(k))).reshape(c.shape)
 
 
 def fresnel_dielectric(cos_i, eta: float) -> np.ndarray:
     """Unpolarised Fresnel reflectance of a dielectric interface (relative index ``eta``,
     total internal reflection included)."""
-    c = np.asarray(cos_i, dtype=np.float64)
+    c = _finite_array("cos_i", cos_i)
     return np.asarray(_r.fresnel_dielectric(c.ravel().tolist(), float(eta))).reshape(c.shape)
 
 
 def aluminium_nk(lambda_nm) -> np.ndarray:
     """Aluminium's ``(n, k)`` at the given wavelengths (Rakic 1998 Lorentz-Drude model)."""
-    lam = np.atleast_1d(np.asarray(lambda_nm, dtype=np.float64))
+    lam = np.atleast_1d(_finite_array("lambda_nm", lambda_nm))
     return np.asarray(_r.aluminium_nk(lam.tolist()))
 
 
@@ -494,7 +494,7 @@ def daylight(cct_k: float) -> np.ndarray:
 
 def spectrum_to_xyz(spd) -> np.ndarray:
     """CIE 1931 XYZ of an 81-value spectrum on 380-780 nm (5 nm steps)."""
-    return np.asarray(_r.spectrum_to_xyz(np.asarray(spd, dtype=np.float64).tolist()))
+    return np.asarray(_r.spectrum_to_xyz(_finite_array("spd", spd).tolist()))
 
 
 def project(points, eye: str = "cyclopean") -> np.ndarray:
