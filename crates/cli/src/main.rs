@@ -3,16 +3,21 @@
 
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 
 mod commands;
 mod demo;
+mod finite;
 mod gallery;
 mod logging;
 mod progress;
 
 fn main() -> ExitCode {
-    let args = commands::Cli::parse();
+    let matches = finite::finite_floats(commands::Cli::command()).get_matches();
+    let args = match commands::Cli::from_arg_matches(&matches) {
+        Ok(a) => a,
+        Err(e) => e.exit(),
+    };
     match commands::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
