@@ -16,11 +16,12 @@ use crate::errors::value_error;
 /// A numpy array bound to the interpreter.
 pub type Arr<'py, T> = Bound<'py, PyArrayDyn<T>>;
 
-/// The array's values in C order, borrowed when contiguous, copied otherwise.
+/// The array's values in C order, borrowed when C-contiguous, copied otherwise (a
+/// Fortran-ordered array is contiguous too, but its memory is not in C order).
 pub fn values<'a, T: Element + Clone>(a: &'a PyReadonlyArrayDyn<'_, T>) -> Cow<'a, [T]> {
     match a.as_slice() {
-        Ok(s) => Cow::Borrowed(s),
-        Err(_) => Cow::Owned(a.as_array().iter().cloned().collect()),
+        Ok(s) if a.is_c_contiguous() => Cow::Borrowed(s),
+        _ => Cow::Owned(a.as_array().iter().cloned().collect()),
     }
 }
 
