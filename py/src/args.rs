@@ -5,10 +5,11 @@
 //!
 //! - arrays: [`array`] takes any array-like of real numbers (lists, other dtypes,
 //!   non-contiguous views) and gives a C-contiguous array of the element type the binding
-//!   works in, refusing complex, string and object data by name;
+//!   works in, refusing complex, string and object data by name; [`indices`] reads an
+//!   optional list of indices;
 //! - numbers: [`uint`] checks a count, size or seed taken as `i128` (so that a negative or
 //!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
-//!   argument, not the conversion's bare `OverflowError`);
+//!   argument, not the conversion's bare `OverflowError`); [`finite3`] checks a 3-vector;
 //! - choices among names are [`crate::convert::choice`].
 
 use numpy::{Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
@@ -100,4 +101,22 @@ where
         return Err(value_error(format!("`{name}` must be >= {lo}, got {x}")));
     }
     Ok(x)
+}
+
+/// Errors unless every component of the 3-vector `p` is finite.
+pub fn finite3(name: &str, p: [f64; 3]) -> PyResult<[f64; 3]> {
+    if p.iter().all(|c| c.is_finite()) {
+        Ok(p)
+    } else {
+        Err(value_error(format!("`{name}` must be finite, got {p:?}")))
+    }
+}
+
+/// Indices (any array-like of integers, or `None` for none) as `usize`; a negative one is a
+/// `ValueError` naming `name`.
+pub fn indices(name: &str, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
+    match obj.filter(|o| !o.is_none()) {
+        None => Ok(Vec::new()),
+        Some(o) => crate::convert::indices(name, &crate::convert::values(&array::<i64>(name, o)?)),
+    }
 }
