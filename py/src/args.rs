@@ -6,7 +6,7 @@
 //! - arrays: [`array`] takes any array-like of real numbers (lists, other dtypes,
 //!   non-contiguous views) and gives a C-contiguous array of the element type the binding
 //!   works in, refusing complex, string and object data by name; [`indices`] reads an
-//!   optional list of indices;
+//!   optional list of indices, [`mesh`] a triangle mesh;
 //! - numbers: [`uint`] checks a count, size or seed taken as `i128` (so that a negative or
 //!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
 //!   argument, not the conversion's bare `OverflowError`); [`finite3`] checks a 3-vector;
@@ -119,4 +119,10 @@ pub fn indices(name: &str, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<usize
         None => Ok(Vec::new()),
         Some(o) => crate::convert::indices(name, &crate::convert::values(&array::<i64>(name, o)?)),
     }
+}
+
+/// The triangle mesh of the `vertices` `(V, 3)` and `faces` `(F, 3)` arguments (array-likes,
+/// converted by [`array`]).
+pub fn mesh(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<wscg_math::TriMesh> {
+    crate::convert::mesh_in(&array("vertices", vertices)?, &array("faces", faces)?, None)
 }

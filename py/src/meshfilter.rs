@@ -11,7 +11,7 @@ use wscg_meshfilter::metrics::{mean_error as me, mean_vertex_distance, surface_e
 use wscg_meshfilter::{smoothing, synth, JbmdParams};
 
 use crate::args::{self, uint};
-use crate::convert::{array, mesh_in, rows3, values, Arr};
+use crate::convert::{array, rows3, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 fn positions_out<'py>(py: Python<'py>, p: Vec<[f64; 3]>) -> PyResult<Arr<'py, f64>> {
@@ -31,16 +31,6 @@ fn mesh_out<'py>(py: Python<'py>, m: TriMesh) -> PyResult<MeshArrays<'py>> {
         array(py, &[nf, 3], faces)?,
         array(py, &[nc, 3], colors.concat())?,
     ))
-}
-
-/// The mesh of the `vertices` and `faces` arguments (array-likes, converted by
-/// [`args::array`]).
-fn mesh_arg(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<TriMesh> {
-    mesh_in(
-        &args::array("vertices", vertices)?,
-        &args::array("faces", faces)?,
-        None,
-    )
 }
 
 /// Denoised vertices ``(n, 3)`` after ``n_iter`` iterations over the ``n_neighbors``
@@ -69,7 +59,7 @@ fn jbmd<'py>(
 ) -> PyResult<Arr<'py, f64>> {
     let n_neighbors: usize = uint(py, "n_neighbors", n_neighbors, 0)?;
     let n_iter: usize = uint(py, "n_iter", n_iter, 0)?;
-    let mut mesh = mesh_arg(vertices, faces)?;
+    let mut mesh = args::mesh(vertices, faces)?;
     let colors = match colors.filter(|c| !c.is_none()) {
         Some(c) => {
             let c = args::array::<f32>("colors", c)?;
@@ -131,7 +121,7 @@ fn bilateral<'py>(
     volume_preserve: bool,
 ) -> PyResult<Arr<'py, f64>> {
     let n_iter = uint(py, "n_iter", n_iter, 0)?;
-    let mesh = mesh_arg(vertices, faces)?;
+    let mesh = args::mesh(vertices, faces)?;
     let p = BmdParams::default()
         .sigma_c(sigma_c)
         .sigma_s(sigma_s)
@@ -150,7 +140,7 @@ fn smoothed<'py>(
     f: impl FnOnce(&TriMesh, usize) -> wscg_math::Result<Vec<[f64; 3]>> + Send,
 ) -> PyResult<Arr<'py, f64>> {
     let n_iter = uint(py, "n_iter", n_iter, 0)?;
-    let mesh = mesh_arg(vertices, faces)?;
+    let mesh = args::mesh(vertices, faces)?;
     let out = crate::pool::detach(py, || f(&mesh, n_iter)).py_err()?;
     positions_out(py, out)
 }
@@ -226,14 +216,14 @@ fn surface_error(
 ) -> PyResult<f64> {
     let x = args::array::<f64>("x", x)?;
     let x = rows3("x", &values(&x), x.shape())?;
-    let mesh = mesh_arg(vertices, faces)?;
+    let mesh = args::mesh(vertices, faces)?;
     crate::pool::detach(py, || se(&x, &mesh)).py_err()
 }
 
 /// Mean vertex distance: the mean edge length.
 #[pyfunction]
 fn mvd(py: Python<'_>, vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<f64> {
-    let mesh = mesh_arg(vertices, faces)?;
+    let mesh = args::mesh(vertices, faces)?;
     crate::pool::detach(py, || mean_vertex_distance(&mesh)).py_err()
 }
 
@@ -292,7 +282,7 @@ fn add_noise<'py>(
     seed: i128,
 ) -> PyResult<Arr<'py, f64>> {
     let seed: u64 = uint(py, "seed", seed, 0)?;
-    let mesh = mesh_arg(vertices, faces)?;
+    let mesh = args::mesh(vertices, faces)?;
     let out =
         crate::pool::detach(py, || synth::add_noise(&mesh, sigma, isotropic, seed)).py_err()?;
     positions_out(py, out.positions)
