@@ -1,5 +1,7 @@
 //! `wscg._native.cloth`: bindings of `wscg-cloth` (paper 02, cloth with soft constraints).
-//! The documented API is `python/wscg/cloth.py`.
+//! `python/wscg/cloth.py` documents the module, re-exports the model and obstacle
+//! constructors defined here (arguments converted by [`crate::args`]) and wraps the
+//! simulation in its `Sim` class.
 
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -9,6 +11,7 @@ use wscg_cloth::{
     Simulation, SolverParams,
 };
 
+use crate::args::{self, uint};
 use crate::convert::{self, array, index, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -31,8 +34,13 @@ fn points_out<'py>(py: Python<'py>, p: &[[f64; 3]]) -> PyResult<Arr<'py, f64>> {
 impl PyModel {
     /// One 3-vector per particle from the array-like argument `name`.
     fn per_particle(&self, name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<[f64; 3]>> {
-        let a = convert::real_f64(name, obj)?;
+        let a = crate::args::array::<f64>(name, obj)?;
         let p = points(name, &a)?;
+        if let Some(i) = p.as_flattened().iter().position(|v| !v.is_finite()) {
+            return Err(value_error(format!(
+                "`{name}` contains a non-finite value (NaN or infinity) at flat index {i}"
+            )));
+        }
         if p.len() != self.inner.len() {
             return Err(value_error(format!(
                 "`{name}` has {} rows for {} particles",
@@ -104,17 +112,7 @@ impl PyModel {
 
     /// Pins the listed particles (they no longer move).
     fn pin(&mut self, indices: Vec<i64>) -> PyResult<()> {
-        let indices = convert::indices("indices", &indices)?;
-        let n = self.inner.len();
-        if let Some(&p) = indices.iter().find(|&&p| p >= n) {
-            return Err(value_error(format!(
-                "pin index {p} out of range for {n} particles"
-            )));
-        }
-        for p in indices {
-            self.inner.inv_mass[p] = 0.0;
-        }
-        Ok(())
+        pin(&mut self.inner, convert::indices("indices", &indices)?)
     }
 
     /// Sets gravity (m/s^2).
@@ -162,6 +160,21 @@ fn _model_from_state(py: Python<'_>, state: &[u8]) -> PyResult<PyModel> {
     Ok(PyModel { inner })
 }
 
+/// Pins the particles `indices` of `model`; an index out of range is a `ValueError` and
+/// pins nothing.
+fn pin(model: &mut ClothModel, indices: Vec<usize>) -> PyResult<()> {
+    let n = model.len();
+    if let Some(&p) = indices.iter().find(|&&p| p >= n) {
+        return Err(value_error(format!(
+            "pin index {p} out of range for {n} particles"
+        )));
+    }
+    for p in indices {
+        model.inv_mass[p] = 0.0;
+    }
+    Ok(())
+}
+
 /// `e` as the Python result class `wscg.cloth.Energy` (a named tuple, joules).
 fn energy_out<'py>(py: Python<'py>, e: &wscg_cloth::Energy) -> PyResult<Bound<'py, PyAny>> {
     py.import("wscg.cloth")?
@@ -169,27 +182,41 @@ fn energy_out<'py>(py: Python<'py>, e: &wscg_cloth::Energy) -> PyResult<Bound<'p
         .call1((e.kinetic, e.gravity, e.elastic, e.total))
 }
 
-/// Free particles without constraints (see `wscg.cloth.particles`).
+/// Particles at ``positions`` ``(n, 3)`` with ``masses`` ``(n,)`` (kg), no constraints
+/// yet (add them with ``Model.add_link`` and ``Model.add_roller``); gravity 9.81 m/s^2
+/// along -y.
 #[pyfunction]
+#[pyo3(signature = (positions, masses, pinned=None))]
 fn particles(
     py: Python<'_>,
-    positions: PyReadonlyArrayDyn<f64>,
-    masses: PyReadonlyArrayDyn<f64>,
-    pinned: Vec<usize>,
+    positions: &Bound<'_, PyAny>,
+    masses: &Bound<'_, PyAny>,
+    pinned: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyModel> {
-    let x = points("positions", &positions)?;
-    let m = values(&masses);
+    let x = points("positions", &args::array("positions", positions)?)?;
+    let m = values(&args::array::<f64>("masses", masses)?).into_owned();
+    let pinned = args::indices("pinned", pinned)?;
     let inner = crate::pool::detach(py, || ClothModel::new(x, &m, &pinned)).py_err()?;
     Ok(PyModel { inner })
 }
 
-/// A rectangular grid cloth (see `wscg.cloth.grid`).
+/// A horizontal ``nx x ny`` cloth in the x-z plane (``size`` metres, total ``mass`` kg),
+/// hanging from its two first-row corners; ``pinned`` pins further particles.
+///
+/// ``model="links"``: structural links (``k_stretch``), shear links on both diagonals
+/// (``k_shear``, omitted when None) and bending links two particles apart (``k_bend``).
+/// ``model="fem"``: two StVK membrane triangles per quad with ``young`` (N/m) and
+/// ``poisson``, warp along x and weft along z.
 #[pyfunction]
+#[pyo3(signature = (nx, ny, size=(1.0, 1.0), mass=0.1, model="links", k_stretch=2000.0,
+                    k_shear=None, k_bend=None, young=1000.0, poisson=0.3, pinned=None),
+       text_signature = "(nx, ny, size=(1.0, 1.0), mass=0.1, model='links', k_stretch=2000.0, \
+                         k_shear=None, k_bend=None, young=1000.0, poisson=0.3, pinned=None)")]
 #[allow(clippy::too_many_arguments)]
 fn grid(
     py: Python<'_>,
-    nx: usize,
-    ny: usize,
+    nx: i128,
+    ny: i128,
     size: (f64, f64),
     mass: f64,
     model: &str,
@@ -198,7 +225,10 @@ fn grid(
     k_bend: Option<f64>,
     young: f64,
     poisson: f64,
+    pinned: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyModel> {
+    let nx: usize = uint(py, "nx", nx, 0)?;
+    let ny: usize = uint(py, "ny", ny, 0)?;
     let fem = match model {
         "links" => false,
         "fem" => true,
@@ -208,7 +238,7 @@ fn grid(
             )))
         }
     };
-    let inner = crate::pool::detach(py, || {
+    let mut inner = crate::pool::detach(py, || {
         if fem {
             ClothModel::fem_grid(nx, ny, size, mass, young, poisson)
         } else {
@@ -216,6 +246,7 @@ fn grid(
         }
     })
     .py_err()?;
+    pin(&mut inner, args::indices("pinned", pinned)?)?;
     Ok(PyModel { inner })
 }
 
@@ -235,14 +266,6 @@ fn faces_in(faces: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<[usize; 3]>> {
         s => Err(value_error(format!(
             "`faces` must have shape (m, 3), got {s:?}"
         ))),
-    }
-}
-
-fn point(name: &str, p: [f64; 3]) -> PyResult<[f64; 3]> {
-    if p.iter().all(|c| c.is_finite()) {
-        Ok(p)
-    } else {
-        Err(value_error(format!("`{name}` must be finite, got {p:?}")))
     }
 }
 
@@ -286,10 +309,13 @@ fn _collider_from_state(py: Python<'_>, state: &[u8]) -> PyResult<PyCollider> {
     Ok(PyCollider { inner })
 }
 
-/// The half-space above the plane through `point` with outward `normal`.
+/// The solid half-space below the plane through ``point`` with outward ``normal`` (a
+/// floor: ``plane((0, 1, 0), (0, y, 0))``).
 #[pyfunction]
-fn plane(normal: [f64; 3], point_on: [f64; 3]) -> PyResult<PyCollider> {
-    let inner = Collider::plane(point("normal", normal)?, point("point", point_on)?).py_err()?;
+#[pyo3(signature = (normal, point=[0.0; 3]), text_signature = "(normal, point=(0.0, 0.0, 0.0))")]
+fn plane(normal: [f64; 3], point: [f64; 3]) -> PyResult<PyCollider> {
+    let normal = args::finite3("normal", normal)?;
+    let inner = Collider::plane(normal, args::finite3("point", point)?).py_err()?;
     Ok(PyCollider { inner })
 }
 
@@ -297,55 +323,63 @@ fn plane(normal: [f64; 3], point_on: [f64; 3]) -> PyResult<PyCollider> {
 #[pyfunction]
 fn sphere(center: [f64; 3], radius: f64) -> PyResult<PyCollider> {
     let inner = Collider::Sphere {
-        center: point("center", center)?,
+        center: args::finite3("center", center)?,
         radius,
     };
     inner.validate().py_err()?;
     Ok(PyCollider { inner })
 }
 
-/// A solid capsule around the segment `a`-`b`.
+/// A solid capsule: the points within ``radius`` of the segment ``a``-``b``.
 #[pyfunction]
 fn capsule(a: [f64; 3], b: [f64; 3], radius: f64) -> PyResult<PyCollider> {
     let inner = Collider::Capsule {
-        a: point("a", a)?,
-        b: point("b", b)?,
+        a: args::finite3("a", a)?,
+        b: args::finite3("b", b)?,
         radius,
     };
     inner.validate().py_err()?;
     Ok(PyCollider { inner })
 }
 
-/// A closed triangle mesh obstacle with outward normals.
+/// A closed triangle mesh obstacle (``vertices`` ``(n, 3)``, ``faces`` ``(m, 3)``, outward
+/// counter-clockwise winding), queried through a bounding volume hierarchy.
 #[pyfunction]
 fn mesh_collider(
     py: Python<'_>,
-    vertices: PyReadonlyArrayDyn<f64>,
-    faces: PyReadonlyArrayDyn<i64>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
 ) -> PyResult<PyCollider> {
-    let v = points("vertices", &vertices)?;
-    let f = faces_in(&faces)?;
+    let v = points("vertices", &args::array("vertices", vertices)?)?;
+    let f = faces_in(&args::array("faces", faces)?)?;
     Ok(PyCollider {
         inner: Collider::Mesh(crate::pool::detach(py, || MeshCollider::new(&v, &f)).py_err()?),
     })
 }
 
-/// A cloth from a triangle mesh (see `wscg.cloth.from_mesh`).
+/// A cloth from a triangle mesh (``vertices`` ``(n, 3)``, ``faces`` ``(m, 3)``), with
+/// ``mass`` lumped to the vertices by area. ``model="fem"`` makes every face a StVK
+/// membrane triangle with the mesh's shape at rest; ``model="links"`` makes every edge a link
+/// (``k_edge``). With ``k_bend`` (N/m), in both models, a bending link joins the opposite
+/// vertices of the two faces of every interior edge.
 #[pyfunction]
+#[pyo3(signature = (vertices, faces, mass=0.1, model="fem", young=1000.0, poisson=0.3,
+                    k_edge=2000.0, k_bend=None, pinned=None))]
 #[allow(clippy::too_many_arguments)]
 fn from_mesh(
     py: Python<'_>,
-    vertices: PyReadonlyArrayDyn<f64>,
-    faces: PyReadonlyArrayDyn<i64>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
     mass: f64,
     model: &str,
     young: f64,
     poisson: f64,
     k_edge: f64,
     k_bend: Option<f64>,
+    pinned: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyModel> {
-    let v = points("vertices", &vertices)?;
-    let f = faces_in(&faces)?;
+    let v = points("vertices", &args::array("vertices", vertices)?)?;
+    let f = faces_in(&args::array("faces", faces)?)?;
     let material = match model {
         "fem" => Some((young, poisson)),
         "links" => None,
@@ -355,10 +389,11 @@ fn from_mesh(
             )))
         }
     };
-    let inner = crate::pool::detach(py, || {
+    let mut inner = crate::pool::detach(py, || {
         ClothModel::from_trimesh(&v, &f, mass, material, k_edge, k_bend)
     })
     .py_err()?;
+    pin(&mut inner, args::indices("pinned", pinned)?)?;
     Ok(PyModel { inner })
 }
 

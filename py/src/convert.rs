@@ -16,40 +16,13 @@ use crate::errors::value_error;
 /// A numpy array bound to the interpreter.
 pub type Arr<'py, T> = Bound<'py, PyArrayDyn<T>>;
 
-/// The array's values in C order, borrowed when contiguous, copied otherwise.
+/// The array's values in C order, borrowed when C-contiguous, copied otherwise (a
+/// Fortran-ordered array is contiguous too, but its memory is not in C order).
 pub fn values<'a, T: Element + Clone>(a: &'a PyReadonlyArrayDyn<'_, T>) -> Cow<'a, [T]> {
     match a.as_slice() {
-        Ok(s) => Cow::Borrowed(s),
-        Err(_) => Cow::Owned(a.as_array().iter().cloned().collect()),
+        Ok(s) if a.is_c_contiguous() => Cow::Borrowed(s),
+        _ => Cow::Owned(a.as_array().iter().cloned().collect()),
     }
-}
-
-/// Argument `name` (any array-like: a numpy array of any real dtype, a list, a tuple) as a
-/// float64 array: complex values and non-numeric input are refused naming the argument, as
-/// are non-finite values.
-pub fn real_f64<'py>(
-    name: &str,
-    obj: &Bound<'py, PyAny>,
-) -> PyResult<numpy::PyArrayLikeDyn<'py, f64, numpy::AllowTypeChange>> {
-    if let Ok(a) = obj.cast::<numpy::PyUntypedArray>() {
-        use numpy::PyArrayDescrMethods;
-        let kind = a.dtype().kind();
-        if !matches!(kind, b'b' | b'i' | b'u' | b'f') {
-            return Err(value_error(format!(
-                "`{name}` must be a real numeric array, got dtype {}",
-                a.dtype()
-            )));
-        }
-    }
-    let a: numpy::PyArrayLikeDyn<'py, f64, numpy::AllowTypeChange> = obj
-        .extract()
-        .map_err(|e| value_error(format!("`{name}` must be a real numeric array: {e}")))?;
-    if let Some(i) = a.as_array().iter().position(|v| !v.is_finite()) {
-        return Err(value_error(format!(
-            "`{name}` contains a non-finite value (NaN or infinity) at flat index {i}"
-        )));
-    }
-    Ok(a)
 }
 
 /// A new numpy array of `shape` holding `data` (C order).

@@ -1,5 +1,6 @@
-//! `wscg._native.doe`: bindings of `wscg-doe` (paper 07's study statistics). The documented
-//! API is `python/wscg/doe.py`.
+//! `wscg._native.doe`: bindings of `wscg-doe` (paper 07's study statistics).
+//! `python/wscg/doe.py` documents the module, re-exports the design functions defined here
+//! (arguments converted by [`crate::args`]) and builds the fits' result classes.
 
 use nalgebra::DMatrix;
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
@@ -7,6 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_doe::{AnovaEffect, CcdAlpha, CcdFace, RsmFit};
 
+use crate::args::{self, uint};
 use crate::convert::{array, dims2, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -24,50 +26,107 @@ fn dmat_out<'py>(py: Python<'py>, m: &DMatrix<f64>) -> PyResult<Arr<'py, f64>> {
     array(py, &[m.nrows(), m.ncols()], v)
 }
 
-/// Central composite design, coded units, rows = runs (see `wscg.doe.ccd`).
+/// `alpha` of [`ccd`]: a rule's name or an axial distance.
+#[derive(FromPyObject)]
+enum AxialDistance {
+    Rule(String),
+    Value(f64),
+}
+
+/// `center` of [`ccd`]: centre points of both blocks, or of the first.
+#[derive(FromPyObject)]
+enum CentrePoints {
+    First(i128),
+    Blocks((i128, i128)),
+}
+
+/// Central composite design in coded units, one row per run (pyDOE3's ``ccdesign``).
+///
+/// Parameters
+/// ----------
+/// k : int
+///     Number of factors (>= 2).
+/// face : {'circumscribed', 'inscribed', 'faced'} (or 'ccc', 'cci', 'ccf')
+///     Where the axial points lie; inscribed designs scale everything into [-1, 1].
+/// alpha : {'orthogonal', 'rotatable'} or float
+///     Axial distance rule (pyDOE3's default is orthogonal).
+/// center : int or (int, int)
+///     Centre points in the factorial and axial blocks; an int puts them all in the first.
+///
+/// Returns
+/// -------
+/// (runs, k) float64 array: factorial block with its centre points, then axial block with its
+/// centre points.
+///
+/// Examples
+/// --------
+/// >>> ccd(2, "inscribed", "rotatable", (3, 2)).shape   # the paper's 13 runs
+/// (13, 2)
 #[pyfunction]
-#[pyo3(signature = (k, face, alpha, center))]
+#[pyo3(signature = (k, face="circumscribed", alpha=AxialDistance::Rule("orthogonal".into()),
+                    center=CentrePoints::Blocks((4, 4))),
+       text_signature = "(k, face='circumscribed', alpha='orthogonal', center=(4, 4))")]
 fn ccd<'py>(
     py: Python<'py>,
-    k: usize,
+    k: i128,
     face: &str,
-    alpha: &str,
-    center: (usize, usize),
+    alpha: AxialDistance,
+    center: CentrePoints,
 ) -> PyResult<Arr<'py, f64>> {
+    let k = uint(py, "k", k, 0)?;
+    let center = match center {
+        CentrePoints::First(n) => (uint(py, "center", n, 0)?, 0),
+        CentrePoints::Blocks((a, b)) => (uint(py, "center", a, 0)?, uint(py, "center", b, 0)?),
+    };
     let face = face.parse::<CcdFace>().py_err()?;
-    let alpha = alpha.parse::<CcdAlpha>().py_err()?;
+    let alpha = match alpha {
+        AxialDistance::Rule(name) => name.parse::<CcdAlpha>(),
+        AxialDistance::Value(v) => v.to_string().parse::<CcdAlpha>(),
+    }
+    .py_err()?;
     let m = wscg_doe::ccd_blocks(k, face, alpha, center).py_err()?;
     dmat_out(py, &m)
 }
 
-/// Coded to physical units.
+/// The 2-D array argument `name` as a matrix.
+fn dmat_arg(name: &str, a: &Bound<'_, PyAny>) -> PyResult<DMatrix<f64>> {
+    dmat(name, &args::array(name, a)?)
+}
+
+/// Coded units [-1, 1] to physical units, per factor ``low`` ... ``high``.
 #[pyfunction]
 fn decode<'py>(
     py: Python<'py>,
-    coded: PyReadonlyArrayDyn<f64>,
+    coded: &Bound<'py, PyAny>,
     low: Vec<f64>,
     high: Vec<f64>,
 ) -> PyResult<Arr<'py, f64>> {
-    let m = wscg_doe::decode(&dmat("coded", &coded)?, &low, &high).py_err()?;
+    let m = wscg_doe::decode(&dmat_arg("coded", coded)?, &low, &high).py_err()?;
     dmat_out(py, &m)
 }
 
-/// Physical to coded units.
+/// Physical units to coded units [-1, 1].
 #[pyfunction]
 fn encode<'py>(
     py: Python<'py>,
-    physical: PyReadonlyArrayDyn<f64>,
+    physical: &Bound<'py, PyAny>,
     low: Vec<f64>,
     high: Vec<f64>,
 ) -> PyResult<Arr<'py, f64>> {
-    let m = wscg_doe::encode(&dmat("physical", &physical)?, &low, &high).py_err()?;
+    let m = wscg_doe::encode(&dmat_arg("physical", physical)?, &low, &high).py_err()?;
     dmat_out(py, &m)
 }
 
-/// Williams Latin square: presentation orders.
+/// Williams Latin square: presentation orders balanced for first-order carry-over.
+///
+/// ``n`` rows for even ``n``, ``2n`` rows for odd ``n`` (26 for the paper's 13 plates: one
+/// order per observer); every row is a permutation of ``0 .. n-1``.
 #[pyfunction]
-fn williams(n: usize) -> PyResult<Vec<Vec<usize>>> {
-    wscg_doe::williams_square(n).py_err()
+fn williams(py: Python<'_>, n: i128) -> PyResult<Arr<'_, i64>> {
+    let rows = wscg_doe::williams_square(uint(py, "n", n, 0)?).py_err()?;
+    let width = rows.first().map_or(0, Vec::len);
+    let data = rows.iter().flatten().map(|&v| v as i64).collect();
+    array(py, &[rows.len(), width], data)
 }
 
 fn fit_dict<'py>(py: Python<'py>, f: &RsmFit) -> PyResult<Bound<'py, PyDict>> {
@@ -186,10 +245,12 @@ fn lsd<'py>(
     Ok(d)
 }
 
-/// Explained-variance ratios of the standardised panel (stimuli x subjects).
+/// Explained-variance ratios of the PCA of the panel (stimuli x subjects, subjects
+/// standardised): the first above 0.8 means the observers agree (paper 07, section 5.1).
 #[pyfunction]
-fn panel_pca(scores: PyReadonlyArrayDyn<f64>) -> PyResult<Vec<f64>> {
-    wscg_doe::panel_pca(&dmat("scores", &scores)?).py_err()
+fn panel_pca<'py>(py: Python<'py>, scores: &Bound<'py, PyAny>) -> PyResult<Arr<'py, f64>> {
+    let ratios = wscg_doe::panel_pca(&dmat_arg("scores", scores)?).py_err()?;
+    array(py, &[ratios.len()], ratios)
 }
 
 /// Registers the functions.

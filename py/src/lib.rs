@@ -1,8 +1,11 @@
 //! Python bindings of wscg: the native module `wscg._native`, one submodule per crate.
 //!
-//! The Python package (`py/python/wscg`) wraps these functions: it coerces inputs to
-//! C-contiguous arrays of the dtype the native side expects, documents every function and
-//! re-exports them as `wscg.math`, ... Errors from Rust become `ValueError` (bad arguments),
+//! The Python package (`py/python/wscg`) exposes them as `wscg.math`, ...: a function whose
+//! Python layer would only convert and check its arguments is defined here, with its
+//! signature, defaults and documentation, and re-exported as it is (its arguments go
+//! through [`args`]); the others keep a Python wrapper where Python adds something (result
+//! classes, estimators, pure-Python conveniences), which coerces inputs to C-contiguous
+//! arrays of the dtype the native side expects. Errors from Rust become `ValueError` (bad arguments),
 //! `OSError` (files), `MemoryError` (a size that does not fit in memory) or
 //! `KeyboardInterrupt` (Ctrl-C during a call); a Rust panic in a binding's work (a bug)
 //! surfaces as `RuntimeError` with the panic's message (`pool::detach` catches it), never a
@@ -11,6 +14,7 @@
 
 use pyo3::prelude::*;
 
+mod args;
 mod biometrics;
 mod cloth;
 mod convert;

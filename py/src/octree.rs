@@ -12,6 +12,7 @@ use wscg_octree::{
     HybridOctree, PointLight, Ray, Shading, TraceMode, TriangleBvh,
 };
 
+use crate::args::{self, uint};
 use crate::convert::{array, mesh_in, rows3, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -379,20 +380,24 @@ fn from_bytes(py: Python<'_>, data: &[u8]) -> PyResult<PyOctree> {
     })
 }
 
-/// Fragments of the exact voxelization: finest cells `(K, 3)` as `(k, j, i)` (array axis
-/// order: `i` along x) and triangle indices `(K,)`, sorted by Morton code then triangle.
+/// Exact surface voxelization: every (finest cell, triangle) pair whose closed boxes
+/// overlap (separating-axis test), in the cube ``domain = (min_xyz, side)``. Returns integer
+/// cells ``(K, 3)`` as ``(k, j, i)`` (array axis order, ``i`` along x; see the module
+/// documentation) and triangle indices ``(K,)``, sorted by Morton code then triangle;
+/// zero-area triangles produce nothing.
 #[pyfunction]
 fn voxelize<'py>(
     py: Python<'py>,
-    vertices: PyReadonlyArrayDyn<f64>,
-    faces: PyReadonlyArrayDyn<i64>,
-    depth: u8,
-    domain_min: [f64; 3],
-    domain_size: f64,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    depth: i128,
+    domain: ([f64; 3], f64),
 ) -> PyResult<(Arr<'py, i64>, Arr<'py, i64>)> {
-    let mesh = mesh_in(&vertices, &faces, None)?;
+    let mesh = args::mesh(vertices, faces)?;
+    let depth = u8::try_from(depth)
+        .map_err(|_| value_error(format!("depth must be in 0..=21, got {depth}")))?;
     wscg_octree::cube::check_depth(depth).py_err()?;
-    let cube = Cube::new(domain_min, domain_size).py_err()?;
+    let cube = Cube::new(domain.0, domain.1).py_err()?;
     if let Some((lo, hi)) = mesh.bounding_box() {
         if !cube.contains_box(lo, hi) {
             return Err(value_error("the domain cube does not contain the mesh"));
@@ -417,17 +422,21 @@ fn voxelize<'py>(
     ))
 }
 
-/// Nearest triangle hits by the binned-SAH BVH baseline: `(t, prim)`.
+/// Nearest triangle hits by a binned-SAH BVH (the baseline): ``t`` (inf on a miss) and
+/// ``prim`` (-1 on a miss).
 #[pyfunction]
 fn bvh_intersect<'py>(
     py: Python<'py>,
-    vertices: PyReadonlyArrayDyn<f64>,
-    faces: PyReadonlyArrayDyn<i64>,
-    origins: PyReadonlyArrayDyn<f32>,
-    dirs: PyReadonlyArrayDyn<f32>,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    origins: &Bound<'py, PyAny>,
+    dirs: &Bound<'py, PyAny>,
 ) -> PyResult<(Arr<'py, f32>, Arr<'py, i64>)> {
-    let mesh = mesh_in(&vertices, &faces, None)?;
-    let rays = rays_in(&origins, &dirs)?;
+    let mesh = args::mesh(vertices, faces)?;
+    let rays = rays_in(
+        &args::array("origins", origins)?,
+        &args::array("dirs", dirs)?,
+    )?;
     let bvh = crate::pool::detach(py, || TriangleBvh::build(&mesh)).py_err()?;
     let hits: Vec<_> =
         crate::pool::detach(py, || rays.par_iter().map(|r| bvh.intersect(r)).collect())?;
@@ -442,15 +451,37 @@ fn bvh_intersect<'py>(
     Ok((array(py, &[hits.len()], t)?, array(py, &[hits.len()], p)?))
 }
 
-/// A synthetic scene: `(vertices, faces, colors)`.
+/// A synthetic scene ``(vertices, faces, colors)``: ``"atrium"`` (``size`` pillars per
+/// row, default 10), ``"city"`` (``size x size`` buildings, default 40), ``"blob"``
+/// (icosphere subdivisions, default 8: 1,310,720 triangles), ``"forest"`` (13 trees of
+/// ``size`` branch levels, default 6: about 1.4 M triangles) or ``"square"`` (the exact
+/// case: two triangles at z = 1/3 in the unit cube).
 #[pyfunction]
-#[pyo3(signature = (name, size, seed))]
-fn scene<'py>(
+#[pyo3(signature = (name, size=None, seed=3))]
+fn make_scene<'py>(
     py: Python<'py>,
     name: &str,
-    size: usize,
-    seed: u64,
+    size: Option<i128>,
+    seed: i128,
 ) -> PyResult<(Arr<'py, f64>, Arr<'py, i64>, Arr<'py, f32>)> {
+    let default = match name {
+        "atrium" => 10,
+        "city" => 40,
+        "blob" => 8,
+        "forest" => 6,
+        "square" => 0,
+        other => {
+            return Err(value_error(format!(
+                "scene {other:?} is not valid; valid: atrium, city, blob, forest, square"
+            )))
+        }
+    };
+    let size = size.unwrap_or(default);
+    if size < 0 {
+        return Err(value_error(format!("size must be >= 0, got {size}")));
+    }
+    let size: usize = uint(py, "size", size, 0)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
     match name {
         "blob" if size > 9 => {
             return Err(value_error(format!(
@@ -462,12 +493,7 @@ fn scene<'py>(
                 "forest branch levels must be at most 7, got {size}"
             )))
         }
-        "atrium" | "city" | "blob" | "forest" | "square" => {}
-        other => {
-            return Err(value_error(format!(
-                "scene {other:?} is not valid; valid: atrium, city, blob, forest, square"
-            )))
-        }
+        _ => {}
     }
     let mesh = crate::pool::detach(py, || match name {
         "atrium" => scenes::atrium(size.max(2)),
@@ -499,5 +525,5 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(from_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(voxelize, m)?)?;
     m.add_function(wrap_pyfunction!(bvh_intersect, m)?)?;
-    m.add_function(wrap_pyfunction!(scene, m)?)
+    m.add_function(wrap_pyfunction!(make_scene, m)?)
 }

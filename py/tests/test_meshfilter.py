@@ -183,3 +183,26 @@ def test_bad_input():
     for fn in bad:
         with pytest.raises(ValueError):
             fn()
+
+
+def test_array_likes_of_any_order_and_dtype_give_the_same_result():
+    """The native functions take array-likes: lists, other dtypes, Fortran order and views
+    read in C order (a Fortran-ordered array is contiguous, but not in C order)."""
+    v, f, _ = M.make_mesh("cube", 4)
+    ref = M.laplacian(v, f, n_iter=2)
+    for vv, ff in [(v.tolist(), f.tolist()), (np.asfortranarray(v), np.asfortranarray(f)),
+                   (v.astype(np.float32).astype(np.float64), f.astype(np.int32)),
+                   (np.hstack([v, v])[:, :3], f[::1])]:
+        np.testing.assert_array_equal(M.laplacian(vv, ff, n_iter=2), ref)
+    assert M.mvd(np.asfortranarray(v), f) == M.mvd(v, f)
+
+
+def test_bad_arguments_are_refused_by_name():
+    v, f, _ = M.make_mesh("cube", 4)
+    for match, call in [("`vertices` must be real-valued", lambda: M.mvd(v.astype(complex), f)),
+                        ("`faces` must be a numeric array", lambda: M.mvd(v, "abc")),
+                        ("`faces` must be an integer array", lambda: M.mvd(v, f + 0.5)),
+                        ("`n_iter` is out of range", lambda: M.taubin(v, f, n_iter=-1)),
+                        ("`seed` is out of range", lambda: M.add_noise(v, f, 0.1, seed=2**70))]:
+        with pytest.raises(ValueError, match=match):
+            call()

@@ -58,5 +58,6 @@ def get_max_image_pixels() -> int:
 __version__: str
 __all__ = ["biometrics", "cloth", "csmri", "deblur", "doe", "ear", "gait", "hdr", "isosurface",
            "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
-           "IntegerRangeError", "ArgumentTypeError", "set_num_threads", "get_num_threads", "set_memory_limit",
+           "IntegerRangeError", "ArgumentTypeError", "NotFittedError", "DataConversionWarning",
+           "set_num_threads", "get_num_threads", "set_memory_limit",
            "get_memory_limit", "set_max_image_pixels", "get_max_image_pixels", "__version__"]

@@ -2,6 +2,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+__all__ = ["Estimator", "NotFittedError", "DataConversionWarning"]
+
 _E = TypeVar("_E", bound="Estimator")
 
 class NotFittedError(ValueError, AttributeError): ...

@@ -12,6 +12,7 @@ result is naturally a tuple that users unpack (a NamedTuple takes no mixin base 
 from __future__ import annotations
 
 import dataclasses
+import sys
 import textwrap
 from typing import Any, Callable, Dict, Iterable, Optional, Tuple, TypeVar
 
@@ -20,6 +21,12 @@ import numpy as np
 __all__ = ["result", "tuple_repr", "tuple_eq", "tuple_ne", "from_mapping", "summary"]
 
 T = TypeVar("T")
+
+if sys.version_info >= (3, 11):
+    from typing import dataclass_transform
+else:  # the marker only informs type checkers
+    def dataclass_transform(**_kwargs: Any) -> Callable[[T], T]:
+        return lambda f: f
 
 # Containers longer than this are shown by their length, not their items.
 _MAX_ITEMS = 6
@@ -120,6 +127,7 @@ def _dataclass_eq(self, other) -> bool:
                for f in dataclasses.fields(self))
 
 
+@dataclass_transform(frozen_default=True, eq_default=False)
 def result(cls: type) -> type:
     """Class decorator of the result classes: a frozen dataclass (fields in annotation
     order, set once by the constructor) whose ``repr`` summarises arrays and long

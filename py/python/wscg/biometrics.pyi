@@ -8,12 +8,18 @@ from . import ear as ear
 from . import gait as gait
 from ._estimator import Estimator
 
-ArrayLike = npt.ArrayLike
-F64 = npt.NDArray[np.float64]
-F32 = npt.NDArray[np.float32]
-I64 = npt.NDArray[np.int64]
+_ArrayLike = npt.ArrayLike
+_F64 = npt.NDArray[np.float64]
+_F32 = npt.NDArray[np.float32]
+_I64 = npt.NDArray[np.int64]
 
-__all__: list[str]
+__all__ = ["FDKECA", "PCA", "KernelPCA", "KECA", "nn_classify", "accuracy_curve",
+           "best_dimension", "select_dimension_cv", "feature_kernel", "make_finger_veins",
+           "split_per_subject", "PerClassSFA", "GlobalSFA", "TemporalSFA", "KNN",
+           "confusion_matrix", "Isomap", "HAND_POSE_CLASSES", "hand_pose_jitter",
+           "make_hand_poses", "physical_features", "rotate_mask", "downscale_mask",
+           "hand_pose_split", "hand_pose_comparison", "hand_pose_rotated_test",
+           "ResolvedKernel", "HandPoseSplit", "ClassifierRun", "HandPoseComparison"]
 
 @dataclass(frozen=True)
 class ResolvedKernel:
@@ -25,18 +31,18 @@ class ResolvedKernel:
 
 @dataclass(frozen=True)
 class HandPoseSplit:
-    X_train: F64
+    X_train: _F64
     y_train: np.ndarray
-    X_test: F64
+    X_test: _F64
     y_test: np.ndarray
-    train_index: I64
-    test_index: I64
-    train_rotation: F64
+    train_index: _I64
+    test_index: _I64
+    train_rotation: _F64
     shape: Tuple[int, int]
 
 @dataclass(frozen=True)
 class ClassifierRun:
-    confusion: F64
+    confusion: _F64
     predictions: np.ndarray
     accuracy: float
     fit_seconds: float
@@ -54,21 +60,21 @@ class _Subspace(Estimator):
     image_shape_: Optional[Tuple[int, int]]
     classes_: Optional[np.ndarray]
     metric: str
-    def fit(self, X: ArrayLike, y: Optional[ArrayLike] = None) -> "_Subspace": ...
-    def transform(self, X: ArrayLike) -> F64: ...
-    def fit_transform(self, X: ArrayLike, y: Optional[ArrayLike] = None) -> F64: ...
+    def fit(self, X: _ArrayLike, y: Optional[_ArrayLike] = None) -> "_Subspace": ...
+    def transform(self, X: _ArrayLike) -> _F64: ...
+    def fit_transform(self, X: _ArrayLike, y: Optional[_ArrayLike] = None) -> _F64: ...
     def truncated(self, n_components: int) -> "_Subspace": ...
-    def kneighbors(self, X: ArrayLike) -> Tuple[F64, I64]: ...
-    def predict(self, X: ArrayLike) -> np.ndarray: ...
-    def score(self, X: ArrayLike, y: ArrayLike) -> float: ...
+    def kneighbors(self, X: _ArrayLike) -> Tuple[_F64, _I64]: ...
+    def predict(self, X: _ArrayLike) -> np.ndarray: ...
+    def score(self, X: _ArrayLike, y: _ArrayLike) -> float: ...
     def to_json(self) -> str: ...
 
 class _Linear(_Subspace):
-    mean_: F64
-    components_: F64
-    def inverse_transform(self, Z: ArrayLike) -> F64: ...
+    mean_: _F64
+    components_: _F64
+    def inverse_transform(self, Z: _ArrayLike) -> _F64: ...
     def axis_images(self, n_components: Optional[int] = None,
-                    shape: Optional[Tuple[int, int]] = None) -> F32: ...
+                    shape: Optional[Tuple[int, int]] = None) -> _F32: ...
 
 class FDKECA(_Linear):
     n_components: Optional[int]
@@ -80,8 +86,8 @@ class FDKECA(_Linear):
     coef0: float
     ordering: str
     center: bool
-    eigenvalues_: F64
-    entropy_: F64
+    eigenvalues_: _F64
+    entropy_: _F64
     kernel_sum_: float
     renyi_entropy_: float
     sigma_: Optional[float]
@@ -95,14 +101,14 @@ class FDKECA(_Linear):
 class PCA(_Linear):
     n_components: Optional[int]
     whiten: bool
-    variances_: F64
+    variances_: _F64
     def __init__(self, n_components: Optional[int] = None, whiten: bool = False,
                  metric: str = "euclidean") -> None: ...
 
 class _SampleKernel(_Subspace):
-    eigenvalues_: F64
-    eigenvectors_: F64
-    embedding_: F64
+    eigenvalues_: _F64
+    eigenvectors_: _F64
+    embedding_: _F64
     sigma_: Optional[float]
     gamma_: Optional[float]
     def __init__(self, n_components: Optional[int] = None, kernel: str = "rbf",
@@ -113,30 +119,30 @@ class _SampleKernel(_Subspace):
 class KernelPCA(_SampleKernel): ...
 
 class KECA(_SampleKernel):
-    entropy_: F64
+    entropy_: _F64
     renyi_entropy_: float
 
-def nn_classify(Z_train: ArrayLike, y_train: ArrayLike, Z_test: ArrayLike,
+def nn_classify(Z_train: _ArrayLike, y_train: _ArrayLike, Z_test: _ArrayLike,
                 metric: str = "euclidean") -> np.ndarray: ...
-def accuracy_curve(model: _Subspace, X_train: ArrayLike, y_train: ArrayLike,
-                   X_test: ArrayLike, y_test: ArrayLike,
+def accuracy_curve(model: _Subspace, X_train: _ArrayLike, y_train: _ArrayLike,
+                   X_test: _ArrayLike, y_test: _ArrayLike,
                    dims: Optional[Sequence[int]] = None,
-                   metric: Optional[str] = None) -> F64: ...
-def best_dimension(curve: ArrayLike) -> Tuple[int, float]: ...
-def select_dimension_cv(model: _Subspace, X: ArrayLike, y: ArrayLike,
+                   metric: Optional[str] = None) -> _F64: ...
+def best_dimension(curve: _ArrayLike) -> Tuple[int, float]: ...
+def select_dimension_cv(model: _Subspace, X: _ArrayLike, y: _ArrayLike,
                         dims: Optional[Sequence[int]] = None, n_folds: int = 5,
-                        seed: int = 0) -> Tuple[int, F64]: ...
-def feature_kernel(X: ArrayLike, kernel: str = "rbf", sigma: Union[float, str, None] = None,
+                        seed: int = 0) -> Tuple[int, _F64]: ...
+def feature_kernel(X: _ArrayLike, kernel: str = "rbf", sigma: Union[float, str, None] = None,
                    sigma_scale: float = 1.0, degree: int = 2,
                    gamma: Union[float, str, None] = None, coef0: float = 1.0,
-                   center: bool = True) -> Tuple[F64, ResolvedKernel]: ...
+                   center: bool = True) -> Tuple[_F64, ResolvedKernel]: ...
 def make_finger_veins(n_subjects: int = 200, n_per_subject: int = 10,
                       size: Tuple[int, int] = (10, 20), canvas: Tuple[int, int] = (40, 80),
                       max_shift: float = 3.5, max_rotation_deg: float = 3.0,
                       noise: float = 0.03, blur: float = 1.0,
-                      seed: int = 0) -> Tuple[F64, I64]: ...
-def split_per_subject(labels: ArrayLike, n_train_per_subject: int,
-                      seed: int = 0) -> Tuple[I64, I64]: ...
+                      seed: int = 0) -> Tuple[_F64, _I64]: ...
+def split_per_subject(labels: _ArrayLike, n_train_per_subject: int,
+                      seed: int = 0) -> Tuple[_I64, _I64]: ...
 
 class PerClassSFA(Estimator):
     classes_: np.ndarray
@@ -185,6 +191,7 @@ class GlobalSFA(Estimator):
     def class_scores(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def decision_function(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def transform(self, X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
+    def fit_transform(self, X: npt.ArrayLike, y: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
     def score(self, X: npt.ArrayLike, y: npt.ArrayLike) -> float: ...
     def save(self, path: str) -> None: ...
     @classmethod

@@ -27,19 +27,18 @@ Units: metres, kilograms, seconds; stiffness in N/m. Positions and velocities ar
 
 from __future__ import annotations
 
-from typing import NamedTuple, Optional, Sequence, Tuple
+from typing import NamedTuple, Optional, Sequence
 
 import numpy as np
 
 from ._native import cloth as _c
+from ._native.cloth import (Collider, Model, capsule, from_mesh, grid, mesh_collider,
+                            particles, plane, sphere)
 from ._checks import _int, integer_ranges as _integer_ranges
 from ._results import tuple_repr as _tuple_repr
 
 __all__ = ["Model", "Sim", "Collider", "particles", "grid", "from_mesh", "plane", "sphere",
            "capsule", "mesh_collider", "Energy"]
-
-Model = _c.Model
-Collider = _c.Collider
 
 
 class Energy(NamedTuple):
@@ -66,76 +65,6 @@ class Energy(NamedTuple):
     total: float
 
     __repr__ = _tuple_repr
-
-
-def plane(normal, point=(0.0, 0.0, 0.0)) -> "Collider":
-    """The solid half-space below the plane through ``point`` with outward ``normal`` (a
-    floor: ``plane((0, 1, 0), (0, y, 0))``)."""
-    return _c.plane([float(c) for c in normal], [float(c) for c in point])
-
-
-def sphere(center, radius: float) -> "Collider":
-    """A solid ball."""
-    return _c.sphere([float(c) for c in center], float(radius))
-
-
-def capsule(a, b, radius: float) -> "Collider":
-    """A solid capsule: the points within ``radius`` of the segment ``a``-``b``."""
-    return _c.capsule([float(c) for c in a], [float(c) for c in b], float(radius))
-
-
-def mesh_collider(vertices, faces) -> "Collider":
-    """A closed triangle mesh obstacle (``vertices`` ``(n, 3)``, ``faces`` ``(m, 3)``, outward
-    counter-clockwise winding), queried through a bounding volume hierarchy."""
-    v = np.ascontiguousarray(np.asarray(vertices, dtype=np.float64))
-    f = np.ascontiguousarray(np.asarray(faces, dtype=np.int64))
-    return _c.mesh_collider(v, f)
-
-
-def particles(positions, masses, pinned: Optional[Sequence[int]] = None) -> "Model":
-    """Particles at ``positions`` ``(n, 3)`` with ``masses`` ``(n,)`` (kg), no constraints
-    yet (add them with ``Model.add_link`` and ``Model.add_roller``); gravity 9.81 m/s^2
-    along -y."""
-    x = np.ascontiguousarray(np.asarray(positions, dtype=np.float64))
-    mass = np.ascontiguousarray(np.asarray(masses, dtype=np.float64).reshape(-1))
-    return _c.particles(x, mass, [int(p) for p in (pinned or [])])
-
-
-def grid(nx: int, ny: int, size: Tuple[float, float] = (1.0, 1.0), mass: float = 0.1,
-         model: str = "links", k_stretch: float = 2000.0, k_shear: Optional[float] = None,
-         k_bend: Optional[float] = None, young: float = 1000.0, poisson: float = 0.3,
-         pinned: Optional[Sequence[int]] = None) -> "Model":
-    """A horizontal ``nx x ny`` cloth in the x-z plane (``size`` metres, total ``mass`` kg),
-    hanging from its two first-row corners; ``pinned`` pins further particles.
-
-    ``model="links"``: structural links (``k_stretch``), shear links on both diagonals
-    (``k_shear``, omitted when None) and bending links two particles apart (``k_bend``).
-    ``model="fem"``: two StVK membrane triangles per quad with ``young`` (N/m) and
-    ``poisson``, warp along x and weft along z.
-    """
-    m = _c.grid(int(nx), int(ny), (float(size[0]), float(size[1])), float(mass), model,
-                float(k_stretch), None if k_shear is None else float(k_shear),
-                None if k_bend is None else float(k_bend), float(young), float(poisson))
-    if pinned is not None:
-        m.pin([int(p) for p in pinned])
-    return m
-
-
-def from_mesh(vertices, faces, mass: float = 0.1, model: str = "fem", young: float = 1000.0,
-              poisson: float = 0.3, k_edge: float = 2000.0, k_bend: Optional[float] = None,
-              pinned: Optional[Sequence[int]] = None) -> "Model":
-    """A cloth from a triangle mesh (``vertices`` ``(n, 3)``, ``faces`` ``(m, 3)``), with
-    ``mass`` lumped to the vertices by area. ``model="fem"`` makes every face a StVK
-    membrane triangle with the mesh's shape at rest; ``model="links"`` makes every edge a link
-    (``k_edge``). With ``k_bend`` (N/m), in both models, a bending link joins the opposite
-    vertices of the two faces of every interior edge."""
-    v = np.ascontiguousarray(np.asarray(vertices, dtype=np.float64))
-    f = np.ascontiguousarray(np.asarray(faces, dtype=np.int64))
-    m = _c.from_mesh(v, f, float(mass), model, float(young), float(poisson), float(k_edge),
-                     None if k_bend is None else float(k_bend))
-    if pinned is not None:
-        m.pin([int(p) for p in pinned])
-    return m
 
 
 class Sim:

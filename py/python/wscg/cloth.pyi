@@ -1,11 +1,12 @@
-from typing import Any, NamedTuple, Optional, Sequence, Tuple
+from typing import final, Any, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 import numpy.typing as npt
 
-F64 = npt.NDArray[np.float64]
+_F64 = npt.NDArray[np.float64]
 
-__all__: list[str]
+__all__ = ["Model", "Sim", "Collider", "particles", "grid", "from_mesh", "plane", "sphere",
+           "capsule", "mesh_collider", "Energy"]
 
 class Energy(NamedTuple):
     kinetic: float
@@ -13,10 +14,11 @@ class Energy(NamedTuple):
     elastic: float
     total: float
 
+@final
 class Model:
-    positions: F64
-    velocities: F64
-    inv_mass: F64
+    positions: _F64
+    velocities: _F64
+    inv_mass: _F64
     counts: Tuple[int, int, int]
     def set_velocities(self, velocities: npt.ArrayLike) -> None: ...
     def set_positions(self, positions: npt.ArrayLike) -> None: ...
@@ -37,8 +39,9 @@ def from_mesh(vertices: npt.ArrayLike, faces: npt.ArrayLike, mass: float = 0.1,
               k_edge: float = 2000.0, k_bend: Optional[float] = None,
               pinned: Optional[Sequence[int]] = None) -> Model: ...
 
+@final
 class Collider:
-    def signed_distance(self, points: npt.ArrayLike) -> F64: ...
+    def signed_distance(self, points: npt.ArrayLike) -> _F64: ...
 
 def plane(normal: Sequence[float], point: Sequence[float] = ...) -> Collider: ...
 def sphere(center: Sequence[float], radius: float) -> Collider: ...
@@ -46,10 +49,14 @@ def capsule(a: Sequence[float], b: Sequence[float], radius: float) -> Collider: 
 def mesh_collider(vertices: npt.ArrayLike, faces: npt.ArrayLike) -> Collider: ...
 
 class Sim:
-    positions: F64
-    velocities: F64
-    multipliers: F64
-    n_steps: int
+    @property
+    def positions(self) -> _F64: ...
+    @property
+    def velocities(self) -> _F64: ...
+    @property
+    def multipliers(self) -> _F64: ...
+    @property
+    def n_steps(self) -> int: ...
     def __init__(self, model: Model, method: str = "soft", n_iter: int = 25,
                  alpha: float = 1.0, beta: float = 1.0, gamma: float = 0.0,
                  lambda_mode: str = "accumulate", velocity_damping: float = 0.0,
@@ -58,6 +65,6 @@ class Sim:
                  max_iter: int = 1000, primal_residual: bool = True) -> None: ...
     def set_collisions(self, colliders: Sequence[Collider] = ..., thickness: float = 0.005,
                        friction: float = 0.3, self_collision: bool = False) -> None: ...
-    def step(self, h: float = ..., n_steps: int = 1) -> F64: ...
+    def step(self, h: float = ..., n_steps: int = 1) -> _F64: ...
     def energy(self) -> Energy: ...
     def model(self) -> Model: ...

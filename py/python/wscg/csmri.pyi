@@ -3,7 +3,11 @@ from typing import List, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 
-__all__: List[str]
+__all__ = ["Udct", "Fdct", "Sflct", "reconstruct", "fcsa", "tvcmri", "watmri",
+           "tv_constrained", "zero_filled", "simulate", "mask_cartesian", "mask_pseudo_radial",
+           "make_shepp_logan_kspace", "make_shepp_logan_reference", "make_shepp_logan_image",
+           "with_smooth_phase", "make_diamond_lattice", "psnr", "rlne", "noise_epsilon",
+           "ReconstructionHistory"]
 
 @dataclass(frozen=True)
 class ReconstructionHistory:

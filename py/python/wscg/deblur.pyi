@@ -3,7 +3,11 @@ from typing import List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 
-__all__: List[str]
+__all__ = ["render_kernel", "kernel_grid", "blurriness", "deconv_krishnan",
+           "deconv_krishnan_multi", "wiener", "richardson_lucy", "convolve",
+           "deblur_piecewise", "deblur_multiframe", "rectify_rolling_shutter",
+           "phase_correlation", "estimate_time_delay", "w_step", "make_gyro", "add_gyro_noise",
+           "render_blurred", "make_scene", "METHODS", "MultiframeDeblur"]
 
 METHODS: Tuple[str, ...]
 

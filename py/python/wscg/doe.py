@@ -13,12 +13,13 @@ condition on the panel means (:func:`fit_rsm`, Tables 2-3), :func:`rm_anova` and
 
 from __future__ import annotations
 
-from typing import List, Optional, Sequence, Tuple, Union
+from typing import List, Optional, Tuple
 
 import numpy as np
 import numpy.typing as npt
 
 from ._native import doe as _d
+from ._native.doe import ccd, decode, encode, panel_pca, williams
 from ._checks import integer_ranges as _integer_ranges
 from ._results import from_mapping as _from_mapping, result as _result
 
@@ -203,55 +204,6 @@ def _f64(a, name: str, ndim: int) -> np.ndarray:
     return arr
 
 
-def ccd(k: int, face: str = "circumscribed", alpha: Union[str, float] = "orthogonal",
-        center: Union[int, Tuple[int, int]] = (4, 4)) -> np.ndarray:
-    """Central composite design in coded units, one row per run (pyDOE3's ``ccdesign``).
-
-    Parameters
-    ----------
-    k : int
-        Number of factors (>= 2).
-    face : {'circumscribed', 'inscribed', 'faced'} (or 'ccc', 'cci', 'ccf')
-        Where the axial points lie; inscribed designs scale everything into [-1, 1].
-    alpha : {'orthogonal', 'rotatable'} or float
-        Axial distance rule (pyDOE3's default is orthogonal).
-    center : int or (int, int)
-        Centre points in the factorial and axial blocks; an int puts them all in the first.
-
-    Returns
-    -------
-    (runs, k) float64 array: factorial block with its centre points, then axial block with its
-    centre points.
-
-    Examples
-    --------
-    >>> ccd(2, "inscribed", "rotatable", (3, 2)).shape   # the paper's 13 runs
-    (13, 2)
-    """
-    c = (int(center), 0) if np.isscalar(center) else tuple(int(v) for v in center)
-    return _d.ccd(int(k), str(face), str(alpha), c)
-
-
-def decode(coded, low: Sequence[float], high: Sequence[float]) -> np.ndarray:
-    """Coded units [-1, 1] to physical units, per factor ``low`` ... ``high``."""
-    return _d.decode(_f64(coded, "coded", 2), [float(v) for v in low], [float(v) for v in high])
-
-
-def encode(physical, low: Sequence[float], high: Sequence[float]) -> np.ndarray:
-    """Physical units to coded units [-1, 1]."""
-    return _d.encode(_f64(physical, "physical", 2), [float(v) for v in low],
-                     [float(v) for v in high])
-
-
-def williams(n: int) -> np.ndarray:
-    """Williams Latin square: presentation orders balanced for first-order carry-over.
-
-    ``n`` rows for even ``n``, ``2n`` rows for odd ``n`` (26 for the paper's 13 plates: one
-    order per observer); every row is a permutation of ``0 .. n-1``.
-    """
-    return np.asarray(_d.williams(int(n)), dtype=np.int64)
-
-
 def fit_rsm(x: npt.ArrayLike, y: npt.ArrayLike, interaction: bool = True) -> RsmFit:
     """Second-order response surface by ordinary least squares.
 
@@ -307,11 +259,6 @@ def lsd(scores, alpha: float = 0.05) -> LeastSignificantDifference:
                          means=np.asarray(d["means"], dtype=np.float64),
                          pairs=[(int(i), int(j), bool(s)) for i, j, s in d["pairs"]])
 
-
-def panel_pca(scores) -> np.ndarray:
-    """Explained-variance ratios of the PCA of the panel (stimuli x subjects, subjects
-    standardised): the first above 0.8 means the observers agree (paper 07, section 5.1)."""
-    return np.asarray(_d.panel_pca(_f64(scores, "scores", 2)))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

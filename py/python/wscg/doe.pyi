@@ -4,17 +4,19 @@ from typing import List, Optional, Sequence, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
-F64 = npt.NDArray[np.float64]
+_F64 = npt.NDArray[np.float64]
 
-__all__: list[str]
+__all__ = ["ccd", "decode", "encode", "williams", "fit_rsm", "fit_rsm_blocked", "rm_anova",
+           "rm_anova_oneway", "lsd", "panel_pca", "RsmFit", "AnovaEffect", "AnovaTable",
+           "LeastSignificantDifference"]
 
 @dataclass(frozen=True)
 class RsmFit:
     names: List[str]
-    coef: F64
-    se: F64
-    t: F64
-    p: F64
+    coef: _F64
+    se: _F64
+    t: _F64
+    p: _F64
     r2: float
     r2_adj: float
     r2_pred: float
@@ -23,13 +25,13 @@ class RsmFit:
     sst: float
     df_resid: int
     sigma2: float
-    leverage: F64
-    residuals: F64
-    fitted: F64
-    stationary: Optional[F64]
+    leverage: _F64
+    residuals: _F64
+    fitted: _F64
+    stationary: Optional[_F64]
     y_stationary: Optional[float]
-    canonical_eigs: F64
-    canonical_axes: F64
+    canonical_eigs: _F64
+    canonical_axes: _F64
 
 @dataclass(frozen=True)
 class AnovaEffect:
@@ -60,14 +62,14 @@ class LeastSignificantDifference:
     ms_error: float
     df_error: int
     lsd: float
-    means: F64
+    means: _F64
     pairs: List[Tuple[int, int, bool]]
     n_separated: int
 
 def ccd(k: int, face: str = "circumscribed", alpha: Union[str, float] = "orthogonal",
-        center: Union[int, Tuple[int, int]] = (4, 4)) -> F64: ...
-def decode(coded: npt.ArrayLike, low: Sequence[float], high: Sequence[float]) -> F64: ...
-def encode(physical: npt.ArrayLike, low: Sequence[float], high: Sequence[float]) -> F64: ...
+        center: Union[int, Tuple[int, int]] = (4, 4)) -> _F64: ...
+def decode(coded: npt.ArrayLike, low: Sequence[float], high: Sequence[float]) -> _F64: ...
+def encode(physical: npt.ArrayLike, low: Sequence[float], high: Sequence[float]) -> _F64: ...
 def williams(n: int) -> npt.NDArray[np.int64]: ...
 def fit_rsm(x: npt.ArrayLike, y: npt.ArrayLike, interaction: bool = True) -> RsmFit: ...
 def fit_rsm_blocked(x: npt.ArrayLike, scores: npt.ArrayLike,
@@ -75,4 +77,4 @@ def fit_rsm_blocked(x: npt.ArrayLike, scores: npt.ArrayLike,
 def rm_anova(scores: npt.ArrayLike) -> AnovaTable: ...
 def rm_anova_oneway(scores: npt.ArrayLike) -> AnovaEffect: ...
 def lsd(scores: npt.ArrayLike, alpha: float = 0.05) -> LeastSignificantDifference: ...
-def panel_pca(scores: npt.ArrayLike) -> F64: ...
+def panel_pca(scores: npt.ArrayLike) -> _F64: ...

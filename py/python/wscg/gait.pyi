@@ -6,16 +6,21 @@ import numpy as np
 import numpy.typing as npt
 from ._estimator import Estimator
 
-ArrayLike = npt.ArrayLike
-F64 = npt.NDArray[np.float64]
-I64 = npt.NDArray[np.int64]
+_ArrayLike = npt.ArrayLike
+_F64 = npt.NDArray[np.float64]
+_I64 = npt.NDArray[np.int64]
 _Joint = Union[str, int]
-_Pairs = Union[ArrayLike, Sequence[Tuple[_Joint, _Joint]]]
+_Pairs = Union[_ArrayLike, Sequence[Tuple[_Joint, _Joint]]]
 _Cycle = Union[Tuple[int, int, int], "CycleDetails", Dict[str, Any]]
-_Sample = Union[ArrayLike, Sequence[ArrayLike]]
+_Sample = Union[_ArrayLike, Sequence[_ArrayLike]]
 _Cost = Literal["abs", "squared"]
 
-__all__: List[str]
+__all__ = ["JOINT_NAMES", "N_PAIRS", "all_pairs", "jra", "detect_cycle", "jra_sequences",
+           "relevance_matrix", "occupied_bins", "select_pairs", "dtw", "dtw_path",
+           "dtw_kernel", "dissimilarity_matrix", "nearest", "load_ts", "load_skeleton",
+           "save_skeleton_csv", "ball_features", "preis_features", "GaitRecognizer",
+           "make_walkers", "evaluate_synthetic", "GaitCycle", "CycleDetails", "SyntheticWalks",
+           "GaitEvaluation"]
 
 JOINT_NAMES: List[str]
 N_PAIRS: int
@@ -30,19 +35,19 @@ class CycleDetails:
     start: int
     mid: int
     end: int
-    ankle_dist: F64
-    minima: I64
+    ankle_dist: _F64
+    minima: _I64
     first_step: Optional[str]
     @property
     def cycle(self) -> GaitCycle: ...
 
 @dataclass(frozen=True)
 class SyntheticWalks:
-    frames: List[F64]
-    labels: I64
-    sessions: I64
-    minima: List[I64]
-    walk_frames: I64
+    frames: List[_F64]
+    labels: _I64
+    sessions: _I64
+    minima: List[_I64]
+    walk_frames: _I64
     sit_tail: List[bool]
 
 @dataclass(frozen=True)
@@ -59,50 +64,50 @@ class GaitEvaluation:
     preis_nb: float
     preis_nn: float
     chosen_t: List[float]
-    curve: F64
-    relevance: F64
+    curve: _F64
+    relevance: _F64
 
-def all_pairs(reference: _Joint = "SpineBase") -> I64: ...
-def jra(p1: ArrayLike, p2: ArrayLike, r: ArrayLike) -> float: ...
+def all_pairs(reference: _Joint = "SpineBase") -> _I64: ...
+def jra(p1: _ArrayLike, p2: _ArrayLike, r: _ArrayLike) -> float: ...
 @overload
-def detect_cycle(frames: ArrayLike, fps: float = 30.0, smooth_window: int = 5,
+def detect_cycle(frames: _ArrayLike, fps: float = 30.0, smooth_window: int = 5,
                  min_step_s: float = 0.25, min_prominence: float = 0.2,
-                 up: Union[Literal["estimate", "y"], ArrayLike] = "estimate",
+                 up: Union[Literal["estimate", "y"], _ArrayLike] = "estimate",
                  choice: Literal["first", "most_regular"] = "first",
                  start_leg: Literal["left", "right", "any"] = "left",
                  return_details: Literal[False] = False) -> GaitCycle: ...
 @overload
-def detect_cycle(frames: ArrayLike, fps: float = 30.0, smooth_window: int = 5,
+def detect_cycle(frames: _ArrayLike, fps: float = 30.0, smooth_window: int = 5,
                  min_step_s: float = 0.25, min_prominence: float = 0.2,
-                 up: Union[Literal["estimate", "y"], ArrayLike] = "estimate",
+                 up: Union[Literal["estimate", "y"], _ArrayLike] = "estimate",
                  choice: Literal["first", "most_regular"] = "first",
                  start_leg: Literal["left", "right", "any"] = "left", *,
                  return_details: Literal[True]) -> CycleDetails: ...
-def jra_sequences(frames: ArrayLike, cycle: Optional[_Cycle] = None,
+def jra_sequences(frames: _ArrayLike, cycle: Optional[_Cycle] = None,
                   pairs: Optional[_Pairs] = None, reference: _Joint = "SpineBase",
-                  fps: float = 30.0) -> F64: ...
-def occupied_bins(theta_rad: ArrayLike, bin_deg: float = 1.0, lo_deg: float = 0.0,
+                  fps: float = 30.0) -> _F64: ...
+def occupied_bins(theta_rad: _ArrayLike, bin_deg: float = 1.0, lo_deg: float = 0.0,
                   hi_deg: float = 180.0) -> int: ...
-def relevance_matrix(samples: Sequence[ArrayLike], bin_deg: float = 1.0, lo_deg: float = 0.0,
-                     hi_deg: float = 180.0, reference: _Joint = "SpineBase") -> F64: ...
-def select_pairs(relevance: ArrayLike, min_bins: float = 20.0) -> I64: ...
-def dtw(a: ArrayLike, b: ArrayLike, cost: _Cost = "abs", window: Optional[int] = None,
+def relevance_matrix(samples: Sequence[_ArrayLike], bin_deg: float = 1.0, lo_deg: float = 0.0,
+                     hi_deg: float = 180.0, reference: _Joint = "SpineBase") -> _F64: ...
+def select_pairs(relevance: _ArrayLike, min_bins: float = 20.0) -> _I64: ...
+def dtw(a: _ArrayLike, b: _ArrayLike, cost: _Cost = "abs", window: Optional[int] = None,
         normalize: bool = False) -> float: ...
-def dtw_path(a: ArrayLike, b: ArrayLike, cost: _Cost = "abs", window: Optional[int] = None,
-             normalize: bool = False) -> Tuple[float, I64]: ...
+def dtw_path(a: _ArrayLike, b: _ArrayLike, cost: _Cost = "abs", window: Optional[int] = None,
+             normalize: bool = False) -> Tuple[float, _I64]: ...
 def dtw_kernel(A: _Sample, B: _Sample, cost: _Cost = "abs", window: Optional[int] = None,
                normalize: bool = False) -> float: ...
 def dissimilarity_matrix(As: Sequence[_Sample], Bs: Optional[Sequence[_Sample]] = None,
                          cost: _Cost = "abs", window: Optional[int] = None,
-                         normalize: bool = False) -> F64: ...
+                         normalize: bool = False) -> _F64: ...
 def nearest(query: _Sample, gallery: Sequence[_Sample], cost: _Cost = "abs",
             window: Optional[int] = None, normalize: bool = False) -> Tuple[int, float]: ...
-def load_ts(path: Any) -> Tuple[List[List[F64]], List[str]]: ...
-def load_skeleton(path: Any, fps: float = 30.0) -> F64: ...
-def save_skeleton_csv(path: Any, frames: ArrayLike, fps: float = 30.0) -> None: ...
-def ball_features(frames: ArrayLike, cycle: Optional[_Cycle] = None, fps: float = 30.0) -> F64: ...
-def preis_features(frames: ArrayLike, cycle: Optional[_Cycle] = None,
-                   fps: float = 30.0) -> F64: ...
+def load_ts(path: Any) -> Tuple[List[List[_F64]], List[str]]: ...
+def load_skeleton(path: Any, fps: float = 30.0) -> _F64: ...
+def save_skeleton_csv(path: Any, frames: _ArrayLike, fps: float = 30.0) -> None: ...
+def ball_features(frames: _ArrayLike, cycle: Optional[_Cycle] = None, fps: float = 30.0) -> _F64: ...
+def preis_features(frames: _ArrayLike, cycle: Optional[_Cycle] = None,
+                   fps: float = 30.0) -> _F64: ...
 
 class GaitRecognizer(Estimator):
     min_bins: float
@@ -113,19 +118,19 @@ class GaitRecognizer(Estimator):
     bin_deg: float
     start_leg: str
     fps: float
-    pairs_: I64
-    relevance_: F64
+    pairs_: _I64
+    relevance_: _F64
     classes_: np.ndarray
     def __init__(self, min_bins: float = 20.0, vote: str = "nearest",
                  n_neighbors: Optional[int] = None, cost: _Cost = "abs",
                  window: Optional[int] = None, bin_deg: float = 1.0,
                  start_leg: Literal["left", "right", "any"] = "left",
                  fps: float = 30.0) -> None: ...
-    def fit(self, X: Sequence[ArrayLike], y: Sequence[Hashable]) -> "GaitRecognizer": ...
-    def predict(self, X: Sequence[ArrayLike]) -> np.ndarray: ...
-    def score(self, X: Sequence[ArrayLike], y: Sequence[Hashable]) -> float: ...
-    def rank(self, frames: ArrayLike) -> Tuple[np.ndarray, F64]: ...
-    def rank_indices(self, frames: ArrayLike) -> Tuple[I64, F64]: ...
+    def fit(self, X: Sequence[_ArrayLike], y: Sequence[Hashable]) -> "GaitRecognizer": ...
+    def predict(self, X: Sequence[_ArrayLike]) -> np.ndarray: ...
+    def score(self, X: Sequence[_ArrayLike], y: Sequence[Hashable]) -> float: ...
+    def rank(self, frames: _ArrayLike) -> Tuple[np.ndarray, _F64]: ...
+    def rank_indices(self, frames: _ArrayLike) -> Tuple[_I64, _F64]: ...
 
 def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
                   heading_deg: Tuple[float, float] = (-60.0, 60.0),

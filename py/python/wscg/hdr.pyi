@@ -3,7 +3,11 @@ from typing import Dict, List, Literal, NamedTuple, Optional, Sequence, Tuple, U
 
 import numpy as np
 
-__all__: List[str]
+__all__ = ["multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
+           "warp_direct", "calibrate_debevec", "calibrate_mitsunaga_nayar", "to_radiance",
+           "khan_weight", "merge", "merge_stack", "make_scene", "rmse_log2", "bad_rate",
+           "incoherence", "ALIGN_METHODS", "SYNTHESIS_METHODS", "CRF_NAMES", "HdrSequence",
+           "PolynomialResponse", "HdrScene"]
 
 ALIGN_METHODS: Tuple[str, ...]
 SYNTHESIS_METHODS: Tuple[str, ...]

@@ -1,16 +1,22 @@
 import os
 from dataclasses import dataclass
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, overload, Literal
+from typing import final, Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, overload, Literal
 
 import numpy as np
 import numpy.typing as npt
 
-F64 = npt.NDArray[np.float64]
-C128 = npt.NDArray[np.complex128]
-I64 = npt.NDArray[np.int64]
+_F64 = npt.NDArray[np.float64]
+_C128 = npt.NDArray[np.complex128]
+_I64 = npt.NDArray[np.int64]
 from ._estimator import Estimator
 
-__all__: list[str]
+__all__ = ["make_synthetic_dataset", "AnechoicModel", "fit_anechoic", "pca_quality",
+           "pca_qualities", "quality", "StepwiseModel", "fit_stepwise", "Library",
+           "plan_steps", "Synthesizer", "save_bvh", "load_bvh", "forward_kinematics",
+           "skeleton", "regression_p_value", "fit_line", "svr_fit_predict", "hopf_simulate",
+           "ACTIONS", "DELAY_MODES", "MAPS", "N_CHANNELS", "MotionTruth", "MotionDataset",
+           "ActionFit", "StepPlan", "Synthesis", "BvhMotion", "Skeleton", "LineFit", "SvrInfo",
+           "HopfTrajectory"]
 
 ACTIONS: Tuple[str, str, str]
 DELAY_MODES: Tuple[str, ...]
@@ -19,29 +25,29 @@ N_CHANNELS: int
 
 @dataclass(frozen=True)
 class MotionTruth:
-    periodic: F64
-    sources: F64
-    source_coeffs: C128
-    delays: F64
-    weights: F64
-    means: F64
-    w0: F64
+    periodic: _F64
+    sources: _F64
+    source_coeffs: _C128
+    delays: _F64
+    weights: _F64
+    means: _F64
+    w0: _F64
 
 @dataclass(frozen=True)
 class MotionDataset:
-    angles: F64
-    step_length: F64
-    duration: F64
-    root: F64
-    distances: F64
+    angles: _F64
+    step_length: _F64
+    duration: _F64
+    root: _F64
+    distances: _F64
     truth: MotionTruth
 
 
 @dataclass(frozen=True)
 class ActionFit:
-    means: F64
-    w0: F64
-    weights: F64
+    means: _F64
+    w0: _F64
+    weights: _F64
     q: float
     n_sources: int
 
@@ -55,28 +61,28 @@ class StepPlan:
 
 @dataclass(frozen=True)
 class Synthesis:
-    angles: F64
-    root_x: F64
-    time: F64
-    phase: F64
-    action: I64
+    angles: _F64
+    root_x: _F64
+    time: _F64
+    phase: _F64
+    action: _I64
     executed: List[Tuple[str, float]]
-    transitions: F64
+    transitions: _F64
     too_short: bool
     goal: float
 
 @dataclass(frozen=True)
 class BvhMotion:
-    angles: F64
-    root: F64
+    angles: _F64
+    root: _F64
     frame_time: float
 
 @dataclass(frozen=True)
 class Skeleton:
     names: List[str]
-    parents: I64
-    offsets: F64
-    bones: I64
+    parents: _I64
+    offsets: _F64
+    bones: _I64
 
 @dataclass(frozen=True)
 class LineFit:
@@ -94,10 +100,10 @@ class SvrInfo:
 
 @dataclass(frozen=True)
 class HopfTrajectory:
-    time: F64
-    leader: F64
-    followers: F64
-    leader_phase: F64
+    time: _F64
+    leader: _F64
+    followers: _F64
+    leader_phase: _F64
 
 def make_synthetic_dataset(n_trials: int = 40, seed: int = 0, noise: float = 0.01,
                            human_like: bool = False, n_samples: int = 100,
@@ -132,6 +138,7 @@ def pca_qualities(X: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
 def pca_quality(X: npt.ArrayLike, j: int) -> float: ...
 def quality(X: npt.ArrayLike, Xhat: npt.ArrayLike) -> float: ...
 
+@final
 class Library:
     @property
     def q_total(self) -> float: ...

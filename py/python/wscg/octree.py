@@ -40,6 +40,7 @@ from typing import Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._native import octree as _o
+from ._native.octree import bvh_intersect, make_scene, voxelize
 from ._checks import integer_ranges as _integer_ranges
 from ._results import from_mapping as _from_mapping, result as _result
 
@@ -384,40 +385,6 @@ def from_bytes(data: bytes) -> HybridOctree:
     """A tree from :meth:`HybridOctree.to_bytes`."""
     return HybridOctree(_o.from_bytes(bytes(data)))
 
-
-def voxelize(vertices, faces, depth: int, domain: Tuple[Sequence[float], float]):
-    """Exact surface voxelization: every (finest cell, triangle) pair whose closed boxes
-    overlap (separating-axis test), in the cube ``domain = (min_xyz, side)``. Returns integer
-    cells ``(K, 3)`` as ``(k, j, i)`` (array axis order, ``i`` along x; see the module
-    documentation) and triangle indices ``(K,)``, sorted by Morton code then triangle;
-    zero-area triangles produce nothing."""
-    v, f, _ = _mesh(vertices, faces)
-    if not 0 <= int(depth) <= 255:
-        raise ValueError(f"depth must be in 0..=21, got {depth}")
-    return _o.voxelize(v, f, int(depth), [float(x) for x in domain[0]], float(domain[1]))
-
-
-def bvh_intersect(vertices, faces, origins, dirs) -> Tuple[np.ndarray, np.ndarray]:
-    """Nearest triangle hits by a binned-SAH BVH (the baseline): ``t`` (inf on a miss) and
-    ``prim`` (-1 on a miss)."""
-    v, f, _ = _mesh(vertices, faces)
-    o, d = _rays(origins, dirs)
-    return _o.bvh_intersect(v, f, o, d)
-
-
-def make_scene(name: str, size: Optional[int] = None, seed: int = 3):
-    """A synthetic scene ``(vertices, faces, colors)``: ``"atrium"`` (``size`` pillars per
-    row, default 10), ``"city"`` (``size x size`` buildings, default 40), ``"blob"``
-    (icosphere subdivisions, default 8: 1,310,720 triangles), ``"forest"`` (13 trees of
-    ``size`` branch levels, default 6: about 1.4 M triangles) or ``"square"`` (the exact
-    case: two triangles at z = 1/3 in the unit cube)."""
-    defaults = {"atrium": 10, "city": 40, "blob": 8, "forest": 6, "square": 0}
-    if name not in defaults:
-        raise ValueError(f"`name`: scene {name!r} is not valid; valid: {', '.join(defaults)}")
-    s = defaults[name] if size is None else int(size)
-    if s < 0:
-        raise ValueError(f"size must be >= 0, got {size}")
-    return _o.scene(name, s, int(seed))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

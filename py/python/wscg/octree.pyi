@@ -1,9 +1,10 @@
 from dataclasses import dataclass
-from typing import Literal, Optional, Sequence, Tuple, overload
+from typing import Any, Literal, Optional, Sequence, Tuple, overload
 
 import numpy as np
 
-__all__: list[str]
+__all__ = ["HybridOctree", "build", "load", "from_bytes", "voxelize", "bvh_intersect",
+           "make_scene", "BuildStats", "MemoryReport", "RayHits", "RenderStats"]
 
 @dataclass(frozen=True)
 class BuildStats:
@@ -44,6 +45,7 @@ class RenderStats:
 
 class HybridOctree:
     stats: Optional[BuildStats]
+    def __init__(self, native: Any, stats: Optional[BuildStats] = None) -> None: ...
     @property
     def depth(self) -> int: ...
     @property

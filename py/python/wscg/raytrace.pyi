@@ -1,13 +1,18 @@
 from dataclasses import dataclass
-from typing import Any, List, Optional, Sequence, Tuple, Union
+from typing import final, Any, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
 
-F32 = npt.NDArray[np.float32]
-F64 = npt.NDArray[np.float64]
+_F32 = npt.NDArray[np.float32]
+_F64 = npt.NDArray[np.float64]
 
-__all__: list[str]
+__all__ = ["render_plate", "xyz_to_srgb", "make_tile", "plate_layout", "glint_stats",
+           "binocular_overlap", "workshop", "fresnel_conductor", "fresnel_dielectric",
+           "aluminium_nk", "daylight", "spectrum_to_xyz", "project", "FLAKE_DTYPE",
+           "PlateInfo", "GlintStats", "WorkshopScores", "ManyLightScene",
+           "make_manylight_scene", "manylight_from_arrays", "load_manylight_obj",
+           "render_manylight", "ManyLightStats"]
 FLAKE_DTYPE: np.dtype
 
 @dataclass(frozen=True)
@@ -17,8 +22,8 @@ class PlateInfo:
     mm_per_px: float
     lamp_y: float
     region_mm: Tuple[float, float, float, float]
-    bands_nm: Optional[F64] = None
-    spectrum: Optional[F32] = None
+    bands_nm: Optional[_F64] = None
+    spectrum: Optional[_F32] = None
 
 @dataclass(frozen=True)
 class GlintStats:
@@ -34,11 +39,11 @@ class GlintStats:
 @dataclass(frozen=True)
 class WorkshopScores:
     runs: List[Tuple[float, float]]
-    scores: F64
-    features: F64
-    reference_features: F64
+    scores: _F64
+    features: _F64
+    reference_features: _F64
     feature_names: List[str]
-    scale_log: F64
+    scale_log: _F64
 
 @dataclass(frozen=True)
 class ManyLightStats:
@@ -47,7 +52,7 @@ class ManyLightStats:
     setup_seconds: float
     cache_seconds: float
     render_seconds: float
-    records: F64
+    records: _F64
     record_pixels: npt.NDArray[np.int64]
     record_inserted: npt.NDArray[np.bool_]
     n_records: Optional[int] = None
@@ -56,7 +61,7 @@ class ManyLightStats:
     n_cache_shadow_rays: Optional[int] = None
     cache_bytes: Optional[int] = None
 
-def xyz_to_srgb(xyz: npt.ArrayLike, exposure: float = 1.0) -> F32: ...
+def xyz_to_srgb(xyz: npt.ArrayLike, exposure: float = 1.0) -> _F32: ...
 def render_plate(eye: str = "cyclopean", color_space: str = "xyz", return_info: bool = False, *,
                  radius_um: float = 30.0, radius_cv: float = 0.15, thickness_um: float = 0.5,
                  density: float = 6.5, tilt: str = "halfnormal", tilt_deg: float = 8.0,
@@ -74,8 +79,8 @@ def render_plate(eye: str = "cyclopean", color_space: str = "xyz", return_info: 
                  magnification: float = 1.0, independent_samples: bool = False,
                  color_mode: str = "spectral", keep_spectrum: bool = False,
                  n_photons: int = 2_000_000, n_photon_neighbors: int = 50
-                 ) -> Union[F32, Tuple[F32, F32], Tuple[F32, PlateInfo],
-                            Tuple[Tuple[F32, PlateInfo], Tuple[F32, PlateInfo]]]: ...
+                 ) -> Union[_F32, Tuple[_F32, _F32], Tuple[_F32, PlateInfo],
+                            Tuple[Tuple[_F32, PlateInfo], Tuple[_F32, PlateInfo]]]: ...
 def make_tile(*, radius_um: float = 30.0, radius_cv: float = 0.15, thickness_um: float = 0.5,
               density: float = 6.5, tilt: str = "halfnormal", tilt_deg: float = 8.0,
               layer_um: float = 20.24, tile_um: float = 450.0, model: str = "boolean",
@@ -109,15 +114,16 @@ def workshop(reference: Tuple[float, float] = (26.0, 7.3),
              magnification: float = 4.0, independent_samples: bool = False,
              color_mode: str = "spectral", keep_spectrum: bool = False,
              n_photons: int = 2_000_000, n_photon_neighbors: int = 50) -> WorkshopScores: ...
-def fresnel_conductor(cos_i: npt.ArrayLike, n: float, k: float) -> F64: ...
-def fresnel_dielectric(cos_i: npt.ArrayLike, eta: float) -> F64: ...
-def aluminium_nk(lambda_nm: npt.ArrayLike) -> F64: ...
-def daylight(cct_k: float) -> F64: ...
-def spectrum_to_xyz(spd: npt.ArrayLike) -> F64: ...
-def project(points: npt.ArrayLike, eye: str = "cyclopean") -> F64: ...
+def fresnel_conductor(cos_i: npt.ArrayLike, n: float, k: float) -> _F64: ...
+def fresnel_dielectric(cos_i: npt.ArrayLike, eta: float) -> _F64: ...
+def aluminium_nk(lambda_nm: npt.ArrayLike) -> _F64: ...
+def daylight(cct_k: float) -> _F64: ...
+def spectrum_to_xyz(spd: npt.ArrayLike) -> _F64: ...
+def project(points: npt.ArrayLike, eye: str = "cyclopean") -> _F64: ...
 
 
 # Paper 08: many-light rendering with adaptive importance caching.
+@final
 class ManyLightScene:
     @property
     def n_triangles(self) -> int: ...
@@ -127,9 +133,9 @@ class ManyLightScene:
     def n_skipped_degenerate(self) -> int: ...
     @property
     def camera(self) -> dict: ...
-    def triangle_vertices(self) -> F64: ...
-    def triangle_albedo(self) -> F64: ...
-    def triangle_emission(self) -> F64: ...
+    def triangle_vertices(self) -> _F64: ...
+    def triangle_albedo(self) -> _F64: ...
+    def triangle_emission(self) -> _F64: ...
     def occluded(self, origins: npt.ArrayLike, targets: npt.ArrayLike) -> npt.NDArray[np.bool_]: ...
 
 def make_manylight_scene(name: str = "cornell", subdiv: int = 1, width: int = 256,
@@ -144,4 +150,4 @@ def render_manylight(scene: ManyLightScene, method: str = "adaptive",
                      seed: int = 0, vpl_seed: int = 0, clamp_dist: Optional[float] = None,
                      m_nearest: int = 3, delta: float = 0.5, init_fraction: float = 0.6,
                      theta_max: float = ..., lam: float = 5.0,
-                     dmax_factor: float = 2.0) -> Tuple[F32, ManyLightStats]: ...
+                     dmax_factor: float = 2.0) -> Tuple[_F32, ManyLightStats]: ...

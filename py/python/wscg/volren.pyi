@@ -7,7 +7,11 @@ import numpy.typing as npt
 
 Roi = Tuple[int, int, int, int, int, int]
 
-__all__: list[str]
+__all__ = ["HybridServer", "HybridClient", "render_reference", "make_phantom", "phantom_tfs",
+           "octree_address", "orbit_camera", "haar_blocks", "SizeReport", "render",
+           "PreparedVolume", "light_buffer", "preintegration_table", "make_marschner_lobb",
+           "marschner_lobb_tf", "tissue_tf", "skin_tf", "labels_to_density", "load_vti",
+           "mean_abs_diff", "study", "METHODS", "KERNELS", "IlluminationStudy", "StudyEntry"]
 
 @dataclass(frozen=True)
 class SizeReport:
@@ -39,8 +43,10 @@ def orbit_camera(shape: Sequence[int], azimuth: float = 30.0, elevation: float =
                  fov_deg: float = 30.0) -> dict: ...
 
 class HybridServer:
-    leaf_count: int
-    node_counts: List[int]
+    @property
+    def leaf_count(self) -> int: ...
+    @property
+    def node_counts(self) -> List[int]: ...
     def __init__(self, volume: npt.ArrayLike, tfs: Sequence[npt.ArrayLike], canonical: int = 0,
                  steps_sent: int = 2, delta: float = 2.0) -> None: ...
     def static_package(self) -> bytes: ...
@@ -49,9 +55,12 @@ class HybridServer:
                     viewport: Tuple[int, int] = (1080, 1920)) -> SizeReport: ...
 
 class HybridClient:
-    roi: Optional[Roi]
-    lowres: npt.NDArray[np.float32]
-    shape: Tuple[int, int, int]
+    @property
+    def roi(self) -> Optional[Roi]: ...
+    @property
+    def lowres(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def shape(self) -> Tuple[int, int, int]: ...
     def __init__(self, static_package: bytes) -> None: ...
     def set_roi(self, roi_package: bytes) -> None: ...
     def clear_roi(self) -> None: ...

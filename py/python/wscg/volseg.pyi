@@ -4,15 +4,17 @@ from typing import List, Literal, Optional, Sequence, Tuple, Union, overload
 import numpy as np
 import numpy.typing as npt
 
-ArrayLike = npt.ArrayLike
-F32 = npt.NDArray[np.float32]
-U16 = npt.NDArray[np.uint16]
-Bool = npt.NDArray[np.bool_]
+_ArrayLike = npt.ArrayLike
+_F32 = npt.NDArray[np.float32]
+_U16 = npt.NDArray[np.uint16]
+_Bool = npt.NDArray[np.bool_]
 _Norm = Union[Literal["window", "minmax", "none"], Tuple[Literal["window"], float, float]]
 _Solver = Literal["block", "per_label"]
 _Precision = Literal["f32", "f64"]
 
-__all__: List[str]
+__all__ = ["random_walker_bone", "RandomWalkerSession", "nearest_seed", "dice", "bone_mask",
+           "smooth", "local_grow_edit", "remove_small_components",
+           "make_fractured_shell_phantom", "SolveReport"]
 
 @dataclass(frozen=True)
 class SolveReport:
@@ -29,57 +31,57 @@ class SolveReport:
 DEFAULT_WINDOW: Tuple[float, float]
 
 @overload
-def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
+def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ..., beta: float = ...,
                        eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
                        spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                        norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
                        precision: _Precision = ..., jacobi: bool = ...,
                        n_threads: Optional[int] = ..., return_prob: Literal[False] = ...,
-                       return_report: Literal[False] = ...) -> U16: ...
+                       return_report: Literal[False] = ...) -> _U16: ...
 @overload
-def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
+def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ..., beta: float = ...,
                        eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
                        spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                        norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
                        precision: _Precision = ..., jacobi: bool = ...,
                        n_threads: Optional[int] = ..., return_prob: Literal[True],
-                       return_report: Literal[False] = ...) -> Tuple[U16, F32]: ...
+                       return_report: Literal[False] = ...) -> Tuple[_U16, _F32]: ...
 @overload
-def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
+def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ..., beta: float = ...,
                        eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
                        spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                        norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
                        precision: _Precision = ..., jacobi: bool = ...,
                        n_threads: Optional[int] = ..., return_prob: Literal[False] = ...,
-                       return_report: Literal[True]) -> Tuple[U16, SolveReport]: ...
+                       return_report: Literal[True]) -> Tuple[_U16, SolveReport]: ...
 @overload
-def random_walker_bone(ct: ArrayLike, seeds: ArrayLike, *, t_bone: float = ..., beta: float = ...,
+def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ..., beta: float = ...,
                        eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
                        spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                        norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
                        precision: _Precision = ..., jacobi: bool = ...,
                        n_threads: Optional[int] = ..., return_prob: Literal[True],
-                       return_report: Literal[True]) -> Tuple[U16, F32, SolveReport]: ...
+                       return_report: Literal[True]) -> Tuple[_U16, _F32, SolveReport]: ...
 
 class RandomWalkerSession:
-    def __init__(self, ct: ArrayLike, mask: Optional[ArrayLike] = None, *, t_bone: float = ...,
+    def __init__(self, ct: _ArrayLike, mask: Optional[_ArrayLike] = None, *, t_bone: float = ...,
                  beta: float = ..., eps: float = ..., kappa: float = ..., tol: float = ...,
                  max_iter: int = ..., spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                  norm: _Norm = ..., spacing_in_weights: bool = ..., solver: _Solver = ...,
                  precision: _Precision = ..., jacobi: bool = ...,
                  n_threads: Optional[int] = ...) -> None: ...
-    def set_seeds(self, seeds: ArrayLike) -> int: ...
-    def add_seeds(self, zyx_indices: ArrayLike, label: int) -> int: ...
+    def set_seeds(self, seeds: _ArrayLike) -> int: ...
+    def add_seeds(self, zyx_indices: _ArrayLike, label: int) -> int: ...
     def solve(self, warm_start: bool = True) -> SolveReport: ...
     def report(self) -> Optional[SolveReport]: ...
-    def labels(self) -> U16: ...
-    def probabilities(self, label: Optional[int] = None) -> F32: ...
-    def seeds(self) -> U16: ...
-    def nearest_seed(self) -> U16: ...
+    def labels(self) -> _U16: ...
+    def probabilities(self, label: Optional[int] = None) -> _F32: ...
+    def seeds(self) -> _U16: ...
+    def nearest_seed(self) -> _U16: ...
     @property
     def n_nodes(self) -> int: ...
     @property
@@ -91,19 +93,19 @@ class RandomWalkerSession:
     @property
     def graph_bytes(self) -> int: ...
 
-def nearest_seed(ct: ArrayLike, seeds: ArrayLike, t_bone: float = 300.0, *,
-                 mask: Optional[ArrayLike] = None) -> U16: ...
-def dice(a: ArrayLike, b: ArrayLike) -> float: ...
-def bone_mask(ct: ArrayLike, t_bone: float = 300.0, *, n_smooth_passes: int = 0,
-              spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> Bool: ...
-def smooth(ct: ArrayLike, n_passes: int = 1, *,
-           spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> F32: ...
-def local_grow_edit(labels: ArrayLike, ct: ArrayLike, center_zyx: Sequence[float], radius: float,
+def nearest_seed(ct: _ArrayLike, seeds: _ArrayLike, t_bone: float = 300.0, *,
+                 mask: Optional[_ArrayLike] = None) -> _U16: ...
+def dice(a: _ArrayLike, b: _ArrayLike) -> float: ...
+def bone_mask(ct: _ArrayLike, t_bone: float = 300.0, *, n_smooth_passes: int = 0,
+              spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> _Bool: ...
+def smooth(ct: _ArrayLike, n_passes: int = 1, *,
+           spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> _F32: ...
+def local_grow_edit(labels: _ArrayLike, ct: _ArrayLike, center_zyx: Sequence[float], radius: float,
                     active: int, t_bone: float = 300.0, *, norm: _Norm = "window",
                     ratio: float = 0.5, gradient: float = 0.3, distance: float = 0.2,
                     gradient_scale: float = 0.05, tau: float = 0.5,
-                    max_sweeps: int = 10) -> Tuple[U16, int]: ...
-def remove_small_components(labels: ArrayLike, min_voxels: int) -> Tuple[U16, int]: ...
+                    max_sweeps: int = 10) -> Tuple[_U16, int]: ...
+def remove_small_components(labels: _ArrayLike, min_voxels: int) -> Tuple[_U16, int]: ...
 @overload
 def make_fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
                                  seed: int = 0, *, return_distance: Literal[False] = ...,
@@ -112,7 +114,7 @@ def make_fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragm
                                  gap_width: float = 0.75, blur_sigma: float = 0.8,
                                  noise_hu: float = 30.0, t_bone: float = 300.0,
                                  stroke_radius: float = 2.0, stroke_margin: float = 4.0,
-                                 surface_strokes: bool = False) -> Tuple[F32, U16, U16]: ...
+                                 surface_strokes: bool = False) -> Tuple[_F32, _U16, _U16]: ...
 @overload
 def make_fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
                                  seed: int = 0, *, return_distance: Literal[True],
@@ -121,4 +123,4 @@ def make_fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragm
                                  gap_width: float = 0.75, blur_sigma: float = 0.8,
                                  noise_hu: float = 30.0, t_bone: float = 300.0,
                                  stroke_radius: float = 2.0, stroke_margin: float = 4.0,
-                                 surface_strokes: bool = False) -> Tuple[F32, U16, U16, F32]: ...
+                                 surface_strokes: bool = False) -> Tuple[_F32, _U16, _U16, _F32]: ...

@@ -1,0 +1,128 @@
+//! Argument conversion shared by the bindings that Python calls directly (no Python wrapper
+//! in between): each function turns one Python argument into the value the binding needs,
+//! or raises a `ValueError` that names the argument, with the messages of py/API.md
+//! ("`name` must be ...").
+//!
+//! - arrays: [`array`] takes any array-like of real numbers (lists, other dtypes,
+//!   non-contiguous views) and gives a C-contiguous array of the element type the binding
+//!   works in, refusing complex, string and object data by name; [`indices`] reads an
+//!   optional list of indices, [`mesh`] a triangle mesh;
+//! - numbers: [`uint`] checks a count, size or seed taken as `i128` (so that a negative or
+//!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
+//!   argument, not the conversion's bare `OverflowError`); [`finite3`] checks a 3-vector;
+//! - choices among names are [`crate::convert::choice`].
+
+use numpy::{Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::PyType;
+
+use crate::errors::value_error;
+
+/// `numpy`, imported once.
+fn numpy(py: Python<'_>) -> PyResult<&Bound<'_, PyModule>> {
+    static NUMPY: PyOnceLock<Py<PyModule>> = PyOnceLock::new();
+    Ok(NUMPY
+        .get_or_try_init(py, || py.import("numpy").map(Bound::unbind))?
+        .bind(py))
+}
+
+/// `obj` as a C-contiguous array of `T`: an array of `T` as it is (a view is copied later by
+/// [`crate::convert::values`]), anything else through `numpy.asarray` and a cast. Booleans,
+/// integers and floats are numeric; complex data is refused ("must be real-valued") and so
+/// is any other dtype ("must be a numeric array"), naming `name`. Integer targets refuse
+/// floats with a fractional part ("must be an integer array").
+pub fn array<'py, T: Element>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<PyReadonlyArrayDyn<'py, T>> {
+    if let Ok(a) = obj.cast::<PyArrayDyn<T>>() {
+        return Ok(a.readonly());
+    }
+    let py = obj.py();
+    let np = numpy(py)?;
+    let a = np
+        .call_method1("asarray", (obj,))
+        .map_err(|e| value_error(format!("`{name}` must be a numeric array: {e}")))?;
+    let dtype = a.getattr("dtype")?;
+    let kind: char = dtype.getattr("kind")?.extract()?;
+    let target = T::get_dtype(py);
+    let integral_target = matches!(target.kind(), b'i' | b'u');
+    match kind {
+        'b' | 'i' | 'u' => {}
+        'f' if !integral_target => {}
+        'f' => {
+            let whole: bool = np
+                .call_method1("array_equal", (&a, np.call_method1("trunc", (&a,))?))?
+                .extract()?;
+            if !whole {
+                return Err(value_error(format!(
+                    "`{name}` must be an integer array, got dtype {dtype} with a fractional value"
+                )));
+            }
+        }
+        'c' => {
+            return Err(value_error(format!(
+                "`{name}` must be real-valued, got dtype {dtype}"
+            )))
+        }
+        _ => {
+            return Err(value_error(format!(
+                "`{name}` must be a numeric array, got dtype {dtype}"
+            )))
+        }
+    }
+    let c = np.call_method1("ascontiguousarray", (a, target))?;
+    Ok(c.cast_into::<PyArrayDyn<T>>()?.readonly())
+}
+
+/// `wscg.IntegerRangeError` (`wscg._checks`), imported once.
+fn integer_range_error(py: Python<'_>) -> PyResult<&Bound<'_, PyType>> {
+    static CLASS: PyOnceLock<Py<PyType>> = PyOnceLock::new();
+    CLASS.import(py, "wscg._checks", "IntegerRangeError")
+}
+
+/// `v` as the unsigned integer type `T`, at least `lo`. Outside `T`'s range (negative, or
+/// beyond its bits) it raises `wscg.IntegerRangeError` (a `ValueError` and an
+/// `OverflowError`) naming `name`, as the Python wrappers do; below `lo` a `ValueError`.
+pub fn uint<T>(py: Python<'_>, name: &str, v: i128, lo: T) -> PyResult<T>
+where
+    T: TryFrom<i128> + PartialOrd + Copy + std::fmt::Display,
+{
+    let Ok(x) = T::try_from(v) else {
+        let bits = 8 * std::mem::size_of::<T>();
+        let msg = format!(
+            "`{name}` is out of range (got {v}): counts, sizes and seeds are non-negative \
+             integers that fit the native parameter ({bits} bits)"
+        );
+        return Err(PyErr::from_type(integer_range_error(py)?.clone(), msg));
+    };
+    if x < lo {
+        return Err(value_error(format!("`{name}` must be >= {lo}, got {x}")));
+    }
+    Ok(x)
+}
+
+/// Errors unless every component of the 3-vector `p` is finite.
+pub fn finite3(name: &str, p: [f64; 3]) -> PyResult<[f64; 3]> {
+    if p.iter().all(|c| c.is_finite()) {
+        Ok(p)
+    } else {
+        Err(value_error(format!("`{name}` must be finite, got {p:?}")))
+    }
+}
+
+/// Indices (any array-like of integers, or `None` for none) as `usize`; a negative one is a
+/// `ValueError` naming `name`.
+pub fn indices(name: &str, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
+    match obj.filter(|o| !o.is_none()) {
+        None => Ok(Vec::new()),
+        Some(o) => crate::convert::indices(name, &crate::convert::values(&array::<i64>(name, o)?)),
+    }
+}
+
+/// The triangle mesh of the `vertices` `(V, 3)` and `faces` `(F, 3)` arguments (array-likes,
+/// converted by [`array`]).
+pub fn mesh(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<wscg_math::TriMesh> {
+    crate::convert::mesh_in(&array("vertices", vertices)?, &array("faces", faces)?, None)
+}
