@@ -472,7 +472,7 @@ fn make_scene<'py>(
         "square" => 0,
         other => {
             return Err(value_error(format!(
-                "scene {other:?} is not valid; valid: atrium, city, blob, forest, square"
+                "`name`: scene {other:?} is not valid; valid: atrium, city, blob, forest, square"
             )))
         }
     };

@@ -62,6 +62,12 @@ def _alarm(*_):
     raise _Timeout
 
 
+def _message(e: BaseException) -> str:
+    """The error's message and its notes (pyo3 notes "while processing 'name'" on a native
+    argument it could not convert; a traceback prints the notes under the message)."""
+    return "\n".join([str(e), *getattr(e, "__notes__", ())])
+
+
 def _names(message: str, names) -> bool:
     return any(re.search(r"[`'\"]%s[`'\"\[]" % re.escape(n), message) for n in names)
 
@@ -94,10 +100,11 @@ def test_every_function_names_the_bad_argument(kind):
             except OSError as e:
                 if kind == "string" and file_args:
                     continue  # "cannot access 'not a value'": the file is named
-                if not _names(str(e), req) and "not a value" not in str(e):
+                if not _names(_message(e), req) and "not a value" not in str(e):
                     problems.append(f"{qual}: OSError names no argument: {e}")
             except (ValueError, TypeError) as e:
-                if not _names(str(e), req) and not re.search(r"\b(%s)\b" % "|".join(map(re.escape, req)), str(e)):
+                m = _message(e)
+                if not _names(m, req) and not re.search(r"\b(%s)\b" % "|".join(map(re.escape, req)), m):
                     problems.append(f"{qual}: {type(e).__name__} names no argument: {e}")
             except Exception as e:  # noqa: BLE001 - the point of the test
                 problems.append(f"{qual}: {type(e).__name__}: {e}")
@@ -151,7 +158,8 @@ ONE_BAD_ARGUMENT = [
 def test_one_bad_argument_is_named(name, call):
     with pytest.raises((ValueError, TypeError)) as e:
         call()
-    assert f"`{name}`" in str(e.value) or f"'{name}'" in str(e.value), str(e.value)
+    m = _message(e.value)
+    assert f"`{name}`" in m or f"'{name}'" in m, m
 
 
 def test_array_likes_are_converted():
