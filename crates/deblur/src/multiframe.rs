@@ -51,8 +51,8 @@ wscg_math::params! {
         pub tiling: Tiling,
         /// Hyper-Laplacian solver parameters.
         pub hl: HyperLaplacianParams,
-        /// Weight `mu` of the multi-frame prior (eq. 9; default 250 = lambda / 8, tuned on the
-        /// development image, benches/peers/_12_tune.py).
+        /// Weight `mu` of the multi-frame prior (eq. 9; default 250 = lambda / 8 for the
+        /// paper's lambda 2000, tuned on the development image, benches/peers/_12_tune.py).
         pub mu: f32,
         /// Kernel rendering options.
         pub kernel: KernelParams,
@@ -357,6 +357,9 @@ pub fn deblur_multiframe(
             weights[r * nf + j] = nu as f32;
         }
     }
+    // The main frame's data weight, from its own noise level unless `hl.lambda` is set (each
+    // frame's single-frame pass above estimated its own).
+    let lambda = opts.hl.lambda_for(&main_rect)?;
     let luts = opts.hl.luts();
     let planes: Vec<(usize, &[f32])> = aligned.iter().map(|(j, _, img)| (*j, img.data())).collect();
     let multi = run_tiles(&main_rect, &main_grid, &opts.tiling, true, |job, work| {
@@ -380,6 +383,7 @@ pub fn deblur_multiframe(
             job.window,
             job.otf,
             Some((&prior, mu)),
+            lambda,
             &opts.hl,
             &luts,
             work,

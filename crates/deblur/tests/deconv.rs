@@ -112,7 +112,7 @@ fn krishnan_fergus_beats_blur_and_the_best_wiener_on_a_diagonal_line_blur() {
                 &deconv_hl(
                     &blurred,
                     &k,
-                    &HyperLaplacianParams::default().lambda(lambda),
+                    &HyperLaplacianParams::default().lambda(Some(lambda)),
                 )
                 .unwrap(),
                 &sharp,
@@ -215,7 +215,7 @@ fn solver_rejects_bad_parameters() {
     for p in [
         HyperLaplacianParams::default().alpha(0.0),
         HyperLaplacianParams::default().alpha(2.5),
-        HyperLaplacianParams::default().lambda(-1.0),
+        HyperLaplacianParams::default().lambda(Some(-1.0)),
     ] {
         assert!(deconv_hl(&img, &k, &p).is_err());
     }

@@ -128,9 +128,10 @@ pub struct FramesArgs {
     /// Method: multi (multi-frame KM), krishnan, wiener, rl or global.
     #[arg(long, default_value = "multi")]
     method: String,
-    /// Data weight lambda of the hyper-Laplacian solver.
-    #[arg(long, default_value_t = 2000.0)]
-    lambda: f32,
+    /// Data weight lambda of the hyper-Laplacian solver (default: from the input's noise
+    /// level, 0.3 / sigma^2 with sigma from the wavelet MAD estimator; the paper uses 2000).
+    #[arg(long)]
+    lambda: Option<f32>,
     /// Weight mu of the multi-frame prior.
     #[arg(long, default_value_t = MultiframeParams::default().mu)]
     mu: f32,
