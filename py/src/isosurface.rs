@@ -11,6 +11,7 @@ use wscg_isosurface::{
     AmbiguousRule, EdgeId, IsoMesh, LsnParams, NormalMethod, NormalStats, RmsSummary, Sample,
     ScalarGrid, SplineParams, TetSelection,
 };
+use wscg_math::volume::Real;
 use wscg_math::VolumeView;
 
 use crate::convert::{array, dict_item, rows3, values, Arr};
@@ -246,7 +247,7 @@ fn marching_cubes<'py>(
     with_samples!(volume, vol => {
         let v = values(&vol);
         let g = p.grid(&v, spacing)?;
-        let (method, level) = (p.method, Sample::from_f64(level));
+        let (method, level) = (p.method, Real::from_f64(level));
         let mesh = crate::pool::detach(py, || wscg_isosurface::marching_cubes(&g, level, method))
             .py_err()?;
         mesh_out(py, mesh)
@@ -277,7 +278,7 @@ fn estimate_normals<'py>(
     with_samples!(volume, vol => {
         let v = values(&vol);
         let g = p.grid(&v, spacing)?;
-        let (method, level) = (p.method, Sample::from_f64(level));
+        let (method, level) = (p.method, Real::from_f64(level));
         let (n, stats) = crate::pool::detach(py, || {
             wscg_isosurface::estimate_normals(&g, level, &e, method)
         })
@@ -298,7 +299,7 @@ fn sparsify<'py>(
     let dims = dims_of(&shape)?;
     with_samples!(volume, vol => {
         let v = values(&vol);
-        let level = Sample::from_f64(level);
+        let level = Real::from_f64(level);
         let (sparse, bits) = crate::pool::detach(py, || {
             wscg_isosurface::sparsify_for_isosurface(VolumeView::new(dims, [1.0; 3], &v)?, level)
         })

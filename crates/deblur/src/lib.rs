@@ -54,11 +54,11 @@ pub use camera::{Gamma, Intrinsics, Timing};
 pub use deconv::HyperLaplacianParams;
 pub use gyro::{GyroSample, GyroTrack};
 pub use kernel::{blurriness, kernel_grid, render_kernel, Kernel, KernelGrid, KernelParams};
-pub use noise::{estimate_noise, lambda_for_noise};
 pub use multiframe::{
     deblur_frame, deblur_multiframe, frame_weights, AlignMode, DeblurResult, FrameInput,
     MultiframeParams,
 };
+pub use noise::{estimate_noise, lambda_for_noise};
 pub use spectral::smooth_size;
 pub use tiling::{
     convolve, convolve_piecewise, deblur_piecewise, deconv_hl, deconv_hl_multi, richardson_lucy,

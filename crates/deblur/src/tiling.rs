@@ -341,7 +341,16 @@ pub fn deconv_hl_multi(
     let (h, w) = (image.height(), image.width());
     run_tiles(image, &grid, &tiling, true, |j, wk| {
         let pw = window(prior.data(), h, w, j.y0, j.x0, j.grid.rows, j.grid.cols);
-        deconv::hyper_laplacian(j.grid, j.window, j.otf, Some((&pw, mu)), lambda, p, &luts, wk)
+        deconv::hyper_laplacian(
+            j.grid,
+            j.window,
+            j.otf,
+            Some((&pw, mu)),
+            lambda,
+            p,
+            &luts,
+            wk,
+        )
     })
 }
 

@@ -21,12 +21,7 @@ use wscg_math::{rng, Error, Result, Volume, VolumeView};
 /// grid runs as fast as before and an `f64` grid keeps double precision end to end (vertices
 /// and normals); the normal estimators accumulate in `f64` and round once to the sample type.
 pub trait Sample:
-    Real
-    + Default
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<Output = Self>
-    + Div<Output = Self>
+    Real + Default + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
 {
     /// The missing-sample marker.
     const NAN: Self;

@@ -59,7 +59,11 @@ fn linear_field_normals_are_exact_in_f64() {
             .iter()
             .map(|p| (A[0] * p[0] + A[1] * p[1] + A[2] * p[2] - C).abs())
             .fold(0.0, f64::max);
-        assert!(off < 1e-12, "{}: vertex off the plane by {off:e}", method.name());
+        assert!(
+            off < 1e-12,
+            "{}: vertex off the plane by {off:e}",
+            method.name()
+        );
     }
 }
 
