@@ -167,7 +167,7 @@ type MeshOut<'py> = (
     Bound<'py, PyDict>,
 );
 
-fn mesh_out<'py, T: Element>(py: Python<'py>, m: IsoMesh<T>) -> PyResult<MeshOut<'py>> {
+fn mesh_out<'py, T: Element + Copy>(py: Python<'py>, m: IsoMesh<T>) -> PyResult<MeshOut<'py>> {
     let info = stats_dict(py, &m.stats)?;
     info.set_item("edges", edges_out(py, &m.vertex_edge)?)?;
     let cells: Vec<i64> = m
