@@ -89,13 +89,14 @@ impl Method {
 
     /// Parses `wiener`, `rl`, `krishnan` (or `ks`), `global`, with the parameters tuned on the
     /// development image (Wiener NSR 0.03, 20 Richardson-Lucy iterations; the paper gives
-    /// neither for its Table 1 baselines).
+    /// neither for its Table 1 baselines) and the paper's `lambda = 2000` for Krishnan-Fergus
+    /// (on gyro-estimated kernels the noise-aware weight loses, BENCHMARKS.md).
     pub fn by_name(name: &str) -> Result<Self> {
         Ok(match name {
             "wiener" | "w" => Method::Wiener { nsr: 0.03 },
             "rl" | "richardson-lucy" | "richardson_lucy" => Method::RichardsonLucy { iters: 20 },
-            "krishnan" | "ks" | "hyper-laplacian" => Method::HyperLaplacian(HyperLaplacianParams::default()),
-            "global" | "gu" => Method::GlobalUniform(HyperLaplacianParams::default()),
+            "krishnan" | "ks" | "hyper-laplacian" => Method::HyperLaplacian(HyperLaplacianParams::paper()),
+            "global" | "gu" => Method::GlobalUniform(HyperLaplacianParams::paper()),
             other => {
                 return Err(Error::invalid(
                     "method",

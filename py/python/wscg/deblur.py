@@ -488,7 +488,7 @@ def deconv_krishnan(image, kernel, origin=None, lam: Union[float, str] = "auto",
 
 
 def deconv_krishnan_multi(image, kernel, prior, mu: float = 250.0, origin=None,
-                          lam: Union[float, str] = "auto", alpha: float = 0.5,
+                          lam: Union[float, str] = 2000.0, alpha: float = 0.5,
                           beta_max: float = 256.0) -> np.ndarray:
     """Krishnan-Fergus deconvolution with a multi-frame quadratic prior (paper eq. 9).
 
@@ -636,7 +636,7 @@ def convolve(image, kernel, origin=None) -> np.ndarray:
 
 def deblur_piecewise(frame, gyro, t_frame: float, t_exposure: float, f: float, cx: float,
                      cy: float, t_readout: float = 0.0, t_delay: float = 0.0,
-                     method: str = "krishnan", tile: int = 30, lam: Union[float, str] = "auto",
+                     method: str = "krishnan", tile: int = 30, lam: Union[float, str] = 2000.0,
                      alpha: float = 0.5, nsr: float = 0.03, rl_n_iter: int = 20,
                      r_cam_imu=None, bias=None, return_kernels: bool = False):
     """Deblur one frame region by region with its gyroscope kernels (paper sections 3-4).
@@ -655,8 +655,10 @@ def deblur_piecewise(frame, gyro, t_frame: float, t_exposure: float, f: float, c
     tile : int, default 30
         Region side in pixels (> 8).
     lam, alpha : float (lam also "auto")
-        Krishnan-Fergus parameters (see :func:`deconv_krishnan`); ``lam="auto"`` estimates
-        the noise once on the whole frame.
+        Krishnan-Fergus parameters (see :func:`deconv_krishnan`); the paper's ``lam=2000`` by
+        default. ``lam="auto"`` estimates the noise once on the whole frame; on gyro-estimated
+        kernels it lost 0.03-2.1 dB against 2000 (the kernels' errors are not in the noise
+        estimate; BENCHMARKS.md).
     nsr : float, default 0.03
         Wiener noise-to-signal ratio.
     rl_n_iter : int, default 20
@@ -710,7 +712,7 @@ def deblur_piecewise(frame, gyro, t_frame: float, t_exposure: float, f: float, c
 def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, cy: float,
                       t_exposure: float, t_readout: float = 0.0, t_delay: float = 0.0,
                       main: Optional[int] = None, mu: float = 250.0,
-                      lam: Union[float, str] = "auto",
+                      lam: Union[float, str] = 2000.0,
                       alpha: float = 0.5, gamma: Optional[float] = 2.2, align: str = "ecc",
                       min_ncc: float = 0.8, temporal_radius: Optional[int] = None,
                       tile: int = 30,
@@ -737,9 +739,11 @@ def deblur_multiframe(frames: Sequence, frame_times, gyro, f: float, cx: float, 
         Weight of the multi-frame prior (``lambda / 8`` for the paper's ``lam=2000``, tuned on
         the development image).
     lam, alpha : float (lam also "auto")
-        Krishnan-Fergus parameters (see :func:`deconv_krishnan`); with ``lam="auto"`` every
-        frame's single-frame pass and the final multi-frame solve use the weight of their own
-        (rectified, linear) frame's noise level.
+        Krishnan-Fergus parameters (see :func:`deconv_krishnan`); the paper's ``lam=2000`` by
+        default (``mu`` was tuned with it). With ``lam="auto"`` every frame's single-frame
+        pass and the final multi-frame solve use the weight of their own (rectified, linear)
+        frame's noise level, which loses on gyro-estimated kernels (see
+        :func:`deblur_piecewise`).
     gamma : float or None, default 2.2
         Camera response: linear = display ** gamma (section 3.3). ``None`` treats the frames
         as linear.
