@@ -488,7 +488,7 @@ def deconv_krishnan(image, kernel, origin=None, lam: Union[float, str] = "auto",
 
 
 def deconv_krishnan_multi(image, kernel, prior, mu: float = 250.0, origin=None,
-                          lam: Union[float, str] = 2000.0, alpha: float = 0.5,
+                          lam: Union[float, str] = "auto", alpha: float = 0.5,
                           beta_max: float = 256.0) -> np.ndarray:
     """Krishnan-Fergus deconvolution with a multi-frame quadratic prior (paper eq. 9).
 
