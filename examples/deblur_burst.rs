@@ -62,11 +62,11 @@ fn main() -> wscg::math::Result<()> {
         ),
         (
             "KS (Krishnan-Fergus)",
-            Method::HyperLaplacian(HyperLaplacianParams::default()),
+            Method::HyperLaplacian(HyperLaplacianParams::paper()),
         ),
         (
             "GU (one global kernel)",
-            Method::GlobalUniform(HyperLaplacianParams::default()),
+            Method::GlobalUniform(HyperLaplacianParams::paper()),
         ),
     ] {
         let t = Instant::now();

@@ -201,7 +201,16 @@ fn blurriness(kernel: PyReadonlyArrayDyn<f32>, origin: (usize, usize)) -> PyResu
     Ok(wscg_deblur::blurriness(&kernel_in(&kernel, origin)?))
 }
 
-fn hl_params(lam: f32, alpha: f32, beta_max: f32) -> HyperLaplacianParams {
+/// Noise deviation of a blurred image (see `wscg.deblur.estimate_noise`).
+#[pyfunction]
+fn estimate_noise(py: Python<'_>, image: PyReadonlyArrayDyn<f32>) -> PyResult<f64> {
+    let img = image_in("image", &image)?;
+    let s = crate::pool::detach(py, || wscg_deblur::estimate_noise(&img)).py_err()?;
+    Ok(s as f64)
+}
+
+/// `lam = None`: the noise-aware weight (`HyperLaplacianParams::lambda`).
+fn hl_params(lam: Option<f32>, alpha: f32, beta_max: f32) -> HyperLaplacianParams {
     HyperLaplacianParams::default()
         .lambda(lam)
         .alpha(alpha)
@@ -214,7 +223,7 @@ fn deconv_krishnan<'py>(
     image: PyReadonlyArrayDyn<f32>,
     kernel: PyReadonlyArrayDyn<f32>,
     origin: (usize, usize),
-    lam: f32,
+    lam: Option<f32>,
     alpha: f32,
     beta_max: f32,
 ) -> PyResult<Arr<'py, f32>> {
@@ -234,7 +243,7 @@ fn deconv_krishnan_multi<'py>(
     origin: (usize, usize),
     prior: PyReadonlyArrayDyn<f32>,
     mu: f32,
-    lam: f32,
+    lam: Option<f32>,
     alpha: f32,
     beta_max: f32,
 ) -> PyResult<Arr<'py, f32>> {
@@ -291,7 +300,7 @@ fn convolve<'py>(
 
 fn method_in(
     name: &str,
-    lam: f32,
+    lam: Option<f32>,
     alpha: f32,
     beta_max: f32,
     nsr: f32,
@@ -318,7 +327,7 @@ fn deblur_piecewise<'py>(
     cam: Cam,
     method: &str,
     tile: usize,
-    lam: f32,
+    lam: Option<f32>,
     alpha: f32,
     beta_max: f32,
     nsr: f32,
@@ -368,7 +377,7 @@ fn deblur_multiframe<'py>(
     tim: (f64, f64, f64),
     main: usize,
     mu: f32,
-    lam: f32,
+    lam: Option<f32>,
     alpha: f32,
     beta_max: f32,
     gamma: Option<f32>,
@@ -633,6 +642,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render_kernel, m)?)?;
     m.add_function(wrap_pyfunction!(kernel_grid, m)?)?;
     m.add_function(wrap_pyfunction!(blurriness, m)?)?;
+    m.add_function(wrap_pyfunction!(estimate_noise, m)?)?;
     m.add_function(wrap_pyfunction!(deconv_krishnan, m)?)?;
     m.add_function(wrap_pyfunction!(deconv_krishnan_multi, m)?)?;
     m.add_function(wrap_pyfunction!(wiener, m)?)?;

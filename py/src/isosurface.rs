@@ -1,16 +1,17 @@
 //! `wscg._native.isosurface`: bindings of `wscg-isosurface` (paper 09, sparse-grid marching
 //! cubes with tetrahedral-spline normals). The documented API is `python/wscg/isosurface.py`.
 
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{Element, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
 use wscg_isosurface::fields;
 use wscg_isosurface::study::{at_risk_configurations, compare_with_exact, compare_with_full_cd};
 use wscg_isosurface::{
-    AmbiguousRule, EdgeId, IsoMesh, LsnParams, NormalMethod, NormalStats, RmsSummary, ScalarGrid,
-    SplineParams, TetSelection,
+    AmbiguousRule, EdgeId, IsoMesh, LsnParams, NormalMethod, NormalStats, RmsSummary, Sample,
+    ScalarGrid, SplineParams, TetSelection,
 };
+use wscg_math::volume::Real;
 use wscg_math::VolumeView;
 
 use crate::convert::{array, dict_item, rows3, values, Arr};
@@ -141,14 +142,32 @@ fn edges_in(a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<EdgeId>> {
         .collect()
 }
 
+/// A `[z, y, x]` volume of float64 or float32 samples: the extraction, the normals and the
+/// returned arrays keep its type.
+#[derive(FromPyObject)]
+enum Samples<'py> {
+    F64(PyReadonlyArrayDyn<'py, f64>),
+    F32(PyReadonlyArrayDyn<'py, f32>),
+}
+
+/// Runs `$body` with `$v` bound to the volume's typed array, whichever its sample type.
+macro_rules! with_samples {
+    ($volume:expr, $v:ident => $body:expr) => {
+        match $volume {
+            Samples::F64($v) => $body,
+            Samples::F32($v) => $body,
+        }
+    };
+}
+
 type MeshOut<'py> = (
-    Arr<'py, f32>,
+    Bound<'py, PyAny>,
     Arr<'py, i64>,
-    Arr<'py, f32>,
+    Bound<'py, PyAny>,
     Bound<'py, PyDict>,
 );
 
-fn mesh_out<'py>(py: Python<'py>, m: IsoMesh) -> PyResult<MeshOut<'py>> {
+fn mesh_out<'py, T: Element + Copy>(py: Python<'py>, m: IsoMesh<T>) -> PyResult<MeshOut<'py>> {
     let info = stats_dict(py, &m.stats)?;
     info.set_item("edges", edges_out(py, &m.vertex_edge)?)?;
     let cells: Vec<i64> = m
@@ -165,16 +184,17 @@ fn mesh_out<'py>(py: Python<'py>, m: IsoMesh) -> PyResult<MeshOut<'py>> {
             .collect()
     })?;
     Ok((
-        array(py, &[nv, 3], m.vertices.concat())?,
+        array(py, &[nv, 3], m.vertices.concat())?.into_any(),
         array(py, &[nt, 3], faces)?,
-        array(py, &[nn, 3], m.normals.concat())?,
+        array(py, &[nn, 3], m.normals.concat())?.into_any(),
         info,
     ))
 }
 
-/// Python spacing `(dz, dy, dx)` (array axis order) as the grid's `[sx, sy, sz]`.
-fn spacing3(spacing: (f32, f32, f32)) -> [f32; 3] {
-    [spacing.2, spacing.1, spacing.0]
+/// Python spacing `(dz, dy, dx)` (array axis order) as the grid's `[sx, sy, sz]`, rounded to
+/// the sample type.
+fn spacing3<T: Sample>(spacing: (f64, f64, f64)) -> [T; 3] {
+    [spacing.2, spacing.1, spacing.0].map(T::from_f64)
 }
 
 /// The volume's dims, the normal method and the packed side hints of a call.
@@ -185,22 +205,24 @@ struct Prepared {
 }
 
 fn prepare(
-    volume: &PyReadonlyArrayDyn<f32>,
+    shape: &[usize],
     normals: &str,
     side_hint: Option<PyReadonlyArrayDyn<bool>>,
     options: &Bound<'_, PyDict>,
 ) -> PyResult<Prepared> {
     Ok(Prepared {
-        dims: dims_of(volume.shape())?,
+        dims: dims_of(shape)?,
         method: method_from(normals, options)?,
-        bits: side_hint
-            .map(|s| pack_sides(&s, volume.shape()))
-            .transpose()?,
+        bits: side_hint.map(|s| pack_sides(&s, shape)).transpose()?,
     })
 }
 
 impl Prepared {
-    fn grid<'a>(&'a self, values: &'a [f32], spacing: (f32, f32, f32)) -> PyResult<ScalarGrid<'a>> {
+    fn grid<'a, T: Sample>(
+        &'a self,
+        values: &'a [T],
+        spacing: (f64, f64, f64),
+    ) -> PyResult<ScalarGrid<'a, T>> {
         let g = ScalarGrid::with_spacing(self.dims, spacing3(spacing), values).py_err()?;
         match &self.bits {
             Some(b) => g.with_side_hint(b).py_err(),
@@ -209,85 +231,102 @@ impl Prepared {
     }
 }
 
-/// Marching cubes with normals (see `wscg.isosurface.marching_cubes`).
+/// Marching cubes with normals (see `wscg.isosurface.marching_cubes`), in the volume's
+/// sample type.
 #[pyfunction]
 fn marching_cubes<'py>(
     py: Python<'py>,
-    volume: PyReadonlyArrayDyn<f32>,
-    level: f32,
-    spacing: (f32, f32, f32),
+    volume: Samples<'py>,
+    level: f64,
+    spacing: (f64, f64, f64),
     normals: &str,
     side_hint: Option<PyReadonlyArrayDyn<bool>>,
     options: Bound<'py, PyDict>,
 ) -> PyResult<MeshOut<'py>> {
-    let p = prepare(&volume, normals, side_hint, &options)?;
-    let v = values(&volume);
-    let g = p.grid(&v, spacing)?;
-    let method = p.method;
-    let mesh =
-        crate::pool::detach(py, || wscg_isosurface::marching_cubes(&g, level, method)).py_err()?;
-    mesh_out(py, mesh)
+    let p = prepare(volume_shape(&volume), normals, side_hint, &options)?;
+    with_samples!(volume, vol => {
+        let v = values(&vol);
+        let g = p.grid(&v, spacing)?;
+        let (method, level) = (p.method, Real::from_f64(level));
+        let mesh = crate::pool::detach(py, || wscg_isosurface::marching_cubes(&g, level, method))
+            .py_err()?;
+        mesh_out(py, mesh)
+    })
 }
 
-/// Normals of given mesh edges (see `wscg.isosurface.estimate_normals`).
+/// The shape of a volume of either sample type.
+fn volume_shape<'a>(volume: &'a Samples<'_>) -> &'a [usize] {
+    with_samples!(volume, v => v.shape())
+}
+
+/// Normals of given mesh edges (see `wscg.isosurface.estimate_normals`), in the volume's
+/// sample type.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 fn estimate_normals<'py>(
     py: Python<'py>,
-    volume: PyReadonlyArrayDyn<f32>,
-    level: f32,
+    volume: Samples<'py>,
+    level: f64,
     edges: PyReadonlyArrayDyn<i64>,
-    spacing: (f32, f32, f32),
+    spacing: (f64, f64, f64),
     normals: &str,
     side_hint: Option<PyReadonlyArrayDyn<bool>>,
     options: Bound<'py, PyDict>,
-) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
-    let p = prepare(&volume, normals, side_hint, &options)?;
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+    let p = prepare(volume_shape(&volume), normals, side_hint, &options)?;
     let e = edges_in(&edges)?;
-    let v = values(&volume);
-    let g = p.grid(&v, spacing)?;
-    let method = p.method;
-    let (n, stats) = crate::pool::detach(py, || {
-        wscg_isosurface::estimate_normals(&g, level, &e, method)
+    with_samples!(volume, vol => {
+        let v = values(&vol);
+        let g = p.grid(&v, spacing)?;
+        let (method, level) = (p.method, Real::from_f64(level));
+        let (n, stats) = crate::pool::detach(py, || {
+            wscg_isosurface::estimate_normals(&g, level, &e, method)
+        })
+        .py_err()?;
+        let len = n.len();
+        Ok((array(py, &[len, 3], n.concat())?.into_any(), stats_dict(py, &stats)?))
     })
-    .py_err()?;
-    let len = n.len();
-    Ok((array(py, &[len, 3], n.concat())?, stats_dict(py, &stats)?))
 }
 
 /// The paper's sparsification (see `wscg.isosurface.sparsify`).
 #[pyfunction]
 fn sparsify<'py>(
     py: Python<'py>,
-    volume: PyReadonlyArrayDyn<f32>,
-    level: f32,
-) -> PyResult<(Arr<'py, f32>, Arr<'py, bool>)> {
-    let dims = dims_of(volume.shape())?;
-    let shape = volume.shape().to_vec();
-    let v = values(&volume);
-    let (sparse, bits) = crate::pool::detach(py, || {
-        wscg_isosurface::sparsify_for_isosurface(VolumeView::new(dims, [1.0; 3], &v)?, level)
+    volume: Samples<'py>,
+    level: f64,
+) -> PyResult<(Bound<'py, PyAny>, Arr<'py, bool>)> {
+    let shape = volume_shape(&volume).to_vec();
+    let dims = dims_of(&shape)?;
+    with_samples!(volume, vol => {
+        let v = values(&vol);
+        let level = Real::from_f64(level);
+        let (sparse, bits) = crate::pool::detach(py, || {
+            wscg_isosurface::sparsify_for_isosurface(VolumeView::new(dims, [1.0; 3], &v)?, level)
+        })
+        .py_err()?;
+        let sparse = sparse.into_data();
+        let sides: Vec<bool> = (0..v.len())
+            .map(|i| bits[i / 8] >> (i % 8) & 1 == 1)
+            .collect();
+        Ok((array(py, &shape, sparse)?.into_any(), array(py, &shape, sides)?))
     })
-    .py_err()?;
-    let sparse = sparse.into_data();
-    let sides: Vec<bool> = (0..v.len())
-        .map(|i| bits[i / 8] >> (i % 8) & 1 == 1)
-        .collect();
-    Ok((array(py, &shape, sparse)?, array(py, &shape, sides)?))
 }
 
 /// Random dropouts (see `wscg.isosurface.random_dropouts`).
 #[pyfunction]
 fn random_dropouts<'py>(
     py: Python<'py>,
-    volume: PyReadonlyArrayDyn<f32>,
+    volume: Samples<'py>,
     rate: f64,
     seed: u64,
-) -> PyResult<Arr<'py, f32>> {
-    let shape = volume.shape().to_vec();
-    let mut v = values(&volume).into_owned();
-    crate::pool::detach(py, || wscg_isosurface::random_dropouts(&mut v, rate, seed)).py_err()?;
-    array(py, &shape, v)
+) -> PyResult<Bound<'py, PyAny>> {
+    with_samples!(volume, vol => {
+        let shape = vol.shape().to_vec();
+        let mut v = values(&vol).into_owned();
+        crate::pool::detach(py, || wscg_isosurface::random_dropouts(&mut v, rate, seed))
+            .py_err()?;
+        Ok(array(py, &shape, v)?.into_any())
+    })
 }
 
 /// Angular errors in radians (NaN where undefined).
@@ -412,7 +451,7 @@ fn study_full_cd<'py>(
     let dims = dims_of(volume.shape())?;
     let v = values(&volume);
     let c = crate::pool::detach(py, || {
-        let spacing = spacing3(spacing).map(f64::from);
+        let spacing = [spacing.2, spacing.1, spacing.0].map(f64::from);
         compare_with_full_cd(VolumeView::new(dims, spacing, &v)?, level)
     })
     .py_err()?;

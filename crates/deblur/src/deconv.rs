@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use num_complex::Complex32;
-use wscg_math::{Error, Result};
+use wscg_math::{Error, Image, Result};
 
 use crate::spectral::{Grid, Scratch};
 use crate::wstep::WStepTable;
@@ -14,8 +14,11 @@ wscg_math::params! {
     /// Parameters of the hyper-Laplacian solver (paper eqs. 7-8, Krishnan & Fergus 2009).
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct HyperLaplacianParams {
-        /// Data weight `lambda` for intensities in `[0, 1]` (default 2000, KF's demo value).
-        pub lambda: f32,
+        /// Data weight `lambda` for intensities in `[0, 1]`. `None` (default): derived from
+        /// the input's noise level, `0.3 / sigma^2` with `sigma` from
+        /// [`crate::noise::estimate_noise`] (see [`crate::noise`]); `Some(2000.0)` is KF's
+        /// demo value that the paper uses ([`HyperLaplacianParams::paper`]).
+        pub lambda: Option<f32>,
         /// Gradient exponent `alpha` in `(0, 2]` (default 1/2, the paper's choice).
         pub alpha: f32,
         /// First penalty weight `beta_0` (default 1).
@@ -32,7 +35,7 @@ wscg_math::params! {
 impl Default for HyperLaplacianParams {
     fn default() -> Self {
         HyperLaplacianParams {
-            lambda: 2000.0,
+            lambda: None,
             alpha: 0.5,
             beta0: 1.0,
             beta_rate: 2.0 * std::f32::consts::SQRT_2,
@@ -43,13 +46,34 @@ impl Default for HyperLaplacianParams {
 }
 
 impl HyperLaplacianParams {
+    /// The paper's setting: the defaults with KF's fixed `lambda = 2000`.
+    pub fn paper() -> Self {
+        Self::default().lambda(Some(2000.0))
+    }
+
+    /// The data weight for the blurred input `image`: the fixed `lambda`, or the noise-aware
+    /// one (`0.3 / sigma^2`, [`crate::noise`]) when it is `None`.
+    ///
+    /// Errors: as [`crate::noise::estimate_noise`] when `lambda` is `None`.
+    pub fn lambda_for(&self, image: &Image<f32>) -> Result<f32> {
+        match self.lambda {
+            Some(l) => Ok(l),
+            None => {
+                let sigma = crate::noise::estimate_noise(image)?;
+                let l = crate::noise::lambda_for_noise(sigma);
+                log::debug!("noise estimate {sigma:.5}: lambda {l:.0}");
+                Ok(l)
+            }
+        }
+    }
+
     /// Errors: `lambda <= 0`, `alpha` outside `(0, 2]`, a `beta` schedule that does not grow,
     /// `inner == 0`, non-finite values.
     pub fn validate(&self) -> Result<()> {
-        if !(self.lambda.is_finite() && self.lambda > 0.0) {
+        if let Some(l) = self.lambda.filter(|l| !(l.is_finite() && *l > 0.0)) {
             return Err(Error::invalid(
                 "lambda",
-                format!("must be finite and > 0, got {}", self.lambda),
+                format!("must be finite and > 0, got {l}"),
             ));
         }
         if !(self.alpha > 0.0 && self.alpha <= 2.0) {
@@ -124,12 +148,14 @@ pub(crate) struct Work {
 /// the I-step in closed form in the Fourier domain,
 /// `I^ = [F_x^* w_x^ + F_y^* w_y^ + (l/b) K^* B^ + (mu/b) P^] / [|F_x|^2 + |F_y|^2 + (l/b) |K|^2 + mu/b]`,
 /// where `P` is the multi-frame prior `sum_j nu_j I_j` and `mu` its weight (eq. 9; none for
-/// the single-frame solver).
+/// the single-frame solver) and `lambda` the data weight ([`HyperLaplacianParams::lambda_for`]).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn hyper_laplacian(
     grid: &Grid,
     b: &[f32],
     otf: &[Complex32],
     prior: Option<(&[f32], f32)>,
+    lambda: f32,
     p: &HyperLaplacianParams,
     luts: &[Arc<WStepTable>],
     work: &mut Work,
@@ -141,9 +167,9 @@ pub(crate) fn hyper_laplacian(
         .spec
         .iter()
         .zip(otf)
-        .map(|(s, k)| k.conj() * s * p.lambda)
+        .map(|(s, k)| k.conj() * s * lambda)
         .collect();
-    let mut den0: Vec<f32> = otf.iter().map(|k| k.norm_sqr() * p.lambda).collect();
+    let mut den0: Vec<f32> = otf.iter().map(|k| k.norm_sqr() * lambda).collect();
     if let Some((pr, mu)) = prior.filter(|(_, mu)| *mu > 0.0) {
         grid.forward(pr, &mut work.aux, &mut work.scratch);
         num0.iter_mut()

@@ -11,6 +11,7 @@
 //!   homography `K R K^-1` with rolling-shutter timing (eqs. 5-6), region grids, blurriness.
 //! - [`wstep`] and [`deconv`]: the Krishnan-Fergus hyper-Laplacian solver (eqs. 7-8), its
 //!   multi-frame prior (eq. 9), Wiener and Richardson-Lucy.
+//! - [`noise`]: the input's noise level (Donoho's wavelet MAD) and the noise-aware `lambda`.
 //! - [`tiling`]: piecewise-uniform deblurring of `30 x 30` regions on edge-tapered windows,
 //!   blended without seams; the global-kernel baseline.
 //! - [`warp`] and [`align`]: rolling-shutter rectification (Karpenko 2011), homography
@@ -40,6 +41,7 @@ pub mod gyro;
 pub mod kernel;
 pub mod metrics;
 pub mod multiframe;
+pub mod noise;
 pub(crate) mod spectral;
 pub mod synth;
 pub mod tiling;
@@ -56,6 +58,7 @@ pub use multiframe::{
     deblur_frame, deblur_multiframe, frame_weights, AlignMode, DeblurResult, FrameInput,
     MultiframeParams,
 };
+pub use noise::{estimate_noise, lambda_for_noise};
 pub use spectral::smooth_size;
 pub use tiling::{
     convolve, convolve_piecewise, deblur_piecewise, deconv_hl, deconv_hl_multi, richardson_lucy,

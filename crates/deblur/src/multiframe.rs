@@ -49,10 +49,13 @@ wscg_math::params! {
         pub gamma: Option<Gamma>,
         /// Region layout (30 px regions).
         pub tiling: Tiling,
-        /// Hyper-Laplacian solver parameters.
+        /// Hyper-Laplacian solver parameters (default: the paper's, `lambda = 2000`; with
+        /// `lambda: None` every frame's data weight comes from its own noise level, which
+        /// lost 0.03-2.1 dB here on gyro-estimated kernels, whose errors the noise estimate
+        /// does not see; BENCHMARKS.md).
         pub hl: HyperLaplacianParams,
-        /// Weight `mu` of the multi-frame prior (eq. 9; default 250 = lambda / 8, tuned on the
-        /// development image, benches/peers/_12_tune.py).
+        /// Weight `mu` of the multi-frame prior (eq. 9; default 250 = lambda / 8 for the
+        /// paper's lambda 2000, tuned on the development image, benches/peers/_12_tune.py).
         pub mu: f32,
         /// Kernel rendering options.
         pub kernel: KernelParams,
@@ -74,7 +77,7 @@ impl Default for MultiframeParams {
             t_delay: 0.0,
             gamma: Some(Gamma::default()),
             tiling: Tiling::default(),
-            hl: HyperLaplacianParams::default(),
+            hl: HyperLaplacianParams::paper(),
             mu: 250.0,
             kernel: KernelParams::default(),
             align: AlignMode::Ecc(AlignParams::default()),
@@ -357,6 +360,9 @@ pub fn deblur_multiframe(
             weights[r * nf + j] = nu as f32;
         }
     }
+    // The main frame's data weight: `hl.lambda`, or from its own noise level when that is
+    // `None` (each frame's single-frame pass above then estimated its own).
+    let lambda = opts.hl.lambda_for(&main_rect)?;
     let luts = opts.hl.luts();
     let planes: Vec<(usize, &[f32])> = aligned.iter().map(|(j, _, img)| (*j, img.data())).collect();
     let multi = run_tiles(&main_rect, &main_grid, &opts.tiling, true, |job, work| {
@@ -380,6 +386,7 @@ pub fn deblur_multiframe(
             job.window,
             job.otf,
             Some((&prior, mu)),
+            lambda,
             &opts.hl,
             &luts,
             work,

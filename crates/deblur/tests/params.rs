@@ -95,7 +95,7 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
     assert!(HyperLaplacianParams::default().validate().is_ok());
     assert_eq!(
         HyperLaplacianParams::default()
-            .lambda(0.0)
+            .lambda(Some(0.0))
             .validate()
             .refused_argument(),
         Some("lambda")

@@ -2,7 +2,7 @@
 //! edge crosses the isovalue ([`vertex_on_edge`]), shared by the extraction and the normal
 //! estimators.
 
-use crate::grid::ScalarGrid;
+use crate::grid::{Sample, ScalarGrid};
 
 /// The grid edge a vertex lies on: the edge from grid point `point` to `point + e_axis`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -30,12 +30,12 @@ impl EdgeId {
 /// Position of the vertex on the edge from `p` along `axis`, and its parameter `t`, when the
 /// edge crosses `iso` (both samples defined, exactly one inside).
 #[inline]
-pub fn vertex_on_edge(
-    g: &ScalarGrid,
-    iso: f32,
+pub fn vertex_on_edge<T: Sample>(
+    g: &ScalarGrid<T>,
+    iso: T,
     p: [usize; 3],
     axis: usize,
-) -> Option<([f32; 3], f32)> {
+) -> Option<([T; 3], T)> {
     if p[axis] + 1 >= g.dims[axis] {
         return None;
     }
@@ -61,10 +61,10 @@ fn step(p: [usize; 3], axis: usize) -> [usize; 3] {
 
 /// World position of the point at parameter `t` on the edge from `p` along `axis`.
 #[inline]
-fn position(g: &ScalarGrid, p: [usize; 3], axis: usize, t: f32) -> [f32; 3] {
-    let mut v = [0.0f32; 3];
+fn position<T: Sample>(g: &ScalarGrid<T>, p: [usize; 3], axis: usize, t: T) -> [T; 3] {
+    let mut v = [T::default(); 3];
     for i in 0..3 {
-        let c = p[i] as f32 + if i == axis { t } else { 0.0 };
+        let c = T::from_index(p[i]) + if i == axis { t } else { T::default() };
         v[i] = c * g.spacing[i];
     }
     v

@@ -16,22 +16,23 @@ use wscg_math::Result;
 
 use crate::cell::{resolve_cell, CellState};
 pub use crate::edge::{vertex_on_edge, EdgeId};
-use crate::grid::{check_iso, flag, ScalarGrid};
+use crate::grid::{check_iso, flag, Sample, ScalarGrid};
 use crate::normals::spline::{self, cell_contribution};
 use crate::normals::{estimate_normals, unit, EdgeVertex, NormalMethod, NormalStats, SplineParams};
 use crate::tables::{case_table, edge_axis, edge_corners, edge_low_offset};
 
-/// A marching-cubes mesh with the grid edge of each vertex and per-vertex normals.
+/// A marching-cubes mesh with the grid edge of each vertex and per-vertex normals; positions
+/// and normals have the grid's sample type (`f32` by default, `f64` for an `f64` grid).
 #[derive(Clone, Debug, Default)]
-pub struct IsoMesh {
+pub struct IsoMesh<T = f32> {
     /// Vertex positions in world units (sample index times spacing), x, y, z.
-    pub vertices: Vec<[f32; 3]>,
+    pub vertices: Vec<[T; 3]>,
     /// Triangles (vertex indices), wound so that the right-hand normal points toward
     /// increasing `f`.
     pub triangles: Vec<[u32; 3]>,
     /// Unit vertex normals pointing toward increasing `f`; `[0, 0, 0]` where the estimator is
     /// undefined (counted in `stats.undefined`); empty for [`NormalMethod::None`].
-    pub normals: Vec<[f32; 3]>,
+    pub normals: Vec<[T; 3]>,
     /// The grid edge of each vertex.
     pub vertex_edge: Vec<EdgeId>,
     /// Each cell that produced triangles: flat index of its low corner and its configuration.
@@ -40,7 +41,7 @@ pub struct IsoMesh {
     pub stats: NormalStats,
 }
 
-impl IsoMesh {
+impl<T> IsoMesh<T> {
     /// Map from grid edge to vertex index.
     pub fn edge_lookup(&self) -> std::collections::HashMap<EdgeId, usize> {
         self.vertex_edge
@@ -64,7 +65,11 @@ const CROSS_SHIFT: u8 = 3;
 ///
 /// # Errors
 /// An invalid grid (see [`ScalarGrid::validate`]) or a non-finite isovalue.
-pub fn marching_cubes(grid: &ScalarGrid, iso: f32, normals: NormalMethod) -> Result<IsoMesh> {
+pub fn marching_cubes<T: Sample>(
+    grid: &ScalarGrid<T>,
+    iso: T,
+    normals: NormalMethod,
+) -> Result<IsoMesh<T>> {
     normals.validate()?;
     match normals {
         NormalMethod::Spline(opts) => run(grid, iso, Some(opts)),
@@ -81,13 +86,13 @@ pub fn marching_cubes(grid: &ScalarGrid, iso: f32, normals: NormalMethod) -> Res
 }
 
 /// The extraction alone (vertices, triangles, vertex edges, cell configurations, skipped cells).
-pub fn extract(grid: &ScalarGrid, iso: f32) -> Result<IsoMesh> {
+pub fn extract<T: Sample>(grid: &ScalarGrid<T>, iso: T) -> Result<IsoMesh<T>> {
     run(grid, iso, None)
 }
 
 /// Whether the samples `a` and `b` are both defined and on different sides of `iso`.
 #[inline(always)]
-fn crosses(a: f32, b: f32, iso: f32) -> bool {
+fn crosses<T: Sample>(a: T, b: T, iso: T) -> bool {
     // NaN compares false both ways, so a missing endpoint never crosses.
     (a >= iso && b < iso) || (a < iso && b >= iso)
 }
@@ -115,7 +120,11 @@ struct Layer {
     high: Vec<[f64; 3]>,
 }
 
-fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineParams>) -> Result<IsoMesh> {
+fn run<T: Sample>(
+    grid: &ScalarGrid<T>,
+    iso: T,
+    spline: Option<SplineParams>,
+) -> Result<IsoMesh<T>> {
     grid.validate()?;
     check_iso(iso)?;
     let [nx, ny, nz] = grid.dims;
@@ -176,7 +185,7 @@ fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineParams>) -> Result<IsoM
         )));
     }
     let slice_offset = |z: usize| row_offsets[z * ny];
-    let mut vertices = vec![[0.0f32; 3]; total];
+    let mut vertices = vec![[T::default(); 3]; total];
     let mut vertex_edge = vec![
         EdgeId {
             point: [0; 3],
@@ -192,7 +201,7 @@ fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineParams>) -> Result<IsoM
     // Pass 3: per slice, its vertices, then the triangles of the cell layer above it.
     let table = case_table();
     let flags = &flags;
-    let inv_h = grid.spacing.map(|h| 1.0 / h as f64);
+    let inv_h = spline::inverse_spacing(grid);
     let layers: Vec<Layer> = vchunks
         .into_par_iter()
         .zip(echunks)
@@ -293,14 +302,14 @@ fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineParams>) -> Result<IsoM
                             }
                             layer.cells.push((x + nx * (y + ny * z), config));
                             if let Some(opts) = &spline {
-                                let mut vals = [0.0f32; 8];
+                                let mut vals = [T::default(); 8];
                                 for (c, v) in vals.iter_mut().enumerate() {
                                     *v = vr[(c >> 1) & 3][x + (c & 1)];
                                 }
                                 for e in (0..12).filter(|e| entry.edge_mask >> e & 1 == 1) {
                                     let (kp, kq) = edge_corners(e);
                                     let (fp, fq) = (vals[kp], vals[kq]);
-                                    let t = ((iso - fp) / (fq - fp)) as f64;
+                                    let t = ((iso - fp) / (fq - fp)).to_f64();
                                     let v = id(e) as usize;
                                     let acc = if EDGE_ROWS[e].0 < 2 {
                                         &mut layer.low[v - first[0]]
@@ -327,7 +336,7 @@ fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineParams>) -> Result<IsoM
         ..Default::default()
     };
     if spline.is_some() {
-        let mut normals = vec![[0.0f32; 3]; total];
+        let mut normals = vec![[T::default(); 3]; total];
         let nchunks = split_by(&mut normals, nz, |z| slice_offset(z + 1) - slice_offset(z));
         let fallbacks: usize = nchunks
             .into_par_iter()
@@ -364,6 +373,7 @@ fn run(grid: &ScalarGrid, iso: f32, spline: Option<SplineParams>) -> Result<IsoM
         mesh.cell_config.extend_from_slice(&l.cells);
         mesh.stats.skipped_cells += l.skipped;
     }
+    let iso = iso.to_f64();
     log::debug!(
         "marching cubes at level {iso}: {} vertices, {} triangles",
         mesh.vertices.len(),

@@ -1,5 +1,5 @@
-//! [`ScalarGrid`]: a rectilinear grid of `f32` samples where NaN marks a missing sample, with
-//! anisotropic spacing and optional side hints; the paper's sparsification protocol
+//! [`ScalarGrid`]: a rectilinear grid of `f32` or `f64` samples ([`Sample`]) where NaN marks a
+//! missing sample, with anisotropic spacing and optional side hints; the paper's sparsification protocol
 //! ([`sparsify_for_isosurface`]) and random dropouts.
 //!
 //! Layout: `dims = [nx, ny, nz]`, x fastest, sample `(x, y, z)` at `values[x + nx * (y + ny * z)]`
@@ -9,18 +9,61 @@
 //! A sample is *inside* when `f >= iso` (scikit-image uses `f > iso`; the two differ only where a
 //! sample equals the isovalue, which is exactly where degenerate triangles arise).
 
+use std::ops::{Add, Div, Mul, Sub};
+
 use rand::Rng as _;
+use wscg_math::volume::Real;
 use wscg_math::{rng, Error, Result, Volume, VolumeView};
 
-/// A scalar grid with missing samples (borrowed).
+/// Sample types of a [`ScalarGrid`]: `f32` and `f64` (the [`Real`] voxel types).
+///
+/// The extraction computes edge crossings and vertex positions in the sample type, so an `f32`
+/// grid runs as fast as before and an `f64` grid keeps double precision end to end (vertices
+/// and normals); the normal estimators accumulate in `f64` and round once to the sample type.
+pub trait Sample:
+    Real + Default + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+{
+    /// The missing-sample marker.
+    const NAN: Self;
+    /// Whether this is NaN (a missing sample).
+    fn is_nan(self) -> bool;
+    /// Whether this is infinite.
+    fn is_infinite(self) -> bool;
+    /// A grid index as a coordinate.
+    fn from_index(i: usize) -> Self;
+}
+
+macro_rules! impl_sample {
+    ($t:ty) => {
+        impl Sample for $t {
+            const NAN: Self = <$t>::NAN;
+            #[inline(always)]
+            fn is_nan(self) -> bool {
+                <$t>::is_nan(self)
+            }
+            #[inline(always)]
+            fn is_infinite(self) -> bool {
+                <$t>::is_infinite(self)
+            }
+            #[inline(always)]
+            fn from_index(i: usize) -> Self {
+                i as $t
+            }
+        }
+    };
+}
+impl_sample!(f32);
+impl_sample!(f64);
+
+/// A scalar grid with missing samples (borrowed), of `f32` (default) or `f64` samples.
 #[derive(Clone, Copy, Debug)]
-pub struct ScalarGrid<'a> {
+pub struct ScalarGrid<'a, T: Sample = f32> {
     /// Number of samples along x, y, z (each at least 2).
     pub dims: [usize; 3],
     /// Distance between neighbouring samples along x, y, z (finite, > 0).
-    pub spacing: [f32; 3],
+    pub spacing: [T; 3],
     /// Samples, x fastest; NaN marks a missing sample.
-    pub values: &'a [f32],
+    pub values: &'a [T],
     /// Optional side of every sample, bit-packed little-endian (bit `i % 8` of byte `i / 8`
     /// is sample `i`; numpy `packbits(..., bitorder="little")`): 1 when `f >= iso`. Only the
     /// bits of missing samples are read.
@@ -37,14 +80,14 @@ pub(crate) mod flag {
     pub const INSIDE: u8 = 4;
 }
 
-impl<'a> ScalarGrid<'a> {
+impl<'a, T: Sample> ScalarGrid<'a, T> {
     /// A grid with unit spacing and no side hints; checks the shapes.
-    pub fn new(dims: [usize; 3], values: &'a [f32]) -> Result<Self> {
-        Self::with_spacing(dims, [1.0; 3], values)
+    pub fn new(dims: [usize; 3], values: &'a [T]) -> Result<Self> {
+        Self::with_spacing(dims, [T::from_f64(1.0); 3], values)
     }
 
     /// A grid with the given spacing and no side hints; checks shapes and spacing.
-    pub fn with_spacing(dims: [usize; 3], spacing: [f32; 3], values: &'a [f32]) -> Result<Self> {
+    pub fn with_spacing(dims: [usize; 3], spacing: [T; 3], values: &'a [T]) -> Result<Self> {
         let g = Self {
             dims,
             spacing,
@@ -55,14 +98,14 @@ impl<'a> ScalarGrid<'a> {
         Ok(g)
     }
 
-    /// The grid of a volume (its spacing rounded to `f32`); no side hints. NaN voxels are
-    /// missing samples.
+    /// The grid of a volume (its spacing rounded to the sample type); no side hints. NaN
+    /// voxels are missing samples.
     ///
     /// Errors: as [`ScalarGrid::validate`] (fewer than 2 samples along an axis).
-    pub fn from_volume(volume: VolumeView<'a, f32>) -> Result<Self> {
+    pub fn from_volume(volume: VolumeView<'a, T>) -> Result<Self> {
         Self::with_spacing(
             volume.dims(),
-            volume.spacing().map(|s| s as f32),
+            volume.spacing().map(T::from_f64),
             volume.data(),
         )
     }
@@ -98,6 +141,7 @@ impl<'a> ScalarGrid<'a> {
             )));
         }
         for (axis, &h) in ["x", "y", "z"].iter().zip(&self.spacing) {
+            let h = h.to_f64();
             if !(h.is_finite() && h > 0.0) {
                 return Err(Error::invalid(
                     "spacing",
@@ -117,7 +161,7 @@ impl<'a> ScalarGrid<'a> {
                     i / (nx * ny),
                     (i / nx) % ny,
                     i % nx,
-                    self.values[i]
+                    self.values[i].to_f64()
                 ),
             ));
         }
@@ -153,14 +197,14 @@ impl<'a> ScalarGrid<'a> {
 
     /// The sample at `p`, `None` when missing.
     #[inline]
-    pub fn value(&self, p: [usize; 3]) -> Option<f32> {
+    pub fn value(&self, p: [usize; 3]) -> Option<T> {
         let v = self.values[self.index(p)];
         (!v.is_nan()).then_some(v)
     }
 
     /// The sample at `p + d` if that point is inside the grid and has a value.
     #[inline]
-    pub fn value_offset(&self, p: [usize; 3], d: [isize; 3]) -> Option<f32> {
+    pub fn value_offset(&self, p: [usize; 3], d: [isize; 3]) -> Option<T> {
         let mut q = [0usize; 3];
         for i in 0..3 {
             let c = p[i] as isize + d[i];
@@ -174,7 +218,7 @@ impl<'a> ScalarGrid<'a> {
 
     /// [`flag`] bits of the sample at flat index `i` for isovalue `iso`.
     #[inline]
-    pub(crate) fn flags(&self, i: usize, iso: f32) -> u8 {
+    pub(crate) fn flags(&self, i: usize, iso: T) -> u8 {
         let v = self.values[i];
         if !v.is_nan() {
             return flag::DEFINED | flag::KNOWN | if v >= iso { flag::INSIDE } else { 0 };
@@ -189,7 +233,7 @@ impl<'a> ScalarGrid<'a> {
     /// The sample one step from `p` along `axis` in direction `sign` (+1 or -1), if that point
     /// is inside the grid and has a value.
     #[inline]
-    pub fn neighbour(&self, p: [usize; 3], axis: usize, sign: isize) -> Option<f32> {
+    pub fn neighbour(&self, p: [usize; 3], axis: usize, sign: isize) -> Option<T> {
         let mut d = [0isize; 3];
         d[axis] = sign;
         self.value_offset(p, d)
@@ -202,7 +246,8 @@ impl<'a> ScalarGrid<'a> {
 }
 
 /// Checks an isovalue (finite).
-pub(crate) fn check_iso(iso: f32) -> Result<()> {
+pub(crate) fn check_iso<T: Sample>(iso: T) -> Result<()> {
+    let iso = iso.to_f64();
     if iso.is_finite() {
         Ok(())
     } else {
@@ -218,10 +263,10 @@ pub(crate) fn check_iso(iso: f32) -> Result<()> {
 /// values (a volume of the input's dims and spacing) and the side bits of *every* sample (packed as [`ScalarGrid::side_hint`]), so that
 /// marching cubes on the sparse grid reproduces the full grid's mesh exactly. Missing samples of
 /// the input stay missing and get side bit 0.
-pub fn sparsify_for_isosurface(
-    volume: VolumeView<'_, f32>,
-    iso: f32,
-) -> Result<(Volume<f32>, Vec<u8>)> {
+pub fn sparsify_for_isosurface<T: Sample>(
+    volume: VolumeView<'_, T>,
+    iso: T,
+) -> Result<(Volume<T>, Vec<u8>)> {
     let g = ScalarGrid::from_volume(volume)?;
     check_iso(iso)?;
     let (values, dims) = (volume.data(), volume.dims());
@@ -248,7 +293,7 @@ pub fn sparsify_for_isosurface(
     let sparse = values
         .iter()
         .zip(&keep)
-        .map(|(&v, &k)| if k { v } else { f32::NAN })
+        .map(|(&v, &k)| if k { v } else { T::NAN })
         .collect();
     let sparse = Volume::new(dims, volume.spacing(), sparse)?;
     let mut bits = vec![0u8; values.len().div_ceil(8)];
@@ -262,7 +307,7 @@ pub fn sparsify_for_isosurface(
 
 /// Sets a fraction `rate` of the samples to NaN, uniformly at random with the given seed
 /// (the paper's "random sensor failures", section 6). Returns the number of samples removed.
-pub fn random_dropouts(values: &mut [f32], rate: f64, seed: u64) -> Result<usize> {
+pub fn random_dropouts<T: Sample>(values: &mut [T], rate: f64, seed: u64) -> Result<usize> {
     if !(0.0..=1.0).contains(&rate) {
         return Err(Error::invalid(
             "rate",
@@ -273,7 +318,7 @@ pub fn random_dropouts(values: &mut [f32], rate: f64, seed: u64) -> Result<usize
     let mut removed = 0;
     for v in values.iter_mut() {
         if r.random::<f64>() < rate && !v.is_nan() {
-            *v = f32::NAN;
+            *v = T::NAN;
             removed += 1;
         }
     }

@@ -38,7 +38,7 @@ pub mod study;
 pub mod tables;
 
 pub use extract::{extract, marching_cubes, vertex_on_edge, EdgeId, IsoMesh};
-pub use grid::{random_dropouts, sparsify_for_isosurface, ScalarGrid};
+pub use grid::{random_dropouts, sparsify_for_isosurface, Sample, ScalarGrid};
 pub use metrics::{angular_errors, rms, RmsSummary};
 pub use normals::{
     estimate_normals, AmbiguousRule, LsnParams, NormalMethod, NormalStats, SplineParams,

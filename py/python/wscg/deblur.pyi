@@ -9,6 +9,8 @@ __all__ = ["render_kernel", "kernel_grid", "blurriness", "deconv_krishnan",
            "phase_correlation", "estimate_time_delay", "w_step", "make_gyro", "add_gyro_noise",
            "render_blurred", "make_scene", "METHODS", "MultiframeDeblur"]
 
+_Lam = Union[float, Literal["auto"]]
+
 METHODS: Tuple[str, ...]
 
 @dataclass(frozen=True)
@@ -29,11 +31,12 @@ def kernel_grid(gyro: np.ndarray, t_frame: float, t_exposure: float, f: float, c
                 t_delay: float = ..., r_cam_imu: Optional[np.ndarray] = ...,
                 bias: Optional[Sequence[float]] = ...) -> np.ndarray: ...
 def blurriness(kernel: np.ndarray, origin: Optional[Tuple[int, int]] = ...) -> float: ...
+def estimate_noise(image: np.ndarray) -> float: ...
 def deconv_krishnan(image: np.ndarray, kernel: np.ndarray, origin: Optional[Tuple[int, int]] = ...,
-                    lam: float = ..., alpha: float = ..., beta_max: float = ...) -> np.ndarray: ...
+                    lam: _Lam = ..., alpha: float = ..., beta_max: float = ...) -> np.ndarray: ...
 def deconv_krishnan_multi(image: np.ndarray, kernel: np.ndarray, prior: np.ndarray,
                           mu: float = ..., origin: Optional[Tuple[int, int]] = ...,
-                          lam: float = ..., alpha: float = ...,
+                          lam: _Lam = ..., alpha: float = ...,
                           beta_max: float = ...) -> np.ndarray: ...
 def wiener(image: np.ndarray, kernel: np.ndarray, origin: Optional[Tuple[int, int]] = ...,
            nsr: float = ...) -> np.ndarray: ...
@@ -44,21 +47,21 @@ def convolve(image: np.ndarray, kernel: np.ndarray,
 @overload
 def deblur_piecewise(frame: np.ndarray, gyro: np.ndarray, t_frame: float, t_exposure: float,
                      f: float, cx: float, cy: float, t_readout: float = ..., t_delay: float = ...,
-                     method: str = ..., tile: int = ..., lam: float = ..., alpha: float = ...,
+                     method: str = ..., tile: int = ..., lam: _Lam = ..., alpha: float = ...,
                      nsr: float = ..., rl_n_iter: int = ..., r_cam_imu: Optional[np.ndarray] = ...,
                      bias: Optional[Sequence[float]] = ...,
                      return_kernels: Literal[False] = ...) -> np.ndarray: ...
 @overload
 def deblur_piecewise(frame: np.ndarray, gyro: np.ndarray, t_frame: float, t_exposure: float,
                      f: float, cx: float, cy: float, t_readout: float = ..., t_delay: float = ...,
-                     method: str = ..., tile: int = ..., lam: float = ..., alpha: float = ...,
+                     method: str = ..., tile: int = ..., lam: _Lam = ..., alpha: float = ...,
                      nsr: float = ..., rl_n_iter: int = ..., r_cam_imu: Optional[np.ndarray] = ...,
                      bias: Optional[Sequence[float]] = ..., *,
                      return_kernels: Literal[True]) -> Tuple[np.ndarray, np.ndarray]: ...
 def deblur_multiframe(frames: Sequence[np.ndarray], frame_times: Sequence[float],
                       gyro: np.ndarray, f: float, cx: float, cy: float, t_exposure: float,
                       t_readout: float = ..., t_delay: float = ..., main: Optional[int] = ...,
-                      mu: float = ..., lam: float = ..., alpha: float = ...,
+                      mu: float = ..., lam: _Lam = ..., alpha: float = ...,
                       gamma: Optional[float] = ..., align: str = ..., min_ncc: float = ...,
                       temporal_radius: Optional[int] = ..., tile: int = ...,
                       r_cam_imu: Optional[np.ndarray] = ...,

@@ -204,7 +204,10 @@ class ExactComparison:
 
 
 def _vol(v) -> np.ndarray:
-    a = np.ascontiguousarray(np.asarray(v, dtype=np.float32))
+    """A C-ordered float64 array for float64 input (extraction and normals in double
+    precision), float32 for anything else."""
+    a = np.asarray(v)
+    a = np.ascontiguousarray(a, dtype=np.float64 if a.dtype == np.float64 else np.float32)
     if a.ndim != 3:
         raise ValueError(f"volume must be a 3-D array indexed [z, y, x], got shape {a.shape}")
     return a
@@ -225,11 +228,11 @@ def _spacing(spacing) -> Tuple[float, float, float]:
 
 
 def _origin(origin) -> np.ndarray:
-    """``(oz, oy, ox)`` as the float32 ``(x, y, z)`` offset of the vertices."""
+    """``(oz, oy, ox)`` as the ``(x, y, z)`` offset of the vertices."""
     o = _triple("origin", origin, "(oz, oy, ox)")
     if not all(np.isfinite(o)):
         raise ValueError(f"`origin` must be finite, got {origin!r}")
-    return np.array(o[::-1], dtype=np.float32)
+    return np.array(o[::-1], dtype=np.float64)
 
 
 def _method(normals) -> str:
@@ -264,7 +267,8 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0),
     Parameters
     ----------
     volume : (nz, ny, nx) array_like
-        Samples; NaN marks a missing sample. Converted to float32.
+        Samples; NaN marks a missing sample. float64 input is processed in double precision
+        (vertices and normals float64); anything else is converted to float32.
     level : float
         Isovalue (finite). A level outside the data range gives an empty mesh.
     spacing : (dz, dy, dx), default (1, 1, 1)
@@ -288,12 +292,12 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0),
 
     Returns
     -------
-    verts : (n, 3) float32
+    verts : (n, 3) float32, or float64 for a float64 volume
         Vertex positions ``(x, y, z)`` in world units: the sample ``[k, j, i]`` is at
         ``(ox + i dx, oy + j dy, oz + k dz)``.
     faces : (m, 3) int64
         Triangles.
-    normals : (n, 3) float32
+    normals : (n, 3) float32, or float64 for a float64 volume
         Unit normals toward increasing ``f``; zero rows where the estimator is undefined;
         empty for ``normals=None``.
     info : MeshInfo
@@ -321,7 +325,7 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0),
                                                 _options(selection, eq8_literal,
                                                          normalize_before_mean, ambiguous_face))
     if o.any():
-        verts += o
+        verts += o.astype(verts.dtype)
     return verts, faces, nrm, _from_mapping(MeshInfo, info, rename=_COUNTS)
 
 
@@ -332,7 +336,8 @@ def estimate_normals(volume, level: float, edges, spacing=(1.0, 1.0, 1.0),
     """Normals of the vertices on ``edges`` (``info.edges`` of :func:`marching_cubes`:
     rows ``(k, j, i, axis)``) with any estimator, e.g. to compare estimators on one mesh;
     ``spacing`` is ``(dz, dy, dx)`` and the other arguments are those of
-    :func:`marching_cubes`. Returns ``(normals (n, 3) float32, NormalStats)``. An edge that
+    :func:`marching_cubes`. Returns ``(normals (n, 3), NormalStats)``, float64 for a float64
+    volume and float32 otherwise. An edge that
     does not cross ``level`` on this volume raises ValueError."""
     v = _vol(volume)
     e = np.ascontiguousarray(np.asarray(edges, dtype=np.int64))
@@ -347,7 +352,8 @@ def sparsify(volume, level: float):
     """The paper's sparsification protocol (section 5): keeps only the samples that are
     endpoints of edges crossing ``level`` and sets the others to NaN. Returns
     ``(sparse_volume, inside)`` where ``inside`` is the boolean side of every original sample
-    (pass it as ``side_hint``). The input is not modified."""
+    (pass it as ``side_hint``); the sparse volume is float64 for float64 input, float32
+    otherwise. The input is not modified."""
     return _m.sparsify(_vol(volume), float(level))
 
 

@@ -128,7 +128,8 @@ pub struct FramesArgs {
     /// Method: multi (multi-frame KM), krishnan, wiener, rl or global.
     #[arg(long, default_value = "multi")]
     method: String,
-    /// Data weight lambda of the hyper-Laplacian solver.
+    /// Data weight lambda of the hyper-Laplacian solver (the paper's 2000; the noise-aware
+    /// weight of the library's uniform-kernel deconvolution loses here, on gyro kernels).
     #[arg(long, default_value_t = 2000.0)]
     lambda: f32,
     /// Weight mu of the multi-frame prior.
@@ -444,7 +445,7 @@ fn frames(a: FramesArgs) -> Result<()> {
     let (h, w) = (images[0].height(), images[0].width());
     let setup = a.camera.setup(w, h)?;
     let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
-    let hl = HyperLaplacianParams::default().lambda(a.lambda);
+    let hl = HyperLaplacianParams::paper().lambda(Some(a.lambda));
     let gamma = (!a.linear).then(Gamma::default);
     let opts = MultiframeParams::default()
         .t_exposure(setup.exposure)

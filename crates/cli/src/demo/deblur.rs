@@ -50,7 +50,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
         single(Method::RichardsonLucy { iters: 20 })
     })?;
     let (gu, _) = rep.time("KF with one global kernel", || {
-        single(Method::GlobalUniform(HyperLaplacianParams::default()))
+        single(Method::GlobalUniform(HyperLaplacianParams::paper()))
     })?;
     let km3 = rep.time("multi-frame pipeline, 3 frames", || {
         deblur_multiframe(&sb.frames, 2, &track, &k, &opts.radius(Some(1)), progress)

@@ -4,17 +4,17 @@
 //! when the interpolated gradient is zero.
 
 use super::{unit, EdgeVertex, Outcome};
-use crate::grid::ScalarGrid;
+use crate::grid::{Sample, ScalarGrid};
 
 /// Central-difference gradient at grid point `p` (eq. 1 divided by the spacing); one-sided at
 /// the border; `None` when a needed sample is missing.
-pub fn gradient_at(g: &ScalarGrid, p: [usize; 3]) -> Option<[f64; 3]> {
-    let f0 = g.value(p)? as f64;
+pub fn gradient_at<T: Sample>(g: &ScalarGrid<T>, p: [usize; 3]) -> Option<[f64; 3]> {
+    let f0 = g.value(p)?.to_f64();
     let mut grad = [0.0f64; 3];
     for m in 0..3 {
-        let fwd = || g.neighbour(p, m, 1).map(|v| v as f64);
-        let bwd = || g.neighbour(p, m, -1).map(|v| v as f64);
-        let h = g.spacing[m] as f64;
+        let fwd = || g.neighbour(p, m, 1).map(T::to_f64);
+        let bwd = || g.neighbour(p, m, -1).map(T::to_f64);
+        let h = g.spacing[m].to_f64();
         grad[m] = if p[m] == 0 {
             (fwd()? - f0) / h
         } else if p[m] + 1 == g.dims[m] {
@@ -26,14 +26,14 @@ pub fn gradient_at(g: &ScalarGrid, p: [usize; 3]) -> Option<[f64; 3]> {
     Some(grad)
 }
 
-pub(crate) fn normal(g: &ScalarGrid, v: &EdgeVertex) -> ([f32; 3], Outcome) {
+pub(crate) fn normal<T: Sample>(g: &ScalarGrid<T>, v: &EdgeVertex<T>) -> ([T; 3], Outcome) {
     let (Some(gp), Some(gq)) = (gradient_at(g, v.p), gradient_at(g, v.q)) else {
-        return ([0.0; 3], Outcome::Undefined);
+        return ([T::default(); 3], Outcome::Undefined);
     };
-    let t = v.t as f64;
+    let t = v.t.to_f64();
     let n = [0, 1, 2].map(|i| (1.0 - t) * gp[i] + t * gq[i]);
     match unit(n) {
         Some(u) => (u, Outcome::Defined),
-        None => ([0.0; 3], Outcome::Undefined),
+        None => ([T::default(); 3], Outcome::Undefined),
     }
 }

@@ -15,7 +15,7 @@
 
 use super::{unit, EdgeVertex, Outcome};
 use crate::edge::vertex_on_edge;
-use crate::grid::ScalarGrid;
+use crate::grid::{Sample, ScalarGrid};
 
 /// Which vertex of an ambiguous face (four crossing edges) the virtual mesh connects `V` to.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -46,21 +46,26 @@ impl LsnParams {
 }
 
 /// The MC vertex on the grid edge between `u` and `w` (adjacent grid points, any order).
-fn vertex_between(g: &ScalarGrid, iso: f32, u: [usize; 3], w: [usize; 3]) -> Option<[f32; 3]> {
+fn vertex_between<T: Sample>(
+    g: &ScalarGrid<T>,
+    iso: T,
+    u: [usize; 3],
+    w: [usize; 3],
+) -> Option<[T; 3]> {
     let axis = (0..3).find(|&i| u[i] != w[i])?;
     let lo = if u[axis] < w[axis] { u } else { w };
     vertex_on_edge(g, iso, lo, axis).map(|(pos, _)| pos)
 }
 
 /// `W_m` of the face spanned by the vertex's edge and direction `(axis, sign)`.
-fn face_vertex(
-    g: &ScalarGrid,
-    iso: f32,
-    v: &EdgeVertex,
+fn face_vertex<T: Sample>(
+    g: &ScalarGrid<T>,
+    iso: T,
+    v: &EdgeVertex<T>,
     axis: usize,
     sign: isize,
     rule: AmbiguousRule,
-) -> Option<[f32; 3]> {
+) -> Option<[T; 3]> {
     let shift = |x: [usize; 3]| {
         let c = x[axis] as isize + sign;
         if c < 0 || c >= g.dims[axis] as isize {
@@ -91,18 +96,18 @@ fn face_vertex(
     }
 }
 
-pub(crate) fn normal(
-    g: &ScalarGrid,
-    iso: f32,
-    v: &EdgeVertex,
+pub(crate) fn normal<T: Sample>(
+    g: &ScalarGrid<T>,
+    iso: T,
+    v: &EdgeVertex<T>,
     opts: &LsnParams,
-) -> ([f32; 3], Outcome) {
+) -> ([T; 3], Outcome) {
     let a = v.axis;
     let (b, c) = ((a + 1) % 3, (a + 2) % 3);
     let dirs = [(b, 1), (c, 1), (b, -1), (c, -1)];
     let w = dirs.map(|(axis, s)| face_vertex(g, iso, v, axis, s, opts.ambiguous_face));
-    let o = v.position.map(|x| x as f64);
-    let rel = |x: [f32; 3]| [x[0] as f64 - o[0], x[1] as f64 - o[1], x[2] as f64 - o[2]];
+    let o = v.position.map(T::to_f64);
+    let rel = |x: [T; 3]| [0, 1, 2].map(|i| x[i].to_f64() - o[i]);
     let mut sum = [0.0f64; 3];
     let mut pairs = 0;
     for m in 0..4 {
@@ -115,11 +120,11 @@ pub(crate) fn normal(
         }
     }
     if pairs == 0 {
-        return ([0.0; 3], Outcome::Undefined);
+        return ([T::default(); 3], Outcome::Undefined);
     }
     let s = if v.fq > v.fp { 1.0 } else { -1.0 } / pairs as f64;
     match unit(sum.map(|x| s * x)) {
         Some(u) => (u, Outcome::Defined),
-        None => ([0.0; 3], Outcome::Undefined),
+        None => ([T::default(); 3], Outcome::Undefined),
     }
 }

@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
 use crate::edge::{vertex_on_edge, EdgeId};
-use crate::grid::{check_iso, ScalarGrid};
+use crate::grid::{check_iso, Sample, ScalarGrid};
 
 pub use lsn::{AmbiguousRule, LsnParams};
 pub use spline::{SplineParams, TetSelection};
@@ -105,18 +105,18 @@ pub(crate) enum Outcome {
 
 /// The vertex on an edge: its low and high samples, their values, and `t`.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct EdgeVertex {
+pub(crate) struct EdgeVertex<T: Sample> {
     pub p: [usize; 3],
     pub q: [usize; 3],
     pub axis: usize,
-    pub fp: f32,
-    pub fq: f32,
-    pub t: f32,
-    pub position: [f32; 3],
+    pub fp: T,
+    pub fq: T,
+    pub t: T,
+    pub position: [T; 3],
 }
 
-impl EdgeVertex {
-    pub(crate) fn new(g: &ScalarGrid, iso: f32, e: &EdgeId) -> Option<Self> {
+impl<T: Sample> EdgeVertex<T> {
+    pub(crate) fn new(g: &ScalarGrid<T>, iso: T, e: &EdgeId) -> Option<Self> {
         let axis = e.axis as usize;
         if axis > 2 || (0..3).any(|i| e.point[i] as usize >= g.dims[i]) {
             return None;
@@ -136,25 +136,25 @@ impl EdgeVertex {
     }
 }
 
-/// Normalises `v` to `f32`; `None` when it is zero or not finite.
+/// Normalises `v` and rounds it to the sample type; `None` when it is zero or not finite.
 #[inline]
-pub(crate) fn unit(v: [f64; 3]) -> Option<[f32; 3]> {
+pub(crate) fn unit<T: Sample>(v: [f64; 3]) -> Option<[T; 3]> {
     let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    (n > 0.0 && n.is_finite()).then(|| [(v[0] / n) as f32, (v[1] / n) as f32, (v[2] / n) as f32])
+    (n > 0.0 && n.is_finite()).then(|| v.map(|c| T::from_f64(c / n)))
 }
 
 /// Normals of the vertices on `edges` (as in [`crate::IsoMesh::vertex_edge`]) for isovalue
-/// `iso`, with diagnostics (`skipped_cells` is left at 0).
+/// `iso`, with diagnostics (`skipped_cells` is left at 0), in the grid's sample type.
 ///
 /// # Errors
 /// An invalid grid, a non-finite isovalue, or an edge that does not cross `iso` on this grid
 /// (a mesh from another grid or isovalue).
-pub fn estimate_normals(
-    grid: &ScalarGrid,
-    iso: f32,
+pub fn estimate_normals<T: Sample>(
+    grid: &ScalarGrid<T>,
+    iso: T,
     edges: &[EdgeId],
     method: NormalMethod,
-) -> Result<(Vec<[f32; 3]>, NormalStats)> {
+) -> Result<(Vec<[T; 3]>, NormalStats)> {
     method.validate()?;
     grid.validate()?;
     check_iso(iso)?;
@@ -163,7 +163,7 @@ pub fn estimate_normals(
     }
     // Normals are written in place; the per-vertex outcome comes back as one byte (`None`:
     // the edge does not cross).
-    let mut normals = vec![[0.0f32; 3]; edges.len()];
+    let mut normals = vec![[T::default(); 3]; edges.len()];
     let outcomes: Vec<Option<Outcome>> = normals
         .par_iter_mut()
         .zip(edges.par_iter())
@@ -189,8 +189,9 @@ pub fn estimate_normals(
                 return Err(Error::invalid(
                     "edges",
                     format!(
-                        "vertex {i}: edge {:?} does not cross the isovalue {iso} on this grid",
-                        edges[i]
+                        "vertex {i}: edge {:?} does not cross the isovalue {} on this grid",
+                        edges[i],
+                        iso.to_f64()
                     ),
                 ))
             }

@@ -27,7 +27,7 @@
 
 use super::{unit, EdgeVertex, Outcome};
 use crate::cell::{resolve_cell, CellState};
-use crate::grid::ScalarGrid;
+use crate::grid::{Sample, ScalarGrid};
 use crate::tables::{case_table, corner_offset, edge_corners, edge_index, Selection};
 
 /// Which corner tetrahedron of a cell gives the gradient.
@@ -69,8 +69,8 @@ impl SplineParams {
 /// barycentric weight of the corner at the vertex (used only by the literal eq. 8), `axis` the
 /// vertex's edge axis.
 #[inline(always)]
-fn corner_gradient(
-    vals: &[f32; 8],
+fn corner_gradient<T: Sample>(
+    vals: &[T; 8],
     inv_h: [f64; 3],
     k: usize,
     axis: usize,
@@ -90,7 +90,7 @@ fn corner_gradient(
         }
         // s_m = +1 when the corner is on the low side along m.
         let s = if k >> m & 1 == 0 { 1.0 } else { -1.0 };
-        let d = s * (fm as f64 - f0 as f64) * inv_h[m];
+        let d = s * (fm.to_f64() - f0.to_f64()) * inv_h[m];
         grad[m] = if !literal {
             d
         } else if m == axis {
@@ -106,8 +106,8 @@ fn corner_gradient(
 /// `le` at parameter `t` (from the edge's low end); returns how many were added (0, 1, or 2
 /// for [`TetSelection::AverageBoth`]). `vals` are the cell's corner values (NaN = missing).
 #[inline(always)]
-pub(crate) fn cell_contribution(
-    vals: &[f32; 8],
+pub(crate) fn cell_contribution<T: Sample>(
+    vals: &[T; 8],
     config: u8,
     le: usize,
     t: f64,
@@ -153,8 +153,8 @@ pub(crate) fn cell_contribution(
 
 /// Reciprocal spacing.
 #[inline]
-pub(crate) fn inverse_spacing(g: &ScalarGrid) -> [f64; 3] {
-    g.spacing.map(|h| 1.0 / h as f64)
+pub(crate) fn inverse_spacing<T: Sample>(g: &ScalarGrid<T>) -> [f64; 3] {
+    g.spacing.map(|h| 1.0 / h.to_f64())
 }
 
 /// Block index (see [`normal`]) of each corner of the cell `db + 2 dc` around an edge along
@@ -180,12 +180,12 @@ const BLOCK_INDEX: [[[u8; 8]; 4]; 3] = {
     t
 };
 
-pub(crate) fn normal(
-    g: &ScalarGrid,
-    iso: f32,
-    v: &EdgeVertex,
+pub(crate) fn normal<T: Sample>(
+    g: &ScalarGrid<T>,
+    iso: T,
+    v: &EdgeVertex<T>,
     opts: &SplineParams,
-) -> ([f32; 3], Outcome) {
+) -> ([T; 3], Outcome) {
     let a = v.axis;
     let (b, c) = ((a + 1) % 3, (a + 2) % 3);
     let inv_h = inverse_spacing(g);
@@ -193,7 +193,7 @@ pub(crate) fn normal(
     // offsets i along a (0, 1), j - 1 along b and k - 1 along c.
     let stride = [1isize, g.dims[0] as isize, (g.dims[0] * g.dims[1]) as isize];
     let base = g.index(v.p) as isize;
-    let mut vals = [f32::NAN; 18];
+    let mut vals = [T::NAN; 18];
     let mut flags = [0u8; 18];
     let inside_b = |d: isize| (0..g.dims[b] as isize).contains(&(v.p[b] as isize + d));
     let inside_c = |d: isize| (0..g.dims[c] as isize).contains(&(v.p[c] as isize + d));
@@ -223,7 +223,7 @@ pub(crate) fn normal(
                 continue;
             }
             let mut cf = [0u8; 8];
-            let mut cv = [0.0f32; 8];
+            let mut cv = [T::default(); 8];
             for (corner, &bi) in BLOCK_INDEX[a][db + 2 * dc].iter().enumerate() {
                 cf[corner] = flags[bi as usize];
                 cv[corner] = vals[bi as usize];
@@ -232,7 +232,7 @@ pub(crate) fn normal(
                 continue;
             };
             let le = edge_index(a, db, dc);
-            count += cell_contribution(&cv, config, le, v.t as f64, inv_h, opts, &mut sum);
+            count += cell_contribution(&cv, config, le, v.t.to_f64(), inv_h, opts, &mut sum);
         }
     }
     if count > 0 {
@@ -245,17 +245,18 @@ pub(crate) fn normal(
 
 /// The fallback normal: `(f(q) - f(p)) / h_a` along the edge (never zero on a crossing edge),
 /// and across it the mean of the one-sided differences available at `p` and `q`.
-pub(crate) fn fallback(g: &ScalarGrid, v: &EdgeVertex) -> [f32; 3] {
+pub(crate) fn fallback<T: Sample>(g: &ScalarGrid<T>, v: &EdgeVertex<T>) -> [T; 3] {
     let a = v.axis;
+    let (fp, fq) = (v.fp.to_f64(), v.fq.to_f64());
     let mut n = [0.0f64; 3];
-    n[a] = (v.fq as f64 - v.fp as f64) / g.spacing[a] as f64;
+    n[a] = (fq - fp) / g.spacing[a].to_f64();
     for m in (0..3).filter(|&m| m != a) {
         let mut sum = 0.0;
         let mut k = 0;
-        for (end, f0) in [(v.p, v.fp), (v.q, v.fq)] {
+        for (end, f0) in [(v.p, fp), (v.q, fq)] {
             for s in [1isize, -1] {
                 if let Some(f1) = g.neighbour(end, m, s) {
-                    sum += s as f64 * (f1 as f64 - f0 as f64) / g.spacing[m] as f64;
+                    sum += s as f64 * (f1.to_f64() - f0) / g.spacing[m].to_f64();
                     k += 1;
                 }
             }
@@ -265,8 +266,8 @@ pub(crate) fn fallback(g: &ScalarGrid, v: &EdgeVertex) -> [f32; 3] {
         }
     }
     unit(n).unwrap_or_else(|| {
-        let mut u = [0.0f32; 3];
-        u[a] = (v.fq - v.fp).signum();
+        let mut u = [T::default(); 3];
+        u[a] = T::from_f64((fq - fp).signum());
         u
     })
 }
