@@ -2399,6 +2399,20 @@ fn gait_enrolls_identifies_and_classifies_ucr_files() {
         test.to_str().unwrap(),
     ]);
     assert!(text.contains("3/3 correct, error 0.0000"), "{text}");
+    // One channel: the dependent DTW is the same DTW.
+    let text = wscg_ok(&[
+        "biometrics",
+        "gait",
+        "ucr",
+        train.to_str().unwrap(),
+        test.to_str().unwrap(),
+        "--multivariate",
+        "dependent",
+    ]);
+    assert!(
+        text.contains("Dependent") && text.contains("3/3 correct, error 0.0000"),
+        "{text}"
+    );
 
     // Bad input: a gallery without walks, a walk with 24 joints, a missing model.
     let empty = dir.path().join("empty");
