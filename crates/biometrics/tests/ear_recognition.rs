@@ -265,7 +265,12 @@ fn index_based_matching_beats_the_baseline_with_skin_equalisation() {
 #[test]
 #[ignore = "not met with whole-image equalisation: S_B rank-1 0.470 vs baseline 0.557 (see note)"]
 fn index_based_matching_beats_the_baseline_as_printed() {
-    let ev = evaluate(colour_set(), &EarParams::default().equalize_on_skin(false), 10).unwrap();
+    let ev = evaluate(
+        colour_set(),
+        &EarParams::default().equalize_on_skin(false),
+        10,
+    )
+    .unwrap();
     print_cmc("colour occluders 10-50 %, paper's pre-processing", &ev);
     check7(&ev);
 }

@@ -237,7 +237,15 @@ pub fn self_dissimilarity(samples: &[Vec<Vec<f64>>], p: &DtwParams) -> Result<Di
         .map_init(
             || (Vec::new(), Vec::new()),
             |(scratch, lanes), &(i, j)| {
-                pair_delta(&samples[i], &samples[j], fs.get(i), fs.get(j), p, scratch, lanes)
+                pair_delta(
+                    &samples[i],
+                    &samples[j],
+                    fs.get(i),
+                    fs.get(j),
+                    p,
+                    scratch,
+                    lanes,
+                )
             },
         )
         .collect();

@@ -318,7 +318,15 @@ impl GaitRecognizer {
             .enumerate()
             .map(|(i, (g, &l))| {
                 let fg = fused.as_ref().map(|f| &f[i]);
-                let d = pair_delta(q, g, fq.as_ref().into(), fg.into(), p, &mut scratch, &mut lanes);
+                let d = pair_delta(
+                    q,
+                    g,
+                    fq.as_ref().into(),
+                    fg.into(),
+                    p,
+                    &mut scratch,
+                    &mut lanes,
+                );
                 (i, l, d)
             })
             .collect();

@@ -404,7 +404,11 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             println!(
                 "{}: 1-NN DTW ({cost:?} cost, window {window:?}, {multivariate:?}): {correct}/{} \
                  correct, error {:.4}",
-                if te.problem.is_empty() { "test" } else { &te.problem },
+                if te.problem.is_empty() {
+                    "test"
+                } else {
+                    &te.problem
+                },
                 lte.len(),
                 1.0 - correct as f64 / lte.len() as f64
             );
