@@ -518,7 +518,9 @@ def test_gallery_scores_equal_the_reference_scorer(occluded, matcher):
 
 def test_score_breakdown_is_consistent(occluded, matcher):
     img, t = occluded.probes[0], matcher.templates_[0]
-    s = ear.score(img, t)
+    # The paper's pre-processing, so that the probe's features are its enrolment features
+    # (the whole image equalised; the default equalises on the detected skin).
+    s = ear.score(img, t, equalize_on_skin=False)
     m = len(s.index)
     assert s.distances.shape == (9, m) and s.per_shift.shape == (9,)
     np.testing.assert_array_equal(s.shifts, np.array(ear.SHIFTS_NINE))
@@ -543,6 +545,8 @@ def test_score_breakdown_is_consistent(occluded, matcher):
         assert np.isnan(d[5, 0]) and np.isnan(d[6, 0]) and np.isnan(d[7, 0])
     # The normalised distance is |t - r| / 10 for B0.
     feats = ear.enroll(img)  # the probe's own unmasked features (equalised on the image)
+    on_skin = ear.score(img, t)
+    assert not np.allclose(on_skin.distances[0], d[0], equal_nan=True)
     np.testing.assert_allclose(
         d[0], np.linalg.norm(feats[s.index] - t[s.index], axis=1) / 10, atol=1e-6)
 

@@ -19,7 +19,9 @@ Person identification from Kinect v2 skeleton streams (25 joints x 3-D, 30 fps):
 4. **DTW kernel** (:func:`dtw`, :func:`dtw_kernel`, :func:`dissimilarity_matrix`,
    section 3.4, eqs. 2-6): ``Delta = sum over the kept pairs of DTW(theta_m, theta'_m)``,
    each pair warping on its own (independent multivariate DTW), no resampling: the two
-   cycles may have different lengths.
+   cycles may have different lengths. ``multivariate="dependent"`` gives the dependent
+   DTW instead (one warp path for all channels; DTW_D of the UEA archive, dtaidistance's
+   ``dtw_ndim``).
 5. **Vote** (:class:`GaitRecognizer`): training walks ranked by ``Delta``; 1-NN (default),
    majority of the ``n_neighbors`` nearest, or the paper's majority among the top
    ``#classes + 1``.
