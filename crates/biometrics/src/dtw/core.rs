@@ -216,26 +216,27 @@ impl<'a> Rows for &'a Frames {
     }
 }
 
-/// Squared Euclidean distance between two frames of equal length. Four partial sums, so that
-/// a long frame is not one chain of dependent additions (the order of the additions differs
-/// from a left-to-right sum only by rounding).
+/// Squared Euclidean distance between two frames of equal length. Eight partial sums, so that
+/// a long frame is not one chain of dependent additions but two SIMD vectors' worth of them
+/// (the order of the additions differs from a left-to-right sum only by rounding).
 #[inline(always)]
 fn frame_sq(x: &[f64], y: &[f64]) -> f64 {
-    let (xc, yc) = (x.chunks_exact(4), y.chunks_exact(4));
+    const W: usize = 8;
+    let (xc, yc) = (x.chunks_exact(W), y.chunks_exact(W));
     let tail: f64 = xc
         .remainder()
         .iter()
         .zip(yc.remainder())
         .map(|(u, v)| (u - v) * (u - v))
         .sum();
-    let mut acc = [0.0; 4];
+    let mut acc = [0.0; W];
     for (u, v) in xc.zip(yc) {
-        for l in 0..4 {
+        for l in 0..W {
             let d = u[l] - v[l];
             acc[l] += d * d;
         }
     }
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+    ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7])) + tail
 }
 
 /// [`dtw`] without input checks, with early abandoning: returns `+inf` as soon as every cell
@@ -259,6 +260,30 @@ pub fn dtw_dependent_bounded(
     scratch: &mut Vec<f64>,
 ) -> f64 {
     debug_assert_eq!(a.channels, b.channels);
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports the feature the function is compiled for.
+        return unsafe { dependent_avx2(a, b, p, bound, scratch) };
+    }
+    dependent(a, b, p, bound, scratch)
+}
+
+/// [`dependent`] compiled for AVX2 (the frame cost in 256-bit vectors); the same operations
+/// in the same order, so the same result.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn dependent_avx2(
+    a: &Frames,
+    b: &Frames,
+    p: &DtwParams,
+    bound: f64,
+    scratch: &mut Vec<f64>,
+) -> f64 {
+    dependent(a, b, p, bound, scratch)
+}
+
+#[inline(always)]
+fn dependent(a: &Frames, b: &Frames, p: &DtwParams, bound: f64, scratch: &mut Vec<f64>) -> f64 {
     match p.cost {
         LocalCost::Abs => run(a, b, p, bound, scratch, |x, y| frame_sq(x, y).sqrt()),
         LocalCost::Squared => run(a, b, p, bound, scratch, frame_sq),
