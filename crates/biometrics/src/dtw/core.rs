@@ -321,8 +321,9 @@ pub(crate) fn fmin(a: f64, b: f64) -> f64 {
     }
 }
 
-/// Full-grid recursion; the shorter sequence indexes the rows of memory.
-#[inline]
+/// Full-grid recursion; the shorter sequence indexes the rows of memory. Always inlined, so
+/// that it is compiled with the target features of its caller.
+#[inline(always)]
 fn full<S: Rows>(
     a: S,
     b: S,
@@ -380,7 +381,8 @@ fn band_range(i: usize, slope: f64, r: f64, m: usize) -> (usize, usize) {
     (lo, hi)
 }
 
-/// Banded recursion (`n, m >= 2`).
+/// Banded recursion (`n, m >= 2`), always inlined as [`full`].
+#[inline(always)]
 fn band<S: Rows>(
     a: S,
     b: S,
