@@ -2396,7 +2396,10 @@ fn gait_enrolls_identifies_and_classifies_ucr_files() {
         let (tr, te) = (train.to_str().unwrap(), test.to_str().unwrap());
         let text = wscg_ok(&["biometrics", "gait", "ucr", tr, te, "--multivariate", mode]);
         assert!(text.contains("3/3 correct, error 0.0000"), "{text}");
-        assert!(text.to_lowercase().contains(mode), "{text}");
+        assert!(
+            text.to_lowercase().contains(&format!(", {mode})")),
+            "{text}"
+        );
     }
 
     // Bad input: a gallery without walks, a walk with 24 joints, a missing model.
