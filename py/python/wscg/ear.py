@@ -142,7 +142,7 @@ _PARAM_DOCS: Dict[str, str] = {
     paper): a large occluder then no longer shifts the grey levels of the visible ear.
     ``False`` is the paper's pre-processing (the whole probe equalised before occlusion is
     detected); it costs the same (one histogram pass) but on occluded probes it loses to
-    the whole-ear baseline: 47.0 % rank-1 vs the baseline's 55.7 % and 93.3 % equalised on
+    the whole-ear baseline: 46.7 % rank-1 vs the baseline's 55.7 % and 93.3 % equalised on
     skin (synthetic ears, colour occluders over 10-50 % of the blocks; BENCHMARKS.md).""",
 }
 

@@ -146,7 +146,7 @@ pub struct ParamArgs {
     /// Equalise probes on their detected skin pixels only (default; not in the paper).
     /// `--equalize-on-skin false` is the paper's pre-processing, the whole probe equalised
     /// before occlusion detection: same cost, but on occluded probes it loses to the
-    /// whole-ear baseline (47.0 % vs 55.7 % rank-1 on synthetic ears, 93.3 % on skin).
+    /// whole-ear baseline (46.7 % vs 55.7 % rank-1 on synthetic ears, 93.3 % on skin).
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set)]
     equalize_on_skin: bool,
     /// Skin model mean (r, g), e.g. `--skin-mean 0.45,0.32`.
