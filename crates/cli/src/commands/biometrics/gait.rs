@@ -17,6 +17,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use wscg_biometrics::dtw::{nearest, ts_file::read_ts, DtwParams, LocalCost, Multivariate};
 use wscg_biometrics::gait::cycle::StartLeg;
@@ -395,12 +396,15 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             if ltr.is_empty() || lte.is_empty() {
                 return Err(Error::invalid("ts", "both files need class labels"));
             }
-            let correct = te
+            // One 1-NN search (with early abandoning) per test case, in parallel.
+            let correct: usize = te
                 .series
-                .iter()
-                .zip(&lte)
+                .par_iter()
+                .zip(lte.par_iter())
                 .map(|(q, l)| nearest(q, &tr.series, &p).map(|(k, _)| usize::from(&ltr[k] == l)))
-                .sum::<Result<usize>>()?;
+                .collect::<Result<Vec<usize>>>()?
+                .into_iter()
+                .sum();
             println!(
                 "{}: 1-NN DTW ({cost:?} cost, window {window:?}, {multivariate:?}): {correct}/{} \
                  correct, error {:.4}",
