@@ -138,7 +138,7 @@ pub(crate) trait Rows: Copy {
     fn row(self, i: usize) -> Self::Row;
 }
 
-impl<'a> Rows for &'a [f64] {
+impl Rows for &[f64] {
     type Row = f64;
     #[inline(always)]
     fn len(self) -> usize {
