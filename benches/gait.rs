@@ -1,13 +1,14 @@
 //! Criterion benchmarks of paper 17 (Kinect gait recognition with joint relative angles and a
 //! DTW kernel), specification section 5: the full Δ matrix of 300 walks over 100 joint pairs
 //! (cycle lengths about 28-42 frames, squared cost, as the dtaidistance comparison of
-//! benches/peers/17.py), one DTW, the per-walk front end (cycle detection and the 276 JRA
+//! benches/peers/17.py), the same matrix with the dependent multivariate DTW (one warp path over
+//! the 100 channels, as `dtaidistance.dtw_ndim`), one DTW, the per-walk front end (cycle detection and the 276 JRA
 //! sequences) and one identification against a 40-walk gallery.
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use wscg::biometrics::dtw::{dtw, self_dissimilarity, DtwParams, LocalCost};
+use wscg::biometrics::dtw::{dtw, self_dissimilarity, DtwParams, LocalCost, Multivariate};
 use wscg::biometrics::gait::synth::{walkers, SessionRanges};
 use wscg::biometrics::gait::{gait_sample, GaitParams, GaitRecognizer};
 
@@ -30,6 +31,11 @@ fn bench(c: &mut Criterion) {
     g.bench_function(
         "delta matrix 300 walks x 100 pairs, symmetric (squared)",
         |b| b.iter(|| self_dissimilarity(black_box(&walks), &sq).unwrap()),
+    );
+    let dep = sq.multivariate(Multivariate::Dependent);
+    g.bench_function(
+        "dependent DTW matrix 300 walks x 100 channels, symmetric (squared)",
+        |b| b.iter(|| self_dissimilarity(black_box(&walks), &dep).unwrap()),
     );
     let (a, bb) = (&walks[0][0], &walks[1][0]);
     g.bench_function(format!("dtw {} x {} (abs)", a.len(), bb.len()), |b| {

@@ -21,8 +21,11 @@ fn main() -> wscg::math::Result<()> {
         &p,
     )?;
     for (label, params) in [
-        ("paper's pre-processing", p.clone()),
-        ("equalised on skin", p.clone().equalize_on_skin(true)),
+        (
+            "paper's pre-processing (whole probe equalised)",
+            p.clone().equalize_on_skin(false),
+        ),
+        ("equalised on skin (default)", p.clone()),
     ] {
         let ev = evaluate(&set, &params, 10)?;
         println!(

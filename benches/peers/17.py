@@ -12,8 +12,17 @@ Delta = sum over channels of DTW with the squared local cost.
   of 1-dim DTW"), so Delta is the sum over the 100 channels of
   ``dtaidistance.dtw.distance_matrix_fast(channel_series, parallel=True)`` squared (its DTW
   returns the square root of the accumulated squared cost).
-The two matrices are checked equal (relative 1e-9) before timing. Also timed: one DTW of two
-cycles (``wscg.gait.dtw`` against ``dtaidistance.dtw.distance_fast``), each called from Python.
+The two matrices are checked equal (relative 1e-9) before timing.
+
+The dependent multivariate DTW (one warp path over the 100 channels, squared Euclidean frame
+cost) on the same walks:
+
+- ours: ``wscg.gait.dissimilarity_matrix(walks, cost="squared", multivariate="dependent")``
+  (frame-major copies made once, rayon over the pairs, no allocation per pair);
+- peer: ``dtaidistance.dtw_ndim.distance_matrix_fast(frames, parallel=True)`` squared (it
+  returns the square root of the accumulated squared cost), frames ``(T, 100)`` per walk.
+
+Also timed: one DTW of two cycles (``wscg.gait.dtw`` against ``dtaidistance.dtw.distance_fast``), each called from Python.
 
 Environment: WSCG_REPEAT (timing repeats, default 3).
 """
@@ -23,6 +32,7 @@ import sys
 
 import numpy as np
 from dtaidistance import dtw as ddtw
+from dtaidistance import dtw_ndim
 
 from wscg import gait as G
 
@@ -56,11 +66,32 @@ assert err < 1e-9, f"matrices differ: {err}"
 print(f"300 walks, 100 channels, cycle lengths {min(lengths)}-{max(lengths)} frames; "
       f"max relative difference of the two Delta matrices {err:.1e}")
 
+frames = [np.ascontiguousarray(w.T) for w in walks]
+
+
+def ours_dep():
+    return G.dissimilarity_matrix(walks, cost="squared", multivariate="dependent")
+
+
+def peer_dep():
+    d = dtw_ndim.distance_matrix_fast(frames, parallel=True)
+    d = np.where(np.isfinite(d), d, 0.0)
+    d = d * d
+    return np.maximum(d, d.T)
+
+
+a, b = ours_dep(), peer_dep()
+err_dep = np.max(np.abs(a - b) / np.maximum(np.abs(b), 1.0))
+assert err_dep < 1e-9, f"dependent matrices differ: {err_dep}"
+print(f"dependent DTW: max relative difference of the two matrices {err_dep:.1e}")
+
 x, y = channels[0][0], channels[0][1]
 assert abs(G.dtw(x, y, cost="squared") - ddtw.distance_fast(x, y) ** 2) < 1e-9
 rows = [
     ("Delta matrix 300 walks x 100 pairs", best_time(ours, REPEAT), "dtaidistance matrix_fast x100",
      best_time(peer, REPEAT)),
+    ("dependent DTW matrix 300 walks x 100 channels", best_time(ours_dep, REPEAT),
+     "dtaidistance dtw_ndim matrix_fast", best_time(peer_dep, REPEAT)),
     (f"1000 DTWs {len(x)} x {len(y)} (Python calls)",
      best_time(lambda: [G.dtw(x, y, cost="squared") for _ in range(1000)], REPEAT),
      "dtaidistance distance_fast",

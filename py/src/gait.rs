@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use wscg_biometrics::dtw::{self, ts_file, DtwParams, LocalCost};
+use wscg_biometrics::dtw::{self, ts_file, DtwParams, LocalCost, Multivariate};
 use wscg_biometrics::gait::synth::{self, NoiseParams, SessionParams, SessionRanges};
 use wscg_biometrics::gait::{
     self, CycleChoice, CycleParams, GaitCycle, GaitParams, GaitRecognizer, HistSpec, Joint, JraSet,
@@ -180,6 +180,17 @@ fn dtw_params(cost: &str, window: Option<usize>, normalize: bool) -> PyResult<Dt
         .cost(LocalCost::parse(cost).py_err()?)
         .window(window)
         .normalize(normalize))
+}
+
+/// [`dtw_params`] for the multichannel functions, with the multivariate mode.
+fn kernel_params(
+    cost: &str,
+    window: Option<usize>,
+    normalize: bool,
+    multivariate: &str,
+) -> PyResult<DtwParams> {
+    Ok(dtw_params(cost, window, normalize)?
+        .multivariate(Multivariate::parse(multivariate).py_err()?))
 }
 
 fn start_leg_in(s: &str) -> PyResult<StartLeg> {
@@ -451,9 +462,9 @@ fn dtw_path<'py>(
     Ok((d, array(py, &[path.len(), 2], flat)?))
 }
 
-/// The DTW kernel Δ (eq. 6) between two multichannel samples.
+/// The DTW kernel Δ (eq. 6) between two multichannel samples, or their dependent DTW.
 #[pyfunction]
-#[pyo3(signature = (a, b, cost="abs", window=None, normalize=false))]
+#[pyo3(signature = (a, b, cost="abs", window=None, normalize=false, multivariate="independent"))]
 fn dtw_kernel(
     py: Python<'_>,
     a: Vec<PyReadonlyArrayDyn<'_, f64>>,
@@ -461,8 +472,9 @@ fn dtw_kernel(
     cost: &str,
     window: Option<usize>,
     normalize: bool,
+    multivariate: &str,
 ) -> PyResult<f64> {
-    let p = dtw_params(cost, window, normalize)?;
+    let p = kernel_params(cost, window, normalize, multivariate)?;
     let (a, b) = (sample_in("a", &a)?, sample_in("b", &b)?);
     crate::pool::detach(py, || dtw::dtw_kernel(&a, &b, &p)).py_err()
 }
@@ -470,7 +482,7 @@ fn dtw_kernel(
 /// Δ between every query and gallery sample; the symmetric self matrix when `gallery` is
 /// `None`.
 #[pyfunction]
-#[pyo3(signature = (queries, gallery=None, cost="abs", window=None, normalize=false))]
+#[pyo3(signature = (queries, gallery=None, cost="abs", window=None, normalize=false, multivariate="independent"))]
 fn dissimilarity_matrix<'py>(
     py: Python<'py>,
     queries: Vec<Vec<PyReadonlyArrayDyn<'py, f64>>>,
@@ -478,8 +490,9 @@ fn dissimilarity_matrix<'py>(
     cost: &str,
     window: Option<usize>,
     normalize: bool,
+    multivariate: &str,
 ) -> PyResult<Arr<'py, f64>> {
-    let p = dtw_params(cost, window, normalize)?;
+    let p = kernel_params(cost, window, normalize, multivariate)?;
     let q = set_in("queries", &queries)?;
     let m = match gallery {
         Some(g) => {
@@ -494,7 +507,7 @@ fn dissimilarity_matrix<'py>(
 
 /// The gallery sample nearest to `query` by Δ (ties: first index) and its Δ.
 #[pyfunction]
-#[pyo3(signature = (query, gallery, cost="abs", window=None, normalize=false))]
+#[pyo3(signature = (query, gallery, cost="abs", window=None, normalize=false, multivariate="independent"))]
 fn nearest(
     py: Python<'_>,
     query: Vec<PyReadonlyArrayDyn<'_, f64>>,
@@ -502,8 +515,9 @@ fn nearest(
     cost: &str,
     window: Option<usize>,
     normalize: bool,
+    multivariate: &str,
 ) -> PyResult<(usize, f64)> {
-    let p = dtw_params(cost, window, normalize)?;
+    let p = kernel_params(cost, window, normalize, multivariate)?;
     let q = sample_in("query", &query)?;
     let g = set_in("gallery", &gallery)?;
     crate::pool::detach(py, || dtw::nearest(&q, &g, &p)).py_err()

@@ -168,6 +168,41 @@ def test_basic_motions_dtw_kernel_is_perfect():
         pytest.approx(d[0, 3], rel=1e-12)
 
 
+# Published 1-NN DTW_D (dependent DTW, squared local cost, full window) accuracies of the UEA
+# multivariate archive: Bagnall et al., "The UEA multivariate time series classification
+# archive, 2018" (arXiv:1811.00075), table of benchmark results, and Ruiz et al. 2021 ("The
+# great multivariate time series classification bake off"): BasicMotions 0.975 (1 of 40 test
+# cases wrong; DTW_I is 1.00), JapaneseVowels 0.949. The tables round to three digits, so
+# the tolerance on the accuracy is half a unit of the last digit (0.0005); the test sets'
+# sizes (40, 370) make that one exact count each. dtaidistance's ``dtw_ndim`` (the C
+# implementation) gives the same counts.
+PUBLISHED_DTW_D = {"BasicMotions": (0.975, 40), "JapaneseVowels": (0.949, 370)}
+
+
+@pytest.mark.parametrize("name", sorted(PUBLISHED_DTW_D))
+def test_uea_published_dependent_dtw_accuracy(name):
+    train, ytr = _load(name, "train")
+    test, yte = _load(name, "test")
+    acc, n_test = PUBLISHED_DTW_D[name]
+    assert len(test) == n_test
+    if name == "JapaneseVowels":  # unequal lengths between cases (7 to 29 frames)
+        assert len({len(c[0]) for c in train + test}) > 10
+    d = gait.dissimilarity_matrix(test, train, cost="squared", multivariate="dependent")
+    pred = np.asarray(ytr)[np.argmin(d, axis=1)]
+    ours = float(np.mean(pred == np.asarray(yte)))
+    print(f"\n{name}: 1-NN DTW_D accuracy {ours:.4f} (published {acc})")
+    assert abs(ours - acc) <= 0.0005
+    # 1-NN search with early abandoning agrees with the matrix.
+    for i in range(0, n_test, 9):
+        j, delta = gait.nearest(test[i], train, cost="squared", multivariate="dependent")
+        assert j == int(np.argmin(d[i])) and delta == pytest.approx(d[i, j], rel=1e-12)
+    dtw_ndim = pytest.importorskip("dtaidistance.dtw_ndim")
+    for i in range(0, n_test, 37):
+        q = np.ascontiguousarray(np.array(test[i]).T)
+        ref = [dtw_ndim.distance(q, np.ascontiguousarray(np.array(t).T)) ** 2 for t in train]
+        np.testing.assert_allclose(d[i], ref, rtol=1e-9)
+
+
 # ----------------------------------------------------------------------------------------
 # Check 2 and the dtaidistance peer
 # ----------------------------------------------------------------------------------------
@@ -187,6 +222,71 @@ def test_dtw_equals_dtaidistance_squared():
         for r in (0, 1, 3, 7):
             ref = ddtw.distance(a, b, window=r + 1) ** 2
             assert gait.dtw(a, b, cost="squared", window=r) == pytest.approx(ref, rel=1e-9)
+
+
+def _dependent_reference(A, B, cost):
+    """Textbook DTW_D on (time, channels) arrays: D(i, j) = c(A_i, B_j) + min(...)."""
+    diff = np.linalg.norm(A[:, None, :] - B[None, :, :], axis=2)
+    c = diff ** 2 if cost == "squared" else diff
+    n, m = c.shape
+    D = np.full((n + 1, m + 1), np.inf)
+    D[0, 0] = 0.0
+    for i in range(1, n + 1):
+        for j in range(1, m + 1):
+            D[i, j] = c[i - 1, j - 1] + min(D[i - 1, j], D[i, j - 1], D[i - 1, j - 1])
+    return D[n, m]
+
+
+def test_dependent_dtw_equals_dtaidistance_ndim():
+    """dtaidistance's ``dtw_ndim.distance`` is the square root of the accumulated squared
+    Euclidean frame distance: ours with ``cost="squared"`` equals its square (rtol 1e-9), on
+    random series of 1 to 5 channels and unequal lengths, and with a Sakoe-Chiba band on
+    equal lengths (its ``window=w`` is ``|i - j| < w``, our ``window=w - 1``)."""
+    dtw_ndim = pytest.importorskip("dtaidistance.dtw_ndim")
+    rng = np.random.default_rng(17)
+    for _ in range(40):
+        k = int(rng.integers(1, 6))
+        A = rng.normal(size=(int(rng.integers(1, 30)), k)).cumsum(0)
+        B = rng.normal(size=(int(rng.integers(1, 30)), k)).cumsum(0)
+        ref = dtw_ndim.distance(A, B)
+        ours = gait.dtw_kernel(A.T, B.T, cost="squared", multivariate="dependent")
+        assert ours == pytest.approx(ref ** 2, rel=1e-9, abs=1e-12)
+        assert gait.dtw_kernel(A.T, B.T, cost="abs", multivariate="dependent") == \
+            pytest.approx(_dependent_reference(A, B, "abs"), rel=1e-9)
+    for _ in range(20):
+        n, k = int(rng.integers(5, 30)), int(rng.integers(2, 5))
+        A, B = rng.normal(size=(n, k)), rng.normal(size=(n, k))
+        for r in (0, 1, 3, 7):
+            ref = dtw_ndim.distance(A, B, window=r + 1) ** 2
+            ours = gait.dtw_kernel(A.T, B.T, cost="squared", window=r, multivariate="dependent")
+            assert ours == pytest.approx(ref, rel=1e-9, abs=1e-12)
+    # Matrices (rayon over the pairs) and the self matrix agree with the pairwise value.
+    samples = [rng.normal(size=(3, int(rng.integers(8, 20)))).cumsum(1) for _ in range(9)]
+    ref = np.array([[dtw_ndim.distance(a.T.copy(), b.T.copy()) ** 2 for b in samples]
+                    for a in samples])
+    for m in (gait.dissimilarity_matrix(samples, cost="squared", multivariate="dependent"),
+              gait.dissimilarity_matrix(samples, samples, cost="squared",
+                                        multivariate="dependent")):
+        np.testing.assert_allclose(m, ref, rtol=1e-9, atol=1e-12)
+
+
+def test_dependent_dtw_differs_from_the_kernel_and_checks_lengths():
+    rng = np.random.default_rng(18)
+    A, B = rng.normal(size=(2, 12)), rng.normal(size=(2, 15))
+    dep = gait.dtw_kernel(A, B, cost="squared", multivariate="dependent")
+    ind = gait.dtw_kernel(A, B, cost="squared")
+    # One path for both channels can only cost more than each channel's own best path.
+    assert dep >= ind - 1e-12 and dep > ind
+    # One channel: both are the scalar DTW.
+    for cost in ("abs", "squared"):
+        assert gait.dtw_kernel(A[:1], B[:1], cost=cost, multivariate="dependent") == \
+            pytest.approx(gait.dtw(A[0], B[0], cost=cost), rel=1e-12)
+    with pytest.raises(ValueError, match="same length"):
+        gait.dtw_kernel([A[0], A[1][:5]], B, multivariate="dependent")
+    with pytest.raises(ValueError, match="multivariate"):
+        gait.dtw_kernel(A, B, multivariate="both")
+    with pytest.raises(ValueError, match="multivariate"):
+        gait.nearest(A, [B], multivariate="Dependent")
 
 
 def test_dissimilarity_matrix_equals_dtaidistance_channel_sum():

@@ -260,14 +260,41 @@ fn index_based_matching_beats_the_baseline_with_skin_equalisation() {
 /// Check 7 with the paper's literal pre-processing (the whole probe, occluder included, is
 /// histogram-equalised before the occlusion is detected). Not met on the synthetic ears:
 /// a large occluder shifts the equalised grey levels of the visible ear, so the kept blocks
-/// no longer match their templates. Measured: S_B rank-1 0.470 vs baseline 0.557, rank-10
+/// no longer match their templates. Measured: S_B rank-1 0.467 vs baseline 0.557, rank-10
 /// 0.743, S_m 0.643.
 #[test]
-#[ignore = "not met with whole-image equalisation: S_B rank-1 0.470 vs baseline 0.557 (see note)"]
+#[ignore = "not met with whole-image equalisation: S_B rank-1 0.467 vs baseline 0.557 (see note)"]
 fn index_based_matching_beats_the_baseline_as_printed() {
-    let ev = evaluate(colour_set(), &EarParams::default(), 10).unwrap();
+    let ev = evaluate(
+        colour_set(),
+        &EarParams::default().equalize_on_skin(false),
+        10,
+    )
+    .unwrap();
     print_cmc("colour occluders 10-50 %, paper's pre-processing", &ev);
     check7(&ev);
+}
+
+/// The default pre-processing (equalised on the detected skin) on a held-out set: seed 2718,
+/// other subjects and occluders than the set (seed 1407) the default was chosen on. Occluded
+/// probes are identified at least as well as by the whole-ear baseline, which the paper's
+/// whole-probe equalisation (`equalize_on_skin(false)`) does not achieve. Measured: block-wise
+/// max rank-1 0.920, paper's pre-processing 0.557, baseline 0.577.
+#[test]
+fn default_preprocessing_beats_the_baseline_on_a_held_out_set() {
+    let kind = OcclusionKind::Colour {
+        min_pct: 10.0,
+        max_pct: 50.0,
+    };
+    let set = generate(100, 3, kind, 2718);
+    let default = evaluate(&set, &EarParams::default(), 10).unwrap();
+    let paper = evaluate(&set, &EarParams::default().equalize_on_skin(false), 10).unwrap();
+    print_cmc("held-out seed 2718, default (equalised on skin)", &default);
+    print_cmc("held-out seed 2718, paper's pre-processing", &paper);
+    let s_b = default.cmc_of(ScoreRule::BlockwiseMax)[0];
+    let base = default.baseline_cmc[0];
+    assert!(s_b >= base, "S_B rank-1 {s_b} vs baseline {base}");
+    assert!(s_b > paper.cmc_of(ScoreRule::BlockwiseMax)[0]);
 }
 
 fn degradation(ev: &Evaluation, title: &str) -> Vec<f64> {

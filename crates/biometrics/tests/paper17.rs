@@ -5,7 +5,7 @@
 use rand::Rng as _;
 use wscg_biometrics::dtw::{
     dissimilarity_matrix, dtw, dtw_kernel, dtw_path, nearest, self_dissimilarity,
-    ts_file::parse_ts, DtwParams, LocalCost,
+    ts_file::parse_ts, DtwParams, LocalCost, Multivariate,
 };
 use wscg_biometrics::gait::cycle::StartLeg;
 use wscg_biometrics::gait::protocol::{cross_validate, prepare, CvReport, PreparedWalks, Protocol};
@@ -254,6 +254,107 @@ fn kernel_matrices_and_early_abandoning_are_exact() {
         assert_eq!(k, best.0);
         assert!((d - best.1).abs() < 1e-12);
     }
+}
+
+/// Minimum over all monotone warp paths of the frame costs `c(i, j)` (enumeration).
+fn brute_frames(i: usize, j: usize, c: &impl Fn(usize, usize) -> f64) -> f64 {
+    let here = c(i, j);
+    if i == 0 && j == 0 {
+        return here;
+    }
+    let mut best = f64::INFINITY;
+    if i > 0 {
+        best = best.min(brute_frames(i - 1, j, c));
+    }
+    if j > 0 {
+        best = best.min(brute_frames(i, j - 1, c));
+    }
+    if i > 0 && j > 0 {
+        best = best.min(brute_frames(i - 1, j - 1, c));
+    }
+    here + best
+}
+
+/// The dependent DTW: one warp path for all channels, the cost between whole frames
+/// (Euclidean norm for `Abs`, its square for `Squared`), checked by enumerating the paths;
+/// matrices, the self matrix, 1-NN search and the band agree with the pairwise value; one
+/// channel is the scalar DTW.
+#[test]
+fn dependent_dtw_equals_brute_force_over_frames() {
+    let mut r = seeded(23);
+    let sample = |r: &mut wscg_math::rng::Rng, n: usize| -> Vec<Vec<f64>> {
+        (0..3)
+            .map(|_| (0..n).map(|_| r.random_range(-1.0..1.0)).collect())
+            .collect()
+    };
+    for cost in [LocalCost::Abs, LocalCost::Squared] {
+        let p = DtwParams::with_cost(cost).multivariate(Multivariate::Dependent);
+        for _ in 0..15 {
+            let (n, m) = (r.random_range(1..7), r.random_range(1..7));
+            let (a, b) = (sample(&mut r, n), sample(&mut r, m));
+            let c = |i: usize, j: usize| {
+                let sq: f64 = (0..3).map(|k| (a[k][i] - b[k][j]).powi(2)).sum();
+                match cost {
+                    LocalCost::Abs => sq.sqrt(),
+                    LocalCost::Squared => sq,
+                }
+            };
+            let want = brute_frames(n - 1, m - 1, &c);
+            let got = dtw_kernel(&a, &b, &p).unwrap();
+            assert!(
+                (got - want).abs() <= 1e-12 * want.max(1.0),
+                "{got} vs {want}"
+            );
+            // One warp path for all channels costs at least the best path of each.
+            let ind = dtw_kernel(&a, &b, &p.multivariate(Multivariate::Independent)).unwrap();
+            if cost == LocalCost::Squared {
+                assert!(got >= ind - 1e-12);
+            }
+            let one = dtw_kernel(&a[..1], &b[..1], &p).unwrap();
+            assert!((one - dtw(&a[0], &b[0], &p).unwrap()).abs() < 1e-12);
+        }
+    }
+    let p = DtwParams::with_cost(LocalCost::Squared).multivariate(Multivariate::Dependent);
+    let set: Vec<Vec<Vec<f64>>> = (0..10)
+        .map(|_| {
+            let n = r.random_range(6..15);
+            sample(&mut r, n)
+        })
+        .collect();
+    let s = self_dissimilarity(&set, &p).unwrap();
+    let m = dissimilarity_matrix(&set[..4], &set, &p).unwrap();
+    for i in 0..set.len() {
+        for j in 0..set.len() {
+            let want = dtw_kernel(&set[i], &set[j], &p).unwrap();
+            assert!((s[(i, j)] - want).abs() <= 1e-12 * want.max(1.0));
+            if i < 4 {
+                assert_eq!(m[(i, j)], want);
+            }
+        }
+    }
+    let (k, d) = nearest(&set[0], &set[1..], &p).unwrap();
+    let best = (1..set.len())
+        .map(|j| s[(0, j)])
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(s[(0, k + 1)], best);
+    assert!((d - best).abs() <= 1e-12 * best.max(1.0));
+    // A band: equal lengths, |i - j| <= r; r = 0 is the lock-step sum of frame costs.
+    let (a, b) = (sample(&mut r, 9), sample(&mut r, 9));
+    let lock: f64 = (0..9)
+        .map(|t| (0..3).map(|k| (a[k][t] - b[k][t]).powi(2)).sum::<f64>())
+        .sum();
+    let banded = dtw_kernel(&a, &b, &p.window(Some(0))).unwrap();
+    assert!((banded - lock).abs() < 1e-12);
+    let wide = dtw_kernel(&a, &b, &p.window(Some(8))).unwrap();
+    assert!((wide - dtw_kernel(&a, &b, &p).unwrap()).abs() < 1e-12);
+    // Channels of different lengths cannot form frames.
+    let mut bad = sample(&mut r, 5);
+    bad[1].pop();
+    assert!(dtw_kernel(&bad, &a, &p).is_err());
+    assert!(dissimilarity_matrix(&[bad.clone()], &set, &p).is_err());
+    assert!(nearest(&bad, &set, &p).is_err());
+    // The gait recognizer keeps eq. 6.
+    assert!(GaitParams::default().dtw(p).validate().is_err());
 }
 
 #[test]

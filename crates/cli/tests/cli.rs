@@ -2391,14 +2391,16 @@ fn gait_enrolls_identifies_and_classifies_ucr_files() {
     };
     let train = ts("train.ts", &[(0, "up"), (2, "down")]);
     let test = ts("test.ts", &[(10, "up"), (12, "down"), (6, "up")]);
-    let text = wscg_ok(&[
-        "biometrics",
-        "gait",
-        "ucr",
-        train.to_str().unwrap(),
-        test.to_str().unwrap(),
-    ]);
-    assert!(text.contains("3/3 correct, error 0.0000"), "{text}");
+    // One channel: the dependent DTW is the same DTW.
+    for mode in ["independent", "dependent"] {
+        let (tr, te) = (train.to_str().unwrap(), test.to_str().unwrap());
+        let text = wscg_ok(&["biometrics", "gait", "ucr", tr, te, "--multivariate", mode]);
+        assert!(text.contains("3/3 correct, error 0.0000"), "{text}");
+        assert!(
+            text.to_lowercase().contains(&format!(", {mode})")),
+            "{text}"
+        );
+    }
 
     // Bad input: a gallery without walks, a walk with 24 joints, a missing model.
     let empty = dir.path().join("empty");

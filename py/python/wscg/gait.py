@@ -19,7 +19,9 @@ Person identification from Kinect v2 skeleton streams (25 joints x 3-D, 30 fps):
 4. **DTW kernel** (:func:`dtw`, :func:`dtw_kernel`, :func:`dissimilarity_matrix`,
    section 3.4, eqs. 2-6): ``Delta = sum over the kept pairs of DTW(theta_m, theta'_m)``,
    each pair warping on its own (independent multivariate DTW), no resampling: the two
-   cycles may have different lengths.
+   cycles may have different lengths. ``multivariate="dependent"`` gives the dependent
+   DTW instead (one warp path for all channels; DTW_D of the UEA archive, dtaidistance's
+   ``dtw_ndim``).
 5. **Vote** (:class:`GaitRecognizer`): training walks ranked by ``Delta``; 1-NN (default),
    majority of the ``n_neighbors`` nearest, or the paper's majority among the top
    ``#classes + 1``.
@@ -72,6 +74,7 @@ JOINT_NAMES: List[str] = list(_g.JOINT_NAMES)
 N_PAIRS: int = 276
 
 _COSTS = ("abs", "squared")
+_MULTIVARIATE = ("independent", "dependent")
 
 
 # ----------------------------------------------------------------------------------------
@@ -227,6 +230,10 @@ def _str(name: str, v, allowed: Sequence[str]) -> str:
 
 def _cost(cost) -> str:
     return _str("cost", cost, _COSTS)
+
+
+def _multivariate(multivariate) -> str:
+    return _str("multivariate", multivariate, _MULTIVARIATE)
 
 
 def _window(window) -> Optional[int]:
@@ -646,29 +653,42 @@ def dtw_path(a, b, cost: str = "abs", window: Optional[int] = None,
 
 
 def dtw_kernel(A, B, cost: str = "abs", window: Optional[int] = None,
-               normalize: bool = False) -> float:
-    """The DTW kernel of eq. 6 between two multichannel samples.
+               normalize: bool = False, multivariate: str = "independent") -> float:
+    """The DTW kernel of eq. 6 between two multichannel samples (or their dependent DTW).
 
     Parameters
     ----------
     A, B : sequence of 1-D array_like, or 2-D array_like (channels, time)
         Two samples with the same number of channels (e.g. the selected JRA sequences of
-        two walks); channel lengths may differ between and within samples.
+        two walks); channel lengths may differ between and within samples
+        (``multivariate="independent"``) or between samples only (``"dependent"``).
     cost, window, normalize
         As in :func:`dtw`.
+    multivariate : {"independent", "dependent"}, default "independent"
+        ``"independent"`` (DTW_I, the paper's eq. 6): each channel warps on its own and
+        the channel distances are summed. ``"dependent"`` (DTW_D, the usual 1-NN baseline
+        of the UEA multivariate archive): one warp path for all channels, the local cost
+        between whole frames, ``||A[:, i] - B[:, j]||`` (``cost="abs"``) or its square
+        (``cost="squared"``; dtaidistance's ``dtw_ndim.distance`` is the square root of
+        this). Both cost ``O(n m channels)`` per pair; the independent one can follow each
+        channel's own best alignment, the dependent one keeps the channels in step (and
+        needs every channel of a sample to have one length). A keyword here rather than a
+        separate function because it is a setting of the same Delta, which
+        :func:`dissimilarity_matrix` and :func:`nearest` take too.
 
     Returns
     -------
     float
-        ``Delta(A, B) = sum_k DTW(A[k], B[k])`` (independent multivariate DTW; a
-        dissimilarity, not a positive-definite kernel despite the paper's name).
+        ``Delta(A, B) = sum_k DTW(A[k], B[k])`` (independent; a dissimilarity, not a
+        positive-definite kernel despite the paper's name) or the dependent DTW.
     """
     return float(_g.dtw_kernel(_sample("A", A), _sample("B", B), _cost(cost), _window(window),
-                               bool(normalize)))
+                               bool(normalize), _multivariate(multivariate)))
 
 
 def dissimilarity_matrix(As, Bs=None, cost: str = "abs", window: Optional[int] = None,
-                         normalize: bool = False) -> np.ndarray:
+                         normalize: bool = False,
+                         multivariate: str = "independent") -> np.ndarray:
     """``Delta`` between every sample of ``As`` (rows) and of ``Bs`` (columns), in parallel.
 
     Parameters
@@ -681,6 +701,8 @@ def dissimilarity_matrix(As, Bs=None, cost: str = "abs", window: Optional[int] =
         (symmetric, zero diagonal).
     cost, window, normalize
         As in :func:`dtw`.
+    multivariate : {"independent", "dependent"}, default "independent"
+        As in :func:`dtw_kernel`.
 
     Returns
     -------
@@ -688,11 +710,12 @@ def dissimilarity_matrix(As, Bs=None, cost: str = "abs", window: Optional[int] =
     """
     q = _samples("As", As)
     g = None if Bs is None else _samples("Bs", Bs)
-    return _g.dissimilarity_matrix(q, g, _cost(cost), _window(window), bool(normalize))
+    return _g.dissimilarity_matrix(q, g, _cost(cost), _window(window), bool(normalize),
+                                   _multivariate(multivariate))
 
 
 def nearest(query, gallery, cost: str = "abs", window: Optional[int] = None,
-            normalize: bool = False) -> Tuple[int, float]:
+            normalize: bool = False, multivariate: str = "independent") -> Tuple[int, float]:
     """The gallery sample nearest to ``query`` by ``Delta`` (1-NN with exact early
     abandoning).
 
@@ -704,6 +727,8 @@ def nearest(query, gallery, cost: str = "abs", window: Optional[int] = None,
         With the query's channel count.
     cost, window, normalize
         As in :func:`dtw`.
+    multivariate : {"independent", "dependent"}, default "independent"
+        As in :func:`dtw_kernel`.
 
     Returns
     -------
@@ -711,7 +736,7 @@ def nearest(query, gallery, cost: str = "abs", window: Optional[int] = None,
         Ties go to the first index.
     """
     i, d = _g.nearest(_sample("query", query), _samples("gallery", gallery), _cost(cost),
-                      _window(window), bool(normalize))
+                      _window(window), bool(normalize), _multivariate(multivariate))
     return int(i), float(d)
 
 

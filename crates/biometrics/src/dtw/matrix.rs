@@ -4,7 +4,7 @@ use faer::Mat;
 use rayon::prelude::*;
 use wscg_math::{Error, Result};
 
-use super::core::{check_seq, dtw_bounded, DtwParams};
+use super::core::{check_seq, dtw_bounded, dtw_dependent_bounded, DtwParams, Frames, Multivariate};
 use super::fused::{fused_sum, Interleaved};
 
 /// A dissimilarity matrix (`queries x gallery`).
@@ -37,9 +37,12 @@ fn check_set(name: &'static str, set: &[Vec<Vec<f64>>], channels: usize) -> Resu
 }
 
 /// The DTW kernel of eq. 6: `Δ(θ, θ') = Σ_m DTW(θ_m, θ'_m)` over the channels (selected joint
-/// pairs) of two samples; each channel warps separately (independent multivariate DTW).
+/// pairs) of two samples; each channel warps separately (independent multivariate DTW). With
+/// [`Multivariate::Dependent`] in `p`, the dependent DTW instead: one warp path for all
+/// channels, the local cost between whole frames.
 ///
-/// Errors: different channel counts, an empty or non-finite channel.
+/// Errors: different channel counts, an empty or non-finite channel; for the dependent DTW,
+/// channels of different lengths within a sample.
 pub fn dtw_kernel(a: &[Vec<f64>], b: &[Vec<f64>], p: &DtwParams) -> Result<f64> {
     p.validate()?;
     check_sample("a", a)?;
@@ -52,10 +55,16 @@ pub fn dtw_kernel(a: &[Vec<f64>], b: &[Vec<f64>], p: &DtwParams) -> Result<f64> 
         )));
     }
     let mut scratch = Vec::new();
-    Ok(dtw_kernel_bounded(a, b, p, f64::INFINITY, &mut scratch))
+    Ok(match p.multivariate {
+        Multivariate::Independent => dtw_kernel_bounded(a, b, p, f64::INFINITY, &mut scratch),
+        Multivariate::Dependent => {
+            let (fa, fb) = (Frames::new("a", a)?, Frames::new("b", b)?);
+            dtw_dependent_bounded(&fa, &fb, p, f64::INFINITY, &mut scratch)
+        }
+    })
 }
 
-/// [`dtw_kernel`] without checks, abandoned (returns `+inf`) once the partial sum exceeds
+/// The independent [`dtw_kernel`] (whatever `p.multivariate` says) without checks, abandoned (returns `+inf`) once the partial sum exceeds
 /// `bound`; exact whenever the result is at most `bound`.
 pub fn dtw_kernel_bounded(
     a: &[Vec<f64>],
@@ -83,18 +92,73 @@ pub fn interleave_all(set: &[Vec<Vec<f64>>], p: &DtwParams) -> Option<Vec<Interl
     set.iter().map(|s| Interleaved::new(s)).collect()
 }
 
-/// Δ between two samples with the fused kernel (`a`, `b` interleaved) or the per-channel one.
+/// Copies of a sample set in the layout of the fastest kernel for `p`, made once per set so
+/// that no pair allocates: frame-major for the dependent DTW, channel-interleaved for the
+/// independent one when it applies, none otherwise.
+pub(crate) enum Prepared {
+    /// The samples as given (per-channel recursion).
+    Plain,
+    /// Channel-interleaved ([`Multivariate::Independent`], full grid, equal channel lengths).
+    Fused(Vec<Interleaved>),
+    /// Frame-major ([`Multivariate::Dependent`]).
+    Frames(Vec<Frames>),
+}
+
+/// One sample's entry of a [`Prepared`] set.
+#[derive(Clone, Copy)]
+pub(crate) enum Layout<'a> {
+    Plain,
+    Fused(&'a Interleaved),
+    Frames(&'a Frames),
+}
+
+impl<'a> From<Option<&'a Interleaved>> for Layout<'a> {
+    fn from(f: Option<&'a Interleaved>) -> Self {
+        f.map_or(Layout::Plain, Layout::Fused)
+    }
+}
+
+impl Prepared {
+    /// Errors: for the dependent DTW, a sample whose channels differ in length.
+    pub(crate) fn new(name: &'static str, set: &[Vec<Vec<f64>>], p: &DtwParams) -> Result<Self> {
+        Ok(match p.multivariate {
+            Multivariate::Dependent => Prepared::Frames(
+                set.iter()
+                    .map(|s| Frames::new(name, s))
+                    .collect::<Result<_>>()?,
+            ),
+            Multivariate::Independent => {
+                interleave_all(set, p).map_or(Prepared::Plain, Prepared::Fused)
+            }
+        })
+    }
+
+    /// Entry `k`.
+    pub(crate) fn get(&self, k: usize) -> Layout<'_> {
+        match self {
+            Prepared::Plain => Layout::Plain,
+            Prepared::Fused(f) => Layout::Fused(&f[k]),
+            Prepared::Frames(f) => Layout::Frames(&f[k]),
+        }
+    }
+}
+
+/// Δ between two samples with the kernel their layouts allow: channel-fused or per-channel
+/// independent DTW, or the dependent DTW on frames.
 pub(crate) fn pair_delta(
     sa: &[Vec<f64>],
     sb: &[Vec<f64>],
-    fa: Option<&Interleaved>,
-    fb: Option<&Interleaved>,
+    la: Layout<'_>,
+    lb: Layout<'_>,
     p: &DtwParams,
     scratch: &mut Vec<f64>,
     lanes: &mut Vec<[f64; super::fused::LANES]>,
 ) -> f64 {
-    match (fa, fb) {
-        (Some(x), Some(y)) => {
+    match (la, lb) {
+        (Layout::Frames(x), Layout::Frames(y)) => {
+            dtw_dependent_bounded(x, y, p, f64::INFINITY, scratch)
+        }
+        (Layout::Fused(x), Layout::Fused(y)) => {
             let d = fused_sum(x, y, p.cost, lanes);
             if p.normalize {
                 d / (x.len() + y.len()) as f64
@@ -108,8 +172,11 @@ pub(crate) fn pair_delta(
 
 /// Δ between every query (rows) and gallery sample (columns), in parallel over the rows.
 /// Without a band, channels of equal length are processed [`super::fused::LANES`] at a time.
+/// With [`Multivariate::Dependent`], the dependent DTW of every pair (each sample copied
+/// frame-major once; no allocation per pair).
 ///
-/// Errors: empty sets, samples with different channel counts, empty or non-finite channels.
+/// Errors: empty sets, samples with different channel counts, empty or non-finite channels;
+/// for the dependent DTW, a sample whose channels differ in length.
 pub fn dissimilarity_matrix(
     queries: &[Vec<Vec<f64>>],
     gallery: &[Vec<Vec<f64>>],
@@ -126,9 +193,10 @@ pub fn dissimilarity_matrix(
     check_set("queries", queries, channels)?;
     check_set("gallery", gallery, channels)?;
     let g = gallery.len();
-    let fq = interleave_all(queries, p);
-    let fg = fq.as_ref().and_then(|_| interleave_all(gallery, p));
-    let fq = fg.as_ref().and(fq);
+    let (fq, fg) = (
+        Prepared::new("queries", queries, p)?,
+        Prepared::new("gallery", gallery, p)?,
+    );
     let mut out = vec![0.0; queries.len() * g];
     out.par_chunks_mut(g).enumerate().for_each_init(
         || (Vec::new(), Vec::new()),
@@ -137,8 +205,8 @@ pub fn dissimilarity_matrix(
                 *v = pair_delta(
                     &queries[i],
                     &gallery[j],
-                    fq.as_ref().map(|f| &f[i]),
-                    fg.as_ref().map(|f| &f[j]),
+                    fq.get(i),
+                    fg.get(j),
                     p,
                     scratch,
                     lanes,
@@ -163,14 +231,21 @@ pub fn self_dissimilarity(samples: &[Vec<Vec<f64>>], p: &DtwParams) -> Result<Di
     let pairs: Vec<(usize, usize)> = (0..n)
         .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
         .collect();
-    let fs = interleave_all(samples, p);
+    let fs = Prepared::new("samples", samples, p)?;
     let vals: Vec<f64> = pairs
         .par_iter()
         .map_init(
             || (Vec::new(), Vec::new()),
             |(scratch, lanes), &(i, j)| {
-                let f = |k: usize| fs.as_ref().map(|f| &f[k]);
-                pair_delta(&samples[i], &samples[j], f(i), f(j), p, scratch, lanes)
+                pair_delta(
+                    &samples[i],
+                    &samples[j],
+                    fs.get(i),
+                    fs.get(j),
+                    p,
+                    scratch,
+                    lanes,
+                )
             },
         )
         .collect();
@@ -182,8 +257,9 @@ pub fn self_dissimilarity(samples: &[Vec<Vec<f64>>], p: &DtwParams) -> Result<Di
     Ok(m)
 }
 
-/// The gallery sample nearest to `query` by Δ and its Δ (ties: the first index), using exact
-/// early abandoning against the best Δ so far.
+/// The gallery sample nearest to `query` by Δ (or the dependent DTW, with
+/// [`Multivariate::Dependent`]) and that distance (ties: the first index), using exact early
+/// abandoning against the best distance so far.
 ///
 /// Errors as [`dissimilarity_matrix`].
 pub fn nearest(
@@ -199,8 +275,21 @@ pub fn nearest(
     check_set("gallery", gallery, query.len())?;
     let mut scratch = Vec::new();
     let mut best = (0, f64::INFINITY);
+    let frames = match p.multivariate {
+        Multivariate::Independent => None,
+        Multivariate::Dependent => Some((
+            Frames::new("query", query)?,
+            gallery
+                .iter()
+                .map(|s| Frames::new("gallery", s))
+                .collect::<Result<Vec<_>>>()?,
+        )),
+    };
     for (k, s) in gallery.iter().enumerate() {
-        let d = dtw_kernel_bounded(query, s, p, best.1, &mut scratch);
+        let d = match &frames {
+            None => dtw_kernel_bounded(query, s, p, best.1, &mut scratch),
+            Some((q, g)) => dtw_dependent_bounded(q, &g[k], p, best.1, &mut scratch),
+        };
         if d < best.1 {
             best = (k, d);
         }

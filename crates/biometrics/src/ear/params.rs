@@ -120,9 +120,12 @@ wscg_math::params! {
         pub mask_features: bool,
         /// Accept single-channel images at enrolment (no colour is needed there).
         pub gray_enrolment: bool,
-        /// Equalise a probe with the histogram of its skin pixels only (not in the paper, which
-        /// equalises the whole image before detecting occlusion): a large occluder then no
-        /// longer shifts the grey levels of the visible ear.
+        /// Equalise a probe with the histogram of its detected skin pixels only (default
+        /// `true`; not in the paper). `false` is the paper's pre-processing (step 2: the whole
+        /// probe is equalised before occlusion is detected): a large occluder then shifts the
+        /// equalised grey levels of the visible ear, the kept blocks no longer match their
+        /// templates, and on occluded probes index-based matching loses to the whole-ear
+        /// baseline (BENCHMARKS.md, paper 14). Both cost the same: one histogram pass.
         pub equalize_on_skin: bool,
     }
 }
@@ -144,7 +147,7 @@ impl Default for EarParams {
             score: ScoreRule::BlockwiseMax,
             mask_features: false,
             gray_enrolment: false,
-            equalize_on_skin: false,
+            equalize_on_skin: true,
         }
     }
 }

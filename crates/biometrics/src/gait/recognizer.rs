@@ -13,7 +13,7 @@ use super::relevance::{relevance_matrix, select_pairs, HistSpec, JointMap};
 use super::skeleton::{Joint, Pair, SkeletonSeq};
 use crate::dtw::fused::Interleaved;
 use crate::dtw::matrix::pair_delta;
-use crate::dtw::{check_sample, interleave_all, DtwParams};
+use crate::dtw::{check_sample, interleave_all, DtwParams, Multivariate};
 
 /// How the ranked training walks decide the identity.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -128,6 +128,14 @@ impl GaitParams {
             ));
         }
         self.dtw.validate()?;
+        if self.dtw.multivariate != Multivariate::Independent {
+            return Err(Error::invalid(
+                "multivariate",
+                "the gait recognizer uses the DTW kernel of eq. 6 (independent DTW over the \
+                 selected pairs); the dependent DTW is available in dissimilarity_matrix and \
+                 nearest",
+            ));
+        }
         if self.vote == (Vote::Majority { k: 0 }) {
             return Err(Error::invalid(
                 "vote",
@@ -310,7 +318,15 @@ impl GaitRecognizer {
             .enumerate()
             .map(|(i, (g, &l))| {
                 let fg = fused.as_ref().map(|f| &f[i]);
-                let d = pair_delta(q, g, fq.as_ref(), fg, p, &mut scratch, &mut lanes);
+                let d = pair_delta(
+                    q,
+                    g,
+                    fq.as_ref().into(),
+                    fg.into(),
+                    p,
+                    &mut scratch,
+                    &mut lanes,
+                );
                 (i, l, d)
             })
             .collect();

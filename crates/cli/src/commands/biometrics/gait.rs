@@ -9,15 +9,17 @@
 //!   Detects each walk's gait cycle, selects the relevant joint pairs and stores the model.
 //! - `identify --model MODEL.json WALK...`: the identity and the ranked training walks.
 //! - `cycle WALK...`: the detected gait cycle of each walk.
-//! - `ucr TRAIN.ts TEST.ts`: 1-NN DTW (or the DTW kernel on multivariate sets) on UCR/UEA
+//! - `ucr TRAIN.ts TEST.ts`: 1-NN DTW (on multivariate sets the DTW kernel, or the dependent
+//!   DTW with `--multivariate dependent`) on UCR/UEA
 //!   `.ts` files, the check that pins our DTW to the archive's published error rates.
 //! - `simulate --out DIR`: synthetic Kinect walkers in the layout `enroll` reads.
 
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use wscg_biometrics::dtw::{nearest, ts_file::read_ts, DtwParams, LocalCost};
+use wscg_biometrics::dtw::{nearest, ts_file::read_ts, DtwParams, LocalCost, Multivariate};
 use wscg_biometrics::gait::cycle::StartLeg;
 use wscg_biometrics::gait::io::{read_skeleton, write_skeleton_csv, write_skeleton_npy};
 use wscg_biometrics::gait::synth::{walkers, SessionRanges};
@@ -62,7 +64,8 @@ pub enum GaitCommand {
         #[arg(long, value_enum, default_value_t = LegArg::Left)]
         start_leg: LegArg,
     },
-    /// 1-NN classification of a UCR/UEA test set by DTW (multivariate: the DTW kernel).
+    /// 1-NN classification of a UCR/UEA test set by DTW (multivariate: the DTW kernel, or the
+    /// dependent DTW with `--multivariate dependent`).
     Ucr {
         /// Training set (.ts).
         train: PathBuf,
@@ -74,6 +77,12 @@ pub enum GaitCommand {
         /// Sakoe-Chiba band half-width (samples); full grid when absent.
         #[arg(long)]
         window: Option<usize>,
+        /// Multivariate DTW: `independent` (each channel warps on its own, distances summed:
+        /// the DTW kernel of eq. 6, DTW_I) or `dependent` (one warp path, cost between whole
+        /// frames: DTW_D, the UEA archive's usual 1-NN baseline). Same O(n m channels) cost;
+        /// dependent needs every channel of a case to have one length.
+        #[arg(long, value_enum, default_value_t = MultivariateArg::Independent)]
+        multivariate: MultivariateArg,
     },
     /// Write synthetic walks: DIR/<subject>/walk_<k>.csv and DIR/truth.csv.
     Simulate {
@@ -128,6 +137,23 @@ impl From<CostArg> for LocalCost {
         match c {
             CostArg::Abs => LocalCost::Abs,
             CostArg::Squared => LocalCost::Squared,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum MultivariateArg {
+    /// Per-channel DTW, summed (eq. 6; DTW_I).
+    Independent,
+    /// One warp path for all channels (DTW_D).
+    Dependent,
+}
+
+impl From<MultivariateArg> for Multivariate {
+    fn from(m: MultivariateArg) -> Self {
+        match m {
+            MultivariateArg::Independent => Multivariate::Independent,
+            MultivariateArg::Dependent => Multivariate::Dependent,
         }
     }
 }
@@ -358,25 +384,35 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             test,
             cost,
             window,
+            multivariate,
         } => {
             let (tr, te) = (read_ts(&train)?, read_ts(&test)?);
             let p = DtwParams::default()
                 .cost(cost.into())
                 .window(window)
-                .normalize(false);
+                .normalize(false)
+                .multivariate(multivariate.into());
             let (ltr, lte) = (tr.labels.clone(), te.labels.clone());
             if ltr.is_empty() || lte.is_empty() {
                 return Err(Error::invalid("ts", "both files need class labels"));
             }
-            let correct = te
+            // One 1-NN search (with early abandoning) per test case, in parallel.
+            let correct: usize = te
                 .series
-                .iter()
-                .zip(&lte)
+                .par_iter()
+                .zip(lte.par_iter())
                 .map(|(q, l)| nearest(q, &tr.series, &p).map(|(k, _)| usize::from(&ltr[k] == l)))
-                .sum::<Result<usize>>()?;
+                .collect::<Result<Vec<usize>>>()?
+                .into_iter()
+                .sum();
             println!(
-                "{}: 1-NN DTW ({cost:?} cost, window {window:?}): {correct}/{} correct, error {:.4}",
-                if te.problem.is_empty() { "test" } else { &te.problem },
+                "{}: 1-NN DTW ({cost:?} cost, window {window:?}, {multivariate:?}): {correct}/{} \
+                 correct, error {:.4}",
+                if te.problem.is_empty() {
+                    "test"
+                } else {
+                    &te.problem
+                },
                 lte.len(),
                 1.0 - correct as f64 / lte.len() as f64
             );
