@@ -20,7 +20,7 @@ use wscg_volren::illumination::{
     render, IlluminationParams, Kernel, Light, LightAtten, Method, Phong, ScalarField, SliceCamera,
     TransferFunction,
 };
-use wscg_volren::vti::read_vti;
+use crate::commands::volume_file::read_volume;
 
 use crate::progress::Bars;
 use wscg_math::progress::Progress;
@@ -195,25 +195,8 @@ fn load_field(a: &IllumArgs) -> Result<ScalarField> {
 
 /// Reads a volume file: dims, spacing, values.
 fn read_any(path: &Path, raw_dims: &[usize]) -> Result<([usize; 3], [f64; 3], Vec<f32>)> {
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
-    match ext.as_str() {
-        "vti" => {
-            let v = read_vti(path)?;
-            Ok((v.dims, v.spacing, v.values.to_f32()))
-        }
-        "raw" => {
-            let dims = triple(raw_dims, "raw_dims")?;
-            let v = Volume::read_raw(path, dims, [1.0; 3], "u8".parse()?)?;
-            Ok((v.dims(), v.spacing(), v.into_data()))
-        }
-        _ => {
-            let v = Volume::read(path, None)?;
-            Ok((v.dims(), v.spacing(), v.into_data()))
-        }
-    }
+    let v = read_volume(path, super::u8_raw(raw_dims)?, None)?;
+    Ok((v.dims(), v.spacing(), v.into_data()))
 }
 
 /// A preset or a JSON transfer function.
