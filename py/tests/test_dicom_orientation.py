@@ -41,7 +41,6 @@ ENCODINGS = [
     ("MR_small_RLE.dcm", "MR_small.dcm"),
     ("MR_small_jp2klossless.dcm", "MR_small.dcm"),
     ("JPEG2000.dcm", None),
-    ("JPEG-lossy.dcm", None),
     ("image_dfl.dcm", None),
     ("693_J2KI.dcm", None),
 ]
@@ -50,6 +49,7 @@ UNSUPPORTED = [("MR_small_jpeg_ls_lossless.dcm", "1.2.840.10008.1.2.4.80"),
                ("JPEGLSNearLossless_16.dcm", "1.2.840.10008.1.2.4.81"),
                # 12-bit JPEG (process 4): jpeg-decoder reads 8-bit JPEG only.
                ("JPGExtended.dcm", "1.2.840.10008.1.2.4.51"),
+               ("JPEG-lossy.dcm", "1.2.840.10008.1.2.4.51"),
                # 32-bit samples: dicom-pixeldata converts 1, 8 and 16 bits only.
                ("liver_1frame.dcm", "BitsAllocated")]
 

@@ -59,7 +59,8 @@ pub struct ExtractArgs {
     /// Vertex normals: spline (the paper), lsn, central or none.
     #[arg(long, default_value = "spline")]
     normals: String,
-    /// Output mesh (.ply or .obj).
+    /// Output mesh (.ply or .obj): world millimetres (RAS+, the input's affine) when the input
+    /// has one (NIfTI sform/qform, DICOM), else voxel index times spacing.
     #[arg(long)]
     out: PathBuf,
 }
@@ -154,7 +155,7 @@ pub fn run(cmd: IsosurfaceCommand) -> Result<()> {
                 out =
                     out.with_normals(mesh.normals.iter().map(|n| n.map(|x| x as f64)).collect())?;
             }
-            let (out, world) = mesh_to_world(out, &v)?;
+            let (out, world) = mesh_to_world(out, &v);
             out.write(&a.out)?;
             if world {
                 println!(

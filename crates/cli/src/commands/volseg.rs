@@ -49,7 +49,7 @@ pub enum VolsegCommand {
 pub struct SplitArgs {
     /// CT volume in HU (.nii, .nii.gz, .npy, or a DICOM file or folder).
     ct: PathBuf,
-    /// Seed label volume of the same shape (0 = none).
+    /// Seed label volume of the same shape (0 = none; any volume format).
     #[arg(long, required_unless_present = "strokes", conflicts_with = "strokes")]
     seeds: Option<PathBuf>,
     /// Seed strokes as JSON: `[{"label": 1, "points": [[x, y, z], ...], "radius": 2}, ...]`
@@ -92,7 +92,8 @@ pub struct SplitArgs {
     /// Relabel label islands smaller than this many voxels to their neighbours' label.
     #[arg(long, default_value_t = 0)]
     min_island: usize,
-    /// Folder for one mesh per label (marching cubes of its indicator).
+    /// Folder for one mesh per label (marching cubes of its indicator), in world millimetres
+    /// (RAS+, the CT's affine) when the CT has one, else voxel index times spacing.
     #[arg(long)]
     meshes: Option<PathBuf>,
     /// Mesh format in --meshes.
@@ -263,7 +264,7 @@ fn write_meshes(labels: &Volume<u16>, dir: &Path, format: &str) -> Result<usize>
             .iter()
             .map(|v| [0, 1, 2].map(|a| f64::from(v[a]) + origin[a]))
             .collect();
-        let (mesh, _) = mesh_to_world(TriMesh::new(pos, m.triangles)?, labels)?;
+        let (mesh, _) = mesh_to_world(TriMesh::new(pos, m.triangles)?, labels);
         mesh.write(dir.join(format!("label_{l}.{format}")))?;
         written += 1;
     }

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use wscg_math::io::RawType;
 use wscg_math::mesh::TriMesh;
+use wscg_math::vec3::{cross, dot, try_normalize};
 use wscg_math::volume::apply_affine;
 use wscg_math::{Error, Result, Volume};
 use wscg_volren::vti::read_vti;
@@ -83,9 +84,9 @@ pub fn write_derived<U>(path: &Path, mut v: Volume<f32>, input: &Volume<U>) -> R
 /// (see [`wscg_math::volume`]). Normals follow by the inverse transpose, and a mirroring
 /// affine reverses the faces' winding so that they still face outwards. Returns the mesh
 /// unchanged, and `false`, when `v` has no affine.
-pub fn mesh_to_world<U>(mut mesh: TriMesh, v: &Volume<U>) -> Result<(TriMesh, bool)> {
+pub fn mesh_to_world<U>(mut mesh: TriMesh, v: &Volume<U>) -> (TriMesh, bool) {
     let Some(a) = v.affine() else {
-        return Ok((mesh, false));
+        return (mesh, false);
     };
     let s = v.spacing();
     for p in &mut mesh.positions {
@@ -93,21 +94,14 @@ pub fn mesh_to_world<U>(mut mesh: TriMesh, v: &Volume<U>) -> Result<(TriMesh, bo
     }
     // Linear part acting on grid coordinates: M = A3 diag(1/s).
     let m: [[f64; 3]; 3] = [0, 1, 2].map(|r| [0, 1, 2].map(|c| a[r][c] / s[c]));
-    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    // (M^-1)^T = [m1 x m2; m2 x m0; m0 x m1] / det M (rows m0, m1, m2 of M); the scale
+    // drops out with the normalisation, the sign does not.
+    let det = dot(m[0], cross(m[1], m[2]));
+    let cof = [0, 1, 2].map(|r| cross(m[(r + 1) % 3], m[(r + 2) % 3]));
     if let Some(normals) = &mut mesh.normals {
-        // Cofactor matrix = det * (M^-1)^T; the scale drops out with the normalisation.
-        let cof = |r: usize, c: usize| {
-            let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
-            let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
-            m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1]
-        };
-        let sign = det.signum();
         for n in normals.iter_mut() {
-            let t = [0, 1, 2].map(|r| sign * (0..3).map(|c| cof(r, c) * n[c]).sum::<f64>());
-            let len = t.iter().map(|x| x * x).sum::<f64>().sqrt();
-            *n = if len > 0.0 { t.map(|x| x / len) } else { *n };
+            let t = [0, 1, 2].map(|r| det.signum() * dot(cof[r], *n));
+            *n = try_normalize(t, 0.0).unwrap_or(*n);
         }
     }
     if det < 0.0 {
@@ -115,5 +109,41 @@ pub fn mesh_to_world<U>(mut mesh: TriMesh, v: &Volume<U>) -> Result<(TriMesh, bo
             f.swap(1, 2);
         }
     }
-    Ok((mesh, true))
+    (mesh, true)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_mirroring_oblique_affine_moves_vertices_and_keeps_the_surface_outward() {
+        // A unit cube in grid coordinates of a volume with spacing (2, 1, 0.5).
+        let cube = TriMesh::cube(1.0).unwrap();
+        let normals = cube.vertex_normals();
+        let cube = cube.with_normals(normals).unwrap();
+        let mut v = Volume::filled([4, 4, 4], [2.0, 1.0, 0.5], 0u8).unwrap();
+        assert!(!mesh_to_world(cube.clone(), &v).1);
+        let (c, s) = (0.6, 0.8);
+        // x mirrored, then a rotation about z; origin (5, -3, 10).
+        let a = [
+            [-2.0 * c, -s, 0.0, 5.0],
+            [-2.0 * s, c, 0.0, -3.0],
+            [0.0, 0.0, 0.5, 10.0],
+        ];
+        v.set_affine(Some(a)).unwrap();
+        let (w, placed) = mesh_to_world(cube.clone(), &v);
+        assert!(placed);
+        for (p, q) in cube.positions.iter().zip(&w.positions) {
+            let want = apply_affine(&a, [p[0] / 2.0, p[1], p[2] / 0.5]);
+            assert!((0..3).all(|k| (want[k] - q[k]).abs() < 1e-12));
+        }
+        // Grid to world is a rotation times a mirror with unit scale here: volume kept, the
+        // winding still outward, and the normals those of the moved faces.
+        assert!((w.signed_volume() - cube.signed_volume()).abs() < 1e-9);
+        assert!(w.signed_volume() > 0.0);
+        for (n, m) in w.normals.as_ref().unwrap().iter().zip(w.vertex_normals()) {
+            assert!(dot(*n, m) > 0.999, "{n:?} {m:?}");
+        }
+    }
 }

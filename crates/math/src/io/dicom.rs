@@ -34,6 +34,7 @@ use dicom_pixeldata::{ConvertOptions, ModalityLutOption, PixelDecoder};
 use dicom_transfer_syntax_registry::TransferSyntaxRegistry;
 
 use crate::error::{read_file, Error, Result};
+use crate::vec3::{cross, dot, norm, try_normalize};
 use crate::volume::{check_affine, voxel_count, Affine, Volume};
 
 /// How a DICOM series is read.
@@ -285,21 +286,8 @@ fn read_slice(path: &Path) -> Result<Slice> {
     })
 }
 
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 fn unit(v: [f64; 3]) -> Option<[f64; 3]> {
-    let n = dot(v, v).sqrt();
-    (n > 1e-6).then(|| v.map(|x| x / n))
+    try_normalize(v, 1e-6)
 }
 
 /// Checks that the slices form one regular grid, sorts them along the slice normal and
@@ -457,7 +445,7 @@ fn series_geometry(slices: &mut [Slice], params: &DicomParams) -> Result<Geometr
     let (p0, pl) = (pos(&slices[0]), pos(&slices[n - 1]));
     let k_step = [0, 1, 2].map(|a| (pl[a] - p0[a]) / (n - 1) as f64);
     let affine = slice_affine(&o, p0, [dx, dy], Some(k_step), median)?;
-    let dz = dot(k_step, k_step).sqrt();
+    let dz = norm(k_step);
     Ok(Geometry {
         dims: [cols, rows, n],
         spacing: [dx, dy, dz],
@@ -555,4 +543,222 @@ fn decode_series(slices: &[Slice], g: Geometry) -> Result<Volume<f32>> {
     let mut vol = Volume::new(g.dims, g.spacing, data)?;
     vol.affine = g.affine;
     Ok(vol)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One explicit-VR little-endian element.
+    fn elem(out: &mut Vec<u8>, group: u16, element: u16, vr: &[u8; 2], value: &[u8]) {
+        let mut v = value.to_vec();
+        if v.len() % 2 == 1 {
+            v.push(if vr == b"UI" || vr == b"OB" { 0 } else { b' ' });
+        }
+        out.extend(group.to_le_bytes());
+        out.extend(element.to_le_bytes());
+        out.extend(vr);
+        if matches!(vr, b"OB" | b"OW" | b"SQ" | b"UN" | b"UT") {
+            out.extend([0, 0]);
+            out.extend((v.len() as u32).to_le_bytes());
+        } else {
+            out.extend((v.len() as u16).to_le_bytes());
+        }
+        out.extend(v);
+    }
+
+    struct SliceSpec<'a> {
+        series: &'a str,
+        rows: u16,
+        cols: u16,
+        frames: Option<u32>,
+        position: [f64; 3],
+        orientation: [f64; 6],
+        pixels: Vec<u16>,
+    }
+
+    /// A minimal CT slice file (explicit VR little endian), values `pixels * 2 - 1000` HU.
+    fn slice_file(s: &SliceSpec) -> Vec<u8> {
+        let ts = b"1.2.840.10008.1.2.1";
+        let class = b"1.2.840.10008.5.1.4.1.1.2";
+        let mut meta = Vec::new();
+        elem(&mut meta, 2, 1, b"OB", &[0, 1]);
+        elem(&mut meta, 2, 2, b"UI", class);
+        elem(&mut meta, 2, 3, b"UI", b"1.2.3.4");
+        elem(&mut meta, 2, 0x10, b"UI", ts);
+        let mut out = vec![0u8; 128];
+        out.extend(b"DICM");
+        elem(&mut out, 2, 0, b"UL", &(meta.len() as u32).to_le_bytes());
+        out.extend(meta);
+        let ds = |v: &[f64]| {
+            v.iter()
+                .map(|x| format!("{x}"))
+                .collect::<Vec<_>>()
+                .join("\\")
+                .into_bytes()
+        };
+        elem(&mut out, 8, 0x16, b"UI", class);
+        elem(&mut out, 8, 0x18, b"UI", b"1.2.3.4");
+        elem(&mut out, 8, 0x60, b"CS", b"CT");
+        elem(&mut out, 0x20, 0x0E, b"UI", s.series.as_bytes());
+        elem(&mut out, 0x20, 0x32, b"DS", &ds(&s.position));
+        elem(&mut out, 0x20, 0x37, b"DS", &ds(&s.orientation));
+        elem(&mut out, 0x28, 2, b"US", &1u16.to_le_bytes());
+        elem(&mut out, 0x28, 4, b"CS", b"MONOCHROME2");
+        if let Some(f) = s.frames {
+            elem(&mut out, 0x28, 8, b"IS", f.to_string().as_bytes());
+        }
+        elem(&mut out, 0x28, 0x10, b"US", &s.rows.to_le_bytes());
+        elem(&mut out, 0x28, 0x11, b"US", &s.cols.to_le_bytes());
+        elem(&mut out, 0x28, 0x30, b"DS", b"0.5\\0.75");
+        elem(&mut out, 0x28, 0x100, b"US", &16u16.to_le_bytes());
+        elem(&mut out, 0x28, 0x101, b"US", &16u16.to_le_bytes());
+        elem(&mut out, 0x28, 0x102, b"US", &15u16.to_le_bytes());
+        elem(&mut out, 0x28, 0x103, b"US", &0u16.to_le_bytes());
+        elem(&mut out, 0x28, 0x1052, b"DS", b"-1000");
+        elem(&mut out, 0x28, 0x1053, b"DS", b"2");
+        let px: Vec<u8> = s.pixels.iter().flat_map(|v| v.to_le_bytes()).collect();
+        elem(&mut out, 0x7FE0, 0x10, b"OW", &px);
+        out
+    }
+
+    const AXIAL: [f64; 6] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+
+    /// Writes `n` slices 2.5 mm apart (file names in reverse order of position); returns the
+    /// folder and the stored pixels by slice.
+    fn series(dir: &Path, n: usize, skip: Option<usize>) -> Vec<Vec<u16>> {
+        std::fs::create_dir_all(dir).unwrap();
+        (0..n)
+            .map(|k| {
+                let pixels: Vec<u16> = (0..12).map(|i| (100 * k + i) as u16).collect();
+                if Some(k) != skip {
+                    let spec = SliceSpec {
+                        series: "1.2.826.0.1",
+                        rows: 3,
+                        cols: 4,
+                        frames: None,
+                        position: [-10.0, 20.0, 30.0 + 2.5 * k as f64],
+                        orientation: AXIAL,
+                        pixels: pixels.clone(),
+                    };
+                    std::fs::write(dir.join(format!("{}.dcm", n - k)), slice_file(&spec)).unwrap();
+                }
+                pixels
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_folder_is_sorted_by_position_rescaled_and_placed_in_ras() {
+        let dir = tempfile::tempdir().unwrap();
+        let pixels = series(dir.path(), 4, None);
+        let v = Volume::read_dicom(dir.path()).unwrap();
+        assert_eq!(v.dims(), [4, 3, 4]);
+        assert_eq!(v.spacing(), [0.75, 0.5, 2.5]);
+        for (k, px) in pixels.iter().enumerate() {
+            for (i, &p) in px.iter().enumerate() {
+                assert_eq!(v.at(i % 4, i / 4, k), f32::from(p) * 2.0 - 1000.0);
+            }
+        }
+        // LPS (-10, 20, 30) + i 0.75 x + j 0.5 y + k 2.5 z, x and y negated.
+        let a = v.affine().unwrap();
+        assert_eq!(
+            a,
+            [
+                [-0.75, 0.0, 0.0, 10.0],
+                [0.0, -0.5, 0.0, -20.0],
+                [0.0, 0.0, 2.5, 30.0]
+            ]
+        );
+        assert_eq!(Volume::read(dir.path(), None).unwrap(), v);
+        let one = Volume::read(dir.path().join("1.dcm"), None).unwrap();
+        assert_eq!(one.dims(), [4, 3, 1]);
+    }
+
+    #[test]
+    fn inconsistent_series_are_errors_naming_the_files() {
+        let dir = tempfile::tempdir().unwrap();
+        series(&dir.path().join("gap"), 5, Some(2));
+        let e = Volume::read_dicom(dir.path().join("gap")).unwrap_err().to_string();
+        assert!(e.contains("missing slices") && e.contains("2.dcm"), "{e}");
+
+        let two = dir.path().join("two");
+        series(&two, 3, None);
+        let other = SliceSpec {
+            series: "9.9.9",
+            rows: 3,
+            cols: 4,
+            frames: None,
+            position: [0.0; 3],
+            orientation: AXIAL,
+            pixels: vec![0; 12],
+        };
+        std::fs::write(two.join("x.dcm"), slice_file(&other)).unwrap();
+        let e = Volume::read_dicom(&two).unwrap_err().to_string();
+        assert!(e.contains("2 series") && e.contains("9.9.9") && e.contains("1.2.826.0.1"), "{e}");
+        let mut p = DicomParams::default();
+        p.series = Some("9.9.9".into());
+        assert_eq!(Volume::read_dicom_with(&two, &p).unwrap().dims(), [4, 3, 1]);
+
+        let mixed = dir.path().join("mixed");
+        series(&mixed, 3, None);
+        let tilted = SliceSpec {
+            position: [-10.0, 20.0, 37.5],
+            orientation: [1.0, 0.0, 0.0, 0.0, 0.8, 0.6],
+            ..other
+        };
+        std::fs::write(mixed.join("t.dcm"), slice_file(&tilted)).unwrap();
+        let e = Volume::read_dicom(&mixed).unwrap_err().to_string();
+        assert!(e.contains("mixed orientations"), "{e}");
+        p.spacing_tolerance = 0.7;
+        assert!(matches!(
+            Volume::read_dicom_with(&mixed, &p),
+            Err(Error::InvalidArgument { .. })
+        ));
+    }
+
+    #[test]
+    fn bad_files_are_errors_and_huge_sizes_are_refused_before_decoding() {
+        let dir = tempfile::tempdir().unwrap();
+        let spec = SliceSpec {
+            series: "1.2",
+            rows: 3,
+            cols: 4,
+            frames: None,
+            position: [0.0; 3],
+            orientation: AXIAL,
+            pixels: vec![7; 12],
+        };
+        let good = slice_file(&spec);
+        let p = dir.path().join("f.dcm");
+        for cut in [10, 131, 200, good.len() - 5] {
+            std::fs::write(&p, &good[..cut]).unwrap();
+            assert!(Volume::read_dicom(&p).is_err(), "cut at {cut}");
+        }
+        let mut magic = good.clone();
+        magic[128..132].copy_from_slice(b"DICN");
+        std::fs::write(&p, &magic).unwrap();
+        let e = Volume::read_dicom(&p).unwrap_err().to_string();
+        assert!(e.contains("DICM"), "{e}");
+        // 65535 x 65535 pixels x 2^20 frames declared over 24 bytes of pixel data.
+        let huge = SliceSpec {
+            rows: u16::MAX,
+            cols: u16::MAX,
+            frames: Some(1 << 20),
+            ..spec
+        };
+        std::fs::write(&p, slice_file(&huge)).unwrap();
+        let e = Volume::read_dicom(&p).unwrap_err();
+        assert!(
+            matches!(e, Error::LimitExceeded(_) | Error::OutOfMemory { .. }),
+            "{e}"
+        );
+        let empty = dir.path().join("empty");
+        std::fs::create_dir(&empty).unwrap();
+        std::fs::write(empty.join("notes.txt"), b"not dicom").unwrap();
+        assert!(matches!(
+            Volume::read_dicom(&empty),
+            Err(Error::Format { .. })
+        ));
+    }
 }

@@ -14,6 +14,7 @@ use nifti::{IntoNdArray, NiftiError, NiftiHeader, NiftiType};
 
 use super::{file_kind, read_up_to, FileKind};
 use crate::error::{read_error, Error, Result};
+use crate::vec3::{cross, dot};
 use crate::volume::{check_affine, voxel_count, Affine, Real, Volume};
 
 /// Largest NIfTI `vox_offset` (header plus extensions, in bytes) accepted from a file.
@@ -421,9 +422,7 @@ fn affine_to_quaternion(m: &Affine) -> Option<([f32; 3], f32)> {
     if dot(0, 1).abs() > 1e-4 || dot(0, 2).abs() > 1e-4 || dot(1, 2).abs() > 1e-4 {
         return None;
     }
-    let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1])
-        - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
-        + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    let det = dot(r[0], cross(r[1], r[2]));
     let qfac = if det < 0.0 {
         for row in &mut r {
             row[2] = -row[2];
@@ -458,6 +457,48 @@ mod tests {
     use crate::volume::tests::unique_volume;
 
     // ---------------------------------------------------------------- NIfTI
+
+    #[test]
+    fn nifti_keeps_an_oblique_flipped_affine_in_sform_and_qform() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut v = unique_volume([1.0; 3]);
+        let (c, s) = (0.6f64, 0.8f64);
+        // Rotation about z, then x mirrored (det < 0), voxel sizes 0.7, 1.25, 3.
+        let a = [
+            [-0.7 * c, -1.25 * s, 0.0, 12.5],
+            [-0.7 * s, 1.25 * c, 0.0, -40.0],
+            [0.0, 0.0, 3.0, 7.25],
+        ];
+        v.set_affine(Some(a)).unwrap();
+        let sp = v.spacing();
+        for (got, want) in sp.iter().zip([0.7, 1.25, 3.0]) {
+            assert!((got - want).abs() < 1e-12);
+        }
+        let p = dir.path().join("o.nii");
+        v.write_nifti(&p).unwrap();
+        let back = Volume::read_nifti(&p).unwrap();
+        let close = |x: &Affine, y: &Affine, tol: f64| {
+            x.iter().flatten().zip(y.iter().flatten()).all(|(a, b)| (a - b).abs() < tol)
+        };
+        assert!(close(&back.affine().unwrap(), &a, 1e-5), "{:?}", back.affine());
+        // The qform alone (sform_code 0) gives the same affine.
+        let mut bytes = std::fs::read(&p).unwrap();
+        patch(&mut bytes, 254, &0i16.to_le_bytes());
+        std::fs::write(&p, &bytes).unwrap();
+        let q = Volume::read_nifti(&p).unwrap();
+        assert!(close(&q.affine().unwrap(), &a, 1e-5), "{:?}", q.affine());
+        // Neither: no affine; the grid's diagonal is what writers use.
+        patch(&mut bytes, 252, &0i16.to_le_bytes());
+        std::fs::write(&p, &bytes).unwrap();
+        let none = Volume::read_nifti(&p).unwrap();
+        assert_eq!(none.affine(), None);
+        assert_eq!(none.voxel_to_world()[2][2], none.spacing()[2]);
+        // A replaced spacing rescales the columns and keeps the origin.
+        let mut r = back.clone();
+        r.set_spacing([1.4, 1.25, 3.0]).unwrap();
+        let ra = r.affine().unwrap();
+        assert!((ra[0][0] - 2.0 * a[0][0]).abs() < 1e-5 && ra[0][3] == back.affine().unwrap()[0][3]);
+    }
 
     #[test]
     fn nifti_round_trip_preserves_values_dims_spacing_and_axis_order() {

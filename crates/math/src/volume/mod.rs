@@ -79,10 +79,9 @@ pub fn check_affine(a: &Affine) -> Result<[f64; 3]> {
         return Err(Error::invalid("affine", "has non-finite entries"));
     }
     let col = |c: usize| [a[0][c], a[1][c], a[2][c]];
-    let norms = [0, 1, 2].map(|c| col(c).iter().map(|v| v * v).sum::<f64>().sqrt());
+    let norms = [0, 1, 2].map(|c| crate::vec3::norm(col(c)));
     let [u, v, w] = [col(0), col(1), col(2)];
-    let det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
-        + u[2] * (v[0] * w[1] - v[1] * w[0]);
+    let det = crate::vec3::dot(u, crate::vec3::cross(v, w));
     let scale = norms[0] * norms[1] * norms[2];
     if !(scale > 0.0) || det.abs() <= 1e-9 * scale {
         return Err(Error::invalid(

@@ -57,7 +57,8 @@ pub enum KernelName {
 
 #[derive(Args, Debug)]
 pub struct IllumArgs {
-    /// Volume file (.vti, .nii, .nii.gz, .npy, or .raw with --raw-dims); only read.
+    /// Volume file (.vti, .nii, .nii.gz, .npy, a DICOM file or folder, or .raw with
+    /// --raw-dims); only read.
     #[arg(long, conflicts_with = "phantom")]
     volume: Option<PathBuf>,
     /// Built-in volume instead of a file: marschner-lobb (41^3).

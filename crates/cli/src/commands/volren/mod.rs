@@ -39,7 +39,8 @@ pub enum VolrenCommand {
 
 #[derive(Args, Debug)]
 pub struct VolumeArgs {
-    /// Volume file (.nii, .nii.gz, .npy, or .raw with --raw-dims); only read.
+    /// Volume file (.nii, .nii.gz, .npy, .vti, a DICOM file or folder, or .raw with
+    /// --raw-dims); only read.
     #[arg(long)]
     volume: Option<PathBuf>,
     /// Dimensions x,y,z of a .raw volume of unsigned bytes.
