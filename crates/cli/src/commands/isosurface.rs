@@ -17,7 +17,7 @@ use wscg_isosurface::{marching_cubes, NormalMethod, ScalarGrid};
 use wscg_math::io::RawType;
 use wscg_math::{Error, Result, TriMesh, Volume};
 
-use crate::commands::volume_file::{mesh_to_world, read_volume, RawSpec};
+use crate::commands::volume_file::{self, mesh_to_world, RawSpec};
 
 #[derive(Subcommand, Debug)]
 pub enum IsosurfaceCommand {
@@ -97,7 +97,7 @@ fn read_volume(a: &VolumeInput) -> Result<Volume<f32>> {
             kind: a.raw_type.parse::<RawType>()?,
         })
     };
-    let read = |p: &Path| read_volume(p, raw, spacing);
+    let read = |p: &Path| volume_file::read_volume(p, raw, spacing);
     let mut v = read(&a.volume)?;
     if let Some(m) = a.missing {
         for x in v.data_mut() {

@@ -307,34 +307,34 @@ fn series_geometry(slices: &mut [Slice], params: &DicomParams) -> Result<Geometr
                 s.rows
             )));
         }
-        let close = |a: &[f64], b: &[f64], tol: f64| a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tol);
-        let same_spacing = match (&first.pixel_spacing, &s.pixel_spacing) {
-            (Some(a), Some(b)) => close(a, b, 1e-4 * a[0].max(a[1])),
+        // Equal within `tol`, or both absent.
+        let agree = |a: Option<&[f64]>, b: Option<&[f64]>, tol: f64| match (a, b) {
+            (Some(a), Some(b)) => a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tol),
             (None, None) => true,
             _ => false,
         };
-        if !same_spacing {
-            return Err(bad(format!(
-                "mixed pixel spacings: {:?} in {}, {:?} in {}",
-                first.pixel_spacing,
-                first.path.display(),
-                s.pixel_spacing,
-                s.path.display()
-            )));
-        }
-        let same_orientation = match (&first.orientation, &s.orientation) {
-            (Some(a), Some(b)) => close(a, b, 1e-4),
-            (None, None) => true,
-            _ => false,
-        };
-        if !same_orientation {
-            return Err(bad(format!(
-                "mixed orientations: ImageOrientationPatient {:?} in {}, {:?} in {}",
-                first.orientation,
-                first.path.display(),
-                s.orientation,
-                s.path.display()
-            )));
+        let checks = [
+            (
+                "pixel spacings (PixelSpacing)",
+                first.pixel_spacing.as_ref().map(|v| &v[..]),
+                s.pixel_spacing.as_ref().map(|v| &v[..]),
+                1e-4 * first.pixel_spacing.map_or(1.0, |v| v[0].max(v[1])),
+            ),
+            (
+                "orientations (ImageOrientationPatient)",
+                first.orientation.as_ref().map(|v| &v[..]),
+                s.orientation.as_ref().map(|v| &v[..]),
+                1e-4,
+            ),
+        ];
+        for (what, a, b, tol) in checks {
+            if !agree(a, b, tol) {
+                return Err(bad(format!(
+                    "mixed {what}: {a:?} in {}, {b:?} in {}",
+                    first.path.display(),
+                    s.path.display()
+                )));
+            }
         }
     }
     let [dy, dx] = first.pixel_spacing.unwrap_or([1.0, 1.0]);
@@ -380,8 +380,10 @@ fn series_geometry(slices: &mut [Slice], params: &DicomParams) -> Result<Geometr
             s.frames
         )));
     }
-    let (Some(o), true) = (first.orientation, slices.iter().all(|s| s.position.is_some()))
-    else {
+    let (Some(o), true) = (
+        first.orientation,
+        slices.iter().all(|s| s.position.is_some()),
+    ) else {
         let s = slices
             .iter()
             .find(|s| s.orientation.is_none() || s.position.is_none())

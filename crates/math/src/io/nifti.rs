@@ -418,8 +418,8 @@ fn affine_to_quaternion(m: &Affine) -> Option<([f32; 3], f32)> {
             r[row][col] = m[row][col] / norms[col];
         }
     }
-    let dot = |a: usize, b: usize| (0..3).map(|k| r[k][a] * r[k][b]).sum::<f64>();
-    if dot(0, 1).abs() > 1e-4 || dot(0, 2).abs() > 1e-4 || dot(1, 2).abs() > 1e-4 {
+    let col_dot = |a: usize, b: usize| (0..3).map(|k| r[k][a] * r[k][b]).sum::<f64>();
+    if col_dot(0, 1).abs() > 1e-4 || col_dot(0, 2).abs() > 1e-4 || col_dot(1, 2).abs() > 1e-4 {
         return None;
     }
     let det = dot(r[0], cross(r[1], r[2]));

@@ -11,7 +11,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use wscg_math::{Error, Result, Volume, VolumeView};
+use wscg_math::{Error, Result, VolumeView};
 use wscg_volren::illumination::scenes::{
     labels_to_field, marschner_lobb, marschner_lobb_tf, skin_tf, tissue_tf,
 };
