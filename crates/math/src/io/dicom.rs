@@ -207,7 +207,10 @@ fn read_slice(path: &Path) -> Result<Slice> {
             .ok()
             .flatten()
             .and_then(|e| e.to_str().ok())
-            .map(|s| s.trim_matches(|c: char| c == '\0' || c.is_whitespace()).to_string())
+            .map(|s| {
+                s.trim_matches(|c: char| c == '\0' || c.is_whitespace())
+                    .to_string()
+            })
     };
     let floats = |tag: Tag, n: usize, name: &str| -> Result<Option<Vec<f64>>> {
         match obj.element_opt(tag).ok().flatten() {
@@ -278,8 +281,12 @@ fn read_slice(path: &Path) -> Result<Slice> {
         cols,
         frames,
         pixel_spacing: pixel_spacing.map(|v| [v[0], v[1]]),
-        orientation: floats(tags::IMAGE_ORIENTATION_PATIENT, 6, "ImageOrientationPatient")?
-            .map(|v| [v[0], v[1], v[2], v[3], v[4], v[5]]),
+        orientation: floats(
+            tags::IMAGE_ORIENTATION_PATIENT,
+            6,
+            "ImageOrientationPatient",
+        )?
+        .map(|v| [v[0], v[1], v[2], v[3], v[4], v[5]]),
         position: floats(tags::IMAGE_POSITION_PATIENT, 3, "ImagePositionPatient")?
             .map(|v| [v[0], v[1], v[2]]),
         obj,
@@ -494,7 +501,12 @@ fn decode_series(slices: &[Slice], g: Geometry) -> Result<Volume<f32>> {
     crate::alloc::ensure::<f32>("DICOM series", n)?;
     let mut data: Vec<f32> = crate::alloc::try_with_capacity("DICOM series", n)?;
     for s in slices {
-        let ts_uid = s.obj.meta().transfer_syntax().trim_end_matches('\0').to_string();
+        let ts_uid = s
+            .obj
+            .meta()
+            .transfer_syntax()
+            .trim_end_matches('\0')
+            .to_string();
         let ts = TransferSyntaxRegistry.get(&ts_uid);
         let ts_name = ts.map(|t| t.name()).unwrap_or("unknown transfer syntax");
         if !ts.is_some_and(|t| t.can_decode_all()) {
@@ -681,7 +693,9 @@ mod tests {
     fn inconsistent_series_are_errors_naming_the_files() {
         let dir = tempfile::tempdir().unwrap();
         series(&dir.path().join("gap"), 5, Some(2));
-        let e = Volume::read_dicom(dir.path().join("gap")).unwrap_err().to_string();
+        let e = Volume::read_dicom(dir.path().join("gap"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("missing slices") && e.contains("2.dcm"), "{e}");
 
         let two = dir.path().join("two");
@@ -697,7 +711,10 @@ mod tests {
         };
         std::fs::write(two.join("x.dcm"), slice_file(&other)).unwrap();
         let e = Volume::read_dicom(&two).unwrap_err().to_string();
-        assert!(e.contains("2 series") && e.contains("9.9.9") && e.contains("1.2.826.0.1"), "{e}");
+        assert!(
+            e.contains("2 series") && e.contains("9.9.9") && e.contains("1.2.826.0.1"),
+            "{e}"
+        );
         let mut p = DicomParams::default();
         p.series = Some("9.9.9".into());
         assert_eq!(Volume::read_dicom_with(&two, &p).unwrap().dims(), [4, 3, 1]);

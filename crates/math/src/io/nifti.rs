@@ -382,9 +382,21 @@ fn header_affine(h: &NiftiHeader) -> Option<Affine> {
         let [b, c, d] = [h.quatern_b, h.quatern_c, h.quatern_d].map(f64::from);
         let a = (1.0 - (b * b + c * c + d * d)).max(0.0).sqrt();
         let r = [
-            [a * a + b * b - c * c - d * d, 2.0 * (b * c - a * d), 2.0 * (b * d + a * c)],
-            [2.0 * (b * c + a * d), a * a + c * c - b * b - d * d, 2.0 * (c * d - a * b)],
-            [2.0 * (b * d - a * c), 2.0 * (c * d + a * b), a * a + d * d - c * c - b * b],
+            [
+                a * a + b * b - c * c - d * d,
+                2.0 * (b * c - a * d),
+                2.0 * (b * d + a * c),
+            ],
+            [
+                2.0 * (b * c + a * d),
+                a * a + c * c - b * b - d * d,
+                2.0 * (c * d - a * b),
+            ],
+            [
+                2.0 * (b * d - a * c),
+                2.0 * (c * d + a * b),
+                a * a + d * d - c * c - b * b,
+            ],
         ];
         let qfac = if h.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
         let zooms = [
@@ -435,16 +447,36 @@ fn affine_to_quaternion(m: &Affine) -> Option<([f32; 3], f32)> {
     let t = r[0][0] + r[1][1] + r[2][2];
     let (a, b, c, d) = if t > 0.0 {
         let s = (t + 1.0).sqrt() * 2.0;
-        (0.25 * s, (r[2][1] - r[1][2]) / s, (r[0][2] - r[2][0]) / s, (r[1][0] - r[0][1]) / s)
+        (
+            0.25 * s,
+            (r[2][1] - r[1][2]) / s,
+            (r[0][2] - r[2][0]) / s,
+            (r[1][0] - r[0][1]) / s,
+        )
     } else if r[0][0] > r[1][1] && r[0][0] > r[2][2] {
         let s = (1.0 + r[0][0] - r[1][1] - r[2][2]).sqrt() * 2.0;
-        ((r[2][1] - r[1][2]) / s, 0.25 * s, (r[0][1] + r[1][0]) / s, (r[0][2] + r[2][0]) / s)
+        (
+            (r[2][1] - r[1][2]) / s,
+            0.25 * s,
+            (r[0][1] + r[1][0]) / s,
+            (r[0][2] + r[2][0]) / s,
+        )
     } else if r[1][1] > r[2][2] {
         let s = (1.0 + r[1][1] - r[0][0] - r[2][2]).sqrt() * 2.0;
-        ((r[0][2] - r[2][0]) / s, (r[0][1] + r[1][0]) / s, 0.25 * s, (r[1][2] + r[2][1]) / s)
+        (
+            (r[0][2] - r[2][0]) / s,
+            (r[0][1] + r[1][0]) / s,
+            0.25 * s,
+            (r[1][2] + r[2][1]) / s,
+        )
     } else {
         let s = (1.0 + r[2][2] - r[0][0] - r[1][1]).sqrt() * 2.0;
-        ((r[1][0] - r[0][1]) / s, (r[0][2] + r[2][0]) / s, (r[1][2] + r[2][1]) / s, 0.25 * s)
+        (
+            (r[1][0] - r[0][1]) / s,
+            (r[0][2] + r[2][0]) / s,
+            (r[1][2] + r[2][1]) / s,
+            0.25 * s,
+        )
     };
     let sign = if a < 0.0 { -1.0 } else { 1.0 };
     Some(([b, c, d].map(|q| (sign * q) as f32), qfac))
@@ -478,9 +510,16 @@ mod tests {
         v.write_nifti(&p).unwrap();
         let back = Volume::read_nifti(&p).unwrap();
         let close = |x: &Affine, y: &Affine, tol: f64| {
-            x.iter().flatten().zip(y.iter().flatten()).all(|(a, b)| (a - b).abs() < tol)
+            x.iter()
+                .flatten()
+                .zip(y.iter().flatten())
+                .all(|(a, b)| (a - b).abs() < tol)
         };
-        assert!(close(&back.affine().unwrap(), &a, 1e-5), "{:?}", back.affine());
+        assert!(
+            close(&back.affine().unwrap(), &a, 1e-5),
+            "{:?}",
+            back.affine()
+        );
         // The qform alone (sform_code 0) gives the same affine.
         let mut bytes = std::fs::read(&p).unwrap();
         patch(&mut bytes, 254, &0i16.to_le_bytes());
@@ -497,7 +536,9 @@ mod tests {
         let mut r = back.clone();
         r.set_spacing([1.4, 1.25, 3.0]).unwrap();
         let ra = r.affine().unwrap();
-        assert!((ra[0][0] - 2.0 * a[0][0]).abs() < 1e-5 && ra[0][3] == back.affine().unwrap()[0][3]);
+        assert!(
+            (ra[0][0] - 2.0 * a[0][0]).abs() < 1e-5 && ra[0][3] == back.affine().unwrap()[0][3]
+        );
     }
 
     #[test]

@@ -10,6 +10,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::commands::volume_file::read_volume;
 use clap::{Args, ValueEnum};
 use wscg_math::{Error, Result, VolumeView};
 use wscg_volren::illumination::scenes::{
@@ -20,7 +21,6 @@ use wscg_volren::illumination::{
     render, IlluminationParams, Kernel, Light, LightAtten, Method, Phong, ScalarField, SliceCamera,
     TransferFunction,
 };
-use crate::commands::volume_file::read_volume;
 
 use crate::progress::Bars;
 use wscg_math::progress::Progress;
