@@ -722,6 +722,7 @@ mod tests {
         let mixed = dir.path().join("mixed");
         series(&mixed, 3, None);
         let tilted = SliceSpec {
+            series: "1.2.826.0.1",
             position: [-10.0, 20.0, 37.5],
             orientation: [1.0, 0.0, 0.0, 0.0, 0.8, 0.6],
             ..other

@@ -379,8 +379,20 @@ fn header_affine(h: &NiftiHeader) -> Option<Affine> {
         }
     }
     if h.qform_code > 0 {
-        let [b, c, d] = [h.quatern_b, h.quatern_c, h.quatern_d].map(f64::from);
-        let a = (1.0 - (b * b + c * c + d * d)).max(0.0).sqrt();
+        let [mut b, mut c, mut d] = [h.quatern_b, h.quatern_c, h.quatern_d].map(f64::from);
+        // As the NIfTI-1 reference code (nifti_quatern_to_mat44): a rotation by ~180 degrees
+        // has a = 0, and (b, c, d), stored as float32, is renormalised rather than leaving a
+        // of the order of the float32 rounding error.
+        let a2 = 1.0 - (b * b + c * c + d * d);
+        let a = if a2 < 1e-7 {
+            let n = (b * b + c * c + d * d).sqrt();
+            if n > 0.0 {
+                [b, c, d] = [b / n, c / n, d / n];
+            }
+            0.0
+        } else {
+            a2.sqrt()
+        };
         let r = [
             [
                 a * a + b * b - c * c - d * d,
