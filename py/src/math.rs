@@ -511,8 +511,7 @@ fn load_volume(
 ) -> PyResult<VolumeOut<'_>> {
     let v = crate::pool::detach(py, || match series {
         Some(uid) => {
-            let mut params = wscg_math::io::dicom::DicomParams::default();
-            params.series = Some(uid);
+            let params = wscg_math::io::dicom::DicomParams::default().series(uid);
             let mut v = Volume::read_dicom_with(&path, &params)?;
             if let Some(s) = spacing {
                 v.set_spacing(spacing_xyz(s))?;

@@ -60,6 +60,18 @@ impl Default for DicomParams {
 }
 
 impl DicomParams {
+    /// Reads the series with this SeriesInstanceUID.
+    pub fn series(mut self, uid: impl Into<String>) -> Self {
+        self.series = Some(uid.into());
+        self
+    }
+
+    /// Sets [`DicomParams::spacing_tolerance`].
+    pub fn spacing_tolerance(mut self, tolerance: f64) -> Self {
+        self.spacing_tolerance = tolerance;
+        self
+    }
+
     /// Errors: a `spacing_tolerance` outside `[0, 0.5)` ([`Error::InvalidArgument`]).
     pub fn validate(&self) -> Result<()> {
         if !(0.0..0.5).contains(&self.spacing_tolerance) {
@@ -715,8 +727,7 @@ mod tests {
             e.contains("2 series") && e.contains("9.9.9") && e.contains("1.2.826.0.1"),
             "{e}"
         );
-        let mut p = DicomParams::default();
-        p.series = Some("9.9.9".into());
+        let p = DicomParams::default().series("9.9.9");
         assert_eq!(Volume::read_dicom_with(&two, &p).unwrap().dims(), [4, 3, 1]);
 
         let mixed = dir.path().join("mixed");
@@ -730,9 +741,8 @@ mod tests {
         std::fs::write(mixed.join("t.dcm"), slice_file(&tilted)).unwrap();
         let e = Volume::read_dicom(&mixed).unwrap_err().to_string();
         assert!(e.contains("mixed orientations"), "{e}");
-        p.spacing_tolerance = 0.7;
         assert!(matches!(
-            Volume::read_dicom_with(&mixed, &p),
+            Volume::read_dicom_with(&mixed, &p.spacing_tolerance(0.7)),
             Err(Error::InvalidArgument { .. })
         ));
     }

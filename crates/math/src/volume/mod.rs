@@ -83,7 +83,7 @@ pub fn check_affine(a: &Affine) -> Result<[f64; 3]> {
     let [u, v, w] = [col(0), col(1), col(2)];
     let det = crate::vec3::dot(u, crate::vec3::cross(v, w));
     let scale = norms[0] * norms[1] * norms[2];
-    if !(scale > 0.0) || det.abs() <= 1e-9 * scale {
+    if scale <= 0.0 || !scale.is_finite() || det.abs() <= 1e-9 * scale {
         return Err(Error::invalid(
             "affine",
             format!("is singular (columns {:?}, {:?}, {:?})", u, v, w),
