@@ -488,21 +488,39 @@ fn spacing_xyz(s: (f64, f64, f64)) -> [f64; 3] {
     [s.2, s.1, s.0]
 }
 
-fn volume_out(py: Python<'_>, v: Volume<f32>) -> PyResult<(Arr<'_, f32>, (f64, f64, f64))> {
+/// A loaded volume as Python gets it: the array `[z, y, x]`, the spacing `(dz, dy, dx)` and
+/// the file's voxel-to-world affine (RAS+ mm, rows x, y, z of the 4 x 4 matrix acting on
+/// `(i, j, k, 1)`), `None` when the file has none.
+type VolumeOut<'py> = (Arr<'py, f32>, (f64, f64, f64), Option<[[f64; 4]; 3]>);
+
+fn volume_out(py: Python<'_>, v: Volume<f32>) -> PyResult<VolumeOut<'_>> {
     let [sx, sy, sz] = v.spacing();
     let [nx, ny, nz] = v.dims();
+    let affine = v.affine();
     let data = v.into_data();
-    Ok((array(py, &[nz, ny, nx], data)?, (sz, sy, sx)))
+    Ok((array(py, &[nz, ny, nx], data)?, (sz, sy, sx), affine))
 }
 
 #[pyfunction]
-#[pyo3(signature = (path, spacing))]
+#[pyo3(signature = (path, spacing, series=None))]
 fn load_volume(
     py: Python<'_>,
     path: PathBuf,
     spacing: Option<(f64, f64, f64)>,
-) -> PyResult<(Arr<'_, f32>, (f64, f64, f64))> {
-    let v = crate::pool::detach(py, || Volume::read(&path, spacing.map(spacing_xyz))).py_err()?;
+    series: Option<String>,
+) -> PyResult<VolumeOut<'_>> {
+    let v = crate::pool::detach(py, || match series {
+        Some(uid) => {
+            let params = wscg_math::io::dicom::DicomParams::default().series(uid);
+            let mut v = Volume::read_dicom_with(&path, &params)?;
+            if let Some(s) = spacing {
+                v.set_spacing(spacing_xyz(s))?;
+            }
+            Ok(v)
+        }
+        None => Volume::read(&path, spacing.map(spacing_xyz)),
+    })
+    .py_err()?;
     volume_out(py, v)
 }
 
@@ -513,7 +531,7 @@ fn load_raw_volume<'py>(
     shape: (usize, usize, usize),
     dtype: &str,
     spacing: (f64, f64, f64),
-) -> PyResult<(Arr<'py, f32>, (f64, f64, f64))> {
+) -> PyResult<VolumeOut<'py>> {
     let t = dtype.parse::<RawType>().py_err()?;
     let dims = [shape.2, shape.1, shape.0];
     let v = crate::pool::detach(py, || {
@@ -524,11 +542,13 @@ fn load_raw_volume<'py>(
 }
 
 #[pyfunction]
+#[pyo3(signature = (path, volume, spacing, affine=None))]
 fn save_volume(
     py: Python<'_>,
     path: PathBuf,
     volume: PyReadonlyArrayDyn<f32>,
     spacing: (f64, f64, f64),
+    affine: Option<[[f64; 4]; 3]>,
 ) -> PyResult<()> {
     let shape = volume.shape().to_vec();
     if shape.len() != 3 {
@@ -541,7 +561,8 @@ fn save_volume(
         .map_err(|e| value_error(e.to_string()))?;
     let name = path.to_string_lossy().to_ascii_lowercase();
     crate::pool::detach(py, || {
-        let vol = Volume::from_zyx(view, spacing_xyz(spacing))?;
+        let mut vol = Volume::from_zyx(view, spacing_xyz(spacing))?;
+        vol.set_affine(affine)?;
         if name.ends_with(".nii") || name.ends_with(".nii.gz") {
             vol.write_nifti(&path)
         } else if name.ends_with(".npy") {

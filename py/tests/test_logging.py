@@ -47,20 +47,30 @@ def test_level_set_on_the_wscg_logger_filters_records(caplog):
     assert "marching cubes" in debug[0].getMessage()
 
 
-def test_unapplied_nifti_orientation_is_a_warning(caplog, tmp_path):
+def test_unusable_nifti_orientation_is_a_warning(caplog, tmp_path):
     nib = pytest.importorskip("nibabel")
     data = os.path.join(os.path.dirname(nib.__file__), "tests", "data")
-    # anatomical.nii stores x in radiological order (sform x axis -2 mm); standard.nii.gz
-    # has a scale-only affine.
-    with caplog.at_level(logging.WARNING, logger="wscg"):
-        wscg.math.load_volume(os.path.join(data, "standard.nii.gz"))
-    assert not _records(caplog)
+    # anatomical.nii's sform (x axis -2 mm) is kept as the affine: no warning. The same voxels
+    # with a singular sform and no qform keep no orientation, which is worth a warning.
     with caplog.at_level(logging.WARNING, logger="wscg"):
         wscg.math.load_volume(os.path.join(data, "anatomical.nii"))
+    assert not _records(caplog)
+    img = nib.load(os.path.join(data, "anatomical.nii"))
+    hdr = img.header.copy()
+    hdr.set_qform(None, code=0)
+    hdr["sform_code"] = 1
+    for row in ("srow_x", "srow_y", "srow_z"):
+        hdr[row] = 0.0
+    bad = str(tmp_path / "singular.nii")
+    nib.save(nib.Nifti1Image(np.asarray(img.dataobj), None, hdr), bad)
+    assert nib.load(bad).header["sform_code"] == 1
+    with caplog.at_level(logging.WARNING, logger="wscg"):
+        got = wscg.math.load_volume(bad)
     warned = _records(caplog)
     assert len(warned) == 1 and warned[0].levelno == logging.WARNING
     assert warned[0].name.startswith("wscg.math")
-    assert "anatomical.nii" in warned[0].getMessage() and "not applied" in warned[0].getMessage()
+    assert "singular.nii" in warned[0].getMessage() and "no orientation" in warned[0].getMessage()
+    assert not got.has_affine
 
 
 def test_records_of_concurrent_calls_from_two_python_threads_all_arrive(caplog):

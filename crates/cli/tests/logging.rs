@@ -9,7 +9,7 @@ use common::wscg;
 
 /// A 12^3 ball (value 1 inside radius 4) as NIfTI; `flip_x` makes the sform's x axis negative
 /// (as in radiological-order scans), which the reader does not apply and says so.
-fn ball(path: &Path, flip_x: bool) {
+fn ball(path: &Path, singular: bool) {
     let n = 12;
     let data: Vec<f32> = (0..n * n * n)
         .map(|i| {
@@ -25,10 +25,12 @@ fn ball(path: &Path, flip_x: bool) {
         .unwrap()
         .write_nifti(path)
         .unwrap();
-    if flip_x {
-        // srow_x[0] is the float32 at byte 280 of a NIfTI-1 header.
+    if singular {
+        // srow_x[0] is the float32 at byte 280 of a NIfTI-1 header, qform_code the int16 at
+        // 252: a singular sform and no qform leave the volume without orientation.
         let mut bytes = std::fs::read(path).unwrap();
-        bytes[280..284].copy_from_slice(&(-1.0f32).to_le_bytes());
+        bytes[280..284].copy_from_slice(&0.0f32.to_le_bytes());
+        bytes[252..254].copy_from_slice(&0i16.to_le_bytes());
         std::fs::write(path, bytes).unwrap();
     }
 }
@@ -59,18 +61,20 @@ fn extract(dir: &Path, input: &Path, flags: &[&str]) -> String {
 #[test]
 fn warnings_by_default_quiet_hides_them_verbose_adds_details() {
     let dir = tempfile::tempdir().unwrap();
-    let flipped = dir.path().join("flipped.nii");
+    let flipped = dir.path().join("singular.nii");
     ball(&flipped, true);
     let plain = dir.path().join("plain.nii");
     ball(&plain, false);
 
     let stderr = extract(dir.path(), &flipped, &[]);
     assert!(
-        stderr.contains("warning:") && stderr.contains("sform") && stderr.contains("not applied"),
+        stderr.contains("warning:")
+            && stderr.contains("sform")
+            && stderr.contains("no orientation"),
         "{stderr}"
     );
     assert!(!stderr.contains("debug"), "{stderr}");
-    // A scale-only sform needs no warning.
+    // A usable sform needs no warning.
     let stderr = extract(dir.path(), &plain, &[]);
     assert!(!stderr.contains("warning"), "{stderr}");
 

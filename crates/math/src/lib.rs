@@ -95,7 +95,7 @@ pub use error::{Error, RefusedArgument, Result};
 pub use image::Image;
 pub use mesh::{Adjacency, TriMesh};
 pub use view::{ImageStackView, ImageView, VolumeView};
-pub use volume::Volume;
+pub use volume::{Affine, Volume};
 
 #[cfg(feature = "io-npy")]
 pub use io::npy;

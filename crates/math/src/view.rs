@@ -331,6 +331,7 @@ impl<'a, T: Copy> VolumeView<'a, T> {
             dims: self.dims,
             spacing: self.spacing,
             data: self.data.to_vec(),
+            affine: None,
         }
     }
 

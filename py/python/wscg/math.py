@@ -13,7 +13,9 @@ Conventions
 - Volumes are 3-D arrays indexed ``[z, y, x]``; voxel spacing is given in the same axis
   order, ``(dz, dy, dx)``. The voxel at index ``[k, j, i]`` sits at the world point
   ``(x, y, z) = (i dx, j dy, k dz)``: the affine of the NIfTI files :func:`save_volume`
-  writes, and the formula of every module (``py/API.md``).
+  writes, and the formula of every module (``py/API.md``). A file that places the volume in
+  the scanner (NIfTI sform/qform, DICOM) gives :func:`load_volume` its 4 x 4 ``affine``
+  mapping ``(i, j, k, 1)`` to RAS+ millimetres, which :func:`save_volume` writes back.
 - Meshes are ``vertices`` ``(N, 3)`` float64 ``(x, y, z)`` world coordinates and ``faces``
   ``(M, 3)`` integer arrays.
 - Files: ``load_<what>(path, ...)`` reads, ``save_<what>(path, data, ...)`` writes.
@@ -39,7 +41,7 @@ __all__ = [
     "eigh", "eigh_generalized", "svd", "lstsq",
     "normal", "uniform", "permutation",
     "load_image", "save_image", "load_volume", "save_volume", "load_raw_volume",
-    "load_mesh", "save_mesh", "CgInfo", "Mesh",
+    "load_mesh", "save_mesh", "CgInfo", "Mesh", "VolumeFile",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -62,6 +64,50 @@ class CgInfo:
     n_iter: int
     relative_residual: float
     converged: bool
+
+
+@_result
+class VolumeFile:
+    """A volume read by :func:`load_volume` or :func:`load_raw_volume`. It unpacks as the pair
+    ``volume, spacing = load_volume(path)``.
+
+    Attributes
+    ----------
+    volume : ndarray of float32, ``(nz, ny, nx)``
+        The values, indexed ``[z, y, x]`` (DICOM: rescaled by RescaleSlope/Intercept, so CT
+        is in Hounsfield units).
+    spacing : (dz, dy, dx)
+        Voxel size in millimetres, in array axis order.
+    affine : ndarray of float64, ``(4, 4)``
+        Voxel-to-world matrix: ``affine @ (i, j, k, 1)`` is the RAS+ point (millimetres: x
+        towards the patient's right, y anterior, z superior) of voxel ``volume[k, j, i]``.
+        NIfTI: nibabel's ``img.affine`` (sform, else qform); DICOM: the LPS+ patient frame of
+        ImagePositionPatient / ImageOrientationPatient with x and y negated. When the file has
+        none, ``diag(dx, dy, dz, 1)``: the formula of ``py/API.md`` with a zero origin.
+    has_affine : bool
+        Whether the file gave the affine (False: the diagonal above).
+    origin : (oz, oy, ox)
+        World point of voxel ``[0, 0, 0]`` (millimetres, array axis order): ``affine[2::-1, 3]``.
+    """
+
+    volume: np.ndarray
+    spacing: Tuple[float, float, float]
+    affine: np.ndarray
+    has_affine: bool
+    origin: Tuple[float, float, float]
+
+    def __iter__(self):
+        return iter((self.volume, self.spacing))
+
+
+def _volume_file(native) -> VolumeFile:
+    volume, spacing, rows = native
+    dz, dy, dx = spacing
+    affine = np.diag([dx, dy, dz, 1.0]) if rows is None else np.vstack(
+        [np.asarray(rows, np.float64), [0.0, 0.0, 0.0, 1.0]])
+    return VolumeFile(volume=volume, spacing=tuple(spacing), affine=affine,
+                      has_affine=rows is not None,
+                      origin=tuple(float(v) for v in affine[2::-1, 3]))
 
 
 @_result
@@ -921,35 +967,49 @@ def save_image(path: PathLike, image, bit_depth: Optional[int] = None) -> None:
     _m.save_image(_path(path), _real(image, "image"), None if bit_depth is None else int(bit_depth))
 
 
-def load_volume(path: PathLike, spacing: Optional[Tuple[float, float, float]] = None):
-    """Reads a NIfTI (.nii, .nii.gz) or .npy volume.
+def load_volume(path: PathLike, spacing: Optional[Tuple[float, float, float]] = None,
+                series: Optional[str] = None) -> VolumeFile:
+    """Reads a NIfTI (.nii, .nii.gz) or .npy volume, or a DICOM series (a DICOM file or a
+    folder of them).
 
     Parameters
     ----------
     path : str or os.PathLike
-        The file (only read).
+        The file or DICOM folder (only read). A DICOM folder's files are grouped by
+        SeriesInstanceUID and sorted along the slice normal by ImagePositionPatient; missing
+        slices, mixed orientations or sizes and uneven slice steps (over 1 %) are errors
+        naming the files.
     spacing : (dz, dy, dx), optional
-        Voxel size; replaces the NIfTI header's, default 1 for .npy.
+        Voxel size; replaces the file's (the affine's columns are rescaled), default 1 for
+        .npy.
+    series : str, optional
+        SeriesInstanceUID to read from a DICOM folder holding several series (without it,
+        several series are an error listing them).
 
     Returns
     -------
-    volume : ndarray of float32
-        Indexed ``[z, y, x]`` (a .npy file is read in that order; NIfTI data is converted:
-        its ``(i, j, k)`` voxel is ``volume[k, j, i]``).
-    spacing : (dz, dy, dx)
-        The NIfTI header's ``pixdim`` in array axis order. The header's orientation and
-        offset are not applied: voxel ``[k, j, i]`` is at ``(i dx, j dy, k dz)``.
+    VolumeFile
+        ``volume`` float32 ``[z, y, x]`` (NIfTI's ``(i, j, k)`` voxel is ``volume[k, j, i]``;
+        DICOM's column, row, slice likewise), ``spacing`` ``(dz, dy, dx)``, ``affine``
+        (4 x 4, RAS+ mm), ``has_affine`` and ``origin``. Unpacks as ``volume, spacing``.
 
     Raises
     ------
+    ValueError
+        Several DICOM series without ``series``, an inconsistent series, bad ``spacing``.
     OSError
-        Missing, malformed, truncated or unsupported file.
+        Missing, malformed, truncated or unsupported file (a DICOM transfer syntax without a
+        decoder here is named).
+    MemoryError
+        A declared size beyond the memory limit.
     """
-    return _m.load_volume(_path(path), None if spacing is None else tuple(float(s) for s in spacing))
+    return _volume_file(_m.load_volume(
+        _path(path), None if spacing is None else tuple(float(s) for s in spacing),
+        None if series is None else str(series)))
 
 
 def load_raw_volume(path: PathLike, shape: Tuple[int, int, int], dtype: str,
-                    spacing: Tuple[float, float, float] = (1.0, 1.0, 1.0)):
+                    spacing: Tuple[float, float, float] = (1.0, 1.0, 1.0)) -> VolumeFile:
     """Reads a headerless raw volume.
 
     Parameters
@@ -964,8 +1024,9 @@ def load_raw_volume(path: PathLike, shape: Tuple[int, int, int], dtype: str,
 
     Returns
     -------
-    volume : ndarray of float32, ``(nz, ny, nx)``
-    spacing : (dz, dy, dx)
+    VolumeFile
+        ``volume`` float32 ``(nz, ny, nx)``, ``spacing``, and the diagonal ``affine`` (a raw
+        file has no orientation). Unpacks as ``volume, spacing``.
 
     Raises
     ------
@@ -975,11 +1036,12 @@ def load_raw_volume(path: PathLike, shape: Tuple[int, int, int], dtype: str,
         Missing or wrongly sized file.
     """
     nz, ny, nx = (int(v) for v in shape)
-    return _m.load_raw_volume(_path(path), (nz, ny, nx), dtype,
-                              tuple(float(s) for s in spacing))
+    return _volume_file(_m.load_raw_volume(_path(path), (nz, ny, nx), dtype,
+                                           tuple(float(s) for s in spacing)))
 
 
-def save_volume(path: PathLike, volume, spacing: Tuple[float, float, float] = (1.0, 1.0, 1.0)) -> None:
+def save_volume(path: PathLike, volume, spacing: Optional[Tuple[float, float, float]] = None,
+                affine=None) -> None:
     """Writes a volume as .nii / .nii.gz (NIfTI-1, float32), .npy or .raw (f32 little endian).
 
     Parameters
@@ -988,19 +1050,43 @@ def save_volume(path: PathLike, volume, spacing: Tuple[float, float, float] = (1
         Output file; the extension picks the format.
     volume : array_like
         3-D array indexed ``[z, y, x]``.
-    spacing : (dz, dy, dx), default (1, 1, 1)
-        Voxel size (> 0). A NIfTI file gets the affine of ``py/API.md``: its voxel ``(i, j,
-        k)``, which is ``volume[k, j, i]``, maps to ``(x, y, z) = (i dx, j dy, k dz)``
-        (``pixdim = (dx, dy, dz)``, scaling-only qform and sform).
+    spacing : (dz, dy, dx), optional
+        Voxel size (> 0), default (1, 1, 1), or the lengths of ``affine``'s columns when it is
+        given (a ``spacing`` that differs from them is an error). Without ``affine`` a NIfTI
+        file gets the affine of ``py/API.md``: its voxel ``(i, j, k)``, which is
+        ``volume[k, j, i]``, maps to ``(x, y, z) = (i dx, j dy, k dz)``.
+    affine : array_like (4, 4) or (3, 4), optional
+        Voxel-to-world matrix acting on ``(i, j, k, 1)`` (RAS+ mm, as
+        :attr:`VolumeFile.affine`): the NIfTI sform, and the qform when it is a rotation.
+        Ignored by .npy and .raw, which hold no geometry.
 
     Raises
     ------
     ValueError
-        Not 3-D, bad spacing.
+        Not 3-D, bad spacing, a singular or non-finite affine, or one that disagrees with
+        ``spacing``.
     OSError
         Unsupported extension, unwritable path.
     """
-    _m.save_volume(_path(path), _real(volume, "volume", np.float32), tuple(float(s) for s in spacing))
+    rows = None
+    if affine is not None:
+        a = np.asarray(affine, np.float64)
+        if a.shape not in ((4, 4), (3, 4)):
+            raise ValueError(f"`affine` must be a 4 x 4 or 3 x 4 matrix, got shape {a.shape}")
+        if a.shape == (4, 4) and not np.allclose(a[3], [0, 0, 0, 1]):
+            raise ValueError(f"`affine`'s last row must be (0, 0, 0, 1), got {a[3]}")
+        rows = [[float(v) for v in r] for r in a[:3]]
+        norms = np.linalg.norm(a[:3, :3], axis=0)
+        implied = (float(norms[2]), float(norms[1]), float(norms[0]))
+        if spacing is not None and not np.allclose(
+                [float(s) for s in spacing], implied, rtol=1e-5, atol=0.0):
+            raise ValueError(f"`spacing` {tuple(spacing)} differs from the lengths of "
+                             f"`affine`'s columns {implied} (dz, dy, dx)")
+        spacing = implied
+    elif spacing is None:
+        spacing = (1.0, 1.0, 1.0)
+    _m.save_volume(_path(path), _real(volume, "volume", np.float32),
+                   tuple(float(s) for s in spacing), rows)
 
 
 def load_mesh(path: PathLike) -> Mesh:

@@ -17,6 +17,8 @@ use wscg_isosurface::{marching_cubes, NormalMethod, ScalarGrid};
 use wscg_math::io::RawType;
 use wscg_math::{Error, Result, TriMesh, Volume};
 
+use crate::commands::volume_file::{self, mesh_to_world, RawSpec};
+
 #[derive(Subcommand, Debug)]
 pub enum IsosurfaceCommand {
     /// Extract an isosurface with normals and write it as PLY or OBJ.
@@ -27,7 +29,8 @@ pub enum IsosurfaceCommand {
 
 #[derive(Args, Debug)]
 pub struct VolumeInput {
-    /// Volume file (.nii, .nii.gz, .npy, or raw with --raw-dims); only read.
+    /// Volume file (.nii, .nii.gz, .npy, .vti, a DICOM file or folder, or raw with
+    /// --raw-dims); only read.
     volume: PathBuf,
     /// Dimensions x,y,z of a raw volume.
     #[arg(long, value_delimiter = ',')]
@@ -56,7 +59,8 @@ pub struct ExtractArgs {
     /// Vertex normals: spline (the paper), lsn, central or none.
     #[arg(long, default_value = "spline")]
     normals: String,
-    /// Output mesh (.ply or .obj).
+    /// Output mesh (.ply or .obj): world millimetres (RAS+, the input's affine) when the input
+    /// has one (NIfTI sform/qform, DICOM), else voxel index times spacing.
     #[arg(long)]
     out: PathBuf,
 }
@@ -80,21 +84,20 @@ fn spacing_arg(s: &[f64]) -> Result<Option<[f64; 3]>> {
 
 fn read_volume(a: &VolumeInput) -> Result<Volume<f32>> {
     let spacing = spacing_arg(&a.spacing)?;
-    let is_raw = |p: &Path| {
-        !a.raw_dims.is_empty() || p.extension().is_some_and(|e| e == "raw" || e == "bin")
+    let raw = if a.raw_dims.is_empty() {
+        None
+    } else {
+        let dims: [usize; 3] = a
+            .raw_dims
+            .clone()
+            .try_into()
+            .map_err(|_| Error::invalid("raw_dims", "a raw volume needs --raw-dims x,y,z"))?;
+        Some(RawSpec {
+            dims,
+            kind: a.raw_type.parse::<RawType>()?,
+        })
     };
-    let read = |p: &Path| -> Result<Volume<f32>> {
-        if is_raw(p) {
-            let dims: [usize; 3] =
-                a.raw_dims.clone().try_into().map_err(|_| {
-                    Error::invalid("raw_dims", "a raw volume needs --raw-dims x,y,z")
-                })?;
-            let t: RawType = a.raw_type.parse()?;
-            Volume::read_raw(p, dims, spacing.unwrap_or([1.0; 3]), t)
-        } else {
-            Volume::read(p, spacing)
-        }
-    };
+    let read = |p: &Path| volume_file::read_volume(p, raw, spacing);
     let mut v = read(&a.volume)?;
     if let Some(m) = a.missing {
         for x in v.data_mut() {
@@ -152,8 +155,19 @@ pub fn run(cmd: IsosurfaceCommand) -> Result<()> {
                 out =
                     out.with_normals(mesh.normals.iter().map(|n| n.map(|x| x as f64)).collect())?;
             }
+            let (out, world) = mesh_to_world(out, &v);
             out.write(&a.out)?;
-            println!("wrote {}", a.out.display());
+            if world {
+                println!(
+                    "wrote {} (vertices in world millimetres, RAS+: the input's affine)",
+                    a.out.display()
+                );
+            } else {
+                println!(
+                    "wrote {} (vertices at voxel index times spacing: the input has no affine)",
+                    a.out.display()
+                );
+            }
             Ok(())
         }
         IsosurfaceCommand::Study(a) => {

@@ -23,6 +23,7 @@ mod raytrace;
 mod video;
 mod volren;
 mod volseg;
+mod volume_file;
 
 /// wscg: the methods of the Journal of WSCG vol. 23 papers on your own data.
 #[derive(Parser, Debug)]

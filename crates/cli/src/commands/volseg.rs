@@ -16,6 +16,8 @@ use serde::Deserialize;
 use wscg_isosurface::{extract, ScalarGrid};
 use wscg_math::mesh::TriMesh;
 use wscg_math::{Error, Result, Volume};
+
+use crate::commands::volume_file::{mesh_to_world, read_volume, write_derived};
 use wscg_volseg::{
     dice_multilabel, fractured_shell_phantom, gaussian_smooth3, nearest_seed_labels,
     remove_small_components, BoneGraph, PhantomParams, Precision, RandomWalkParams,
@@ -45,16 +47,16 @@ pub enum VolsegCommand {
 
 #[derive(Args, Debug)]
 pub struct SplitArgs {
-    /// CT volume in HU (.nii, .nii.gz, .npy).
+    /// CT volume in HU (.nii, .nii.gz, .npy, or a DICOM file or folder).
     ct: PathBuf,
-    /// Seed label volume of the same shape (0 = none).
+    /// Seed label volume of the same shape (0 = none; any volume format).
     #[arg(long, required_unless_present = "strokes", conflicts_with = "strokes")]
     seeds: Option<PathBuf>,
     /// Seed strokes as JSON: `[{"label": 1, "points": [[x, y, z], ...], "radius": 2}, ...]`
     /// (voxel coordinates; radius defaults to 1).
     #[arg(long)]
     strokes: Option<PathBuf>,
-    /// Output label volume (.nii, .nii.gz or .npy).
+    /// Output label volume (.nii, .nii.gz or .npy), with the CT's geometry (NIfTI: its affine).
     #[arg(long)]
     out: PathBuf,
     /// Bone threshold, HU.
@@ -90,7 +92,8 @@ pub struct SplitArgs {
     /// Relabel label islands smaller than this many voxels to their neighbours' label.
     #[arg(long, default_value_t = 0)]
     min_island: usize,
-    /// Folder for one mesh per label (marching cubes of its indicator).
+    /// Folder for one mesh per label (marching cubes of its indicator), in world millimetres
+    /// (RAS+, the CT's affine) when the CT has one, else voxel index times spacing.
     #[arg(long)]
     meshes: Option<PathBuf>,
     /// Mesh format in --meshes.
@@ -261,25 +264,11 @@ fn write_meshes(labels: &Volume<u16>, dir: &Path, format: &str) -> Result<usize>
             .iter()
             .map(|v| [0, 1, 2].map(|a| f64::from(v[a]) + origin[a]))
             .collect();
-        let mesh = TriMesh::new(pos, m.triangles)?;
+        let (mesh, _) = mesh_to_world(TriMesh::new(pos, m.triangles)?, labels);
         mesh.write(dir.join(format!("label_{l}.{format}")))?;
         written += 1;
     }
     Ok(written)
-}
-
-fn write(path: &std::path::Path, v: &Volume<f32>) -> Result<()> {
-    let name = path.to_string_lossy().to_ascii_lowercase();
-    if name.ends_with(".npy") {
-        v.write_npy(path)
-    } else if name.ends_with(".nii") || name.ends_with(".nii.gz") {
-        v.write_nifti(path)
-    } else {
-        Err(Error::UnsupportedFormat(format!(
-            "{}: write .nii, .nii.gz or .npy",
-            path.display()
-        )))
-    }
 }
 
 fn to_u16(v: &Volume<f32>, name: &'static str) -> Result<Vec<u16>> {
@@ -340,10 +329,13 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
             if let Some(dir) = &a.meshes {
                 crate::commands::overwrite::check_folder("meshes", dir, &inputs)?;
             }
-            let ct = gaussian_smooth3(&Volume::read(&a.ct, None)?, a.smooth)?;
+            let ct_file = read_volume(&a.ct, None, None)?;
+            let mut ct = gaussian_smooth3(&ct_file, a.smooth)?;
+            ct.copy_geometry(&ct_file)?;
+            drop(ct_file);
             let seeds = match (&a.seeds, &a.strokes) {
                 (Some(path), _) => {
-                    let seeds_f = Volume::read(path, None)?;
+                    let seeds_f = read_volume(path, None, None)?;
                     if seeds_f.dims() != ct.dims() {
                         return Err(Error::ShapeMismatch(format!(
                             "seeds are {:?}, the CT {:?}",
@@ -423,6 +415,7 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
                 s.labels()?.into_data()
             };
             let mut labels = Volume::new(ct.dims(), ct.spacing(), labels)?;
+            labels.copy_geometry(&ct)?;
             if a.min_island > 0 {
                 let n = remove_small_components(&mut labels, a.min_island);
                 println!(
@@ -436,7 +429,7 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
             }
             let labels = labels.into_data();
             if let Some(t) = &a.truth {
-                let truth = to_u16(&Volume::read(t, None)?, "truth")?;
+                let truth = to_u16(&read_volume(t, None, None)?, "truth")?;
                 println!(
                     "multi-label Dice against {}: {:.4}",
                     t.display(),
@@ -448,7 +441,7 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
                 ct.spacing(),
                 labels.iter().map(|&l| f32::from(l)).collect(),
             )?;
-            write(&a.out, &out)?;
+            write_derived(&a.out, out, &ct)?;
             println!("wrote {}", a.out.display());
             Ok(())
         }

@@ -8,6 +8,7 @@
 //! | [`raw`] | headerless voxel dumps | `io-volume` | `Volume::read_raw`, `Volume::write_raw_f32_le` |
 //! | [`nifti`] | NIfTI-1, `.nii` and `.nii.gz` (the `nifti` crate) | `io-volume` | `Volume::read_nifti`, `Volume::write_nifti` |
 //! | [`npy`] | `.npy` volumes indexed `[z, y, x]` | `io-volume` | `Volume::read_npy`, `Volume::write_npy` |
+//! | [`dicom`] | DICOM series: a file, a folder or a list of files (dicom-rs) | `io-dicom` | `Volume::read_dicom`, `Volume::read_dicom_with`, `Volume::read_dicom_files` |
 //! | [`obj`] | Wavefront OBJ | `io-mesh` | `TriMesh::read_obj`, `TriMesh::write_obj` |
 //! | [`ply`] | Stanford PLY, ASCII and binary (`ply-rs`) | `io-mesh` | `TriMesh::read_ply`, `TriMesh::write_ply` |
 //!
@@ -27,6 +28,8 @@
 //! [`Error::Io`]: crate::Error::Io
 
 pub mod atomic;
+#[cfg(feature = "io-dicom")]
+pub mod dicom;
 #[cfg(feature = "io-volume")]
 pub mod nifti;
 #[cfg(feature = "io-npy")]
@@ -67,6 +70,8 @@ mod volume_files {
         Nii,
         NiiGz,
         Npy,
+        /// A folder, a `.dcm` file or a file with a DICOM preamble.
+        Dicom,
         Other,
     }
 
@@ -81,9 +86,21 @@ mod volume_files {
             FileKind::Nii
         } else if name.ends_with(".npy") {
             FileKind::Npy
+        } else if name.ends_with(".dcm") || path.is_dir() || looks_like_dicom(path) {
+            FileKind::Dicom
         } else {
             FileKind::Other
         }
+    }
+
+    #[cfg(feature = "io-dicom")]
+    fn looks_like_dicom(path: &Path) -> bool {
+        super::dicom::is_dicom_file(path)
+    }
+
+    #[cfg(not(feature = "io-dicom"))]
+    fn looks_like_dicom(_: &Path) -> bool {
+        false
     }
 
     /// Reads up to `n` bytes (fewer at end of stream) without trusting `n` for the allocation
@@ -103,9 +120,11 @@ mod volume_files {
     impl Volume<f32> {
         /// Reads a volume file, choosing the reader from the extension (case-insensitive):
         /// `.nii` and `.nii.gz` ([`Volume::read_nifti`]; `spacing`, when given, replaces the
-        /// header's voxel size) and `.npy` ([`Volume::read_npy`], array indexed `[z, y, x]`;
-        /// `spacing` defaults to `[1, 1, 1]`). Raw files carry no header and need
-        /// [`Volume::read_raw`].
+        /// header's voxel size), `.npy` ([`Volume::read_npy`], array indexed `[z, y, x]`;
+        /// `spacing` defaults to `[1, 1, 1]`), and, with the feature `io-dicom`, a DICOM file
+        /// (`.dcm` or any name with a DICOM preamble) or a folder of them
+        /// ([`Volume::read_dicom`]). A replaced spacing rescales the file's affine
+        /// ([`Volume::set_spacing`]). Raw files carry no header and need [`Volume::read_raw`].
         ///
         /// Errors: [`Error::UnsupportedFormat`] for any other extension; the reader's errors.
         pub fn read(path: impl AsRef<Path>, spacing: Option<[f64; 3]>) -> Result<Self> {
@@ -114,10 +133,13 @@ mod volume_files {
                 check_spacing(s)?;
             }
             match file_kind(path) {
-                FileKind::Nii | FileKind::NiiGz => {
-                    let mut vol = Self::read_nifti(path)?;
+                FileKind::Nii | FileKind::NiiGz | FileKind::Dicom => {
+                    let mut vol = match file_kind(path) {
+                        FileKind::Dicom => Self::read_dicom_file_or_folder(path)?,
+                        _ => Self::read_nifti(path)?,
+                    };
                     if let Some(s) = spacing {
-                        vol.spacing = s;
+                        vol.set_spacing(s)?;
                     }
                     Ok(vol)
                 }
@@ -129,12 +151,27 @@ mod volume_files {
                         .unwrap_or_else(|| "(none)".to_string());
                     Err(Error::UnsupportedFormat(format!(
                         "{}: extension {ext} is not a supported volume format. Supported formats \
-                         are .nii, .nii.gz and .npy (raw files need Volume::read_raw with dims and \
-                         a RawType)",
+                         are .nii, .nii.gz, .npy and DICOM files or folders (raw files need \
+                         Volume::read_raw with dims and a RawType)",
                         path.display()
                     )))
                 }
             }
+        }
+    }
+
+    impl Volume<f32> {
+        #[cfg(feature = "io-dicom")]
+        fn read_dicom_file_or_folder(path: &Path) -> Result<Self> {
+            Self::read_dicom(path)
+        }
+
+        #[cfg(not(feature = "io-dicom"))]
+        fn read_dicom_file_or_folder(path: &Path) -> Result<Self> {
+            Err(Error::UnsupportedFormat(format!(
+                "{}: DICOM needs wscg-math's feature io-dicom",
+                path.display()
+            )))
         }
     }
 

@@ -14,7 +14,8 @@ use nifti::{IntoNdArray, NiftiError, NiftiHeader, NiftiType};
 
 use super::{file_kind, read_up_to, FileKind};
 use crate::error::{read_error, Error, Result};
-use crate::volume::{voxel_count, Real, Volume};
+use crate::vec3::{cross, dot};
+use crate::volume::{check_affine, voxel_count, Affine, Real, Volume};
 
 /// Largest NIfTI `vox_offset` (header plus extensions, in bytes) accepted from a file.
 const MAX_NIFTI_VOX_OFFSET: u64 = 1 << 30;
@@ -30,8 +31,10 @@ fn f32_to_f64_decimal(v: f32) -> f64 {
 
 impl<T: Real> Volume<T> {
     /// Writes a single-file NIfTI-1 image with `f32` voxels (`datatype` FLOAT32), dims
-    /// `[nx, ny, nz]`, `pixdim[1..4]` = spacing (units: mm), `scl_slope` 1, and a
-    /// scaling-only qform/sform. The file is gzip-compressed when the name ends in `.gz`.
+    /// `[nx, ny, nz]`, `pixdim[1..4]` = spacing (units: mm), `scl_slope` 1, and the sform
+    /// [`Volume::voxel_to_world`] (the volume's RAS+ affine, or `diag(spacing)` when none is
+    /// known), with the matching qform unless the affine shears. The file is gzip-compressed
+    /// when the name ends in `.gz`.
     ///
     /// Errors: a name that ends in neither `.nii` nor `.nii.gz` ([`Error::UnsupportedFormat`]),
     /// a dimension above 32767 (the NIfTI-1 limit, [`Error::LimitExceeded`]), I/O failures.
@@ -56,14 +59,25 @@ impl<T: Real> Volume<T> {
             )));
         }
         let [sx, sy, sz] = self.spacing.map(|s| s as f32);
+        // The sform is the volume's affine (RAS+ mm; diag(spacing) when none is known); the
+        // qform the same rotation where it is one (NIfTI-1 method 2), absent for a shear.
+        let m = self.voxel_to_world();
+        let qform = affine_to_quaternion(&m);
+        let (quatern, qfac) = qform.unwrap_or(([0.0; 3], 1.0));
         let header = NiftiHeader {
-            pixdim: [1.0, sx, sy, sz, 1.0, 1.0, 1.0, 1.0],
+            pixdim: [qfac, sx, sy, sz, 1.0, 1.0, 1.0, 1.0],
             xyzt_units: 2, // NIFTI_UNITS_MM
-            qform_code: 1,
+            qform_code: if qform.is_some() { 1 } else { 0 },
             sform_code: 1,
-            srow_x: [sx, 0.0, 0.0, 0.0],
-            srow_y: [0.0, sy, 0.0, 0.0],
-            srow_z: [0.0, 0.0, sz, 0.0],
+            quatern_b: quatern[0],
+            quatern_c: quatern[1],
+            quatern_d: quatern[2],
+            quatern_x: m[0][3] as f32,
+            quatern_y: m[1][3] as f32,
+            quatern_z: m[2][3] as f32,
+            srow_x: m[0].map(|v| v as f32),
+            srow_y: m[1].map(|v| v as f32),
+            srow_z: m[2].map(|v| v as f32),
             ..NiftiHeader::default()
         };
         let values = T::as_f32_slice(&self.data);
@@ -96,9 +110,12 @@ impl Volume<f32> {
     ///   types: (u)int8/16/32/64, float32, float64.
     /// - `dims = dim[1..4]`; the image must be 3-D (`dim[0] = 3`, or more with every extra
     ///   dimension equal to 1, e.g. a 4-D image with one time point).
-    /// - `spacing = |pixdim[1..4]|`, 1.0 where a pixdim is 0 or not finite. The affine
-    ///   (orientation and origin) is not applied: voxel `(x, y, z)` of the volume is voxel
-    ///   `(i, j, k) = (x, y, z)` of the file, as `nibabel.load(path).get_fdata()[x, y, z]`.
+    /// - `spacing = |pixdim[1..4]|`, 1.0 where a pixdim is 0 or not finite. The voxels keep
+    ///   the stored order: voxel `(x, y, z)` of the volume is voxel `(i, j, k) = (x, y, z)` of
+    ///   the file, as `nibabel.load(path).get_fdata()[x, y, z]`.
+    /// - [`Volume::affine`] is the header's voxel-to-world affine as nibabel's `img.affine`:
+    ///   the sform when `sform_code > 0`, else the qform when `qform_code > 0`, else `None`
+    ///   (nibabel then makes up a centred, x-flipped affine; wscg keeps `diag(spacing)`).
     ///
     /// Errors: [`Error::Io`] naming the path; [`Error::Format`] for a malformed or truncated
     /// file; [`Error::UnsupportedFormat`] for NIfTI-2, `.hdr/.img` pairs, other data types or
@@ -329,10 +346,11 @@ fn read_nifti_stream(
             1.0
         }
     });
-    if let Some(what) = unapplied_orientation(&header) {
+    let affine = header_affine(&header);
+    if affine.is_none() && (header.sform_code > 0 || header.qform_code > 0) {
         log::warn!(
-            "{}: the file's {what} rotates or flips the axes, which is not applied: the volume \
-             keeps the stored voxel order (axis x of the file is axis x of the volume)",
+            "{}: the header's sform and qform are not valid affines (singular or not finite); \
+             the volume keeps no orientation",
             path.display()
         );
     }
@@ -344,30 +362,136 @@ fn read_nifti_stream(
         dims[2],
         spacing
     );
-    Volume::new(dims, spacing, data)
+    let mut vol = Volume::new(dims, spacing, data)?;
+    vol.affine = affine;
+    Ok(vol)
 }
 
-/// Which of the header's transforms (`"sform"`, `"qform"`) is more than a positive scaling and
-/// a shift, if any: a rotation, an oblique axis or a flip that [`Volume`] does not keep.
-fn unapplied_orientation(h: &nifti::NiftiHeader) -> Option<&'static str> {
+/// The header's voxel-to-world affine (RAS+, mm) as nibabel's `get_best_affine` picks it: the
+/// sform when `sform_code > 0`, else the qform when `qform_code > 0` (NIfTI-1 method 2: the
+/// quaternion rotation times `diag(pixdim[1], pixdim[2], qfac pixdim[3])` plus the offset),
+/// else `None`. A transform that is not finite and invertible is skipped.
+fn header_affine(h: &NiftiHeader) -> Option<Affine> {
     if h.sform_code > 0 {
-        let rows = [h.srow_x, h.srow_y, h.srow_z];
-        let oriented = (0..3).any(|r| {
-            (0..3).any(|c| {
-                let v = rows[r][c];
-                if r == c {
-                    v < 0.0
-                } else {
-                    v != 0.0
-                }
-            })
-        });
-        return oriented.then_some("sform");
+        let rows = [h.srow_x, h.srow_y, h.srow_z].map(|r| r.map(f64::from));
+        if check_affine(&rows).is_ok() {
+            return Some(rows);
+        }
     }
-    let rotated = [h.quatern_b, h.quatern_c, h.quatern_d]
-        .iter()
-        .any(|&q| q != 0.0);
-    (h.qform_code > 0 && (rotated || h.pixdim[0] < 0.0)).then_some("qform")
+    if h.qform_code > 0 {
+        let [mut b, mut c, mut d] = [h.quatern_b, h.quatern_c, h.quatern_d].map(f64::from);
+        // As the NIfTI-1 reference code (nifti_quatern_to_mat44): a rotation by ~180 degrees
+        // has a = 0, and (b, c, d), stored as float32, is renormalised rather than leaving a
+        // of the order of the float32 rounding error.
+        let a2 = 1.0 - (b * b + c * c + d * d);
+        let a = if a2 < 1e-7 {
+            let n = (b * b + c * c + d * d).sqrt();
+            if n > 0.0 {
+                [b, c, d] = [b / n, c / n, d / n];
+            }
+            0.0
+        } else {
+            a2.sqrt()
+        };
+        let r = [
+            [
+                a * a + b * b - c * c - d * d,
+                2.0 * (b * c - a * d),
+                2.0 * (b * d + a * c),
+            ],
+            [
+                2.0 * (b * c + a * d),
+                a * a + c * c - b * b - d * d,
+                2.0 * (c * d - a * b),
+            ],
+            [
+                2.0 * (b * d - a * c),
+                2.0 * (c * d + a * b),
+                a * a + d * d - c * c - b * b,
+            ],
+        ];
+        let qfac = if h.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
+        let zooms = [
+            f64::from(h.pixdim[1]),
+            f64::from(h.pixdim[2]),
+            qfac * f64::from(h.pixdim[3]),
+        ];
+        let offset = [h.quatern_x, h.quatern_y, h.quatern_z].map(f64::from);
+        let mut m = [[0.0; 4]; 3];
+        for row in 0..3 {
+            for col in 0..3 {
+                m[row][col] = r[row][col] * zooms[col];
+            }
+            m[row][3] = offset[row];
+        }
+        if check_affine(&m).is_ok() {
+            return Some(m);
+        }
+    }
+    None
+}
+
+/// The NIfTI-1 qform of an affine (the inverse of [`header_affine`]'s method 2):
+/// `(quatern_b, quatern_c, quatern_d, qfac)`, or `None` when the columns are not orthogonal
+/// (a sheared affine has no qform; the sform alone then carries it).
+fn affine_to_quaternion(m: &Affine) -> Option<([f32; 3], f32)> {
+    let norms = check_affine(m).ok()?;
+    let mut r = [[0.0f64; 3]; 3];
+    for row in 0..3 {
+        for col in 0..3 {
+            r[row][col] = m[row][col] / norms[col];
+        }
+    }
+    let col_dot = |a: usize, b: usize| (0..3).map(|k| r[k][a] * r[k][b]).sum::<f64>();
+    if col_dot(0, 1).abs() > 1e-4 || col_dot(0, 2).abs() > 1e-4 || col_dot(1, 2).abs() > 1e-4 {
+        return None;
+    }
+    let det = dot(r[0], cross(r[1], r[2]));
+    let qfac = if det < 0.0 {
+        for row in &mut r {
+            row[2] = -row[2];
+        }
+        -1.0
+    } else {
+        1.0
+    };
+    // Shepperd's method (the branch with the largest diagonal term), a >= 0 as NIfTI-1 wants.
+    let t = r[0][0] + r[1][1] + r[2][2];
+    let (a, b, c, d) = if t > 0.0 {
+        let s = (t + 1.0).sqrt() * 2.0;
+        (
+            0.25 * s,
+            (r[2][1] - r[1][2]) / s,
+            (r[0][2] - r[2][0]) / s,
+            (r[1][0] - r[0][1]) / s,
+        )
+    } else if r[0][0] > r[1][1] && r[0][0] > r[2][2] {
+        let s = (1.0 + r[0][0] - r[1][1] - r[2][2]).sqrt() * 2.0;
+        (
+            (r[2][1] - r[1][2]) / s,
+            0.25 * s,
+            (r[0][1] + r[1][0]) / s,
+            (r[0][2] + r[2][0]) / s,
+        )
+    } else if r[1][1] > r[2][2] {
+        let s = (1.0 + r[1][1] - r[0][0] - r[2][2]).sqrt() * 2.0;
+        (
+            (r[0][2] - r[2][0]) / s,
+            (r[0][1] + r[1][0]) / s,
+            0.25 * s,
+            (r[1][2] + r[2][1]) / s,
+        )
+    } else {
+        let s = (1.0 + r[2][2] - r[0][0] - r[1][1]).sqrt() * 2.0;
+        (
+            (r[1][0] - r[0][1]) / s,
+            (r[0][2] + r[2][0]) / s,
+            (r[1][2] + r[2][1]) / s,
+            0.25 * s,
+        )
+    };
+    let sign = if a < 0.0 { -1.0 } else { 1.0 };
+    Some(([b, c, d].map(|q| (sign * q) as f32), qfac))
 }
 
 #[cfg(test)]
@@ -377,6 +501,57 @@ mod tests {
     use crate::volume::tests::unique_volume;
 
     // ---------------------------------------------------------------- NIfTI
+
+    #[test]
+    fn nifti_keeps_an_oblique_flipped_affine_in_sform_and_qform() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut v = unique_volume([1.0; 3]);
+        let (c, s) = (0.6f64, 0.8f64);
+        // Rotation about z, then x mirrored (det < 0), voxel sizes 0.7, 1.25, 3.
+        let a = [
+            [-0.7 * c, -1.25 * s, 0.0, 12.5],
+            [-0.7 * s, 1.25 * c, 0.0, -40.0],
+            [0.0, 0.0, 3.0, 7.25],
+        ];
+        v.set_affine(Some(a)).unwrap();
+        let sp = v.spacing();
+        for (got, want) in sp.iter().zip([0.7, 1.25, 3.0]) {
+            assert!((got - want).abs() < 1e-12);
+        }
+        let p = dir.path().join("o.nii");
+        v.write_nifti(&p).unwrap();
+        let back = Volume::read_nifti(&p).unwrap();
+        let close = |x: &Affine, y: &Affine, tol: f64| {
+            x.iter()
+                .flatten()
+                .zip(y.iter().flatten())
+                .all(|(a, b)| (a - b).abs() < tol)
+        };
+        assert!(
+            close(&back.affine().unwrap(), &a, 1e-5),
+            "{:?}",
+            back.affine()
+        );
+        // The qform alone (sform_code 0) gives the same affine.
+        let mut bytes = std::fs::read(&p).unwrap();
+        patch(&mut bytes, 254, &0i16.to_le_bytes());
+        std::fs::write(&p, &bytes).unwrap();
+        let q = Volume::read_nifti(&p).unwrap();
+        assert!(close(&q.affine().unwrap(), &a, 1e-5), "{:?}", q.affine());
+        // Neither: no affine; the grid's diagonal is what writers use.
+        patch(&mut bytes, 252, &0i16.to_le_bytes());
+        std::fs::write(&p, &bytes).unwrap();
+        let none = Volume::read_nifti(&p).unwrap();
+        assert_eq!(none.affine(), None);
+        assert_eq!(none.voxel_to_world()[2][2], none.spacing()[2]);
+        // A replaced spacing rescales the columns and keeps the origin.
+        let mut r = back.clone();
+        r.set_spacing([1.4, 1.25, 3.0]).unwrap();
+        let ra = r.affine().unwrap();
+        assert!(
+            (ra[0][0] - 2.0 * a[0][0]).abs() < 1e-5 && ra[0][3] == back.affine().unwrap()[0][3]
+        );
+    }
 
     #[test]
     fn nifti_round_trip_preserves_values_dims_spacing_and_axis_order() {

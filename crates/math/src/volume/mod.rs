@@ -15,7 +15,20 @@
 //! *Voxel (index) coordinates* put the centre of voxel `(i, j, k)` at the point `(i, j, k)`;
 //! they are what [`Volume::trilinear`] takes. *World coordinates* are voxel coordinates times
 //! the spacing, with the centre of voxel `(0, 0, 0)` at the origin; they are what
-//! [`Volume::trilinear_world`] takes. No NIfTI affine (orientation, origin) is applied.
+//! [`Volume::trilinear_world`] takes, and what every algorithm of the workspace works in.
+//!
+//! # Orientation: the voxel-to-world affine
+//!
+//! A volume read from a file that places it in the scanner's frame (a NIfTI sform or qform, a
+//! DICOM series' ImagePositionPatient / ImageOrientationPatient) also carries that file's
+//! [`Affine`]: the 3 x 4 matrix `A` with `(x, y, z) = A (i, j, k, 1)` for the centre of voxel
+//! `(i, j, k)`, in millimetres, in the **RAS+** frame (x increasing towards the patient's
+//! right, y anterior, z superior: the frame of NIfTI's sform, and of every file wscg writes).
+//! DICOM's patient frame is LPS+; the DICOM reader converts it by negating the x and y rows.
+//! [`Volume::affine`] is that matrix, `None` when the file gave none;
+//! [`Volume::voxel_to_world`] is the matrix used for output, the diagonal of the spacing
+//! (the grid coordinates above) when no affine is known. Writers of derived volumes and
+//! meshes copy it ([`Volume::copy_geometry`]) so that their output lies where the input lay.
 //!
 //! # Files and filters
 //!
@@ -37,6 +50,48 @@ pub mod filter;
 /// hostile file header cannot make us allocate without bound.
 pub const MAX_VOXELS: usize = 1 << 33;
 
+/// A voxel-to-world affine: rows `x`, `y`, `z` of the 4 x 4 matrix whose last row is
+/// `(0, 0, 0, 1)`; world point = `A * (i, j, k, 1)` (see the [module documentation](self):
+/// millimetres, RAS+).
+pub type Affine = [[f64; 4]; 3];
+
+/// The affine of an unoriented grid: `diag(spacing)`, no offset.
+pub fn spacing_affine(spacing: [f64; 3]) -> Affine {
+    let mut a = [[0.0; 4]; 3];
+    for r in 0..3 {
+        a[r][r] = spacing[r];
+    }
+    a
+}
+
+/// Applies an affine to a voxel position `(i, j, k)` (fractional positions allowed).
+#[inline]
+pub fn apply_affine(a: &Affine, p: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|r| a[r][0] * p[0] + a[r][1] * p[1] + a[r][2] * p[2] + a[r][3])
+}
+
+/// Checks that an affine is finite and invertible (its three columns independent) and returns
+/// the lengths of its columns: the voxel spacing it implies.
+///
+/// Errors: [`Error::InvalidArgument`] naming `affine`.
+pub fn check_affine(a: &Affine) -> Result<[f64; 3]> {
+    if a.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(Error::invalid("affine", "has non-finite entries"));
+    }
+    let col = |c: usize| [a[0][c], a[1][c], a[2][c]];
+    let norms = [0, 1, 2].map(|c| crate::vec3::norm(col(c)));
+    let [u, v, w] = [col(0), col(1), col(2)];
+    let det = crate::vec3::dot(u, crate::vec3::cross(v, w));
+    let scale = norms[0] * norms[1] * norms[2];
+    if scale <= 0.0 || !scale.is_finite() || det.abs() <= 1e-9 * scale {
+        return Err(Error::invalid(
+            "affine",
+            format!("is singular (columns {:?}, {:?}, {:?})", u, v, w),
+        ));
+    }
+    Ok(norms)
+}
+
 /// A scalar volume: `nx x ny x nz` voxels with a physical voxel size, stored x fastest.
 ///
 /// See the [module documentation](self) for the layout and the coordinate conventions.
@@ -47,6 +102,8 @@ pub struct Volume<T = f32> {
     pub(crate) dims: [usize; 3],
     pub(crate) spacing: [f64; 3],
     pub(crate) data: Vec<T>,
+    /// The file's voxel-to-world affine (RAS+, mm), `None` when unknown.
+    pub(crate) affine: Option<Affine>,
 }
 
 /// Floating-point voxel types that [`Volume`] can sample and differentiate: `f32` and `f64`.
@@ -144,6 +201,7 @@ impl<T> Volume<T> {
             dims,
             spacing,
             data,
+            affine: None,
         })
     }
 
@@ -166,6 +224,7 @@ impl<T> Volume<T> {
             dims,
             spacing,
             data,
+            affine: None,
         })
     }
 
@@ -190,6 +249,7 @@ impl<T> Volume<T> {
             dims: [nx, ny, nz],
             spacing,
             data,
+            affine: None,
         })
     }
 
@@ -205,10 +265,62 @@ impl<T> Volume<T> {
         self.spacing
     }
 
-    /// Replaces the voxel spacing. Errors unless every component is finite and > 0.
+    /// Replaces the voxel spacing. Errors unless every component is finite and > 0. A known
+    /// [`affine`](Volume::affine) keeps its directions and origin, its columns rescaled to the
+    /// new spacing.
     pub fn set_spacing(&mut self, spacing: [f64; 3]) -> Result<()> {
         check_spacing(spacing)?;
+        if let Some(a) = &mut self.affine {
+            for (c, (&new, &old)) in spacing.iter().zip(&self.spacing).enumerate() {
+                for row in a.iter_mut() {
+                    row[c] *= new / old;
+                }
+            }
+        }
         self.spacing = spacing;
+        Ok(())
+    }
+
+    /// The voxel-to-world affine the volume's file gave (RAS+, millimetres; see the
+    /// [module documentation](self)), `None` when it gave none.
+    #[inline]
+    pub fn affine(&self) -> Option<Affine> {
+        self.affine
+    }
+
+    /// The voxel-to-world affine of output files: [`Volume::affine`] when known, otherwise
+    /// `diag(spacing)` (voxel `(i, j, k)` at `(i sx, j sy, k sz)`).
+    pub fn voxel_to_world(&self) -> Affine {
+        self.affine.unwrap_or_else(|| spacing_affine(self.spacing))
+    }
+
+    /// Sets (or, with `None`, forgets) the voxel-to-world affine; the spacing becomes the
+    /// lengths of its columns.
+    ///
+    /// Errors: an affine with non-finite entries or dependent columns
+    /// ([`Error::InvalidArgument`] naming `affine`).
+    pub fn set_affine(&mut self, affine: Option<Affine>) -> Result<()> {
+        if let Some(a) = &affine {
+            self.spacing = check_affine(a)?;
+        }
+        self.affine = affine;
+        Ok(())
+    }
+
+    /// Gives `self` the geometry (spacing and affine) of `other`, the volume it was derived
+    /// from, so that a label volume, a mask or a filtered volume is written where its input
+    /// lay.
+    ///
+    /// Errors: other dims than `other`'s ([`Error::ShapeMismatch`]).
+    pub fn copy_geometry<U>(&mut self, other: &Volume<U>) -> Result<()> {
+        if self.dims != other.dims {
+            return Err(Error::ShapeMismatch(format!(
+                "cannot copy the geometry of a volume of dims {:?} to one of dims {:?}",
+                other.dims, self.dims
+            )));
+        }
+        self.spacing = other.spacing;
+        self.affine = other.affine;
         Ok(())
     }
 
@@ -333,6 +445,7 @@ impl<T> Volume<T> {
             dims: self.dims,
             spacing: self.spacing,
             data: self.data.par_iter().map(|&v| f(v)).collect(),
+            affine: self.affine,
         }
     }
 
@@ -378,6 +491,7 @@ impl<T: Clone> Volume<T> {
             dims,
             spacing,
             data: crate::alloc::try_vec("dims", value, n)?,
+            affine: None,
         })
     }
 }
@@ -565,6 +679,7 @@ impl<T: Real> Volume<T> {
                     })
                     .collect()
             },
+            affine: self.affine,
         })
     }
 }

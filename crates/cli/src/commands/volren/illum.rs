@@ -10,8 +10,9 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::commands::volume_file::read_volume;
 use clap::{Args, ValueEnum};
-use wscg_math::{Error, Result, Volume, VolumeView};
+use wscg_math::{Error, Result, VolumeView};
 use wscg_volren::illumination::scenes::{
     labels_to_field, marschner_lobb, marschner_lobb_tf, skin_tf, tissue_tf,
 };
@@ -20,7 +21,6 @@ use wscg_volren::illumination::{
     render, IlluminationParams, Kernel, Light, LightAtten, Method, Phong, ScalarField, SliceCamera,
     TransferFunction,
 };
-use wscg_volren::vti::read_vti;
 
 use crate::progress::Bars;
 use wscg_math::progress::Progress;
@@ -57,7 +57,8 @@ pub enum KernelName {
 
 #[derive(Args, Debug)]
 pub struct IllumArgs {
-    /// Volume file (.vti, .nii, .nii.gz, .npy, or .raw with --raw-dims); only read.
+    /// Volume file (.vti, .nii, .nii.gz, .npy, a DICOM file or folder, or .raw with
+    /// --raw-dims); only read.
     #[arg(long, conflicts_with = "phantom")]
     volume: Option<PathBuf>,
     /// Built-in volume instead of a file: marschner-lobb (41^3).
@@ -195,25 +196,8 @@ fn load_field(a: &IllumArgs) -> Result<ScalarField> {
 
 /// Reads a volume file: dims, spacing, values.
 fn read_any(path: &Path, raw_dims: &[usize]) -> Result<([usize; 3], [f64; 3], Vec<f32>)> {
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
-    match ext.as_str() {
-        "vti" => {
-            let v = read_vti(path)?;
-            Ok((v.dims, v.spacing, v.values.to_f32()))
-        }
-        "raw" => {
-            let dims = triple(raw_dims, "raw_dims")?;
-            let v = Volume::read_raw(path, dims, [1.0; 3], "u8".parse()?)?;
-            Ok((v.dims(), v.spacing(), v.into_data()))
-        }
-        _ => {
-            let v = Volume::read(path, None)?;
-            Ok((v.dims(), v.spacing(), v.into_data()))
-        }
-    }
+    let v = read_volume(path, super::u8_raw(raw_dims)?, None)?;
+    Ok((v.dims(), v.spacing(), v.into_data()))
 }
 
 /// A preset or a JSON transfer function.

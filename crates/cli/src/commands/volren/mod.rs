@@ -17,7 +17,10 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use clap::{Args, Subcommand};
+use wscg_math::io::RawType;
 use wscg_math::{Error, Result, Volume};
+
+use crate::commands::volume_file::{read_volume, RawSpec};
 use wscg_volren::net::{serve, RemoteServer};
 use wscg_volren::{
     Camera, HybridClient, HybridServer, PiecewiseTransferFunction, RenderParams, ServerParams,
@@ -36,7 +39,8 @@ pub enum VolrenCommand {
 
 #[derive(Args, Debug)]
 pub struct VolumeArgs {
-    /// Volume file (.nii, .nii.gz, .npy, or .raw with --raw-dims); only read.
+    /// Volume file (.nii, .nii.gz, .npy, .vti, a DICOM file or folder, or .raw with
+    /// --raw-dims); only read.
     #[arg(long)]
     volume: Option<PathBuf>,
     /// Dimensions x,y,z of a .raw volume of unsigned bytes.
@@ -89,22 +93,27 @@ pub struct ViewArgs {
     elevation: f64,
 }
 
+/// The raw spec of `--raw-dims` for a volume of unsigned bytes (`None` when not given).
+pub(crate) fn u8_raw(raw_dims: &[usize]) -> Result<Option<RawSpec>> {
+    if raw_dims.is_empty() {
+        return Ok(None);
+    }
+    let dims: [usize; 3] = raw_dims
+        .try_into()
+        .map_err(|_| Error::invalid("raw_dims", "give three values x,y,z"))?;
+    Ok(Some(RawSpec {
+        dims,
+        kind: RawType::U8,
+    }))
+}
+
 /// Reads the volume as unsigned bytes.
 fn load_volume(a: &VolumeArgs) -> Result<Volume<u8>> {
     let path = a
         .volume
         .as_ref()
         .ok_or_else(|| Error::invalid("volume", "--volume is required"))?;
-    let v: Volume<f32> = if path.extension().is_some_and(|e| e == "raw") {
-        let dims: [usize; 3] = a
-            .raw_dims
-            .clone()
-            .try_into()
-            .map_err(|_| Error::invalid("raw_dims", "a .raw volume needs --raw-dims x,y,z"))?;
-        Volume::read_raw(path, dims, [1.0; 3], "u8".parse()?)?
-    } else {
-        Volume::read(path, None)?
-    };
+    let v = read_volume(path, u8_raw(&a.raw_dims)?, None)?;
     let d = v.data();
     let bytes = d
         .iter()
