@@ -2,6 +2,8 @@
 //! camera axes, integrated into orientations at the sample times and super-resolved in between
 //! by spherical linear interpolation (SLERP).
 
+use std::path::Path;
+
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use wscg_math::{Error, Result};
 
@@ -19,6 +21,46 @@ impl GyroSample {
     pub fn new(t: f64, wx: f64, wy: f64, wz: f64) -> Self {
         GyroSample { t, w: [wx, wy, wz] }
     }
+}
+
+/// Reads a gyroscope log: one `t,wx,wy,wz` row per sample (commas, semicolons, spaces or
+/// tabs between the numbers; an optional header row; `#` comments).
+///
+/// Errors: [`Error::Io`] when unreadable; [`Error::Format`] naming the path for text that is
+/// not UTF-8, a row without four numbers, or no samples.
+pub fn read_gyro_csv(path: &Path) -> Result<Vec<GyroSample>> {
+    parse_gyro_csv(&wscg_math::error::read_file(path)?, path)
+}
+
+/// [`read_gyro_csv`] of a file held in memory; `origin` names the file in errors.
+pub fn parse_gyro_csv(bytes: &[u8], origin: &Path) -> Result<Vec<GyroSample>> {
+    let text = std::str::from_utf8(bytes).map_err(|_| Error::format(origin, "not UTF-8 text"))?;
+    let mut out = Vec::new();
+    for (no, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let nums: std::result::Result<Vec<f64>, _> = line
+            .split([',', ';', ' ', '\t'])
+            .filter(|s| !s.is_empty())
+            .map(str::parse::<f64>)
+            .collect();
+        match nums {
+            Ok(n) if n.len() == 4 => out.push(GyroSample::new(n[0], n[1], n[2], n[3])),
+            Err(_) if out.is_empty() && no == 0 => continue,
+            _ => {
+                return Err(Error::format(
+                    origin,
+                    format!("line {}: expected 4 numbers t,wx,wy,wz", no + 1),
+                ))
+            }
+        }
+    }
+    if out.is_empty() {
+        return Err(Error::format(origin, "no gyroscope samples"));
+    }
+    Ok(out)
 }
 
 /// An integrated gyroscope trace: the camera orientation `q(t)` (camera axes to the frame of

@@ -63,7 +63,16 @@ pub fn read<T: NpyTarget>(path: impl AsRef<Path>) -> Result<NpyArray<T>> {
 /// declared shape before any data is decoded.
 pub fn read_with_limit<T: NpyTarget>(path: impl AsRef<Path>, limit: usize) -> Result<NpyArray<T>> {
     let path = path.as_ref();
-    let bytes = read_file(path)?;
+    from_bytes_with_limit(&read_file(path)?, path, limit)
+}
+
+/// [`read_with_limit`] of a file held in memory; `origin` names the file in errors.
+pub fn from_bytes_with_limit<T: NpyTarget>(
+    bytes: &[u8],
+    origin: &Path,
+    limit: usize,
+) -> Result<NpyArray<T>> {
+    let path = origin;
     let data_start = header_end(path, &bytes)?;
     let header = Header::from_reader(&mut &bytes[..])
         .map_err(|e| Error::format(path, format!("invalid .npy header: {e}")))?;
@@ -89,7 +98,7 @@ pub fn read_with_limit<T: NpyTarget>(path: impl AsRef<Path>, limit: usize) -> Re
             ),
         ));
     }
-    let data = values::<T>(path, &bytes)?.ok_or_else(|| {
+    let data = values::<T>(path, bytes)?.ok_or_else(|| {
         Error::UnsupportedFormat(format!(
             "{}: .npy dtype {} is not supported. Supported dtypes are {SUPPORTED_DTYPES}",
             path.display(),
@@ -105,9 +114,14 @@ pub fn read_with_limit<T: NpyTarget>(path: impl AsRef<Path>, limit: usize) -> Re
 /// Reads a complex `.npy` file (complex128 or complex64); real dtypes are accepted too and
 /// get a zero imaginary part. Errors as [`read`].
 pub fn read_complex(path: impl AsRef<Path>) -> Result<NpyArray<num_complex::Complex64>> {
-    use num_complex::{Complex32, Complex64};
     let path = path.as_ref();
-    let bytes = read_file(path)?;
+    complex_from_bytes(&read_file(path)?, path)
+}
+
+/// [`read_complex`] of a file held in memory; `origin` names the file in errors.
+pub fn complex_from_bytes(bytes: &[u8], origin: &Path) -> Result<NpyArray<num_complex::Complex64>> {
+    use num_complex::{Complex32, Complex64};
+    let path = origin;
     header_end(path, &bytes)?;
     let header = Header::from_reader(&mut &bytes[..])
         .map_err(|e| Error::format(path, format!("invalid .npy header: {e}")))?;
@@ -136,7 +150,7 @@ pub fn read_complex(path: impl AsRef<Path>) -> Result<NpyArray<num_complex::Comp
                 .map(|v| Complex64::new(v.re as f64, v.im as f64))
                 .collect(),
             Err(ReadNpyError::WrongDescriptor(_)) => {
-                let real = read::<f64>(path)?;
+                let real = from_bytes_with_limit::<f64>(bytes, path, MAX_ELEMENTS)?;
                 real.data.iter().map(|&v| Complex64::new(v, 0.0)).collect()
             }
             Err(ReadNpyError::Io(e)) => return Err(read_error(path, e)),
@@ -292,8 +306,14 @@ mod volume_files {
         /// [`Error::LimitExceeded`] above [`MAX_VOXELS`]; invalid `spacing` as [`Volume::new`].
         pub fn read_npy(path: impl AsRef<Path>, spacing: [f64; 3]) -> Result<Self> {
             let path = path.as_ref();
+            Self::from_npy_bytes(&crate::error::read_file(path)?, path, spacing)
+        }
+
+        /// [`Volume::read_npy`] of a file held in memory; `origin` names the file in errors.
+        pub fn from_npy_bytes(bytes: &[u8], origin: &Path, spacing: [f64; 3]) -> Result<Self> {
+            let path = origin;
             check_spacing(spacing)?;
-            let arr = super::read_with_limit::<f32>(path, MAX_VOXELS)?;
+            let arr = super::from_bytes_with_limit::<f32>(bytes, path, MAX_VOXELS)?;
             let shape = &arr.shape;
             if shape.len() != 3 {
                 return Err(Error::format(
