@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use wscg_math::{Image, PlyEncoding, TriMesh, Volume};
 
+#[allow(dead_code)]
 mod targets;
 
 fn tmp(dir: &Path, name: &str) -> PathBuf {
