@@ -172,3 +172,30 @@ impl GyroTrack {
         (self.orientation(t0).inverse() * self.orientation(t1)).to_rotation_matrix()
     }
 }
+
+#[cfg(test)]
+mod csv_tests {
+    use super::*;
+
+    #[test]
+    fn gyro_csv_reads_rows_after_a_header_and_names_bad_lines() {
+        let text = b"t,wx,wy,wz\n# comment\n0.0,0.1,-0.2,0.3\n0.01 0.5\t1e-3;2\n";
+        let got = parse_gyro_csv(text, Path::new("g.csv")).unwrap();
+        assert_eq!(
+            got,
+            vec![
+                GyroSample::new(0.0, 0.1, -0.2, 0.3),
+                GyroSample::new(0.01, 0.5, 1e-3, 2.0)
+            ]
+        );
+        let err = parse_gyro_csv(b"0,1,2,3\n0.1,1,2\n", Path::new("g.csv")).unwrap_err();
+        assert!(matches!(err, Error::Format { .. }));
+        assert!(err.to_string().contains("line 2") && err.to_string().contains("g.csv"));
+        for bad in [&b""[..], b"t,wx,wy,wz\n", b"\xff\xfe"] {
+            assert!(matches!(
+                parse_gyro_csv(bad, Path::new("g.csv")),
+                Err(Error::Format { .. })
+            ));
+        }
+    }
+}

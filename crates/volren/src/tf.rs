@@ -293,4 +293,28 @@ mod tests {
         let many: Vec<_> = (0..=64).map(|k| p(k as f32 * 3.0, 1.0)).collect();
         assert!(MaterialTable::from_tfs(&[PiecewiseTransferFunction::new(many).unwrap()]).is_err());
     }
+
+    #[test]
+    fn tf_list_files_read_their_functions_and_canonical_index() {
+        let text = br#"{"tfs": [[[0, 0, 0, 0, 0], [255, 1, 1, 1, 1]], [[10, 0, 0, 0, 0], [20, 1, 0.5, 0, 0.25]]], "canonical": 1}"#;
+        let (tfs, canonical) = parse_tf_list(text, Path::new("tf.json")).unwrap();
+        assert_eq!(canonical, 1);
+        assert_eq!(tfs.len(), 2);
+        assert_eq!(
+            tfs[1],
+            PiecewiseTransferFunction::new(vec![(10.0, [0.0; 4]), (20.0, [1.0, 0.5, 0.0, 0.25])])
+                .unwrap()
+        );
+        let one = br#"{"tfs": [[[0, 0, 0, 0, 0], [255, 1, 1, 1, 1]]]}"#;
+        assert_eq!(parse_tf_list(one, Path::new("tf.json")).unwrap().1, 0);
+        for bad in [
+            &b"not json"[..],
+            br#"{"canonical": 0}"#,
+            br#"{"tfs": [[[0, 0, 0, 0]]]}"#,
+            br#"{"tfs": [], "canonical": -1}"#,
+        ] {
+            let err = parse_tf_list(bad, Path::new("tf.json")).unwrap_err();
+            assert!(err.to_string().contains("tf.json"), "{err}");
+        }
+    }
 }
