@@ -96,7 +96,9 @@ pub fn decode_dynamic(bytes: &[u8], origin: &Path) -> Result<DynamicImage> {
     limits.max_image_height = Some(MAX_DECODE_SIDE);
     limits.max_alloc = Some(MAX_DECODE_BYTES.max(max_pixels.saturating_mul(16)));
     reader.limits(limits);
-    let decoder = reader.into_decoder().map_err(|e| image_error(origin, e))?;
+    let decoder = guarded(origin, || {
+        reader.into_decoder().map_err(|e| image_error(origin, e))
+    })?;
     let (w, h) = decoder.dimensions();
     let pixels = u64::from(w) * u64::from(h);
     if pixels > max_pixels {
@@ -106,7 +108,21 @@ pub fn decode_dynamic(bytes: &[u8], origin: &Path) -> Result<DynamicImage> {
             origin.display()
         )));
     }
-    DynamicImage::from_decoder(decoder).map_err(|e| image_error(origin, e))
+    guarded(origin, || {
+        DynamicImage::from_decoder(decoder).map_err(|e| image_error(origin, e))
+    })
+}
+
+/// Runs a step of the `image` crate's decoders, turning a panic inside them into
+/// [`Error::Format`]: a second line of defence against decoder bugs on malformed files (the
+/// JPEG decoder's progressive upsampler asserts on some, FUZZING.md).
+fn guarded<T>(origin: &Path, step: impl FnOnce() -> Result<T>) -> Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(step)).unwrap_or_else(|_| {
+        Err(Error::format(
+            origin,
+            "the image decoder failed on malformed data",
+        ))
+    })
 }
 
 /// Refuses a JPEG stream that ends before its end-of-image marker. The JPEG decoder fills
