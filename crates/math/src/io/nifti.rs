@@ -114,7 +114,7 @@ impl Volume<f32> {
 
     /// [`Volume::read_nifti`] of a file held in memory (`.nii` or gzip-compressed, detected
     /// from the content); `origin` names the file in errors. Errors as
-    /// [`Volume::read_nifti`], without [`Error::Io`].
+    /// [`Volume::read_nifti`].
     pub fn from_nifti_bytes(bytes: &[u8], origin: &Path) -> Result<Self> {
         read_nifti_buffered(origin, bytes, bytes.len() as u64)
     }
