@@ -105,9 +105,9 @@ pub fn complex_from_bytes(bytes: &[u8], origin: &Path) -> Result<NpyArray<num_co
         Err(ReadNpyError::Io(e)) => Some(Err(read_error(path, e))),
         Err(e) => Some(Err(Error::format(path, e.to_string()))),
     };
-    let data = match complex(ArrayD::<Complex64>::read_npy(&bytes[..])) {
+    let data = match complex(ArrayD::<Complex64>::read_npy(bytes)) {
         Some(r) => r?,
-        None => match ArrayD::<Complex32>::read_npy(&bytes[..]) {
+        None => match ArrayD::<Complex32>::read_npy(bytes) {
             Ok(a) => a
                 .iter()
                 .map(|v| Complex64::new(v.re as f64, v.im as f64))
