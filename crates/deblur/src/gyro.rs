@@ -2,6 +2,8 @@
 //! camera axes, integrated into orientations at the sample times and super-resolved in between
 //! by spherical linear interpolation (SLERP).
 
+use std::path::Path;
+
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use wscg_math::{Error, Result};
 
@@ -19,6 +21,46 @@ impl GyroSample {
     pub fn new(t: f64, wx: f64, wy: f64, wz: f64) -> Self {
         GyroSample { t, w: [wx, wy, wz] }
     }
+}
+
+/// Reads a gyroscope log: one `t,wx,wy,wz` row per sample (commas, semicolons, spaces or
+/// tabs between the numbers; an optional header row; `#` comments).
+///
+/// Errors: [`Error::Io`] when unreadable; [`Error::Format`] naming the path for text that is
+/// not UTF-8, a row without four numbers, or no samples.
+pub fn read_gyro_csv(path: &Path) -> Result<Vec<GyroSample>> {
+    parse_gyro_csv(&wscg_math::error::read_file(path)?, path)
+}
+
+/// [`read_gyro_csv`] of a file held in memory; `origin` names the file in errors.
+pub fn parse_gyro_csv(bytes: &[u8], origin: &Path) -> Result<Vec<GyroSample>> {
+    let text = std::str::from_utf8(bytes).map_err(|_| Error::format(origin, "not UTF-8 text"))?;
+    let mut out = Vec::new();
+    for (no, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let nums: std::result::Result<Vec<f64>, _> = line
+            .split([',', ';', ' ', '\t'])
+            .filter(|s| !s.is_empty())
+            .map(str::parse::<f64>)
+            .collect();
+        match nums {
+            Ok(n) if n.len() == 4 => out.push(GyroSample::new(n[0], n[1], n[2], n[3])),
+            Err(_) if out.is_empty() && no == 0 => continue,
+            _ => {
+                return Err(Error::format(
+                    origin,
+                    format!("line {}: expected 4 numbers t,wx,wy,wz", no + 1),
+                ))
+            }
+        }
+    }
+    if out.is_empty() {
+        return Err(Error::format(origin, "no gyroscope samples"));
+    }
+    Ok(out)
 }
 
 /// An integrated gyroscope trace: the camera orientation `q(t)` (camera axes to the frame of
@@ -128,5 +170,32 @@ impl GyroTrack {
     /// `R(t0)^T R(t1)`.
     pub fn relative(&self, t0: f64, t1: f64) -> Rotation3<f64> {
         (self.orientation(t0).inverse() * self.orientation(t1)).to_rotation_matrix()
+    }
+}
+
+#[cfg(test)]
+mod csv_tests {
+    use super::*;
+
+    #[test]
+    fn gyro_csv_reads_rows_after_a_header_and_names_bad_lines() {
+        let text = b"t,wx,wy,wz\n# comment\n0.0,0.1,-0.2,0.3\n0.01 0.5\t1e-3;2\n";
+        let got = parse_gyro_csv(text, Path::new("g.csv")).unwrap();
+        assert_eq!(
+            got,
+            vec![
+                GyroSample::new(0.0, 0.1, -0.2, 0.3),
+                GyroSample::new(0.01, 0.5, 1e-3, 2.0)
+            ]
+        );
+        let err = parse_gyro_csv(b"0,1,2,3\n0.1,1,2\n", Path::new("g.csv")).unwrap_err();
+        assert!(matches!(err, Error::Format { .. }));
+        assert!(err.to_string().contains("line 2") && err.to_string().contains("g.csv"));
+        for bad in [&b""[..], b"t,wx,wy,wz\n", b"\xff\xfe"] {
+            assert!(matches!(
+                parse_gyro_csv(bad, Path::new("g.csv")),
+                Err(Error::Format { .. })
+            ));
+        }
     }
 }

@@ -69,7 +69,8 @@ impl Roi {
                 ));
             }
             roi.min[a] = min[a] / 16 * 16;
-            roi.max[a] = (max[a].div_ceil(16) * 16).min(dims[a] as u32);
+            // In u64: snapping a `max` near `u32::MAX` up to 16 would overflow `u32`.
+            roi.max[a] = (u64::from(max[a]).div_ceil(16) * 16).min(dims[a] as u64) as u32;
             if roi.min[a] >= roi.max[a] {
                 return Err(Error::invalid(
                     "roi",

@@ -7,7 +7,69 @@
 //! order (at most 63, the 6 bits of the voxel code). A client colours material `m` under a
 //! transfer function by its value at the interval's midpoint.
 
+use std::path::Path;
+
 use wscg_math::{Error, Result};
+
+/// Reads a transfer-function file: JSON `{"tfs": [[[density, r, g, b, a], ...], ...],
+/// "canonical": k}` (`canonical`, the index of the transfer function the server classifies
+/// with, defaults to 0). Returns the transfer functions and `canonical`.
+///
+/// Errors: [`Error::Io`] when unreadable; [`Error::Format`] naming the path for text that is
+/// not JSON or not of that shape; the errors of [`PiecewiseTransferFunction::new`].
+pub fn read_tf_list(path: &Path) -> Result<(Vec<PiecewiseTransferFunction>, usize)> {
+    parse_tf_list(&wscg_math::error::read_file(path)?, path)
+}
+
+/// [`read_tf_list`] of a file held in memory; `origin` names the file in errors.
+pub fn parse_tf_list(
+    bytes: &[u8],
+    origin: &Path,
+) -> Result<(Vec<PiecewiseTransferFunction>, usize)> {
+    let bad = |m: String| Error::format(origin, m);
+    let json: serde_json::Value =
+        serde_json::from_slice(bytes).map_err(|e| bad(format!("not JSON: {e}")))?;
+    let canonical = json
+        .get("canonical")
+        .map_or(Some(0), |c| c.as_u64())
+        .and_then(|c| usize::try_from(c).ok())
+        .ok_or_else(|| bad("\"canonical\" must be an index".into()))?;
+    let tfs = json
+        .get("tfs")
+        .and_then(|t| t.as_array())
+        .ok_or_else(|| bad("needs a \"tfs\" list".into()))?;
+    let tfs = tfs
+        .iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let rows = t
+                .as_array()
+                .ok_or_else(|| bad(format!("transfer function {k} is not a list")))?;
+            let pts = rows
+                .iter()
+                .map(|r| {
+                    let v: Vec<f32> = r
+                        .as_array()
+                        .map(|a| {
+                            a.iter()
+                                .filter_map(|x| x.as_f64())
+                                .map(|x| x as f32)
+                                .collect()
+                        })
+                        .unwrap_or_default();
+                    match v.as_slice() {
+                        [d, r, g, b, a] => Ok((*d, [*r, *g, *b, *a])),
+                        _ => Err(bad(format!(
+                            "transfer function {k}: each point is [density, r, g, b, a]"
+                        ))),
+                    }
+                })
+                .collect::<Result<Vec<_>>>()?;
+            PiecewiseTransferFunction::new(pts)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((tfs, canonical))
+}
 
 /// A piecewise-linear transfer function: density (0..=255) to RGBA, opacity per voxel length.
 #[derive(Clone, Debug, PartialEq)]
@@ -230,5 +292,29 @@ mod tests {
         // 64 opaque segments: one too many.
         let many: Vec<_> = (0..=64).map(|k| p(k as f32 * 3.0, 1.0)).collect();
         assert!(MaterialTable::from_tfs(&[PiecewiseTransferFunction::new(many).unwrap()]).is_err());
+    }
+
+    #[test]
+    fn tf_list_files_read_their_functions_and_canonical_index() {
+        let text = br#"{"tfs": [[[0, 0, 0, 0, 0], [255, 1, 1, 1, 1]], [[10, 0, 0, 0, 0], [20, 1, 0.5, 0, 0.25]]], "canonical": 1}"#;
+        let (tfs, canonical) = parse_tf_list(text, Path::new("tf.json")).unwrap();
+        assert_eq!(canonical, 1);
+        assert_eq!(tfs.len(), 2);
+        assert_eq!(
+            tfs[1],
+            PiecewiseTransferFunction::new(vec![(10.0, [0.0; 4]), (20.0, [1.0, 0.5, 0.0, 0.25])])
+                .unwrap()
+        );
+        let one = br#"{"tfs": [[[0, 0, 0, 0, 0], [255, 1, 1, 1, 1]]]}"#;
+        assert_eq!(parse_tf_list(one, Path::new("tf.json")).unwrap().1, 0);
+        for bad in [
+            &b"not json"[..],
+            br#"{"canonical": 0}"#,
+            br#"{"tfs": [[[0, 0, 0, 0]]]}"#,
+            br#"{"tfs": [], "canonical": -1}"#,
+        ] {
+            let err = parse_tf_list(bad, Path::new("tf.json")).unwrap_err();
+            assert!(err.to_string().contains("tf.json"), "{err}");
+        }
     }
 }

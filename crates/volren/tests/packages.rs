@@ -157,3 +157,25 @@ fn packages_travel_over_a_loopback_socket() {
     remote.close().unwrap();
     handle.join().unwrap().unwrap();
 }
+
+/// Found by fuzzing (FUZZING.md): a ROI package whose box ends near `u32::MAX` overflowed
+/// the snapping to the 16-voxel grid (a panic in debug builds).
+#[test]
+fn roi_boxes_ending_near_u32_max_are_errors() {
+    let s = server();
+    let mut c = HybridClient::from_static(&s.static_package()).unwrap();
+    let roi = s.roi_package([0, 0, 0], [32, 32, 32]).unwrap();
+    for max in [u32::MAX, u32::MAX - 8, u32::MAX - 15] {
+        // Payload: volume id (8 bytes), min (3 x 4), max (3 x 4), leaf count, leaves.
+        let bad = reframe(&roi, |p| p[20..24].copy_from_slice(&max.to_le_bytes()));
+        assert!(c.set_roi(&bad).is_err());
+        assert!(s.roi_package([0, 0, 0], [max, 32, 32]).is_ok());
+        assert_eq!(
+            Roi::snapped([0, 0, 0], [max, 16, 16], [96, 96, 48]).unwrap(),
+            Roi {
+                min: [0, 0, 0],
+                max: [96, 16, 16]
+            }
+        );
+    }
+}

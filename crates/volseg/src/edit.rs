@@ -1,6 +1,9 @@
 //! Editing of a label volume after the random walks: the local 3D "grow" brush of paper
-//! section 2.6 (stage 3 of the workflow) and the removal of small label islands (an optional
-//! clean-up, not in the paper).
+//! section 2.6 (stage 3 of the workflow), the removal of small label islands (an optional
+//! clean-up, not in the paper), and the seed strokes files of the command line
+//! ([`read_strokes`]: the seed strokes a user paints).
+
+use std::path::Path;
 
 use rayon::prelude::*;
 use wscg_math::{Error, Result, Volume};
@@ -234,4 +237,116 @@ pub fn remove_small_components(labels: &mut Volume<u16>, min_voxels: usize) -> u
         }
     }
     changed
+}
+
+/// One JSON stroke.
+#[derive(serde::Deserialize)]
+struct Stroke {
+    label: u16,
+    points: Vec<[f64; 3]>,
+    #[serde(default = "one")]
+    radius: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Reads a strokes file and paints it into a seed volume of `dims` voxels of `spacing`:
+/// JSON `[{"label": k, "points": [[x, y, z], ...], "radius": r}, ...]` (voxel indices;
+/// `radius` in voxels, default 1); every voxel centre within `radius` of a point of a stroke
+/// gets the stroke's label (later strokes over earlier ones), the others 0.
+///
+/// Errors: [`Error::Io`] when unreadable; [`Error::InvalidArgument`] naming `strokes` for text
+/// that is not such a list, a label of 0, a negative or non-finite radius, a stroke without
+/// points, a point outside the volume, or a stroke that covers no voxel centre.
+pub fn read_strokes(path: &Path, dims: [usize; 3], spacing: [f64; 3]) -> Result<Volume<u16>> {
+    paint_strokes(&wscg_math::error::read_file(path)?, path, dims, spacing)
+}
+
+/// [`read_strokes`] of a file held in memory; `origin` names the file in errors.
+pub fn paint_strokes(
+    bytes: &[u8],
+    origin: &Path,
+    dims: [usize; 3],
+    spacing: [f64; 3],
+) -> Result<Volume<u16>> {
+    let path = origin;
+    let strokes: Vec<Stroke> = serde_json::from_slice(bytes).map_err(|e| {
+        Error::invalid(
+            "strokes",
+            format!("{}: not a JSON list of strokes ({e})", path.display()),
+        )
+    })?;
+    let mut v = Volume::filled(dims, spacing, 0u16)?;
+    let d = dims;
+    for (n, s) in strokes.iter().enumerate() {
+        if s.label == 0 || !(s.radius.is_finite() && s.radius >= 0.0) {
+            return Err(Error::invalid(
+                "strokes",
+                format!("stroke {n}: label must be >= 1 and radius finite and >= 0"),
+            ));
+        }
+        if s.points.is_empty() {
+            return Err(Error::invalid(
+                "strokes",
+                format!(
+                    "{}: stroke {n} (label {}) has no points",
+                    path.display(),
+                    s.label
+                ),
+            ));
+        }
+        let mut painted = false;
+        for c in &s.points {
+            if c.iter().any(|x| !x.is_finite()) {
+                return Err(Error::invalid(
+                    "strokes",
+                    format!("stroke {n}: non-finite point"),
+                ));
+            }
+            if c.iter().zip(d).any(|(&x, n)| x < 0.0 || x > (n - 1) as f64) {
+                return Err(Error::invalid(
+                    "strokes",
+                    format!(
+                        "{}: stroke {n} (label {}) has the point {c:?} outside the volume: \
+                         points are voxel indices [x, y, z] within [0, {}] x [0, {}] x [0, {}]",
+                        path.display(),
+                        s.label,
+                        d[0] - 1,
+                        d[1] - 1,
+                        d[2] - 1
+                    ),
+                ));
+            }
+            let lo = c.map(|x| (x - s.radius).floor().max(0.0) as usize);
+            let hi: Vec<f64> = c.iter().map(|x| (x + s.radius).ceil()).collect();
+            for z in lo[2]..=(hi[2].max(0.0) as usize).min(d[2].saturating_sub(1)) {
+                for y in lo[1]..=(hi[1].max(0.0) as usize).min(d[1].saturating_sub(1)) {
+                    for x in lo[0]..=(hi[0].max(0.0) as usize).min(d[0].saturating_sub(1)) {
+                        let r2 = (x as f64 - c[0]).powi(2)
+                            + (y as f64 - c[1]).powi(2)
+                            + (z as f64 - c[2]).powi(2);
+                        if r2 <= s.radius * s.radius {
+                            v.set(x, y, z, s.label);
+                            painted = true;
+                        }
+                    }
+                }
+            }
+        }
+        if !painted {
+            return Err(Error::invalid(
+                "strokes",
+                format!(
+                    "{}: stroke {n} (label {}) covers no voxel centre (radius {} around \
+                     non-integer points): give a radius of at least 0.5",
+                    path.display(),
+                    s.label,
+                    s.radius
+                ),
+            ));
+        }
+    }
+    Ok(v)
 }

@@ -33,7 +33,9 @@ pub mod preprocess;
 pub mod walker;
 
 pub use baseline::{full_image_graph, nearest_seed_labels};
-pub use edit::{local_grow_edit, remove_small_components, GrowWeights};
+pub use edit::{
+    local_grow_edit, paint_strokes, read_strokes, remove_small_components, GrowWeights,
+};
 pub use graph::BoneGraph;
 pub use metrics::dice_multilabel;
 pub use params::{IntensityNorm, Precision, RandomWalkParams, Solver};

@@ -35,6 +35,12 @@ pub fn read_skeleton_csv(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq
         )));
     }
     let text = wscg_math::error::read_text(path)?;
+    parse_skeleton_csv(&text, path, fps)
+}
+
+/// [`read_skeleton_csv`] of a file held in memory; `origin` names the file in errors.
+pub fn parse_skeleton_csv(text: &str, origin: &Path, fps: f64) -> Result<SkeletonSeq> {
+    let path = origin;
     let mut frames: BTreeMap<i64, [Option<[f64; 3]>; N_JOINTS]> = BTreeMap::new();
     for (ln, line) in text.lines().enumerate() {
         let line = line.trim();

@@ -16,7 +16,7 @@ use clap::{Args, Subcommand};
 use wscg_deblur::metrics::quality;
 use wscg_deblur::synth::{self, BlurRenderParams, Burst, ShakeParams};
 use wscg_deblur::{
-    deblur_frame, deblur_multiframe, render_kernel, AlignMode, Gamma, GyroSample, GyroTrack,
+    deblur_frame, deblur_multiframe, render_kernel, AlignMode, Gamma, GyroTrack,
     HyperLaplacianParams, Intrinsics, KernelParams, Method, MultiframeParams,
 };
 use wscg_math::{Error, Image, Result};
@@ -215,39 +215,6 @@ fn parse_pair(s: &str, name: &'static str) -> Result<(f64, f64)> {
     }
 }
 
-/// Reads a `t,wx,wy,wz` CSV gyroscope log.
-pub fn read_gyro(path: &Path) -> Result<Vec<GyroSample>> {
-    let text = String::from_utf8(wscg_math::error::read_file(path)?)
-        .map_err(|_| Error::format(path, "not UTF-8 text"))?;
-    let mut out = Vec::new();
-    for (no, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let vals: Vec<&str> = line
-            .split([',', ';', ' ', '\t'])
-            .filter(|s| !s.is_empty())
-            .collect();
-        let nums: std::result::Result<Vec<f64>, _> =
-            vals.iter().map(|v| v.parse::<f64>()).collect();
-        match nums {
-            Ok(n) if n.len() == 4 => out.push(GyroSample::new(n[0], n[1], n[2], n[3])),
-            Err(_) if out.is_empty() && no == 0 => continue,
-            _ => {
-                return Err(Error::format(
-                    path,
-                    format!("line {}: expected 4 numbers t,wx,wy,wz", no + 1),
-                ))
-            }
-        }
-    }
-    if out.is_empty() {
-        return Err(Error::format(path, "no gyroscope samples"));
-    }
-    Ok(out)
-}
-
 pub(super) fn read_times(s: &str) -> Result<Vec<f64>> {
     let p = Path::new(s);
     if p.is_file() {
@@ -302,7 +269,8 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
             crate::commands::overwrite::check_file("out", &a.out, inputs.into_iter().flatten())?;
             let setup = a.camera.setup(a.width, a.height)?;
             let k = setup.k;
-            let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
+            let track =
+                GyroTrack::from_camera_rates(&wscg_deblur::gyro::read_gyro_csv(&a.camera.gyro)?)?;
             let timing = wscg_deblur::Timing {
                 t_frame: a.time,
                 t_exposure: setup.exposure,
@@ -444,7 +412,7 @@ fn frames(a: FramesArgs) -> Result<()> {
     }
     let (h, w) = (images[0].height(), images[0].width());
     let setup = a.camera.setup(w, h)?;
-    let track = GyroTrack::from_camera_rates(&read_gyro(&a.camera.gyro)?)?;
+    let track = GyroTrack::from_camera_rates(&wscg_deblur::gyro::read_gyro_csv(&a.camera.gyro)?)?;
     let hl = HyperLaplacianParams::paper().lambda(Some(a.lambda));
     let gamma = (!a.linear).then(Gamma::default);
     let opts = MultiframeParams::default()

@@ -12,7 +12,6 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
-use serde::Deserialize;
 use wscg_isosurface::{extract, ScalarGrid};
 use wscg_math::mesh::TriMesh;
 use wscg_math::{Error, Result, Volume};
@@ -116,101 +115,6 @@ pub enum SolverArg {
     PerLabel,
     /// One label after the other without the Jacobi preconditioner.
     Cg,
-}
-
-/// One JSON stroke.
-#[derive(Deserialize)]
-struct Stroke {
-    label: u16,
-    points: Vec<[f64; 3]>,
-    #[serde(default = "one")]
-    radius: f64,
-}
-
-fn one() -> f64 {
-    1.0
-}
-
-/// Paints the balls of the strokes in `path` into a seed volume shaped like `like`.
-fn strokes_volume(path: &Path, like: &Volume<f32>) -> Result<Volume<u16>> {
-    let text = wscg_math::error::read_text(path)?;
-    let strokes: Vec<Stroke> = serde_json::from_str(&text).map_err(|e| {
-        Error::invalid(
-            "strokes",
-            format!("{}: not a JSON list of strokes ({e})", path.display()),
-        )
-    })?;
-    let mut v = Volume::filled(like.dims(), like.spacing(), 0u16)?;
-    let d = like.dims();
-    for (n, s) in strokes.iter().enumerate() {
-        if s.label == 0 || !(s.radius.is_finite() && s.radius >= 0.0) {
-            return Err(Error::invalid(
-                "strokes",
-                format!("stroke {n}: label must be >= 1 and radius finite and >= 0"),
-            ));
-        }
-        if s.points.is_empty() {
-            return Err(Error::invalid(
-                "strokes",
-                format!(
-                    "{}: stroke {n} (label {}) has no points",
-                    path.display(),
-                    s.label
-                ),
-            ));
-        }
-        let mut painted = false;
-        for c in &s.points {
-            if c.iter().any(|x| !x.is_finite()) {
-                return Err(Error::invalid(
-                    "strokes",
-                    format!("stroke {n}: non-finite point"),
-                ));
-            }
-            if c.iter().zip(d).any(|(&x, n)| x < 0.0 || x > (n - 1) as f64) {
-                return Err(Error::invalid(
-                    "strokes",
-                    format!(
-                        "{}: stroke {n} (label {}) has the point {c:?} outside the volume: \
-                         points are voxel indices [x, y, z] within [0, {}] x [0, {}] x [0, {}]",
-                        path.display(),
-                        s.label,
-                        d[0] - 1,
-                        d[1] - 1,
-                        d[2] - 1
-                    ),
-                ));
-            }
-            let lo = c.map(|x| (x - s.radius).floor().max(0.0) as usize);
-            let hi: Vec<f64> = c.iter().map(|x| (x + s.radius).ceil()).collect();
-            for z in lo[2]..=(hi[2].max(0.0) as usize).min(d[2].saturating_sub(1)) {
-                for y in lo[1]..=(hi[1].max(0.0) as usize).min(d[1].saturating_sub(1)) {
-                    for x in lo[0]..=(hi[0].max(0.0) as usize).min(d[0].saturating_sub(1)) {
-                        let r2 = (x as f64 - c[0]).powi(2)
-                            + (y as f64 - c[1]).powi(2)
-                            + (z as f64 - c[2]).powi(2);
-                        if r2 <= s.radius * s.radius {
-                            v.set(x, y, z, s.label);
-                            painted = true;
-                        }
-                    }
-                }
-            }
-        }
-        if !painted {
-            return Err(Error::invalid(
-                "strokes",
-                format!(
-                    "{}: stroke {n} (label {}) covers no voxel centre (radius {} around \
-                     non-integer points): give a radius of at least 0.5",
-                    path.display(),
-                    s.label,
-                    s.radius
-                ),
-            ));
-        }
-    }
-    Ok(v)
 }
 
 /// Writes one mesh per non-zero label of `labels` into `dir` (`label_K.<format>`): marching
@@ -345,7 +249,9 @@ pub fn run(cmd: VolsegCommand) -> Result<()> {
                     }
                     Volume::new(ct.dims(), ct.spacing(), to_u16(&seeds_f, "seeds")?)?
                 }
-                (None, Some(path)) => strokes_volume(path, &ct)?,
+                (None, Some(path)) => {
+                    wscg_volseg::edit::read_strokes(path, ct.dims(), ct.spacing())?
+                }
                 (None, None) => {
                     return Err(Error::invalid("seeds", "give --seeds or --strokes"));
                 }

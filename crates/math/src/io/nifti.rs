@@ -126,15 +126,27 @@ impl Volume<f32> {
         let path = path.as_ref();
         let file = File::open(path).map_err(|e| Error::io(path, e))?;
         let file_len = file.metadata().map_err(|e| Error::io(path, e))?.len();
-        let mut buffered = BufReader::new(file);
-        let head = buffered.fill_buf().map_err(|e| Error::io(path, e))?;
-        let gz = head.len() >= 2 && head[0] == 0x1f && head[1] == 0x8b;
-        if gz {
-            let mut reader = nifti::object::GzDecodedFile::new(buffered);
-            read_nifti_stream(path, &mut reader, None)
-        } else {
-            read_nifti_stream(path, &mut buffered, Some(file_len))
-        }
+        read_nifti_buffered(path, BufReader::new(file), file_len)
+    }
+
+    /// [`Volume::read_nifti`] of a file held in memory (`.nii` or gzip-compressed, detected
+    /// from the content); `origin` names the file in errors. Errors as
+    /// [`Volume::read_nifti`].
+    pub fn from_nifti_bytes(bytes: &[u8], origin: &Path) -> Result<Self> {
+        read_nifti_buffered(origin, bytes, bytes.len() as u64)
+    }
+}
+
+/// Reads a NIfTI-1 file of `len` bytes from `buffered`, decompressing it when it starts with
+/// the gzip magic.
+fn read_nifti_buffered(path: &Path, mut buffered: impl BufRead, len: u64) -> Result<Volume<f32>> {
+    let head = buffered.fill_buf().map_err(|e| Error::io(path, e))?;
+    let gz = head.len() >= 2 && head[0] == 0x1f && head[1] == 0x8b;
+    if gz {
+        let mut reader = flate2::bufread::GzDecoder::new(buffered);
+        read_nifti_stream(path, &mut reader, None)
+    } else {
+        read_nifti_stream(path, &mut buffered, Some(len))
     }
 }
 

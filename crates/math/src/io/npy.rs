@@ -63,33 +63,18 @@ pub fn read<T: NpyTarget>(path: impl AsRef<Path>) -> Result<NpyArray<T>> {
 /// declared shape before any data is decoded.
 pub fn read_with_limit<T: NpyTarget>(path: impl AsRef<Path>, limit: usize) -> Result<NpyArray<T>> {
     let path = path.as_ref();
-    let bytes = read_file(path)?;
-    let data_start = header_end(path, &bytes)?;
-    let header = Header::from_reader(&mut &bytes[..])
-        .map_err(|e| Error::format(path, format!("invalid .npy header: {e}")))?;
-    let count = header
-        .shape
-        .iter()
-        .try_fold(1usize, |a, &b| a.checked_mul(b))
-        .ok_or_else(|| Error::format(path, format!("shape {:?} overflows", header.shape)))?;
-    if count > limit {
-        return Err(Error::LimitExceeded(format!(
-            "{}: shape {:?} holds {count} values, more than the limit of {limit}",
-            path.display(),
-            header.shape
-        )));
-    }
-    let payload = bytes.len() - data_start;
-    if count > payload {
-        return Err(Error::format(
-            path,
-            format!(
-                "truncated: shape {:?} needs at least {count} bytes of data, found {payload}",
-                header.shape
-            ),
-        ));
-    }
-    let data = values::<T>(path, &bytes)?.ok_or_else(|| {
+    from_bytes_with_limit(&read_file(path)?, path, limit)
+}
+
+/// [`read_with_limit`] of a file held in memory; `origin` names the file in errors.
+pub fn from_bytes_with_limit<T: NpyTarget>(
+    bytes: &[u8],
+    origin: &Path,
+    limit: usize,
+) -> Result<NpyArray<T>> {
+    let path = origin;
+    let header = checked_header(path, bytes, limit)?;
+    let data = values::<T>(path, bytes)?.ok_or_else(|| {
         Error::UnsupportedFormat(format!(
             "{}: .npy dtype {} is not supported. Supported dtypes are {SUPPORTED_DTYPES}",
             path.display(),
@@ -105,38 +90,30 @@ pub fn read_with_limit<T: NpyTarget>(path: impl AsRef<Path>, limit: usize) -> Re
 /// Reads a complex `.npy` file (complex128 or complex64); real dtypes are accepted too and
 /// get a zero imaginary part. Errors as [`read`].
 pub fn read_complex(path: impl AsRef<Path>) -> Result<NpyArray<num_complex::Complex64>> {
-    use num_complex::{Complex32, Complex64};
     let path = path.as_ref();
-    let bytes = read_file(path)?;
-    header_end(path, &bytes)?;
-    let header = Header::from_reader(&mut &bytes[..])
-        .map_err(|e| Error::format(path, format!("invalid .npy header: {e}")))?;
-    let count = header
-        .shape
-        .iter()
-        .try_fold(1usize, |a, &b| a.checked_mul(b));
-    if count.is_none_or(|c| c > MAX_ELEMENTS) {
-        return Err(Error::LimitExceeded(format!(
-            "{}: shape {:?} holds more than {MAX_ELEMENTS} values",
-            path.display(),
-            header.shape
-        )));
-    }
+    complex_from_bytes(&read_file(path)?, path)
+}
+
+/// [`read_complex`] of a file held in memory; `origin` names the file in errors.
+pub fn complex_from_bytes(bytes: &[u8], origin: &Path) -> Result<NpyArray<num_complex::Complex64>> {
+    use num_complex::{Complex32, Complex64};
+    let path = origin;
+    let header = checked_header(path, bytes, MAX_ELEMENTS)?;
     let complex = |r: std::result::Result<ArrayD<Complex64>, ReadNpyError>| match r {
         Ok(a) => Some(Ok(a.iter().copied().collect::<Vec<_>>())),
         Err(ReadNpyError::WrongDescriptor(_)) => None,
         Err(ReadNpyError::Io(e)) => Some(Err(read_error(path, e))),
         Err(e) => Some(Err(Error::format(path, e.to_string()))),
     };
-    let data = match complex(ArrayD::<Complex64>::read_npy(&bytes[..])) {
+    let data = match complex(ArrayD::<Complex64>::read_npy(bytes)) {
         Some(r) => r?,
-        None => match ArrayD::<Complex32>::read_npy(&bytes[..]) {
+        None => match ArrayD::<Complex32>::read_npy(bytes) {
             Ok(a) => a
                 .iter()
                 .map(|v| Complex64::new(v.re as f64, v.im as f64))
                 .collect(),
             Err(ReadNpyError::WrongDescriptor(_)) => {
-                let real = read::<f64>(path)?;
+                let real = from_bytes_with_limit::<f64>(bytes, path, MAX_ELEMENTS)?;
                 real.data.iter().map(|&v| Complex64::new(v, 0.0)).collect()
             }
             Err(ReadNpyError::Io(e)) => return Err(read_error(path, e)),
@@ -184,8 +161,47 @@ fn npy_write_error(path: &Path, e: ndarray_npy::WriteNpyError) -> Error {
     }
 }
 
+/// Parses the header of a `.npy` file held in memory and checks the values it declares
+/// against `limit` ([`Error::LimitExceeded`]) and against the data the file holds (at least
+/// one byte a value), so the npy crate never allocates for more values than the file can
+/// hold.
+fn checked_header(path: &Path, bytes: &[u8], limit: usize) -> Result<Header> {
+    let data_start = header_end(path, bytes)?;
+    let header = Header::from_reader(&mut &bytes[..])
+        .map_err(|e| Error::format(path, format!("invalid .npy header: {e}")))?;
+    let count = header
+        .shape
+        .iter()
+        .try_fold(1usize, |a, &b| a.checked_mul(b))
+        .ok_or_else(|| Error::format(path, format!("shape {:?} overflows", header.shape)))?;
+    if count > limit {
+        return Err(Error::LimitExceeded(format!(
+            "{}: shape {:?} holds {count} values, more than the limit of {limit}",
+            path.display(),
+            header.shape
+        )));
+    }
+    let payload = bytes.len() - data_start;
+    if count > payload {
+        return Err(Error::format(
+            path,
+            format!(
+                "truncated: shape {:?} needs at least {count} bytes of data, found {payload}",
+                header.shape
+            ),
+        ));
+    }
+    Ok(header)
+}
+
+/// Deepest nesting of brackets in a `.npy` header: the dictionary, the shape tuple, and the
+/// list and tuples of a structured dtype. The header parser of the npy crate takes time
+/// exponential in the nesting depth, so deeper headers are refused before it runs.
+const MAX_HEADER_NESTING: usize = 4;
+
 /// Checks the `.npy` preamble and returns the offset of the array data; guards the header
-/// length against the file size before the npy crate allocates it.
+/// length against the file size before the npy crate allocates it, and its bracket nesting
+/// against [`MAX_HEADER_NESTING`].
 fn header_end(path: &Path, bytes: &[u8]) -> Result<usize> {
     const MAGIC: &[u8] = b"\x93NUMPY";
     if bytes.len() < 10 || &bytes[..6] != MAGIC {
@@ -208,16 +224,38 @@ fn header_end(path: &Path, bytes: &[u8]) -> Result<usize> {
             ))
         }
     };
-    match start.checked_add(len) {
-        Some(end) if end <= bytes.len() => Ok(end),
-        _ => Err(Error::format(
-            path,
-            format!(
-                "truncated .npy header: declares {len} header bytes, file has {}",
-                bytes.len()
-            ),
-        )),
+    let end = match start.checked_add(len) {
+        Some(end) if end <= bytes.len() => end,
+        _ => {
+            return Err(Error::format(
+                path,
+                format!(
+                    "truncated .npy header: declares {len} header bytes, file has {}",
+                    bytes.len()
+                ),
+            ))
+        }
+    };
+    let mut depth = 0usize;
+    for &b in &bytes[start..end] {
+        match b {
+            b'{' | b'[' | b'(' => {
+                depth += 1;
+                if depth > MAX_HEADER_NESTING {
+                    return Err(Error::format(
+                        path,
+                        format!(
+                            "malformed .npy header: brackets nested deeper than \
+                             {MAX_HEADER_NESTING}"
+                        ),
+                    ));
+                }
+            }
+            b'}' | b']' | b')' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
     }
+    Ok(end)
 }
 
 /// Decodes the data in C order, trying each supported element type; `Ok(None)` when the
@@ -292,8 +330,14 @@ mod volume_files {
         /// [`Error::LimitExceeded`] above [`MAX_VOXELS`]; invalid `spacing` as [`Volume::new`].
         pub fn read_npy(path: impl AsRef<Path>, spacing: [f64; 3]) -> Result<Self> {
             let path = path.as_ref();
+            Self::from_npy_bytes(&crate::error::read_file(path)?, path, spacing)
+        }
+
+        /// [`Volume::read_npy`] of a file held in memory; `origin` names the file in errors.
+        pub fn from_npy_bytes(bytes: &[u8], origin: &Path, spacing: [f64; 3]) -> Result<Self> {
+            let path = origin;
             check_spacing(spacing)?;
-            let arr = super::read_with_limit::<f32>(path, MAX_VOXELS)?;
+            let arr = super::from_bytes_with_limit::<f32>(bytes, path, MAX_VOXELS)?;
             let shape = &arr.shape;
             if shape.len() != 3 {
                 return Err(Error::format(
@@ -499,5 +543,60 @@ mod tests {
         assert_eq!(b.data[2], Complex64::new(3.0, 0.0));
         std::fs::write(&p, b"junk").unwrap();
         assert!(matches!(read_complex(&p), Err(Error::Format { .. })));
+    }
+
+    /// A version-1 `.npy` file with the given header dictionary text (padded to a multiple
+    /// of 64 bytes as numpy writes it) and data bytes.
+    fn npy_bytes(dict: &str, data: &[u8]) -> Vec<u8> {
+        let mut header = dict.to_string();
+        while !(10 + header.len() + 1).is_multiple_of(64) {
+            header.push(' ');
+        }
+        header.push('\n');
+        let mut out = b"\x93NUMPY\x01\x00".to_vec();
+        out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+        out.extend_from_slice(header.as_bytes());
+        out.extend_from_slice(data);
+        out
+    }
+
+    /// Found by fuzzing (FUZZING.md): a complex header declaring 4.4e9 values (below
+    /// `MAX_ELEMENTS`) over a few bytes of data made the npy crate allocate 71 GB and abort.
+    #[test]
+    fn complex_shape_larger_than_the_data_is_refused_before_allocating() {
+        let bytes = npy_bytes(
+            "{'descr': '<c16', 'fortran_order': False, 'shape': (2, 2222222222), }",
+            &[0u8; 32],
+        );
+        let err = complex_from_bytes(&bytes, Path::new("k.npy")).unwrap_err();
+        assert!(matches!(err, Error::Format { .. }), "{err}");
+        assert!(err.to_string().contains("truncated"), "{err}");
+        let err = from_bytes_with_limit::<f64>(&bytes, Path::new("k.npy"), MAX_ELEMENTS);
+        assert!(matches!(err, Err(Error::Format { .. })));
+    }
+
+    /// Found by fuzzing (FUZZING.md): nested braces in the header made the npy crate's
+    /// header parser run for minutes (exponential in the depth).
+    #[test]
+    fn deeply_nested_headers_are_refused_quickly() {
+        let dict = format!(
+            "{}'descr': '<f8', 'fortran_order': False, 'shape': (2, 3)}}",
+            "{".repeat(30)
+        );
+        let bytes = npy_bytes(&dict, &[0u8; 48]);
+        for result in [
+            complex_from_bytes(&bytes, Path::new("n.npy")).map(|_| ()),
+            from_bytes_with_limit::<f32>(&bytes, Path::new("n.npy"), MAX_ELEMENTS).map(|_| ()),
+        ] {
+            let err = result.unwrap_err();
+            assert!(err.to_string().contains("nested"), "{err}");
+        }
+        // The nesting numpy writes for structured dtypes is still read as far as the dtype.
+        let structured = npy_bytes(
+            "{'descr': [('a', '<f8', (2,))], 'fortran_order': False, 'shape': (1,), }",
+            &[0u8; 16],
+        );
+        let err = from_bytes_with_limit::<f64>(&structured, Path::new("s.npy"), 10).unwrap_err();
+        assert!(!err.to_string().contains("nested"), "{err}");
     }
 }

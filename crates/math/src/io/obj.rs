@@ -36,9 +36,13 @@ impl TriMesh {
     /// ([`Error::Format`] naming the path).
     pub fn read_obj(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
-        let bytes = read_file(path)?;
-        let text = String::from_utf8_lossy(&bytes);
-        parse_obj(&text).map_err(|reason| Error::format(path, reason))
+        Self::from_obj_bytes(&read_file(path)?, path)
+    }
+
+    /// [`TriMesh::read_obj`] of a file held in memory; `origin` names the file in errors.
+    pub fn from_obj_bytes(bytes: &[u8], origin: &Path) -> Result<Self> {
+        let text = String::from_utf8_lossy(bytes);
+        parse_obj(&text).map_err(|reason| Error::format(origin, reason))
     }
 
     /// Writes a Wavefront OBJ file: `v x y z` lines (followed by ` r g b` when the mesh has

@@ -36,12 +36,16 @@ impl TriMesh {
     /// path).
     pub fn read_ply(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
-        let bytes = read_file(path)?;
+        Self::from_ply_bytes(&read_file(path)?, path)
+    }
+
+    /// [`TriMesh::read_ply`] of a file held in memory; `origin` names the file in errors.
+    pub fn from_ply_bytes(bytes: &[u8], origin: &Path) -> Result<Self> {
         // `ply-rs` is fed only headers that passed `check_ply_header_numbers`; the
         // catch_unwind is a second line of defence against a panic inside the parser.
-        let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| parse_ply(&bytes)))
+        let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| parse_ply(bytes)))
             .unwrap_or_else(|_| Err("the PLY parser failed on malformed input".to_string()));
-        parsed.map_err(|reason| Error::format(path, reason))
+        parsed.map_err(|reason| Error::format(origin, reason))
     }
 
     /// Writes a Stanford PLY file with the given encoding: a `vertex` element with `double`

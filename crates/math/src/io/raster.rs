@@ -88,6 +88,7 @@ pub fn decode_dynamic(bytes: &[u8], origin: &Path) -> Result<DynamicImage> {
     }
     if reader.format() == Some(ImageFormat::Jpeg) {
         check_jpeg_complete(bytes, origin)?;
+        check_jpeg_sides(bytes, origin)?;
     }
     let max_pixels = max_image_pixels();
     let mut limits = Limits::default();
@@ -95,7 +96,9 @@ pub fn decode_dynamic(bytes: &[u8], origin: &Path) -> Result<DynamicImage> {
     limits.max_image_height = Some(MAX_DECODE_SIDE);
     limits.max_alloc = Some(MAX_DECODE_BYTES.max(max_pixels.saturating_mul(16)));
     reader.limits(limits);
-    let decoder = reader.into_decoder().map_err(|e| image_error(origin, e))?;
+    let decoder = guarded(origin, || {
+        reader.into_decoder().map_err(|e| image_error(origin, e))
+    })?;
     let (w, h) = decoder.dimensions();
     let pixels = u64::from(w) * u64::from(h);
     if pixels > max_pixels {
@@ -105,7 +108,21 @@ pub fn decode_dynamic(bytes: &[u8], origin: &Path) -> Result<DynamicImage> {
             origin.display()
         )));
     }
-    DynamicImage::from_decoder(decoder).map_err(|e| image_error(origin, e))
+    guarded(origin, || {
+        DynamicImage::from_decoder(decoder).map_err(|e| image_error(origin, e))
+    })
+}
+
+/// Runs a step of the `image` crate's decoders, turning a panic inside them into
+/// [`Error::Format`]: a second line of defence against decoder bugs on malformed files (the
+/// JPEG decoder's progressive upsampler asserts on some, FUZZING.md).
+fn guarded<T>(origin: &Path, step: impl FnOnce() -> Result<T>) -> Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(step)).unwrap_or_else(|_| {
+        Err(Error::format(
+            origin,
+            "the image decoder failed on malformed data",
+        ))
+    })
 }
 
 /// Refuses a JPEG stream that ends before its end-of-image marker. The JPEG decoder fills
@@ -129,6 +146,37 @@ fn check_jpeg_complete(bytes: &[u8], origin: &Path) -> Result<()> {
              download or copy?)",
         ))
     }
+}
+
+/// Largest JPEG width or height decoded: the JPEG decoder rounds each side up to a multiple
+/// of 8 in 16-bit arithmetic, which overflows above `u16::MAX - 7`.
+const MAX_JPEG_SIDE: u16 = u16::MAX - 7;
+
+/// Refuses a JPEG whose frame header (any SOF marker before the first scan) declares a side
+/// above [`MAX_JPEG_SIDE`], before the decoder reads it.
+fn check_jpeg_sides(bytes: &[u8], origin: &Path) -> Result<()> {
+    let header = bytes
+        .windows(2)
+        .position(|w| w == [0xFF, 0xDA])
+        .map_or(bytes, |scan| &bytes[..scan]);
+    for (i, w) in header.windows(2).enumerate() {
+        let sof =
+            w[0] == 0xFF && matches!(w[1], 0xC0..=0xCF) && !matches!(w[1], 0xC4 | 0xC8 | 0xCC);
+        // SOFn: marker, length (2 bytes), precision (1), height (2), width (2).
+        if let (true, Some(f)) = (sof, header.get(i + 5..i + 9)) {
+            let (h, w) = (
+                u16::from_be_bytes([f[0], f[1]]),
+                u16::from_be_bytes([f[2], f[3]]),
+            );
+            if h > MAX_JPEG_SIDE || w > MAX_JPEG_SIDE {
+                return Err(Error::LimitExceeded(format!(
+                    "{}: a JPEG of {w} x {h} pixels; sides above {MAX_JPEG_SIDE} are not decoded",
+                    origin.display()
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 impl Image<f32> {
@@ -419,6 +467,27 @@ mod tests {
         assert!(err < 0.05, "{err}");
         assert!(ramp(4, 4, 2).encode_jpeg(80).is_err());
         assert!(img.encode_jpeg(0).is_err());
+    }
+
+    /// Found by fuzzing (FUZZING.md): a JPEG declaring a side of 65530 pixels overflowed the
+    /// decoder's 16-bit rounding to whole 8 x 8 blocks (a panic in debug builds).
+    #[test]
+    fn jpeg_sides_the_decoder_cannot_round_are_refused() {
+        let img = ramp(6, 8, 1);
+        let bytes = img.encode_jpeg(90).unwrap();
+        let sof = bytes.windows(2).position(|w| w == [0xFF, 0xC0]).unwrap();
+        for (at, side) in [(sof + 7, 0xFFFAu16), (sof + 5, 0xFFFF)] {
+            let mut bad = bytes.clone();
+            bad[at..at + 2].copy_from_slice(&side.to_be_bytes());
+            let err = Image::decode(&bad, Path::new("wide.jpg")).unwrap_err();
+            assert!(matches!(err, Error::LimitExceeded(_)), "{err}");
+            assert!(err.to_string().contains("wide.jpg"), "{err}");
+        }
+        // The largest side still goes to the decoder (whatever it makes of the short data).
+        let mut edge = bytes.clone();
+        edge[sof + 7..sof + 9].copy_from_slice(&MAX_JPEG_SIDE.to_be_bytes());
+        let edge = Image::decode(&edge, Path::new("edge.jpg"));
+        assert!(edge.map_or_else(|e| !e.to_string().contains("not decoded"), |_| true));
     }
 
     #[test]

@@ -46,6 +46,27 @@ impl TransferFunction {
         })
     }
 
+    /// Reads a transfer function of `n` entries from a JSON file `[[s, r, g, b, a], ...]` of
+    /// control points (see [`TransferFunction::from_points`]).
+    ///
+    /// Errors: [`Error::Io`] when unreadable; [`Error::Format`] naming the path for text that
+    /// is not such a list; the errors of [`TransferFunction::from_points`].
+    pub fn read_json(path: &std::path::Path, n: usize) -> Result<Self> {
+        Self::from_json_bytes(&wscg_math::error::read_file(path)?, path, n)
+    }
+
+    /// [`TransferFunction::read_json`] of a file held in memory; `origin` names the file in
+    /// errors.
+    pub fn from_json_bytes(bytes: &[u8], origin: &std::path::Path, n: usize) -> Result<Self> {
+        let pts: Vec<[f32; 5]> = serde_json::from_slice(bytes)
+            .map_err(|e| Error::format(origin, format!("expected [[s, r, g, b, a], ...]: {e}")))?;
+        let pts: Vec<(f32, [f32; 4])> = pts
+            .iter()
+            .map(|p| (p[0], [p[1], p[2], p[3], p[4]]))
+            .collect();
+        Self::from_points(&pts, n)
+    }
+
     /// A transfer function of `n` entries interpolating the control points `(s, rgba)`
     /// piecewise linearly (constant beyond the first and last point). Errors: no point,
     /// positions not increasing or outside `[0, 1]`, values outside `[0, 1]`, `n < 2`.

@@ -208,17 +208,7 @@ fn load_tf(spec: &str) -> Result<TransferFunction> {
         "marschner-lobb" => return Ok(marschner_lobb_tf()),
         _ => {}
     }
-    let path = Path::new(spec);
-    let text = wscg_math::error::read_text(path)?;
-    let pts: Vec<[f32; 5]> = serde_json::from_str(&text).map_err(|e| Error::Format {
-        path: path.to_path_buf(),
-        reason: format!("expected [[s, r, g, b, a], ...]: {e}"),
-    })?;
-    let pts: Vec<(f32, [f32; 4])> = pts
-        .iter()
-        .map(|p| (p[0], [p[1], p[2], p[3], p[4]]))
-        .collect();
-    TransferFunction::from_points(&pts, 256)
+    TransferFunction::read_json(Path::new(spec), 256)
 }
 
 fn method_of(a: &IllumArgs) -> Method {

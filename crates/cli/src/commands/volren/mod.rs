@@ -13,7 +13,7 @@
 mod illum;
 
 use std::net::TcpListener;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use clap::{Args, Subcommand};
@@ -22,9 +22,7 @@ use wscg_math::{Error, Result, Volume};
 
 use crate::commands::volume_file::{read_volume, RawSpec};
 use wscg_volren::net::{serve, RemoteServer};
-use wscg_volren::{
-    Camera, HybridClient, HybridServer, PiecewiseTransferFunction, RenderParams, ServerParams,
-};
+use wscg_volren::{Camera, HybridClient, HybridServer, RenderParams, ServerParams};
 
 #[derive(Subcommand, Debug)]
 pub enum VolrenCommand {
@@ -132,59 +130,12 @@ fn load_volume(a: &VolumeArgs) -> Result<Volume<u8>> {
     Ok(v.map(|x| ((x - lo) * scale).round() as u8))
 }
 
-/// Reads the transfer-function file.
-fn load_tfs(path: &Path) -> Result<(Vec<PiecewiseTransferFunction>, usize)> {
-    let text = wscg_math::error::read_text(path)?;
-    let bad = |m: String| Error::format(path, m);
-    let json: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| bad(format!("not JSON: {e}")))?;
-    let canonical = json
-        .get("canonical")
-        .map_or(Some(0), |c| c.as_u64())
-        .ok_or_else(|| bad("\"canonical\" must be an index".into()))? as usize;
-    let tfs = json
-        .get("tfs")
-        .and_then(|t| t.as_array())
-        .ok_or_else(|| bad("needs a \"tfs\" list".into()))?;
-    let tfs = tfs
-        .iter()
-        .enumerate()
-        .map(|(k, t)| {
-            let rows = t
-                .as_array()
-                .ok_or_else(|| bad(format!("transfer function {k} is not a list")))?;
-            let pts = rows
-                .iter()
-                .map(|r| {
-                    let v: Vec<f32> = r
-                        .as_array()
-                        .map(|a| {
-                            a.iter()
-                                .filter_map(|x| x.as_f64())
-                                .map(|x| x as f32)
-                                .collect()
-                        })
-                        .unwrap_or_default();
-                    match v.as_slice() {
-                        [d, r, g, b, a] => Ok((*d, [*r, *g, *b, *a])),
-                        _ => Err(bad(format!(
-                            "transfer function {k}: each point is [density, r, g, b, a]"
-                        ))),
-                    }
-                })
-                .collect::<Result<Vec<_>>>()?;
-            PiecewiseTransferFunction::new(pts)
-        })
-        .collect::<Result<Vec<_>>>()?;
-    Ok((tfs, canonical))
-}
-
 fn server_from(a: &VolumeArgs) -> Result<HybridServer> {
     let v = load_volume(a)?;
     let tf =
         a.tf.as_ref()
             .ok_or_else(|| Error::invalid("tf", "--tf is required"))?;
-    let (tfs, canonical) = load_tfs(tf)?;
+    let (tfs, canonical) = wscg_volren::tf::read_tf_list(tf)?;
     let opts = ServerParams::default().steps_sent(a.steps_sent);
     HybridServer::new(&v, tfs, canonical, opts)
 }
