@@ -17,7 +17,10 @@ fn cloth_on_rollers(tilt: f64) -> ClothModel {
     }
     let normal = [0.0, tilt.cos(), -tilt.sin()];
     // Pre-stretched start: each particle lifted onto the tilted plane.
-    let x: Vec<[f64; 3]> = m.x.iter().map(|p| [p[0], p[2] * tilt.tan(), p[2]]).collect();
+    let x: Vec<[f64; 3]> =
+        m.x.iter()
+            .map(|p| [p[0], p[2] * tilt.tan(), p[2]])
+            .collect();
     m.x = x;
     for p in 0..m.len() {
         m.add_roller(p, normal, 0.0).unwrap();
@@ -40,9 +43,11 @@ fn methods() -> Vec<Method> {
 fn roller_reactions_balance_gravity_for_every_solver() {
     for tilt in [0.0f64, 0.5] {
         for method in methods() {
-            let mut sim =
-                Simulation::new(cloth_on_rollers(tilt), SolverParams::default().method(method))
-                    .unwrap();
+            let mut sim = Simulation::new(
+                cloth_on_rollers(tilt),
+                SolverParams::default().method(method),
+            )
+            .unwrap();
             sim.run(H, 40).unwrap();
             let m = sim.model();
             let mass = 1.0 / m.inv_mass[0];
