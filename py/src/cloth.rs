@@ -571,6 +571,14 @@ impl PySim {
         array(py, &[l.len()], l.to_vec())
     }
 
+    /// Reaction forces of the rollers in the last step (N along each roller's normal, in
+    /// the order they were added), the same for every method that supports rollers.
+    #[getter]
+    fn roller_forces<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
+        let l = self.inner.roller_forces();
+        array(py, &[l.len()], l.to_vec())
+    }
+
     /// Steps taken.
     #[getter]
     fn n_steps(&self) -> u64 {

@@ -204,3 +204,25 @@ def test_friction_on_an_incline_matches_coulomb():
     a = 9.81 * (np.sin(theta) - 0.1 * np.cos(theta))
     assert slid[0.1] == pytest.approx(a * H * H * 60 * 61 / 2, rel=1e-9)
     assert abs(slid[0.5]) < 1e-12
+
+
+def test_roller_forces_carry_a_chain_resting_on_a_ramp():
+    # Three 0.2 kg particles linked in a row along x, lying on rollers on the plane through
+    # the x axis tilted by 0.3 rad: each reaction is m g cos(0.3) for every roller method.
+    t = 0.3
+    pos = [[0.1 * i, 0.0, 0.0] for i in range(3)]
+    for method in ("soft", "ie_cg", "ie_direct"):
+        m = cloth.particles(pos, [0.2] * 3)
+        for i in range(2):
+            m.add_link(i, i + 1, 300.0)
+        for i in range(3):
+            m.add_roller(i, (0.0, np.cos(t), np.sin(t)), 0.0)
+        sim = cloth.Sim(m, method=method)
+        sim.step(H, 20)
+        assert sim.roller_forces == pytest.approx([0.2 * 9.81 * np.cos(t)] * 3, rel=1e-6)
+        assert np.allclose(sim.multipliers[-3:], sim.roller_forces)
+    # A particle off its plane is refused by the velocity-filter methods, by name.
+    m = cloth.particles(pos, [0.2] * 3)
+    m.add_roller(1, (0.0, 1.0, 0.0), 0.05)
+    with pytest.raises(ValueError, match="particle 1"):
+        cloth.Sim(m, method="ie_cg").step(H)

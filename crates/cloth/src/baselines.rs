@@ -70,6 +70,7 @@ pub(crate) fn implicit_euler_linearised(
     solve: LinearSolve,
 ) -> Result<Stepped> {
     require_soft(m, "implicit Euler")?;
+    crate::system::require_on_rollers(m)?;
     let n = m.len();
     let filters = filters(m);
     let (x0, v0, g) = (m.xs(), m.vs(), m.g());

@@ -332,6 +332,17 @@ impl Simulation {
         &self.lambda
     }
 
+    /// The rollers' reaction forces of the last step (N, along each roller's unit normal, in
+    /// the order the rollers were added): the rollers' rows of [`Simulation::multipliers`].
+    /// The soft projection's multiplier of a roller is its force (the position correction
+    /// is `h^2 w n lambda`, paper section 5); the linearised implicit Euler steps, which
+    /// enforce rollers by velocity filters, report the constraint force of the step,
+    /// `n . (m (v1 - v0) / h - m g - f(x1))`, split over the particle's rollers. At rest
+    /// the reactions balance gravity and the elastic forces.
+    pub fn roller_forces(&self) -> &[f64] {
+        &self.lambda[self.lambda.len() - self.model.rollers.len()..]
+    }
+
     /// Sets the obstacles and self-collision handling (the projection integrators, soft and
     /// plain PBD, solve contacts in their iteration loop).
     ///
@@ -432,6 +443,16 @@ impl Simulation {
                 "the simulation diverged at step {} (non-finite state); state left unchanged",
                 self.steps
             )));
+        }
+        let mut lambda = lambda;
+        if matches!(
+            self.cfg.method,
+            Method::ImplicitEulerCg { .. } | Method::ImplicitEulerDirect
+        ) {
+            // The velocity filters enforce the rollers without multipliers: their rows get
+            // the constraint force of the step.
+            let r0 = lambda.len() - self.model.rollers.len();
+            crate::system::roller_reactions(&self.model, &x, &v, h, &mut lambda[r0..]);
         }
         self.model.x = into_arrays(x);
         self.model.v = into_arrays(v);

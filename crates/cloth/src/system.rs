@@ -5,7 +5,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 use wscg_math::sparse::{CsrMatrix, LinOp};
-use wscg_math::Result;
+use wscg_math::{Error, Result};
 
 use crate::collision::StepContacts;
 use crate::model::ClothModel;
@@ -105,6 +105,69 @@ pub(crate) fn inertial_target_v(m: &ClothModel, h: f64) -> Vec<V3> {
             x[q] + (v[q] + g * h) * h
         })
         .collect()
+}
+
+/// The rollers' reaction forces (N, along their normals) of a step from the model's state to
+/// `(x, v)` over `h`: the constraint force `m (v - v0) / h - m g - f(x)` of each particle on
+/// rollers, split over its rollers' normals (least squares, `(N' N) l = N' F`), into `out`
+/// (one entry per roller).
+pub(crate) fn roller_reactions(m: &ClothModel, x: &[V3], v: &[V3], h: f64, out: &mut [f64]) {
+    let f = elastic_forces_v(m, x);
+    let (v0, g) = (m.vs(), m.g());
+    let mut done = vec![false; m.rollers.len()];
+    for (k, r) in m.rollers.iter().enumerate() {
+        if done[k] {
+            continue;
+        }
+        let p = r.p;
+        let w = m.inv_mass[p];
+        let rows: Vec<usize> = (k..m.rollers.len())
+            .filter(|&j| m.rollers[j].p == p)
+            .collect();
+        if w <= 0.0 {
+            for &j in &rows {
+                out[j] = 0.0;
+                done[j] = true;
+            }
+            continue;
+        }
+        let fc = (v[p] - v0[p]) / (h * w) - g / w - f[p];
+        let nrm = nalgebra::DMatrix::from_fn(3, rows.len(), |i, c| m.rollers[rows[c]].normal[i]);
+        let a = nrm.transpose() * &nrm;
+        let b = nrm.transpose() * nalgebra::DVector::from_column_slice(fc.as_slice());
+        let l = a
+            .clone()
+            .cholesky()
+            .map(|c| c.solve(&b))
+            .or_else(|| a.pseudo_inverse(1e-12).ok().map(|pi| pi * &b))
+            .unwrap_or_else(|| nalgebra::DVector::zeros(rows.len()));
+        for (c, &j) in rows.iter().enumerate() {
+            out[j] = l[c];
+            done[j] = true;
+        }
+    }
+}
+
+/// Refuses a particle on rollers that does not lie on a roller's plane: the velocity filters
+/// keep a particle where it starts. Errors name the particle and its distance to the plane.
+pub(crate) fn require_on_rollers(m: &ClothModel) -> Result<()> {
+    for r in &m.rollers {
+        let x = V3::from(m.x[r.p]);
+        let d = V3::from(r.normal).dot(&x) - r.offset;
+        let tol = 1e-9 * (1.0 + x.norm() + r.offset.abs());
+        if m.inv_mass[r.p] > 0.0 && d.abs() > tol {
+            return Err(Error::invalid(
+                "rollers",
+                format!(
+                    "particle {} lies {d:.3e} off its roller plane (normal {:?}, offset {}); \
+                     this method keeps particles on rollers by velocity filters, so they must \
+                     start on their planes",
+                    r.p, r.normal, r.offset
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Per-particle velocity filters of Baraff and Witkin (1998): the identity for a free

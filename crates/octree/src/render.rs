@@ -338,9 +338,10 @@ impl RenderStats {
     }
 }
 
-/// Shades one primary hit: Phong with one shadow ray offset from the surface (by a voxel's
-/// 1.5 sides for voxel hits, against voxel self-shadowing), and the optional ambient
-/// occlusion.
+/// Shades one primary hit: Phong with one shadow ray offset from the surface (by 1.5 sides of
+/// the voxel hit, or for a triangle hit in the hybrid mode of the largest voxel the shadow
+/// ray may stop at, against self-shadowing by the surface's own voxels), and the optional
+/// ambient occlusion.
 #[allow(clippy::too_many_arguments)]
 fn shade(
     oct: &HybridOctree,
@@ -362,15 +363,31 @@ fn shade(
     let l = to_l.map(|x| x / dist.max(1e-20));
     let ndl = dot(n, l);
     let c = hit.color;
-    let offset = match hit.kind {
-        HitKind::Voxel { level, .. } => 1.5 * oct.cube.size as f32 / (1u32 << level) as f32,
-        HitKind::Triangle { .. } => 1e-4 * oct.cube.size as f32,
-    };
-    let origin: [f32; 3] = std::array::from_fn(|k| p[k] + offset * n[k]);
     let sfp = Footprint {
         width0: fp.width0 + fp.spread * hit.t,
         spread: fp.spread,
     };
+    let offset = match hit.kind {
+        HitKind::Voxel { level, .. } => 1.5 * oct.cube.size as f32 / (1u32 << level) as f32,
+        // A secondary ray from a triangle may stop at the voxels of the same surface, as
+        // large as the footprint it is traced at allows (`v_w <= lod_scale * w`, paper
+        // section 4): it leaves them first, as from a voxel hit.
+        HitKind::Triangle { .. } => {
+            let vw = match *mode {
+                TraceMode::Hybrid { lod_scale, .. } => {
+                    let max = lod_scale * sfp.width0;
+                    // The side of the largest cell no larger than the footprint.
+                    (0..=oct.max_depth)
+                        .map(|l| oct.cube.cell_size(l) as f32)
+                        .find(|&w| w <= max)
+                        .unwrap_or(0.0)
+                }
+                _ => 0.0,
+            };
+            (1.5 * vw).max(1e-4 * oct.cube.size as f32)
+        }
+    };
+    let origin: [f32; 3] = std::array::from_fn(|k| p[k] + offset * n[k]);
     let ao = if s.ao_samples > 0 {
         ambient_occlusion(oct, origin, n, mode, sfp, s, seed)
     } else {

@@ -963,3 +963,110 @@ fn lamp_directions_are_uniform_in_the_disc() {
     );
     assert!(side.norm() / (n as f64) < 1e-4);
 }
+
+/// Unpolarised Fresnel reflectance of a smooth interface from index `n1` into `n2` at the
+/// incidence cosine `c` (1 beyond the critical angle), written out here independently of
+/// the renderer.
+fn fresnel_exact(c: f64, n1: f64, n2: f64) -> f64 {
+    let sin_t = n1 / n2 * (1.0 - c * c).max(0.0).sqrt();
+    if sin_t >= 1.0 {
+        return 1.0;
+    }
+    let ct = (1.0 - sin_t * sin_t).sqrt();
+    let rs = (n1 * c - n2 * ct) / (n1 * c + n2 * ct);
+    let rp = (n2 * c - n1 * ct) / (n2 * c + n1 * ct);
+    0.5 * (rs * rs + rp * rp)
+}
+
+/// Hemispherical (diffuse) reflectance `int_0^1 F(mu) 2 mu dmu` of the interface from `n1`
+/// into `n2`: composite Simpson's rule on each side of the critical angle.
+fn diffuse_fresnel(n1: f64, n2: f64) -> f64 {
+    let mu_c = if n1 > n2 {
+        (1.0 - (n2 / n1).powi(2)).sqrt()
+    } else {
+        0.0
+    };
+    let m = 20_000;
+    let h = (1.0 - mu_c) / m as f64;
+    let f = |mu: f64| fresnel_exact(mu, n1, n2) * 2.0 * mu;
+    let simpson: f64 = (0..=m)
+        .map(|i| {
+            let w = if i == 0 || i == m {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            w * f(mu_c + i as f64 * h)
+        })
+        .sum::<f64>()
+        * h
+        / 3.0;
+    mu_c * mu_c + simpson
+}
+
+#[test]
+fn diffuse_base_under_a_smooth_coat_keeps_its_energy() {
+    // A Lambertian base of albedo a under a smooth dielectric of index n, seen at the
+    // cosine mu_o and lit at mu_i, has the reflectance factor (Saunderson's correction)
+    //   (1 - F(mu_i)) (1 - F(mu_o)) a / (n^2 (1 - a F_dr,in)),
+    // with F_dr,in the inside hemispherical reflectance, 1 - (1 - F_dr,out) / n^2 by
+    // reciprocity; integrated over the outgoing directions it gives back
+    // (1 - F(mu_i)) a (1 - F_dr,in) / (1 - a F_dr,in): 1 - F(mu_i) for a white base.
+    for n in [1.3, 1.5, 1.8] {
+        let inside = diffuse_fresnel(n, 1.0);
+        let outside = diffuse_fresnel(1.0, n);
+        assert!((inside - (1.0 - (1.0 - outside) / (n * n))).abs() < 1e-6);
+    }
+    let rig = StereoRig::default();
+    let light = DiscLight::from_elevation(35.0, 0.5);
+    let mu_i = light.dir_to_light[2];
+    let (cx, cy) = (30.0, -20.0);
+    let mu_o =
+        rig.dist_m / (rig.dist_m.powi(2) + (cx * 1e-3f64).powi(2) + (cy * 1e-3f64).powi(2)).sqrt();
+    let s = PaintRenderParams::default()
+        .spp(4)
+        .seed(3)
+        .photons(None)
+        .region_mm(Some(Rect::centred(cx, cy, 1.0, 1.0)));
+    // (albedo, index, with a coat of the binder's index)
+    for (a, n, coated) in [
+        (1.0, 1.5, true),
+        (0.3, 1.3, false),
+        (0.8, 1.8, false),
+        (0.6, 1.6, true),
+        (1.0, 1.4, false),
+        (0.7, 1.0, false),
+    ] {
+        let stack = PlateStack {
+            coat: coated.then_some(Coat {
+                ior: n,
+                thickness_um: 25.0,
+            }),
+            binder_ior: n,
+            base_albedo: a,
+            ..PlateStack::default()
+        };
+        let plate = Plate::new(stack, Box::new(NoFlakes)).unwrap();
+        let y = render(&plate, &light, &rig, Eye::Cyclopean, &s)
+            .unwrap()
+            .mean_xyz()[1];
+        let f_in = diffuse_fresnel(n, 1.0);
+        let want = (1.0 - fresnel_exact(mu_i, 1.0, n)) * (1.0 - fresnel_exact(mu_o, 1.0, n)) * a
+            / (n * n * (1.0 - a * f_in));
+        eprintln!("albedo {a}, n {n}, coat {coated}: Y {y:.4}, analytic {want:.4}");
+        assert!(
+            (y / want - 1.0).abs() < 0.01,
+            "albedo {a}, n {n}: Y {y} vs analytic {want}"
+        );
+    }
+    // The fraction sent back down to the base, traced, is F_dr,in without flakes.
+    let plate = Plate::new(PlateStack::default(), Box::new(NoFlakes)).unwrap();
+    let rel = [plate.relative_index(550.0)];
+    let rho = base_return(&plate, &rel, [0.0, 0.0, 500.0, 500.0], 10_000, 1).unwrap();
+    let want = diffuse_fresnel(1.5, 1.0);
+    assert!((rho[0] - want).abs() < 2e-3, "{} vs {want}", rho[0]);
+    assert!(base_return(&plate, &rel, [0.0, 0.0, 0.0, 1.0], 100, 1).is_err());
+    assert!(base_return(&plate, &rel, [0.0, 0.0, 1.0, 1.0], 0, 1).is_err());
+}

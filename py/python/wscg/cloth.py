@@ -161,6 +161,15 @@ class Sim:
         return self._sim.multipliers
 
     @property
+    def roller_forces(self) -> np.ndarray:
+        """Reaction forces of the rollers in the last step (N along each roller's unit
+        normal, in the order they were added): the soft projection's multipliers, the
+        constraint force of the step for ``ie_cg`` and ``ie_direct`` (which enforce rollers
+        by velocity filters and refuse a particle off its roller plane, naming it). At rest
+        they balance gravity and the elastic forces."""
+        return self._sim.roller_forces
+
+    @property
     def n_steps(self) -> int:
         """Steps taken."""
         return self._sim.n_steps

@@ -21,7 +21,8 @@ every one has the paper's value or a documented default:
   paved with), ``max_clamped_fraction`` (0.05), ``seed`` (0);
 - layers: ``size_mm`` ((150, 100)), ``coat_ior`` (1.5; 1 for no coat), ``coat_um`` (40),
   ``binder_ior`` (1.5), ``binder_sigma_a_per_mm`` (0), ``base_albedo`` (0, the black
-  base), ``metal`` ('al_k6': aluminium with the paper's k = 6; 'al': Rakic's aluminium) or
+  base; a diffuse base's light reflected back down by the coat and the flakes is summed,
+  so that a white base under a clear coat renders near Y = 1), ``metal`` ('al_k6': aluminium with the paper's k = 6; 'al': Rakic's aluminium) or
   ``metal_nk=(n, k)``;
 - lamp: ``light_elevation_deg`` (45), ``light_deg`` (angular radius, 1), ``light_cct``
   (CIE daylight at 4700 K by default, the SOLUX lamp) or ``light_spectrum`` (81 values),

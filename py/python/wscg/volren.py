@@ -38,6 +38,12 @@ many renders. Test data: :func:`make_marschner_lobb`, the tissue labels
 of a ``.vti`` file (:func:`load_vti`, e.g. the frog shipped with pyvista) turned into a
 CT-like field by :func:`labels_to_density`, and their transfer functions.
 
+The volume's box bounds the light's propagation: the light buffer starts unattenuated at
+the box's front face and everything outside the box is empty, so light passes round an
+occluder that does not reach the box's sides and, with a blurring kernel, leaks in under
+its edges (a slab that stops short of the sides casts a shadow lit at its rim). Pad the
+volume with opaque (or occluding) voxels where the surroundings should block the light.
+
 Paper-15 conventions (``py/API.md``): volumes are ``uint8``, ``uint16`` or ``float32`` arrays
 indexed ``[z, y, x]`` with a physical ``spacing`` ``(dz, dy, dx)`` in array axis order (as
 in :mod:`wscg.math`, :mod:`wscg.volseg` and :mod:`wscg.isosurface`). World points

@@ -20,7 +20,7 @@ pub use layers::{Coat, DiscLight, PlateStack};
 pub use observer::{
     binocular_overlap, features, glint_stats, Condition, GlintStats, VirtualObserver,
 };
-pub use photons::{trace_photons, Photon, PhotonMap, PhotonParams};
+pub use photons::{base_return, trace_photons, Photon, PhotonMap, PhotonParams, BASE_RETURN_RAYS};
 pub use plate::{FlakePlate, PlacedFlake};
 pub use render::{
     render, render_with_progress, ColourMode, FlakeHit, Microstructure, NoFlakes,

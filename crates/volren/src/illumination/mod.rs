@@ -17,6 +17,12 @@
 //!
 //! Only `O(W H)` buffers are allocated besides the volume: there is no 3-D illumination
 //! volume (the paper's premise).
+//!
+//! The volume's box bounds the light's propagation: the light buffer starts unattenuated at
+//! the box's front face and the outside of the box is empty, so light passes round an
+//! occluder that does not reach the box's sides and, with a blurring kernel, leaks in under
+//! its edges. Pad the volume with occluding voxels where the surroundings should block the
+//! light.
 
 mod bricks;
 pub mod camera;

@@ -76,7 +76,8 @@ pub struct PlateArgs {
     #[arg(long, default_value_t = 0.0)]
     absorption: f64,
     /// Lambertian albedo of the base (0: the paper's black base); a diffuse base also gets
-    /// the flakes' caustics from a photon map.
+    /// the flakes' caustics from a photon map, and the light it sends up that the coat and
+    /// the flakes reflect back down (a white base under a clear coat renders near Y = 1).
     #[arg(long, default_value_t = 0.0)]
     base_albedo: f64,
     /// Photons for the caustics on a diffuse base (0: leave the caustics out).

@@ -31,7 +31,9 @@ pub enum VolrenCommand {
     /// Render the hybrid image of a ROI (from a server, or from a local volume).
     RoiView(ViewArgs),
     /// Render with convolution-based volume illumination (paper 15: ICS, SCS, PI-ICS,
-    /// PI-SCS and ray-casting baselines), or run the slice-distance study.
+    /// PI-SCS and ray-casting baselines), or run the slice-distance study. The volume's box
+    /// bounds the light: outside it is empty, so light passes round an occluder that does not
+    /// reach the box's sides (pad the volume with occluding voxels to block it).
     Illum(illum::IllumArgs),
 }
 
