@@ -7,7 +7,7 @@ __all__ = ["render_kernel", "kernel_grid", "blurriness", "deconv_krishnan",
            "deconv_krishnan_multi", "wiener", "richardson_lucy", "convolve",
            "deblur_piecewise", "deblur_multiframe", "rectify_rolling_shutter",
            "phase_correlation", "estimate_time_delay", "w_step", "make_gyro", "add_gyro_noise",
-           "render_blurred", "make_scene", "METHODS", "MultiframeDeblur"]
+           "render_blurred", "make_scene", "METHODS", "MultiframeDeblur", "estimate_noise"]
 
 _Lam = Union[float, Literal["auto"]]
 

@@ -17,7 +17,7 @@ __all__ = ["mse", "rmse", "psnr", "ssim", "dice", "gaussian_filter", "box_filter
            "waverec2", "cg", "solve_cg", "laplacian_3d", "eigh", "eigh_generalized", "svd",
            "lstsq", "normal", "uniform", "permutation", "load_image", "save_image",
            "load_volume", "save_volume", "load_raw_volume", "load_mesh", "save_mesh", "CgInfo",
-           "Mesh"]
+           "Mesh", "VolumeFile"]
 
 @dataclass(frozen=True)
 class CgInfo:
