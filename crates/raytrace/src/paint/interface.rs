@@ -12,6 +12,17 @@ pub(crate) fn reflect(d: &Vector3<f64>, n: &Vector3<f64>) -> Vector3<f64> {
     d - n * (2.0 * d.dot(n))
 }
 
+/// The ray parameter at which a ray at height `z` in the binder `[0, t_bind]`, with vertical
+/// direction component `dz`, leaves it: through the base (`z = 0`) going down, through the
+/// binder's top going up.
+pub(crate) fn binder_exit(z: f64, dz: f64, t_bind: f64) -> f64 {
+    if dz < 0.0 {
+        z / -dz
+    } else {
+        (t_bind - z) / dz
+    }
+}
+
 /// Refraction through the horizontal interface: `d` crosses from index `n1` to `n2`; the
 /// horizontal components scale by `n1 / n2` (Snell). `None` under total internal reflection.
 pub(crate) fn refract_horizontal(d: &Vector3<f64>, n1: f64, n2: f64) -> Option<Vector3<f64>> {

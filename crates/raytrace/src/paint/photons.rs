@@ -21,7 +21,7 @@ use rayon::prelude::*;
 use wscg_math::knn::KdTree;
 use wscg_math::{Error, Result};
 
-use super::interface::{cross_interface, reflect, refract_horizontal, Crossing};
+use super::interface::{binder_exit, cross_interface, reflect, refract_horizontal, Crossing};
 use super::layers::DiscLight;
 use super::microstructure::Plate;
 use crate::spectral::{fresnel_conductor, fresnel_dielectric};
@@ -283,11 +283,7 @@ fn follow(
             }
             continue;
         }
-        let t_exit = if dir.z < 0.0 {
-            pos.z / -dir.z
-        } else {
-            (t_bind - pos.z) / dir.z
-        };
+        let t_exit = binder_exit(pos.z, dir.z, t_bind);
         if let Some(h) = plate.hit(pos.into(), dir.into(), t_exit) {
             let normal = Vector3::from(h.normal);
             pos += dir * h.t;
@@ -437,11 +433,7 @@ fn follow_up(
             }
             continue;
         }
-        let t_exit = if dir.z < 0.0 {
-            pos.z / -dir.z
-        } else {
-            (t_bind - pos.z) / dir.z
-        };
+        let t_exit = binder_exit(pos.z, dir.z, t_bind);
         if let Some(hit) = plate.hit(pos.into(), dir.into(), t_exit) {
             let normal = Vector3::from(hit.normal);
             pos += dir * hit.t;

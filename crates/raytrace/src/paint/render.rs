@@ -29,7 +29,7 @@ use wscg_math::image::Image;
 use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::{Error, Result};
 
-use super::interface::{cross_interface, reflect, refract_horizontal, Crossing};
+use super::interface::{binder_exit, cross_interface, reflect, refract_horizontal, Crossing};
 use super::layers::DiscLight;
 pub use super::microstructure::{FlakeHit, Microstructure, NoFlakes, Plate};
 use super::photons::{base_return, trace_photons, PhotonMap, PhotonParams, BASE_RETURN_RAYS};
@@ -464,11 +464,7 @@ impl Ctx<'_> {
                 continue;
             } else {
                 // In the binder: the nearest flake, else the base or the binder's top.
-                let t_exit = if dir.z < 0.0 {
-                    pos.z / -dir.z
-                } else {
-                    (t_bind - pos.z) / dir.z
-                };
+                let t_exit = binder_exit(pos.z, dir.z, t_bind);
                 match self.plate.hit(pos.into(), dir.into(), t_exit) {
                     Some(h) => {
                         let normal = Vector3::from(h.normal);
