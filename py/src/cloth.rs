@@ -50,6 +50,23 @@ impl PyModel {
         }
         Ok(p)
     }
+
+    /// Replaces the per-particle field that `field` selects by argument `name`; on a model
+    /// that `validate` refuses, the old values are put back and the error raised.
+    fn set_per_particle(
+        &mut self,
+        name: &str,
+        obj: &Bound<'_, PyAny>,
+        field: impl Fn(&mut ClothModel) -> &mut Vec<[f64; 3]>,
+    ) -> PyResult<()> {
+        let new = self.per_particle(name, obj)?;
+        let old = std::mem::replace(field(&mut self.inner), new);
+        if let Err(e) = self.inner.validate() {
+            *field(&mut self.inner) = old;
+            return Err::<(), _>(e).py_err();
+        }
+        Ok(())
+    }
 }
 
 /// A cloth: particles and constraints.
@@ -75,23 +92,13 @@ impl PyModel {
 
     /// Sets the velocities `(n, 3)` (m/s; any real array-like).
     fn set_velocities(&mut self, velocities: &Bound<'_, PyAny>) -> PyResult<()> {
-        let v = self.per_particle("velocities", velocities)?;
-        let mut m = self.inner.clone();
-        m.v = v;
-        m.validate().py_err()?;
-        self.inner = m;
-        Ok(())
+        self.set_per_particle("velocities", velocities, |m| &mut m.v)
     }
 
     /// Sets the positions `(n, 3)` (m; any real array-like), for instance a pre-stretched
     /// start; the constraints keep their rest lengths and areas.
     fn set_positions(&mut self, positions: &Bound<'_, PyAny>) -> PyResult<()> {
-        let x = self.per_particle("positions", positions)?;
-        let mut m = self.inner.clone();
-        m.x = x;
-        m.validate().py_err()?;
-        self.inner = m;
-        Ok(())
+        self.set_per_particle("positions", positions, |m| &mut m.x)
     }
 
     /// Inverse masses `(n,)` (0 for pinned particles).

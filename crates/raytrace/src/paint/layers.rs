@@ -114,6 +114,36 @@ impl PlateStack {
     pub fn top_um(&self) -> f64 {
         self.binder_um + self.coat.map_or(0.0, |c| c.thickness_um)
     }
+
+    /// The indices and heights that the ray walkers (camera chains, photons, the base's
+    /// return) step through.
+    pub(crate) fn walk(&self) -> Walk {
+        let coat = self.coat.map_or(0.0, |c| c.thickness_um);
+        Walk {
+            n_top: self.top_ior(),
+            nb: self.binder_ior,
+            t_bind: self.binder_um,
+            coat,
+            z_top: self.binder_um + coat,
+            sigma: self.binder_sigma_a_per_mm * 1e-3,
+        }
+    }
+}
+
+/// [`PlateStack::walk`]: the stack as a ray walker sees it (lengths in µm).
+pub(crate) struct Walk {
+    /// Index under the top surface (the coat's, else the binder's).
+    pub n_top: f64,
+    /// The binder's index.
+    pub nb: f64,
+    /// The binder's thickness: the height of the binder's top above the base.
+    pub t_bind: f64,
+    /// The coat's thickness (0 without a coat).
+    pub coat: f64,
+    /// Height of the top surface above the base.
+    pub z_top: f64,
+    /// The binder's absorption coefficient per µm.
+    pub sigma: f64,
 }
 
 /// A lamp of angular radius `angular_radius_deg` seen from the plate, of constant radiance

@@ -22,7 +22,7 @@ use wscg_math::knn::KdTree;
 use wscg_math::{Error, Result};
 
 use super::interface::{binder_exit, cross_interface, reflect, refract_horizontal, Crossing};
-use super::layers::DiscLight;
+use super::layers::{DiscLight, Walk};
 use super::microstructure::Plate;
 use crate::spectral::{fresnel_conductor, fresnel_dielectric};
 
@@ -249,13 +249,14 @@ fn follow(
     flux: f64,
     rng: &mut impl Rng,
 ) -> Option<Photon> {
-    let st = &plate.stack;
-    let n_top = st.top_ior();
-    let nb = st.binder_ior;
-    let t_bind = st.binder_um;
-    let coat = st.coat.map_or(0.0, |c| c.thickness_um);
-    let z_top = t_bind + coat;
-    let sigma = st.binder_sigma_a_per_mm * 1e-3;
+    let Walk {
+        n_top,
+        nb,
+        t_bind,
+        coat,
+        z_top,
+        sigma,
+    } = plate.stack.walk();
     let mut ph = Photon {
         x,
         y,
@@ -399,13 +400,14 @@ fn follow_up(
     mut dir: Vector3<f64>,
     rng: &mut impl Rng,
 ) -> Option<(f64, [f64; RETURN_FLAKES], usize)> {
-    let st = &plate.stack;
-    let n_top = st.top_ior();
-    let nb = st.binder_ior;
-    let t_bind = st.binder_um;
-    let coat = st.coat.map_or(0.0, |c| c.thickness_um);
-    let z_top = t_bind + coat;
-    let sigma = st.binder_sigma_a_per_mm * 1e-3;
+    let Walk {
+        n_top,
+        nb,
+        t_bind,
+        coat,
+        z_top,
+        sigma,
+    } = plate.stack.walk();
     let mut pos = Vector3::new(x, y, 0.0);
     let mut w = 1.0;
     let mut cosines = [0.0; RETURN_FLAKES];

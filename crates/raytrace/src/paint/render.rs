@@ -30,7 +30,7 @@ use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::{Error, Result};
 
 use super::interface::{binder_exit, cross_interface, reflect, refract_horizontal, Crossing};
-use super::layers::DiscLight;
+use super::layers::{DiscLight, Walk};
 pub use super::microstructure::{FlakeHit, Microstructure, NoFlakes, Plate};
 use super::photons::{base_return, trace_photons, PhotonMap, PhotonParams, BASE_RETURN_RAYS};
 use crate::spectral::{
@@ -403,12 +403,14 @@ impl Ctx<'_> {
             bounces: 0,
             events: 0,
         };
-        let n_top = st.top_ior();
-        let nb = st.binder_ior;
-        let coat = st.coat.map_or(0.0, |c| c.thickness_um);
-        let t_bind = st.binder_um;
-        let z_top = t_bind + coat;
-        let sigma = st.binder_sigma_a_per_mm * 1e-3;
+        let Walk {
+            n_top,
+            nb,
+            t_bind,
+            coat,
+            z_top,
+            sigma,
+        } = st.walk();
         // Top surface: specular reflection of the lamp, then refraction into the plate.
         let cos_i = -d.z;
         let f = if n_top > 1.0 {
