@@ -11,7 +11,7 @@ use wscg_cs_mri::sflct::{Redundancy, Sflct, SflctParams};
 use wscg_cs_mri::sparsifier::PriorParams;
 use wscg_cs_mri::{
     csalsa, masks, metrics, phantom, sparsifier, CsalsaParams, Fdct, FdctParams, Finest, IterStat,
-    KSpace, Reconstruction, Regularizer, Udct, UdctParams,
+    KSpace, Reconstruction, Regularizer, ScaleChoiceParams, Udct, UdctParams,
 };
 use wscg_math::progress::NoProgress;
 use wscg_math::ImageView;
@@ -513,6 +513,75 @@ fn recon_out<'py>(
     Ok((array(py, &[r.shape.0, r.shape.1], r.image)?, h))
 }
 
+/// The C-SALSA regulariser named by `reg`.
+fn regularizer(reg: &str, tv_n_iter: usize, shrink_lowpass: bool) -> PyResult<Regularizer> {
+    match reg {
+        "l1" => Ok(Regularizer::L1 { shrink_lowpass }),
+        "tv" => Ok(Regularizer::Tv {
+            inner_iters: tv_n_iter,
+        }),
+        other => Err(value_error(format!(
+            "{other:?} is not a valid reg. Valid regularisers are 'l1', 'tv'"
+        ))),
+    }
+}
+
+/// Hold-out choice of the number of UDCT scales (`wscg_cs_mri::choose_udct_scales`):
+/// returns `(scales, held_out, [(candidate, fold_errors), ...])`.
+#[pyfunction]
+#[pyo3(signature = (kspace, mask, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedge, alpha, tv_n_iter, shrink_lowpass, candidates, folds, holdout, seed))]
+#[allow(clippy::too_many_arguments)]
+#[allow(clippy::type_complexity)]
+fn choose_udct_scales(
+    py: Python<'_>,
+    kspace: PyReadonlyArrayDyn<Complex64>,
+    mask: PyReadonlyArrayDyn<bool>,
+    reg: &str,
+    epsilon: f64,
+    max_iter: usize,
+    tau0: f64,
+    rho: f64,
+    tau_cap: f64,
+    tol: f64,
+    wedge: [usize; 2],
+    alpha: f64,
+    tv_n_iter: usize,
+    shrink_lowpass: bool,
+    candidates: Vec<usize>,
+    folds: usize,
+    holdout: f64,
+    seed: u64,
+) -> PyResult<(usize, usize, Vec<(usize, Vec<f64>)>)> {
+    let data = kspace_in(&kspace, &mask)?;
+    let regularizer = regularizer(reg, tv_n_iter, shrink_lowpass)?;
+    let p = CsalsaParams::default()
+        .max_iter(max_iter)
+        .tau0(tau0)
+        .rho(rho)
+        .tau_cap(tau_cap)
+        .epsilon(epsilon)
+        .tol(tol);
+    let c = ScaleChoiceParams::default()
+        .candidates(candidates)
+        .folds(folds)
+        .holdout(holdout)
+        .seed(seed);
+    let udct = config(vec![wedge], alpha, true);
+    let choice = crate::pool::detach(py, || {
+        wscg_cs_mri::choose_udct_scales(&data, regularizer, &p, &udct, &c)
+    })
+    .py_err()?;
+    Ok((
+        choice.scales,
+        choice.held_out,
+        choice
+            .scores
+            .into_iter()
+            .map(|s| (s.scales, s.fold_errors))
+            .collect(),
+    ))
+}
+
 #[pyfunction]
 #[pyo3(signature = (kspace, mask, prior, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedges, alpha, levels, tv_n_iter, shrink_lowpass, reference, record_history, fdct = None, sflct_levels = None))]
 #[allow(clippy::too_many_arguments)]
@@ -541,17 +610,7 @@ fn reconstruct<'py>(
     let data = kspace_in(&kspace, &mask)?;
     let (r, c) = data.shape();
     let reference = reference_in(&reference, (r, c))?;
-    let regularizer = match reg {
-        "l1" => Regularizer::L1 { shrink_lowpass },
-        "tv" => Regularizer::Tv {
-            inner_iters: tv_n_iter,
-        },
-        other => {
-            return Err(value_error(format!(
-                "{other:?} is not a valid reg. Valid regularisers are 'l1', 'tv'"
-            )))
-        }
-    };
+    let regularizer = regularizer(reg, tv_n_iter, shrink_lowpass)?;
     let p = CsalsaParams::default()
         .max_iter(max_iter)
         .tau0(tau0)
@@ -763,6 +822,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySflct>()?;
     m.add_function(wrap_pyfunction!(tuned_tau0, m)?)?;
     m.add_function(wrap_pyfunction!(reconstruct, m)?)?;
+    m.add_function(wrap_pyfunction!(choose_udct_scales, m)?)?;
     m.add_function(wrap_pyfunction!(composite, m)?)?;
     m.add_function(wrap_pyfunction!(tv_constrained, m)?)?;
     m.add_function(wrap_pyfunction!(mask_cartesian, m)?)?;

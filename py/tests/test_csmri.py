@@ -156,7 +156,8 @@ def test_headline_reconstruction_and_data_consistency():
     m = csmri.mask_cartesian((n, n), 0.4, seed=1)
     assert abs(m.mean() - 0.4) < 0.01 and m[0].all()
     zf = csmri.zero_filled(k, m)
-    x, hist = csmri.reconstruct(k, m, reference=ref, return_history=True)
+    # The paper's setting: one scale of 6 x 6 wedges.
+    x, hist = csmri.reconstruct(k, m, wedges=[[6, 6]], reference=ref, return_history=True)
     assert csmri.psnr(ref, x) >= csmri.psnr(ref, zf) + 10
     assert csmri.rlne(ref, x) <= 0.05
     assert len(hist.mse) == 70 and hist.n_iter == 70
@@ -243,7 +244,7 @@ def test_udcsmri_tv_is_not_worse_than_the_composite_baselines(camera):
                          "FCSA 33.80 dB; see the issue note")
 def test_one_scale_udct_l1_is_not_worse_than_db4_and_the_baselines(camera):
     k, m, img = _camera_case(camera)
-    pu = csmri.psnr(img, csmri.reconstruct(k, m, tau0=TUNED["udct"]))
+    pu = csmri.psnr(img, csmri.reconstruct(k, m, wedges=[[6, 6]], tau0=TUNED["udct"]))
     assert pu >= csmri.psnr(img, csmri.reconstruct(k, m, prior="db4", tau0=TUNED["db4"]))
     for name, f in [("fcsa", csmri.fcsa), ("tvcmri", csmri.tvcmri), ("watmri", csmri.watmri)]:
         a, b = TUNED[name]

@@ -29,6 +29,8 @@
 //! - [`masks`]: variable-density Cartesian and pseudo-radial masks (paper Fig. 2).
 //! - [`phantom`]: analytic Shepp-Logan k-space, complex-phase images, the rhombic lattice.
 //! - [`metrics`]: PSNR and RLNE as the paper reports them.
+//! - [`scale_choice`]: the number of UDCT scales chosen from the data by hold-out validation
+//!   (beyond the paper, which fixes it per image class).
 //!
 //! k-space is un-shifted (DC at index 0) and scaled by the unitary FFT.
 //!
@@ -55,6 +57,7 @@ pub mod masks;
 pub mod metrics;
 pub mod phantom;
 pub mod prox;
+pub mod scale_choice;
 pub mod sflct;
 pub mod sparsifier;
 pub mod tv;
@@ -65,6 +68,7 @@ pub use csalsa::{csalsa, reconstruct, CsalsaParams, IterStat, Reconstruction, Re
 pub use fdct::{Fdct, FdctBand, FdctParams, Finest};
 pub use fourier::Fourier;
 pub use kspace::{noise_epsilon, KSpace};
+pub use scale_choice::{choose_udct_scales, ScaleChoice, ScaleChoiceParams, ScaleScore};
 pub use sflct::{Redundancy, Sflct, SflctBand, SflctParams};
 pub use sparsifier::{
     CoeffVec, FdctSparsifier, IdentitySparsifier, SflctSparsifier, Sparsifier, UdctSparsifier,

@@ -56,7 +56,7 @@ __all__ = [
     "simulate", "mask_cartesian", "mask_pseudo_radial", "make_shepp_logan_kspace",
     "make_shepp_logan_reference", "make_shepp_logan_image", "with_smooth_phase",
     "make_diamond_lattice",
-    "psnr", "rlne", "noise_epsilon", "ReconstructionHistory",
+    "psnr", "rlne", "noise_epsilon", "ReconstructionHistory", "ScaleChoice", "choose_scales",
 ]
 
 
@@ -89,6 +89,32 @@ class ReconstructionHistory:
     residual: np.ndarray
     objective: np.ndarray
     mse: Optional[np.ndarray] = None
+
+
+@_result
+class ScaleChoice:
+    """The number of UDCT scales chosen by :func:`choose_scales` and how each candidate scored.
+
+    Attributes
+    ----------
+    scales : int
+        The chosen number of scales ``J`` (the UDCT's ``wedges`` is ``[[6, 6]] * J`` with the
+        default wedge counts).
+    candidates : tuple of int
+        The candidates scored, in the order given (those the image size allows).
+    scores : float64 array (len(candidates), folds)
+        Weighted squared hold-out error of each candidate on each fold, in k-space units
+        squared: an estimate of the squared error over the unmeasured positions. The chosen
+        candidate has the smallest row sum.
+    held_out : int
+        Samples held out per fold (0 when no sample lies outside the fully sampled region:
+        then nothing is unmeasured there and the first possible candidate is returned).
+    """
+
+    scales: int
+    candidates: Tuple[int, ...]
+    scores: np.ndarray
+    held_out: int
 
 
 def _history(d) -> ReconstructionHistory:
@@ -402,7 +428,7 @@ class Sflct:
 
 def reconstruct(kspace, mask, prior: Union[str, "Fdct"] = "udct", reg: str = "l1", epsilon: float = 0.0,
                 max_iter: int = 70, tau0: Optional[float] = None, rho: float = 1.0,
-                tau_cap: float = 10.0, tol: float = 0.0, wedges=((6, 6),), alpha: float = 0.1,
+                tau_cap: float = 10.0, tol: float = 0.0, wedges="auto", alpha: float = 0.1,
                 levels: int = 4, tv_n_iter: int = 20, shrink_lowpass: bool = True,
                 reference=None, return_history: bool = False,
                 sflct_levels: Sequence[int] = (3, 3, 4)
@@ -438,7 +464,17 @@ def reconstruct(kspace, mask, prior: Union[str, "Fdct"] = "udct", reg: str = "l1
         lambda"; ``rho = 1`` is textbook C-SALSA).
     tol : float
         Stop early when the relative change of ``x`` falls below ``tol``.
-    wedges, alpha : UDCT configuration (see :class:`Udct`).
+    wedges : "auto" or list of [int, int]
+        UDCT wedges per scale (see :class:`Udct`). ``"auto"`` (default) chooses the number of
+        scales ``J`` among 1, 2 and 3 (those the size allows) with ``[6, 6]`` wedges each by
+        hold-out validation on the measured samples (:func:`choose_scales`, with the other
+        settings given here); it costs 9 extra reconstructions from 95 % of the samples,
+        about 10x the time of one reconstruction. The paper's brain-image setting is
+        ``wedges=[[6, 6]]`` (one scale); more scales suit natural images with smooth
+        regions and textures (measured: +1 to +2 dB on photographs), one scale suits images
+        whose energy sits in a few sharp harmonics. Used by ``prior="udct"`` only.
+    alpha : float
+        Angular overlap of the UDCT's wedges (see :class:`Udct`).
     levels : int
         Wavelet levels for the ``db`` priors.
     sflct_levels : sequence of int
@@ -477,6 +513,15 @@ def reconstruct(kspace, mask, prior: Union[str, "Fdct"] = "udct", reg: str = "l1
         fdct, prior = prior._config, "fdct"
     if tau0 is None:
         tau0 = _c.tuned_tau0(str(prior))
+    if isinstance(wedges, str):
+        if wedges != "auto":
+            raise ValueError(f"`wedges` must be 'auto' or a list of [n_rows, n_cols] pairs, got {wedges!r}")
+        wedges = [[6, 6]]
+        if str(prior) == "udct":
+            choice = choose_scales(k, m, reg=reg, epsilon=epsilon, max_iter=max_iter, tau0=tau0,
+                                   rho=rho, tau_cap=tau_cap, tol=tol, alpha=alpha,
+                                   tv_n_iter=tv_n_iter, shrink_lowpass=shrink_lowpass)
+            wedges = [[6, 6]] * choice.scales
     ref = None if reference is None else _complex2(reference, "reference")
     img, hist = _c.reconstruct(k, m, str(prior), str(reg), float(epsilon), int(max_iter),
                                float(tau0), float(rho), float(tau_cap), float(tol),
@@ -484,6 +529,68 @@ def reconstruct(kspace, mask, prior: Union[str, "Fdct"] = "udct", reg: str = "l1
                                bool(shrink_lowpass), ref, bool(return_history), fdct,
                                [int(v) for v in sflct_levels])
     return _with_history(img, hist, return_history)
+
+
+def choose_scales(kspace, mask, reg: str = "l1", epsilon: float = 0.0, max_iter: int = 70,
+                  tau0: float = 0.01, rho: float = 1.0, tau_cap: float = 10.0, tol: float = 0.0,
+                  wedge: Tuple[int, int] = (6, 6), alpha: float = 0.1, tv_n_iter: int = 20,
+                  shrink_lowpass: bool = True, candidates: Sequence[int] = (1, 2, 3),
+                  folds: int = 3, holdout: float = 0.05, seed: int = 0) -> ScaleChoice:
+    """Choose the number of UDCT scales for :func:`reconstruct` from the data alone.
+
+    Hold-out validation (beyond the paper, which fixes the scales per image class): ``folds``
+    disjoint sets of ``holdout`` times the number of samples are drawn from the sampled
+    positions outside the fully sampled rings of radial frequency; for each candidate ``J``
+    C-SALSA (UDCT prior with ``wedge`` wedges at every scale, the other settings as given)
+    reconstructs from the remaining samples, and the squared errors of its Fourier values at
+    the held-out positions, weighted by ``(1 - d) / d`` for the sampling density ``d`` of
+    their ring (an estimate of the error over the ring's unmeasured positions), are summed.
+    The candidate with the smallest sum wins. ``tau0`` is kept as given (scoring it jointly
+    was measured to prefer too small a threshold on piecewise-constant images).
+
+    Cost: ``folds x len(candidates)`` reconstructions (9 with the defaults).
+
+    Parameters
+    ----------
+    kspace : complex array (H, W)
+        Measured k-space, as for :func:`reconstruct`.
+    mask : bool array (H, W)
+        Sampled positions.
+    reg, epsilon, max_iter, tau0, rho, tau_cap, tol, alpha, tv_n_iter, shrink_lowpass
+        C-SALSA settings, as for :func:`reconstruct` (``tau0``: the UDCT's default 0.01).
+    wedge : (int, int)
+        Wedge counts of every scale.
+    candidates : sequence of int
+        Numbers of scales to score (each 1 to 8; those the size does not allow are skipped).
+    folds : int
+        Hold-out sets per candidate (1 to 20).
+    holdout : float
+        Fraction of the samples held out per fold, in (0, 0.5], ``folds * holdout <= 1``.
+    seed : int
+        Seed of the hold-out draw.
+
+    Returns
+    -------
+    ScaleChoice
+
+    Examples
+    --------
+    >>> from wscg import csmri
+    >>> k = csmri.make_shepp_logan_kspace(64)
+    >>> m = csmri.mask_cartesian((64, 64), 0.4, seed=1)
+    >>> csmri.choose_scales(k, m, max_iter=10, candidates=(1, 2)).scales in (1, 2)
+    True
+    """
+    k = _complex2(kspace, "kspace")
+    m = _mask(mask, k.shape)
+    w = _wedges([wedge])[0]
+    scales, held, rows = _c.choose_udct_scales(
+        k, m, str(reg), float(epsilon), int(max_iter), float(tau0), float(rho), float(tau_cap),
+        float(tol), w, float(alpha), int(tv_n_iter), bool(shrink_lowpass),
+        [int(j) for j in candidates], int(folds), float(holdout), int(seed))
+    return ScaleChoice(scales=int(scales), candidates=tuple(int(j) for j, _ in rows),
+                       scores=np.asarray([e for _, e in rows], dtype=np.float64).reshape(len(rows), -1),
+                       held_out=int(held))
 
 
 def _composite(method, kspace, mask, a, b, group_weight, mu_g, n_iter, tv_n_iter, order,

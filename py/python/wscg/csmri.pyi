@@ -7,7 +7,7 @@ __all__ = ["Udct", "Fdct", "Sflct", "reconstruct", "fcsa", "tvcmri", "watmri",
            "tv_constrained", "zero_filled", "simulate", "mask_cartesian", "mask_pseudo_radial",
            "make_shepp_logan_kspace", "make_shepp_logan_reference", "make_shepp_logan_image",
            "with_smooth_phase", "make_diamond_lattice", "psnr", "rlne", "noise_epsilon",
-           "ReconstructionHistory"]
+           "ReconstructionHistory", "ScaleChoice", "choose_scales"]
 
 @dataclass(frozen=True)
 class ReconstructionHistory:
@@ -17,6 +17,13 @@ class ReconstructionHistory:
     residual: np.ndarray
     objective: np.ndarray
     mse: Optional[np.ndarray] = None
+
+@dataclass(frozen=True)
+class ScaleChoice:
+    scales: int
+    candidates: Tuple[int, ...]
+    scores: np.ndarray
+    held_out: int
 
 class Udct:
     def __init__(self, shape: Tuple[int, int], wedges: Sequence[Sequence[int]] = ...,
@@ -63,11 +70,17 @@ class Sflct:
 def reconstruct(kspace: np.ndarray, mask: np.ndarray, prior: Union[str, Fdct] = ..., reg: str = ...,
                 epsilon: float = ..., max_iter: int = ..., tau0: Optional[float] = ...,
                 rho: float = ..., tau_cap: float = ..., tol: float = ...,
-                wedges: Sequence[Sequence[int]] = ..., alpha: float = ..., levels: int = ...,
+                wedges: Union[str, Sequence[Sequence[int]]] = ..., alpha: float = ..., levels: int = ...,
                 tv_n_iter: int = ..., shrink_lowpass: bool = ...,
                 reference: Optional[np.ndarray] = ...,
                 return_history: bool = ...,
                 sflct_levels: Sequence[int] = ...) -> Union[np.ndarray, Tuple[np.ndarray, ReconstructionHistory]]: ...
+def choose_scales(kspace: np.ndarray, mask: np.ndarray, reg: str = ..., epsilon: float = ...,
+                  max_iter: int = ..., tau0: float = ..., rho: float = ..., tau_cap: float = ...,
+                  tol: float = ..., wedge: Tuple[int, int] = ..., alpha: float = ...,
+                  tv_n_iter: int = ..., shrink_lowpass: bool = ...,
+                  candidates: Sequence[int] = ..., folds: int = ..., holdout: float = ...,
+                  seed: int = ...) -> ScaleChoice: ...
 def fcsa(kspace: np.ndarray, mask: np.ndarray, a: float = ..., b: float = ..., n_iter: int = ...,
          tv_n_iter: int = ..., order: int = ..., levels: int = ..., reference: Optional[np.ndarray] = ...,
          return_history: bool = ...) -> Union[np.ndarray, Tuple[np.ndarray, ReconstructionHistory]]: ...
