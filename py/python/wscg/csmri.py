@@ -589,7 +589,7 @@ def choose_scales(kspace, mask, reg: str = "l1", epsilon: float = 0.0, max_iter:
         float(tol), w, float(alpha), int(tv_n_iter), bool(shrink_lowpass),
         [int(j) for j in candidates], int(folds), float(holdout), int(seed))
     return ScaleChoice(scales=int(scales), candidates=tuple(int(j) for j, _ in rows),
-                       scores=np.asarray([e for _, e in rows], dtype=np.float64).reshape(len(rows), -1),
+                       scores=np.asarray([e for _, e in rows], dtype=np.float64).reshape(len(rows), int(folds) if rows else 0),
                        held_out=int(held))
 
 
