@@ -1,0 +1,110 @@
+#!/usr/bin/env python3
+"""Builds the `wscg` wheel that a cluster can install (README, "Wheels"): one abi3 wheel for
+CPython 3.9 and later, tagged manylinux2014 (glibc 2.17), with the `wscg` command-line
+program inside it.
+
+1. `cargo build -p wscg-cli` links the program with zig (the `ziglang` package from PyPI)
+   against glibc 2.17 and copies it to py/python/wscg/_bin/wscg, where the wheel's
+   `wscg` entry point (wscg._cli) finds it;
+2. `maturin build --zig --compatibility manylinux2014` builds the extension module the same
+   way and packs both into the wheel;
+3. `auditwheel show` (when installed) reports the wheel's platform tag.
+
+Usage: python3 scripts/build_wheel.py [--release] [--out DIR]. Needs maturin and ziglang
+(`pip install maturin ziglang`) in the running Python; CARGO_TARGET_DIR is honoured.
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import pathlib
+import shutil
+import stat
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+# manylinux2014 = glibc 2.17, the oldest glibc that Rust's standard library supports.
+GLIBC = "2.17"
+POLICY = "manylinux2014"
+
+
+def _zig_linker(tmp: pathlib.Path) -> pathlib.Path:
+    """A linker for cargo that runs `zig cc` for x86_64/aarch64 Linux with glibc 2.17."""
+    arch = os.uname().machine
+    target = {"x86_64": "x86_64", "aarch64": "aarch64", "arm64": "aarch64"}.get(arch)
+    if target is None:
+        raise SystemExit(f"build_wheel: no zig target for the machine {arch!r}")
+    script = tmp / "zigcc"
+    # zig links its own unwinder and libc stubs: rustc's -lgcc_s is not needed (and zig has
+    # no libgcc_s for the old glibc), so it is dropped as cargo-zigbuild does.
+    script.write_text(
+        "#!/bin/sh\n"
+        "for a in \"$@\"; do\n"
+        "  case \"$a\" in -lgcc_s) ;; *) set -- \"$@\" \"$a\" ;; esac\n"
+        "  shift\n"
+        "done\n"
+        f"exec {sys.executable} -m ziglang cc -target {target}-linux-gnu.{GLIBC} \"$@\"\n")
+    script.chmod(script.stat().st_mode | stat.S_IXUSR | stat.S_IXGRP | stat.S_IXOTH)
+    return script
+
+
+def _host_triple() -> str:
+    out = subprocess.run(["rustc", "-vV"], capture_output=True, text=True, check=True).stdout
+    return next(line.split()[1] for line in out.splitlines() if line.startswith("host:"))
+
+
+def build(release: bool, out: pathlib.Path) -> pathlib.Path:
+    target_dir = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    profile = "release" if release else "debug"
+    out.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="wscg-wheel-") as tmp:
+        linker = _zig_linker(pathlib.Path(tmp))
+        env = dict(os.environ)
+        triple = _host_triple().upper().replace("-", "_")
+        env[f"CARGO_TARGET_{triple}_LINKER"] = str(linker)
+        t0 = time.perf_counter()
+        cmd = ["cargo", "build", "-p", "wscg-cli"] + (["--release"] if release else [])
+        subprocess.run(cmd, cwd=ROOT, env=env, check=True)
+        print(f"build_wheel: wscg-cli built in {time.perf_counter() - t0:.0f} s")
+    exe = "wscg.exe" if os.name == "nt" else "wscg"
+    bundled = ROOT / "py" / "python" / "wscg" / "_bin"
+    bundled.mkdir(exist_ok=True)
+    shutil.copy2(target_dir / profile / exe, bundled / exe)
+    before = set(glob.glob(str(out / "*.whl")))
+    t0 = time.perf_counter()
+    cmd = [sys.executable, "-m", "maturin", "build", "--manifest-path",
+           str(ROOT / "py" / "Cargo.toml"), "--zig", "--compatibility", POLICY, "--out",
+           str(out)] + (["--release"] if release else [])
+    subprocess.run(cmd, cwd=ROOT, check=True)
+    print(f"build_wheel: wheel built in {time.perf_counter() - t0:.0f} s")
+    wheels = sorted(set(glob.glob(str(out / "*.whl"))) - before) or sorted(
+        glob.glob(str(out / "*.whl")), key=os.path.getmtime)[-1:]
+    wheel = pathlib.Path(wheels[-1])
+    if shutil.which("auditwheel") or _has_module("auditwheel"):
+        subprocess.run([sys.executable, "-m", "auditwheel", "show", str(wheel)], check=False)
+    print(wheel)
+    return wheel
+
+
+def _has_module(name: str) -> bool:
+    import importlib.util
+
+    return importlib.util.find_spec(name) is not None
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--release", action="store_true", help="optimised build (slower)")
+    ap.add_argument("--out", type=pathlib.Path, default=ROOT / "dist",
+                    help="folder for the wheel (default: dist/)")
+    args = ap.parse_args()
+    build(args.release, args.out)
+
+
+if __name__ == "__main__":
+    main()
