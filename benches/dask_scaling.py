@@ -41,7 +41,7 @@ def _bones(tmp: pathlib.Path, n: int = 8, size: int = 64):
 
 def _ears(n_subjects: int = 60, n_probes: int = 240):
     data = wscg.ear.make_ears(n_subjects=n_subjects, n_probes=n_probes, seed=0)
-    return list(data.probes), wscg.ear.EarMatcher().fit(data.enrol)
+    return list(data.probes), wscg.ear.EarMatcher().fit(wscg.ear.enroll_many(data.enrol))
 
 
 def _clips(n: int = 4):

@@ -22,7 +22,7 @@ def main():
     ap.add_argument("--probes", type=int, default=60)
     args = ap.parse_args()
     data = wscg.ear.make_ears(n_subjects=args.subjects, n_probes=args.probes, seed=0)
-    gallery = wscg.ear.EarMatcher().fit(data.enrol)
+    gallery = wscg.ear.EarMatcher().fit(wscg.ear.enroll_many(data.enrol))
     if args.scheduler:
         client = Client(args.scheduler)
     else:

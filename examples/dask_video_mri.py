@@ -43,7 +43,7 @@ def main():
             videos = wd.complete_videos(clips, masks, out / "videos", client=client,
                                         params={"lowres_width": 80})
             mri = wd.reconstruct_mri([scan], [mask], out / "mri", client=client,
-                                     priors=["udct", "tv"], params={"max_iter": 30})
+                                     priors=["udct", "db4"], params={"max_iter": 30})
         print(videos[["clip", "n_frames", "n_hole_pixels", "energy", "seconds"]]
               .to_string(index=False))
         print(mri[["kspace", "slice", "prior", "n_iter", "seconds"]].to_string(index=False))

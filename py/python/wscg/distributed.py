@@ -231,6 +231,18 @@ def _client(client):
         return None
 
 
+def _task(fn, *args):
+    """Runs one task; an error that is not an ``Exception`` (pyo3's ``PanicException`` for
+    an internal error) becomes a ``RuntimeError``, which Dask reports to the caller (it
+    leaves the task hanging on a bare ``BaseException``)."""
+    try:
+        return fn(*args)
+    except (Exception, KeyboardInterrupt, SystemExit, GeneratorExit):
+        raise
+    except BaseException as e:
+        raise RuntimeError(f"{type(e).__name__}: {e}") from None
+
+
 def _run(tasks: List[Tuple[Callable, tuple]], client, progress: bool) -> List[Any]:
     """Runs ``fn(*args)`` for each task: on a Client as futures (results finished before a
     worker is lost are kept, and its lost tasks run again on the other workers), or through
@@ -238,13 +250,13 @@ def _run(tasks: List[Tuple[Callable, tuple]], client, progress: bool) -> List[An
     dask = _require("dask")
     client = _client(client)
     if client is not None:
-        futures = [client.submit(fn, *args, pure=False) for fn, args in tasks]
+        futures = [client.submit(_task, fn, *args, pure=False) for fn, args in tasks]
         if progress:
             from distributed import progress as _progress
 
             _progress(futures)
         return client.gather(futures)
-    delayed = [dask.delayed(fn, pure=False)(*args) for fn, args in tasks]
+    delayed = [dask.delayed(_task, pure=False)(fn, *args) for fn, args in tasks]
     if progress:
         from dask.diagnostics import ProgressBar
 
@@ -736,8 +748,8 @@ def reconstruct_mri(kspaces: Sequence[Any], masks: Sequence[Any], out_dir: Any =
         Each slice writes ``<out_dir>/<name>/<slice>_<prior>.npy`` (complex128) and its
         record ``<slice>_<prior>.json``; ``None`` returns the images in the table instead.
     priors : sequence of str
-        Priors of :func:`wscg.csmri.reconstruct` (``"udct"``, ``"fdct"``, ``"sflct"``,
-        ``"wavelet"``, ``"tv"``, ...).
+        Priors of :func:`wscg.csmri.reconstruct` (``"udct"``, ``"fdct"``, ``"lrsflct"``,
+        ``"mrsflct"``, ``"db1"`` ... ``"db8"``, ``"identity"``).
     client, n_threads, overwrite, progress
         As in :func:`split_bones`.
     params : mapping or None
