@@ -27,7 +27,7 @@ import wscg
 from wscg import distributed as wd
 
 
-def _bones(tmp: pathlib.Path, n: int = 8, size: int = 64):
+def _bones(tmp: pathlib.Path, n: int = 8, size: int = 96):
     paths, seeds = [], []
     for i in range(n):
         ct, seed, _ = wscg.volseg.make_fractured_shell_phantom((size,) * 3, n_fragments=5,
@@ -39,7 +39,7 @@ def _bones(tmp: pathlib.Path, n: int = 8, size: int = 64):
     return paths, seeds
 
 
-def _ears(n_subjects: int = 60, n_probes: int = 240):
+def _ears(n_subjects: int = 200, n_probes: int = 2):
     data = wscg.ear.make_ears(n_subjects=n_subjects, n_probes=n_probes, seed=0)
     return list(data.probes), wscg.ear.EarMatcher().fit(wscg.ear.enroll_many(data.enrol))
 
@@ -134,6 +134,21 @@ with tempfile.TemporaryDirectory() as tmp:
     print(f"memory {name}: peak RSS {peak:.0f} MiB, after generating the data {base:.0f} MiB")
 
 
+def _sizes(tmp: pathlib.Path) -> None:
+    """What one task moves: its input as stored or pickled, and the gallery model."""
+    import pickle
+
+    ct = tmp / "ct0.nii.gz"
+    probes, gallery = _ears()
+    clips, _ = _clips(1)
+    kspaces, _ = _mri(1)
+    print(f"sizes: CT volume file {ct.stat().st_size / 2**20:.2f} MiB, ear probe "
+          f"{len(pickle.dumps(probes[0])) / 2**10:.0f} KiB, ear gallery model "
+          f"{len(pickle.dumps(gallery)) / 2**10:.0f} KiB, clip "
+          f"{len(pickle.dumps(clips[0])) / 2**10:.0f} KiB, k-space slice "
+          f"{len(pickle.dumps(kspaces[0][0])) / 2**10:.0f} KiB", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
@@ -146,6 +161,7 @@ def main() -> None:
     names = args.pipelines.split(",")
     with tempfile.TemporaryDirectory() as tmp:
         batches = _batches(pathlib.Path(tmp))
+        _sizes(pathlib.Path(tmp))
         # The single-process loop: Dask's synchronous scheduler in this process, wscg's
         # pool at one thread, then at every core.
         for n_threads in (1, os.cpu_count() or 1):

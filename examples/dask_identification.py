@@ -19,7 +19,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scheduler", help="address of a running dask-scheduler")
     ap.add_argument("--subjects", type=int, default=30)
-    ap.add_argument("--probes", type=int, default=60)
+    ap.add_argument("--probes", type=int, default=2, help="probes per subject")
     args = ap.parse_args()
     data = wscg.ear.make_ears(n_subjects=args.subjects, n_probes=args.probes, seed=0)
     gallery = wscg.ear.EarMatcher().fit(wscg.ear.enroll_many(data.enrol))

@@ -171,7 +171,7 @@ def test_a_killed_worker_loses_no_finished_case(client, tmp_path):
 
 
 def _ears():
-    data = wscg.ear.make_ears(n_subjects=8, n_probes=12, seed=3)
+    data = wscg.ear.make_ears(n_subjects=8, n_probes=2, seed=3)
     matcher = wscg.ear.EarMatcher().fit(wscg.ear.enroll_many(data.enrol))
     return matcher, data
 

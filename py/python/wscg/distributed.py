@@ -581,7 +581,10 @@ def identify(probes: Sequence[Any], gallery: Any, *, client: Any = None, top_k: 
     n_partitions = min(n_partitions, len(probes))
     bounds = np.linspace(0, len(probes), n_partitions + 1).round().astype(int)
     client = _client(client)
-    model = client.scatter(gallery, broadcast=True) if client is not None else gallery
+    # hash=False: a fresh key per call (a repeated call must not race the release of
+    # the previous call's copy of the same model).
+    model = (client.scatter(gallery, broadcast=True, hash=False) if client is not None
+             else gallery)
     tasks = [(_identify_part, (model, probes[a:b], ids[a:b], kind, top_k, labels, n_threads))
              for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
     parts = _run(tasks, client, progress)
