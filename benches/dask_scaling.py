@@ -98,40 +98,47 @@ def _best(call, client, repeat: int) -> float:
     return min(times)
 
 
-def _memory(name: str) -> None:
-    """Peak resident memory of one task of `name` in a fresh process, above the process
-    after `import wscg` (printed as MiB)."""
-    code = f"""
-import pathlib, resource, sys, tempfile
-sys.path.insert(0, {str(pathlib.Path(__file__).parent)!r})
-import dask, wscg, dask_scaling as b
-with tempfile.TemporaryDirectory() as tmp:
-    batches = b._batches(pathlib.Path(tmp))
-    base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    import wscg.distributed as wd
-    with dask.config.set(scheduler="synchronous"):
-        if {name!r} == "bones":
-            p, s = b._bones(pathlib.Path(tmp), n=1)
-            wd.split_bones(p, s, pathlib.Path(tmp) / "m")
-        elif {name!r} == "identify":
-            probes, gallery = b._ears()
-            wd.identify(probes[:1], gallery)
-        elif {name!r} == "video":
-            c, m = b._clips(1)
-            wd.complete_videos(c, m, pathlib.Path(tmp) / "m", params={"lowres_width": 120})
-        else:
-            k, m = b._mri(1)
-            wd.reconstruct_mri(k, m, priors=["udct"], params={"max_iter": 40})
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    print(peak / 1024, base / 1024)
-"""
+def _memory(name: str, tmp: pathlib.Path) -> None:
+    """Peak resident memory of one task of `name` in a fresh process, above its memory
+    after `import wscg, dask` (printed as MiB); the inputs are files written here."""
+    import pickle
+
+    if name == "bones":
+        run = (f"wd.split_bones([{str(tmp / 'ct0.nii.gz')!r}], [{str(tmp / 'ct0_seeds.npy')!r}], "
+               f"{str(tmp / 'mem')!r})")
+    elif name == "identify":
+        probes, gallery = _ears(n_subjects=200, n_probes=1)
+        (tmp / "gallery.pkl").write_bytes(pickle.dumps(gallery))
+        np.save(tmp / "probe.npy", probes[0])
+        run = (f"wd.identify([{str(tmp / 'probe.npy')!r}], "
+               f"pickle.loads(open({str(tmp / 'gallery.pkl')!r}, 'rb').read()))")
+    elif name == "video":
+        clips, masks = _clips(1)
+        np.save(tmp / "clip.npy", clips[0])
+        np.save(tmp / "clip_mask.npy", masks[0])
+        run = (f"wd.complete_videos([{str(tmp / 'clip.npy')!r}], "
+               f"[{str(tmp / 'clip_mask.npy')!r}], {str(tmp / 'mem')!r}, "
+               "params={'lowres_width': 120})")
+    else:
+        k, m = _mri(1)
+        np.save(tmp / "k.npy", k[0])
+        run = (f"wd.reconstruct_mri([{str(tmp / 'k.npy')!r}], [np.asarray({m[0].tolist()!r})], "
+               "priors=['udct'], params={'max_iter': 40})")
+    code = ("import os, pickle, resource, dask, pandas, numpy as np, wscg\n"
+            "import wscg.distributed as wd\n"
+            "base = int(open('/proc/self/statm').read().split()[1]) * os.sysconf('SC_PAGE_SIZE')\n"
+            "with dask.config.set(scheduler='synchronous'):\n"
+            f"    {run}\n"
+            "peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024\n"
+            "print(peak / 2**20, base / 2**20)\n")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        env=dict(os.environ, WSCG_NUM_THREADS="1"))
     if r.returncode:
         print(f"{name}: memory run failed: {r.stderr[-2000:]}")
         return
     peak, base = map(float, r.stdout.split()[-2:])
-    print(f"memory {name}: peak RSS {peak:.0f} MiB, after generating the data {base:.0f} MiB")
+    print(f"memory {name}: peak RSS {peak:.0f} MiB, {peak - base:.0f} MiB above the process "
+          f"after import ({base:.0f} MiB)", flush=True)
 
 
 def _sizes(tmp: pathlib.Path) -> None:
@@ -154,11 +161,18 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--pipelines", default="bones,identify,video,mri")
     ap.add_argument("--no-memory", action="store_true")
+    ap.add_argument("--memory-only", action="store_true")
     args = ap.parse_args()
     import dask
     from dask.distributed import Client, LocalCluster
 
     names = args.pipelines.split(",")
+    if args.memory_only:
+        with tempfile.TemporaryDirectory() as tmp:
+            _bones(pathlib.Path(tmp), n=1)
+            for name in names:
+                _memory(name, pathlib.Path(tmp))
+        return
     with tempfile.TemporaryDirectory() as tmp:
         batches = _batches(pathlib.Path(tmp))
         _sizes(pathlib.Path(tmp))
@@ -184,9 +198,9 @@ def main() -> None:
                     print(f"{workers}x{threads}: {name}: {t:.2f} s, {n / t:.2f} {what}/s "
                           f"(load {_load()})", flush=True)
             cluster.close()
-    if not args.no_memory:
-        for name in names:
-            _memory(name)
+        if not args.no_memory:
+            for name in names:
+                _memory(name, pathlib.Path(tmp))
 
 
 if __name__ == "__main__":
