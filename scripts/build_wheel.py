@@ -78,7 +78,12 @@ def build(release: bool, out: pathlib.Path) -> pathlib.Path:
         exe = "wscg.exe" if os.name == "nt" else "wscg"
         bundled = ROOT / "py" / "python" / "wscg" / "_bin"
         bundled.mkdir(exist_ok=True)
-        shutil.copy2(target_dir / profile / exe, bundled / exe)
+        # Without its debug information (a debug build's program is ~150 MiB with it).
+        if shutil.which("strip"):
+            subprocess.run(["strip", "-o", str(bundled / exe), str(target_dir / profile / exe)],
+                           check=True)
+        else:
+            shutil.copy2(target_dir / profile / exe, bundled / exe)
         t0 = time.perf_counter()
         cmd = [sys.executable, "-m", "maturin", "build", "--manifest-path",
                str(ROOT / "py" / "Cargo.toml"), "--compatibility", POLICY, "--out",
