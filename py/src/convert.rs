@@ -7,7 +7,9 @@
 use std::borrow::Cow;
 
 use numpy::ndarray::{ArrayD, IxDyn};
-use numpy::{Element, IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{
+    Element, IntoPyArray, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use wscg_math::Image;
 
@@ -16,13 +18,46 @@ use crate::errors::value_error;
 /// A numpy array bound to the interpreter.
 pub type Arr<'py, T> = Bound<'py, PyArrayDyn<T>>;
 
-/// The array's values in C order, borrowed when C-contiguous, copied otherwise (a
-/// Fortran-ordered array is contiguous too, but its memory is not in C order).
-pub fn values<'a, T: Element + Clone>(a: &'a PyReadonlyArrayDyn<'_, T>) -> Cow<'a, [T]> {
+/// The array's values in C order, borrowed when C-contiguous and aligned, copied otherwise
+/// (a Fortran-ordered array is contiguous too, but its memory is not in C order). An array
+/// whose data is not aligned for `T` (numpy allows it: `np.frombuffer` at an odd offset, or
+/// the arrays that Dask and pickle protocol 5 rebuild on a buffer received from another
+/// process) is copied element by element with unaligned reads.
+pub fn values<'a, T: Element + Copy>(a: &'a PyReadonlyArrayDyn<'_, T>) -> Cow<'a, [T]> {
     match a.as_slice() {
         Ok(s) if a.is_c_contiguous() => Cow::Borrowed(s),
-        _ => Cow::Owned(a.as_array().iter().cloned().collect()),
+        _ if a.is_aligned() => Cow::Owned(a.as_array().iter().copied().collect()),
+        _ => Cow::Owned(unaligned_values(a)),
     }
+}
+
+/// The values of an array whose data is not aligned for `T`, in C order.
+fn unaligned_values<T: Element + Copy>(a: &PyReadonlyArrayDyn<'_, T>) -> Vec<T> {
+    let shape = a.shape();
+    let strides = a.strides();
+    let base = a.data().cast::<u8>().cast_const();
+    let n = a.len();
+    let mut out = Vec::with_capacity(n);
+    let mut index = vec![0usize; shape.len()];
+    for _ in 0..n {
+        let offset: isize = index
+            .iter()
+            .zip(strides)
+            .map(|(&i, &s)| i as isize * s)
+            .sum();
+        // SAFETY: `index` stays inside `shape`, so `offset` (numpy's byte strides) addresses
+        // an element of the array, which the borrow keeps alive and unchanged; the read
+        // makes no assumption on alignment, and `T: Copy` is a plain value.
+        out.push(unsafe { std::ptr::read_unaligned(base.offset(offset).cast::<T>()) });
+        for d in (0..shape.len()).rev() {
+            index[d] += 1;
+            if index[d] < shape[d] {
+                break;
+            }
+            index[d] = 0;
+        }
+    }
+    out
 }
 
 /// A new numpy array of `shape` holding `data` (C order).

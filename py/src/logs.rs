@@ -51,10 +51,27 @@ fn python_target(target: &str) -> Option<String> {
 }
 
 /// Whether the calling thread holds the GIL.
+///
+/// `PyGILState_Check` (CPython 3.4 and later, unchanged since) is outside the limited API
+/// that the abi3 wheel is built against, so pyo3 does not declare it there; on Unix the
+/// extension resolves it from the running interpreter like every other C-API symbol. Where
+/// it cannot be resolved (Windows' `python3.dll` does not export it) every record is queued
+/// and reaches `logging` at the next flush of the calling thread (`flush`).
+#[cfg(unix)]
 fn holds_gil() -> bool {
+    extern "C" {
+        fn PyGILState_Check() -> std::os::raw::c_int;
+    }
     // SAFETY: PyGILState_Check only reads the calling thread's state; the interpreter is
     // initialised (this module was imported).
-    unsafe { pyo3::ffi::PyGILState_Check() == 1 }
+    unsafe { PyGILState_Check() == 1 }
+}
+
+/// Whether the calling thread holds the GIL: not known without `PyGILState_Check` (see the
+/// Unix version), so records are queued for the next flush.
+#[cfg(not(unix))]
+fn holds_gil() -> bool {
+    false
 }
 
 impl Bridge {

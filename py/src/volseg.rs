@@ -57,7 +57,7 @@ fn spacing_xyz(s: (f64, f64, f64)) -> [f64; 3] {
 }
 
 /// A `[z, y, x]` array as a volume (C order is x fastest).
-fn vol_in<T: Element + Clone>(
+fn vol_in<T: Element + Copy>(
     name: &str,
     a: &PyReadonlyArrayDyn<'_, T>,
     spacing: (f64, f64, f64),

@@ -19,7 +19,8 @@ import pytest
 import wscg
 
 MODULES = ["biometrics", "cloth", "csmri", "deblur", "doe", "ear", "gait", "hdr", "isosurface",
-           "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg"]
+           "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
+           "distributed"]
 
 # Parameter names that py/API.md replaces by one name per concept (name -> the name to use).
 SYNONYMS = {

@@ -47,6 +47,9 @@ and exposed to Python with numpy arrays in and out. One submodule per field:
   ground truth, multi-label Dice).
 - :mod:`wscg.volren`: paper 03, hybrid ROI-based visualisation of medical volumes (TF-aware
   wavelets, Gradient Octree, client/server packages, ray casting).
+- :mod:`wscg.distributed`: batch pipelines on Dask (bone separation, identification, video
+  completion, MRI reconstruction over many files, on worker processes and machines); needs
+  the optional dependencies ``pip install 'wscg[dask]'``.
 
 Threads: every module runs its Rust work in one thread pool per process, sized by
 :func:`set_num_threads` (default: the environment variable ``WSCG_NUM_THREADS`` read at
@@ -105,6 +108,8 @@ from . import _native
 from ._checks import ArgumentTypeError, IntegerRangeError, _int
 from ._estimator import DataConversionWarning, NotFittedError
 from . import biometrics, cloth, csmri, deblur, doe, ear, gait, hdr, isosurface, math, meshfilter, motion, octree, raytrace, video, volren, volseg
+# Dask itself is imported by the pipelines when they run, never here.
+from . import distributed
 
 __version__: str = _native.__version__
 
@@ -190,6 +195,7 @@ def get_max_image_pixels() -> int:
 
 __all__ = ["biometrics", "cloth", "csmri", "deblur", "doe", "ear", "gait", "hdr", "isosurface",
            "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
+           "distributed",
            "IntegerRangeError", "ArgumentTypeError", "NotFittedError", "DataConversionWarning",
            "set_num_threads", "get_num_threads", "set_memory_limit",
            "get_memory_limit", "set_max_image_pixels", "get_max_image_pixels", "__version__"]

@@ -15,6 +15,7 @@ from . import raytrace as raytrace
 from . import video as video
 from . import volren as volren
 from . import volseg as volseg
+from . import distributed as distributed
 
 class IntegerRangeError(ValueError, OverflowError):
     """A negative or too large integer for a count, size or seed; names the argument."""
@@ -58,6 +59,7 @@ def get_max_image_pixels() -> int:
 __version__: str
 __all__ = ["biometrics", "cloth", "csmri", "deblur", "doe", "ear", "gait", "hdr", "isosurface",
            "math", "meshfilter", "motion", "octree", "raytrace", "video", "volren", "volseg",
+           "distributed",
            "IntegerRangeError", "ArgumentTypeError", "NotFittedError", "DataConversionWarning",
            "set_num_threads", "get_num_threads", "set_memory_limit",
            "get_memory_limit", "set_max_image_pixels", "get_max_image_pixels", "__version__"]
