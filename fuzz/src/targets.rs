@@ -9,6 +9,9 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+#[path = "dicom.rs"]
+mod dicom;
+
 /// Every target, by the name of its corpus folder (`fuzz/corpus/<name>`).
 pub const TARGETS: &[&str] = &[
     "raster",
@@ -26,6 +29,7 @@ pub const TARGETS: &[&str] = &[
     "volren_roi",
     "tf_json",
     "strokes_json",
+    "dicom",
 ];
 
 /// The pixel limit the raster target decodes under (`wscg_math::io::set_max_image_pixels`):
@@ -134,6 +138,7 @@ pub fn run(target: &str, data: &[u8]) -> bool {
             list || points
         }
         "strokes_json" => wscg_volseg::paint_strokes(data, origin(), [8, 8, 8], [1.0; 3]).is_ok(),
+        "dicom" => dicom::run(data),
         other => panic!("unknown fuzz target {other:?}; the targets are {TARGETS:?}"),
     }
 }
