@@ -31,8 +31,15 @@ pub fn split(data: &[u8]) -> Vec<&[u8]> {
     parts
 }
 
+/// The memory limit the target reads under (`wscg_math::memory_limit::set_limit`): the
+/// seeds need a few megabytes; a fuzzed header declaring a large image (which a compressed
+/// transfer syntax may legitimately do over a few bytes) is refused before it costs the
+/// fuzzer time and memory.
+pub const FUZZ_MEMORY_LIMIT: u64 = 256 << 20;
+
 /// Reads `data` as one DICOM file or, when it holds [`SEPARATOR`], as a series.
 pub fn run(data: &[u8]) -> bool {
+    wscg_math::memory_limit::set_limit(Some(FUZZ_MEMORY_LIMIT));
     let parts = split(data);
     if parts.len() == 1 {
         return wscg_math::Volume::from_dicom_bytes(data, Path::new("fuzz-input.dcm")).is_ok();

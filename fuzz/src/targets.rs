@@ -97,7 +97,12 @@ pub fn run(target: &str, data: &[u8]) -> bool {
             wscg_math::io::set_max_image_pixels(Some(FUZZ_MAX_IMAGE_PIXELS));
             wscg_math::Image::<f32>::decode(data, origin()).is_ok()
         }
-        "obj" => wscg_math::TriMesh::from_obj_bytes(data, origin()).is_ok(),
+        "obj" => {
+            // The one OBJ reader (meshes and the many-light scenes) and its MTL reader.
+            let mesh = wscg_math::TriMesh::from_obj_bytes(data, origin()).is_ok();
+            let mtl = wscg_math::io::obj::parse_mtl(data, origin()).is_ok();
+            mesh || mtl
+        }
         "ply" => wscg_math::TriMesh::from_ply_bytes(data, origin()).is_ok(),
         "nifti" => wscg_math::Volume::from_nifti_bytes(data, origin()).is_ok(),
         "npy" => {

@@ -536,6 +536,39 @@ fn slice_affine(
     Ok(Some(a))
 }
 
+/// Refuses native (uncompressed) pixel data shorter than its declared rows x columns x
+/// frames x BitsAllocated, before the decoder allocates for the declared size.
+fn check_native_length(s: &Slice) -> Result<()> {
+    let int = |tag: Tag| {
+        s.obj
+            .element_opt(tag)
+            .ok()
+            .flatten()
+            .and_then(|e| e.to_int::<u32>().ok())
+    };
+    let bits = u128::from(int(tags::BITS_ALLOCATED).unwrap_or(16));
+    let samples = (s.rows as u128) * (s.cols as u128) * (s.frames as u128);
+    let need = (samples * bits).div_ceil(8);
+    let have = s
+        .obj
+        .element_opt(tags::PIXEL_DATA)
+        .ok()
+        .flatten()
+        .and_then(|e| e.header().len.get())
+        .map_or(0, u128::from);
+    if have < need {
+        return Err(Error::format(
+            &s.path,
+            format!(
+                "the pixel data holds {have} bytes; {} rows x {} columns x {} frames of {bits} \
+                 bits need {need}",
+                s.rows, s.cols, s.frames
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Decodes the sorted slices into the volume (rescaled values).
 fn decode_series(slices: &[Slice], g: Geometry) -> Result<Volume<f32>> {
     let n = voxel_count(g.dims)?;
@@ -559,15 +592,24 @@ fn decode_series(slices: &[Slice], g: Geometry) -> Result<Volume<f32>> {
             )));
         }
         crate::alloc::ensure::<f64>("DICOM slice", s.rows * s.cols * s.frames)?;
-        let decoded = s.obj.decode_pixel_data().map_err(|e| {
-            Error::format(
-                &s.path,
-                format!("cannot decode the pixel data ({ts_uid}, {ts_name}): {e}"),
-            )
+        if ts.is_some_and(|t| t.is_codec_free()) {
+            check_native_length(s)?;
+        }
+        // dicom-rs's RLE and JPEG 2000 adapters index out of bounds on some malformed
+        // fragments (FUZZING.md): a panic there is a format error naming the file.
+        let raw: Vec<f64> = super::guarded(&s.path, "the DICOM pixel decoder", || {
+            let decoded = s.obj.decode_pixel_data().map_err(|e| {
+                Error::format(
+                    &s.path,
+                    format!("cannot decode the pixel data ({ts_uid}, {ts_name}): {e}"),
+                )
+            })?;
+            decoded
+                .to_vec_with_options(
+                    &ConvertOptions::new().with_modality_lut(ModalityLutOption::None),
+                )
+                .map_err(|e| Error::format(&s.path, format!("cannot convert the pixel data: {e}")))
         })?;
-        let raw: Vec<f64> = decoded
-            .to_vec_with_options(&ConvertOptions::new().with_modality_lut(ModalityLutOption::None))
-            .map_err(|e| Error::format(&s.path, format!("cannot convert the pixel data: {e}")))?;
         let want = s.rows * s.cols * s.frames;
         if raw.len() != want {
             return Err(Error::format(
@@ -844,6 +886,22 @@ mod tests {
         let e = Volume::read_dicom(&p).unwrap_err();
         assert!(
             matches!(e, Error::LimitExceeded(_) | Error::OutOfMemory { .. }),
+            "{e}"
+        );
+        // More frames declared than the native pixel data holds: refused before decoding.
+        let frames = SliceSpec {
+            series: "1.2",
+            rows: 3,
+            cols: 4,
+            frames: Some(100_000),
+            position: [0.0; 3],
+            orientation: AXIAL,
+            pixels: vec![7; 12],
+        };
+        let e = Volume::from_dicom_bytes(&slice_file(&frames), Path::new("frames.dcm"));
+        let e = e.unwrap_err().to_string();
+        assert!(
+            e.contains("the pixel data holds 24 bytes; 3 rows x 4 columns x 100000 frames"),
             "{e}"
         );
         // A value declared longer than the file (4 GB of pixel data in a 700-byte file; the

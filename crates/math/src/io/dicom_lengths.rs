@@ -215,10 +215,20 @@ impl<'a> Walker<'a> {
         }))
     }
 
-    /// Checks that the defined length of `h` fits in what follows, and steps over the value.
+    /// Checks that the defined length of `h` fits in what follows, and steps over the value
+    /// as the parser does: it reads `len / size` numbers of a binary number VR, so the bytes
+    /// of a length that is not a multiple of the size are left for the next header.
     fn value(&mut self, h: &Header) -> std::result::Result<&'a [u8], String> {
         self.check_fits(h)?;
-        let end = (self.pos + h.len as usize).min(self.data.len());
+        use VR::*;
+        let size = match h.vr {
+            US | OW | SS => 2,
+            AT | FL | OF | SL | OL | UL => 4,
+            FD | OD | SV | UV | OV => 8,
+            _ => 1,
+        };
+        let len = h.len as usize / size * size;
+        let end = (self.pos + len).min(self.data.len());
         let value = &self.data[self.pos..end];
         self.pos = end;
         Ok(value)

@@ -57,6 +57,24 @@ pub use raw::RawType;
 #[cfg(feature = "io-volume")]
 pub(crate) use volume_files::{file_kind, read_up_to, FileKind};
 
+/// Runs a step of a third-party decoder (`decoder` names it in the message), turning a panic
+/// inside it into [`Error::Format`] naming `origin`: a second line of defence against
+/// decoder bugs on malformed files (the JPEG decoder's progressive upsampler, dicom-rs's RLE
+/// and JPEG 2000 adapters; FUZZING.md).
+#[cfg(any(feature = "io-image", feature = "io-dicom"))]
+pub(crate) fn guarded<T>(
+    origin: &std::path::Path,
+    decoder: &str,
+    step: impl FnOnce() -> crate::Result<T>,
+) -> crate::Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(step)).unwrap_or_else(|_| {
+        Err(crate::Error::format(
+            origin,
+            format!("{decoder} failed on malformed data"),
+        ))
+    })
+}
+
 /// Volume files by extension, and what the volume readers share.
 #[cfg(feature = "io-volume")]
 mod volume_files {
