@@ -48,6 +48,9 @@ pub fn run(data: &[u8]) -> bool {
         .map(|i| PathBuf::from(format!("fuzz-input-{i}.dcm")))
         .collect();
     let files: Vec<(&Path, &[u8])> = names.iter().map(|n| n.as_path()).zip(parts).collect();
-    wscg_math::Volume::from_dicom_series_bytes(&files, &wscg_math::io::dicom::DicomParams::default())
-        .is_ok()
+    wscg_math::Volume::from_dicom_series_bytes(
+        &files,
+        &wscg_math::io::dicom::DicomParams::default(),
+    )
+    .is_ok()
 }

@@ -60,7 +60,9 @@ fn pixel_adapter_panics_are_format_errors() {
         "fuzz_dicom_j2k_adapter_panic.dcm",
         "fuzz_dicom_rle_adapter_panic.dcm",
     ] {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name);
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data")
+            .join(name);
         let err = Volume::read_dicom(&path).unwrap_err();
         assert!(matches!(err, Error::Format { .. }), "{name}: {err}");
         assert!(err.to_string().contains(name), "{err}");
