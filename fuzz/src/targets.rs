@@ -9,6 +9,9 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+#[path = "dicom.rs"]
+mod dicom;
+
 /// Every target, by the name of its corpus folder (`fuzz/corpus/<name>`).
 pub const TARGETS: &[&str] = &[
     "raster",
@@ -26,6 +29,7 @@ pub const TARGETS: &[&str] = &[
     "volren_roi",
     "tf_json",
     "strokes_json",
+    "dicom",
 ];
 
 /// The pixel limit the raster target decodes under (`wscg_math::io::set_max_image_pixels`):
@@ -93,7 +97,12 @@ pub fn run(target: &str, data: &[u8]) -> bool {
             wscg_math::io::set_max_image_pixels(Some(FUZZ_MAX_IMAGE_PIXELS));
             wscg_math::Image::<f32>::decode(data, origin()).is_ok()
         }
-        "obj" => wscg_math::TriMesh::from_obj_bytes(data, origin()).is_ok(),
+        "obj" => {
+            // The one OBJ reader (meshes and the many-light scenes) and its MTL reader.
+            let mesh = wscg_math::TriMesh::from_obj_bytes(data, origin()).is_ok();
+            let mtl = wscg_math::io::obj::parse_mtl(data, origin()).is_ok();
+            mesh || mtl
+        }
         "ply" => wscg_math::TriMesh::from_ply_bytes(data, origin()).is_ok(),
         "nifti" => wscg_math::Volume::from_nifti_bytes(data, origin()).is_ok(),
         "npy" => {
@@ -134,6 +143,7 @@ pub fn run(target: &str, data: &[u8]) -> bool {
             list || points
         }
         "strokes_json" => wscg_volseg::paint_strokes(data, origin(), [8, 8, 8], [1.0; 3]).is_ok(),
+        "dicom" => dicom::run(data),
         other => panic!("unknown fuzz target {other:?}; the targets are {TARGETS:?}"),
     }
 }

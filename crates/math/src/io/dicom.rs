@@ -155,44 +155,70 @@ impl Volume<f32> {
         if paths.is_empty() {
             return Err(Error::Empty("DICOM files"));
         }
-        let mut slices = paths
+        let slices = paths
             .iter()
-            .map(|p| read_slice(p))
+            .map(|p| read_slice(p, &read_file(p)?))
             .collect::<Result<Vec<_>>>()?;
-
-        // One series.
-        let mut series: BTreeMap<&str, (usize, &str)> = BTreeMap::new();
-        for s in &slices {
-            let e = series.entry(&s.series).or_insert((0, &s.description));
-            e.0 += 1;
-        }
-        let chosen = match (&params.series, series.len()) {
-            (Some(uid), _) if series.contains_key(uid.as_str()) => Some(uid.clone()),
-            (None, 1) => None,
-            (wanted, _) => {
-                let list: Vec<String> = series
-                    .iter()
-                    .map(|(uid, (n, d))| format!("{uid} ({d:?}, {n} files)"))
-                    .collect();
-                let what = match wanted {
-                    Some(uid) => format!("no file of series {uid}"),
-                    None => format!("{} series", series.len()),
-                };
-                return Err(Error::invalid(
-                    "series",
-                    format!(
-                        "the DICOM files hold {what}: {}; choose one by its SeriesInstanceUID",
-                        list.join(", ")
-                    ),
-                ));
-            }
-        };
-        if let Some(uid) = chosen {
-            slices.retain(|s| s.series == uid);
-        }
-        let geometry = series_geometry(&mut slices, params)?;
-        decode_series(&slices, geometry)
+        assemble_series(slices, params)
     }
+
+    /// Reads one DICOM Part 10 file held in memory (the bytes of a `.dcm` file, preamble
+    /// included) as a volume; `origin` names it in errors. The in-memory form of
+    /// [`Volume::read_dicom`] on one file, with the same errors.
+    pub fn from_dicom_bytes(bytes: &[u8], origin: &Path) -> Result<Self> {
+        Self::from_dicom_series_bytes(&[(origin, bytes)], &DicomParams::default())
+    }
+
+    /// Reads the DICOM files held in memory, each with the name that identifies it in errors,
+    /// as one series (any order): the in-memory form of [`Volume::read_dicom_files`], with
+    /// the same checks and errors.
+    pub fn from_dicom_series_bytes(files: &[(&Path, &[u8])], params: &DicomParams) -> Result<Self> {
+        params.validate()?;
+        if files.is_empty() {
+            return Err(Error::Empty("DICOM files"));
+        }
+        let slices = files
+            .iter()
+            .map(|(path, bytes)| read_slice(path, bytes))
+            .collect::<Result<Vec<_>>>()?;
+        assemble_series(slices, params)
+    }
+}
+
+/// Picks the series of `slices`, checks its geometry and decodes it.
+fn assemble_series(mut slices: Vec<Slice>, params: &DicomParams) -> Result<Volume<f32>> {
+    // One series.
+    let mut series: BTreeMap<&str, (usize, &str)> = BTreeMap::new();
+    for s in &slices {
+        let e = series.entry(&s.series).or_insert((0, &s.description));
+        e.0 += 1;
+    }
+    let chosen = match (&params.series, series.len()) {
+        (Some(uid), _) if series.contains_key(uid.as_str()) => Some(uid.clone()),
+        (None, 1) => None,
+        (wanted, _) => {
+            let list: Vec<String> = series
+                .iter()
+                .map(|(uid, (n, d))| format!("{uid} ({d:?}, {n} files)"))
+                .collect();
+            let what = match wanted {
+                Some(uid) => format!("no file of series {uid}"),
+                None => format!("{} series", series.len()),
+            };
+            return Err(Error::invalid(
+                "series",
+                format!(
+                    "the DICOM files hold {what}: {}; choose one by its SeriesInstanceUID",
+                    list.join(", ")
+                ),
+            ));
+        }
+    };
+    if let Some(uid) = chosen {
+        slices.retain(|s| s.series == uid);
+    }
+    let geometry = series_geometry(&mut slices, params)?;
+    decode_series(&slices, geometry)
 }
 
 /// The grid of a checked series: spacing, dims and the RAS+ affine (if known).
@@ -202,14 +228,17 @@ struct Geometry {
     affine: Option<Affine>,
 }
 
-fn read_slice(path: &Path) -> Result<Slice> {
-    let bytes = read_file(path)?;
+/// Parses one slice file, `bytes` the whole file, `path` its name in errors.
+fn read_slice(path: &Path, bytes: &[u8]) -> Result<Slice> {
     if bytes.len() < 132 || &bytes[128..132] != b"DICM" {
         return Err(Error::format(
             path,
             "not a DICOM file (no \"DICM\" after the 128-byte preamble)",
         ));
     }
+    // dicom-rs allocates each value at its declared length before reading it.
+    super::dicom_lengths::check(&bytes[132..])
+        .map_err(|reason| Error::format(path, format!("invalid DICOM file: {reason}")))?;
     let obj = OpenFileOptions::new()
         .read_preamble(ReadPreamble::Never)
         .from_reader(&bytes[128..])
@@ -507,6 +536,39 @@ fn slice_affine(
     Ok(Some(a))
 }
 
+/// Refuses native (uncompressed) pixel data shorter than its declared rows x columns x
+/// frames x BitsAllocated, before the decoder allocates for the declared size.
+fn check_native_length(s: &Slice) -> Result<()> {
+    let int = |tag: Tag| {
+        s.obj
+            .element_opt(tag)
+            .ok()
+            .flatten()
+            .and_then(|e| e.to_int::<u32>().ok())
+    };
+    let bits = u128::from(int(tags::BITS_ALLOCATED).unwrap_or(16));
+    let samples = (s.rows as u128) * (s.cols as u128) * (s.frames as u128);
+    let need = (samples * bits).div_ceil(8);
+    let have = s
+        .obj
+        .element_opt(tags::PIXEL_DATA)
+        .ok()
+        .flatten()
+        .and_then(|e| e.header().len.get())
+        .map_or(0, u128::from);
+    if have < need {
+        return Err(Error::format(
+            &s.path,
+            format!(
+                "the pixel data holds {have} bytes; {} rows x {} columns x {} frames of {bits} \
+                 bits need {need}",
+                s.rows, s.cols, s.frames
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Decodes the sorted slices into the volume (rescaled values).
 fn decode_series(slices: &[Slice], g: Geometry) -> Result<Volume<f32>> {
     let n = voxel_count(g.dims)?;
@@ -530,15 +592,24 @@ fn decode_series(slices: &[Slice], g: Geometry) -> Result<Volume<f32>> {
             )));
         }
         crate::alloc::ensure::<f64>("DICOM slice", s.rows * s.cols * s.frames)?;
-        let decoded = s.obj.decode_pixel_data().map_err(|e| {
-            Error::format(
-                &s.path,
-                format!("cannot decode the pixel data ({ts_uid}, {ts_name}): {e}"),
-            )
+        if ts.is_some_and(|t| t.is_codec_free()) {
+            check_native_length(s)?;
+        }
+        // dicom-rs's RLE and JPEG 2000 adapters index out of bounds on some malformed
+        // fragments (FUZZING.md): a panic there is a format error naming the file.
+        let raw: Vec<f64> = super::guarded(&s.path, "the DICOM pixel decoder", || {
+            let decoded = s.obj.decode_pixel_data().map_err(|e| {
+                Error::format(
+                    &s.path,
+                    format!("cannot decode the pixel data ({ts_uid}, {ts_name}): {e}"),
+                )
+            })?;
+            decoded
+                .to_vec_with_options(
+                    &ConvertOptions::new().with_modality_lut(ModalityLutOption::None),
+                )
+                .map_err(|e| Error::format(&s.path, format!("cannot convert the pixel data: {e}")))
         })?;
-        let raw: Vec<f64> = decoded
-            .to_vec_with_options(&ConvertOptions::new().with_modality_lut(ModalityLutOption::None))
-            .map_err(|e| Error::format(&s.path, format!("cannot convert the pixel data: {e}")))?;
         let want = s.rows * s.cols * s.frames;
         if raw.len() != want {
             return Err(Error::format(
@@ -604,6 +675,15 @@ mod tests {
     }
 
     /// A minimal CT slice file (explicit VR little endian), values `pixels * 2 - 1000` HU.
+    /// The header of an explicit-VR little-endian element with a 4-byte length.
+    fn elem_header(out: &mut Vec<u8>, group: u16, element: u16, vr: &[u8; 2], len: u32) {
+        out.extend(group.to_le_bytes());
+        out.extend(element.to_le_bytes());
+        out.extend(vr);
+        out.extend([0, 0]);
+        out.extend(len.to_le_bytes());
+    }
+
     fn slice_file(s: &SliceSpec) -> Vec<u8> {
         let ts = b"1.2.840.10008.1.2.1";
         let class = b"1.2.840.10008.5.1.4.1.1.2";
@@ -699,6 +779,31 @@ mod tests {
         assert_eq!(Volume::read(dir.path(), None).unwrap(), v);
         let one = Volume::read(dir.path().join("1.dcm"), None).unwrap();
         assert_eq!(one.dims(), [4, 3, 1]);
+
+        // The same files from memory, in another order, give the same volume.
+        let names: Vec<PathBuf> = (1..=4)
+            .map(|k| dir.path().join(format!("{k}.dcm")))
+            .collect();
+        let bytes: Vec<Vec<u8>> = names.iter().map(|p| std::fs::read(p).unwrap()).collect();
+        let files: Vec<(&Path, &[u8])> = names
+            .iter()
+            .map(|p| p.as_path())
+            .zip(bytes.iter().map(|b| b.as_slice()))
+            .rev()
+            .collect();
+        let from_memory = Volume::from_dicom_series_bytes(&files, &DicomParams::default()).unwrap();
+        assert_eq!(from_memory, v);
+        assert_eq!(Volume::from_dicom_bytes(&bytes[0], &names[0]).unwrap(), one);
+        // Errors name the given origin.
+        let e = Volume::from_dicom_bytes(&bytes[0][..200], Path::new("memory.dcm")).unwrap_err();
+        assert!(
+            matches!(&e, Error::Format { path, .. } if path == Path::new("memory.dcm")),
+            "{e}"
+        );
+        assert!(matches!(
+            Volume::from_dicom_series_bytes(&[], &DicomParams::default()),
+            Err(Error::Empty(_))
+        ));
     }
 
     #[test]
@@ -783,6 +888,51 @@ mod tests {
             matches!(e, Error::LimitExceeded(_) | Error::OutOfMemory { .. }),
             "{e}"
         );
+        // More frames declared than the native pixel data holds: refused before decoding.
+        let frames = SliceSpec {
+            series: "1.2",
+            rows: 3,
+            cols: 4,
+            frames: Some(100_000),
+            position: [0.0; 3],
+            orientation: AXIAL,
+            pixels: vec![7; 12],
+        };
+        let e = Volume::from_dicom_bytes(&slice_file(&frames), Path::new("frames.dcm"));
+        let e = e.unwrap_err().to_string();
+        assert!(
+            e.contains("the pixel data holds 24 bytes; 3 rows x 4 columns x 100000 frames"),
+            "{e}"
+        );
+        // A value declared longer than the file (4 GB of pixel data in a 700-byte file; the
+        // parser would reserve and zero-fill it before reading): refused at once.
+        let mut long = good.clone();
+        let at = long.len() - 24 - 4;
+        long[at..at + 4].copy_from_slice(&0xF000_0000u32.to_le_bytes());
+        let start = std::time::Instant::now();
+        let e = Volume::from_dicom_bytes(&long, Path::new("long.dcm")).unwrap_err();
+        assert!(start.elapsed().as_secs() < 2, "{:?}", start.elapsed());
+        assert!(
+            e.to_string()
+                .contains("long.dcm: invalid DICOM file: element (7FE0,0010)")
+                && e.to_string()
+                    .contains("declares 4026531840 bytes, but only 24"),
+            "{e}"
+        );
+        // The same in the file meta group: (0002,0001) OB, after (0002,0000) UL.
+        let mut meta_long = good.clone();
+        assert_eq!(&meta_long[144..150], &[2, 0, 1, 0, b'O', b'B']);
+        meta_long[152..156].copy_from_slice(&0xFFFF_FF00u32.to_le_bytes());
+        let e = Volume::from_dicom_bytes(&meta_long, Path::new("m.dcm")).unwrap_err();
+        assert!(e.to_string().contains("(0002,0001) at byte 144"), "{e}");
+        // Sequences nested 100 deep (undefined lengths): refused before the recursive parser.
+        let mut deep = good[..good.len() - 24 - 12].to_vec();
+        for _ in 0..100 {
+            elem_header(&mut deep, 0x0008, 0x1115, b"SQ", u32::MAX); // a sequence
+            deep.extend([0xFE, 0xFF, 0x00, 0xE0, 0xFF, 0xFF, 0xFF, 0xFF]); // an item
+        }
+        let e = Volume::from_dicom_bytes(&deep, Path::new("deep.dcm")).unwrap_err();
+        assert!(e.to_string().contains("nested more than 64 deep"), "{e}");
         let empty = dir.path().join("empty");
         std::fs::create_dir(&empty).unwrap();
         std::fs::write(empty.join("notes.txt"), b"not dicom").unwrap();

@@ -8,7 +8,7 @@
 //! | [`raw`] | headerless voxel dumps | `io-volume` | `Volume::read_raw`, `Volume::write_raw_f32_le` |
 //! | [`nifti`] | NIfTI-1, `.nii` and `.nii.gz` (the `nifti` crate) | `io-volume` | `Volume::read_nifti`, `Volume::write_nifti` |
 //! | [`npy`] | `.npy` volumes indexed `[z, y, x]` | `io-volume` | `Volume::read_npy`, `Volume::write_npy` |
-//! | [`dicom`] | DICOM series: a file, a folder or a list of files (dicom-rs) | `io-dicom` | `Volume::read_dicom`, `Volume::read_dicom_with`, `Volume::read_dicom_files` |
+//! | [`dicom`] | DICOM series: a file, a folder or a list of files (dicom-rs) | `io-dicom` | `Volume::read_dicom`, `Volume::read_dicom_with`, `Volume::read_dicom_files`, `Volume::from_dicom_bytes`, `Volume::from_dicom_series_bytes` |
 //! | [`obj`] | Wavefront OBJ | `io-mesh` | `TriMesh::read_obj`, `TriMesh::write_obj` |
 //! | [`ply`] | Stanford PLY, ASCII and binary (`ply-rs`) | `io-mesh` | `TriMesh::read_ply`, `TriMesh::write_ply` |
 //!
@@ -30,6 +30,8 @@
 pub mod atomic;
 #[cfg(feature = "io-dicom")]
 pub mod dicom;
+#[cfg(feature = "io-dicom")]
+mod dicom_lengths;
 #[cfg(feature = "io-volume")]
 pub mod nifti;
 #[cfg(feature = "io-npy")]
@@ -54,6 +56,24 @@ pub use raster::{
 pub use raw::RawType;
 #[cfg(feature = "io-volume")]
 pub(crate) use volume_files::{file_kind, read_up_to, FileKind};
+
+/// Runs a step of a third-party decoder (`decoder` names it in the message), turning a panic
+/// inside it into [`Error::Format`] naming `origin`: a second line of defence against
+/// decoder bugs on malformed files (the JPEG decoder's progressive upsampler, dicom-rs's RLE
+/// and JPEG 2000 adapters; FUZZING.md).
+#[cfg(any(feature = "io-image", feature = "io-dicom"))]
+pub(crate) fn guarded<T>(
+    origin: &std::path::Path,
+    decoder: &str,
+    step: impl FnOnce() -> crate::Result<T>,
+) -> crate::Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(step)).unwrap_or_else(|_| {
+        Err(crate::Error::format(
+            origin,
+            format!("{decoder} failed on malformed data"),
+        ))
+    })
+}
 
 /// Volume files by extension, and what the volume readers share.
 #[cfg(feature = "io-volume")]

@@ -113,16 +113,9 @@ pub fn decode_dynamic(bytes: &[u8], origin: &Path) -> Result<DynamicImage> {
     })
 }
 
-/// Runs a step of the `image` crate's decoders, turning a panic inside them into
-/// [`Error::Format`]: a second line of defence against decoder bugs on malformed files (the
-/// JPEG decoder's progressive upsampler asserts on some, FUZZING.md).
+/// Runs a step of the `image` crate's decoders under [`super::guarded`].
 fn guarded<T>(origin: &Path, step: impl FnOnce() -> Result<T>) -> Result<T> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(step)).unwrap_or_else(|_| {
-        Err(Error::format(
-            origin,
-            "the image decoder failed on malformed data",
-        ))
-    })
+    super::guarded(origin, "the image decoder", step)
 }
 
 /// Refuses a JPEG stream that ends before its end-of-image marker. The JPEG decoder fills

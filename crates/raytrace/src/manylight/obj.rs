@@ -1,10 +1,10 @@
-//! Wavefront OBJ + MTL scenes for the many-light renderer (paper 08), read with `tobj`.
+//! Wavefront OBJ + MTL scenes for the many-light renderer (paper 08), read with the
+//! workspace's OBJ reader ([`wscg_math::io::obj`]).
 
-use std::cell::RefCell;
-use std::io::Cursor;
-use std::panic::AssertUnwindSafe;
+use std::collections::HashMap;
 use std::path::Path;
 
+use wscg_math::io::obj::{MtlMaterial, ObjFile};
 use wscg_math::{Error, Result};
 
 use super::scene::{Rgb, Scene};
@@ -13,153 +13,72 @@ use super::scene::{Rgb, Scene};
 pub const DEFAULT_ALBEDO: Rgb = [0.8, 0.8, 0.8];
 
 /// Loads a Wavefront OBJ file (and the MTL libraries it names with `mtllib`, relative to its
-/// folder) as a [`Scene`].
+/// folder) as a [`Scene`], with [`ObjFile::read`] and [`ObjFile::read_materials`].
 ///
-/// Polygons are triangulated (as fans, by `tobj`), points and lines are ignored, and the
-/// objects and groups of the file become one triangle list in file order. Each face takes its
-/// Lambertian albedo from its material's diffuse colour `Kd` ([`DEFAULT_ALBEDO`], 0.8 grey,
-/// when the face has no material, names a material that no library defines, or its material
-/// has no `Kd`) and its emitted radiance from the material's `Ke` (none when absent). Other
-/// MTL statements (specular, textures, ...) are ignored. Emitters radiate from their front
-/// side, the side from which the face's vertices run counter-clockwise. Coordinates are read
-/// as `f32` (tobj's default). A scene without emitters is accepted here (the renderer refuses
-/// it); degenerate triangles are skipped and counted in [`Scene::skipped_degenerate`]. The
-/// files are only read.
+/// Polygons are triangulated as fans around their first corner, points and lines are
+/// ignored, and the objects and groups of the file become one triangle list in file order
+/// (sharing the file's vertices, read as `f64`). Each face takes its Lambertian albedo from
+/// its material's diffuse colour `Kd` ([`DEFAULT_ALBEDO`], 0.8 grey, when the face has no
+/// material, names a material that no library defines, or its material has no `Kd`; a
+/// material defined twice takes its last definition) and its emitted radiance from the
+/// material's `Ke` (none when absent). One number is a grey (`Kd 0.5` is `Kd 0.5 0.5 0.5`).
+/// Other MTL statements (specular, textures, ...) are ignored. Emitters radiate from their
+/// front side, the side from which the face's vertices run counter-clockwise. A scene without
+/// emitters is accepted here (the renderer refuses it); degenerate triangles (a repeated
+/// vertex, zero area) are skipped and counted in [`Scene::skipped_degenerate`]. The files are
+/// only read, and only regular files are: an `mtllib` naming a device or a FIFO is refused.
 ///
 /// Errors: [`Error::Io`] naming the file when the OBJ file or one of its MTL libraries
-/// cannot be read; [`Error::Format`] naming the file when it is malformed (a bad number, a
-/// face index out of range, not UTF-8, ...), when a material's `Kd` lies outside `[0, 1]` or
-/// its `Ke` is negative or not finite (named with the material), or when the scene cannot be
-/// built from the file's content (no triangle, a non-finite vertex; the reason of
-/// [`Scene::from_triangles`] is quoted).
+/// cannot be read; [`Error::Format`] naming the file and the line when it is malformed (a bad
+/// number, a face index out of range, ...), naming the library, line and material when a
+/// material's `Kd` lies outside `[0, 1]` or its `Ke` is negative or not finite, and naming the
+/// OBJ file when the scene cannot be built from the file's content (no triangle; the reason
+/// of [`Scene::from_triangles`] is quoted).
 pub fn load_obj(path: &Path) -> Result<Scene> {
-    let bytes = wscg_math::error::read_file(path)?;
-    let dir = path.parent().unwrap_or_else(|| Path::new(""));
-    let mtl_error: RefCell<Option<Error>> = RefCell::new(None);
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
-    let record = |e: Error, code: tobj::LoadError| {
-        mtl_error.borrow_mut().get_or_insert(e);
-        code
-    };
-    let parse = || {
-        tobj::load_obj_buf(&mut Cursor::new(&bytes), &options, |name| {
-            let mtl = dir.join(name);
-            let text = mtl_text(path, &mtl, name)
-                .map_err(|e| record(e, tobj::LoadError::MaterialParseError))?;
-            tobj::load_mtl_buf(&mut text.as_bytes())
-                .map_err(|e| record(Error::format(&mtl, e.to_string()), e))
-        })
-    };
-    // tobj 4.0 panics on some malformed lines (a colour of fewer than three numbers, which
-    // `expand_colours` rules out beforehand); any other such panic becomes a format error.
-    let loaded = std::panic::catch_unwind(AssertUnwindSafe(parse)).map_err(|_| {
-        Error::format(
-            path,
-            "the OBJ/MTL parser (tobj) failed on malformed content",
-        )
-    })?;
-    if let Some(e) = mtl_error.into_inner() {
-        return Err(e);
+    let obj = ObjFile::read(path)?;
+    let mut by_name: HashMap<&str, (Rgb, Rgb)> = HashMap::new();
+    let libraries = obj.read_materials()?;
+    for m in &libraries {
+        by_name.insert(&m.name, material(m)?);
     }
-    let (models, materials) = loaded.map_err(|e| Error::format(path, e.to_string()))?;
-    let materials = materials.map_err(|e| Error::format(path, e.to_string()))?;
-    let mats = materials
-        .iter()
-        .map(|m| material(path, m))
-        .collect::<Result<Vec<_>>>()?;
-
-    let mut vertices = Vec::new();
-    let (mut faces, mut albedo, mut emission) = (Vec::new(), Vec::new(), Vec::new());
-    for model in &models {
-        let mesh = &model.mesh;
-        let base = u32::try_from(vertices.len())
-            .map_err(|_| Error::format(path, "more than 2^32 vertices"))?;
-        vertices.extend(
-            mesh.positions
-                .chunks_exact(3)
-                .map(|p| [p[0] as f64, p[1] as f64, p[2] as f64]),
-        );
-        let (a, e) = mesh
-            .material_id
-            .and_then(|i| mats.get(i).copied())
-            .unwrap_or((DEFAULT_ALBEDO, [0.0; 3]));
-        for f in mesh.indices.chunks_exact(3) {
-            faces.push([base + f[0], base + f[1], base + f[2]]);
-            albedo.push(a);
-            emission.push(e);
+    let shading = |used: &Option<u32>| {
+        used.and_then(|k| obj.materials.get(k as usize))
+            .and_then(|name| by_name.get(name.as_str()).copied())
+            .unwrap_or((DEFAULT_ALBEDO, [0.0; 3]))
+    };
+    let (albedo, emission): (Vec<Rgb>, Vec<Rgb>) =
+        obj.triangle_materials.iter().map(shading).unzip();
+    for name in &obj.materials {
+        if !by_name.contains_key(name.as_str()) {
+            log::warn!(
+                "{}: material `{name}` is defined by no library; its faces get the default \
+                 albedo",
+                path.display()
+            );
         }
     }
-    Scene::from_triangles(&vertices, &faces, &albedo, &emission)
+    Scene::from_triangles(&obj.positions, &obj.triangles, &albedo, &emission)
         .map_err(|e| Error::format(path, e.to_string()))
 }
 
-/// The text of the material library `name` named by the OBJ file `obj` (found at `mtl`,
-/// relative to the OBJ file's folder), its colours written out by [`expand_colours`].
-fn mtl_text(obj: &Path, mtl: &Path, name: &Path) -> Result<String> {
-    if name.as_os_str().is_empty() {
-        return Err(Error::format(obj, "`mtllib` names no file"));
-    }
-    let bytes = wscg_math::error::read_file(mtl)?;
-    expand_colours(mtl, &bytes)
-}
-
-/// The MTL text with every one-number colour (`Kd 0.5`, which the MTL format reads as
-/// `Kd 0.5 0.5 0.5`) written out as three numbers; a colour of zero or two numbers is an
-/// error (tobj would panic on it).
-fn expand_colours(mtl: &Path, bytes: &[u8]) -> Result<String> {
-    let text = std::str::from_utf8(bytes)
-        .map_err(|e| Error::format(mtl, format!("not UTF-8 text: {e}")))?;
-    let mut out = String::with_capacity(text.len() + 64);
-    for (n, line) in text.lines().enumerate() {
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) => {
-                let vals: Vec<&str> = words.collect();
-                match vals[..] {
-                    [v] => out.push_str(&format!("{key} {v} {v} {v}")),
-                    [] | [_, _] => {
-                        return Err(Error::format(
-                            mtl,
-                            format!("line {}: `{key}` needs 1 or 3 numbers", n + 1),
-                        ))
-                    }
-                    _ => out.push_str(line),
-                }
-            }
-            _ => out.push_str(line),
-        }
-        out.push('\n');
-    }
-    Ok(out)
-}
-
 /// The albedo and emission of an MTL material, checked.
-fn material(path: &Path, m: &tobj::Material) -> Result<(Rgb, Rgb)> {
-    let rgb = |c: [f32; 3]| c.map(f64::from);
-    let albedo = m.diffuse.map_or(DEFAULT_ALBEDO, rgb);
+fn material(m: &MtlMaterial) -> Result<(Rgb, Rgb)> {
+    let bad = |what: String| {
+        Error::format(
+            &m.library,
+            format!("material `{}` (line {}): {what}", m.name, m.line),
+        )
+    };
+    let albedo = m.diffuse.unwrap_or(DEFAULT_ALBEDO);
     if albedo
         .iter()
         .any(|c| !(c.is_finite() && (0.0..=1.0).contains(c)))
     {
-        return Err(Error::format(
-            path,
-            format!("material `{}`: Kd {albedo:?} must lie in [0, 1]", m.name),
-        ));
+        return Err(bad(format!("Kd {albedo:?} must lie in [0, 1]")));
     }
-    let emission = m.emissive.map_or([0.0; 3], rgb);
+    let emission = m.emission.unwrap_or([0.0; 3]);
     if emission.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
-        return Err(Error::format(
-            path,
-            format!(
-                "material `{}`: Ke {emission:?} must be finite and >= 0",
-                m.name
-            ),
-        ));
+        return Err(bad(format!("Ke {emission:?} must be finite and >= 0")));
     }
     Ok((albedo, emission))
 }
@@ -218,7 +137,7 @@ f 5 6 7 8
             let i = i as u32;
             if s.emitters().contains(&i) {
                 assert_eq!(s.emission(i), [10.0, 8.0, 6.0]);
-                assert_eq!(s.albedo(i), [0.1f32 as f64, 0.2f32 as f64, 0.3f32 as f64]);
+                assert_eq!(s.albedo(i), [0.1, 0.2, 0.3]);
                 assert!(t.normal[1] < -0.999, "the lamp faces down");
                 area[1] += t.area;
             } else {
@@ -370,12 +289,82 @@ f 5 6 7 8
             ),
             ("newmtl floor\nKd 0.5 0.5\n", "scene.mtl: line 2"),
             ("newmtl floor\nKe\n", "scene.mtl: line 2"),
-            ("newmtl floor\nKd 0.5 zero 0.5\n", "scene.mtl"),
+            (
+                "newmtl floor\nKd 0.5 zero 0.5\n",
+                "scene.mtl: line 2: `zero`",
+            ),
+            ("# no material yet\nKd 0.5\n", "scene.mtl: line 2"),
         ] {
             let path = write(dir.path(), &[("scene.obj", OBJ), ("scene.mtl", mtl)]);
             let e = load_obj(&path).unwrap_err();
             assert!(matches!(e, Error::Format { .. }), "{e:?}");
             assert!(e.to_string().contains(what), "{e}");
         }
+    }
+
+    #[test]
+    fn latin1_comments_and_names_load_and_bad_numbers_name_the_line() {
+        let dir = tempfile::tempdir().unwrap();
+        // Latin-1 text (a comment, an object and a material name) in both files.
+        let latin1 = |text: &str| -> Vec<u8> {
+            text.replace("lamp", "l\u{e4}mp")
+                .chars()
+                .map(|c| c as u8)
+                .collect()
+        };
+        let path = dir.path().join("scene.obj");
+        std::fs::write(&path, latin1(&format!("# mod\u{e8}le export\u{e9}\n{OBJ}"))).unwrap();
+        let mtl = format!("# Mat\u{e9}riaux\n{MTL}");
+        std::fs::write(dir.path().join("scene.mtl"), latin1(&mtl)).unwrap();
+        let s = load_obj(&path).unwrap();
+        assert_eq!(s.len(), 4);
+        assert_eq!(s.emitters().len(), 2, "the Latin-1 material name matches");
+
+        // A bad number names the file and the line (line 5: the comment, mtllib, o, v, v).
+        let bad = OBJ.replace("v 1 0 -1", "v 1 0 -1,5");
+        let path = write(dir.path(), &[("bad.obj", &bad), ("scene.mtl", MTL)]);
+        let e = load_obj(&path).unwrap_err().to_string();
+        assert!(
+            e.contains("bad.obj") && e.contains("line 5: `-1,5` is not a number"),
+            "{e}"
+        );
+        // A face index beyond the vertices names the line of the face.
+        let far = OBJ.replace("f 5 6 7 8", "f 5 6 7 80");
+        let path = write(dir.path(), &[("far.obj", &far), ("scene.mtl", MTL)]);
+        let e = load_obj(&path).unwrap_err().to_string();
+        assert!(
+            e.contains("far.obj") && e.contains("line 16: vertex index 80"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn degenerate_triangles_are_counted_and_materials_may_be_missing() {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = "mtllib scene.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\n\
+                   usemtl nowhere\nf 1 2 3\nf 1 2 4\nf 1 2 2\n";
+        let path = write(dir.path(), &[("degenerate.obj", obj), ("scene.mtl", MTL)]);
+        let s = load_obj(&path).unwrap();
+        assert_eq!((s.len(), s.skipped_degenerate), (1, 2));
+        assert_eq!(s.albedo(0), DEFAULT_ALBEDO);
+    }
+
+    #[test]
+    #[cfg(unix)]
+    fn a_material_library_that_is_a_fifo_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe.mtl");
+        let status = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if !status.is_ok_and(|s| s.success()) {
+            return; // no mkfifo here
+        }
+        let path = dir.path().join("fifo.obj");
+        std::fs::write(
+            &path,
+            "mtllib pipe.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        )
+        .unwrap();
+        let e = load_obj(&path).unwrap_err().to_string();
+        assert!(e.contains("pipe.mtl") && e.contains("regular"), "{e}");
     }
 }
