@@ -91,7 +91,9 @@ pub fn run(target: &str, data: &[u8]) -> bool {
     match target {
         "raster" => {
             wscg_math::io::set_max_image_pixels(Some(FUZZ_MAX_IMAGE_PIXELS));
-            wscg_math::Image::<f32>::decode(data, origin()).is_ok()
+            // The EXIF reader parses the same containers (JPEG, TIFF, PNG).
+            let exif = wscg_math::io::exif::read_exif(data, origin()).is_ok();
+            wscg_math::Image::<f32>::decode(data, origin()).is_ok() || exif
         }
         "obj" => wscg_math::TriMesh::from_obj_bytes(data, origin()).is_ok(),
         "ply" => wscg_math::TriMesh::from_ply_bytes(data, origin()).is_ok(),
