@@ -393,12 +393,10 @@ fn calibrate_debevec<'py>(
     lam: f64,
     bits: u8,
 ) -> PyResult<Arr<'py, f32>> {
-    // The dense least-squares system has 2^bits columns: beyond 12 bits it does not fit in
-    // memory.
-    if !(1..=12).contains(&bits) {
+    // Above 10 bits the codes are reduced to 10 for the dense solve (`calibrate_debevec`).
+    if !(1..=16).contains(&bits) {
         return Err(value_error(format!(
-            "`bits` must be in 1..=12 for calibration (the solve is dense in 2^bits codes), \
-             got {bits}"
+            "`bits` must be in 1..=16 for calibration, got {bits}"
         )));
     }
     let imgs = codes_list("stack", &stack)?;

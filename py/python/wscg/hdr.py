@@ -317,8 +317,7 @@ def _file_times(exposure_times, paths, n: int) -> List[float]:
     return _times(times, n)
 
 
-def read_exposure_times(files: Sequence[Union[str, os.PathLike]],
-                        exposure_times: Optional[Sequence[float]] = None) -> List[float]:
+def read_exposure_times(files, exposure_times: Optional[Sequence[float]] = None) -> List[float]:
     """The exposure times of a stack of photographs, from their EXIF blocks.
 
     Parameters
@@ -340,10 +339,10 @@ def read_exposure_times(files: Sequence[Union[str, os.PathLike]],
     Raises
     ------
     ValueError
-        Without ``exposure_times``, a file without EXIF or without an exposure time (named);
-        a count that differs from the files'.
+        A count of ``exposure_times`` that differs from the files'.
     OSError
-        A missing or unreadable file.
+        A missing or unreadable file; without ``exposure_times``, a file without an EXIF
+        block or without an exposure time (the message names it).
 
     Notes
     -----
