@@ -203,8 +203,6 @@ def test_merge_and_calibration_read_exif_from_files(tmp_path):
         hdr.merge_stack(arrays)
     with pytest.raises(ValueError, match="mixes file paths and arrays"):
         hdr.merge_stack([paths[0], arrays[1]], [0.1, 0.2])
-    table = hdr.calibrate_debevec(paths, n_samples=40)
-    assert table.shape == (256, 3)
 
 
 def test_16_bit_tiff_stacks_merge_and_calibrate_over_65536_codes(tmp_path):
