@@ -142,18 +142,18 @@ def _jpeg(path, t=None, f_number=None, iso=None, value=128):
 
 def test_read_exif_gives_the_tags_pillow_wrote(tmp_path):
     p = _jpeg(tmp_path / "a.jpg", t=(1, 250), f_number=(28, 10), iso=400)
-    e = wm.read_exif(p)
+    e = wm.load_exif(p)
     assert isinstance(e, wm.ExifInfo)
-    assert (e.exposure_time, e.f_number, e.iso) == (0.004, 2.8, 400.0)
+    assert (e.exposure_time, e.f_number, e.iso_speed) == (0.004, 2.8, 400.0)
     # Pillow's own reading agrees.
     ifd = PILImage.open(p).getexif().get_ifd(0x8769)
     assert float(ifd[0x829A]) == e.exposure_time and float(ifd[0x829D]) == e.f_number
-    only = wm.read_exif(_jpeg(tmp_path / "b.jpg", t=(1, 30)))
-    assert only.exposure_time == pytest.approx(1 / 30) and only.iso is None
+    only = wm.load_exif(_jpeg(tmp_path / "b.jpg", t=(1, 30)))
+    assert only.exposure_time == pytest.approx(1 / 30) and only.iso_speed is None
     plain = tmp_path / "plain.png"
     wm.save_image(plain, np.zeros((4, 4)))
     with pytest.raises(OSError, match="plain.png"):
-        wm.read_exif(plain)
+        wm.load_exif(plain)
 
 
 def test_a_real_photographs_exif_without_exposure_is_named():
@@ -161,31 +161,31 @@ def test_a_real_photographs_exif_without_exposure_is_named():
     exposure tags: the settings are None and a stack of it needs explicit times."""
     import skimage
     src = os.path.join(os.path.dirname(skimage.__file__), "data", "hubble_deep_field.jpg")
-    e = wm.read_exif(src)
-    assert (e.exposure_time, e.f_number, e.iso) == (None, None, None)
+    e = wm.load_exif(src)
+    assert (e.exposure_time, e.f_number, e.iso_speed) == (None, None, None)
     with pytest.raises(OSError, match="hubble_deep_field.jpg.*exposure times"):
-        hdr.read_exposure_times([src, src])
-    assert hdr.read_exposure_times([src, src], [0.1, 0.2]) == [0.1, 0.2]
+        hdr.exif_exposure_times([src, src])
+    assert hdr.exif_exposure_times([src, src], [0.1, 0.2]) == [0.1, 0.2]
 
 
 def test_exposure_times_from_exif_and_relative_exposure(tmp_path):
     a = _jpeg(tmp_path / "a.jpg", t=(1, 100), f_number=(4, 1), iso=100)
     b = _jpeg(tmp_path / "b.jpg", t=(1, 25), f_number=(4, 1), iso=100)
-    assert hdr.read_exposure_times([a, b]) == [0.01, 0.04]
+    assert hdr.exif_exposure_times([a, b]) == [0.01, 0.04]
     # ISO 400 at f/8 against ISO 100 at f/4: gain 4, aperture area 1/4, the same as 0.04 s.
     c = _jpeg(tmp_path / "c.jpg", t=(1, 25), f_number=(8, 1), iso=400)
-    assert hdr.read_exposure_times([a, c]) == pytest.approx([0.01, 0.04], rel=1e-12)
+    assert hdr.exif_exposure_times([a, c]) == pytest.approx([0.01, 0.04], rel=1e-12)
     d = _jpeg(tmp_path / "d.jpg", t=(1, 100), f_number=(4, 1), iso=800)
-    assert hdr.read_exposure_times([a, d]) == pytest.approx([0.01, 0.08], rel=1e-12)
+    assert hdr.exif_exposure_times([a, d]) == pytest.approx([0.01, 0.08], rel=1e-12)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        assert hdr.read_exposure_times([a, b], [0.0105, 0.04]) == [0.0105, 0.04]
+        assert hdr.exif_exposure_times([a, b], [0.0105, 0.04]) == [0.0105, 0.04]
     with pytest.warns(UserWarning, match="b.jpg.*differs from the EXIF exposure 0.04"):
-        assert hdr.read_exposure_times([a, b], [0.01, 0.08]) == [0.01, 0.08]
+        assert hdr.exif_exposure_times([a, b], [0.01, 0.08]) == [0.01, 0.08]
     with pytest.raises(ValueError, match="one exposure time per image"):
-        hdr.read_exposure_times([a, b], [0.01])
+        hdr.exif_exposure_times([a, b], [0.01])
     with pytest.raises(OSError, match="missing.jpg"):
-        hdr.read_exposure_times([a, str(tmp_path / "missing.jpg")])
+        hdr.exif_exposure_times([a, str(tmp_path / "missing.jpg")])
 
 
 def test_merge_and_calibration_read_exif_from_files(tmp_path):

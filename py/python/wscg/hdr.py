@@ -64,7 +64,7 @@ from ._results import (from_mapping as _from_mapping, result as _result,
 __all__ = [
     "multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
     "warp_direct", "calibrate_debevec", "calibrate_mitsunaga_nayar", "to_radiance",
-    "khan_weight", "merge", "merge_stack", "read_exposure_times",
+    "khan_weight", "merge", "merge_stack", "exif_exposure_times",
     "make_scene", "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS",
     "SYNTHESIS_METHODS", "CRF_NAMES", "HdrSequence", "PolynomialResponse", "HdrScene",
 ]
@@ -317,12 +317,12 @@ def _file_times(exposure_times, paths, n: int) -> List[float]:
     return _times(times, n)
 
 
-def read_exposure_times(files, exposure_times: Optional[Sequence[float]] = None) -> List[float]:
+def exif_exposure_times(paths, exposure_times: Optional[Sequence[float]] = None) -> List[float]:
     """The exposure times of a stack of photographs, from their EXIF blocks.
 
     Parameters
     ----------
-    files : list of str or os.PathLike
+    paths : list of str or os.PathLike
         Image files (JPEG, TIFF or PNG; only read).
     exposure_times : sequence of float, optional
         Times to use instead (seconds, one per file): each that differs from the file's EXIF
@@ -349,13 +349,18 @@ def read_exposure_times(files, exposure_times: Optional[Sequence[float]] = None)
     The exposure ``X = E dt`` of each photograph is what the merge divides by (Debevec &
     Malik 1997, section 2; Ramirez Orozco et al. 2015, section 3). The functions of this
     module that take images call this when the images are given as file paths.
+
+    References
+    ----------
+    P. Debevec and J. Malik, SIGGRAPH 1997, section 2; Ramirez Orozco et al., WSCG 2015,
+    Journal of WSCG vol. 23, section 3.
     """
-    if _is_path(files) or isinstance(files, np.ndarray):
-        raise ValueError("`files` must be a list of file paths")
-    paths = [os.fsdecode(f) if _is_path(f) else f for f in files]
-    if not paths or not all(isinstance(p, str) for p in paths):
-        raise ValueError("`files` must be a non-empty list of file paths")
-    return _file_times(exposure_times, paths, len(paths))
+    if _is_path(paths) or isinstance(paths, np.ndarray):
+        raise ValueError("`paths` must be a list of file paths")
+    files = [os.fsdecode(f) if _is_path(f) else f for f in paths]
+    if not files or not all(isinstance(p, str) for p in files):
+        raise ValueError("`paths` must be a non-empty list of file paths")
+    return _file_times(exposure_times, files, len(files))
 
 
 def _table(c, name: str) -> np.ndarray:
@@ -482,7 +487,7 @@ def multiscopic_hdr(views, exposure_times=None, crf="gamma2.2", *, patch: int = 
         codes, and their bit depth is the default ``bits``.
     exposure_times : sequence of float, optional
         Exposure time ``dt_n`` of every view (seconds, > 0). Default: read from the files'
-        EXIF blocks (:func:`read_exposure_times`; views given as files only); given times
+        EXIF blocks (:func:`exif_exposure_times`; views given as files only); given times
         that disagree with the files' EXIF by more than 10 % give a ``UserWarning``.
     crf : str, array or list, default "gamma2.2"
         Inverse camera response: ``"gamma2.2"``, ``"linear"`` (RAW), a float table

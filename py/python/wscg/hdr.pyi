@@ -6,7 +6,7 @@ import numpy as np
 
 __all__ = ["multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
            "warp_direct", "calibrate_debevec", "calibrate_mitsunaga_nayar", "to_radiance",
-           "khan_weight", "merge", "merge_stack", "read_exposure_times", "make_scene",
+           "khan_weight", "merge", "merge_stack", "exif_exposure_times", "make_scene",
            "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS", "SYNTHESIS_METHODS", "CRF_NAMES", "HdrSequence",
            "PolynomialResponse", "HdrScene"]
 
@@ -88,7 +88,7 @@ def merge(radiances: Sequence[np.ndarray], weights: Sequence[np.ndarray],
           exposure_times: Sequence[float]) -> Tuple[np.ndarray, int]: ...
 def merge_stack(images: Sequence[_Image], exposure_times: Optional[Sequence[float]] = ...,
                 crf: _CrfArg = ..., *, bits: Optional[int] = ...) -> Tuple[np.ndarray, int]: ...
-def read_exposure_times(files: Sequence[Union[str, os.PathLike[str]]],
+def exif_exposure_times(paths: Sequence[Union[str, os.PathLike[str]]],
                         exposure_times: Optional[Sequence[float]] = ...) -> List[float]: ...
 def make_scene(*, height: int = ..., width: int = ..., exposure_times: Sequence[float] = ...,
                 emitter_peak: float = ..., noise: float = ...,

@@ -40,7 +40,7 @@ __all__ = [
     "cg", "solve_cg", "laplacian_3d",
     "eigh", "eigh_generalized", "svd", "lstsq",
     "normal", "uniform", "permutation",
-    "load_image", "save_image", "read_exif", "load_volume", "save_volume",
+    "load_image", "save_image", "load_exif", "load_volume", "save_volume",
     "load_raw_volume", "load_mesh", "save_mesh", "CgInfo", "ExifInfo", "Mesh", "VolumeFile",
 ]
 
@@ -49,7 +49,7 @@ PathLike = Union[str, "os.PathLike[str]"]
 
 @_result
 class ExifInfo:
-    """The exposure settings of a photograph's EXIF block, read by :func:`read_exif`.
+    """The exposure settings of a photograph's EXIF block, read by :func:`load_exif`.
 
     Attributes
     ----------
@@ -57,7 +57,7 @@ class ExifInfo:
         ExposureTime (tag 0x829A), seconds.
     f_number : float or None
         FNumber (tag 0x829D), the aperture's f-number ``N``.
-    iso : float or None
+    iso_speed : float or None
         PhotographicSensitivity (ISOSpeedRatings, tag 0x8827).
 
     Each is None when the block lacks it (or gives zero).
@@ -65,7 +65,7 @@ class ExifInfo:
 
     exposure_time: Optional[float]
     f_number: Optional[float]
-    iso: Optional[float]
+    iso_speed: Optional[float]
 
 
 @_result
@@ -1001,7 +1001,7 @@ def save_image(path: PathLike, image, bit_depth: Optional[int] = None) -> None:
     _m.save_image(_path(path), _real(a, "image"), None if bit_depth is None else int(bit_depth))
 
 
-def read_exif(path: PathLike) -> ExifInfo:
+def load_exif(path: PathLike) -> ExifInfo:
     """Reads the exposure settings of a photograph's EXIF block (JPEG, TIFF or PNG).
 
     Parameters
@@ -1012,7 +1012,7 @@ def read_exif(path: PathLike) -> ExifInfo:
     Returns
     -------
     ExifInfo
-        ``exposure_time`` (s), ``f_number`` and ``iso``, each None when absent.
+        ``exposure_time`` (s), ``f_number`` and ``iso_speed``, each None when absent.
 
     Raises
     ------
@@ -1022,10 +1022,10 @@ def read_exif(path: PathLike) -> ExifInfo:
 
     See Also
     --------
-    wscg.hdr.read_exposure_times : the exposures of a stack of photographs.
+    wscg.hdr.exif_exposure_times : the exposures of a stack of photographs.
     """
     t, n, iso = _m.read_exif(_path(path))
-    return ExifInfo(exposure_time=t, f_number=n, iso=iso)
+    return ExifInfo(exposure_time=t, f_number=n, iso_speed=iso)
 
 
 def load_volume(path: PathLike, spacing: Optional[Tuple[float, float, float]] = None,
