@@ -56,6 +56,16 @@ fn main() {
     grey.save_with_depth(&p, wscg_math::io::PixelDepth::U16)
         .expect("save 16-bit");
     keep(&corpus, "raster", "grey16.png", &p);
+    for (name, img) in [("grey.tif", &grey), ("rgb16.tif", &rgb)] {
+        let depth = if name.contains("16") {
+            wscg_math::io::PixelDepth::U16
+        } else {
+            wscg_math::io::PixelDepth::U8
+        };
+        let p = tmp(&work, name);
+        img.save_with_depth(&p, depth).expect("save TIFF");
+        keep(&corpus, "raster", name, &p);
+    }
 
     // Meshes: a tetrahedron, with and without normals and colours.
     let positions = vec![

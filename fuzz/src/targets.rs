@@ -95,7 +95,9 @@ pub fn run(target: &str, data: &[u8]) -> bool {
     match target {
         "raster" => {
             wscg_math::io::set_max_image_pixels(Some(FUZZ_MAX_IMAGE_PIXELS));
-            wscg_math::Image::<f32>::decode(data, origin()).is_ok()
+            // The EXIF reader parses the same containers (JPEG, TIFF, PNG).
+            let exif = wscg_math::io::exif::read_exif(data, origin()).is_ok();
+            wscg_math::Image::<f32>::decode(data, origin()).is_ok() || exif
         }
         "obj" => {
             // The one OBJ reader (meshes and the many-light scenes) and its MTL reader.

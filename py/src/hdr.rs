@@ -3,6 +3,8 @@
 //! code images, float32 radiance images, int32 offset fields and float32 response tables;
 //! every function here validates its input again, so a direct call cannot panic.
 
+use std::path::PathBuf;
+
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -49,6 +51,34 @@ fn nnf_out<'py>(py: Python<'py>, f: Nnf) -> PyResult<(Arr<'py, i32>, Arr<'py, f3
     let (h, w) = (f.height(), f.width());
     let off = f.off.iter().flat_map(|o| [o[0], o[1]]).collect();
     Ok((array(py, &[h, w, 2], off)?, array(py, &[h, w], f.cost)?))
+}
+
+/// The codes of an 8- or 16-bit image file (PNG, TIFF, JPEG) as `(H, W)` or `(H, W, C)`
+/// uint16, with the file's bit depth.
+#[pyfunction]
+fn load_codes(py: Python<'_>, path: PathBuf) -> PyResult<(Arr<'_, u16>, u8)> {
+    let (img, bits) = crate::pool::detach(py, || Image::<u16>::load_codes(&path)).py_err()?;
+    let (h, w, c) = img.shape();
+    let shape = if c == 1 { vec![h, w] } else { vec![h, w, c] };
+    Ok((array(py, &shape, img.into_data())?, bits))
+}
+
+/// The exposure times of image files: `given` checked against their EXIF exposures, or the
+/// EXIF exposures (`wscg_math::io::exif::resolve_exposure_times`). Returns the times,
+/// whether they came from EXIF, and one message per disagreement.
+#[pyfunction]
+#[pyo3(signature = (paths, given))]
+fn exposure_times(
+    py: Python<'_>,
+    paths: Vec<PathBuf>,
+    given: Option<Vec<f64>>,
+) -> PyResult<(Vec<f64>, bool, Vec<String>)> {
+    let r = crate::pool::detach(py, || {
+        wscg_math::io::exif::resolve_exposure_times(&paths, given.as_deref())
+    })
+    .py_err()?;
+    let messages = r.mismatches.into_iter().map(|m| m.message).collect();
+    Ok((r.times, r.from_exif, messages))
 }
 
 /// One inverse camera response as given from Python: a name or a table.
@@ -363,12 +393,10 @@ fn calibrate_debevec<'py>(
     lam: f64,
     bits: u8,
 ) -> PyResult<Arr<'py, f32>> {
-    // The dense least-squares system has 2^bits columns: beyond 12 bits it does not fit in
-    // memory.
-    if !(1..=12).contains(&bits) {
+    // Above 10 bits the codes are reduced to 10 for the dense solve (`calibrate_debevec`).
+    if !(1..=16).contains(&bits) {
         return Err(value_error(format!(
-            "`bits` must be in 1..=12 for calibration (the solve is dense in 2^bits codes), \
-             got {bits}"
+            "`bits` must be in 1..=16 for calibration, got {bits}"
         )));
     }
     let imgs = codes_list("stack", &stack)?;
@@ -723,6 +751,8 @@ fn incoherence(py: Python<'_>, offsets: PyReadonlyArrayDyn<'_, i32>) -> PyResult
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(multiscopic_hdr, m)?)?;
     m.add_function(wrap_pyfunction!(merge_stack, m)?)?;
+    m.add_function(wrap_pyfunction!(load_codes, m)?)?;
+    m.add_function(wrap_pyfunction!(exposure_times, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(to_radiance, m)?)?;
     m.add_function(wrap_pyfunction!(khan_weight, m)?)?;

@@ -481,6 +481,14 @@ fn save_image(
     .py_err()
 }
 
+/// The EXIF exposure settings of an image file: `(exposure_time, f_number, iso)`, each
+/// `None` when the block lacks it.
+#[pyfunction]
+fn read_exif(py: Python<'_>, path: PathBuf) -> PyResult<(Option<f64>, Option<f64>, Option<f64>)> {
+    let e = crate::pool::detach(py, || wscg_math::io::exif::load_exif(&path)).py_err()?;
+    Ok((e.exposure_time, e.f_number, e.iso))
+}
+
 // ---------------------------------------------------------------- volumes
 
 /// Python spacing (dz, dy, dx) to Rust spacing [sx, sy, sz].
@@ -685,6 +693,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(permutation, m)?)?;
     m.add_function(wrap_pyfunction!(load_image, m)?)?;
     m.add_function(wrap_pyfunction!(save_image, m)?)?;
+    m.add_function(wrap_pyfunction!(read_exif, m)?)?;
     m.add_function(wrap_pyfunction!(load_volume, m)?)?;
     m.add_function(wrap_pyfunction!(load_raw_volume, m)?)?;
     m.add_function(wrap_pyfunction!(save_volume, m)?)?;

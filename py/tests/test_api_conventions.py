@@ -289,6 +289,7 @@ CONVERTED = {
     "math.cg": "CgInfo",
     "math.solve_cg": "CgInfo",
     "math.load_mesh": "Mesh",
+    "math.load_exif": "ExifInfo",
     "volseg.random_walker_bone": "SolveReport",
     "volseg.RandomWalkerSession.solve": "SolveReport",
     "volseg.RandomWalkerSession.report": "SolveReport",

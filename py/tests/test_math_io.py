@@ -42,7 +42,7 @@ def test_image_errors(tmp_path):
     with pytest.raises(OSError):
         wm.load_image(bad)
     with pytest.raises(OSError, match="extension"):
-        wm.save_image(tmp_path / "x.tiff", np.zeros((4, 4)))
+        wm.save_image(tmp_path / "x.bmp", np.zeros((4, 4)))
     with pytest.raises(ValueError, match="bit_depth"):
         wm.save_image(tmp_path / "x.png", np.zeros((4, 4)), bit_depth=12)
     with pytest.raises(ValueError):

@@ -2778,3 +2778,61 @@ fn huge_sizes_are_refused_before_allocating() {
         );
     }
 }
+
+/// `wscg hdr calibrate` and `merge` on 16-bit TIFF exposures (a raw converter's output):
+/// the response covers all 65536 codes and has the camera's gamma; without `--times`, files
+/// without EXIF are an error naming the first such file.
+#[test]
+fn hdr_calibrate_and_merge_16_bit_tiffs() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let radiance = gradient_target(48, 64).unwrap();
+    let times: Vec<f64> = (0..6).map(|k| 0.004 * 2f64.powi(k)).collect();
+    let mut stack = Vec::new();
+    for (k, &t) in times.iter().enumerate() {
+        let codes = encode(&radiance, t, Response::Gamma(2.2), 0.001, 16, 30 + k as u64).unwrap();
+        let p = d.join(format!("exposure_{k}.tif"));
+        codes
+            .map(|z| z as f32 / 65535.0)
+            .save_with_depth(&p, wscg_math::io::PixelDepth::U16)
+            .unwrap();
+        // The file holds the codes exactly.
+        assert_eq!(Image::<u16>::load_codes(&p).unwrap(), (codes, 16));
+        stack.push(s(&p));
+    }
+    let list: Vec<String> = times.iter().map(|t| t.to_string()).collect();
+    let list = list.join(",");
+    let crf = d.join("crf16.csv");
+    let mut args: Vec<String> = vec!["hdr".into(), "calibrate".into()];
+    args.extend(stack.iter().cloned());
+    args.extend(["--times", &list, "--out", &s(&crf)].map(String::from));
+    wscg_ok(&args);
+    let rows: Vec<f64> = std::fs::read_to_string(&crf)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(rows.len(), 65536);
+    // ln f^-1(4 z) - ln f^-1(z) = 2.2 ln 4 for a gamma-2.2 camera (the scale is free).
+    let ratio = (rows[48000] / rows[12000]).ln();
+    assert!((ratio - 2.2 * 4f64.ln()).abs() < 0.15, "{ratio}");
+    let merged = d.join("merged16.exr");
+    let mut args: Vec<String> = vec!["hdr".into(), "merge".into()];
+    args.extend(stack.iter().cloned());
+    args.extend(["--times", &list, "--crf", &s(&crf), "--out", &s(&merged)].map(String::from));
+    wscg_ok(&args);
+    assert_eq!(Image::load(&merged).unwrap().shape(), (48, 64, 3));
+    // No --times and no EXIF in the files.
+    let mut args: Vec<String> = vec!["hdr".into(), "merge".into()];
+    args.extend(stack.iter().cloned());
+    args.extend(["--out", &s(&merged)].map(String::from));
+    let bad = wscg().args(&args).output().unwrap();
+    assert!(!bad.status.success());
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("exposure_0.tif") && err.contains("give the exposure times"),
+        "{err}"
+    );
+}

@@ -156,8 +156,8 @@ pub fn levels_of(bits: u8) -> Result<usize> {
     Ok(1usize << bits)
 }
 
-/// Largest bit depth [`calibrate_debevec`] accepts (1024 codes: the dense least-squares
-/// system stays below a few thousand unknowns).
+/// Largest bit depth [`calibrate_debevec`] solves at (1024 codes: the dense least-squares
+/// system stays below a few thousand unknowns); deeper codes are reduced to it.
 pub const MAX_CALIBRATION_BITS: u8 = 10;
 
 /// Hat weight of Debevec & Malik, `h(z) = min(z, z_max - z)`.
@@ -256,6 +256,11 @@ pub(crate) fn check_stack(
 /// solved by SVD; `f^-1 = exp(g)`. Codes the samples never reach are filled by the
 /// smoothness term. Errors when the recovered `g` is not monotone over the observed codes
 /// ("CRF calibration failed").
+///
+/// Codes of more than [`MAX_CALIBRATION_BITS`] bits (12- to 16-bit TIFFs) are reduced to
+/// that depth before solving (`z >> (bits - 10)`: 64 codes of a 16-bit camera a bin), and the
+/// solved `g` is interpolated linearly back to all `2^bits` codes at the bins' centres, so the
+/// returned table has `2^bits` levels and applies to the full-depth codes.
 pub fn calibrate_debevec(
     stack: &[Image<u16>],
     times: &[f64],
@@ -263,16 +268,13 @@ pub fn calibrate_debevec(
     samples: usize,
     lambda: f64,
 ) -> Result<Crf> {
-    if bits > MAX_CALIBRATION_BITS {
-        return Err(Error::invalid(
-            "bits",
-            format!(
-                "calibration solves a dense system over every code: at most \
-                 {MAX_CALIBRATION_BITS} bits, got {bits} (RAW data is linear: use Crf::linear)"
-            ),
-        ));
-    }
     let (levels, (h, w, ch)) = check_stack(stack, times, bits)?;
+    if bits > MAX_CALIBRATION_BITS {
+        let shift = bits - MAX_CALIBRATION_BITS;
+        let reduced: Vec<Image<u16>> = stack.iter().map(|im| im.map(|z| z >> shift)).collect();
+        let coarse = calibrate_debevec(&reduced, times, MAX_CALIBRATION_BITS, samples, lambda)?;
+        return expand_levels(&coarse, levels, shift);
+    }
     if !(lambda.is_finite() && lambda > 0.0) {
         return Err(Error::invalid(
             "lambda",
@@ -316,6 +318,30 @@ pub fn calibrate_debevec(
         let g: Vec<f64> = (0..levels).map(|z| x[(z, 0)]).collect();
         let g = monotone_channel(&g, (zlo, zhi), c, "lambda too small")?;
         for (z, v) in g.iter().enumerate() {
+            table[z * ch + c] = v.exp() as f32;
+        }
+    }
+    Crf::from_table(&table, levels, ch)
+}
+
+/// A table of `coarse.levels()` codes spread over `levels = coarse.levels() << shift` codes:
+/// code `z` lies at `(z + 0.5) / 2^shift - 0.5` on the coarse axis (the centre of its bin),
+/// and `ln f^-1` is interpolated linearly there (held constant past the end bins' centres).
+fn expand_levels(coarse: &Crf, levels: usize, shift: u8) -> Result<Crf> {
+    let (n, ch) = (coarse.levels(), coarse.channels());
+    let g: Vec<f64> = coarse
+        .table()
+        .iter()
+        .map(|&v| f64::from(v.max(f32::MIN_POSITIVE)).ln())
+        .collect();
+    let scale = (1usize << shift) as f64;
+    let mut table = vec![0f32; levels * ch];
+    for z in 0..levels {
+        let u = ((z as f64 + 0.5) / scale - 0.5).clamp(0.0, (n - 1) as f64);
+        let k = (u.floor() as usize).min(n - 2);
+        let a = u - k as f64;
+        for c in 0..ch {
+            let v = (1.0 - a) * g[k * ch + c] + a * g[(k + 1) * ch + c];
             table[z * ch + c] = v.exp() as f32;
         }
     }

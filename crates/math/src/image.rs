@@ -2,9 +2,9 @@
 //!
 //! Pixels are stored interleaved, row after row: the value of channel `c` at row `y`, column
 //! `x` is `data[(y * width + x) * channels + c]`, the layout of a C-ordered numpy array of
-//! shape `(H, W, C)`. Files (8- and 16-bit PNG, JPEG, OpenEXR and Radiance HDR) are read and
-//! written by [`crate::io`] (feature `io-image`), which adds `Image::load`, `Image::save` and
-//! their variants.
+//! shape `(H, W, C)`. Files (8- and 16-bit PNG and TIFF, JPEG, OpenEXR and Radiance HDR) are
+//! read and written by [`crate::io`] (feature `io-image`), which adds `Image::load`,
+//! `Image::save` and their variants.
 
 use ndarray::{Array3, ArrayView3};
 

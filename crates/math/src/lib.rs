@@ -47,7 +47,7 @@
 //!
 //! | feature | modules | adds | dependency |
 //! |---|---|---|---|
-//! | `io-image` | `io::raster` | PNG (8/16-bit), JPEG, OpenEXR and Radiance HDR for [`Image`] (`Image::load`, `Image::save`, ...) | `image` |
+//! | `io-image` | `io::raster`, `io::exif` | PNG and TIFF (8/16-bit), JPEG, OpenEXR and Radiance HDR for [`Image`] (`Image::load`, `Image::save`, ...); EXIF exposure settings | `image`, `kamadak-exif` |
 //! | `io-npy` | `io::npy`, also named `npy` | numpy `.npy` arrays | `ndarray-npy` |
 //! | `io-volume` | `io::raw`, `io::nifti`, `io::npy` | raw, NIfTI-1 and `.npy` files for [`Volume`] (`Volume::read`, ...); enables `io-npy` | `nifti` |
 //! | `io-mesh` | `io::obj`, `io::ply` | OBJ and PLY files for [`TriMesh`] (`TriMesh::read`, ...) | `ply-rs` |

@@ -49,6 +49,8 @@ ICIP 2006.
 
 from __future__ import annotations
 
+import os
+import warnings
 from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -62,7 +64,7 @@ from ._results import (from_mapping as _from_mapping, result as _result,
 __all__ = [
     "multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
     "warp_direct", "calibrate_debevec", "calibrate_mitsunaga_nayar", "to_radiance",
-    "khan_weight", "merge", "merge_stack",
+    "khan_weight", "merge", "merge_stack", "exif_exposure_times",
     "make_scene", "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS",
     "SYNTHESIS_METHODS", "CRF_NAMES", "HdrSequence", "PolynomialResponse", "HdrScene",
 ]
@@ -271,6 +273,96 @@ def _times(times, n: int, name: str = "exposure_times") -> List[float]:
     return [float(v) for v in t]
 
 
+def _is_path(x) -> bool:
+    return isinstance(x, (str, bytes, os.PathLike))
+
+
+def _files(xs, name: str):
+    """Images given as file paths loaded as codes: ``(arrays, paths, bits)``; other input is
+    returned as it is with ``paths = bits = None`` (checked later as arrays)."""
+    if isinstance(xs, np.ndarray) or _is_path(xs):
+        return xs, None, None
+    try:
+        xs = list(xs)
+    except TypeError:
+        return xs, None, None
+    n_paths = sum(_is_path(x) for x in xs)
+    if n_paths == 0:
+        return xs, None, None
+    if n_paths != len(xs):
+        raise ValueError(f"`{name}` mixes file paths and arrays: give every image as a file or "
+                         "every image as an array")
+    paths = [os.fsdecode(x) for x in xs]
+    loaded = [_h.load_codes(p) for p in paths]
+    depths = [b for _, b in loaded]
+    for p, b in zip(paths, depths):
+        if b != depths[0]:
+            raise ValueError(f"`{name}`: {p} is {b}-bit but {paths[0]} is {depths[0]}-bit")
+    arrays = [a.astype(np.uint8) if b == 8 else a for a, b in loaded]
+    return arrays, paths, depths[0]
+
+
+def _file_times(exposure_times, paths, n: int) -> List[float]:
+    """The times of a stack: given (checked against the files' EXIF exposures, each
+    disagreement a warning) or, for files, read from their EXIF blocks."""
+    if paths is None:
+        if exposure_times is None:
+            raise ValueError("`exposure_times` is required for images given as arrays (EXIF "
+                             "exposures are read only from images given as file paths)")
+        return _times(exposure_times, n)
+    given = None if exposure_times is None else _times(exposure_times, n)
+    times, _, messages = _h.exposure_times(paths, given)
+    for m in messages:
+        warnings.warn(m, UserWarning, stacklevel=3)
+    return _times(times, n)
+
+
+def exif_exposure_times(paths, exposure_times: Optional[Sequence[float]] = None) -> List[float]:
+    """The exposure times of a stack of photographs, from their EXIF blocks.
+
+    Parameters
+    ----------
+    paths : list of str or os.PathLike
+        Image files (JPEG, TIFF or PNG; only read).
+    exposure_times : sequence of float, optional
+        Times to use instead (seconds, one per file): each that differs from the file's EXIF
+        exposure by more than 10 % gives a ``UserWarning`` naming the file.
+
+    Returns
+    -------
+    list of float
+        One exposure per file, seconds: ``exposure_times`` when given, else the EXIF
+        ExposureTime. When every file also gives ISO and f-number and they differ between
+        the files, the relative exposure ``t_i (S_i / S_0) (N_0 / N_i)^2`` (``t * ISO / N^2``
+        normalised to the first file, which keeps its time).
+
+    Raises
+    ------
+    ValueError
+        A count of ``exposure_times`` that differs from the files'.
+    OSError
+        A missing or unreadable file; without ``exposure_times``, a file without an EXIF
+        block or without an exposure time (the message names it).
+
+    Notes
+    -----
+    The exposure ``X = E dt`` of each photograph is what the merge divides by (Debevec &
+    Malik 1997, section 2; Ramirez Orozco et al. 2015, section 3). The functions of this
+    module that take images call this when the images are given as file paths.
+
+    References
+    ----------
+    P. Debevec and J. Malik, SIGGRAPH 1997, section 2; Ramirez Orozco et al., WSCG 2015,
+    Journal of WSCG vol. 23, section 3.
+    """
+    if _is_path(paths) or isinstance(paths, np.ndarray):
+        raise ValueError("`paths` must be a list of file paths")
+    files = [os.fsdecode(f) if _is_path(f) else f for f in paths]
+    if not files or not all(isinstance(p, str) for p in files):
+        raise ValueError("`paths` must be a non-empty list of file paths")
+    return _file_times(exposure_times, files, len(files))
+
+
 def _table(c, name: str) -> np.ndarray:
     t = _array(c, name)
     if t.ndim not in (1, 2):
@@ -377,7 +469,7 @@ def _channels_match(a: np.ndarray, b: np.ndarray) -> None:
 # Pipeline
 # ----------------------------------------------------------------------------------------
 
-def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
+def multiscopic_hdr(views, exposure_times=None, crf="gamma2.2", *, patch: int = 7,
                     n_iter: int = 2, max_disparity: int = 64,
                     min_disparity: Optional[int] = None, coherence: bool = True,
                     epipolar: bool = True, align: str = "ours", synthesis: str = "bds",
@@ -389,11 +481,14 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
 
     Parameters
     ----------
-    views : list of arrays (H, W) or (H, W, C), uint8 or uint16
+    views : list of arrays (H, W) or (H, W, C), uint8 or uint16, or of file paths
         At least two views of one size, ordered left to right on a horizontal baseline, each
-        shot with its own exposure.
-    exposure_times : sequence of float
-        Exposure time ``dt_n`` of every view (seconds, > 0).
+        shot with its own exposure. Files (8- or 16-bit PNG or TIFF, or JPEG) are read as
+        codes, and their bit depth is the default ``bits``.
+    exposure_times : sequence of float, optional
+        Exposure time ``dt_n`` of every view (seconds, > 0). Default: read from the files'
+        EXIF blocks (:func:`exif_exposure_times`; views given as files only); given times
+        that disagree with the files' EXIF by more than 10 % give a ``UserWarning``.
     crf : str, array or list, default "gamma2.2"
         Inverse camera response: ``"gamma2.2"``, ``"linear"`` (RAW), a float table
         ``(levels, C)`` or ``(levels,)`` of ``f^-1(Z)`` (as :func:`calibrate_debevec`
@@ -431,9 +526,9 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
         On the five-view test scene every view's RMSE log2 drops to 0.139 or less (0.220 on
         the longest exposure without it).
     bits : int, optional
-        Bit depth of named responses: default 8 for uint8 views, otherwise the smallest depth
-        covering the largest code (pass it for RAW data, e.g. 10, since ``z_max`` also sets
-        the Khan weights). A table's length must equal ``2**bits`` when both are given.
+        Bit depth of named responses: default the files' depth for views given as files, 8
+        for uint8 views, otherwise the smallest depth covering the largest code (pass it for
+        RAW data, e.g. 10, since ``z_max`` also sets the Khan weights). A table's length must equal ``2**bits`` when both are given.
     seed : int, default 0
         Seed of the random initialisation and search; each ordered pair derives its own.
     return_details : bool, default False
@@ -481,12 +576,14 @@ def multiscopic_hdr(views, exposure_times, crf="gamma2.2", *, patch: int = 7,
     if isinstance(views, (list, tuple)) and len(views) == 1:
         raise ValueError("multiscopic_hdr needs at least 2 views, got 1; to merge an aligned "
                          "exposure stack of one view use merge_stack")
+    views, paths, file_bits = _files(views, "views")
     vs, u8 = _code_list(views, "views")
     if len(vs) < 2:
         raise ValueError(f"multiscopic_hdr needs at least 2 views, got {len(vs)}; to merge "
                          "an aligned exposure stack of one view use merge_stack")
     h, w = vs[0].shape[:2]
-    times = _times(exposure_times, len(vs))
+    times = _file_times(exposure_times, paths, len(vs))
+    bits = file_bits if bits is None else bits
     crfs = _crfs(crf, len(vs))
     nbits = _bits(bits, crfs, vs, u8)
     if align not in ALIGN_METHODS:
@@ -774,10 +871,13 @@ def warp_direct(src, offsets_rs) -> np.ndarray:
 
 def _calibration_stack(stack, exposure_times, bits, max_bits: int):
     """The codes, times and bit depth of a calibration stack, checked."""
+    stack, paths, file_bits = _files(stack, "stack")
     imgs, _ = _code_list(stack, "stack")
     if len(imgs) < 2:
         raise ValueError(f"`stack` needs at least 2 exposures, got {len(imgs)}")
-    times = _times(exposure_times, len(imgs))
+    times = _file_times(exposure_times, paths, len(imgs))
+    if bits is None:
+        bits = 8 if file_bits is None else file_bits
     bits = _int("bits", bits, 1, max_bits)
     mc = max(int(v.max()) for v in imgs)
     if mc > 2 ** bits - 1:
@@ -786,25 +886,30 @@ def _calibration_stack(stack, exposure_times, bits, max_bits: int):
     return imgs, times, bits
 
 
-def calibrate_debevec(stack, exposure_times, *, n_samples: int = 70, lam: float = 10.0,
-                      bits: int = 8) -> np.ndarray:
+def calibrate_debevec(stack, exposure_times=None, *, n_samples: int = 70, lam: float = 10.0,
+                      bits: Optional[int] = None) -> np.ndarray:
     """Recover the inverse camera response from a static exposure stack (Debevec & Malik
     1997; the paper's section 3: "for 8bits LDR images a CRF per camera needs to be
     estimated").
 
     Parameters
     ----------
-    stack : list of arrays (H, W) or (H, W, C), uint8 or uint16
-        At least two aligned exposures of a static scene.
-    exposure_times : sequence of float
-        Exposure time of every image (seconds, > 0).
+    stack : list of arrays (H, W) or (H, W, C), uint8 or uint16, or of file paths
+        At least two aligned exposures of a static scene (files: 8- or 16-bit PNG or TIFF,
+        or JPEG, read as codes).
+    exposure_times : sequence of float, optional
+        Exposure time of every image (seconds, > 0). Default: the files' EXIF exposures (as
+        :func:`multiscopic_hdr`).
     n_samples : int, default 70
         Sample pixels, on a regular grid (as OpenCV's ``CalibrateDebevec`` with
         ``random=False`` places them).
     lam : float, default 10
         Smoothness weight ``lambda`` (> 0).
-    bits : int, default 8
-        Bit depth of the codes (1..12; the dense solve has ``2**bits`` unknowns per channel).
+    bits : int, optional
+        Bit depth of the codes (1..16): default the files' depth, else 8. Above 10 bits the
+        codes are reduced to 10 bits for the solve (``z >> (bits - 10)``; the dense solve has
+        one unknown per code) and ``g`` is interpolated linearly back to every code at the
+        bins' centres.
 
     Returns
     -------
@@ -825,30 +930,32 @@ def calibrate_debevec(stack, exposure_times, *, n_samples: int = 70, lam: float 
     P. Debevec and J. Malik, SIGGRAPH 1997; Ramirez Orozco et al., WSCG 2015, Journal of
     WSCG vol. 23, section 3.
     """
-    imgs, times, bits = _calibration_stack(stack, exposure_times, bits, 12)
+    imgs, times, bits = _calibration_stack(stack, exposure_times, bits, 16)
     return _h.calibrate_debevec(imgs, times, _int("n_samples", n_samples, 1, 10 ** 6),
                                 _positive("lam", lam), bits)
 
 
-def calibrate_mitsunaga_nayar(stack, exposure_times, *, degree: Optional[int] = None,
+def calibrate_mitsunaga_nayar(stack, exposure_times=None, *, degree: Optional[int] = None,
                               max_degree: int = 10, n_samples: int = 2000,
                               refine_ratios: bool = True, tol: float = 1e-7,
                               max_iter: int = 100,
-                              bits: int = 8) -> Tuple[np.ndarray, PolynomialResponse]:
+                              bits: Optional[int] = None) -> Tuple[np.ndarray, PolynomialResponse]:
     """Recover the inverse camera response as a polynomial (Mitsunaga & Nayar 1999, the
     model of RASCAL, which the paper used for its 8-bit views), re-estimating the exposure
     ratios from approximate times.
 
     Parameters
     ----------
-    stack : list of arrays (H, W) or (H, W, C), uint8 or uint16
+    stack : list of arrays (H, W) or (H, W, C), uint8 or uint16, or of file paths
         At least two aligned exposures of a static scene whose pixels span the codes (a
         calibration chart or a gradient): the polynomial's scale is fixed at the top code,
-        so the stack needs samples in the upper half of the range.
-    exposure_times : sequence of float
+        so the stack needs samples in the upper half of the range. Files (8- or 16-bit PNG
+        or TIFF, or JPEG) are read as codes.
+    exposure_times : sequence of float, optional
         Exposure time of every image (seconds, > 0, distinct). The intermediate ones may be
         approximate when ``refine_ratios`` is on; the span from the shortest to the longest
-        fixes the response's exponent.
+        fixes the response's exponent. Default: the files' EXIF exposures (as
+        :func:`multiscopic_hdr`).
     degree : int, optional
         Polynomial degree (1..10); by default chosen per channel on held-out samples (the
         smallest degree within 25 % of the best held-out error whose fit increases).
@@ -864,8 +971,8 @@ def calibrate_mitsunaga_nayar(stack, exposure_times, *, degree: Optional[int] = 
         Stop when the response moves less than this at every code.
     max_iter : int, default 100
         Most alternations.
-    bits : int, default 8
-        Bit depth of the codes (1..16).
+    bits : int, optional
+        Bit depth of the codes (1..16): default the files' depth, else 8.
 
     Returns
     -------
@@ -983,16 +1090,18 @@ def khan_weight(z, z_max: float = 255.0):
     return float(out.reshape(())) if scalar else out
 
 
-def merge_stack(images, exposure_times, crf="gamma2.2", *,
+def merge_stack(images, exposure_times=None, crf="gamma2.2", *,
                 bits: Optional[int] = None) -> Tuple[np.ndarray, int]:
     """Merge an aligned exposure stack of one view into HDR (paper eqs. 6-7, no matching).
 
     Parameters
     ----------
-    images : list of arrays (H, W) or (H, W, C), uint8 or uint16
-        Aligned exposures of one shape (one image is allowed).
-    exposure_times : sequence of float
-        Exposure time of every image (seconds, > 0).
+    images : list of arrays (H, W) or (H, W, C), uint8 or uint16, or of file paths
+        Aligned exposures of one shape (one image is allowed); files as in
+        :func:`multiscopic_hdr`.
+    exposure_times : sequence of float, optional
+        Exposure time of every image (seconds, > 0). Default: the files' EXIF exposures (as
+        :func:`multiscopic_hdr`).
     crf : str, array or list, default "gamma2.2"
         One inverse response or one per image (see :func:`multiscopic_hdr`).
     bits : int, optional
@@ -1025,8 +1134,10 @@ def merge_stack(images, exposure_times, crf="gamma2.2", *,
     >>> float(e[0, 0]), n
     (100.0, 4)
     """
+    images, paths, file_bits = _files(images, "images")
     imgs, u8 = _code_list(images, "images")
-    times = _times(exposure_times, len(imgs))
+    times = _file_times(exposure_times, paths, len(imgs))
+    bits = file_bits if bits is None else bits
     crfs = _crfs(crf, len(imgs))
     nbits = _bits(bits, crfs, imgs, u8)
     out, fallback = _h.merge_stack(imgs, times, crfs, nbits)

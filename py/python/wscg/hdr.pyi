@@ -1,3 +1,4 @@
+import os
 from dataclasses import dataclass
 from typing import Dict, List, Literal, NamedTuple, Optional, Sequence, Tuple, Union, overload
 
@@ -5,8 +6,8 @@ import numpy as np
 
 __all__ = ["multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
            "warp_direct", "calibrate_debevec", "calibrate_mitsunaga_nayar", "to_radiance",
-           "khan_weight", "merge", "merge_stack", "make_scene", "rmse_log2", "bad_rate",
-           "incoherence", "ALIGN_METHODS", "SYNTHESIS_METHODS", "CRF_NAMES", "HdrSequence",
+           "khan_weight", "merge", "merge_stack", "exif_exposure_times", "make_scene",
+           "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS", "SYNTHESIS_METHODS", "CRF_NAMES", "HdrSequence",
            "PolynomialResponse", "HdrScene"]
 
 ALIGN_METHODS: Tuple[str, ...]
@@ -16,6 +17,7 @@ CRF_NAMES: Tuple[str, ...]
 _Crf = Union[str, np.ndarray]
 _CrfArg = Union[str, np.ndarray, Sequence[Union[str, np.ndarray]]]
 _Fields = Dict[Tuple[int, int], np.ndarray]
+_Image = Union[np.ndarray, str, os.PathLike[str]]
 
 class HdrSequence(NamedTuple):
     radiance: List[np.ndarray]
@@ -41,7 +43,7 @@ class HdrScene:
     seen_by: List[np.ndarray]
 
 @overload
-def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float],
+def multiscopic_hdr(views: Sequence[_Image], exposure_times: Optional[Sequence[float]] = ...,
                     crf: _CrfArg = ..., *, patch: int = ..., n_iter: int = ...,
                     max_disparity: int = ..., min_disparity: Optional[int] = ...,
                     coherence: bool = ..., epipolar: bool = ..., align: str = ...,
@@ -49,7 +51,7 @@ def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float]
                     fill_saturated: bool = ..., bits: Optional[int] = ..., seed: int = ...,
                     return_details: Literal[False] = ...) -> List[np.ndarray]: ...
 @overload
-def multiscopic_hdr(views: Sequence[np.ndarray], exposure_times: Sequence[float],
+def multiscopic_hdr(views: Sequence[_Image], exposure_times: Optional[Sequence[float]] = ...,
                     crf: _CrfArg = ..., *, patch: int = ..., n_iter: int = ...,
                     max_disparity: int = ..., min_disparity: Optional[int] = ...,
                     coherence: bool = ..., epipolar: bool = ..., align: str = ...,
@@ -67,13 +69,14 @@ def zncc_stereo(a: np.ndarray, b: np.ndarray, *, window: int = ..., min_disparit
 def vote_bds(src: np.ndarray, offsets_rs: np.ndarray, offsets_sr: np.ndarray, *,
              patch: int = ...) -> np.ndarray: ...
 def warp_direct(src: np.ndarray, offsets_rs: np.ndarray) -> np.ndarray: ...
-def calibrate_debevec(stack: Sequence[np.ndarray], exposure_times: Sequence[float], *,
-                      n_samples: int = ..., lam: float = ..., bits: int = ...) -> np.ndarray: ...
-def calibrate_mitsunaga_nayar(stack: Sequence[np.ndarray], exposure_times: Sequence[float], *,
+def calibrate_debevec(stack: Sequence[_Image], exposure_times: Optional[Sequence[float]] = ..., *,
+                      n_samples: int = ..., lam: float = ...,
+                      bits: Optional[int] = ...) -> np.ndarray: ...
+def calibrate_mitsunaga_nayar(stack: Sequence[_Image], exposure_times: Optional[Sequence[float]] = ..., *,
                               degree: Optional[int] = ..., max_degree: int = ...,
                               n_samples: int = ..., refine_ratios: bool = ..., tol: float = ...,
                               max_iter: int = ...,
-                              bits: int = ...) -> Tuple[np.ndarray, PolynomialResponse]: ...
+                              bits: Optional[int] = ...) -> Tuple[np.ndarray, PolynomialResponse]: ...
 def to_radiance(image: np.ndarray, crf: _Crf, exposure_time: float, *,
                 bits: Optional[int] = ...) -> np.ndarray: ...
 @overload
@@ -83,8 +86,10 @@ def khan_weight(z: Union[np.ndarray, Sequence[float]], z_max: float = ...) -> np
 def merge(radiances: Sequence[np.ndarray], weights: Sequence[np.ndarray],
           levels: Sequence[np.ndarray],
           exposure_times: Sequence[float]) -> Tuple[np.ndarray, int]: ...
-def merge_stack(images: Sequence[np.ndarray], exposure_times: Sequence[float],
+def merge_stack(images: Sequence[_Image], exposure_times: Optional[Sequence[float]] = ...,
                 crf: _CrfArg = ..., *, bits: Optional[int] = ...) -> Tuple[np.ndarray, int]: ...
+def exif_exposure_times(paths: Sequence[Union[str, os.PathLike[str]]],
+                        exposure_times: Optional[Sequence[float]] = ...) -> List[float]: ...
 def make_scene(*, height: int = ..., width: int = ..., exposure_times: Sequence[float] = ...,
                 emitter_peak: float = ..., noise: float = ...,
                 seed: int = ...) -> HdrScene: ...

@@ -40,11 +40,32 @@ __all__ = [
     "cg", "solve_cg", "laplacian_3d",
     "eigh", "eigh_generalized", "svd", "lstsq",
     "normal", "uniform", "permutation",
-    "load_image", "save_image", "load_volume", "save_volume", "load_raw_volume",
-    "load_mesh", "save_mesh", "CgInfo", "Mesh", "VolumeFile",
+    "load_image", "save_image", "load_exif", "load_volume", "save_volume",
+    "load_raw_volume", "load_mesh", "save_mesh", "CgInfo", "ExifInfo", "Mesh", "VolumeFile",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
+
+
+@_result
+class ExifInfo:
+    """The exposure settings of a photograph's EXIF block, read by :func:`load_exif`.
+
+    Attributes
+    ----------
+    exposure_time : float or None
+        ExposureTime (tag 0x829A), seconds.
+    f_number : float or None
+        FNumber (tag 0x829D), the aperture's f-number ``N``.
+    iso_speed : float or None
+        PhotographicSensitivity (ISOSpeedRatings, tag 0x8827).
+
+    Each is None when the block lacks it (or gives zero).
+    """
+
+    exposure_time: Optional[float]
+    f_number: Optional[float]
+    iso_speed: Optional[float]
 
 
 @_result
@@ -923,7 +944,8 @@ def permutation(seed: int, n: int) -> np.ndarray:
 
 
 def load_image(path: PathLike) -> np.ndarray:
-    """Reads a PNG (8/16-bit), JPEG, OpenEXR or Radiance HDR image.
+    """Reads a PNG or TIFF (8/16-bit; TIFF also 32-bit float), JPEG, OpenEXR or Radiance HDR
+    image. A multi-page TIFF is read from its first page.
 
     Parameters
     ----------
@@ -934,7 +956,8 @@ def load_image(path: PathLike) -> np.ndarray:
     -------
     ndarray of float32
         ``(H, W)`` for grey images, ``(H, W, C)`` otherwise; integer formats scaled to
-        ``[0, 1]``, float formats unchanged.
+        ``[0, 1]`` (``v / 255``, ``v / 65535``: ``np.round(x * 65535).astype(np.uint16)``
+        gives back a 16-bit file's codes exactly), float formats unchanged.
 
     Raises
     ------
@@ -945,17 +968,21 @@ def load_image(path: PathLike) -> np.ndarray:
 
 
 def save_image(path: PathLike, image, bit_depth: Optional[int] = None) -> None:
-    """Writes an image; the format follows the extension (png, jpg/jpeg, exr, hdr).
+    """Writes an image; the format follows the extension (png, tif/tiff, jpg/jpeg, exr,
+    hdr). The file is written atomically (a temporary file renamed over ``path``).
 
     Parameters
     ----------
     path : str or os.PathLike
         Output file.
     image : array_like
-        ``(H, W)`` or ``(H, W, C)`` with C in 1..4; values in ``[0, 1]`` for integer formats
-        (clamped), any finite values for exr/hdr.
+        ``(H, W)`` or ``(H, W, C)`` with C in 1..4 (TIFF: 1, 3 or 4). A uint8 array holds
+        codes ``0..255`` and a uint16 array codes ``0..65535`` (written exactly at their own
+        depth); other arrays hold values in ``[0, 1]`` for integer formats (clamped), any
+        finite values for exr/hdr and 32-bit TIFF.
     bit_depth : {8, 16, 32}, optional
-        8 (default for png/jpeg), 16 (png only) or 32 (float, exr/hdr).
+        8, 16 (png and tiff) or 32 (float: exr, hdr, and RGB/RGBA tiff). Default: 16 for a
+        uint16 array written to png or tiff, 32 for exr/hdr, else 8.
 
     Raises
     ------
@@ -964,7 +991,41 @@ def save_image(path: PathLike, image, bit_depth: Optional[int] = None) -> None:
     OSError
         Unsupported extension or depth for the format, unwritable path.
     """
-    _m.save_image(_path(path), _real(image, "image"), None if bit_depth is None else int(bit_depth))
+    a = np.asarray(image)
+    if a.dtype in (np.uint8, np.uint16):
+        scale = 255.0 if a.dtype == np.uint8 else 65535.0
+        if bit_depth is None and a.dtype == np.uint16 and str(path).lower().endswith(
+                (".png", ".tif", ".tiff")):
+            bit_depth = 16
+        a = a.astype(np.float64) / scale
+    _m.save_image(_path(path), _real(a, "image"), None if bit_depth is None else int(bit_depth))
+
+
+def load_exif(path: PathLike) -> ExifInfo:
+    """Reads the exposure settings of a photograph's EXIF block (JPEG, TIFF or PNG).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file (only read).
+
+    Returns
+    -------
+    ExifInfo
+        ``exposure_time`` (s), ``f_number`` and ``iso_speed``, each None when absent.
+
+    Raises
+    ------
+    OSError
+        A missing or unreadable file, a file without an EXIF block or with a malformed one
+        (the message names the file).
+
+    See Also
+    --------
+    wscg.hdr.exif_exposure_times : the exposures of a stack of photographs.
+    """
+    t, n, iso = _m.read_exif(_path(path))
+    return ExifInfo(exposure_time=t, f_number=n, iso_speed=iso)
 
 
 def load_volume(path: PathLike, spacing: Optional[Tuple[float, float, float]] = None,

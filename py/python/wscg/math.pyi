@@ -16,14 +16,20 @@ __all__ = ["mse", "rmse", "psnr", "ssim", "dice", "gaussian_filter", "box_filter
            "fftn", "ifftn", "fft2", "ifft2", "fftshift", "ifftshift", "fftfreq", "wavedec2",
            "waverec2", "cg", "solve_cg", "laplacian_3d", "eigh", "eigh_generalized", "svd",
            "lstsq", "normal", "uniform", "permutation", "load_image", "save_image",
-           "load_volume", "save_volume", "load_raw_volume", "load_mesh", "save_mesh", "CgInfo",
-           "Mesh", "VolumeFile"]
+           "load_exif", "load_volume", "save_volume", "load_raw_volume", "load_mesh",
+           "save_mesh", "CgInfo", "ExifInfo", "Mesh", "VolumeFile"]
 
 @dataclass(frozen=True)
 class CgInfo:
     n_iter: int
     relative_residual: float
     converged: bool
+
+@dataclass(frozen=True)
+class ExifInfo:
+    exposure_time: Optional[float]
+    f_number: Optional[float]
+    iso_speed: Optional[float]
 
 @dataclass(frozen=True)
 class Mesh:
@@ -77,6 +83,7 @@ def uniform(seed: int, n: int, low: float = 0.0, high: float = 1.0) -> _F64: ...
 def permutation(seed: int, n: int) -> _I64: ...
 def load_image(path: PathLike) -> _F32: ...
 def save_image(path: PathLike, image: _ArrayLike, bit_depth: Optional[int] = None) -> None: ...
+def load_exif(path: PathLike) -> ExifInfo: ...
 def load_volume(path: PathLike, spacing: Optional[Tuple[float, float, float]] = None,
                 series: Optional[str] = None) -> VolumeFile: ...
 def load_raw_volume(path: PathLike, shape: Tuple[int, int, int], dtype: str,

@@ -8,8 +8,11 @@
 //! - `simulate`: the layered five-camera scene with its ground truth, and static stacks of
 //!   the central view and of a gradient chart for `calibrate`.
 //!
-//! Views are 8- or 16-bit PNG (or 8-bit JPEG) holding the camera's codes. Exposure times
-//! are given as a comma list or a text file with one time per line. Responses: `gamma2.2`,
+//! Views are 8- or 16-bit PNG or TIFF (or 8-bit JPEG) holding the camera's codes. Exposure
+//! times are given as a comma list or a text file with one time per line; without
+//! `--times` they are read from each file's EXIF block (exposure time, and ISO and aperture
+//! as a relative exposure when they differ between the files: `wscg_math::io::exif`), and
+//! given times that disagree with the EXIF values by more than 10 % are warned about. Responses: `gamma2.2`,
 //! `linear`, or a CSV table written by `calibrate` (one line per code, one column per
 //! channel, `#` comments). Input files are only read.
 
@@ -22,6 +25,7 @@ use wscg_hdr::{
     calibrate_debevec, calibrate_mitsunaga_nayar, merge_stack, multiscopic_hdr, Align, Crf,
     MitsunagaNayarParams, MultiscopicParams, PatchMatchParams, Synthesis,
 };
+use wscg_math::io::exif::resolve_exposure_times;
 use wscg_math::{Error, Image, Result};
 
 use super::deblur::read_times;
@@ -42,9 +46,10 @@ pub enum HdrCommand {
 #[derive(Args, Debug)]
 pub struct Exposures {
     /// Exposure times in seconds: "t1,t2,...", a text file with one per line, or a JSON
-    /// file holding a list or {"exposure_times": [...]}.
+    /// file holding a list or {"exposure_times": [...]}. Default: each file's EXIF exposure
+    /// (time x ISO / N^2 relative to the first file when ISO or aperture differ).
     #[arg(long, visible_alias = "exposures")]
-    times: String,
+    times: Option<String>,
     /// Camera response: gamma2.2, linear or a CSV table (see `calibrate`).
     #[arg(long, default_value = "gamma2.2")]
     crf: String,
@@ -52,7 +57,7 @@ pub struct Exposures {
 
 #[derive(Args, Debug)]
 pub struct MultiscopicArgs {
-    /// Views, left to right (8- or 16-bit PNG or JPEG).
+    /// Views, left to right (8- or 16-bit PNG or TIFF, or JPEG).
     #[arg(required = true, num_args = 2..)]
     views: Vec<PathBuf>,
     #[command(flatten)]
@@ -92,7 +97,7 @@ pub struct MultiscopicArgs {
 
 #[derive(Args, Debug)]
 pub struct MergeArgs {
-    /// Aligned exposures of one view.
+    /// Aligned exposures of one view (8- or 16-bit PNG or TIFF, or JPEG).
     #[arg(required = true)]
     images: Vec<PathBuf>,
     #[command(flatten)]
@@ -104,12 +109,14 @@ pub struct MergeArgs {
 
 #[derive(Args, Debug)]
 pub struct CalibrateArgs {
-    /// Aligned exposures of a static scene.
+    /// Aligned exposures of a static scene (8- or 16-bit PNG or TIFF, or JPEG; 16-bit codes
+    /// are reduced to 10 bits for `debevec` and the response interpolated back).
     #[arg(required = true, num_args = 2..)]
     images: Vec<PathBuf>,
-    /// Exposure times in seconds: "t1,t2,..." or a text file with one per line.
+    /// Exposure times in seconds: "t1,t2,..." or a text file with one per line. Default:
+    /// each file's EXIF exposure.
     #[arg(long)]
-    times: String,
+    times: Option<String>,
     /// Method: `debevec` (Debevec-Malik, a smoothness prior; any static scene) or
     /// `mitsunaga-nayar` (the polynomial model of RASCAL, which the paper used; the exposure
     /// ratios are re-estimated, and the scene must cover the whole code range, as a chart or
@@ -163,10 +170,11 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
         HdrCommand::Multiscopic(a) => multiscopic(a),
         HdrCommand::Merge(a) => {
             let inputs = a.images.iter().map(PathBuf::as_path);
-            let exposures = [Path::new(&a.exposures.times), Path::new(&a.exposures.crf)];
+            let exposures = a.exposures.times.iter().chain([&a.exposures.crf]);
+            let exposures = exposures.map(Path::new);
             crate::commands::overwrite::check_file("out", &a.out, inputs.chain(exposures))?;
             let (images, bits) = load_views(&a.images)?;
-            let times = exposure_times(&a.exposures.times)?;
+            let times = times_of(&a.images, a.exposures.times.as_deref(), exposure_times)?;
             let crf = load_crf(&a.exposures.crf, bits, images[0].channels())?;
             let m = merge_stack(&images, &times, &[crf])?;
             m.hdr.save(&a.out)?;
@@ -180,13 +188,10 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
         }
         HdrCommand::Calibrate(a) => {
             let inputs = a.images.iter().map(PathBuf::as_path);
-            crate::commands::overwrite::check_file(
-                "out",
-                &a.out,
-                inputs.chain([Path::new(&a.times)]),
-            )?;
+            let times = a.times.iter().map(Path::new);
+            crate::commands::overwrite::check_file("out", &a.out, inputs.chain(times))?;
             let (images, bits) = load_views(&a.images)?;
-            let times = read_times(&a.times)?;
+            let times = times_of(&a.images, a.times.as_deref(), read_times)?;
             let crf = match a.method {
                 CalMethod::Debevec => {
                     calibrate_debevec(&images, &times, bits, a.samples.unwrap_or(70), a.lambda)?
@@ -220,6 +225,23 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
         }
         HdrCommand::Simulate(a) => simulate(a),
     }
+}
+
+/// The exposure times of the files `paths`: parsed from `spec` by `parse` when given (and
+/// checked against the files' EXIF exposures, each disagreement a warning naming the file),
+/// else read from the files' EXIF blocks.
+fn times_of(
+    paths: &[PathBuf],
+    spec: Option<&str>,
+    parse: fn(&str) -> Result<Vec<f64>>,
+) -> Result<Vec<f64>> {
+    let given = spec.map(parse).transpose()?;
+    let resolved = resolve_exposure_times(paths, given.as_deref())?;
+    if resolved.from_exif {
+        let t: Vec<String> = resolved.times.iter().map(|t| format!("{t}")).collect();
+        println!("exposure times from EXIF (s): {}", t.join(", "));
+    }
+    Ok(resolved.times)
 }
 
 /// Exposure times from a comma list, a text file or a JSON file (a list, or an object with
@@ -331,10 +353,11 @@ fn write_times(times: &[f64], path: &Path) -> Result<()> {
 
 fn multiscopic(a: MultiscopicArgs) -> Result<()> {
     let inputs = a.views.iter().map(PathBuf::as_path);
-    let exposures = [Path::new(&a.exposures.times), Path::new(&a.exposures.crf)];
+    let exposures = a.exposures.times.iter().chain([&a.exposures.crf]);
+    let exposures = exposures.map(Path::new);
     crate::commands::overwrite::check_folder("out", &a.out, inputs.chain(exposures))?;
     let (views, bits) = load_views(&a.views)?;
-    let times = exposure_times(&a.exposures.times)?;
+    let times = times_of(&a.views, a.exposures.times.as_deref(), exposure_times)?;
     let crf = load_crf(&a.exposures.crf, bits, views[0].channels())?;
     let synthesis = match a.synthesis.as_str() {
         "bds" => Synthesis::Bds,

@@ -3,7 +3,8 @@
 //!
 //! | module | formats | feature | adds |
 //! |---|---|---|---|
-//! | [`raster`] | 8/16-bit PNG, JPEG, OpenEXR, Radiance HDR (the `image` crate) | `io-image` | `Image::load`, `Image::save`, `Image::save_with_depth`, `Image::decode`, `Image::encode_jpeg`, `Image::<u16>::load_codes`, `Image::<u8>::load_u8` / `save_u8` |
+//! | [`raster`] | 8/16-bit PNG, 8/16-bit TIFF, JPEG, OpenEXR, Radiance HDR (the `image` crate) | `io-image` | `Image::load`, `Image::save`, `Image::save_with_depth`, `Image::decode`, `Image::encode_jpeg`, `Image::<u16>::load_codes`, `Image::<u8>::load_u8` / `save_u8` |
+//! | [`exif`] | EXIF exposure time, f-number and ISO of JPEG, TIFF and PNG files (`kamadak-exif`) | `io-image` | `exif::read_exif`, `exif::load_exif`, `exif::relative_exposures`, `exif::resolve_exposure_times` |
 //! | [`npy`] | numpy `.npy` arrays of any dimension (`ndarray-npy`); also `wscg_math::npy` | `io-npy` | `npy::read`, `npy::read_complex`, `npy::write`, `npy::write_f64` |
 //! | [`raw`] | headerless voxel dumps | `io-volume` | `Volume::read_raw`, `Volume::write_raw_f32_le` |
 //! | [`nifti`] | NIfTI-1, `.nii` and `.nii.gz` (the `nifti` crate) | `io-volume` | `Volume::read_nifti`, `Volume::write_nifti` |
@@ -32,6 +33,8 @@ pub mod atomic;
 pub mod dicom;
 #[cfg(feature = "io-dicom")]
 mod dicom_lengths;
+#[cfg(feature = "io-image")]
+pub mod exif;
 #[cfg(feature = "io-volume")]
 pub mod nifti;
 #[cfg(feature = "io-npy")]

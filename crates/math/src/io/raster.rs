@@ -1,6 +1,10 @@
-//! Raster image files through the `image` crate: 8- and 16-bit PNG, JPEG, OpenEXR and
-//! Radiance HDR, loaded into and saved from [`Image`]. Integer formats are scaled to `[0, 1]`
-//! on load (`v / 255`, `v / 65535`); floating-point formats keep their values.
+//! Raster image files through the `image` crate: 8- and 16-bit PNG, 8- and 16-bit TIFF
+//! (grey, grey + alpha, RGB, RGBA; uncompressed, LZW, Deflate or PackBits, as cameras and
+//! raw converters write them), JPEG, OpenEXR and Radiance HDR, loaded into and saved from
+//! [`Image`]. Integer formats are scaled to `[0, 1]` on load (`v / 255`, `v / 65535`);
+//! floating-point formats (OpenEXR, Radiance HDR, 32-bit float TIFF) keep their values. A
+//! 16-bit file saved with [`PixelDepth::U16`] and loaded again gives back the same codes
+//! (`round(v * 65535)`). A multi-page TIFF is read from its first page.
 //!
 //! Decoding is bounded before any pixel is decoded: a file whose header declares more than
 //! [`max_image_pixels`] pixels (default [`DEFAULT_MAX_IMAGE_PIXELS`], 16384 x 16384), a side
@@ -83,7 +87,7 @@ pub fn decode_dynamic(bytes: &[u8], origin: &Path) -> Result<DynamicImage> {
     if reader.format().is_none() {
         return Err(Error::format(
             origin,
-            "not a recognised image (PNG, JPEG, OpenEXR or Radiance HDR)",
+            "not a recognised image (PNG, TIFF, JPEG, OpenEXR or Radiance HDR)",
         ));
     }
     if reader.format() == Some(ImageFormat::Jpeg) {
@@ -268,16 +272,17 @@ impl Image<f32> {
         Ok(Self::from_dynamic(&decode_dynamic(bytes, origin)?))
     }
 
-    /// Loads PNG (8/16-bit), JPEG, OpenEXR or Radiance HDR. Integer formats are scaled to
-    /// `[0, 1]`. The file is only read.
+    /// Loads PNG or TIFF (8/16-bit), JPEG, OpenEXR or Radiance HDR. Integer formats are
+    /// scaled to `[0, 1]`. The file is only read.
     pub fn load(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
         let bytes = read_file(path)?;
         Self::decode(&bytes, path)
     }
 
-    /// Saves by extension: `.png` (8-bit), `.jpg`/`.jpeg` (8-bit, 1 or 3 channels), `.exr`
-    /// (32-bit float) and `.hdr` (RGB float). Use [`Image::save_with_depth`] for 16-bit PNG.
+    /// Saves by extension: `.png` and `.tif`/`.tiff` (8-bit), `.jpg`/`.jpeg` (8-bit, 1 or 3
+    /// channels), `.exr` (32-bit float) and `.hdr` (RGB float). Use
+    /// [`Image::save_with_depth`] for 16-bit PNG or TIFF.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<()> {
         let path = path.as_ref();
         let depth = match format_of(path)? {
@@ -287,13 +292,19 @@ impl Image<f32> {
         self.save_with_depth(path, depth)
     }
 
-    /// Saves with an explicit pixel depth (e.g. `PixelDepth::U16` for a 16-bit PNG).
+    /// Saves with an explicit pixel depth: `U8` or `U16` for PNG and TIFF (TIFF: 1, 3 or 4
+    /// channels, uncompressed; also `F32` for 3 or 4), `U8` for JPEG, `F32` for OpenEXR and Radiance HDR.
     pub fn save_with_depth(&self, path: impl AsRef<Path>, depth: PixelDepth) -> Result<()> {
         let path = path.as_ref();
         let format = format_of(path)?;
         self.ensure_finite("image")?;
         let allowed = match format {
             ImageFormat::Png => matches!(depth, PixelDepth::U8 | PixelDepth::U16),
+            // The TIFF encoder writes grey, RGB and RGBA, not grey + alpha.
+            ImageFormat::Tiff => matches!(
+                (depth, self.channels),
+                (PixelDepth::U8 | PixelDepth::U16, 1 | 3 | 4) | (PixelDepth::F32, 3 | 4)
+            ),
             ImageFormat::Jpeg => depth == PixelDepth::U8 && matches!(self.channels, 1 | 3),
             ImageFormat::OpenExr => depth == PixelDepth::F32,
             ImageFormat::Hdr => depth == PixelDepth::F32 && self.channels == 3,
@@ -317,50 +328,51 @@ impl Image<f32> {
 }
 
 impl Image<u16> {
-    /// Loads an 8- or 16-bit PNG (or 8-bit JPEG) as raw integer codes with their bit depth
-    /// (8 or 16): what a camera response maps to radiance. Alpha channels are dropped.
-    /// Float formats (OpenEXR, Radiance HDR) are errors: they hold no codes. The file is
-    /// only read.
+    /// Loads an 8- or 16-bit PNG or TIFF (or 8-bit JPEG) as raw integer codes with their bit
+    /// depth (8 or 16): what a camera response maps to radiance. Alpha channels are dropped.
+    /// Float formats (OpenEXR, Radiance HDR, float TIFF) are errors: they hold no codes. The
+    /// file is only read.
     pub fn load_codes(path: impl AsRef<Path>) -> Result<(Self, u8)> {
         let path = path.as_ref();
         let bytes = read_file(path)?;
         let img = decode_dynamic(&bytes, path)?;
         let (w, h) = (img.width() as usize, img.height() as usize);
-        let (channels, bits, data): (usize, u8, Vec<u16>) = match &img {
-            DynamicImage::ImageLuma8(b) => (1, 8, b.iter().map(|&v| v as u16).collect()),
-            DynamicImage::ImageLumaA8(b) => {
-                (1, 8, b.iter().step_by(2).map(|&v| v as u16).collect())
-            }
-            DynamicImage::ImageRgb8(b) => (3, 8, b.iter().map(|&v| v as u16).collect()),
-            DynamicImage::ImageRgba8(b) => (
-                3,
-                8,
-                b.chunks_exact(4)
-                    .flat_map(|p| [p[0], p[1], p[2]])
-                    .map(u16::from)
-                    .collect(),
-            ),
-            DynamicImage::ImageLuma16(b) => (1, 16, b.to_vec()),
-            DynamicImage::ImageLumaA16(b) => (1, 16, b.iter().step_by(2).copied().collect()),
-            DynamicImage::ImageRgb16(b) => (3, 16, b.to_vec()),
-            DynamicImage::ImageRgba16(b) => (
-                3,
-                16,
-                b.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect(),
-            ),
-            _ => {
-                return Err(Error::format(
+        let (channels, bits, data): (usize, u8, Vec<u16>) =
+            match &img {
+                DynamicImage::ImageLuma8(b) => (1, 8, b.iter().map(|&v| v as u16).collect()),
+                DynamicImage::ImageLumaA8(b) => {
+                    (1, 8, b.iter().step_by(2).map(|&v| v as u16).collect())
+                }
+                DynamicImage::ImageRgb8(b) => (3, 8, b.iter().map(|&v| v as u16).collect()),
+                DynamicImage::ImageRgba8(b) => (
+                    3,
+                    8,
+                    b.chunks_exact(4)
+                        .flat_map(|p| [p[0], p[1], p[2]])
+                        .map(u16::from)
+                        .collect(),
+                ),
+                DynamicImage::ImageLuma16(b) => (1, 16, b.to_vec()),
+                DynamicImage::ImageLumaA16(b) => (1, 16, b.iter().step_by(2).copied().collect()),
+                DynamicImage::ImageRgb16(b) => (3, 16, b.to_vec()),
+                DynamicImage::ImageRgba16(b) => (
+                    3,
+                    16,
+                    b.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect(),
+                ),
+                _ => return Err(Error::format(
                     path,
-                    "holds float pixels, not integer codes; give 8- or 16-bit PNG/JPEG views",
-                ))
-            }
-        };
+                    "holds float pixels, not integer codes; give 8- or 16-bit PNG/TIFF or JPEG \
+                     views",
+                )),
+            };
         Ok((Image::new(h, w, channels, data)?, bits))
     }
 }
 
 impl Image<u8> {
-    /// Loads an 8-bit image (PNG, JPEG; 16-bit PNG is rounded to 8 bits, `(v + 128) / 257`)
+    /// Loads an 8-bit image (PNG, TIFF, JPEG; 16-bit files are rounded to 8 bits,
+    /// `(v + 128) / 257`)
     /// as 1 (grey) or 3 (RGB) channels of raw codes; alpha is dropped. The file is only read.
     /// Errors as [`Image::load_codes`].
     pub fn load_u8(path: impl AsRef<Path>) -> Result<Self> {
@@ -433,8 +445,9 @@ fn format_of(path: &Path) -> Result<ImageFormat> {
         "jpg" | "jpeg" => Ok(ImageFormat::Jpeg),
         "exr" => Ok(ImageFormat::OpenExr),
         "hdr" => Ok(ImageFormat::Hdr),
+        "tif" | "tiff" => Ok(ImageFormat::Tiff),
         _ => Err(Error::UnsupportedFormat(format!(
-            "extension {ext:?} of {}; supported: png, jpg, jpeg, exr, hdr",
+            "extension {ext:?} of {}; supported: png, tif, tiff, jpg, jpeg, exr, hdr",
             path.display()
         ))),
     }
@@ -634,6 +647,148 @@ mod tests {
         assert_eq!(max_image_pixels(), DEFAULT_MAX_IMAGE_PIXELS);
     }
 
+    /// A little-endian baseline TIFF declaring `w x h` 8-bit grey pixels in one strip of
+    /// `strip` bytes at offset `at` (the file itself holds `data` after the IFD).
+    fn tiff_header(w: u32, h: u32, at: u32, strip: u32, data: &[u8]) -> Vec<u8> {
+        let entries: [(u16, u16, u32); 9] = [
+            (256, 4, w),     // ImageWidth
+            (257, 4, h),     // ImageLength
+            (258, 3, 8),     // BitsPerSample
+            (259, 3, 1),     // Compression: none
+            (262, 3, 1),     // PhotometricInterpretation: black is zero
+            (273, 4, at),    // StripOffsets
+            (277, 3, 1),     // SamplesPerPixel
+            (278, 4, h),     // RowsPerStrip
+            (279, 4, strip), // StripByteCounts
+        ];
+        let mut out = b"II*\0".to_vec();
+        out.extend(8u32.to_le_bytes());
+        out.extend((entries.len() as u16).to_le_bytes());
+        for (tag, kind, value) in entries {
+            out.extend(tag.to_le_bytes());
+            out.extend(kind.to_le_bytes());
+            out.extend(1u32.to_le_bytes());
+            match kind {
+                3 => out.extend([(value as u16).to_le_bytes(), [0, 0]].concat()),
+                _ => out.extend(value.to_le_bytes()),
+            }
+        }
+        out.extend(0u32.to_le_bytes());
+        out.extend(data);
+        out
+    }
+
+    /// Offset of the pixel data of [`tiff_header`]: header, count, 9 entries, next IFD.
+    const TIFF_DATA_AT: u32 = 8 + 2 + 9 * 12 + 4;
+
+    #[test]
+    fn tiff_8_and_16_bit_round_trips_are_exact() {
+        let dir = tempfile::tempdir().unwrap();
+        for c in [1, 3, 4] {
+            let img = ramp(5, 7, c);
+            for (depth, scale) in [(PixelDepth::U8, 255.0f32), (PixelDepth::U16, 65535.0)] {
+                let p = dir.path().join(format!("a{c}_{depth:?}.tif"));
+                img.save_with_depth(&p, depth).unwrap();
+                let back = Image::load(&p).unwrap();
+                assert_eq!(back.shape(), img.shape());
+                for (a, b) in img.data().iter().zip(back.data()) {
+                    // Exactly the quantised value, read back as the same code.
+                    assert_eq!((a * scale).round(), (b * scale).round(), "{depth:?}");
+                    assert!((a - b).abs() <= 0.5 / scale + 1e-6);
+                }
+                let (codes, bits) = Image::<u16>::load_codes(&p).unwrap();
+                assert_eq!(bits, if depth == PixelDepth::U8 { 8 } else { 16 });
+                let colour = if c >= 3 { 3 } else { 1 };
+                assert_eq!(codes.shape(), (5, 7, colour));
+                for y in 0..5 {
+                    for x in 0..7 {
+                        for k in 0..colour {
+                            let want = (img.at(y, x, k) * scale).round() as u16;
+                            assert_eq!(codes.at(y, x, k), want);
+                        }
+                    }
+                }
+            }
+        }
+        // `save` writes 8 bits; float TIFF keeps values outside [0, 1].
+        let p = dir.path().join("plain.tiff");
+        ramp(3, 4, 3).save(&p).unwrap();
+        assert_eq!(Image::<u16>::load_codes(&p).unwrap().1, 8);
+        let hdrimg = ramp(4, 6, 3).map(|v| v * 40.0 + 0.01);
+        let p = dir.path().join("f.tif");
+        hdrimg.save_with_depth(&p, PixelDepth::F32).unwrap();
+        let back = Image::load(&p).unwrap();
+        assert_eq!(back.data(), hdrimg.data());
+        assert!(Image::<u16>::load_codes(&p).is_err());
+        for bad in [ramp(2, 2, 1), ramp(2, 2, 2)] {
+            assert!(bad
+                .save_with_depth(dir.path().join("g.tif"), PixelDepth::F32)
+                .is_err());
+        }
+        assert!(ramp(2, 2, 2).save(dir.path().join("la.tif")).is_err());
+    }
+
+    #[test]
+    fn hand_made_tiff_decodes_and_bad_tiffs_are_refused() {
+        let pixels: Vec<u8> = (0..12).map(|v| v * 20).collect();
+        let good = tiff_header(4, 3, TIFF_DATA_AT, 12, &pixels);
+        let img = Image::decode(&good, Path::new("hand.tif")).unwrap();
+        assert_eq!(img.shape(), (3, 4, 1));
+        assert_eq!(img.at(2, 3, 0), 220.0 / 255.0);
+        let refused = |bytes: &[u8], name: &str| {
+            let Err(e) = Image::decode(bytes, Path::new(name)) else {
+                panic!("{name} decoded");
+            };
+            assert!(e.to_string().contains(name), "{e}");
+            e
+        };
+        // Truncated: the strip is cut, then the IFD itself.
+        for cut in [good.len() - 5, 20, 6] {
+            let e = refused(&good[..cut], "cut.tif");
+            assert!(e.is_io() || matches!(e, Error::LimitExceeded(_)), "{e}");
+        }
+        // Wrong magic: 43 (BigTIFF's number) with a classic header, and a byte-order mark
+        // that is neither II nor MM.
+        let mut magic = good.clone();
+        magic[2] = 43;
+        refused(&magic, "magic43.tif");
+        let mut order = good.clone();
+        order[..2].copy_from_slice(b"IM");
+        refused(&order, "order.tif");
+        // Inconsistent headers: the strip outside the file, a strip shorter than the image,
+        // the first IFD past the end.
+        refused(&tiff_header(4, 3, 5000, 12, &pixels), "strip_outside.tif");
+        // Bits per sample (entry 2) of 7; three samples per pixel (entry 6) with grey
+        // photometry and a strip one third that size.
+        for (entry, value, name) in [(2, 7u16, "bits7.tif"), (6, 3, "samples3.tif")] {
+            let mut bad = good.clone();
+            let at = 10 + 12 * entry + 8;
+            bad[at..at + 2].copy_from_slice(&value.to_le_bytes());
+            refused(&bad, name);
+        }
+        // A StripByteCounts smaller than the strip, with the pixels present: read as libtiff
+        // does (it recomputes the count of an uncompressed strip from the image size).
+        let short = tiff_header(4, 3, TIFF_DATA_AT, 5, &pixels);
+        assert_eq!(Image::decode(&short, Path::new("short.tif")).unwrap(), img);
+        let mut ifd = good.clone();
+        ifd[4..8].copy_from_slice(&9000u32.to_le_bytes());
+        refused(&ifd, "ifd.tif");
+    }
+
+    #[test]
+    fn tiff_sizes_above_the_pixel_cap_are_refused_before_decoding() {
+        // 20000 x 20000 declared with a strip of 12 bytes: a decoder that allocated the
+        // image first would ask for 400 MB.
+        let bomb = tiff_header(20000, 20000, TIFF_DATA_AT, 12, &[0; 12]);
+        let e = Image::decode(&bomb, Path::new("bomb.tif")).unwrap_err();
+        assert!(matches!(e, Error::LimitExceeded(_)), "{e}");
+        assert!(e.to_string().contains("bomb.tif"), "{e}");
+        // The widest side the decoder would take.
+        let wide = tiff_header(u32::MAX, 1, TIFF_DATA_AT, 12, &[0; 12]);
+        let e = Image::decode(&wide, Path::new("wide.tif")).unwrap_err();
+        assert!(matches!(e, Error::LimitExceeded(_)), "{e}");
+    }
+
     #[test]
     fn bad_files_give_errors() {
         let dir = tempfile::tempdir().unwrap();
@@ -651,7 +806,7 @@ mod tests {
         let cut = dir.path().join("cut.png");
         std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
         assert!(Image::load(&cut).unwrap_err().is_io());
-        assert!(ramp(2, 2, 1).save(dir.path().join("a.tiff")).is_err());
+        assert!(ramp(2, 2, 1).save(dir.path().join("a.bmp")).is_err());
         let nan = Image::new(1, 1, 1, vec![f32::NAN]).unwrap();
         assert!(nan.save(dir.path().join("nan.png")).is_err());
     }
