@@ -241,6 +241,9 @@ pub fn parse_bvh_file(text: &str, origin: &Path) -> Result<BvhFile> {
                     .next()
                     .ok_or_else(|| bad("joint without a name".into()))?;
                 let parent = stack.last().copied().flatten();
+                if t == "ROOT" && !stack.is_empty() {
+                    return Err(bad(format!("ROOT `{name}` inside a joint")));
+                }
                 if t == "JOINT" && parent.is_none() {
                     return Err(bad(format!("JOINT `{name}` outside a joint")));
                 }

@@ -204,7 +204,7 @@ impl JointMap {
         let mut out = [0usize; N_JOINTS];
         let mut missing = Vec::new();
         for (j, cands) in self.candidates.iter().enumerate() {
-            match cands.iter().find_map(|c| find(c)) {
+            match cands.iter().find_map(|c| find(c.as_str())) {
                 Some(i) => out[j] = i,
                 None => missing.push(format!("{} (tried {})", JOINTS[j].0, cands.join(", "))),
             }

@@ -132,6 +132,9 @@ pub fn parse_ntu(text: &str, origin: &Path) -> Result<Vec<NtuBody>> {
             let id = line[0]
                 .parse::<u64>()
                 .map_err(|_| bad(format!("frame {f}: `{}` is not a body id", line[0])))?;
+            if let Some(v) = line[1..].iter().find(|v| v.parse::<f64>().is_err()) {
+                return Err(bad(format!("frame {f}, body {id}: bad number `{v}`")));
+            }
             if seen.contains(&id) {
                 return Err(bad(format!("frame {f} lists body {id} twice")));
             }
@@ -154,6 +157,12 @@ pub fn parse_ntu(text: &str, origin: &Path) -> Result<Vec<NtuBody>> {
                         bad(format!("frame {f}, body {id}, joint {j}: bad number `{}`", vals[k]))
                     })
                 };
+                // Every value is a number; positions and the tracking state are finite.
+                if let Some(v) = vals.iter().find(|v| v.parse::<f64>().is_err()) {
+                    return Err(bad(format!(
+                        "frame {f}, body {id}, joint {j}: bad number `{v}`"
+                    )));
+                }
                 *p = [num(0)?, num(1)?, num(2)?];
                 if num(11)? == 2.0 {
                     tracked += 1;

@@ -295,8 +295,9 @@ impl JointSet {
 /// A joint pair `(p1, p2)` with `p1 < p2`.
 pub type Pair = (Joint, Joint);
 
-/// A validated Kinect skeleton stream.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// A validated Kinect skeleton stream. Two streams are equal when their frame rates, joint
+/// sets and the coordinates of the joints of the set are.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SkeletonSeq {
     /// Frame rate in frames per second (Kinect v2: 30).
     pub fps: f64,
@@ -306,6 +307,15 @@ pub struct SkeletonSeq {
     /// The joints the stream holds.
     #[serde(default)]
     pub joint_set: JointSet,
+}
+
+impl PartialEq for SkeletonSeq {
+    fn eq(&self, other: &Self) -> bool {
+        self.fps == other.fps
+            && self.joint_set == other.joint_set
+            && self.frames.len() == other.frames.len()
+            && self.to_flat() == other.to_flat()
+    }
 }
 
 impl SkeletonSeq {
