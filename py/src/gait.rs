@@ -16,8 +16,8 @@ use pyo3::types::{PyDict, PyList};
 use wscg_biometrics::dtw::{self, ts_file, DtwParams, LocalCost, Multivariate};
 use wscg_biometrics::gait::synth::{self, NoiseParams, SessionParams, SessionRanges};
 use wscg_biometrics::gait::{
-    self, CycleChoice, CycleParams, GaitCycle, GaitParams, GaitRecognizer, HistSpec, Joint, JraSet,
-    JointSet, Pair, Protocol, SkeletonSeq, StartLeg, UpAxis, Vote, N_JOINTS,
+    self, CycleChoice, CycleParams, GaitCycle, GaitParams, GaitRecognizer, HistSpec, Joint,
+    JointSet, JraSet, Pair, Protocol, SkeletonSeq, StartLeg, UpAxis, Vote, N_JOINTS,
 };
 
 use crate::convert::{array, mat_out, values, Arr};

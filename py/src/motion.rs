@@ -910,7 +910,11 @@ fn load_bvh_skeleton<'py>(
     )?;
     d.set_item(
         "offsets",
-        array(py, &[j_n, 3], f.joints.iter().flat_map(|j| j.offset).collect())?,
+        array(
+            py,
+            &[j_n, 3],
+            f.joints.iter().flat_map(|j| j.offset).collect(),
+        )?,
     )?;
     d.set_item(
         "channels",
@@ -929,7 +933,11 @@ fn load_bvh_skeleton<'py>(
     d.set_item("motion", array(py, &[t_n, c_n], f.frames.concat())?)?;
     d.set_item(
         "positions",
-        array(py, &[t_n, j_n, 3], pos.iter().flatten().flatten().copied().collect())?,
+        array(
+            py,
+            &[t_n, j_n, 3],
+            pos.iter().flatten().flatten().copied().collect(),
+        )?,
     )?;
     d.set_item("frame_time", f.frame_time)?;
     Ok(d)

@@ -649,7 +649,7 @@ def test_kinect_v1_csv_and_20_joint_walkers(tmp_path, walks):
     # The same walkers as Kinect v1 skeletons (same seeds, same noise on the joints kept).
     w20 = gait.make_walkers(n_subjects=3, n_sessions=2, seed=0, n_joints=20)
     w25 = gait.make_walkers(n_subjects=3, n_sessions=2, seed=0)
-    check_result(w20)
+    check_result(w20, gait.SyntheticWalks)
     for a, b in zip(w20.frames, w25.frames):
         assert a.shape == (len(b), 20, 3)
         np.testing.assert_array_equal(a, b[:, _V1_OF_V2])
@@ -685,7 +685,7 @@ def test_ntu_skeleton_files(tmp_path, walks):
     p.write_text(_ntu_text({72057594037931101: (range(5, 40), 3.0, 10, f),
                             72057594037931104: (range(40), 0.0, 25, f)}, 40))
     bodies = gait.load_ntu_bodies(p)
-    check_result(bodies[0])
+    check_result(bodies[0], gait.NtuBody)
     assert [(b.id, b.n_frames, b.n_tracked) for b in bodies] == [
         (72057594037931104, 40, 1000), (72057594037931101, 35, 350)]
     np.testing.assert_array_equal(gait.load_skeleton(p), f)

@@ -626,7 +626,7 @@ def test_bvh_of_any_skeleton_reads_back_against_scipy_forward_kinematics(tmp_pat
     path = tmp_path / "cmu.bvh"
     path.write_text(_bvh_text(_CMU, frames))
     s = M.load_bvh_skeleton(path)
-    check_result(s)
+    check_result(s, M.BvhSkeleton)
     assert s.names == [j[0] for j in _CMU]
     assert s.parents == [-1 if j[1] is None else j[1] for j in _CMU]
     assert s.channels[16] == ["Yrotation", "Xrotation", "Zrotation"]

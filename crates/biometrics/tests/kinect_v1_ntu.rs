@@ -70,9 +70,9 @@ fn kinect_v1_csv_with_named_joints_reads_back_joint_for_joint() {
     let mut by_index = String::new();
     for t in 0..w.len() {
         // Joints in reverse order: rows are matched by name, not position.
-        for k in (0..20).rev() {
-            let p = w.at(t, v1_of_v2[k]);
-            writeln!(text, "{t},{},{},{},{}", names[k], p[0], p[1], p[2]).unwrap();
+        for (k, (&j, name)) in v1_of_v2.iter().zip(names).enumerate().rev() {
+            let p = w.at(t, j);
+            writeln!(text, "{t},{name},{},{},{}", p[0], p[1], p[2]).unwrap();
             writeln!(by_index, "{t},{k},{},{},{}", p[0], p[1], p[2]).unwrap();
         }
     }
@@ -129,7 +129,10 @@ fn malformed_skeleton_csv_is_an_error_naming_the_file() {
         ("missing joint", lines[..lines.len() - 1].join("\n")),
         ("truncated row", format!("{}\n5,HipCenter,1.0", text)),
         ("unknown joint", text.replacen(",Spine,", ",Spline,", 1)),
-        ("duplicated joint", text.replacen(",Spine,", ",HipCenter,", 1)),
+        (
+            "duplicated joint",
+            text.replacen(",Spine,", ",HipCenter,", 1),
+        ),
         ("index out of range", text.replacen(",Spine,", ",20,", 1)),
     ];
     for (what, bad) in cases {
@@ -148,8 +151,7 @@ fn ntu_text(w: &SkeletonSeq, bodies: &[(u64, Vec<usize>, f64, usize)], n: usize)
         for (id, _, shift, tracked) in here {
             writeln!(s, "{id} 0 1 1 1 1 0 0.01 -0.02 2").unwrap();
             writeln!(s, "25").unwrap();
-            for j in 0..N_JOINTS {
-                let p = w.frames[t % w.len()][j];
+            for (j, p) in w.frames[t % w.len()].iter().enumerate() {
                 let state = if j < *tracked { 2 } else { 1 };
                 writeln!(
                     s,
@@ -182,30 +184,37 @@ fn ntu_skeleton_files_pick_a_body_by_id_or_the_most_tracked() {
     let s = parse_ntu_skeleton(&text, o, 30.0, &NtuParams::default()).unwrap();
     assert_eq!(s.joint_set, JointSet::KinectV2);
     assert_eq!(s.len(), n);
-    for t in 0..n {
-        for j in 0..N_JOINTS {
-            assert_eq!(s.frames[t][j], w.frames[t][j]);
-        }
-    }
+    assert_eq!(s.frames[..], w.frames[..n]);
     let p = NtuParams::default().body(BodyChoice::Id(72057594037931101));
     let s = parse_ntu_skeleton(&text, o, 30.0, &p).unwrap();
     // Frames before the body's first appearance are dropped.
     assert_eq!(s.len(), n - 5);
     assert_eq!(s.frames[0][3][0], w.frames[5][3][0] + 3.0);
-    let err = parse_ntu_skeleton(&text, o, 30.0, &NtuParams::default().body(BodyChoice::Id(7)))
-        .unwrap_err();
+    let err = parse_ntu_skeleton(
+        &text,
+        o,
+        30.0,
+        &NtuParams::default().body(BodyChoice::Id(7)),
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("72057594037931104"), "{err}");
-    assert_eq!(BodyChoice::parse("most-tracked").unwrap(), BodyChoice::MostTracked);
+    assert_eq!(
+        BodyChoice::parse("most-tracked").unwrap(),
+        BodyChoice::MostTracked
+    );
     assert_eq!(BodyChoice::parse("12").unwrap(), BodyChoice::Id(12));
     assert!(BodyChoice::parse("first").is_err());
     // Interior absences: interpolated up to max_gap frames, refused beyond.
-    let gappy: Vec<usize> = all.iter().copied().filter(|t| !(10..13).contains(t)).collect();
+    let gappy: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|t| !(10..13).contains(t))
+        .collect();
     let text = ntu_text(&w, &[(1, gappy, 0.0, 25)], n);
     let s = parse_ntu_skeleton(&text, o, 30.0, &NtuParams::default()).unwrap();
     let want = w.frames[9][0][0] + (w.frames[13][0][0] - w.frames[9][0][0]) * 0.5;
     assert!((s.frames[11][0][0] - want).abs() < 1e-12);
-    let err =
-        parse_ntu_skeleton(&text, o, 30.0, &NtuParams::default().max_gap(2)).unwrap_err();
+    let err = parse_ntu_skeleton(&text, o, 30.0, &NtuParams::default().max_gap(2)).unwrap_err();
     assert!(err.to_string().contains("absent"), "{err}");
     // From a file, by extension.
     let dir = tempfile::tempdir().unwrap();
@@ -229,7 +238,10 @@ fn malformed_ntu_files_are_errors_naming_the_file() {
         ("wrong magic", format!("HIERARCHY\n{text}")),
         ("trailing values", format!("{text}1 2 3\n")),
         ("frame count", text.replacen("5\n", "6\n", 1)),
-        ("huge frame count", text.replacen("5\n", "18446744073709551615\n", 1)),
+        (
+            "huge frame count",
+            text.replacen("5\n", "18446744073709551615\n", 1),
+        ),
         ("huge body count", {
             let mut l = lines.clone();
             l[1] = "4000000000000";
@@ -269,7 +281,10 @@ fn malformed_ntu_files_are_errors_naming_the_file() {
 fn accuracy(set: &WalkSet, proto: &Protocol) -> (usize, usize) {
     let prepared = prepare(&set.walks, &set.labels, &set.session_index, &proto.params).unwrap();
     let r = cross_validate(&prepared, None, proto).unwrap();
-    ((r.jra_nearest * r.decisions as f64).round() as usize, r.decisions)
+    (
+        (r.jra_nearest * r.decisions as f64).round() as usize,
+        r.decisions,
+    )
 }
 
 #[test]
@@ -279,8 +294,15 @@ fn gait_recognition_on_20_joint_walkers_beside_25_joints() {
     let v1 = set.to_kinect_v1();
     let s = gait_sample(&v1.walks[0], &p).unwrap();
     assert_eq!(s.jra.pairs.len(), 171);
-    assert_eq!(all_pairs_in(JointSet::KinectV1, Joint::SpineBase), s.jra.pairs);
-    assert!(s.jra.pairs.iter().all(|&(a, b)| a != Joint::Neck && b != Joint::Neck));
+    assert_eq!(
+        all_pairs_in(JointSet::KinectV1, Joint::SpineBase),
+        s.jra.pairs
+    );
+    assert!(s
+        .jra
+        .pairs
+        .iter()
+        .all(|&(a, b)| a != Joint::Neck && b != Joint::Neck));
     // The cycle is the same as on 25 joints (it reads the ankles).
     assert_eq!(gait_sample(&set.walks[0], &p).unwrap().cycle, s.cycle);
     // A pair outside the walk's joints is an error naming the joint.

@@ -225,7 +225,9 @@ pub fn parse_bvh_file(text: &str, origin: &Path) -> Result<BvhFile> {
     let bad = |m: String| Error::format(origin, m);
     let mut tokens = text.split_whitespace();
     if tokens.next() != Some("HIERARCHY") {
-        return Err(bad("not a BVH file: it does not start with HIERARCHY".into()));
+        return Err(bad(
+            "not a BVH file: it does not start with HIERARCHY".into()
+        ));
     }
     let mut joints: Vec<BvhJoint> = Vec::new();
     // Open blocks: Some(joint) or None for an end site; `pending` is the block whose `{` comes.
@@ -292,9 +294,11 @@ pub fn parse_bvh_file(text: &str, origin: &Path) -> Result<BvhFile> {
                 match stack.last() {
                     Some(Some(j)) => joints[*j].offset = off,
                     Some(None) => {
-                        let j = stack.iter().rev().find_map(|s| *s).ok_or_else(|| {
-                            bad("End Site outside a joint".into())
-                        })?;
+                        let j = stack
+                            .iter()
+                            .rev()
+                            .find_map(|s| *s)
+                            .ok_or_else(|| bad("End Site outside a joint".into()))?;
                         if let Some(e) = joints[j].end_sites.last_mut() {
                             *e = off;
                         }
@@ -383,7 +387,10 @@ pub fn parse_bvh_file(text: &str, origin: &Path) -> Result<BvhFile> {
         )));
     }
     ensure_finite("motion", &values).map_err(|e| bad(e.to_string()))?;
-    let frames = values.chunks_exact(per_frame).map(<[f64]>::to_vec).collect();
+    let frames = values
+        .chunks_exact(per_frame)
+        .map(<[f64]>::to_vec)
+        .collect();
     Ok(BvhFile {
         joints,
         frame_time,

@@ -44,29 +44,10 @@ fn table(name: &str, rows: [&[&str]; N_JOINTS]) -> JointMap {
 impl JointMap {
     /// The model's own joint names (files written by [`crate::bvh::write_bvh`]).
     pub fn model() -> Self {
-        let rows: [&[&str]; N_JOINTS] = std::array::from_fn(|j| {
-            let names: &[&str] = match j {
-                0 => &["Hips"],
-                1 => &["Spine"],
-                2 => &["Head"],
-                3 => &["LeftCollar"],
-                4 => &["LeftShoulder"],
-                5 => &["LeftElbow"],
-                6 => &["LeftWrist"],
-                7 => &["RightCollar"],
-                8 => &["RightShoulder"],
-                9 => &["RightElbow"],
-                10 => &["RightWrist"],
-                11 => &["LeftHip"],
-                12 => &["LeftKnee"],
-                13 => &["LeftAnkle"],
-                14 => &["RightHip"],
-                15 => &["RightKnee"],
-                _ => &["RightAnkle"],
-            };
-            names
-        });
-        table("model", rows)
+        JointMap {
+            name: "model".into(),
+            candidates: JOINTS.iter().map(|j| vec![j.0.to_string()]).collect(),
+        }
     }
 
     /// CMU motion-capture database names (the BVH conversions: `Hips`, `LowerBack`, `Spine`,
@@ -290,8 +271,8 @@ fn align(from: &[Vector3<f64>], to: &[Vector3<f64>]) -> UnitQuaternion<f64> {
 fn alignments(file: &BvhFile, map: &[usize; N_JOINTS]) -> Result<Vec<UnitQuaternion<f64>>> {
     let rest = file.world_poses(None)?;
     let mut out = Vec::with_capacity(N_JOINTS);
-    for j in 0..N_JOINTS {
-        let here = rest[map[j]].1;
+    for (j, &mj) in map.iter().enumerate() {
+        let here = rest[mj].1;
         let mut from = Vec::new();
         let mut to = Vec::new();
         for (c, (_, parent, off)) in JOINTS.iter().enumerate() {
@@ -302,11 +283,11 @@ fn alignments(file: &BvhFile, map: &[usize; N_JOINTS]) -> Result<Vec<UnitQuatern
         }
         if from.is_empty() {
             if let Some(e) = end_site(j) {
-                let src = file.joints[map[j]].end_sites.first().copied().or_else(|| {
-                    file.children(map[j])
-                        .first()
-                        .map(|&c| file.joints[c].offset)
-                });
+                let src = file.joints[mj]
+                    .end_sites
+                    .first()
+                    .copied()
+                    .or_else(|| file.children(mj).first().map(|&c| file.joints[c].offset));
                 if let Some(s) = src {
                     from.push(Vector3::from(e));
                     to.push(Vector3::from(s));
@@ -376,9 +357,8 @@ pub fn retarget(file: &BvhFile, p: &RetargetParams) -> Result<BvhMotion> {
     let mut root = Vec::with_capacity(file.frames.len());
     for f in 0..file.frames.len() {
         let poses = file.world_poses(Some(f))?;
-        let global: Vec<UnitQuaternion<f64>> = (0..N_JOINTS)
-            .map(|j| poses[map[j]].0 * align[j])
-            .collect();
+        let global: Vec<UnitQuaternion<f64>> =
+            (0..N_JOINTS).map(|j| poses[map[j]].0 * align[j]).collect();
         let mut a = vec![0.0; N_CHANNELS];
         for (j, (_, parent, _)) in JOINTS.iter().enumerate() {
             let local = match parent {

@@ -56,8 +56,8 @@ fn hierarchy(out: &mut String, s: &[Spec], j: usize, depth: usize) {
             s[j].channels.join(" ")
         ));
     }
-    for c in 0..s.len() {
-        if s[c].parent == Some(j) {
+    for (c, child) in s.iter().enumerate() {
+        if child.parent == Some(j) {
             hierarchy(out, s, c, depth + 1);
         }
     }
@@ -90,8 +90,8 @@ fn bvh_text(s: &[Spec], frames: &[Vec<f64>], frame_time: f64) -> String {
 fn file_order(s: &[Spec]) -> Vec<usize> {
     fn visit(s: &[Spec], j: usize, out: &mut Vec<usize>) {
         out.push(j);
-        for c in 0..s.len() {
-            if s[c].parent == Some(j) {
+        for (c, child) in s.iter().enumerate() {
+            if child.parent == Some(j) {
                 visit(s, c, out);
             }
         }
@@ -197,7 +197,14 @@ fn odd_skeleton() -> Vec<Spec> {
             "d",
             Some(3),
             [0.0, -8.0, 0.5],
-            &["Xposition", "Yposition", "Zposition", "Zrotation", "Yrotation", "Xrotation"],
+            &[
+                "Xposition",
+                "Yposition",
+                "Zposition",
+                "Zrotation",
+                "Yrotation",
+                "Xrotation",
+            ],
             Some([1.0, -1.0, 0.0]),
         ),
         spec("e", Some(1), [-2.0, 5.0, 0.0], &[], Some([0.0, 3.0, 0.0])),
@@ -217,9 +224,14 @@ fn other_hierarchies_and_rotation_orders_read_back_joint_for_joint() {
     for (k, &j) in order.iter().enumerate() {
         assert_eq!(file.joints[k].name, s[j].name);
         assert_eq!(file.joints[k].offset, s[j].offset);
-        let parent = s[j].parent.map(|p| order.iter().position(|&o| o == p).unwrap());
+        let parent = s[j]
+            .parent
+            .map(|p| order.iter().position(|&o| o == p).unwrap());
         assert_eq!(file.joints[k].parent, parent);
-        assert_eq!(file.joints[k].end_sites, s[j].end.into_iter().collect::<Vec<_>>());
+        assert_eq!(
+            file.joints[k].end_sites,
+            s[j].end.into_iter().collect::<Vec<_>>()
+        );
     }
     assert_eq!(file.joints[1].rotation_order(), "YXZ");
     assert_eq!(file.joints[0].channels[0], Channel::Zposition);
@@ -263,27 +275,57 @@ fn cmu_skeleton(prefix: &'static str) -> Vec<Spec> {
         spec(n("LeftUpLeg"), Some(1), [3.5, -1.0, 0.5], r3, None), // 2
         spec(n("LeftLeg"), Some(2), [0.0, -17.0, 0.0], r3, None), // 3
         spec(n("LeftFoot"), Some(3), [0.0, -16.5, 0.0], r3, None), // 4
-        spec(n("LeftToeBase"), Some(4), [0.0, -2.0, 5.0], r3, Some([0.0, 0.0, 2.0])), // 5
+        spec(
+            n("LeftToeBase"),
+            Some(4),
+            [0.0, -2.0, 5.0],
+            r3,
+            Some([0.0, 0.0, 2.0]),
+        ), // 5
         spec(n("RHipJoint"), Some(0), [0.0, 0.0, 0.0], r3, None), // 6
         spec(n("RightUpLeg"), Some(6), [-3.5, -1.0, 0.5], r3, None), // 7
         spec(n("RightLeg"), Some(7), [0.0, -17.0, 0.0], r3, None), // 8
         spec(n("RightFoot"), Some(8), [0.0, -16.5, 0.0], r3, None), // 9
-        spec(n("RightToeBase"), Some(9), [0.0, -2.0, 5.0], r3, Some([0.0, 0.0, 2.0])), // 10
+        spec(
+            n("RightToeBase"),
+            Some(9),
+            [0.0, -2.0, 5.0],
+            r3,
+            Some([0.0, 0.0, 2.0]),
+        ), // 10
         spec(n("LowerBack"), Some(0), [0.0, 1.0, 0.0], r3, None), // 11
-        spec(n("Spine"), Some(11), [0.0, 5.0, 0.0], r3, None),    // 12
-        spec(n("Spine1"), Some(12), [0.0, 6.0, 0.0], r3, None),   // 13
-        spec(n("Neck"), Some(13), [0.0, 8.0, 0.0], r3, None),     // 14
-        spec(n("Neck1"), Some(14), [0.0, 2.0, 0.0], r3, None),    // 15
-        spec(n("Head"), Some(15), [0.0, 2.5, 0.0], r3, Some([0.0, 4.0, 0.0])), // 16
+        spec(n("Spine"), Some(11), [0.0, 5.0, 0.0], r3, None), // 12
+        spec(n("Spine1"), Some(12), [0.0, 6.0, 0.0], r3, None), // 13
+        spec(n("Neck"), Some(13), [0.0, 8.0, 0.0], r3, None), // 14
+        spec(n("Neck1"), Some(14), [0.0, 2.0, 0.0], r3, None), // 15
+        spec(
+            n("Head"),
+            Some(15),
+            [0.0, 2.5, 0.0],
+            r3,
+            Some([0.0, 4.0, 0.0]),
+        ), // 16
         spec(n("LeftShoulder"), Some(13), [1.5, 7.0, 0.0], r3, None), // 17
-        spec(n("LeftArm"), Some(17), [6.0, 0.0, 0.0], r3, None),  // 18
+        spec(n("LeftArm"), Some(17), [6.0, 0.0, 0.0], r3, None), // 18
         spec(n("LeftForeArm"), Some(18), [11.0, 0.0, 0.0], r3, None), // 19
         spec(n("LeftHand"), Some(19), [9.5, 0.0, 0.0], r3, None), // 20
-        spec(n("LeftHandIndex1"), Some(20), [3.0, 0.0, 0.0], r3, Some([1.0, 0.0, 0.0])), // 21
+        spec(
+            n("LeftHandIndex1"),
+            Some(20),
+            [3.0, 0.0, 0.0],
+            r3,
+            Some([1.0, 0.0, 0.0]),
+        ), // 21
         spec(n("RightShoulder"), Some(13), [-1.5, 7.0, 0.0], r3, None), // 22
         spec(n("RightArm"), Some(22), [-6.0, 0.0, 0.0], r3, None), // 23
         spec(n("RightForeArm"), Some(23), [-11.0, 0.0, 0.0], r3, None), // 24
-        spec(n("RightHand"), Some(24), [-9.5, 0.0, 0.0], r3, Some([-3.0, 0.0, 0.0])), // 25
+        spec(
+            n("RightHand"),
+            Some(24),
+            [-9.5, 0.0, 0.0],
+            r3,
+            Some([-3.0, 0.0, 0.0]),
+        ), // 25
     ]
 }
 
@@ -306,9 +348,7 @@ fn check_retarget(s: &[Spec], motion: &BvhMotion, frames: &[Vec<f64>], units: f6
         let got = forward_kinematics(&motion.angles[f], motion.root[f]);
         // The pelvis position, converted to metres.
         let hips = want[0] / units;
-        for k in 0..3 {
-            assert!((motion.root[f][k] - hips[k]).abs() < 1e-9);
-        }
+        assert!((Vector3::from(motion.root[f]) - hips).norm() < 1e-9);
         for &(mj, mc, sj, sc) in &LIMBS {
             let dm = (Vector3::from(got[mc]) - Vector3::from(got[mj])).normalize();
             let ds = (want[sc] - want[sj]).normalize();
@@ -409,7 +449,11 @@ fn a_user_map_from_json_renames_joints() {
 fn the_models_own_files_read_back_channel_for_channel() {
     let mut rng = rand::rngs::StdRng::seed_from_u64(1);
     let angles: Vec<Vec<f64>> = (0..4)
-        .map(|_| (0..N_CHANNELS).map(|_| rng.random_range(-1.0..1.0)).collect())
+        .map(|_| {
+            (0..N_CHANNELS)
+                .map(|_| rng.random_range(-1.0..1.0))
+                .collect()
+        })
         .collect();
     let root = vec![[0.1, 0.9, 0.3]; 4];
     let m = BvhMotion {
@@ -441,17 +485,32 @@ fn malformed_files_are_errors_naming_the_file() {
         ("wrong magic", text.replacen("HIERARCHY", "HIERARCH", 1)),
         ("not BVH", "{\"frames\": []}".to_string()),
         ("frame count", text.replace("Frames: 3", "Frames: 4")),
-        ("huge frame count", text.replace("Frames: 3", "Frames: 18446744073709551615")),
+        (
+            "huge frame count",
+            text.replace("Frames: 3", "Frames: 18446744073709551615"),
+        ),
         (
             "wrapping frame count",
             text.replace("Frames: 3", "Frames: 9223372036854775810"),
         ),
-        ("huge channel count", text.replacen("CHANNELS 3", "CHANNELS 4000000000", 1)),
-        ("unknown channel", text.replacen("Xrotation", "Wrotation", 1)),
-        ("bad offset", text.replacen("OFFSET 0 10 0", "OFFSET 0 ten 0", 1)),
+        (
+            "huge channel count",
+            text.replacen("CHANNELS 3", "CHANNELS 4000000000", 1),
+        ),
+        (
+            "unknown channel",
+            text.replacen("Xrotation", "Wrotation", 1),
+        ),
+        (
+            "bad offset",
+            text.replacen("OFFSET 0 10 0", "OFFSET 0 ten 0", 1),
+        ),
         ("duplicated joint", text.replacen("JOINT b", "JOINT a", 1)),
         ("unbalanced", text.replacen("}\n", "", 1)),
-        ("zero frame time", text.replace("Frame Time: 0.02", "Frame Time: 0")),
+        (
+            "zero frame time",
+            text.replace("Frame Time: 0.02", "Frame Time: 0"),
+        ),
         ("nan value", {
             let at = text.trim_end().rfind(' ').unwrap();
             format!("{}nan\n", &text[..at + 1])

@@ -86,7 +86,10 @@ pub fn parse_skeleton_csv(text: &str, origin: &Path, fps: f64) -> Result<Skeleto
         for &(ln, frame, col, p) in &rows {
             let joint = match col.parse::<usize>() {
                 Ok(i) => set.joints().get(i).copied().ok_or_else(|| {
-                    Error::invalid("joint", format!("index {i} is out of range 0..{}", set.len()))
+                    Error::invalid(
+                        "joint",
+                        format!("index {i} is out of range 0..{}", set.len()),
+                    )
                 }),
                 Err(_) => Joint::parse(col),
             }
@@ -95,7 +98,10 @@ pub fn parse_skeleton_csv(text: &str, origin: &Path, fps: f64) -> Result<Skeleto
             if slot.is_some() {
                 return Err(format_err(
                     path,
-                    format!("line {ln}: frame {frame} lists {} twice", set.name_of(joint)),
+                    format!(
+                        "line {ln}: frame {frame} lists {} twice",
+                        set.name_of(joint)
+                    ),
                 ));
             }
             *slot = Some(p);
@@ -160,7 +166,11 @@ pub fn read_skeleton(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq> {
 }
 
 /// [`read_skeleton`] with the body choice of NTU RGB+D files.
-pub fn read_skeleton_with(path: impl AsRef<Path>, fps: f64, ntu: &NtuParams) -> Result<SkeletonSeq> {
+pub fn read_skeleton_with(
+    path: impl AsRef<Path>,
+    fps: f64,
+    ntu: &NtuParams,
+) -> Result<SkeletonSeq> {
     let path = path.as_ref();
     let ext = |x: &str| path.extension().is_some_and(|e| e.eq_ignore_ascii_case(x));
     if ext("npy") {
@@ -181,10 +191,7 @@ pub fn write_skeleton_csv(path: impl AsRef<Path>, s: &SkeletonSeq) -> Result<()>
     for (t, f) in s.frames.iter().enumerate() {
         for (&j, name) in set.joints().iter().zip(set.names()) {
             let p = f[j.index()];
-            buf.push_str(&format!(
-                "{t},{name},{:.6},{:.6},{:.6}\n",
-                p[0], p[1], p[2]
-            ));
+            buf.push_str(&format!("{t},{name},{:.6},{:.6},{:.6}\n", p[0], p[1], p[2]));
         }
     }
     wscg_math::io::atomic::write(path, buf)

@@ -41,11 +41,13 @@ pub use io::{
     write_skeleton_csv, write_skeleton_npy,
 };
 pub use jra::{all_pairs, all_pairs_in, jra, jra_matrix, jra_sequences, JraSet};
-pub use ntu::{ntu_bodies, parse_ntu, parse_ntu_skeleton, read_ntu, BodyChoice, NtuBody, NtuParams};
+pub use ntu::{
+    ntu_bodies, parse_ntu, parse_ntu_skeleton, read_ntu, BodyChoice, NtuBody, NtuParams,
+};
 pub use protocol::{cross_validate, prepare, CvReport, PreparedWalks, Protocol};
 pub use recognizer::{gait_sample, vote, GaitParams, GaitRecognizer, GaitSample, Prediction, Vote};
 pub use relevance::{occupied_bins, relevance_matrix, select_pairs, HistSpec, JointMap};
 pub use skeleton::{
-    interpolate_missing, Frame, Joint, JointSet, Pair, SkeletonSeq, JOINT_NAMES,
-    KINECT_V1_JOINTS, KINECT_V1_NAMES, N_JOINTS,
+    interpolate_missing, Frame, Joint, JointSet, Pair, SkeletonSeq, JOINT_NAMES, KINECT_V1_JOINTS,
+    KINECT_V1_NAMES, N_JOINTS,
 };

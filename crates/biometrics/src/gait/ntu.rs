@@ -153,9 +153,16 @@ pub fn parse_ntu(text: &str, origin: &Path) -> Result<Vec<NtuBody>> {
                     .ok_or_else(|| bad(format!("frame {f}, body {id}: truncated joint {j}")))?;
                 at += JOINT_VALUES;
                 let num = |k: usize| -> Result<f64> {
-                    vals[k].parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                        bad(format!("frame {f}, body {id}, joint {j}: bad number `{}`", vals[k]))
-                    })
+                    vals[k]
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| {
+                            bad(format!(
+                                "frame {f}, body {id}, joint {j}: bad number `{}`",
+                                vals[k]
+                            ))
+                        })
                 };
                 // Every value is a number; positions and the tracking state are finite.
                 if let Some(v) = vals.iter().find(|v| v.parse::<f64>().is_err()) {
@@ -243,7 +250,12 @@ pub fn parse_ntu_skeleton(
     }
     let (first, last) = match (body.frames.first(), body.frames.last()) {
         (Some(a), Some(b)) => (a.0, b.0),
-        _ => return Err(Error::format(origin, format!("body {} has no frame", body.id))),
+        _ => {
+            return Err(Error::format(
+                origin,
+                format!("body {} has no frame", body.id),
+            ))
+        }
     };
     let n = last + 1 - first;
     wscg_math::alloc::ensure_shape::<f64>("frames", &[n, N_JOINTS, 3])?;

@@ -274,7 +274,7 @@ impl JointSet {
             N_JOINTS => Ok(JointSet::KinectV2),
             20 => Ok(JointSet::KinectV1),
             _ => Err(Error::ShapeMismatch(format!(
-                "a Kinect skeleton has 25 (v2) or 20 (v1) joints, got {n}"
+                "a Kinect skeleton has 25 joints (v2) or 20 joints (v1), got {n}"
             ))),
         }
     }

@@ -246,13 +246,11 @@ struct ModelFile {
 
 fn is_skeleton_file(p: &Path) -> bool {
     p.is_file()
-        && p.extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| {
-                ["csv", "npy", "skeleton"]
-                    .iter()
-                    .any(|x| e.eq_ignore_ascii_case(x))
-            })
+        && p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+            ["csv", "npy", "skeleton"]
+                .iter()
+                .any(|x| e.eq_ignore_ascii_case(x))
+        })
 }
 
 fn sorted_entries(dir: &Path) -> Result<Vec<PathBuf>> {
