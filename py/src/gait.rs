@@ -560,6 +560,7 @@ fn load_ts(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
 /// A skeleton stream from a CSV (`frame, joint, x, y, z`), `.npy` or NTU RGB+D `.skeleton`
 /// file, `(T, J, 3)`; `body`: an NTU body id (`None`: the most tracked).
 #[pyfunction]
+#[pyo3(signature = (path, fps, body, max_gap))]
 fn load_skeleton(
     py: Python<'_>,
     path: PathBuf,
@@ -757,7 +758,7 @@ fn range2(name: &str, r: (f64, f64)) -> PyResult<[f64; 2]> {
 
 /// `n_subjects x n_sessions` synthetic walks with ground truth, as a dict.
 #[pyfunction]
-#[pyo3(signature = (n_subjects, n_sessions, seed, heading_deg, speed, walk_s, sit_prob, noise))]
+#[pyo3(signature = (n_subjects, n_sessions, seed, heading_deg, speed, walk_s, sit_prob, noise, n_joints))]
 #[allow(clippy::too_many_arguments)]
 fn make_walkers<'py>(
     py: Python<'py>,

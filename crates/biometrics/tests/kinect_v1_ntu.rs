@@ -113,7 +113,7 @@ fn kinect_v1_csv_with_named_joints_reads_back_joint_for_joint() {
     let filled = interpolate_missing(30.0, &flat, w.len(), 20, 2).unwrap();
     let want = 0.5 * (w.at(4, Joint::AnkleLeft)[0] + w.at(6, Joint::AnkleLeft)[0]);
     assert!((filled.at(5, Joint::AnkleLeft)[0] - want).abs() < 1e-12);
-    assert!(SkeletonSeq::from_flat(30.0, &flat[..60 * 3], 3, 20).is_err());
+    assert!(SkeletonSeq::from_flat(30.0, &flat[..60 * 3 - 1], 3, 20).is_err());
     assert!(SkeletonSeq::from_flat(30.0, &flat[..21 * 9], 9, 21).is_err());
 }
 
