@@ -575,8 +575,8 @@ def _bvh_text(skel, frames, frame_time=1 / 120):
             if s[1] == j:
                 visit(c, depth + 1)
         if end is not None:
-            lines += [pad + "  End Site", pad + "  {", f"{pad}    OFFSET {end[0]} {end[1]} {end[2]}",
-                      pad + "  }"]
+            lines.extend([pad + "  End Site", pad + "  {",
+                          f"{pad}    OFFSET {end[0]} {end[1]} {end[2]}", pad + "  }"])
         lines.append(pad + "}")
 
     visit(0, 0)

@@ -841,6 +841,10 @@ def load_skeleton(path, fps: float = 30.0, body: Optional[int] = None,
 def load_ntu_bodies(path) -> List[NtuBody]:
     """The bodies of an NTU RGB+D ``.skeleton`` file, in order of first appearance.
 
+    Parameters
+    ----------
+    path : str or path-like
+
     Returns
     -------
     list of NtuBody
