@@ -129,6 +129,20 @@ fn main() {
     let text = wscg_motion::bvh::to_bvh_string(&motion).expect("bvh");
     put(&corpus, "bvh", "two_frames.bvh", text.as_bytes());
 
+    // NTU RGB+D: three frames of one body.
+    let mut ntu = String::from("3\n");
+    for t in 0..3 {
+        ntu.push_str("1\n72057594037931101 0 1 1 1 1 0 0.01 -0.02 2\n25\n");
+        for j in 0..25 {
+            ntu.push_str(&format!(
+                "{} {} 3 250.5 200.5 900.5 500.5 1 0 0 0 2\n",
+                0.01 * j as f64,
+                0.05 * j as f64 + 0.01 * t as f64
+            ));
+        }
+    }
+    put(&corpus, "ntu", "one_body.skeleton", ntu.as_bytes());
+
     // Skeleton CSV: three frames of 25 joints.
     let flat: Vec<f64> = (0..3 * 25 * 3).map(|i| (i % 11) as f64 * 0.1).collect();
     let seq = wscg_biometrics::gait::SkeletonSeq::from_flat(30.0, &flat, 3, 25).expect("skeleton");

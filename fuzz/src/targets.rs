@@ -22,6 +22,7 @@ pub const TARGETS: &[&str] = &[
     "vti",
     "bvh",
     "skeleton_csv",
+    "ntu",
     "gyro_csv",
     "ts",
     "octree",
@@ -119,6 +120,7 @@ pub fn run(target: &str, data: &[u8]) -> bool {
         "skeleton_csv" => {
             wscg_biometrics::gait::parse_skeleton_csv(&text(data), origin(), 30.0).is_ok()
         }
+        "ntu" => wscg_biometrics::gait::parse_ntu(&text(data), origin()).is_ok(),
         "gyro_csv" => wscg_deblur::gyro::parse_gyro_csv(data, origin()).is_ok(),
         "ts" => wscg_biometrics::dtw::ts_file::parse_ts(&text(data)).is_ok(),
         "octree" => {

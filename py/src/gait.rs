@@ -16,8 +16,8 @@ use pyo3::types::{PyDict, PyList};
 use wscg_biometrics::dtw::{self, ts_file, DtwParams, LocalCost, Multivariate};
 use wscg_biometrics::gait::synth::{self, NoiseParams, SessionParams, SessionRanges};
 use wscg_biometrics::gait::{
-    self, CycleChoice, CycleParams, GaitCycle, GaitParams, GaitRecognizer, HistSpec, Joint, JraSet,
-    Pair, Protocol, SkeletonSeq, StartLeg, UpAxis, Vote, N_JOINTS,
+    self, CycleChoice, CycleParams, GaitCycle, GaitParams, GaitRecognizer, HistSpec, Joint,
+    JointSet, JraSet, Pair, Protocol, SkeletonSeq, StartLeg, UpAxis, Vote, N_JOINTS,
 };
 
 use crate::convert::{array, mat_out, values, Arr};
@@ -37,7 +37,8 @@ const MAX_CV_WALKS: usize = 300;
 // ------------------------------------------------------------------------------------------
 // Conversions
 
-/// A validated skeleton stream from a `(T, 25, 3)` float64 array.
+/// A validated skeleton stream from a `(T, 25, 3)` (Kinect v2) or `(T, 20, 3)` (Kinect v1)
+/// float64 array.
 fn seq_in(
     py: Python<'_>,
     name: &str,
@@ -48,8 +49,8 @@ fn seq_in(
         [t, j, 3] => (t, j),
         ref s => {
             return Err(value_error(format!(
-                "`{name}` must be a (T, 25, 3) array (frames x 25 Kinect v2 joints x xyz), got \
-                 shape {s:?}"
+                "`{name}` must be a (T, 25, 3) or (T, 20, 3) array (frames x 25 Kinect v2 or 20 \
+                 Kinect v1 joints x xyz), got shape {s:?}"
             )))
         }
     };
@@ -58,9 +59,18 @@ fn seq_in(
         .map_err(|e| value_error(format!("`{name}`: {e}")))
 }
 
-/// `(T, 25, 3)` array of a skeleton stream.
+/// `(T, J, 3)` array of a skeleton stream (`J` = 25, or 20 for Kinect v1).
 fn seq_out<'py>(py: Python<'py>, s: &SkeletonSeq) -> PyResult<Arr<'py, f64>> {
-    array(py, &[s.len(), N_JOINTS, 3], s.to_flat())
+    array(py, &[s.len(), s.joint_set.len(), 3], s.to_flat())
+}
+
+/// The joint set of `n_joints` (25 or 20).
+fn joint_set_in(n_joints: usize) -> PyResult<JointSet> {
+    JointSet::for_count(n_joints).map_err(|_| {
+        value_error(format!(
+            "`n_joints` must be 25 (Kinect v2) or 20 (Kinect v1), got {n_joints}"
+        ))
+    })
 }
 
 /// A 1-D float64 array as a vector.
@@ -547,11 +557,27 @@ fn load_ts(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
 // ------------------------------------------------------------------------------------------
 // Files and baselines
 
-/// A skeleton stream from a CSV (`frame, joint, x, y, z`) or `.npy` file, `(T, 25, 3)`.
+/// A skeleton stream from a CSV (`frame, joint, x, y, z`), `.npy` or NTU RGB+D `.skeleton`
+/// file, `(T, J, 3)`; `body`: an NTU body id (`None`: the most tracked).
 #[pyfunction]
-fn load_skeleton(py: Python<'_>, path: PathBuf, fps: f64) -> PyResult<Arr<'_, f64>> {
-    let s = crate::pool::detach(py, || gait::read_skeleton(&path, fps)).py_err()?;
+#[pyo3(signature = (path, fps, body, max_gap))]
+fn load_skeleton(
+    py: Python<'_>,
+    path: PathBuf,
+    fps: f64,
+    body: Option<u64>,
+    max_gap: usize,
+) -> PyResult<Arr<'_, f64>> {
+    let body = body.map_or(gait::BodyChoice::MostTracked, gait::BodyChoice::Id);
+    let ntu = gait::NtuParams::default().body(body).max_gap(max_gap);
+    let s = crate::pool::detach(py, || gait::read_skeleton_with(&path, fps, &ntu)).py_err()?;
     seq_out(py, &s)
+}
+
+/// The bodies of an NTU RGB+D file: `(id, frames present, tracked joints)`.
+#[pyfunction]
+fn load_ntu_bodies(py: Python<'_>, path: PathBuf) -> PyResult<Vec<(u64, usize, usize)>> {
+    crate::pool::detach(py, || gait::ntu_bodies(&path)).py_err()
 }
 
 /// Writes a skeleton CSV.
@@ -732,7 +758,7 @@ fn range2(name: &str, r: (f64, f64)) -> PyResult<[f64; 2]> {
 
 /// `n_subjects x n_sessions` synthetic walks with ground truth, as a dict.
 #[pyfunction]
-#[pyo3(signature = (n_subjects, n_sessions, seed, heading_deg, speed, walk_s, sit_prob, noise))]
+#[pyo3(signature = (n_subjects, n_sessions, seed, heading_deg, speed, walk_s, sit_prob, noise, n_joints))]
 #[allow(clippy::too_many_arguments)]
 fn make_walkers<'py>(
     py: Python<'py>,
@@ -744,7 +770,9 @@ fn make_walkers<'py>(
     walk_s: (f64, f64),
     sit_prob: f64,
     noise: bool,
+    n_joints: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let joint_set = joint_set_in(n_joints)?;
     let n = n_subjects.checked_mul(n_sessions);
     if n.is_none_or(|n| n == 0 || n > MAX_WALKS) {
         return Err(value_error(format!(
@@ -793,6 +821,10 @@ fn make_walkers<'py>(
                 .collect();
             synth::walkers_with(&subjects, n_sessions, &sessions, seed)
         }
+        .map(|set| match joint_set {
+            JointSet::KinectV1 => set.to_kinect_v1(),
+            JointSet::KinectV2 => set,
+        })
     })
     .py_err()?;
     let frames = PyList::empty(py);
@@ -829,7 +861,9 @@ fn evaluate_synthetic(
     n_subjects: usize,
     n_sessions: usize,
     seed: u64,
+    n_joints: usize,
 ) -> PyResult<Bound<'_, PyDict>> {
+    let joint_set = joint_set_in(n_joints)?;
     let n = n_subjects.checked_mul(n_sessions);
     if n_subjects < 2 || n_sessions < 2 || n.is_none_or(|n| n > MAX_CV_WALKS) {
         return Err(value_error(format!(
@@ -838,7 +872,10 @@ fn evaluate_synthetic(
         )));
     }
     let r = crate::pool::detach(py, || -> wscg_math::Result<_> {
-        let set = synth::walkers(n_subjects, n_sessions, &SessionRanges::default(), seed)?;
+        let mut set = synth::walkers(n_subjects, n_sessions, &SessionRanges::default(), seed)?;
+        if joint_set == JointSet::KinectV1 {
+            set = set.to_kinect_v1();
+        }
         let proto = Protocol::default();
         let prep = gait::prepare(&set.walks, &set.labels, &set.session_index, &proto.params)?;
         gait::cross_validate(&prep, None, &proto)
@@ -866,6 +903,7 @@ fn evaluate_synthetic(
 /// Registers the functions of `wscg._native.gait`.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("JOINT_NAMES", gait::JOINT_NAMES.to_vec())?;
+    m.add("KINECT_V1_NAMES", gait::KINECT_V1_NAMES.to_vec())?;
     m.add_class::<PyRecognizer>()?;
     m.add_function(wrap_pyfunction!(all_pairs, m)?)?;
     m.add_function(wrap_pyfunction!(joint_index, m)?)?;
@@ -882,6 +920,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(nearest, m)?)?;
     m.add_function(wrap_pyfunction!(load_ts, m)?)?;
     m.add_function(wrap_pyfunction!(load_skeleton, m)?)?;
+    m.add_function(wrap_pyfunction!(load_ntu_bodies, m)?)?;
     m.add_function(wrap_pyfunction!(save_skeleton_csv, m)?)?;
     m.add_function(wrap_pyfunction!(ball_features, m)?)?;
     m.add_function(wrap_pyfunction!(preis_features, m)?)?;

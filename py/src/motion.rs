@@ -15,7 +15,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use wscg_math::Error;
 use wscg_motion::anechoic::{fit_anechoic as fit_anechoic_rs, AnechoicParams, DelayMode, Init};
-use wscg_motion::bvh::{self, BvhMotion};
+use wscg_motion::bvh::{self, BvhMotion, JointMap, RetargetParams};
+use wscg_motion::bvh_file;
 use wscg_motion::data::{quality as quality_rs, TrialSet};
 use wscg_motion::dataset::{Dataset, TrialAction};
 use wscg_motion::hopf::StarNetwork;
@@ -848,10 +849,27 @@ fn save_bvh(
     crate::pool::detach(py, || bvh::write_bvh(&path, &motion)).py_err()
 }
 
-/// Reads a BVH file of the 17-joint skeleton.
+/// Reads a BVH file of any skeleton onto the 17-joint skeleton. `joint_map`: `("auto", "")`,
+/// `("builtin", name)`, `("json", text)` or `("file", path)`.
 #[pyfunction]
-fn load_bvh<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyDict>> {
-    let m = crate::pool::detach(py, || bvh::read_bvh(&path)).py_err()?;
+fn load_bvh<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+    joint_map: (String, String),
+    units_per_metre: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let map = match joint_map.0.as_str() {
+        "builtin" => Some(JointMap::builtin(&joint_map.1)),
+        "json" => Some(JointMap::from_json(&joint_map.1)),
+        "file" => Some(JointMap::read_json(&joint_map.1)),
+        _ => None,
+    }
+    .transpose()
+    .py_err()?;
+    let p = RetargetParams::default()
+        .joint_map(map)
+        .units_per_metre(units_per_metre);
+    let m = crate::pool::detach(py, || bvh::read_bvh_with(&path, &p)).py_err()?;
     let t_n = m.angles.len();
     let d = PyDict::new(py);
     d.set_item("angles", array(py, &[t_n, N_CHANNELS], m.angles.concat())?)?;
@@ -860,6 +878,68 @@ fn load_bvh<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'p
         array(py, &[t_n, 3], m.root.iter().flatten().copied().collect())?,
     )?;
     d.set_item("frame_time", m.frame_time)?;
+    Ok(d)
+}
+
+/// The hierarchy and motion of a BVH file of any skeleton, with the world joint positions of
+/// every frame (forward kinematics, file units).
+#[pyfunction]
+fn load_bvh_skeleton<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (f, pos) = crate::pool::detach(py, || {
+        bvh_file::read_bvh_file(&path).map(|f| {
+            let pos = bvh_file::bvh_forward_kinematics(&f);
+            (f, pos)
+        })
+    })
+    .py_err()?;
+    let (t_n, j_n, c_n) = (f.frames.len(), f.joints.len(), f.n_channels());
+    let d = PyDict::new(py);
+    d.set_item(
+        "names",
+        f.joints.iter().map(|j| j.name.clone()).collect::<Vec<_>>(),
+    )?;
+    d.set_item(
+        "parents",
+        f.joints
+            .iter()
+            .map(|j| j.parent.map_or(-1, |p| p as i64))
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item(
+        "offsets",
+        array(
+            py,
+            &[j_n, 3],
+            f.joints.iter().flat_map(|j| j.offset).collect(),
+        )?,
+    )?;
+    d.set_item(
+        "channels",
+        f.joints
+            .iter()
+            .map(|j| j.channels.iter().map(|c| c.name()).collect::<Vec<_>>())
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item(
+        "end_sites",
+        f.joints
+            .iter()
+            .map(|j| j.end_sites.iter().map(|e| e.to_vec()).collect::<Vec<_>>())
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item("motion", array(py, &[t_n, c_n], f.frames.concat())?)?;
+    d.set_item(
+        "positions",
+        array(
+            py,
+            &[t_n, j_n, 3],
+            pos.iter().flatten().flatten().copied().collect(),
+        )?,
+    )?;
+    d.set_item("frame_time", f.frame_time)?;
     Ok(d)
 }
 
@@ -1075,6 +1155,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(plan_steps, m)?)?;
     m.add_function(wrap_pyfunction!(save_bvh, m)?)?;
     m.add_function(wrap_pyfunction!(load_bvh, m)?)?;
+    m.add_function(wrap_pyfunction!(load_bvh_skeleton, m)?)?;
     m.add_function(wrap_pyfunction!(forward_kinematics, m)?)?;
     m.add_function(wrap_pyfunction!(skeleton, m)?)?;
     m.add_function(wrap_pyfunction!(regression_p_value, m)?)?;

@@ -623,6 +623,91 @@ def test_skeleton_files_round_trip(tmp_path, walks):
         gait.load_skeleton(bad)
 
 
+# Kinect v1 rows of the Kinect v2 array: HipCenter = SpineBase, Spine = SpineMid,
+# ShoulderCenter = SpineShoulder, the rest by name.
+_V1_OF_V2 = [0, 1, 20, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19]
+
+
+def test_kinect_v1_csv_and_20_joint_walkers(tmp_path, walks):
+    assert gait.KINECT_V1_NAMES[:3] == ["HipCenter", "Spine", "ShoulderCenter"]
+    assert len(gait.KINECT_V1_NAMES) == 20
+    f = walks.frames[0][:40]
+    rows = ["frame,joint,x,y,z"]
+    for t in range(len(f)):
+        for k, name in enumerate(gait.KINECT_V1_NAMES):
+            x, y, z = f[t, _V1_OF_V2[k]]
+            rows.append(f"{t},{name},{float(x)!r},{float(y)!r},{float(z)!r}")
+    csv = tmp_path / "v1.csv"
+    csv.write_text("\n".join(rows) + "\n")
+    back = gait.load_skeleton(csv)
+    assert back.shape == (40, 20, 3)
+    np.testing.assert_array_equal(back, f[:, _V1_OF_V2])
+    out = tmp_path / "again.csv"
+    gait.save_skeleton_csv(out, back)
+    assert "HipCenter" in out.read_text() and "Neck" not in out.read_text()
+    np.testing.assert_allclose(gait.load_skeleton(out), back, atol=5e-7)
+    # The same walkers as Kinect v1 skeletons (same seeds, same noise on the joints kept).
+    w20 = gait.make_walkers(n_subjects=3, n_sessions=2, seed=0, n_joints=20)
+    w25 = gait.make_walkers(n_subjects=3, n_sessions=2, seed=0)
+    check_result(w20, gait.SyntheticWalks)
+    for a, b in zip(w20.frames, w25.frames):
+        assert a.shape == (len(b), 20, 3)
+        np.testing.assert_array_equal(a, b[:, _V1_OF_V2])
+    assert gait.detect_cycle(w20.frames[0]) == gait.detect_cycle(w25.frames[0])
+    rec = gait.GaitRecognizer(min_bins=5).fit(w20.frames, w20.labels)
+    assert rec.predict(w20.frames[:2]).tolist() == w20.labels[:2].tolist()
+    with pytest.raises(ValueError, match="n_joints"):
+        gait.make_walkers(n_subjects=1, n_sessions=1, n_joints=21)
+    with pytest.raises(ValueError):
+        gait.jra_sequences(np.zeros((10, 21, 3)))
+
+
+def _ntu_text(frames_by_body, n):
+    """NTU RGB+D .skeleton text: `frames_by_body` maps a body id to (frames, shift, n_tracked)."""
+    out = [str(n)]
+    for t in range(n):
+        here = [(i, v) for i, v in frames_by_body.items() if t in v[0]]
+        out.append(str(len(here)))
+        for body, (_, shift, tracked, walk) in here:
+            out.append(f"{body} 0 1 1 1 1 0 0.01 -0.02 2")
+            out.append("25")
+            for j in range(25):
+                x, y, z = (float(v) for v in walk[t, j])
+                state = 2 if j < tracked else 1
+                out.append(f"{x + shift!r} {y!r} {z!r} 250.1 200.2 900.3 500.4 0.9 0.1 0.2 0.3 "
+                           f"{state}")
+    return "\n".join(out) + "\n"
+
+
+def test_ntu_skeleton_files(tmp_path, walks):
+    f = walks.frames[0][:40]
+    p = tmp_path / "S001C001P001R001A001.skeleton"
+    p.write_text(_ntu_text({72057594037931101: (range(5, 40), 3.0, 10, f),
+                            72057594037931104: (range(40), 0.0, 25, f)}, 40))
+    bodies = gait.load_ntu_bodies(p)
+    check_result(bodies[0], gait.NtuBody)
+    assert [(b.id, b.n_frames, b.n_tracked) for b in bodies] == [
+        (72057594037931104, 40, 1000), (72057594037931101, 35, 350)]
+    np.testing.assert_array_equal(gait.load_skeleton(p), f)
+    other = gait.load_skeleton(p, body=72057594037931101)
+    np.testing.assert_array_equal(other, f[5:] + [3.0, 0.0, 0.0])
+    with pytest.raises(OSError, match="72057594037931104"):
+        gait.load_skeleton(p, body=1)
+    gappy = tmp_path / "gappy.skeleton"
+    gappy.write_text(_ntu_text({1: ([t for t in range(40) if not 10 <= t < 13], 0.0, 25, f)}, 40))
+    g = gait.load_skeleton(gappy)
+    np.testing.assert_allclose(g[11], 0.5 * (f[9] + f[13]), atol=1e-12)
+    with pytest.raises(OSError, match="absent"):
+        gait.load_skeleton(gappy, max_gap=2)
+    text = p.read_text()
+    for bad in (text[: len(text) // 2], "HIERARCHY\n" + text, text.replace("40\n", "41\n", 1),
+                text.replace("40\n", "99999999999999999\n", 1), text + "1 2 3\n"):
+        b = tmp_path / "bad.skeleton"
+        b.write_text(bad)
+        with pytest.raises(OSError, match="bad.skeleton"):
+            gait.load_skeleton(b)
+
+
 # ----------------------------------------------------------------------------------------
 # Bad input
 # ----------------------------------------------------------------------------------------
@@ -653,7 +738,7 @@ def test_bad_frames(walks):
         gait.jra_sequences(f, pairs=[(0, 5)])
     with pytest.raises(ValueError, match="empty"):
         gait.jra_sequences(f, pairs=np.zeros((0, 2), dtype=int))
-    with pytest.raises(ValueError, match="not a Kinect v2 joint"):
+    with pytest.raises(ValueError, match="not a Kinect joint"):
         gait.jra_sequences(f, pairs=[("SpineMid", "Elbow")])
     with pytest.raises(ValueError, match="start_leg"):
         gait.detect_cycle(f, start_leg="both")

@@ -526,3 +526,176 @@ def test_bad_input(tmp_path, clean_action1, lib, data):
         M.hopf_simulate(1.0, dt=0.0)
     with pytest.raises(ValueError):
         M.hopf_simulate(1e9, dt=1e-6)  # too many steps
+
+
+# ----------------------------------------------------------------------------------------
+# BVH files of other skeletons
+# ----------------------------------------------------------------------------------------
+
+# name, parent, offset (inches), channels, end site: a CMU-style skeleton in a T-pose.
+_R3 = ["Zrotation", "Yrotation", "Xrotation"]
+_CMU = [
+    ("Hips", None, (0, 0, 0), ["Xposition", "Yposition", "Zposition"] + _R3, None),
+    ("LHipJoint", 0, (0, 0, 0), _R3, None),
+    ("LeftUpLeg", 1, (3.5, -1, 0.5), _R3, None),
+    ("LeftLeg", 2, (0, -17, 0), _R3, None),
+    ("LeftFoot", 3, (0, -16.5, 0), _R3, (0, -2, 5)),
+    ("RHipJoint", 0, (0, 0, 0), _R3, None),
+    ("RightUpLeg", 5, (-3.5, -1, 0.5), _R3, None),
+    ("RightLeg", 6, (0, -17, 0), _R3, None),
+    ("RightFoot", 7, (0, -16.5, 0), _R3, (0, -2, 5)),
+    ("LowerBack", 0, (0, 1, 0), ["Xrotation", "Yrotation", "Zrotation"], None),
+    ("Spine", 9, (0, 5, 0), _R3, None),
+    ("Spine1", 10, (0, 6, 0), _R3, None),
+    ("Neck", 11, (0, 8, 0), _R3, None),
+    ("Neck1", 12, (0, 2, 0), _R3, None),
+    ("Head", 13, (0, 2.5, 0), _R3, (0, 4, 0)),
+    ("LeftShoulder", 11, (1.5, 7, 0), _R3, None),
+    ("LeftArm", 15, (6, 0, 0), ["Yrotation", "Xrotation", "Zrotation"], None),
+    ("LeftForeArm", 16, (11, 0, 0), _R3, None),
+    ("LeftHand", 17, (9.5, 0, 0), _R3, (3, 0, 0)),
+    ("RightShoulder", 11, (-1.5, 7, 0), _R3, None),
+    ("RightArm", 19, (-6, 0, 0), _R3, None),
+    ("RightForeArm", 20, (-11, 0, 0), _R3, None),
+    ("RightHand", 21, (-9.5, 0, 0), _R3, (-3, 0, 0)),
+]
+
+
+def _bvh_text(skel, frames, frame_time=1 / 120):
+    lines = ["HIERARCHY"]
+
+    def visit(j, depth):
+        name, parent, off, chans, end = skel[j]
+        pad = "  " * depth
+        lines.append(f"{pad}{'ROOT' if parent is None else 'JOINT'} {name}")
+        lines.append(pad + "{")
+        lines.append(f"{pad}  OFFSET {off[0]} {off[1]} {off[2]}")
+        lines.append(f"{pad}  CHANNELS {len(chans)} {' '.join(chans)}")
+        for c, s in enumerate(skel):
+            if s[1] == j:
+                visit(c, depth + 1)
+        if end is not None:
+            lines.extend([pad + "  End Site", pad + "  {",
+                          f"{pad}    OFFSET {end[0]} {end[1]} {end[2]}", pad + "  }"])
+        lines.append(pad + "}")
+
+    visit(0, 0)
+    lines += ["MOTION", f"Frames: {len(frames)}", f"Frame Time: {frame_time}"]
+    lines += [" ".join(f"{v:.10f}" for v in f) for f in frames]
+    return "\n".join(lines) + "\n"
+
+
+def _reference_fk(skel, frame):
+    """World positions by scipy's intrinsic Euler rotations (an independent FK)."""
+    from scipy.spatial.transform import Rotation
+
+    vals = list(frame)
+    rot, pos = {}, {}
+    for j, (name, parent, off, chans, _) in enumerate(skel):
+        t = np.array(off, dtype=float)
+        axes, angles = "", []
+        for c in chans:
+            v = vals.pop(0)
+            if c.endswith("position"):
+                t["XYZ".index(c[0])] += v
+            else:
+                axes += c[0]
+                angles.append(v)
+        local = Rotation.from_euler(axes, angles, degrees=True)
+        if parent is None:
+            rot[j], pos[j] = local, t
+        else:
+            rot[j], pos[j] = rot[parent] * local, pos[parent] + rot[parent].apply(t)
+    return np.array([pos[j] for j in range(len(skel))])
+
+
+def _cmu_frames(n, seed):
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        f = []
+        for _, _, _, chans, _ in _CMU:
+            f += [rng.uniform(-30, 30) if c.endswith("position") else rng.uniform(-60, 60)
+                  for c in chans]
+        out.append(f)
+    return out
+
+
+def test_bvh_of_any_skeleton_reads_back_against_scipy_forward_kinematics(tmp_path):
+    frames = _cmu_frames(4, 0)
+    path = tmp_path / "cmu.bvh"
+    path.write_text(_bvh_text(_CMU, frames))
+    s = M.load_bvh_skeleton(path)
+    check_result(s, M.BvhSkeleton)
+    assert s.names == [j[0] for j in _CMU]
+    assert s.parents == [-1 if j[1] is None else j[1] for j in _CMU]
+    assert s.channels[16] == ["Yrotation", "Xrotation", "Zrotation"]
+    assert s.motion.shape == (4, 6 + 3 * 22) and s.positions.shape == (4, 23, 3)
+    assert s.end_sites[4] == [[0.0, -2.0, 5.0]]
+    for f, frame in enumerate(frames):
+        np.testing.assert_allclose(s.positions[f], _reference_fk(_CMU, frame), atol=1e-7)
+
+
+def test_bvh_of_a_cmu_skeleton_drives_the_model_bone_for_bone(tmp_path):
+    frames = _cmu_frames(3, 1)
+    path = tmp_path / "cmu.bvh"
+    path.write_text(_bvh_text(_CMU, frames))
+    inches = 100 / 2.54
+    names = [j[0] for j in _CMU]
+    # (model joint, model child, file joint, file child) of bones driven by one file bone.
+    limbs = [(4, 5, "LeftArm", "LeftForeArm"), (5, 6, "LeftForeArm", "LeftHand"),
+             (11, 12, "LeftUpLeg", "LeftLeg"), (15, 16, "RightLeg", "RightFoot")]
+    for joint_map in (None, "cmu", "mixamo"):
+        m = M.load_bvh(path, joint_map=joint_map, units_per_metre=inches)
+        assert m.angles.shape == (3, 51)
+        for f, frame in enumerate(frames):
+            want = _reference_fk(_CMU, frame)
+            np.testing.assert_allclose(m.root[f], want[0] / inches, atol=1e-9)
+            got = M.forward_kinematics(m.angles[f:f + 1], m.root[f:f + 1])[0]
+            for mj, mc, sj, sc in limbs:
+                dm = got[mc] - got[mj]
+                ds = want[names.index(sc)] - want[names.index(sj)]
+                np.testing.assert_allclose(dm / np.linalg.norm(dm), ds / np.linalg.norm(ds),
+                                           atol=1e-6)
+    # Renamed joints: an error listing them, then a user map (dict or JSON file).
+    renamed = [list(j) for j in _CMU]
+    renamed[3][0] = "calf_l"
+    renamed[17][0] = "lowerarm_l"
+    path2 = tmp_path / "renamed.bvh"
+    path2.write_text(_bvh_text([tuple(j) for j in renamed], frames))
+    with pytest.raises(OSError, match="LeftKnee.*LeftElbow|LeftElbow.*LeftKnee"):
+        M.load_bvh(path2, joint_map="cmu")
+    user = {"Spine": "Spine1", "Head": "Neck1", "LeftCollar": "LeftShoulder",
+            "LeftShoulder": "LeftArm", "LeftElbow": "lowerarm_l", "LeftWrist": "LeftHand",
+            "RightCollar": "RightShoulder", "RightShoulder": "RightArm",
+            "RightElbow": "RightForeArm", "RightWrist": "RightHand", "LeftHip": "LeftUpLeg",
+            "LeftKnee": "calf_l", "LeftAnkle": "LeftFoot", "RightHip": "RightUpLeg",
+            "RightKnee": "RightLeg", "RightAnkle": "RightFoot"}
+    a = M.load_bvh(path2, joint_map=user, units_per_metre=inches)
+    b = M.load_bvh(path, joint_map="cmu", units_per_metre=inches)
+    np.testing.assert_allclose(a.angles, b.angles, atol=1e-12)
+    import json
+
+    jpath = tmp_path / "map.json"
+    jpath.write_text(json.dumps(user))
+    c = M.load_bvh(path2, joint_map=jpath, units_per_metre=inches)
+    np.testing.assert_allclose(c.angles, a.angles, atol=0)
+    with pytest.raises(ValueError, match="Knee"):
+        M.load_bvh(path2, joint_map={"Knee": "calf_l"})
+    with pytest.raises(ValueError):
+        M.load_bvh(path2, joint_map={"LeftKnee": 3})
+    with pytest.raises(ValueError):
+        M.load_bvh(path2, joint_map=3)
+    with pytest.raises(ValueError):
+        M.load_bvh(path, units_per_metre=0.0)
+    with pytest.raises(OSError):
+        M.load_bvh(path2, joint_map=tmp_path / "missing.json")
+    # Malformed files name the file.
+    text = path.read_text()
+    for bad in (text[: len(text) // 3], text.replace("HIERARCHY", "HIERARCH"),
+                text.replace("Frames: 3", "Frames: 99999999999999999999"),
+                text.replace("Frames: 3", "Frames: 4")):
+        p = tmp_path / "bad.bvh"
+        p.write_text(bad)
+        with pytest.raises(OSError, match="bad.bvh"):
+            M.load_bvh_skeleton(p)

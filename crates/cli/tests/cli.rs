@@ -2306,6 +2306,112 @@ fn motion_learns_user_data_and_synthesizes_bvh() {
 }
 
 #[test]
+fn field_bvh_files_and_kinect_v1_and_ntu_skeletons_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    // A BVH of the model's skeleton with one joint renamed: refused without a map (the
+    // error names the joint), read with a JSON map, written as the model's BVH.
+    let angles: Vec<Vec<f64>> = (0..3)
+        .map(|t| (0..51).map(|c| 0.01 * (c + t) as f64).collect())
+        .collect();
+    let m = wscg::motion::bvh::motion_from_frames(angles, &[0.0, 0.01, 0.02], 0.01);
+    let text = wscg::motion::bvh::to_bvh_string(&m)
+        .unwrap()
+        .replace("LeftKnee", "knee_l");
+    let input = dir.path().join("field.bvh");
+    std::fs::write(&input, &text).unwrap();
+    let out_bvh = dir.path().join("model.bvh");
+    let args = |map: &str| {
+        vec![
+            "motion".to_string(),
+            "import-bvh".into(),
+            input.to_str().unwrap().into(),
+            "--joint-map".into(),
+            map.into(),
+            "--out".into(),
+            out_bvh.to_str().unwrap().into(),
+        ]
+    };
+    let out = wscg().args(args("model")).output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("LeftKnee") && err.contains("field.bvh"),
+        "{err}"
+    );
+    let map = dir.path().join("map.json");
+    std::fs::write(&map, r#"{"LeftKnee": "knee_l"}"#).unwrap();
+    let text = wscg_ok(&args(map.to_str().unwrap()));
+    assert!(text.contains("17 joints, 3 frames"), "{text}");
+    let back = wscg::motion::bvh::read_bvh(&out_bvh).unwrap();
+    for (a, b) in m.angles.iter().zip(&back.angles) {
+        for (x, y) in a.iter().zip(b) {
+            assert!((x - y).abs() < 1e-6, "{x} vs {y}");
+        }
+    }
+    // Kinect v1 walkers, their gait cycle, and an NTU file with two bodies.
+    let walks = dir.path().join("walks");
+    wscg_ok(&[
+        "biometrics",
+        "gait",
+        "simulate",
+        "--out",
+        walks.to_str().unwrap(),
+        "--subjects",
+        "1",
+        "--sessions",
+        "1",
+        "--joints",
+        "20",
+    ]);
+    let csv = walks.join("s00").join("walk_0.csv");
+    assert!(std::fs::read_to_string(&csv)
+        .unwrap()
+        .contains(",HipCenter,"));
+    let text = wscg_ok(&["biometrics", "gait", "cycle", csv.to_str().unwrap()]);
+    assert!(text.contains("start "), "{text}");
+    let walk = wscg::biometrics::gait::read_skeleton(&csv, 30.0).unwrap();
+    let mut ntu = format!("{}\n", walk.len());
+    for f in &walk.frames {
+        ntu.push_str("2\n");
+        for (id, state) in [(7u64, 1), (9, 2)] {
+            ntu.push_str(&format!("{id} 0 1 1 1 1 0 0 0 2\n25\n"));
+            for p in f {
+                let p = if p[0].is_nan() { [0.0; 3] } else { *p };
+                ntu.push_str(&format!(
+                    "{} {} {} 1 1 1 1 1 0 0 0 {state}\n",
+                    p[0], p[1], p[2]
+                ));
+            }
+        }
+    }
+    let ntu_path = dir.path().join("S001C001P001R001A013.skeleton");
+    std::fs::write(&ntu_path, ntu).unwrap();
+    let n = ntu_path.to_str().unwrap();
+    let most = wscg_ok(&["biometrics", "gait", "cycle", n]);
+    let by_id = wscg_ok(&["biometrics", "gait", "cycle", n, "--body", "9"]);
+    assert_eq!(most, by_id);
+    let out = wscg()
+        .args(["biometrics", "gait", "cycle", n, "--body", "8"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("[7, 9]"));
+    let out = wscg()
+        .args([
+            "biometrics",
+            "gait",
+            "simulate",
+            "--out",
+            n,
+            "--joints",
+            "21",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+}
+
+#[test]
 fn gait_enrolls_identifies_and_classifies_ucr_files() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("walks");

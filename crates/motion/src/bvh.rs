@@ -3,31 +3,21 @@
 //!
 //! Rotations are written as `Zrotation Xrotation Yrotation` Euler angles in degrees (converted
 //! from the exponential maps through quaternions); positions are in centimetres. The pelvis
-//! walks along +z. The reader accepts any channel order and converts back to exponential maps.
+//! walks along +z. The reader accepts any skeleton ([`crate::bvh_file`]: any hierarchy,
+//! channel and rotation order) and maps it onto the model's 17 joints by joint names
+//! ([`crate::retarget`]: the model's own, CMU, Mixamo or a user map).
 
+use crate::bvh_file::parse_bvh_file;
+pub use crate::retarget::{retarget, JointMap, RetargetParams};
 use crate::skeleton::{
-    end_site, expmap_to_quat, matrix_to_zxy, quat_to_expmap, unwrap_expmaps, HIP_HEIGHT, JOINTS,
-    N_CHANNELS, N_JOINTS,
+    end_site, expmap_to_quat, matrix_to_zxy, HIP_HEIGHT, JOINTS, N_CHANNELS, N_JOINTS,
 };
-use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use std::fmt::Write as _;
 use std::path::Path;
 use wscg_math::error::{ensure_finite, ensure_nonempty};
 use wscg_math::{Error, Result};
 
-/// Metres to BVH units (centimetres).
-pub const UNITS_PER_METRE: f64 = 100.0;
-
-/// A motion read from or written to BVH.
-#[derive(Clone, Debug, PartialEq)]
-pub struct BvhMotion {
-    /// Seconds per frame.
-    pub frame_time: f64,
-    /// 51 exponential-map channels per frame.
-    pub angles: Vec<Vec<f64>>,
-    /// Pelvis position per frame (metres).
-    pub root: Vec<[f64; 3]>,
-}
+pub use crate::bvh_file::{BvhMotion, UNITS_PER_METRE};
 
 fn hierarchy(out: &mut String, j: usize, depth: usize) {
     let pad = "  ".repeat(depth);
@@ -142,185 +132,44 @@ pub fn motion_from_frames(
     }
 }
 
-/// Parses BVH text of this skeleton (joints matched by name, channels in any order).
+/// Parses BVH text of any skeleton and maps it onto the model's 17 joints with the default
+/// [`RetargetParams`] (the model's own names, then CMU's, then Mixamo's; centimetres). Files
+/// written by [`write_bvh`] read back channel for channel.
 ///
 /// # Errors
-/// [`Error::Format`] naming `origin` for malformed text, unknown or missing joints, or frame
-/// lines of the wrong length.
+/// [`Error::Format`] naming `origin` for malformed text, model joints the file has no joint
+/// for (all listed), or frame lines of the wrong length.
 pub fn parse_bvh(text: &str, origin: &Path) -> Result<BvhMotion> {
-    let bad = |m: String| Error::format(origin, m);
-    let mut tokens = text.split_whitespace().peekable();
-    // (joint index, channel names) in file order.
-    let mut layout: Vec<(usize, Vec<String>)> = Vec::new();
-    let mut current: Vec<Option<usize>> = Vec::new();
-    let mut in_end = 0usize;
-    loop {
-        let t = tokens
-            .next()
-            .ok_or_else(|| bad("missing MOTION section".into()))?;
-        match t {
-            "HIERARCHY" => {}
-            "ROOT" | "JOINT" => {
-                let name = tokens
-                    .next()
-                    .ok_or_else(|| bad("joint without a name".into()))?;
-                let idx = JOINTS
-                    .iter()
-                    .position(|j| j.0 == name)
-                    .ok_or_else(|| bad(format!("unknown joint `{name}`")))?;
-                current.push(Some(idx));
-            }
-            "End" => {
-                tokens.next();
-                in_end += 1;
-                current.push(None);
-            }
-            "{" => {}
-            "}" => {
-                if let Some(None) = current.pop() {
-                    in_end -= 1;
-                }
-            }
-            "OFFSET" => {
-                for _ in 0..3 {
-                    tokens.next();
-                }
-            }
-            "CHANNELS" => {
-                let n: usize = tokens
-                    .next()
-                    .and_then(|v| v.parse().ok())
-                    .ok_or_else(|| bad("bad CHANNELS count".into()))?;
-                // At most the tokens the text holds, whatever count it declares.
-                let names: Vec<String> = tokens.by_ref().take(n).map(str::to_string).collect();
-                if names.len() != n || in_end > 0 {
-                    return Err(bad("truncated CHANNELS line".into()));
-                }
-                let j = current
-                    .last()
-                    .copied()
-                    .flatten()
-                    .ok_or_else(|| bad("CHANNELS outside a joint".into()))?;
-                layout.push((j, names));
-            }
-            "MOTION" => break,
-            other => return Err(bad(format!("unexpected token `{other}` in HIERARCHY"))),
-        }
-    }
-    let mut seen = [false; N_JOINTS];
-    for (j, _) in &layout {
-        seen[*j] = true;
-    }
-    if let Some(j) = seen.iter().position(|s| !s) {
-        return Err(bad(format!("joint `{}` missing", JOINTS[j].0)));
-    }
-    let expect =
-        |tokens: &mut std::iter::Peekable<std::str::SplitWhitespace>, word: &str| -> Result<()> {
-            match tokens.next() {
-                Some(w) if w == word => Ok(()),
-                other => Err(Error::format(
-                    origin,
-                    format!("expected `{word}`, found {other:?}"),
-                )),
-            }
-        };
-    expect(&mut tokens, "Frames:")?;
-    let n_frames: usize = tokens
-        .next()
-        .and_then(|v| v.parse().ok())
-        .ok_or_else(|| bad("bad frame count".into()))?;
-    expect(&mut tokens, "Frame")?;
-    expect(&mut tokens, "Time:")?;
-    let frame_time: f64 = tokens
-        .next()
-        .and_then(|v| v.parse().ok())
-        .ok_or_else(|| bad("bad frame time".into()))?;
-    if !(frame_time.is_finite() && frame_time > 0.0) {
-        return Err(bad(format!("frame time must be > 0, got {frame_time}")));
-    }
-    let per_frame: usize = layout.iter().map(|l| l.1.len()).sum();
-    if per_frame == 0 {
-        return Err(bad("the HIERARCHY declares no channels".into()));
-    }
-    // A declared count is checked against the values the text holds before anything is
-    // allocated from it: `Frames: 1e18` overflows `frames x channels`.
-    let expected = n_frames.checked_mul(per_frame).ok_or_else(|| {
-        bad(format!(
-            "{n_frames} frames of {per_frame} channels is more values than any file can hold"
-        ))
-    })?;
-    let values: Vec<f64> = tokens
-        .map(|v| {
-            v.parse::<f64>()
-                .map_err(|_| bad(format!("bad number `{v}`")))
-        })
-        .collect::<Result<_>>()?;
-    if values.len() != expected {
-        return Err(bad(format!(
-            "{} motion values for {n_frames} frames of {per_frame} channels",
-            values.len()
-        )));
-    }
-    ensure_finite("motion", &values)?;
-    let mut angles = Vec::with_capacity(n_frames);
-    let mut root = Vec::with_capacity(n_frames);
-    for f in 0..n_frames {
-        let mut vals = values[f * per_frame..(f + 1) * per_frame].iter();
-        let mut a = vec![0.0; N_CHANNELS];
-        let mut pos = [0.0; 3];
-        for (j, names) in &layout {
-            let mut rot = Rotation3::identity();
-            for name in names {
-                let v = *vals.next().ok_or_else(|| bad("short frame".into()))?;
-                match name.as_str() {
-                    "Xposition" => pos[0] = v / UNITS_PER_METRE,
-                    "Yposition" => pos[1] = v / UNITS_PER_METRE,
-                    "Zposition" => pos[2] = v / UNITS_PER_METRE,
-                    "Xrotation" => {
-                        rot *= Rotation3::from_axis_angle(&Vector3::x_axis(), v.to_radians())
-                    }
-                    "Yrotation" => {
-                        rot *= Rotation3::from_axis_angle(&Vector3::y_axis(), v.to_radians())
-                    }
-                    "Zrotation" => {
-                        rot *= Rotation3::from_axis_angle(&Vector3::z_axis(), v.to_radians())
-                    }
-                    other => return Err(bad(format!("unknown channel `{other}`"))),
-                }
-            }
-            let e = quat_to_expmap(&UnitQuaternion::from_rotation_matrix(&rot));
-            a[3 * j..3 * j + 3].copy_from_slice(&e);
-        }
-        angles.push(a);
-        root.push(pos);
-    }
-    // Continuous exponential maps over time, per joint.
-    for j in 0..N_JOINTS {
-        let mut seq: Vec<[f64; 3]> = angles
-            .iter()
-            .map(|a| [a[3 * j], a[3 * j + 1], a[3 * j + 2]])
-            .collect();
-        unwrap_expmaps(&mut seq);
-        for (a, s) in angles.iter_mut().zip(seq) {
-            a[3 * j..3 * j + 3].copy_from_slice(&s);
-        }
-    }
-    Ok(BvhMotion {
-        frame_time,
-        angles,
-        root,
-    })
+    parse_bvh_with(text, origin, &RetargetParams::default())
 }
 
-/// Reads a BVH file of this skeleton.
+/// [`parse_bvh`] with a joint map and units.
+///
+/// # Errors
+/// As [`parse_bvh`]; invalid parameters.
+pub fn parse_bvh_with(text: &str, origin: &Path, p: &RetargetParams) -> Result<BvhMotion> {
+    p.validate()?;
+    let file = parse_bvh_file(text, origin)?;
+    retarget(&file, p).map_err(|e| Error::format(origin, e.to_string()))
+}
+
+/// Reads a BVH file of any skeleton onto the model's (as [`parse_bvh`]).
 ///
 /// # Errors
 /// I/O errors and the errors of [`parse_bvh`].
 pub fn read_bvh(path: impl AsRef<Path>) -> Result<BvhMotion> {
+    read_bvh_with(path, &RetargetParams::default())
+}
+
+/// [`read_bvh`] with a joint map and units.
+///
+/// # Errors
+/// I/O errors and the errors of [`parse_bvh_with`].
+pub fn read_bvh_with(path: impl AsRef<Path>, p: &RetargetParams) -> Result<BvhMotion> {
     let path = path.as_ref();
     let bytes = wscg_math::error::read_file(path)?;
     let text = String::from_utf8(bytes).map_err(|_| Error::format(path, "not UTF-8 text"))?;
-    parse_bvh(&text, path)
+    parse_bvh_with(&text, path, p)
 }
 
 #[cfg(test)]

@@ -16,12 +16,14 @@
 //! fixed and adapts only the last one ([`planner::Planner::human_like`]).
 //!
 //! Data: the synthetic walker ([`walker`]) with known ground truth stands in for the paper's
-//! motion capture; [`bvh`] writes (and reads) BVH so any animation tool can play the result.
+//! motion capture; [`bvh`] writes (and reads) BVH so any animation tool can play the result;
+//! [`bvh_file`] parses BVH of any skeleton and [`retarget`] maps it onto the model's joints.
 #![warn(missing_docs)]
 
 pub mod anechoic;
 pub mod blend;
 pub mod bvh;
+pub mod bvh_file;
 pub mod data;
 pub mod dataset;
 mod delay_search;
@@ -34,6 +36,7 @@ pub mod matching;
 mod orbit;
 pub mod pca;
 pub mod planner;
+pub mod retarget;
 pub mod skeleton;
 pub mod stats;
 pub mod stepwise;

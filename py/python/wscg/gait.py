@@ -31,11 +31,14 @@ Baselines: :func:`ball_features` (Ball et al. 2012) and :func:`preis_features` (
 identities (the paper's database is private); :func:`evaluate_synthetic` runs the paper's
 3-fold cross-validation (Table 1, Fig. 9) on them. :func:`load_ts` reads the UCR/UEA
 archive's ``.ts`` files, on which the DTW is checked against published error rates;
-:func:`load_skeleton` and :func:`save_skeleton_csv` read and write skeleton streams.
+:func:`load_skeleton` and :func:`save_skeleton_csv` read and write skeleton streams
+(Kinect v2 and v1 CSV, ``.npy``, NTU RGB+D ``.skeleton`` files: :func:`load_ntu_bodies`).
 
 Conventions: a walk (``frames``) is a float64 array of shape ``(T, 25, 3)``: frames x the 25
 Kinect v2 joints in the SDK's ``JointType`` order (:data:`JOINT_NAMES`) x ``(x, y, z)`` in
-metres; joint pairs are ``(P, 2)`` int arrays of joint indices (or lists of name tuples);
+metres. A Kinect v1 walk is ``(T, 20, 3)`` in the v1 SDK's order (:data:`KINECT_V1_NAMES`);
+its joint relative angles run over the 171 pairs of its joints. Joint pairs are ``(P, 2)``
+int arrays of Kinect v2 joint indices (or lists of name tuples);
 angles are in radians. Bad input (wrong shapes, NaN coordinates, ``fps <= 0``, empty
 sequences, unknown cost or vote names, label count mismatches, walks without a full gait
 cycle) raises ``ValueError`` naming the problem; unreadable files raise ``OSError``. Inputs
@@ -66,10 +69,15 @@ __all__ = [
     "dissimilarity_matrix", "nearest", "load_ts", "load_skeleton", "save_skeleton_csv",
     "ball_features", "preis_features", "GaitRecognizer", "make_walkers",
     "evaluate_synthetic", "GaitCycle", "CycleDetails", "SyntheticWalks", "GaitEvaluation",
+    "KINECT_V1_NAMES", "load_ntu_bodies", "NtuBody",
 ]
 
 #: Names of the 25 Kinect v2 joints in index (``JointType``) order.
 JOINT_NAMES: List[str] = list(_g.JOINT_NAMES)
+#: Names of the 20 Kinect v1 joints in the v1 SDK's order (the rows of a ``(T, 20, 3)``
+#: array); HipCenter, Spine and ShoulderCenter stand for Kinect v2's SpineBase, SpineMid and
+#: SpineShoulder, and joint pairs always use Kinect v2 indices.
+KINECT_V1_NAMES: List[str] = list(_g.KINECT_V1_NAMES)
 #: Number of joint pairs without the reference joint, C(24, 2).
 N_PAIRS: int = 276
 
@@ -129,6 +137,25 @@ class CycleDetails:
     def cycle(self) -> GaitCycle:
         """``(start, mid, end)`` as a :class:`GaitCycle`."""
         return GaitCycle(self.start, self.mid, self.end)
+
+
+@_result
+class NtuBody:
+    """One body of an NTU RGB+D file (:func:`load_ntu_bodies`).
+
+    Attributes
+    ----------
+    id : int
+        The file's ``bodyID``.
+    n_frames : int
+        Frames in which the body appears.
+    n_tracked : int
+        Tracked joints (``trackingState`` 2) summed over those frames.
+    """
+
+    id: int
+    n_frames: int
+    n_tracked: int
 
 
 @_result
@@ -249,13 +276,15 @@ def _floats(name: str, v) -> np.ndarray:
 
 
 def _frames(frames, name: str = "frames") -> np.ndarray:
-    """A C-contiguous float64 ``(T, 25, 3)`` array (NaN and frame count are checked by
-    Rust, whose messages name the frame and joint)."""
+    """A C-contiguous float64 ``(T, 25, 3)`` (Kinect v2) or ``(T, 20, 3)`` (Kinect v1)
+    array (NaN and frame count are checked by Rust, whose messages name the frame and
+    joint)."""
     a = _floats(name, frames)
-    if a.ndim != 3 or a.shape[1:] != (25, 3):
+    if a.ndim != 3 or a.shape[1:] not in ((25, 3), (20, 3)):
         raise ValueError(
-            f"`{name}` must have shape (T, 25, 3): T frames x the 25 joints of a Kinect v2 "
-            f"skeleton x (x, y, z), got shape {a.shape}"
+            f"`{name}` must have shape (T, 25, 3) or (T, 20, 3): T frames x the 25 joints of "
+            f"a Kinect v2 skeleton (or the 20 of Kinect v1, in the v1 SDK's order) x (x, y, "
+            f"z), got shape {a.shape}"
         )
     return a
 
@@ -768,28 +797,65 @@ def load_ts(path) -> Tuple[List[List[np.ndarray]], List[str]]:
 # Files and baselines
 # ----------------------------------------------------------------------------------------
 
-def load_skeleton(path, fps: float = 30.0) -> np.ndarray:
-    """Reads a skeleton stream: ``.npy`` (shape ``(T, 25, 3)``) or CSV rows ``frame, joint,
-    x, y, z`` (joint by Kinect v2 name or index; optional header; ``#`` comments).
+def load_skeleton(path, fps: float = 30.0, body: Optional[int] = None,
+                  max_gap: int = 10) -> np.ndarray:
+    """Reads a skeleton stream: ``.npy`` (shape ``(T, 25, 3)`` or ``(T, 20, 3)``), an NTU
+    RGB+D ``.skeleton`` file, or CSV rows ``frame, joint, x, y, z``.
+
+    CSV joints are Kinect v2 or Kinect v1 SDK names (``SpineBase``, ``HipCenter``,
+    ``ShoulderCenter``, ...) or indices; a file naming no Neck, HandTip or Thumb joint (and
+    with indices below 20) is a Kinect v1 stream of 20 joints, returned in the v1 SDK's
+    order (:data:`KINECT_V1_NAMES`). Optional header; ``#`` comments.
+
+    NTU RGB+D files hold several bodies per frame: ``body`` picks one by its ``bodyID``
+    (``None``: the body with the most tracked joints over the file). Frames before its first
+    and after its last appearance are dropped; interior absences of at most ``max_gap``
+    frames are interpolated linearly.
 
     Parameters
     ----------
     path : str or path-like
     fps : float, default 30.0
         Frame rate (validated).
+    body : int, optional
+        NTU body id (see :func:`load_ntu_bodies`).
+    max_gap : int, default 10
+        Longest NTU absence interpolated, frames.
 
     Returns
     -------
-    frames : ndarray, shape (T, 25, 3)
+    frames : ndarray, shape (T, 25, 3) or (T, 20, 3)
 
     Raises
     ------
     OSError
-        Unreadable or malformed file (a frame missing a joint, a bad number).
+        Unreadable or malformed file (a frame missing a joint, a bad number, an NTU header
+        that does not match the values, no body with the id, a longer absence).
     ValueError
         NaN coordinates, fewer than 3 frames, ``fps <= 0``, a wrong ``.npy`` shape.
     """
-    return _g.load_skeleton(os.fspath(path), _fps(fps))
+    b = None if body is None else _int("body", body, 0, 2 ** 64 - 1)
+    return _g.load_skeleton(os.fspath(path), _fps(fps), b, _int("max_gap", max_gap, 0))
+
+
+def load_ntu_bodies(path) -> List[NtuBody]:
+    """The bodies of an NTU RGB+D ``.skeleton`` file, in order of first appearance.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    list of NtuBody
+
+    Raises
+    ------
+    OSError
+        Unreadable or malformed file.
+    """
+    return [NtuBody(id=i, n_frames=n, n_tracked=k)
+            for i, n, k in _g.load_ntu_bodies(os.fspath(path))]
 
 
 def save_skeleton_csv(path, frames, fps: float = 30.0) -> None:
@@ -1104,7 +1170,8 @@ def _range(name: str, r) -> Tuple[float, float]:
 
 def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
                   heading_deg=(-60.0, 60.0), speed=(0.9, 1.1), walk_s=(2.5, 4.0),
-                  sit_prob: float = 0.5, noise: bool = True) -> SyntheticWalks:
+                  sit_prob: float = 0.5, noise: bool = True,
+                  n_joints: int = 25) -> SyntheticWalks:
     """Synthetic Kinect v2 walks with ground truth (the paper's database is private).
 
     Subjects differ in body proportions and above all in gait dynamics (hip, knee, ankle
@@ -1127,11 +1194,14 @@ def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
         Probability of a sit-down tail.
     noise : bool, default True
         Sensor noise; ``False`` gives the same sessions without noise.
+    n_joints : int, default 25
+        25: Kinect v2 skeletons; 20: the same walks as Kinect v1 skeletons (Neck, HandTip and
+        Thumb dropped; rows in :data:`KINECT_V1_NAMES` order).
 
     Returns
     -------
     SyntheticWalks
-        ``frames`` (list of ``(T_i, 25, 3)`` arrays, 30 fps), ``labels`` (subject of each
+        ``frames`` (list of ``(T_i, n_joints, 3)`` arrays, 30 fps), ``labels`` (subject of each
         walk), ``sessions`` (session index), ``minima`` (list of int arrays: the true
         leg-crossing frames, minima of the noise-free horizontal ankle distance during the
         walk), ``walk_frames`` (frames of walking; a sit-down tail starts there) and
@@ -1142,12 +1212,13 @@ def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
     d = _g.make_walkers(_int("n_subjects", n_subjects, 1), _int("n_sessions", n_sessions, 1),
                         _int("seed", seed, 0, 2 ** 64 - 1), _range("heading_deg", heading_deg),
                         _range("speed", speed), _range("walk_s", walk_s),
-                        _real("sit_prob", sit_prob), bool(noise))
+                        _real("sit_prob", sit_prob), bool(noise),
+                        _int("n_joints", n_joints, 0))
     return _from_mapping(SyntheticWalks, d)
 
 
 def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3,
-                       seed: int = 0) -> GaitEvaluation:
+                       seed: int = 0, n_joints: int = 25) -> GaitEvaluation:
     """The paper's evaluation (section 4.1, Table 1, Fig. 9) on :func:`make_walkers`.
 
     Fold ``k`` tests session ``k`` of every subject and trains on the others; relevance
@@ -1158,6 +1229,9 @@ def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3,
     n_subjects, n_sessions, seed : int
         The synthetic walks (default sessions: headings in [-60, 60] degrees, speed factors
         in [0.9, 1.1], noise on).
+    n_joints : int, default 25
+        25 (Kinect v2) or 20 (the same walks as Kinect v1 skeletons: 171 joint pairs
+        instead of 276).
 
     Returns
     -------
@@ -1174,7 +1248,8 @@ def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3,
     return _from_mapping(GaitEvaluation,
                          _g.evaluate_synthetic(_int("n_subjects", n_subjects, 2),
                                                _int("n_sessions", n_sessions, 2),
-                                               _int("seed", seed, 0, 2 ** 64 - 1)))
+                                               _int("seed", seed, 0, 2 ** 64 - 1),
+                                               _int("n_joints", n_joints, 0)))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

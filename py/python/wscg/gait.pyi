@@ -21,10 +21,17 @@ __all__ = ["JOINT_NAMES", "N_PAIRS", "all_pairs", "jra", "detect_cycle", "jra_se
            "dtw_kernel", "dissimilarity_matrix", "nearest", "load_ts", "load_skeleton",
            "save_skeleton_csv", "ball_features", "preis_features", "GaitRecognizer",
            "make_walkers", "evaluate_synthetic", "GaitCycle", "CycleDetails", "SyntheticWalks",
-           "GaitEvaluation"]
+           "GaitEvaluation", "KINECT_V1_NAMES", "load_ntu_bodies", "NtuBody"]
 
 JOINT_NAMES: List[str]
+KINECT_V1_NAMES: List[str]
 N_PAIRS: int
+
+@dataclass(frozen=True)
+class NtuBody:
+    id: int
+    n_frames: int
+    n_tracked: int
 
 class GaitCycle(NamedTuple):
     start: int
@@ -107,7 +114,9 @@ def nearest(query: _Sample, gallery: Sequence[_Sample], cost: _Cost = "abs",
             window: Optional[int] = None, normalize: bool = False,
             multivariate: _Multivariate = "independent") -> Tuple[int, float]: ...
 def load_ts(path: Any) -> Tuple[List[List[_F64]], List[str]]: ...
-def load_skeleton(path: Any, fps: float = 30.0) -> _F64: ...
+def load_skeleton(path: Any, fps: float = 30.0, body: Optional[int] = None,
+                  max_gap: int = 10) -> _F64: ...
+def load_ntu_bodies(path: Any) -> List[NtuBody]: ...
 def save_skeleton_csv(path: Any, frames: _ArrayLike, fps: float = 30.0) -> None: ...
 def ball_features(frames: _ArrayLike, cycle: Optional[_Cycle] = None, fps: float = 30.0) -> _F64: ...
 def preis_features(frames: _ArrayLike, cycle: Optional[_Cycle] = None,
@@ -140,6 +149,6 @@ def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
                   heading_deg: Tuple[float, float] = (-60.0, 60.0),
                   speed: Tuple[float, float] = (0.9, 1.1),
                   walk_s: Tuple[float, float] = (2.5, 4.0), sit_prob: float = 0.5,
-                  noise: bool = True) -> SyntheticWalks: ...
+                  noise: bool = True, n_joints: int = 25) -> SyntheticWalks: ...
 def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3,
-                       seed: int = 0) -> GaitEvaluation: ...
+                       seed: int = 0, n_joints: int = 25) -> GaitEvaluation: ...

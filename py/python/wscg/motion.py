@@ -52,6 +52,7 @@ from ._results import from_mapping as _from_mapping, result as _result
 __all__ = [
     "make_synthetic_dataset", "AnechoicModel", "fit_anechoic", "pca_quality", "pca_qualities",
     "quality", "StepwiseModel", "fit_stepwise", "Library", "plan_steps", "Synthesizer", "save_bvh", "load_bvh",
+    "load_bvh_skeleton", "BvhSkeleton",
     "forward_kinematics", "skeleton", "regression_p_value", "fit_line", "svr_fit_predict",
     "hopf_simulate", "ACTIONS", "DELAY_MODES", "MAPS", "N_CHANNELS",
     "MotionTruth", "MotionDataset", "ActionFit", "StepPlan", "Synthesis",
@@ -242,6 +243,44 @@ class BvhMotion:
 
     angles: np.ndarray
     root: np.ndarray
+    frame_time: float
+
+
+@_result
+class BvhSkeleton:
+    """A BVH file of any skeleton, read by :func:`load_bvh_skeleton`.
+
+    Attributes
+    ----------
+    names : list of str
+        Joint names in file order (a parent precedes its children).
+    parents : list of int
+        Parent of each joint, -1 for a root.
+    offsets : float64 array (J, 3)
+        Rest offsets from the parent, file units.
+    channels : list of list of str
+        Channel names of each joint in file order (``"Zrotation"``, ``"Xposition"``, ...);
+        the rotation order of a joint is the order of its rotation channels.
+    end_sites : list of list of list of float
+        End-site offsets of each joint, file units.
+    motion : float64 array (T, C)
+        Channel values per frame in file order (positions in file units, rotations in
+        degrees).
+    positions : float64 array (T, J, 3)
+        World joint positions per frame (forward kinematics: a joint's local transform is
+        the translation ``OFFSET`` + position channels followed by its rotation channels
+        composed in file order), file units.
+    frame_time : float
+        Time between frames, seconds.
+    """
+
+    names: List[str]
+    parents: List[int]
+    offsets: np.ndarray
+    channels: List[List[str]]
+    end_sites: List[List[List[float]]]
+    motion: np.ndarray
+    positions: np.ndarray
     frame_time: float
 
 
@@ -893,16 +932,84 @@ def save_bvh(path: Union[str, os.PathLike], angles, root, fps: float = 120.0) ->
     _m.save_bvh(os.fspath(path), a, r, _float("fps", fps))
 
 
-def load_bvh(path: Union[str, os.PathLike]) -> BvhMotion:
-    """Reads a BVH file of the 17-joint skeleton (joints matched by name, any channel order).
+_BUILTIN_MAPS = ("auto", "model", "cmu", "mixamo")
+
+
+def _joint_map(joint_map) -> Tuple[str, str]:
+    """The joint map as the (kind, value) pair of the native reader."""
+    import json
+
+    if joint_map is None:
+        return "auto", ""
+    if isinstance(joint_map, str) and joint_map.lower() in _BUILTIN_MAPS:
+        kind = joint_map.lower()
+        return ("auto", "") if kind == "auto" else ("builtin", kind)
+    if isinstance(joint_map, Mapping):
+        if not all(isinstance(k, str) and isinstance(v, str) for k, v in joint_map.items()):
+            raise ValueError("`joint_map` must map model joint names (str) to file joint "
+                             "names (str)")
+        return "json", json.dumps(dict(joint_map))
+    if isinstance(joint_map, (str, os.PathLike)):
+        return "file", os.fspath(joint_map)
+    raise ValueError(f"`joint_map` must be None, one of {_BUILTIN_MAPS}, a dict or the path "
+                     f"of a JSON file, got {type(joint_map).__name__}")
+
+
+def load_bvh(path: Union[str, os.PathLike], joint_map=None,
+             units_per_metre: float = 100.0) -> BvhMotion:
+    """Reads a BVH file of any skeleton onto the model's 17-joint skeleton.
+
+    Any hierarchy, channel order and rotation order is read; the file's joints are matched
+    to the 17 model joints by name. Each model joint takes the world rotation of its file
+    joint, corrected by the constant rotation that aligns the two rest poses (so a file in a
+    T-pose drives the model's arms-down rest skeleton); intermediate file joints are folded
+    into their neighbours. Files written by :func:`save_bvh` read back channel for channel.
+
+    Parameters
+    ----------
+    path : str or PathLike
+    joint_map : None, str, dict or PathLike
+        ``None`` or ``"auto"``: the model's joint names, then CMU's, then Mixamo's (with or
+        without the ``mixamorig:`` prefix). ``"model"``, ``"cmu"`` or ``"mixamo"``: that
+        map only. A dict ``{"model joint": "file joint"}`` (model joints left out keep their
+        own name), or the path of a JSON file holding one.
+    units_per_metre : float, default 100.0
+        File units per metre (100: centimetres; 39.37: inches).
 
     Returns
     -------
     BvhMotion
         ``angles`` ``(T, 51)`` exponential maps (made continuous over time), ``root``
         ``(T, 3)`` pelvis positions in metres, ``frame_time`` seconds.
+
+    Raises
+    ------
+    OSError
+        Unreadable or malformed file, or model joints the map finds no file joint for (the
+        message lists every one with the names tried).
+    ValueError
+        A bad ``joint_map`` (an unknown model joint name) or ``units_per_metre``.
     """
-    return _from_mapping(BvhMotion, _m.load_bvh(os.fspath(path)))
+    kind, value = _joint_map(joint_map)
+    return _from_mapping(BvhMotion, _m.load_bvh(os.fspath(path), (kind, value),
+                                                _float("units_per_metre", units_per_metre)))
+
+
+def load_bvh_skeleton(path: Union[str, os.PathLike]) -> BvhSkeleton:
+    """Reads a BVH file of any skeleton as written: hierarchy, motion and world joint
+    positions (forward kinematics), without mapping it onto the model.
+
+    Returns
+    -------
+    BvhSkeleton
+
+    Raises
+    ------
+    OSError
+        Unreadable or malformed file (truncated, not starting with ``HIERARCHY``, a frame
+        count that does not match the values, unknown channels).
+    """
+    return _from_mapping(BvhSkeleton, _m.load_bvh_skeleton(os.fspath(path)))
 
 
 def forward_kinematics(angles, root) -> np.ndarray:

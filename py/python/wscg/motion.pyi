@@ -12,10 +12,10 @@ from ._estimator import Estimator
 
 __all__ = ["make_synthetic_dataset", "AnechoicModel", "fit_anechoic", "pca_quality",
            "pca_qualities", "quality", "StepwiseModel", "fit_stepwise", "Library",
-           "plan_steps", "Synthesizer", "save_bvh", "load_bvh", "forward_kinematics",
+           "plan_steps", "Synthesizer", "save_bvh", "load_bvh", "load_bvh_skeleton", "forward_kinematics",
            "skeleton", "regression_p_value", "fit_line", "svr_fit_predict", "hopf_simulate",
            "ACTIONS", "DELAY_MODES", "MAPS", "N_CHANNELS", "MotionTruth", "MotionDataset",
-           "ActionFit", "StepPlan", "Synthesis", "BvhMotion", "Skeleton", "LineFit", "SvrInfo",
+           "ActionFit", "StepPlan", "Synthesis", "BvhMotion", "BvhSkeleton", "Skeleton", "LineFit", "SvrInfo",
            "HopfTrajectory"]
 
 ACTIONS: Tuple[str, str, str]
@@ -70,6 +70,17 @@ class Synthesis:
     transitions: _F64
     too_short: bool
     goal: float
+
+@dataclass(frozen=True)
+class BvhSkeleton:
+    names: List[str]
+    parents: List[int]
+    offsets: _F64
+    channels: List[List[str]]
+    end_sites: List[List[List[float]]]
+    motion: _F64
+    positions: _F64
+    frame_time: float
 
 @dataclass(frozen=True)
 class BvhMotion:
@@ -215,7 +226,9 @@ class Synthesizer(Estimator):
 
 def save_bvh(path: Union[str, os.PathLike], angles: npt.ArrayLike, root: npt.ArrayLike,
              fps: float = 120.0) -> None: ...
-def load_bvh(path: Union[str, os.PathLike]) -> BvhMotion: ...
+def load_bvh(path: Union[str, os.PathLike], joint_map: Any = None,
+             units_per_metre: float = 100.0) -> BvhMotion: ...
+def load_bvh_skeleton(path: Union[str, os.PathLike]) -> BvhSkeleton: ...
 def forward_kinematics(angles: npt.ArrayLike, root: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
 def skeleton() -> Skeleton: ...
 def regression_p_value(r2: float, n: int) -> float: ...

@@ -90,7 +90,12 @@ pub fn preis_features(s: &SkeletonSeq, c: &GaitCycle) -> Result<[f64; 13]> {
     let leg_l = path(&[HipLeft, KneeLeft, AnkleLeft]);
     let leg_r = path(&[HipRight, KneeRight, AnkleRight]);
     let leg = 0.5 * (leg_l + leg_r);
-    let upper_body = path(&[Head, Neck, SpineShoulder, SpineMid, SpineBase]);
+    // Kinect v1 has no Neck: the chain goes Head → ShoulderCenter there.
+    let chain: Vec<Joint> = [Head, Neck, SpineShoulder, SpineMid, SpineBase]
+        .into_iter()
+        .filter(|&j| s.joint_set.contains(j))
+        .collect();
+    let upper_body = path(&chain);
     let u = up_vector(s, UpAxis::Estimate)?;
     let d = ankle_distance(s, u);
     let mid = c.mid.clamp(c.start + 1, c.end);
@@ -117,20 +122,24 @@ pub fn preis_features(s: &SkeletonSeq, c: &GaitCycle) -> Result<[f64; 13]> {
     ])
 }
 
-/// The raw-coordinate baseline sample: the 72 sequences `x, y, z` of every joint but
-/// SpineBase, relative to SpineBase, over the cycle (channel `3 (j - 1) + k`).
+/// The raw-coordinate baseline sample: the sequences `x, y, z` of every joint of the walk's
+/// set but SpineBase (72 for Kinect v2, 57 for Kinect v1), relative to SpineBase, over the
+/// cycle (joints in Kinect v2 index order, channel `3 i + k` for the `i`-th joint).
 pub fn raw_coordinate_sample(s: &SkeletonSeq, c: &GaitCycle) -> Result<Vec<Vec<f64>>> {
     c.check_within(s)?;
-    let mut out: Vec<Vec<f64>> = (0..3 * (N_JOINTS - 1))
+    let joints: Vec<usize> = (1..N_JOINTS)
+        .filter(|&j| s.joint_set.contains(Joint::ALL[j]))
+        .collect();
+    let mut out: Vec<Vec<f64>> = (0..3 * joints.len())
         .map(|_| Vec::with_capacity(c.len()))
         .collect();
     for t in c.start..=c.end {
         let f = &s.frames[t];
         let r = f[Joint::SpineBase.index()];
-        for j in 1..N_JOINTS {
+        for (i, &j) in joints.iter().enumerate() {
             let v = sub(f[j], r);
             for k in 0..3 {
-                out[3 * (j - 1) + k].push(v[k]);
+                out[3 * i + k].push(v[k]);
             }
         }
     }

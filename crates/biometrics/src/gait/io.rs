@@ -1,15 +1,16 @@
 //! Reading and writing skeleton streams: CSV rows `frame, joint, x, y, z` (joint as Kinect v2
-//! name or index, as Kinect recording tools export them) and `.npy` arrays `(T, 25, 3)`.
+//! or Kinect v1 name or index, as Kinect recording tools export them), `.npy` arrays
+//! `(T, 25, 3)` or `(T, 20, 3)`, and NTU RGB+D `.skeleton` files ([`super::ntu`]).
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use wscg_math::{Error, Result};
 
-use super::skeleton::{Frame, Joint, SkeletonSeq, N_JOINTS};
+use super::ntu::{read_ntu, NtuParams};
+use super::skeleton::{read_limited, Frame, Joint, JointSet, SkeletonSeq, N_JOINTS};
 
-/// Largest skeleton file accepted (256 MiB).
-pub const MAX_SKELETON_BYTES: u64 = 256 << 20;
+pub use super::skeleton::MAX_SKELETON_BYTES;
 
 fn format_err(path: &Path, reason: String) -> Error {
     Error::Format {
@@ -19,29 +20,25 @@ fn format_err(path: &Path, reason: String) -> Error {
 }
 
 /// Reads a skeleton CSV: one row per frame and joint, columns `frame, joint, x, y, z`
-/// (metres; an optional header row; `#` comments). Frames are sorted by their number and
-/// must each hold all 25 joints.
+/// (metres; an optional header row; `#` comments). Joints are Kinect v2 or Kinect v1 SDK
+/// names, or indices (0-24 for Kinect v2, 0-19 in Kinect v1 order when no index exceeds 19).
+/// The file is a Kinect v1 stream when it names no Neck, HandTip or Thumb joint (and its
+/// indices stay below 20). Frames are sorted by their number and must each hold every joint
+/// of the set.
 ///
 /// Errors: unreadable file, a malformed row, a frame missing a joint (named), a duplicated
 /// joint, NaN coordinates, fewer than 3 frames, `fps <= 0`.
 pub fn read_skeleton_csv(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq> {
     let path = path.as_ref();
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if meta.len() > MAX_SKELETON_BYTES {
-        return Err(Error::LimitExceeded(format!(
-            "{} is {} bytes; skeleton files above {MAX_SKELETON_BYTES} bytes are refused",
-            path.display(),
-            meta.len()
-        )));
-    }
-    let text = wscg_math::error::read_text(path)?;
+    let text = read_limited(path)?;
     parse_skeleton_csv(&text, path, fps)
 }
 
 /// [`read_skeleton_csv`] of a file held in memory; `origin` names the file in errors.
 pub fn parse_skeleton_csv(text: &str, origin: &Path, fps: f64) -> Result<SkeletonSeq> {
     let path = origin;
-    let mut frames: BTreeMap<i64, [Option<[f64; 3]>; N_JOINTS]> = BTreeMap::new();
+    // (line, frame, joint column, point)
+    let mut rows: Vec<(usize, i64, &str, [f64; 3])> = Vec::new();
     for (ln, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {
@@ -55,7 +52,7 @@ pub fn parse_skeleton_csv(text: &str, origin: &Path, fps: f64) -> Result<Skeleto
             ));
         }
         let Ok(frame) = cols[0].parse::<i64>() else {
-            if ln == 0 || frames.is_empty() {
+            if ln == 0 || rows.is_empty() {
                 continue; // header row
             }
             return Err(format_err(
@@ -63,8 +60,6 @@ pub fn parse_skeleton_csv(text: &str, origin: &Path, fps: f64) -> Result<Skeleto
                 format!("line {}: `{}` is not a frame number", ln + 1, cols[0]),
             ));
         };
-        let joint =
-            Joint::parse(cols[1]).map_err(|e| format_err(path, format!("line {}: {e}", ln + 1)))?;
         let mut p = [0.0; 3];
         for k in 0..3 {
             p[k] = cols[2 + k].parse::<f64>().map_err(|_| {
@@ -74,39 +69,80 @@ pub fn parse_skeleton_csv(text: &str, origin: &Path, fps: f64) -> Result<Skeleto
                 )
             })?;
         }
-        let slot = &mut frames.entry(frame).or_insert([None; N_JOINTS])[joint.index()];
-        if slot.is_some() {
-            return Err(format_err(
-                path,
-                format!(
-                    "line {}: frame {frame} lists {} twice",
-                    ln + 1,
-                    joint.name()
-                ),
-            ));
-        }
-        *slot = Some(p);
+        rows.push((ln + 1, frame, cols[1], p));
     }
-    let mut out: Vec<Frame> = Vec::with_capacity(frames.len());
-    for (f, joints) in frames {
-        let mut frame = [[0.0; 3]; N_JOINTS];
-        for (j, p) in joints.iter().enumerate() {
-            frame[j] = p.ok_or_else(|| {
-                format_err(
+    let v2_only = |c: &str| match c.parse::<usize>() {
+        Ok(i) => i >= 20,
+        Err(_) => Joint::parse(c).is_ok_and(|j| !JointSet::KinectV1.contains(j)),
+    };
+    let v1_name = |c: &str| {
+        ["HipCenter", "Spine", "ShoulderCenter"]
+            .iter()
+            .any(|n| n.eq_ignore_ascii_case(c))
+    };
+    let numeric = |c: &str| c.parse::<usize>().is_ok();
+    let frames_of = |set: JointSet| -> Result<Vec<Frame>> {
+        let mut frames: BTreeMap<i64, [Option<[f64; 3]>; N_JOINTS]> = BTreeMap::new();
+        for &(ln, frame, col, p) in &rows {
+            let joint = match col.parse::<usize>() {
+                Ok(i) => set.joints().get(i).copied().ok_or_else(|| {
+                    Error::invalid(
+                        "joint",
+                        format!("index {i} is out of range 0..{}", set.len()),
+                    )
+                }),
+                Err(_) => Joint::parse(col),
+            }
+            .map_err(|e| format_err(path, format!("line {ln}: {e}")))?;
+            let slot = &mut frames.entry(frame).or_insert([None; N_JOINTS])[joint.index()];
+            if slot.is_some() {
+                return Err(format_err(
                     path,
                     format!(
-                        "frame {f} has no {} (a Kinect v2 skeleton has {N_JOINTS} joints)",
-                        Joint::ALL[j].name()
+                        "line {ln}: frame {frame} lists {} twice",
+                        set.name_of(joint)
                     ),
-                )
-            })?;
+                ));
+            }
+            *slot = Some(p);
         }
-        out.push(frame);
-    }
-    SkeletonSeq::new(fps, out)
+        let mut out: Vec<Frame> = Vec::with_capacity(frames.len());
+        for (f, joints) in frames {
+            let mut frame = [[f64::NAN; 3]; N_JOINTS];
+            for &j in set.joints() {
+                frame[j.index()] = joints[j.index()].ok_or_else(|| {
+                    format_err(
+                        path,
+                        format!(
+                            "frame {f} has no {} (a {set:?} skeleton has {} joints)",
+                            set.name_of(j),
+                            set.len()
+                        ),
+                    )
+                })?;
+            }
+            out.push(frame);
+        }
+        Ok(out)
+    };
+    // Kinect v2 when a row names a joint Kinect v1 lacks; Kinect v1 when a row uses a v1-only
+    // name or all joints are indices below 20; otherwise (shared names only) Kinect v1 when
+    // every frame holds its 20 joints.
+    let (set, frames) = if rows.iter().any(|r| v2_only(r.2)) {
+        (JointSet::KinectV2, frames_of(JointSet::KinectV2)?)
+    } else if rows.iter().any(|r| v1_name(r.2)) || rows.iter().all(|r| numeric(r.2)) {
+        (JointSet::KinectV1, frames_of(JointSet::KinectV1)?)
+    } else {
+        match frames_of(JointSet::KinectV1) {
+            Ok(f) => (JointSet::KinectV1, f),
+            Err(_) => (JointSet::KinectV2, frames_of(JointSet::KinectV2)?),
+        }
+    };
+    SkeletonSeq::with_joints(fps, frames, set)
 }
 
-/// Reads a `.npy` array of shape `(T, 25, 3)` (any float or integer dtype).
+/// Reads a `.npy` array of shape `(T, 25, 3)` (Kinect v2) or `(T, 20, 3)` (Kinect v1), any
+/// float or integer dtype.
 ///
 /// Errors: unreadable or malformed file, another shape, and everything
 /// [`SkeletonSeq::from_flat`] checks.
@@ -115,7 +151,7 @@ pub fn read_skeleton_npy(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq
     let a = wscg_math::npy::read::<f64>(path)?;
     if a.shape.len() != 3 || a.shape[2] != 3 {
         return Err(Error::ShapeMismatch(format!(
-            "{}: expected shape (T, 25, 3), got {:?}",
+            "{}: expected shape (T, 25, 3) or (T, 20, 3), got {:?}",
             path.display(),
             a.shape
         )));
@@ -123,38 +159,45 @@ pub fn read_skeleton_npy(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq
     SkeletonSeq::from_flat(fps, &a.data, a.shape[0], a.shape[1])
 }
 
-/// Reads a skeleton stream by extension: `.npy`, else CSV.
+/// Reads a skeleton stream by extension: `.npy`, `.skeleton` (NTU RGB+D, the most tracked
+/// body), else CSV.
 pub fn read_skeleton(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq> {
+    read_skeleton_with(path, fps, &NtuParams::default())
+}
+
+/// [`read_skeleton`] with the body choice of NTU RGB+D files.
+pub fn read_skeleton_with(
+    path: impl AsRef<Path>,
+    fps: f64,
+    ntu: &NtuParams,
+) -> Result<SkeletonSeq> {
     let path = path.as_ref();
-    if path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("npy"))
-    {
+    let ext = |x: &str| path.extension().is_some_and(|e| e.eq_ignore_ascii_case(x));
+    if ext("npy") {
         read_skeleton_npy(path, fps)
+    } else if ext("skeleton") {
+        read_ntu(path, fps, ntu)
     } else {
         read_skeleton_csv(path, fps)
     }
 }
 
-/// Writes a skeleton CSV (header `frame,joint,x,y,z`, joints by name).
+/// Writes a skeleton CSV (header `frame,joint,x,y,z`, joints by the SDK names of the
+/// stream's Kinect version).
 pub fn write_skeleton_csv(path: impl AsRef<Path>, s: &SkeletonSeq) -> Result<()> {
     let path = path.as_ref();
+    let set = s.joint_set;
     let mut buf = String::from("frame,joint,x,y,z\n");
     for (t, f) in s.frames.iter().enumerate() {
-        for (j, p) in f.iter().enumerate() {
-            buf.push_str(&format!(
-                "{t},{},{:.6},{:.6},{:.6}\n",
-                Joint::ALL[j].name(),
-                p[0],
-                p[1],
-                p[2]
-            ));
+        for (&j, name) in set.joints().iter().zip(set.names()) {
+            let p = f[j.index()];
+            buf.push_str(&format!("{t},{name},{:.6},{:.6},{:.6}\n", p[0], p[1], p[2]));
         }
     }
     wscg_math::io::atomic::write(path, buf)
 }
 
-/// Writes a `.npy` array `(T, 25, 3)` of f64.
+/// Writes a `.npy` array `(T, J, 3)` of f64 (`J` = 25, or 20 for a Kinect v1 stream).
 pub fn write_skeleton_npy(path: impl AsRef<Path>, s: &SkeletonSeq) -> Result<()> {
-    wscg_math::npy::write_f64(path, &[s.len(), N_JOINTS, 3], &s.to_flat())
+    wscg_math::npy::write_f64(path, &[s.len(), s.joint_set.len(), 3], &s.to_flat())
 }

@@ -5,7 +5,7 @@ use wscg_math::vec3::{cross, dot, norm, sub};
 use wscg_math::{Error, Result};
 
 use super::cycle::GaitCycle;
-use super::skeleton::{Joint, Pair, SkeletonSeq, N_JOINTS};
+use super::skeleton::{Joint, JointSet, Pair, SkeletonSeq, N_JOINTS};
 
 /// Joint relative angle of `p1` and `p2` at the reference joint `r`, eq. 1:
 /// `v1 = r − p1`, `v2 = p2 − r`, `Θ = arccos(v1·v2 / (‖v1‖ ‖v2‖))` in radians, `[0, π]`.
@@ -30,8 +30,20 @@ pub fn vector_angle(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// All pairs `(p1, p2)`, `p1 < p2`, of joints other than `reference`: C(24, 2) = 276 pairs
 /// (the paper counts C(25, 2) = 300 including the undefined pairs with the reference).
 pub fn all_pairs(reference: Joint) -> Vec<Pair> {
-    let js: Vec<Joint> = Joint::ALL.into_iter().filter(|&j| j != reference).collect();
-    let mut out = Vec::with_capacity(276);
+    all_pairs_in(JointSet::KinectV2, reference)
+}
+
+/// All pairs `(p1, p2)`, `p1 < p2` (by Kinect v2 index), of the joints of `set` other than
+/// `reference`: 276 for Kinect v2, C(19, 2) = 171 for the 20 joints of Kinect v1.
+pub fn all_pairs_in(set: JointSet, reference: Joint) -> Vec<Pair> {
+    let mut js: Vec<Joint> = set
+        .joints()
+        .iter()
+        .copied()
+        .filter(|&j| j != reference)
+        .collect();
+    js.sort();
+    let mut out = Vec::with_capacity(js.len() * js.len() / 2);
     for (a, &p1) in js.iter().enumerate() {
         for &p2 in &js[a + 1..] {
             out.push((p1, p2));
@@ -83,8 +95,9 @@ impl JraSet {
 }
 
 /// JRA sequences of `pairs` over the frames `cycle.start..=cycle.end` of a walk (section 3.2).
-/// Errors: a pair containing the reference joint or a joint twice, a cycle beyond the walk, a
-/// frame where a pair's joint coincides with the reference.
+/// Errors: a pair containing the reference joint or a joint twice, a joint (or the reference)
+/// the walk's joint set does not hold, a cycle beyond the walk, a frame where a pair's joint
+/// coincides with the reference.
 pub fn jra_sequences(
     s: &SkeletonSeq,
     c: &GaitCycle,
@@ -92,8 +105,21 @@ pub fn jra_sequences(
     pairs: &[Pair],
 ) -> Result<JraSet> {
     c.check_within(s)?;
+    let set = s.joint_set;
+    let absent = |j: Joint| {
+        Error::invalid(
+            "pairs",
+            format!("the walk's joints ({set:?}) have no {}", j.name()),
+        )
+    };
+    if !set.contains(reference) {
+        return Err(absent(reference));
+    }
     let mut seqs = Vec::with_capacity(pairs.len());
     for &(a, b) in pairs {
+        if let Some(&j) = [a, b].iter().find(|&&j| !set.contains(j)) {
+            return Err(absent(j));
+        }
         if a == reference || b == reference || a == b {
             return Err(Error::invalid(
                 "pairs",
@@ -129,7 +155,8 @@ pub fn jra_sequences(
     })
 }
 
-/// The JRA sequences of all 276 pairs ([`all_pairs`]) over one cycle.
+/// The JRA sequences of all pairs of the walk's joints ([`all_pairs_in`]: 276 for Kinect v2,
+/// 171 for Kinect v1) over one cycle.
 pub fn jra_matrix(s: &SkeletonSeq, c: &GaitCycle, reference: Joint) -> Result<JraSet> {
-    jra_sequences(s, c, reference, &all_pairs(reference))
+    jra_sequences(s, c, reference, &all_pairs_in(s.joint_set, reference))
 }

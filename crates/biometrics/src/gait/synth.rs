@@ -805,6 +805,22 @@ pub struct WalkSet {
     pub session_index: Vec<usize>,
 }
 
+impl WalkSet {
+    /// The same walks as Kinect v1 skeletons (20 joints: SpineShoulder stands for
+    /// ShoulderCenter, SpineBase for HipCenter, SpineMid for Spine; Neck, HandTip and Thumb
+    /// dropped), with the same noise on the joints kept.
+    pub fn to_kinect_v1(&self) -> WalkSet {
+        let mut out = self.clone();
+        for w in &mut out.walks {
+            *w = w.to_kinect_v1();
+        }
+        for t in &mut out.truth {
+            t.clean = t.clean.to_kinect_v1();
+        }
+        out
+    }
+}
+
 /// The paper's protocol on synthetic people: `n_subjects` x `n_sessions` walks with sessions
 /// drawn from `ranges` (subjects from `seed`, sessions and noise from `seed` and the walk).
 pub fn walkers(

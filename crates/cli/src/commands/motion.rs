@@ -17,7 +17,8 @@ use crate::demo::motion::stick_strip;
 use clap::{Args, Subcommand, ValueEnum};
 use wscg_math::{npy, Error, Result};
 use wscg_motion::anechoic::AnechoicParams;
-use wscg_motion::bvh::write_bvh;
+use wscg_motion::bvh::{retarget, write_bvh, JointMap, RetargetParams};
+use wscg_motion::bvh_file::read_bvh_file;
 use wscg_motion::dataset::{Dataset, TrialAction};
 use wscg_motion::map::SvrMapParams;
 use wscg_motion::skeleton::N_CHANNELS;
@@ -41,6 +42,37 @@ pub enum MotionCommand {
     },
     /// Learn (from --data, or the synthetic walker) and synthesize a walk-and-reach sequence.
     Synth(SynthArgs),
+    /// Read a BVH file of any skeleton (CMU, Mixamo, or any names with --joint-map), map it
+    /// onto the model's 17 joints and write it as the model's BVH (and optionally .npy).
+    ImportBvh(ImportBvhArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct ImportBvhArgs {
+    /// BVH file to read (only read).
+    pub input: PathBuf,
+    /// Joint map: `auto` (the model's names, then CMU's, then Mixamo's), `model`, `cmu`,
+    /// `mixamo`, or a JSON file `{"model joint": "file joint", ...}`.
+    #[arg(long, default_value = "auto")]
+    pub joint_map: String,
+    /// File units per metre (100: centimetres; 39.37: inches).
+    #[arg(long, default_value_t = 100.0)]
+    pub units_per_metre: f64,
+    /// Output BVH of the model's skeleton.
+    #[arg(long, default_value = "imported.bvh")]
+    pub out: PathBuf,
+    /// Also write the joint angles as .npy `[T, 51]`.
+    #[arg(long)]
+    pub npy: Option<PathBuf>,
+}
+
+/// The joint map named by `--joint-map` (`auto` is `None`).
+fn joint_map(arg: &str) -> Result<Option<JointMap>> {
+    match arg {
+        "auto" => Ok(None),
+        "model" | "cmu" | "mixamo" => JointMap::builtin(arg).map(Some),
+        path => JointMap::read_json(path).map(Some),
+    }
 }
 
 #[derive(Args, Debug)]
@@ -384,6 +416,36 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                 s.frames.len() as f64 / a.fps,
                 goal - last
             );
+            println!("wrote {}", a.out.display());
+            Ok(())
+        }
+        MotionCommand::ImportBvh(a) => {
+            let file = read_bvh_file(&a.input)?;
+            let orders: Vec<String> = file
+                .joints
+                .iter()
+                .map(|j| j.rotation_order())
+                .filter(|o| !o.is_empty())
+                .collect::<std::collections::BTreeSet<_>>()
+                .into_iter()
+                .collect();
+            println!(
+                "{}: {} joints, {} frames at {:.2} fps, rotation orders {}",
+                a.input.display(),
+                file.joints.len(),
+                file.frames.len(),
+                1.0 / file.frame_time,
+                orders.join(", ")
+            );
+            let p = RetargetParams::default()
+                .joint_map(joint_map(&a.joint_map)?)
+                .units_per_metre(a.units_per_metre);
+            p.validate()?;
+            let m = retarget(&file, &p).map_err(|e| Error::format(&a.input, e.to_string()))?;
+            write_bvh(&a.out, &m)?;
+            if let Some(p) = &a.npy {
+                npy::write_f64(p, &[m.angles.len(), N_CHANNELS], &m.angles.concat())?;
+            }
             println!("wrote {}", a.out.display());
             Ok(())
         }

@@ -1,8 +1,9 @@
 //! `wscg biometrics gait ...`: paper 17 (Kinect gait recognition with joint relative angles
 //! and a DTW kernel) on the user's own skeleton recordings.
 //!
-//! Skeleton files: CSV rows `frame, joint, x, y, z` (joint as Kinect v2 name or index, metres)
-//! or `.npy` arrays `(T, 25, 3)`.
+//! Skeleton files: CSV rows `frame, joint, x, y, z` (joint as Kinect v2 or Kinect v1 name or
+//! index, metres), `.npy` arrays `(T, 25, 3)` or `(T, 20, 3)`, or NTU RGB+D `.skeleton` files
+//! (`--body` picks the body: the most tracked by default, or a body id).
 //!
 //! - `enroll GALLERY --out MODEL.json`: `GALLERY` holds one sub-folder of walks per identity
 //!   (the folder name is the identity), or files named `<identity>_<anything>.csv|npy`.
@@ -21,10 +22,11 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use wscg_biometrics::dtw::{nearest, ts_file::read_ts, DtwParams, LocalCost, Multivariate};
 use wscg_biometrics::gait::cycle::StartLeg;
-use wscg_biometrics::gait::io::{read_skeleton, write_skeleton_csv, write_skeleton_npy};
+use wscg_biometrics::gait::io::{read_skeleton_with, write_skeleton_csv, write_skeleton_npy};
+use wscg_biometrics::gait::ntu::{BodyChoice, NtuParams};
 use wscg_biometrics::gait::synth::{walkers, SessionRanges};
 use wscg_biometrics::gait::{
-    detect_gait_cycle, gait_sample, GaitParams, GaitRecognizer, SkeletonSeq, Vote,
+    detect_gait_cycle, gait_sample, GaitParams, GaitRecognizer, JointSet, SkeletonSeq, Vote,
 };
 use wscg_math::{Error, Result};
 
@@ -45,16 +47,18 @@ pub enum GaitCommand {
         /// Model written by `enroll`.
         #[arg(long)]
         model: PathBuf,
-        /// Skeleton files (.csv or .npy).
+        /// Skeleton files (.csv, .npy or NTU .skeleton).
         #[arg(required = true)]
         walks: Vec<PathBuf>,
         /// Ranked training walks printed per walk.
         #[arg(long, default_value_t = 5)]
         top: usize,
+        #[command(flatten)]
+        body: BodyArgs,
     },
     /// Print the detected gait cycle (start, middle, end frames) of walks.
     Cycle {
-        /// Skeleton files (.csv or .npy).
+        /// Skeleton files (.csv, .npy or NTU .skeleton).
         #[arg(required = true)]
         walks: Vec<PathBuf>,
         /// Frame rate of the recordings.
@@ -63,6 +67,8 @@ pub enum GaitCommand {
         /// Which leg opens the cycle.
         #[arg(long, value_enum, default_value_t = LegArg::Left)]
         start_leg: LegArg,
+        #[command(flatten)]
+        body: BodyArgs,
     },
     /// 1-NN classification of a UCR/UEA test set by DTW (multivariate: the DTW kernel, or the
     /// dependent DTW with `--multivariate dependent`).
@@ -101,7 +107,26 @@ pub enum GaitCommand {
         /// File format.
         #[arg(long, value_enum, default_value_t = FormatArg::Csv)]
         format: FormatArg,
+        /// Joints per skeleton: 25 (Kinect v2) or 20 (Kinect v1 names, without Neck, HandTip
+        /// and Thumb).
+        #[arg(long, default_value_t = 25)]
+        joints: usize,
     },
+}
+
+/// The body taken from NTU RGB+D `.skeleton` files.
+#[derive(Args, Debug, Clone)]
+pub struct BodyArgs {
+    /// Body of NTU RGB+D .skeleton files: `most-tracked` or a body id.
+    #[arg(long, default_value = "most-tracked")]
+    body: String,
+}
+
+impl BodyArgs {
+    fn read(&self, path: &Path, fps: f64) -> Result<SkeletonSeq> {
+        let ntu = NtuParams::default().body(BodyChoice::parse(&self.body)?);
+        read_skeleton_with(path, fps, &ntu)
+    }
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -162,7 +187,7 @@ impl From<MultivariateArg> for Multivariate {
 pub enum FormatArg {
     /// frame,joint,x,y,z rows.
     Csv,
-    /// (T, 25, 3) float64.
+    /// (T, J, 3) float64 (J = 25 or 20 joints).
     Npy,
 }
 
@@ -190,6 +215,8 @@ pub struct GaitArgs {
     /// Which leg opens the gait cycle.
     #[arg(long, value_enum, default_value_t = LegArg::Left)]
     start_leg: LegArg,
+    #[command(flatten)]
+    body: BodyArgs,
 }
 
 impl GaitArgs {
@@ -219,9 +246,11 @@ struct ModelFile {
 
 fn is_skeleton_file(p: &Path) -> bool {
     p.is_file()
-        && p.extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("npy"))
+        && p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+            ["csv", "npy", "skeleton"]
+                .iter()
+                .any(|x| e.eq_ignore_ascii_case(x))
+        })
 }
 
 fn sorted_entries(dir: &Path) -> Result<Vec<PathBuf>> {
@@ -300,7 +329,7 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             let mut samples = Vec::new();
             let mut labels = Vec::new();
             for (id, f) in &files {
-                let walk = read_skeleton(f, params.fps)?;
+                let walk = params.body.read(f, params.fps)?;
                 let s = gait_sample(&walk, &p)
                     .map_err(|e| Error::invalid("gallery", format!("{}: {e}", f.display())))?;
                 samples.push(s.jra);
@@ -308,10 +337,11 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             }
             let rec = GaitRecognizer::fit_samples(&samples, &labels, &p)?;
             println!(
-                "enrolled {} walks of {} identities; {} of 276 joint pairs selected (t = {})",
+                "enrolled {} walks of {} identities; {} of {} joint pairs selected (t = {})",
                 samples.len(),
                 identities.len(),
                 rec.pairs.len(),
+                samples.iter().map(|s| s.pairs.len()).max().unwrap_or(0),
                 p.min_bins
             );
             let model = ModelFile {
@@ -324,10 +354,15 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             println!("wrote {}", out.display());
             Ok(())
         }
-        GaitCommand::Identify { model, walks, top } => {
+        GaitCommand::Identify {
+            model,
+            walks,
+            top,
+            body,
+        } => {
             let m = read_model(&model)?;
             for w in &walks {
-                let seq = read_skeleton(w, m.fps)?;
+                let seq = body.read(w, m.fps)?;
                 let pr = m.recognizer.predict(&seq)?;
                 let name = |l: u32| {
                     m.identities
@@ -359,11 +394,12 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             walks,
             fps,
             start_leg,
+            body,
         } => {
             let mut p = GaitParams::default().cycle;
             p.start_leg = start_leg.into();
             for w in &walks {
-                let seq = read_skeleton(w, fps)?;
+                let seq = body.read(w, fps)?;
                 let c = detect_gait_cycle(&seq, &p)?;
                 println!(
                     "{}: start {} mid {} end {} ({} frames, {:.2} s; first step {:?}; minima {:?})",
@@ -424,6 +460,7 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             sessions,
             seed,
             format,
+            joints,
         } => {
             if subjects == 0 || sessions == 0 {
                 return Err(Error::invalid(
@@ -432,6 +469,16 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
                 ));
             }
             let set = walkers(subjects, sessions, &SessionRanges::default(), seed)?;
+            let set = match JointSet::for_count(joints) {
+                Ok(JointSet::KinectV1) => set.to_kinect_v1(),
+                Ok(JointSet::KinectV2) => set,
+                Err(_) => {
+                    return Err(Error::invalid(
+                        "joints",
+                        format!("must be 25 (Kinect v2) or 20 (Kinect v1), got {joints}"),
+                    ))
+                }
+            };
             std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
             let mut truth =
                 String::from("subject,walk,file,speed,heading_deg,walk_frames,minima\n");
