@@ -4,7 +4,8 @@ every CPython (3.9 or later) on the machine, where `import wscg` and the `wscg -
 command work.
 
 Builds with cargo's debug profile (the release build takes many minutes); skipped, with the
-reason, where maturin, ziglang or cargo is missing. Runs in scripts/test (not marked slow)."""
+reason, where maturin, ziglang or cargo is missing. Marked slow (a second link of the program
+and the extension through zig, minutes on two cores): run it with `pytest -m wheel`."""
 
 from __future__ import annotations
 
@@ -24,7 +25,7 @@ import wscg
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
-pytestmark = pytest.mark.wheel
+pytestmark = [pytest.mark.wheel, pytest.mark.slow]
 
 
 def _pythons():

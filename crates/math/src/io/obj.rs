@@ -297,8 +297,8 @@ pub fn parse_mtl(bytes: &[u8], origin: &Path) -> Result<Vec<MtlMaterial>> {
 /// Calls `f(line, keyword, words)` for each statement of OBJ or MTL text: lines ending in a
 /// backslash are joined to the next, `#` starts a comment, blank lines are skipped; `line` is
 /// the 1-based number of the statement's first line.
-fn for_each_statement<'t>(
-    text: &'t str,
+fn for_each_statement(
+    text: &str,
     mut f: impl FnMut(usize, &str, &mut dyn Iterator<Item = &str>) -> std::result::Result<(), String>,
 ) -> std::result::Result<(), String> {
     let mut joined = String::new();
