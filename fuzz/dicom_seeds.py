@@ -21,12 +21,14 @@ from pydicom.uid import ExplicitVRLittleEndian, generate_uid
 
 SEPARATOR = b"@@next-dicom-file@@"
 
-# pydicom's test files (MIT licence, pydicom/data/test_files): greyscale, under 10 KB.
+# pydicom's test files (MIT licence, pydicom/data/test_files): greyscale, under 10 KB. The
+# `seed_` files are read whole (tests/fuzz_corpus.rs checks it); the dose grids have 32-bit
+# samples, which the reader refuses by name, and seed the fuzzer's parser paths only.
 COPIED = {
-    "seed_implicit_le.dcm": "rtdose_1frame.dcm",  # implicit VR little endian, 32-bit
-    "seed_explicit_be.dcm": "rtdose_expb_1frame.dcm",  # explicit VR big endian
-    "seed_rle.dcm": "rtdose_rle_1frame.dcm",  # RLE lossless
-    "seed_multiframe.dcm": "rtdose.dcm",  # 15 frames
+    "unsupported_32bit_implicit_le.dcm": "rtdose_1frame.dcm",  # implicit VR little endian
+    "unsupported_32bit_explicit_be.dcm": "rtdose_expb_1frame.dcm",  # explicit VR big endian
+    "unsupported_32bit_rle.dcm": "rtdose_rle_1frame.dcm",  # RLE lossless
+    "unsupported_32bit_multiframe.dcm": "rtdose.dcm",  # 15 frames
     "seed_deflated.dcm": "image_dfl.dcm",  # deflated explicit VR little endian
     "seed_rle_mr.dcm": "MR_small_RLE.dcm",  # RLE lossless, 16-bit
     "seed_j2k_lossless.dcm": "MR_small_jp2klossless.dcm",  # JPEG 2000 lossless
