@@ -744,7 +744,7 @@ def test_bad_input_raises_value_error():
     with pytest.raises(ValueError, match="gt"):
         hdr.rmse_log2(img, 0 * img)
     with pytest.raises(ValueError, match="bits"):
-        hdr.calibrate_debevec(views, times, bits=16)
+        hdr.calibrate_debevec(views, times, bits=17)
     with pytest.raises(ValueError, match="exposure_times"):
         hdr.make_scene(exposure_times=(0.01,))
     with pytest.raises(ValueError, match="height"):
@@ -770,7 +770,7 @@ def test_bad_input_raises_value_error():
     with pytest.raises(ValueError, match="non-finite"):
         native.patchmatch(nan, img, 7, 2, -10, 10, 0, True, True, 0.05, 0.5, 0)
     with pytest.raises(ValueError, match="bits"):
-        native.calibrate_debevec(v16, times, 70, 10.0, 16)
+        native.calibrate_debevec(v16, times, 70, 10.0, 17)
     with pytest.raises(ValueError, match="unknown response"):
         native.to_radiance(v16[0], "srgb", 1.0, 8)
     with pytest.raises(ValueError):

@@ -355,8 +355,8 @@ def exif_exposure_times(paths, exposure_times: Optional[Sequence[float]] = None)
     P. Debevec and J. Malik, SIGGRAPH 1997, section 2; Ramirez Orozco et al., WSCG 2015,
     Journal of WSCG vol. 23, section 3.
     """
-    if _is_path(paths) or isinstance(paths, np.ndarray):
-        raise ValueError("`paths` must be a list of file paths")
+    if _is_path(paths) or isinstance(paths, np.ndarray) or not hasattr(paths, "__iter__"):
+        raise ValueError(f"`paths` must be a list of file paths, got {type(paths).__name__}")
     files = [os.fsdecode(f) if _is_path(f) else f for f in paths]
     if not files or not all(isinstance(p, str) for p in files):
         raise ValueError("`paths` must be a non-empty list of file paths")
