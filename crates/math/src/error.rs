@@ -186,16 +186,26 @@ pub fn ensure_positive(name: &'static str, value: f64) -> Result<()> {
 /// reader of the workspace reads its files through this function or [`read_text`].
 pub fn read_file(path: &Path) -> Result<Vec<u8>> {
     use std::io::Read;
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let meta = file.metadata().map_err(|e| Error::io(path, e))?;
-    if !meta.is_file() {
-        return Err(Error::io(
+    let not_regular = || {
+        Error::io(
             path,
             std::io::Error::new(
                 std::io::ErrorKind::InvalidInput,
                 "not a regular file (a folder, device or pipe)",
             ),
-        ));
+        )
+    };
+    // Checked before opening too: opening a FIFO for reading blocks until a writer comes.
+    if !std::fs::metadata(path)
+        .map_err(|e| Error::io(path, e))?
+        .is_file()
+    {
+        return Err(not_regular());
+    }
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let meta = file.metadata().map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(not_regular());
     }
     let limit = crate::memory_limit::limit();
     if meta.len() > limit {
