@@ -24,6 +24,7 @@ pub mod blend;
 pub mod bvh;
 pub mod data;
 pub mod dataset;
+pub mod dataset_io;
 mod delay_search;
 pub mod fourier;
 pub mod hopf;
@@ -47,6 +48,7 @@ pub use anechoic::{
 pub use blend::blend_alpha;
 pub use data::{quality, TrialSet};
 pub use dataset::{Dataset, TrialAction};
+pub use dataset_io::{read_dataset, write_dataset};
 pub use hopf::StarNetwork;
 pub use lwlr::Lwlr;
 pub use pca::{pca_qualities, pca_quality};

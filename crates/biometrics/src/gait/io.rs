@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use wscg_math::io::csv;
 use wscg_math::{Error, Result};
 
 use super::skeleton::{Frame, Joint, SkeletonSeq, N_JOINTS};
@@ -42,35 +43,32 @@ pub fn read_skeleton_csv(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq
 pub fn parse_skeleton_csv(text: &str, origin: &Path, fps: f64) -> Result<SkeletonSeq> {
     let path = origin;
     let mut frames: BTreeMap<i64, [Option<[f64; 3]>; N_JOINTS]> = BTreeMap::new();
-    for (ln, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let cols: Vec<&str> = line.split([',', ';', '\t']).map(str::trim).collect();
+    for (i, row) in csv::records(text.as_bytes(), path, b',')?.iter().enumerate() {
+        let ln = row.line;
+        let cols: Vec<&str> = row.split_fields(&[';', '\t']).collect();
         if cols.len() < 5 {
             return Err(format_err(
                 path,
-                format!("line {}: expected frame, joint, x, y, z", ln + 1),
+                format!("line {ln}: expected frame, joint, x, y, z"),
             ));
         }
         let Ok(frame) = cols[0].parse::<i64>() else {
-            if ln == 0 || frames.is_empty() {
+            if i == 0 || frames.is_empty() {
                 continue; // header row
             }
             return Err(format_err(
                 path,
-                format!("line {}: `{}` is not a frame number", ln + 1, cols[0]),
+                format!("line {ln}: `{}` is not a frame number", cols[0]),
             ));
         };
         let joint =
-            Joint::parse(cols[1]).map_err(|e| format_err(path, format!("line {}: {e}", ln + 1)))?;
+            Joint::parse(cols[1]).map_err(|e| format_err(path, format!("line {ln}: {e}")))?;
         let mut p = [0.0; 3];
         for k in 0..3 {
             p[k] = cols[2 + k].parse::<f64>().map_err(|_| {
                 format_err(
                     path,
-                    format!("line {}: `{}` is not a number", ln + 1, cols[2 + k]),
+                    format!("line {ln}: `{}` is not a number", cols[2 + k]),
                 )
             })?;
         }
@@ -78,11 +76,7 @@ pub fn parse_skeleton_csv(text: &str, origin: &Path, fps: f64) -> Result<Skeleto
         if slot.is_some() {
             return Err(format_err(
                 path,
-                format!(
-                    "line {}: frame {frame} lists {} twice",
-                    ln + 1,
-                    joint.name()
-                ),
+                format!("line {ln}: frame {frame} lists {} twice", joint.name()),
             ));
         }
         *slot = Some(p);
