@@ -9,6 +9,10 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+#[path = "readers.rs"]
+pub mod readers;
+pub use readers::READER_TARGETS;
+
 /// Every target, by the name of its corpus folder (`fuzz/corpus/<name>`).
 pub const TARGETS: &[&str] = &[
     "raster",
@@ -134,6 +138,8 @@ pub fn run(target: &str, data: &[u8]) -> bool {
             list || points
         }
         "strokes_json" => wscg_volseg::paint_strokes(data, origin(), [8, 8, 8], [1.0; 3]).is_ok(),
-        other => panic!("unknown fuzz target {other:?}; the targets are {TARGETS:?}"),
+        other => readers::run(other, data, origin()).unwrap_or_else(|| {
+            panic!("unknown fuzz target {other:?}; the targets are {TARGETS:?} and {READER_TARGETS:?}")
+        }),
     }
 }

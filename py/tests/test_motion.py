@@ -526,3 +526,41 @@ def test_bad_input(tmp_path, clean_action1, lib, data):
         M.hopf_simulate(1.0, dt=0.0)
     with pytest.raises(ValueError):
         M.hopf_simulate(1e9, dt=1e-6)  # too many steps
+
+
+# ---------------------------------------------------------------- training folders
+
+
+def test_a_training_folder_round_trips(tmp_path):
+    ds = M.make_synthetic_dataset(n_trials=3, seed=2, n_samples=16)
+    M.save_dataset(tmp_path / "walk", ds)
+    back = M.load_dataset(tmp_path / "walk")
+    for name in ("angles", "step_length", "duration", "root"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(ds, name))
+    assert back.truth is None and back.distances.shape == (0,)
+    # Without root curves the folder has no root.npy and loads with root None.
+    M.save_dataset(tmp_path / "bare", {"angles": ds.angles, "step_length": ds.step_length,
+                                       "duration": ds.duration})
+    assert not (tmp_path / "bare" / "root.npy").exists()
+    assert M.load_dataset(tmp_path / "bare").root is None
+
+
+def test_training_folder_errors_name_the_file_and_the_line(tmp_path):
+    ds = M.make_synthetic_dataset(n_trials=3, seed=2, n_samples=16)
+    d = tmp_path / "walk"
+    M.save_dataset(d, ds)
+    steps = (d / "steps.csv").read_text().splitlines()
+    (d / "steps.csv").write_text("\n".join(steps[:3] + ["0,2,x,1"] + steps[4:]) + "\n")
+    with pytest.raises(OSError, match=r"steps\.csv.*line 4"):
+        M.load_dataset(d)
+    (d / "steps.csv").write_text("\n".join(steps[:-1]) + "\n")
+    with pytest.raises(OSError, match="no row for trial 2 action 3"):
+        M.load_dataset(d)
+    (d / "angles.npy").write_bytes(b"\x93NUMPY")
+    with pytest.raises(OSError, match="angles.npy"):
+        M.load_dataset(d)
+    with pytest.raises(OSError):
+        M.load_dataset(tmp_path / "none")
+    with pytest.raises(ValueError, match="`angles`"):
+        M.save_dataset(d, {"angles": np.zeros((2, 3)), "step_length": np.zeros((2, 3)),
+                           "duration": np.ones((2, 3))})

@@ -60,6 +60,19 @@ pub fn parse_gyro_csv(bytes: &[u8], origin: &Path) -> Result<Vec<GyroSample>> {
     Ok(out)
 }
 
+/// Writes a gyroscope log that [`read_gyro_csv`] reads back (atomically): a comment
+/// `# t,wx,wy,wz` naming the columns (s, rad/s), then one `t,wx,wy,wz` row per sample (6 decimals: microseconds and
+/// micro-radians per second).
+pub fn write_gyro_csv(path: impl AsRef<Path>, samples: &[GyroSample]) -> Result<()> {
+    let rows = samples.iter().map(|s| {
+        [s.t, s.w[0], s.w[1], s.w[2]]
+            .iter()
+            .map(|v| format!("{v:.6}"))
+            .collect::<Vec<_>>()
+    });
+    csv::write(path.as_ref(), &["# t", "wx", "wy", "wz"], rows)
+}
+
 /// An integrated gyroscope trace: the camera orientation `q(t)` (camera axes to the frame of
 /// the first sample) at every sample time, SLERP in between.
 ///
@@ -188,6 +201,10 @@ mod csv_tests {
         let err = parse_gyro_csv(b"0,1,2,3\n0.1,1,2\n", Path::new("g.csv")).unwrap_err();
         assert!(matches!(err, Error::Format { .. }));
         assert!(err.to_string().contains("line 2") && err.to_string().contains("g.csv"));
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("g.csv");
+        write_gyro_csv(&p, &got).unwrap();
+        assert_eq!(read_gyro_csv(&p).unwrap(), got);
         for bad in [&b""[..], b"t,wx,wy,wz\n", b"\xff\xfe"] {
             assert!(matches!(
                 parse_gyro_csv(bad, Path::new("g.csv")),

@@ -27,15 +27,7 @@ fn format_err(path: &Path, reason: String) -> Error {
 /// joint, NaN coordinates, fewer than 3 frames, `fps <= 0`.
 pub fn read_skeleton_csv(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq> {
     let path = path.as_ref();
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if meta.len() > MAX_SKELETON_BYTES {
-        return Err(Error::LimitExceeded(format!(
-            "{} is {} bytes; skeleton files above {MAX_SKELETON_BYTES} bytes are refused",
-            path.display(),
-            meta.len()
-        )));
-    }
-    let text = wscg_math::error::read_text(path)?;
+    let text = wscg_math::error::read_text_at_most(path, MAX_SKELETON_BYTES, "skeleton files")?;
     parse_skeleton_csv(&text, path, fps)
 }
 

@@ -65,15 +65,9 @@ impl PaintDescription {
     /// [`MAX_PAINT_BYTES`]; the format errors of [`PaintDescription::from_json_bytes`].
     pub fn read(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
-        let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-        if meta.len() > MAX_PAINT_BYTES {
-            return Err(Error::LimitExceeded(format!(
-                "{}: {} bytes; paint descriptions above {MAX_PAINT_BYTES} bytes are refused",
-                path.display(),
-                meta.len()
-            )));
-        }
-        Self::from_json_bytes(&wscg_math::error::read_file(path)?, path)
+        let bytes =
+            wscg_math::error::read_file_at_most(path, MAX_PAINT_BYTES, "paint descriptions")?;
+        Self::from_json_bytes(&bytes, path)
     }
 
     /// Parses a paint description held in memory; `origin` names the file in errors.
