@@ -9,6 +9,8 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+// `raw_input` and `write_seeds` serve the seed writer only.
+#[allow(dead_code)]
 #[path = "readers.rs"]
 pub mod readers;
 pub use readers::READER_TARGETS;

@@ -590,7 +590,7 @@ def quality(X, Xhat) -> float:
 # Step-wise learning
 
 
-def _field(dataset, key: str, required: bool = True):
+def _field(dataset, key: str, required: bool = True, name: str = "X"):
     """``dataset[key]`` of a mapping, else the attribute ``key``; ``None`` when optional
     and absent."""
     if isinstance(dataset, Mapping):
@@ -598,7 +598,7 @@ def _field(dataset, key: str, required: bool = True):
     else:
         v = getattr(dataset, key, None)
     if v is None and required:
-        raise ValueError(f"`X` lacks {key!r}: it must be a dataset as make_synthetic_dataset "
+        raise ValueError(f"`{name}` lacks {key!r}: it must be a dataset as make_synthetic_dataset "
                          "returns, with 'angles', 'step_length' and 'duration'")
     return v
 
@@ -914,10 +914,13 @@ def save_dataset(path: Union[str, os.PathLike], dataset: Any) -> None:
     ``step_length``, ``duration`` and optional ``root``) as a training folder that
     :func:`load_dataset` reads back; the folder is created, each file written atomically.
     ``distances`` and ``truth`` are not stored."""
-    root = _field(dataset, "root", required=False)
-    _m.save_dataset(os.fspath(path), _array("angles", _field(dataset, "angles")),
-                    _array("step_length", _field(dataset, "step_length")),
-                    _array("duration", _field(dataset, "duration")),
+    def field(key: str, required: bool = True):
+        return _field(dataset, key, required, name="dataset")
+
+    root = field("root", required=False)
+    _m.save_dataset(os.fspath(path), _array("angles", field("angles")),
+                    _array("step_length", field("step_length")),
+                    _array("duration", field("duration")),
                     None if root is None else _array("root", root))
 
 

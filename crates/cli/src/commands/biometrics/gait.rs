@@ -18,10 +18,11 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 use wscg_biometrics::dtw::{nearest, ts_file::read_ts, DtwParams, LocalCost, Multivariate};
 use wscg_biometrics::gait::cycle::StartLeg;
-use wscg_biometrics::gait::io::{read_skeleton, write_skeleton_csv, write_skeleton_npy};
+use wscg_biometrics::gait::io::{
+    read_skeleton, write_skeleton_csv, write_skeleton_npy, GaitModelFile,
+};
 use wscg_biometrics::gait::synth::{walkers, SessionRanges};
 use wscg_biometrics::gait::{
     detect_gait_cycle, gait_sample, GaitParams, GaitRecognizer, SkeletonSeq, Vote,
@@ -208,15 +209,6 @@ impl GaitArgs {
     }
 }
 
-/// The saved model: the recognizer, identity names and the frame rate.
-#[derive(Serialize, Deserialize)]
-struct ModelFile {
-    fps: f64,
-    identities: Vec<String>,
-    files: Vec<String>,
-    recognizer: GaitRecognizer,
-}
-
 fn is_skeleton_file(p: &Path) -> bool {
     p.is_file()
         && p.extension()
@@ -270,19 +262,6 @@ fn gallery_files(root: &Path) -> Result<Vec<(String, PathBuf)>> {
     Ok(out)
 }
 
-fn write_json(path: &Path, v: &impl Serialize) -> Result<()> {
-    let text = serde_json::to_string(v).map_err(|e| Error::invalid("model", e.to_string()))?;
-    wscg_math::io::atomic::write(path, text)
-}
-
-fn read_model(path: &Path) -> Result<ModelFile> {
-    let text = wscg_math::error::read_text(path)?;
-    serde_json::from_str(&text).map_err(|e| Error::Format {
-        path: path.to_path_buf(),
-        reason: format!("not a gait model written by `wscg biometrics gait enroll`: {e}"),
-    })
-}
-
 /// Runs a `wscg biometrics gait` command.
 pub fn run(cmd: GaitCommand) -> Result<()> {
     match cmd {
@@ -314,18 +293,13 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
                 rec.pairs.len(),
                 p.min_bins
             );
-            let model = ModelFile {
-                fps: params.fps,
-                identities,
-                files: files.iter().map(|f| f.1.display().to_string()).collect(),
-                recognizer: rec,
-            };
-            write_json(&out, &model)?;
+            let files = files.iter().map(|f| f.1.display().to_string()).collect();
+            GaitModelFile::new(params.fps, identities, files, rec).write(&out)?;
             println!("wrote {}", out.display());
             Ok(())
         }
         GaitCommand::Identify { model, walks, top } => {
-            let m = read_model(&model)?;
+            let m = GaitModelFile::read(&model)?;
             for w in &walks {
                 let seq = read_skeleton(w, m.fps)?;
                 let pr = m.recognizer.predict(&seq)?;
