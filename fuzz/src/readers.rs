@@ -44,9 +44,7 @@ pub fn run(target: &str, data: &[u8], origin: &Path) -> Option<bool> {
         "doe_study" => wscg_doe::parse_study(data, origin).is_ok(),
         // `parse_runs` reads the table through `parse_design`.
         "doe_runs" => wscg_doe::parse_runs(data, origin).is_ok(),
-        "motion_steps" => {
-            wscg_motion::dataset_io::parse_steps(data, origin, STEP_TRIALS).is_ok()
-        }
+        "motion_steps" => wscg_motion::dataset_io::parse_steps(data, origin, STEP_TRIALS).is_ok(),
         "paint_json" => {
             wscg_raytrace::paint::PaintDescription::from_json_bytes(data, origin).is_ok()
         }
@@ -197,8 +195,7 @@ pub fn write_seeds(corpus: &Path, work: &Path) {
     let voxels = std::fs::read(&p).expect("raw bytes");
     let dir = corpus.join("raw_volume");
     std::fs::create_dir_all(&dir).expect("corpus folder");
-    std::fs::write(dir.join("seed_f32le.raw"), raw_input(5, [3, 2, 2], &voxels))
-        .expect("seed");
+    std::fs::write(dir.join("seed_f32le.raw"), raw_input(5, [3, 2, 2], &voxels)).expect("seed");
     std::fs::write(
         dir.join("seed_u16be.raw"),
         raw_input(2, [2, 2, 1], &[0, 1, 2, 3, 255, 254, 128, 0]),

@@ -141,7 +141,9 @@ pub fn run(target: &str, data: &[u8]) -> bool {
         }
         "strokes_json" => wscg_volseg::paint_strokes(data, origin(), [8, 8, 8], [1.0; 3]).is_ok(),
         other => readers::run(other, data, origin()).unwrap_or_else(|| {
-            panic!("unknown fuzz target {other:?}; the targets are {TARGETS:?} and {READER_TARGETS:?}")
+            panic!(
+                "unknown fuzz target {other:?}; the targets are {TARGETS:?} and {READER_TARGETS:?}"
+            )
         }),
     }
 }

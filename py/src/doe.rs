@@ -296,10 +296,7 @@ fn save_study(
 
 /// Reads runs: `(x (n, k), y (n,))`.
 #[pyfunction]
-fn load_runs(
-    py: Python<'_>,
-    path: std::path::PathBuf,
-) -> PyResult<(Arr<'_, f64>, Arr<'_, f64>)> {
+fn load_runs(py: Python<'_>, path: std::path::PathBuf) -> PyResult<(Arr<'_, f64>, Arr<'_, f64>)> {
     let (x, y) = crate::pool::detach(py, || wscg_doe::read_runs(&path)).py_err()?;
     let n = y.len();
     Ok((dmat_out(py, &x)?, array(py, &[n], y)?))

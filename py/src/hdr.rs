@@ -733,7 +733,11 @@ fn load_crf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Arr<'_, f32>> 
 
 /// Writes a camera response table `(levels,)` or `(levels, C)` as CSV.
 #[pyfunction]
-fn save_crf(py: Python<'_>, path: std::path::PathBuf, crf: PyReadonlyArrayDyn<f32>) -> PyResult<()> {
+fn save_crf(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    crf: PyReadonlyArrayDyn<f32>,
+) -> PyResult<()> {
     let crf = crf_in(&CrfArg::Table(crf), 8)?;
     crate::pool::detach(py, || crf.write_csv(&path)).py_err()
 }

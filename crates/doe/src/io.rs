@@ -102,7 +102,10 @@ pub fn parse_study(bytes: &[u8], origin: &Path) -> Result<Study> {
         .map(|(i, (_, r))| {
             let s = subjects.binary_search(&r.subject).unwrap_or_default() as u128;
             let c = conditions.binary_search(&r.condition).unwrap_or_default() as u128;
-            ((s * nc as u128 + c) * stimuli as u128 + r.stimulus as u128, i)
+            (
+                (s * nc as u128 + c) * stimuli as u128 + r.stimulus as u128,
+                i,
+            )
         })
         .collect();
     cells.sort_unstable();
@@ -117,7 +120,10 @@ pub fn parse_study(bytes: &[u8], origin: &Path) -> Result<Study> {
     };
     for w in cells.windows(2) {
         if w[0].0 == w[1].0 {
-            let (line_a, line_b) = (obs[w[0].1].0.min(obs[w[1].1].0), obs[w[0].1].0.max(obs[w[1].1].0));
+            let (line_a, line_b) = (
+                obs[w[0].1].0.min(obs[w[1].1].0),
+                obs[w[0].1].0.max(obs[w[1].1].0),
+            );
             return Err(Error::format(
                 origin,
                 format!(
@@ -231,7 +237,10 @@ pub fn parse_runs(bytes: &[u8], origin: &Path) -> Result<(DMatrix<f64>, Vec<f64>
         ));
     }
     let k = m.ncols() - 1;
-    Ok((m.columns(0, k).into_owned(), m.column(k).iter().copied().collect()))
+    Ok((
+        m.columns(0, k).into_owned(),
+        m.column(k).iter().copied().collect(),
+    ))
 }
 
 /// Writes runs `(x, y)` with the header `x1,...,xk,y` (atomically); [`read_runs`] reads them
@@ -250,12 +259,10 @@ pub fn write_runs(path: impl AsRef<Path>, x: &DMatrix<f64>, y: &[f64]) -> Result
     let mut header: Vec<String> = (1..=x.ncols()).map(|i| format!("x{i}")).collect();
     header.push("y".into());
     let header: Vec<&str> = header.iter().map(String::as_str).collect();
-    let rows = x.row_iter().zip(y).map(|(r, v)| {
-        r.iter()
-            .chain([v])
-            .map(f64::to_string)
-            .collect::<Vec<_>>()
-    });
+    let rows = x
+        .row_iter()
+        .zip(y)
+        .map(|(r, v)| r.iter().chain([v]).map(f64::to_string).collect::<Vec<_>>());
     csv::write(path.as_ref(), &header, rows)
 }
 
@@ -293,9 +300,15 @@ mod tests {
         let e = err(b"subject,condition,stimulus,score\na,c,0,1\n\na,c,0,2\n");
         assert!(e.contains("line 4") && e.contains("scored twice"), "{e}");
         let e = err(b"subject,condition,stimulus,score\na,c,0,1\na,c,2,2\n");
-        assert!(e.contains("missing cell: subject a, condition c, stimulus 1"), "{e}");
+        assert!(
+            e.contains("missing cell: subject a, condition c, stimulus 1"),
+            "{e}"
+        );
         let e = err(b"subject,condition,stimulus,score\na,c,0,1\na,d,1,2\nb,c,1,1\n");
-        assert!(e.contains("missing cell: subject a, condition c, stimulus 1"), "{e}");
+        assert!(
+            e.contains("missing cell: subject a, condition c, stimulus 1"),
+            "{e}"
+        );
         let e = err(b"subject,condition,stimulus,score\n");
         assert!(e.contains("no scores"), "{e}");
         assert!(err(b"").contains("empty file"));

@@ -52,7 +52,8 @@ impl Crf {
         if cols == 0 {
             return Err(Error::format(origin, "no table rows"));
         }
-        Self::from_table(&values, rows.len(), cols).map_err(|e| Error::format(origin, e.to_string()))
+        Self::from_table(&values, rows.len(), cols)
+            .map_err(|e| Error::format(origin, e.to_string()))
     }
 
     /// Writes the response as CSV (a `#` comment line, then one row per code), atomically.
@@ -98,7 +99,10 @@ pub fn parse_exposure_times_text(bytes: &[u8], origin: &Path) -> Result<Vec<f64>
             times.push(t.ok_or_else(|| {
                 Error::format(
                     origin,
-                    format!("line {}: {v:?} is not an exposure time (seconds > 0)", row.line),
+                    format!(
+                        "line {}: {v:?} is not an exposure time (seconds > 0)",
+                        row.line
+                    ),
                 )
             })?);
         }
@@ -137,7 +141,10 @@ pub fn parse_exposure_times_json(bytes: &[u8], origin: &Path) -> Result<Vec<f64>
     if let Some(i) = times.iter().position(|t| !(t.is_finite() && *t > 0.0)) {
         return Err(Error::format(
             origin,
-            format!("exposure time {i} is {}; times must be > 0 seconds", times[i]),
+            format!(
+                "exposure time {i} is {}; times must be > 0 seconds",
+                times[i]
+            ),
         ));
     }
     if times.is_empty() {
@@ -187,13 +194,26 @@ mod tests {
             parse_exposure_times_text(b"# t\n0.01\n0.02, 0.04\n", o).unwrap(),
             [0.01, 0.02, 0.04]
         );
-        let e = parse_exposure_times_text(b"0.01\n-1\n", o).unwrap_err().to_string();
+        let e = parse_exposure_times_text(b"0.01\n-1\n", o)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 2"), "{e}");
         assert!(parse_exposure_times_text(b"\n", o).is_err());
-        for ok in [&b"[0.5, 1]"[..], br#"{"exposure_times": [0.5, 1]}"#, br#"{"times": [0.5, 1]}"#] {
+        for ok in [
+            &b"[0.5, 1]"[..],
+            br#"{"exposure_times": [0.5, 1]}"#,
+            br#"{"times": [0.5, 1]}"#,
+        ] {
             assert_eq!(parse_exposure_times_json(ok, o).unwrap(), [0.5, 1.0]);
         }
-        for bad in [&b"[0.5, 1"[..], b"{}", br#"{"times": ["a"]}"#, b"[0]", b"[]", b"7"] {
+        for bad in [
+            &b"[0.5, 1"[..],
+            b"{}",
+            br#"{"times": ["a"]}"#,
+            b"[0]",
+            b"[]",
+            b"7",
+        ] {
             let e = parse_exposure_times_json(bad, o).unwrap_err();
             assert!(matches!(e, Error::Format { .. }), "{e}");
         }

@@ -117,11 +117,7 @@ pub fn read_dataset(dir: impl AsRef<Path>) -> Result<Dataset> {
         Err(e) => return Err(e),
     };
     let steps_path = dir.join("steps.csv");
-    let params = parse_steps(
-        &wscg_math::error::read_file(&steps_path)?,
-        &steps_path,
-        r,
-    )?;
+    let params = parse_steps(&wscg_math::error::read_file(&steps_path)?, &steps_path, r)?;
     let trials = params
         .iter()
         .enumerate()
@@ -188,7 +184,11 @@ mod tests {
             angles: vec![v, v + 0.5, -v, 0.25, 1.0, 2.0],
             step_length: 0.6 + v,
             duration: 1.0 + v,
-            root: if root { vec![0.0, 0.1, 0.3] } else { Vec::new() },
+            root: if root {
+                vec![0.0, 0.1, 0.3]
+            } else {
+                Vec::new()
+            },
         }
     }
 

@@ -106,7 +106,10 @@ pub fn read_skeleton_csv(path: impl AsRef<Path>, fps: f64) -> Result<SkeletonSeq
 pub fn parse_skeleton_csv(text: &str, origin: &Path, fps: f64) -> Result<SkeletonSeq> {
     let path = origin;
     let mut frames: BTreeMap<i64, [Option<[f64; 3]>; N_JOINTS]> = BTreeMap::new();
-    for (i, row) in csv::records(text.as_bytes(), path, b',')?.iter().enumerate() {
+    for (i, row) in csv::records(text.as_bytes(), path, b',')?
+        .iter()
+        .enumerate()
+    {
         let ln = row.line;
         let cols: Vec<&str> = row.split_fields(&[';', '\t']).collect();
         if cols.len() < 5 {

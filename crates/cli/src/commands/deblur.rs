@@ -16,8 +16,7 @@ use clap::{Args, Subcommand};
 use wscg_deblur::metrics::quality;
 use wscg_deblur::synth::{self, BlurRenderParams, Burst, ShakeParams};
 use wscg_deblur::{
-    CameraFile,
-    deblur_frame, deblur_multiframe, render_kernel, AlignMode, Gamma, GyroTrack,
+    deblur_frame, deblur_multiframe, render_kernel, AlignMode, CameraFile, Gamma, GyroTrack,
     HyperLaplacianParams, Intrinsics, KernelParams, Method, MultiframeParams,
 };
 use wscg_math::{Error, Image, Result};

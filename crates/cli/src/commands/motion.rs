@@ -19,13 +19,13 @@ use wscg_math::{npy, Error, Result};
 use wscg_motion::anechoic::AnechoicParams;
 use wscg_motion::bvh::write_bvh;
 use wscg_motion::dataset::Dataset;
-use wscg_motion::{read_dataset, write_dataset};
 use wscg_motion::map::SvrMapParams;
 use wscg_motion::skeleton::N_CHANNELS;
 use wscg_motion::stepwise::{fit_stepwise, ActionLibrary, StepwiseParams};
 use wscg_motion::synthesizer::{MapKind, Synthesizer};
 use wscg_motion::walker::{reach_walk, WalkerParams};
 use wscg_motion::Planner;
+use wscg_motion::{read_dataset, write_dataset};
 
 #[derive(Subcommand, Debug)]
 pub enum MotionCommand {

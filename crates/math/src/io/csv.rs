@@ -149,11 +149,7 @@ pub fn table(bytes: &[u8], origin: &Path, delimiter: u8) -> Result<(StringRecord
     let header = rows
         .next()
         .ok_or_else(|| Error::format(origin, "empty file: no header line"))?;
-    let header: StringRecord = header
-        .fields
-        .iter()
-        .map(str::to_ascii_lowercase)
-        .collect();
+    let header: StringRecord = header.fields.iter().map(str::to_ascii_lowercase).collect();
     Ok((header, rows.collect()))
 }
 

@@ -15,10 +15,9 @@ use clap::{Args, Subcommand, ValueEnum};
 use wscg_doe::{ccd, decode, fit_quadratic, CcdAlpha, CcdFace};
 use wscg_math::{Error, Result};
 use wscg_raytrace::paint::{
-    PaintDescription,
     anaglyph, render_with_progress, score_runs, side_by_side, write_spectral_exr, write_xyz_exr,
-    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, PaintRenderParams, PhotonParams,
-    Plate, PlateStack, Rect, StackModel, TiltDist, WorkshopParams, XyzImage,
+    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, PaintDescription, PaintRenderParams,
+    PhotonParams, Plate, PlateStack, Rect, StackModel, TiltDist, WorkshopParams, XyzImage,
 };
 use wscg_raytrace::spectral::XYZ_TO_SRGB;
 use wscg_raytrace::stereo::{Eye, StereoRig};
