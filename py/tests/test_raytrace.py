@@ -261,7 +261,7 @@ def test_spectrum_output_integrates_to_the_xyz_image():
 def test_a_study_round_trips_and_feeds_the_anova(tmp_path):
     rng = np.random.default_rng(3)
     scores = rng.uniform(0, 10, size=(4, 2, 5))
-    st = doe.Study(subjects=["s1", "s2", "s3", "s4"], conditions=["mono", "stereo"],
+    st = doe.Study(subject_names=["s1", "s2", "s3", "s4"], condition_names=["mono", "stereo"],
                    scores=scores)
     p = tmp_path / "scores.csv"
     doe.save_study(p, st)
@@ -274,7 +274,7 @@ def test_study_rows_in_any_order_and_errors_name_the_line(tmp_path):
     p = tmp_path / "scores.csv"
     p.write_text("Score,stimulus,condition,subject\n2,1,c,a\n1,0,c,a\n")
     st = doe.load_study(p)
-    assert st.subjects == ["a"] and st.conditions == ["c"]
+    assert st.subject_names == ["a"] and st.condition_names == ["c"]
     np.testing.assert_array_equal(st.scores, [[[1.0, 2.0]]])
     for text, words in [("subject,condition,score\n", "`stimulus`"),
                         ("subject,condition,stimulus,score\na,c,0,1\na,c,0,2\n", "line 3"),
@@ -292,7 +292,7 @@ def test_study_rows_in_any_order_and_errors_name_the_line(tmp_path):
     with pytest.raises(OSError):
         doe.load_study(tmp_path / "none.csv")
     with pytest.raises(TypeError, match="`study`"):
-        doe.save_study(p, {"subjects": []})
+        doe.save_study(p, {"subject_names": []})
 
 
 def test_runs_round_trip_into_the_same_fit(tmp_path):

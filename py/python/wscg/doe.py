@@ -273,9 +273,9 @@ class Study:
 
     Attributes
     ----------
-    subjects : list of str
+    subject_names : list of str
         Subject names, sorted.
-    conditions : list of str
+    condition_names : list of str
         Condition names, sorted.
     scores : float64 array (subjects, conditions, stimuli)
         The score of every subject, condition and stimulus: the input of :func:`rm_anova`
@@ -283,8 +283,8 @@ class Study:
         :func:`fit_rsm_blocked`).
     """
 
-    subjects: List[str]
-    conditions: List[str]
+    subject_names: List[str]
+    condition_names: List[str]
     scores: np.ndarray
 
 
@@ -320,14 +320,14 @@ def load_study(path: Union[str, os.PathLike]) -> Study:
     which is named).
     """
     subjects, conditions, scores = _d.load_study(os.fspath(path))
-    return Study(subjects=subjects, conditions=conditions, scores=scores)
+    return Study(subject_names=subjects, condition_names=conditions, scores=scores)
 
 
 def save_study(path: Union[str, os.PathLike], study: Study) -> None:
     """Writes ``study`` (a :class:`Study`) as a score table that :func:`load_study` reads
     back (atomically; one row per subject, condition and stimulus)."""
-    _d.save_study(os.fspath(path), [str(s) for s in study.subjects],
-                  [str(c) for c in study.conditions], _f64(study.scores, "scores", 3))
+    _d.save_study(os.fspath(path), [str(s) for s in study.subject_names],
+                  [str(c) for c in study.condition_names], _f64(study.scores, "scores", 3))
 
 
 def load_runs(path: Union[str, os.PathLike]) -> Runs:

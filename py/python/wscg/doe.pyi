@@ -84,8 +84,8 @@ def panel_pca(scores: npt.ArrayLike) -> _F64: ...
 
 @dataclass(frozen=True)
 class Study:
-    subjects: List[str]
-    conditions: List[str]
+    subject_names: List[str]
+    condition_names: List[str]
     scores: _F64
 
 
