@@ -11,7 +11,7 @@
 //! `wscg motion make-data DIR` writes the synthetic walker in this format. Synthesis writes BVH
 //! (17-joint skeleton, 51 channels) and a stick-figure strip (PNG).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use crate::demo::motion::stick_strip;
 use clap::{Args, Subcommand, ValueEnum};

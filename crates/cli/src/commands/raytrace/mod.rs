@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
 use wscg_doe::{ccd, decode, fit_quadratic, CcdAlpha, CcdFace};
-use wscg_math::{Error, Result};
+use wscg_math::Result;
 use wscg_raytrace::paint::{
     anaglyph, render_with_progress, score_runs, side_by_side, write_spectral_exr, write_xyz_exr,
     ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, PaintDescription, PaintRenderParams,
