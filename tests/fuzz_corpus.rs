@@ -46,7 +46,7 @@ fn variants(bytes: &[u8]) -> Vec<Vec<u8>> {
 
 #[test]
 fn every_reader_returns_on_its_corpus_and_simple_mutations() {
-    for target in targets::TARGETS {
+    for target in targets::TARGETS.iter().chain(targets::READER_TARGETS) {
         let files = corpus_files(target);
         assert!(!files.is_empty(), "fuzz/corpus/{target} has no seed");
         for file in &files {

@@ -12,10 +12,11 @@ mod targets;
 
 fn main() {
     let target = std::env::args().nth(1).unwrap_or_default();
-    if !targets::TARGETS.contains(&target.as_str()) {
+    let known = targets::TARGETS.iter().chain(targets::READER_TARGETS);
+    if !known.clone().any(|t| *t == target) {
         eprintln!(
             "usage: wscg-fuzz <target>; targets: {}",
-            targets::TARGETS.join(", ")
+            known.copied().collect::<Vec<_>>().join(", ")
         );
         std::process::exit(2);
     }

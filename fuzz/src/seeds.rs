@@ -174,5 +174,7 @@ fn main() {
         put(&corpus, "volren_roi", name, &pkg);
     }
 
+    targets::readers::write_seeds(&corpus, &work);
+
     std::fs::remove_dir_all(&work).ok();
 }

@@ -11,6 +11,11 @@ use std::sync::OnceLock;
 
 #[path = "dicom.rs"]
 mod dicom;
+// `raw_input` and `write_seeds` serve the seed writer only.
+#[allow(dead_code)]
+#[path = "readers.rs"]
+pub mod readers;
+pub use readers::READER_TARGETS;
 
 /// Every target, by the name of its corpus folder (`fuzz/corpus/<name>`).
 pub const TARGETS: &[&str] = &[
@@ -148,6 +153,10 @@ pub fn run(target: &str, data: &[u8]) -> bool {
         }
         "strokes_json" => wscg_volseg::paint_strokes(data, origin(), [8, 8, 8], [1.0; 3]).is_ok(),
         "dicom" => dicom::run(data),
-        other => panic!("unknown fuzz target {other:?}; the targets are {TARGETS:?}"),
+        other => readers::run(other, data, origin()).unwrap_or_else(|| {
+            panic!(
+                "unknown fuzz target {other:?}; the targets are {TARGETS:?} and {READER_TARGETS:?}"
+            )
+        }),
     }
 }

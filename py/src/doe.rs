@@ -254,7 +254,79 @@ fn panel_pca<'py>(py: Python<'py>, scores: &Bound<'py, PyAny>) -> PyResult<Arr<'
 }
 
 /// Registers the functions.
+/// Reads a study's score table: `(subjects, conditions, scores (S, C, K))`.
+#[pyfunction]
+fn load_study(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+) -> PyResult<(Vec<String>, Vec<String>, Arr<'_, f64>)> {
+    let st = crate::pool::detach(py, || wscg_doe::read_study(&path)).py_err()?;
+    let shape = [st.subjects.len(), st.conditions.len(), st.stimuli];
+    let scores = array(py, &shape, st.scores)?;
+    Ok((st.subjects, st.conditions, scores))
+}
+
+/// Writes a study's score table from the names and the `(S, C, K)` scores.
+#[pyfunction]
+fn save_study(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    subjects: Vec<String>,
+    conditions: Vec<String>,
+    scores: PyReadonlyArrayDyn<f64>,
+) -> PyResult<()> {
+    let stimuli = match *scores.shape() {
+        [s, c, k] if s == subjects.len() && c == conditions.len() => k,
+        ref sh => {
+            return Err(value_error(format!(
+                "`scores` must have shape ({}, {}, stimuli), got {sh:?}",
+                subjects.len(),
+                conditions.len()
+            )))
+        }
+    };
+    let st = wscg_doe::Study {
+        subjects,
+        conditions,
+        stimuli,
+        scores: values(&scores).into_owned(),
+    };
+    crate::pool::detach(py, || wscg_doe::write_study(&path, &st)).py_err()
+}
+
+/// Reads runs: `(x (n, k), y (n,))`.
+#[pyfunction]
+fn load_runs(py: Python<'_>, path: std::path::PathBuf) -> PyResult<(Arr<'_, f64>, Arr<'_, f64>)> {
+    let (x, y) = crate::pool::detach(py, || wscg_doe::read_runs(&path)).py_err()?;
+    let n = y.len();
+    Ok((dmat_out(py, &x)?, array(py, &[n], y)?))
+}
+
+/// Writes runs `x (n, k)` and `y (n,)` with the header `x1,...,xk,y`.
+#[pyfunction]
+fn save_runs(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    x: PyReadonlyArrayDyn<f64>,
+    y: Vec<f64>,
+) -> PyResult<()> {
+    let x = dmat("x", &x)?;
+    crate::pool::detach(py, || wscg_doe::write_runs(&path, &x, &y)).py_err()
+}
+
+/// Reads a design table (header, one row of factor levels per stimulus).
+#[pyfunction]
+fn load_design(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Arr<'_, f64>> {
+    let m = crate::pool::detach(py, || wscg_doe::read_design(&path)).py_err()?;
+    dmat_out(py, &m)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(load_study, m)?)?;
+    m.add_function(wrap_pyfunction!(save_study, m)?)?;
+    m.add_function(wrap_pyfunction!(load_runs, m)?)?;
+    m.add_function(wrap_pyfunction!(save_runs, m)?)?;
+    m.add_function(wrap_pyfunction!(load_design, m)?)?;
     m.add_function(wrap_pyfunction!(ccd, m)?)?;
     m.add_function(wrap_pyfunction!(decode, m)?)?;
     m.add_function(wrap_pyfunction!(encode, m)?)?;

@@ -748,7 +748,45 @@ fn incoherence(py: Python<'_>, offsets: PyReadonlyArrayDyn<'_, i32>) -> PyResult
 }
 
 /// Registers the submodule.
+/// Reads a camera response table (CSV) as float32 `(levels, C)`.
+#[pyfunction]
+fn load_crf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Arr<'_, f32>> {
+    let crf = crate::pool::detach(py, || Crf::read_csv(&path)).py_err()?;
+    array(
+        py,
+        &[crf.z_max() as usize + 1, crf.channels()],
+        crf.table().to_vec(),
+    )
+}
+
+/// Writes a camera response table `(levels,)` or `(levels, C)` as CSV.
+#[pyfunction]
+fn save_crf(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    crf: PyReadonlyArrayDyn<f32>,
+) -> PyResult<()> {
+    let crf = crf_in(&CrfArg::Table(crf), 8)?;
+    crate::pool::detach(py, || crf.write_csv(&path)).py_err()
+}
+
+/// Reads exposure times (text, or JSON for a `.json` file).
+#[pyfunction]
+fn load_exposure_times(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Vec<f64>> {
+    crate::pool::detach(py, || wscg_hdr::read_exposure_times(&path)).py_err()
+}
+
+/// Writes exposure times as text, one a line.
+#[pyfunction]
+fn save_exposure_times(py: Python<'_>, path: std::path::PathBuf, times: Vec<f64>) -> PyResult<()> {
+    crate::pool::detach(py, || wscg_hdr::write_exposure_times(&path, &times)).py_err()
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(load_crf, m)?)?;
+    m.add_function(wrap_pyfunction!(save_crf, m)?)?;
+    m.add_function(wrap_pyfunction!(load_exposure_times, m)?)?;
+    m.add_function(wrap_pyfunction!(save_exposure_times, m)?)?;
     m.add_function(wrap_pyfunction!(multiscopic_hdr, m)?)?;
     m.add_function(wrap_pyfunction!(merge_stack, m)?)?;
     m.add_function(wrap_pyfunction!(load_codes, m)?)?;

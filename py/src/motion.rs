@@ -98,6 +98,50 @@ fn action_name(a: Action) -> &'static str {
 // ------------------------------------------------------------------------------------------
 // Synthetic data
 
+/// A dataset as the dict of arrays of `MotionDataset` (`root` `None` when the actions have
+/// no root curves).
+fn dataset_out<'py>(py: Python<'py>, data: &Dataset) -> PyResult<Bound<'py, PyDict>> {
+    let (r_n, i_n, n) = (data.trials.len(), data.n_channels, data.n_samples);
+    let actions = || data.trials.iter().flat_map(|t| t.iter());
+    let angles: Vec<f64> = actions().flat_map(|a| a.angles.iter().copied()).collect();
+    let steps: Vec<f64> = actions().map(|a| a.step_length).collect();
+    let durations: Vec<f64> = actions().map(|a| a.duration).collect();
+    let d = PyDict::new(py);
+    d.set_item("angles", array(py, &[r_n, 3, i_n, n], angles)?)?;
+    d.set_item("step_length", array(py, &[r_n, 3], steps)?)?;
+    d.set_item("duration", array(py, &[r_n, 3], durations)?)?;
+    if actions().all(|a| a.root.len() == n) {
+        let root: Vec<f64> = actions().flat_map(|a| a.root.iter().copied()).collect();
+        d.set_item("root", array(py, &[r_n, 3, n], root)?)?;
+    } else {
+        d.set_item("root", py.None())?;
+    }
+    d.set_item("distances", vec_out(py, &data.distances)?)?;
+    Ok(d)
+}
+
+/// Reads a training folder (`angles.npy`, `root.npy`, `steps.csv`) as a dict of arrays.
+#[pyfunction]
+fn load_dataset(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Bound<'_, PyDict>> {
+    let data = crate::pool::detach(py, || wscg_motion::read_dataset(&path)).py_err()?;
+    dataset_out(py, &data)
+}
+
+/// Writes a dataset's arrays as a training folder.
+#[pyfunction]
+#[pyo3(signature = (path, angles, step_length, duration, root=None))]
+fn save_dataset(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    angles: PyReadonlyArrayDyn<f64>,
+    step_length: PyReadonlyArrayDyn<f64>,
+    duration: PyReadonlyArrayDyn<f64>,
+    root: Option<PyReadonlyArrayDyn<f64>>,
+) -> PyResult<()> {
+    let data = dataset_in(&angles, &step_length, &duration, root.as_ref(), None)?;
+    crate::pool::detach(py, || wscg_motion::write_dataset(&path, &data)).py_err()
+}
+
 /// The synthetic walk-and-reach training set and its ground truth as a dict of arrays.
 #[pyfunction]
 #[pyo3(signature = (n_trials, seed, noise, human_like, n_samples, model_seed))]
@@ -129,28 +173,7 @@ fn make_synthetic_dataset<'py>(
         .human_like(human_like);
     let (data, truth) = crate::pool::detach(py, || reach_walk(&cfg)).py_err()?;
     let (r_n, i_n, n) = (data.trials.len(), data.n_channels, data.n_samples);
-    let mut angles = Vec::with_capacity(r_n * 3 * i_n * n);
-    let mut steps = Vec::with_capacity(r_n * 3);
-    let mut durations = Vec::with_capacity(r_n * 3);
-    let mut root = Vec::with_capacity(r_n * 3 * n);
-    for trial in &data.trials {
-        for act in trial {
-            angles.extend_from_slice(&act.angles);
-            steps.push(act.step_length);
-            durations.push(act.duration);
-            if act.root.len() == n {
-                root.extend_from_slice(&act.root);
-            } else {
-                root.extend(std::iter::repeat_n(0.0, n));
-            }
-        }
-    }
-    let d = PyDict::new(py);
-    d.set_item("angles", array(py, &[r_n, 3, i_n, n], angles)?)?;
-    d.set_item("step_length", array(py, &[r_n, 3], steps)?)?;
-    d.set_item("duration", array(py, &[r_n, 3], durations)?)?;
-    d.set_item("root", array(py, &[r_n, 3, n], root)?)?;
-    d.set_item("distances", vec_out(py, &data.distances)?)?;
+    let d = dataset_out(py, &data)?;
 
     let j_n = truth.sources.len();
     let t = PyDict::new(py);
@@ -1154,6 +1177,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_stepwise, m)?)?;
     m.add_function(wrap_pyfunction!(plan_steps, m)?)?;
     m.add_function(wrap_pyfunction!(save_bvh, m)?)?;
+    m.add_function(wrap_pyfunction!(load_dataset, m)?)?;
+    m.add_function(wrap_pyfunction!(save_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(load_bvh, m)?)?;
     m.add_function(wrap_pyfunction!(load_bvh_skeleton, m)?)?;
     m.add_function(wrap_pyfunction!(forward_kinematics, m)?)?;

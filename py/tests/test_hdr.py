@@ -841,3 +841,39 @@ def test_merge_of_aligned_samples_matches_eq6_and_the_stack_merge():
         hdr.merge(rad, wts, [lv * 2 for lv in lvs], times)
     with pytest.raises(ValueError, match="exposure"):
         hdr.merge(rad, wts, lvs, times[:2])
+
+
+# ---------------------------------------------------------------- calibration files
+
+
+def test_a_response_and_exposure_times_round_trip(tmp_path):
+    crf = (np.arange(256, dtype=np.float32)[:, None] / 255) ** np.float32([2.2, 1.0, 1.8])
+    p = tmp_path / "crf.csv"
+    hdr.save_crf(p, crf)
+    np.testing.assert_array_equal(hdr.load_crf(p), crf.astype(np.float32))
+    hdr.save_exposure_times(tmp_path / "times.txt", [1 / 60, 0.25])
+    assert hdr.load_exposure_times(tmp_path / "times.txt") == [1 / 60, 0.25]
+    (tmp_path / "times.json").write_text('{"times": [0.5, 2]}')
+    assert hdr.load_exposure_times(tmp_path / "times.json") == [0.5, 2.0]
+
+
+def test_calibration_file_errors_name_the_file_and_the_line(tmp_path):
+    p = tmp_path / "crf.csv"
+    p.write_text("# response\n0\n0.5,1\n")
+    with pytest.raises(OSError, match=r"crf\.csv.*line 3"):
+        hdr.load_crf(p)
+    p.write_text("1\n0.5\n")  # decreasing
+    with pytest.raises(OSError, match="crf.csv"):
+        hdr.load_crf(p)
+    t = tmp_path / "times.txt"
+    t.write_text("0.01\n-1\n")
+    with pytest.raises(OSError, match=r"times\.txt.*line 2"):
+        hdr.load_exposure_times(t)
+    j = tmp_path / "t.json"
+    j.write_text('{"exposure": [1]}')
+    with pytest.raises(OSError, match="t.json"):
+        hdr.load_exposure_times(j)
+    with pytest.raises(OSError):
+        hdr.load_crf(tmp_path / "none.csv")
+    with pytest.raises(ValueError):
+        hdr.save_crf(p, np.array([1.0, 0.5]))

@@ -699,3 +699,41 @@ def test_bvh_of_a_cmu_skeleton_drives_the_model_bone_for_bone(tmp_path):
         p.write_text(bad)
         with pytest.raises(OSError, match="bad.bvh"):
             M.load_bvh_skeleton(p)
+
+
+# ---------------------------------------------------------------- training folders
+
+
+def test_a_training_folder_round_trips(tmp_path):
+    ds = M.make_synthetic_dataset(n_trials=3, seed=2, n_samples=16)
+    M.save_dataset(tmp_path / "walk", ds)
+    back = M.load_dataset(tmp_path / "walk")
+    for name in ("angles", "step_length", "duration", "root"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(ds, name))
+    assert back.truth is None and back.distances.shape == (0,)
+    # Without root curves the folder has no root.npy and loads with root None.
+    M.save_dataset(tmp_path / "bare", {"angles": ds.angles, "step_length": ds.step_length,
+                                       "duration": ds.duration})
+    assert not (tmp_path / "bare" / "root.npy").exists()
+    assert M.load_dataset(tmp_path / "bare").root is None
+
+
+def test_training_folder_errors_name_the_file_and_the_line(tmp_path):
+    ds = M.make_synthetic_dataset(n_trials=3, seed=2, n_samples=16)
+    d = tmp_path / "walk"
+    M.save_dataset(d, ds)
+    steps = (d / "steps.csv").read_text().splitlines()
+    (d / "steps.csv").write_text("\n".join(steps[:3] + ["0,2,x,1"] + steps[4:]) + "\n")
+    with pytest.raises(OSError, match=r"steps\.csv.*line 4"):
+        M.load_dataset(d)
+    (d / "steps.csv").write_text("\n".join(steps[:-1]) + "\n")
+    with pytest.raises(OSError, match="no row for trial 2 action 3"):
+        M.load_dataset(d)
+    (d / "angles.npy").write_bytes(b"\x93NUMPY")
+    with pytest.raises(OSError, match="angles.npy"):
+        M.load_dataset(d)
+    with pytest.raises(OSError):
+        M.load_dataset(tmp_path / "none")
+    with pytest.raises(ValueError, match="`angles`"):
+        M.save_dataset(d, {"angles": np.zeros((2, 3)), "step_length": np.zeros((2, 3)),
+                           "duration": np.ones((2, 3))})

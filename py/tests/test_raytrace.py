@@ -253,3 +253,84 @@ def test_spectrum_output_integrates_to_the_xyz_image():
     y, x = np.unravel_index(np.argmax(img[..., 1]), img.shape[:2])
     assert img[y, x, 1] > 0
     np.testing.assert_allclose(rt.spectrum_to_xyz(spec[y, x]), img[y, x], rtol=1e-4)
+
+
+# ---------------------------------------------------------------- study and paint files
+
+
+def test_a_study_round_trips_and_feeds_the_anova(tmp_path):
+    rng = np.random.default_rng(3)
+    scores = rng.uniform(0, 10, size=(4, 2, 5))
+    st = doe.Study(subject_names=["s1", "s2", "s3", "s4"], condition_names=["mono", "stereo"],
+                   scores=scores)
+    p = tmp_path / "scores.csv"
+    doe.save_study(p, st)
+    back = doe.load_study(p)
+    assert back == st
+    assert doe.rm_anova(back.scores) == doe.rm_anova(scores)
+
+
+def test_study_rows_in_any_order_and_errors_name_the_line(tmp_path):
+    p = tmp_path / "scores.csv"
+    p.write_text("Score,stimulus,condition,subject\n2,1,c,a\n1,0,c,a\n")
+    st = doe.load_study(p)
+    assert st.subject_names == ["a"] and st.condition_names == ["c"]
+    np.testing.assert_array_equal(st.scores, [[[1.0, 2.0]]])
+    for text, words in [("subject,condition,score\n", "`stimulus`"),
+                        ("subject,condition,stimulus,score\na,c,0,1\na,c,0,2\n", "line 3"),
+                        ("subject,condition,stimulus,score\na,c,0,1\na,c,2,1\n", "stimulus 1"),
+                        ("subject,condition,stimulus,score\na,c,x,1\n", "line 2"),
+                        ("", "empty")]:
+        p.write_text(text)
+        with pytest.raises(OSError, match="scores.csv") as e:
+            doe.load_study(p)
+        assert words in str(e.value), (text, str(e.value))
+    # A huge stimulus index over one row is a missing cell, not an allocation.
+    p.write_text("subject,condition,stimulus,score\na,c,18446744073709551614,1\n")
+    with pytest.raises(OSError, match="missing cell"):
+        doe.load_study(p)
+    with pytest.raises(OSError):
+        doe.load_study(tmp_path / "none.csv")
+    with pytest.raises(TypeError, match="`study`"):
+        doe.save_study(p, {"subject_names": []})
+
+
+def test_runs_round_trip_into_the_same_fit(tmp_path):
+    x = doe.ccd(2, "inscribed", "rotatable", (3, 2))
+    y = 5 + x[:, 0] - 0.5 * x[:, 1] ** 2
+    p = tmp_path / "runs.csv"
+    doe.save_runs(p, x, y)
+    runs = doe.load_runs(p)
+    xr, yr = runs
+    np.testing.assert_array_equal(xr, x)
+    np.testing.assert_array_equal(yr, y)
+    assert doe.fit_rsm(*runs).coef == pytest.approx(doe.fit_rsm(x, y).coef)
+    np.testing.assert_array_equal(doe.load_design(p), np.column_stack([x, y]))
+    p.write_text("x1,y\n1,2\n3\n")
+    with pytest.raises(OSError, match=r"runs\.csv.*line 3"):
+        doe.load_runs(p)
+    p.write_text("y\n1\n2\n")
+    with pytest.raises(OSError, match="two columns"):
+        doe.load_runs(p)
+    with pytest.raises(ValueError):
+        doe.save_runs(p, x, y[:-1])
+
+
+def test_a_paint_description_round_trips_and_is_checked(tmp_path):
+    paint = rt.PaintDescription(radius_um=26.0, density=7.3, model="deposit", seed=1)
+    p = tmp_path / "paint.json"
+    rt.save_paint(p, paint)
+    assert rt.load_paint(p) == paint
+    assert rt.load_paint(p).tilt_deg is None
+    for text in ['{"radius_um": 26,', '{"radius": 26}', '{"density": "high"}',
+                 '{"model": "sprayed"}', '{"radius_um": -1}', '[1]']:
+        p.write_text(text)
+        with pytest.raises(OSError, match="paint.json"):
+            rt.load_paint(p)
+    with pytest.raises(ValueError, match="radius_um"):
+        rt.save_paint(p, rt.PaintDescription(radius_um=-1.0))
+    with pytest.raises(OSError):
+        rt.load_paint(tmp_path / "none.json")
+    p.write_bytes(b" " * (2 << 20))
+    with pytest.raises(ValueError, match="refused"):
+        rt.load_paint(p)

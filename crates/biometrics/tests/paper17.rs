@@ -732,6 +732,23 @@ fn recognizer_identifies_new_walks() {
     // JSON round trip: the same ranking to the bit.
     let back = GaitRecognizer::from_json(&rec.to_json().unwrap()).unwrap();
     assert_eq!(back.pairs, rec.pairs);
+    // Model files: a round trip, and bad files named.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("gait.json");
+    let copy = GaitRecognizer::from_json(&rec.to_json().unwrap()).unwrap();
+    let ids = vec!["a".to_string(), "b".to_string()];
+    wscg_biometrics::gait::GaitModelFile::new(30.0, ids.clone(), Vec::new(), copy)
+        .write(&path)
+        .unwrap();
+    let m = wscg_biometrics::gait::GaitModelFile::read(&path).unwrap();
+    assert_eq!((m.fps, &m.identities), (30.0, &ids));
+    assert_eq!(m.recognizer.pairs, rec.pairs);
+    for bad in ["{\"fps\": 30}", "[1", ""] {
+        std::fs::write(&path, bad).unwrap();
+        let e = wscg_biometrics::gait::GaitModelFile::read(&path).unwrap_err();
+        assert!(matches!(e, wscg_math::Error::Format { .. }), "{e}");
+        assert!(e.to_string().contains("gait.json"), "{e}");
+    }
     let (a, b) = (
         rec.predict(&set.walks[2]).unwrap(),
         back.predict(&set.walks[2]).unwrap(),

@@ -1,8 +1,91 @@
 //! Camera model of the paper (section 3): pinhole intrinsics, rolling-shutter timing (eq. 6)
 //! and the gamma camera response of section 3.3.
 
+use std::path::Path;
+
 use nalgebra::Matrix3;
 use wscg_math::{Error, Result};
+
+/// Largest camera file read (64 KiB: six numbers need a hundred bytes).
+pub const MAX_CAMERA_BYTES: u64 = 64 << 10;
+
+/// A camera file (JSON): any of the focal length `f` and principal point `cx`, `cy` in pixels
+/// (eq. 5), the exposure and rolling-shutter readout times and the gyroscope-camera delay in
+/// seconds (eq. 6); the caller's values fill the keys it leaves out. Unknown keys are refused.
+/// Example: `{"f": 720, "exposure": 0.03, "readout": 0.025, "delay": 0.01}`.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+#[non_exhaustive]
+pub struct CameraFile {
+    /// Focal length (pixels).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub f: Option<f64>,
+    /// Principal point, column (pixels).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cx: Option<f64>,
+    /// Principal point, row (pixels).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cy: Option<f64>,
+    /// Exposure time (s).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exposure: Option<f64>,
+    /// Rolling-shutter readout time of the whole frame (s).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub readout: Option<f64>,
+    /// Gyroscope-camera delay (s).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub delay: Option<f64>,
+}
+
+impl CameraFile {
+    /// Reads a camera file (see [`CameraFile::from_json_bytes`]).
+    ///
+    /// Errors: [`Error::Io`] when unreadable; [`Error::LimitExceeded`] above
+    /// [`MAX_CAMERA_BYTES`]; the format errors of [`CameraFile::from_json_bytes`].
+    pub fn read(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref();
+        let bytes = wscg_math::error::read_file_at_most(path, MAX_CAMERA_BYTES, "camera files")?;
+        Self::from_json_bytes(&bytes, path)
+    }
+
+    /// Parses a camera file held in memory; `origin` names the file in errors.
+    ///
+    /// Errors ([`Error::Format`] naming `origin`, with the line and column of the JSON
+    /// error): not a JSON object of the keys above; an unknown key; a focal length that is
+    /// not finite and positive; a principal point, exposure, readout or delay that is not
+    /// finite; a negative exposure or readout.
+    pub fn from_json_bytes(bytes: &[u8], origin: &Path) -> Result<Self> {
+        let c: Self =
+            serde_json::from_slice(bytes).map_err(|e| Error::format(origin, e.to_string()))?;
+        let bad = |key: &str, why: &str| Err(Error::format(origin, format!("`{key}` {why}")));
+        if let Some(f) = c.f {
+            if !(f.is_finite() && f > 0.0) {
+                return bad("f", "must be finite and > 0");
+            }
+        }
+        for (key, v, min) in [
+            ("cx", c.cx, f64::NEG_INFINITY),
+            ("cy", c.cy, f64::NEG_INFINITY),
+            ("exposure", c.exposure, 0.0),
+            ("readout", c.readout, 0.0),
+            ("delay", c.delay, f64::NEG_INFINITY),
+        ] {
+            if let Some(v) = v {
+                if !(v.is_finite() && v >= min) {
+                    return bad(key, "must be finite (and >= 0 for times of the shutter)");
+                }
+            }
+        }
+        Ok(c)
+    }
+
+    /// Writes the camera file as JSON (atomically), only the keys it sets.
+    pub fn write(&self, path: impl AsRef<Path>) -> Result<()> {
+        let text = serde_json::to_string_pretty(self)
+            .map_err(|e| Error::invalid("camera", e.to_string()))?;
+        wscg_math::io::atomic::write(path, text)
+    }
+}
 
 /// Pinhole intrinsics `K = [[f, 0, cx], [0, f, cy], [0, 0, 1]]` in pixels (paper eq. 5).
 /// Pixel `(x, y)` has its centre at integer coordinates; `x` grows to the right, `y` down,
@@ -169,5 +252,42 @@ pub fn to_display(gamma: Option<Gamma>, data: &mut [f32]) {
     match gamma {
         Some(g) => g.encode(data),
         None => data.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0)),
+    }
+}
+
+#[cfg(test)]
+mod camera_file_tests {
+    use super::*;
+
+    #[test]
+    fn a_camera_file_reads_its_keys_and_round_trips() {
+        let o = Path::new("cam.json");
+        let c = CameraFile::from_json_bytes(br#"{"f": 720, "delay": -0.01}"#, o).unwrap();
+        assert_eq!((c.f, c.delay, c.cx), (Some(720.0), Some(-0.01), None));
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("cam.json");
+        c.write(&p).unwrap();
+        assert_eq!(CameraFile::read(&p).unwrap(), c);
+    }
+
+    #[test]
+    fn bad_camera_files_are_format_errors_naming_the_file() {
+        let o = Path::new("cam.json");
+        for bad in [
+            &br#"{"f": 720"#[..],
+            br#"{"focal": 720}"#,
+            br#"{"f": "720"}"#,
+            br#"{"f": 0}"#,
+            br#"{"f": -5}"#,
+            br#"{"exposure": -0.1}"#,
+            br#"{"cx": 1e999}"#,
+            b"\xff",
+        ] {
+            let e = CameraFile::from_json_bytes(bad, o).unwrap_err();
+            assert!(
+                matches!(e, Error::Format { .. }) && e.to_string().contains("cam.json"),
+                "{e}"
+            );
+        }
     }
 }

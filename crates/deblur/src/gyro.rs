@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
+use wscg_math::io::csv;
 use wscg_math::{Error, Result};
 
 /// One gyroscope reading: time `t` (s, gyroscope clock) and angular rate `w` (rad/s, IMU axes).
@@ -34,25 +35,21 @@ pub fn read_gyro_csv(path: &Path) -> Result<Vec<GyroSample>> {
 
 /// [`read_gyro_csv`] of a file held in memory; `origin` names the file in errors.
 pub fn parse_gyro_csv(bytes: &[u8], origin: &Path) -> Result<Vec<GyroSample>> {
-    let text = std::str::from_utf8(bytes).map_err(|_| Error::format(origin, "not UTF-8 text"))?;
     let mut out = Vec::new();
-    for (no, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let nums: std::result::Result<Vec<f64>, _> = line
-            .split([',', ';', ' ', '\t'])
+    for (i, row) in csv::records(bytes, origin, b',')?.iter().enumerate() {
+        // Runs of spaces separate like one.
+        let nums: std::result::Result<Vec<f64>, _> = row
+            .split_fields(&[';', ' ', '\t'])
             .filter(|s| !s.is_empty())
             .map(str::parse::<f64>)
             .collect();
         match nums {
             Ok(n) if n.len() == 4 => out.push(GyroSample::new(n[0], n[1], n[2], n[3])),
-            Err(_) if out.is_empty() && no == 0 => continue,
+            Err(_) if i == 0 => continue, // a header row
             _ => {
                 return Err(Error::format(
                     origin,
-                    format!("line {}: expected 4 numbers t,wx,wy,wz", no + 1),
+                    format!("line {}: expected 4 numbers t,wx,wy,wz", row.line),
                 ))
             }
         }
@@ -61,6 +58,19 @@ pub fn parse_gyro_csv(bytes: &[u8], origin: &Path) -> Result<Vec<GyroSample>> {
         return Err(Error::format(origin, "no gyroscope samples"));
     }
     Ok(out)
+}
+
+/// Writes a gyroscope log that [`read_gyro_csv`] reads back (atomically): a comment
+/// `# t,wx,wy,wz` naming the columns (s, rad/s), then one `t,wx,wy,wz` row per sample (6 decimals: microseconds and
+/// micro-radians per second).
+pub fn write_gyro_csv(path: impl AsRef<Path>, samples: &[GyroSample]) -> Result<()> {
+    let rows = samples.iter().map(|s| {
+        [s.t, s.w[0], s.w[1], s.w[2]]
+            .iter()
+            .map(|v| format!("{v:.6}"))
+            .collect::<Vec<_>>()
+    });
+    csv::write(path.as_ref(), &["# t", "wx", "wy", "wz"], rows)
 }
 
 /// An integrated gyroscope trace: the camera orientation `q(t)` (camera axes to the frame of
@@ -191,6 +201,10 @@ mod csv_tests {
         let err = parse_gyro_csv(b"0,1,2,3\n0.1,1,2\n", Path::new("g.csv")).unwrap_err();
         assert!(matches!(err, Error::Format { .. }));
         assert!(err.to_string().contains("line 2") && err.to_string().contains("g.csv"));
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("g.csv");
+        write_gyro_csv(&p, &got).unwrap();
+        assert_eq!(read_gyro_csv(&p).unwrap(), got);
         for bad in [&b""[..], b"t,wx,wy,wz\n", b"\xff\xfe"] {
             assert!(matches!(
                 parse_gyro_csv(bad, Path::new("g.csv")),

@@ -50,7 +50,7 @@ pub mod wstep;
 
 pub use align::{align_homography, AlignParams, Alignment};
 pub use calibrate::{estimate_time_delay, phase_correlation};
-pub use camera::{Gamma, Intrinsics, Timing};
+pub use camera::{CameraFile, Gamma, Intrinsics, Timing};
 pub use deconv::HyperLaplacianParams;
 pub use gyro::{GyroSample, GyroTrack};
 pub use kernel::{blurriness, kernel_grid, render_kernel, Kernel, KernelGrid, KernelParams};

@@ -48,6 +48,7 @@
 
 pub mod anova;
 pub mod ccd;
+pub mod io;
 /// Student-t and F tails, shared with other papers through wscg-math.
 pub use wscg_math::dist;
 pub mod panel;
@@ -58,6 +59,10 @@ pub use anova::{
     lsd_pairs, rm_anova, rm_anova_oneway, AnovaEffect, AnovaTable, LeastSignificantDifference,
 };
 pub use ccd::{ccd, ccd_blocks, decode, encode, CcdAlpha, CcdFace};
+pub use io::{
+    parse_design, parse_runs, parse_study, read_design, read_runs, read_study, write_runs,
+    write_study, Study,
+};
 pub use panel::panel_pca;
 pub use rsm::{fit_quadratic, fit_quadratic_blocked, predict, RsmFit};
 pub use williams::williams_square;

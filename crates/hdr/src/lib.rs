@@ -36,6 +36,7 @@
 #![warn(missing_docs)]
 
 pub mod crf;
+pub mod files;
 pub mod merge;
 pub mod metrics;
 pub mod mitsunaga_nayar;
@@ -49,6 +50,7 @@ pub mod tonemap;
 pub mod vote;
 
 pub use crf::{calibrate_debevec, Crf};
+pub use files::{read_exposure_times, write_exposure_times};
 pub use merge::{merge, merge_stack, MergeInput, Merged};
 pub use mitsunaga_nayar::{
     calibrate_mitsunaga_nayar, MitsunagaNayarChannel, MitsunagaNayarFit, MitsunagaNayarParams,

@@ -226,11 +226,34 @@ pub fn read_file(path: &Path) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
+/// Reads a whole file as [`read_file`] does, after refusing one larger than `max` bytes
+/// ([`Error::LimitExceeded`] naming the file and `what` it should be: "paint descriptions
+/// above 1048576 bytes are refused"), for formats whose files are small by nature.
+pub fn read_file_at_most(path: &Path, max: u64, what: &str) -> Result<Vec<u8>> {
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if meta.len() > max {
+        return Err(Error::LimitExceeded(format!(
+            "{} is {} bytes; {what} above {max} bytes are refused",
+            path.display(),
+            meta.len()
+        )));
+    }
+    read_file(path)
+}
+
 /// Reads a whole text file as [`read_file`] does; content that is not UTF-8 is
 /// [`Error::Format`] naming the file.
 pub fn read_text(path: &Path) -> Result<String> {
-    String::from_utf8(read_file(path)?)
-        .map_err(|e| Error::format(path, format!("not UTF-8 text: {e}")))
+    utf8(path, read_file(path)?)
+}
+
+/// [`read_text`] with the size limit of [`read_file_at_most`].
+pub fn read_text_at_most(path: &Path, max: u64, what: &str) -> Result<String> {
+    utf8(path, read_file_at_most(path, max, what)?)
+}
+
+fn utf8(path: &Path, bytes: Vec<u8>) -> Result<String> {
+    String::from_utf8(bytes).map_err(|e| Error::format(path, format!("not UTF-8 text: {e}")))
 }
 
 /// Maps errors of a decoding reader: corrupt or truncated data is a format error, the rest

@@ -26,6 +26,7 @@ pub mod bvh;
 pub mod bvh_file;
 pub mod data;
 pub mod dataset;
+pub mod dataset_io;
 mod delay_search;
 pub mod fourier;
 pub mod hopf;
@@ -50,6 +51,7 @@ pub use anechoic::{
 pub use blend::blend_alpha;
 pub use data::{quality, TrialSet};
 pub use dataset::{Dataset, TrialAction};
+pub use dataset_io::{read_dataset, write_dataset};
 pub use hopf::StarNetwork;
 pub use lwlr::Lwlr;
 pub use pca::{pca_qualities, pca_quality};

@@ -13,7 +13,8 @@ condition on the panel means (:func:`fit_rsm`, Tables 2-3), :func:`rm_anova` and
 
 from __future__ import annotations
 
-from typing import List, Optional, Tuple
+import os
+from typing import List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -21,11 +22,13 @@ import numpy.typing as npt
 from ._native import doe as _d
 from ._native.doe import ccd, decode, encode, panel_pca, williams
 from ._checks import integer_ranges as _integer_ranges
-from ._results import from_mapping as _from_mapping, result as _result
+from ._results import (from_mapping as _from_mapping, result as _result,
+                       tuple_eq as _tuple_eq, tuple_ne as _tuple_ne, tuple_repr as _tuple_repr)
 
 __all__ = ["ccd", "decode", "encode", "williams", "fit_rsm", "fit_rsm_blocked", "rm_anova",
            "rm_anova_oneway", "lsd", "panel_pca", "RsmFit", "AnovaEffect", "AnovaTable",
-           "LeastSignificantDifference"]
+           "LeastSignificantDifference", "load_study", "save_study", "load_runs", "save_runs",
+           "load_design", "Study", "Runs"]
 
 
 @_result
@@ -261,4 +264,92 @@ def lsd(scores, alpha: float = 0.05) -> LeastSignificantDifference:
 
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+
+
+@_result
+class Study:
+    """The scores of a perceptual study (paper 07, section 4), as :func:`load_study` reads
+    them.
+
+    Attributes
+    ----------
+    subject_names : list of str
+        Subject names, sorted.
+    condition_names : list of str
+        Condition names, sorted.
+    scores : float64 array (subjects, conditions, stimuli)
+        The score of every subject, condition and stimulus: the input of :func:`rm_anova`
+        (``scores[:, c, :]`` is one condition's input of :func:`lsd` and
+        :func:`fit_rsm_blocked`).
+    """
+
+    subject_names: List[str]
+    condition_names: List[str]
+    scores: np.ndarray
+
+
+class Runs(NamedTuple):
+    """The runs of a response-surface experiment, as :func:`load_runs` reads them
+    (``x, y = load_runs(path)`` unpacks them for :func:`fit_rsm`).
+
+    Attributes
+    ----------
+    x : float64 array (n, k)
+        Factor levels of each run, coded units.
+    y : float64 array (n,)
+        The response of each run.
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+
+    __repr__ = _tuple_repr
+    __eq__ = _tuple_eq
+    __ne__ = _tuple_ne
+    __hash__ = None  # type: ignore[assignment]
+
+
+def load_study(path: Union[str, os.PathLike]) -> Study:
+    """Reads a study's score table (CSV): a header naming the columns ``subject``,
+    ``condition``, ``stimulus`` (an index from 0) and ``score`` (any case and order; other
+    columns ignored), then one row per observation; every subject must score every stimulus
+    in every condition exactly once.
+
+    Returns a :class:`Study`. Raises ``OSError`` naming the file and the line for a missing
+    or malformed file (a missing column, a bad number, a cell scored twice, a missing cell,
+    which is named).
+    """
+    subjects, conditions, scores = _d.load_study(os.fspath(path))
+    return Study(subject_names=subjects, condition_names=conditions, scores=scores)
+
+
+def save_study(path: Union[str, os.PathLike], study: Study) -> None:
+    """Writes ``study`` (a :class:`Study`) as a score table that :func:`load_study` reads
+    back (atomically; one row per subject, condition and stimulus)."""
+    _d.save_study(os.fspath(path), [str(s) for s in study.subject_names],
+                  [str(c) for c in study.condition_names], _f64(study.scores, "scores", 3))
+
+
+def load_runs(path: Union[str, os.PathLike]) -> Runs:
+    """Reads the runs of an experiment (CSV with a header line): per row the factor levels
+    (coded units) then, in the last column, the response. Returns :class:`Runs`
+    ``(x, y)``; raises ``OSError`` naming the file (and the line) for a missing or
+    malformed one (a bad number, rows of different lengths, fewer than two columns, no
+    rows)."""
+    x, y = _d.load_runs(os.fspath(path))
+    return Runs(x, y)
+
+
+def save_runs(path: Union[str, os.PathLike], x: npt.ArrayLike, y: npt.ArrayLike) -> None:
+    """Writes runs ``x`` (n, k) and ``y`` (n,) as CSV with the header ``x1,...,xk,y``
+    (atomically); :func:`load_runs` reads them back."""
+    _d.save_runs(os.fspath(path), _f64(x, "x", 2), [float(v) for v in _f64(y, "y", 1)])
+
+
+def load_design(path: Union[str, os.PathLike]) -> np.ndarray:
+    """Reads a design (CSV with a header line, one row of factor levels per stimulus, coded
+    units) as a float64 array (stimuli, k); errors as :func:`load_runs`."""
+    return _d.load_design(os.fspath(path))
+
+
 _integer_ranges(globals())

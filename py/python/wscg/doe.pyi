@@ -1,5 +1,6 @@
 from dataclasses import dataclass
-from typing import List, Optional, Sequence, Tuple, Union
+import os
+from typing import List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -8,7 +9,8 @@ _F64 = npt.NDArray[np.float64]
 
 __all__ = ["ccd", "decode", "encode", "williams", "fit_rsm", "fit_rsm_blocked", "rm_anova",
            "rm_anova_oneway", "lsd", "panel_pca", "RsmFit", "AnovaEffect", "AnovaTable",
-           "LeastSignificantDifference"]
+           "LeastSignificantDifference", "load_study", "save_study", "load_runs", "save_runs",
+           "load_design", "Study", "Runs"]
 
 @dataclass(frozen=True)
 class RsmFit:
@@ -78,3 +80,22 @@ def rm_anova(scores: npt.ArrayLike) -> AnovaTable: ...
 def rm_anova_oneway(scores: npt.ArrayLike) -> AnovaEffect: ...
 def lsd(scores: npt.ArrayLike, alpha: float = 0.05) -> LeastSignificantDifference: ...
 def panel_pca(scores: npt.ArrayLike) -> _F64: ...
+
+
+@dataclass(frozen=True)
+class Study:
+    subject_names: List[str]
+    condition_names: List[str]
+    scores: _F64
+
+
+class Runs(NamedTuple):
+    x: _F64
+    y: _F64
+
+
+def load_study(path: Union[str, os.PathLike]) -> Study: ...
+def save_study(path: Union[str, os.PathLike], study: Study) -> None: ...
+def load_runs(path: Union[str, os.PathLike]) -> Runs: ...
+def save_runs(path: Union[str, os.PathLike], x: npt.ArrayLike, y: npt.ArrayLike) -> None: ...
+def load_design(path: Union[str, os.PathLike]) -> _F64: ...

@@ -54,6 +54,7 @@ import warnings
 from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from ._checks import _int, integer_ranges as _integer_ranges
 from ._native import hdr as _h
@@ -67,6 +68,7 @@ __all__ = [
     "khan_weight", "merge", "merge_stack", "exif_exposure_times",
     "make_scene", "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS",
     "SYNTHESIS_METHODS", "CRF_NAMES", "HdrSequence", "PolynomialResponse", "HdrScene",
+    "load_crf", "save_crf", "load_exposure_times", "save_exposure_times",
 ]
 
 #: Valid ``align`` names of :func:`multiscopic_hdr`.
@@ -1377,4 +1379,34 @@ def incoherence(offsets) -> float:
     return _h.incoherence(_offsets(offsets, "offsets"))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+
+def load_crf(path: Union[str, os.PathLike]) -> np.ndarray:
+    """Reads a camera response ``f^-1(Z)`` written by :func:`save_crf` or ``wscg hdr
+    calibrate``: CSV, one row per code ``Z = 0 ... z_max``, one column per channel, ``#``
+    comments. Returns float32 ``(levels, C)``, usable as ``crf`` everywhere. Raises
+    ``OSError`` naming the file (and the line) for a missing or malformed table (a bad
+    number, rows of different lengths, a decreasing or negative response, fewer than 2 or
+    more than 65536 rows) and ``ValueError`` for a file above 16 MiB."""
+    return _h.load_crf(os.fspath(path))
+
+
+def save_crf(path: Union[str, os.PathLike], crf: npt.ArrayLike) -> None:
+    """Writes a response table ``(levels,)`` or ``(levels, C)`` (checked as ``crf``
+    arguments are) as CSV, atomically; :func:`load_crf` reads it back."""
+    _h.save_crf(os.fspath(path), np.ascontiguousarray(crf, dtype=np.float32))
+
+
+def load_exposure_times(path: Union[str, os.PathLike]) -> List[float]:
+    """Reads exposure times in seconds: for a ``.json`` file a list, or an object with
+    ``exposure_times`` (or ``times``); otherwise text, numbers separated by commas or line
+    ends, ``#`` comments. Raises ``OSError`` naming the file (and the line) for a missing or
+    malformed file or a time that is not ``> 0``."""
+    return _h.load_exposure_times(os.fspath(path))
+
+
+def save_exposure_times(path: Union[str, os.PathLike], times: Sequence[float]) -> None:
+    """Writes exposure times as text, one a line (atomically)."""
+    _h.save_exposure_times(os.fspath(path), [float(t) for t in times])
+
+
 _integer_ranges(globals())

@@ -3,12 +3,14 @@ from dataclasses import dataclass
 from typing import Dict, List, Literal, NamedTuple, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
+import numpy.typing as npt
 
 __all__ = ["multiscopic_hdr", "patchmatch", "patchmatch_2d", "zncc_stereo", "vote_bds",
            "warp_direct", "calibrate_debevec", "calibrate_mitsunaga_nayar", "to_radiance",
            "khan_weight", "merge", "merge_stack", "exif_exposure_times", "make_scene",
            "rmse_log2", "bad_rate", "incoherence", "ALIGN_METHODS", "SYNTHESIS_METHODS", "CRF_NAMES", "HdrSequence",
-           "PolynomialResponse", "HdrScene"]
+           "PolynomialResponse", "HdrScene", "load_crf", "save_crf", "load_exposure_times",
+           "save_exposure_times"]
 
 ALIGN_METHODS: Tuple[str, ...]
 SYNTHESIS_METHODS: Tuple[str, ...]
@@ -97,3 +99,9 @@ def rmse_log2(est: np.ndarray, gt: np.ndarray, mask: Optional[np.ndarray] = ...)
 def bad_rate(offsets: np.ndarray, truth: np.ndarray, k: float = ...,
              mask: Optional[np.ndarray] = ...) -> float: ...
 def incoherence(offsets: np.ndarray) -> float: ...
+
+
+def load_crf(path: Union[str, os.PathLike]) -> npt.NDArray[np.float32]: ...
+def save_crf(path: Union[str, os.PathLike], crf: npt.ArrayLike) -> None: ...
+def load_exposure_times(path: Union[str, os.PathLike]) -> List[float]: ...
+def save_exposure_times(path: Union[str, os.PathLike], times: Sequence[float]) -> None: ...

@@ -40,7 +40,7 @@ import math as _math
 import numbers
 import os
 from collections.abc import Mapping
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -53,6 +53,7 @@ __all__ = [
     "make_synthetic_dataset", "AnechoicModel", "fit_anechoic", "pca_quality", "pca_qualities",
     "quality", "StepwiseModel", "fit_stepwise", "Library", "plan_steps", "Synthesizer", "save_bvh", "load_bvh",
     "load_bvh_skeleton", "BvhSkeleton",
+    "load_dataset", "save_dataset",
     "forward_kinematics", "skeleton", "regression_p_value", "fit_line", "svr_fit_predict",
     "hopf_simulate", "ACTIONS", "DELAY_MODES", "MAPS", "N_CHANNELS",
     "MotionTruth", "MotionDataset", "ActionFit", "StepPlan", "Synthesis",
@@ -108,9 +109,9 @@ class MotionTruth:
 
 @_result
 class MotionDataset:
-    """Walk-and-reach trials of :func:`make_synthetic_dataset` (``R`` trials of three
-    actions, 51 exponential-map channels, ``N`` samples per action); the input of
-    :func:`fit_stepwise`.
+    """Walk-and-reach trials of :func:`make_synthetic_dataset` or :func:`load_dataset`
+    (``R`` trials of three actions, 51 exponential-map channels, ``N`` samples per action);
+    the input of :func:`fit_stepwise`.
 
     Attributes
     ----------
@@ -121,20 +122,21 @@ class MotionDataset:
         it).
     duration : float64 array (R, 3)
         Duration of each action, seconds.
-    root : float64 array (R, 3, N)
-        Pelvis travel since each action's start, metres.
+    root : float64 array (R, 3, N) or None
+        Pelvis travel since each action's start, metres; ``None`` for a loaded folder
+        without ``root.npy``.
     distances : float64 array (R,)
-        Initial distance to the drawer front of each trial, metres.
-    truth : MotionTruth
-        The generating model.
+        Initial distance to the drawer front of each trial, metres (empty when loaded).
+    truth : MotionTruth or None
+        The generating model; ``None`` for a loaded folder.
     """
 
     angles: np.ndarray
     step_length: np.ndarray
     duration: np.ndarray
-    root: np.ndarray
+    root: Optional[np.ndarray]
     distances: np.ndarray
-    truth: MotionTruth
+    truth: Optional[MotionTruth]
 
 
 @_result
@@ -627,7 +629,7 @@ def quality(X, Xhat) -> float:
 # Step-wise learning
 
 
-def _field(dataset, key: str, required: bool = True):
+def _field(dataset, key: str, required: bool = True, name: str = "X"):
     """``dataset[key]`` of a mapping, else the attribute ``key``; ``None`` when optional
     and absent."""
     if isinstance(dataset, Mapping):
@@ -635,7 +637,7 @@ def _field(dataset, key: str, required: bool = True):
     else:
         v = getattr(dataset, key, None)
     if v is None and required:
-        raise ValueError(f"`X` lacks {key!r}: it must be a dataset as make_synthetic_dataset "
+        raise ValueError(f"`{name}` lacks {key!r}: it must be a dataset as make_synthetic_dataset "
                          "returns, with 'angles', 'step_length' and 'duration'")
     return v
 
@@ -930,6 +932,35 @@ def save_bvh(path: Union[str, os.PathLike], angles, root, fps: float = 120.0) ->
     """
     a, r = _frames(angles, root)
     _m.save_bvh(os.fspath(path), a, r, _float("fps", fps))
+
+
+def load_dataset(path: Union[str, os.PathLike]) -> MotionDataset:
+    """Reads a training folder (paper 16, section 3): ``angles.npy`` ``(R, 3, I, N)``,
+    optional ``root.npy`` ``(R, 3, N)`` and ``steps.csv`` (header, then rows
+    ``trial,action,step_length,duration``, trials from 0, actions 1 to 3), as
+    :func:`save_dataset` and ``wscg motion dataset`` write them.
+
+    Returns a :class:`MotionDataset` without ``truth``. Raises ``OSError`` naming the file
+    (and the line of ``steps.csv``) for a missing or malformed one, ``ValueError`` for
+    values a dataset cannot hold (a non-positive duration, NaN angles).
+    """
+    d = _m.load_dataset(os.fspath(path))
+    return _from_mapping(MotionDataset, d, truth=None)
+
+
+def save_dataset(path: Union[str, os.PathLike], dataset: Any) -> None:
+    """Writes ``dataset`` (a :class:`MotionDataset`, or a mapping with ``angles``,
+    ``step_length``, ``duration`` and optional ``root``) as a training folder that
+    :func:`load_dataset` reads back; the folder is created, each file written atomically.
+    ``distances`` and ``truth`` are not stored."""
+    def field(key: str, required: bool = True):
+        return _field(dataset, key, required, name="dataset")
+
+    root = field("root", required=False)
+    _m.save_dataset(os.fspath(path), _array("angles", field("angles")),
+                    _array("step_length", field("step_length")),
+                    _array("duration", field("duration")),
+                    None if root is None else _array("root", root))
 
 
 _BUILTIN_MAPS = ("auto", "model", "cmu", "mixamo")

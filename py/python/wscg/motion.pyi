@@ -12,7 +12,8 @@ from ._estimator import Estimator
 
 __all__ = ["make_synthetic_dataset", "AnechoicModel", "fit_anechoic", "pca_quality",
            "pca_qualities", "quality", "StepwiseModel", "fit_stepwise", "Library",
-           "plan_steps", "Synthesizer", "save_bvh", "load_bvh", "load_bvh_skeleton", "forward_kinematics",
+           "plan_steps", "Synthesizer", "save_bvh", "load_bvh", "load_bvh_skeleton", "load_dataset", "save_dataset",
+           "forward_kinematics",
            "skeleton", "regression_p_value", "fit_line", "svr_fit_predict", "hopf_simulate",
            "ACTIONS", "DELAY_MODES", "MAPS", "N_CHANNELS", "MotionTruth", "MotionDataset",
            "ActionFit", "StepPlan", "Synthesis", "BvhMotion", "BvhSkeleton", "Skeleton", "LineFit", "SvrInfo",
@@ -38,9 +39,9 @@ class MotionDataset:
     angles: _F64
     step_length: _F64
     duration: _F64
-    root: _F64
+    root: Optional[_F64]
     distances: _F64
-    truth: MotionTruth
+    truth: Optional[MotionTruth]
 
 
 @dataclass(frozen=True)
@@ -229,6 +230,8 @@ def save_bvh(path: Union[str, os.PathLike], angles: npt.ArrayLike, root: npt.Arr
 def load_bvh(path: Union[str, os.PathLike], joint_map: Any = None,
              units_per_metre: float = 100.0) -> BvhMotion: ...
 def load_bvh_skeleton(path: Union[str, os.PathLike]) -> BvhSkeleton: ...
+def load_dataset(path: Union[str, os.PathLike]) -> MotionDataset: ...
+def save_dataset(path: Union[str, os.PathLike], dataset: Any) -> None: ...
 def forward_kinematics(angles: npt.ArrayLike, root: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
 def skeleton() -> Skeleton: ...
 def regression_p_value(r2: float, n: int) -> float: ...

@@ -41,6 +41,8 @@ Bad input raises ``ValueError``.
 
 from __future__ import annotations
 
+import dataclasses
+import os
 from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -51,7 +53,7 @@ from ._manylight import (ManyLightScene, ManyLightStats, load_manylight_obj,
                          make_manylight_scene, manylight_from_arrays, render_manylight)
 from ._results import from_mapping as _from_mapping, result as _result
 
-__all__ = ["render_plate", "xyz_to_srgb", "make_tile", "plate_layout", "glint_stats",
+__all__ = ["load_paint", "save_paint", "PaintDescription", "render_plate", "xyz_to_srgb", "make_tile", "plate_layout", "glint_stats",
            "binocular_overlap", "workshop", "fresnel_conductor", "fresnel_dielectric", "aluminium_nk", "daylight",
            "spectrum_to_xyz", "project", "FLAKE_DTYPE", "PlateInfo", "GlintStats",
            "WorkshopScores",
@@ -505,4 +507,67 @@ def project(points, eye: str = "cyclopean") -> np.ndarray:
     return _r.project(p, eye)
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
+
+
+@_result
+class PaintDescription:
+    """A paint description file (JSON, :func:`load_paint`): any subset of the paint's keys
+    (paper 07, section 3), ``None`` where the file leaves the value to the caller, as
+    ``wscg raytrace paint --paint FILE`` applies it over its options.
+
+    Attributes
+    ----------
+    radius_um : float or None
+        Mean flake radius, µm (``render_plate``'s ``radius_um``).
+    density : float or None
+        Mean number of flakes above a point (``density``).
+    tilt_deg : float or None
+        Standard deviation of the half-normal flake tilt, degrees (``tilt_deg``).
+    model : str or None
+        Height model of the flake layer, ``"boolean"`` or ``"deposit"``.
+    thickness_um, layer_um : float or None
+        Flake thickness and flake layer (binder) thickness, µm.
+    binder_absorption_per_mm : float or None
+        Binder absorption coefficient, 1/mm (``binder_sigma_a_per_mm``).
+    binder_ior, coat_ior : float or None
+        Refractive indices of the binder and of the clear coat (``coat_ior`` 1: no coat).
+    base_albedo : float or None
+        Lambertian albedo of the base.
+    coat_um : float or None
+        Clear coat thickness, µm.
+    seed : int or None
+        Microstructure seed.
+    """
+
+    radius_um: Optional[float] = None
+    density: Optional[float] = None
+    tilt_deg: Optional[float] = None
+    model: Optional[str] = None
+    thickness_um: Optional[float] = None
+    layer_um: Optional[float] = None
+    binder_absorption_per_mm: Optional[float] = None
+    binder_ior: Optional[float] = None
+    base_albedo: Optional[float] = None
+    coat_ior: Optional[float] = None
+    coat_um: Optional[float] = None
+    seed: Optional[int] = None
+
+
+def load_paint(path: Union[str, os.PathLike]) -> PaintDescription:
+    """Reads a paint description file (JSON object of the keys of
+    :class:`PaintDescription`, e.g. ``{"radius_um": 26, "density": 7.3, "seed": 1}``).
+
+    Raises ``OSError`` naming the file for a missing file, malformed JSON, an unknown key, a
+    value of the wrong type or a paint the flake and layer parameters refuse (with the
+    paper's defaults for the other keys), and ``ValueError`` for a file above 1 MiB.
+    """
+    return _from_mapping(PaintDescription, _r.load_paint(os.fspath(path)))
+
+
+def save_paint(path: Union[str, os.PathLike], paint: PaintDescription) -> None:
+    """Writes ``paint`` as a JSON paint description (only the keys that are not ``None``,
+    atomically) after the checks of :func:`load_paint`."""
+    _r.save_paint(os.fspath(path), **dataclasses.asdict(paint))
+
+
 _integer_ranges(globals())

@@ -47,15 +47,7 @@ impl TsData {
 /// `@timeStamps true`, [`Error::LimitExceeded`] above [`MAX_TS_BYTES`].
 pub fn read_ts(path: impl AsRef<Path>) -> Result<TsData> {
     let path = path.as_ref();
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if meta.len() > MAX_TS_BYTES {
-        return Err(Error::LimitExceeded(format!(
-            "{} is {} bytes; .ts files above {MAX_TS_BYTES} bytes are refused",
-            path.display(),
-            meta.len()
-        )));
-    }
-    let text = wscg_math::error::read_text(path)?;
+    let text = wscg_math::error::read_text_at_most(path, MAX_TS_BYTES, ".ts files")?;
     parse_ts(&text).map_err(|reason| match reason {
         Error::InvalidArgument { reason, .. } => Error::Format {
             path: path.to_path_buf(),

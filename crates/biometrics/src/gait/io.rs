@@ -8,6 +8,7 @@ use std::path::Path;
 use wscg_math::{Error, Result};
 
 use super::ntu::{read_ntu, NtuParams};
+use super::recognizer::GaitRecognizer;
 use super::skeleton::{read_limited, Frame, Joint, JointSet, SkeletonSeq, N_JOINTS};
 
 pub use super::skeleton::MAX_SKELETON_BYTES;
@@ -16,6 +17,76 @@ fn format_err(path: &Path, reason: String) -> Error {
     Error::Format {
         path: path.to_path_buf(),
         reason,
+    }
+}
+
+/// Largest gait model file read (256 MiB, as skeleton files).
+pub const MAX_MODEL_BYTES: u64 = 256 << 20;
+
+/// A gait model file (JSON): the fitted recognizer with the name of each identity label, the
+/// skeleton files it was enrolled from and the frame rate of the walks it identifies.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[non_exhaustive]
+pub struct GaitModelFile {
+    /// Frame rate of the walks (frames per second, > 0).
+    pub fps: f64,
+    /// Identity name of each label.
+    pub identities: Vec<String>,
+    /// The enrolled skeleton files.
+    pub files: Vec<String>,
+    /// The fitted recognizer.
+    pub recognizer: GaitRecognizer,
+}
+
+impl GaitModelFile {
+    /// A model file of `recognizer` fitted at `fps` on `files`, labels named by `identities`.
+    pub fn new(
+        fps: f64,
+        identities: Vec<String>,
+        files: Vec<String>,
+        recognizer: GaitRecognizer,
+    ) -> Self {
+        GaitModelFile {
+            fps,
+            identities,
+            files,
+            recognizer,
+        }
+    }
+
+    /// Reads a model file written by [`GaitModelFile::write`] (see
+    /// [`GaitModelFile::from_json_bytes`]).
+    pub fn read(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref();
+        let bytes = wscg_math::error::read_file_at_most(path, MAX_MODEL_BYTES, "gait models")?;
+        Self::from_json_bytes(&bytes, path)
+    }
+
+    /// Parses a model file held in memory; `origin` names the file in errors.
+    ///
+    /// Errors ([`Error::Format`] naming `origin`): not the JSON of a gait model (with the line
+    /// and column); a frame rate that is not finite and positive.
+    pub fn from_json_bytes(bytes: &[u8], origin: &Path) -> Result<Self> {
+        let m: Self = serde_json::from_slice(bytes).map_err(|e| {
+            format_err(
+                origin,
+                format!("not a gait model written by `wscg biometrics gait enroll`: {e}"),
+            )
+        })?;
+        if !(m.fps.is_finite() && m.fps > 0.0) {
+            return Err(format_err(
+                origin,
+                format!("frame rate {} is not > 0", m.fps),
+            ));
+        }
+        Ok(m)
+    }
+
+    /// Writes the model file as JSON (atomically).
+    pub fn write(&self, path: impl AsRef<Path>) -> Result<()> {
+        let text =
+            serde_json::to_string(self).map_err(|e| Error::invalid("model", e.to_string()))?;
+        wscg_math::io::atomic::write(path, text)
     }
 }
 

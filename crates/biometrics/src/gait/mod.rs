@@ -38,7 +38,7 @@ pub use baselines::{ball_features, preis_features, raw_coordinate_sample, Gaussi
 pub use cycle::{detect_gait_cycle, CycleChoice, CycleParams, GaitCycle, StartLeg, UpAxis};
 pub use io::{
     parse_skeleton_csv, read_skeleton, read_skeleton_csv, read_skeleton_npy, read_skeleton_with,
-    write_skeleton_csv, write_skeleton_npy,
+    write_skeleton_csv, write_skeleton_npy, GaitModelFile,
 };
 pub use jra::{all_pairs, all_pairs_in, jra, jra_matrix, jra_sequences, JraSet};
 pub use ntu::{

@@ -16,7 +16,7 @@ use clap::{Args, Subcommand};
 use wscg_deblur::metrics::quality;
 use wscg_deblur::synth::{self, BlurRenderParams, Burst, ShakeParams};
 use wscg_deblur::{
-    deblur_frame, deblur_multiframe, render_kernel, AlignMode, Gamma, GyroTrack,
+    deblur_frame, deblur_multiframe, render_kernel, AlignMode, CameraFile, Gamma, GyroTrack,
     HyperLaplacianParams, Intrinsics, KernelParams, Method, MultiframeParams,
 };
 use wscg_math::{Error, Image, Result};
@@ -59,18 +59,6 @@ pub struct Camera {
     delay: Option<f64>,
 }
 
-/// The camera file of `--camera`.
-#[derive(serde::Deserialize, Debug, Default)]
-#[serde(deny_unknown_fields)]
-struct CameraFile {
-    f: Option<f64>,
-    cx: Option<f64>,
-    cy: Option<f64>,
-    exposure: Option<f64>,
-    readout: Option<f64>,
-    delay: Option<f64>,
-}
-
 /// Intrinsics and exposure timing resolved from the flags and the camera file.
 struct Setup {
     k: Intrinsics,
@@ -82,12 +70,7 @@ struct Setup {
 impl Camera {
     fn setup(&self, width: usize, height: usize) -> Result<Setup> {
         let file = match &self.camera {
-            Some(p) => {
-                let text = String::from_utf8(wscg_math::error::read_file(p)?)
-                    .map_err(|_| Error::format(p, "not UTF-8 text"))?;
-                serde_json::from_str::<CameraFile>(&text)
-                    .map_err(|e| Error::format(p, e.to_string()))?
-            }
+            Some(p) => CameraFile::read(p)?,
             None => CameraFile::default(),
         };
         let f = self.f.or(file.f).ok_or_else(|| {
@@ -337,26 +320,15 @@ pub fn run(cmd: DeblurCommand) -> Result<()> {
                 fr.image.save(dir.join(format!("frame_{i:02}.png")))?;
             }
             sb.sharp_display.save(a.out_dir.join("sharp.png"))?;
-            let gyro: String =
-                std::iter::once("# t,wx,wy,wz (s, rad/s, camera axes)\n".to_string())
-                    .chain(
-                        sb.measured.iter().map(|s| {
-                            format!("{:.6},{:.6},{:.6},{:.6}\n", s.t, s.w[0], s.w[1], s.w[2])
-                        }),
-                    )
-                    .collect();
+            wscg_deblur::gyro::write_gyro_csv(a.out_dir.join("gyro.csv"), &sb.measured)?;
             let times: String = sb.frames.iter().map(|f| format!("{:.6}\n", f.t)).collect();
-            let camera = format!(
-                "{{\"f\": {}, \"exposure\": {}, \"readout\": {}, \"delay\": {}}}\n",
-                burst.f, burst.t_exposure, burst.t_readout, burst.t_delay
-            );
-            for (path, text) in [
-                (a.out_dir.join("gyro.csv"), gyro),
-                (dir.join("times.txt"), times),
-                (a.out_dir.join("camera.json"), camera),
-            ] {
-                wscg_math::io::atomic::write(&path, text)?;
-            }
+            wscg_math::io::atomic::write(dir.join("times.txt"), times)?;
+            let mut camera = CameraFile::default();
+            camera.f = Some(burst.f);
+            camera.exposure = Some(burst.t_exposure);
+            camera.readout = Some(burst.t_readout);
+            camera.delay = Some(burst.t_delay);
+            camera.write(a.out_dir.join("camera.json"))?;
             println!(
                 "wrote {} frames and times.txt to {}, gyro.csv, camera.json and sharp.png to {} (f = {}, exposure {} s, delay {} s)",
                 a.frames,

@@ -93,8 +93,7 @@ pub fn run(cmd: DoeCommand) -> Result<()> {
             Ok(())
         }
         DoeCommand::Fit(a) => {
-            let text = wscg_math::error::read_text(&a.csv)?;
-            let (x, y) = parse_runs(&text).map_err(|e| Error::format(&a.csv, e))?;
+            let (x, y) = wscg_doe::read_runs(&a.csv)?;
             let fit = fit_quadratic(&x, &y, !a.no_interaction)?;
             print_fit(&fit);
             Ok(())
@@ -103,98 +102,11 @@ pub fn run(cmd: DoeCommand) -> Result<()> {
     }
 }
 
-/// Scores of a study: `scores[(s * conditions + c) * stimuli + k]`, with the names.
-struct Study {
-    subjects: Vec<String>,
-    conditions: Vec<String>,
-    stimuli: usize,
-    scores: Vec<f64>,
-}
-
-/// Reads a long-format score table; every cell must be present exactly once.
-fn parse_study(text: &str) -> std::result::Result<Study, String> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines.next().ok_or("empty file")?;
-    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
-    let col = |name: &str| {
-        cols.iter()
-            .position(|c| c.eq_ignore_ascii_case(name))
-            .ok_or(format!("the header has no `{name}` column"))
-    };
-    let (cs, cc, ck, cv) = (
-        col("subject")?,
-        col("condition")?,
-        col("stimulus")?,
-        col("score")?,
-    );
-    let mut rows = Vec::new();
-    for (i, line) in lines {
-        let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let get = |k: usize| {
-            f.get(k)
-                .copied()
-                .ok_or(format!("line {}: too few columns", i + 1))
-        };
-        let stim: usize = get(ck)?
-            .parse()
-            .map_err(|e| format!("line {}: stimulus: {e}", i + 1))?;
-        let v: f64 = get(cv)?
-            .parse()
-            .map_err(|e| format!("line {}: score: {e}", i + 1))?;
-        if !v.is_finite() {
-            return Err(format!("line {}: score is not finite", i + 1));
-        }
-        rows.push((get(cs)?.to_string(), get(cc)?.to_string(), stim, v));
-    }
-    let mut subjects: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();
-    let mut conditions: Vec<String> = rows.iter().map(|r| r.1.clone()).collect();
-    subjects.sort();
-    subjects.dedup();
-    conditions.sort();
-    conditions.dedup();
-    let stimuli = rows.iter().map(|r| r.2 + 1).max().ok_or("no scores")?;
-    let (ns, nc) = (subjects.len(), conditions.len());
-    let mut scores = vec![f64::NAN; ns * nc * stimuli];
-    for (s, c, k, v) in &rows {
-        let si = subjects.binary_search(s).expect("listed");
-        let ci = conditions.binary_search(c).expect("listed");
-        let cell = &mut scores[(si * nc + ci) * stimuli + k];
-        if !cell.is_nan() {
-            return Err(format!(
-                "subject {s}, condition {c}, stimulus {k} is scored twice"
-            ));
-        }
-        *cell = *v;
-    }
-    if let Some(i) = scores.iter().position(|v| v.is_nan()) {
-        let (si, rest) = (i / (nc * stimuli), i % (nc * stimuli));
-        return Err(format!(
-            "missing cell: subject {}, condition {}, stimulus {}",
-            subjects[si],
-            conditions[rest / stimuli],
-            rest % stimuli
-        ));
-    }
-    Ok(Study {
-        subjects,
-        conditions,
-        stimuli,
-        scores,
-    })
-}
-
 fn analyze(a: &AnalyzeArgs) -> Result<()> {
-    let text = wscg_math::error::read_text(&a.scores)?;
-    let st = parse_study(&text).map_err(|e| Error::format(&a.scores, e))?;
+    let st = wscg_doe::read_study(&a.scores)?;
     let (ns, nc, nk) = (st.subjects.len(), st.conditions.len(), st.stimuli);
     let design = match &a.design {
-        Some(p) => {
-            let t = wscg_math::error::read_text(p)?;
-            parse_matrix(&t).map_err(|e| Error::format(p, e))?
-        }
+        Some(p) => wscg_doe::read_design(p)?,
         None if nk == 13 => ccd_blocks(2, CcdFace::Inscribed, CcdAlpha::Rotatable, (3, 2))?,
         None => {
             return Err(Error::invalid(
@@ -275,49 +187,4 @@ fn print_fit(fit: &wscg_doe::RsmFit) {
             fit.canonical_eigs
         );
     }
-}
-
-/// A numeric CSV with a header line as a matrix.
-fn parse_matrix(text: &str) -> std::result::Result<DMatrix<f64>, String> {
-    let mut rows: Vec<Vec<f64>> = Vec::new();
-    for (i, line) in text.lines().enumerate().skip(1) {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let row = line
-            .split(',')
-            .map(|c| c.trim().parse::<f64>())
-            .collect::<std::result::Result<Vec<_>, _>>()
-            .map_err(|e| format!("line {}: {e}", i + 1))?;
-        if let Some(first) = rows.first() {
-            if first.len() != row.len() {
-                return Err(format!(
-                    "line {}: {} columns, expected {}",
-                    i + 1,
-                    row.len(),
-                    first.len()
-                ));
-            }
-        }
-        rows.push(row);
-    }
-    if rows.is_empty() {
-        return Err("no rows after the header line".into());
-    }
-    Ok(DMatrix::from_fn(rows.len(), rows[0].len(), |r, c| {
-        rows[r][c]
-    }))
-}
-
-/// Factor matrix and responses of a CSV with a header line.
-fn parse_runs(text: &str) -> std::result::Result<(DMatrix<f64>, Vec<f64>), String> {
-    let m = parse_matrix(text)?;
-    if m.ncols() < 2 {
-        return Err("need factor columns and a response".into());
-    }
-    let k = m.ncols() - 1;
-    Ok((
-        m.columns(0, k).into_owned(),
-        m.column(k).iter().copied().collect(),
-    ))
 }

@@ -214,7 +214,7 @@ pub fn run(cmd: HdrCommand) -> Result<()> {
                     fit.crf
                 }
             };
-            write_crf(&crf, &a.out)?;
+            crf.write_csv(&a.out)?;
             println!(
                 "response of {} codes x {} channels written to {}",
                 crf.levels(),
@@ -244,28 +244,14 @@ fn times_of(
     Ok(resolved.times)
 }
 
-/// Exposure times from a comma list, a text file or a JSON file (a list, or an object with
-/// `exposure_times` or `times`).
+/// Exposure times from a comma list, or a text or JSON file (`wscg_hdr::read_exposure_times`).
 fn exposure_times(spec: &str) -> Result<Vec<f64>> {
     let p = Path::new(spec);
-    if !(p.is_file() && spec.to_ascii_lowercase().ends_with(".json")) {
-        return read_times(spec);
+    if p.is_file() {
+        wscg_hdr::read_exposure_times(p)
+    } else {
+        read_times(spec)
     }
-    let text = wscg_math::error::read_file(p)?;
-    let v: serde_json::Value =
-        serde_json::from_slice(&text).map_err(|e| Error::format(p, e.to_string()))?;
-    let list = match &v {
-        serde_json::Value::Object(o) => o.get("exposure_times").or_else(|| o.get("times")),
-        other => Some(other),
-    };
-    list.and_then(|l| l.as_array())
-        .and_then(|a| a.iter().map(|x| x.as_f64()).collect::<Option<Vec<f64>>>())
-        .ok_or_else(|| {
-            Error::format(
-                p,
-                "expected a list of exposure times or {\"exposure_times\": [...]}",
-            )
-        })
 }
 
 /// Loads views as codes; all must share one bit depth.
@@ -296,59 +282,17 @@ fn load_crf(spec: &str, bits: u8, channels: usize) -> Result<Crf> {
         "linear" => Crf::linear(bits, 1),
         path => {
             let p = Path::new(path);
-            let text = String::from_utf8(wscg_math::error::read_file(p)?)
-                .map_err(|_| Error::format(p, "not UTF-8 text"))?;
-            let mut vals = Vec::new();
-            let mut cols = None;
-            for (no, line) in text.lines().enumerate() {
-                let line = line.trim();
-                if line.is_empty() || line.starts_with('#') {
-                    continue;
-                }
-                let row = line
-                    .split(',')
-                    .map(|v| v.trim().parse::<f32>())
-                    .collect::<std::result::Result<Vec<f32>, _>>()
-                    .map_err(|_| Error::format(p, format!("line {}: not numbers", no + 1)))?;
-                if cols.is_some_and(|c| c != row.len()) {
-                    return Err(Error::format(
-                        p,
-                        format!("line {}: column count differs", no + 1),
-                    ));
-                }
-                cols = Some(row.len());
-                vals.extend(row);
-            }
-            let c = cols.ok_or_else(|| Error::format(p, "no table rows"))?;
+            let crf = Crf::read_csv(p)?;
+            let c = crf.channels();
             if c != 1 && c != channels {
                 return Err(Error::format(
                     p,
                     format!("has {c} columns but the views have {channels} channels"),
                 ));
             }
-            Crf::from_table(&vals, vals.len() / c, c)
+            Ok(crf)
         }
     }
-}
-
-/// Writes a response as CSV.
-fn write_crf(crf: &Crf, path: &Path) -> Result<()> {
-    let mut text = format!(
-        "# inverse camera response f^-1(Z), Z = 0..{}, one column per channel\n",
-        crf.z_max()
-    );
-    for row in crf.table().chunks_exact(crf.channels()) {
-        let cells: Vec<String> = row.iter().map(|v| format!("{v:e}")).collect();
-        text.push_str(&cells.join(","));
-        text.push('\n');
-    }
-    wscg_math::io::atomic::write(path, text)
-}
-
-/// Writes exposure times, one per line.
-fn write_times(times: &[f64], path: &Path) -> Result<()> {
-    let text: String = times.iter().map(|t| format!("{t}\n")).collect();
-    wscg_math::io::atomic::write(path, text)
 }
 
 fn multiscopic(a: MultiscopicArgs) -> Result<()> {
@@ -412,7 +356,7 @@ fn simulate(a: SimulateArgs) -> Result<()> {
             .save(a.out.join(format!("view_{k:02}.png")))?;
         sc.radiance[k].save(a.out.join(format!("truth_{k:02}.exr")))?;
     }
-    write_times(&sc.times, &a.out.join("times.txt"))?;
+    wscg_hdr::write_exposure_times(a.out.join("times.txt"), &sc.times)?;
     // A static stack of the central camera, one stop apart, for `calibrate` and `merge`.
     // The same camera on a gradient chart that covers every code (what Mitsunaga-Nayar's
     // polynomial needs), in chart/.
@@ -434,9 +378,9 @@ fn simulate(a: SimulateArgs) -> Result<()> {
             v.map(|z| z as f32 / 255.0)
                 .save(cal.join(format!("exposure_{k:02}.png")))?;
         }
-        write_times(&cal_times, &cal.join("times.txt"))?;
+        wscg_hdr::write_exposure_times(cal.join("times.txt"), &cal_times)?;
     }
-    write_crf(&sc.crf, &a.out.join("crf.csv"))?;
+    sc.crf.write_csv(a.out.join("crf.csv"))?;
     let max_d =
         cfg.layers.iter().map(|l| l.disparity).fold(0.0, f64::max) * (sc.views.len() - 1) as f64;
     println!(

@@ -11,7 +11,7 @@
 //! `wscg motion make-data DIR` writes the synthetic walker in this format. Synthesis writes BVH
 //! (17-joint skeleton, 51 channels) and a stick-figure strip (PNG).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use crate::demo::motion::stick_strip;
 use clap::{Args, Subcommand, ValueEnum};
@@ -26,6 +26,7 @@ use wscg_motion::stepwise::{fit_stepwise, ActionLibrary, StepwiseParams};
 use wscg_motion::synthesizer::{MapKind, Synthesizer};
 use wscg_motion::walker::{reach_walk, WalkerParams};
 use wscg_motion::Planner;
+use wscg_motion::{read_dataset, write_dataset};
 
 #[derive(Subcommand, Debug)]
 pub enum MotionCommand {
@@ -144,123 +145,6 @@ pub struct SynthArgs {
     /// State maps.
     #[arg(long, value_enum, default_value = "lut")]
     pub map: MapName,
-}
-
-fn write_dataset(dir: &Path, data: &Dataset) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    let (r, i, n) = (data.trials.len(), data.n_channels, data.n_samples);
-    let angles: Vec<f64> = data
-        .trials
-        .iter()
-        .flat_map(|t| t.iter().flat_map(|a| a.angles.iter().copied()))
-        .collect();
-    npy::write_f64(dir.join("angles.npy"), &[r, 3, i, n], &angles)?;
-    let root: Vec<f64> = data
-        .trials
-        .iter()
-        .flat_map(|t| t.iter().flat_map(|a| a.root.iter().copied()))
-        .collect();
-    npy::write_f64(dir.join("root.npy"), &[r, 3, n], &root)?;
-    let mut csv = String::from("trial,action,step_length,duration\n");
-    for (k, t) in data.trials.iter().enumerate() {
-        for (a, act) in t.iter().enumerate() {
-            csv.push_str(&format!(
-                "{k},{},{},{}\n",
-                a + 1,
-                act.step_length,
-                act.duration
-            ));
-        }
-    }
-    let p = dir.join("steps.csv");
-    wscg_math::io::atomic::write(&p, csv)
-}
-
-/// Reads a training folder.
-pub fn read_dataset(dir: &Path) -> Result<Dataset> {
-    let a = npy::read::<f64>(dir.join("angles.npy"))?;
-    if a.shape.len() != 4 || a.shape[1] != 3 {
-        return Err(Error::format(
-            dir.join("angles.npy"),
-            format!("expected shape [R, 3, I, N], got {:?}", a.shape),
-        ));
-    }
-    let (r, i, n) = (a.shape[0], a.shape[2], a.shape[3]);
-    let root = match npy::read::<f64>(dir.join("root.npy")) {
-        Ok(v) if v.shape == [r, 3, n] => Some(v.data),
-        Ok(v) => {
-            return Err(Error::format(
-                dir.join("root.npy"),
-                format!("expected shape [{r}, 3, {n}], got {:?}", v.shape),
-            ))
-        }
-        Err(e) if e.is_io() && !dir.join("root.npy").exists() => None,
-        Err(e) => return Err(e),
-    };
-    let csv_path = dir.join("steps.csv");
-    let text = wscg_math::error::read_text(&csv_path)?;
-    let mut params = vec![[(f64::NAN, f64::NAN); 3]; r];
-    for (line_no, line) in text.lines().enumerate().skip(1) {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let bad = || {
-            Error::format(
-                &csv_path,
-                format!(
-                    "line {}: expected trial,action,step_length,duration",
-                    line_no + 1
-                ),
-            )
-        };
-        if f.len() != 4 {
-            return Err(bad());
-        }
-        let t: usize = f[0].parse().map_err(|_| bad())?;
-        let act: usize = f[1].parse().map_err(|_| bad())?;
-        let l: f64 = f[2].parse().map_err(|_| bad())?;
-        let d: f64 = f[3].parse().map_err(|_| bad())?;
-        if t >= r || !(1..=3).contains(&act) {
-            return Err(Error::format(
-                &csv_path,
-                format!(
-                    "line {}: trial {t} / action {act} out of range",
-                    line_no + 1
-                ),
-            ));
-        }
-        params[t][act - 1] = (l, d);
-    }
-    let mut trials = Vec::with_capacity(r);
-    for (t, p) in params.iter().enumerate() {
-        let mk = |k: usize| -> Result<TrialAction> {
-            if p[k].0.is_nan() {
-                return Err(Error::format(
-                    &csv_path,
-                    format!("no row for trial {t} action {}", k + 1),
-                ));
-            }
-            let o = (t * 3 + k) * i * n;
-            Ok(TrialAction {
-                angles: a.data[o..o + i * n].to_vec(),
-                step_length: p[k].0,
-                duration: p[k].1,
-                root: root.as_ref().map_or(Vec::new(), |v| {
-                    v[(t * 3 + k) * n..(t * 3 + k + 1) * n].to_vec()
-                }),
-            })
-        };
-        trials.push([mk(0)?, mk(1)?, mk(2)?]);
-    }
-    let ds = Dataset {
-        n_channels: i,
-        n_samples: n,
-        trials,
-        distances: Vec::new(),
-    };
-    ds.validate()?;
-    Ok(ds)
 }
 
 fn learn(data: &Dataset, restarts: usize, delay_search: usize) -> Result<ActionLibrary> {

@@ -12,6 +12,7 @@
 //! | [`dicom`] | DICOM series: a file, a folder or a list of files (dicom-rs) | `io-dicom` | `Volume::read_dicom`, `Volume::read_dicom_with`, `Volume::read_dicom_files`, `Volume::from_dicom_bytes`, `Volume::from_dicom_series_bytes` |
 //! | [`obj`] | Wavefront OBJ | `io-mesh` | `TriMesh::read_obj`, `TriMesh::write_obj` |
 //! | [`ply`] | Stanford PLY, ASCII and binary (`ply-rs`) | `io-mesh` | `TriMesh::read_ply`, `TriMesh::write_ply` |
+//! | [`csv`] | CSV tables (the `csv` crate, rows through serde) | `io-csv` | `csv::records`, `csv::table`, `csv::Row::deserialize` |
 //!
 //! Every writer goes through [`atomic`]: a temporary file in the destination's folder,
 //! flushed, synced and renamed over the destination, every error returned, so a failed or
@@ -29,6 +30,8 @@
 //! [`Error::Io`]: crate::Error::Io
 
 pub mod atomic;
+#[cfg(feature = "io-csv")]
+pub mod csv;
 #[cfg(feature = "io-dicom")]
 pub mod dicom;
 #[cfg(feature = "io-dicom")]

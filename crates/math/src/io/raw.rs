@@ -123,6 +123,37 @@ impl<T: Real> Volume<T> {
     }
 }
 
+/// The byte size of a raw volume, after checking `dims` and `spacing`.
+fn raw_size(dims: [usize; 3], spacing: [f64; 3], raw_type: RawType) -> Result<u64> {
+    let n = voxel_count(dims)?;
+    check_spacing(spacing)?;
+    Ok(n as u64 * raw_type.bytes_per_voxel() as u64)
+}
+
+/// The error of a raw file of `found` bytes where `expected` are needed.
+fn raw_size_error(
+    path: &Path,
+    dims: [usize; 3],
+    raw_type: RawType,
+    expected: u64,
+    found: u64,
+) -> Error {
+    if found < expected {
+        Error::format(
+            path,
+            format!("truncated: expected {expected} bytes, found {found}"),
+        )
+    } else {
+        Error::format(
+            path,
+            format!(
+                "size mismatch: expected {expected} bytes ({dims:?} voxels of {raw_type}), \
+                 found {found}"
+            ),
+        )
+    }
+}
+
 impl Volume<f32> {
     /// Reads a headerless volume of `dims = [nx, ny, nz]` voxels stored x fastest as
     /// `raw_type`, with voxel size `spacing`; values are converted to `f32` unchanged (no
@@ -138,38 +169,39 @@ impl Volume<f32> {
         raw_type: RawType,
     ) -> Result<Self> {
         let path = path.as_ref();
-        let n = voxel_count(dims)?;
-        check_spacing(spacing)?;
-        let bpv = raw_type.bytes_per_voxel();
-        let expected = n as u64 * bpv as u64;
+        let expected = raw_size(dims, spacing, raw_type)?;
         let file = File::open(path).map_err(|e| Error::io(path, e))?;
         let found = file.metadata().map_err(|e| Error::io(path, e))?.len();
-        let size_error = |found: u64| {
-            if found < expected {
-                Error::format(
-                    path,
-                    format!("truncated: expected {expected} bytes, found {found}"),
-                )
-            } else {
-                Error::format(
-                    path,
-                    format!(
-                        "size mismatch: expected {expected} bytes ({dims:?} voxels of \
-                         {raw_type}), found {found}"
-                    ),
-                )
-            }
-        };
         if found != expected {
-            return Err(size_error(found));
+            return Err(raw_size_error(path, dims, raw_type, expected, found));
         }
         let bytes = read_up_to(&mut BufReader::new(file), expected + 1, expected as usize)
             .map_err(|e| Error::io(path, e))?;
+        Self::from_raw_bytes(&bytes, path, dims, spacing, raw_type)
+    }
+
+    /// [`Volume::read_raw`] of a file held in memory; `origin` names the file in errors.
+    ///
+    /// Errors: as [`Volume::read_raw`]; the size is checked before anything is allocated.
+    pub fn from_raw_bytes(
+        bytes: &[u8],
+        origin: &Path,
+        dims: [usize; 3],
+        spacing: [f64; 3],
+        raw_type: RawType,
+    ) -> Result<Self> {
+        let expected = raw_size(dims, spacing, raw_type)?;
         if bytes.len() as u64 != expected {
-            return Err(size_error(bytes.len() as u64));
+            return Err(raw_size_error(
+                origin,
+                dims,
+                raw_type,
+                expected,
+                bytes.len() as u64,
+            ));
         }
         let data: Vec<f32> = bytes
-            .par_chunks_exact(bpv)
+            .par_chunks_exact(raw_type.bytes_per_voxel())
             .map(|b| raw_type.decode(b))
             .collect();
         Volume::new(dims, spacing, data)
@@ -182,6 +214,21 @@ mod tests {
     use crate::volume::tests::unique_volume;
 
     // ---------------------------------------------------------------- raw
+
+    #[test]
+    fn raw_bytes_in_memory_are_checked_against_the_dims() {
+        let o = Path::new("mem.raw");
+        let v = Volume::from_raw_bytes(&[1, 2, 3, 4], o, [2, 2, 1], [1.0; 3], RawType::U8).unwrap();
+        assert_eq!(v.data, [1.0, 2.0, 3.0, 4.0]);
+        let e = Volume::from_raw_bytes(&[1, 2, 3], o, [2, 2, 1], [1.0; 3], RawType::U8)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("mem.raw") && e.contains("truncated"), "{e}");
+        let huge = [usize::MAX / 2, 2, 2];
+        let e = Volume::from_raw_bytes(&[0; 8], o, huge, [1.0; 3], RawType::F32Le).unwrap_err();
+        assert!(matches!(e, Error::LimitExceeded(_)), "{e}");
+        assert!(Volume::from_raw_bytes(&[0; 5], o, [5, 1, 1], [0.0; 3], RawType::U8).is_err());
+    }
 
     #[test]
     fn raw_reads_every_type_with_known_bytes() {

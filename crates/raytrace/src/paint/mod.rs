@@ -1,6 +1,7 @@
 //! Metallic-flake paint (paper 07, sections 2.2-2.3): the flake microstructure, the plate's
 //! layers and lamp, and the spectral renderer.
 
+pub mod description;
 mod disc;
 pub mod flakes;
 pub mod grid;
@@ -14,6 +15,7 @@ pub mod plate;
 pub mod render;
 pub mod workshop;
 
+pub use description::PaintDescription;
 pub use flakes::{generate_tile, max_tilt, Flake, FlakeParams, FlakeTile, StackModel, TiltDist};
 pub use io::{anaglyph, side_by_side, write_spectral_exr, write_xyz_exr};
 pub use layers::{Coat, DiscLight, PlateStack};

@@ -19,10 +19,11 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 use wscg_biometrics::dtw::{nearest, ts_file::read_ts, DtwParams, LocalCost, Multivariate};
 use wscg_biometrics::gait::cycle::StartLeg;
-use wscg_biometrics::gait::io::{read_skeleton_with, write_skeleton_csv, write_skeleton_npy};
+use wscg_biometrics::gait::io::{
+    read_skeleton_with, write_skeleton_csv, write_skeleton_npy, GaitModelFile,
+};
 use wscg_biometrics::gait::ntu::{BodyChoice, NtuParams};
 use wscg_biometrics::gait::synth::{walkers, SessionRanges};
 use wscg_biometrics::gait::{
@@ -235,15 +236,6 @@ impl GaitArgs {
     }
 }
 
-/// The saved model: the recognizer, identity names and the frame rate.
-#[derive(Serialize, Deserialize)]
-struct ModelFile {
-    fps: f64,
-    identities: Vec<String>,
-    files: Vec<String>,
-    recognizer: GaitRecognizer,
-}
-
 fn is_skeleton_file(p: &Path) -> bool {
     p.is_file()
         && p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
@@ -299,19 +291,6 @@ fn gallery_files(root: &Path) -> Result<Vec<(String, PathBuf)>> {
     Ok(out)
 }
 
-fn write_json(path: &Path, v: &impl Serialize) -> Result<()> {
-    let text = serde_json::to_string(v).map_err(|e| Error::invalid("model", e.to_string()))?;
-    wscg_math::io::atomic::write(path, text)
-}
-
-fn read_model(path: &Path) -> Result<ModelFile> {
-    let text = wscg_math::error::read_text(path)?;
-    serde_json::from_str(&text).map_err(|e| Error::Format {
-        path: path.to_path_buf(),
-        reason: format!("not a gait model written by `wscg biometrics gait enroll`: {e}"),
-    })
-}
-
 /// Runs a `wscg biometrics gait` command.
 pub fn run(cmd: GaitCommand) -> Result<()> {
     match cmd {
@@ -344,13 +323,8 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
                 samples.iter().map(|s| s.pairs.len()).max().unwrap_or(0),
                 p.min_bins
             );
-            let model = ModelFile {
-                fps: params.fps,
-                identities,
-                files: files.iter().map(|f| f.1.display().to_string()).collect(),
-                recognizer: rec,
-            };
-            write_json(&out, &model)?;
+            let files = files.iter().map(|f| f.1.display().to_string()).collect();
+            GaitModelFile::new(params.fps, identities, files, rec).write(&out)?;
             println!("wrote {}", out.display());
             Ok(())
         }
@@ -360,7 +334,7 @@ pub fn run(cmd: GaitCommand) -> Result<()> {
             top,
             body,
         } => {
-            let m = read_model(&model)?;
+            let m = GaitModelFile::read(&model)?;
             for w in &walks {
                 let seq = body.read(w, m.fps)?;
                 let pr = m.recognizer.predict(&seq)?;

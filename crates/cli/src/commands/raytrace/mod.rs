@@ -12,13 +12,12 @@ mod manylight;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
-use serde::Deserialize;
 use wscg_doe::{ccd, decode, fit_quadratic, CcdAlpha, CcdFace};
-use wscg_math::{Error, Result};
+use wscg_math::Result;
 use wscg_raytrace::paint::{
     anaglyph, render_with_progress, score_runs, side_by_side, write_spectral_exr, write_xyz_exr,
-    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, PaintRenderParams, PhotonParams,
-    Plate, PlateStack, Rect, StackModel, TiltDist, WorkshopParams, XyzImage,
+    ColourMode, Condition, DiscLight, FlakeParams, FlakePlate, PaintDescription, PaintRenderParams,
+    PhotonParams, Plate, PlateStack, Rect, StackModel, TiltDist, WorkshopParams, XyzImage,
 };
 use wscg_raytrace::spectral::XYZ_TO_SRGB;
 use wscg_raytrace::stereo::{Eye, StereoRig};
@@ -104,85 +103,12 @@ pub struct PlateArgs {
     seed: u64,
 }
 
-/// A paint description file (JSON): any subset of these keys, the others keep the
-/// command-line values (also `binder_ior`, `coat_ior` (1: no coat), `coat_um`, `base_albedo`).
-/// Example: `{"radius_um": 26, "density": 7.3, "binder_absorption_per_mm": 0,
-/// "layer_um": 20.24, "thickness_um": 0.5, "tilt_deg": 8, "model": "boolean", "seed": 1}`.
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct PaintDescription {
-    radius_um: Option<f64>,
-    density: Option<f64>,
-    tilt_deg: Option<f64>,
-    model: Option<String>,
-    thickness_um: Option<f64>,
-    layer_um: Option<f64>,
-    binder_absorption_per_mm: Option<f64>,
-    binder_ior: Option<f64>,
-    base_albedo: Option<f64>,
-    coat_ior: Option<f64>,
-    coat_um: Option<f64>,
-    seed: Option<u64>,
-}
-
-/// Reads a paint description file.
-fn read_paint(path: &Path) -> Result<PaintDescription> {
-    let text = wscg_math::error::read_text(path)?;
-    serde_json::from_str(&text).map_err(|e| Error::format(path, e.to_string()))
-}
-
 impl PlateArgs {
     /// Applies a paint description on top of the command-line values.
     fn with(&self, d: &PaintDescription) -> Result<(FlakeParams, PlateStack, u64)> {
         let mut f = self.flakes();
         let mut st = self.stack();
-        if let Some(v) = d.radius_um {
-            f.radius_um = v;
-        }
-        if let Some(v) = d.density {
-            f.density = v;
-        }
-        if let Some(v) = d.tilt_deg {
-            f.tilt = TiltDist::HalfNormal { sigma_deg: v };
-        }
-        if let Some(m) = &d.model {
-            f.model = match m.as_str() {
-                "boolean" => StackModel::Boolean,
-                "deposit" => StackModel::Deposit,
-                other => {
-                    return Err(Error::invalid(
-                        "model",
-                        format!(
-                        "{other:?} is not a valid model; valid models are \"boolean\", \"deposit\""
-                    ),
-                    ))
-                }
-            };
-        }
-        if let Some(v) = d.thickness_um {
-            f.thickness_um = v;
-        }
-        if let Some(v) = d.layer_um {
-            f.layer_um = v;
-        }
-        st.binder_um = f.layer_um;
-        if let Some(v) = d.binder_absorption_per_mm {
-            st.binder_sigma_a_per_mm = v;
-        }
-        if let Some(v) = d.binder_ior {
-            st.binder_ior = v;
-        }
-        if let Some(v) = d.base_albedo {
-            st.base_albedo = v;
-        }
-        match (d.coat_ior, &mut st.coat) {
-            (Some(1.0), _) => st.coat = None,
-            (Some(v), Some(c)) => c.ior = v,
-            _ => {}
-        }
-        if let (Some(v), Some(c)) = (d.coat_um, &mut st.coat) {
-            c.thickness_um = v;
-        }
+        d.apply(&mut f, &mut st)?;
         Ok((f, st, d.seed.unwrap_or(self.seed)))
     }
 
@@ -309,7 +235,7 @@ fn paint(a: &PaintArgs) -> Result<()> {
     crate::commands::overwrite::check_file("out", &a.out, &a.paint)?;
     let p = &a.plate;
     let desc = match &a.paint {
-        Some(path) => read_paint(path)?,
+        Some(path) => PaintDescription::read(path)?,
         None => PaintDescription::default(),
     };
     let (flakes, stack, seed) = p.with(&desc)?;
