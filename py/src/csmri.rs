@@ -526,6 +526,24 @@ fn regularizer(reg: &str, tv_n_iter: usize, shrink_lowpass: bool) -> PyResult<Re
     }
 }
 
+/// The C-SALSA settings shared by `reconstruct` and `choose_udct_scales`.
+fn csalsa_params(
+    max_iter: usize,
+    tau0: f64,
+    rho: f64,
+    tau_cap: f64,
+    epsilon: f64,
+    tol: f64,
+) -> CsalsaParams {
+    CsalsaParams::default()
+        .max_iter(max_iter)
+        .tau0(tau0)
+        .rho(rho)
+        .tau_cap(tau_cap)
+        .epsilon(epsilon)
+        .tol(tol)
+}
+
 /// Hold-out choice of the number of UDCT scales (`wscg_cs_mri::choose_udct_scales`):
 /// returns `(scales, held_out, [(candidate, fold_errors), ...])`.
 #[pyfunction]
@@ -554,13 +572,7 @@ fn choose_udct_scales(
 ) -> PyResult<(usize, usize, Vec<(usize, Vec<f64>)>)> {
     let data = kspace_in(&kspace, &mask)?;
     let regularizer = regularizer(reg, tv_n_iter, shrink_lowpass)?;
-    let p = CsalsaParams::default()
-        .max_iter(max_iter)
-        .tau0(tau0)
-        .rho(rho)
-        .tau_cap(tau_cap)
-        .epsilon(epsilon)
-        .tol(tol);
+    let p = csalsa_params(max_iter, tau0, rho, tau_cap, epsilon, tol);
     let c = ScaleChoiceParams::default()
         .candidates(candidates)
         .folds(folds)
@@ -611,13 +623,7 @@ fn reconstruct<'py>(
     let (r, c) = data.shape();
     let reference = reference_in(&reference, (r, c))?;
     let regularizer = regularizer(reg, tv_n_iter, shrink_lowpass)?;
-    let p = CsalsaParams::default()
-        .max_iter(max_iter)
-        .tau0(tau0)
-        .rho(rho)
-        .tau_cap(tau_cap)
-        .epsilon(epsilon)
-        .tol(tol)
+    let p = csalsa_params(max_iter, tau0, rho, tau_cap, epsilon, tol)
         .record_history(record_history || reference.is_some());
     let cfg = PriorParams::default()
         .udct(config(wedges, alpha, true))

@@ -68,7 +68,10 @@ pub use csalsa::{csalsa, reconstruct, CsalsaParams, IterStat, Reconstruction, Re
 pub use fdct::{Fdct, FdctBand, FdctParams, Finest};
 pub use fourier::Fourier;
 pub use kspace::{noise_epsilon, KSpace};
-pub use scale_choice::{choose_udct_scales, ScaleChoice, ScaleChoiceParams, ScaleScore};
+pub use scale_choice::{
+    choose_udct_scales, holdout_folds, ring_density, weighted_holdout_error, ScaleChoice,
+    ScaleChoiceParams, ScaleScore,
+};
 pub use sflct::{Redundancy, Sflct, SflctBand, SflctParams};
 pub use sparsifier::{
     CoeffVec, FdctSparsifier, IdentitySparsifier, SflctSparsifier, Sparsifier, UdctSparsifier,

@@ -26,6 +26,7 @@
 //! stable. The cost is `folds x candidates` reconstructions from about 95 % of the samples
 //! (9 with the defaults) before the final one.
 
+use num_complex::Complex64;
 use wscg_math::{rng, Error, Result};
 
 use crate::csalsa::{reconstruct, CsalsaParams, Regularizer};
@@ -156,6 +157,54 @@ pub fn ring_density(rows: usize, cols: usize, mask: &[bool]) -> Result<Vec<f64>>
         .collect())
 }
 
+/// The `c.folds` disjoint hold-out sets: each of `round(c.holdout x m)` sampled positions
+/// (`m` samples; fewer when the eligible positions run short) drawn with `c.seed` from the
+/// sampled positions whose ring `density` is below 1. Empty sets when no position is
+/// eligible.
+pub fn holdout_folds(
+    data: &KSpace,
+    density: &[f64],
+    c: &ScaleChoiceParams,
+) -> Result<Vec<Vec<usize>>> {
+    c.validate()?;
+    let eligible: Vec<usize> = data
+        .sampled()
+        .iter()
+        .copied()
+        .filter(|&k| density.get(k).is_some_and(|&d| d < FULL))
+        .collect();
+    let per_fold =
+        ((c.holdout * data.sampled().len() as f64).round() as usize).min(eligible.len() / c.folds);
+    let order = rng::permutation(c.seed, eligible.len())?;
+    Ok((0..c.folds)
+        .map(|f| {
+            order[f * per_fold..(f + 1) * per_fold]
+                .iter()
+                .map(|&i| eligible[i])
+                .collect()
+        })
+        .collect())
+}
+
+/// The hold-out score of one reconstruction: `sum |X_k - y_k|^2 (1 - d_k) / d_k` over the
+/// held-out positions `k`, with `X` the reconstruction's spectrum, `y` the measured data and
+/// `d_k` the ring density. Held-out uniformly among the eligible samples, it estimates the
+/// squared error over the unmeasured positions of their rings (scaled by the fraction of the
+/// eligible samples held out).
+pub fn weighted_holdout_error(
+    spectrum: &[Complex64],
+    data: &KSpace,
+    held: &[usize],
+    density: &[f64],
+) -> f64 {
+    held.iter()
+        .map(|&k| {
+            let d = density[k];
+            (spectrum[k] - data.data()[k]).norm_sqr() * (1.0 - d) / d
+        })
+        .sum()
+}
+
 /// Chooses the number of UDCT scales for `data` by hold-out validation (see the module
 /// documentation). `p` are the C-SALSA settings of the final reconstruction (its `tau0`,
 /// iteration cap, noise radius ...), `udct` the transform's configuration whose first
@@ -204,14 +253,8 @@ pub fn choose_udct_scales(
         ));
     }
     let density = ring_density(rows, cols, data.mask())?;
-    let eligible: Vec<usize> = data
-        .sampled()
-        .iter()
-        .copied()
-        .filter(|&k| density[k] < FULL)
-        .collect();
-    let per_fold =
-        ((c.holdout * data.sampled().len() as f64).round() as usize).min(eligible.len() / c.folds);
+    let folds = holdout_folds(data, &density, c)?;
+    let per_fold = folds.first().map_or(0, Vec::len);
     if per_fold == 0 {
         return Ok(ScaleChoice {
             scales: priors[0].0,
@@ -219,15 +262,6 @@ pub fn choose_udct_scales(
             held_out: 0,
         });
     }
-    let order = rng::permutation(c.seed, eligible.len())?;
-    let folds: Vec<Vec<usize>> = (0..c.folds)
-        .map(|f| {
-            order[f * per_fold..(f + 1) * per_fold]
-                .iter()
-                .map(|&i| eligible[i])
-                .collect()
-        })
-        .collect();
     let kept = (data.sampled().len() - per_fold) as f64 / data.sampled().len() as f64;
     let fold_p = p
         .clone()
@@ -248,14 +282,7 @@ pub fn choose_udct_scales(
         for (held, train) in folds.iter().zip(&fold_data) {
             let mut spectrum = reconstruct(train, psi, reg, &fold_p)?.image;
             fourier.forward(&mut spectrum);
-            let err: f64 = held
-                .iter()
-                .map(|&k| {
-                    let d = density[k];
-                    (spectrum[k] - data.data()[k]).norm_sqr() * (1.0 - d) / d
-                })
-                .sum();
-            fold_errors.push(err);
+            fold_errors.push(weighted_holdout_error(&spectrum, data, held, &density));
         }
         log::debug!("{j} UDCT scales: hold-out scores {fold_errors:?}");
         scores.push(ScaleScore {
@@ -302,7 +329,62 @@ mod tests {
     }
 
     #[test]
-    fn folds_avoid_the_fully_sampled_centre_and_scores_are_finite() {
+    fn folds_are_disjoint_sampled_and_outside_the_fully_sampled_rings() {
+        let n = 64;
+        let mask = masks::cartesian(n, n, 0.4, 0.08, 4).unwrap();
+        let data = KSpace::new(n, n, phantom::shepp_logan_kspace(n).unwrap(), mask).unwrap();
+        let density = ring_density(n, n, data.mask()).unwrap();
+        assert!(density.contains(&1.0), "the mask has a full centre");
+        let c = ScaleChoiceParams::default().folds(3).seed(9);
+        let folds = holdout_folds(&data, &density, &c).unwrap();
+        let expected = (0.05 * data.sampled().len() as f64).round() as usize;
+        let mut seen = std::collections::HashSet::new();
+        for fold in &folds {
+            assert_eq!(fold.len(), expected);
+            for &k in fold {
+                assert!(data.mask()[k] && density[k] < 1.0, "position {k}");
+                assert!(seen.insert(k), "position {k} in two folds");
+            }
+        }
+        // Another seed, other sets.
+        let other = holdout_folds(&data, &density, &c.clone().seed(10)).unwrap();
+        assert_ne!(folds, other);
+    }
+
+    /// Holding out every eligible sample, the weights turn a unit error at every position
+    /// into the count of unmeasured positions outside the fully sampled rings: the estimate
+    /// of the unmeasured error is exact for an error that is constant per ring.
+    #[test]
+    fn weights_count_the_unmeasured_positions_of_each_ring() {
+        let n = 48;
+        let mask = masks::cartesian(n, n, 0.35, 0.1, 2).unwrap();
+        let data = KSpace::new(n, n, phantom::shepp_logan_kspace(n).unwrap(), mask).unwrap();
+        let density = ring_density(n, n, data.mask()).unwrap();
+        let held: Vec<usize> = data
+            .sampled()
+            .iter()
+            .copied()
+            .filter(|&k| density[k] < 1.0)
+            .collect();
+        let unmeasured = (0..n * n)
+            .filter(|&k| !data.mask()[k] && density[k] > 0.0)
+            .count();
+        let spectrum: Vec<Complex64> = data
+            .data()
+            .iter()
+            .map(|y| y + Complex64::new(0.6, 0.8))
+            .collect();
+        let score = weighted_holdout_error(&spectrum, &data, &held, &density);
+        assert!(
+            (score - unmeasured as f64).abs() < 1e-6 * unmeasured as f64,
+            "{score} vs {unmeasured}"
+        );
+        // Without the weights the sum would be the number of held-out samples.
+        assert_ne!(held.len(), unmeasured);
+    }
+
+    #[test]
+    fn scores_are_finite_and_the_smallest_total_wins() {
         let n = 64;
         let mask = masks::cartesian(n, n, 0.4, 0.08, 4).unwrap();
         let data = KSpace::new(n, n, phantom::shepp_logan_kspace(n).unwrap(), mask).unwrap();
@@ -317,7 +399,6 @@ mod tests {
         )
         .unwrap();
         assert_eq!(choice.scores.len(), 2);
-        assert!([1, 2].contains(&choice.scales));
         let expected = (0.05 * data.sampled().len() as f64).round() as usize;
         assert_eq!(choice.held_out, expected);
         for s in &choice.scores {

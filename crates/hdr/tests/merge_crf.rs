@@ -147,17 +147,23 @@ fn assert_response_shape(crf: &Crf, s: Response, zs: &[u16], tol: f64) {
     }
 }
 
-#[test]
-fn debevec_recovers_an_s_shaped_response() {
+/// The scene of [`stack_truth`] through an S-curve camera of `bits` bits: seven exposures
+/// one stop apart, spanning the scene's range.
+fn s_curve_stack(bits: u8) -> (Image<f32>, Response, Vec<f64>, Vec<Image<u16>>) {
     let (e, _) = stack_truth();
     let s = Response::SCurve(3.0);
-    // Seven exposures one stop apart, spanning the scene's range.
     let times: Vec<f64> = (0..7).map(|k| 0.004 * 2f64.powi(k)).collect();
-    let stack: Vec<Image<u16>> = times
+    let stack = times
         .iter()
         .enumerate()
-        .map(|(k, &t)| encode(&e, t, s, 0.001, 8, 7 + k as u64).unwrap())
+        .map(|(k, &t)| encode(&e, t, s, 0.001, bits, 7 + k as u64).unwrap())
         .collect();
+    (e, s, times, stack)
+}
+
+#[test]
+fn debevec_recovers_an_s_shaped_response() {
+    let (e, s, times, stack) = s_curve_stack(8);
     let crf = calibrate_debevec(&stack, &times, 8, 70, 10.0).unwrap();
     assert_eq!(crf.channels(), 3);
     let zs: Vec<u16> = (20..=235).collect();
@@ -179,14 +185,7 @@ fn debevec_recovers_an_s_shaped_response() {
 /// stack with it recovers the radiance.
 #[test]
 fn debevec_calibrates_16_bit_stacks_over_every_code() {
-    let (e, _) = stack_truth();
-    let s = Response::SCurve(3.0);
-    let times: Vec<f64> = (0..7).map(|k| 0.004 * 2f64.powi(k)).collect();
-    let stack: Vec<Image<u16>> = times
-        .iter()
-        .enumerate()
-        .map(|(k, &t)| encode(&e, t, s, 0.001, 16, 7 + k as u64).unwrap())
-        .collect();
+    let (e, s, times, stack) = s_curve_stack(16);
     let crf = calibrate_debevec(&stack, &times, 16, 70, 10.0).unwrap();
     assert_eq!((crf.levels(), crf.channels()), (65536, 3));
     let zs: Vec<u16> = (20..=235).map(|k| k * 257 + 100).collect();

@@ -517,7 +517,7 @@ def reconstruct(kspace, mask, prior: Union[str, "Fdct"] = "udct", reg: str = "l1
         if wedges != "auto":
             raise ValueError(f"`wedges` must be 'auto' or a list of [n_rows, n_cols] pairs, got {wedges!r}")
         wedges = [[6, 6]]
-        if str(prior) == "udct":
+        if str(prior) == "udct" and int(max_iter) > 0:  # 0: the zero-filled image
             choice = choose_scales(k, m, reg=reg, epsilon=epsilon, max_iter=max_iter, tau0=tau0,
                                    rho=rho, tau_cap=tau_cap, tol=tol, alpha=alpha,
                                    tv_n_iter=tv_n_iter, shrink_lowpass=shrink_lowpass)

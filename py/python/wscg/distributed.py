@@ -208,6 +208,12 @@ def _threads(n_threads: Optional[int]) -> None:
         wscg.set_num_threads(n_threads)
 
 
+def _finished(case: Optional[_Case], overwrite: bool) -> Optional[Dict[str, Any]]:
+    """The record of a case an earlier run finished, or None when the case must run (no
+    output folder, ``overwrite``, or not finished)."""
+    return None if case is None or overwrite else case.done()
+
+
 def _check_threads(n_threads) -> None:
     if n_threads is not None and (isinstance(n_threads, bool) or not isinstance(n_threads, int)
                                   or not 1 <= n_threads <= 1024):
@@ -365,10 +371,9 @@ def _split_one(path, seeds, out_dir, name, params, meshes, overwrite, n_threads)
     from . import volseg as _vs
 
     case = _Case(out_dir, name)
-    if not overwrite:
-        done = case.done()
-        if done is not None:
-            return dict(done, skipped=True)
+    done = _finished(case, overwrite)
+    if done is not None:
+        return dict(done, skipped=True)
     _threads(n_threads)
     start = time.perf_counter()
     with _local(path) as p:
@@ -631,10 +636,9 @@ def _complete_one(clip, mask, out_dir, name, params, overwrite, n_threads):
     from . import video as _video
 
     case = _Case(out_dir, name)
-    if not overwrite:
-        done = case.done()
-        if done is not None:
-            return dict(done, skipped=True)
+    done = _finished(case, overwrite)
+    if done is not None:
+        return dict(done, skipped=True)
     _threads(n_threads)
     start = time.perf_counter()
     frames = _clip_data(clip)
@@ -716,10 +720,9 @@ def _mri_one(kspace, mask, out_dir, name, index, prior, params, overwrite, n_thr
 
     file = f"{index:04d}_{prior}"
     case = _Case(out_dir, name, f"{file}.json") if out_dir is not None else None
-    if case is not None and not overwrite:
-        done = case.done()
-        if done is not None:
-            return dict(done, image=None, skipped=True)
+    done = _finished(case, overwrite)
+    if done is not None:
+        return dict(done, image=None, skipped=True)
     _threads(n_threads)
     start = time.perf_counter()
     image, history = _cs.reconstruct(kspace, mask, prior=prior, return_history=True, **params)
