@@ -33,16 +33,34 @@ WRITERS = {
                                     None),
     "biometrics.GlobalSFA.save": (
         "sfa(B.GlobalSFA(pca_n_components=6, n_components=2)).save(path)", None),
+    "raytrace.save_paint": (
+        "raytrace.save_paint(path, raytrace.PaintDescription(radius_um=26.0, density=7.3,"
+        " seed=1))", None),
+    "motion.save_dataset": (
+        "motion.save_dataset(path, motion.make_synthetic_dataset(n_trials=4, n_samples=50))",
+        "angles.npy",
+    ),
+    "doe.save_study": (
+        "doe.save_study(path, doe.Study(['s1', 's2'], ['a', 'b'], rng.random((2, 2, 3))))",
+        None,
+    ),
+    "doe.save_runs": ("doe.save_runs(path, rng.random((4, 3)), rng.random(4))", None),
+    "hdr.save_crf": ("hdr.save_crf(path, np.linspace(0.0, 1.0, 256 * 3).reshape(256, 3))",
+                     None),
+    "hdr.save_exposure_times": ("hdr.save_exposure_times(path, [0.001, 0.01, 0.1, 1.0, 2.0, 4.0])",
+                                None),
 }
 
 SUFFIX = {"math.save_image": ".png", "math.save_volume": ".nii", "math.save_mesh": ".obj",
-          "motion.save_bvh": ".bvh", "gait.save_skeleton_csv": ".csv"}
+          "motion.save_bvh": ".bvh", "gait.save_skeleton_csv": ".csv",
+          "raytrace.save_paint": ".json", "doe.save_study": ".csv", "doe.save_runs": ".csv",
+          "hdr.save_crf": ".csv", "hdr.save_exposure_times": ".txt"}
 
 CHILD = textwrap.dedent("""
     import json, resource, signal, sys
     import numpy as np
     import wscg.math as wm
-    from wscg import biometrics as B, gait, motion, octree, video
+    from wscg import biometrics as B, doe, gait, hdr, motion, octree, raytrace, video
 
     rng = np.random.default_rng(0)
     g = np.stack(np.meshgrid(np.arange(8.0), np.arange(8.0), indexing="ij"), -1).reshape(-1, 2)
@@ -59,7 +77,7 @@ CHILD = textwrap.dedent("""
     cases = json.loads(sys.argv[1])
     # The models and meshes above are built before the limit: only the writes must fail.
     signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
-    resource.setrlimit(resource.RLIMIT_FSIZE, (1024, resource.RLIM_INFINITY))
+    resource.setrlimit(resource.RLIMIT_FSIZE, (16, resource.RLIM_INFINITY))
     out = {}
     for name, (code, path) in cases.items():
         try:

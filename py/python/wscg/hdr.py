@@ -1382,30 +1382,104 @@ def incoherence(offsets) -> float:
 
 def load_crf(path: Union[str, os.PathLike]) -> np.ndarray:
     """Reads a camera response ``f^-1(Z)`` written by :func:`save_crf` or ``wscg hdr
-    calibrate``: CSV, one row per code ``Z = 0 ... z_max``, one column per channel, ``#``
-    comments. Returns float32 ``(levels, C)``, usable as ``crf`` everywhere. Raises
-    ``OSError`` naming the file (and the line) for a missing or malformed table (a bad
-    number, rows of different lengths, a decreasing or negative response, fewer than 2 or
-    more than 65536 rows) and ``ValueError`` for a file above 16 MiB."""
+    calibrate``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        CSV, one row per code ``Z = 0 ... z_max``, one column per channel, ``#`` comments.
+
+    Returns
+    -------
+    ndarray (levels, C), float32
+        The response, usable as ``crf`` everywhere.
+
+    Raises
+    ------
+    OSError
+        Naming the file (and the line) for a missing or malformed table (a bad number, rows
+        of different lengths, a decreasing or negative response, fewer than 2 or more than
+        65536 rows).
+    ValueError
+        A file above 16 MiB.
+
+    References
+    ----------
+    Debevec and Malik, SIGGRAPH 1997 (the response ``g = ln f^-1``); Ramirez Orozco et al.,
+    WSCG 2015, Journal of WSCG vol. 23, section 3.2 (the CRF ``f`` of the radiance merge).
+    """
     return _h.load_crf(os.fspath(path))
 
 
 def save_crf(path: Union[str, os.PathLike], crf: npt.ArrayLike) -> None:
-    """Writes a response table ``(levels,)`` or ``(levels, C)`` (checked as ``crf``
-    arguments are) as CSV, atomically; :func:`load_crf` reads it back."""
+    """Writes a response table as CSV, atomically; :func:`load_crf` reads it back.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write (replaced atomically; a failed write raises ``OSError`` and
+        leaves any previous file).
+    crf : array_like (levels,) or (levels, C)
+        The response, checked as ``crf`` arguments are.
+
+    Returns
+    -------
+    None
+
+    References
+    ----------
+    Debevec and Malik, SIGGRAPH 1997; Ramirez Orozco et al., WSCG 2015, section 3.2.
+    """
     _h.save_crf(os.fspath(path), np.ascontiguousarray(crf, dtype=np.float32))
 
 
 def load_exposure_times(path: Union[str, os.PathLike]) -> List[float]:
-    """Reads exposure times in seconds: for a ``.json`` file a list, or an object with
-    ``exposure_times`` (or ``times``); otherwise text, numbers separated by commas or line
-    ends, ``#`` comments. Raises ``OSError`` naming the file (and the line) for a missing or
-    malformed file or a time that is not ``> 0``."""
+    """Reads exposure times in seconds.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.json`` file holding a list, or an object with ``exposure_times`` (or
+        ``times``); any other file is text, numbers separated by commas or line ends, ``#``
+        comments.
+
+    Returns
+    -------
+    list of float
+        One time per exposure, seconds.
+
+    Raises
+    ------
+    OSError
+        Naming the file (and the line) for a missing or malformed file or a time that is
+        not ``> 0``.
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, section 3.2 (the exposure times of the radiance merge).
+    """
     return _h.load_exposure_times(os.fspath(path))
 
 
 def save_exposure_times(path: Union[str, os.PathLike], times: Sequence[float]) -> None:
-    """Writes exposure times as text, one a line (atomically)."""
+    """Writes exposure times as text, one a line, atomically; :func:`load_exposure_times`
+    reads them back.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write (a failed write raises ``OSError`` and leaves any previous file).
+    times : sequence of float
+        Exposure times, seconds.
+
+    Returns
+    -------
+    None
+
+    References
+    ----------
+    Ramirez Orozco et al., WSCG 2015, section 3.2.
+    """
     _h.save_exposure_times(os.fspath(path), [float(t) for t in times])
 
 
