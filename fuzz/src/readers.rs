@@ -1,6 +1,6 @@
 //! Fuzz targets of the readers that moved out of the command line into their crates: the
 //! DoE study and runs tables, the motion step table, paint descriptions, camera files, camera
-//! responses and exposure times, and headerless raw volumes. `targets::run` hands every target it does not know to [`run`].
+//! responses and exposure times, headerless raw volumes and SFA model files. `targets::run` hands every target it does not know to [`run`].
 
 use std::path::Path;
 
@@ -14,6 +14,7 @@ pub const READER_TARGETS: &[&str] = &[
     "crf_csv",
     "exposure_times",
     "raw_volume",
+    "sfa_model",
 ];
 
 /// Trials the `motion_steps` target reads a step table for.
@@ -74,6 +75,16 @@ pub fn run(target: &str, data: &[u8], origin: &Path) -> Option<bool> {
             )
             .is_ok()
         }
+        "sfa_model" => match wscg_biometrics::sfa::SfaModelFile::from_json_bytes(data, origin) {
+            // A model that reads must also score: two rows of its input width (bounded, so
+            // a declared width is not an allocation).
+            Ok(m) if m.model.input_dim() <= 1 << 12 => {
+                let x = faer::Mat::from_fn(2, m.model.input_dim(), |i, j| (i + j) as f64);
+                m.model.predict_scores(x.as_ref()).is_ok()
+            }
+            Ok(_) => true,
+            Err(_) => false,
+        },
         _ => return None,
     })
 }
@@ -182,6 +193,33 @@ pub fn write_seeds(corpus: &Path, work: &Path) {
         "{\"exposure_times\": [0.016666666666666666, 0.06666666666666667, 0.25]}\n",
     )
     .expect("seed");
+
+    // SFA models (class-wise and global) fitted on 3 classes of 6 rows of 5 values.
+    let x = faer::Mat::from_fn(18, 5, |i, j| ((i * 7 + j * 3) % 11) as f64 + (i / 6) as f64);
+    let y: Vec<u32> = (0..18).map(|i| i as u32 / 6).collect();
+    let cfg = wscg_biometrics::sfa::ClassSfaParams::default()
+        .pca_dims(3)
+        .m_per_class(2)
+        .shrinkage(1e-3);
+    let names: Vec<String> = ["open", "fist", "point"].map(String::from).to_vec();
+    let class = wscg_biometrics::sfa::PerClassSfa::fit(x.as_ref(), &y, &cfg).expect("sfa");
+    let global = wscg_biometrics::sfa::GlobalSfa::fit(
+        x.as_ref(),
+        &y,
+        &cfg,
+        wscg_biometrics::sfa::GlobalRule::Gaussian,
+    )
+    .expect("sfa");
+    for (name, model) in [
+        ("class.json", wscg_biometrics::sfa::FittedSfa::Class(class)),
+        ("global.json", wscg_biometrics::sfa::FittedSfa::Global(global)),
+    ] {
+        let p = work.join(name);
+        wscg_biometrics::sfa::SfaModelFile::new(model, names.clone(), None, 1)
+            .write(&p)
+            .expect("sfa model");
+        keep("sfa_model", name, &p);
+    }
 
     // A 3 x 2 x 2 float volume written by `write_raw_f32_le`, behind the harness's header.
     let v = wscg_math::Volume::new(

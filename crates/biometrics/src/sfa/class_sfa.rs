@@ -301,9 +301,71 @@ impl PerClassSfa {
         serde_json::to_string(self).map_err(|e| Error::invalid("model", e.to_string()))
     }
 
-    /// A model from [`Self::to_json`] output.
+    /// A model from [`Self::to_json`] output, checked with [`Self::check_shapes`].
     pub fn from_json(s: &str) -> Result<Self> {
-        serde_json::from_str(s).map_err(|e| Error::invalid("model", format!("not a model: {e}")))
+        let m: Self = serde_json::from_str(s)
+            .map_err(|e| Error::invalid("model", format!("not a model: {e}")))?;
+        m.check_shapes()?;
+        Ok(m)
+    }
+
+    /// Checks that a model read from a file is consistent (its parameters valid, every array
+    /// of the size the others imply), so that scoring it cannot index out of bounds.
+    pub fn check_shapes(&self) -> Result<()> {
+        self.config.validate()?;
+        let dim = checked_model_shapes(&self.pca, self.config.expansion, &self.w, &self.classes)?;
+        let (nc, m) = (self.classes.len(), self.config.m_per_class);
+        if nc.checked_mul(m) != Some(self.w.ncols()) {
+            return Err(Error::invalid(
+                "model",
+                format!("{} functions for {nc} classes of {m}", self.w.ncols()),
+            ));
+        }
+        lengths("offsets", [self.offsets.len()], self.w.ncols())?;
+        lengths("lambdas", [self.lambdas.len(), self.means.len()], nc)?;
+        lengths("means", self.means.iter().map(Vec::len), dim)
+    }
+}
+
+/// The checks shared by the two SFA classifiers: a consistent PCA, functions `w` over the
+/// expansion of its outputs, class labels ascending and distinct. Returns the expanded
+/// dimension.
+pub(crate) fn checked_model_shapes(
+    pca: &Pca,
+    expansion: Option<QuadraticExpansion>,
+    w: &Mat<f64>,
+    classes: &[u32],
+) -> Result<usize> {
+    pca.check_shapes()?;
+    let p = pca.components.len();
+    let dim = expansion.map_or(p, |e| e.out_dim(p));
+    if w.nrows() != dim {
+        return Err(Error::invalid(
+            "model",
+            format!("the functions have {} rows, the expansion {dim}", w.nrows()),
+        ));
+    }
+    if classes.is_empty() || classes.windows(2).any(|c| c[0] >= c[1]) {
+        return Err(Error::invalid(
+            "model",
+            "the class labels must be non-empty, ascending and distinct",
+        ));
+    }
+    Ok(dim)
+}
+
+/// Checks that every length of `got` equals `want` (`what` names the field in the error).
+pub(crate) fn lengths(
+    what: &str,
+    got: impl IntoIterator<Item = usize>,
+    want: usize,
+) -> Result<()> {
+    match got.into_iter().find(|&n| n != want) {
+        Some(n) => Err(Error::invalid(
+            "model",
+            format!("{what}: {n} values where {want} are expected"),
+        )),
+        None => Ok(()),
     }
 }
 

@@ -12,7 +12,10 @@ use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
 use wscg_math::{dense, Error, Result};
 
-use super::class_sfa::{argmin_rows, check_training, fit_pca, whitened_objective, ClassSfaParams};
+use super::class_sfa::{
+    argmin_rows, check_training, checked_model_shapes, fit_pca, lengths, whitened_objective,
+    ClassSfaParams,
+};
 use super::scatter::{project_blocks, ClassMoments, Whitening};
 use crate::subspace::{check_query, Pca, Projector};
 
@@ -151,9 +154,28 @@ impl GlobalSfa {
         serde_json::to_string(self).map_err(|e| Error::invalid("model", e.to_string()))
     }
 
-    /// A model from [`Self::to_json`] output.
+    /// A model from [`Self::to_json`] output, checked with [`Self::check_shapes`].
     pub fn from_json(s: &str) -> Result<Self> {
-        serde_json::from_str(s).map_err(|e| Error::invalid("model", format!("not a model: {e}")))
+        let m: Self = serde_json::from_str(s)
+            .map_err(|e| Error::invalid("model", format!("not a model: {e}")))?;
+        m.check_shapes()?;
+        Ok(m)
+    }
+
+    /// Checks that a model read from a file is consistent (its parameters valid, every array
+    /// of the size the others imply), so that scoring it cannot index out of bounds.
+    pub fn check_shapes(&self) -> Result<()> {
+        self.config.validate()?;
+        checked_model_shapes(&self.pca, self.config.expansion, &self.w, &self.classes)?;
+        let (nc, k) = (self.classes.len(), self.w.ncols());
+        lengths("lambdas", [self.lambdas.len()], k)?;
+        lengths("class_means", [self.class_means.len()], nc)?;
+        lengths("class_means", self.class_means.iter().map(Vec::len), k)?;
+        if self.rule == GlobalRule::Gaussian {
+            lengths("gaussians", [self.gaussians.len()], nc)?;
+            lengths("gaussians", self.gaussians.iter().map(|g| g.0.len()), k * k)?;
+        }
+        Ok(())
     }
 }
 

@@ -30,6 +30,32 @@ pub struct Pca {
 }
 
 impl Pca {
+    /// Checks that a model read from a file is consistent: a non-empty mean, every axis of
+    /// its length, one variance per axis. [`Projector::transform`] indexes by these sizes.
+    pub fn check_shapes(&self) -> Result<()> {
+        let d = self.mean.len();
+        if d == 0 {
+            return Err(Error::invalid("pca", "the mean is empty"));
+        }
+        if let Some((i, c)) = self.components.iter().enumerate().find(|(_, c)| c.len() != d) {
+            return Err(Error::invalid(
+                "pca",
+                format!("axis {i} has {} values, the mean {d}", c.len()),
+            ));
+        }
+        if self.variances.len() != self.components.len() {
+            return Err(Error::invalid(
+                "pca",
+                format!(
+                    "{} variances for {} axes",
+                    self.variances.len(),
+                    self.components.len()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// Fits PCA to the `N x d` matrix `x`, keeping `n_components` axes (default all
     /// available: `d`, or `min(N, d)` when `N < d`).
     pub fn fit(x: MatRef<'_, f64>, n_components: Option<usize>, whiten: bool) -> Result<Self> {

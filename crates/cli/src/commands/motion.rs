@@ -19,7 +19,7 @@ use wscg_math::{npy, Error, Result};
 use wscg_motion::anechoic::AnechoicParams;
 use wscg_motion::bvh::{retarget, write_bvh, JointMap, RetargetParams};
 use wscg_motion::bvh_file::read_bvh_file;
-use wscg_motion::dataset::{Dataset, TrialAction};
+use wscg_motion::dataset::Dataset;
 use wscg_motion::map::SvrMapParams;
 use wscg_motion::skeleton::N_CHANNELS;
 use wscg_motion::stepwise::{fit_stepwise, ActionLibrary, StepwiseParams};

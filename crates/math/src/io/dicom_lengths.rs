@@ -52,12 +52,36 @@ enum Container {
 /// Checks the value lengths of the file `after_preamble` (the bytes after `DICM`); the
 /// reason of a refusal names the element and its offset in the file.
 pub(super) fn check(after_preamble: &[u8]) -> std::result::Result<(), String> {
-    // The file meta group: explicit VR little endian, group 0002.
+    // The file meta group, in explicit VR little endian, as dicom-rs 0.10 reads it
+    // (`FileMetaTable::read_from`): the group length (0002,0000) first, then whole elements,
+    // of any group, until their headers and values add up to that length. A file whose
+    // mutated tags leave group 0002 early is read on by the parser, so the walk must be too.
     let mut meta = Walker::new(after_preamble, Syntax::ExplicitLe, 132);
     let mut syntax_uid = String::new();
-    while meta.next_group() == Some(0x0002) {
-        let Some(h) = meta.header()? else { break };
-        let value = meta.value(&h)?;
+    let group_length = match meta.header()? {
+        Some(h) if h.tag == Tag(0x0002, 0x0000) && h.len == 4 => {
+            let Some(value) = meta.bytes::<4>(meta.pos) else {
+                return Ok(());
+            };
+            meta.pos += 4;
+            u32::from_le_bytes(value)
+        }
+        // The parser refuses the file.
+        _ => return Ok(()),
+    };
+    let start = meta.pos;
+    while ((meta.pos - start) as u64) < u64::from(group_length) {
+        let Some(h) = meta.header()? else {
+            return Ok(());
+        };
+        if h.len == UNDEFINED {
+            return Ok(());
+        }
+        // Meta values are read whole, whatever their VR.
+        meta.check_fits(&h)?;
+        let end = (meta.pos + h.len as usize).min(meta.data.len());
+        let value = &meta.data[meta.pos..end];
+        meta.pos = end;
         if h.tag == Tag(0x0002, 0x0010) {
             syntax_uid = String::from_utf8_lossy(value)
                 .trim_end_matches(['\0', ' '])
@@ -133,10 +157,6 @@ impl<'a> Walker<'a> {
             Syntax::ExplicitBe => u32::from_be_bytes(b),
             _ => u32::from_le_bytes(b),
         })
-    }
-
-    fn next_group(&self) -> Option<u16> {
-        self.u16_at(self.pos)
     }
 
     /// The next element header (`None` at the end or in a truncated header).

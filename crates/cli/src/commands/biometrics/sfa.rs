@@ -10,7 +10,6 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
 use faer::Mat;
-use serde::{Deserialize, Serialize};
 use wscg_biometrics::data::files::{load_identity_folder, read_npy_labels};
 use wscg_biometrics::sfa::handpose::protocol::{compare_masks, rows_to_mat};
 use wscg_biometrics::sfa::handpose::{
@@ -18,7 +17,8 @@ use wscg_biometrics::sfa::handpose::{
     Jitter, Method, CLASS_NAMES,
 };
 use wscg_biometrics::sfa::{
-    ClassObjective, ClassSfaParams, GlobalRule, GlobalSfa, PerClassSfa, QuadraticExpansion,
+    ClassObjective, ClassSfaParams, FittedSfa, GlobalRule, GlobalSfa, PerClassSfa,
+    QuadraticExpansion, SfaModelFile,
 };
 use wscg_math::image::Image;
 use wscg_math::progress::Progress;
@@ -193,35 +193,6 @@ impl SfaArgs {
                  or --shrinkage 1e-3.",
                 names[i]
             );
-        }
-    }
-}
-
-/// A model file: the fitted model with the class names and the input convention.
-#[derive(Serialize, Deserialize)]
-struct ModelFile {
-    /// `class` (class-wise SFA) or `global`.
-    kind: String,
-    /// Class name of each label.
-    names: Vec<String>,
-    /// `(h, w)` of the images the model takes (before downscaling), `None` for rows.
-    image_shape: Option<(usize, usize)>,
-    /// Downscaling factor applied to images.
-    downscale: usize,
-    /// The model (the library's JSON).
-    model: serde_json::Value,
-}
-
-enum Fitted {
-    Class(PerClassSfa),
-    Global(GlobalSfa),
-}
-
-impl Fitted {
-    fn predict_scores(&self, x: faer::MatRef<'_, f64>) -> Result<(Vec<u32>, Mat<f64>)> {
-        match self {
-            Fitted::Class(m) => Ok((m.predict(x)?, m.decision_scores(x)?)),
-            Fitted::Global(m) => Ok((m.predict(x)?, m.decision_scores(x)?)),
         }
     }
 }
@@ -402,34 +373,22 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
             model.warn_small_classes(&ds.labels, &ds.names);
             let bars = Bars::new("fit");
             bars.begin(&format!("SFA on {} samples", x.nrows()), 1);
-            let (kind, json) = match model.global {
-                None => (
-                    "class",
-                    PerClassSfa::fit(x.as_ref(), &ds.labels, &cfg)?.to_json()?,
-                ),
+            let fitted = match model.global {
+                None => FittedSfa::Class(PerClassSfa::fit(x.as_ref(), &ds.labels, &cfg)?),
                 Some(r) => {
                     let rule = match r {
                         RuleArg::Variance => GlobalRule::NearestMeanVariance,
                         RuleArg::Gaussian => GlobalRule::Gaussian,
                     };
-                    (
-                        "global",
-                        GlobalSfa::fit(x.as_ref(), &ds.labels, &cfg, rule)?.to_json()?,
-                    )
+                    FittedSfa::Global(GlobalSfa::fit(x.as_ref(), &ds.labels, &cfg, rule)?)
                 }
             };
-            bars.finish();
-            let file = ModelFile {
-                kind: kind.into(),
-                names: ds.names.clone(),
-                image_shape: ds.shape,
-                downscale: data.downscale,
-                model: serde_json::from_str(&json)
-                    .map_err(|e| Error::Numerical(format!("model JSON: {e}")))?,
+            let kind = match fitted {
+                FittedSfa::Class(_) => "class",
+                FittedSfa::Global(_) => "global",
             };
-            let text = serde_json::to_string(&file)
-                .map_err(|e| Error::Numerical(format!("model JSON: {e}")))?;
-            wscg_math::io::atomic::write(&out, text)?;
+            bars.finish();
+            SfaModelFile::new(fitted, ds.names.clone(), ds.shape, data.downscale).write(&out)?;
             println!(
                 "{kind} SFA fitted on {} samples of {} classes ({} values each); model written \
                  to {}",
@@ -450,15 +409,7 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
                 let inputs = queries.iter().chain(npy_path.as_ref()).chain([&model]);
                 crate::commands::overwrite::check_file("scores", out, inputs)?;
             }
-            let text = wscg_math::error::read_text(&model)?;
-            let file: ModelFile = serde_json::from_str(&text)
-                .map_err(|e| Error::format(&model, format!("not a wscg SFA model: {e}")))?;
-            let inner = file.model.to_string();
-            let fitted = match file.kind.as_str() {
-                "class" => Fitted::Class(PerClassSfa::from_json(&inner)?),
-                "global" => Fitted::Global(GlobalSfa::from_json(&inner)?),
-                k => return Err(Error::format(&model, format!("unknown model kind {k:?}"))),
-            };
+            let file = SfaModelFile::read(&model)?;
             let (values, n, shape, names) = match npy_path {
                 Some(p) => {
                     let (v, n, s) = read_stack(&p)?;
@@ -490,7 +441,7 @@ pub fn run(cmd: SfaCommand) -> Result<()> {
                 }
             }
             let x = rows(&values, n, shape, file.downscale)?;
-            let (pred, scores) = fitted.predict_scores(x.as_ref())?;
+            let (pred, scores) = file.model.predict_scores(x.as_ref())?;
             if let Some(p) = scores_out {
                 let (r, c) = (scores.nrows(), scores.ncols());
                 let v: Vec<f64> = (0..r * c).map(|t| scores[(t / c, t % c)]).collect();
