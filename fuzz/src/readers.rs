@@ -1,6 +1,6 @@
 //! Fuzz targets of the readers that moved out of the command line into their crates: the
 //! DoE study and runs tables, the motion step table, paint descriptions, camera files, camera
-//! responses and exposure times, headerless raw volumes and SFA model files. `targets::run` hands every target it does not know to [`run`].
+//! responses and exposure times, headerless raw volumes, SFA model files and ear galleries. `targets::run` hands every target it does not know to [`run`].
 
 use std::path::Path;
 
@@ -15,7 +15,11 @@ pub const READER_TARGETS: &[&str] = &[
     "exposure_times",
     "raw_volume",
     "sfa_model",
+    "ear_gallery",
 ];
+
+/// What separates `gallery.json` from `templates.npy` in an `ear_gallery` input.
+pub const GALLERY_SEPARATOR: &[u8] = b"@@templates.npy@@";
 
 /// Trials the `motion_steps` target reads a step table for.
 pub const STEP_TRIALS: usize = 4;
@@ -85,6 +89,26 @@ pub fn run(target: &str, data: &[u8], origin: &Path) -> Option<bool> {
             Ok(_) => true,
             Err(_) => false,
         },
+        "ear_gallery" => {
+            let cut = data
+                .windows(GALLERY_SEPARATOR.len())
+                .position(|w| w == GALLERY_SEPARATOR)
+                .unwrap_or(data.len());
+            let (json, rest) = data.split_at(cut);
+            let npy_bytes = rest.get(GALLERY_SEPARATOR.len()..).unwrap_or_default();
+            let templates_origin = Path::new("templates.npy");
+            wscg_math::npy::from_bytes_with_limit::<f32>(npy_bytes, templates_origin, 1 << 24)
+                .and_then(|t| {
+                    wscg_biometrics::ear::EarGalleryFile::from_parts(
+                        json,
+                        origin,
+                        t,
+                        templates_origin,
+                    )
+                })
+                .and_then(|g| g.gallery())
+                .is_ok()
+        }
         _ => return None,
     })
 }
@@ -220,6 +244,30 @@ pub fn write_seeds(corpus: &Path, work: &Path) {
             .expect("sfa model");
         keep("sfa_model", name, &p);
     }
+
+    // An ear gallery of 3 templates of 2 identities, 20 x 20 ears in 10-pixel blocks,
+    // written by the project's writer, then joined as the harness reads it.
+    let params = wscg_biometrics::ear::EarParams::default()
+        .height(20)
+        .width(20)
+        .block(10);
+    let per = params.blocks() * params.block_len();
+    let gallery = wscg_biometrics::ear::EarGalleryFile::new(
+        vec!["ann".into(), "bob".into()],
+        vec![0, 0, 1],
+        vec!["ann_1.png".into(), "ann_2.png".into(), "bob_1.png".into()],
+        &params,
+        (0..3 * per).map(|i| (i % 17) as f32 / 8.0).collect(),
+    )
+    .expect("gallery");
+    let dir = work.join("gallery");
+    gallery.write(&dir).expect("gallery folder");
+    let mut input = std::fs::read(dir.join(wscg_biometrics::ear::GALLERY_JSON)).expect("json");
+    input.extend_from_slice(GALLERY_SEPARATOR);
+    input.extend(std::fs::read(dir.join(wscg_biometrics::ear::GALLERY_TEMPLATES)).expect("npy"));
+    let corpus_dir = corpus.join("ear_gallery");
+    std::fs::create_dir_all(&corpus_dir).expect("corpus folder");
+    std::fs::write(corpus_dir.join("seed_gallery"), input).expect("seed");
 
     // A 3 x 2 x 2 float volume written by `write_raw_f32_le`, behind the harness's header.
     let v = wscg_math::Volume::new(

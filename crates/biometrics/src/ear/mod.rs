@@ -24,6 +24,7 @@
 //! grid row `b / 8`, column `b % 8` (0-based; the paper numbers 1..80).
 
 pub mod features;
+pub mod gallery_file;
 pub mod matching;
 pub mod occlusion;
 pub mod params;
@@ -32,6 +33,7 @@ pub mod skin;
 pub mod synth;
 
 pub use features::{block_features, enroll, feature_plane, normalise, EarTemplate};
+pub use gallery_file::{EarGalleryFile, GALLERY_JSON, GALLERY_TEMPLATES};
 pub use matching::{
     baseline_params, baseline_score, cmc, identify, identify_baseline, identify_image,
     make_baseline_probe, make_probe, rank, score, scores, scores_by_rule, Gallery, Identification,

@@ -227,12 +227,13 @@ impl EarParams {
     /// Number of blocks (paper: 80).
     pub fn blocks(&self) -> usize {
         let (r, c) = self.grid();
-        r * c
+        // Saturating: sizes read from a file are checked against a bound with this.
+        r.saturating_mul(c)
     }
 
     /// Features per block: the `block/2 x block/2` Haar LL (paper: 25).
     pub fn block_len(&self) -> usize {
-        (self.block / 2) * (self.block / 2)
+        (self.block / 2).saturating_mul(self.block / 2)
     }
 
     /// Upper bound of a block distance, `2 sqrt(block_len)` (LL values lie in `[0, 2]`): it

@@ -14,15 +14,14 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
-use serde::{Deserialize, Serialize};
 use wscg_biometrics::data::files::image_files;
 use wscg_biometrics::ear::synth::{self, EarSynthParams, OcclusionKind};
 use wscg_biometrics::ear::{
     baseline_params, detect_occlusion, enroll, make_baseline_probe, make_probe, rank, scores,
-    EarParams, Gallery, ScoreRule, SkinRule,
+    EarGalleryFile, EarParams, ScoreRule, SkinRule,
 };
 use wscg_math::image::Image;
-use wscg_math::{npy, Error, Result};
+use wscg_math::{Error, Result};
 
 #[derive(Subcommand, Debug)]
 pub enum EarCommand {
@@ -190,19 +189,6 @@ impl ParamArgs {
     }
 }
 
-/// `gallery.json`.
-#[derive(Serialize, Deserialize, Debug)]
-struct GalleryInfo {
-    identities: Vec<String>,
-    /// Identity index of each template.
-    labels: Vec<usize>,
-    /// Source file of each template.
-    files: Vec<String>,
-    height: usize,
-    width: usize,
-    block: usize,
-}
-
 fn stem(p: &Path) -> String {
     p.file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -270,28 +256,12 @@ pub fn run(cmd: EarCommand) -> Result<()> {
                 }
                 feats.extend_from_slice(t.features());
             }
-            std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
-            npy::write(
-                out.join("templates.npy"),
-                &[files.len(), p.blocks(), p.block_len()],
-                &feats,
-            )?;
-            let info = GalleryInfo {
-                identities,
-                labels,
-                files: files.iter().map(|f| f.display().to_string()).collect(),
-                height: p.height,
-                width: p.width,
-                block: p.block,
-            };
-            let json = serde_json::to_string_pretty(&info)
-                .map_err(|e| Error::invalid("gallery", e.to_string()))?;
-            let path = out.join("gallery.json");
-            wscg_math::io::atomic::write(&path, json)?;
+            let n_identities = identities.len();
+            let files: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+            EarGalleryFile::new(identities, labels, files.clone(), &p, feats)?.write(&out)?;
             println!(
-                "enrolled {} images of {} identities into {}",
+                "enrolled {} images of {n_identities} identities into {}",
                 files.len(),
-                info.identities.len(),
                 out.display()
             );
             Ok(())
@@ -312,25 +282,9 @@ pub fn run(cmd: EarCommand) -> Result<()> {
                 )?;
             }
             let p = params.params()?;
-            let path = gallery.join("gallery.json");
-            let text = wscg_math::error::read_text(&path)?;
-            let info: GalleryInfo =
-                serde_json::from_str(&text).map_err(|e| Error::format(&path, e.to_string()))?;
-            let arr = npy::read::<f32>(gallery.join("templates.npy"))?;
-            if arr.shape != [info.labels.len(), p.blocks(), p.block_len()] {
-                return Err(Error::ShapeMismatch(format!(
-                    "templates.npy has shape {:?}, gallery.json lists {} templates of {} x {}",
-                    arr.shape,
-                    info.labels.len(),
-                    p.blocks(),
-                    p.block_len()
-                )));
-            }
-            if let Some(&l) = info.labels.iter().find(|&&l| l >= info.identities.len()) {
-                return Err(Error::format(&path, format!("label {l} has no identity")));
-            }
-            let g =
-                Gallery::from_features(&arr.data, info.labels.len(), p.blocks(), p.block_len())?;
+            let file = EarGalleryFile::read(&gallery)?;
+            file.check_params(&p)?;
+            let g = file.gallery()?;
             for probe_path in &probes {
                 let img = Image::load_u8(probe_path)?;
                 let (probe, q) = if baseline {
@@ -357,13 +311,13 @@ pub fn run(cmd: EarCommand) -> Result<()> {
                 }
                 // Best template per identity.
                 let s = scores(&probe, &g, &q)?;
-                let mut best = vec![f64::NEG_INFINITY; info.identities.len()];
+                let mut best = vec![f64::NEG_INFINITY; file.identities.len()];
                 for (t, &v) in s.iter().enumerate() {
-                    let l = info.labels[t];
+                    let l = file.labels[t];
                     best[l] = best[l].max(v);
                 }
                 for (r, (id, v)) in rank(&best).into_iter().take(top).enumerate() {
-                    println!("  {:>3}. {:<24} {:.4}", r + 1, info.identities[id], v);
+                    println!("  {:>3}. {:<24} {:.4}", r + 1, file.identities[id], v);
                 }
             }
             Ok(())
