@@ -236,7 +236,10 @@ pub fn write_seeds(corpus: &Path, work: &Path) {
     .expect("sfa");
     for (name, model) in [
         ("class.json", wscg_biometrics::sfa::FittedSfa::Class(class)),
-        ("global.json", wscg_biometrics::sfa::FittedSfa::Global(global)),
+        (
+            "global.json",
+            wscg_biometrics::sfa::FittedSfa::Global(global),
+        ),
     ] {
         let p = work.join(name);
         wscg_biometrics::sfa::SfaModelFile::new(model, names.clone(), None, 1)

@@ -36,11 +36,14 @@ fn both_kinds_round_trip_with_identical_scores() {
     for model in [FittedSfa::Class(class), FittedSfa::Global(global)] {
         let path = dir.path().join("m.json");
         let (pred, scores) = model.predict_scores(x.as_ref()).unwrap();
-        SfaModelFile::new(model, names(), Some((2, 9)), 3)
+        SfaModelFile::new(model, names(), Some((6, 9)), 3)
             .write(&path)
             .unwrap();
         let back = SfaModelFile::read(&path).unwrap();
-        assert_eq!((back.names, back.image_shape, back.downscale), (names(), Some((2, 9)), 3));
+        assert_eq!(
+            (back.names, back.image_shape, back.downscale),
+            (names(), Some((6, 9)), 3)
+        );
         let (pred2, scores2) = back.model.predict_scores(x.as_ref()).unwrap();
         assert_eq!(pred, pred2);
         assert_eq!(scores, scores2);
@@ -51,7 +54,12 @@ fn both_kinds_round_trip_with_identical_scores() {
 fn class_file() -> serde_json::Value {
     let (x, y) = data();
     let model = FittedSfa::Class(PerClassSfa::fit(x.as_ref(), &y, &cfg()).unwrap());
-    serde_json::from_str(&SfaModelFile::new(model, names(), None, 1).to_json().unwrap()).unwrap()
+    serde_json::from_str(
+        &SfaModelFile::new(model, names(), None, 1)
+            .to_json()
+            .unwrap(),
+    )
+    .unwrap()
 }
 
 fn refused(v: &serde_json::Value, expect: &str) {
@@ -59,7 +67,10 @@ fn refused(v: &serde_json::Value, expect: &str) {
     let err = SfaModelFile::from_json_bytes(v.to_string().as_bytes(), origin).unwrap_err();
     assert!(matches!(err, Error::Format { .. }), "{err}");
     let text = err.to_string();
-    assert!(text.contains("edited.json") && text.contains(expect), "{text}");
+    assert!(
+        text.contains("edited.json") && text.contains(expect),
+        "{text}"
+    );
 }
 
 #[test]
@@ -73,7 +84,10 @@ fn inconsistent_files_are_refused_naming_the_file() {
     refused(&v, "means");
 
     let mut v = class_file();
-    v["model"]["pca"]["components"][0].as_array_mut().unwrap().pop();
+    v["model"]["pca"]["components"][0]
+        .as_array_mut()
+        .unwrap()
+        .pop();
     refused(&v, "axis 0");
 
     let mut v = class_file();

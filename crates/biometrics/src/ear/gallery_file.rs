@@ -74,7 +74,8 @@ impl EarGalleryFile {
             block_len: params.block_len(),
             templates,
         };
-        g.check().map_err(|reason| Error::invalid("gallery", reason))?;
+        g.check()
+            .map_err(|reason| Error::invalid("gallery", reason))?;
         Ok(g)
     }
 
@@ -138,7 +139,8 @@ impl EarGalleryFile {
             ));
         }
         g.templates = templates.data;
-        g.check().map_err(|reason| format_err(json_origin, reason))?;
+        g.check()
+            .map_err(|reason| format_err(json_origin, reason))?;
         Ok(g)
     }
 

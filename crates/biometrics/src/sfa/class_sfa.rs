@@ -355,11 +355,7 @@ pub(crate) fn checked_model_shapes(
 }
 
 /// Checks that every length of `got` equals `want` (`what` names the field in the error).
-pub(crate) fn lengths(
-    what: &str,
-    got: impl IntoIterator<Item = usize>,
-    want: usize,
-) -> Result<()> {
+pub(crate) fn lengths(what: &str, got: impl IntoIterator<Item = usize>, want: usize) -> Result<()> {
     match got.into_iter().find(|&n| n != want) {
         Some(n) => Err(Error::invalid(
             "model",

@@ -35,7 +35,7 @@ impl FittedSfa {
     pub fn input_dim(&self) -> usize {
         match self {
             FittedSfa::Class(m) => m.input_dim(),
-            FittedSfa::Global(m) => m.pca.input_dim(),
+            FittedSfa::Global(m) => m.pca.mean.len(),
         }
     }
 
@@ -99,8 +99,7 @@ impl SfaModelFile {
     /// [`SfaModelFile::from_json_bytes`]).
     pub fn read(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
-        let bytes =
-            wscg_math::error::read_file_at_most(path, MAX_SFA_MODEL_BYTES, "SFA models")?;
+        let bytes = wscg_math::error::read_file_at_most(path, MAX_SFA_MODEL_BYTES, "SFA models")?;
         Self::from_json_bytes(&bytes, path)
     }
 

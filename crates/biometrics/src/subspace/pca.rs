@@ -37,7 +37,12 @@ impl Pca {
         if d == 0 {
             return Err(Error::invalid("pca", "the mean is empty"));
         }
-        if let Some((i, c)) = self.components.iter().enumerate().find(|(_, c)| c.len() != d) {
+        if let Some((i, c)) = self
+            .components
+            .iter()
+            .enumerate()
+            .find(|(_, c)| c.len() != d)
+        {
             return Err(Error::invalid(
                 "pca",
                 format!("axis {i} has {} values, the mean {d}", c.len()),
