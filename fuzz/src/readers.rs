@@ -1,6 +1,6 @@
 //! Fuzz targets of the readers that moved out of the command line into their crates: the
 //! DoE study and runs tables, the motion step table, paint descriptions, camera files, camera
-//! responses and exposure times, headerless raw volumes, SFA model files and ear galleries. `targets::run` hands every target it does not know to [`run`].
+//! responses and exposure times, headerless raw volumes, SFA and gait model files, ear galleries and frame times. `targets::run` hands every target it does not know to [`run`].
 
 use std::path::Path;
 
@@ -16,6 +16,8 @@ pub const READER_TARGETS: &[&str] = &[
     "raw_volume",
     "sfa_model",
     "ear_gallery",
+    "gait_model",
+    "frame_times",
 ];
 
 /// What separates `gallery.json` from `templates.npy` in an `ear_gallery` input.
@@ -109,6 +111,16 @@ pub fn run(target: &str, data: &[u8], origin: &Path) -> Option<bool> {
                 .and_then(|g| g.gallery())
                 .is_ok()
         }
+        "gait_model" => match wscg_biometrics::gait::GaitModelFile::from_json_bytes(data, origin) {
+            // A model that reads must also identify: a query of a short sequence per pair.
+            Ok(m) if m.recognizer.pairs.len() <= 1 << 10 => {
+                let q = vec![vec![0.25, 0.5, 1.0, 0.5]; m.recognizer.pairs.len()];
+                m.recognizer.predict_selected(&q).is_ok()
+            }
+            Ok(_) => true,
+            Err(_) => false,
+        },
+        "frame_times" => wscg_deblur::gyro::parse_frame_times(data, origin).is_ok(),
         _ => return None,
     })
 }
@@ -271,6 +283,36 @@ pub fn write_seeds(corpus: &Path, work: &Path) {
     let corpus_dir = corpus.join("ear_gallery");
     std::fs::create_dir_all(&corpus_dir).expect("corpus folder");
     std::fs::write(corpus_dir.join("seed_gallery"), input).expect("seed");
+
+    // A gait model fitted on two sessions of 3 synthetic walkers.
+    let set = wscg_biometrics::gait::synth::walkers(
+        3,
+        2,
+        &wscg_biometrics::gait::synth::SessionRanges::default(),
+        5,
+    )
+    .expect("walkers");
+    let rec = wscg_biometrics::gait::GaitRecognizer::fit(
+        &set.walks,
+        &set.labels,
+        &wscg_biometrics::gait::GaitParams::default(),
+    )
+    .expect("gait model");
+    let p = work.join("gait.json");
+    let ids = ["ann", "bob", "cy"].map(String::from).to_vec();
+    wscg_biometrics::gait::GaitModelFile::new(30.0, ids, Vec::new(), rec)
+        .write(&p)
+        .expect("gait model file");
+    keep("gait_model", "gait.json", &p);
+
+    // Frame times as `wscg deblur frames` reads them.
+    let dir = corpus.join("frame_times");
+    std::fs::create_dir_all(&dir).expect("corpus folder");
+    std::fs::write(
+        dir.join("seed_times.txt"),
+        "# frame start times (s)\n0.0\n0.033367\n0.066733\n0.1001\n",
+    )
+    .expect("seed");
 
     // A 3 x 2 x 2 float volume written by `write_raw_f32_le`, behind the harness's header.
     let v = wscg_math::Volume::new(

@@ -736,7 +736,13 @@ fn recognizer_identifies_new_walks() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("gait.json");
     let copy = GaitRecognizer::from_json(&rec.to_json().unwrap()).unwrap();
-    let ids = vec!["a".to_string(), "b".to_string()];
+    let ids: Vec<String> = (0..8).map(|i| format!("subject {i}")).collect();
+    // A file naming fewer identities than the labels is refused.
+    wscg_biometrics::gait::GaitModelFile::new(30.0, ids[..7].to_vec(), Vec::new(), copy.clone())
+        .write(&path)
+        .unwrap();
+    let e = wscg_biometrics::gait::GaitModelFile::read(&path).unwrap_err();
+    assert!(e.to_string().contains("label 7 has no identity"), "{e}");
     wscg_biometrics::gait::GaitModelFile::new(30.0, ids.clone(), Vec::new(), copy)
         .write(&path)
         .unwrap();

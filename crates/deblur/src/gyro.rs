@@ -60,6 +60,36 @@ pub fn parse_gyro_csv(bytes: &[u8], origin: &Path) -> Result<Vec<GyroSample>> {
     Ok(out)
 }
 
+/// Reads the start times of video frames (seconds, on the gyroscope log's clock, as
+/// `wscg deblur frames` takes them in `times.txt`): numbers separated by commas or line
+/// ends, `#` comments.
+pub fn read_frame_times(path: &Path) -> Result<Vec<f64>> {
+    parse_frame_times(&wscg_math::error::read_file(path)?, path)
+}
+
+/// [`read_frame_times`] of a file held in memory; `origin` names the file in errors.
+///
+/// Errors ([`Error::Format`] naming `origin` and the line): a value that is not a finite
+/// number; no times.
+pub fn parse_frame_times(bytes: &[u8], origin: &Path) -> Result<Vec<f64>> {
+    let mut times = Vec::new();
+    for row in csv::records(bytes, origin, b',')? {
+        for v in row.fields.iter().filter(|v| !v.is_empty()) {
+            let t = v.parse::<f64>().ok().filter(|t| t.is_finite());
+            times.push(t.ok_or_else(|| {
+                Error::format(
+                    origin,
+                    format!("line {}: {v:?} is not a time in seconds", row.line),
+                )
+            })?);
+        }
+    }
+    if times.is_empty() {
+        return Err(Error::format(origin, "no frame times"));
+    }
+    Ok(times)
+}
+
 /// Writes a gyroscope log that [`read_gyro_csv`] reads back (atomically): a comment
 /// `# t,wx,wy,wz` naming the columns (s, rad/s), then one `t,wx,wy,wz` row per sample (6 decimals: microseconds and
 /// micro-radians per second).
@@ -186,6 +216,27 @@ impl GyroTrack {
 #[cfg(test)]
 mod csv_tests {
     use super::*;
+
+    #[test]
+    fn frame_times_read_lines_and_commas_and_name_bad_values() {
+        let text = b"# t (s)\n0.0, 0.0334\n-0.5\n\n1e-1\n";
+        let got = parse_frame_times(text, Path::new("times.txt")).unwrap();
+        assert_eq!(got, vec![0.0, 0.0334, -0.5, 0.1]);
+        for (bad, expect) in [
+            (&b"0.0\n0.1\nabc\n"[..], "line 3"),
+            (b"0.0\nNaN\n", "line 2"),
+            (b"# none\n", "no frame times"),
+            (b"", "no frame times"),
+        ] {
+            let err = parse_frame_times(bad, Path::new("times.txt")).unwrap_err();
+            assert!(matches!(err, Error::Format { .. }), "{err}");
+            let text = err.to_string();
+            assert!(
+                text.contains("times.txt") && text.contains(expect),
+                "{text}"
+            );
+        }
+    }
 
     #[test]
     fn gyro_csv_reads_rows_after_a_header_and_names_bad_lines() {

@@ -22,7 +22,7 @@ pub fn check_sample(name: &'static str, s: &[Vec<f64>]) -> Result<()> {
 }
 
 /// Checks a set of samples that all have `channels` channels.
-fn check_set(name: &'static str, set: &[Vec<Vec<f64>>], channels: usize) -> Result<()> {
+pub(crate) fn check_set(name: &'static str, set: &[Vec<Vec<f64>>], channels: usize) -> Result<()> {
     for (k, s) in set.iter().enumerate() {
         check_sample(name, s)?;
         if s.len() != channels {

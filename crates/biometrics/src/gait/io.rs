@@ -65,7 +65,8 @@ impl GaitModelFile {
     /// Parses a model file held in memory; `origin` names the file in errors.
     ///
     /// Errors ([`Error::Format`] naming `origin`): not the JSON of a gait model (with the line
-    /// and column); a frame rate that is not finite and positive.
+    /// and column); a frame rate that is not finite and positive; a recognizer that
+    /// [`GaitRecognizer::check_shapes`] refuses; a label without an identity.
     pub fn from_json_bytes(bytes: &[u8], origin: &Path) -> Result<Self> {
         let m: Self = serde_json::from_slice(bytes).map_err(|e| {
             format_err(
@@ -78,6 +79,17 @@ impl GaitModelFile {
                 origin,
                 format!("frame rate {} is not > 0", m.fps),
             ));
+        }
+        m.recognizer
+            .check_shapes()
+            .map_err(|e| format_err(origin, e.to_string()))?;
+        if let Some(&l) = m
+            .recognizer
+            .labels
+            .iter()
+            .find(|&&l| l as usize >= m.identities.len())
+        {
+            return Err(format_err(origin, format!("label {l} has no identity")));
         }
         Ok(m)
     }

@@ -276,6 +276,27 @@ impl GaitRecognizer {
         })
     }
 
+    /// Checks that a recognizer read from a file is consistent: valid parameters, at least
+    /// one pair, a label for every gallery walk, and every gallery walk a non-empty, finite
+    /// sequence for each selected pair (as prediction indexes them).
+    pub fn check_shapes(&self) -> Result<()> {
+        self.params.validate()?;
+        if self.pairs.is_empty() {
+            return Err(Error::Empty("pairs"));
+        }
+        if self.gallery.is_empty() {
+            return Err(Error::Empty("gallery"));
+        }
+        if self.labels.len() != self.gallery.len() {
+            return Err(Error::ShapeMismatch(format!(
+                "{} labels for {} gallery walks",
+                self.labels.len(),
+                self.gallery.len()
+            )));
+        }
+        crate::dtw::matrix::check_set("gallery", &self.gallery, self.pairs.len())
+    }
+
     /// Identifies a walk.
     pub fn predict(&self, walk: &SkeletonSeq) -> Result<Prediction> {
         let s = gait_sample(walk, &self.params)?;

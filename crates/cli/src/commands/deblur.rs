@@ -198,19 +198,11 @@ fn parse_pair(s: &str, name: &'static str) -> Result<(f64, f64)> {
     }
 }
 
+/// Frame times from a file (`wscg_deblur::gyro::read_frame_times`) or a comma list.
 pub(super) fn read_times(s: &str) -> Result<Vec<f64>> {
     let p = Path::new(s);
     if p.is_file() {
-        let text = String::from_utf8(wscg_math::error::read_file(p)?)
-            .map_err(|_| Error::format(p, "not UTF-8 text"))?;
-        text.lines()
-            .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
-            .map(|l| {
-                l.trim()
-                    .parse::<f64>()
-                    .map_err(|_| Error::format(p, format!("{l:?} is not a time")))
-            })
-            .collect()
+        wscg_deblur::gyro::read_frame_times(p)
     } else {
         parse_list(s, "times")
     }
