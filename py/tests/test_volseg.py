@@ -129,9 +129,9 @@ def test_random_walks_beat_nearest_seed_on_the_phantom():
     labels, report = volseg.random_walker_bone(ct, seeds, return_report=True)
     baseline = volseg.nearest_seed(ct, seeds)
     d_rw, d_ns = volseg.dice(labels, truth), volseg.dice(baseline, truth)
-    # Measured (Rust and here): 0.783 vs 0.607.
+    # Measured (Rust and here): 0.974 vs 0.607 (the paper's values: 0.783).
     assert d_rw >= d_ns + 0.05, (d_rw, d_ns)
-    assert d_rw > 0.75
+    assert d_rw > 0.96
     bone = ct >= 300.0
     assert report.n_nodes == int(bone.sum())
     assert report.n_labels == 6 and all(report.converged)
