@@ -17,7 +17,8 @@ fn bench(c: &mut Criterion) {
     g.sample_size(10);
     let ph =
         fractured_shell_phantom(&PhantomParams::default().dims([256; 3]).fragments(8)).unwrap();
-    let p = RandomWalkParams::default();
+    // The paper's weights, as in the figures of BENCHMARKS.md.
+    let p = RandomWalkParams::paper();
     let graph = BoneGraph::build(&ph.ct, &p).unwrap();
     let n = graph.len();
     g.bench_function(format!("bone graph 256^3 ({n} nodes)"), |b| {

@@ -28,7 +28,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "phantom {dims:?}, K = {k}: built in {:.1} s",
         t.elapsed().as_secs_f64()
     );
-    let base = RandomWalkParams::default();
+    // The paper's weights (its iteration counts and timings are what this compares with).
+    let base = RandomWalkParams::paper();
     let t = Instant::now();
     let graph = BoneGraph::build(&ph.ct, &base)?;
     println!(

@@ -311,6 +311,16 @@ pub fn choice<T: Copy>(name: &str, s: &str, options: &[(&str, T)]) -> PyResult<T
         })
 }
 
+/// The option named by the string entry `key` of `d` ([`choice`]), `default` when absent.
+pub fn choice_item<T: Copy>(
+    d: &Bound<'_, pyo3::types::PyDict>,
+    key: &str,
+    default: T,
+    options: &[(&str, T)],
+) -> PyResult<T> {
+    dict_item::<String>(d, key)?.map_or(Ok(default), |s| choice(key, &s, options))
+}
+
 /// `v` as an index, or a `ValueError` naming `name` when it is negative (for arguments taken
 /// as `i64` so that a negative index is a `ValueError`, not the conversion's `OverflowError`).
 pub fn index(name: &str, v: i64) -> PyResult<usize> {

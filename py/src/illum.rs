@@ -28,16 +28,16 @@ use wscg_math::{Error, Image, Volume, VolumeView};
 use wscg_volren::illumination::study::{self, AliasCriterion};
 use wscg_volren::illumination::{
     light_buffer_at, render as render_field, scenes, IlluminationParams, Interp, Kernel, Light,
-    LightAtten, Method, Phong, PreIntegrationTable, ScalarField, SliceCamera, TransferFunction,
-    MAX_SUBSAMPLES,
+    LightAtten, LightBorder, Method, Phong, PreIntegrationTable, ScalarField, SliceCamera,
+    TransferFunction, MAX_SUBSAMPLES,
 };
 use wscg_volren::vti::{self, VtiValues};
 
-use crate::convert::{array, dict_item, values, Arr};
+use crate::convert::{array, choice_item, dict_item, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// Keys of the options dict of `illum_render` and `illum_light_buffer`.
-pub const RENDER_KEYS: [&str; 16] = [
+pub const RENDER_KEYS: [&str; 17] = [
     "view_dir",
     "up",
     "size",
@@ -54,6 +54,7 @@ pub const RENDER_KEYS: [&str; 16] = [
     "background",
     "interp",
     "light_attenuation",
+    "border",
 ];
 
 /// Keys of the options dict of `illum_study`.
@@ -590,18 +591,25 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
         "background",
         dict_item(opts, "background")?.unwrap_or([0.0; 3]),
     )?;
-    let interp = match dict_item::<String>(opts, "interp")?.as_deref() {
-        None | Some("trilinear") => Interp::Trilinear,
-        Some("nearest") => Interp::Nearest,
-        Some(other) => {
-            return Err(value_error(format!(
-                "unknown `interp` {other:?}; use 'trilinear' or 'nearest'"
-            )))
-        }
-    };
+    let interp = choice_item(
+        opts,
+        "interp",
+        Interp::Trilinear,
+        &[
+            ("trilinear", Interp::Trilinear),
+            ("nearest", Interp::Nearest),
+        ],
+    )?;
+    let border = choice_item(
+        opts,
+        "border",
+        LightBorder::Open,
+        &[("open", LightBorder::Open), ("closed", LightBorder::Closed)],
+    )?;
     let settings = IlluminationParams::default()
         .interp(interp)
-        .background(bg.map(|c| c as f32));
+        .background(bg.map(|c| c as f32))
+        .border(border);
     settings.check().py_err()?;
     Ok(Scene {
         cam,

@@ -111,7 +111,8 @@ fn norm_in(name: &str, lo: Option<f64>, hi: Option<f64>) -> PyResult<IntensityNo
 }
 
 /// Keys of a parameter dict.
-const PARAM_KEYS: [&str; 14] = [
+const PARAM_KEYS: [&str; 15] = [
+    "preset",
     "t_bone",
     "beta",
     "eps",
@@ -144,13 +145,24 @@ fn known_keys(d: &Bound<'_, PyDict>, allowed: &[&str], what: &str) -> PyResult<(
     Ok(())
 }
 
-/// Random-walk parameters: the paper's defaults overridden by the entries of `d`, validated.
+/// Random-walk parameters: those of the `preset` entry (`"default"`, the default, or
+/// `"paper"`) overridden by the other entries of `d`, validated.
 fn params_in(d: Option<&Bound<'_, PyDict>>) -> PyResult<RandomWalkParams> {
-    let mut p = RandomWalkParams::default();
     let Some(d) = d else {
-        return Ok(p);
+        return Ok(RandomWalkParams::default());
     };
     known_keys(d, &PARAM_KEYS, "parameter")?;
+    let mut p = match dict_item::<String>(d, "preset")? {
+        None => RandomWalkParams::default(),
+        Some(s) => choice(
+            "preset",
+            &s,
+            &[
+                ("default", RandomWalkParams::default()),
+                ("paper", RandomWalkParams::paper()),
+            ],
+        )?,
+    };
     set_fields!(d, p; t_bone: f64, beta: f64, eps: f64, kappa: f64, tol: f64, max_iter: usize,
         spacing_in_weights: bool, jacobi: bool);
     let lo = dict_item::<f64>(d, "window_lo")?;

@@ -211,7 +211,7 @@ def test_roller_forces_carry_a_chain_resting_on_a_ramp():
     # the x axis tilted by 0.3 rad: each reaction is m g cos(0.3) for every roller method.
     t = 0.3
     pos = [[0.1 * i, 0.0, 0.0] for i in range(3)]
-    for method in ("soft", "ie_cg", "ie_direct"):
+    for method in ("soft", "ie_cg", "ie_direct", "ie_newton", "global_cr"):
         m = cloth.particles(pos, [0.2] * 3)
         for i in range(2):
             m.add_link(i, i + 1, 300.0)
@@ -221,6 +221,8 @@ def test_roller_forces_carry_a_chain_resting_on_a_ramp():
         sim.step(H, 20)
         assert sim.roller_forces == pytest.approx([0.2 * 9.81 * np.cos(t)] * 3, rel=1e-6)
         assert np.allclose(sim.multipliers[-3:], sim.roller_forces)
+        # The particles stay on their plane.
+        assert np.abs(sim.positions @ np.array([0.0, np.cos(t), np.sin(t)])).max() < 1e-9
     # A particle off its plane is refused by the velocity-filter methods, by name.
     m = cloth.particles(pos, [0.2] * 3)
     m.add_roller(1, (0.0, 1.0, 0.0), 0.05)

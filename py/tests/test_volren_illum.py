@@ -143,6 +143,25 @@ def test_slab_light_buffer():
     assert fog[36, 2] == pytest.approx(0.95 ** (ds * 40), abs=1e-5)
 
 
+def test_closed_border_keeps_outside_light_out():
+    """An opaque slab across the whole box 2 voxels thick, a headlight and a Gaussian kernel:
+    with the open border the light beside the box leaks in under the slab's edges (half of
+    it at the edge), with the closed border nothing arrives behind the slab; the delta kernel
+    sees no border."""
+    vol = np.zeros((40, 32, 48), np.float32)
+    vol[5:7] = 1.0
+    tf = np.array([[1, 1, 1, 0], [1, 1, 1, 0], [1, 1, 1, 1], [1, 1, 1, 1]], np.float32)
+    cam = dict(size=(32, 48), pixel_size=1.0, value_range=(0.0, 1.0), method="ics",
+               slice_distance=0.5, interp="nearest")
+    open_, _ = V.light_buffer(vol, tf, 30.0, **cam)
+    closed, _ = V.light_buffer(vol, tf, 30.0, border="closed", **cam)
+    assert closed.max() < 1e-6
+    assert open_[16, 0] > 0.3 and open_[0, 24] > 0.3 and open_[16, 24] < 1e-3
+    delta = dict(cam, kernel="delta")
+    assert np.array_equal(V.light_buffer(vol, tf, 30.0, **delta)[0],
+                          V.light_buffer(vol, tf, 30.0, border="closed", **delta)[0])
+
+
 # --------------------------------------------------------------------------------------------
 # Check 3: delta kernel = shadow rays
 
@@ -542,6 +561,7 @@ def test_bad_input_raises_value_error():
         (lambda: r(vol, tf, kernel="box"), "kernel"),
         (lambda: r(vol, tf, interp="cubic"), "interp"),
         (lambda: r(vol, tf, light_attenuation="none"), "light_attenuation"),
+        (lambda: r(vol, tf, border="walls"), "border"),
         (lambda: r(vol, tf, pixel_size=0), "pixel_size"),
         (lambda: r(vol, tf, pixel_size=-2), "pixel_size"),
         (lambda: r(vol, tf, view_dir=(0, 0, 0)), "view_dir"),

@@ -3,6 +3,11 @@
 //! applied matrix-free (`J W J' p` as two sparse products). The paper solves it with
 //! Conjugate Residuals rather than Conjugate Gradients: the transformed steepest-descent step
 //! becomes a minimum-residual step in constraint space.
+//!
+//! Rollers (`n . x_p = offset`, section 5) are eliminated rather than given rows: a particle
+//! on rollers starts on their planes and its inverse mass becomes `w S`, `S = I - n n'` the
+//! projection onto its planes (Baraff and Witkin's filter), so every move stays in them; the
+//! reactions are the normal part of the momentum residual at convergence.
 
 use nalgebra::{Matrix3, Vector3};
 use wscg_math::sparse::LinOp;
@@ -23,13 +28,15 @@ pub struct ConstraintSystem {
     /// Compliance blocks on the diagonal: `(first row, block)`, 1x1 for links (stored in
     /// `[0][0]`), 3x3 for triangles.
     blocks: Vec<(usize, usize, Matrix3<f64>)>,
-    inv_mass: Vec<f64>,
+    /// Inverse mass of every particle, `w S` with the rollers' filter `S`.
+    inv_mass: Vec<Matrix3<f64>>,
     scale: f64,
 }
 
 impl ConstraintSystem {
     /// The system at positions `x` with `scale = alpha h (beta h + gamma)` (`h^2` for
-    /// implicit Euler). Links of zero length contribute zero rows.
+    /// implicit Euler). Links of zero length contribute zero rows. A particle on rollers
+    /// moves only in their planes: its inverse mass is `w S`.
     pub fn new(m: &ClothModel, x: &[[f64; 3]], scale: f64) -> Self {
         let x = v3s(x);
         let mut rows = Vec::with_capacity(m.constraint_rows());
@@ -60,10 +67,15 @@ impl ConstraintSystem {
                 });
             }
         }
+        let inv_mass = crate::system::filters(m)
+            .into_iter()
+            .zip(&m.inv_mass)
+            .map(|(s, &w)| s * w)
+            .collect();
         Self {
             rows,
             blocks,
-            inv_mass: m.inv_mass.clone(),
+            inv_mass,
             scale,
         }
     }
@@ -84,11 +96,9 @@ impl ConstraintSystem {
     }
 
     fn w_jt_v(&self, p: &[f64]) -> Vec<V3> {
-        let mut f = vec![Vector3::zeros(); self.inv_mass.len()];
-        for (row, &pk) in self.rows.iter().zip(p) {
-            for &(q, g) in &row.parts {
-                f[q] += g * (pk * self.inv_mass[q]);
-            }
+        let mut f = self.jt_v(p);
+        for (fq, w) in f.iter_mut().zip(&self.inv_mass) {
+            *fq = w * *fq;
         }
         f
     }
@@ -190,14 +200,15 @@ pub(crate) fn global_step(
     primal_residual: bool,
 ) -> wscg_math::Result<crate::system::Stepped> {
     use wscg_math::sparse::{conjugate_residual, InitialGuess, PcgParams};
-    if m.links.iter().any(|l| l.compliance == 0.0) || !m.rollers.is_empty() {
+    if m.links.iter().any(|l| l.compliance == 0.0) {
         return Err(wscg_math::Error::invalid(
             "method",
-            "the global constraint solve needs soft constraints only",
+            "the global constraint solve needs soft links only (no hard links)",
         ));
     }
     let xt = crate::system::inertial_target_v(m, h);
     let mut x = xt.clone();
+    crate::system::project_onto_rollers(m, &mut x);
     let mut lambda = vec![0.0; m.links.len() + 3 * m.tris.len()];
     let h2 = h * h;
     for _ in 0..outer {
@@ -218,7 +229,7 @@ pub(crate) fn global_step(
         } else {
             vec![Vector3::zeros(); m.len()]
         };
-        let wg: Vec<Vector3<f64>> = g.iter().zip(&m.inv_mass).map(|(gq, &w)| gq * w).collect();
+        let wg: Vec<Vector3<f64>> = g.iter().zip(&sys.inv_mass).map(|(gq, w)| w * gq).collect();
         let jwg = sys.j(arrays(&wg));
         let mut rhs = constraint_values(m, arrays(&x));
         sys.add_compliance(&lambda, &mut rhs);

@@ -5,15 +5,22 @@
 //! membrane triangles use their Gauss-Newton part `J' C^-1 J`. The Newton systems are solved
 //! by conjugate gradients. This is the reference the paper's equivalence claim (section 2)
 //! is checked against; it is also usable as an integrator.
+//!
+//! Rollers (the linear equalities `n . x_p = offset` of section 5) are eliminated: the start
+//! is projected onto their planes and the gradient and Newton system are filtered per
+//! particle (Baraff and Witkin's `S = I - n n'`), so the minimisation runs over the planes;
+//! the reactions are the normal part of the gradient at the minimiser.
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use wscg_math::sparse::{pcg, IdentityPrecond, InitialGuess, PcgParams};
 use wscg_math::{Error, Result};
 
 use crate::energy::elastic_energy;
 use crate::model::ClothModel;
 pub use crate::system::inertial_target;
-use crate::system::{elastic_forces_v, filters, inertial_target_v, ImplicitOperator, Stepped};
+use crate::system::{
+    elastic_forces_v, filters, inertial_target_v, project_onto_rollers, ImplicitOperator, Stepped,
+};
 use crate::vecs::{arrays, into_arrays, v3s, V3};
 
 fn free(m: &ClothModel, q: usize) -> bool {
@@ -34,14 +41,30 @@ fn potential(m: &ClothModel, x: &[V3], xt: &[V3], h: f64) -> f64 {
     inertia + elastic_energy(m, arrays(x))
 }
 
-/// `|grad Phi|` at `x` over the free particles.
-fn gradient_norm(m: &ClothModel, x: &[Vector3<f64>], xt: &[Vector3<f64>], h: f64) -> f64 {
+/// `grad Phi = M (x - x~)/h^2 - f(x)` at `x`, filtered by `filt` (zero at pinned
+/// particles, in the planes of particles on rollers), and the forces `f(x)`.
+fn gradient(
+    m: &ClothModel,
+    x: &[Vector3<f64>],
+    xt: &[Vector3<f64>],
+    h: f64,
+    filt: &[Matrix3<f64>],
+) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
     let f = elastic_forces_v(m, x);
-    (0..m.len())
-        .filter(|&q| free(m, q))
-        .map(|q| ((x[q] - xt[q]) / (h * h * m.inv_mass[q]) - f[q]).norm_squared())
-        .sum::<f64>()
-        .sqrt()
+    let g = (0..m.len())
+        .map(|q| {
+            if free(m, q) {
+                filt[q] * ((x[q] - xt[q]) / (h * h * m.inv_mass[q]) - f[q])
+            } else {
+                Vector3::zeros()
+            }
+        })
+        .collect();
+    (g, f)
+}
+
+fn norm(v: &[Vector3<f64>]) -> f64 {
+    v.iter().map(|g| g.norm_squared()).sum::<f64>().sqrt()
 }
 
 /// Minimises `Phi` from the start `x0` until `|grad Phi| <= tol max(|M (x - x~)/h^2|, |f|)`
@@ -68,10 +91,10 @@ fn minimize_v(
     tol: f64,
     max_newton: usize,
 ) -> Result<Vec<V3>> {
-    if m.links.iter().any(|l| l.compliance == 0.0) || !m.rollers.is_empty() {
+    if m.links.iter().any(|l| l.compliance == 0.0) {
         return Err(Error::invalid(
             "method",
-            "the Newton implicit Euler needs soft constraints only (no hard links or rollers)",
+            "the Newton implicit Euler needs soft links only (no hard links)",
         ));
     }
     let n = m.len();
@@ -82,30 +105,20 @@ fn minimize_v(
             x[q] = xt[q];
         }
     }
+    project_onto_rollers(m, &mut x);
     let filt = filters(m);
     let mut best = (f64::INFINITY, 0usize);
     for _ in 0..max_newton {
-        // Gradient of Phi: M (x - x~)/h^2 - f(x).
-        let f = elastic_forces_v(m, &x);
-        let grad: Vec<Vector3<f64>> = (0..n)
-            .map(|q| {
-                if free(m, q) {
-                    (x[q] - xt[q]) * (inv_h2 / m.inv_mass[q]) - f[q]
-                } else {
-                    Vector3::zeros()
-                }
-            })
-            .collect();
+        // Gradient of Phi: M (x - x~)/h^2 - f(x), in the rollers' planes.
+        let (grad, f) = gradient(m, &x, xt, h, &filt);
         // Relative test: the gradient against the size of its two terms (the forces can be
         // large where round-off makes an absolute tolerance unreachable).
-        let norm = |v: &mut dyn Iterator<Item = f64>| v.sum::<f64>().sqrt();
-        let gnorm = norm(&mut grad.iter().map(|g| g.norm_squared()));
-        let fnorm = norm(&mut (0..n).filter(|&q| free(m, q)).map(|q| f[q].norm_squared()));
-        let inorm = norm(
-            &mut (0..n)
-                .filter(|&q| free(m, q))
-                .map(|q| ((x[q] - xt[q]) * (inv_h2 / m.inv_mass[q])).norm_squared()),
-        );
+        let gnorm = norm(&grad);
+        let sum = |v: &mut dyn Iterator<Item = f64>| v.sum::<f64>().sqrt();
+        let fnorm = sum(&mut (0..n).filter(|&q| free(m, q)).map(|q| f[q].norm_squared()));
+        let inorm = sum(&mut (0..n)
+            .filter(|&q| free(m, q))
+            .map(|q| ((x[q] - xt[q]) * (inv_h2 / m.inv_mass[q])).norm_squared()));
         let scale = fnorm.max(inorm).max(f64::MIN_POSITIVE);
         if gnorm <= tol * scale || gnorm == 0.0 {
             return Ok(x);
@@ -144,8 +157,9 @@ fn minimize_v(
         let slope: f64 = grad.iter().zip(&dir).map(|(g, d)| g.dot(d)).sum();
         let full: Vec<Vector3<f64>> = x.iter().zip(&dir).map(|(a, d)| a + d).collect();
         let lost_in_roundoff = -slope <= 1e-12 * phi0.abs().max(f64::MIN_POSITIVE);
-        if lost_in_roundoff && gradient_norm(m, &full, xt, h) < gnorm {
+        if lost_in_roundoff && norm(&gradient(m, &full, xt, h, &filt).0) < gnorm {
             x = full;
+            project_onto_rollers(m, &mut x);
             continue;
         }
         let mut step = 1.0;
@@ -157,6 +171,8 @@ fn minimize_v(
             }
             step *= 0.5;
         }
+        // The filtered direction lies in the rollers' planes; this removes its round-off.
+        project_onto_rollers(m, &mut x);
     }
     Err(Error::Numerical(format!(
         "Newton's method did not reach the relative gradient tolerance {tol:e} in {max_newton} \

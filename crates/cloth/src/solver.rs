@@ -335,10 +335,12 @@ impl Simulation {
     /// The rollers' reaction forces of the last step (N, along each roller's unit normal, in
     /// the order the rollers were added): the rollers' rows of [`Simulation::multipliers`].
     /// The soft projection's multiplier of a roller is its force (the position correction
-    /// is `h^2 w n lambda`, paper section 5); the linearised implicit Euler steps, which
-    /// enforce rollers by velocity filters, report the constraint force of the step,
-    /// `n . (m (v1 - v0) / h - m g - f(x1))`, split over the particle's rollers. At rest
-    /// the reactions balance gravity and the elastic forces.
+    /// is `h^2 w n lambda`, paper section 5); the implicit Euler steps (linearised, Newton
+    /// and the global constraint solve), which keep particles on rollers in their planes by
+    /// velocity filters, report the constraint force of the step,
+    /// `n . (m (v1 - v0) / h - m g - f(x1))`, split over the particle's rollers (for Newton
+    /// and the global solve: the normal part of the momentum residual at convergence). At
+    /// rest the reactions balance gravity and the elastic forces.
     pub fn roller_forces(&self) -> &[f64] {
         &self.lambda[self.lambda.len() - self.model.rollers.len()..]
     }
@@ -447,7 +449,10 @@ impl Simulation {
         let mut lambda = lambda;
         if matches!(
             self.cfg.method,
-            Method::ImplicitEulerCg { .. } | Method::ImplicitEulerDirect
+            Method::ImplicitEulerCg { .. }
+                | Method::ImplicitEulerDirect
+                | Method::ImplicitEulerNewton { .. }
+                | Method::GlobalCr { .. }
         ) {
             // The velocity filters enforce the rollers without multipliers: their rows get
             // the constraint force of the step.

@@ -107,6 +107,55 @@ pub(crate) fn inertial_target_v(m: &ClothModel, h: f64) -> Vec<V3> {
         .collect()
 }
 
+/// The particles on rollers, each with the indices of its rollers (in the order they were
+/// added).
+fn roller_groups(m: &ClothModel) -> Vec<(usize, Vec<usize>)> {
+    let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
+    for (k, r) in m.rollers.iter().enumerate() {
+        match groups.iter_mut().find(|(p, _)| *p == r.p) {
+            Some((_, rows)) => rows.push(k),
+            None => groups.push((r.p, vec![k])),
+        }
+    }
+    groups
+}
+
+/// The least-squares solution `l` of `(N' N) l = b`, `N` the unit normals of the rollers
+/// `rows` as columns (a pseudo-inverse when the normals are dependent; zeros if that fails).
+fn normal_solve(m: &ClothModel, rows: &[usize], b: nalgebra::DVector<f64>) -> Vec<f64> {
+    let nrm = nalgebra::DMatrix::from_fn(3, rows.len(), |i, c| m.rollers[rows[c]].normal[i]);
+    let a = nrm.transpose() * &nrm;
+    let l = a
+        .clone()
+        .cholesky()
+        .map(|c| c.solve(&b))
+        .or_else(|| a.pseudo_inverse(1e-12).ok().map(|pi| pi * &b))
+        .unwrap_or_else(|| nalgebra::DVector::zeros(rows.len()));
+    l.iter().copied().collect()
+}
+
+/// Moves every free particle on rollers to the nearest point of its rollers' planes
+/// `n . x = offset`: `x += N (N' N)^-1 (offset - N' x)`. The Newton and constraint-space
+/// solvers start from there and keep such particles in their planes by the velocity
+/// filters [`filters`].
+pub(crate) fn project_onto_rollers(m: &ClothModel, x: &mut [V3]) {
+    for (p, rows) in roller_groups(m) {
+        if m.inv_mass[p] <= 0.0 {
+            continue;
+        }
+        let b = nalgebra::DVector::from_iterator(
+            rows.len(),
+            rows.iter().map(|&j| {
+                let r = &m.rollers[j];
+                r.offset - V3::from(r.normal).dot(&x[p])
+            }),
+        );
+        for (&j, l) in rows.iter().zip(normal_solve(m, &rows, b)) {
+            x[p] += V3::from(m.rollers[j].normal) * l;
+        }
+    }
+}
+
 /// The rollers' reaction forces (N, along their normals) of a step from the model's state to
 /// `(x, v)` over `h`: the constraint force `m (v - v0) / h - m g - f(x)` of each particle on
 /// rollers, split over its rollers' normals (least squares, `(N' N) l = N' F`), into `out`
@@ -114,36 +163,21 @@ pub(crate) fn inertial_target_v(m: &ClothModel, h: f64) -> Vec<V3> {
 pub(crate) fn roller_reactions(m: &ClothModel, x: &[V3], v: &[V3], h: f64, out: &mut [f64]) {
     let f = elastic_forces_v(m, x);
     let (v0, g) = (m.vs(), m.g());
-    let mut done = vec![false; m.rollers.len()];
-    for (k, r) in m.rollers.iter().enumerate() {
-        if done[k] {
-            continue;
-        }
-        let p = r.p;
+    for (p, rows) in roller_groups(m) {
         let w = m.inv_mass[p];
-        let rows: Vec<usize> = (k..m.rollers.len())
-            .filter(|&j| m.rollers[j].p == p)
-            .collect();
         if w <= 0.0 {
             for &j in &rows {
                 out[j] = 0.0;
-                done[j] = true;
             }
             continue;
         }
         let fc = (v[p] - v0[p]) / (h * w) - g / w - f[p];
-        let nrm = nalgebra::DMatrix::from_fn(3, rows.len(), |i, c| m.rollers[rows[c]].normal[i]);
-        let a = nrm.transpose() * &nrm;
-        let b = nrm.transpose() * nalgebra::DVector::from_column_slice(fc.as_slice());
-        let l = a
-            .clone()
-            .cholesky()
-            .map(|c| c.solve(&b))
-            .or_else(|| a.pseudo_inverse(1e-12).ok().map(|pi| pi * &b))
-            .unwrap_or_else(|| nalgebra::DVector::zeros(rows.len()));
-        for (c, &j) in rows.iter().enumerate() {
-            out[j] = l[c];
-            done[j] = true;
+        let b = nalgebra::DVector::from_iterator(
+            rows.len(),
+            rows.iter().map(|&j| V3::from(m.rollers[j].normal).dot(&fc)),
+        );
+        for (&j, l) in rows.iter().zip(normal_solve(m, &rows, b)) {
+            out[j] = l;
         }
     }
 }

@@ -1,5 +1,6 @@
 //! Roller reaction forces (paper 02, section 5: hard constraints and their multipliers):
-//! every solver that supports rollers reports the constraint force, which balances gravity
+//! every solver that supports rollers (the soft projection, the linearised, Newton and
+//! constraint-space implicit Euler) reports the constraint force, which balances gravity
 //! for a cloth at rest on them.
 
 use wscg_cloth::{ClothModel, Method, Simulation, SolverParams};
@@ -36,6 +37,11 @@ fn methods() -> Vec<Method> {
             max_iter: 500,
         },
         Method::ImplicitEulerDirect,
+        Method::ImplicitEulerNewton { tol: 1e-10 },
+        Method::GlobalCr {
+            primal_residual: true,
+            tol: 1e-12,
+        },
     ]
 }
 
@@ -129,8 +135,17 @@ fn particles_off_their_roller_planes_are_refused_by_name() {
         let e = sim.step(H).unwrap_err().to_string();
         assert!(e.contains("particle 12") && e.contains("roller"), "{e}");
     }
-    // The soft projection moves it onto its plane.
-    let mut sim = Simulation::new(m, SolverParams::default()).unwrap();
-    sim.step(H).unwrap();
-    assert!(sim.model().x[12][1].abs() < 1e-9);
+    // The soft projection, Newton and the global solve move it onto its plane.
+    for method in [
+        Method::SoftProjection,
+        Method::ImplicitEulerNewton { tol: 1e-10 },
+        Method::GlobalCr {
+            primal_residual: true,
+            tol: 1e-12,
+        },
+    ] {
+        let mut sim = Simulation::new(m.clone(), SolverParams::default().method(method)).unwrap();
+        sim.step(H).unwrap();
+        assert!(sim.model().x[12][1].abs() < 1e-9, "{method:?}");
+    }
 }

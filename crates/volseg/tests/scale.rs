@@ -15,7 +15,7 @@ fn case_one_size_converges_in_the_papers_iteration_range() {
     let ph = fractured_shell_phantom(&PhantomParams::default().dims([512, 512, 337]).fragments(15))
         .unwrap();
     let t_phantom = t.elapsed().as_secs_f64();
-    let p = RandomWalkParams::default();
+    let p = RandomWalkParams::paper();
     let t = Instant::now();
     let g = BoneGraph::build(&ph.ct, &p).unwrap();
     let t_graph = t.elapsed().as_secs_f64();

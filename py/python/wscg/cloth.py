@@ -165,8 +165,10 @@ class Sim:
         """Reaction forces of the rollers in the last step (N along each roller's unit
         normal, in the order they were added): the soft projection's multipliers, the
         constraint force of the step for ``ie_cg`` and ``ie_direct`` (which enforce rollers
-        by velocity filters and refuse a particle off its roller plane, naming it). At rest
-        they balance gravity and the elastic forces."""
+        by velocity filters and refuse a particle off its roller plane, naming it) and for
+        ``ie_newton`` and ``global_cr`` (which start from the nearest point of the planes
+        and eliminate the rollers by the same filters: the normal part of the momentum
+        residual at convergence). At rest they balance gravity and the elastic forces."""
         return self._sim.roller_forces
 
     @property

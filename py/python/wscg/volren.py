@@ -437,7 +437,7 @@ def _range(value_range) -> Optional[Tuple[float, float]]:
 
 def _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance, n_subsamples,
                  kernel, spread, tan_half, light_dir, ambient, background, interp,
-                 light_attenuation) -> dict:
+                 light_attenuation, border) -> dict:
     """The native options dict of a render (validated types; values checked natively)."""
     n_subsamples = _int("n_subsamples", n_subsamples)
     if not 0 <= n_subsamples <= 64:
@@ -460,6 +460,7 @@ def _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance,
         "interp": _name("interp", interp, ("trilinear", "nearest")),
         "light_attenuation": _name("light_attenuation", light_attenuation,
                                    ("segment", "slice-only")),
+        "border": _name("border", border, ("open", "closed")),
     }
 
 
@@ -472,7 +473,7 @@ def render(volume, tf, spacing: Optional[Sequence[float]] = None,
            light_dir: Sequence[float] = (0.0, 0.0, 1.0), ambient: float = 0.0,
            background: Sequence[float] = (0.0, 0.0, 0.0), interp: str = "trilinear",
            value_range: Optional[Tuple[float, float]] = None,
-           light_attenuation: str = "segment") -> np.ndarray:
+           light_attenuation: str = "segment", border: str = "open") -> np.ndarray:
     """Renders a volume with convolution shadows or a ray-casting baseline (paper 15).
 
     Parameters
@@ -536,6 +537,14 @@ def render(volume, tf, spacing: Optional[Sequence[float]] = None,
     light_attenuation : "segment" or "slice-only"
         With sub-samples, whether the light is attenuated by every tissue sample of a
         segment (default) or by the slice sample only.
+    border : "open" or "closed", default "open"
+        What the light propagated through the slices meets outside the volume's box.
+        ``"open"``: empty space, so light passes round an occluder that stops short of the
+        box's sides and a blurring kernel carries light from outside in under its edges.
+        ``"closed"``: opaque beyond every face of the box not turned towards the light (the
+        sides for a light along an axis, and the back), so the light enters only through
+        the faces turned towards it. The delta kernel and the ray casters give the same
+        image for both.
 
     Returns
     -------
@@ -549,7 +558,7 @@ def render(volume, tf, spacing: Optional[Sequence[float]] = None,
     """
     opts = _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance,
                         n_subsamples, kernel, spread, tan_half, light_dir, ambient, background,
-                        interp, light_attenuation)
+                        interp, light_attenuation, border)
     vol, sp, vr = _illum_source(volume, spacing, value_range)
     return _v.illum_render(vol, _rgba_tf(tf), sp, vr, opts)
 
@@ -563,7 +572,8 @@ def light_buffer(volume, tf, depth: float, spacing: Optional[Sequence[float]] = 
                  light_dir: Sequence[float] = (0.0, 0.0, 1.0), ambient: float = 0.0,
                  background: Sequence[float] = (0.0, 0.0, 0.0), interp: str = "trilinear",
                  value_range: Optional[Tuple[float, float]] = None,
-                 light_attenuation: str = "segment") -> Tuple[np.ndarray, float]:
+                 light_attenuation: str = "segment",
+                 border: str = "open") -> Tuple[np.ndarray, float]:
     """The light buffer arriving at the slice nearest to ``depth`` (a test and debugging
     hook of the slice methods).
 
@@ -575,7 +585,7 @@ def light_buffer(volume, tf, depth: float, spacing: Optional[Sequence[float]] = 
     """
     opts = _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance,
                         n_subsamples, kernel, spread, tan_half, light_dir, ambient, background,
-                        interp, light_attenuation)
+                        interp, light_attenuation, border)
     vol, sp, vr = _illum_source(volume, spacing, value_range)
     buf, z = _v.illum_light_buffer(vol, _rgba_tf(tf), _num("depth", depth), sp, vr, opts)
     return buf, float(z)

@@ -102,7 +102,8 @@ def render(volume: Union[npt.ArrayLike, PreparedVolume], tf: npt.ArrayLike,
            spread: float = 0.5, tan_half: float = 0.5, light_dir: Sequence[float] = ...,
            ambient: float = 0.0, background: Sequence[float] = ..., interp: str = "trilinear",
            value_range: Optional[Tuple[float, float]] = None,
-           light_attenuation: str = "segment") -> npt.NDArray[np.float32]: ...
+           light_attenuation: str = "segment",
+           border: str = "open") -> npt.NDArray[np.float32]: ...
 def light_buffer(volume: Union[npt.ArrayLike, PreparedVolume], tf: npt.ArrayLike, depth: float,
                  spacing: Optional[Sequence[float]] = None, view_dir: Sequence[float] = ...,
                  up: Sequence[float] = ..., size: Tuple[int, int] = (512, 512),
@@ -112,7 +113,7 @@ def light_buffer(volume: Union[npt.ArrayLike, PreparedVolume], tf: npt.ArrayLike
                  light_dir: Sequence[float] = ..., ambient: float = 0.0,
                  background: Sequence[float] = ..., interp: str = "trilinear",
                  value_range: Optional[Tuple[float, float]] = None,
-                 light_attenuation: str = "segment"
+                 light_attenuation: str = "segment", border: str = "open"
                  ) -> Tuple[npt.NDArray[np.float32], float]: ...
 def preintegration_table(tf: npt.ArrayLike, ds: float) -> npt.NDArray[np.float32]: ...
 def make_marschner_lobb(n: int = 41) -> npt.NDArray[np.float32]: ...

@@ -11,6 +11,7 @@ _Bool = npt.NDArray[np.bool_]
 _Norm = Union[Literal["window", "minmax", "none"], Tuple[Literal["window"], float, float]]
 _Solver = Literal["block", "per_label"]
 _Precision = Literal["f32", "f64"]
+_Preset = Literal["default", "paper"]
 
 __all__ = ["random_walker_bone", "RandomWalkerSession", "nearest_seed", "dice", "bone_mask",
            "smooth", "local_grow_edit", "remove_small_components",
@@ -31,8 +32,10 @@ class SolveReport:
 DEFAULT_WINDOW: Tuple[float, float]
 
 @overload
-def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ..., beta: float = ...,
-                       eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
+def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ...,
+                       beta: Optional[float] = ..., eps: Optional[float] = ...,
+                       kappa: Optional[float] = ..., preset: _Preset = ..., tol: float = ...,
+                       max_iter: int = ...,
                        spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                        norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
@@ -40,8 +43,10 @@ def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ...
                        n_threads: Optional[int] = ..., return_prob: Literal[False] = ...,
                        return_report: Literal[False] = ...) -> _U16: ...
 @overload
-def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ..., beta: float = ...,
-                       eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
+def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ...,
+                       beta: Optional[float] = ..., eps: Optional[float] = ...,
+                       kappa: Optional[float] = ..., preset: _Preset = ..., tol: float = ...,
+                       max_iter: int = ...,
                        spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                        norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
@@ -49,8 +54,10 @@ def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ...
                        n_threads: Optional[int] = ..., return_prob: Literal[True],
                        return_report: Literal[False] = ...) -> Tuple[_U16, _F32]: ...
 @overload
-def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ..., beta: float = ...,
-                       eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
+def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ...,
+                       beta: Optional[float] = ..., eps: Optional[float] = ...,
+                       kappa: Optional[float] = ..., preset: _Preset = ..., tol: float = ...,
+                       max_iter: int = ...,
                        spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                        norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
@@ -58,8 +65,10 @@ def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ...
                        n_threads: Optional[int] = ..., return_prob: Literal[False] = ...,
                        return_report: Literal[True]) -> Tuple[_U16, SolveReport]: ...
 @overload
-def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ..., beta: float = ...,
-                       eps: float = ..., kappa: float = ..., tol: float = ..., max_iter: int = ...,
+def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ...,
+                       beta: Optional[float] = ..., eps: Optional[float] = ...,
+                       kappa: Optional[float] = ..., preset: _Preset = ..., tol: float = ...,
+                       max_iter: int = ...,
                        spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                        norm: _Norm = ...,
                        spacing_in_weights: bool = ..., solver: _Solver = ...,
@@ -69,7 +78,8 @@ def random_walker_bone(ct: _ArrayLike, seeds: _ArrayLike, *, t_bone: float = ...
 
 class RandomWalkerSession:
     def __init__(self, ct: _ArrayLike, mask: Optional[_ArrayLike] = None, *, t_bone: float = ...,
-                 beta: float = ..., eps: float = ..., kappa: float = ..., tol: float = ...,
+                 beta: Optional[float] = ..., eps: Optional[float] = ...,
+                 kappa: Optional[float] = ..., preset: _Preset = ..., tol: float = ...,
                  max_iter: int = ..., spacing: Sequence[float] = ..., n_smooth_passes: int = ...,
                  norm: _Norm = ..., spacing_in_weights: bool = ..., solver: _Solver = ...,
                  precision: _Precision = ..., jacobi: bool = ...,

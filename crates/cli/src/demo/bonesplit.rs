@@ -63,7 +63,7 @@ fn run(out: &Path, progress: &dyn Progress) -> Result<Report> {
     progress.begin("bonesplit", 4);
     let ph = rep.time("phantom", || fractured_shell_phantom(&cfg))?;
     progress.advance(1);
-    let p = RandomWalkParams::default();
+    let p = RandomWalkParams::paper();
     let g = rep.time("bone graph", || BoneGraph::build(&ph.ct, &p))?;
     let (nodes, edges) = (g.len(), g.edges());
     let mut s = RandomWalkSession::new(g, p)?;

@@ -19,6 +19,25 @@ pub enum LightAtten {
     SliceOnly,
 }
 
+/// What the light propagated through the slices meets outside the volume's box (the paper
+/// renders a volume in empty space and does not say; its light buffer starts at the slicing's
+/// first slice).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LightBorder {
+    /// The outside of the box is empty: light passes round an occluder that does not reach
+    /// the box's sides and, with a blurring kernel, leaks in under its edges from outside.
+    #[default]
+    Open,
+    /// The outside of the box is opaque to the propagated light beyond every face that is
+    /// not turned towards the light (the sides for a light along an axis, and the back): the
+    /// light enters only through the faces turned towards it, so a blurring kernel cannot
+    /// carry light from outside round an occluder. Without blur (the delta kernel) nothing
+    /// changes, since light moving away from the light never re-enters the box through such
+    /// a face. The shadow-ray caster's rays leave the box only through the faces turned
+    /// towards the light, so it is the same for both borders.
+    Closed,
+}
+
 /// Blinn-Phong weights of the local-illumination baseline.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Phong {
@@ -228,6 +247,8 @@ wscg_math::params! {
         pub background: [f32; 3],
         /// Opacity at which a ray stops (ray casters) or a pixel's eye pass stops compositing.
         pub early_stop: f32,
+        /// The outside of the box for the propagated light (open by default).
+        pub border: LightBorder,
     }
 }
 
@@ -237,13 +258,14 @@ impl Default for IlluminationParams {
             interp: Interp::Trilinear,
             background: [0.0; 3],
             early_stop: 0.999,
+            border: LightBorder::Open,
         }
     }
 }
 
 impl IlluminationParams {
-    /// Errors: background outside `[0, 1]`, early stop outside `(0, 1]` (`interp` is a
-    /// choice of filter, each valid).
+    /// Errors: background outside `[0, 1]`, early stop outside `(0, 1]` (`interp` and
+    /// `border` are choices, each valid).
     pub fn validate(&self) -> Result<()> {
         if !self.background.iter().all(|v| (0.0..=1.0).contains(v)) {
             return Err(Error::invalid(

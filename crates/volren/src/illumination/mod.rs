@@ -19,10 +19,11 @@
 //! volume (the paper's premise).
 //!
 //! The volume's box bounds the light's propagation: the light buffer starts unattenuated at
-//! the box's front face and the outside of the box is empty, so light passes round an
-//! occluder that does not reach the box's sides and, with a blurring kernel, leaks in under
-//! its edges. Pad the volume with occluding voxels where the surroundings should block the
-//! light.
+//! the box's front face. With [`LightBorder::Open`] (the default) the outside of the box is
+//! empty, so light passes round an occluder that does not reach the box's sides and, with a
+//! blurring kernel, leaks in under its edges; with [`LightBorder::Closed`] the outside is
+//! opaque beyond the faces not turned towards the light, so light enters only through the
+//! faces turned towards it.
 
 mod bricks;
 pub mod camera;
@@ -43,7 +44,9 @@ pub use camera::{SliceCamera, Slicing};
 pub use classify::{SampleLut, TransferFunction};
 pub use field::{Interp, ScalarField};
 pub use kernel::{Kernel, StepKernel};
-pub use method::{IlluminationParams, Light, LightAtten, Method, Phong, MAX_SUBSAMPLES};
+pub use method::{
+    IlluminationParams, Light, LightAtten, LightBorder, Method, Phong, MAX_SUBSAMPLES,
+};
 pub use preintegration::PreIntegrationTable;
 
 use wscg_math::{Error, Image, Result};

@@ -24,7 +24,7 @@ use super::camera::{Frame, Slicing};
 use super::classify::{SampleLut, TransferFunction};
 use super::field::ScalarField;
 use super::kernel::{Kernel, StepKernel};
-use super::method::{IlluminationParams, Light, LightAtten, Method};
+use super::method::{IlluminationParams, Light, LightAtten, LightBorder, Method};
 use super::preintegration::PreIntegrationTable;
 use super::sampler::Sampler;
 
@@ -135,6 +135,11 @@ pub(crate) struct SliceRun<'a> {
     dx: [f32; 3],
     dy: [f32; 3],
     dz: [f32; 3],
+    /// [`LightBorder::Closed`]: per axis, whether the outside beyond the box's low and high
+    /// face is opaque to the light (the faces not turned towards it); `None` when open.
+    walls: Option<[[bool; 2]; 3]>,
+    /// The box's high faces, `n - 1/2` in voxel coordinates (the low ones are at `-1/2`).
+    box_hi: [f32; 3],
 }
 
 /// What a run produced.
@@ -237,6 +242,13 @@ impl<'a> SliceRun<'a> {
             .collect();
         let [org, dx, dy, dz] = frame.voxel_steps(field, x0 as f64, y0 as f64);
         let short_segments = (delta as usize) < super::cells::CELL;
+        // Direction towards the light in world (and, up to positive scales, voxel)
+        // coordinates: the low face of axis `a` is turned towards the light when its
+        // component is negative, the high face when it is positive.
+        let walls = (settings.border == LightBorder::Closed).then(|| {
+            let lw = frame.light_world(l);
+            std::array::from_fn(|a| [lw[a] >= -1e-9, lw[a] <= 1e-9])
+        });
         Ok(Self {
             sampler: &prep.sampler,
             classifier: &prep.classifier,
@@ -260,6 +272,8 @@ impl<'a> SliceRun<'a> {
             dx,
             dy,
             dz,
+            walls,
+            box_hi: field.dims().map(|n| n as f32 - 0.5),
         })
     }
 
@@ -352,10 +366,42 @@ impl<'a> SliceRun<'a> {
             act[2].saturating_sub(r),
             (act[3] + r).min(self.rect.h),
         ];
+        if let Some(walls) = self.walls {
+            // O_n lies at the next slice's depth.
+            let z_next = (self.slicing.z(n) + self.slicing.ds) as f32;
+            self.close_border(l_cur, out, z_next, walls);
+        }
         self.kernel
             .apply_rect(l_cur, tmp, l_prev, w, self.rect.h, out);
         *active = Some(out);
         std::mem::swap(l_cur, l_prev);
+    }
+
+    /// [`LightBorder::Closed`]: sets the light to 0 at the pixels of `rect` (`[x0, x1) x
+    /// [y0, y1)` of the light buffer) whose position at depth `z` lies beyond a wall of the
+    /// box, before the convolution carries it on. Outside `rect` the light is 1 and more
+    /// than the kernel's reach from every pixel whose light can change.
+    fn close_border(&self, light: &mut [f32], rect: [usize; 4], z: f32, walls: [[bool; 2]; 3]) {
+        let w = self.rect.w;
+        let hi = self.box_hi;
+        light[rect[2] * w..rect[3] * w]
+            .par_chunks_mut(w)
+            .enumerate()
+            .for_each(|(k, row)| {
+                let rf = (rect[2] + k) as f32;
+                let row0: [f32; 3] =
+                    std::array::from_fn(|a| self.org[a] + rf * self.dy[a] + z * self.dz[a]);
+                for (i, v) in row.iter_mut().enumerate().take(rect[1]).skip(rect[0]) {
+                    let fi = i as f32;
+                    let beyond = (0..3).any(|a| {
+                        let c = row0[a] + fi * self.dx[a];
+                        (walls[a][0] && c < -0.5) || (walls[a][1] && c >= hi[a])
+                    });
+                    if beyond {
+                        *v = 0.0;
+                    }
+                }
+            });
     }
 
     /// Image-column range `[a, b)` of the light buffer row `r`, empty outside the image.

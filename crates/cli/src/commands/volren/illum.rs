@@ -18,8 +18,8 @@ use wscg_volren::illumination::scenes::{
 };
 use wscg_volren::illumination::study::{grid, sweep, AliasCriterion};
 use wscg_volren::illumination::{
-    render, IlluminationParams, Kernel, Light, LightAtten, Method, Phong, ScalarField, SliceCamera,
-    TransferFunction,
+    render, IlluminationParams, Kernel, Light, LightAtten, LightBorder, Method, Phong, ScalarField,
+    SliceCamera, TransferFunction,
 };
 
 use crate::progress::Bars;
@@ -53,6 +53,17 @@ pub enum KernelName {
     Delta,
     /// Directional-occlusion cone (--tan-half).
     Disk,
+}
+
+/// What the propagated light meets outside the volume's box.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum BorderName {
+    /// Empty: light passes round an occluder short of the box's sides and a blurring kernel
+    /// carries light from outside in under its edges.
+    Open,
+    /// Opaque beyond every face not turned towards the light: light enters only through the
+    /// faces turned towards it.
+    Closed,
 }
 
 #[derive(Args, Debug)]
@@ -114,6 +125,11 @@ pub struct IllumArgs {
     /// Background colour r,g,b in [0, 1].
     #[arg(long, value_delimiter = ',', default_value = "0,0,0")]
     background: Vec<f32>,
+    /// Outside of the volume's box for the propagated light: open (empty, light leaks round
+    /// an occluder that stops short of the sides) or closed (opaque beyond the faces not
+    /// turned towards the light).
+    #[arg(long, value_enum, default_value_t = BorderName::Open)]
+    border: BorderName,
     /// Image side in pixels.
     #[arg(long, default_value_t = 512)]
     size: usize,
@@ -260,7 +276,12 @@ pub fn run(a: IllumArgs) -> Result<()> {
             },
         },
     };
-    let settings = IlluminationParams::default().background(triple(&a.background, "background")?);
+    let settings = IlluminationParams::default()
+        .background(triple(&a.background, "background")?)
+        .border(match a.border {
+            BorderName::Open => LightBorder::Open,
+            BorderName::Closed => LightBorder::Closed,
+        });
     if a.study {
         if a.views == 0 {
             return Err(Error::invalid("views", "needs at least one view"));
