@@ -35,10 +35,11 @@ pub use method::{compare, run, run_with, to_display, ManyLightParams, ManyLightR
 pub use obj::load_obj;
 pub use placement::{AdaptiveParams, Placement};
 pub use render::{
-    build_cache, render, render_power, render_reference, CacheStats, ImportanceCachingParams,
+    build_cache, render, render_power, render_reference, render_reference_filtered, CacheStats,
+    ImportanceCachingParams, PixelFilter,
 };
 pub use scene::{luminance, Hit, Rgb, Scene, Triangle};
 pub use scenes::{colonnade, conference_room, cornell_box, plane_with_light};
 pub use shading::{Receiver, Shading};
 pub use vpl::{generate_vpls, Vpl, VplKind, VplParams};
-pub use weights::Interp;
+pub use weights::{Interp, DEFAULT_DEFENSIVE};
