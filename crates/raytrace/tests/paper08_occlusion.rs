@@ -64,6 +64,37 @@ fn base(n_paths: usize, n_cache: usize, vpl_seed: u64) -> ManyLightParams {
             .filter(PixelFilter::Center))
 }
 
+/// The default weights (eqs. 2-4 blended with the uniform ones, defensive share 0.5) against
+/// the ablation with uniform weights over 32 renders: not worse in mean and median RMSE.
+fn assert_weights_not_worse(scene: &Scene, cam: &Camera, vpl_seed: u64, seed0: u64) {
+    let n_cache = cam.width * cam.height / 100;
+    let b = base(1000, n_cache, vpl_seed);
+    assert_eq!(b.weights, Interp::paper().with_defensive(0.5));
+    let variants = [
+        ("adaptive (default)", Method::Adaptive, b),
+        ("adaptive_uniform", Method::AdaptiveUniform, b),
+    ];
+    let e = sweep(scene, cam, &b, &variants, seed0, 32);
+    let (a, u) = (stats(&e[0]), stats(&e[1]));
+    assert!(a.0 <= u.0, "mean RMSE {} > {}", a.0, u.0);
+    assert!(a.1 <= u.1, "median RMSE {} > {}", a.1, u.1);
+}
+
+/// The lattice room (not the scene the defensive share was chosen on).
+#[test]
+fn weights_not_worse_than_uniform_lattice() {
+    let (scene, cam) = lattice_room(128, 96);
+    assert_weights_not_worse(&scene, &cam, 11, 0);
+}
+
+/// The slatted room with other VPLs and other render seeds than those the share was chosen
+/// on.
+#[test]
+fn weights_not_worse_than_uniform_slats_second_seed() {
+    let (scene, cam) = slatted_room(128, 96);
+    assert_weights_not_worse(&scene, &cam, 23, 500);
+}
+
 /// The measurement of BENCHMARKS.md: `WSCG_SCENE` (`slats` or `lattice`), `WSCG_SIZE`
 /// (`192x144`), `WSCG_RUNS` (48), `WSCG_SEED0` (0).
 #[test]

@@ -11,7 +11,7 @@
 //! - [`pmf`], [`cache`]: records and their four distributions.
 //! - [`weights`]: the similarity weights of eqs. (2)-(4).
 //! - [`placement`]: screen-grid records (the baseline), clustering and adaptive insertion.
-//! - [`mod@render`]: the alpha-max estimator, the reference, power sampling.
+//! - [`mod@render`]: the alpha-max estimator, the reference, power sampling, pixel filters.
 //! - [`method`]: every method of the comparison behind one call.
 
 pub mod cache;
