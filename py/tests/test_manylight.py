@@ -41,7 +41,8 @@ def test_plane_under_a_tiny_light_is_the_closed_form():
 
 def test_methods_agree_with_the_reference_on_average():
     s = rt.make_manylight_scene("cornell", width=48, height=36)
-    kw = dict(n_vpl_paths=300, n_cache=60, spp=8)
+    # At the pixel centres: the estimators against the all-VPL sum at the same points.
+    kw = dict(n_vpl_paths=300, n_cache=60, spp=8, pixel_filter="center")
     ref, _ = rt.render_manylight(s, "reference", **kw)
     lum = lambda im: float((im @ np.array([0.2126, 0.7152, 0.0722])).mean())
     for method in ["adaptive", "adaptive_uniform", "ic", "power"]:
@@ -141,7 +142,7 @@ def test_record_weight_is_eqs_2_to_4():
     nrm = np.stack([np.sin(theta), np.zeros_like(d), np.cos(theta)], axis=1)
     got = rt.manylight_record_weight([0, 0, 0], [0, 0, 1], pos, nrm, d_max=1.0)
     np.testing.assert_allclose(got, w(d, theta), atol=1e-12)
-    assert got[0] == 1.0 and got[-1] == 0.0
+    assert got[0] == 1.0 and got[-1] > 0  # past d_max only the lookup drops a record
     # Straight above: the first factor of eq. (3) is 0; at 45 degrees sqrt(1 - cos 45).
     up = rt.manylight_record_weight([0, 0, 0], [0, 0, 1], [[0, 0, 0.3], [0.3, 0, 0.3]],
                                     [[0, 0, 1], [0, 0, 1]], d_max=1.0)
