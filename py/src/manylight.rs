@@ -347,7 +347,11 @@ fn manylight_record_weight<'py>(
     lam: f64,
 ) -> PyResult<Arr<'py, f64>> {
     let p = rows3("record_pos", &values(&record_pos), record_pos.shape())?;
-    let n = rows3("record_normal", &values(&record_normal), record_normal.shape())?;
+    let n = rows3(
+        "record_normal",
+        &values(&record_normal),
+        record_normal.shape(),
+    )?;
     if p.len() != n.len() {
         return Err(crate::errors::value_error(format!(
             "`record_pos` has {} rows but `record_normal` {}",

@@ -58,7 +58,12 @@ fn stats(e: &[f64]) -> (f64, f64, f64) {
 /// all-VPL sum there).
 fn base(n_paths: usize, n_cache: usize, vpl_seed: u64) -> ManyLightParams {
     ManyLightParams::default()
-        .vpl(VplParams::default().n_paths(n_paths).max_bounces(2).seed(vpl_seed))
+        .vpl(
+            VplParams::default()
+                .n_paths(n_paths)
+                .max_bounces(2)
+                .seed(vpl_seed),
+        )
         .ic(ImportanceCachingParams::default()
             .n_cache(n_cache)
             .filter(PixelFilter::Center))
@@ -117,7 +122,11 @@ fn measure_weights_on_occluders() {
     let b = base(1000, (w * h / 100).max(1), 1 + seed0);
     let mut variants = vec![
         ("adaptive_uniform", Method::AdaptiveUniform, b),
-        ("adaptive paper", Method::Adaptive, b.weights(Interp::paper())),
+        (
+            "adaptive paper",
+            Method::Adaptive,
+            b.weights(Interp::paper()),
+        ),
     ];
     let cs = env("WSCG_DEFENSIVE", "0.5");
     let names: Vec<String> = cs.split(',').map(|c| format!("adaptive c={c}")).collect();
@@ -164,7 +173,11 @@ fn blocks_within(img: &Image<f32>, reference: &Image<f32>, tol: f64) -> (f64, f6
                     b += lum(reference, y, x);
                 }
             }
-            let rel = if b > 0.0 { (a / b - 1.0).abs() } else { a.abs() };
+            let rel = if b > 0.0 {
+                (a / b - 1.0).abs()
+            } else {
+                a.abs()
+            };
             worst = worst.max(rel);
             ok += usize::from(rel <= tol);
             n += 1;

@@ -558,7 +558,10 @@ mod tests {
             assert_eq!(PixelFilter::Center.offsets(3, shift), vec![[0.0; 2]; 3]);
         }
         // Box: uniform (2000 per tenth); tent: E|dx| = 1/3.
-        assert!(box_hist.iter().all(|c| (1800..=2200).contains(c)), "{box_hist:?}");
+        assert!(
+            box_hist.iter().all(|c| (1800..=2200).contains(c)),
+            "{box_hist:?}"
+        );
         assert!((tent_abs / n as f64 - 1.0 / 3.0).abs() < 0.01);
         for f in PixelFilter::ALL {
             assert_eq!(PixelFilter::parse(f.name()).unwrap(), f);

@@ -190,7 +190,10 @@ mod tests {
         .is_err());
         assert!(Interp::default().validate().is_ok());
         assert!(Interp::default().with_defensive(1.5).validate().is_err());
-        assert!(Interp::default().with_defensive(f64::NAN).validate().is_err());
+        assert!(Interp::default()
+            .with_defensive(f64::NAN)
+            .validate()
+            .is_err());
         assert_eq!(
             Interp::paper(),
             Interp::Clarberg {
