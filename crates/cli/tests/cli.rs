@@ -1046,7 +1046,10 @@ fn raytrace_manylight_compares_the_methods_and_reads_obj() {
             .output()
             .unwrap();
         assert!(!bad.status.success());
-        assert!(String::from_utf8_lossy(&bad.stderr).contains(named), "{flag}");
+        assert!(
+            String::from_utf8_lossy(&bad.stderr).contains(named),
+            "{flag}"
+        );
     }
     // The paper's setting: its weights, one ray through each pixel centre.
     let paper = dir.path().join("paper.exr");
