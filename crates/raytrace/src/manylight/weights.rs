@@ -197,7 +197,7 @@ mod tests {
         assert_eq!(
             Interp::paper(),
             Interp::Clarberg {
-                theta_max: PI / 6.0,
+                theta_max: std::f64::consts::FRAC_PI_6,
                 lambda: 5.0,
                 dmax_factor: 2.0,
                 defensive: 0.0
