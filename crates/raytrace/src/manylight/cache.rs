@@ -185,7 +185,7 @@ impl ImportanceCache {
             .filter(|&(_, w)| w > 0.0)
             .collect();
         let total: f64 = out.iter().map(|e| e.1).sum();
-        if !(total > 0.0) {
+        if total.is_nan() || total <= 0.0 {
             return self.uniform_lookup(&pos, normal, exclude);
         }
         let keep = (1.0 - defensive) / total;
