@@ -7,8 +7,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
 use wscg_math::vec3::add;
+use wscg_raytrace::manylight::weights::record_weight;
 use wscg_raytrace::manylight::{
-    load_obj, run, scenes, Camera, Interp, ManyLightParams, Method, Scene, Triangle,
+    load_obj, run, scenes, Camera, ManyLightParams, Method, PixelFilter, Scene, Triangle,
 };
 
 use crate::convert::{array, rows3, values, Arr, Cfg};
@@ -285,18 +286,16 @@ fn manylight_render<'py>(
     s.ic.clamp_dist = c.opt("clamp_dist")?;
     s.adaptive.delta = c.get("delta", s.adaptive.delta)?;
     s.adaptive.init_fraction = c.get("init_fraction", s.adaptive.init_fraction)?;
-    if let Interp::Clarberg {
-        theta_max,
-        lambda,
-        dmax_factor,
-    } = s.weights
-    {
-        s.weights = Interp::Clarberg {
-            theta_max: c.get("theta_max", theta_max)?,
-            lambda: c.get("lambda", lambda)?,
-            dmax_factor: c.get("dmax_factor", dmax_factor)?,
-        };
+    if let Some(f) = c.opt::<String>("pixel_filter")? {
+        s.ic.filter = PixelFilter::parse(&f).py_err()?;
     }
+    s.ic.pixel_samples = c.get("n_pixel_samples", s.ic.pixel_samples)?;
+    s.weights = wscg_raytrace::manylight::Interp::Clarberg {
+        theta_max: c.get("theta_max", std::f64::consts::FRAC_PI_6)?,
+        lambda: c.get("lambda", 5.0)?,
+        dmax_factor: c.get("dmax_factor", 2.0)?,
+        defensive: c.get("defensive", wscg_raytrace::manylight::DEFAULT_DEFENSIVE)?,
+    };
     let out =
         crate::pool::detach(py, || run(&scene.scene, &camera, method, &s, &NoProgress)).py_err()?;
     let (h, w, _) = out.image.shape();
@@ -317,7 +316,12 @@ fn manylight_render<'py>(
     d.set_item("record_pixels", array(py, &[out.records.len()], pix)?)?;
     let ins: Vec<bool> = out.records.iter().map(|r| r.inserted).collect();
     d.set_item("record_inserted", array(py, &[out.records.len()], ins)?)?;
+    let nrm: Vec<f64> = out.records.iter().flat_map(|r| r.at.normal).collect();
+    d.set_item("record_normals", array(py, &[out.records.len(), 3], nrm)?)?;
+    let rad: Vec<f64> = out.records.iter().map(|r| r.radius).collect();
+    d.set_item("record_radii", array(py, &[out.records.len()], rad)?)?;
     if let Some(cs) = out.cache {
+        d.set_item("initial", cs.initial)?;
         d.set_item("n_records", cs.records)?;
         d.set_item("inserted", cs.inserted)?;
         d.set_item("passes", cs.passes)?;
@@ -325,6 +329,73 @@ fn manylight_render<'py>(
         d.set_item("cache_bytes", cs.bytes)?;
     }
     Ok((img, d))
+}
+
+/// The similarity weight of eqs. (2)-(4) of each record (positions and unit normals
+/// (K, 3)) for the shading point `x` with unit normal `normal`.
+#[pyfunction]
+#[pyo3(signature = (x, normal, record_pos, record_normal, d_max, theta_max, lam))]
+#[allow(clippy::too_many_arguments)]
+fn manylight_record_weight<'py>(
+    py: Python<'py>,
+    x: [f64; 3],
+    normal: [f64; 3],
+    record_pos: PyReadonlyArrayDyn<f64>,
+    record_normal: PyReadonlyArrayDyn<f64>,
+    d_max: f64,
+    theta_max: f64,
+    lam: f64,
+) -> PyResult<Arr<'py, f64>> {
+    let p = rows3("record_pos", &values(&record_pos), record_pos.shape())?;
+    let n = rows3(
+        "record_normal",
+        &values(&record_normal),
+        record_normal.shape(),
+    )?;
+    if p.len() != n.len() {
+        return Err(crate::errors::value_error(format!(
+            "`record_pos` has {} rows but `record_normal` {}",
+            p.len(),
+            n.len()
+        )));
+    }
+    if !(d_max.is_finite() && d_max > 0.0) {
+        return Err(crate::errors::value_error(format!(
+            "`d_max` must be finite and positive, got {d_max}"
+        )));
+    }
+    wscg_raytrace::manylight::Interp::Clarberg {
+        theta_max,
+        lambda: lam,
+        dmax_factor: 1.0,
+        defensive: 0.0,
+    }
+    .validate()
+    .py_err()?;
+    let unit = |name: &str, v: [f64; 3]| -> PyResult<[f64; 3]> {
+        let len = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+        if !(len.is_finite() && (len - 1.0).abs() <= 1e-6) || v.iter().any(|c| !c.is_finite()) {
+            return Err(crate::errors::value_error(format!(
+                "`{name}` must hold finite unit vectors, got {v:?}"
+            )));
+        }
+        Ok(v)
+    };
+    if x.iter().any(|c| !c.is_finite()) || p.iter().flatten().any(|c| !c.is_finite()) {
+        return Err(crate::errors::value_error(
+            "`x` and `record_pos` must be finite",
+        ));
+    }
+    let normal = unit("normal", normal)?;
+    let w = p
+        .iter()
+        .zip(&n)
+        .map(|(pk, nk)| {
+            let nk = unit("record_normal", *nk)?;
+            Ok(record_weight(x, normal, *pk, nk, d_max, theta_max, lam))
+        })
+        .collect::<PyResult<Vec<f64>>>()?;
+    array(py, &[w.len()], w)
 }
 
 /// Registers the many-light functions in the `raytrace` submodule.
@@ -335,5 +406,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_manylight_scene_from_parts, m)?)?;
     m.add_function(wrap_pyfunction!(load_manylight_obj, m)?)?;
     m.add_function(wrap_pyfunction!(manylight_render, m)?)?;
+    m.add_function(wrap_pyfunction!(manylight_record_weight, m)?)?;
     Ok(())
 }

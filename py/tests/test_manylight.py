@@ -11,7 +11,8 @@ def test_plane_under_a_tiny_light_is_the_closed_form():
     # Emitter VPLs only, no clamping: the tiny square light of power pi acts as a point light
     # at height 1, so L = 0.5 h^2 / (pi d^4) on the plane.
     s = rt.make_manylight_scene("plane", width=48, height=36)
-    img, st = rt.render_manylight(s, "reference", n_vpl_paths=64, max_bounces=0, clamp_dist=0.0)
+    img, st = rt.render_manylight(s, "reference", n_vpl_paths=64, max_bounces=0, clamp_dist=0.0,
+                                  pixel_filter="center")
     assert st.n_vpls == 64
     cam = s.camera
     eye, target = np.array(cam["eye"]), np.array(cam["target"])
@@ -40,7 +41,8 @@ def test_plane_under_a_tiny_light_is_the_closed_form():
 
 def test_methods_agree_with_the_reference_on_average():
     s = rt.make_manylight_scene("cornell", width=48, height=36)
-    kw = dict(n_vpl_paths=300, n_cache=60, spp=8)
+    # At the pixel centres: the estimators against the all-VPL sum at the same points.
+    kw = dict(n_vpl_paths=300, n_cache=60, spp=8, pixel_filter="center")
     ref, _ = rt.render_manylight(s, "reference", **kw)
     lum = lambda im: float((im @ np.array([0.2126, 0.7152, 0.0722])).mean())
     for method in ["adaptive", "adaptive_uniform", "ic", "power"]:
@@ -99,6 +101,18 @@ def test_bad_input():
         rt.render_manylight(s, "adaptive", theta_max=4.0)
     with pytest.raises(ValueError):
         rt.render_manylight(s, "adaptive", camera=dict(width=0))
+    with pytest.raises(ValueError, match="defensive"):
+        rt.render_manylight(s, "adaptive", defensive=1.5)
+    with pytest.raises(ValueError, match="filter"):
+        rt.render_manylight(s, "adaptive", pixel_filter="gauss")
+    with pytest.raises(ValueError, match="pixel_samples"):
+        rt.render_manylight(s, "adaptive", n_pixel_samples=0)
+    with pytest.raises(ValueError, match="record_pos"):
+        rt.manylight_record_weight([0, 0, 0], [0, 0, 1], np.zeros((2, 2)), np.zeros((2, 3)), 1.0)
+    with pytest.raises(ValueError, match="unit"):
+        rt.manylight_record_weight([0, 0, 0], [0, 0, 2], np.zeros((1, 3)), [[0, 0, 1]], 1.0)
+    with pytest.raises(ValueError, match="d_max"):
+        rt.manylight_record_weight([0, 0, 0], [0, 0, 1], np.zeros((1, 3)), [[0, 0, 1]], 0.0)
     with pytest.raises(ValueError):
         rt.make_manylight_scene("sponza")
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
@@ -113,3 +127,45 @@ def test_bad_input():
         rt.render_manylight(dark, "reference")
     with pytest.raises(OSError, match="missing.obj"):
         rt.load_manylight_obj("/nonexistent/missing.obj")
+
+
+def test_record_weight_is_eqs_2_to_4():
+    # In the plane of the shading point sqrt(1 - |n . v|) = 1, so the weight is
+    # w_hat = (w - w0) / (1 - w0), w = (1 - theta / pi)(1 - d' / (1 + lam d')).
+    def w(d, theta, lam=5.0, theta_max=np.pi / 6):
+        f = lambda d, t: (1 - t / np.pi) * (1 - d / (1 + lam * d))
+        w0 = f(1.0, theta_max)
+        return np.clip((f(d, theta) - w0) / (1 - w0), 0, 1)
+    d = np.array([0.0, 0.1, 0.3, 0.6, 0.9, 1.2])
+    theta = np.array([0.0, 0.2, 0.1, 0.3, 0.0, 0.0])
+    pos = np.stack([d, np.zeros_like(d), np.zeros_like(d)], axis=1)
+    nrm = np.stack([np.sin(theta), np.zeros_like(d), np.cos(theta)], axis=1)
+    got = rt.manylight_record_weight([0, 0, 0], [0, 0, 1], pos, nrm, d_max=1.0)
+    np.testing.assert_allclose(got, w(d, theta), atol=1e-12)
+    assert got[0] == 1.0 and got[-1] > 0  # past d_max only the lookup drops a record
+    # Straight above: the first factor of eq. (3) is 0; at 45 degrees sqrt(1 - cos 45).
+    up = rt.manylight_record_weight([0, 0, 0], [0, 0, 1], [[0, 0, 0.3], [0.3, 0, 0.3]],
+                                    [[0, 0, 1], [0, 0, 1]], d_max=1.0)
+    assert up[0] == 0.0
+    np.testing.assert_allclose(up[1], np.sqrt(1 - np.sqrt(0.5)) * w(0.3 * np.sqrt(2), 0.0))
+
+
+def test_filters_defensive_share_and_record_statistics():
+    s = rt.make_manylight_scene("cornell", width=48, height=36)
+    kw = dict(n_vpl_paths=200, n_cache=40, spp=8)
+    centre, _ = rt.render_manylight(s, "reference", pixel_filter="center", **kw)
+    box, _ = rt.render_manylight(s, "reference", n_pixel_samples=16, **kw)
+    tent, _ = rt.render_manylight(s, "reference", pixel_filter="tent", n_pixel_samples=16, **kw)
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    # The light's edge: box-filtered pixels there mix light and ceiling, the centres do not.
+    edge = np.abs(box @ lum - centre @ lum) > 0.1 * (centre @ lum)
+    assert 0 < edge.mean() < 0.2
+    assert abs((box @ lum).mean() / (tent @ lum).mean() - 1) < 0.05
+    paper, st = rt.render_manylight(s, "adaptive", defensive=0.0, **kw)
+    default, st2 = rt.render_manylight(s, "adaptive", **kw)
+    assert not np.array_equal(paper, default)
+    k = st.n_records
+    assert st.record_normals.shape == (k, 3) and st.record_radii.shape == (k,)
+    np.testing.assert_allclose(np.linalg.norm(st.record_normals, axis=1), 1.0, atol=1e-9)
+    assert np.all(st.record_radii > 0)
+    assert st.n_initial + st.n_inserted == st.n_records

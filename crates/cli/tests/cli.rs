@@ -1034,6 +1034,42 @@ fn raytrace_manylight_compares_the_methods_and_reads_obj() {
         .unwrap();
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("spp"));
+    for (flag, value, named) in [
+        ("--filter", "gauss", "filter"),
+        ("--defensive", "2", "defensive"),
+        ("--pixel-samples", "0", "pixel_samples"),
+    ] {
+        let bad = wscg()
+            .args(["raytrace", "manylight", flag, value, "--width", "8"])
+            .args(["--height", "6", "--out"])
+            .arg(dir.path().join("x.exr"))
+            .output()
+            .unwrap();
+        assert!(!bad.status.success());
+        assert!(
+            String::from_utf8_lossy(&bad.stderr).contains(named),
+            "{flag}"
+        );
+    }
+    // The paper's setting: its weights, one ray through each pixel centre.
+    let paper = dir.path().join("paper.exr");
+    wscg_ok(&[
+        "raytrace",
+        "manylight",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--vpl-paths",
+        "50",
+        "--defensive",
+        "0",
+        "--filter",
+        "center",
+        "--out",
+        paper.to_str().unwrap(),
+    ]);
+    assert!(paper.exists());
 }
 
 #[test]

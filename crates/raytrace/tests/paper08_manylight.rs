@@ -268,6 +268,7 @@ fn bad_input_is_an_error() {
         theta_max: 4.0,
         lambda: 5.0,
         dmax_factor: 2.0,
+        defensive: 0.5,
     };
     let p = ok.n_cache(10);
     assert!(build_cache(&scene, &g, &vpls, &Placement::RandomScreen, bad_interp, &p).is_err());

@@ -22,8 +22,10 @@ fn ratios(
     n_cache: usize,
     seeds: u64,
 ) -> (Vec<f64>, Vec<f64>) {
+    // The estimators at the pixel centres, against the all-VPL sum there.
     let s = ManyLightParams::default()
-        .vpl(VplParams::default().n_paths(n_paths).max_bounces(2).seed(1));
+        .vpl(VplParams::default().n_paths(n_paths).max_bounces(2).seed(1))
+        .ic(ImportanceCachingParams::default().filter(PixelFilter::Center));
     let vpls = generate_vpls(scene, &s.vpl).unwrap();
     let g = trace_primary(scene, cam).unwrap();
     let reference = run_with(scene, &g, &vpls, Method::Reference, &s, &NoProgress, 0.0).unwrap();
@@ -94,7 +96,10 @@ fn check2_estimators_are_unbiased() {
     let (scene, cam) = cornell_box(1, 64, 48).unwrap();
     let s = ManyLightParams::default()
         .vpl(VplParams::default().n_paths(400).max_bounces(2).seed(3))
-        .ic(ImportanceCachingParams::default().n_cache(150).spp(8));
+        .ic(ImportanceCachingParams::default()
+            .n_cache(150)
+            .spp(8)
+            .filter(PixelFilter::Center));
     let vpls = generate_vpls(&scene, &s.vpl).unwrap();
     assert!((900..=1150).contains(&vpls.len()), "{} VPLs", vpls.len());
     let g = trace_primary(&scene, &cam).unwrap();
@@ -183,7 +188,9 @@ fn check4_setup() -> Check4 {
     let (scene, cam) = cornell_box(1, 128, 96).unwrap();
     let s = ManyLightParams::default()
         .vpl(VplParams::default().n_paths(1000).max_bounces(0).seed(2))
-        .ic(ImportanceCachingParams::default().n_cache(300));
+        .ic(ImportanceCachingParams::default()
+            .n_cache(300)
+            .filter(PixelFilter::Center));
     let vpls = generate_vpls(&scene, &s.vpl).unwrap();
     let g = trace_primary(&scene, &cam).unwrap();
     let reference = run_with(&scene, &g, &vpls, Method::Reference, &s, &NoProgress, 0.0)

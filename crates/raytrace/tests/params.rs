@@ -94,6 +94,7 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
         theta_max: 0.0,
         lambda: 5.0,
         dmax_factor: 2.0,
+        defensive: 0.5,
     };
     assert_eq!(
         ml().weights(bad_weights).validate().refused_argument(),

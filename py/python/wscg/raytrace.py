@@ -50,7 +50,8 @@ import numpy as np
 from ._native import raytrace as _r
 from ._checks import _int, finite_array as _finite_array, integer_ranges as _integer_ranges
 from ._manylight import (ManyLightScene, ManyLightStats, load_manylight_obj,
-                         make_manylight_scene, manylight_from_arrays, render_manylight)
+                         make_manylight_scene, manylight_from_arrays,
+                         manylight_record_weight, render_manylight)
 from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = ["load_paint", "save_paint", "PaintDescription", "render_plate", "xyz_to_srgb", "make_tile", "plate_layout", "glint_stats",
@@ -59,7 +60,8 @@ __all__ = ["load_paint", "save_paint", "PaintDescription", "render_plate", "xyz_
            "WorkshopScores",
            # paper 08: many-light rendering
            "ManyLightScene", "make_manylight_scene", "manylight_from_arrays",
-           "load_manylight_obj", "render_manylight", "ManyLightStats"]
+           "load_manylight_obj", "render_manylight", "ManyLightStats",
+           "manylight_record_weight"]
 
 #: Fields of the structured array returned by :func:`make_tile`.
 FLAKE_DTYPE = np.dtype([("cx", "f8"), ("cy", "f8"), ("cz", "f8"), ("nx", "f8"), ("ny", "f8"),

@@ -13,7 +13,7 @@ __all__ = ["load_paint", "save_paint", "PaintDescription", "render_plate", "xyz_
            "aluminium_nk", "daylight", "spectrum_to_xyz", "project", "FLAKE_DTYPE",
            "PlateInfo", "GlintStats", "WorkshopScores", "ManyLightScene",
            "make_manylight_scene", "manylight_from_arrays", "load_manylight_obj",
-           "render_manylight", "ManyLightStats"]
+           "render_manylight", "ManyLightStats", "manylight_record_weight"]
 FLAKE_DTYPE: np.dtype
 
 @dataclass(frozen=True)
@@ -56,7 +56,10 @@ class ManyLightStats:
     records: _F64
     record_pixels: npt.NDArray[np.int64]
     record_inserted: npt.NDArray[np.bool_]
+    record_normals: _F64
+    record_radii: _F64
     n_records: Optional[int] = None
+    n_initial: Optional[int] = None
     n_inserted: Optional[int] = None
     n_passes: Optional[int] = None
     n_cache_shadow_rays: Optional[int] = None
@@ -151,7 +154,12 @@ def render_manylight(scene: ManyLightScene, method: str = "adaptive",
                      seed: int = 0, vpl_seed: int = 0, clamp_dist: Optional[float] = None,
                      m_nearest: int = 3, delta: float = 0.5, init_fraction: float = 0.6,
                      theta_max: float = ..., lam: float = 5.0,
-                     dmax_factor: float = 2.0) -> Tuple[_F32, ManyLightStats]: ...
+                     dmax_factor: float = 2.0, defensive: float = 0.5,
+                     pixel_filter: str = "box",
+                     n_pixel_samples: int = 4) -> Tuple[_F32, ManyLightStats]: ...
+def manylight_record_weight(x: npt.ArrayLike, normal: npt.ArrayLike, record_pos: npt.ArrayLike,
+                            record_normal: npt.ArrayLike, d_max: float,
+                            theta_max: float = ..., lam: float = 5.0) -> _F64: ...
 
 
 @dataclass(frozen=True)

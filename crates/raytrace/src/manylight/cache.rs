@@ -159,32 +159,47 @@ impl ImportanceCache {
     /// The records mixed at `(pos, normal)` and their weights (summing to 1), leaving out
     /// record `exclude`. Uniform: the `M` nearest records facing the same side; the
     /// similarity weights: the `M` nearest within `d_max`, weighted by eqs. (2)-(4), falling
-    /// back to the uniform choice when none of them has a positive weight.
+    /// back to the uniform choice when none of them has a positive weight, and blended with
+    /// the uniform choice by the defensive share `c`: `(1 - c) w_k + c u_k` (see
+    /// [`Interp::Clarberg`]).
     pub fn lookup(&self, pos: [f64; 3], normal: [f64; 3], exclude: Option<usize>) -> Lookup {
-        if let Interp::Clarberg {
-            theta_max, lambda, ..
+        let Interp::Clarberg {
+            theta_max,
+            lambda,
+            defensive,
+            ..
         } = self.interp
-        {
-            let mut out: Lookup = self
-                .tree
-                .knn(&pos, self.m, exclude)
-                .into_iter()
-                .filter(|&(_, d)| d <= self.d_max)
-                .map(|(k, _)| {
-                    let r = &self.records[k].at;
-                    let w =
-                        record_weight(pos, normal, r.pos, r.normal, self.d_max, theta_max, lambda);
-                    (k, w)
-                })
-                .filter(|&(_, w)| w > 0.0)
-                .collect();
-            let total: f64 = out.iter().map(|e| e.1).sum();
-            if total > 0.0 {
-                out.iter_mut().for_each(|e| e.1 /= total);
-                return out;
-            }
+        else {
+            return self.uniform_lookup(&pos, normal, exclude);
+        };
+        let mut out: Lookup = self
+            .tree
+            .knn(&pos, self.m, exclude)
+            .into_iter()
+            .filter(|&(_, d)| d <= self.d_max)
+            .map(|(k, _)| {
+                let r = &self.records[k].at;
+                let w = record_weight(pos, normal, r.pos, r.normal, self.d_max, theta_max, lambda);
+                (k, w)
+            })
+            .filter(|&(_, w)| w > 0.0)
+            .collect();
+        let total: f64 = out.iter().map(|e| e.1).sum();
+        if total.is_nan() || total <= 0.0 {
+            return self.uniform_lookup(&pos, normal, exclude);
         }
-        self.uniform_lookup(&pos, normal, exclude)
+        let keep = (1.0 - defensive) / total;
+        out.iter_mut().for_each(|e| e.1 *= keep);
+        if defensive > 0.0 {
+            for (k, u) in self.uniform_lookup(&pos, normal, exclude) {
+                match out.iter_mut().find(|e| e.0 == k) {
+                    Some(e) => e.1 += defensive * u,
+                    None => out.push((k, defensive * u)),
+                }
+            }
+            out.retain(|e| e.1 > 0.0);
+        }
+        out
     }
 
     fn uniform_lookup(&self, q: &[f64; 3], normal: [f64; 3], exclude: Option<usize>) -> Lookup {

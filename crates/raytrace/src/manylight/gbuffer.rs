@@ -1,4 +1,6 @@
-//! Shading points: one primary ray through each pixel centre (paper 08, section 5).
+//! Shading points: one primary ray through each pixel centre (paper 08, section 5), where
+//! the records are placed; the box and tent pixel filters of [`super::render::PixelFilter`]
+//! trace their sub-pixel rays at render time with [`shade_point`].
 
 use nalgebra::Vector3;
 use rayon::prelude::*;

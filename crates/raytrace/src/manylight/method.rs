@@ -13,7 +13,8 @@ use super::camera::Camera;
 use super::gbuffer::{trace_primary, GBuffer};
 use super::placement::{AdaptiveParams, Placement};
 use super::render::{
-    build_cache, render, render_power, render_reference, CacheStats, ImportanceCachingParams,
+    build_cache, render, render_power, render_reference_filtered, CacheStats,
+    ImportanceCachingParams,
 };
 use super::scene::Scene;
 use super::vpl::{generate_vpls, Vpl, VplParams};
@@ -31,7 +32,7 @@ pub enum Method {
     Ic,
     /// VPLs drawn in proportion to their power, no cache.
     Power,
-    /// Every VPL at every pixel.
+    /// Every VPL at every pixel sample (`ic.filter`, `ic.pixel_samples`).
     Reference,
 }
 
@@ -182,7 +183,7 @@ pub fn run_with(
             0.0,
         ),
         None => (
-            render_reference(scene, g, vpls, s.ic.clamp_dist, progress)?,
+            render_reference_filtered(scene, g, vpls, &s.ic, progress)?,
             Vec::new(),
             None,
             0.0,

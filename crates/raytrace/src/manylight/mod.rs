@@ -11,7 +11,7 @@
 //! - [`pmf`], [`cache`]: records and their four distributions.
 //! - [`weights`]: the similarity weights of eqs. (2)-(4).
 //! - [`placement`]: screen-grid records (the baseline), clustering and adaptive insertion.
-//! - [`mod@render`]: the alpha-max estimator, the reference, power sampling.
+//! - [`mod@render`]: the alpha-max estimator, the reference, power sampling, pixel filters.
 //! - [`method`]: every method of the comparison behind one call.
 
 pub mod cache;
@@ -35,10 +35,11 @@ pub use method::{compare, run, run_with, to_display, ManyLightParams, ManyLightR
 pub use obj::load_obj;
 pub use placement::{AdaptiveParams, Placement};
 pub use render::{
-    build_cache, render, render_power, render_reference, CacheStats, ImportanceCachingParams,
+    build_cache, render, render_power, render_reference, render_reference_filtered, CacheStats,
+    ImportanceCachingParams, PixelFilter,
 };
 pub use scene::{luminance, Hit, Rgb, Scene, Triangle};
 pub use scenes::{colonnade, conference_room, cornell_box, plane_with_light};
 pub use shading::{Receiver, Shading};
 pub use vpl::{generate_vpls, Vpl, VplKind, VplParams};
-pub use weights::Interp;
+pub use weights::{Interp, DEFAULT_DEFENSIVE};

@@ -11,13 +11,87 @@ use wscg_math::progress::Progress;
 use wscg_math::{Error, Result};
 
 use super::cache::{ImportanceCache, Lookup, CONSERVATIVE};
-use super::gbuffer::{GBuffer, ShadingPoint};
+use super::gbuffer::{shade_point, GBuffer, ShadingPoint};
 use super::placement::{adaptive, random_screen, AdaptiveStats, Placement};
 use super::pmf::Pmf;
 use super::scene::{luminance, Rgb, Scene};
 use super::shading::Shading;
 use super::vpl::Vpl;
 use super::weights::Interp;
+
+/// How a pixel's value is sampled: the film's pixel filter.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PixelFilter {
+    /// One primary ray through the pixel centre, the shading point of the G-buffer (the
+    /// paper's section 5 setting; what an all-VPL reference at pixel centres shows).
+    Center,
+    /// Sub-pixel positions uniform over the pixel (the box filter of a film renderer's
+    /// pixel), the default.
+    #[default]
+    Box,
+    /// Sub-pixel positions drawn from the tent filter `(1 - |dx|) (1 - |dy|)` of radius one
+    /// pixel around the centre.
+    Tent,
+}
+
+impl PixelFilter {
+    /// All filters.
+    pub const ALL: [PixelFilter; 3] = [PixelFilter::Center, PixelFilter::Box, PixelFilter::Tent];
+
+    /// Its name: `center`, `box`, `tent`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            PixelFilter::Center => "center",
+            PixelFilter::Box => "box",
+            PixelFilter::Tent => "tent",
+        }
+    }
+
+    /// The filter of a name.
+    ///
+    /// Errors: an unknown name (the message lists the valid ones).
+    pub fn parse(name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|f| f.name() == name)
+            .ok_or_else(|| {
+                Error::invalid(
+                    "filter",
+                    format!(
+                        "{name:?} is not a pixel filter; valid filters are {}",
+                        Self::ALL.map(|f| f.name()).join(", ")
+                    ),
+                )
+            })
+    }
+
+    /// Offsets from the pixel centre (pixels) of `n` sub-pixel samples: a randomly shifted
+    /// two-dimensional additive recurrence (Roberts' R2 sequence, so that the samples
+    /// stratify the pixel), each sample marginally distributed as the filter (uniform over
+    /// the pixel for the box; the tent by inverting its distribution per axis). Because each
+    /// sample follows the filter, the plain average of the samples' radiance estimates the
+    /// filtered pixel without bias. The centre filter gives `n` zero offsets.
+    pub fn offsets(&self, n: u32, shift: [f64; 2]) -> Vec<[f64; 2]> {
+        // 1 / g and 1 / g^2, g the plastic number (the R2 sequence).
+        const A: [f64; 2] = [0.754_877_666_246_692_7, 0.569_840_290_998_053_3];
+        (0..n)
+            .map(|k| {
+                let u = [0, 1].map(|c| (shift[c] + k as f64 * A[c]).fract());
+                match self {
+                    PixelFilter::Center => [0.0; 2],
+                    PixelFilter::Box => u.map(|v| v - 0.5),
+                    PixelFilter::Tent => u.map(|v| {
+                        if v < 0.5 {
+                            (2.0 * v).sqrt() - 1.0
+                        } else {
+                            1.0 - (2.0 - 2.0 * v).sqrt()
+                        }
+                    }),
+                }
+            })
+            .collect()
+    }
+}
 
 wscg_math::params! {
     /// Importance-caching parameters.
@@ -28,9 +102,16 @@ wscg_math::params! {
         pub n_cache: usize,
         /// Records mixed at a shading point (`M`), 3.
         pub m_nearest: usize,
-        /// VPL samples per pixel (`N_s` of eq. 1), 16: shared out equally among the strategies
-        /// available at the pixel.
+        /// VPL samples per pixel (`N_s` of eq. 1), 16: shared out equally among the pixel
+        /// samples and, at each, among the strategies available there.
         pub spp: u32,
+        /// The pixel filter: box (default), tent, or one ray through the pixel centre (the
+        /// paper's setting).
+        pub filter: PixelFilter,
+        /// Sub-pixel positions (primary rays) per pixel under the box and tent filters, 4;
+        /// each gets `max(1, round(spp / pixel_samples))` VPL samples. The centre filter
+        /// ignores it.
+        pub pixel_samples: u32,
         /// Which of the four strategies (full, unoccluded, bounded, conservative) are used; the
         /// conservative one keeps the estimator unbiased.
         pub strategies: [bool; 4],
@@ -51,6 +132,8 @@ impl Default for ImportanceCachingParams {
             n_cache: 1000,
             m_nearest: 3,
             spp: 16,
+            filter: PixelFilter::Box,
+            pixel_samples: 4,
             strategies: [true; 4],
             alpha: [1.0; 4],
             clamp_dist: None,
@@ -61,7 +144,7 @@ impl Default for ImportanceCachingParams {
 }
 
 impl ImportanceCachingParams {
-    /// Errors: `n_cache = 0`, `m_nearest = 0`, `spp = 0`, no strategy, a negative or
+    /// Errors: `n_cache = 0`, `m_nearest = 0`, `spp = 0`, `pixel_samples = 0`, no strategy, a negative or
     /// non-finite alpha, a given `clamp_dist` negative or not finite.
     pub fn validate(&self) -> Result<()> {
         if self.n_cache == 0 {
@@ -76,6 +159,12 @@ impl ImportanceCachingParams {
         if self.spp == 0 {
             return Err(Error::invalid(
                 "spp",
+                "at least one sample per pixel is needed",
+            ));
+        }
+        if self.pixel_samples == 0 {
+            return Err(Error::invalid(
+                "pixel_samples",
                 "at least one sample per pixel is needed",
             ));
         }
@@ -271,8 +360,11 @@ pub fn estimate(
     out
 }
 
-/// Renders with the importance cache: [`estimate`] at every pixel, a random stream per
-/// pixel, so the image does not depend on the thread count.
+/// Renders with the importance cache: [`estimate`] at every pixel sample of `p.filter`
+/// (`max(1, round(spp / pixel_samples))` VPL samples at each of `pixel_samples` sub-pixel
+/// shading points for the box and tent filters, `spp` at the G-buffer's pixel centre for the
+/// centre filter), a random stream per pixel, so the image does not depend on the thread
+/// count. The cache itself is built at the pixel centres.
 ///
 /// Errors: invalid parameters or VPLs.
 pub fn render(
@@ -292,17 +384,62 @@ pub fn render(
             vpls.len()
         )));
     }
-    per_pixel(g, progress, |i, x| {
-        let mut rng = wscg_math::rng::stream(p.seed ^ 0x1c_0000_0000, i as u64);
-        estimate(&sh, cache, x, p, &mut rng)
+    let sub = sub_params(p);
+    filtered(scene, g, p, 0x1c_0000_0000, progress, |x, rng| {
+        estimate(&sh, cache, x, &sub, rng)
     })
 }
 
-/// Runs `f` on every valid pixel in parallel, rows reported to `progress`.
+/// The parameters of one pixel sample: `spp` shared out among the pixel samples.
+fn sub_params(p: &ImportanceCachingParams) -> ImportanceCachingParams {
+    let mut q = *p;
+    if p.filter != PixelFilter::Center {
+        q.spp = ((p.spp as f64 / p.pixel_samples as f64).round() as u32).max(1);
+    }
+    q
+}
+
+/// Runs `f` at every pixel's samples under `p.filter` (a random stream per pixel from
+/// `p.seed ^ salt`, so the image does not depend on the thread count): the centre filter at
+/// the G-buffer's valid pixels; the box and tent filters at `p.pixel_samples` sub-pixel
+/// shading points ([`PixelFilter::offsets`]), averaged, a primary ray that misses counting
+/// as black.
+fn filtered(
+    scene: &Scene,
+    g: &GBuffer,
+    p: &ImportanceCachingParams,
+    salt: u64,
+    progress: &dyn Progress,
+    f: impl Fn(&ShadingPoint, &mut wscg_math::rng::Rng) -> Rgb + Sync,
+) -> Result<Image<f32>> {
+    let stream = |i: usize| wscg_math::rng::stream(p.seed ^ salt, i as u64);
+    if p.filter == PixelFilter::Center {
+        return per_pixel(g, progress, true, |i| {
+            g.points[i].map_or([0.0; 3], |x| f(&x, &mut stream(i)))
+        });
+    }
+    per_pixel(g, progress, false, |i| {
+        let mut rng = stream(i);
+        let shift = [rng.random(), rng.random()];
+        let (cx, cy) = ((i % g.width) as f64 + 0.5, (i / g.width) as f64 + 0.5);
+        let mut out = [0.0; 3];
+        let n = p.pixel_samples;
+        for [dx, dy] in p.filter.offsets(n, shift) {
+            if let Some(x) = shade_point(scene, &g.frame, cx + dx, cy + dy, 1.0) {
+                add(&mut out, &f(&x, &mut rng), 1.0 / n as f64);
+            }
+        }
+        out
+    })
+}
+
+/// Runs `f` on every pixel (`valid_only`: those of the G-buffer with a shading point) in
+/// parallel, rows reported to `progress`.
 fn per_pixel(
     g: &GBuffer,
     progress: &dyn Progress,
-    f: impl Fn(usize, &ShadingPoint) -> Rgb + Sync,
+    valid_only: bool,
+    f: impl Fn(usize) -> Rgb + Sync,
 ) -> Result<Image<f32>> {
     progress.begin("rendering rows", g.height as u64);
     let rows: Vec<Vec<Rgb>> = (0..g.height)
@@ -310,9 +447,13 @@ fn per_pixel(
         .map(|y| {
             // After a cancellation request the remaining pixels are skipped (and reported).
             let row = (y * g.width..(y + 1) * g.width)
-                .map(|i| match &g.points[i] {
-                    Some(x) if !wscg_math::cancel::requested() => f(i, x),
-                    _ => [0.0; 3],
+                .map(|i| {
+                    let skip = valid_only && g.points[i].is_none();
+                    if skip || wscg_math::cancel::requested() {
+                        [0.0; 3]
+                    } else {
+                        f(i)
+                    }
                 })
                 .collect();
             progress.advance(1);
@@ -324,8 +465,8 @@ fn per_pixel(
     image(g, rows.into_iter().flatten().collect())
 }
 
-/// The all-VPL reference: emitted radiance plus every VPL's contribution (one shadow ray
-/// per VPL and pixel).
+/// The all-VPL reference at the pixel centres: emitted radiance plus every VPL's
+/// contribution (one shadow ray per VPL and pixel).
 ///
 /// Errors: invalid VPLs or clamping distance.
 pub fn render_reference(
@@ -335,15 +476,36 @@ pub fn render_reference(
     clamp_dist: Option<f64>,
     progress: &dyn Progress,
 ) -> Result<Image<f32>> {
-    let sh = Shading::new(scene, vpls, clamp_dist)?;
-    per_pixel(g, progress, |_, x| {
+    let p = ImportanceCachingParams::default()
+        .clamp_dist(clamp_dist)
+        .filter(PixelFilter::Center);
+    render_reference_filtered(scene, g, vpls, &p, progress)
+}
+
+/// The all-VPL reference under the pixel filter `p.filter` (`p.pixel_samples` sub-pixel
+/// shading points per pixel, seeded by `p.seed`; `p.clamp_dist`): each sample's emitted
+/// radiance plus every VPL's contribution. With many pixel samples this is the brute-force
+/// box- (or tent-) filtered image.
+///
+/// Errors: invalid parameters, VPLs or clamping distance.
+pub fn render_reference_filtered(
+    scene: &Scene,
+    g: &GBuffer,
+    vpls: &[Vpl],
+    p: &ImportanceCachingParams,
+    progress: &dyn Progress,
+) -> Result<Image<f32>> {
+    p.validate()?;
+    let sh = Shading::new(scene, vpls, p.clamp_dist)?;
+    filtered(scene, g, p, 0x7e_0000_0000, progress, |x, _| {
         let mut out = x.emitted;
         add(&mut out, &sh.sum_all(&x.receiver()), 1.0);
         out
     })
 }
 
-/// The baseline without a cache: `spp` VPLs per pixel drawn in proportion to their
+/// The baseline without a cache, under the pixel filter `p.filter`: `spp` VPLs per pixel
+/// (shared out among the pixel samples) drawn in proportion to their
 /// luminous intensity (`power psi`).
 ///
 /// Errors: invalid VPLs or parameters, VPLs of zero power only.
@@ -358,18 +520,52 @@ pub fn render_power(
     let sh = Shading::new(scene, vpls, p.clamp_dist)?;
     let w: Vec<f64> = sh.intensity.iter().map(luminance).collect();
     let pmf = Pmf::new(&w).ok_or_else(|| Error::invalid("vpls", "every VPL has zero power"))?;
-    per_pixel(g, progress, |i, x| {
-        let mut rng = wscg_math::rng::stream(p.seed ^ 0x90_0000_0000, i as u64);
+    let sub = sub_params(p);
+    filtered(scene, g, p, 0x90_0000_0000, progress, |x, rng| {
         let mut out = x.emitted;
         let r = x.receiver();
-        for k in 0..p.spp {
+        for k in 0..sub.spp {
             if k % 1024 == 1023 && wscg_math::cancel::requested() {
                 break;
             }
             let j = pmf.sample(rng.random());
             let i = sh.contribution(&r, j);
-            add(&mut out, &i, 1.0 / (p.spp as f64 * pmf.pdf(j)));
+            add(&mut out, &i, 1.0 / (sub.spp as f64 * pmf.pdf(j)));
         }
         out
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pixel_offsets_follow_their_filter() {
+        let mut rng = wscg_math::rng::seeded(7);
+        let (mut box_hist, mut tent_abs, mut n) = ([0usize; 10], 0.0, 0);
+        for _ in 0..4000 {
+            let shift = [rng.random(), rng.random()];
+            for [dx, dy] in PixelFilter::Box.offsets(5, shift) {
+                assert!((-0.5..0.5).contains(&dx) && (-0.5..0.5).contains(&dy));
+                box_hist[((dx + 0.5) * 10.0) as usize] += 1;
+            }
+            for [dx, dy] in PixelFilter::Tent.offsets(5, shift) {
+                assert!((-1.0..=1.0).contains(&dx) && (-1.0..=1.0).contains(&dy));
+                tent_abs += dx.abs() + dy.abs();
+                n += 2;
+            }
+            assert_eq!(PixelFilter::Center.offsets(3, shift), vec![[0.0; 2]; 3]);
+        }
+        // Box: uniform (2000 per tenth); tent: E|dx| = 1/3.
+        assert!(
+            box_hist.iter().all(|c| (1800..=2200).contains(c)),
+            "{box_hist:?}"
+        );
+        assert!((tent_abs / n as f64 - 1.0 / 3.0).abs() < 0.01);
+        for f in PixelFilter::ALL {
+            assert_eq!(PixelFilter::parse(f.name()).unwrap(), f);
+        }
+        assert!(PixelFilter::parse("gauss").is_err());
+    }
 }

@@ -9,7 +9,8 @@ use wscg_math::{Error, Result};
 pub enum Interp {
     /// Uniform average of the `M` nearest records (importance caching, Georgiev 2012).
     Uniform,
-    /// The paper's similarity weights (eqs. 2-4) within a search radius.
+    /// The paper's similarity weights (eqs. 2-4) within a search radius, optionally blended
+    /// with the uniform weights (a defensive mixture).
     Clarberg {
         /// `theta_max` (radians): at `d = d_max` a normal difference of `theta_max` zeroes the
         /// weight; pi / 6 in the paper.
@@ -19,6 +20,16 @@ pub enum Interp {
         /// The search radius `d_max` as a multiple of the median distance from a record to its
         /// `M`-th nearest other record (the paper does not give `d_max`); 2.
         dmax_factor: f64,
+        /// Defensive share `c` in `[0, 1]`: the weights used are `(1 - c) w_k + c u_k`, `w_k`
+        /// those of eqs. (2)-(4) and `u_k` the uniform weights of the `M` nearest records
+        /// facing the same side (importance caching's). Eqs. (2)-(4) can put nearly all the
+        /// weight on one record, whose distribution may give a VPL that the shading point
+        /// sees (and another record sampled well) a tiny probability; the blend keeps every
+        /// VPL's probability under the full, unoccluded and bounded strategies at least `c`
+        /// times the uniform weights' one, so a sample's weight `I / p` is at most `1 / c`
+        /// times the ablation's. The estimate stays unbiased: samples are divided by the
+        /// blended probability. 0 is the paper's eqs. (2)-(4); 0.5 by default.
+        defensive: f64,
     },
 }
 
@@ -28,20 +39,55 @@ impl Default for Interp {
             theta_max: std::f64::consts::FRAC_PI_6,
             lambda: 5.0,
             dmax_factor: 2.0,
+            defensive: DEFAULT_DEFENSIVE,
         }
     }
 }
 
+/// The default defensive share of [`Interp::Clarberg`].
+pub const DEFAULT_DEFENSIVE: f64 = 0.5;
+
 impl Interp {
+    /// The paper's weights (eqs. 2-4 with its `theta_max = pi / 6`, `lambda = 5`), without
+    /// the defensive blend.
+    pub fn paper() -> Self {
+        Self::default().with_defensive(0.0)
+    }
+
+    /// The same weights with defensive share `c` (no change to [`Interp::Uniform`]).
+    pub fn with_defensive(self, c: f64) -> Self {
+        match self {
+            Interp::Clarberg {
+                theta_max,
+                lambda,
+                dmax_factor,
+                ..
+            } => Interp::Clarberg {
+                theta_max,
+                lambda,
+                dmax_factor,
+                defensive: c,
+            },
+            Interp::Uniform => Interp::Uniform,
+        }
+    }
+
     /// Errors: `theta_max` outside (0, pi), a negative or non-finite `lambda`, a
-    /// non-positive `dmax_factor`.
+    /// non-positive `dmax_factor`, `defensive` outside `[0, 1]`.
     pub fn validate(&self) -> Result<()> {
         if let Interp::Clarberg {
             theta_max,
             lambda,
             dmax_factor,
+            defensive,
         } = *self
         {
+            if !(0.0..=1.0).contains(&defensive) {
+                return Err(Error::invalid(
+                    "defensive",
+                    format!("must lie in [0, 1], got {defensive}"),
+                ));
+            }
             if !(theta_max > 0.0 && theta_max < std::f64::consts::PI) {
                 return Err(Error::invalid(
                     "theta_max",
@@ -129,17 +175,33 @@ mod tests {
         assert!(Interp::Clarberg {
             theta_max: 0.0,
             lambda: 5.0,
-            dmax_factor: 2.0
+            dmax_factor: 2.0,
+            defensive: 0.0
         }
         .validate()
         .is_err());
         assert!(Interp::Clarberg {
             theta_max: 0.5,
             lambda: -1.0,
-            dmax_factor: 2.0
+            dmax_factor: 2.0,
+            defensive: 0.0
         }
         .validate()
         .is_err());
         assert!(Interp::default().validate().is_ok());
+        assert!(Interp::default().with_defensive(1.5).validate().is_err());
+        assert!(Interp::default()
+            .with_defensive(f64::NAN)
+            .validate()
+            .is_err());
+        assert_eq!(
+            Interp::paper(),
+            Interp::Clarberg {
+                theta_max: std::f64::consts::FRAC_PI_6,
+                lambda: 5.0,
+                dmax_factor: 2.0,
+                defensive: 0.0
+            }
+        );
     }
 }

@@ -14,7 +14,7 @@ use wscg_math::vec3::add;
 use wscg_math::{Error, Result};
 use wscg_raytrace::manylight::{
     compare, generate_vpls, load_obj, run_with, scenes, to_display, trace_primary, Camera,
-    ManyLightParams, ManyLightResult, Method, Scene,
+    ManyLightParams, ManyLightResult, Method, PixelFilter, Scene, DEFAULT_DEFENSIVE,
 };
 
 use crate::progress::Bars;
@@ -61,9 +61,22 @@ pub struct ManyLightArgs {
     /// Records (default 1 % of the pixels).
     #[arg(long)]
     n_cache: Option<usize>,
-    /// VPL samples per pixel.
+    /// VPL samples per pixel (shared out among the pixel samples).
     #[arg(long, default_value_t = 16)]
     spp: u32,
+    /// Pixel filter: box (sub-pixel positions uniform over the pixel, as a film renderer's
+    /// pixels), tent (radius one pixel) or center (one ray through the pixel centre, the
+    /// paper's setting).
+    #[arg(long, default_value = "box", value_parser = PixelFilter::parse)]
+    filter: PixelFilter,
+    /// Sub-pixel positions per pixel under the box and tent filters.
+    #[arg(long, default_value_t = 4)]
+    pixel_samples: u32,
+    /// Defensive share of the similarity weights (adaptive method): the weights of eqs.
+    /// (2)-(4) blended with the uniform ones, (1 - c) w + c u, so that no VPL's probability
+    /// falls below c times the uniform weights' one; 0 gives the paper's weights.
+    #[arg(long, default_value_t = DEFAULT_DEFENSIVE)]
+    defensive: f64,
     /// Clamping distance of the geometry term (default 1 % of the scene's diagonal; 0: none).
     #[arg(long)]
     clamp: Option<f64>,
@@ -150,6 +163,9 @@ pub fn run(a: &ManyLightArgs) -> Result<()> {
     s.vpl.n_paths = a.vpl_paths;
     s.vpl.max_bounces = a.max_bounces;
     s.ic.spp = a.spp;
+    s.ic.filter = a.filter;
+    s.ic.pixel_samples = a.pixel_samples;
+    s.weights = s.weights.with_defensive(a.defensive);
     s.ic.seed = a.seed;
     s.ic.clamp_dist = a.clamp;
     s.ic.n_cache = a.n_cache.unwrap_or((cam.width * cam.height / 100).max(1));
