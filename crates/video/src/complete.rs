@@ -212,7 +212,9 @@ pub fn complete_in_place(
         );
         let sources = valid_sources(&lm, patch);
         let targets = TargetSet::new(lm.dims(), lm.iter_points());
-        let up = upscale_matches(&ml, &targets, &sources, f / next).ok_or_else(|| {
+        let temporal = (cfg.low.temporal_candidates || cfg.local.temporal_candidates)
+            .then_some((&lm, patch));
+        let up = upscale_matches(&ml, &targets, &sources, temporal, f / next).ok_or_else(|| {
             Error::invalid(
                 "mask",
                 format!(
@@ -270,7 +272,9 @@ fn global_search(
     };
     while !cfg.local.converged(&st.energy) {
         let sweep = st.energy.len();
-        sweep_once(video, sources, &searcher, field, &order, patch, sweep, None);
+        sweep_once(
+            video, sources, &searcher, field, &order, patch, sweep, None, None,
+        );
         st.candidates += (field.len() * sources.count()) as u64;
         st.energy
             .push(field.refresh(&Cubes::new(video, sources, patch)));
