@@ -309,14 +309,33 @@ mod tests {
         };
         assert!(no_drop.converged(&[3.0, 2.0, 1.0, 1.0]));
         assert!(!no_drop.converged(&[3.0, 2.0, 1.0, 0.999]));
-        // The cap, at least one iteration per window.
+        // The patch budget: 297 + 177 + 89 + 5 x 83 = 978 <= 1000 candidates per pixel, a
+        // ninth iteration would make 1061.
+        let per: Vec<usize> = (0..5).map(|k| cfg.candidates(k)).collect();
+        assert_eq!(per, [17 * 17 + 8, 13 * 13 + 8, 9 * 9 + 8, 75 + 8, 75 + 8]);
+        assert_eq!(cfg.iteration_cap(), 8);
         let halving: Vec<f64> = (0..16).map(|k| 0.5f64.powi(k)).collect();
+        assert!(!cfg.converged(&halving[..7]));
+        assert!(cfg.converged(&halving[..8]));
+        // The paper's windows: 289 + 169 + 81 + 25 k fits 16 iterations (864).
+        let paper = LocalSearchParams::paper();
+        assert_eq!(paper.iteration_cap(), 16);
+        assert_eq!((0..16).map(|k| paper.candidates(k)).sum::<usize>(), 864);
+        // Without a budget, the cap, at least one iteration per window.
+        let cfg = cfg.patch_budget(usize::MAX);
         assert!(!cfg.converged(&halving[..15]));
         assert!(cfg.converged(&halving));
+        // A budget below the listed windows still runs each of them once.
+        assert_eq!(LocalSearchParams::default().patch_budget(0).iteration_cap(), 4);
         let short = LocalSearchParams {
             max_iterations: 2,
             ..LocalSearchParams::default()
         };
+        assert!(short.validate().is_ok());
+        assert!(LocalSearchParams::default()
+            .temporal_radius(vec![])
+            .validate()
+            .is_err());
         assert_eq!(short.iteration_cap(), 4);
         let one = LocalSearchParams {
             windows: vec![9],

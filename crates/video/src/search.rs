@@ -60,9 +60,9 @@ impl Searcher {
         })
     }
 
-    /// The new match of target `i` in sweep `sweep`; with the level's hole in `temporal`,
-    /// the approximate searches also try the target's temporal candidates
-    /// ([`temporal_sources`]; exact search compares every valid source and stays exact).
+    /// The new match of target `i` in sweep `sweep`; with the level's hole in `temporal`, the
+    /// search also tries the target's temporal candidates ([`temporal_sources`]; exact search
+    /// then stays exact over the valid sources and the temporal candidates).
     pub(crate) fn best(
         &self,
         cubes: &Cubes<'_>,
@@ -74,7 +74,7 @@ impl Searcher {
     ) -> Match {
         let t = targets.get(i);
         let mut best = match self {
-            Self::Exact(list) => return exact_best(cubes, t, list),
+            Self::Exact(list) => exact_best(cubes, t, list),
             Self::PatchMatch { seed } => patchmatch_update(cubes, targets, ml, i, *seed, sweep),
             Self::Pca(index) => index.best(
                 cubes,
