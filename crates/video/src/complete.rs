@@ -212,8 +212,8 @@ pub fn complete_in_place(
         );
         let sources = valid_sources(&lm, patch);
         let targets = TargetSet::new(lm.dims(), lm.iter_points());
-        let temporal = (cfg.low.temporal_candidates || cfg.local.temporal_candidates)
-            .then_some((&lm, patch));
+        let temporal =
+            (cfg.low.temporal_candidates || cfg.local.temporal_candidates).then_some((&lm, patch));
         let up = upscale_matches(&ml, &targets, &sources, temporal, f / next).ok_or_else(|| {
             Error::invalid(
                 "mask",

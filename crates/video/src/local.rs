@@ -261,8 +261,7 @@ pub fn localized_search(
                                 .into_iter()
                                 .chain(MatchField::TEMPORAL_STEPS);
                             for step in steps {
-                                if let Some((_, s)) = field.implied_source(p, step, dims, sources)
-                                {
+                                if let Some((_, s)) = field.implied_source(p, step, dims, sources) {
                                     try_source(s);
                                 }
                             }
@@ -326,7 +325,10 @@ mod tests {
         assert!(!cfg.converged(&halving[..15]));
         assert!(cfg.converged(&halving));
         // A budget below the listed windows still runs each of them once.
-        assert_eq!(LocalSearchParams::default().patch_budget(0).iteration_cap(), 4);
+        assert_eq!(
+            LocalSearchParams::default().patch_budget(0).iteration_cap(),
+            4
+        );
         let short = LocalSearchParams {
             max_iterations: 2,
             ..LocalSearchParams::default()

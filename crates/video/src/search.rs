@@ -6,8 +6,8 @@
 
 use rayon::prelude::*;
 
-use crate::patch::Cubes;
 use crate::field::temporal_sources;
+use crate::patch::Cubes;
 use crate::patchmatch::{propagate, random_search, target_rng, Match, TargetSet, P3};
 use crate::pca_index::{PcaIndex, PcaKdParams};
 use crate::video::Mask3;

@@ -101,13 +101,19 @@ fn check1_static_camera_behind_an_object_crossing_slowly() {
             m.source[1..] == t[1..] && m.source[0] != t[0]
         })
         .count();
-    assert!(same_place as f64 >= 0.95 * out.matches.len() as f64, "{same_place}");
+    assert!(
+        same_place as f64 >= 0.95 * out.matches.len() as f64,
+        "{same_place}"
+    );
     let mut paper = CompletionParams::default();
     paper.low.temporal_candidates = false;
     paper.local = LocalSearchParams::paper().propagate(true);
     let before = complete(&clip, &paper);
     let pb = psnr_masked(&before.video, &clip.clean, &clip.hole).unwrap();
-    println!("paper's search: PSNR {pb:.2} dB, SSIM {:.4}", ssim(&clip, &before.video));
+    println!(
+        "paper's search: PSNR {pb:.2} dB, SSIM {:.4}",
+        ssim(&clip, &before.video)
+    );
     assert!(p > pb + 3.0, "{p:.2} vs {pb:.2} dB");
 }
 
@@ -237,7 +243,9 @@ fn check5_localized_search_approaches_global_search() {
         // Within the patch budget per hole pixel (the paper: "less than a thousand"), window,
         // coherence and temporal candidates together.
         let local = LocalSearchParams::default();
-        let per_pixel: usize = (0..local.iteration_cap()).map(|k| local.candidates(k)).sum();
+        let per_pixel: usize = (0..local.iteration_cap())
+            .map(|k| local.candidates(k))
+            .sum();
         assert!(per_pixel <= local.patch_budget, "{per_pixel}");
         let hole = clip.hole.count() as u64;
         assert!(
