@@ -91,7 +91,7 @@ fn complete_video<'py>(
     fine_max_iter: usize,
     min_energy_drop: f64,
     temporal_radius: Vec<usize>,
-    patch_budget: usize,
+    max_candidates: usize,
     propagate: bool,
     temporal_candidates: bool,
     step: &str,
@@ -142,7 +142,7 @@ fn complete_video<'py>(
                 .max_iterations(fine_max_iter)
                 .min_energy_drop(min_energy_drop)
                 .temporal_radius(temporal_radius)
-                .patch_budget(patch_budget)
+                .max_candidates(max_candidates)
                 .step(step)
                 .propagate(propagate)
                 .temporal_candidates(temporal_candidates),

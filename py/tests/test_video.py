@@ -159,7 +159,7 @@ def test_stage3_iterates_past_the_windows_until_the_energy_settles(pan):
     for cap, drop in [(4, 5e-3), (16, 5e-3), (16, 0.0), (40, 0.0)]:
         _, stats = V.complete_video(observed, mask, lowres_width=48, n_levels=0,
                                     fine_max_iter=cap, min_energy_drop=drop,
-                                    patch_budget=10**9, return_stats=True)
+                                    max_candidates=10**9, return_stats=True)
         runs[cap, drop] = stats.local_energy
     for (cap, drop), levels in runs.items():
         for e in levels:
@@ -193,8 +193,8 @@ def test_bad_input(tmp_path, pan):
         V.complete_video(observed, mask, min_energy_drop=float("nan"))
     with pytest.raises(ValueError, match="fine_max_iter"):
         V.complete_video(observed, mask, fine_max_iter=-1)
-    with pytest.raises(ValueError, match="patch_budget"):
-        V.complete_video(observed, mask, patch_budget=-1)
+    with pytest.raises(ValueError, match="max_candidates"):
+        V.complete_video(observed, mask, max_candidates=-1)
     with pytest.raises(ValueError, match="temporal_radius"):
         V.complete_video(observed, mask, temporal_radius=())
     with pytest.raises(ValueError, match="temporal_radius"):

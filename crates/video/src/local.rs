@@ -8,7 +8,7 @@
 //! window "decreased after each iteration (13 x 13, 9 x 9, 5 x 5)". Its iterations therefore
 //! go on at the last window, and stop like stage 1's: once an iteration lowers the energy by
 //! no more than a fraction (`min_energy_drop`), after `max_iterations`, or before an iteration
-//! that would take the candidates compared per pixel over `patch_budget`, 1000 by default:
+//! that would take the candidates compared per pixel over `max_candidates`, 1000 by default:
 //! the paper's "less than a thousand patches are searched for each p_h".
 //!
 //! The default windows also reach one frame on each side of the match's frame once they are
@@ -47,7 +47,7 @@ wscg_math::params! {
         /// iterations stop before one whose window and extra candidates would exceed it (at
         /// least `windows.len()` are run). 1000: the paper's "less than a thousand patches are
         /// searched for each p_h" (section 3.4).
-        pub patch_budget: usize,
+        pub max_candidates: usize,
         /// After the listed windows, stop once an iteration lowers the energy by no more than
         /// this fraction (stage 1's rule; a plateau or a rise stops too): 5e-3.
         pub min_energy_drop: f64,
@@ -72,14 +72,14 @@ wscg_math::params! {
 }
 
 impl LocalSearchParams {
-    /// Iterations at most: `max_iterations`, and no more than fit in `patch_budget`
+    /// Iterations at most: `max_iterations`, and no more than fit in `max_candidates`
     /// ([`Self::candidates`]), but at least one per listed window.
     pub fn iteration_cap(&self) -> usize {
         let mut total = 0;
         let fit = (0..self.max_iterations)
             .take_while(|&k| {
                 total += self.candidates(k);
-                total <= self.patch_budget
+                total <= self.max_candidates
             })
             .count();
         fit.max(self.windows.len())
@@ -136,7 +136,7 @@ impl Default for LocalSearchParams {
         Self {
             windows: vec![17, 13, 9, 5],
             max_iterations: 16,
-            patch_budget: 1000,
+            max_candidates: 1000,
             min_energy_drop: 5e-3,
             temporal_radius: vec![0, 0, 0, 1],
             step: UpscaleStep::Double,
@@ -321,12 +321,12 @@ mod tests {
         assert_eq!(paper.iteration_cap(), 16);
         assert_eq!((0..16).map(|k| paper.candidates(k)).sum::<usize>(), 864);
         // Without a budget, the cap, at least one iteration per window.
-        let cfg = cfg.patch_budget(usize::MAX);
+        let cfg = cfg.max_candidates(usize::MAX);
         assert!(!cfg.converged(&halving[..15]));
         assert!(cfg.converged(&halving));
         // A budget below the listed windows still runs each of them once.
         assert_eq!(
-            LocalSearchParams::default().patch_budget(0).iteration_cap(),
+            LocalSearchParams::default().max_candidates(0).iteration_cap(),
             4
         );
         let short = LocalSearchParams {

@@ -246,7 +246,7 @@ fn check5_localized_search_approaches_global_search() {
         let per_pixel: usize = (0..local.iteration_cap())
             .map(|k| local.candidates(k))
             .sum();
-        assert!(per_pixel <= local.patch_budget, "{per_pixel}");
+        assert!(per_pixel <= local.max_candidates, "{per_pixel}");
         let hole = clip.hole.count() as u64;
         assert!(
             cl <= hole * per_pixel as u64,

@@ -120,7 +120,7 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
                    windows: Sequence[int] = (17, 13, 9, 5), fine_max_iter: int = 16,
                    min_energy_drop: float = 5e-3,
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
-                   patch_budget: int = 1000, propagate: bool = True,
+                   max_candidates: int = 1000, propagate: bool = True,
                    temporal_candidates: bool = True,
                    step: str = "double", global_fine_search: bool = False,
                    return_matches: bool = False, return_stats: bool = False
@@ -167,7 +167,7 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         Stage 3 search windows (pixels) of the first iterations, one each; later iterations
         keep the last width.
     fine_max_iter : int
-        Stage 3 iterations at most (at least one per window); ``patch_budget`` may stop it
+        Stage 3 iterations at most (at least one per window); ``max_candidates`` may stop it
         earlier.
     min_energy_drop : float
         After the listed windows, stage 3 stops once an iteration lowers the energy by no
@@ -178,7 +178,7 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         ``windows`` (the last value repeats; an int: every iteration). The default makes the
         5-pixel windows 5 x 5 x 3 blocks; ``0`` is the paper's schedule (windows within the
         match's frame, Fig. 9).
-    patch_budget : int
+    max_candidates : int
         Stage 3 candidate cubes per hole pixel at most over a level's iterations (window,
         coherence and temporal candidates; at least one iteration per window runs): the
         paper's "less than a thousand patches are searched for each p_h". The default
@@ -215,7 +215,7 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
     fine = _int("fine_max_iter", fine_max_iter, 0)
     radii = [_int("temporal_radius", r, 0)
              for r in ([temporal_radius] if np.ndim(temporal_radius) == 0 else temporal_radius)]
-    budget = _int("patch_budget", patch_budget, 0)
+    budget = _int("max_candidates", max_candidates, 0)
     sweeps = _sweeps("lowres_max_iter", lowres_max_iter)
     f = _frames(frames)
     m = _mask(mask, f)

@@ -32,7 +32,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
-                   patch_budget: int = 1000, propagate: bool = True,
+                   max_candidates: int = 1000, propagate: bool = True,
                    temporal_candidates: bool = True, step: str = "double",
                    global_fine_search: bool = False, return_matches: Literal[False] = ...,
                    return_stats: Literal[False] = ...) -> _U8: ...
@@ -45,7 +45,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
-                   patch_budget: int = 1000, propagate: bool = True,
+                   max_candidates: int = 1000, propagate: bool = True,
                    temporal_candidates: bool = True, step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[True],
                    return_stats: Literal[False] = ...) -> Tuple[_U8, _I32]: ...
@@ -58,7 +58,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
-                   patch_budget: int = 1000, propagate: bool = True,
+                   max_candidates: int = 1000, propagate: bool = True,
                    temporal_candidates: bool = True, step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[False] = ...,
                    return_stats: Literal[True]) -> Tuple[_U8, CompletionStats]: ...
@@ -71,7 +71,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
-                   patch_budget: int = 1000, propagate: bool = True,
+                   max_candidates: int = 1000, propagate: bool = True,
                    temporal_candidates: bool = True, step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[True],
                    return_stats: Literal[True]) -> Tuple[_U8, _I32, CompletionStats]: ...

@@ -75,7 +75,7 @@ pub struct CompleteArgs {
     /// Stage 3 candidate cubes per hole pixel at most over a level's iterations (the paper's
     /// "less than a thousand").
     #[arg(long, default_value_t = 1000)]
-    patch_budget: usize,
+    max_candidates: usize,
     /// Random-search seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -197,7 +197,7 @@ fn complete(a: CompleteArgs) -> Result<()> {
             cfg.local.windows = a.windows.clone();
             cfg.local.temporal_radius = a.temporal_radius.clone();
             cfg.local.max_iterations = a.max_iterations;
-            cfg.local.patch_budget = a.patch_budget;
+            cfg.local.max_candidates = a.max_candidates;
             cfg.local.propagate = !a.no_propagate;
             cfg.low.temporal_candidates = !a.no_temporal_candidates;
             cfg.local.temporal_candidates = !a.no_temporal_candidates;
