@@ -266,8 +266,13 @@ fn check5_localized_search_approaches_global_search() {
 /// reaches 1.964e6 (14 iterations). Stage 1 stops at its default 10 sweeps while its energy
 /// still falls by 3 % a sweep; run to convergence (18 sweeps) the four-iteration ratio was
 /// 1.247x, so the gap is not an artefact of an unfinished stage 1.
+///
+/// Since then stage 3's 5-pixel windows reach one frame on each side within the budget of a
+/// thousand candidates per pixel, and both searches (stage 1 too) try the temporal
+/// candidates; on the reduced clips this took the ratio from 1.078-1.232x to 1.027-1.290x
+/// (seed 10 worse, seeds 9 and 11 better). Not yet re-measured at the full size.
 #[test]
-#[ignore = "fails: at the full size 320x180x15 from 160x90 (seed 9) localized search reaches 1.169x the energy of exact global search (1.91x without the coherence candidates), limit 1.10, with 8380x fewer candidates; global search takes 36 min here"]
+#[ignore = "fails: at the full size 320x180x15 from 160x90 (seed 9) localized search reached 1.169x the energy of exact global search (1.91x without the coherence candidates), limit 1.10, with 8380x fewer candidates, before the temporal candidates and radius (not re-measured since); global search takes 36 min or more here"]
 fn check5_localized_search_within_ten_percent_of_global_at_spec_size() {
     let clip = zoom_clip(15, 180, 320, 1.003, 15.0, 2.5, 9).unwrap();
     let ([el, _, eg], cl, cg) = localized_vs_global(&clip, 160);
