@@ -326,7 +326,9 @@ mod tests {
         assert!(cfg.converged(&halving));
         // A budget below the listed windows still runs each of them once.
         assert_eq!(
-            LocalSearchParams::default().max_candidates(0).iteration_cap(),
+            LocalSearchParams::default()
+                .max_candidates(0)
+                .iteration_cap(),
             4
         );
         let short = LocalSearchParams {
