@@ -90,8 +90,10 @@ fn complete_video<'py>(
     windows: Vec<usize>,
     fine_max_iter: usize,
     min_energy_drop: f64,
-    temporal_radius: usize,
+    temporal_radius: Vec<usize>,
+    max_candidates: usize,
     propagate: bool,
+    temporal_candidates: bool,
     step: &str,
     global_fine_search: bool,
     return_matches: bool,
@@ -130,7 +132,8 @@ fn complete_video<'py>(
                 .init(init_method(init, seed)?)
                 .search(search)
                 .onion_order(onion_order)
-                .causal_first_sweep(causal_first_sweep),
+                .causal_first_sweep(causal_first_sweep)
+                .temporal_candidates(temporal_candidates),
         )
         .refine((refine_max_iter > 0).then(|| RefineParams::default().iterations(refine_max_iter)))
         .local(
@@ -139,8 +142,10 @@ fn complete_video<'py>(
                 .max_iterations(fine_max_iter)
                 .min_energy_drop(min_energy_drop)
                 .temporal_radius(temporal_radius)
+                .max_candidates(max_candidates)
                 .step(step)
-                .propagate(propagate),
+                .propagate(propagate)
+                .temporal_candidates(temporal_candidates),
         )
         .global_fine_search(global_fine_search);
     // The owned copy of the frames becomes the output: no second copy of the video.

@@ -212,7 +212,9 @@ pub fn complete_in_place(
         );
         let sources = valid_sources(&lm, patch);
         let targets = TargetSet::new(lm.dims(), lm.iter_points());
-        let up = upscale_matches(&ml, &targets, &sources, f / next).ok_or_else(|| {
+        let temporal =
+            (cfg.low.temporal_candidates || cfg.local.temporal_candidates).then_some((&lm, patch));
+        let up = upscale_matches(&ml, &targets, &sources, temporal, f / next).ok_or_else(|| {
             Error::invalid(
                 "mask",
                 format!(
@@ -250,8 +252,9 @@ pub fn complete_in_place(
     Ok((ml, stats))
 }
 
-/// The global-search ablation of stage 3: exact sweeps over every valid source, with stage
-/// 3's iteration count and stopping rule.
+/// The global-search ablation of stage 3: exact sweeps over every valid source (and the
+/// temporal candidates when stage 3 tries them), with stage 3's iteration count and stopping
+/// rule.
 fn global_search(
     video: &mut Video,
     hole: &Mask3,
@@ -270,8 +273,19 @@ fn global_search(
     };
     while !cfg.local.converged(&st.energy) {
         let sweep = st.energy.len();
-        sweep_once(video, sources, &searcher, field, &order, patch, sweep, None);
-        st.candidates += (field.len() * sources.count()) as u64;
+        sweep_once(
+            video,
+            sources,
+            &searcher,
+            field,
+            &order,
+            patch,
+            sweep,
+            cfg.local.temporal_candidates.then_some(hole),
+            None,
+        );
+        let temporal = if cfg.local.temporal_candidates { 2 } else { 0 };
+        st.candidates += (field.len() * (sources.count() + temporal)) as u64;
         st.energy
             .push(field.refresh(&Cubes::new(video, sources, patch)));
     }

@@ -4,7 +4,7 @@
 
 use rayon::prelude::*;
 
-use crate::patch::Cubes;
+use crate::patch::{Cubes, PatchSize};
 use crate::patchmatch::{Match, TargetSet, P3};
 use crate::video::{Mask3, Video};
 
@@ -88,6 +88,29 @@ impl MatchField {
     }
 }
 
+/// Whether `s` may be copied from as a temporal candidate: a known pixel (`s` in `E`, as in
+/// eq. 1's `p' in E`) whose cube lies inside the video. Unlike the valid sources of the
+/// search, its cube may hold hole pixels, which compare with their current colours.
+pub fn copyable(hole: &Mask3, patch: PatchSize, s: P3) -> bool {
+    let r = patch.radius();
+    (0..3).all(|a| s[a] >= r[a] && (s[a] + r[a]) < hole.dims()[a] as u32) && !hole.contains(s)
+}
+
+/// The temporal candidates of hole pixel `p = (t, y, x)`: the same position `(t', y, x)` in
+/// the nearest earlier frame and in the nearest later frame where it is [`copyable`] (at most
+/// two, earlier first). Behind a moving object filmed by a static camera these are exact
+/// copies of what the object hides (the background mosaics of the static-camera methods the
+/// paper reviews in section 2.1), which the paper's spatial search reaches only by chance;
+/// and when the object hides a pixel for most of the clip, no hole-free cube is centred on
+/// its visible copies at all.
+pub fn temporal_sources(hole: &Mask3, patch: PatchSize, p: P3) -> impl Iterator<Item = P3> + '_ {
+    let at = move |u: u32| [u, p[1], p[2]];
+    let ok = move |s: &P3| copyable(hole, patch, *s);
+    let before = (0..p[0]).rev().map(at).find(ok);
+    let after = (p[0] + 1..hole.frames as u32).map(at).find(ok);
+    before.into_iter().chain(after)
+}
+
 /// The valid source nearest to `p` in its frame (Chebyshev rings of growing radius, scan order
 /// within a ring), then in the nearest frames; `None` when the level has no source at all.
 pub fn nearest_source(sources: &Mask3, p: P3) -> Option<P3> {
@@ -132,12 +155,15 @@ pub fn nearest_source(sources: &Mask3, p: P3) -> Option<P3> {
 /// `p_h = (t, y, x)`, `p_l = (t, y / s, x / s)` (a coarse hole pixel by the "any" rule) and
 /// `p'_h = (t'_l, s y'_l + y mod s, s x'_l + x mod s)` with `(t'_l, y'_l, x'_l) = ML[p_l]`: the
 /// offset inside the block keeps neighbouring fine pixels on neighbouring sources. An invalid
-/// `p'_h` is replaced by the nearest valid source ([`nearest_source`]). Distances are left
-/// infinite (not computed). `None` when the fine level has no valid source.
+/// `p'_h` is replaced by the nearest valid source ([`nearest_source`]), unless `temporal`
+/// holds the fine level's hole and patch and `p'_h` is [`copyable`] there (the up-scaled
+/// match of a temporal candidate). Distances are left infinite (not computed). `None` when
+/// the fine level has no valid source.
 pub fn upscale_matches(
     coarse: &MatchField,
     fine_targets: &TargetSet,
     fine_sources: &Mask3,
+    temporal: Option<(&Mask3, PatchSize)>,
     s: usize,
 ) -> Option<Vec<Match>> {
     let s32 = s as u32;
@@ -155,7 +181,12 @@ pub fn upscale_matches(
                 ]
             });
             let source = match guess {
-                Some(g) if fine_sources.contains(g) => g,
+                Some(g)
+                    if fine_sources.contains(g)
+                        || temporal.is_some_and(|(hole, patch)| copyable(hole, patch, g)) =>
+                {
+                    g
+                }
                 Some(g) => nearest_source(fine_sources, g)?,
                 None => nearest_source(fine_sources, p)?,
             };
@@ -204,7 +235,7 @@ mod tests {
         });
         let fine_targets = TargetSet::new(dims, fine_hole.points());
         let all = Mask3::from_fn(1, 8, 8, |_, _, _| true);
-        let up = upscale_matches(&coarse, &fine_targets, &all, 2).unwrap();
+        let up = upscale_matches(&coarse, &fine_targets, &all, None, 2).unwrap();
         let got: Vec<P3> = up.iter().map(|m| m.source).collect();
         assert_eq!(got, vec![[0, 6, 4], [0, 6, 5], [0, 7, 4], [0, 7, 5]]);
     }

@@ -6,11 +6,14 @@
 //!
 //! - Stage 1 ([`lowres`]): at a working resolution of about 480 pixels wide, a pyramid
 //!   completion started from an inpainting of the hole, sweeping the hole in onion-peel order
-//!   ([`onion`]) with a single best match per pixel.
+//!   ([`onion`]) with a single best match per pixel; the search also tries each pixel's
+//!   temporal candidates, the same position in the nearest frames where it is known
+//!   ([`field::temporal_sources`]: exact copies behind an object moving in front of a static
+//!   camera).
 //! - Stage 2 ([`refine`]): the worst matches try the sources their good neighbours imply.
 //! - Stage 3 ([`local`]): at each finer resolution, every hole pixel searches exactly only a
-//!   shrinking window around its up-scaled match ([`field`]), so HD videos need little more
-//!   memory than the video itself.
+//!   shrinking window around its up-scaled match ([`field`]), within the paper's thousand
+//!   candidates per pixel, so HD videos need little more memory than the video itself.
 //!
 //! [`complete::complete_video`] runs the three stages. Baselines ([`wexler`]): Wexler et
 //! al. 2007 (global search with weighted voting at every level) and per-frame image

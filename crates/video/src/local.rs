@@ -7,16 +7,22 @@
 //! The paper's stage 3 iterates "similar to ... the low-resolution process", with the
 //! window "decreased after each iteration (13 x 13, 9 x 9, 5 x 5)". Its iterations therefore
 //! go on at the last window, and stop like stage 1's: once an iteration lowers the energy by
-//! no more than a fraction (`min_energy_drop`), or after `max_iterations`. The default cap, 16,
-//! keeps the window candidates at 289 + 169 + 81 + 25 + 12 x 25 = 864 per pixel, within the
-//! paper's "less than a thousand patches are searched for each p_h".
+//! no more than a fraction (`min_energy_drop`), after `max_iterations`, or before an iteration
+//! that would take the candidates compared per pixel over `max_candidates`, 1000 by default:
+//! the paper's "less than a thousand patches are searched for each p_h".
+//!
+//! The default windows also reach one frame on each side of the match's frame once they are
+//! 5 pixels wide (`temporal_radius` 0, 0, 0, 1): 289 + 169 + 81 + 75 per iteration, plus
+//! eight coherence and temporal candidates per iteration, so eight iterations fit the budget
+//! (978 candidates per pixel). The paper's windows stay within the match's frame
+//! (`temporal_radius` 0).
 
 use rayon::prelude::*;
 
-use crate::field::{energy_settled, MatchField};
+use crate::field::{energy_settled, temporal_sources, MatchField};
 use crate::onion::onion_order;
 use crate::patch::{Cubes, PatchSize};
-use crate::patchmatch::Match;
+use crate::patchmatch::{Match, P3};
 use crate::video::{Mask3, Video};
 
 /// How stage 3 climbs from the working resolution to the full one.
@@ -37,11 +43,18 @@ wscg_math::params! {
         pub windows: Vec<usize>,
         /// Iterations at most (at least `windows.len()` are run): 16.
         pub max_iterations: usize,
+        /// Candidate cubes per hole pixel at most, over all iterations of a level: the
+        /// iterations stop before one whose window and extra candidates would exceed it (at
+        /// least `windows.len()` are run). 1000: the paper's "less than a thousand patches are
+        /// searched for each p_h" (section 3.4).
+        pub max_candidates: usize,
         /// After the listed windows, stop once an iteration lowers the energy by no more than
         /// this fraction (stage 1's rule; a plateau or a rise stops too): 5e-3.
         pub min_energy_drop: f64,
-        /// Frames searched on each side of the match's frame (0: the match's frame only).
-        pub temporal_radius: usize,
+        /// Frames searched on each side of the match's frame, per iteration like `windows`
+        /// (the last value repeats; 0: the match's frame only, as in the paper's Fig. 9):
+        /// 0, 0, 0, 1, so the 5-pixel windows are 5 x 5 x 3 blocks.
+        pub temporal_radius: Vec<usize>,
         /// Level schedule.
         pub step: UpscaleStep,
         /// After its window, each pixel also tries the sources its four spatial neighbours'
@@ -51,18 +64,56 @@ wscg_math::params! {
         /// neighbours' matches carry good offsets across it. Four more candidates per pixel;
         /// `false` is the paper's stage 3 alone. True.
         pub propagate: bool,
+        /// Each pixel also tries its temporal candidates, the same position in the nearest
+        /// earlier and later frames where it is known ([`crate::field::temporal_sources`]):
+        /// two more candidates per pixel. True.
+        pub temporal_candidates: bool,
     }
 }
 
 impl LocalSearchParams {
-    /// Iterations at most: `max_iterations`, but at least one per listed window.
+    /// Iterations at most: `max_iterations`, and no more than fit in `max_candidates`
+    /// ([`Self::candidates`]), but at least one per listed window.
     pub fn iteration_cap(&self) -> usize {
-        self.max_iterations.max(self.windows.len())
+        let mut total = 0;
+        let fit = (0..self.max_iterations)
+            .take_while(|&k| {
+                total += self.candidates(k);
+                total <= self.max_candidates
+            })
+            .count();
+        fit.max(self.windows.len())
     }
 
     /// Window width of iteration `k` (0-based): the listed widths, then the last one.
     pub fn window(&self, k: usize) -> usize {
         self.windows[k.min(self.windows.len() - 1)]
+    }
+
+    /// Temporal radius of iteration `k` (0-based): the listed radii, then the last one.
+    pub fn radius_t(&self, k: usize) -> usize {
+        self.temporal_radius[k.min(self.temporal_radius.len() - 1)]
+    }
+
+    /// The most candidate cubes a hole pixel compares in iteration `k`: the window's
+    /// `w * w * (2 r_t + 1)` cubes (the current match among them), six coherence candidates
+    /// with `propagate` and two temporal ones with `temporal_candidates`.
+    pub fn candidates(&self, k: usize) -> usize {
+        let w = self.window(k);
+        w * w * (2 * self.radius_t(k) + 1)
+            + if self.propagate { 6 } else { 0 }
+            + if self.temporal_candidates { 2 } else { 0 }
+    }
+
+    /// The paper's stage 3 (section 3.4, Fig. 9): the windows within the match's frame, no
+    /// coherence or temporal candidates, the iteration and budget rules kept.
+    pub fn paper() -> Self {
+        Self {
+            temporal_radius: vec![0],
+            propagate: false,
+            temporal_candidates: false,
+            ..Self::default()
+        }
     }
 
     /// Whether stage 3 stops after the iterations whose energies are `energy`: every listed
@@ -85,17 +136,19 @@ impl Default for LocalSearchParams {
         Self {
             windows: vec![17, 13, 9, 5],
             max_iterations: 16,
+            max_candidates: 1000,
             min_energy_drop: 5e-3,
-            temporal_radius: 0,
+            temporal_radius: vec![0, 0, 0, 1],
             step: UpscaleStep::Double,
             propagate: true,
+            temporal_candidates: true,
         }
     }
 }
 
 impl LocalSearchParams {
-    /// Errors: no window, a window width that is even or zero, a negative or non-finite
-    /// `min_energy_drop`.
+    /// Errors: no window, a window width that is even or zero, no temporal radius, a negative
+    /// or non-finite `min_energy_drop`.
     pub fn validate(&self) -> wscg_math::Result<()> {
         if self.windows.is_empty() || self.windows.iter().any(|&w| w == 0 || w % 2 == 0) {
             return Err(wscg_math::Error::invalid(
@@ -104,6 +157,12 @@ impl LocalSearchParams {
                     "window widths must be odd and positive, got {:?}",
                     self.windows
                 ),
+            ));
+        }
+        if self.temporal_radius.is_empty() {
+            return Err(wscg_math::Error::invalid(
+                "temporal_radius",
+                "needs the radius of at least one iteration",
             ));
         }
         if !(self.min_energy_drop.is_finite() && self.min_energy_drop >= 0.0) {
@@ -153,7 +212,7 @@ pub fn localized_search(
     while !cfg.converged(&st.energy) {
         wscg_math::cancel::check()?;
         let r = (cfg.window(st.energy.len()) / 2) as i64;
-        let rt = cfg.temporal_radius as i64;
+        let rt = cfg.radius_t(st.energy.len()) as i64;
         for shell in &order {
             let new: Vec<(Match, u64)> = {
                 let cubes = Cubes::new(video, sources, patch);
@@ -168,6 +227,16 @@ pub fn localized_search(
                             dist: cubes.ssd(p, c, f32::INFINITY),
                         };
                         let mut n = 1u64;
+                        // A candidate other than the best so far (a valid source).
+                        let mut try_source = |s: P3| {
+                            if s != best.source {
+                                n += 1;
+                                let d = cubes.ssd(p, s, best.dist);
+                                if d < best.dist {
+                                    best = Match { source: s, dist: d };
+                                }
+                            }
+                        };
                         for t in
                             (c[0] as i64 - rt).max(0)..=(c[0] as i64 + rt).min(dims[0] as i64 - 1)
                         {
@@ -178,33 +247,22 @@ pub fn localized_search(
                                     ..=(c[2] as i64 + r).min(dims[2] as i64 - 1)
                                 {
                                     let s = [t as u32, y as u32, x as u32];
-                                    if s == c || !sources.contains(s) {
-                                        continue;
-                                    }
-                                    n += 1;
-                                    let d = cubes.ssd(p, s, best.dist);
-                                    if d < best.dist {
-                                        best = Match { source: s, dist: d };
+                                    if s != c && sources.contains(s) {
+                                        try_source(s);
                                     }
                                 }
                             }
+                        }
+                        if cfg.temporal_candidates {
+                            temporal_sources(hole, patch, p).for_each(&mut try_source);
                         }
                         if cfg.propagate {
                             let steps = MatchField::SPATIAL_STEPS
                                 .into_iter()
                                 .chain(MatchField::TEMPORAL_STEPS);
                             for step in steps {
-                                let Some((_, s)) = field.implied_source(p, step, dims, sources)
-                                else {
-                                    continue;
-                                };
-                                if s == best.source {
-                                    continue;
-                                }
-                                n += 1;
-                                let d = cubes.ssd(p, s, best.dist);
-                                if d < best.dist {
-                                    best = Match { source: s, dist: d };
+                                if let Some((_, s)) = field.implied_source(p, step, dims, sources) {
+                                    try_source(s);
                                 }
                             }
                         }
@@ -250,14 +308,38 @@ mod tests {
         };
         assert!(no_drop.converged(&[3.0, 2.0, 1.0, 1.0]));
         assert!(!no_drop.converged(&[3.0, 2.0, 1.0, 0.999]));
-        // The cap, at least one iteration per window.
+        // The patch budget: 297 + 177 + 89 + 5 x 83 = 978 <= 1000 candidates per pixel, a
+        // ninth iteration would make 1061.
+        let per: Vec<usize> = (0..5).map(|k| cfg.candidates(k)).collect();
+        assert_eq!(per, [17 * 17 + 8, 13 * 13 + 8, 9 * 9 + 8, 75 + 8, 75 + 8]);
+        assert_eq!(cfg.iteration_cap(), 8);
         let halving: Vec<f64> = (0..16).map(|k| 0.5f64.powi(k)).collect();
+        assert!(!cfg.converged(&halving[..7]));
+        assert!(cfg.converged(&halving[..8]));
+        // The paper's windows: 289 + 169 + 81 + 25 k fits 16 iterations (864).
+        let paper = LocalSearchParams::paper();
+        assert_eq!(paper.iteration_cap(), 16);
+        assert_eq!((0..16).map(|k| paper.candidates(k)).sum::<usize>(), 864);
+        // Without a budget, the cap, at least one iteration per window.
+        let cfg = cfg.max_candidates(usize::MAX);
         assert!(!cfg.converged(&halving[..15]));
         assert!(cfg.converged(&halving));
+        // A budget below the listed windows still runs each of them once.
+        assert_eq!(
+            LocalSearchParams::default()
+                .max_candidates(0)
+                .iteration_cap(),
+            4
+        );
         let short = LocalSearchParams {
             max_iterations: 2,
             ..LocalSearchParams::default()
         };
+        assert!(short.validate().is_ok());
+        assert!(LocalSearchParams::default()
+            .temporal_radius(vec![])
+            .validate()
+            .is_err());
         assert_eq!(short.iteration_cap(), 4);
         let one = LocalSearchParams {
             windows: vec![9],

@@ -7,7 +7,7 @@
 
 use wscg_math::{Error, Result};
 
-use crate::field::{energy_settled, upscale_matches, MatchField};
+use crate::field::{energy_settled, temporal_sources, upscale_matches, MatchField};
 use crate::init::{initialize, InitMethod};
 use crate::onion::{onion_order, scanline_order};
 use crate::patch::{valid_sources, Cubes, PatchSize};
@@ -43,6 +43,14 @@ wscg_math::params! {
         /// current iteration"). `false`: the first sweep compares with the inpainted colours,
         /// shell by shell in parallel like the later sweeps.
         pub causal_first_sweep: bool,
+        /// Every approximate search (PatchMatch or PCA + kd-tree) also tries the hole pixel's
+        /// temporal candidates, the same position in the nearest earlier and later frames where
+        /// it is known ([`crate::field::temporal_sources`]), and the coarsest level's match
+        /// list starts from them where they exist. Behind a moving hole filmed by a static
+        /// camera they are exact copies, which the paper's search (section 3.2) finds only by
+        /// chance; two more candidates per pixel and update. `false`: the paper's search
+        /// alone. True.
+        pub temporal_candidates: bool,
         /// A level stops early when fewer than this fraction of matches change in a sweep...
         pub min_changed: f64,
         /// ...or the energy drops by no more than this fraction ([`crate::field::energy_settled`]).
@@ -61,6 +69,7 @@ impl Default for LowResParams {
             search: SearchMethod::default(),
             onion_order: true,
             causal_first_sweep: true,
+            temporal_candidates: true,
             min_changed: 1e-3,
             min_energy_drop: 5e-3,
         }
@@ -201,10 +210,15 @@ fn complete_level(
     let matches = match prev {
         None => {
             initialize(v, lm, cfg.init);
-            random_matches(&sources, targets.len(), seed)
+            let mut start = random_matches(&sources, targets.len(), seed);
+            if cfg.temporal_candidates {
+                seed_temporal(&mut start, &targets, lm, cfg.patch);
+            }
+            start
         }
         Some(coarse) => {
-            let up = upscale_matches(coarse, &targets, &sources, 2).ok_or_else(|| {
+            let temporal = cfg.temporal_candidates.then_some((lm, cfg.patch));
+            let up = upscale_matches(coarse, &targets, &sources, temporal, 2).ok_or_else(|| {
                 Error::invalid("mask", "no valid source at a finer pyramid level")
             })?;
             for (i, m) in up.iter().enumerate() {
@@ -261,6 +275,7 @@ fn complete_level(
             ord,
             cfg.patch,
             sweep,
+            cfg.temporal_candidates.then_some(lm),
             ignore.as_mut(),
         );
         ignore = None;
@@ -277,6 +292,18 @@ fn complete_level(
     Ok((field, st))
 }
 
+/// Replaces the start match of every target that has temporal candidates by the one nearer in
+/// time (the earlier on a tie).
+fn seed_temporal(matches: &mut [Match], targets: &TargetSet, hole: &Mask3, patch: PatchSize) {
+    use rayon::prelude::*;
+    matches.par_iter_mut().enumerate().for_each(|(i, m)| {
+        let t = targets.get(i);
+        if let Some(s) = temporal_sources(hole, patch, t).min_by_key(|s| s[0].abs_diff(t[0])) {
+            m.source = s;
+        }
+    });
+}
+
 /// Index into `iters` for the `k`-th level processed (coarsest first).
 fn levels_index(iters: &[usize], k: usize) -> usize {
     k.min(iters.len().saturating_sub(1))
@@ -285,6 +312,7 @@ fn levels_index(iters: &[usize], k: usize) -> usize {
 /// One sweep over the shells: each shell's best matches are computed in parallel from the
 /// current state, then its pixels take their sources' colours (Jacobi inside a shell,
 /// Gauss-Seidel across shells, so the result does not depend on the thread count). With
+/// the hole in `temporal`, approximate searches also try the temporal candidates. With
 /// `ignore`, pixels leave the ignored set as they are updated. Returns the changed matches.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn sweep_once(
@@ -295,6 +323,7 @@ pub(crate) fn sweep_once(
     order: &[Vec<u32>],
     patch: PatchSize,
     sweep: usize,
+    temporal: Option<&Mask3>,
     mut ignore: Option<&mut Mask3>,
 ) -> usize {
     use rayon::prelude::*;
@@ -309,7 +338,16 @@ pub(crate) fn sweep_once(
             };
             shell
                 .par_iter()
-                .map(|&i| searcher.best(&cubes, &field.targets, &field.matches, i as usize, sweep))
+                .map(|&i| {
+                    searcher.best(
+                        &cubes,
+                        &field.targets,
+                        &field.matches,
+                        i as usize,
+                        sweep,
+                        temporal,
+                    )
+                })
                 .collect()
         };
         for (&i, m) in shell.iter().zip(new) {

@@ -6,6 +6,7 @@
 
 use rayon::prelude::*;
 
+use crate::field::temporal_sources;
 use crate::patch::Cubes;
 use crate::patchmatch::{propagate, random_search, target_rng, Match, TargetSet, P3};
 use crate::pca_index::{PcaIndex, PcaKdParams};
@@ -59,7 +60,9 @@ impl Searcher {
         })
     }
 
-    /// The new match of target `i` in sweep `sweep`.
+    /// The new match of target `i` in sweep `sweep`; with the level's hole in `temporal`, the
+    /// search also tries the target's temporal candidates ([`temporal_sources`]; exact search
+    /// then stays exact over the valid sources and the temporal candidates).
     pub(crate) fn best(
         &self,
         cubes: &Cubes<'_>,
@@ -67,16 +70,29 @@ impl Searcher {
         ml: &[Match],
         i: usize,
         sweep: usize,
+        temporal: Option<&Mask3>,
     ) -> Match {
-        match self {
-            Self::Exact(list) => exact_best(cubes, targets.get(i), list),
+        let t = targets.get(i);
+        let mut best = match self {
+            Self::Exact(list) => exact_best(cubes, t, list),
             Self::PatchMatch { seed } => patchmatch_update(cubes, targets, ml, i, *seed, sweep),
             Self::Pca(index) => index.best(
                 cubes,
-                targets.get(i),
+                t,
                 Some(ml[i].source).filter(|s| cubes.sources.contains(*s)),
             ),
+        };
+        if let Some(hole) = temporal {
+            for s in temporal_sources(hole, cubes.patch, t) {
+                if s != best.source {
+                    let d = cubes.ssd(t, s, best.dist);
+                    if d < best.dist {
+                        best = Match { source: s, dist: d };
+                    }
+                }
+            }
         }
+        best
     }
 }
 

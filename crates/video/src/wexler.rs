@@ -136,7 +136,7 @@ pub fn wexler_complete(video: &Video, hole: &Mask3, cfg: &WexlerParams) -> Resul
                 initialize(&mut v, &m, InitMethod::Random { seed: cfg.seed });
                 random_matches(&sources, targets.len(), cfg.seed)
             }
-            Some(coarse) => upscale_matches(coarse, &targets, &sources, 2)
+            Some(coarse) => upscale_matches(coarse, &targets, &sources, None, 2)
                 .ok_or_else(|| Error::invalid("mask", "no valid source at a finer level"))?,
         };
         let level_iters = cfg

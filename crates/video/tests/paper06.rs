@@ -4,6 +4,7 @@
 //! example and benchmarks.
 
 use wscg_video::complete::check_input;
+use wscg_video::field::copyable;
 use wscg_video::metrics::{flicker, psnr_masked, ssim_masked};
 use wscg_video::patch::{valid_sources, Cubes};
 use wscg_video::synth::{pan_clip, periodic_clip, sprite_clip, zoom_clip, Clip};
@@ -71,6 +72,49 @@ fn check1_background_visible_elsewhere() {
     assert!(p >= 35.0 && s >= 0.95, "PSNR {p:.2} dB, SSIM {s:.4}");
     assert_eq!(out.stats.working_factor, 2);
     assert_eq!(out.stats.local.len(), 1);
+}
+
+#[test]
+fn check1_static_camera_behind_an_object_crossing_slowly() {
+    // The most common object removal: a static camera, an opaque disc (r = 30 px) crossing
+    // at 60 / 7 px per frame, so that pixels on its path are hidden for half of the 16
+    // frames and no hole-free 5 x 5 x 5 cube is centred on their visible copies in the
+    // middle of the clip. Copying the pixel from a frame where it is visible is exact.
+    // Measured: 35.78 dB / SSIM 0.9797 with the paper's search (no temporal candidates),
+    // 64.94 dB / 1.0000 with the defaults.
+    let clip = sprite_clip(16, 180, 320, 30.0, 60.0 / 7.0, 0.0, 5).unwrap();
+    let out = complete(&clip, &CompletionParams::default());
+    let (s, p) = (
+        ssim(&clip, &out.video),
+        psnr_masked(&out.video, &clip.clean, &clip.hole).unwrap(),
+    );
+    println!("temporal candidates: PSNR {p:.2} dB, SSIM {s:.4}");
+    assert!(p >= 34.0 && s >= 0.95, "PSNR {p:.2} dB, SSIM {s:.4}");
+    // The matches copy known pixels of the same position in other frames.
+    let same_place = out
+        .matches
+        .matches
+        .iter()
+        .enumerate()
+        .filter(|(i, m)| {
+            let t = out.matches.targets.get(*i);
+            m.source[1..] == t[1..] && m.source[0] != t[0]
+        })
+        .count();
+    assert!(
+        same_place as f64 >= 0.95 * out.matches.len() as f64,
+        "{same_place}"
+    );
+    let mut paper = CompletionParams::default();
+    paper.low.temporal_candidates = false;
+    paper.local = LocalSearchParams::paper().propagate(true);
+    let before = complete(&clip, &paper);
+    let pb = psnr_masked(&before.video, &clip.clean, &clip.hole).unwrap();
+    println!(
+        "paper's search: PSNR {pb:.2} dB, SSIM {:.4}",
+        ssim(&clip, &before.video)
+    );
+    assert!(p > pb + 3.0, "{p:.2} vs {pb:.2} dB");
 }
 
 #[test]
@@ -175,9 +219,11 @@ fn localized_vs_global(clip: &Clip, half_width: usize) -> ([f64; 3], u64, u64) {
 #[test]
 fn check5_localized_search_approaches_global_search() {
     // Stage 3 from 48 x 32 to 96 x 64 on three zoom clips (reduced from the full size,
-    // 160 x 90 -> 320 x 180), both searches iterating until the energy settles. Measured:
-    // with the coherence candidates the energy is 1.078x, 1.232x and 1.219x that of exact
-    // global search (windows only: 1.274x, 1.680x, 1.354x).
+    // 160 x 90 -> 320 x 180), both searches iterating until the energy settles, global search
+    // over the valid sources and the temporal candidates. Measured: the energy is 1.070x,
+    // 1.290x and 1.027x that of exact global search (the paper's in-frame windows with the
+    // coherence candidates, before the temporal candidates and radius: 1.078x, 1.232x and
+    // 1.219x).
     for (seed, speed) in [(9, 2.0), (10, 2.5), (11, 2.5)] {
         let clip = zoom_clip(6, 64, 96, 1.003, 7.0, speed, seed).unwrap();
         let ([el, ew, eg], cl, cg) = localized_vs_global(&clip, 48);
@@ -194,14 +240,13 @@ fn check5_localized_search_approaches_global_search() {
             "localized energy {el:.0} vs global {eg:.0}"
         );
         assert!(cg >= 20 * cl, "candidates: global {cg}, localized {cl}");
-        // At most 289 + 169 + 81 + 25 + 12 x 25 = 864 window candidates per pixel (the paper:
-        // "less than a thousand"), plus per iteration the current match and six neighbours'
-        // implied sources.
+        // Within the patch budget per hole pixel (the paper: "less than a thousand"), window,
+        // coherence and temporal candidates together.
         let local = LocalSearchParams::default();
         let per_pixel: usize = (0..local.iteration_cap())
-            .map(|k| local.window(k).pow(2) + 7)
+            .map(|k| local.candidates(k))
             .sum();
-        assert_eq!(per_pixel, 864 + 16 * 7);
+        assert!(per_pixel <= local.max_candidates, "{per_pixel}");
         let hole = clip.hole.count() as u64;
         assert!(
             cl <= hole * per_pixel as u64,
@@ -221,8 +266,13 @@ fn check5_localized_search_approaches_global_search() {
 /// reaches 1.964e6 (14 iterations). Stage 1 stops at its default 10 sweeps while its energy
 /// still falls by 3 % a sweep; run to convergence (18 sweeps) the four-iteration ratio was
 /// 1.247x, so the gap is not an artefact of an unfinished stage 1.
+///
+/// Since then stage 3's 5-pixel windows reach one frame on each side within the budget of a
+/// thousand candidates per pixel, and both searches (stage 1 too) try the temporal
+/// candidates; on the reduced clips this took the ratio from 1.078-1.232x to 1.027-1.290x
+/// (seed 10 worse, seeds 9 and 11 better). Not yet re-measured at the full size.
 #[test]
-#[ignore = "fails: at the full size 320x180x15 from 160x90 (seed 9) localized search reaches 1.169x the energy of exact global search (1.91x without the coherence candidates), limit 1.10, with 8380x fewer candidates; global search takes 36 min here"]
+#[ignore = "fails: at the full size 320x180x15 from 160x90 (seed 9) localized search reached 1.169x the energy of exact global search (1.91x without the coherence candidates), limit 1.10, with 8380x fewer candidates, before the temporal candidates and radius (not re-measured since); global search takes 36 min or more here"]
 fn check5_localized_search_within_ten_percent_of_global_at_spec_size() {
     let clip = zoom_clip(15, 180, 320, 1.003, 15.0, 2.5, 9).unwrap();
     let ([el, _, eg], cl, cg) = localized_vs_global(&clip, 160);
@@ -287,7 +337,8 @@ fn check9_invariants_and_determinism() {
     let sources = valid_sources(&clip.hole, cfg.low.patch);
     assert_eq!(out.matches.len(), clip.hole.count());
     for (i, m) in out.matches.matches.iter().enumerate() {
-        assert!(sources.contains(m.source));
+        // A valid source, or a known pixel of a temporal candidate.
+        assert!(sources.contains(m.source) || copyable(&clip.hole, cfg.low.patch, m.source));
         let p = out.matches.targets.get(i);
         assert_eq!(
             out.video.pixel(p),

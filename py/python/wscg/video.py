@@ -118,8 +118,10 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
                    patchmatch_n_iter: int = 5, seed: int = 0, onion_order: bool = True,
                    causal_first_sweep: bool = True, refine_max_iter: int = 4,
                    windows: Sequence[int] = (17, 13, 9, 5), fine_max_iter: int = 16,
-                   min_energy_drop: float = 5e-3, temporal_radius: int = 0,
-                   propagate: bool = True,
+                   min_energy_drop: float = 5e-3,
+                   temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
+                   max_candidates: int = 1000, propagate: bool = True,
+                   temporal_candidates: bool = True,
                    step: str = "double", global_fine_search: bool = False,
                    return_matches: bool = False, return_stats: bool = False
                    ) -> Union[np.ndarray, Tuple[np.ndarray, np.ndarray],
@@ -165,18 +167,32 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         Stage 3 search windows (pixels) of the first iterations, one each; later iterations
         keep the last width.
     fine_max_iter : int
-        Stage 3 iterations at most (at least one per window). 16 keeps the default windows'
-        candidates under the paper's thousand per pixel.
+        Stage 3 iterations at most (at least one per window); ``max_candidates`` may stop it
+        earlier.
     min_energy_drop : float
         After the listed windows, stage 3 stops once an iteration lowers the energy by no
         more than this fraction (stage 1's rule; a plateau, e.g. an exact completion, stops
         too).
-    temporal_radius : int
-        Frames searched on each side of a match's frame in stage 3.
+    temporal_radius : int or sequence of int
+        Frames searched on each side of a match's frame in stage 3, per iteration like
+        ``windows`` (the last value repeats; an int: every iteration). The default makes the
+        5-pixel windows 5 x 5 x 3 blocks; ``0`` is the paper's schedule (windows within the
+        match's frame, Fig. 9).
+    max_candidates : int
+        Stage 3 candidate cubes per hole pixel at most over a level's iterations (window,
+        coherence and temporal candidates; at least one iteration per window runs): the
+        paper's "less than a thousand patches are searched for each p_h". The default
+        schedule fits eight iterations (978 candidates).
     propagate : bool
         After each window, also try the sources the six space-time neighbours' matches imply
         (the coherence candidates of stage 2; an addition to the paper's stage 3, which
         lowers the energy towards exact global search's).
+    temporal_candidates : bool
+        Stages 1 and 3 also try the same position in the nearest earlier and later frames
+        where it is known (two candidates per pixel and update), and stage 1 starts its match
+        list from them: behind an object moving in front of a static camera they are exact
+        copies of the background, which the paper's spatial search finds only by chance.
+        ``False``: the paper's search.
     step : {'double', 'direct'}
         Stage 3 doubles the resolution per level, or goes to full resolution at once.
     global_fine_search : bool
@@ -197,6 +213,9 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
     instead of a product, since a product of distances is zero as soon as one match is exact.
     """
     fine = _int("fine_max_iter", fine_max_iter, 0)
+    radii = [_int("temporal_radius", r, 0)
+             for r in ([temporal_radius] if np.ndim(temporal_radius) == 0 else temporal_radius)]
+    budget = _int("max_candidates", max_candidates, 0)
     sweeps = _sweeps("lowres_max_iter", lowres_max_iter)
     f = _frames(frames)
     m = _mask(mask, f)
@@ -205,7 +224,7 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         sweeps, str(init), str(search), int(patchmatch_n_iter), int(seed),
         bool(onion_order), bool(causal_first_sweep), int(refine_max_iter),
         [int(w) for w in windows], fine, float(min_energy_drop),
-        int(temporal_radius), bool(propagate), str(step),
+        radii, budget, bool(propagate), bool(temporal_candidates), str(step),
         bool(global_fine_search),
         bool(return_matches))
     out = out.reshape(f.shape)

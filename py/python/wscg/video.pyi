@@ -1,5 +1,5 @@
 from dataclasses import dataclass
-from typing import Any, List, Literal, Optional, Sequence, Tuple, overload
+from typing import Any, List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -31,7 +31,9 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    onion_order: bool = True, causal_first_sweep: bool = True,
                    refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
-                   temporal_radius: int = 0, propagate: bool = True, step: str = "double",
+                   temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
+                   max_candidates: int = 1000, propagate: bool = True,
+                   temporal_candidates: bool = True, step: str = "double",
                    global_fine_search: bool = False, return_matches: Literal[False] = ...,
                    return_stats: Literal[False] = ...) -> _U8: ...
 @overload
@@ -42,7 +44,9 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    onion_order: bool = True, causal_first_sweep: bool = True,
                    refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
-                   temporal_radius: int = 0, propagate: bool = True, step: str = "double",
+                   temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
+                   max_candidates: int = 1000, propagate: bool = True,
+                   temporal_candidates: bool = True, step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[True],
                    return_stats: Literal[False] = ...) -> Tuple[_U8, _I32]: ...
 @overload
@@ -53,7 +57,9 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    onion_order: bool = True, causal_first_sweep: bool = True,
                    refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
-                   temporal_radius: int = 0, propagate: bool = True, step: str = "double",
+                   temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
+                   max_candidates: int = 1000, propagate: bool = True,
+                   temporal_candidates: bool = True, step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[False] = ...,
                    return_stats: Literal[True]) -> Tuple[_U8, CompletionStats]: ...
 @overload
@@ -64,7 +70,9 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    onion_order: bool = True, causal_first_sweep: bool = True,
                    refine_max_iter: int = 4, windows: Sequence[int] = (17, 13, 9, 5),
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
-                   temporal_radius: int = 0, propagate: bool = True, step: str = "double",
+                   temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
+                   max_candidates: int = 1000, propagate: bool = True,
+                   temporal_candidates: bool = True, step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[True],
                    return_stats: Literal[True]) -> Tuple[_U8, _I32, CompletionStats]: ...
 def wexler_complete(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[int] = (5, 5, 5),

@@ -65,15 +65,28 @@ pub struct CompleteArgs {
     /// Stage 3 window widths (odd) of the first iterations; later ones keep the last.
     #[arg(long, num_args = 1.., default_values_t = [17, 13, 9, 5])]
     windows: Vec<usize>,
+    /// Stage 3 frames searched on each side of the match's frame, per iteration like
+    /// --windows (the last repeats); 0 is the paper's in-frame windows.
+    #[arg(long, num_args = 1.., default_values_t = [0, 0, 0, 1])]
+    temporal_radius: Vec<usize>,
     /// Stage 3 iterations at most (it stops earlier once the energy stops falling).
     #[arg(long, default_value_t = 16)]
     max_iterations: usize,
+    /// Stage 3 candidate cubes per hole pixel at most over a level's iterations (the paper's
+    /// "less than a thousand").
+    #[arg(long, default_value_t = 1000)]
+    max_candidates: usize,
     /// Random-search seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Stage 3 with the paper's windows only, without the neighbours' coherence candidates.
     #[arg(long)]
     no_propagate: bool,
+    /// Search as the paper does, without the temporal candidates (the same position in the
+    /// nearest frames where it is known, exact copies behind a moving object filmed by a
+    /// static camera) in stages 1 and 3.
+    #[arg(long)]
+    no_temporal_candidates: bool,
     /// Stage 1 search.
     #[arg(long, value_enum, default_value_t = SearchName::Patchmatch)]
     search: SearchName,
@@ -182,8 +195,12 @@ fn complete(a: CompleteArgs) -> Result<()> {
             cfg.refine =
                 (a.refine_iters > 0).then(|| RefineParams::default().iterations(a.refine_iters));
             cfg.local.windows = a.windows.clone();
+            cfg.local.temporal_radius = a.temporal_radius.clone();
             cfg.local.max_iterations = a.max_iterations;
+            cfg.local.max_candidates = a.max_candidates;
             cfg.local.propagate = !a.no_propagate;
+            cfg.low.temporal_candidates = !a.no_temporal_candidates;
+            cfg.local.temporal_candidates = !a.no_temporal_candidates;
             let c = complete_video_with(&v, &m, &cfg, &Bars::new("video"))?;
             eprintln!(
                 "stage seconds: low resolution {:.2}, refinement {:.2}, localized search {:.2}",
