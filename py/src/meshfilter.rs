@@ -24,12 +24,18 @@ type MeshArrays<'py> = (Arr<'py, f64>, Arr<'py, i64>, Arr<'py, f32>);
 fn mesh_out<'py>(py: Python<'py>, m: TriMesh) -> PyResult<MeshArrays<'py>> {
     let nf = m.faces.len();
     let faces = m.faces.iter().flatten().map(|&i| i as i64).collect();
-    let colors = m.colors.clone().unwrap_or_default();
-    let nc = colors.len();
+    // Stored in [0, 1]; Python's colours are 0..255 (what `jbmd` takes).
+    let colors: Vec<f32> = m
+        .colors
+        .iter()
+        .flatten()
+        .flat_map(|c| c.map(|v| 255.0 * v))
+        .collect();
+    let nc = colors.len() / 3;
     Ok((
         positions_out(py, m.positions)?,
         array(py, &[nf, 3], faces)?,
-        array(py, &[nc, 3], colors.concat())?,
+        array(py, &[nc, 3], colors)?,
     ))
 }
 

@@ -30,10 +30,11 @@ def test_two_stage_matches_the_numpy_reference_and_keeps_edges():
     v, f, c = M.make_mesh("cube", 12)
     d = M.mvd(v, f)
     noisy = M.add_noise(v, f, 0.5 * d, seed=3)
-    ours = M.jbmd(noisy, f, c, n_iter=3, normal_n_iter=4, sigma_n=0.5, vertex_n_iter=5)
+    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, n_iter=3, normal_n_iter=4, sigma_n=0.5,
+                  vertex_n_iter=5)
     ref = reference_two_stage(noisy, f, c.astype(float), 2 * d, 0.5, 30.0, 3, 4, 5)
     np.testing.assert_allclose(ours, ref, atol=1e-9)
-    nocol = M.jbmd(noisy, f, n_iter=3, normal_n_iter=4, vertex_n_iter=5)
+    nocol = M.jbmd(noisy, f, sigma_d=2 * d, n_iter=3, normal_n_iter=4, vertex_n_iter=5)
     np.testing.assert_allclose(nocol, reference_two_stage(noisy, f, None, 2 * d, 0.5, 30.0, 3, 4, 5),
                                atol=1e-9)
     # The default (two-stage) update is closer to the true edges than the paper's.
