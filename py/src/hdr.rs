@@ -9,7 +9,7 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_hdr::metrics;
-use wscg_hdr::synth::{layered_scene, SceneParams};
+use wscg_hdr::synth::{layered_scene, Layer, SceneParams};
 use wscg_hdr::{Align, Crf, MultiscopicParams, Nnf, PatchMatchParams, StereoParams, Synthesis};
 use wscg_math::progress::NoProgress;
 use wscg_math::Image;
@@ -611,8 +611,12 @@ fn warp_direct<'py>(
     crate::convert::image_array(py, out, flat)
 }
 
+/// One layer from Python: disparity, `(y0, y1, x0, x1)`, disk, gain, texture seed.
+type LayerArg = (f64, [f64; 4], bool, f64, u64);
+
 #[pyfunction]
-#[pyo3(signature = (height, width, times, emitter_peak, noise, seed))]
+#[pyo3(signature = (height, width, times, emitter_peak, noise, seed, layers=None))]
+#[allow(clippy::too_many_arguments)]
 fn make_scene<'py>(
     py: Python<'py>,
     height: usize,
@@ -621,6 +625,7 @@ fn make_scene<'py>(
     emitter_peak: f64,
     noise: f64,
     seed: u64,
+    layers: Option<Vec<LayerArg>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     const MAX_PIXELS: usize = 1 << 26;
     if height.saturating_mul(width) > MAX_PIXELS {
@@ -628,12 +633,18 @@ fn make_scene<'py>(
             "a {height} x {width} scene is too large (at most 2^26 pixels per view)"
         )));
     }
-    let cfg = SceneParams::default()
+    let mut cfg = SceneParams::default()
         .height(height)
         .width(width)
         .times(times)
         .emitter_peak(emitter_peak)
         .noise(noise);
+    if let Some(layers) = layers {
+        cfg.layers = layers
+            .into_iter()
+            .map(|(d, rect, disk, gain, seed)| Layer::new(d, rect, seed).disk(disk).gain(gain))
+            .collect();
+    }
     let sc = crate::pool::detach(py, || layered_scene(&cfg, seed)).py_err()?;
     let d = PyDict::new(py);
     let views = sc

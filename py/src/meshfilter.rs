@@ -24,24 +24,35 @@ type MeshArrays<'py> = (Arr<'py, f64>, Arr<'py, i64>, Arr<'py, f32>);
 fn mesh_out<'py>(py: Python<'py>, m: TriMesh) -> PyResult<MeshArrays<'py>> {
     let nf = m.faces.len();
     let faces = m.faces.iter().flatten().map(|&i| i as i64).collect();
-    let colors = m.colors.clone().unwrap_or_default();
-    let nc = colors.len();
+    // Stored in [0, 1]; Python's colours are 0..255 (what `jbmd` takes).
+    let colors: Vec<f32> = m
+        .colors
+        .iter()
+        .flatten()
+        .flat_map(|c| c.map(|v| 255.0 * v))
+        .collect();
+    let nc = colors.len() / 3;
     Ok((
         positions_out(py, m.positions)?,
         array(py, &[nf, 3], faces)?,
-        array(py, &[nc, 3], colors.concat())?,
+        array(py, &[nc, 3], colors)?,
     ))
 }
 
-/// Denoised vertices ``(n, 3)`` after ``n_iter`` iterations over the ``n_neighbors``
-/// nearest neighbours of every vertex (the paper's ``k``). ``sigma_d`` and ``sigma_o``
+/// Denoised vertices ``(n, 3)`` after ``n_iter`` iterations. ``sigma_d`` and ``sigma_o``
 /// default to 2 and 0.5 times the mean vertex distance; without ``colors`` the colour
-/// weight is left out (the paper's no-colour ablation). ``lam=1`` disables the offset-range
-/// decay, ``anti_shrink=False`` the second pass.
+/// weight is left out (the paper's no-colour ablation). By default every iteration is our
+/// two-stage update: ``normal_n_iter`` passes of a joint bilateral filter of the face
+/// normals (ranges ``sigma_d``, ``sigma_n``, ``sigma_c``), then ``vertex_n_iter`` steps moving
+/// the vertices onto the planes of their faces, which keeps sharp edges. ``normal_n_iter=0``
+/// gives the paper's update over the ``n_neighbors`` nearest neighbours of every vertex (the
+/// paper's ``k``), where ``lam=1`` disables the offset-range decay and
+/// ``anti_shrink=False`` the second pass.
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, colors=None, sigma_d=None, sigma_o=None, sigma_c=30.0,
                     lam=0.8, n_neighbors=20, n_iter=10, anti_shrink=true,
-                    rebuild_neighbors=true))]
+                    rebuild_neighbors=true, normal_n_iter=10, sigma_n=0.5,
+                    vertex_n_iter=10))]
 #[allow(clippy::too_many_arguments)]
 fn jbmd<'py>(
     py: Python<'py>,
@@ -56,9 +67,14 @@ fn jbmd<'py>(
     n_iter: i128,
     anti_shrink: bool,
     rebuild_neighbors: bool,
+    normal_n_iter: i128,
+    sigma_n: f64,
+    vertex_n_iter: i128,
 ) -> PyResult<Arr<'py, f64>> {
     let n_neighbors: usize = uint(py, "n_neighbors", n_neighbors, 0)?;
     let n_iter: usize = uint(py, "n_iter", n_iter, 0)?;
+    let normal_n_iter: usize = uint(py, "normal_n_iter", normal_n_iter, 0)?;
+    let vertex_n_iter: usize = uint(py, "vertex_n_iter", vertex_n_iter, 0)?;
     let mut mesh = args::mesh(vertices, faces)?;
     let colors = match colors.filter(|c| !c.is_none()) {
         Some(c) => {
@@ -99,7 +115,10 @@ fn jbmd<'py>(
             .iterations(n_iter)
             .anti_shrink(anti_shrink)
             .use_color(mesh.colors.is_some())
-            .rebuild_neighbors(rebuild_neighbors);
+            .rebuild_neighbors(rebuild_neighbors)
+            .normal_iterations(normal_n_iter)
+            .sigma_n(sigma_n)
+            .vertex_iterations(vertex_n_iter);
         wscg_meshfilter::jbmd(&mesh, &p)
     })
     .py_err()?;

@@ -48,3 +48,44 @@ def reference_jbmd(v, f, c, sd, so, sc, lam, k, iters):
         v = v1 - x2[:, None] * n
         so *= lam
     return v
+
+
+def reference_two_stage(v, f, c, sd, sn, sc, iters, normal_iters, vertex_iters):
+    """The two-stage update (jbmd's default) written with numpy: a joint bilateral filter of
+    the face normals over the faces sharing a vertex, then vertex steps onto the planes of
+    every vertex's faces."""
+    v = v.copy()
+    fixed = boundary(v, f)
+    vf = [[] for _ in range(len(v))]
+    for i, t in enumerate(f):
+        for a in t:
+            vf[a].append(i)
+    ring = [sorted(set(vf[t[0]]) | set(vf[t[1]]) | set(vf[t[2]])) for t in f]
+    rf = np.repeat(np.arange(len(f)), [len(r) for r in ring])
+    rg = np.concatenate(ring)
+    wc = np.ones(len(rf))
+    if c is not None:
+        col = c[f].mean(axis=1)
+        wc = np.exp(-0.5 * (np.linalg.norm(col[rf] - col[rg], axis=1) / sc) ** 2)
+    for _ in range(iters):
+        cr = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+        area = 0.5 * np.linalg.norm(cr, axis=1)
+        m = cr / np.linalg.norm(cr, axis=1, keepdims=True)
+        cen = v[f].mean(axis=1)
+        w0 = area[rg] * wc * np.exp(-0.5 * (np.linalg.norm(cen[rf] - cen[rg], axis=1) / sd) ** 2)
+        for _ in range(normal_iters):
+            w = w0 * np.exp(-0.5 * (np.linalg.norm(m[rf] - m[rg], axis=1) / sn) ** 2)
+            acc = np.zeros_like(m)
+            np.add.at(acc, rf, w[:, None] * m[rg])
+            m = acc / np.linalg.norm(acc, axis=1, keepdims=True)
+        for _ in range(vertex_iters):
+            cen = v[f].mean(axis=1)
+            step = np.zeros_like(v)
+            count = np.zeros(len(v))
+            for k in range(3):
+                o = np.einsum("ij,ij->i", m, cen - v[f[:, k]])
+                np.add.at(step, f[:, k], o[:, None] * m)
+                np.add.at(count, f[:, k], 1)
+            step[fixed] = 0
+            v = v + step / np.maximum(count, 1)[:, None]
+    return v

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from jbmd_reference import boundary as _boundary
 from jbmd_reference import normals as _normals
-from jbmd_reference import reference_jbmd
+from jbmd_reference import reference_jbmd, reference_two_stage
 
 from wscg import meshfilter as M
 
@@ -14,7 +14,8 @@ def test_jbmd_matches_the_numpy_reference():
     v, f, c = M.make_mesh("cube", 12)
     d = M.mvd(v, f)
     noisy = M.add_noise(v, f, 0.5 * d, seed=3)
-    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, sigma_o=0.5 * d, n_neighbors=20, n_iter=4)
+    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, sigma_o=0.5 * d, n_neighbors=20, n_iter=4,
+                  normal_n_iter=0)
     ref = reference_jbmd(noisy, f, c, 2 * d, 0.5 * d, 30.0, 0.8, 20, 4)
     np.testing.assert_allclose(ours, ref, atol=1e-9)
     # float32 and int32 inputs are accepted.
@@ -23,6 +24,27 @@ def test_jbmd_matches_the_numpy_reference():
     assert ours32.shape == v.shape
     # Denoising works: the error drops well below the noise.
     assert M.mean_error(ours, v) < 0.6 * M.mean_error(noisy, v)
+
+
+def test_two_stage_matches_the_numpy_reference_and_keeps_edges():
+    v, f, c = M.make_mesh("cube", 12)
+    d = M.mvd(v, f)
+    noisy = M.add_noise(v, f, 0.5 * d, seed=3)
+    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, n_iter=3, normal_n_iter=4, sigma_n=0.5,
+                  vertex_n_iter=5)
+    ref = reference_two_stage(noisy, f, c.astype(float), 2 * d, 0.5, 30.0, 3, 4, 5)
+    np.testing.assert_allclose(ours, ref, atol=1e-9)
+    nocol = M.jbmd(noisy, f, sigma_d=2 * d, n_iter=3, normal_n_iter=4, vertex_n_iter=5)
+    np.testing.assert_allclose(nocol, reference_two_stage(noisy, f, None, 2 * d, 0.5, 30.0, 3, 4, 5),
+                               atol=1e-9)
+    # The default (two-stage) update is closer to the true edges than the paper's.
+    edge = (np.sum((v <= 1.5 / 12) | (v >= 1 - 1.5 / 12), axis=1) >= 2)
+    err = lambda x: np.linalg.norm(x[edge] - v[edge], axis=1).mean()  # noqa: E731
+    assert err(M.jbmd(noisy, f, c)) < 0.7 * err(M.jbmd(noisy, f, c, normal_n_iter=0))
+    with pytest.raises(ValueError):
+        M.jbmd(noisy, f, c, sigma_n=0.0)
+    with pytest.raises(ValueError):
+        M.jbmd(noisy, f, c, normal_n_iter=-1)
 
 
 def test_cad_part_and_its_labels():
@@ -37,7 +59,8 @@ def test_cad_part_and_its_labels():
     # The open extrusion's boundary loops stay, JBMD equals the numpy reference there too.
     d = M.mvd(v, f)
     noisy = M.add_noise(v, f, 0.5 * d, seed=5)
-    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, sigma_o=0.5 * d, n_neighbors=20, n_iter=3)
+    ours = M.jbmd(noisy, f, c, sigma_d=2 * d, sigma_o=0.5 * d, n_neighbors=20, n_iter=3,
+                  normal_n_iter=0)
     ref = reference_jbmd(noisy, f, c, 2 * d, 0.5 * d, 30.0, 0.8, 20, 3)
     np.testing.assert_allclose(ours, ref, atol=1e-9)
     ends = (v[:, 2] == 0.0) | (v[:, 2] == 1.0)

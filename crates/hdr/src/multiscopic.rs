@@ -72,11 +72,13 @@ wscg_math::params! {
         /// Window of the ZNCC baseline.
         pub zncc_window: usize,
         /// Fill the offsets of pixels clipped high in the reference from the nearest unclipped
-        /// pixel of their row, and vote radiance weighted by the Khan weights (an extension,
-        /// off by default). The paper leaves saturated reference areas unsolved: a clipped patch
-        /// carries no data, so the matcher's offsets there are arbitrary (on the five-view
-        /// scene under 1 % of them lie within a pixel of the truth). See [`fill_saturated_rows`]
-        /// and [`ViewSamples::stacked_weighted`].
+        /// pixel of their row, then give every clipped region the disparity at which its
+        /// outline matches the source's pixels at least as bright, and vote radiance weighted
+        /// by the Khan weights (an extension, off by default). The paper leaves saturated
+        /// reference areas unsolved: a clipped patch carries no data, so the matcher's offsets
+        /// there are arbitrary (on the five-view scene under 1 % of them lie within a pixel of
+        /// the truth). See [`fill_saturated_rows`], [`fill_clipped_regions`] and
+        /// [`ViewSamples::stacked_weighted`].
         pub fill_saturated: bool,
     }
 }
@@ -184,6 +186,121 @@ pub fn fill_saturated_rows(f: &mut Nnf, level: &Image<f32>) {
     }
 }
 
+/// Smallest intersection over union of a clipped region's silhouette with the bright
+/// silhouette of the source for [`fill_clipped_regions`] to take its disparity.
+pub const MIN_SILHOUETTE_IOU: f64 = 0.5;
+
+/// Relative margin below the reference's clipping radiance at which a source sample still
+/// counts as bright in [`fill_clipped_regions`] (noise at the clipping level).
+const BRIGHT_MARGIN: f32 = 0.05;
+
+/// Gives every connected region clipped high in the reference `r` (8-connected pixels with
+/// some channel at level 1) the disparity at which its silhouette best matches the pixels of
+/// the source `s` that are at least as bright as the reference's clipping radiance; returns
+/// the number of regions filled. A pixel clipped in `r` has radiance at least `T_c = f^-1(1)
+/// / t_r` in channel `c`, so its match in `s` is a sample at least that bright, and an
+/// unclipped pixel of `r` (below `T_c`) matches a darker one: a region of a bright object
+/// is found in a shorter exposure by its outline, even where no pixel of the object is
+/// unclipped in `r` (which [`fill_saturated_rows`], taking the offsets of the row's
+/// neighbours, gets wrong when those are background at another depth). For every offset
+/// `dx` in `d_min..=d_max` the score is the intersection over union of the region and the
+/// bright source pixels shifted by `dx`, over the region's bounding box, not counting other
+/// clipped pixels; the best `dx` is taken when its score is at least
+/// [`MIN_SILHOUETTE_IOU`] (a source of longer exposure, clipped over the region, never
+/// scores), and every pixel of the region gets the offset `[dx, 0]` (rectified views; the
+/// source column clamped to the image). Not in the paper, which leaves saturated
+/// reference areas unsolved.
+pub fn fill_clipped_regions(
+    f: &mut Nnf,
+    r: &ViewSamples,
+    s: &ViewSamples,
+    d_min: i32,
+    d_max: i32,
+) -> usize {
+    let (h, w, c) = r.level.shape();
+    let (lv, er, es) = (r.level.data(), r.radiance.data(), s.radiance.data());
+    // Clipping radiance of every channel (the radiance of level 1; infinite if never clipped).
+    let mut t = vec![f32::INFINITY; c];
+    for (i, &l) in lv.iter().enumerate() {
+        if l >= 1.0 {
+            let ch = i % c;
+            t[ch] = if t[ch].is_finite() {
+                t[ch].min(er[i])
+            } else {
+                er[i]
+            };
+        }
+    }
+    let clipped: Vec<bool> = (0..h * w)
+        .map(|i| lv[i * c..(i + 1) * c].iter().any(|&l| l >= 1.0))
+        .collect();
+    let bright: Vec<bool> = (0..h * w)
+        .map(|i| (0..c).any(|ch| es[i * c + ch] >= (1.0 - BRIGHT_MARGIN) * t[ch]))
+        .collect();
+    let mut seen = vec![false; h * w];
+    let mut filled = 0;
+    let mut region = Vec::new();
+    for start in 0..h * w {
+        if !clipped[start] || seen[start] {
+            continue;
+        }
+        // The 8-connected region of `start`, and its bounding box.
+        region.clear();
+        region.push(start);
+        seen[start] = true;
+        let mut k = 0;
+        let (mut y0, mut y1, mut x0, mut x1) = (h, 0, w, 0);
+        while k < region.len() {
+            let (y, x) = (region[k] / w, region[k] % w);
+            (y0, y1, x0, x1) = (y0.min(y), y1.max(y), x0.min(x), x1.max(x));
+            k += 1;
+            for ny in y.saturating_sub(1)..(y + 2).min(h) {
+                for nx in x.saturating_sub(1)..(x + 2).min(w) {
+                    let j = ny * w + nx;
+                    if clipped[j] && !seen[j] {
+                        seen[j] = true;
+                        region.push(j);
+                    }
+                }
+            }
+        }
+        let at = |y: usize, x: usize, dx: i32| {
+            let sx = x as i64 + dx as i64;
+            (0..w as i64).contains(&sx) && bright[y * w + sx as usize]
+        };
+        let mut best = (0.0, 0);
+        for dx in d_min..=d_max {
+            let inter = region.iter().filter(|&&i| at(i / w, i % w, dx)).count();
+            if inter == 0 {
+                continue;
+            }
+            let mut outside = 0;
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    if !clipped[y * w + x] && at(y, x, dx) {
+                        outside += 1;
+                    }
+                }
+            }
+            let iou = inter as f64 / (region.len() + outside) as f64;
+            if iou > best.0 {
+                best = (iou, dx);
+            }
+        }
+        if best.0 < MIN_SILHOUETTE_IOU {
+            continue;
+        }
+        for &i in &region {
+            let (y, x) = (i / w, i % w);
+            if at(y, x, best.1) {
+                f.off[i] = [(x as i32 + best.1).clamp(0, w as i32 - 1) - x as i32, 0];
+                filled += 1;
+            }
+        }
+    }
+    filled
+}
+
 /// Checks the views of a multiscopic set: at least two, one shape, one exposure time each
 /// and one response (shared) or one per view.
 pub fn check_views(views: &[Image<u16>], times: &[f64], crfs: &[Crf]) -> Result<()> {
@@ -251,6 +368,7 @@ fn match_pair(e: &[ViewSamples], r: usize, s: usize, p: &MultiscopicParams) -> R
     }?;
     if p.fill_saturated {
         fill_saturated_rows(&mut f, &e[r].level);
+        fill_clipped_regions(&mut f, &e[r], &e[s], pm.d_min, pm.d_max);
     }
     Ok(f)
 }
@@ -396,5 +514,58 @@ mod tests {
             &off[w..],
             "whole clipped rows and clean rows are kept"
         );
+    }
+
+    /// One-channel samples of radiance `e` (levels: `e * t` clipped to 1).
+    fn samples(e: &[f32], h: usize, w: usize, t: f32) -> ViewSamples {
+        let img = |v: Vec<f32>| Image::new(h, w, 1, v).unwrap();
+        let level: Vec<f32> = e.iter().map(|&x| (x * t).min(1.0)).collect();
+        let radiance: Vec<f32> = level.iter().map(|&l| l / t).collect();
+        ViewSamples {
+            radiance: img(radiance),
+            weight: img(vec![1.0; h * w]),
+            level: img(level),
+        }
+    }
+
+    #[test]
+    fn a_clipped_region_takes_the_disparity_of_its_bright_outline() {
+        // A bright square (radiance 10) at columns 20..30 of the reference and 13..23 of the
+        // source (disparity -7) on a textured background of radiance 0.2..1 at disparity -2.
+        let (h, w) = (12, 48);
+        let scene = |shift: usize| -> Vec<f32> {
+            (0..h * w)
+                .map(|i| {
+                    let (y, x) = (i / w, i % w);
+                    if (3..9).contains(&y) && (20 - shift..30 - shift).contains(&x) {
+                        10.0
+                    } else {
+                        0.2 + 0.8 * (((x + 2 * shift / 7) * 7 + y * 3) % 11) as f32 / 11.0
+                    }
+                })
+                .collect()
+        };
+        let (er, es) = (scene(0), scene(7));
+        let r = samples(&er, h, w, 0.5); // clipped above radiance 2
+        let short = samples(&es, h, w, 0.05); // nothing clipped
+        let long = samples(&es, h, w, 1.0); // clipped above radiance 1
+        let base: Vec<[i32; 2]> = vec![[-2, 0]; h * w];
+        let mut f = Nnf::new(h, w, base.clone(), vec![0.0; h * w]).unwrap();
+        assert_eq!(fill_clipped_regions(&mut f, &r, &short, -10, 10), 60);
+        for i in 0..h * w {
+            let inside = (3..9).contains(&(i / w)) && (20..30).contains(&(i % w));
+            assert_eq!(
+                f.off[i],
+                if inside { [-7, 0] } else { [-2, 0] },
+                "pixel {i}"
+            );
+        }
+        // A longer exposure, clipped over the square, gives no evidence: nothing changes.
+        let mut g = Nnf::new(h, w, base.clone(), vec![0.0; h * w]).unwrap();
+        assert_eq!(fill_clipped_regions(&mut g, &r, &long, -10, 10), 0);
+        assert_eq!(g.off, base);
+        // Outside the search range the silhouette is not found.
+        let mut k = Nnf::new(h, w, base.clone(), vec![0.0; h * w]).unwrap();
+        assert_eq!(fill_clipped_regions(&mut k, &r, &short, 0, 10), 0);
     }
 }

@@ -80,8 +80,9 @@ impl Response {
     }
 }
 
-/// One plane of the scene.
+/// One plane of the scene ([`Layer::new`], then the setters).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Layer {
     /// Disparity between neighbouring cameras, pixels (fractional).
     pub disparity: f64,
@@ -92,6 +93,66 @@ pub struct Layer {
     pub disk: bool,
     /// Texture seed.
     pub seed: u64,
+    /// Radiance factor of the layer (1: the base light; a bright object clipped in the
+    /// long exposures takes a few tens).
+    pub gain: f64,
+}
+
+impl Layer {
+    /// A layer of disparity `disparity` over `rect` (see [`Layer::rect`]), rectangular,
+    /// texture seed `seed`, gain 1.
+    pub fn new(disparity: f64, rect: [f64; 4], seed: u64) -> Self {
+        Self {
+            disparity,
+            rect,
+            disk: false,
+            seed,
+            gain: 1.0,
+        }
+    }
+
+    /// The layer with an elliptic (`true`) or rectangular outline.
+    pub fn disk(self, disk: bool) -> Self {
+        Self { disk, ..self }
+    }
+
+    /// The layer with radiance factor `gain`.
+    pub fn gain(self, gain: f64) -> Self {
+        Self { gain, ..self }
+    }
+
+    /// Checks the layer `k` of a scene: finite disparity, `0 <= y0 < y1 <= 1` and `0 <= x0 <
+    /// x1 <= 1`, finite gain `> 0`.
+    pub fn validate(&self, k: usize) -> Result<()> {
+        if !self.disparity.is_finite() {
+            return Err(Error::invalid(
+                "layers",
+                format!(
+                    "layer {k}: disparity must be finite, got {}",
+                    self.disparity
+                ),
+            ));
+        }
+        let [y0, y1, x0, x1] = self.rect;
+        let ok = |a: f64, b: f64| (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b) && a < b;
+        if !(ok(y0, y1) && ok(x0, x1)) {
+            return Err(Error::invalid(
+                "layers",
+                format!(
+                    "layer {k}: rect (y0, y1, x0, x1) needs 0 <= y0 < y1 <= 1 and 0 <= x0 < x1 \
+                     <= 1, got {:?}",
+                    self.rect
+                ),
+            ));
+        }
+        if !(self.gain.is_finite() && self.gain > 0.0) {
+            return Err(Error::invalid(
+                "layers",
+                format!("layer {k}: gain must be finite and > 0, got {}", self.gain),
+            ));
+        }
+        Ok(())
+    }
 }
 
 wscg_math::params! {
@@ -104,7 +165,8 @@ wscg_math::params! {
         pub width: usize,
         /// Exposure time of each camera, seconds (the number of cameras).
         pub times: Vec<f64>,
-        /// Planes, back to front (the first one should cover the image).
+        /// Planes, back to front (the first one should cover the image; where no layer
+        /// covers a pixel the first one is seen). The emitter lights the first one.
         pub layers: Vec<Layer>,
         /// Peak of the emitter relative to the base illumination.
         pub emitter_peak: f64,
@@ -127,24 +189,9 @@ impl Default for SceneParams {
             width: 256,
             times: vec![0.005, 0.030, 0.061, 0.122, 0.280],
             layers: vec![
-                Layer {
-                    disparity: 7.5,
-                    rect: [0.0, 1.0, 0.0, 1.0],
-                    disk: false,
-                    seed: 11,
-                },
-                Layer {
-                    disparity: 18.3,
-                    rect: [0.18, 0.78, 0.12, 0.47],
-                    disk: false,
-                    seed: 23,
-                },
-                Layer {
-                    disparity: 33.7,
-                    rect: [0.35, 0.85, 0.52, 0.78],
-                    disk: true,
-                    seed: 37,
-                },
+                Layer::new(7.5, [0.0, 1.0, 0.0, 1.0], 11),
+                Layer::new(18.3, [0.18, 0.78, 0.12, 0.47], 23),
+                Layer::new(33.7, [0.35, 0.85, 0.52, 0.78], 37).disk(true),
             ],
             emitter_peak: 300.0,
             response: Response::Gamma(2.2),
@@ -234,7 +281,8 @@ fn covers(l: &Layer, y: f64, u: f64, h: usize, w: usize) -> bool {
 }
 
 impl SceneParams {
-    /// Checks the ranges: 2 to 32 finite, positive `times`, at least one layer, `height`
+    /// Checks the ranges: 2 to 32 finite, positive `times`, at least one layer, each valid
+    /// ([`Layer::validate`]), `height`
     /// and `width` at least 8, `noise` finite and `>= 0`, `emitter_peak` finite and `>= 1`,
     /// `bits` a supported depth.
     pub fn validate(&self) -> Result<()> {
@@ -247,6 +295,9 @@ impl SceneParams {
         crate::radiance::check_times(&self.times, self.times.len())?;
         if self.layers.is_empty() {
             return Err(Error::invalid("layers", "needs at least one layer"));
+        }
+        for (k, l) in self.layers.iter().enumerate() {
+            l.validate(k)?;
         }
         for (name, v) in [("height", self.height), ("width", self.width)] {
             if v < 8 {
@@ -293,8 +344,9 @@ impl SceneParams {
         (0, x + (k as f64 - c) * self.layers[0].disparity)
     }
 
-    /// Radiance of layer `li` at `(y, u)`, channel `ch`: albedo times light, scaled so the
-    /// brightest possible point fills 90% of the shortest exposure.
+    /// Radiance of layer `li` at `(y, u)`, channel `ch`: albedo times light times the
+    /// layer's gain, scaled so that the brightest possible point of a layer of gain 1 fills
+    /// 90% of the shortest exposure.
     fn radiance(&self, li: usize, y: f64, u: f64, ch: usize) -> f64 {
         let (h, w) = (self.height as f64, self.width as f64);
         let tmin = self.times.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -306,7 +358,7 @@ impl SceneParams {
         } else {
             1.0
         };
-        scale * albedo(self.layers[li].seed, y, u, ch) * light
+        scale * albedo(self.layers[li].seed, y, u, ch) * light * self.layers[li].gain
     }
 }
 

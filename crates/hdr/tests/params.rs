@@ -2,7 +2,7 @@
 //! out of range fails with an error naming that field (also at the start of the method that
 //! takes the parameters).
 
-use wscg_hdr::synth::{layered_scene, SceneParams};
+use wscg_hdr::synth::{layered_scene, Layer, SceneParams};
 use wscg_hdr::{
     calibrate_mitsunaga_nayar, multiscopic_hdr, patchmatch, zncc_stereo, Align,
     MitsunagaNayarParams, MultiscopicParams, PatchMatchParams, StereoParams,
@@ -109,6 +109,18 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
         sc().layers(Vec::new()).validate().refused_argument(),
         Some("layers")
     );
+    let back = Layer::new(5.0, [0.0, 1.0, 0.0, 1.0], 1);
+    for bad in [
+        Layer::new(f64::NAN, [0.0, 1.0, 0.0, 1.0], 2),
+        Layer::new(9.0, [0.6, 0.2, 0.0, 1.0], 2),
+        Layer::new(9.0, [0.0, 1.0, 0.5, 1.5], 2),
+        Layer::new(9.0, [0.0, 1.0, 0.0, 1.0], 2).gain(0.0),
+        Layer::new(9.0, [0.0, 1.0, 0.0, 1.0], 2).gain(f64::INFINITY),
+    ] {
+        let e = sc().layers(vec![back, bad]).validate();
+        assert_eq!(e.refused_argument(), Some("layers"), "{bad:?}");
+        assert!(e.unwrap_err().to_string().contains("layer 1"));
+    }
     assert_eq!(sc().height(4).validate().refused_argument(), Some("height"));
     assert_eq!(sc().width(7).validate().refused_argument(), Some("width"));
     assert_eq!(

@@ -70,15 +70,27 @@ pub fn laplacian_trace(
 ///
 /// Errors: invalid mesh or factors.
 pub fn taubin(mesh: &TriMesh, lambda: f64, mu: f64, iterations: usize) -> Result<Vec<[f64; 3]>> {
+    taubin_trace(mesh, lambda, mu, iterations, |_, _| {})
+}
+
+/// [`taubin`] calling `observe(iteration, positions)` after every `lambda`/`mu` pair.
+pub fn taubin_trace(
+    mesh: &TriMesh,
+    lambda: f64,
+    mu: f64,
+    iterations: usize,
+    mut observe: impl FnMut(usize, &[[f64; 3]]),
+) -> Result<Vec<[f64; 3]>> {
     check_mesh(mesh)?;
     check_factor("lambda", lambda)?;
     check_factor("mu", mu)?;
     let (adj, moving) = (mesh.vertex_adjacency(), movable(mesh));
     let mut pos = mesh.positions.clone();
-    for _ in 0..iterations {
+    for it in 0..iterations {
         wscg_math::cancel::check()?;
         pos = umbrella(&adj, &pos, lambda, &moving);
         pos = umbrella(&adj, &pos, mu, &moving);
+        observe(it + 1, &pos);
     }
     Ok(pos)
 }

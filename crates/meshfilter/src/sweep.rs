@@ -6,7 +6,7 @@
 use wscg_math::{Result, TriMesh};
 
 use crate::bmd::{bmd_trace, BmdParams};
-use crate::smoothing::laplacian_trace;
+use crate::smoothing::{laplacian_trace, taubin_trace};
 
 /// One setting of a baseline.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,6 +15,13 @@ pub enum Setting {
     Laplacian {
         /// Factor `lambda_L`.
         lambda: f64,
+    },
+    /// Taubin smoothing, one `lambda` and one `mu` step per iteration.
+    Taubin {
+        /// Shrinking factor `lambda`.
+        lambda: f64,
+        /// Inflating factor `mu` (`mu < -lambda`).
+        mu: f64,
     },
     /// Bilateral mesh denoising (its `iterations` field is replaced by the sweep's).
     Bmd(BmdParams),
@@ -27,6 +34,20 @@ impl Setting {
         (1..=10)
             .map(|l| Setting::Laplacian {
                 lambda: l as f64 / 10.0,
+            })
+            .collect()
+    }
+
+    /// The Taubin grid of the sweep (ours): `lambda` in 0.3, 0.4, ..., 0.7, with `mu` from
+    /// Taubin's (1995) pass-band frequency `k_PB = 1/lambda + 1/mu = 0.1`.
+    pub fn taubin_grid() -> Vec<Setting> {
+        (3..=7)
+            .map(|l| {
+                let lambda = l as f64 / 10.0;
+                Setting::Taubin {
+                    lambda,
+                    mu: 1.0 / (0.1 - 1.0 / lambda),
+                }
             })
             .collect()
     }
@@ -92,6 +113,9 @@ pub fn sweep(
         match setting {
             Setting::Laplacian { lambda } => {
                 laplacian_trace(noisy, lambda, iterations, &mut observe)?;
+            }
+            Setting::Taubin { lambda, mu } => {
+                taubin_trace(noisy, lambda, mu, iterations, &mut observe)?;
             }
             Setting::Bmd(p) => {
                 let p = BmdParams { iterations, ..p };

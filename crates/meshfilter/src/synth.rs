@@ -1,5 +1,6 @@
 //! Synthetic coloured meshes with exact ground truth (paper 04's test data are private or
 //! unavailable): a coloured cube with sharp edges whose colour edges coincide with them (S1),
+//! a coloured octahedron (blunter edges, 109.5 degrees),
 //! a fandisk-like CAD part with convex and concave creases and a
 //! fillet (S2), an icosphere (S3), a plane with a colour step; and Gaussian noise along the
 //! vertex normals.
@@ -69,6 +70,58 @@ pub fn cube_edge_band(n: usize, positions: &[[f64; 3]]) -> Vec<bool> {
     positions
         .iter()
         .map(|p| p.iter().filter(|&&c| c <= tol || c >= 1.0 - tol).count() >= 2)
+        .collect()
+}
+
+/// The octahedron `|x| + |y| + |z| = 1` (dihedral angle 109.5 degrees), each face an `n`-step
+/// triangular grid (outward orientation), vertices shared along the edges; the face of
+/// octant `f` (bits: x < 0, y < 0, z < 0) has colour `PALETTE[f % 7]` (opposite faces
+/// share a colour, adjacent ones never) and an edge vertex keeps the colour of the first
+/// face that made it. `n = 24` gives 2306 vertices.
+///
+/// Errors: `n == 0` or too many vertices.
+pub fn colored_octahedron(n: usize) -> Result<TriMesh> {
+    if n == 0 || n > 2000 {
+        return Err(Error::invalid("n", format!("must be in 1..=2000, got {n}")));
+    }
+    let ni = n as i64;
+    let mut index: HashMap<[i64; 3], u32> = HashMap::new();
+    let (mut pos, mut col, mut faces) = (Vec::new(), Vec::new(), Vec::new());
+    for f in 0..8usize {
+        let s = [0, 1, 2].map(|a| if f >> a & 1 == 1 { -1 } else { 1 });
+        let (a, mut b, mut c) = ([s[0], 0, 0], [0, s[1], 0], [0, 0, s[2]]);
+        // Outward: (b - a) x (c - a) along (sx, sy, sz).
+        if s[0] * s[1] * s[2] < 0 {
+            std::mem::swap(&mut b, &mut c);
+        }
+        let mut id = |i: i64, j: i64| -> u32 {
+            let w = [ni - i - j, i, j];
+            let key: [i64; 3] = std::array::from_fn(|k| w[0] * a[k] + w[1] * b[k] + w[2] * c[k]);
+            *index.entry(key).or_insert_with(|| {
+                pos.push(key.map(|v| v as f64 / n as f64));
+                col.push(PALETTE[f % PALETTE.len()]);
+                (pos.len() - 1) as u32
+            })
+        };
+        for i in 0..ni {
+            for j in 0..ni - i {
+                faces.push([id(i, j), id(i + 1, j), id(i, j + 1)]);
+                if i + j < ni - 1 {
+                    faces.push([id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+                }
+            }
+        }
+    }
+    TriMesh::new(pos, faces)?.with_colors(col)
+}
+
+/// The vertices of [`colored_octahedron`]`(n)` within one grid row of an edge (some
+/// coordinate at most `1/n` in magnitude).
+pub fn octahedron_edge_band(n: usize, positions: &[[f64; 3]]) -> Vec<bool> {
+    let tol = 1.0 / n as f64 + 1e-9;
+    positions
+        .iter()
+        .map(|p| p.iter().any(|c| c.abs() <= tol))
         .collect()
 }
 

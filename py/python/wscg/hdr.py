@@ -51,7 +51,7 @@ from __future__ import annotations
 
 import os
 import warnings
-from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -522,11 +522,20 @@ def multiscopic_hdr(views, exposure_times=None, crf="gamma2.2", *, patch: int = 
         Not in the paper (an ablation): weight each squared difference by the smaller Khan
         weight of the two samples so clipped pixels do not drive the match.
     fill_saturated : bool, default False
-        Not in the paper, which leaves saturated reference areas unsolved: pixels clipped in
-        the reference take the offset of the nearest unclipped pixel of their row (a clipped
-        patch carries no data to match), and radiance is voted weighted by the Khan weights.
-        On the five-view test scene every view's RMSE log2 drops to 0.139 or less (0.220 on
-        the longest exposure without it).
+        Not in the paper, which leaves saturated reference areas unsolved (a clipped patch
+        carries no data to match): pixels clipped in the reference take the offset of the
+        nearest unclipped pixel of their row; then every connected clipped region takes the
+        disparity at which its outline matches the source's pixels at least as bright as
+        the reference's clipping level (a shorter exposure shows the object unclipped), so
+        a bright object whose every pixel clips gets its own depth rather than the
+        background's; and radiance is voted weighted by the Khan weights. On the five-view
+        scene of :func:`make_scene`, over the pixel-channels of points seen by all five views
+        that are well exposed (codes 10-245) in some view, the views' RMSE log2 are 0.110 /
+        0.086 / 0.082 / 0.096 / 0.099 (0.121 / 0.088 / 0.103 / 0.173 / 0.220 without); over
+        all pixels, occluded bands included, 0.195 / 0.156 / 0.127 / 0.284 / 0.371 (0.198 /
+        0.155 / 0.135 / 0.292 / 0.389 without). On a scene with a bright foreground object
+        clipped in the two longest of four exposures, its clipped pixels go from 0.075 /
+        0.561 to 0.041 / 0.095 in those views.
     bits : int, optional
         Bit depth of named responses: default the files' depth for views given as files, 8
         for uint8 views, otherwise the smallest depth covering the largest code (pass it for
@@ -1214,16 +1223,21 @@ def merge(radiances, weights, levels, exposure_times) -> Tuple[np.ndarray, int]:
 def make_scene(*, height: int = 160, width: int = 256,
                 exposure_times: Sequence[float] = (0.005, 0.030, 0.061, 0.122, 0.280),
                 emitter_peak: float = 300.0, noise: float = 0.002,
-                seed: int = 7) -> HdrScene:
+                seed: int = 7, layers: Optional[Sequence[Mapping[str, Any]]] = None) -> HdrScene:
     """A layered multi-view scene with ground truth, standing in for the paper's camera-array
     data sets (section 4), whose ground-truth radiance is unknown.
 
-    Three fronto-parallel textured planes at fractional disparities 7.5, 18.3 and 33.7 px
-    per camera step (the back one covering the image, a rectangle and a disk in front)
-    composited back to front (exact occlusions), lit by a field with a Gaussian emitter
-    ``emitter_peak`` times the base light on the back plane, seen by one camera per exposure
-    time on a horizontal baseline (left to right), gamma-2.2 response, Gaussian noise
-    ``noise`` (of full scale) before 8-bit quantisation.
+    Fronto-parallel textured planes (by default three, at fractional disparities 7.5, 18.3
+    and 33.7 px per camera step: the back one covering the image, a rectangle and a disk in
+    front) composited back to front (exact occlusions), lit by a field with a Gaussian
+    emitter ``emitter_peak`` times the base light on the back plane, seen by one camera per
+    exposure time on a horizontal baseline (left to right), gamma-2.2 response, Gaussian
+    noise ``noise`` (of full scale) before 8-bit quantisation. ``layers`` sets the planes of
+    a scene of your own, e.g. a bright foreground object clipped in the long exposures::
+
+        make_scene(layers=[{"disparity": 7.5},
+                           {"disparity": 26.0, "rect": (0.15, 0.55, 0.55, 0.8),
+                            "disk": True, "gain": 30.0}])
 
     Parameters
     ----------
@@ -1236,7 +1250,18 @@ def make_scene(*, height: int = 160, width: int = 256,
     noise : float, default 0.002
         Noise standard deviation of the signal in ``[0, 1]`` (>= 0).
     seed : int, default 7
-        Noise seed (the geometry and textures are fixed).
+        Noise seed (the geometry and textures are set by ``layers``).
+    layers : sequence of dict, optional
+        The planes, back to front (the first should cover the image; where no plane covers
+        a pixel the first is seen; the emitter lights the first). Keys: ``"disparity"``
+        (pixels per camera step, required; a point at column ``x`` of the central view is
+        at ``x + (k - c) d`` in view ``k``, ``c`` the central camera), ``"rect"`` (extent in
+        the central view as fractions of the image, ``(y0, y1, x0, x1)``, default the whole
+        image), ``"disk"`` (elliptic outline inside ``rect``, default False), ``"gain"``
+        (radiance factor, default 1; the brightest point of a plane of gain 1 fills 90 % of
+        the shortest exposure, so a gain of 20-30 makes an object that clips in exposures
+        10-60 times longer) and ``"seed"`` (texture seed, default ``11 + 12 k`` for plane
+        ``k``). Default: the three planes above (gain 1).
 
     Returns
     -------
@@ -1266,7 +1291,47 @@ def make_scene(*, height: int = 160, width: int = 256,
     nz = _real("noise", noise)
     if nz < 0:
         raise ValueError(f"`noise` must be >= 0, got {nz}")
-    return _from_mapping(HdrScene, _h.make_scene(h, w, times, peak, nz, _seed(seed)))
+    return _from_mapping(HdrScene, _h.make_scene(h, w, times, peak, nz, _seed(seed),
+                                                 _scene_layers(layers)))
+
+
+_LAYER_KEYS = ("disparity", "rect", "disk", "gain", "seed")
+
+
+def _scene_layers(layers) -> Optional[list]:
+    """``make_scene``'s ``layers`` as (disparity, rect, disk, gain, seed) tuples, checked."""
+    if layers is None:
+        return None
+    if isinstance(layers, (str, bytes, Mapping)) or not isinstance(layers, Sequence):
+        raise TypeError(f"`layers` must be a sequence of dicts, got {type(layers).__name__}")
+    if len(layers) == 0:
+        raise ValueError("`layers` needs at least one layer")
+    out = []
+    for k, layer in enumerate(layers):
+        name = f"layers[{k}]"
+        if not isinstance(layer, Mapping):
+            raise TypeError(f"`{name}` must be a dict, got {type(layer).__name__}")
+        unknown = sorted(set(layer) - set(_LAYER_KEYS))
+        if unknown:
+            raise ValueError(f"`{name}` has unknown keys {unknown}; use {list(_LAYER_KEYS)}")
+        if "disparity" not in layer:
+            raise ValueError(f"`{name}` needs a 'disparity'")
+        d = _real(f"{name}['disparity']", layer["disparity"])
+        try:
+            rect = np.asarray(layer.get("rect", (0.0, 1.0, 0.0, 1.0)), dtype=np.float64).ravel()
+        except (TypeError, ValueError):
+            rect = np.full(1, np.nan)
+        y0, y1, x0, x1 = rect if rect.size == 4 else (np.nan,) * 4
+        if not (0 <= y0 < y1 <= 1 and 0 <= x0 < x1 <= 1):
+            raise ValueError(f"`{name}['rect']` must be (y0, y1, x0, x1) with 0 <= y0 < y1 <= 1 "
+                             f"and 0 <= x0 < x1 <= 1, got {layer.get('rect')!r}")
+        gain = _real(f"{name}['gain']", layer.get("gain", 1.0))
+        if gain <= 0:
+            raise ValueError(f"`{name}['gain']` must be > 0, got {gain}")
+        disk = _flag(f"{name}['disk']", layer.get("disk", False))
+        seed = _int(f"{name}['seed']", layer.get("seed", 11 + 12 * k), 0, 2 ** 64 - 1)
+        out.append((d, tuple(float(v) for v in rect), disk, gain, seed))
+    return out
 
 
 def rmse_log2(est, gt, mask=None) -> float:

@@ -1,6 +1,6 @@
 import os
 from dataclasses import dataclass
-from typing import Dict, List, Literal, NamedTuple, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Dict, List, Literal, Mapping, NamedTuple, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -93,8 +93,8 @@ def merge_stack(images: Sequence[_Image], exposure_times: Optional[Sequence[floa
 def exif_exposure_times(paths: Sequence[Union[str, os.PathLike[str]]],
                         exposure_times: Optional[Sequence[float]] = ...) -> List[float]: ...
 def make_scene(*, height: int = ..., width: int = ..., exposure_times: Sequence[float] = ...,
-                emitter_peak: float = ..., noise: float = ...,
-                seed: int = ...) -> HdrScene: ...
+                emitter_peak: float = ..., noise: float = ..., seed: int = ...,
+                layers: Optional[Sequence[Mapping[str, Any]]] = ...) -> HdrScene: ...
 def rmse_log2(est: np.ndarray, gt: np.ndarray, mask: Optional[np.ndarray] = ...) -> float: ...
 def bad_rate(offsets: np.ndarray, truth: np.ndarray, k: float = ...,
              mask: Optional[np.ndarray] = ...) -> float: ...

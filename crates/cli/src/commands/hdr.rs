@@ -80,8 +80,9 @@ pub struct MultiscopicArgs {
     /// Views are ordered left to right: search one disparity sign per pair.
     #[arg(long)]
     ordered: bool,
-    /// Fill the offsets of pixels clipped in the reference from their row and vote radiance
-    /// by weight (not in the paper, which leaves saturated reference areas unsolved).
+    /// Fill the offsets of pixels clipped in the reference from their row, then each clipped
+    /// region's from its outline in a shorter exposure, and vote radiance by weight (not in
+    /// the paper, which leaves saturated reference areas unsolved).
     #[arg(long)]
     fill_saturated: bool,
     /// Drop the coherence term of the matching cost.
