@@ -145,6 +145,17 @@ class _Case:
         except (OSError, ValueError):
             return None
 
+    def discard_partial(self) -> None:
+        """Removes the temporary files (``wscg_tmp_*``) of writes that a killed worker left
+        half done in this case's folder, before the case runs again."""
+        for root, _, files in os.walk(self.dir):
+            for n in files:
+                if n.startswith("wscg_tmp_"):
+                    try:
+                        os.remove(os.path.join(root, n))
+                    except OSError:
+                        pass
+
     def finish(self, record: Dict[str, Any]) -> None:
         """Writes the record, after the outputs (uploaded first for a URL)."""
         _write_bytes(self.path(self.marker), json.dumps(record, sort_keys=True).encode())
@@ -210,8 +221,12 @@ def _threads(n_threads: Optional[int]) -> None:
 
 def _finished(case: Optional[_Case], overwrite: bool) -> Optional[Dict[str, Any]]:
     """The record of a case an earlier run finished, or None when the case must run (no
-    output folder, ``overwrite``, or not finished)."""
-    return None if case is None or overwrite else case.done()
+    output folder, ``overwrite``, or not finished; the temporary files of an interrupted
+    earlier run are then removed)."""
+    done = None if case is None or overwrite else case.done()
+    if done is None and case is not None:
+        case.discard_partial()
+    return done
 
 
 def _check_threads(n_threads) -> None:

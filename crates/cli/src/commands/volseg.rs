@@ -26,7 +26,7 @@ use wscg_volseg::{
 #[derive(Subcommand, Debug)]
 pub enum VolsegCommand {
     /// Separate the bones of a CT volume from seed strokes (random walks on the bone graph).
-    Split(SplitArgs),
+    Split(Box<SplitArgs>),
     /// Write the synthetic fractured-shell phantom (ct.nii, truth.nii, seeds.nii).
     Phantom {
         /// Output folder.
