@@ -454,67 +454,25 @@ fn project<'py>(
     array(py, &[out.len() / 2, 2], out)
 }
 
-/// Registers the functions.
-/// Reads a paint description file (JSON) as a dict of its keys (`None` for those it does not
-/// set).
+/// Reads a paint description file: its JSON text as checked and re-written by the library
+/// (only the keys the file sets).
 #[pyfunction]
-fn load_paint(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Bound<'_, PyDict>> {
+fn load_paint(py: Python<'_>, path: std::path::PathBuf) -> PyResult<String> {
     let p = crate::pool::detach(py, || paint::PaintDescription::read(&path)).py_err()?;
-    let d = PyDict::new(py);
-    d.set_item("radius_um", p.radius_um)?;
-    d.set_item("density", p.density)?;
-    d.set_item("tilt_deg", p.tilt_deg)?;
-    d.set_item("model", p.model)?;
-    d.set_item("thickness_um", p.thickness_um)?;
-    d.set_item("layer_um", p.layer_um)?;
-    d.set_item("binder_absorption_per_mm", p.binder_absorption_per_mm)?;
-    d.set_item("binder_ior", p.binder_ior)?;
-    d.set_item("base_albedo", p.base_albedo)?;
-    d.set_item("coat_ior", p.coat_ior)?;
-    d.set_item("coat_um", p.coat_um)?;
-    d.set_item("seed", p.seed)?;
-    Ok(d)
+    serde_json::to_string(&p).map_err(|e| value_error(e.to_string()))
 }
 
-/// Writes a paint description file (JSON) of the keys given (checked as `load_paint` checks
-/// them).
+/// Writes the paint description `description` (JSON text of its keys), checked as
+/// `load_paint` checks a file.
 #[pyfunction]
-#[pyo3(signature = (path, radius_um, density, tilt_deg, model, thickness_um, layer_um,
-                    binder_absorption_per_mm, binder_ior, base_albedo, coat_ior, coat_um, seed))]
-#[allow(clippy::too_many_arguments)]
-fn save_paint(
-    py: Python<'_>,
-    path: std::path::PathBuf,
-    radius_um: Option<f64>,
-    density: Option<f64>,
-    tilt_deg: Option<f64>,
-    model: Option<String>,
-    thickness_um: Option<f64>,
-    layer_um: Option<f64>,
-    binder_absorption_per_mm: Option<f64>,
-    binder_ior: Option<f64>,
-    base_albedo: Option<f64>,
-    coat_ior: Option<f64>,
-    coat_um: Option<f64>,
-    seed: Option<u64>,
-) -> PyResult<()> {
-    let mut p = paint::PaintDescription::default();
-    p.radius_um = radius_um;
-    p.density = density;
-    p.tilt_deg = tilt_deg;
-    p.model = model;
-    p.thickness_um = thickness_um;
-    p.layer_um = layer_um;
-    p.binder_absorption_per_mm = binder_absorption_per_mm;
-    p.binder_ior = binder_ior;
-    p.base_albedo = base_albedo;
-    p.coat_ior = coat_ior;
-    p.coat_um = coat_um;
-    p.seed = seed;
+fn save_paint(py: Python<'_>, path: std::path::PathBuf, description: &str) -> PyResult<()> {
+    let p: paint::PaintDescription =
+        serde_json::from_str(description).map_err(|e| value_error(format!("paint: {e}")))?;
     p.validate().py_err()?;
     crate::pool::detach(py, || p.write(&path)).py_err()
 }
 
+/// Registers the functions.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_paint, m)?)?;
     m.add_function(wrap_pyfunction!(save_paint, m)?)?;

@@ -329,6 +329,11 @@ def test_a_paint_description_round_trips_and_is_checked(tmp_path):
             rt.load_paint(p)
     with pytest.raises(ValueError, match="radius_um"):
         rt.save_paint(p, rt.PaintDescription(radius_um=-1.0))
+    with pytest.raises(ValueError, match="paint"):
+        rt.save_paint(p, rt.PaintDescription(density="high"))
+    # numpy scalars are written as numbers.
+    rt.save_paint(p, rt.PaintDescription(radius_um=np.float32(20.0), seed=np.int64(3)))
+    assert rt.load_paint(p) == rt.PaintDescription(radius_um=20.0, seed=3)
     with pytest.raises(OSError):
         rt.load_paint(tmp_path / "none.json")
     p.write_bytes(b" " * (2 << 20))

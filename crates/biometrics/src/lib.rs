@@ -22,5 +22,6 @@ pub mod dtw;
 pub mod ear;
 pub mod gait;
 pub mod imgops;
+mod model_json;
 pub mod sfa;
 pub mod subspace;

@@ -42,6 +42,7 @@ Bad input raises ``ValueError``.
 from __future__ import annotations
 
 import dataclasses
+import json
 import os
 from typing import List, Optional, Sequence, Tuple, Union
 
@@ -563,13 +564,15 @@ def load_paint(path: Union[str, os.PathLike]) -> PaintDescription:
     value of the wrong type or a paint the flake and layer parameters refuse (with the
     paper's defaults for the other keys), and ``ValueError`` for a file above 1 MiB.
     """
-    return _from_mapping(PaintDescription, _r.load_paint(os.fspath(path)))
+    return PaintDescription(**json.loads(_r.load_paint(os.fspath(path))))
 
 
 def save_paint(path: Union[str, os.PathLike], paint: PaintDescription) -> None:
     """Writes ``paint`` as a JSON paint description (only the keys that are not ``None``,
     atomically) after the checks of :func:`load_paint`."""
-    _r.save_paint(os.fspath(path), **dataclasses.asdict(paint))
+    keys = {k: v for k, v in dataclasses.asdict(paint).items() if v is not None}
+    # numpy scalars as Python numbers; a value of another type is refused as ValueError.
+    _r.save_paint(os.fspath(path), json.dumps(keys, default=lambda v: v.item()))
 
 
 _integer_ranges(globals())

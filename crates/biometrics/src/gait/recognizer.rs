@@ -288,12 +288,30 @@ impl GaitRecognizer {
             return Err(Error::Empty("gallery"));
         }
         if self.labels.len() != self.gallery.len() {
-            return Err(Error::ShapeMismatch(format!(
-                "{} labels for {} gallery walks",
-                self.labels.len(),
-                self.gallery.len()
-            )));
+            return Err(Error::invalid(
+                "model",
+                format!(
+                    "{} labels for {} gallery walks",
+                    self.labels.len(),
+                    self.gallery.len()
+                ),
+            ));
         }
+        if let Some(i) = self
+            .gallery
+            .iter()
+            .position(|g| g.len() != self.pairs.len())
+        {
+            return Err(Error::invalid(
+                "model",
+                format!(
+                    "gallery walk {i} has {} sequences for {} pairs",
+                    self.gallery[i].len(),
+                    self.pairs.len()
+                ),
+            ));
+        }
+        // Every sequence non-empty and finite.
         crate::dtw::matrix::check_set("gallery", &self.gallery, self.pairs.len())
     }
 
@@ -369,29 +387,6 @@ impl GaitRecognizer {
     /// A recognizer from [`Self::to_json`] output. Errors: not a recognizer, or a gallery
     /// whose sizes disagree (label count, one sequence per selected pair).
     pub fn from_json(s: &str) -> Result<Self> {
-        let m: Self = serde_json::from_str(s)
-            .map_err(|e| Error::invalid("model", format!("not a gait recognizer: {e}")))?;
-        m.params.validate()?;
-        if m.labels.len() != m.gallery.len() || m.gallery.is_empty() {
-            return Err(Error::invalid(
-                "model",
-                format!(
-                    "{} labels for {} gallery walks",
-                    m.labels.len(),
-                    m.gallery.len()
-                ),
-            ));
-        }
-        if let Some(i) = m.gallery.iter().position(|g| g.len() != m.pairs.len()) {
-            return Err(Error::invalid(
-                "model",
-                format!(
-                    "gallery walk {i} has {} sequences for {} pairs",
-                    m.gallery[i].len(),
-                    m.pairs.len()
-                ),
-            ));
-        }
-        Ok(m)
+        crate::model_json::checked_from_json(s, "gait recognizer", Self::check_shapes)
     }
 }

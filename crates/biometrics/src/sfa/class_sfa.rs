@@ -303,10 +303,7 @@ impl PerClassSfa {
 
     /// A model from [`Self::to_json`] output, checked with [`Self::check_shapes`].
     pub fn from_json(s: &str) -> Result<Self> {
-        let m: Self = serde_json::from_str(s)
-            .map_err(|e| Error::invalid("model", format!("not a model: {e}")))?;
-        m.check_shapes()?;
-        Ok(m)
+        crate::model_json::checked_from_json(s, "class-wise SFA model", Self::check_shapes)
     }
 
     /// Checks that a model read from a file is consistent (its parameters valid, every array
