@@ -107,7 +107,7 @@ fn main() -> Res<()> {
                             for (v, l) in first.data_mut().iter_mut().enumerate() {
                                 if *l != 0 {
                                     count[*l as usize] += 1;
-                                    if count[*l as usize] % 2 == 0 {
+                                    if count[*l as usize].is_multiple_of(2) {
                                         rest[*l as usize].push(v);
                                         *l = 0;
                                     }
