@@ -3,11 +3,13 @@
 x threads per worker, against the single-process loop over the same batch (BENCHMARKS.md,
 "Scale-out on Dask"), and the peak memory of one task of each pipeline.
 
-    python benches/dask_scaling.py [--repeat 3] [--pipelines bones,identify,video,mri]
+    python benches/dask_scaling.py [--repeat 3] [--pipelines bones,identify,video,mri] [--scale 1]
 
 Needs `pip install 'wscg[dask]'`. Each configuration runs the batch `--repeat` times on a
 warm cluster (workers started, wscg imported, the gallery model scattered) and keeps the
-fastest run; the load average (`uptime`) is printed with each line.
+fastest run; the load average (`uptime`) is printed with each line. `--scale K` makes every
+batch K times as many cases (the same case sizes), so that the per-batch cost of the cluster
+(submission, scatter, gathering the results) weighs less against the work.
 """
 
 from __future__ import annotations
@@ -61,12 +63,13 @@ def _mri(n_slices: int = 8, n: int = 96):
     return [np.stack([wscg.csmri.simulate(s, mask) for s in stack])], [mask]
 
 
-def _batches(tmp: pathlib.Path):
-    """name -> (call(client) running the whole batch, number of cases)."""
-    paths, seeds = _bones(tmp)
-    probes, gallery = _ears()
-    clips, masks = _clips()
-    kspaces, kmasks = _mri()
+def _batches(tmp: pathlib.Path, scale: int = 1):
+    """name -> (call(client) running the whole batch, number of cases); `scale` multiplies
+    the number of cases of every batch."""
+    paths, seeds = _bones(tmp, n=8 * scale)
+    probes, gallery = _ears(n_probes=2 * scale)
+    clips, masks = _clips(4 * scale)
+    kspaces, kmasks = _mri(8 * scale)
     counter = iter(range(10**6))
 
     def out():  # a fresh folder per run: nothing skipped
@@ -160,6 +163,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--pipelines", default="bones,identify,video,mri")
+    ap.add_argument("--scale", type=int, default=1,
+                    help="cases per batch, as a multiple of the default batches")
     ap.add_argument("--no-memory", action="store_true")
     ap.add_argument("--memory-only", action="store_true")
     args = ap.parse_args()
@@ -174,7 +179,7 @@ def main() -> None:
                 _memory(name, pathlib.Path(tmp))
         return
     with tempfile.TemporaryDirectory() as tmp:
-        batches = _batches(pathlib.Path(tmp))
+        batches = _batches(pathlib.Path(tmp), args.scale)
         _sizes(pathlib.Path(tmp))
         # The single-process loop: Dask's synchronous scheduler in this process, wscg's
         # pool at one thread, then at every core.

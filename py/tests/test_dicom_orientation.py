@@ -353,6 +353,23 @@ def test_cli_outputs_keep_the_oblique_geometry(tmp_path):
     np.testing.assert_allclose(mesh.vertices, want, atol=1e-4)
     assert len(mesh.faces) == len(wm.load_mesh(tmp_path / "v.ply").faces)
 
+    # The label meshes of `volseg split --meshes` lie on the scan too: the same split of the
+    # unoriented copy gives the voxel-space meshes, which the affine must carry onto them.
+    np.save(tmp_path / "seeds.npy", seeds.T)
+    subprocess.run([exe, "volseg", "split", str(tmp_path / "ct.npy"), "--seeds",
+                    str(tmp_path / "seeds.npy"), "--t-bone", str(t_bone), "--out",
+                    str(tmp_path / "labels.npy"), "--meshes", str(tmp_path / "mv")],
+                   check=True, capture_output=True)
+    written = sorted(p.name for p in (tmp_path / "m").iterdir())
+    assert written == sorted(p.name for p in (tmp_path / "mv").iterdir())
+    assert written, "volseg split --meshes wrote no mesh"
+    for name in written:
+        world = wm.load_mesh(tmp_path / "m" / name)
+        voxel = wm.load_mesh(tmp_path / "mv" / name)
+        assert len(world.faces) == len(voxel.faces) > 0
+        np.testing.assert_allclose(world.vertices,
+                                   nib.affines.apply_affine(affine, voxel.vertices), atol=1e-3)
+
 
 def test_cli_reads_a_dicom_folder(tmp_path):
     exe = _exe()

@@ -285,6 +285,34 @@ def test_reconstruct_mri_equals_the_sequential_loop(client, tmp_path):
     assert list(again.path) == list(written.path)
 
 
+def test_a_task_removes_only_its_own_leftover_temporary_files(tmp_path):
+    # The slices of one scan write into one folder at the same time: a slice re-run after a
+    # killed worker removes the temporary files of its own outputs, never another slice's
+    # (which another worker may be writing). Names follow the atomic writer's rule
+    # (wscg_math::io::atomic::temp_tag, whose unit test checks the same tags).
+    assert wd._temp_tag("labels.nii.gz") == "labels-nii-gz"
+    assert wd._temp_tag("0001_udct.npy") == "0001_udct-npy"
+    assert wd._temp_tag("é x") == "--x"
+    assert len(wd._temp_tag("a" * 300)) == 96
+    scan = tmp_path / "out" / "kspace_00000"  # the case name of an array entry
+    scan.mkdir(parents=True)
+    own = [scan / "wscg_tmp_0000_db4-npy_4242_0.tmp", scan / "wscg_tmp_0000_db4-json_4242_1.tmp"]
+    other = [scan / "wscg_tmp_0001_db4-npy_4243_0.tmp", scan / "wscg_tmp_0000_db4-npy-x_1_2.tmp"]
+    for p in own + other:
+        p.write_bytes(b"half")
+    kspace = wscg.csmri.simulate(wscg.csmri.make_shepp_logan_image(16), np.ones((16, 16)))
+    with dask.config.set(scheduler="synchronous"):
+        table = wd.reconstruct_mri([kspace], [np.ones((16, 16))], tmp_path / "out",
+                                   priors=["db4"], params={"max_iter": 1})
+    assert list(table["kspace"]) == [scan.name] and table["path"][0].endswith("0000_db4.npy")
+    assert not any(p.exists() for p in own)
+    assert all(p.exists() for p in other)
+    # A folder of one case (split_bones, complete_videos) is cleared of every leftover.
+    case = wd._Case(tmp_path / "out", scan.name)
+    case.discard_partial()
+    assert not any(p.exists() for p in other)
+
+
 def test_workers_size_their_pools_to_their_threads(client):
     wd.reconstruct_mri([np.zeros((16, 16), complex)], [np.ones((16, 16))], client=client,
                        priors=["db4"], params={"max_iter": 1})

@@ -29,9 +29,12 @@ pytestmark = [pytest.mark.wheel, pytest.mark.slow]
 
 
 def _pythons():
-    """CPython interpreters of the machine, 3.9 or later, one per version."""
+    """CPython interpreters of the machine, 3.9 or later, one per version: the system's, and
+    those that pyenv installed."""
     found = {}
+    pyenv = os.environ.get("PYENV_ROOT", os.path.expanduser("~/.pyenv"))
     for p in sorted(glob.glob("/usr/bin/python3.*") + glob.glob("/usr/local/bin/python3.*")
+                    + glob.glob(os.path.join(pyenv, "versions", "*", "bin", "python3.*"))
                     + [sys.executable]):
         if not re.search(r"python3\.\d+$", p) and p != sys.executable:
             continue

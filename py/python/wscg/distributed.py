@@ -38,6 +38,7 @@ import io
 import json
 import os
 import posixpath
+import re
 import shutil
 import tempfile
 import time
@@ -145,12 +146,20 @@ class _Case:
         except (OSError, ValueError):
             return None
 
-    def discard_partial(self) -> None:
-        """Removes the temporary files (``wscg_tmp_*``) of writes that a killed worker left
-        half done in this case's folder, before the case runs again."""
-        for root, _, files in os.walk(self.dir):
-            for n in files:
-                if n.startswith("wscg_tmp_"):
+    def discard_partial(self, files: Optional[Sequence[str]] = None) -> None:
+        """Removes the temporary files of writes that a killed worker left half done in this
+        case's folder, before the case runs again: every ``wscg_tmp_*`` file, or, where
+        several tasks write into one folder, only those of the destinations ``files`` (the
+        writer names them ``wscg_tmp_<tag>_<pid>_<n>.<ext>``, :func:`_temp_tag`), so that a
+        task never removes a file another task is writing."""
+        if files is None:
+            wanted = re.compile(r"wscg_tmp_")
+        else:
+            wanted = re.compile("|".join(rf"wscg_tmp_{re.escape(_temp_tag(f))}_\d+_\d+\."
+                                         for f in files))
+        for root, _, names in os.walk(self.dir):
+            for n in names:
+                if wanted.match(n):
                     try:
                         os.remove(os.path.join(root, n))
                     except OSError:
@@ -167,6 +176,13 @@ class _Case:
                                 recursive=os.path.isdir(self.path(n)))
             finally:
                 shutil.rmtree(self._tmp, ignore_errors=True)
+
+
+def _temp_tag(file_name: str) -> str:
+    """The tag of destination ``file_name`` in the names of the temporary files that wscg's
+    atomic writes use (``wscg_math::io::atomic::temp_tag``): every character other than an
+    ASCII letter, digit, ``_`` or ``-`` replaced by ``-``, at most 96 characters."""
+    return re.sub(r"[^A-Za-z0-9_-]", "-", file_name)[:96]
 
 
 def _write_bytes(path: str, data: bytes) -> None:
@@ -219,13 +235,15 @@ def _threads(n_threads: Optional[int]) -> None:
         wscg.set_num_threads(n_threads)
 
 
-def _finished(case: Optional[_Case], overwrite: bool) -> Optional[Dict[str, Any]]:
+def _finished(case: Optional[_Case], overwrite: bool,
+              files: Optional[Sequence[str]] = None) -> Optional[Dict[str, Any]]:
     """The record of a case an earlier run finished, or None when the case must run (no
     output folder, ``overwrite``, or not finished; the temporary files of an interrupted
-    earlier run are then removed)."""
+    earlier run are then removed: all of them, or those of the destinations ``files`` when
+    other tasks share the folder)."""
     done = None if case is None or overwrite else case.done()
     if done is None and case is not None:
-        case.discard_partial()
+        case.discard_partial(files)
     return done
 
 
@@ -735,7 +753,8 @@ def _mri_one(kspace, mask, out_dir, name, index, prior, params, overwrite, n_thr
 
     file = f"{index:04d}_{prior}"
     case = _Case(out_dir, name, f"{file}.json") if out_dir is not None else None
-    done = _finished(case, overwrite)
+    # The slices and priors of one scan share its folder: only this task's files are its own.
+    done = _finished(case, overwrite, [f"{file}.npy", f"{file}.json"])
     if done is not None:
         return dict(done, image=None, skipped=True)
     _threads(n_threads)

@@ -7,6 +7,12 @@
 //! leaves the previous file untouched (or no file), and a writer killed half-way leaves no
 //! truncated file at the destination: at worst a `wscg_tmp_*` file next to it.
 //!
+//! The temporary file is named `wscg_tmp_<tag>_<pid>_<n>.<ext>`, where `<tag>` is the
+//! destination's file name with every character other than an ASCII letter, digit, `_` or
+//! `-` replaced by `-`, cut to [`TEMP_TAG_LEN`] characters ([`temp_tag`]). So a program that
+//! re-runs a killed writer can remove the leftovers of the files it is about to write, and
+//! only those, while other writers work in the same folder.
+//!
 //! A destination that already exists keeps its permissions, and a read-only one is refused
 //! (as opening it for writing would be) rather than replaced. The rename replaces a symbolic
 //! link at the destination by the new file rather than writing through it.
@@ -119,11 +125,33 @@ fn create_new(path: &Path) -> std::io::Result<File> {
     OpenOptions::new().write(true).create_new(true).open(path)
 }
 
-/// A fresh temporary file name in the folder of `path`, ending in `.ext` with no other dot.
+/// The longest destination tag in a temporary file's name, in characters.
+pub const TEMP_TAG_LEN: usize = 96;
+
+/// The tag of destination `file_name` in the names of its temporary files: the name with
+/// every character other than an ASCII letter, digit, `_` or `-` replaced by `-`, cut to
+/// [`TEMP_TAG_LEN`] characters (`labels.nii.gz` gives `labels-nii-gz`).
+pub fn temp_tag(file_name: &str) -> String {
+    file_name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '-'
+            }
+        })
+        .take(TEMP_TAG_LEN)
+        .collect()
+}
+
+/// A fresh temporary file name in the folder of `path`, `wscg_tmp_<tag>_<pid>_<n>.<ext>`
+/// ([`temp_tag`]), ending in `.ext` with no other dot.
 fn temp_sibling(path: &Path, ext: &str) -> PathBuf {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let name = format!("wscg_tmp_{}_{n}.{ext}", std::process::id());
+    let tag = temp_tag(&path.file_name().unwrap_or_default().to_string_lossy());
+    let name = format!("wscg_tmp_{tag}_{}_{n}.{ext}", std::process::id());
     match path.parent() {
         Some(dir) => dir.join(name),
         None => PathBuf::from(name),
@@ -141,6 +169,28 @@ mod tests {
             .collect();
         v.sort();
         v
+    }
+
+    #[test]
+    fn temporary_names_carry_the_destination() {
+        assert_eq!(temp_tag("labels.nii.gz"), "labels-nii-gz");
+        assert_eq!(temp_tag("0001_udct.npy"), "0001_udct-npy");
+        assert_eq!(temp_tag("é x"), "--x");
+        assert_eq!(temp_tag(&"a".repeat(300)).len(), TEMP_TAG_LEN);
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("scan.nii.gz");
+        let mut seen = String::new();
+        write_via_temp_path(&p, "gz", |tmp| {
+            seen = tmp.file_name().unwrap().to_string_lossy().into_owned();
+            std::fs::write(tmp, b"x").map_err(|e| Error::io(tmp, e))
+        })
+        .unwrap();
+        let prefix = format!("wscg_tmp_scan-nii-gz_{}_", std::process::id());
+        assert!(seen.starts_with(&prefix), "{seen}");
+        assert!(
+            seen.ends_with(".gz") && seen.matches('.').count() == 1,
+            "{seen}"
+        );
     }
 
     #[test]
