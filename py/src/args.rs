@@ -5,14 +5,19 @@
 //!
 //! - arrays: [`array`] takes any array-like of real numbers (lists, other dtypes,
 //!   non-contiguous views) and gives a C-contiguous array of the element type the binding
-//!   works in, refusing complex, string and object data by name; [`indices`] reads an
+//!   works in, refusing complex, string and object data by name; [`floats`] keeps float64
+//!   data in double precision and takes anything else as float32; [`indices`] reads an
 //!   optional list of indices, [`mesh`] a triangle mesh;
 //! - numbers: [`uint`] checks a count, size or seed taken as `i128` (so that a negative or
 //!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
-//!   argument, not the conversion's bare `OverflowError`); [`finite3`] checks a 3-vector;
+//!   argument, not the conversion's bare `OverflowError`); [`number`] refuses NaN;
+//!   [`triple`] reads 3 numbers (a spacing, an origin), [`finite3`] checks them;
 //! - choices among names are [`crate::convert::choice`].
 
-use numpy::{Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
+use numpy::{
+    Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyType;
@@ -76,6 +81,42 @@ pub fn array<'py, T: Element>(
     Ok(c.cast_into::<PyArrayDyn<T>>()?.readonly())
 }
 
+/// A real array in the precision the binding computes in: float64 data as it is, anything
+/// else as float32 (see [`floats`]).
+pub enum Floats<'py> {
+    /// float64 input (an array of float64, a list of Python floats).
+    F64(PyReadonlyArrayDyn<'py, f64>),
+    /// Any other real input (float32, float16, integers, booleans), converted.
+    F32(PyReadonlyArrayDyn<'py, f32>),
+}
+
+impl Floats<'_> {
+    /// The array's shape.
+    pub fn shape(&self) -> &[usize] {
+        match self {
+            Floats::F64(a) => a.shape(),
+            Floats::F32(a) => a.shape(),
+        }
+    }
+}
+
+/// `obj` (any real array-like, as [`array`]) as float64 when numpy reads it as float64 (a
+/// float64 array, a list of Python floats), as float32 otherwise: for the functions that
+/// compute in double precision on double-precision input and in single precision on the
+/// rest.
+pub fn floats<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<Floats<'py>> {
+    if let Ok(a) = obj.cast::<PyArrayDyn<f64>>() {
+        return Ok(Floats::F64(a.readonly()));
+    }
+    let a = numpy(obj.py())?
+        .call_method1("asarray", (obj,))
+        .map_err(|e| value_error(format!("`{name}` must be a numeric array: {e}")))?;
+    if let Ok(a) = a.cast::<PyArrayDyn<f64>>() {
+        return Ok(Floats::F64(a.readonly()));
+    }
+    Ok(Floats::F32(array(name, &a)?))
+}
+
 /// `wscg.IntegerRangeError` (`wscg._checks`), imported once.
 fn integer_range_error(py: Python<'_>) -> PyResult<&Bound<'_, PyType>> {
     static CLASS: PyOnceLock<Py<PyType>> = PyOnceLock::new();
@@ -101,6 +142,29 @@ where
         return Err(value_error(format!("`{name}` must be >= {lo}, got {x}")));
     }
     Ok(x)
+}
+
+/// `v`, or a `ValueError` naming `name` when it is NaN (infinities pass: the functions that
+/// cannot use them say so).
+pub fn number(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_nan() {
+        Err(value_error(format!("`{name}` must be a number, got NaN")))
+    } else {
+        Ok(v)
+    }
+}
+
+/// The 3 numbers of `obj` (a tuple, list or array of 3 real numbers, as [`array`]), e.g. a
+/// volume's `spacing` `(dz, dy, dx)`; any other length is a `ValueError` naming `name`.
+pub fn triple(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
+    let a = array::<f64>(name, obj)?;
+    match *crate::convert::values(&a) {
+        [x, y, z] if a.ndim() == 1 => Ok([x, y, z]),
+        _ => Err(value_error(format!(
+            "`{name}` must be 3 numbers, got shape {:?}",
+            a.shape()
+        ))),
+    }
 }
 
 /// Errors unless every component of the 3-vector `p` is finite.
