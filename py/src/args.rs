@@ -6,8 +6,9 @@
 //! - arrays: [`array`] takes any array-like of real numbers (lists, other dtypes,
 //!   non-contiguous views) and gives a C-contiguous array of the element type the binding
 //!   works in, refusing complex, string and object data by name; [`floats`] keeps float64
-//!   data in double precision and takes anything else as float32; [`indices`] reads an
-//!   optional list of indices, [`mesh`] a triangle mesh;
+//!   data in double precision and takes anything else as float32; [`asarray`] leaves the
+//!   dtype to the binding (8-bit data taken as it is); [`indices`] reads an optional list
+//!   of indices, [`mesh`] a triangle mesh;
 //! - numbers: [`uint`] checks a count, size or seed taken as `i128` (so that a negative or
 //!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
 //!   argument, not the conversion's bare `OverflowError`); [`number`] refuses NaN;
@@ -79,6 +80,20 @@ pub fn array<'py, T: Element>(
     }
     let c = np.call_method1("ascontiguousarray", (a, target))?;
     Ok(c.cast_into::<PyArrayDyn<T>>()?.readonly())
+}
+
+/// `numpy.asarray(obj)`, for the arguments whose dtype the binding inspects itself (it
+/// takes 8-bit data as it is, without a cast that would change its values); a failure is a
+/// `ValueError` naming `name`.
+pub fn asarray<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyUntypedArray>> {
+    if let Ok(a) = obj.cast::<PyUntypedArray>() {
+        return Ok(a.clone());
+    }
+    numpy(obj.py())?
+        .call_method1("asarray", (obj,))
+        .map_err(|e| value_error(format!("`{name}` must be a numeric array: {e}")))?
+        .cast_into::<PyUntypedArray>()
+        .map_err(|e| value_error(format!("`{name}` must be a numeric array: {e}")))
 }
 
 /// A real array in the precision the binding computes in: float64 data as it is, anything
