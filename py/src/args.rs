@@ -7,8 +7,8 @@
 //!   non-contiguous views) and gives a C-contiguous array of the element type the binding
 //!   works in, refusing complex, string and object data by name; [`floats`] keeps float64
 //!   data in double precision and takes anything else as float32; [`asarray`] leaves the
-//!   dtype to the binding (8-bit data taken as it is); [`indices`] reads an optional list
-//!   of indices, [`mesh`] a triangle mesh;
+//!   dtype to the binding (8-bit data taken as it is); [`complex`] takes complex data;
+//!   [`indices`] reads an optional list of indices, [`mesh`] a triangle mesh;
 //! - numbers: [`uint`] checks a count, size or seed taken as `i128` (so that a negative or
 //!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
 //!   argument, not the conversion's bare `OverflowError`); [`number`] refuses NaN;
@@ -130,6 +130,29 @@ pub fn floats<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<Floats<'py>>
         return Ok(Floats::F64(a.readonly()));
     }
     Ok(Floats::F32(array(name, &a)?))
+}
+
+/// `obj` (any numeric array-like: complex, real, integer or boolean) as a C-contiguous
+/// complex128 array, for the functions that take complex values (k-space, MR images); other
+/// data is refused ("must be a numeric array"), naming `name`.
+pub fn complex<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<PyReadonlyArrayDyn<'py, num_complex::Complex64>> {
+    type C = num_complex::Complex64;
+    if let Ok(a) = obj.cast::<PyArrayDyn<C>>() {
+        return Ok(a.readonly());
+    }
+    let a = asarray(name, obj)?;
+    let dtype = a.dtype();
+    if !matches!(dtype.kind(), b'b' | b'i' | b'u' | b'f' | b'c') {
+        return Err(value_error(format!(
+            "`{name}` must be a numeric array, got dtype {dtype}"
+        )));
+    }
+    let np = numpy(obj.py())?;
+    let c = np.call_method1("ascontiguousarray", (a, C::get_dtype(obj.py())))?;
+    Ok(c.cast_into::<PyArrayDyn<C>>()?.readonly())
 }
 
 /// `wscg.IntegerRangeError` (`wscg._checks`), imported once.
