@@ -6,8 +6,6 @@
 //! not cast), masks bool or uint8; counts and seeds are Python ints checked by
 //! [`crate::args`].
 
-use std::path::PathBuf;
-
 use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -550,7 +548,8 @@ fn inpaint_telea<'py>(
 /// The PNG/JPEG files of a folder, in name order, as an ``(F, H, W, 3)`` uint8 array
 /// (``OSError`` for unreadable files or frames of different sizes).
 #[pyfunction]
-fn load_frames(py: Python<'_>, path: PathBuf) -> PyResult<Arr<'_, u8>> {
+fn load_frames<'py>(py: Python<'py>, path: &Bound<'py, PyAny>) -> PyResult<Arr<'py, u8>> {
+    let path = args::path("path", path)?;
     let v = crate::pool::detach(py, || wscg_video::io::read_frames(&path)).py_err()?;
     let shape = [v.frames, v.height, v.width, v.channels];
     video_out(py, v, &shape)
@@ -560,13 +559,14 @@ fn load_frames(py: Python<'_>, path: PathBuf) -> PyResult<Arr<'_, u8>> {
 /// a pixel is in the hole when any channel is non-zero. Returns ``(n_frames, height,
 /// width)`` bool.
 #[pyfunction]
-fn load_mask(
-    py: Python<'_>,
-    path: PathBuf,
+fn load_mask<'py>(
+    py: Python<'py>,
+    path: &Bound<'py, PyAny>,
     n_frames: i128,
     height: i128,
     width: i128,
-) -> PyResult<Arr<'_, bool>> {
+) -> PyResult<Arr<'py, bool>> {
+    let path = args::path("path", path)?;
     let n_frames: usize = uint(py, "n_frames", n_frames, 0)?;
     let height: usize = uint(py, "height", height, 0)?;
     let width: usize = uint(py, "width", width, 0)?;
@@ -581,7 +581,12 @@ fn load_mask(
 /// Writes ``frame_00000.png``, ... into the folder ``path`` (created if missing); returns
 /// the file paths.
 #[pyfunction]
-fn save_frames(py: Python<'_>, path: PathBuf, frames: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
+fn save_frames(
+    py: Python<'_>,
+    path: &Bound<'_, PyAny>,
+    frames: &Bound<'_, PyAny>,
+) -> PyResult<Vec<String>> {
+    let path = args::path("path", path)?;
     let (v, _) = video_in("frames", frames)?;
     let files = crate::pool::detach(py, || wscg_video::io::write_frames(&v, &path)).py_err()?;
     Ok(files
