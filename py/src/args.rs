@@ -5,14 +5,21 @@
 //!
 //! - arrays: [`array`] takes any array-like of real numbers (lists, other dtypes,
 //!   non-contiguous views) and gives a C-contiguous array of the element type the binding
-//!   works in, refusing complex, string and object data by name; [`indices`] reads an
-//!   optional list of indices, [`mesh`] a triangle mesh;
+//!   works in, refusing complex, string and object data by name; [`floats`] keeps float64
+//!   data in double precision and takes anything else as float32; [`asarray`] leaves the
+//!   dtype to the binding (8-bit data taken as it is); [`complex`] takes complex data;
+//!   [`indices`] reads an optional list of indices, [`mesh`] a triangle mesh;
 //! - numbers: [`uint`] checks a count, size or seed taken as `i128` (so that a negative or
 //!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
-//!   argument, not the conversion's bare `OverflowError`); [`finite3`] checks a 3-vector;
+//!   argument, not the conversion's bare `OverflowError`); [`number`] refuses NaN;
+//!   [`triple`] reads 3 numbers (a spacing, an origin), [`finite3`] checks them;
+//! - files: [`path`] takes a `str` or `os.PathLike`;
 //! - choices among names are [`crate::convert::choice`].
 
-use numpy::{Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
+use numpy::{
+    Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyType;
@@ -76,10 +83,105 @@ pub fn array<'py, T: Element>(
     Ok(c.cast_into::<PyArrayDyn<T>>()?.readonly())
 }
 
+/// `numpy.asarray(obj)`, for the arguments whose dtype the binding inspects itself (it
+/// takes 8-bit data as it is, without a cast that would change its values); a failure is a
+/// `ValueError` naming `name`.
+pub fn asarray<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyUntypedArray>> {
+    if let Ok(a) = obj.cast::<PyUntypedArray>() {
+        return Ok(a.clone());
+    }
+    numpy(obj.py())?
+        .call_method1("asarray", (obj,))
+        .map_err(|e| value_error(format!("`{name}` must be a numeric array: {e}")))?
+        .cast_into::<PyUntypedArray>()
+        .map_err(|e| value_error(format!("`{name}` must be a numeric array: {e}")))
+}
+
+/// A real array in the precision the binding computes in: float64 data as it is, anything
+/// else as float32 (see [`floats`]).
+pub enum Floats<'py> {
+    /// float64 input (an array of float64, a list of Python floats).
+    F64(PyReadonlyArrayDyn<'py, f64>),
+    /// Any other real input (float32, float16, integers, booleans), converted.
+    F32(PyReadonlyArrayDyn<'py, f32>),
+}
+
+impl Floats<'_> {
+    /// The array's shape.
+    pub fn shape(&self) -> &[usize] {
+        match self {
+            Floats::F64(a) => a.shape(),
+            Floats::F32(a) => a.shape(),
+        }
+    }
+}
+
+/// `obj` (any real array-like, as [`array`]) as float64 when numpy reads it as float64 (a
+/// float64 array, a list of Python floats), as float32 otherwise: for the functions that
+/// compute in double precision on double-precision input and in single precision on the
+/// rest.
+pub fn floats<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<Floats<'py>> {
+    if let Ok(a) = obj.cast::<PyArrayDyn<f64>>() {
+        return Ok(Floats::F64(a.readonly()));
+    }
+    let a = numpy(obj.py())?
+        .call_method1("asarray", (obj,))
+        .map_err(|e| value_error(format!("`{name}` must be a numeric array: {e}")))?;
+    if let Ok(a) = a.cast::<PyArrayDyn<f64>>() {
+        return Ok(Floats::F64(a.readonly()));
+    }
+    Ok(Floats::F32(array(name, &a)?))
+}
+
+/// `obj` (any numeric array-like: complex, real, integer or boolean) as a C-contiguous
+/// complex128 array, for the functions that take complex values (k-space, MR images); other
+/// data is refused ("must be a numeric array"), naming `name`.
+pub fn complex<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<PyReadonlyArrayDyn<'py, num_complex::Complex64>> {
+    type C = num_complex::Complex64;
+    if let Ok(a) = obj.cast::<PyArrayDyn<C>>() {
+        return Ok(a.readonly());
+    }
+    let a = asarray(name, obj)?;
+    let dtype = a.dtype();
+    if !matches!(dtype.kind(), b'b' | b'i' | b'u' | b'f' | b'c') {
+        return Err(value_error(format!(
+            "`{name}` must be a numeric array, got dtype {dtype}"
+        )));
+    }
+    let np = numpy(obj.py())?;
+    let c = np.call_method1("ascontiguousarray", (a, C::get_dtype(obj.py())))?;
+    Ok(c.cast_into::<PyArrayDyn<C>>()?.readonly())
+}
+
 /// `wscg.IntegerRangeError` (`wscg._checks`), imported once.
 fn integer_range_error(py: Python<'_>) -> PyResult<&Bound<'_, PyType>> {
     static CLASS: PyOnceLock<Py<PyType>> = PyOnceLock::new();
     CLASS.import(py, "wscg._checks", "IntegerRangeError")
+}
+
+/// `wscg.ArgumentTypeError` (`wscg._checks`), imported once.
+fn argument_type_error(py: Python<'_>) -> PyResult<&Bound<'_, PyType>> {
+    static CLASS: PyOnceLock<Py<PyType>> = PyOnceLock::new();
+    CLASS.import(py, "wscg._checks", "ArgumentTypeError")
+}
+
+/// The file path `obj` (a `str` or `os.PathLike`); anything else raises
+/// `wscg.ArgumentTypeError` (a `ValueError` and a `TypeError`) naming `name`, as the
+/// Python functions' checks do.
+pub fn path(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<std::path::PathBuf> {
+    obj.extract().or_else(|_| {
+        let msg = format!(
+            "`{name}` must be a file path (str or os.PathLike), got {}",
+            obj.repr()?
+        );
+        Err(PyErr::from_type(
+            argument_type_error(obj.py())?.clone(),
+            msg,
+        ))
+    })
 }
 
 /// `v` as the unsigned integer type `T`, at least `lo`. Outside `T`'s range (negative, or
@@ -101,6 +203,29 @@ where
         return Err(value_error(format!("`{name}` must be >= {lo}, got {x}")));
     }
     Ok(x)
+}
+
+/// `v`, or a `ValueError` naming `name` when it is NaN (infinities pass: the functions that
+/// cannot use them say so).
+pub fn number(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_nan() {
+        Err(value_error(format!("`{name}` must be a number, got NaN")))
+    } else {
+        Ok(v)
+    }
+}
+
+/// The 3 numbers of `obj` (a tuple, list or array of 3 real numbers, as [`array`]), e.g. a
+/// volume's `spacing` `(dz, dy, dx)`; any other length is a `ValueError` naming `name`.
+pub fn triple(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
+    let a = array::<f64>(name, obj)?;
+    match *crate::convert::values(&a) {
+        [x, y, z] if a.ndim() == 1 => Ok([x, y, z]),
+        _ => Err(value_error(format!(
+            "`{name}` must be 3 numbers, got shape {:?}",
+            a.shape()
+        ))),
+    }
 }
 
 /// Errors unless every component of the 3-vector `p` is finite.

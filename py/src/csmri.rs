@@ -1,5 +1,10 @@
 //! Bindings of wscg-cs-mri (paper 11): the UDCT, the FDCT, C-SALSA, the baselines, masks, phantoms
-//! and metrics, as `wscg._native.csmri`.
+//! and metrics, as `wscg._native.csmri`. The masks, phantoms, metrics and `tv_constrained`
+//! are `wscg.csmri`'s functions themselves, re-exported by `python/wscg/csmri.py` (which
+//! holds the module's documentation); the reconstructions return the dicts from which the
+//! Python layer builds its `ReconstructionHistory`. Arrays go through [`crate::args`]:
+//! k-space and images as any numeric array-like (converted to complex128), masks as any
+//! array-like (non-zero = sampled); counts and seeds as Python ints.
 
 use num_complex::Complex64;
 use numpy::ndarray::IxDyn;
@@ -16,6 +21,7 @@ use wscg_cs_mri::{
 use wscg_math::progress::NoProgress;
 use wscg_math::ImageView;
 
+use crate::args::{self, uint};
 use crate::convert::{array, dims2, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -449,34 +455,50 @@ fn tuned_tau0(prior: &str) -> f64 {
     sparsifier::tuned_tau0(prior)
 }
 
-fn kspace_in(
-    kspace: &PyReadonlyArrayDyn<Complex64>,
-    mask: &PyReadonlyArrayDyn<bool>,
-) -> PyResult<KSpace> {
-    let (r, c) = dims2("kspace", kspace)?;
-    let (mr, mc) = dims2("mask", mask)?;
-    if (mr, mc) != (r, c) {
+/// A 2-D complex array argument (any numeric array-like) and its `(rows, cols)`.
+fn complex2<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<(PyReadonlyArrayDyn<'py, Complex64>, (usize, usize))> {
+    let a = args::complex(name, obj)?;
+    let shape = dims2(name, &a)?;
+    Ok((a, shape))
+}
+
+/// The `mask` argument of data of `shape` (any array-like, non-zero = sampled).
+fn mask_of(mask: &Bound<'_, PyAny>, shape: (usize, usize)) -> PyResult<Vec<bool>> {
+    let m = args::array::<bool>("mask", mask)?;
+    if m.shape() != [shape.0, shape.1] {
         return Err(value_error(format!(
-            "shape mismatch: kspace is ({r}, {c}) but mask is ({mr}, {mc})"
+            "shape mismatch: mask has shape {:?}, k-space {shape:?}",
+            m.shape()
         )));
     }
-    KSpace::new(r, c, values(kspace).into_owned(), values(mask).into_owned()).py_err()
+    Ok(values(&m).into_owned())
+}
+
+/// The `kspace` and `mask` arguments as checked k-space data.
+fn kspace_in(kspace: &Bound<'_, PyAny>, mask: &Bound<'_, PyAny>) -> PyResult<KSpace> {
+    let (k, (r, c)) = complex2("kspace", kspace)?;
+    let m = mask_of(mask, (r, c))?;
+    KSpace::new(r, c, values(&k).into_owned(), m).py_err()
 }
 
 fn reference_in(
-    reference: &Option<PyReadonlyArrayDyn<Complex64>>,
+    reference: Option<&Bound<'_, PyAny>>,
     shape: (usize, usize),
 ) -> PyResult<Option<Vec<Complex64>>> {
-    match reference {
+    match reference.filter(|r| !r.is_none()) {
         None => Ok(None),
         Some(r) => {
-            if dims2("reference", r)? != shape {
+            let (r, s) = complex2("reference", r)?;
+            if s != shape {
                 return Err(value_error(format!(
                     "`reference` has shape {:?}, the k-space {shape:?}",
                     r.shape()
                 )));
             }
-            Ok(Some(values(r).into_owned()))
+            Ok(Some(values(&r).into_owned()))
         }
     }
 }
@@ -552,8 +574,8 @@ fn csalsa_params(
 #[allow(clippy::type_complexity)]
 fn choose_udct_scales(
     py: Python<'_>,
-    kspace: PyReadonlyArrayDyn<Complex64>,
-    mask: PyReadonlyArrayDyn<bool>,
+    kspace: &Bound<'_, PyAny>,
+    mask: &Bound<'_, PyAny>,
     reg: &str,
     epsilon: f64,
     max_iter: usize,
@@ -570,7 +592,7 @@ fn choose_udct_scales(
     holdout: f64,
     seed: u64,
 ) -> PyResult<(usize, usize, Vec<(usize, Vec<f64>)>)> {
-    let data = kspace_in(&kspace, &mask)?;
+    let data = kspace_in(kspace, mask)?;
     let regularizer = regularizer(reg, tv_n_iter, shrink_lowpass)?;
     let p = csalsa_params(max_iter, tau0, rho, tau_cap, epsilon, tol);
     let c = ScaleChoiceParams::default()
@@ -599,8 +621,8 @@ fn choose_udct_scales(
 #[allow(clippy::too_many_arguments)]
 fn reconstruct<'py>(
     py: Python<'py>,
-    kspace: PyReadonlyArrayDyn<Complex64>,
-    mask: PyReadonlyArrayDyn<bool>,
+    kspace: &Bound<'py, PyAny>,
+    mask: &Bound<'py, PyAny>,
     prior: &str,
     reg: &str,
     epsilon: f64,
@@ -614,14 +636,14 @@ fn reconstruct<'py>(
     levels: usize,
     tv_n_iter: usize,
     shrink_lowpass: bool,
-    reference: Option<PyReadonlyArrayDyn<Complex64>>,
+    reference: Option<Bound<'py, PyAny>>,
     record_history: bool,
     fdct: Option<(Option<usize>, usize, String, f64)>,
     sflct_levels: Option<Vec<usize>>,
 ) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
-    let data = kspace_in(&kspace, &mask)?;
+    let data = kspace_in(kspace, mask)?;
     let (r, c) = data.shape();
-    let reference = reference_in(&reference, (r, c))?;
+    let reference = reference_in(reference.as_ref(), (r, c))?;
     let regularizer = regularizer(reg, tv_n_iter, shrink_lowpass)?;
     let p = csalsa_params(max_iter, tau0, rho, tau_cap, epsilon, tol)
         .record_history(record_history || reference.is_some());
@@ -658,8 +680,8 @@ fn reconstruct<'py>(
 fn composite<'py>(
     py: Python<'py>,
     method: &str,
-    kspace: PyReadonlyArrayDyn<Complex64>,
-    mask: PyReadonlyArrayDyn<bool>,
+    kspace: &Bound<'py, PyAny>,
+    mask: &Bound<'py, PyAny>,
     a: f64,
     b: f64,
     group_weight: f64,
@@ -667,12 +689,24 @@ fn composite<'py>(
     n_iter: usize,
     tv_n_iter: usize,
     order: usize,
-    levels: usize,
-    reference: Option<PyReadonlyArrayDyn<Complex64>>,
+    levels: i128,
+    reference: Option<Bound<'py, PyAny>>,
     record_history: bool,
 ) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
-    let data = kspace_in(&kspace, &mask)?;
-    let reference = reference_in(&reference, data.shape())?;
+    let levels: usize = uint(py, "levels", levels, 1)?;
+    if levels > 30 {
+        return Err(value_error(format!("`levels` must be <= 30, got {levels}")));
+    }
+    let (k, (r, c)) = complex2("kspace", kspace)?;
+    let div = 1usize << levels;
+    if r % div != 0 || c % div != 0 {
+        return Err(value_error(format!(
+            "`kspace` of shape ({r}, {c}): a {levels}-level wavelet transform needs both sizes \
+             divisible by {div}; pad the k-space or lower `levels`"
+        )));
+    }
+    let data = KSpace::new(r, c, values(&k).into_owned(), mask_of(mask, (r, c))?).py_err()?;
+    let reference = reference_in(reference.as_ref(), data.shape())?;
     let p = CompositeParams::default()
         .a(a)
         .b(b)
@@ -694,15 +728,20 @@ fn composite<'py>(
     recon_out(py, rec)
 }
 
+/// ``min TV(x) s.t. ||P F x - y|| <= epsilon`` by Chambolle-Pock (the problem
+/// ``reconstruct(..., reg="tv")`` solves, by another algorithm), ``n_iter`` iterations (a
+/// fixed count).
 #[pyfunction]
+#[pyo3(signature = (kspace, mask, epsilon=0.0, n_iter=2000))]
 fn tv_constrained<'py>(
     py: Python<'py>,
-    kspace: PyReadonlyArrayDyn<Complex64>,
-    mask: PyReadonlyArrayDyn<bool>,
+    kspace: &Bound<'py, PyAny>,
+    mask: &Bound<'py, PyAny>,
     epsilon: f64,
-    n_iter: usize,
+    n_iter: i128,
 ) -> PyResult<Arr<'py, Complex64>> {
-    let data = kspace_in(&kspace, &mask)?;
+    let n_iter: usize = uint(py, "n_iter", n_iter, 0)?;
+    let data = kspace_in(kspace, mask)?;
     let rec = crate::pool::detach(py, || {
         baselines::tv_constrained(&data, epsilon, n_iter, None)
     })
@@ -710,55 +749,87 @@ fn tv_constrained<'py>(
     array(py, &[rec.shape.0, rec.shape.1], rec.image)
 }
 
+/// `(rows, cols)` of a `shape` argument.
+fn shape2(py: Python<'_>, shape: &[i128]) -> PyResult<(usize, usize)> {
+    match *shape {
+        [r, c] => Ok((uint(py, "shape", r, 0)?, uint(py, "shape", c, 0)?)),
+        _ => Err(value_error(format!(
+            "`shape` must be (rows, cols), got {shape:?}"
+        ))),
+    }
+}
+
+/// Variable-density Cartesian mask of whole rows (phase encodes), un-shifted: the
+/// ``round(center_frac * rows)`` rows nearest DC plus rows drawn with probability
+/// proportional to ``(1 - |k| / k_max)^2``, ``round(rate * rows)`` rows in all.
 #[pyfunction]
+#[pyo3(signature = (shape, rate=0.4, center_frac=0.08, seed=0))]
 fn mask_cartesian<'py>(
     py: Python<'py>,
-    rows: usize,
-    cols: usize,
+    shape: Vec<i128>,
     rate: f64,
     center_frac: f64,
-    seed: u64,
+    seed: i128,
 ) -> PyResult<Arr<'py, bool>> {
+    let (rows, cols) = shape2(py, &shape)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
     let m = crate::pool::detach(py, || masks::cartesian(rows, cols, rate, center_frac, seed))
         .py_err()?;
     array(py, &[rows, cols], m)
 }
 
+/// Pseudo-radial mask: the fewest Bresenham lines through the centre (angles
+/// ``pi l / L``) covering at least ``rate``. Returns ``(mask, L)``, un-shifted.
 #[pyfunction]
+#[pyo3(signature = (shape, rate=0.302))]
 fn mask_pseudo_radial<'py>(
     py: Python<'py>,
-    rows: usize,
-    cols: usize,
+    shape: Vec<i128>,
     rate: f64,
 ) -> PyResult<(Arr<'py, bool>, usize)> {
+    let (rows, cols) = shape2(py, &shape)?;
     let (m, lines) = crate::pool::detach(py, || masks::pseudo_radial(rows, cols, rate)).py_err()?;
     Ok((array(py, &[rows, cols], m)?, lines))
 }
 
+/// Analytic k-space of the modified Shepp-Logan phantom, ``(n, n)``, un-shifted,
+/// unitary scaling (no inverse crime: it is not the FFT of a raster).
 #[pyfunction]
-fn shepp_logan<'py>(py: Python<'py>, n: usize, what: &str) -> PyResult<Bound<'py, PyAny>> {
-    Ok(match what {
-        "kspace" => {
-            let k = crate::pool::detach(py, || phantom::shepp_logan_kspace(n)).py_err()?;
-            array(py, &[n, n], k)?.into_any()
-        }
-        "reference" => {
-            let r = crate::pool::detach(py, || phantom::shepp_logan_reference(n)).py_err()?;
-            array(py, &[n, n], r)?.into_any()
-        }
-        _ => {
-            let i = crate::pool::detach(py, || phantom::shepp_logan_image(n)).py_err()?;
-            array(py, &[n, n], i)?.into_any()
-        }
-    })
+#[pyo3(signature = (n=256))]
+fn make_shepp_logan_kspace(py: Python<'_>, n: i128) -> PyResult<Arr<'_, Complex64>> {
+    let n: usize = uint(py, "n", n, 0)?;
+    let k = crate::pool::detach(py, || phantom::shepp_logan_kspace(n)).py_err()?;
+    array(py, &[n, n], k)
 }
 
+/// The reference image: inverse unitary FFT of :func:`make_shepp_logan_kspace`.
 #[pyfunction]
+#[pyo3(signature = (n=256))]
+fn make_shepp_logan_reference(py: Python<'_>, n: i128) -> PyResult<Arr<'_, Complex64>> {
+    let n: usize = uint(py, "n", n, 0)?;
+    let r = crate::pool::detach(py, || phantom::shepp_logan_reference(n)).py_err()?;
+    array(py, &[n, n], r)
+}
+
+/// The phantom rasterised on an ``(n, n)`` grid (float64).
+#[pyfunction]
+#[pyo3(signature = (n=256))]
+fn make_shepp_logan_image(py: Python<'_>, n: i128) -> PyResult<Arr<'_, f64>> {
+    let n: usize = uint(py, "n", n, 0)?;
+    let i = crate::pool::detach(py, || phantom::shepp_logan_image(n)).py_err()?;
+    array(py, &[n, n], i)
+}
+
+/// ``magnitude * exp(i phi)`` with a random smooth quadratic phase of peak-to-peak 2 pi.
+#[pyfunction]
+#[pyo3(signature = (magnitude, seed=0))]
 fn with_smooth_phase<'py>(
     py: Python<'py>,
-    magnitude: PyReadonlyArrayDyn<f64>,
-    seed: u64,
+    magnitude: &Bound<'py, PyAny>,
+    seed: i128,
 ) -> PyResult<Arr<'py, Complex64>> {
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    let magnitude = args::array::<f64>("magnitude", magnitude)?;
     let (r, c) = dims2("magnitude", &magnitude)?;
     let m = values(&magnitude);
     let out = crate::pool::detach(py, || {
@@ -768,44 +839,49 @@ fn with_smooth_phase<'py>(
     array(py, &[r, c], out.into_data())
 }
 
+/// A disk (radius 0.8 of the half field of view) filled with a rhombic lattice of the
+/// given period in pixels: the directional texture of the paper's water phantom.
 #[pyfunction]
-fn diamond_lattice<'py>(py: Python<'py>, n: usize, period: f64) -> PyResult<Arr<'py, f64>> {
+#[pyo3(signature = (n=256, period=12.0))]
+fn make_diamond_lattice(py: Python<'_>, n: i128, period: f64) -> PyResult<Arr<'_, f64>> {
+    let n: usize = uint(py, "n", n, 0)?;
+    let period = args::number("period", period)?;
     let d = crate::pool::detach(py, || phantom::diamond_lattice(n, period)).py_err()?;
     array(py, &[n, n], d)
 }
 
+/// The 2-D complex arrays `reference` and `x`, of one shape.
 fn pair(
-    reference: &PyReadonlyArrayDyn<Complex64>,
-    x: &PyReadonlyArrayDyn<Complex64>,
+    reference: &Bound<'_, PyAny>,
+    x: &Bound<'_, PyAny>,
 ) -> PyResult<(Vec<Complex64>, Vec<Complex64>)> {
-    if reference.shape() != x.shape() {
+    let (reference, rs) = complex2("reference", reference)?;
+    let (x, xs) = complex2("x", x)?;
+    if rs != xs {
         return Err(value_error(format!(
-            "shape mismatch: reference {:?}, x {:?}",
-            reference.shape(),
-            x.shape()
+            "shape mismatch: reference {rs:?}, x {xs:?}"
         )));
     }
-    Ok((values(reference).into_owned(), values(x).into_owned()))
+    Ok((values(&reference).into_owned(), values(&x).into_owned()))
 }
 
+/// PSNR in dB of ``|x|`` against ``|reference|``: ``20 log10(max|ref| / RMSE)``.
 #[pyfunction]
-fn psnr(
-    py: Python<'_>,
-    reference: PyReadonlyArrayDyn<Complex64>,
-    x: PyReadonlyArrayDyn<Complex64>,
-) -> PyResult<f64> {
-    let (r, x) = pair(&reference, &x)?;
+fn psnr(py: Python<'_>, reference: &Bound<'_, PyAny>, x: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let (r, x) = pair(reference, x)?;
     crate::pool::detach(py, || metrics::psnr(&r, &x)).py_err()
 }
 
+/// Relative l2 norm error ``||x - ref|| / ||ref||`` (complex values, or magnitudes).
 #[pyfunction]
+#[pyo3(signature = (reference, x, magnitude=false))]
 fn rlne(
     py: Python<'_>,
-    reference: PyReadonlyArrayDyn<Complex64>,
-    x: PyReadonlyArrayDyn<Complex64>,
+    reference: &Bound<'_, PyAny>,
+    x: &Bound<'_, PyAny>,
     magnitude: bool,
 ) -> PyResult<f64> {
-    let (r, x) = pair(&reference, &x)?;
+    let (r, x) = pair(reference, x)?;
     crate::pool::detach(py, || {
         if magnitude {
             metrics::rlne_magnitude(&r, &x)
@@ -816,9 +892,17 @@ fn rlne(
     .py_err()
 }
 
+/// ``sigma sqrt(2m + 4 sqrt(m))``: the noise radius for ``m`` complex samples with
+/// standard deviation ``sigma`` per component (mean + 2 std of the noise norm).
 #[pyfunction]
-fn noise_epsilon(sigma: f64, m: usize) -> f64 {
-    wscg_cs_mri::noise_epsilon(sigma, m)
+fn noise_epsilon(py: Python<'_>, sigma: f64, m: i128) -> PyResult<f64> {
+    if !(sigma >= 0.0 && sigma.is_finite()) {
+        return Err(value_error(format!(
+            "`sigma` must be finite and >= 0, got {sigma}"
+        )));
+    }
+    let m: usize = uint(py, "m", m, 0)?;
+    Ok(wscg_cs_mri::noise_epsilon(sigma, m))
 }
 
 /// Registers the submodule.
@@ -833,9 +917,11 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tv_constrained, m)?)?;
     m.add_function(wrap_pyfunction!(mask_cartesian, m)?)?;
     m.add_function(wrap_pyfunction!(mask_pseudo_radial, m)?)?;
-    m.add_function(wrap_pyfunction!(shepp_logan, m)?)?;
+    m.add_function(wrap_pyfunction!(make_shepp_logan_kspace, m)?)?;
+    m.add_function(wrap_pyfunction!(make_shepp_logan_reference, m)?)?;
+    m.add_function(wrap_pyfunction!(make_shepp_logan_image, m)?)?;
     m.add_function(wrap_pyfunction!(with_smooth_phase, m)?)?;
-    m.add_function(wrap_pyfunction!(diamond_lattice, m)?)?;
+    m.add_function(wrap_pyfunction!(make_diamond_lattice, m)?)?;
     m.add_function(wrap_pyfunction!(psnr, m)?)?;
     m.add_function(wrap_pyfunction!(rlne, m)?)?;
     m.add_function(wrap_pyfunction!(noise_epsilon, m)?)?;

@@ -2,10 +2,13 @@
 //! volume rendering with instant convolution shadows, its supersampled and pre-integrated
 //! variants and the ray-casting baselines) and of `wscg_volren::vti` (VTK XML image data).
 //!
-//! The documented API is `python/wscg/volren.py`. It passes C-contiguous volumes (uint8,
-//! uint16 or float32, indexed `[z, y, x]`), float32 transfer functions and images, and the
-//! camera, light and method of a render as a dict (keys: [`RENDER_KEYS`]; those of a study:
-//! [`STUDY_KEYS`]). Every function validates its input again, so a direct call cannot panic
+//! The documented API is `python/wscg/volren.py`, which re-exports the functions that take
+//! no camera (`preintegration_table`, `make_marschner_lobb`, the transfer functions,
+//! `labels_to_density`, `load_vti`, `mean_abs_diff`) as they are. The renders get
+//! C-contiguous volumes (uint8, uint16 or float32, indexed `[z, y, x]`) and the camera,
+//! light and method of a render as a dict (keys: [`RENDER_KEYS`]; those of a study:
+//! [`STUDY_KEYS`]); transfer functions and images are any real array-likes, converted by
+//! [`crate::args`]. Every function validates its input again, so a direct call cannot panic
 //! on bad arguments; the GIL is released while Rust works.
 //!
 //! Coordinates follow `py/API.md`: `spacing` is `(dz, dy, dx)`, an image `size` is `(height,
@@ -17,9 +20,7 @@
 //! `u` on the way in ([`Units`]) and multiplied on the way out, and opacities are corrected
 //! to the length `u`.
 
-use std::path::PathBuf;
-
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArrayDescrMethods, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -33,6 +34,7 @@ use wscg_volren::illumination::{
 };
 use wscg_volren::vti::{self, VtiValues};
 
+use crate::args::{self, uint};
 use crate::convert::{array, choice_item, dict_item, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -408,12 +410,20 @@ fn field_arg<'py>(
 }
 
 /// A transfer function from an `(n, 4)` float32 array of RGBA rows, `n >= 2`.
-fn tf_in(a: &PyReadonlyArrayDyn<f32>) -> PyResult<TransferFunction> {
+/// The `tf` argument: an `(N, 4)` array-like of RGBA rows, `N >= 2`, finite.
+fn tf_in(tf: &Bound<'_, PyAny>) -> PyResult<TransferFunction> {
+    let a = args::array::<f64>("tf", tf)?;
     match *a.shape() {
         [n, 4] if n >= 2 => {
-            let lut: Vec<[f32; 4]> = values(a)
+            let v = values(&a);
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(value_error(
+                    "`tf` contains a non-finite value (NaN or infinity)",
+                ));
+            }
+            let lut: Vec<[f32; 4]> = v
                 .chunks_exact(4)
-                .map(|r| [r[0], r[1], r[2], r[3]])
+                .map(|r| [r[0] as f32, r[1] as f32, r[2] as f32, r[3] as f32])
                 .collect();
             TransferFunction::from_lut(&lut).py_err()
         }
@@ -625,12 +635,12 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
 fn illum_render<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
-    tf: PyReadonlyArrayDyn<'py, f32>,
+    tf: &Bound<'py, PyAny>,
     spacing: Option<[f64; 3]>,
     value_range: Option<(f64, f64)>,
     opts: &Bound<'py, PyDict>,
 ) -> PyResult<Arr<'py, f32>> {
-    let tf = tf_in(&tf)?;
+    let tf = tf_in(tf)?;
     let field = field_arg(py, volume, spacing, value_range)?;
     let field: &ScalarField = &field;
     let tf = Units::of(field).tf_in(tf)?;
@@ -650,13 +660,13 @@ fn illum_render<'py>(
 fn illum_light_buffer<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
-    tf: PyReadonlyArrayDyn<'py, f32>,
+    tf: &Bound<'py, PyAny>,
     depth: f64,
     spacing: Option<[f64; 3]>,
     value_range: Option<(f64, f64)>,
     opts: &Bound<'py, PyDict>,
 ) -> PyResult<(Arr<'py, f32>, f64)> {
-    let tf = tf_in(&tf)?;
+    let tf = tf_in(tf)?;
     let field = field_arg(py, volume, spacing, value_range)?;
     let field: &ScalarField = &field;
     let units = Units::of(field);
@@ -676,57 +686,106 @@ fn illum_light_buffer<'py>(
     Ok((array(py, &[h, w], img.into_data())?, units.length_out(z)))
 }
 
-/// The pre-integration table `(N, N, 4)` of a transfer function for segment length `ds`.
+/// The pre-integration table of ``tf`` for segments of length ``ds`` (in the unit of
+/// length the opacities of ``tf`` refer to):
+/// an ``(N, N, 4)`` float32 array whose entry ``[f, b]`` holds the self-attenuated
+/// associated colour ``(C_r, C_g, C_b)`` and the opacity ``alpha`` of a segment along which
+/// the value varies linearly from ``f / (N - 1)`` (front) to ``b / (N - 1)`` (back).
+/// ``alpha`` is symmetric and ``alpha[s, s] = 1 - (1 - a(s))^ds``; the colour is not
+/// symmetric.
 #[pyfunction]
 fn preintegration_table<'py>(
     py: Python<'py>,
-    tf: PyReadonlyArrayDyn<'py, f32>,
+    tf: &Bound<'py, PyAny>,
     ds: f64,
 ) -> PyResult<Arr<'py, f32>> {
-    let tf = tf_in(&tf)?;
+    let tf = tf_in(tf)?;
     let ds = positive("ds", ds)? as f32;
     let t = crate::pool::detach(py, || PreIntegrationTable::build(&tf, ds)).py_err()?;
     let n = t.n;
     array(py, &[n, n, 4], t.rgba.into_iter().flatten().collect())
 }
 
-/// The Marschner-Lobb volume `(n, n, n)` float32, `[z, y, x]`.
+/// The Marschner-Lobb aliasing test volume (``f_M = 6``, ``alpha = 1/4``) sampled at
+/// ``n^3`` points spanning ``[-1, 1]^3``: an ``(n, n, n)`` float32 array ``[z, y, x]`` with
+/// values in ``[0, 1]`` (pass ``value_range=(0, 1)`` to :func:`render` to keep them as
+/// they are). ``2 <= n <= 1024``.
 #[pyfunction]
-fn marschner_lobb(py: Python<'_>, n: i64) -> PyResult<Arr<'_, f32>> {
-    let n = int_in("n", n, 2, MAX_ML_SIDE as i64)? as usize;
+#[pyo3(signature = (n=41))]
+fn make_marschner_lobb(py: Python<'_>, n: i128) -> PyResult<Arr<'_, f32>> {
+    let n: usize = uint(py, "n", n, 0)?;
+    if !(2..=MAX_ML_SIDE).contains(&n) {
+        return Err(value_error(format!(
+            "`n` must be in 2..={MAX_ML_SIDE}, got {n}"
+        )));
+    }
     let f = crate::pool::detach(py, || scenes::marschner_lobb(n)).py_err()?;
     array(py, &[n, n, n], f.data().to_vec())
 }
 
-/// The Marschner-Lobb transfer function, `(256, 4)` float32.
+/// A sharp transfer function for :func:`make_marschner_lobb`: a thin opaque orange shell
+/// around the value 1/2; ``(256, 4)`` float32.
 #[pyfunction]
 fn marschner_lobb_tf(py: Python<'_>) -> PyResult<Arr<'_, f32>> {
     tf_out(py, &scenes::marschner_lobb_tf())
 }
 
-/// The tissue transfer function of `labels_to_density` fields, `(256, 4)` float32.
+/// A sharp transfer function for :func:`labels_to_density` fields: faint skin, red
+/// organs, opaque white bone; ``(256, 4)`` float32.
 #[pyfunction]
 fn tissue_tf(py: Python<'_>) -> PyResult<Arr<'_, f32>> {
     tf_out(py, &scenes::tissue_tf())
 }
 
-/// `scenes::skin_tf`: an almost opaque surface where the density crosses 0.15.
+/// A steep transfer function for :func:`labels_to_density` fields: an almost opaque
+/// surface where the density crosses 0.15 (the outer boundary of the body), the kind of
+/// transfer function for which the paper reports the largest gains from supersampling;
+/// ``(256, 4)`` float32.
 #[pyfunction]
 fn skin_tf(py: Python<'_>) -> PyResult<Arr<'_, f32>> {
     tf_out(py, &scenes::skin_tf())
 }
 
-/// A CT-like density `[z, y, x]` float32 from a uint8 label volume.
+/// The `labels` argument: uint8 as it is, any other integer dtype with values in 0..255.
+fn labels_in(labels: &Bound<'_, PyAny>) -> PyResult<(Vec<u8>, Vec<usize>)> {
+    let a = args::asarray("labels", labels)?;
+    let shape = a.shape().to_vec();
+    if let Ok(l) = a.cast::<numpy::PyArrayDyn<u8>>() {
+        return Ok((values(&l.readonly()).into_owned(), shape));
+    }
+    if !matches!(a.dtype().kind(), b'i' | b'u') {
+        return Err(value_error(format!(
+            "`labels` must be an integer (uint8) array, got dtype {}",
+            a.dtype()
+        )));
+    }
+    let l = args::array::<i64>("labels", a.as_any())?;
+    let v = values(&l)
+        .iter()
+        .map(|&x| u8::try_from(x))
+        .collect::<Result<Vec<u8>, _>>()
+        .map_err(|_| value_error("`labels` must hold values in 0..255"))?;
+    Ok((v, shape))
+}
+
+/// A CT-like density field from a tissue label volume ``[z, y, x]`` (uint8, or any
+/// integer dtype with values in 0..255): label 0 is background (0), labels ``1..max``
+/// spread over ``[0.3, 1]`` in label order, then a Gaussian blur of ``sigma >= 0`` voxels
+/// per axis (``spacing`` ``(dz, dy, dx)`` is only validated). Returns float32
+/// ``[z, y, x]`` in ``[0, 1]``; render it with :func:`tissue_tf` and
+/// ``value_range=(0, 1)``.
 #[pyfunction]
+#[pyo3(signature = (labels, spacing=[1.0; 3], sigma=1.0),
+       text_signature = "(labels, spacing=(1.0, 1.0, 1.0), sigma=1.0)")]
 fn labels_to_density<'py>(
     py: Python<'py>,
-    labels: PyReadonlyArrayDyn<'py, u8>,
+    labels: &Bound<'py, PyAny>,
     spacing: [f64; 3],
     sigma: f64,
 ) -> PyResult<Arr<'py, f32>> {
-    let dims = dims3("labels", labels.shape())?;
+    let (v, shape) = labels_in(labels)?;
+    let dims = dims3("labels", &shape)?;
     let sigma = non_negative("sigma", sigma)?;
-    let v = values(&labels);
     let spacing = spacing_xyz(spacing);
     let f = crate::pool::detach(py, || {
         scenes::labels_to_field(VolumeView::new(dims, spacing, &v)?, sigma)
@@ -735,11 +794,21 @@ fn labels_to_density<'py>(
     array(py, &[dims[2], dims[1], dims[0]], f.data().to_vec())
 }
 
-/// Reads a `.vti` file: the first array `[z, y, x]` in its stored dtype and the spacing
-/// `(dz, dy, dx)`. `OSError` when the file cannot be read, `ValueError` when its content is
-/// malformed or unsupported.
+/// Reads a VTK XML image file (``.vti``): the first array of its point data (else of its
+/// cell data) as an array ``[z, y, x]`` in the stored dtype (uint8 ... float64) and the
+/// spacing ``(dz, dy, dx)`` (array axis order; the file stores ``Spacing="dx dy dz"``). The
+/// file's ``Origin`` is not read.
+///
+/// Supported: one piece, one-component little-endian arrays, inline base64 ("binary") or
+/// appended (base64 or raw) data, zlib compression or none, UInt32 or UInt64 headers.
+/// Raises ``OSError`` when the file cannot be read and ``ValueError`` when its content is
+/// malformed, truncated or an unsupported variant of the format.
 #[pyfunction]
-fn load_vti(py: Python<'_>, path: PathBuf) -> PyResult<(Bound<'_, PyAny>, (f64, f64, f64))> {
+fn load_vti<'py>(
+    py: Python<'py>,
+    path: &Bound<'py, PyAny>,
+) -> PyResult<(Bound<'py, PyAny>, (f64, f64, f64))> {
+    let path = args::path("path", path)?;
     let img = crate::pool::detach(py, || {
         // The parser validates what it reads; a panic on a hostile file would still be a
         // malformed file, not a crash of the interpreter.
@@ -774,7 +843,8 @@ fn load_vti(py: Python<'_>, path: PathBuf) -> PyResult<(Bound<'_, PyAny>, (f64, 
 }
 
 /// An `(H, W, C)` float32 image with `C >= 3` and finite values.
-fn rgb_image_in(name: &str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<Image<f32>> {
+fn rgb_image_in(name: &str, a: &Bound<'_, PyAny>) -> PyResult<Image<f32>> {
+    let a = &args::array::<f32>(name, a)?;
     let (h, w, c) = match *a.shape() {
         [h, w, c] if c >= 3 => (h, w, c),
         ref s => {
@@ -792,13 +862,11 @@ fn rgb_image_in(name: &str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<Image<f32>>
     Image::new(h, w, c, v).py_err()
 }
 
-/// Mean absolute RGB difference of two images (the paper's Table 1 error).
+/// Mean absolute difference over all pixels and the RGB channels of two ``(H, W, C)``
+/// images with ``C >= 3`` (alpha ignored): the error of the paper's Table 1.
 #[pyfunction]
-fn mean_abs_diff(
-    py: Python<'_>,
-    a: PyReadonlyArrayDyn<'_, f32>,
-    b: PyReadonlyArrayDyn<'_, f32>,
-) -> PyResult<f64> {
+fn mean_abs_diff(py: Python<'_>, a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let (a, b) = (rgb_image_in("a", a)?, rgb_image_in("b", b)?);
     if a.shape() != b.shape() {
         return Err(value_error(format!(
             "`a` and `b` must have the same shape, got {:?} and {:?}",
@@ -806,7 +874,6 @@ fn mean_abs_diff(
             b.shape()
         )));
     }
-    let (a, b) = (rgb_image_in("a", &a)?, rgb_image_in("b", &b)?);
     if a.height() == 0 || a.width() == 0 {
         return Err(value_error("`a` and `b` are empty images"));
     }
@@ -819,13 +886,13 @@ fn mean_abs_diff(
 fn illum_study<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
-    tf: PyReadonlyArrayDyn<'py, f32>,
+    tf: &Bound<'py, PyAny>,
     spacing: Option<[f64; 3]>,
     value_range: Option<(f64, f64)>,
     opts: &Bound<'py, PyDict>,
 ) -> PyResult<Bound<'py, PyDict>> {
     check_keys(opts, &STUDY_KEYS)?;
-    let tf = tf_in(&tf)?;
+    let tf = tf_in(tf)?;
     let field = field_arg(py, volume, spacing, value_range)?;
     let field: &ScalarField = &field;
     let units = Units::of(field);
@@ -942,7 +1009,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(illum_light_buffer, m)?)?;
     m.add_function(wrap_pyfunction!(illum_study, m)?)?;
     m.add_function(wrap_pyfunction!(preintegration_table, m)?)?;
-    m.add_function(wrap_pyfunction!(marschner_lobb, m)?)?;
+    m.add_function(wrap_pyfunction!(make_marschner_lobb, m)?)?;
     m.add_function(wrap_pyfunction!(marschner_lobb_tf, m)?)?;
     m.add_function(wrap_pyfunction!(tissue_tf, m)?)?;
     m.add_function(wrap_pyfunction!(skin_tf, m)?)?;

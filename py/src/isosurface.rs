@@ -1,5 +1,12 @@
-//! `wscg._native.isosurface`: bindings of `wscg-isosurface` (paper 09, sparse-grid marching
-//! cubes with tetrahedral-spline normals). The documented API is `python/wscg/isosurface.py`.
+//! `wscg.isosurface`'s functions (paper 09, sparse-grid marching cubes with
+//! tetrahedral-spline normals): bindings of `wscg-isosurface`. Those whose Python layer would
+//! only convert and check their arguments (`sparsify`, `random_dropouts`, `angular_errors`,
+//! `rotation_class`, `at_risk_configurations`, the `fields` functions) are called directly,
+//! re-exported by `python/wscg/isosurface.py` (which holds the module's documentation); the
+//! others return the dicts from which the Python layer builds its result classes. Arguments
+//! are converted and checked by [`crate::args`]: array-likes of any real dtype (a float64
+//! volume is processed in double precision, anything else in single precision), counts and
+//! seeds as Python ints.
 
 use numpy::{Element, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -14,7 +21,8 @@ use wscg_isosurface::{
 use wscg_math::volume::Real;
 use wscg_math::VolumeView;
 
-use crate::convert::{array, dict_item, rows3, values, Arr};
+use crate::args::{self, uint, Floats};
+use crate::convert::{array, choice, rows3, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// `(nx, ny, nz)` of a `[z, y, x]` volume.
@@ -48,50 +56,49 @@ fn pack_sides(sides: &PyReadonlyArrayDyn<bool>, shape: &[usize]) -> PyResult<Vec
     Ok(bits)
 }
 
-/// The normal method named `name` with the estimator options of `options` (keys
-/// `selection`, `eq8_literal`, `normalize_before_mean`, `ambiguous_face`; absent keys take
-/// the defaults).
-fn method_from(name: &str, options: &Bound<'_, PyDict>) -> PyResult<NormalMethod> {
-    let m = NormalMethod::parse(name).py_err()?;
-    Ok(match m {
-        NormalMethod::Spline(_) => NormalMethod::Spline(
+/// The normal estimator `normals` (`None`: no normals) with its options: the spline's
+/// `selection`, `eq8_literal` and `normalize_before_mean`, LSN's `ambiguous_face` (each read
+/// by the estimator it belongs to).
+fn method_from(
+    normals: Option<&str>,
+    selection: &str,
+    eq8_literal: bool,
+    normalize_before_mean: bool,
+    ambiguous_face: &str,
+) -> PyResult<NormalMethod> {
+    let Some(name) = normals else {
+        return Ok(NormalMethod::None);
+    };
+    let kinds = [("spline", 's'), ("lsn", 'l'), ("central", 'c')];
+    Ok(match choice("normals", name, &kinds)? {
+        's' => NormalMethod::Spline(
             SplineParams::default()
-                .selection(
-                    match dict_item::<String>(options, "selection")?.as_deref() {
-                        None | Some("mesh") => TetSelection::MeshAware,
-                        Some("nearest") => TetSelection::NearestCorner,
-                        Some("both") => TetSelection::AverageBoth,
-                        Some(other) => {
-                            return Err(value_error(format!(
-                                "selection {other:?} is not valid; valid: mesh, nearest, both"
-                            )))
-                        }
-                    },
-                )
-                .eq8_literal(dict_item(options, "eq8_literal")?.unwrap_or(false))
-                .normalize_before_mean(
-                    dict_item(options, "normalize_before_mean")?.unwrap_or(false),
-                ),
+                .selection(choice(
+                    "selection",
+                    selection,
+                    &[
+                        ("mesh", TetSelection::MeshAware),
+                        ("nearest", TetSelection::NearestCorner),
+                        ("both", TetSelection::AverageBoth),
+                    ],
+                )?)
+                .eq8_literal(eq8_literal)
+                .normalize_before_mean(normalize_before_mean),
         ),
-        NormalMethod::Lsn(_) => NormalMethod::Lsn(
-            LsnParams::default().ambiguous_face(rule_from(
-                dict_item::<String>(options, "ambiguous_face")?
-                    .as_deref()
-                    .unwrap_or("inside"),
-            )?),
-        ),
-        other => other,
+        'l' => NormalMethod::Lsn(LsnParams::default().ambiguous_face(rule_from(ambiguous_face)?)),
+        _ => NormalMethod::CentralDifference,
     })
 }
 
 fn rule_from(name: &str) -> PyResult<AmbiguousRule> {
-    match name {
-        "inside" => Ok(AmbiguousRule::IsolateInside),
-        "outside" => Ok(AmbiguousRule::IsolateOutside),
-        other => Err(value_error(format!(
-            "ambiguous_face {other:?} is not valid; valid: inside, outside"
-        ))),
-    }
+    choice(
+        "ambiguous_face",
+        name,
+        &[
+            ("inside", AmbiguousRule::IsolateInside),
+            ("outside", AmbiguousRule::IsolateOutside),
+        ],
+    )
 }
 
 fn stats_dict<'py>(py: Python<'py>, s: &NormalStats) -> PyResult<Bound<'py, PyDict>> {
@@ -142,20 +149,20 @@ fn edges_in(a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<EdgeId>> {
         .collect()
 }
 
-/// A `[z, y, x]` volume of float64 or float32 samples: the extraction, the normals and the
-/// returned arrays keep its type.
-#[derive(FromPyObject)]
-enum Samples<'py> {
-    F64(PyReadonlyArrayDyn<'py, f64>),
-    F32(PyReadonlyArrayDyn<'py, f32>),
+/// The `volume` argument: a `[z, y, x]` array of float64 or float32 samples (anything else
+/// converted to float32); the extraction, the normals and the returned arrays keep its type.
+fn samples<'py>(volume: &Bound<'py, PyAny>) -> PyResult<Floats<'py>> {
+    let v = args::floats("volume", volume)?;
+    dims_of(v.shape())?;
+    Ok(v)
 }
 
 /// Runs `$body` with `$v` bound to the volume's typed array, whichever its sample type.
 macro_rules! with_samples {
     ($volume:expr, $v:ident => $body:expr) => {
         match $volume {
-            Samples::F64($v) => $body,
-            Samples::F32($v) => $body,
+            Floats::F64($v) => $body,
+            Floats::F32($v) => $body,
         }
     };
 }
@@ -193,37 +200,55 @@ fn mesh_out<'py, T: Element + Copy>(py: Python<'py>, m: IsoMesh<T>) -> PyResult<
 
 /// Python spacing `(dz, dy, dx)` (array axis order) as the grid's `[sx, sy, sz]`, rounded to
 /// the sample type.
-fn spacing3<T: Sample>(spacing: (f64, f64, f64)) -> [T; 3] {
-    [spacing.2, spacing.1, spacing.0].map(T::from_f64)
+fn spacing3<T: Sample>(spacing: [f64; 3]) -> [T; 3] {
+    [spacing[2], spacing[1], spacing[0]].map(T::from_f64)
 }
 
-/// The volume's dims, the normal method and the packed side hints of a call.
+/// The volume's dims, spacing `(dz, dy, dx)`, normal method and packed side hints of a call.
 struct Prepared {
     dims: [usize; 3],
+    spacing: [f64; 3],
     method: NormalMethod,
     bits: Option<Vec<u8>>,
 }
 
-fn prepare(
-    shape: &[usize],
-    normals: &str,
-    side_hint: Option<PyReadonlyArrayDyn<bool>>,
-    options: &Bound<'_, PyDict>,
-) -> PyResult<Prepared> {
-    Ok(Prepared {
-        dims: dims_of(shape)?,
-        method: method_from(normals, options)?,
-        bits: side_hint.map(|s| pack_sides(&s, shape)).transpose()?,
-    })
+/// The arguments of `marching_cubes` and `estimate_normals` after the volume (see
+/// `wscg.isosurface.marching_cubes`), converted and checked.
+struct Estimator<'py> {
+    spacing: Bound<'py, PyAny>,
+    normals: Option<String>,
+    side_hint: Option<Bound<'py, PyAny>>,
+    selection: String,
+    eq8_literal: bool,
+    normalize_before_mean: bool,
+    ambiguous_face: String,
+}
+
+impl Estimator<'_> {
+    fn prepare(&self, shape: &[usize]) -> PyResult<Prepared> {
+        let method = method_from(
+            self.normals.as_deref(),
+            &self.selection,
+            self.eq8_literal,
+            self.normalize_before_mean,
+            &self.ambiguous_face,
+        )?;
+        let bits = match self.side_hint.as_ref().filter(|s| !s.is_none()) {
+            Some(s) => Some(pack_sides(&args::array::<bool>("side_hint", s)?, shape)?),
+            None => None,
+        };
+        Ok(Prepared {
+            dims: dims_of(shape)?,
+            spacing: args::triple("spacing", &self.spacing)?,
+            method,
+            bits,
+        })
+    }
 }
 
 impl Prepared {
-    fn grid<'a, T: Sample>(
-        &'a self,
-        values: &'a [T],
-        spacing: (f64, f64, f64),
-    ) -> PyResult<ScalarGrid<'a, T>> {
-        let g = ScalarGrid::with_spacing(self.dims, spacing3(spacing), values).py_err()?;
+    fn grid<'a, T: Sample>(&'a self, values: &'a [T]) -> PyResult<ScalarGrid<'a, T>> {
+        let g = ScalarGrid::with_spacing(self.dims, spacing3(self.spacing), values).py_err()?;
         match &self.bits {
             Some(b) => g.with_side_hint(b).py_err(),
             None => Ok(g),
@@ -231,53 +256,90 @@ impl Prepared {
     }
 }
 
-/// Marching cubes with normals (see `wscg.isosurface.marching_cubes`), in the volume's
-/// sample type.
+/// Moves the mesh's vertices by `o` `(x, y, z)` (rounded to the sample type).
+fn shift<T: Sample>(mesh: &mut IsoMesh<T>, o: [f64; 3]) {
+    if o != [0.0; 3] {
+        let o = o.map(T::from_f64);
+        for v in &mut mesh.vertices {
+            *v = std::array::from_fn(|a| v[a] + o[a]);
+        }
+    }
+}
+
+/// Marching cubes with normals (see `wscg.isosurface.marching_cubes`, which builds the
+/// `MeshInfo` from the dict), in the volume's sample type, vertices shifted by `origin`
+/// `(oz, oy, ox)`.
 #[pyfunction]
+#[allow(clippy::too_many_arguments)]
 fn marching_cubes<'py>(
     py: Python<'py>,
-    volume: Samples<'py>,
+    volume: &Bound<'py, PyAny>,
     level: f64,
-    spacing: (f64, f64, f64),
-    normals: &str,
-    side_hint: Option<PyReadonlyArrayDyn<bool>>,
-    options: Bound<'py, PyDict>,
+    spacing: Bound<'py, PyAny>,
+    normals: Option<String>,
+    side_hint: Option<Bound<'py, PyAny>>,
+    selection: String,
+    eq8_literal: bool,
+    normalize_before_mean: bool,
+    ambiguous_face: String,
+    origin: &Bound<'py, PyAny>,
 ) -> PyResult<MeshOut<'py>> {
-    let p = prepare(volume_shape(&volume), normals, side_hint, &options)?;
+    let volume = samples(volume)?;
+    let e = Estimator {
+        spacing,
+        normals,
+        side_hint,
+        selection,
+        eq8_literal,
+        normalize_before_mean,
+        ambiguous_face,
+    };
+    let p = e.prepare(volume.shape())?;
+    let [oz, oy, ox] = args::finite3("origin", args::triple("origin", origin)?)?;
     with_samples!(volume, vol => {
         let v = values(&vol);
-        let g = p.grid(&v, spacing)?;
+        let g = p.grid(&v)?;
         let (method, level) = (p.method, Real::from_f64(level));
-        let mesh = crate::pool::detach(py, || wscg_isosurface::marching_cubes(&g, level, method))
-            .py_err()?;
+        let mut mesh =
+            crate::pool::detach(py, || wscg_isosurface::marching_cubes(&g, level, method))
+                .py_err()?;
+        shift(&mut mesh, [ox, oy, oz]);
         mesh_out(py, mesh)
     })
 }
 
-/// The shape of a volume of either sample type.
-fn volume_shape<'a>(volume: &'a Samples<'_>) -> &'a [usize] {
-    with_samples!(volume, v => v.shape())
-}
-
-/// Normals of given mesh edges (see `wscg.isosurface.estimate_normals`), in the volume's
-/// sample type.
+/// Normals of given mesh edges (see `wscg.isosurface.estimate_normals`, which builds the
+/// `NormalStats` from the dict), in the volume's sample type.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 fn estimate_normals<'py>(
     py: Python<'py>,
-    volume: Samples<'py>,
+    volume: &Bound<'py, PyAny>,
     level: f64,
-    edges: PyReadonlyArrayDyn<i64>,
-    spacing: (f64, f64, f64),
-    normals: &str,
-    side_hint: Option<PyReadonlyArrayDyn<bool>>,
-    options: Bound<'py, PyDict>,
+    edges: &Bound<'py, PyAny>,
+    spacing: Bound<'py, PyAny>,
+    normals: String,
+    side_hint: Option<Bound<'py, PyAny>>,
+    selection: String,
+    eq8_literal: bool,
+    normalize_before_mean: bool,
+    ambiguous_face: String,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
-    let p = prepare(volume_shape(&volume), normals, side_hint, &options)?;
-    let e = edges_in(&edges)?;
+    let volume = samples(volume)?;
+    let e = Estimator {
+        spacing,
+        normals: Some(normals),
+        side_hint,
+        selection,
+        eq8_literal,
+        normalize_before_mean,
+        ambiguous_face,
+    };
+    let p = e.prepare(volume.shape())?;
+    let e = edges_in(&args::array::<i64>("edges", edges)?)?;
     with_samples!(volume, vol => {
         let v = values(&vol);
-        let g = p.grid(&v, spacing)?;
+        let g = p.grid(&v)?;
         let (method, level) = (p.method, Real::from_f64(level));
         let (n, stats) = crate::pool::detach(py, || {
             wscg_isosurface::estimate_normals(&g, level, &e, method)
@@ -288,14 +350,19 @@ fn estimate_normals<'py>(
     })
 }
 
-/// The paper's sparsification (see `wscg.isosurface.sparsify`).
+/// The paper's sparsification protocol (section 5): keeps only the samples that are
+/// endpoints of edges crossing ``level`` and sets the others to NaN. Returns
+/// ``(sparse_volume, inside)`` where ``inside`` is the boolean side of every original sample
+/// (pass it as ``side_hint``); the sparse volume is float64 for float64 input, float32
+/// otherwise. The input is not modified.
 #[pyfunction]
 fn sparsify<'py>(
     py: Python<'py>,
-    volume: Samples<'py>,
+    volume: &Bound<'py, PyAny>,
     level: f64,
 ) -> PyResult<(Bound<'py, PyAny>, Arr<'py, bool>)> {
-    let shape = volume_shape(&volume).to_vec();
+    let volume = samples(volume)?;
+    let shape = volume.shape().to_vec();
     let dims = dims_of(&shape)?;
     with_samples!(volume, vol => {
         let v = values(&vol);
@@ -312,14 +379,18 @@ fn sparsify<'py>(
     })
 }
 
-/// Random dropouts (see `wscg.isosurface.random_dropouts`).
+/// A copy of ``volume`` with a fraction ``rate`` of the samples set to NaN, uniformly at
+/// random (seeded): simulated sensor failures.
 #[pyfunction]
+#[pyo3(signature = (volume, rate, seed=0))]
 fn random_dropouts<'py>(
     py: Python<'py>,
-    volume: Samples<'py>,
+    volume: &Bound<'py, PyAny>,
     rate: f64,
-    seed: u64,
+    seed: i128,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let volume = samples(volume)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
     with_samples!(volume, vol => {
         let shape = vol.shape().to_vec();
         let mut v = values(&vol).into_owned();
@@ -329,15 +400,27 @@ fn random_dropouts<'py>(
     })
 }
 
-/// Angular errors in radians (NaN where undefined).
+/// Rows of `(n, 3)` float32 normals.
+type Normals = Vec<[f32; 3]>;
+
+/// The `(n, 3)` normal arrays `a` and `b` (any real array-likes) as float32 rows.
+fn normal_pairs(a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>) -> PyResult<(Normals, Normals)> {
+    let (a, b) = (args::array::<f32>("a", a)?, args::array::<f32>("b", b)?);
+    Ok((
+        rows3("a", &values(&a), a.shape())?,
+        rows3("b", &values(&b), b.shape())?,
+    ))
+}
+
+/// Angles in radians between matching rows of two (n, 3) normal arrays; NaN where either
+/// row is zero (an undefined normal).
 #[pyfunction]
 fn angular_errors<'py>(
     py: Python<'py>,
-    a: PyReadonlyArrayDyn<f32>,
-    b: PyReadonlyArrayDyn<f32>,
+    a: &Bound<'py, PyAny>,
+    b: &Bound<'py, PyAny>,
 ) -> PyResult<Arr<'py, f32>> {
-    let x = rows3("a", &values(&a), a.shape())?;
-    let y = rows3("b", &values(&b), b.shape())?;
+    let (x, y) = normal_pairs(a, b)?;
     let e = crate::pool::detach(py, || wscg_isosurface::angular_errors(&x, &y)).py_err()?;
     let n = e.len();
     array(py, &[n], e)
@@ -351,15 +434,15 @@ fn rms_dict<'py>(py: Python<'py>, r: &RmsSummary) -> PyResult<Bound<'py, PyDict>
     Ok(d)
 }
 
-/// RMS angular error (see `wscg.isosurface.angular_rms`): (rms, count, undefined).
+/// RMS angular error (see `wscg.isosurface.angular_rms`, which names the fields): (rms,
+/// count, undefined).
 #[pyfunction]
 fn angular_rms(
     py: Python<'_>,
-    a: PyReadonlyArrayDyn<f32>,
-    b: PyReadonlyArrayDyn<f32>,
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
 ) -> PyResult<(f64, usize, usize)> {
-    let x = rows3("a", &values(&a), a.shape())?;
-    let y = rows3("b", &values(&b), b.shape())?;
+    let (x, y) = normal_pairs(a, b)?;
     let r = crate::pool::detach(py, || {
         wscg_isosurface::angular_errors(&x, &y).map(|e| wscg_isosurface::rms(&e))
     })
@@ -367,26 +450,39 @@ fn angular_rms(
     Ok((r.rms, r.count, r.undefined))
 }
 
-/// Rotation class of a configuration (0..23).
+/// Class (0..22) of an 8-bit cell configuration under the 24 cube rotations (section
+/// 5.3). Bit c is corner (c & 1, c >> 1 & 1, c >> 2) (x, y, z offsets).
 #[pyfunction]
-fn rotation_class(config: u8) -> u8 {
-    wscg_isosurface::mc_rotation_class(config)
+fn rotation_class(config: i128) -> PyResult<u8> {
+    let c = u8::try_from(config)
+        .map_err(|_| value_error(format!("`config` must be in 0..255, got {config}")))?;
+    Ok(wscg_isosurface::mc_rotation_class(c))
 }
 
-/// The Table 4 enumeration.
+/// The Table 4 enumeration: configurations (corner values +-1, replicate padding) where an
+/// LSN normal of the central cell diverges by at least ``threshold`` radians from central
+/// differences.
 #[pyfunction]
-fn at_risk(py: Python<'_>, ambiguous_face: &str, threshold: f32) -> PyResult<Vec<u8>> {
+#[pyo3(name = "at_risk_configurations",
+       signature = (threshold=std::f64::consts::FRAC_PI_2, ambiguous_face="inside"))]
+fn at_risk(py: Python<'_>, threshold: f64, ambiguous_face: &str) -> PyResult<Vec<u16>> {
+    let threshold = args::number("threshold", threshold)? as f32;
     let rule = rule_from(ambiguous_face)?;
-    crate::pool::detach(py, || at_risk_configurations(rule, threshold))
+    // A list of ints (a `Vec<u8>` would become `bytes`).
+    let c = crate::pool::detach(py, || at_risk_configurations(rule, threshold))?;
+    Ok(c.into_iter().map(u16::from).collect())
 }
 
 type SampledOut<'py> = (Arr<'py, f32>, (f32, f32, f32), (f64, f64, f64));
 
-/// A named analytic field on an n^3 grid: (volume [z, y, x], spacing (dz, dy, dx), origin
-/// (oz, oy, ox)), both in array axis order: sample `[k, j, i]` lies at the field point
-/// `(ox + i dx, oy + j dy, oz + k dz)`.
+/// ``(volume [z, y, x] float32, spacing (dz, dy, dx), origin (oz, oy, ox))`` of a
+/// named field on ``n^3`` samples over its domain: the sample ``[k, j, i]`` is the
+/// field at ``(ox + i dx, oy + j dy, oz + k dz)``. Pass ``spacing`` and ``origin`` to
+/// :func:`marching_cubes` to get vertices in the field's coordinates.
 #[pyfunction]
-fn sample_field<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<SampledOut<'py>> {
+#[pyo3(signature = (name, n=64))]
+fn sample<'py>(py: Python<'py>, name: &str, n: i128) -> PyResult<SampledOut<'py>> {
+    let n: usize = uint(py, "n", n, 0)?;
     let s = crate::pool::detach(py, || fields::named(name, n).map(|(_, s)| s)).py_err()?;
     let [nx, ny, nz] = s.dims;
     Ok((
@@ -396,16 +492,18 @@ fn sample_field<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<SampledO
     ))
 }
 
-/// Exact unit normals of a named field at world points `(x, y, z)` (the field's own
-/// coordinates, origin included: where `marching_cubes` with the field's spacing and origin
-/// puts its vertices).
+/// Exact unit normals of the named field (sampled as by :meth:`sample` with the same
+/// ``n``) at world points ``(x, y, z)``: the vertices :func:`marching_cubes` returns with
+/// the field's ``spacing`` and ``origin``.
 #[pyfunction]
-fn field_normals<'py>(
+fn exact_normals<'py>(
     py: Python<'py>,
     name: &str,
-    n: usize,
-    vertices: PyReadonlyArrayDyn<f32>,
+    n: i128,
+    vertices: &Bound<'py, PyAny>,
 ) -> PyResult<Arr<'py, f32>> {
+    let n: usize = uint(py, "n", n, 0)?;
+    let vertices = args::array::<f32>("vertices", vertices)?;
     let v = rows3("vertices", &values(&vertices), vertices.shape())?;
     let out = crate::pool::detach(py, || {
         fields::named(name, n).map(|(f, s)| {
@@ -422,16 +520,21 @@ fn field_normals<'py>(
     array(py, &[len, 3], out.concat())
 }
 
-/// The noisy 8-bit sphere stand-in.
+/// An 8-bit-like noisy ball: ``round(255 / (1 + exp((r - radius) / width)) +
+/// N(0, noise))`` clamped to [0, 255], float32 holding integers.
 #[pyfunction]
-fn noisy_sphere<'py>(
+#[pyo3(signature = (n=64, radius=20.0, width=1.5, noise=3.0, seed=0))]
+fn make_noisy_sphere<'py>(
     py: Python<'py>,
-    n: usize,
+    n: i128,
     radius: f64,
     width: f64,
     noise: f64,
-    seed: u64,
+    seed: i128,
 ) -> PyResult<Arr<'py, f32>> {
+    let n: usize = uint(py, "n", n, 0)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    let radius = args::number("radius", radius)?;
     let centre = fields::grid_centre(n);
     let s = crate::pool::detach(py, || {
         fields::noisy_sphere_u8([n; 3], centre, radius, width, noise, seed)
@@ -444,14 +547,17 @@ fn noisy_sphere<'py>(
 #[pyfunction]
 fn study_full_cd<'py>(
     py: Python<'py>,
-    volume: PyReadonlyArrayDyn<f32>,
+    volume: &Bound<'py, PyAny>,
     level: f32,
-    spacing: (f32, f32, f32),
+    spacing: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let volume = args::array::<f32>("volume", volume)?;
     let dims = dims_of(volume.shape())?;
+    let [dz, dy, dx] = args::triple("spacing", spacing)?;
     let v = values(&volume);
     let c = crate::pool::detach(py, || {
-        let spacing = [spacing.2, spacing.1, spacing.0].map(f64::from);
+        // In single precision, as the samples.
+        let spacing = [dx, dy, dz].map(|d| f64::from(d as f32));
         compare_with_full_cd(VolumeView::new(dims, spacing, &v)?, level)
     })
     .py_err()?;
@@ -470,7 +576,8 @@ fn study_full_cd<'py>(
 
 /// Table 3 protocol on a named field.
 #[pyfunction]
-fn study_exact<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<Bound<'py, PyDict>> {
+fn study_exact<'py>(py: Python<'py>, name: &str, n: i128) -> PyResult<Bound<'py, PyDict>> {
+    let n: usize = uint(py, "n", n, 0)?;
     let (iso, c) = crate::pool::detach(py, || -> wscg_math::Result<_> {
         let (f, s) = fields::named(name, n)?;
         let iso = f.iso() as f32;
@@ -486,6 +593,7 @@ fn study_exact<'py>(py: Python<'py>, name: &str, n: usize) -> PyResult<Bound<'py
     Ok(d)
 }
 
+/// Registers the submodule's functions.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(marching_cubes, m)?)?;
     m.add_function(wrap_pyfunction!(estimate_normals, m)?)?;
@@ -495,9 +603,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(angular_rms, m)?)?;
     m.add_function(wrap_pyfunction!(rotation_class, m)?)?;
     m.add_function(wrap_pyfunction!(at_risk, m)?)?;
-    m.add_function(wrap_pyfunction!(sample_field, m)?)?;
-    m.add_function(wrap_pyfunction!(field_normals, m)?)?;
-    m.add_function(wrap_pyfunction!(noisy_sphere, m)?)?;
+    m.add_function(wrap_pyfunction!(sample, m)?)?;
+    m.add_function(wrap_pyfunction!(exact_normals, m)?)?;
+    m.add_function(wrap_pyfunction!(make_noisy_sphere, m)?)?;
     m.add_function(wrap_pyfunction!(study_full_cd, m)?)?;
     m.add_function(wrap_pyfunction!(study_exact, m)?)?;
     Ok(())

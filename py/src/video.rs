@@ -1,7 +1,12 @@
-//! `wscg._native.video`: bindings of `wscg-video` (paper 06, localized-search HD video
-//! completion). The documented API is `python/wscg/video.py`.
+//! `wscg.video`'s functions (paper 06, localized-search HD video completion): bindings of
+//! `wscg-video`. Those whose Python layer would only convert and check their arguments are
+//! called directly, re-exported by `python/wscg/video.py` (which holds the module's
+//! documentation); `complete_video` returns the dict from which the Python layer builds its
+//! `CompletionStats`. Frames are uint8 arrays taken as they are (another dtype is refused,
+//! not cast), masks bool or uint8; counts and seeds are Python ints checked by
+//! [`crate::args`].
 
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_video::metrics;
@@ -13,44 +18,95 @@ use wscg_video::{
 
 use wscg_math::ImageView;
 
+use crate::args::{self, uint};
 use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy, IntoPyRenamed};
 
-/// A `(F, H, W, C)` (C = 1 or 3) or `(F, H, W)` uint8 array as a video.
-fn video_in(name: &str, a: &PyReadonlyArrayDyn<u8>) -> PyResult<Video> {
+/// The uint8 array `obj` (any array-like whose numpy dtype is uint8; another dtype is
+/// refused rather than cast, which would wrap or truncate its values).
+fn u8_array<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, u8>> {
+    let a = args::asarray(name, obj)?;
+    match a.cast::<PyArrayDyn<u8>>() {
+        Ok(a) => Ok(a.readonly()),
+        Err(_) => Err(value_error(format!(
+            "`{name}` must be a uint8 array, got dtype {}",
+            a.dtype()
+        ))),
+    }
+}
+
+/// A video argument: `(F, H, W, C)` (C = 1 or 3) or `(F, H, W)` uint8 frames, and their
+/// shape (that of the output).
+fn video_in(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(Video, Vec<usize>)> {
+    let a = u8_array(name, obj)?;
     let (f, h, w, c) = match *a.shape() {
         [f, h, w] => (f, h, w, 1),
         [f, h, w, c] => (f, h, w, c),
         ref s => {
             return Err(value_error(format!(
-                "`{name}` must be a (frames, height, width, channels) or (frames, height, width) uint8 array, got shape {s:?}"
+                "`{name}` must have shape (F, H, W, C) or (F, H, W), got {s:?}"
             )))
         }
     };
-    Video::new(f, h, w, c, values(a).into_owned()).py_err()
+    let v = Video::new(f, h, w, c, values(&a).into_owned()).py_err()?;
+    Ok((v, a.shape().to_vec()))
 }
 
-fn mask_in(a: &PyReadonlyArrayDyn<u8>, v: &Video) -> PyResult<Mask3> {
-    let s = a.shape();
-    if s != [v.frames, v.height, v.width] {
+/// The `mask` argument of the video `v`: a bool or uint8 array (non-zero = hole) of shape
+/// `(F, H, W)`, or one `(H, W)` mask for every frame.
+fn mask_in(obj: &Bound<'_, PyAny>, v: &Video) -> PyResult<Mask3> {
+    let a = args::asarray("mask", obj)?;
+    let bytes: Vec<u8> = if let Ok(m) = a.cast::<PyArrayDyn<u8>>() {
+        values(&m.readonly()).into_owned()
+    } else if let Ok(m) = a.cast::<PyArrayDyn<bool>>() {
+        values(&m.readonly()).iter().map(|&b| u8::from(b)).collect()
+    } else {
         return Err(value_error(format!(
-            "`mask` has shape {s:?}, expected (frames, height, width) = ({}, {}, {}) of the video",
-            v.frames, v.height, v.width
+            "`mask` must be a bool or uint8 array, got dtype {}",
+            a.dtype()
+        )));
+    };
+    let (f, h, w) = (v.frames, v.height, v.width);
+    let bytes = match *a.shape() {
+        [mh, mw] if (mh, mw) == (h, w) => bytes.repeat(f),
+        [mf, mh, mw] if (mf, mh, mw) == (f, h, w) => bytes,
+        ref s => {
+            return Err(value_error(format!(
+                "`mask` has shape {s:?}, expected ({f}, {h}, {w}) (F, H, W) or one (H, W) \
+                 mask for every frame"
+            )))
+        }
+    };
+    Mask3::from_bytes(f, h, w, &bytes).py_err()
+}
+
+/// The frames `v` as an array of `shape` (that of the input).
+fn video_out<'py>(py: Python<'py>, v: Video, shape: &[usize]) -> PyResult<Arr<'py, u8>> {
+    array(py, shape, v.data)
+}
+
+/// Counts (iteration caps, window sizes, radii) named `name`.
+fn counts(py: Python<'_>, name: &str, v: &[i128]) -> PyResult<Vec<usize>> {
+    v.iter().map(|&c| uint(py, name, c, 0)).collect()
+}
+
+/// Per-level iteration caps: a non-empty sequence of counts.
+fn sweeps(py: Python<'_>, name: &str, v: &[i128]) -> PyResult<Vec<usize>> {
+    if v.is_empty() {
+        return Err(value_error(format!(
+            "`{name}` needs the iteration count of at least one level"
         )));
     }
-    Mask3::from_bytes(v.frames, v.height, v.width, &values(a)).py_err()
+    counts(py, name, v)
 }
 
-fn video_out<'py>(py: Python<'py>, v: Video) -> PyResult<Arr<'py, u8>> {
-    let shape = [v.frames, v.height, v.width, v.channels];
-    array(py, &shape, v.data)
-}
-
-fn patch(p: (usize, usize, usize)) -> PatchSize {
-    PatchSize {
-        px: p.0,
-        py: p.1,
-        pt: p.2,
+/// The space-time patch `(px, py, pt)`.
+fn patch(py: Python<'_>, p: &[i128]) -> PyResult<PatchSize> {
+    match *counts(py, "patch", p)? {
+        [px, y, pt] => Ok(PatchSize { px, py: y, pt }),
+        _ => Err(value_error(format!(
+            "`patch` must be (px, py, pt), got {p:?}"
+        ))),
     }
 }
 
@@ -69,37 +125,60 @@ fn init_method(name: &str, seed: u64) -> PyResult<InitMethod> {
 /// The completed frames, the dense match field (when asked for) and the statistics.
 type Completed<'py> = (Arr<'py, u8>, Option<Arr<'py, i32>>, Bound<'py, PyDict>);
 
-/// Localized-search video completion (see `wscg.video.complete_video`).
+/// One temporal radius for every stage-3 iteration, or one per iteration.
+#[derive(FromPyObject)]
+enum Radii {
+    One(i128),
+    Each(Vec<i128>),
+}
+
+/// Localized-search video completion (see `wscg.video.complete_video`, which builds the
+/// `CompletionStats` from the dict).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 fn complete_video<'py>(
     py: Python<'py>,
-    frames: PyReadonlyArrayDyn<u8>,
-    mask: PyReadonlyArrayDyn<u8>,
-    patch_size: (usize, usize, usize),
-    lowres_width: usize,
-    n_levels: Option<usize>,
-    lowres_max_iter: Vec<usize>,
+    frames: &Bound<'py, PyAny>,
+    mask: &Bound<'py, PyAny>,
+    patch_size: Vec<i128>,
+    lowres_width: i128,
+    n_levels: Option<i128>,
+    lowres_max_iter: Vec<i128>,
     init: &str,
     search: &str,
-    patchmatch_n_iter: usize,
-    seed: u64,
+    patchmatch_n_iter: i128,
+    seed: i128,
     onion_order: bool,
     causal_first_sweep: bool,
-    refine_max_iter: usize,
-    windows: Vec<usize>,
-    fine_max_iter: usize,
+    refine_max_iter: i128,
+    windows: Vec<i128>,
+    fine_max_iter: i128,
     min_energy_drop: f64,
-    temporal_radius: Vec<usize>,
-    max_candidates: usize,
+    temporal_radius: Radii,
+    max_candidates: i128,
     propagate: bool,
     temporal_candidates: bool,
     step: &str,
     global_fine_search: bool,
     return_matches: bool,
 ) -> PyResult<Completed<'py>> {
-    let mut v = video_in("frames", &frames)?;
-    let m = mask_in(&mask, &v)?;
+    let fine_max_iter: usize = uint(py, "fine_max_iter", fine_max_iter, 0)?;
+    let temporal_radius = match temporal_radius {
+        Radii::One(r) => vec![r],
+        Radii::Each(r) => r,
+    };
+    let temporal_radius = counts(py, "temporal_radius", &temporal_radius)?;
+    let max_candidates: usize = uint(py, "max_candidates", max_candidates, 0)?;
+    let lowres_max_iter = sweeps(py, "lowres_max_iter", &lowres_max_iter)?;
+    let (mut v, shape) = video_in("frames", frames)?;
+    let m = mask_in(mask, &v)?;
+    let patch_size = patch(py, &patch_size)?;
+    let lowres_width: usize = uint(py, "lowres_width", lowres_width, 0)?;
+    let n_levels: Option<usize> = n_levels.map(|n| uint(py, "n_levels", n, 0)).transpose()?;
+    let patchmatch_n_iter: usize = uint(py, "patchmatch_n_iter", patchmatch_n_iter, 0)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    let refine_max_iter: usize = uint(py, "refine_max_iter", refine_max_iter, 0)?;
+    let windows = counts(py, "windows", &windows)?;
     let search = match search {
         "patchmatch" => SearchMethod::PatchMatch3D {
             iters: patchmatch_n_iter,
@@ -127,7 +206,7 @@ fn complete_video<'py>(
             LowResParams::default()
                 .target_width(lowres_width)
                 .levels(n_levels)
-                .patch(patch(patch_size))
+                .patch(patch_size)
                 .iters(lowres_max_iter)
                 .init(init_method(init, seed)?)
                 .search(search)
@@ -190,33 +269,31 @@ fn complete_video<'py>(
     } else {
         None
     };
-    Ok((video_out(py, v)?, dense, stats))
+    Ok((video_out(py, v, &shape)?, dense, stats))
 }
 
-/// Wexler et al. 2007 completion, or per-frame PatchMatch inpainting with `per_frame` (see
-/// `wscg.video.wexler_complete` and `wscg.video.per_frame_patchmatch`).
-#[pyfunction]
+/// Wexler et al. 2007 completion, or per-frame PatchMatch inpainting with `per_frame`.
 #[allow(clippy::too_many_arguments)]
 fn wexler<'py>(
     py: Python<'py>,
-    frames: PyReadonlyArrayDyn<u8>,
-    mask: PyReadonlyArrayDyn<u8>,
-    patch_size: (usize, usize, usize),
-    min_width: usize,
-    max_iter: Vec<usize>,
-    patchmatch_n_iter: usize,
-    seed: u64,
+    frames: &Bound<'py, PyAny>,
+    mask: &Bound<'py, PyAny>,
+    patch_size: PatchSize,
+    min_width: i128,
+    max_iter: &[i128],
+    patchmatch_n_iter: i128,
+    seed: i128,
     per_frame: bool,
     seed_per_frame: bool,
 ) -> PyResult<Arr<'py, u8>> {
-    let v = video_in("frames", &frames)?;
-    let m = mask_in(&mask, &v)?;
+    let (v, shape) = video_in("frames", frames)?;
+    let m = mask_in(mask, &v)?;
     let cfg = WexlerParams::default()
-        .patch(patch(patch_size))
-        .min_width(min_width)
-        .iters(max_iter)
-        .patchmatch_iters(patchmatch_n_iter)
-        .seed(seed)
+        .patch(patch_size)
+        .min_width(uint(py, "min_width", min_width, 0)?)
+        .iters(sweeps(py, "max_iter", max_iter)?)
+        .patchmatch_iters(uint(py, "patchmatch_n_iter", patchmatch_n_iter, 0)?)
+        .seed(uint(py, "seed", seed, 0)?)
         .seed_per_frame(seed_per_frame);
     let out = crate::pool::detach(py, || {
         if per_frame {
@@ -226,47 +303,185 @@ fn wexler<'py>(
         }
     })
     .py_err()?;
-    video_out(py, out)
+    video_out(py, out, &shape)
 }
 
-/// `(ssim, psnr)` over the hole, or flicker (see `wscg.video`).
+/// Wexler et al. 2007 space-time completion (the paper's baseline): random start,
+/// PatchMatch (``patchmatch_n_iter`` iterations; 0 = exact) global search at every pyramid
+/// level up to full resolution, and voting ``w = exp(-D / (2 sigma^2)) * 1.3^-dist(p, E)``
+/// of all patches covering a pixel, at most ``max_iter[k]`` search-and-vote iterations at
+/// level ``k`` (coarsest first, the last value repeats; a level stops when the vote changes
+/// nothing). Slow at HD (the paper reports an hour per iteration).
 #[pyfunction]
-fn measure(
+#[pyo3(signature = (frames, mask, patch=vec![5, 5, 5], min_width=64, max_iter=vec![10, 5, 3],
+                    patchmatch_n_iter=4, seed=0),
+       text_signature = "(frames, mask, patch=(5, 5, 5), min_width=64, max_iter=(10, 5, 3), \
+                         patchmatch_n_iter=4, seed=0)")]
+#[allow(clippy::too_many_arguments)]
+fn wexler_complete<'py>(
+    py: Python<'py>,
+    frames: &Bound<'py, PyAny>,
+    mask: &Bound<'py, PyAny>,
+    patch: Vec<i128>,
+    min_width: i128,
+    max_iter: Vec<i128>,
+    patchmatch_n_iter: i128,
+    seed: i128,
+) -> PyResult<Arr<'py, u8>> {
+    let p = self::patch(py, &patch)?;
+    wexler(
+        py,
+        frames,
+        mask,
+        p,
+        min_width,
+        &max_iter,
+        patchmatch_n_iter,
+        seed,
+        false,
+        false,
+    )
+}
+
+/// Image PatchMatch inpainting of every frame separately (``(px, py)`` patches, Wexler
+/// voting; ``max_iter`` and ``patchmatch_n_iter`` as in :func:`wexler_complete`): what an
+/// image tool applied frame by frame gives. ``seed_per_frame`` seeds frame ``t`` with
+/// ``seed + t``, as separate runs would be.
+#[pyfunction]
+#[pyo3(signature = (frames, mask, patch=vec![5, 5], min_width=64, max_iter=vec![10, 5, 3],
+                    patchmatch_n_iter=4, seed=0, seed_per_frame=true),
+       text_signature = "(frames, mask, patch=(5, 5), min_width=64, max_iter=(10, 5, 3), \
+                         patchmatch_n_iter=4, seed=0, seed_per_frame=True)")]
+#[allow(clippy::too_many_arguments)]
+fn per_frame_patchmatch<'py>(
+    py: Python<'py>,
+    frames: &Bound<'py, PyAny>,
+    mask: &Bound<'py, PyAny>,
+    patch: Vec<i128>,
+    min_width: i128,
+    max_iter: Vec<i128>,
+    patchmatch_n_iter: i128,
+    seed: i128,
+    seed_per_frame: bool,
+) -> PyResult<Arr<'py, u8>> {
+    let p = match *counts(py, "patch", &patch)? {
+        [px, y] => PatchSize { px, py: y, pt: 1 },
+        _ => {
+            return Err(value_error(format!(
+                "`patch` must be (px, py), got {patch:?}"
+            )))
+        }
+    };
+    wexler(
+        py,
+        frames,
+        mask,
+        p,
+        min_width,
+        &max_iter,
+        patchmatch_n_iter,
+        seed,
+        true,
+        seed_per_frame,
+    )
+}
+
+/// The frames `a` and `b` to compare and the hole `mask` of `a`.
+fn measured(
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+    mask: &Bound<'_, PyAny>,
+) -> PyResult<(Video, Video, Mask3)> {
+    let (a, _) = video_in("a", a)?;
+    let (b, _) = video_in("b", b)?;
+    let m = mask_in(mask, &a)?;
+    Ok((a, b, m))
+}
+
+/// Mean SSIM over the hole pixels (Gaussian window sigma 1.5, K1 = 0.01, K2 = 0.03, data
+/// range 255; per-channel maps averaged), counting hole pixels at least 5 pixels from the
+/// frame border as scikit-image does; with an all-true mask it equals
+/// ``skimage.metrics.structural_similarity(a, b, gaussian_weights=True, sigma=1.5,
+/// use_sample_covariance=False, data_range=255, channel_axis=-1)`` per frame.
+#[pyfunction]
+fn ssim_masked(
     py: Python<'_>,
-    a: PyReadonlyArrayDyn<u8>,
-    b: Option<PyReadonlyArrayDyn<u8>>,
-    mask: PyReadonlyArrayDyn<u8>,
-    what: &str,
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+    mask: &Bound<'_, PyAny>,
 ) -> PyResult<f64> {
-    let a = video_in("a", &a)?;
-    let m = mask_in(&mask, &a)?;
-    let b = b.map(|b| video_in("b", &b)).transpose()?;
-    match (what, b) {
-        ("ssim", Some(b)) => crate::pool::detach(py, || metrics::ssim_masked(&a, &b, &m)).py_err(),
-        ("psnr", Some(b)) => crate::pool::detach(py, || metrics::psnr_masked(&a, &b, &m)).py_err(),
-        ("flicker", _) => crate::pool::detach(py, || metrics::flicker(&a, &m)).py_err(),
-        _ => Err(value_error(format!("unknown measure {what:?}"))),
-    }
+    let (a, b, m) = measured(a, b, mask)?;
+    crate::pool::detach(py, || metrics::ssim_masked(&a, &b, &m)).py_err()
 }
 
-/// Synthetic clips G1-G4 (see `wscg.video.make_clip`).
+/// PSNR (dB, data range 255) over the hole pixels; ``inf`` when they are equal.
 #[pyfunction]
+fn psnr_masked(
+    py: Python<'_>,
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+    mask: &Bound<'_, PyAny>,
+) -> PyResult<f64> {
+    let (a, b, m) = measured(a, b, mask)?;
+    crate::pool::detach(py, || metrics::psnr_masked(&a, &b, &m)).py_err()
+}
+
+/// Mean absolute frame-to-frame change (grey levels) over the pixel positions in the
+/// hole at ``t`` or ``t + 1``: 0 for a static completion of a static scene.
+#[pyfunction]
+fn flicker(py: Python<'_>, frames: &Bound<'_, PyAny>, mask: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let (v, _) = video_in("frames", frames)?;
+    let m = mask_in(mask, &v)?;
+    crate::pool::detach(py, || metrics::flicker(&v, &m)).py_err()
+}
+
+/// A synthetic clip of ``n_frames`` frames of ``height x width`` with exact ground truth:
+/// returns ``(clean, observed, mask)``.
+///
+/// ``kind``: ``'sprite'`` (static camera, an opaque disc of ``radius`` moving ``speed``
+/// px/frame, Gaussian ``noise``), ``'pan'`` (camera panning ``step`` px/frame under a static
+/// ``hole = (h, w)`` logo), ``'zoom'`` (zoom by ``zoom`` per frame, disc hole of ``radius``
+/// moving ``speed`` px/frame), ``'periodic'`` (stripes of ``period`` px over bricks, a
+/// static square hole of side ``hole[0]`` hidden in every frame). **Synthetic data.**
+#[pyfunction]
+#[pyo3(signature = (kind, n_frames=20, height=180, width=320, radius=25.0, speed=8.0, step=8.0,
+                    zoom=1.003, hole=vec![30, 40], period=24.0, noise=0.0, seed=0),
+       text_signature = "(kind, n_frames=20, height=180, width=320, radius=25.0, speed=8.0, \
+                         step=8.0, zoom=1.003, hole=(30, 40), period=24.0, noise=0.0, seed=0)")]
 #[allow(clippy::too_many_arguments)]
 fn make_clip<'py>(
     py: Python<'py>,
     kind: &str,
-    n_frames: usize,
-    height: usize,
-    width: usize,
+    n_frames: i128,
+    height: i128,
+    width: i128,
     radius: f64,
     speed: f64,
     step: f64,
     zoom: f64,
-    hole: (usize, usize),
+    hole: Vec<i128>,
     period: f64,
     noise: f64,
-    seed: u64,
+    seed: i128,
 ) -> PyResult<(Arr<'py, u8>, Arr<'py, u8>, Arr<'py, u8>)> {
+    let n_frames: usize = uint(py, "n_frames", n_frames, 0)?;
+    let height: usize = uint(py, "height", height, 0)?;
+    let width: usize = uint(py, "width", width, 0)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    let hole = counts(py, "hole", &hole)?;
+    let (Some(&hole_h), Some(&hole_w)) = (hole.first(), hole.last()) else {
+        return Err(value_error("`hole` must be (h, w), got ()"));
+    };
+    for (name, v) in [
+        ("radius", radius),
+        ("speed", speed),
+        ("step", step),
+        ("zoom", zoom),
+        ("period", period),
+        ("noise", noise),
+    ] {
+        args::number(name, v)?;
+    }
     if !matches!(kind, "sprite" | "pan" | "zoom" | "periodic") {
         return Err(value_error(format!(
             "`kind` {kind:?} is not a valid clip. Valid clips are 'sprite', 'pan', 'zoom', 'periodic'"
@@ -274,37 +489,47 @@ fn make_clip<'py>(
     }
     let clip = crate::pool::detach(py, || match kind {
         "sprite" => synth::sprite_clip(n_frames, height, width, radius, speed, noise, seed),
-        "pan" => synth::pan_clip(n_frames, height, width, step, hole.0, hole.1, seed),
+        "pan" => synth::pan_clip(n_frames, height, width, step, hole_h, hole_w, seed),
         "zoom" => synth::zoom_clip(n_frames, height, width, zoom, radius, speed, seed),
-        _ => synth::periodic_clip(n_frames, height, width, period, hole.0),
+        _ => synth::periodic_clip(n_frames, height, width, period, hole_h),
     })
     .py_err_renamed(&[("frames, height, width", "n_frames, height, width")])?;
     let m = clip.hole.to_bytes();
+    let shape = |v: &Video| [v.frames, v.height, v.width, v.channels];
+    let (clean, observed) = (shape(&clip.clean), shape(&clip.observed));
     Ok((
-        video_out(py, clip.clean)?,
-        video_out(py, clip.observed)?,
+        video_out(py, clip.clean, &clean)?,
+        video_out(py, clip.observed, &observed)?,
         array(py, &[n_frames, height, width], m)?,
     ))
 }
 
-/// Fast-marching inpainting of one image (see `wscg.video.inpaint_telea`).
+/// Fast-marching inpainting of one image (Telea 2004; one of stage 1's initialisations):
+/// the hole is filled inwards in order of its distance to the known pixels, each pixel from
+/// the first-order extrapolations of the known pixels within ``radius``. ``image``:
+/// ``(H, W, C)`` or ``(H, W)`` uint8; ``mask``: ``(H, W)``, non-zero = hole. Compare
+/// ``cv2.inpaint(image, mask, radius, cv2.INPAINT_TELEA)``.
 #[pyfunction]
+#[pyo3(signature = (image, mask, radius=5.0))]
 fn inpaint_telea<'py>(
     py: Python<'py>,
-    image: PyReadonlyArrayDyn<u8>,
-    mask: PyReadonlyArrayDyn<u8>,
-    radius: f32,
+    image: &Bound<'py, PyAny>,
+    mask: &Bound<'py, PyAny>,
+    radius: f64,
 ) -> PyResult<Arr<'py, u8>> {
+    let image = u8_array("image", image)?;
     let shape = image.shape().to_vec();
     let (h, w, c) = crate::convert::image_dims("image", &shape)?;
+    let mask = args::array::<f64>("mask", mask)?;
     if mask.shape() != [h, w] {
         return Err(value_error(format!(
             "`mask` has shape {:?}, expected ({h}, {w})",
             mask.shape()
         )));
     }
+    let radius = args::number("radius", radius)? as f32;
     let data = values(&image);
-    let hole: Vec<bool> = values(&mask).iter().map(|&v| v != 0).collect();
+    let hole: Vec<bool> = values(&mask).iter().map(|&v| v != 0.0).collect();
     let out = crate::pool::detach(py, || {
         wscg_video::telea::telea(
             ImageView::new(h, w, c, &data)?,
@@ -320,44 +545,64 @@ fn inpaint_telea<'py>(
     array(py, &shape, out.into_data())
 }
 
-/// Frames of a folder (see `wscg.video.load_frames`).
+/// The PNG/JPEG files of a folder, in name order, as an ``(F, H, W, 3)`` uint8 array
+/// (``OSError`` for unreadable files or frames of different sizes).
 #[pyfunction]
-fn load_frames<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Arr<'py, u8>> {
+fn load_frames<'py>(py: Python<'py>, path: &Bound<'py, PyAny>) -> PyResult<Arr<'py, u8>> {
+    let path = args::path("path", path)?;
     let v = crate::pool::detach(py, || wscg_video::io::read_frames(&path)).py_err()?;
-    video_out(py, v)
+    let shape = [v.frames, v.height, v.width, v.channels];
+    video_out(py, v, &shape)
 }
 
-/// A mask image or folder (see `wscg.video.load_mask`).
+/// A hole mask from one image (used for every frame) or a folder of one image per frame;
+/// a pixel is in the hole when any channel is non-zero. Returns ``(n_frames, height,
+/// width)`` bool.
 #[pyfunction]
 fn load_mask<'py>(
     py: Python<'py>,
-    path: std::path::PathBuf,
-    n_frames: usize,
-    height: usize,
-    width: usize,
-) -> PyResult<Arr<'py, u8>> {
+    path: &Bound<'py, PyAny>,
+    n_frames: i128,
+    height: i128,
+    width: i128,
+) -> PyResult<Arr<'py, bool>> {
+    let path = args::path("path", path)?;
+    let n_frames: usize = uint(py, "n_frames", n_frames, 0)?;
+    let height: usize = uint(py, "height", height, 0)?;
+    let width: usize = uint(py, "width", width, 0)?;
     let m = crate::pool::detach(py, || {
         wscg_video::io::read_mask(&path, n_frames, height, width)
     })
     .py_err_renamed(&[("frames", "n_frames")])?;
-    array(py, &[n_frames, height, width], m.to_bytes())
+    let hole = m.to_bytes().iter().map(|&b| b != 0).collect();
+    array(py, &[n_frames, height, width], hole)
 }
 
-/// Writes frames as PNG files (see `wscg.video.save_frames`).
+/// Writes ``frame_00000.png``, ... into the folder ``path`` (created if missing); returns
+/// the file paths.
 #[pyfunction]
 fn save_frames(
     py: Python<'_>,
-    path: std::path::PathBuf,
-    frames: PyReadonlyArrayDyn<u8>,
-) -> PyResult<Vec<std::path::PathBuf>> {
-    let v = video_in("frames", &frames)?;
-    crate::pool::detach(py, || wscg_video::io::write_frames(&v, &path)).py_err()
+    path: &Bound<'_, PyAny>,
+    frames: &Bound<'_, PyAny>,
+) -> PyResult<Vec<String>> {
+    let path = args::path("path", path)?;
+    let (v, _) = video_in("frames", frames)?;
+    let files = crate::pool::detach(py, || wscg_video::io::write_frames(&v, &path)).py_err()?;
+    Ok(files
+        .into_iter()
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect())
 }
 
+/// Registers the submodule's functions.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(complete_video, m)?)?;
-    m.add_function(wrap_pyfunction!(wexler, m)?)?;
-    m.add_function(wrap_pyfunction!(measure, m)?)?;
+    m.add_function(wrap_pyfunction!(wexler_complete, m)?)?;
+    m.add_function(wrap_pyfunction!(per_frame_patchmatch, m)?)?;
+    m.add_function(wrap_pyfunction!(ssim_masked, m)?)?;
+    m.add_function(wrap_pyfunction!(psnr_masked, m)?)?;
+    m.add_function(wrap_pyfunction!(flicker, m)?)?;
     m.add_function(wrap_pyfunction!(make_clip, m)?)?;
     m.add_function(wrap_pyfunction!(inpaint_telea, m)?)?;
     m.add_function(wrap_pyfunction!(load_frames, m)?)?;

@@ -1,6 +1,8 @@
 //! `wscg._native.volren`: bindings of `wscg-volren` (paper 03, hybrid ROI visualisation; the
 //! paper-15 functions live in [`crate::illum`] and register into the same submodule).
-//! The documented API is `python/wscg/volren.py`.
+//! The documented API is `python/wscg/volren.py`; it re-exports the functions that need
+//! no camera (`make_phantom`, `phantom_tfs`, `octree_address`, `haar_blocks`) as they are,
+//! their arguments converted by [`crate::args`].
 //!
 //! Coordinates follow `py/API.md`: a box of voxels is given per array axis, `(z0, z1, y0, y1,
 //! x0, x1)`, a voxel by its index `(k, j, i)`, and a point in space as `(x, y, z)` with the
@@ -20,6 +22,7 @@ use wscg_volren::{
     RenderParams, Roi, ServerParams,
 };
 
+use crate::args::{self, uint};
 use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -352,41 +355,83 @@ fn render_reference<'py>(
     image_out(py, img)
 }
 
-/// The head phantom `[z, y, x]` (uint8).
+/// An analytic CT-like phantom ``[z, y, x]`` (uint8): ``"head"`` (3-D modified
+/// Shepp-Logan; the paper's skull is ``(112, 256, 256)``, the default) or ``"thorax"``
+/// (body, lungs with vessels, heart, spine, ribs; default ``(256, 256, 256)``, the paper's
+/// is 512^3).
 #[pyfunction]
-fn phantom_head(py: Python<'_>, shape: (usize, usize, usize), seed: u64) -> PyResult<Arr<'_, u8>> {
-    let v =
-        crate::pool::detach(py, || phantoms::head([shape.2, shape.1, shape.0], seed)).py_err()?;
+#[pyo3(signature = (name="head", shape=None, seed=0))]
+fn make_phantom<'py>(
+    py: Python<'py>,
+    name: &str,
+    shape: Option<Vec<i128>>,
+    seed: i128,
+) -> PyResult<Arr<'py, u8>> {
+    let make = match name {
+        "head" => phantoms::head,
+        "thorax" => phantoms::thorax,
+        other => {
+            return Err(value_error(format!(
+                "unknown phantom {other:?}; use 'head' or 'thorax'"
+            )))
+        }
+    };
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    let [nz, ny, nx] = match shape.as_deref() {
+        None if name == "head" => [112, 256, 256],
+        None => [256; 3],
+        Some(&[z, y, x]) => [
+            uint(py, "shape", z, 0)?,
+            uint(py, "shape", y, 0)?,
+            uint(py, "shape", x, 0)?,
+        ],
+        Some(s) => {
+            return Err(value_error(format!(
+                "`shape` must be 3 integers (nz, ny, nx), got {s:?}"
+            )))
+        }
+    };
+    let v = crate::pool::detach(py, || make([nx, ny, nz], seed)).py_err()?;
     volume_out(py, &v)
 }
 
-/// The thorax phantom `[z, y, x]` (uint8).
+/// The transfer functions of a phantom: head (soft tissue, canonical; bone), thorax (all
+/// structures, canonical; bone; lungs; skin).
 #[pyfunction]
-fn phantom_thorax(
-    py: Python<'_>,
-    shape: (usize, usize, usize),
-    seed: u64,
-) -> PyResult<Arr<'_, u8>> {
-    let v =
-        crate::pool::detach(py, || phantoms::thorax([shape.2, shape.1, shape.0], seed)).py_err()?;
-    volume_out(py, &v)
-}
-
-/// Transfer functions of a phantom ("head" or "thorax").
-#[pyfunction]
+#[pyo3(signature = (name="head"))]
 fn phantom_tfs<'py>(py: Python<'py>, name: &str) -> PyResult<Vec<Arr<'py, f64>>> {
     let tfs = match name {
         "head" => phantoms::head_tfs(),
         "thorax" => phantoms::thorax_tfs(),
-        other => return Err(value_error(format!("unknown phantom {other:?}"))),
+        other => {
+            return Err(value_error(format!(
+                "unknown phantom {other:?}; use 'head' or 'thorax'"
+            )))
+        }
     };
     tfs.iter().map(|t| tf_out(py, t)).collect()
 }
 
-/// Eq. 1 addressing: the level-32 cell `(k, j, i)` and the slots of voxel `index = (k, j, i)`
-/// (array axis order) in a cube of side `r`.
+/// The paper's eq. 1: the level-32 cell ``(k, j, i)`` of the voxel ``index`` ``(k, j,
+/// i)`` (array axis order) in a cube of side ``r``, and the child slot taken at each level
+/// 32, 64, ..., r/2.
 #[pyfunction]
-fn octree_address(index: [u32; 3], r: usize) -> PyResult<([u32; 3], Vec<u8>)> {
+#[allow(clippy::type_complexity)]
+fn octree_address(
+    py: Python<'_>,
+    index: Vec<i128>,
+    r: i128,
+) -> PyResult<((u32, u32, u32), Vec<u16>)> {
+    let r: usize = uint(py, "r", r, 0)?;
+    let index: Vec<u32> = index
+        .iter()
+        .map(|&c| uint(py, "index", c, 0))
+        .collect::<PyResult<_>>()?;
+    let index: [u32; 3] = index.as_slice().try_into().map_err(|_| {
+        value_error(format!(
+            "`index` must be 3 integers (k, j, i), got {index:?}"
+        ))
+    })?;
     if !r.is_power_of_two() || r < 32 || index.iter().any(|&c| c as usize >= r) {
         return Err(value_error(format!(
             "needs r a power of two >= 32 and a voxel inside the cube, got r = {r}, `index` \
@@ -395,13 +440,17 @@ fn octree_address(index: [u32; 3], r: usize) -> PyResult<([u32; 3], Vec<u8>)> {
     }
     let [k, j, i] = index;
     let ([cx, cy, cz], slots) = address([i, j, k], r);
-    Ok(([cz, cy, cx], slots))
+    Ok(((cz, cy, cx), slots.into_iter().map(u16::from).collect()))
 }
 
-/// The 4-step block Haar transform of `(n, 16, 16, 16)` blocks indexed `[block, z, y, x]`:
-/// `(n, 4096)` packed coefficients.
+/// The server's 4-step 3-D Haar transform (averaging normalisation) of ``(n, 16, 16, 16)``
+/// blocks indexed ``[block, z, y, x]``: an ``(n, 4096)`` float32 array per block holding the
+/// root (the block mean), then the details of steps 4, 3, 2, 1 (coarse to fine), each step's
+/// parents in raster order (x fastest) with 7 details ``k = 4u + 2v + w`` (u, v, w the x,
+/// y, z difference bits).
 #[pyfunction]
-fn haar_blocks<'py>(py: Python<'py>, blocks: PyReadonlyArrayDyn<f32>) -> PyResult<Arr<'py, f32>> {
+fn haar_blocks<'py>(py: Python<'py>, blocks: &Bound<'py, PyAny>) -> PyResult<Arr<'py, f32>> {
+    let blocks = args::array::<f32>("blocks", blocks)?;
     let n = match *blocks.shape() {
         [n, 16, 16, 16] => n,
         ref s => {
@@ -420,8 +469,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyServer>()?;
     m.add_class::<PyClient>()?;
     m.add_function(wrap_pyfunction!(render_reference, m)?)?;
-    m.add_function(wrap_pyfunction!(phantom_head, m)?)?;
-    m.add_function(wrap_pyfunction!(phantom_thorax, m)?)?;
+    m.add_function(wrap_pyfunction!(make_phantom, m)?)?;
     m.add_function(wrap_pyfunction!(phantom_tfs, m)?)?;
     m.add_function(wrap_pyfunction!(octree_address, m)?)?;
     m.add_function(wrap_pyfunction!(haar_blocks, m)?)?;

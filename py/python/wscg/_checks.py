@@ -363,6 +363,8 @@ def integer_ranges(namespace: dict) -> None:
             # (and its check_estimator) asks.
             checked = not dataclasses.is_dataclass(obj) and not hasattr(obj, "get_params")
             for attr, v in list(vars(obj).items()):
+                if isinstance(v, (staticmethod, classmethod)) and inspect.isbuiltin(v.__func__):
+                    continue  # a native function (py/src): it checks its own arguments
                 if isinstance(v, (staticmethod, classmethod)):
                     setattr(obj, attr, type(v)(_translating(v.__func__, checked, cx)))
                 elif inspect.isfunction(v) and (not attr.startswith("_") or attr in ("__init__", "__call__")):

@@ -45,7 +45,11 @@ from typing import List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._native import csmri as _c
-from ._checks import _int, integer_ranges as _integer_ranges
+from ._native.csmri import (make_diamond_lattice, make_shepp_logan_image,
+                            make_shepp_logan_kspace, make_shepp_logan_reference, mask_cartesian,
+                            mask_pseudo_radial, noise_epsilon, psnr, rlne, tv_constrained,
+                            with_smooth_phase)
+from ._checks import integer_ranges as _integer_ranges
 
 # MR images and k-space are complex throughout: every array argument may be complex.
 _TAKES_COMPLEX = True
@@ -504,12 +508,11 @@ def reconstruct(kspace, mask, prior: Union[str, "Fdct"] = "udct", reg: str = "l1
     >>> x.shape
     (64, 64)
     """
-    k = _complex2(kspace, "kspace")
-    m = _mask(mask, k.shape)
     fdct = None
     if isinstance(prior, Fdct):
-        if prior.shape != k.shape:
-            raise ValueError(f"the Fdct prior is planned for {prior.shape}, the k-space is {k.shape}")
+        if prior.shape != np.shape(kspace):
+            raise ValueError(f"the Fdct prior is planned for {prior.shape}, the k-space is "
+                             f"{np.shape(kspace)}")
         fdct, prior = prior._config, "fdct"
     if tau0 is None:
         tau0 = _c.tuned_tau0(str(prior))
@@ -518,15 +521,14 @@ def reconstruct(kspace, mask, prior: Union[str, "Fdct"] = "udct", reg: str = "l1
             raise ValueError(f"`wedges` must be 'auto' or a list of [n_rows, n_cols] pairs, got {wedges!r}")
         wedges = [[6, 6]]
         if str(prior) == "udct" and int(max_iter) > 0:  # 0: the zero-filled image
-            choice = choose_scales(k, m, reg=reg, epsilon=epsilon, max_iter=max_iter, tau0=tau0,
+            choice = choose_scales(kspace, mask, reg=reg, epsilon=epsilon, max_iter=max_iter, tau0=tau0,
                                    rho=rho, tau_cap=tau_cap, tol=tol, alpha=alpha,
                                    tv_n_iter=tv_n_iter, shrink_lowpass=shrink_lowpass)
             wedges = [[6, 6]] * choice.scales
-    ref = None if reference is None else _complex2(reference, "reference")
-    img, hist = _c.reconstruct(k, m, str(prior), str(reg), float(epsilon), int(max_iter),
+    img, hist = _c.reconstruct(kspace, mask, str(prior), str(reg), float(epsilon), int(max_iter),
                                float(tau0), float(rho), float(tau_cap), float(tol),
                                _wedges(wedges), float(alpha), int(levels), int(tv_n_iter),
-                               bool(shrink_lowpass), ref, bool(return_history), fdct,
+                               bool(shrink_lowpass), reference, bool(return_history), fdct,
                                [int(v) for v in sflct_levels])
     return _with_history(img, hist, return_history)
 
@@ -581,11 +583,9 @@ def choose_scales(kspace, mask, reg: str = "l1", epsilon: float = 0.0, max_iter:
     >>> csmri.choose_scales(k, m, max_iter=10, candidates=(1, 2)).scales in (1, 2)
     True
     """
-    k = _complex2(kspace, "kspace")
-    m = _mask(mask, k.shape)
     w = _wedges([wedge])[0]
     scales, held, rows = _c.choose_udct_scales(
-        k, m, str(reg), float(epsilon), int(max_iter), float(tau0), float(rho), float(tau_cap),
+        kspace, mask, str(reg), float(epsilon), int(max_iter), float(tau0), float(rho), float(tau_cap),
         float(tol), w, float(alpha), int(tv_n_iter), bool(shrink_lowpass),
         [int(j) for j in candidates], int(folds), float(holdout), int(seed))
     return ScaleChoice(scales=int(scales), candidates=tuple(int(j) for j, _ in rows),
@@ -595,16 +595,9 @@ def choose_scales(kspace, mask, reg: str = "l1", epsilon: float = 0.0, max_iter:
 
 def _composite(method, kspace, mask, a, b, group_weight, mu_g, n_iter, tv_n_iter, order,
                levels, reference, return_history):
-    k = _complex2(kspace, "kspace")
-    div = 2 ** _int("levels", levels, 1, 30)
-    if k.shape[0] % div or k.shape[1] % div:
-        raise ValueError(f"`kspace` of shape {k.shape}: a {levels}-level wavelet transform needs "
-                         f"both sizes divisible by {div}; pad the k-space or lower `levels`")
-    m = _mask(mask, k.shape)
-    ref = None if reference is None else _complex2(reference, "reference")
-    img, hist = _c.composite(method, k, m, float(a), float(b), float(group_weight), float(mu_g),
-                             int(n_iter), int(tv_n_iter), int(order), int(levels), ref,
-                             bool(return_history))
+    img, hist = _c.composite(method, kspace, mask, float(a), float(b), float(group_weight),
+                             float(mu_g), int(n_iter), int(tv_n_iter), int(order), int(levels),
+                             reference, bool(return_history))
     return _with_history(img, hist, return_history)
 
 
@@ -645,14 +638,6 @@ def watmri(kspace, mask, a: float = 0.001, b: float = 0.035, group_weight: Optio
                       reference, return_history)
 
 
-def tv_constrained(kspace, mask, epsilon: float = 0.0, n_iter: int = 2000) -> np.ndarray:
-    """``min TV(x) s.t. ||P F x - y|| <= epsilon`` by Chambolle-Pock (the problem
-    ``reconstruct(..., reg="tv")`` solves, by another algorithm), ``n_iter`` iterations (a
-    fixed count)."""
-    k = _complex2(kspace, "kspace")
-    return _c.tv_constrained(k, _mask(mask, k.shape), float(epsilon), int(n_iter))
-
-
 def zero_filled(kspace, mask) -> np.ndarray:
     """The zero-filled reconstruction ``F^H P^T y``."""
     k = _complex2(kspace, "kspace")
@@ -666,69 +651,6 @@ def simulate(image, mask) -> np.ndarray:
     m = _mask(mask, x.shape)
     return np.where(m, np.fft.fft2(x, norm="ortho"), 0)
 
-
-def mask_cartesian(shape: Tuple[int, int], rate: float = 0.4, center_frac: float = 0.08,
-                   seed: int = 0) -> np.ndarray:
-    """Variable-density Cartesian mask of whole rows (phase encodes), un-shifted: the
-    ``round(center_frac * rows)`` rows nearest DC plus rows drawn with probability
-    proportional to ``(1 - |k| / k_max)^2``, ``round(rate * rows)`` rows in all."""
-    rows, cols = (int(v) for v in shape)
-    return _c.mask_cartesian(rows, cols, float(rate), float(center_frac), int(seed))
-
-
-def mask_pseudo_radial(shape: Tuple[int, int], rate: float = 0.302) -> Tuple[np.ndarray, int]:
-    """Pseudo-radial mask: the fewest Bresenham lines through the centre (angles
-    ``pi l / L``) covering at least ``rate``. Returns ``(mask, L)``, un-shifted."""
-    rows, cols = (int(v) for v in shape)
-    return _c.mask_pseudo_radial(rows, cols, float(rate))
-
-
-def make_shepp_logan_kspace(n: int = 256) -> np.ndarray:
-    """Analytic k-space of the modified Shepp-Logan phantom, ``(n, n)``, un-shifted,
-    unitary scaling (no inverse crime: it is not the FFT of a raster)."""
-    return _c.shepp_logan(int(n), "kspace")
-
-
-def make_shepp_logan_reference(n: int = 256) -> np.ndarray:
-    """The reference image: inverse unitary FFT of :func:`make_shepp_logan_kspace`."""
-    return _c.shepp_logan(int(n), "reference")
-
-
-def make_shepp_logan_image(n: int = 256) -> np.ndarray:
-    """The phantom rasterised on an ``(n, n)`` grid (float64)."""
-    return _c.shepp_logan(int(n), "image")
-
-
-def with_smooth_phase(magnitude, seed: int = 0) -> np.ndarray:
-    """``magnitude * exp(i phi)`` with a random smooth quadratic phase of peak-to-peak 2 pi."""
-    a = np.asarray(magnitude)
-    if np.iscomplexobj(a) or a.ndim != 2:
-        raise ValueError(f"`magnitude` must be a real 2-D array, got {a.dtype} {a.shape}")
-    return _c.with_smooth_phase(np.ascontiguousarray(a, dtype=np.float64), int(seed))
-
-
-def make_diamond_lattice(n: int = 256, period: float = 12.0) -> np.ndarray:
-    """A disk (radius 0.8 of the half field of view) filled with a rhombic lattice of the
-    given period in pixels: the directional texture of the paper's water phantom."""
-    return _c.diamond_lattice(int(n), float(period))
-
-
-def psnr(reference, x) -> float:
-    """PSNR in dB of ``|x|`` against ``|reference|``: ``20 log10(max|ref| / RMSE)``."""
-    return _c.psnr(_complex2(reference, "reference"), _complex2(x, "x"))
-
-
-def rlne(reference, x, magnitude: bool = False) -> float:
-    """Relative l2 norm error ``||x - ref|| / ||ref||`` (complex values, or magnitudes)."""
-    return _c.rlne(_complex2(reference, "reference"), _complex2(x, "x"), bool(magnitude))
-
-
-def noise_epsilon(sigma: float, m: int) -> float:
-    """``sigma sqrt(2m + 4 sqrt(m))``: the noise radius for ``m`` complex samples with
-    standard deviation ``sigma`` per component (mean + 2 std of the noise norm)."""
-    if not (sigma >= 0 and np.isfinite(sigma)):
-        raise ValueError(f"`sigma` must be finite and >= 0, got {sigma}")
-    return _c.noise_epsilon(float(sigma), int(m))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

@@ -41,6 +41,8 @@ from typing import NamedTuple, Optional, Tuple
 import numpy as np
 
 from ._native import isosurface as _m
+from ._native.isosurface import (angular_errors, at_risk_configurations, random_dropouts,
+                                 rotation_class, sparsify)
 from ._checks import integer_ranges as _integer_ranges
 from ._results import (from_mapping as _from_mapping, result as _result, tuple_eq as _tuple_eq,
                        tuple_ne as _tuple_ne, tuple_repr as _tuple_repr)
@@ -49,8 +51,6 @@ __all__ = ["marching_cubes", "estimate_normals", "sparsify", "random_dropouts",
            "angular_errors", "angular_rms", "rotation_class", "at_risk_configurations",
            "study_full_cd", "study_exact", "fields", "MeshInfo", "NormalStats", "AngularRms",
            "SparseComparison", "ExactComparison"]
-
-_METHODS = ("spline", "lsn", "central", None)
 
 # Native keys renamed to the field names of py/API.md (counts are n_<things>).
 _COUNTS = {"undefined": "n_undefined", "fallback": "n_fallback",
@@ -203,60 +203,6 @@ class ExactComparison:
     level: float
 
 
-def _vol(v) -> np.ndarray:
-    """A C-ordered float64 array for float64 input (extraction and normals in double
-    precision), float32 for anything else."""
-    a = np.asarray(v)
-    a = np.ascontiguousarray(a, dtype=np.float64 if a.dtype == np.float64 else np.float32)
-    if a.ndim != 3:
-        raise ValueError(f"volume must be a 3-D array indexed [z, y, x], got shape {a.shape}")
-    return a
-
-
-def _triple(name: str, v, what: str) -> Tuple[float, float, float]:
-    try:
-        s = tuple(float(x) for x in v)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be 3 numbers {what}, got {v!r}") from None
-    if len(s) != 3:
-        raise ValueError(f"`{name}` must have 3 entries {what}, got {v!r}")
-    return s  # type: ignore[return-value]
-
-
-def _spacing(spacing) -> Tuple[float, float, float]:
-    return _triple("spacing", spacing, "(dz, dy, dx)")
-
-
-def _origin(origin) -> np.ndarray:
-    """``(oz, oy, ox)`` as the ``(x, y, z)`` offset of the vertices."""
-    o = _triple("origin", origin, "(oz, oy, ox)")
-    if not all(np.isfinite(o)):
-        raise ValueError(f"`origin` must be finite, got {origin!r}")
-    return np.array(o[::-1], dtype=np.float64)
-
-
-def _method(normals) -> str:
-    if normals not in _METHODS:
-        raise ValueError(f"{normals!r} is not a valid normals method. Valid methods are "
-                         "'spline', 'lsn', 'central' and None.")
-    return "none" if normals is None else normals
-
-
-def _hint(side_hint, shape):
-    if side_hint is None:
-        return None
-    h = np.ascontiguousarray(np.asarray(side_hint, dtype=bool))
-    if h.shape != shape:
-        raise ValueError(f"side_hint has shape {h.shape} but volume has shape {shape}")
-    return h
-
-
-def _options(selection, eq8_literal, normalize_before_mean, ambiguous_face) -> dict:
-    return {"selection": str(selection), "eq8_literal": bool(eq8_literal),
-            "normalize_before_mean": bool(normalize_before_mean),
-            "ambiguous_face": str(ambiguous_face)}
-
-
 def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0),
                    normals: Optional[str] = "spline", side_hint=None, selection: str = "mesh",
                    eq8_literal: bool = False, normalize_before_mean: bool = False,
@@ -318,14 +264,9 @@ def marching_cubes(volume, level: float, spacing=(1.0, 1.0, 1.0),
     >>> info.n_undefined
     0
     """
-    v = _vol(volume)
-    o = _origin(origin)
-    verts, faces, nrm, info = _m.marching_cubes(v, float(level), _spacing(spacing),
-                                                _method(normals), _hint(side_hint, v.shape),
-                                                _options(selection, eq8_literal,
-                                                         normalize_before_mean, ambiguous_face))
-    if o.any():
-        verts += o.astype(verts.dtype)
+    verts, faces, nrm, info = _m.marching_cubes(volume, level, spacing, normals, side_hint,
+                                                selection, eq8_literal, normalize_before_mean,
+                                                ambiguous_face, origin)
     return verts, faces, nrm, _from_mapping(MeshInfo, info, rename=_COUNTS)
 
 
@@ -339,59 +280,17 @@ def estimate_normals(volume, level: float, edges, spacing=(1.0, 1.0, 1.0),
     :func:`marching_cubes`. Returns ``(normals (n, 3), NormalStats)``, float64 for a float64
     volume and float32 otherwise. An edge that
     does not cross ``level`` on this volume raises ValueError."""
-    v = _vol(volume)
-    e = np.ascontiguousarray(np.asarray(edges, dtype=np.int64))
-    n, stats = _m.estimate_normals(v, float(level), e, _spacing(spacing), _method(normals),
-                                   _hint(side_hint, v.shape),
-                                   _options(selection, eq8_literal, normalize_before_mean,
-                                            ambiguous_face))
+    n, stats = _m.estimate_normals(volume, level, edges, spacing, normals, side_hint,
+                                   selection, eq8_literal, normalize_before_mean,
+                                   ambiguous_face)
     return n, _from_mapping(NormalStats, stats, rename=_COUNTS)
-
-
-def sparsify(volume, level: float):
-    """The paper's sparsification protocol (section 5): keeps only the samples that are
-    endpoints of edges crossing ``level`` and sets the others to NaN. Returns
-    ``(sparse_volume, inside)`` where ``inside`` is the boolean side of every original sample
-    (pass it as ``side_hint``); the sparse volume is float64 for float64 input, float32
-    otherwise. The input is not modified."""
-    return _m.sparsify(_vol(volume), float(level))
-
-
-def random_dropouts(volume, rate: float, seed: int = 0) -> np.ndarray:
-    """A copy of ``volume`` with a fraction ``rate`` of the samples set to NaN, uniformly at
-    random (seeded): simulated sensor failures."""
-    return _m.random_dropouts(_vol(volume), float(rate), int(seed))
-
-
-def angular_errors(a, b) -> np.ndarray:
-    """Angles in radians between matching rows of two (n, 3) normal arrays; NaN where either
-    row is zero (an undefined normal)."""
-    return _m.angular_errors(np.ascontiguousarray(np.asarray(a, dtype=np.float32)),
-                             np.ascontiguousarray(np.asarray(b, dtype=np.float32)))
 
 
 def angular_rms(a, b) -> AngularRms:
     """``AngularRms(rms, n_defined, n_undefined)``, a named tuple: the RMS angular error in
     radians over the rows where both normals are defined, their number, and the number of
     rows left out."""
-    rms, n, undefined = _m.angular_rms(np.ascontiguousarray(np.asarray(a, dtype=np.float32)),
-                                       np.ascontiguousarray(np.asarray(b, dtype=np.float32)))
-    return AngularRms(rms, n, undefined)
-
-
-def rotation_class(config: int) -> int:
-    """Class (0..22) of an 8-bit cell configuration under the 24 cube rotations (section
-    5.3). Bit c is corner (c & 1, c >> 1 & 1, c >> 2) (x, y, z offsets)."""
-    if not 0 <= int(config) <= 255:
-        raise ValueError(f"config must be in 0..255, got {config}")
-    return _m.rotation_class(int(config))
-
-
-def at_risk_configurations(threshold: float = np.pi / 2, ambiguous_face: str = "inside"):
-    """The Table 4 enumeration: configurations (corner values +-1, replicate padding) where an
-    LSN normal of the central cell diverges by at least ``threshold`` radians from central
-    differences."""
-    return list(_m.at_risk(str(ambiguous_face), float(threshold)))
+    return AngularRms(*_m.angular_rms(a, b))
 
 
 def study_full_cd(volume, level: float, spacing=(1.0, 1.0, 1.0)) -> SparseComparison:
@@ -400,7 +299,7 @@ def study_full_cd(volume, level: float, spacing=(1.0, 1.0, 1.0)) -> SparseCompar
     volume. Returns a :class:`SparseComparison`: the vertex and triangle counts, the RMS
     errors (``spline``, ``lsn``: :class:`AngularRms`), the zero-normal counts and the
     fraction of vertices where central differences would be defined on the sparse volume."""
-    d = _m.study_full_cd(_vol(volume), float(level), _spacing(spacing))
+    d = _m.study_full_cd(volume, level, spacing)
     return _from_mapping(
         SparseComparison, d,
         rename={"vertices": "n_vertices", "triangles": "n_triangles",
@@ -413,7 +312,7 @@ def study_exact(name: str, n: int = 64) -> ExactComparison:
     """The paper's Table 3 protocol on a named analytic field sampled on ``n^3``: RMS angular
     errors (:class:`AngularRms`) against the exact gradient of central differences (full
     grid) and of spline and LSN normals (sparsified grid), as an :class:`ExactComparison`."""
-    d = _m.study_exact(str(name), int(n))
+    d = _m.study_exact(name, n)
     return _from_mapping(ExactComparison, d, rename={"vertices": "n_vertices"},
                          central=_rms(d["central"]), spline=_rms(d["spline"]),
                          lsn=_rms(d["lsn"]))
@@ -425,33 +324,15 @@ class fields:  # noqa: N801 - a namespace named like the Rust module (``fields.s
     NAMES = ("sphere", "torus", "marschner_lobb", "genus3", "peaks", "six_peaks", "flower",
              "linear")
 
-    @staticmethod
-    def sample(name: str, n: int = 64):
-        """``(volume [z, y, x] float32, spacing (dz, dy, dx), origin (oz, oy, ox))`` of a
-        named field on ``n^3`` samples over its domain: the sample ``[k, j, i]`` is the
-        field at ``(ox + i dx, oy + j dy, oz + k dz)``. Pass ``spacing`` and ``origin`` to
-        :func:`marching_cubes` to get vertices in the field's coordinates."""
-        return _m.sample_field(str(name), int(n))
-
-    @staticmethod
-    def exact_normals(name: str, n: int, vertices) -> np.ndarray:
-        """Exact unit normals of the named field (sampled as by :meth:`sample` with the same
-        ``n``) at world points ``(x, y, z)``: the vertices :func:`marching_cubes` returns with
-        the field's ``spacing`` and ``origin``."""
-        return _m.field_normals(str(name), int(n),
-                                np.ascontiguousarray(np.asarray(vertices, dtype=np.float32)))
+    sample = staticmethod(_m.sample)
+    exact_normals = staticmethod(_m.exact_normals)
+    make_noisy_sphere = staticmethod(_m.make_noisy_sphere)
 
     @staticmethod
     def make_marschner_lobb(n: int = 64) -> np.ndarray:
         """The Marschner-Lobb signal on [-1, 1]^3 (level 0.5)."""
         return fields.sample("marschner_lobb", n)[0]
 
-    @staticmethod
-    def make_noisy_sphere(n: int = 64, radius: float = 20.0, width: float = 1.5,
-                          noise: float = 3.0, seed: int = 0) -> np.ndarray:
-        """An 8-bit-like noisy ball: ``round(255 / (1 + exp((r - radius) / width)) +
-        N(0, noise))`` clamped to [0, 255], float32 holding integers."""
-        return _m.noisy_sphere(int(n), float(radius), float(width), float(noise), int(seed))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

@@ -60,13 +60,15 @@ raises ``ValueError``; a file that cannot be read raises ``OSError``.
 
 from __future__ import annotations
 
-import os
 import numbers
-from typing import List, Optional, Sequence, Tuple, Union
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ._native import volren as _v
+from ._native.volren import (haar_blocks, labels_to_density, load_vti, make_marschner_lobb,
+                             make_phantom, marschner_lobb_tf, mean_abs_diff, octree_address,
+                             phantom_tfs, preintegration_table, skin_tf, tissue_tf)
 from ._checks import integer_ranges as _integer_ranges
 from ._results import from_mapping as _from_mapping, result as _result
 
@@ -262,42 +264,6 @@ def render_reference(volume, tf, eye, target, up=(0.0, 0.0, 1.0), fov_deg: float
                                None if roi_tf is None else _tf(roi_tf))
 
 
-def make_phantom(name: str = "head", shape: Optional[Tuple[int, int, int]] = None,
-                 seed: int = 0) -> np.ndarray:
-    """An analytic CT-like phantom ``[z, y, x]`` (uint8): ``"head"`` (3-D modified
-    Shepp-Logan; the paper's skull is ``(112, 256, 256)``, the default) or ``"thorax"``
-    (body, lungs with vessels, heart, spine, ribs; default ``(256, 256, 256)``, the paper's
-    is 512^3)."""
-    if name == "head":
-        return _v.phantom_head(tuple(int(s) for s in (shape or (112, 256, 256))), int(seed))
-    if name == "thorax":
-        return _v.phantom_thorax(tuple(int(s) for s in (shape or (256, 256, 256))), int(seed))
-    raise ValueError(f"unknown phantom {name!r}; use 'head' or 'thorax'")
-
-
-def phantom_tfs(name: str = "head") -> List[np.ndarray]:
-    """The transfer functions of a phantom: head (soft tissue, canonical; bone), thorax (all
-    structures, canonical; bone; lungs; skin)."""
-    return _v.phantom_tfs(name)
-
-
-def octree_address(index: Sequence[int], r: int) -> Tuple[Tuple[int, int, int], List[int]]:
-    """The paper's eq. 1: the level-32 cell ``(k, j, i)`` of the voxel ``index`` ``(k, j,
-    i)`` (array axis order) in a cube of side ``r``, and the child slot taken at each level
-    32, 64, ..., r/2."""
-    cell, slots = _v.octree_address([int(c) for c in index], int(r))
-    return tuple(cell), list(slots)
-
-
-def haar_blocks(blocks) -> np.ndarray:
-    """The server's 4-step 3-D Haar transform (averaging normalisation) of ``(n, 16, 16, 16)``
-    blocks indexed ``[block, z, y, x]``: an ``(n, 4096)`` float32 array per block holding the
-    root (the block mean), then the details of steps 4, 3, 2, 1 (coarse to fine), each step's
-    parents in raster order (x fastest) with 7 details ``k = 4u + 2v + w`` (u, v, w the x,
-    y, z difference bits)."""
-    return _v.haar_blocks(np.ascontiguousarray(np.asarray(blocks, dtype=np.float32)))
-
-
 # ---------------------------------------------------------------------------------------------
 # Paper 15: convolution-based volume illumination.
 
@@ -370,20 +336,6 @@ class PreparedVolume:
 
     def __repr__(self) -> str:
         return f"PreparedVolume(shape={self.shape}, spacing={self.spacing})"
-
-
-def _rgba_tf(tf) -> np.ndarray:
-    """A C-contiguous float32 ``(N, 4)`` transfer function, ``N >= 2``."""
-    try:
-        t = np.asarray(tf, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError("`tf` must be an (N, 4) array of RGBA rows") from None
-    if t.ndim != 2 or t.shape[1] != 4 or t.shape[0] < 2:
-        raise ValueError(f"`tf` must be an (N, 4) array of RGBA rows with N >= 2, got shape "
-                         f"{t.shape}")
-    if not np.all(np.isfinite(t)):
-        raise ValueError("`tf` contains a non-finite value (NaN or infinity)")
-    return np.ascontiguousarray(t, dtype=np.float32)
 
 
 def _num(name: str, v) -> float:
@@ -560,7 +512,7 @@ def render(volume, tf, spacing: Optional[Sequence[float]] = None,
                         n_subsamples, kernel, spread, tan_half, light_dir, ambient, background,
                         interp, light_attenuation, border)
     vol, sp, vr = _illum_source(volume, spacing, value_range)
-    return _v.illum_render(vol, _rgba_tf(tf), sp, vr, opts)
+    return _v.illum_render(vol, tf, sp, vr, opts)
 
 
 def light_buffer(volume, tf, depth: float, spacing: Optional[Sequence[float]] = None,
@@ -587,97 +539,8 @@ def light_buffer(volume, tf, depth: float, spacing: Optional[Sequence[float]] = 
                         n_subsamples, kernel, spread, tan_half, light_dir, ambient, background,
                         interp, light_attenuation, border)
     vol, sp, vr = _illum_source(volume, spacing, value_range)
-    buf, z = _v.illum_light_buffer(vol, _rgba_tf(tf), _num("depth", depth), sp, vr, opts)
+    buf, z = _v.illum_light_buffer(vol, tf, _num("depth", depth), sp, vr, opts)
     return buf, float(z)
-
-
-def preintegration_table(tf, ds: float) -> np.ndarray:
-    """The pre-integration table of ``tf`` for segments of length ``ds`` (in the unit of
-    length the opacities of ``tf`` refer to):
-    an ``(N, N, 4)`` float32 array whose entry ``[f, b]`` holds the self-attenuated
-    associated colour ``(C_r, C_g, C_b)`` and the opacity ``alpha`` of a segment along which
-    the value varies linearly from ``f / (N - 1)`` (front) to ``b / (N - 1)`` (back).
-    ``alpha`` is symmetric and ``alpha[s, s] = 1 - (1 - a(s))^ds``; the colour is not
-    symmetric."""
-    return _v.preintegration_table(_rgba_tf(tf), _num("ds", ds))
-
-
-def make_marschner_lobb(n: int = 41) -> np.ndarray:
-    """The Marschner-Lobb aliasing test volume (``f_M = 6``, ``alpha = 1/4``) sampled at
-    ``n^3`` points spanning ``[-1, 1]^3``: an ``(n, n, n)`` float32 array ``[z, y, x]`` with
-    values in ``[0, 1]`` (pass ``value_range=(0, 1)`` to :func:`render` to keep them as
-    they are). ``2 <= n <= 1024``."""
-    return _v.marschner_lobb(_int("n", n))
-
-
-def marschner_lobb_tf() -> np.ndarray:
-    """A sharp transfer function for :func:`make_marschner_lobb`: a thin opaque orange shell
-    around the value 1/2; ``(256, 4)`` float32."""
-    return _v.marschner_lobb_tf()
-
-
-def tissue_tf() -> np.ndarray:
-    """A sharp transfer function for :func:`labels_to_density` fields: faint skin, red
-    organs, opaque white bone; ``(256, 4)`` float32."""
-    return _v.tissue_tf()
-
-
-def skin_tf() -> np.ndarray:
-    """A steep transfer function for :func:`labels_to_density` fields: an almost opaque
-    surface where the density crosses 0.15 (the outer boundary of the body), the kind of
-    transfer function for which the paper reports the largest gains from supersampling;
-    ``(256, 4)`` float32."""
-    return _v.skin_tf()
-
-
-def labels_to_density(labels, spacing: Sequence[float] = (1.0, 1.0, 1.0),
-                      sigma: float = 1.0) -> np.ndarray:
-    """A CT-like density field from a tissue label volume ``[z, y, x]`` (uint8, or any
-    integer dtype with values in 0..255): label 0 is background (0), labels ``1..max``
-    spread over ``[0.3, 1]`` in label order, then a Gaussian blur of ``sigma >= 0`` voxels
-    per axis (``spacing`` ``(dz, dy, dx)`` is only validated). Returns float32
-    ``[z, y, x]`` in ``[0, 1]``; render it with :func:`tissue_tf` and
-    ``value_range=(0, 1)``."""
-    a = np.asarray(labels)
-    if a.dtype != np.uint8:
-        if a.dtype.kind not in "iu":
-            raise ValueError(f"`labels` must be an integer (uint8) array, got dtype {a.dtype}")
-        if a.size and (a.min() < 0 or a.max() > 255):
-            raise ValueError("`labels` must hold values in 0..255")
-        a = a.astype(np.uint8)
-    if a.ndim != 3:
-        raise ValueError(f"`labels` must be a 3-D array indexed [z, y, x], got shape {a.shape}")
-    return _v.labels_to_density(np.ascontiguousarray(a), _vec("spacing", spacing),
-                                _num("sigma", sigma))
-
-
-def load_vti(path: Union[str, os.PathLike]) -> Tuple[np.ndarray, Vec3]:
-    """Reads a VTK XML image file (``.vti``): the first array of its point data (else of its
-    cell data) as an array ``[z, y, x]`` in the stored dtype (uint8 ... float64) and the
-    spacing ``(dz, dy, dx)`` (array axis order; the file stores ``Spacing="dx dy dz"``). The
-    file's ``Origin`` is not read.
-
-    Supported: one piece, one-component little-endian arrays, inline base64 ("binary") or
-    appended (base64 or raw) data, zlib compression or none, UInt32 or UInt64 headers.
-    Raises ``OSError`` when the file cannot be read and ``ValueError`` when its content is
-    malformed, truncated or an unsupported variant of the format.
-    """
-    try:
-        p = os.fspath(path)
-    except TypeError:
-        raise ValueError(f"`path` must be a str or os.PathLike, got {path!r}") from None
-    if isinstance(p, bytes):
-        p = os.fsdecode(p)
-    data, spacing = _v.load_vti(p)
-    return data, tuple(float(s) for s in spacing)  # type: ignore[return-value]
-
-
-def mean_abs_diff(a, b) -> float:
-    """Mean absolute difference over all pixels and the RGB channels of two ``(H, W, C)``
-    images with ``C >= 3`` (alpha ignored): the error of the paper's Table 1."""
-    fa = np.ascontiguousarray(np.asarray(a, dtype=np.float32))
-    fb = np.ascontiguousarray(np.asarray(b, dtype=np.float32))
-    return _v.mean_abs_diff(fa, fb)
 
 
 @_result
@@ -780,7 +643,7 @@ def study(volume, tf, n_views: int = 4, size: int = 256, azimuth: float = 30.0,
         "max_energy_ratio": _num("max_energy_ratio", max_energy_ratio),
     }
     vol, sp, vr = _illum_source(volume, spacing, value_range)
-    st = _v.illum_study(vol, _rgba_tf(tf), sp, vr, opts)
+    st = _v.illum_study(vol, tf, sp, vr, opts)
     return _from_mapping(IlluminationStudy, st,
                          entries=[_from_mapping(StudyEntry, e) for e in st["entries"]])
 
