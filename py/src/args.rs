@@ -5,14 +5,19 @@
 //!
 //! - arrays: [`array`] takes any array-like of real numbers (lists, other dtypes,
 //!   non-contiguous views) and gives a C-contiguous array of the element type the binding
-//!   works in, refusing complex, string and object data by name; [`indices`] reads an
-//!   optional list of indices, [`mesh`] a triangle mesh;
+//!   works in, refusing complex, string and object data by name; [`asarray`] leaves the
+//!   dtype to the binding (8-bit data taken as it is); [`complex`] takes complex data;
+//!   [`indices`] reads an optional list of indices, [`mesh`] a triangle mesh;
 //! - numbers: [`uint`] checks a count, size or seed taken as `i128` (so that a negative or
 //!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
-//!   argument, not the conversion's bare `OverflowError`); [`finite3`] checks a 3-vector;
+//!   argument, not the conversion's bare `OverflowError`); [`number`] refuses NaN;
+//!   [`finite3`] checks a 3-vector;
 //! - choices among names are [`crate::convert::choice`].
 
-use numpy::{Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
+use numpy::{
+    Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyType;
@@ -76,6 +81,43 @@ pub fn array<'py, T: Element>(
     Ok(c.cast_into::<PyArrayDyn<T>>()?.readonly())
 }
 
+/// `numpy.asarray(obj)`, for the arguments whose dtype the binding inspects itself (it
+/// takes 8-bit data as it is, without a cast that would change its values); a failure is a
+/// `ValueError` naming `name`.
+pub fn asarray<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyUntypedArray>> {
+    if let Ok(a) = obj.cast::<PyUntypedArray>() {
+        return Ok(a.clone());
+    }
+    numpy(obj.py())?
+        .call_method1("asarray", (obj,))
+        .map_err(|e| value_error(format!("`{name}` must be a numeric array: {e}")))?
+        .cast_into::<PyUntypedArray>()
+        .map_err(|e| value_error(format!("`{name}` must be a numeric array: {e}")))
+}
+
+/// `obj` (any numeric array-like: complex, real, integer or boolean) as a C-contiguous
+/// complex128 array, for the functions that take complex values (k-space, MR images); other
+/// data is refused ("must be a numeric array"), naming `name`.
+pub fn complex<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<PyReadonlyArrayDyn<'py, num_complex::Complex64>> {
+    type C = num_complex::Complex64;
+    if let Ok(a) = obj.cast::<PyArrayDyn<C>>() {
+        return Ok(a.readonly());
+    }
+    let a = asarray(name, obj)?;
+    let dtype = a.dtype();
+    if !matches!(dtype.kind(), b'b' | b'i' | b'u' | b'f' | b'c') {
+        return Err(value_error(format!(
+            "`{name}` must be a numeric array, got dtype {dtype}"
+        )));
+    }
+    let np = numpy(obj.py())?;
+    let c = np.call_method1("ascontiguousarray", (a, C::get_dtype(obj.py())))?;
+    Ok(c.cast_into::<PyArrayDyn<C>>()?.readonly())
+}
+
 /// `wscg.IntegerRangeError` (`wscg._checks`), imported once.
 fn integer_range_error(py: Python<'_>) -> PyResult<&Bound<'_, PyType>> {
     static CLASS: PyOnceLock<Py<PyType>> = PyOnceLock::new();
@@ -101,6 +143,16 @@ where
         return Err(value_error(format!("`{name}` must be >= {lo}, got {x}")));
     }
     Ok(x)
+}
+
+/// `v`, or a `ValueError` naming `name` when it is NaN (infinities pass: the functions that
+/// cannot use them say so).
+pub fn number(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_nan() {
+        Err(value_error(format!("`{name}` must be a number, got NaN")))
+    } else {
+        Ok(v)
+    }
 }
 
 /// Errors unless every component of the 3-vector `p` is finite.
