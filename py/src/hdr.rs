@@ -29,17 +29,10 @@ fn codes_in(name: &str, a: &PyReadonlyArrayDyn<u16>) -> PyResult<Image<u16>> {
     Image::new(h, w, c, values(a).into_owned()).py_err()
 }
 
-/// `obj` as a numpy array of real numbers (integers or floats; booleans, complex and other
-/// data refused by name) and its dtype's kind.
+/// `obj` as a numpy array of real numbers ([`args::real_array`]) and its dtype's kind.
 fn real_array<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<(Bound<'py, PyAny>, u8)> {
-    let a = args::asarray(name, obj)?;
+    let a = args::real_array(name, obj)?;
     let kind = a.dtype().kind();
-    if !matches!(kind, b'i' | b'u' | b'f') {
-        return Err(value_error(format!(
-            "`{name}` must be a real numeric array, got dtype {}",
-            a.dtype()
-        )));
-    }
     Ok((a.into_any(), kind))
 }
 
