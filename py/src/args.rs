@@ -12,6 +12,7 @@
 //!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
 //!   argument, not the conversion's bare `OverflowError`); [`number`] refuses NaN;
 //!   [`finite3`] checks a 3-vector;
+//! - files: [`path`] takes a `str` or `os.PathLike`;
 //! - choices among names are [`crate::convert::choice`].
 
 use numpy::{
@@ -122,6 +123,28 @@ pub fn complex<'py>(
 fn integer_range_error(py: Python<'_>) -> PyResult<&Bound<'_, PyType>> {
     static CLASS: PyOnceLock<Py<PyType>> = PyOnceLock::new();
     CLASS.import(py, "wscg._checks", "IntegerRangeError")
+}
+
+/// `wscg.ArgumentTypeError` (`wscg._checks`), imported once.
+fn argument_type_error(py: Python<'_>) -> PyResult<&Bound<'_, PyType>> {
+    static CLASS: PyOnceLock<Py<PyType>> = PyOnceLock::new();
+    CLASS.import(py, "wscg._checks", "ArgumentTypeError")
+}
+
+/// The file path `obj` (a `str` or `os.PathLike`); anything else raises
+/// `wscg.ArgumentTypeError` (a `ValueError` and a `TypeError`) naming `name`, as the
+/// Python functions' checks do.
+pub fn path(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<std::path::PathBuf> {
+    obj.extract().or_else(|_| {
+        let msg = format!(
+            "`{name}` must be a file path (str or os.PathLike), got {}",
+            obj.repr()?
+        );
+        Err(PyErr::from_type(
+            argument_type_error(obj.py())?.clone(),
+            msg,
+        ))
+    })
 }
 
 /// `v` as the unsigned integer type `T`, at least `lo`. Outside `T`'s range (negative, or

@@ -1218,7 +1218,8 @@ fn incoherence(py: Python<'_>, offsets: &Bound<'_, PyAny>) -> PyResult<f64> {
 /// Debevec and Malik, SIGGRAPH 1997 (the response ``g = ln f^-1``); Ramirez Orozco et al.,
 /// WSCG 2015, Journal of WSCG vol. 23, section 3.2 (the CRF ``f`` of the radiance merge).
 #[pyfunction]
-fn load_crf(py: Python<'_>, path: PathBuf) -> PyResult<Arr<'_, f32>> {
+fn load_crf<'py>(py: Python<'py>, path: &Bound<'py, PyAny>) -> PyResult<Arr<'py, f32>> {
+    let path = args::path("path", path)?;
     let crf = crate::pool::detach(py, || Crf::read_csv(&path)).py_err()?;
     array(
         py,
@@ -1245,7 +1246,8 @@ fn load_crf(py: Python<'_>, path: PathBuf) -> PyResult<Arr<'_, f32>> {
 /// ----------
 /// Debevec and Malik, SIGGRAPH 1997; Ramirez Orozco et al., WSCG 2015, section 3.2.
 #[pyfunction]
-fn save_crf(py: Python<'_>, path: PathBuf, crf: &Bound<'_, PyAny>) -> PyResult<()> {
+fn save_crf(py: Python<'_>, path: &Bound<'_, PyAny>, crf: &Bound<'_, PyAny>) -> PyResult<()> {
+    let path = args::path("path", path)?;
     let crf = crf_in(&CrfArg::Table(args::array::<f32>("crf", crf)?), 8)?;
     crate::pool::detach(py, || crf.write_csv(&path)).py_err()
 }
@@ -1274,7 +1276,8 @@ fn save_crf(py: Python<'_>, path: PathBuf, crf: &Bound<'_, PyAny>) -> PyResult<(
 /// ----------
 /// Ramirez Orozco et al., WSCG 2015, section 3.2 (the exposure times of the radiance merge).
 #[pyfunction]
-fn load_exposure_times(py: Python<'_>, path: PathBuf) -> PyResult<Vec<f64>> {
+fn load_exposure_times(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    let path = args::path("path", path)?;
     crate::pool::detach(py, || wscg_hdr::read_exposure_times(&path)).py_err()
 }
 
@@ -1296,7 +1299,8 @@ fn load_exposure_times(py: Python<'_>, path: PathBuf) -> PyResult<Vec<f64>> {
 /// ----------
 /// Ramirez Orozco et al., WSCG 2015, section 3.2.
 #[pyfunction]
-fn save_exposure_times(py: Python<'_>, path: PathBuf, times: Vec<f64>) -> PyResult<()> {
+fn save_exposure_times(py: Python<'_>, path: &Bound<'_, PyAny>, times: Vec<f64>) -> PyResult<()> {
+    let path = args::path("path", path)?;
     crate::pool::detach(py, || wscg_hdr::write_exposure_times(&path, &times)).py_err()
 }
 

@@ -1119,7 +1119,8 @@ fn permutation(py: Python<'_>, seed: i128, n: i128) -> PyResult<Arr<'_, i64>> {
 /// OSError
 ///     Missing, unreadable, truncated or unsupported file.
 #[pyfunction]
-fn load_image(py: Python<'_>, path: PathBuf) -> PyResult<Arr<'_, f32>> {
+fn load_image<'py>(py: Python<'py>, path: &Bound<'py, PyAny>) -> PyResult<Arr<'py, f32>> {
+    let path = args::path("path", path)?;
     let img = crate::pool::detach(py, || Image::load(&path)).py_err()?;
     convert::image_array(py, img, true)
 }
@@ -1164,10 +1165,11 @@ fn codes<T: numpy::Element + Copy + Into<f64>>(
 #[pyo3(signature = (path, image, bit_depth=None))]
 fn save_image(
     py: Python<'_>,
-    path: PathBuf,
+    path: &Bound<'_, PyAny>,
     image: &Bound<'_, PyAny>,
     bit_depth: Option<i64>,
 ) -> PyResult<()> {
+    let path = args::path("path", path)?;
     let name = path.to_string_lossy().to_ascii_lowercase();
     let sixteen_bit_format = [".png", ".tif", ".tiff"].iter().any(|e| name.ends_with(e));
     let mut bit_depth = bit_depth;
@@ -1268,11 +1270,12 @@ fn affine_rows(obj: &Bound<'_, PyAny>) -> PyResult<([[f64; 4]; 3], [f64; 3])> {
 #[pyo3(signature = (path, volume, spacing=None, affine=None))]
 fn save_volume(
     py: Python<'_>,
-    path: PathBuf,
+    path: &Bound<'_, PyAny>,
     volume: &Bound<'_, PyAny>,
     spacing: Option<[f64; 3]>,
     affine: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<()> {
+    let path = args::path("path", path)?;
     let (affine, spacing) = match affine {
         Some(a) => {
             let (rows, implied) = affine_rows(a)?;
@@ -1347,13 +1350,14 @@ fn save_volume(
 #[pyo3(signature = (path, vertices, faces, colors=None, normals=None, binary=true))]
 fn save_mesh(
     py: Python<'_>,
-    path: PathBuf,
+    path: &Bound<'_, PyAny>,
     vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
     colors: Option<&Bound<'_, PyAny>>,
     normals: Option<&Bound<'_, PyAny>>,
     binary: bool,
 ) -> PyResult<()> {
+    let path = args::path("path", path)?;
     let colors = colors
         .map(|c| args::array::<f32>("colors", c))
         .transpose()?;
