@@ -251,3 +251,20 @@ pub fn indices(name: &str, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<usize
 pub fn mesh(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<wscg_math::TriMesh> {
     crate::convert::mesh_in(&array("vertices", vertices)?, &array("faces", faces)?, None)
 }
+
+/// `numpy.asarray(obj)` when it holds real numbers (integers or floats); booleans, complex
+/// and other data are refused ("must be a real numeric array"), naming `name`. For the
+/// bindings that treat integer and float data differently before [`array`] converts it.
+pub fn real_array<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyUntypedArray>> {
+    let a = asarray(name, obj)?;
+    let dtype = a.dtype();
+    if !matches!(dtype.kind(), b'i' | b'u' | b'f') {
+        return Err(value_error(format!(
+            "`{name}` must be a real numeric array, got dtype {dtype}"
+        )));
+    }
+    Ok(a)
+}

@@ -1,11 +1,16 @@
-//! `wscg._native.hdr`: bindings of `wscg-hdr` (paper 13, multiscopic HDR image sequence
-//! generation). The documented API is `python/wscg/hdr.py`, which passes C-contiguous uint16
-//! code images, float32 radiance images, int32 offset fields and float32 response tables;
-//! every function here validates its input again, so a direct call cannot panic.
+//! `wscg.hdr`'s functions (paper 13, multiscopic HDR image sequence generation): bindings of
+//! `wscg-hdr`. The matching, synthesis, merge, metric and file functions are called by Python
+//! directly, re-exported by `python/wscg/hdr.py` (which holds the module's documentation);
+//! their arguments are converted and checked here and by [`crate::args`], and the crate's
+//! own checks name the Python arguments ([`PM_NAMES`]). The functions that take images as
+//! file paths or build result classes (`multiscopic_hdr`, `merge_stack`, `to_radiance`,
+//! the calibrations, `make_scene`) stay in Python, which passes them C-contiguous uint16
+//! code images and float32 response tables; those bindings validate their input again, so a
+//! direct call cannot panic.
 
 use std::path::PathBuf;
 
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArrayDescrMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_hdr::metrics;
@@ -14,8 +19,9 @@ use wscg_hdr::{Align, Crf, MultiscopicParams, Nnf, PatchMatchParams, StereoParam
 use wscg_math::progress::NoProgress;
 use wscg_math::Image;
 
+use crate::args::{self, number, uint};
 use crate::convert::{array, image_dims, values, Arr};
-use crate::errors::{value_error, IntoPy};
+use crate::errors::{value_error, IntoPy, IntoPyRenamed, Renames};
 
 /// An image of codes, `(H, W)` or `(H, W, C)`.
 fn codes_in(name: &str, a: &PyReadonlyArrayDyn<u16>) -> PyResult<Image<u16>> {
@@ -23,28 +29,102 @@ fn codes_in(name: &str, a: &PyReadonlyArrayDyn<u16>) -> PyResult<Image<u16>> {
     Image::new(h, w, c, values(a).into_owned()).py_err()
 }
 
-/// A float image, `(H, W)` or `(H, W, C)`, with finite values.
-fn float_in(name: &'static str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<Image<f32>> {
-    let (h, w, c) = image_dims(name, a.shape())?;
-    let img = Image::new(h, w, c, values(a).into_owned()).py_err()?;
-    img.ensure_finite(name).py_err()?;
-    Ok(img)
+/// `obj` as a numpy array of real numbers ([`args::real_array`]) and its dtype's kind.
+fn real_array<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<(Bound<'py, PyAny>, u8)> {
+    let a = args::real_array(name, obj)?;
+    let kind = a.dtype().kind();
+    Ok((a.into_any(), kind))
 }
 
-/// A field from an `(H, W, 2)` array of offsets `(dx, dy)` (costs zero).
-fn nnf_in(name: &str, off: &PyReadonlyArrayDyn<i32>) -> PyResult<Nnf> {
-    let (h, w) = match *off.shape() {
+/// A radiance image argument: a non-empty float array `(H, W)` or `(H, W, C)`, as float32
+/// with finite values, and whether it was 2-D.
+fn float_image(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(Image<f32>, bool)> {
+    let (a, kind) = real_array(name, obj)?;
+    if kind != b'f' {
+        return Err(value_error(format!(
+            "`{name}` must be a float (radiance) image, got dtype {}; convert codes with \
+             to_radiance, or cast with .astype(np.float32)",
+            a.getattr("dtype")?
+        )));
+    }
+    let a = args::array::<f32>(name, &a)?;
+    let (h, w, c) = image_dims(name, a.shape())?;
+    if h * w * c == 0 {
+        return Err(value_error(format!(
+            "`{name}` is empty (shape {:?})",
+            a.shape()
+        )));
+    }
+    let v = values(&a);
+    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+        return Err(value_error(format!(
+            "`{name}` contains a non-finite value (NaN or infinity, possibly after conversion \
+             to float32) at flat index {i}"
+        )));
+    }
+    Ok((Image::new(h, w, c, v.into_owned()).py_err()?, a.ndim() == 2))
+}
+
+/// A field argument: a non-empty `(H, W, 2)` array of integer offsets `(dx, dy)` (integral
+/// floats accepted) within +-2^30 (costs zero).
+fn offsets(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Nnf> {
+    let (a, kind) = real_array(name, obj)?;
+    let a = args::array::<f64>(name, &a)?;
+    let (h, w) = match *a.shape() {
         [h, w, 2] if h > 0 && w > 0 => (h, w),
         ref s => {
             return Err(value_error(format!(
-                "`{name}` must be a non-empty (H, W, 2) array of offsets (dx, dy), got shape {s:?}"
+                "`{name}` must be a non-empty (H, W, 2) array of offsets (dx, dy), got shape \
+                 {s:?}"
             )))
         }
     };
-    let v = values(off);
-    let o = v.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+    let v = values(&a);
+    if kind == b'f' && v.iter().any(|x| !x.is_finite() || x.round() != *x) {
+        return Err(value_error(format!("`{name}` must hold integer offsets")));
+    }
+    if v.iter().any(|x| x.abs() > f64::from(1 << 30)) {
+        return Err(value_error(format!("`{name}` holds offsets beyond +-2^30")));
+    }
+    let o = v
+        .chunks_exact(2)
+        .map(|p| [p[0] as i32, p[1] as i32])
+        .collect();
     Nnf::new(h, w, o, vec![0.0; h * w]).py_err()
 }
+
+/// A boolean mask argument: its shape and values.
+fn bool_mask(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(Vec<usize>, Vec<bool>)> {
+    let a = args::asarray(name, obj)?;
+    if a.dtype().kind() != b'b' {
+        return Err(value_error(format!(
+            "`{name}` must be a boolean array, got dtype {}",
+            a.dtype()
+        )));
+    }
+    let a = args::array::<bool>(name, a.as_any())?;
+    Ok((a.shape().to_vec(), values(&a).into_owned()))
+}
+
+/// The integer argument `name` in `lo..=hi`.
+fn bounded<T>(py: Python<'_>, name: &str, v: i128, lo: T, hi: T) -> PyResult<T>
+where
+    T: TryFrom<i128> + PartialOrd + Copy + std::fmt::Display,
+{
+    let x = uint(py, name, v, lo)?;
+    if x > hi {
+        return Err(value_error(format!("`{name}` must be <= {hi}, got {x}")));
+    }
+    Ok(x)
+}
+
+/// The crate's parameter names that the Python functions call otherwise.
+const PM_NAMES: &Renames = &[
+    ("d_min", "min_disparity"),
+    ("d_max", "max_disparity"),
+    ("iters", "n_iter"),
+    ("times", "exposure_times"),
+];
 
 /// A field as `(offsets int32 (H, W, 2), cost float32 (H, W))`.
 fn nnf_out<'py>(py: Python<'py>, f: Nnf) -> PyResult<(Arr<'py, i32>, Arr<'py, f32>)> {
@@ -159,15 +239,16 @@ fn codes_list(name: &str, v: &[PyReadonlyArrayDyn<u16>]) -> PyResult<Vec<Image<u
         .collect()
 }
 
-/// Checks a disparity range against `i32` overflow (the crate checks it against the width).
-fn check_range(d_min: i32, d_max: i32) -> PyResult<()> {
-    const LIM: u32 = 1 << 24;
+/// A disparity range as `i32` offsets, refused beyond `|d| <= 2^24` (the crate checks it
+/// against the width).
+fn check_range(d_min: i64, d_max: i64) -> PyResult<(i32, i32)> {
+    const LIM: u64 = 1 << 24;
     if d_min.unsigned_abs() > LIM || d_max.unsigned_abs() > LIM {
         return Err(value_error(format!(
             "the disparity range [{d_min}, {d_max}] is out of bounds (|d| <= 2^24)"
         )));
     }
-    Ok(())
+    Ok((d_min as i32, d_max as i32))
 }
 
 type HdrResult<'py> = (Vec<Arr<'py, f32>>, Option<Bound<'py, PyDict>>, Vec<usize>);
@@ -206,7 +287,7 @@ fn multiscopic_hdr<'py>(
     let flat = views[0].ndim() == 2;
     let imgs = codes_list("views", &views)?;
     let crfs = crfs_in(py, &crfs, &imgs, bits)?;
-    check_range(d_min, d_max)?;
+    check_range(i64::from(d_min), i64::from(d_max))?;
     let synthesis = match synthesis {
         "bds" => Synthesis::Bds,
         "direct" => Synthesis::Direct,
@@ -251,53 +332,103 @@ fn multiscopic_hdr<'py>(
     Ok((hdr, fields, out.fallback_pixels))
 }
 
-/// Merge of aligned radiance samples (eq. 6): one `(radiance, weight, level)` triple of
-/// float images per input, with its exposure time.
+/// Merge aligned radiance samples into HDR (paper eq. 6), e.g. a reference view and
+/// source views synthesised aligned to it by :func:`vote_bds`.
+///
+/// Parameters
+/// ----------
+/// radiances : list of float arrays (H, W) or (H, W, C)
+///     Radiance ``E_n`` of every input, one shape.
+/// weights : list of float arrays
+///     Weight of every sample (:func:`khan_weight` of its code, or voted weights), ``>= 0``.
+/// levels : list of float arrays
+///     Normalised code ``Z / z_max`` of every sample in ``[0, 1]`` (which side a clipped
+///     sample is on).
+/// exposure_times : sequence of float
+///     Exposure time of every input (seconds, > 0): orders the fallback.
+///
+/// Returns
+/// -------
+/// hdr : float32 array of the inputs' shape
+///     ``E = sum_n w_n E_n / sum_n w_n`` per pixel and channel.
+/// fallback_pixels : int
+///     Pixels where some channel had total weight ``< 1e-6``; those take the radiance of
+///     the shortest exposure (mean level >= 1/2: clipped high) or of the longest one.
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, eqs. 6-7.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from wscg import hdr
+/// >>> e = [np.full((1, 2), 4.0, np.float32), np.full((1, 2), 2.0, np.float32)]
+/// >>> w = [np.full((1, 2), 1.0, np.float32), np.full((1, 2), 3.0, np.float32)]
+/// >>> lv = [np.full((1, 2), 0.5, np.float32)] * 2
+/// >>> out, n = hdr.merge(e, w, lv, [0.01, 0.02])
+/// >>> float(out[0, 0]), n
+/// (2.5, 0)
 #[pyfunction]
-#[pyo3(signature = (radiances, weights, levels, times))]
 fn merge<'py>(
     py: Python<'py>,
-    radiances: Vec<PyReadonlyArrayDyn<'py, f32>>,
-    weights: Vec<PyReadonlyArrayDyn<'py, f32>>,
-    levels: Vec<PyReadonlyArrayDyn<'py, f32>>,
-    times: Vec<f64>,
+    radiances: Vec<Bound<'py, PyAny>>,
+    weights: Vec<Bound<'py, PyAny>>,
+    levels: Vec<Bound<'py, PyAny>>,
+    exposure_times: Vec<f64>,
 ) -> PyResult<(Arr<'py, f32>, usize)> {
-    let Some(first) = radiances.first() else {
-        return Err(value_error("`radiances` is empty: nothing to merge"));
-    };
-    if weights.len() != radiances.len() || levels.len() != radiances.len() {
-        return Err(value_error(format!(
-            "{} radiance images need as many weights and levels, got {} and {}",
-            radiances.len(),
-            weights.len(),
-            levels.len()
-        )));
+    let n = radiances.len();
+    if n == 0 {
+        return Err(value_error(
+            "`radiances` must be a non-empty list of images",
+        ));
     }
-    let flat = first.ndim() == 2;
-    let samples = (0..radiances.len())
-        .map(|k| {
-            Ok(wscg_hdr::ViewSamples {
-                radiance: float_in("radiances", &radiances[k])?,
-                weight: float_in("weights", &weights[k])?,
-                level: float_in("levels", &levels[k])?,
-            })
-        })
-        .collect::<PyResult<Vec<_>>>()?;
+    for (name, xs) in [("weights", &weights), ("levels", &levels)] {
+        if xs.len() != n {
+            return Err(value_error(format!(
+                "`{name}` must be a list of {n} images, one per radiance image"
+            )));
+        }
+    }
+    let mut samples = Vec::with_capacity(n);
+    let mut flat = false;
+    for (k, ((r, w), l)) in radiances.iter().zip(&weights).zip(&levels).enumerate() {
+        let (radiance, f) = float_image("radiances", r)?;
+        let (weight, _) = float_image("weights", w)?;
+        let (level, _) = float_image("levels", l)?;
+        if k == 0 {
+            flat = f;
+        }
+        samples.push(wscg_hdr::ViewSamples {
+            radiance,
+            weight,
+            level,
+        });
+    }
+    let shape = samples[0].radiance.shape();
+    for (k, s) in samples.iter().enumerate() {
+        if s.radiance.shape() != shape || s.weight.shape() != shape || s.level.shape() != shape {
+            return Err(value_error(format!(
+                "input {k}: radiance, weight and level must all have shape {shape:?} (height, \
+                 width, channels)"
+            )));
+        }
+        if s.weight.data().iter().any(|&w| w < 0.0) {
+            return Err(value_error(format!("`weights[{k}]` must be >= 0")));
+        }
+        if s.level.data().iter().any(|&l| !(0.0..=1.0).contains(&l)) {
+            return Err(value_error(format!("`levels[{k}]` must be in [0, 1]")));
+        }
+    }
+    wscg_hdr::radiance::check_times(&exposure_times, n).py_err_renamed(PM_NAMES)?;
     let inputs: Vec<wscg_hdr::MergeInput> = samples
         .iter()
-        .zip(&times)
+        .zip(&exposure_times)
         .map(|(s, &t)| wscg_hdr::MergeInput {
             samples: s,
             time: t,
         })
         .collect();
-    if times.len() != samples.len() {
-        return Err(value_error(format!(
-            "{} exposure times for {} inputs",
-            times.len(),
-            samples.len()
-        )));
-    }
     let m = crate::pool::detach(py, || wscg_hdr::merge(&inputs)).py_err()?;
     Ok((
         crate::convert::image_array(py, m.hdr, flat)?,
@@ -359,28 +490,63 @@ fn to_radiance<'py>(
     crate::convert::image_array(py, e, flat)
 }
 
+/// Khan, Akyuz & Reinhard's weight of a code (paper eq. 7):
+/// ``w(Z) = 1 - (2 Z / z_max - 1)^12``, clipped at 0.
+///
+/// Exactly 0 at ``Z = 0`` and ``Z = z_max`` (clipped samples do not leak into the merge),
+/// 1 at ``z_max / 2`` and close to 1 over most of the range.
+///
+/// Parameters
+/// ----------
+/// z : float or array
+///     Codes (finite).
+/// z_max : float, default 255
+///     Largest code (1023 for 10-bit data).
+///
+/// Returns
+/// -------
+/// float for a scalar ``z``, otherwise a float32 array of its shape.
+///
+/// References
+/// ----------
+/// E. A. Khan et al., ICIP 2006; Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23,
+/// eq. 7.
+///
+/// Examples
+/// --------
+/// >>> from wscg import hdr
+/// >>> hdr.khan_weight(0.0), hdr.khan_weight(127.5), hdr.khan_weight(255.0)
+/// (0.0, 1.0, 0.0)
 #[pyfunction]
+#[pyo3(signature = (z, z_max=255.0))]
 fn khan_weight<'py>(
     py: Python<'py>,
-    z: PyReadonlyArrayDyn<'py, f32>,
-    z_max: f32,
-) -> PyResult<Arr<'py, f32>> {
+    z: &Bound<'py, PyAny>,
+    z_max: f64,
+) -> PyResult<Bound<'py, PyAny>> {
     if !(z_max.is_finite() && z_max > 0.0) {
         return Err(value_error(format!(
             "`z_max` must be finite and > 0, got {z_max}"
         )));
     }
-    let shape = z.shape().to_vec();
-    let v = values(&z);
+    let z_max = z_max as f32;
+    let (a, _) = real_array("z", z)?;
+    let scalar = a.getattr("ndim")?.extract::<usize>()? == 0;
+    let a = args::array::<f32>("z", &a)?;
+    let shape = a.shape().to_vec();
+    let v = values(&a);
     if v.iter().any(|x| !x.is_finite()) {
         return Err(value_error(
             "`z` contains a non-finite value (NaN or infinity)",
         ));
     }
-    let out = crate::pool::detach(py, || {
+    let out: Vec<f32> = crate::pool::detach(py, || {
         v.iter().map(|&x| wscg_hdr::khan_weight(x, z_max)).collect()
     })?;
-    array(py, &shape, out)
+    if scalar {
+        return Ok(f64::from(out[0]).into_pyobject(py)?.into_any());
+    }
+    Ok(array(py, &shape, out)?.into_any())
 }
 
 #[pyfunction]
@@ -469,144 +635,340 @@ fn calibrate_mitsunaga_nayar<'py>(
     Ok((table, info))
 }
 
+type Field<'py> = (Arr<'py, i32>, Arr<'py, f32>);
+
+/// The two radiance images `a` and `b` of a matcher and their smaller height and width.
+fn image_pair(
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+) -> PyResult<(Image<f32>, Image<f32>, usize, usize)> {
+    let (ia, _) = float_image("a", a)?;
+    let (ib, _) = float_image("b", b)?;
+    let h = ia.height().min(ib.height());
+    let w = ia.width().min(ib.width());
+    Ok((ia, ib, h, w))
+}
+
+/// The paper's PatchMatch from image ``a`` to image ``b`` (section 3.1, eqs. 1-4).
+///
+/// Parameters
+/// ----------
+/// a, b : float arrays (H, W) or (H, W, C)
+///     Radiance images (see :func:`to_radiance`) with the same number of channels; they may
+///     differ in size.
+/// patch : int, default 7
+///     Patch side ``N`` (odd, >= 3, <= the smaller image side).
+/// n_iter : int, default 2
+///     Sweeps: even ones scan top-left to bottom-right and propagate from the left and top
+///     neighbours, odd ones scan back. The rows of a sweep run on every thread of wscg's
+///     pool (:func:`wscg.set_num_threads`) as a pipeline that gives exactly the
+///     sequential scan's field, so the result depends on ``seed`` only, never on the
+///     thread count.
+/// min_disparity, max_disparity : int, default -64, 64
+///     Range of the horizontal offset ``dx`` (epipolar mode); ``|d| < width``.
+/// v_tol : int, default 0
+///     Vertical tolerance ``|dy| <= v_tol`` (0: exact rectification).
+/// coherence : bool, default True
+///     Divide the patch distance by the coherence term (eq. 2); ``False``: SSD alone.
+/// epipolar : bool, default True
+///     Search on the epipolar line; ``False`` searches all of ``b`` in 2-D (the disparity
+///     range and ``v_tol`` are then unused).
+/// c_min : float, default 0.05
+///     Lower bound of the coherence term ``C`` in ``(0, 1]`` (the paper leaves ``C <= 0``
+///     undefined).
+/// alpha : float, default 0.5
+///     Ratio of the random-search radii (eq. 1), in ``(0, 1)``.
+/// seed : int, default 0
+///     Seed of the initialisation and the random search.
+///
+/// Returns
+/// -------
+/// offsets : int32 array (H, W, 2)
+///     ``(dx, dy)`` per pixel of ``a``: pixel ``(x, y)`` matches ``(x + dx, y + dy)`` of
+///     ``b``.
+/// cost : float32 array (H, W)
+///     The final cost ``D`` of each match (eq. 2; the SSD when ``coherence=False``).
+///
+/// Notes
+/// -----
+/// ``SSD(p, d)`` is the mean over the valid pixels and channels of the squared difference of
+/// the ``N x N`` patches at ``p`` in ``a`` and ``p + d`` in ``b`` (eq. 3, a mean so border
+/// patches compare fairly); ``C(p, d) = max(1 - d_c / Max_disp, c_min)`` (eq. 4),
+/// ``Max_disp = max(|min_disparity|, |max_disparity|)`` and ``d_c`` the Euclidean distance
+/// of ``d`` to the closest current offset of a 4-neighbour; ``D = SSD / C`` (eq. 2). The
+/// offsets start uniformly random in the range on the same scanline; each pixel tries its
+/// neighbours' offsets (propagation) and ``u_i = v_0 + w alpha^i R_i``, ``R_i ~ U[-1, 1]``,
+/// ``w = Max_disp``, while ``w alpha^i >= 1`` (random search, eq. 1). The cost of the
+/// current match is recomputed before each comparison because ``C`` depends on neighbours
+/// that moved. The sequential scan's field, computed on every thread of wscg's pool, and
+/// deterministic for a given ``seed``.
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3.1, eqs. 1-4.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from wscg import hdr
+/// >>> rng = np.random.default_rng(0)
+/// >>> a = rng.random((32, 64)).astype(np.float32)
+/// >>> b = np.roll(a, -5, axis=1)            # b(x - 5) = a(x): true offset -5
+/// >>> off, cost = hdr.patchmatch(a, b, min_disparity=-10, max_disparity=10, n_iter=4)
+/// >>> float(np.mean(off[4:-4, 8:-8, 0] == -5)) > 0.95
+/// True
+#[pyfunction]
+#[pyo3(signature = (a, b, *, patch=7, n_iter=2, min_disparity=Some(-64), max_disparity=64,
+                    v_tol=0, coherence=true, epipolar=true, c_min=0.05, alpha=0.5, seed=0),
+       text_signature = "(a, b, *, patch=7, n_iter=2, min_disparity=-64, max_disparity=64, \
+                         v_tol=0, coherence=True, epipolar=True, c_min=0.05, alpha=0.5, seed=0)")]
 #[allow(clippy::too_many_arguments)]
-fn pm_params(
-    patch: usize,
-    n_iter: usize,
-    d_min: i32,
-    d_max: i32,
-    v_tol: i32,
+fn patchmatch<'py>(
+    py: Python<'py>,
+    a: &Bound<'py, PyAny>,
+    b: &Bound<'py, PyAny>,
+    patch: i128,
+    n_iter: i128,
+    min_disparity: Option<i64>,
+    max_disparity: i64,
+    v_tol: i64,
     coherence: bool,
     epipolar: bool,
-    c_min: f32,
-    alpha: f32,
-    seed: u64,
-) -> PyResult<PatchMatchParams> {
-    check_range(d_min, d_max)?;
-    Ok(PatchMatchParams::default()
+    c_min: f64,
+    alpha: f64,
+    seed: i128,
+) -> PyResult<Field<'py>> {
+    let (ia, ib, h, _) = image_pair(a, b)?;
+    let patch: usize = uint(py, "patch", patch, 0)?;
+    let n_iter: usize = bounded(py, "n_iter", n_iter, 0, 100_000)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    let (d_min, d_max) = check_range(
+        min_disparity.unwrap_or(max_disparity.saturating_neg()),
+        max_disparity,
+    )?;
+    // Without the epipolar constraint the range and the tolerance are not used.
+    let v_tol = if !epipolar {
+        v_tol.clamp(0, 1 << 24) as i32
+    } else if (0..h as i64).contains(&v_tol) {
+        v_tol as i32
+    } else {
+        return Err(value_error(format!(
+            "`v_tol` must be in 0..{}, got {v_tol}",
+            h.saturating_sub(1)
+        )));
+    };
+    let p = PatchMatchParams::default()
         .patch(patch)
         .iters(n_iter)
         .d_min(d_min)
         .d_max(d_max)
         .v_tol(v_tol)
-        .alpha(alpha)
+        .alpha(number("alpha", alpha)? as f32)
         .epipolar(epipolar)
         .coherence(coherence)
-        .c_min(c_min)
+        .c_min(number("c_min", c_min)? as f32)
         .seed(seed)
-        .weighted_cost(false))
-}
-
-type Field<'py> = (Arr<'py, i32>, Arr<'py, f32>);
-
-#[pyfunction]
-#[pyo3(signature = (a, b, patch, n_iter, d_min, d_max, v_tol, coherence, epipolar, c_min, alpha,
-                    seed))]
-#[allow(clippy::too_many_arguments)]
-fn patchmatch<'py>(
-    py: Python<'py>,
-    a: PyReadonlyArrayDyn<'py, f32>,
-    b: PyReadonlyArrayDyn<'py, f32>,
-    patch: usize,
-    n_iter: usize,
-    d_min: i32,
-    d_max: i32,
-    v_tol: i32,
-    coherence: bool,
-    epipolar: bool,
-    c_min: f32,
-    alpha: f32,
-    seed: u64,
-) -> PyResult<Field<'py>> {
-    let (ia, ib) = (float_in("a", &a)?, float_in("b", &b)?);
-    let p = pm_params(
-        patch, n_iter, d_min, d_max, v_tol, coherence, epipolar, c_min, alpha, seed,
-    )?;
-    let f = crate::pool::detach(py, || wscg_hdr::patchmatch(&ia, &ib, &p)).py_err()?;
+        .weighted_cost(false);
+    let f =
+        crate::pool::detach(py, || wscg_hdr::patchmatch(&ia, &ib, &p)).py_err_renamed(PM_NAMES)?;
     nnf_out(py, f)
 }
 
+/// The original PatchMatch of Barnes et al. (2009), the paper's "PM" baseline: 2-D
+/// offsets anywhere in ``b``, SSD cost without the coherence term.
+///
+/// Parameters
+/// ----------
+/// a, b : float arrays (H, W) or (H, W, C)
+///     Images with the same number of channels.
+/// patch : int, default 7
+///     Patch side (odd, >= 3).
+/// n_iter : int, default 5
+///     Sweeps (Barnes et al. suggest 4-5; the paper compares 2 and 5).
+/// seed : int, default 0
+///
+/// Returns
+/// -------
+/// offsets : int32 array (H, W, 2)
+///     ``(dx, dy)`` per pixel of ``a``.
+/// cost : float32 array (H, W)
+///     Mean squared patch difference of each match.
+///
+/// Notes
+/// -----
+/// Uniform random initialisation over ``b``, propagation as in :func:`patchmatch`, random
+/// search from radius ``max(W, H)`` with ``alpha = 1/2`` and ``R_i ~ U[-1, 1]^2``.
+///
+/// References
+/// ----------
+/// Barnes et al., SIGGRAPH 2009; compared against in Ramirez Orozco et al., WSCG 2015,
+/// Journal of WSCG vol. 23, Figs. 4, 6 and 7.
 #[pyfunction]
+#[pyo3(signature = (a, b, *, patch=7, n_iter=5, seed=0))]
 fn patchmatch_2d<'py>(
     py: Python<'py>,
-    a: PyReadonlyArrayDyn<'py, f32>,
-    b: PyReadonlyArrayDyn<'py, f32>,
-    patch: usize,
-    n_iter: usize,
-    seed: u64,
+    a: &Bound<'py, PyAny>,
+    b: &Bound<'py, PyAny>,
+    patch: i128,
+    n_iter: i128,
+    seed: i128,
 ) -> PyResult<Field<'py>> {
-    let (ia, ib) = (float_in("a", &a)?, float_in("b", &b)?);
+    let (ia, ib, _, _) = image_pair(a, b)?;
+    let patch: usize = uint(py, "patch", patch, 0)?;
+    let n_iter: usize = bounded(py, "n_iter", n_iter, 0, 100_000)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
     let f = crate::pool::detach(py, || {
         wscg_hdr::patchmatch_2d(&ia, &ib, patch, n_iter, seed)
     })
-    .py_err()?;
+    .py_err_renamed(PM_NAMES)?;
     nnf_out(py, f)
 }
 
+/// The stereo-matching baseline (Batz et al. 2014 style, the paper's Fig. 1b).
+///
+/// Parameters
+/// ----------
+/// a, b : float arrays (H, W) or (H, W, C) of one shape
+///     Radiance images; they are matched in grey (channel mean).
+/// window : int, default 9
+///     Correlation window side (odd, >= 3).
+/// min_disparity, max_disparity : int, default -64, 64
+///     Range of the horizontal offset: pixel ``x`` of ``a`` matches ``x + d`` of ``b``.
+/// lr_tol : int, default 1
+///     Left-right consistency tolerance ``|d_ab + d_ba| <= lr_tol``.
+///
+/// Returns
+/// -------
+/// offsets : int32 array (H, W, 2)
+///     ``(d, 0)`` per pixel of ``a``.
+/// cost : float32 array (H, W)
+///     ``1 - ZNCC`` of the winner-take-all match (before the filling).
+///
+/// Notes
+/// -----
+/// Zero-mean normalised cross-correlation of the grey windows, winner-take-all over the
+/// range in both directions; pixels failing the left-right check take the nearer valid
+/// disparity of their row with the smaller ``|d|`` (the background side, where occlusions
+/// are).
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, Fig. 1b; M. Batz et al.,
+/// "High dynamic range video reconstruction from a stereo camera setup", Signal Processing:
+/// Image Communication 29(2), 2014.
 #[pyfunction]
+#[pyo3(signature = (a, b, *, window=9, min_disparity=Some(-64), max_disparity=64, lr_tol=1),
+       text_signature = "(a, b, *, window=9, min_disparity=-64, max_disparity=64, lr_tol=1)")]
 fn zncc_stereo<'py>(
     py: Python<'py>,
-    a: PyReadonlyArrayDyn<'py, f32>,
-    b: PyReadonlyArrayDyn<'py, f32>,
-    window: usize,
-    d_min: i32,
-    d_max: i32,
-    lr_tol: i32,
+    a: &Bound<'py, PyAny>,
+    b: &Bound<'py, PyAny>,
+    window: i128,
+    min_disparity: Option<i64>,
+    max_disparity: i64,
+    lr_tol: i128,
 ) -> PyResult<Field<'py>> {
-    let (ia, ib) = (float_in("a", &a)?, float_in("b", &b)?);
-    check_range(d_min, d_max)?;
-    if lr_tol < 0 {
-        return Err(value_error(format!("`lr_tol` must be >= 0, got {lr_tol}")));
-    }
+    let (ia, ib, _, _) = image_pair(a, b)?;
+    let window: usize = uint(py, "window", window, 0)?;
+    let lr_tol: i32 = bounded(py, "lr_tol", lr_tol, 0, 1 << 24)?;
+    let (d_min, d_max) = check_range(
+        min_disparity.unwrap_or(max_disparity.saturating_neg()),
+        max_disparity,
+    )?;
     let p = StereoParams::default()
         .window(window)
         .d_min(d_min)
         .d_max(d_max)
         .lr_tol(lr_tol);
-    let f = crate::pool::detach(py, || wscg_hdr::zncc_stereo(&ia, &ib, &p)).py_err()?;
+    let f =
+        crate::pool::detach(py, || wscg_hdr::zncc_stereo(&ia, &ib, &p)).py_err_renamed(PM_NAMES)?;
     nnf_out(py, f)
 }
 
-/// Checks that a field lies on the grid of `img`.
-fn field_fits(name: &str, f: &Nnf, img: &Image<f32>) -> PyResult<()> {
-    if (f.height(), f.width()) != (img.height(), img.width()) {
+/// Synthesise the source view ``src`` aligned to a reference view by bidirectional-
+/// similarity patch voting (paper section 3.2, eq. 5; Simakov et al. 2008).
+///
+/// Parameters
+/// ----------
+/// src : float array (Hs, Ws) or (Hs, Ws, C)
+///     The source view ``s`` (radiance, or any per-pixel quantity to carry over).
+/// offsets_rs : int array (Hr, Wr, 2)
+///     Field from the reference ``r`` to the source (on the reference grid).
+/// offsets_sr : int array (Hs, Ws, 2)
+///     Field from the source to the reference (on the source grid).
+/// patch : int, default 7
+///     Patch side ``N`` of the votes (the one the fields were computed with).
+///
+/// Returns
+/// -------
+/// float32 array (Hr, Wr) or (Hr, Wr, C)
+///     ``T_{r<-s}``, aligned to the reference with the values of the source.
+///
+/// Notes
+/// -----
+/// Per reference pixel ``p``:
+/// ``T(p) = [ (1/N_r) sum_{q: p in Q(q)} S(q + off_rs(q) + p - q)
+/// + (1/N_s) sum_{t: p in Q(t + off_sr(t))} S(t + p - (t + off_sr(t))) ]
+/// / [ n_1(p) / N_r + n_2(p) / N_s ]``, ``Q(q)`` the ``N x N`` window at ``q``,
+/// ``n_1, n_2`` the vote counts and ``N_r, N_s`` the patch counts of the two views. The
+/// first term fetches every reference patch from the source, the second pushes every
+/// source patch to where it matches, so there are no holes; occluded areas get the colours
+/// of their best matches ("accurate in colour, not geometry"). Votes from outside ``src``
+/// are skipped. The result does not depend on the thread count.
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3.2, eq. 5.
+#[pyfunction]
+#[pyo3(signature = (src, offsets_rs, offsets_sr, *, patch=7))]
+fn vote_bds<'py>(
+    py: Python<'py>,
+    src: &Bound<'py, PyAny>,
+    offsets_rs: &Bound<'py, PyAny>,
+    offsets_sr: &Bound<'py, PyAny>,
+    patch: i128,
+) -> PyResult<Arr<'py, f32>> {
+    let (img, flat) = float_image("src", src)?;
+    let rs = offsets("offsets_rs", offsets_rs)?;
+    let sr = offsets("offsets_sr", offsets_sr)?;
+    if (sr.height(), sr.width()) != (img.height(), img.width()) {
         return Err(value_error(format!(
-            "`{name}` is {} x {} but the source image is {} x {}",
-            f.height(),
-            f.width(),
+            "`offsets_sr` is on a {} x {} grid but `src` is {} x {}: it must be the source's \
+             field",
+            sr.height(),
+            sr.width(),
             img.height(),
             img.width()
         )));
     }
-    Ok(())
-}
-
-#[pyfunction]
-fn vote_bds<'py>(
-    py: Python<'py>,
-    src: PyReadonlyArrayDyn<'py, f32>,
-    offsets_rs: PyReadonlyArrayDyn<'py, i32>,
-    offsets_sr: PyReadonlyArrayDyn<'py, i32>,
-    patch: usize,
-) -> PyResult<Arr<'py, f32>> {
-    let flat = src.ndim() == 2;
-    let img = float_in("src", &src)?;
-    let rs = nnf_in("offsets_rs", &offsets_rs)?;
-    let sr = nnf_in("offsets_sr", &offsets_sr)?;
-    field_fits("offsets_sr", &sr, &img)?;
+    let patch: usize = uint(py, "patch", patch, 0)?;
     let out = crate::pool::detach(py, || wscg_hdr::vote_bds(&img, &rs, &sr, patch)).py_err()?;
     crate::convert::image_array(py, out, flat)
 }
 
+/// Direct warp of ``src`` through the reference-to-source field (the paper's Fig. 5a
+/// ablation): ``T(p) = src(p + off_rs(p))``, clamped into ``src``.
+///
+/// Parameters
+/// ----------
+/// src : float array (Hs, Ws) or (Hs, Ws, C)
+/// offsets_rs : int array (Hr, Wr, 2)
+///
+/// Returns
+/// -------
+/// float32 array (Hr, Wr) or (Hr, Wr, C)
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3.2, Fig. 5a.
 #[pyfunction]
 fn warp_direct<'py>(
     py: Python<'py>,
-    src: PyReadonlyArrayDyn<'py, f32>,
-    offsets_rs: PyReadonlyArrayDyn<'py, i32>,
+    src: &Bound<'py, PyAny>,
+    offsets_rs: &Bound<'py, PyAny>,
 ) -> PyResult<Arr<'py, f32>> {
-    let flat = src.ndim() == 2;
-    let img = float_in("src", &src)?;
-    let rs = nnf_in("offsets_rs", &offsets_rs)?;
+    let (img, flat) = float_image("src", src)?;
+    let rs = offsets("offsets_rs", offsets_rs)?;
     let out = crate::pool::detach(py, || wscg_hdr::warp_direct(&img, &rs)).py_err()?;
     crate::convert::image_array(py, out, flat)
 }
@@ -688,80 +1050,176 @@ fn make_scene<'py>(
     Ok(d)
 }
 
+/// Log-radiance error ``sqrt(mean((log2 est - log2 gt)^2))`` against ground truth.
+///
+/// Parameters
+/// ----------
+/// est, gt : float arrays (H, W) or (H, W, C) of one shape
+///     Estimated and true radiance; ``gt`` must be > 0 where evaluated. Non-positive
+///     estimates count as the smallest positive float32.
+/// mask : bool array, optional
+///     Pixel-channels to evaluate: the shape of ``est``, or ``(H, W)`` (applied to every
+///     channel). Default: all.
+///
+/// Returns
+/// -------
+/// float
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23 (the paper reports figures
+/// only; this quantitative measure is ours, an error in stops that weighs dark and bright
+/// regions alike).
 #[pyfunction]
 #[pyo3(signature = (est, gt, mask=None))]
 fn rmse_log2(
     py: Python<'_>,
-    est: PyReadonlyArrayDyn<'_, f32>,
-    gt: PyReadonlyArrayDyn<'_, f32>,
-    mask: Option<PyReadonlyArrayDyn<'_, bool>>,
+    est: &Bound<'_, PyAny>,
+    gt: &Bound<'_, PyAny>,
+    mask: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<f64> {
-    if est.shape() != gt.shape() {
+    let (e, flat) = float_image("est", est)?;
+    let (g, _) = float_image("gt", gt)?;
+    let (h, w, c) = e.shape();
+    let shape = if flat { vec![h, w] } else { vec![h, w, c] };
+    if e.shape() != g.shape() {
         return Err(value_error(format!(
-            "`est` has shape {:?} but `gt` has {:?}",
-            est.shape(),
-            gt.shape()
+            "`est` has shape {shape:?} but `gt` has {:?} (height, width, channels)",
+            g.shape()
         )));
     }
-    let (e, g) = (float_in("est", &est)?, float_in("gt", &gt)?);
-    let m = match &mask {
-        Some(m) if m.shape() == est.shape() => Some(values(m).into_owned()),
-        Some(m) => {
-            return Err(value_error(format!(
-                "`mask` has shape {:?}, expected that of `est` {:?}",
-                m.shape(),
-                est.shape()
-            )))
-        }
+    let m = match mask {
         None => None,
+        Some(m) => {
+            let (ms, mv) = bool_mask("mask", m)?;
+            if ms == shape {
+                Some(mv)
+            } else if !flat && ms == [h, w] {
+                // One flag per pixel, for every channel.
+                Some(mv.iter().flat_map(|&b| std::iter::repeat_n(b, c)).collect())
+            } else {
+                return Err(value_error(format!(
+                    "`mask` has shape {ms:?}; expected {shape:?} or {:?}",
+                    [h, w]
+                )));
+            }
+        }
     };
     crate::pool::detach(py, || metrics::rmse_log2(&e, &g, m.as_deref())).py_err()
 }
 
+/// Fraction of pixels whose horizontal offset differs from the truth by more than ``k``
+/// pixels (the bad-k rate of stereo benchmarks; a nonzero ``dy`` counts as bad).
+///
+/// Parameters
+/// ----------
+/// offsets : int array (H, W, 2)
+///     A field ``(dx, dy)``, e.g. from :func:`patchmatch`.
+/// truth : float array (H, W)
+///     True horizontal offset; NaN or infinity marks unknown pixels (not counted).
+/// k : float, default 2.0
+///     Tolerance in pixels (>= 0).
+/// mask : bool array (H, W), optional
+///     Pixels to rate (default: all with a known truth).
+///
+/// Returns
+/// -------
+/// float in ``[0, 1]``.
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3.1 (matching
+/// accuracy, Figs. 4, 6, 7).
 #[pyfunction]
-#[pyo3(signature = (offsets, truth, k, mask=None))]
+#[pyo3(signature = (offsets, truth, k=2.0, mask=None))]
 fn bad_rate(
     py: Python<'_>,
-    offsets: PyReadonlyArrayDyn<'_, i32>,
-    truth: PyReadonlyArrayDyn<'_, f32>,
-    k: f32,
-    mask: Option<PyReadonlyArrayDyn<'_, bool>>,
+    offsets: &Bound<'_, PyAny>,
+    truth: &Bound<'_, PyAny>,
+    k: f64,
+    mask: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<f64> {
-    let f = nnf_in("offsets", &offsets)?;
+    let f = self::offsets("offsets", offsets)?;
     let hw = [f.height(), f.width()];
-    if truth.shape() != hw {
+    let (t, _) = real_array("truth", truth)?;
+    let t = args::array::<f32>("truth", &t)?;
+    if t.shape() != hw {
         return Err(value_error(format!(
             "`truth` has shape {:?}, expected the field's (H, W) = {hw:?}",
-            truth.shape()
+            t.shape()
         )));
     }
+    let m = match mask {
+        None => None,
+        Some(m) => {
+            let (ms, mv) = bool_mask("mask", m)?;
+            if ms != hw {
+                return Err(value_error(format!(
+                    "`mask` must be a boolean (H, W) = {hw:?} array, got shape {ms:?}"
+                )));
+            }
+            Some(mv)
+        }
+    };
     if !(k.is_finite() && k >= 0.0) {
         return Err(value_error(format!("`k` must be finite and >= 0, got {k}")));
     }
-    let m = match &mask {
-        Some(m) if m.shape() == hw => Some(values(m).into_owned()),
-        Some(m) => {
-            return Err(value_error(format!(
-                "`mask` has shape {:?}, expected the field's (H, W) = {hw:?}",
-                m.shape()
-            )))
-        }
-        None => None,
-    };
-    let t = values(&truth);
-    crate::pool::detach(py, || metrics::bad_rate(&f, &t, k, m.as_deref())).py_err()
+    let t = values(&t);
+    crate::pool::detach(py, || metrics::bad_rate(&f, &t, k as f32, m.as_deref())).py_err()
 }
 
+/// Incoherence of a field: the fraction of pixels whose offset differs from the median of
+/// their ``3 x 3`` neighbourhood (per component, clipped at the borders) by more than 1 px.
+///
+/// The coherence term of eq. 4 exists to lower it (the paper's "more homogeneous" fields,
+/// Figs. 4 and 6).
+///
+/// Parameters
+/// ----------
+/// offsets : int array (H, W, 2)
+///
+/// Returns
+/// -------
+/// float in ``[0, 1]``.
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, eq. 4, Figs. 4 and 6.
 #[pyfunction]
-fn incoherence(py: Python<'_>, offsets: PyReadonlyArrayDyn<'_, i32>) -> PyResult<f64> {
-    let f = nnf_in("offsets", &offsets)?;
+fn incoherence(py: Python<'_>, offsets: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let f = self::offsets("offsets", offsets)?;
     crate::pool::detach(py, || metrics::incoherence(&f))
 }
 
-/// Registers the submodule.
-/// Reads a camera response table (CSV) as float32 `(levels, C)`.
+/// Reads a camera response ``f^-1(Z)`` written by :func:`save_crf` or ``wscg hdr
+/// calibrate``.
+///
+/// Parameters
+/// ----------
+/// path : str or os.PathLike
+///     CSV, one row per code ``Z = 0 ... z_max``, one column per channel, ``#`` comments.
+///
+/// Returns
+/// -------
+/// ndarray (levels, C), float32
+///     The response, usable as ``crf`` everywhere.
+///
+/// Raises
+/// ------
+/// OSError
+///     Naming the file (and the line) for a missing or malformed table (a bad number, rows
+///     of different lengths, a decreasing or negative response, fewer than 2 or more than
+///     65536 rows).
+/// ValueError
+///     A file above 16 MiB.
+///
+/// References
+/// ----------
+/// Debevec and Malik, SIGGRAPH 1997 (the response ``g = ln f^-1``); Ramirez Orozco et al.,
+/// WSCG 2015, Journal of WSCG vol. 23, section 3.2 (the CRF ``f`` of the radiance merge).
 #[pyfunction]
-fn load_crf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Arr<'_, f32>> {
+fn load_crf<'py>(py: Python<'py>, path: &Bound<'py, PyAny>) -> PyResult<Arr<'py, f32>> {
+    let path = args::path("path", path)?;
     let crf = crate::pool::detach(py, || Crf::read_csv(&path)).py_err()?;
     array(
         py,
@@ -770,29 +1228,83 @@ fn load_crf(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Arr<'_, f32>> 
     )
 }
 
-/// Writes a camera response table `(levels,)` or `(levels, C)` as CSV.
+/// Writes a response table as CSV, atomically; :func:`load_crf` reads it back.
+///
+/// Parameters
+/// ----------
+/// path : str or os.PathLike
+///     The file to write (replaced atomically; a failed write raises ``OSError`` and
+///     leaves any previous file).
+/// crf : array_like (levels,) or (levels, C)
+///     The response, checked as ``crf`` arguments are.
+///
+/// Returns
+/// -------
+/// None
+///
+/// References
+/// ----------
+/// Debevec and Malik, SIGGRAPH 1997; Ramirez Orozco et al., WSCG 2015, section 3.2.
 #[pyfunction]
-fn save_crf(
-    py: Python<'_>,
-    path: std::path::PathBuf,
-    crf: PyReadonlyArrayDyn<f32>,
-) -> PyResult<()> {
-    let crf = crf_in(&CrfArg::Table(crf), 8)?;
+fn save_crf(py: Python<'_>, path: &Bound<'_, PyAny>, crf: &Bound<'_, PyAny>) -> PyResult<()> {
+    let path = args::path("path", path)?;
+    let crf = crf_in(&CrfArg::Table(args::array::<f32>("crf", crf)?), 8)?;
     crate::pool::detach(py, || crf.write_csv(&path)).py_err()
 }
 
-/// Reads exposure times (text, or JSON for a `.json` file).
+/// Reads exposure times in seconds.
+///
+/// Parameters
+/// ----------
+/// path : str or os.PathLike
+///     A ``.json`` file holding a list, or an object with ``exposure_times`` (or
+///     ``times``); any other file is text, numbers separated by commas or line ends, ``#``
+///     comments.
+///
+/// Returns
+/// -------
+/// list of float
+///     One time per exposure, seconds.
+///
+/// Raises
+/// ------
+/// OSError
+///     Naming the file (and the line) for a missing or malformed file or a time that is
+///     not ``> 0``.
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, section 3.2 (the exposure times of the radiance merge).
 #[pyfunction]
-fn load_exposure_times(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Vec<f64>> {
+fn load_exposure_times(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    let path = args::path("path", path)?;
     crate::pool::detach(py, || wscg_hdr::read_exposure_times(&path)).py_err()
 }
 
-/// Writes exposure times as text, one a line.
+/// Writes exposure times as text, one a line, atomically; :func:`load_exposure_times`
+/// reads them back.
+///
+/// Parameters
+/// ----------
+/// path : str or os.PathLike
+///     The file to write (a failed write raises ``OSError`` and leaves any previous file).
+/// times : sequence of float
+///     Exposure times, seconds.
+///
+/// Returns
+/// -------
+/// None
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, section 3.2.
 #[pyfunction]
-fn save_exposure_times(py: Python<'_>, path: std::path::PathBuf, times: Vec<f64>) -> PyResult<()> {
+fn save_exposure_times(py: Python<'_>, path: &Bound<'_, PyAny>, times: Vec<f64>) -> PyResult<()> {
+    let path = args::path("path", path)?;
     crate::pool::detach(py, || wscg_hdr::write_exposure_times(&path, &times)).py_err()
 }
 
+/// Registers the submodule's functions.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_crf, m)?)?;
     m.add_function(wrap_pyfunction!(save_crf, m)?)?;

@@ -1,9 +1,11 @@
 //! `wscg._native.raytrace`: bindings of `wscg-raytrace` (paper 07: metallic-flake paint,
-//! spectral rendering, stereo rig, virtual observer). The documented API is
-//! `python/wscg/raytrace.py`; it passes the plate's parameters as one dict whose keys are
-//! the Python argument names (mostly the Rust fields' names; the counts are `n_pool_tiles`,
-//! `n_photons` and `n_photon_neighbors`, the colour mode `color_mode`). The counts are checked
-//! here so that an error names the Python argument.
+//! spectral rendering, stereo rig, virtual observer). The Fresnel, spectral, projection and
+//! overlap functions are called by Python directly, re-exported by `python/wscg/raytrace.py`
+//! (their arguments converted by [`crate::args`]); the plate functions keep a Python layer
+//! (result classes, structured flake arrays), which passes the plate's parameters as one dict
+//! whose keys are the Python argument names (mostly the Rust fields' names; the counts are
+//! `n_pool_tiles`, `n_photons` and `n_photon_neighbors`, the colour mode `color_mode`). The
+//! counts are checked here so that an error names the Python argument.
 
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -18,6 +20,7 @@ use wscg_raytrace::paint::{
 use wscg_raytrace::spectral::{self, daylight_d, MetalIor, SpectralGrid, Spectrum};
 use wscg_raytrace::stereo::{Eye, StereoRig};
 
+use crate::args::{self, number};
 use crate::convert::{array, values, Arr, Cfg};
 use crate::errors::{value_error, IntoPy};
 
@@ -308,17 +311,6 @@ fn glint_statistics<'py>(
     Ok(d)
 }
 
-/// Dice overlap of two sets of flake ids.
-#[pyfunction]
-fn overlap(
-    py: Python<'_>,
-    left: PyReadonlyArrayDyn<u64>,
-    right: PyReadonlyArrayDyn<u64>,
-) -> PyResult<f64> {
-    let (l, r) = (values(&left), values(&right));
-    crate::pool::detach(py, || binocular_overlap(&l, &r))
-}
-
 /// The virtual workshop: scores of `runs` against the hidden reference.
 #[pyfunction]
 fn workshop<'py>(
@@ -389,57 +381,100 @@ fn workshop<'py>(
     Ok(d)
 }
 
-/// Unpolarised Fresnel reflectance of a conductor, element-wise.
+/// Overlap ``2 |L ∩ R| / (|L| + |R|)`` of the flakes glinting for the two eyes.
 #[pyfunction]
-fn fresnel_conductor(cos_i: Vec<f64>, n: f64, k: f64) -> Vec<f64> {
-    cos_i
-        .iter()
-        .map(|&c| spectral::fresnel_conductor(c, n, k))
-        .collect()
+#[pyo3(name = "binocular_overlap")]
+fn overlap(
+    py: Python<'_>,
+    left_ids: &Bound<'_, PyAny>,
+    right_ids: &Bound<'_, PyAny>,
+) -> PyResult<f64> {
+    let left = args::array::<u64>("left_ids", left_ids)?;
+    let right = args::array::<u64>("right_ids", right_ids)?;
+    let (l, r) = (values(&left), values(&right));
+    crate::pool::detach(py, || binocular_overlap(&l, &r))
 }
 
-/// Unpolarised Fresnel reflectance of a dielectric interface, element-wise.
-#[pyfunction]
-fn fresnel_dielectric(cos_i: Vec<f64>, eta: f64) -> Vec<f64> {
-    cos_i
-        .iter()
-        .map(|&c| spectral::fresnel_dielectric(c, eta))
-        .collect()
+/// A real array argument with finite values, as float64 in C order, and its shape (a scalar
+/// keeps its shape `()`).
+fn finite_array(name: &'static str, obj: &Bound<'_, PyAny>) -> PyResult<(Vec<usize>, Vec<f64>)> {
+    let shape = args::asarray(name, obj)?.shape().to_vec();
+    let a = args::array::<f64>(name, obj)?;
+    let v = values(&a).into_owned();
+    wscg_math::error::ensure_finite(name, &v).py_err()?;
+    Ok((shape, v))
 }
 
-/// Aluminium's `n + i k` (Rakic Lorentz-Drude) at the given wavelengths.
-#[pyfunction]
-fn aluminium_nk(lambda_nm: Vec<f64>) -> Vec<(f64, f64)> {
-    lambda_nm
-        .iter()
-        .map(|&l| {
-            let c = spectral::aluminium_rakic_ld(l);
-            (c.re, c.im)
-        })
-        .collect()
-}
-
-/// CIE daylight spectrum (81 values, 380-780 nm) at a correlated colour temperature.
-#[pyfunction]
-fn daylight(cct_k: f64) -> PyResult<Vec<f64>> {
-    Ok(daylight_d(cct_k).py_err()?.v)
-}
-
-/// XYZ of a spectrum on the 81-value visible grid.
-#[pyfunction]
-fn spectrum_to_xyz(spd: Vec<f64>) -> PyResult<(f64, f64, f64)> {
-    let s = Spectrum::new(SpectralGrid::VISIBLE, spd).py_err()?;
-    let x = spectral::to_xyz(&s).py_err()?;
-    Ok((x[0], x[1], x[2]))
-}
-
-/// The off-axis rig: projection of points (N, 3), metres, for one eye.
-#[pyfunction]
-fn project<'py>(
+/// `f` of every value of the array argument `cos_i`, in its shape.
+fn elementwise<'py>(
     py: Python<'py>,
-    points: PyReadonlyArrayDyn<f64>,
-    eye: &str,
+    cos_i: &Bound<'py, PyAny>,
+    f: impl Fn(f64) -> f64,
 ) -> PyResult<Arr<'py, f64>> {
+    let (shape, v) = finite_array("cos_i", cos_i)?;
+    array(py, &shape, v.into_iter().map(f).collect())
+}
+
+/// Unpolarised Fresnel reflectance of a conductor of relative index ``n + i k``.
+#[pyfunction]
+fn fresnel_conductor<'py>(
+    py: Python<'py>,
+    cos_i: &Bound<'py, PyAny>,
+    n: f64,
+    k: f64,
+) -> PyResult<Arr<'py, f64>> {
+    let (n, k) = (number("n", n)?, number("k", k)?);
+    elementwise(py, cos_i, |c| spectral::fresnel_conductor(c, n, k))
+}
+
+/// Unpolarised Fresnel reflectance of a dielectric interface (relative index ``eta``,
+/// total internal reflection included).
+#[pyfunction]
+fn fresnel_dielectric<'py>(
+    py: Python<'py>,
+    cos_i: &Bound<'py, PyAny>,
+    eta: f64,
+) -> PyResult<Arr<'py, f64>> {
+    let eta = number("eta", eta)?;
+    elementwise(py, cos_i, |c| spectral::fresnel_dielectric(c, eta))
+}
+
+/// Aluminium's ``(n, k)`` at the given wavelengths (Rakic 1998 Lorentz-Drude model).
+#[pyfunction]
+fn aluminium_nk<'py>(py: Python<'py>, lambda_nm: &Bound<'py, PyAny>) -> PyResult<Arr<'py, f64>> {
+    let (_, lam) = finite_array("lambda_nm", lambda_nm)?;
+    let nk: Vec<f64> = lam
+        .iter()
+        .flat_map(|&l| {
+            let c = spectral::aluminium_rakic_ld(l);
+            [c.re, c.im]
+        })
+        .collect();
+    array(py, &[lam.len(), 2], nk)
+}
+
+/// CIE daylight spectrum at ``cct_k`` (4000-25000 K), 81 values over 380-780 nm.
+#[pyfunction]
+fn daylight(py: Python<'_>, cct_k: f64) -> PyResult<Arr<'_, f64>> {
+    let v = daylight_d(number("cct_k", cct_k)?).py_err()?.v;
+    array(py, &[v.len()], v)
+}
+
+/// CIE 1931 XYZ of an 81-value spectrum on 380-780 nm (5 nm steps).
+#[pyfunction]
+fn spectrum_to_xyz<'py>(py: Python<'py>, spd: &Bound<'py, PyAny>) -> PyResult<Arr<'py, f64>> {
+    let (_, v) = finite_array("spd", spd)?;
+    let s = Spectrum::new(SpectralGrid::VISIBLE, v).py_err()?;
+    let x = spectral::to_xyz(&s).py_err()?;
+    array(py, &[3], x.to_vec())
+}
+
+/// Pixel coordinates ``(N, 2)`` on the study's screen of points ``(N, 3)`` (metres, eyes
+/// at z = 0, screen and plate at z = 0.77) for one eye of the off-axis rig.
+#[pyfunction]
+#[pyo3(signature = (points, eye="cyclopean"))]
+fn project<'py>(py: Python<'py>, points: &Bound<'py, PyAny>, eye: &str) -> PyResult<Arr<'py, f64>> {
+    let points = args::array::<f64>("points", points)?;
     let e = eye_of(eye)?;
     let pts = crate::convert::rows3("points", &values(&points), points.shape())?;
     let rig = StereoRig::default();

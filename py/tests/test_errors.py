@@ -31,7 +31,7 @@ CASES = [
     ("n", lambda: csmri.make_shepp_logan_kspace(-4)),
     ("seed", lambda: csmri.mask_cartesian((32, 32), 0.4, seed=2 ** 70)),
     ("n_frames", lambda: video.make_clip("g1", n_frames=-2)),
-    ("levels", lambda: wm.wavedec2(np.zeros((16, 16)), "db2", level=-1)),
+    ("level", lambda: wm.wavedec2(np.zeros((16, 16)), "db2", level=-1)),
     ("nx", lambda: cloth.grid(-3, 4)),
     ("n_iter", lambda: cloth.Sim(cloth.grid(3, 3), n_iter=-1)),
     ("n_steps", lambda: cloth.Sim(cloth.grid(3, 3)).step(n_steps=-1)),

@@ -49,7 +49,9 @@ from typing import List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._native import raytrace as _r
-from ._checks import _int, finite_array as _finite_array, integer_ranges as _integer_ranges
+from ._native.raytrace import (aluminium_nk, binocular_overlap, daylight, fresnel_conductor,
+                               fresnel_dielectric, project, spectrum_to_xyz)
+from ._checks import _int, integer_ranges as _integer_ranges
 from ._manylight import (ManyLightScene, ManyLightStats, load_manylight_obj,
                          make_manylight_scene, manylight_from_arrays,
                          manylight_record_weight, render_manylight)
@@ -406,13 +408,6 @@ def glint_stats(y, mm_per_px: float) -> GlintStats:
                          rename={"glints": "n_glints"})
 
 
-def binocular_overlap(left_ids, right_ids) -> float:
-    """Overlap ``2 |L ∩ R| / (|L| + |R|)`` of the flakes glinting for the two eyes."""
-    a = np.ascontiguousarray(np.asarray(left_ids, dtype=np.uint64).ravel())
-    b = np.ascontiguousarray(np.asarray(right_ids, dtype=np.uint64).ravel())
-    return _r.overlap(a, b)
-
-
 def workshop(reference: Tuple[float, float] = (26.0, 7.3),
              runs: Optional[Sequence[Tuple[float, float]]] = None, condition: str = "stereo",
              n_reference_renders: int = 4, jnd_log: float = 0.25, *,
@@ -472,44 +467,6 @@ def workshop(reference: Tuple[float, float] = (26.0, 7.3),
                          reference_features=f64(res["reference_features"]).reshape(
                              -1, n_features),
                          scale_log=f64(res["scale_log"]))
-
-
-def fresnel_conductor(cos_i, n: float, k: float) -> np.ndarray:
-    """Unpolarised Fresnel reflectance of a conductor of relative index ``n + i k``."""
-    c = _finite_array("cos_i", cos_i)
-    return np.asarray(_r.fresnel_conductor(c.ravel().tolist(), float(n), float(k))).reshape(c.shape)
-
-
-def fresnel_dielectric(cos_i, eta: float) -> np.ndarray:
-    """Unpolarised Fresnel reflectance of a dielectric interface (relative index ``eta``,
-    total internal reflection included)."""
-    c = _finite_array("cos_i", cos_i)
-    return np.asarray(_r.fresnel_dielectric(c.ravel().tolist(), float(eta))).reshape(c.shape)
-
-
-def aluminium_nk(lambda_nm) -> np.ndarray:
-    """Aluminium's ``(n, k)`` at the given wavelengths (Rakic 1998 Lorentz-Drude model)."""
-    lam = np.atleast_1d(_finite_array("lambda_nm", lambda_nm))
-    return np.asarray(_r.aluminium_nk(lam.tolist()))
-
-
-def daylight(cct_k: float) -> np.ndarray:
-    """CIE daylight spectrum at ``cct_k`` (4000-25000 K), 81 values over 380-780 nm."""
-    return np.asarray(_r.daylight(float(cct_k)))
-
-
-def spectrum_to_xyz(spd) -> np.ndarray:
-    """CIE 1931 XYZ of an 81-value spectrum on 380-780 nm (5 nm steps)."""
-    return np.asarray(_r.spectrum_to_xyz(_finite_array("spd", spd).tolist()))
-
-
-def project(points, eye: str = "cyclopean") -> np.ndarray:
-    """Pixel coordinates ``(N, 2)`` on the study's screen of points ``(N, 3)`` (metres, eyes
-    at z = 0, screen and plate at z = 0.77) for one eye of the off-axis rig."""
-    p = np.ascontiguousarray(np.asarray(points, dtype=np.float64))
-    return _r.project(p, eye)
-
-# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 
 
 @_result
@@ -575,4 +532,5 @@ def save_paint(path: Union[str, os.PathLike], paint: PaintDescription) -> None:
     _r.save_paint(os.fspath(path), json.dumps(keys, default=lambda v: v.item()))
 
 
+# Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())
