@@ -5,7 +5,8 @@ command work.
 
 Builds with cargo's debug profile (the release build takes many minutes); skipped, with the
 reason, where maturin, ziglang or cargo is missing. Marked slow (a second link of the program
-and the extension through zig, minutes on two cores): run it with `pytest -m wheel`."""
+and the extension through zig, minutes on two cores), so the main pytest run leaves it out:
+scripts/test runs it as its last step, `pytest -m wheel`."""
 
 from __future__ import annotations
 
