@@ -448,7 +448,8 @@ fn dtw_distance(
 ) -> PyResult<f64> {
     let p = dtw_params(cost, window, normalize)?;
     let (a, b) = (vec1("a", &a)?, vec1("b", &b)?);
-    crate::pool::detach(py, || dtw::dtw(&a, &b, &p)).py_err()
+    crate::pool::detach_serial(py, a.len().saturating_mul(b.len()), || dtw::dtw(&a, &b, &p))
+        .py_err()
 }
 
 /// DTW distance and an optimal warp path `(L, 2)`.
@@ -464,7 +465,10 @@ fn dtw_path<'py>(
 ) -> PyResult<(f64, Arr<'py, i64>)> {
     let p = dtw_params(cost, window, normalize)?;
     let (a, b) = (vec1("a", &a)?, vec1("b", &b)?);
-    let (d, path) = crate::pool::detach(py, || dtw::dtw_path(&a, &b, &p)).py_err()?;
+    let (d, path) = crate::pool::detach_serial(py, a.len().saturating_mul(b.len()), || {
+        dtw::dtw_path(&a, &b, &p)
+    })
+    .py_err()?;
     let flat: Vec<i64> = path
         .iter()
         .flat_map(|&(i, j)| [i as i64, j as i64])

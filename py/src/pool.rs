@@ -235,6 +235,28 @@ where
         .map_err(|payload| panic_error(payload.as_ref()))
 }
 
+/// Work (in elementary steps, e.g. DTW cells) below which [`detach_serial`] runs in place:
+/// about a millisecond.
+pub const SERIAL_WORK: usize = 1 << 20;
+
+/// Runs `f`, work that makes no rayon call (one DTW of two sequences), with the GIL
+/// released: in the calling thread when its size `work` is at most [`SERIAL_WORK`], where
+/// handing the job to the pool and waking the caller again would cost more than the work
+/// (about 15 us a call; Ctrl-C is then seen when the call returns), else as [`detach`].
+/// Panics are caught in both cases.
+pub fn detach_serial<T, F>(py: Python<'_>, work: usize, f: F) -> PyResult<T>
+where
+    F: FnOnce() -> T + Send,
+    T: Send,
+{
+    if work > SERIAL_WORK {
+        return detach(py, f);
+    }
+    let out = py.detach(move || std::panic::catch_unwind(AssertUnwindSafe(f)));
+    crate::logs::flush(py);
+    out.map_err(|payload| panic_error(payload.as_ref()))
+}
+
 /// The `RuntimeError` for a caught panic, with the panic's message.
 fn panic_error(payload: &(dyn std::any::Any + Send)) -> PyErr {
     let message = payload
