@@ -218,3 +218,16 @@ pub fn real_array<'py>(
     }
     Ok(a)
 }
+
+/// The 3 numbers of `obj` (a tuple, list or array of 3 real numbers, as [`array`]), e.g. a
+/// volume's `spacing` `(dz, dy, dx)`; any other length is a `ValueError` naming `name`.
+pub fn triple(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
+    let a = array::<f64>(name, obj)?;
+    match *crate::convert::values(&a) {
+        [x, y, z] if a.ndim() == 1 => Ok([x, y, z]),
+        _ => Err(value_error(format!(
+            "`{name}` must be 3 numbers, got shape {:?}",
+            a.shape()
+        ))),
+    }
+}
