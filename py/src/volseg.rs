@@ -14,7 +14,7 @@
 
 use numpy::{Element, PyArrayDescrMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 use wscg_math::Volume;
 use wscg_volseg::{
     dice_multilabel, fractured_shell_phantom, gaussian_smooth3, local_grow_edit,
@@ -23,7 +23,7 @@ use wscg_volseg::{
 };
 
 use crate::args;
-use crate::convert::{array, choice, dict_item, set_fields, values, Arr};
+use crate::convert::{array, choice, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// Most worker threads of one solve.
@@ -92,22 +92,6 @@ fn same_shape_as_ct<T: Element>(
             a.shape()
         )))
     }
-}
-
-/// Refuses keys of `d` outside `allowed`.
-fn known_keys(d: &Bound<'_, PyDict>, allowed: &[&str], what: &str) -> PyResult<()> {
-    for k in d.keys() {
-        let k: String = k
-            .extract()
-            .map_err(|_| value_error(format!("{what} keys must be strings")))?;
-        if !allowed.contains(&k.as_str()) {
-            return Err(value_error(format!(
-                "unknown {what} {k:?}; known: {}",
-                allowed.join(", ")
-            )));
-        }
-    }
-    Ok(())
 }
 
 /// A numpy shape as Python prints it: `(4, 4)`, `(4,)`.
@@ -1103,112 +1087,169 @@ fn remove_small_components_py<'py>(
 // ------------------------------------------------------------------------------------------
 // Phantom
 
-/// Phantom configuration: `shape (nz, ny, nx)`, fragments, seed, and overrides.
-fn phantom_cfg(
-    shape: (usize, usize, usize),
-    n_fragments: usize,
-    seed: u64,
-    d: Option<&Bound<'_, PyDict>>,
-) -> PyResult<PhantomParams> {
-    let voxels = shape
-        .0
-        .checked_mul(shape.1)
-        .and_then(|v| v.checked_mul(shape.2));
+/// A CT phantom of a fractured bone shell with exact fragment labels and seed strokes
+/// (a stand-in for the paper's clinical cases of section 3; no clinical CT is
+/// redistributable).
+///
+/// An ellipsoidal shell (``shell`` radii as fractions of the half-size, ``bone_hu``) split
+/// into ``n_fragments`` pieces by the spherical Voronoi cells of random directions; fracture
+/// gaps of ``gap_hu`` (above the 300 HU threshold, so the thresholded bone stays in one
+/// piece); soft tissue (40 HU) inside, air (-1000 HU) outside; Gaussian partial-volume blur,
+/// CT noise, rounding to integers. Seeds: one stroke per fragment, a ball around a random
+/// mid-shell point away from its boundary (not at the Voronoi site, so nearest-seed
+/// labelling does not reproduce the truth by construction), or a patch of its outer surface.
+///
+/// Parameters
+/// ----------
+/// shape : (Z, Y, X), default (128, 128, 128)
+///     Volume shape, each side >= 16, at most 512^3 voxels.
+/// n_fragments : int, default 6
+///     Number of fragments K (2..64).
+/// seed : int, default 0
+///     Seed of the sites, strokes and noise (same seed, same phantom).
+/// return_distance : bool, default False
+///     Also return the arc distance (voxels) of every voxel from the nearest fracture
+///     boundary, float32.
+/// shell : (inner, outer), default (0.60, 0.68)
+///     Radii of the shell as fractions of the half-size of each axis (``0 < inner < outer
+///     < 0.9``).
+/// bone_hu : float, default 1200
+///     CT value of the bone, HU.
+/// gap_hu : float, default 450
+///     CT value inside the fracture gaps, HU.
+/// gap_width : float, default 0.75
+///     Width of the fracture gaps, voxels (>= 0).
+/// blur_sigma : float, default 0.8
+///     Partial-volume blur, voxels (0..16).
+/// noise_hu : float, default 30
+///     Standard deviation of the CT noise, HU (>= 0).
+/// t_bone : float, default 300
+///     Threshold of the ``truth`` labels and of the seed voxels, HU.
+/// stroke_radius : float, default 2
+///     Radius of each seed stroke, voxels (>= 0).
+/// stroke_margin : float, default 4
+///     Least distance of a stroke from its fragment's boundary, voxels (>= 0).
+/// surface_strokes : bool, default False
+///     Paint the strokes on the outer surface, as with the paper's 3-D brush (the bone
+///     voxels with a non-bone 6-neighbour within 3 voxels of a point of the outer surface).
+///
+/// Returns
+/// -------
+/// ct : (Z, Y, X) float32 array
+///     HU.
+/// truth : (Z, Y, X) uint16 array
+///     Fragment label ``1..K`` of every voxel with ``ct >= t_bone``, 0 elsewhere.
+/// seeds : (Z, Y, X) uint16 array
+///     Seed strokes (on bone voxels).
+/// distance : (Z, Y, X) float32 array
+///     Only with ``return_distance``.
+#[pyfunction]
+#[pyo3(signature = (shape=vec![128, 128, 128], n_fragments=6, seed=0, *, return_distance=false,
+                    shell=[0.60, 0.68], bone_hu=1200.0, gap_hu=450.0, gap_width=0.75,
+                    blur_sigma=0.8, noise_hu=30.0, t_bone=300.0, stroke_radius=2.0,
+                    stroke_margin=4.0, surface_strokes=false),
+       text_signature = "(shape=(128, 128, 128), n_fragments=6, seed=0, *, \
+                         return_distance=False, shell=(0.6, 0.68), bone_hu=1200.0, \
+                         gap_hu=450.0, gap_width=0.75, blur_sigma=0.8, noise_hu=30.0, \
+                         t_bone=300.0, stroke_radius=2.0, stroke_margin=4.0, \
+                         surface_strokes=False)")]
+#[allow(clippy::too_many_arguments)]
+fn make_fractured_shell_phantom<'py>(
+    py: Python<'py>,
+    shape: Vec<i128>,
+    n_fragments: i128,
+    seed: i128,
+    return_distance: bool,
+    shell: [f64; 2],
+    bone_hu: f64,
+    gap_hu: f64,
+    gap_width: f64,
+    blur_sigma: f64,
+    noise_hu: f64,
+    t_bone: f64,
+    stroke_radius: f64,
+    stroke_margin: f64,
+    surface_strokes: bool,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let [z, y, x] = shape[..] else {
+        return Err(value_error(format!(
+            "`shape` must be 3 integers (Z, Y, X), got {shape:?}"
+        )));
+    };
+    let dims = [
+        args::uint(py, "shape", z, 16usize)?,
+        args::uint(py, "shape", y, 16usize)?,
+        args::uint(py, "shape", x, 16usize)?,
+    ];
+    let voxels = dims[0]
+        .checked_mul(dims[1])
+        .and_then(|v| v.checked_mul(dims[2]));
     if !matches!(voxels, Some(v) if v <= MAX_PHANTOM_VOXELS) {
         return Err(value_error(format!(
-            "`shape` {shape:?} has more than {MAX_PHANTOM_VOXELS} voxels (512^3)"
+            "`shape` {} has more than {MAX_PHANTOM_VOXELS} voxels (512^3)",
+            py_shape(&dims)
         )));
     }
-    if !(2..=MAX_FRAGMENTS).contains(&n_fragments) {
+    let n_fragments = args::uint(py, "n_fragments", n_fragments, 2usize)?;
+    if n_fragments > MAX_FRAGMENTS {
         return Err(value_error(format!(
             "`n_fragments` must be in 2..={MAX_FRAGMENTS}, got {n_fragments}"
         )));
     }
     let mut c = PhantomParams::default()
-        .dims([shape.2, shape.1, shape.0])
+        .dims([dims[2], dims[1], dims[0]])
         .fragments(n_fragments)
-        .seed(seed);
-    let Some(d) = d else {
-        return Ok(c);
-    };
-    known_keys(
-        d,
-        &[
-            "shell",
-            "bone_hu",
-            "gap_hu",
+        .seed(args::uint(py, "seed", seed, 0u64)?);
+    c.shell = shell;
+    c.surface_strokes = surface_strokes;
+    for (name, v, hi, field) in [
+        ("bone_hu", bone_hu, None, &mut c.bone_hu),
+        ("gap_hu", gap_hu, None, &mut c.gap_hu),
+        (
             "gap_width",
-            "blur_sigma",
-            "noise_hu",
-            "t_bone",
+            gap_width,
+            Some(f64::INFINITY),
+            &mut c.gap_width,
+        ),
+        ("blur_sigma", blur_sigma, Some(MAX_BLUR), &mut c.blur_sigma),
+        ("noise_hu", noise_hu, Some(f64::INFINITY), &mut c.noise_hu),
+        ("t_bone", t_bone, None, &mut c.t_bone),
+        (
             "stroke_radius",
+            stroke_radius,
+            Some(f64::INFINITY),
+            &mut c.stroke_radius,
+        ),
+        (
             "stroke_margin",
-            "surface_strokes",
-        ],
-        "phantom option",
-    )?;
-    set_fields!(d, c; surface_strokes: bool);
-    if let Some((a, b)) = dict_item::<(f64, f64)>(d, "shell")? {
-        c.shell = [a, b];
-    }
-    macro_rules! set {
-        ($field:ident) => {
-            if let Some(v) = dict_item::<f64>(d, stringify!($field))? {
-                if !v.is_finite() {
-                    return Err(value_error(format!(
-                        "`{}` must be finite, got {v}",
-                        stringify!($field)
-                    )));
-                }
-                c.$field = v;
-            }
-        };
-    }
-    set!(bone_hu);
-    set!(gap_hu);
-    set!(gap_width);
-    set!(blur_sigma);
-    set!(noise_hu);
-    set!(t_bone);
-    set!(stroke_radius);
-    set!(stroke_margin);
-    for (name, v, hi) in [
-        ("gap_width", c.gap_width, f64::INFINITY),
-        ("blur_sigma", c.blur_sigma, MAX_BLUR),
-        ("noise_hu", c.noise_hu, f64::INFINITY),
-        ("stroke_radius", c.stroke_radius, f64::INFINITY),
-        ("stroke_margin", c.stroke_margin, f64::INFINITY),
+            stroke_margin,
+            Some(f64::INFINITY),
+            &mut c.stroke_margin,
+        ),
     ] {
-        if !(0.0..=hi).contains(&v) {
-            return Err(value_error(format!(
-                "`{name}` must be in [0, {hi}], got {v}"
-            )));
+        if !v.is_finite() {
+            return Err(value_error(format!("`{name}` must be finite, got {v}")));
         }
+        if let Some(hi) = hi {
+            if !(0.0..=hi).contains(&v) {
+                return Err(value_error(format!(
+                    "`{name}` must be in [0, {hi}], got {v}"
+                )));
+            }
+        }
+        *field = v;
     }
-    Ok(c)
-}
-
-/// The fractured-shell phantom: `(ct, truth, seeds, boundary_distance)`, all `[z, y, x]`.
-#[pyfunction]
-#[pyo3(signature = (shape, n_fragments, seed, options=None))]
-#[allow(clippy::type_complexity)]
-fn phantom<'py>(
-    py: Python<'py>,
-    shape: (usize, usize, usize),
-    n_fragments: usize,
-    seed: u64,
-    options: Option<Bound<'py, PyDict>>,
-) -> PyResult<(Arr<'py, f32>, Arr<'py, u16>, Arr<'py, u16>, Arr<'py, f32>)> {
-    let c = phantom_cfg(shape, n_fragments, seed, options.as_ref())?;
     let ph = crate::pool::detach(py, || fractured_shell_phantom(&c)).py_err()?;
-    let dims = [shape.0, shape.1, shape.2];
-    let dist: Vec<f32> = ph.boundary_distance.iter().map(|&d| d as f32).collect();
-    Ok((
-        vol_out(py, ph.ct)?,
-        vol_out(py, ph.truth)?,
-        vol_out(py, ph.seeds)?,
-        array(py, &dims, dist)?,
-    ))
+    let mut out = vec![
+        vol_out(py, ph.ct)?.into_any(),
+        vol_out(py, ph.truth)?.into_any(),
+        vol_out(py, ph.seeds)?.into_any(),
+    ];
+    if return_distance {
+        let dist: Vec<f32> = ph.boundary_distance.iter().map(|&d| d as f32).collect();
+        out.push(array(py, &dims, dist)?.into_any());
+    }
+    PyTuple::new(py, out)
 }
 
 /// Registers the functions of `wscg._native.volseg`.
@@ -1222,6 +1263,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(bone_mask, m)?)?;
     m.add_function(wrap_pyfunction!(local_grow_edit_py, m)?)?;
     m.add_function(wrap_pyfunction!(remove_small_components_py, m)?)?;
-    m.add_function(wrap_pyfunction!(phantom, m)?)?;
+    m.add_function(wrap_pyfunction!(make_fractured_shell_phantom, m)?)?;
     Ok(())
 }

@@ -53,12 +53,12 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int, _real, integer_ranges as _integer_ranges
+from ._checks import _int, integer_ranges as _integer_ranges
 from ._native import volseg as _v
-# The baseline, the metric, the preprocessing and the editing functions are the native ones
-# (docstrings in py/src/volseg.rs).
-from ._native.volseg import (bone_mask, dice, local_grow_edit, nearest_seed,
-                             remove_small_components, smooth)
+# The baseline, the metric, the preprocessing, the editing functions and the phantom are the
+# native ones (docstrings in py/src/volseg.rs).
+from ._native.volseg import (bone_mask, dice, local_grow_edit, make_fractured_shell_phantom,
+                             nearest_seed, remove_small_components, smooth)
 from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
@@ -505,97 +505,6 @@ class RandomWalkerSession:
         return (f"RandomWalkerSession(shape={self.shape}, n_nodes={self.n_nodes}, "
                 f"n_labels={self.n_labels})")
 
-
-# ----------------------------------------------------------------------------------------
-# Phantom
-# ----------------------------------------------------------------------------------------
-
-def make_fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
-                                 seed: int = 0, *, return_distance: bool = False,
-                                 shell: Tuple[float, float] = (0.60, 0.68),
-                                 bone_hu: float = 1200.0, gap_hu: float = 450.0,
-                                 gap_width: float = 0.75, blur_sigma: float = 0.8,
-                                 noise_hu: float = 30.0, t_bone: float = 300.0,
-                                 stroke_radius: float = 2.0, stroke_margin: float = 4.0,
-                                 surface_strokes: bool = False):
-    """A CT phantom of a fractured bone shell with exact fragment labels and seed strokes
-    (a stand-in for the paper's clinical cases of section 3; no clinical CT is
-    redistributable).
-
-    An ellipsoidal shell (``shell`` radii as fractions of the half-size, ``bone_hu``) split
-    into ``n_fragments`` pieces by the spherical Voronoi cells of random directions; fracture
-    gaps of ``gap_hu`` (above the 300 HU threshold, so the thresholded bone stays in one
-    piece); soft tissue (40 HU) inside, air (-1000 HU) outside; Gaussian partial-volume blur,
-    CT noise, rounding to integers. Seeds: one stroke per fragment, a ball around a random
-    mid-shell point away from its boundary (not at the Voronoi site, so nearest-seed
-    labelling does not reproduce the truth by construction), or a patch of its outer surface.
-
-    Parameters
-    ----------
-    shape : (Z, Y, X), default (128, 128, 128)
-        Volume shape, each side >= 16, at most 512^3 voxels.
-    n_fragments : int, default 6
-        Number of fragments K (2..64).
-    seed : int, default 0
-        Seed of the sites, strokes and noise (same seed, same phantom).
-    return_distance : bool, default False
-        Also return the arc distance (voxels) of every voxel from the nearest fracture
-        boundary, float32.
-    shell : (inner, outer), default (0.60, 0.68)
-        Radii of the shell as fractions of the half-size of each axis (``0 < inner < outer
-        < 0.9``).
-    bone_hu : float, default 1200
-        CT value of the bone, HU.
-    gap_hu : float, default 450
-        CT value inside the fracture gaps, HU.
-    gap_width : float, default 0.75
-        Width of the fracture gaps, voxels (>= 0).
-    blur_sigma : float, default 0.8
-        Partial-volume blur, voxels (0..16).
-    noise_hu : float, default 30
-        Standard deviation of the CT noise, HU (>= 0).
-    t_bone : float, default 300
-        Threshold of the ``truth`` labels and of the seed voxels, HU.
-    stroke_radius : float, default 2
-        Radius of each seed stroke, voxels (>= 0).
-    stroke_margin : float, default 4
-        Least distance of a stroke from its fragment's boundary, voxels (>= 0).
-    surface_strokes : bool, default False
-        Paint the strokes on the outer surface, as with the paper's 3-D brush (the bone
-        voxels with a non-bone 6-neighbour within 3 voxels of a point of the outer surface).
-
-    Returns
-    -------
-    ct : (Z, Y, X) float32 array
-        HU.
-    truth : (Z, Y, X) uint16 array
-        Fragment label ``1..K`` of every voxel with ``ct >= t_bone``, 0 elsewhere.
-    seeds : (Z, Y, X) uint16 array
-        Seed strokes (on bone voxels).
-    distance : (Z, Y, X) float32 array
-        Only with ``return_distance``.
-    """
-    try:
-        sh = tuple(int(_int("shape", v, 16)) for v in shape)
-    except TypeError:
-        raise ValueError(f"`shape` must be 3 integers (Z, Y, X), got {shape!r}") from None
-    if len(sh) != 3:
-        raise ValueError(f"`shape` must be 3 integers (Z, Y, X), got {shape!r}")
-    k = _int("n_fragments", n_fragments, 2, 64)
-    sd = _int("seed", seed, 0, 2**64 - 1)
-    try:
-        inner, outer = (float(x) for x in shell)
-    except (TypeError, ValueError):
-        raise ValueError(f"`shell` must be (inner, outer), got {shell!r}") from None
-    opts: Dict[str, Any] = {"shell": (inner, outer), "surface_strokes": bool(surface_strokes)}
-    for key, v in (("bone_hu", bone_hu), ("gap_hu", gap_hu), ("gap_width", gap_width),
-                   ("blur_sigma", blur_sigma), ("noise_hu", noise_hu), ("t_bone", t_bone),
-                   ("stroke_radius", stroke_radius), ("stroke_margin", stroke_margin)):
-        opts[key] = _real(key, v)
-    ct, truth, seeds, dist = _v.phantom(sh, k, sd, opts)
-    if return_distance:
-        return ct, truth, seeds, dist
-    return ct, truth, seeds
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())
