@@ -231,3 +231,18 @@ pub fn triple(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
         ))),
     }
 }
+
+/// A numpy shape as Python prints it, `(4, 4)` or `(4,)`, for the messages that quote a
+/// shape as the Python checks did.
+pub fn shape_repr(s: &[usize]) -> String {
+    match s {
+        [n] => format!("({n},)"),
+        _ => format!(
+            "({})",
+            s.iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}

@@ -94,20 +94,6 @@ fn same_shape_as_ct<T: Element>(
     }
 }
 
-/// A numpy shape as Python prints it: `(4, 4)`, `(4,)`.
-fn py_shape(s: &[usize]) -> String {
-    match s {
-        [n] => format!("({n},)"),
-        _ => format!(
-            "({})",
-            s.iter()
-                .map(usize::to_string)
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-    }
-}
-
 /// The CT argument `ct`: any real (integer or float) array-like, 3-D `[z, y, x]`, as float32
 /// (NaN and infinities are refused where the volume is used, with the flat index).
 fn ct_arg<'py>(obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, f32>> {
@@ -165,15 +151,15 @@ fn labels_arg<'py>(
     if (three_d || ct.is_some()) && a.ndim() != 3 {
         return Err(value_error(format!(
             "`{name}` must be a 3-D array indexed [z, y, x], got shape {}",
-            py_shape(a.shape())
+            args::shape_repr(a.shape())
         )));
     }
     if let Some(ct) = ct {
         if a.shape() != ct {
             return Err(value_error(format!(
                 "shape mismatch: `{name}` has shape {}, `ct` {}",
-                py_shape(a.shape()),
-                py_shape(&ct)
+                args::shape_repr(a.shape()),
+                args::shape_repr(&ct)
             )));
         }
     }
@@ -206,8 +192,8 @@ fn mask_arg(obj: Option<&Bound<'_, PyAny>>, ct: [usize; 3]) -> PyResult<Option<V
     if a.shape() != ct {
         return Err(value_error(format!(
             "shape mismatch: `mask` has shape {}, `ct` {}",
-            py_shape(a.shape()),
-            py_shape(&ct)
+            args::shape_repr(a.shape()),
+            args::shape_repr(&ct)
         )));
     }
     Ok(Some(values(&args::array::<bool>("mask", &a)?).into_owned()))
@@ -869,8 +855,8 @@ fn dice(a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>) -> PyResult<f64> {
     if a.shape() != b.shape() {
         return Err(value_error(format!(
             "shape mismatch: `a` has shape {}, `b` {}",
-            py_shape(a.shape()),
-            py_shape(b.shape())
+            args::shape_repr(a.shape()),
+            args::shape_repr(b.shape())
         )));
     }
     dice_multilabel(&values(&a), &values(&b)).py_err()
@@ -1187,7 +1173,7 @@ fn make_fractured_shell_phantom<'py>(
     if !matches!(voxels, Some(v) if v <= MAX_PHANTOM_VOXELS) {
         return Err(value_error(format!(
             "`shape` {} has more than {MAX_PHANTOM_VOXELS} voxels (512^3)",
-            py_shape(&dims)
+            args::shape_repr(&dims)
         )));
     }
     let n_fragments = args::uint(py, "n_fragments", n_fragments, 2usize)?;
