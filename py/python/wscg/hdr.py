@@ -173,7 +173,8 @@ class HdrScene:
 
 
 # ----------------------------------------------------------------------------------------
-# Input validation
+# Input validation: make_scene's layer mappings, and images given as files (the arrays,
+# responses, bit depths and exposure times are checked by the native functions)
 # ----------------------------------------------------------------------------------------
 
 def _seed(v) -> int:
