@@ -283,19 +283,6 @@ pub fn labels_from(name: &str, a: &PyReadonlyArrayDyn<i64>) -> PyResult<Vec<u32>
         .collect()
 }
 
-/// Sets `target.field` from the optional `field` entry of the dict `d` (see [`dict_item`]),
-/// for every `field: type` listed.
-macro_rules! set_fields {
-    ($d:expr, $target:ident; $($field:ident: $t:ty),+ $(,)?) => {
-        $(
-            if let Some(v) = $crate::convert::dict_item::<$t>($d, stringify!($field))? {
-                $target.$field = v;
-            }
-        )+
-    };
-}
-pub(crate) use set_fields;
-
 /// The value of the option named `s` among `options`, or a `ValueError` listing them.
 pub fn choice<T: Copy>(name: &str, s: &str, options: &[(&str, T)]) -> PyResult<T> {
     options

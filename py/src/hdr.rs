@@ -10,9 +10,10 @@
 
 use std::path::PathBuf;
 
+use numpy::PyUntypedArray;
 use numpy::{PyArrayDescrMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 use wscg_hdr::metrics;
 use wscg_hdr::synth::{layered_scene, Layer, SceneParams};
 use wscg_hdr::{Align, Crf, MultiscopicParams, Nnf, PatchMatchParams, StereoParams, Synthesis};
@@ -151,8 +152,12 @@ fn load_codes(py: Python<'_>, path: PathBuf) -> PyResult<(Arr<'_, u16>, u8)> {
 fn exposure_times(
     py: Python<'_>,
     paths: Vec<PathBuf>,
-    given: Option<Vec<f64>>,
+    given: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(Vec<f64>, bool, Vec<String>)> {
+    let given = match given.filter(|g| !g.is_none()) {
+        Some(g) => Some(times_arg(Some(g), paths.len())?),
+        None => None,
+    };
     let r = crate::pool::detach(py, || {
         wscg_math::io::exif::resolve_exposure_times(&paths, given.as_deref())
     })
@@ -232,13 +237,6 @@ fn crfs_in(
     crfs.iter().map(|c| crf_in(c, bits)).collect()
 }
 
-fn codes_list(name: &str, v: &[PyReadonlyArrayDyn<u16>]) -> PyResult<Vec<Image<u16>>> {
-    v.iter()
-        .enumerate()
-        .map(|(k, a)| codes_in(&format!("{name}[{k}]"), a))
-        .collect()
-}
-
 /// A disparity range as `i32` offsets, refused beyond `|d| <= 2^24` (the crate checks it
 /// against the width).
 fn check_range(d_min: i64, d_max: i64) -> PyResult<(i32, i32)> {
@@ -251,52 +249,415 @@ fn check_range(d_min: i64, d_max: i64) -> PyResult<(i32, i32)> {
     Ok((d_min as i32, d_max as i32))
 }
 
+/// A code image argument (see [`codes_arg`]).
+struct Codes {
+    img: Image<u16>,
+    /// The numpy shape, `(H, W)` or `(H, W, C)`.
+    shape: Vec<usize>,
+    /// Whether the codes were uint8.
+    u8: bool,
+}
+
+/// A code image argument `name`: uint8 or uint16, `(H, W)` or `(H, W, C)`, non-empty.
+fn codes_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Codes> {
+    let a = args::real_array(name, obj)?;
+    let dtype = a.dtype();
+    let u8 = dtype.kind() == b'u' && dtype.itemsize() == 1;
+    if !(u8 || dtype.kind() == b'u' && dtype.itemsize() == 2) {
+        return Err(value_error(format!(
+            "`{name}` must hold camera codes as uint8 or uint16, got dtype {dtype}; convert \
+             integer codes with .astype(np.uint16) (radiance images go to patchmatch, not here)"
+        )));
+    }
+    let shape = a.shape().to_vec();
+    if !(2..=3).contains(&shape.len()) {
+        return Err(value_error(format!(
+            "`{name}` must be a 2-D (H, W) or 3-D (H, W, C) array, got shape {}",
+            args::shape_repr(&shape)
+        )));
+    }
+    if a.len() == 0 {
+        return Err(value_error(format!(
+            "`{name}` is empty (shape {})",
+            args::shape_repr(&shape)
+        )));
+    }
+    let a = args::array::<u16>(name, a.as_any())?;
+    Ok(Codes {
+        img: codes_in(name, &a)?,
+        shape,
+        u8,
+    })
+}
+
+/// A list argument `name` of code images ([`codes_arg`]) of one shape, at least one.
+fn codes_list_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Codes>> {
+    if let Ok(a) = obj.cast::<PyUntypedArray>() {
+        return Err(value_error(format!(
+            "`{name}` must be a list of images, got one array of shape {}; pass list(a) for a \
+             stacked (N, H, W[, C]) array",
+            args::shape_repr(a.shape())
+        )));
+    }
+    let Ok(items) = obj.try_iter() else {
+        return Err(value_error(format!(
+            "`{name}` must be a list of images, got {}",
+            obj.get_type().name()?
+        )));
+    };
+    let items = items.collect::<PyResult<Vec<_>>>()?;
+    if items.is_empty() {
+        return Err(value_error(format!(
+            "`{name}` is empty: need at least 1 image(s)"
+        )));
+    }
+    let out = items
+        .iter()
+        .enumerate()
+        .map(|(i, v)| codes_arg(&format!("{name}[{i}]"), v))
+        .collect::<PyResult<Vec<_>>>()?;
+    if let Some((i, c)) = out
+        .iter()
+        .enumerate()
+        .find(|(_, c)| c.shape != out[0].shape)
+    {
+        return Err(value_error(format!(
+            "images differ in shape: `{name}[0]` is {}, `{name}[{i}]` is {}",
+            args::shape_repr(&out[0].shape),
+            args::shape_repr(&c.shape)
+        )));
+    }
+    Ok(out)
+}
+
+/// The `exposure_times` argument: one finite time > 0 (seconds) per image of `n`; required
+/// (`None` is refused: only images given as files have EXIF exposures).
+fn times_arg(obj: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Vec<f64>> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Err(value_error(
+            "`exposure_times` is required for images given as arrays (EXIF exposures are read \
+             only from images given as file paths)",
+        ));
+    };
+    let a = args::array::<f64>("exposure_times", obj)?;
+    let t = values(&a);
+    if t.len() != n {
+        return Err(value_error(format!(
+            "`exposure_times` must hold one exposure time per image: {n} images, {} times",
+            t.len()
+        )));
+    }
+    if let Some((i, v)) = t
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+    {
+        return Err(value_error(format!(
+            "`exposure_times[{i}]` must be finite and > 0 (seconds), got {v}"
+        )));
+    }
+    Ok(t.into_owned())
+}
+
+/// One inverse response argument `name`: a name of [`CRF_NAMES`] or a table `(levels,)` /
+/// `(levels, C)` of `f^-1`, finite, `>= 0`, non-decreasing, positive at `z_max`.
+fn crf_one<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<CrfArg<'py>> {
+    if let Ok(s) = obj.extract::<String>() {
+        if !CRF_NAMES.contains(&s.as_str()) {
+            return Err(value_error(format!(
+                "unknown response {s:?} for `{name}`; use \"gamma2.2\", \"linear\" or a table \
+                 (levels, C) of f^-1"
+            )));
+        }
+        return Ok(CrfArg::Name(s));
+    }
+    let a = args::real_array(name, obj)?;
+    let shape = a.shape().to_vec();
+    let (levels, ch) = match shape[..] {
+        [l] => (l, 1),
+        [l, c] => (l, c),
+        _ => {
+            return Err(value_error(format!(
+                "`{name}` must be a table (levels,) or (levels, C) of f^-1, got shape {}",
+                args::shape_repr(&shape)
+            )))
+        }
+    };
+    if !(2..=65536).contains(&levels) || ch == 0 {
+        return Err(value_error(format!(
+            "`{name}` needs 2..65536 levels (z_max + 1) and >= 1 channel, got shape {}",
+            args::shape_repr(&shape)
+        )));
+    }
+    let t = args::array::<f32>(name, a.as_any())?;
+    let v = values(&t);
+    if v.iter().any(|x| !x.is_finite() || *x < 0.0) {
+        return Err(value_error(format!(
+            "`{name}`: f^-1 must be finite and >= 0"
+        )));
+    }
+    for z in 0..levels - 1 {
+        for c in 0..ch {
+            if v[(z + 1) * ch + c] < v[z * ch + c] {
+                return Err(value_error(format!(
+                    "`{name}` is not monotone: f^-1({}) < f^-1({z}) in channel {c}; an inverse \
+                     response must be non-decreasing",
+                    z + 1
+                )));
+            }
+        }
+    }
+    if v[(levels - 1) * ch..].iter().any(|x| *x <= 0.0) {
+        return Err(value_error(format!("`{name}`: f^-1(z_max) must be > 0")));
+    }
+    drop(v);
+    Ok(CrfArg::Table(t))
+}
+
+/// The `crf` argument of `n` images: one response, or a list of one per image.
+fn crfs_arg<'py>(obj: &Bound<'py, PyAny>, n: usize) -> PyResult<Vec<CrfArg<'py>>> {
+    let listed = obj.cast::<PyList>().is_ok() || obj.cast::<PyTuple>().is_ok();
+    if listed && obj.len()? > 0 {
+        let items = obj.try_iter()?.collect::<PyResult<Vec<_>>>()?;
+        if items
+            .iter()
+            .all(|c| c.cast::<PyString>().is_ok() || c.cast::<PyUntypedArray>().is_ok())
+        {
+            if items.len() != n {
+                return Err(value_error(format!(
+                    "`crf`: give one response or one per view ({n}), got a list of {}",
+                    items.len()
+                )));
+            }
+            return items
+                .iter()
+                .enumerate()
+                .map(|(i, c)| crf_one(&format!("crf[{i}]"), c))
+                .collect();
+        }
+    }
+    Ok(vec![crf_one("crf", obj)?])
+}
+
+/// The bit depth of named responses: `bits` (1..=16, covering the codes and the tables'
+/// levels), 8 for uint8 images, or `None` (the smallest depth covering the largest code).
+fn bits_arg(
+    py: Python<'_>,
+    bits: Option<i128>,
+    crfs: &[CrfArg<'_>],
+    images: &[Codes],
+) -> PyResult<Option<u8>> {
+    let Some(bits) = bits else {
+        return Ok(images.iter().all(|c| c.u8).then_some(8));
+    };
+    let bits: u8 = bounded(py, "bits", bits, 1, 16)?;
+    let top = (1u32 << bits) - 1;
+    let max_code = crate::pool::detach(py, || {
+        images
+            .iter()
+            .map(|c| wscg_hdr::radiance::max_code(&c.img))
+            .max()
+            .unwrap_or(0)
+    })?;
+    if u32::from(max_code) > top {
+        return Err(value_error(format!(
+            "the images hold code {max_code}, above the {bits}-bit maximum {top}: `bits` is \
+             too small"
+        )));
+    }
+    for (i, c) in crfs.iter().enumerate() {
+        if let CrfArg::Table(t) = c {
+            if t.shape()[0] != 1 << bits {
+                return Err(value_error(format!(
+                    "`bits` = {bits} means {} codes but the response table {i} has {} levels",
+                    1u32 << bits,
+                    t.shape()[0]
+                )));
+            }
+        }
+    }
+    Ok(Some(bits))
+}
+
+/// The flag argument `name`: `True` or `False` (numpy's too).
+fn flag_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<bool> {
+    if let Ok(b) = obj.cast::<PyBool>() {
+        return Ok(b.is_true());
+    }
+    let np_bool = obj.py().import("numpy")?.getattr("bool_")?;
+    if obj.is_instance(&np_bool)? {
+        return obj.is_truthy();
+    }
+    Err(value_error(format!(
+        "`{name}` must be True or False, got {}",
+        obj.repr()?
+    )))
+}
+
+/// A finite number `> 0`.
+fn positive(name: &str, v: f64) -> PyResult<f64> {
+    if !v.is_finite() {
+        return Err(value_error(format!("`{name}` must be finite, got {v}")));
+    }
+    if v <= 0.0 {
+        return Err(value_error(format!("`{name}` must be > 0, got {v}")));
+    }
+    Ok(v)
+}
+
+/// The codes, exposure times and bit depth of a calibration stack (at least 2 exposures;
+/// `bits` 1..=16, default 8, covering the codes).
+fn calibration_stack(
+    py: Python<'_>,
+    stack: &Bound<'_, PyAny>,
+    exposure_times: Option<&Bound<'_, PyAny>>,
+    bits: Option<i128>,
+) -> PyResult<(Vec<Image<u16>>, Vec<f64>, u8)> {
+    let codes = codes_list_arg("stack", stack)?;
+    if codes.len() < 2 {
+        return Err(value_error(format!(
+            "`stack` needs at least 2 exposures, got {}",
+            codes.len()
+        )));
+    }
+    let times = times_arg(exposure_times, codes.len())?;
+    let bits: u8 = bounded(py, "bits", bits.unwrap_or(8), 1, 16)?;
+    let top = (1u32 << bits) - 1;
+    let imgs: Vec<Image<u16>> = codes.into_iter().map(|c| c.img).collect();
+    let mc = crate::pool::detach(py, || {
+        imgs.iter()
+            .map(wscg_hdr::radiance::max_code)
+            .max()
+            .unwrap_or(0)
+    })?;
+    if u32::from(mc) > top {
+        return Err(value_error(format!(
+            "the stack holds code {mc}, above the {bits}-bit maximum {top}: pass the right `bits`"
+        )));
+    }
+    Ok((imgs, times, bits))
+}
+
+/// Names of the inverse responses.
+const CRF_NAMES: [&str; 2] = ["gamma2.2", "linear"];
+/// Names of the alignment methods of `multiscopic_hdr`.
+const ALIGN_METHODS: [&str; 4] = ["ours", "pm2d", "zncc", "none"];
+
+/// `'a', 'b'`: names as a Python message lists them.
+fn quoted(names: &[&str]) -> String {
+    names
+        .iter()
+        .map(|n| format!("'{n}'"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 type HdrResult<'py> = (Vec<Arr<'py, f32>>, Option<Bound<'py, PyDict>>, Vec<usize>);
 
+/// The checked arguments of `wscg.hdr.multiscopic_hdr` (its docstring, the files, their
+/// EXIF times and `HdrSequence` are in python/wscg/hdr.py): views as arrays,
+/// `exposure_times` given or read from the files, `bits` given or the files'.
 #[pyfunction]
-#[pyo3(signature = (views, times, crfs, bits, patch, n_iter, d_min, d_max, coherence, epipolar,
-                    align, synthesis, ordered, weighted_cost, fill_saturated, seed, details))]
+#[pyo3(signature = (views, exposure_times, crf, bits, patch, n_iter, max_disparity,
+                    min_disparity, coherence, epipolar, align, synthesis, ordered,
+                    weighted_cost, fill_saturated, seed, return_details))]
 #[allow(clippy::too_many_arguments)]
 fn multiscopic_hdr<'py>(
     py: Python<'py>,
-    views: Vec<PyReadonlyArrayDyn<'py, u16>>,
-    times: Vec<f64>,
-    crfs: Vec<CrfArg<'py>>,
-    bits: Option<u8>,
-    patch: usize,
-    n_iter: usize,
-    d_min: i32,
-    d_max: i32,
-    coherence: bool,
-    epipolar: bool,
+    views: &Bound<'py, PyAny>,
+    exposure_times: Option<&Bound<'py, PyAny>>,
+    crf: &Bound<'py, PyAny>,
+    bits: Option<i128>,
+    patch: i128,
+    n_iter: i128,
+    max_disparity: i128,
+    min_disparity: Option<i128>,
+    coherence: &Bound<'py, PyAny>,
+    epipolar: &Bound<'py, PyAny>,
     align: &str,
     synthesis: &str,
-    ordered: bool,
-    weighted_cost: bool,
-    fill_saturated: bool,
-    seed: u64,
-    details: bool,
+    ordered: &Bound<'py, PyAny>,
+    weighted_cost: &Bound<'py, PyAny>,
+    fill_saturated: &Bound<'py, PyAny>,
+    seed: i128,
+    return_details: &Bound<'py, PyAny>,
 ) -> PyResult<HdrResult<'py>> {
-    if views.len() < 2 {
+    let codes = codes_list_arg("views", views)?;
+    if codes.len() < 2 {
         return Err(value_error(format!(
-            "multiscopic HDR needs at least 2 views, got {}; to merge an aligned exposure \
+            "multiscopic_hdr needs at least 2 views, got {}; to merge an aligned exposure \
              stack of one view use merge_stack",
-            views.len()
+            codes.len()
         )));
     }
-    let flat = views[0].ndim() == 2;
-    let imgs = codes_list("views", &views)?;
-    let crfs = crfs_in(py, &crfs, &imgs, bits)?;
-    check_range(i64::from(d_min), i64::from(d_max))?;
+    let flat = codes[0].shape.len() == 2;
+    let (h, w) = (codes[0].shape[0], codes[0].shape[1]);
+    let times = times_arg(exposure_times, codes.len())?;
+    let crfs = crfs_arg(crf, codes.len())?;
+    let bits = bits_arg(py, bits, &crfs, &codes)?;
+    if !ALIGN_METHODS.contains(&align) {
+        return Err(value_error(format!(
+            "{align:?} is not a valid align method. Valid methods are {}",
+            quoted(&ALIGN_METHODS)
+        )));
+    }
     let synthesis = match synthesis {
         "bds" => Synthesis::Bds,
         "direct" => Synthesis::Direct,
         other => {
             return Err(value_error(format!(
-                "unknown synthesis {other:?}; use \"bds\" or \"direct\""
+                "{other:?} is not a valid synthesis. Valid names are {}",
+                quoted(&["bds", "direct"])
             )))
         }
     };
+    let epipolar = flag_arg("epipolar", epipolar)?;
+    let (patch, d_min, d_max) = if align == "none" {
+        // Nothing is matched: the matching parameters are not used.
+        (bounded(py, "patch", patch, 0usize, 1 << 31)?, 0, 0)
+    } else {
+        let lim = h.min(w);
+        if patch < 3 || patch % 2 == 0 || patch > lim as i128 {
+            return Err(value_error(format!(
+                "`patch` must be odd, >= 3 and <= min(height, width) = {lim}, got {patch}"
+            )));
+        }
+        let (d_min, d_max) = if align == "zncc" || (align == "ours" && epipolar) {
+            let d_min = min_disparity.unwrap_or(-max_disparity);
+            if d_min > max_disparity {
+                return Err(value_error(format!(
+                    "min_disparity = {d_min} > max_disparity = {max_disparity}: the disparity \
+                     range is empty"
+                )));
+            }
+            let m = d_min.abs().max(max_disparity.abs());
+            if m >= w as i128 {
+                return Err(value_error(format!(
+                    "|disparity| up to {m} must be < the image width {w} (max_disparity / \
+                     min_disparity too large)"
+                )));
+            }
+            (d_min as i32, max_disparity as i32)
+        } else {
+            // 2-D search: the disparity range is not used.
+            let d_max: i32 = bounded(py, "max_disparity", max_disparity, 0, 1 << 24)?;
+            let d_min = match min_disparity {
+                None => -d_max,
+                Some(v) => bounded(py, "min_disparity", v, -(1 << 24), 1 << 24)?,
+            };
+            (d_min, d_max)
+        };
+        (patch as usize, d_min, d_max)
+    };
+    let n_iter: usize = bounded(py, "n_iter", n_iter, 0, 100_000)?;
+    let coherence = flag_arg("coherence", coherence)?;
+    let ordered = flag_arg("ordered", ordered)?;
+    let weighted_cost = flag_arg("weighted_cost", weighted_cost)?;
+    let fill_saturated = flag_arg("fill_saturated", fill_saturated)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    let details = flag_arg("return_details", return_details)?;
+    let imgs: Vec<Image<u16>> = codes.into_iter().map(|c| c.img).collect();
+    let crfs = crfs_in(py, &crfs, &imgs, bits)?;
     let p = MultiscopicParams::default()
         .pm(PatchMatchParams::default()
             .patch(patch)
@@ -436,31 +797,24 @@ fn merge<'py>(
     ))
 }
 
+/// The checked arguments of `wscg.hdr.merge_stack` (its docstring and the files' EXIF times
+/// are in python/wscg/hdr.py): images as arrays, `exposure_times` given or read from the
+/// files, `bits` given or the files'.
 #[pyfunction]
-#[pyo3(signature = (images, times, crfs, bits))]
+#[pyo3(signature = (images, exposure_times, crf, bits))]
 fn merge_stack<'py>(
     py: Python<'py>,
-    images: Vec<PyReadonlyArrayDyn<'py, u16>>,
-    times: Vec<f64>,
-    crfs: Vec<CrfArg<'py>>,
-    bits: Option<u8>,
+    images: &Bound<'py, PyAny>,
+    exposure_times: Option<&Bound<'py, PyAny>>,
+    crf: &Bound<'py, PyAny>,
+    bits: Option<i128>,
 ) -> PyResult<(Arr<'py, f32>, usize)> {
-    let Some(first) = images.first() else {
-        return Err(value_error("`images` is empty: nothing to merge"));
-    };
-    let flat = first.ndim() == 2;
-    let imgs = codes_list("images", &images)?;
-    if let Some((k, im)) = imgs
-        .iter()
-        .enumerate()
-        .find(|(_, im)| im.shape() != imgs[0].shape())
-    {
-        return Err(value_error(format!(
-            "images[{k}] is {:?} but images[0] is {:?} (height, width, channels)",
-            im.shape(),
-            imgs[0].shape()
-        )));
-    }
+    let codes = codes_list_arg("images", images)?;
+    let flat = codes[0].shape.len() == 2;
+    let times = times_arg(exposure_times, codes.len())?;
+    let crfs = crfs_arg(crf, codes.len())?;
+    let bits = bits_arg(py, bits, &crfs, &codes)?;
+    let imgs: Vec<Image<u16>> = codes.into_iter().map(|c| c.img).collect();
     let crfs = crfs_in(py, &crfs, &imgs, bits)?;
     let m = crate::pool::detach(py, || wscg_hdr::merge_stack(&imgs, &times, &crfs)).py_err()?;
     Ok((
@@ -469,25 +823,51 @@ fn merge_stack<'py>(
     ))
 }
 
+/// A view of codes in radiance space: ``E = f^-1(Z) / dt`` per pixel and channel (paper
+/// section 3, numerator of eq. 6).
+///
+/// Parameters
+/// ----------
+/// image : array (H, W) or (H, W, C), uint8 or uint16
+/// crf : str or array
+///     ``"gamma2.2"``, ``"linear"`` or a table ``(levels, C)`` / ``(levels,)`` of ``f^-1``.
+/// exposure_time : float
+///     ``dt`` in seconds (> 0).
+/// bits : int, optional
+///     Bit depth of a named response: default 8 for uint8, otherwise the smallest depth
+///     covering the largest code.
+///
+/// Returns
+/// -------
+/// float32 array of the image's shape.
+///
+/// References
+/// ----------
+/// Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3, eq. 6.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from wscg import hdr
+/// >>> hdr.to_radiance(np.array([[0, 255]], np.uint8), "linear", 0.5).tolist()
+/// [[0.0, 2.0]]
 #[pyfunction]
-#[pyo3(signature = (image, crf, dt, bits))]
+#[pyo3(signature = (image, crf, exposure_time, *, bits=None))]
 fn to_radiance<'py>(
     py: Python<'py>,
-    image: PyReadonlyArrayDyn<'py, u16>,
-    crf: CrfArg<'py>,
-    dt: f64,
-    bits: Option<u8>,
+    image: &Bound<'py, PyAny>,
+    crf: &Bound<'py, PyAny>,
+    exposure_time: f64,
+    bits: Option<i128>,
 ) -> PyResult<Arr<'py, f32>> {
-    let flat = image.ndim() == 2;
-    let img = codes_in("image", &image)?;
-    let crf = crfs_in(
-        py,
-        std::slice::from_ref(&crf),
-        std::slice::from_ref(&img),
-        bits,
-    )?;
+    let codes = [codes_arg("image", image)?];
+    let crf = [crf_one("crf", crf)?];
+    let bits = bits_arg(py, bits, &crf, &codes)?;
+    let dt = positive("exposure_time", exposure_time)?;
+    let [Codes { img, shape, .. }] = codes;
+    let crf = crfs_in(py, &crf, std::slice::from_ref(&img), bits)?;
     let e = crate::pool::detach(py, || wscg_hdr::to_radiance(&img, &crf[0], dt)).py_err()?;
-    crate::convert::image_array(py, e, flat)
+    crate::convert::image_array(py, e, shape.len() == 2)
 }
 
 /// Khan, Akyuz & Reinhard's weight of a code (paper eq. 7):
@@ -549,23 +929,22 @@ fn khan_weight<'py>(
     Ok(array(py, &shape, out)?.into_any())
 }
 
+/// The checked arguments of `wscg.hdr.calibrate_debevec` (docstring and files in
+/// python/wscg/hdr.py).
 #[pyfunction]
-#[pyo3(signature = (stack, times, n_samples, lam, bits))]
+#[pyo3(signature = (stack, exposure_times, n_samples, lam, bits))]
 fn calibrate_debevec<'py>(
     py: Python<'py>,
-    stack: Vec<PyReadonlyArrayDyn<'py, u16>>,
-    times: Vec<f64>,
-    n_samples: usize,
+    stack: &Bound<'py, PyAny>,
+    exposure_times: Option<&Bound<'py, PyAny>>,
+    n_samples: i128,
     lam: f64,
-    bits: u8,
+    bits: Option<i128>,
 ) -> PyResult<Arr<'py, f32>> {
     // Above 10 bits the codes are reduced to 10 for the dense solve (`calibrate_debevec`).
-    if !(1..=16).contains(&bits) {
-        return Err(value_error(format!(
-            "`bits` must be in 1..=16 for calibration, got {bits}"
-        )));
-    }
-    let imgs = codes_list("stack", &stack)?;
+    let (imgs, times, bits) = calibration_stack(py, stack, exposure_times, bits)?;
+    let n_samples: usize = bounded(py, "n_samples", n_samples, 1, 1_000_000)?;
+    let lam = positive("lam", lam)?;
     let crf = crate::pool::detach(py, || {
         wscg_hdr::calibrate_debevec(&imgs, &times, bits, n_samples, lam)
     })
@@ -573,22 +952,34 @@ fn calibrate_debevec<'py>(
     array(py, &[crf.levels(), crf.channels()], crf.table().to_vec())
 }
 
+/// The checked arguments of `wscg.hdr.calibrate_mitsunaga_nayar` (docstring, files and
+/// `PolynomialResponse` in python/wscg/hdr.py).
 #[pyfunction]
-#[pyo3(signature = (stack, times, bits, degree, max_degree, n_samples, refine_ratios, tol, max_iter))]
+#[pyo3(signature = (stack, exposure_times, bits, degree, max_degree, n_samples, refine_ratios,
+                    tol, max_iter))]
 #[allow(clippy::too_many_arguments)]
 fn calibrate_mitsunaga_nayar<'py>(
     py: Python<'py>,
-    stack: Vec<PyReadonlyArrayDyn<'py, u16>>,
-    times: Vec<f64>,
-    bits: u8,
-    degree: Option<usize>,
-    max_degree: usize,
-    n_samples: usize,
-    refine_ratios: bool,
+    stack: &Bound<'py, PyAny>,
+    exposure_times: Option<&Bound<'py, PyAny>>,
+    bits: Option<i128>,
+    degree: Option<i128>,
+    max_degree: i128,
+    n_samples: i128,
+    refine_ratios: &Bound<'py, PyAny>,
     tol: f64,
-    max_iter: usize,
+    max_iter: i128,
 ) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
-    let imgs = codes_list("stack", &stack)?;
+    let (imgs, times, bits) = calibration_stack(py, stack, exposure_times, bits)?;
+    let degree: Option<usize> = match degree {
+        None => None,
+        Some(d) => Some(bounded(py, "degree", d, 1, 10)?),
+    };
+    let max_degree: usize = bounded(py, "max_degree", max_degree, 1, 10)?;
+    let n_samples: usize = bounded(py, "n_samples", n_samples, 1, 10_000_000)?;
+    let refine_ratios = flag_arg("refine_ratios", refine_ratios)?;
+    let tol = positive("tol", tol)?;
+    let max_iter: usize = bounded(py, "max_iter", max_iter, 1, 1_000_000)?;
     let p = wscg_hdr::MitsunagaNayarParams::default()
         .degree(degree)
         .max_degree(max_degree)
@@ -983,13 +1374,20 @@ fn make_scene<'py>(
     py: Python<'py>,
     height: usize,
     width: usize,
-    times: Vec<f64>,
+    times: &Bound<'py, PyAny>,
     emitter_peak: f64,
     noise: f64,
     seed: u64,
     layers: Option<Vec<LayerArg>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     const MAX_PIXELS: usize = 1 << 26;
+    let n = args::array::<f64>("exposure_times", times)?.len();
+    if !(2..=32).contains(&n) {
+        return Err(value_error(format!(
+            "`exposure_times` must give 2 to 32 cameras, got {n}"
+        )));
+    }
+    let times = times_arg(Some(times), n)?;
     if height.saturating_mul(width) > MAX_PIXELS {
         return Err(value_error(format!(
             "a {height} x {width} scene is too large (at most 2^26 pixels per view)"

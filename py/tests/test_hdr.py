@@ -809,24 +809,31 @@ def test_bad_input_raises_value_error():
     # A calibration that cannot succeed (no well-exposed sample) is an error, not a crash.
     with pytest.raises(ValueError, match="calibration failed"):
         hdr.calibrate_debevec([np.zeros((20, 30), np.uint8)] * 3, [0.01, 0.02, 0.04])
-    # The native module validates too (the functions that keep a Python layer are called
-    # directly here; patchmatch is the native function itself).
+    # The native module validates (the functions that keep a Python layer are called
+    # directly here; patchmatch and to_radiance are the native functions themselves).
     from wscg._native import hdr as native
-    assert hdr.patchmatch is native.patchmatch
+    assert hdr.patchmatch is native.patchmatch and hdr.to_radiance is native.to_radiance
     v16 = [v.astype(np.uint16) for v in views]
     with pytest.raises(ValueError, match="merge_stack"):
-        native.multiscopic_hdr(v16[:1], times[:1], ["gamma2.2"], 8, 7, 2, -10, 10, True, True,
+        native.multiscopic_hdr(v16[:1], times[:1], "gamma2.2", 8, 7, 2, 10, -10, True, True,
                                "ours", "bds", False, False, False, 0, False)
     with pytest.raises(ValueError, match="patch"):
-        native.multiscopic_hdr(v16, times, ["gamma2.2"], 8, 6, 2, -10, 10, True, True,
+        native.multiscopic_hdr(v16, times, "gamma2.2", 8, 6, 2, 10, -10, True, True,
+                               "ours", "bds", False, False, False, 0, False)
+    with pytest.raises(ValueError, match="coherence"):
+        native.multiscopic_hdr(v16, times, "gamma2.2", 8, 7, 2, 10, -10, 1, True,
                                "ours", "bds", False, False, False, 0, False)
     with pytest.raises(ValueError, match="disparity"):
         hdr.patchmatch(img, img, min_disparity=-2 ** 31, max_disparity=10)
     with pytest.raises(ValueError, match="bits"):
         native.calibrate_debevec(v16, times, 70, 10.0, 17)
+    with pytest.raises(ValueError, match="exposure_times"):
+        native.calibrate_debevec(v16, None, 70, 10.0, 8)
     with pytest.raises(ValueError, match="unknown response"):
-        native.to_radiance(v16[0], "srgb", 1.0, 8)
-    with pytest.raises(ValueError):
+        native.to_radiance(v16[0], "srgb", 1.0, bits=8)
+    with pytest.raises(ValueError, match="exposure_time"):
+        native.to_radiance(v16[0], "linear", 0.0)
+    with pytest.raises(ValueError, match="empty"):
         native.merge_stack([np.zeros((3, 0), np.uint16)], [1.0], ["linear"], 8)
 
 

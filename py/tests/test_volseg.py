@@ -266,16 +266,17 @@ def test_label_values_need_not_be_consecutive():
 
 
 def test_large_label_values_are_refused_by_the_native_solver():
-    """The wrapper numbers labels 1..K; a direct call with label 65534 would need 65534
-    vectors and is refused instead of exhausting memory."""
+    """The native random walker numbers labels 1..K; a native session (which keeps the
+    numbers it is given) with label 65534 would need 65534 vectors and is refused instead of
+    exhausting memory."""
     ct = np.full((32, 32, 32), 1000.0, np.float32)
     seeds = np.zeros(ct.shape, np.uint16)
     seeds[0, 0, 0], seeds[-1, -1, -1] = 60000, 65534
-    with pytest.raises(ValueError, match="GiB"):
-        _native.random_walker(ct, seeds, (1.0, 1.0, 1.0), 0, None, False)
+    labels, _, rep = _native.random_walker(ct, seeds, **_NATIVE_DEFAULTS, return_prob=False)
+    assert set(np.unique(labels)) == {60000, 65534} and rep["labels"] == [60000, 65534]
     labels = volseg.random_walker_bone(ct, seeds)
     assert set(np.unique(labels)) == {60000, 65534}
-    s = _native.Session(ct, None, (1.0, 1.0, 1.0), 0, None)
+    s = _native.Session(ct, None, **_NATIVE_DEFAULTS)
     s.set_seeds(seeds)
     with pytest.raises(ValueError, match="GiB"):
         s.solve(False)
@@ -489,42 +490,61 @@ def test_bad_input_raises_value_error():
         volseg.make_fractured_shell_phantom((32, 32, 32), colour=1)
 
 
+_NATIVE_DEFAULTS = dict(t_bone=300.0, beta=None, eps=None, kappa=None, preset="default",
+                       tol=3e-3, max_iter=2000, spacing=(1.0, 1.0, 1.0), n_smooth_passes=0,
+                       norm="window", spacing_in_weights=False, solver="block",
+                       precision="f32", jacobi=True, n_threads=None)
+
+
 def test_native_functions_refuse_bad_arguments():
-    """Direct calls to the native module (bypassing the wrapper's checks) raise, never
+    """Direct calls to the native module (the checks are the bindings' own) raise, never
     crash."""
     ct = np.full((4, 4, 4), 1000.0, np.float32)
     seeds = np.zeros((4, 4, 4), np.uint16)
     seeds[0, 0, 0] = 1
-    one = (1.0, 1.0, 1.0)
+
+    def rw(ct=ct, seeds=seeds, **kw):
+        return _native.random_walker(ct, seeds, **{**_NATIVE_DEFAULTS, **kw},
+                                     return_prob=False)
+
     with pytest.raises(ValueError, match="3-D"):
-        _native.random_walker(ct[0], seeds[0], one, 0, None, False)
+        rw(ct[0], seeds[0])
     with pytest.raises(ValueError, match="shape mismatch"):
-        _native.random_walker(ct, seeds[:2], one, 0, None, False)
-    with pytest.raises(ValueError, match="unknown parameter"):
-        _native.random_walker(ct, seeds, one, 0, {"gamma": 1.0}, False)
+        rw(seeds=seeds[:2])
+    with pytest.raises(TypeError, match="gamma"):
+        rw(gamma=1.0)
     with pytest.raises(ValueError, match="n_threads"):
-        _native.random_walker(ct, seeds, one, 0, {"n_threads": 10**6}, False)
-    with pytest.raises(ValueError, match="unknown parameter"):
-        _native.random_walker(ct, seeds, one, 0, {"threads": 2}, False)
+        rw(n_threads=10**6)
     with pytest.raises(ValueError, match="spacing"):
-        _native.random_walker(ct, seeds, (1.0, float("nan"), 1.0), 0, None, False)
-    with pytest.raises(ValueError, match="beta"):
-        _native.random_walker(ct, seeds, one, 0, {"beta": "x"}, False)
+        rw(spacing=(1.0, float("nan"), 1.0))
+    with pytest.raises(TypeError, match="beta"):
+        rw(beta="x")
+    with pytest.raises(ValueError, match="max_iter"):
+        rw(max_iter=-1)
     bad = ct.copy()
     bad[1, 1, 1] = np.nan
     with pytest.raises(ValueError, match="non-finite"):
-        _native.Session(bad, np.ones(ct.shape, bool), one, 0, None)
-    with pytest.raises(ValueError, match="unknown grow weight"):
-        _native.grow_edit(seeds, ct, (1.0, 1.0, 1.0), 2.0, 1, None, {"size": 1.0})
-    with pytest.raises(ValueError, match="gradient_scale"):
-        _native.grow_edit(seeds, ct, (1.0, 1.0, 1.0), 2.0, 1, None, {"gradient_scale": 0.0})
-    with pytest.raises(ValueError, match="radius"):
-        _native.grow_edit(seeds, ct, (1.0, 1.0, 1.0), -2.0, 1, None, None)
+        _native.Session(bad, np.ones(ct.shape, bool), **_NATIVE_DEFAULTS)
+    s = _native.Session(ct, None, **_NATIVE_DEFAULTS)
     with pytest.raises(ValueError, match="shape mismatch"):
-        _native.dice(seeds, seeds[0])
+        s.check_seeds(seeds[:2])
+    with pytest.raises(ValueError, match="0..65534"):
+        s.check_seeds(np.full(ct.shape, 65535))
+    with pytest.raises(TypeError, match="size"):
+        volseg.local_grow_edit(seeds, ct, (1.0, 1.0, 1.0), 2.0, 1, size=1.0)
+    with pytest.raises(ValueError, match="gradient_scale"):
+        volseg.local_grow_edit(seeds, ct, (1.0, 1.0, 1.0), 2.0, 1, gradient_scale=0.0)
+    with pytest.raises(ValueError, match="tau"):
+        volseg.local_grow_edit(seeds, ct, (1.0, 1.0, 1.0), 2.0, 1, tau=float("nan"))
+    with pytest.raises(ValueError, match="radius"):
+        volseg.local_grow_edit(seeds, ct, (1.0, 1.0, 1.0), -2.0, 1)
+    with pytest.raises(ValueError, match="center_zyx"):
+        volseg.local_grow_edit(seeds, ct, (1.0, 1.0), 2.0, 1)
+    with pytest.raises(ValueError, match="shape mismatch"):
+        volseg.dice(seeds, seeds[0])
     # One voxel, one seed: nothing to solve, no crash.
-    lab, _, rep = _native.random_walker(ct[:1, :1, :1], seeds[:1, :1, :1], one, 0, None,
-                                        True)
+    lab, _, rep = _native.random_walker(ct[:1, :1, :1], seeds[:1, :1, :1], **_NATIVE_DEFAULTS,
+                                        return_prob=True)
     assert lab.shape == (1, 1, 1) and lab[0, 0, 0] == 1 and rep["iterations"] == [0]
 
 

@@ -59,7 +59,8 @@ from ._checks import _int, integer_ranges as _integer_ranges
 from ._native import hdr as _h
 from ._native.hdr import (bad_rate, incoherence, khan_weight, load_crf, load_exposure_times,
                           merge, patchmatch, patchmatch_2d, rmse_log2, save_crf,
-                          save_exposure_times, vote_bds, warp_direct, zncc_stereo)
+                          save_exposure_times, to_radiance, vote_bds, warp_direct,
+                          zncc_stereo)
 from ._results import (from_mapping as _from_mapping, result as _result,
                        tuple_eq as _tuple_eq, tuple_ne as _tuple_ne,
                        tuple_repr as _tuple_repr)
@@ -172,7 +173,8 @@ class HdrScene:
 
 
 # ----------------------------------------------------------------------------------------
-# Input validation
+# Input validation: make_scene's layer mappings, and images given as files (the arrays,
+# responses, bit depths and exposure times are checked by the native functions)
 # ----------------------------------------------------------------------------------------
 
 def _seed(v) -> int:
@@ -193,73 +195,6 @@ def _real(name: str, v) -> float:
     if not np.isfinite(f):
         raise ValueError(f"`{name}` must be finite, got {f}")
     return f
-
-
-def _positive(name: str, v) -> float:
-    f = _real(name, v)
-    if not f > 0:
-        raise ValueError(f"`{name}` must be > 0, got {f}")
-    return f
-
-
-def _array(x, name: str) -> np.ndarray:
-    a = np.asarray(x)
-    if a.dtype == np.bool_ or not np.issubdtype(a.dtype, np.number) or np.iscomplexobj(a):
-        raise ValueError(f"`{name}` must be a real numeric array, got dtype {a.dtype}")
-    return a
-
-
-def _dims(a: np.ndarray, name: str) -> Tuple[int, int, int]:
-    if a.ndim not in (2, 3):
-        raise ValueError(f"`{name}` must be a 2-D (H, W) or 3-D (H, W, C) array, "
-                         f"got shape {a.shape}")
-    if a.size == 0:
-        raise ValueError(f"`{name}` is empty (shape {a.shape})")
-    h, w = a.shape[:2]
-    return h, w, (a.shape[2] if a.ndim == 3 else 1)
-
-
-def _codes(x, name: str) -> np.ndarray:
-    """An LDR view of codes as a contiguous uint16 array (uint8 and uint16 accepted)."""
-    a = _array(x, name)
-    if a.dtype not in (np.uint8, np.uint16):
-        raise ValueError(f"`{name}` must hold camera codes as uint8 or uint16, got dtype "
-                         f"{a.dtype}; convert integer codes with .astype(np.uint16) (radiance "
-                         "images go to patchmatch, not here)")
-    _dims(a, name)
-    return np.ascontiguousarray(a, dtype=np.uint16)
-
-
-def _code_list(xs, name: str, min_len: int = 1) -> Tuple[List[np.ndarray], bool]:
-    """Views as uint16 arrays of one shape, and whether all were uint8."""
-    if isinstance(xs, np.ndarray):
-        raise ValueError(f"`{name}` must be a list of images, got one array of shape "
-                         f"{xs.shape}; pass list(a) for a stacked (N, H, W[, C]) array")
-    try:
-        xs = list(xs)
-    except TypeError:
-        raise ValueError(f"`{name}` must be a list of images, got {type(xs).__name__}") from None
-    if not xs:
-        raise ValueError(f"`{name}` is empty: need at least {min_len} image(s)")
-    u8 = all(np.asarray(v).dtype == np.uint8 for v in xs)
-    out = [_codes(v, f"{name}[{i}]") for i, v in enumerate(xs)]
-    for i, v in enumerate(out):
-        if v.shape != out[0].shape:
-            raise ValueError(f"images differ in shape: `{name}[0]` is {out[0].shape}, "
-                             f"`{name}[{i}]` is {v.shape}")
-    return out, u8
-
-
-def _times(times, n: int, name: str = "exposure_times") -> List[float]:
-    t = np.asarray(times, dtype=np.float64) if not np.isscalar(times) else np.asarray([times])
-    t = t.ravel()
-    if t.size != n:
-        raise ValueError(f"`{name}` must hold one exposure time per image: {n} images, "
-                         f"{t.size} times")
-    for i, v in enumerate(t):
-        if not (np.isfinite(v) and v > 0):
-            raise ValueError(f"`{name}[{i}]` must be finite and > 0 (seconds), got {v}")
-    return [float(v) for v in t]
 
 
 def _is_path(x) -> bool:
@@ -291,19 +226,16 @@ def _files(xs, name: str):
     return arrays, paths, depths[0]
 
 
-def _file_times(exposure_times, paths, n: int) -> List[float]:
-    """The times of a stack: given (checked against the files' EXIF exposures, each
-    disagreement a warning) or, for files, read from their EXIF blocks."""
+def _file_times(exposure_times, paths):
+    """The times of a stack: for files, given (checked against the files' EXIF exposures,
+    each disagreement a warning) or read from their EXIF blocks; for arrays, as given (the
+    native functions check them)."""
     if paths is None:
-        if exposure_times is None:
-            raise ValueError("`exposure_times` is required for images given as arrays (EXIF "
-                             "exposures are read only from images given as file paths)")
-        return _times(exposure_times, n)
-    given = None if exposure_times is None else _times(exposure_times, n)
-    times, _, messages = _h.exposure_times(paths, given)
+        return exposure_times
+    times, _, messages = _h.exposure_times(paths, exposure_times)
     for m in messages:
         warnings.warn(m, UserWarning, stacklevel=3)
-    return _times(times, n)
+    return times
 
 
 def exif_exposure_times(paths, exposure_times: Optional[Sequence[float]] = None) -> List[float]:
@@ -349,89 +281,7 @@ def exif_exposure_times(paths, exposure_times: Optional[Sequence[float]] = None)
     files = [os.fsdecode(f) if _is_path(f) else f for f in paths]
     if not files or not all(isinstance(p, str) for p in files):
         raise ValueError("`paths` must be a non-empty list of file paths")
-    return _file_times(exposure_times, files, len(files))
-
-
-def _table(c, name: str) -> np.ndarray:
-    t = _array(c, name)
-    if t.ndim not in (1, 2):
-        raise ValueError(f"`{name}` must be a table (levels,) or (levels, C) of f^-1, "
-                         f"got shape {t.shape}")
-    t = np.ascontiguousarray(t, dtype=np.float32)
-    t2 = t.reshape(t.shape[0], -1)
-    levels, ch = t2.shape
-    if not 2 <= levels <= 65536 or ch == 0:
-        raise ValueError(f"`{name}` needs 2..65536 levels (z_max + 1) and >= 1 channel, "
-                         f"got shape {t.shape}")
-    if not np.isfinite(t2).all() or (t2 < 0).any():
-        raise ValueError(f"`{name}`: f^-1 must be finite and >= 0")
-    dec = np.diff(t2, axis=0) < 0
-    if dec.any():
-        z, c = np.argwhere(dec)[0]
-        raise ValueError(f"`{name}` is not monotone: f^-1({z + 1}) < f^-1({z}) in channel {c}; "
-                         "an inverse response must be non-decreasing")
-    if not (t2[-1] > 0).all():
-        raise ValueError(f"`{name}`: f^-1(z_max) must be > 0")
-    return t
-
-
-def _crf_one(c, name: str):
-    if isinstance(c, str):
-        if c not in CRF_NAMES:
-            raise ValueError(f"unknown response {c!r} for `{name}`; use \"gamma2.2\", "
-                             "\"linear\" or a table (levels, C) of f^-1")
-        return c
-    return _table(c, name)
-
-
-def _crfs(crf, n: int) -> list:
-    """One response or one per image (a list of names or arrays)."""
-    if isinstance(crf, (list, tuple)) and len(crf) > 0 and all(
-            isinstance(c, (str, np.ndarray)) for c in crf):
-        if len(crf) != n:
-            raise ValueError(f"`crf`: give one response or one per view ({n}), got a list of "
-                             f"{len(crf)}")
-        return [_crf_one(c, f"crf[{i}]") for i, c in enumerate(crf)]
-    return [_crf_one(crf, "crf")]
-
-
-def _bits(bits, crfs: list, views: Sequence[np.ndarray], u8: bool) -> Optional[int]:
-    """The bit depth of named responses: given, 8 for uint8 views, or (``None``) the smallest
-    depth covering the largest code, inferred natively. A table carries its own depth."""
-    if bits is None:
-        return 8 if u8 else None
-    bits = _int("bits", bits, 1, 16)
-    max_code = max(int(v.max()) for v in views)
-    if max_code > 2 ** bits - 1:
-        raise ValueError(f"the images hold code {max_code}, above the {bits}-bit maximum "
-                         f"{2 ** bits - 1}: `bits` is too small")
-    for i, c in enumerate(crfs):
-        if not isinstance(c, str) and c.shape[0] != 2 ** bits:
-            raise ValueError(f"`bits` = {bits} means {2 ** bits} codes but the response "
-                             f"table {i} has {c.shape[0]} levels")
-    return bits
-
-
-def _patch(name: str, patch, *sides: int) -> int:
-    p = _int(name, patch)
-    lim = min(sides)
-    if p < 3 or p % 2 == 0 or p > lim:
-        raise ValueError(f"`{name}` must be odd, >= 3 and <= min(height, width) = {lim}, "
-                         f"got {p}")
-    return p
-
-
-def _range(min_disparity, max_disparity, width: int) -> Tuple[int, int]:
-    d_max = _int("max_disparity", max_disparity)
-    d_min = -d_max if min_disparity is None else _int("min_disparity", min_disparity)
-    if d_min > d_max:
-        raise ValueError(f"min_disparity = {d_min} > max_disparity = {d_max}: the disparity "
-                         "range is empty")
-    m = max(abs(d_min), abs(d_max))
-    if m >= width:
-        raise ValueError(f"|disparity| up to {m} must be < the image width {width} "
-                         "(max_disparity / min_disparity too large)")
-    return d_min, d_max
+    return _file_times(exposure_times, files)
 
 
 # ----------------------------------------------------------------------------------------
@@ -551,43 +401,11 @@ def multiscopic_hdr(views, exposure_times=None, crf="gamma2.2", *, patch: int = 
     >>> len(out), out[0].shape, out[0].dtype
     (3, (48, 64, 3), dtype('float32'))
     """
-    if isinstance(views, (list, tuple)) and len(views) == 1:
-        raise ValueError("multiscopic_hdr needs at least 2 views, got 1; to merge an aligned "
-                         "exposure stack of one view use merge_stack")
     views, paths, file_bits = _files(views, "views")
-    vs, u8 = _code_list(views, "views")
-    if len(vs) < 2:
-        raise ValueError(f"multiscopic_hdr needs at least 2 views, got {len(vs)}; to merge "
-                         "an aligned exposure stack of one view use merge_stack")
-    h, w = vs[0].shape[:2]
-    times = _file_times(exposure_times, paths, len(vs))
-    bits = file_bits if bits is None else bits
-    crfs = _crfs(crf, len(vs))
-    nbits = _bits(bits, crfs, vs, u8)
-    if align not in ALIGN_METHODS:
-        raise ValueError(f"{align!r} is not a valid align method. Valid methods are "
-                         + ", ".join(repr(m) for m in ALIGN_METHODS))
-    if synthesis not in SYNTHESIS_METHODS:
-        raise ValueError(f"{synthesis!r} is not a valid synthesis. Valid names are "
-                         + ", ".join(repr(m) for m in SYNTHESIS_METHODS))
-    epipolar = _flag("epipolar", epipolar)
-    if align == "none":
-        # Nothing is matched: the matching parameters are not used.
-        p, d_min, d_max = _int("patch", patch, 0, 2 ** 31), 0, 0
-    else:
-        p = _patch("patch", patch, h, w)
-        if align == "zncc" or (align == "ours" and epipolar):
-            d_min, d_max = _range(min_disparity, max_disparity, w)
-        else:
-            # 2-D search: the disparity range is not used.
-            d_max = _int("max_disparity", max_disparity, 0, 2 ** 24)
-            d_min = -d_max if min_disparity is None else _int("min_disparity",
-                                                             min_disparity, -2 ** 24, 2 ** 24)
     hdr_list, fields, fallback = _h.multiscopic_hdr(
-        vs, times, crfs, nbits, p, _int("n_iter", n_iter, 0, 100000), d_min, d_max,
-        _flag("coherence", coherence), epipolar, align, synthesis, _flag("ordered", ordered),
-        _flag("weighted_cost", weighted_cost), _flag("fill_saturated", fill_saturated),
-        _seed(seed), _flag("return_details", return_details))
+        views, _file_times(exposure_times, paths), crf, file_bits if bits is None else bits,
+        patch, n_iter, max_disparity, min_disparity, coherence, epipolar, align, synthesis,
+        ordered, weighted_cost, fill_saturated, seed, return_details)
     if return_details:
         return HdrSequence(hdr_list, fields, fallback)
     return hdr_list
@@ -597,23 +415,6 @@ def multiscopic_hdr(views, exposure_times=None, crf="gamma2.2", *, patch: int = 
 # Responses, radiance and merging of stacks (matching, synthesis, `merge`, the metrics and
 # the file functions are the native ones, py/src/hdr.rs, imported above)
 # ----------------------------------------------------------------------------------------
-
-def _calibration_stack(stack, exposure_times, bits, max_bits: int):
-    """The codes, times and bit depth of a calibration stack, checked."""
-    stack, paths, file_bits = _files(stack, "stack")
-    imgs, _ = _code_list(stack, "stack")
-    if len(imgs) < 2:
-        raise ValueError(f"`stack` needs at least 2 exposures, got {len(imgs)}")
-    times = _file_times(exposure_times, paths, len(imgs))
-    if bits is None:
-        bits = 8 if file_bits is None else file_bits
-    bits = _int("bits", bits, 1, max_bits)
-    mc = max(int(v.max()) for v in imgs)
-    if mc > 2 ** bits - 1:
-        raise ValueError(f"the stack holds code {mc}, above the {bits}-bit maximum "
-                         f"{2 ** bits - 1}: pass the right `bits`")
-    return imgs, times, bits
-
 
 def calibrate_debevec(stack, exposure_times=None, *, n_samples: int = 70, lam: float = 10.0,
                       bits: Optional[int] = None) -> np.ndarray:
@@ -659,9 +460,9 @@ def calibrate_debevec(stack, exposure_times=None, *, n_samples: int = 70, lam: f
     P. Debevec and J. Malik, SIGGRAPH 1997; Ramirez Orozco et al., WSCG 2015, Journal of
     WSCG vol. 23, section 3.
     """
-    imgs, times, bits = _calibration_stack(stack, exposure_times, bits, 16)
-    return _h.calibrate_debevec(imgs, times, _int("n_samples", n_samples, 1, 10 ** 6),
-                                _positive("lam", lam), bits)
+    stack, paths, file_bits = _files(stack, "stack")
+    return _h.calibrate_debevec(stack, _file_times(exposure_times, paths), n_samples, lam,
+                                file_bits if bits is None else bits)
 
 
 def calibrate_mitsunaga_nayar(stack, exposure_times=None, *, degree: Optional[int] = None,
@@ -729,56 +530,15 @@ def calibrate_mitsunaga_nayar(stack, exposure_times=None, *, degree: Optional[in
     T. Mitsunaga and S. K. Nayar, "Radiometric self calibration", CVPR 1999; Ramirez Orozco
     et al., WSCG 2015, Journal of WSCG vol. 23, section 3.
     """
-    imgs, times, bits = _calibration_stack(stack, exposure_times, bits, 16)
-    deg = None if degree is None else _int("degree", degree, 1, 10)
-    if not isinstance(refine_ratios, (bool, np.bool_)):
-        raise ValueError(f"`refine_ratios` must be a bool, got {refine_ratios!r}")
+    stack, paths, file_bits = _files(stack, "stack")
     table, info = _h.calibrate_mitsunaga_nayar(
-        imgs, times, bits, deg, _int("max_degree", max_degree, 1, 10),
-        _int("n_samples", n_samples, 1, 10 ** 7), bool(refine_ratios), _positive("tol", tol),
-        _int("max_iter", max_iter, 1, 10 ** 6))
+        stack, _file_times(exposure_times, paths), file_bits if bits is None else bits,
+        degree, max_degree, n_samples, refine_ratios, tol, max_iter)
     fit = _from_mapping(
         PolynomialResponse, info, rename={"equations": "n_equations", "iterations": "n_iter"},
         coefficients=[np.asarray(c, dtype=np.float64) for c in info["coefficients"]],
         ratios=[np.asarray(r, dtype=np.float64) for r in info["ratios"]])
     return table, fit
-
-
-def to_radiance(image, crf, exposure_time: float, *, bits: Optional[int] = None) -> np.ndarray:
-    """A view of codes in radiance space: ``E = f^-1(Z) / dt`` per pixel and channel (paper
-    section 3, numerator of eq. 6).
-
-    Parameters
-    ----------
-    image : array (H, W) or (H, W, C), uint8 or uint16
-    crf : str or array
-        ``"gamma2.2"``, ``"linear"`` or a table ``(levels, C)`` / ``(levels,)`` of ``f^-1``.
-    exposure_time : float
-        ``dt`` in seconds (> 0).
-    bits : int, optional
-        Bit depth of a named response: default 8 for uint8, otherwise the smallest depth
-        covering the largest code.
-
-    Returns
-    -------
-    float32 array of the image's shape.
-
-    References
-    ----------
-    Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23, section 3, eq. 6.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from wscg import hdr
-    >>> hdr.to_radiance(np.array([[0, 255]], np.uint8), "linear", 0.5).tolist()
-    [[0.0, 2.0]]
-    """
-    img = _codes(image, "image")
-    u8 = np.asarray(image).dtype == np.uint8
-    crfs = [_crf_one(crf, "crf")]
-    nbits = _bits(bits, crfs, [img], u8)
-    return _h.to_radiance(img, crfs[0], _positive("exposure_time", exposure_time), nbits)
 
 
 def merge_stack(images, exposure_times=None, crf="gamma2.2", *,
@@ -826,12 +586,8 @@ def merge_stack(images, exposure_times=None, crf="gamma2.2", *,
     (100.0, 4)
     """
     images, paths, file_bits = _files(images, "images")
-    imgs, u8 = _code_list(images, "images")
-    times = _file_times(exposure_times, paths, len(imgs))
-    bits = file_bits if bits is None else bits
-    crfs = _crfs(crf, len(imgs))
-    nbits = _bits(bits, crfs, imgs, u8)
-    out, fallback = _h.merge_stack(imgs, times, crfs, nbits)
+    out, fallback = _h.merge_stack(images, _file_times(exposure_times, paths), crf,
+                                   file_bits if bits is None else bits)
     return out, int(fallback)
 
 
@@ -900,17 +656,13 @@ def make_scene(*, height: int = 160, width: int = 256,
     """
     h = _int("height", height, 8)
     w = _int("width", width, 8)
-    t = np.asarray(exposure_times, dtype=np.float64).ravel()
-    if not 2 <= t.size <= 32:
-        raise ValueError(f"`exposure_times` must give 2 to 32 cameras, got {t.size}")
-    times = _times(t, t.size)
     peak = _real("emitter_peak", emitter_peak)
     if peak < 1:
         raise ValueError(f"`emitter_peak` must be >= 1, got {peak}")
     nz = _real("noise", noise)
     if nz < 0:
         raise ValueError(f"`noise` must be >= 0, got {nz}")
-    return _from_mapping(HdrScene, _h.make_scene(h, w, times, peak, nz, _seed(seed),
+    return _from_mapping(HdrScene, _h.make_scene(h, w, exposure_times, peak, nz, _seed(seed),
                                                  _scene_layers(layers)))
 
 

@@ -53,8 +53,12 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int, _real, integer_ranges as _integer_ranges
+from ._checks import _int, integer_ranges as _integer_ranges
 from ._native import volseg as _v
+# The baseline, the metric, the preprocessing, the editing functions and the phantom are the
+# native ones (docstrings in py/src/volseg.rs).
+from ._native.volseg import (bone_mask, dice, local_grow_edit, make_fractured_shell_phantom,
+                             nearest_seed, remove_small_components, smooth)
 from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
@@ -66,9 +70,6 @@ __all__ = [
 #: Default intensity window (HU) mapped to ``[0, 1]`` before the edge weights.
 DEFAULT_WINDOW: Tuple[float, float] = (-1024.0, 3071.0)
 
-_SOLVERS = ("block", "per_label")
-_PRESETS = ("default", "paper")
-_PRECISIONS = ("f32", "f64")
 _MAX_LABEL = 65534
 
 
@@ -127,124 +128,8 @@ def _solve_report(d: Dict[str, Any], labels, order=None) -> SolveReport:
 
 
 # ----------------------------------------------------------------------------------------
-# Input validation
+# Label bookkeeping and warnings (the arguments are checked by the native functions)
 # ----------------------------------------------------------------------------------------
-
-def _ct(ct, name: str = "ct") -> np.ndarray:
-    """A C-contiguous float32 ``[z, y, x]`` array (real dtypes are converted; NaN and
-    infinities are refused by Rust, whose message gives the flat index)."""
-    a = np.asarray(ct)
-    if a.dtype.kind not in "iuf":
-        raise ValueError(f"`{name}` must be a real-valued (integer or float) array, "
-                         f"got dtype {a.dtype}")
-    if a.ndim != 3:
-        raise ValueError(f"`{name}` must be a 3-D array indexed [z, y, x], got shape {a.shape}")
-    with np.errstate(over="ignore", invalid="ignore"):
-        return np.ascontiguousarray(a, dtype=np.float32)
-
-
-def _labels(v, name: str, shape: Optional[Tuple[int, ...]] = None,
-            hi: int = 65535, ndim: Optional[int] = 3) -> np.ndarray:
-    """A C-contiguous uint16 label array: integer or bool dtypes, or floats holding whole
-    numbers, with values in ``0..hi``."""
-    a = np.asarray(v)
-    if a.dtype.kind == "b":
-        a = a.astype(np.uint16)
-    elif a.dtype.kind == "f":
-        if a.size and not (np.all(np.isfinite(a)) and np.all(a == np.round(a))):
-            raise ValueError(f"`{name}` must hold whole-number labels, got non-integral values")
-    elif a.dtype.kind not in "iu":
-        raise ValueError(f"`{name}` must be an integer label array, got dtype {a.dtype}")
-    if ndim is not None and a.ndim != ndim:
-        raise ValueError(f"`{name}` must be a 3-D array indexed [z, y, x], got shape {a.shape}")
-    if shape is not None and a.shape != tuple(shape):
-        raise ValueError(f"shape mismatch: `{name}` has shape {a.shape}, `ct` {tuple(shape)}")
-    if a.size:
-        lo, top = a.min(), a.max()
-        if lo < 0 or top > hi:
-            raise ValueError(f"`{name}` must hold labels in 0..{hi} (0 = none), got values in "
-                             f"[{lo}, {top}]")
-    return np.ascontiguousarray(a, dtype=np.uint16)
-
-
-def _mask(mask, shape) -> Optional[np.ndarray]:
-    if mask is None:
-        return None
-    m = np.asarray(mask)
-    if m.dtype.kind not in "biu":
-        raise ValueError(f"`mask` must be a boolean array, got dtype {m.dtype}")
-    if m.shape != tuple(shape):
-        raise ValueError(f"shape mismatch: `mask` has shape {m.shape}, `ct` {tuple(shape)}")
-    return np.ascontiguousarray(m != 0)
-
-
-def _spacing(spacing) -> Tuple[float, float, float]:
-    try:
-        s = tuple(float(x) for x in spacing)
-    except (TypeError, ValueError):
-        raise ValueError(f"`spacing` must be 3 numbers (dz, dy, dx), got {spacing!r}") from None
-    if len(s) != 3:
-        raise ValueError(f"`spacing` must have 3 entries (dz, dy, dx), got {spacing!r}")
-    if not all(np.isfinite(x) and x > 0 for x in s):
-        raise ValueError(f"`spacing` must be finite and > 0, got {spacing!r}")
-    return s  # type: ignore[return-value]
-
-
-def _choice(name: str, v, allowed: Sequence[str]) -> str:
-    if not isinstance(v, str) or v not in allowed:
-        choices = ", ".join(repr(a) for a in allowed)
-        raise ValueError(f"`{name}` must be one of {choices}, got {v!r}")
-    return v
-
-
-def _norm(norm) -> Dict[str, Any]:
-    """``"window"``, ``("window", lo, hi)``, ``"minmax"`` or ``"none"`` as parameter entries."""
-    if isinstance(norm, str):
-        n = _choice("norm", norm, ("window", "minmax", "none"))
-        if n == "window":
-            return {"norm": "window", "window_lo": DEFAULT_WINDOW[0],
-                    "window_hi": DEFAULT_WINDOW[1]}
-        return {"norm": n}
-    if isinstance(norm, (tuple, list)) and len(norm) == 3 and norm[0] == "window":
-        lo, hi = _real("norm lo", norm[1]), _real("norm hi", norm[2])
-        if not (np.isfinite(lo) and np.isfinite(hi) and hi > lo):
-            raise ValueError(f"`norm` window needs finite lo < hi, got ({lo}, {hi})")
-        return {"norm": "window", "window_lo": lo, "window_hi": hi}
-    raise ValueError("`norm` must be 'window', ('window', lo, hi), 'minmax' or 'none', got "
-                     f"{norm!r}")
-
-
-def _params(t_bone, beta, eps, kappa, tol, max_iter, norm, spacing_in_weights, solver,
-            precision, jacobi, n_threads, preset) -> Dict[str, Any]:
-    """The parameter dict of the native module, each value checked and named; ``beta``,
-    ``eps`` and ``kappa`` left at None take the values of ``preset`` (set natively)."""
-    p: Dict[str, Any] = {"preset": _choice("preset", preset, _PRESETS)}
-    for name, v in (("t_bone", t_bone), ("beta", beta), ("eps", eps), ("kappa", kappa),
-                    ("tol", tol)):
-        if v is None and name in ("beta", "eps", "kappa"):
-            continue
-        x = _real(name, v)
-        if not np.isfinite(x):
-            raise ValueError(f"`{name}` must be finite, got {v!r}")
-        p[name] = x
-    for name in ("beta", "eps", "kappa"):
-        if name in p and p[name] < 0:
-            raise ValueError(f"`{name}` must be >= 0, got {p[name]}")
-    if p["tol"] <= 0:
-        raise ValueError(f"`tol` must be > 0, got {p['tol']}")
-    p["max_iter"] = _int("max_iter", max_iter, 1)
-    p.update(_norm(norm))
-    p["spacing_in_weights"] = bool(spacing_in_weights)
-    p["solver"] = _choice("solver", solver, _SOLVERS)
-    p["precision"] = _choice("precision", precision, _PRECISIONS)
-    p["jacobi"] = bool(jacobi)
-    p["n_threads"] = None if n_threads is None else _int("n_threads", n_threads, 1, 1024)
-    return p
-
-
-def _passes(n, name: str = "n_smooth_passes") -> int:
-    return _int(name, n, 0, 100)
-
 
 def _present(seeds: np.ndarray) -> np.ndarray:
     """The distinct non-zero labels of a uint16 array, ascending."""
@@ -252,15 +137,8 @@ def _present(seeds: np.ndarray) -> np.ndarray:
     return (np.flatnonzero(counts[1:]) + 1).astype(np.int64)
 
 
-def _compact(present: np.ndarray) -> np.ndarray:
-    """Look-up table from the labels ``present`` to ``1..K``."""
-    lut = np.zeros(int(present[-1]) + 1, np.uint16)
-    lut[present] = np.arange(1, present.size + 1)
-    return lut
-
-
-def _warn_dropped(seeds: np.ndarray, placed: int, stacklevel: int = 3) -> None:
-    total = int(np.count_nonzero(seeds))
+def _warn_dropped(total: int, placed: int, stacklevel: int = 3) -> None:
+    """Warns when fewer than all ``total`` non-zero seed voxels were ``placed`` on the graph."""
     if placed < total:
         warnings.warn(f"{total - placed} of {total} seed voxels are not bone (below `t_bone` "
                       "or outside `mask`) and were dropped", UserWarning, stacklevel=stacklevel)
@@ -424,20 +302,14 @@ def random_walker_bone(ct, seeds, *, t_bone: float = 300.0, beta: Optional[float
     >>> volseg.dice(labels, truth) > 0.5
     True
     """
-    a = _ct(ct)
-    s = _labels(seeds, "seeds", a.shape, hi=_MAX_LABEL)
-    p = _params(t_bone, beta, eps, kappa, tol, max_iter, norm, spacing_in_weights, solver,
-                precision, jacobi, n_threads, preset)
-    present = _present(s)
-    consecutive = present.size == 0 or present[-1] == present.size
-    lut = None if consecutive else _compact(present)
-    labels, probs, native = _v.random_walker(a, s if lut is None else lut[s], _spacing(spacing),
-                                             _passes(n_smooth_passes), p, bool(return_prob))
-    user = np.concatenate([[0], present]).astype(np.uint16)
-    if lut is not None:
-        labels = user[labels]
-    report = _solve_report(native, user[1:native["n_labels"] + 1])
-    _warn_dropped(s, report.n_seeds)
+    labels, probs, native = _v.random_walker(
+        ct, seeds, t_bone=t_bone, beta=beta, eps=eps, kappa=kappa, preset=preset, tol=tol,
+        max_iter=max_iter, spacing=spacing, n_smooth_passes=n_smooth_passes, norm=norm,
+        spacing_in_weights=bool(spacing_in_weights), solver=solver, precision=precision,
+        jacobi=bool(jacobi), n_threads=n_threads, return_prob=bool(return_prob))
+    total = native.pop("n_seed_voxels")
+    report = _solve_report(native, native.pop("labels"))
+    _warn_dropped(total, report.n_seeds)
     _warn_unconverged(report)
     out: Tuple[Any, ...] = (labels,)
     if return_prob:
@@ -494,11 +366,11 @@ class RandomWalkerSession:
                  spacing_in_weights: bool = False, solver: str = "block",
                  precision: str = "f32", jacobi: bool = True,
                  n_threads: Optional[int] = None) -> None:
-        a = _ct(ct)
-        p = _params(t_bone, beta, eps, kappa, tol, max_iter, norm, spacing_in_weights, solver,
-                    precision, jacobi, n_threads, preset)
-        self._s = _v.Session(a, _mask(mask, a.shape), _spacing(spacing),
-                             _passes(n_smooth_passes), p)
+        self._s = _v.Session(
+            ct, mask, t_bone=t_bone, beta=beta, eps=eps, kappa=kappa, preset=preset, tol=tol,
+            max_iter=max_iter, spacing=spacing, n_smooth_passes=n_smooth_passes, norm=norm,
+            spacing_in_weights=bool(spacing_in_weights), solver=solver, precision=precision,
+            jacobi=bool(jacobi), n_threads=n_threads)
         self._report: Optional[SolveReport] = None
         # User label of every internal label 1..K (the native session numbers labels 1..K).
         self._user = np.zeros(1, np.uint16)
@@ -517,7 +389,7 @@ class RandomWalkerSession:
         """Replaces all seeds by the non-zero voxels of ``seeds`` (``(Z, Y, X)`` int array,
         labels ``1..65534``, not necessarily consecutive). Returns how many seed voxels lie
         on the graph; the others are dropped with a ``UserWarning``."""
-        s = _labels(seeds, "seeds", self.shape, hi=_MAX_LABEL)
+        s = self._s.check_seeds(seeds)
         present = _present(s)
         # Labels keep their internal number for the whole session, so that warm starts and
         # the last solution stay attached to the right label.
@@ -529,7 +401,7 @@ class RandomWalkerSession:
         placed = self._s.set_seeds(lut[s])
         self._user = np.concatenate([self._user, np.asarray(new, np.uint16)]).astype(np.uint16)
         self._internal = internal
-        _warn_dropped(s, placed)
+        _warn_dropped(int(np.count_nonzero(s)), placed)
         return placed
 
     def add_seeds(self, zyx_indices, label: int) -> int:
@@ -633,291 +505,6 @@ class RandomWalkerSession:
         return (f"RandomWalkerSession(shape={self.shape}, n_nodes={self.n_nodes}, "
                 f"n_labels={self.n_labels})")
 
-
-# ----------------------------------------------------------------------------------------
-# Baseline, metric, preprocessing
-# ----------------------------------------------------------------------------------------
-
-def nearest_seed(ct, seeds, t_bone: float = 300.0, *, mask=None):
-    """Geodesic nearest-seed labelling, a baseline (not in the paper) random walks must beat.
-
-    Breadth-first search inside the bone mask from all seeds at once (unweighted
-    6-neighbour steps): each bone voxel takes the label of the first seed front to reach it
-    (ties: lower voxel index).
-
-    Parameters
-    ----------
-    ct : (Z, Y, X) array
-        CT volume in HU.
-    seeds : (Z, Y, X) int array
-        Seed labels (0 = none).
-    t_bone : float, default 300
-        Bone threshold, HU.
-    mask : (Z, Y, X) bool array, optional
-        Bone mask used instead of ``ct >= t_bone``.
-
-    Returns
-    -------
-    labels : (Z, Y, X) uint16 array
-        0 on non-bone voxels and on bone no seed reaches.
-
-    Raises
-    ------
-    ValueError
-        Shape mismatch, NaN CT values, no seed on a bone voxel.
-    """
-    a = _ct(ct)
-    s = _labels(seeds, "seeds", a.shape, hi=_MAX_LABEL)
-    t = _real("t_bone", t_bone)
-    if not np.isfinite(t):
-        raise ValueError(f"`t_bone` must be finite, got {t_bone!r}")
-    return _v.nearest_seed(a, s, {"t_bone": t}, _mask(mask, a.shape))
-
-
-def dice(a, b) -> float:
-    """Multi-label Dice similarity (paper eq. 2): ``2 |A n B| / (|A| + |B|)``, where
-    ``|A n B|`` counts the voxels with the same non-zero label in both and ``|A|`` the
-    non-zero voxels of ``A``; 1 when both are empty.
-
-    Parameters
-    ----------
-    a, b : arrays of the same shape
-        Label arrays (integers in 0..65535; 0 = background).
-
-    Returns
-    -------
-    float
-    """
-    x = _labels(a, "a", ndim=None)
-    y = _labels(b, "b", ndim=None)
-    if x.shape != y.shape:
-        raise ValueError(f"shape mismatch: `a` has shape {x.shape}, `b` {y.shape}")
-    return float(_v.dice(x.reshape(-1), y.reshape(-1)))
-
-
-def bone_mask(ct, t_bone: float = 300.0, *, n_smooth_passes: int = 0,
-              spacing: Sequence[float] = (1.0, 1.0, 1.0)) -> np.ndarray:
-    """The collective bone mask ``ct >= t_bone`` (paper section 2.1, after ``n_smooth_passes``
-    passes of :func:`smooth` with ``spacing`` ``(dz, dy, dx)``): the nodes of the graph
-    :func:`random_walker_bone` builds."""
-    a = _ct(ct)
-    t = _real("t_bone", t_bone)
-    if not np.isfinite(t):
-        raise ValueError(f"`t_bone` must be finite, got {t_bone!r}")
-    if _passes(n_smooth_passes) > 0:
-        a = smooth(a, n_smooth_passes, spacing=spacing)
-    elif not np.all(np.isfinite(a)):
-        raise ValueError("`ct` contains NaN or infinity")
-    return a.astype(np.float64) >= t
-
-
-def smooth(ct, n_passes: int = 1, *, spacing: Sequence[float] = (1.0, 1.0, 1.0)):
-    """Anisotropy-aware 3-tap Gaussian smoothing (paper section 2.1).
-
-    Along array axis ``a`` the standard deviation is ``0.6 * min(spacing) / spacing[a]``
-    voxels, i.e. ``0.6 * min(spacing)`` in world units on every axis (3 taps, replicated
-    border; an axis whose sigma falls below 0.3 voxel is left alone), applied ``n_passes``
-    times.
-
-    Parameters
-    ----------
-    ct : (Z, Y, X) array
-        CT volume (converted to float32; no NaN).
-    n_passes : int, default 1
-        Number of passes (0..100; 0 returns a float32 copy).
-    spacing : (dz, dy, dx), default (1, 1, 1)
-        Voxel spacing (finite, > 0), in array axis order.
-
-    Returns
-    -------
-    (Z, Y, X) float32 array
-    """
-    return _v.smooth(_ct(ct), _passes(n_passes, "n_passes"), _spacing(spacing))
-
-
-# ----------------------------------------------------------------------------------------
-# Editing
-# ----------------------------------------------------------------------------------------
-
-def local_grow_edit(labels, ct, center_zyx: Sequence[float], radius: float, active: int,
-                    t_bone: float = 300.0, *,
-                    norm: Union[str, Tuple[str, float, float]] = "window",
-                    ratio: float = 0.5, gradient: float = 0.3, distance: float = 0.2,
-                    gradient_scale: float = 0.05, tau: float = 0.5, max_sweeps: int = 10):
-    """The local 3-D grow brush (paper section 2.6, stage 3), on a copy of ``labels``.
-
-    Inside the ball of ``radius`` voxels around ``center_zyx``, a bone voxel ``p_j``
-    (``ct >= t_bone``) takes the ``active`` label from a 26-neighbour ``p_i`` carrying it
-    when ``W_ij = ratio * rho_j + gradient * (1 - min(1, |g_i - g_j| / gradient_scale)) +
-    distance * (1 - |p_j - c| / radius) > tau``, ``rho_j`` the fraction of ``p_j``'s 26
-    neighbours carrying the label and ``g`` the normalised intensity (``norm``). Sweeps
-    repeat until nothing changes or ``max_sweeps``. Voxels outside the ball or the bone
-    mask never change.
-
-    Parameters
-    ----------
-    labels : (Z, Y, X) int array
-        Current labels (0..65535); not modified.
-    ct : (Z, Y, X) array
-        CT volume in HU.
-    center_zyx : (z, y, x)
-        Brush centre, voxel coordinates.
-    radius : float
-        Brush radius, voxels (> 0).
-    active : int
-        Label to grow (1..65535).
-    t_bone : float, default 300
-        Bone threshold, HU.
-    norm : as in :func:`random_walker_bone`
-    ratio, gradient, distance, gradient_scale, tau, max_sweeps
-        Terms of ``W_ij`` (the paper names them without values; these defaults are ours).
-
-    Returns
-    -------
-    labels : (Z, Y, X) uint16 array
-        The edited copy.
-    n_changed : int
-        Number of voxels whose label changed.
-    """
-    a = _ct(ct)
-    lab = _labels(labels, "labels", a.shape)
-    try:
-        c = tuple(float(v) for v in center_zyx)
-    except (TypeError, ValueError):
-        raise ValueError(f"`center_zyx` must be 3 numbers (z, y, x), got {center_zyx!r}") from None
-    if len(c) != 3 or not all(np.isfinite(v) for v in c):
-        raise ValueError(f"`center_zyx` must be 3 finite numbers (z, y, x), got {center_zyx!r}")
-    r = _real("radius", radius)
-    if not (np.isfinite(r) and r > 0):
-        raise ValueError(f"`radius` must be finite and > 0, got {radius!r}")
-    act = _int("active", active, 1, 65535)
-    t = _real("t_bone", t_bone)
-    if not np.isfinite(t):
-        raise ValueError(f"`t_bone` must be finite, got {t_bone!r}")
-    p: Dict[str, Any] = {"t_bone": t}
-    p.update(_norm(norm))
-    w = {"ratio": _real("ratio", ratio), "gradient": _real("gradient", gradient),
-         "distance": _real("distance", distance),
-         "gradient_scale": _real("gradient_scale", gradient_scale), "tau": _real("tau", tau),
-         "max_sweeps": _int("max_sweeps", max_sweeps, 0)}
-    out, n = _v.grow_edit(lab, a, c, r, act, p, w)
-    return out, int(n)
-
-
-def remove_small_components(labels, min_voxels: int):
-    """Relabels small label islands (an optional clean-up, not in the paper), on a copy.
-
-    Every 6-connected component of a non-zero label with fewer than ``min_voxels`` voxels
-    takes the most frequent other non-zero label among its 6-neighbours (ties: the lowest);
-    components without a labelled neighbour stay.
-
-    Parameters
-    ----------
-    labels : (Z, Y, X) int array
-        Labels (0..65535); not modified.
-    min_voxels : int
-        Smallest component kept (>= 0).
-
-    Returns
-    -------
-    labels : (Z, Y, X) uint16 array
-    n_changed : int
-    """
-    lab = _labels(labels, "labels")
-    out, n = _v.remove_small(lab, _int("min_voxels", min_voxels, 0))
-    return out, int(n)
-
-
-# ----------------------------------------------------------------------------------------
-# Phantom
-# ----------------------------------------------------------------------------------------
-
-def make_fractured_shell_phantom(shape: Sequence[int] = (128, 128, 128), n_fragments: int = 6,
-                                 seed: int = 0, *, return_distance: bool = False,
-                                 shell: Tuple[float, float] = (0.60, 0.68),
-                                 bone_hu: float = 1200.0, gap_hu: float = 450.0,
-                                 gap_width: float = 0.75, blur_sigma: float = 0.8,
-                                 noise_hu: float = 30.0, t_bone: float = 300.0,
-                                 stroke_radius: float = 2.0, stroke_margin: float = 4.0,
-                                 surface_strokes: bool = False):
-    """A CT phantom of a fractured bone shell with exact fragment labels and seed strokes
-    (a stand-in for the paper's clinical cases of section 3; no clinical CT is
-    redistributable).
-
-    An ellipsoidal shell (``shell`` radii as fractions of the half-size, ``bone_hu``) split
-    into ``n_fragments`` pieces by the spherical Voronoi cells of random directions; fracture
-    gaps of ``gap_hu`` (above the 300 HU threshold, so the thresholded bone stays in one
-    piece); soft tissue (40 HU) inside, air (-1000 HU) outside; Gaussian partial-volume blur,
-    CT noise, rounding to integers. Seeds: one stroke per fragment, a ball around a random
-    mid-shell point away from its boundary (not at the Voronoi site, so nearest-seed
-    labelling does not reproduce the truth by construction), or a patch of its outer surface.
-
-    Parameters
-    ----------
-    shape : (Z, Y, X), default (128, 128, 128)
-        Volume shape, each side >= 16, at most 512^3 voxels.
-    n_fragments : int, default 6
-        Number of fragments K (2..64).
-    seed : int, default 0
-        Seed of the sites, strokes and noise (same seed, same phantom).
-    return_distance : bool, default False
-        Also return the arc distance (voxels) of every voxel from the nearest fracture
-        boundary, float32.
-    shell : (inner, outer), default (0.60, 0.68)
-        Radii of the shell as fractions of the half-size of each axis (``0 < inner < outer
-        < 0.9``).
-    bone_hu : float, default 1200
-        CT value of the bone, HU.
-    gap_hu : float, default 450
-        CT value inside the fracture gaps, HU.
-    gap_width : float, default 0.75
-        Width of the fracture gaps, voxels (>= 0).
-    blur_sigma : float, default 0.8
-        Partial-volume blur, voxels (0..16).
-    noise_hu : float, default 30
-        Standard deviation of the CT noise, HU (>= 0).
-    t_bone : float, default 300
-        Threshold of the ``truth`` labels and of the seed voxels, HU.
-    stroke_radius : float, default 2
-        Radius of each seed stroke, voxels (>= 0).
-    stroke_margin : float, default 4
-        Least distance of a stroke from its fragment's boundary, voxels (>= 0).
-    surface_strokes : bool, default False
-        Paint the strokes on the outer surface, as with the paper's 3-D brush (the bone
-        voxels with a non-bone 6-neighbour within 3 voxels of a point of the outer surface).
-
-    Returns
-    -------
-    ct : (Z, Y, X) float32 array
-        HU.
-    truth : (Z, Y, X) uint16 array
-        Fragment label ``1..K`` of every voxel with ``ct >= t_bone``, 0 elsewhere.
-    seeds : (Z, Y, X) uint16 array
-        Seed strokes (on bone voxels).
-    distance : (Z, Y, X) float32 array
-        Only with ``return_distance``.
-    """
-    try:
-        sh = tuple(int(_int("shape", v, 16)) for v in shape)
-    except TypeError:
-        raise ValueError(f"`shape` must be 3 integers (Z, Y, X), got {shape!r}") from None
-    if len(sh) != 3:
-        raise ValueError(f"`shape` must be 3 integers (Z, Y, X), got {shape!r}")
-    k = _int("n_fragments", n_fragments, 2, 64)
-    sd = _int("seed", seed, 0, 2**64 - 1)
-    try:
-        inner, outer = (float(x) for x in shell)
-    except (TypeError, ValueError):
-        raise ValueError(f"`shell` must be (inner, outer), got {shell!r}") from None
-    opts: Dict[str, Any] = {"shell": (inner, outer), "surface_strokes": bool(surface_strokes)}
-    for key, v in (("bone_hu", bone_hu), ("gap_hu", gap_hu), ("gap_width", gap_width),
-                   ("blur_sigma", blur_sigma), ("noise_hu", noise_hu), ("t_bone", t_bone),
-                   ("stroke_radius", stroke_radius), ("stroke_margin", stroke_margin)):
-        opts[key] = _real(key, v)
-    ct, truth, seeds, dist = _v.phantom(sh, k, sd, opts)
-    if return_distance:
-        return ct, truth, seeds, dist
-    return ct, truth, seeds
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())
