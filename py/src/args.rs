@@ -269,19 +269,6 @@ pub fn real_array<'py>(
     Ok(a)
 }
 
-/// The 3 numbers of `obj` (a tuple, list or array of 3 real numbers, as [`array`]), e.g. a
-/// volume's `spacing` `(dz, dy, dx)`; any other length is a `ValueError` naming `name`.
-pub fn triple(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
-    let a = array::<f64>(name, obj)?;
-    match *crate::convert::values(&a) {
-        [x, y, z] if a.ndim() == 1 => Ok([x, y, z]),
-        _ => Err(value_error(format!(
-            "`{name}` must be 3 numbers, got shape {:?}",
-            a.shape()
-        ))),
-    }
-}
-
 /// A numpy shape as Python prints it, `(4, 4)` or `(4,)`, for the messages that quote a
 /// shape as the Python checks did.
 pub fn shape_repr(s: &[usize]) -> String {
