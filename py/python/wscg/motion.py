@@ -47,6 +47,8 @@ import numpy as np
 from ._checks import _int, integer_ranges as _integer_ranges
 from ._estimator import Estimator
 from ._native import motion as _m
+from ._native.motion import (forward_kinematics, pca_qualities, pca_quality, quality,
+                             regression_p_value, save_bvh)
 from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
@@ -583,48 +585,6 @@ def _trials(name: str, X) -> np.ndarray:
     return x
 
 
-def pca_qualities(X) -> np.ndarray:
-    """Cumulative explained-variance ratios ``Q_PCA(1), Q_PCA(2), ...`` (paper Fig. 4).
-
-    PCA of the ``(R * I) x N`` signal matrix: each row a channel of one trial, each column a
-    time sample, rows centred over time. ``Q_PCA(J)`` equals scikit-learn's
-    ``PCA(J).fit(X.reshape(-1, N).T).explained_variance_ratio_.sum()``.
-
-    Parameters
-    ----------
-    X : array_like, shape (R, I, N) or (rows, N)
-
-    Returns
-    -------
-    ndarray, shape (min(R * I, N),)
-    """
-    return _m.pca_qualities(_trials("X", X))
-
-
-def pca_quality(X, j: int) -> float:
-    """``Q_PCA(j)``: the fraction of variance of the ``j`` leading principal components of
-    the ``(R * I) x N`` signal matrix (see :func:`pca_qualities`).
-
-    Parameters
-    ----------
-    X : array_like, shape (R, I, N) or (rows, N)
-    j : int
-        Number of components, ``1 <= j <= min(R * I, N)``.
-    """
-    return _m.pca_quality(_trials("X", X), _u("j", j, 1))
-
-
-def quality(X, Xhat) -> float:
-    """Approximation quality ``Q = 1 - ||X - Xhat||_F^2 / ||X||_F^2`` (paper Fig. 4).
-
-    Parameters
-    ----------
-    X, Xhat : array_like
-        Arrays of the same shape; ``X`` not all zero.
-    """
-    return _m.quality(_array("X", X), _array("Xhat", Xhat))
-
-
 # ------------------------------------------------------------------------------------------
 # Step-wise learning
 
@@ -903,37 +863,6 @@ def _synthesizer(lib: Library, p: dict):
 # Skeleton and BVH
 
 
-def _frames(angles, root) -> Tuple[np.ndarray, np.ndarray]:
-    a = _array("angles", angles)
-    if a.ndim == 1:
-        a = a.reshape(1, -1)
-    r = _array("root", root)
-    if r.ndim == 0:
-        r = r.reshape(1)
-    return a, r
-
-
-def save_bvh(path: Union[str, os.PathLike], angles, root, fps: float = 120.0) -> None:
-    """Writes frames of the 17-joint skeleton as a BVH file.
-
-    Rotations become ``Zrotation Xrotation Yrotation`` Euler angles in degrees; positions
-    are in centimetres; the pelvis walks along +z.
-
-    Parameters
-    ----------
-    path : str or PathLike
-    angles : array_like, shape (T, 51)
-        Exponential-map channels per frame.
-    root : array_like, shape (T,) or (T, 3)
-        Pelvis forward position in metres (hips at the rest height), or full positions (as
-        :func:`forward_kinematics` takes them).
-    fps : float
-        Frame rate (> 0).
-    """
-    a, r = _frames(angles, root)
-    _m.save_bvh(os.fspath(path), a, r, _float("fps", fps))
-
-
 def load_dataset(path: Union[str, os.PathLike]) -> MotionDataset:
     """Reads a training folder (paper 16, section 3): ``angles.npy`` ``(R, 3, I, N)``,
     optional ``root.npy`` ``(R, 3, N)`` and ``steps.csv`` (header, then rows
@@ -1043,19 +972,6 @@ def load_bvh_skeleton(path: Union[str, os.PathLike]) -> BvhSkeleton:
     return _from_mapping(BvhSkeleton, _m.load_bvh_skeleton(os.fspath(path)))
 
 
-def forward_kinematics(angles, root) -> np.ndarray:
-    """World positions of the 17 joints and the 5 end sites, ``(T, 22, 3)`` metres.
-
-    Parameters
-    ----------
-    angles : array_like, shape (T, 51)
-    root : array_like, shape (T,) or (T, 3)
-        Pelvis forward position (hips at the rest height) or full positions.
-    """
-    a, r = _frames(angles, root)
-    return _m.forward_kinematics(a, r)
-
-
 def skeleton() -> Skeleton:
     """The 17-joint skeleton, a :class:`Skeleton`: ``names``, ``parents`` (-1 for the root),
     ``offsets`` ``(17, 3)`` metres (axes: y up, z forward, x left) and ``bones`` ``(21, 2)``
@@ -1065,20 +981,6 @@ def skeleton() -> Skeleton:
 
 # ------------------------------------------------------------------------------------------
 # Statistics, SVR, oscillators
-
-
-def regression_p_value(r2: float, n: int) -> float:
-    """Two-sided p-value of the slope of a simple regression with ``R^2 = r2`` on ``n``
-    points: ``t = sqrt(R^2 (n - 2) / (1 - R^2))`` on ``n - 2`` degrees of freedom.
-
-    Parameters
-    ----------
-    r2 : float
-        In ``[0, 1]``.
-    n : int
-        At least 3.
-    """
-    return _m.regression_p_value(_float("r2", r2), _u("n", n, 0))
 
 
 def fit_line(x, y) -> LineFit:
