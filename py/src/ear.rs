@@ -2,12 +2,16 @@
 //! index-based ear recognition) and of the image operations it is built from
 //! (`wscg_biometrics::imgops::{tone, mask}`, `wscg_math::wavelet::haar_ll`).
 //!
-//! The documented API is `python/wscg/ear.py`, which passes C-contiguous uint8 images,
-//! float32 templates, float64 planes and bool masks, and the pipeline parameters as a dict
-//! (keys: the fields of `EarParams`, see [`PARAM_KEYS`]). Every function validates its input
-//! again, so a direct call cannot panic; the GIL is released while Rust works.
+//! `cmc` and the building blocks (`rgb_to_gray`, `equalize_hist`, `resize`, `haar_ll`, the
+//! disk morphology, `fill_holes`) are `wscg.ear`'s functions themselves, re-exported by
+//! `python/wscg/ear.py` (which holds the module's documentation), their arguments converted
+//! by [`crate::args`] (images of dtype uint8, masks and planes as any real array-like). The
+//! pipeline functions take the pipeline parameters as a dict (keys: the fields of
+//! `EarParams`, see [`PARAM_KEYS`]) built by the Python layer, which documents them once for
+//! every function, with C-contiguous uint8 images and float32 templates. Every function
+//! validates its input, so a direct call cannot panic; the GIL is released while Rust works.
 
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -21,6 +25,7 @@ use wscg_biometrics::ear::{
 use wscg_biometrics::imgops::{mask, tone};
 use wscg_math::{Image, ImageView};
 
+use crate::args::{self, uint};
 use crate::convert::{array, dict_item, dims2, image_dims, indices, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -517,13 +522,14 @@ impl PyEarMatcher {
     }
 }
 
-/// Cumulative match characteristic of 0-based ranks (-1: rejected, excluded).
+/// Cumulative match characteristic: ``cmc[r - 1]`` is the fraction of accepted probes
+/// whose true identity is within the top ``r``. ``ranks`` holds each probe's 0-based rank
+/// of its true identity, ``-1`` for a rejected probe (excluded: neither a success nor a
+/// failure). ``ValueError`` for ``max_rank < 1`` or when every probe is rejected.
 #[pyfunction]
-fn cmc<'py>(
-    py: Python<'py>,
-    ranks: PyReadonlyArrayDyn<'py, i64>,
-    max_rank: usize,
-) -> PyResult<Arr<'py, f64>> {
+fn cmc<'py>(py: Python<'py>, ranks: &Bound<'py, PyAny>, max_rank: i128) -> PyResult<Arr<'py, f64>> {
+    let ranks = args::array::<i64>("ranks", ranks)?;
+    let max_rank: usize = uint(py, "max_rank", max_rank, 0)?;
     if ranks.shape().len() != 1 {
         return Err(value_error(format!(
             "`ranks` must be a 1-D array, got shape {:?}",
@@ -877,35 +883,61 @@ fn skin_likelihood<'py>(
 // Building blocks
 // ------------------------------------------------------------------------------------------
 
-/// OpenCV's fixed-point RGB to grey of an `(H, W, 3)` uint8 image.
+/// The uint8 image argument `name` (any array of dtype uint8; another dtype is refused, not
+/// cast, so that no grey level changes).
+fn u8_arg<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, u8>> {
+    let a = args::asarray(name, obj)?;
+    match a.cast::<PyArrayDyn<u8>>() {
+        Ok(a) => Ok(a.readonly()),
+        Err(_) => Err(value_error(format!(
+            "`{name}` must be a uint8 image, got dtype {}",
+            a.dtype()
+        ))),
+    }
+}
+
+/// The 2-D mask argument `name` (bool, or any real array-like: non-zero = set).
+fn mask_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(Vec<u8>, usize, usize)> {
+    mask_in(name, &args::array::<bool>(name, obj)?)
+}
+
+/// Grey levels of a uint8 ``(H, W, 3)`` RGB image with OpenCV's fixed-point BT.601,
+/// ``Y = (9798 R + 19235 G + 3735 B + 16384) >> 15`` (15-bit weights): bit-exact
+/// ``cv2.cvtColor(image, cv2.COLOR_RGB2GRAY)`` of OpenCV 4 and 5 (OpenCV 3.4's 14-bit
+/// weights differ by one level on 0.26 % of all colours). Returns uint8 ``(H, W)``.
 #[pyfunction]
-fn rgb_to_gray<'py>(py: Python<'py>, image: PyReadonlyArrayDyn<'py, u8>) -> PyResult<Arr<'py, u8>> {
-    let im = image_in("image", &image)?;
+fn rgb_to_gray<'py>(py: Python<'py>, image: &Bound<'py, PyAny>) -> PyResult<Arr<'py, u8>> {
+    let im = image_in("image", &u8_arg("image", image)?)?;
     let g = tone::rgb_to_gray(&im).py_err()?;
     array(py, &[im.height(), im.width()], g)
 }
 
-/// `cv2.equalizeHist` of a 2-D uint8 image, optionally with the histogram of `within` only.
+/// Histogram equalisation of a uint8 2-D image with the arithmetic of
+/// ``cv2.equalizeHist`` (bit-exact): ``lut(v) = round_half_even(f32(cdf(v) - c_min) *
+/// (255f / (P - c_min)))``; an image of one grey level is returned unchanged. With
+/// ``within`` (a bool mask of the same shape) the histogram counts only those pixels (the
+/// mapping is applied to all; levels below the lowest counted one map to 0).
 #[pyfunction]
 #[pyo3(signature = (gray, within=None))]
 fn equalize_hist<'py>(
     py: Python<'py>,
-    gray: PyReadonlyArrayDyn<'py, u8>,
-    within: Option<PyReadonlyArrayDyn<'py, bool>>,
+    gray: &Bound<'py, PyAny>,
+    within: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Arr<'py, u8>> {
+    let gray = u8_arg("gray", gray)?;
     let (h, w) = dims2("gray", &gray)?;
     if h == 0 || w == 0 {
         return Err(value_error(format!("`gray` is empty (shape {h} x {w})")));
     }
-    let sel = match &within {
+    let sel = match within.filter(|m| !m.is_none()) {
         Some(m) => {
-            let (mh, mw) = dims2("within", m)?;
+            let (v, mh, mw) = mask_arg("within", m)?;
             if (mh, mw) != (h, w) {
                 return Err(value_error(format!(
                     "shape mismatch: `within` is {mh} x {mw}, `gray` {h} x {w}"
                 )));
             }
-            Some(values(m).iter().map(|&v| u8::from(v)).collect::<Vec<u8>>())
+            Some(v)
         }
         None => None,
     };
@@ -914,14 +946,20 @@ fn equalize_hist<'py>(
     array(py, &[h, w], out)
 }
 
-/// Resize of an 8-bit image (area averaging down, bilinear up).
+/// Resizes a uint8 ``(H, W)`` or ``(H, W, C)`` image to ``height x width``: exact area
+/// averaging when neither axis grows (``cv2.INTER_AREA``; within one grey level of OpenCV
+/// for non-integer factors), bilinear with half-pixel centres when an axis grows; rounded
+/// half to even.
 #[pyfunction]
 fn resize<'py>(
     py: Python<'py>,
-    image: PyReadonlyArrayDyn<'py, u8>,
-    height: usize,
-    width: usize,
+    image: &Bound<'py, PyAny>,
+    height: i128,
+    width: i128,
 ) -> PyResult<Arr<'py, u8>> {
+    let image = u8_arg("image", image)?;
+    let height: usize = uint(py, "height", height, 0)?;
+    let width: usize = uint(py, "width", width, 0)?;
     let flat = image.shape().len() == 2;
     let im = image_in("image", &image)?;
     if height.checked_mul(width).is_none_or(|n| n > MAX_NORMALISED) {
@@ -933,9 +971,13 @@ fn resize<'py>(
     crate::convert::image_array(py, r, flat)
 }
 
-/// Level-1 Haar LL band of a 2-D float64 plane with even sizes.
+/// Approximation (LL) band of one level of the orthonormal 2-D Haar transform of a 2-D
+/// plane with even sizes: ``LL[u, v] = (x[2u, 2v] + x[2u, 2v+1] + x[2u+1, 2v] +
+/// x[2u+1, 2v+1]) / 2``, equal to ``pywt.dwt2(plane, "haar")[0]``. Returns float64
+/// ``(rows / 2, cols / 2)``.
 #[pyfunction]
-fn haar_ll<'py>(py: Python<'py>, plane: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Arr<'py, f64>> {
+fn haar_ll<'py>(py: Python<'py>, plane: &Bound<'py, PyAny>) -> PyResult<Arr<'py, f64>> {
+    let plane = args::array::<f64>("plane", plane)?;
     let (r, c) = dims2("plane", &plane)?;
     let v = values(&plane);
     let ll = crate::pool::detach(py, || {
@@ -950,9 +992,10 @@ fn haar_ll<'py>(py: Python<'py>, plane: PyReadonlyArrayDyn<'py, f64>) -> PyResul
 #[pyo3(signature = (plane, params=None))]
 fn block_features<'py>(
     py: Python<'py>,
-    plane: PyReadonlyArrayDyn<'py, f64>,
+    plane: &Bound<'py, PyAny>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Arr<'py, f32>> {
+    let plane = args::array::<f64>("plane", plane)?;
     let p = params_from(params.as_ref())?;
     let (r, c) = dims2("plane", &plane)?;
     let v = values(&plane);
@@ -961,31 +1004,60 @@ fn block_features<'py>(
     array(py, &[p.blocks(), p.block_len()], f)
 }
 
-/// Disk morphology of a 2-D bool mask: `op` is `close`, `dilate` or `erode`.
-#[pyfunction]
+/// A disk morphology `op` of the 2-D mask argument `mask` by the disk of `radius`.
 fn disk_morphology<'py>(
     py: Python<'py>,
-    m: PyReadonlyArrayDyn<'py, bool>,
+    m: &Bound<'py, PyAny>,
     radius: f64,
-    op: &str,
+    op: fn(ImageView<'_, u8>, f64) -> wscg_math::Result<Image<u8>>,
 ) -> PyResult<Arr<'py, bool>> {
-    let (v, h, w) = mask_in("mask", &m)?;
+    let (v, h, w) = mask_arg("mask", m)?;
     let radius = radius_in(radius)?;
-    type Op = fn(ImageView<'_, u8>, f64) -> wscg_math::Result<Image<u8>>;
-    let f: Op = match op {
-        "close" => mask::close_disk,
-        "dilate" => mask::dilate_disk,
-        "erode" => mask::erode_disk,
-        other => return Err(value_error(format!("unknown morphology {other:?}"))),
-    };
-    let out = crate::pool::detach(py, || f(ImageView::plane(h, w, &v)?, radius)).py_err()?;
+    let out = crate::pool::detach(py, || op(ImageView::plane(h, w, &v)?, radius)).py_err()?;
     mask_out(py, out)
 }
 
-/// Hole filling of a 2-D bool mask.
+/// Closing of a 2-D bool mask by the exact Euclidean disk ``dx^2 + dy^2 <= radius^2``:
+/// dilation with the outside as background, then erosion with the outside as foreground
+/// (extensive), equal to ``skimage.morphology.binary_closing(mask,
+/// skimage.morphology.disk(radius))`` for integer radii.
 #[pyfunction]
-fn fill_holes<'py>(py: Python<'py>, m: PyReadonlyArrayDyn<'py, bool>) -> PyResult<Arr<'py, bool>> {
-    let (v, h, w) = mask_in("mask", &m)?;
+#[pyo3(signature = (mask, radius=10.0))]
+fn close_disk<'py>(
+    py: Python<'py>,
+    mask: &Bound<'py, PyAny>,
+    radius: f64,
+) -> PyResult<Arr<'py, bool>> {
+    disk_morphology(py, mask, radius, mask::close_disk)
+}
+
+/// Dilation of a 2-D bool mask by the exact Euclidean disk of ``radius`` (the outside of
+/// the image is background).
+#[pyfunction]
+fn dilate_disk<'py>(
+    py: Python<'py>,
+    mask: &Bound<'py, PyAny>,
+    radius: f64,
+) -> PyResult<Arr<'py, bool>> {
+    disk_morphology(py, mask, radius, mask::dilate_disk)
+}
+
+/// Erosion of a 2-D bool mask by the exact Euclidean disk of ``radius`` (the outside of
+/// the image counts as foreground, as ``skimage.morphology.binary_erosion``).
+#[pyfunction]
+fn erode_disk<'py>(
+    py: Python<'py>,
+    mask: &Bound<'py, PyAny>,
+    radius: f64,
+) -> PyResult<Arr<'py, bool>> {
+    disk_morphology(py, mask, radius, mask::erode_disk)
+}
+
+/// A 2-D bool mask with its holes filled: background pixels not 4-connected to the image
+/// border become foreground, as ``scipy.ndimage.binary_fill_holes``.
+#[pyfunction]
+fn fill_holes<'py>(py: Python<'py>, mask: &Bound<'py, PyAny>) -> PyResult<Arr<'py, bool>> {
+    let (v, h, w) = mask_arg("mask", mask)?;
     let out = crate::pool::detach(py, || mask::fill_holes(ImageView::plane(h, w, &v)?)).py_err()?;
     mask_out(py, out)
 }
@@ -1018,7 +1090,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(resize, m)?)?;
     m.add_function(wrap_pyfunction!(haar_ll, m)?)?;
     m.add_function(wrap_pyfunction!(block_features, m)?)?;
-    m.add_function(wrap_pyfunction!(disk_morphology, m)?)?;
+    m.add_function(wrap_pyfunction!(close_disk, m)?)?;
+    m.add_function(wrap_pyfunction!(dilate_disk, m)?)?;
+    m.add_function(wrap_pyfunction!(erode_disk, m)?)?;
     m.add_function(wrap_pyfunction!(fill_holes, m)?)?;
     Ok(())
 }

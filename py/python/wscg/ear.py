@@ -67,6 +67,8 @@ import numpy as np
 from ._checks import _int, _real, integer_ranges as _integer_ranges
 from ._estimator import Estimator
 from ._native import ear as _e
+from ._native.ear import (close_disk, cmc, dilate_disk, equalize_hist, erode_disk, fill_holes,
+                          haar_ll, resize, rgb_to_gray)
 from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
@@ -245,23 +247,6 @@ def _templates(name: str, t) -> np.ndarray:
     if not (np.issubdtype(a.dtype, np.floating) or np.issubdtype(a.dtype, np.integer)):
         raise ValueError(f"`{name}` must be a float32 array, got dtype {a.dtype}")
     return np.ascontiguousarray(a, dtype=np.float32)
-
-
-def _mask(name: str, m) -> np.ndarray:
-    a = np.asarray(m)
-    if a.dtype != np.bool_:
-        if not (np.issubdtype(a.dtype, np.integer) or np.issubdtype(a.dtype, np.floating)):
-            raise ValueError(f"`{name}` must be a bool mask, got dtype {a.dtype}")
-        a = a != 0
-    return np.ascontiguousarray(a, dtype=np.bool_)
-
-
-def _plane(name: str, p) -> np.ndarray:
-    a = np.asarray(p)
-    if not (np.issubdtype(a.dtype, np.floating) or np.issubdtype(a.dtype, np.integer)
-            or a.dtype == np.bool_):
-        raise ValueError(f"`{name}` must be a real array, got dtype {a.dtype}")
-    return np.ascontiguousarray(a, dtype=np.float64)
 
 
 # ----------------------------------------------------------------------------------------
@@ -839,19 +824,6 @@ class SkinModel(Estimator):
 # Evaluation
 # ----------------------------------------------------------------------------------------
 
-def cmc(ranks, max_rank: int) -> np.ndarray:
-    """Cumulative match characteristic: ``cmc[r - 1]`` is the fraction of accepted probes
-    whose true identity is within the top ``r``. ``ranks`` holds each probe's 0-based rank
-    of its true identity, ``-1`` for a rejected probe (excluded: neither a success nor a
-    failure). ``ValueError`` for ``max_rank < 1`` or when every probe is rejected."""
-    r = np.asarray(ranks)
-    if r.size and not np.issubdtype(r.dtype, np.integer):
-        if not np.issubdtype(r.dtype, np.floating) or np.any(r != np.round(r)):
-            raise ValueError(f"`ranks` must hold integers, got dtype {r.dtype}")
-    r = np.ascontiguousarray(r, dtype=np.int64)
-    return _e.cmc(r, _int("max_rank", max_rank, 0))
-
-
 @_documented
 def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "none",
               min_pct: float = 10.0, max_pct: float = 50.0, *,
@@ -952,39 +924,6 @@ def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
 # Building blocks
 # ----------------------------------------------------------------------------------------
 
-def rgb_to_gray(image) -> np.ndarray:
-    """Grey levels of a uint8 ``(H, W, 3)`` RGB image with OpenCV's fixed-point BT.601,
-    ``Y = (9798 R + 19235 G + 3735 B + 16384) >> 15`` (15-bit weights): bit-exact
-    ``cv2.cvtColor(image, cv2.COLOR_RGB2GRAY)`` of OpenCV 4 and 5 (OpenCV 3.4's 14-bit
-    weights differ by one level on 0.26 % of all colours). Returns uint8 ``(H, W)``."""
-    return _e.rgb_to_gray(_image("image", image))
-
-
-def equalize_hist(gray, within=None) -> np.ndarray:
-    """Histogram equalisation of a uint8 2-D image with the arithmetic of
-    ``cv2.equalizeHist`` (bit-exact): ``lut(v) = round_half_even(f32(cdf(v) - c_min) *
-    (255f / (P - c_min)))``; an image of one grey level is returned unchanged. With
-    ``within`` (a bool mask of the same shape) the histogram counts only those pixels (the
-    mapping is applied to all; levels below the lowest counted one map to 0)."""
-    return _e.equalize_hist(_image("gray", gray), None if within is None else _mask("within", within))
-
-
-def resize(image, height: int, width: int) -> np.ndarray:
-    """Resizes a uint8 ``(H, W)`` or ``(H, W, C)`` image to ``height x width``: exact area
-    averaging when neither axis grows (``cv2.INTER_AREA``; within one grey level of OpenCV
-    for non-integer factors), bilinear with half-pixel centres when an axis grows; rounded
-    half to even."""
-    return _e.resize(_image("image", image), _int("height", height, 0), _int("width", width, 0))
-
-
-def haar_ll(plane) -> np.ndarray:
-    """Approximation (LL) band of one level of the orthonormal 2-D Haar transform of a 2-D
-    plane with even sizes: ``LL[u, v] = (x[2u, 2v] + x[2u, 2v+1] + x[2u+1, 2v] +
-    x[2u+1, 2v+1]) / 2``, equal to ``pywt.dwt2(plane, "haar")[0]``. Returns float64
-    ``(rows / 2, cols / 2)``."""
-    return _e.haar_ll(_plane("plane", plane))
-
-
 @_documented
 def block_features(plane, *, height: int = 100, width: int = 80, block: int = 10) -> np.ndarray:
     """Haar LL features of every block of a ``(height, width)`` float plane (paper §3.2: the
@@ -992,33 +931,8 @@ def block_features(plane, *, height: int = 100, width: int = 80, block: int = 10
     ``(blocks, block_len)``, row ``b`` the ``block/2 x block/2`` LL of block ``b``
     flattened row-major. :func:`enroll` is this on ``equalize_hist(rgb_to_gray(resize(image,
     100, 80))) / 255``."""
-    return _e.block_features(_plane("plane", plane), _params(locals()))
+    return _e.block_features(plane, _params(locals()))
 
-
-def close_disk(mask, radius: float = 10.0) -> np.ndarray:
-    """Closing of a 2-D bool mask by the exact Euclidean disk ``dx^2 + dy^2 <= radius^2``:
-    dilation with the outside as background, then erosion with the outside as foreground
-    (extensive), equal to ``skimage.morphology.binary_closing(mask,
-    skimage.morphology.disk(radius))`` for integer radii."""
-    return _e.disk_morphology(_mask("mask", mask), _real("radius", radius), "close")
-
-
-def dilate_disk(mask, radius: float) -> np.ndarray:
-    """Dilation of a 2-D bool mask by the exact Euclidean disk of ``radius`` (the outside of
-    the image is background)."""
-    return _e.disk_morphology(_mask("mask", mask), _real("radius", radius), "dilate")
-
-
-def erode_disk(mask, radius: float) -> np.ndarray:
-    """Erosion of a 2-D bool mask by the exact Euclidean disk of ``radius`` (the outside of
-    the image counts as foreground, as ``skimage.morphology.binary_erosion``)."""
-    return _e.disk_morphology(_mask("mask", mask), _real("radius", radius), "erode")
-
-
-def fill_holes(mask) -> np.ndarray:
-    """A 2-D bool mask with its holes filled: background pixels not 4-connected to the image
-    border become foreground, as ``scipy.ndimage.binary_fill_holes``."""
-    return _e.fill_holes(_mask("mask", mask))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())
