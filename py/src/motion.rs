@@ -127,7 +127,8 @@ fn dataset_out<'py>(py: Python<'py>, data: &Dataset) -> PyResult<Bound<'py, PyDi
 
 /// Reads a training folder (`angles.npy`, `root.npy`, `steps.csv`) as a dict of arrays.
 #[pyfunction]
-fn load_dataset(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Bound<'_, PyDict>> {
+fn load_dataset<'py>(py: Python<'py>, path: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let path = args::path("path", path)?;
     let data = crate::pool::detach(py, || wscg_motion::read_dataset(&path)).py_err()?;
     dataset_out(py, &data)
 }
@@ -137,12 +138,20 @@ fn load_dataset(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Bound<'_, 
 #[pyo3(signature = (path, angles, step_length, duration, root=None))]
 fn save_dataset(
     py: Python<'_>,
-    path: std::path::PathBuf,
-    angles: PyReadonlyArrayDyn<f64>,
-    step_length: PyReadonlyArrayDyn<f64>,
-    duration: PyReadonlyArrayDyn<f64>,
-    root: Option<PyReadonlyArrayDyn<f64>>,
+    path: &Bound<'_, PyAny>,
+    angles: &Bound<'_, PyAny>,
+    step_length: &Bound<'_, PyAny>,
+    duration: &Bound<'_, PyAny>,
+    root: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<()> {
+    let path = args::path("path", path)?;
+    let angles = args::array::<f64>("angles", angles)?;
+    let step_length = args::array::<f64>("step_length", step_length)?;
+    let duration = args::array::<f64>("duration", duration)?;
+    let root = root
+        .filter(|r| !r.is_none())
+        .map(|r| args::array::<f64>("root", r))
+        .transpose()?;
     let data = dataset_in(&angles, &step_length, &duration, root.as_ref(), None)?;
     crate::pool::detach(py, || wscg_motion::write_dataset(&path, &data)).py_err()
 }
@@ -152,13 +161,18 @@ fn save_dataset(
 #[pyo3(signature = (n_trials, seed, noise, human_like, n_samples, model_seed))]
 fn make_synthetic_dataset<'py>(
     py: Python<'py>,
-    n_trials: usize,
-    seed: u64,
+    n_trials: i128,
+    seed: i128,
     noise: f64,
     human_like: bool,
-    n_samples: usize,
-    model_seed: u64,
+    n_samples: i128,
+    model_seed: i128,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let n_trials: usize = uint(py, "n_trials", n_trials, 1)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    let noise = args::number("noise", noise)?;
+    let n_samples: usize = uint(py, "n_samples", n_samples, 8)?;
+    let model_seed: u64 = uint(py, "model_seed", model_seed, 0)?;
     let total = n_trials
         .checked_mul(n_samples)
         .and_then(|v| v.checked_mul(6 * N_CHANNELS));
@@ -947,10 +961,12 @@ fn save_bvh(
 #[pyfunction]
 fn load_bvh<'py>(
     py: Python<'py>,
-    path: std::path::PathBuf,
+    path: &Bound<'py, PyAny>,
     joint_map: (String, String),
     units_per_metre: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let path = args::path("path", path)?;
+    let units_per_metre = args::number("units_per_metre", units_per_metre)?;
     let map = match joint_map.0.as_str() {
         "builtin" => Some(JointMap::builtin(&joint_map.1)),
         "json" => Some(JointMap::from_json(&joint_map.1)),
@@ -979,8 +995,9 @@ fn load_bvh<'py>(
 #[pyfunction]
 fn load_bvh_skeleton<'py>(
     py: Python<'py>,
-    path: std::path::PathBuf,
+    path: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let path = args::path("path", path)?;
     let (f, pos) = crate::pool::detach(py, || {
         bvh_file::read_bvh_file(&path).map(|f| {
             let pos = bvh_file::bvh_forward_kinematics(&f);
@@ -1111,9 +1128,10 @@ fn regression_p_value(py: Python<'_>, r2: f64, n: i128) -> PyResult<f64> {
 #[pyfunction]
 fn fit_line<'py>(
     py: Python<'py>,
-    x: PyReadonlyArrayDyn<f64>,
-    y: PyReadonlyArrayDyn<f64>,
+    x: &Bound<'py, PyAny>,
+    y: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let (x, y) = (args::array::<f64>("x", x)?, args::array::<f64>("y", y)?);
     if x.shape().len() != 1 || y.shape().len() != 1 {
         return Err(value_error(format!(
             "`x` and `y` must be 1-D, got shapes {:?} and {:?}",
@@ -1151,14 +1169,21 @@ fn points2(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<[f64; 2]>> {
 #[allow(clippy::too_many_arguments)]
 fn svr_fit_predict<'py>(
     py: Python<'py>,
-    x_train: PyReadonlyArrayDyn<f64>,
-    y_train: PyReadonlyArrayDyn<f64>,
-    x_test: PyReadonlyArrayDyn<f64>,
+    x_train: &Bound<'py, PyAny>,
+    y_train: &Bound<'py, PyAny>,
+    x_test: &Bound<'py, PyAny>,
     c: f64,
     epsilon: f64,
     gamma: f64,
     tol: f64,
 ) -> PyResult<(Arr<'py, f64>, usize, f64, usize)> {
+    let x_train = args::array::<f64>("x_train", x_train)?;
+    let y_train = args::array::<f64>("y_train", y_train)?;
+    let x_test = args::array::<f64>("x_test", x_test)?;
+    let c = args::number("C", c)?;
+    let epsilon = args::number("epsilon", epsilon)?;
+    let gamma = args::number("gamma", gamma)?;
+    let tol = args::number("tol", tol)?;
     let xt = points2("x_train", &x_train)?;
     let xq = points2("x_test", &x_test)?;
     if y_train.shape() != [xt.len()] {
@@ -1194,12 +1219,14 @@ fn hopf_simulate<'py>(
     omega: f64,
     coupling: f64,
     leader: (f64, f64),
-    followers: PyReadonlyArrayDyn<f64>,
+    followers: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let followers = args::array::<f64>("followers", followers)?;
     positive("duration", duration)?;
     positive("dt", dt)?;
     let fs = match *followers.shape() {
-        [_, 2] | [0] => {
+        _ if followers.len() == 0 => Vec::new(),
+        [_, 2] => {
             let v = values(&followers);
             check_finite("followers", &v)?;
             v.chunks_exact(2).map(|c| [c[0], c[1]]).collect::<Vec<_>>()

@@ -459,9 +459,7 @@ def make_synthetic_dataset(n_trials: int = 40, seed: int = 0, noise: float = 0.0
         harmonics, ``delays`` ``(51, 5)`` periods, ``weights`` ``(3, R, 51, 5)``, ``means``
         and ``w0`` ``(3, R, 51)`` (means and non-periodic weights).
     """
-    d = _m.make_synthetic_dataset(
-        _u("n_trials", n_trials, 1), _u("seed", seed, 0), _float("noise", noise),
-        bool(human_like), _u("n_samples", n_samples, 8), _u("model_seed", model_seed, 0))
+    d = _m.make_synthetic_dataset(n_trials, seed, noise, human_like, n_samples, model_seed)
     return _from_mapping(MotionDataset, d, truth=_from_mapping(MotionTruth, d["truth"]))
 
 
@@ -873,7 +871,7 @@ def load_dataset(path: Union[str, os.PathLike]) -> MotionDataset:
     (and the line of ``steps.csv``) for a missing or malformed one, ``ValueError`` for
     values a dataset cannot hold (a non-positive duration, NaN angles).
     """
-    d = _m.load_dataset(os.fspath(path))
+    d = _m.load_dataset(path)
     return _from_mapping(MotionDataset, d, truth=None)
 
 
@@ -885,11 +883,8 @@ def save_dataset(path: Union[str, os.PathLike], dataset: Any) -> None:
     def field(key: str, required: bool = True):
         return _field(dataset, key, required, name="dataset")
 
-    root = field("root", required=False)
-    _m.save_dataset(os.fspath(path), _array("angles", field("angles")),
-                    _array("step_length", field("step_length")),
-                    _array("duration", field("duration")),
-                    None if root is None else _array("root", root))
+    _m.save_dataset(path, field("angles"), field("step_length"), field("duration"),
+                    field("root", required=False))
 
 
 _BUILTIN_MAPS = ("auto", "model", "cmu", "mixamo")
@@ -951,8 +946,7 @@ def load_bvh(path: Union[str, os.PathLike], joint_map=None,
         A bad ``joint_map`` (an unknown model joint name) or ``units_per_metre``.
     """
     kind, value = _joint_map(joint_map)
-    return _from_mapping(BvhMotion, _m.load_bvh(os.fspath(path), (kind, value),
-                                                _float("units_per_metre", units_per_metre)))
+    return _from_mapping(BvhMotion, _m.load_bvh(path, (kind, value), units_per_metre))
 
 
 def load_bvh_skeleton(path: Union[str, os.PathLike]) -> BvhSkeleton:
@@ -969,7 +963,7 @@ def load_bvh_skeleton(path: Union[str, os.PathLike]) -> BvhSkeleton:
         Unreadable or malformed file (truncated, not starting with ``HIERARCHY``, a frame
         count that does not match the values, unknown channels).
     """
-    return _from_mapping(BvhSkeleton, _m.load_bvh_skeleton(os.fspath(path)))
+    return _from_mapping(BvhSkeleton, _m.load_bvh_skeleton(path))
 
 
 def skeleton() -> Skeleton:
@@ -992,7 +986,7 @@ def fit_line(x, y) -> LineFit:
         ``intercept``, ``slope``, ``r2``, ``p_value`` (two-sided, slope = 0) and
         ``n_points``.
     """
-    return _from_mapping(LineFit, _m.fit_line(_array("x", x), _array("y", y)),
+    return _from_mapping(LineFit, _m.fit_line(x, y),
                          rename={"n": "n_points"})
 
 
@@ -1019,9 +1013,7 @@ def svr_fit_predict(x_train, y_train, x_test, C: float = 10.0, epsilon: float = 
     -------
     ndarray, shape (m,), or (ndarray, SvrInfo) with ``return_info``.
     """
-    pred, n_sv, rho, it = _m.svr_fit_predict(
-        _array("x_train", x_train), _array("y_train", y_train), _array("x_test", x_test),
-        _float("C", C), _float("epsilon", epsilon), _float("gamma", gamma), _float("tol", tol))
+    pred, n_sv, rho, it = _m.svr_fit_predict(x_train, y_train, x_test, C, epsilon, gamma, tol)
     if return_info:
         return pred, SvrInfo(n_support=n_sv, rho=rho, n_iter=it)
     return pred
@@ -1054,14 +1046,9 @@ def hopf_simulate(duration: float, dt: float = 1e-3, omega: float = 2 * _math.pi
         ``time`` ``(T,)``, ``leader`` ``(T, 2)``, ``followers`` ``(T, F, 2)``,
         ``leader_phase`` ``(T,)`` in ``[0, 2 pi)``.
     """
-    f = _array("followers", followers)
-    if f.size == 0:
-        f = np.zeros((0, 2))
-    lx, ly = _range("leader", leader)
     return _from_mapping(HopfTrajectory,
-                         _m.hopf_simulate(_float("duration", duration), _float("dt", dt),
-                                          _float("omega", omega), _float("coupling", coupling),
-                                          (lx, ly), f))
+                         _m.hopf_simulate(duration, dt, omega, coupling, _range("leader", leader),
+                                          followers))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())
