@@ -4,14 +4,17 @@
 //!
 //! `cmc` and the building blocks (`rgb_to_gray`, `equalize_hist`, `resize`, `haar_ll`, the
 //! disk morphology, `fill_holes`) are `wscg.ear`'s functions themselves, re-exported by
-//! `python/wscg/ear.py` (which holds the module's documentation), their arguments converted
-//! by [`crate::args`] (images of dtype uint8, masks and planes as any real array-like). The
-//! pipeline functions take the pipeline parameters as a dict (keys: the fields of
-//! `EarParams`, see [`PARAM_KEYS`]) built by the Python layer, which documents them once for
-//! every function, with C-contiguous uint8 images and float32 templates. Every function
-//! validates its input, so a direct call cannot panic; the GIL is released while Rust works.
+//! `python/wscg/ear.py` (which holds the module's documentation). The pipeline functions
+//! take the pipeline parameters as a dict (keys: the fields of `EarParams`, see
+//! [`PARAM_KEYS`]) built by the Python layer, which documents them once for every function.
+//! Every argument is converted here: images of dtype uint8 ([`u8_arg`], a list or a stack
+//! of them [`images_arg`]), templates, masks and planes as any real array-like (through
+//! [`crate::args`]). Every function validates its input, so a direct call cannot panic; the
+//! GIL is released while Rust works.
 
-use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{
+    PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -165,28 +168,63 @@ fn params_from(spec: Option<&Bound<'_, PyDict>>) -> PyResult<EarParams> {
 
 /// An 8-bit image from an `(H, W)` or `(H, W, C)` array; a zero size is a `ValueError`.
 fn image_in(name: &str, a: &PyReadonlyArrayDyn<u8>) -> PyResult<Image<u8>> {
-    let (h, w, c) = image_dims(name, a.shape())?;
-    if h == 0 || w == 0 || c == 0 {
-        return Err(value_error(format!(
-            "`{name}` is empty (shape {:?})",
-            a.shape()
-        )));
-    }
-    Image::new(h, w, c, values(a).into_owned()).py_err()
+    image_from(name, a.shape(), values(a).into_owned())
 }
 
-/// A list of 8-bit images, each named `name[k]` in errors.
-fn images_in(name: &str, v: &[PyReadonlyArrayDyn<u8>]) -> PyResult<Vec<Image<u8>>> {
-    v.iter()
+/// An 8-bit image of `shape` `(H, W)` or `(H, W, C)` holding `data`, not empty.
+fn image_from(name: &str, shape: &[usize], data: Vec<u8>) -> PyResult<Image<u8>> {
+    let (h, w, c) = image_dims(name, shape)?;
+    if h == 0 || w == 0 || c == 0 {
+        return Err(value_error(format!("`{name}` is empty (shape {shape:?})")));
+    }
+    Image::new(h, w, c, data).py_err()
+}
+
+/// The uint8 image argument `name` ([`u8_arg`]) as an image.
+fn image_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Image<u8>> {
+    image_in(name, &u8_arg(name, obj)?)
+}
+
+/// The images argument `name`: a sequence of uint8 images (each named `name[k]` in errors)
+/// or a stacked uint8 array `(n, H, W)` or `(n, H, W, C)`.
+fn images_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Image<u8>>> {
+    if let Ok(a) = obj.cast::<PyUntypedArray>() {
+        if !matches!(a.ndim(), 3 | 4) {
+            return Err(value_error(format!(
+                "`{name}` must be a stack (n, H, W, 3) or a list of images, got shape {:?}",
+                a.shape()
+            )));
+        }
+        let a = u8_arg(name, obj)?;
+        let shape = a.shape().to_vec();
+        let v = values(&a);
+        let per: usize = shape[1..].iter().product();
+        return (0..shape[0])
+            .map(|k| {
+                image_from(
+                    &format!("{name}[{k}]"),
+                    &shape[1..],
+                    v[k * per..(k + 1) * per].to_vec(),
+                )
+            })
+            .collect();
+    }
+    obj.try_iter()
+        .map_err(|_| {
+            value_error(format!(
+                "`{name}` must be a list of images or a stacked array"
+            ))
+        })?
         .enumerate()
-        .map(|(k, a)| image_in(&format!("{name}[{k}]"), a))
+        .map(|(k, im)| image_arg(&format!("{name}[{k}]"), &im?))
         .collect()
 }
 
-/// A template from a `(blocks, block_len)` float32 array.
-fn template_in(name: &str, a: &PyReadonlyArrayDyn<f32>) -> PyResult<EarTemplate> {
-    let (b, k) = dims2(name, a)?;
-    EarTemplate::new(values(a).into_owned(), b, k).py_err()
+/// The template argument `name`, a real `(blocks, block_len)` array-like (kept as float32).
+fn template_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<EarTemplate> {
+    let a = args::array::<f32>(name, obj)?;
+    let (b, k) = dims2(name, &a)?;
+    EarTemplate::new(values(&a).into_owned(), b, k).py_err()
 }
 
 fn template_out<'py>(py: Python<'py>, t: &EarTemplate) -> PyResult<Arr<'py, f32>> {
@@ -265,11 +303,11 @@ fn ranking_out<'py>(
 #[pyo3(signature = (image, params=None))]
 fn enroll<'py>(
     py: Python<'py>,
-    image: PyReadonlyArrayDyn<'py, u8>,
+    image: &Bound<'py, PyAny>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Arr<'py, f32>> {
+    let im = image_arg("image", image)?;
     let p = params_from(params.as_ref())?;
-    let im = image_in("image", &image)?;
     let t = crate::pool::detach(py, || ear::enroll(&im, &p)).py_err()?;
     template_out(py, &t)
 }
@@ -279,14 +317,14 @@ fn enroll<'py>(
 #[pyo3(signature = (images, params=None))]
 fn enroll_many<'py>(
     py: Python<'py>,
-    images: Vec<PyReadonlyArrayDyn<'py, u8>>,
+    images: &Bound<'py, PyAny>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Arr<'py, f32>> {
+    let imgs = images_arg("images", images)?;
     let p = params_from(params.as_ref())?;
-    if images.is_empty() {
+    if imgs.is_empty() {
         return Err(value_error("`images` is empty: nothing to enrol"));
     }
-    let imgs = images_in("images", &images)?;
     let ts = crate::pool::detach(py, || {
         imgs.par_iter()
             .map(|im| ear::enroll(im, &p))
@@ -305,11 +343,11 @@ fn enroll_many<'py>(
 #[pyo3(signature = (image, params=None))]
 fn detect_occlusion<'py>(
     py: Python<'py>,
-    image: PyReadonlyArrayDyn<'py, u8>,
+    image: &Bound<'py, PyAny>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let im = image_arg("image", image)?;
     let p = params_from(params.as_ref())?;
-    let im = image_in("image", &image)?;
     let r = crate::pool::detach(py, || ear::detect_occlusion(&im, &p)).py_err()?;
     report_dict(py, &r, &p)
 }
@@ -319,11 +357,11 @@ fn detect_occlusion<'py>(
 #[pyo3(signature = (image, params=None))]
 fn skin_pixels<'py>(
     py: Python<'py>,
-    image: PyReadonlyArrayDyn<'py, u8>,
+    image: &Bound<'py, PyAny>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Arr<'py, bool>> {
+    let im = image_arg("image", image)?;
     let p = params_from(params.as_ref())?;
-    let im = image_in("image", &image)?;
     check_input(&im, false).py_err()?;
     let s = crate::pool::detach(py, || ear::skin_pixels(&im, &p))?;
     mask_out(py, Image::new(im.height(), im.width(), 1, s).py_err()?)
@@ -334,13 +372,13 @@ fn skin_pixels<'py>(
 #[pyo3(signature = (image, template, params=None))]
 fn score<'py>(
     py: Python<'py>,
-    image: PyReadonlyArrayDyn<'py, u8>,
-    template: PyReadonlyArrayDyn<'py, f32>,
+    image: &Bound<'py, PyAny>,
+    template: &Bound<'py, PyAny>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let im = image_arg("image", image)?;
+    let t = template_arg("template", template)?;
     let p = params_from(params.as_ref())?;
-    let im = image_in("image", &image)?;
-    let t = template_in("template", &template)?;
     t.check(&p).py_err()?;
     let (probe, b) = crate::pool::detach(py, || -> wscg_math::Result<_> {
         let probe = ear::make_probe(&im, &p)?;
@@ -395,13 +433,13 @@ fn score<'py>(
 #[pyo3(signature = (image, template, params=None))]
 fn baseline_score(
     py: Python<'_>,
-    image: PyReadonlyArrayDyn<'_, u8>,
-    template: PyReadonlyArrayDyn<'_, f32>,
+    image: &Bound<'_, PyAny>,
+    template: &Bound<'_, PyAny>,
     params: Option<Bound<'_, PyDict>>,
 ) -> PyResult<f64> {
+    let im = image_arg("image", image)?;
+    let t = template_arg("template", template)?;
     let p = params_from(params.as_ref())?;
-    let im = image_in("image", &image)?;
-    let t = template_in("template", &template)?;
     crate::pool::detach(py, || {
         let probe = ear::make_baseline_probe(&im, &p)?;
         ear::baseline_score(&probe, &t, &p)
@@ -417,22 +455,24 @@ pub struct PyEarMatcher {
 }
 
 impl PyEarMatcher {
-    fn probe(&self, py: Python<'_>, image: &PyReadonlyArrayDyn<'_, u8>) -> PyResult<ear::Probe> {
-        let im = image_in("image", image)?;
+    fn probe(&self, py: Python<'_>, image: &Bound<'_, PyAny>) -> PyResult<ear::Probe> {
+        let im = image_arg("image", image)?;
         crate::pool::detach(py, || ear::make_probe(&im, &self.params)).py_err()
     }
 }
 
 #[pymethods]
 impl PyEarMatcher {
-    /// Lays out `(n, blocks, block_len)` float32 templates.
+    /// Lays out `(n, blocks, block_len)` templates (any real array-like, kept as float32;
+    /// named `X` in errors, the argument of `EarMatcher.fit`).
     #[new]
     #[pyo3(signature = (templates, params=None))]
     fn new(
         py: Python<'_>,
-        templates: PyReadonlyArrayDyn<'_, f32>,
+        templates: &Bound<'_, PyAny>,
         params: Option<Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        let templates = args::array::<f32>("X", templates)?;
         let p = params_from(params.as_ref())?;
         let (n, b, k) = match *templates.shape() {
             [n, b, k] => (n, b, k),
@@ -475,9 +515,9 @@ impl PyEarMatcher {
     fn identify<'py>(
         &self,
         py: Python<'py>,
-        image: PyReadonlyArrayDyn<'py, u8>,
+        image: &Bound<'py, PyAny>,
     ) -> PyResult<(bool, f64, Arr<'py, i64>, Arr<'py, f64>)> {
-        let probe = self.probe(py, &image)?;
+        let probe = self.probe(py, image)?;
         let pct = probe.report.as_ref().map_or(f64::NAN, |r| r.occluded_pct);
         let id = crate::pool::detach(py, || ear::identify(&probe, &self.gallery, &self.params))
             .py_err()?;
@@ -498,9 +538,9 @@ impl PyEarMatcher {
     fn scores<'py>(
         &self,
         py: Python<'py>,
-        image: PyReadonlyArrayDyn<'py, u8>,
+        image: &Bound<'py, PyAny>,
     ) -> PyResult<(Arr<'py, f64>, bool, f64)> {
-        let probe = self.probe(py, &image)?;
+        let probe = self.probe(py, image)?;
         let pct = probe.report.as_ref().map_or(f64::NAN, |r| r.occluded_pct);
         let s = crate::pool::detach(py, || ear::scores(&probe, &self.gallery, &self.params))
             .py_err()?;
@@ -511,9 +551,9 @@ impl PyEarMatcher {
     fn identify_baseline<'py>(
         &self,
         py: Python<'py>,
-        image: PyReadonlyArrayDyn<'py, u8>,
+        image: &Bound<'py, PyAny>,
     ) -> PyResult<(Arr<'py, i64>, Arr<'py, f64>)> {
-        let im = image_in("image", &image)?;
+        let im = image_arg("image", image)?;
         let id = crate::pool::detach(py, || {
             ear::identify_baseline(&im, &self.gallery, &self.params)
         })
@@ -660,14 +700,16 @@ fn make_ears<'py>(
 #[allow(clippy::too_many_arguments)]
 fn evaluate<'py>(
     py: Python<'py>,
-    enrol: Vec<PyReadonlyArrayDyn<'py, u8>>,
-    probes: Vec<PyReadonlyArrayDyn<'py, u8>>,
+    enrol: &Bound<'py, PyAny>,
+    probes: &Bound<'py, PyAny>,
     labels: Vec<i64>,
     true_pct: Option<Vec<f64>>,
     max_rank: usize,
     edges: Option<Vec<f64>>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let enrol = images_arg("enrol", enrol)?;
+    let probes = images_arg("probes", probes)?;
     let p = params_from(params.as_ref())?;
     if enrol.is_empty() {
         return Err(value_error(
@@ -698,8 +740,7 @@ fn evaluate<'py>(
         }
     }
     let subj = indices("labels", &labels)?;
-    let gal = images_in("enrol", &enrol)?;
-    let prb = images_in("probes", &probes)?;
+    let (gal, prb) = (enrol, probes);
     let items: Vec<(usize, &Image<u8>, Option<f64>)> = prb
         .iter()
         .enumerate()
@@ -788,15 +829,24 @@ fn skin_check(mean: Vec<f64>, cov: Vec<Vec<f64>>) -> PyResult<Model> {
     Ok((m.mean, m.cov))
 }
 
-/// ML skin model of `(n, 3)` uint8 RGB pixels (black ones skipped).
-#[pyfunction]
-fn skin_fit(py: Python<'_>, pixels: PyReadonlyArrayDyn<'_, u8>) -> PyResult<Model> {
-    let sh = pixels.shape();
-    if sh.len() != 2 || sh[1] != 3 {
+/// The uint8 RGB pixels of the argument `name`, an array `(..., 3)`.
+fn rgb_arg<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, u8>> {
+    let a = u8_arg(name, obj)?;
+    if a.shape().last() != Some(&3) {
         return Err(value_error(format!(
-            "`pixels` must have shape (n, 3) (RGB), got {sh:?}"
+            "`{name}` must have a last axis of 3 (R, G, B), got shape {:?}",
+            a.shape()
         )));
     }
+    Ok(a)
+}
+
+/// ML skin model of the uint8 RGB pixels `X` `(..., 3)` (black ones skipped), named as
+/// the argument of `SkinModel.fit`.
+#[pyfunction]
+#[allow(non_snake_case)]
+fn skin_fit(py: Python<'_>, X: &Bound<'_, PyAny>) -> PyResult<Model> {
+    let pixels = rgb_arg("X", X)?;
     let px: Vec<[u8; 3]> = values(&pixels)
         .chunks_exact(3)
         .map(|c| [c[0], c[1], c[2]])
@@ -855,28 +905,24 @@ fn skin_eval_rg<'py>(
     vec_out(py, out)
 }
 
-/// Likelihood (eq. 5) of uint8 RGB pixels given as a `(..., 3)` array (flat result).
+/// Likelihood (eq. 5) of uint8 RGB pixels given as a `(..., 3)` array, shaped `(...)`.
 #[pyfunction]
 fn skin_likelihood<'py>(
     py: Python<'py>,
     mean: Vec<f64>,
     cov: Vec<Vec<f64>>,
-    rgb: PyReadonlyArrayDyn<'py, u8>,
+    rgb: &Bound<'py, PyAny>,
 ) -> PyResult<Arr<'py, f64>> {
+    let rgb = rgb_arg("rgb", rgb)?;
     let m = skin_model(mean, cov)?;
-    if rgb.shape().last() != Some(&3) {
-        return Err(value_error(format!(
-            "`rgb` must have a last axis of 3 (R, G, B), got shape {:?}",
-            rgb.shape()
-        )));
-    }
+    let shape = rgb.shape()[..rgb.ndim() - 1].to_vec();
     let rgb = values(&rgb);
     let out = crate::pool::detach(py, || {
         rgb.chunks_exact(3)
             .map(|c| m.likelihood([c[0], c[1], c[2]]))
             .collect()
     })?;
-    vec_out(py, out)
+    array(py, &shape, out)
 }
 
 // ------------------------------------------------------------------------------------------

@@ -219,36 +219,6 @@ def _params(given: dict) -> dict:
     return out
 
 
-def _image(name: str, image) -> np.ndarray:
-    """A C-contiguous uint8 image (shape and size are checked by the native side)."""
-    a = np.asarray(image)
-    if a.dtype != np.uint8:
-        raise ValueError(f"`{name}` must be a uint8 image, got dtype {a.dtype}")
-    return np.ascontiguousarray(a)
-
-
-def _images(name: str, imgs) -> List[np.ndarray]:
-    """A list of uint8 images from a sequence or a stacked ``(n, H, W[, C])`` array."""
-    if isinstance(imgs, np.ndarray):
-        if imgs.ndim not in (3, 4):
-            raise ValueError(f"`{name}` must be a stack (n, H, W, 3) or a list of images, "
-                             f"got shape {imgs.shape}")
-        a = _image(name, imgs)
-        return [a[k] for k in range(a.shape[0])]
-    try:
-        seq = list(imgs)
-    except TypeError:
-        raise ValueError(f"`{name}` must be a list of images or a stacked array") from None
-    return [_image(f"{name}[{k}]", im) for k, im in enumerate(seq)]
-
-
-def _templates(name: str, t) -> np.ndarray:
-    a = np.asarray(t)
-    if not (np.issubdtype(a.dtype, np.floating) or np.issubdtype(a.dtype, np.integer)):
-        raise ValueError(f"`{name}` must be a float32 array, got dtype {a.dtype}")
-    return np.ascontiguousarray(a, dtype=np.float32)
-
-
 # ----------------------------------------------------------------------------------------
 # Results
 # ----------------------------------------------------------------------------------------
@@ -455,7 +425,7 @@ def enroll(image, *, height: int = 100, width: int = 80, block: int = 10,
     holds the 5 x 5 LL band of block ``b`` (row-major), computed on the resized,
     equalised grey image divided by 255. No skin masking (enrolment images are assumed
     un-occluded)."""
-    return _e.enroll(_image("image", image), _params(locals()))
+    return _e.enroll(image, _params(locals()))
 
 
 @_documented
@@ -464,7 +434,7 @@ def enroll_many(images, *, height: int = 100, width: int = 80, block: int = 10,
     """Templates ``(n, blocks, block_len)`` of a list (or stacked ``(n, H, W, 3)`` array) of
     clean ear crops, enrolled in parallel; the input of :class:`EarMatcher`. Same rules as
     :func:`enroll` for each image."""
-    return _e.enroll_many(_images("images", images), _params(locals()))
+    return _e.enroll_many(images, _params(locals()))
 
 
 @_documented
@@ -490,7 +460,7 @@ def detect_occlusion(image, *, height: int = 100, width: int = 80, block: int = 
 
     A grey image raises ``ValueError`` (the skin test needs colour)."""
     return _from_mapping(OcclusionReport,
-                         _e.detect_occlusion(_image("image", image), _params(locals())))
+                         _e.detect_occlusion(image, _params(locals())))
 
 
 @_documented
@@ -500,7 +470,7 @@ def skin_pixels(image, *, skin_model: Optional[SkinModel] = None, skin_mean=None
     """Per-pixel skin decision (Algorithm 1, steps 2-6: skin model, rule and luminance
     gate) of an RGB uint8 image at its own size, before closing and hole filling: bool
     ``(H, W)``. Black pixels are never skin."""
-    return _e.skin_pixels(_image("image", image), _params(locals()))
+    return _e.skin_pixels(image, _params(locals()))
 
 
 class EarMatcher(Estimator):
@@ -553,9 +523,8 @@ class EarMatcher(Estimator):
             Bad parameters, no template, non-finite values, or templates that do not fit
             the parameters.
         """
-        templates = _templates("X", X)
         params = self.get_params(deep=False)
-        self._m = _e.EarMatcher(templates, _params(params))
+        self._m = _e.EarMatcher(X, _params(params))
         self._fit_params = params
         self.n_templates_ = len(self._m)
         return self
@@ -606,7 +575,7 @@ class EarMatcher(Estimator):
         Raises ``ValueError`` for bad input, or when no block is un-occluded and the probe
         is not rejected (only possible with ``reject_above_pct >= 100``)."""
         self._check_fitted()
-        rej, pct, order, scores = self._m.identify(_image("image", image))
+        rej, pct, order, scores = self._m.identify(image)
         return Identification(rejected=rej, occluded_pct=pct, order=order, scores=scores)
 
     def scores(self, image) -> np.ndarray:
@@ -619,7 +588,7 @@ class EarMatcher(Estimator):
         nothing defined (e.g. ``"overall-max"`` when no shift covers half of the kept blocks)
         scores ``-inf``. Raises ``ValueError`` when no block is un-occluded."""
         self._check_fitted()
-        s, _rejected, _pct = self._m.scores(_image("image", image))
+        s, _rejected, _pct = self._m.scores(image)
         return s
 
     def identify_baseline(self, image) -> Ranking:
@@ -628,7 +597,7 @@ class EarMatcher(Estimator):
         ``scores`` as :meth:`identify` (score ``1 - |t - r| / (2 sqrt(block_len) sqrt(blocks))``). Grey
         probes are accepted with ``gray_enrolment=True``."""
         self._check_fitted()
-        order, scores = self._m.identify_baseline(_image("image", image))
+        order, scores = self._m.identify_baseline(image)
         return Ranking(order=order, scores=scores)
 
 
@@ -661,9 +630,7 @@ def score(image, template, *, height: int = 100, width: int = 80, block: int = 1
       rejected).
 
     Raises ``ValueError`` when no block is un-occluded or the template does not fit."""
-    return _from_mapping(MatchScore, _e.score(_image("image", image),
-                                              _templates("template", template),
-                                              _params(locals())))
+    return _from_mapping(MatchScore, _e.score(image, template, _params(locals())))
 
 
 @_documented
@@ -672,8 +639,7 @@ def baseline_score(image, template, *, height: int = 100, width: int = 80, block
     """Whole-ear baseline score (Fig. 12) of an image against one template: ``1 - |t - r| /
     (2 sqrt(block_len) sqrt(blocks))`` on the full Haar LL vectors, no occlusion
     detection."""
-    return _e.baseline_score(_image("image", image), _templates("template", template),
-                             _params(locals()))
+    return _e.baseline_score(image, template, _params(locals()))
 
 # ----------------------------------------------------------------------------------------
 # Skin model
@@ -730,10 +696,7 @@ class SkinModel(Estimator):
         ValueError
             Not uint8, fewer than 3 usable pixels, or a singular result.
         """
-        a = _image("X", X)
-        if a.ndim >= 1 and a.shape[-1] == 3:
-            a = np.ascontiguousarray(a.reshape(-1, 3))
-        return self._learn(*_e.skin_fit(a))
+        return self._learn(*_e.skin_fit(X))
 
     def fit_rg(self, X, y=None) -> "SkinModel":
         """Maximum-likelihood model of chromaticity samples ``X``, a float ``(n, 2)`` array
@@ -798,9 +761,7 @@ class SkinModel(Estimator):
         """Skin likelihood of uint8 RGB pixels, a ``(..., 3)`` array: float64 ``(...)`` (a
         float for one pixel); 0 for black."""
         mean, cov = self._model()
-        a = _image("rgb", rgb)
-        out = _e.skin_likelihood(mean.tolist(), cov.tolist(), a)
-        out = out.reshape(a.shape[:-1]) if a.ndim >= 1 else out
+        out = _e.skin_likelihood(mean.tolist(), cov.tolist(), rgb)
         return float(out) if out.ndim == 0 else out
 
     def __eq__(self, other) -> bool:
@@ -909,15 +870,13 @@ def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
 
     ``ValueError`` when every probe is rejected (no CMC can be formed)."""
     p = _params(locals())
-    enrol_l = _images("enrol", enrol)
-    probe_l = _images("probes", probes)
     lab = np.asarray(labels)
     if lab.ndim != 1 or (lab.size and not np.issubdtype(lab.dtype, np.integer)):
         raise ValueError("`labels` must be a 1-D array of integer identities")
     tp = None if true_pct is None else _floats("true_pct", true_pct).ravel().tolist()
     e = None if edges is None else _floats("edges", edges).ravel().tolist()
     return _from_mapping(EarEvaluation,
-                         _e.evaluate(enrol_l, probe_l, [int(s) for s in lab], tp,
+                         _e.evaluate(enrol, probes, [int(s) for s in lab], tp,
                                      _int("max_rank", max_rank, 0), e, p))
 
 # ----------------------------------------------------------------------------------------
