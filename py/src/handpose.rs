@@ -107,6 +107,16 @@ fn masks_arg<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArr
     )))
 }
 
+/// The optional `depth` argument (any real array-like, as float32).
+fn depth_arg<'py>(
+    depth: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Option<PyReadonlyArrayDyn<'py, f32>>> {
+    depth
+        .filter(|d| !d.is_none())
+        .map(|d| args::array::<f32>("depth", d))
+        .transpose()
+}
+
 /// The hand-crafted features of paper 05's Table 4 baseline, one row per mask of an
 /// ``(n, h, w)`` stack (or one ``(h, w)`` mask): fingertip x, y; palm centre x, y; palm
 /// radius; convex ratio; concave depth; finger polar angle; and, with ``depth`` (same
@@ -119,10 +129,7 @@ fn physical_features<'py>(
     depth: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Arr<'py, f64>> {
     let masks = masks_arg("masks", masks)?;
-    let depth = depth
-        .filter(|d| !d.is_none())
-        .map(|d| args::array::<f32>("depth", d))
-        .transpose()?;
+    let depth = depth_arg(depth)?;
     let (n, h, w) = stack_dims("masks", masks.shape())?;
     let m = values(&masks);
     let d = depth.as_ref().map(values);
@@ -200,12 +207,13 @@ const SPLIT: &Renames = &[
 #[pyfunction]
 fn hand_pose_split<'py>(
     py: Python<'py>,
-    masks: PyReadonlyArrayDyn<u8>,
+    masks: &Bound<'py, PyAny>,
     labels: PyReadonlyArrayDyn<i64>,
     n_test_per_class: usize,
     n_augment_per_class: usize,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let masks = masks_arg("masks", masks)?;
     let (n, h, w) = stack_dims("masks", masks.shape())?;
     let y = labels_from("labels", &labels)?;
     let m = values(&masks);
@@ -235,8 +243,8 @@ fn hand_pose_split<'py>(
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn hand_pose_comparison<'py>(
     py: Python<'py>,
-    masks: PyReadonlyArrayDyn<u8>,
-    depth: Option<PyReadonlyArrayDyn<f32>>,
+    masks: &Bound<'py, PyAny>,
+    depth: Option<&Bound<'py, PyAny>>,
     labels: PyReadonlyArrayDyn<i64>,
     methods: Vec<String>,
     n_test_per_class: usize,
@@ -252,6 +260,8 @@ fn hand_pose_comparison<'py>(
     Arr<'py, i64>,
     Vec<(String, Arr<'py, f64>, Arr<'py, i64>, f64, f64)>,
 )> {
+    let masks = masks_arg("masks", masks)?;
+    let depth = depth_arg(depth)?;
     let (n, h, w) = stack_dims("masks", masks.shape())?;
     let y = labels_from("labels", &labels)?;
     let methods: Vec<Method> = methods

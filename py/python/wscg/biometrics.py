@@ -1061,13 +1061,10 @@ def make_hand_poses(n_per_class: int = 3000, n_subjects: int = 3, seed: int = 0,
                          [amp[k] for k in _JITTER_KEYS])
 
 
-def _masks(masks) -> np.ndarray:
-    m = np.asarray(masks)
-    if m.dtype == bool:
-        m = m.astype(np.uint8)
-    if m.dtype != np.uint8:
-        raise ValueError(f"`masks` must be uint8 or bool (0 = background), got {m.dtype}")
-    return np.ascontiguousarray(m)
+def _n_frames(masks) -> int:
+    """The number of frames of a mask stack ``(n, h, w)``, 1 for one ``(h, w)`` mask."""
+    shape = np.shape(masks)
+    return shape[0] if len(shape) == 3 else 1
 
 
 def hand_pose_split(masks, labels, n_test_per_class: int = 300,
@@ -1078,9 +1075,8 @@ def hand_pose_split(masks, labels, n_test_per_class: int = 300,
     Returns a :class:`HandPoseSplit` with ``X_train``, ``y_train``, ``X_test``, ``y_test``,
     ``train_index``, ``test_index`` (source frames), ``train_rotation`` (degrees) and
     ``shape``."""
-    m = _masks(masks)
-    classes, codes = _encode_labels(labels, m.shape[0] if m.ndim == 3 else 1, "labels")
-    d = _b.hand_pose_split(m, codes, _int("n_test_per_class", n_test_per_class, 0),
+    classes, codes = _encode_labels(labels, _n_frames(masks), "labels")
+    d = _b.hand_pose_split(masks, codes, _int("n_test_per_class", n_test_per_class, 0),
                            _int("n_augment_per_class", n_augment_per_class, 0), int(seed))
     return _from_mapping(HandPoseSplit, d, y_train=classes[d["y_train"]],
                          y_test=classes[d["y_test"]], shape=tuple(d["shape"]))
@@ -1107,11 +1103,9 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
     ``results[name]``, a :class:`ClassifierRun` (``confusion`` in % per true class,
     ``predictions``, ``accuracy``: mean of the diagonal in %, ``fit_seconds``,
     ``predict_seconds``)."""
-    mk = _masks(masks)
-    classes, codes = _encode_labels(labels, mk.shape[0] if mk.ndim == 3 else 1, "labels")
-    d = None if depth is None else np.ascontiguousarray(depth, dtype=np.float32)
+    classes, codes = _encode_labels(labels, _n_frames(masks), "labels")
     cls, y_test, res = _b.hand_pose_comparison(
-        mk, d, codes, [str(x) for x in methods], _int("n_test_per_class", n_test_per_class, 0),
+        masks, depth, codes, [str(x) for x in methods], _int("n_test_per_class", n_test_per_class, 0),
         _int("n_augment_per_class", n_augment_per_class, 0), int(seed),
         (_int("pca_n_components", pca_n_components, 0), _int("m", m, 0), float(gamma),
          float(shrinkage)),

@@ -86,7 +86,6 @@ KINECT_V1_NAMES: List[str] = list(_g.KINECT_V1_NAMES)
 N_PAIRS: int = 276
 
 _COSTS = ("abs", "squared")
-_MULTIVARIATE = ("independent", "dependent")
 
 
 # ----------------------------------------------------------------------------------------
@@ -261,10 +260,6 @@ def _str(name: str, v, allowed: Sequence[str]) -> str:
 
 def _cost(cost) -> str:
     return _str("cost", cost, _COSTS)
-
-
-def _multivariate(multivariate) -> str:
-    return _str("multivariate", multivariate, _MULTIVARIATE)
 
 
 def _window(window) -> Optional[int]:

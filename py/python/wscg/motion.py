@@ -576,13 +576,6 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
                          init=init, delay_search=delay_search).fit(X)
 
 
-def _trials(name: str, X) -> np.ndarray:
-    x = _array(name, X)
-    if x.ndim not in (2, 3):
-        raise ValueError(f"`{name}` must be an (R, I, N) or (rows, N) array, got shape {x.shape}")
-    return x
-
-
 # ------------------------------------------------------------------------------------------
 # Step-wise learning
 
