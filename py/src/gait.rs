@@ -3,14 +3,19 @@
 //! synthetic walker and the cross-validation protocol) and of `wscg_biometrics::dtw` (DTW,
 //! the DTW kernel Δ, dissimilarity matrices, 1-NN search, the UCR/UEA `.ts` reader).
 //!
-//! The documented API is `python/wscg/gait.py`. It passes C-contiguous float64 arrays, frames
-//! of shape `(T, 25, 3)` and joint pairs as `(P, 2)` int64 joint indices; every function
-//! checks shapes and values again, so a direct call cannot panic on bad arguments. The GIL
+//! The joint and angle functions, the DTW functions, the skeleton files and the baselines'
+//! features are `wscg.gait`'s functions themselves, re-exported by `python/wscg/gait.py`
+//! (which holds the module's documentation), their arguments converted here and by
+//! [`crate::args`]: frames, sequences and samples as any real array-likes, joints by name or
+//! index, cycles as `(start, mid, end)` or a `CycleDetails`. `detect_cycle`, the recognizer
+//! and the synthetic walkers return the values from which the Python layer builds its result
+//! classes and estimator, and take C-contiguous float64 arrays and plain numbers. Every
+//! function checks shapes and values, so a direct call cannot panic on bad arguments. The GIL
 //! is released while Rust works.
 
 use std::path::PathBuf;
 
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArrayDescrMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use wscg_biometrics::dtw::{self, ts_file, DtwParams, LocalCost, Multivariate};
@@ -20,7 +25,8 @@ use wscg_biometrics::gait::{
     JointSet, JraSet, Pair, Protocol, SkeletonSeq, StartLeg, UpAxis, Vote, N_JOINTS,
 };
 
-use crate::convert::{array, mat_out, values, Arr};
+use crate::args::{self, uint};
+use crate::convert::{array, choice, mat_out, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// Largest number of synthetic walks of one call.
@@ -46,11 +52,12 @@ fn seq_in(
     fps: f64,
 ) -> PyResult<SkeletonSeq> {
     let (t, j) = match *a.shape() {
-        [t, j, 3] => (t, j),
+        [t, j @ (25 | 20), 3] => (t, j),
         ref s => {
             return Err(value_error(format!(
-                "`{name}` must be a (T, 25, 3) or (T, 20, 3) array (frames x 25 Kinect v2 or 20 \
-                 Kinect v1 joints x xyz), got shape {s:?}"
+                "`{name}` must have shape (T, 25, 3) or (T, 20, 3): T frames x the 25 joints \
+                 of a Kinect v2 skeleton (or the 20 of Kinect v1, in the v1 SDK's order) x \
+                 (x, y, z), got shape {s:?}"
             )))
         }
     };
@@ -82,22 +89,6 @@ fn vec1(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<f64>> {
         )));
     }
     Ok(values(a).into_owned())
-}
-
-/// A multichannel sample from a list of 1-D arrays.
-fn sample_in(name: &str, v: &[PyReadonlyArrayDyn<f64>]) -> PyResult<Vec<Vec<f64>>> {
-    v.iter()
-        .enumerate()
-        .map(|(k, a)| vec1(&format!("{name}[{k}]"), a))
-        .collect()
-}
-
-/// A set of multichannel samples.
-fn set_in(name: &str, v: &[Vec<PyReadonlyArrayDyn<f64>>]) -> PyResult<Vec<Vec<Vec<f64>>>> {
-    v.iter()
-        .enumerate()
-        .map(|(i, s)| sample_in(&format!("{name}[{i}]"), s))
-        .collect()
 }
 
 fn vec_out<'py>(py: Python<'py>, v: Vec<f64>) -> PyResult<Arr<'py, f64>> {
@@ -192,17 +183,6 @@ fn dtw_params(cost: &str, window: Option<usize>, normalize: bool) -> PyResult<Dt
         .normalize(normalize))
 }
 
-/// [`dtw_params`] for the multichannel functions, with the multivariate mode.
-fn kernel_params(
-    cost: &str,
-    window: Option<usize>,
-    normalize: bool,
-    multivariate: &str,
-) -> PyResult<DtwParams> {
-    Ok(dtw_params(cost, window, normalize)?
-        .multivariate(Multivariate::parse(multivariate).py_err()?))
-}
-
 fn start_leg_in(s: &str) -> PyResult<StartLeg> {
     match s {
         "left" => Ok(StartLeg::Left),
@@ -248,14 +228,291 @@ fn cycle_of(s: &SkeletonSeq, cycle: Option<(usize, usize, usize)>) -> wscg_math:
     }
 }
 
+/// `fps`, or a `ValueError` unless it is finite and > 0.
+fn fps_arg(fps: f64) -> PyResult<f64> {
+    if fps.is_finite() && fps > 0.0 {
+        Ok(fps)
+    } else {
+        Err(value_error(format!(
+            "`fps` must be a finite number > 0, got {fps}"
+        )))
+    }
+}
+
+/// The walk of the `frames` argument (any real array-like, `(T, 25, 3)` or `(T, 20, 3)`)
+/// at `fps` frames per second.
+fn frames_arg(py: Python<'_>, frames: &Bound<'_, PyAny>, fps: f64) -> PyResult<SkeletonSeq> {
+    let a = args::array::<f64>("frames", frames)?;
+    let fps = fps_arg(fps)?;
+    seq_in(py, "frames", &a, fps)
+}
+
+/// The 1-D sequence argument `name` (any real array-like).
+fn seq_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    vec1(name, &args::array::<f64>(name, obj)?)
+}
+
+/// The Python type name of `obj`, for messages.
+fn type_name(obj: &Bound<'_, PyAny>) -> String {
+    obj.get_type()
+        .name()
+        .map_or_else(|_| "?".to_owned(), |n| n.to_string())
+}
+
+/// The multichannel sample argument `name`: a 2-D `(channels, time)` array, a 1-D array (one
+/// channel) or a sequence of 1-D sequences (lengths may differ).
+fn sample_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<f64>>> {
+    let numeric_array = obj
+        .cast::<PyUntypedArray>()
+        .is_ok_and(|a| a.dtype().kind() != b'O');
+    let out: Vec<Vec<f64>> = if numeric_array {
+        let a = args::array::<f64>(name, obj)?;
+        let v = values(&a);
+        match *a.shape() {
+            [_] => vec![v.into_owned()],
+            [r, n] => (0..r).map(|i| v[i * n..(i + 1) * n].to_vec()).collect(),
+            ref s => {
+                return Err(value_error(format!(
+                    "`{name}` must be a 2-D (channels, time) array or a list of 1-D sequences, \
+                     got shape {s:?}"
+                )))
+            }
+        }
+    } else {
+        obj.try_iter()
+            .map_err(|_| {
+                value_error(format!(
+                    "`{name}` must be a list of 1-D sequences or a 2-D array, got {}",
+                    type_name(obj)
+                ))
+            })?
+            .enumerate()
+            .map(|(k, c)| seq_arg(&format!("{name}[{k}]"), &c?))
+            .collect::<PyResult<_>>()?
+    };
+    if out.is_empty() {
+        return Err(value_error(format!("`{name}` has no channels")));
+    }
+    Ok(out)
+}
+
+/// The argument `name` holding samples ([`sample_arg`]): a sequence of them, or a 3-D array
+/// `(n, channels, time)`.
+fn samples_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<Vec<f64>>>> {
+    let out: Vec<_> = obj
+        .try_iter()
+        .map_err(|_| {
+            value_error(format!(
+                "`{name}` must be a list of samples, got {}",
+                type_name(obj)
+            ))
+        })?
+        .enumerate()
+        .map(|(i, s)| sample_arg(&format!("{name}[{i}]"), &s?))
+        .collect::<PyResult<_>>()?;
+    if out.is_empty() {
+        return Err(value_error(format!(
+            "`{name}` is empty: at least one sample is needed"
+        )));
+    }
+    Ok(out)
+}
+
+/// A joint argument (`reference`, a joint of `pairs`): a Kinect v2 joint name
+/// (case-insensitive) or index 0..24.
+enum JointRef {
+    Name(String),
+    Index(i128),
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for JointRef {
+    type Error = PyErr;
+
+    /// A `str` or an integer; anything else is a `ValueError` naming `reference`, the
+    /// argument of this type (the joints of `pairs` go through [`joint_arg`]).
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        if let Ok(s) = obj.extract::<String>() {
+            return Ok(JointRef::Name(s));
+        }
+        match obj.extract::<i128>() {
+            Ok(i) => Ok(JointRef::Index(i)),
+            Err(_) => Err(value_error(format!(
+                "`reference` must be a joint name or index, got {}",
+                obj.repr()?
+            ))),
+        }
+    }
+}
+
+impl JointRef {
+    /// The reference joint's default, `"SpineBase"`.
+    fn spine_base() -> Self {
+        JointRef::Name(String::from("SpineBase"))
+    }
+
+    /// The joint, or a `ValueError` naming the argument `name`.
+    fn joint(&self, name: &str) -> PyResult<Joint> {
+        match self {
+            JointRef::Name(s) => joint_in(name, s),
+            JointRef::Index(i) => usize::try_from(*i)
+                .ok()
+                .filter(|&i| i < N_JOINTS)
+                .map(|i| Joint::ALL[i])
+                .ok_or_else(|| {
+                    value_error(format!(
+                        "`{name}` must be a joint index in 0..{}, got {i}",
+                        N_JOINTS - 1
+                    ))
+                }),
+        }
+    }
+}
+
+/// The joint `obj` of the argument `name` (a [`JointRef`]).
+fn joint_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Joint> {
+    match obj.extract::<JointRef>() {
+        Ok(r) => r.joint(name),
+        Err(_) => Err(value_error(format!(
+            "`{name}` must be a joint name or index, got {}",
+            obj.repr()?
+        ))),
+    }
+}
+
+/// The `pairs` argument: `None`, a `(P, 2)` integer array of joint indices, or a list of
+/// `(joint, joint)` pairs of names or indices; not empty.
+fn pairs_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<Pair>>> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(None);
+    };
+    let integral =
+        args::asarray("pairs", obj).is_ok_and(|a| matches!(a.dtype().kind(), b'i' | b'u'));
+    let not_pairs =
+        || value_error("`pairs` must be a (P, 2) int array or a list of (joint, joint) tuples");
+    let pairs: Vec<Pair> = if integral {
+        pairs_in(&args::array::<i64>("pairs", obj)?)?
+    } else {
+        obj.try_iter()
+            .map_err(|_| not_pairs())?
+            .map(|p| {
+                let row: Vec<Bound<'_, PyAny>> = p?
+                    .try_iter()
+                    .map_err(|_| not_pairs())?
+                    .collect::<PyResult<_>>()?;
+                match row.as_slice() {
+                    [a, b] => Ok((joint_arg("pairs", a)?, joint_arg("pairs", b)?)),
+                    _ => Err(value_error(
+                        "`pairs` must hold (joint, joint) tuples of two joints",
+                    )),
+                }
+            })
+            .collect::<PyResult<_>>()?
+    };
+    if pairs.is_empty() {
+        return Err(value_error(
+            "`pairs` is empty: give at least one joint pair",
+        ));
+    }
+    Ok(Some(pairs))
+}
+
+/// The `cycle` argument: `None`, `(start, mid, end)` frames, a `CycleDetails` (its
+/// `cycle`) or a mapping with `start`, `mid` and `end`.
+fn cycle_arg(
+    py: Python<'_>,
+    obj: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<(usize, usize, usize)>> {
+    let Some(c) = obj.filter(|o| !o.is_none()) else {
+        return Ok(None);
+    };
+    let bad = || {
+        let r = c.repr().map_or_else(|_| "?".to_owned(), |r| r.to_string());
+        value_error(format!("`cycle` must be (start, mid, end) frames, got {r}"))
+    };
+    let items: Vec<Bound<'_, PyAny>> = if let Ok(d) = c.cast::<PyDict>() {
+        ["start", "mid", "end"]
+            .iter()
+            .map(|k| d.get_item(k)?.ok_or_else(bad))
+            .collect::<PyResult<_>>()?
+    } else {
+        let c = if c.hasattr("cycle")? {
+            c.getattr("cycle")?
+        } else {
+            c.clone()
+        };
+        c.try_iter().map_err(|_| bad())?.collect::<PyResult<_>>()?
+    };
+    let [a, b, e] = items.as_slice() else {
+        return Err(bad());
+    };
+    let frame = |v: &Bound<'_, PyAny>| -> PyResult<usize> {
+        uint(py, "cycle", v.extract::<i128>().map_err(|_| bad())?, 0)
+    };
+    Ok(Some((frame(a)?, frame(b)?, frame(e)?)))
+}
+
+/// The DTW settings of the `cost`, `window` and `normalize` arguments.
+fn dtw_args(
+    py: Python<'_>,
+    cost: &str,
+    window: Option<i128>,
+    normalize: bool,
+) -> PyResult<DtwParams> {
+    let cost = choice(
+        "cost",
+        cost,
+        &[("abs", LocalCost::Abs), ("squared", LocalCost::Squared)],
+    )?;
+    let window = window.map(|w| uint(py, "window", w, 0)).transpose()?;
+    Ok(DtwParams::default()
+        .cost(cost)
+        .window(window)
+        .normalize(normalize))
+}
+
+/// [`dtw_args`] for the multichannel functions, with the `multivariate` mode.
+fn kernel_args(
+    py: Python<'_>,
+    cost: &str,
+    window: Option<i128>,
+    normalize: bool,
+    multivariate: &str,
+) -> PyResult<DtwParams> {
+    let m = choice(
+        "multivariate",
+        multivariate,
+        &[
+            ("independent", Multivariate::Independent),
+            ("dependent", Multivariate::Dependent),
+        ],
+    )?;
+    Ok(dtw_args(py, cost, window, normalize)?.multivariate(m))
+}
+
 // ------------------------------------------------------------------------------------------
 // Joints and angles
 
-/// All pairs of joints other than `reference` (276 for the 25 Kinect v2 joints), `(P, 2)`.
+/// All joint pairs ``(p1, p2)``, ``p1 < p2``, of the joints other than ``reference``.
+///
+/// Parameters
+/// ----------
+/// reference : str or int, default "SpineBase"
+///     Reference joint (name from :data:`JOINT_NAMES` or index).
+///
+/// Returns
+/// -------
+/// pairs : ndarray of int64, shape (276, 2)
+///     Joint indices, lexicographic order. This is the row order of :func:`jra_sequences`
+///     with ``pairs=None`` and of the samples of :func:`relevance_matrix`.
+///
+/// Notes
+/// -----
+/// The paper counts C(25, 2) = 300 pairs; the 24 pairs containing the reference joint
+/// have no joint relative angle, leaving C(24, 2) = 276.
 #[pyfunction]
-#[pyo3(signature = (reference="SpineBase"))]
-fn all_pairs<'py>(py: Python<'py>, reference: &str) -> PyResult<Arr<'py, i64>> {
-    pairs_out(py, &gait::all_pairs(joint_in("reference", reference)?))
+#[pyo3(signature = (reference=JointRef::spine_base()), text_signature = "(reference='SpineBase')")]
+fn all_pairs(py: Python<'_>, reference: JointRef) -> PyResult<Arr<'_, i64>> {
+    pairs_out(py, &gait::all_pairs(reference.joint("reference")?))
 }
 
 /// The index of a joint given by its Kinect v2 name (case-insensitive) or index as text.
@@ -264,15 +521,37 @@ fn joint_index(name: &str) -> PyResult<usize> {
     Ok(joint_in("joint", name)?.index())
 }
 
-/// Joint relative angle (eq. 1), radians; `None` when undefined.
+/// Joint relative angle of joints ``p1`` and ``p2`` at the reference joint ``r`` (eq. 1).
+///
+/// Parameters
+/// ----------
+/// p1, p2, r : array_like, shape (3,)
+///     Joint positions.
+///
+/// Returns
+/// -------
+/// theta : float
+///     ``arccos(v1 . v2 / (|v1| |v2|))`` with ``v1 = r - p1``, ``v2 = p2 - r``, radians in
+///     ``[0, pi]`` (equal to ``pi`` minus the angle ``p1-r-p2``).
+///
+/// Raises
+/// ------
+/// ValueError
+///     When the angle is undefined: ``p1`` or ``p2`` lies within 1e-9 of ``r``.
+///
+/// Notes
+/// -----
+/// Computed as ``atan2(|v1 x v2|, v1 . v2)``, the same angle but accurate near 0 and pi.
 #[pyfunction]
-fn jra(p1: [f64; 3], p2: [f64; 3], r: [f64; 3]) -> PyResult<Option<f64>> {
-    if p1.iter().chain(&p2).chain(&r).any(|v| !v.is_finite()) {
-        return Err(value_error(
-            "`p1`, `p2` and `r` must hold finite coordinates",
-        ));
-    }
-    Ok(gait::jra(p1, p2, r))
+fn jra(p1: &Bound<'_, PyAny>, p2: &Bound<'_, PyAny>, r: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let point = |name: &str, p: &Bound<'_, PyAny>| args::finite3(name, args::triple(name, p)?);
+    let (p1, p2, r) = (point("p1", p1)?, point("p2", p2)?, point("r", r)?);
+    gait::jra(p1, p2, r).ok_or_else(|| {
+        value_error(
+            "the joint relative angle is undefined: `p1` or `p2` coincides with the reference \
+             joint `r` (within 1e-9)",
+        )
+    })
 }
 
 /// Gait cycle detection (section 3.1) as a dict.
@@ -318,56 +597,99 @@ fn detect_cycle<'py>(
     Ok(d)
 }
 
-/// JRA sequences `(P, L)` of `pairs` (default: all 276) over a cycle (default: detected).
+/// Joint relative angle sequences of a walk over one gait cycle (section 3.2).
+///
+/// Parameters
+/// ----------
+/// frames : array_like, shape (T, 25, 3)
+///     The walk.
+/// cycle : (start, mid, end) or CycleDetails, optional
+///     The cycle's frames (e.g. from :func:`detect_cycle`); default: detected with the
+///     default parameters.
+/// pairs : array_like of int, shape (P, 2), or list of (name, name), optional
+///     Joint pairs; default: all 276 pairs of :func:`all_pairs`.
+/// reference : str or int, default "SpineBase"
+///     Reference joint.
+/// fps : float, default 30.0
+///     Frame rate (used by the cycle detection).
+///
+/// Returns
+/// -------
+/// theta : ndarray, shape (P, L)
+///     ``theta[k, t]``: angle of pair ``k`` in frame ``start + t``, radians;
+///     ``L = end - start + 1``.
+///
+/// Raises
+/// ------
+/// ValueError
+///     A pair containing the reference joint or one joint twice, a cycle outside the walk,
+///     a walk without a full gait cycle, bad frames.
 #[pyfunction]
-#[pyo3(signature = (frames, fps, cycle=None, pairs=None, reference="SpineBase"))]
+#[pyo3(signature = (frames, cycle=None, pairs=None, reference=JointRef::spine_base(), fps=30.0),
+       text_signature = "(frames, cycle=None, pairs=None, reference='SpineBase', fps=30.0)")]
 fn jra_sequences<'py>(
     py: Python<'py>,
-    frames: PyReadonlyArrayDyn<'py, f64>,
+    frames: &Bound<'py, PyAny>,
+    cycle: Option<&Bound<'py, PyAny>>,
+    pairs: Option<&Bound<'py, PyAny>>,
+    reference: JointRef,
     fps: f64,
-    cycle: Option<(usize, usize, usize)>,
-    pairs: Option<PyReadonlyArrayDyn<'py, i64>>,
-    reference: &str,
-) -> PyResult<(Arr<'py, f64>, (usize, usize, usize))> {
-    let r = joint_in("reference", reference)?;
-    let pairs = match pairs {
-        Some(p) => pairs_in(&p)?,
-        None => gait::all_pairs(r),
-    };
-    if pairs.is_empty() {
-        return Err(value_error("`pairs` is empty"));
-    }
-    let s = seq_in(py, "frames", &frames, fps)?;
-    let (set, c) = crate::pool::detach(py, || -> wscg_math::Result<_> {
-        let c = cycle_of(&s, cycle)?;
-        Ok((
-            gait::jra_sequences(&s, &c, r, &pairs)?,
-            (c.start, c.mid, c.end),
-        ))
+) -> PyResult<Arr<'py, f64>> {
+    let s = frames_arg(py, frames, fps)?;
+    let cycle = cycle_arg(py, cycle)?;
+    let pairs = pairs_arg(pairs)?;
+    let r = reference.joint("reference")?;
+    let pairs = pairs.unwrap_or_else(|| gait::all_pairs(r));
+    let set = crate::pool::detach(py, || -> wscg_math::Result<_> {
+        gait::jra_sequences(&s, &cycle_of(&s, cycle)?, r, &pairs)
     })
     .py_err()?;
     let l = set.frames();
     let flat: Vec<f64> = set.seqs.into_iter().flatten().collect();
-    Ok((array(py, &[pairs.len(), l], flat)?, c))
+    array(py, &[pairs.len(), l], flat)
 }
 
-/// Relevance map (mean occupied bins) of `(276, L_i)` JRA sets in [`gait::all_pairs`] order.
+/// The relevance map (Fig. 8): mean number of occupied bins of every joint pair.
+///
+/// Parameters
+/// ----------
+/// samples : sequence of array_like, each of shape (276, L_i)
+///     JRA sets of walks (:func:`jra_sequences` with ``pairs=None``), rows in
+///     :func:`all_pairs` order; cycle lengths may differ.
+/// bin_deg, lo_deg, hi_deg : float
+///     Histogram layout, degrees.
+/// reference : str or int, default "SpineBase"
+///     The reference joint the sets were computed with.
+///
+/// Returns
+/// -------
+/// R : ndarray, shape (25, 25)
+///     Symmetric; zero on the diagonal and in the reference joint's row and column.
 #[pyfunction]
-#[pyo3(signature = (samples, bin_deg, lo_deg, hi_deg, reference="SpineBase"))]
+#[pyo3(signature = (samples, bin_deg=1.0, lo_deg=0.0, hi_deg=180.0, reference=JointRef::spine_base()),
+       text_signature = "(samples, bin_deg=1.0, lo_deg=0.0, hi_deg=180.0, reference='SpineBase')")]
 fn relevance_matrix<'py>(
     py: Python<'py>,
-    samples: Vec<PyReadonlyArrayDyn<'py, f64>>,
+    samples: &Bound<'py, PyAny>,
     bin_deg: f64,
     lo_deg: f64,
     hi_deg: f64,
-    reference: &str,
+    reference: JointRef,
 ) -> PyResult<Arr<'py, f64>> {
-    let h = hist(bin_deg, lo_deg, hi_deg)?;
-    let r = joint_in("reference", reference)?;
-    let pairs = gait::all_pairs(r);
+    let samples = samples
+        .try_iter()
+        .map_err(|_| value_error("`samples` must be a list of (276, L) arrays"))?
+        .enumerate()
+        .map(|(i, s)| args::array::<f64>(&format!("samples[{i}]"), &s?))
+        .collect::<PyResult<Vec<_>>>()?;
     if samples.is_empty() {
-        return Err(value_error("`samples` is empty"));
+        return Err(value_error(
+            "`samples` is empty: at least one JRA set is needed",
+        ));
     }
+    let h = hist(bin_deg, lo_deg, hi_deg)?;
+    let r = reference.joint("reference")?;
+    let pairs = gait::all_pairs(r);
     let sets = samples
         .iter()
         .enumerate()
@@ -405,66 +727,135 @@ fn relevance_matrix<'py>(
     map_out(py, &m)
 }
 
-/// Number of non-empty histogram bins of angles in radians.
+/// Number of non-empty histogram bins of a JRA sequence: a pair's relevance (section
+/// 3.3).
+///
+/// Parameters
+/// ----------
+/// theta_rad : array_like, shape (L,)
+///     Angles, radians (converted to degrees; values outside the range count in the edge
+///     bins).
+/// bin_deg, lo_deg, hi_deg : float
+///     Bin width and range, degrees (the paper does not give them; 1-degree bins on
+///     ``[0, 180]`` match its "2 or 3 bins" for narrow pairs and ``t = 20``).
+///
+/// Returns
+/// -------
+/// int
 #[pyfunction]
+#[pyo3(signature = (theta_rad, bin_deg=1.0, lo_deg=0.0, hi_deg=180.0))]
 fn occupied_bins(
-    theta_rad: PyReadonlyArrayDyn<'_, f64>,
+    theta_rad: &Bound<'_, PyAny>,
     bin_deg: f64,
     lo_deg: f64,
     hi_deg: f64,
 ) -> PyResult<usize> {
+    let v = seq_arg("theta_rad", theta_rad)?;
     let h = hist(bin_deg, lo_deg, hi_deg)?;
-    let v = vec1("theta_rad", &theta_rad)?;
     if v.iter().any(|x| !x.is_finite()) {
         return Err(value_error("`theta_rad` contains NaN or infinity"));
     }
     Ok(gait::occupied_bins(&v, &h))
 }
 
-/// The pairs `i < j` with relevance at least `min_bins`, `(M, 2)`.
+/// The relevant pairs (Fig. 10): ``i < j`` with ``R[i, j] >= min_bins``.
+///
+/// Parameters
+/// ----------
+/// relevance : array_like, shape (25, 25)
+///     A relevance map (:func:`relevance_matrix`).
+/// min_bins : float, default 20.0
+///     The threshold ``t`` (the paper's best: 20 bins).
+///
+/// Returns
+/// -------
+/// pairs : ndarray of int64, shape (M, 2)
+///
+/// Raises
+/// ------
+/// ValueError
+///     When no pair reaches the threshold (the message gives the largest relevance).
 #[pyfunction]
+#[pyo3(signature = (relevance, min_bins=20.0))]
 fn select_pairs<'py>(
     py: Python<'py>,
-    relevance: PyReadonlyArrayDyn<'py, f64>,
+    relevance: &Bound<'py, PyAny>,
     min_bins: f64,
 ) -> PyResult<Arr<'py, i64>> {
-    let m = map_in(&relevance)?;
+    let m = map_in(&args::array::<f64>("relevance", relevance)?)?;
+    let min_bins = args::number("min_bins", min_bins)?;
     pairs_out(py, &gait::select_pairs(&m, min_bins).py_err()?)
 }
 
 // ------------------------------------------------------------------------------------------
 // DTW
 
-/// DTW distance (eq. 5).
+/// Dynamic time warping distance between two scalar sequences (eq. 5).
+///
+/// Parameters
+/// ----------
+/// a, b : array_like, shapes (n,) and (m,)
+///     Non-empty finite sequences; lengths may differ.
+/// cost : {"abs", "squared"}, default "abs"
+///     Local cost ``|a_i - b_j|`` (the paper's) or ``(a_i - b_j)**2`` (the UCR/UEA
+///     archive's; dtaidistance returns the square root of this distance).
+/// window : int, optional
+///     Sakoe-Chiba band half-width ``r``: cell ``(i, j)`` is allowed when
+///     ``|j - i (m-1)/(n-1)| <= r``; for equal lengths exactly ``|i - j| <= r``
+///     (``window=0`` is the lock-step, Euclidean-style sum); for different lengths ``r`` is
+///     raised to ``ceil((m-1)/(n-1))`` so that a path exists. Default: the full grid.
+///     dtaidistance's ``window=w`` on equal lengths is ``|i - j| < w``, i.e. our
+///     ``window=w - 1``.
+/// normalize : bool, default False
+///     Divide by ``n + m`` (not in the paper).
+///
+/// Returns
+/// -------
+/// float
+///     ``D(n, m)`` of ``D(i, j) = c(a_i, b_j) + min(D(i-1, j), D(i, j-1), D(i-1, j-1))``,
+///     ``D(0, 0) = 0``: the raw sum of local costs along the best warp path.
 #[pyfunction]
-#[pyo3(signature = (a, b, cost="abs", window=None, normalize=false))]
+#[pyo3(name = "dtw", signature = (a, b, cost="abs", window=None, normalize=false))]
 fn dtw_distance(
     py: Python<'_>,
-    a: PyReadonlyArrayDyn<'_, f64>,
-    b: PyReadonlyArrayDyn<'_, f64>,
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
     cost: &str,
-    window: Option<usize>,
+    window: Option<i128>,
     normalize: bool,
 ) -> PyResult<f64> {
-    let p = dtw_params(cost, window, normalize)?;
-    let (a, b) = (vec1("a", &a)?, vec1("b", &b)?);
+    let (a, b) = (seq_arg("a", a)?, seq_arg("b", b)?);
+    let p = dtw_args(py, cost, window, normalize)?;
     crate::pool::detach_serial(py, a.len().saturating_mul(b.len()), || dtw::dtw(&a, &b, &p))
         .py_err()
 }
 
-/// DTW distance and an optimal warp path `(L, 2)`.
+/// DTW distance and an optimal warp path.
+///
+/// Parameters
+/// ----------
+/// a, b, cost, window, normalize
+///     As in :func:`dtw`.
+///
+/// Returns
+/// -------
+/// distance : float
+///     Equal to :func:`dtw`.
+/// path : ndarray of int64, shape (L, 2)
+///     0-based index pairs from ``(0, 0)`` to ``(n-1, m-1)``, steps ``(1, 0)``, ``(0, 1)``
+///     or ``(1, 1)``; ties prefer the diagonal step. ``max(n, m) <= L <= n + m - 1``.
 #[pyfunction]
 #[pyo3(signature = (a, b, cost="abs", window=None, normalize=false))]
 fn dtw_path<'py>(
     py: Python<'py>,
-    a: PyReadonlyArrayDyn<'py, f64>,
-    b: PyReadonlyArrayDyn<'py, f64>,
+    a: &Bound<'py, PyAny>,
+    b: &Bound<'py, PyAny>,
     cost: &str,
-    window: Option<usize>,
+    window: Option<i128>,
     normalize: bool,
 ) -> PyResult<(f64, Arr<'py, i64>)> {
-    let p = dtw_params(cost, window, normalize)?;
-    let (a, b) = (vec1("a", &a)?, vec1("b", &b)?);
+    let (a, b) = (seq_arg("a", a)?, seq_arg("b", b)?);
+    let p = dtw_args(py, cost, window, normalize)?;
     let (d, path) = crate::pool::detach_serial(py, a.len().saturating_mul(b.len()), || {
         dtw::dtw_path(&a, &b, &p)
     })
@@ -476,71 +867,153 @@ fn dtw_path<'py>(
     Ok((d, array(py, &[path.len(), 2], flat)?))
 }
 
-/// The DTW kernel Δ (eq. 6) between two multichannel samples, or their dependent DTW.
+/// The DTW kernel of eq. 6 between two multichannel samples (or their dependent DTW).
+///
+/// Parameters
+/// ----------
+/// A, B : sequence of 1-D array_like, or 2-D array_like (channels, time)
+///     Two samples with the same number of channels (e.g. the selected JRA sequences of
+///     two walks); channel lengths may differ between and within samples
+///     (``multivariate="independent"``) or between samples only (``"dependent"``).
+/// cost, window, normalize
+///     As in :func:`dtw`.
+/// multivariate : {"independent", "dependent"}, default "independent"
+///     ``"independent"`` (DTW_I, the paper's eq. 6): each channel warps on its own and
+///     the channel distances are summed. ``"dependent"`` (DTW_D, the usual 1-NN baseline
+///     of the UEA multivariate archive): one warp path for all channels, the local cost
+///     between whole frames, ``||A[:, i] - B[:, j]||`` (``cost="abs"``) or its square
+///     (``cost="squared"``; dtaidistance's ``dtw_ndim.distance`` is the square root of
+///     this). Both cost ``O(n m channels)`` per pair; the independent one can follow each
+///     channel's own best alignment, the dependent one keeps the channels in step (and
+///     needs every channel of a sample to have one length). A keyword here rather than a
+///     separate function because it is a setting of the same Delta, which
+///     :func:`dissimilarity_matrix` and :func:`nearest` take too.
+///
+/// Returns
+/// -------
+/// float
+///     ``Delta(A, B) = sum_k DTW(A[k], B[k])`` (independent; a dissimilarity, not a
+///     positive-definite kernel despite the paper's name) or the dependent DTW.
 #[pyfunction]
-#[pyo3(signature = (a, b, cost="abs", window=None, normalize=false, multivariate="independent"))]
+#[pyo3(signature = (A, B, cost="abs", window=None, normalize=false, multivariate="independent"))]
+#[allow(non_snake_case)]
 fn dtw_kernel(
     py: Python<'_>,
-    a: Vec<PyReadonlyArrayDyn<'_, f64>>,
-    b: Vec<PyReadonlyArrayDyn<'_, f64>>,
+    A: &Bound<'_, PyAny>,
+    B: &Bound<'_, PyAny>,
     cost: &str,
-    window: Option<usize>,
+    window: Option<i128>,
     normalize: bool,
     multivariate: &str,
 ) -> PyResult<f64> {
-    let p = kernel_params(cost, window, normalize, multivariate)?;
-    let (a, b) = (sample_in("a", &a)?, sample_in("b", &b)?);
+    let (a, b) = (sample_arg("A", A)?, sample_arg("B", B)?);
+    let p = kernel_args(py, cost, window, normalize, multivariate)?;
     crate::pool::detach(py, || dtw::dtw_kernel(&a, &b, &p)).py_err()
 }
 
-/// Δ between every query and gallery sample; the symmetric self matrix when `gallery` is
-/// `None`.
+/// ``Delta`` between every sample of ``As`` (rows) and of ``Bs`` (columns), in parallel.
+///
+/// Parameters
+/// ----------
+/// As : sequence of samples
+///     Each a list of 1-D sequences or a 2-D ``(channels, time)`` array, all with the same
+///     channel count (a 3-D array ``(n, channels, time)`` also works).
+/// Bs : sequence of samples, optional
+///     Default: ``As`` itself; the matrix is then computed once per unordered pair
+///     (symmetric, zero diagonal).
+/// cost, window, normalize
+///     As in :func:`dtw`.
+/// multivariate : {"independent", "dependent"}, default "independent"
+///     As in :func:`dtw_kernel`.
+///
+/// Returns
+/// -------
+/// D : ndarray, shape (n, m)
 #[pyfunction]
-#[pyo3(signature = (queries, gallery=None, cost="abs", window=None, normalize=false, multivariate="independent"))]
+#[pyo3(signature = (As, Bs=None, cost="abs", window=None, normalize=false, multivariate="independent"))]
+#[allow(non_snake_case)]
 fn dissimilarity_matrix<'py>(
     py: Python<'py>,
-    queries: Vec<Vec<PyReadonlyArrayDyn<'py, f64>>>,
-    gallery: Option<Vec<Vec<PyReadonlyArrayDyn<'py, f64>>>>,
+    As: &Bound<'py, PyAny>,
+    Bs: Option<&Bound<'py, PyAny>>,
     cost: &str,
-    window: Option<usize>,
+    window: Option<i128>,
     normalize: bool,
     multivariate: &str,
 ) -> PyResult<Arr<'py, f64>> {
-    let p = kernel_params(cost, window, normalize, multivariate)?;
-    let q = set_in("queries", &queries)?;
-    let m = match gallery {
-        Some(g) => {
-            let g = set_in("gallery", &g)?;
-            crate::pool::detach(py, || dtw::dissimilarity_matrix(&q, &g, &p))?
-        }
+    let q = samples_arg("As", As)?;
+    let g = Bs
+        .filter(|b| !b.is_none())
+        .map(|b| samples_arg("Bs", b))
+        .transpose()?;
+    let p = kernel_args(py, cost, window, normalize, multivariate)?;
+    let m = match g {
+        Some(g) => crate::pool::detach(py, || dtw::dissimilarity_matrix(&q, &g, &p))?,
         None => crate::pool::detach(py, || dtw::self_dissimilarity(&q, &p))?,
     }
     .py_err()?;
     mat_out(py, &m)
 }
 
-/// The gallery sample nearest to `query` by Δ (ties: first index) and its Δ.
+/// The gallery sample nearest to ``query`` by ``Delta`` (1-NN with exact early
+/// abandoning).
+///
+/// Parameters
+/// ----------
+/// query : sample
+///     A list of 1-D sequences or a 2-D ``(channels, time)`` array.
+/// gallery : sequence of samples
+///     With the query's channel count.
+/// cost, window, normalize
+///     As in :func:`dtw`.
+/// multivariate : {"independent", "dependent"}, default "independent"
+///     As in :func:`dtw_kernel`.
+///
+/// Returns
+/// -------
+/// (index, delta) : (int, float)
+///     Ties go to the first index.
 #[pyfunction]
 #[pyo3(signature = (query, gallery, cost="abs", window=None, normalize=false, multivariate="independent"))]
 fn nearest(
     py: Python<'_>,
-    query: Vec<PyReadonlyArrayDyn<'_, f64>>,
-    gallery: Vec<Vec<PyReadonlyArrayDyn<'_, f64>>>,
+    query: &Bound<'_, PyAny>,
+    gallery: &Bound<'_, PyAny>,
     cost: &str,
-    window: Option<usize>,
+    window: Option<i128>,
     normalize: bool,
     multivariate: &str,
 ) -> PyResult<(usize, f64)> {
-    let p = kernel_params(cost, window, normalize, multivariate)?;
-    let q = sample_in("query", &query)?;
-    let g = set_in("gallery", &gallery)?;
+    let q = sample_arg("query", query)?;
+    let g = samples_arg("gallery", gallery)?;
+    let p = kernel_args(py, cost, window, normalize, multivariate)?;
     crate::pool::detach(py, || dtw::nearest(&q, &g, &p)).py_err()
 }
 
-/// A UCR/UEA `.ts` file: `{problem, series (case -> dimension -> 1-D array), labels,
-/// class_labels}`.
+/// Reads a UCR/UEA archive ``.ts`` file (as shipped inside the sktime wheel).
+///
+/// Parameters
+/// ----------
+/// path : str or path-like
+///
+/// Returns
+/// -------
+/// cases : list of list of ndarray
+///     ``cases[i][d]``: dimension ``d`` of case ``i`` (a missing value ``?`` reads as NaN;
+///     lengths may differ between cases).
+/// labels : list of str
+///     Class label of each case, as written in the file.
+///
+/// Raises
+/// ------
+/// OSError
+///     Unreadable or malformed file.
 #[pyfunction]
-fn load_ts(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
+fn load_ts<'py>(
+    py: Python<'py>,
+    path: &Bound<'py, PyAny>,
+) -> PyResult<(Bound<'py, PyList>, Vec<String>)> {
+    let path = args::path("path", path)?;
     let data = crate::pool::detach(py, || ts_file::read_ts(&path)).py_err()?;
     let series = PyList::empty(py);
     for case in data.series {
@@ -550,30 +1023,64 @@ fn load_ts(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
         }
         series.append(dims)?;
     }
-    let d = PyDict::new(py);
-    d.set_item("problem", data.problem)?;
-    d.set_item("series", series)?;
-    d.set_item("labels", data.labels)?;
-    d.set_item("class_labels", data.class_labels)?;
-    Ok(d)
+    Ok((series, data.labels))
 }
 
 // ------------------------------------------------------------------------------------------
 // Files and baselines
 
-/// A skeleton stream from a CSV (`frame, joint, x, y, z`), `.npy` or NTU RGB+D `.skeleton`
-/// file, `(T, J, 3)`; `body`: an NTU body id (`None`: the most tracked).
+/// Reads a skeleton stream: ``.npy`` (shape ``(T, 25, 3)`` or ``(T, 20, 3)``), an NTU
+/// RGB+D ``.skeleton`` file, or CSV rows ``frame, joint, x, y, z``.
+///
+/// CSV joints are Kinect v2 or Kinect v1 SDK names (``SpineBase``, ``HipCenter``,
+/// ``ShoulderCenter``, ...) or indices; a file naming no Neck, HandTip or Thumb joint (and
+/// with indices below 20) is a Kinect v1 stream of 20 joints, returned in the v1 SDK's
+/// order (:data:`KINECT_V1_NAMES`). Optional header; ``#`` comments.
+///
+/// NTU RGB+D files hold several bodies per frame: ``body`` picks one by its ``bodyID``
+/// (``None``: the body with the most tracked joints over the file). Frames before its first
+/// and after its last appearance are dropped; interior absences of at most ``max_gap``
+/// frames are interpolated linearly.
+///
+/// Parameters
+/// ----------
+/// path : str or path-like
+/// fps : float, default 30.0
+///     Frame rate (validated).
+/// body : int, optional
+///     NTU body id (see :func:`load_ntu_bodies`).
+/// max_gap : int, default 10
+///     Longest NTU absence interpolated, frames.
+///
+/// Returns
+/// -------
+/// frames : ndarray, shape (T, 25, 3) or (T, 20, 3)
+///
+/// Raises
+/// ------
+/// OSError
+///     Unreadable or malformed file (a frame missing a joint, a bad number, an NTU header
+///     that does not match the values, no body with the id, a longer absence).
+/// ValueError
+///     NaN coordinates, fewer than 3 frames, ``fps <= 0``, a wrong ``.npy`` shape.
 #[pyfunction]
-#[pyo3(signature = (path, fps, body, max_gap))]
-fn load_skeleton(
-    py: Python<'_>,
-    path: PathBuf,
+#[pyo3(signature = (path, fps=30.0, body=None, max_gap=10))]
+fn load_skeleton<'py>(
+    py: Python<'py>,
+    path: &Bound<'py, PyAny>,
     fps: f64,
-    body: Option<u64>,
-    max_gap: usize,
-) -> PyResult<Arr<'_, f64>> {
-    let body = body.map_or(gait::BodyChoice::MostTracked, gait::BodyChoice::Id);
-    let ntu = gait::NtuParams::default().body(body).max_gap(max_gap);
+    body: Option<i128>,
+    max_gap: i128,
+) -> PyResult<Arr<'py, f64>> {
+    let path = args::path("path", path)?;
+    let fps = fps_arg(fps)?;
+    let body = match body {
+        Some(b) => gait::BodyChoice::Id(uint(py, "body", b, 0)?),
+        None => gait::BodyChoice::MostTracked,
+    };
+    let ntu = gait::NtuParams::default()
+        .body(body)
+        .max_gap(uint(py, "max_gap", max_gap, 0)?);
     let s = crate::pool::detach(py, || gait::read_skeleton_with(&path, fps, &ntu)).py_err()?;
     seq_out(py, &s)
 }
@@ -584,55 +1091,108 @@ fn load_ntu_bodies(py: Python<'_>, path: PathBuf) -> PyResult<Vec<(u64, usize, u
     crate::pool::detach(py, || gait::ntu_bodies(&path)).py_err()
 }
 
-/// Writes a skeleton CSV.
+/// Writes a skeleton CSV (header ``frame,joint,x,y,z``, joints by name, 6 decimals).
+///
+/// Parameters
+/// ----------
+/// path : str or path-like
+/// frames : array_like, shape (T, 25, 3)
+/// fps : float, default 30.0
+///     Only validated (CSV files carry no frame rate).
 #[pyfunction]
+#[pyo3(signature = (path, frames, fps=30.0))]
 fn save_skeleton_csv(
     py: Python<'_>,
-    path: PathBuf,
-    frames: PyReadonlyArrayDyn<'_, f64>,
+    path: &Bound<'_, PyAny>,
+    frames: &Bound<'_, PyAny>,
     fps: f64,
 ) -> PyResult<()> {
-    let s = seq_in(py, "frames", &frames, fps)?;
+    let path = args::path("path", path)?;
+    let s = frames_arg(py, frames, fps)?;
     crate::pool::detach(py, || gait::write_skeleton_csv(&path, &s)).py_err()
 }
 
 /// Features of a walk over a cycle (default: detected) by one of the baselines' extractors.
 fn baseline_features<'py>(
     py: Python<'py>,
-    frames: PyReadonlyArrayDyn<'py, f64>,
+    frames: &Bound<'py, PyAny>,
+    cycle: Option<&Bound<'py, PyAny>>,
     fps: f64,
-    cycle: Option<(usize, usize, usize)>,
     extract: fn(&SkeletonSeq, &GaitCycle) -> wscg_math::Result<Vec<f64>>,
 ) -> PyResult<Arr<'py, f64>> {
-    let s = seq_in(py, "frames", &frames, fps)?;
+    let s = frames_arg(py, frames, fps)?;
+    let cycle = cycle_arg(py, cycle)?;
     let f = crate::pool::detach(py, || extract(&s, &cycle_of(&s, cycle)?)).py_err()?;
     vec_out(py, f)
 }
 
-/// Ball et al.'s 18 features over a cycle (default: detected).
+/// Ball et al.'s 18 gait features (baseline of Table 1).
+///
+/// Parameters
+/// ----------
+/// frames : array_like, shape (T, 25, 3)
+/// cycle : (start, mid, end), optional
+///     Default: detected.
+/// fps : float, default 30.0
+///
+/// Returns
+/// -------
+/// ndarray, shape (18,)
+///     ``[mean, std, max]`` over the cycle of the angles hip L, hip R, knee L, knee R,
+///     ankle L, ankle R (radians), angle-major.
+///
+/// Notes
+/// -----
+/// Hip: between the trunk (SpineMid - SpineBase) and the thigh (Knee - Hip); knee: at the
+/// knee between hip and ankle; ankle: at the ankle between knee and foot. The definitions
+/// are our reading of the 2-page paper.
+///
+/// References
+/// ----------
+/// A. Ball, D. Rye, F. Ramos and M. Velonaki, "Unsupervised clustering of people from
+/// 'skeleton' data", HRI 2012.
 #[pyfunction]
-#[pyo3(signature = (frames, fps, cycle=None))]
+#[pyo3(signature = (frames, cycle=None, fps=30.0))]
 fn ball_features<'py>(
     py: Python<'py>,
-    frames: PyReadonlyArrayDyn<'py, f64>,
+    frames: &Bound<'py, PyAny>,
+    cycle: Option<&Bound<'py, PyAny>>,
     fps: f64,
-    cycle: Option<(usize, usize, usize)>,
 ) -> PyResult<Arr<'py, f64>> {
-    baseline_features(py, frames, fps, cycle, |s, c| {
+    baseline_features(py, frames, cycle, fps, |s, c| {
         Ok(gait::ball_features(s, c)?.to_vec())
     })
 }
 
-/// Preis et al.'s 13 features over a cycle (default: detected).
+/// Preis et al.'s 13 anthropometric and step features (baseline of Table 1).
+///
+/// Parameters
+/// ----------
+/// frames : array_like, shape (T, 25, 3)
+/// cycle : (start, mid, end), optional
+///     Default: detected.
+/// fps : float, default 30.0
+///
+/// Returns
+/// -------
+/// ndarray, shape (13,)
+///     ``[height, leg length, torso, lower leg L, lower leg R, thigh L, thigh R, upper arm
+///     L, upper arm R, forearm L, forearm R, step length, speed]`` in metres and m/s; bone
+///     lengths are per-frame medians over the cycle.
+///
+/// References
+/// ----------
+/// J. Preis, M. Kessel, M. Werner and C. Linnhoff-Popien, "Gait recognition with Kinect",
+/// Workshop on Kinect in Pervasive Computing, 2012.
 #[pyfunction]
-#[pyo3(signature = (frames, fps, cycle=None))]
+#[pyo3(signature = (frames, cycle=None, fps=30.0))]
 fn preis_features<'py>(
     py: Python<'py>,
-    frames: PyReadonlyArrayDyn<'py, f64>,
+    frames: &Bound<'py, PyAny>,
+    cycle: Option<&Bound<'py, PyAny>>,
     fps: f64,
-    cycle: Option<(usize, usize, usize)>,
 ) -> PyResult<Arr<'py, f64>> {
-    baseline_features(py, frames, fps, cycle, |s, c| {
+    baseline_features(py, frames, cycle, fps, |s, c| {
         Ok(gait::preis_features(s, c)?.to_vec())
     })
 }

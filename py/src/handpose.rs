@@ -1,8 +1,10 @@
 //! `wscg._native.biometrics` (paper 05, data side): the synthetic hand-pose generator, the
 //! physical features, the split / augmentation protocol, the comparison of Tables 3-6, and
-//! Isomap. The documented API is `python/wscg/biometrics.py`.
+//! Isomap. The documented API is `python/wscg/biometrics.py`; `physical_features`,
+//! `rotate_mask`, `downscale_mask` and `hand_pose_rotated_test` are its functions
+//! themselves (re-exported there), their masks converted by [`masks_arg`].
 
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_biometrics::sfa::handpose::protocol::compare_masks;
@@ -15,6 +17,7 @@ use wscg_biometrics::sfa::ClassSfaParams;
 
 use wscg_math::{ImageStackView, ImageView};
 
+use crate::args::{self, uint};
 use crate::convert::{array, image_array, labels_from, mat_map, mat_out, values, Arr};
 use crate::errors::{value_error, IntoPy, IntoPyRenamed, Renames};
 
@@ -88,14 +91,45 @@ fn jitter_presets() -> ([f64; 6], [f64; 6]) {
     (f(Jitter::default()), f(Jitter::tight()))
 }
 
-/// Physical features of a mask stack (optionally with depth): `(n, 9)` or `(n, 8)`.
+/// The mask argument `name` (0 = background): uint8 as it is, bool as 0/1; another dtype
+/// is refused, not cast.
+fn masks_arg<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, u8>> {
+    let a = args::asarray(name, obj)?;
+    if let Ok(m) = a.cast::<PyArrayDyn<u8>>() {
+        return Ok(m.readonly());
+    }
+    if a.cast::<PyArrayDyn<bool>>().is_ok() {
+        return args::array::<u8>(name, a.as_any());
+    }
+    Err(value_error(format!(
+        "`{name}` must be uint8 or bool (0 = background), got {}",
+        a.dtype()
+    )))
+}
+
+/// The optional `depth` argument (any real array-like, as float32).
+fn depth_arg<'py>(
+    depth: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Option<PyReadonlyArrayDyn<'py, f32>>> {
+    depth
+        .filter(|d| !d.is_none())
+        .map(|d| args::array::<f32>("depth", d))
+        .transpose()
+}
+
+/// The hand-crafted features of paper 05's Table 4 baseline, one row per mask of an
+/// ``(n, h, w)`` stack (or one ``(h, w)`` mask): fingertip x, y; palm centre x, y; palm
+/// radius; convex ratio; concave depth; finger polar angle; and, with ``depth`` (same
+/// shape, float), the finger azimuth: 9 columns, 8 without depth.
 #[pyfunction]
 #[pyo3(signature = (masks, depth=None))]
 fn physical_features<'py>(
     py: Python<'py>,
-    masks: PyReadonlyArrayDyn<u8>,
-    depth: Option<PyReadonlyArrayDyn<f32>>,
+    masks: &Bound<'py, PyAny>,
+    depth: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Arr<'py, f64>> {
+    let masks = masks_arg("masks", masks)?;
+    let depth = depth_arg(depth)?;
     let (n, h, w) = stack_dims("masks", masks.shape())?;
     let m = values(&masks);
     let d = depth.as_ref().map(values);
@@ -130,26 +164,32 @@ fn mask_dims(mask: &PyReadonlyArrayDyn<u8>) -> PyResult<(usize, usize)> {
     }
 }
 
-/// Rotates one mask about its centroid (degrees, counter-clockwise as displayed).
+/// One binary mask rotated about its centroid by ``degrees`` (counter-clockwise as
+/// displayed), nearest-neighbour resampling; stays 0/1.
 #[pyfunction]
 fn rotate_mask<'py>(
     py: Python<'py>,
-    mask: PyReadonlyArrayDyn<u8>,
+    mask: &Bound<'py, PyAny>,
     degrees: f64,
 ) -> PyResult<Arr<'py, u8>> {
+    let mask = masks_arg("mask", mask)?;
+    let degrees = args::number("degrees", degrees)?;
     let (h, w) = mask_dims(&mask)?;
     let m = values(&mask);
     let out = crate::pool::detach(py, || rotate(ImageView::plane(h, w, &m)?, degrees)).py_err()?;
     image_array(py, out, true)
 }
 
-/// Area-average downscaling of one mask by an integer factor.
+/// Area-average downscaling of one binary mask (paper 05: by 3, 120 x 165 -> 40 x 55).
 #[pyfunction]
+#[pyo3(name = "downscale_mask", signature = (mask, factor=3))]
 fn downscale<'py>(
     py: Python<'py>,
-    mask: PyReadonlyArrayDyn<u8>,
-    factor: usize,
+    mask: &Bound<'py, PyAny>,
+    factor: i128,
 ) -> PyResult<Arr<'py, f64>> {
+    let mask = masks_arg("mask", mask)?;
+    let factor: usize = uint(py, "factor", factor, 0)?;
     let (h, w) = mask_dims(&mask)?;
     let m = values(&mask);
     let out =
@@ -167,12 +207,13 @@ const SPLIT: &Renames = &[
 #[pyfunction]
 fn hand_pose_split<'py>(
     py: Python<'py>,
-    masks: PyReadonlyArrayDyn<u8>,
+    masks: &Bound<'py, PyAny>,
     labels: PyReadonlyArrayDyn<i64>,
     n_test_per_class: usize,
     n_augment_per_class: usize,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let masks = masks_arg("masks", masks)?;
     let (n, h, w) = stack_dims("masks", masks.shape())?;
     let y = labels_from("labels", &labels)?;
     let m = values(&masks);
@@ -202,8 +243,8 @@ fn hand_pose_split<'py>(
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn hand_pose_comparison<'py>(
     py: Python<'py>,
-    masks: PyReadonlyArrayDyn<u8>,
-    depth: Option<PyReadonlyArrayDyn<f32>>,
+    masks: &Bound<'py, PyAny>,
+    depth: Option<&Bound<'py, PyAny>>,
     labels: PyReadonlyArrayDyn<i64>,
     methods: Vec<String>,
     n_test_per_class: usize,
@@ -219,6 +260,8 @@ fn hand_pose_comparison<'py>(
     Arr<'py, i64>,
     Vec<(String, Arr<'py, f64>, Arr<'py, i64>, f64, f64)>,
 )> {
+    let masks = masks_arg("masks", masks)?;
+    let depth = depth_arg(depth)?;
     let (n, h, w) = stack_dims("masks", masks.shape())?;
     let y = labels_from("labels", &labels)?;
     let methods: Vec<Method> = methods
@@ -295,16 +338,33 @@ fn hand_pose_comparison<'py>(
     ))
 }
 
-/// Rows of the given frames rotated by +-U(lo, hi) degrees and downscaled as the split does.
+/// Rows of the frames ``test_index`` of a mask stack (e.g. ``hand_pose_split(...)
+/// .test_index``), each rotated about its centroid by +-U(angles) degrees and downscaled
+/// as :func:`hand_pose_split` does: the rotation-robustness check. ``angles=(0, 0)`` gives
+/// the unrotated test rows.
 #[pyfunction]
+#[pyo3(name = "hand_pose_rotated_test", signature = (masks, test_index, angles=(10.0, 20.0), seed=1),
+       text_signature = "(masks, test_index, angles=(10.0, 20.0), seed=1)")]
 fn rotated_frame_rows<'py>(
     py: Python<'py>,
-    masks: PyReadonlyArrayDyn<u8>,
-    test_index: Vec<usize>,
-    lo: f64,
-    hi: f64,
-    seed: u64,
+    masks: &Bound<'py, PyAny>,
+    test_index: &Bound<'py, PyAny>,
+    angles: (f64, f64),
+    seed: i128,
 ) -> PyResult<Arr<'py, f64>> {
+    let masks = masks_arg("masks", masks)?;
+    let idx = args::array::<i64>("test_index", test_index)?;
+    if idx.ndim() != 1 {
+        return Err(value_error(
+            "`test_index` must be a 1-D array of frame indices",
+        ));
+    }
+    let test_index = crate::convert::indices("test_index", &values(&idx))?;
+    let (lo, hi) = (
+        args::number("angles", angles.0)?,
+        args::number("angles", angles.1)?,
+    );
+    let seed: u64 = uint(py, "seed", seed, 0)?;
     let (n, h, w) = stack_dims("masks", masks.shape())?;
     let m = values(&masks);
     let rows = crate::pool::detach(py, || {

@@ -3,14 +3,18 @@
 //! planning, online synthesis with Hopf oscillators, BVH files, the regression statistics and
 //! the ε-SVR).
 //!
-//! The documented API is `python/wscg/motion.py`. It passes C-contiguous float64 arrays and
-//! plain numbers; every function checks shapes and values again, so a direct call cannot panic
-//! on bad arguments. The GIL is released while Rust works.
+//! `pca_qualities`, `pca_quality`, `quality`, `save_bvh`, `forward_kinematics` and
+//! `regression_p_value` are `wscg.motion`'s functions themselves, re-exported by
+//! `python/wscg/motion.py` (which holds the module's documentation), their arguments converted
+//! by [`crate::args`]; the others return the dicts from which the Python layer builds its
+//! result classes and estimators, and take C-contiguous float64 arrays and plain numbers.
+//! Every function checks shapes and values, so a direct call cannot panic on bad arguments.
+//! The GIL is released while Rust works.
 
 use std::f64::consts::TAU;
 
 use num_complex::Complex64;
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use wscg_math::Error;
@@ -30,6 +34,7 @@ use wscg_motion::svr::Svr;
 use wscg_motion::synthesizer::{planner_for, MapKind, Synthesizer, SynthesizerParams};
 use wscg_motion::walker::{reach_walk, WalkerParams};
 
+use crate::args::{self, uint};
 use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -122,7 +127,8 @@ fn dataset_out<'py>(py: Python<'py>, data: &Dataset) -> PyResult<Bound<'py, PyDi
 
 /// Reads a training folder (`angles.npy`, `root.npy`, `steps.csv`) as a dict of arrays.
 #[pyfunction]
-fn load_dataset(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Bound<'_, PyDict>> {
+fn load_dataset<'py>(py: Python<'py>, path: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let path = args::path("path", path)?;
     let data = crate::pool::detach(py, || wscg_motion::read_dataset(&path)).py_err()?;
     dataset_out(py, &data)
 }
@@ -132,12 +138,20 @@ fn load_dataset(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Bound<'_, 
 #[pyo3(signature = (path, angles, step_length, duration, root=None))]
 fn save_dataset(
     py: Python<'_>,
-    path: std::path::PathBuf,
-    angles: PyReadonlyArrayDyn<f64>,
-    step_length: PyReadonlyArrayDyn<f64>,
-    duration: PyReadonlyArrayDyn<f64>,
-    root: Option<PyReadonlyArrayDyn<f64>>,
+    path: &Bound<'_, PyAny>,
+    angles: &Bound<'_, PyAny>,
+    step_length: &Bound<'_, PyAny>,
+    duration: &Bound<'_, PyAny>,
+    root: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<()> {
+    let path = args::path("path", path)?;
+    let angles = args::array::<f64>("angles", angles)?;
+    let step_length = args::array::<f64>("step_length", step_length)?;
+    let duration = args::array::<f64>("duration", duration)?;
+    let root = root
+        .filter(|r| !r.is_none())
+        .map(|r| args::array::<f64>("root", r))
+        .transpose()?;
     let data = dataset_in(&angles, &step_length, &duration, root.as_ref(), None)?;
     crate::pool::detach(py, || wscg_motion::write_dataset(&path, &data)).py_err()
 }
@@ -147,13 +161,18 @@ fn save_dataset(
 #[pyo3(signature = (n_trials, seed, noise, human_like, n_samples, model_seed))]
 fn make_synthetic_dataset<'py>(
     py: Python<'py>,
-    n_trials: usize,
-    seed: u64,
+    n_trials: i128,
+    seed: i128,
     noise: f64,
     human_like: bool,
-    n_samples: usize,
-    model_seed: u64,
+    n_samples: i128,
+    model_seed: i128,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let n_trials: usize = uint(py, "n_trials", n_trials, 1)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    let noise = args::number("noise", noise)?;
+    let n_samples: usize = uint(py, "n_samples", n_samples, 8)?;
+    let model_seed: u64 = uint(py, "model_seed", model_seed, 0)?;
     let total = n_trials
         .checked_mul(n_samples)
         .and_then(|v| v.checked_mul(6 * N_CHANNELS));
@@ -321,18 +340,45 @@ fn fit_anechoic<'py>(
     Ok(d)
 }
 
-/// Cumulative PCA qualities `Q_PCA(1), Q_PCA(2), ...` of the `(R*I) x N` signal matrix.
+/// The trial set of the argument `name` (any real array-like, `(R, I, N)` or `(rows, N)`).
+fn trials_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<TrialSet> {
+    trials_in(name, &args::array::<f64>(name, obj)?)
+}
+
+/// Cumulative explained-variance ratios ``Q_PCA(1), Q_PCA(2), ...`` (paper Fig. 4).
+///
+/// PCA of the ``(R * I) x N`` signal matrix: each row a channel of one trial, each column a
+/// time sample, rows centred over time. ``Q_PCA(J)`` equals scikit-learn's
+/// ``PCA(J).fit(X.reshape(-1, N).T).explained_variance_ratio_.sum()``.
+///
+/// Parameters
+/// ----------
+/// X : array_like, shape (R, I, N) or (rows, N)
+///
+/// Returns
+/// -------
+/// ndarray, shape (min(R * I, N),)
 #[pyfunction]
-fn pca_qualities<'py>(py: Python<'py>, x: PyReadonlyArrayDyn<f64>) -> PyResult<Arr<'py, f64>> {
-    let set = trials_in("x", &x)?;
+#[allow(non_snake_case)]
+fn pca_qualities<'py>(py: Python<'py>, X: &Bound<'py, PyAny>) -> PyResult<Arr<'py, f64>> {
+    let set = trials_arg("X", X)?;
     let q = crate::pool::detach(py, || pca_qualities_rs(&set)).py_err()?;
     vec_out(py, &q)
 }
 
-/// `Q_PCA(j)`.
+/// ``Q_PCA(j)``: the fraction of variance of the ``j`` leading principal components of
+/// the ``(R * I) x N`` signal matrix (see :func:`pca_qualities`).
+///
+/// Parameters
+/// ----------
+/// X : array_like, shape (R, I, N) or (rows, N)
+/// j : int
+///     Number of components, ``1 <= j <= min(R * I, N)``.
 #[pyfunction]
-fn pca_quality(py: Python<'_>, x: PyReadonlyArrayDyn<f64>, j: usize) -> PyResult<f64> {
-    let set = trials_in("x", &x)?;
+#[allow(non_snake_case)]
+fn pca_quality(py: Python<'_>, X: &Bound<'_, PyAny>, j: i128) -> PyResult<f64> {
+    let set = trials_arg("X", X)?;
+    let j: usize = uint(py, "j", j, 1)?;
     let q = crate::pool::detach(py, || pca_qualities_rs(&set)).py_err()?;
     if j == 0 || j > q.len() {
         return Err(value_error(format!(
@@ -343,23 +389,27 @@ fn pca_quality(py: Python<'_>, x: PyReadonlyArrayDyn<f64>, j: usize) -> PyResult
     Ok(q[j - 1])
 }
 
-/// `Q = 1 - ||X - Xhat||^2 / ||X||^2` for arrays of the same shape.
+/// Approximation quality ``Q = 1 - ||X - Xhat||_F^2 / ||X||_F^2`` (paper Fig. 4).
+///
+/// Parameters
+/// ----------
+/// X, Xhat : array_like
+///     Arrays of the same shape; ``X`` not all zero.
 #[pyfunction]
-fn quality(
-    py: Python<'_>,
-    x: PyReadonlyArrayDyn<f64>,
-    xhat: PyReadonlyArrayDyn<f64>,
-) -> PyResult<f64> {
+#[allow(non_snake_case)]
+fn quality(py: Python<'_>, X: &Bound<'_, PyAny>, Xhat: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let x = args::array::<f64>("X", X)?;
+    let xhat = args::array::<f64>("Xhat", Xhat)?;
     if x.shape() != xhat.shape() {
         return Err(value_error(format!(
-            "shape mismatch: `x` has shape {:?}, `xhat` {:?}",
+            "shape mismatch: `X` has shape {:?}, `Xhat` {:?}",
             x.shape(),
             xhat.shape()
         )));
     }
     let (a, b) = (values(&x), values(&xhat));
-    check_finite("x", &a)?;
-    check_finite("xhat", &b)?;
+    check_finite("X", &a)?;
+    check_finite("Xhat", &b)?;
     let n = a.len();
     let xs = TrialSet::new(1, 1, n, a.into_owned()).py_err()?;
     let ys = TrialSet::new(1, 1, n, b.into_owned()).py_err()?;
@@ -852,18 +902,52 @@ fn root_in(a: &PyReadonlyArrayDyn<f64>, t_n: usize) -> PyResult<Vec<[f64; 3]>> {
     }
 }
 
-/// Writes frames as a BVH file of the 17-joint skeleton.
+/// Frames of exponential-map channels and their pelvis positions.
+type Frames = (Vec<Vec<f64>>, Vec<[f64; 3]>);
+
+/// The frames of the `angles` `(T, 51)` (one frame: `(51,)`) and `root` `(T,)` or `(T, 3)`
+/// (one frame: a number) arguments, any real array-likes.
+fn frames_arg(angles: &Bound<'_, PyAny>, root: &Bound<'_, PyAny>) -> PyResult<Frames> {
+    let mut a = args::array::<f64>("angles", angles)?;
+    if a.ndim() == 1 {
+        a = a.reshape(vec![1, a.len()])?.readonly();
+    }
+    let mut r = args::array::<f64>("root", root)?;
+    if r.ndim() == 0 {
+        r = r.reshape(vec![1usize])?.readonly();
+    }
+    let frames = frames_in("angles", &a)?;
+    let root = root_in(&r, frames.len())?;
+    Ok((frames, root))
+}
+
+/// Writes frames of the 17-joint skeleton as a BVH file.
+///
+/// Rotations become ``Zrotation Xrotation Yrotation`` Euler angles in degrees; positions
+/// are in centimetres; the pelvis walks along +z.
+///
+/// Parameters
+/// ----------
+/// path : str or PathLike
+/// angles : array_like, shape (T, 51)
+///     Exponential-map channels per frame.
+/// root : array_like, shape (T,) or (T, 3)
+///     Pelvis forward position in metres (hips at the rest height), or full positions (as
+///     :func:`forward_kinematics` takes them).
+/// fps : float
+///     Frame rate (> 0).
 #[pyfunction]
+#[pyo3(signature = (path, angles, root, fps=120.0))]
 fn save_bvh(
     py: Python<'_>,
-    path: std::path::PathBuf,
-    angles: PyReadonlyArrayDyn<f64>,
-    root: PyReadonlyArrayDyn<f64>,
+    path: &Bound<'_, PyAny>,
+    angles: &Bound<'_, PyAny>,
+    root: &Bound<'_, PyAny>,
     fps: f64,
 ) -> PyResult<()> {
+    let path = args::path("path", path)?;
+    let (frames, root) = frames_arg(angles, root)?;
     positive("fps", fps)?;
-    let frames = frames_in("angles", &angles)?;
-    let root = root_in(&root, frames.len())?;
     let motion = BvhMotion {
         frame_time: 1.0 / fps,
         angles: frames,
@@ -877,10 +961,12 @@ fn save_bvh(
 #[pyfunction]
 fn load_bvh<'py>(
     py: Python<'py>,
-    path: std::path::PathBuf,
+    path: &Bound<'py, PyAny>,
     joint_map: (String, String),
     units_per_metre: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let path = args::path("path", path)?;
+    let units_per_metre = args::number("units_per_metre", units_per_metre)?;
     let map = match joint_map.0.as_str() {
         "builtin" => Some(JointMap::builtin(&joint_map.1)),
         "json" => Some(JointMap::from_json(&joint_map.1)),
@@ -909,8 +995,9 @@ fn load_bvh<'py>(
 #[pyfunction]
 fn load_bvh_skeleton<'py>(
     py: Python<'py>,
-    path: std::path::PathBuf,
+    path: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let path = args::path("path", path)?;
     let (f, pos) = crate::pool::detach(py, || {
         bvh_file::read_bvh_file(&path).map(|f| {
             let pos = bvh_file::bvh_forward_kinematics(&f);
@@ -966,15 +1053,20 @@ fn load_bvh_skeleton<'py>(
     Ok(d)
 }
 
-/// World positions `(T, 22, 3)` of the 17 joints and 5 end sites.
+/// World positions of the 17 joints and the 5 end sites, ``(T, 22, 3)`` metres.
+///
+/// Parameters
+/// ----------
+/// angles : array_like, shape (T, 51)
+/// root : array_like, shape (T,) or (T, 3)
+///     Pelvis forward position (hips at the rest height) or full positions.
 #[pyfunction]
 fn forward_kinematics<'py>(
     py: Python<'py>,
-    angles: PyReadonlyArrayDyn<f64>,
-    root: PyReadonlyArrayDyn<f64>,
+    angles: &Bound<'py, PyAny>,
+    root: &Bound<'py, PyAny>,
 ) -> PyResult<Arr<'py, f64>> {
-    let frames = frames_in("angles", &angles)?;
-    let root = root_in(&root, frames.len())?;
+    let (frames, root) = frames_arg(angles, root)?;
     let pts: Vec<Vec<[f64; 3]>> = crate::pool::detach(py, || {
         frames
             .iter()
@@ -1016,9 +1108,19 @@ fn skeleton<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
 // ------------------------------------------------------------------------------------------
 // Statistics, SVR, oscillators
 
-/// Two-sided p-value of the slope of a regression with `R^2 = r2` on `n` points.
+/// Two-sided p-value of the slope of a simple regression with ``R^2 = r2`` on ``n``
+/// points: ``t = sqrt(R^2 (n - 2) / (1 - R^2))`` on ``n - 2`` degrees of freedom.
+///
+/// Parameters
+/// ----------
+/// r2 : float
+///     In ``[0, 1]``.
+/// n : int
+///     At least 3.
 #[pyfunction]
-fn regression_p_value(r2: f64, n: usize) -> PyResult<f64> {
+fn regression_p_value(py: Python<'_>, r2: f64, n: i128) -> PyResult<f64> {
+    let r2 = args::number("r2", r2)?;
+    let n: usize = uint(py, "n", n, 0)?;
     p_value_rs(r2, n).py_err()
 }
 
@@ -1026,9 +1128,10 @@ fn regression_p_value(r2: f64, n: usize) -> PyResult<f64> {
 #[pyfunction]
 fn fit_line<'py>(
     py: Python<'py>,
-    x: PyReadonlyArrayDyn<f64>,
-    y: PyReadonlyArrayDyn<f64>,
+    x: &Bound<'py, PyAny>,
+    y: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let (x, y) = (args::array::<f64>("x", x)?, args::array::<f64>("y", y)?);
     if x.shape().len() != 1 || y.shape().len() != 1 {
         return Err(value_error(format!(
             "`x` and `y` must be 1-D, got shapes {:?} and {:?}",
@@ -1066,14 +1169,21 @@ fn points2(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<[f64; 2]>> {
 #[allow(clippy::too_many_arguments)]
 fn svr_fit_predict<'py>(
     py: Python<'py>,
-    x_train: PyReadonlyArrayDyn<f64>,
-    y_train: PyReadonlyArrayDyn<f64>,
-    x_test: PyReadonlyArrayDyn<f64>,
+    x_train: &Bound<'py, PyAny>,
+    y_train: &Bound<'py, PyAny>,
+    x_test: &Bound<'py, PyAny>,
     c: f64,
     epsilon: f64,
     gamma: f64,
     tol: f64,
 ) -> PyResult<(Arr<'py, f64>, usize, f64, usize)> {
+    let x_train = args::array::<f64>("x_train", x_train)?;
+    let y_train = args::array::<f64>("y_train", y_train)?;
+    let x_test = args::array::<f64>("x_test", x_test)?;
+    let c = args::number("C", c)?;
+    let epsilon = args::number("epsilon", epsilon)?;
+    let gamma = args::number("gamma", gamma)?;
+    let tol = args::number("tol", tol)?;
     let xt = points2("x_train", &x_train)?;
     let xq = points2("x_test", &x_test)?;
     if y_train.shape() != [xt.len()] {
@@ -1109,12 +1219,14 @@ fn hopf_simulate<'py>(
     omega: f64,
     coupling: f64,
     leader: (f64, f64),
-    followers: PyReadonlyArrayDyn<f64>,
+    followers: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let followers = args::array::<f64>("followers", followers)?;
     positive("duration", duration)?;
     positive("dt", dt)?;
     let fs = match *followers.shape() {
-        [_, 2] | [0] => {
+        _ if followers.len() == 0 => Vec::new(),
+        [_, 2] => {
             let v = values(&followers);
             check_finite("followers", &v)?;
             v.chunks_exact(2).map(|c| [c[0], c[1]]).collect::<Vec<_>>()

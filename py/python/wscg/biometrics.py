@@ -46,6 +46,8 @@ from typing import Dict, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._native import biometrics as _b
+from ._native.biometrics import (downscale_mask, hand_pose_rotated_test, make_finger_veins,
+                                 physical_features, rotate_mask)
 from ._checks import _int, integer_ranges as _integer_ranges
 from ._results import from_mapping as _from_mapping, result as _result
 from ._estimator import Estimator, as_matrix
@@ -627,31 +629,6 @@ def feature_kernel(X, kernel: str = "rbf", sigma=None, sigma_scale: float = 1.0,
     return K, _from_mapping(ResolvedKernel, info)
 
 
-def make_finger_veins(n_subjects: int = 200, n_per_subject: int = 10, size=(10, 20),
-                      canvas=(40, 80), max_shift: float = 3.5,
-                      max_rotation_deg: float = 3.0, noise: float = 0.03, blur: float = 1.0,
-                      seed: int = 0) -> Tuple[np.ndarray, np.ndarray]:
-    """Synthetic finger-vein images, a stand-in for the paper's private database
-    (200 subjects x 10 images of 10 x 20 pixels).
-
-    Each subject has 3 to 6 dark veins (smooth random curves along the finger) on a bright
-    background drawn at ``canvas`` size; each sample is shifted, rotated, rescaled in
-    brightness, noised, blurred and area-downsampled to ``size``. The shift (in canvas
-    pixels) sets the difficulty: the default 3.5 puts PCA near 90 % on the 5/5 protocol.
-
-    Returns
-    -------
-    images : ndarray (n_subjects * n_per_subject, h, w), float64
-    labels : ndarray (n_subjects * n_per_subject,), int64
-        Subject of each image (rows ordered subject by subject).
-    """
-    return _b.make_finger_veins(_int("n_subjects", n_subjects, 0),
-                                _int("n_per_subject", n_per_subject, 0),
-                                (int(size[0]), int(size[1])),
-                                (int(canvas[0]), int(canvas[1])), float(max_shift),
-                                float(max_rotation_deg), float(noise), float(blur), int(seed))
-
-
 def split_per_subject(labels, n_train_per_subject: int, seed: int = 0
                       ) -> Tuple[np.ndarray, np.ndarray]:
     """Row indices ``(train, test)``: for every subject, ``n_train_per_subject`` random
@@ -1084,34 +1061,10 @@ def make_hand_poses(n_per_class: int = 3000, n_subjects: int = 3, seed: int = 0,
                          [amp[k] for k in _JITTER_KEYS])
 
 
-def _masks(masks) -> np.ndarray:
-    m = np.asarray(masks)
-    if m.dtype == bool:
-        m = m.astype(np.uint8)
-    if m.dtype != np.uint8:
-        raise ValueError(f"`masks` must be uint8 or bool (0 = background), got {m.dtype}")
-    return np.ascontiguousarray(m)
-
-
-def physical_features(masks, depth=None) -> np.ndarray:
-    """The hand-crafted features of paper 05's Table 4 baseline, one row per mask of an
-    ``(n, h, w)`` stack (or one ``(h, w)`` mask): fingertip x, y; palm centre x, y; palm
-    radius; convex ratio; concave depth; finger polar angle; and, with ``depth`` (same
-    shape, float), the finger azimuth: 9 columns, 8 without depth."""
-    m = _masks(masks)
-    d = None if depth is None else np.ascontiguousarray(depth, dtype=np.float32)
-    return _b.physical_features(m, d)
-
-
-def rotate_mask(mask, degrees: float) -> np.ndarray:
-    """One binary mask rotated about its centroid by ``degrees`` (counter-clockwise as
-    displayed), nearest-neighbour resampling; stays 0/1."""
-    return _b.rotate_mask(_masks(mask), float(degrees))
-
-
-def downscale_mask(mask, factor: int = 3) -> np.ndarray:
-    """Area-average downscaling of one binary mask (paper 05: by 3, 120 x 165 -> 40 x 55)."""
-    return _b.downscale(_masks(mask), int(factor))
+def _n_frames(masks) -> int:
+    """The number of frames of a mask stack ``(n, h, w)``, 1 for one ``(h, w)`` mask."""
+    shape = np.shape(masks)
+    return shape[0] if len(shape) == 3 else 1
 
 
 def hand_pose_split(masks, labels, n_test_per_class: int = 300,
@@ -1122,9 +1075,8 @@ def hand_pose_split(masks, labels, n_test_per_class: int = 300,
     Returns a :class:`HandPoseSplit` with ``X_train``, ``y_train``, ``X_test``, ``y_test``,
     ``train_index``, ``test_index`` (source frames), ``train_rotation`` (degrees) and
     ``shape``."""
-    m = _masks(masks)
-    classes, codes = _encode_labels(labels, m.shape[0] if m.ndim == 3 else 1, "labels")
-    d = _b.hand_pose_split(m, codes, _int("n_test_per_class", n_test_per_class, 0),
+    classes, codes = _encode_labels(labels, _n_frames(masks), "labels")
+    d = _b.hand_pose_split(masks, codes, _int("n_test_per_class", n_test_per_class, 0),
                            _int("n_augment_per_class", n_augment_per_class, 0), int(seed))
     return _from_mapping(HandPoseSplit, d, y_train=classes[d["y_train"]],
                          y_test=classes[d["y_test"]], shape=tuple(d["shape"]))
@@ -1151,11 +1103,9 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
     ``results[name]``, a :class:`ClassifierRun` (``confusion`` in % per true class,
     ``predictions``, ``accuracy``: mean of the diagonal in %, ``fit_seconds``,
     ``predict_seconds``)."""
-    mk = _masks(masks)
-    classes, codes = _encode_labels(labels, mk.shape[0] if mk.ndim == 3 else 1, "labels")
-    d = None if depth is None else np.ascontiguousarray(depth, dtype=np.float32)
+    classes, codes = _encode_labels(labels, _n_frames(masks), "labels")
     cls, y_test, res = _b.hand_pose_comparison(
-        mk, d, codes, [str(x) for x in methods], _int("n_test_per_class", n_test_per_class, 0),
+        masks, depth, codes, [str(x) for x in methods], _int("n_test_per_class", n_test_per_class, 0),
         _int("n_augment_per_class", n_augment_per_class, 0), int(seed),
         (_int("pca_n_components", pca_n_components, 0), _int("m", m, 0), float(gamma),
          float(shrinkage)),
@@ -1172,20 +1122,6 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
             for name, conf, pred, tf, tp in res}
     return HandPoseComparison(classes=classes[np.asarray(cls)], y_test=classes[y_test],
                               results=runs)
-
-
-def hand_pose_rotated_test(masks, test_index, angles=(10.0, 20.0),
-                           seed: int = 1) -> np.ndarray:
-    """Rows of the frames ``test_index`` of a mask stack (e.g. ``hand_pose_split(...)
-    .test_index``), each rotated about its centroid by +-U(angles) degrees and downscaled
-    as :func:`hand_pose_split` does: the rotation-robustness check. ``angles=(0, 0)`` gives
-    the unrotated test rows."""
-    mk = _masks(masks)
-    idx = np.asarray(test_index)
-    if idx.ndim != 1 or (idx.size and idx.min() < 0):
-        raise ValueError("`test_index` must be a 1-D array of frame indices")
-    return _b.rotated_frame_rows(mk, [int(i) for i in idx], float(angles[0]), float(angles[1]),
-                                 int(seed))
 
 
 # Paper 14 (occlusion detection and index-based ear recognition) lives in its own module,

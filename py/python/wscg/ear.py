@@ -67,6 +67,8 @@ import numpy as np
 from ._checks import _int, _real, integer_ranges as _integer_ranges
 from ._estimator import Estimator
 from ._native import ear as _e
+from ._native.ear import (close_disk, cmc, dilate_disk, equalize_hist, erode_disk, fill_holes,
+                          haar_ll, resize, rgb_to_gray)
 from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
@@ -215,53 +217,6 @@ def _params(given: dict) -> dict:
                 raise ValueError(f"`{k}` must be a string, got {v!r}")
             out[k] = v
     return out
-
-
-def _image(name: str, image) -> np.ndarray:
-    """A C-contiguous uint8 image (shape and size are checked by the native side)."""
-    a = np.asarray(image)
-    if a.dtype != np.uint8:
-        raise ValueError(f"`{name}` must be a uint8 image, got dtype {a.dtype}")
-    return np.ascontiguousarray(a)
-
-
-def _images(name: str, imgs) -> List[np.ndarray]:
-    """A list of uint8 images from a sequence or a stacked ``(n, H, W[, C])`` array."""
-    if isinstance(imgs, np.ndarray):
-        if imgs.ndim not in (3, 4):
-            raise ValueError(f"`{name}` must be a stack (n, H, W, 3) or a list of images, "
-                             f"got shape {imgs.shape}")
-        a = _image(name, imgs)
-        return [a[k] for k in range(a.shape[0])]
-    try:
-        seq = list(imgs)
-    except TypeError:
-        raise ValueError(f"`{name}` must be a list of images or a stacked array") from None
-    return [_image(f"{name}[{k}]", im) for k, im in enumerate(seq)]
-
-
-def _templates(name: str, t) -> np.ndarray:
-    a = np.asarray(t)
-    if not (np.issubdtype(a.dtype, np.floating) or np.issubdtype(a.dtype, np.integer)):
-        raise ValueError(f"`{name}` must be a float32 array, got dtype {a.dtype}")
-    return np.ascontiguousarray(a, dtype=np.float32)
-
-
-def _mask(name: str, m) -> np.ndarray:
-    a = np.asarray(m)
-    if a.dtype != np.bool_:
-        if not (np.issubdtype(a.dtype, np.integer) or np.issubdtype(a.dtype, np.floating)):
-            raise ValueError(f"`{name}` must be a bool mask, got dtype {a.dtype}")
-        a = a != 0
-    return np.ascontiguousarray(a, dtype=np.bool_)
-
-
-def _plane(name: str, p) -> np.ndarray:
-    a = np.asarray(p)
-    if not (np.issubdtype(a.dtype, np.floating) or np.issubdtype(a.dtype, np.integer)
-            or a.dtype == np.bool_):
-        raise ValueError(f"`{name}` must be a real array, got dtype {a.dtype}")
-    return np.ascontiguousarray(a, dtype=np.float64)
 
 
 # ----------------------------------------------------------------------------------------
@@ -470,7 +425,7 @@ def enroll(image, *, height: int = 100, width: int = 80, block: int = 10,
     holds the 5 x 5 LL band of block ``b`` (row-major), computed on the resized,
     equalised grey image divided by 255. No skin masking (enrolment images are assumed
     un-occluded)."""
-    return _e.enroll(_image("image", image), _params(locals()))
+    return _e.enroll(image, _params(locals()))
 
 
 @_documented
@@ -479,7 +434,7 @@ def enroll_many(images, *, height: int = 100, width: int = 80, block: int = 10,
     """Templates ``(n, blocks, block_len)`` of a list (or stacked ``(n, H, W, 3)`` array) of
     clean ear crops, enrolled in parallel; the input of :class:`EarMatcher`. Same rules as
     :func:`enroll` for each image."""
-    return _e.enroll_many(_images("images", images), _params(locals()))
+    return _e.enroll_many(images, _params(locals()))
 
 
 @_documented
@@ -505,7 +460,7 @@ def detect_occlusion(image, *, height: int = 100, width: int = 80, block: int = 
 
     A grey image raises ``ValueError`` (the skin test needs colour)."""
     return _from_mapping(OcclusionReport,
-                         _e.detect_occlusion(_image("image", image), _params(locals())))
+                         _e.detect_occlusion(image, _params(locals())))
 
 
 @_documented
@@ -515,7 +470,7 @@ def skin_pixels(image, *, skin_model: Optional[SkinModel] = None, skin_mean=None
     """Per-pixel skin decision (Algorithm 1, steps 2-6: skin model, rule and luminance
     gate) of an RGB uint8 image at its own size, before closing and hole filling: bool
     ``(H, W)``. Black pixels are never skin."""
-    return _e.skin_pixels(_image("image", image), _params(locals()))
+    return _e.skin_pixels(image, _params(locals()))
 
 
 class EarMatcher(Estimator):
@@ -568,9 +523,8 @@ class EarMatcher(Estimator):
             Bad parameters, no template, non-finite values, or templates that do not fit
             the parameters.
         """
-        templates = _templates("X", X)
         params = self.get_params(deep=False)
-        self._m = _e.EarMatcher(templates, _params(params))
+        self._m = _e.EarMatcher(X, _params(params))
         self._fit_params = params
         self.n_templates_ = len(self._m)
         return self
@@ -621,7 +575,7 @@ class EarMatcher(Estimator):
         Raises ``ValueError`` for bad input, or when no block is un-occluded and the probe
         is not rejected (only possible with ``reject_above_pct >= 100``)."""
         self._check_fitted()
-        rej, pct, order, scores = self._m.identify(_image("image", image))
+        rej, pct, order, scores = self._m.identify(image)
         return Identification(rejected=rej, occluded_pct=pct, order=order, scores=scores)
 
     def scores(self, image) -> np.ndarray:
@@ -634,7 +588,7 @@ class EarMatcher(Estimator):
         nothing defined (e.g. ``"overall-max"`` when no shift covers half of the kept blocks)
         scores ``-inf``. Raises ``ValueError`` when no block is un-occluded."""
         self._check_fitted()
-        s, _rejected, _pct = self._m.scores(_image("image", image))
+        s, _rejected, _pct = self._m.scores(image)
         return s
 
     def identify_baseline(self, image) -> Ranking:
@@ -643,7 +597,7 @@ class EarMatcher(Estimator):
         ``scores`` as :meth:`identify` (score ``1 - |t - r| / (2 sqrt(block_len) sqrt(blocks))``). Grey
         probes are accepted with ``gray_enrolment=True``."""
         self._check_fitted()
-        order, scores = self._m.identify_baseline(_image("image", image))
+        order, scores = self._m.identify_baseline(image)
         return Ranking(order=order, scores=scores)
 
 
@@ -676,9 +630,7 @@ def score(image, template, *, height: int = 100, width: int = 80, block: int = 1
       rejected).
 
     Raises ``ValueError`` when no block is un-occluded or the template does not fit."""
-    return _from_mapping(MatchScore, _e.score(_image("image", image),
-                                              _templates("template", template),
-                                              _params(locals())))
+    return _from_mapping(MatchScore, _e.score(image, template, _params(locals())))
 
 
 @_documented
@@ -687,8 +639,7 @@ def baseline_score(image, template, *, height: int = 100, width: int = 80, block
     """Whole-ear baseline score (Fig. 12) of an image against one template: ``1 - |t - r| /
     (2 sqrt(block_len) sqrt(blocks))`` on the full Haar LL vectors, no occlusion
     detection."""
-    return _e.baseline_score(_image("image", image), _templates("template", template),
-                             _params(locals()))
+    return _e.baseline_score(image, template, _params(locals()))
 
 # ----------------------------------------------------------------------------------------
 # Skin model
@@ -745,10 +696,7 @@ class SkinModel(Estimator):
         ValueError
             Not uint8, fewer than 3 usable pixels, or a singular result.
         """
-        a = _image("X", X)
-        if a.ndim >= 1 and a.shape[-1] == 3:
-            a = np.ascontiguousarray(a.reshape(-1, 3))
-        return self._learn(*_e.skin_fit(a))
+        return self._learn(*_e.skin_fit(X))
 
     def fit_rg(self, X, y=None) -> "SkinModel":
         """Maximum-likelihood model of chromaticity samples ``X``, a float ``(n, 2)`` array
@@ -813,9 +761,7 @@ class SkinModel(Estimator):
         """Skin likelihood of uint8 RGB pixels, a ``(..., 3)`` array: float64 ``(...)`` (a
         float for one pixel); 0 for black."""
         mean, cov = self._model()
-        a = _image("rgb", rgb)
-        out = _e.skin_likelihood(mean.tolist(), cov.tolist(), a)
-        out = out.reshape(a.shape[:-1]) if a.ndim >= 1 else out
+        out = _e.skin_likelihood(mean.tolist(), cov.tolist(), rgb)
         return float(out) if out.ndim == 0 else out
 
     def __eq__(self, other) -> bool:
@@ -838,19 +784,6 @@ class SkinModel(Estimator):
 # ----------------------------------------------------------------------------------------
 # Evaluation
 # ----------------------------------------------------------------------------------------
-
-def cmc(ranks, max_rank: int) -> np.ndarray:
-    """Cumulative match characteristic: ``cmc[r - 1]`` is the fraction of accepted probes
-    whose true identity is within the top ``r``. ``ranks`` holds each probe's 0-based rank
-    of its true identity, ``-1`` for a rejected probe (excluded: neither a success nor a
-    failure). ``ValueError`` for ``max_rank < 1`` or when every probe is rejected."""
-    r = np.asarray(ranks)
-    if r.size and not np.issubdtype(r.dtype, np.integer):
-        if not np.issubdtype(r.dtype, np.floating) or np.any(r != np.round(r)):
-            raise ValueError(f"`ranks` must hold integers, got dtype {r.dtype}")
-    r = np.ascontiguousarray(r, dtype=np.int64)
-    return _e.cmc(r, _int("max_rank", max_rank, 0))
-
 
 @_documented
 def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "none",
@@ -937,53 +870,18 @@ def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
 
     ``ValueError`` when every probe is rejected (no CMC can be formed)."""
     p = _params(locals())
-    enrol_l = _images("enrol", enrol)
-    probe_l = _images("probes", probes)
     lab = np.asarray(labels)
     if lab.ndim != 1 or (lab.size and not np.issubdtype(lab.dtype, np.integer)):
         raise ValueError("`labels` must be a 1-D array of integer identities")
     tp = None if true_pct is None else _floats("true_pct", true_pct).ravel().tolist()
     e = None if edges is None else _floats("edges", edges).ravel().tolist()
     return _from_mapping(EarEvaluation,
-                         _e.evaluate(enrol_l, probe_l, [int(s) for s in lab], tp,
+                         _e.evaluate(enrol, probes, [int(s) for s in lab], tp,
                                      _int("max_rank", max_rank, 0), e, p))
 
 # ----------------------------------------------------------------------------------------
 # Building blocks
 # ----------------------------------------------------------------------------------------
-
-def rgb_to_gray(image) -> np.ndarray:
-    """Grey levels of a uint8 ``(H, W, 3)`` RGB image with OpenCV's fixed-point BT.601,
-    ``Y = (9798 R + 19235 G + 3735 B + 16384) >> 15`` (15-bit weights): bit-exact
-    ``cv2.cvtColor(image, cv2.COLOR_RGB2GRAY)`` of OpenCV 4 and 5 (OpenCV 3.4's 14-bit
-    weights differ by one level on 0.26 % of all colours). Returns uint8 ``(H, W)``."""
-    return _e.rgb_to_gray(_image("image", image))
-
-
-def equalize_hist(gray, within=None) -> np.ndarray:
-    """Histogram equalisation of a uint8 2-D image with the arithmetic of
-    ``cv2.equalizeHist`` (bit-exact): ``lut(v) = round_half_even(f32(cdf(v) - c_min) *
-    (255f / (P - c_min)))``; an image of one grey level is returned unchanged. With
-    ``within`` (a bool mask of the same shape) the histogram counts only those pixels (the
-    mapping is applied to all; levels below the lowest counted one map to 0)."""
-    return _e.equalize_hist(_image("gray", gray), None if within is None else _mask("within", within))
-
-
-def resize(image, height: int, width: int) -> np.ndarray:
-    """Resizes a uint8 ``(H, W)`` or ``(H, W, C)`` image to ``height x width``: exact area
-    averaging when neither axis grows (``cv2.INTER_AREA``; within one grey level of OpenCV
-    for non-integer factors), bilinear with half-pixel centres when an axis grows; rounded
-    half to even."""
-    return _e.resize(_image("image", image), _int("height", height, 0), _int("width", width, 0))
-
-
-def haar_ll(plane) -> np.ndarray:
-    """Approximation (LL) band of one level of the orthonormal 2-D Haar transform of a 2-D
-    plane with even sizes: ``LL[u, v] = (x[2u, 2v] + x[2u, 2v+1] + x[2u+1, 2v] +
-    x[2u+1, 2v+1]) / 2``, equal to ``pywt.dwt2(plane, "haar")[0]``. Returns float64
-    ``(rows / 2, cols / 2)``."""
-    return _e.haar_ll(_plane("plane", plane))
-
 
 @_documented
 def block_features(plane, *, height: int = 100, width: int = 80, block: int = 10) -> np.ndarray:
@@ -992,33 +890,8 @@ def block_features(plane, *, height: int = 100, width: int = 80, block: int = 10
     ``(blocks, block_len)``, row ``b`` the ``block/2 x block/2`` LL of block ``b``
     flattened row-major. :func:`enroll` is this on ``equalize_hist(rgb_to_gray(resize(image,
     100, 80))) / 255``."""
-    return _e.block_features(_plane("plane", plane), _params(locals()))
+    return _e.block_features(plane, _params(locals()))
 
-
-def close_disk(mask, radius: float = 10.0) -> np.ndarray:
-    """Closing of a 2-D bool mask by the exact Euclidean disk ``dx^2 + dy^2 <= radius^2``:
-    dilation with the outside as background, then erosion with the outside as foreground
-    (extensive), equal to ``skimage.morphology.binary_closing(mask,
-    skimage.morphology.disk(radius))`` for integer radii."""
-    return _e.disk_morphology(_mask("mask", mask), _real("radius", radius), "close")
-
-
-def dilate_disk(mask, radius: float) -> np.ndarray:
-    """Dilation of a 2-D bool mask by the exact Euclidean disk of ``radius`` (the outside of
-    the image is background)."""
-    return _e.disk_morphology(_mask("mask", mask), _real("radius", radius), "dilate")
-
-
-def erode_disk(mask, radius: float) -> np.ndarray:
-    """Erosion of a 2-D bool mask by the exact Euclidean disk of ``radius`` (the outside of
-    the image counts as foreground, as ``skimage.morphology.binary_erosion``)."""
-    return _e.disk_morphology(_mask("mask", mask), _real("radius", radius), "erode")
-
-
-def fill_holes(mask) -> np.ndarray:
-    """A 2-D bool mask with its holes filled: background pixels not 4-connected to the image
-    border become foreground, as ``scipy.ndimage.binary_fill_holes``."""
-    return _e.fill_holes(_mask("mask", mask))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

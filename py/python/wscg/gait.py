@@ -60,6 +60,10 @@ import numpy as np
 from ._checks import _int, _real, integer_ranges as _integer_ranges
 from ._estimator import Estimator
 from ._native import gait as _g
+from ._native.gait import (all_pairs, ball_features, dissimilarity_matrix, dtw, dtw_kernel,
+                           dtw_path, jra, jra_sequences, load_skeleton, load_ts, nearest,
+                           occupied_bins, preis_features, relevance_matrix, save_skeleton_csv,
+                           select_pairs)
 from ._results import (from_mapping as _from_mapping, result as _result,
                        tuple_repr as _tuple_repr)
 
@@ -82,7 +86,6 @@ KINECT_V1_NAMES: List[str] = list(_g.KINECT_V1_NAMES)
 N_PAIRS: int = 276
 
 _COSTS = ("abs", "squared")
-_MULTIVARIATE = ("independent", "dependent")
 
 
 # ----------------------------------------------------------------------------------------
@@ -259,10 +262,6 @@ def _cost(cost) -> str:
     return _str("cost", cost, _COSTS)
 
 
-def _multivariate(multivariate) -> str:
-    return _str("multivariate", multivariate, _MULTIVARIATE)
-
-
 def _window(window) -> Optional[int]:
     return None if window is None else _int("window", window, 0)
 
@@ -289,99 +288,6 @@ def _frames(frames, name: str = "frames") -> np.ndarray:
     return a
 
 
-def _seq(name: str, a) -> np.ndarray:
-    s = _floats(name, a)
-    if s.ndim != 1:
-        raise ValueError(f"`{name}` must be a 1-D sequence, got shape {s.shape}")
-    return s
-
-
-def _sample(name: str, A) -> List[np.ndarray]:
-    """A multichannel sample: a 2-D ``(channels, time)`` array, a 1-D array (one channel)
-    or a sequence of 1-D arrays (lengths may differ)."""
-    if isinstance(A, np.ndarray) and A.dtype != object:
-        a = _floats(name, A)
-        if a.ndim == 1:
-            return [a]
-        if a.ndim != 2:
-            raise ValueError(f"`{name}` must be a 2-D (channels, time) array or a list of 1-D "
-                             f"sequences, got shape {a.shape}")
-        out = [a[k] for k in range(a.shape[0])]
-    else:
-        try:
-            seq = list(A)
-        except TypeError:
-            raise ValueError(f"`{name}` must be a list of 1-D sequences or a 2-D array, "
-                             f"got {type(A).__name__}") from None
-        out = [_seq(f"{name}[{k}]", c) for k, c in enumerate(seq)]
-    if not out:
-        raise ValueError(f"`{name}` has no channels")
-    return out
-
-
-def _samples(name: str, As) -> List[List[np.ndarray]]:
-    if isinstance(As, np.ndarray) and As.dtype != object and As.ndim == 3:
-        seq = [As[i] for i in range(As.shape[0])]
-    else:
-        try:
-            seq = list(As)
-        except TypeError:
-            raise ValueError(f"`{name}` must be a list of samples, got {type(As).__name__}") \
-                from None
-    if not seq:
-        raise ValueError(f"`{name}` is empty: at least one sample is needed")
-    return [_sample(f"{name}[{i}]", s) for i, s in enumerate(seq)]
-
-
-def _joint(name: str, j) -> int:
-    if isinstance(j, str):
-        return int(_g.joint_index(j))
-    return _int(name, j, 0, 24)
-
-
-def _pairs(pairs) -> Optional[np.ndarray]:
-    """``None`` or a ``(P, 2)`` int64 array of joint indices from indices or names."""
-    if pairs is None:
-        return None
-    a = np.asarray(pairs)
-    if a.dtype.kind in "iu":
-        if a.ndim != 2 or a.shape[1] != 2:
-            raise ValueError(f"`pairs` must be a (P, 2) array of joint indices, got shape "
-                             f"{a.shape}")
-        if a.size and (a.min() < 0 or a.max() > 24):
-            raise ValueError("`pairs` holds a joint index outside 0..24")
-        out = np.ascontiguousarray(a, dtype=np.int64)
-    else:
-        try:
-            rows = [tuple(p) for p in pairs]
-        except TypeError:
-            raise ValueError("`pairs` must be a (P, 2) int array or a list of (joint, joint) "
-                             "tuples") from None
-        if any(len(r) != 2 for r in rows):
-            raise ValueError("`pairs` must hold (joint, joint) tuples of two joints")
-        out = np.array([[_joint("pairs", p), _joint("pairs", q)] for p, q in rows],
-                       dtype=np.int64).reshape(-1, 2)
-    if out.shape[0] == 0:
-        raise ValueError("`pairs` is empty: give at least one joint pair")
-    return out
-
-
-def _cycle(cycle) -> Optional[Tuple[int, int, int]]:
-    if cycle is None:
-        return None
-    if isinstance(cycle, CycleDetails):
-        cycle = cycle.cycle
-    elif isinstance(cycle, dict):
-        cycle = (cycle["start"], cycle["mid"], cycle["end"])
-    try:
-        c = tuple(cycle)
-    except TypeError:
-        raise ValueError(f"`cycle` must be (start, mid, end) frames, got {cycle!r}") from None
-    if len(c) != 3:
-        raise ValueError(f"`cycle` must be (start, mid, end) frames, got {cycle!r}")
-    return tuple(_int("cycle", v, 0) for v in c)
-
-
 def _vec3(name: str, v) -> List[float]:
     a = _floats(name, v)
     if a.shape != (3,):
@@ -394,58 +300,6 @@ def _vec3(name: str, v) -> List[float]:
 # ----------------------------------------------------------------------------------------
 # Joints and angles
 # ----------------------------------------------------------------------------------------
-
-def all_pairs(reference: Union[str, int] = "SpineBase") -> np.ndarray:
-    """All joint pairs ``(p1, p2)``, ``p1 < p2``, of the joints other than ``reference``.
-
-    Parameters
-    ----------
-    reference : str or int, default "SpineBase"
-        Reference joint (name from :data:`JOINT_NAMES` or index).
-
-    Returns
-    -------
-    pairs : ndarray of int64, shape (276, 2)
-        Joint indices, lexicographic order. This is the row order of :func:`jra_sequences`
-        with ``pairs=None`` and of the samples of :func:`relevance_matrix`.
-
-    Notes
-    -----
-    The paper counts C(25, 2) = 300 pairs; the 24 pairs containing the reference joint
-    have no joint relative angle, leaving C(24, 2) = 276.
-    """
-    return _g.all_pairs(JOINT_NAMES[_joint("reference", reference)])
-
-
-def jra(p1, p2, r) -> float:
-    """Joint relative angle of joints ``p1`` and ``p2`` at the reference joint ``r`` (eq. 1).
-
-    Parameters
-    ----------
-    p1, p2, r : array_like, shape (3,)
-        Joint positions.
-
-    Returns
-    -------
-    theta : float
-        ``arccos(v1 . v2 / (|v1| |v2|))`` with ``v1 = r - p1``, ``v2 = p2 - r``, radians in
-        ``[0, pi]`` (equal to ``pi`` minus the angle ``p1-r-p2``).
-
-    Raises
-    ------
-    ValueError
-        When the angle is undefined: ``p1`` or ``p2`` lies within 1e-9 of ``r``.
-
-    Notes
-    -----
-    Computed as ``atan2(|v1 x v2|, v1 . v2)``, the same angle but accurate near 0 and pi.
-    """
-    v = _g.jra(_vec3("p1", p1), _vec3("p2", p2), _vec3("r", r))
-    if v is None:
-        raise ValueError("the joint relative angle is undefined: `p1` or `p2` coincides with "
-                         "the reference joint `r` (within 1e-9)")
-    return float(v)
-
 
 def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: float = 0.25,
                  min_prominence: float = 0.2, up="estimate", choice: str = "first",
@@ -514,329 +368,13 @@ def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: 
     return GaitCycle(int(d["start"]), int(d["mid"]), int(d["end"]))
 
 
-def jra_sequences(frames, cycle=None, pairs=None, reference: Union[str, int] = "SpineBase",
-                  fps: float = 30.0) -> np.ndarray:
-    """Joint relative angle sequences of a walk over one gait cycle (section 3.2).
-
-    Parameters
-    ----------
-    frames : array_like, shape (T, 25, 3)
-        The walk.
-    cycle : (start, mid, end) or CycleDetails, optional
-        The cycle's frames (e.g. from :func:`detect_cycle`); default: detected with the
-        default parameters.
-    pairs : array_like of int, shape (P, 2), or list of (name, name), optional
-        Joint pairs; default: all 276 pairs of :func:`all_pairs`.
-    reference : str or int, default "SpineBase"
-        Reference joint.
-    fps : float, default 30.0
-        Frame rate (used by the cycle detection).
-
-    Returns
-    -------
-    theta : ndarray, shape (P, L)
-        ``theta[k, t]``: angle of pair ``k`` in frame ``start + t``, radians;
-        ``L = end - start + 1``.
-
-    Raises
-    ------
-    ValueError
-        A pair containing the reference joint or one joint twice, a cycle outside the walk,
-        a walk without a full gait cycle, bad frames.
-    """
-    ref = JOINT_NAMES[_joint("reference", reference)]
-    theta, _ = _g.jra_sequences(_frames(frames), _fps(fps), _cycle(cycle), _pairs(pairs), ref)
-    return theta
-
-
-def occupied_bins(theta_rad, bin_deg: float = 1.0, lo_deg: float = 0.0,
-                  hi_deg: float = 180.0) -> int:
-    """Number of non-empty histogram bins of a JRA sequence: a pair's relevance (section
-    3.3).
-
-    Parameters
-    ----------
-    theta_rad : array_like, shape (L,)
-        Angles, radians (converted to degrees; values outside the range count in the edge
-        bins).
-    bin_deg, lo_deg, hi_deg : float
-        Bin width and range, degrees (the paper does not give them; 1-degree bins on
-        ``[0, 180]`` match its "2 or 3 bins" for narrow pairs and ``t = 20``).
-
-    Returns
-    -------
-    int
-    """
-    return int(_g.occupied_bins(_seq("theta_rad", theta_rad), _real("bin_deg", bin_deg),
-                                _real("lo_deg", lo_deg), _real("hi_deg", hi_deg)))
-
-
-def relevance_matrix(samples, bin_deg: float = 1.0, lo_deg: float = 0.0, hi_deg: float = 180.0,
-                     reference: Union[str, int] = "SpineBase") -> np.ndarray:
-    """The relevance map (Fig. 8): mean number of occupied bins of every joint pair.
-
-    Parameters
-    ----------
-    samples : sequence of array_like, each of shape (276, L_i)
-        JRA sets of walks (:func:`jra_sequences` with ``pairs=None``), rows in
-        :func:`all_pairs` order; cycle lengths may differ.
-    bin_deg, lo_deg, hi_deg : float
-        Histogram layout, degrees.
-    reference : str or int, default "SpineBase"
-        The reference joint the sets were computed with.
-
-    Returns
-    -------
-    R : ndarray, shape (25, 25)
-        Symmetric; zero on the diagonal and in the reference joint's row and column.
-    """
-    try:
-        seq = list(samples)
-    except TypeError:
-        raise ValueError("`samples` must be a list of (276, L) arrays") from None
-    if not seq:
-        raise ValueError("`samples` is empty: at least one JRA set is needed")
-    arrs = [_floats(f"samples[{i}]", s) for i, s in enumerate(seq)]
-    return _g.relevance_matrix(arrs, _real("bin_deg", bin_deg), _real("lo_deg", lo_deg),
-                               _real("hi_deg", hi_deg),
-                               JOINT_NAMES[_joint("reference", reference)])
-
-
-def select_pairs(relevance, min_bins: float = 20.0) -> np.ndarray:
-    """The relevant pairs (Fig. 10): ``i < j`` with ``R[i, j] >= min_bins``.
-
-    Parameters
-    ----------
-    relevance : array_like, shape (25, 25)
-        A relevance map (:func:`relevance_matrix`).
-    min_bins : float, default 20.0
-        The threshold ``t`` (the paper's best: 20 bins).
-
-    Returns
-    -------
-    pairs : ndarray of int64, shape (M, 2)
-
-    Raises
-    ------
-    ValueError
-        When no pair reaches the threshold (the message gives the largest relevance).
-    """
-    return _g.select_pairs(_floats("relevance", relevance), _real("min_bins", min_bins))
-
-
 # ----------------------------------------------------------------------------------------
 # DTW
 # ----------------------------------------------------------------------------------------
 
-def dtw(a, b, cost: str = "abs", window: Optional[int] = None,
-        normalize: bool = False) -> float:
-    """Dynamic time warping distance between two scalar sequences (eq. 5).
-
-    Parameters
-    ----------
-    a, b : array_like, shapes (n,) and (m,)
-        Non-empty finite sequences; lengths may differ.
-    cost : {"abs", "squared"}, default "abs"
-        Local cost ``|a_i - b_j|`` (the paper's) or ``(a_i - b_j)**2`` (the UCR/UEA
-        archive's; dtaidistance returns the square root of this distance).
-    window : int, optional
-        Sakoe-Chiba band half-width ``r``: cell ``(i, j)`` is allowed when
-        ``|j - i (m-1)/(n-1)| <= r``; for equal lengths exactly ``|i - j| <= r``
-        (``window=0`` is the lock-step, Euclidean-style sum); for different lengths ``r`` is
-        raised to ``ceil((m-1)/(n-1))`` so that a path exists. Default: the full grid.
-        dtaidistance's ``window=w`` on equal lengths is ``|i - j| < w``, i.e. our
-        ``window=w - 1``.
-    normalize : bool, default False
-        Divide by ``n + m`` (not in the paper).
-
-    Returns
-    -------
-    float
-        ``D(n, m)`` of ``D(i, j) = c(a_i, b_j) + min(D(i-1, j), D(i, j-1), D(i-1, j-1))``,
-        ``D(0, 0) = 0``: the raw sum of local costs along the best warp path.
-    """
-    return float(_g.dtw_distance(_seq("a", a), _seq("b", b), _cost(cost), _window(window),
-                                 bool(normalize)))
-
-
-def dtw_path(a, b, cost: str = "abs", window: Optional[int] = None,
-             normalize: bool = False) -> Tuple[float, np.ndarray]:
-    """DTW distance and an optimal warp path.
-
-    Parameters
-    ----------
-    a, b, cost, window, normalize
-        As in :func:`dtw`.
-
-    Returns
-    -------
-    distance : float
-        Equal to :func:`dtw`.
-    path : ndarray of int64, shape (L, 2)
-        0-based index pairs from ``(0, 0)`` to ``(n-1, m-1)``, steps ``(1, 0)``, ``(0, 1)``
-        or ``(1, 1)``; ties prefer the diagonal step. ``max(n, m) <= L <= n + m - 1``.
-    """
-    d, p = _g.dtw_path(_seq("a", a), _seq("b", b), _cost(cost), _window(window),
-                       bool(normalize))
-    return float(d), p
-
-
-def dtw_kernel(A, B, cost: str = "abs", window: Optional[int] = None,
-               normalize: bool = False, multivariate: str = "independent") -> float:
-    """The DTW kernel of eq. 6 between two multichannel samples (or their dependent DTW).
-
-    Parameters
-    ----------
-    A, B : sequence of 1-D array_like, or 2-D array_like (channels, time)
-        Two samples with the same number of channels (e.g. the selected JRA sequences of
-        two walks); channel lengths may differ between and within samples
-        (``multivariate="independent"``) or between samples only (``"dependent"``).
-    cost, window, normalize
-        As in :func:`dtw`.
-    multivariate : {"independent", "dependent"}, default "independent"
-        ``"independent"`` (DTW_I, the paper's eq. 6): each channel warps on its own and
-        the channel distances are summed. ``"dependent"`` (DTW_D, the usual 1-NN baseline
-        of the UEA multivariate archive): one warp path for all channels, the local cost
-        between whole frames, ``||A[:, i] - B[:, j]||`` (``cost="abs"``) or its square
-        (``cost="squared"``; dtaidistance's ``dtw_ndim.distance`` is the square root of
-        this). Both cost ``O(n m channels)`` per pair; the independent one can follow each
-        channel's own best alignment, the dependent one keeps the channels in step (and
-        needs every channel of a sample to have one length). A keyword here rather than a
-        separate function because it is a setting of the same Delta, which
-        :func:`dissimilarity_matrix` and :func:`nearest` take too.
-
-    Returns
-    -------
-    float
-        ``Delta(A, B) = sum_k DTW(A[k], B[k])`` (independent; a dissimilarity, not a
-        positive-definite kernel despite the paper's name) or the dependent DTW.
-    """
-    return float(_g.dtw_kernel(_sample("A", A), _sample("B", B), _cost(cost), _window(window),
-                               bool(normalize), _multivariate(multivariate)))
-
-
-def dissimilarity_matrix(As, Bs=None, cost: str = "abs", window: Optional[int] = None,
-                         normalize: bool = False,
-                         multivariate: str = "independent") -> np.ndarray:
-    """``Delta`` between every sample of ``As`` (rows) and of ``Bs`` (columns), in parallel.
-
-    Parameters
-    ----------
-    As : sequence of samples
-        Each a list of 1-D sequences or a 2-D ``(channels, time)`` array, all with the same
-        channel count (a 3-D array ``(n, channels, time)`` also works).
-    Bs : sequence of samples, optional
-        Default: ``As`` itself; the matrix is then computed once per unordered pair
-        (symmetric, zero diagonal).
-    cost, window, normalize
-        As in :func:`dtw`.
-    multivariate : {"independent", "dependent"}, default "independent"
-        As in :func:`dtw_kernel`.
-
-    Returns
-    -------
-    D : ndarray, shape (n, m)
-    """
-    q = _samples("As", As)
-    g = None if Bs is None else _samples("Bs", Bs)
-    return _g.dissimilarity_matrix(q, g, _cost(cost), _window(window), bool(normalize),
-                                   _multivariate(multivariate))
-
-
-def nearest(query, gallery, cost: str = "abs", window: Optional[int] = None,
-            normalize: bool = False, multivariate: str = "independent") -> Tuple[int, float]:
-    """The gallery sample nearest to ``query`` by ``Delta`` (1-NN with exact early
-    abandoning).
-
-    Parameters
-    ----------
-    query : sample
-        A list of 1-D sequences or a 2-D ``(channels, time)`` array.
-    gallery : sequence of samples
-        With the query's channel count.
-    cost, window, normalize
-        As in :func:`dtw`.
-    multivariate : {"independent", "dependent"}, default "independent"
-        As in :func:`dtw_kernel`.
-
-    Returns
-    -------
-    (index, delta) : (int, float)
-        Ties go to the first index.
-    """
-    i, d = _g.nearest(_sample("query", query), _samples("gallery", gallery), _cost(cost),
-                      _window(window), bool(normalize), _multivariate(multivariate))
-    return int(i), float(d)
-
-
-def load_ts(path) -> Tuple[List[List[np.ndarray]], List[str]]:
-    """Reads a UCR/UEA archive ``.ts`` file (as shipped inside the sktime wheel).
-
-    Parameters
-    ----------
-    path : str or path-like
-
-    Returns
-    -------
-    cases : list of list of ndarray
-        ``cases[i][d]``: dimension ``d`` of case ``i`` (a missing value ``?`` reads as NaN;
-        lengths may differ between cases).
-    labels : list of str
-        Class label of each case, as written in the file.
-
-    Raises
-    ------
-    OSError
-        Unreadable or malformed file.
-    """
-    d = _g.load_ts(os.fspath(path))
-    return d["series"], list(d["labels"])
-
-
 # ----------------------------------------------------------------------------------------
 # Files and baselines
 # ----------------------------------------------------------------------------------------
-
-def load_skeleton(path, fps: float = 30.0, body: Optional[int] = None,
-                  max_gap: int = 10) -> np.ndarray:
-    """Reads a skeleton stream: ``.npy`` (shape ``(T, 25, 3)`` or ``(T, 20, 3)``), an NTU
-    RGB+D ``.skeleton`` file, or CSV rows ``frame, joint, x, y, z``.
-
-    CSV joints are Kinect v2 or Kinect v1 SDK names (``SpineBase``, ``HipCenter``,
-    ``ShoulderCenter``, ...) or indices; a file naming no Neck, HandTip or Thumb joint (and
-    with indices below 20) is a Kinect v1 stream of 20 joints, returned in the v1 SDK's
-    order (:data:`KINECT_V1_NAMES`). Optional header; ``#`` comments.
-
-    NTU RGB+D files hold several bodies per frame: ``body`` picks one by its ``bodyID``
-    (``None``: the body with the most tracked joints over the file). Frames before its first
-    and after its last appearance are dropped; interior absences of at most ``max_gap``
-    frames are interpolated linearly.
-
-    Parameters
-    ----------
-    path : str or path-like
-    fps : float, default 30.0
-        Frame rate (validated).
-    body : int, optional
-        NTU body id (see :func:`load_ntu_bodies`).
-    max_gap : int, default 10
-        Longest NTU absence interpolated, frames.
-
-    Returns
-    -------
-    frames : ndarray, shape (T, 25, 3) or (T, 20, 3)
-
-    Raises
-    ------
-    OSError
-        Unreadable or malformed file (a frame missing a joint, a bad number, an NTU header
-        that does not match the values, no body with the id, a longer absence).
-    ValueError
-        NaN coordinates, fewer than 3 frames, ``fps <= 0``, a wrong ``.npy`` shape.
-    """
-    b = None if body is None else _int("body", body, 0, 2 ** 64 - 1)
-    return _g.load_skeleton(os.fspath(path), _fps(fps), b, _int("max_gap", max_gap, 0))
-
 
 def load_ntu_bodies(path) -> List[NtuBody]:
     """The bodies of an NTU RGB+D ``.skeleton`` file, in order of first appearance.
@@ -856,74 +394,6 @@ def load_ntu_bodies(path) -> List[NtuBody]:
     """
     return [NtuBody(id=i, n_frames=n, n_tracked=k)
             for i, n, k in _g.load_ntu_bodies(os.fspath(path))]
-
-
-def save_skeleton_csv(path, frames, fps: float = 30.0) -> None:
-    """Writes a skeleton CSV (header ``frame,joint,x,y,z``, joints by name, 6 decimals).
-
-    Parameters
-    ----------
-    path : str or path-like
-    frames : array_like, shape (T, 25, 3)
-    fps : float, default 30.0
-        Only validated (CSV files carry no frame rate).
-    """
-    _g.save_skeleton_csv(os.fspath(path), _frames(frames), _fps(fps))
-
-
-def ball_features(frames, cycle=None, fps: float = 30.0) -> np.ndarray:
-    """Ball et al.'s 18 gait features (baseline of Table 1).
-
-    Parameters
-    ----------
-    frames : array_like, shape (T, 25, 3)
-    cycle : (start, mid, end), optional
-        Default: detected.
-    fps : float, default 30.0
-
-    Returns
-    -------
-    ndarray, shape (18,)
-        ``[mean, std, max]`` over the cycle of the angles hip L, hip R, knee L, knee R,
-        ankle L, ankle R (radians), angle-major.
-
-    Notes
-    -----
-    Hip: between the trunk (SpineMid - SpineBase) and the thigh (Knee - Hip); knee: at the
-    knee between hip and ankle; ankle: at the ankle between knee and foot. The definitions
-    are our reading of the 2-page paper.
-
-    References
-    ----------
-    A. Ball, D. Rye, F. Ramos and M. Velonaki, "Unsupervised clustering of people from
-    'skeleton' data", HRI 2012.
-    """
-    return _g.ball_features(_frames(frames), _fps(fps), _cycle(cycle))
-
-
-def preis_features(frames, cycle=None, fps: float = 30.0) -> np.ndarray:
-    """Preis et al.'s 13 anthropometric and step features (baseline of Table 1).
-
-    Parameters
-    ----------
-    frames : array_like, shape (T, 25, 3)
-    cycle : (start, mid, end), optional
-        Default: detected.
-    fps : float, default 30.0
-
-    Returns
-    -------
-    ndarray, shape (13,)
-        ``[height, leg length, torso, lower leg L, lower leg R, thigh L, thigh R, upper arm
-        L, upper arm R, forearm L, forearm R, step length, speed]`` in metres and m/s; bone
-        lengths are per-frame medians over the cycle.
-
-    References
-    ----------
-    J. Preis, M. Kessel, M. Werner and C. Linnhoff-Popien, "Gait recognition with Kinect",
-    Workshop on Kinect in Pervasive Computing, 2012.
-    """
-    return _g.preis_features(_frames(frames), _fps(fps), _cycle(cycle))
 
 
 # ----------------------------------------------------------------------------------------

@@ -47,6 +47,8 @@ import numpy as np
 from ._checks import _int, integer_ranges as _integer_ranges
 from ._estimator import Estimator
 from ._native import motion as _m
+from ._native.motion import (forward_kinematics, pca_qualities, pca_quality, quality,
+                             regression_p_value, save_bvh)
 from ._results import from_mapping as _from_mapping, result as _result
 
 __all__ = [
@@ -457,9 +459,7 @@ def make_synthetic_dataset(n_trials: int = 40, seed: int = 0, noise: float = 0.0
         harmonics, ``delays`` ``(51, 5)`` periods, ``weights`` ``(3, R, 51, 5)``, ``means``
         and ``w0`` ``(3, R, 51)`` (means and non-periodic weights).
     """
-    d = _m.make_synthetic_dataset(
-        _u("n_trials", n_trials, 1), _u("seed", seed, 0), _float("noise", noise),
-        bool(human_like), _u("n_samples", n_samples, 8), _u("model_seed", model_seed, 0))
+    d = _m.make_synthetic_dataset(n_trials, seed, noise, human_like, n_samples, model_seed)
     return _from_mapping(MotionDataset, d, truth=_from_mapping(MotionTruth, d["truth"]))
 
 
@@ -574,55 +574,6 @@ def fit_anechoic(X, n_sources: int, delays: str = "shared", n_harmonics: int = 8
     return AnechoicModel(n_sources=n_sources, delays=delays, n_harmonics=n_harmonics,
                          n_restarts=n_restarts, max_iter=max_iter, tol=tol, seed=seed,
                          init=init, delay_search=delay_search).fit(X)
-
-
-def _trials(name: str, X) -> np.ndarray:
-    x = _array(name, X)
-    if x.ndim not in (2, 3):
-        raise ValueError(f"`{name}` must be an (R, I, N) or (rows, N) array, got shape {x.shape}")
-    return x
-
-
-def pca_qualities(X) -> np.ndarray:
-    """Cumulative explained-variance ratios ``Q_PCA(1), Q_PCA(2), ...`` (paper Fig. 4).
-
-    PCA of the ``(R * I) x N`` signal matrix: each row a channel of one trial, each column a
-    time sample, rows centred over time. ``Q_PCA(J)`` equals scikit-learn's
-    ``PCA(J).fit(X.reshape(-1, N).T).explained_variance_ratio_.sum()``.
-
-    Parameters
-    ----------
-    X : array_like, shape (R, I, N) or (rows, N)
-
-    Returns
-    -------
-    ndarray, shape (min(R * I, N),)
-    """
-    return _m.pca_qualities(_trials("X", X))
-
-
-def pca_quality(X, j: int) -> float:
-    """``Q_PCA(j)``: the fraction of variance of the ``j`` leading principal components of
-    the ``(R * I) x N`` signal matrix (see :func:`pca_qualities`).
-
-    Parameters
-    ----------
-    X : array_like, shape (R, I, N) or (rows, N)
-    j : int
-        Number of components, ``1 <= j <= min(R * I, N)``.
-    """
-    return _m.pca_quality(_trials("X", X), _u("j", j, 1))
-
-
-def quality(X, Xhat) -> float:
-    """Approximation quality ``Q = 1 - ||X - Xhat||_F^2 / ||X||_F^2`` (paper Fig. 4).
-
-    Parameters
-    ----------
-    X, Xhat : array_like
-        Arrays of the same shape; ``X`` not all zero.
-    """
-    return _m.quality(_array("X", X), _array("Xhat", Xhat))
 
 
 # ------------------------------------------------------------------------------------------
@@ -903,37 +854,6 @@ def _synthesizer(lib: Library, p: dict):
 # Skeleton and BVH
 
 
-def _frames(angles, root) -> Tuple[np.ndarray, np.ndarray]:
-    a = _array("angles", angles)
-    if a.ndim == 1:
-        a = a.reshape(1, -1)
-    r = _array("root", root)
-    if r.ndim == 0:
-        r = r.reshape(1)
-    return a, r
-
-
-def save_bvh(path: Union[str, os.PathLike], angles, root, fps: float = 120.0) -> None:
-    """Writes frames of the 17-joint skeleton as a BVH file.
-
-    Rotations become ``Zrotation Xrotation Yrotation`` Euler angles in degrees; positions
-    are in centimetres; the pelvis walks along +z.
-
-    Parameters
-    ----------
-    path : str or PathLike
-    angles : array_like, shape (T, 51)
-        Exponential-map channels per frame.
-    root : array_like, shape (T,) or (T, 3)
-        Pelvis forward position in metres (hips at the rest height), or full positions (as
-        :func:`forward_kinematics` takes them).
-    fps : float
-        Frame rate (> 0).
-    """
-    a, r = _frames(angles, root)
-    _m.save_bvh(os.fspath(path), a, r, _float("fps", fps))
-
-
 def load_dataset(path: Union[str, os.PathLike]) -> MotionDataset:
     """Reads a training folder (paper 16, section 3): ``angles.npy`` ``(R, 3, I, N)``,
     optional ``root.npy`` ``(R, 3, N)`` and ``steps.csv`` (header, then rows
@@ -944,7 +864,7 @@ def load_dataset(path: Union[str, os.PathLike]) -> MotionDataset:
     (and the line of ``steps.csv``) for a missing or malformed one, ``ValueError`` for
     values a dataset cannot hold (a non-positive duration, NaN angles).
     """
-    d = _m.load_dataset(os.fspath(path))
+    d = _m.load_dataset(path)
     return _from_mapping(MotionDataset, d, truth=None)
 
 
@@ -956,11 +876,8 @@ def save_dataset(path: Union[str, os.PathLike], dataset: Any) -> None:
     def field(key: str, required: bool = True):
         return _field(dataset, key, required, name="dataset")
 
-    root = field("root", required=False)
-    _m.save_dataset(os.fspath(path), _array("angles", field("angles")),
-                    _array("step_length", field("step_length")),
-                    _array("duration", field("duration")),
-                    None if root is None else _array("root", root))
+    _m.save_dataset(path, field("angles"), field("step_length"), field("duration"),
+                    field("root", required=False))
 
 
 _BUILTIN_MAPS = ("auto", "model", "cmu", "mixamo")
@@ -1022,8 +939,7 @@ def load_bvh(path: Union[str, os.PathLike], joint_map=None,
         A bad ``joint_map`` (an unknown model joint name) or ``units_per_metre``.
     """
     kind, value = _joint_map(joint_map)
-    return _from_mapping(BvhMotion, _m.load_bvh(os.fspath(path), (kind, value),
-                                                _float("units_per_metre", units_per_metre)))
+    return _from_mapping(BvhMotion, _m.load_bvh(path, (kind, value), units_per_metre))
 
 
 def load_bvh_skeleton(path: Union[str, os.PathLike]) -> BvhSkeleton:
@@ -1040,20 +956,7 @@ def load_bvh_skeleton(path: Union[str, os.PathLike]) -> BvhSkeleton:
         Unreadable or malformed file (truncated, not starting with ``HIERARCHY``, a frame
         count that does not match the values, unknown channels).
     """
-    return _from_mapping(BvhSkeleton, _m.load_bvh_skeleton(os.fspath(path)))
-
-
-def forward_kinematics(angles, root) -> np.ndarray:
-    """World positions of the 17 joints and the 5 end sites, ``(T, 22, 3)`` metres.
-
-    Parameters
-    ----------
-    angles : array_like, shape (T, 51)
-    root : array_like, shape (T,) or (T, 3)
-        Pelvis forward position (hips at the rest height) or full positions.
-    """
-    a, r = _frames(angles, root)
-    return _m.forward_kinematics(a, r)
+    return _from_mapping(BvhSkeleton, _m.load_bvh_skeleton(path))
 
 
 def skeleton() -> Skeleton:
@@ -1067,20 +970,6 @@ def skeleton() -> Skeleton:
 # Statistics, SVR, oscillators
 
 
-def regression_p_value(r2: float, n: int) -> float:
-    """Two-sided p-value of the slope of a simple regression with ``R^2 = r2`` on ``n``
-    points: ``t = sqrt(R^2 (n - 2) / (1 - R^2))`` on ``n - 2`` degrees of freedom.
-
-    Parameters
-    ----------
-    r2 : float
-        In ``[0, 1]``.
-    n : int
-        At least 3.
-    """
-    return _m.regression_p_value(_float("r2", r2), _u("n", n, 0))
-
-
 def fit_line(x, y) -> LineFit:
     """Least-squares line ``y = intercept + slope x`` (as ``scipy.stats.linregress``).
 
@@ -1090,7 +979,7 @@ def fit_line(x, y) -> LineFit:
         ``intercept``, ``slope``, ``r2``, ``p_value`` (two-sided, slope = 0) and
         ``n_points``.
     """
-    return _from_mapping(LineFit, _m.fit_line(_array("x", x), _array("y", y)),
+    return _from_mapping(LineFit, _m.fit_line(x, y),
                          rename={"n": "n_points"})
 
 
@@ -1117,9 +1006,7 @@ def svr_fit_predict(x_train, y_train, x_test, C: float = 10.0, epsilon: float = 
     -------
     ndarray, shape (m,), or (ndarray, SvrInfo) with ``return_info``.
     """
-    pred, n_sv, rho, it = _m.svr_fit_predict(
-        _array("x_train", x_train), _array("y_train", y_train), _array("x_test", x_test),
-        _float("C", C), _float("epsilon", epsilon), _float("gamma", gamma), _float("tol", tol))
+    pred, n_sv, rho, it = _m.svr_fit_predict(x_train, y_train, x_test, C, epsilon, gamma, tol)
     if return_info:
         return pred, SvrInfo(n_support=n_sv, rho=rho, n_iter=it)
     return pred
@@ -1152,14 +1039,9 @@ def hopf_simulate(duration: float, dt: float = 1e-3, omega: float = 2 * _math.pi
         ``time`` ``(T,)``, ``leader`` ``(T, 2)``, ``followers`` ``(T, F, 2)``,
         ``leader_phase`` ``(T,)`` in ``[0, 2 pi)``.
     """
-    f = _array("followers", followers)
-    if f.size == 0:
-        f = np.zeros((0, 2))
-    lx, ly = _range("leader", leader)
     return _from_mapping(HopfTrajectory,
-                         _m.hopf_simulate(_float("duration", duration), _float("dt", dt),
-                                          _float("omega", omega), _float("coupling", coupling),
-                                          (lx, ly), f))
+                         _m.hopf_simulate(duration, dt, omega, coupling, _range("leader", leader),
+                                          followers))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())
