@@ -283,3 +283,34 @@ pub fn shape_repr(s: &[usize]) -> String {
         ),
     }
 }
+
+/// `v`, which must be finite ("`name` must be finite, got ...").
+pub fn finite(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(value_error(format!("`{name}` must be finite, got {v}")))
+    }
+}
+
+/// `v`, which must be finite and `> 0`.
+pub fn positive(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(value_error(format!(
+            "`{name}` must be finite and > 0, got {v}"
+        )))
+    }
+}
+
+/// `v`, which must be finite and `>= 0`.
+pub fn non_negative(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(value_error(format!(
+            "`{name}` must be finite and >= 0, got {v}"
+        )))
+    }
+}

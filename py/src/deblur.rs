@@ -18,42 +18,11 @@ use wscg_deblur::{
 use wscg_math::progress::NoProgress;
 use wscg_math::Image;
 
-use crate::args::{self, number, uint};
+use crate::args::{self, finite, non_negative, number, positive, uint};
 use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy, IntoPyRenamed};
 
 // ---------------------------------------------------------------- arguments
-
-/// `v`, which must be finite.
-fn finite(name: &str, v: f64) -> PyResult<f64> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(value_error(format!("`{name}` must be finite, got {v}")))
-    }
-}
-
-/// `v`, which must be finite and `> 0`.
-fn positive(name: &str, v: f64) -> PyResult<f64> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(value_error(format!(
-            "`{name}` must be finite and > 0, got {v}"
-        )))
-    }
-}
-
-/// `v`, which must be finite and `>= 0`.
-fn non_negative(name: &str, v: f64) -> PyResult<f64> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(value_error(format!(
-            "`{name}` must be finite and >= 0, got {v}"
-        )))
-    }
-}
 
 /// The gradient exponent `alpha` of the hyper-Laplacian prior, in `(0, 2]`.
 fn alpha_arg(alpha: f64) -> PyResult<f64> {

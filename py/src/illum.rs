@@ -34,7 +34,7 @@ use wscg_volren::illumination::{
 };
 use wscg_volren::vti::{self, VtiValues};
 
-use crate::args::{self, uint};
+use crate::args::{self, finite, non_negative, uint};
 use crate::convert::{array, choice_item, dict_item, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -92,33 +92,14 @@ fn check_keys(opts: &Bound<'_, PyDict>, allowed: &[&str]) -> PyResult<()> {
     Ok(())
 }
 
-/// Errors unless `v` is finite.
-fn finite(name: &str, v: f64) -> PyResult<f64> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(value_error(format!("`{name}` must be finite, got {v}")))
-    }
-}
-
-/// Errors unless `v` is finite and `> 0` (also as `f32`).
+/// Errors unless `v` is finite and `> 0`, also as `f32` (the renderer's precision).
 fn positive(name: &str, v: f64) -> PyResult<f64> {
-    if v.is_finite() && v > 0.0 && (v as f32) > 0.0 {
+    let v = args::positive(name, v)?;
+    if (v as f32) > 0.0 {
         Ok(v)
     } else {
         Err(value_error(format!(
             "`{name}` must be finite and > 0, got {v}"
-        )))
-    }
-}
-
-/// Errors unless `v` is finite and `>= 0`.
-fn non_negative(name: &str, v: f64) -> PyResult<f64> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(value_error(format!(
-            "`{name}` must be finite and >= 0, got {v}"
         )))
     }
 }

@@ -34,7 +34,7 @@ use wscg_motion::svr::Svr;
 use wscg_motion::synthesizer::{planner_for, MapKind, Synthesizer, SynthesizerParams};
 use wscg_motion::walker::{reach_walk, WalkerParams};
 
-use crate::args::{self, uint};
+use crate::args::{self, positive, uint};
 use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
@@ -52,17 +52,6 @@ fn check_finite(name: &str, v: &[f64]) -> PyResult<()> {
         Some(i) => Err(value_error(format!(
             "`{name}` contains a non-finite value (NaN or infinity) at flat index {i}"
         ))),
-    }
-}
-
-/// Errors unless `v` is finite and `> 0`.
-fn positive(name: &str, v: f64) -> PyResult<f64> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(value_error(format!(
-            "`{name}` must be finite and > 0, got {v}"
-        )))
     }
 }
 

@@ -10,6 +10,7 @@ scripts/test runs it as its last step, `pytest -m wheel`."""
 
 from __future__ import annotations
 
+import configparser
 import glob
 import importlib.util
 import os
@@ -71,7 +72,9 @@ def test_the_wheel_is_abi3_and_carries_the_program(wheel):
     with zipfile.ZipFile(wheel) as z:
         names = z.namelist()
         entry = next(n for n in names if n.endswith(".dist-info/entry_points.txt"))
-        assert "wscg = wscg._cli:main" in z.read(entry).decode()
+        scripts = configparser.ConfigParser()
+        scripts.read_string(z.read(entry).decode())
+        assert scripts["console_scripts"]["wscg"].strip() == "wscg._cli:main"
     assert "wscg/_bin/wscg" in names
     assert any(n.startswith("wscg/_native") and n.endswith(".abi3.so") for n in names)
 
