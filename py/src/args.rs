@@ -12,7 +12,8 @@
 //! - numbers: [`uint`] checks a count, size or seed taken as `i128` (so that a negative or
 //!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
 //!   argument, not the conversion's bare `OverflowError`); [`number`] refuses NaN;
-//!   [`triple`] reads 3 numbers (a spacing, an origin), [`finite3`] checks them;
+//!   [`numbers`] reads a fixed count of numbers ([`pair`] a range, [`triple`] a spacing or an
+//!   origin), [`finite3`] checks them;
 //! - files: [`path`] takes a `str` or `os.PathLike`;
 //! - choices among names are [`crate::convert::choice`].
 
@@ -215,17 +216,30 @@ pub fn number(name: &str, v: f64) -> PyResult<f64> {
     }
 }
 
-/// The 3 numbers of `obj` (a tuple, list or array of 3 real numbers, as [`array`]), e.g. a
-/// volume's `spacing` `(dz, dy, dx)`; any other length is a `ValueError` naming `name`.
-pub fn triple(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
+/// The `N` numbers of `obj` (a tuple, list or array of `N` real numbers, as [`array`]); any
+/// other length is a `ValueError` naming `name`.
+pub fn numbers<const N: usize>(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<[f64; N]> {
     let a = array::<f64>(name, obj)?;
-    match *crate::convert::values(&a) {
-        [x, y, z] if a.ndim() == 1 => Ok([x, y, z]),
-        _ => Err(value_error(format!(
-            "`{name}` must be 3 numbers, got shape {:?}",
+    let v = crate::convert::values(&a);
+    if a.ndim() == 1 && v.len() == N {
+        Ok(std::array::from_fn(|i| v[i]))
+    } else {
+        Err(value_error(format!(
+            "`{name}` must be {N} numbers, got shape {:?}",
             a.shape()
-        ))),
+        )))
     }
+}
+
+/// The 3 numbers of `obj`, e.g. a volume's `spacing` `(dz, dy, dx)` (see [`numbers`]).
+pub fn triple(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
+    numbers(name, obj)
+}
+
+/// The 2 numbers of `obj`, e.g. a `(lo, hi)` range (see [`numbers`]).
+pub fn pair(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(f64, f64)> {
+    let [a, b] = numbers(name, obj)?;
+    Ok((a, b))
 }
 
 /// Errors unless every component of the 3-vector `p` is finite.

@@ -13,7 +13,7 @@ use wscg_biometrics::subspace::{
 };
 use wscg_math::Error;
 
-use crate::args::uint;
+use crate::args::{self, uint};
 use crate::convert::{array, labels_from, mat, mat_map, mat_out, Arr};
 use crate::errors::{value_error, IntoPy, IntoPyRenamed};
 
@@ -93,6 +93,14 @@ fn method_from(spec: &Bound<'_, PyDict>) -> PyResult<Method> {
             )))
         }
     })
+}
+
+/// The `dims` argument (numbers of components, each >= 0), by default `1..=width`.
+fn dims_arg(dims: Option<&Bound<'_, PyAny>>, width: usize) -> PyResult<Vec<usize>> {
+    match dims.filter(|d| !d.is_none()) {
+        None => Ok((1..=width).collect()),
+        some => args::indices("dims", some),
+    }
 }
 
 fn metric_from(name: &str) -> PyResult<Metric> {
@@ -303,11 +311,12 @@ fn accuracy_curve<'py>(
     ytrain: PyReadonlyArrayDyn<i64>,
     ztest: PyReadonlyArrayDyn<f64>,
     ytest: PyReadonlyArrayDyn<i64>,
-    dims: Vec<usize>,
+    dims: Option<&Bound<'py, PyAny>>,
     metric: &str,
 ) -> PyResult<Arr<'py, f64>> {
     let metric = metric_from(metric)?;
     let (ztr, zte) = (mat("ztrain", &ztrain)?, mat("ztest", &ztest)?);
+    let dims = dims_arg(dims, ztr.ncols())?;
     let (ytr, yte) = (
         labels_from("ytrain", &ytrain)?,
         labels_from("ytest", &ytest)?,
@@ -332,14 +341,16 @@ fn select_dimension_cv<'py>(
     x: PyReadonlyArrayDyn<f64>,
     y: PyReadonlyArrayDyn<i64>,
     spec: &Bound<'py, PyDict>,
-    dims: Vec<usize>,
-    n_folds: usize,
-    seed: u64,
+    dims: Option<&Bound<'py, PyAny>>,
+    n_folds: i128,
+    seed: i128,
     metric: &str,
 ) -> PyResult<(usize, Arr<'py, f64>)> {
     let method = method_from(spec)?;
     let metric = metric_from(metric)?;
     let x = mat("x", &x)?;
+    let dims = dims_arg(dims, x.ncols())?;
+    let (n_folds, seed) = (uint(py, "n_folds", n_folds, 0)?, uint(py, "seed", seed, 0)?);
     let y = labels_from("y", &y)?;
     let fit = |m: faer::MatRef<'_, f64>| -> wscg_math::Result<Box<dyn Projector>> {
         Ok(Box::new(method.fit(m)?))
@@ -429,10 +440,12 @@ fn make_finger_veins<'py>(
 fn split_per_subject<'py>(
     py: Python<'py>,
     labels: PyReadonlyArrayDyn<i64>,
-    n_train_per_subject: usize,
-    seed: u64,
+    n_train_per_subject: i128,
+    seed: i128,
 ) -> PyResult<(Arr<'py, i64>, Arr<'py, i64>)> {
     let labels = labels_from("labels", &labels)?;
+    let n_train_per_subject = uint(py, "n_train_per_subject", n_train_per_subject, 0)?;
+    let seed = uint(py, "seed", seed, 0)?;
     let (tr, te) = crate::pool::detach(py, || {
         wscg_biometrics::data::split_per_subject(&labels, n_train_per_subject, seed)
     })

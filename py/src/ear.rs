@@ -85,6 +85,31 @@ fn skin_model(mean: Vec<f64>, cov: Vec<Vec<f64>>) -> PyResult<SkinModel> {
     SkinModel::new(mean2(mean)?, cov22(cov)?).py_err()
 }
 
+/// The `shifts` entry: `(d_row, d_col)` block offsets, an `(n, 2)` array-like of integers.
+fn shifts_in(v: &Bound<'_, PyAny>) -> PyResult<Vec<(i32, i32)>> {
+    let a = args::array::<i64>("shifts", v)?;
+    let offsets = values(&a);
+    if offsets.is_empty() {
+        return Ok(Vec::new());
+    }
+    if a.ndim() != 2 || a.shape()[1] != 2 {
+        return Err(value_error(format!(
+            "`shifts` must be a list of (d_row, d_col) pairs, got shape {}",
+            args::shape_repr(a.shape())
+        )));
+    }
+    let offset = |x: i64| {
+        i32::try_from(x)
+            .ok()
+            .filter(|x| x.unsigned_abs() <= 1 << 30)
+            .ok_or_else(|| value_error(format!("`shifts` must hold block offsets, got {x}")))
+    };
+    offsets
+        .chunks_exact(2)
+        .map(|c| Ok((offset(c[0])?, offset(c[1])?)))
+        .collect()
+}
+
 /// `EarParams` from the parameter dict (absent keys keep the paper's defaults), validated.
 fn params_from(spec: Option<&Bound<'_, PyDict>>) -> PyResult<EarParams> {
     let mut p = EarParams::default();
@@ -137,8 +162,8 @@ fn params_from(spec: Option<&Bound<'_, PyDict>>) -> PyResult<EarParams> {
         if let Some(v) = dict_item(d, "reject_above_pct")? {
             p.reject_above_pct = v;
         }
-        if let Some(v) = dict_item(d, "shifts")? {
-            p.shifts = v;
+        if let Some(v) = d.get_item("shifts")?.filter(|v| !v.is_none()) {
+            p.shifts = shifts_in(&v)?;
         }
         if let Some(v) = dict_item::<String>(d, "score")? {
             p.score = ScoreRule::parse(&v).py_err()?;
@@ -597,22 +622,43 @@ fn cmc<'py>(py: Python<'py>, ranks: &Bound<'py, PyAny>, max_rank: i128) -> PyRes
 #[allow(clippy::too_many_arguments)]
 fn make_ears<'py>(
     py: Python<'py>,
-    n_subjects: usize,
-    n_probes: usize,
-    seed: u64,
+    n_subjects: i128,
+    n_probes: i128,
+    seed: i128,
     occlusion: &str,
     min_pct: f64,
     max_pct: f64,
-    canvas: Option<(usize, usize)>,
+    canvas: Option<&Bound<'py, PyAny>>,
     shape_spread: Option<f64>,
     shift_px: Option<f64>,
     rotation_deg: Option<f64>,
-    gain: Option<(f64, f64)>,
+    gain: Option<&Bound<'py, PyAny>>,
     white_balance: Option<f64>,
     noise_sigma: Option<f64>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let p = params_from(params.as_ref())?;
+    let n_subjects: usize = uint(py, "n_subjects", n_subjects, 0)?;
+    let n_probes: usize = uint(py, "n_probes", n_probes, 0)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    let canvas = canvas
+        .filter(|c| !c.is_none())
+        .map(|c| {
+            let v = values(&args::array::<i64>("canvas", c)?).into_owned();
+            let side = |x: i64| uint(py, "canvas", i128::from(x), 0usize);
+            match v[..] {
+                [h, w] => Ok((side(h)?, side(w)?)),
+                _ => Err(value_error(format!(
+                    "`canvas` must be (height, width), got {} values",
+                    v.len()
+                ))),
+            }
+        })
+        .transpose()?;
+    let gain = gain
+        .filter(|g| !g.is_none())
+        .map(|g| args::pair("gain", g))
+        .transpose()?;
     let kind = match occlusion.to_ascii_lowercase().replace('_', "-").as_str() {
         "none" => OcclusionKind::None,
         "colour" | "color" => OcclusionKind::Colour { min_pct, max_pct },
@@ -702,12 +748,24 @@ fn evaluate<'py>(
     py: Python<'py>,
     enrol: &Bound<'py, PyAny>,
     probes: &Bound<'py, PyAny>,
-    labels: Vec<i64>,
-    true_pct: Option<Vec<f64>>,
-    max_rank: usize,
-    edges: Option<Vec<f64>>,
+    labels: &Bound<'py, PyAny>,
+    true_pct: Option<&Bound<'py, PyAny>>,
+    max_rank: i128,
+    edges: Option<&Bound<'py, PyAny>>,
     params: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let labels = args::array::<i64>("labels", labels)
+        .ok()
+        .filter(|a| a.ndim() == 1)
+        .map(|a| values(&a).into_owned())
+        .ok_or_else(|| value_error("`labels` must be a 1-D array of integer identities"))?;
+    let flat = |name: &str, a: Option<&Bound<'py, PyAny>>| {
+        a.filter(|a| !a.is_none())
+            .map(|a| Ok::<_, PyErr>(values(&args::array::<f64>(name, a)?).into_owned()))
+            .transpose()
+    };
+    let (true_pct, edges) = (flat("true_pct", true_pct)?, flat("edges", edges)?);
+    let max_rank: usize = uint(py, "max_rank", max_rank, 0)?;
     let enrol = images_arg("enrol", enrol)?;
     let probes = images_arg("probes", probes)?;
     let p = params_from(params.as_ref())?;

@@ -176,13 +176,6 @@ fn hist(bin_deg: f64, lo_deg: f64, hi_deg: f64) -> PyResult<HistSpec> {
     Ok(h)
 }
 
-fn dtw_params(cost: &str, window: Option<usize>, normalize: bool) -> PyResult<DtwParams> {
-    Ok(DtwParams::default()
-        .cost(LocalCost::parse(cost).py_err()?)
-        .window(window)
-        .normalize(normalize))
-}
-
 fn start_leg_in(s: &str) -> PyResult<StartLeg> {
     match s {
         "left" => Ok(StartLeg::Left),
@@ -213,10 +206,10 @@ fn up_in(up: &Bound<'_, PyAny>) -> PyResult<UpAxis> {
             ))),
         };
     }
-    let v: [f64; 3] = up
-        .extract()
-        .map_err(|_| value_error("`up` must be \"estimate\", \"y\" or a 3-vector of floats"))?;
-    Ok(UpAxis::Vector(v))
+    Ok(UpAxis::Vector(args::finite3(
+        "up",
+        args::triple("up", up)?,
+    )?))
 }
 
 /// The cycle of a walk: given `(start, mid, end)` frames, or detected with the default
@@ -242,9 +235,19 @@ fn fps_arg(fps: f64) -> PyResult<f64> {
 /// The walk of the `frames` argument (any real array-like, `(T, 25, 3)` or `(T, 20, 3)`)
 /// at `fps` frames per second.
 fn frames_arg(py: Python<'_>, frames: &Bound<'_, PyAny>, fps: f64) -> PyResult<SkeletonSeq> {
-    let a = args::array::<f64>("frames", frames)?;
+    walk_arg(py, "frames", frames, fps)
+}
+
+/// The walk of the argument `name`, as [`frames_arg`].
+fn walk_arg(
+    py: Python<'_>,
+    name: &str,
+    frames: &Bound<'_, PyAny>,
+    fps: f64,
+) -> PyResult<SkeletonSeq> {
+    let a = args::array::<f64>(name, frames)?;
     let fps = fps_arg(fps)?;
-    seq_in(py, "frames", &a, fps)
+    seq_in(py, name, &a, fps)
 }
 
 /// The 1-D sequence argument `name` (any real array-like).
@@ -560,9 +563,9 @@ fn jra(p1: &Bound<'_, PyAny>, p2: &Bound<'_, PyAny>, r: &Bound<'_, PyAny>) -> Py
 #[allow(clippy::too_many_arguments)]
 fn detect_cycle<'py>(
     py: Python<'py>,
-    frames: PyReadonlyArrayDyn<'py, f64>,
+    frames: &Bound<'py, PyAny>,
     fps: f64,
-    smooth_window: usize,
+    smooth_window: i128,
     min_step_s: f64,
     min_prominence: f64,
     up: &Bound<'py, PyAny>,
@@ -579,13 +582,13 @@ fn detect_cycle<'py>(
         }
     };
     let p = CycleParams::default()
-        .smooth_window(smooth_window)
+        .smooth_window(uint(py, "smooth_window", smooth_window, 1)?)
         .min_step_s(min_step_s)
         .min_prominence(min_prominence)
         .up(up_in(up)?)
         .choice(choice)
         .start_leg(start_leg_in(start_leg)?);
-    let s = seq_in(py, "frames", &frames, fps)?;
+    let s = frames_arg(py, frames, fps)?;
     let c = crate::pool::detach(py, || gait::detect_gait_cycle(&s, &p)).py_err()?;
     let d = PyDict::new(py);
     d.set_item("start", c.start)?;
@@ -1214,13 +1217,13 @@ impl PyRecognizer {
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
-        walks: Vec<PyReadonlyArrayDyn<'_, f64>>,
+        walks: Vec<Bound<'_, PyAny>>,
         labels: Vec<u32>,
         fps: f64,
         min_bins: f64,
         vote: &str,
         cost: &str,
-        window: Option<usize>,
+        window: Option<i128>,
         bin_deg: f64,
         start_leg: &str,
     ) -> PyResult<Self> {
@@ -1240,12 +1243,12 @@ impl PyRecognizer {
             .cycle(CycleParams::default().start_leg(start_leg_in(start_leg)?))
             .hist(hist(bin_deg, 0.0, 180.0)?)
             .min_bins(min_bins)
-            .dtw(dtw_params(cost, window, false)?)
+            .dtw(dtw_args(py, cost, window, false)?)
             .vote(Vote::parse(vote).py_err()?);
         let seqs = walks
             .iter()
             .enumerate()
-            .map(|(i, w)| seq_in(py, &format!("walks[{i}]"), w, fps))
+            .map(|(i, w)| walk_arg(py, &format!("X[{i}]"), w, fps))
             .collect::<PyResult<Vec<_>>>()?;
         let inner = crate::pool::detach(py, || GaitRecognizer::fit(&seqs, &labels, &p)).py_err()?;
         Ok(Self { inner })
@@ -1280,12 +1283,14 @@ impl PyRecognizer {
     }
 
     /// `(label, training indices, their labels, their Δ, (start, mid, end))`, Δ ascending.
+    #[pyo3(signature = (frames, fps, name = "frames"))]
     #[allow(clippy::type_complexity)]
     fn predict<'py>(
         &self,
         py: Python<'py>,
-        frames: PyReadonlyArrayDyn<'py, f64>,
+        frames: &Bound<'py, PyAny>,
         fps: f64,
+        name: &str,
     ) -> PyResult<(
         u32,
         Arr<'py, i64>,
@@ -1293,7 +1298,7 @@ impl PyRecognizer {
         Arr<'py, f64>,
         Option<(usize, usize, usize)>,
     )> {
-        let s = seq_in(py, "frames", &frames, fps)?;
+        let s = walk_arg(py, name, frames, fps)?;
         let pr = crate::pool::detach(py, || self.inner.predict(&s)).py_err()?;
         let idx = idx_out(py, pr.ranked.iter().map(|r| r.0))?;
         let labels = pr.ranked.iter().map(|r| r.1).collect();
@@ -1311,7 +1316,8 @@ impl PyRecognizer {
 // ------------------------------------------------------------------------------------------
 // Synthetic walkers and the protocol
 
-fn range2(name: &str, r: (f64, f64)) -> PyResult<[f64; 2]> {
+fn range2(name: &str, r: &Bound<'_, PyAny>) -> PyResult<[f64; 2]> {
+    let r = args::pair(name, r)?;
     if !(r.0.is_finite() && r.1.is_finite() && r.0 <= r.1) {
         return Err(value_error(format!(
             "`{name}` must be a finite range (lo, hi) with lo <= hi, got {r:?}"
@@ -1326,17 +1332,20 @@ fn range2(name: &str, r: (f64, f64)) -> PyResult<[f64; 2]> {
 #[allow(clippy::too_many_arguments)]
 fn make_walkers<'py>(
     py: Python<'py>,
-    n_subjects: usize,
-    n_sessions: usize,
-    seed: u64,
-    heading_deg: (f64, f64),
-    speed: (f64, f64),
-    walk_s: (f64, f64),
+    n_subjects: i128,
+    n_sessions: i128,
+    seed: i128,
+    heading_deg: &Bound<'py, PyAny>,
+    speed: &Bound<'py, PyAny>,
+    walk_s: &Bound<'py, PyAny>,
     sit_prob: f64,
     noise: bool,
-    n_joints: usize,
+    n_joints: i128,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let joint_set = joint_set_in(n_joints)?;
+    let joint_set = joint_set_in(uint(py, "n_joints", n_joints, 0)?)?;
+    let n_subjects: usize = uint(py, "n_subjects", n_subjects, 1)?;
+    let n_sessions: usize = uint(py, "n_sessions", n_sessions, 1)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
     let n = n_subjects.checked_mul(n_sessions);
     if n.is_none_or(|n| n == 0 || n > MAX_WALKS) {
         return Err(value_error(format!(
@@ -1422,12 +1431,15 @@ fn make_walkers<'py>(
 #[pyfunction]
 fn evaluate_synthetic(
     py: Python<'_>,
-    n_subjects: usize,
-    n_sessions: usize,
-    seed: u64,
-    n_joints: usize,
+    n_subjects: i128,
+    n_sessions: i128,
+    seed: i128,
+    n_joints: i128,
 ) -> PyResult<Bound<'_, PyDict>> {
-    let joint_set = joint_set_in(n_joints)?;
+    let joint_set = joint_set_in(uint(py, "n_joints", n_joints, 0)?)?;
+    let n_subjects: usize = uint(py, "n_subjects", n_subjects, 2)?;
+    let n_sessions: usize = uint(py, "n_sessions", n_sessions, 2)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
     let n = n_subjects.checked_mul(n_sessions);
     if n_subjects < 2 || n_sessions < 2 || n.is_none_or(|n| n > MAX_CV_WALKS) {
         return Err(value_error(format!(

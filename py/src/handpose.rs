@@ -40,19 +40,26 @@ type HandPoseArrays<'py> = (Arr<'py, u8>, Arr<'py, f32>, Arr<'py, i64>, Arr<'py,
 #[allow(clippy::too_many_arguments)]
 fn hand_poses<'py>(
     py: Python<'py>,
-    n_per_class: usize,
-    n_subjects: usize,
-    seed: u64,
-    width: usize,
-    height: usize,
+    n_per_class: i128,
+    n_subjects: i128,
+    seed: i128,
+    size: &Bound<'py, PyAny>,
     jitter: [f64; 6],
 ) -> PyResult<HandPoseArrays<'py>> {
+    let size = values(&args::array::<i64>("size", size)?).into_owned();
+    let [height, width] = size[..] else {
+        return Err(value_error(format!(
+            "`size` must be (height, width), got {} values",
+            size.len()
+        )));
+    };
+    let side = |v: i64| uint(py, "size", i128::from(v), 0usize);
     let cfg = HandposeSynthParams::default()
-        .n_per_class(n_per_class)
-        .subjects(n_subjects)
-        .seed(seed)
-        .width(width)
-        .height(height);
+        .n_per_class(uint(py, "n_per_class", n_per_class, 0)?)
+        .subjects(uint(py, "n_subjects", n_subjects, 0)?)
+        .seed(uint(py, "seed", seed, 0)?)
+        .width(side(width)?)
+        .height(side(height)?);
     let j = Jitter {
         extension: jitter[0],
         finger_angle_deg: jitter[1],
@@ -209,10 +216,13 @@ fn hand_pose_split<'py>(
     py: Python<'py>,
     masks: &Bound<'py, PyAny>,
     labels: PyReadonlyArrayDyn<i64>,
-    n_test_per_class: usize,
-    n_augment_per_class: usize,
-    seed: u64,
+    n_test_per_class: i128,
+    n_augment_per_class: i128,
+    seed: i128,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let n_test_per_class = uint(py, "n_test_per_class", n_test_per_class, 0)?;
+    let n_augment_per_class = uint(py, "n_augment_per_class", n_augment_per_class, 0)?;
+    let seed = uint(py, "seed", seed, 0)?;
     let masks = masks_arg("masks", masks)?;
     let (n, h, w) = stack_dims("masks", masks.shape())?;
     let y = labels_from("labels", &labels)?;
@@ -247,19 +257,44 @@ fn hand_pose_comparison<'py>(
     depth: Option<&Bound<'py, PyAny>>,
     labels: PyReadonlyArrayDyn<i64>,
     methods: Vec<String>,
-    n_test_per_class: usize,
-    n_augment_per_class: usize,
-    seed: u64,
-    sfa: (usize, usize, f64, f64),
-    knn_n_neighbors: usize,
-    physical_n_per_class: usize,
-    isomap: (usize, usize, Option<usize>, usize),
+    n_test_per_class: i128,
+    n_augment_per_class: i128,
+    seed: i128,
+    sfa: (i128, i128, f64, f64),
+    knn_n_neighbors: i128,
+    physical_n_per_class: i128,
+    isomap: (i128, i128, Option<i128>, i128),
     global_rule: &str,
 ) -> PyResult<(
     Vec<i64>,
     Arr<'py, i64>,
     Vec<(String, Arr<'py, f64>, Arr<'py, i64>, f64, f64)>,
 )> {
+    let count = |name: &str, v: i128| uint(py, name, v, 0usize);
+    let (n_test_per_class, n_augment_per_class) = (
+        count("n_test_per_class", n_test_per_class)?,
+        count("n_augment_per_class", n_augment_per_class)?,
+    );
+    let seed = uint(py, "seed", seed, 0u64)?;
+    let (knn_n_neighbors, physical_n_per_class) = (
+        count("knn_n_neighbors", knn_n_neighbors)?,
+        count("physical_n_per_class", physical_n_per_class)?,
+    );
+    let sfa = (
+        count("pca_n_components", sfa.0)?,
+        count("m", sfa.1)?,
+        sfa.2,
+        sfa.3,
+    );
+    let isomap = (
+        count("isomap_n_neighbors", isomap.0)?,
+        count("isomap_n_components", isomap.1)?,
+        isomap
+            .2
+            .map(|v| count("isomap_n_per_class", v))
+            .transpose()?,
+        count("isomap_n_landmarks", isomap.3)?,
+    );
     let masks = masks_arg("masks", masks)?;
     let depth = depth_arg(depth)?;
     let (n, h, w) = stack_dims("masks", masks.shape())?;

@@ -1364,23 +1364,135 @@ fn warp_direct<'py>(
     crate::convert::image_array(py, out, flat)
 }
 
-/// One layer from Python: disparity, `(y0, y1, x0, x1)`, disk, gain, texture seed.
-type LayerArg = (f64, [f64; 4], bool, f64, u64);
+/// The keys of a `make_scene` layer.
+const LAYER_KEYS: [&str; 5] = ["disparity", "rect", "disk", "gain", "seed"];
+
+/// `make_scene`'s `layers`: a non-empty sequence of dicts with the keys of [`LAYER_KEYS`]
+/// (`disparity` required; `rect` `(y0, y1, x0, x1)` in `[0, 1]`, default the whole image;
+/// `disk` a bool; `gain` > 0, default 1; `seed`, default `11 + 12 k` for layer `k`).
+fn layers_arg(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Layer>> {
+    let kind = obj
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".into(), |n| n.to_string());
+    let sequence = obj.py().import("collections.abc")?.getattr("Sequence")?;
+    if obj.is_instance_of::<PyString>() || !obj.is_instance(&sequence)? {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "`layers` must be a sequence of dicts, got {kind}"
+        )));
+    }
+    let items = obj.try_iter()?.collect::<PyResult<Vec<_>>>()?;
+    if items.is_empty() {
+        return Err(value_error("`layers` needs at least one layer"));
+    }
+    items
+        .iter()
+        .enumerate()
+        .map(|(k, item)| {
+            let name = format!("layers[{k}]");
+            let layer = item.cast::<PyDict>().map_err(|_| {
+                let kind = item
+                    .get_type()
+                    .name()
+                    .map_or_else(|_| "?".into(), |n| n.to_string());
+                pyo3::exceptions::PyTypeError::new_err(format!(
+                    "`{name}` must be a dict, got {kind}"
+                ))
+            })?;
+            let mut unknown = layer
+                .keys()
+                .iter()
+                .map(|key| key.str().map(|s| s.to_string()))
+                .collect::<PyResult<Vec<_>>>()?;
+            unknown.retain(|key| !LAYER_KEYS.contains(&key.as_str()));
+            if !unknown.is_empty() {
+                unknown.sort();
+                return Err(value_error(format!(
+                    "`{name}` has unknown keys {unknown:?}; use {LAYER_KEYS:?}"
+                )));
+            }
+            let real = |key: &str| -> PyResult<Option<f64>> {
+                let label = format!("{name}['{key}']");
+                layer
+                    .get_item(key)?
+                    .map(|v| {
+                        let v: f64 = v.extract().map_err(|_| {
+                            value_error(format!("`{label}` must be a real number, got {v}"))
+                        })?;
+                        args::finite(&label, v)
+                    })
+                    .transpose()
+            };
+            let disparity = real("disparity")?
+                .ok_or_else(|| value_error(format!("`{name}` needs a 'disparity'")))?;
+            let rect = match layer.get_item("rect")? {
+                None => [0.0, 1.0, 0.0, 1.0],
+                Some(r) => args::numbers::<4>(&format!("{name}['rect']"), &r)
+                    .ok()
+                    .filter(|&[y0, y1, x0, x1]| {
+                        0.0 <= y0 && y0 < y1 && y1 <= 1.0 && 0.0 <= x0 && x0 < x1 && x1 <= 1.0
+                    })
+                    .ok_or_else(|| {
+                        value_error(format!(
+                            "`{name}['rect']` must be (y0, y1, x0, x1) with 0 <= y0 < y1 <= 1 \
+                             and 0 <= x0 < x1 <= 1, got {r}"
+                        ))
+                    })?,
+            };
+            let gain = real("gain")?.unwrap_or(1.0);
+            if gain <= 0.0 {
+                return Err(value_error(format!(
+                    "`{name}['gain']` must be > 0, got {gain}"
+                )));
+            }
+            let disk = match layer.get_item("disk")? {
+                None => false,
+                Some(v) => v.extract::<bool>().map_err(|_| {
+                    value_error(format!("`{name}['disk']` must be True or False, got {v}"))
+                })?,
+            };
+            let seed = match layer.get_item("seed")? {
+                None => 11 + 12 * k as u64,
+                Some(v) => {
+                    let label = format!("{name}['seed']");
+                    let v: i128 = v.extract().map_err(|_| {
+                        value_error(format!("`{label}` must be an integer, got {v}"))
+                    })?;
+                    uint(py, &label, v, 0u64)?
+                }
+            };
+            Ok(Layer::new(disparity, rect, seed).disk(disk).gain(gain))
+        })
+        .collect()
+}
 
 #[pyfunction]
 #[pyo3(signature = (height, width, times, emitter_peak, noise, seed, layers=None))]
 #[allow(clippy::too_many_arguments)]
 fn make_scene<'py>(
     py: Python<'py>,
-    height: usize,
-    width: usize,
+    height: i128,
+    width: i128,
     times: &Bound<'py, PyAny>,
     emitter_peak: f64,
     noise: f64,
-    seed: u64,
-    layers: Option<Vec<LayerArg>>,
+    seed: i128,
+    layers: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     const MAX_PIXELS: usize = 1 << 26;
+    let height: usize = uint(py, "height", height, 8)?;
+    let width: usize = uint(py, "width", width, 8)?;
+    let seed: u64 = uint(py, "seed", seed, 0)?;
+    if !(emitter_peak.is_finite() && emitter_peak >= 1.0) {
+        return Err(value_error(format!(
+            "`emitter_peak` must be finite and >= 1, got {emitter_peak}"
+        )));
+    }
+    args::non_negative("noise", noise)?;
+    let layers = layers
+        .filter(|l| !l.is_none())
+        .map(|l| layers_arg(py, l))
+        .transpose()?;
     let n = args::array::<f64>("exposure_times", times)?.len();
     if !(2..=32).contains(&n) {
         return Err(value_error(format!(
@@ -1400,10 +1512,7 @@ fn make_scene<'py>(
         .emitter_peak(emitter_peak)
         .noise(noise);
     if let Some(layers) = layers {
-        cfg.layers = layers
-            .into_iter()
-            .map(|(d, rect, disk, gain, seed)| Layer::new(d, rect, seed).disk(disk).gain(gain))
-            .collect();
+        cfg.layers = layers;
     }
     let sc = crate::pool::detach(py, || layered_scene(&cfg, seed)).py_err()?;
     let d = PyDict::new(py);

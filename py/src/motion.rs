@@ -241,13 +241,15 @@ fn init_from(s: &str) -> PyResult<Init> {
     }
 }
 
-fn check_restarts(n_restarts: usize) -> PyResult<()> {
-    if n_restarts > MAX_RESTARTS {
+/// The restart count `n`, in `1..=MAX_RESTARTS`.
+fn restarts(py: Python<'_>, n: i128) -> PyResult<usize> {
+    let n = uint(py, "n_restarts", n, 1usize)?;
+    if n > MAX_RESTARTS {
         return Err(value_error(format!(
-            "`n_restarts` must be <= {MAX_RESTARTS}, got {n_restarts}"
+            "`n_restarts` must be <= {MAX_RESTARTS}, got {n}"
         )));
     }
-    Ok(())
+    Ok(n)
 }
 
 /// Anechoic demixing of `x` (`R x I x N`): quality, sources, delays, weights, reconstruction.
@@ -256,35 +258,35 @@ fn check_restarts(n_restarts: usize) -> PyResult<()> {
 #[allow(clippy::too_many_arguments)]
 fn fit_anechoic<'py>(
     py: Python<'py>,
-    x: PyReadonlyArrayDyn<f64>,
-    n_sources: usize,
+    x: &Bound<'py, PyAny>,
+    n_sources: i128,
     delays: &str,
-    n_harmonics: usize,
-    n_restarts: usize,
-    max_iter: usize,
+    n_harmonics: i128,
+    n_restarts: i128,
+    max_iter: i128,
     tol: f64,
-    seed: u64,
+    seed: i128,
     init: &str,
-    delay_search: usize,
+    delay_search: i128,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let x = args::array::<f64>("X", x)?;
     if x.shape().len() != 3 {
         return Err(value_error(format!(
-            "`x` must be an (R, I, N) array of trials x channels x samples, got shape {:?}",
-            x.shape()
+            "`X` must be an (R, I, N) array of trials x channels x samples, got shape {}",
+            args::shape_repr(x.shape())
         )));
     }
-    let set = trials_in("x", &x)?;
-    check_restarts(n_restarts)?;
+    let set = trials_in("X", &x)?;
     let cfg = AnechoicParams::default()
-        .n_sources(n_sources)
-        .n_harmonics(n_harmonics)
+        .n_sources(uint(py, "n_sources", n_sources, 1)?)
+        .n_harmonics(uint(py, "n_harmonics", n_harmonics, 1)?)
         .delays(delay_mode(delays)?)
-        .max_iter(max_iter)
+        .max_iter(uint(py, "max_iter", max_iter, 1)?)
         .tol(tol)
-        .restarts(n_restarts)
+        .restarts(restarts(py, n_restarts)?)
         .init(init_from(init)?)
-        .seed(seed)
-        .delay_search(delay_search);
+        .seed(uint(py, "seed", seed, 0)?)
+        .delay_search(uint(py, "delay_search", delay_search, 0)?);
     let (model, recon) = crate::pool::detach(py, || {
         let m = fit_anechoic_rs(&set, &cfg)?;
         let r = m.reconstruct();
@@ -621,41 +623,46 @@ impl PyLibrary {
 #[pyo3(signature = (angles, step_length, duration, root, distances, n_sources_first,
                     n_sources_extra, n_harmonics, n_restarts, max_iter, tol, seed, delay_search))]
 #[allow(clippy::too_many_arguments)]
-fn fit_stepwise(
-    py: Python<'_>,
-    angles: PyReadonlyArrayDyn<f64>,
-    step_length: PyReadonlyArrayDyn<f64>,
-    duration: PyReadonlyArrayDyn<f64>,
-    root: Option<PyReadonlyArrayDyn<f64>>,
-    distances: Option<PyReadonlyArrayDyn<f64>>,
-    n_sources_first: usize,
-    n_sources_extra: usize,
-    n_harmonics: usize,
-    n_restarts: usize,
-    max_iter: usize,
+fn fit_stepwise<'py>(
+    py: Python<'py>,
+    angles: &Bound<'py, PyAny>,
+    step_length: &Bound<'py, PyAny>,
+    duration: &Bound<'py, PyAny>,
+    root: Option<&Bound<'py, PyAny>>,
+    distances: Option<&Bound<'py, PyAny>>,
+    n_sources_first: i128,
+    n_sources_extra: i128,
+    n_harmonics: i128,
+    n_restarts: i128,
+    max_iter: i128,
     tol: f64,
-    seed: u64,
-    delay_search: usize,
+    seed: i128,
+    delay_search: i128,
 ) -> PyResult<PyLibrary> {
+    let optional = |name: &str, a: Option<&Bound<'py, PyAny>>| {
+        a.filter(|a| !a.is_none())
+            .map(|a| args::array::<f64>(name, a))
+            .transpose()
+    };
+    let (root, distances) = (optional("root", root)?, optional("distances", distances)?);
     let data = dataset_in(
-        &angles,
-        &step_length,
-        &duration,
+        &args::array("angles", angles)?,
+        &args::array("step_length", step_length)?,
+        &args::array("duration", duration)?,
         root.as_ref(),
         distances.as_ref(),
     )?;
-    check_restarts(n_restarts)?;
     let cfg = StepwiseParams::default()
-        .n_sources_first(n_sources_first)
-        .n_sources_extra(n_sources_extra)
+        .n_sources_first(uint(py, "n_sources_first", n_sources_first, 1)?)
+        .n_sources_extra(uint(py, "n_sources_extra", n_sources_extra, 0)?)
         .demix(
             AnechoicParams::default()
-                .n_harmonics(n_harmonics)
-                .restarts(n_restarts)
-                .max_iter(max_iter)
+                .n_harmonics(uint(py, "n_harmonics", n_harmonics, 1)?)
+                .restarts(restarts(py, n_restarts)?)
+                .max_iter(uint(py, "max_iter", max_iter, 1)?)
                 .tol(tol)
-                .seed(seed)
-                .delay_search(delay_search),
+                .seed(uint(py, "seed", seed, 0)?)
+                .delay_search(uint(py, "delay_search", delay_search, 0)?),
         );
     let inner = crate::pool::detach(py, || fit_stepwise_rs(&data, &cfg)).py_err()?;
     Ok(PyLibrary { inner })
@@ -699,18 +706,18 @@ fn plan_steps<'py>(
     d: f64,
     comfort: f64,
     gamma: f64,
-    range1: (f64, f64),
-    range2: (f64, f64),
+    range1: &Bound<'py, PyAny>,
+    range2: &Bound<'py, PyAny>,
     human_like: Option<f64>,
-    max_steps: usize,
+    max_steps: i128,
 ) -> PyResult<Bound<'py, PyDict>> {
     let planner = Planner {
         comfort,
         gamma,
-        range1: range_in("range1", range1)?,
-        range2: range_in("range2", range2)?,
+        range1: range_in("range1", args::pair("range1", range1)?)?,
+        range2: range_in("range2", args::pair("range2", range2)?)?,
         human_like,
-        max_steps,
+        max_steps: uint(py, "max_steps", max_steps, 1)?,
     };
     let plan = planner.plan(d).py_err()?;
     plan_out(py, &plan)
@@ -736,7 +743,7 @@ impl PySynthesizer {
         map: &str,
         beta: f64,
         coupling: f64,
-        lut_size: usize,
+        lut_size: i128,
         bandwidth: Option<f64>,
         human_like: Option<f64>,
         svr_c: f64,
@@ -745,6 +752,7 @@ impl PySynthesizer {
     ) -> PyResult<Self> {
         let map = match map {
             "lut" => {
+                let lut_size = uint(py, "lut_size", lut_size, 0usize)?;
                 if !(4..=MAX_LUT_SIZE).contains(&lut_size) {
                     return Err(value_error(format!(
                         "`lut_size` must be in 4..={MAX_LUT_SIZE}, got {lut_size}"
@@ -810,9 +818,14 @@ impl PySynthesizer {
         py: Python<'py>,
         goal: f64,
         fps: f64,
-        goal_changes: Vec<(f64, f64)>,
+        goal_changes: &Bound<'py, PyAny>,
         max_seconds: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let goal_changes = goal_changes
+            .try_iter()
+            .map_err(|_| value_error("`goal_changes` must hold (time, distance) pairs"))?
+            .map(|c| args::pair("goal_changes", &c?))
+            .collect::<PyResult<Vec<_>>>()?;
         positive("fps", fps)?;
         positive("max_seconds", max_seconds)?;
         if fps * max_seconds > MAX_FRAMES {
@@ -1207,9 +1220,10 @@ fn hopf_simulate<'py>(
     dt: f64,
     omega: f64,
     coupling: f64,
-    leader: (f64, f64),
+    leader: &Bound<'py, PyAny>,
     followers: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let leader = args::pair("leader", leader)?;
     let followers = args::array::<f64>("followers", followers)?;
     positive("duration", duration)?;
     positive("dt", dt)?;

@@ -150,6 +150,28 @@ ONE_BAD_ARGUMENT = [
     ("n_frames", lambda: wscg.video.make_clip("pan", n_frames=None)),
     ("seed", lambda: wscg.math.normal("x", 4)),
     ("n", lambda: wscg.math.normal(0, float("nan"))),
+    # Counts and seeds that a Python layer used to truncate with int() (1.5 -> 1).
+    ("seed", lambda: wscg.biometrics.split_per_subject(np.repeat(np.arange(3), 4), 2, seed=1.5)),
+    ("n_train_per_subject", lambda: wscg.biometrics.split_per_subject(np.repeat(np.arange(3), 4), -1)),
+    ("seed", lambda: wscg.biometrics.make_hand_poses(n_per_class=2, seed=0.5)),
+    ("size", lambda: wscg.biometrics.make_hand_poses(n_per_class=2, size=(165, 120, 3))),
+    ("dims[0]", lambda: wscg.biometrics.select_dimension_cv(
+        wscg.biometrics.PCA(), np.random.default_rng(0).random((12, 4)),
+        np.repeat(np.arange(3), 4), dims=[1.5])),
+    # Ranges and pairs are any array-like of two numbers, checked by name.
+    ("range1", lambda: wscg.motion.plan_steps(2.5, range1=(0.7, 0.8, 0.9))),
+    ("leader[0]", lambda: wscg.motion.hopf_simulate(1.0, leader=[np.nan, 0.0])),
+    ("speed", lambda: wscg.gait.make_walkers(2, 2, speed=(1.1, 0.9))),
+    ("up", lambda: wscg.gait.detect_cycle(np.zeros((40, 25, 3)), up=[0.0, np.inf, 0.0])),
+    ("shifts", lambda: wscg.ear.EarMatcher(shifts=np.zeros((2, 3))).fit(np.zeros((1, 80, 25)))),
+    ("canvas", lambda: wscg.ear.make_ears(1, 1, canvas=(200,))),
+    ("labels", lambda: wscg.ear.evaluate(np.zeros((1, 100, 80, 3), np.uint8),
+                                         np.zeros((1, 100, 80, 3), np.uint8), [[0]])),
+    ("layers[0]['rect']", lambda: wscg.hdr.make_scene(height=16, width=16,
+                                                       layers=[dict(disparity=2.0, rect=(0, 1))])),
+    ("layers[1]['seed']", lambda: wscg.hdr.make_scene(height=16, width=16, layers=[
+        dict(disparity=2.0), dict(disparity=3.0, seed=-1)])),
+    ("emitter_peak", lambda: wscg.hdr.make_scene(height=16, width=16, emitter_peak=0.5)),
 ]
 
 

@@ -578,7 +578,6 @@ def accuracy_curve(model, X_train, y_train, X_test, y_test,
     known = (pos < len(classes)) & (classes[np.minimum(pos, len(classes) - 1)] == y_test)
     # Test labels absent from training can never be predicted: give them an unused code.
     yte = np.where(known, pos, len(classes)).astype(np.int64)
-    dims = list(range(1, Ztr.shape[1] + 1)) if dims is None else [int(d) for d in dims]
     return _b.accuracy_curve(Ztr, ytr, Zte, yte, dims, _check_metric(metric or model.metric))
 
 
@@ -605,11 +604,7 @@ def select_dimension_cv(model, X, y, dims: Optional[Sequence[int]] = None, n_fol
     """
     Xm, _ = _matrix(X)
     _, codes = _encode_labels(y, Xm.shape[0])
-    if dims is None:
-        dims = range(1, Xm.shape[1] + 1)
-    return _b.select_dimension_cv(Xm, codes, model._spec(), [int(d) for d in dims],
-                                  _int("n_folds", n_folds, 0), int(seed),
-                                  _check_metric(model.metric))
+    return _b.select_dimension_cv(Xm, codes, model._spec(), dims, n_folds, seed, model.metric)
 
 
 def feature_kernel(X, kernel: str = "rbf", sigma=None, sigma_scale: float = 1.0,
@@ -634,8 +629,7 @@ def split_per_subject(labels, n_train_per_subject: int, seed: int = 0
     """Row indices ``(train, test)``: for every subject, ``n_train_per_subject`` random
     samples train and the rest test (the paper's 5/5 and 9/1 protocols)."""
     _, codes = _encode_labels(labels, len(np.asarray(labels)), "labels")
-    return _b.split_per_subject(codes, _int("n_train_per_subject", n_train_per_subject, 0),
-                                int(seed))
+    return _b.split_per_subject(codes, n_train_per_subject, seed)
 
 
 # ---------------------------------------------------------------------------------------
@@ -1055,10 +1049,7 @@ def make_hand_poses(n_per_class: int = 3000, n_subjects: int = 3, seed: int = 0,
         if k not in amp:
             raise ValueError(f"unknown jitter key {k!r}; expected one of {_JITTER_KEYS}")
         amp[k] = float(v)
-    h, w = size
-    return _b.hand_poses(_int("n_per_class", n_per_class, 0), _int("n_subjects", n_subjects, 0),
-                         int(seed), int(w), int(h),
-                         [amp[k] for k in _JITTER_KEYS])
+    return _b.hand_poses(n_per_class, n_subjects, seed, size, [amp[k] for k in _JITTER_KEYS])
 
 
 def _n_frames(masks) -> int:
@@ -1076,8 +1067,7 @@ def hand_pose_split(masks, labels, n_test_per_class: int = 300,
     ``train_index``, ``test_index`` (source frames), ``train_rotation`` (degrees) and
     ``shape``."""
     classes, codes = _encode_labels(labels, _n_frames(masks), "labels")
-    d = _b.hand_pose_split(masks, codes, _int("n_test_per_class", n_test_per_class, 0),
-                           _int("n_augment_per_class", n_augment_per_class, 0), int(seed))
+    d = _b.hand_pose_split(masks, codes, n_test_per_class, n_augment_per_class, seed)
     return _from_mapping(HandPoseSplit, d, y_train=classes[d["y_train"]],
                          y_test=classes[d["y_test"]], shape=tuple(d["shape"]))
 
@@ -1105,17 +1095,10 @@ def hand_pose_comparison(masks, labels, depth=None, methods=("sfa", "physical", 
     ``predict_seconds``)."""
     classes, codes = _encode_labels(labels, _n_frames(masks), "labels")
     cls, y_test, res = _b.hand_pose_comparison(
-        masks, depth, codes, [str(x) for x in methods], _int("n_test_per_class", n_test_per_class, 0),
-        _int("n_augment_per_class", n_augment_per_class, 0), int(seed),
-        (_int("pca_n_components", pca_n_components, 0), _int("m", m, 0), float(gamma),
-         float(shrinkage)),
-        _int("knn_n_neighbors", knn_n_neighbors, 0),
-        _int("physical_n_per_class", physical_n_per_class, 0),
-        (_int("isomap_n_neighbors", isomap_n_neighbors, 0),
-         _int("isomap_n_components", isomap_n_components, 0),
-         None if isomap_n_per_class is None else _int("isomap_n_per_class", isomap_n_per_class, 0),
-         _int("isomap_n_landmarks", isomap_n_landmarks, 0)),
-        str(global_rule))
+        masks, depth, codes, [str(x) for x in methods], n_test_per_class, n_augment_per_class,
+        seed, (pca_n_components, m, gamma, shrinkage), knn_n_neighbors, physical_n_per_class,
+        (isomap_n_neighbors, isomap_n_components, isomap_n_per_class, isomap_n_landmarks),
+        global_rule)
     runs = {name: ClassifierRun(confusion=conf, predictions=classes[pred],
                                 accuracy=float(np.mean(np.diag(conf))), fit_seconds=tf,
                                 predict_seconds=tp)

@@ -14,7 +14,7 @@ condition on the panel means (:func:`fit_rsm`, Tables 2-3), :func:`rm_anova` and
 from __future__ import annotations
 
 import os
-from typing import List, NamedTuple, Optional, Sequence, Tuple, Union
+from typing import List, NamedTuple, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt

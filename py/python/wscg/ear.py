@@ -60,11 +60,11 @@ from __future__ import annotations
 
 import inspect
 import textwrap
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._checks import _int, _real, integer_ranges as _integer_ranges
+from ._checks import integer_ranges as _integer_ranges
 from ._estimator import Estimator
 from ._native import ear as _e
 from ._native.ear import (close_disk, cmc, dilate_disk, equalize_hist, erode_disk, fill_holes,
@@ -89,9 +89,6 @@ PARAMS: Tuple[str, ...] = tuple(_e.PARAM_KEYS) + ("skin_model",)
 #: Occluder kinds of :func:`make_ears`.
 OCCLUSIONS: Tuple[str, ...] = ("none", "colour", "earring", "dark-hair", "blond-hair")
 
-_FLAGS = ("fill_holes", "mask_features", "gray_enrolment", "equalize_on_skin")
-_INTS = ("height", "width", "block", "min_intensity")
-_REALS = ("min_likelihood", "close_radius", "block_skin_fraction", "reject_above_pct")
 
 # The docstring entry of every pipeline parameter (numpydoc), appended by `_documented` to
 # the docstring of each function that takes it.
@@ -162,12 +159,6 @@ def _documented(f):
 # Input validation
 # ----------------------------------------------------------------------------------------
 
-def _flag(name: str, v) -> bool:
-    if not isinstance(v, (bool, np.bool_)):
-        raise ValueError(f"`{name}` must be True or False, got {v!r}")
-    return bool(v)
-
-
 def _floats(name: str, v) -> np.ndarray:
     try:
         return np.asarray(v, dtype=np.float64)
@@ -175,48 +166,19 @@ def _floats(name: str, v) -> np.ndarray:
         raise ValueError(f"`{name}` must be numeric, got {v!r}") from None
 
 
-def _shifts(v) -> List[Tuple[int, int]]:
-    try:
-        a = np.asarray(v, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"`shifts` must be a list of (d_row, d_col) pairs, got {v!r}") from None
-    if a.size == 0:
-        return []
-    if a.ndim != 2 or a.shape[1] != 2:
-        raise ValueError(f"`shifts` must be a list of (d_row, d_col) pairs, got shape {a.shape}")
-    if not np.all(np.isfinite(a)) or np.any(a != np.round(a)) or np.any(np.abs(a) > 2 ** 30):
-        raise ValueError(f"`shifts` must hold integer block offsets, got {a.tolist()}")
-    return [(int(r), int(c)) for r, c in a]
-
-
 def _params(given: dict) -> dict:
     """The pipeline parameters among the arguments ``given`` (a function's ``locals()``)
-    as the dict the native module reads; ``None`` leaves the native default."""
+    as the dict the native module reads and checks; ``None`` leaves the native default, a
+    ``skin_model`` becomes its ``skin_mean`` and ``skin_cov``."""
     kw = {k: v for k, v in given.items() if k in PARAMS and v is not None}
-    out: dict = {}
-    for k, v in kw.items():
-        if k == "skin_model":
-            if not isinstance(v, SkinModel):
-                raise ValueError(f"`skin_model` must be a SkinModel, got {type(v).__name__}")
-            if "skin_mean" in kw or "skin_cov" in kw:
-                raise ValueError("give either `skin_model` or `skin_mean`/`skin_cov`, not both")
-            out["skin_mean"] = v.mean_.tolist()
-            out["skin_cov"] = v.cov_.tolist()
-        elif k in _FLAGS:
-            out[k] = _flag(k, v)
-        elif k in _INTS:
-            out[k] = _int(k, v, 0)
-        elif k in _REALS:
-            out[k] = _real(k, v)
-        elif k in ("skin_mean", "skin_cov"):
-            out[k] = _floats(k, v).tolist()
-        elif k == "shifts":
-            out[k] = _shifts(v)
-        elif k in ("skin_rule", "score"):
-            if not isinstance(v, str):
-                raise ValueError(f"`{k}` must be a string, got {v!r}")
-            out[k] = v
-    return out
+    model = kw.pop("skin_model", None)
+    if model is not None:
+        if not isinstance(model, SkinModel):
+            raise ValueError(f"`skin_model` must be a SkinModel, got {type(model).__name__}")
+        if "skin_mean" in kw or "skin_cov" in kw:
+            raise ValueError("give either `skin_model` or `skin_mean`/`skin_cov`, not both")
+        kw["skin_mean"], kw["skin_cov"] = model.mean_.tolist(), model.cov_.tolist()
+    return kw
 
 
 # ----------------------------------------------------------------------------------------
@@ -826,17 +788,9 @@ def make_ears(n_subjects: int, n_probes: int, seed: int = 0, occlusion: str = "n
     ``occluded_blocks`` bool ``(m, rows, cols)`` (block occluded when at least half of it is
     covered after resizing), ``occluded_pct`` float64 ``(m,)`` and ``skin_rg`` float64
     ``(n_subjects, 2)`` the subjects' skin chromaticities."""
-    if not isinstance(occlusion, str):
-        raise ValueError(f"`occlusion` must be one of {OCCLUSIONS}, got {occlusion!r}")
-    p = _params(locals())
-    cv = (_int("canvas", canvas[0], 0), _int("canvas", canvas[1], 0))
-    g = (_real("gain", gain[0]), _real("gain", gain[1]))
     return _from_mapping(EarDataset, _e.make_ears(
-        _int("n_subjects", n_subjects, 0), _int("n_probes", n_probes, 0), _int("seed", seed, 0),
-        occlusion, _real("min_pct", min_pct), _real("max_pct", max_pct), cv,
-        _real("shape_spread", shape_spread), _real("shift_px", shift_px),
-        _real("rotation_deg", rotation_deg), g, _real("white_balance", white_balance),
-        _real("noise_sigma", noise_sigma), p))
+        n_subjects, n_probes, seed, occlusion, min_pct, max_pct, canvas, shape_spread,
+        shift_px, rotation_deg, gain, white_balance, noise_sigma, _params(locals())))
 
 
 @_documented
@@ -869,15 +823,8 @@ def evaluate(enrol, probes, labels, true_pct=None, max_rank: int = 10,
     ``None`` without ``edges``).
 
     ``ValueError`` when every probe is rejected (no CMC can be formed)."""
-    p = _params(locals())
-    lab = np.asarray(labels)
-    if lab.ndim != 1 or (lab.size and not np.issubdtype(lab.dtype, np.integer)):
-        raise ValueError("`labels` must be a 1-D array of integer identities")
-    tp = None if true_pct is None else _floats("true_pct", true_pct).ravel().tolist()
-    e = None if edges is None else _floats("edges", edges).ravel().tolist()
-    return _from_mapping(EarEvaluation,
-                         _e.evaluate(enrol, probes, [int(s) for s in lab], tp,
-                                     _int("max_rank", max_rank, 0), e, p))
+    return _from_mapping(EarEvaluation, _e.evaluate(enrol, probes, labels, true_pct, max_rank,
+                                                    edges, _params(locals())))
 
 # ----------------------------------------------------------------------------------------
 # Building blocks

@@ -53,11 +53,11 @@ the Most Relevant Joint Relative Angles", WSCG 2015, Journal of WSCG vol. 23.
 from __future__ import annotations
 
 import os
-from typing import List, NamedTuple, Optional, Sequence, Tuple, Union
+from typing import List, NamedTuple, Optional, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int, _real, integer_ranges as _integer_ranges
+from ._checks import _int, integer_ranges as _integer_ranges
 from ._estimator import Estimator
 from ._native import gait as _g
 from ._native.gait import (all_pairs, ball_features, dissimilarity_matrix, dtw, dtw_kernel,
@@ -85,7 +85,6 @@ KINECT_V1_NAMES: List[str] = list(_g.KINECT_V1_NAMES)
 #: Number of joint pairs without the reference joint, C(24, 2).
 N_PAIRS: int = 276
 
-_COSTS = ("abs", "squared")
 
 
 # ----------------------------------------------------------------------------------------
@@ -244,59 +243,6 @@ class GaitEvaluation:
 # Input validation
 # ----------------------------------------------------------------------------------------
 
-def _fps(fps) -> float:
-    f = _real("fps", fps)
-    if not (np.isfinite(f) and f > 0):
-        raise ValueError(f"`fps` must be a finite number > 0, got {fps!r}")
-    return f
-
-
-def _str(name: str, v, allowed: Sequence[str]) -> str:
-    if not isinstance(v, str) or v not in allowed:
-        choices = ", ".join(repr(a) for a in allowed)
-        raise ValueError(f"`{name}` must be one of {choices}, got {v!r}")
-    return v
-
-
-def _cost(cost) -> str:
-    return _str("cost", cost, _COSTS)
-
-
-def _window(window) -> Optional[int]:
-    return None if window is None else _int("window", window, 0)
-
-
-def _floats(name: str, v) -> np.ndarray:
-    try:
-        a = np.asarray(v, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be numeric, got {type(v).__name__}") from None
-    return np.ascontiguousarray(a)
-
-
-def _frames(frames, name: str = "frames") -> np.ndarray:
-    """A C-contiguous float64 ``(T, 25, 3)`` (Kinect v2) or ``(T, 20, 3)`` (Kinect v1)
-    array (NaN and frame count are checked by Rust, whose messages name the frame and
-    joint)."""
-    a = _floats(name, frames)
-    if a.ndim != 3 or a.shape[1:] not in ((25, 3), (20, 3)):
-        raise ValueError(
-            f"`{name}` must have shape (T, 25, 3) or (T, 20, 3): T frames x the 25 joints of "
-            f"a Kinect v2 skeleton (or the 20 of Kinect v1, in the v1 SDK's order) x (x, y, "
-            f"z), got shape {a.shape}"
-        )
-    return a
-
-
-def _vec3(name: str, v) -> List[float]:
-    a = _floats(name, v)
-    if a.shape != (3,):
-        raise ValueError(f"`{name}` must be a 3-vector, got shape {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"`{name}` contains NaN or infinity")
-    return a.tolist()
-
-
 # ----------------------------------------------------------------------------------------
 # Joints and angles
 # ----------------------------------------------------------------------------------------
@@ -353,15 +299,8 @@ def detect_cycle(frames, fps: float = 30.0, smooth_window: int = 5, min_step_s: 
     The horizontal distance is ``|D - (D . u) u|`` with ``D = AnkleLeft - AnkleRight`` and
     ``u`` the up vector; local minima satisfy ``d(t) <= d(t-1)`` and ``d(t) < d(t+1)``.
     """
-    f = _frames(frames)
-    if not isinstance(up, str):
-        up = _vec3("up", up)
-    else:
-        _str("up", up, ("estimate", "y"))
-    d = _g.detect_cycle(f, _fps(fps), _int("smooth_window", smooth_window, 1),
-                        _real("min_step_s", min_step_s), _real("min_prominence", min_prominence),
-                        up, _str("choice", choice, ("first", "most_regular")),
-                        _str("start_leg", start_leg, ("left", "right", "any")))
+    d = _g.detect_cycle(frames, fps, smooth_window, min_step_s, min_prominence, up, choice,
+                        start_leg)
     if return_details:
         return _from_mapping(CycleDetails, d, start=int(d["start"]), mid=int(d["mid"]),
                              end=int(d["end"]))
@@ -527,19 +466,14 @@ class GaitRecognizer(Estimator):
             bad parameters.
         """
         vote = _vote_spec(self.vote, self.n_neighbors)
-        cost = _cost(self.cost)
-        window = _window(self.window)
-        start_leg = _str("start_leg", self.start_leg, ("left", "right", "any"))
-        fps = _fps(self.fps)
         ws = _walks(X)
         if not ws:
             raise ValueError("`X` is empty: the gallery needs at least one walk")
         if y is None:
             raise ValueError("GaitRecognizer requires y to be passed, but the target y is None")
         classes, codes = _encode(y, len(ws))
-        arrs = [_frames(w, f"X[{i}]") for i, w in enumerate(ws)]
-        self._model = _g.Recognizer(arrs, codes, fps, _real("min_bins", self.min_bins), vote,
-                                    cost, window, _real("bin_deg", self.bin_deg), start_leg)
+        self._model = _g.Recognizer(ws, codes, self.fps, self.min_bins, vote, self.cost,
+                                    self.window, self.bin_deg, self.start_leg)
         self.classes_ = classes
         self.pairs_ = self._model.pairs()
         self.relevance_ = self._model.relevance()
@@ -547,7 +481,7 @@ class GaitRecognizer(Estimator):
 
     def _predict(self, frames, name: str = "frames"):
         self._check_fitted()
-        return self._model.predict(_frames(frames, name), _fps(self.fps))
+        return self._model.predict(frames, self.fps, name)
 
     def predict(self, X) -> np.ndarray:
         """Identifies walks.
@@ -630,14 +564,6 @@ def _walks(X) -> list:
 # Synthetic data and the protocol
 # ----------------------------------------------------------------------------------------
 
-def _range(name: str, r) -> Tuple[float, float]:
-    try:
-        lo, hi = r
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be a (lo, hi) pair, got {r!r}") from None
-    return _real(name, lo), _real(name, hi)
-
-
 def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
                   heading_deg=(-60.0, 60.0), speed=(0.9, 1.1), walk_s=(2.5, 4.0),
                   sit_prob: float = 0.5, noise: bool = True,
@@ -677,13 +603,8 @@ def make_walkers(n_subjects: int = 20, n_sessions: int = 3, seed: int = 0,
         walk), ``walk_frames`` (frames of walking; a sit-down tail starts there) and
         ``sit_tail`` (list of bool).
     """
-    if not isinstance(noise, (bool, np.bool_)):
-        raise ValueError(f"`noise` must be True or False, got {noise!r}")
-    d = _g.make_walkers(_int("n_subjects", n_subjects, 1), _int("n_sessions", n_sessions, 1),
-                        _int("seed", seed, 0, 2 ** 64 - 1), _range("heading_deg", heading_deg),
-                        _range("speed", speed), _range("walk_s", walk_s),
-                        _real("sit_prob", sit_prob), bool(noise),
-                        _int("n_joints", n_joints, 0))
+    d = _g.make_walkers(n_subjects, n_sessions, seed, heading_deg, speed, walk_s, sit_prob,
+                        noise, n_joints)
     return _from_mapping(SyntheticWalks, d)
 
 
@@ -716,10 +637,7 @@ def evaluate_synthetic(n_subjects: int = 20, n_sessions: int = 3,
         ``relevance`` (``(25, 25)`` map of the first fold's training walks).
     """
     return _from_mapping(GaitEvaluation,
-                         _g.evaluate_synthetic(_int("n_subjects", n_subjects, 2),
-                                               _int("n_sessions", n_sessions, 2),
-                                               _int("seed", seed, 0, 2 ** 64 - 1),
-                                               _int("n_joints", n_joints, 0)))
+                         _g.evaluate_synthetic(n_subjects, n_sessions, seed, n_joints))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

@@ -55,7 +55,7 @@ from typing import Any, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tup
 
 import numpy as np
 
-from ._checks import _int, integer_ranges as _integer_ranges
+from ._checks import integer_ranges as _integer_ranges
 from ._native import hdr as _h
 from ._native.hdr import (bad_rate, incoherence, khan_weight, load_crf, load_exposure_times,
                           merge, patchmatch, patchmatch_2d, rmse_log2, save_crf,
@@ -173,29 +173,9 @@ class HdrScene:
 
 
 # ----------------------------------------------------------------------------------------
-# Input validation: make_scene's layer mappings, and images given as files (the arrays,
-# responses, bit depths and exposure times are checked by the native functions)
+# Input validation: images given as files (the arrays, responses, bit depths, exposure
+# times and make_scene's layers are checked by the native functions)
 # ----------------------------------------------------------------------------------------
-
-def _seed(v) -> int:
-    return _int("seed", v, 0, 2 ** 64 - 1)
-
-
-def _flag(name: str, v) -> bool:
-    if not isinstance(v, (bool, np.bool_)):
-        raise ValueError(f"`{name}` must be True or False, got {v!r}")
-    return bool(v)
-
-
-def _real(name: str, v) -> float:
-    try:
-        f = float(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be a real number, got {v!r}") from None
-    if not np.isfinite(f):
-        raise ValueError(f"`{name}` must be finite, got {f}")
-    return f
-
 
 def _is_path(x) -> bool:
     return isinstance(x, (str, bytes, os.PathLike))
@@ -654,55 +634,8 @@ def make_scene(*, height: int = 160, width: int = 256,
     Ramirez Orozco et al., WSCG 2015, Journal of WSCG vol. 23 (exposures of the IIS Jumble
     set, Fig. 7).
     """
-    h = _int("height", height, 8)
-    w = _int("width", width, 8)
-    peak = _real("emitter_peak", emitter_peak)
-    if peak < 1:
-        raise ValueError(f"`emitter_peak` must be >= 1, got {peak}")
-    nz = _real("noise", noise)
-    if nz < 0:
-        raise ValueError(f"`noise` must be >= 0, got {nz}")
-    return _from_mapping(HdrScene, _h.make_scene(h, w, exposure_times, peak, nz, _seed(seed),
-                                                 _scene_layers(layers)))
-
-
-_LAYER_KEYS = ("disparity", "rect", "disk", "gain", "seed")
-
-
-def _scene_layers(layers) -> Optional[list]:
-    """``make_scene``'s ``layers`` as (disparity, rect, disk, gain, seed) tuples, checked."""
-    if layers is None:
-        return None
-    if isinstance(layers, (str, bytes, Mapping)) or not isinstance(layers, Sequence):
-        raise TypeError(f"`layers` must be a sequence of dicts, got {type(layers).__name__}")
-    if len(layers) == 0:
-        raise ValueError("`layers` needs at least one layer")
-    out = []
-    for k, layer in enumerate(layers):
-        name = f"layers[{k}]"
-        if not isinstance(layer, Mapping):
-            raise TypeError(f"`{name}` must be a dict, got {type(layer).__name__}")
-        unknown = sorted(set(layer) - set(_LAYER_KEYS))
-        if unknown:
-            raise ValueError(f"`{name}` has unknown keys {unknown}; use {list(_LAYER_KEYS)}")
-        if "disparity" not in layer:
-            raise ValueError(f"`{name}` needs a 'disparity'")
-        d = _real(f"{name}['disparity']", layer["disparity"])
-        try:
-            rect = np.asarray(layer.get("rect", (0.0, 1.0, 0.0, 1.0)), dtype=np.float64).ravel()
-        except (TypeError, ValueError):
-            rect = np.full(1, np.nan)
-        y0, y1, x0, x1 = rect if rect.size == 4 else (np.nan,) * 4
-        if not (0 <= y0 < y1 <= 1 and 0 <= x0 < x1 <= 1):
-            raise ValueError(f"`{name}['rect']` must be (y0, y1, x0, x1) with 0 <= y0 < y1 <= 1 "
-                             f"and 0 <= x0 < x1 <= 1, got {layer.get('rect')!r}")
-        gain = _real(f"{name}['gain']", layer.get("gain", 1.0))
-        if gain <= 0:
-            raise ValueError(f"`{name}['gain']` must be > 0, got {gain}")
-        disk = _flag(f"{name}['disk']", layer.get("disk", False))
-        seed = _int(f"{name}['seed']", layer.get("seed", 11 + 12 * k), 0, 2 ** 64 - 1)
-        out.append((d, tuple(float(v) for v in rect), disk, gain, seed))
-    return out
+    return _from_mapping(HdrScene, _h.make_scene(height, width, exposure_times, emitter_peak,
+                                                 noise, seed, layers))
 
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.

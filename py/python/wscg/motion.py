@@ -37,14 +37,13 @@ from __future__ import annotations
 
 import copyreg
 import math as _math
-import numbers
 import os
 from collections.abc import Mapping
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._checks import _int, integer_ranges as _integer_ranges
+from ._checks import integer_ranges as _integer_ranges
 from ._estimator import Estimator
 from ._native import motion as _m
 from ._native.motion import (forward_kinematics, pca_qualities, pca_quality, quality,
@@ -385,40 +384,6 @@ def _library_from_json(text: str) -> Library:
 copyreg.pickle(Library, lambda lib: (_library_from_json, (lib.to_json(),)))
 
 
-def _u(name: str, v, lo: int = 0) -> int:
-    """``v`` as a Python int in ``[lo, 2**63 - 1]`` (the native side takes unsigned sizes)."""
-    return _int(name, v, lo, 2**63 - 1)
-
-
-def _float(name: str, v) -> float:
-    """``v`` as a float (bools refused)."""
-    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real):
-        raise ValueError(f"`{name}` must be a real number, got {v!r}")
-    return float(v)
-
-
-def _array(name: str, a) -> np.ndarray:
-    """``a`` as a C-contiguous float64 array (numeric input only)."""
-    arr = np.asarray(a)
-    if arr.dtype == object or not (np.issubdtype(arr.dtype, np.number) or arr.dtype == np.bool_):
-        raise ValueError(f"`{name}` must be a numeric array, got dtype {arr.dtype}")
-    if np.iscomplexobj(arr):
-        raise ValueError(f"`{name}` must be real-valued, got dtype {arr.dtype}")
-    return np.ascontiguousarray(arr, dtype=np.float64)
-
-
-def _range(name: str, r) -> Tuple[float, float]:
-    try:
-        lo, hi = r
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be a (lo, hi) pair, got {r!r}") from None
-    return _float(name, lo), _float(name, hi)
-
-
-def _opt_float(name: str, v) -> Optional[float]:
-    return None if v is None else _float(name, v)
-
-
 # ------------------------------------------------------------------------------------------
 # Data
 
@@ -542,20 +507,9 @@ class AnechoicModel(Estimator):
         ValueError
             ``X`` not 3-D or not finite, bad parameters (named).
         """
-        x = _array("X", X)
-        if x.ndim != 3:
-            raise ValueError(f"`X` must be an (R, I, N) array, got shape {x.shape}")
-        if self.delays not in DELAY_MODES:
-            raise ValueError(f"`delays` must be one of {DELAY_MODES}, got {self.delays!r}")
-        if self.init not in ("pca", "random", "greedy", "orbit"):
-            raise ValueError("`init` must be 'pca', 'random', 'greedy' or 'orbit', "
-                             f"got {self.init!r}")
-        res = _m.fit_anechoic(x, _u("n_sources", self.n_sources, 1), self.delays,
-                              _u("n_harmonics", self.n_harmonics, 1),
-                              _u("n_restarts", self.n_restarts, 1),
-                              _u("max_iter", self.max_iter, 1), _float("tol", self.tol),
-                              _u("seed", self.seed, 0), self.init,
-                              _u("delay_search", self.delay_search, 0))
+        res = _m.fit_anechoic(X, self.n_sources, self.delays, self.n_harmonics,
+                              self.n_restarts, self.max_iter, self.tol, self.seed, self.init,
+                              self.delay_search)
         self.q_ = res["q"]
         self.q_history_ = np.asarray(res["q_history"])
         self.source_coeffs_ = res["source_coeffs"]
@@ -636,16 +590,9 @@ class StepwiseModel(Estimator):
         root = _field(X, "root", required=False)
         dist = _field(X, "distances", required=False)
         self.library_ = _m.fit_stepwise(
-            _array("angles", _field(X, "angles")),
-            _array("step_length", _field(X, "step_length")),
-            _array("duration", _field(X, "duration")),
-            None if root is None else _array("root", root),
-            None if dist is None else _array("distances", dist),
-            _u("n_sources_first", self.n_sources_first, 1),
-            _u("n_sources_extra", self.n_sources_extra, 0),
-            _u("n_harmonics", self.n_harmonics, 1), _u("n_restarts", self.n_restarts, 1),
-            _u("max_iter", self.max_iter, 1), _float("tol", self.tol), _u("seed", self.seed, 0),
-            _u("delay_search", self.delay_search, 0))
+            _field(X, "angles"), _field(X, "step_length"), _field(X, "duration"), root, dist,
+            self.n_sources_first, self.n_sources_extra, self.n_harmonics, self.n_restarts,
+            self.max_iter, self.tol, self.seed, self.delay_search)
         return self
 
 
@@ -698,10 +645,7 @@ def plan_steps(D: float, comfort: float = 0.6, gamma: float = 0.385,
         the shortest step: no actions); ``violation`` (metres outside the ranges);
         ``n_steps``; ``distance`` (total pelvis travel).
     """
-    return _plan(_m.plan_steps(_float("D", D), _float("comfort", comfort),
-                               _float("gamma", gamma), _range("range1", range1),
-                               _range("range2", range2), _opt_float("human_like", human_like),
-                               _u("max_steps", max_steps, 1)))
+    return _plan(_m.plan_steps(D, comfort, gamma, range1, range2, human_like, max_steps))
 
 
 def _plan(d) -> StepPlan:
@@ -795,7 +739,7 @@ class Synthesizer(Estimator):
     def plan(self, D: float) -> StepPlan:
         """The synthesizer's plan for a goal at distance ``D`` (as :func:`plan_steps`)."""
         self._check_fitted()
-        return _plan(self._s.plan(_float("D", D)))
+        return _plan(self._s.plan(D))
 
     def run(self, goal: float = 2.6, fps: float = 120.0,
             goal_changes: Sequence[Tuple[float, float]] = (),
@@ -825,29 +769,16 @@ class Synthesizer(Estimator):
             ``goal``.
         """
         self._check_fitted()
-        changes = []
-        for c in goal_changes:
-            try:
-                t, d = c
-            except (TypeError, ValueError):
-                raise ValueError(f"`goal_changes` must hold (time, distance) pairs, got {c!r}") from None
-            changes.append((_float("goal_changes time", t), _float("goal_changes distance", d)))
-        d = self._s.run(_float("goal", goal), _float("fps", fps), changes,
-                        _float("max_seconds", max_seconds))
+        d = self._s.run(goal, fps, goal_changes, max_seconds)
         return _from_mapping(Synthesis, d,
                              executed=[(str(a), float(x)) for a, x in d["executed"]])
 
 
 def _synthesizer(lib: Library, p: dict):
     """The native synthesizer of ``lib`` with the parameters ``p`` (checked, named)."""
-    if p["map"] not in MAPS:
-        raise ValueError(f"`map` must be one of {MAPS}, got {p['map']!r}")
-    return _m.Synthesizer(
-        lib, _float("comfort", p["comfort"]), _float("gamma", p["gamma"]), p["map"],
-        _float("beta", p["beta"]), _float("coupling", p["coupling"]),
-        _int("lut_size", p["lut_size"], 4, 65536), _opt_float("bandwidth", p["bandwidth"]),
-        _opt_float("human_like", p["human_like"]), _float("svr_C", p["svr_C"]),
-        _float("svr_epsilon", p["svr_epsilon"]), _float("svr_gamma", p["svr_gamma"]))
+    return _m.Synthesizer(lib, p["comfort"], p["gamma"], p["map"], p["beta"], p["coupling"],
+                          p["lut_size"], p["bandwidth"], p["human_like"], p["svr_C"],
+                          p["svr_epsilon"], p["svr_gamma"])
 
 
 # ------------------------------------------------------------------------------------------
@@ -1040,8 +971,7 @@ def hopf_simulate(duration: float, dt: float = 1e-3, omega: float = 2 * _math.pi
         ``leader_phase`` ``(T,)`` in ``[0, 2 pi)``.
     """
     return _from_mapping(HopfTrajectory,
-                         _m.hopf_simulate(duration, dt, omega, coupling, _range("leader", leader),
-                                          followers))
+                         _m.hopf_simulate(duration, dt, omega, coupling, leader, followers))
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())
