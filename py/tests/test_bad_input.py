@@ -150,7 +150,7 @@ ONE_BAD_ARGUMENT = [
     ("n_frames", lambda: wscg.video.make_clip("pan", n_frames=None)),
     ("seed", lambda: wscg.math.normal("x", 4)),
     ("n", lambda: wscg.math.normal(0, float("nan"))),
-    # Counts and seeds that a Python layer used to truncate with int() (1.5 -> 1).
+    # Counts and seeds, checked by the bindings since the wrappers stopped converting them.
     ("seed", lambda: wscg.biometrics.split_per_subject(np.repeat(np.arange(3), 4), 2, seed=1.5)),
     ("n_train_per_subject", lambda: wscg.biometrics.split_per_subject(np.repeat(np.arange(3), 4), -1)),
     ("seed", lambda: wscg.biometrics.make_hand_poses(n_per_class=2, seed=0.5)),
