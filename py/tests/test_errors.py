@@ -115,3 +115,29 @@ def test_negative_indices_in_arrays_are_refused_by_name():
         wm.cg([0, 1, 2], [0, -1], **eye)
     x, _ = wm.cg([0, 1, 2], [0, 1], **eye)
     np.testing.assert_allclose(x, [1.0, 2.0], atol=1e-8)
+
+
+def test_native_functions_raise_the_packages_errors():
+    # A value of the wrong type for a native function's parameter: pyo3's TypeError becomes
+    # the package's ArgumentTypeError (a ValueError and a TypeError) naming the argument.
+    with pytest.raises(wscg.ArgumentTypeError, match="`n`") as e:
+        wm.normal(0, "x")
+    assert isinstance(e.value, ValueError) and isinstance(e.value, TypeError)
+    with pytest.raises(ValueError, match="`window`"):
+        wscg.gait.dtw([1.0, 2.0], [1.0, 2.0], window="a")
+    with pytest.raises(ValueError, match="`n_passes`"):
+        wscg.volseg.smooth(np.zeros((4, 4, 4)), n_passes=1.5)
+    # A call with an unknown keyword is a mistake in the calling code: a plain TypeError.
+    with pytest.raises(TypeError) as e:
+        wscg.gait.dtw([1.0], [1.0], foo=1)
+    assert not isinstance(e.value, ValueError)
+    # Wrapped functions keep their signature, documentation and pickling by reference.
+    assert str(inspect.signature(wscg.gait.dtw)).startswith("(a, b")
+    assert wscg.gait.dtw.__doc__ == wscg.gait.dtw.__wrapped__.__doc__
+    assert pickle.loads(pickle.dumps(wscg.gait.dtw)) is wscg.gait.dtw
+
+
+def test_no_module_exports_an_untranslated_native_function():
+    raw = [f"{mod.__name__}.{name}" for mod in _modules() for name in mod.__all__
+           if inspect.isbuiltin(getattr(mod, name))]
+    assert not raw, raw

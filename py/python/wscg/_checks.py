@@ -345,12 +345,41 @@ def _translating(f, check_arguments: bool = True, takes_complex: bool = False):
     return call
 
 
+def _native_errors(f):
+    """The native function ``f`` (re-exported by a module) with a ``TypeError`` that pyo3
+    raised converting one argument (it notes "while processing 'name'") re-raised as an
+    :class:`ArgumentTypeError` naming the argument in its message, and an ``OverflowError``
+    as an :class:`IntegerRangeError`: the package's errors, as its Python functions raise
+    them. A call with missing or unknown arguments stays a plain ``TypeError``. (Python 3.9
+    and 3.10 have no exception notes: there the message cannot name the argument.)"""
+
+    @functools.wraps(f)
+    def call(*args, **kwargs):
+        try:
+            return f(*args, **kwargs)
+        except (IntegerRangeError, ArgumentTypeError):
+            raise
+        except OverflowError as e:
+            raise _range_error(e) from e
+        except TypeError as e:
+            names = [m.group(1) for n in getattr(e, "__notes__", ())
+                     for m in [_PROCESSING.match(str(n))] if m]
+            if not names:
+                raise
+            raise ArgumentTypeError(f"`{names[-1]}`: {e}") from e
+
+    call._wscg_ranges = True
+    return call
+
+
 def integer_ranges(namespace: dict) -> None:
     """Makes the public functions of a module, and the methods of the classes it defines,
     raise :class:`IntegerRangeError` (a ``ValueError`` naming the argument) instead of the
     ``OverflowError`` that a negative or too large integer raises on its way into a native
     parameter. Functions: the names in the module's ``__all__`` defined in that module;
-    classes: every class the module defines (private base classes hold public methods)."""
+    classes: every class the module defines (private base classes hold public methods); the
+    native functions in ``__all__`` also raise :class:`ArgumentTypeError` naming the argument
+    for a value of the wrong type (see :func:`_native_errors`)."""
     module = namespace["__name__"]
     # A module whose arrays are complex throughout (k-space, MR images) says so.
     cx = bool(namespace.get("_TAKES_COMPLEX", False))
@@ -371,3 +400,12 @@ def integer_ranges(namespace: dict) -> None:
                     setattr(obj, attr, _translating(v, checked, cx))
         elif inspect.isfunction(obj) and name in namespace["__all__"]:
             namespace[name] = _translating(obj, True, cx)
+    # The native functions a module re-exports (defined in wscg._native).
+    for name in namespace["__all__"]:
+        obj = namespace.get(name)
+        if inspect.isbuiltin(obj) and (getattr(obj, "__module__", None) or "").startswith(
+                "wscg._native"):
+            wrapped = _native_errors(obj)
+            # Pickled by reference under the module that exports it (Dask, multiprocessing).
+            wrapped.__module__ = namespace["__name__"]
+            namespace[name] = wrapped

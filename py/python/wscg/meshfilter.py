@@ -26,3 +26,9 @@ from ._native.meshfilter import (add_noise, bilateral, cad_labels, hc_laplacian,
 
 __all__ = ["jbmd", "bilateral", "laplacian", "taubin", "hc_laplacian", "mean_error",
            "surface_error", "mvd", "make_mesh", "cad_labels", "add_noise"]
+
+from ._checks import integer_ranges as _integer_ranges  # noqa: E402
+
+# A wrong-typed argument raises ArgumentTypeError, a too large count IntegerRangeError: both
+# ValueErrors naming the argument.
+_integer_ranges(globals())
