@@ -264,6 +264,42 @@ impl<'py> Cfg<'_, 'py> {
     ) -> PyResult<Option<T>> {
         dict_item(self.0, key)
     }
+
+    /// The entry `key` unless absent or `None`.
+    fn entry(&self, key: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
+        Ok(self.0.get_item(key)?.filter(|v| !v.is_none()))
+    }
+
+    /// The entry `key` as `N` numbers (any array-like, as [`crate::args::numbers`]).
+    pub(crate) fn numbers<const N: usize>(&self, key: &str) -> PyResult<Option<[f64; N]>> {
+        self.entry(key)?
+            .map(|v| crate::args::numbers(key, &v))
+            .transpose()
+    }
+
+    /// The entry `key` as a flat list of numbers (any real array-like).
+    pub(crate) fn floats(&self, key: &str) -> PyResult<Option<Vec<f64>>> {
+        self.entry(key)?
+            .map(|v| Ok(values(&crate::args::array::<f64>(key, &v)?).into_owned()))
+            .transpose()
+    }
+
+    /// The count or seed `key`, at least `lo` (out of range: as [`crate::args::uint`]),
+    /// `default` when absent.
+    pub(crate) fn count<T>(&self, key: &str, default: T, lo: T) -> PyResult<T>
+    where
+        T: TryFrom<i128> + PartialOrd + Copy + std::fmt::Display,
+    {
+        match self.entry(key)? {
+            None => Ok(default),
+            Some(v) => {
+                let i: i128 = v
+                    .extract()
+                    .map_err(|e| value_error(format!("`{key}` must be an integer: {e}")))?;
+                crate::args::uint(self.0.py(), key, i, lo)
+            }
+        }
+    }
 }
 
 /// A 1-D int64 label array as `u32` labels.

@@ -12,6 +12,7 @@ use wscg_raytrace::manylight::{
     load_obj, run, scenes, Camera, ManyLightParams, Method, PixelFilter, Scene, Triangle,
 };
 
+use crate::args::{self, uint};
 use crate::convert::{array, rows3, values, Arr, Cfg};
 use crate::errors::IntoPy;
 
@@ -167,15 +168,29 @@ impl PyScene {
     }
 }
 
-/// A procedural scene: 'cornell', 'colonnade', 'conference' or 'plane'.
+/// A procedural scene with its camera.
+///
+/// ``name``: ``'cornell'`` (the Cornell box of the paper's Fig. 3), ``'colonnade'`` (a hall
+/// of pillars lit through a roof opening, standing in for Sponza), ``'conference'`` (a room
+/// with a table and chairs half under it, standing in for Conference) or ``'plane'`` (a
+/// plane under a tiny light, for the closed-form check). ``subdiv`` splits every quad into
+/// ``subdiv x subdiv`` cells (more triangles, same picture).
+///
+/// >>> s = make_manylight_scene("cornell", width=64, height=48)
+/// >>> s.n_triangles, s.n_emitters
+/// (36, 2)
 #[pyfunction]
+#[pyo3(signature = (name="cornell", subdiv=1, width=256, height=192))]
 fn make_manylight_scene(
     py: Python<'_>,
     name: &str,
-    subdiv: u32,
-    width: usize,
-    height: usize,
+    subdiv: i128,
+    width: i128,
+    height: i128,
 ) -> PyResult<PyScene> {
+    let subdiv: u32 = uint(py, "subdiv", subdiv, 0)?;
+    let (width, height): (usize, usize) =
+        (uint(py, "width", width, 0)?, uint(py, "height", height, 0)?);
     let (scene, camera) =
         crate::pool::detach(py, || scenes::by_name(name, subdiv, width, height)).py_err()?;
     Ok(PyScene { scene, camera })
@@ -193,18 +208,25 @@ fn default_camera() -> Camera {
     }
 }
 
-/// A scene from arrays: vertices (V, 3) float64, faces (F, 3) int64, albedo and emission
-/// (F, 3) float64.
+/// A scene from an indexed triangle mesh: ``vertices`` (V, 3), ``faces`` (F, 3)
+/// (counter-clockwise seen from the front; emitters radiate from the front), per-face
+/// ``albedo`` (F, 3) in [0, 1] and emitted radiance ``emission`` (F, 3) >= 0. ``camera``:
+/// dict with ``eye``, ``target``, ``up``, ``fov_deg`` (vertical, degrees), ``width``,
+/// ``height``. Degenerate triangles are skipped (counted by ``n_skipped_degenerate``).
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, albedo, emission, camera=None))]
 fn manylight_from_arrays(
     py: Python<'_>,
-    vertices: PyReadonlyArrayDyn<f64>,
-    faces: PyReadonlyArrayDyn<i64>,
-    albedo: PyReadonlyArrayDyn<f64>,
-    emission: PyReadonlyArrayDyn<f64>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    albedo: &Bound<'_, PyAny>,
+    emission: &Bound<'_, PyAny>,
     camera: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyScene> {
+    let vertices = args::array::<f64>("vertices", vertices)?;
+    let faces = args::array::<i64>("faces", faces)?;
+    let albedo = args::array::<f64>("albedo", albedo)?;
+    let emission = args::array::<f64>("emission", emission)?;
     let v = rows3("vertices", &values(&vertices), vertices.shape())?;
     let f = crate::convert::faces_u32(&faces)?;
     let a = rows3("albedo", &values(&albedo), albedo.shape())?;
@@ -248,14 +270,16 @@ fn _manylight_scene_from_parts(
     Ok(PyScene { scene, camera })
 }
 
-/// A scene from a Wavefront OBJ file (MTL `Kd` albedo, `Ke` emission).
+/// A scene from a Wavefront OBJ file and its MTL library (``Kd``: albedo, ``Ke``:
+/// emitted radiance). The file is only read.
 #[pyfunction]
 #[pyo3(signature = (path, camera=None))]
 fn load_manylight_obj(
     py: Python<'_>,
-    path: std::path::PathBuf,
+    path: &Bound<'_, PyAny>,
     camera: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyScene> {
+    let path = args::path("path", path)?;
     let scene = crate::pool::detach(py, || load_obj(&path)).py_err()?;
     let camera = camera_from(camera, &default_camera())?;
     Ok(PyScene { scene, camera })
@@ -275,24 +299,24 @@ fn manylight_render<'py>(
     let c = Cfg(params);
     let camera = camera_from(camera, &scene.camera)?;
     let mut s = ManyLightParams::default();
-    s.vpl.n_paths = c.get("n_vpl_paths", s.vpl.n_paths)?;
-    s.vpl.max_bounces = c.get("max_bounces", s.vpl.max_bounces)?;
-    s.vpl.seed = c.get("vpl_seed", s.vpl.seed)?;
+    s.vpl.n_paths = c.count("n_vpl_paths", s.vpl.n_paths, 0)?;
+    s.vpl.max_bounces = c.count("max_bounces", s.vpl.max_bounces, 0)?;
+    s.vpl.seed = c.count("vpl_seed", s.vpl.seed, 0)?;
     let pixels = camera.width * camera.height;
-    s.ic.n_cache = c.get("n_cache", (pixels / 100).max(1))?;
-    s.ic.m_nearest = c.get("m_nearest", s.ic.m_nearest)?;
-    s.ic.spp = c.get("spp", s.ic.spp)?;
-    s.ic.seed = c.get("seed", s.ic.seed)?;
+    s.ic.n_cache = c.count("n_cache", (pixels / 100).max(1), 0)?;
+    s.ic.m_nearest = c.count("m_nearest", s.ic.m_nearest, 0)?;
+    s.ic.spp = c.count("spp", s.ic.spp, 0)?;
+    s.ic.seed = c.count("seed", s.ic.seed, 0)?;
     s.ic.clamp_dist = c.opt("clamp_dist")?;
     s.adaptive.delta = c.get("delta", s.adaptive.delta)?;
     s.adaptive.init_fraction = c.get("init_fraction", s.adaptive.init_fraction)?;
     if let Some(f) = c.opt::<String>("pixel_filter")? {
         s.ic.filter = PixelFilter::parse(&f).py_err()?;
     }
-    s.ic.pixel_samples = c.get("n_pixel_samples", s.ic.pixel_samples)?;
+    s.ic.pixel_samples = c.count("n_pixel_samples", s.ic.pixel_samples, 0)?;
     s.weights = wscg_raytrace::manylight::Interp::Clarberg {
         theta_max: c.get("theta_max", std::f64::consts::FRAC_PI_6)?,
-        lambda: c.get("lambda", 5.0)?,
+        lambda: c.get("lam", 5.0)?,
         dmax_factor: c.get("dmax_factor", 2.0)?,
         defensive: c.get("defensive", wscg_raytrace::manylight::DEFAULT_DEFENSIVE)?,
     };
@@ -331,21 +355,40 @@ fn manylight_render<'py>(
     Ok((img, d))
 }
 
-/// The similarity weight of eqs. (2)-(4) of each record (positions and unit normals
-/// (K, 3)) for the shading point `x` with unit normal `normal`.
+/// The paper's similarity weight (eqs. 2-4, after Clarberg and Akenine-Moller 2008) of
+/// each record for the shading point ``x`` (3,) with unit ``normal`` (3,): records at
+/// ``record_pos`` (K, 3) with unit normals ``record_normal`` (K, 3); returns (K,) float64
+/// in [0, 1]: ``sqrt(1 - |n . v|) * w_hat(d, theta)``, ``v`` the unit vector to the record
+/// (1 when it coincides with ``x``), ``d`` its distance, ``theta`` the angle between the
+/// normals, ``w(d, theta) = (1 - theta / pi) (1 - d' / (1 + lam d'))`` with
+/// ``d' = d / d_max``, and ``w_hat = max(0, (w - w0) / (1 - w0))``,
+/// ``w0 = w(d_max, theta_max)``. A render normalises the weights of the ``M`` nearest
+/// records within ``d_max`` (and blends them with uniform ones, see ``defensive`` of
+/// :func:`render_manylight`).
+///
+/// >>> w = manylight_record_weight([0, 0, 0], [0, 0, 1], [[0.25, 0, 0], [0, 0, 0.25]],
+/// ...                             [[0, 0, 1], [0, 0, 1]], d_max=1.0)
+/// >>> np.round(w, 6).tolist()
+/// [0.636364, 0.0]
 #[pyfunction]
-#[pyo3(signature = (x, normal, record_pos, record_normal, d_max, theta_max, lam))]
+#[pyo3(
+    signature = (x, normal, record_pos, record_normal, d_max, theta_max=std::f64::consts::FRAC_PI_6, lam=5.0),
+    text_signature = "(x, normal, record_pos, record_normal, d_max, theta_max=0.5235987755982988, lam=5.0)"
+)]
 #[allow(clippy::too_many_arguments)]
 fn manylight_record_weight<'py>(
     py: Python<'py>,
-    x: [f64; 3],
-    normal: [f64; 3],
-    record_pos: PyReadonlyArrayDyn<f64>,
-    record_normal: PyReadonlyArrayDyn<f64>,
+    x: &Bound<'py, PyAny>,
+    normal: &Bound<'py, PyAny>,
+    record_pos: &Bound<'py, PyAny>,
+    record_normal: &Bound<'py, PyAny>,
     d_max: f64,
     theta_max: f64,
     lam: f64,
 ) -> PyResult<Arr<'py, f64>> {
+    let (x, normal) = (args::triple("x", x)?, args::triple("normal", normal)?);
+    let record_pos = args::array::<f64>("record_pos", record_pos)?;
+    let record_normal = args::array::<f64>("record_normal", record_normal)?;
     let p = rows3("record_pos", &values(&record_pos), record_pos.shape())?;
     let n = rows3(
         "record_normal",

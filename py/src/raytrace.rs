@@ -7,7 +7,7 @@
 //! `n_pool_tiles`, `n_photons` and `n_photon_neighbors`, the colour mode `color_mode`). The
 //! counts are checked here so that an error names the Python argument.
 
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::PyUntypedArrayMethods;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_math::progress::NoProgress;
@@ -20,7 +20,7 @@ use wscg_raytrace::paint::{
 use wscg_raytrace::spectral::{self, daylight_d, MetalIor, SpectralGrid, Spectrum};
 use wscg_raytrace::stereo::{Eye, StereoRig};
 
-use crate::args::{self, number};
+use crate::args::{self, number, uint};
 use crate::convert::{array, values, Arr, Cfg};
 use crate::errors::{value_error, IntoPy};
 
@@ -49,12 +49,7 @@ fn flake_params(c: &Cfg) -> PyResult<FlakeParams> {
             )))
         }
     };
-    let n_pool_tiles: usize = c.get("n_pool_tiles", d.tiles_in_pool)?;
-    if n_pool_tiles == 0 {
-        return Err(value_error(
-            "`n_pool_tiles` must be >= 1: at least one tile is needed",
-        ));
-    }
+    let n_pool_tiles: usize = c.count("n_pool_tiles", d.tiles_in_pool, 1)?;
     Ok(FlakeParams::default()
         .radius_um(c.get("radius_um", d.radius_um)?)
         .radius_cv(c.get("radius_cv", d.radius_cv)?)
@@ -70,8 +65,8 @@ fn flake_params(c: &Cfg) -> PyResult<FlakeParams> {
 
 fn stack(c: &Cfg, flakes: &FlakeParams) -> PyResult<PlateStack> {
     let d = PlateStack::default();
-    let metal = match c.opt::<(f64, f64)>("metal_nk")? {
-        Some((n, k)) => MetalIor::Constant { n, k },
+    let metal = match c.numbers::<2>("metal_nk")? {
+        Some([n, k]) => MetalIor::Constant { n, k },
         None => match c.get("metal", "al_k6".to_string())?.as_str() {
             "al_k6" => MetalIor::AlRakicLdConstK { k: 6.0 },
             "al" => MetalIor::AlRakicLd,
@@ -90,7 +85,7 @@ fn stack(c: &Cfg, flakes: &FlakeParams) -> PyResult<PlateStack> {
         })
     });
     Ok(PlateStack {
-        size_mm: c.get("size_mm", d.size_mm)?,
+        size_mm: c.numbers("size_mm")?.map_or(d.size_mm, |[w, h]| (w, h)),
         coat: coat.transpose()?,
         binder_ior: c.get("binder_ior", d.binder_ior)?,
         binder_um: flakes.layer_um,
@@ -108,7 +103,7 @@ fn light(c: &Cfg) -> PyResult<DiscLight> {
     if let Some(cct) = c.opt::<f64>("light_cct")? {
         l.spectrum = daylight_d(cct).py_err()?;
     }
-    if let Some(spd) = c.opt::<Vec<f64>>("light_spectrum")? {
+    if let Some(spd) = c.floats("light_spectrum")? {
         l.spectrum = Spectrum::new(SpectralGrid::VISIBLE, spd).py_err()?;
     }
     l.radiance_scale = c.get("radiance_scale", 1.0)?;
@@ -118,8 +113,8 @@ fn light(c: &Cfg) -> PyResult<DiscLight> {
 fn settings(c: &Cfg) -> PyResult<PaintRenderParams> {
     let d = PaintRenderParams::default();
     let region = c
-        .opt::<(f64, f64, f64, f64)>("region_mm")?
-        .map(|(x0, y0, x1, y1)| Rect { x0, y0, x1, y1 });
+        .numbers("region_mm")?
+        .map(|[x0, y0, x1, y1]| Rect { x0, y0, x1, y1 });
     let colour = match c.get("color_mode", "spectral".to_string())?.as_str() {
         "spectral" => ColourMode::Spectral,
         "rgb" => ColourMode::Rgb,
@@ -130,20 +125,17 @@ fn settings(c: &Cfg) -> PyResult<PaintRenderParams> {
         }
     };
     let photon_defaults = PhotonParams::default();
-    let n_photons: usize = c.get("n_photons", photon_defaults.count)?;
-    let n_neighbors: usize = c.get("n_photon_neighbors", photon_defaults.k)?;
+    let n_photons: usize = c.count("n_photons", photon_defaults.count, 0)?;
+    let n_neighbors: usize = c.count("n_photon_neighbors", photon_defaults.k, 1)?;
     if n_photons > 500_000_000 {
         return Err(value_error(format!(
             "`n_photons` must be at most 500 million, got {n_photons}"
         )));
     }
-    if n_neighbors == 0 {
-        return Err(value_error("`n_photon_neighbors` must be >= 1, got 0"));
-    }
     Ok(PaintRenderParams::default()
-        .spp(c.get("spp", d.spp)?)
-        .max_depth(c.get("max_depth", d.max_depth)?)
-        .seed(c.get("render_seed", d.seed)?)
+        .spp(c.count("spp", d.spp, 0)?)
+        .max_depth(c.count("max_depth", d.max_depth, 0)?)
+        .seed(c.count("render_seed", d.seed, 0)?)
         .region_mm(region)
         .magnification(c.get("magnification", d.magnification)?)
         .independent_samples(c.get("independent_samples", false)?)
@@ -187,7 +179,7 @@ fn render_plate<'py>(
     let st = stack(&c, &fp)?;
     let li = light(&c)?;
     let s = settings(&c)?;
-    let seed: u64 = c.get("seed", 0)?;
+    let seed: u64 = c.count("seed", 0, 0)?;
     let eyes = eyes
         .iter()
         .map(|e| eye_of(e))
@@ -234,7 +226,7 @@ fn render_plate<'py>(
 fn make_tile<'py>(py: Python<'py>, params: Bound<'py, PyDict>) -> PyResult<(Arr<'py, f64>, usize)> {
     let c = Cfg(&params);
     let fp = flake_params(&c)?;
-    let seed: u64 = c.get("seed", 0)?;
+    let seed: u64 = c.count("seed", 0, 0)?;
     let t = crate::pool::detach(py, || paint::generate_tile(&fp, seed)).py_err()?;
     let v: Vec<f64> = t
         .flakes
@@ -253,12 +245,14 @@ type Layout<'py> = (Vec<Arr<'py, f64>>, Vec<(f64, f64, usize, u8)>);
 fn plate_layout<'py>(
     py: Python<'py>,
     params: Bound<'py, PyDict>,
-    region_um: (f64, f64, f64, f64),
+    region_mm: &Bound<'py, PyAny>,
 ) -> PyResult<Layout<'py>> {
+    let [x0, y0, x1, y1] = args::numbers::<4>("region_mm", region_mm)?.map(|v| v * 1e3);
+    let region_um = (x0, y0, x1, y1);
     let c = Cfg(&params);
     let fp = flake_params(&c)?;
     let st = stack(&c, &fp)?;
-    let seed: u64 = c.get("seed", 0)?;
+    let seed: u64 = c.count("seed", 0, 0)?;
     let plate = crate::pool::detach(py, || FlakePlate::new(&fp, st.size_mm, seed)).py_err()?;
     let pool = plate
         .pool()
@@ -285,9 +279,10 @@ fn plate_layout<'py>(
 #[pyfunction]
 fn glint_statistics<'py>(
     py: Python<'py>,
-    y: PyReadonlyArrayDyn<f32>,
+    y: &Bound<'py, PyAny>,
     mm_per_px: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let y = args::array::<f32>("y", y)?;
     let [h, w] = *y.shape() else {
         return Err(value_error(format!(
             "`y` must be a 2-D (H, W) array, got shape {:?}",
@@ -316,18 +311,20 @@ fn glint_statistics<'py>(
 fn workshop<'py>(
     py: Python<'py>,
     params: Bound<'py, PyDict>,
-    reference: (f64, f64),
-    runs: Vec<(f64, f64)>,
+    reference: &Bound<'py, PyAny>,
+    runs: &Bound<'py, PyAny>,
     condition: &str,
-    n_reference_renders: usize,
+    n_reference_renders: i128,
     jnd_log: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    if n_reference_renders < 2 {
-        return Err(value_error(format!(
-            "`n_reference_renders` must be >= 2 to calibrate the observer, got \
-             {n_reference_renders}"
-        )));
-    }
+    let reference = args::pair("reference", reference)?;
+    let runs = runs
+        .try_iter()
+        .map_err(|_| value_error("`runs` must be a sequence of (radius_um, density) pairs"))?
+        .map(|r| args::pair("runs", &r?))
+        .collect::<PyResult<Vec<_>>>()?;
+    // At least two renders of the reference calibrate the observer.
+    let n_reference_renders: usize = uint(py, "n_reference_renders", n_reference_renders, 2)?;
     let c = Cfg(&params);
     let fp = flake_params(&c)?;
     let condition = match condition {
@@ -360,7 +357,7 @@ fn workshop<'py>(
         .reference_renders(n_reference_renders)
         .condition(condition)
         .jnd_log(jnd_log);
-    let seed: u64 = c.get("seed", 0)?;
+    let seed: u64 = c.count("seed", 0, 0)?;
     let ws = crate::pool::detach(py, || {
         paint::score_runs(reference, &runs, &cfg, seed, &NoProgress)
     })

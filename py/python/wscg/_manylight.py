@@ -24,6 +24,8 @@ from typing import Optional, Tuple
 import numpy as np
 
 from ._native import raytrace as _r
+from ._native.raytrace import (load_manylight_obj, make_manylight_scene, manylight_from_arrays,
+                               manylight_record_weight)
 from ._checks import integer_ranges as _integer_ranges
 from ._results import from_mapping as _from_mapping, result as _result
 
@@ -94,43 +96,6 @@ class ManyLightStats:
     cache_bytes: Optional[int] = None
 
 
-def make_manylight_scene(name: str = "cornell", subdiv: int = 1, width: int = 256,
-                         height: int = 192) -> ManyLightScene:
-    """A procedural scene with its camera.
-
-    ``name``: ``'cornell'`` (the Cornell box of the paper's Fig. 3), ``'colonnade'`` (a hall
-    of pillars lit through a roof opening, standing in for Sponza), ``'conference'`` (a room
-    with a table and chairs half under it, standing in for Conference) or ``'plane'`` (a
-    plane under a tiny light, for the closed-form check). ``subdiv`` splits every quad into
-    ``subdiv x subdiv`` cells (more triangles, same picture).
-
-    >>> s = make_manylight_scene("cornell", width=64, height=48)
-    >>> s.n_triangles, s.n_emitters
-    (36, 2)
-    """
-    return _r.make_manylight_scene(name, int(subdiv), int(width), int(height))
-
-
-def manylight_from_arrays(vertices, faces, albedo, emission,
-                          camera: Optional[dict] = None) -> ManyLightScene:
-    """A scene from an indexed triangle mesh: ``vertices`` (V, 3), ``faces`` (F, 3)
-    (counter-clockwise seen from the front; emitters radiate from the front), per-face
-    ``albedo`` (F, 3) in [0, 1] and emitted radiance ``emission`` (F, 3) >= 0. ``camera``:
-    dict with ``eye``, ``target``, ``up``, ``fov_deg`` (vertical, degrees), ``width``,
-    ``height``. Degenerate triangles are skipped (counted by ``n_skipped_degenerate``)."""
-    return _r.manylight_from_arrays(
-        np.ascontiguousarray(vertices, dtype=np.float64),
-        np.ascontiguousarray(faces, dtype=np.int64),
-        np.ascontiguousarray(albedo, dtype=np.float64),
-        np.ascontiguousarray(emission, dtype=np.float64), camera)
-
-
-def load_manylight_obj(path, camera: Optional[dict] = None) -> ManyLightScene:
-    """A scene from a Wavefront OBJ file and its MTL library (``Kd``: albedo, ``Ke``:
-    emitted radiance). The file is only read."""
-    return _r.load_manylight_obj(str(path), camera)
-
-
 def render_manylight(scene: ManyLightScene, method: str = "adaptive",
                      camera: Optional[dict] = None, *, n_vpl_paths: int = 1000,
                      max_bounces: int = 2, n_cache: Optional[int] = None, spp: int = 16,
@@ -166,50 +131,14 @@ def render_manylight(scene: ManyLightScene, method: str = "adaptive",
     >>> img.shape, img.dtype
     ((24, 32, 3), dtype('float32'))
     """
-    params = dict(n_vpl_paths=int(n_vpl_paths), max_bounces=int(max_bounces), spp=int(spp),
-                  seed=int(seed), vpl_seed=int(vpl_seed), m_nearest=int(m_nearest),
-                  delta=float(delta), init_fraction=float(init_fraction),
-                  theta_max=float(theta_max), **{"lambda": float(lam)},
-                  dmax_factor=float(dmax_factor), defensive=float(defensive),
-                  pixel_filter=str(pixel_filter), n_pixel_samples=int(n_pixel_samples))
-    if n_cache is not None:
-        params["n_cache"] = int(n_cache)
-    if clamp_dist is not None:
-        params["clamp_dist"] = float(clamp_dist)
+    # The keyword parameters, read and checked by name by the native renderer; None leaves
+    # its default.
+    params = {k: v for k, v in locals().items()
+              if k not in ("scene", "method", "camera") and v is not None}
     img, st = _r.manylight_render(scene, method, params, camera)
     return img, _from_mapping(ManyLightStats, st, rename={
         "inserted": "n_inserted", "passes": "n_passes", "initial": "n_initial",
         "shadow_rays_cache": "n_cache_shadow_rays"})
-
-def manylight_record_weight(x, normal, record_pos, record_normal, d_max: float,
-                            theta_max: float = np.pi / 6, lam: float = 5.0) -> np.ndarray:
-    """The paper's similarity weight (eqs. 2-4, after Clarberg and Akenine-Moller 2008) of
-    each record for the shading point ``x`` (3,) with unit ``normal`` (3,): records at
-    ``record_pos`` (K, 3) with unit normals ``record_normal`` (K, 3); returns (K,) float64
-    in [0, 1]: ``sqrt(1 - |n . v|) * w_hat(d, theta)``, ``v`` the unit vector to the record
-    (1 when it coincides with ``x``), ``d`` its distance, ``theta`` the angle between the
-    normals, ``w(d, theta) = (1 - theta / pi) (1 - d' / (1 + lam d'))`` with
-    ``d' = d / d_max``, and ``w_hat = max(0, (w - w0) / (1 - w0))``,
-    ``w0 = w(d_max, theta_max)``. A render normalises the weights of the ``M`` nearest
-    records within ``d_max`` (and blends them with uniform ones, see ``defensive`` of
-    :func:`render_manylight`).
-
-    >>> w = manylight_record_weight([0, 0, 0], [0, 0, 1], [[0.25, 0, 0], [0, 0, 0.25]],
-    ...                             [[0, 0, 1], [0, 0, 1]], d_max=1.0)
-    >>> np.round(w, 6).tolist()
-    [0.636364, 0.0]
-    """
-    def vec3(name, v):
-        a = np.asarray(v, dtype=np.float64)
-        if a.shape != (3,):
-            raise ValueError(f"`{name}` must have shape (3,), got {a.shape}")
-        return [float(c) for c in a]
-    return _r.manylight_record_weight(
-        vec3("x", x), vec3("normal", normal),
-        np.ascontiguousarray(record_pos, dtype=np.float64),
-        np.ascontiguousarray(record_normal, dtype=np.float64),
-        float(d_max), float(theta_max), float(lam))
-
 
 # Negative or too large integers raise IntegerRangeError, a ValueError naming the argument.
 _integer_ranges(globals())

@@ -51,7 +51,7 @@ import numpy as np
 from ._native import raytrace as _r
 from ._native.raytrace import (aluminium_nk, binocular_overlap, daylight, fresnel_conductor,
                                fresnel_dielectric, project, spectrum_to_xyz)
-from ._checks import _int, integer_ranges as _integer_ranges
+from ._checks import integer_ranges as _integer_ranges
 from ._manylight import (ManyLightScene, ManyLightStats, load_manylight_obj,
                          make_manylight_scene, manylight_from_arrays,
                          manylight_record_weight, render_manylight)
@@ -191,70 +191,21 @@ def xyz_to_srgb(xyz, exposure: float = 1.0) -> np.ndarray:
     return out.astype(np.float32)
 
 
-def _microstructure(radius_um, radius_cv, thickness_um, density, tilt, tilt_deg, layer_um,
-                    tile_um, model, n_pool_tiles, max_clamped_fraction, seed) -> dict:
-    """The native parameter entries of the flake microstructure (paper 07 section 2.2)."""
-    p = {"radius_cv": float(radius_cv), "thickness_um": float(thickness_um),
-         "tilt": str(tilt), "tilt_deg": float(tilt_deg), "layer_um": float(layer_um),
-         "tile_um": float(tile_um), "model": str(model),
-         "n_pool_tiles": _int("n_pool_tiles", n_pool_tiles, 1),
-         "max_clamped_fraction": float(max_clamped_fraction),
-         "seed": _int("seed", seed, 0, 2**64 - 1)}
-    if radius_um is not None:
-        p["radius_um"] = float(radius_um)
-    if density is not None:
-        p["density"] = float(density)
-    return p
+# The keyword parameters of the paint model and renderer (module documentation), which the
+# native functions read and check by name.
+_PAINT_KEYS = frozenset((
+    "radius_um", "radius_cv", "thickness_um", "density", "tilt", "tilt_deg", "layer_um",
+    "tile_um", "model", "n_pool_tiles", "max_clamped_fraction", "seed", "size_mm", "coat_ior",
+    "coat_um", "binder_ior", "binder_sigma_a_per_mm", "base_albedo", "metal", "metal_nk",
+    "light_elevation_deg", "light_deg", "light_cct", "light_spectrum", "radiance_scale", "spp",
+    "max_depth", "render_seed", "region_mm", "magnification", "independent_samples",
+    "color_mode", "keep_spectrum", "n_photons", "n_photon_neighbors"))
 
 
-def _stack(size_mm, coat_ior, coat_um, binder_ior, binder_sigma_a_per_mm, base_albedo, metal,
-           metal_nk) -> dict:
-    """The native parameter entries of the paint's layers."""
-    try:
-        w, h = (float(v) for v in size_mm)
-    except (TypeError, ValueError):
-        raise ValueError(f"`size_mm` must be (width, height) in mm, got {size_mm!r}") from None
-    p = {"size_mm": (w, h), "coat_ior": float(coat_ior), "coat_um": float(coat_um),
-         "binder_ior": float(binder_ior), "binder_sigma_a_per_mm": float(binder_sigma_a_per_mm),
-         "base_albedo": float(base_albedo), "metal": str(metal)}
-    if metal_nk is not None:
-        try:
-            n, k = (float(v) for v in metal_nk)
-        except (TypeError, ValueError):
-            raise ValueError(f"`metal_nk` must be (n, k), got {metal_nk!r}") from None
-        p["metal_nk"] = (n, k)
-    return p
-
-
-def _lamp(light_elevation_deg, light_deg, light_cct, light_spectrum, radiance_scale) -> dict:
-    """The native parameter entries of the lamp."""
-    p = {"light_elevation_deg": float(light_elevation_deg), "light_deg": float(light_deg),
-         "radiance_scale": float(radiance_scale)}
-    if light_cct is not None:
-        p["light_cct"] = float(light_cct)
-    if light_spectrum is not None:
-        p["light_spectrum"] = [float(v) for v in np.asarray(light_spectrum, dtype=np.float64)
-                               .ravel()]
-    return p
-
-
-def _rendering(spp, max_depth, render_seed, region_mm, magnification, independent_samples,
-               color_mode, keep_spectrum, n_photons, n_photon_neighbors) -> dict:
-    """The native parameter entries of the renderer."""
-    p = {"spp": _int("spp", spp, 0), "max_depth": _int("max_depth", max_depth, 0),
-         "render_seed": _int("render_seed", render_seed, 0, 2**64 - 1),
-         "magnification": float(magnification),
-         "independent_samples": bool(independent_samples), "color_mode": str(color_mode),
-         "keep_spectrum": bool(keep_spectrum),
-         "n_photons": _int("n_photons", n_photons, 0, 500_000_000),
-         "n_photon_neighbors": _int("n_photon_neighbors", n_photon_neighbors, 1)}
-    if region_mm is not None:
-        try:
-            x0, y0, x1, y1 = (float(v) for v in region_mm)
-        except (TypeError, ValueError):
-            raise ValueError(f"`region_mm` must be (x0, y0, x1, y1), got {region_mm!r}") from None
-        p["region_mm"] = (x0, y0, x1, y1)
-    return p
+def _paint_params(given: dict) -> dict:
+    """The paint parameters among a function's arguments ``given`` (its ``locals()``);
+    ``None`` leaves the native default."""
+    return {k: v for k, v in given.items() if k in _PAINT_KEYS and v is not None}
 
 
 def render_plate(eye: str = "cyclopean", color_space: str = "xyz", return_info: bool = False, *,
@@ -332,15 +283,7 @@ def render_plate(eye: str = "cyclopean", color_space: str = "xyz", return_info: 
     if color_space not in ("xyz", "srgb"):
         raise ValueError(f"{color_space!r} is not a valid `color_space`. Valid values are "
                          "'xyz', 'srgb'")
-    params = {**_microstructure(radius_um, radius_cv, thickness_um, density, tilt, tilt_deg,
-                                layer_um, tile_um, model, n_pool_tiles, max_clamped_fraction,
-                                seed),
-              **_stack(size_mm, coat_ior, coat_um, binder_ior, binder_sigma_a_per_mm,
-                       base_albedo, metal, metal_nk),
-              **_lamp(light_elevation_deg, light_deg, light_cct, light_spectrum, radiance_scale),
-              **_rendering(spp, max_depth, render_seed, region_mm, magnification,
-                           independent_samples, color_mode, keep_spectrum, n_photons,
-                           n_photon_neighbors)}
+    params = _paint_params(locals())
     eyes = ["left", "right"] if eye == "pair" else [eye]
     views = []
     for xyz, flake_id, glint_ids, info in _r.render_plate(params, eyes):
@@ -369,9 +312,7 @@ def make_tile(*, radius_um: float = 30.0, radius_cv: float = 0.15, thickness_um:
     had to clamp to the layer's top. Parameters: the microstructure of the module
     documentation (``n_pool_tiles`` is only checked here).
     """
-    params = _microstructure(radius_um, radius_cv, thickness_um, density, tilt, tilt_deg,
-                             layer_um, tile_um, model, n_pool_tiles, max_clamped_fraction, seed)
-    arr, clamped = _r.make_tile(params)
+    arr, clamped = _r.make_tile(_paint_params(locals()))
     return _records(arr), clamped
 
 
@@ -387,12 +328,9 @@ def plate_layout(region_mm: Tuple[float, float, float, float], *, radius_um: flo
     ``q`` appears at ``(x0, y0) + L/2 + R_k (q - L/2)`` (``L`` = ``tile_um``, ``R_k`` a turn
     of ``k`` quarter turns counter-clockwise), clipped to the cell's square. The other
     parameters are the microstructure and ``size_mm`` of the module documentation."""
-    x0, y0, x1, y1 = (float(v) * 1e3 for v in region_mm)
-    params = {**_microstructure(radius_um, radius_cv, thickness_um, density, tilt, tilt_deg,
-                                layer_um, tile_um, model, n_pool_tiles, max_clamped_fraction,
-                                seed),
-              **_stack(size_mm, 1.5, 40.0, 1.5, 0.0, 0.0, "al_k6", None)}
-    pool, cells = _r.plate_layout(params, (x0, y0, x1, y1))
+    params = _paint_params(locals())
+    del params["region_mm"]  # the layout's region, not a render's
+    pool, cells = _r.plate_layout(params, region_mm)
     return [_records(a) for a in pool], cells
 
 def glint_stats(y, mm_per_px: float) -> GlintStats:
@@ -403,8 +341,7 @@ def glint_stats(y, mm_per_px: float) -> GlintStats:
     ``glint_density_per_mm2``, ``mean_y``, ``median_y``, ``y99_over_median``,
     ``mean_glint_area_mm2``, ``mean_glint_peak_y``, ``n_glints`` and ``threshold``.
     """
-    a = np.ascontiguousarray(np.asarray(y, dtype=np.float32))
-    return _from_mapping(GlintStats, _r.glint_statistics(a, float(mm_per_px)),
+    return _from_mapping(GlintStats, _r.glint_statistics(y, mm_per_px),
                          rename={"glints": "n_glints"})
 
 
@@ -448,20 +385,11 @@ def workshop(reference: Tuple[float, float] = (26.0, 7.3),
     if condition not in ("mono", "stereo"):
         raise ValueError(f"{condition!r} is not a valid condition. Valid conditions are "
                          "'mono', 'stereo'")
-    params = {**_microstructure(None, radius_cv, thickness_um, None, tilt, tilt_deg, layer_um,
-                                tile_um, model, n_pool_tiles, max_clamped_fraction, seed),
-              **_stack(size_mm, coat_ior, coat_um, binder_ior, binder_sigma_a_per_mm,
-                       base_albedo, metal, metal_nk),
-              **_lamp(light_elevation_deg, light_deg, light_cct, light_spectrum, radiance_scale),
-              **_rendering(spp, max_depth, render_seed, region_mm, magnification,
-                           independent_samples, color_mode, keep_spectrum, n_photons,
-                           n_photon_neighbors)}
-    runs = [(float(r), float(d)) for r, d in runs]
-    res = _r.workshop(params, (float(reference[0]), float(reference[1])), runs,
-                      condition, _int("n_reference_renders", n_reference_renders, 2),
-                      float(jnd_log))
+    res = _r.workshop(_paint_params(locals()), reference, runs, condition, n_reference_renders,
+                      jnd_log)
     f64 = lambda v: np.asarray(v, dtype=np.float64)  # noqa: E731
     n_features = len(res["feature_names"])
+    runs = [(float(r), float(d)) for r, d in runs]  # checked by the native call
     return _from_mapping(WorkshopScores, res, runs=runs, scores=f64(res["scores"]),
                          features=f64(res["features"]).reshape(len(runs), n_features),
                          reference_features=f64(res["reference_features"]).reshape(
