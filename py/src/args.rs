@@ -261,9 +261,23 @@ pub fn indices(name: &str, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<usize
 }
 
 /// The triangle mesh of the `vertices` `(V, 3)` and `faces` `(F, 3)` arguments (array-likes,
-/// converted by [`array`]).
+/// converted by [`array`] and [`faces`]).
 pub fn mesh(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<wscg_math::TriMesh> {
-    crate::convert::mesh_in(&array("vertices", vertices)?, &array("faces", faces)?, None)
+    crate::convert::mesh_in(&array("vertices", vertices)?, &self::faces(faces)?, None)
+}
+
+/// The `faces` argument: vertex indices, an array-like of integers (a float array, even of
+/// whole numbers, is refused: it is usually vertices passed in the wrong place; other
+/// dtypes as [`array`]).
+pub fn faces<'py>(obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, i64>> {
+    let a = asarray("faces", obj)?;
+    let dtype = a.dtype();
+    if dtype.kind() == b'f' {
+        return Err(value_error(format!(
+            "`faces` must be an integer array, got dtype {dtype}"
+        )));
+    }
+    array("faces", a.as_any())
 }
 
 /// `numpy.asarray(obj)` when it holds real numbers (integers or floats); booleans, complex

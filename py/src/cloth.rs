@@ -12,7 +12,7 @@ use wscg_cloth::{
 };
 
 use crate::args::{self, uint};
-use crate::convert::{self, array, index, values, Arr};
+use crate::convert::{self, array, index, values, Arr, Cfg};
 use crate::errors::{value_error, IntoPy};
 
 fn points(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<[f64; 3]>> {
@@ -358,7 +358,7 @@ fn mesh_collider(
     faces: &Bound<'_, PyAny>,
 ) -> PyResult<PyCollider> {
     let v = points("vertices", &args::array("vertices", vertices)?)?;
-    let f = faces_in(&args::array("faces", faces)?)?;
+    let f = faces_in(&args::faces(faces)?)?;
     Ok(PyCollider {
         inner: Collider::Mesh(crate::pool::detach(py, || MeshCollider::new(&v, &f)).py_err()?),
     })
@@ -386,7 +386,7 @@ fn from_mesh(
     pinned: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyModel> {
     let v = points("vertices", &args::array("vertices", vertices)?)?;
-    let f = faces_in(&args::array("faces", faces)?)?;
+    let f = faces_in(&args::faces(faces)?)?;
     let material = match model {
         "fem" => Some((young, poisson)),
         "links" => None,
@@ -410,38 +410,28 @@ pub struct PySim {
     inner: Simulation,
 }
 
-/// The option `key` of `spec`, or `default` when absent or None.
-fn opt<'py, T: FromPyObjectOwned<'py>>(
-    spec: &Bound<'py, PyDict>,
-    key: &str,
-    default: T,
-) -> PyResult<T> {
-    Ok(crate::convert::dict_item(spec, key)?.unwrap_or(default))
-}
-
+/// The solver of `name` with its options from `spec` (absent or `None`: the defaults).
 fn method_from(name: &str, spec: &Bound<'_, PyDict>) -> PyResult<Method> {
+    let c = Cfg(spec);
     Ok(match name {
         "soft" => Method::SoftProjection,
         "pbd" => Method::PlainPbd {
-            stiffness: opt(spec, "stiffness", 1.0)?,
+            stiffness: c.get("stiffness", 1.0)?,
         },
         "symplectic" => Method::SymplecticEuler {
-            substeps: match opt(spec, "n_substeps", 64usize)? {
-                0 => return Err(value_error("`n_substeps` must be >= 1, got 0")),
-                n => n,
-            },
+            substeps: c.count("n_substeps", 64, 1)?,
         },
         "ie_cg" => Method::ImplicitEulerCg {
-            tol: opt(spec, "tol", 1e-8)?,
-            max_iter: opt(spec, "max_iter", 1000usize)?,
+            tol: c.get("tol", 1e-8)?,
+            max_iter: c.count("max_iter", 1000, 0)?,
         },
         "ie_direct" => Method::ImplicitEulerDirect,
         "ie_newton" => Method::ImplicitEulerNewton {
-            tol: opt(spec, "tol", 1e-10)?,
+            tol: c.get("tol", 1e-10)?,
         },
         "global_cr" => Method::GlobalCr {
-            primal_residual: opt(spec, "primal_residual", true)?,
-            tol: opt(spec, "tol", 1e-10)?,
+            primal_residual: c.get("primal_residual", true)?,
+            tol: c.get("tol", 1e-10)?,
         },
         "ncg" => Method::Ncg {
             variant: NcgVariant::Consistent,
@@ -459,15 +449,16 @@ fn method_from(name: &str, spec: &Bound<'_, PyDict>) -> PyResult<Method> {
 }
 
 fn relaxation_from(spec: &Bound<'_, PyDict>) -> PyResult<Relaxation> {
-    let name: String = opt(spec, "relaxation", "gauss_seidel".to_string())?;
+    let c = Cfg(spec);
+    let name: String = c.get("relaxation", "gauss_seidel".to_string())?;
     Ok(match name.as_str() {
         "gauss_seidel" => Relaxation::GaussSeidel,
         "colored" => Relaxation::ColoredGaussSeidel,
         "jacobi" => Relaxation::Jacobi {
-            omega: opt(spec, "omega", 0.15)?,
+            omega: c.get("omega", 0.15)?,
         },
         "sor" => Relaxation::Sor {
-            omega: opt(spec, "omega", 1.5)?,
+            omega: c.get("omega", 1.5)?,
         },
         other => {
             return Err(value_error(format!(
@@ -485,7 +476,7 @@ impl PySim {
         py: Python<'_>,
         model: &PyModel,
         method: &str,
-        n_iter: usize,
+        n_iter: i128,
         alpha: f64,
         beta: f64,
         gamma: f64,
@@ -493,9 +484,7 @@ impl PySim {
         velocity_damping: f64,
         options: &Bound<'_, PyDict>,
     ) -> PyResult<Self> {
-        if n_iter == 0 {
-            return Err(value_error("`n_iter` must be >= 1, got 0"));
-        }
+        let n_iter: usize = uint(py, "n_iter", n_iter, 1)?;
         let cfg = SolverParams::default()
             .method(method_from(method, options)?)
             .iterations(n_iter)
@@ -521,8 +510,8 @@ impl PySim {
 
     /// Advances `n_steps` steps of `h` seconds; returns the energies after each step as a
     /// `(n_steps, 4)` array (kinetic, gravity, elastic, total).
-    fn step<'py>(&mut self, py: Python<'py>, h: f64, n_steps: usize) -> PyResult<Arr<'py, f64>> {
-        let n = n_steps;
+    fn step<'py>(&mut self, py: Python<'py>, h: f64, n_steps: i128) -> PyResult<Arr<'py, f64>> {
+        let n: usize = uint(py, "n_steps", n_steps, 0)?;
         let sim = &mut self.inner;
         let rows = crate::pool::detach(py, || -> wscg_math::Result<Vec<f64>> {
             let mut out = wscg_math::alloc::try_with_capacity(

@@ -224,7 +224,7 @@ fn manylight_from_arrays(
     camera: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyScene> {
     let vertices = args::array::<f64>("vertices", vertices)?;
-    let faces = args::array::<i64>("faces", faces)?;
+    let faces = args::faces(faces)?;
     let albedo = args::array::<f64>("albedo", albedo)?;
     let emission = args::array::<f64>("emission", emission)?;
     let v = rows3("vertices", &values(&vertices), vertices.shape())?;

@@ -1363,7 +1363,7 @@ fn save_mesh(
         .transpose()?;
     let mesh = mesh_in(
         &args::array("vertices", vertices)?,
-        &args::array("faces", faces)?,
+        &args::faces(faces)?,
         colors.as_ref(),
     )?;
     let normals = match normals {

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::PyUntypedArrayMethods;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -58,12 +58,13 @@ fn stats_dict<'py>(py: Python<'py>, s: &BuildStats) -> PyResult<Bound<'py, PyDic
 }
 
 /// Rays from `(N, 3)` origins and directions.
-fn rays_in(
-    origins: &PyReadonlyArrayDyn<f32>,
-    dirs: &PyReadonlyArrayDyn<f32>,
-) -> PyResult<Vec<Ray>> {
-    let o = rows3("origins", &values(origins), origins.shape())?;
-    let d = rows3("dirs", &values(dirs), dirs.shape())?;
+fn rays_in(origins: &Bound<'_, PyAny>, dirs: &Bound<'_, PyAny>) -> PyResult<Vec<Ray>> {
+    let (origins, dirs) = (
+        args::array::<f32>("origins", origins)?,
+        args::array::<f32>("dirs", dirs)?,
+    );
+    let o = rows3("origins", &values(&origins), origins.shape())?;
+    let d = rows3("dirs", &values(&dirs), dirs.shape())?;
     if o.len() != d.len() {
         return Err(value_error(format!(
             "origins has {} rows but dirs has {}",
@@ -78,9 +79,14 @@ fn rays_in(
 /// normal and colour (zeros otherwise).
 type HitRow = (Option<(f32, HitKind)>, [[f32; 3]; 2]);
 
-fn vec3(name: &str, v: Vec<f32>) -> PyResult<[f32; 3]> {
-    <[f32; 3]>::try_from(v)
-        .map_err(|v| value_error(format!("`{name}` must have 3 entries, got {}", v.len())))
+/// The point or vector argument `name`: 3 numbers (any array-like).
+fn vec3(name: &str, v: &Bound<'_, PyAny>) -> PyResult<[f32; 3]> {
+    Ok(args::triple(name, v)?.map(|c| c as f32))
+}
+
+/// The optional octree level `level`, an integer in `0..=255`.
+fn level_arg(py: Python<'_>, level: Option<i128>) -> PyResult<Option<u8>> {
+    level.map(|l| uint(py, "level", l, 0)).transpose()
 }
 
 /// A hybrid triangle/voxel octree.
@@ -145,23 +151,24 @@ impl PyOctree {
     fn intersect<'py>(
         &self,
         py: Python<'py>,
-        origins: PyReadonlyArrayDyn<f32>,
-        dirs: PyReadonlyArrayDyn<f32>,
+        origins: &Bound<'py, PyAny>,
+        dirs: &Bound<'py, PyAny>,
         mode: &str,
         footprint_spread: f32,
         lod_scale: f32,
         blend: bool,
         small_leaves_as_voxels: bool,
-        level: Option<u8>,
+        level: Option<i128>,
         shading: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let level = level_arg(py, level)?;
         let mode = mode_from(mode, lod_scale, blend, small_leaves_as_voxels, level)?;
         if !(footprint_spread.is_finite() && footprint_spread >= 0.0) {
             return Err(value_error(format!(
                 "footprint_spread must be >= 0, got {footprint_spread}"
             )));
         }
-        let rays = rays_in(&origins, &dirs)?;
+        let rays = rays_in(origins, dirs)?;
         let fp = (footprint_spread > 0.0).then_some(Footprint {
             width0: 0.0,
             spread: footprint_spread,
@@ -219,23 +226,32 @@ impl PyOctree {
     fn render<'py>(
         &self,
         py: Python<'py>,
-        eye: Vec<f32>,
-        target: Vec<f32>,
-        up: Vec<f32>,
+        eye: &Bound<'py, PyAny>,
+        target: &Bound<'py, PyAny>,
+        up: &Bound<'py, PyAny>,
         fov_deg: f32,
-        width: usize,
-        height: usize,
+        width: i128,
+        height: i128,
         mode: &str,
-        light_pos: Option<Vec<f32>>,
+        light_pos: Option<&Bound<'py, PyAny>>,
         shadows: bool,
         lod_scale: f32,
         blend: bool,
         small_leaves_as_voxels: bool,
-        level: Option<u8>,
-        focus: Option<[f32; 5]>,
-        n_ao_samples: u32,
+        level: Option<i128>,
+        focus: Option<&Bound<'py, PyAny>>,
+        n_ao_samples: i128,
         ao_radius: f32,
     ) -> PyResult<(Arr<'py, f32>, Bound<'py, PyDict>)> {
+        let level = level_arg(py, level)?;
+        let (width, height): (usize, usize) =
+            (uint(py, "width", width, 0)?, uint(py, "height", height, 0)?);
+        let n_ao_samples: u32 = uint(py, "n_ao_samples", n_ao_samples, 0)?;
+        let focus = focus
+            .filter(|f| !f.is_none())
+            .map(|f| args::numbers::<5>("focus", f))
+            .transpose()?
+            .map(|f| f.map(|c| c as f32));
         let mode = mode_from(mode, lod_scale, blend, small_leaves_as_voxels, level)?;
         let cam = Camera {
             eye: vec3("eye", eye)?,
@@ -245,7 +261,7 @@ impl PyOctree {
             width,
             height,
         };
-        let light = match light_pos {
+        let light = match light_pos.filter(|p| !p.is_none()) {
             Some(p) => PointLight {
                 position: vec3("light_pos", p)?,
                 intensity: 1.0,
@@ -277,7 +293,8 @@ impl PyOctree {
     }
 
     /// Cells `(k, j, i)` (array axis order: `i` along x) of the non-empty nodes at `level`.
-    fn occupancy<'py>(&self, py: Python<'py>, level: u8) -> PyResult<Arr<'py, i64>> {
+    fn occupancy<'py>(&self, py: Python<'py>, level: i128) -> PyResult<Arr<'py, i64>> {
+        let level: u8 = uint(py, "level", level, 0)?;
         if level > self.inner.max_depth {
             return Err(value_error(format!(
                 "level {level} exceeds the tree's depth {}",
@@ -335,23 +352,40 @@ impl PyOctree {
 
 /// Builds the octree of a mesh.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, colors, depth, early_stop, domain_min, domain_size))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (vertices, faces, colors, depth, early_stop, domain))]
 fn build_octree<'py>(
     py: Python<'py>,
-    vertices: PyReadonlyArrayDyn<f64>,
-    faces: PyReadonlyArrayDyn<i64>,
-    colors: Option<PyReadonlyArrayDyn<f32>>,
-    depth: u8,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    colors: Option<&Bound<'py, PyAny>>,
+    depth: i128,
     early_stop: bool,
-    domain_min: Option<[f64; 3]>,
-    domain_size: Option<f64>,
+    domain: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<(PyOctree, Bound<'py, PyDict>)> {
-    let mesh = mesh_in(&vertices, &faces, colors.as_ref())?;
-    let domain = match (domain_min, domain_size) {
-        (Some(m), Some(s)) => Some(Cube::new(m, s).py_err()?),
-        (None, None) => None,
-        _ => return Err(value_error("domain needs both its corner and its side")),
+    let colors = colors
+        .filter(|c| !c.is_none())
+        .map(|c| args::array::<f32>("colors", c))
+        .transpose()?;
+    let mesh = mesh_in(
+        &args::array("vertices", vertices)?,
+        &args::faces(faces)?,
+        colors.as_ref(),
+    )?;
+    let depth: u8 = uint(py, "depth", depth, 0)?;
+    let domain = match domain.filter(|d| !d.is_none()) {
+        None => None,
+        Some(d) => {
+            let bad = || value_error("`domain` must be ((x, y, z), side): a corner and a side");
+            let parts = d
+                .try_iter()
+                .map_err(|_| bad())?
+                .collect::<PyResult<Vec<_>>>()?;
+            let [corner, side] = parts.as_slice() else {
+                return Err(bad());
+            };
+            let side: f64 = side.extract().map_err(|_| bad())?;
+            Some(Cube::new(args::triple("domain", corner)?, side).py_err()?)
+        }
     };
     let p = BuildParams::default()
         .max_depth(depth)
@@ -433,10 +467,7 @@ fn bvh_intersect<'py>(
     dirs: &Bound<'py, PyAny>,
 ) -> PyResult<(Arr<'py, f32>, Arr<'py, i64>)> {
     let mesh = args::mesh(vertices, faces)?;
-    let rays = rays_in(
-        &args::array("origins", origins)?,
-        &args::array("dirs", dirs)?,
-    )?;
+    let rays = rays_in(origins, dirs)?;
     let bvh = crate::pool::detach(py, || TriangleBvh::build(&mesh)).py_err()?;
     let hits: Vec<_> =
         crate::pool::detach(py, || rays.par_iter().map(|r| bvh.intersect(r)).collect())?;

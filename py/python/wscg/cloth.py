@@ -34,7 +34,7 @@ import numpy as np
 from ._native import cloth as _c
 from ._native.cloth import (Collider, Model, capsule, from_mesh, grid, mesh_collider,
                             particles, plane, sphere)
-from ._checks import _int, integer_ranges as _integer_ranges
+from ._checks import integer_ranges as _integer_ranges
 from ._results import tuple_repr as _tuple_repr
 
 __all__ = ["Model", "Sim", "Collider", "particles", "grid", "from_mesh", "plane", "sphere",
@@ -118,16 +118,12 @@ class Sim:
                  relaxation: str = "gauss_seidel", omega: Optional[float] = None, *,
                  stiffness: float = 1.0, n_substeps: int = 64, tol: Optional[float] = None,
                  max_iter: int = 1000, primal_residual: bool = True):
-        options = {"relaxation": str(relaxation), "stiffness": float(stiffness),
-                   "n_substeps": _int("n_substeps", n_substeps, 1),
-                   "max_iter": _int("max_iter", max_iter, 0),
-                   "primal_residual": bool(primal_residual)}
-        if omega is not None:
-            options["omega"] = float(omega)
-        if tol is not None:
-            options["tol"] = float(tol)
-        self._sim = _c.Sim(model, method, int(n_iter), float(alpha), float(beta),
-                           float(gamma), lambda_mode, float(velocity_damping), options)
+        # The options, read and checked by name by the native solver (None: its default).
+        options = dict(relaxation=relaxation, omega=omega, stiffness=stiffness,
+                       n_substeps=n_substeps, tol=tol, max_iter=max_iter,
+                       primal_residual=primal_residual)
+        self._sim = _c.Sim(model, method, n_iter, alpha, beta, gamma, lambda_mode,
+                           velocity_damping, options)
 
     def set_collisions(self, colliders: Sequence["Collider"] = (), thickness: float = 0.005,
                        friction: float = 0.3, self_collision: bool = False) -> None:
@@ -136,13 +132,12 @@ class Sim:
         layers, the Coulomb ``friction`` coefficient and whether particles that share no
         constraint repel each other (``self_collision``). Contacts are inequality
         constraints solved in the iteration loop (methods ``"soft"`` and ``"pbd"``)."""
-        self._sim.set_collisions(list(colliders), float(thickness), float(friction),
-                                 bool(self_collision))
+        self._sim.set_collisions(colliders, thickness, friction, self_collision)
 
     def step(self, h: float = 1.0 / 60.0, n_steps: int = 1) -> np.ndarray:
         """Advances ``n_steps`` steps of ``h`` seconds; returns the energy after each step as
         an ``(n_steps, 4)`` array: kinetic, gravitational, elastic, total (J)."""
-        return self._sim.step(float(h), int(n_steps))
+        return self._sim.step(h, n_steps)
 
     @property
     def positions(self) -> np.ndarray:

@@ -162,22 +162,6 @@ class RenderStats:
     seconds: float
 
 
-def _mesh(vertices, faces, colors=None):
-    v = np.ascontiguousarray(np.asarray(vertices, dtype=np.float64))
-    f = np.asarray(faces)
-    if f.dtype.kind not in "iu":
-        raise ValueError(f"faces must be an integer array, got dtype {f.dtype}")
-    f = np.ascontiguousarray(f, dtype=np.int64)
-    c = None if colors is None else np.ascontiguousarray(np.asarray(colors, dtype=np.float32))
-    return v, f, c
-
-
-def _rays(origins, dirs):
-    o = np.ascontiguousarray(np.asarray(origins, dtype=np.float32))
-    d = np.ascontiguousarray(np.asarray(dirs, dtype=np.float32))
-    return o, d
-
-
 class HybridOctree:
     """A built octree and the mesh it references. Create with :func:`build` or :func:`load`."""
 
@@ -265,11 +249,9 @@ class HybridOctree:
         """
         if mode not in _MODES:
             raise ValueError(f"mode {mode!r} is not valid; valid: {', '.join(_MODES)}")
-        o, d = _rays(origins, dirs)
         return _from_mapping(RayHits, self._n.intersect(
-            o, d, mode, float(footprint_spread), float(lod_scale), bool(blend),
-            bool(small_leaves_as_voxels), None if level is None else int(level),
-            bool(shading)))
+            origins, dirs, mode, footprint_spread, lod_scale, blend, small_leaves_as_voxels,
+            level, shading))
 
     def render(self, eye: Sequence[float], target: Sequence[float],
                up: Sequence[float] = (0.0, 0.0, 1.0), fov_deg: float = 45.0, width: int = 512,
@@ -293,15 +275,9 @@ class HybridOctree:
         ``n_voxel_hits``, ``n_misses``), the blend factor range and seconds."""
         if mode not in _MODES:
             raise ValueError(f"mode {mode!r} is not valid; valid: {', '.join(_MODES)}")
-        img, st = self._n.render([float(x) for x in eye], [float(x) for x in target],
-                                 [float(x) for x in up], float(fov_deg), int(width),
-                                 int(height), mode,
-                                 None if light_pos is None else [float(x) for x in light_pos],
-                                 bool(shadows), float(lod_scale), bool(blend),
-                                 bool(small_leaves_as_voxels),
-                                 None if level is None else int(level),
-                                 None if focus is None else [float(x) for x in focus],
-                                 int(n_ao_samples), float(ao_radius))
+        img, st = self._n.render(eye, target, up, fov_deg, width, height, mode, light_pos,
+                                 shadows, lod_scale, blend, small_leaves_as_voxels, level,
+                                 focus, n_ao_samples, ao_radius)
         if not return_stats:
             return img
         return img, _from_mapping(RenderStats, st, rename={
@@ -312,7 +288,7 @@ class HybridOctree:
         """``(K, 3)`` integer cells ``(k, j, i)`` (array axis order, ``i`` along x; see the
         module documentation) of the non-empty nodes at ``level`` (leaves that stopped above
         it are not expanded)."""
-        return self._n.occupancy(int(level))
+        return self._n.occupancy(level)
 
     def voxels(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Colours ``(M, 3)``, unit normals ``(M, 3)`` and levels ``(M,)`` of every voxel."""
@@ -365,14 +341,7 @@ def build(vertices, faces, colors=None, depth: int = 9, early_stop: bool = True,
         With ``.stats``, a :class:`BuildStats`: the fragment, node and voxel counts and the
         phase times.
     """
-    v, f, c = _mesh(vertices, faces, colors)
-    if not 0 <= int(depth) <= 255:
-        raise ValueError(f"depth must be in 0..=21, got {depth}")
-    dmin = dsize = None
-    if domain is not None:
-        dmin = [float(x) for x in domain[0]]
-        dsize = float(domain[1])
-    n, st = _o.build_octree(v, f, c, int(depth), bool(early_stop), dmin, dsize)
+    n, st = _o.build_octree(vertices, faces, colors, depth, early_stop, domain)
     return HybridOctree(n, _from_mapping(BuildStats, st, rename=_BUILD_KEYS))
 
 
