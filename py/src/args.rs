@@ -13,7 +13,8 @@
 //!   too large value is the package's `IntegerRangeError`, a `ValueError` naming the
 //!   argument, not the conversion's bare `OverflowError`); [`number`] refuses NaN;
 //!   [`numbers`] reads a fixed count of numbers ([`pair`] a range, [`triple`] a spacing or an
-//!   origin), [`finite3`] checks them;
+//!   origin), [`finite3`] checks them; [`counts`] reads a list of non-negative integers and
+//!   [`size2`] a shape `(rows, cols)`;
 //! - files: [`path`] takes a `str` or `os.PathLike`;
 //! - choices among names are [`crate::convert::choice`].
 
@@ -240,6 +241,26 @@ pub fn triple(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
 pub fn pair(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(f64, f64)> {
     let [a, b] = numbers(name, obj)?;
     Ok((a, b))
+}
+
+/// The non-negative integers of `obj` (any array-like of integers, flattened), e.g. a list of
+/// levels; a negative or too large one is `IntegerRangeError` naming `name`.
+pub fn counts(py: Python<'_>, name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
+    crate::convert::values(&array::<i64>(name, obj)?)
+        .iter()
+        .map(|&v| uint(py, name, i128::from(v), 0usize))
+        .collect()
+}
+
+/// The 2 non-negative integers of `obj`, e.g. an image shape `(rows, cols)`.
+pub fn size2(py: Python<'_>, name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(usize, usize)> {
+    match counts(py, name, obj)?[..] {
+        [a, b] => Ok((a, b)),
+        ref v => Err(value_error(format!(
+            "`{name}` must be 2 integers (rows, cols), got {} values",
+            v.len()
+        ))),
+    }
 }
 
 /// Errors unless every component of the 3-vector `p` is finite.

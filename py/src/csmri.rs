@@ -25,6 +25,22 @@ use crate::args::{self, uint};
 use crate::convert::{array, dims2, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
+/// The `wedges` argument: per scale `[n_rows, n_cols]`, an `(J, 2)` array-like of integers.
+fn wedges_arg(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<Vec<[usize; 2]>> {
+    let a = args::array::<i64>("wedges", obj)?;
+    if a.ndim() != 2 || a.shape()[1] != 2 {
+        return Err(value_error(format!(
+            "`wedges` must be a list of [n_rows, n_cols] pairs, one per scale, got shape {}",
+            args::shape_repr(a.shape())
+        )));
+    }
+    let count = |v: i64| uint(py, "wedges", i128::from(v), 0usize);
+    values(&a)
+        .chunks_exact(2)
+        .map(|p| Ok([count(p[0])?, count(p[1])?]))
+        .collect()
+}
+
 fn config(wedges: Vec<[usize; 2]>, alpha: f64, tight: bool) -> UdctParams {
     UdctParams::default()
         .wedges(wedges)
@@ -55,16 +71,16 @@ pub struct PyUdct {
 #[pymethods]
 impl PyUdct {
     #[new]
-    #[pyo3(signature = (rows, cols, wedges, alpha, tight))]
+    #[pyo3(signature = (shape, wedges, alpha, tight))]
     fn new(
         py: Python<'_>,
-        rows: usize,
-        cols: usize,
-        wedges: Vec<[usize; 2]>,
+        shape: &Bound<'_, PyAny>,
+        wedges: &Bound<'_, PyAny>,
         alpha: f64,
         tight: bool,
     ) -> PyResult<Self> {
-        let cfg = config(wedges, alpha, tight);
+        let (rows, cols) = args::size2(py, "shape", shape)?;
+        let cfg = config(wedges_arg(py, wedges)?, alpha, tight);
         Ok(PyUdct {
             inner: crate::pool::detach(py, || Udct::new(rows, cols, &cfg)).py_err()?,
         })
@@ -210,19 +226,19 @@ impl PyFdct {
 #[pymethods]
 impl PyFdct {
     #[new]
-    #[pyo3(signature = (rows, cols, scales, angles_coarse, finest, transition))]
+    #[pyo3(signature = (shape, scales, angles_coarse, finest, transition))]
     fn new(
         py: Python<'_>,
-        rows: usize,
-        cols: usize,
-        scales: Option<usize>,
-        angles_coarse: usize,
+        shape: &Bound<'_, PyAny>,
+        scales: Option<i128>,
+        angles_coarse: i128,
         finest: &str,
         transition: f64,
     ) -> PyResult<Self> {
+        let (rows, cols) = args::size2(py, "shape", shape)?;
         let cfg = FdctParams::default()
-            .scales(scales)
-            .angles_coarse(angles_coarse)
+            .scales(scales.map(|s| uint(py, "scales", s, 0)).transpose()?)
+            .angles_coarse(uint(py, "angles_coarse", angles_coarse, 0)?)
             .finest(Finest::by_name(finest).py_err()?)
             .transition(transition);
         Ok(PyFdct {
@@ -390,14 +406,14 @@ impl PySflct {
     #[new]
     fn new(
         py: Python<'_>,
-        rows: usize,
-        cols: usize,
+        shape: &Bound<'_, PyAny>,
         redundancy: &str,
-        levels: Vec<usize>,
+        levels: &Bound<'_, PyAny>,
     ) -> PyResult<Self> {
+        let (rows, cols) = args::size2(py, "shape", shape)?;
         let cfg = SflctParams::default()
             .redundancy(Redundancy::by_name(redundancy).py_err()?)
-            .dfb_levels(levels);
+            .dfb_levels(args::counts(py, "levels", levels)?);
         Ok(PySflct {
             inner: crate::pool::detach(py, || Sflct::new(rows, cols, &cfg)).py_err()?,
         })
@@ -578,20 +594,31 @@ fn choose_udct_scales(
     mask: &Bound<'_, PyAny>,
     reg: &str,
     epsilon: f64,
-    max_iter: usize,
+    max_iter: i128,
     tau0: f64,
     rho: f64,
     tau_cap: f64,
     tol: f64,
-    wedge: [usize; 2],
+    wedge: &Bound<'_, PyAny>,
     alpha: f64,
-    tv_n_iter: usize,
+    tv_n_iter: i128,
     shrink_lowpass: bool,
-    candidates: Vec<usize>,
-    folds: usize,
+    candidates: &Bound<'_, PyAny>,
+    folds: i128,
     holdout: f64,
-    seed: u64,
+    seed: i128,
 ) -> PyResult<(usize, usize, Vec<(usize, Vec<f64>)>)> {
+    let (wr, wc) = args::size2(py, "wedge", wedge)?;
+    let wedge = [wr, wc];
+    let (max_iter, tv_n_iter) = (
+        uint(py, "max_iter", max_iter, 0usize)?,
+        uint(py, "tv_n_iter", tv_n_iter, 0usize)?,
+    );
+    let candidates = args::counts(py, "candidates", candidates)?;
+    let (folds, seed) = (
+        uint(py, "folds", folds, 0usize)?,
+        uint(py, "seed", seed, 0u64)?,
+    );
     let data = kspace_in(kspace, mask)?;
     let regularizer = regularizer(reg, tv_n_iter, shrink_lowpass)?;
     let p = csalsa_params(max_iter, tau0, rho, tau_cap, epsilon, tol);
@@ -626,21 +653,31 @@ fn reconstruct<'py>(
     prior: &str,
     reg: &str,
     epsilon: f64,
-    max_iter: usize,
+    max_iter: i128,
     tau0: f64,
     rho: f64,
     tau_cap: f64,
     tol: f64,
-    wedges: Vec<[usize; 2]>,
+    wedges: &Bound<'py, PyAny>,
     alpha: f64,
-    levels: usize,
-    tv_n_iter: usize,
+    levels: i128,
+    tv_n_iter: i128,
     shrink_lowpass: bool,
     reference: Option<Bound<'py, PyAny>>,
     record_history: bool,
     fdct: Option<(Option<usize>, usize, String, f64)>,
-    sflct_levels: Option<Vec<usize>>,
+    sflct_levels: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
+    let wedges = wedges_arg(py, wedges)?;
+    let (max_iter, levels, tv_n_iter): (usize, usize, usize) = (
+        uint(py, "max_iter", max_iter, 0)?,
+        uint(py, "levels", levels, 0)?,
+        uint(py, "tv_n_iter", tv_n_iter, 0)?,
+    );
+    let sflct_levels = sflct_levels
+        .filter(|l| !l.is_none())
+        .map(|l| args::counts(py, "sflct_levels", l))
+        .transpose()?;
     let data = kspace_in(kspace, mask)?;
     let (r, c) = data.shape();
     let reference = reference_in(reference.as_ref(), (r, c))?;
@@ -686,14 +723,19 @@ fn composite<'py>(
     b: f64,
     group_weight: f64,
     mu_g: f64,
-    n_iter: usize,
-    tv_n_iter: usize,
-    order: usize,
+    n_iter: i128,
+    tv_n_iter: i128,
+    order: i128,
     levels: i128,
     reference: Option<Bound<'py, PyAny>>,
     record_history: bool,
 ) -> PyResult<(Arr<'py, Complex64>, Bound<'py, PyDict>)> {
     let levels: usize = uint(py, "levels", levels, 1)?;
+    let (n_iter, tv_n_iter, order): (usize, usize, usize) = (
+        uint(py, "n_iter", n_iter, 0)?,
+        uint(py, "tv_n_iter", tv_n_iter, 0)?,
+        uint(py, "order", order, 0)?,
+    );
     if levels > 30 {
         return Err(value_error(format!("`levels` must be <= 30, got {levels}")));
     }

@@ -643,17 +643,7 @@ fn make_ears<'py>(
     let seed: u64 = uint(py, "seed", seed, 0)?;
     let canvas = canvas
         .filter(|c| !c.is_none())
-        .map(|c| {
-            let v = values(&args::array::<i64>("canvas", c)?).into_owned();
-            let side = |x: i64| uint(py, "canvas", i128::from(x), 0usize);
-            match v[..] {
-                [h, w] => Ok((side(h)?, side(w)?)),
-                _ => Err(value_error(format!(
-                    "`canvas` must be (height, width), got {} values",
-                    v.len()
-                ))),
-            }
-        })
+        .map(|c| args::size2(py, "canvas", c))
         .transpose()?;
     let gain = gain
         .filter(|g| !g.is_none())

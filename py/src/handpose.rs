@@ -46,20 +46,13 @@ fn hand_poses<'py>(
     size: &Bound<'py, PyAny>,
     jitter: [f64; 6],
 ) -> PyResult<HandPoseArrays<'py>> {
-    let size = values(&args::array::<i64>("size", size)?).into_owned();
-    let [height, width] = size[..] else {
-        return Err(value_error(format!(
-            "`size` must be (height, width), got {} values",
-            size.len()
-        )));
-    };
-    let side = |v: i64| uint(py, "size", i128::from(v), 0usize);
+    let (height, width) = args::size2(py, "size", size)?;
     let cfg = HandposeSynthParams::default()
         .n_per_class(uint(py, "n_per_class", n_per_class, 0)?)
         .subjects(uint(py, "n_subjects", n_subjects, 0)?)
         .seed(uint(py, "seed", seed, 0)?)
-        .width(side(width)?)
-        .height(side(height)?);
+        .width(width)
+        .height(height);
     let j = Jitter {
         extension: jitter[0],
         finger_angle_deg: jitter[1],

@@ -151,15 +151,6 @@ def _mask(m, shape) -> np.ndarray:
     return np.ascontiguousarray(a != 0)
 
 
-def _wedges(wedges) -> List[List[int]]:
-    w = np.asarray(wedges, dtype=np.int64)
-    if w.ndim != 2 or w.shape[1] != 2:
-        raise ValueError(f"`wedges` must be a list of [n_rows, n_cols] pairs, got {wedges!r}")
-    if (w < 0).any():
-        raise ValueError(f"`wedges` must be positive, got {wedges!r}")
-    return [[int(a), int(b)] for a, b in w]
-
-
 class Udct:
     """Uniform discrete curvelet transform of real ``(rows, cols)`` images.
 
@@ -187,10 +178,8 @@ class Udct:
 
     def __init__(self, shape: Tuple[int, int], wedges=((6, 6),), alpha: float = 0.1,
                  tight: bool = True):
-        rows, cols = (int(v) for v in shape)
-        w = _wedges(wedges)
-        self._u = _c.Udct(rows, cols, w, float(alpha), bool(tight))
-        self._args = ((rows, cols), [tuple(p) for p in w], float(alpha), bool(tight))
+        self._u = _c.Udct(shape, wedges, alpha, tight)
+        self._args = (shape, wedges, alpha, tight)
 
     def __reduce__(self):
         # A plan is a function of its arguments: pickles and copies rebuild it.
@@ -272,16 +261,9 @@ class Fdct:
 
     def __init__(self, shape: Tuple[int, int], scales: Optional[int] = None,
                  angles_coarse: int = 16, finest: str = "wavelets", transition: float = 1.0):
-        rows, cols = (int(v) for v in shape)
-        if rows < 0 or cols < 0:
-            raise ValueError(f"`shape` must be non-negative, got {shape!r}")
-        if scales is not None and int(scales) < 0:
-            raise ValueError(f"`scales` must be positive, got {scales!r}")
-        if int(angles_coarse) < 0:
-            raise ValueError(f"`angles_coarse` must be positive, got {angles_coarse!r}")
-        self._config = (None if scales is None else int(scales), int(angles_coarse), str(finest),
-                        float(transition))
-        self._f = _c.Fdct(rows, cols, *self._config)
+        self._f = _c.Fdct(shape, scales, angles_coarse, finest, transition)
+        # Checked by the plan: the settings reconstruct() passes on for an Fdct prior.
+        self._config = (scales, angles_coarse, finest, transition)
         self._bands = self._f.bands()
 
     def __reduce__(self):
@@ -371,16 +353,10 @@ class Sflct:
 
     def __init__(self, shape: Tuple[int, int], redundancy: str = "less",
                  levels: Sequence[int] = (3, 3, 4)):
-        rows, cols = (int(v) for v in shape)
-        if rows < 0 or cols < 0:
-            raise ValueError(f"`shape` must be non-negative, got {shape!r}")
-        lv = [int(v) for v in levels]
-        if any(v < 0 for v in lv):
-            raise ValueError(f"`levels` must be non-negative, got {levels!r}")
-        self._t = _c.Sflct(rows, cols, str(redundancy), lv)
+        self._t = _c.Sflct(shape, redundancy, levels)
         self._bands = self._t.bands()
-        self._scales = len(lv) + 1
-        self._args = ((rows, cols), str(redundancy), tuple(lv))
+        self._scales = 1 + max(s for s, _, _ in self._bands)
+        self._args = (shape, redundancy, levels)
 
     def __reduce__(self):
         # A plan is a function of its arguments: pickles and copies rebuild it.
@@ -525,11 +501,9 @@ def reconstruct(kspace, mask, prior: Union[str, "Fdct"] = "udct", reg: str = "l1
                                    rho=rho, tau_cap=tau_cap, tol=tol, alpha=alpha,
                                    tv_n_iter=tv_n_iter, shrink_lowpass=shrink_lowpass)
             wedges = [[6, 6]] * choice.scales
-    img, hist = _c.reconstruct(kspace, mask, str(prior), str(reg), float(epsilon), int(max_iter),
-                               float(tau0), float(rho), float(tau_cap), float(tol),
-                               _wedges(wedges), float(alpha), int(levels), int(tv_n_iter),
-                               bool(shrink_lowpass), reference, bool(return_history), fdct,
-                               [int(v) for v in sflct_levels])
+    img, hist = _c.reconstruct(kspace, mask, prior, reg, epsilon, max_iter, tau0, rho, tau_cap,
+                               tol, wedges, alpha, levels, tv_n_iter, shrink_lowpass, reference,
+                               return_history, fdct, sflct_levels)
     return _with_history(img, hist, return_history)
 
 
@@ -583,21 +557,19 @@ def choose_scales(kspace, mask, reg: str = "l1", epsilon: float = 0.0, max_iter:
     >>> csmri.choose_scales(k, m, max_iter=10, candidates=(1, 2)).scales in (1, 2)
     True
     """
-    w = _wedges([wedge])[0]
     scales, held, rows = _c.choose_udct_scales(
-        kspace, mask, str(reg), float(epsilon), int(max_iter), float(tau0), float(rho), float(tau_cap),
-        float(tol), w, float(alpha), int(tv_n_iter), bool(shrink_lowpass),
-        [int(j) for j in candidates], int(folds), float(holdout), int(seed))
-    return ScaleChoice(scales=int(scales), candidates=tuple(int(j) for j, _ in rows),
-                       scores=np.asarray([e for _, e in rows], dtype=np.float64).reshape(len(rows), int(folds) if rows else 0),
-                       held_out=int(held))
+        kspace, mask, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedge, alpha, tv_n_iter,
+        shrink_lowpass, candidates, folds, holdout, seed)
+    return ScaleChoice(scales=scales, candidates=tuple(j for j, _ in rows),
+                       scores=np.asarray([e for _, e in rows], dtype=np.float64).reshape(
+                           len(rows), folds if rows else 0),
+                       held_out=held)
 
 
 def _composite(method, kspace, mask, a, b, group_weight, mu_g, n_iter, tv_n_iter, order,
                levels, reference, return_history):
-    img, hist = _c.composite(method, kspace, mask, float(a), float(b), float(group_weight),
-                             float(mu_g), int(n_iter), int(tv_n_iter), int(order), int(levels),
-                             reference, bool(return_history))
+    img, hist = _c.composite(method, kspace, mask, a, b, group_weight, mu_g, n_iter, tv_n_iter,
+                             order, levels, reference, return_history)
     return _with_history(img, hist, return_history)
 
 
