@@ -201,6 +201,16 @@ fn field_in(
     spacing: [f64; 3],
     value_range: Option<(f64, f64)>,
 ) -> PyResult<ScalarField> {
+    // A non-native byte order (big-endian data from some file readers) is converted first.
+    let native;
+    let volume = match volume.cast::<numpy::PyUntypedArray>() {
+        Ok(a) if a.dtype().is_native_byteorder() == Some(false) => {
+            let dtype = a.dtype().call_method1("newbyteorder", ("=",))?;
+            native = volume.call_method1("astype", (dtype,))?;
+            &native
+        }
+        _ => volume,
+    };
     let range = value_range.map(|(lo, hi)| (lo as f32, hi as f32));
     let ranged = |dims, data: &[f32], lo, hi| {
         crate::pool::detach(py, || {
@@ -295,9 +305,11 @@ impl IllumVolume {
     fn new(
         py: Python<'_>,
         volume: &Bound<'_, PyAny>,
-        spacing: [f64; 3],
-        value_range: Option<(f64, f64)>,
+        spacing: &Bound<'_, PyAny>,
+        value_range: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let (spacing, value_range) = source_args(Some(spacing), value_range)?;
+        let spacing = spacing.unwrap_or([1.0; 3]);
         Ok(Self {
             field: field_in(py, volume, spacing_xyz(spacing), value_range)?,
         })
@@ -367,12 +379,31 @@ impl std::ops::Deref for FieldArg<'_> {
     }
 }
 
+/// The `spacing` `(dz, dy, dx)` and `value_range` `(lo, hi)` arguments (array-likes, `None`
+/// when absent).
+fn source_args(
+    spacing: Option<&Bound<'_, PyAny>>,
+    value_range: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(Option<[f64; 3]>, Option<(f64, f64)>)> {
+    Ok((
+        spacing
+            .filter(|s| !s.is_none())
+            .map(|s| args::triple("spacing", s))
+            .transpose()?,
+        value_range
+            .filter(|r| !r.is_none())
+            .map(|r| args::pair("value_range", r))
+            .transpose()?,
+    ))
+}
+
 fn field_arg<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
-    spacing: Option<[f64; 3]>,
-    value_range: Option<(f64, f64)>,
+    spacing: Option<&Bound<'py, PyAny>>,
+    value_range: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<FieldArg<'py>> {
+    let (spacing, value_range) = source_args(spacing, value_range)?;
     if let Ok(v) = volume.extract::<PyRef<'py, IllumVolume>>() {
         if spacing.is_some() || value_range.is_some() {
             return Err(value_error(
@@ -505,29 +536,40 @@ fn method_in(name: &str, ds: f64, m: i64, atten: &str, units: Units) -> PyResult
     })
 }
 
+/// The option `key`: 3 finite numbers (any array-like), `default` when absent or `None`.
+fn vec3_item(opts: &Bound<'_, PyDict>, key: &str, default: [f64; 3]) -> PyResult<[f64; 3]> {
+    match opts.get_item(key)?.filter(|v| !v.is_none()) {
+        None => Ok(default),
+        Some(v) => finite3(key, args::triple(key, &v)?),
+    }
+}
+
 /// `(width, height)` of an image given as `size = (height, width)`, both at least 1.
-fn size_in(size: (i64, i64)) -> PyResult<(usize, usize)> {
+fn size_in(size: (usize, usize)) -> PyResult<(usize, usize)> {
     let (h, w) = size;
     if w < 1 || h < 1 || w.saturating_mul(h) > 1 << 26 {
         return Err(value_error(format!(
             "`size` (height, width) must be positive with at most 2^26 pixels, got ({h}, {w})"
         )));
     }
-    Ok((w as usize, h as usize))
+    Ok((w, h))
 }
 
 fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
     check_keys(opts, &RENDER_KEYS)?;
     let units = Units::of(field);
-    let view_dir = finite3(
-        "view_dir",
-        dict_item(opts, "view_dir")?.unwrap_or([0.0, 0.0, 1.0]),
-    )?;
-    let up = finite3("up", dict_item(opts, "up")?.unwrap_or([0.0, 1.0, 0.0]))?;
-    let (width, height) = size_in(dict_item(opts, "size")?.unwrap_or((512, 512)))?;
-    let center = dict_item::<[f64; 3]>(opts, "center")?
+    let view_dir = vec3_item(opts, "view_dir", [0.0, 0.0, 1.0])?;
+    let up = vec3_item(opts, "up", [0.0, 1.0, 0.0])?;
+    let size = match opts.get_item("size")?.filter(|v| !v.is_none()) {
+        None => (512, 512),
+        Some(v) => args::size2(opts.py(), "size", &v)?,
+    };
+    let (width, height) = size_in(size)?;
+    let center = opts
+        .get_item("center")?
+        .filter(|v| !v.is_none())
         .map(|c| -> PyResult<[f64; 3]> {
-            let [x, y, z] = finite3("center", c)?;
+            let [x, y, z] = finite3("center", args::triple("center", &c)?)?;
             Ok([
                 units.length_in("center", x)?,
                 units.length_in("center", y)?,
@@ -563,10 +605,7 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
         units,
     )?;
     let light = Light {
-        dir_view: finite3(
-            "light_dir",
-            dict_item(opts, "light_dir")?.unwrap_or([0.0, 0.0, 1.0]),
-        )?,
+        dir_view: vec3_item(opts, "light_dir", [0.0, 0.0, 1.0])?,
         ambient: finite("ambient", dict_item(opts, "ambient")?.unwrap_or(0.0))? as f32,
         kernel,
     };
@@ -578,10 +617,7 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
         &dict_item::<String>(opts, "light_attenuation")?.unwrap_or_else(|| "segment".into()),
         units,
     )?;
-    let bg = finite3(
-        "background",
-        dict_item(opts, "background")?.unwrap_or([0.0; 3]),
-    )?;
+    let bg = vec3_item(opts, "background", [0.0; 3])?;
     let interp = choice_item(
         opts,
         "interp",
@@ -617,8 +653,8 @@ fn illum_render<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
     tf: &Bound<'py, PyAny>,
-    spacing: Option<[f64; 3]>,
-    value_range: Option<(f64, f64)>,
+    spacing: Option<&Bound<'py, PyAny>>,
+    value_range: Option<&Bound<'py, PyAny>>,
     opts: &Bound<'py, PyDict>,
 ) -> PyResult<Arr<'py, f32>> {
     let tf = tf_in(tf)?;
@@ -643,8 +679,8 @@ fn illum_light_buffer<'py>(
     volume: &Bound<'py, PyAny>,
     tf: &Bound<'py, PyAny>,
     depth: f64,
-    spacing: Option<[f64; 3]>,
-    value_range: Option<(f64, f64)>,
+    spacing: Option<&Bound<'py, PyAny>>,
+    value_range: Option<&Bound<'py, PyAny>>,
     opts: &Bound<'py, PyDict>,
 ) -> PyResult<(Arr<'py, f32>, f64)> {
     let tf = tf_in(tf)?;
@@ -868,8 +904,8 @@ fn illum_study<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
     tf: &Bound<'py, PyAny>,
-    spacing: Option<[f64; 3]>,
-    value_range: Option<(f64, f64)>,
+    spacing: Option<&Bound<'py, PyAny>>,
+    value_range: Option<&Bound<'py, PyAny>>,
     opts: &Bound<'py, PyDict>,
 ) -> PyResult<Bound<'py, PyDict>> {
     check_keys(opts, &STUDY_KEYS)?;
@@ -884,7 +920,10 @@ fn illum_study<'py>(
         1,
         1 << 16,
     )? as usize;
-    let size = dict_item::<i64>(opts, "size")?.unwrap_or(256);
+    let size: usize = match opts.get_item("size")?.filter(|v| !v.is_none()) {
+        None => 256,
+        Some(v) => uint(py, "size", v.extract::<i128>()?, 0)?,
+    };
     let size = size_in((size, size))?.0;
     let azimuth = finite("azimuth", dict_item(opts, "azimuth")?.unwrap_or(30.0))?;
     let elevation = finite("elevation", dict_item(opts, "elevation")?.unwrap_or(20.0))?;
@@ -905,10 +944,7 @@ fn illum_study<'py>(
     let reference = positive("reference", dict_item(opts, "reference")?.unwrap_or(0.2))?;
     let fine = positive("fine", dict_item(opts, "fine")?.unwrap_or(0.1))?;
     let light = Light {
-        dir_view: finite3(
-            "light_dir",
-            dict_item(opts, "light_dir")?.unwrap_or([0.0, 0.0, 1.0]),
-        )?,
+        dir_view: vec3_item(opts, "light_dir", [0.0, 0.0, 1.0])?,
         ambient: finite("ambient", dict_item(opts, "ambient")?.unwrap_or(0.0))? as f32,
         kernel: kernel_in(
             "gaussian",

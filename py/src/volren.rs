@@ -83,26 +83,55 @@ fn tf_out<'py>(py: Python<'py>, t: &PiecewiseTransferFunction) -> PyResult<Arr<'
 }
 
 /// A camera from Python: eye, target, up, vertical field of view (degrees), width, height.
-type View = ([f64; 3], [f64; 3], [f64; 3], f64, usize, usize);
-
-/// A ROI box `(z0, z1, y0, y1, x0, x1)` (array axis order, half-open) as the min and max
-/// corners `[x, y, z]` of `wscg_volren`.
-fn roi_in(r: (u32, u32, u32, u32, u32, u32)) -> ([u32; 3], [u32; 3]) {
-    ([r.4, r.2, r.0], [r.5, r.3, r.1])
+/// The `roi` argument, a box `(z0, z1, y0, y1, x0, x1)` (array axis order, half-open,
+/// non-negative integers), as the min and max corners `[x, y, z]` of `wscg_volren`.
+fn roi_arg(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<([u32; 3], [u32; 3])> {
+    let r = args::counts(py, "roi", obj)?;
+    let c = |i: usize| uint(py, "roi", r[i] as i128, 0u32);
+    if r.len() != 6 {
+        return Err(value_error(format!(
+            "`roi` is (z0, z1, y0, y1, x0, x1) with non-negative ints, got {} values",
+            r.len()
+        )));
+    }
+    Ok(([c(4)?, c(2)?, c(0)?], [c(5)?, c(3)?, c(1)?]))
 }
 
-/// A camera whose eye and target are `py/API.md` world points (voxel `[k, j, i]` centred at
-/// `(i, j, k)`), in the renderers' coordinates (centred at `(i, j, k) + 1/2`).
-fn camera(v: View) -> Camera {
-    let (eye, target, up, fov_deg, width, height) = v;
-    Camera {
-        eye: eye.map(|c| c + 0.5),
-        target: target.map(|c| c + 0.5),
-        up,
+/// The camera of the arguments `eye` and `target` (`py/API.md` world points, voxel
+/// `[k, j, i]` centred at `(i, j, k)`), `up`, `fov_deg` and `size` `(height, width)`, in the
+/// renderers' coordinates (centred at `(i, j, k) + 1/2`).
+fn camera_arg(
+    py: Python<'_>,
+    eye: &Bound<'_, PyAny>,
+    target: &Bound<'_, PyAny>,
+    up: &Bound<'_, PyAny>,
+    fov_deg: f64,
+    size: &Bound<'_, PyAny>,
+) -> PyResult<Camera> {
+    let (height, width) = args::size2(py, "size", size)?;
+    Ok(Camera {
+        eye: args::triple("eye", eye)?.map(|c| c + 0.5),
+        target: args::triple("target", target)?.map(|c| c + 0.5),
+        up: args::triple("up", up)?,
         fov_deg,
         width,
         height,
-    }
+    })
+}
+
+/// The camera of a dict with `eye`, `target`, optional `up` (default `(0, 0, 1)`) and
+/// `fov_deg` (default 30), e.g. from `orbit_camera`, at `size` `(height, width)`.
+fn camera_dict(py: Python<'_>, c: &Bound<'_, PyDict>, size: &Bound<'_, PyAny>) -> PyResult<Camera> {
+    let need = |k: &str| {
+        c.get_item(k)?
+            .ok_or_else(|| value_error(format!("the camera dict needs {k:?}")))
+    };
+    let up = match c.get_item("up")? {
+        Some(u) => u,
+        None => (0.0, 0.0, 1.0).into_pyobject(py)?.into_any(),
+    };
+    let fov_deg: f64 = crate::convert::dict_item(c, "fov_deg")?.unwrap_or(30.0);
+    camera_arg(py, &need("eye")?, &need("target")?, &up, fov_deg, size)
 }
 
 fn image_out<'py>(py: Python<'py>, img: wscg_math::Image<f32>) -> PyResult<Arr<'py, f32>> {
@@ -121,14 +150,19 @@ impl PyServer {
     #[new]
     fn new(
         py: Python<'_>,
-        volume: PyReadonlyArrayDyn<u8>,
-        tfs: Vec<PyReadonlyArrayDyn<f64>>,
-        canonical: usize,
-        steps_sent: u8,
+        volume: &Bound<'_, PyAny>,
+        tfs: Vec<Bound<'_, PyAny>>,
+        canonical: i128,
+        steps_sent: i128,
         delta: f32,
     ) -> PyResult<Self> {
-        let v = volume_in(&volume)?;
-        let tfs = tfs.iter().map(tf_in).collect::<PyResult<Vec<_>>>()?;
+        let v = volume_in(&args::array("volume", volume)?)?;
+        let tfs = tfs
+            .iter()
+            .map(|t| tf_in(&args::array("tfs", t)?))
+            .collect::<PyResult<Vec<_>>>()?;
+        let canonical: usize = uint(py, "canonical", canonical, 0)?;
+        let steps_sent: u8 = uint(py, "steps_sent", steps_sent, 0)?;
         let opts = ServerParams::default()
             .steps_sent(steps_sent)
             .quant(HaarQuant { delta: [delta; 4] });
@@ -145,9 +179,9 @@ impl PyServer {
     fn roi_package<'py>(
         &self,
         py: Python<'py>,
-        roi: (u32, u32, u32, u32, u32, u32),
+        roi: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyBytes>> {
-        let (lo, hi) = roi_in(roi);
+        let (lo, hi) = roi_arg(py, roi)?;
         let p = crate::pool::detach(py, || self.inner.roi_package(lo, hi)).py_err()?;
         Ok(PyBytes::new(py, &p))
     }
@@ -196,12 +230,16 @@ impl PyServer {
     fn size_report<'py>(
         &self,
         py: Python<'py>,
-        roi: (u32, u32, u32, u32, u32, u32),
-        roi_tf: usize,
-        view: Option<View>,
+        roi: &Bound<'py, PyAny>,
+        roi_tf: i128,
+        thin_client_view: Option<&Bound<'py, PyDict>>,
+        viewport: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let (lo, hi) = roi_in(roi);
-        let cam = view.map(camera);
+        let (lo, hi) = roi_arg(py, roi)?;
+        let roi_tf: usize = uint(py, "roi_tf", roi_tf, 0)?;
+        let cam = thin_client_view
+            .map(|c| camera_dict(py, c, viewport))
+            .transpose()?;
         let r = crate::pool::detach(py, || self.inner.size_report(lo, hi, roi_tf, cam.as_ref()))
             .py_err()?;
         let d = PyDict::new(py);
@@ -301,10 +339,15 @@ impl PyClient {
         &self,
         py: Python<'py>,
         mode: &str,
-        view: View,
-        roi_tf: usize,
+        eye: &Bound<'py, PyAny>,
+        target: &Bound<'py, PyAny>,
+        up: &Bound<'py, PyAny>,
+        fov_deg: f64,
+        size: &Bound<'py, PyAny>,
+        roi_tf: i128,
     ) -> PyResult<Arr<'py, f32>> {
-        let cam = camera(view);
+        let roi_tf: usize = uint(py, "roi_tf", roi_tf, 0)?;
+        let cam = camera_arg(py, eye, target, up, fov_deg, size)?;
         let o = RenderParams::default();
         let c = &self.inner;
         let img = crate::pool::detach(py, || match mode {
@@ -321,27 +364,53 @@ impl PyClient {
     }
 }
 
-/// Full-resolution reference rendering (see `wscg.volren.render_reference`).
+/// Full-resolution ray casting of ``volume`` (trilinear densities, central-difference
+/// gradients, Phong shading) under ``tf``; with ``roi`` ``(z0, z1, y0, y1, x0, x1)`` and
+/// ``roi_tf``, the full-resolution counterpart of the hybrid image (``tf`` unlit outside the
+/// box, ``roi_tf`` shaded inside). The camera is that of :meth:`HybridClient.render`.
 #[pyfunction]
+#[pyo3(signature = (volume, tf, eye, target, up=None, fov_deg=30.0, size=None, roi=None,
+                    roi_tf=None),
+       text_signature = "(volume, tf, eye, target, up=(0.0, 0.0, 1.0), fov_deg=30.0, \
+                         size=(512, 512), roi=None, roi_tf=None)")]
+#[allow(clippy::too_many_arguments)]
 fn render_reference<'py>(
     py: Python<'py>,
-    volume: PyReadonlyArrayDyn<u8>,
-    tf: PyReadonlyArrayDyn<f64>,
-    view: View,
-    roi: Option<(u32, u32, u32, u32, u32, u32)>,
-    roi_tf: Option<PyReadonlyArrayDyn<f64>>,
+    volume: &Bound<'py, PyAny>,
+    tf: &Bound<'py, PyAny>,
+    eye: &Bound<'py, PyAny>,
+    target: &Bound<'py, PyAny>,
+    up: Option<&Bound<'py, PyAny>>,
+    fov_deg: f64,
+    size: Option<&Bound<'py, PyAny>>,
+    roi: Option<&Bound<'py, PyAny>>,
+    roi_tf: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Arr<'py, f32>> {
-    let v = volume_in(&volume)?;
-    let tf = tf_in(&tf)?;
-    let roi = match (roi, roi_tf) {
+    let v = volume_in(&args::array("volume", volume)?)?;
+    let tf = tf_in(&args::array("tf", tf)?)?;
+    let roi = match (
+        roi.filter(|r| !r.is_none()),
+        roi_tf.filter(|t| !t.is_none()),
+    ) {
         (Some(r), Some(t)) => {
-            let (lo, hi) = roi_in(r);
-            Some((Roi::snapped(lo, hi, v.dims()).py_err()?, tf_in(&t)?))
+            let (lo, hi) = roi_arg(py, r)?;
+            Some((
+                Roi::snapped(lo, hi, v.dims()).py_err()?,
+                tf_in(&args::array("roi_tf", t)?)?,
+            ))
         }
         (None, None) => None,
         _ => return Err(value_error("`roi` and `roi_tf` go together")),
     };
-    let cam = camera(view);
+    let up = match up.filter(|u| !u.is_none()) {
+        Some(u) => u.clone(),
+        None => (0.0, 0.0, 1.0).into_pyobject(py)?.into_any(),
+    };
+    let size = match size.filter(|s| !s.is_none()) {
+        Some(s) => s.clone(),
+        None => (512, 512).into_pyobject(py)?.into_any(),
+    };
+    let cam = camera_arg(py, eye, target, &up, fov_deg, &size)?;
     let img = crate::pool::detach(py, || {
         reference(
             &v,

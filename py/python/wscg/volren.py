@@ -60,7 +60,6 @@ raises ``ValueError``; a file that cannot be read raises ``OSError``.
 
 from __future__ import annotations
 
-import numbers
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -68,7 +67,8 @@ import numpy as np
 from ._native import volren as _v
 from ._native.volren import (haar_blocks, labels_to_density, load_vti, make_marschner_lobb,
                              make_phantom, marschner_lobb_tf, mean_abs_diff, octree_address,
-                             phantom_tfs, preintegration_table, skin_tf, tissue_tf)
+                             phantom_tfs, preintegration_table, render_reference, skin_tf,
+                             tissue_tf)
 from ._checks import integer_ranges as _integer_ranges
 from ._results import from_mapping as _from_mapping, result as _result
 
@@ -116,27 +116,6 @@ class SizeReport:
     thin_client_frame: Optional[int]
 
 
-def _volume(v) -> np.ndarray:
-    return np.ascontiguousarray(np.asarray(v, dtype=np.uint8))
-
-
-def _tf(t) -> np.ndarray:
-    return np.ascontiguousarray(np.asarray(t, dtype=np.float64))
-
-
-def _roi(r) -> Roi:
-    r = tuple(int(c) for c in r)
-    if len(r) != 6 or min(r) < 0:
-        raise ValueError(f"a ROI is (z0, z1, y0, y1, x0, x1) with non-negative ints, got {r}")
-    return r  # type: ignore[return-value]
-
-
-def _view(eye, target, up, fov_deg, size) -> tuple:
-    """The native camera tuple: eye, target, up, fov (degrees), width, height."""
-    v3 = lambda a: [float(c) for c in a]  # noqa: E731
-    return (v3(eye), v3(target), v3(up), float(fov_deg), int(size[1]), int(size[0]))
-
-
 def orbit_camera(shape: Sequence[int], azimuth: float = 30.0, elevation: float = 20.0,
                  fov_deg: float = 30.0) -> dict:
     """A camera (keyword arguments of the paper-03 render functions) looking at the centre
@@ -172,8 +151,7 @@ class HybridServer:
 
     def __init__(self, volume, tfs: Sequence, canonical: int = 0, steps_sent: int = 2,
                  delta: float = 2.0):
-        self._s = _v.HybridServer(_volume(volume), [_tf(t) for t in tfs], int(canonical),
-                                  int(steps_sent), float(delta))
+        self._s = _v.HybridServer(volume, list(tfs), canonical, steps_sent, delta)
 
     def static_package(self) -> bytes:
         """The static package (sent once)."""
@@ -182,7 +160,7 @@ class HybridServer:
     def roi_package(self, roi: Roi) -> bytes:
         """The dynamic package of ``roi`` ``(z0, z1, y0, y1, x0, x1)`` (half-open voxel index
         ranges in array axis order)."""
-        return self._s.roi_package(_roi(roi))
+        return self._s.roi_package(roi)
 
     @property
     def leaf_count(self) -> int:
@@ -202,12 +180,8 @@ class HybridServer:
         ``hybrid``, and with ``thin_client_view`` (a camera dict, e.g. from
         :func:`orbit_camera`) ``thin_client_frame``, the JPEG size of one full-resolution
         frame at ``viewport`` ``(height, width)``."""
-        view = None
-        if thin_client_view is not None:
-            c = thin_client_view
-            view = _view(c["eye"], c["target"], c.get("up", (0.0, 0.0, 1.0)),
-                         c.get("fov_deg", 30.0), viewport)
-        return _from_mapping(SizeReport, self._s.size_report(_roi(roi), int(roi_tf), view))
+        return _from_mapping(SizeReport, self._s.size_report(roi, roi_tf, thin_client_view,
+                                                             viewport))
 
 
 class HybridClient:
@@ -249,19 +223,7 @@ class HybridClient:
         octree under ``roi_tf`` inside; ``"context"``: the low-resolution volume only (the
         wavelet baseline); ``"octree"``: the ROI's octree only (the Gradient Octree
         baseline when the ROI covers the volume)."""
-        return self._c.render(mode, _view(eye, target, up, fov_deg, size), int(roi_tf))
-
-
-def render_reference(volume, tf, eye, target, up=(0.0, 0.0, 1.0), fov_deg: float = 30.0,
-                     size: Tuple[int, int] = (512, 512), roi: Optional[Roi] = None,
-                     roi_tf=None) -> np.ndarray:
-    """Full-resolution ray casting of ``volume`` (trilinear densities, central-difference
-    gradients, Phong shading) under ``tf``; with ``roi`` ``(z0, z1, y0, y1, x0, x1)`` and
-    ``roi_tf``, the full-resolution counterpart of the hybrid image (``tf`` unlit outside the
-    box, ``roi_tf`` shaded inside). The camera is that of :meth:`HybridClient.render`."""
-    return _v.render_reference(_volume(volume), _tf(tf), _view(eye, target, up, fov_deg, size),
-                               None if roi is None else _roi(roi),
-                               None if roi_tf is None else _tf(roi_tf))
+        return self._c.render(mode, eye, target, up, fov_deg, size, roi_tf)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -272,33 +234,14 @@ METHODS = ("ics", "scs", "pi-ics", "pi-scs", "raycast", "phong", "shadow-rays")
 #: The light-propagation kernels of :func:`render`.
 KERNELS = ("gaussian", "delta", "disk")
 
-_VOLUME_DTYPES = {("u", 1): np.uint8, ("u", 2): np.uint16, ("f", 4): np.float32}
 _DISTANCES = (0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0)
 Vec3 = Tuple[float, float, float]
 
 
-def _illum_volume(volume) -> np.ndarray:
-    """A C-contiguous uint8, uint16 or float32 ``[z, y, x]`` array (native byte order)."""
-    v = np.asarray(volume)
-    t = _VOLUME_DTYPES.get((v.dtype.kind, v.dtype.itemsize))
-    if t is None:
-        raise ValueError(f"`volume` must be a uint8, uint16 or float32 array, got dtype "
-                         f"{v.dtype}; convert it first, e.g. volume.astype(np.float32)")
-    if v.ndim != 3:
-        raise ValueError(f"`volume` must be a 3-D array indexed [z, y, x], got shape {v.shape}")
-    return np.ascontiguousarray(v, dtype=t)
-
-
-def _illum_source(volume, spacing, value_range) -> tuple:
-    """The native ``(volume, spacing, value_range)`` of a render: a :class:`PreparedVolume`
-    as it is (its own spacing and range), an array with ``spacing`` default ``(1, 1, 1)``."""
-    if isinstance(volume, PreparedVolume):
-        if spacing is not None or value_range is not None:
-            raise ValueError("`spacing` and `value_range` belong to the PreparedVolume; leave "
-                             "them None when rendering one")
-        return volume._native, None, None
-    sp = (1.0, 1.0, 1.0) if spacing is None else _vec("spacing", spacing)
-    return _illum_volume(volume), sp, _range(value_range)
+def _illum_source(volume):
+    """The native volume of a render: a :class:`PreparedVolume`'s field, or the array (the
+    native call checks the dtype, the shape and the ``spacing`` / ``value_range`` rules)."""
+    return volume._native if isinstance(volume, PreparedVolume) else volume
 
 
 class PreparedVolume:
@@ -323,8 +266,7 @@ class PreparedVolume:
 
     def __init__(self, volume, spacing: Sequence[float] = (1.0, 1.0, 1.0),
                  value_range: Optional[Tuple[float, float]] = None) -> None:
-        self._native = _v.IllumVolume(_illum_volume(volume), _vec("spacing", spacing),
-                                      _range(value_range))
+        self._native = _v.IllumVolume(volume, spacing, value_range)
 
     @property
     def shape(self) -> Tuple[int, int, int]:
@@ -338,82 +280,15 @@ class PreparedVolume:
         return f"PreparedVolume(shape={self.shape}, spacing={self.spacing})"
 
 
-def _num(name: str, v) -> float:
-    if isinstance(v, (bool, np.bool_)):
-        raise ValueError(f"`{name}` must be a number, got {v!r}")
-    try:
-        return float(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be a number, got {v!r}") from None
-
-
-def _int(name: str, v) -> int:
-    if isinstance(v, numbers.Integral) and not isinstance(v, (bool, np.bool_)):
-        return int(v)
-    raise ValueError(f"`{name}` must be an integer, got {v!r}")
-
-
-def _vec(name: str, v, n: int = 3) -> tuple:
-    try:
-        t = tuple(_num(name, c) for c in v)
-    except TypeError:
-        raise ValueError(f"`{name}` must be a sequence of {n} numbers, got {v!r}") from None
-    if len(t) != n:
-        raise ValueError(f"`{name}` must hold {n} numbers, got {len(t)}")
-    return t
-
-
-def _size(size) -> Tuple[int, int]:
-    try:
-        h, w = size
-    except (TypeError, ValueError):
-        raise ValueError(f"`size` must be (height, width), got {size!r}") from None
-    h, w = _int("size", h), _int("size", w)
-    if w < 1 or h < 1:
-        raise ValueError(f"`size` (height, width) must be positive, got ({h}, {w})")
-    return h, w
-
-
-def _name(name: str, v, allowed: Sequence[str]) -> str:
-    if not isinstance(v, str) or v not in allowed:
-        raise ValueError(f"unknown `{name}` {v!r}; use one of {', '.join(map(repr, allowed))}")
-    return v
-
-
-def _range(value_range) -> Optional[Tuple[float, float]]:
-    if value_range is None:
-        return None
-    lo, hi = _vec("value_range", value_range, 2)
-    return lo, hi
-
-
 def _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance, n_subsamples,
                  kernel, spread, tan_half, light_dir, ambient, background, interp,
                  light_attenuation, border) -> dict:
-    """The native options dict of a render (validated types; values checked natively)."""
-    n_subsamples = _int("n_subsamples", n_subsamples)
-    if not 0 <= n_subsamples <= 64:
-        raise ValueError(f"`n_subsamples` must be in 0..=64, got {n_subsamples}")
-    return {
-        "view_dir": _vec("view_dir", view_dir),
-        "up": _vec("up", up),
-        "size": _size(size),
-        "pixel_size": None if pixel_size is None else _num("pixel_size", pixel_size),
-        "center": None if center is None else _vec("center", center),
-        "method": _name("method", method, METHODS),
-        "slice_distance": _num("slice_distance", slice_distance),
-        "n_subsamples": n_subsamples,
-        "kernel": _name("kernel", kernel, KERNELS),
-        "spread": _num("spread", spread),
-        "tan_half": _num("tan_half", tan_half),
-        "light_dir": _vec("light_dir", light_dir),
-        "ambient": _num("ambient", ambient),
-        "background": _vec("background", background),
-        "interp": _name("interp", interp, ("trilinear", "nearest")),
-        "light_attenuation": _name("light_attenuation", light_attenuation,
-                                   ("segment", "slice-only")),
-        "border": _name("border", border, ("open", "closed")),
-    }
+    """The options of a render by name, read and checked by the native call."""
+    return dict(view_dir=view_dir, up=up, size=size, pixel_size=pixel_size, center=center,
+                method=method, slice_distance=slice_distance, n_subsamples=n_subsamples,
+                kernel=kernel, spread=spread, tan_half=tan_half, light_dir=light_dir,
+                ambient=ambient, background=background, interp=interp,
+                light_attenuation=light_attenuation, border=border)
 
 
 def render(volume, tf, spacing: Optional[Sequence[float]] = None,
@@ -511,8 +386,7 @@ def render(volume, tf, spacing: Optional[Sequence[float]] = None,
     opts = _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance,
                         n_subsamples, kernel, spread, tan_half, light_dir, ambient, background,
                         interp, light_attenuation, border)
-    vol, sp, vr = _illum_source(volume, spacing, value_range)
-    return _v.illum_render(vol, tf, sp, vr, opts)
+    return _v.illum_render(_illum_source(volume), tf, spacing, value_range, opts)
 
 
 def light_buffer(volume, tf, depth: float, spacing: Optional[Sequence[float]] = None,
@@ -538,9 +412,7 @@ def light_buffer(volume, tf, depth: float, spacing: Optional[Sequence[float]] = 
     opts = _render_opts(view_dir, up, size, pixel_size, center, method, slice_distance,
                         n_subsamples, kernel, spread, tan_half, light_dir, ambient, background,
                         interp, light_attenuation, border)
-    vol, sp, vr = _illum_source(volume, spacing, value_range)
-    buf, z = _v.illum_light_buffer(vol, tf, _num("depth", depth), sp, vr, opts)
-    return buf, float(z)
+    return _v.illum_light_buffer(_illum_source(volume), tf, depth, spacing, value_range, opts)
 
 
 @_result
@@ -626,24 +498,11 @@ def study(volume, tf, n_views: int = 4, size: int = 256, azimuth: float = 30.0,
     ``entries`` (:class:`StudyEntry`: ``method``, ``slice_distance``, ``n_subsamples``,
     ``mad``, ``energy``, ``seconds``, ``alias_free``) in grid order.
     """
-    ds = [_num("distances", d) for d in distances]
-    opts = {
-        "n_views": _int("n_views", n_views),
-        "size": _int("size", size),
-        "azimuth": _num("azimuth", azimuth),
-        "elevation": _num("elevation", elevation),
-        "distances": ds,
-        "max_subsamples": _int("max_subsamples", max_subsamples),
-        "reference": _num("reference", reference),
-        "fine": _num("fine", fine),
-        "spread": _num("spread", spread),
-        "light_dir": _vec("light_dir", light_dir),
-        "ambient": _num("ambient", ambient),
-        "max_mad": _num("max_mad", max_mad),
-        "max_energy_ratio": _num("max_energy_ratio", max_energy_ratio),
-    }
-    vol, sp, vr = _illum_source(volume, spacing, value_range)
-    st = _v.illum_study(vol, tf, sp, vr, opts)
+    opts = dict(n_views=n_views, size=size, azimuth=azimuth, elevation=elevation,
+                distances=distances, max_subsamples=max_subsamples, reference=reference,
+                fine=fine, spread=spread, light_dir=light_dir, ambient=ambient, max_mad=max_mad,
+                max_energy_ratio=max_energy_ratio)
+    st = _v.illum_study(_illum_source(volume), tf, spacing, value_range, opts)
     return _from_mapping(IlluminationStudy, st,
                          entries=[_from_mapping(StudyEntry, e) for e in st["entries"]])
 
