@@ -379,12 +379,15 @@ impl std::ops::Deref for FieldArg<'_> {
     }
 }
 
+/// A volume's spacing `(dz, dy, dx)` and value range `(lo, hi)`, each optional.
+type Source = (Option<[f64; 3]>, Option<(f64, f64)>);
+
 /// The `spacing` `(dz, dy, dx)` and `value_range` `(lo, hi)` arguments (array-likes, `None`
 /// when absent).
 fn source_args(
     spacing: Option<&Bound<'_, PyAny>>,
     value_range: Option<&Bound<'_, PyAny>>,
-) -> PyResult<(Option<[f64; 3]>, Option<(f64, f64)>)> {
+) -> PyResult<Source> {
     Ok((
         spacing
             .filter(|s| !s.is_none())

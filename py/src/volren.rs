@@ -335,6 +335,7 @@ impl PyClient {
         (nz, ny, nx)
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
         py: Python<'py>,
