@@ -186,6 +186,19 @@ pub fn path(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<std::path::PathBuf> 
     })
 }
 
+/// The integer `obj` (a Python `int` or a numpy integer); anything else raises
+/// `wscg.ArgumentTypeError` naming `name`. For arguments whose name in the error differs
+/// from the binding's parameter, or that come from a dict.
+pub fn integer(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<i128> {
+    obj.extract().or_else(|_| {
+        let msg = format!("`{name}` must be an integer, got {}", obj.repr()?);
+        Err(PyErr::from_type(
+            argument_type_error(obj.py())?.clone(),
+            msg,
+        ))
+    })
+}
+
 /// `v` as the unsigned integer type `T`, at least `lo`. Outside `T`'s range (negative, or
 /// beyond its bits) it raises `wscg.IntegerRangeError` (a `ValueError` and an
 /// `OverflowError`) naming `name`, as the Python wrappers do; below `lo` a `ValueError`.

@@ -187,7 +187,8 @@ impl PyModel {
     }
 
     /// The same model with its first `l` components.
-    fn truncated(&self, py: Python<'_>, l: usize) -> PyResult<Self> {
+    fn truncated(&self, py: Python<'_>, l: i128) -> PyResult<Self> {
+        let l: usize = uint(py, "n_components", l, 0)?;
         Ok(Self {
             inner: crate::pool::detach(py, || self.inner.truncated(l)).py_err()?,
         })
@@ -460,10 +461,11 @@ fn split_per_subject<'py>(
 fn axis_images<'py>(
     py: Python<'py>,
     model: &PyModel,
-    n_components: usize,
-    height: usize,
-    width: usize,
+    n_components: i128,
+    shape: &Bound<'py, PyAny>,
 ) -> PyResult<Arr<'py, f32>> {
+    let n_components: usize = uint(py, "n_components", n_components, 0)?;
+    let (height, width) = args::size2(py, "shape", shape)?;
     let imgs = crate::pool::detach(py, || match &model.inner {
         Model::Fdkeca(m) => m.axis_images(n_components, height, width),
         Model::Pca(m) => m.axis_images(n_components, height, width),

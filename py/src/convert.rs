@@ -292,12 +292,7 @@ impl<'py> Cfg<'_, 'py> {
     {
         match self.entry(key)? {
             None => Ok(default),
-            Some(v) => {
-                let i: i128 = v
-                    .extract()
-                    .map_err(|e| value_error(format!("`{key}` must be an integer: {e}")))?;
-                crate::args::uint(self.0.py(), key, i, lo)
-            }
+            Some(v) => crate::args::uint(self.0.py(), key, crate::args::integer(key, &v)?, lo),
         }
     }
 }

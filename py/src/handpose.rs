@@ -455,10 +455,17 @@ impl PyIsomap {
 fn isomap_fit(
     py: Python<'_>,
     x: PyReadonlyArrayDyn<f64>,
-    n_neighbors: usize,
-    n_components: usize,
-    n_landmarks: Option<usize>,
+    n_neighbors: i128,
+    n_components: i128,
+    n_landmarks: Option<i128>,
 ) -> PyResult<PyIsomap> {
+    let (n_neighbors, n_components): (usize, usize) = (
+        uint(py, "n_neighbors", n_neighbors, 0)?,
+        uint(py, "n_components", n_components, 0)?,
+    );
+    let n_landmarks: Option<usize> = n_landmarks
+        .map(|n| uint(py, "n_landmarks", n, 0))
+        .transpose()?;
     let x = crate::convert::mat("x", &x)?;
     let p = IsomapParams::default()
         .n_neighbors(n_neighbors)

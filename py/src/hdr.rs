@@ -1455,10 +1455,7 @@ fn layers_arg(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Layer>> {
                 None => 11 + 12 * k as u64,
                 Some(v) => {
                     let label = format!("{name}['seed']");
-                    let v: i128 = v.extract().map_err(|_| {
-                        value_error(format!("`{label}` must be an integer, got {v}"))
-                    })?;
-                    uint(py, &label, v, 0u64)?
+                    uint(py, &label, args::integer(&label, &v)?, 0u64)?
                 }
             };
             Ok(Layer::new(disparity, rect, seed).disk(disk).gain(gain))

@@ -925,7 +925,7 @@ fn illum_study<'py>(
     )? as usize;
     let size: usize = match opts.get_item("size")?.filter(|v| !v.is_none()) {
         None => 256,
-        Some(v) => uint(py, "size", v.extract::<i128>()?, 0)?,
+        Some(v) => uint(py, "size", args::integer("size", &v)?, 0)?,
     };
     let size = size_in((size, size))?.0;
     let azimuth = finite("azimuth", dict_item(opts, "azimuth")?.unwrap_or(30.0))?;

@@ -11,6 +11,7 @@ use wscg_biometrics::sfa::{
     PerClassSfa, QuadraticExpansion, TemporalSfa,
 };
 
+use crate::args::uint;
 use crate::convert::{array, labels_from, mat, mat_map, mat_out, row_blocks, Arr};
 use crate::errors::{value_error, IntoPy, IntoPyRenamed, Renames};
 
@@ -108,15 +109,22 @@ fn sfa_fit(
     py: Python<'_>,
     x: PyReadonlyArrayDyn<f64>,
     y: PyReadonlyArrayDyn<i64>,
-    pca_n_components: usize,
-    m: usize,
-    degree: usize,
+    pca_n_components: i128,
+    m: &Bound<'_, PyAny>,
+    degree: i128,
     include_linear: bool,
     gamma: Option<f64>,
     shrinkage: f64,
     rank_tol: f64,
     rule: Option<&str>,
 ) -> PyResult<PySfa> {
+    // GlobalSFA (the one with a rule) calls its output count `n_components`.
+    let m_name = if rule.is_some() { "n_components" } else { "m" };
+    let (pca_n_components, m, degree): (usize, usize, usize) = (
+        uint(py, "pca_n_components", pca_n_components, 0)?,
+        uint(py, m_name, crate::args::integer(m_name, m)?, 0)?,
+        uint(py, "degree", degree, 0)?,
+    );
     let x = mat("x", &x)?;
     let y = labels_from("y", &y)?;
     let cfg = ClassSfaParams::default()
@@ -197,11 +205,15 @@ impl PyTemporal {
 fn temporal_sfa_fit(
     py: Python<'_>,
     x: PyReadonlyArrayDyn<f64>,
-    n_components: usize,
-    degree: usize,
+    n_components: i128,
+    degree: i128,
     include_linear: bool,
     rank_tol: f64,
 ) -> PyResult<PyTemporal> {
+    let (n_components, degree): (usize, usize) = (
+        uint(py, "n_components", n_components, 0)?,
+        uint(py, "degree", degree, 0)?,
+    );
     let x = mat("x", &x)?;
     let e = expansion(degree, include_linear)?;
     let inner = crate::pool::detach(py, || {
@@ -218,9 +230,10 @@ fn knn_predict<'py>(
     train: PyReadonlyArrayDyn<f64>,
     y: PyReadonlyArrayDyn<i64>,
     test: PyReadonlyArrayDyn<f64>,
-    n_neighbors: usize,
+    n_neighbors: i128,
     tie: &str,
 ) -> PyResult<Arr<'py, i64>> {
+    let n_neighbors: usize = uint(py, "n_neighbors", n_neighbors, 0)?;
     let tie = match tie {
         "nearest" => KnnTie::Nearest,
         "smallest" => KnnTie::SmallestLabel,

@@ -518,7 +518,7 @@ def test_bad_input_raises_value_error(burst):
         deblur.make_gyro(1.0, std=(0.1, -0.1, 0.1))
     # The functions are the native ones, which check their arguments themselves.
     from wscg._native import deblur as native
-    assert deblur.render_kernel is native.render_kernel
+    assert deblur.render_kernel.__wrapped__ is native.render_kernel
     with pytest.raises(ValueError, match="strictly increasing"):
         native.render_kernel(unsorted, 0.1, 0.03, *cam, 10.0, 10.0)
     with pytest.raises(ValueError, match="alpha"):

@@ -810,9 +810,11 @@ def test_bad_input_raises_value_error():
     with pytest.raises(ValueError, match="calibration failed"):
         hdr.calibrate_debevec([np.zeros((20, 30), np.uint8)] * 3, [0.01, 0.02, 0.04])
     # The native module validates (the functions that keep a Python layer are called
-    # directly here; patchmatch and to_radiance are the native functions themselves).
+    # directly here; patchmatch and to_radiance are the native functions themselves, with the
+    # package's error translation around them).
     from wscg._native import hdr as native
-    assert hdr.patchmatch is native.patchmatch and hdr.to_radiance is native.to_radiance
+    assert hdr.patchmatch.__wrapped__ is native.patchmatch
+    assert hdr.to_radiance.__wrapped__ is native.to_radiance
     v16 = [v.astype(np.uint16) for v in views]
     with pytest.raises(ValueError, match="merge_stack"):
         native.multiscopic_hdr(v16[:1], times[:1], "gamma2.2", 8, 7, 2, 10, -10, True, True,

@@ -329,10 +329,15 @@ def _translating(f, check_arguments: bool = True, takes_complex: bool = False):
                     c(name, v)
         try:
             return f(*args, **kwargs)
-        except IntegerRangeError:
+        except (IntegerRangeError, ArgumentTypeError):
             raise
         except OverflowError as e:
             raise _range_error(e) from e
+        except TypeError as e:
+            err = _argument_type_error(e)
+            if err is e:
+                raise
+            raise err from e
         except RuntimeError as e:
             if str(e) not in _BORROWED:
                 raise
@@ -362,14 +367,21 @@ def _native_errors(f):
         except OverflowError as e:
             raise _range_error(e) from e
         except TypeError as e:
-            names = [m.group(1) for n in getattr(e, "__notes__", ())
-                     for m in [_PROCESSING.match(str(n))] if m]
-            if not names:
+            err = _argument_type_error(e)
+            if err is e:
                 raise
-            raise ArgumentTypeError(f"`{names[-1]}`: {e}") from e
+            raise err from e
 
     call._wscg_ranges = True
     return call
+
+
+def _argument_type_error(e: TypeError) -> TypeError:
+    """``e`` as an :class:`ArgumentTypeError` naming the argument when pyo3 raised it
+    converting a native argument (it notes "while processing 'name'"); else ``e`` itself."""
+    names = [m.group(1) for n in getattr(e, "__notes__", ()) for m in [_PROCESSING.match(str(n))]
+             if m]
+    return ArgumentTypeError(f"`{names[-1]}`: {e}") if names else e
 
 
 def integer_ranges(namespace: dict) -> None:

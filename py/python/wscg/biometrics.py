@@ -48,7 +48,7 @@ import numpy as np
 from ._native import biometrics as _b
 from ._native.biometrics import (downscale_mask, hand_pose_rotated_test, make_finger_veins,
                                  physical_features, rotate_mask)
-from ._checks import _int, integer_ranges as _integer_ranges
+from ._checks import integer_ranges as _integer_ranges
 from ._results import from_mapping as _from_mapping, result as _result
 from ._estimator import Estimator, as_matrix
 
@@ -142,14 +142,9 @@ def _kernel_spec(kernel, sigma, sigma_scale, degree, gamma, coef0) -> dict:
         if gamma != "inv_dim":
             raise ValueError(f"`gamma` must be a positive number or 'inv_dim', got {gamma!r}")
         gamma = None
-    return {
-        "kernel": kernel,
-        "sigma": None if sigma is None else float(sigma),
-        "sigma_scale": float(sigma_scale),
-        "degree": int(degree),
-        "gamma": None if gamma is None else float(gamma),
-        "coef0": float(coef0),
-    }
+    # Read and checked by name by the native functions.
+    return {"kernel": kernel, "sigma": sigma, "sigma_scale": sigma_scale, "degree": degree,
+            "gamma": gamma, "coef0": coef0}
 
 
 class _Subspace(Estimator):
@@ -236,7 +231,7 @@ class _Subspace(Estimator):
         import copy
 
         out = copy.copy(self)
-        out._model = self._fitted().truncated(int(n_components))
+        out._model = self._fitted().truncated(n_components)
         out._set_attributes(out._model.info())
         if self._gallery is not None:
             out._gallery = np.ascontiguousarray(self._gallery[:, : out._model.n_components])
@@ -344,8 +339,8 @@ class _Linear(_Subspace):
         shape = shape or self.image_shape_
         if shape is None:
             raise ValueError("`shape` is required when the model was fitted on a 2-D matrix")
-        n = model.n_components if n_components is None else _int("n_components", n_components, 0)
-        return _b.axis_images(model, n, int(shape[0]), int(shape[1]))
+        n = model.n_components if n_components is None else n_components
+        return _b.axis_images(model, n, shape)
 
 
 class FDKECA(_Linear, _KernelParams):
@@ -667,9 +662,8 @@ class _SFAClassifier(Estimator, _JsonPickled):
         classes, codes = _encode_labels(self._validate_y(y, X.shape[0]), X.shape[0])
         if self.degree not in (1, 2):
             raise ValueError(f"`degree` must be 1 or 2, got {self.degree}")
-        self._model = _b.sfa_fit(X, codes, int(self.pca_n_components), int(m), int(self.degree),
-                                 bool(self.include_linear), gamma, float(self.shrinkage),
-                                 float(self.rank_tol), rule)
+        self._model = _b.sfa_fit(X, codes, self.pca_n_components, m, self.degree,
+                                 self.include_linear, gamma, self.shrinkage, self.rank_tol, rule)
         self.classes_ = classes
         self.n_features_in_ = X.shape[1]
         self.eigenvalues_, self.rank_ = self._model.eigenvalues()
@@ -771,7 +765,7 @@ class PerClassSFA(_SFAClassifier):
         returns ``self``."""
         if self.objective not in _OBJECTIVES:
             raise ValueError(f"`objective` must be one of {_OBJECTIVES}, got {self.objective!r}")
-        gamma = float(self.gamma) if self.objective == "within_minus_out" else None
+        gamma = self.gamma if self.objective == "within_minus_out" else None
         return self._fit(X, y, self.m, gamma, None)
 
     def responses(self, X, cls) -> np.ndarray:
@@ -804,7 +798,7 @@ class GlobalSFA(_SFAClassifier):
         """Fits to rows ``X`` and labels ``y``; returns ``self``."""
         if self.rule not in ("variance", "gaussian"):
             raise ValueError(f"`rule` must be 'variance' or 'gaussian', got {self.rule!r}")
-        return self._fit(X, y, self.n_components, float(self.gamma), self.rule)
+        return self._fit(X, y, self.n_components, self.gamma, self.rule)
 
     def transform(self, X) -> np.ndarray:
         """The shared outputs ``W'z`` (``(n, n_components)``)."""
@@ -841,8 +835,8 @@ class TemporalSFA(Estimator, _NativeTransform, _JsonPickled):
         """Fits to the time series ``X`` (``(T, d)``, rows in time order); ``y`` is ignored.
         Returns ``self``."""
         X = self._validate_X(X, reset=True, min_samples=3)
-        self._model = _b.temporal_sfa_fit(X, int(self.n_components), int(self.degree),
-                                          bool(self.include_linear), float(self.rank_tol))
+        self._model = _b.temporal_sfa_fit(X, self.n_components, self.degree,
+                                          self.include_linear, self.rank_tol)
         self.n_features_in_ = X.shape[1]
         self.delta_values_ = np.asarray(self._model.delta_values())
         self.rank_ = self._model.rank()
@@ -880,7 +874,7 @@ class KNN(Estimator):
         """The majority label of the ``n_neighbors`` nearest training rows of every row."""
         X = self._validate_X(X, reset=False)
         return self.classes_[_b.knn_predict(self._X, self._codes, X,
-                                            _int("n_neighbors", self.n_neighbors, 0),
+                                            self.n_neighbors,
                                             self.tie)]
 
     def score(self, X, y) -> float:
@@ -921,8 +915,7 @@ class Isomap(Estimator, _NativeTransform, _JsonPickled):
     def fit(self, X, y=None):
         """Fits to the rows of ``X``; ``y`` is ignored. Returns ``self``."""
         X = self._validate_X(X, reset=True, min_samples=2)
-        nl = None if self.n_landmarks is None else int(self.n_landmarks)
-        self._model = _b.isomap_fit(X, int(self.n_neighbors), int(self.n_components), nl)
+        self._model = _b.isomap_fit(X, self.n_neighbors, self.n_components, self.n_landmarks)
         self.n_features_in_ = X.shape[1]
         self.embedding_ = self._model.embedding()
         self.eigenvalues_ = np.asarray(self._model.eigenvalues())
