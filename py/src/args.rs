@@ -300,6 +300,24 @@ pub fn mesh(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<w
     crate::convert::mesh_in(&array("vertices", vertices)?, &self::faces(faces)?, None)
 }
 
+/// The triangle mesh of the `vertices` `(V, 3)`, `faces` `(F, 3)` and optional per-vertex
+/// `colors` `(V, 3)` arguments.
+pub fn colored_mesh(
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    colors: Option<&Bound<'_, PyAny>>,
+) -> PyResult<wscg_math::TriMesh> {
+    let colors = colors
+        .filter(|c| !c.is_none())
+        .map(|c| array::<f32>("colors", c))
+        .transpose()?;
+    crate::convert::mesh_in(
+        &array("vertices", vertices)?,
+        &self::faces(faces)?,
+        colors.as_ref(),
+    )
+}
+
 /// The `faces` argument: vertex indices, an array-like of integers (a float array, even of
 /// whole numbers, is refused: it is usually vertices passed in the wrong place; other
 /// dtypes as [`array`]).

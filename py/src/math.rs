@@ -29,8 +29,7 @@ use wscg_math::{rng, Error, ImageView};
 
 use crate::args::{self, number, uint};
 use crate::convert::{
-    self, array, choice, image_dims, mat, mat_out, mesh_in, plane, rows3, same_shape, shape_of,
-    values, Arr,
+    self, array, choice, image_dims, mat, mat_out, plane, rows3, same_shape, shape_of, values, Arr,
 };
 use crate::errors::{value_error, IntoPy};
 
@@ -1358,14 +1357,7 @@ fn save_mesh(
     binary: bool,
 ) -> PyResult<()> {
     let path = args::path("path", path)?;
-    let colors = colors
-        .map(|c| args::array::<f32>("colors", c))
-        .transpose()?;
-    let mesh = mesh_in(
-        &args::array("vertices", vertices)?,
-        &args::faces(faces)?,
-        colors.as_ref(),
-    )?;
+    let mesh = args::colored_mesh(vertices, faces, colors)?;
     let normals = match normals {
         Some(n) => {
             let n = args::array::<f64>("normals", n)?;

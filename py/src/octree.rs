@@ -13,7 +13,7 @@ use wscg_octree::{
 };
 
 use crate::args::{self, uint};
-use crate::convert::{array, mesh_in, rows3, values, Arr};
+use crate::convert::{array, rows3, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// The trace mode named `mode`.
@@ -362,15 +362,7 @@ fn build_octree<'py>(
     early_stop: bool,
     domain: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<(PyOctree, Bound<'py, PyDict>)> {
-    let colors = colors
-        .filter(|c| !c.is_none())
-        .map(|c| args::array::<f32>("colors", c))
-        .transpose()?;
-    let mesh = mesh_in(
-        &args::array("vertices", vertices)?,
-        &args::faces(faces)?,
-        colors.as_ref(),
-    )?;
+    let mesh = args::colored_mesh(vertices, faces, colors)?;
     let depth: u8 = uint(py, "depth", depth, 0)?;
     let domain = match domain.filter(|d| !d.is_none()) {
         None => None,

@@ -309,7 +309,8 @@ _BORROWED = ("Already borrowed", "Already mutably borrowed")
 
 def _translating(f, check_arguments: bool = True, takes_complex: bool = False):
     """``f`` with its arguments' kinds checked before the call (see the module's docstring)
-    and an ``OverflowError`` raised during the call re-raised as :class:`IntegerRangeError`."""
+    and an argument's conversion error raised during the call re-raised as the package's
+    error (:func:`_translated`)."""
     checks = _argument_checks(f, takes_complex) if check_arguments else {}
     # Positional names in order, to match arguments without inspect's (slower) binding; only
     # the arguments given are checked (defaults are valid).
@@ -329,13 +330,9 @@ def _translating(f, check_arguments: bool = True, takes_complex: bool = False):
                     c(name, v)
         try:
             return f(*args, **kwargs)
-        except (IntegerRangeError, ArgumentTypeError):
-            raise
-        except OverflowError as e:
-            raise _range_error(e) from e
-        except TypeError as e:
-            err = _argument_type_error(e)
-            if err is e:
+        except (OverflowError, TypeError) as e:
+            err = _translated(e)
+            if err is None:
                 raise
             raise err from e
         except RuntimeError as e:
@@ -350,38 +347,19 @@ def _translating(f, check_arguments: bool = True, takes_complex: bool = False):
     return call
 
 
-def _native_errors(f):
-    """The native function ``f`` (re-exported by a module) with a ``TypeError`` that pyo3
-    raised converting one argument (it notes "while processing 'name'") re-raised as an
-    :class:`ArgumentTypeError` naming the argument in its message, and an ``OverflowError``
-    as an :class:`IntegerRangeError`: the package's errors, as its Python functions raise
-    them. A call with missing or unknown arguments stays a plain ``TypeError``. (Python 3.9
-    and 3.10 have no exception notes: there the message cannot name the argument.)"""
-
-    @functools.wraps(f)
-    def call(*args, **kwargs):
-        try:
-            return f(*args, **kwargs)
-        except (IntegerRangeError, ArgumentTypeError):
-            raise
-        except OverflowError as e:
-            raise _range_error(e) from e
-        except TypeError as e:
-            err = _argument_type_error(e)
-            if err is e:
-                raise
-            raise err from e
-
-    call._wscg_ranges = True
-    return call
-
-
-def _argument_type_error(e: TypeError) -> TypeError:
-    """``e`` as an :class:`ArgumentTypeError` naming the argument when pyo3 raised it
-    converting a native argument (it notes "while processing 'name'"); else ``e`` itself."""
+def _translated(e: Exception) -> Optional[Exception]:
+    """The package's error for an ``OverflowError`` or ``TypeError`` that a native call
+    raised converting an argument (an :class:`IntegerRangeError`, or an
+    :class:`ArgumentTypeError` naming the argument pyo3 noted as "while processing 'name'"),
+    or None when ``e`` is to be raised as it is (already the package's, or not about an
+    argument's conversion)."""
+    if isinstance(e, (IntegerRangeError, ArgumentTypeError)):
+        return None
+    if isinstance(e, OverflowError):
+        return _range_error(e)
     names = [m.group(1) for n in getattr(e, "__notes__", ()) for m in [_PROCESSING.match(str(n))]
              if m]
-    return ArgumentTypeError(f"`{names[-1]}`: {e}") if names else e
+    return ArgumentTypeError(f"`{names[-1]}`: {e}") if names else None
 
 
 def integer_ranges(namespace: dict) -> None:
@@ -391,7 +369,7 @@ def integer_ranges(namespace: dict) -> None:
     parameter. Functions: the names in the module's ``__all__`` defined in that module;
     classes: every class the module defines (private base classes hold public methods); the
     native functions in ``__all__`` also raise :class:`ArgumentTypeError` naming the argument
-    for a value of the wrong type (see :func:`_native_errors`)."""
+    for a value of the wrong type (see :func:`_translated`)."""
     module = namespace["__name__"]
     # A module whose arrays are complex throughout (k-space, MR images) says so.
     cx = bool(namespace.get("_TAKES_COMPLEX", False))
@@ -417,7 +395,12 @@ def integer_ranges(namespace: dict) -> None:
         obj = namespace.get(name)
         if inspect.isbuiltin(obj) and (getattr(obj, "__module__", None) or "").startswith(
                 "wscg._native"):
-            wrapped = _native_errors(obj)
+            # pyo3's TypeError for an argument it cannot convert names the argument only in
+            # an exception note ("while processing 'name'"; Python 3.9 and 3.10 have no
+            # notes, and there the message cannot name it): re-raised as the package's
+            # ArgumentTypeError with the name in the message, an OverflowError as
+            # IntegerRangeError. A call with missing or unknown arguments stays a TypeError.
+            wrapped = _translating(obj, check_arguments=False)
             # Pickled by reference under the module that exports it (Dask, multiprocessing).
             wrapped.__module__ = namespace["__name__"]
             namespace[name] = wrapped
