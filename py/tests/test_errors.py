@@ -141,3 +141,20 @@ def test_no_module_exports_an_untranslated_native_function():
     raw = [f"{mod.__name__}.{name}" for mod in _modules() for name in mod.__all__
            if inspect.isbuiltin(getattr(mod, name))]
     assert not raw, raw
+
+
+@pytest.mark.parametrize("name,make,fit_y", [
+    ("n_components", lambda B: B.GlobalSFA(n_components=2.5, pca_n_components=5), True),
+    ("m", lambda B: B.PerClassSFA(m=2.5, pca_n_components=5), True),
+    ("n_components", lambda B: B.TemporalSFA(n_components=2.5), False),
+    ("n_neighbors", lambda B: B.Isomap(n_neighbors=5.5, n_components=2), False),
+    ("degree", lambda B: B.FDKECA(kernel="poly", degree=2.5), False),
+])
+def test_estimators_refuse_fractional_integer_hyper_parameters(name, make, fit_y):
+    # Hyper-parameters reach the bindings as given: 2.5 used to be truncated to 2 by int().
+    from wscg import biometrics as B
+    X = np.random.default_rng(0).random((40, 6))
+    y = np.repeat(np.arange(4), 10)
+    est = make(B)
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        est.fit(X, y) if fit_y else est.fit(X)
