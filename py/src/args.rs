@@ -239,10 +239,30 @@ pub fn numbers<const N: usize>(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<[
         Ok(std::array::from_fn(|i| v[i]))
     } else {
         Err(value_error(format!(
-            "`{name}` must be {N} numbers, got shape {:?}",
-            a.shape()
+            "`{name}` must be {N} numbers, got shape {}",
+            shape_repr(a.shape())
         )))
     }
+}
+
+/// The uint8 array `obj` as it is (no cast that would change its values); another dtype is
+/// a `ValueError` naming `name`.
+pub fn u8s<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, u8>> {
+    let a = asarray(name, obj)?;
+    match a.cast::<PyArrayDyn<u8>>() {
+        Ok(a) => Ok(a.readonly()),
+        Err(_) => Err(value_error(format!(
+            "`{name}` must be a uint8 array, got dtype {}",
+            a.dtype()
+        ))),
+    }
+}
+
+/// The Python type name of `obj`, for messages.
+pub fn type_name(obj: &Bound<'_, PyAny>) -> String {
+    obj.get_type()
+        .name()
+        .map_or_else(|_| "?".to_owned(), |n| n.to_string())
 }
 
 /// The 3 numbers of `obj`, e.g. a volume's `spacing` `(dz, dy, dx)` (see [`numbers`]).
@@ -259,10 +279,22 @@ pub fn pair(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(f64, f64)> {
 /// The non-negative integers of `obj` (any array-like of integers, flattened), e.g. a list of
 /// levels; a negative or too large one is `IntegerRangeError` naming `name`.
 pub fn counts(py: Python<'_>, name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
-    crate::convert::values(&array::<i64>(name, obj)?)
-        .iter()
-        .map(|&v| uint(py, name, i128::from(v), 0usize))
-        .collect()
+    uints(
+        py,
+        name,
+        crate::convert::values(&array::<i64>(name, obj)?)
+            .iter()
+            .map(|&v| i128::from(v)),
+    )
+}
+
+/// The integers `v` as counts (see [`uint`]), each named `name` in an error.
+pub fn uints(
+    py: Python<'_>,
+    name: &str,
+    v: impl IntoIterator<Item = i128>,
+) -> PyResult<Vec<usize>> {
+    v.into_iter().map(|c| uint(py, name, c, 0)).collect()
 }
 
 /// The 2 non-negative integers of `obj`, e.g. an image shape `(rows, cols)`.
@@ -274,6 +306,12 @@ pub fn size2(py: Python<'_>, name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(us
             v.len()
         ))),
     }
+}
+
+/// A per-axis triple in array axis order `(z, y, x)` (a `spacing`, py/API.md) as the
+/// libraries' `[x, y, z]`.
+pub fn xyz(s: [f64; 3]) -> [f64; 3] {
+    [s[2], s[1], s[0]]
 }
 
 /// Errors unless every component of the 3-vector `p` is finite.

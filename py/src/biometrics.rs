@@ -14,7 +14,7 @@ use wscg_biometrics::subspace::{
 use wscg_math::Error;
 
 use crate::args::{self, uint};
-use crate::convert::{array, labels_from, mat, mat_map, mat_out, Arr};
+use crate::convert::{array, labels_from, mat, mat_map, mat_out, vector, Arr};
 use crate::errors::{value_error, IntoPy, IntoPyRenamed};
 
 /// Reads an optional item of the spec dictionary.
@@ -124,10 +124,6 @@ fn rows_out<'py>(py: Python<'py>, rows: &[Vec<f64>]) -> PyResult<Arr<'py, f64>> 
     array(py, &[rows.len(), d], rows.concat())
 }
 
-fn vec_out<'py>(py: Python<'py>, v: &[f64]) -> PyResult<Arr<'py, f64>> {
-    array(py, &[v.len()], v.to_vec())
-}
-
 fn kernel_info(d: &Bound<'_, PyDict>, k: &ResolvedKernel) -> PyResult<()> {
     match *k {
         ResolvedKernel::Linear => d.set_item("kernel", "linear"),
@@ -217,23 +213,23 @@ impl PyModel {
         let d = PyDict::new(py);
         match &self.inner {
             Model::Fdkeca(m) => {
-                d.set_item("mean", vec_out(py, &m.mean)?)?;
+                d.set_item("mean", vector(py, m.mean.to_vec())?)?;
                 d.set_item("components", rows_out(py, &m.axes)?)?;
-                d.set_item("eigenvalues", vec_out(py, &m.eigenvalues)?)?;
-                d.set_item("entropy_terms", vec_out(py, &m.entropy_terms)?)?;
+                d.set_item("eigenvalues", vector(py, m.eigenvalues.to_vec())?)?;
+                d.set_item("entropy_terms", vector(py, m.entropy_terms.to_vec())?)?;
                 d.set_item("kernel_sum", m.kernel_sum)?;
                 d.set_item("renyi_entropy_estimate", m.renyi_entropy_estimate())?;
                 d.set_item("n_train", m.n_train)?;
                 kernel_info(&d, &m.kernel)?;
             }
             Model::Pca(m) => {
-                d.set_item("mean", vec_out(py, &m.mean)?)?;
+                d.set_item("mean", vector(py, m.mean.to_vec())?)?;
                 d.set_item("components", rows_out(py, &m.components)?)?;
-                d.set_item("variances", vec_out(py, &m.variances)?)?;
+                d.set_item("variances", vector(py, m.variances.to_vec())?)?;
                 d.set_item("whiten", m.whiten)?;
             }
             Model::KernelPca(m) => {
-                d.set_item("eigenvalues", vec_out(py, &m.eigenvalues)?)?;
+                d.set_item("eigenvalues", vector(py, m.eigenvalues.to_vec())?)?;
                 d.set_item("eigenvectors", rows_out(py, &m.eigenvectors)?)?;
                 if let Some(e) = &embedding {
                     d.set_item("embedding", mat_out(py, e)?)?;
@@ -242,8 +238,8 @@ impl PyModel {
                 kernel_info(&d, &m.kernel)?;
             }
             Model::Keca(m) => {
-                d.set_item("eigenvalues", vec_out(py, &m.eigenvalues)?)?;
-                d.set_item("entropy_terms", vec_out(py, &m.entropy_terms)?)?;
+                d.set_item("eigenvalues", vector(py, m.eigenvalues.to_vec())?)?;
+                d.set_item("entropy_terms", vector(py, m.entropy_terms.to_vec())?)?;
                 d.set_item("eigenvectors", rows_out(py, &m.eigenvectors)?)?;
                 if let Some(e) = &embedding {
                     d.set_item("embedding", mat_out(py, e)?)?;

@@ -71,6 +71,20 @@ pub fn array<'py, T: Element>(
     Ok(a.into_pyarray(py))
 }
 
+/// `v` as a 1-D array.
+pub fn vector<T: Element>(py: Python<'_>, v: Vec<T>) -> PyResult<Bound<'_, PyArrayDyn<T>>> {
+    let n = v.len();
+    array(py, &[n], v)
+}
+
+/// Indices as a 1-D int64 array.
+pub fn index_vector(
+    py: Python<'_>,
+    v: impl IntoIterator<Item = usize>,
+) -> PyResult<Bound<'_, PyArrayDyn<i64>>> {
+    vector(py, v.into_iter().map(|i| i as i64).collect())
+}
+
 /// An image as an array of `(H, W)` when `flat` and single-channel, `(H, W, C)` otherwise.
 pub fn image_array<'py, T: Element + Copy>(
     py: Python<'py>,

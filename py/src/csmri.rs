@@ -48,6 +48,16 @@ fn config(wedges: Vec<[usize; 2]>, alpha: f64, tight: bool) -> UdctParams {
         .tight(tight)
 }
 
+/// The `bands` argument: a sequence of complex array-likes, one per band (`bands[i]` in
+/// errors).
+fn bands_arg<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Vec<PyReadonlyArrayDyn<'py, Complex64>>> {
+    obj.try_iter()
+        .map_err(|_| value_error("`bands` must be a sequence of arrays, one per band"))?
+        .enumerate()
+        .map(|(i, b)| args::complex(&format!("bands[{i}]"), &b?))
+        .collect()
+}
+
 /// Checks that the image `x` is 2-D with the shape a transform was planned for.
 fn planned_shape<T: numpy::Element>(
     x: &PyReadonlyArrayDyn<T>,
@@ -107,8 +117,9 @@ impl PyUdct {
     fn forward<'py>(
         &self,
         py: Python<'py>,
-        x: PyReadonlyArrayDyn<f64>,
+        x: &Bound<'py, PyAny>,
     ) -> PyResult<(Arr<'py, f64>, Vec<Arr<'py, Complex64>>)> {
+        let x = args::array::<f64>("x", x)?;
         planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
         // The transform writes straight into the numpy arrays it returns: the low-pass and
@@ -155,9 +166,11 @@ impl PyUdct {
     fn backward<'py>(
         &self,
         py: Python<'py>,
-        lowpass: PyReadonlyArrayDyn<f64>,
-        bands: Vec<PyReadonlyArrayDyn<Complex64>>,
+        lowpass: &Bound<'py, PyAny>,
+        bands: &Bound<'py, PyAny>,
     ) -> PyResult<Arr<'py, f64>> {
+        let lowpass = args::array::<f64>("lowpass", lowpass)?;
+        let bands = bands_arg(bands)?;
         if lowpass.shape() != self.inner.lowpass_shape() {
             return Err(value_error(format!(
                 "`lowpass` has shape {:?}, expected {:?}",
@@ -282,8 +295,9 @@ impl PyFdct {
     fn forward<'py>(
         &self,
         py: Python<'py>,
-        x: PyReadonlyArrayDyn<Complex64>,
+        x: &Bound<'py, PyAny>,
     ) -> PyResult<Vec<Arr<'py, Complex64>>> {
+        let x = args::complex("x", x)?;
         planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
         let co = crate::pool::detach(py, || self.inner.forward(&v)).py_err()?;
@@ -293,10 +307,10 @@ impl PyFdct {
     fn backward<'py>(
         &self,
         py: Python<'py>,
-        bands: Vec<PyReadonlyArrayDyn<Complex64>>,
+        bands: &Bound<'py, PyAny>,
     ) -> PyResult<Arr<'py, Complex64>> {
         let info = self.slots();
-        let co = join_bands(&bands, &info, self.inner.coeff_len())?;
+        let co = join_bands(&bands_arg(bands)?, &info, self.inner.coeff_len())?;
         let out = crate::pool::detach(py, || self.inner.backward(&co)).py_err()?;
         let (r, c) = self.inner.shape();
         array(py, &[r, c], out)
@@ -384,10 +398,10 @@ impl PySflct {
     fn back<'py>(
         &self,
         py: Python<'py>,
-        bands: Vec<PyReadonlyArrayDyn<Complex64>>,
+        bands: &Bound<'py, PyAny>,
         adjoint: bool,
     ) -> PyResult<Arr<'py, Complex64>> {
-        let co = join_bands(&bands, &self.slots(), self.inner.coeff_len())?;
+        let co = join_bands(&bands_arg(bands)?, &self.slots(), self.inner.coeff_len())?;
         let out = crate::pool::detach(py, || {
             if adjoint {
                 self.inner.adjoint(&co)
@@ -440,8 +454,9 @@ impl PySflct {
     fn forward<'py>(
         &self,
         py: Python<'py>,
-        x: PyReadonlyArrayDyn<Complex64>,
+        x: &Bound<'py, PyAny>,
     ) -> PyResult<Vec<Arr<'py, Complex64>>> {
+        let x = args::complex("x", x)?;
         planned_shape(&x, self.inner.shape())?;
         let v = values(&x);
         let co = crate::pool::detach(py, || self.inner.forward(&v)).py_err()?;
@@ -451,7 +466,7 @@ impl PySflct {
     fn inverse<'py>(
         &self,
         py: Python<'py>,
-        bands: Vec<PyReadonlyArrayDyn<Complex64>>,
+        bands: &Bound<'py, PyAny>,
     ) -> PyResult<Arr<'py, Complex64>> {
         self.back(py, bands, false)
     }
@@ -459,7 +474,7 @@ impl PySflct {
     fn adjoint<'py>(
         &self,
         py: Python<'py>,
-        bands: Vec<PyReadonlyArrayDyn<Complex64>>,
+        bands: &Bound<'py, PyAny>,
     ) -> PyResult<Arr<'py, Complex64>> {
         self.back(py, bands, true)
     }
@@ -791,16 +806,6 @@ fn tv_constrained<'py>(
     array(py, &[rec.shape.0, rec.shape.1], rec.image)
 }
 
-/// `(rows, cols)` of a `shape` argument.
-fn shape2(py: Python<'_>, shape: &[i128]) -> PyResult<(usize, usize)> {
-    match *shape {
-        [r, c] => Ok((uint(py, "shape", r, 0)?, uint(py, "shape", c, 0)?)),
-        _ => Err(value_error(format!(
-            "`shape` must be (rows, cols), got {shape:?}"
-        ))),
-    }
-}
-
 /// Variable-density Cartesian mask of whole rows (phase encodes), un-shifted: the
 /// ``round(center_frac * rows)`` rows nearest DC plus rows drawn with probability
 /// proportional to ``(1 - |k| / k_max)^2``, ``round(rate * rows)`` rows in all.
@@ -808,12 +813,12 @@ fn shape2(py: Python<'_>, shape: &[i128]) -> PyResult<(usize, usize)> {
 #[pyo3(signature = (shape, rate=0.4, center_frac=0.08, seed=0))]
 fn mask_cartesian<'py>(
     py: Python<'py>,
-    shape: Vec<i128>,
+    shape: &Bound<'py, PyAny>,
     rate: f64,
     center_frac: f64,
     seed: i128,
 ) -> PyResult<Arr<'py, bool>> {
-    let (rows, cols) = shape2(py, &shape)?;
+    let (rows, cols) = args::size2(py, "shape", shape)?;
     let seed: u64 = uint(py, "seed", seed, 0)?;
     let m = crate::pool::detach(py, || masks::cartesian(rows, cols, rate, center_frac, seed))
         .py_err()?;
@@ -826,10 +831,10 @@ fn mask_cartesian<'py>(
 #[pyo3(signature = (shape, rate=0.302))]
 fn mask_pseudo_radial<'py>(
     py: Python<'py>,
-    shape: Vec<i128>,
+    shape: &Bound<'py, PyAny>,
     rate: f64,
 ) -> PyResult<(Arr<'py, bool>, usize)> {
-    let (rows, cols) = shape2(py, &shape)?;
+    let (rows, cols) = args::size2(py, "shape", shape)?;
     let (m, lines) = crate::pool::detach(py, || masks::pseudo_radial(rows, cols, rate)).py_err()?;
     Ok((array(py, &[rows, cols], m)?, lines))
 }

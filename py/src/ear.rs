@@ -7,14 +7,12 @@
 //! `python/wscg/ear.py` (which holds the module's documentation). The pipeline functions
 //! take the pipeline parameters as a dict (keys: the fields of `EarParams`, see
 //! [`PARAM_KEYS`]) built by the Python layer, which documents them once for every function.
-//! Every argument is converted here: images of dtype uint8 ([`u8_arg`], a list or a stack
+//! Every argument is converted here: images of dtype uint8 ([`args::u8s`], a list or a stack
 //! of them [`images_arg`]), templates, masks and planes as any real array-like (through
 //! [`crate::args`]). Every function validates its input, so a direct call cannot panic; the
 //! GIL is released while Rust works.
 
-use numpy::{
-    PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
-};
+use numpy::{PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -29,7 +27,9 @@ use wscg_biometrics::imgops::{mask, tone};
 use wscg_math::{Image, ImageView};
 
 use crate::args::{self, uint};
-use crate::convert::{array, dict_item, dims2, image_dims, indices, values, Arr};
+use crate::convert::{
+    array, dict_item, dims2, image_dims, index_vector, indices, values, vector, Arr,
+};
 use crate::errors::{value_error, IntoPy};
 
 /// The keys of the parameter dict (the fields of `EarParams`; the skin model is split into
@@ -205,9 +205,9 @@ fn image_from(name: &str, shape: &[usize], data: Vec<u8>) -> PyResult<Image<u8>>
     Image::new(h, w, c, data).py_err()
 }
 
-/// The uint8 image argument `name` ([`u8_arg`]) as an image.
+/// The uint8 image argument `name` ([`args::u8s`]) as an image.
 fn image_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Image<u8>> {
-    image_in(name, &u8_arg(name, obj)?)
+    image_in(name, &args::u8s(name, obj)?)
 }
 
 /// The images argument `name`: a sequence of uint8 images (each named `name[k]` in errors)
@@ -220,7 +220,7 @@ fn images_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Image<u8>>> {
                 a.shape()
             )));
         }
-        let a = u8_arg(name, obj)?;
+        let a = args::u8s(name, obj)?;
         let shape = a.shape().to_vec();
         let v = values(&a);
         let per: usize = shape[1..].iter().product();
@@ -269,15 +269,6 @@ fn mask_out<'py>(py: Python<'py>, mask: Image<u8>) -> PyResult<Arr<'py, bool>> {
     crate::convert::image_array(py, mask.map(|x| x != 0), true)
 }
 
-fn vec_out<'py>(py: Python<'py>, v: Vec<f64>) -> PyResult<Arr<'py, f64>> {
-    array(py, &[v.len()], v)
-}
-
-fn idx_out<'py>(py: Python<'py>, v: impl IntoIterator<Item = usize>) -> PyResult<Arr<'py, i64>> {
-    let v: Vec<i64> = v.into_iter().map(|i| i as i64).collect();
-    array(py, &[v.len()], v)
-}
-
 /// A finite radius.
 fn radius_in(radius: f64) -> PyResult<f64> {
     if !(radius.is_finite() && radius >= 0.0) {
@@ -302,7 +293,7 @@ fn report_dict<'py>(
         "block_skin_fraction",
         array(py, &[gr, gc], r.block_skin_fraction.clone())?,
     )?;
-    d.set_item("index", idx_out(py, r.index())?)?;
+    d.set_item("index", index_vector(py, r.index())?)?;
     d.set_item("occluded_pct", r.occluded_pct)?;
     d.set_item("rejected", r.rejected)?;
     Ok(d)
@@ -314,8 +305,8 @@ fn ranking_out<'py>(
     ranked: &[(usize, f64)],
 ) -> PyResult<(Arr<'py, i64>, Arr<'py, f64>)> {
     Ok((
-        idx_out(py, ranked.iter().map(|r| r.0))?,
-        vec_out(py, ranked.iter().map(|r| r.1).collect())?,
+        index_vector(py, ranked.iter().map(|r| r.0))?,
+        vector(py, ranked.iter().map(|r| r.1).collect())?,
     ))
 }
 
@@ -421,7 +412,7 @@ fn score<'py>(
     d.set_item("score", b.get(p.score))?;
     d.set_item(
         "per_shift",
-        vec_out(
+        vector(
             py,
             b.per_shift.iter().map(|v| v.unwrap_or(f64::NAN)).collect(),
         )?,
@@ -434,8 +425,11 @@ fn score<'py>(
             b.distances.iter().map(|v| v.unwrap_or(f64::NAN)).collect(),
         )?,
     )?;
-    d.set_item("best_shift", idx_out(py, b.best_shift.iter().copied())?)?;
-    d.set_item("index", idx_out(py, probe.index.iter().copied())?)?;
+    d.set_item(
+        "best_shift",
+        index_vector(py, b.best_shift.iter().copied())?,
+    )?;
+    d.set_item("index", index_vector(py, probe.index.iter().copied())?)?;
     d.set_item(
         "shifts",
         array(
@@ -569,7 +563,7 @@ impl PyEarMatcher {
         let pct = probe.report.as_ref().map_or(f64::NAN, |r| r.occluded_pct);
         let s = crate::pool::detach(py, || ear::scores(&probe, &self.gallery, &self.params))
             .py_err()?;
-        Ok((vec_out(py, s)?, probe.rejected(), pct))
+        Ok((vector(py, s)?, probe.rejected(), pct))
     }
 
     /// Whole-ear baseline ranking `(order, scores)` (Fig. 12; never rejects).
@@ -611,7 +605,7 @@ fn cmc<'py>(py: Python<'py>, ranks: &Bound<'py, PyAny>, max_rank: i128) -> PyRes
             ))),
         })
         .collect::<PyResult<Vec<_>>>()?;
-    vec_out(py, ear::cmc(&r, max_rank).py_err()?)
+    vector(py, ear::cmc(&r, max_rank).py_err()?)
 }
 
 /// Synthetic ears with exact occluder masks.
@@ -711,13 +705,13 @@ fn make_ears<'py>(
     out.set_item("probes", array(py, &[m, h, w, 3], probes)?)?;
     out.set_item(
         "labels",
-        idx_out(py, set.probes.iter().map(|pr| pr.subject))?,
+        index_vector(py, set.probes.iter().map(|pr| pr.subject))?,
     )?;
     out.set_item("occluder_masks", array(py, &[m, h, w], masks)?)?;
     out.set_item("occluded_blocks", array(py, &[m, gr, gc], blocks)?)?;
     out.set_item(
         "occluded_pct",
-        vec_out(py, set.probes.iter().map(|pr| pr.occluded_pct()).collect())?,
+        vector(py, set.probes.iter().map(|pr| pr.occluded_pct()).collect())?,
     )?;
     out.set_item(
         "skin_rg",
@@ -803,24 +797,21 @@ fn evaluate<'py>(
     let names: Vec<&str> = ScoreRule::ALL.iter().map(|r| r.name()).collect();
     let cmc = PyDict::new(py);
     for (name, c) in names.iter().zip(&ev.cmc) {
-        cmc.set_item(name, vec_out(py, c.clone())?)?;
+        cmc.set_item(name, vector(py, c.clone())?)?;
     }
     d.set_item("rules", names.clone())?;
     d.set_item("cmc", cmc)?;
-    d.set_item("baseline_cmc", vec_out(py, ev.baseline_cmc.clone())?)?;
-    d.set_item(
-        "baseline_cmc_all",
-        vec_out(py, ev.baseline_cmc_all.clone())?,
-    )?;
+    d.set_item("baseline_cmc", vector(py, ev.baseline_cmc.clone())?)?;
+    d.set_item("baseline_cmc_all", vector(py, ev.baseline_cmc_all.clone())?)?;
     d.set_item("rejection_rate", ev.rejection_rate())?;
     let o = &ev.outcomes;
     d.set_item(
         "estimated_pct",
-        vec_out(py, o.iter().map(|o| o.estimated_pct).collect())?,
+        vector(py, o.iter().map(|o| o.estimated_pct).collect())?,
     )?;
     d.set_item(
         "true_pct",
-        vec_out(
+        vector(
             py,
             o.iter().map(|o| o.true_pct.unwrap_or(f64::NAN)).collect(),
         )?,
@@ -879,7 +870,7 @@ fn skin_check(mean: Vec<f64>, cov: Vec<Vec<f64>>) -> PyResult<Model> {
 
 /// The uint8 RGB pixels of the argument `name`, an array `(..., 3)`.
 fn rgb_arg<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, u8>> {
-    let a = u8_arg(name, obj)?;
+    let a = args::u8s(name, obj)?;
     if a.shape().last() != Some(&3) {
         return Err(value_error(format!(
             "`{name}` must have a last axis of 3 (R, G, B), got shape {:?}",
@@ -950,7 +941,7 @@ fn skin_eval_rg<'py>(
     let out = crate::pool::detach(py, || {
         r.iter().zip(g.iter()).map(|(&r, &g)| f(&m, r, g)).collect()
     })?;
-    vec_out(py, out)
+    vector(py, out)
 }
 
 /// Likelihood (eq. 5) of uint8 RGB pixels given as a `(..., 3)` array, shaped `(...)`.
@@ -977,19 +968,6 @@ fn skin_likelihood<'py>(
 // Building blocks
 // ------------------------------------------------------------------------------------------
 
-/// The uint8 image argument `name` (any array of dtype uint8; another dtype is refused, not
-/// cast, so that no grey level changes).
-fn u8_arg<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, u8>> {
-    let a = args::asarray(name, obj)?;
-    match a.cast::<PyArrayDyn<u8>>() {
-        Ok(a) => Ok(a.readonly()),
-        Err(_) => Err(value_error(format!(
-            "`{name}` must be a uint8 image, got dtype {}",
-            a.dtype()
-        ))),
-    }
-}
-
 /// The 2-D mask argument `name` (bool, or any real array-like: non-zero = set).
 fn mask_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(Vec<u8>, usize, usize)> {
     mask_in(name, &args::array::<bool>(name, obj)?)
@@ -1001,7 +979,7 @@ fn mask_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(Vec<u8>, usize, usi
 /// weights differ by one level on 0.26 % of all colours). Returns uint8 ``(H, W)``.
 #[pyfunction]
 fn rgb_to_gray<'py>(py: Python<'py>, image: &Bound<'py, PyAny>) -> PyResult<Arr<'py, u8>> {
-    let im = image_in("image", &u8_arg("image", image)?)?;
+    let im = image_in("image", &args::u8s("image", image)?)?;
     let g = tone::rgb_to_gray(&im).py_err()?;
     array(py, &[im.height(), im.width()], g)
 }
@@ -1018,7 +996,7 @@ fn equalize_hist<'py>(
     gray: &Bound<'py, PyAny>,
     within: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Arr<'py, u8>> {
-    let gray = u8_arg("gray", gray)?;
+    let gray = args::u8s("gray", gray)?;
     let (h, w) = dims2("gray", &gray)?;
     if h == 0 || w == 0 {
         return Err(value_error(format!("`gray` is empty (shape {h} x {w})")));
@@ -1051,7 +1029,7 @@ fn resize<'py>(
     height: i128,
     width: i128,
 ) -> PyResult<Arr<'py, u8>> {
-    let image = u8_arg("image", image)?;
+    let image = args::u8s("image", image)?;
     let height: usize = uint(py, "height", height, 0)?;
     let width: usize = uint(py, "width", width, 0)?;
     let flat = image.shape().len() == 2;

@@ -26,7 +26,7 @@ use wscg_biometrics::gait::{
 };
 
 use crate::args::{self, uint};
-use crate::convert::{array, choice, mat_out, values, Arr};
+use crate::convert::{array, choice, index_vector, mat_out, values, vector, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// Largest number of synthetic walks of one call.
@@ -89,15 +89,6 @@ fn vec1(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<f64>> {
         )));
     }
     Ok(values(a).into_owned())
-}
-
-fn vec_out<'py>(py: Python<'py>, v: Vec<f64>) -> PyResult<Arr<'py, f64>> {
-    array(py, &[v.len()], v)
-}
-
-fn idx_out<'py>(py: Python<'py>, v: impl IntoIterator<Item = usize>) -> PyResult<Arr<'py, i64>> {
-    let v: Vec<i64> = v.into_iter().map(|i| i as i64).collect();
-    array(py, &[v.len()], v)
 }
 
 /// `(P, 2)` int64 array of joint pairs.
@@ -255,13 +246,6 @@ fn seq_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
     vec1(name, &args::array::<f64>(name, obj)?)
 }
 
-/// The Python type name of `obj`, for messages.
-fn type_name(obj: &Bound<'_, PyAny>) -> String {
-    obj.get_type()
-        .name()
-        .map_or_else(|_| "?".to_owned(), |n| n.to_string())
-}
-
 /// The multichannel sample argument `name`: a 2-D `(channels, time)` array, a 1-D array (one
 /// channel) or a sequence of 1-D sequences (lengths may differ).
 fn sample_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<f64>>> {
@@ -286,7 +270,7 @@ fn sample_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<f64>>> {
             .map_err(|_| {
                 value_error(format!(
                     "`{name}` must be a list of 1-D sequences or a 2-D array, got {}",
-                    type_name(obj)
+                    args::type_name(obj)
                 ))
             })?
             .enumerate()
@@ -307,7 +291,7 @@ fn samples_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<Vec<f64>>
         .map_err(|_| {
             value_error(format!(
                 "`{name}` must be a list of samples, got {}",
-                type_name(obj)
+                args::type_name(obj)
             ))
         })?
         .enumerate()
@@ -594,8 +578,8 @@ fn detect_cycle<'py>(
     d.set_item("start", c.start)?;
     d.set_item("mid", c.mid)?;
     d.set_item("end", c.end)?;
-    d.set_item("ankle_dist", vec_out(py, c.ankle_dist)?)?;
-    d.set_item("minima", idx_out(py, c.minima)?)?;
+    d.set_item("ankle_dist", vector(py, c.ankle_dist)?)?;
+    d.set_item("minima", index_vector(py, c.minima)?)?;
     d.set_item("first_step", c.first_step.map(start_leg_name))?;
     Ok(d)
 }
@@ -1022,7 +1006,7 @@ fn load_ts<'py>(
     for case in data.series {
         let dims = PyList::empty(py);
         for dim in case {
-            dims.append(vec_out(py, dim)?)?;
+            dims.append(vector(py, dim)?)?;
         }
         series.append(dims)?;
     }
@@ -1126,7 +1110,7 @@ fn baseline_features<'py>(
     let s = frames_arg(py, frames, fps)?;
     let cycle = cycle_arg(py, cycle)?;
     let f = crate::pool::detach(py, || extract(&s, &cycle_of(&s, cycle)?)).py_err()?;
-    vec_out(py, f)
+    vector(py, f)
 }
 
 /// Ball et al.'s 18 gait features (baseline of Table 1).
@@ -1300,9 +1284,9 @@ impl PyRecognizer {
     )> {
         let s = walk_arg(py, name, frames, fps)?;
         let pr = crate::pool::detach(py, || self.inner.predict(&s)).py_err()?;
-        let idx = idx_out(py, pr.ranked.iter().map(|r| r.0))?;
+        let idx = index_vector(py, pr.ranked.iter().map(|r| r.0))?;
         let labels = pr.ranked.iter().map(|r| r.1).collect();
-        let d = vec_out(py, pr.ranked.iter().map(|r| r.2).collect())?;
+        let d = vector(py, pr.ranked.iter().map(|r| r.2).collect())?;
         Ok((
             pr.label,
             idx,
@@ -1406,19 +1390,22 @@ fn make_walkers<'py>(
     }
     let minima = PyList::empty(py);
     for t in &set.truth {
-        minima.append(idx_out(py, t.minima.iter().copied())?)?;
+        minima.append(index_vector(py, t.minima.iter().copied())?)?;
     }
     let d = PyDict::new(py);
     d.set_item("frames", frames)?;
     d.set_item(
         "labels",
-        idx_out(py, set.labels.iter().map(|&l| l as usize))?,
+        index_vector(py, set.labels.iter().map(|&l| l as usize))?,
     )?;
-    d.set_item("sessions", idx_out(py, set.session_index.iter().copied())?)?;
+    d.set_item(
+        "sessions",
+        index_vector(py, set.session_index.iter().copied())?,
+    )?;
     d.set_item("minima", minima)?;
     d.set_item(
         "walk_frames",
-        idx_out(py, set.truth.iter().map(|t| t.walk_frames))?,
+        index_vector(py, set.truth.iter().map(|t| t.walk_frames))?,
     )?;
     d.set_item(
         "sit_tail",

@@ -340,13 +340,18 @@ fn times_arg(obj: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Vec<f64>> {
         ));
     };
     let a = args::array::<f64>("exposure_times", obj)?;
-    let t = values(&a);
-    if t.len() != n {
+    if a.len() != n {
         return Err(value_error(format!(
             "`exposure_times` must hold one exposure time per image: {n} images, {} times",
-            t.len()
+            a.len()
         )));
     }
+    positive_times(&a)
+}
+
+/// The exposure times of `a`, each finite and > 0 (seconds).
+fn positive_times(a: &PyReadonlyArrayDyn<'_, f64>) -> PyResult<Vec<f64>> {
+    let t = values(a);
     if let Some((i, v)) = t
         .iter()
         .enumerate()
@@ -451,20 +456,7 @@ fn bits_arg(
         return Ok(images.iter().all(|c| c.u8).then_some(8));
     };
     let bits: u8 = bounded(py, "bits", bits, 1, 16)?;
-    let top = (1u32 << bits) - 1;
-    let max_code = crate::pool::detach(py, || {
-        images
-            .iter()
-            .map(|c| wscg_hdr::radiance::max_code(&c.img))
-            .max()
-            .unwrap_or(0)
-    })?;
-    if u32::from(max_code) > top {
-        return Err(value_error(format!(
-            "the images hold code {max_code}, above the {bits}-bit maximum {top}: `bits` is \
-             too small"
-        )));
-    }
+    codes_fit(py, images.iter().map(|c| &c.img), bits, "the images hold")?;
     for (i, c) in crfs.iter().enumerate() {
         if let CrfArg::Table(t) = c {
             if t.shape()[0] != 1 << bits {
@@ -494,15 +486,30 @@ fn flag_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<bool> {
     )))
 }
 
-/// A finite number `> 0`.
-fn positive(name: &str, v: f64) -> PyResult<f64> {
-    if !v.is_finite() {
-        return Err(value_error(format!("`{name}` must be finite, got {v}")));
+/// Errors unless every code of `images` fits `bits` bits (`what` starts the message: "the
+/// images hold").
+fn codes_fit<'a>(
+    py: Python<'_>,
+    images: impl IntoIterator<Item = &'a Image<u16>>,
+    bits: u8,
+    what: &str,
+) -> PyResult<()> {
+    let images: Vec<&Image<u16>> = images.into_iter().collect();
+    let top = (1u32 << bits) - 1;
+    let max_code = crate::pool::detach(py, || {
+        images
+            .iter()
+            .map(|im| wscg_hdr::radiance::max_code(im))
+            .max()
+            .unwrap_or(0)
+    })?;
+    if u32::from(max_code) > top {
+        return Err(value_error(format!(
+            "{what} code {max_code}, above the {bits}-bit maximum {top}: `bits` is too \
+             small"
+        )));
     }
-    if v <= 0.0 {
-        return Err(value_error(format!("`{name}` must be > 0, got {v}")));
-    }
-    Ok(v)
+    Ok(())
 }
 
 /// The codes, exposure times and bit depth of a calibration stack (at least 2 exposures;
@@ -522,19 +529,8 @@ fn calibration_stack(
     }
     let times = times_arg(exposure_times, codes.len())?;
     let bits: u8 = bounded(py, "bits", bits.unwrap_or(8), 1, 16)?;
-    let top = (1u32 << bits) - 1;
     let imgs: Vec<Image<u16>> = codes.into_iter().map(|c| c.img).collect();
-    let mc = crate::pool::detach(py, || {
-        imgs.iter()
-            .map(wscg_hdr::radiance::max_code)
-            .max()
-            .unwrap_or(0)
-    })?;
-    if u32::from(mc) > top {
-        return Err(value_error(format!(
-            "the stack holds code {mc}, above the {bits}-bit maximum {top}: pass the right `bits`"
-        )));
-    }
+    codes_fit(py, &imgs, bits, "the stack holds")?;
     Ok((imgs, times, bits))
 }
 
@@ -863,7 +859,7 @@ fn to_radiance<'py>(
     let codes = [codes_arg("image", image)?];
     let crf = [crf_one("crf", crf)?];
     let bits = bits_arg(py, bits, &crf, &codes)?;
-    let dt = positive("exposure_time", exposure_time)?;
+    let dt = args::positive("exposure_time", exposure_time)?;
     let [Codes { img, shape, .. }] = codes;
     let crf = crfs_in(py, &crf, std::slice::from_ref(&img), bits)?;
     let e = crate::pool::detach(py, || wscg_hdr::to_radiance(&img, &crf[0], dt)).py_err()?;
@@ -944,7 +940,7 @@ fn calibrate_debevec<'py>(
     // Above 10 bits the codes are reduced to 10 for the dense solve (`calibrate_debevec`).
     let (imgs, times, bits) = calibration_stack(py, stack, exposure_times, bits)?;
     let n_samples: usize = bounded(py, "n_samples", n_samples, 1, 1_000_000)?;
-    let lam = positive("lam", lam)?;
+    let lam = args::positive("lam", lam)?;
     let crf = crate::pool::detach(py, || {
         wscg_hdr::calibrate_debevec(&imgs, &times, bits, n_samples, lam)
     })
@@ -978,7 +974,7 @@ fn calibrate_mitsunaga_nayar<'py>(
     let max_degree: usize = bounded(py, "max_degree", max_degree, 1, 10)?;
     let n_samples: usize = bounded(py, "n_samples", n_samples, 1, 10_000_000)?;
     let refine_ratios = flag_arg("refine_ratios", refine_ratios)?;
-    let tol = positive("tol", tol)?;
+    let tol = args::positive("tol", tol)?;
     let max_iter: usize = bounded(py, "max_iter", max_iter, 1, 1_000_000)?;
     let p = wscg_hdr::MitsunagaNayarParams::default()
         .degree(degree)
@@ -1371,14 +1367,11 @@ const LAYER_KEYS: [&str; 5] = ["disparity", "rect", "disk", "gain", "seed"];
 /// (`disparity` required; `rect` `(y0, y1, x0, x1)` in `[0, 1]`, default the whole image;
 /// `disk` a bool; `gain` > 0, default 1; `seed`, default `11 + 12 k` for layer `k`).
 fn layers_arg(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Layer>> {
-    let kind = obj
-        .get_type()
-        .name()
-        .map_or_else(|_| "?".into(), |n| n.to_string());
     let sequence = obj.py().import("collections.abc")?.getattr("Sequence")?;
     if obj.is_instance_of::<PyString>() || !obj.is_instance(&sequence)? {
         return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-            "`layers` must be a sequence of dicts, got {kind}"
+            "`layers` must be a sequence of dicts, got {}",
+            args::type_name(obj)
         )));
     }
     let items = obj.try_iter()?.collect::<PyResult<Vec<_>>>()?;
@@ -1391,12 +1384,9 @@ fn layers_arg(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Layer>> {
         .map(|(k, item)| {
             let name = format!("layers[{k}]");
             let layer = item.cast::<PyDict>().map_err(|_| {
-                let kind = item
-                    .get_type()
-                    .name()
-                    .map_or_else(|_| "?".into(), |n| n.to_string());
                 pyo3::exceptions::PyTypeError::new_err(format!(
-                    "`{name}` must be a dict, got {kind}"
+                    "`{name}` must be a dict, got {}",
+                    args::type_name(item)
                 ))
             })?;
             let mut unknown = layer
@@ -1439,17 +1429,10 @@ fn layers_arg(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Layer>> {
                         ))
                     })?,
             };
-            let gain = real("gain")?.unwrap_or(1.0);
-            if gain <= 0.0 {
-                return Err(value_error(format!(
-                    "`{name}['gain']` must be > 0, got {gain}"
-                )));
-            }
+            let gain = args::positive(&format!("{name}['gain']"), real("gain")?.unwrap_or(1.0))?;
             let disk = match layer.get_item("disk")? {
                 None => false,
-                Some(v) => v.extract::<bool>().map_err(|_| {
-                    value_error(format!("`{name}['disk']` must be True or False, got {v}"))
-                })?,
+                Some(v) => flag_arg(&format!("{name}['disk']"), &v)?,
             };
             let seed = match layer.get_item("seed")? {
                 None => 11 + 12 * k as u64,
@@ -1490,13 +1473,13 @@ fn make_scene<'py>(
         .filter(|l| !l.is_none())
         .map(|l| layers_arg(py, l))
         .transpose()?;
-    let n = args::array::<f64>("exposure_times", times)?.len();
-    if !(2..=32).contains(&n) {
+    let times = positive_times(&args::array::<f64>("exposure_times", times)?)?;
+    if !(2..=32).contains(&times.len()) {
         return Err(value_error(format!(
-            "`exposure_times` must give 2 to 32 cameras, got {n}"
+            "`exposure_times` must give 2 to 32 cameras, got {}",
+            times.len()
         )));
     }
-    let times = times_arg(Some(times), n)?;
     if height.saturating_mul(width) > MAX_PIXELS {
         return Err(value_error(format!(
             "a {height} x {width} scene is too large (at most 2^26 pixels per view)"

@@ -104,17 +104,6 @@ fn positive(name: &str, v: f64) -> PyResult<f64> {
     }
 }
 
-/// Errors unless every component of `v` is finite.
-fn finite3(name: &str, v: [f64; 3]) -> PyResult<[f64; 3]> {
-    if v.iter().all(|c| c.is_finite()) {
-        Ok(v)
-    } else {
-        Err(value_error(format!(
-            "`{name}` must hold 3 finite numbers, got {v:?}"
-        )))
-    }
-}
-
 /// An integer in `lo..=hi`.
 fn int_in(name: &str, v: i64, lo: i64, hi: i64) -> PyResult<i64> {
     if (lo..=hi).contains(&v) {
@@ -171,11 +160,6 @@ impl Units {
             .collect();
         TransferFunction::from_lut(&lut).py_err()
     }
-}
-
-/// Python spacing `(dz, dy, dx)` (array axis order) as `[sx, sy, sz]`.
-fn spacing_xyz(s: [f64; 3]) -> [f64; 3] {
-    [s[2], s[1], s[0]]
 }
 
 /// A `ScalarField` constructor from integer data (`from_u8`, `from_u16`).
@@ -311,7 +295,7 @@ impl IllumVolume {
         let (spacing, value_range) = source_args(Some(spacing), value_range)?;
         let spacing = spacing.unwrap_or([1.0; 3]);
         Ok(Self {
-            field: field_in(py, volume, spacing_xyz(spacing), value_range)?,
+            field: field_in(py, volume, args::xyz(spacing), value_range)?,
         })
     }
 
@@ -356,7 +340,7 @@ fn _illum_from_normalised(
     let [nz, ny, nx] = dims3("field", field.shape())?;
     let data = values(&field).into_owned();
     let field = crate::pool::detach(py, || {
-        ScalarField::from_f32(Volume::new([nx, ny, nz], spacing_xyz(spacing), data)?)
+        ScalarField::from_f32(Volume::new([nx, ny, nz], args::xyz(spacing), data)?)
     })
     .py_err()?;
     Ok(IllumVolume { field })
@@ -419,7 +403,7 @@ fn field_arg<'py>(
     Ok(FieldArg::Owned(field_in(
         py,
         volume,
-        spacing_xyz(spacing.unwrap_or([1.0; 3])),
+        args::xyz(spacing.unwrap_or([1.0; 3])),
         value_range,
     )?))
 }
@@ -543,7 +527,7 @@ fn method_in(name: &str, ds: f64, m: i64, atten: &str, units: Units) -> PyResult
 fn vec3_item(opts: &Bound<'_, PyDict>, key: &str, default: [f64; 3]) -> PyResult<[f64; 3]> {
     match opts.get_item(key)?.filter(|v| !v.is_none()) {
         None => Ok(default),
-        Some(v) => finite3(key, args::triple(key, &v)?),
+        Some(v) => args::finite3(key, args::triple(key, &v)?),
     }
 }
 
@@ -572,7 +556,7 @@ fn scene_in(field: &ScalarField, opts: &Bound<'_, PyDict>) -> PyResult<Scene> {
         .get_item("center")?
         .filter(|v| !v.is_none())
         .map(|c| -> PyResult<[f64; 3]> {
-            let [x, y, z] = finite3("center", args::triple("center", &c)?)?;
+            let [x, y, z] = args::finite3("center", args::triple("center", &c)?)?;
             Ok([
                 units.length_in("center", x)?,
                 units.length_in("center", y)?,
@@ -806,7 +790,7 @@ fn labels_to_density<'py>(
     let (v, shape) = labels_in(labels)?;
     let dims = dims3("labels", &shape)?;
     let sigma = non_negative("sigma", sigma)?;
-    let spacing = spacing_xyz(spacing);
+    let spacing = args::xyz(spacing);
     let f = crate::pool::detach(py, || {
         scenes::labels_to_field(VolumeView::new(dims, spacing, &v)?, sigma)
     })

@@ -1205,11 +1205,6 @@ fn save_image(
 
 // ---------------------------------------------------------------- volumes
 
-/// Python spacing (dz, dy, dx) to Rust spacing [sx, sy, sz].
-fn spacing_xyz(s: [f64; 3]) -> [f64; 3] {
-    [s[2], s[1], s[0]]
-}
-
 /// Whether `|a - b| <= atol + rtol |b|` for every pair (numpy's `allclose`).
 fn allclose(a: &[f64], b: &[f64], rtol: f64, atol: f64) -> bool {
     a.iter()
@@ -1302,7 +1297,7 @@ fn save_volume(
         .map_err(|e| value_error(e.to_string()))?;
     let name = path.to_string_lossy().to_ascii_lowercase();
     crate::pool::detach(py, || {
-        let mut vol = Volume::from_zyx(view, spacing_xyz(spacing))?;
+        let mut vol = Volume::from_zyx(view, args::xyz(spacing))?;
         vol.set_affine(affine)?;
         if name.ends_with(".nii") || name.ends_with(".nii.gz") {
             vol.write_nifti(&path)
@@ -1492,11 +1487,11 @@ fn load_volume(
             let params = wscg_math::io::dicom::DicomParams::default().series(uid);
             let mut v = Volume::read_dicom_with(&path, &params)?;
             if let Some(s) = spacing {
-                v.set_spacing(spacing_xyz(s))?;
+                v.set_spacing(args::xyz(s))?;
             }
             Ok(v)
         }
-        None => Volume::read(&path, spacing.map(spacing_xyz)),
+        None => Volume::read(&path, spacing.map(args::xyz)),
     })
     .py_err()?;
     volume_out(py, v)
@@ -1516,10 +1511,8 @@ fn load_raw_volume<'py>(
     for (d, &s) in dims.iter_mut().rev().zip(&shape) {
         *d = uint(py, "shape", s, 0)?;
     }
-    let v = crate::pool::detach(py, || {
-        Volume::read_raw(&path, dims, spacing_xyz(spacing), t)
-    })
-    .py_err()?;
+    let v = crate::pool::detach(py, || Volume::read_raw(&path, dims, args::xyz(spacing), t))
+        .py_err()?;
     volume_out(py, v)
 }
 

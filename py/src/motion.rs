@@ -35,7 +35,7 @@ use wscg_motion::synthesizer::{planner_for, MapKind, Synthesizer, SynthesizerPar
 use wscg_motion::walker::{reach_walk, WalkerParams};
 
 use crate::args::{self, positive, uint};
-use crate::convert::{array, values, Arr};
+use crate::convert::{array, values, vector, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// Largest number of values a generated or simulated array may hold (400 MB of float64).
@@ -72,10 +72,6 @@ fn trials_in(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<TrialSet> {
     TrialSet::new(r, i, n, v.into_owned()).py_err()
 }
 
-fn vec_out<'py>(py: Python<'py>, v: &[f64]) -> PyResult<Arr<'py, f64>> {
-    array(py, &[v.len()], v.to_vec())
-}
-
 /// `(R, I, N)` array of a trial set.
 fn trials_out<'py>(py: Python<'py>, t: &TrialSet) -> PyResult<Arr<'py, f64>> {
     array(py, &[t.n_trials, t.n_channels, t.n_samples], t.data.clone())
@@ -110,7 +106,7 @@ fn dataset_out<'py>(py: Python<'py>, data: &Dataset) -> PyResult<Bound<'py, PyDi
     } else {
         d.set_item("root", py.None())?;
     }
-    d.set_item("distances", vec_out(py, &data.distances)?)?;
+    d.set_item("distances", vector(py, data.distances.to_vec())?)?;
     Ok(d)
 }
 
@@ -301,7 +297,7 @@ fn fit_anechoic<'py>(
     );
     let d = PyDict::new(py);
     d.set_item("q", model.q)?;
-    d.set_item("q_history", vec_out(py, &model.q_history)?)?;
+    d.set_item("q_history", vector(py, model.q_history.to_vec())?)?;
     let sources: Vec<f64> = model
         .sources
         .iter()
@@ -354,7 +350,7 @@ fn trials_arg(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<TrialSet> {
 fn pca_qualities<'py>(py: Python<'py>, X: &Bound<'py, PyAny>) -> PyResult<Arr<'py, f64>> {
     let set = trials_arg("X", X)?;
     let q = crate::pool::detach(py, || pca_qualities_rs(&set)).py_err()?;
-    vec_out(py, &q)
+    vector(py, q.to_vec())
 }
 
 /// ``Q_PCA(j)``: the fraction of variance of the ``j`` leading principal components of
@@ -556,7 +552,7 @@ impl PyLibrary {
     /// Normalised pelvis progress over an action at `u = m / N`, `m = 0..=N`.
     #[getter]
     fn progress<'py>(&self, py: Python<'py>) -> PyResult<Arr<'py, f64>> {
-        vec_out(py, &self.inner.progress)
+        vector(py, self.inner.progress.to_vec())
     }
 
     /// `(step parameter, duration)` of every trial for action `a`, as an `(R, 2)` array.
@@ -1204,7 +1200,7 @@ fn svr_fit_predict<'py>(
     })
     .py_err()?;
     Ok((
-        vec_out(py, &pred)?,
+        vector(py, pred.to_vec())?,
         svr.n_support(),
         svr.rho,
         svr.iterations,
@@ -1269,12 +1265,12 @@ fn hopf_simulate<'py>(
     .py_err()?;
     let d = PyDict::new(py);
     let time: Vec<f64> = (0..=steps).map(|s| s as f64 * dt).collect();
-    d.set_item("time", vec_out(py, &time)?)?;
+    d.set_item("time", vector(py, time.to_vec())?)?;
     let phase: Vec<f64> = lead
         .chunks_exact(2)
         .map(|c| c[1].atan2(c[0]).rem_euclid(TAU))
         .collect();
-    d.set_item("leader_phase", vec_out(py, &phase)?)?;
+    d.set_item("leader_phase", vector(py, phase.to_vec())?)?;
     d.set_item("leader", array(py, &[steps + 1, 2], lead)?)?;
     d.set_item("followers", array(py, &[steps + 1, f_n, 2], fol)?)?;
     Ok(d)

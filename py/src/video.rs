@@ -6,7 +6,7 @@
 //! not cast), masks bool or uint8; counts and seeds are Python ints checked by
 //! [`crate::args`].
 
-use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wscg_video::metrics;
@@ -22,23 +22,10 @@ use crate::args::{self, uint};
 use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy, IntoPyRenamed};
 
-/// The uint8 array `obj` (any array-like whose numpy dtype is uint8; another dtype is
-/// refused rather than cast, which would wrap or truncate its values).
-fn u8_array<'py>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, u8>> {
-    let a = args::asarray(name, obj)?;
-    match a.cast::<PyArrayDyn<u8>>() {
-        Ok(a) => Ok(a.readonly()),
-        Err(_) => Err(value_error(format!(
-            "`{name}` must be a uint8 array, got dtype {}",
-            a.dtype()
-        ))),
-    }
-}
-
 /// A video argument: `(F, H, W, C)` (C = 1 or 3) or `(F, H, W)` uint8 frames, and their
 /// shape (that of the output).
 fn video_in(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<(Video, Vec<usize>)> {
-    let a = u8_array(name, obj)?;
+    let a = args::u8s(name, obj)?;
     let (f, h, w, c) = match *a.shape() {
         [f, h, w] => (f, h, w, 1),
         [f, h, w, c] => (f, h, w, c),
@@ -85,11 +72,6 @@ fn video_out<'py>(py: Python<'py>, v: Video, shape: &[usize]) -> PyResult<Arr<'p
     array(py, shape, v.data)
 }
 
-/// Counts (iteration caps, window sizes, radii) named `name`.
-fn counts(py: Python<'_>, name: &str, v: &[i128]) -> PyResult<Vec<usize>> {
-    v.iter().map(|&c| uint(py, name, c, 0)).collect()
-}
-
 /// Per-level iteration caps: a non-empty sequence of counts.
 fn sweeps(py: Python<'_>, name: &str, v: &[i128]) -> PyResult<Vec<usize>> {
     if v.is_empty() {
@@ -97,12 +79,12 @@ fn sweeps(py: Python<'_>, name: &str, v: &[i128]) -> PyResult<Vec<usize>> {
             "`{name}` needs the iteration count of at least one level"
         )));
     }
-    counts(py, name, v)
+    args::uints(py, name, v.iter().copied())
 }
 
 /// The space-time patch `(px, py, pt)`.
 fn patch(py: Python<'_>, p: &[i128]) -> PyResult<PatchSize> {
-    match *counts(py, "patch", p)? {
+    match *args::uints(py, "patch", p.iter().copied())? {
         [px, y, pt] => Ok(PatchSize { px, py: y, pt }),
         _ => Err(value_error(format!(
             "`patch` must be (px, py, pt), got {p:?}"
@@ -167,7 +149,7 @@ fn complete_video<'py>(
         Radii::One(r) => vec![r],
         Radii::Each(r) => r,
     };
-    let temporal_radius = counts(py, "temporal_radius", &temporal_radius)?;
+    let temporal_radius = args::uints(py, "temporal_radius", temporal_radius.iter().copied())?;
     let max_candidates: usize = uint(py, "max_candidates", max_candidates, 0)?;
     let lowres_max_iter = sweeps(py, "lowres_max_iter", &lowres_max_iter)?;
     let (mut v, shape) = video_in("frames", frames)?;
@@ -178,7 +160,7 @@ fn complete_video<'py>(
     let patchmatch_n_iter: usize = uint(py, "patchmatch_n_iter", patchmatch_n_iter, 0)?;
     let seed: u64 = uint(py, "seed", seed, 0)?;
     let refine_max_iter: usize = uint(py, "refine_max_iter", refine_max_iter, 0)?;
-    let windows = counts(py, "windows", &windows)?;
+    let windows = args::uints(py, "windows", windows.iter().copied())?;
     let search = match search {
         "patchmatch" => SearchMethod::PatchMatch3D {
             iters: patchmatch_n_iter,
@@ -364,7 +346,7 @@ fn per_frame_patchmatch<'py>(
     seed: i128,
     seed_per_frame: bool,
 ) -> PyResult<Arr<'py, u8>> {
-    let p = match *counts(py, "patch", &patch)? {
+    let p = match *args::uints(py, "patch", patch.iter().copied())? {
         [px, y] => PatchSize { px, py: y, pt: 1 },
         _ => {
             return Err(value_error(format!(
@@ -468,7 +450,7 @@ fn make_clip<'py>(
     let height: usize = uint(py, "height", height, 0)?;
     let width: usize = uint(py, "width", width, 0)?;
     let seed: u64 = uint(py, "seed", seed, 0)?;
-    let hole = counts(py, "hole", &hole)?;
+    let hole = args::uints(py, "hole", hole.iter().copied())?;
     let (Some(&hole_h), Some(&hole_w)) = (hole.first(), hole.last()) else {
         return Err(value_error("`hole` must be (h, w), got ()"));
     };
@@ -517,7 +499,7 @@ fn inpaint_telea<'py>(
     mask: &Bound<'py, PyAny>,
     radius: f64,
 ) -> PyResult<Arr<'py, u8>> {
-    let image = u8_array("image", image)?;
+    let image = args::u8s("image", image)?;
     let shape = image.shape().to_vec();
     let (h, w, c) = crate::convert::image_dims("image", &shape)?;
     let mask = args::array::<f64>("mask", mask)?;

@@ -56,19 +56,14 @@ fn shape3(name: &str, shape: &[usize]) -> PyResult<[usize; 3]> {
     }
 }
 
-/// Python spacing `(dz, dy, dx)` as the volume's `[sx, sy, sz]`.
-fn spacing_xyz(s: (f64, f64, f64)) -> [f64; 3] {
-    [s.2, s.1, s.0]
-}
-
 /// A `[z, y, x]` array as a volume (C order is x fastest).
 fn vol_in<T: Element + Copy>(
     name: &str,
     a: &PyReadonlyArrayDyn<'_, T>,
-    spacing: (f64, f64, f64),
+    spacing: [f64; 3],
 ) -> PyResult<Volume<T>> {
     let [z, y, x] = shape3(name, a.shape())?;
-    Volume::new([x, y, z], spacing_xyz(spacing), values(a).into_owned())
+    Volume::new([x, y, z], args::xyz(spacing), values(a).into_owned())
         .map_err(|e| value_error(format!("`{name}`: {e}")))
 }
 
@@ -200,13 +195,13 @@ fn mask_arg(obj: Option<&Bound<'_, PyAny>>, ct: [usize; 3]) -> PyResult<Option<V
 }
 
 /// The `spacing` argument `(dz, dy, dx)` (3 finite numbers > 0; `None`: unit spacing).
-fn spacing_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<(f64, f64, f64)> {
+fn spacing_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<[f64; 3]> {
     let Some(obj) = obj.filter(|o| !o.is_none()) else {
-        return Ok((1.0, 1.0, 1.0));
+        return Ok([1.0; 3]);
     };
     let [dz, dy, dx] = args::triple("spacing", obj)?;
     if [dz, dy, dx].iter().all(|d| d.is_finite() && *d > 0.0) {
-        Ok((dz, dy, dx))
+        Ok([dz, dy, dx])
     } else {
         Err(value_error(format!(
             "`spacing` must be finite and > 0, got ({dz}, {dy}, {dx})"
@@ -616,7 +611,8 @@ impl PySession {
     fn set_seeds(&mut self, py: Python<'_>, seeds: PyReadonlyArrayDyn<'_, u16>) -> PyResult<usize> {
         same_shape_as_ct("seeds", &seeds, self.shape)?;
         let sp = self.inner.graph().spacing();
-        let seeds = vol_in("seeds", &seeds, (sp[2], sp[1], sp[0]))?;
+        // The graph's spacing is [x, y, z]: reversed, the (dz, dy, dx) vol_in takes.
+        let seeds = vol_in("seeds", &seeds, args::xyz(sp))?;
         let s = &mut self.inner;
         crate::pool::detach(py, || s.set_seeds(&seeds)).py_err()
     }
@@ -815,7 +811,7 @@ fn nearest_seed<'py>(
     let mut p = RandomWalkParams::default();
     p.t_bone = t_bone_arg(t_bone)?;
     let mask = mask_arg(mask, shape)?;
-    let ct = vol_in("ct", &ct, (1.0, 1.0, 1.0))?;
+    let ct = vol_in("ct", &ct, [1.0; 3])?;
     let seeds = values(&seeds);
     let out = crate::pool::detach(py, || -> wscg_math::Result<Vec<u16>> {
         let g = graph_of(&ct, mask.as_deref(), 0, &p)?;
@@ -1029,8 +1025,8 @@ fn local_grow_edit_py<'py>(
             "`gradient_scale` must be > 0, got {gradient_scale}"
         )));
     }
-    let ct = vol_in("ct", &ct, (1.0, 1.0, 1.0))?;
-    let mut labels = vol_in("labels", &labels, (1.0, 1.0, 1.0))?;
+    let ct = vol_in("ct", &ct, [1.0; 3])?;
+    let mut labels = vol_in("labels", &labels, [1.0; 3])?;
     let n = crate::pool::detach(py, || {
         ct.ensure_finite("ct")?;
         local_grow_edit(&mut labels, &ct, &p, [cx, cy, cz], radius, active, &w)
@@ -1065,7 +1061,7 @@ fn remove_small_components_py<'py>(
 ) -> PyResult<(Arr<'py, u16>, usize)> {
     let labels = labels_arg("labels", labels, None, true, u16::MAX)?;
     let min_voxels = args::uint(py, "min_voxels", min_voxels, 0)?;
-    let mut labels = vol_in("labels", &labels, (1.0, 1.0, 1.0))?;
+    let mut labels = vol_in("labels", &labels, [1.0; 3])?;
     let n = crate::pool::detach(py, || remove_small_components(&mut labels, min_voxels))?;
     Ok((vol_out(py, labels)?, n))
 }

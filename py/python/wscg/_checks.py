@@ -36,16 +36,6 @@ def _int(name: str, v, lo: Optional[int] = None, hi: Optional[int] = None) -> in
     return v
 
 
-def _real(name: str, v) -> float:
-    """``v`` as a Python float (bools refused)."""
-    if isinstance(v, (bool, np.bool_)):
-        raise ValueError(f"`{name}` must be a real number, got {v!r}")
-    try:
-        return float(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be a real number, got {v!r}") from None
-
-
 def finite_array(name: str, x, dtype=np.float64) -> np.ndarray:
     """``x`` (any real array-like) as a contiguous array of ``dtype``; complex, non-numeric
     and non-finite values are refused naming the argument."""

@@ -200,15 +200,11 @@ class Udct:
 
     def forward(self, x) -> Tuple[np.ndarray, List[np.ndarray]]:
         """Coefficients ``(lowpass, bands)`` of the real image ``x``."""
-        a = np.asarray(x)
-        if np.iscomplexobj(a):
-            raise ValueError("`x` must be real; transform the real and imaginary parts separately")
-        return self._u.forward(np.ascontiguousarray(a, dtype=np.float64))
+        return self._u.forward(x)
 
     def backward(self, lowpass, bands: Sequence) -> np.ndarray:
         """The real image of coefficients ``(lowpass, bands)`` (inverse and adjoint)."""
-        lp = np.ascontiguousarray(np.real(lowpass), dtype=np.float64)
-        return self._u.backward(lp, [np.ascontiguousarray(b, dtype=np.complex128) for b in bands])
+        return self._u.backward(lowpass, bands)
 
     def windows(self) -> List[np.ndarray]:
         """Dense frequency windows in FFT order (DC at ``[0, 0]``): low-pass, then bands."""
@@ -296,13 +292,13 @@ class Fdct:
 
     def forward(self, x) -> List[List[np.ndarray]]:
         """Coefficients ``coeffs[scale][angle]`` of the (real or complex) image ``x``."""
-        return self._nest(self._f.forward(_complex2(x, "x")))
+        return self._nest(self._f.forward(x))
 
     def backward(self, coeffs: Sequence[Sequence]) -> np.ndarray:
         """The complex image of ``coeffs[scale][angle]`` (inverse and adjoint)."""
         if len(coeffs) != self.n_scales:
             raise ValueError(f"{len(coeffs)} scales given, the transform has {self.n_scales}")
-        flat = [np.ascontiguousarray(b, dtype=np.complex128) for scale in coeffs for b in scale]
+        flat = [b for scale in coeffs for b in scale]
         return self._f.backward(flat)
 
     def windows(self) -> List[List[np.ndarray]]:
@@ -385,12 +381,12 @@ class Sflct:
     def _flat(self, coeffs):
         if len(coeffs) != self._scales:
             raise ValueError(f"{len(coeffs)} scales given, the transform has {self._scales}")
-        return [np.ascontiguousarray(b, dtype=np.complex128) for scale in coeffs for b in scale]
+        return [b for scale in coeffs for b in scale]
 
     def forward(self, x) -> List[List[np.ndarray]]:
         """Coefficients ``coeffs[scale][direction]`` of the (real or complex) image ``x``."""
         a = np.asarray(x)
-        return self._nest(self._t.forward(_complex2(a, "x")), not np.iscomplexobj(a))
+        return self._nest(self._t.forward(a), not np.iscomplexobj(a))
 
     def inverse(self, coeffs: Sequence[Sequence]) -> np.ndarray:
         """The image of ``coeffs[scale][direction]`` (exact reconstruction); real when every
