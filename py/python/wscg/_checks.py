@@ -36,20 +36,6 @@ def _int(name: str, v, lo: Optional[int] = None, hi: Optional[int] = None) -> in
     return v
 
 
-def finite_array(name: str, x, dtype=np.float64) -> np.ndarray:
-    """``x`` (any real array-like) as a contiguous array of ``dtype``; complex, non-numeric
-    and non-finite values are refused naming the argument."""
-    a = np.asarray(x)
-    if a.dtype.kind not in "biuf":
-        raise ValueError(f"`{name}` must be a real numeric array, got dtype {a.dtype}")
-    a = np.ascontiguousarray(a, dtype=dtype)
-    bad = ~np.isfinite(a)
-    if bad.any():
-        raise ValueError(f"`{name}` contains a non-finite value (NaN or infinity) at flat index "
-                         f"{int(np.argmax(bad.ravel()))}")
-    return a
-
-
 class IntegerRangeError(ValueError, OverflowError):
     """An integer argument outside the range its native parameter takes: a negative count,
     size or seed, or a value beyond 64 bits. A ``ValueError`` (the package's error for bad
