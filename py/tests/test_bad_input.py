@@ -125,6 +125,13 @@ NAN_IMAGE[3, 4] = np.nan
 INF_VOLUME = np.zeros((6, 6, 6))  # NaN marks a missing sample there; infinity is refused
 INF_VOLUME[2, 2, 2] = np.inf
 
+def _fdct_with_text_band():
+    f = wscg.csmri.Fdct((32, 32))
+    c = f.forward(np.zeros((32, 32)))
+    c[0][0] = np.array(["x"])
+    return f.backward(c)
+
+
 # (argument named in the error, call with one bad argument in an otherwise valid call)
 ONE_BAD_ARGUMENT = [
     ("cos_i", lambda: wscg.raytrace.fresnel_conductor(None, 1.2, 6.9)),
@@ -172,6 +179,13 @@ ONE_BAD_ARGUMENT = [
     ("layers[1]['seed']", lambda: wscg.hdr.make_scene(height=16, width=16, layers=[
         dict(disparity=2.0), dict(disparity=3.0, seed=-1)])),
     ("emitter_peak", lambda: wscg.hdr.make_scene(height=16, width=16, emitter_peak=0.5)),
+    # The imaginary part of a UDCT low-pass is refused, not dropped.
+    ("lowpass", lambda: wscg.csmri.Udct((32, 32)).backward(
+        np.zeros((16, 16), complex) + 1j, wscg.csmri.Udct((32, 32)).forward(np.zeros((32, 32)))[1])),
+    ("bands[0]", lambda: _fdct_with_text_band()),
+    # Triangle faces are integers (a float array was truncated by a cast before).
+    ("faces", lambda: wscg.raytrace.manylight_from_arrays(
+        np.eye(3), np.array([[0.0, 1.0, 2.0]]), [[0.5] * 3], [[0.0] * 3])),
 ]
 
 
@@ -198,6 +212,37 @@ def test_array_likes_are_converted():
     np.testing.assert_array_equal(wscg.raytrace.fresnel_conductor(cos, 1.2, 6.9),
                                   wscg.raytrace.fresnel_conductor(np.array(cos), 1.2, 6.9))
     assert wscg.math.dice([True, False], [True, True]) == pytest.approx(2 / 3)
+
+
+def test_arguments_converted_by_the_bindings_take_any_array_like():
+    # Transforms: a list image and list bands give what the arrays give.
+    u = wscg.csmri.Udct((32, 32), wedges=[[6, 6]])
+    img = np.random.default_rng(1).random((32, 32))
+    lp, bands = u.forward(img)
+    lp2, bands2 = u.forward(img.tolist())
+    np.testing.assert_array_equal(lp, lp2)
+    np.testing.assert_array_equal(u.backward(lp.tolist(), [b.tolist() for b in bands]),
+                                  u.backward(lp, bands))
+    # The ear pipeline's block shifts as a list of pairs or an (n, 2) array.
+    ears = wscg.ear.make_ears(2, 1, seed=3)
+    t = wscg.ear.enroll_many(ears.enrol)
+    probe = ears.probes[0]
+    a = wscg.ear.EarMatcher(shifts=[(0, 0), (1, 0), (0, -1)]).fit(t).scores(probe)
+    b = wscg.ear.EarMatcher(shifts=np.array([[0, 0], [1, 0], [0, -1]])).fit(t).scores(probe)
+    np.testing.assert_array_equal(a, b)
+    # Planner ranges as tuples, lists or arrays.
+    p1 = wscg.motion.plan_steps(2.5, range1=(0.670, 0.901))
+    p2 = wscg.motion.plan_steps(2.5, range1=np.array([0.670, 0.901]))
+    assert p1.actions == p2.actions
+
+
+def test_big_endian_volumes_render_as_native_ones():
+    # Paper 15's renders convert a non-native byte order (some file readers give it).
+    vol = wscg.volren.make_marschner_lobb(24).astype(np.float32)
+    tf = wscg.volren.marschner_lobb_tf()
+    a = wscg.volren.render(vol, tf, size=(16, 16))
+    b = wscg.volren.render(vol.astype(">f4"), tf, size=(16, 16))
+    np.testing.assert_array_equal(a, b)
 
 
 def test_overlapping_calls_that_change_one_object_get_a_clear_error():
