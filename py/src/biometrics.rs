@@ -22,7 +22,7 @@ fn item<'py, T: FromPyObjectOwned<'py>>(
     spec: &Bound<'py, PyDict>,
     key: &str,
 ) -> PyResult<Option<T>> {
-    crate::convert::dict_item(spec, key)
+    crate::cfg::dict_item(spec, key)
 }
 
 /// The kernel described by `spec` (`kernel`, `sigma`, `sigma_scale`, `degree`, `gamma`,

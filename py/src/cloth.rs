@@ -12,7 +12,8 @@ use wscg_cloth::{
 };
 
 use crate::args::{self, uint};
-use crate::convert::{self, array, index, values, Arr, Cfg};
+use crate::cfg::Cfg;
+use crate::convert::{self, array, index, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 fn points(name: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<[f64; 3]>> {

@@ -27,9 +27,8 @@ use wscg_biometrics::imgops::{mask, tone};
 use wscg_math::{Image, ImageView};
 
 use crate::args::{self, uint};
-use crate::convert::{
-    array, dict_item, dims2, image_dims, index_vector, indices, values, vector, Arr,
-};
+use crate::cfg::dict_item;
+use crate::convert::{array, dims2, image_dims, index_vector, indices, values, vector, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// The keys of the parameter dict (the fields of `EarParams`; the skin model is split into

@@ -35,7 +35,8 @@ use wscg_volren::illumination::{
 use wscg_volren::vti::{self, VtiValues};
 
 use crate::args::{self, finite, non_negative, uint};
-use crate::convert::{array, choice_item, dict_item, values, Arr};
+use crate::cfg::{choice_item, dict_item};
+use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 /// Keys of the options dict of `illum_render` and `illum_light_buffer`.

@@ -16,6 +16,7 @@ use pyo3::prelude::*;
 
 mod args;
 mod biometrics;
+mod cfg;
 mod cloth;
 mod convert;
 mod csmri;

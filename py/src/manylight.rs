@@ -13,7 +13,8 @@ use wscg_raytrace::manylight::{
 };
 
 use crate::args::{self, uint};
-use crate::convert::{array, rows3, values, Arr, Cfg};
+use crate::cfg::Cfg;
+use crate::convert::{array, rows3, values, Arr};
 use crate::errors::IntoPy;
 
 /// A many-light scene: Lambertian triangles (some emissive) and a camera.

@@ -21,7 +21,8 @@ use wscg_raytrace::spectral::{self, daylight_d, MetalIor, SpectralGrid, Spectrum
 use wscg_raytrace::stereo::{Eye, StereoRig};
 
 use crate::args::{self, number, uint};
-use crate::convert::{array, values, Arr, Cfg};
+use crate::cfg::Cfg;
+use crate::convert::{array, values, Arr};
 use crate::errors::{value_error, IntoPy};
 
 fn flake_params(c: &Cfg) -> PyResult<FlakeParams> {

@@ -130,7 +130,7 @@ fn camera_dict(py: Python<'_>, c: &Bound<'_, PyDict>, size: &Bound<'_, PyAny>) -
         Some(u) => u,
         None => (0.0, 0.0, 1.0).into_pyobject(py)?.into_any(),
     };
-    let fov_deg: f64 = crate::convert::dict_item(c, "fov_deg")?.unwrap_or(30.0);
+    let fov_deg: f64 = crate::cfg::dict_item(c, "fov_deg")?.unwrap_or(30.0);
     camera_arg(py, &need("eye")?, &need("target")?, &up, fov_deg, size)
 }
 
