@@ -600,7 +600,7 @@ fn csalsa_params(
 /// Hold-out choice of the number of UDCT scales (`wscg_cs_mri::choose_udct_scales`):
 /// returns `(scales, held_out, [(candidate, fold_errors), ...])`.
 #[pyfunction]
-#[pyo3(signature = (kspace, mask, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedge, alpha, tv_n_iter, shrink_lowpass, candidates, folds, holdout, seed))]
+#[pyo3(signature = (kspace, mask, reg, epsilon, max_iter, tau0, rho, tau_cap, tol, wedge, alpha, tv_n_iter, shrink_lowpass, candidates, folds, holdout, cluster, seed))]
 #[allow(clippy::too_many_arguments)]
 #[allow(clippy::type_complexity)]
 fn choose_udct_scales(
@@ -621,6 +621,7 @@ fn choose_udct_scales(
     candidates: &Bound<'_, PyAny>,
     folds: i128,
     holdout: f64,
+    cluster: f64,
     seed: i128,
 ) -> PyResult<(usize, usize, Vec<(usize, Vec<f64>)>)> {
     let (wr, wc) = args::size2(py, "wedge", wedge)?;
@@ -641,6 +642,7 @@ fn choose_udct_scales(
         .candidates(candidates)
         .folds(folds)
         .holdout(holdout)
+        .cluster(cluster)
         .seed(seed);
     let udct = config(vec![wedge], alpha, true);
     let choice = crate::pool::detach(py, || {
