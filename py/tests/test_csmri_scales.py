@@ -76,7 +76,8 @@ def test_bad_settings_name_the_argument():
     m = csmri.mask_cartesian((32, 32), 0.4, seed=2)
     for kwargs, name in [({"candidates": ()}, "candidates"), ({"candidates": (0,)}, "candidates"),
                          ({"folds": 0}, "folds"), ({"holdout": 0.0}, "holdout"),
-                         ({"folds": 4, "holdout": 0.3}, "holdout"), ({"candidates": (8,)}, "candidates")]:
+                         ({"folds": 4, "holdout": 0.3}, "holdout"), ({"candidates": (8,)}, "candidates"),
+                         ({"cluster": -1.0}, "cluster"), ({"cluster": 17}, "cluster")]:
         with pytest.raises(ValueError, match=name):
             csmri.choose_scales(k, m, **kwargs)
     with pytest.raises(ValueError, match="wedges"):
