@@ -315,6 +315,8 @@ fn manylight_render<'py>(
         s.ic.filter = PixelFilter::parse(&f).py_err()?;
     }
     s.ic.pixel_samples = c.count("n_pixel_samples", s.ic.pixel_samples, 0)?;
+    s.ic.near_share = c.get("near_share", s.ic.near_share)?;
+    s.ic.near_vpls = c.count("n_near_vpls", s.ic.near_vpls, 1)?;
     s.weights = wscg_raytrace::manylight::Interp::Clarberg {
         theta_max: c.get("theta_max", std::f64::consts::FRAC_PI_6)?,
         lambda: c.get("lam", 5.0)?,

@@ -107,6 +107,11 @@ def test_bad_input():
         rt.render_manylight(s, "adaptive", pixel_filter="gauss")
     with pytest.raises(ValueError, match="pixel_samples"):
         rt.render_manylight(s, "adaptive", n_pixel_samples=0)
+    for share in (-0.1, 1.0, float("nan")):
+        with pytest.raises(ValueError, match="near_share"):
+            rt.render_manylight(s, "adaptive", near_share=share)
+    with pytest.raises(ValueError, match="n_near_vpls"):
+        rt.render_manylight(s, "adaptive", n_near_vpls=0)
     with pytest.raises(ValueError, match="record_pos"):
         rt.manylight_record_weight([0, 0, 0], [0, 0, 1], np.zeros((2, 2)), np.zeros((2, 3)), 1.0)
     with pytest.raises(ValueError, match="unit"):
@@ -164,6 +169,13 @@ def test_filters_defensive_share_and_record_statistics():
     paper, st = rt.render_manylight(s, "adaptive", defensive=0.0, **kw)
     default, st2 = rt.render_manylight(s, "adaptive", **kw)
     assert not np.array_equal(paper, default)
+    # The near-VPL share reaches the renderer: 0 (the paper's strategies) and another count
+    # of nearest VPLs change the image; the same settings repeat it bit for bit.
+    no_near, _ = rt.render_manylight(s, "adaptive", near_share=0.0, **kw)
+    fewer, _ = rt.render_manylight(s, "adaptive", n_near_vpls=4, **kw)
+    again, _ = rt.render_manylight(s, "adaptive", near_share=0.25, n_near_vpls=32, **kw)
+    assert not np.array_equal(no_near, default) and not np.array_equal(fewer, default)
+    assert np.array_equal(again, default)
     k = st.n_records
     assert st.record_normals.shape == (k, 3) and st.record_radii.shape == (k,)
     np.testing.assert_allclose(np.linalg.norm(st.record_normals, axis=1), 1.0, atol=1e-9)

@@ -1038,6 +1038,8 @@ fn raytrace_manylight_compares_the_methods_and_reads_obj() {
         ("--filter", "gauss", "filter"),
         ("--defensive", "2", "defensive"),
         ("--pixel-samples", "0", "pixel_samples"),
+        ("--near-share", "1", "near_share"),
+        ("--near-vpls", "0", "near_vpls"),
     ] {
         let bad = wscg()
             .args(["raytrace", "manylight", flag, value, "--width", "8"])

@@ -52,6 +52,17 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
         Some("clamp_dist")
     );
     assert!(ic().clamp_dist(Some(0.0)).validate().is_ok());
+    for share in [-0.1, 1.0, f64::NAN] {
+        assert_eq!(
+            ic().near_share(share).validate().refused_argument(),
+            Some("near_share")
+        );
+    }
+    assert!(ic().near_share(0.0).validate().is_ok());
+    assert_eq!(
+        ic().near_vpls(0).validate().refused_argument(),
+        Some("near_vpls")
+    );
 
     let ad = AdaptiveParams::default;
     assert!(ad().validate().is_ok());

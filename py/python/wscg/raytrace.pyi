@@ -156,7 +156,8 @@ def render_manylight(scene: ManyLightScene, method: str = "adaptive",
                      theta_max: float = ..., lam: float = 5.0,
                      dmax_factor: float = 2.0, defensive: float = 0.5,
                      pixel_filter: str = "box",
-                     n_pixel_samples: int = 4) -> Tuple[_F32, ManyLightStats]: ...
+                     n_pixel_samples: int = 4, near_share: float = 0.25,
+                     n_near_vpls: int = 32) -> Tuple[_F32, ManyLightStats]: ...
 def manylight_record_weight(x: npt.ArrayLike, normal: npt.ArrayLike, record_pos: npt.ArrayLike,
                             record_normal: npt.ArrayLike, d_max: float,
                             theta_max: float = ..., lam: float = 5.0) -> _F64: ...

@@ -36,7 +36,7 @@ pub use obj::load_obj;
 pub use placement::{AdaptiveParams, Placement};
 pub use render::{
     build_cache, render, render_power, render_reference, render_reference_filtered, CacheStats,
-    ImportanceCachingParams, PixelFilter,
+    ImportanceCachingParams, PixelFilter, DEFAULT_NEAR_SHARE, DEFAULT_NEAR_VPLS,
 };
 pub use scene::{luminance, Hit, Rgb, Scene, Triangle};
 pub use scenes::{colonnade, conference_room, cornell_box, plane_with_light};

@@ -10,7 +10,7 @@ use wscg_math::image::Image;
 use wscg_math::progress::Progress;
 use wscg_math::{Error, Result};
 
-use super::cache::{ImportanceCache, Lookup, CONSERVATIVE};
+use super::cache::{ImportanceCache, Lookup, CONSERVATIVE, UNOCCLUDED};
 use super::gbuffer::{shade_point, GBuffer, ShadingPoint};
 use super::placement::{adaptive, random_screen, AdaptiveStats, Placement};
 use super::pmf::Pmf;
@@ -93,6 +93,12 @@ impl PixelFilter {
     }
 }
 
+/// The default share of the unoccluded strategy's samples drawn from the shading point's own
+/// nearest VPLs ([`ImportanceCachingParams::near_share`]).
+pub const DEFAULT_NEAR_SHARE: f64 = 0.25;
+/// The default number of those VPLs ([`ImportanceCachingParams::near_vpls`]).
+pub const DEFAULT_NEAR_VPLS: usize = 32;
+
 wscg_math::params! {
     /// Importance-caching parameters.
     #[derive(Clone, Copy, Debug, PartialEq)]
@@ -117,6 +123,18 @@ wscg_math::params! {
         pub strategies: [bool; 4],
         /// Weights of the alpha-max heuristic, 1 each.
         pub alpha: [f64; 4],
+        /// Beyond the paper: the share of the unoccluded strategy's samples drawn from the
+        /// shading point's own distribution over its `near_vpls` nearest VPLs, proportional
+        /// to their contributions without visibility there (0.25; 0: the paper's strategy).
+        /// A VPL close to a shading point but far from every record gets a tiny probability
+        /// from the records' distributions, all computed farther away, while the geometry
+        /// term makes its contribution there large: single bright pixels behind hard,
+        /// repeated shadows. The share bounds those samples' weights, keeps the estimator
+        /// unbiased, and costs a nearest-VPL search and `near_vpls` contribution evaluations
+        /// per shading point.
+        pub near_share: f64,
+        /// VPLs of the shading point's own distribution (32).
+        pub near_vpls: usize,
         /// Clamping distance of the geometry term (`None`: 1 % of the scene's diagonal; 0: none).
         pub clamp_dist: Option<f64>,
         /// Seed of the placement and the sampling.
@@ -136,6 +154,8 @@ impl Default for ImportanceCachingParams {
             pixel_samples: 4,
             strategies: [true; 4],
             alpha: [1.0; 4],
+            near_share: DEFAULT_NEAR_SHARE,
+            near_vpls: DEFAULT_NEAR_VPLS,
             clamp_dist: None,
             seed: 0,
             max_cache_bytes: 4 << 30,
@@ -145,7 +165,8 @@ impl Default for ImportanceCachingParams {
 
 impl ImportanceCachingParams {
     /// Errors: `n_cache = 0`, `m_nearest = 0`, `spp = 0`, `pixel_samples = 0`, no strategy, a negative or
-    /// non-finite alpha, a given `clamp_dist` negative or not finite.
+    /// non-finite alpha, `near_share` outside `[0, 1)`, `near_vpls = 0`, a given `clamp_dist`
+    /// negative or not finite.
     pub fn validate(&self) -> Result<()> {
         if self.n_cache == 0 {
             return Err(Error::invalid("n_cache", "at least one record is needed"));
@@ -178,6 +199,18 @@ impl ImportanceCachingParams {
             return Err(Error::invalid(
                 "alpha",
                 format!("must be finite and positive, got {:?}", self.alpha),
+            ));
+        }
+        if !(0.0..1.0).contains(&self.near_share) {
+            return Err(Error::invalid(
+                "near_share",
+                format!("must lie in [0, 1), got {}", self.near_share),
+            ));
+        }
+        if self.near_vpls == 0 {
+            return Err(Error::invalid(
+                "near_vpls",
+                "at least one VPL is needed for the shading point's own distribution",
             ));
         }
         if let Some(dc) = self.clamp_dist {
@@ -299,7 +332,11 @@ fn add(a: &mut Rgb, b: &Rgb, s: f64) {
 /// VPLs drawn from its mixture over the records found; a sample counts (weight 1) when
 /// `alpha_s p_s` is the largest of the strategies' mixture probabilities for that VPL (ties
 /// to the first strategy), and adds `I / (n_s p_s)`. Every VPL of positive power is won by
-/// exactly one strategy of positive probability, so the estimate is unbiased.
+/// exactly one strategy of positive probability, so the estimate is unbiased. With
+/// `p.near_share = b > 0` the unoccluded strategy's probability is
+/// `(1 - b) p_unoccluded + b p_near`, `p_near` the shading point's own distribution over its
+/// nearest VPLs ([`ImportanceCache::near_distribution`]); it is still one strategy's
+/// probability, sampled as the mixture it is.
 pub fn estimate(
     sh: &Shading,
     cache: &ImportanceCache,
@@ -328,6 +365,21 @@ pub fn estimate(
         return out;
     }
     let n_s = ((p.spp as f64 / n_avail as f64).round() as u32).max(1);
+    let near = if p.near_share > 0.0 && avail[UNOCCLUDED] {
+        cache.near_distribution(sh, &r, p.near_vpls)
+    } else {
+        Vec::new()
+    };
+    let beta = if near.is_empty() { 0.0 } else { p.near_share };
+    let pdf = |t: usize, j: usize| {
+        let q = cache.pdf(&mix[t], t, j);
+        if t == UNOCCLUDED && beta > 0.0 {
+            let own = near.iter().find(|e| e.0 == j).map_or(0.0, |e| e.1);
+            (1.0 - beta) * q + beta * own
+        } else {
+            q
+        }
+    };
     for s in 0..4 {
         if !avail[s] {
             continue;
@@ -336,15 +388,23 @@ pub fn estimate(
             if k % 1024 == 1023 && wscg_math::cancel::requested() {
                 break;
             }
-            let Some(j) = cache.sample(&mix[s], s, rng.random(), rng.random()) else {
+            let (u1, u2): (f64, f64) = (rng.random(), rng.random());
+            let drawn = if s == UNOCCLUDED && u1 < beta {
+                sample_list(&near, u2)
+            } else if s == UNOCCLUDED && beta > 0.0 {
+                cache.sample(&mix[s], s, (u1 - beta) / (1.0 - beta), u2)
+            } else {
+                cache.sample(&mix[s], s, u1, u2)
+            };
+            let Some(j) = drawn else {
                 continue;
             };
-            let ps = p.alpha[s] * cache.pdf(&mix[s], s, j);
+            let ps = p.alpha[s] * pdf(s, j);
             if ps <= 0.0 {
                 continue;
             }
             let wins = (0..4).filter(|&t| t != s && avail[t]).all(|t| {
-                let pt = p.alpha[t] * cache.pdf(&mix[t], t, j);
+                let pt = p.alpha[t] * pdf(t, j);
                 if t < s {
                     pt < ps
                 } else {
@@ -358,6 +418,18 @@ pub fn estimate(
         }
     }
     out
+}
+
+/// Draws from a short list of `(item, probability)` by inversion.
+fn sample_list(list: &[(usize, f64)], u: f64) -> Option<usize> {
+    let mut acc = 0.0;
+    for &(j, q) in list {
+        acc += q;
+        if u < acc {
+            return Some(j);
+        }
+    }
+    list.last().map(|e| e.0)
 }
 
 /// Renders with the importance cache: [`estimate`] at every pixel sample of `p.filter`
