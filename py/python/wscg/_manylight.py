@@ -127,13 +127,13 @@ def render_manylight(scene: ManyLightScene, method: str = "adaptive",
     the paper's setting; ``n_pixel_samples`` is ignored). ``'reference'`` follows the same
     filter (with many ``n_pixel_samples`` it is the brute-force filtered image).
     ``near_share`` (beyond the paper, 0.25): the share of the unoccluded strategy's VPL
-    samples drawn from each shading point's own distribution over its ``n_near_vpls``
-    nearest VPLs (their contributions without visibility there). A VPL next to a shading
-    point but far from every record gets a tiny probability from the records'
-    distributions while its contribution there is large, which made single bright pixels
-    behind hard, repeated shadows; the share bounds those samples, keeps the estimate
-    unbiased, lowered the mean RMSE by 5-15 % on such scenes and costs about 20 % more
-    render time; 0 gives the paper's strategies.
+    samples drawn from each pixel's own distribution over the ``n_near_vpls`` VPLs
+    nearest its first shading point (their contributions without visibility there). A VPL
+    next to a shading point but far from every record gets a tiny probability from the
+    records' distributions while its contribution there is large, which made single bright
+    pixels behind hard, repeated shadows; the share bounds those samples, keeps the
+    estimate unbiased, lowered the mean RMSE by 5-20 % on such scenes and costs 20-30 %
+    more render time; 0 gives the paper's strategies.
 
     >>> s = make_manylight_scene("cornell", width=32, height=24)
     >>> img, st = render_manylight(s, "adaptive", n_vpl_paths=100, n_cache=30, spp=4)

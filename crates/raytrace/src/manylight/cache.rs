@@ -164,8 +164,8 @@ impl ImportanceCache {
     }
 
     /// The shading point's own distribution over its `k` nearest VPLs of positive power,
-    /// proportional to their contributions without visibility there: `(VPL, probability)`,
-    /// empty when none of them lights the point.
+    /// proportional to their contributions without visibility there: `(VPL, probability)`
+    /// sorted by VPL, empty when none of them lights the point.
     pub fn near_distribution(&self, sh: &Shading, r: &Receiver, k: usize) -> Vec<(usize, f64)> {
         let Some(tree) = &self.vpl_tree else {
             return Vec::new();
@@ -182,6 +182,7 @@ impl ImportanceCache {
         let total: f64 = out.iter().map(|e| e.1).sum();
         if total.is_finite() && total > 0.0 {
             out.iter_mut().for_each(|e| e.1 /= total);
+            out.sort_unstable_by_key(|e| e.0);
         } else {
             out.clear();
         }

@@ -124,14 +124,14 @@ wscg_math::params! {
         /// Weights of the alpha-max heuristic, 1 each.
         pub alpha: [f64; 4],
         /// Beyond the paper: the share of the unoccluded strategy's samples drawn from the
-        /// shading point's own distribution over its `near_vpls` nearest VPLs, proportional
-        /// to their contributions without visibility there (0.25; 0: the paper's strategy).
-        /// A VPL close to a shading point but far from every record gets a tiny probability
-        /// from the records' distributions, all computed farther away, while the geometry
-        /// term makes its contribution there large: single bright pixels behind hard,
-        /// repeated shadows. The share bounds those samples' weights, keeps the estimator
-        /// unbiased, and costs a nearest-VPL search and `near_vpls` contribution evaluations
-        /// per shading point.
+        /// pixel's own distribution over the `near_vpls` VPLs nearest its first shading point,
+        /// proportional to their contributions without visibility there (0.25; 0: the
+        /// paper's strategy). A VPL close to a shading point but far from every record gets
+        /// a tiny probability from the records' distributions, all computed farther away,
+        /// while the geometry term makes its contribution there large: single bright pixels
+        /// behind hard, repeated shadows. The share bounds those samples' weights, keeps the
+        /// estimator unbiased, and costs a nearest-VPL search and `near_vpls` contribution
+        /// evaluations per pixel (20-30 % more render time at the defaults).
         pub near_share: f64,
         /// VPLs of the shading point's own distribution (32).
         pub near_vpls: usize,
@@ -333,15 +333,16 @@ fn add(a: &mut Rgb, b: &Rgb, s: f64) {
 /// `alpha_s p_s` is the largest of the strategies' mixture probabilities for that VPL (ties
 /// to the first strategy), and adds `I / (n_s p_s)`. Every VPL of positive power is won by
 /// exactly one strategy of positive probability, so the estimate is unbiased. With
-/// `p.near_share = b > 0` the unoccluded strategy's probability is
-/// `(1 - b) p_unoccluded + b p_near`, `p_near` the shading point's own distribution over its
-/// nearest VPLs ([`ImportanceCache::near_distribution`]); it is still one strategy's
-/// probability, sampled as the mixture it is.
+/// `p.near_share = b > 0` and a non-empty `near` the unoccluded strategy's probability is
+/// `(1 - b) p_unoccluded + b p_near`, `p_near` the distribution `near` over the VPLs nearest
+/// the pixel ([`ImportanceCache::near_distribution`], sorted by VPL); it is still one
+/// strategy's probability, sampled as the mixture it is.
 pub fn estimate(
     sh: &Shading,
     cache: &ImportanceCache,
     x: &ShadingPoint,
     p: &ImportanceCachingParams,
+    near: &[(usize, f64)],
     rng: &mut impl Rng,
 ) -> Rgb {
     let mut out = x.emitted;
@@ -365,16 +366,17 @@ pub fn estimate(
         return out;
     }
     let n_s = ((p.spp as f64 / n_avail as f64).round() as u32).max(1);
-    let near = if p.near_share > 0.0 && avail[UNOCCLUDED] {
-        cache.near_distribution(sh, &r, p.near_vpls)
+    let beta = if near.is_empty() || !avail[UNOCCLUDED] {
+        0.0
     } else {
-        Vec::new()
+        p.near_share
     };
-    let beta = if near.is_empty() { 0.0 } else { p.near_share };
     let pdf = |t: usize, j: usize| {
         let q = cache.pdf(&mix[t], t, j);
         if t == UNOCCLUDED && beta > 0.0 {
-            let own = near.iter().find(|e| e.0 == j).map_or(0.0, |e| e.1);
+            let own = near
+                .binary_search_by_key(&j, |e| e.0)
+                .map_or(0.0, |i| near[i].1);
             (1.0 - beta) * q + beta * own
         } else {
             q
@@ -390,7 +392,7 @@ pub fn estimate(
             }
             let (u1, u2): (f64, f64) = (rng.random(), rng.random());
             let drawn = if s == UNOCCLUDED && u1 < beta {
-                sample_list(&near, u2)
+                sample_list(near, u2)
             } else if s == UNOCCLUDED && beta > 0.0 {
                 cache.sample(&mix[s], s, (u1 - beta) / (1.0 - beta), u2)
             } else {
@@ -457,8 +459,17 @@ pub fn render(
         )));
     }
     let sub = sub_params(p);
-    filtered(scene, g, p, 0x1c_0000_0000, progress, |x, rng| {
-        estimate(&sh, cache, x, &sub, rng)
+    // The near-VPL distribution of a pixel is computed at its first shading point and shared
+    // by the others (a fixed distribution per pixel keeps each estimate unbiased).
+    filtered(scene, g, p, 0x1c_0000_0000, progress, |x, near, rng| {
+        let near = near.get_or_insert_with(|| {
+            if sub.near_share > 0.0 {
+                cache.near_distribution(&sh, &x.receiver(), sub.near_vpls)
+            } else {
+                Vec::new()
+            }
+        });
+        estimate(&sh, cache, x, &sub, near, rng)
     })
 }
 
@@ -475,19 +486,19 @@ fn sub_params(p: &ImportanceCachingParams) -> ImportanceCachingParams {
 /// `p.seed ^ salt`, so the image does not depend on the thread count): the centre filter at
 /// the G-buffer's valid pixels; the box and tent filters at `p.pixel_samples` sub-pixel
 /// shading points ([`PixelFilter::offsets`]), averaged, a primary ray that misses counting
-/// as black.
-fn filtered(
+/// as black. `f` gets a state per pixel (`None` at the pixel's first shading point).
+fn filtered<S>(
     scene: &Scene,
     g: &GBuffer,
     p: &ImportanceCachingParams,
     salt: u64,
     progress: &dyn Progress,
-    f: impl Fn(&ShadingPoint, &mut wscg_math::rng::Rng) -> Rgb + Sync,
+    f: impl Fn(&ShadingPoint, &mut Option<S>, &mut wscg_math::rng::Rng) -> Rgb + Sync,
 ) -> Result<Image<f32>> {
     let stream = |i: usize| wscg_math::rng::stream(p.seed ^ salt, i as u64);
     if p.filter == PixelFilter::Center {
         return per_pixel(g, progress, true, |i| {
-            g.points[i].map_or([0.0; 3], |x| f(&x, &mut stream(i)))
+            g.points[i].map_or([0.0; 3], |x| f(&x, &mut None, &mut stream(i)))
         });
     }
     per_pixel(g, progress, false, |i| {
@@ -495,10 +506,11 @@ fn filtered(
         let shift = [rng.random(), rng.random()];
         let (cx, cy) = ((i % g.width) as f64 + 0.5, (i / g.width) as f64 + 0.5);
         let mut out = [0.0; 3];
+        let mut state = None;
         let n = p.pixel_samples;
         for [dx, dy] in p.filter.offsets(n, shift) {
             if let Some(x) = shade_point(scene, &g.frame, cx + dx, cy + dy, 1.0) {
-                add(&mut out, &f(&x, &mut rng), 1.0 / n as f64);
+                add(&mut out, &f(&x, &mut state, &mut rng), 1.0 / n as f64);
             }
         }
         out
@@ -569,11 +581,18 @@ pub fn render_reference_filtered(
 ) -> Result<Image<f32>> {
     p.validate()?;
     let sh = Shading::new(scene, vpls, p.clamp_dist)?;
-    filtered(scene, g, p, 0x7e_0000_0000, progress, |x, _| {
-        let mut out = x.emitted;
-        add(&mut out, &sh.sum_all(&x.receiver()), 1.0);
-        out
-    })
+    filtered(
+        scene,
+        g,
+        p,
+        0x7e_0000_0000,
+        progress,
+        |x, _: &mut Option<()>, _| {
+            let mut out = x.emitted;
+            add(&mut out, &sh.sum_all(&x.receiver()), 1.0);
+            out
+        },
+    )
 }
 
 /// The baseline without a cache, under the pixel filter `p.filter`: `spp` VPLs per pixel
@@ -593,19 +612,26 @@ pub fn render_power(
     let w: Vec<f64> = sh.intensity.iter().map(luminance).collect();
     let pmf = Pmf::new(&w).ok_or_else(|| Error::invalid("vpls", "every VPL has zero power"))?;
     let sub = sub_params(p);
-    filtered(scene, g, p, 0x90_0000_0000, progress, |x, rng| {
-        let mut out = x.emitted;
-        let r = x.receiver();
-        for k in 0..sub.spp {
-            if k % 1024 == 1023 && wscg_math::cancel::requested() {
-                break;
+    filtered(
+        scene,
+        g,
+        p,
+        0x90_0000_0000,
+        progress,
+        |x, _: &mut Option<()>, rng| {
+            let mut out = x.emitted;
+            let r = x.receiver();
+            for k in 0..sub.spp {
+                if k % 1024 == 1023 && wscg_math::cancel::requested() {
+                    break;
+                }
+                let j = pmf.sample(rng.random());
+                let i = sh.contribution(&r, j);
+                add(&mut out, &i, 1.0 / (sub.spp as f64 * pmf.pdf(j)));
             }
-            let j = pmf.sample(rng.random());
-            let i = sh.contribution(&r, j);
-            add(&mut out, &i, 1.0 / (sub.spp as f64 * pmf.pdf(j)));
-        }
-        out
-    })
+            out
+        },
+    )
 }
 
 #[cfg(test)]

@@ -79,9 +79,9 @@ pub struct ManyLightArgs {
     #[arg(long, default_value_t = DEFAULT_DEFENSIVE)]
     defensive: f64,
     /// Beyond the paper: share of the unoccluded strategy's VPL samples drawn from each
-    /// shading point's own distribution over its nearest VPLs, which removes the single
-    /// bright pixels next to VPLs far from every record (about 20 % more render time); 0
-    /// gives the paper's strategies.
+    /// pixel's own distribution over its nearest VPLs, which removes the single bright
+    /// pixels next to VPLs far from every record (20-30 % more render time); 0 gives the
+    /// paper's strategies.
     #[arg(long, default_value_t = DEFAULT_NEAR_SHARE)]
     near_share: f64,
     /// VPLs of that distribution.
