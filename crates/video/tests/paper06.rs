@@ -277,7 +277,8 @@ fn check5_localized_search_approaches_global_search() {
 /// (localized 2.281e6 -> 1.910e6), global search's more (1.951e6 -> 1.447e6): the copies
 /// from other frames that global search finds anywhere in the clip, localized search reaches
 /// only through the windows around its current matches and the neighbours' coherence
-/// candidates, the local minimum of the paper's section 5.
+/// candidates, the local minimum of the paper's section 5. What reaching 1.10x would take is
+/// measured by `measure_check5_localized_at_spec_size`: about 65x the thousand-patch budget.
 #[test]
 #[ignore = "fails: at the full size 320x180x15 from 160x90 (seed 9) localized search reaches 1.320x the energy of exact global search (1.910e6 vs 1.447e6, 8 iterations each), limit 1.10, with 16570x fewer candidates (was 1.169x before the temporal candidates lowered global search's energy more); global search takes 40 min here"]
 fn check5_localized_search_within_ten_percent_of_global_at_spec_size() {
@@ -292,6 +293,52 @@ fn check5_localized_search_within_ten_percent_of_global_at_spec_size() {
         "localized energy {el:.0} vs global {eg:.0}"
     );
     assert!(cg >= 20 * cl);
+}
+
+/// Localized search alone at check 5's full size (about a second), against the recorded
+/// global energy (1.447e6): `WSCG_WIN` window widths (`17,13,9,5`), `WSCG_RT` temporal radii
+/// (`0,0,0,1`), `WSCG_MAXC` candidate budget per pixel (1000), `WSCG_ITERS` iteration cap
+/// (16), `WSCG_DROP` the energy rule's fraction (5e-3). Measured (2026-12-07): the defaults
+/// 1.320x; without the budget 1.226x (the energy rule stops it); temporal radius 1 at every
+/// window 1.180x, 2 1.151x; windows 65, 33, 17, 9, 5 with temporal radius 2 and no energy
+/// stop (32 iterations) 1.048x, with 204 M candidates, 67x the default's 3.05 M. PatchMatch's
+/// random search around each match (Barnes et al. 2009, radius halving from the whole clip
+/// or from 4-32 pixels) added to the windows gave 1.327-1.361x within the budget and
+/// 1.219-1.235x without it: the gap is the reach of the search, not the choice of the few
+/// extra candidates.
+#[test]
+#[ignore = "measurement; run with --ignored --nocapture"]
+fn measure_check5_localized_at_spec_size() {
+    let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
+    let radii: Vec<usize> = env("WSCG_RT", "0,0,0,1")
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let local = LocalSearchParams::default()
+        .temporal_radius(radii)
+        .max_candidates(env("WSCG_MAXC", "1000").parse().unwrap())
+        .max_iterations(env("WSCG_ITERS", "16").parse().unwrap())
+        .min_energy_drop(env("WSCG_DROP", "5e-3").parse().unwrap())
+        .windows(
+            env("WSCG_WIN", "17,13,9,5")
+                .split(',')
+                .map(|v| v.parse().unwrap())
+                .collect(),
+        );
+    let clip = zoom_clip(15, 180, 320, 1.003, 15.0, 2.5, 9).unwrap();
+    let mut cfg = CompletionParams::default().local(local);
+    cfg.low.target_width = 160;
+    cfg.low.levels = Some(0);
+    let start = std::time::Instant::now();
+    let out = complete(&clip, &cfg);
+    let e = out.matches.energy();
+    println!(
+        "localized {e:.4e} = {:.3}x global, energies {:?}, {} candidates, {:.0} s",
+        e / 1.4472e6,
+        out.stats.local[0].energy,
+        out.stats.local[0].candidates,
+        start.elapsed().as_secs_f64()
+    );
 }
 
 #[test]
