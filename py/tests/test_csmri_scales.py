@@ -66,6 +66,10 @@ def test_choice_result_and_its_scores():
     # Another seed draws other hold-out sets: other scores.
     d = csmri.choose_scales(k, m, max_iter=15, candidates=(2, 1), folds=2, seed=5)
     assert not np.array_equal(c.scores, d.scores)
+    # The cluster radius reaches the draw: single samples (0) hold out as many samples in
+    # other places, so other scores; the radius is the last keyword.
+    e = csmri.choose_scales(k, m, max_iter=15, candidates=(2, 1), folds=2, seed=4, cluster=0)
+    assert e.held_out == c.held_out and not np.array_equal(c.scores, e.scores)
     # Fully sampled data has nothing unmeasured: the first candidate, unscored.
     full = csmri.choose_scales(k, np.ones((64, 64), bool), candidates=(3, 1))
     assert (full.scales, full.held_out, full.scores.size) == (3, 0, 0)

@@ -346,3 +346,70 @@ fn visible_share_counts_the_blocked_light() {
     let v = sh.visible_share(&at([0.0, 1.0, 0.0])).unwrap();
     assert!((v - 0.5).abs() < 1e-12, "{v}");
 }
+
+/// The pixel's own distribution (beyond the paper, `near_share`): the `k` VPLs of positive
+/// power nearest the point, by brute force, those that light it, in proportion to their
+/// contributions without visibility there (a wall between them does not matter).
+#[test]
+fn near_distribution_is_the_nearest_vpls_by_contribution() {
+    let wall = (
+        [[0.3, 0.0, -3.0], [0.3, 0.0, 3.0], [0.3, 2.0, 0.0]],
+        [0.5; 3],
+    );
+    let scene = plane(10.0, 0.5, &[wall]);
+    let mut vpls = Vec::new();
+    for k in 0..80 {
+        let t = k as f64 * 2.399_963;
+        let rad = 0.2 + 0.05 * k as f64;
+        // Every fifth one faces away from the plane, every seventh has no power.
+        let normal = if k % 5 == 0 {
+            [0.0, 1.0, 0.0]
+        } else {
+            [0.0, -1.0, 0.0]
+        };
+        let power = if k % 7 == 0 {
+            0.0
+        } else {
+            1.0 + (k % 3) as f64
+        };
+        vpls.push(emitter_vpl(
+            [rad * t.cos(), 0.4, rad * t.sin()],
+            normal,
+            power,
+        ));
+    }
+    let sh = Shading::new(&scene, &vpls, None).unwrap();
+    let near = near::NearVpls::new(&sh).unwrap();
+    let r = Receiver {
+        pos: [0.1, 0.0, 0.2],
+        normal: [0.0, 1.0, 0.0],
+        albedo: [0.5; 3],
+    };
+    let k = 12;
+    let got = near.distribution(&sh, &r, k);
+    let mut by_distance: Vec<usize> = (0..vpls.len())
+        .filter(|&j| luminance(&sh.intensity[j]) > 0.0)
+        .collect();
+    by_distance.sort_by(|&a, &b| dist(vpls[a].pos, r.pos).total_cmp(&dist(vpls[b].pos, r.pos)));
+    let lit: Vec<(usize, f64)> = by_distance[..k]
+        .iter()
+        .map(|&j| (j, luminance(&sh.unoccluded(&r, j))))
+        .filter(|e| e.1 > 0.0)
+        .collect();
+    assert!(lit.len() < k, "some of the nearest face away");
+    let total: f64 = lit.iter().map(|e| e.1).sum();
+    let mut want: Vec<(usize, f64)> = lit.iter().map(|&(j, u)| (j, u / total)).collect();
+    want.sort_by_key(|e| e.0);
+    assert_eq!(got.len(), want.len());
+    for (g, w) in got.iter().zip(&want) {
+        assert_eq!(g.0, w.0);
+        assert!((g.1 - w.1).abs() < 1e-12, "{g:?} vs {w:?}");
+    }
+    // A point no VPL lights (under the plane, facing down): empty.
+    let below = Receiver {
+        pos: [0.1, -0.01, 0.2],
+        normal: [0.0, -1.0, 0.0],
+        albedo: [0.5; 3],
+    };
+    assert!(near.distribution(&sh, &below, k).is_empty());
+}

@@ -507,8 +507,8 @@ def choose_scales(kspace, mask, reg: str = "l1", epsilon: float = 0.0, max_iter:
                   tau0: float = 0.01, rho: float = 1.0, tau_cap: float = 10.0, tol: float = 0.0,
                   wedge: Tuple[int, int] = (6, 6), alpha: float = 0.1, tv_n_iter: int = 20,
                   shrink_lowpass: bool = True, candidates: Sequence[int] = (1, 2, 3),
-                  folds: int = 3, holdout: float = 0.05, cluster: float = 2.0,
-                  seed: int = 0) -> ScaleChoice:
+                  folds: int = 3, holdout: float = 0.05, seed: int = 0,
+                  cluster: float = 2.0) -> ScaleChoice:
     """Choose the number of UDCT scales for :func:`reconstruct` from the data alone.
 
     Hold-out validation (beyond the paper, which fixes the scales per image class): ``folds``
@@ -542,12 +542,12 @@ def choose_scales(kspace, mask, reg: str = "l1", epsilon: float = 0.0, max_iter:
         Hold-out sets per candidate (1 to 20).
     holdout : float
         Fraction of the samples held out per fold, in (0, 0.5], ``folds * holdout <= 1``.
+    seed : int
+        Seed of the hold-out draw.
     cluster : float
         Radius of the held-out clusters in k-space positions, 0 to 16 (2: up to 13
         neighbouring samples; 0: single samples, which were measured to prefer two scales on
         diamond lattices under pseudo-radial masks, 0.7 to 1.0 dB below one scale).
-    seed : int
-        Seed of the hold-out draw.
 
     Returns
     -------

@@ -6,7 +6,7 @@ use wscg_math::knn::KdTree;
 use wscg_math::vec3::dot;
 use wscg_math::{Error, Result};
 
-use super::pmf::Pmf;
+use super::pmf::{sample_list, Pmf};
 use super::scene::luminance;
 use super::shading::{Receiver, Shading};
 use super::weights::{record_weight, Interp};
@@ -94,8 +94,6 @@ pub struct ImportanceCache {
     pub n_positive: usize,
     /// Indices of the VPLs of positive power.
     pub positive_ids: Vec<u32>,
-    /// Search structure over the VPLs of positive power (`None` when there is none).
-    vpl_tree: Option<KdTree>,
 }
 
 impl ImportanceCache {
@@ -134,15 +132,6 @@ impl ImportanceCache {
         let positive_ids: Vec<u32> = (0..positive.len() as u32)
             .filter(|&j| positive[j as usize])
             .collect();
-        let vpl_pts: Vec<[f64; 3]> = positive_ids
-            .iter()
-            .map(|&j| sh.vpls[j as usize].pos)
-            .collect();
-        let vpl_tree = if vpl_pts.is_empty() {
-            None
-        } else {
-            Some(KdTree::new(&vpl_pts)?)
-        };
         let d_max = match interp {
             Interp::Clarberg { dmax_factor, .. } => {
                 dmax_factor * median_mth_distance(&tree, &pts, m)
@@ -159,34 +148,7 @@ impl ImportanceCache {
             n_positive: positive_ids.len(),
             positive,
             positive_ids,
-            vpl_tree,
         })
-    }
-
-    /// The shading point's own distribution over its `k` nearest VPLs of positive power,
-    /// proportional to their contributions without visibility there: `(VPL, probability)`
-    /// sorted by VPL, empty when none of them lights the point.
-    pub fn near_distribution(&self, sh: &Shading, r: &Receiver, k: usize) -> Vec<(usize, f64)> {
-        let Some(tree) = &self.vpl_tree else {
-            return Vec::new();
-        };
-        let mut out: Vec<(usize, f64)> = tree
-            .knn(&r.pos, k, None)
-            .into_iter()
-            .map(|(i, _)| {
-                let j = self.positive_ids[i] as usize;
-                (j, luminance(&sh.unoccluded(r, j)))
-            })
-            .filter(|e| e.1 > 0.0)
-            .collect();
-        let total: f64 = out.iter().map(|e| e.1).sum();
-        if total.is_finite() && total > 0.0 {
-            out.iter_mut().for_each(|e| e.1 /= total);
-            out.sort_unstable_by_key(|e| e.0);
-        } else {
-            out.clear();
-        }
-        out
     }
 
     /// Bytes held by the distributions.
@@ -298,15 +260,7 @@ impl ImportanceCache {
             let i = ((u1 * self.n_positive as f64) as usize).min(self.n_positive - 1);
             return Some(self.positive_ids[i] as usize);
         }
-        let mut acc = 0.0;
-        let mut chosen = mix.last()?.0;
-        for &(k, w) in mix {
-            acc += w;
-            if u1 < acc {
-                chosen = k;
-                break;
-            }
-        }
+        let chosen = sample_list(mix, u1)?;
         Some(self.dists[chosen].pmf[s].as_ref()?.sample(u2))
     }
 }

@@ -9,6 +9,7 @@
 //! - [`vpl`]: virtual point lights from light paths.
 //! - [`shading`]: one VPL's contribution (eq. 1), the reference sum.
 //! - [`pmf`], [`cache`]: records and their four distributions.
+//! - [`near`]: beyond the paper, each pixel's distribution over its nearest VPLs.
 //! - [`weights`]: the similarity weights of eqs. (2)-(4).
 //! - [`placement`]: screen-grid records (the baseline), clustering and adaptive insertion.
 //! - [`mod@render`]: the alpha-max estimator, the reference, power sampling, pixel filters.
@@ -18,6 +19,7 @@ pub mod cache;
 pub mod camera;
 pub mod gbuffer;
 pub mod method;
+pub mod near;
 pub mod obj;
 pub mod placement;
 pub mod pmf;

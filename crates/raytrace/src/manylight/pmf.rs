@@ -79,6 +79,21 @@ impl Pmf {
     }
 }
 
+/// Draws from a short list of `(item, probability)` (probabilities summing to 1) by
+/// inversion with `u` in `[0, 1)`; the last item when rounding leaves `u` past the sum, `None`
+/// for an empty list.
+#[inline]
+pub fn sample_list(list: &[(usize, f64)], u: f64) -> Option<usize> {
+    let mut acc = 0.0;
+    for &(item, q) in list {
+        acc += q;
+        if u < acc {
+            return Some(item);
+        }
+    }
+    list.last().map(|e| e.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -93,6 +108,17 @@ mod tests {
             counts[p.sample((k as f64 + 0.5) / 10_000.0)] += 1;
         }
         assert_eq!(counts, [0, 2500, 0, 7500, 0]);
+        // The short lists: the same inversion over (item, probability) pairs.
+        let list = [(7, 0.25), (2, 0.0), (9, 0.75)];
+        let mut hits = std::collections::HashMap::new();
+        for k in 0..10_000 {
+            *hits
+                .entry(sample_list(&list, (k as f64 + 0.5) / 10_000.0).unwrap())
+                .or_insert(0) += 1;
+        }
+        assert_eq!((hits[&7], hits.get(&2), hits[&9]), (2500, None, 7500));
+        assert_eq!(sample_list(&list, 1.0 - 1e-17), Some(9));
+        assert_eq!(sample_list(&[], 0.5), None);
         assert_eq!(p.sample(0.0), 1);
         assert_eq!(p.sample(0.999_999_9), 3);
         assert!(Pmf::new(&[0.0, 0.0]).is_none());

@@ -12,8 +12,9 @@ use wscg_math::{Error, Result};
 
 use super::cache::{ImportanceCache, Lookup, CONSERVATIVE, UNOCCLUDED};
 use super::gbuffer::{shade_point, GBuffer, ShadingPoint};
+use super::near::NearVpls;
 use super::placement::{adaptive, random_screen, AdaptiveStats, Placement};
-use super::pmf::Pmf;
+use super::pmf::{sample_list, Pmf};
 use super::scene::{luminance, Rgb, Scene};
 use super::shading::Shading;
 use super::vpl::Vpl;
@@ -93,7 +94,7 @@ impl PixelFilter {
     }
 }
 
-/// The default share of the unoccluded strategy's samples drawn from the shading point's own
+/// The default share of the unoccluded strategy's samples drawn from the pixel's own
 /// nearest VPLs ([`ImportanceCachingParams::near_share`]).
 pub const DEFAULT_NEAR_SHARE: f64 = 0.25;
 /// The default number of those VPLs ([`ImportanceCachingParams::near_vpls`]).
@@ -133,7 +134,7 @@ wscg_math::params! {
         /// estimator unbiased, and costs a nearest-VPL search and `near_vpls` contribution
         /// evaluations per pixel (20-30 % more render time at the defaults).
         pub near_share: f64,
-        /// VPLs of the shading point's own distribution (32).
+        /// VPLs of the pixel's own distribution (32).
         pub near_vpls: usize,
         /// Clamping distance of the geometry term (`None`: 1 % of the scene's diagonal; 0: none).
         pub clamp_dist: Option<f64>,
@@ -210,7 +211,7 @@ impl ImportanceCachingParams {
         if self.near_vpls == 0 {
             return Err(Error::invalid(
                 "near_vpls",
-                "at least one VPL is needed for the shading point's own distribution",
+                "at least one VPL is needed for the pixel's own distribution",
             ));
         }
         if let Some(dc) = self.clamp_dist {
@@ -335,7 +336,7 @@ fn add(a: &mut Rgb, b: &Rgb, s: f64) {
 /// exactly one strategy of positive probability, so the estimate is unbiased. With
 /// `p.near_share = b > 0` and a non-empty `near` the unoccluded strategy's probability is
 /// `(1 - b) p_unoccluded + b p_near`, `p_near` the distribution `near` over the VPLs nearest
-/// the pixel ([`ImportanceCache::near_distribution`], sorted by VPL); it is still one
+/// the pixel ([`NearVpls::distribution`], sorted by VPL); it is still one
 /// strategy's probability, sampled as the mixture it is.
 pub fn estimate(
     sh: &Shading,
@@ -422,18 +423,6 @@ pub fn estimate(
     out
 }
 
-/// Draws from a short list of `(item, probability)` by inversion.
-fn sample_list(list: &[(usize, f64)], u: f64) -> Option<usize> {
-    let mut acc = 0.0;
-    for &(j, q) in list {
-        acc += q;
-        if u < acc {
-            return Some(j);
-        }
-    }
-    list.last().map(|e| e.0)
-}
-
 /// Renders with the importance cache: [`estimate`] at every pixel sample of `p.filter`
 /// (`max(1, round(spp / pixel_samples))` VPL samples at each of `pixel_samples` sub-pixel
 /// shading points for the box and tent filters, `spp` at the G-buffer's pixel centre for the
@@ -459,15 +448,16 @@ pub fn render(
         )));
     }
     let sub = sub_params(p);
+    let nearest = (p.near_share > 0.0 && p.strategies[UNOCCLUDED])
+        .then(|| NearVpls::new(&sh))
+        .transpose()?;
     // The near-VPL distribution of a pixel is computed at its first shading point and shared
     // by the others (a fixed distribution per pixel keeps each estimate unbiased).
     filtered(scene, g, p, 0x1c_0000_0000, progress, |x, near, rng| {
         let near = near.get_or_insert_with(|| {
-            if sub.near_share > 0.0 {
-                cache.near_distribution(&sh, &x.receiver(), sub.near_vpls)
-            } else {
-                Vec::new()
-            }
+            nearest.as_ref().map_or_else(Vec::new, |n| {
+                n.distribution(&sh, &x.receiver(), sub.near_vpls)
+            })
         });
         estimate(&sh, cache, x, &sub, near, rng)
     })
