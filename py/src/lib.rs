@@ -48,6 +48,7 @@ mod volseg;
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    wscg_math::faer_par::fix_faer_parallelism();
     pool::register(m)?;
     limits::register(m)?;
     logs::install(m.py())?;

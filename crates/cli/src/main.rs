@@ -13,6 +13,7 @@ mod logging;
 mod progress;
 
 fn main() -> ExitCode {
+    wscg_math::faer_par::fix_faer_parallelism();
     let matches = finite::finite_floats(commands::Cli::command()).get_matches();
     let args = match commands::Cli::from_arg_matches(&matches) {
         Ok(a) => a,

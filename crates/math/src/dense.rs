@@ -35,6 +35,7 @@ pub fn gram_accumulate(acc: &mut Mat<f64>, x: MatRef<'_, f64>, alpha: f64) {
 
 /// Adds `alpha X'X` to the lower triangle (diagonal included) of `acc`.
 fn lower_accumulate(acc: &mut Mat<f64>, x: MatRef<'_, f64>, alpha: f64) {
+    crate::faer_par::fix_faer_parallelism();
     use faer::linalg::matmul::triangular::{matmul, BlockStructure};
     let p = x.ncols();
     assert!(
@@ -218,6 +219,7 @@ pub fn eigh_smallest(a: MatRef<'_, f64>, k: usize) -> Result<SymEigen> {
 }
 
 fn selected(a: MatRef<'_, f64>, k: usize, largest: bool) -> Result<SymEigen> {
+    crate::faer_par::fix_faer_parallelism();
     check_symmetric("a", a)?;
     if k >= 1 && 4 * k <= a.nrows() {
         if largest {
@@ -233,6 +235,7 @@ fn selected(a: MatRef<'_, f64>, k: usize, largest: bool) -> Result<SymEigen> {
 
 /// Thin SVD of `a` (`m x n`), singular values non-increasing.
 pub fn svd(a: MatRef<'_, f64>) -> Result<Svd> {
+    crate::faer_par::fix_faer_parallelism();
     check_matrix("a", a)?;
     let d = a
         .thin_svd()
@@ -250,6 +253,7 @@ pub fn svd(a: MatRef<'_, f64>) -> Result<Svd> {
 /// None` uses `eps * max(m, n)`, numpy's `lstsq` default). Handles over- and
 /// under-determined and rank-deficient systems.
 pub fn lstsq(a: MatRef<'_, f64>, b: MatRef<'_, f64>, rcond: Option<f64>) -> Result<Mat<f64>> {
+    crate::faer_par::fix_faer_parallelism();
     check_matrix("a", a)?;
     check_matrix("b", b)?;
     if b.nrows() != a.nrows() {
@@ -287,6 +291,7 @@ pub fn lstsq(a: MatRef<'_, f64>, b: MatRef<'_, f64>, rcond: Option<f64>) -> Resu
 ///
 /// Errors: `a`, `b` not symmetric or of different size; `b` not positive definite.
 pub fn eigh_generalized(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Result<SymEigen> {
+    crate::faer_par::fix_faer_parallelism();
     check_symmetric("a", a)?;
     check_symmetric("b", b)?;
     if a.nrows() != b.nrows() {

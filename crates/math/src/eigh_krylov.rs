@@ -44,6 +44,7 @@ fn orthonormal_block(v: MatRef<'_, f64>, mut w: Mat<f64>) -> Mat<f64> {
 /// The `k` largest eigenpairs (non-increasing) of the symmetric `a`, or `None` when the
 /// residual test is not met within the basis-size budget.
 pub fn eigh_largest_krylov(a: MatRef<'_, f64>, k: usize) -> Option<SymEigen> {
+    crate::faer_par::fix_faer_parallelism();
     let n = a.nrows();
     if k == 0 || 4 * k > n {
         return None;
@@ -152,6 +153,7 @@ fn hcat(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
 /// when convergence takes more than `max(n / 2, 40 b)` products (a dense method is then as
 /// cheap).
 pub fn eigh_largest_restarted(a: MatRef<'_, f64>, k: usize) -> Option<SymEigen> {
+    crate::faer_par::fix_faer_parallelism();
     const TOL: f64 = 1e-12;
     let n = a.nrows();
     let b = k + 8;

@@ -164,6 +164,7 @@ fn cluster_vectors(t: &Tridiagonal, lambdas: &[f64], first: usize, tiny: f64) ->
 ///
 /// Errors: `k` outside `1..=n`.
 pub fn eigh_selected(a: MatRef<'_, f64>, k: usize, largest: bool) -> Result<SymEigen> {
+    crate::faer_par::fix_faer_parallelism();
     let n = a.nrows();
     if k == 0 || k > n {
         return Err(Error::invalid(

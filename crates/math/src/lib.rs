@@ -70,6 +70,7 @@ pub mod dist;
 pub mod distance;
 pub mod eigh_krylov;
 pub mod eigh_partial;
+pub mod faer_par;
 pub mod fft;
 pub mod filter;
 pub mod image;

@@ -64,6 +64,7 @@ pub fn check_symmetric(name: &'static str, a: MatRef<'_, f64>) -> Result<()> {
 
 /// All eigenpairs of the symmetric matrix `a`, eigenvalues in non-decreasing order.
 pub fn eigh(a: MatRef<'_, f64>) -> Result<SymEigen> {
+    crate::faer_par::fix_faer_parallelism();
     check_symmetric("a", a)?;
     let e = a
         .self_adjoint_eigen(Side::Lower)
