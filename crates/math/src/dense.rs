@@ -35,8 +35,8 @@ pub fn gram_accumulate(acc: &mut Mat<f64>, x: MatRef<'_, f64>, alpha: f64) {
 
 /// Adds `alpha X'X` to the lower triangle (diagonal included) of `acc`.
 fn lower_accumulate(acc: &mut Mat<f64>, x: MatRef<'_, f64>, alpha: f64) {
-    crate::faer_par::fix_faer_parallelism();
     use faer::linalg::matmul::triangular::{matmul, BlockStructure};
+    crate::faer_par::fix_faer_parallelism();
     let p = x.ncols();
     assert!(
         acc.nrows() == p && acc.ncols() == p,
