@@ -140,11 +140,13 @@ fn complete_video<'py>(
     max_candidates: i128,
     propagate: bool,
     temporal_candidates: bool,
+    hypotheses: i128,
     step: &str,
     global_fine_search: bool,
     return_matches: bool,
 ) -> PyResult<Completed<'py>> {
     let fine_max_iter: usize = uint(py, "fine_max_iter", fine_max_iter, 0)?;
+    let hypotheses: usize = uint(py, "hypotheses", hypotheses, 0)?;
     let temporal_radius = match temporal_radius {
         Radii::One(r) => vec![r],
         Radii::Each(r) => r,
@@ -206,7 +208,8 @@ fn complete_video<'py>(
                 .max_candidates(max_candidates)
                 .step(step)
                 .propagate(propagate)
-                .temporal_candidates(temporal_candidates),
+                .temporal_candidates(temporal_candidates)
+                .hypotheses(hypotheses),
         )
         .global_fine_search(global_fine_search);
     // The owned copy of the frames becomes the output: no second copy of the video.

@@ -177,6 +177,27 @@ def test_stage3_iterates_past_the_windows_until_the_energy_settles(pan):
         assert len(b) > 4 and b[-1] < 0.8 * a[-1]
 
 
+def test_hypotheses_come_from_the_pca_search_and_stay_in_the_budget(pan):
+    # Stage 1's next-best sources exist only where its PCA + kd-tree index ranked them: with
+    # PatchMatch the count changes nothing; with the index they change the completion, and
+    # the candidates compared per hole pixel stay within max_candidates (window, coherence,
+    # temporal and hypothesis candidates together).
+    _, observed, mask = pan
+    kw = dict(lowres_width=80, n_levels=0, return_stats=True)
+    a, sa = V.complete_video(observed, mask, hypotheses=0, **kw)
+    b, sb = V.complete_video(observed, mask, hypotheses=10, **kw)
+    np.testing.assert_array_equal(a, b)
+    assert sa.local_candidates == sb.local_candidates
+    holes = int(np.count_nonzero(mask))
+    runs = {}
+    for k in (0, 10):
+        out, st = V.complete_video(observed, mask, search="pca_kdtree", hypotheses=k,
+                                   max_candidates=1000, **kw)
+        assert st.local_candidates[0] <= 1000 * holes
+        runs[k] = (out, st)
+    assert not np.array_equal(runs[0][0], runs[10][0])
+
+
 def test_bad_input(tmp_path, pan):
     _, observed, mask = pan
     with pytest.raises(ValueError, match="uint8"):
@@ -195,6 +216,8 @@ def test_bad_input(tmp_path, pan):
         V.complete_video(observed, mask, fine_max_iter=-1)
     with pytest.raises(ValueError, match="max_candidates"):
         V.complete_video(observed, mask, max_candidates=-1)
+    with pytest.raises(ValueError, match="hypotheses"):
+        V.complete_video(observed, mask, hypotheses=-1)
     with pytest.raises(ValueError, match="temporal_radius"):
         V.complete_video(observed, mask, temporal_radius=())
     with pytest.raises(ValueError, match="temporal_radius"):

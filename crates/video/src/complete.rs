@@ -7,10 +7,11 @@ use wscg_math::progress::{NoProgress, Progress};
 use wscg_math::{Error, Result};
 
 use crate::field::{upscale_matches, MatchField};
+use crate::hypotheses::Hypotheses;
 use crate::local::{localized_search, LocalSearchParams, LocalStats, UpscaleStep};
-use crate::lowres::{lowres_complete, sweep_once, LevelStats, LowResParams};
+use crate::lowres::{lowres_complete_indexed, sweep_once, LevelStats, LowResParams};
 use crate::onion::onion_order;
-use crate::patch::{valid_sources, Cubes};
+use crate::patch::{valid_sources, Cubes, PatchSize};
 use crate::patchmatch::TargetSet;
 use crate::pyramid::{downscale, working_factor};
 use crate::refine::{refine_matches, RefineParams, RefineStats};
@@ -165,7 +166,9 @@ pub fn complete_in_place(
     };
     stats.working_size = (wv.height, wv.width);
     progress.begin(&format!("stage 1 at {} x {}", wv.width, wv.height), 1);
-    let (mut ml, low) = lowres_complete(wv, &wm, &cfg.low)?;
+    let (mut ml, low, index) = lowres_complete_indexed(wv, &wm, &cfg.low)?;
+    // Kept for stage 3's hypotheses only.
+    let index = index.filter(|_| cfg.local.hypotheses > 0);
     progress.advance(1);
     progress.finish();
     stats.lowres = low;
@@ -184,6 +187,12 @@ pub fn complete_in_place(
         progress.advance(1);
         progress.finish();
     }
+    // Stage 1's next-best sources of each hole pixel, ranked by its index on the completed
+    // working level.
+    let mut hyps = index.filter(|_| !cfg.global_fine_search).map(|index| {
+        let sources = valid_sources(&wm, patch);
+        Hypotheses::next_best(wv, &sources, &ml, patch, &index, cfg.local.hypotheses)
+    });
     stats.seconds[1] = clock.elapsed().as_secs_f64();
     drop(owned);
     let clock = Instant::now();
@@ -206,10 +215,6 @@ pub fn complete_in_place(
             Some(v) => v,
             None => &mut *video,
         };
-        progress.begin(
-            &format!("localized search at {} x {}", lv.width, lv.height),
-            cfg.local.iteration_cap() as u64,
-        );
         let sources = valid_sources(&lm, patch);
         let targets = TargetSet::new(lm.dims(), lm.iter_points());
         let temporal =
@@ -223,17 +228,34 @@ pub fn complete_in_place(
                 ),
             )
         })?;
+        // The hypotheses are searched around at the first level only; stage 3 counts their
+        // candidates where it has them.
+        let around = match hyps.take() {
+            Some(h) => h
+                .upscale(&targets, &sources, temporal, f / next)
+                .unwrap_or_default(),
+            None => Vec::new(),
+        };
+        let local = if around.is_empty() {
+            cfg.local.clone().hypotheses(0)
+        } else {
+            cfg.local.clone()
+        };
+        progress.begin(
+            &format!("localized search at {} x {}", lv.width, lv.height),
+            local.iteration_cap() as u64,
+        );
         let mut field = MatchField {
             targets,
             matches: up,
         };
         field.apply(lv);
         let st = if cfg.global_fine_search {
-            global_search(lv, &lm, &sources, &mut field, cfg)?
+            global_search(lv, &lm, &sources, &mut field, patch, &local)?
         } else {
-            localized_search(lv, &lm, &sources, &mut field, patch, &cfg.local)?
+            localized_search(lv, &lm, &sources, &mut field, patch, &local, &around)?
         };
-        progress.advance(cfg.local.iteration_cap() as u64);
+        progress.advance(local.iteration_cap() as u64);
         progress.finish();
         log::info!(
             "stage 3 at {} x {}: {} sweeps over {} hole pixels, energy {:.4e} -> {:.4e}",
@@ -260,18 +282,18 @@ fn global_search(
     hole: &Mask3,
     sources: &Mask3,
     field: &mut MatchField,
-    cfg: &CompletionParams,
+    patch: PatchSize,
+    local: &LocalSearchParams,
 ) -> Result<LocalStats> {
     let order = onion_order(hole, &field.targets)?;
     let searcher = Searcher::Exact(source_list(sources));
-    let patch = cfg.low.patch;
     let mut st = LocalStats {
         size: (video.height, video.width),
         hole_pixels: field.len(),
         energy: Vec::new(),
         candidates: 0,
     };
-    while !cfg.local.converged(&st.energy) {
+    while !local.converged(&st.energy) {
         let sweep = st.energy.len();
         sweep_once(
             video,
@@ -281,10 +303,10 @@ fn global_search(
             &order,
             patch,
             sweep,
-            cfg.local.temporal_candidates.then_some(hole),
+            local.temporal_candidates.then_some(hole),
             None,
         );
-        let temporal = if cfg.local.temporal_candidates { 2 } else { 0 };
+        let temporal = if local.temporal_candidates { 2 } else { 0 };
         st.candidates += (field.len() * (sources.count() + temporal)) as u64;
         st.energy
             .push(field.refresh(&Cubes::new(video, sources, patch)));

@@ -166,6 +166,34 @@ pub fn upscale_matches(
     temporal: Option<(&Mask3, PatchSize)>,
     s: usize,
 ) -> Option<Vec<Match>> {
+    let up = upscale_sources(
+        &coarse.targets,
+        |j| coarse.matches[j].source,
+        fine_targets,
+        fine_sources,
+        temporal,
+        s,
+    )?;
+    Some(
+        up.into_iter()
+            .map(|source| Match {
+                source,
+                dist: f32::INFINITY,
+            })
+            .collect(),
+    )
+}
+
+/// [`upscale_matches`] for any per-pixel source of the coarse level: `source_of(j)` is the
+/// source of the coarse hole pixel `coarse_targets.get(j)`.
+pub fn upscale_sources(
+    coarse_targets: &TargetSet,
+    source_of: impl Fn(usize) -> P3 + Sync,
+    fine_targets: &TargetSet,
+    fine_sources: &Mask3,
+    temporal: Option<(&Mask3, PatchSize)>,
+    s: usize,
+) -> Option<Vec<P3>> {
     let s32 = s as u32;
     let dims = fine_targets.dims();
     (0..fine_targets.len())
@@ -173,14 +201,15 @@ pub fn upscale_matches(
         .map(|i| {
             let p = fine_targets.get(i);
             let parent = [p[0], p[1] / s32, p[2] / s32];
-            let guess = coarse.get(parent).map(|m| {
+            let guess = coarse_targets.rank(parent).map(|j| {
+                let c = source_of(j);
                 [
-                    m.source[0],
-                    (m.source[1] * s32 + p[1] % s32).min(dims[1] as u32 - 1),
-                    (m.source[2] * s32 + p[2] % s32).min(dims[2] as u32 - 1),
+                    c[0],
+                    (c[1] * s32 + p[1] % s32).min(dims[1] as u32 - 1),
+                    (c[2] * s32 + p[2] % s32).min(dims[2] as u32 - 1),
                 ]
             });
-            let source = match guess {
+            Some(match guess {
                 Some(g)
                     if fine_sources.contains(g)
                         || temporal.is_some_and(|(hole, patch)| copyable(hole, patch, g)) =>
@@ -189,10 +218,6 @@ pub fn upscale_matches(
                 }
                 Some(g) => nearest_source(fine_sources, g)?,
                 None => nearest_source(fine_sources, p)?,
-            };
-            Some(Match {
-                source,
-                dist: f32::INFINITY,
             })
         })
         .collect()

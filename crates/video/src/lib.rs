@@ -24,6 +24,7 @@
 
 pub mod complete;
 pub mod field;
+pub mod hypotheses;
 pub mod init;
 pub mod io;
 pub mod local;

@@ -16,6 +16,10 @@
 //! eight coherence and temporal candidates per iteration, so eight iterations fit the budget
 //! (978 candidates per pixel). The paper's windows stay within the match's frame
 //! (`temporal_radius` 0).
+//!
+//! When stage 1 searched with the paper's PCA + kd-tree index, each pixel's first iteration
+//! also searches 3 x 3 windows around stage 1's ten next-best sources ([`crate::hypotheses`]),
+//! 90 candidates that the budget counts (seven iterations then fit).
 
 use rayon::prelude::*;
 
@@ -68,6 +72,21 @@ wscg_math::params! {
         /// earlier and later frames where it is known ([`crate::field::temporal_sources`]):
         /// two more candidates per pixel. True.
         pub temporal_candidates: bool,
+        /// Stage 1's next-best sources kept per hole pixel ([`crate::hypotheses`]): at the
+        /// first level, each pixel also searches a `hypothesis_window`-wide window around each
+        /// of them, up-scaled, in the first `hypothesis_iterations` iterations, so a region can
+        /// leave the copy its up-scaled match started it on for one that the windows around
+        /// that match never reach (the local minimum of the paper's section 5). Only stage 1's
+        /// PCA + kd-tree search ranks them ([`crate::search::SearchMethod::PcaKdTree`]); with
+        /// another search there are none. 10: 90 more candidates per pixel in the first
+        /// iteration, out of `max_candidates`, so one iteration fewer fits the budget (seven).
+        /// 0: the paper's stage 3, around the best match only.
+        pub hypotheses: usize,
+        /// Width of the window around each hypothesis (odd): 3.
+        pub hypothesis_window: usize,
+        /// Iterations that search around the hypotheses: 1.
+        pub hypothesis_iterations: usize,
+
     }
 }
 
@@ -100,7 +119,13 @@ impl LocalSearchParams {
     /// with `propagate` and two temporal ones with `temporal_candidates`.
     pub fn candidates(&self, k: usize) -> usize {
         let w = self.window(k);
+        let hyp = if k < self.hypothesis_iterations {
+            self.hypotheses * self.hypothesis_window * self.hypothesis_window
+        } else {
+            0
+        };
         w * w * (2 * self.radius_t(k) + 1)
+            + hyp
             + if self.propagate { 6 } else { 0 }
             + if self.temporal_candidates { 2 } else { 0 }
     }
@@ -112,6 +137,7 @@ impl LocalSearchParams {
             temporal_radius: vec![0],
             propagate: false,
             temporal_candidates: false,
+            hypotheses: 0,
             ..Self::default()
         }
     }
@@ -142,6 +168,9 @@ impl Default for LocalSearchParams {
             step: UpscaleStep::Double,
             propagate: true,
             temporal_candidates: true,
+            hypotheses: 10,
+            hypothesis_window: 3,
+            hypothesis_iterations: 1,
         }
     }
 }
@@ -150,6 +179,12 @@ impl LocalSearchParams {
     /// Errors: no window, a window width that is even or zero, no temporal radius, a negative
     /// or non-finite `min_energy_drop`.
     pub fn validate(&self) -> wscg_math::Result<()> {
+        if self.hypothesis_window.is_multiple_of(2) {
+            return Err(wscg_math::Error::invalid(
+                "hypothesis_window",
+                format!("must be odd, got {}", self.hypothesis_window),
+            ));
+        }
         if self.windows.is_empty() || self.windows.iter().any(|&w| w == 0 || w % 2 == 0) {
             return Err(wscg_math::Error::invalid(
                 "windows",
@@ -191,7 +226,12 @@ pub struct LocalStats {
 /// Runs the localized search on one level: `field` holds the up-scaled matches (`MLH`) and
 /// the hole colours of `video` their sources' colours. For each window width, hole pixels are
 /// visited shell by shell (each shell in parallel from the current state); each takes the
-/// best valid source in the window around its current match, and its colour.
+/// best valid source in the window around its current match, and its colour. `hypotheses`
+/// holds `cfg.hypotheses` further sources per hole pixel (pixel-major), around which the
+/// first `cfg.hypothesis_iterations` iterations also search; empty, none are searched, but
+/// the budget still counts `cfg.hypotheses` (set it to 0).
+///
+/// Errors: invalid `cfg`; `hypotheses` neither empty nor `cfg.hypotheses` per hole pixel.
 pub fn localized_search(
     video: &mut Video,
     hole: &Mask3,
@@ -199,8 +239,20 @@ pub fn localized_search(
     field: &mut MatchField,
     patch: PatchSize,
     cfg: &LocalSearchParams,
+    hypotheses: &[P3],
 ) -> wscg_math::Result<LocalStats> {
     cfg.validate()?;
+    let per = cfg.hypotheses;
+    if !hypotheses.is_empty() && hypotheses.len() != per * field.len() {
+        return Err(wscg_math::Error::invalid(
+            "hypotheses",
+            format!(
+                "{} sources for {} hole pixels, expected {per} each",
+                hypotheses.len(),
+                field.len()
+            ),
+        ));
+    }
     let order = onion_order(hole, &field.targets)?;
     let dims = video.dims();
     let mut st = LocalStats {
@@ -213,6 +265,8 @@ pub fn localized_search(
         wscg_math::cancel::check()?;
         let r = (cfg.window(st.energy.len()) / 2) as i64;
         let rt = cfg.radius_t(st.energy.len()) as i64;
+        let rh = (cfg.hypothesis_window / 2) as i64;
+        let with_hyp = !hypotheses.is_empty() && st.energy.len() < cfg.hypothesis_iterations;
         for shell in &order {
             let new: Vec<(Match, u64)> = {
                 let cubes = Cubes::new(video, sources, patch);
@@ -237,20 +291,31 @@ pub fn localized_search(
                                 }
                             }
                         };
-                        for t in
-                            (c[0] as i64 - rt).max(0)..=(c[0] as i64 + rt).min(dims[0] as i64 - 1)
-                        {
-                            for y in
-                                (c[1] as i64 - r).max(0)..=(c[1] as i64 + r).min(dims[1] as i64 - 1)
+                        let window = |c: P3, r: i64, rt: i64, f: &mut dyn FnMut(P3)| {
+                            for t in (c[0] as i64 - rt).max(0)
+                                ..=(c[0] as i64 + rt).min(dims[0] as i64 - 1)
                             {
-                                for x in (c[2] as i64 - r).max(0)
-                                    ..=(c[2] as i64 + r).min(dims[2] as i64 - 1)
+                                for y in (c[1] as i64 - r).max(0)
+                                    ..=(c[1] as i64 + r).min(dims[1] as i64 - 1)
                                 {
-                                    let s = [t as u32, y as u32, x as u32];
-                                    if s != c && sources.contains(s) {
-                                        try_source(s);
+                                    for x in (c[2] as i64 - r).max(0)
+                                        ..=(c[2] as i64 + r).min(dims[2] as i64 - 1)
+                                    {
+                                        let s = [t as u32, y as u32, x as u32];
+                                        if s != c && sources.contains(s) {
+                                            f(s);
+                                        }
                                     }
                                 }
+                            }
+                        };
+                        window(c, r, rt, &mut try_source);
+                        if with_hyp {
+                            for &h in &hypotheses[i * per..(i + 1) * per] {
+                                if sources.contains(h) {
+                                    try_source(h);
+                                }
+                                window(h, rh, 0, &mut try_source);
                             }
                         }
                         if cfg.temporal_candidates {
@@ -286,6 +351,95 @@ pub fn localized_search(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::patch::valid_sources;
+    use crate::patchmatch::TargetSet;
+    use crate::search::exact_best_all;
+
+    #[test]
+    fn the_first_iteration_searches_around_the_hypotheses() {
+        // Every hole pixel starts on one poor source, and a 1-pixel window cannot leave it;
+        // a hypothesis one pixel off the pixel's exact best source puts that source into its
+        // 3 x 3 window.
+        let clip = crate::synth::pan_clip(6, 24, 32, 2.0, 4, 4, 3).unwrap();
+        let patch = PatchSize {
+            px: 3,
+            py: 3,
+            pt: 3,
+        };
+        let sources = valid_sources(&clip.hole, patch);
+        let all = sources.points();
+        let targets = TargetSet::new(clip.hole.dims(), clip.hole.iter_points());
+        let points: Vec<P3> = (0..targets.len()).map(|i| targets.get(i)).collect();
+        let best = exact_best_all(&Cubes::new(&clip.clean, &sources, patch), &points, &all);
+        let poor = Match {
+            source: all[0],
+            dist: f32::INFINITY,
+        };
+        let hyps: Vec<P3> = best
+            .iter()
+            .map(|m| {
+                let s = m.source;
+                let x = if sources.contains([s[0], s[1], s[2] + 1]) {
+                    s[2] + 1
+                } else {
+                    s[2] - 1
+                };
+                [s[0], s[1], x]
+            })
+            .collect();
+        let cfg = LocalSearchParams::paper()
+            .windows(vec![1])
+            .max_iterations(1)
+            .hypotheses(1)
+            .hypothesis_window(3);
+        assert_eq!(cfg.candidates(0), 1 + 9);
+        let run = |h: &[P3]| {
+            let mut v = clip.clean.clone();
+            let mut field = MatchField {
+                targets: targets.clone(),
+                matches: vec![poor; targets.len()],
+            };
+            field.apply(&mut v);
+            localized_search(&mut v, &clip.hole, &sources, &mut field, patch, &cfg, h).unwrap();
+            field
+        };
+        let mut v = clip.clean.clone();
+        let mut field = MatchField {
+            targets: targets.clone(),
+            matches: vec![poor; targets.len()],
+        };
+        let short = localized_search(
+            &mut v,
+            &clip.hole,
+            &sources,
+            &mut field,
+            patch,
+            &cfg,
+            &hyps[1..],
+        );
+        assert!(short.unwrap_err().to_string().contains("hypotheses"));
+        let without = run(&[]);
+        assert!(without.matches.iter().all(|m| m.source == poor.source));
+        let with = run(&hyps);
+        let near = with
+            .matches
+            .iter()
+            .zip(&best)
+            .filter(|(m, b)| {
+                m.source[0] == b.source[0]
+                    && m.source[1]
+                        .abs_diff(b.source[1])
+                        .max(m.source[2].abs_diff(b.source[2]))
+                        <= 2
+            })
+            .count();
+        assert!(
+            near * 10 >= 9 * targets.len(),
+            "{near} of {}",
+            targets.len()
+        );
+        assert!(with.energy() < 0.5 * without.energy());
+    }
 
     #[test]
     fn iterations_keep_the_last_window_and_stop_when_the_energy_settles() {
@@ -308,14 +462,19 @@ mod tests {
         };
         assert!(no_drop.converged(&[3.0, 2.0, 1.0, 1.0]));
         assert!(!no_drop.converged(&[3.0, 2.0, 1.0, 0.999]));
-        // The patch budget: 297 + 177 + 89 + 5 x 83 = 978 <= 1000 candidates per pixel, a
-        // ninth iteration would make 1061.
+        // The patch budget: 387 + 177 + 89 + 4 x 83 = 985 <= 1000 candidates per pixel with
+        // the ten hypotheses' 3 x 3 windows in the first iteration, an eighth iteration would
+        // make 1068; without hypotheses 297 + 177 + 89 + 5 x 83 = 978, eight iterations.
         let per: Vec<usize> = (0..5).map(|k| cfg.candidates(k)).collect();
-        assert_eq!(per, [17 * 17 + 8, 13 * 13 + 8, 9 * 9 + 8, 75 + 8, 75 + 8]);
-        assert_eq!(cfg.iteration_cap(), 8);
+        assert_eq!(
+            per,
+            [17 * 17 + 8 + 90, 13 * 13 + 8, 9 * 9 + 8, 75 + 8, 75 + 8]
+        );
+        assert_eq!(cfg.iteration_cap(), 7);
+        assert_eq!(cfg.clone().hypotheses(0).iteration_cap(), 8);
         let halving: Vec<f64> = (0..16).map(|k| 0.5f64.powi(k)).collect();
-        assert!(!cfg.converged(&halving[..7]));
-        assert!(cfg.converged(&halving[..8]));
+        assert!(!cfg.converged(&halving[..6]));
+        assert!(cfg.converged(&halving[..7]));
         // The paper's windows: 289 + 169 + 81 + 25 k fits 16 iterations (864).
         let paper = LocalSearchParams::paper();
         assert_eq!(paper.iteration_cap(), 16);
@@ -331,6 +490,11 @@ mod tests {
                 .iteration_cap(),
             4
         );
+        // Hypotheses add their windows to the first iterations only.
+        let hyp = LocalSearchParams::default().hypotheses(4);
+        assert_eq!(hyp.candidates(0), 17 * 17 + 8 + 36);
+        assert_eq!(hyp.candidates(1), 13 * 13 + 8);
+        assert!(hyp.clone().hypothesis_window(4).validate().is_err());
         let short = LocalSearchParams {
             max_iterations: 2,
             ..LocalSearchParams::default()

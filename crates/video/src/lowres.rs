@@ -12,6 +12,7 @@ use crate::init::{initialize, InitMethod};
 use crate::onion::{onion_order, scanline_order};
 use crate::patch::{valid_sources, Cubes, PatchSize};
 use crate::patchmatch::{patchmatch, Match, PatchMatchParams, TargetSet};
+use crate::pca_index::PcaIndex;
 use crate::pyramid::downscale;
 use crate::search::{random_matches, SearchMethod, Searcher};
 use crate::video::{Mask3, Video};
@@ -161,6 +162,16 @@ pub fn lowres_complete(
     hole: &Mask3,
     cfg: &LowResParams,
 ) -> Result<(MatchField, Vec<LevelStats>)> {
+    lowres_complete_indexed(video, hole, cfg).map(|(field, stats, _)| (field, stats))
+}
+
+/// [`lowres_complete`], also returning the working level's PCA + kd-tree index when stage 1
+/// searched with one.
+pub(crate) fn lowres_complete_indexed(
+    video: &mut Video,
+    hole: &Mask3,
+    cfg: &LowResParams,
+) -> Result<(MatchField, Vec<LevelStats>, Option<PcaIndex>)> {
     cfg.validate()?;
     video.check_mask(hole)?;
     cfg.patch.check(video.dims())?;
@@ -168,13 +179,17 @@ pub fn lowres_complete(
     let mut stats = Vec::new();
     let mut prev: Option<MatchField> = None;
     while let Some((mut lv, lm)) = coarser.pop() {
-        let (field, st) = complete_level(&mut lv, &lm, prev.as_ref(), cfg, stats.len())?;
+        let (field, st, _) = complete_level(&mut lv, &lm, prev.as_ref(), cfg, stats.len())?;
         stats.push(st);
         prev = Some(field);
     }
-    let (field, st) = complete_level(video, hole, prev.as_ref(), cfg, stats.len())?;
+    let (field, st, searcher) = complete_level(video, hole, prev.as_ref(), cfg, stats.len())?;
     stats.push(st);
-    Ok((field, stats))
+    let index = match searcher {
+        Searcher::Pca(index) => Some(index),
+        _ => None,
+    };
+    Ok((field, stats, index))
 }
 
 /// One level of stage 1 (the `k`-th processed, coarsest first), in place on `v`.
@@ -184,7 +199,7 @@ fn complete_level(
     prev: Option<&MatchField>,
     cfg: &LowResParams,
     k: usize,
-) -> Result<(MatchField, LevelStats)> {
+) -> Result<(MatchField, LevelStats, Searcher)> {
     let sources = valid_sources(lm, cfg.patch);
     if sources.count() == 0 {
         return Err(Error::invalid(
@@ -289,7 +304,7 @@ fn complete_level(
             break;
         }
     }
-    Ok((field, st))
+    Ok((field, st, searcher))
 }
 
 /// Replaces the start match of every target that has temporal candidates by the one nearer in

@@ -255,7 +255,7 @@ impl PcaIndex {
         let mut q = Vec::with_capacity(self.mean.len());
         patch_vector(cubes.video, self.patch, t, &mut q);
         let q = self.project(&q);
-        let cands = self.knn(&q);
+        let cands = self.knn(&q, self.params.rerank);
         let mut best = Match {
             source: self.sources[cands[0]],
             dist: f32::INFINITY,
@@ -269,9 +269,50 @@ impl PcaIndex {
         best
     }
 
-    /// Indices (tree order) of the approximately `rerank` nearest points to `q`.
-    fn knn(&self, q: &[f32]) -> Vec<usize> {
-        let k = self.params.rerank.max(1);
+    /// Up to `k` sources for target `t`, best first by exact `D` with the current colours of
+    /// `cubes.video`, each more than `min_sep` pixels (Chebyshev, in space) from `exclude` and
+    /// from the better ones of its frame: the approximate nearest `max(rerank, 4 k)` in PCA
+    /// space, re-ranked.
+    pub fn best_k(
+        &self,
+        cubes: &Cubes<'_>,
+        t: P3,
+        k: usize,
+        exclude: P3,
+        min_sep: u32,
+    ) -> Vec<Match> {
+        let mut q = Vec::with_capacity(self.mean.len());
+        patch_vector(cubes.video, self.patch, t, &mut q);
+        let q = self.project(&q);
+        let mut cands: Vec<Match> = self
+            .knn(&q, self.params.rerank.max(4 * k))
+            .into_iter()
+            .map(|i| {
+                let s = self.sources[i];
+                Match {
+                    source: s,
+                    dist: cubes.ssd(t, s, f32::INFINITY),
+                }
+            })
+            .collect();
+        cands.sort_by(|a, b| a.dist.total_cmp(&b.dist).then(a.source.cmp(&b.source)));
+        let apart =
+            |a: P3, b: P3| a[0] != b[0] || a[1].abs_diff(b[1]).max(a[2].abs_diff(b[2])) > min_sep;
+        let mut out: Vec<Match> = Vec::with_capacity(k);
+        for m in cands {
+            if apart(m.source, exclude) && out.iter().all(|o| apart(o.source, m.source)) {
+                out.push(m);
+                if out.len() == k {
+                    break;
+                }
+            }
+        }
+        out
+    }
+
+    /// Indices (tree order) of the approximately `k` nearest points to `q`.
+    fn knn(&self, q: &[f32], k: usize) -> Vec<usize> {
+        let k = k.max(1);
         let mut best: Vec<(f32, usize)> = Vec::with_capacity(k + 1);
         let mut heap = BinaryHeap::new();
         heap.push(MinEntry(0.0, 0));

@@ -128,6 +128,13 @@ fn every_parameter_struct_validates_its_default_and_names_a_bad_field() {
     );
     assert_eq!(
         LocalSearchParams::default()
+            .hypothesis_window(2)
+            .validate()
+            .refused_argument(),
+        Some("hypothesis_window")
+    );
+    assert_eq!(
+        LocalSearchParams::default()
             .min_energy_drop(-1.0)
             .validate()
             .refused_argument(),

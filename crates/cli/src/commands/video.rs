@@ -14,8 +14,8 @@ use wscg_video::io::{read_frames, read_mask, read_video, write_frames};
 use wscg_video::metrics::{flicker, psnr_masked, ssim_masked};
 use wscg_video::synth;
 use wscg_video::{
-    complete_video_with, per_frame_patchmatch, wexler_complete, CompletionParams, PatchSize,
-    RefineParams, Video, WexlerParams,
+    complete_video_with, per_frame_patchmatch, wexler_complete, CompletionParams,
+    LocalSearchParams, PatchSize, RefineParams, Video, WexlerParams,
 };
 
 use crate::progress::Bars;
@@ -90,6 +90,11 @@ pub struct CompleteArgs {
     /// Stage 1 search.
     #[arg(long, value_enum, default_value_t = SearchName::Patchmatch)]
     search: SearchName,
+    /// With --search pca-kdtree: stage 1's next-best sources kept per hole pixel, around
+    /// which stage 3's first iteration also searches 3 x 3 windows (9 candidates each, out of
+    /// --max-candidates); 0 is the paper's stage 3, which searches around the best match only.
+    #[arg(long, default_value_t = LocalSearchParams::default().hypotheses)]
+    hypotheses: usize,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -199,6 +204,7 @@ fn complete(a: CompleteArgs) -> Result<()> {
             cfg.local.max_iterations = a.max_iterations;
             cfg.local.max_candidates = a.max_candidates;
             cfg.local.propagate = !a.no_propagate;
+            cfg.local.hypotheses = a.hypotheses;
             cfg.low.temporal_candidates = !a.no_temporal_candidates;
             cfg.local.temporal_candidates = !a.no_temporal_candidates;
             let c = complete_video_with(&v, &m, &cfg, &Bars::new("video"))?;
