@@ -18,8 +18,8 @@
 //! (`temporal_radius` 0).
 //!
 //! When stage 1 searched with the paper's PCA + kd-tree index, each pixel's first iteration
-//! also searches 3 x 3 windows around stage 1's ten next-best sources ([`crate::hypotheses`]),
-//! 90 candidates that the budget counts (seven iterations then fit).
+//! also searches 3 x 3 windows around stage 1's six next-best sources ([`crate::hypotheses`]),
+//! 54 candidates that the budget counts (seven iterations then fit).
 
 use rayon::prelude::*;
 
@@ -78,7 +78,7 @@ wscg_math::params! {
         /// leave the copy its up-scaled match started it on for one that the windows around
         /// that match never reach (the local minimum of the paper's section 5). Only stage 1's
         /// PCA + kd-tree search ranks them ([`crate::search::SearchMethod::PcaKdTree`]); with
-        /// another search there are none. 10: 90 more candidates per pixel in the first
+        /// another search there are none. 6: 54 more candidates per pixel in the first
         /// iteration, out of `max_candidates`, so one iteration fewer fits the budget (seven).
         /// 0: the paper's stage 3, around the best match only.
         pub hypotheses: usize,
@@ -168,7 +168,7 @@ impl Default for LocalSearchParams {
             step: UpscaleStep::Double,
             propagate: true,
             temporal_candidates: true,
-            hypotheses: 10,
+            hypotheses: 6,
             hypothesis_window: 3,
             hypothesis_iterations: 1,
         }
@@ -462,13 +462,13 @@ mod tests {
         };
         assert!(no_drop.converged(&[3.0, 2.0, 1.0, 1.0]));
         assert!(!no_drop.converged(&[3.0, 2.0, 1.0, 0.999]));
-        // The patch budget: 387 + 177 + 89 + 4 x 83 = 985 <= 1000 candidates per pixel with
-        // the ten hypotheses' 3 x 3 windows in the first iteration, an eighth iteration would
-        // make 1068; without hypotheses 297 + 177 + 89 + 5 x 83 = 978, eight iterations.
+        // The patch budget: 351 + 177 + 89 + 4 x 83 = 949 <= 1000 candidates per pixel with
+        // the six hypotheses' 3 x 3 windows in the first iteration, an eighth iteration would
+        // make 1032; without hypotheses 297 + 177 + 89 + 5 x 83 = 978, eight iterations.
         let per: Vec<usize> = (0..5).map(|k| cfg.candidates(k)).collect();
         assert_eq!(
             per,
-            [17 * 17 + 8 + 90, 13 * 13 + 8, 9 * 9 + 8, 75 + 8, 75 + 8]
+            [17 * 17 + 8 + 54, 13 * 13 + 8, 9 * 9 + 8, 75 + 8, 75 + 8]
         );
         assert_eq!(cfg.iteration_cap(), 7);
         assert_eq!(cfg.clone().hypotheses(0).iteration_cap(), 8);

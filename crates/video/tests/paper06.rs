@@ -197,16 +197,25 @@ fn localized_vs_global(
     );
     let global = complete(clip, &cfg.clone().global_fine_search(true));
     // All three stop where stage 3's rule first fires: localized and global search are
-    // compared after iterating alike.
-    for (name, c) in [
-        ("localized", &local),
-        ("windows only", &windows_only),
-        ("global", &global),
+    // compared after iterating alike. Stage 3 has hypotheses to search around (and counts
+    // them in the budget) only after a PCA + kd-tree stage 1; global search has none.
+    let ranked = matches!(stage1, SearchMethod::PcaKdTree(_));
+    let plain = cfg.local.clone().hypotheses(0);
+    let local_rule = if ranked {
+        cfg.local.clone()
+    } else {
+        plain.clone()
+    };
+    let windows_rule = local_rule.clone().propagate(false);
+    for (name, c, rule) in [
+        ("localized", &local, &local_rule),
+        ("windows only", &windows_only, &windows_rule),
+        ("global", &global, &plain),
     ] {
         let e = &c.stats.local[0].energy;
         println!("{name}: {} iterations", e.len());
         assert!(
-            cfg.local.converged(e) && !cfg.local.converged(&e[..e.len() - 1]),
+            rule.converged(e) && !rule.converged(&e[..e.len() - 1]),
             "{name}: energies {e:?}"
         );
     }
@@ -260,32 +269,58 @@ fn check5_localized_search_approaches_global_search() {
     }
 }
 
+/// Energies of localized search at check 5's full size (320 x 180 x 15 from 160 x 90) from the
+/// paper's PCA + kd-tree stage 1, which ranks the hypotheses: with the default hypotheses and
+/// without any.
+fn with_and_without_hypotheses(seed: u64) -> (f64, f64) {
+    let clip = zoom_clip(15, 180, 320, 1.003, 15.0, 2.5, seed).unwrap();
+    let mut cfg = CompletionParams::default();
+    cfg.low.target_width = 160;
+    cfg.low.levels = Some(0);
+    cfg.low.search = SearchMethod::PcaKdTree(PcaKdParams::default());
+    let with = complete(&clip, &cfg);
+    let holes = clip.hole.count() as u64;
+    assert!(with.stats.local[0].candidates <= 1000 * holes);
+    let without = complete(
+        &clip,
+        &cfg.clone()
+            .local(LocalSearchParams::default().hypotheses(0)),
+    );
+    let (e1, e0) = (with.matches.energy(), without.matches.energy());
+    println!(
+        "seed {seed}: {e1:.4e} with hypotheses, {e0:.4e} without: {:.3}x",
+        e1 / e0
+    );
+    (e1, e0)
+}
+
 #[test]
 fn check5_hypotheses_lower_the_energy_of_localized_search() {
-    // Check 5's full size (320 x 180 x 15 from 160 x 90) with the paper's PCA + kd-tree stage
-    // 1, which ranks the hypotheses, on seeds used for no choice: within the same budget of a
-    // thousand candidates per pixel, searching around stage 1's next-best sources lowers the
-    // energy of localized search by at least 3 %.
-    for seed in [17, 18] {
-        let clip = zoom_clip(15, 180, 320, 1.003, 15.0, 2.5, seed).unwrap();
-        let mut cfg = CompletionParams::default();
-        cfg.low.target_width = 160;
-        cfg.low.levels = Some(0);
-        cfg.low.search = SearchMethod::PcaKdTree(PcaKdParams::default());
-        let with = complete(&clip, &cfg);
-        let without = complete(
-            &clip,
-            &cfg.clone()
-                .local(LocalSearchParams::default().hypotheses(0)),
-        );
-        let (e1, e0) = (with.matches.energy(), without.matches.energy());
-        println!(
-            "seed {seed}: {e1:.4e} with hypotheses, {e0:.4e} without: {:.3}x",
-            e1 / e0
-        );
-        assert!(e1 <= 0.97 * e0, "seed {seed}: {e1:.0} vs {e0:.0}");
-        let holes = clip.hole.count() as u64;
-        assert!(with.stats.local[0].candidates <= 1000 * holes);
+    // On four seeds used for no choice, within the same budget of a thousand candidates per
+    // pixel, searching around stage 1's next-best sources lowers the energy of localized
+    // search by at least 2 % in the geometric mean. Measured: 0.909x, 0.978x, 1.051x and
+    // 0.874x, 0.951x in the geometric mean (on the eleven seeds that chose the count,
+    // 0.917-0.996x, 0.960x).
+    let logs: Vec<f64> = [25, 26, 27, 28]
+        .into_iter()
+        .map(|seed| {
+            let (e1, e0) = with_and_without_hypotheses(seed);
+            (e1 / e0).ln()
+        })
+        .collect();
+    let mean = (logs.iter().sum::<f64>() / logs.len() as f64).exp();
+    assert!(mean <= 0.98, "geometric mean {mean:.3}x");
+}
+
+/// The hypotheses change which copies the greedy iterations settle on, and on some clips the
+/// end is worse: on seed 27 the energy is 5.1 % higher with them (2.1052e6 against 2.0034e6).
+/// The limit of 1 % was set before the seed was run.
+#[test]
+#[ignore = "fails: with the default six hypotheses localized search ends 5.1 % higher on seed 27 (2.1052e6 vs 2.0034e6), limit 1 %; 0.874-0.978x on seeds 25, 26 and 28"]
+fn check5_hypotheses_raise_the_energy_on_no_seed() {
+    for seed in [25, 26, 27, 28] {
+        let (e1, e0) = with_and_without_hypotheses(seed);
+        assert!(e1 <= 1.01 * e0, "seed {seed}: {e1:.0} vs {e0:.0}");
     }
 }
 
@@ -319,14 +354,26 @@ fn check5_hypotheses_lower_the_energy_of_localized_search() {
 /// with the paper's own search (PCA and a kd-tree, section 3.2) instead of the default
 /// space-time PatchMatch. Measured (2026-12-07, 30-32 min per global search on 2 cores):
 /// seed 9, localized 1.391e6 after 8 iterations against global 1.2185e6 after 8 sweeps,
-/// **1.142x** (3.44 M candidates against 50.5 G); seed 12 (not used for any choice),
-/// 1.5104e6 after 8 iterations against 1.2508e6 after 7 sweeps, **1.208x** (3.41 M against
-/// 44.2 G). From this list localized search ends below what global search reached from the
-/// PatchMatch list (1.391e6 against 1.447e6 on seed 9). Smaller windows, which fit more iterations into the budget, did not close the
-/// gap: on 160 x 90 x 15 clips from 80 x 45 (seeds 12-14) the geometric mean is 1.184x for
-/// 17, 13, 9, 5, 1.182x for 9, 7, 5, 1.213x for 9, 5 and 1.36x for 5 alone.
+/// **1.142x** (3.44 M candidates against 50.5 G); seed 12, 1.5104e6 after 8 iterations
+/// against 1.2508e6 after 7 sweeps, **1.208x** (3.41 M against 44.2 G). From this list
+/// localized search ends below what global search reached from the PatchMatch list (1.391e6
+/// against 1.447e6 on seed 9). Smaller windows, which fit more iterations into the budget, did
+/// not close the gap: on 160 x 90 x 15 clips from 80 x 45 (seeds 12-14) the geometric mean is
+/// 1.184x for 17, 13, 9, 5, 1.182x for 9, 7, 5, 1.213x for 9, 5 and 1.36x for 5 alone.
+///
+/// What closed it: stage 3's first iteration also searches 3 x 3 windows around six of stage
+/// 1's next-best sources per pixel ([`wscg_video::hypotheses`]), which the PCA + kd-tree
+/// index ranks, within the same budget (949 candidates per pixel, 7 iterations). Global
+/// search is unchanged (it has no hypotheses and keeps the 8-sweep cap). Measured with the
+/// final code (2026-12-07): seed 9 1.3338e6 after 7 iterations, **1.095x**; seed 12 1.3721e6
+/// after 7 iterations, **1.097x** (4.10 M and 4.17 M candidates). The count was chosen on
+/// seeds 13-15 and 17-24, where seeds 13, 14 and 15 have exact global energies recorded
+/// (1.027x, 1.028x, 0.993x with six hypotheses, from 1.089x, 1.121x, 1.000x without). The
+/// margin is small and the greedy iterations vary by a few per cent from seed to seed (see
+/// `check5_hypotheses_raise_the_energy_on_no_seed`). Earlier runs of several counts had been
+/// made on seeds 9 and 12 before the choice (10 hypotheses: 1.136x and 1.070x).
 #[test]
-#[ignore = "fails: at the full size 320x180x15 from 160x90 with the paper's PCA + kd-tree stage 1, localized search reaches 1.142x (seed 9: 1.391e6 vs 1.2185e6) and 1.208x (seed 12: 1.5104e6 vs 1.2508e6) the energy of exact global search, limit 1.10, with 13000-15000x fewer candidates (1.320x on seed 9 from the default PatchMatch stage 1); global search takes 30 min a seed here"]
+#[ignore = "slow: two exact global searches of 15-30 min each on 2 cores; measured 1.095x (seed 9) and 1.097x (seed 12), limit 1.10"]
 fn check5_localized_search_within_ten_percent_of_global_at_spec_size() {
     for seed in [9, 12] {
         let clip = zoom_clip(15, 180, 320, 1.003, 15.0, 2.5, seed).unwrap();
@@ -345,21 +392,26 @@ fn check5_localized_search_within_ten_percent_of_global_at_spec_size() {
     }
 }
 
-/// Localized search alone at check 5's full size (about two seconds), against the energy of
-/// exact global search from the same stage 1 where one is recorded: `WSCG_SEED` (9),
-/// `WSCG_STAGE1` `pca` (the paper's search, the check's; global 1.2185e6 on seed 9, 1.2508e6
-/// on seed 12) or `patchmatch` (the default; global 1.4472e6 on seed 9), `WSCG_WIN` window
-/// widths (`17,13,9,5`), `WSCG_RT` temporal radii (`0,0,0,1`), `WSCG_MAXC` candidate budget
-/// per pixel (1000), `WSCG_ITERS` iteration cap (16), `WSCG_DROP` the energy rule's fraction
-/// (5e-3). Measured (2026-12-07) from the PatchMatch stage 1: the defaults 1.320x; without the
-/// budget 1.226x (the energy rule stops it); temporal radius 1 at every window 1.180x, 2
-/// 1.151x; windows 65, 33, 17, 9, 5 with temporal radius 2 and no energy stop (32
-/// iterations) 1.048x, with 204 M candidates, 67x the default's 3.05 M. PatchMatch's random
-/// search around each match (Barnes et al. 2009, radius halving from the whole clip or from
-/// 4-32 pixels) added to the windows gave 1.327-1.361x within the budget and 1.219-1.235x
-/// without it: the gap is the reach of the search, not the choice of the few extra
-/// candidates. From the PCA stage 1: the defaults 1.142x (the energy rule stops it within the
-/// budget); temporal radius 1 at every window 1.262x.
+/// Localized search alone at check 5's full size (a few seconds), against the energy of exact
+/// global search from the same stage 1 where one is recorded: `WSCG_SEED` (9), `WSCG_STAGE1`
+/// `pca` (the paper's search, the check's; global energies recorded for seeds 9 and 12-16) or
+/// `patchmatch` (the default; global 1.4472e6 on seed 9), `WSCG_WIN` window widths
+/// (`17,13,9,5`), `WSCG_RT` temporal radii (`0,0,0,1`), `WSCG_MAXC` candidate budget per pixel
+/// (1000), `WSCG_ITERS` iteration cap (16), `WSCG_DROP` the energy rule's fraction (5e-3),
+/// `WSCG_HYP`, `WSCG_HW` and `WSCG_HI` the hypotheses' count, window and iterations (6, 3, 1);
+/// `WSCG_GLOBAL=1` runs global search too (15-30 min). Measured (2026-12-07) from the
+/// PatchMatch stage 1: the defaults 1.320x; without the budget 1.226x (the energy rule stops
+/// it); temporal radius 1 at every window 1.180x, 2 1.151x; windows 65, 33, 17, 9, 5 with
+/// temporal radius 2 and no energy stop (32 iterations) 1.048x, with 204 M candidates, 67x
+/// the default's 3.05 M. PatchMatch's random search around each match (Barnes et al. 2009,
+/// radius halving from the whole clip or from 4-32 pixels) added to the windows gave
+/// 1.327-1.361x within the budget and 1.219-1.235x without it: the gap is the reach of the
+/// search, not the choice of the few extra candidates. From the PCA stage 1 without
+/// hypotheses: 1.142x (the energy rule stops it within the budget); temporal radius 1 at every
+/// window 1.262x. The hypotheses' count was chosen on seeds 13-15 and 17-24 (energy with
+/// against without: 2 hypotheses 0.95x on 13-14; 6 0.917-0.996x on all eleven, 0.960x in the
+/// geometric mean; 10 0.953x but 1.035x on seed 19 and 1.011x on seed 15; windows of 1
+/// instead of 3 or two iterations did no better).
 #[test]
 #[ignore = "measurement; run with --ignored --nocapture"]
 fn measure_check5_localized_at_spec_size() {
@@ -368,14 +420,24 @@ fn measure_check5_localized_at_spec_size() {
         .split(',')
         .map(|v| v.parse().unwrap())
         .collect();
-    let local = LocalSearchParams::default()
+    let d = LocalSearchParams::default();
+    let local = d
+        .clone()
         .temporal_radius(radii)
         .max_candidates(env("WSCG_MAXC", "1000").parse().unwrap())
         .max_iterations(env("WSCG_ITERS", "16").parse().unwrap())
         .min_energy_drop(env("WSCG_DROP", "5e-3").parse().unwrap())
-        .hypotheses(env("WSCG_HYP", "0").parse().unwrap())
-        .hypothesis_window(env("WSCG_HW", "3").parse().unwrap())
-        .hypothesis_iterations(env("WSCG_HI", "1").parse().unwrap())
+        .hypotheses(env("WSCG_HYP", &d.hypotheses.to_string()).parse().unwrap())
+        .hypothesis_window(
+            env("WSCG_HW", &d.hypothesis_window.to_string())
+                .parse()
+                .unwrap(),
+        )
+        .hypothesis_iterations(
+            env("WSCG_HI", &d.hypothesis_iterations.to_string())
+                .parse()
+                .unwrap(),
+        )
         .windows(
             env("WSCG_WIN", "17,13,9,5")
                 .split(',')
@@ -401,6 +463,9 @@ fn measure_check5_localized_at_spec_size() {
         }
         (true, 9) => Some(1.2185e6),
         (true, 12) => Some(1.2508e6),
+        (true, 13) => Some(1.69811e6),
+        (true, 14) => Some(1.25369e6),
+        (true, 15) => Some(1.68649e6),
         (false, 9) => Some(1.4472e6),
         _ => None,
     };
