@@ -371,11 +371,13 @@ fn check5_hypotheses_raise_the_energy_on_no_seed() {
 /// (1.027x, 1.028x, 0.993x with six hypotheses, from 1.089x, 1.121x, 1.000x without). The
 /// margin is small and the greedy iterations vary by a few per cent from seed to seed (see
 /// `check5_hypotheses_raise_the_energy_on_no_seed`). Earlier runs of several counts had been
-/// made on seeds 9 and 12 before the choice (10 hypotheses: 1.136x and 1.070x).
+/// made on seeds 9 and 12 before the choice (10 hypotheses: 1.136x and 1.070x). Seed 16,
+/// whose global energy was measured after the choice, fails: global 1.16069e6,
+/// localized 1.3020e6 with the hypotheses, **1.122x** (1.4113e6, 1.216x, without).
 #[test]
-#[ignore = "slow: two exact global searches of 15-30 min each on 2 cores; measured 1.095x (seed 9) and 1.097x (seed 12), limit 1.10"]
+#[ignore = "fails on seed 16: 1.122x (1.3020e6 vs 1.16069e6), limit 1.10; seeds 9 and 12 pass with 1.095x and 1.097x; three exact global searches of 15-30 min each on 2 cores"]
 fn check5_localized_search_within_ten_percent_of_global_at_spec_size() {
-    for seed in [9, 12] {
+    for seed in [9, 12, 16] {
         let clip = zoom_clip(15, 180, 320, 1.003, 15.0, 2.5, seed).unwrap();
         let stage1 = SearchMethod::PcaKdTree(PcaKdParams::default());
         let ([el, ew, eg], cl, cg) = localized_vs_global(&clip, 160, stage1);
@@ -466,6 +468,7 @@ fn measure_check5_localized_at_spec_size() {
         (true, 13) => Some(1.69811e6),
         (true, 14) => Some(1.25369e6),
         (true, 15) => Some(1.68649e6),
+        (true, 16) => Some(1.16069e6),
         (false, 9) => Some(1.4472e6),
         _ => None,
     };
@@ -557,10 +560,10 @@ fn measure_check5_localized_vs_global_half_size() {
     }
 }
 
-/// What stage 3's hypotheses do to the completion of the paper's clip kinds with the PCA +
-/// kd-tree stage 1 (the only one that ranks them), on seeds used for nothing else: PSNR and
-/// SSIM in the hole, the energy and the time, without hypotheses and with `WSCG_HYP` (the
-/// default count).
+/// What stage 3's hypotheses do to the completion of the paper's clip kinds at 320 x 180 from
+/// 160 x 90 with the PCA + kd-tree stage 1 (the only one that ranks them), on seeds used for
+/// nothing else: PSNR and SSIM in the hole, the energy and the time, without hypotheses and
+/// with `WSCG_HYP` (the default count).
 #[test]
 #[ignore = "measurement; run with --ignored --nocapture"]
 fn measure_hypotheses_quality() {
@@ -569,23 +572,26 @@ fn measure_hypotheses_quality() {
         .unwrap_or(LocalSearchParams::default().hypotheses);
     let clips = [
         (
-            "G1 sprite 640x360",
-            sprite_clip(24, 360, 640, 37.0, 7.0, 0.0, 31),
+            "G1 sprite 320x180",
+            sprite_clip(16, 180, 320, 20.0, 4.0, 0.0, 31),
         ),
-        ("G2 pan 640x360", pan_clip(16, 360, 640, 8.0, 45, 60, 32)),
+        ("G2 pan 320x180", pan_clip(16, 180, 320, 6.0, 30, 40, 32)),
         (
-            "G3 zoom 640x360",
-            zoom_clip(20, 360, 640, 1.003, 30.0, 10.0, 33),
+            "G3 zoom 320x180",
+            zoom_clip(15, 180, 320, 1.003, 15.0, 5.0, 33),
         ),
         (
             "G3 zoom 320x180",
             zoom_clip(15, 180, 320, 1.003, 15.0, 2.5, 34),
         ),
-        ("G4 periodic 480x270", periodic_clip(10, 270, 480, 24.0, 40)),
+        ("G4 periodic 320x180", periodic_clip(10, 180, 320, 24.0, 30)),
     ];
     for (name, clip) in clips {
         let clip = clip.unwrap();
         let mut cfg = CompletionParams::default();
+        // Stage 3 from half size, where the hypotheses act.
+        cfg.low.target_width = 160;
+        cfg.low.levels = Some(0);
         cfg.low.search = SearchMethod::PcaKdTree(PcaKdParams::default());
         for k in [0, k] {
             let cfg = cfg
