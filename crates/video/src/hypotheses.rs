@@ -104,13 +104,7 @@ mod tests {
     use crate::search::exact_best_all;
 
     fn setup() -> (crate::synth::Clip, Mask3, PatchSize, MatchField) {
-        let clip = crate::synth::pan_clip(6, 24, 32, 2.0, 4, 4, 3).unwrap();
-        let patch = PatchSize {
-            px: 3,
-            py: 3,
-            pt: 3,
-        };
-        let sources = valid_sources(&clip.hole, patch);
+        let (clip, patch, sources) = crate::testing::small_pan();
         let targets = TargetSet::new(clip.hole.dims(), clip.hole.iter_points());
         let points: Vec<P3> = (0..targets.len()).map(|i| targets.get(i)).collect();
         let cubes = Cubes::new(&clip.observed, &sources, patch);

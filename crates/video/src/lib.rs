@@ -42,6 +42,9 @@ pub mod telea;
 pub mod video;
 pub mod wexler;
 
+#[cfg(test)]
+pub(crate) mod testing;
+
 pub use complete::{
     complete_in_place, complete_video, complete_video_with, Completion, CompletionParams, Stats,
 };

@@ -351,7 +351,6 @@ pub fn localized_search(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::patch::valid_sources;
     use crate::patchmatch::TargetSet;
     use crate::search::exact_best_all;
 
@@ -360,13 +359,7 @@ mod tests {
         // Every hole pixel starts on one poor source, and a 1-pixel window cannot leave it;
         // a hypothesis one pixel off the pixel's exact best source puts that source into its
         // 3 x 3 window.
-        let clip = crate::synth::pan_clip(6, 24, 32, 2.0, 4, 4, 3).unwrap();
-        let patch = PatchSize {
-            px: 3,
-            py: 3,
-            pt: 3,
-        };
-        let sources = valid_sources(&clip.hole, patch);
+        let (clip, patch, sources) = crate::testing::small_pan();
         let all = sources.points();
         let targets = TargetSet::new(clip.hole.dims(), clip.hole.iter_points());
         let points: Vec<P3> = (0..targets.len()).map(|i| targets.get(i)).collect();

@@ -371,19 +371,12 @@ impl PcaIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::patch::valid_sources;
 
     #[test]
     fn finds_the_exact_copy_of_a_source_patch() {
         // With every axis kept and enough checks, the query of a source's own cube returns it
         // (distance 0; the texture has no other exact copy).
-        let clip = crate::synth::pan_clip(6, 24, 32, 2.0, 4, 4, 3).unwrap();
-        let patch = PatchSize {
-            px: 3,
-            py: 3,
-            pt: 3,
-        };
-        let sources = valid_sources(&clip.hole, patch);
+        let (clip, patch, sources) = crate::testing::small_pan();
         let p = PcaKdParams {
             dims: 27,
             rerank: 4,

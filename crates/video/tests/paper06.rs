@@ -394,6 +394,21 @@ fn check5_localized_search_within_ten_percent_of_global_at_spec_size() {
     }
 }
 
+/// `local` with the hypotheses' count, window and iterations of `WSCG_HYP`, `WSCG_HW` and
+/// `WSCG_HI` where set.
+fn hypotheses_from_env(local: LocalSearchParams) -> LocalSearchParams {
+    let var = |k: &str, d: usize| std::env::var(k).map_or(d, |v| v.parse().unwrap());
+    let (k, w, i) = (
+        var("WSCG_HYP", local.hypotheses),
+        var("WSCG_HW", local.hypothesis_window),
+        var("WSCG_HI", local.hypothesis_iterations),
+    );
+    local
+        .hypotheses(k)
+        .hypothesis_window(w)
+        .hypothesis_iterations(i)
+}
+
 /// Localized search alone at check 5's full size (a few seconds), against the energy of exact
 /// global search from the same stage 1 where one is recorded: `WSCG_SEED` (9), `WSCG_STAGE1`
 /// `pca` (the paper's search, the check's; global energies recorded for seeds 9 and 12-16) or
@@ -422,24 +437,11 @@ fn measure_check5_localized_at_spec_size() {
         .split(',')
         .map(|v| v.parse().unwrap())
         .collect();
-    let d = LocalSearchParams::default();
-    let local = d
-        .clone()
+    let local = hypotheses_from_env(LocalSearchParams::default())
         .temporal_radius(radii)
         .max_candidates(env("WSCG_MAXC", "1000").parse().unwrap())
         .max_iterations(env("WSCG_ITERS", "16").parse().unwrap())
         .min_energy_drop(env("WSCG_DROP", "5e-3").parse().unwrap())
-        .hypotheses(env("WSCG_HYP", &d.hypotheses.to_string()).parse().unwrap())
-        .hypothesis_window(
-            env("WSCG_HW", &d.hypothesis_window.to_string())
-                .parse()
-                .unwrap(),
-        )
-        .hypothesis_iterations(
-            env("WSCG_HI", &d.hypothesis_iterations.to_string())
-                .parse()
-                .unwrap(),
-        )
         .windows(
             env("WSCG_WIN", "17,13,9,5")
                 .split(',')
@@ -495,20 +497,7 @@ fn measure_check5_localized_at_spec_size() {
 #[ignore = "measurement; run with --ignored --nocapture"]
 fn measure_check5_localized_vs_global_half_size() {
     let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
-    let d = LocalSearchParams::default();
-    let local = d
-        .clone()
-        .hypotheses(env("WSCG_HYP", &d.hypotheses.to_string()).parse().unwrap())
-        .hypothesis_window(
-            env("WSCG_HW", &d.hypothesis_window.to_string())
-                .parse()
-                .unwrap(),
-        )
-        .hypothesis_iterations(
-            env("WSCG_HI", &d.hypothesis_iterations.to_string())
-                .parse()
-                .unwrap(),
-        );
+    let local = hypotheses_from_env(LocalSearchParams::default());
     let mut cfg = CompletionParams::default().local(local);
     cfg.low.target_width = 80;
     cfg.low.levels = Some(0);
@@ -567,9 +556,7 @@ fn measure_check5_localized_vs_global_half_size() {
 #[test]
 #[ignore = "measurement; run with --ignored --nocapture"]
 fn measure_hypotheses_quality() {
-    let k: usize = std::env::var("WSCG_HYP")
-        .map(|v| v.parse().unwrap())
-        .unwrap_or(LocalSearchParams::default().hypotheses);
+    let k = hypotheses_from_env(LocalSearchParams::default()).hypotheses;
     let clips = [
         (
             "G1 sprite 320x180",
