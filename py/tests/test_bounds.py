@@ -206,8 +206,13 @@ try:
 except KeyboardInterrupt:
     print("interrupted", flush=True)
 """
+    # A terminal's Ctrl-C reaches an interpreter whose SIGINT has its default action; a
+    # runner that ignores SIGINT would pass that on to the child, where Python then installs
+    # no KeyboardInterrupt handler.
+    parent = signal.getsignal(signal.SIGINT)
     p = subprocess.Popen([sys.executable, "-c", PRELUDE + code], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True)
+                         stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         assert p.stdout.readline().strip() == "started", p.stderr.read()
         time.sleep(1.0)
@@ -217,5 +222,5 @@ except KeyboardInterrupt:
         if p.poll() is None:
             p.kill()
             p.wait()
-    assert "interrupted" in out, f"{case}: {out!r} {err[-2000:]}"
+    assert "interrupted" in out, f"{case}: {out!r} {err[-2000:]} (runner's SIGINT: {parent})"
     assert p.returncode == 0, err[-2000:]
