@@ -206,13 +206,13 @@ try:
 except KeyboardInterrupt:
     print("interrupted", flush=True)
 """
-    # A terminal's Ctrl-C reaches an interpreter whose SIGINT has its default action; a
-    # runner that ignores SIGINT would pass that on to the child, where Python then installs
-    # no KeyboardInterrupt handler.
+    # A terminal's Ctrl-C reaches an interpreter with Python's own SIGINT handler; a runner
+    # that ignores SIGINT passes that on to the child, where Python then installs none, so the
+    # child installs it (not in a preexec_fn, which may deadlock in a threaded parent).
     parent = signal.getsignal(signal.SIGINT)
+    code = "import signal\nsignal.signal(signal.SIGINT, signal.default_int_handler)\n" + code
     p = subprocess.Popen([sys.executable, "-c", PRELUDE + code], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True,
-                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                         stderr=subprocess.PIPE, text=True)
     try:
         assert p.stdout.readline().strip() == "started", p.stderr.read()
         time.sleep(1.0)

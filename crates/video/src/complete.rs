@@ -180,19 +180,19 @@ pub fn complete_in_place(
         stats.seconds[0]
     );
     let clock = Instant::now();
+    let sources = valid_sources(&wm, patch);
     if let Some(rc) = &cfg.refine {
         progress.begin("match refinement", 1);
-        let sources = valid_sources(&wm, patch);
         stats.refine = Some(refine_matches(wv, &wm, &sources, &mut ml, patch, rc)?);
         progress.advance(1);
         progress.finish();
     }
     // Stage 1's next-best sources of each hole pixel, ranked by its index on the completed
     // working level.
-    let mut hyps = index.filter(|_| !cfg.global_fine_search).map(|index| {
-        let sources = valid_sources(&wm, patch);
-        Hypotheses::next_best(wv, &sources, &ml, patch, &index, cfg.local.hypotheses)
-    });
+    let mut hyps = index
+        .filter(|_| !cfg.global_fine_search)
+        .map(|index| Hypotheses::next_best(wv, &sources, &ml, patch, &index, cfg.local.hypotheses));
+    drop(sources);
     stats.seconds[1] = clock.elapsed().as_secs_f64();
     drop(owned);
     let clock = Instant::now();

@@ -86,7 +86,6 @@ wscg_math::params! {
         pub hypothesis_window: usize,
         /// Iterations that search around the hypotheses: 1.
         pub hypothesis_iterations: usize,
-
     }
 }
 
@@ -176,8 +175,8 @@ impl Default for LocalSearchParams {
 }
 
 impl LocalSearchParams {
-    /// Errors: no window, a window width that is even or zero, no temporal radius, a negative
-    /// or non-finite `min_energy_drop`.
+    /// Errors: no window, a window width that is even or zero, an even `hypothesis_window`, no
+    /// temporal radius, a negative or non-finite `min_energy_drop`.
     pub fn validate(&self) -> wscg_math::Result<()> {
         if self.hypothesis_window.is_multiple_of(2) {
             return Err(wscg_math::Error::invalid(
@@ -291,31 +290,13 @@ pub fn localized_search(
                                 }
                             }
                         };
-                        let window = |c: P3, r: i64, rt: i64, f: &mut dyn FnMut(P3)| {
-                            for t in (c[0] as i64 - rt).max(0)
-                                ..=(c[0] as i64 + rt).min(dims[0] as i64 - 1)
-                            {
-                                for y in (c[1] as i64 - r).max(0)
-                                    ..=(c[1] as i64 + r).min(dims[1] as i64 - 1)
-                                {
-                                    for x in (c[2] as i64 - r).max(0)
-                                        ..=(c[2] as i64 + r).min(dims[2] as i64 - 1)
-                                    {
-                                        let s = [t as u32, y as u32, x as u32];
-                                        if s != c && sources.contains(s) {
-                                            f(s);
-                                        }
-                                    }
-                                }
-                            }
-                        };
-                        window(c, r, rt, &mut try_source);
+                        window(c, r, rt, dims, sources, &mut try_source);
                         if with_hyp {
                             for &h in &hypotheses[i * per..(i + 1) * per] {
                                 if sources.contains(h) {
                                     try_source(h);
                                 }
-                                window(h, rh, 0, &mut try_source);
+                                window(h, rh, 0, dims, sources, &mut try_source);
                             }
                         }
                         if cfg.temporal_candidates {
@@ -346,6 +327,24 @@ pub fn localized_search(
             .push(field.refresh(&Cubes::new(video, sources, patch)));
     }
     Ok(st)
+}
+
+/// Calls `f` on every valid source of the window of half-width `r` (frames `rt` either side)
+/// around `c`, other than `c`.
+#[inline]
+fn window(c: P3, r: i64, rt: i64, dims: [usize; 3], sources: &Mask3, f: &mut impl FnMut(P3)) {
+    let range =
+        |a: usize, r: i64| (c[a] as i64 - r).max(0)..=(c[a] as i64 + r).min(dims[a] as i64 - 1);
+    for t in range(0, rt) {
+        for y in range(1, r) {
+            for x in range(2, r) {
+                let s = [t as u32, y as u32, x as u32];
+                if s != c && sources.contains(s) {
+                    f(s);
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -33,7 +33,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
                    max_candidates: int = 1000, propagate: bool = True,
-                   temporal_candidates: bool = True, hypotheses: int = ...,
+                   temporal_candidates: bool = True, hypotheses: int = 6,
                    step: str = "double",
                    global_fine_search: bool = False, return_matches: Literal[False] = ...,
                    return_stats: Literal[False] = ...) -> _U8: ...
@@ -47,7 +47,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
                    max_candidates: int = 1000, propagate: bool = True,
-                   temporal_candidates: bool = True, hypotheses: int = ...,
+                   temporal_candidates: bool = True, hypotheses: int = 6,
                    step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[True],
                    return_stats: Literal[False] = ...) -> Tuple[_U8, _I32]: ...
@@ -61,7 +61,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
                    max_candidates: int = 1000, propagate: bool = True,
-                   temporal_candidates: bool = True, hypotheses: int = ...,
+                   temporal_candidates: bool = True, hypotheses: int = 6,
                    step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[False] = ...,
                    return_stats: Literal[True]) -> Tuple[_U8, CompletionStats]: ...
@@ -75,7 +75,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    fine_max_iter: int = 16, min_energy_drop: float = 5e-3,
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
                    max_candidates: int = 1000, propagate: bool = True,
-                   temporal_candidates: bool = True, hypotheses: int = ...,
+                   temporal_candidates: bool = True, hypotheses: int = 6,
                    step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[True],
                    return_stats: Literal[True]) -> Tuple[_U8, _I32, CompletionStats]: ...
