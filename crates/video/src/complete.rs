@@ -191,7 +191,8 @@ pub fn complete_in_place(
     // working level.
     let mut hyps = index
         .filter(|_| !cfg.global_fine_search)
-        .map(|index| Hypotheses::next_best(wv, &sources, &ml, patch, &index, cfg.local.hypotheses));
+        .map(|index| Hypotheses::next_best(wv, &sources, &ml, patch, &index, cfg.local.hypotheses))
+        .transpose()?;
     drop(sources);
     stats.seconds[1] = clock.elapsed().as_secs_f64();
     drop(owned);
@@ -232,7 +233,7 @@ pub fn complete_in_place(
         // candidates where it has them.
         let around = match hyps.take() {
             Some(h) => h
-                .upscale(&targets, &sources, temporal, f / next)
+                .upscale(&targets, &sources, temporal, f / next)?
                 .unwrap_or_default(),
             None => Vec::new(),
         };

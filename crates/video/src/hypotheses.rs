@@ -11,6 +11,7 @@
 //! pixel, once, and no more memory than `k` sources per hole pixel.
 
 use rayon::prelude::*;
+use wscg_math::alloc::ensure_shape;
 
 use crate::field::{upscale_sources, MatchField};
 use crate::patch::{Cubes, PatchSize};
@@ -34,6 +35,9 @@ impl Hypotheses {
     /// search with the current colours of `video` (the completed working level), each more
     /// than one pixel from the match and from each other. A pixel with fewer such sources
     /// repeats its match.
+    ///
+    /// Errors: [`wscg_math::Error::OutOfMemory`] naming `hypotheses` when `k` sources per hole
+    /// pixel exceed the memory limit ([`wscg_math::alloc`]).
     pub fn next_best(
         video: &Video,
         sources: &Mask3,
@@ -41,7 +45,8 @@ impl Hypotheses {
         patch: PatchSize,
         index: &PcaIndex,
         k: usize,
-    ) -> Self {
+    ) -> wscg_math::Result<Self> {
+        ensure_shape::<P3>("hypotheses", &[ml.len(), k])?;
         let cubes = Cubes::new(video, sources, patch);
         let lists: Vec<Vec<P3>> = (0..ml.len())
             .into_par_iter()
@@ -56,25 +61,29 @@ impl Hypotheses {
                 l
             })
             .collect();
-        Self {
+        Ok(Self {
             per: k,
             targets: ml.targets.clone(),
             sources: lists.concat(),
-        }
+        })
     }
 
     /// The hypotheses of the finer level's hole pixels (factor `s`), up-scaled offset-preserving
     /// like the matches ([`crate::field::upscale_matches`]); pixel-major, `per` each. `None`
     /// when the fine level has no valid source.
+    ///
+    /// Errors: [`wscg_math::Error::OutOfMemory`] naming `hypotheses` when `per` sources per
+    /// fine hole pixel exceed the memory limit.
     pub fn upscale(
         &self,
         fine_targets: &TargetSet,
         fine_sources: &Mask3,
         temporal: Option<(&Mask3, PatchSize)>,
         s: usize,
-    ) -> Option<Vec<P3>> {
+    ) -> wscg_math::Result<Option<Vec<P3>>> {
         let per = self.per;
-        let ranks: Vec<Vec<P3>> = (0..per)
+        ensure_shape::<P3>("hypotheses", &[fine_targets.len(), per])?;
+        let ranks: Option<Vec<Vec<P3>>> = (0..per)
             .map(|j| {
                 upscale_sources(
                     &self.targets,
@@ -85,12 +94,12 @@ impl Hypotheses {
                     s,
                 )
             })
-            .collect::<Option<_>>()?;
-        Some(
+            .collect();
+        Ok(ranks.map(|ranks| {
             (0..fine_targets.len())
                 .flat_map(|i| ranks.iter().map(move |r| r[i]))
-                .collect(),
-        )
+                .collect()
+        }))
     }
 }
 
@@ -128,7 +137,7 @@ mod tests {
         };
         let index = PcaIndex::build(&clip.observed, &sources, patch, params).unwrap();
         let k = 3;
-        let h = Hypotheses::next_best(&clip.observed, &sources, &ml, patch, &index, k);
+        let h = Hypotheses::next_best(&clip.observed, &sources, &ml, patch, &index, k).unwrap();
         assert_eq!(h.sources.len(), k * ml.len());
         let cubes = Cubes::new(&clip.observed, &sources, patch);
         let apart = |a: P3, b: P3| a[0] != b[0] || a[1].abs_diff(b[1]).max(a[2].abs_diff(b[2])) > 1;
@@ -157,7 +166,7 @@ mod tests {
         let (clip, sources, patch, ml) = setup();
         let index =
             PcaIndex::build(&clip.observed, &sources, patch, PcaKdParams::default()).unwrap();
-        let h = Hypotheses::next_best(&clip.observed, &sources, &ml, patch, &index, 2);
+        let h = Hypotheses::next_best(&clip.observed, &sources, &ml, patch, &index, 2).unwrap();
         let [f, hh, ww] = clip.hole.dims();
         let fine_hole = Mask3::from_fn(f, 2 * hh, 2 * ww, |t, y, x| {
             clip.hole
@@ -165,7 +174,10 @@ mod tests {
         });
         let fine_targets = TargetSet::new(fine_hole.dims(), fine_hole.iter_points());
         let fine_sources = valid_sources(&fine_hole, patch);
-        let up = h.upscale(&fine_targets, &fine_sources, None, 2).unwrap();
+        let up = h
+            .upscale(&fine_targets, &fine_sources, None, 2)
+            .unwrap()
+            .unwrap();
         for j in 0..2 {
             let rank = MatchField {
                 targets: ml.targets.clone(),

@@ -93,13 +93,43 @@ impl LocalSearchParams {
     /// Iterations at most: `max_iterations`, and no more than fit in `max_candidates`
     /// ([`Self::candidates`]), but at least one per listed window.
     pub fn iteration_cap(&self) -> usize {
-        let mut total = 0;
-        let fit = (0..self.max_iterations)
-            .take_while(|&k| {
-                total += self.candidates(k);
-                total <= self.max_candidates
-            })
-            .count();
+        // Past the listed windows and radii an iteration costs one of two amounts (with and
+        // without the hypotheses), so long runs of iterations are counted in closed form.
+        let listed = self.windows.len().max(self.temporal_radius.len());
+        let hyp_end = self.hypothesis_iterations.max(listed);
+        let mut left = self.max_candidates;
+        let mut fit = 0;
+        for (from, to) in [
+            (0, listed),
+            (listed, hyp_end),
+            (hyp_end, self.max_iterations),
+        ] {
+            let (from, to) = (from.min(self.max_iterations), to.min(self.max_iterations));
+            if from >= to {
+                continue;
+            }
+            let n = if from < listed {
+                // The listed iterations, one by one.
+                (from..to)
+                    .take_while(|&k| match left.checked_sub(self.candidates(k)) {
+                        Some(l) => {
+                            left = l;
+                            true
+                        }
+                        None => false,
+                    })
+                    .count()
+            } else {
+                let each = self.candidates(from).max(1);
+                let n = (left / each).min(to - from);
+                left -= n * each;
+                n
+            };
+            fit += n;
+            if fit < to {
+                break;
+            }
+        }
         fit.max(self.windows.len())
     }
 
@@ -117,16 +147,21 @@ impl LocalSearchParams {
     /// `w * w * (2 r_t + 1)` cubes (the current match among them), six coherence candidates
     /// with `propagate` and two temporal ones with `temporal_candidates`.
     pub fn candidates(&self, k: usize) -> usize {
-        let w = self.window(k);
+        // Saturating: a count beyond `usize` exceeds any budget.
+        let cube = |w: usize, r: usize| {
+            w.saturating_mul(w)
+                .saturating_mul(r.saturating_mul(2).saturating_add(1))
+        };
         let hyp = if k < self.hypothesis_iterations {
-            self.hypotheses * self.hypothesis_window * self.hypothesis_window
+            self.hypotheses
+                .saturating_mul(cube(self.hypothesis_window, 0))
         } else {
             0
         };
-        w * w * (2 * self.radius_t(k) + 1)
-            + hyp
-            + if self.propagate { 6 } else { 0 }
-            + if self.temporal_candidates { 2 } else { 0 }
+        cube(self.window(k), self.radius_t(k))
+            .saturating_add(hyp)
+            .saturating_add(if self.propagate { 6 } else { 0 })
+            .saturating_add(if self.temporal_candidates { 2 } else { 0 })
     }
 
     /// The paper's stage 3 (section 3.4, Fig. 9): the windows within the match's frame, no
@@ -262,9 +297,11 @@ pub fn localized_search(
     };
     while !cfg.converged(&st.energy) {
         wscg_math::cancel::check()?;
-        let r = (cfg.window(st.energy.len()) / 2) as i64;
-        let rt = cfg.radius_t(st.energy.len()) as i64;
-        let rh = (cfg.hypothesis_window / 2) as i64;
+        // Half-widths beyond i64 cover the whole video anyway.
+        let half = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
+        let r = half(cfg.window(st.energy.len()) / 2);
+        let rt = half(cfg.radius_t(st.energy.len()));
+        let rh = half(cfg.hypothesis_window / 2);
         let with_hyp = !hypotheses.is_empty() && st.energy.len() < cfg.hypothesis_iterations;
         for shell in &order {
             let new: Vec<(Match, u64)> = {
@@ -333,8 +370,10 @@ pub fn localized_search(
 /// around `c`, other than `c`.
 #[inline]
 fn window(c: P3, r: i64, rt: i64, dims: [usize; 3], sources: &Mask3, f: &mut impl FnMut(P3)) {
-    let range =
-        |a: usize, r: i64| (c[a] as i64 - r).max(0)..=(c[a] as i64 + r).min(dims[a] as i64 - 1);
+    let range = |a: usize, r: i64| {
+        (c[a] as i64).saturating_sub(r).max(0)
+            ..=(c[a] as i64).saturating_add(r).min(dims[a] as i64 - 1)
+    };
     for t in range(0, rt) {
         for y in range(1, r) {
             for x in range(2, r) {
@@ -431,6 +470,52 @@ mod tests {
             targets.len()
         );
         assert!(with.energy() < 0.5 * without.energy());
+    }
+
+    #[test]
+    fn the_iteration_cap_counts_the_budget_iteration_by_iteration() {
+        // Against adding the candidates of one iteration after another, on schedules whose
+        // lists, hypothesis iterations and budgets end in every order.
+        let by_steps = |c: &LocalSearchParams| {
+            let mut total = 0usize;
+            let fit = (0..c.max_iterations)
+                .take_while(|&k| {
+                    total += c.candidates(k);
+                    total <= c.max_candidates
+                })
+                .count();
+            fit.max(c.windows.len())
+        };
+        for windows in [vec![17, 13, 9, 5], vec![9], vec![5, 3]] {
+            for radii in [vec![0, 0, 0, 1], vec![1], vec![0, 2, 0, 0, 0, 1]] {
+                for (hyp, hi) in [(0, 1), (6, 1), (2, 3), (4, 9)] {
+                    for max_iterations in [0, 1, 3, 7, 16, 40] {
+                        for budget in [0, 100, 500, 1000, 2000, 10_000] {
+                            let c = LocalSearchParams::default()
+                                .windows(windows.clone())
+                                .temporal_radius(radii.clone())
+                                .hypotheses(hyp)
+                                .hypothesis_iterations(hi)
+                                .max_iterations(max_iterations)
+                                .max_candidates(budget);
+                            assert_eq!(c.iteration_cap(), by_steps(&c), "{c:?}");
+                        }
+                    }
+                }
+            }
+        }
+        // Without a budget and with no iteration limit to speak of, the cap is found at once;
+        // a window or radius too large to count exceeds any budget.
+        let endless = LocalSearchParams::default()
+            .max_iterations(usize::MAX)
+            .max_candidates(usize::MAX - 1);
+        assert!(endless.iteration_cap() > 1 << 50);
+        let huge = LocalSearchParams::default().windows(vec![usize::MAX]);
+        assert_eq!(huge.candidates(0), usize::MAX);
+        assert_eq!(huge.iteration_cap(), 1);
+        let deep = LocalSearchParams::default().temporal_radius(vec![usize::MAX / 2]);
+        assert_eq!(deep.candidates(0), usize::MAX);
+        assert_eq!(deep.iteration_cap(), 4);
     }
 
     #[test]

@@ -281,6 +281,8 @@ impl PcaIndex {
         exclude: P3,
         min_sep: u32,
     ) -> Vec<Match> {
+        // No more distinct sources exist than the index holds.
+        let k = k.min(self.sources.len());
         let mut q = Vec::with_capacity(self.mean.len());
         patch_vector(cubes.video, self.patch, t, &mut q);
         let q = self.project(&q);
