@@ -314,7 +314,8 @@ impl PcaIndex {
 
     /// Indices (tree order) of the approximately `k` nearest points to `q`.
     fn knn(&self, q: &[f32], k: usize) -> Vec<usize> {
-        let k = k.max(1);
+        // No more neighbours exist than points (a huge `rerank` asks for all of them).
+        let k = k.clamp(1, self.sources.len().max(1));
         let mut best: Vec<(f32, usize)> = Vec::with_capacity(k + 1);
         let mut heap = BinaryHeap::new();
         heap.push(MinEntry(0.0, 0));
@@ -393,5 +394,29 @@ mod tests {
             assert_eq!(m.dist, 0.0, "{s:?} -> {m:?}");
         }
         assert!(index.bytes() > 0);
+    }
+
+    #[test]
+    fn a_rerank_list_longer_than_the_sources_is_the_exact_search() {
+        // A `rerank` beyond the sources' count re-ranks every source (the length of its list
+        // overflowed): the exact best of every hole pixel, and as many hypotheses as asked
+        // where the sources allow.
+        let (clip, patch, sources) = crate::testing::small_pan();
+        let p = PcaKdParams {
+            dims: 4,
+            rerank: usize::MAX,
+            max_checks: usize::MAX,
+            samples: 1000,
+            seed: 1,
+        };
+        let index = PcaIndex::build(&clip.observed, &sources, patch, p).unwrap();
+        let cubes = Cubes::new(&clip.observed, &sources, patch);
+        let all = sources.points();
+        for t in clip.hole.iter_points().step_by(11) {
+            let exact = crate::search::exact_best(&cubes, t, &all);
+            assert_eq!(index.best(&cubes, t, None).dist, exact.dist, "{t:?}");
+            let k = index.best_k(&cubes, t, usize::MAX, exact.source, 1);
+            assert!(k.len() > 1 && k.len() < all.len(), "{}", k.len());
+        }
     }
 }
