@@ -65,6 +65,10 @@ HUGE = {
                                      "MemoryError", "n_subjects"),
     "isosurface.study_exact": ("wscg.isosurface.study_exact('sphere', n=10**5)",
                                "MemoryError", "`dims`"),
+    "video.complete_video hypotheses": (
+        "video.complete_video(*video.make_clip('pan', n_frames=8, height=90, width=160)[1:], "
+        "lowres_width=80, search='pca_kdtree', hypotheses=10**12)", "MemoryError",
+        "`hypotheses`"),
     "octree.make_scene atrium": ("octree.make_scene('atrium', size=10**12)", "MemoryError",
                             "`pillars`"),
 }

@@ -198,16 +198,13 @@ def test_hypotheses_come_from_the_pca_search_and_stay_in_the_budget(pan):
     assert not np.array_equal(runs[0][0], runs[6][0])
 
 
-def test_huge_stage3_settings_raise_memory_error_or_finish(pan):
-    # Sizes from a user's argument: the hypotheses per hole pixel are allocated, so a count
-    # beyond memory is a MemoryError naming it (it aborted the interpreter); counts that only
-    # bound a loop or a window (no budget and no iteration limit to speak of, a window or
-    # temporal radius wider than the clip) finish as the largest useful value would.
+def test_huge_stage3_settings_finish(pan):
+    # Counts that only bound a loop or a window (no budget and no iteration limit to speak
+    # of, a window or temporal radius wider than the clip) finish as the largest useful value
+    # would; the first hung before stage 3 began. (A hypotheses count beyond memory is a
+    # MemoryError: test_bounds.py, in a child interpreter.)
     _, observed, mask = pan
     kw = dict(lowres_width=80, n_levels=0)
-    for k in (10**12, 2**63):
-        with pytest.raises(MemoryError, match="hypotheses"):
-            V.complete_video(observed, mask, search="pca_kdtree", hypotheses=k, **kw)
     ref = V.complete_video(observed, mask, fine_max_iter=1000, max_candidates=10**9, **kw)
     out = V.complete_video(observed, mask, fine_max_iter=10**15, max_candidates=2**62, **kw)
     np.testing.assert_array_equal(out, ref)
