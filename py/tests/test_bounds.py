@@ -195,6 +195,11 @@ LONG = {
     "volren slices": "volren.render(volren.make_phantom('head', shape=(32, 32, 32)), "
                      "[[0, 0, 0, 0], [1, 1, 1, 0.5]], size=(256, 256), slice_distance=1e-4)",
     "cloth n_iter": "cloth.Sim(cloth.grid(20, 20), n_iter=10**9).step(1e-3)",
+    "video patchmatch_n_iter": "video.complete_video(*video.make_clip('pan', n_frames=8, "
+                               "height=90, width=160)[1:], lowres_width=80, "
+                               "patchmatch_n_iter=10**15)",
+    "video wexler patchmatch_n_iter": "video.wexler_complete(*video.make_clip('pan', n_frames=8, "
+                                      "height=90, width=160)[1:], patchmatch_n_iter=10**15)",
 }
 
 

@@ -185,15 +185,11 @@ pub(crate) fn telea_in_place(
                 let (ny, nx) = (ny / nn, nx / nn);
                 let mut acc = [0.0f32; 4];
                 let mut wsum = 0.0f32;
-                for dy in -ri..=ri {
-                    for dx in -ri..=ri {
+                // The neighbourhood clipped to the frame (a radius beyond it is the frame).
+                for dy in (-ri).max(-y)..=ri.min(h as i64 - 1 - y) {
+                    for dx in (-ri).max(-x)..=ri.min(w as i64 - 1 - x) {
                         let (qy, qx) = (y + dy, x + dx);
-                        if (dy == 0 && dx == 0)
-                            || qy < 0
-                            || qx < 0
-                            || qy >= h as i64
-                            || qx >= w as i64
-                        {
+                        if dy == 0 && dx == 0 {
                             continue;
                         }
                         let d2 = (dy * dy + dx * dx) as f32;
@@ -289,6 +285,23 @@ mod tests {
                 assert_eq!(f[i], data[i]);
             }
         }
+    }
+
+    #[test]
+    fn a_radius_beyond_the_frame_is_the_whole_frame() {
+        // Every pixel of a 30 x 40 frame lies within 50 pixels of every other, so any larger
+        // radius weighs the same neighbours (a radius of 1e15 looped over its whole square).
+        let (h, w) = (30, 40);
+        let data: Vec<u8> = (0..h * w).map(|i| ((i * 37) % 251) as u8).collect();
+        let hole: Vec<bool> = (0..h * w)
+            .map(|i| (8..20).contains(&(i / w)) && (10..28).contains(&(i % w)))
+            .collect();
+        let f = ImageView::plane(h, w, &data).unwrap();
+        let m = ImageView::plane(h, w, &hole).unwrap();
+        let near = telea(f, m, 50.0).unwrap().into_data();
+        assert_eq!(telea(f, m, 1e15).unwrap().into_data(), near);
+        assert_eq!(telea(f, m, f32::MAX).unwrap().into_data(), near);
+        assert_ne!(telea(f, m, 5.0).unwrap().into_data(), near);
     }
 
     #[test]
