@@ -715,7 +715,7 @@ fn plan_steps<'py>(
         human_like,
         max_steps: uint(py, "max_steps", max_steps, 1)?,
     };
-    let plan = planner.plan(d).py_err()?;
+    let plan = crate::pool::detach(py, || planner.plan(d)).py_err()?;
     plan_out(py, &plan)
 }
 
@@ -803,7 +803,8 @@ impl PySynthesizer {
 
     /// The plan of the synthesizer's planner for a goal at distance `d`.
     fn plan<'py>(&self, py: Python<'py>, d: f64) -> PyResult<Bound<'py, PyDict>> {
-        let plan = self.inner.planner().plan(d).py_err()?;
+        let planner = self.inner.planner();
+        let plan = crate::pool::detach(py, || planner.plan(d)).py_err()?;
         plan_out(py, &plan)
     }
 

@@ -24,7 +24,7 @@ import json, sys
 import numpy as np
 import wscg
 from wscg import math, csmri, ear, raytrace, video, volren, cloth, octree, doe
-import wscg.biometrics, wscg.isosurface
+import wscg.biometrics, wscg.isosurface, wscg.motion
 a = np.zeros((8, 8))
 """
 
@@ -69,6 +69,8 @@ HUGE = {
         "video.complete_video(*video.make_clip('pan', n_frames=8, height=90, width=160)[1:], "
         "lowres_width=80, search='pca_kdtree', hypotheses=10**12)", "MemoryError",
         "`hypotheses`"),
+    "motion.plan_steps": ("wscg.motion.plan_steps(1e15, max_steps=10**15)", "MemoryError",
+                          "`goal`"),
     "octree.make_scene atrium": ("octree.make_scene('atrium', size=10**12)", "MemoryError",
                             "`pillars`"),
 }

@@ -134,6 +134,23 @@ fn violation(len: f64, r: (f64, f64)) -> f64 {
     (r.0 - len).max(len - r.1).max(0.0)
 }
 
+/// A candidate plan of [`Planner::plan`]: `normal` steps of `l1` then `short` shortened
+/// steps of `l2`, and its range violation.
+#[derive(Clone, Copy, Debug)]
+struct Candidate {
+    normal: usize,
+    l1: f64,
+    short: usize,
+    l2: f64,
+    violation: f64,
+}
+
+impl Candidate {
+    fn len(&self) -> usize {
+        self.normal + self.short
+    }
+}
+
 impl Planner {
     /// Checks the parameters.
     ///
@@ -204,15 +221,40 @@ impl Planner {
                 self.max_steps
             )));
         }
+        // A plan has at least `needed` steps: refuse one that cannot be held before looking.
+        wscg_math::alloc::ensure::<PlannedAction>("goal", needed.saturating_add(1))?;
         let n_max = ((x / shortest).ceil() as usize + 1).min(self.max_steps);
-        let mut candidates: Vec<(Vec<PlannedAction>, f64)> = Vec::new();
-        let step = |a: Action, l: f64| PlannedAction {
-            action: a,
-            length: l,
+        // The candidates in order, each kept as its counts and lengths (a plan of n steps is
+        // built only once chosen): the feasible one with the fewest steps, else the smallest
+        // violation (then the fewest steps); the first of equals. Within each family the
+        // lengths shrink as the count grows, so the violation (the larger of two functions of
+        // the lengths that fall, stay at 0 inside the range, then rise) falls, then rises: a
+        // family's scan ends at its first feasible plan (more steps follow) or once the
+        // violation rises.
+        let mut feasible: Option<Candidate> = None;
+        let mut closest: Option<Candidate> = None;
+        let mut consider = |c: Candidate| {
+            if c.violation <= 1e-12 && feasible.is_none_or(|f| c.len() < f.len()) {
+                feasible = Some(c);
+            }
+            let better = |b: &Candidate| {
+                c.violation
+                    .total_cmp(&b.violation)
+                    .then(c.len().cmp(&b.len()))
+                    .is_lt()
+            };
+            if closest.as_ref().is_none_or(better) {
+                closest = Some(c);
+            }
         };
         // Long goals: n1 normal steps and one shortened step.
         let mut normal_too_short = false;
+        let mut any = false;
+        let mut last = f64::INFINITY;
         for n1 in 1..n_max {
+            if n1 % (1 << 16) == 0 {
+                wscg_math::cancel::check()?;
+            }
             let (l1, l2) = match self.human_like {
                 Some(l1) => (l1, x - n1 as f64 * l1),
                 None => {
@@ -227,38 +269,168 @@ impl Planner {
             if n1 == 1 && (l1 < self.range1.0 || l2 < self.range2.0) {
                 normal_too_short = true;
             }
+            any = true;
             let v = violation(l1, self.range1).max(violation(l2, self.range2));
-            let mut acts = vec![step(Action::Step, l1); n1];
-            acts.push(step(Action::ShortStep, l2));
-            candidates.push((acts, v));
+            consider(Candidate {
+                normal: n1,
+                l1,
+                short: 1,
+                l2,
+                violation: v,
+            });
+            if v <= 1e-12 || v > last {
+                break;
+            }
+            last = v;
         }
         // Short goals: shortened steps only.
-        if normal_too_short || candidates.is_empty() {
+        if normal_too_short || !any {
+            let mut last = f64::INFINITY;
             for n2 in 1..=n_max {
+                if n2 % (1 << 16) == 0 {
+                    wscg_math::cancel::check()?;
+                }
                 let l2 = x / n2 as f64;
-                candidates.push((
-                    vec![step(Action::ShortStep, l2); n2],
-                    violation(l2, self.range2),
-                ));
+                let v = violation(l2, self.range2);
+                consider(Candidate {
+                    normal: 0,
+                    l1: 0.0,
+                    short: n2,
+                    l2,
+                    violation: v,
+                });
+                if v <= 1e-12 || v > last {
+                    break;
+                }
+                last = v;
             }
         }
-        let feasible = candidates
-            .iter()
-            .filter(|c| c.1 <= 1e-12)
-            .min_by_key(|c| c.0.len());
-        let (mut actions, v) = match feasible {
-            Some(c) => c.clone(),
-            None => candidates
-                .iter()
-                .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.len().cmp(&b.0.len())))
-                .cloned()
-                .ok_or_else(|| Error::Numerical(format!("no plan for a goal of {d} m")))?,
+        let c = feasible
+            .or(closest)
+            .ok_or_else(|| Error::Numerical(format!("no plan for a goal of {d} m")))?;
+        let step = |a: Action, l: f64| PlannedAction {
+            action: a,
+            length: l,
         };
+        let mut actions = wscg_math::alloc::try_with_capacity("goal", c.len() + 1)?;
+        actions.extend(std::iter::repeat_n(step(Action::Step, c.l1), c.normal));
+        actions.extend(std::iter::repeat_n(step(Action::ShortStep, c.l2), c.short));
+        let v = c.violation;
         actions.push(step(Action::Reach, 0.0));
         Ok(Plan {
             actions,
             too_short: false,
             violation: v,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every candidate of both families, chosen by the rules of [`Planner::plan`] without its
+    /// early ends: the feasible plan with the fewest steps, else the smallest violation then
+    /// the fewest steps, the first of equals.
+    fn exhaustive(p: &Planner, d: f64) -> (usize, usize, f64) {
+        let x = d - p.comfort;
+        let shortest = p.range1.0.min(p.range2.0);
+        let n_max = ((x / shortest).ceil() as usize + 1).min(p.max_steps);
+        let mut all: Vec<(usize, usize, f64)> = Vec::new();
+        let mut too_short = false;
+        for n1 in 1..n_max {
+            let (l1, l2) = match p.human_like {
+                Some(l1) => (l1, x - n1 as f64 * l1),
+                None => {
+                    let r = p.gamma / (1.0 - p.gamma);
+                    let l2 = x / (n1 as f64 * r + 1.0);
+                    (r * l2, l2)
+                }
+            };
+            if l2 <= 0.0 {
+                break;
+            }
+            too_short |= n1 == 1 && (l1 < p.range1.0 || l2 < p.range2.0);
+            let v = violation(l1, p.range1).max(violation(l2, p.range2));
+            all.push((n1, 1, v));
+        }
+        if too_short || all.is_empty() {
+            for n2 in 1..=n_max {
+                all.push((0, n2, violation(x / n2 as f64, p.range2)));
+            }
+        }
+        let len = |c: &(usize, usize, f64)| c.0 + c.1;
+        all.iter()
+            .filter(|c| c.2 <= 1e-12)
+            .min_by_key(|c| len(c))
+            .or_else(|| {
+                all.iter()
+                    .min_by(|a, b| a.2.total_cmp(&b.2).then(len(a).cmp(&len(b))))
+            })
+            .copied()
+            .unwrap()
+    }
+
+    #[test]
+    fn the_early_ends_choose_what_every_candidate_would() {
+        let planners = [
+            Planner::default(),
+            Planner {
+                human_like: Some(0.8),
+                ..Planner::default()
+            },
+            Planner {
+                human_like: Some(1.6),
+                ..Planner::default()
+            },
+            Planner {
+                gamma: 0.7,
+                range1: (0.1, 0.2),
+                range2: (0.9, 1.0),
+                ..Planner::default()
+            },
+            Planner {
+                range1: (1.5, 1.6),
+                range2: (0.3, 0.35),
+                max_steps: 40,
+                ..Planner::default()
+            },
+        ];
+        for p in &planners {
+            for k in 1..400 {
+                let d = 0.05 * k as f64;
+                let Ok(plan) = p.plan(d) else {
+                    continue;
+                };
+                if plan.too_short {
+                    continue;
+                }
+                let (normal, short, v) = exhaustive(p, d);
+                assert_eq!(
+                    (
+                        plan.n_normal_steps(),
+                        plan.n_steps() - plan.n_normal_steps()
+                    ),
+                    (normal, short),
+                    "{p:?} d = {d}"
+                );
+                assert_eq!(plan.violation, v, "{p:?} d = {d}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_goal_whose_plan_cannot_be_held_is_refused_at_once() {
+        let p = Planner {
+            max_steps: usize::MAX,
+            ..Planner::default()
+        };
+        let e = p.plan(1e15).unwrap_err();
+        assert!(matches!(e, Error::OutOfMemory { what: "goal", .. }), "{e}");
+        // A long goal that fits is planned: 5 km in normal steps of at most 0.901 m (action
+        // 1's range).
+        let plan = p.plan(5000.0).unwrap();
+        assert!(plan.n_steps() >= 5549 && plan.violation == 0.0);
+        assert!((plan.distance() - (5000.0 - p.comfort)).abs() < 1e-6);
     }
 }
