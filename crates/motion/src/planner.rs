@@ -195,7 +195,8 @@ impl Planner {
     ///
     /// # Errors
     /// `d` not finite or ≤ 0; invalid planner parameters; a goal that needs more than
-    /// `max_steps` steps.
+    /// `max_steps` steps; [`Error::OutOfMemory`] naming `goal` for a plan beyond the memory
+    /// limit; [`Error::Interrupted`] on a cancellation request ([`wscg_math::cancel`]).
     pub fn plan(&self, d: f64) -> Result<Plan> {
         self.validate()?;
         if !(d.is_finite() && d > 0.0) {

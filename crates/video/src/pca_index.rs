@@ -413,7 +413,14 @@ mod tests {
         let cubes = Cubes::new(&clip.observed, &sources, patch);
         let all = sources.points();
         for t in clip.hole.iter_points().step_by(11) {
-            let exact = crate::search::exact_best(&cubes, t, &all);
+            let exact = all
+                .iter()
+                .map(|&s| Match {
+                    source: s,
+                    dist: cubes.ssd(t, s, f32::INFINITY),
+                })
+                .min_by(|a, b| a.dist.total_cmp(&b.dist))
+                .unwrap();
             assert_eq!(index.best(&cubes, t, None).dist, exact.dist, "{t:?}");
             let k = index.best_k(&cubes, t, usize::MAX, exact.source, 1);
             assert!(k.len() > 1 && k.len() < all.len(), "{}", k.len());
