@@ -213,9 +213,13 @@ def test_huge_stage3_settings_finish(pan):
                            **kw)
     out = V.complete_video(observed, mask, windows=(3,), temporal_radius=2**62, **kw)
     np.testing.assert_array_equal(out, ref)
+    # ... and the radius is searched, not dropped.
+    flat = V.complete_video(observed, mask, windows=(3,), temporal_radius=0, **kw)
+    assert not np.array_equal(out, flat)
     ref = V.complete_video(observed, mask, windows=(319,), **kw)
     out = V.complete_video(observed, mask, windows=(2**61 + 1,), **kw)
     np.testing.assert_array_equal(out, ref)
+    assert not np.array_equal(out, V.complete_video(observed, mask, windows=(1,), **kw))
 
 
 def test_bad_input(tmp_path, pan):

@@ -93,40 +93,24 @@ impl LocalSearchParams {
     /// Iterations at most: `max_iterations`, and no more than fit in `max_candidates`
     /// ([`Self::candidates`]), but at least one per listed window.
     pub fn iteration_cap(&self) -> usize {
-        // Past the listed windows and radii an iteration costs one of two amounts (with and
-        // without the hypotheses), so long runs of iterations are counted in closed form.
+        // Iterations cost the same in runs: each listed one alone, then those with the
+        // hypotheses, then the rest; a run is counted at once (a huge limit costs nothing).
         let listed = self.windows.len().max(self.temporal_radius.len());
         let hyp_end = self.hypothesis_iterations.max(listed);
         let mut left = self.max_candidates;
         let mut fit = 0;
-        for (from, to) in [
-            (0, listed),
-            (listed, hyp_end),
-            (hyp_end, self.max_iterations),
-        ] {
-            let (from, to) = (from.min(self.max_iterations), to.min(self.max_iterations));
-            if from >= to {
-                continue;
+        while fit < self.max_iterations {
+            let end = match fit {
+                k if k < listed => k + 1,
+                k if k < hyp_end => hyp_end,
+                _ => self.max_iterations,
             }
-            let n = if from < listed {
-                // The listed iterations, one by one.
-                (from..to)
-                    .take_while(|&k| match left.checked_sub(self.candidates(k)) {
-                        Some(l) => {
-                            left = l;
-                            true
-                        }
-                        None => false,
-                    })
-                    .count()
-            } else {
-                let each = self.candidates(from).max(1);
-                let n = (left / each).min(to - from);
-                left -= n * each;
-                n
-            };
+            .min(self.max_iterations);
+            let each = self.candidates(fit).max(1);
+            let n = (left / each).min(end - fit);
+            left -= n * each;
             fit += n;
-            if fit < to {
+            if fit < end {
                 break;
             }
         }

@@ -183,3 +183,34 @@ pub fn random_matches(sources: &Mask3, n: usize, seed: u64) -> Vec<Match> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::patch::Cubes;
+    use crate::pca_index::{PcaIndex, PcaKdParams};
+
+    #[test]
+    fn a_rerank_list_longer_than_the_sources_is_the_exact_search() {
+        // A `rerank` beyond the sources' count re-ranks every source (the length of its list
+        // overflowed): the exact best of every hole pixel, and as many hypotheses as asked
+        // where the sources allow.
+        let (clip, patch, sources) = crate::testing::small_pan();
+        let p = PcaKdParams {
+            dims: 4,
+            rerank: usize::MAX,
+            max_checks: usize::MAX,
+            samples: 1000,
+            seed: 1,
+        };
+        let index = PcaIndex::build(&clip.observed, &sources, patch, p).unwrap();
+        let cubes = Cubes::new(&clip.observed, &sources, patch);
+        let all = source_list(&sources);
+        for t in clip.hole.iter_points().step_by(11) {
+            let exact = exact_best(&cubes, t, &all);
+            assert_eq!(index.best(&cubes, t, None).dist, exact.dist, "{t:?}");
+            let k = index.best_k(&cubes, t, usize::MAX, exact.source, 1);
+            assert!(k.len() > 1 && k.len() < all.len(), "{}", k.len());
+        }
+    }
+}

@@ -635,7 +635,8 @@ def plan_steps(D: float, comfort: float = 0.6, gamma: float = 0.385,
     human_like : float, optional
         Fixed normal-step length: the non-predictive variant that adapts only the last step.
     max_steps : int
-        Upper bound on the number of steps.
+        Upper bound on the number of steps (a goal needing more raises ``ValueError``; a plan
+        too long to hold in memory raises ``MemoryError``).
 
     Returns
     -------

@@ -167,8 +167,9 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         eight) and brought localized search to 0.99-1.12x the energy of exact global search
         on six zoom clips where it reached 1.00-1.22x; the energy is 4 % lower on average,
         though a few per cent higher on some clips, and the PSNR in the hole stays within
-        0.05 dB. ``0``: the paper's stage 3. Other
-        searches rank no alternatives, so this does nothing with them.
+        0.05 dB. ``0``: the paper's stage 3. Other searches rank no alternatives, so this
+        does nothing with them. A count whose sources per hole pixel exceed the memory limit
+        raises ``MemoryError``.
     step : {'double', 'direct'}
         Stage 3 doubles the resolution per level, or goes to full resolution at once.
     global_fine_search : bool
