@@ -141,6 +141,7 @@ fn complete_video<'py>(
     propagate: bool,
     temporal_candidates: bool,
     hypotheses: i128,
+    scan_propagation: bool,
     step: &str,
     global_fine_search: bool,
     return_matches: bool,
@@ -209,7 +210,8 @@ fn complete_video<'py>(
                 .step(step)
                 .propagate(propagate)
                 .temporal_candidates(temporal_candidates)
-                .hypotheses(hypotheses),
+                .hypotheses(hypotheses)
+                .scan_propagation(scan_propagation),
         )
         .global_fine_search(global_fine_search);
     // The owned copy of the frames becomes the output: no second copy of the video.

@@ -198,6 +198,28 @@ def test_hypotheses_come_from_the_pca_search_and_stay_in_the_budget(pan):
     assert not np.array_equal(runs[0][0], runs[6][0])
 
 
+def test_scan_propagation_changes_the_completion_and_stays_in_the_budget(pan):
+    # The raster scans compare four more candidates per hole pixel and iteration: the
+    # completion changes, the candidates stay within max_candidates, and a budget that fits
+    # the first iteration only without the scans runs one iteration fewer with them.
+    _, observed, mask = pan
+    kw = dict(lowres_width=80, n_levels=0, return_stats=True)
+    holes = int(np.count_nonzero(mask))
+    runs = {}
+    for scan in (False, True):
+        out, st = V.complete_video(observed, mask, scan_propagation=scan, **kw)
+        assert st.local_candidates[0] <= 1000 * holes
+        runs[scan] = (out, st)
+    assert not np.array_equal(runs[False][0], runs[True][0])
+    # 17 x 17 + 6 coherence + 2 temporal = 297 candidates fit 300, 301 with the scans do not
+    # (at least the listed windows run either way, so only the count after them differs).
+    e = {scan: V.complete_video(observed, mask, scan_propagation=scan, windows=(17,),
+                                temporal_radius=0, max_candidates=2 * 297 + 3, **kw)[1]
+         for scan in (False, True)}
+    assert len(e[False].local_energy[0]) == 2
+    assert len(e[True].local_energy[0]) == 1
+
+
 def test_huge_stage3_settings_finish(pan):
     # Counts that only bound a loop or a window (no budget and no iteration limit to speak
     # of, a window or temporal radius wider than the clip) finish as the largest useful value

@@ -82,6 +82,16 @@ wscg_math::params! {
         /// iteration, out of `max_candidates`, so one iteration fewer fits the budget (seven).
         /// 0: the paper's stage 3, around the best match only.
         pub hypotheses: usize,
+        /// After each iteration, a raster scan and its reverse in which each hole pixel tries
+        /// the sources its already-scanned neighbours' matches imply (PatchMatch's
+        /// propagation order, Barnes et al. 2009). The shells of an iteration are searched in
+        /// parallel from the state before them, so an offset that one pixel finds reaches
+        /// its shell-mates only one pixel per iteration; the scan carries it across the
+        /// region at once. Four more candidates per pixel and iteration (the budget still
+        /// fits seven iterations); the scan is sequential. Measured on 19 zoom clips (check
+        /// 5's size, seeds the check does not use): 3.3 % lower energy in the geometric mean
+        /// (one clip 0.8 % higher). False: off by default, since it is serial.
+        pub scan_propagation: bool,
         /// Width of the window around each hypothesis (odd): 3.
         pub hypothesis_window: usize,
         /// Iterations that search around the hypotheses: 1.
@@ -129,7 +139,8 @@ impl LocalSearchParams {
 
     /// The most candidate cubes a hole pixel compares in iteration `k`: the window's
     /// `w * w * (2 r_t + 1)` cubes (the current match among them), six coherence candidates
-    /// with `propagate` and two temporal ones with `temporal_candidates`.
+    /// with `propagate`, two temporal ones with `temporal_candidates` and four with
+    /// `scan_propagation`.
     pub fn candidates(&self, k: usize) -> usize {
         // Saturating: a count beyond `usize` exceeds any budget.
         let cube = |w: usize, r: usize| {
@@ -146,6 +157,7 @@ impl LocalSearchParams {
             .saturating_add(hyp)
             .saturating_add(if self.propagate { 6 } else { 0 })
             .saturating_add(if self.temporal_candidates { 2 } else { 0 })
+            .saturating_add(if self.scan_propagation { 4 } else { 0 })
     }
 
     /// The paper's stage 3 (section 3.4, Fig. 9): the windows within the match's frame, no
@@ -187,6 +199,7 @@ impl Default for LocalSearchParams {
             propagate: true,
             temporal_candidates: true,
             hypotheses: 6,
+            scan_propagation: false,
             hypothesis_window: 3,
             hypothesis_iterations: 1,
         }
@@ -344,10 +357,58 @@ pub fn localized_search(
                 video.copy_pixel(field.targets.get(i), m.source);
             }
         }
+        if cfg.scan_propagation {
+            st.candidates += scan_propagate(video, sources, field, patch);
+        }
         st.energy
             .push(field.refresh(&Cubes::new(video, sources, patch)));
     }
     Ok(st)
+}
+
+/// One raster scan of the hole pixels in which each tries the sources its left and upper
+/// neighbours' matches imply, then the reverse scan with the right and lower ones (PatchMatch's
+/// propagation order, Barnes et al. 2009): a pixel sees the matches its neighbours took
+/// earlier in the same scan, so one offset crosses a whole region. Colours are copied as
+/// matches change. Returns the candidates compared.
+fn scan_propagate(
+    video: &mut Video,
+    sources: &Mask3,
+    field: &mut MatchField,
+    patch: PatchSize,
+) -> u64 {
+    const FORWARD: [(i64, i64, i64); 2] = [(0, 0, -1), (0, -1, 0)];
+    const BACKWARD: [(i64, i64, i64); 2] = [(0, 0, 1), (0, 1, 0)];
+    let dims = video.dims();
+    let len = field.len();
+    let mut n = 0u64;
+    for (steps, forward) in [(FORWARD, true), (BACKWARD, false)] {
+        for k in 0..len {
+            let i = if forward { k } else { len - 1 - k };
+            let p = field.targets.get(i);
+            let cubes = Cubes::new(video, sources, patch);
+            // The stored distance is from before this iteration's later colour changes.
+            let mut best = field.matches[i];
+            best.dist = cubes.ssd(p, best.source, f32::INFINITY);
+            let old = best.source;
+            for step in steps {
+                if let Some((_, s)) = field.implied_source(p, step, dims, sources) {
+                    if s != best.source {
+                        n += 1;
+                        let d = cubes.ssd(p, s, best.dist);
+                        if d < best.dist {
+                            best = Match { source: s, dist: d };
+                        }
+                    }
+                }
+            }
+            field.matches[i] = best;
+            if best.source != old {
+                video.copy_pixel(p, best.source);
+            }
+        }
+    }
+    n
 }
 
 /// Calls `f` on every valid source of the window of half-width `r` (frames `rt` either side)
@@ -375,6 +436,70 @@ mod tests {
     use super::*;
     use crate::patchmatch::TargetSet;
     use crate::search::exact_best_all;
+
+    #[test]
+    fn the_scan_carries_one_pixels_offset_across_its_region() {
+        // A static clip: every hole pixel's exact copy is its own position three frames
+        // later. Only the first (or the last) hole pixel starts on it, the others on a poor
+        // source, and a 1-pixel window without coherence candidates cannot leave it; one
+        // scan spreads the offset to the whole block (the reverse scan from the last).
+        let (f, h, w) = (9, 12, 14);
+        let data: Vec<u8> = (0..f * h * w * 3)
+            .map(|k| {
+                let (px, c) = (k / 3 % (h * w), k % 3);
+                let (y, x) = (px / w, px % w);
+                ((y * 37 + x * 11 + c * 5 + (x * y) % 7 * 19) % 251) as u8
+            })
+            .collect();
+        let video = Video::new(f, h, w, 3, data).unwrap();
+        let hole = Mask3::from_fn(f, h, w, |t, y, x| {
+            t == 2 && (4..8).contains(&y) && (5..9).contains(&x)
+        });
+        let patch = PatchSize {
+            px: 3,
+            py: 3,
+            pt: 3,
+        };
+        let sources = crate::patch::valid_sources(&hole, patch);
+        let targets = TargetSet::new(hole.dims(), hole.iter_points());
+        let later = |p: P3| [p[0] + 3, p[1], p[2]];
+        let poor = [6, 1, 1];
+        let run = |scan: bool, start: usize| {
+            let mut v = video.clone();
+            let mut matches: Vec<Match> = (0..targets.len())
+                .map(|_| Match {
+                    source: poor,
+                    dist: f32::INFINITY,
+                })
+                .collect();
+            matches[start].source = later(targets.get(start));
+            let mut field = MatchField {
+                targets: targets.clone(),
+                matches,
+            };
+            field.apply(&mut v);
+            let cfg = LocalSearchParams::paper()
+                .windows(vec![1])
+                .max_iterations(1)
+                .scan_propagation(scan);
+            assert_eq!(cfg.candidates(0), 1 + if scan { 4 } else { 0 });
+            let st = localized_search(&mut v, &hole, &sources, &mut field, patch, &cfg, &[]);
+            (field, st.unwrap(), v)
+        };
+        for start in [0, targets.len() - 1] {
+            let (without, _, _) = run(false, start);
+            assert_eq!(
+                without.matches.iter().filter(|m| m.source != poor).count(),
+                1
+            );
+            let (with, st, v) = run(true, start);
+            for (i, m) in with.matches.iter().enumerate() {
+                assert_eq!(m.source, later(with.targets.get(i)));
+            }
+            assert_eq!(st.energy, vec![0.0]);
+            assert_eq!(v, video);
+        }
+    }
 
     #[test]
     fn the_first_iteration_searches_around_the_hypotheses() {

@@ -86,6 +86,7 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
                    max_candidates: int = 1000, propagate: bool = True,
                    temporal_candidates: bool = True, hypotheses: int = 6,
+                   scan_propagation: bool = False,
                    step: str = "double", global_fine_search: bool = False,
                    return_matches: bool = False, return_stats: bool = False
                    ) -> Union[np.ndarray, Tuple[np.ndarray, np.ndarray],
@@ -170,6 +171,13 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         0.05 dB. ``0``: the paper's stage 3. Other searches rank no alternatives, so this
         does nothing with them. A count whose sources per hole pixel exceed the memory limit
         raises ``MemoryError``.
+    scan_propagation : bool
+        After each stage-3 iteration, a raster scan and its reverse in which each hole pixel
+        tries the sources its already-scanned neighbours' matches imply (PatchMatch's
+        propagation order), so an offset one pixel found crosses its region at once. Four
+        candidates per pixel and iteration, within ``max_candidates``. On 19 zoom clips at
+        320 x 180 the energy was 3.3 % lower in the geometric mean (one clip 0.8 % higher);
+        off by default because the scan runs on one core.
     step : {'double', 'direct'}
         Stage 3 doubles the resolution per level, or goes to full resolution at once.
     global_fine_search : bool
@@ -193,7 +201,8 @@ def complete_video(frames, mask, patch: Sequence[int] = (5, 5, 5), lowres_width:
         frames, mask, patch, lowres_width, n_levels, lowres_max_iter, init, search,
         patchmatch_n_iter, seed, onion_order, causal_first_sweep, refine_max_iter, windows,
         fine_max_iter, min_energy_drop, temporal_radius, max_candidates, propagate,
-        temporal_candidates, hypotheses, step, global_fine_search, return_matches)
+        temporal_candidates, hypotheses, scan_propagation, step, global_fine_search,
+        return_matches)
     extra = (([matches] if return_matches else [])
              + ([_from_mapping(CompletionStats, stats)] if return_stats else []))
     return (out, *extra) if extra else out

@@ -34,6 +34,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
                    max_candidates: int = 1000, propagate: bool = True,
                    temporal_candidates: bool = True, hypotheses: int = 6,
+                   scan_propagation: bool = False,
                    step: str = "double",
                    global_fine_search: bool = False, return_matches: Literal[False] = ...,
                    return_stats: Literal[False] = ...) -> _U8: ...
@@ -48,6 +49,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
                    max_candidates: int = 1000, propagate: bool = True,
                    temporal_candidates: bool = True, hypotheses: int = 6,
+                   scan_propagation: bool = False,
                    step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[True],
                    return_stats: Literal[False] = ...) -> Tuple[_U8, _I32]: ...
@@ -62,6 +64,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
                    max_candidates: int = 1000, propagate: bool = True,
                    temporal_candidates: bool = True, hypotheses: int = 6,
+                   scan_propagation: bool = False,
                    step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[False] = ...,
                    return_stats: Literal[True]) -> Tuple[_U8, CompletionStats]: ...
@@ -76,6 +79,7 @@ def complete_video(frames: npt.ArrayLike, mask: npt.ArrayLike, patch: Sequence[i
                    temporal_radius: Union[int, Sequence[int]] = (0, 0, 0, 1),
                    max_candidates: int = 1000, propagate: bool = True,
                    temporal_candidates: bool = True, hypotheses: int = 6,
+                   scan_propagation: bool = False,
                    step: str = "double",
                    global_fine_search: bool = False, *, return_matches: Literal[True],
                    return_stats: Literal[True]) -> Tuple[_U8, _I32, CompletionStats]: ...

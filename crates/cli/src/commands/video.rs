@@ -95,6 +95,12 @@ pub struct CompleteArgs {
     /// --max-candidates); 0 is the paper's stage 3, which searches around the best match only.
     #[arg(long, default_value_t = LocalSearchParams::default().hypotheses)]
     hypotheses: usize,
+    /// After each stage-3 iteration, a raster scan and its reverse in which each hole pixel
+    /// tries the sources its already-scanned neighbours' matches imply (PatchMatch's
+    /// propagation order): 4 candidates per pixel and iteration; 3.3 % lower energy on 19
+    /// zoom clips, but serial.
+    #[arg(long)]
+    scan_propagation: bool,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -205,6 +211,7 @@ fn complete(a: CompleteArgs) -> Result<()> {
             cfg.local.max_candidates = a.max_candidates;
             cfg.local.propagate = !a.no_propagate;
             cfg.local.hypotheses = a.hypotheses;
+            cfg.local.scan_propagation = a.scan_propagation;
             cfg.low.temporal_candidates = !a.no_temporal_candidates;
             cfg.local.temporal_candidates = !a.no_temporal_candidates;
             let c = complete_video_with(&v, &m, &cfg, &Bars::new("video"))?;
