@@ -734,7 +734,7 @@ fn measure_hypotheses_quality() {
         for k in [0, k] {
             let cfg = cfg
                 .clone()
-                .local(LocalSearchParams::default().hypotheses(k));
+                .local(hypotheses_from_env(LocalSearchParams::default()).hypotheses(k));
             let start = std::time::Instant::now();
             let out = complete(&clip, &cfg);
             println!(
