@@ -746,23 +746,38 @@ fn video_synth_complete_measure() {
             b
         );
     }
-    let report = wscg_ok(&[
+    let ssim_of = |done: &std::path::Path| {
+        let report = wscg_ok(&[
+            "video",
+            "measure",
+            done.to_str().unwrap(),
+            clip.join("truth").to_str().unwrap(),
+            clip.join("mask").to_str().unwrap(),
+        ]);
+        let ssim: f64 = report
+            .lines()
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .last()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(ssim > 0.9, "{report}");
+    };
+    ssim_of(&done);
+    // Stage 3's optional raster-scan propagation.
+    let scanned = dir.path().join("scanned");
+    wscg_ok(&[
         "video",
-        "measure",
-        done.to_str().unwrap(),
-        clip.join("truth").to_str().unwrap(),
+        "complete",
+        frames.to_str().unwrap(),
         clip.join("mask").to_str().unwrap(),
+        "--scan-propagation",
+        "--out",
+        scanned.to_str().unwrap(),
     ]);
-    let ssim: f64 = report
-        .lines()
-        .next()
-        .unwrap()
-        .split_whitespace()
-        .last()
-        .unwrap()
-        .parse()
-        .unwrap();
-    assert!(ssim > 0.9, "{report}");
+    ssim_of(&scanned);
     // A missing mask and a mask of the wrong size are clear errors.
     let out = wscg()
         .args([
