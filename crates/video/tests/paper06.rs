@@ -7,6 +7,7 @@ use wscg_video::complete::check_input;
 use wscg_video::field::copyable;
 use wscg_video::metrics::{flicker, psnr_masked, ssim_masked};
 use wscg_video::patch::{valid_sources, Cubes};
+use wscg_video::patchmatch::{Match, P3};
 use wscg_video::synth::{pan_clip, periodic_clip, sprite_clip, zoom_clip, Clip};
 use wscg_video::*;
 
@@ -551,7 +552,6 @@ fn measure_check5_first_global_sweep() {
         u.energy(),
         g.energy()
     );
-    let mut classes = std::collections::BTreeMap::<String, (usize, f64, f64)>::new();
     by_target(u, g, "global sweep");
     let mut offsets = std::collections::HashMap::<[i64; 3], usize>::new();
     for (a, b) in u.matches.iter().zip(&g.matches) {
@@ -576,7 +576,7 @@ fn measure_check5_first_global_sweep() {
     println!("spatial: {:?}", &sp[..sp.len().min(40)]);
     let localized = complete(&clip, &cfg0);
     by_target(u, &localized.matches, "localized end");
-    for (a, b) in u.matches.iter().zip(&g.matches) {
+    print_classes(u, g, |_, a, b| {
         let (s, t) = (a.source, b.source);
         let d = s[1].abs_diff(t[1]).max(s[2].abs_diff(t[2]));
         let frame = if s[0] == t[0] {
@@ -589,29 +589,18 @@ fn measure_check5_first_global_sweep() {
             2..=8 => "2-8 px",
             _ => "beyond 8 px",
         };
-        let e = classes.entry(format!("{frame}, {reach}")).or_default();
-        e.0 += 1;
-        e.1 += a.dist as f64;
-        e.2 += b.dist as f64;
-    }
-    for (k, (n, before, after)) in classes {
-        println!(
-            "{k:26} {:5.1} % of pixels, distance {before:.3e} -> {after:.3e}",
-            100.0 * n as f64 / u.len() as f64
-        );
-    }
+        format!("{frame}, {reach}")
+    });
 }
 
 /// Classes the sources of `g` by their distance in space and time from their targets.
 fn by_target(u: &MatchField, g: &MatchField, what: &str) {
     println!("{what}: {:.4e}", g.energy());
-    let mut by_target = std::collections::BTreeMap::<String, (usize, f64, f64)>::new();
-    for (i, (a, b)) in u.matches.iter().zip(&g.matches).enumerate() {
-        let p = u.targets.get(i);
+    print_classes(u, g, |p, _, b| {
         let t = b.source;
         let dp = p[1].abs_diff(t[1]).max(p[2].abs_diff(t[2]));
         let dt = p[0].abs_diff(t[0]);
-        let key = format!(
+        format!(
             "from p: {} px, {} frames",
             match dp {
                 0..=2 => "0-2",
@@ -625,13 +614,21 @@ fn by_target(u: &MatchField, g: &MatchField, what: &str) {
                 3..=6 => "3-6",
                 _ => ">6",
             }
-        );
-        let e = by_target.entry(key).or_default();
+        )
+    });
+}
+
+/// Prints, per class `key(target, before, after)`, the share of the hole pixels and their
+/// summed distance in `u` and in `g`.
+fn print_classes(u: &MatchField, g: &MatchField, key: impl Fn(P3, &Match, &Match) -> String) {
+    let mut classes = std::collections::BTreeMap::<String, (usize, f64, f64)>::new();
+    for (i, (a, b)) in u.matches.iter().zip(&g.matches).enumerate() {
+        let e = classes.entry(key(u.targets.get(i), a, b)).or_default();
         e.0 += 1;
         e.1 += a.dist as f64;
         e.2 += b.dist as f64;
     }
-    for (k, (n, before, after)) in by_target {
+    for (k, (n, before, after)) in classes {
         println!(
             "{k:30} {:5.1} % of pixels, distance {before:.3e} -> {after:.3e}",
             100.0 * n as f64 / u.len() as f64
