@@ -200,8 +200,8 @@ def test_hypotheses_come_from_the_pca_search_and_stay_in_the_budget(pan):
 
 def test_scan_propagation_changes_the_completion_and_stays_in_the_budget(pan):
     # The raster scans compare four more candidates per hole pixel and iteration: the
-    # completion changes, the candidates stay within max_candidates, and a budget that fits
-    # the first iteration only without the scans runs one iteration fewer with them.
+    # completion changes, the candidates stay within max_candidates, and the budget counts
+    # the scans when it caps the iterations.
     _, observed, mask = pan
     kw = dict(lowres_width=80, n_levels=0, return_stats=True)
     holes = int(np.count_nonzero(mask))
@@ -211,8 +211,8 @@ def test_scan_propagation_changes_the_completion_and_stays_in_the_budget(pan):
         assert st.local_candidates[0] <= 1000 * holes
         runs[scan] = (out, st)
     assert not np.array_equal(runs[False][0], runs[True][0])
-    # 17 x 17 + 6 coherence + 2 temporal = 297 candidates fit 300, 301 with the scans do not
-    # (at least the listed windows run either way, so only the count after them differs).
+    # An iteration costs 17 x 17 + 6 coherence + 2 temporal = 297 candidates, 301 with the
+    # scans: a budget of 2 x 297 + 3 holds two iterations without them and one with them.
     e = {scan: V.complete_video(observed, mask, scan_propagation=scan, windows=(17,),
                                 temporal_radius=0, max_candidates=2 * 297 + 3, **kw)[1]
          for scan in (False, True)}
